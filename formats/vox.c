@@ -1,0 +1,2 @@
+/* formats/vox.c - MagicaVoxel reader (being written). */
+#include "formats/vox.h"

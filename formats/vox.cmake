@@ -1,0 +1,2 @@
+add_library(vx_formats STATIC ${CMAKE_CURRENT_LIST_DIR}/vox.c ${CMAKE_CURRENT_LIST_DIR}/vox_write.c)
+target_link_libraries(vx_formats PUBLIC vx_core)

@@ -1,0 +1,139 @@
+/* formats/vox.h - MagicaVoxel .vox reader and writer.
+ *
+ * Reads versions 150 and 200: MAIN, PACK, SIZE, XYZI, RGBA, MATT, MATL, nTRN,
+ * nGRP, nSHP, LAYR, IMAP, rOBJ, rCAM, NOTE, META; unknown chunks are skipped
+ * by their declared sizes.
+ *
+ * Data model (as MagicaVoxel shows the scene):
+ *  - Models hold voxels as (x, y, z, i) bytes; z is up; i in 1..255 is the
+ *    colour index, RGBA entry i-1 of the file (or the default palette).
+ *    palette[i] below is already that colour, so palette[0] is unused.
+ *  - The scene graph (nTRN -> nGRP/nSHP) is flattened into instances: one per
+ *    shape reached from the root, with the rotations R and translations t of
+ *    every transform node from the shape up to the root composed:
+ *        world(p) = R_root(...(R_shape p + t_shape)...) + t_root
+ *    A voxel at cell v of a model of size s lands in the world cell
+ *        floor(R (v + 1/2 - floor(s/2)) + t)
+ *    with the composed R (a signed permutation, mirrors included) and t.
+ *  - Hidden transform nodes, groups and layers are left out unless
+ *    keep_hidden is set (the instance then carries hidden = true).
+ *  - Animation: keyframe values (_f) on nTRN and model keys on nSHP are
+ *    taken for `frame` (the last key at or before it; the first if none).
+ *  - Files without a scene graph show one model at the identity (model 0, or
+ *    model `frame` for PACK animations), with the same pivot rule.
+ *  - A model used by several shapes stays one model with several instances.
+ *
+ * Usage: vx_vox_read() -> use scene -> vx_vox_scene_free(). The scene owns
+ * copies of everything; the input buffer is borrowed only during the call.
+ */
+#ifndef VX_VOX_H
+#define VX_VOX_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "svo/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vx_vox_model {
+    uint32_t size[3];     /* 1..max_dim each */
+    uint32_t voxel_count;
+    uint8_t* xyzi;        /* 4 bytes per voxel: x, y, z, colour index (1..255) */
+} vx_vox_model;
+
+/* Rotation/mirror as a row-major 3x3 matrix with entries -1, 0, 1 (one
+ * non-zero per row and column). */
+typedef struct vx_vox_instance {
+    uint32_t model;
+    int32_t rot[9];
+    int32_t t[3];
+    int32_t layer;    /* layer id, -1 for none */
+    bool hidden;      /* only when keep_hidden was set */
+    char name[64];    /* _name of the shape's transform node, may be empty */
+} vx_vox_instance;
+
+typedef struct vx_vox_layer {
+    int32_t id;
+    bool hidden;
+    char name[64];
+    uint32_t rgba; /* _color, 0 if none */
+} vx_vox_layer;
+
+/* MATL (v200) and MATT (v150) both become a dictionary of NUL-terminated
+ * strings key0 value0 key1 value1 ... (MATT is translated to MATL keys). */
+typedef struct vx_vox_material {
+    uint32_t id; /* palette index 0..255 */
+    uint32_t dict_size;
+    char* dict;
+} vx_vox_material;
+
+/* The scene graph as stored, kept for the writer and for inspection. */
+typedef enum vx_vox_node_type { VX_VOX_NODE_TRN = 1, VX_VOX_NODE_GRP, VX_VOX_NODE_SHP } vx_vox_node_type;
+
+typedef struct vx_vox_scene {
+    uint32_t version;            /* 150, 200, ... as stored */
+    uint32_t model_count;
+    vx_vox_model* models;
+    uint32_t instance_count;
+    vx_vox_instance* instances;  /* flattened scene graph for the chosen frame */
+    uint32_t layer_count;
+    vx_vox_layer* layers;
+    uint32_t material_count;
+    vx_vox_material* materials;
+    bool has_rgba;               /* false: palette is the default palette */
+    uint32_t palette[256];       /* RGBA8 (R in low byte) by colour index; [0] unused */
+    bool has_imap;
+    uint8_t imap[256];
+    bool has_scene_graph;
+    uint32_t node_count;         /* nTRN + nGRP + nSHP chunks */
+    uint32_t camera_count;       /* rCAM chunks */
+    uint32_t note_count;         /* NOTE entries */
+    uint32_t robj_count;         /* rOBJ chunks */
+    const vx_allocator* alloc;
+} vx_vox_scene;
+
+/* Read options; zero-initialised means the defaults. */
+typedef struct vx_vox_read_desc {
+    const vx_allocator* alloc;
+    const vx_logger* logger;  /* warnings (skipped voxels, unknown chunks) */
+    uint32_t frame;           /* animation frame, default 0 */
+    bool keep_hidden;         /* keep hidden nodes, groups and layers */
+    uint32_t max_dim;         /* 0 == 256: larger SIZE values are rejected */
+    uint64_t max_voxels;      /* 0 == 1<<28 voxels in all models together */
+} vx_vox_read_desc;
+
+vx_result vx_vox_read(const vx_vox_read_desc* desc, const void* data, size_t size, vx_vox_scene* out, vx_error* err);
+vx_result vx_vox_read_file(const vx_vox_read_desc* desc, const char* path, vx_vox_scene* out, vx_error* err);
+void vx_vox_scene_free(vx_vox_scene* scene);
+
+/* The MagicaVoxel default palette (RGBA8 by colour index, [0] = 0). */
+extern const uint32_t vx_vox_default_palette[256];
+
+/* Rotation byte <-> matrix. Returns false for an invalid byte/matrix. */
+bool vx_vox_rot_from_byte(uint8_t b, int32_t rot[9]);
+bool vx_vox_rot_to_byte(const int32_t rot[9], uint8_t* out);
+
+/* World cell of cell v of a model of size s under (rot, t):
+ * floor(R (v + 1/2 - floor(s/2)) + t), computed exactly in integers. */
+void vx_vox_place(const int32_t rot[9], const int32_t t[3], const uint32_t size[3], const uint32_t v[3],
+                  int32_t out[3]);
+
+/* Checks a scene before writing: sizes 1..256, voxel coordinates inside
+ * their model, indices 1..255, instance model ids and rotations valid. */
+vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err);
+
+/* Writes version 150 with a scene graph (root nTRN -> nGRP -> one nTRN +
+ * nSHP per instance), RGBA when has_rgba, LAYR and MATL records. A single
+ * model with one identity instance is written the same way. */
+vx_result vx_vox_write(const vx_vox_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
+                       vx_error* err);
+vx_result vx_vox_write_file(const vx_vox_scene* s, const char* path, vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_VOX_H */

@@ -1,0 +1,2 @@
+/* formats/vox_write.c - MagicaVoxel writer (being written). */
+#include "formats/vox.h"

@@ -1,0 +1,264 @@
+/* svo/core.c - results, errors, allocation, buffers, CRC-32 and file I/O. */
+#define _POSIX_C_SOURCE 200809L
+#include "svo/core.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+const char* vx_result_str(vx_result r) {
+    switch (r) {
+    case VX_OK: return "ok";
+    case VX_ERR_INVALID_ARG: return "invalid argument";
+    case VX_ERR_TRUNCATED: return "truncated input";
+    case VX_ERR_BAD_FORMAT: return "malformed input";
+    case VX_ERR_UNSUPPORTED: return "unsupported feature";
+    case VX_ERR_LIMIT: return "limit exceeded";
+    case VX_ERR_NOMEM: return "out of memory";
+    case VX_ERR_IO: return "i/o error";
+    case VX_ERR_GPU: return "gpu error";
+    default: return "unknown error";
+    }
+}
+
+vx_result vx_fail(vx_error* err, vx_result code, uint64_t offset, const char* fmt, ...) {
+    if (err) {
+        err->code = code;
+        err->offset = offset;
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+void vx_error_prefix(vx_error* err, const char* prefix) {
+    if (!err || !prefix) return;
+    char tmp[sizeof err->msg];
+    snprintf(tmp, sizeof tmp, "%s: %s", prefix, err->msg);
+    memcpy(err->msg, tmp, sizeof tmp);
+}
+
+void vx_log(const vx_logger* log, vx_log_level level, const char* id, const char* fmt, ...) {
+    if (!log || !log->func) return;
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    log->func(log->user_data, level, id, msg);
+}
+
+bool vx_progress_report(const vx_progress* p, const char* stage, uint64_t done, uint64_t total) {
+    if (!p || !p->func) return true;
+    return p->func(p->user_data, stage, done, total);
+}
+
+void* vx_alloc(const vx_allocator* a, size_t size) {
+    if (size == 0) size = 1;
+    if (a && a->alloc) return a->alloc(a->user_data, size);
+    return malloc(size);
+}
+
+void* vx_calloc(const vx_allocator* a, size_t count, size_t size) {
+    size_t n;
+    if (!vx_mul_size(count, size, &n)) return NULL;
+    void* p = vx_alloc(a, n);
+    if (p) memset(p, 0, n ? n : 1);
+    return p;
+}
+
+void vx_free(const vx_allocator* a, void* p) {
+    if (!p) return;
+    if (a && a->free) a->free(a->user_data, p);
+    else free(p);
+}
+
+bool vx_grow(const vx_allocator* a, void** p, size_t* cap, size_t need, size_t size) {
+    if (need <= *cap) return true;
+    size_t ncap = *cap ? *cap : 16;
+    while (ncap < need) {
+        if (ncap > SIZE_MAX / 2) return false;
+        ncap *= 2;
+    }
+    size_t bytes, old;
+    if (!vx_mul_size(ncap, size, &bytes)) return false;
+    void* np = vx_alloc(a, bytes);
+    if (!np) return false;
+    old = *cap * size; /* cannot overflow: it was allocated before */
+    if (*p && old) memcpy(np, *p, old);
+    vx_free(a, *p);
+    *p = np;
+    *cap = ncap;
+    return true;
+}
+
+/* ---- buffers ---------------------------------------------------------------- */
+
+bool vx_buf_append(vx_buf* b, const void* data, size_t n) {
+    if (b->failed) return false;
+    size_t need;
+    if (!vx_add_size(b->size, n, &need) || !vx_grow(b->alloc, (void**)&b->data, &b->cap, need, 1)) {
+        b->failed = true;
+        return false;
+    }
+    if (n) memcpy(b->data + b->size, data, n);
+    b->size = need;
+    return true;
+}
+bool vx_buf_u8(vx_buf* b, uint8_t v) { return vx_buf_append(b, &v, 1); }
+bool vx_buf_u16le(vx_buf* b, uint16_t v) {
+    uint8_t t[2] = {(uint8_t)v, (uint8_t)(v >> 8)};
+    return vx_buf_append(b, t, 2);
+}
+void vx_buf_put_u32le(uint8_t* d, uint32_t v) {
+    d[0] = (uint8_t)v;
+    d[1] = (uint8_t)(v >> 8);
+    d[2] = (uint8_t)(v >> 16);
+    d[3] = (uint8_t)(v >> 24);
+}
+bool vx_buf_u32le(vx_buf* b, uint32_t v) {
+    uint8_t t[4];
+    vx_buf_put_u32le(t, v);
+    return vx_buf_append(b, t, 4);
+}
+bool vx_buf_u64le(vx_buf* b, uint64_t v) { return vx_buf_u32le(b, (uint32_t)v) && vx_buf_u32le(b, (uint32_t)(v >> 32)); }
+bool vx_buf_f32le(vx_buf* b, float v) {
+    union { float f; uint32_t u; } c = {v};
+    return vx_buf_u32le(b, c.u);
+}
+bool vx_buf_f64le(vx_buf* b, double v) {
+    union { double f; uint64_t u; } c = {v};
+    return vx_buf_u64le(b, c.u);
+}
+bool vx_buf_zeros(vx_buf* b, size_t n) {
+    static const uint8_t z[64];
+    while (n) {
+        size_t k = n < sizeof z ? n : sizeof z;
+        if (!vx_buf_append(b, z, k)) return false;
+        n -= k;
+    }
+    return true;
+}
+void vx_buf_free(vx_buf* b) {
+    vx_free(b->alloc, b->data);
+    b->data = NULL;
+    b->size = b->cap = 0;
+}
+
+/* ---- CRC-32 -------------------------------------------------------------------- */
+
+static uint32_t crc_table[8][256];
+static bool crc_ready;
+
+static void crc_init(void) {
+    for (uint32_t i = 0; i < 256; i++) {
+        uint32_t c = i;
+        for (int k = 0; k < 8; k++) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+        crc_table[0][i] = c;
+    }
+    for (uint32_t i = 0; i < 256; i++)
+        for (int t = 1; t < 8; t++) crc_table[t][i] = (crc_table[t - 1][i] >> 8) ^ crc_table[0][crc_table[t - 1][i] & 0xFF];
+    crc_ready = true;
+}
+
+uint32_t vx_crc32(uint32_t crc, const void* data, size_t n) {
+    /* The table is built on first use; building it twice from two threads
+     * writes identical values, so the race is benign. */
+    if (!crc_ready) crc_init();
+    const uint8_t* p = (const uint8_t*)data;
+    uint32_t c = ~crc;
+    /* slicing-by-8: sections of tens of MB are checksummed on every read */
+    while (n >= 8) {
+        uint32_t lo = c ^ ((uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24);
+        uint32_t hi = (uint32_t)p[4] | (uint32_t)p[5] << 8 | (uint32_t)p[6] << 16 | (uint32_t)p[7] << 24;
+        c = crc_table[7][lo & 0xFF] ^ crc_table[6][(lo >> 8) & 0xFF] ^ crc_table[5][(lo >> 16) & 0xFF] ^
+            crc_table[4][lo >> 24] ^ crc_table[3][hi & 0xFF] ^ crc_table[2][(hi >> 8) & 0xFF] ^
+            crc_table[1][(hi >> 16) & 0xFF] ^ crc_table[0][hi >> 24];
+        p += 8;
+        n -= 8;
+    }
+    while (n--) c = crc_table[0][(c ^ *p++) & 0xFF] ^ (c >> 8);
+    return ~c;
+}
+
+/* ---- files ----------------------------------------------------------------------- */
+
+vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_bytes, uint8_t** out_data,
+                       size_t* out_size, vx_error* err) {
+    if (!path || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null argument");
+    if (max_bytes == 0) max_bytes = (uint64_t)4 << 30;
+    FILE* f = fopen(path, "rb");
+    if (!f) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "not a regular file");
+    }
+    if ((uint64_t)st.st_size > max_bytes || (uint64_t)st.st_size > SIZE_MAX) {
+        fclose(f);
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "file is %llu bytes, limit is %llu",
+                       (unsigned long long)st.st_size, (unsigned long long)max_bytes);
+    }
+    size_t n = (size_t)st.st_size;
+    uint8_t* d = (uint8_t*)vx_alloc(a, n);
+    if (!d) {
+        fclose(f);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "cannot allocate %zu bytes", n);
+    }
+    size_t got = n ? fread(d, 1, n, f) : 0;
+    int bad = ferror(f);
+    fclose(f);
+    if (got != n || bad) {
+        vx_free(a, d);
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "read error");
+    }
+    *out_data = d;
+    *out_size = n;
+    return VX_OK;
+}
+
+vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err) {
+    if (!path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null path");
+    size_t plen = strlen(path);
+    char* tmp = (char*)malloc(plen + 32);
+    if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    snprintf(tmp, plen + 32, "%s.tmp%ld", path, (long)getpid());
+    FILE* f = fopen(tmp, "wb");
+    if (!f) {
+        vx_result r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot create %s: %s", tmp, strerror(errno));
+        free(tmp);
+        return r;
+    }
+    bool ok = (size == 0 || fwrite(data, 1, size, f) == size);
+    ok = (fflush(f) == 0) && ok;
+    ok = (fsync(fileno(f)) == 0 || errno == EINVAL || errno == EROFS) && ok;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        free(tmp);
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot write: %s", strerror(e));
+    }
+    free(tmp);
+    return VX_OK;
+}
+
+double vx_time_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+uint64_t vx_peak_rss(void) {
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+    return (uint64_t)ru.ru_maxrss * 1024u; /* Linux reports KiB */
+}

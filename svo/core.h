@@ -1,0 +1,266 @@
+/* svo/core.h - shared foundations of voxkit: results, errors, allocation,
+ * checked size arithmetic, a bounds-checked byte reader, CRC-32 and file I/O.
+ *
+ * Every fallible function in voxkit returns a vx_result and takes an optional
+ * `vx_error* err` as its last argument. On failure err->msg holds one specific
+ * line ("XYZI chunk at byte 1234: 4000 voxels declared, 812 bytes left") and
+ * err->offset the byte offset in the input where the problem was found (or
+ * VX_NO_OFFSET). Outputs come back through out_ pointers and are left
+ * untouched on failure. Library code never prints and never exits.
+ *
+ * Allocation goes through vx_allocator; a zeroed allocator (or NULL) means
+ * malloc/free. Whoever allocates provides the matching free.
+ */
+#ifndef VX_CORE_H
+#define VX_CORE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VX_VERSION_STRING "0.1.0"
+
+/* ---- results and errors ------------------------------------------------ */
+
+typedef enum vx_result {
+    VX_OK = 0,
+    VX_ERR_INVALID_ARG, /* caller passed something unusable */
+    VX_ERR_TRUNCATED,   /* input ends before a declared length */
+    VX_ERR_BAD_FORMAT,  /* input is malformed */
+    VX_ERR_UNSUPPORTED, /* well-formed but uses a feature we do not support */
+    VX_ERR_LIMIT,       /* input exceeds a configured limit (max_dim, ...) */
+    VX_ERR_NOMEM,       /* allocation failed or a size overflowed */
+    VX_ERR_IO,          /* file system error */
+    VX_ERR_GPU,         /* Vulkan error */
+    VX_RESULT_NUM
+} vx_result;
+
+#define VX_NO_OFFSET UINT64_MAX
+
+typedef struct vx_error {
+    vx_result code;
+    uint64_t offset; /* byte offset in the input, VX_NO_OFFSET if none */
+    char msg[192];
+} vx_error;
+
+const char* vx_result_str(vx_result r);
+
+/* Fills err (if non-NULL) and returns code, so call sites read
+ * `return vx_fail(err, VX_ERR_TRUNCATED, off, "XYZI: %u voxels", n);` */
+vx_result vx_fail(vx_error* err, vx_result code, uint64_t offset, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+/* Prefixes err->msg with "prefix: " (used to add context while unwinding). */
+void vx_error_prefix(vx_error* err, const char* prefix);
+
+/* ---- logging (warnings from library code) ------------------------------- */
+
+typedef enum vx_log_level { VX_LOG_INFO = 0, VX_LOG_WARN = 1 } vx_log_level;
+
+/* id is a stable message identifier such as "vox.voxel_outside_model". */
+typedef struct vx_logger {
+    void (*func)(void* user, vx_log_level level, const char* id, const char* msg);
+    void* user_data;
+} vx_logger;
+
+void vx_log(const vx_logger* log, vx_log_level level, const char* id, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+/* ---- progress ------------------------------------------------------------ */
+
+/* Called from long operations with done <= total; returns false to cancel
+ * (the operation then fails with VX_ERR_INVALID_ARG, "cancelled"). */
+typedef struct vx_progress {
+    bool (*func)(void* user, const char* stage, uint64_t done, uint64_t total);
+    void* user_data;
+} vx_progress;
+
+bool vx_progress_report(const vx_progress* p, const char* stage, uint64_t done, uint64_t total);
+
+/* ---- allocation ------------------------------------------------------------ */
+
+typedef struct vx_allocator {
+    void* (*alloc)(void* user, size_t size); /* NULL: malloc */
+    void (*free)(void* user, void* ptr);     /* NULL: free */
+    void* user_data;
+} vx_allocator;
+
+/* a may be NULL. vx_alloc(0) returns a valid unique pointer or NULL. */
+void* vx_alloc(const vx_allocator* a, size_t size);
+void* vx_calloc(const vx_allocator* a, size_t count, size_t size); /* overflow-checked, zeroed */
+void vx_free(const vx_allocator* a, void* p);
+/* Grows *p (count elements of size) to at least need elements; doubles. */
+bool vx_grow(const vx_allocator* a, void** p, size_t* cap, size_t need, size_t size);
+
+/* ---- checked size arithmetic ---------------------------------------------
+ * Every size computed from untrusted input goes through these: a wrapped
+ * product would turn into a small allocation followed by a large write. */
+
+static inline bool vx_mul_size(size_t a, size_t b, size_t* out) {
+#if defined(__GNUC__) || defined(__clang__)
+    return !__builtin_mul_overflow(a, b, out);
+#else
+    if (b && a > SIZE_MAX / b) return false;
+    *out = a * b;
+    return true;
+#endif
+}
+static inline bool vx_add_size(size_t a, size_t b, size_t* out) {
+#if defined(__GNUC__) || defined(__clang__)
+    return !__builtin_add_overflow(a, b, out);
+#else
+    if (a > SIZE_MAX - b) return false;
+    *out = a + b;
+    return true;
+#endif
+}
+static inline bool vx_mul_u64(uint64_t a, uint64_t b, uint64_t* out) {
+#if defined(__GNUC__) || defined(__clang__)
+    return !__builtin_mul_overflow(a, b, out);
+#else
+    if (b && a > UINT64_MAX / b) return false;
+    *out = a * b;
+    return true;
+#endif
+}
+
+/* ---- bounded little-endian reader ------------------------------------------
+ * A failed read does not advance the cursor. Lengths are compared against the
+ * bytes remaining in subtraction form, so no offset arithmetic can wrap. */
+
+typedef struct vx_rd {
+    const uint8_t* p;
+    size_t size;
+    size_t off;
+    uint64_t base; /* absolute offset of p[0] in the file, for messages */
+} vx_rd;
+
+static inline vx_rd vx_rd_make(const void* p, size_t size) {
+    vx_rd r = {(const uint8_t*)p, size, 0, 0};
+    return r;
+}
+static inline size_t vx_rd_left(const vx_rd* r) { return r->size - r->off; }
+static inline uint64_t vx_rd_pos(const vx_rd* r) { return r->base + r->off; }
+static inline bool vx_rd_bytes(vx_rd* r, void* dst, size_t n) {
+    if (n > r->size - r->off) return false;
+    for (size_t i = 0; i < n; i++) ((uint8_t*)dst)[i] = r->p[r->off + i];
+    r->off += n;
+    return true;
+}
+static inline bool vx_rd_skip(vx_rd* r, size_t n) {
+    if (n > r->size - r->off) return false;
+    r->off += n;
+    return true;
+}
+static inline bool vx_rd_u8(vx_rd* r, uint8_t* v) {
+    if (r->size - r->off < 1) return false;
+    *v = r->p[r->off++];
+    return true;
+}
+static inline bool vx_rd_u16le(vx_rd* r, uint16_t* v) {
+    if (r->size - r->off < 2) return false;
+    const uint8_t* b = r->p + r->off;
+    *v = (uint16_t)(b[0] | (b[1] << 8));
+    r->off += 2;
+    return true;
+}
+static inline bool vx_rd_u32le(vx_rd* r, uint32_t* v) {
+    if (r->size - r->off < 4) return false;
+    const uint8_t* b = r->p + r->off;
+    *v = (uint32_t)b[0] | ((uint32_t)b[1] << 8) | ((uint32_t)b[2] << 16) | ((uint32_t)b[3] << 24);
+    r->off += 4;
+    return true;
+}
+static inline bool vx_rd_u64le(vx_rd* r, uint64_t* v) {
+    uint32_t lo, hi;
+    if (r->size - r->off < 8) return false;
+    vx_rd_u32le(r, &lo);
+    vx_rd_u32le(r, &hi);
+    *v = (uint64_t)lo | ((uint64_t)hi << 32);
+    return true;
+}
+static inline bool vx_rd_f32le(vx_rd* r, float* v) {
+    uint32_t u;
+    if (!vx_rd_u32le(r, &u)) return false;
+    union { uint32_t u; float f; } c = {u};
+    *v = c.f;
+    return true;
+}
+static inline bool vx_rd_f64le(vx_rd* r, double* v) {
+    uint64_t u;
+    if (!vx_rd_u64le(r, &u)) return false;
+    union { uint64_t u; double f; } c = {u};
+    *v = c.f;
+    return true;
+}
+/* A sub-reader over the next n bytes (advancing r past them), so a bad length
+ * inside a chunk cannot escape the chunk. */
+static inline bool vx_rd_sub(vx_rd* r, size_t n, vx_rd* sub) {
+    if (n > r->size - r->off) return false;
+    sub->p = r->p + r->off;
+    sub->size = n;
+    sub->off = 0;
+    sub->base = r->base + r->off;
+    r->off += n;
+    return true;
+}
+
+/* ---- growable byte buffer (writers) ---------------------------------------- */
+
+typedef struct vx_buf {
+    uint8_t* data;
+    size_t size, cap;
+    const vx_allocator* alloc;
+    bool failed; /* sticky: an append failed (out of memory) */
+} vx_buf;
+
+bool vx_buf_append(vx_buf* b, const void* data, size_t n);
+bool vx_buf_u8(vx_buf* b, uint8_t v);
+bool vx_buf_u16le(vx_buf* b, uint16_t v);
+bool vx_buf_u32le(vx_buf* b, uint32_t v);
+bool vx_buf_u64le(vx_buf* b, uint64_t v);
+bool vx_buf_f32le(vx_buf* b, float v);
+bool vx_buf_f64le(vx_buf* b, double v);
+bool vx_buf_zeros(vx_buf* b, size_t n);
+void vx_buf_put_u32le(uint8_t* dst, uint32_t v); /* patch in place */
+void vx_buf_free(vx_buf* b);
+
+/* ---- checksums ---------------------------------------------------------------- */
+
+/* CRC-32 (ISO-HDLC / zlib: reflected polynomial 0xEDB88320, init and final
+ * xor 0xFFFFFFFF). Pass crc = 0 to start; feed the result back to continue. */
+uint32_t vx_crc32(uint32_t crc, const void* data, size_t n);
+
+/* ---- files ------------------------------------------------------------------------ */
+
+/* Reads a whole file into memory (freed with vx_free(a, *out_data)).
+ * max_bytes 0 means 4 GiB. */
+vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_bytes, uint8_t** out_data,
+                       size_t* out_size, vx_error* err);
+
+/* Writes data to path through a temporary file in the same folder that is
+ * renamed over path only after everything was written and flushed, so a
+ * failure never leaves a half-written output. */
+vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err);
+
+/* ---- misc ---------------------------------------------------------------------------- */
+
+/* Monotonic seconds, for statistics. */
+double vx_time_now(void);
+/* Peak resident memory of this process in bytes (0 if unknown). */
+uint64_t vx_peak_rss(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_CORE_H */

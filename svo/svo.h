@@ -1,0 +1,291 @@
+/* svo/svo.h - sparse voxel octrees: build, minimize, read, write, decode.
+ *
+ * A scene is a set of models (one octree each) placed by instances. All
+ * coordinates of a model are integer cells (x, y, z) in [0, size). A model's
+ * octree covers the cube [0, 2^depth)^3 with 2^depth >= max(size).
+ *
+ * Octant numbering: child o of a node covers the half-cube whose offset is
+ * (o & 1, (o >> 1) & 1, (o >> 2) & 1) times half the node size. Morton keys
+ * interleave bits the same way: bit 3i is x_i, bit 3i+1 is y_i, bit 3i+2 is
+ * z_i, so (key >> 3k) & 7 is the octant at level k (level 0 = single cells).
+ *
+ * The node array (Laine-Karras child descriptors), per model, 32-bit words:
+ *   descriptor: bits 31..17 child pointer p (15 bits), bit 16 far flag,
+ *               bits 15..8 valid mask, bits 7..0 leaf mask (leaf is a subset
+ *               of valid). A leaf child is a single cell or a uniform full
+ *               cube (collapsed subtree); leaves have no descriptor.
+ *   children block of a descriptor at word i (present when it has a
+ *   non-leaf child or the model has attributes):
+ *       block = far ? nodes[i - p] : i - p            (p >= 1; pointers go
+ *       backwards, so children always precede parents: no cycles possible)
+ *       nodes[block + k], k < popcount(valid & ~leaf): descriptors of the
+ *           non-leaf children in octant order;
+ *       nodes[block + popcount(valid & ~leaf)]: the attribute index a, when
+ *           the model has attributes: valid child o has attribute record
+ *           a + popcount(valid & ((1 << o) - 1)).
+ *   With the far flag, nodes[i - p] is a far slot holding the absolute word
+ *   index of the block (a far pointer table entry stored just before the
+ *   block that uses it). Identical subtrees share one block (a DAG).
+ * docs/FORMAT.md specifies the file layout byte by byte.
+ *
+ * Usage: fill vx_svo_voxels per model -> vx_svo_build_model() -> put models
+ * and instances into a vx_svo_scene -> vx_svo_write_file(); later
+ * vx_svo_read_file() -> vx_svo_decode_model() -> vx_svo_scene_free().
+ */
+#ifndef VX_SVO_H
+#define VX_SVO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "svo/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VX_SVO_FORMAT_VERSION 1u
+#define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
+
+/* Attribute channels (bitmask). Each model stores one record per attribute
+ * index, with a value in every channel its mask names. */
+enum {
+    VX_ATTR_PALETTE = 1u << 0,  /* uint8_t index into the scene palette (1..255) */
+    VX_ATTR_RGBA8 = 1u << 1,    /* uint32_t, R in bits 0..7, A in bits 24..31 */
+    VX_ATTR_NORMAL = 1u << 2,   /* uint32_t octahedral normal: 2 x snorm16, x low */
+    VX_ATTR_MATERIAL = 1u << 3, /* uint16_t material id */
+    VX_ATTR_DENSITY = 1u << 4,  /* float scalar density */
+    VX_ATTR_ALL = 0x1Fu
+};
+
+/* model.root values besides a word index into nodes */
+#define VX_SVO_ROOT_EMPTY 0xFFFFFFFFu /* no voxels */
+#define VX_SVO_ROOT_LEAF 0xFFFFFFFEu  /* the whole 2^depth cube is one leaf (root_attr) */
+
+/* descriptor field access */
+static inline uint32_t vx_svo_desc_ptr(uint32_t d) { return d >> 17; }
+static inline bool vx_svo_desc_far(uint32_t d) { return (d >> 16) & 1u; }
+static inline uint32_t vx_svo_desc_valid(uint32_t d) { return (d >> 8) & 0xFFu; }
+static inline uint32_t vx_svo_desc_leaf(uint32_t d) { return d & 0xFFu; }
+static inline uint32_t vx_svo_desc_make(uint32_t ptr, bool far, uint32_t valid, uint32_t leaf) {
+    return (ptr << 17) | ((uint32_t)far << 16) | ((valid & 0xFFu) << 8) | (leaf & 0xFFu);
+}
+
+static inline uint64_t vx_svo_morton(uint32_t x, uint32_t y, uint32_t z) {
+    uint64_t k = 0;
+    for (unsigned i = 0; i < 21; i++)
+        k |= ((uint64_t)((x >> i) & 1u) << (3 * i)) | ((uint64_t)((y >> i) & 1u) << (3 * i + 1)) |
+             ((uint64_t)((z >> i) & 1u) << (3 * i + 2));
+    return k;
+}
+static inline void vx_svo_demorton(uint64_t k, uint32_t* x, uint32_t* y, uint32_t* z) {
+    uint32_t a = 0, b = 0, c = 0;
+    for (unsigned i = 0; i < 21; i++) {
+        a |= (uint32_t)((k >> (3 * i)) & 1u) << i;
+        b |= (uint32_t)((k >> (3 * i + 1)) & 1u) << i;
+        c |= (uint32_t)((k >> (3 * i + 2)) & 1u) << i;
+    }
+    *x = a;
+    *y = b;
+    *z = c;
+}
+
+/* ---- in-memory scene ----------------------------------------------------------- */
+
+typedef struct vx_svo_model {
+    uint32_t size[3];     /* extent in cells, each 1..2^21 */
+    uint32_t depth;       /* root cube is 2^depth cells; smallest with 2^depth >= max(size) */
+    uint32_t root;        /* word index of the root descriptor, or VX_SVO_ROOT_EMPTY / _LEAF */
+    uint32_t root_attr;   /* attribute record standing for the whole model (LOD) */
+    uint32_t attrs;       /* VX_ATTR_* channels present (0: geometry only) */
+    uint64_t voxel_count; /* cells set at the finest level */
+    uint32_t node_count;  /* 32-bit words in nodes */
+    uint32_t* nodes;
+    uint32_t attr_count;  /* records in each channel array below */
+    uint8_t* palette;     /* VX_ATTR_PALETTE */
+    uint32_t* rgba;       /* VX_ATTR_RGBA8 */
+    uint32_t* normal;     /* VX_ATTR_NORMAL */
+    uint16_t* material;   /* VX_ATTR_MATERIAL */
+    float* density;       /* VX_ATTR_DENSITY */
+} vx_svo_model;
+
+enum { VX_SVO_INSTANCE_HIDDEN = 1u << 0 };
+
+typedef struct vx_svo_instance {
+    /* Row-major 3x4 affine map from model cell space to grid space:
+     * g = M * p + t with M = {xform[0..2]; xform[4..6]; xform[8..10]} and
+     * t = {xform[3], xform[7], xform[11]}. Cell v of the model occupies
+     * [v, v+1]^3 in model space; its grid cell is floor(M * (v + 1/2) + t). */
+    double xform[12];
+    uint32_t model;
+    uint32_t layer; /* index into scene.layers, or UINT32_MAX for none */
+    uint32_t flags; /* VX_SVO_INSTANCE_* */
+    char name[64];  /* NUL-terminated, may be empty */
+} vx_svo_instance;
+
+enum { VX_SVO_LAYER_HIDDEN = 1u << 0 };
+
+typedef struct vx_svo_layer {
+    char name[64];
+    uint32_t flags; /* VX_SVO_LAYER_* */
+    uint32_t rgba;  /* display colour, 0 if none */
+} vx_svo_layer;
+
+/* A material record: an id (the palette index for .vox MATL) and a
+ * dictionary stored as dict_size bytes of NUL-terminated strings
+ * key0 value0 key1 value1 ... (MagicaVoxel keys such as "_type" "_emit"). */
+typedef struct vx_svo_material {
+    uint32_t id;
+    uint32_t dict_size;
+    char* dict;
+} vx_svo_material;
+
+typedef struct vx_svo_scene {
+    uint32_t model_count;
+    vx_svo_model* models;
+    uint32_t instance_count;
+    vx_svo_instance* instances;
+    uint32_t layer_count;
+    vx_svo_layer* layers;
+    uint32_t material_count;
+    vx_svo_material* materials;
+    bool has_palette;
+    uint32_t palette[256]; /* RGBA8 by palette index (.vox RGBA entry i-1); [0] unused */
+    /* Row-major 3x4 map from grid space to world units (identity for .vox;
+     * voxel size and origin for meshes and VDB grids). */
+    double world_from_grid[12];
+    /* Grid-space bounds of the visible instances' voxels, min inclusive,
+     * max exclusive (all zero for an empty scene). */
+    double bounds_min[3], bounds_max[3];
+    const vx_allocator* alloc; /* what the arrays were allocated with */
+} vx_svo_scene;
+
+/* Frees every array of the scene and zeroes it. */
+void vx_svo_scene_free(vx_svo_scene* scene);
+void vx_svo_model_free(const vx_allocator* a, vx_svo_model* model);
+/* Sets world_from_grid to the identity. */
+void vx_svo_scene_init(vx_svo_scene* scene, const vx_allocator* a);
+/* Recomputes bounds_min/max from the instances (hidden ones excluded) using
+ * each model's occupied extent. */
+void vx_svo_scene_update_bounds(vx_svo_scene* scene);
+/* Looks up a key in a material's dictionary; NULL if absent. */
+const char* vx_svo_material_get(const vx_svo_material* m, const char* key);
+
+/* ---- building ---------------------------------------------------------------------- */
+
+/* The voxels of one model. keys[i] = vx_svo_morton(x, y, z) with x < size[0]
+ * etc.; the channel arrays are parallel to keys, one per bit of attrs, and
+ * must be NULL for channels not in attrs. Keys need not be sorted; when a key
+ * appears several times the last occurrence wins (as in .vox files).
+ * level (optional, NULL = all 0): entry i is a filled cube of 2^level[i]
+ * cells whose minimum corner has Morton key keys[i] (aligned to 2^level);
+ * such tiles become whole subtrees, never expanded cell by cell. Input is
+ * borrowed and not modified. */
+typedef struct vx_svo_voxels {
+    uint32_t size[3];
+    size_t count;
+    const uint64_t* keys;
+    const uint8_t* level;
+    uint32_t attrs;
+    const uint8_t* palette;
+    const uint32_t* rgba;
+    const uint32_t* normal;
+    const uint16_t* material;
+    const float* density;
+} vx_svo_voxels;
+
+/* Build options; zero-initialised means the defaults. */
+typedef struct vx_svo_build_desc {
+    bool no_collapse;   /* skip minimization step 1 (uniform full subtrees -> one leaf) */
+    bool no_dag;        /* skip minimization step 2 (share identical subtrees) */
+    uint32_t max_depth; /* 0 == VX_SVO_MAX_DEPTH */
+    const vx_allocator* alloc;
+    vx_progress progress;
+} vx_svo_build_desc;
+
+typedef struct vx_svo_build_stats {
+    uint64_t input_voxels;      /* entries given (before duplicate removal) */
+    uint64_t voxels;            /* distinct cells set */
+    uint64_t desc_plain;        /* descriptors of the plain octree */
+    uint64_t desc_collapsed;    /* after step 1 (equal to plain when skipped) */
+    uint64_t desc_dag;          /* after step 2 (equal to collapsed when skipped) */
+    uint64_t far_pointers;      /* far slots written */
+    uint64_t attr_records;      /* attribute records stored */
+    uint64_t bytes;             /* node words * 4 + attribute bytes */
+} vx_svo_build_stats;
+
+/* Builds one model's octree (collapse + DAG on by default). out is fully
+ * owned by the caller (free with vx_svo_model_free(desc->alloc, out)).
+ * stats may be NULL. An empty voxel set gives root = VX_SVO_ROOT_EMPTY. */
+vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
+                             vx_svo_build_stats* stats, vx_error* err);
+
+/* Representative attribute rule for coarse levels (also used by tests):
+ * palette and material: the most frequent value among the valid children,
+ * ties to the smallest; rgba: the rounded mean of each channel; normal: the
+ * renormalised mean; density: the mean. */
+
+/* ---- decoding ------------------------------------------------------------------------- */
+
+/* Called once per set cell, in Morton order; return false to stop early. */
+typedef bool (*vx_svo_voxel_fn)(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr);
+
+/* Visits every cell of the model (collapsed leaves are expanded), the exact
+ * inverse of vx_svo_build_model. The model must be valid (as returned by
+ * vx_svo_build_model or vx_svo_read). */
+vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* user, vx_error* err);
+
+/* RGBA8 colour of attribute record attr of model m (palette looked up;
+ * opaque white for geometry-only models). */
+uint32_t vx_svo_attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr);
+
+/* Checks a model's structure: every pointer in range and strictly backward,
+ * masks consistent, attribute indices in range, depth limits. */
+vx_result vx_svo_validate_model(const vx_svo_model* m, vx_error* err);
+/* Checks the whole scene (models, instance model ids, layers, transforms finite). */
+vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err);
+
+/* ---- files ------------------------------------------------------------------------------ */
+
+typedef struct vx_svo_read_desc {
+    const vx_allocator* alloc;
+    bool skip_checksums; /* default: every section's CRC-32 is verified */
+} vx_svo_read_desc;
+
+/* Parses and fully validates a .svo file held in memory. On success *out
+ * owns copies of everything (the input buffer may be freed). */
+vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t size, vx_svo_scene* out,
+                      vx_error* err);
+vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_svo_scene* out, vx_error* err);
+
+/* Serialises a scene (validated first). *out_data is freed with vx_free(alloc, ...). */
+vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
+                       vx_error* err);
+/* Writes through a temporary file and a rename: no partial output on failure. */
+vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err);
+
+/* Section table of a file, for svo_info. */
+typedef struct vx_svo_section_info {
+    char tag[5];      /* four ASCII characters */
+    uint32_t flags;
+    uint64_t offset, size;
+    uint32_t crc;      /* as stored */
+    bool crc_ok;       /* recomputed CRC matches */
+    bool known;        /* this version understands the tag */
+} vx_svo_section_info;
+
+typedef struct vx_svo_file_info {
+    uint32_t version;
+    uint32_t section_count;
+    vx_svo_section_info sections[64]; /* first 64 */
+    uint64_t file_size;
+} vx_svo_file_info;
+
+/* Reads the header and section table only (checks bounds and CRCs). */
+vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_SVO_H */
