@@ -25,6 +25,9 @@
  *
  * Usage: vx_vox_read() -> use scene -> vx_vox_scene_free(). The scene owns
  * copies of everything; the input buffer is borrowed only during the call.
+ * Ownership: every array (models, each models[i].xyzi, instances, layers,
+ * materials, each materials[i].dict) is a separate block from scene->alloc,
+ * so a scene assembled by other code (for the writer) is freed the same way.
  */
 #ifndef VX_VOX_H
 #define VX_VOX_H

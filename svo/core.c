@@ -41,9 +41,11 @@ vx_result vx_fail(vx_error* err, vx_result code, uint64_t offset, const char* fm
 
 void vx_error_prefix(vx_error* err, const char* prefix) {
     if (!err || !prefix) return;
-    char tmp[sizeof err->msg];
+    /* build into a larger buffer, then cut to fit: context first, detail last */
+    char tmp[2 * sizeof err->msg];
     snprintf(tmp, sizeof tmp, "%s: %s", prefix, err->msg);
-    memcpy(err->msg, tmp, sizeof tmp);
+    memcpy(err->msg, tmp, sizeof err->msg - 1);
+    err->msg[sizeof err->msg - 1] = 0;
 }
 
 void vx_log(const vx_logger* log, vx_log_level level, const char* id, const char* fmt, ...) {

@@ -1,2 +1,116 @@
-/* svo/svo_scene.c - scene helpers (being written). */
-#include "svo/svo.h"
+/* svo/svo_scene.c - scene lifetime, bounds and material lookup. */
+#include <math.h>
+#include <string.h>
+
+#include "svo/svo_internal.h"
+
+void vx_svo_model_free(const vx_allocator* a, vx_svo_model* m) {
+    if (!m) return;
+    vx_free(a, m->nodes);
+    vx_free(a, m->palette);
+    vx_free(a, m->rgba);
+    vx_free(a, m->normal);
+    vx_free(a, m->material);
+    vx_free(a, m->density);
+    memset(m, 0, sizeof *m);
+}
+
+void vx_svo_scene_init(vx_svo_scene* s, const vx_allocator* a) {
+    if (!s) return;
+    memset(s, 0, sizeof *s);
+    s->alloc = a;
+    s->world_from_grid[0] = s->world_from_grid[5] = s->world_from_grid[10] = 1.0;
+}
+
+void vx_svo_scene_free(vx_svo_scene* s) {
+    if (!s) return;
+    const vx_allocator* a = s->alloc;
+    for (uint32_t i = 0; s->models && i < s->model_count; i++) vx_svo_model_free(a, &s->models[i]);
+    for (uint32_t i = 0; s->materials && i < s->material_count; i++) vx_free(a, s->materials[i].dict);
+    vx_free(a, s->models);
+    vx_free(a, s->instances);
+    vx_free(a, s->layers);
+    vx_free(a, s->materials);
+    memset(s, 0, sizeof *s);
+}
+
+/* Bounds are exact for each model's occupied box: the box's extreme cell
+ * centres are among its 8 corner cells, the map is affine and floor is
+ * monotone, so transforming those 8 centres gives the grid cells that bound
+ * the instance. Instances that are hidden, or on a hidden layer, are left out.
+ * Each model is analysed once (many instances may share it); without memory
+ * for that cache it is analysed per instance, with the same result. */
+static bool model_extent(const vx_svo_model* m, vx__svo_extent* e) {
+    if (vx__svo_analyze(m, e, NULL) != VX_OK) {
+        /* an invalid model: fall back to its declared size */
+        if (m->root == VX_SVO_ROOT_EMPTY) return false;
+        memset(e, 0, sizeof *e);
+        e->cells = 1;
+        for (int k = 0; k < 3; k++) e->max[k] = m->size[k];
+    }
+    return e->cells != 0;
+}
+
+void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]) {
+    double mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+    bool any = false;
+    vx__svo_extent* cache = NULL;
+    uint8_t* state = NULL; /* 0 not analysed, 1 empty, 2 extent in cache */
+    if (s->models && s->model_count) {
+        cache = (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *cache);
+        state = (uint8_t*)vx_calloc(s->alloc, s->model_count, 1);
+    }
+    for (uint32_t i = 0; s->instances && i < s->instance_count; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        if (in->flags & VX_SVO_INSTANCE_HIDDEN) continue;
+        if (in->layer < s->layer_count && s->layers && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) continue;
+        if (in->model >= s->model_count || !s->models) continue;
+        vx__svo_extent local, *e = &local;
+        if (cache && state) {
+            e = &cache[in->model];
+            if (!state[in->model]) state[in->model] = model_extent(&s->models[in->model], e) ? 2 : 1;
+            if (state[in->model] == 1) continue;
+        } else if (!model_extent(&s->models[in->model], e)) {
+            continue;
+        }
+        for (int c = 0; c < 8; c++) {
+            double p[3];
+            for (int k = 0; k < 3; k++) p[k] = ((c >> k) & 1 ? (double)e->max[k] - 1.0 : (double)e->min[k]) + 0.5;
+            for (int r = 0; r < 3; r++) {
+                const double* row = in->xform + 4 * r;
+                double g = floor(row[0] * p[0] + row[1] * p[1] + row[2] * p[2] + row[3]);
+                if (g < mn[r]) mn[r] = g;
+                if (g + 1.0 > mx[r]) mx[r] = g + 1.0;
+            }
+        }
+        any = true;
+    }
+    vx_free(s->alloc, cache);
+    vx_free(s->alloc, state);
+    for (int k = 0; k < 3; k++) {
+        bmin[k] = any ? mn[k] : 0.0;
+        bmax[k] = any ? mx[k] : 0.0;
+    }
+}
+
+void vx_svo_scene_update_bounds(vx_svo_scene* s) {
+    if (!s) return;
+    vx__svo_scene_bounds(s, s->bounds_min, s->bounds_max);
+}
+
+const char* vx_svo_material_get(const vx_svo_material* m, const char* key) {
+    if (!m || !key || !m->dict || m->dict_size == 0) return NULL;
+    const char* p = m->dict;
+    const char* end = m->dict + m->dict_size;
+    while (p < end) {
+        const char* k = p;
+        const char* z = memchr(k, 0, (size_t)(end - k));
+        if (!z || z + 1 >= end) return NULL;
+        const char* v = z + 1;
+        const char* z2 = memchr(v, 0, (size_t)(end - v));
+        if (!z2) return NULL;
+        if (strcmp(k, key) == 0) return v;
+        p = z2 + 1;
+    }
+    return NULL;
+}

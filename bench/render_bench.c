@@ -1,0 +1,178 @@
+/* bench/render_bench.c - rays per second of the octree tracer (primary and
+ * shadow rays) against a dense-grid 3D-DDA baseline over the same voxels.
+ *
+ *   render_bench [--device N|NAME] [--sizes 1920x1080,1280x720] [--runs N]
+ *                [--generate] FILE.{svo,vox}...
+ *
+ * Times are GPU timestamps: one warm-up, then the median of --runs
+ * dispatches. --generate adds procedural terrains 1024 (fits the dense
+ * baseline) and 4096 cells wide.
+ * Output: one table row per scene, size and kind. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "convert/convert.h"
+#include "render/render_internal.h"
+
+static int load(const char* path, vx_svo_scene* s, vx_error* err) {
+    const char* ext = strrchr(path, '.');
+    if (ext && !strcmp(ext, ".vox")) {
+        vx_vox_scene vs;
+        if (vx_vox_read_file(NULL, path, &vs, err)) return 1;
+        vx_result r = vx_conv_vox(NULL, &vs, s, NULL, err);
+        vx_vox_scene_free(&vs);
+        return r != VX_OK;
+    }
+    return vx_svo_read_file(NULL, path, s, err) != VX_OK;
+}
+
+/* Terrain over 4096 x 4096 cells: columns of 8x8 cells whose top two
+ * 8^3 tiles are filled (level-3 tiles, so the builder never expands them),
+ * heights from a few sines up to ~3000 cells, plus 2048 single-cell
+ * "pebbles" on top: extent 4096^3, depth 12. */
+static int generate(vx_svo_scene* s, uint32_t extent, vx_error* err) {
+    const uint32_t cols = extent / 8;
+    const double hs = extent / 4096.0;
+    size_t cap = (size_t)cols * cols * 2 + 4096, n = 0;
+    uint64_t* keys = malloc(cap * 8);
+    uint8_t* level = malloc(cap);
+    uint8_t* pal = malloc(cap);
+    if (!keys || !level || !pal) return 1;
+    for (uint32_t y = 0; y < cols; y++)
+        for (uint32_t x = 0; x < cols; x++) {
+            double h = hs * (1400 + 700 * sin(x * 0.021 / hs) * cos(y * 0.017 / hs) + 500 * sin((x + 2 * y) * 0.0061 / hs) +
+                            150 * sin(x * 0.11 / hs + y * 0.07 / hs));
+            uint32_t top = (uint32_t)(h / 8);
+            for (uint32_t k = 0; k < 2 && top >= k; k++) {
+                keys[n] = vx_svo_morton(x * 8, y * 8, (top - k) * 8);
+                level[n] = 3;
+                pal[n++] = (uint8_t)(1 + (top % 200));
+            }
+        }
+    uint32_t seed = 1;
+    for (int i = 0; i < 2048; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        uint32_t x = (seed >> 8) % extent;
+        seed = seed * 1664525u + 1013904223u;
+        uint32_t y = (seed >> 8) % extent;
+        keys[n] = vx_svo_morton(x, y, extent - 96 + i % 64);
+        level[n] = 0;
+        pal[n++] = 250;
+    }
+    vx_svo_voxels v = {.size = {extent, extent, extent}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_PALETTE,
+                       .palette = pal};
+    vx_svo_scene_init(s, NULL);
+    s->models = calloc(1, sizeof *s->models);
+    s->instances = calloc(1, sizeof *s->instances);
+    if (!s->models || !s->instances) return 1;
+    vx_result r = vx_svo_build_model(NULL, &v, &s->models[0], NULL, err);
+    free(keys), free(level), free(pal);
+    if (r) return 1;
+    s->model_count = 1;
+    s->instance_count = 1;
+    s->instances[0].xform[0] = s->instances[0].xform[5] = s->instances[0].xform[10] = 1;
+    s->instances[0].layer = UINT32_MAX;
+    s->has_palette = true;
+    for (int i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (uint32_t)(i * 0x010203);
+    vx_svo_scene_update_bounds(s);
+    return 0;
+}
+
+int main(int argc, char** argv) {
+    const char* device = NULL;
+    const char* sizes = "1920x1080,1280x720";
+    uint32_t runs = 5;
+    bool gen = false;
+    const char* files[64];
+    int nf = 0;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) sizes = argv[++i];
+        else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--generate")) gen = true;
+        else if (argv[i][0] == '-') {
+            fprintf(stderr, "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--generate] FILE...\n", argv[0]);
+            return 2;
+        } else if (nf < 64) files[nf++] = argv[i];
+    }
+    if (runs < 1 || runs > 31) runs = 5;
+    vx_error err = {0};
+    vx_gpu* gpu;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err)) {
+        fprintf(stderr, "render_bench: %s\n", err.msg);
+        return 1;
+    }
+    printf("device: %s\n", vx_gpu_device_name(gpu));
+    printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "scene", "size", "voxels", "primary", "shadow", "dense", "oct/den");
+    printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "", "", "", "Mrays/s", "Mpix/s", "Mrays/s", "");
+    int total = nf + (gen ? 2 : 0);
+    for (int k = 0; k < total; k++) {
+        vx_svo_scene s;
+        const char* name;
+        double t0 = vx_time_now();
+        if (k < nf) {
+            name = strrchr(files[k], '/') ? strrchr(files[k], '/') + 1 : files[k];
+            if (load(files[k], &s, &err)) {
+                fprintf(stderr, "render_bench: %s: %s\n", files[k], err.msg);
+                continue;
+            }
+        } else {
+            uint32_t extent = k == nf ? 1024 : 4096;
+            name = extent == 1024 ? "terrain1024 (generated)" : "terrain4096 (generated)";
+            if (generate(&s, extent, &err)) {
+                fprintf(stderr, "render_bench: generate: %s\n", err.msg);
+                continue;
+            }
+        }
+        double t_load = vx_time_now() - t0;
+        uint64_t voxels = 0;
+        for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
+        vx_render_scene* rs;
+        if (vx_render_scene_create(gpu, &s, &rs, &err)) {
+            fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
+            vx_svo_scene_free(&s);
+            continue;
+        }
+        bool dense = vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
+        const char* p = sizes;
+        while (*p) {
+            unsigned w, h;
+            if (sscanf(p, "%ux%u", &w, &h) != 2) break;
+            vx_render_desc d = {.width = w, .height = h, .mode = VX_RENDER_DEPTH};
+            vx__frame f;
+            double sp = 0, ss = 0, sd = 0;
+            vx_result r = vx__render_dispatch(rs, &d, false, 1, &f, &sp, &err); /* warm-up */
+            if (!r) r = vx__render_dispatch(rs, &d, false, runs, &f, &sp, &err);
+            d.mode = VX_RENDER_COLOR;
+            if (!r) r = vx__render_dispatch(rs, &d, false, 1, &f, &ss, &err);
+            if (!r) r = vx__render_dispatch(rs, &d, false, runs, &f, &ss, &err);
+            d.mode = VX_RENDER_DEPTH;
+            if (!r && dense) {
+                r = vx__dense_dispatch(rs, &d, 1, &sd, NULL, &err);
+                if (!r) r = vx__dense_dispatch(rs, &d, runs, &sd, NULL, &err);
+            }
+            if (r) {
+                fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
+                break;
+            }
+            double px = (double)w * h;
+            char sz[32], dn[32], ratio[32];
+            snprintf(sz, sizeof sz, "%ux%u", w, h);
+            snprintf(dn, sizeof dn, "%.2f", dense ? px / sd * 1e-6 : 0.0);
+            snprintf(ratio, sizeof ratio, "%.2f", dense ? sd / sp : 0.0);
+            printf("%-24.24s %-10s %10llu %12.2f %12.2f %12s %8s\n", name, sz, (unsigned long long)voxels,
+                   px / sp * 1e-6, px / ss * 1e-6, dense ? dn : "-", dense ? ratio : "-");
+            fflush(stdout);
+            p = strchr(p, ',');
+            if (!p) break;
+            p++;
+        }
+        fprintf(stderr, "  (%s: load %.2f s, bvh %.3f ms)\n", name, t_load, vx_render_scene_bvh_seconds(rs) * 1e3);
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+    }
+    vx_gpu_destroy(gpu);
+    return 0;
+}

@@ -1,0 +1,17 @@
+#!/bin/sh
+# bench/render_bench.sh - the whole tracer table in one run:
+#   bench/render_bench.sh [BUILD_DIR] [extra render_bench options]
+# Corpus .vox scenes (read directly) plus the generated 4096^3 terrain, at
+# 1920x1080 and 1280x720; primary rays, primary+shadow, dense-grid baseline.
+set -e
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$here/build-release}
+[ $# -gt 0 ] && shift
+corpus=${VX_CORPUS_DIR:-$here/../shared/corpus}
+bin=$build/bin/render_bench
+[ -x "$bin" ] || { echo "render_bench: build the render_bench target in $build first" >&2; exit 1; }
+files=""
+for f in eph_monu1 eph_menger eph_dragon ogt_doom ogt_test_multiple_model_scene; do
+  [ -f "$corpus/vox/$f.vox" ] && files="$files $corpus/vox/$f.vox"
+done
+exec "$bin" --generate "$@" $files

@@ -1,0 +1,2 @@
+add_executable(svo_build_bench ${CMAKE_CURRENT_SOURCE_DIR}/svo_build_bench.c)
+target_link_libraries(svo_build_bench PRIVATE vx_svo)

@@ -1,0 +1,66 @@
+/* convert/convert.h - inputs to voxels: every converter produces a
+ * vx_svo_scene (models built with vx_svo_build_model, instances, palette,
+ * materials) that vx_svo_write_file() stores.
+ *
+ *   .vox          vx_conv_vox()        (this header)
+ *   .gltf / .glb  vx_conv_mesh_file()  (convert/mesh.h)
+ *   .vdb          vx_conv_vdb_file()   (convert/volume.h)
+ *
+ * Conventions shared by all converters:
+ *  - Options are *_desc structs, zero-initialised means the defaults; each
+ *    embeds a vx_svo_build_desc `build` passed on to the octree builder.
+ *  - Grid space: instances map model cells to integer grid cells; the
+ *    scene's world_from_grid maps grid cells to world units (identity for
+ *    .vox). `svo_info --dump` prints grid cells.
+ *  - A model never needs more than VX_SVO_MAX_DEPTH levels: larger inputs
+ *    are split into several models placed as instances.
+ *  - stats (may be NULL) is filled on success.
+ */
+#ifndef VX_CONVERT_H
+#define VX_CONVERT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "formats/vox.h"
+#include "svo/svo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vx_conv_stats {
+    uint32_t models, instances;
+    vx_svo_build_stats build; /* summed over all models */
+    double seconds_read;      /* parsing the input file */
+    double seconds_voxelize;  /* making voxels (meshes, grids) */
+    double seconds_build;     /* octree construction */
+    uint64_t peak_bytes;      /* peak resident memory of the process, 0 if unknown */
+} vx_conv_stats;
+
+/* .vox scene -> svo scene. Each vox model becomes one svo model (instancing
+ * kept); each vox instance an instance with M = R, t = t_vox - R floor(s/2)
+ * (the MagicaVoxel pivot), so floor(M (v + 1/2) + t) is the MagicaVoxel
+ * world cell. Models used by no instance are kept (unreferenced). The
+ * palette is stored only when some voxel uses it; MATL records become
+ * material records; layers are copied. */
+typedef struct vx_conv_vox_desc {
+    vx_svo_build_desc build;
+    const vx_allocator* alloc;
+} vx_conv_vox_desc;
+
+vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_svo_scene* out, vx_conv_stats* stats,
+                      vx_error* err);
+
+/* svo scene -> .vox scene, for svo_info --to-vox and export. Needs integer
+ * signed-permutation instance matrices, integer translations, models of at
+ * most 256 cells per side and palette attributes (RGBA8 attributes are
+ * mapped to the nearest of up to 255 palette entries); otherwise
+ * VX_ERR_UNSUPPORTED names what does not fit. */
+vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* alloc, vx_vox_scene* out, vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_CONVERT_H */

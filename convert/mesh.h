@@ -1,0 +1,106 @@
+/* convert/mesh.h - triangle meshes (glTF 2.0) to voxels (conservative
+ * surface voxelization, optionally solid) and on to an svo scene.
+ *
+ *   vx_svo_scene s;
+ *   vx_conv_mesh_file(&(vx_conv_mesh_desc){ .res = 1024 }, "in.glb", &s, &stats, &err);
+ *   vx_svo_write_file(&s, "out.svo", &err);
+ *   vx_svo_scene_free(&s);
+ *
+ * The grid (vx_conv_mesh_grid_make):
+ *   h = longest side of the mesh's world bounds / res (a flat or point-like
+ *   mesh with longest side 0 gets h = 1). Grid coordinates of a world point p
+ *   are g = (p - min) / h, computed in double; cell (i, j, k) is the CLOSED
+ *   unit cube [i, i+1] x [j, j+1] x [k, k+1] in g, i.e. the world cube
+ *   [min + (i,j,k) h, min + (i+1,j+1,k+1) h]. size[a] = ceil(extent_a / h),
+ *   at least 1 (a relative slack of 1e-9 absorbs the rounding of
+ *   extent / (extent / res), so the longest side gets exactly res cells).
+ *   Cells with index == size (touched only by faces lying exactly on the
+ *   max boundary of the bounds) are not part of the grid: the closed cube of
+ *   the cell below already contains those faces.
+ *
+ * A cell is set iff some triangle intersects its closed cube (exact: the
+ * triangle is clipped to the cell's slabs, so faces lying on a cell
+ * boundary set the cells on both sides). Degenerate triangles (segments,
+ * points) set the cells they touch by the same rule. NaN or infinite
+ * vertices are an error (VX_ERR_BAD_FORMAT).
+ *
+ * Solid (desc.solid): a cell whose centre is inside the mesh by a parity
+ * count along at least two of the three axes (rays through cell centres) is
+ * also set, so a small hole breaks at most one of the three votes. Grids of
+ * more than 2^31 cells are refused (VX_ERR_LIMIT) in solid mode.
+ *
+ * Attributes: colour = baseColorFactor x baseColorTexture (bilinear, sampler
+ * wrap modes, sRGB texels converted to linear) x vertex colour, evaluated at
+ * the centroid of the part of each triangle inside the cell and averaged
+ * in linear space, weighted by the area of that part (exact clipped area);
+ * stored as sRGB RGBA8 (alpha linear). Normals (desc.normals): face
+ * normals averaged the same way, oct-encoded. Colours are stored only when
+ * the input has a material, a texture or vertex colours (and !no_color);
+ * an input with none of them gives a geometry-only model. Interior cells of
+ * a solid take the attribute of the nearest surface cell before them in
+ * their x row within the same 64^3 brick (else the brick's first surface
+ * cell, else opaque white / +z).
+ *
+ * Scale: the grid is voxelized in 64^3 bricks (triangles binned to bricks,
+ * bricks spread over threads), so memory follows the surface, not the
+ * volume. Each region of desc.region^3 cells becomes one model, placed
+ * with an integer translation in grid space; world_from_grid = scale h,
+ * translate min, so `svo_info --dump` prints grid indices.
+ */
+#ifndef VX_CONVERT_MESH_H
+#define VX_CONVERT_MESH_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "convert/convert.h"
+#include "formats/gltf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vx_conv_mesh_desc {
+    vx_svo_build_desc build;
+    const vx_allocator* alloc;
+    const vx_logger* logger;
+    uint32_t res;      /* voxels along the longest side; 0 == 256; at most 65536 */
+    bool scene_set;    /* glTF scene `scene` instead of the default scene */
+    uint32_t scene;
+    bool solid;        /* also fill the inside */
+    bool normals;      /* store VX_ATTR_NORMAL */
+    bool no_color;     /* never store colours */
+    uint32_t threads;  /* 0 == all cores */
+    uint32_t region;   /* cells per side of one model, power of two >= 64; 0 == 2048 */
+} vx_conv_mesh_desc;
+
+typedef struct vx_conv_mesh_grid {
+    double min[3];    /* world position of grid point (0, 0, 0) */
+    double h;         /* voxel size in world units */
+    uint32_t size[3]; /* cells per axis */
+} vx_conv_mesh_grid;
+
+/* The grid of a triangle soup (pos: 9 floats per triangle, world space). */
+vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t res, vx_conv_mesh_grid* out,
+                                 vx_error* err);
+
+/* Voxelizes to a flat cell list (for tests and small grids): *out_xyz holds
+ * 3 uint32 per set cell (grid indices), in no particular order; *out_rgba
+ * (if out_rgba is non-NULL and colours apply) one sRGB RGBA8 per cell,
+ * otherwise *out_rgba = NULL. Free with vx_free(desc->alloc, ...). */
+vx_result vx_conv_mesh_cells(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, vx_conv_mesh_grid* out_grid,
+                             uint32_t** out_xyz, uint32_t** out_rgba, size_t* out_count, vx_error* err);
+
+/* Voxelizes a loaded mesh into a scene (see the header comment). */
+vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, vx_svo_scene* out,
+                       vx_conv_stats* stats, vx_error* err);
+
+/* Reads a .gltf / .glb (formats/gltf.h) and converts it. */
+vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc, const char* path, vx_svo_scene* out, vx_conv_stats* stats,
+                            vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_CONVERT_MESH_H */

@@ -1,0 +1,34 @@
+/* convert/mesh_internal.h - the brick voxelizer behind convert/mesh.h. */
+#ifndef VX_CONVERT_MESH_INTERNAL_H
+#define VX_CONVERT_MESH_INTERNAL_H
+
+#include "convert/mesh.h"
+
+#define VX__MESH_BRICK_BITS 6u /* bricks of 64^3 cells */
+
+/* One region's voxels, handed to the sink in Morton order. keys are
+ * region-local Morton keys (x < size[0] ...); rgba / normal parallel to keys
+ * when the attrs bit is set, else NULL. Borrowed for the call only. */
+typedef struct vx__mesh_region {
+    uint32_t origin[3], size[3];
+    size_t index, region_count; /* which region of how many (Morton order) */
+    size_t count;
+    const uint64_t* keys;
+    const uint32_t* rgba;
+    const uint32_t* normal;
+    uint32_t attrs;
+} vx__mesh_region;
+
+typedef vx_result (*vx__mesh_sink)(void* user, const vx__mesh_region* r, vx_error* err);
+
+/* The attribute channels vx_conv_mesh stores for this mesh and desc. */
+uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh);
+
+/* Voxelizes mesh on grid region by region (desc->region, resolved), calling
+ * sink once per non-empty region. The sink may be called from several
+ * threads at once (for different regions, in any order): it must order its
+ * results by index itself. */
+vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
+                            uint32_t attrs, vx__mesh_sink sink, void* user, vx_error* err);
+
+#endif

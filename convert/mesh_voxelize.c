@@ -1,0 +1,1061 @@
+/* convert/mesh_voxelize.c - conservative triangle voxelization by bricks.
+ *
+ * Exactness: a triangle intersects the closed cell [i,i+1]x[j,j+1]x[k,k+1]
+ * iff its part inside the column [i,i+1]x[j,j+1] (a convex polygon, found by
+ * clipping against two slabs) spans a d-interval meeting [k,k+1]. So the
+ * cells are enumerated by clipping strip by strip and column by column
+ * (Sutherland-Hodgman with closed half-spaces; a clipped coordinate is set
+ * exactly to the slab plane), which is exact up to the rounding of the clip
+ * points and handles zero-area triangles the same way. The clip of the
+ * column polygon against the cell's d-slab also gives the area and centroid
+ * used to weight and sample the attributes.
+ */
+#define _GNU_SOURCE /* sched_getaffinity: the cores this process may use */
+#include "convert/mesh_internal.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdatomic.h>
+#include <string.h>
+#include <unistd.h>
+
+#define BRICK 64
+#define BRICK_CELLS (BRICK * BRICK * BRICK)
+#define MAXP 16
+
+/* ---- grid ------------------------------------------------------------------------ */
+
+vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t res, vx_conv_mesh_grid* out,
+                                 vx_error* err) {
+    if (!out || (!pos && tri_count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh grid: NULL argument");
+    if (res == 0) res = 256;
+    if (res > 65536) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "--res %u is more than 65536", res);
+    if (tri_count == 0) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "mesh has no triangles");
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < tri_count * 9; i++) {
+        double v = pos[i];
+        if (!isfinite(v))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "triangle %zu: vertex %zu has a NaN or infinite coordinate",
+                           i / 9, (i % 9) / 3);
+        int a = (int)(i % 3);
+        if (v < lo[a]) lo[a] = v;
+        if (v > hi[a]) hi[a] = v;
+    }
+    double L = 0;
+    for (int a = 0; a < 3; a++) L = fmax(L, hi[a] - lo[a]);
+    double h = L > 0 ? L / res : 1.0;
+    if (!(h > 0) || !isfinite(h)) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "mesh bounds are degenerate");
+    for (int a = 0; a < 3; a++) {
+        double e = (hi[a] - lo[a]) / h;
+        double c = ceil(e - e * 1e-9);
+        if (c < 1) c = 1;
+        if (c > 65536) c = 65536;
+        out->size[a] = (uint32_t)c;
+        out->min[a] = lo[a];
+    }
+    out->h = h;
+    return VX_OK;
+}
+
+/* ---- clipping ---------------------------------------------------------------------- */
+
+/* Keeps the part of polygon in[n] with lo <= p[axis] <= hi. */
+static int clip_slab(const double (*in)[3], int n, int axis, double lo, double hi, double (*out)[3]) {
+    double tmp[MAXP][3];
+    int m = 0;
+    for (int i = 0; i < n; i++) { /* p[axis] >= lo */
+        const double* a = in[i];
+        const double* b = in[(i + 1) % n];
+        bool ia = a[axis] >= lo, ib = b[axis] >= lo;
+        if (ia) memcpy(tmp[m++], a, sizeof tmp[0]);
+        if (ia != ib) {
+            double t = (lo - a[axis]) / (b[axis] - a[axis]);
+            for (int k = 0; k < 3; k++) tmp[m][k] = a[k] + t * (b[k] - a[k]);
+            tmp[m++][axis] = lo;
+        }
+    }
+    int r = 0;
+    for (int i = 0; i < m; i++) { /* p[axis] <= hi */
+        const double* a = tmp[i];
+        const double* b = tmp[(i + 1) % m];
+        bool ia = a[axis] <= hi, ib = b[axis] <= hi;
+        if (ia) memcpy(out[r++], a, sizeof tmp[0]);
+        if (ia != ib) {
+            double t = (hi - a[axis]) / (b[axis] - a[axis]);
+            for (int k = 0; k < 3; k++) out[r][k] = a[k] + t * (b[k] - a[k]);
+            out[r++][axis] = hi;
+        }
+    }
+    return r;
+}
+
+static void poly_range(const double (*p)[3], int n, int axis, double* lo, double* hi) {
+    double a = p[0][axis], b = a;
+    for (int i = 1; i < n; i++) {
+        a = fmin(a, p[i][axis]);
+        b = fmax(b, p[i][axis]);
+    }
+    *lo = a;
+    *hi = b;
+}
+
+/* Cells i (unit cubes [i, i+1]) meeting [lo, hi], clamped to [cmin, cmax]. */
+static bool cell_range(double lo, double hi, int cmin, int cmax, int* a, int* b) {
+    double fa = ceil(lo) - 1, fb = floor(hi);
+    if (fa < cmin) fa = cmin;
+    if (fb > cmax) fb = cmax;
+    if (fa > fb) return false;
+    *a = (int)fa;
+    *b = (int)fb;
+    return true;
+}
+
+/* The axis the cells are stacked along: the dominant normal axis (few cells
+ * per column), or for a zero-area triangle the axis of its longest extent. */
+static int stack_axis(const double* v) {
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = v[3 + k] - v[k];
+        e2[k] = v[6 + k] - v[k];
+    }
+    n[0] = fabs(e1[1] * e2[2] - e1[2] * e2[1]);
+    n[1] = fabs(e1[2] * e2[0] - e1[0] * e2[2]);
+    n[2] = fabs(e1[0] * e2[1] - e1[1] * e2[0]);
+    if (n[0] + n[1] + n[2] > 0) return n[0] >= n[1] && n[0] >= n[2] ? 0 : (n[1] >= n[2] ? 1 : 2);
+    double ext[3];
+    for (int k = 0; k < 3; k++)
+        ext[k] = fmax(fmax(v[k], v[3 + k]), v[6 + k]) - fmin(fmin(v[k], v[3 + k]), v[6 + k]);
+    return ext[0] >= ext[1] && ext[0] >= ext[2] ? 0 : (ext[1] >= ext[2] ? 1 : 2);
+}
+
+typedef void (*cell_fn)(void* user, const int c[3], const double (*poly)[3], int n);
+
+/* Calls fn for every cell in [cmin, cmax] (inclusive, per axis) whose closed
+ * cube meets triangle v (unit-cell coordinates). With want_poly, poly is the
+ * part of the triangle inside the cell. */
+static void tri_cells(const double* v, const int cmin[3], const int cmax[3], bool want_poly, cell_fn fn,
+                      void* user) {
+    int d = stack_axis(v), u = (d + 1) % 3, w = (d + 2) % 3;
+    double tri[3][3], p1[MAXP][3], p2[MAXP][3], p3[MAXP][3];
+    memcpy(tri, v, sizeof tri);
+    double lo, hi;
+    int ua, ub, wa, wb, da, db, c[3];
+    /* fast path: the whole triangle inside one cell interior */
+    int fc[3];
+    bool inside = true;
+    for (int k = 0; k < 3 && inside; k++) {
+        poly_range((const double(*)[3])tri, 3, k, &lo, &hi);
+        double f = floor(lo);
+        fc[k] = (int)f;
+        inside = lo > f && hi < f + 1 && f >= cmin[k] && f <= cmax[k];
+    }
+    if (inside) {
+        fn(user, fc, (const double(*)[3])tri, 3);
+        return;
+    }
+    poly_range((const double(*)[3])tri, 3, u, &lo, &hi);
+    if (!cell_range(lo, hi, cmin[u], cmax[u], &ua, &ub)) return;
+    for (int iu = ua; iu <= ub; iu++) {
+        int n1 = clip_slab((const double(*)[3])tri, 3, u, iu, iu + 1, p1);
+        if (n1 == 0) continue;
+        poly_range((const double(*)[3])p1, n1, w, &lo, &hi);
+        if (!cell_range(lo, hi, cmin[w], cmax[w], &wa, &wb)) continue;
+        for (int iw = wa; iw <= wb; iw++) {
+            int n2 = clip_slab((const double(*)[3])p1, n1, w, iw, iw + 1, p2);
+            if (n2 == 0) continue;
+            poly_range((const double(*)[3])p2, n2, d, &lo, &hi);
+            if (!cell_range(lo, hi, cmin[d], cmax[d], &da, &db)) continue;
+            c[u] = iu;
+            c[w] = iw;
+            for (int id = da; id <= db; id++) {
+                c[d] = id;
+                if (!want_poly) {
+                    fn(user, c, NULL, 0);
+                    continue;
+                }
+                int n3 = clip_slab((const double(*)[3])p2, n2, d, id, id + 1, p3);
+                if (n3 == 0) { /* rounding: keep the cell the range test found, with a point */
+                    memcpy(p3[0], p2[0], sizeof p3[0]);
+                    n3 = 1;
+                }
+                fn(user, c, (const double(*)[3])p3, n3);
+            }
+        }
+    }
+}
+
+/* ---- colour --------------------------------------------------------------------------- */
+
+static float srgb_to_lin[256];
+static float srgb_threshold[256]; /* linear value half-way between sRGB codes k and k+1; [255] = 2 */
+static uint8_t srgb_guess[4097];   /* code at the start of each 1/4096 step of linear values */
+static pthread_once_t tables_once = PTHREAD_ONCE_INIT;
+
+static double srgb_decode(double s) { return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4); }
+static void init_tables(void) {
+    for (int i = 0; i < 256; i++) srgb_to_lin[i] = (float)srgb_decode(i / 255.0);
+    for (int i = 0; i < 255; i++) srgb_threshold[i] = (float)srgb_decode((i + 0.5) / 255.0);
+    srgb_threshold[255] = 2.0f;
+    int c = 0;
+    for (int i = 0; i <= 4096; i++) {
+        while (srgb_threshold[c] < i / 4096.0f) c++;
+        srgb_guess[i] = (uint8_t)c;
+    }
+}
+/* The sRGB code nearest in sRGB space (the number of half-way thresholds
+ * below v): a table guess, then at most a few steps up. */
+static uint32_t lin_to_srgb8(float v) {
+    if (!(v > 0)) return 0;
+    if (v >= 1) return 255;
+    uint32_t c = srgb_guess[(int)(v * 4096.0f)];
+    while (srgb_threshold[c] < v) c++;
+    return c;
+}
+static uint32_t unorm8(float v) {
+    if (!(v > 0)) return 0;
+    if (v >= 1) return 255;
+    return (uint32_t)lrintf(v * 255.0f);
+}
+
+static int64_t wrap_coord(int64_t x, int64_t n, int mode) {
+    if (mode == VX_GLTF_WRAP_CLAMP) return x < 0 ? 0 : (x >= n ? n - 1 : x);
+    if (mode == VX_GLTF_WRAP_MIRROR) {
+        int64_t m = ((x % (2 * n)) + 2 * n) % (2 * n);
+        return m >= n ? 2 * n - 1 - m : m;
+    }
+    return ((x % n) + n) % n;
+}
+
+static void sample_texture(const vx_gltf_image* im, int ws, int wt, double s, double t, float out[4]) {
+    if (!(fabs(s) < 1e9)) s = 0; /* also NaN */
+    if (!(fabs(t) < 1e9)) t = 0;
+    double x = s * im->width - 0.5, y = t * im->height - 0.5;
+    double fx = floor(x), fy = floor(y);
+    float ax = (float)(x - fx), ay = (float)(y - fy);
+    int64_t x0 = (int64_t)fx, y0 = (int64_t)fy;
+    int64_t xs[2] = {wrap_coord(x0, im->width, ws), wrap_coord(x0 + 1, im->width, ws)};
+    int64_t ys[2] = {wrap_coord(y0, im->height, wt), wrap_coord(y0 + 1, im->height, wt)};
+    float wgt[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+    for (int c = 0; c < 4; c++) out[c] = 0;
+    for (int k = 0; k < 4; k++) {
+        const uint8_t* p = im->rgba + ((size_t)ys[k >> 1] * im->width + (size_t)xs[k & 1]) * 4;
+        out[0] += wgt[k] * srgb_to_lin[p[0]];
+        out[1] += wgt[k] * srgb_to_lin[p[1]];
+        out[2] += wgt[k] * srgb_to_lin[p[2]];
+        out[3] += wgt[k] * (p[3] / 255.0f);
+    }
+}
+
+static uint32_t oct_encode(double x, double y, double z) {
+    double l = fabs(x) + fabs(y) + fabs(z);
+    if (!(l > 0)) { x = 0; y = 0; z = 1; l = 1; }
+    double px = x / l, py = y / l;
+    if (z < 0) {
+        double ox = (1 - fabs(py)) * (px >= 0 ? 1 : -1), oy = (1 - fabs(px)) * (py >= 0 ? 1 : -1);
+        px = ox;
+        py = oy;
+    }
+    int32_t sx = (int32_t)lrint(fmax(-1, fmin(1, px)) * 32767), sy = (int32_t)lrint(fmax(-1, fmin(1, py)) * 32767);
+    return (uint32_t)(uint16_t)(int16_t)sx | ((uint32_t)(uint16_t)(int16_t)sy << 16);
+}
+
+/* ---- the job ----------------------------------------------------------------------- */
+
+typedef struct acc {
+    float c[4], w, n[3];
+} acc;
+
+typedef struct brick_out {
+    size_t count;
+    uint32_t* local; /* local Morton keys, sorted */
+    uint32_t* rgba;
+    uint32_t* normal;
+} brick_out;
+
+typedef struct job {
+    const vx_conv_mesh_desc* desc;
+    const vx_gltf_mesh* mesh;
+    const vx_conv_mesh_grid* grid;
+    const vx_allocator* alloc;
+    uint32_t attrs;
+    bool color, normals;
+    double* g;               /* grid coordinates, 9 per triangle */
+    uint64_t* pairs;         /* brick Morton << 32 | triangle, sorted by brick */
+    size_t pair_count;
+    uint32_t nb[3];          /* bricks per axis */
+    uint64_t* vote[3];       /* solid: parity per axis, bit x + n0 (y + n1 z) */
+    /* current region */
+    const size_t* brick_first; /* pair index of each brick of the region; [brick_count] = end */
+    size_t brick_count;
+    brick_out* outs;
+    atomic_size_t next;
+    atomic_size_t done;
+    atomic_int failed; /* vx_result */
+    atomic_bool cancel;
+    /* all regions */
+    size_t* bstart;        /* pair index where each brick starts; [total_bricks] = pair_count */
+    size_t total_bricks;
+    size_t* rstart;        /* brick index where each region starts; [region_count] = total_bricks */
+    size_t region_count;
+    unsigned rb;           /* region = 2^rb bricks per side */
+    uint32_t R;
+    atomic_size_t next_region;
+    atomic_size_t bricks_done;
+    pthread_mutex_t lock;
+    vx_error first_err;    /* the first failure of a region worker */
+    vx__mesh_sink sink;
+    void* user;
+} job;
+
+static uint32_t mort6[BRICK][3]; /* local Morton bits of x, y, z in a brick */
+static void init_mort6(void) {
+    for (uint32_t i = 0; i < BRICK; i++)
+        for (int a = 0; a < 3; a++) {
+            uint32_t m = 0;
+            for (int b = 0; b < 6; b++) m |= ((i >> b) & 1u) << (3 * b + a);
+            mort6[i][a] = m;
+        }
+}
+static pthread_once_t mort_once = PTHREAD_ONCE_INIT;
+
+typedef struct region_buf {
+    uint64_t* keys;
+    uint32_t *rgba, *nrm;
+    size_t kcap, rcap, ncap;
+} region_buf;
+
+typedef struct worker {
+    job* j;
+    region_buf buf;
+    uint64_t* bits; /* BRICK_CELLS bits of the current brick */
+    acc* acc;       /* BRICK_CELLS when attributes */
+    uint32_t* fin_rgba;
+    uint32_t* fin_nrm;
+    /* current triangle */
+    const double* v; /* local coordinates */
+    float uv[6], col[12], base[4], nrm[3];
+    const vx_gltf_image* img;
+    int ws, wt;
+    double d00, d01, d11, den;
+} worker;
+
+static void hit_geom(void* user, const int c[3], const double (*poly)[3], int n) {
+    (void)poly;
+    (void)n;
+    worker* w = (worker*)user;
+    uint32_t m = mort6[c[0]][0] | mort6[c[1]][1] | mort6[c[2]][2];
+    w->bits[m >> 6] |= 1ull << (m & 63);
+}
+
+static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
+    worker* w = (worker*)user;
+    uint32_t m = mort6[c[0]][0] | mort6[c[1]][1] | mort6[c[2]][2];
+    acc* a = &w->acc[m];
+    if (!(w->bits[m >> 6] & (1ull << (m & 63)))) {
+        w->bits[m >> 6] |= 1ull << (m & 63);
+        memset(a, 0, sizeof *a);
+    }
+    /* area and centroid of the clipped polygon (fan from p[0]) */
+    double area = 0, cen[3] = {0, 0, 0};
+    for (int i = 1; i + 1 < n; i++) {
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = p[i][k] - p[0][k];
+            e2[k] = p[i + 1][k] - p[0][k];
+        }
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+        double ar = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        area += ar;
+        for (int k = 0; k < 3; k++) cen[k] += ar * (p[0][k] + p[i][k] + p[i + 1][k]) / 3.0;
+    }
+    if (area > 0) {
+        for (int k = 0; k < 3; k++) cen[k] /= area;
+    } else {
+        for (int k = 0; k < 3; k++) {
+            cen[k] = 0;
+            for (int i = 0; i < n; i++) cen[k] += p[i][k];
+            cen[k] /= n;
+        }
+    }
+    /* zero-area pieces still count a little, so a cell touched only by an
+     * edge or a degenerate triangle gets that triangle's attributes */
+    float wgt = (float)(area + 1e-7);
+    if (w->j->color) {
+        double b1 = 1.0 / 3, b2 = 1.0 / 3;
+        if (w->den > 0) {
+            const double* v = w->v;
+            double v2[3], d20 = 0, d21 = 0;
+            for (int k = 0; k < 3; k++) v2[k] = cen[k] - v[k];
+            for (int k = 0; k < 3; k++) {
+                d20 += v2[k] * (v[3 + k] - v[k]);
+                d21 += v2[k] * (v[6 + k] - v[k]);
+            }
+            b1 = (w->d11 * d20 - w->d01 * d21) / w->den;
+            b2 = (w->d00 * d21 - w->d01 * d20) / w->den;
+        }
+        double b0 = 1 - b1 - b2;
+        float col[4];
+        for (int k = 0; k < 4; k++)
+            col[k] = w->base[k] * (float)(b0 * w->col[k] + b1 * w->col[4 + k] + b2 * w->col[8 + k]);
+        if (w->img) {
+            float t[4];
+            sample_texture(w->img, w->ws, w->wt, b0 * w->uv[0] + b1 * w->uv[2] + b2 * w->uv[4],
+                           b0 * w->uv[1] + b1 * w->uv[3] + b2 * w->uv[5], t);
+            for (int k = 0; k < 4; k++) col[k] *= t[k];
+        }
+        for (int k = 0; k < 4; k++) a->c[k] += wgt * col[k];
+    }
+    for (int k = 0; k < 3; k++) a->n[k] += wgt * w->nrm[k];
+    a->w += wgt;
+}
+
+static void setup_tri_attrs(worker* w, size_t t) {
+    const vx_gltf_mesh* mesh = w->j->mesh;
+    const double* v = w->v;
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = v[3 + k] - v[k];
+        e2[k] = v[6 + k] - v[k];
+    }
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) w->nrm[k] = l > 0 ? (float)(n[k] / l) : 0.f;
+    w->d00 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+    w->d11 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    w->d01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+    w->den = w->d00 * w->d11 - w->d01 * w->d01;
+    if (!(w->den > 1e-30 * w->d00 * w->d11)) w->den = 0;
+    if (!w->j->color) return;
+    uint32_t mi = mesh->material ? mesh->material[t] : UINT32_MAX;
+    w->img = NULL;
+    for (int k = 0; k < 4; k++) w->base[k] = 1.f;
+    if (mi < mesh->material_count) {
+        const vx_gltf_material* m = &mesh->materials[mi];
+        memcpy(w->base, m->base_color, sizeof w->base);
+        if (m->image >= 0 && (uint32_t)m->image < mesh->image_count && mesh->images[m->image].rgba && mesh->uv) {
+            w->img = &mesh->images[m->image];
+            w->ws = m->wrap_s;
+            w->wt = m->wrap_t;
+        }
+    }
+    if (w->img) memcpy(w->uv, mesh->uv + 6 * t, sizeof w->uv);
+    if (mesh->color) memcpy(w->col, mesh->color + 12 * t, sizeof w->col);
+    else for (int k = 0; k < 12; k++) w->col[k] = 1.f;
+}
+
+static bool majority(const job* j, uint32_t x, uint32_t y, uint32_t z) {
+    const uint32_t* n = j->grid->size;
+    uint64_t i = x + (uint64_t)n[0] * (y + (uint64_t)n[1] * z);
+    uint64_t m = 1ull << (i & 63);
+    int v = !!(j->vote[0][i >> 6] & m) + !!(j->vote[1][i >> 6] & m) + !!(j->vote[2][i >> 6] & m);
+    return v >= 2;
+}
+
+static uint32_t finish_rgba(const acc* a) {
+    float c[4];
+    for (int k = 0; k < 4; k++) c[k] = a->w > 0 ? a->c[k] / a->w : 1.f;
+    return lin_to_srgb8(c[0]) | lin_to_srgb8(c[1]) << 8 | lin_to_srgb8(c[2]) << 16 | unorm8(c[3]) << 24;
+}
+
+/* Voxelizes brick b of the current region into j->outs[b]. */
+static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
+    job* j = w->j;
+    uint32_t bx, by, bz;
+    vx_svo_demorton(j->pairs[first] >> 32, &bx, &by, &bz);
+    uint32_t org[3] = {bx * BRICK, by * BRICK, bz * BRICK};
+    int cmin[3] = {0, 0, 0}, cmax[3];
+    for (int a = 0; a < 3; a++) {
+        uint32_t left = j->grid->size[a] - org[a];
+        cmax[a] = (int)(left < BRICK ? left : BRICK) - 1;
+    }
+    bool attrs = j->attrs != 0;
+    memset(w->bits, 0, BRICK_CELLS / 8);
+    for (size_t p = first; p < end; p++) {
+        size_t t = (size_t)(j->pairs[p] & 0xFFFFFFFFu);
+        if (t == 0xFFFFFFFFu) continue; /* solid filler: a brick with no triangle */
+        double v[9];
+        for (int k = 0; k < 9; k++) v[k] = j->g[9 * t + k] - org[k % 3];
+        w->v = v;
+        if (attrs) setup_tri_attrs(w, t);
+        tri_cells(v, cmin, cmax, attrs, attrs ? hit_attr : hit_geom, w);
+    }
+    /* solid: interior cells, marked in a second bitmap half (after the surface bits) */
+    bool solid = j->vote[0] != NULL;
+    uint64_t* inner = w->bits + BRICK_CELLS / 64;
+    size_t count = 0;
+    if (solid) {
+        memset(inner, 0, BRICK_CELLS / 8);
+        for (int z = 0; z <= cmax[2]; z++)
+            for (int y = 0; y <= cmax[1]; y++)
+                for (int x = 0; x <= cmax[0]; x++) {
+                    uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
+                    if (w->bits[m >> 6] & (1ull << (m & 63))) continue;
+                    if (majority(j, org[0] + x, org[1] + y, org[2] + z)) inner[m >> 6] |= 1ull << (m & 63);
+                }
+    }
+    for (size_t i = 0; i < BRICK_CELLS / 64; i++)
+        count += (size_t)__builtin_popcountll(w->bits[i]) + (solid ? (size_t)__builtin_popcountll(inner[i]) : 0);
+    o->count = count;
+    if (count == 0) return VX_OK;
+    o->local = (uint32_t*)vx_alloc(j->alloc, count * 4);
+    if (j->attrs & VX_ATTR_RGBA8) o->rgba = (uint32_t*)vx_alloc(j->alloc, count * 4);
+    if (j->attrs & VX_ATTR_NORMAL) o->normal = (uint32_t*)vx_alloc(j->alloc, count * 4);
+    if (!o->local || ((j->attrs & VX_ATTR_RGBA8) && !o->rgba) || ((j->attrs & VX_ATTR_NORMAL) && !o->normal))
+        return VX_ERR_NOMEM;
+    if (solid && attrs) {
+        /* final surface attributes, then interior cells copy the nearest
+         * surface cell before them in their x row (else the brick's first) */
+        uint32_t first_rgba = 0xFFFFFFFFu, first_nrm = oct_encode(0, 0, 1);
+        bool have_first = false;
+        for (size_t i = 0; i < BRICK_CELLS / 64; i++)
+            for (uint64_t word = w->bits[i]; word; word &= word - 1) {
+                uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
+                const acc* a = &w->acc[m];
+                w->fin_rgba[m] = finish_rgba(a);
+                w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
+                if (!have_first) {
+                    first_rgba = w->fin_rgba[m];
+                    first_nrm = w->fin_nrm[m];
+                    have_first = true;
+                }
+            }
+        for (int z = 0; z <= cmax[2]; z++)
+            for (int y = 0; y <= cmax[1]; y++) {
+                uint32_t cr = first_rgba, cn = first_nrm;
+                for (int x = 0; x <= cmax[0]; x++) {
+                    uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
+                    if (w->bits[m >> 6] & (1ull << (m & 63))) {
+                        cr = w->fin_rgba[m];
+                        cn = w->fin_nrm[m];
+                    } else if (inner[m >> 6] & (1ull << (m & 63))) {
+                        w->fin_rgba[m] = cr;
+                        w->fin_nrm[m] = cn;
+                    }
+                }
+            }
+    }
+    size_t k = 0;
+    for (size_t i = 0; i < BRICK_CELLS / 64; i++) {
+        uint64_t word = w->bits[i] | (solid ? inner[i] : 0);
+        for (; word; word &= word - 1) {
+            uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
+            o->local[k] = m;
+            if (attrs && solid) {
+                if (o->rgba) o->rgba[k] = w->fin_rgba[m];
+                if (o->normal) o->normal[k] = w->fin_nrm[m];
+            } else if (attrs) {
+                const acc* a = &w->acc[m];
+                if (o->rgba) o->rgba[k] = finish_rgba(a);
+                if (o->normal) o->normal[k] = oct_encode(a->n[0], a->n[1], a->n[2]);
+            }
+            k++;
+        }
+    }
+    return VX_OK;
+}
+
+static void worker_free(worker* w, const vx_allocator* a) {
+    vx_free(a, w->buf.keys);
+    vx_free(a, w->buf.rgba);
+    vx_free(a, w->buf.nrm);
+    vx_free(a, w->bits);
+    vx_free(a, w->acc);
+    vx_free(a, w->fin_rgba);
+    vx_free(a, w->fin_nrm);
+}
+
+static bool worker_init(worker* w, job* j) {
+    memset(w, 0, sizeof *w);
+    w->j = j;
+    w->bits = (uint64_t*)vx_alloc(j->alloc, BRICK_CELLS / 4); /* surface + interior bitmaps */
+    if (!w->bits) return false;
+    if (j->attrs) {
+        w->acc = (acc*)vx_alloc(j->alloc, sizeof(acc) * BRICK_CELLS);
+        if (!w->acc) return false;
+        if (j->vote[0]) {
+            w->fin_rgba = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
+            w->fin_nrm = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
+            if (!w->fin_rgba || !w->fin_nrm) return false;
+        }
+    }
+    return true;
+}
+
+static void* worker_main(void* arg) {
+    worker* w = (worker*)arg;
+    job* j = w->j;
+    for (;;) {
+        if (atomic_load(&j->failed) || atomic_load(&j->cancel)) break;
+        size_t b = atomic_fetch_add(&j->next, 1);
+        if (b >= j->brick_count) break;
+        vx_result r = do_brick(w, j->brick_first[b], j->brick_first[b + 1], &j->outs[b]);
+        if (r) {
+            int z = 0;
+            atomic_compare_exchange_strong(&j->failed, &z, (int)r);
+            break;
+        }
+        atomic_fetch_add(&j->done, 1);
+    }
+    return NULL;
+}
+
+/* ---- sorting and binning ----------------------------------------------------------------- */
+
+/* Stable LSD radix sort of v by bits [lo, hi) of each value. */
+static bool radix_sort(const vx_allocator* a, uint64_t* v, size_t n, unsigned lo, unsigned hi) {
+    if (n < 2 || hi <= lo) return true;
+    uint64_t* tmp = (uint64_t*)vx_alloc(a, n * sizeof *tmp);
+    if (!tmp) return false;
+    uint64_t *src = v, *dst = tmp;
+    for (unsigned s = lo; s < hi; s += 11) {
+        size_t cnt[2048] = {0};
+        for (size_t i = 0; i < n; i++) cnt[(src[i] >> s) & 2047]++;
+        size_t sum = 0;
+        for (int i = 0; i < 2048; i++) {
+            size_t c = cnt[i];
+            cnt[i] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++) dst[cnt[(src[i] >> s) & 2047]++] = src[i];
+        uint64_t* t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != v) memcpy(v, src, n * sizeof *v);
+    vx_free(a, tmp);
+    return true;
+}
+
+typedef struct bin_ctx {
+    job* j;
+    uint32_t tri;
+    size_t cap;
+    bool nomem;
+} bin_ctx;
+
+static void bin_hit(void* user, const int c[3], const double (*poly)[3], int n) {
+    (void)poly;
+    (void)n;
+    bin_ctx* b = (bin_ctx*)user;
+    if (b->nomem) return;
+    if (!vx_grow(b->j->alloc, (void**)&b->j->pairs, &b->cap, b->j->pair_count + 1, sizeof(uint64_t))) {
+        b->nomem = true;
+        return;
+    }
+    b->j->pairs[b->j->pair_count++] =
+        vx_svo_morton((uint32_t)c[0], (uint32_t)c[1], (uint32_t)c[2]) << 32 | b->tri;
+}
+
+/* ---- solid: parity along each axis --------------------------------------------------- */
+
+typedef struct crossing {
+    uint64_t ray; /* ray index << 32 | float bits of the crossing coordinate (sortable: >= 0) */
+} crossing;
+
+static bool edge_top_left(double dx, double dy) { return dy < 0 || (dy == 0 && dx > 0); }
+
+static vx_result solid_votes(job* j, vx_error* err) {
+    const uint32_t* n = j->grid->size;
+    uint64_t cells = (uint64_t)n[0] * n[1] * n[2];
+    if (cells > (1ull << 31))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "--solid: grid of %ux%ux%u cells is more than 2^31 (lower --res)", n[0], n[1], n[2]);
+    size_t words = (size_t)((cells + 63) / 64);
+    for (int a = 0; a < 3; a++) {
+        j->vote[a] = (uint64_t*)vx_calloc(j->alloc, words, 8);
+        if (!j->vote[a]) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: %zu bytes", words * 8);
+    }
+    size_t T = j->mesh->tri_count;
+    for (int ax = 0; ax < 3; ax++) {
+        int u = (ax + 1) % 3, w = (ax + 2) % 3;
+        uint64_t* list = NULL;
+        size_t cnt = 0, cap = 0;
+        for (size_t t = 0; t < T; t++) {
+            const double* v = j->g + 9 * t;
+            double p[3][2], A[3];
+            for (int k = 0; k < 3; k++) {
+                p[k][0] = v[3 * k + u];
+                p[k][1] = v[3 * k + w];
+                A[k] = v[3 * k + ax];
+            }
+            double area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            if (area == 0 || !isfinite(area)) continue; /* edge-on: no crossing */
+            if (area < 0) { /* make it counter-clockwise */
+                double s0 = p[1][0], s1 = p[1][1], sa = A[1];
+                p[1][0] = p[2][0]; p[1][1] = p[2][1]; A[1] = A[2];
+                p[2][0] = s0; p[2][1] = s1; A[2] = sa;
+                area = -area;
+            }
+            double ulo = fmin(fmin(p[0][0], p[1][0]), p[2][0]), uhi = fmax(fmax(p[0][0], p[1][0]), p[2][0]);
+            double wlo = fmin(fmin(p[0][1], p[1][1]), p[2][1]), whi = fmax(fmax(p[0][1], p[1][1]), p[2][1]);
+            double ja = fmax(ceil(ulo - 0.5), 0), jb = fmin(floor(uhi - 0.5), (double)n[u] - 1);
+            double ka = fmax(ceil(wlo - 0.5), 0), kb = fmin(floor(whi - 0.5), (double)n[w] - 1);
+            for (double kk = ka; kk <= kb; kk++)
+                for (double jj = ja; jj <= jb; jj++) {
+                    double q0 = jj + 0.5, q1 = kk + 0.5, e[3];
+                    bool in = true;
+                    for (int k = 0; k < 3 && in; k++) {
+                        const double* a0 = p[(k + 1) % 3];
+                        const double* a1 = p[(k + 2) % 3];
+                        double dx = a1[0] - a0[0], dy = a1[1] - a0[1];
+                        e[k] = dx * (q1 - a0[1]) - dy * (q0 - a0[0]);
+                        in = e[k] > 0 || (e[k] == 0 && edge_top_left(dx, dy));
+                    }
+                    if (!in) continue;
+                    double s = e[0] + e[1] + e[2];
+                    double at = s > 0 ? (e[0] * A[0] + e[1] * A[1] + e[2] * A[2]) / s : A[0];
+                    float af = (float)fmax(at, 0);
+                    uint32_t bitsf;
+                    memcpy(&bitsf, &af, 4);
+                    if (!vx_grow(j->alloc, (void**)&list, &cap, cnt + 1, sizeof *list)) {
+                        vx_free(j->alloc, list);
+                        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: ray crossings");
+                    }
+                    uint64_t ray = (uint64_t)jj + (uint64_t)n[u] * (uint64_t)kk;
+                    list[cnt++] = ray << 32 | bitsf;
+                }
+        }
+        if (!radix_sort(j->alloc, list, cnt, 0, 64)) {
+            vx_free(j->alloc, list);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: sorting crossings");
+        }
+        /* walk each ray: a cell centre is inside when an odd number of crossings lie before it */
+        for (size_t i = 0; i < cnt;) {
+            uint64_t ray = list[i] >> 32;
+            size_t e = i;
+            while (e < cnt && (list[e] >> 32) == ray) e++;
+            uint32_t ju = (uint32_t)(ray % n[u]), kw = (uint32_t)(ray / n[u]);
+            size_t c = i;
+            bool inside = false;
+            for (uint32_t x = 0; x < n[ax]; x++) {
+                float centre = (float)x + 0.5f;
+                while (c < e) {
+                    float f;
+                    uint32_t fb = (uint32_t)list[c];
+                    memcpy(&f, &fb, 4);
+                    if (f >= centre) break;
+                    inside = !inside;
+                    c++;
+                }
+                if (c == e && !inside) break;
+                if (inside) {
+                    uint32_t xyz[3];
+                    xyz[ax] = x;
+                    xyz[u] = ju;
+                    xyz[w] = kw;
+                    uint64_t idx = xyz[0] + (uint64_t)n[0] * (xyz[1] + (uint64_t)n[1] * xyz[2]);
+                    j->vote[ax][idx >> 6] |= 1ull << (idx & 63);
+                }
+            }
+            i = e;
+        }
+        vx_free(j->alloc, list);
+    }
+    return VX_OK;
+}
+
+/* ---- driver -------------------------------------------------------------------------- */
+
+uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh) {
+    uint32_t attrs = 0;
+    bool has_color = mesh->material_count > 0 || mesh->color != NULL;
+    if (mesh->material) {
+        bool any_mat = false;
+        for (size_t t = 0; t < mesh->tri_count && !any_mat; t++) any_mat = mesh->material[t] != UINT32_MAX;
+        has_color = any_mat || mesh->color != NULL;
+    }
+    if (!desc->no_color && has_color) attrs |= VX_ATTR_RGBA8;
+    if (desc->normals) attrs |= VX_ATTR_NORMAL;
+    return attrs;
+}
+
+static void job_free(job* j) {
+    vx_free(j->alloc, j->g);
+    vx_free(j->alloc, j->pairs);
+    for (int a = 0; a < 3; a++) vx_free(j->alloc, j->vote[a]);
+}
+
+
+/* Concatenates the bricks of region ri (Morton order) and hands them to the
+ * sink; frees the brick outputs either way. */
+static vx_result region_emit(job* j, size_t ri, brick_out* outs, region_buf* rb, vx_error* err) {
+    size_t b0 = j->rstart[ri], nbk = j->rstart[ri + 1] - b0, total = 0, k = 0;
+    vx_result r = VX_OK;
+    for (size_t b = 0; b < nbk; b++) total += outs[b].count;
+    if (total > 0 && (!vx_grow(j->alloc, (void**)&rb->keys, &rb->kcap, total, 8) ||
+                      (j->color && !vx_grow(j->alloc, (void**)&rb->rgba, &rb->rcap, total, 4)) ||
+                      (j->normals && !vx_grow(j->alloc, (void**)&rb->nrm, &rb->ncap, total, 4))))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", total);
+    uint64_t region = (j->pairs[j->bstart[b0]] >> 32) >> (3 * j->rb);
+    for (size_t b = 0; b < nbk; b++) {
+        brick_out* o = &outs[b];
+        if (!r && o->count) {
+            uint64_t bm = (j->pairs[j->bstart[b0 + b]] >> 32) & ((1ull << (3 * j->rb)) - 1);
+            for (size_t i = 0; i < o->count; i++) rb->keys[k + i] = bm << 18 | o->local[i];
+            if (j->color) memcpy(rb->rgba + k, o->rgba, o->count * 4);
+            if (j->normals) memcpy(rb->nrm + k, o->normal, o->count * 4);
+            k += o->count;
+        }
+        vx_free(j->alloc, o->local);
+        vx_free(j->alloc, o->rgba);
+        vx_free(j->alloc, o->normal);
+        memset(o, 0, sizeof *o);
+    }
+    if (r || total == 0) return r;
+    vx__mesh_region reg;
+    memset(&reg, 0, sizeof reg);
+    uint32_t rx, ry, rz;
+    vx_svo_demorton(region, &rx, &ry, &rz);
+    reg.origin[0] = rx * j->R;
+    reg.origin[1] = ry * j->R;
+    reg.origin[2] = rz * j->R;
+    for (int a = 0; a < 3; a++) {
+        uint32_t left = j->grid->size[a] - reg.origin[a];
+        reg.size[a] = left < j->R ? left : j->R;
+    }
+    reg.index = ri;
+    reg.region_count = j->region_count;
+    reg.count = total;
+    reg.keys = rb->keys;
+    reg.rgba = j->color ? rb->rgba : NULL;
+    reg.normal = j->normals ? rb->nrm : NULL;
+    reg.attrs = j->attrs;
+    return j->sink(j->user, &reg, err);
+}
+
+static void record_failure(job* j, vx_result r, const vx_error* e) {
+    pthread_mutex_lock(&j->lock);
+    int z = 0;
+    if (atomic_compare_exchange_strong(&j->failed, &z, (int)r)) j->first_err = *e;
+    pthread_mutex_unlock(&j->lock);
+}
+
+/* Whole regions per thread (voxelize, then the sink builds the model), so
+ * the octree builds of different regions run in parallel too. The calling
+ * thread (is_main) alone reports progress. */
+static void region_loop(worker* w, bool is_main) {
+    job* j = w->j;
+    for (;;) {
+        if (atomic_load(&j->failed) || atomic_load(&j->cancel)) return;
+        size_t ri = atomic_fetch_add(&j->next_region, 1);
+        if (ri >= j->region_count) return;
+        size_t b0 = j->rstart[ri], nbk = j->rstart[ri + 1] - b0;
+        vx_error e = {0};
+        brick_out* outs = (brick_out*)vx_calloc(j->alloc, nbk, sizeof *outs);
+        vx_result r = outs ? VX_OK : vx_fail(&e, VX_ERR_NOMEM, VX_NO_OFFSET, "region bricks");
+        for (size_t b = 0; b < nbk && !r; b++) {
+            if (atomic_load(&j->failed) || atomic_load(&j->cancel)) break;
+            r = do_brick(w, j->bstart[b0 + b], j->bstart[b0 + b + 1], &outs[b]);
+            if (r) vx_fail(&e, r, VX_NO_OFFSET, "voxelizer: out of memory");
+            size_t done = atomic_fetch_add(&j->bricks_done, 1) + 1;
+            if (is_main && !vx_progress_report(&j->desc->build.progress, "voxelize", done, j->total_bricks))
+                atomic_store(&j->cancel, true);
+        }
+        if (outs) {
+            if (!r && !atomic_load(&j->cancel) && !atomic_load(&j->failed)) r = region_emit(j, ri, outs, &w->buf, &e);
+            else
+                for (size_t b = 0; b < nbk; b++) {
+                    vx_free(j->alloc, outs[b].local);
+                    vx_free(j->alloc, outs[b].rgba);
+                    vx_free(j->alloc, outs[b].normal);
+                }
+            vx_free(j->alloc, outs);
+        }
+        if (r) {
+            record_failure(j, r, &e);
+            return;
+        }
+    }
+}
+
+static void* region_thread(void* arg) {
+    region_loop((worker*)arg, false);
+    return NULL;
+}
+
+vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
+                            uint32_t attrs, vx__mesh_sink sink, void* user, vx_error* err) {
+    pthread_once(&tables_once, init_tables);
+    pthread_once(&mort_once, init_mort6);
+    uint32_t R = desc->region;
+    if (R == 0) {
+        /* one model up to 512 cells; beyond, at least 8 regions (so that
+         * octree builds run in parallel) of at most 2048 cells */
+        uint32_t side = grid->size[0];
+        if (grid->size[1] > side) side = grid->size[1];
+        if (grid->size[2] > side) side = grid->size[2];
+        R = BRICK;
+        while (R < side) R *= 2;
+        if (R > 512) R /= 2;
+        if (R > 2048) R = 2048;
+    }
+    if (R < BRICK || (R & (R - 1)) || R > (1u << 21))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "region %u: not a power of two in 64..2^21", R);
+    if (mesh->tri_count > UINT32_MAX - 1)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu triangles is too many", mesh->tri_count);
+    job j;
+    memset(&j, 0, sizeof j);
+    j.desc = desc;
+    j.mesh = mesh;
+    j.grid = grid;
+    j.alloc = desc->alloc;
+    j.attrs = attrs;
+    j.color = (attrs & VX_ATTR_RGBA8) != 0;
+    j.normals = (attrs & VX_ATTR_NORMAL) != 0;
+    j.sink = sink;
+    j.user = user;
+    j.R = R;
+    while (((uint32_t)BRICK << j.rb) < R) j.rb++;
+    atomic_init(&j.next, 0);
+    atomic_init(&j.done, 0);
+    atomic_init(&j.failed, 0);
+    atomic_init(&j.cancel, false);
+    atomic_init(&j.next_region, 0);
+    atomic_init(&j.bricks_done, 0);
+    pthread_mutex_init(&j.lock, NULL);
+    size_t T = mesh->tri_count, n9;
+    vx_result r = VX_OK;
+    if (!vx_mul_size(T, 9 * sizeof(double), &n9) || !(j.g = (double*)vx_alloc(j.alloc, n9))) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu triangles", T);
+        goto done;
+    }
+    for (size_t i = 0; i < 9 * T; i++) {
+        double p = mesh->pos[i];
+        if (!isfinite(p)) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "triangle %zu: vertex %zu has a NaN or infinite coordinate",
+                        i / 9, (i % 9) / 3);
+            goto done;
+        }
+        j.g[i] = (p - grid->min[i % 3]) / grid->h;
+    }
+    if (desc->solid && (r = solid_votes(&j, err))) goto done;
+    /* bin triangles into bricks */
+    for (int a = 0; a < 3; a++) j.nb[a] = (grid->size[a] + BRICK - 1) / BRICK;
+    {
+        bin_ctx b = {&j, 0, 0, false};
+        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)j.nb[0] - 1, (int)j.nb[1] - 1, (int)j.nb[2] - 1};
+        for (size_t t = 0; t < T && !b.nomem; t++) {
+            double v[9];
+            for (int k = 0; k < 9; k++) v[k] = j.g[9 * t + k] / BRICK;
+            b.tri = (uint32_t)t;
+            tri_cells(v, cmin, cmax, false, bin_hit, &b);
+        }
+        /* solid: bricks with no triangle can still be inside; one filler pair each */
+        if (desc->solid)
+            for (uint32_t z = 0; z < j.nb[2] && !b.nomem; z++)
+                for (uint32_t y = 0; y < j.nb[1] && !b.nomem; y++)
+                    for (uint32_t x = 0; x < j.nb[0] && !b.nomem; x++) {
+                        b.tri = 0xFFFFFFFFu;
+                        int c[3] = {(int)x, (int)y, (int)z};
+                        bin_hit(&b, c, NULL, 0);
+                    }
+        if (b.nomem || !radix_sort(j.alloc, j.pairs, j.pair_count, 32, 64)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
+            goto done;
+        }
+    }
+    /* brick and region boundaries */
+    {
+        size_t bcap = 0, rcap = 0;
+        for (size_t i = 0; i <= j.pair_count && !r; i++) {
+            bool end = i == j.pair_count;
+            bool new_brick = end || i == 0 || (j.pairs[i] >> 32) != (j.pairs[i - 1] >> 32);
+            if (!new_brick) continue;
+            bool new_region = end || i == 0 || (j.pairs[i] >> 32 >> (3 * j.rb)) != (j.pairs[i - 1] >> 32 >> (3 * j.rb));
+            if (!vx_grow(j.alloc, (void**)&j.bstart, &bcap, j.total_bricks + 1, sizeof(size_t)) ||
+                (new_region && !vx_grow(j.alloc, (void**)&j.rstart, &rcap, j.region_count + 1, sizeof(size_t)))) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick lists");
+                break;
+            }
+            j.bstart[j.total_bricks] = i;
+            if (new_region) j.rstart[j.region_count] = j.total_bricks;
+            if (end) break;
+            j.total_bricks++;
+            if (new_region) j.region_count++;
+        }
+        if (r) goto done;
+    }
+    unsigned threads = desc->threads;
+    if (threads == 0) {
+        cpu_set_t set;
+        long nc = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : sysconf(_SC_NPROCESSORS_ONLN);
+        threads = nc > 0 ? (unsigned)nc : 1;
+    }
+    if (threads > 64) threads = 64;
+    worker ws[64];
+    memset(ws, 0, sizeof ws);
+    for (unsigned i = 0; i < threads && !r; i++)
+        if (!worker_init(&ws[i], &j)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxelizer buffers");
+    if (!r && j.region_count >= 2 * threads) {
+        pthread_t th[64];
+        unsigned started = 0;
+        for (unsigned i = 1; i < threads; i++) {
+            if (pthread_create(&th[i], NULL, region_thread, &ws[i]) != 0) break;
+            started = i;
+        }
+        region_loop(&ws[0], true);
+        for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
+    } else {
+        /* few regions: one at a time, its bricks spread over the threads */
+        for (size_t ri = 0; ri < j.region_count && !r; ri++) {
+            size_t b0 = j.rstart[ri], nbk = j.rstart[ri + 1] - b0;
+            j.brick_first = j.bstart + b0;
+            j.brick_count = nbk;
+            j.outs = (brick_out*)vx_calloc(j.alloc, nbk, sizeof *j.outs);
+            if (!j.outs) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region bricks");
+                break;
+            }
+            atomic_store(&j.next, 0);
+            atomic_store(&j.done, 0);
+            pthread_t th[64];
+            unsigned started = 0;
+            for (unsigned i = 1; i < threads; i++) {
+                if (pthread_create(&th[i], NULL, worker_main, &ws[i]) != 0) break;
+                started = i;
+            }
+            for (;;) {
+                if (atomic_load(&j.failed) || atomic_load(&j.cancel)) break;
+                size_t b = atomic_fetch_add(&j.next, 1);
+                if (b >= j.brick_count) break;
+                vx_result br = do_brick(&ws[0], j.brick_first[b], j.brick_first[b + 1], &j.outs[b]);
+                if (br) {
+                    int z = 0;
+                    atomic_compare_exchange_strong(&j.failed, &z, (int)br);
+                    break;
+                }
+                size_t done = atomic_fetch_add(&j.bricks_done, 1) + 1;
+                (void)done;
+                if (!vx_progress_report(&desc->build.progress, "voxelize", b0 + atomic_load(&j.done) + 1,
+                                        j.total_bricks))
+                    atomic_store(&j.cancel, true);
+            }
+            for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
+            if (!atomic_load(&j.failed) && !atomic_load(&j.cancel)) {
+                r = region_emit(&j, ri, j.outs, &ws[0].buf, err);
+            } else {
+                for (size_t b = 0; b < nbk; b++) {
+                    vx_free(j.alloc, j.outs[b].local);
+                    vx_free(j.alloc, j.outs[b].rgba);
+                    vx_free(j.alloc, j.outs[b].normal);
+                }
+                if (atomic_load(&j.failed)) r = vx_fail(err, (vx_result)atomic_load(&j.failed), VX_NO_OFFSET, "voxelizer: out of memory");
+            }
+            vx_free(j.alloc, j.outs);
+            j.outs = NULL;
+        }
+    }
+    if (!r && atomic_load(&j.cancel)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+    if (!r && atomic_load(&j.failed)) {
+        r = (vx_result)atomic_load(&j.failed);
+        if (err) *err = j.first_err;
+    }
+    for (unsigned i = 0; i < threads; i++) worker_free(&ws[i], j.alloc);
+done:
+    vx_free(j.alloc, j.bstart);
+    vx_free(j.alloc, j.rstart);
+    pthread_mutex_destroy(&j.lock);
+    job_free(&j);
+    return r;
+}

@@ -1,0 +1,516 @@
+/* convert/volume.c - OpenVDB grids -> svo scene (see convert/volume.h). */
+#include "convert/volume.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "formats/vdb.h"
+
+typedef enum { MODE_FOG, MODE_SURFACE, MODE_SOLID } cell_mode;
+
+/* One set cell or tile: the aligned cube [p, p + 2^level). */
+typedef struct item {
+    int32_t p[3];
+    uint8_t level;
+    float value;
+    uint32_t rgba;
+} item;
+
+typedef struct collect {
+    const vx_allocator* alloc;
+    vx_vdb_file* file;
+    uint32_t grid;
+    int64_t color; /* grid index or -1 */
+    cell_mode mode;
+    bool threshold_set;
+    double threshold;
+    uint32_t max_level; /* D: region size and largest tile */
+    uint64_t max_items; /* 0: no limit */
+    item* items;
+    size_t count, cap;
+    vx_result failure; /* VX_OK unless a push failed */
+} collect;
+
+static bool inside(double v) { return v < 0.0; }
+
+static uint8_t srgb8(double c) {
+    if (!(c > 0.0)) return 0; /* also NaN */
+    if (c >= 1.0) return 255;
+    double s = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+    return (uint8_t)(s * 255.0 + 0.5);
+}
+
+static uint32_t color_at(collect* c, const int32_t p[3], uint32_t* log2dim) {
+    double v[3] = {0, 0, 0};
+    bool active = false;
+    *log2dim = 0;
+    vx_vdb_probe(c->file, (uint32_t)c->color, p, v, &active, log2dim);
+    return (uint32_t)srgb8(v[0]) | ((uint32_t)srgb8(v[1]) << 8) | ((uint32_t)srgb8(v[2]) << 16) | 0xFF000000u;
+}
+
+static bool push_raw(collect* c, const int32_t p[3], uint32_t level, double value, uint32_t rgba) {
+    if (c->max_items && c->count >= c->max_items) {
+        c->failure = VX_ERR_LIMIT;
+        return false;
+    }
+    if (c->count == c->cap && !vx_grow(c->alloc, (void**)&c->items, &c->cap, c->count + 1, sizeof(item))) {
+        c->failure = VX_ERR_NOMEM;
+        return false;
+    }
+    item* it = &c->items[c->count++];
+    memcpy(it->p, p, sizeof it->p);
+    it->level = (uint8_t)level;
+    it->value = (float)value;
+    it->rgba = rgba;
+    return true;
+}
+
+/* Adds a cube, cutting it where it is larger than a region or where the
+ * colour grid is not constant over it. */
+static bool push(collect* c, const int32_t p[3], uint32_t level, double value) {
+    uint32_t rgba = 0;
+    bool split = level > c->max_level;
+    if (!split && c->color >= 0) {
+        uint32_t l2 = 0;
+        rgba = color_at(c, p, &l2);
+        split = l2 < level; /* the colour's constant cube does not cover ours */
+    }
+    if (!split) return push_raw(c, p, level, value, rgba);
+    const int32_t h = (int32_t)1 << (level - 1);
+    for (int o = 0; o < 8; o++) {
+        const int32_t q[3] = {p[0] + (o & 1) * h, p[1] + ((o >> 1) & 1) * h, p[2] + ((o >> 2) & 1) * h};
+        if (!push(c, q, level - 1, value)) return false;
+    }
+    return true;
+}
+
+static bool outside_at(collect* c, int32_t x, int32_t y, int32_t z) {
+    const int32_t q[3] = {x, y, z};
+    double v[3] = {0, 0, 0};
+    vx_vdb_probe(c->file, c->grid, q, v, NULL, NULL);
+    return !inside(v[0]);
+}
+
+/* Index space ends at INT32_MIN/MAX; a neighbour beyond it is treated as
+ * outside (the background there is unreachable for OpenVDB too). */
+static bool has_outside_neighbour(collect* c, const int32_t p[3]) {
+    static const int d[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+    for (int k = 0; k < 6; k++) {
+        int64_t q[3];
+        bool out_of_range = false;
+        for (int a = 0; a < 3; a++) {
+            q[a] = (int64_t)p[a] + d[k][a];
+            if (q[a] < INT32_MIN || q[a] > INT32_MAX) out_of_range = true;
+        }
+        if (out_of_range || outside_at(c, (int32_t)q[0], (int32_t)q[1], (int32_t)q[2])) return true;
+    }
+    return false;
+}
+
+/* The cells of a square of 2^k x 2^k on one face of an interior tile that
+ * have their outside neighbour across that face outside. When the cell
+ * across the square's corner lies in a constant cube at least as large as
+ * the square (cubes are aligned), the whole square shares its answer, so
+ * the work follows the output rather than the tile's area. */
+static bool surface_square(collect* c, const int32_t o[3], uint32_t level, int axis, int side, int64_t u0,
+                           int64_t w0, uint32_t k, double x) {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    const int64_t n = (int64_t)1 << level;
+    int64_t q[3];
+    q[axis] = (int64_t)o[axis] + (side ? n : -1);
+    q[a1] = (int64_t)o[a1] + u0;
+    q[a2] = (int64_t)o[a2] + w0;
+    bool outside = true; /* beyond index space counts as outside */
+    uint32_t l2 = 0;
+    if (q[axis] >= INT32_MIN && q[axis] <= INT32_MAX) {
+        const int32_t qi[3] = {(int32_t)q[0], (int32_t)q[1], (int32_t)q[2]};
+        double v[3] = {0, 0, 0};
+        vx_vdb_probe(c->file, c->grid, qi, v, NULL, &l2);
+        outside = !inside(v[0]);
+    } else {
+        l2 = 31;
+    }
+    if (l2 >= k) {
+        if (!outside) return true;
+        const int64_t m = (int64_t)1 << k;
+        for (int64_t u = 0; u < m; u++)
+            for (int64_t w = 0; w < m; w++) {
+                int32_t p[3];
+                p[axis] = (int32_t)(o[axis] + (side ? n - 1 : 0));
+                p[a1] = (int32_t)(o[a1] + u0 + u);
+                p[a2] = (int32_t)(o[a2] + w0 + w);
+                if (!push(c, p, 0, x)) return false;
+            }
+        return true;
+    }
+    const int64_t h = (int64_t)1 << (k - 1);
+    for (int s = 0; s < 4; s++)
+        if (!surface_square(c, o, level, axis, side, u0 + (s & 1) * h, w0 + (s >> 1) * h, k - 1, x)) return false;
+    return true;
+}
+
+static bool on_value(void* user, const int32_t o[3], uint32_t level, bool active, const double v[3]) {
+    collect* c = (collect*)user;
+    const double x = v[0];
+    switch (c->mode) {
+        case MODE_FOG:
+            if (!active) return true;
+            if (c->threshold_set ? !(x >= c->threshold) : !(x > 0.0)) return true;
+            return push(c, o, level, x);
+        case MODE_SOLID:
+            if (!inside(x)) return true;
+            return push(c, o, level, x);
+        case MODE_SURFACE:
+            if (!active || !inside(x)) return true;
+            if (level == 0) return has_outside_neighbour(c, o) ? push(c, o, 0, x) : true;
+            /* An active interior tile (rare in level sets): only cells on
+             * its faces can touch the outside. */
+            for (int axis = 0; axis < 3; axis++)
+                for (int side = 0; side < 2; side++)
+                    if (!surface_square(c, o, level, axis, side, 0, 0, level, x)) return false;
+            return true;
+    }
+    return true;
+}
+
+/* floor(x / 2^s) without relying on the sign behaviour of >> */
+static int64_t floor_shift(int64_t x, uint32_t s) { return x >= 0 ? x >> s : -((-x - 1) >> s) - 1; }
+
+typedef struct keyed {
+    int64_t r[3];
+    size_t index;
+} keyed;
+
+static int cmp_keyed(const void* a, const void* b) {
+    const keyed* x = (const keyed*)a;
+    const keyed* y = (const keyed*)b;
+    for (int k = 2; k >= 0; k--)
+        if (x->r[k] != y->r[k]) return x->r[k] < y->r[k] ? -1 : 1;
+    return x->index < y->index ? -1 : (x->index > y->index); /* stable: keeps input order */
+}
+
+static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, vx_error* err) {
+    uint32_t n = vx_vdb_grid_count(f);
+    for (uint32_t i = 0; i < n; i++) {
+        if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
+        if (name ? strcmp(info->name, name) == 0
+                 : (info->value_type == VX_VDB_TYPE_FLOAT || info->value_type == VX_VDB_TYPE_DOUBLE))
+            return (int)i;
+    }
+    return -1;
+}
+
+static void list_grids(vx_vdb_file* f, char* buf, size_t cap) {
+    size_t used = 0;
+    buf[0] = 0;
+    uint32_t n = vx_vdb_grid_count(f);
+    for (uint32_t i = 0; i < n && used + 1 < cap; i++) {
+        vx_vdb_grid_info gi;
+        if (vx_vdb_grid_get_info(f, i, &gi, NULL) != VX_OK) continue;
+        int w = snprintf(buf + used, cap - used, "%s'%s' %s", i ? ", " : "", gi.name, gi.type);
+        if (w < 0) break;
+        used += (size_t)w < cap - used ? (size_t)w : cap - used - 1;
+    }
+}
+
+typedef struct group_arrays {
+    uint64_t* keys;
+    uint8_t* level;
+    float* density;
+    uint32_t* rgba;
+} group_arrays;
+
+static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_scene* out, vx_conv_stats* st,
+                              vx_error* err) {
+    const vx_allocator* a = d->alloc;
+    vx_vdb_grid_info info, cinfo;
+    char names[160];
+    int gi = find_grid(f, d->grid, &info, err);
+    if (gi == -2) return err ? err->code : VX_ERR_BAD_FORMAT;
+    if (gi < 0) {
+        list_grids(f, names, sizeof names);
+        if (d->grid)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: no grid named '%s' (grids: %s)", d->grid,
+                           names[0] ? names : "none");
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: no float or double grid (grids: %s)",
+                       names[0] ? names : "none");
+    }
+    if (info.value_type != VX_VDB_TYPE_FLOAT && info.value_type != VX_VDB_TYPE_DOUBLE)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: grid '%s' has type %s; need a float or double grid",
+                       info.name, info.type);
+    if (!info.linear)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "vdb: grid '%s' has a non-linear (frustum) transform; only affine transforms are supported",
+                       info.name);
+    for (int k = 0; k < 12; k++)
+        if (!isfinite(info.index_to_world[k]))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: grid '%s' has a non-finite transform",
+                           info.name);
+    int64_t color = -1;
+    if (d->color_grid) {
+        int ci = find_grid(f, d->color_grid, &cinfo, err);
+        if (ci == -2) return err ? err->code : VX_ERR_BAD_FORMAT;
+        if (ci < 0) {
+            list_grids(f, names, sizeof names);
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: no colour grid named '%s' (grids: %s)",
+                           d->color_grid, names);
+        }
+        if (cinfo.value_type != VX_VDB_TYPE_VEC3F && cinfo.value_type != VX_VDB_TYPE_VEC3D)
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: colour grid '%s' has type %s; need a vec3 grid",
+                           cinfo.name, cinfo.type);
+        color = ci;
+    }
+
+    uint32_t D = d->max_model_depth ? d->max_model_depth : VX_SVO_MAX_DEPTH;
+    uint32_t bd = d->build.max_depth ? d->build.max_depth : VX_SVO_MAX_DEPTH;
+    if (bd < D) D = bd;
+    if (D > VX_SVO_MAX_DEPTH) D = VX_SVO_MAX_DEPTH;
+    if (D == 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: model depth must be at least 1");
+
+    double t0 = vx_time_now();
+    collect c = {0};
+    c.alloc = a;
+    c.file = f;
+    c.grid = (uint32_t)gi;
+    c.color = color;
+    c.mode = d->solid ? MODE_SOLID : info.grid_class == VX_VDB_CLASS_LEVEL_SET ? MODE_SURFACE : MODE_FOG;
+    c.threshold_set = d->threshold_set;
+    c.threshold = d->threshold;
+    c.max_level = D;
+    c.max_items = d->max_cells;
+    vx_result r = vx_vdb_iterate(f, c.grid, c.mode == MODE_SOLID ? VX_VDB_ITER_ALL : VX_VDB_ITER_ACTIVE, on_value,
+                                 &c, err);
+    if (r == VX_OK && c.failure == VX_ERR_LIMIT)
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "vdb: grid '%s': more than %llu cells and tiles (max_cells)",
+                    info.name, (unsigned long long)d->max_cells);
+    else if (r == VX_OK && c.failure != VX_OK)
+        r = vx_fail(err, c.failure, VX_NO_OFFSET, "vdb: out of memory collecting cells");
+    if (r != VX_OK) {
+        vx_free(a, c.items);
+        return r;
+    }
+
+    /* Group the cubes by region of 2^D cells; one model each. Regions
+     * start at the lowest cell rounded down to the largest tile (so tiles
+     * never straddle a region), not at index 0: a grid around the origin
+     * stays one model. */
+    keyed* order = NULL;
+    bool single = true;
+    int64_t base[3] = {0, 0, 0}, r0[3] = {0, 0, 0};
+    uint32_t lg = 0;
+    for (size_t i = 0; i < c.count; i++) {
+        if (c.items[i].level > lg) lg = c.items[i].level;
+        for (int k = 0; k < 3; k++)
+            if (i == 0 || c.items[i].p[k] < base[k]) base[k] = c.items[i].p[k];
+    }
+    for (int k = 0; k < 3; k++) base[k] = floor_shift(base[k], lg) * ((int64_t)1 << lg);
+    for (size_t i = 0; i < c.count; i++)
+        for (int k = 0; k < 3; k++) {
+            int64_t rk = (c.items[i].p[k] - base[k]) >> D; /* non-negative */
+            if (i == 0) r0[k] = rk;
+            else if (rk != r0[k]) single = false;
+        }
+    if (!single) {
+        order = (keyed*)vx_calloc(a, c.count, sizeof *order);
+        if (!order) {
+            vx_free(a, c.items);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory sorting %zu cells", c.count);
+        }
+        for (size_t i = 0; i < c.count; i++) {
+            for (int k = 0; k < 3; k++) order[i].r[k] = (c.items[i].p[k] - base[k]) >> D;
+            order[i].index = i;
+        }
+        qsort(order, c.count, sizeof *order, cmp_keyed);
+    }
+    if (st) st->seconds_voxelize += vx_time_now() - t0;
+
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, a);
+    /* OpenVDB centres voxel ijk on the point ijk; our cell g spans [g, g+1]. */
+    for (int row = 0; row < 3; row++) {
+        const double* m = &info.index_to_world[row * 4];
+        for (int k = 0; k < 4; k++) s.world_from_grid[row * 4 + k] = m[k];
+        s.world_from_grid[row * 4 + 3] = m[3] - 0.5 * (m[0] + m[1] + m[2]);
+    }
+    size_t model_cap = 0, inst_cap = 0;
+    group_arrays g = {0};
+    const bool want_density = d->density;
+    const bool want_color = color >= 0;
+    double tb = 0.0;
+
+    for (size_t begin = 0; begin < c.count && r == VX_OK;) {
+        size_t end = c.count;
+        if (order) {
+            end = begin + 1;
+            while (end < c.count && memcmp(order[end].r, order[begin].r, sizeof order[begin].r) == 0) end++;
+        }
+        const size_t n = end - begin;
+        int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+        uint32_t lmax = 0;
+        bool any_tile = false;
+        for (size_t i = begin; i < end; i++) {
+            const item* it = &c.items[order ? order[i].index : i];
+            for (int k = 0; k < 3; k++) {
+                if (it->p[k] < lo[k]) lo[k] = it->p[k];
+                int64_t e = (int64_t)it->p[k] + ((int64_t)1 << it->level);
+                if (e > hi[k]) hi[k] = e;
+            }
+            if (it->level > lmax) lmax = it->level;
+            if (it->level) any_tile = true;
+        }
+        /* Tiles stay aligned in model space when the origin is a multiple
+         * of the largest tile; it stays inside the region since the region
+         * start is a multiple of 2^lg >= 2^lmax. */
+        int64_t origin[3];
+        uint32_t size[3];
+        for (int k = 0; k < 3; k++) {
+            origin[k] = floor_shift(lo[k], lmax) * ((int64_t)1 << lmax);
+            size[k] = (uint32_t)(hi[k] - origin[k]);
+        }
+        g.keys = (uint64_t*)vx_calloc(a, n, sizeof *g.keys);
+        g.level = any_tile ? (uint8_t*)vx_calloc(a, n, 1) : NULL;
+        g.density = want_density ? (float*)vx_calloc(a, n, sizeof *g.density) : NULL;
+        g.rgba = want_color ? (uint32_t*)vx_calloc(a, n, sizeof *g.rgba) : NULL;
+        if (!g.keys || (any_tile && !g.level) || (want_density && !g.density) || (want_color && !g.rgba)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory for a model of %zu cells", n);
+            break;
+        }
+        for (size_t i = begin; i < end; i++) {
+            const item* it = &c.items[order ? order[i].index : i];
+            const size_t j = i - begin;
+            g.keys[j] = vx_svo_morton((uint32_t)(it->p[0] - origin[0]), (uint32_t)(it->p[1] - origin[1]),
+                                      (uint32_t)(it->p[2] - origin[2]));
+            if (g.level) g.level[j] = it->level;
+            if (g.density) g.density[j] = it->value;
+            if (g.rgba) g.rgba[j] = it->rgba;
+        }
+        vx_svo_voxels vox = {0};
+        memcpy(vox.size, size, sizeof size);
+        vox.count = n;
+        vox.keys = g.keys;
+        vox.level = g.level;
+        vox.attrs = (want_density ? VX_ATTR_DENSITY : 0u) | (want_color ? VX_ATTR_RGBA8 : 0u);
+        vox.density = g.density;
+        vox.rgba = g.rgba;
+
+        if (!vx_grow(a, (void**)&s.models, &model_cap, (size_t)s.model_count + 1, sizeof *s.models) ||
+            !vx_grow(a, (void**)&s.instances, &inst_cap, (size_t)s.instance_count + 1, sizeof *s.instances)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory for model %u", s.model_count);
+            break;
+        }
+        vx_svo_build_desc bdesc = d->build;
+        if (!bdesc.alloc) bdesc.alloc = a;
+        vx_svo_model model;
+        memset(&model, 0, sizeof model);
+        vx_svo_build_stats bs = {0};
+        double tb0 = vx_time_now();
+        r = vx_svo_build_model(&bdesc, &vox, &model, &bs, err);
+        tb += vx_time_now() - tb0;
+        if (r != VX_OK) {
+            vx_error_prefix(err, "vdb");
+            break;
+        }
+        if (st) {
+            st->build.input_voxels += bs.input_voxels;
+            st->build.voxels += bs.voxels;
+            st->build.desc_plain += bs.desc_plain;
+            st->build.desc_collapsed += bs.desc_collapsed;
+            st->build.desc_dag += bs.desc_dag;
+            st->build.far_pointers += bs.far_pointers;
+            st->build.attr_records += bs.attr_records;
+            st->build.bytes += bs.bytes;
+        }
+        vx_svo_instance* in = &s.instances[s.instance_count];
+        memset(in, 0, sizeof *in);
+        in->xform[0] = in->xform[5] = in->xform[10] = 1.0;
+        in->xform[3] = (double)origin[0];
+        in->xform[7] = (double)origin[1];
+        in->xform[11] = (double)origin[2];
+        in->model = s.model_count;
+        in->layer = UINT32_MAX;
+        size_t name_len = strlen(info.name);
+        if (name_len >= sizeof in->name) name_len = sizeof in->name - 1; /* names are cut, not refused */
+        memcpy(in->name, info.name, name_len);
+        s.models[s.model_count++] = model;
+        s.instance_count++;
+
+        vx_free(a, g.keys);
+        vx_free(a, g.level);
+        vx_free(a, g.density);
+        vx_free(a, g.rgba);
+        memset(&g, 0, sizeof g);
+        begin = end;
+    }
+    vx_free(a, g.keys);
+    vx_free(a, g.level);
+    vx_free(a, g.density);
+    vx_free(a, g.rgba);
+    vx_free(a, order);
+    vx_free(a, c.items);
+    if (st) st->seconds_build += tb;
+    if (r != VX_OK) {
+        vx_svo_scene_free(&s);
+        return r;
+    }
+    if (c.count == 0) vx_log(d->logger, VX_LOG_WARN, "vdb.empty", "vdb: grid '%s': no cells selected", info.name);
+    vx_svo_scene_update_bounds(&s);
+    if (st) {
+        st->models = s.model_count;
+        st->instances = s.instance_count;
+    }
+    *out = s;
+    return VX_OK;
+}
+
+/* Parses the bytes and converts; *free_data (if set) is released as soon
+ * as OpenVDB has its own copy, so the raw file and the grids are not both
+ * held while cells are collected. */
+static vx_result convert_bytes(const vx_conv_vdb_desc* desc, const void* data, size_t size, uint8_t** free_data,
+                               vx_svo_scene* out, vx_conv_stats* stats, vx_error* err) {
+    vx_conv_vdb_desc d = {0};
+    if (desc) d = *desc;
+    vx_conv_stats st = {0};
+    double t0 = vx_time_now();
+    vx_vdb_file* f = NULL;
+    vx_result r = vx_vdb_read(data, size, &f, err);
+    if (free_data) {
+        vx_free(d.alloc, *free_data);
+        *free_data = NULL;
+    }
+    st.seconds_read = vx_time_now() - t0;
+    if (r != VX_OK) return r;
+    r = convert_grid(&d, f, out, &st, err);
+    vx_vdb_file_free(f);
+    if (r == VX_OK && stats) {
+        st.peak_bytes = vx_peak_rss();
+        *stats = st;
+    }
+    return r;
+}
+
+vx_result vx_conv_vdb_memory(const vx_conv_vdb_desc* desc, const void* data, size_t size, vx_svo_scene* out,
+                             vx_conv_stats* stats, vx_error* err) {
+    if (!out || (!data && size)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    return convert_bytes(desc, data, size, NULL, out, stats, err);
+}
+
+vx_result vx_conv_vdb_file(const vx_conv_vdb_desc* desc, const char* path, vx_svo_scene* out, vx_conv_stats* stats,
+                           vx_error* err) {
+    if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    const vx_allocator* a = desc ? desc->alloc : NULL;
+    double t0 = vx_time_now();
+    uint8_t* data = NULL;
+    size_t size = 0;
+    vx_result r = vx_file_read(path, a, 0, &data, &size, err);
+    if (r != VX_OK) return r;
+    double tread = vx_time_now() - t0;
+    vx_conv_stats st = {0};
+    r = convert_bytes(desc, data, size, &data, out, &st, err);
+    if (r == VX_OK && stats) {
+        st.seconds_read += tread;
+        *stats = st;
+    }
+    return r;
+}

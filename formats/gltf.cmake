@@ -1,0 +1,12 @@
+# glTF 2.0 reader: a C++17 shim over Debian's shared tinygltf (formats/gltf.h).
+if(VX_WITH_GLTF)
+  find_path(VX_TINYGLTF_INCLUDE tiny_gltf.h)
+  find_library(VX_TINYGLTF_LIB tinygltf)
+  if(VX_TINYGLTF_INCLUDE AND VX_TINYGLTF_LIB)
+    add_library(vx_gltf STATIC ${CMAKE_CURRENT_LIST_DIR}/gltf_tinygltf.cpp)
+    target_include_directories(vx_gltf PRIVATE ${VX_TINYGLTF_INCLUDE})
+    target_link_libraries(vx_gltf PUBLIC vx_core ${VX_TINYGLTF_LIB})
+  else()
+    message(WARNING "tinygltf not found (libtinygltf-dev): glTF input disabled")
+  endif()
+endif()

@@ -1,0 +1,96 @@
+/* formats/gltf.h - glTF 2.0 (.gltf / .glb) triangle meshes for voxelization.
+ *
+ * A thin C face over tinygltf (formats/gltf_tinygltf.cpp). It flattens a
+ * scene into one triangle soup in world space: every mesh instance reached
+ * from the scene's root nodes, with the node transforms applied; strips and
+ * fans become triangles; indexed and non-indexed primitives; float and
+ * normalized-integer (KHR_mesh_quantization) attributes. Points and lines
+ * are skipped (logged). Skins and morph targets are ignored (bind pose).
+ *
+ *   vx_gltf_mesh m;
+ *   vx_gltf_read_file(&(vx_gltf_read_desc){0}, "in.glb", &m, &err);
+ *   ... m.pos[9 * t + 3 * v + axis] ...
+ *   vx_gltf_mesh_free(&m);
+ *
+ * Errors: a malformed file (bad accessor or buffer-view ranges, bad
+ * indices, node cycles) is VX_ERR_BAD_FORMAT; a required extension that is
+ * not implemented (KHR_draco_mesh_compression, EXT_meshopt_compression, ...)
+ * is VX_ERR_UNSUPPORTED with the extension's name in the message; NaN or
+ * infinite positions are VX_ERR_BAD_FORMAT. Everything returned is copied
+ * into blocks from desc.alloc; the input is not kept.
+ */
+#ifndef VX_GLTF_H
+#define VX_GLTF_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "svo/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Sampler wrap modes. */
+enum { VX_GLTF_WRAP_REPEAT = 0, VX_GLTF_WRAP_CLAMP = 1, VX_GLTF_WRAP_MIRROR = 2 };
+
+typedef struct vx_gltf_image {
+    uint32_t width, height;
+    uint8_t* rgba; /* width * height * 4 bytes, rows top to bottom, as stored (sRGB for colour) */
+} vx_gltf_image;
+
+typedef struct vx_gltf_material {
+    float base_color[4];    /* baseColorFactor (linear), default 1 1 1 1 */
+    int32_t image;          /* baseColorTexture's decoded image, -1 if none */
+    uint8_t wrap_s, wrap_t; /* VX_GLTF_WRAP_* */
+} vx_gltf_material;
+
+/* Triangle soup of one scene. Per triangle t and corner v (0..2):
+ *   pos[9t + 3v + a]   world-space position (a = x, y, z)
+ *   uv[6t + 2v + c]    the texture coordinates the triangle's material samples
+ *                      with (0 0 where the primitive has none); NULL if no
+ *                      material of the scene has a texture
+ *   color[12t + 4v + c] linear RGBA vertex colour COLOR_0 (1 1 1 1 where the
+ *                      primitive has none); NULL if no primitive has COLOR_0
+ *   material[t]        index into materials, or UINT32_MAX when the primitive
+ *                      names none (the glTF default: white, no texture) */
+typedef struct vx_gltf_mesh {
+    size_t tri_count;
+    float* pos;
+    float* uv;
+    float* color;
+    uint32_t* material;
+    uint32_t material_count;
+    vx_gltf_material* materials;
+    uint32_t image_count;
+    vx_gltf_image* images; /* only images used as baseColorTexture are decoded; others have rgba NULL */
+    uint32_t scene;        /* the scene that was flattened (UINT32_MAX: no scene, all root nodes) */
+    uint32_t instance_count; /* mesh instances flattened */
+    const vx_allocator* alloc;
+} vx_gltf_mesh;
+
+/* Options; zero means default. */
+typedef struct vx_gltf_read_desc {
+    const vx_allocator* alloc;
+    const vx_logger* logger;
+    bool scene_set;         /* use `scene` instead of the file's default scene */
+    uint32_t scene;
+    bool no_images;         /* do not decode textures (materials keep image = -1) */
+    bool no_external;       /* refuse external files (buffers / images by URI) */
+    uint64_t max_triangles; /* 0 == 2^28 */
+    uint64_t max_image_pixels; /* per image, 0 == 2^26 */
+} vx_gltf_read_desc;
+
+/* Parses a .glb or .gltf held in memory. base_dir (may be NULL: no external
+ * files) is where relative URIs are resolved. */
+vx_result vx_gltf_read(const vx_gltf_read_desc* desc, const void* data, size_t size, const char* base_dir,
+                       vx_gltf_mesh* out, vx_error* err);
+/* Reads a file (external files resolved next to it unless no_external). */
+vx_result vx_gltf_read_file(const vx_gltf_read_desc* desc, const char* path, vx_gltf_mesh* out, vx_error* err);
+void vx_gltf_mesh_free(vx_gltf_mesh* m);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_GLTF_H */

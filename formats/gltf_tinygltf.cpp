@@ -1,0 +1,620 @@
+// formats/gltf_tinygltf.cpp - the C face of formats/gltf.h over Debian's
+// shared tinygltf (-ltinygltf). tinygltf parses the JSON and loads buffers;
+// every index, offset and length it hands back is checked again here before
+// use, because tinygltf does not validate accessor or buffer-view ranges.
+#include "formats/gltf.h"
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Marks an image whose encoded bytes were kept (decoding is deferred until we
+// know the image is a base colour texture: the other PBR maps of a model such
+// as DamagedHelmet would cost as much to decode as the voxelization itself).
+const int kRawImage = -77;
+
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void*) {
+    // Images from a buffer view are fetched (with range checks) later; only
+    // bytes tinygltf owns (data URIs, external files) are copied here.
+    image->component = kRawImage;
+    if (image->bufferView < 0 && bytes && size > 0) image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+bool no_file_exists(const std::string&, void*) { return false; }
+std::string same_path(const std::string& p, void*) { return p; }
+bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+    if (err) *err += "external file '" + path + "' refused (no_external)\n";
+    return false;
+}
+bool no_file_write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+struct Ctx {
+    const vx_gltf_read_desc* desc;
+    const tinygltf::Model* m;
+    vx_error* err;
+    std::vector<float> pos, uv, col;
+    std::vector<uint32_t> mat;
+    std::vector<bool> mat_textured;
+    bool any_color = false;
+    uint64_t max_tris;
+    uint32_t instances = 0;
+};
+
+vx_result fail(Ctx& c, vx_result r, const char* fmt, ...) {
+    if (c.err) {
+        char buf[192];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(buf, sizeof buf, fmt, ap);
+        va_end(ap);
+        vx_fail(c.err, r, VX_NO_OFFSET, "%s", buf);
+    }
+    return r;
+}
+
+// A checked view of an accessor's elements.
+struct Acc {
+    const uint8_t* base = nullptr; // nullptr: no buffer view, every value is 0
+    size_t stride = 0, count = 0;
+    int comps = 0, ctype = 0;
+    bool norm = false;
+    double get(size_t i, int c) const {
+        if (!base) return 0.0;
+        const uint8_t* p = base + i * stride;
+        switch (ctype) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; memcpy(&v, p + 4 * c, 4); return v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { double v = p[c]; return norm ? v / 255.0 : v; }
+        case TINYGLTF_COMPONENT_TYPE_BYTE: { double v = (int8_t)p[c]; return norm ? std::fmax(v / 127.0, -1.0) : v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; memcpy(&v, p + 2 * c, 2); return norm ? v / 65535.0 : v; }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; memcpy(&v, p + 2 * c, 2); return norm ? std::fmax(v / 32767.0, -1.0) : v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; memcpy(&v, p + 4 * c, 4); return v; }
+        default: return 0.0;
+        }
+    }
+    uint32_t index(size_t i) const {
+        if (!base) return 0;
+        const uint8_t* p = base + i * stride;
+        if (ctype == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return p[0];
+        if (ctype == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) { uint16_t v; memcpy(&v, p, 2); return v; }
+        uint32_t v;
+        memcpy(&v, p, 4);
+        return v;
+    }
+};
+
+size_t comp_size(int ctype) {
+    switch (ctype) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return 4;
+    default: return 0;
+    }
+}
+
+vx_result get_acc(Ctx& c, int idx, const char* what, Acc* out) {
+    const tinygltf::Model& m = *c.m;
+    if (idx < 0 || (size_t)idx >= m.accessors.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d out of range (%zu accessors)", what, idx, m.accessors.size());
+    const tinygltf::Accessor& a = m.accessors[(size_t)idx];
+    if (a.sparse.isSparse)
+        return fail(c, VX_ERR_UNSUPPORTED, "%s: accessor %d is sparse (not supported)", what, idx);
+    int comps = tinygltf::GetNumComponentsInType((uint32_t)a.type);
+    size_t cs = comp_size(a.componentType);
+    if (comps <= 0 || comps > 4 || cs == 0)
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d has type %d / component type %d", what, idx, a.type,
+                    a.componentType);
+    out->comps = comps;
+    out->ctype = a.componentType;
+    out->norm = a.normalized;
+    out->count = a.count;
+    out->base = nullptr;
+    if (a.bufferView < 0) return VX_OK;
+    if ((size_t)a.bufferView >= m.bufferViews.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d names buffer view %d of %zu", what, idx, a.bufferView,
+                    m.bufferViews.size());
+    const tinygltf::BufferView& bv = m.bufferViews[(size_t)a.bufferView];
+    if (bv.buffer < 0 || (size_t)bv.buffer >= m.buffers.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: buffer view %d names buffer %d of %zu", what, a.bufferView, bv.buffer,
+                    m.buffers.size());
+    const std::vector<unsigned char>& data = m.buffers[(size_t)bv.buffer].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+        return fail(c, VX_ERR_BAD_FORMAT, "buffer view %d: bytes %zu + %zu outside buffer %d of %zu bytes",
+                    a.bufferView, bv.byteOffset, bv.byteLength, bv.buffer, data.size());
+    size_t elem = (size_t)comps * cs;
+    size_t stride = bv.byteStride ? bv.byteStride : elem;
+    if (stride < elem || stride > 252 + elem)
+        return fail(c, VX_ERR_BAD_FORMAT, "buffer view %d: byte stride %zu for %zu-byte elements", a.bufferView,
+                    stride, elem);
+    if (a.count > 0) {
+        size_t need, span;
+        if (!vx_mul_size(stride, a.count - 1, &span) || !vx_add_size(span, elem, &need) ||
+            !vx_add_size(need, a.byteOffset, &need) || need > bv.byteLength)
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d: %zu elements at offset %zu overrun buffer view %d (%zu bytes)",
+                        what, idx, a.count, a.byteOffset, a.bufferView, bv.byteLength);
+    }
+    out->base = data.data() + bv.byteOffset + a.byteOffset;
+    out->stride = stride;
+    return VX_OK;
+}
+
+typedef double Mat[16]; // column-major like glTF
+
+void mat_mul(const double* a, const double* b, double* o) {
+    double r[16];
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++) s += a[k * 4 + row] * b[col * 4 + k];
+            r[col * 4 + row] = s;
+        }
+    memcpy(o, r, sizeof r);
+}
+
+void node_local(const tinygltf::Node& n, double* out) {
+    if (n.matrix.size() == 16) {
+        for (int i = 0; i < 16; i++) out[i] = n.matrix[(size_t)i];
+        return;
+    }
+    double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+    if (n.translation.size() == 3) for (int i = 0; i < 3; i++) t[i] = n.translation[(size_t)i];
+    if (n.rotation.size() == 4) for (int i = 0; i < 4; i++) q[i] = n.rotation[(size_t)i];
+    if (n.scale.size() == 3) for (int i = 0; i < 3; i++) s[i] = n.scale[(size_t)i];
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                   2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                   2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)}; // column-major
+    for (int col = 0; col < 3; col++) {
+        for (int row = 0; row < 3; row++) out[col * 4 + row] = r[col * 3 + row] * s[col];
+        out[col * 4 + 3] = 0;
+    }
+    out[12] = t[0];
+    out[13] = t[1];
+    out[14] = t[2];
+    out[15] = 1;
+}
+
+vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, uint32_t mesh_idx) {
+    const tinygltf::Model& m = *c.m;
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        p.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.skip_primitive", "mesh %u: primitive mode %d (points/lines) skipped",
+               mesh_idx, p.mode);
+        return VX_OK;
+    }
+    auto pit = p.attributes.find("POSITION");
+    if (pit == p.attributes.end()) return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: primitive without POSITION", mesh_idx);
+    Acc pos, idx, uv, col;
+    vx_result r = get_acc(c, pit->second, "POSITION", &pos);
+    if (r) return r;
+    if (pos.comps != 3) return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: POSITION has %d components", mesh_idx, pos.comps);
+    uint32_t mat = UINT32_MAX;
+    if (p.material >= 0) {
+        if ((size_t)p.material >= m.materials.size())
+            return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: material %d of %zu", mesh_idx, p.material, m.materials.size());
+        mat = (uint32_t)p.material;
+    }
+    bool want_uv = mat != UINT32_MAX && c.mat_textured[mat];
+    bool has_uv = false, has_col = false;
+    if (want_uv) {
+        int set = m.materials[mat].pbrMetallicRoughness.baseColorTexture.texCoord;
+        auto it = p.attributes.find("TEXCOORD_" + std::to_string(set));
+        if (it != p.attributes.end()) {
+            if ((r = get_acc(c, it->second, "TEXCOORD", &uv))) return r;
+            if (uv.comps != 2 || uv.count != pos.count)
+                return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: TEXCOORD_%d has %d components, %zu of %zu vertices",
+                            mesh_idx, set, uv.comps, uv.count, pos.count);
+            has_uv = true;
+        }
+    }
+    auto cit = p.attributes.find("COLOR_0");
+    if (cit != p.attributes.end()) {
+        if ((r = get_acc(c, cit->second, "COLOR_0", &col))) return r;
+        if ((col.comps != 3 && col.comps != 4) || col.count != pos.count)
+            return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: COLOR_0 has %d components, %zu of %zu vertices", mesh_idx,
+                        col.comps, col.count, pos.count);
+        has_col = true;
+        c.any_color = true;
+    }
+    size_t n = pos.count;
+    bool indexed = p.indices >= 0;
+    if (indexed) {
+        if ((r = get_acc(c, p.indices, "indices", &idx))) return r;
+        if (idx.comps != 1 || (idx.ctype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                               idx.ctype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                               idx.ctype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+            return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: indices of component type %d", mesh_idx, idx.ctype);
+        n = idx.count;
+    }
+    size_t tris = 0;
+    if (p.mode == TINYGLTF_MODE_TRIANGLES) tris = n / 3;
+    else if (n >= 3) tris = n - 2;
+    if (tris > c.max_tris || c.mat.size() > c.max_tris - tris)
+        return fail(c, VX_ERR_LIMIT, "more than %llu triangles", (unsigned long long)c.max_tris);
+    // negative determinant: mirrored instance, flip winding so normals stay outward
+    double det = M[0] * (M[5] * M[10] - M[6] * M[9]) - M[4] * (M[1] * M[10] - M[2] * M[9]) +
+                 M[8] * (M[1] * M[6] - M[2] * M[5]);
+    bool flip = det < 0;
+    for (size_t t = 0; t < tris; t++) {
+        size_t k[3];
+        if (p.mode == TINYGLTF_MODE_TRIANGLES) { k[0] = 3 * t; k[1] = 3 * t + 1; k[2] = 3 * t + 2; }
+        else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            k[0] = t; k[1] = t + 1 + (t & 1); k[2] = t + 2 - (t & 1);
+        } else { k[0] = t + 1; k[1] = t + 2; k[2] = 0; }
+        if (flip) { size_t s = k[1]; k[1] = k[2]; k[2] = s; }
+        for (int v = 0; v < 3; v++) {
+            size_t vi = indexed ? idx.index(k[v]) : k[v];
+            if (vi >= pos.count)
+                return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: index %zu out of range (%zu vertices)", mesh_idx, vi,
+                            pos.count);
+            double x = pos.get(vi, 0), y = pos.get(vi, 1), z = pos.get(vi, 2);
+            for (int a = 0; a < 3; a++) {
+                double w = M[a] * x + M[4 + a] * y + M[8 + a] * z + M[12 + a];
+                if (!std::isfinite(w) || std::fabs(w) > 3.0e38)
+                    return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: vertex %zu has a non-finite position", mesh_idx, vi);
+                c.pos.push_back((float)w);
+            }
+            if (has_uv) { c.uv.push_back((float)uv.get(vi, 0)); c.uv.push_back((float)uv.get(vi, 1)); }
+            else { c.uv.push_back(0.f); c.uv.push_back(0.f); }
+            for (int ch = 0; ch < 4; ch++)
+                c.col.push_back(has_col ? (ch < col.comps ? (float)col.get(vi, ch) : 1.f) : 1.f);
+        }
+        c.mat.push_back(mat);
+    }
+    return VX_OK;
+}
+
+vx_result visit(Ctx& c, int node, const double* parent, std::vector<char>& on_path, int depth) {
+    const tinygltf::Model& m = *c.m;
+    if (node < 0 || (size_t)node >= m.nodes.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "node %d out of range (%zu nodes)", node, m.nodes.size());
+    if (on_path[(size_t)node] || depth > 256) return fail(c, VX_ERR_BAD_FORMAT, "node %d: cycle in the node hierarchy", node);
+    on_path[(size_t)node] = 1;
+    const tinygltf::Node& n = m.nodes[(size_t)node];
+    double local[16], world[16];
+    node_local(n, local);
+    mat_mul(parent, local, world);
+    vx_result r = VX_OK;
+    if (n.mesh >= 0) {
+        if ((size_t)n.mesh >= m.meshes.size()) {
+            r = fail(c, VX_ERR_BAD_FORMAT, "node %d: mesh %d of %zu", node, n.mesh, m.meshes.size());
+        } else {
+            c.instances++;
+            for (const tinygltf::Primitive& p : m.meshes[(size_t)n.mesh].primitives)
+                if ((r = add_primitive(c, p, world, (uint32_t)n.mesh))) break;
+        }
+    }
+    for (size_t i = 0; !r && i < n.children.size(); i++) r = visit(c, n.children[i], world, on_path, depth + 1);
+    on_path[(size_t)node] = 0;
+    return r;
+}
+
+uint32_t be32(const uint8_t* p) { return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]; }
+
+// Image size from the PNG or JPEG header, so a forged size never reaches the
+// decoder's allocation. false: not a PNG/JPEG we can size.
+bool sniff_size(const uint8_t* b, size_t n, uint32_t* w, uint32_t* h) {
+    static const uint8_t png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (n >= 24 && memcmp(b, png, 8) == 0 && memcmp(b + 12, "IHDR", 4) == 0) {
+        *w = be32(b + 16);
+        *h = be32(b + 20);
+        return true;
+    }
+    if (n >= 4 && b[0] == 0xFF && b[1] == 0xD8) {
+        size_t i = 2;
+        while (i + 4 <= n) {
+            if (b[i] != 0xFF) return false;
+            uint8_t mk = b[i + 1];
+            if (mk == 0xFF) { i++; continue; }
+            if (mk == 0xD8 || mk == 0x01 || (mk >= 0xD0 && mk <= 0xD7)) { i += 2; continue; }
+            size_t len = (size_t)b[i + 2] << 8 | b[i + 3];
+            if (len < 2) return false;
+            if (mk >= 0xC0 && mk <= 0xCF && mk != 0xC4 && mk != 0xC8 && mk != 0xCC) {
+                if (i + 9 > n || len < 7) return false;
+                *h = (uint32_t)b[i + 5] << 8 | b[i + 6];
+                *w = (uint32_t)b[i + 7] << 8 | b[i + 8];
+                return true;
+            }
+            if (len > n - i - 2) return false;
+            i += 2 + len;
+        }
+    }
+    return false;
+}
+
+vx_result decode_image(Ctx& c, int img_idx, vx_gltf_image* out) {
+    const tinygltf::Model& m = *c.m;
+    const tinygltf::Image& im = m.images[(size_t)img_idx];
+    const uint8_t* bytes = nullptr;
+    size_t n = 0;
+    if (im.bufferView >= 0) {
+        if ((size_t)im.bufferView >= m.bufferViews.size())
+            return fail(c, VX_ERR_BAD_FORMAT, "image %d: buffer view %d of %zu", img_idx, im.bufferView, m.bufferViews.size());
+        const tinygltf::BufferView& bv = m.bufferViews[(size_t)im.bufferView];
+        if (bv.buffer < 0 || (size_t)bv.buffer >= m.buffers.size())
+            return fail(c, VX_ERR_BAD_FORMAT, "image %d: buffer %d of %zu", img_idx, bv.buffer, m.buffers.size());
+        const std::vector<unsigned char>& d = m.buffers[(size_t)bv.buffer].data;
+        if (bv.byteOffset > d.size() || bv.byteLength > d.size() - bv.byteOffset)
+            return fail(c, VX_ERR_BAD_FORMAT, "image %d: buffer view %d outside its buffer", img_idx, im.bufferView);
+        bytes = d.data() + bv.byteOffset;
+        n = bv.byteLength;
+    } else if (im.component == kRawImage) {
+        bytes = im.image.data();
+        n = im.image.size();
+    }
+    uint32_t w = 0, h = 0;
+    uint64_t maxpix = c.desc->max_image_pixels ? c.desc->max_image_pixels : (1ull << 26);
+    if (!bytes || n == 0 || n > INT32_MAX || !sniff_size(bytes, n, &w, &h) || w == 0 || h == 0) {
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.image_unreadable",
+               "image %d ('%s'): missing or not a PNG/JPEG, texture ignored", img_idx, im.uri.c_str());
+        return VX_OK;
+    }
+    if ((uint64_t)w * h > maxpix)
+        return fail(c, VX_ERR_LIMIT, "image %d: %ux%u pixels exceeds the limit of %llu", img_idx, w, h,
+                    (unsigned long long)maxpix);
+    tinygltf::Image dec;
+    std::string e, wn;
+    if (!tinygltf::LoadImageData(&dec, img_idx, &e, &wn, 0, 0, bytes, (int)n, nullptr) || dec.width <= 0 ||
+        dec.height <= 0 || (uint32_t)dec.width != w || (uint32_t)dec.height != h || dec.component != 4) {
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.image_undecodable", "image %d: cannot decode, texture ignored",
+               img_idx);
+        return VX_OK;
+    }
+    size_t px = (size_t)w * h, bpc = dec.bits == 16 ? 2 : 1;
+    if (dec.image.size() != px * 4 * bpc) return VX_OK;
+    uint8_t* rgba = (uint8_t*)vx_alloc(c.desc->alloc, px * 4);
+    if (!rgba) return fail(c, VX_ERR_NOMEM, "image %d: %zu bytes", img_idx, px * 4);
+    if (bpc == 1) memcpy(rgba, dec.image.data(), px * 4);
+    else for (size_t i = 0; i < px * 4; i++) rgba[i] = dec.image[2 * i + 1]; // little-endian 16-bit: high byte
+    out->width = w;
+    out->height = h;
+    out->rgba = rgba;
+    return VX_OK;
+}
+
+template <typename T>
+T* copy_out(const vx_allocator* a, const std::vector<T>& v) {
+    T* p = (T*)vx_alloc(a, v.size() * sizeof(T));
+    if (p && !v.empty()) memcpy(p, v.data(), v.size() * sizeof(T));
+    return p;
+}
+
+uint8_t wrap_mode(int w) {
+    if (w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return VX_GLTF_WRAP_CLAMP;
+    if (w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return VX_GLTF_WRAP_MIRROR;
+    return VX_GLTF_WRAP_REPEAT;
+}
+
+// Required extensions we can honour (the others change what the data means
+// or how it is stored, so the file cannot be read without them).
+const char* const kSupported[] = {"KHR_mesh_quantization", "KHR_materials_emissive_strength",
+                                  "KHR_materials_unlit", "KHR_materials_ior",
+                                  "KHR_materials_specular", "KHR_materials_transmission",
+                                  "KHR_materials_volume", "KHR_materials_clearcoat",
+                                  "KHR_materials_sheen", "KHR_lights_punctual"};
+
+bool ext_supported(const std::string& e) {
+    for (const char* s : kSupported)
+        if (e == s) return true;
+    return false;
+}
+
+// Looks at extensionsRequired before tinygltf does: tinygltf fails on a
+// Draco or meshopt file with an unrelated message (an accessor without a
+// buffer view), and the user should learn which extension is missing.
+vx_result check_required(const unsigned char* b, size_t size, bool glb, vx_error* err) {
+    const unsigned char* js = b;
+    size_t jn = size;
+    if (glb) {
+        vx_rd r = vx_rd_make(b, size);
+        uint32_t magic, version, length, clen, ctype;
+        if (!vx_rd_u32le(&r, &magic) || !vx_rd_u32le(&r, &version) || !vx_rd_u32le(&r, &length) ||
+            !vx_rd_u32le(&r, &clen) || !vx_rd_u32le(&r, &ctype) || ctype != 0x4E4F534Au || clen > vx_rd_left(&r))
+            return VX_OK; // tinygltf reports the malformed header
+        js = b + r.off;
+        jn = clen;
+    }
+    nlohmann::json j = nlohmann::json::parse(js, js + jn, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return VX_OK;
+    auto it = j.find("extensionsRequired");
+    if (it == j.end() || !it->is_array()) return VX_OK;
+    for (const auto& e : *it)
+        if (e.is_string() && !ext_supported(e.get<std::string>()))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "required glTF extension %s is not supported",
+                           e.get<std::string>().c_str());
+    return VX_OK;
+}
+
+vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gltf_mesh* out, vx_error* err) {
+    Ctx c;
+    c.desc = desc;
+    c.m = &m;
+    c.err = err;
+    c.max_tris = desc->max_triangles ? desc->max_triangles : (1ull << 28);
+    for (const std::string& ext : m.extensionsRequired) {
+        if (!ext_supported(ext)) return fail(c, VX_ERR_UNSUPPORTED, "required glTF extension %s is not supported", ext.c_str());
+    }
+    vx_result r = VX_OK;
+    std::vector<vx_gltf_material> mats(m.materials.size());
+    std::vector<vx_gltf_image> imgs(m.images.size());
+    std::vector<char> decoded(m.images.size(), 0);
+    c.mat_textured.assign(m.materials.size(), false);
+    for (size_t i = 0; i < m.materials.size(); i++) {
+        const tinygltf::PbrMetallicRoughness& pbr = m.materials[i].pbrMetallicRoughness;
+        vx_gltf_material& g = mats[i];
+        for (int k = 0; k < 4; k++) {
+            double v = pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[(size_t)k] : 1.0;
+            g.base_color[k] = std::isfinite(v) ? (float)std::fmin(std::fmax(v, 0.0), 1.0) : 1.f;
+        }
+        g.image = -1;
+        g.wrap_s = g.wrap_t = VX_GLTF_WRAP_REPEAT;
+        int ti = pbr.baseColorTexture.index;
+        if (ti < 0 || desc->no_images) continue;
+        if ((size_t)ti >= m.textures.size())
+            return fail(c, VX_ERR_BAD_FORMAT, "material %zu: texture %d of %zu", i, ti, m.textures.size());
+        const tinygltf::Texture& tex = m.textures[(size_t)ti];
+        if (tex.source < 0 || (size_t)tex.source >= m.images.size()) {
+            vx_log(desc->logger, VX_LOG_WARN, "gltf.texture_no_source", "texture %d has no usable image", ti);
+            continue;
+        }
+        if (pbr.baseColorTexture.extensions.count("KHR_texture_transform"))
+            vx_log(desc->logger, VX_LOG_WARN, "gltf.texture_transform",
+                   "material %zu: KHR_texture_transform ignored", i);
+        if (tex.sampler >= 0 && (size_t)tex.sampler < m.samplers.size()) {
+            g.wrap_s = wrap_mode(m.samplers[(size_t)tex.sampler].wrapS);
+            g.wrap_t = wrap_mode(m.samplers[(size_t)tex.sampler].wrapT);
+        }
+        if (!decoded[(size_t)tex.source]) {
+            decoded[(size_t)tex.source] = 1;
+            if ((r = decode_image(c, tex.source, &imgs[(size_t)tex.source]))) break;
+        }
+        if (imgs[(size_t)tex.source].rgba) {
+            g.image = tex.source;
+            c.mat_textured[i] = true;
+        }
+    }
+    uint32_t scene_used = UINT32_MAX;
+    if (!r) {
+        std::vector<char> on_path(m.nodes.size(), 0);
+        double I[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        int sc = desc->scene_set ? (int)desc->scene : m.defaultScene;
+        if (desc->scene_set && desc->scene >= m.scenes.size()) {
+            r = fail(c, VX_ERR_INVALID_ARG, "scene %u requested, the file has %zu", desc->scene, m.scenes.size());
+        } else if (sc < 0 && !m.scenes.empty()) {
+            sc = 0; // no default scene: the first one
+        }
+        if (!r && sc >= 0 && (size_t)sc >= m.scenes.size())
+            r = fail(c, VX_ERR_BAD_FORMAT, "default scene %d of %zu", sc, m.scenes.size());
+        if (!r && sc >= 0) {
+            scene_used = (uint32_t)sc;
+            for (int nd : m.scenes[(size_t)sc].nodes)
+                if ((r = visit(c, nd, I, on_path, 0))) break;
+        } else if (!r) {
+            // no scenes at all: every root node (not a child of another)
+            std::vector<char> child(m.nodes.size(), 0);
+            for (const tinygltf::Node& n : m.nodes)
+                for (int ch : n.children)
+                    if (ch >= 0 && (size_t)ch < m.nodes.size()) child[(size_t)ch] = 1;
+            for (size_t i = 0; !r && i < m.nodes.size(); i++)
+                if (!child[i]) r = visit(c, (int)i, I, on_path, 0);
+        }
+    }
+    if (!r) {
+        bool any_tex = false;
+        for (bool t : c.mat_textured) any_tex = any_tex || t;
+        vx_gltf_mesh o;
+        memset(&o, 0, sizeof o);
+        o.alloc = desc->alloc;
+        o.tri_count = c.mat.size();
+        o.scene = scene_used;
+        o.instance_count = c.instances;
+        o.pos = copy_out(desc->alloc, c.pos);
+        o.material = copy_out(desc->alloc, c.mat);
+        if (any_tex) o.uv = copy_out(desc->alloc, c.uv);
+        if (c.any_color) o.color = copy_out(desc->alloc, c.col);
+        o.material_count = (uint32_t)mats.size();
+        o.materials = copy_out(desc->alloc, mats);
+        o.image_count = (uint32_t)imgs.size();
+        o.images = copy_out(desc->alloc, imgs);
+        if (!o.pos || !o.material || (any_tex && !o.uv) || (c.any_color && !o.color) || !o.materials || !o.images) {
+            for (vx_gltf_image& im : imgs) vx_free(desc->alloc, im.rgba);
+            imgs.clear();
+            if (o.images) o.image_count = 0;
+            vx_gltf_mesh_free(&o);
+            return fail(c, VX_ERR_NOMEM, "%zu triangles", c.mat.size());
+        }
+        *out = o;
+        return VX_OK;
+    }
+    for (vx_gltf_image& im : imgs) vx_free(desc->alloc, im.rgba);
+    return r;
+}
+
+} // namespace
+
+extern "C" vx_result vx_gltf_read(const vx_gltf_read_desc* desc_in, const void* data, size_t size,
+                                  const char* base_dir, vx_gltf_mesh* out, vx_error* err) {
+    vx_gltf_read_desc desc = {};
+    if (desc_in) desc = *desc_in;
+    if (!out || (!data && size)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gltf: NULL argument");
+    if (size > UINT32_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "gltf: %zu bytes is more than tinygltf reads", size);
+    if (size < 4) return vx_fail(err, VX_ERR_TRUNCATED, 0, "gltf: %zu bytes is not a glTF file", size);
+    try {
+        tinygltf::TinyGLTF loader;
+        tinygltf::Model model;
+        std::string e, w;
+        loader.SetImageLoader(keep_encoded_image, nullptr);
+        tinygltf::FsCallbacks fs = {};
+        if (desc.no_external || !base_dir) {
+            fs.FileExists = no_file_exists;
+            fs.ReadWholeFile = no_file_read;
+        } else {
+            fs.FileExists = tinygltf::FileExists;
+            fs.ReadWholeFile = tinygltf::ReadWholeFile;
+        }
+        fs.ExpandFilePath = same_path;
+        fs.WriteWholeFile = no_file_write;
+        loader.SetFsCallbacks(fs);
+        std::string base = base_dir ? base_dir : "";
+        const unsigned char* b = (const unsigned char*)data;
+        bool glb = memcmp(b, "glTF", 4) == 0;
+        vx_result rr = check_required(b, size, glb, err);
+        if (rr) return rr;
+        bool ok = glb ? loader.LoadBinaryFromMemory(&model, &e, &w, b, (unsigned)size, base)
+                      : loader.LoadASCIIFromString(&model, &e, &w, (const char*)b, (unsigned)size, base);
+        if (!ok) {
+            while (!e.empty() && (e.back() == '\n' || e.back() == ' ')) e.pop_back();
+            size_t nl = e.find('\n');
+            if (nl != std::string::npos) e = e.substr(0, nl);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "%s: %s", glb ? "glb" : "gltf",
+                           e.empty() ? "tinygltf could not parse the file" : e.c_str());
+        }
+        if (!w.empty()) vx_log(desc.logger, VX_LOG_WARN, "gltf.tinygltf_warning", "%.200s", w.c_str());
+        return convert(&desc, model, out, err);
+    } catch (const std::bad_alloc&) {
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "gltf: out of memory");
+    } catch (const std::exception& ex) {
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "gltf: %s", ex.what());
+    }
+}
+
+extern "C" vx_result vx_gltf_read_file(const vx_gltf_read_desc* desc, const char* path, vx_gltf_mesh* out,
+                                       vx_error* err) {
+    if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gltf: NULL argument");
+    const vx_allocator* a = desc ? desc->alloc : nullptr;
+    uint8_t* data = nullptr;
+    size_t size = 0;
+    vx_result r = vx_file_read(path, a, 0, &data, &size, err);
+    if (r) return r;
+    std::string dir = path;
+    size_t slash = dir.find_last_of('/');
+    dir = slash == std::string::npos ? std::string(".") : dir.substr(0, slash);
+    r = vx_gltf_read(desc, data, size, dir.c_str(), out, err);
+    vx_free(a, data);
+    return r;
+}
+
+extern "C" void vx_gltf_mesh_free(vx_gltf_mesh* m) {
+    if (!m) return;
+    const vx_allocator* a = m->alloc;
+    vx_free(a, m->pos);
+    vx_free(a, m->uv);
+    vx_free(a, m->color);
+    vx_free(a, m->material);
+    vx_free(a, m->materials);
+    if (m->images)
+        for (uint32_t i = 0; i < m->image_count; i++) vx_free(a, m->images[i].rgba);
+    vx_free(a, m->images);
+    memset(m, 0, sizeof *m);
+}

@@ -1,0 +1,393 @@
+// formats/vdb_openvdb.cpp - the C shim over OpenVDB declared in formats/vdb.h.
+//
+// Kept to one translation unit because OpenVDB headers are slow and memory
+// hungry to compile. Every entry point catches all C++ exceptions: nothing
+// may unwind into C callers, and nothing is printed.
+#include "formats/vdb.h"
+
+#include <openvdb/io/Compression.h>
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+
+#include <blosc.h>
+#include <zlib.h>
+
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <istream>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <streambuf>
+#include <string>
+#include <vector>
+
+// ---- corrected chunk readers ------------------------------------------------
+//
+// OpenVDB 10.0.1 (Debian 12) bloscFromStream reads an uncompressed chunk of
+// the size the file declares *before* comparing it with the destination
+// size, so a crafted negative size overflows the heap (found by the
+// vdb_fuzz replay under ASan; later upstream releases check first). These
+// definitions interpose the library's exported ones (ELF symbol
+// interposition: the executable's definition wins for every caller,
+// including libopenvdb itself), and check every declared size against the
+// destination before anything is written.
+namespace openvdb {
+OPENVDB_USE_VERSION_NAMESPACE
+namespace OPENVDB_VERSION_NAME {
+namespace io {
+
+namespace {
+Int64 read_chunk_size(std::istream& is, const char* kind) {
+    Int64 n = 0;
+    is.read(reinterpret_cast<char*>(&n), 8);
+    if (!is.good()) OPENVDB_THROW(RuntimeError, std::string("stream failure reading the size of a ") + kind + " chunk");
+    return n;
+}
+
+// A non-positive size marks an uncompressed chunk of -n bytes.
+void read_raw_chunk(std::istream& is, char* data, size_t numBytes, Int64 n, const char* kind) {
+    if (n == std::numeric_limits<Int64>::min() || static_cast<uint64_t>(-n) != numBytes)
+        OPENVDB_THROW(RuntimeError, std::string("uncompressed ") + kind + " chunk of " + std::to_string(-n) +
+                                        " bytes where " + std::to_string(numBytes) + " are expected");
+    if (data) is.read(data, -n);
+    else is.seekg(-n, std::ios_base::cur);
+}
+} // namespace
+
+void bloscFromStream(std::istream& is, char* data, size_t numBytes) {
+    const Int64 n = read_chunk_size(is, "blosc");
+    if (n <= 0) return read_raw_chunk(is, data, numBytes, n, "blosc");
+    if (!data) {
+        is.seekg(n, std::ios_base::cur);
+        return;
+    }
+    std::unique_ptr<char[]> src(new char[static_cast<size_t>(n)]);
+    is.read(src.get(), n);
+    size_t nbytes = 0, cbytes = 0, blocksize = 0;
+    if (n < BLOSC_MIN_HEADER_LENGTH) OPENVDB_THROW(RuntimeError, "blosc chunk shorter than its header");
+    blosc_cbuffer_sizes(src.get(), &nbytes, &cbytes, &blocksize);
+    // OpenVDB's writer pads chunks of fewer than 48 bytes to 128 before
+    // compressing, so a small destination may come back from a larger chunk.
+    const bool padded = numBytes < 48 && nbytes > numBytes && nbytes <= 128;
+    if ((nbytes != numBytes && !padded) || cbytes > static_cast<size_t>(n))
+        OPENVDB_THROW(RuntimeError, "blosc chunk declares " + std::to_string(nbytes) + " bytes in " +
+                                        std::to_string(cbytes) + ", expected " + std::to_string(numBytes) +
+                                        " in at most " + std::to_string(n));
+    std::unique_ptr<char[]> pad(padded ? new char[nbytes] : nullptr);
+    char* dst = padded ? pad.get() : data;
+    const int got = blosc_decompress_ctx(src.get(), dst, nbytes, 1);
+    if (got < 0 || static_cast<size_t>(got) != nbytes)
+        OPENVDB_THROW(RuntimeError, "blosc chunk does not decompress to " + std::to_string(nbytes) + " bytes");
+    if (padded) std::memcpy(data, pad.get(), numBytes);
+}
+
+void unzipFromStream(std::istream& is, char* data, size_t numBytes) {
+    const Int64 n = read_chunk_size(is, "zip");
+    if (n <= 0) return read_raw_chunk(is, data, numBytes, n, "zip");
+    if (!data) {
+        is.seekg(n, std::ios_base::cur);
+        return;
+    }
+    std::unique_ptr<Bytef[]> src(new Bytef[static_cast<size_t>(n)]);
+    is.read(reinterpret_cast<char*>(src.get()), n);
+    uLongf out = static_cast<uLongf>(numBytes);
+    const int zr = uncompress(reinterpret_cast<Bytef*>(data), &out, src.get(), static_cast<uLong>(n));
+    if (zr != Z_OK || out != numBytes)
+        OPENVDB_THROW(RuntimeError, "zip chunk does not decompress to " + std::to_string(numBytes) + " bytes");
+}
+
+} // namespace io
+} // namespace OPENVDB_VERSION_NAME
+} // namespace openvdb
+
+namespace {
+
+// A read-only streambuf over caller memory, so files and fuzz inputs share
+// one path and nothing is copied. Seeks are bounds-checked in integers.
+class MemBuf : public std::streambuf {
+public:
+    MemBuf(const char* p, size_t n) {
+        char* b = const_cast<char*>(p);
+        setg(b, b, b + n);
+    }
+    size_t pos() const { return static_cast<size_t>(gptr() - eback()); }
+
+protected:
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+        const off_type size = static_cast<off_type>(egptr() - eback());
+        off_type base = 0;
+        if (dir == std::ios_base::cur) base = static_cast<off_type>(pos());
+        else if (dir == std::ios_base::end) base = size;
+        if ((off < 0 && -off > base) || (off > 0 && off > size - base)) return pos_type(off_type(-1));
+        setg(eback(), eback() + (base + off), egptr());
+        return pos_type(base + off);
+    }
+    pos_type seekpos(pos_type p, std::ios_base::openmode m) override {
+        return seekoff(off_type(p), std::ios_base::beg, m);
+    }
+};
+
+struct ProbeBase {
+    virtual ~ProbeBase() = default;
+    virtual void get(const openvdb::Coord& c, double v[3], bool* active, uint32_t* log2dim) = 0;
+};
+
+inline void to_double(float x, double v[3]) { v[0] = x; }
+inline void to_double(double x, double v[3]) { v[0] = x; }
+inline void to_double(const openvdb::Vec3s& x, double v[3]) {
+    for (int i = 0; i < 3; i++) v[i] = x[i];
+}
+inline void to_double(const openvdb::Vec3d& x, double v[3]) {
+    for (int i = 0; i < 3; i++) v[i] = x[i];
+}
+
+template <class GridT>
+struct Probe final : ProbeBase {
+    using TreeT = typename GridT::TreeType;
+    using RootT = typename TreeT::RootNodeType;
+    using Upper = typename RootT::ChildNodeType;
+    using Lower = typename Upper::ChildNodeType;
+    using Leaf = typename Lower::ChildNodeType;
+    static_assert(TreeT::DEPTH == 4, "standard four-level trees only");
+
+    typename GridT::ConstPtr grid;
+    typename GridT::ConstAccessor acc;
+    explicit Probe(typename GridT::ConstPtr g) : grid(g), acc(g->getConstAccessor()) {}
+
+    void get(const openvdb::Coord& c, double v[3], bool* active, uint32_t* log2dim) override {
+        to_double(acc.getValue(c), v);
+        if (active) *active = acc.isValueOn(c);
+        if (log2dim) {
+            // depth: 0 root tile, 1 upper tile, 2 lower tile, 3 leaf voxel, -1 background
+            switch (acc.getValueDepth(c)) {
+                case 3: *log2dim = 0; break;
+                case 2: *log2dim = Leaf::TOTAL; break;
+                case 1: *log2dim = Lower::TOTAL; break;
+                default: *log2dim = Upper::TOTAL; break;
+            }
+        }
+    }
+};
+
+struct Entry {
+    openvdb::GridBase::Ptr grid;
+    vx_vdb_value_type type = VX_VDB_TYPE_OTHER;
+    std::unique_ptr<ProbeBase> probe; // made on first use
+};
+
+vx_vdb_value_type classify(const openvdb::GridBase& g) {
+    if (g.isType<openvdb::FloatGrid>()) return VX_VDB_TYPE_FLOAT;
+    if (g.isType<openvdb::DoubleGrid>()) return VX_VDB_TYPE_DOUBLE;
+    if (g.isType<openvdb::Vec3SGrid>()) return VX_VDB_TYPE_VEC3F;
+    if (g.isType<openvdb::Vec3DGrid>()) return VX_VDB_TYPE_VEC3D;
+    return VX_VDB_TYPE_OTHER;
+}
+
+template <class GridT>
+void background(const openvdb::GridBase& g, double v[3]) {
+    to_double(static_cast<const GridT&>(g).background(), v);
+}
+
+template <class GridT>
+vx_result iterate_typed(const openvdb::GridBase& gb, uint32_t mode, vx_vdb_value_fn fn, void* user) {
+    const GridT& g = static_cast<const GridT&>(gb);
+    double v[3] = {0, 0, 0};
+    int32_t o[3];
+    auto visit = [&](auto it) {
+        for (; it; ++it) {
+            openvdb::CoordBBox b;
+            it.getBoundingBox(b);
+            const int32_t dim = b.dim().x();
+            uint32_t l = 0;
+            while ((int64_t(1) << l) < dim) l++;
+            to_double(it.getValue(), v);
+            o[0] = b.min().x();
+            o[1] = b.min().y();
+            o[2] = b.min().z();
+            if (!fn(user, o, l, it.isValueOn(), v)) return;
+        }
+    };
+    if (mode == VX_VDB_ITER_ALL) visit(g.tree().cbeginValueAll());
+    else visit(g.tree().cbeginValueOn());
+    return VX_OK;
+}
+
+vx_result fail_msg(vx_error* err, vx_result code, uint64_t off, const char* what, const char* msg) {
+    return vx_fail(err, code, off, "%s%s", what, msg);
+}
+
+} // namespace
+
+struct vx_vdb_file {
+    std::vector<Entry> grids;
+};
+
+extern "C" {
+
+vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error* err) {
+    if (!out || (!data && size)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    MemBuf buf(static_cast<const char*>(data), size);
+    try {
+        static std::once_flag once;
+        std::call_once(once, [] { openvdb::initialize(); });
+        std::istream is(&buf);
+        // A short read must raise at once: OpenVDB does not check every read,
+        // and would otherwise build grids from zero-filled garbage.
+        is.exceptions(std::ios_base::failbit | std::ios_base::badbit);
+        openvdb::io::Stream stream(is, /*delayLoad=*/false);
+        openvdb::GridPtrVecPtr grids = stream.getGrids();
+        std::unique_ptr<vx_vdb_file> f(new vx_vdb_file);
+        if (grids) {
+            for (auto& g : *grids) {
+                if (!g) continue;
+                Entry e;
+                e.grid = g;
+                e.type = classify(*g);
+                f->grids.push_back(std::move(e));
+            }
+        }
+        *out = f.release();
+        return VX_OK;
+    } catch (const std::bad_alloc&) {
+        return vx_fail(err, VX_ERR_NOMEM, buf.pos(), "vdb: out of memory near byte %zu", buf.pos());
+    } catch (const std::ios_base::failure&) {
+        return vx_fail(err, VX_ERR_TRUNCATED, buf.pos(), "vdb: stream ends or fails at byte %zu of %zu", buf.pos(),
+                       size);
+    } catch (const openvdb::Exception& e) {
+        // OpenVDB's own messages name the problem ("IoError: not a VDB file", ...).
+        return fail_msg(err, VX_ERR_BAD_FORMAT, buf.pos(), "vdb: ", e.what());
+    } catch (const std::exception& e) {
+        return fail_msg(err, VX_ERR_BAD_FORMAT, buf.pos(), "vdb: ", e.what());
+    } catch (...) {
+        return vx_fail(err, VX_ERR_BAD_FORMAT, buf.pos(), "vdb: unknown error near byte %zu", buf.pos());
+    }
+}
+
+void vx_vdb_file_free(vx_vdb_file* f) { delete f; }
+
+uint32_t vx_vdb_grid_count(const vx_vdb_file* f) { return f ? static_cast<uint32_t>(f->grids.size()) : 0u; }
+
+vx_result vx_vdb_grid_get_info(const vx_vdb_file* f, uint32_t grid, vx_vdb_grid_info* out, vx_error* err) {
+    if (!f || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    if (grid >= f->grids.size())
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u out of range (%zu grids)", grid,
+                       f->grids.size());
+    try {
+        const Entry& e = f->grids[grid];
+        const openvdb::GridBase& g = *e.grid;
+        vx_vdb_grid_info info;
+        std::memset(&info, 0, sizeof info);
+        std::snprintf(info.name, sizeof info.name, "%s", g.getName().c_str());
+        std::snprintf(info.type, sizeof info.type, "%s", g.type().c_str());
+        info.value_type = e.type;
+        info.components = e.type == VX_VDB_TYPE_OTHER ? 0u : (e.type >= VX_VDB_TYPE_VEC3F ? 3u : 1u);
+        switch (g.getGridClass()) {
+            case openvdb::GRID_LEVEL_SET: info.grid_class = VX_VDB_CLASS_LEVEL_SET; break;
+            case openvdb::GRID_FOG_VOLUME: info.grid_class = VX_VDB_CLASS_FOG_VOLUME; break;
+            case openvdb::GRID_STAGGERED: info.grid_class = VX_VDB_CLASS_STAGGERED; break;
+            default: info.grid_class = VX_VDB_CLASS_UNKNOWN; break;
+        }
+        info.saved_as_half = g.saveFloatAsHalf();
+        const openvdb::math::Transform& xf = g.transform();
+        info.linear = xf.isLinear();
+        if (info.linear) {
+            // OpenVDB multiplies row vectors (p' = p M, translation in row 3);
+            // we store the column-vector form.
+            const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+            for (int r = 0; r < 3; r++) {
+                for (int c = 0; c < 3; c++) info.index_to_world[r * 4 + c] = m(c, r);
+                info.index_to_world[r * 4 + 3] = m(3, r);
+            }
+        }
+        const openvdb::Vec3d vs = xf.voxelSize();
+        for (int i = 0; i < 3; i++) info.voxel_size[i] = vs[i];
+        switch (e.type) {
+            case VX_VDB_TYPE_FLOAT: background<openvdb::FloatGrid>(g, info.background); break;
+            case VX_VDB_TYPE_DOUBLE: background<openvdb::DoubleGrid>(g, info.background); break;
+            case VX_VDB_TYPE_VEC3F: background<openvdb::Vec3SGrid>(g, info.background); break;
+            case VX_VDB_TYPE_VEC3D: background<openvdb::Vec3DGrid>(g, info.background); break;
+            default: break;
+        }
+        info.active_voxels = g.activeVoxelCount();
+        info.active_tiles = g.baseTree().activeTileCount();
+        info.leaf_count = g.baseTree().leafCount();
+        const openvdb::CoordBBox b = g.evalActiveVoxelBoundingBox();
+        info.empty = b.empty();
+        if (!info.empty) {
+            for (int i = 0; i < 3; i++) {
+                info.bbox_min[i] = b.min()[i];
+                info.bbox_max[i] = b.max()[i];
+            }
+        }
+        *out = info;
+        return VX_OK;
+    } catch (const std::bad_alloc&) {
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory");
+    } catch (const std::exception& e) {
+        return fail_msg(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: ", e.what());
+    } catch (...) {
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: unknown error");
+    }
+}
+
+vx_result vx_vdb_iterate(vx_vdb_file* f, uint32_t grid, uint32_t mode, vx_vdb_value_fn fn, void* user,
+                         vx_error* err) {
+    if (!f || !fn) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    if (grid >= f->grids.size())
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u out of range (%zu grids)", grid,
+                       f->grids.size());
+    try {
+        const Entry& e = f->grids[grid];
+        switch (e.type) {
+            case VX_VDB_TYPE_FLOAT: return iterate_typed<openvdb::FloatGrid>(*e.grid, mode, fn, user);
+            case VX_VDB_TYPE_DOUBLE: return iterate_typed<openvdb::DoubleGrid>(*e.grid, mode, fn, user);
+            case VX_VDB_TYPE_VEC3F: return iterate_typed<openvdb::Vec3SGrid>(*e.grid, mode, fn, user);
+            case VX_VDB_TYPE_VEC3D: return iterate_typed<openvdb::Vec3DGrid>(*e.grid, mode, fn, user);
+            default:
+                return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: grid '%s' has unsupported type %s",
+                               e.grid->getName().c_str(), e.grid->type().c_str());
+        }
+    } catch (const std::bad_alloc&) {
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory");
+    } catch (const std::exception& e) {
+        return fail_msg(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: ", e.what());
+    } catch (...) {
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: unknown error");
+    }
+}
+
+bool vx_vdb_probe(vx_vdb_file* f, uint32_t grid, const int32_t ijk[3], double value[3], bool* active,
+                  uint32_t* log2dim) {
+    if (!f || !ijk || !value || grid >= f->grids.size()) return false;
+    try {
+        Entry& e = f->grids[grid];
+        if (!e.probe) {
+            switch (e.type) {
+                case VX_VDB_TYPE_FLOAT:
+                    e.probe.reset(new Probe<openvdb::FloatGrid>(openvdb::gridConstPtrCast<openvdb::FloatGrid>(e.grid)));
+                    break;
+                case VX_VDB_TYPE_DOUBLE:
+                    e.probe.reset(
+                        new Probe<openvdb::DoubleGrid>(openvdb::gridConstPtrCast<openvdb::DoubleGrid>(e.grid)));
+                    break;
+                case VX_VDB_TYPE_VEC3F:
+                    e.probe.reset(new Probe<openvdb::Vec3SGrid>(openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(e.grid)));
+                    break;
+                case VX_VDB_TYPE_VEC3D:
+                    e.probe.reset(new Probe<openvdb::Vec3DGrid>(openvdb::gridConstPtrCast<openvdb::Vec3DGrid>(e.grid)));
+                    break;
+                default: return false;
+            }
+        }
+        value[0] = value[1] = value[2] = 0.0;
+        e.probe->get(openvdb::Coord(ijk[0], ijk[1], ijk[2]), value, active, log2dim);
+        return true;
+    } catch (...) {
+        return false;
+    }
+}
+
+} // extern "C"

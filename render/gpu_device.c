@@ -1,0 +1,338 @@
+/* render/gpu_device.c - the one place that creates the Vulkan instance, picks
+ * the physical device and creates the logical device and its compute queue. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render_internal.h"
+
+const char* vx__vk_str(VkResult r) {
+    switch (r) {
+#define C(x) case x: return #x;
+        C(VK_SUCCESS) C(VK_NOT_READY) C(VK_TIMEOUT) C(VK_INCOMPLETE) C(VK_ERROR_OUT_OF_HOST_MEMORY)
+        C(VK_ERROR_OUT_OF_DEVICE_MEMORY) C(VK_ERROR_INITIALIZATION_FAILED) C(VK_ERROR_DEVICE_LOST)
+        C(VK_ERROR_MEMORY_MAP_FAILED) C(VK_ERROR_LAYER_NOT_PRESENT) C(VK_ERROR_EXTENSION_NOT_PRESENT)
+        C(VK_ERROR_FEATURE_NOT_PRESENT) C(VK_ERROR_INCOMPATIBLE_DRIVER) C(VK_ERROR_TOO_MANY_OBJECTS)
+        C(VK_ERROR_FORMAT_NOT_SUPPORTED) C(VK_ERROR_FRAGMENTED_POOL) C(VK_ERROR_UNKNOWN)
+#undef C
+    default: return "VkResult(unknown)";
+    }
+}
+
+vx_result vx__vk_fail(vx_error* err, VkResult r, const char* what) {
+    return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "%s failed: %s (%d)", what, vx__vk_str(r), (int)r);
+}
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL debug_cb(VkDebugUtilsMessageSeverityFlagBitsEXT sev,
+                                               VkDebugUtilsMessageTypeFlagsEXT type,
+                                               const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    (void)type;
+    vx_gpu* g = user;
+    if (sev & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        g->validation_errors++;
+        vx_log(g->logger, VX_LOG_WARN, "gpu.validation", "%s", data && data->pMessage ? data->pMessage : "?");
+    } else if (sev & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        vx_log(g->logger, VX_LOG_INFO, "gpu.validation_warning", "%s",
+               data && data->pMessage ? data->pMessage : "?");
+    }
+    return VK_FALSE;
+}
+
+static bool layer_available(const char* name) {
+    uint32_t n = 0;
+    if (vkEnumerateInstanceLayerProperties(&n, NULL) != VK_SUCCESS || n == 0) return false;
+    VkLayerProperties* p = calloc(n, sizeof *p);
+    if (!p) return false;
+    bool found = false;
+    if (vkEnumerateInstanceLayerProperties(&n, p) == VK_SUCCESS)
+        for (uint32_t i = 0; i < n; i++)
+            if (strcmp(p[i].layerName, name) == 0) found = true;
+    free(p);
+    return found;
+}
+
+static bool instance_ext_available(const char* name) {
+    uint32_t n = 0;
+    if (vkEnumerateInstanceExtensionProperties(NULL, &n, NULL) != VK_SUCCESS || n == 0) return false;
+    VkExtensionProperties* p = calloc(n, sizeof *p);
+    if (!p) return false;
+    bool found = false;
+    if (vkEnumerateInstanceExtensionProperties(NULL, &n, p) == VK_SUCCESS)
+        for (uint32_t i = 0; i < n; i++)
+            if (strcmp(p[i].extensionName, name) == 0) found = true;
+    free(p);
+    return found;
+}
+
+static const char* type_name(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+    default: return "other";
+    }
+}
+
+static int type_rank(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+    }
+}
+
+static bool compute_family(VkPhysicalDevice pd, uint32_t* out) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
+    if (n == 0 || n > 64) return false;
+    VkQueueFamilyProperties q[64];
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
+    /* prefer a family with timestamps */
+    int best = -1;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(q[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+        if (best < 0 || (q[i].timestampValidBits && !q[best].timestampValidBits)) best = (int)i;
+    }
+    if (best < 0) return false;
+    *out = (uint32_t)best;
+    return true;
+}
+
+static vx_result create_instance(vx_gpu* g, bool validate, vx_error* err) {
+    const char* layers[1];
+    uint32_t layer_count = 0;
+    const char* exts[2];
+    uint32_t ext_count = 0;
+    bool debug_utils = instance_ext_available(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (validate) {
+        if (!layer_available("VK_LAYER_KHRONOS_validation"))
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET,
+                           "validation requested but VK_LAYER_KHRONOS_validation is not installed");
+        layers[layer_count++] = "VK_LAYER_KHRONOS_validation";
+    }
+    if (debug_utils) exts[ext_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+
+    VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+                             .pApplicationName = "voxkit",
+                             .pEngineName = "voxkit",
+                             .apiVersion = VK_API_VERSION_1_1};
+    /* Chained into the instance create info so that vkCreateInstance and
+     * vkDestroyInstance themselves are covered by validation (cube.c). */
+    VkDebugUtilsMessengerCreateInfoEXT dbg = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+        .pfnUserCallback = debug_cb,
+        .pUserData = g};
+    VkInstanceCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+                               .pNext = (validate && debug_utils) ? &dbg : NULL,
+                               .pApplicationInfo = &app,
+                               .enabledLayerCount = layer_count,
+                               .ppEnabledLayerNames = layers,
+                               .enabledExtensionCount = ext_count,
+                               .ppEnabledExtensionNames = exts};
+    VX__VK(vkCreateInstance(&ci, NULL, &g->instance), "vkCreateInstance");
+    if (debug_utils) {
+        g->set_name = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(g->instance, "vkSetDebugUtilsObjectNameEXT");
+        g->begin_label =
+            (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(g->instance, "vkCmdBeginDebugUtilsLabelEXT");
+        g->end_label = (PFN_vkCmdEndDebugUtilsLabelEXT)vkGetInstanceProcAddr(g->instance, "vkCmdEndDebugUtilsLabelEXT");
+    }
+    if (validate && debug_utils) {
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(g->instance, "vkCreateDebugUtilsMessengerEXT");
+        if (create) VX__VK(create(g->instance, &dbg, NULL, &g->messenger), "vkCreateDebugUtilsMessengerEXT");
+    }
+    return VX_OK;
+}
+
+static vx_result select_device(vx_gpu* g, const char* want, vx_error* err) {
+    uint32_t n = 0;
+    VX__VK(vkEnumeratePhysicalDevices(g->instance, &n, NULL), "vkEnumeratePhysicalDevices");
+    if (n == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device found");
+    if (n > 32) n = 32;
+    VkPhysicalDevice pds[32];
+    VkResult r = vkEnumeratePhysicalDevices(g->instance, &n, pds);
+    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return vx__vk_fail(err, r, "vkEnumeratePhysicalDevices");
+    int pick = -1;
+    if (want && *want) {
+        char* end = NULL;
+        long idx = strtol(want, &end, 10);
+        if (end && *end == 0) {
+            if (idx < 0 || (uint32_t)idx >= n)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "device %ld does not exist (%u devices)", idx, n);
+            pick = (int)idx;
+        } else {
+            for (uint32_t i = 0; i < n && pick < 0; i++) {
+                VkPhysicalDeviceProperties p;
+                vkGetPhysicalDeviceProperties(pds[i], &p);
+                if (strstr(p.deviceName, want)) pick = (int)i;
+            }
+            if (pick < 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no Vulkan device named like '%s'", want);
+        }
+        uint32_t fam;
+        if (!compute_family(pds[pick], &fam))
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "device %d has no compute queue", pick);
+    } else {
+        int best_rank = 99;
+        for (uint32_t i = 0; i < n; i++) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(pds[i], &p);
+            uint32_t fam;
+            if (!compute_family(pds[i], &fam)) continue;
+            int rank = type_rank(p.deviceType);
+            if (rank < best_rank) best_rank = rank, pick = (int)i;
+        }
+        if (pick < 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device with a compute queue");
+    }
+    g->phys = pds[pick];
+    compute_family(g->phys, &g->queue_family);
+    return VX_OK;
+}
+
+static vx_result create_device(vx_gpu* g, vx_error* err) {
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+                                   .queueFamilyIndex = g->queue_family,
+                                   .queueCount = 1,
+                                   .pQueuePriorities = &prio};
+    VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+                              .queueCreateInfoCount = 1,
+                              .pQueueCreateInfos = &qci};
+    VX__VK(vkCreateDevice(g->phys, &dci, NULL, &g->device), "vkCreateDevice");
+    vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);
+    return VX_OK;
+}
+
+static vx_result prepare_commands(vx_gpu* g, vx_error* err) {
+    VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                   .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                   .queueFamilyIndex = g->queue_family};
+    VX__VK(vkCreateCommandPool(g->device, &pci, NULL, &g->cmd_pool), "vkCreateCommandPool");
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                      .commandPool = g->cmd_pool,
+                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                      .commandBufferCount = 1};
+    VX__VK(vkAllocateCommandBuffers(g->device, &ai, &g->cmd), "vkAllocateCommandBuffers");
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VX__VK(vkCreateFence(g->device, &fci, NULL, &g->fence), "vkCreateFence");
+    return VX_OK;
+}
+
+static vx_result prepare_timestamps(vx_gpu* g, vx_error* err) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(g->phys, &n, NULL);
+    VkQueueFamilyProperties q[64];
+    if (n > 64) n = 64;
+    vkGetPhysicalDeviceQueueFamilyProperties(g->phys, &n, q);
+    g->has_timestamps = g->queue_family < n && q[g->queue_family].timestampValidBits > 0 &&
+                        g->props.limits.timestampPeriod > 0;
+    if (!g->has_timestamps) return VX_OK;
+    VkQueryPoolCreateInfo qp = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+                                .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                                .queryCount = 64};
+    VX__VK(vkCreateQueryPool(g->device, &qp, NULL, &g->timestamps), "vkCreateQueryPool");
+    return VX_OK;
+}
+
+void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* label) {
+    if (!g->set_name || !label || !g->device) return;
+    VkDebugUtilsObjectNameInfoEXT ni = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
+                                        .objectType = type,
+                                        .objectHandle = handle,
+                                        .pObjectName = label};
+    g->set_name(g->device, &ni);
+}
+
+static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) {
+    vx_result r;
+    if (desc->external.device) {
+        g->external = true;
+        g->instance = (VkInstance)desc->external.instance;
+        g->phys = (VkPhysicalDevice)desc->external.physical_device;
+        g->device = (VkDevice)desc->external.device;
+        g->queue = (VkQueue)desc->external.queue;
+        g->queue_family = desc->external.queue_family;
+        if (!g->instance || !g->phys || !g->queue)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "external device given without instance/queue");
+    } else {
+        if ((r = create_instance(g, g->validate, err))) return r;
+        if ((r = select_device(g, desc->device, err))) return r;
+    }
+    vkGetPhysicalDeviceProperties(g->phys, &g->props);
+    vkGetPhysicalDeviceMemoryProperties(g->phys, &g->memprops);
+    if (!g->external && (r = create_device(g, err))) return r;
+    if ((r = prepare_commands(g, err))) return r;
+    if ((r = prepare_timestamps(g, err))) return r;
+    return VX_OK;
+}
+
+vx_result vx_gpu_create(const vx_gpu_desc* desc_in, vx_gpu** out, vx_error* err) {
+    vx_gpu_desc desc = desc_in ? *desc_in : (vx_gpu_desc){0};
+    if (!out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "out is NULL");
+    vx_gpu* g = vx_calloc(desc.alloc, 1, sizeof *g);
+    if (!g) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (desc.alloc) g->alloc = *desc.alloc;
+    g->logger = desc.logger;
+    const char* env = getenv("VX_GPU_VALIDATION");
+    g->validate = desc.validate || (env && strcmp(env, "1") == 0);
+    vx_result r = gpu_prepare(g, &desc, err);
+    if (r) {
+        vx_gpu_destroy(g);
+        return r;
+    }
+    *out = g;
+    return VX_OK;
+}
+
+void vx_gpu_destroy(vx_gpu* g) {
+    if (!g) return;
+    if (g->device) vkDeviceWaitIdle(g->device);
+    vx__pipelines_destroy(g);
+    if (g->timestamps) vkDestroyQueryPool(g->device, g->timestamps, NULL);
+    if (g->fence) vkDestroyFence(g->device, g->fence, NULL);
+    if (g->cmd_pool) vkDestroyCommandPool(g->device, g->cmd_pool, NULL);
+    if (!g->external) {
+        if (g->device) vkDestroyDevice(g->device, NULL);
+        if (g->messenger) {
+            PFN_vkDestroyDebugUtilsMessengerEXT destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                g->instance, "vkDestroyDebugUtilsMessengerEXT");
+            if (destroy) destroy(g->instance, g->messenger, NULL);
+        }
+        if (g->instance) vkDestroyInstance(g->instance, NULL);
+    }
+    vx_allocator a = g->alloc;
+    vx_free(&a, g);
+}
+
+const char* vx_gpu_device_name(const vx_gpu* g) { return g ? g->props.deviceName : ""; }
+bool vx_gpu_is_cpu(const vx_gpu* g) { return g && g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+uint32_t vx_gpu_validation_errors(const vx_gpu* g) { return g ? g->validation_errors : 0; }
+
+vx_result vx_gpu_list_devices(void (*fn)(void* user, uint32_t index, const char* name, const char* type), void* user,
+                              vx_error* err) {
+    VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO, .apiVersion = VK_API_VERSION_1_1};
+    VkInstanceCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, .pApplicationInfo = &app};
+    VkInstance inst;
+    VX__VK(vkCreateInstance(&ci, NULL, &inst), "vkCreateInstance");
+    uint32_t n = 0;
+    VkResult r = vkEnumeratePhysicalDevices(inst, &n, NULL);
+    VkPhysicalDevice pds[32];
+    if (n > 32) n = 32;
+    if (r == VK_SUCCESS && n) r = vkEnumeratePhysicalDevices(inst, &n, pds);
+    if (r != VK_SUCCESS && r != VK_INCOMPLETE) {
+        vkDestroyInstance(inst, NULL);
+        return vx__vk_fail(err, r, "vkEnumeratePhysicalDevices");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(pds[i], &p);
+        fn(user, i, p.deviceName, type_name(p.deviceType));
+    }
+    vkDestroyInstance(inst, NULL);
+    return VX_OK;
+}

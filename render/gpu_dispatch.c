@@ -1,0 +1,110 @@
+/* render/gpu_dispatch.c - command recording, submission and GPU timing. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render_internal.h"
+
+vx_result vx__cmd_begin(vx_gpu* g, vx_error* err) {
+    VX__VK(vkResetCommandBuffer(g->cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VX__VK(vkBeginCommandBuffer(g->cmd, &bi), "vkBeginCommandBuffer");
+    return VX_OK;
+}
+
+vx_result vx__cmd_submit_wait(vx_gpu* g, vx_error* err) {
+    VX__VK(vkEndCommandBuffer(g->cmd), "vkEndCommandBuffer");
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &g->cmd};
+    VX__VK(vkResetFences(g->device, 1, &g->fence), "vkResetFences");
+    VX__VK(vkQueueSubmit(g->queue, 1, &si, g->fence), "vkQueueSubmit");
+    /* generous: a software device may take a long time for a large frame */
+    VX__VK(vkWaitForFences(g->device, 1, &g->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
+    return VX_OK;
+}
+
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
+    uint32_t repeat = d->repeat ? d->repeat : 1;
+    if (repeat > 31) repeat = 31; /* two timestamps per run in a pool of 64 */
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VX_GPU_MAX_BINDINGS}};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+                                      .maxSets = 1,
+                                      .poolSizeCount = 2,
+                                      .pPoolSizes = sizes};
+    VkDescriptorPool pool;
+    VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
+    vx_result r = VX_OK;
+    VkDescriptorSet set;
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = pool,
+                                      .descriptorSetCount = 1,
+                                      .pSetLayouts = &d->pipeline->dsl};
+    VkResult vr = vkAllocateDescriptorSets(g->device, &ai, &set);
+    if (vr != VK_SUCCESS) {
+        r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
+        goto done;
+    }
+    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+    for (uint32_t i = 0; i < d->buffer_count; i++) {
+        infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
+        /* binding 0 of every shader here is the uniform frame block */
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                      .dstSet = set,
+                                      .dstBinding = i,
+                                      .descriptorCount = 1,
+                                      .descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                               : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                      .pBufferInfo = &infos[i]};
+    }
+    vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+    if ((r = vx__cmd_begin(g, err))) goto done;
+    if (g->begin_label && d->label) {
+        VkDebugUtilsLabelEXT l = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = d->label};
+        g->begin_label(g->cmd, &l);
+    }
+    if (g->has_timestamps) vkCmdResetQueryPool(g->cmd, g->timestamps, 0, 2 * repeat);
+    vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
+    vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
+    for (uint32_t k = 0; k < repeat; k++) {
+        if (g->has_timestamps) vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 2 * k);
+        vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
+        if (g->has_timestamps)
+            vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                                               VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                 VK_PIPELINE_STAGE_HOST_BIT,
+                             0, 1, &mb, 0, NULL, 0, NULL);
+    }
+    if (g->end_label && d->label) g->end_label(g->cmd);
+    double t0 = vx_time_now();
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    double wall = vx_time_now() - t0;
+    if (seconds) *seconds = wall / repeat;
+    if (g->has_timestamps && seconds) {
+        uint64_t ts[64];
+        vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, 2 * repeat, sizeof ts, ts, sizeof ts[0],
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+        if (vr != VK_SUCCESS) {
+            r = vx__vk_fail(err, vr, "vkGetQueryPoolResults");
+            goto done;
+        }
+        double runs[32];
+        for (uint32_t k = 0; k < repeat; k++)
+            runs[k] = (double)(ts[2 * k + 1] - ts[2 * k]) * g->props.limits.timestampPeriod * 1e-9;
+        qsort(runs, repeat, sizeof runs[0], cmp_double);
+        *seconds = runs[repeat / 2];
+    }
+done:
+    vkDestroyDescriptorPool(g->device, pool, NULL);
+    return r;
+}

@@ -1,0 +1,34 @@
+# render/: the Vulkan compute tracer (library vx_render) and the CPU reference.
+if(VX_WITH_VULKAN)
+  find_package(Vulkan REQUIRED)
+  find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+
+  # GLSL -> SPIR-V at build time, embedded as C arrays (no shader files to lose).
+  set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
+  file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
+  set(VX_RENDER_SPV_HEADERS)
+  foreach(shader trace dense)
+    set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${shader}.comp)
+    set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
+    add_custom_command(
+      OUTPUT ${out}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${shader}_spv_arr -o ${out} ${src}
+      DEPENDS ${src}
+      COMMENT "glslangValidator ${shader}.comp"
+      VERBATIM)
+    list(APPEND VX_RENDER_SPV_HEADERS ${out})
+  endforeach()
+
+  add_library(vx_render STATIC
+    ${CMAKE_CURRENT_SOURCE_DIR}/gpu_device.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/gpu_memory.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/gpu_pipeline.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/gpu_dispatch.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/render_scene.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
+    ${VX_RENDER_SPV_HEADERS})
+  target_include_directories(vx_render PRIVATE ${VX_RENDER_SPV_DIR})
+  target_link_libraries(vx_render PUBLIC vx_svo Vulkan::Vulkan m)
+endif()

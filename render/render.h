@@ -1,0 +1,218 @@
+/* render/render.h - Vulkan compute tracer and CPU reference for .svo scenes.
+ *
+ * A scene (svo/svo.h) is a set of per-model sparse voxel octrees placed by
+ * affine instances. The GPU tracer walks a BVH over the instances' world
+ * bounds (binned SAH, built on the CPU) and then each model's octree in the
+ * manner of Laine & Karras (octant mirroring, the [1,2] cube, a stack of 23
+ * levels), with the ray taken into model space by the inverse matrix. The CPU
+ * reference (vx_render_cpu) traces the same rays in double precision with a
+ * per-model 3D-DDA over the decoded voxels and a brute-force loop over the
+ * instances; tests compare the two pixel by pixel.
+ *
+ * Usage:
+ *   vx_gpu* gpu; vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err);
+ *   vx_render_scene* rs; vx_render_scene_create(gpu, &scene, &rs, &err);
+ *   vx_render_image img = {0};
+ *   vx_render_frame(rs, &(vx_render_desc){ .width = 640, .height = 480 }, &img, &err);
+ *   ... img.pixels ...; vx_render_image_free(&img);
+ *   vx_render_scene_destroy(rs); vx_gpu_destroy(gpu);
+ *
+ * Conventions:
+ *  - Rays live in world space: grid space mapped by scene.world_from_grid.
+ *    Depth is the world distance along the unit ray direction from the eye
+ *    (perspective) or from the image plane through the eye (orthographic), so
+ *    t values compare across instances.
+ *  - A ray whose origin lies inside a voxel hits it at t = 0. On a cell
+ *    boundary a direction component of +0 counts as positive and -0 as
+ *    negative (the ray is taken to be displaced infinitesimally that way).
+ *    When a ray crosses an edge or a corner exactly, it steps into the
+ *    diagonal cell (all tied axes at once).
+ *  - The hit voxel is the model cell containing the hit point, inside the
+ *    leaf that was hit (a collapsed leaf or, with lod, a coarse node).
+ *  - Models deeper than VX_RENDER_MAX_DEPTH levels are refused at load.
+ *  - This header does not include vulkan.h; a host application may pass
+ *    its own VkInstance/VkPhysicalDevice/VkDevice/VkQueue as const void*.
+ *  - The scene is borrowed only during vx_render_scene_create (everything
+ *    is copied to GPU buffers and to host-side tables).
+ */
+#ifndef VX_RENDER_H
+#define VX_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "svo/svo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VX_RENDER_MAX_DEPTH 21u /* 23-bit mantissa of [1,2): finest cell = 4 ulps */
+
+/* ---- device ------------------------------------------------------------------------ */
+
+typedef struct vx_gpu vx_gpu;
+
+/* Device options; zero-initialised means the defaults.
+ *  device:   NULL or "" picks a discrete GPU, then integrated, then any
+ *            (lavapipe); "N" picks the N-th physical device; anything else
+ *            picks the first device whose name contains it.
+ *  validate: enables VK_LAYER_KHRONOS_validation (an error if it is not
+ *            installed) and records every validation error; the environment
+ *            variable VX_GPU_VALIDATION=1 does the same.
+ *  logger:   receives validation messages ("gpu.validation") and notes.
+ *  external: a host app's VkInstance, VkPhysicalDevice, VkDevice, VkQueue and
+ *            queue family, used instead of creating them (not destroyed). */
+typedef struct vx_gpu_desc {
+    const char* device;
+    bool validate;
+    const vx_logger* logger;
+    const vx_allocator* alloc;
+    struct {
+        const void* instance;
+        const void* physical_device;
+        const void* device;
+        const void* queue;
+        uint32_t queue_family;
+    } external;
+} vx_gpu_desc;
+
+vx_result vx_gpu_create(const vx_gpu_desc* desc, vx_gpu** out, vx_error* err);
+void vx_gpu_destroy(vx_gpu* gpu);
+const char* vx_gpu_device_name(const vx_gpu* gpu);
+bool vx_gpu_is_cpu(const vx_gpu* gpu); /* lavapipe or another CPU device */
+/* Validation errors recorded since creation (0 without validation). */
+uint32_t vx_gpu_validation_errors(const vx_gpu* gpu);
+/* Lists physical devices: calls fn(user, index, name, type) for each, where
+ * type is "discrete", "integrated", "virtual", "cpu" or "other". */
+vx_result vx_gpu_list_devices(void (*fn)(void* user, uint32_t index, const char* name, const char* type),
+                              void* user, vx_error* err);
+
+/* ---- rendering --------------------------------------------------------------------- */
+
+typedef enum vx_render_mode {
+    VX_RENDER_COLOR = 0,  /* attribute colour, one directional light with hard shadows, sky ambient */
+    VX_RENDER_ALBEDO,     /* attribute colour */
+    VX_RENDER_NORMAL,     /* world-space geometric normal (float) */
+    VX_RENDER_DEPTH,      /* ray t in world units, +inf for a miss (float) */
+    VX_RENDER_INSTANCE,   /* a colour per instance id */
+    VX_RENDER_ITERATIONS, /* heat map of traversal steps */
+    VX_RENDER_MODE_NUM
+} vx_render_mode;
+
+/* Camera; all zero frames the scene bounds from a fixed direction.
+ *  set:    use eye/target/up below (otherwise the default framing)
+ *  up:     zero == (0, 0, 1) (MagicaVoxel's up axis)
+ *  fov:    vertical field of view in degrees, 0 == 45
+ *  ortho:  orthographic; ortho_height is the view height in world units,
+ *          0 == frame the scene bounds */
+typedef struct vx_render_camera {
+    bool set;
+    double eye[3], target[3], up[3];
+    double fov;
+    bool ortho;
+    double ortho_height;
+} vx_render_camera;
+
+/* Frame options; zero-initialised means the defaults.
+ *  width, height: 0 == 640 x 480 (at most 16384 each)
+ *  spp:           samples per pixel, 0 == 1 (sample 0 is the pixel centre)
+ *  lod:           stop descending where a voxel projects smaller than lod_pixels
+ *                 pixels and use the coarse level's attribute (GPU only)
+ *  lod_pixels:    0 == 1
+ *  light_dir:     towards the light, zero == (0.35, -0.45, 0.82)
+ *  ambient:       sky light share, 0 == 0.3
+ *  want_hits:     also return per-pixel hit records (sample 0) */
+typedef struct vx_render_desc {
+    uint32_t width, height;
+    vx_render_mode mode;
+    uint32_t spp;
+    vx_render_camera camera;
+    bool lod;
+    double lod_pixels;
+    double light_dir[3];
+    double ambient;
+    bool want_hits;
+} vx_render_desc;
+
+#define VX_RENDER_NO_HIT 0xFFFFFFFFu
+
+/* What the centre ray of a pixel hit. instance is VX_RENDER_NO_HIT for a
+ * miss; cell is the hit model cell; t the depth. */
+typedef struct vx_render_hit {
+    uint32_t instance;
+    uint32_t cell[3];
+    float t;
+    uint32_t iterations;
+    uint32_t flags; /* VX_RENDER_HIT_* */
+} vx_render_hit;
+
+/* CPU reference only: the ray started exactly on a cell boundary or crossed
+ * an edge or corner exactly before the hit; float tracing may break such a
+ * tie differently (tests report these pixels separately). */
+#define VX_RENDER_HIT_AMBIGUOUS 1u
+
+/* Output of a frame. pixels: width*height*4 floats, RGBA, row 0 at the top
+ * (colour modes in [0,1]; normal: xyz; depth: t in every channel); hits is
+ * NULL unless want_hits. Free with vx_render_image_free. */
+typedef struct vx_render_image {
+    uint32_t width, height;
+    vx_render_mode mode;
+    float* pixels;
+    vx_render_hit* hits;
+    double gpu_seconds;    /* from timestamp queries (CPU: wall time) */
+    uint64_t rays;         /* primary rays traced (width * height * spp) */
+    const vx_allocator* alloc;
+} vx_render_image;
+
+void vx_render_image_free(vx_render_image* img);
+
+/* The scene on the GPU. */
+typedef struct vx_render_scene vx_render_scene;
+
+vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_render_scene** out, vx_error* err);
+void vx_render_scene_destroy(vx_render_scene* rs);
+/* Seconds spent building the BVH at creation. */
+double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
+
+vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
+
+/* The CPU reference: the same outputs in double precision (lod ignored). */
+vx_result vx_render_cpu(const vx_svo_scene* scene, const vx_render_desc* desc, const vx_allocator* alloc,
+                        vx_render_image* out, vx_error* err);
+
+/* Checks a frame desc (sizes, mode, camera finite); no GPU needed. */
+vx_result vx_render_desc_validate(const vx_render_desc* desc, vx_error* err);
+
+/* Name of a mode ("color", ...) and the reverse (false if unknown). */
+const char* vx_render_mode_name(vx_render_mode m);
+bool vx_render_mode_parse(const char* s, vx_render_mode* out);
+
+/* ---- scene BVH (exposed for tests and benchmarks) ----------------------------------- */
+
+typedef struct vx_bvh_node {
+    float lo[3];
+    uint32_t first; /* interior: index of the left child (right = first + 1); leaf: first item */
+    float hi[3];
+    uint32_t count; /* 0: interior; else item count of a leaf */
+} vx_bvh_node;
+
+typedef struct vx_bvh {
+    uint32_t node_count;
+    vx_bvh_node* nodes;
+    uint32_t* items; /* item indices referenced by leaves */
+    uint32_t item_count;
+    const vx_allocator* alloc;
+} vx_bvh;
+
+/* Binned SAH build (16 bins, O(n log n)) over boxes lo[3*i..], hi[3*i..];
+ * leaves hold at most 4 items. */
+vx_result vx_bvh_build(const double* lo, const double* hi, uint32_t count, const vx_allocator* alloc, vx_bvh* out,
+                       vx_error* err);
+void vx_bvh_free(vx_bvh* bvh);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_RENDER_H */

@@ -1,0 +1,273 @@
+/* render/render_common.c - camera, transforms and scene checks shared by the
+ * GPU tracer and the CPU reference (both must generate the same rays). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render/render_internal.h"
+
+static const char* const mode_names[VX_RENDER_MODE_NUM] = {"color", "albedo", "normal", "depth", "instance",
+                                                           "iterations"};
+
+const char* vx_render_mode_name(vx_render_mode m) { return (unsigned)m < VX_RENDER_MODE_NUM ? mode_names[m] : "?"; }
+
+bool vx_render_mode_parse(const char* s, vx_render_mode* out) {
+    for (int i = 0; i < VX_RENDER_MODE_NUM; i++)
+        if (strcmp(s, mode_names[i]) == 0) {
+            *out = (vx_render_mode)i;
+            return true;
+        }
+    return false;
+}
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void cross3(const double a[3], const double b[3], double o[3]) {
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static bool norm3(double v[3]) {
+    double l = sqrt(dot3(v, v));
+    if (!(l > 0) || !isfinite(l)) return false;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return true;
+}
+
+static void affine_mul(const double a[12], const double b[12], double o[12]) {
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 4; c++) {
+            double v = a[4 * r + 0] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c];
+            if (c == 3) v += a[4 * r + 3];
+            o[4 * r + c] = v;
+        }
+    }
+}
+
+void vx__affine_apply(const double m[12], const double p[3], double o[3]) {
+    for (int r = 0; r < 3; r++) o[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+}
+
+void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]) {
+    affine_mul(s->world_from_grid, in->xform, w);
+}
+
+bool vx__affine_inverse(const double m[12], double o[12]) {
+    double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
+    double A = e * i - f * h, B = -(d * i - f * g), C = d * h - e * g;
+    double det = a * A + b * B + c * C;
+    if (!(fabs(det) > 1e-300) || !isfinite(det)) return false;
+    double inv[9] = {A / det, -(b * i - c * h) / det, (b * f - c * e) / det,
+                     B / det, (a * i - c * g) / det,  -(a * f - c * d) / det,
+                     C / det, -(a * h - b * g) / det, (a * e - b * d) / det};
+    for (int r = 0; r < 3; r++) {
+        o[4 * r + 0] = inv[3 * r + 0];
+        o[4 * r + 1] = inv[3 * r + 1];
+        o[4 * r + 2] = inv[3 * r + 2];
+        o[4 * r + 3] = -(inv[3 * r] * m[3] + inv[3 * r + 1] * m[7] + inv[3 * r + 2] * m[11]);
+    }
+    for (int k = 0; k < 12; k++)
+        if (!isfinite(o[k])) return false;
+    return true;
+}
+
+void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) {
+    /* from the drawn instances' model boxes, so that a scene whose stored
+     * bounds are stale still gets framed */
+    bool any = false;
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx__instance_drawn(s, i)) continue;
+        double a[3], b[3];
+        vx__instance_bounds(s, &s->instances[i], a, b);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
+        any = true;
+    }
+    if (!any)
+        for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;
+}
+
+void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
+    const vx_svo_model* m = &s->models[in->model];
+    double w[12];
+    vx__instance_world(s, in, w);
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int c = 0; c < 8; c++) {
+        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
+        double q[3];
+        vx__affine_apply(w, p, q);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], q[k]), hi[k] = fmax(hi[k], q[k]);
+    }
+}
+
+bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i) {
+    const vx_svo_instance* in = &s->instances[i];
+    if (in->flags & VX_SVO_INSTANCE_HIDDEN) return false;
+    if (in->layer != UINT32_MAX && in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN))
+        return false;
+    if (in->model >= s->model_count) return false;
+    return s->models[in->model].root != VX_SVO_ROOT_EMPTY;
+}
+
+uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a) {
+    if (a >= m->attr_count) return 0xFFFFFFFFu;
+    if ((m->attrs & VX_ATTR_RGBA8) && m->rgba) return m->rgba[a];
+    if ((m->attrs & VX_ATTR_PALETTE) && m->palette) return s->palette[m->palette[a]];
+    return 0xFFFFFFFFu;
+}
+
+vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err) {
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        if (in->model >= s->model_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u refers to model %u of %u", i, in->model,
+                           s->model_count);
+        if (!vx__instance_drawn(s, i)) continue;
+        const vx_svo_model* m = &s->models[in->model];
+        if (m->depth > VX_RENDER_MAX_DEPTH)
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "model %u has %u octree levels; the tracer supports at most %u (split it into instances)",
+                           in->model, m->depth, VX_RENDER_MAX_DEPTH);
+        if (m->root != VX_SVO_ROOT_LEAF && m->root >= m->node_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u outside %u node words", in->model,
+                           m->root, m->node_count);
+        double w[12], inv[12];
+        vx__instance_world(s, in, w);
+        if (!vx__affine_inverse(w, inv))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "instance %u has a singular or non-finite transform",
+                           i);
+    }
+    return VX_OK;
+}
+
+vx_result vx_render_desc_validate(const vx_render_desc* d, vx_error* err) {
+    if (!d) return VX_OK;
+    if (d->width > 16384 || d->height > 16384)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "image size %ux%u exceeds 16384", d->width, d->height);
+    if ((unsigned)d->mode >= VX_RENDER_MODE_NUM)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode %d", (int)d->mode);
+    if (d->spp > 1024) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "spp %u exceeds 1024", d->spp);
+    const vx_render_camera* c = &d->camera;
+    if (!(c->fov >= 0 && c->fov < 180))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "fov %g outside (0, 180) degrees", c->fov);
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(c->eye[k]) || !isfinite(c->target[k]) || !isfinite(c->up[k]) || !isfinite(d->light_dir[k]))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "camera or light has a non-finite coordinate");
+    if (c->set && c->eye[0] == c->target[0] && c->eye[1] == c->target[1] && c->eye[2] == c->target[2])
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "camera eye and target are the same point");
+    if (!(c->ortho_height >= 0) || !isfinite(c->ortho_height))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "ortho height must be positive");
+    if (!(d->ambient >= 0 && d->ambient <= 1))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "ambient %g outside [0, 1]", d->ambient);
+    if (!(d->lod_pixels >= 0) || !isfinite(d->lod_pixels))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "lod pixels must be positive");
+    return VX_OK;
+}
+
+vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
+                          vx_error* err) {
+    vx_render_desc d = desc_in ? *desc_in : (vx_render_desc){0};
+    vx_result r = vx_render_desc_validate(&d, err);
+    if (r) return r;
+    memset(f, 0, sizeof *f);
+    f->width = d.width ? d.width : 640;
+    f->height = d.height ? d.height : 480;
+    f->spp = d.spp ? d.spp : 1;
+    f->mode = d.mode;
+    f->ortho = d.camera.ortho;
+    f->lod = d.lod;
+    f->lod_pixels = d.lod_pixels > 0 ? d.lod_pixels : 1.0;
+    f->ambient = d.ambient > 0 ? d.ambient : 0.3;
+    double fov = (d.camera.fov > 0 ? d.camera.fov : 45.0) * 3.14159265358979323846 / 180.0;
+    double c[3], rad = 0;
+    for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), rad += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    rad = 0.5 * sqrt(rad);
+    if (!(rad > 0)) rad = 1;
+    double up[3] = {d.camera.up[0], d.camera.up[1], d.camera.up[2]};
+    if (up[0] == 0 && up[1] == 0 && up[2] == 0) up[2] = 1;
+    double eye[3], target[3];
+    if (d.camera.set) {
+        memcpy(eye, d.camera.eye, sizeof eye);
+        memcpy(target, d.camera.target, sizeof target);
+    } else {
+        double dir[3] = {0.45, -1.0, 0.65};
+        norm3(dir);
+        double dist = d.camera.ortho ? 3 * rad : rad / sin(0.5 * fov) * 1.05;
+        for (int k = 0; k < 3; k++) eye[k] = c[k] + dir[k] * dist, target[k] = c[k];
+    }
+    double fwd[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    if (!norm3(fwd)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "camera direction is degenerate");
+    double right[3], upv[3];
+    cross3(fwd, up, right);
+    if (!norm3(right)) {
+        double alt[3] = {0, 1, 0};
+        if (fabs(fwd[1]) > 0.9) alt[1] = 0, alt[0] = 1;
+        cross3(fwd, alt, right);
+        norm3(right);
+    }
+    cross3(right, fwd, upv);
+    double aspect = (double)f->width / f->height;
+    double half_h;
+    if (f->ortho) {
+        half_h = d.camera.ortho_height > 0 ? 0.5 * d.camera.ortho_height : rad * 1.05;
+        f->pixel_size = 2 * half_h / f->height;
+    } else {
+        half_h = tan(0.5 * fov);
+        f->pixel_angle = 2 * half_h / f->height;
+    }
+    for (int k = 0; k < 3; k++) {
+        f->fwd[k] = fwd[k];
+        f->rx[k] = right[k] * half_h * aspect;
+        f->uy[k] = upv[k] * half_h;
+    }
+    /* The reference plane sits just before every corner of the scene bounds,
+     * so no geometry lies between the eye and the plane. */
+    double tmin = INFINITY;
+    for (int cidx = 0; cidx < 8; cidx++) {
+        double p[3] = {(cidx & 1) ? hi[0] : lo[0], (cidx & 2) ? hi[1] : lo[1], (cidx & 4) ? hi[2] : lo[2]};
+        double v[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
+        tmin = fmin(tmin, dot3(v, fwd));
+    }
+    f->t_start = tmin > 0 ? tmin * (1 - 1e-7) - 1e-3 * rad : 0;
+    if (f->t_start < 0) f->t_start = 0;
+    for (int k = 0; k < 3; k++) f->ref[k] = eye[k] + fwd[k] * f->t_start;
+    double ld[3] = {d.light_dir[0], d.light_dir[1], d.light_dir[2]};
+    if (ld[0] == 0 && ld[1] == 0 && ld[2] == 0) ld[0] = 0.35, ld[1] = -0.45, ld[2] = 0.82;
+    if (!norm3(ld)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light direction is degenerate");
+    memcpy(f->light, ld, sizeof ld);
+    return VX_OK;
+}
+
+void vx__sample_offset(uint32_t i, double* ox, double* oy) {
+    if (i == 0) {
+        *ox = *oy = 0;
+        return;
+    }
+    /* R2 sequence; the GPU computes the same in float */
+    double x = 0.5 + i * 0.7548776662466927, y = 0.5 + i * 0.5698402909980532;
+    *ox = x - floor(x) - 0.5;
+    *oy = y - floor(y) - 0.5;
+}
+
+void vx__instance_color(uint32_t id, float rgb[3]) {
+    uint32_t h = id * 2654435761u + 0x9E3779B9u;
+    h ^= h >> 15;
+    h *= 0x85EBCA6Bu;
+    h ^= h >> 13;
+    rgb[0] = (float)(h & 0xFFu) / 255.0f * 0.8f + 0.2f;
+    rgb[1] = (float)((h >> 8) & 0xFFu) / 255.0f * 0.8f + 0.2f;
+    rgb[2] = (float)((h >> 16) & 0xFFu) / 255.0f * 0.8f + 0.2f;
+}
+
+void vx__heat_color(uint32_t it, float rgb[3]) {
+    float x = (float)it / 256.0f;
+    if (x > 1) x = 1;
+    float v[3] = {3 * x, 3 * x - 1, 3 * x - 2};
+    for (int k = 0; k < 3; k++) rgb[k] = v[k] < 0 ? 0 : (v[k] > 1 ? 1 : v[k]);
+}
+
+void vx_render_image_free(vx_render_image* img) {
+    if (!img) return;
+    vx_free(img->alloc, img->pixels);
+    vx_free(img->alloc, img->hits);
+    memset(img, 0, sizeof *img);
+}

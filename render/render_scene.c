@@ -1,0 +1,378 @@
+/* render/render_scene.c - the scene on the GPU (prepare_* steps in
+ * dependency order) and one frame: per-frame tables relative to the frame's
+ * reference point, the trace dispatch and the readback. */
+#include <math.h>
+#include <string.h>
+
+#include "render/render_internal.h"
+
+typedef struct inst_host {
+    double inv[12]; /* model from world */
+    uint32_t model;
+    uint32_t id;
+    float cell;
+} inst_host;
+
+struct vx_render_scene {
+    vx_gpu* gpu;
+    vx_allocator alloc;
+    uint32_t inst_count;
+    inst_host* inst;
+    vx_bvh bvh;
+    double bvh_seconds;
+    bool has_color;
+    double lo[3], hi[3];
+    vx__buffer frame, nodes, colors, models, insts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
+    uint32_t dense_n[3];
+    double dense_lo[3], dense_cell;
+};
+
+static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    vx_gpu* g = rs->gpu;
+    uint64_t words = 0, colors = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        words += s->models[i].node_count;
+        if (s->models[i].attrs) colors += s->models[i].attr_count;
+    }
+    uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
+    if (words > limit || colors > limit)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "scene needs %llu node words and %llu colours; the device allows %llu per buffer",
+                       (unsigned long long)words, (unsigned long long)colors, (unsigned long long)limit);
+    size_t mcount = s->model_count ? s->model_count : 1;
+    uint32_t* nw = vx_calloc(&rs->alloc, words ? words : 1, 4);
+    uint32_t* cw = vx_calloc(&rs->alloc, colors ? colors : 1, 4);
+    vx__gpu_model* gm = vx_calloc(&rs->alloc, mcount, sizeof *gm);
+    vx_result r = VX_OK;
+    if (!nw || !cw || !gm) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory staging %llu node words",
+                    (unsigned long long)words);
+        goto done;
+    }
+    uint32_t wo = 0, co = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
+        gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
+                                .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
+        if (m->attrs) {
+            for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx__attr_color(s, m, a);
+            co += m->attr_count;
+            rs->has_color = true;
+        }
+        wo += m->node_count;
+    }
+    if ((r = vx__buffer_create(g, words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "nodes", &rs->nodes, err)) ||
+        (r = vx__buffer_upload(g, &rs->nodes, nw, words * 4, err)) ||
+        (r = vx__buffer_create(g, colors * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "colors", &rs->colors, err)) ||
+        (r = vx__buffer_upload(g, &rs->colors, cw, colors * 4, err)) ||
+        (r = vx__buffer_create(g, mcount * sizeof *gm, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "models",
+                               &rs->models, err)) ||
+        (r = vx__buffer_upload(g, &rs->models, gm, s->model_count * sizeof *gm, err)))
+        goto done;
+done:
+    vx_free(&rs->alloc, nw);
+    vx_free(&rs->alloc, cw);
+    vx_free(&rs->alloc, gm);
+    return r;
+}
+
+static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) n += vx__instance_drawn(s, i);
+    rs->inst_count = n;
+    rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
+    double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
+    double* hi = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
+    vx_result r = VX_OK;
+    if (!rs->inst || !lo || !hi) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", n);
+        goto done;
+    }
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx__instance_drawn(s, i)) continue;
+        double w[12];
+        vx__instance_world(s, &s->instances[i], w);
+        vx__affine_inverse(w, rs->inst[k].inv); /* checked by vx__check_scene */
+        rs->inst[k].model = s->instances[i].model;
+        rs->inst[k].id = i;
+        double cell = 0;
+        for (int c = 0; c < 3; c++)
+            cell = fmax(cell, sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]));
+        rs->inst[k].cell = (float)cell;
+        vx__instance_bounds(s, &s->instances[i], &lo[3 * k], &hi[3 * k]);
+        k++;
+    }
+    double t0 = vx_time_now();
+    if (n > 1 && (r = vx_bvh_build(lo, hi, n, &rs->alloc, &rs->bvh, err))) goto done;
+    rs->bvh_seconds = vx_time_now() - t0;
+    vx_gpu* g = rs->gpu;
+    if ((r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               true, "instances", &rs->insts, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.node_count ? rs->bvh.node_count : 1) * sizeof(vx_bvh_node),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bvh nodes", &rs->bvh_nodes, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.item_count ? rs->bvh.item_count : 1) * 4,
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bvh items", &rs->bvh_items, err)) ||
+        (r = vx__buffer_upload(g, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err)) ||
+        (r = vx__buffer_create(g, sizeof(vx__gpu_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "frame", &rs->frame,
+                               err)))
+        goto done;
+    if (!rs->insts.map || !rs->bvh_nodes.map || !rs->frame.map)
+        r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "per-frame buffers are not host visible");
+done:
+    vx_free(&rs->alloc, lo);
+    vx_free(&rs->alloc, hi);
+    return r;
+}
+
+vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
+    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_result r = vx__check_scene(s, err);
+    if (r) return r;
+    vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
+    if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    rs->gpu = gpu;
+    rs->alloc = gpu->alloc;
+    rs->bvh.alloc = &rs->alloc;
+    vx__scene_world_bounds(s, rs->lo, rs->hi);
+    if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
+        vx_render_scene_destroy(rs);
+        return r;
+    }
+    *out = rs;
+    return VX_OK;
+}
+
+void vx_render_scene_destroy(vx_render_scene* rs) {
+    if (!rs) return;
+    vx_gpu* g = rs->gpu;
+    vkDeviceWaitIdle(g->device);
+    vx__buffer* bufs[] = {&rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items,
+                          &rs->bvh_nodes,  &rs->insts,  &rs->models, &rs->colors, &rs->nodes};
+    for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
+    vx_bvh_free(&rs->bvh);
+    vx_allocator a = rs->alloc;
+    vx_free(&a, rs->inst);
+    vx_free(&a, rs);
+}
+
+double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->bvh_seconds : 0; }
+
+/* Per-frame tables relative to the reference point R, computed in double. */
+static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
+    vx__gpu_inst* gi = rs->insts.map;
+    for (uint32_t i = 0; i < rs->inst_count; i++) {
+        const inst_host* h = &rs->inst[i];
+        for (int r = 0; r < 3; r++) {
+            const double* row = &h->inv[4 * r];
+            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c];
+            gi[i].r[r][3] = (float)(row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3]);
+        }
+        gi[i].model = h->model;
+        gi[i].cell = h->cell;
+        gi[i].id = h->id;
+        gi[i].pad = 0;
+    }
+    vx_bvh_node* bn = rs->bvh_nodes.map;
+    for (uint32_t i = 0; i < rs->bvh.node_count; i++) {
+        const vx_bvh_node* s = &rs->bvh.nodes[i];
+        bn[i] = *s;
+        for (int k = 0; k < 3; k++) {
+            double a = (double)s->lo[k] - f->ref[k], b = (double)s->hi[k] - f->ref[k];
+            float fa = (float)a, fb = (float)b;
+            if ((double)fa > a) fa = nextafterf(fa, -INFINITY);
+            if ((double)fb < b) fb = nextafterf(fb, INFINITY);
+            bn[i].lo[k] = fa, bn[i].hi[k] = fb;
+        }
+    }
+}
+
+static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
+    memset(gf, 0, sizeof *gf);
+    for (int k = 0; k < 3; k++) {
+        gf->fwd[k] = (float)f->fwd[k];
+        gf->rx[k] = (float)f->rx[k];
+        gf->uy[k] = (float)f->uy[k];
+        gf->light[k] = (float)f->light[k];
+    }
+    gf->fwd[3] = (float)f->t_start;
+    gf->rx[3] = f->ortho ? 1.0f : 0.0f;
+    /* LOD cone: footprint(t) = misc.x + uy.w * t (t from the reference plane) */
+    if (f->ortho) {
+        gf->misc[0] = (float)(f->pixel_size * f->lod_pixels);
+        gf->uy[3] = 0;
+    } else {
+        gf->misc[0] = (float)(f->t_start * f->pixel_angle * f->lod_pixels);
+        gf->uy[3] = (float)(f->pixel_angle * f->lod_pixels);
+    }
+    gf->misc[1] = (float)f->lod_pixels;
+    gf->light[3] = (float)f->ambient;
+    gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
+}
+
+static vx_result ensure_buffer(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err) {
+    if (b->buf && b->size >= size) return VX_OK;
+    vx__buffer_destroy(g, b);
+    return vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+}
+
+vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
+                              vx__frame* f, double* seconds, vx_error* err) {
+    vx_gpu* g = rs->gpu;
+    vx_result r = vx__frame_setup(rs->lo, rs->hi, desc, f, err);
+    if (r) return r;
+    VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
+    if ((r = ensure_buffer(g, &rs->pixels, npx * 16, "pixels", err))) return r;
+    if (want_hits && (r = ensure_buffer(g, &rs->hits, npx * 32, "hits", err))) return r;
+    if (!want_hits && (r = ensure_buffer(g, &rs->hits, 16, "hits", err))) return r;
+    write_frame_tables(rs, f);
+    fill_gpu_frame(rs, f, rs->frame.map);
+    uint32_t spec[VX__SPEC_COUNT] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits};
+    uint64_t key = 1;
+    for (int i = 0; i < VX__SPEC_COUNT; i++) key = key * 131 + spec[i];
+    size_t spv_size;
+    const uint32_t* spv = vx__spirv_trace(&spv_size);
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 9, .spec_count = VX__SPEC_COUNT,
+                                       .label = "trace"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (int i = 1; i < 9; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, spec, sizeof spec);
+    vx__pipeline* p;
+    if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    vx__dispatch_desc dd = {.pipeline = p,
+                            .buffer_count = 9,
+                            .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
+                                        &rs->bvh_items, &rs->pixels, &rs->hits},
+                            .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
+                            .repeat = repeat,
+                            .label = "trace"};
+    return vx__dispatch(g, &dd, seconds, err);
+}
+
+vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err) {
+    if (!rs || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    bool want_hits = desc && desc->want_hits;
+    vx__frame f;
+    double sec = 0;
+    vx_result r = vx__render_dispatch(rs, desc, want_hits, 1, &f, &sec, err);
+    if (r) return r;
+    size_t npx = (size_t)f.width * f.height;
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &rs->gpu->alloc};
+    img.pixels = vx_alloc(img.alloc, npx * 16);
+    uint32_t* raw = want_hits ? vx_alloc(img.alloc, npx * 32) : NULL;
+    if (want_hits) img.hits = vx_alloc(img.alloc, npx * sizeof *img.hits);
+    if (!img.pixels || (want_hits && (!raw || !img.hits))) {
+        vx_free(img.alloc, raw);
+        vx_render_image_free(&img);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+    }
+    r = vx__buffer_download(rs->gpu, &rs->pixels, img.pixels, npx * 16, err);
+    if (!r && want_hits) r = vx__buffer_download(rs->gpu, &rs->hits, raw, npx * 32, err);
+    if (r) {
+        vx_free(img.alloc, raw);
+        vx_render_image_free(&img);
+        return r;
+    }
+    for (size_t i = 0; want_hits && i < npx; i++) {
+        const uint32_t* w = raw + 8 * i;
+        img.hits[i].instance = w[0];
+        img.hits[i].cell[0] = w[1], img.hits[i].cell[1] = w[2], img.hits[i].cell[2] = w[3];
+        memcpy(&img.hits[i].t, &w[4], 4);
+        img.hits[i].iterations = w[5];
+    }
+    vx_free(img.alloc, raw);
+    img.gpu_seconds = sec;
+    img.rays = (uint64_t)npx * f.spp;
+    *out = img;
+    return VX_OK;
+}
+
+/* ---- dense-grid baseline (benchmark) ----------------------------------------------- */
+
+typedef struct dense_ctx {
+    uint32_t* bits;
+    uint32_t n[3];
+    int64_t lo[3];
+} dense_ctx;
+
+static void dense_set(void* user, int64_t x, int64_t y, int64_t z) {
+    dense_ctx* c = user;
+    int64_t p[3] = {x - c->lo[0], y - c->lo[1], z - c->lo[2]};
+    for (int k = 0; k < 3; k++)
+        if (p[k] < 0 || p[k] >= c->n[k]) return;
+    uint64_t i = ((uint64_t)p[2] * c->n[1] + (uint64_t)p[1]) * c->n[0] + (uint64_t)p[0];
+    c->bits[i >> 5] |= 1u << (i & 31);
+}
+
+/* Builds the occupancy bit grid of the scene's grid-space bounds; the scene
+ * must have an identity world_from_grid. Fails with VX_ERR_LIMIT above
+ * max_cells. */
+vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err) {
+    dense_ctx c = {0};
+    uint64_t cells = 1;
+    for (int k = 0; k < 3; k++) {
+        c.lo[k] = (int64_t)floor(rs->lo[k]);
+        int64_t hi = (int64_t)ceil(rs->hi[k]);
+        if (hi <= c.lo[k]) hi = c.lo[k] + 1;
+        if (hi - c.lo[k] > (1 << 20)) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "scene too large for a dense grid");
+        c.n[k] = (uint32_t)(hi - c.lo[k]);
+        cells *= c.n[k];
+    }
+    if (cells > max_cells)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "dense grid of %llu cells exceeds %llu",
+                       (unsigned long long)cells, (unsigned long long)max_cells);
+    size_t words = (size_t)((cells + 31) / 32);
+    c.bits = vx_calloc(&rs->alloc, words, 4);
+    if (!c.bits) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a dense grid");
+    vx_result r = vx__scene_grid_cells(s, dense_set, &c, err);
+    if (!r) r = vx__buffer_create(rs->gpu, (VkDeviceSize)words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                                  "dense bits", &rs->dense_bits, err);
+    if (!r) r = vx__buffer_upload(rs->gpu, &rs->dense_bits, c.bits, (VkDeviceSize)words * 4, err);
+    vx_free(&rs->alloc, c.bits);
+    if (r) return r;
+    for (int k = 0; k < 3; k++) rs->dense_n[k] = c.n[k], rs->dense_lo[k] = (double)c.lo[k];
+    rs->dense_cell = 1;
+    return VX_OK;
+}
+
+/* Dense DDA primary rays (depth); the pixels buffer receives t. */
+vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,
+                             float* depth_out, vx_error* err) {
+    vx_gpu* g = rs->gpu;
+    vx__frame f;
+    vx_result r = vx__frame_setup(rs->lo, rs->hi, desc, &f, err);
+    if (r) return r;
+    if (!rs->dense_bits.buf) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "dense grid not prepared");
+    VkDeviceSize npx = (VkDeviceSize)f.width * f.height;
+    if ((r = ensure_buffer(g, &rs->pixels, npx * 16, "pixels", err))) return r;
+    vx__gpu_frame* gf = rs->frame.map;
+    fill_gpu_frame(rs, &f, gf);
+    for (int k = 0; k < 3; k++) {
+        gf->dims2[k] = rs->dense_n[k];
+        gf->grid_lo[k] = (float)(rs->dense_lo[k] - f.ref[k]);
+    }
+    gf->grid_lo[3] = (float)rs->dense_cell;
+    size_t spv_size;
+    const uint32_t* spv = vx__spirv_dense(&spv_size);
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 3, .label = "dense"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    vx__pipeline* p;
+    if ((r = vx__pipeline_get(g, 0xDE45Eu, &pd, &p, err))) return r;
+    vx__dispatch_desc dd = {.pipeline = p,
+                            .buffer_count = 3,
+                            .buffers = {&rs->frame, &rs->dense_bits, &rs->pixels},
+                            .groups = {(f.width + 7) / 8, (f.height + 7) / 8, 1},
+                            .repeat = repeat,
+                            .label = "dense"};
+    if ((r = vx__dispatch(g, &dd, seconds, err))) return r;
+    if (depth_out) {
+        float* tmp = vx_alloc(&rs->alloc, (size_t)npx * 16);
+        if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        r = vx__buffer_download(g, &rs->pixels, tmp, npx * 16, err);
+        for (size_t i = 0; !r && i < npx; i++) depth_out[i] = tmp[4 * i];
+        vx_free(&rs->alloc, tmp);
+    }
+    return r;
+}

@@ -1,0 +1,407 @@
+#version 450
+// render/shaders/trace.comp - primary (+ shadow) rays through a BVH over
+// instances, then each model's octree in the manner of Laine & Karras,
+// "Efficient Sparse Voxel Octrees" (2010): the model cube is mapped to
+// [1,2]^3, the ray is mirrored so that every direction component is
+// negative, positions are float bit patterns whose mantissa bits are the
+// octree path, so a pop finds its level from the highest differing bit.
+// Layouts must match render/render_internal.h.
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
+layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
+layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
+layout(constant_id = 3) const bool LOD = false;
+layout(constant_id = 4) const bool WRITE_HITS = false;
+
+const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
+const int S_MAX = 23;
+const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
+const uint MAX_ITER = 100000u;
+
+struct Model { uint node_off, color_off, depth, root, root_attr, flags, pad0, pad1; };
+struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; };
+struct BNode { vec4 lo; vec4 hi; };
+
+layout(std140, binding = 0) uniform Frame {
+    vec4 fwd;   // w: t_start
+    vec4 rx;    // w: ortho
+    vec4 uy;    // w: lod footprint per unit distance
+    vec4 light; // w: ambient
+    vec4 misc;  // x: lod footprint at distance 0, y: lod pixels
+    uvec4 dims; // width, height, spp, instance count
+    uvec4 dims2;
+    vec4 grid_lo;
+} F;
+layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
+layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
+layout(std430, binding = 3) readonly buffer Models { Model models[]; };
+layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
+layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
+layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
+layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
+layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
+
+struct Hit {
+    float t;      // world distance from the ray origin
+    uint inst;    // instance slot, NO_HIT for none
+    uvec3 cell;
+    int axis;     // entry face axis
+    float nsign;  // model-space normal = nsign * e_axis
+    uint color;
+};
+
+uint g_iter = 0u;
+
+bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+
+// 1/d without infinities: a zero (or denormal) component becomes +-1e30 with
+// its sign, so that (plane - o) * inv is never 0 * inf = NaN and a ray lying
+// in a slab plane counts as displaced towards the sign of its component.
+vec3 safe_inv(vec3 d) {
+    vec3 r;
+    for (int i = 0; i < 3; i++)
+        r[i] = abs(d[i]) < 1e-30 ? (sign_neg(d[i]) ? -1e30 : 1e30) : 1.0 / d[i];
+    return r;
+}
+
+// Ray/box slab test: (t entry, t exit).
+vec2 box_t(vec3 o, vec3 rd_inv, vec3 lo, vec3 hi) {
+    vec3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
+    vec3 tn = min(a, b), tf = max(a, b);
+    return vec2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
+}
+
+// Traces model space ray o + t d (t in world units, d not normalised)
+// through model mi over [t0, t1]. Returns true and fills h on a hit.
+bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
+    Model m = models[mi];
+    if (m.root == ROOT_EMPTY) return false;
+    float side = exp2(float(m.depth));
+    // Advance to the cube first so that the [1,2] coordinates keep the
+    // model's precision even when the origin is far away.
+    vec2 tb = box_t(o, safe_inv(d), vec3(0.0), vec3(side));
+    float te = max(tb.x, t0);
+    float tx = min(tb.y, t1);
+    if (!(te < tx)) return false;
+    vec3 oa = o + d * te;
+    float sc = 1.0 / side;
+    vec3 ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+    vec3 dl = d * sc;
+    float L = length(dl);
+    dl /= L;
+    float tl1 = (tx - te) * L;
+
+    // Tiny components would make the coefficients overflow; replace them
+    // with +-2^-23 keeping the sign (so -0 stays "negative").
+    const float eps = exp2(-float(S_MAX));
+    if (abs(dl.x) < eps) dl.x = sign_neg(dl.x) ? -eps : eps;
+    if (abs(dl.y) < eps) dl.y = sign_neg(dl.y) ? -eps : eps;
+    if (abs(dl.z) < eps) dl.z = sign_neg(dl.z) ? -eps : eps;
+    vec3 coef = 1.0 / -abs(dl);
+    vec3 bias = coef * ol;
+    int oct = 7;
+    if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
+    if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
+    if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
+
+    float tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+    float tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+    float hh = tmax;
+    tmin = max(tmin, 0.0);
+    tmax = min(tmax, tl1);
+
+    vec3 pos = vec3(1.0);
+    int scale = S_MAX - 1;
+    float scale_exp2 = 0.5;
+    bool hit = false;
+    uint attr_rec = 0u;
+    bool have_attr = false;
+
+    if (m.root == ROOT_LEAF) {
+        if (tmin <= tmax) {
+            hit = true;
+            scale = S_MAX;
+            scale_exp2 = 1.0;
+            attr_rec = m.root_attr;
+            have_attr = true;
+        }
+    } else {
+        int stk_node[S_MAX];
+        float stk_t[S_MAX];
+        uint parent = m.root;
+        uint desc = 0u;
+        bool loaded = false;
+        int idx = 0;
+        if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+        if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+        if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+        while (scale < S_MAX) {
+            g_iter++;
+            if (g_iter > MAX_ITER) break;
+            if (!loaded) { desc = nodes[m.node_off + parent]; loaded = true; }
+            vec3 tc = pos * coef - bias;
+            float tc_max = min(min(tc.x, tc.y), tc.z);
+            int cs = idx ^ (oct ^ 7); // real octant: mirrored axes flipped
+            uint valid = (desc >> 8) & 0xFFu;
+            uint leaf = desc & 0xFFu;
+            if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
+                float tv_max = min(tmax, tc_max);
+                float half_ = scale_exp2 * 0.5;
+                vec3 tcen = half_ * coef + tc;
+                if (tmin <= tv_max) {
+                    bool is_leaf = ((leaf >> cs) & 1u) != 0u;
+                    bool stop = is_leaf;
+                    if (LOD && !stop) {
+                        // world footprint of a pixel at this distance, in [1,2] units
+                        float tw = te + tmin / L;
+                        stop = (lod_a + lod_b * tw) * L >= scale_exp2;
+                    }
+                    if (stop) {
+                        hit = true;
+                        if (HAS_COLOR && (m.flags & 1u) != 0u) {
+                            uint blk = parent - (desc >> 17);
+                            if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
+                            uint a = nodes[m.node_off + blk + bitCount(valid & ~leaf)];
+                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
+                            have_attr = true;
+                        }
+                        break;
+                    }
+                    // push
+                    if (tc_max < hh) { stk_node[scale] = int(parent); stk_t[scale] = tmax; }
+                    hh = tc_max;
+                    uint blk = parent - (desc >> 17);
+                    if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
+                    parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+                    idx = 0;
+                    scale--;
+                    scale_exp2 = half_;
+                    if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
+                    if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
+                    if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+                    tmax = tv_max;
+                    loaded = false;
+                    continue;
+                }
+            }
+            // advance
+            int step = 0;
+            if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
+            if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
+            if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
+            tmin = tc_max;
+            idx ^= step;
+            if ((idx & step) != 0) {
+                // pop: the highest differing position bit is the common ancestor's level
+                uint diff = 0u;
+                if ((step & 1) != 0) diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x + scale_exp2);
+                if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
+                if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
+                scale = findMSB(diff);
+                if (scale >= S_MAX) break;
+                scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+                parent = uint(stk_node[scale]);
+                tmax = stk_t[scale];
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                pos = intBitsToFloat(sh << scale);
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                hh = 0.0;
+                loaded = false;
+            }
+        }
+        if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+    }
+    if (!hit) return false;
+    float t = te + tmin / L;
+    if (!(t <= h.t)) return false;
+    if (any_hit) { h.t = t; return true; }
+
+    // entry face: the cube's entry planes in mirrored space are its max corners
+    vec3 tent = (pos + scale_exp2) * coef - bias;
+    int axis = 0;
+    if (tent.y > tent[axis]) axis = 1;
+    if (tent.z > tent[axis]) axis = 2;
+    // unmirror the leaf cube and find the cell holding the hit point
+    if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
+    if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
+    if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
+    vec3 lo = (pos - 1.0) * side;
+    float sz = scale_exp2 * side;
+    vec3 p = oa + d * (tmin / L);
+    vec3 c = clamp(floor(p), lo, lo + sz - 1.0);
+    // the entry axis is decided by the ray direction, not by rounding
+    if (d[axis] > 0.0 || (d[axis] == 0.0 && !sign_neg(d[axis]))) c[axis] = lo[axis];
+    else c[axis] = lo[axis] + sz - 1.0;
+    if (tmin <= 0.0 && te <= t0) c[axis] = clamp(floor(p[axis]), lo[axis], lo[axis] + sz - 1.0);
+    h.t = t;
+    h.cell = uvec3(c);
+    h.axis = axis;
+    h.nsign = sign_neg(d[axis]) ? 1.0 : -1.0;
+    h.color = 0xFFFFFFFFu;
+    if (HAS_COLOR && have_attr && (m.flags & 1u) != 0u) h.color = colors[m.color_off + attr_rec];
+    return true;
+}
+
+bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+    Inst I = insts[i];
+    vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
+    vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+    float lod_b = F.uy.w, lod_a = F.misc.x;
+    if (trace_model(I.model, om, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+        h.inst = i;
+        return true;
+    }
+    return false;
+}
+
+// Nearest hit (or any hit) along o + t d, t in [t0, h.t].
+bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+    bool found = false;
+    if (!USE_BVH) {
+        if (F.dims.w > 0u) found = trace_instance(0u, o, d, t0, any_hit, h);
+        return found;
+    }
+    if (F.dims.w == 0u) return false;
+    vec3 dinv = safe_inv(d);
+    uint stack[64];
+    int sp = 0;
+    uint node = 0u;
+    vec2 rt = box_t(o, dinv, bvh[0].lo.xyz, bvh[0].hi.xyz);
+    if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    while (true) {
+        BNode n = bvh[node];
+        uint count = floatBitsToUint(n.hi.w);
+        uint first = floatBitsToUint(n.lo.w);
+        if (count > 0u) {
+            for (uint k = 0u; k < count; k++) {
+                if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+                    found = true;
+                    if (any_hit) return true;
+                }
+            }
+        } else {
+            BNode a = bvh[first], b = bvh[first + 1u];
+            vec2 ta = box_t(o, dinv, a.lo.xyz, a.hi.xyz);
+            vec2 tb = box_t(o, dinv, b.lo.xyz, b.hi.xyz);
+            bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
+            bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
+            if (ha && hb) {
+                // nearest first; the far one waits on the stack
+                uint nearc = ta.x <= tb.x ? first : first + 1u;
+                uint farc = ta.x <= tb.x ? first + 1u : first;
+                if (sp < 64) stack[sp++] = farc;
+                node = nearc;
+                continue;
+            }
+            if (ha) { node = first; continue; }
+            if (hb) { node = first + 1u; continue; }
+        }
+        // pop, skipping nodes now beyond the nearest hit
+        bool next = false;
+        while (sp > 0) {
+            uint c = stack[--sp];
+            vec2 tc = box_t(o, dinv, bvh[c].lo.xyz, bvh[c].hi.xyz);
+            if (tc.x <= h.t) { node = c; next = true; break; }
+        }
+        if (!next) break;
+    }
+    return found;
+}
+
+vec3 unpack_rgb(uint c) {
+    return vec3(float(c & 0xFFu), float((c >> 8) & 0xFFu), float((c >> 16) & 0xFFu)) / 255.0;
+}
+
+vec3 inst_color(uint id) {
+    uint h = id * 2654435761u + 0x9E3779B9u;
+    h ^= h >> 15; h *= 0x85EBCA6Bu; h ^= h >> 13;
+    return vec3(float(h & 0xFFu), float((h >> 8) & 0xFFu), float((h >> 16) & 0xFFu)) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 heat(uint it) {
+    float x = clamp(float(it) / 256.0, 0.0, 1.0);
+    return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
+}
+
+void main() {
+    uvec2 px = gl_GlobalInvocationID.xy;
+    uint W = F.dims.x, H = F.dims.y;
+    if (px.x >= W || px.y >= H) return;
+    uint spp = max(F.dims.z, 1u);
+    vec4 acc = vec4(0.0);
+    bool ortho = F.rx.w != 0.0;
+    float t_start = F.fwd.w;
+    for (uint s = 0u; s < spp; s++) {
+        vec2 off = vec2(0.0);
+        if (s > 0u) off = fract(vec2(0.5) + float(s) * vec2(0.7548776662466927, 0.5698402909980532)) - 0.5;
+        float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
+        float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
+        vec3 o, d;
+        float t_off;
+        if (ortho) {
+            o = u * F.rx.xyz + v * F.uy.xyz;
+            d = F.fwd.xyz;
+            t_off = t_start;
+        } else {
+            vec3 du = F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz;
+            float len = length(du);
+            d = du / len;
+            o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
+            t_off = t_start * len;
+        }
+        g_iter = 0u;
+        Hit h;
+        h.t = 3.0e38;
+        h.inst = NO_HIT;
+        h.color = 0xFFFFFFFFu;
+        bool hit = trace_scene(o, d, 0.0, false, h);
+        uint prim_iter = g_iter;
+        vec4 c = vec4(0.0);
+        vec3 nw = vec3(0.0);
+        if (hit) {
+            Inst I = insts[h.inst];
+            vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+            nw = normalize(row.xyz * h.nsign); // inverse transpose times e_axis
+        }
+        if (MODE == MODE_COLOR || MODE == MODE_ALBEDO) {
+            if (!hit) c = vec4(0.62, 0.75, 0.92, 0.0);
+            else {
+                vec3 alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
+                if (MODE == MODE_ALBEDO) c = vec4(alb, 1.0);
+                else {
+                    float amb = F.light.w;
+                    float ndl = max(dot(nw, F.light.xyz), 0.0);
+                    float vis = 0.0;
+                    if (ndl > 0.0) {
+                        vec3 p = o + d * h.t;
+                        float cell = insts[h.inst].cell;
+                        vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+                        Hit sh;
+                        sh.t = 3.0e38;
+                        sh.inst = NO_HIT;
+                        vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
+                    }
+                    c = vec4(alb * (amb + (1.0 - amb) * ndl * vis), 1.0);
+                }
+            }
+        } else if (MODE == MODE_NORMAL) {
+            c = vec4(nw, hit ? 1.0 : 0.0);
+        } else if (MODE == MODE_DEPTH) {
+            float t = hit ? t_off + h.t : uintBitsToFloat(0x7F800000u);
+            c = vec4(t, t, t, hit ? 1.0 : 0.0);
+        } else if (MODE == MODE_INSTANCE) {
+            c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
+        } else {
+            c = vec4(heat(g_iter), 1.0);
+        }
+        acc += c;
+        if (WRITE_HITS && s == 0u) {
+            uint base = 2u * (px.y * W + px.x);
+            hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? t_off + h.t : 0.0), prim_iter, 0u, 0u);
+        }
+    }
+    pixels[px.y * W + px.x] = acc / float(spp);
+}

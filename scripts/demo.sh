@@ -1,0 +1,20 @@
+#!/bin/sh
+# Command (1) of the README: install the Debian packages, build voxkit and run
+# the main job on the built-in demo scene (generate it, convert it with
+# vox2svo, print the statistics, verify the file and render a picture).
+set -eu
+cd "$(dirname "$0")/.."
+./scripts/install-deps.sh
+BUILD=${BUILD:-build}
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD" -j"$(nproc)"
+mkdir -p "$BUILD/demo"
+"$BUILD/bin/vox2svo" --write-demo "$BUILD/demo/island.vox"
+"$BUILD/bin/vox2svo" "$BUILD/demo/island.vox" "$BUILD/demo/island.svo"
+"$BUILD/bin/svo_info" "$BUILD/demo/island.svo" --verify
+if [ -x "$BUILD/bin/svo_render" ]; then
+    # the GPU path where Vulkan works (lavapipe counts), the CPU reference otherwise
+    "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island.png" --size 640x360 ||
+        "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island.png" --size 640x360 --cpu
+    echo "demo: rendered $BUILD/demo/island.png"
+fi

@@ -1,0 +1,15 @@
+#!/bin/sh
+# Command (2) of the README: build (if needed) and run the whole test suite
+# with ctest. Usage: scripts/test.sh [BUILD_DIR] [extra cmake options...]
+# VX_SANITIZE=1 builds with ASan + UBSan (Debug).
+set -eu
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+[ $# -gt 0 ] && shift
+TYPE=Release
+EXTRA=""
+if [ "${VX_SANITIZE:-0}" = 1 ]; then TYPE=Debug; EXTRA="-DVX_SANITIZE=ON"; fi
+if [ "${CI:-}" = true ]; then EXTRA="$EXTRA -DVX_WERROR=ON"; fi
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=$TYPE $EXTRA "$@"
+cmake --build "$BUILD" -j"$(nproc)"
+ctest --test-dir "$BUILD" --output-on-failure -j"$(nproc)"

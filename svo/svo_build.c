@@ -1,0 +1,1057 @@
+/* svo/svo_build.c - voxels -> minimized Laine-Karras octree (vx_svo_build_model).
+ *
+ * Pipeline: (1) one sequential pass checks every entry, interns its attribute
+ * tuple into a small record table and packs (Morton key, level, record id)
+ * into one u64; (2) a stable LSD radix sort over only the key bits (skipped
+ * when the input is already in Morton order), so equal keys keep their input
+ * order and the last one wins; (3) ONE streaming bottom-up pass keeps a
+ * pending node per level and finalizes a node as soon as the key prefix
+ * changes: collapse check, representative attribute, hash-consing (DAG);
+ * (4) node blocks are laid out in creation order, which is a post-order
+ * (children first), so every child pointer points backwards. */
+#include <math.h>
+#include <string.h>
+
+#include "svo/svo_internal.h"
+
+uint32_t vx__svo_far_limit = VX__SVO_PTR_MAX;
+
+
+/* An attribute tuple; pad is always zero so records compare with memcmp. */
+typedef struct rec {
+    uint32_t rgba, normal;
+    float density;
+    uint16_t material;
+    uint8_t palette, pad;
+} rec;
+_Static_assert(sizeof(rec) == 16, "rec layout");
+
+/* Node record in the pool, addressed by its word offset (the node id):
+ *   [0] valid | leaf << 8   [1] representative record   [2] block position
+ *   [3 + j] child j (octant order over valid): record id for a leaf child,
+ *           node id for a non-leaf child. */
+enum { N_HDR = 0, N_REP = 1, N_BLOCK = 2, N_KIDS = 3 };
+#define NO_BLOCK 0xFFFFFFFFu
+
+typedef struct pending {
+    uint64_t prefix;
+    uint32_t valid, leaf;
+    uint32_t ch[8], cattr[8];
+    uint64_t plain[8];
+    bool active;
+} pending;
+
+typedef struct bld {
+    const vx_allocator* a;
+    uint32_t attrs;
+    bool collapse, dag;
+    /* One channel only: attribute references in nodes and runs are the
+     * 32-bit values themselves, so representatives need no interning. */
+    bool direct;
+    rec* recs;
+    size_t nrec, caprec;
+    uint32_t* rhash; /* record id + 1, 0 = empty */
+    size_t rhcap;
+    uint32_t* pool;
+    size_t npool, cappool;
+    uint32_t* nhash; /* node id + 1 */
+    size_t nhcap, nnodes;
+    uint64_t ncollapsed;
+    pending lv[VX_SVO_MAX_DEPTH + 2];
+    uint32_t depth;
+    /* result */
+    bool root_is_leaf, have_root;
+    uint32_t root; /* node id or record id when root_is_leaf */
+    uint64_t root_plain;
+    vx_error* err;
+    vx_result fail;
+} bld;
+
+static inline uint64_t mix64(uint64_t h) {
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return h;
+}
+static uint64_t hash_words(const uint32_t* w, size_t n, uint64_t seed) {
+    uint64_t h = seed ^ (n * 0x9E3779B97F4A7C15ull);
+    size_t i = 0;
+    for (; i + 1 < n; i += 2) h = mix64(h ^ ((uint64_t)w[i] | ((uint64_t)w[i + 1] << 32))) + i;
+    if (i < n) h = mix64(h ^ w[i] ^ 0xABCDull << 40);
+    return mix64(h);
+}
+
+static bool oom(bld* b, const char* what) {
+    if (b->fail == VX_OK) b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: out of memory (%s)", what);
+    return false;
+}
+
+/* ---- attribute records -------------------------------------------------------- */
+
+static bool rhash_grow(bld* b) {
+    size_t ncap = b->rhcap ? b->rhcap * 2 : 1024;
+    uint32_t* t = (uint32_t*)vx_calloc(b->a, ncap, sizeof *t);
+    if (!t) return oom(b, "record table");
+    for (size_t i = 0; i < b->nrec; i++) {
+        size_t j = (size_t)hash_words((const uint32_t*)&b->recs[i], 4, 7) & (ncap - 1);
+        while (t[j]) j = (j + 1) & (ncap - 1);
+        t[j] = (uint32_t)i + 1;
+    }
+    vx_free(b->a, b->rhash);
+    b->rhash = t;
+    b->rhcap = ncap;
+    return true;
+}
+
+/* Returns the id of r, adding it when new; UINT32_MAX on failure. */
+static uint32_t rec_intern(bld* b, const rec* r) {
+    if ((b->nrec + 1) * 2 > b->rhcap && !rhash_grow(b)) return UINT32_MAX;
+    size_t j = (size_t)hash_words((const uint32_t*)r, 4, 7) & (b->rhcap - 1);
+    while (b->rhash[j]) {
+        uint32_t id = b->rhash[j] - 1;
+        if (memcmp(&b->recs[id], r, sizeof *r) == 0) return id;
+        j = (j + 1) & (b->rhcap - 1);
+    }
+    if (b->nrec >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 distinct attribute records");
+        return UINT32_MAX;
+    }
+    if (!vx_grow(b->a, (void**)&b->recs, &b->caprec, b->nrec + 1, sizeof(rec))) {
+        oom(b, "records");
+        return UINT32_MAX;
+    }
+    b->recs[b->nrec] = *r;
+    b->rhash[j] = (uint32_t)b->nrec + 1;
+    return (uint32_t)b->nrec++;
+}
+
+void vx__oct_decode(uint32_t v, float n[3]) {
+    float u = (float)(int16_t)(uint16_t)(v & 0xFFFFu) / 32767.0f;
+    float w = (float)(int16_t)(uint16_t)(v >> 16) / 32767.0f;
+    if (u < -1.0f) u = -1.0f;
+    if (w < -1.0f) w = -1.0f;
+    float z = 1.0f - fabsf(u) - fabsf(w);
+    if (z < 0.0f) {
+        float ou = u;
+        u = (1.0f - fabsf(w)) * (ou >= 0.0f ? 1.0f : -1.0f);
+        w = (1.0f - fabsf(ou)) * (w >= 0.0f ? 1.0f : -1.0f);
+    }
+    float len = sqrtf(u * u + w * w + z * z);
+    if (len > 0.0f) {
+        u /= len;
+        w /= len;
+        z /= len;
+    }
+    n[0] = u;
+    n[1] = w;
+    n[2] = z;
+}
+
+static uint32_t snorm16(float f) {
+    if (!(f >= -1.0f)) f = -1.0f;
+    if (f > 1.0f) f = 1.0f;
+    long q = lroundf(f * 32767.0f);
+    return (uint32_t)(uint16_t)(int16_t)q;
+}
+
+uint32_t vx__oct_encode(const float n[3]) {
+    float s = fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]);
+    if (!(s > 0.0f)) return snorm16(0.0f) | (snorm16(0.0f) << 16); /* degenerate: +Z */
+    float u = n[0] / s, w = n[1] / s;
+    if (n[2] < 0.0f) {
+        float ou = u;
+        u = (1.0f - fabsf(w)) * (ou >= 0.0f ? 1.0f : -1.0f);
+        w = (1.0f - fabsf(ou)) * (w >= 0.0f ? 1.0f : -1.0f);
+    }
+    return snorm16(u) | (snorm16(w) << 16);
+}
+
+/* The rule documented in svo.h, applied channel by channel. When every valid
+ * child carries the same record that record is the representative (so a
+ * collapsed leaf and the node it replaces agree exactly). */
+static uint32_t rec_value(uint32_t attrs, const rec* r) {
+    switch (attrs) {
+    case VX_ATTR_PALETTE: return r->palette;
+    case VX_ATTR_RGBA8: return r->rgba;
+    case VX_ATTR_NORMAL: return r->normal;
+    case VX_ATTR_MATERIAL: return r->material;
+    default: {
+        union { float f; uint32_t u; } c = {r->density};
+        return c.u;
+    }
+    }
+}
+static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
+    memset(r, 0, sizeof *r);
+    switch (attrs) {
+    case VX_ATTR_PALETTE: r->palette = (uint8_t)v; break;
+    case VX_ATTR_RGBA8: r->rgba = v; break;
+    case VX_ATTR_NORMAL: r->normal = v; break;
+    case VX_ATTR_MATERIAL: r->material = (uint16_t)v; break;
+    default: {
+        union { uint32_t u; float f; } c = {v};
+        r->density = c.f;
+    }
+    }
+}
+
+static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
+    bool same = true;
+    for (unsigned i = 1; i < n; i++) same = same && ids[i] == ids[0];
+    if (same) return ids[0];
+    rec r;
+    memset(&r, 0, sizeof r);
+    const rec* c[8];
+    rec tmp[8];
+    for (unsigned i = 0; i < n; i++) {
+        if (b->direct) {
+            rec_from_value(b->attrs, ids[i], &tmp[i]);
+            c[i] = &tmp[i];
+        } else {
+            c[i] = &b->recs[ids[i]];
+        }
+    }
+    if (b->attrs & VX_ATTR_PALETTE) {
+        unsigned best = 0, bestn = 0;
+        for (unsigned i = 0; i < n; i++) {
+            unsigned k = 0;
+            for (unsigned j = 0; j < n; j++) k += c[j]->palette == c[i]->palette;
+            if (k > bestn || (k == bestn && c[i]->palette < best)) best = c[i]->palette, bestn = k;
+        }
+        r.palette = (uint8_t)best;
+    }
+    if (b->attrs & VX_ATTR_MATERIAL) {
+        unsigned best = 0, bestn = 0;
+        for (unsigned i = 0; i < n; i++) {
+            unsigned k = 0;
+            for (unsigned j = 0; j < n; j++) k += c[j]->material == c[i]->material;
+            if (k > bestn || (k == bestn && c[i]->material < best)) best = c[i]->material, bestn = k;
+        }
+        r.material = (uint16_t)best;
+    }
+    if (b->attrs & VX_ATTR_RGBA8) {
+        uint32_t out = 0;
+        for (unsigned ch = 0; ch < 4; ch++) {
+            unsigned sum = 0;
+            for (unsigned i = 0; i < n; i++) sum += (c[i]->rgba >> (8 * ch)) & 0xFFu;
+            out |= ((sum + n / 2) / n) << (8 * ch); /* rounded, ties up */
+        }
+        r.rgba = out;
+    }
+    if (b->attrs & VX_ATTR_NORMAL) {
+        float m[3] = {0, 0, 0};
+        for (unsigned i = 0; i < n; i++) {
+            float v[3];
+            vx__oct_decode(c[i]->normal, v);
+            m[0] += v[0], m[1] += v[1], m[2] += v[2];
+        }
+        r.normal = vx__oct_encode(m);
+    }
+    if (b->attrs & VX_ATTR_DENSITY) {
+        double s = 0;
+        for (unsigned i = 0; i < n; i++) s += c[i]->density;
+        r.density = (float)(s / n);
+    }
+    return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+}
+
+/* ---- nodes ----------------------------------------------------------------------------- */
+
+static bool nhash_grow(bld* b) {
+    size_t ncap = b->nhcap ? b->nhcap * 2 : 4096;
+    uint32_t* t = (uint32_t*)vx_calloc(b->a, ncap, sizeof *t);
+    if (!t) return oom(b, "node table");
+    size_t off = 0;
+    while (off < b->npool) {
+        uint32_t n = N_KIDS + vx__popc8(b->pool[off]);
+        size_t j = (size_t)hash_words(b->pool + off + N_KIDS, n - N_KIDS, b->pool[off]) & (ncap - 1);
+        while (t[j]) j = (j + 1) & (ncap - 1);
+        t[j] = (uint32_t)off + 1;
+        off += n;
+    }
+    vx_free(b->a, b->nhash);
+    b->nhash = t;
+    b->nhcap = ncap;
+    return true;
+}
+
+/* Adds (or with the DAG on, finds) the node; returns its id or UINT32_MAX. */
+static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep) {
+    size_t j = 0;
+    if (b->dag) {
+        if ((b->nnodes + 1) * 2 > b->nhcap && !nhash_grow(b)) return UINT32_MAX;
+        j = (size_t)hash_words(kids, nk, hdr) & (b->nhcap - 1);
+        while (b->nhash[j]) {
+            const uint32_t* n = b->pool + (b->nhash[j] - 1);
+            if (n[N_HDR] == hdr && memcmp(n + N_KIDS, kids, nk * sizeof *kids) == 0) return b->nhash[j] - 1;
+            j = (j + 1) & (b->nhcap - 1);
+        }
+    }
+    size_t need = b->npool + N_KIDS + nk;
+    if (need >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
+        return UINT32_MAX;
+    }
+    if (!vx_grow(b->a, (void**)&b->pool, &b->cappool, need, sizeof(uint32_t))) {
+        oom(b, "node pool");
+        return UINT32_MAX;
+    }
+    uint32_t id = (uint32_t)b->npool;
+    uint32_t* n = b->pool + id;
+    n[N_HDR] = hdr;
+    n[N_REP] = rep;
+    n[N_BLOCK] = NO_BLOCK;
+    memcpy(n + N_KIDS, kids, nk * sizeof *kids);
+    b->npool = need;
+    b->nnodes++;
+    if (b->dag) b->nhash[j] = id + 1;
+    return id;
+}
+
+static void push_child(bld* b, unsigned l, uint64_t prefix_child, bool leaf, uint32_t ref, uint32_t attr, uint64_t plain) {
+    if (l > b->depth) { /* the child is the root */
+        b->have_root = true;
+        b->root_is_leaf = leaf;
+        b->root = ref;
+        b->root_plain = plain;
+        return;
+    }
+    pending* p = &b->lv[l];
+    if (!p->active) {
+        p->active = true;
+        p->prefix = prefix_child >> 3;
+        p->valid = p->leaf = 0;
+    }
+    unsigned o = (unsigned)(prefix_child & 7u);
+    p->valid |= 1u << o;
+    if (leaf) p->leaf |= 1u << o;
+    p->ch[o] = ref;
+    p->cattr[o] = attr;
+    p->plain[o] = plain;
+}
+
+static bool finalize(bld* b, unsigned l) {
+    pending* p = &b->lv[l];
+    p->active = false;
+    uint64_t plain = 1;
+    uint32_t ids[8], kids[8];
+    unsigned n = 0;
+    for (unsigned o = 0; o < 8; o++)
+        if (p->valid >> o & 1u) {
+            ids[n] = p->cattr[o];
+            kids[n] = p->ch[o];
+            plain += p->plain[o];
+            n++;
+        }
+    if (b->collapse && p->valid == 0xFFu && p->leaf == 0xFFu) {
+        bool same = true;
+        for (unsigned i = 1; i < 8; i++) same = same && ids[i] == ids[0];
+        if (same) {
+            push_child(b, l + 1, p->prefix, true, ids[0], ids[0], plain);
+            return true;
+        }
+    }
+    uint32_t rep = b->attrs ? representative(b, ids, n) : 0;
+    if (rep == UINT32_MAX) return false;
+    uint32_t id = node_intern(b, p->valid | (p->leaf << 8), kids, n, rep);
+    if (id == UINT32_MAX) return false;
+    b->ncollapsed++;
+    push_child(b, l + 1, p->prefix, false, id, rep, plain);
+    return true;
+}
+
+/* ---- sorting ------------------------------------------------------------------------------ */
+
+#define RADIX_BITS 8
+#define RADIX_SIZE (1u << RADIX_BITS)
+
+/* Stable LSD radix sort of v[0..n) by bits [lo, lo + nbits) only; tmp has n
+ * slots. Returns the array holding the result (v or tmp). */
+static uint64_t* radix_u64(uint64_t* v, uint64_t* tmp, size_t n, unsigned lo, unsigned nbits, size_t* cnt) {
+    unsigned passes = (nbits + RADIX_BITS - 1) / RADIX_BITS;
+    memset(cnt, 0, sizeof(size_t) * RADIX_SIZE * passes);
+    for (size_t i = 0; i < n; i++)
+        for (unsigned p = 0; p < passes; p++) cnt[p * RADIX_SIZE + ((v[i] >> (lo + p * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
+    for (unsigned p = 0; p < passes; p++) {
+        size_t* c = cnt + p * RADIX_SIZE;
+        unsigned sh = lo + p * RADIX_BITS;
+        if (c[(v[0] >> sh) & (RADIX_SIZE - 1)] == n) continue; /* one bucket: nothing moves */
+        size_t sum = 0;
+        for (unsigned d = 0; d < RADIX_SIZE; d++) {
+            size_t t = c[d];
+            c[d] = sum;
+            sum += t;
+        }
+        for (size_t i = 0; i < n; i++) tmp[c[(v[i] >> sh) & (RADIX_SIZE - 1)]++] = v[i];
+        uint64_t* s = v;
+        v = tmp;
+        tmp = s;
+    }
+    return v;
+}
+
+/* Cache-friendly stable sort: one MSD pass on the top 11 significant key
+ * bits scatters into buckets of a few hundred KB, each then sorted by LSD
+ * passes while it sits in cache (plain LSD over 100M entries is bound by
+ * memory traffic). kdiff = OR of (key ^ first key): the significant bits. */
+static uint64_t* sort_packed(uint64_t* v, uint64_t* tmp, size_t n, unsigned lo, uint64_t kdiff, size_t* cnt) {
+    if (!kdiff) return v;
+    unsigned hb = 64u - (unsigned)__builtin_clzll(kdiff); /* significant key bits */
+    const unsigned mb = 11;
+    if (n < ((size_t)1 << 18) || hb <= mb + 8) return radix_u64(v, tmp, n, lo, hb, cnt);
+    unsigned msh = lo + hb - mb;
+    size_t* c = (size_t*)memset(cnt, 0, sizeof(size_t) * ((size_t)1 << mb));
+    for (size_t i = 0; i < n; i++) c[(v[i] >> msh) & ((1u << mb) - 1)]++;
+    size_t start[(1u << 11) + 1], sum = 0;
+    for (unsigned d = 0; d < (1u << mb); d++) {
+        start[d] = sum;
+        sum += c[d];
+    }
+    start[1u << mb] = n;
+    for (unsigned d = 0; d < (1u << mb); d++) c[d] = start[d];
+    for (size_t i = 0; i < n; i++) tmp[c[(v[i] >> msh) & ((1u << mb) - 1)]++] = v[i];
+    for (unsigned d = 0; d < (1u << mb); d++) {
+        size_t s0 = start[d], len = start[d + 1] - s0;
+        if (len == 0) continue;
+        uint64_t* r = len > 1 ? radix_u64(tmp + s0, v + s0, len, lo, hb - mb, cnt) : tmp + s0;
+        if (r != v + s0) memcpy(v + s0, r, len * sizeof *v);
+    }
+    return v;
+}
+
+/* Entries that do not fit in one u64 (deep trees with many records). */
+typedef struct ent {
+    uint64_t key;
+    uint32_t aid, level;
+} ent;
+
+static ent* radix_ent(ent* v, ent* tmp, size_t n, unsigned nbits, size_t* cnt) {
+    unsigned passes = (nbits + RADIX_BITS - 1) / RADIX_BITS;
+    memset(cnt, 0, sizeof(size_t) * RADIX_SIZE * passes);
+    for (size_t i = 0; i < n; i++)
+        for (unsigned p = 0; p < passes; p++) cnt[p * RADIX_SIZE + ((v[i].key >> (p * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
+    for (unsigned p = 0; p < passes; p++) {
+        size_t* c = cnt + p * RADIX_SIZE;
+        unsigned sh = p * RADIX_BITS;
+        if (c[(v[0].key >> sh) & (RADIX_SIZE - 1)] == n) continue;
+        size_t sum = 0;
+        for (unsigned d = 0; d < RADIX_SIZE; d++) {
+            size_t t = c[d];
+            c[d] = sum;
+            sum += t;
+        }
+        for (size_t i = 0; i < n; i++) tmp[c[(v[i].key >> sh) & (RADIX_SIZE - 1)]++] = v[i];
+        ent* s = v;
+        v = tmp;
+        tmp = s;
+    }
+    return v;
+}
+
+/* ---- layout ------------------------------------------------------------------------------- */
+
+typedef struct outw {
+    uint32_t* w;
+    size_t n, cap;
+    uint32_t* ids; /* attribute run record ids */
+    size_t nid, capid;
+    uint32_t* runh; /* run start + 1 (len from hash key) */
+    size_t runcap, nrun;
+    uint64_t far;
+    /* blocks that are a lone attribute index (all children leaves): attribute
+     * index + 1 -> word position, so equal ones are stored once */
+    uint32_t* lb_key;
+    uint32_t* lb_pos;
+    size_t lbcap, nlb;
+} outw;
+
+static bool out_push(bld* b, outw* o, uint32_t v) {
+    if (o->n >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 node words");
+        return false;
+    }
+    if (!vx_grow(b->a, (void**)&o->w, &o->cap, o->n + 1, sizeof(uint32_t))) return oom(b, "node words");
+    o->w[o->n++] = v;
+    return true;
+}
+
+/* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add);
+
+/* A run of one repeated value is also found inside any longer run of that
+ * value (records are indexed from the run start), which is common with
+ * palette colours: try the longer uniform runs first. */
+static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
+    if (b->dag && n < 8) {
+        bool uni = true;
+        for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
+        if (uni) {
+            uint32_t u[8];
+            for (unsigned i = 0; i < 8; i++) u[i] = ids[0];
+            for (unsigned len = 8; len > n; len--) {
+                uint32_t st = run_intern_exact(b, o, u, len, false);
+                if (st != UINT32_MAX) return st;
+            }
+        }
+    }
+    return run_intern_exact(b, o, ids, n, true);
+}
+
+/* With add false: UINT32_MAX when the run is not stored yet. */
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add) {
+    uint64_t h = 0;
+    size_t j = 0;
+    if (b->dag) {
+        if ((o->nrun + 1) * 2 > o->runcap) {
+            size_t ncap = o->runcap ? o->runcap * 2 : 4096;
+            uint32_t* t = (uint32_t*)vx_calloc(b->a, ncap, sizeof *t);
+            if (!t) return oom(b, "attribute runs"), UINT32_MAX;
+            /* entries store start + 1 and the run's length in the top 4 bits */
+            for (size_t i = 0; i < o->runcap; i++)
+                if (o->runh[i]) {
+                    uint32_t e = o->runh[i], st = (e & 0x0FFFFFFFu) - 1, ln = e >> 28;
+                    size_t k = (size_t)hash_words(o->ids + st, ln, 3) & (ncap - 1);
+                    while (t[k]) k = (k + 1) & (ncap - 1);
+                    t[k] = e;
+                }
+            vx_free(b->a, o->runh);
+            o->runh = t;
+            o->runcap = ncap;
+        }
+        h = hash_words(ids, n, 3);
+        j = (size_t)h & (o->runcap - 1);
+        while (o->runh[j]) {
+            uint32_t e = o->runh[j], st = (e & 0x0FFFFFFFu) - 1, ln = e >> 28;
+            if (ln == n && memcmp(o->ids + st, ids, n * sizeof *ids) == 0) return st;
+            j = (j + 1) & (o->runcap - 1);
+        }
+        if (!add) return UINT32_MAX;
+    }
+    if (o->nid + n >= 0x0FFFFFF0u) {
+        /* beyond what the run table can address: stop sharing, keep going */
+        if (o->nid + n >= 0xFFFFFFF0u) {
+            b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 attribute records");
+            return UINT32_MAX;
+        }
+    } else if (b->dag) {
+        o->runh[j] = ((uint32_t)n << 28) | ((uint32_t)o->nid + 1);
+        o->nrun++;
+    }
+    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
+    uint32_t st = (uint32_t)o->nid;
+    memcpy(o->ids + o->nid, ids, n * sizeof *ids);
+    o->nid += n;
+    return st;
+}
+
+static inline bool node_has_block(const bld* b, const uint32_t* n) {
+    uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+    return (valid & ~leaf) != 0 || b->attrs != 0;
+}
+
+/* Writes the block of every node in creation order (children first), far
+ * slots right before the block whose descriptors need them. */
+static bool layout(bld* b, outw* o) {
+    uint32_t limit = vx__svo_far_limit;
+    if (limit < 1 || limit > VX__SVO_PTR_MAX) limit = VX__SVO_PTR_MAX;
+    size_t off = 0;
+    while (off < b->npool) {
+        uint32_t* n = b->pool + off;
+        uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+        unsigned nk = vx__popc8(valid);
+        size_t next = off + N_KIDS + nk;
+        if (!node_has_block(b, n)) {
+            off = next;
+            continue;
+        }
+        /* the non-leaf children and their blocks */
+        uint32_t cb[8], cd[8];
+        unsigned nn = 0, j = 0;
+        uint32_t runids[8];
+        for (unsigned oc = 0; oc < 8; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            uint32_t ref = n[N_KIDS + j++];
+            if (leaf >> oc & 1u) {
+                runids[j - 1] = ref;
+            } else {
+                const uint32_t* c = b->pool + ref;
+                runids[j - 1] = c[N_REP];
+                cb[nn] = c[N_BLOCK];
+                cd[nn] = c[N_HDR];
+                nn++;
+            }
+        }
+        uint32_t a = 0;
+        if (b->attrs) {
+            a = run_intern(b, o, runids, nk);
+            if (a == UINT32_MAX) return false;
+        }
+        if (nn == 0 && b->dag) {
+            /* the block is the word `a` alone, position-independent: reuse a
+             * recent copy while parents can still reach it without a far slot */
+            if ((o->nlb + 1) * 2 > o->lbcap) {
+                size_t ncap = o->lbcap ? o->lbcap * 2 : 4096;
+                uint32_t* nk2 = (uint32_t*)vx_calloc(b->a, ncap, sizeof *nk2);
+                uint32_t* np2 = (uint32_t*)vx_alloc(b->a, ncap * sizeof *np2);
+                if (!nk2 || !np2) {
+                    vx_free(b->a, nk2);
+                    vx_free(b->a, np2);
+                    return oom(b, "block table");
+                }
+                for (size_t i = 0; i < o->lbcap; i++)
+                    if (o->lb_key[i]) {
+                        size_t q = (size_t)mix64(o->lb_key[i]) & (ncap - 1);
+                        while (nk2[q]) q = (q + 1) & (ncap - 1);
+                        nk2[q] = o->lb_key[i];
+                        np2[q] = o->lb_pos[i];
+                    }
+                vx_free(b->a, o->lb_key);
+                vx_free(b->a, o->lb_pos);
+                o->lb_key = nk2;
+                o->lb_pos = np2;
+                o->lbcap = ncap;
+            }
+            size_t q = (size_t)mix64((uint64_t)a + 1) & (o->lbcap - 1);
+            while (o->lb_key[q] && o->lb_key[q] != a + 1) q = (q + 1) & (o->lbcap - 1);
+            if (o->lb_key[q] && o->n - o->lb_pos[q] + 64 < limit) {
+                n[N_BLOCK] = o->lb_pos[q];
+                off = next;
+                continue;
+            }
+            if (!o->lb_key[q]) o->nlb++;
+            o->lb_key[q] = a + 1;
+            o->lb_pos[q] = (uint32_t)o->n;
+        }
+        /* far slots needed: a fixpoint since each slot shifts the descriptors */
+        size_t cur = o->n;
+        unsigned nfar = 0;
+        bool far[8];
+        for (int it = 0; it < 10; it++) {
+            unsigned cnt = 0;
+            for (unsigned k = 0; k < nn; k++) {
+                far[k] = cb[k] != NO_BLOCK && (cur + nfar + k) - cb[k] > limit;
+                cnt += far[k];
+            }
+            if (cnt == nfar) break;
+            nfar = cnt;
+        }
+        unsigned fi = 0;
+        for (unsigned k = 0; k < nn; k++)
+            if (far[k] && !out_push(b, o, cb[k])) return false;
+        size_t bstart = cur + nfar;
+        for (unsigned k = 0; k < nn; k++) {
+            uint32_t d;
+            size_t pos = bstart + k;
+            if (cb[k] == NO_BLOCK) d = vx_svo_desc_make(0, false, cd[k] & 0xFFu, cd[k] >> 8);
+            else if (far[k]) d = vx_svo_desc_make((uint32_t)(pos - (cur + fi++)), true, cd[k] & 0xFFu, cd[k] >> 8);
+            else d = vx_svo_desc_make((uint32_t)(pos - cb[k]), false, cd[k] & 0xFFu, cd[k] >> 8);
+            if (!out_push(b, o, d)) return false;
+        }
+        o->far += nfar;
+        if (b->attrs && !out_push(b, o, a)) return false;
+        n[N_BLOCK] = (uint32_t)bstart;
+        off = next;
+    }
+    /* the root descriptor goes last */
+    const uint32_t* r = b->pool + b->root;
+    uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
+    if (blk == NO_BLOCK) return out_push(b, o, vx_svo_desc_make(0, false, hdr & 0xFFu, hdr >> 8));
+    if (o->n - blk > limit) {
+        if (!out_push(b, o, blk)) return false;
+        o->far++;
+        return out_push(b, o, vx_svo_desc_make(1, true, hdr & 0xFFu, hdr >> 8));
+    }
+    return out_push(b, o, vx_svo_desc_make((uint32_t)(o->n - blk), false, hdr & 0xFFu, hdr >> 8));
+}
+
+/* ---- entry point ---------------------------------------------------------------------------- */
+
+static const char* attr_name(uint32_t bit) {
+    switch (bit) {
+    case VX_ATTR_PALETTE: return "palette";
+    case VX_ATTR_RGBA8: return "rgba";
+    case VX_ATTR_NORMAL: return "normal";
+    case VX_ATTR_MATERIAL: return "material";
+    default: return "density";
+    }
+}
+
+static void bld_free(bld* b) {
+    vx_free(b->a, b->recs);
+    vx_free(b->a, b->rhash);
+    vx_free(b->a, b->pool);
+    vx_free(b->a, b->nhash);
+}
+
+static unsigned bits_for(uint64_t maxval) {
+    unsigned k = 0;
+    while (k < 64 && (maxval >> k) != 0) k++;
+    return k;
+}
+
+vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
+                             vx_svo_build_stats* stats, vx_error* err) {
+    vx_svo_build_desc d;
+    if (desc) d = *desc;
+    else memset(&d, 0, sizeof d);
+    if (!in || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
+    uint32_t max_depth = d.max_depth ? d.max_depth : VX_SVO_MAX_DEPTH;
+    if (max_depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: max_depth %u above %u", max_depth, VX_SVO_MAX_DEPTH);
+    uint32_t mx = 0;
+    for (int i = 0; i < 3; i++) {
+        if (in->size[i] < 1 || in->size[i] > (1u << VX_SVO_MAX_DEPTH))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: size[%d] = %u outside 1..2^21", i, in->size[i]);
+        if (in->size[i] > mx) mx = in->size[i];
+    }
+    uint32_t depth = 0;
+    while ((1u << depth) < mx) depth++;
+    if (depth > max_depth)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: size %u needs depth %u, max_depth is %u", mx, depth,
+                       max_depth);
+    if (in->attrs & ~(uint32_t)VX_ATTR_ALL)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: unknown attribute bits 0x%x", in->attrs);
+    const void* chans[5] = {in->palette, in->rgba, in->normal, in->material, in->density};
+    for (unsigned c = 0; c < 5; c++) {
+        bool want = in->attrs >> c & 1u;
+        if (want && !chans[c] && in->count)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: attrs names %s but the array is NULL",
+                           attr_name(1u << c));
+        if (!want && chans[c])
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: %s array given but not named in attrs",
+                           attr_name(1u << c));
+    }
+    if (in->count && !in->keys) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: keys is NULL");
+
+    bld b;
+    memset(&b, 0, sizeof b);
+    b.a = d.alloc;
+    b.attrs = in->attrs;
+    b.collapse = !d.no_collapse;
+    b.dag = !d.no_dag;
+    b.depth = depth;
+    b.err = err;
+    b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
+    vx_svo_build_stats st;
+    memset(&st, 0, sizeof st);
+    st.input_voxels = in->count;
+
+    vx_svo_model m;
+    memset(&m, 0, sizeof m);
+    m.size[0] = in->size[0], m.size[1] = in->size[1], m.size[2] = in->size[2];
+    m.depth = depth;
+    m.attrs = in->attrs;
+    m.root = VX_SVO_ROOT_EMPTY;
+
+    size_t n = in->count;
+    uint64_t* packed = NULL;
+    uint64_t* tmp = NULL;
+    ent* ents = NULL;
+    ent* etmp = NULL;
+    size_t* cnt = NULL;
+    outw o;
+    memset(&o, 0, sizeof o);
+    vx_result res = VX_OK;
+
+    if (n == 0) goto finish_empty;
+    packed = vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
+    if (!packed) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu entries", n);
+        goto done;
+    }
+    /* pass 1: check entries, intern records (into packed[i] for now) */
+    {
+        bool sorted = true;
+        uint64_t prev = 0;
+        rec last;
+        uint32_t last_id = UINT32_MAX;
+        memset(&last, 0, sizeof last);
+        if (!b.attrs) {
+            rec z;
+            memset(&z, 0, sizeof z);
+            rec_intern(&b, &z);
+            if (b.fail) { res = b.fail; goto done; }
+        }
+        bool full[3];
+        for (int a = 0; a < 3; a++) full[a] = in->size[a] == (1u << depth);
+        unsigned kb0 = 3 * depth < 63 ? 3 * depth : 63;
+        for (size_t i = 0; i < n; i++) {
+            uint64_t k = in->keys[i];
+            uint32_t L = in->level ? in->level[i] : 0;
+            if (L > depth) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: entry %zu: tile level %u above depth %u", i, L,
+                              depth);
+                goto done;
+            }
+            uint64_t side = (uint64_t)1 << L;
+            /* axes whose size is the whole cube only need the key-range test */
+            uint32_t x = full[0] ? 0 : vx__compact3(k), y = full[1] ? 0 : vx__compact3(k >> 1), z = full[2] ? 0 : vx__compact3(k >> 2);
+            if ((k >> kb0) || x + side > in->size[0] || y + side > in->size[1] || z + side > in->size[2]) {
+                x = vx__compact3(k), y = vx__compact3(k >> 1), z = vx__compact3(k >> 2);
+                if (L == 0)
+                    res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                  "svo build: entry %zu: cell (%u, %u, %u) outside the model size %ux%ux%u", i, x, y, z,
+                                  in->size[0], in->size[1], in->size[2]);
+                else
+                    res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                  "svo build: entry %zu: tile of 2^%u cells at (%u, %u, %u) outside the model size %ux%ux%u", i,
+                                  L, x, y, z, in->size[0], in->size[1], in->size[2]);
+                goto done;
+            }
+            if (L && (k & (((uint64_t)1 << (3 * L)) - 1))) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                              "svo build: entry %zu: tile of 2^%u cells at (%u, %u, %u) is not aligned to its size", i, L, x, y, z);
+                goto done;
+            }
+            sorted = sorted && k >= prev;
+            prev = k;
+            uint32_t id = 0;
+            if (b.attrs) {
+                rec r;
+                memset(&r, 0, sizeof r);
+                if (in->palette) r.palette = in->palette[i];
+                if (in->rgba) r.rgba = in->rgba[i];
+                if (in->normal) r.normal = in->normal[i];
+                if (in->material) r.material = in->material[i];
+                if (in->density) r.density = in->density[i];
+                if (last_id != UINT32_MAX && memcmp(&r, &last, sizeof r) == 0) id = last_id;
+                else {
+                    id = rec_intern(&b, &r);
+                    if (id == UINT32_MAX) { res = b.fail; goto done; }
+                    last = r;
+                    last_id = id;
+                }
+            }
+            packed[i] = id;
+            if (d.progress.func && (i & 0xFFFFFu) == 0 && !vx_progress_report(&d.progress, "check", i, n)) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+                goto done;
+            }
+        }
+        /* pass 2: pack (key, level, record) and sort by the key bits only */
+        unsigned ab = bits_for(b.nrec ? b.nrec - 1 : 0), lb = in->level ? 5 : 0, kb = 3 * depth;
+        if (kb + ab + lb <= 64) {
+            unsigned s = ab + lb;
+            uint64_t kdiff = 0, k0 = in->keys[0];
+            for (size_t i = 0; i < n; i++) {
+                uint64_t L = in->level ? in->level[i] : 0;
+                kdiff |= in->keys[i] ^ k0;
+                packed[i] = (kb ? in->keys[i] << s : 0) | (L << ab) | packed[i];
+            }
+            if (!sorted && kb) {
+                tmp = (uint64_t*)vx_alloc(b.a, n * sizeof *tmp);
+                cnt = (size_t*)vx_alloc(b.a, sizeof(size_t) * 2048 * 8);
+                if (!tmp || !cnt) {
+                    res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate the sort buffer");
+                    goto done;
+                }
+                uint64_t* r = sort_packed(packed, tmp, n, s, kdiff, cnt);
+                if (r != packed) {
+                    uint64_t* t = packed;
+                    packed = r;
+                    tmp = t;
+                }
+                vx_free(b.a, tmp);
+                tmp = NULL;
+            }
+        } else {
+            ents = (ent*)vx_calloc(b.a, n, sizeof *ents);
+            if (!ents) {
+                res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu entries", n);
+                goto done;
+            }
+            for (size_t i = 0; i < n; i++) {
+                ents[i].key = in->keys[i];
+                ents[i].aid = (uint32_t)packed[i];
+                ents[i].level = in->level ? in->level[i] : 0;
+            }
+            vx_free(b.a, packed);
+            packed = NULL;
+            if (!sorted) {
+                etmp = (ent*)vx_alloc(b.a, n * sizeof *etmp);
+                cnt = (size_t*)vx_alloc(b.a, sizeof(size_t) * RADIX_SIZE * 8);
+                if (!etmp || !cnt) {
+                    res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate the sort buffer");
+                    goto done;
+                }
+                ent* r = radix_ent(ents, etmp, n, kb, cnt);
+                if (r != ents) {
+                    ent* t = ents;
+                    ents = r;
+                    etmp = t;
+                }
+                vx_free(b.a, etmp);
+                etmp = NULL;
+            }
+        }
+        /* pass 3: stream bottom-up */
+        unsigned s = ab + lb;
+        uint64_t amask = ((uint64_t)1 << ab) - 1;
+        uint64_t lastkey = 0, covered_end = 0;
+        bool first = true;
+        for (size_t i = 0; i < n; i++) {
+            uint64_t k;
+            uint32_t L, aid;
+            if (packed) {
+                uint64_t v = packed[i];
+                k = kb ? v >> s : 0;
+                L = (uint32_t)((v >> ab) & (lb ? 31u : 0u));
+                aid = (uint32_t)(v & amask);
+            } else {
+                k = ents[i].key;
+                L = ents[i].level;
+                aid = ents[i].aid;
+            }
+            if (i + 1 < n) {
+                uint64_t k2;
+                uint32_t L2;
+                if (packed) {
+                    k2 = kb ? packed[i + 1] >> s : 0;
+                    L2 = (uint32_t)((packed[i + 1] >> ab) & (lb ? 31u : 0u));
+                } else {
+                    k2 = ents[i + 1].key;
+                    L2 = ents[i + 1].level;
+                }
+                if (k2 == k) {
+                    if (L2 == L) continue; /* duplicate: the later entry wins */
+                    res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                  "svo build: a tile of 2^%u cells and one of 2^%u cells start at the same cell (%u, %u, %u)",
+                                  L, L2, vx__compact3(k), vx__compact3(k >> 1), vx__compact3(k >> 2));
+                    goto done;
+                }
+            }
+            if (!first && k < covered_end) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                              "svo build: entry at cell (%u, %u, %u) lies inside an earlier tile", vx__compact3(k),
+                              vx__compact3(k >> 1), vx__compact3(k >> 2));
+                goto done;
+            }
+            covered_end = k + ((uint64_t)1 << (3 * L));
+            st.voxels += (uint64_t)1 << (3 * L);
+            if (!first) {
+                uint64_t diff = k ^ lastkey;
+                unsigned top = (63u - (unsigned)__builtin_clzll(diff)) / 3u;
+                if (top > depth) top = depth;
+                for (unsigned l = 1; l <= top; l++)
+                    if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
+            }
+            first = false;
+            lastkey = k;
+            if (b.direct) aid = rec_value(b.attrs, &b.recs[aid]);
+            if (L == depth) push_child(&b, depth + 1, 0, true, aid, aid, 0);
+            else push_child(&b, L + 1, k >> (3 * L), true, aid, aid, 0);
+            if (d.progress.func && (i & 0xFFFFFu) == 0 && !vx_progress_report(&d.progress, "build", i, n)) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+                goto done;
+            }
+        }
+        for (unsigned l = 1; l <= depth; l++)
+            if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
+    }
+    vx_free(b.a, packed);
+    packed = NULL;
+    vx_free(b.a, ents);
+    ents = NULL;
+    vx_free(b.a, b.nhash);
+    b.nhash = NULL;
+    vx_free(b.a, b.rhash);
+    b.rhash = NULL;
+
+    if (!b.have_root) goto finish_empty; /* cannot happen with n > 0 */
+    st.desc_plain = b.root_plain;
+    st.desc_collapsed = b.ncollapsed;
+    uint32_t root_rec;
+    if (b.root_is_leaf) {
+        m.root = VX_SVO_ROOT_LEAF;
+        root_rec = b.root;
+    } else {
+        if (!layout(&b, &o)) { res = b.fail; goto done; }
+        m.root = (uint32_t)(o.n - 1);
+        root_rec = b.pool[b.root + N_REP];
+    }
+    st.far_pointers = o.far;
+    if (b.attrs) {
+        size_t at = o.nid;
+        for (size_t i = 0; i < o.nid; i++)
+            if (o.ids[i] == root_rec) { at = i; break; }
+        if (at == o.nid) {
+            if (run_intern(&b, &o, &root_rec, 1) == UINT32_MAX) { res = b.fail; goto done; }
+        }
+        m.root_attr = (uint32_t)at;
+    }
+    m.voxel_count = st.voxels;
+    goto finish;
+
+finish_empty:
+    m.root = VX_SVO_ROOT_EMPTY;
+finish:
+    {
+        uint64_t words = o.n;
+        m.node_count = (uint32_t)words;
+        m.nodes = o.w;
+        o.w = NULL;
+        m.attr_count = b.attrs ? (uint32_t)o.nid : 0;
+        size_t na = m.attr_count;
+        bool ok = true;
+        if (b.attrs & VX_ATTR_PALETTE) ok = ok && (m.palette = (uint8_t*)vx_alloc(b.a, na * 1)) != NULL;
+        if (b.attrs & VX_ATTR_RGBA8) ok = ok && (m.rgba = (uint32_t*)vx_alloc(b.a, na * 4)) != NULL;
+        if (b.attrs & VX_ATTR_NORMAL) ok = ok && (m.normal = (uint32_t*)vx_alloc(b.a, na * 4)) != NULL;
+        if (b.attrs & VX_ATTR_MATERIAL) ok = ok && (m.material = (uint16_t*)vx_alloc(b.a, na * 2)) != NULL;
+        if (b.attrs & VX_ATTR_DENSITY) ok = ok && (m.density = (float*)vx_alloc(b.a, na * 4)) != NULL;
+        if (!ok) {
+            vx_svo_model_free(b.a, &m);
+            res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
+            goto done;
+        }
+        for (size_t i = 0; i < na; i++) {
+            rec dv;
+            const rec* r = &dv;
+            if (b.direct) rec_from_value(b.attrs, o.ids[i], &dv);
+            else r = &b.recs[o.ids[i]];
+            if (m.palette) m.palette[i] = r->palette;
+            if (m.rgba) m.rgba[i] = r->rgba;
+            if (m.normal) m.normal[i] = r->normal;
+            if (m.material) m.material[i] = r->material;
+            if (m.density) m.density[i] = r->density;
+        }
+        /* descriptor words written: one per non-leaf child of a stored node, plus the root */
+        uint64_t ndesc = 0;
+        if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
+            size_t off = 0;
+            ndesc = 1;
+            while (off < b.npool) {
+                const uint32_t* nd = b.pool + off;
+                if (nd[N_BLOCK] != NO_BLOCK) ndesc += vx__popc8((nd[N_HDR] & 0xFFu) & ~(nd[N_HDR] >> 8));
+                off += N_KIDS + vx__popc8(nd[N_HDR]);
+            }
+        }
+        /* with the DAG off this equals desc_collapsed: each node has one parent */
+        st.desc_dag = ndesc;
+        st.attr_records = m.attr_count;
+        unsigned rb = 0;
+        if (b.attrs & VX_ATTR_PALETTE) rb += 1;
+        if (b.attrs & VX_ATTR_RGBA8) rb += 4;
+        if (b.attrs & VX_ATTR_NORMAL) rb += 4;
+        if (b.attrs & VX_ATTR_MATERIAL) rb += 2;
+        if (b.attrs & VX_ATTR_DENSITY) rb += 4;
+        st.bytes = (uint64_t)m.node_count * 4 + (uint64_t)m.attr_count * rb;
+    }
+    *out = m;
+    if (stats) *stats = st;
+    res = VX_OK;
+done:
+    vx_free(b.a, packed);
+    vx_free(b.a, tmp);
+    vx_free(b.a, ents);
+    vx_free(b.a, etmp);
+    vx_free(b.a, cnt);
+    vx_free(b.a, o.w);
+    vx_free(b.a, o.ids);
+    vx_free(b.a, o.runh);
+    vx_free(b.a, o.lb_key);
+    vx_free(b.a, o.lb_pos);
+    bld_free(&b);
+    return res;
+}

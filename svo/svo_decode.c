@@ -1,0 +1,393 @@
+/* svo/svo_decode.c - decoding, structural validation and the occupied extent
+ * of a model, all without expanding shared subtrees or collapsed leaves
+ * (except decoding, which is callback-driven and stoppable). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "svo/svo_internal.h"
+
+enum { ROLE_NONE = 0, ROLE_DESC = 1, ROLE_ATTR = 2, ROLE_FAR = 3 };
+static const char* role_name(uint8_t r) {
+    return r == ROLE_DESC ? "a descriptor" : r == ROLE_ATTR ? "an attribute index" : "a far slot";
+}
+
+/* Resolves the children block of the descriptor at word w; false if the
+ * pointer leaves the array (the caller reports). */
+static bool block_of(const vx_svo_model* m, uint32_t w, uint32_t d, uint32_t* slot, uint32_t* block) {
+    uint32_t p = vx_svo_desc_ptr(d);
+    if (p < 1 || p > w) return false;
+    if (vx_svo_desc_far(d)) {
+        *slot = w - p;
+        *block = m->nodes[w - p];
+    } else {
+        *slot = UINT32_MAX;
+        *block = w - p;
+    }
+    return true;
+}
+
+typedef struct pair_ext {
+    uint64_t cells;
+    uint32_t mn[3], mx[3];
+} pair_ext;
+
+static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* err, vx_result* res) {
+    if (role[w] != ROLE_NONE && role[w] != r) {
+        *res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                       "svo model: word %u is used as %s and, from the descriptor at word %u, as %s", w, role_name(role[w]),
+                       from, role_name(r));
+        return false;
+    }
+    role[w] = r;
+    return true;
+}
+
+vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* err) {
+    if (!m) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: null");
+    if (m->depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
+    uint32_t mxs = 0;
+    for (int i = 0; i < 3; i++) {
+        if (m->size[i] < 1 || m->size[i] > (1u << VX_SVO_MAX_DEPTH))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: size[%d] = %u outside 1..2^21", i, m->size[i]);
+        if (m->size[i] > mxs) mxs = m->size[i];
+    }
+    if ((1u << m->depth) < mxs || (m->depth > 0 && (1u << (m->depth - 1)) >= mxs))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth %u does not match size %ux%ux%u", m->depth,
+                       m->size[0], m->size[1], m->size[2]);
+    if (m->attrs & ~(uint32_t)VX_ATTR_ALL)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: unknown attribute bits 0x%x", m->attrs);
+    if (!m->attrs && (m->attr_count || m->root_attr))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: %u attribute records without attribute channels",
+                       m->attr_count);
+    const void* ch[5] = {m->palette, m->rgba, m->normal, m->material, m->density};
+    for (unsigned c = 0; c < 5; c++)
+        if ((m->attrs >> c & 1u) && m->attr_count && !ch[c])
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: attribute channel %u has no array", c);
+    if (m->node_count && !m->nodes) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: nodes is NULL");
+    vx__svo_extent e;
+    memset(&e, 0, sizeof e);
+    if (m->root == VX_SVO_ROOT_EMPTY || m->root == VX_SVO_ROOT_LEAF) {
+        if (m->node_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root is %s but there are %u node words",
+                           m->root == VX_SVO_ROOT_EMPTY ? "empty" : "one leaf", m->node_count);
+        if (m->root == VX_SVO_ROOT_LEAF) {
+            uint32_t side = 1u << m->depth;
+            if (m->size[0] < side || m->size[1] < side || m->size[2] < side)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root leaf cube of %u cells exceeds the size %ux%ux%u",
+                               side, m->size[0], m->size[1], m->size[2]);
+            if (m->attrs && m->root_attr >= m->attr_count)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root attribute %u of %u records", m->root_attr,
+                               m->attr_count);
+            e.cells = (uint64_t)1 << (3 * m->depth);
+            e.max[0] = e.max[1] = e.max[2] = side;
+        }
+        if (m->voxel_count != e.cells)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: voxel_count %llu, the tree holds %llu",
+                           (unsigned long long)m->voxel_count, (unsigned long long)e.cells);
+        if (ext) *ext = e;
+        return VX_OK;
+    }
+    if (m->root >= m->node_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root word %u of %u", m->root, m->node_count);
+    if (m->depth == 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth 0 (one cell) cannot have a root descriptor");
+    if (m->attrs && m->root_attr >= m->attr_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root attribute %u of %u records", m->root_attr,
+                       m->attr_count);
+
+    size_t nw = m->node_count;
+    uint32_t* lv = (uint32_t*)vx_calloc(NULL, nw, sizeof *lv);
+    uint8_t* role = (uint8_t*)vx_calloc(NULL, nw, 1);
+    uint32_t* pidx = NULL;
+    pair_ext* pe = NULL;
+    vx_result res = VX_OK;
+    if (!lv || !role) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state for %zu words", nw);
+        goto out;
+    }
+    lv[m->root] = 1u << m->depth;
+    role[m->root] = ROLE_DESC;
+    /* Pointers only go backwards, so a descending scan sees every parent of
+     * a word before the word itself: each word is checked once, for every
+     * level it is reached at, and shared blocks are never expanded. */
+    for (uint32_t w = m->root + 1; w-- > 0;) {
+        if (role[w] != ROLE_DESC) continue;
+        uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+        if (valid == 0) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: descriptor at word %u has no children", w);
+            goto out;
+        }
+        if (leaf & ~valid) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                          "svo model: descriptor at word %u: leaf mask 0x%02x is not a subset of valid mask 0x%02x", w, leaf, valid);
+            goto out;
+        }
+        uint32_t nn = vx__popc8(valid & ~leaf);
+        if ((lv[w] & 2u) && nn) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                          "svo model: descriptor at word %u is at level 1 but has non-leaf children (mask 0x%02x)", w, valid & ~leaf);
+            goto out;
+        }
+        if (lv[w] & 1u) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: descriptor at word %u is below the finest level", w);
+            goto out;
+        }
+        uint32_t blen = nn + (m->attrs ? 1u : 0u);
+        if (blen == 0) {
+            if (d >> 16) {
+                res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                              "svo model: descriptor at word %u has no children block but a pointer (0x%04x)", w, d >> 16);
+                goto out;
+            }
+            continue;
+        }
+        uint32_t slot, b;
+        if (!block_of(m, w, d, &slot, &b)) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                          "svo model: descriptor at word %u: child pointer %u does not point backwards into the array", w,
+                          vx_svo_desc_ptr(d));
+            goto out;
+        }
+        if (slot != UINT32_MAX && !mark(role, slot, ROLE_FAR, w, err, &res)) goto out;
+        if ((uint64_t)b + blen > w) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                          "svo model: descriptor at word %u: children block at word %u (%u words) does not lie before it", w, b,
+                          blen);
+            goto out;
+        }
+        for (uint32_t k = 0; k < nn; k++) {
+            if (!mark(role, b + k, ROLE_DESC, w, err, &res)) goto out;
+            lv[b + k] |= lv[w] >> 1;
+        }
+        if (m->attrs) {
+            if (!mark(role, b + nn, ROLE_ATTR, w, err, &res)) goto out;
+            uint32_t a = m->nodes[b + nn];
+            if ((uint64_t)a + vx__popc8(valid) > m->attr_count) {
+                res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                              "svo model: descriptor at word %u: attribute records %u..%u beyond the %u records", w, a,
+                              a + vx__popc8(valid) - 1, m->attr_count);
+                goto out;
+            }
+        }
+    }
+    for (size_t w = 0; w < nw; w++)
+        if (role[w] == ROLE_NONE) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
+            goto out;
+        }
+
+    /* ascending: occupied extent of every (descriptor, level) pair */
+    pidx = (uint32_t*)vx_calloc(NULL, nw, sizeof *pidx);
+    size_t npairs = 0;
+    if (!pidx) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
+        goto out;
+    }
+    for (size_t w = 0; w < nw; w++) {
+        pidx[w] = (uint32_t)npairs;
+        if (role[w] == ROLE_DESC) npairs += (size_t)__builtin_popcount(lv[w]);
+        if (npairs > 0xFFFFFFF0u) {
+            res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
+            goto out;
+        }
+    }
+    pe = (pair_ext*)vx_calloc(NULL, npairs ? npairs : 1, sizeof *pe);
+    if (!pe) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
+        goto out;
+    }
+    for (uint32_t w = 0; w < nw; w++) {
+        if (role[w] != ROLE_DESC) continue;
+        uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+        uint32_t slot = 0, b = 0;
+        if (valid & ~leaf) block_of(m, w, d, &slot, &b);
+        uint32_t pi = pidx[w];
+        for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++) {
+            if (!(lv[w] >> l & 1u)) continue;
+            pair_ext* P = &pe[pi++];
+            uint32_t half = 1u << (l - 1);
+            P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
+            uint32_t k = 0;
+            for (uint32_t o = 0; o < 8; o++) {
+                if (!(valid >> o & 1u)) continue;
+                uint32_t off[3] = {(o & 1u) * half, (o >> 1 & 1u) * half, (o >> 2 & 1u) * half};
+                uint64_t cells;
+                uint32_t cmn[3], cmx[3];
+                if (leaf >> o & 1u) {
+                    cells = (uint64_t)1 << (3 * (l - 1));
+                    for (int i = 0; i < 3; i++) cmn[i] = off[i], cmx[i] = off[i] + half;
+                } else {
+                    uint32_t c = b + k++;
+                    /* the child's pair for level l-1: rank of that bit in its mask */
+                    const pair_ext* C = &pe[pidx[c] + (uint32_t)__builtin_popcount(lv[c] & ((1u << (l - 1)) - 1))];
+                    cells = C->cells;
+                    for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
+                }
+                P->cells += cells;
+                for (int i = 0; i < 3; i++) {
+                    if (cmn[i] < P->mn[i]) P->mn[i] = cmn[i];
+                    if (cmx[i] > P->mx[i]) P->mx[i] = cmx[i];
+                }
+            }
+        }
+    }
+    {
+        const pair_ext* R = &pe[pidx[m->root]];
+        if (R->mx[0] > m->size[0] || R->mx[1] > m->size[1] || R->mx[2] > m->size[2]) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                          "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", R->mx[0] - 1, R->mx[1] - 1,
+                          R->mx[2] - 1, m->size[0], m->size[1], m->size[2]);
+            goto out;
+        }
+        if (R->cells != m->voxel_count) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: voxel_count %llu, the tree holds %llu",
+                          (unsigned long long)m->voxel_count, (unsigned long long)R->cells);
+            goto out;
+        }
+        if (ext) {
+            ext->cells = R->cells;
+            memcpy(ext->min, R->mn, sizeof ext->min);
+            memcpy(ext->max, R->mx, sizeof ext->max);
+        }
+    }
+out:
+    vx_free(NULL, lv);
+    vx_free(NULL, role);
+    vx_free(NULL, pidx);
+    vx_free(NULL, pe);
+    return res;
+}
+
+vx_result vx_svo_validate_model(const vx_svo_model* m, vx_error* err) { return vx__svo_analyze(m, NULL, err); }
+
+static bool finite12(const double* v) {
+    for (int i = 0; i < 12; i++)
+        if (!isfinite(v[i])) return false;
+    return true;
+}
+static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
+
+vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) {
+    if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
+    if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
+        (s->material_count && !s->materials))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        vx_result r = vx_svo_validate_model(&s->models[i], err);
+        if (r != VX_OK) {
+            char p[32];
+            snprintf(p, sizeof p, "model %u", i);
+            vx_error_prefix(err, p);
+            return r;
+        }
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        if (in->model >= s->model_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u uses model %u of %u", i, in->model,
+                           s->model_count);
+        if (in->layer != UINT32_MAX && in->layer >= s->layer_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u is on layer %u of %u", i, in->layer,
+                           s->layer_count);
+        if (!finite12(in->xform))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u has a non-finite transform", i);
+        if (in->flags & ~(uint32_t)VX_SVO_INSTANCE_HIDDEN)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u has unknown flags 0x%x", i, in->flags);
+        if (!has_nul(in->name, sizeof in->name))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u name is not NUL-terminated", i);
+    }
+    for (uint32_t i = 0; i < s->layer_count; i++) {
+        if (!has_nul(s->layers[i].name, sizeof s->layers[i].name))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: layer %u name is not NUL-terminated", i);
+        if (s->layers[i].flags & ~(uint32_t)VX_SVO_LAYER_HIDDEN)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: layer %u has unknown flags 0x%x", i,
+                           s->layers[i].flags);
+    }
+    for (uint32_t i = 0; i < s->material_count; i++) {
+        const vx_svo_material* mt = &s->materials[i];
+        if (mt->dict_size == 0) continue;
+        if (!mt->dict) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: material %u dictionary is NULL", i);
+        if (mt->dict[mt->dict_size - 1] != 0)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: material %u dictionary does not end with NUL", i);
+        uint32_t nul = 0;
+        for (uint32_t k = 0; k < mt->dict_size; k++) nul += mt->dict[k] == 0;
+        if (nul & 1u)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: material %u dictionary has a key without a value", i);
+    }
+    if (!finite12(s->world_from_grid))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: world_from_grid is not finite");
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(s->bounds_min[i]) || !isfinite(s->bounds_max[i]) || s->bounds_min[i] > s->bounds_max[i])
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: bounds on axis %d are not finite or inverted", i);
+    return VX_OK;
+}
+
+/* ---- decoding ---------------------------------------------------------------------------- */
+
+typedef struct dec {
+    const vx_svo_model* m;
+    vx_svo_voxel_fn fn;
+    void* user;
+    bool stop;
+    vx_error* err;
+    vx_result res;
+} dec;
+
+static void emit_cube(dec* D, uint32_t x0, uint32_t y0, uint32_t z0, uint32_t lvl, uint32_t attr) {
+    uint64_t n = (uint64_t)1 << (3 * lvl);
+    for (uint64_t c = 0; c < n && !D->stop; c++)
+        if (!D->fn(D->user, x0 + vx__compact3(c), y0 + vx__compact3(c >> 1), z0 + vx__compact3(c >> 2), attr)) D->stop = true;
+}
+
+/* Recursion depth is bounded by the model depth (<= 21). */
+static void visit(dec* D, uint32_t w, uint32_t lvl, uint32_t x0, uint32_t y0, uint32_t z0) {
+    const vx_svo_model* m = D->m;
+    uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    uint32_t nn = vx__popc8(valid & ~leaf), blen = nn + (m->attrs ? 1u : 0u);
+    uint32_t slot = 0, b = 0, a = 0;
+    if (blen) {
+        /* cheap guards so that an unvalidated model cannot read out of bounds */
+        if (!block_of(m, w, d, &slot, &b) || (uint64_t)b + blen > w || lvl == 0 || (lvl == 1 && nn)) {
+            D->res = vx_fail(D->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: bad descriptor at word %u", w);
+            D->stop = true;
+            return;
+        }
+        if (m->attrs) a = m->nodes[b + nn];
+    }
+    uint32_t half = 1u << (lvl - 1), k = 0;
+    for (uint32_t o = 0; o < 8 && !D->stop; o++) {
+        if (!(valid >> o & 1u)) continue;
+        uint32_t x = x0 + (o & 1u) * half, y = y0 + (o >> 1 & 1u) * half, z = z0 + (o >> 2 & 1u) * half;
+        if (leaf >> o & 1u) {
+            uint32_t attr = m->attrs ? a + vx__popc8(valid & ((1u << o) - 1u)) : 0;
+            emit_cube(D, x, y, z, lvl - 1, attr);
+        } else {
+            visit(D, b + k++, lvl - 1, x, y, z);
+        }
+    }
+}
+
+vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* user, vx_error* err) {
+    if (!m || !fn) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo decode: null argument");
+    if (m->depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
+    dec D = {m, fn, user, false, err, VX_OK};
+    if (m->root == VX_SVO_ROOT_EMPTY) return VX_OK;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        emit_cube(&D, 0, 0, 0, m->depth, m->attrs ? m->root_attr : 0);
+        return VX_OK;
+    }
+    if (m->root >= m->node_count || !m->nodes || m->depth == 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: root word %u of %u", m->root, m->node_count);
+    visit(&D, m->root, m->depth, 0, 0, 0);
+    return D.res;
+}
+
+uint32_t vx_svo_attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr) {
+    if (!m || attr >= m->attr_count) return 0xFFFFFFFFu;
+    if ((m->attrs & VX_ATTR_RGBA8) && m->rgba) return m->rgba[attr];
+    if ((m->attrs & VX_ATTR_PALETTE) && m->palette) return s ? s->palette[m->palette[attr]] : 0xFFFFFFFFu;
+    return 0xFFFFFFFFu;
+}

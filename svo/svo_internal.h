@@ -1,0 +1,58 @@
+/* svo/svo_internal.h - declarations shared by the svo_*.c files (not public). */
+#ifndef VX_SVO_INTERNAL_H
+#define VX_SVO_INTERNAL_H
+
+#include "svo/svo.h"
+
+/* Largest relative child pointer the builder writes before it switches to a
+ * far slot. The encoding allows 32767 (15 bits); tests lower it so that far
+ * pointers appear in small trees. Not thread-safe by design: test-only. */
+extern uint32_t vx__svo_far_limit;
+#define VX__SVO_PTR_MAX 0x7FFFu
+
+/* Bits 3i of k gathered into an integer (x of a Morton key; k >> 1 gives y). */
+static inline uint32_t vx__compact3(uint64_t n) {
+    n &= 0x1249249249249249ull;
+    n = (n ^ (n >> 2)) & 0x30c30c30c30c30c3ull;
+    n = (n ^ (n >> 4)) & 0xf00f00f00f00f00full;
+    n = (n ^ (n >> 8)) & 0x00ff0000ff0000ffull;
+    n = (n ^ (n >> 16)) & 0x00ff00000000ffffull;
+    n = (n ^ (n >> 32)) & 0x1fffffull;
+    return (uint32_t)n;
+}
+/* Inverse of vx__compact3: spreads the low 21 bits to every third bit. */
+static inline uint64_t vx__spread3(uint32_t v) {
+    uint64_t x = v & 0x1fffffu;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+}
+static inline uint64_t vx__morton(uint32_t x, uint32_t y, uint32_t z) {
+    return vx__spread3(x) | (vx__spread3(y) << 1) | (vx__spread3(z) << 2);
+}
+
+static inline uint32_t vx__popc8(uint32_t m) { return (uint32_t)__builtin_popcount(m & 0xFFu); }
+
+/* Occupied extent of a model, from its tree without expanding leaves or
+ * shared subtrees: cells, and min (inclusive) / max (exclusive) corner. */
+typedef struct vx__svo_extent {
+    uint64_t cells;
+    uint32_t min[3], max[3];
+} vx__svo_extent;
+
+/* Validates m (as vx_svo_validate_model) and, when ext is non-NULL, returns
+ * its occupied extent. */
+vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* err);
+
+/* The bounds vx_svo_scene_update_bounds would store, without modifying s
+ * (the file writer omits bounds that equal them; the reader recomputes). */
+void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]);
+
+/* Octahedral normal helpers (2 x snorm16, x in the low half). */
+void vx__oct_decode(uint32_t v, float n[3]);
+uint32_t vx__oct_encode(const float n[3]);
+
+#endif

@@ -1,0 +1,16 @@
+# Mesh voxelizer tests (brute-force reference) and the glTF reader fuzz target.
+if(TARGET vx_conv_mesh_core)
+  vx_add_test(mesh_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/mesh_test.c LIBS vx_conv_mesh_core m)
+endif()
+if(TARGET vx_conv_mesh)
+  vx_add_test(mesh_scene_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/mesh_scene_test.c LIBS vx_conv_mesh m)
+endif()
+if(TARGET vx_conv_mesh_core)
+  set(VX_GLTF_SEEDS "")
+  foreach(f aleph_Box.glb tinygltf_box01.glb rtxgi_furnace.glb rtxgi_cornell.glb rtxgi_two-rooms.glb
+            tinygltf_CubeImageUriSpaces/CubeImageUriSpaces.gltf)
+    list(APPEND VX_GLTF_SEEDS ${VX_CORPUS_DIR}/gltf/${f})
+  endforeach()
+  vx_add_fuzz(gltf_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/gltf_fuzz.c LIBS vx_conv_mesh_core ARGS -n 300
+              SEEDS ${VX_GLTF_SEEDS})
+endif()

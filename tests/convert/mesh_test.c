@@ -1,0 +1,478 @@
+/* tests/convert/mesh_test.c - the mesh voxelizer against a brute-force
+ * reference: every cell of the grid tested against every triangle with the
+ * separating-axis test (13 axes, projections of all 8 box corners and 3
+ * vertices, double precision) - a code path independent of the voxelizer's
+ * slab clipping. Only the grid definition (vx_conv_mesh_grid_make and
+ * g = (p - min) / h) is shared, because it is the specification. */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "convert/mesh.h"
+#include "formats/gltf.h"
+#include "tests/test.h"
+
+/* ---- reference ----------------------------------------------------------------- */
+
+static void cross3(const double* a, const double* b, double* o) {
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Closed triangle vs closed box [lo, lo+1]^3: intersect iff no axis separates. */
+static bool sat_overlap(const double* t, const double* lo) {
+    double e[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, f[3][3], axes[13][3];
+    int na = 0;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++) f[k][c] = t[3 * ((k + 1) % 3) + c] - t[3 * k + c];
+    for (int k = 0; k < 3; k++) memcpy(axes[na++], e[k], sizeof axes[0]);
+    cross3(f[0], f[1], axes[na++]);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) cross3(e[a], f[b], axes[na++]);
+    for (int x = 0; x < na; x++) {
+        const double* A = axes[x];
+        double tmin = INFINITY, tmax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
+        for (int v = 0; v < 3; v++) {
+            double p = A[0] * t[3 * v] + A[1] * t[3 * v + 1] + A[2] * t[3 * v + 2];
+            tmin = fmin(tmin, p);
+            tmax = fmax(tmax, p);
+        }
+        for (int c = 0; c < 8; c++) {
+            double p = A[0] * (lo[0] + (c & 1)) + A[1] * (lo[1] + ((c >> 1) & 1)) + A[2] * (lo[2] + ((c >> 2) & 1));
+            bmin = fmin(bmin, p);
+            bmax = fmax(bmax, p);
+        }
+        if (tmax < bmin || tmin > bmax) return false;
+    }
+    return true;
+}
+
+static size_t cell_index(const vx_conv_mesh_grid* g, uint32_t x, uint32_t y, uint32_t z) {
+    return x + (size_t)g->size[0] * (y + (size_t)g->size[1] * z);
+}
+
+/* Bitmap of the reference cells. Every cell of the grid is visited for every
+ * triangle; the SAT's three box axes come first so that separated cells cost
+ * one comparison. */
+static uint8_t* reference(const vx_gltf_mesh* m, const vx_conv_mesh_grid* g) {
+    size_t n = (size_t)g->size[0] * g->size[1] * g->size[2];
+    uint8_t* bits = (uint8_t*)calloc(n, 1);
+    for (size_t t = 0; t < m->tri_count; t++) {
+        double v[9], lo[3], hi[3];
+        for (int k = 0; k < 9; k++) v[k] = ((double)m->pos[9 * t + k] - g->min[k % 3]) / g->h;
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(fmin(v[a], v[3 + a]), v[6 + a]);
+            hi[a] = fmax(fmax(v[a], v[3 + a]), v[6 + a]);
+        }
+        for (uint32_t z = 0; z < g->size[2]; z++) {
+            if (z + 1.0 < lo[2] || z > hi[2]) continue;
+            for (uint32_t y = 0; y < g->size[1]; y++) {
+                if (y + 1.0 < lo[1] || y > hi[1]) continue;
+                for (uint32_t x = 0; x < g->size[0]; x++) {
+                    if (x + 1.0 < lo[0] || x > hi[0]) continue;
+                    double c[3] = {x, y, z};
+                    if (sat_overlap(v, c)) bits[cell_index(g, x, y, z)] = 1;
+                }
+            }
+        }
+    }
+    return bits;
+}
+
+/* Voxelizes with desc and compares with the reference; returns mismatches. */
+static size_t compare(const vx_gltf_mesh* m, vx_conv_mesh_desc desc, size_t* cells_out) {
+    vx_conv_mesh_grid g;
+    uint32_t* xyz = NULL;
+    size_t count = 0;
+    vx_error err = {0};
+    vx_result r = vx_conv_mesh_cells(&desc, m, &g, &xyz, NULL, &count, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) return SIZE_MAX;
+    uint8_t* ref = reference(m, &g);
+    size_t n = (size_t)g.size[0] * g.size[1] * g.size[2];
+    uint8_t* got = (uint8_t*)calloc(n, 1);
+    size_t bad = 0, shown = 0;
+    for (size_t i = 0; i < count; i++) {
+        uint32_t x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
+        if (x >= g.size[0] || y >= g.size[1] || z >= g.size[2]) { bad++; continue; }
+        size_t c = cell_index(&g, x, y, z);
+        if (got[c]) bad++; /* duplicate */
+        got[c] = 1;
+    }
+    for (size_t c = 0; c < n; c++)
+        if (got[c] != ref[c]) {
+            if (shown++ < 5)
+                fprintf(stderr, "  cell %zu %zu %zu: voxelizer %d reference %d\n", c % g.size[0],
+                        (c / g.size[0]) % g.size[1], c / ((size_t)g.size[0] * g.size[1]), got[c], ref[c]);
+            bad++;
+        }
+    if (cells_out) *cells_out = count;
+    free(ref);
+    free(got);
+    free(xyz);
+    return bad;
+}
+
+/* ---- meshes ---------------------------------------------------------------------- */
+
+static vx_gltf_mesh soup(const float* pos, size_t tris) {
+    vx_gltf_mesh m;
+    memset(&m, 0, sizeof m);
+    m.tri_count = tris;
+    m.pos = (float*)pos;
+    return m;
+}
+
+static void quad(float* out, const float* a, const float* b, const float* c, const float* d) {
+    const float* v[6] = {a, b, c, a, c, d};
+    for (int i = 0; i < 6; i++) memcpy(out + 3 * i, v[i], 12);
+}
+
+/* 12 triangles of the box [lo, hi]; skip: a triangle index left out (hole), -1 none */
+static size_t box(float* out, const float* lo, const float* hi, int skip) {
+    float c[8][3];
+    for (int i = 0; i < 8; i++)
+        for (int a = 0; a < 3; a++) c[i][a] = (i >> a) & 1 ? hi[a] : lo[a];
+    static const int f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+    float tmp[36 * 3];
+    for (int i = 0; i < 6; i++) quad(tmp + 18 * i, c[f[i][0]], c[f[i][1]], c[f[i][2]], c[f[i][3]]);
+    size_t n = 0;
+    for (int t = 0; t < 12; t++) {
+        if (t == skip) continue;
+        memcpy(out + 9 * n, tmp + 9 * t, 36);
+        n++;
+    }
+    return n;
+}
+
+static uint64_t rng_s = 0x243F6A8885A308D3ull;
+static double rnd(void) {
+    rng_s ^= rng_s << 13;
+    rng_s ^= rng_s >> 7;
+    rng_s ^= rng_s << 17;
+    return (double)(rng_s >> 11) / 9007199254740992.0;
+}
+
+/* ---- tests ------------------------------------------------------------------------- */
+
+static void load(const char* rel, vx_gltf_mesh* m, bool* ok) {
+    *ok = false;
+    const char* p = vx_test_corpus(rel);
+    if (!p) return;
+    vx_error err = {0};
+    vx_result r = vx_gltf_read_file(&(vx_gltf_read_desc){0}, p, m, &err);
+    CHECKF(r == VX_OK, "%s: %s", rel, err.msg);
+    *ok = r == VX_OK;
+}
+
+static void test_corpus_box(void) {
+    vx_gltf_mesh m;
+    bool ok;
+    load("gltf/tinygltf_box01.glb", &m, &ok);
+    if (!ok) SKIP("corpus gltf/tinygltf_box01.glb not found");
+    CHECK(m.tri_count == 12);
+    for (uint32_t res = 16; res <= 128; res *= 2) {
+        size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = res}, &cells);
+        CHECKF(bad == 0, "box01 res %u: %zu mismatches of %zu cells", res, bad, cells);
+        CHECK(cells > 0);
+    }
+    vx_gltf_mesh_free(&m);
+}
+
+static void test_corpus_duck(void) {
+    vx_gltf_mesh m;
+    bool ok;
+    load("gltf/julian_Duck.glb", &m, &ok);
+    if (!ok) SKIP("corpus gltf/julian_Duck.glb not found");
+    CHECK(m.tri_count == 4212);
+    CHECK(m.uv != NULL);
+    static const uint32_t res[] = {16, 27, 48};
+    for (int i = 0; i < 3; i++) {
+        size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = res[i]}, &cells);
+        CHECKF(bad == 0, "duck res %u: %zu mismatches of %zu cells", res[i], bad, cells);
+    }
+    vx_gltf_mesh_free(&m);
+}
+
+/* Faces exactly on cell boundaries set the cells on both sides. */
+static void test_boundary_faces(void) {
+    float pos[9 * 40];
+    float lo[3] = {0, 0, 0}, hi[3] = {8, 8, 8};
+    size_t n = box(pos, lo, hi, -1);
+    /* an inner quad on the plane x = 3 (a cell boundary at res 8), y,z in [2, 5] */
+    float a[3] = {3, 2, 2}, b[3] = {3, 5, 2}, c[3] = {3, 5, 5}, d[3] = {3, 2, 5};
+    quad(pos + 9 * n, a, b, c, d);
+    n += 2;
+    vx_gltf_mesh m = soup(pos, n);
+    size_t cells = 0;
+    CHECK(compare(&m, (vx_conv_mesh_desc){.res = 8}, &cells) == 0);
+    /* hand count: the box shell fills the 8^3 grid's outer layer (the max
+     * faces lie on the grid's max boundary and only set the cells below);
+     * the inner quad sets x = 2 and 3 for y, z in [1, 5] */
+    uint32_t* xyz = NULL;
+    size_t count = 0;
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 8}, &m, NULL, &xyz, NULL, &count, NULL) == VX_OK);
+    size_t shell = 8 * 8 * 8 - 6 * 6 * 6, inner = 0;
+    for (size_t i = 0; i < count; i++) {
+        uint32_t x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
+        bool on_shell = x == 0 || y == 0 || z == 0 || x == 7 || y == 7 || z == 7;
+        if (!on_shell) inner++;
+        if (!on_shell) CHECK((x == 2 || x == 3) && y >= 1 && y <= 5 && z >= 1 && z <= 5);
+    }
+    CHECK(count == shell + inner);
+    CHECK(inner == 2 * 5 * 5); /* x = 2, 3; y, z in 1..5 (none on the shell) */
+    free(xyz);
+    /* the same at other resolutions and with the box off the origin */
+    for (uint32_t res = 16; res <= 64; res *= 2) {
+        float lo2[3] = {-4, 2, 6}, hi2[3] = {12, 10, 10};
+        size_t k = box(pos, lo2, hi2, -1);
+        float p[4][3] = {{-4, 6, 6}, {12, 6, 6}, {12, 6, 10}, {-4, 6, 10}}; /* plane y = 6 */
+        quad(pos + 9 * k, p[0], p[1], p[2], p[3]);
+        vx_gltf_mesh m2 = soup(pos, k + 2);
+        CHECKF(compare(&m2, (vx_conv_mesh_desc){.res = res}, NULL) == 0, "res %u", res);
+    }
+}
+
+/* Slivers and zero-area triangles (segments, points). */
+static void test_slivers_degenerate(void) {
+    float pos[9 * 64];
+    size_t n = 0;
+    for (int i = 0; i < 20; i++) { /* thin slivers */
+        float a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = (float)(rnd() * 10);
+            b[k] = (float)(rnd() * 10);
+            c[k] = a[k] + (b[k] - a[k]) * 0.5f + (float)(rnd() * 1e-4);
+        }
+        memcpy(pos + 9 * n, a, 12);
+        memcpy(pos + 9 * n + 3, b, 12);
+        memcpy(pos + 9 * n + 6, c, 12);
+        n++;
+    }
+    /* exactly collinear (a segment), and a point on a grid corner; bounds [0, 10] */
+    float seg[9] = {1, 1, 1, 9, 5, 3, 5, 3, 2};
+    float pt[9] = {5, 5, 5, 5, 5, 5, 5, 5, 5};
+    float span[9] = {0, 0, 0, 10, 10, 10, 0, 0, 0}; /* fixes the bounds */
+    memcpy(pos + 9 * n++, seg, 36);
+    memcpy(pos + 9 * n++, pt, 36);
+    memcpy(pos + 9 * n++, span, 36);
+    vx_gltf_mesh m = soup(pos, n);
+    for (uint32_t res = 16; res <= 128; res *= 2) {
+        size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = res}, &cells);
+        CHECKF(bad == 0, "slivers res %u: %zu mismatches of %zu", res, bad, cells);
+    }
+    /* the point alone: at res 10 it sits on the corner shared by 8 cells */
+    float only[18] = {5, 5, 5, 5, 5, 5, 5, 5, 5, 0, 0, 0, 10, 10, 10, 10, 10, 10};
+    vx_gltf_mesh p = soup(only, 2);
+    uint32_t* xyz = NULL;
+    size_t count = 0;
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 10}, &p, NULL, &xyz, NULL, &count, NULL) == VX_OK);
+    size_t corner = 0;
+    for (size_t i = 0; i < count; i++)
+        corner += xyz[3 * i] >= 4 && xyz[3 * i] <= 5 && xyz[3 * i + 1] >= 4 && xyz[3 * i + 1] <= 5 &&
+                  xyz[3 * i + 2] >= 4 && xyz[3 * i + 2] <= 5;
+    CHECK(corner == 8);
+    free(xyz);
+}
+
+/* One triangle spanning the grid, across bricks and (region = 64) models;
+ * random soups. */
+static void test_large_and_random(void) {
+    float big[9] = {0, 0, 0, 100, 7.3f, 31.1f, 13.7f, 100, 100};
+    vx_gltf_mesh m = soup(big, 1);
+    for (uint32_t res = 16; res <= 128; res *= 2) {
+        size_t cells = 0;
+        CHECKF(compare(&m, (vx_conv_mesh_desc){.res = res, .region = 64, .threads = 2}, &cells) == 0, "res %u", res);
+    }
+    float pos[9 * 300];
+    for (int i = 0; i < 9 * 300; i++) pos[i] = (float)(rnd() * 50 - 25);
+    for (int i = 0; i < 300; i++) /* small triangles near each first vertex */
+        for (int k = 3; k < 9; k++) pos[9 * i + k] = pos[9 * i + k % 3] + (float)(rnd() * 6 - 3);
+    m = soup(pos, 300);
+    static const uint32_t res[] = {16, 33, 100, 128};
+    for (int i = 0; i < 4; i++)
+        CHECKF(compare(&m, (vx_conv_mesh_desc){.res = res[i], .threads = 1 + (uint32_t)i % 2}, NULL) == 0, "res %u",
+               res[i]);
+}
+
+static void test_nan(void) {
+    float pos[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, NAN, 0, 0, 1, 1};
+    vx_gltf_mesh m = soup(pos, 2);
+    uint32_t* xyz = NULL;
+    size_t count = 0;
+    vx_error err = {0};
+    CHECK(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 16}, &m, NULL, &xyz, NULL, &count, &err) == VX_ERR_BAD_FORMAT);
+    CHECK(strstr(err.msg, "NaN") != NULL);
+    pos[4] = INFINITY;
+    pos[13] = 0;
+    CHECK(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 16}, &m, NULL, &xyz, NULL, &count, &err) == VX_ERR_BAD_FORMAT);
+}
+
+/* --solid on a box with a hole (one triangle missing) inside a larger grid:
+ * the result is the surface plus every cell whose centre is inside the box
+ * (the hole breaks the parity along one axis only). */
+static void test_solid_hole(void) {
+    float pos[9 * 16];
+    float lo[3] = {2.25f, 3.25f, 1.75f}, hi[3] = {9.75f, 8.25f, 6.25f};
+    for (int skip = -1; skip < 12; skip += 5) {
+        size_t n = box(pos, lo, hi, skip);
+        /* two tiny triangles in opposite corners extend the bounds to [0, 12]^3 */
+        float far[18] = {0, 0, 0, 0.1f, 0, 0, 0, 0.1f, 0, 12, 12, 12, 11.9f, 12, 12, 12, 11.9f, 12};
+        memcpy(pos + 9 * n, far, 72);
+        n += 2;
+        vx_gltf_mesh m = soup(pos, n);
+        uint32_t* xyz = NULL;
+        size_t count = 0;
+        vx_conv_mesh_grid g;
+        REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 12, .solid = true}, &m, &g, &xyz, NULL, &count, NULL) ==
+                VX_OK);
+        uint8_t* got = (uint8_t*)calloc(12 * 12 * 12, 1);
+        for (size_t i = 0; i < count; i++) got[cell_index(&g, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2])] = 1;
+        /* surface cells (reference) plus the cells whose centre is inside the box */
+        uint8_t* ref_far = reference(&m, &g);
+        size_t bad = 0;
+        for (uint32_t z = 0; z < 12; z++)
+            for (uint32_t y = 0; y < 12; y++)
+                for (uint32_t x = 0; x < 12; x++) {
+                    bool in_box = x >= 2 && x <= 9 && y >= 3 && y <= 7 && z >= 2 && z <= 5;
+                    size_t c = cell_index(&g, x, y, z);
+                    bool want = in_box || ref_far[c];
+                    if (got[c] != want && bad < 10) fprintf(stderr, "  cell %u %u %u: got %d want %d\n", x, y, z, got[c], want);
+                    bad += got[c] != want;
+                }
+        CHECKF(bad == 0, "solid box (hole %d): %zu cells differ", skip, bad);
+        free(ref_far);
+        free(got);
+        free(xyz);
+    }
+}
+
+static double srgb_encode(double l) { return l <= 0.0031308 ? 12.92 * l : 1.055 * pow(l, 1 / 2.4) - 0.055; }
+
+/* A uniform material colour comes out as its sRGB encoding in every cell;
+ * texture and vertex colour multiply in linear space. */
+static void test_colors(void) {
+    float pos[9 * 12];
+    float lo[3] = {0, 0, 0}, hi[3] = {3, 2, 1};
+    size_t n = box(pos, lo, hi, -1);
+    uint32_t mat[12] = {0};
+    vx_gltf_material mtl = {{0.5f, 0.25f, 1.0f, 0.75f}, -1, 0, 0};
+    vx_gltf_mesh m = soup(pos, n);
+    m.material = mat;
+    m.material_count = 1;
+    m.materials = &mtl;
+    uint32_t *xyz = NULL, *rgba = NULL;
+    size_t count = 0;
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 24}, &m, NULL, &xyz, &rgba, &count, NULL) == VX_OK);
+    REQUIRE(rgba != NULL);
+    uint32_t want = (uint32_t)lrint(srgb_encode(0.5) * 255) | (uint32_t)lrint(srgb_encode(0.25) * 255) << 8 |
+                    255u << 16 | (uint32_t)lrint(0.75 * 255) << 24;
+    size_t bad = 0;
+    for (size_t i = 0; i < count; i++) bad += rgba[i] != want;
+    CHECKF(bad == 0, "%zu of %zu cells not %08x (first %08x)", bad, count, want, rgba[0]);
+    free(xyz);
+    free(rgba);
+    /* a 1x1 texture (sRGB 200 100 50) times vertex colour 0.5 grey (linear) */
+    uint8_t texel[4] = {200, 100, 50, 255};
+    vx_gltf_image img = {1, 1, texel};
+    vx_gltf_material tm = {{1, 1, 1, 1}, 0, VX_GLTF_WRAP_REPEAT, VX_GLTF_WRAP_CLAMP};
+    float uv[6 * 12], col[12 * 12];
+    for (int i = 0; i < 6 * 12; i++) uv[i] = (float)(rnd() * 4 - 2);
+    for (int i = 0; i < 12 * 12; i++) col[i] = (i % 4 == 3) ? 1.f : 0.5f;
+    m.materials = &tm;
+    m.images = &img;
+    m.image_count = 1;
+    m.uv = uv;
+    m.color = col;
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 24}, &m, NULL, &xyz, &rgba, &count, NULL) == VX_OK);
+    double lin[3] = {pow((200 / 255.0 + 0.055) / 1.055, 2.4), pow((100 / 255.0 + 0.055) / 1.055, 2.4),
+                     pow((50 / 255.0 + 0.055) / 1.055, 2.4)};
+    uint32_t want2 = 0xFF000000u;
+    for (int k = 0; k < 3; k++) want2 |= (uint32_t)lrint(srgb_encode(0.5 * lin[k]) * 255) << (8 * k);
+    bad = 0;
+    for (size_t i = 0; i < count; i++) {
+        int d = 0;
+        for (int k = 0; k < 4; k++) d += abs((int)((rgba[i] >> (8 * k)) & 255) - (int)((want2 >> (8 * k)) & 255));
+        bad += d > 1; /* float accumulation may move one code */
+    }
+    CHECKF(bad == 0, "%zu of %zu textured cells not %08x (first %08x)", bad, count, want2, rgba[0]);
+    free(xyz);
+    free(rgba);
+    /* no material, no colours: geometry only */
+    vx_gltf_mesh g = soup(pos, n);
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 8}, &g, NULL, &xyz, &rgba, &count, NULL) == VX_OK);
+    CHECK(rgba == NULL);
+    free(xyz);
+}
+
+/* Every glTF file of the corpus loads and voxelizes, or fails with the
+ * documented error (the Draco box). */
+static void test_corpus_all(void) {
+    static const char* files[] = {"gltf/aleph_white-claw-can.glb", "gltf/julian_Duck.glb",
+                                  "gltf/khronos_Avocado_glTF/Avocado.gltf", "gltf/khronos_DamagedHelmet.glb",
+                                  "gltf/mjurczyk_shuttle.glb", "gltf/rtxgi_cornell.glb", "gltf/rtxgi_furnace.glb",
+                                  "gltf/rtxgi_tunnel.glb", "gltf/rtxgi_two-rooms.glb", "gltf/tinygltf_box01.glb",
+                                  "gltf/tinygltf_Cube/Cube.gltf",
+                                  "gltf/tinygltf_CubeImageUriSpaces/CubeImageUriSpaces.gltf",
+                                  "gltf/tinygltf_CubeImageUriSpaces/CubeImageUriMultipleSpaces.gltf"};
+    int found = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        const char* p = vx_test_corpus(files[i]);
+        if (!p) continue;
+        found++;
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_gltf_read_file(&(vx_gltf_read_desc){0}, p, &m, &err);
+        CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
+        if (r) continue;
+        CHECKF(m.tri_count > 0, "%s", files[i]);
+        uint32_t *xyz = NULL, *rgba = NULL;
+        size_t count = 0;
+        r = vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 32}, &m, NULL, &xyz, &rgba, &count, &err);
+        CHECKF(r == VX_OK && count > 0, "%s: %s", files[i], err.msg);
+        fprintf(stderr, "  %s: %zu triangles, %u materials, %u images, %zu cells at res 32, %s\n", files[i],
+                m.tri_count, m.material_count, m.image_count, count, rgba ? "colours" : "geometry only");
+        free(xyz);
+        free(rgba);
+        vx_gltf_mesh_free(&m);
+    }
+    const char* draco = vx_test_corpus("gltf/aleph_Box.glb");
+    if (draco) {
+        found++;
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        CHECK(vx_gltf_read_file(&(vx_gltf_read_desc){0}, draco, &m, &err) == VX_ERR_UNSUPPORTED);
+        CHECKF(strstr(err.msg, "KHR_draco_mesh_compression") != NULL, "%s", err.msg);
+    }
+    if (!found) SKIP("no glTF corpus");
+}
+
+/* Textures: the Cube's base colour is decoded, sampled through uv */
+static void test_scene_select(void) {
+    const char* p = vx_test_corpus("gltf/julian_Duck.glb");
+    if (!p) SKIP("no Duck");
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    CHECK(vx_gltf_read_file(&(vx_gltf_read_desc){.scene_set = true, .scene = 7}, p, &m, &err) == VX_ERR_INVALID_ARG);
+    REQUIRE(vx_gltf_read_file(&(vx_gltf_read_desc){.scene_set = true, .scene = 0}, p, &m, &err) == VX_OK);
+    CHECK(m.image_count == 1 && m.images[0].rgba != NULL && m.images[0].width > 0);
+    vx_gltf_mesh_free(&m);
+    REQUIRE(vx_gltf_read_file(&(vx_gltf_read_desc){.no_images = true}, p, &m, &err) == VX_OK);
+    CHECK(m.uv == NULL);
+    vx_gltf_mesh_free(&m);
+}
+
+int main(void) {
+    RUN(test_boundary_faces);
+    RUN(test_slivers_degenerate);
+    RUN(test_large_and_random);
+    RUN(test_nan);
+    RUN(test_solid_hole);
+    RUN(test_colors);
+    RUN(test_corpus_box);
+    RUN(test_corpus_duck);
+    RUN(test_corpus_all);
+    RUN(test_scene_select);
+    return vx_test_finish();
+}

@@ -1,0 +1,86 @@
+/* tests/render/scenes.h - small scenes built in code for the render tests. */
+#ifndef VX_TEST_RENDER_SCENES_H
+#define VX_TEST_RENDER_SCENES_H
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render.h"
+#include "svo/svo.h"
+
+/* deterministic PRNG */
+static uint32_t ts_rng(uint32_t* s) {
+    *s ^= *s << 13;
+    *s ^= *s >> 17;
+    *s ^= *s << 5;
+    return *s;
+}
+
+/* Builds a model from n cells (xyz triples) with palette indices. */
+static vx_result ts_model(vx_svo_model* m, const uint32_t size[3], const uint32_t* xyz, const uint8_t* pal, size_t n) {
+    uint64_t* keys = malloc((n ? n : 1) * sizeof *keys);
+    if (!keys) return VX_ERR_NOMEM;
+    for (size_t i = 0; i < n; i++) keys[i] = vx_svo_morton(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    vx_svo_voxels v = {.size = {size[0], size[1], size[2]}, .count = n, .keys = keys, .attrs = pal ? VX_ATTR_PALETTE : 0,
+                       .palette = pal};
+    vx_error err = {0};
+    vx_result r = vx_svo_build_model(NULL, &v, m, NULL, &err);
+    if (r) fprintf(stderr, "build: %s\n", err.msg);
+    free(keys);
+    return r;
+}
+
+/* Random model: each cell of size^3 filled with probability pct/100. */
+static vx_result ts_random_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t pct, uint32_t seed) {
+    size_t cap = (size_t)sx * sy * sz, n = 0;
+    uint32_t* xyz = malloc(cap * 12);
+    uint8_t* pal = malloc(cap);
+    if (!xyz || !pal) return VX_ERR_NOMEM;
+    for (uint32_t z = 0; z < sz; z++)
+        for (uint32_t y = 0; y < sy; y++)
+            for (uint32_t x = 0; x < sx; x++)
+                if (ts_rng(&seed) % 100 < pct) {
+                    xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
+                    pal[n++] = (uint8_t)(1 + ts_rng(&seed) % 255);
+                }
+    uint32_t size[3] = {sx, sy, sz};
+    vx_result r = ts_model(m, size, xyz, pal, n);
+    free(xyz);
+    free(pal);
+    return r;
+}
+
+static void ts_palette(vx_svo_scene* s) {
+    s->has_palette = true;
+    uint32_t seed = 99;
+    for (int i = 1; i < 256; i++) s->palette[i] = (ts_rng(&seed) & 0xFFFFFFu) | 0xFF000000u;
+}
+
+/* A scene owning copies of the given models (moved in) and instances. */
+static void ts_scene(vx_svo_scene* s, vx_svo_model* models, uint32_t nm, const vx_svo_instance* inst, uint32_t ni) {
+    vx_svo_scene_init(s, NULL);
+    ts_palette(s);
+    s->models = calloc(nm ? nm : 1, sizeof *s->models);
+    s->instances = calloc(ni ? ni : 1, sizeof *s->instances);
+    if (nm) memcpy(s->models, models, nm * sizeof *models);
+    if (ni) memcpy(s->instances, inst, ni * sizeof *inst);
+    s->model_count = nm;
+    s->instance_count = ni;
+    for (uint32_t i = 0; i < ni; i++) s->instances[i].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(s);
+}
+
+static vx_svo_instance ts_inst(uint32_t model, const double m9[9], double tx, double ty, double tz) {
+    vx_svo_instance in;
+    memset(&in, 0, sizeof in);
+    in.model = model;
+    in.layer = UINT32_MAX;
+    static const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (!m9) m9 = id;
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) in.xform[4 * r + c] = m9[3 * r + c];
+    }
+    in.xform[3] = tx, in.xform[7] = ty, in.xform[11] = tz;
+    return in;
+}
+#endif

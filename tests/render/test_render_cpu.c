@@ -1,0 +1,230 @@
+/* tests/render/test_render_cpu.c - the parts that need no Vulkan device: the
+ * BVH builder, the CPU reference against brute force, desc checks, limits. */
+#include <math.h>
+#include <stdio.h>
+
+#include "tests/test.h"
+#include "tests/render/scenes.h"
+
+static void test_bvh_structure_and_speed(void) {
+    enum { N = 10000 };
+    double* lo = malloc(N * 3 * sizeof(double));
+    double* hi = malloc(N * 3 * sizeof(double));
+    REQUIRE(lo && hi);
+    uint32_t seed = 7;
+    for (int i = 0; i < N; i++)
+        for (int k = 0; k < 3; k++) {
+            double c = (ts_rng(&seed) % 100000) * 0.1, e = 1 + ts_rng(&seed) % 50;
+            lo[3 * i + k] = c, hi[3 * i + k] = c + e;
+        }
+    vx_bvh b;
+    vx_error err = {0};
+    double best = 1e9;
+    for (int rep = 0; rep < 3; rep++) {
+        double t0 = vx_time_now();
+        REQUIRE(vx_bvh_build(lo, hi, N, NULL, &b, &err) == VX_OK);
+        double t = vx_time_now() - t0;
+        if (t < best) best = t;
+        if (rep < 2) vx_bvh_free(&b);
+    }
+    printf("bvh: %d instances built in %.2f ms (best of 3)\n", N, best * 1e3);
+    /* every item exactly once, inside every ancestor's box */
+    uint8_t* seen = calloc(N, 1);
+    uint32_t* stack = malloc(b.node_count * sizeof *stack);
+    uint32_t* parent = malloc(b.node_count * sizeof *parent);
+    REQUIRE(seen && stack && parent);
+    int sp = 0, bad = 0;
+    stack[sp++] = 0;
+    parent[0] = UINT32_MAX;
+    while (sp) {
+        uint32_t n = stack[--sp];
+        const vx_bvh_node* nd = &b.nodes[n];
+        if (nd->count) {
+            CHECK(nd->count <= 4);
+            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+                uint32_t it = b.items[i];
+                seen[it]++;
+                for (uint32_t a = n; a != UINT32_MAX; a = parent[a])
+                    for (int k = 0; k < 3; k++)
+                        if (!(b.nodes[a].lo[k] <= lo[3 * it + k] && b.nodes[a].hi[k] >= hi[3 * it + k])) bad++;
+            }
+        } else {
+            REQUIRE(nd->first + 1 < b.node_count);
+            parent[nd->first] = parent[nd->first + 1] = n;
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
+    }
+    CHECK(bad == 0);
+    for (int i = 0; i < N; i++) CHECK(seen[i] == 1);
+    free(seen), free(stack), free(parent);
+    vx_bvh_free(&b);
+    free(lo), free(hi);
+}
+
+/* Brute force: nearest voxel box along the ray over every filled cell. */
+static void test_cpu_vs_brute_force(void) {
+    vx_svo_model m;
+    REQUIRE(ts_random_model(&m, 7, 6, 5, 30, 1234) == VX_OK);
+    /* collect the cells back through the decoder */
+    typedef struct { uint32_t n; uint32_t c[7 * 6 * 5][3]; } cells_t;
+    static cells_t cells;
+    cells.n = 0;
+    bool cb(void* u, uint32_t x, uint32_t y, uint32_t z, uint32_t a);
+    vx_svo_instance in = ts_inst(0, (const double[9]){0, -1, 0, 1, 0, 0, 0, 0, 1}, 10, 3, -2);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    struct ctx { cells_t* c; } ctx = {&cells};
+    (void)ctx;
+    vx_error err = {0};
+    REQUIRE(vx_svo_decode_model(&s.models[0], cb, &cells, &err) == VX_OK);
+    REQUIRE(cells.n > 10);
+    vx_render_desc d = {.width = 40, .height = 30, .mode = VX_RENDER_DEPTH, .want_hits = true};
+    d.camera.set = true;
+    double eye[3] = {15.5, -3.25, 8.1}, tg[3] = {7, 6.5, 0.5};
+    memcpy(d.camera.eye, eye, sizeof eye);
+    memcpy(d.camera.target, tg, sizeof tg);
+    vx_render_image img;
+    REQUIRE(vx_render_cpu(&s, &d, NULL, &img, &err) == VX_OK);
+    /* rebuild the same rays from the depth image: the hit point must lie on
+     * the hit cell's box, and no cell box may be entered earlier */
+    int checked = 0, wrong = 0, hits = 0;
+    double w[12], inv[12];
+    memcpy(w, s.instances[0].xform, sizeof w);
+    /* invert the rotation (orthonormal) */
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) inv[4 * r + c] = w[4 * c + r];
+    for (int r = 0; r < 3; r++) inv[4 * r + 3] = -(inv[4 * r] * w[3] + inv[4 * r + 1] * w[7] + inv[4 * r + 2] * w[11]);
+    double fwd[3] = {tg[0] - eye[0], tg[1] - eye[1], tg[2] - eye[2]};
+    double fl = sqrt(fwd[0] * fwd[0] + fwd[1] * fwd[1] + fwd[2] * fwd[2]);
+    for (int k = 0; k < 3; k++) fwd[k] /= fl;
+    double up[3] = {0, 0, 1}, right[3] = {fwd[1] * up[2] - fwd[2] * up[1], fwd[2] * up[0] - fwd[0] * up[2],
+                                          fwd[0] * up[1] - fwd[1] * up[0]};
+    double rl = sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+    for (int k = 0; k < 3; k++) right[k] /= rl;
+    double upv[3] = {right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
+                     right[0] * fwd[1] - right[1] * fwd[0]};
+    double th = tan(22.5 * 3.14159265358979323846 / 180), aspect = 40.0 / 30.0;
+    for (uint32_t py = 0; py < 30; py++)
+        for (uint32_t px = 0; px < 40; px++) {
+            double u = ((px + 0.5) / 40) * 2 - 1, v = 1 - ((py + 0.5) / 30) * 2;
+            double dw[3], dl = 0;
+            for (int k = 0; k < 3; k++) dw[k] = fwd[k] + u * right[k] * th * aspect + v * upv[k] * th, dl += dw[k] * dw[k];
+            dl = sqrt(dl);
+            for (int k = 0; k < 3; k++) dw[k] /= dl;
+            double om[3], dm[3];
+            for (int r = 0; r < 3; r++) {
+                om[r] = inv[4 * r] * eye[0] + inv[4 * r + 1] * eye[1] + inv[4 * r + 2] * eye[2] + inv[4 * r + 3];
+                dm[r] = inv[4 * r] * dw[0] + inv[4 * r + 1] * dw[1] + inv[4 * r + 2] * dw[2];
+            }
+            double best = INFINITY;
+            int bi = -1;
+            for (uint32_t i = 0; i < cells.n; i++) {
+                double t0 = 0, t1 = INFINITY;
+                for (int k = 0; k < 3; k++) {
+                    double a = (cells.c[i][k] - om[k]) / dm[k], b = (cells.c[i][k] + 1 - om[k]) / dm[k];
+                    t0 = fmax(t0, fmin(a, b)), t1 = fmin(t1, fmax(a, b));
+                }
+                if (t0 < t1 && t0 < best) best = t0, bi = (int)i;
+            }
+            const vx_render_hit* h = &img.hits[py * 40 + px];
+            checked++;
+            if (bi < 0) {
+                if (h->instance != VX_RENDER_NO_HIT) wrong++;
+                continue;
+            }
+            hits++;
+            bool same = h->instance == 0 && h->cell[0] == cells.c[bi][0] && h->cell[1] == cells.c[bi][1] &&
+                        h->cell[2] == cells.c[bi][2];
+            if (!same || fabs(h->t - best) > 1e-4 * best) {
+                wrong++;
+                fprintf(stderr, "  pixel %u,%u: brute force cell %u,%u,%u t=%g, cpu %u,%u,%u t=%g\n", px, py,
+                        cells.c[bi][0], cells.c[bi][1], cells.c[bi][2], best, h->cell[0], h->cell[1], h->cell[2], h->t);
+            }
+        }
+    printf("cpu vs brute force: %d pixels, %d hits, %d wrong\n", checked, hits, wrong);
+    CHECK(hits > 100);
+    CHECK(wrong == 0);
+    vx_render_image_free(&img);
+    vx_svo_scene_free(&s);
+}
+
+bool cb(void* u, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
+    (void)a;
+    struct { uint32_t n; uint32_t c[7 * 6 * 5][3]; }* c = u;
+    c->c[c->n][0] = x, c->c[c->n][1] = y, c->c[c->n][2] = z;
+    c->n++;
+    return true;
+}
+
+static void test_desc_validation(void) {
+    vx_error err = {0};
+    CHECK(vx_render_desc_validate(&(vx_render_desc){0}, &err) == VX_OK);
+    CHECK(vx_render_desc_validate(&(vx_render_desc){.width = 20000}, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_render_desc_validate(&(vx_render_desc){.mode = VX_RENDER_MODE_NUM}, &err) == VX_ERR_INVALID_ARG);
+    vx_render_desc d = {0};
+    d.camera.set = true; /* eye == target */
+    CHECK(vx_render_desc_validate(&d, &err) == VX_ERR_INVALID_ARG);
+    d.camera.set = false;
+    d.camera.fov = NAN;
+    CHECK(vx_render_desc_validate(&d, &err) == VX_ERR_INVALID_ARG);
+    vx_render_mode m;
+    CHECK(vx_render_mode_parse("iterations", &m) && m == VX_RENDER_ITERATIONS);
+    CHECK(!vx_render_mode_parse("colour", &m));
+}
+
+static void test_too_deep_refused(void) {
+    vx_svo_model m;
+    memset(&m, 0, sizeof m);
+    m.size[0] = m.size[1] = m.size[2] = 1u << 21;
+    m.depth = 22;
+    m.root = VX_SVO_ROOT_LEAF;
+    m.voxel_count = 1;
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_render_image img;
+    vx_error err = {0};
+    CHECK(vx_render_cpu(&s, &(vx_render_desc){.width = 8, .height = 8}, NULL, &img, &err) == VX_ERR_UNSUPPORTED);
+    printf("refused: %s\n", err.msg);
+    CHECK(strstr(err.msg, "22") && strstr(err.msg, "21"));
+    vx_svo_scene_free(&s);
+}
+
+/* A whole model that is one collapsed leaf, seen from outside and inside. */
+static void test_cpu_root_leaf(void) {
+    uint32_t xyz[8 * 3], n = 0;
+    for (uint32_t z = 0; z < 2; z++)
+        for (uint32_t y = 0; y < 2; y++)
+            for (uint32_t x = 0; x < 2; x++) xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z, n++;
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, (uint32_t[3]){2, 2, 2}, xyz, NULL, n) == VX_OK);
+    CHECK(m.root == VX_SVO_ROOT_LEAF);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_render_desc d = {.width = 8, .height = 8, .mode = VX_RENDER_DEPTH, .want_hits = true};
+    d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 1;
+    double e[3] = {1.25, 1.25, 10}, t[3] = {1.25, 1.25, 0};
+    memcpy(d.camera.eye, e, sizeof e), memcpy(d.camera.target, t, sizeof t);
+    d.camera.up[1] = 1;
+    vx_render_image img;
+    vx_error err = {0};
+    REQUIRE(vx_render_cpu(&s, &d, NULL, &img, &err) == VX_OK);
+    for (int i = 0; i < 64; i++) {
+        CHECK(img.hits[i].instance == 0);
+        CHECK(fabs(img.hits[i].t - 8.0) < 1e-6);
+        CHECK(img.hits[i].cell[2] == 1);
+    }
+    vx_render_image_free(&img);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    RUN(test_bvh_structure_and_speed);
+    RUN(test_cpu_vs_brute_force);
+    RUN(test_desc_validation);
+    RUN(test_too_deep_refused);
+    RUN(test_cpu_root_leaf);
+    return vx_test_finish();
+}

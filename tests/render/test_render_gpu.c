@@ -1,0 +1,533 @@
+/* tests/render/test_render_gpu.c - the Vulkan tracer against the CPU
+ * reference: corpus scenes, extreme rays and transforms, instanced vs baked.
+ * Runs with the validation layer when it is installed and fails on any
+ * validation error. Skips (with a message) when there is no Vulkan device. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "convert/convert.h"
+#include "formats/vox.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+static void log_cb(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)user;
+    if (level >= VX_LOG_WARN) fprintf(stderr, "  [%s] %s\n", id, msg);
+}
+static vx_logger logger = {log_cb, NULL};
+
+/* Same instance and same cell, or (exact ties at edges and corners, which
+ * float and double may break differently) a touching cell at the same t. */
+typedef struct cmp_result {
+    size_t pixels, exact, tie, bad, depth_bad, hits, ambiguous;
+} cmp_result;
+
+/* Loosened only for octrees 20+ levels deep, where the [1,2] floats keep
+ * 2-3 bits below a cell: absolute depth slack and the share that must agree. */
+static double g_abs_tol = 0, g_min_share = 0.9999, g_max_ambiguous = 0.125;
+
+static cmp_result compare(const char* name, const vx_render_image* g, const vx_render_image* c) {
+    cmp_result r = {0};
+    size_t n = (size_t)g->width * g->height;
+    int printed = 0;
+    for (size_t i = 0; i < n; i++) {
+        const vx_render_hit *a = &g->hits[i], *b = &c->hits[i];
+        r.pixels++;
+        bool ok = false, exact = false;
+        if (a->instance == b->instance) {
+            if (a->instance == VX_RENDER_NO_HIT) {
+                ok = exact = true;
+            } else {
+                r.hits++;
+                exact = a->cell[0] == b->cell[0] && a->cell[1] == b->cell[1] && a->cell[2] == b->cell[2];
+                double tol = 1e-4 * fmax(fabs(b->t), 1e-3) + g_abs_tol;
+                bool t_ok = fabs((double)a->t - b->t) <= tol;
+                bool touch = true;
+                for (int k = 0; k < 3; k++) touch &= abs((int)a->cell[k] - (int)b->cell[k]) <= 1;
+                ok = exact || (touch && t_ok);
+                if (exact && !t_ok) r.depth_bad++;
+            }
+        } else if (a->instance != VX_RENDER_NO_HIT && b->instance != VX_RENDER_NO_HIT) {
+            /* coplanar faces of two instances: either is right */
+            ok = fabs((double)a->t - b->t) <= 1e-4 * fmax(fabs(b->t), 1e-3) + g_abs_tol;
+        }
+        if (!ok && (b->flags & VX_RENDER_HIT_AMBIGUOUS)) {
+            r.ambiguous++;
+            continue;
+        }
+        if (exact) r.exact++;
+        else if (ok) r.tie++;
+        else r.bad++;
+        if (!ok && printed < 8) {
+            printed++;
+            fprintf(stderr, "  %s pixel %zu,%zu: gpu inst %d cell %u,%u,%u t %.7g | cpu inst %d cell %u,%u,%u t %.7g\n",
+                    name, i % g->width, i / g->width, (int)a->instance, a->cell[0], a->cell[1], a->cell[2], a->t,
+                    (int)b->instance, b->cell[0], b->cell[1], b->cell[2], b->t);
+        }
+    }
+    printf("%-28s %6zu px %6zu hits: %zu exact, %zu ties, %zu ambiguous, %zu mismatched, %zu depth off\n", name,
+           r.pixels, r.hits, r.exact, r.tie, r.ambiguous, r.bad, r.depth_bad);
+    return r;
+}
+
+/* Renders s on both paths and checks the 99.99% rule. min_hits guards
+ * against a camera that sees nothing. */
+static void check_scene(const char* name, const vx_svo_scene* s, vx_render_desc d, size_t min_hits) {
+    d.want_hits = true;
+    if (!d.width) d.width = 48, d.height = 40;
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_render_image gi = {0}, ci = {0};
+    vx_result r = vx_render_scene_create(gpu, s, &rs, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    if (!r) r = vx_render_frame(rs, &d, &gi, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    vx_result rc = vx_render_cpu(s, &d, NULL, &ci, &err);
+    CHECKF(rc == VX_OK, "%s: %s", name, err.msg);
+    if (!r && !rc) {
+        cmp_result c = compare(name, &gi, &ci);
+        CHECKF(c.hits >= min_hits, "%s: %zu hits, expected at least %zu", name, c.hits, min_hits);
+        CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",
+               name, c.bad, c.pixels);
+        CHECKF(c.depth_bad <= (1 - g_min_share) * c.pixels, "%s: %zu depths off by more than 1e-4", name, c.depth_bad);
+        /* exact edge/corner ties may go either way, but only on a small share */
+        CHECKF(c.ambiguous <= g_max_ambiguous * c.pixels, "%s: %zu ambiguous pixels", name, c.ambiguous);
+    }
+    vx_render_image_free(&gi);
+    vx_render_image_free(&ci);
+    vx_render_scene_destroy(rs);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
+static vx_render_desc cam(double ex, double ey, double ez, double tx, double ty, double tz) {
+    vx_render_desc d = {.mode = VX_RENDER_DEPTH};
+    d.camera.set = true;
+    d.camera.eye[0] = ex, d.camera.eye[1] = ey, d.camera.eye[2] = ez;
+    d.camera.target[0] = tx, d.camera.target[1] = ty, d.camera.target[2] = tz;
+    return d;
+}
+
+static bool load_vox(const char* rel, vx_svo_scene* s) {
+    const char* path = vx_test_corpus(rel);
+    if (!path) return false;
+    vx_vox_scene vs;
+    vx_error err = {0};
+    if (vx_vox_read_file(NULL, path, &vs, &err)) {
+        fprintf(stderr, "%s: %s\n", rel, err.msg);
+        return false;
+    }
+    vx_result r = vx_conv_vox(NULL, &vs, s, NULL, &err);
+    vx_vox_scene_free(&vs);
+    if (r) fprintf(stderr, "%s: %s\n", rel, err.msg);
+    return r == VX_OK;
+}
+
+static void test_corpus(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_teapot.vox", "eph_menger.vox",
+                                  "eph_monu1.vox", "ogt_test_groups.vox", "ogt_test_multiple_model_scene.vox",
+                                  "ogt_doom.vox", "ogt_chr_knight.vox"};
+    int done = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char rel[128];
+        snprintf(rel, sizeof rel, "vox/%s", files[i]);
+        vx_svo_scene s;
+        if (!load_vox(rel, &s)) {
+            fprintf(stderr, "  %s: not available\n", rel);
+            continue;
+        }
+        check_scene(files[i], &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 64, .height = 48}, 100);
+        /* another view, orthographic from above */
+        vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 40, .height = 40};
+        d.camera.ortho = true;
+        d.camera.fov = 30;
+        char nm[96];
+        snprintf(nm, sizeof nm, "%s (ortho)", files[i]);
+        check_scene(nm, &s, d, 80);
+        vx_svo_scene_free(&s);
+        done++;
+    }
+    if (!done) SKIP("corpus not available");
+}
+
+/* A random 12^3 model at the origin: the canvas of most extreme cases. */
+static void random_scene(vx_svo_scene* s, const double* m9, double tx, double ty, double tz, uint32_t pct) {
+    vx_svo_model m;
+    ts_random_model(&m, 12, 12, 12, pct, 4242);
+    vx_svo_instance in = ts_inst(0, m9, tx, ty, tz);
+    ts_scene(s, &m, 1, &in, 1);
+}
+
+static void test_axis_rays_on_edges(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    random_scene(&s, NULL, 0, 0, 0, 35);
+    /* 16 pixels over 16 units: pixel centres on integer coordinates (cell
+     * edges) or on half-integers (cell centres); directions with exact +0
+     * and -0 components */
+    const double offs[2] = {6.0, 6.5};
+    for (int o = 0; o < 2; o++)
+        for (int z = 0; z < 2; z++)
+            for (int axis = 0; axis < 3; axis++) {
+                vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 16, .height = 16};
+                d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 16;
+                /* the eye line is the axis itself; the scene moves instead, so
+                 * that target - eye is exactly +0 or -0 (-0 - +0 = -0) */
+                double e[3] = {0, 0, 0}, t[3] = {z ? -0.0 : 0.0, z ? -0.0 : 0.0, z ? -0.0 : 0.0};
+                e[axis] = 40, t[axis] = -3;
+                memcpy(d.camera.eye, e, sizeof e);
+                memcpy(d.camera.target, t, sizeof t);
+                d.camera.up[(axis + 1) % 3] = 1;
+                for (int k = 0; k < 3; k++) s.instances[0].xform[3 + 4 * k] = k == axis ? 0 : -offs[o];
+                char nm[64];
+                snprintf(nm, sizeof nm, "axis %d %s %s", axis, o ? "centres" : "edges", z ? "-0" : "+0");
+                check_scene(nm, &s, d, 20);
+            }
+    vx_svo_scene_free(&s);
+}
+
+static void test_diagonal_edges_corners(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    random_scene(&s, NULL, 0, 0, 0, 20);
+    /* odd sizes put the centre pixel on the eye line, through lattice corners;
+     * those rays graze cell corners, which float and double resolve apart,
+     * so the centre column and row may differ in a few pixels */
+    g_min_share = 0.99;
+    const double dirs[][3] = {{1, 1, 1}, {1, 1, 0}, {-1, 2, 0}, {1, -1, 1}, {2, 1, 1}, {-1, -1, -1}};
+    for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) {
+        vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 33, .height = 33};
+        d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 16;
+        for (int k = 0; k < 3; k++) d.camera.eye[k] = 6 + 20 * dirs[i][k], d.camera.target[k] = 6;
+        char nm[64];
+        snprintf(nm, sizeof nm, "diagonal %.0f,%.0f,%.0f", dirs[i][0], dirs[i][1], dirs[i][2]);
+        check_scene(nm, &s, d, 50);
+    }
+    g_min_share = 0.9999;
+    vx_svo_scene_free(&s);
+}
+
+static void test_ray_origins(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    random_scene(&s, NULL, 0, 0, 0, 30);
+    /* find a filled cell and an empty one through the reference */
+    vx_render_desc d;
+    d = cam(5.5, 5.5, 5.5, 9, 1, 3); /* centre of a cell: inside a voxel or in empty space */
+    check_scene("origin at a cell centre", &s, d, 0);
+    d = cam(5.0, 5.5, 5.5, 9, 1, 3); /* on a face */
+    check_scene("origin on a face", &s, d, 0);
+    d = cam(5.0, 5.0, 5.0, -3, 9, 1); /* on a corner: every ray is an exact tie */
+    g_max_ambiguous = 1;
+    check_scene("origin on a corner", &s, d, 0);
+    g_max_ambiguous = 0.125;
+    d = cam(7.3, 2.2, 11.9, 1, 9, 1); /* inside the bounds */
+    check_scene("origin inside the bounds", &s, d, 50);
+    d = cam(6 + 5.7e5, 6 - 5.7e5, 6 + 5.7e5, 6, 6, 6); /* 1e6 away, narrow view */
+    d.camera.fov = 0.0012;
+    check_scene("origin 1e6 away", &s, d, 200);
+    d = cam(6 + 5.7e5, 6 - 5.7e5, 6 + 5.7e5, 6, 6, 6);
+    d.camera.ortho = true, d.camera.ortho_height = 20;
+    check_scene("origin 1e6 away (ortho)", &s, d, 200);
+    vx_svo_scene_free(&s);
+}
+
+static void test_grazing(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    /* a 12x12x4 slab: rays along its top face (z = 4 exactly) */
+    uint32_t* xyz = malloc(12 * 12 * 4 * 12);
+    size_t n = 0;
+    for (uint32_t z = 0; z < 4; z++)
+        for (uint32_t y = 0; y < 12; y++)
+            for (uint32_t x = 0; x < 12; x++)
+                if (z < 3 || (x * 7 + y * 3) % 5 == 0) xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z, n++;
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, (uint32_t[3]){12, 12, 4}, xyz, NULL, n) == VX_OK);
+    free(xyz);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 24, .height = 24};
+    d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 6;
+    d.camera.eye[0] = -10, d.camera.eye[1] = 6, d.camera.eye[2] = 3;
+    d.camera.target[0] = 0, d.camera.target[1] = 6, d.camera.target[2] = 3;
+    check_scene("grazing along faces", &s, d, 100);
+    d.camera.target[2] = 3 - 1e-4; /* almost parallel */
+    check_scene("grazing, tilted 1e-5", &s, d, 100);
+    d = cam(-8, 6.01, 4.001, 20, 6.2, 3.999);
+    check_scene("grazing perspective", &s, d, 10);
+    vx_svo_scene_free(&s);
+}
+
+static void test_deep_octrees(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    for (uint32_t depth = 20; depth <= 21; depth++) {
+        g_abs_tol = ldexp(1.0, (int)depth - 21) * 1.5; /* cells are 1 unit wide */
+        g_min_share = 0.95;
+        /* a few 3x3x3 clusters in a model 2^depth cells wide */
+        uint32_t side = 1u << depth;
+        uint32_t base[3][3] = {{5, 7, 9}, {side - 40, side - 30, side - 20}, {side / 2 - 1, side / 3, 100}};
+        uint32_t xyz[3 * 27 * 3];
+        uint8_t pal[27 * 3];
+        size_t n = 0;
+        for (int c = 0; c < 3; c++)
+            for (uint32_t z = 0; z < 3; z++)
+                for (uint32_t y = 0; y < 3; y++)
+                    for (uint32_t x = 0; x < 3; x++)
+                        if ((x + y + z) % 2 == 0) {
+                            xyz[3 * n] = base[c][0] + x, xyz[3 * n + 1] = base[c][1] + y, xyz[3 * n + 2] = base[c][2] + z;
+                            pal[n] = (uint8_t)(2 + n);
+                            n++;
+                        }
+        vx_svo_model m;
+        REQUIRE(ts_model(&m, (uint32_t[3]){side, side, side}, xyz, pal, n) == VX_OK);
+        CHECK(m.depth == depth);
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        vx_svo_scene s;
+        ts_scene(&s, &m, 1, &in, 1);
+        for (int c = 0; c < 3; c++) {
+            double tx = base[c][0] + 1.5, ty = base[c][1] + 1.5, tz = base[c][2] + 1.5;
+            vx_render_desc d = cam(tx + 7, ty - 9, tz + 6, tx, ty, tz);
+            d.width = 32, d.height = 32;
+            char nm[64];
+            snprintf(nm, sizeof nm, "depth %u cluster %d", depth, c);
+            check_scene(nm, &s, d, 30);
+        }
+        vx_svo_scene_free(&s);
+    }
+    g_abs_tol = 0, g_min_share = 0.9999;
+}
+
+static void test_transforms(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    struct {
+        const char* name;
+        double m[9];
+        double t[3];
+    } cases[] = {
+        {"translated 1e5", {1, 0, 0, 0, 1, 0, 0, 0, 1}, {1e5, -1e5, 1e5}},
+        {"scaled 1e-3", {1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, {0.5, 0.25, 0}},
+        {"scaled 1e3", {1e3, 0, 0, 0, 1e3, 0, 0, 0, 1e3}, {-2e3, 0, 5e3}},
+        {"mirrored x", {-1, 0, 0, 0, 1, 0, 0, 0, 1}, {12, 0, 0}},
+        {"rotated and mirrored", {0, 0, -1, 1, 0, 0, 0, -1, 0}, {3, -4, 7}},
+        {"non-uniform scale + shear", {2, 0.5, 0, 0, 0.5, 0, 0.25, 0, 3}, {1, 2, 3}},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        vx_svo_scene s;
+        random_scene(&s, cases[i].m, cases[i].t[0], cases[i].t[1], cases[i].t[2], 25);
+        check_scene(cases[i].name, &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 48, .height = 40}, 200);
+        vx_svo_scene_free(&s);
+    }
+}
+
+static void test_empty_and_single(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    ts_scene(&s, NULL, 0, NULL, 0);
+    check_scene("empty scene", &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 16, .height = 16}, 0);
+    vx_svo_scene_free(&s);
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, (uint32_t[3]){4, 4, 4}, NULL, NULL, 0) == VX_OK);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&s, &m, 1, &in, 1);
+    check_scene("empty model", &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 16, .height = 16}, 0);
+    vx_svo_scene_free(&s);
+    uint32_t one[3] = {0, 0, 0};
+    uint8_t pal = 7;
+    REQUIRE(ts_model(&m, (uint32_t[3]){1, 1, 1}, one, &pal, 1) == VX_OK);
+    ts_scene(&s, &m, 1, &in, 1);
+    check_scene("single voxel", &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 24, .height = 24}, 100);
+    vx_svo_scene_free(&s);
+}
+
+/* Many instances through the BVH, some sharing a model. */
+static void test_many_instances(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 5, 6, 7, 40, 11) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 9, 3, 4, 50, 12) == VX_OK);
+    vx_svo_instance in[60];
+    uint32_t seed = 5;
+    static const double rots[4][9] = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, -1, 0, 1, 0, 0, 0, 0, 1},
+                                      {-1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 1, 0, 1, 0, -1, 0, 0}};
+    for (int i = 0; i < 60; i++)
+        in[i] = ts_inst(i % 2, rots[i % 4], (double)(ts_rng(&seed) % 40), (double)(ts_rng(&seed) % 40),
+                        (double)(ts_rng(&seed) % 10));
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 60);
+    check_scene("60 instances (bvh)", &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 64, .height = 48}, 400);
+    vx_svo_scene_free(&s);
+}
+
+/* Rotated and mirrored instances against the same voxels baked into one model. */
+static void test_instanced_vs_baked(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_model src;
+    REQUIRE(ts_random_model(&src, 6, 5, 4, 45, 77) == VX_OK);
+    static const double rots[5][9] = {{1, 0, 0, 0, 1, 0, 0, 0, 1},  {0, -1, 0, 1, 0, 0, 0, 0, 1},
+                                      {-1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 1, 0, -1, 0, 1, 0, 0},
+                                      {0, 1, 0, 0, 0, -1, -1, 0, 0}};
+    const double ts[5][3] = {{0, 0, 0}, {14, 2, 1}, {20, 9, 0}, {3, 12, 2}, {9, 18, 7}};
+    /* bake: every cell v of every instance lands at floor(M (v + 1/2) + t) */
+    typedef struct { uint32_t n; uint32_t xyz[6 * 5 * 4 * 5 * 3]; uint8_t pal[6 * 5 * 4 * 5]; } bake_t;
+    static bake_t bk;
+    bk.n = 0;
+    struct dc { bake_t* b; const double* m; const double* t; const uint8_t* pal; } ctx;
+    bool cb(void* u, uint32_t x, uint32_t y, uint32_t z, uint32_t a);
+    vx_svo_instance in[5];
+    for (int i = 0; i < 5; i++) {
+        in[i] = ts_inst(0, rots[i], ts[i][0], ts[i][1], ts[i][2]);
+        ctx = (struct dc){&bk, rots[i], ts[i], src.palette};
+        vx_error err = {0};
+        REQUIRE(vx_svo_decode_model(&src, cb, &ctx, &err) == VX_OK);
+    }
+    int32_t lo[3] = {1 << 30, 1 << 30, 1 << 30}, hi[3] = {-(1 << 30), -(1 << 30), -(1 << 30)};
+    for (uint32_t i = 0; i < bk.n; i++)
+        for (int k = 0; k < 3; k++) {
+            int32_t v = (int32_t)bk.xyz[3 * i + k];
+            if (v < lo[k]) lo[k] = v;
+            if (v > hi[k]) hi[k] = v;
+        }
+    for (uint32_t i = 0; i < bk.n; i++)
+        for (int k = 0; k < 3; k++) bk.xyz[3 * i + k] = (uint32_t)((int32_t)bk.xyz[3 * i + k] - lo[k]);
+    vx_svo_model baked;
+    uint32_t bsize[3] = {(uint32_t)(hi[0] - lo[0] + 1), (uint32_t)(hi[1] - lo[1] + 1), (uint32_t)(hi[2] - lo[2] + 1)};
+    REQUIRE(ts_model(&baked, bsize, bk.xyz, bk.pal, bk.n) == VX_OK);
+    vx_svo_scene si, sb;
+    ts_scene(&si, &src, 1, in, 5);
+    vx_svo_instance bin = ts_inst(0, NULL, lo[0], lo[1], lo[2]);
+    ts_scene(&sb, &baked, 1, &bin, 1);
+    vx_error err = {0};
+    vx_render_scene *ri = NULL, *rb = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &si, &ri, &err) == VX_OK);
+    REQUIRE(vx_render_scene_create(gpu, &sb, &rb, &err) == VX_OK);
+    for (int mode = 0; mode < 2; mode++) {
+        vx_render_desc d = {.mode = mode ? VX_RENDER_DEPTH : VX_RENDER_COLOR, .width = 64, .height = 48};
+        vx_render_image a = {0}, b = {0};
+        CHECK(vx_render_frame(ri, &d, &a, &err) == VX_OK);
+        CHECK(vx_render_frame(rb, &d, &b, &err) == VX_OK);
+        size_t n = (size_t)d.width * d.height, diff = 0, hits = 0;
+        for (size_t i = 0; a.pixels && b.pixels && i < n; i++) {
+            bool same = true;
+            for (int k = 0; k < 4; k++) {
+                float x = a.pixels[4 * i + k], y = b.pixels[4 * i + k];
+                if (mode) same &= (isinf(x) && isinf(y)) || fabsf(x - y) <= 1e-4f * fabsf(y);
+                else same &= fabsf(x - y) <= 1.0f / 255;
+            }
+            if (b.pixels[4 * i + 3] > 0) hits++;
+            if (!same) {
+                if (diff < 5)
+                    fprintf(stderr, "  baked %s pixel %zu: %g %g %g | %g %g %g\n", mode ? "depth" : "color", i,
+                            a.pixels[4 * i], a.pixels[4 * i + 1], a.pixels[4 * i + 2], b.pixels[4 * i],
+                            b.pixels[4 * i + 1], b.pixels[4 * i + 2]);
+                diff++;
+            }
+        }
+        printf("instanced vs baked (%s): %zu pixels, %zu hits, %zu differ\n", mode ? "depth" : "color", n, hits, diff);
+        CHECK(hits > 300);
+        CHECK((double)diff <= 1e-4 * n);
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+    vx_render_scene_destroy(ri);
+    vx_render_scene_destroy(rb);
+    vx_svo_scene_free(&si);
+    vx_svo_scene_free(&sb);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
+bool cb(void* u, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
+    struct dc { struct { uint32_t n; uint32_t xyz[6 * 5 * 4 * 5 * 3]; uint8_t pal[6 * 5 * 4 * 5]; }* b; const double* m; const double* t; const uint8_t* pal; }* c = u;
+    double p[3] = {x + 0.5, y + 0.5, z + 0.5};
+    for (int r = 0; r < 3; r++) {
+        double g = c->m[3 * r] * p[0] + c->m[3 * r + 1] * p[1] + c->m[3 * r + 2] * p[2] + c->t[r];
+        c->b->xyz[3 * c->b->n + r] = (uint32_t)(int32_t)floor(g);
+    }
+    c->b->pal[c->b->n] = c->pal[a];
+    c->b->n++;
+    return true;
+}
+
+/* Colour modes and LOD run, agree with the reference where they must. */
+static void test_modes(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    random_scene(&s, NULL, 0, 0, 0, 30);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    for (int mode = 0; mode < VX_RENDER_MODE_NUM; mode++) {
+        if (mode == VX_RENDER_ITERATIONS) continue; /* step counts differ by design */
+        vx_render_desc d = {.mode = (vx_render_mode)mode, .width = 32, .height = 24};
+        vx_render_image g = {0}, c = {0};
+        CHECK(vx_render_frame(rs, &d, &g, &err) == VX_OK);
+        CHECK(vx_render_cpu(&s, &d, NULL, &c, &err) == VX_OK);
+        size_t n = 32 * 24, diff = 0;
+        for (size_t i = 0; g.pixels && c.pixels && i < 4 * n; i++) {
+            float x = g.pixels[i], y = c.pixels[i];
+            if (!((isinf(x) && isinf(y)) || fabsf(x - y) <= 2e-3f * fmaxf(1, fabsf(y)))) diff++;
+        }
+        printf("mode %-10s: %zu of %zu values differ\n", vx_render_mode_name((vx_render_mode)mode), diff, 4 * n);
+        CHECK(diff <= 4 * n / 200); /* shadow acne at edges may differ in a few */
+        vx_render_image_free(&g);
+        vx_render_image_free(&c);
+    }
+    /* LOD: every pixel hit with lod must also be hit without (coarse nodes
+     * only cover more), and nothing crashes at large thresholds */
+    vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 32, .height = 24, .lod = true, .lod_pixels = 8};
+    vx_render_image a = {0}, b = {0};
+    CHECK(vx_render_frame(rs, &d, &a, &err) == VX_OK);
+    d.lod = false;
+    CHECK(vx_render_frame(rs, &d, &b, &err) == VX_OK);
+    size_t lost = 0;
+    for (size_t i = 0; a.pixels && b.pixels && i < 32 * 24; i++)
+        if (b.pixels[4 * i + 3] > 0 && !(a.pixels[4 * i + 3] > 0)) lost++;
+    CHECK(lost == 0);
+    vx_render_image_free(&a);
+    vx_render_image_free(&b);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
+int main(void) {
+    /* The loader unloads the driver and layer at vkDestroyInstance; pinning
+     * them keeps their frames symbolised, so tests/render/lsan.supp can name
+     * exactly these libraries (their internal caches are never freed). */
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
+    vx_error err = {0};
+    /* validation on when the layer is installed */
+    vx_result r = vx_gpu_create(&(vx_gpu_desc){.validate = true, .logger = &logger}, &gpu, &err);
+    if (r) {
+        fprintf(stderr, "validation layer unavailable (%s); running without\n", err.msg);
+        r = vx_gpu_create(&(vx_gpu_desc){.logger = &logger}, &gpu, &err);
+    }
+    static char why[256];
+    if (r) {
+        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
+        gpu_skip = why;
+    } else {
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    }
+    RUN(test_empty_and_single);
+    RUN(test_axis_rays_on_edges);
+    RUN(test_diagonal_edges_corners);
+    RUN(test_ray_origins);
+    RUN(test_grazing);
+    RUN(test_transforms);
+    RUN(test_deep_octrees);
+    RUN(test_many_instances);
+    RUN(test_instanced_vs_baked);
+    RUN(test_modes);
+    RUN(test_corpus);
+    if (gpu) {
+        CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+        vx_gpu_destroy(gpu);
+    }
+    return vx_test_finish();
+}

@@ -1,0 +1,836 @@
+/* tests/svo/test_svo_build.c - octree building, minimization, decoding and
+ * validation against brute-force references (dense cell arrays). */
+#include <math.h>
+#include <stdint.h>
+
+#include "svo/svo.h"
+#include "svo/svo_internal.h"
+#include "tests/test.h"
+
+static uint64_t rs = 0x243F6A8885A308D3ull;
+static uint64_t rnd(void) {
+    rs ^= rs << 13;
+    rs ^= rs >> 7;
+    rs ^= rs << 17;
+    return rs;
+}
+
+/* ---- decode collector ------------------------------------------------------------ */
+
+typedef struct cell {
+    uint32_t x, y, z, attr;
+} cell;
+typedef struct coll {
+    cell* c;
+    size_t n, cap, limit;
+    bool order_ok;
+    uint64_t last;
+} coll;
+
+static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    coll* c = (coll*)user;
+    uint64_t k = vx_svo_morton(x, y, z);
+    if (c->n && k <= c->last) c->order_ok = false;
+    c->last = k;
+    if (c->n == c->cap) {
+        c->cap = c->cap ? c->cap * 2 : 1024;
+        c->c = (cell*)realloc(c->c, c->cap * sizeof(cell));
+    }
+    c->c[c->n++] = (cell){x, y, z, attr};
+    return c->limit == 0 || c->n < c->limit;
+}
+
+static coll decode_all(const vx_svo_model* m) {
+    coll c = {0};
+    c.order_ok = true;
+    vx_error e;
+    CHECK(vx_svo_decode_model(m, collect, &c, &e) == VX_OK);
+    return c;
+}
+
+/* Dense reference: value+1 per cell, 0 = empty. */
+typedef struct dense {
+    uint32_t sx, sy, sz;
+    uint32_t* v;
+} dense;
+static dense dense_make(uint32_t sx, uint32_t sy, uint32_t sz) {
+    dense d = {sx, sy, sz, (uint32_t*)calloc((size_t)sx * sy * sz, 4)};
+    return d;
+}
+static uint32_t* dat(dense* d, uint32_t x, uint32_t y, uint32_t z) { return &d->v[((size_t)z * d->sy + y) * d->sx + x]; }
+
+/* Decoded cells must equal the reference exactly; value(attr) maps a record
+ * to the reference's value. */
+static void check_equal(const vx_svo_model* m, dense* ref, uint32_t (*value)(const vx_svo_model*, uint32_t)) {
+    coll c = decode_all(m);
+    CHECK(c.order_ok);
+    size_t want = 0;
+    for (size_t i = 0; i < (size_t)ref->sx * ref->sy * ref->sz; i++) want += ref->v[i] != 0;
+    CHECKF(c.n == want, "decoded %zu cells, reference has %zu", c.n, want);
+    CHECK(m->voxel_count == want);
+    size_t bad = 0;
+    for (size_t i = 0; i < c.n; i++) {
+        cell* q = &c.c[i];
+        if (q->x >= ref->sx || q->y >= ref->sy || q->z >= ref->sz) { bad++; continue; }
+        uint32_t r = *dat(ref, q->x, q->y, q->z);
+        if (r == 0 || r - 1 != value(m, q->attr)) bad++;
+    }
+    CHECKF(bad == 0, "%zu decoded cells differ from the reference", bad);
+    free(c.c);
+}
+
+static uint32_t val_pal(const vx_svo_model* m, uint32_t a) { return a < m->attr_count ? m->palette[a] : 0xDEAD; }
+static uint32_t val_rgba(const vx_svo_model* m, uint32_t a) { return a < m->attr_count ? m->rgba[a] : 0xDEAD; }
+
+/* ---- tests ----------------------------------------------------------------------------- */
+
+static void test_morton_helpers(void) {
+    for (int i = 0; i < 20000; i++) {
+        uint32_t x = (uint32_t)rnd() & 0x1FFFFF, y = (uint32_t)rnd() & 0x1FFFFF, z = (uint32_t)rnd() & 0x1FFFFF;
+        uint64_t k = vx_svo_morton(x, y, z);
+        CHECK(vx__morton(x, y, z) == k);
+        CHECK(vx__compact3(k) == x && vx__compact3(k >> 1) == y && vx__compact3(k >> 2) == z);
+    }
+}
+
+static void test_empty(void) {
+    vx_svo_voxels in = {.size = {16, 16, 16}};
+    vx_svo_model m;
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.root == VX_SVO_ROOT_EMPTY && m.node_count == 0 && m.voxel_count == 0 && m.depth == 4);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    coll c = decode_all(&m);
+    CHECK(c.n == 0);
+    free(c.c);
+    vx_svo_model_free(NULL, &m);
+}
+
+static void test_one_voxel(void) {
+    uint64_t k = vx_svo_morton(7, 2, 1);
+    uint8_t pal = 5;
+    vx_svo_voxels in = {.size = {10, 5, 3}, .count = 1, .keys = &k, .attrs = VX_ATTR_PALETTE, .palette = &pal};
+    vx_svo_model m;
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.depth == 4 && m.voxel_count == 1 && st.voxels == 1);
+    CHECK(st.desc_plain == 4 && st.desc_collapsed == 4 && st.desc_dag == 4);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    coll c = decode_all(&m);
+    REQUIRE(c.n == 1);
+    CHECK(c.c[0].x == 7 && c.c[0].y == 2 && c.c[0].z == 1 && m.palette[c.c[0].attr] == 5);
+    CHECK(m.palette[m.root_attr] == 5);
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.palette[5] = 0xFF112233u;
+    CHECK(vx_svo_attr_color(&s, &m, c.c[0].attr) == 0xFF112233u);
+    free(c.c);
+    vx_svo_model_free(NULL, &m);
+
+    /* depth 0: a 1x1x1 model is one root leaf */
+    uint64_t k0 = 0;
+    vx_svo_voxels in0 = {.size = {1, 1, 1}, .count = 1, .keys = &k0};
+    REQUIRE(vx_svo_build_model(NULL, &in0, &m, &st, &e) == VX_OK);
+    CHECK(m.depth == 0 && m.root == VX_SVO_ROOT_LEAF && m.voxel_count == 1);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    c = decode_all(&m);
+    CHECK(c.n == 1);
+    free(c.c);
+    vx_svo_model_free(NULL, &m);
+}
+
+/* Streaming checks for the big cases (no cell list). */
+typedef struct stream_chk {
+    uint64_t n, bad;
+    const vx_svo_model* m;
+    int mode; /* 0: the i-th cell is demorton(i); 1: checkerboard */
+} stream_chk;
+static bool stream_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
+    stream_chk* c = (stream_chk*)user;
+    if (c->mode == 0) {
+        if (vx__morton(x, y, z) != c->n) c->bad++;
+    } else if (((x + y + z) & 1) || c->m->palette[a] != 1 + (x & 2)) {
+        c->bad++;
+    }
+    c->n++;
+    return true;
+}
+
+static void test_full_cube(void) {
+    const uint32_t S = 256;
+    size_t n = (size_t)S * S * S;
+    uint64_t* keys = (uint64_t*)malloc(n * 8);
+    uint8_t* pal = (uint8_t*)malloc(n);
+    REQUIRE(keys && pal);
+    size_t i = 0;
+    for (uint32_t z = 0; z < S; z++)
+        for (uint32_t y = 0; y < S; y++)
+            for (uint32_t x = 0; x < S; x++) keys[i] = vx__morton(x, y, z), pal[i++] = 9;
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys};
+    vx_svo_model m;
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.root == VX_SVO_ROOT_LEAF && m.node_count == 0 && st.desc_dag == 0 && st.desc_collapsed == 0);
+    CHECK(st.desc_plain == (n - 1) / 7); /* 1 + 8 + ... + 8^7 internal nodes */
+    CHECK(m.voxel_count == n);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    /* decode: every cell once, in Morton order */
+    stream_chk c = {0, 0, &m, 0};
+    CHECK(vx_svo_decode_model(&m, stream_cb, &c, &e) == VX_OK);
+    CHECK(c.n == n && c.bad == 0);
+    vx_svo_model_free(NULL, &m);
+    /* with a uniform palette (64^3 to keep the test short): still one leaf,
+     * root_attr carries the colour */
+    i = 0;
+    for (uint32_t z = 0; z < 64; z++)
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++) keys[i++] = vx__morton(x, y, z);
+    in.size[0] = in.size[1] = in.size[2] = 64;
+    in.count = i;
+    in.attrs = VX_ATTR_PALETTE;
+    in.palette = pal;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.root == VX_SVO_ROOT_LEAF && m.attr_count == 1 && m.palette[m.root_attr] == 9);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    vx_svo_model_free(NULL, &m);
+    free(keys);
+    free(pal);
+}
+
+static void test_checkerboard(void) {
+    const uint32_t S = 256;
+    size_t n = (size_t)S * S * S / 2, i = 0;
+    uint64_t* keys = (uint64_t*)malloc(n * 8);
+    uint8_t* pal = (uint8_t*)malloc(n);
+    REQUIRE(keys && pal);
+    for (uint32_t z = 0; z < S; z++)
+        for (uint32_t y = 0; y < S; y++)
+            for (uint32_t x = (y + z) & 1; x < S; x += 2) keys[i] = vx__morton(x, y, z), pal[i++] = (uint8_t)(1 + (x & 2));
+    REQUIRE(i == n);
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    vx_svo_model m;
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.voxel_count == n);
+    CHECK(st.desc_plain == ((size_t)S * S * S - 1) / 7);
+    CHECK(st.desc_collapsed == st.desc_plain); /* nothing is full */
+    CHECKF(st.desc_dag < 64, "checkerboard DAG has %llu descriptors", (unsigned long long)st.desc_dag);
+    CHECK(m.node_count < 256 && m.attr_count < 64);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    /* every decoded cell is a black one with its colour, and the count is exact */
+    stream_chk c = {0, 0, &m, 1};
+    CHECK(vx_svo_decode_model(&m, stream_cb, &c, &e) == VX_OK);
+    CHECK(c.n == n && c.bad == 0);
+    vx_svo_model_free(NULL, &m);
+    free(keys);
+    free(pal);
+}
+
+/* Random sparse cells plus a few uniform boxes (so collapse happens), with
+ * duplicates, in a non-cubic model; every minimization setting. */
+static void random_case(uint32_t sx, uint32_t sy, uint32_t sz, size_t n, bool rgba) {
+    dense ref = dense_make(sx, sy, sz);
+    size_t cap = n + 20000;
+    uint64_t* keys = (uint64_t*)malloc(cap * 8);
+    uint8_t* pal = (uint8_t*)malloc(cap);
+    uint32_t* col = (uint32_t*)malloc(cap * 4);
+    size_t cnt = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t x, y, z;
+        if (cnt && rnd() % 10 == 0) { /* duplicate an earlier key with a new value */
+            uint64_t k = keys[rnd() % cnt];
+            x = vx__compact3(k), y = vx__compact3(k >> 1), z = vx__compact3(k >> 2);
+        } else {
+            x = (uint32_t)(rnd() % sx), y = (uint32_t)(rnd() % sy), z = (uint32_t)(rnd() % sz);
+        }
+        keys[cnt] = vx_svo_morton(x, y, z);
+        pal[cnt] = (uint8_t)(1 + rnd() % 4);
+        col[cnt] = (uint32_t)rnd() & 0xFF030303u;
+        *dat(&ref, x, y, z) = 1 + (rgba ? col[cnt] : pal[cnt]);
+        cnt++;
+    }
+    /* uniform boxes aligned to 4 */
+    for (int b = 0; b < 3; b++) {
+        uint32_t bx = (uint32_t)(rnd() % (sx / 4 + 1)) * 4, by = (uint32_t)(rnd() % (sy / 4 + 1)) * 4, bz = (uint32_t)(rnd() % (sz / 4 + 1)) * 4;
+        for (uint32_t z = bz; z < bz + 4 && z < sz; z++)
+            for (uint32_t y = by; y < by + 4 && y < sy; y++)
+                for (uint32_t x = bx; x < bx + 4 && x < sx; x++) {
+                    keys[cnt] = vx_svo_morton(x, y, z);
+                    pal[cnt] = 7;
+                    col[cnt] = 0xFF0000FFu;
+                    *dat(&ref, x, y, z) = 1 + (rgba ? col[cnt] : pal[cnt]);
+                    cnt++;
+                }
+    }
+    vx_svo_voxels in = {.size = {sx, sy, sz}, .count = cnt, .keys = keys};
+    if (rgba) in.attrs = VX_ATTR_RGBA8, in.rgba = col;
+    else in.attrs = VX_ATTR_PALETTE, in.palette = pal;
+    uint64_t words[4] = {0};
+    for (int mode = 0; mode < 4; mode++) {
+        vx_svo_build_desc d = {.no_collapse = mode & 1, .no_dag = (mode >> 1) & 1};
+        vx_svo_model m;
+        vx_svo_build_stats st;
+        vx_error e;
+        REQUIRE(vx_svo_build_model(&d, &in, &m, &st, &e) == VX_OK);
+        CHECK(st.input_voxels == cnt);
+        CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+        check_equal(&m, &ref, rgba ? val_rgba : val_pal);
+        CHECK(st.desc_collapsed <= st.desc_plain && st.desc_dag <= st.desc_collapsed);
+        if (d.no_collapse) CHECK(st.desc_collapsed == st.desc_plain);
+        if (d.no_dag) CHECK(st.desc_dag == st.desc_collapsed);
+        words[mode] = m.node_count;
+        vx_svo_model_free(NULL, &m);
+    }
+    CHECK(words[0] <= words[1] && words[0] <= words[3]);
+    free(ref.v);
+    free(keys);
+    free(pal);
+    free(col);
+}
+
+static void test_random_sparse(void) {
+    random_case(37, 50, 23, 3000, false);
+    random_case(64, 64, 64, 20000, true);
+    random_case(5, 130, 9, 2000, false);
+    random_case(3, 3, 3, 40, true);
+}
+
+static void test_tiles(void) {
+    const uint32_t S = 64;
+    dense ref = dense_make(S, S, S);
+    uint64_t keys[64];
+    uint8_t lv[64], pal[64];
+    size_t n = 0;
+    /* non-overlapping tiles of levels 1..4 and single cells */
+    struct { uint32_t x, y, z, l; } t[] = {{0, 0, 0, 4}, {16, 0, 0, 3}, {32, 32, 32, 5}, {24, 8, 0, 2},
+                                           {1, 17, 3, 0}, {2, 18, 4, 1}, {16, 16, 16, 0}, {63, 63, 0, 0}};
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        keys[n] = vx_svo_morton(t[i].x, t[i].y, t[i].z);
+        lv[n] = (uint8_t)t[i].l;
+        pal[n] = (uint8_t)(10 + i);
+        uint32_t side = 1u << t[i].l;
+        for (uint32_t z = 0; z < side; z++)
+            for (uint32_t y = 0; y < side; y++)
+                for (uint32_t x = 0; x < side; x++) *dat(&ref, t[i].x + x, t[i].y + y, t[i].z + z) = 1 + pal[n];
+        n++;
+    }
+    /* a duplicate tile: the later one wins */
+    keys[n] = vx_svo_morton(16, 0, 0), lv[n] = 3, pal[n] = 99;
+    for (uint32_t z = 0; z < 8; z++)
+        for (uint32_t y = 0; y < 8; y++)
+            for (uint32_t x = 0; x < 8; x++) *dat(&ref, 16 + x, y, z) = 1 + 99;
+    n++;
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .level = lv, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    for (int mode = 0; mode < 4; mode++) {
+        vx_svo_build_desc d = {.no_collapse = mode & 1, .no_dag = (mode >> 1) & 1};
+        vx_svo_model m;
+        vx_svo_build_stats st;
+        vx_error e;
+        REQUIRE(vx_svo_build_model(&d, &in, &m, &st, &e) == VX_OK);
+        CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+        check_equal(&m, &ref, val_pal);
+        CHECK(m.node_count < 200); /* tiles are never expanded */
+        vx_svo_model_free(NULL, &m);
+    }
+    /* a whole-model tile is the root leaf */
+    uint64_t k0 = 0;
+    uint8_t l6 = 6;
+    vx_svo_voxels whole = {.size = {S, S, S}, .count = 1, .keys = &k0, .level = &l6};
+    vx_svo_model m;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &whole, &m, NULL, &e) == VX_OK);
+    CHECK(m.root == VX_SVO_ROOT_LEAF && m.voxel_count == (uint64_t)S * S * S);
+    vx_svo_model_free(NULL, &m);
+    /* bad tiles */
+    uint64_t bk[2];
+    uint8_t bl[2];
+    vx_svo_voxels bad = {.size = {S, S, S}, .count = 1, .keys = bk, .level = bl};
+    bk[0] = vx_svo_morton(4, 0, 0), bl[0] = 3; /* misaligned */
+    CHECK(vx_svo_build_model(NULL, &bad, &m, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "aligned"));
+    bk[0] = 0, bl[0] = 7; /* above depth */
+    CHECK(vx_svo_build_model(NULL, &bad, &m, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "level"));
+    vx_svo_voxels bad2 = {.size = {36, 64, 64}, .count = 1, .keys = bk, .level = bl};
+    bk[0] = vx_svo_morton(32, 0, 0), bl[0] = 3; /* crosses size */
+    CHECK(vx_svo_build_model(NULL, &bad2, &m, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "outside"));
+    bad.count = 2;
+    bk[0] = 0, bl[0] = 2, bk[1] = vx_svo_morton(1, 1, 1), bl[1] = 0; /* overlap */
+    CHECK(vx_svo_build_model(NULL, &bad, &m, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "inside"));
+    bk[1] = 0, bl[1] = 1; /* same corner, different size */
+    CHECK(vx_svo_build_model(NULL, &bad, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    free(ref.v);
+}
+
+static void test_bad_input(void) {
+    vx_svo_model m;
+    vx_error e;
+    uint64_t k = vx_svo_morton(10, 0, 0);
+    vx_svo_voxels in = {.size = {10, 10, 10}, .count = 1, .keys = &k};
+    CHECK(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "outside"));
+    k = 1ull << 63;
+    CHECK(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    k = 0;
+    in.attrs = VX_ATTR_RGBA8; /* array missing */
+    CHECK(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    uint8_t p = 1;
+    in.attrs = 0, in.palette = &p; /* array not named */
+    CHECK(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    in.palette = NULL;
+    in.size[0] = 0;
+    CHECK(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    in.size[0] = 1000;
+    CHECK(vx_svo_build_model(&(vx_svo_build_desc){.max_depth = 8}, &in, &m, NULL, &e) == VX_ERR_LIMIT);
+    CHECK(vx_svo_build_model(&(vx_svo_build_desc){.max_depth = 22}, &in, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+    in.size[0] = 1u << 21; /* depth 21: keys use 63 bits, the wide sort path */
+    uint64_t ks[3] = {vx_svo_morton((1u << 21) - 1, 9, 9), vx_svo_morton(3, 2, 1), vx_svo_morton((1u << 21) - 1, 9, 9)};
+    uint8_t pl[3] = {1, 2, 3};
+    vx_svo_voxels deep = {.size = {1u << 21, 10, 10}, .count = 3, .keys = ks, .attrs = VX_ATTR_PALETTE, .palette = pl};
+    REQUIRE(vx_svo_build_model(NULL, &deep, &m, NULL, &e) == VX_OK);
+    CHECK(m.depth == 21 && m.voxel_count == 2 && vx_svo_validate_model(&m, &e) == VX_OK);
+    coll c = decode_all(&m);
+    REQUIRE(c.n == 2);
+    CHECK(c.c[0].x == 3 && m.palette[c.c[0].attr] == 2 && c.c[1].x == (1u << 21) - 1 && m.palette[c.c[1].attr] == 3);
+    free(c.c);
+    vx_svo_model_free(NULL, &m);
+}
+
+static void far_case(uint32_t limit) {
+    vx__svo_far_limit = limit;
+    const uint32_t S = 48;
+    dense ref = dense_make(S, S, S);
+    size_t n = 4000;
+    uint64_t* keys = (uint64_t*)malloc(n * 8);
+    uint8_t* pal = (uint8_t*)malloc(n);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t x = (uint32_t)(rnd() % S), y = (uint32_t)(rnd() % S), z = (uint32_t)(rnd() % S);
+        keys[i] = vx_svo_morton(x, y, z);
+        pal[i] = (uint8_t)(1 + rnd() % 3);
+        *dat(&ref, x, y, z) = 1 + pal[i];
+    }
+    for (int attrs = 0; attrs < 2; attrs++) {
+        vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys};
+        if (attrs) in.attrs = VX_ATTR_PALETTE, in.palette = pal;
+        vx_svo_model m;
+        vx_svo_build_stats st;
+        vx_error e;
+        REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+        CHECKF(st.far_pointers > 0, "limit %u: no far pointers", limit);
+        CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+        if (attrs) check_equal(&m, &ref, val_pal);
+        else {
+            coll c = decode_all(&m);
+            size_t want = 0;
+            for (size_t i = 0; i < (size_t)S * S * S; i++) want += ref.v[i] != 0;
+            CHECK(c.n == want && c.order_ok);
+            for (size_t i = 0; i < c.n; i++) CHECK(*dat(&ref, c.c[i].x, c.c[i].y, c.c[i].z) != 0);
+            free(c.c);
+        }
+        vx_svo_model_free(NULL, &m);
+    }
+    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    free(ref.v);
+    free(keys);
+    free(pal);
+}
+
+static void test_far_forced(void) {
+    far_case(1);
+    far_case(3);
+    far_case(40);
+}
+
+/* No test hook: a model whose node array is far longer than 2^15 words. */
+static void test_far_real(void) {
+    const uint32_t S = 1024;
+    size_t n = 120000;
+    uint64_t* keys = (uint64_t*)malloc(n * 8);
+    uint32_t* col = (uint32_t*)malloc(n * 4);
+    for (size_t i = 0; i < n; i++) {
+        keys[i] = vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S));
+        col[i] = (uint32_t)rnd();
+    }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = col};
+    vx_svo_model m;
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    CHECK(m.node_count > 100000);
+    CHECKF(st.far_pointers > 0, "%u words, no far pointers", m.node_count);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    /* decode and compare as sorted key sets (dense is too big here) */
+    coll c = decode_all(&m);
+    CHECK(c.n == m.voxel_count && c.order_ok);
+    size_t found = 0;
+    for (size_t i = 0; i < n; i += 997) {
+        uint32_t x = vx__compact3(keys[i]), y = vx__compact3(keys[i] >> 1), z = vx__compact3(keys[i] >> 2);
+        size_t lo = 0, hi = c.n;
+        while (lo < hi) {
+            size_t mid = (lo + hi) / 2;
+            if (vx_svo_morton(c.c[mid].x, c.c[mid].y, c.c[mid].z) < keys[i]) lo = mid + 1;
+            else hi = mid;
+        }
+        /* the last duplicate of this key decides its colour */
+        size_t last = i;
+        for (size_t j = i + 1; j < n; j++)
+            if (keys[j] == keys[i]) last = j;
+        if (lo < c.n && c.c[lo].x == x && c.c[lo].y == y && c.c[lo].z == z && m.rgba[c.c[lo].attr] == col[last]) found++;
+        else CHECK(0);
+    }
+    CHECK(found > 0);
+    free(c.c);
+    vx_svo_model_free(NULL, &m);
+    free(keys);
+    free(col);
+}
+
+/* One shape stamped many times at block-aligned spots shares its subtree. */
+static void test_repeated(void) {
+    const uint32_t S = 128, B = 16;
+    dense ref = dense_make(S, S, S);
+    size_t cap = 1u << 20, n = 0;
+    uint64_t* keys = (uint64_t*)malloc(cap * 8);
+    uint8_t* pal = (uint8_t*)malloc(cap);
+    for (uint32_t bz = 0; bz < S; bz += 2 * B)
+        for (uint32_t by = 0; by < S; by += B)
+            for (uint32_t bx = 0; bx < S; bx += B)
+                for (uint32_t z = 0; z < B; z++)
+                    for (uint32_t y = 0; y < B; y++)
+                        for (uint32_t x = 0; x < B; x++) {
+                            float dx = x - 7.5f, dy = y - 7.5f, dz = z - 7.5f;
+                            float r2 = dx * dx + dy * dy + dz * dz;
+                            if (r2 > 49 || r2 < 30) continue;
+                            keys[n] = vx_svo_morton(bx + x, by + y, bz + z);
+                            pal[n] = (uint8_t)(1 + (z > 8) + (x > 8));
+                            *dat(&ref, bx + x, by + y, bz + z) = 1 + pal[n];
+                            n++;
+                        }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    vx_svo_model m, m1;
+    vx_svo_build_stats st, st1;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+    check_equal(&m, &ref, val_pal);
+    /* one copy alone */
+    size_t n1 = 0;
+    for (size_t i = 0; i < n; i++)
+        if (vx__compact3(keys[i]) < B && vx__compact3(keys[i] >> 1) < B && vx__compact3(keys[i] >> 2) < B) n1++;
+    vx_svo_voxels one = {.size = {B, B, B}, .count = n1, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(NULL, &one, &m1, &st1, &e) == VX_OK);
+    size_t copies = (S / B) * (S / B) * (S / (2 * B));
+    CHECK(st.desc_collapsed >= copies * st1.desc_collapsed);
+    /* shared: one copy's descriptors plus the few levels above the copies */
+    CHECKF(st.desc_dag <= st1.desc_dag + 3 * 8 + 2, "dag %llu, one copy %llu", (unsigned long long)st.desc_dag,
+           (unsigned long long)st1.desc_dag);
+    CHECK(m.attr_count <= m1.attr_count + 3 * 8 + 8);
+    vx_svo_model_free(NULL, &m);
+    vx_svo_model_free(NULL, &m1);
+    free(ref.v);
+    free(keys);
+    free(pal);
+}
+
+/* Reference representative attribute, recursively on a dense grid. */
+typedef struct lodref {
+    dense* d;
+    bool rgba;
+} lodref;
+static bool ref_rep(lodref* L, uint32_t x0, uint32_t y0, uint32_t z0, uint32_t lvl, uint32_t* out) {
+    if (lvl == 0) {
+        if (x0 >= L->d->sx || y0 >= L->d->sy || z0 >= L->d->sz) return false;
+        uint32_t v = *dat(L->d, x0, y0, z0);
+        if (!v) return false;
+        *out = v - 1;
+        return true;
+    }
+    uint32_t vals[8], n = 0, h = 1u << (lvl - 1);
+    for (uint32_t o = 0; o < 8; o++)
+        if (ref_rep(L, x0 + (o & 1) * h, y0 + (o >> 1 & 1) * h, z0 + (o >> 2 & 1) * h, lvl - 1, &vals[n])) n++;
+    if (!n) return false;
+    if (L->rgba) {
+        uint32_t r = 0;
+        for (int c = 0; c < 4; c++) {
+            uint32_t s = 0;
+            for (uint32_t i = 0; i < n; i++) s += (vals[i] >> (8 * c)) & 255;
+            r |= (uint32_t)floor((double)s / n + 0.5) << (8 * c);
+        }
+        *out = r;
+    } else {
+        uint32_t best = 0, bn = 0;
+        for (uint32_t v = 0; v < 256; v++) {
+            uint32_t k = 0;
+            for (uint32_t i = 0; i < n; i++) k += vals[i] == v;
+            if (k > bn) bn = k, best = v; /* ascending v: ties keep the smallest */
+        }
+        *out = best;
+    }
+    return true;
+}
+
+static void test_lod(void) {
+    for (int rgba = 0; rgba < 2; rgba++)
+        for (int trial = 0; trial < 20; trial++) {
+            const uint32_t S = 8;
+            dense ref = dense_make(S, S, S);
+            uint64_t keys[200];
+            uint8_t pal[200];
+            uint32_t col[200];
+            size_t n = 0;
+            uint32_t A = rgba ? 0xFF2080F0u : 3, B = rgba ? 0x80FF1001u : 7;
+            size_t want = 1 + rnd() % 150;
+            for (size_t i = 0; i < want; i++) {
+                uint32_t x = (uint32_t)(rnd() % S), y = (uint32_t)(rnd() % S), z = (uint32_t)(rnd() % S);
+                uint32_t v = rnd() % 3 ? A : B;
+                keys[n] = vx_svo_morton(x, y, z);
+                pal[n] = (uint8_t)v;
+                col[n] = v;
+                *dat(&ref, x, y, z) = 1 + v;
+                n++;
+            }
+            vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys};
+            if (rgba) in.attrs = VX_ATTR_RGBA8, in.rgba = col;
+            else in.attrs = VX_ATTR_PALETTE, in.palette = pal;
+            vx_svo_model m;
+            vx_error e;
+            REQUIRE(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_OK);
+            lodref L = {&ref, rgba != 0};
+            uint32_t expect = 0;
+            REQUIRE(ref_rep(&L, 0, 0, 0, 3, &expect));
+            uint32_t got = rgba ? m.rgba[m.root_attr] : m.palette[m.root_attr];
+            CHECKF(got == expect, "root_attr 0x%x, reference 0x%x", got, expect);
+            vx_svo_model_free(NULL, &m);
+            free(ref.v);
+        }
+}
+
+static bool count_stop(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
+    (void)x, (void)y, (void)z, (void)a;
+    return --*(int*)user > 0;
+}
+
+static void test_decode_stop(void) {
+    uint64_t k = 0;
+    uint8_t l = 5;
+    vx_svo_voxels in = {.size = {32, 32, 32}, .count = 1, .keys = &k, .level = &l};
+    vx_svo_model m;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_OK);
+    int left = 1000;
+    CHECK(vx_svo_decode_model(&m, count_stop, &left, &e) == VX_OK && left == 0);
+    vx_svo_model_free(NULL, &m);
+}
+
+static void test_other_channels(void) {
+    const uint32_t S = 16;
+    size_t n = 600;
+    uint64_t keys[600];
+    uint32_t nrm[600];
+    uint16_t mat[600];
+    float den[600];
+    for (size_t i = 0; i < n; i++) {
+        keys[i] = vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S));
+        float v[3] = {(float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 100.0f};
+        nrm[i] = vx__oct_encode(v);
+        mat[i] = (uint16_t)(rnd() % 3);
+        den[i] = (float)(rnd() % 1000) * 0.25f;
+    }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = VX_ATTR_NORMAL | VX_ATTR_MATERIAL | VX_ATTR_DENSITY,
+                        .normal = nrm, .material = mat, .density = den};
+    vx_svo_model m;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &m, NULL, &e) == VX_OK);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK && m.palette == NULL && m.rgba == NULL);
+    coll c = decode_all(&m);
+    size_t bad = 0;
+    for (size_t j = 0; j < c.n; j++) {
+        uint64_t k = vx_svo_morton(c.c[j].x, c.c[j].y, c.c[j].z);
+        size_t last = SIZE_MAX;
+        for (size_t i = 0; i < n; i++)
+            if (keys[i] == k) last = i;
+        uint32_t a = c.c[j].attr;
+        if (last == SIZE_MAX || m.normal[a] != nrm[last] || m.material[a] != mat[last] || m.density[a] != den[last]) bad++;
+    }
+    CHECK(bad == 0 && c.n == m.voxel_count);
+    free(c.c);
+    /* octahedral round trip stays close */
+    for (int i = 0; i < 100; i++) {
+        float v[3] = {(float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 99.5f}, w[3];
+        float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        vx__oct_decode(vx__oct_encode(v), w);
+        CHECK(fabsf(w[0] - v[0] / l) < 1e-3f && fabsf(w[1] - v[1] / l) < 1e-3f && fabsf(w[2] - v[2] / l) < 1e-3f);
+    }
+    vx_svo_model_free(NULL, &m);
+    /* density mean at the root of two cells */
+    uint64_t k2[2] = {vx_svo_morton(0, 0, 0), vx_svo_morton(1, 0, 0)};
+    float d2[2] = {1.0f, 2.0f};
+    vx_svo_voxels in2 = {.size = {2, 2, 2}, .count = 2, .keys = k2, .attrs = VX_ATTR_DENSITY, .density = d2};
+    REQUIRE(vx_svo_build_model(NULL, &in2, &m, NULL, &e) == VX_OK);
+    CHECK(m.density[m.root_attr] == 1.5f);
+    vx_svo_model_free(NULL, &m);
+}
+
+/* Hand-made broken models: each must be rejected with a specific message. */
+static void test_validate_rejects(void) {
+    /* a valid base: depth 2, root with one non-leaf child (all-leaf, level 1) */
+    uint32_t nodes[8];
+    vx_svo_model m;
+    memset(&m, 0, sizeof m);
+    m.size[0] = m.size[1] = m.size[2] = 4;
+    m.depth = 2;
+    m.nodes = nodes;
+    m.voxel_count = 3;
+    /* word 0: child descriptor (level 1): valid 0x07, leaf 0x07, no block */
+    nodes[0] = vx_svo_desc_make(0, false, 0x07, 0x07);
+    /* word 1: root: valid 0x01, leaf 0; block at word 0 */
+    nodes[1] = vx_svo_desc_make(1, false, 0x01, 0x00);
+    m.node_count = 2;
+    m.root = 1;
+    vx_error e;
+    REQUIRE(vx_svo_validate_model(&m, &e) == VX_OK);
+    coll c = decode_all(&m);
+    CHECK(c.n == 3);
+    free(c.c);
+    struct {
+        uint32_t w, v;
+        const char* msg;
+    } cases[] = {
+        {1, vx_svo_desc_make(2, false, 0x01, 0x00), "backwards"},      /* out of range */
+        {1, vx_svo_desc_make(0, false, 0x01, 0x00), "backwards"},      /* p = 0 */
+        {0, vx_svo_desc_make(0, false, 0x07, 0x0F), "subset"},         /* leaf not in valid */
+        {0, vx_svo_desc_make(0, false, 0x00, 0x00), "no children"},    /* empty */
+        {0, vx_svo_desc_make(0, false, 0x07, 0x03), "level 1"},        /* non-leaf at level 1 */
+        {1, vx_svo_desc_make(1, true, 0x01, 0x00), "before"},          /* far slot to a later word */
+        {0, vx_svo_desc_make(1, false, 0x07, 0x07), "pointer"},        /* block where none is needed */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        uint32_t save = nodes[cases[i].w];
+        nodes[cases[i].w] = cases[i].v;
+        vx_result r = vx_svo_validate_model(&m, &e);
+        CHECKF(r == VX_ERR_BAD_FORMAT && strstr(e.msg, cases[i].msg), "case %zu: %s", i, r ? e.msg : "accepted");
+        nodes[cases[i].w] = save;
+    }
+    /* self-referencing block (cycle): root points at a block containing itself */
+    nodes[0] = vx_svo_desc_make(0, false, 0x07, 0x07);
+    nodes[1] = vx_svo_desc_make(1, false, 0x03, 0x00); /* two non-leaf children: words 0 and 1 */
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "before"));
+    /* forward far slot */
+    nodes[0] = 5; /* far slot to word 5 */
+    nodes[1] = vx_svo_desc_make(1, true, 0x01, 0x00);
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT);
+    /* unreachable word */
+    nodes[0] = vx_svo_desc_make(0, false, 0x07, 0x07);
+    nodes[1] = vx_svo_desc_make(1, false, 0x01, 0x00);
+    nodes[2] = 0;
+    m.node_count = 3;
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "reachable"));
+    m.node_count = 2;
+    m.voxel_count = 4;
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "voxel_count"));
+    m.voxel_count = 3;
+    m.size[0] = 1; /* depth no longer matches */
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT);
+    m.size[0] = 3; /* cells at x up to 2 fit; a leaf at x = 3 would not */
+    nodes[0] = vx_svo_desc_make(0, false, 0x03, 0x03);
+    m.voxel_count = 2;
+    CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+    nodes[1] = vx_svo_desc_make(1, false, 0x02, 0x00); /* moves the cells to x = 2..3 */
+    CHECK(vx_svo_validate_model(&m, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "outside"));
+    /* attribute index beyond the records */
+    uint8_t pal[4] = {1, 2, 3, 4};
+    uint32_t an[3] = {2, vx_svo_desc_make(1, false, 0x03, 0x03), 0};
+    vx_svo_model ma;
+    memset(&ma, 0, sizeof ma);
+    ma.size[0] = ma.size[1] = ma.size[2] = 2;
+    ma.depth = 1;
+    ma.nodes = an;
+    ma.node_count = 2;
+    ma.root = 1;
+    ma.attrs = VX_ATTR_PALETTE;
+    ma.palette = pal;
+    ma.attr_count = 4;
+    ma.voxel_count = 2;
+    CHECK(vx_svo_validate_model(&ma, &e) == VX_OK);
+    an[0] = 3;
+    CHECK(vx_svo_validate_model(&ma, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "attribute"));
+    an[0] = 0xFFFFFFFFu;
+    CHECK(vx_svo_validate_model(&ma, &e) == VX_ERR_BAD_FORMAT);
+    ma.depth = 22;
+    CHECK(vx_svo_validate_model(&ma, &e) == VX_ERR_BAD_FORMAT);
+}
+
+static void test_bounds_and_materials(void) {
+    uint64_t keys[3] = {vx_svo_morton(2, 3, 4), vx_svo_morton(5, 3, 1), vx_svo_morton(3, 6, 2)};
+    vx_svo_voxels in = {.size = {8, 8, 8}, .count = 3, .keys = keys};
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = (vx_svo_model*)calloc(1, sizeof *s.models);
+    s.model_count = 1;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &s.models[0], NULL, &e) == VX_OK);
+    s.instances = (vx_svo_instance*)calloc(3, sizeof *s.instances);
+    s.instance_count = 3;
+    /* a 90-degree rotation about z plus translation, a plain shift, and a hidden one far away */
+    double rot[12] = {0, -1, 0, 10, 1, 0, 0, -4, 0, 0, 1, 0.25};
+    double sh[12] = {1, 0, 0, 100, 0, 1, 0, 0, 0, 0, 1, 0};
+    double far[12] = {1, 0, 0, 1e6, 0, 1, 0, 0, 0, 0, 1, 0};
+    memcpy(s.instances[0].xform, rot, sizeof rot);
+    memcpy(s.instances[1].xform, sh, sizeof sh);
+    memcpy(s.instances[2].xform, far, sizeof far);
+    s.instances[2].flags = VX_SVO_INSTANCE_HIDDEN;
+    for (int i = 0; i < 3; i++) s.instances[i].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(&s);
+    /* brute force: every cell's grid cell */
+    double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 3; k++) {
+            double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
+            const double* M = s.instances[i].xform;
+            for (int r = 0; r < 3; r++) {
+                double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
+                if (g < mn[r]) mn[r] = g;
+                if (g + 1 > mx[r]) mx[r] = g + 1;
+            }
+        }
+    for (int r = 0; r < 3; r++) CHECKF(s.bounds_min[r] == mn[r] && s.bounds_max[r] == mx[r], "axis %d: %g..%g vs %g..%g", r,
+                                       s.bounds_min[r], s.bounds_max[r], mn[r], mx[r]);
+    CHECK(vx_svo_validate_scene(&s, &e) == VX_OK);
+    s.instances[1].model = 1;
+    CHECK(vx_svo_validate_scene(&s, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "model"));
+    s.instances[1].model = 0;
+    s.instances[1].xform[3] = NAN;
+    CHECK(vx_svo_validate_scene(&s, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "finite"));
+    s.instances[1].xform[3] = 0;
+    s.instances[1].layer = 0;
+    CHECK(vx_svo_validate_scene(&s, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "layer"));
+    s.instances[1].layer = UINT32_MAX;
+    static const char dict[] = "_type\0_emit\0_emit\0" "0.5\0_rough\0\0";
+    vx_svo_material mat = {3, sizeof dict, (char*)dict};
+    CHECK(strcmp(vx_svo_material_get(&mat, "_type"), "_emit") == 0);
+    CHECK(strcmp(vx_svo_material_get(&mat, "_emit"), "0.5") == 0);
+    CHECK(strcmp(vx_svo_material_get(&mat, "_rough"), "") == 0);
+    CHECK(vx_svo_material_get(&mat, "_ior") == NULL);
+    vx_svo_scene_free(&s);
+    CHECK(s.models == NULL && s.model_count == 0);
+}
+
+int main(void) {
+    RUN(test_morton_helpers);
+    RUN(test_empty);
+    RUN(test_one_voxel);
+    RUN(test_full_cube);
+    RUN(test_checkerboard);
+    RUN(test_random_sparse);
+    RUN(test_tiles);
+    RUN(test_bad_input);
+    RUN(test_far_forced);
+    RUN(test_far_real);
+    RUN(test_repeated);
+    RUN(test_lod);
+    RUN(test_decode_stop);
+    RUN(test_other_channels);
+    RUN(test_validate_rejects);
+    RUN(test_bounds_and_materials);
+    return vx_test_finish();
+}

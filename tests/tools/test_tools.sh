@@ -1,0 +1,80 @@
+#!/bin/sh
+# tests/tools/test_tools.sh BIN_DIR CORPUS_DIR - the command-line contract of
+# vox2svo and svo_info: help and usage errors, exit codes, the demo scene,
+# dump/export round trips, and bad input leaving no output behind.
+set -u
+BIN=$1
+CORPUS=$2
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "[  ok  ] $1"; }
+bad() { fail=$((fail + 1)); echo "[ FAIL ] $1"; }
+expect_status() { # expected description command...
+    want=$1; what=$2; shift 2
+    "$@" >"$T/out" 2>"$T/err"
+    got=$?
+    if [ "$got" = "$want" ]; then ok "$what"; else bad "$what (exit $got, wanted $want)"; cat "$T/err"; fi
+}
+
+expect_status 0 "vox2svo --help" "$BIN/vox2svo" --help
+grep -q "^Usage:" "$T/out" && grep -q "^Options:" "$T/out" && grep -q "^Examples:" "$T/out" && ok "help sections" || bad "help sections"
+grep -q "default: 256" "$T/out" && ok "help shows defaults" || bad "help shows defaults"
+expect_status 2 "vox2svo without arguments" "$BIN/vox2svo"
+expect_status 2 "vox2svo unknown option" "$BIN/vox2svo" a.vox b.svo --bogus
+grep -q "not a valid option" "$T/err" && ok "unknown option message" || bad "unknown option message"
+expect_status 2 "vox2svo missing argument" "$BIN/vox2svo" a.vox b.svo --frame
+expect_status 0 "svo_info --help" "$BIN/svo_info" --help
+expect_status 2 "svo_info without arguments" "$BIN/svo_info"
+expect_status 1 "vox2svo missing input" "$BIN/vox2svo" "$T/none.vox" "$T/none.svo"
+grep -q "none.vox" "$T/err" && ok "error names the file" || bad "error names the file"
+[ ! -e "$T/none.svo" ] && ok "no output on failure" || bad "no output on failure"
+
+# the demo scene: write, convert, verify, dump, export and convert again
+expect_status 0 "write demo" "$BIN/vox2svo" --write-demo "$T/demo.vox"
+expect_status 0 "convert demo" "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo"
+grep -q "descriptors  plain" "$T/out" && grep -q "bytes/voxel" "$T/out" && ok "statistics printed" || bad "statistics printed"
+expect_status 0 "svo_info demo" "$BIN/svo_info" "$T/demo.svo"
+grep -q "^model 0" "$T/out" && grep -q "^sections" "$T/out" && ok "svo_info lists sections and models" || bad "svo_info lists sections and models"
+expect_status 0 "verify demo" "$BIN/svo_info" "$T/demo.svo" --verify
+"$BIN/svo_info" "$T/demo.svo" --dump | sort >"$T/d1" || bad "dump"
+n=$(wc -l <"$T/d1")
+[ "$n" -gt 1000 ] && ok "dump has $n cells" || bad "dump has $n cells"
+expect_status 0 "export to vox" "$BIN/svo_info" "$T/demo.svo" --to-vox "$T/demo2.vox"
+expect_status 0 "convert export" "$BIN/vox2svo" "$T/demo2.vox" "$T/demo2.svo"
+"$BIN/svo_info" "$T/demo2.svo" --dump | sort >"$T/d2"
+cmp -s "$T/d1" "$T/d2" && ok "dump(svo) == dump(svo -> vox -> svo)" || bad "dump(svo) == dump(svo -> vox -> svo)"
+"$BIN/vox2svo" "$T/demo.vox" "$T/plain.svo" --no-collapse --no-dag -q
+"$BIN/svo_info" "$T/plain.svo" --dump | sort >"$T/d3"
+cmp -s "$T/d1" "$T/d3" && ok "minimization does not change the voxels" || bad "minimization does not change the voxels"
+s1=$(wc -c <"$T/demo.svo"); s3=$(wc -c <"$T/plain.svo")
+[ "$s1" -lt "$s3" ] && ok "minimized file smaller ($s1 < $s3 bytes)" || bad "minimized file smaller ($s1 vs $s3)"
+"$BIN/vox2svo" "$T/demo.vox" "$T/hid.svo" --keep-hidden -q
+"$BIN/svo_info" "$T/hid.svo" --dump --all | sort >"$T/d4"
+[ "$(wc -l <"$T/d4")" -gt "$n" ] && ok "--keep-hidden keeps the hidden layer" || bad "--keep-hidden keeps the hidden layer"
+
+# bad input: truncated .vox, corrupted .svo; clear error, exit 1, no output
+head -c 2000 "$T/demo.vox" >"$T/trunc.vox"
+expect_status 1 "truncated .vox" "$BIN/vox2svo" "$T/trunc.vox" "$T/trunc.svo"
+[ ! -e "$T/trunc.svo" ] && ! ls "$T"/trunc.svo.tmp* >/dev/null 2>&1 && ok "no output or temp file left" || bad "no output or temp file left"
+grep -q "trunc.vox" "$T/err" && ok "error names the input" || bad "error names the input"
+cp "$T/demo.svo" "$T/corrupt.svo"
+size=$(wc -c <"$T/corrupt.svo")
+printf '\377\377\377\377' | dd of="$T/corrupt.svo" bs=1 seek=$((size / 2)) conv=notrunc 2>/dev/null
+expect_status 1 "corrupted .svo fails --verify" "$BIN/svo_info" "$T/corrupt.svo" --verify
+head -c $((size - 3)) "$T/demo.svo" >"$T/short.svo"
+expect_status 1 "truncated .svo fails" "$BIN/svo_info" "$T/short.svo"
+printf 'not a voxel file at all' >"$T/junk.vox"
+expect_status 1 "junk .vox" "$BIN/vox2svo" "$T/junk.vox" "$T/junk.svo"
+expect_status 1 "unknown extension" "$BIN/vox2svo" "$T/demo.svo" "$T/x.svo"
+
+# a corpus scene with instancing, when the corpus is there
+if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then
+    expect_status 0 "convert corpus scene" "$BIN/vox2svo" "$CORPUS/vox/ogt_test_multiple_model_scene.vox" "$T/m.svo"
+    expect_status 0 "verify corpus scene" "$BIN/svo_info" "$T/m.svo" --verify
+else
+    echo "[ skip ] corpus scene: $CORPUS not found"
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]

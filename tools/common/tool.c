@@ -1,0 +1,146 @@
+/* tools/common/tool.c */
+#define _POSIX_C_SOURCE 200809L
+#include "tools/common/tool.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+const char* vx_tool_name = "voxkit";
+
+void vx_tool_init(int argc, char** argv) {
+    if (argc > 0 && argv[0]) {
+        const char* s = strrchr(argv[0], '/');
+        vx_tool_name = s ? s + 1 : argv[0];
+    }
+}
+
+int vx_tool_error(const char* file, const vx_error* err) {
+    if (err && err->offset != VX_NO_OFFSET && !strstr(err->msg, "byte"))
+        fprintf(stderr, "%s: %s: %s (at byte %llu)\n", vx_tool_name, file ? file : "", err->msg,
+                (unsigned long long)err->offset);
+    else
+        fprintf(stderr, "%s: %s: %s\n", vx_tool_name, file ? file : "", err ? err->msg : "error");
+    return 1;
+}
+
+int vx_tool_errorf(const char* fmt, ...) {
+    va_list ap;
+    fprintf(stderr, "%s: ", vx_tool_name);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return 1;
+}
+
+/* ---- progress bar ---------------------------------------------------------- */
+
+static double bar_last;
+static bool bar_shown;
+
+static bool bar_func(void* user, const char* stage, uint64_t done, uint64_t total) {
+    (void)user;
+    double now = vx_time_now();
+    if (done < total && now - bar_last < 0.1) return true;
+    bar_last = now;
+    double f = total ? (double)done / (double)total : 1.0;
+    if (f > 1) f = 1;
+    int w = 30, fill = (int)(f * w);
+    char bar[40];
+    for (int i = 0; i < w; i++) bar[i] = i < fill ? '=' : (i == fill ? '>' : ' ');
+    bar[w] = 0;
+    fprintf(stderr, "\r%s: [%s] %3d%% %-24.24s", vx_tool_name, bar, (int)(f * 100), stage ? stage : "");
+    fflush(stderr);
+    bar_shown = true;
+    return true;
+}
+
+vx_progress vx_tool_progress(bool quiet) {
+    vx_progress p = {0};
+    if (!quiet && isatty(STDERR_FILENO)) p.func = bar_func;
+    bar_last = 0;
+    return p;
+}
+
+void vx_tool_progress_done(void) {
+    if (bar_shown) fprintf(stderr, "\r%*s\r", 80, "");
+    bar_shown = false;
+}
+
+/* ---- formatting ------------------------------------------------------------- */
+
+const char* vx_tool_num(uint64_t v) {
+    static char slots[4][32];
+    static int next;
+    char* out = slots[next++ & 3];
+    char tmp[32];
+    int n = snprintf(tmp, sizeof tmp, "%llu", (unsigned long long)v);
+    int j = 0;
+    for (int i = 0; i < n; i++) {
+        out[j++] = tmp[i];
+        int left = n - 1 - i;
+        if (left > 0 && left % 3 == 0) out[j++] = ',';
+    }
+    out[j] = 0;
+    return out;
+}
+
+const char* vx_tool_bytes(uint64_t v) {
+    static char slots[4][32];
+    static int next;
+    char* out = slots[next++ & 3];
+    if (v < 1024) snprintf(out, 32, "%llu B", (unsigned long long)v);
+    else if (v < 1024 * 1024) snprintf(out, 32, "%.1f KiB", v / 1024.0);
+    else if (v < 1024ull * 1024 * 1024) snprintf(out, 32, "%.1f MiB", v / 1048576.0);
+    else snprintf(out, 32, "%.2f GiB", v / 1073741824.0);
+    return out;
+}
+
+bool vx_tool_parse_u32(const char* s, uint32_t* out) {
+    if (!s || !isdigit((unsigned char)*s)) return false;
+    errno = 0;
+    char* end;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno || *end || v > UINT32_MAX) return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+bool vx_tool_parse_double(const char* s, double* out) {
+    if (!s || !*s) return false;
+    errno = 0;
+    char* end;
+    double v = strtod(s, &end);
+    if (errno || *end || !isfinite(v)) return false;
+    *out = v;
+    return true;
+}
+
+static void log_func(void* user, vx_log_level level, const char* id, const char* msg) {
+    bool verbose = user != NULL;
+    if (level == VX_LOG_INFO && !verbose) return;
+    vx_tool_progress_done();
+    fprintf(stderr, "%s: %s: %s [%s]\n", vx_tool_name, level == VX_LOG_WARN ? "warning" : "info", msg, id);
+}
+
+vx_logger vx_tool_logger(bool verbose) {
+    vx_logger l = {log_func, verbose ? (void*)1 : NULL};
+    return l;
+}
+
+const char* vx_tool_ext(const char* path) {
+    static char ext[16];
+    const char* slash = strrchr(path, '/');
+    const char* dot = strrchr(path, '.');
+    if (!dot || (slash && dot < slash)) return "";
+    size_t i = 0;
+    for (dot++; *dot && i + 1 < sizeof ext; dot++) ext[i++] = (char)tolower((unsigned char)*dot);
+    ext[i] = 0;
+    return ext;
+}

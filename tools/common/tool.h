@@ -1,0 +1,43 @@
+/* tools/common/tool.h - what every command-line tool shares: program name,
+ * error lines, a terminal progress bar, number formatting.
+ * Only tools print and exit; the libraries report through vx_error. */
+#ifndef VX_TOOL_H
+#define VX_TOOL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "svo/core.h"
+
+/* Basename of argv[0], set by vx_tool_init. */
+extern const char* vx_tool_name;
+void vx_tool_init(int argc, char** argv);
+
+/* "tool: file: message" on stderr; returns 1 (the tools' failure status). */
+int vx_tool_error(const char* file, const vx_error* err);
+int vx_tool_errorf(const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+/* Progress bar on stderr when it is a terminal (quiet disables it). */
+vx_progress vx_tool_progress(bool quiet);
+void vx_tool_progress_done(void);
+
+/* 1234567 -> "1,234,567" in a rotating static buffer (4 slots). */
+const char* vx_tool_num(uint64_t v);
+/* bytes -> "12.3 MiB" */
+const char* vx_tool_bytes(uint64_t v);
+
+/* Parses a whole decimal number / a double; false if malformed. */
+bool vx_tool_parse_u32(const char* s, uint32_t* out);
+bool vx_tool_parse_double(const char* s, double* out);
+
+/* Logger printing warnings as "tool: warning: msg" (verbose also INFO). */
+vx_logger vx_tool_logger(bool verbose);
+
+/* Lower-case extension of path without the dot ("" if none). */
+const char* vx_tool_ext(const char* path);
+
+#endif

@@ -1,0 +1,257 @@
+/* tools/svo_info/main.c - inspect, verify, dump and export .svo files. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "convert/convert.h"
+#include "tools/common/tool.h"
+
+typedef struct options {
+    const char* in;
+    bool verify;
+    bool dump;
+    bool all;
+    bool models;
+    const char* to_vox;
+    bool quiet;
+} options;
+
+_Noreturn static void usage(int status) {
+    FILE* f = status == 0 ? stdout : stderr;
+    fprintf(f,
+            "Usage: %s FILE.svo [options]\n"
+            "Which: prints the header, sections and per-model statistics of a .svo file;\n"
+            "       verifies, dumps or exports it.\n"
+            "Options:\n"
+            "    --verify         check every checksum and the whole structure; the exit\n"
+            "                     status says the result (0 valid, 1 invalid)\n"
+            "    --dump           print every voxel of the scene in grid cells, one per line\n"
+            "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
+            "    --all            with --dump: include hidden instances and layers\n"
+            "    --models         list every model and instance (default: the first 16)\n"
+            "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
+            "    -q, --quiet      print only errors (and the dump)\n"
+            "    -h, --help       print this help and exit\n"
+            "    --version        print the tool and format versions and exit\n"
+            "Examples:\n"
+            "    %s castle.svo\n"
+            "    %s castle.svo --verify\n"
+            "    %s castle.svo --dump | sort > cells.txt\n"
+            "    %s castle.svo --to-vox castle2.vox\n",
+            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+    exit(status);
+}
+
+_Noreturn static void usage_error(const char* fmt, const char* arg) {
+    fprintf(stderr, "%s: ", vx_tool_name);
+    fprintf(stderr, fmt, arg);
+    fputc('\n', stderr);
+    usage(2);
+}
+
+static options parse(int argc, char** argv) {
+    options o = {0};
+    if (argc == 1) usage(2);
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
+        else if (!strcmp(a, "--version") || !strcmp(a, "-version")) {
+            printf("%s %s (.svo format version %u)\n", vx_tool_name, VX_VERSION_STRING, VX_SVO_FORMAT_VERSION);
+            exit(0);
+        } else if (!strcmp(a, "--verify")) o.verify = true;
+        else if (!strcmp(a, "--dump")) o.dump = true;
+        else if (!strcmp(a, "--all")) o.all = true;
+        else if (!strcmp(a, "--models")) o.models = true;
+        else if (!strcmp(a, "--to-vox")) {
+            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
+            o.to_vox = argv[++i];
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
+        else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
+        else if (!o.in) o.in = a;
+        else usage_error("unexpected argument '%s'", a);
+    }
+    if (!o.in) usage_error("%s", "expected a .svo file");
+    return o;
+}
+
+/* Descriptors reachable from the root, each shared block counted once. */
+static uint64_t count_descriptors(const vx_svo_model* m) {
+    if (m->root >= m->node_count) return 0;
+    uint8_t* seen = calloc((m->node_count + 7) / 8, 1);
+    uint32_t* stack = malloc(sizeof(uint32_t) * ((size_t)m->depth * 8 + 8));
+    if (!seen || !stack) {
+        free(seen);
+        free(stack);
+        return 0;
+    }
+    uint64_t n = 0;
+    size_t sp = 0;
+    stack[sp++] = m->root;
+    while (sp) {
+        uint32_t i = stack[--sp];
+        if (seen[i / 8] & (1u << (i % 8))) continue;
+        seen[i / 8] |= (uint8_t)(1u << (i % 8));
+        n++;
+        uint32_t d = m->nodes[i];
+        uint32_t inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
+        if (!inner) continue;
+        uint32_t p = vx_svo_desc_ptr(d);
+        uint32_t block = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+        for (uint32_t k = 0, c = (uint32_t)__builtin_popcount(inner); k < c; k++) stack[sp++] = block + k;
+    }
+    free(seen);
+    free(stack);
+    return n;
+}
+
+static void attrs_str(uint32_t a, char* buf, size_t n) {
+    buf[0] = 0;
+    static const char* names[] = {"palette", "rgba8", "normal", "material", "density"};
+    for (int i = 0; i < 5; i++)
+        if (a & (1u << i)) {
+            if (buf[0]) strncat(buf, "+", n - strlen(buf) - 1);
+            strncat(buf, names[i], n - strlen(buf) - 1);
+        }
+    if (!buf[0]) snprintf(buf, n, "geometry only");
+}
+
+static bool xform_is_identity(const double* m) {
+    static const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    return !memcmp(m, id, sizeof id);
+}
+
+static void print_info(const options* o, const vx_svo_file_info* fi, const vx_svo_scene* s) {
+    printf("file         %s (%s bytes, .svo format version %u)\n", o->in, vx_tool_num(fi->file_size), fi->version);
+    printf("sections     %u\n", fi->section_count);
+    for (uint32_t i = 0; i < fi->section_count && i < 64; i++) {
+        const vx_svo_section_info* si = &fi->sections[i];
+        printf("  %-4s  offset %10llu  size %10llu  crc %08x %s%s\n", si->tag, (unsigned long long)si->offset,
+               (unsigned long long)si->size, si->crc, si->crc_ok ? "ok" : "BAD",
+               si->known ? "" : "  (unknown, skipped)");
+    }
+    uint64_t voxels = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) voxels += s->models[i].voxel_count;
+    printf("scene        %u models, %u instances, %u layers, %u materials, palette %s\n", s->model_count,
+           s->instance_count, s->layer_count, s->material_count, s->has_palette ? "yes" : "no");
+    printf("bounds       [%g %g %g] - [%g %g %g] (grid cells)\n", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2],
+           s->bounds_max[0], s->bounds_max[1], s->bounds_max[2]);
+    if (xform_is_identity(s->world_from_grid)) printf("world        grid cells are world units\n");
+    else {
+        const double* w = s->world_from_grid;
+        printf("world        x' = [%g %g %g | %g]  y' = [%g %g %g | %g]  z' = [%g %g %g | %g]\n", w[0], w[1], w[2], w[3],
+               w[4], w[5], w[6], w[7], w[8], w[9], w[10], w[11]);
+    }
+    printf("voxels       %s in models, %.3f bytes/voxel for the whole file\n", vx_tool_num(voxels),
+           voxels ? (double)fi->file_size / (double)voxels : 0.0);
+    uint32_t shown = o->models ? s->model_count : (s->model_count < 16 ? s->model_count : 16);
+    for (uint32_t i = 0; i < shown; i++) {
+        const vx_svo_model* m = &s->models[i];
+        char at[64];
+        attrs_str(m->attrs, at, sizeof at);
+        uint64_t nd = count_descriptors(m);
+        const char* root = m->root == VX_SVO_ROOT_EMPTY ? " (empty)" : m->root == VX_SVO_ROOT_LEAF ? " (one leaf)" : "";
+        printf("model %-6u %ux%ux%u, depth %u, %s voxels%s, %s descriptors, %s node words, %s attribute records (%s)\n",
+               i, m->size[0], m->size[1], m->size[2], m->depth, vx_tool_num(m->voxel_count), root, vx_tool_num(nd),
+               vx_tool_num(m->node_count), vx_tool_num(m->attr_count), at);
+    }
+    if (shown < s->model_count) printf("  ... %u more models (--models lists all)\n", s->model_count - shown);
+    shown = o->models ? s->instance_count : (s->instance_count < 16 ? s->instance_count : 16);
+    for (uint32_t i = 0; i < shown; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        const double* x = in->xform;
+        printf("instance %-3u model %u, layer %s%s%s, t = (%g %g %g), M = [%g %g %g; %g %g %g; %g %g %g]%s%s%s\n", i,
+               in->model, in->layer < s->layer_count ? "" : "-",
+               in->layer < s->layer_count ? s->layers[in->layer].name : "",
+               in->flags & VX_SVO_INSTANCE_HIDDEN ? " (hidden)" : "", x[3], x[7], x[11], x[0], x[1], x[2], x[4], x[5],
+               x[6], x[8], x[9], x[10], in->name[0] ? ", \"" : "", in->name, in->name[0] ? "\"" : "");
+    }
+    if (shown < s->instance_count) printf("  ... %u more instances (--models lists all)\n", s->instance_count - shown);
+}
+
+typedef struct dump_ctx {
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    const double* x;
+    char buf[1 << 16];
+    size_t len;
+} dump_ctx;
+
+static void dump_flush(dump_ctx* c) {
+    fwrite(c->buf, 1, c->len, stdout);
+    c->len = 0;
+}
+
+static bool dump_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    dump_ctx* c = (dump_ctx*)user;
+    const double* M = c->x;
+    double p[3] = {x + 0.5, y + 0.5, z + 0.5};
+    long long g[3];
+    for (int r = 0; r < 3; r++) g[r] = (long long)floor(M[r * 4] * p[0] + M[r * 4 + 1] * p[1] + M[r * 4 + 2] * p[2] + M[r * 4 + 3]);
+    uint32_t col = vx_svo_attr_color(c->s, c->m, attr);
+    if (c->len > sizeof c->buf - 128) dump_flush(c);
+    c->len += (size_t)snprintf(c->buf + c->len, sizeof c->buf - c->len, "%lld %lld %lld %u %u %u %u\n", g[0], g[1],
+                               g[2], col & 0xFF, (col >> 8) & 0xFF, (col >> 16) & 0xFF, col >> 24);
+    return true;
+}
+
+static int dump(const options* o, const vx_svo_scene* s) {
+    dump_ctx* c = malloc(sizeof *c);
+    if (!c) return vx_tool_errorf("out of memory");
+    c->s = s;
+    c->len = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        bool hidden = (in->flags & VX_SVO_INSTANCE_HIDDEN) ||
+                      (in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN));
+        if (hidden && !o->all) continue;
+        c->m = &s->models[in->model];
+        c->x = in->xform;
+        vx_error err = {0};
+        if (vx_svo_decode_model(c->m, dump_voxel, c, &err) != VX_OK) {
+            dump_flush(c);
+            free(c);
+            return vx_tool_error(o->in, &err);
+        }
+    }
+    dump_flush(c);
+    free(c);
+    return fflush(stdout) == 0 ? 0 : vx_tool_errorf("cannot write the dump");
+}
+
+int main(int argc, char** argv) {
+    vx_tool_init(argc, argv);
+    options o = parse(argc, argv);
+    vx_error err = {0};
+    uint8_t* data = NULL;
+    size_t size = 0;
+    if (vx_file_read(o.in, NULL, (uint64_t)1 << 40, &data, &size, &err) != VX_OK) return vx_tool_error(o.in, &err);
+    vx_svo_file_info fi;
+    if (vx_svo_probe(data, size, &fi, &err) != VX_OK) {
+        free(data);
+        return vx_tool_error(o.in, &err);
+    }
+    vx_svo_scene s;
+    vx_result r = vx_svo_read(NULL, data, size, &s, &err);
+    free(data);
+    if (r != VX_OK) {
+        if (o.verify && !o.quiet) printf("%s: INVALID\n", o.in);
+        return vx_tool_error(o.in, &err);
+    }
+    int status = 0;
+    if (!o.quiet && !o.dump) print_info(&o, &fi, &s);
+    if (o.verify && !o.quiet) printf("%s: valid (%u sections, checksums and structure verified)\n", o.in, fi.section_count);
+    if (o.dump) status = dump(&o, &s);
+    if (status == 0 && o.to_vox) {
+        vx_vox_scene v;
+        r = vx_conv_svo_to_vox(&s, NULL, &v, &err);
+        if (r == VX_OK) {
+            r = vx_vox_write_file(&v, o.to_vox, &err);
+            vx_vox_scene_free(&v);
+        }
+        if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
+        else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
+    }
+    vx_svo_scene_free(&s);
+    return status;
+}

@@ -1,0 +1,293 @@
+/* tools/svo_render/main.c - svo_render FILE.svo OUT.{png,exr} [options] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "formats/image.h"
+#include "render/render.h"
+
+typedef struct options {
+    const char* in;
+    const char* out;
+    vx_render_desc r;
+    const char* device;
+    bool cpu, validate, verbose, list;
+} options;
+
+static const char* prog = "svo_render";
+
+static options default_options(void) {
+    options o = {0};
+    o.r.width = 640;
+    o.r.height = 480;
+    o.r.spp = 1;
+    o.r.camera.fov = 45;
+    o.r.ambient = 0.3;
+    o.r.lod_pixels = 1;
+    return o;
+}
+
+_Noreturn static void usage(int status) {
+    options d = default_options();
+    FILE* f = status == 0 ? stdout : stderr;
+    fprintf(f,
+            "Usage: %s FILE.svo OUT.{png,exr} [options]\n"
+            "\n"
+            "Which: renders a .svo scene with the Vulkan compute tracer (BVH over instances,\n"
+            "       sparse voxel octree per model) or with the CPU reference tracer.\n"
+            "       8-bit modes write PNG, float modes (depth, normal) EXR.\n"
+            "\n"
+            "Options:\n"
+            "  --mode M             color|albedo|normal|depth|instance|iterations (default: %s)\n"
+            "  --size WxH           image size (default: %ux%u)\n"
+            "  --spp N              samples per pixel (default: %u)\n"
+            "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
+            "  --up X,Y,Z           up vector (default: 0,0,1)\n"
+            "  --fov DEG            vertical field of view (default: %g)\n"
+            "  --ortho [H]          orthographic, view height H (default: frame the bounds)\n"
+            "  --lod [PIXELS]       stop where a voxel is smaller than PIXELS pixels (default: off, %g)\n"
+            "  --light X,Y,Z        direction towards the light (default: 0.35,-0.45,0.82)\n"
+            "  --ambient A          sky light share (default: %g)\n"
+            "  --device N|NAME      Vulkan device (default: a discrete GPU, else any)\n"
+            "  --list-devices       print the Vulkan devices and exit\n"
+            "  --validate           enable the Vulkan validation layer\n"
+            "  --cpu                use the CPU reference tracer\n"
+            "  -v                   print the effective options as a command line\n"
+            "  -h, --help           this help;  -version: versions\n"
+            "\n"
+            "Examples:\n"
+            "  %s scene.svo out.png\n"
+            "  %s scene.svo depth.exr --mode depth --size 1280x720\n"
+            "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n",
+            prog, vx_render_mode_name(d.r.mode), d.r.width, d.r.height, d.r.spp, d.r.camera.fov, d.r.lod_pixels,
+            d.r.ambient, prog, prog, prog);
+    exit(status);
+}
+
+_Noreturn static void usage_error(const char* fmt, const char* arg) {
+    fprintf(stderr, "%s: ", prog);
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n");
+    usage(2);
+}
+
+static bool parse_vec(const char* s, double* v, int n) {
+    for (int i = 0; i < n; i++) {
+        char* end;
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i])) return false;
+        s = end;
+        if (i < n - 1) {
+            if (*s != ',') return false;
+            s++;
+        }
+    }
+    return *s == 0;
+}
+
+static bool parse_uint(const char* s, uint32_t* out) {
+    char* end;
+    unsigned long v = strtoul(s, &end, 10);
+    if (end == s || *end || v > 1000000) return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+static bool is_number(const char* s) {
+    char* end;
+    strtod(s, &end);
+    return end != s && *end == 0;
+}
+
+static void list_cb(void* user, uint32_t i, const char* name, const char* type) {
+    (void)user;
+    printf("%u: %s (%s)\n", i, name, type);
+}
+
+static void log_cb(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)user;
+    if (level >= VX_LOG_WARN) fprintf(stderr, "%s: %s: %s\n", prog, id, msg);
+}
+
+static const char* ext_of(const char* p) {
+    const char* d = strrchr(p, '.');
+    return d ? d + 1 : "";
+}
+
+int main(int argc, char** argv) {
+    const char* slash = strrchr(argv[0], '/');
+    prog = slash ? slash + 1 : argv[0];
+    options o = default_options();
+    const char* pos[2];
+    int npos = 0;
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+#define NEED()                                                          \
+    do {                                                                \
+        if (i + 1 >= argc) usage_error("option %s needs an argument", a); \
+    } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
+        else if (!strcmp(a, "-version") || !strcmp(a, "--version")) {
+            printf("%s %s (svo format %u, max octree depth %u)\n", prog, VX_VERSION_STRING, VX_SVO_FORMAT_VERSION,
+                   VX_RENDER_MAX_DEPTH);
+            return 0;
+        } else if (!strcmp(a, "--mode")) {
+            NEED();
+            if (!vx_render_mode_parse(argv[++i], &o.r.mode)) usage_error("unknown mode '%s'", argv[i]);
+        } else if (!strcmp(a, "--size")) {
+            NEED();
+            unsigned w, h;
+            char c;
+            if (sscanf(argv[++i], "%ux%u%c", &w, &h, &c) != 2 || !w || !h || w > 16384 || h > 16384)
+                usage_error("bad size '%s' (WxH, at most 16384 each)", argv[i]);
+            o.r.width = w, o.r.height = h;
+        } else if (!strcmp(a, "--spp")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > 1024) usage_error("bad spp '%s'", argv[i]);
+        } else if (!strcmp(a, "--camera")) {
+            NEED();
+            double v[6];
+            if (!parse_vec(argv[++i], v, 6)) usage_error("bad camera '%s' (EX,EY,EZ,TX,TY,TZ)", argv[i]);
+            o.r.camera.set = true;
+            memcpy(o.r.camera.eye, v, sizeof o.r.camera.eye);
+            memcpy(o.r.camera.target, v + 3, sizeof o.r.camera.target);
+        } else if (!strcmp(a, "--up")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.r.camera.up, 3)) usage_error("bad up vector '%s'", argv[i]);
+        } else if (!strcmp(a, "--light")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.r.light_dir, 3)) usage_error("bad light direction '%s'", argv[i]);
+        } else if (!strcmp(a, "--fov")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.r.camera.fov, 1) || !(o.r.camera.fov > 0 && o.r.camera.fov < 180))
+                usage_error("bad fov '%s' (degrees in (0,180))", argv[i]);
+        } else if (!strcmp(a, "--ambient")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.r.ambient, 1) || !(o.r.ambient >= 0 && o.r.ambient <= 1))
+                usage_error("bad ambient '%s' (0..1)", argv[i]);
+        } else if (!strcmp(a, "--ortho")) {
+            o.r.camera.ortho = true;
+            if (i + 1 < argc && is_number(argv[i + 1])) {
+                if (!parse_vec(argv[++i], &o.r.camera.ortho_height, 1) || !(o.r.camera.ortho_height > 0))
+                    usage_error("bad ortho height '%s'", argv[i]);
+            }
+        } else if (!strcmp(a, "--lod")) {
+            o.r.lod = true;
+            if (i + 1 < argc && is_number(argv[i + 1])) {
+                if (!parse_vec(argv[++i], &o.r.lod_pixels, 1) || !(o.r.lod_pixels > 0))
+                    usage_error("bad lod pixels '%s'", argv[i]);
+            }
+        } else if (!strcmp(a, "--device")) {
+            NEED();
+            o.device = argv[++i];
+        } else if (!strcmp(a, "--list-devices")) o.list = true;
+        else if (!strcmp(a, "--validate") || !strcmp(a, "-validate")) o.validate = true;
+        else if (!strcmp(a, "--cpu")) o.cpu = true;
+        else if (!strcmp(a, "-v")) o.verbose = true;
+        else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
+        else if (npos < 2) pos[npos++] = a;
+        else usage_error("unexpected argument '%s'", a);
+#undef NEED
+    }
+    if (o.list) {
+        vx_error err = {0};
+        if (vx_gpu_list_devices(list_cb, NULL, &err)) {
+            fprintf(stderr, "%s: %s\n", prog, err.msg);
+            return 1;
+        }
+        return 0;
+    }
+    if (npos != 2) usage_error("%s", npos == 0 ? "no input and output given" : "no output file given");
+    o.in = pos[0], o.out = pos[1];
+    const char* ext = ext_of(o.out);
+    bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL;
+    bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
+    if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
+    if (want_float && !exr) usage_error("mode %s writes float data: use an .exr output", vx_render_mode_name(o.r.mode));
+    if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
+    if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
+    if (o.verbose) {
+        printf("%s %s %s --mode %s --size %ux%u --spp %u --fov %g --ambient %g%s%s", prog, o.in, o.out,
+               vx_render_mode_name(o.r.mode), o.r.width, o.r.height, o.r.spp, o.r.camera.fov, o.r.ambient,
+               o.r.camera.ortho ? " --ortho" : "", o.cpu ? " --cpu" : "");
+        if (o.r.camera.set)
+            printf(" --camera %g,%g,%g,%g,%g,%g", o.r.camera.eye[0], o.r.camera.eye[1], o.r.camera.eye[2],
+                   o.r.camera.target[0], o.r.camera.target[1], o.r.camera.target[2]);
+        if (o.r.lod) printf(" --lod %g", o.r.lod_pixels);
+        if (o.device) printf(" --device %s", o.device);
+        printf("\n");
+    }
+
+    vx_error err = {0};
+    vx_svo_scene scene;
+    double t0 = vx_time_now();
+    if (vx_svo_read_file(NULL, o.in, &scene, &err)) {
+        fprintf(stderr, "%s: %s\n", prog, err.msg); /* the message names the file */
+        return 1;
+    }
+    double t_load = vx_time_now() - t0;
+    vx_render_image img = {0};
+    vx_result r;
+    vx_gpu* gpu = NULL;
+    vx_render_scene* rs = NULL;
+    vx_logger logger = {log_cb, NULL};
+    if (o.cpu) {
+        printf("device: CPU reference (double precision)\n");
+        r = vx_render_cpu(&scene, &o.r, NULL, &img, &err);
+    } else {
+        r = vx_gpu_create(&(vx_gpu_desc){.device = o.device, .validate = o.validate, .logger = &logger}, &gpu, &err);
+        if (!r) {
+            printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
+            r = vx_render_scene_create(gpu, &scene, &rs, &err);
+        }
+        if (!r) r = vx_render_frame(rs, &o.r, &img, &err);
+        if (!r && vx_gpu_validation_errors(gpu))
+            r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
+    }
+    if (r) {
+        fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
+        vx_render_scene_destroy(rs);
+        vx_gpu_destroy(gpu);
+        vx_svo_scene_free(&scene);
+        return 1;
+    }
+    size_t npx = (size_t)img.width * img.height;
+    vx_image_desc id = {.width = img.width, .height = img.height};
+    void* buf = NULL;
+    if (want_float && o.r.mode == VX_RENDER_DEPTH) {
+        float* p = malloc(npx * 4);
+        for (size_t i = 0; p && i < npx; i++) p[i] = img.pixels[4 * i];
+        buf = p, id.channels = 1, id.type = VX_IMAGE_F32;
+    } else if (want_float || exr) {
+        float* p = malloc(npx * 12);
+        for (size_t i = 0; p && i < npx; i++) memcpy(p + 3 * i, img.pixels + 4 * i, 12);
+        buf = p, id.channels = 3, id.type = VX_IMAGE_F32;
+    } else {
+        uint8_t* p = malloc(npx * 3);
+        for (size_t i = 0; p && i < 3 * npx; i++) {
+            float v = img.pixels[4 * (i / 3) + i % 3];
+            v = v < 0 ? 0 : (v > 1 ? 1 : v);
+            p[i] = (uint8_t)lrintf(v * 255.0f);
+        }
+        buf = p, id.channels = 3, id.type = VX_IMAGE_U8;
+    }
+    id.pixels = buf;
+    r = buf ? vx_image_write(o.out, &id, &err) : vx_fail(&err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r) {
+        printf("scene: %u models, %u instances (load %.3f s%s)\n", scene.model_count, scene.instance_count, t_load,
+               "");
+        printf("render: %ux%u, %u spp, mode %s: %.3f ms (%s), %.2f Mrays/s\n", img.width, img.height, o.r.spp,
+               vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3, o.cpu ? "wall clock" : "GPU timestamps",
+               img.gpu_seconds > 0 ? img.rays / img.gpu_seconds * 1e-6 : 0.0);
+        printf("wrote %s\n", o.out);
+    } else {
+        fprintf(stderr, "%s: %s\n", prog, err.msg);
+    }
+    free(buf);
+    vx_render_image_free(&img);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    vx_svo_scene_free(&scene);
+    return r ? 1 : 0;
+}

@@ -1,0 +1,208 @@
+/* tools/vox2svo/demo.c - the built-in demo scene (vox2svo --write-demo).
+ *
+ * A small island made by the program itself, so a fresh checkout can show
+ * the whole pipeline without any input file: a terrain model, one tree model
+ * placed 14 times (rotated and mirrored: instancing), a hollow tower, nested
+ * groups, two layers (one hidden, left out by default) and an emissive lamp
+ * material. Deterministic: the same bytes on every run. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tools/vox2svo/demo.h"
+
+enum { C_WATER = 1, C_SAND, C_GRASS, C_GRASS2, C_DIRT, C_ROCK, C_BARK, C_LEAF, C_LEAF2, C_STONE, C_ROOF, C_LAMP, C_RED };
+
+static const uint32_t demo_colors[] = {
+    0, 0xFFB06A2Au, 0xFF8FD6E8u, 0xFF3FA34Du, 0xFF2E8A3Bu, 0xFF3B5A7Au, 0xFF8A8A8Au,
+    0xFF2A4A6Bu, 0xFF2FB35Au, 0xFF1E8C44u, 0xFFB8B8C8u, 0xFF3040A8u, 0xFF7FF0FFu, 0xFF2020D0u,
+};
+
+static uint32_t rng_state = 12345u;
+static uint32_t rnd(void) {
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return rng_state >> 8;
+}
+
+typedef struct vbuf {
+    uint8_t* xyzi;
+    uint32_t n, cap;
+} vbuf;
+
+static bool put(vbuf* b, int x, int y, int z, uint8_t c) {
+    if (b->n == b->cap) return false;
+    uint8_t* v = b->xyzi + 4 * (size_t)b->n++;
+    v[0] = (uint8_t)x;
+    v[1] = (uint8_t)y;
+    v[2] = (uint8_t)z;
+    v[3] = c;
+    return true;
+}
+
+static double height(int x, int y) {
+    double fx = x / 128.0 - 0.5, fy = y / 128.0 - 0.5;
+    double r = sqrt(fx * fx + fy * fy);
+    double h = 14.0 * (0.55 - r) + 2.5 * sin(x * 0.21) * cos(y * 0.17) + 1.5 * sin((x + y) * 0.11);
+    return h;
+}
+
+static vx_result make_terrain(const vx_allocator* a, vx_vox_model* m) {
+    m->size[0] = 128;
+    m->size[1] = 128;
+    m->size[2] = 16;
+    vbuf b = {vx_calloc(a, 128 * 128 * 16, 4), 0, 128 * 128 * 16};
+    if (!b.xyzi) return VX_ERR_NOMEM;
+    for (int y = 0; y < 128; y++)
+        for (int x = 0; x < 128; x++) {
+            double h = height(x, y);
+            int top = (int)floor(h);
+            if (top < 1) {
+                put(&b, x, y, 0, C_WATER); /* sea level */
+                continue;
+            }
+            if (top > 15) top = 15;
+            for (int z = 0; z <= top; z++) {
+                uint8_t c = z == top ? (top <= 2 ? C_SAND : ((x * 7 + y * 13) % 5 ? C_GRASS : C_GRASS2))
+                                     : (z > top - 3 ? C_DIRT : C_ROCK);
+                put(&b, x, y, z, c);
+            }
+        }
+    m->xyzi = b.xyzi;
+    m->voxel_count = b.n;
+    return VX_OK;
+}
+
+static vx_result make_tree(const vx_allocator* a, vx_vox_model* m) {
+    m->size[0] = 11;
+    m->size[1] = 11;
+    m->size[2] = 18;
+    vbuf b = {vx_calloc(a, 11 * 11 * 18, 4), 0, 11 * 11 * 18};
+    if (!b.xyzi) return VX_ERR_NOMEM;
+    for (int z = 0; z < 18; z++)
+        for (int y = 0; y < 11; y++)
+            for (int x = 0; x < 11; x++) {
+                double dx = x - 5, dy = y - 5, dz = z - 12;
+                if (z < 10 && x == 5 && y == 5) put(&b, x, y, z, C_BARK);
+                else if (z == 2 && x == 6 && y == 5) put(&b, x, y, z, C_BARK); /* a root: makes rotations visible */
+                else if (z >= 7 && dx * dx + dy * dy + dz * dz * 1.4 <= 26) put(&b, x, y, z, (x + z) % 3 ? C_LEAF : C_LEAF2);
+            }
+    m->xyzi = b.xyzi;
+    m->voxel_count = b.n;
+    return VX_OK;
+}
+
+static vx_result make_tower(const vx_allocator* a, vx_vox_model* m) {
+    m->size[0] = 16;
+    m->size[1] = 16;
+    m->size[2] = 40;
+    vbuf b = {vx_calloc(a, 16 * 16 * 40, 4), 0, 16 * 16 * 40};
+    if (!b.xyzi) return VX_ERR_NOMEM;
+    for (int z = 0; z < 40; z++)
+        for (int y = 0; y < 16; y++)
+            for (int x = 0; x < 16; x++) {
+                double dx = x - 7.5, dy = y - 7.5, r = sqrt(dx * dx + dy * dy);
+                if (z < 32) {
+                    bool wall = r <= 7.5 && r > 5.6;
+                    bool window = (z % 8 >= 3 && z % 8 <= 5) && (abs(x - 7) <= 0 || abs(y - 7) <= 0);
+                    if ((wall && !window) || (z == 0 && r <= 7.5)) put(&b, x, y, z, C_STONE);
+                } else if (r <= 7.5 - (z - 32) * 0.9) {
+                    put(&b, x, y, z, z == 39 ? C_LAMP : C_ROOF);
+                }
+            }
+    m->xyzi = b.xyzi;
+    m->voxel_count = b.n;
+    return VX_OK;
+}
+
+static vx_result make_crate(const vx_allocator* a, vx_vox_model* m) {
+    m->size[0] = m->size[1] = m->size[2] = 6;
+    vbuf b = {vx_calloc(a, 216, 4), 0, 216};
+    if (!b.xyzi) return VX_ERR_NOMEM;
+    for (int z = 0; z < 6; z++)
+        for (int y = 0; y < 6; y++)
+            for (int x = 0; x < 6; x++) put(&b, x, y, z, C_RED);
+    m->xyzi = b.xyzi;
+    m->voxel_count = b.n;
+    return VX_OK;
+}
+
+static void set_rot(vx_vox_instance* in, int quarter_turns, bool mirror) {
+    static const int c[4] = {1, 0, -1, 0}, s[4] = {0, 1, 0, -1};
+    int q = quarter_turns & 3;
+    int32_t r[9] = {c[q], -s[q], 0, s[q], c[q], 0, 0, 0, 1};
+    if (mirror)
+        for (int k = 0; k < 3; k++) r[k] = -r[k]; /* flip x: a mirror image */
+    memcpy(in->rot, r, sizeof r);
+}
+
+vx_result vx_demo_scene(const vx_allocator* a, vx_vox_scene* out) {
+    vx_vox_scene s;
+    memset(&s, 0, sizeof s);
+    s.alloc = a;
+    s.version = 150;
+    rng_state = 12345u;
+    s.models = vx_calloc(a, 4, sizeof *s.models);
+    s.instances = vx_calloc(a, 32, sizeof *s.instances);
+    s.layers = vx_calloc(a, 2, sizeof *s.layers);
+    s.materials = vx_calloc(a, 1, sizeof *s.materials);
+    vx_result r = VX_ERR_NOMEM;
+    if (!s.models || !s.instances || !s.layers || !s.materials) goto fail;
+    s.model_count = 4;
+    if ((r = make_terrain(a, &s.models[0])) || (r = make_tree(a, &s.models[1])) || (r = make_tower(a, &s.models[2])) ||
+        (r = make_crate(a, &s.models[3])))
+        goto fail;
+
+    s.has_rgba = true;
+    memcpy(s.palette, vx_vox_default_palette, sizeof s.palette);
+    for (unsigned i = 1; i < sizeof demo_colors / sizeof demo_colors[0]; i++) s.palette[i] = demo_colors[i];
+
+    s.layer_count = 2;
+    s.layers[0] = (vx_vox_layer){.id = 0, .hidden = false, .name = "island"};
+    s.layers[1] = (vx_vox_layer){.id = 1, .hidden = true, .name = "hidden props"};
+
+    uint32_t n = 0;
+    vx_vox_instance* in = &s.instances[n++];
+    *in = (vx_vox_instance){.model = 0, .layer = 0, .name = "terrain"};
+    set_rot(in, 0, false);
+    in->t[2] = 8;
+    in = &s.instances[n++];
+    *in = (vx_vox_instance){.model = 2, .layer = 0, .name = "tower"};
+    set_rot(in, 1, false);
+    in->t[0] = -12;
+    in->t[1] = 10;
+    in->t[2] = 20 + (int32_t)floor(height(52, 74));
+    for (int i = 0; i < 14; i++) {
+        int x, y;
+        do {
+            x = 8 + (int)(rnd() % 112);
+            y = 8 + (int)(rnd() % 112);
+        } while (height(x, y) < 3 || (abs(x - 52) < 12 && abs(y - 74) < 12));
+        in = &s.instances[n++];
+        *in = (vx_vox_instance){.model = 1, .layer = 0};
+        snprintf(in->name, sizeof in->name, "tree %d", i);
+        set_rot(in, (int)(rnd() % 4), i % 5 == 4);
+        in->t[0] = x - 64;
+        in->t[1] = y - 64;
+        in->t[2] = (int32_t)floor(height(x, y)) + 1 + 9;
+    }
+    in = &s.instances[n++];
+    *in = (vx_vox_instance){.model = 3, .layer = 1, .name = "crate (hidden layer)"};
+    set_rot(in, 0, false);
+    in->t[2] = 40;
+    s.instance_count = n;
+
+    static const char lamp[] = "_type\0_emit\0_emit\0" "0.8\0_flux\0" "2";
+    s.materials[0].id = C_LAMP;
+    s.materials[0].dict_size = sizeof lamp; /* includes the last NUL */
+    s.materials[0].dict = vx_alloc(a, sizeof lamp);
+    if (!s.materials[0].dict) goto fail;
+    memcpy(s.materials[0].dict, lamp, sizeof lamp);
+    s.material_count = 1;
+    s.has_scene_graph = true;
+    *out = s;
+    return VX_OK;
+fail:
+    vx_vox_scene_free(&s);
+    return r ? r : VX_ERR_NOMEM;
+}
