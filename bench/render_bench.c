@@ -2,11 +2,15 @@
  * shadow rays) against a dense-grid 3D-DDA baseline over the same voxels.
  *
  *   render_bench [--device N|NAME] [--sizes 1920x1080,1280x720] [--runs N]
- *                [--generate] FILE.{svo,vox}...
+ *                [--generate] [--deep] [--variant auto|float|precise]
+ *                FILE.{svo,vox}...
  *
  * Times are GPU timestamps: one warm-up, then the median of --runs
  * dispatches. --generate adds procedural terrains 1024 (fits the dense
- * baseline) and 4096 cells wide.
+ * baseline) and 4096 cells wide; --deep the 1024 terrain placed in a model
+ * 2^20 cells wide (20 levels: the float64 trace variant), seen by a camera
+ * that frames the terrain. --variant forces the float or the float64
+ * variant of the trace shader (auto: chosen by model depth).
  * Output: one table row per scene, size and kind. */
 #include <math.h>
 #include <stdio.h>
@@ -32,7 +36,7 @@ static int load(const char* path, vx_svo_scene* s, vx_error* err) {
  * 8^3 tiles are filled (level-3 tiles, so the builder never expands them),
  * heights from a few sines up to ~3000 cells, plus 2048 single-cell
  * "pebbles" on top: extent 4096^3, depth 12. */
-static int generate(vx_svo_scene* s, uint32_t extent, vx_error* err) {
+static int generate(vx_svo_scene* s, uint32_t extent, uint32_t deep_offset, vx_error* err) {
     const uint32_t cols = extent / 8;
     const double hs = extent / 4096.0;
     size_t cap = (size_t)cols * cols * 2 + 4096, n = 0;
@@ -46,7 +50,7 @@ static int generate(vx_svo_scene* s, uint32_t extent, vx_error* err) {
                             150 * sin(x * 0.11 / hs + y * 0.07 / hs));
             uint32_t top = (uint32_t)(h / 8);
             for (uint32_t k = 0; k < 2 && top >= k; k++) {
-                keys[n] = vx_svo_morton(x * 8, y * 8, (top - k) * 8);
+                keys[n] = vx_svo_morton(deep_offset + x * 8, deep_offset + y * 8, deep_offset + (top - k) * 8);
                 level[n] = 3;
                 pal[n++] = (uint8_t)(1 + (top % 200));
             }
@@ -57,11 +61,12 @@ static int generate(vx_svo_scene* s, uint32_t extent, vx_error* err) {
         uint32_t x = (seed >> 8) % extent;
         seed = seed * 1664525u + 1013904223u;
         uint32_t y = (seed >> 8) % extent;
-        keys[n] = vx_svo_morton(x, y, extent - 96 + i % 64);
+        keys[n] = vx_svo_morton(deep_offset + x, deep_offset + y, deep_offset + extent - 96 + i % 64);
         level[n] = 0;
         pal[n++] = 250;
     }
-    vx_svo_voxels v = {.size = {extent, extent, extent}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_PALETTE,
+    uint32_t side = deep_offset ? 1u << 20 : extent;
+    vx_svo_voxels v = {.size = {side, side, side}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_PALETTE,
                        .palette = pal};
     vx_svo_scene_init(s, NULL);
     s->models = calloc(1, sizeof *s->models);
@@ -84,7 +89,8 @@ int main(int argc, char** argv) {
     const char* device = NULL;
     const char* sizes = "1920x1080,1280x720";
     uint32_t runs = 5;
-    bool gen = false;
+    bool gen = false, deep = false;
+    int variant = -1;
     const char* files[64];
     int nf = 0;
     for (int i = 1; i < argc; i++) {
@@ -92,8 +98,14 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) sizes = argv[++i];
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--generate")) gen = true;
+        else if (!strcmp(argv[i], "--deep")) deep = true;
+        else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
+            i++;
+            variant = !strcmp(argv[i], "float") ? 0 : !strcmp(argv[i], "precise") ? 1 : -1;
+        }
         else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--generate] FILE...\n", argv[0]);
+            fprintf(stderr, "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--generate] [--deep] "
+                            "[--variant auto|float|precise] FILE...\n", argv[0]);
             return 2;
         } else if (nf < 64) files[nf++] = argv[i];
     }
@@ -107,7 +119,7 @@ int main(int argc, char** argv) {
     printf("device: %s\n", vx_gpu_device_name(gpu));
     printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "scene", "size", "voxels", "primary", "shadow", "dense", "oct/den");
     printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "", "", "", "Mrays/s", "Mpix/s", "Mrays/s", "");
-    int total = nf + (gen ? 2 : 0);
+    int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
     for (int k = 0; k < total; k++) {
         vx_svo_scene s;
         const char* name;
@@ -119,9 +131,10 @@ int main(int argc, char** argv) {
                 continue;
             }
         } else {
-            uint32_t extent = k == nf ? 1024 : 4096;
-            name = extent == 1024 ? "terrain1024 (generated)" : "terrain4096 (generated)";
-            if (generate(&s, extent, &err)) {
+            bool is_deep = deep && k == total - 1;
+            uint32_t extent = is_deep || k == nf ? 1024 : 4096;
+            name = is_deep ? "terrain1024 in 2^20" : extent == 1024 ? "terrain1024 (generated)" : "terrain4096 (generated)";
+            if (generate(&s, extent, is_deep ? (1u << 19) + 12344 : 0, &err)) {
                 fprintf(stderr, "render_bench: generate: %s\n", err.msg);
                 continue;
             }
@@ -135,12 +148,21 @@ int main(int argc, char** argv) {
             vx_svo_scene_free(&s);
             continue;
         }
-        bool dense = vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
+        vx__render_scene_force_precise(rs, variant);
+        /* the deep terrain: frame its 1024^3 box as the default camera frames a scene */
+        bool deep_cam = deep && k == total - 1;
+        bool dense = !deep_cam && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         const char* p = sizes;
         while (*p) {
             unsigned w, h;
             if (sscanf(p, "%ux%u", &w, &h) != 2) break;
             vx_render_desc d = {.width = w, .height = h, .mode = VX_RENDER_DEPTH};
+            if (deep_cam) {
+                double c0 = (1u << 19) + 12344 + 512.0;
+                d.camera.set = true;
+                d.camera.target[0] = d.camera.target[1] = c0, d.camera.target[2] = c0 - 200;
+                d.camera.eye[0] = c0 - 1100, d.camera.eye[1] = c0 - 1500, d.camera.eye[2] = c0 + 1300;
+            }
             vx__frame f;
             double sp = 0, ss = 0, sd = 0;
             vx_result r = vx__render_dispatch(rs, &d, false, 1, &f, &sp, &err); /* warm-up */
@@ -162,8 +184,9 @@ int main(int argc, char** argv) {
             snprintf(sz, sizeof sz, "%ux%u", w, h);
             snprintf(dn, sizeof dn, "%.2f", dense ? px / sd * 1e-6 : 0.0);
             snprintf(ratio, sizeof ratio, "%.2f", dense ? sd / sp : 0.0);
-            printf("%-24.24s %-10s %10llu %12.2f %12.2f %12s %8s\n", name, sz, (unsigned long long)voxels,
-                   px / sp * 1e-6, px / ss * 1e-6, dense ? dn : "-", dense ? ratio : "-");
+            printf("%-24.24s %-10s %10llu %12.2f %12.2f %12s %8s%s\n", name, sz, (unsigned long long)voxels,
+                   px / sp * 1e-6, px / ss * 1e-6, dense ? dn : "-", dense ? ratio : "-",
+                   vx_render_scene_precise(rs) ? "  (float64)" : "");
             fflush(stdout);
             p = strchr(p, ',');
             if (!p) break;

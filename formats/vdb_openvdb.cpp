@@ -47,6 +47,20 @@ Int64 read_chunk_size(std::istream& is, const char* kind) {
     return n;
 }
 
+// A compressed chunk cannot be longer than what is left of the stream:
+// checked before the chunk is allocated, so a garbled size fails cleanly
+// instead of asking for petabytes.
+void check_chunk_fits(std::istream& is, Int64 n, const char* kind) {
+    const std::streampos here = is.tellg();
+    if (here == std::streampos(-1)) return; // size unknown: the read itself fails
+    is.seekg(0, std::ios_base::end);
+    const std::streampos end = is.tellg();
+    is.seekg(here);
+    if (end != std::streampos(-1) && n > static_cast<Int64>(end - here))
+        OPENVDB_THROW(RuntimeError, std::string(kind) + " chunk of " + std::to_string(n) + " bytes, " +
+                                        std::to_string(static_cast<Int64>(end - here)) + " left in the file");
+}
+
 // A non-positive size marks an uncompressed chunk of -n bytes.
 void read_raw_chunk(std::istream& is, char* data, size_t numBytes, Int64 n, const char* kind) {
     if (n == std::numeric_limits<Int64>::min() || static_cast<uint64_t>(-n) != numBytes)
@@ -64,6 +78,7 @@ void bloscFromStream(std::istream& is, char* data, size_t numBytes) {
         is.seekg(n, std::ios_base::cur);
         return;
     }
+    check_chunk_fits(is, n, "blosc");
     std::unique_ptr<char[]> src(new char[static_cast<size_t>(n)]);
     is.read(src.get(), n);
     size_t nbytes = 0, cbytes = 0, blocksize = 0;
@@ -91,6 +106,7 @@ void unzipFromStream(std::istream& is, char* data, size_t numBytes) {
         is.seekg(n, std::ios_base::cur);
         return;
     }
+    check_chunk_fits(is, n, "zip");
     std::unique_ptr<Bytef[]> src(new Bytef[static_cast<size_t>(n)]);
     is.read(reinterpret_cast<char*>(src.get()), n);
     uLongf out = static_cast<uLongf>(numBytes);

@@ -195,6 +195,12 @@ static vx_result select_device(vx_gpu* g, const char* want, vx_error* err) {
 }
 
 static vx_result create_device(vx_gpu* g, vx_error* err) {
+    /* float64 only serves the precise trace variant (deep models); scenes
+     * that need it are refused at load on devices without it */
+    VkPhysicalDeviceFeatures have, want = {0};
+    vkGetPhysicalDeviceFeatures(g->phys, &have);
+    want.shaderFloat64 = have.shaderFloat64;
+    g->has_float64 = have.shaderFloat64 == VK_TRUE;
     float prio = 1.0f;
     VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
                                    .queueFamilyIndex = g->queue_family,
@@ -202,7 +208,8 @@ static vx_result create_device(vx_gpu* g, vx_error* err) {
                                    .pQueuePriorities = &prio};
     VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                               .queueCreateInfoCount = 1,
-                              .pQueueCreateInfos = &qci};
+                              .pQueueCreateInfos = &qci,
+                              .pEnabledFeatures = &want};
     VX__VK(vkCreateDevice(g->phys, &dci, NULL, &g->device), "vkCreateDevice");
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);
     return VX_OK;
@@ -259,6 +266,7 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
         g->queue_family = desc->external.queue_family;
         if (!g->instance || !g->phys || !g->queue)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "external device given without instance/queue");
+        g->has_float64 = desc->external.float64;
     } else {
         if ((r = create_instance(g, g->validate, err))) return r;
         if ((r = select_device(g, desc->device, err))) return r;

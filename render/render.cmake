@@ -7,12 +7,22 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
-  foreach(shader trace dense)
-    set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${shader}.comp)
+  # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
+  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE)
+    string(REPLACE ":" ";" parts ${spec})
+    list(GET parts 0 shader)
+    list(GET parts 1 file)
+    set(defs)
+    list(LENGTH parts nparts)
+    if(nparts GREATER 2)
+      list(GET parts 2 def)
+      set(defs -D${def})
+    endif()
+    set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${file}.comp)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
     add_custom_command(
       OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${shader}_spv_arr -o ${out} ${src}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src}
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)

@@ -30,6 +30,9 @@
  *  - The hit voxel is the model cell containing the hit point, inside the
  *    leaf that was hit (a collapsed leaf or, with lod, a coarse node).
  *  - Models deeper than VX_RENDER_MAX_DEPTH levels are refused at load.
+ *  - Scenes with a model deeper than VX_RENDER_PRECISE_DEPTH levels are traced
+ *    by a float64 variant of the shader (needs shaderFloat64; such scenes are
+ *    refused at load on devices without it); all others by the float one.
  *  - This header does not include vulkan.h; a host application may pass
  *    its own VkInstance/VkPhysicalDevice/VkDevice/VkQueue as const void*.
  *  - The scene is borrowed only during vx_render_scene_create (everything
@@ -49,6 +52,23 @@ extern "C" {
 #endif
 
 #define VX_RENDER_MAX_DEPTH 21u /* 23-bit mantissa of [1,2): finest cell = 4 ulps */
+
+/* Deepest model traced by the float variant; scenes with a deeper model use
+ * the float64 one. Float Laine-Karras keeps positions in the [1,2] cube, so
+ * a depth-d cell is 2^(23-d) ulps and the ray's position is quantised to
+ * ~2^(d-23) of a cell (more than the ray set-up's error). Measured on
+ * lavapipe against the CPU reference with the strict rule (same cell, depth
+ * within 1e-4 relative) on close-ups where a pixel is 1/10 to 1/3 of a cell
+ * (tests/render/test_render_gpu.c, deep octrees): float mismatches 0% at
+ * depth 8, 0.01% at 10, 0.04% at 12, 0.2% at 14, 0.7% at 16, 1.1% at 17,
+ * 2.4% at 18, 5-9% at 20-21; float64 0% at every depth. 16 is the deepest
+ * level at which the float error stays below 1/100 of a cell (a cell must
+ * fill ~128 pixels before it spans one), so .vox scenes (<= 8 levels),
+ * converted meshes and volumes and the 4096^3 benchmark terrain keep the
+ * fast path: float64 costs ~25% on lavapipe and far more on GPUs with slow
+ * float64. Below the threshold, close-ups of models 10-16 levels deep may
+ * differ from the reference in up to ~1% of pixels by sub-1/100-cell slivers. */
+#define VX_RENDER_PRECISE_DEPTH 16u
 
 /* ---- device ------------------------------------------------------------------------ */
 
@@ -75,6 +95,7 @@ typedef struct vx_gpu_desc {
         const void* device;
         const void* queue;
         uint32_t queue_family;
+        bool float64; /* the host enabled shaderFloat64 (needed for models deeper than VX_RENDER_PRECISE_DEPTH) */
     } external;
 } vx_gpu_desc;
 
@@ -173,6 +194,9 @@ typedef struct vx_render_scene vx_render_scene;
 
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_render_scene** out, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
+/* Whether the scene is traced by the float64 variant (a model deeper than
+ * VX_RENDER_PRECISE_DEPTH). */
+bool vx_render_scene_precise(const vx_render_scene* rs);
 /* Seconds spent building the BVH at creation. */
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
 

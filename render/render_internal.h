@@ -112,6 +112,7 @@ struct vx_gpu {
     VkFence fence;
     VkQueryPool timestamps;
     bool has_timestamps;
+    bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
     uint32_t validation_errors;
     uint32_t pipeline_count;
     vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];
@@ -142,6 +143,8 @@ void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);
 const uint32_t* vx__spirv_dense(size_t* bytes);
+/* trace.comp built with -DPRECISE (float64 traversal; needs has_float64). */
+const uint32_t* vx__spirv_trace_precise(size_t* bytes);
 
 /* gpu_dispatch.c */
 vx_result vx__cmd_begin(vx_gpu* g, vx_error* err);
@@ -184,7 +187,17 @@ typedef struct vx__gpu_frame {
     uint32_t dims[4];   /* width, height, spp, instance count */
     uint32_t dims2[4];  /* x: dense grid nx, y: ny, z: nz, w: 0 */
     float grid_lo[4];   /* dense grid lower corner relative to R, w: cell size */
+    /* precise variant only (std140 dvec4 at offset 128): the camera in double */
+    double pfwd[4];     /* w: t_start */
+    double prx[4];
+    double puy[4];
 } vx__gpu_frame;
+
+/* Precise variant only (binding 9): the instances' model-from-world rows in
+ * double, world relative to the frame reference. */
+typedef struct vx__gpu_inst_precise {
+    double r[3][4];
+} vx__gpu_inst_precise;
 
 enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX__SPEC_HITS, VX__SPEC_COUNT };
 
@@ -193,6 +206,10 @@ enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX
 /* Runs the trace `repeat` times in one submission; *seconds is the median. */
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err);
+/* Tests and benchmarks: 1 forces the float64 variant (fails at the next frame
+ * without shaderFloat64), 0 forces the float one, -1 restores the choice by
+ * model depth (VX_RENDER_PRECISE_DEPTH). */
+void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
 /* Dense occupancy grid of the scene (identity world_from_grid) for the baseline. */
 vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err);
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,

@@ -6,6 +6,12 @@
 
 #include "render/render_internal.h"
 
+#include <stddef.h>
+
+/* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
+_Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && sizeof(vx__gpu_frame) == 224, "vx__gpu_frame vs trace.comp");
+_Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
+
 typedef struct inst_host {
     double inv[12]; /* model from world */
     uint32_t model;
@@ -21,8 +27,11 @@ struct vx_render_scene {
     vx_bvh bvh;
     double bvh_seconds;
     bool has_color;
+    bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
+    int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
+    uint32_t max_depth;
     double lo[3], hi[3];
-    vx__buffer frame, nodes, colors, models, insts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
+    vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
     uint32_t dense_n[3];
     double dense_lo[3], dense_cell;
 };
@@ -115,10 +124,12 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
         (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.item_count ? rs->bvh.item_count : 1) * 4,
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bvh items", &rs->bvh_items, err)) ||
         (r = vx__buffer_upload(g, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst_precise),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "instances (double)", &rs->pinsts, err)) ||
         (r = vx__buffer_create(g, sizeof(vx__gpu_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "frame", &rs->frame,
                                err)))
         goto done;
-    if (!rs->insts.map || !rs->bvh_nodes.map || !rs->frame.map)
+    if (!rs->insts.map || !rs->pinsts.map || !rs->bvh_nodes.map || !rs->frame.map)
         r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "per-frame buffers are not host visible");
 done:
     vx_free(&rs->alloc, lo);
@@ -130,11 +141,25 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_result r = vx__check_scene(s, err);
     if (r) return r;
+    uint32_t max_depth = 0, deep_model = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx__instance_drawn(s, i)) continue;
+        uint32_t d = s->models[s->instances[i].model].depth;
+        if (d > max_depth) max_depth = d, deep_model = s->instances[i].model;
+    }
+    if (max_depth > VX_RENDER_PRECISE_DEPTH && !gpu->has_float64)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "model %u has %u octree levels; past %u the tracer needs float64 shaders, which %s lacks "
+                       "(split the model into instances of at most %u levels)",
+                       deep_model, max_depth, VX_RENDER_PRECISE_DEPTH, gpu->props.deviceName, VX_RENDER_PRECISE_DEPTH);
     vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
     if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     rs->gpu = gpu;
     rs->alloc = gpu->alloc;
     rs->bvh.alloc = &rs->alloc;
+    rs->max_depth = max_depth;
+    rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
+    rs->force_precise = -1;
     vx__scene_world_bounds(s, rs->lo, rs->hi);
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
@@ -148,8 +173,8 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     if (!rs) return;
     vx_gpu* g = rs->gpu;
     vkDeviceWaitIdle(g->device);
-    vx__buffer* bufs[] = {&rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items,
-                          &rs->bvh_nodes,  &rs->insts,  &rs->models, &rs->colors, &rs->nodes};
+    vx__buffer* bufs[] = {&rs->dense_bits, &rs->hits,  &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
+                          &rs->insts,      &rs->pinsts, &rs->models, &rs->colors, &rs->nodes};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
     vx_allocator a = rs->alloc;
@@ -159,15 +184,26 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
 
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->bvh_seconds : 0; }
 
+static bool use_precise(const vx_render_scene* rs) { return rs->force_precise < 0 ? rs->precise : rs->force_precise > 0; }
+
+bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_precise(rs); }
+
+void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
+    if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
+}
+
 /* Per-frame tables relative to the reference point R, computed in double. */
 static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
     vx__gpu_inst* gi = rs->insts.map;
+    vx__gpu_inst_precise* pi = rs->pinsts.map;
     for (uint32_t i = 0; i < rs->inst_count; i++) {
         const inst_host* h = &rs->inst[i];
         for (int r = 0; r < 3; r++) {
             const double* row = &h->inv[4 * r];
-            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c];
-            gi[i].r[r][3] = (float)(row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3]);
+            double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
+            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c], pi[i].r[r][c] = row[c];
+            gi[i].r[r][3] = (float)w;
+            pi[i].r[r][3] = w;
         }
         gi[i].model = h->model;
         gi[i].cell = h->cell;
@@ -195,7 +231,11 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
         gf->rx[k] = (float)f->rx[k];
         gf->uy[k] = (float)f->uy[k];
         gf->light[k] = (float)f->light[k];
+        gf->pfwd[k] = f->fwd[k];
+        gf->prx[k] = f->rx[k];
+        gf->puy[k] = f->uy[k];
     }
+    gf->pfwd[3] = f->t_start;
     gf->fwd[3] = (float)f->t_start;
     gf->rx[3] = f->ortho ? 1.0f : 0.0f;
     /* LOD cone: footprint(t) = misc.x + uy.w * t (t from the reference plane) */
@@ -228,22 +268,27 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (!want_hits && (r = ensure_buffer(g, &rs->hits, 16, "hits", err))) return r;
     write_frame_tables(rs, f);
     fill_gpu_frame(rs, f, rs->frame.map);
+    bool precise = use_precise(rs);
+    if (precise && !g->has_float64)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
+                       g->props.deviceName);
     uint32_t spec[VX__SPEC_COUNT] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits};
-    uint64_t key = 1;
+    uint64_t key = 1 + precise;
     for (int i = 0; i < VX__SPEC_COUNT; i++) key = key * 131 + spec[i];
     size_t spv_size;
-    const uint32_t* spv = vx__spirv_trace(&spv_size);
-    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 9, .spec_count = VX__SPEC_COUNT,
-                                       .label = "trace"};
+    const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
+    uint32_t nb = precise ? 10 : 9;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb, .spec_count = VX__SPEC_COUNT,
+                                       .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (int i = 1; i < 9; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,
-                            .buffer_count = 9,
+                            .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
-                                        &rs->bvh_items, &rs->pixels, &rs->hits},
+                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace"};

@@ -182,7 +182,7 @@ static inline bool vx_rd_u32le(vx_rd* r, uint32_t* v) {
     return true;
 }
 static inline bool vx_rd_u64le(vx_rd* r, uint64_t* v) {
-    uint32_t lo, hi;
+    uint32_t lo = 0, hi = 0;
     if (r->size - r->off < 8) return false;
     vx_rd_u32le(r, &lo);
     vx_rd_u32le(r, &hi);
@@ -190,14 +190,14 @@ static inline bool vx_rd_u64le(vx_rd* r, uint64_t* v) {
     return true;
 }
 static inline bool vx_rd_f32le(vx_rd* r, float* v) {
-    uint32_t u;
+    uint32_t u = 0;
     if (!vx_rd_u32le(r, &u)) return false;
     union { uint32_t u; float f; } c = {u};
     *v = c.f;
     return true;
 }
 static inline bool vx_rd_f64le(vx_rd* r, double* v) {
-    uint64_t u;
+    uint64_t u = 0;
     if (!vx_rd_u64le(r, &u)) return false;
     union { uint64_t u; double f; } c = {u};
     *v = c.f;

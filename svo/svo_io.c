@@ -1,5 +1,10 @@
 /* svo/svo_io.c - the .svo container: header, section table, sections.
- * docs/FORMAT.md is the specification; keep the two in step. */
+ * docs/FORMAT.md is the specification; keep the two in step.
+ *
+ * The metadata (header, table, SCNE, PALT, MATL) is varint-coded so that a
+ * small scene costs a few dozen bytes beyond its node words and attribute
+ * records; the NODE and attribute sections stay flat little-endian arrays
+ * that a renderer can upload as they are. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -9,15 +14,31 @@
 
 static const uint8_t MAGIC[8] = {'V', 'X', 'S', 'V', 'O', 0, '\r', '\n'};
 enum {
-    HEADER_SIZE = 32,
-    ENTRY_SIZE = 32,
+    HEADER_SIZE = 12, /* magic, u16 version, u16 section count; the table follows */
     MAX_SECTIONS = 1024,
     SEC_REQUIRED = 1u << 0,
-    SCENE_FIXED = 160,
-    MODEL_REC = 96,
-    INST_REC = 176,
-    LAYER_REC = 72
+    SEC_ALIGN4 = 1u << 1,
+    SEC_FLAGS = SEC_REQUIRED | SEC_ALIGN4,
+    NAME_MAX_LEN = 63,          /* in-memory names are char[64] with their NUL */
+    SCNE_WORLD = 1u << 0,       /* world_from_grid stored (else identity) */
+    SCNE_BOUNDS_SHIFT = 1,      /* 2 bits: bounds form */
+    SCNE_FORM_BITS = 0x7,
+    BOUNDS_COMPUTED = 0,
+    BOUNDS_INT = 1,
+    BOUNDS_F64 = 2,
+    XF_ROT = 0,    /* signed permutation matrix: one .vox-style rotation byte */
+    XF_SIGNED = 1, /* entries in {-1, 0, 1}: 9 x 2 bits in 3 bytes */
+    XF_F64 = 2,    /* 12 f64 */
+    PALT_RGB = 1u << 0,
+    ROOT_CODE_EMPTY = 0,
+    ROOT_CODE_LEAF = 1,
+    ROOT_CODE_BACK = 2, /* + (node_count - 1 - root) */
+    MODEL_SAME_SIZE = 1u << 5, /* model head: size as the previous model's */
+    INST_NAMED = 1u << 2       /* instance head: a name follows */
 };
+/* Expanded material dictionaries (one copy per material) are capped: with
+ * shared dictionaries a small file could otherwise ask for quadratic memory. */
+#define MATL_EXPANDED_MAX ((uint64_t)64 << 20)
 
 /* Known sections; the channel ones are in VX_ATTR_* bit order. */
 enum { S_SCNE, S_NODE, S_APAL, S_ARGB, S_ANRM, S_AMAT, S_ADEN, S_PALT, S_MATL, S_COUNT };
@@ -29,11 +50,204 @@ static int tag_index(const uint8_t t[4]) {
         if (memcmp(t, TAGS[i], 4) == 0) return i;
     return -1;
 }
+static void tag_str(const uint8_t t[4], char out[5]) {
+    for (int k = 0; k < 4; k++) out[k] = (t[k] >= 32 && t[k] < 127) ? (char)t[k] : '?';
+    out[4] = 0;
+}
 
 static uint32_t rd32(const uint8_t* p) {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
 }
-static uint64_t rd64(const uint8_t* p) { return (uint64_t)rd32(p) | ((uint64_t)rd32(p + 4) << 32); }
+
+/* ---- varints ----------------------------------------------------------------------------
+ * Unsigned LEB128: 7 bits per byte, low group first, bit 7 set on every byte
+ * but the last. Readers accept only the shortest encoding (at most 10 bytes,
+ * the tenth holding bit 63 alone) so that every value has one byte form. */
+
+static bool buf_var(vx_buf* b, uint64_t v) {
+    uint8_t t[10];
+    size_t n = 0;
+    do {
+        t[n] = (uint8_t)(v & 0x7Fu);
+        v >>= 7;
+        if (v) t[n] |= 0x80u;
+        n++;
+    } while (v);
+    return vx_buf_append(b, t, n);
+}
+static uint32_t zig32(int32_t v) { return ((uint32_t)v << 1) ^ (uint32_t)(v < 0 ? -1 : 0); }
+static int32_t unzig32(uint32_t v) { return (int32_t)(v >> 1) ^ -(int32_t)(v & 1u); }
+static uint64_t zig64(int64_t v) { return ((uint64_t)v << 1) ^ (uint64_t)(v < 0 ? -1 : 0); }
+static int64_t unzig64(uint64_t v) { return (int64_t)(v >> 1) ^ -(int64_t)(v & 1u); }
+
+/* Reads one varint of at most max; on failure the cursor does not move and
+ * err names the section, the byte and the field. */
+static vx_result rd_var(vx_rd* rd, uint64_t max, uint64_t* out, const char* sec, const char* what, vx_error* err) {
+    uint64_t v = 0, at = vx_rd_pos(rd);
+    size_t o = rd->off;
+    for (unsigned i = 0;; i++) {
+        if (o >= rd->size)
+            return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section %s at byte %llu: %s: varint runs past the end of the section",
+                           sec, (unsigned long long)at, what);
+        uint8_t c = rd->p[o++];
+        if (i == 9 && c > 1)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: %s: varint overflows 64 bits", sec,
+                           (unsigned long long)at, what);
+        v |= (uint64_t)(c & 0x7Fu) << (7 * i);
+        if (!(c & 0x80u)) {
+            if (i > 0 && c == 0)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: %s: over-long varint (not the shortest form)",
+                               sec, (unsigned long long)at, what);
+            break;
+        }
+        /* byte 9 holds bit 63 only, so it never continues */
+    }
+    if (v > max)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: %s is %llu, the limit is %llu", sec,
+                       (unsigned long long)at, what, (unsigned long long)v, (unsigned long long)max);
+    rd->off = o;
+    *out = v;
+    return VX_OK;
+}
+static vx_result rd_var32(vx_rd* rd, uint32_t* out, const char* sec, const char* what, vx_error* err) {
+    uint64_t v;
+    vx_result r = rd_var(rd, UINT32_MAX, &v, sec, what, err);
+    if (r == VX_OK) *out = (uint32_t)v;
+    return r;
+}
+static vx_result rd_need(vx_rd* rd, size_t n, const char* sec, const char* what, vx_error* err) {
+    if (n > vx_rd_left(rd))
+        return vx_fail(err, VX_ERR_TRUNCATED, vx_rd_pos(rd), "svo: section %s at byte %llu: %s needs %zu bytes, %zu left", sec,
+                       (unsigned long long)vx_rd_pos(rd), what, n, vx_rd_left(rd));
+    return VX_OK;
+}
+static vx_result rd_f64s(vx_rd* rd, double* v, int n, const char* sec, const char* what, vx_error* err) {
+    vx_result r = rd_need(rd, (size_t)n * 8, sec, what, err);
+    for (int i = 0; r == VX_OK && i < n; i++) vx_rd_f64le(rd, &v[i]);
+    return r;
+}
+/* A length-prefixed name into a char[64]: at most 63 bytes, no NUL inside. */
+static vx_result rd_name(vx_rd* rd, char out[64], const char* sec, const char* what, vx_error* err) {
+    uint64_t len, at = vx_rd_pos(rd);
+    vx_result r = rd_var(rd, UINT64_MAX, &len, sec, what, err);
+    if (r != VX_OK) return r;
+    if (len > NAME_MAX_LEN)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: %s is %llu bytes long, the limit is %d", sec,
+                       (unsigned long long)at, what, (unsigned long long)len, NAME_MAX_LEN);
+    if ((r = rd_need(rd, (size_t)len, sec, what, err)) != VX_OK) return r;
+    memset(out, 0, 64);
+    vx_rd_bytes(rd, out, (size_t)len);
+    if (memchr(out, 0, (size_t)len))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: %s contains a NUL byte", sec,
+                       (unsigned long long)at, what);
+    return VX_OK;
+}
+static bool buf_name(vx_buf* b, const char name[64]) {
+    size_t len = strnlen(name, 64); /* validated: < 64 */
+    return buf_var(b, len) && vx_buf_append(b, name, len);
+}
+
+/* ---- transforms ---------------------------------------------------------------------------- */
+
+static bool is_pos_zero(double v) { return v == 0.0 && !signbit(v); }
+/* -1, 0 or +1 as exactly these bit patterns (so -0.0 keeps the f64 form) */
+static bool unit_entry(double v, int* out) {
+    if (is_pos_zero(v)) *out = 0;
+    else if (v == 1.0) *out = 1;
+    else if (v == -1.0) *out = -1;
+    else return false;
+    return true;
+}
+static bool int_translation(double v, int32_t* out) {
+    if (!(v >= -2147483648.0 && v <= 2147483647.0) || v != floor(v) || (v == 0.0 && signbit(v))) return false;
+    *out = (int32_t)v;
+    return true;
+}
+
+/* Picks the shortest exact form of an instance transform and appends its
+ * payload (the kind goes into the instance's head varint). */
+static int xform_kind(const double* x, uint8_t pay[3], size_t* pay_len, int32_t t[3]) {
+    int e[9];
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++)
+            if (!unit_entry(x[4 * r + c], &e[3 * r + c])) return XF_F64;
+        if (!int_translation(x[4 * r + 3], &t[r])) return XF_F64;
+    }
+    int col[3];
+    bool perm = true;
+    for (int r = 0; r < 3 && perm; r++) {
+        int nz = 0;
+        for (int c = 0; c < 3; c++)
+            if (e[3 * r + c]) nz++, col[r] = c;
+        perm = nz == 1;
+    }
+    if (perm && col[0] != col[1] && col[0] != col[2] && col[1] != col[2]) {
+        pay[0] = (uint8_t)(col[0] | col[1] << 2 | (e[col[0]] < 0) << 4 | (e[3 + col[1]] < 0) << 5 | (e[6 + col[2]] < 0) << 6);
+        *pay_len = 1;
+        return XF_ROT;
+    }
+    uint32_t bits = 0;
+    for (int i = 0; i < 9; i++) bits |= (uint32_t)(e[i] == 0 ? 0 : e[i] > 0 ? 1 : 2) << (2 * i);
+    pay[0] = (uint8_t)bits, pay[1] = (uint8_t)(bits >> 8), pay[2] = (uint8_t)(bits >> 16);
+    *pay_len = 3;
+    return XF_SIGNED;
+}
+
+/* prev: the translation of the previous compact instance (0 0 0 at first);
+ * compact translations are stored as differences from it, because the
+ * instances of a scene tend to sit near each other. */
+static vx_result rd_xform(vx_rd* rd, int kind, double* x, int32_t prev[3], vx_error* err) {
+    const char* S = "SCNE";
+    uint64_t at = vx_rd_pos(rd);
+    vx_result r;
+    if (kind == XF_F64) return rd_f64s(rd, x, 12, S, "instance transform", err);
+    if (kind != XF_ROT && kind != XF_SIGNED)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: unknown transform kind %d", (unsigned long long)at,
+                       kind);
+    int e[9] = {0};
+    if (kind == XF_ROT) {
+        uint8_t b = 0;
+        if ((r = rd_need(rd, 1, S, "rotation byte", err)) != VX_OK) return r;
+        vx_rd_u8(rd, &b);
+        int c0 = b & 3, c1 = (b >> 2) & 3;
+        if (c0 > 2 || c1 > 2 || c0 == c1 || (b & 0x80u))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: rotation byte 0x%02x is not a signed permutation",
+                           (unsigned long long)at, b);
+        int c2 = 3 - c0 - c1;
+        e[c0] = (b >> 4) & 1 ? -1 : 1;
+        e[3 + c1] = (b >> 5) & 1 ? -1 : 1;
+        e[6 + c2] = (b >> 6) & 1 ? -1 : 1;
+    } else {
+        uint8_t b[3];
+        if ((r = rd_need(rd, 3, S, "matrix entries", err)) != VX_OK) return r;
+        vx_rd_bytes(rd, b, 3);
+        uint32_t bits = b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16;
+        if (bits >> 18)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: matrix entry bits above bit 17 are set",
+                           (unsigned long long)at);
+        for (int i = 0; i < 9; i++) {
+            uint32_t c = bits >> (2 * i) & 3u;
+            if (c == 3)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: matrix entry %d has the invalid code 3",
+                               (unsigned long long)at, i);
+            e[i] = c == 0 ? 0 : c == 1 ? 1 : -1;
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        uint64_t z, zat = vx_rd_pos(rd);
+        if ((r = rd_var(rd, UINT32_MAX * 2ull, &z, S, "instance translation", err)) != VX_OK) return r;
+        int64_t t = prev[k] + unzig64(z);
+        if (t < INT32_MIN || t > INT32_MAX)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, zat, "svo: section SCNE at byte %llu: instance translation %lld is outside int32",
+                           (unsigned long long)zat, (long long)t);
+        prev[k] = (int32_t)t;
+        x[4 * k + 3] = (double)t;
+        for (int c = 0; c < 3; c++) x[4 * k + c] = (double)e[3 * k + c];
+    }
+    return VX_OK;
+}
+
+/* ---- header and section table ------------------------------------------------------------- */
 
 typedef struct sec {
     uint8_t tag[4];
@@ -41,49 +255,95 @@ typedef struct sec {
     uint64_t offset, size;
 } sec;
 
-/* Header and section table; fills info when non-NULL and secs (count entries)
- * when non-NULL. Checks every bound, not the section CRCs. */
+/* Parses the header and the table; fills secs (count entries) when non-NULL.
+ * Checks every bound, the table CRC and the zero alignment gaps, not the
+ * section CRCs. Section offsets follow from the sizes: sections are stored
+ * back to back after the table, and one with ALIGN4 starts at the next
+ * multiple of 4; the last one ends at the end of the file. */
 static vx_result parse_table(const uint8_t* d, size_t size, uint32_t* out_version, uint32_t* out_count, sec* secs,
                              vx_error* err) {
-    if (size < HEADER_SIZE)
-        return vx_fail(err, VX_ERR_TRUNCATED, size, "svo: file is %zu bytes, the header needs %d", size, HEADER_SIZE);
+    if (size < HEADER_SIZE + 4)
+        return vx_fail(err, VX_ERR_TRUNCATED, size, "svo: file is %zu bytes, the header needs %d", size, HEADER_SIZE + 4);
     if (memcmp(d, MAGIC, 8) != 0) return vx_fail(err, VX_ERR_BAD_FORMAT, 0, "svo: not a .svo file (bad magic)");
-    uint32_t hcrc = rd32(d + 28);
-    if (vx_crc32(0, d, 28) != hcrc) return vx_fail(err, VX_ERR_BAD_FORMAT, 28, "svo: header CRC mismatch");
-    uint32_t version = rd32(d + 8), count = rd32(d + 12);
-    uint64_t toff = rd64(d + 16);
+    uint32_t version = d[8] | (uint32_t)d[9] << 8, count = d[10] | (uint32_t)d[11] << 8;
     if (version == 0 || version > VX_SVO_FORMAT_VERSION)
         return vx_fail(err, VX_ERR_UNSUPPORTED, 8, "svo: format version %u, this reader supports 1..%u", version,
                        VX_SVO_FORMAT_VERSION);
-    if (count > MAX_SECTIONS)
-        return vx_fail(err, VX_ERR_LIMIT, 12, "svo: %u sections, the limit is %d", count, MAX_SECTIONS);
-    if (toff < HEADER_SIZE || toff % 8 || toff > size || (uint64_t)count * ENTRY_SIZE > size - toff)
-        return vx_fail(err, VX_ERR_TRUNCATED, 16, "svo: section table at byte %llu (%u entries) does not fit in %zu bytes",
-                       (unsigned long long)toff, count, size);
-    const uint8_t* t = d + toff;
-    size_t tsize = (size_t)count * ENTRY_SIZE;
-    if (vx_crc32(0, t, tsize) != rd32(d + 24)) return vx_fail(err, VX_ERR_BAD_FORMAT, 24, "svo: section table CRC mismatch");
+    if (count > MAX_SECTIONS) return vx_fail(err, VX_ERR_LIMIT, 10, "svo: %u sections, the limit is %d", count, MAX_SECTIONS);
+    vx_rd rd = vx_rd_make(d, size);
+    rd.off = HEADER_SIZE;
+    vx_result r;
     for (uint32_t i = 0; i < count; i++) {
-        const uint8_t* e = t + (size_t)i * ENTRY_SIZE;
-        uint64_t off = rd64(e + 8), sz = rd64(e + 16);
-        uint64_t at = toff + (uint64_t)i * ENTRY_SIZE;
-        char tg[5];
-        for (int k = 0; k < 4; k++) tg[k] = (e[k] >= 32 && e[k] < 127) ? (char)e[k] : '?';
-        tg[4] = 0;
-        if (off % 8) return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu is not 8-byte aligned", tg, (unsigned long long)off);
-        if (off < toff + tsize || off > size || sz > size - off)
-            return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section %s (%llu bytes at byte %llu) lies outside the %zu-byte file data",
-                           tg, (unsigned long long)sz, (unsigned long long)off, size);
+        uint64_t at = vx_rd_pos(&rd), flags, sz;
+        uint8_t tag[4];
+        uint32_t crc;
+        if (!vx_rd_bytes(&rd, tag, 4))
+            return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section table entry %u at byte %llu is truncated", i, (unsigned long long)at);
+        if ((r = rd_var(&rd, UINT32_MAX, &flags, "table", "section flags", err)) != VX_OK ||
+            (r = rd_var(&rd, UINT64_MAX, &sz, "table", "section size", err)) != VX_OK)
+            return r;
+        if (!vx_rd_u32le(&rd, &crc))
+            return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section table entry %u at byte %llu is truncated", i, (unsigned long long)at);
         if (secs) {
-            memcpy(secs[i].tag, e, 4);
-            secs[i].flags = rd32(e + 4);
-            secs[i].offset = off;
+            memcpy(secs[i].tag, tag, 4);
+            secs[i].flags = (uint32_t)flags;
             secs[i].size = sz;
-            secs[i].crc = rd32(e + 24);
+            secs[i].crc = crc;
         }
+    }
+    uint64_t tend = vx_rd_pos(&rd);
+    uint32_t tcrc;
+    if (!vx_rd_u32le(&rd, &tcrc))
+        return vx_fail(err, VX_ERR_TRUNCATED, tend, "svo: the table CRC at byte %llu is truncated", (unsigned long long)tend);
+    if (vx_crc32(0, d, (size_t)tend) != tcrc)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, tend, "svo: header and section table CRC mismatch");
+    /* entries again, now that the CRC vouches for them: layout checks */
+    if (secs) {
+        uint64_t off = vx_rd_pos(&rd);
+        for (uint32_t i = 0; i < count; i++) {
+            char tg[5];
+            tag_str(secs[i].tag, tg);
+            if (secs[i].flags & ~(uint32_t)SEC_FLAGS)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section %s has reserved flag bits 0x%x set", tg,
+                               secs[i].flags & ~(uint32_t)SEC_FLAGS);
+            if (secs[i].flags & SEC_ALIGN4) {
+                uint64_t pad = (4 - off % 4) % 4;
+                if (pad > size - off)
+                    return vx_fail(err, VX_ERR_TRUNCATED, off, "svo: section %s: alignment gap at byte %llu runs past the end of the file",
+                                   tg, (unsigned long long)off);
+                for (uint64_t k = 0; k < pad; k++)
+                    if (d[off + k])
+                        return vx_fail(err, VX_ERR_BAD_FORMAT, off + k, "svo: alignment gap byte %llu before section %s is not zero",
+                                       (unsigned long long)(off + k), tg);
+                off += pad;
+            }
+            if (secs[i].size > size - off)
+                return vx_fail(err, VX_ERR_TRUNCATED, off, "svo: section %s (%llu bytes at byte %llu) runs past the end of the %zu-byte file",
+                               tg, (unsigned long long)secs[i].size, (unsigned long long)off, size);
+            secs[i].offset = off;
+            off += secs[i].size;
+        }
+        if (off != size)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, off, "svo: %llu bytes after the last section", (unsigned long long)(size - off));
     }
     *out_version = version;
     *out_count = count;
+    return VX_OK;
+}
+
+/* parse_table twice: once for the count, once into an allocated array. */
+static vx_result load_table(const uint8_t* d, size_t size, const vx_allocator* A, uint32_t* version, uint32_t* count, sec** out,
+                            vx_error* err) {
+    vx_result r = parse_table(d, size, version, count, NULL, err);
+    if (r != VX_OK) return r;
+    sec* secs = (sec*)vx_calloc(A, *count ? *count : 1, sizeof *secs);
+    if (!secs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    r = parse_table(d, size, version, count, secs, err);
+    if (r != VX_OK) {
+        vx_free(A, secs);
+        return r;
+    }
+    *out = secs;
     return VX_OK;
 }
 
@@ -92,33 +352,316 @@ vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_
     if (!out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null output");
     const uint8_t* d = (const uint8_t*)data;
     uint32_t version, count;
-    vx_result r = parse_table(d, size, &version, &count, NULL, err);
+    sec* secs = NULL;
+    vx_result r = load_table(d, size, NULL, &version, &count, &secs, err);
     if (r != VX_OK) return r;
     vx_svo_file_info info;
     memset(&info, 0, sizeof info);
     info.version = version;
     info.section_count = count;
     info.file_size = size;
-    uint64_t toff = rd64(d + 16);
     for (uint32_t i = 0; i < count && i < 64; i++) {
-        const uint8_t* e = d + toff + (size_t)i * ENTRY_SIZE;
         vx_svo_section_info* s = &info.sections[i];
-        for (int k = 0; k < 4; k++) s->tag[k] = (e[k] >= 32 && e[k] < 127) ? (char)e[k] : '?';
-        s->tag[4] = 0;
-        s->flags = rd32(e + 4);
-        s->offset = rd64(e + 8);
-        s->size = rd64(e + 16);
-        s->crc = rd32(e + 24);
+        tag_str(secs[i].tag, s->tag);
+        s->flags = secs[i].flags;
+        s->offset = secs[i].offset;
+        s->size = secs[i].size;
+        s->crc = secs[i].crc;
         s->crc_ok = vx_crc32(0, d + s->offset, (size_t)s->size) == s->crc;
-        s->known = tag_index(e) >= 0;
+        s->known = tag_index(secs[i].tag) >= 0;
     }
+    vx_free(NULL, secs);
     *out = info;
     return VX_OK;
 }
 
 /* ---- reading ---------------------------------------------------------------------------- */
 
-static void str_copy(char* dst, const uint8_t* src, size_t n) { memcpy(dst, src, n); }
+static const double IDENTITY12[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+
+static void* copy_channel(const vx_allocator* A, unsigned c, const uint8_t* ap, uint32_t n) {
+    void* arr = vx_calloc(A, n ? n : 1, CH_SIZE[c]);
+    if (!arr) return NULL;
+    for (uint32_t k = 0; k < n; k++) {
+        const uint8_t* v = ap + (size_t)k * CH_SIZE[c];
+        switch (c) {
+        case 0: ((uint8_t*)arr)[k] = v[0]; break;
+        case 1:
+        case 2: ((uint32_t*)arr)[k] = rd32(v); break;
+        case 3: ((uint16_t*)arr)[k] = (uint16_t)(v[0] | (v[1] << 8)); break;
+        default: {
+            union { uint32_t u; float f; } fv = {rd32(v)};
+            ((float*)arr)[k] = fv.f;
+        }
+        }
+    }
+    return arr;
+}
+
+/* SCNE into s (with the models' node words and records copied out of the
+ * NODE and channel sections); *bounds_form says whether bounds are still to
+ * be computed. */
+static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_allocator* A, vx_svo_scene* s, int* bounds_form,
+                           vx_error* err) {
+    const char* S = "SCNE";
+    const sec* sc = known[S_SCNE];
+    vx_rd rd = vx_rd_make(d + sc->offset, (size_t)sc->size);
+    rd.base = sc->offset;
+    vx_result r;
+    uint8_t form;
+    if (!vx_rd_u8(&rd, &form))
+        return vx_fail(err, VX_ERR_TRUNCATED, sc->offset, "svo: section SCNE at byte %llu is empty", (unsigned long long)sc->offset);
+    *bounds_form = form >> SCNE_BOUNDS_SHIFT & 3;
+    if ((form & ~(unsigned)SCNE_FORM_BITS) || *bounds_form > BOUNDS_F64)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, sc->offset, "svo: section SCNE at byte %llu: unknown form byte 0x%02x",
+                       (unsigned long long)sc->offset, form);
+    if (form & SCNE_WORLD) {
+        if ((r = rd_f64s(&rd, s->world_from_grid, 12, S, "world_from_grid", err)) != VX_OK) return r;
+    } else {
+        memcpy(s->world_from_grid, IDENTITY12, sizeof IDENTITY12);
+    }
+    if (*bounds_form == BOUNDS_F64) {
+        if ((r = rd_f64s(&rd, s->bounds_min, 3, S, "bounds", err)) != VX_OK ||
+            (r = rd_f64s(&rd, s->bounds_max, 3, S, "bounds", err)) != VX_OK)
+            return r;
+    } else if (*bounds_form == BOUNDS_INT) {
+        for (int i = 0; i < 6; i++) {
+            uint32_t z;
+            if ((r = rd_var32(&rd, &z, S, "bounds", err)) != VX_OK) return r;
+            (i < 3 ? s->bounds_min : s->bounds_max)[i % 3] = (double)unzig32(z);
+        }
+    }
+    uint32_t mc, ic, lc;
+    uint64_t at = vx_rd_pos(&rd);
+    if ((r = rd_var32(&rd, &mc, S, "model count", err)) != VX_OK || (r = rd_var32(&rd, &ic, S, "instance count", err)) != VX_OK ||
+        (r = rd_var32(&rd, &lc, S, "layer count", err)) != VX_OK)
+        return r;
+    /* smallest records: model 4 bytes, instance 7, layer 3 (bounds every allocation) */
+    uint64_t least = 4ull * mc + 7ull * ic + 3ull * lc;
+    if (least > vx_rd_left(&rd))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at,
+                       "svo: section SCNE at byte %llu: %u models, %u instances, %u layers need at least %llu bytes, %zu left",
+                       (unsigned long long)at, mc, ic, lc, (unsigned long long)least, vx_rd_left(&rd));
+    s->models = (vx_svo_model*)vx_calloc(A, mc ? mc : 1, sizeof *s->models);
+    s->instances = (vx_svo_instance*)vx_calloc(A, ic ? ic : 1, sizeof *s->instances);
+    s->layers = (vx_svo_layer*)vx_calloc(A, lc ? lc : 1, sizeof *s->layers);
+    if (!s->models || !s->instances || !s->layers) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+
+    const sec* ns = known[S_NODE];
+    uint64_t node_words = ns->size / 4, nf = 0, ch_recs[5] = {0}, af[5] = {0};
+    for (unsigned c = 0; c < 5; c++)
+        if (known[S_APAL + c]) ch_recs[c] = known[S_APAL + c]->size / CH_SIZE[c];
+    for (uint32_t i = 0; i < mc; i++) {
+        vx_svo_model* m = &s->models[i];
+        s->model_count = i + 1; /* so that a failure frees what was copied */
+        at = vx_rd_pos(&rd);
+        uint64_t root_code;
+        uint32_t mhead;
+        if ((r = rd_var32(&rd, &mhead, S, "model head", err)) != VX_OK) return r;
+        if (mhead & ~(uint32_t)(VX_ATTR_ALL | MODEL_SAME_SIZE))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: unknown attribute bits 0x%x in the head",
+                           (unsigned long long)at, i, mhead & ~(uint32_t)(VX_ATTR_ALL | MODEL_SAME_SIZE));
+        m->attrs = mhead & VX_ATTR_ALL;
+        if (mhead & MODEL_SAME_SIZE) {
+            if (i == 0)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",
+                               (unsigned long long)at);
+            memcpy(m->size, m[-1].size, sizeof m->size);
+        } else if ((r = rd_var32(&rd, &m->size[0], S, "model size", err)) != VX_OK ||
+                   (r = rd_var32(&rd, &m->size[1], S, "model size", err)) != VX_OK ||
+                   (r = rd_var32(&rd, &m->size[2], S, "model size", err)) != VX_OK) {
+            return r;
+        }
+        if ((r = rd_var32(&rd, &m->node_count, S, "model node_count", err)) != VX_OK ||
+            (r = rd_var(&rd, (uint64_t)UINT32_MAX + 2, &root_code, S, "model root", err)) != VX_OK ||
+            (r = rd_var(&rd, UINT64_MAX, &m->voxel_count, S, "model voxel_count", err)) != VX_OK)
+            return r;
+        if (m->attrs && ((r = rd_var32(&rd, &m->attr_count, S, "model attr_count", err)) != VX_OK ||
+                         (r = rd_var32(&rd, &m->root_attr, S, "model root_attr", err)) != VX_OK))
+            return r;
+        uint32_t mxs = m->size[0] > m->size[1] ? m->size[0] : m->size[1];
+        if (m->size[2] > mxs) mxs = m->size[2];
+        while (m->depth < 31 && (1u << m->depth) < mxs) m->depth++;
+        if (root_code == ROOT_CODE_EMPTY) m->root = VX_SVO_ROOT_EMPTY;
+        else if (root_code == ROOT_CODE_LEAF) m->root = VX_SVO_ROOT_LEAF;
+        else if (root_code - ROOT_CODE_BACK < m->node_count) m->root = m->node_count - 1 - (uint32_t)(root_code - ROOT_CODE_BACK);
+        else
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: root code %llu, the model has %u words",
+                           (unsigned long long)at, i, (unsigned long long)root_code, m->node_count);
+        if (m->node_count > node_words - nf)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at,
+                           "svo: section SCNE at byte %llu: model %u: words %llu..+%u outside the %llu words of NODE",
+                           (unsigned long long)at, i, (unsigned long long)nf, m->node_count, (unsigned long long)node_words);
+        m->nodes = (uint32_t*)vx_calloc(A, m->node_count ? m->node_count : 1, 4);
+        if (!m->nodes) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        const uint8_t* np = d + ns->offset + nf * 4;
+        for (uint32_t k = 0; k < m->node_count; k++) m->nodes[k] = rd32(np + 4 * (size_t)k);
+        nf += m->node_count;
+        if ((m->attrs & VX_ATTR_PALETTE) && !known[S_PALT])
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses palette indices but PALT is missing",
+                           (unsigned long long)at, i);
+        for (unsigned c = 0; c < 5; c++) {
+            if (!(m->attrs >> c & 1u)) continue;
+            const sec* cs = known[S_APAL + c];
+            if (!cs)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses channel %s but the section is missing",
+                               (unsigned long long)at, i, TAGS[S_APAL + c]);
+            if (m->attr_count > ch_recs[c] - af[c])
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at,
+                               "svo: section SCNE at byte %llu: model %u: records %llu..+%u outside the %llu records of %s",
+                               (unsigned long long)at, i, (unsigned long long)af[c], m->attr_count, (unsigned long long)ch_recs[c],
+                               TAGS[S_APAL + c]);
+            void* arr = copy_channel(A, c, d + cs->offset + af[c] * CH_SIZE[c], m->attr_count);
+            if (!arr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+            af[c] += m->attr_count;
+            switch (c) {
+            case 0: m->palette = (uint8_t*)arr; break;
+            case 1: m->rgba = (uint32_t*)arr; break;
+            case 2: m->normal = (uint32_t*)arr; break;
+            case 3: m->material = (uint16_t*)arr; break;
+            default: m->density = (float*)arr;
+            }
+        }
+    }
+    /* models are stored back to back: every word and record belongs to one */
+    if (nf != node_words)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, ns->offset, "svo: section NODE has %llu words, the models use %llu",
+                       (unsigned long long)node_words, (unsigned long long)nf);
+    for (unsigned c = 0; c < 5; c++)
+        if (known[S_APAL + c] && af[c] != ch_recs[c])
+            return vx_fail(err, VX_ERR_BAD_FORMAT, known[S_APAL + c]->offset, "svo: section %s has %llu records, the models use %llu",
+                           TAGS[S_APAL + c], (unsigned long long)ch_recs[c], (unsigned long long)af[c]);
+    int32_t prev[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < ic; i++) {
+        vx_svo_instance* in = &s->instances[i];
+        uint64_t head, layer;
+        if ((r = rd_var(&rd, (uint64_t)UINT32_MAX << 3 | 7u, &head, S, "instance head", err)) != VX_OK ||
+            (r = rd_var32(&rd, &in->model, S, "instance model", err)) != VX_OK ||
+            (r = rd_var(&rd, UINT32_MAX, &layer, S, "instance layer", err)) != VX_OK ||
+            (r = rd_xform(&rd, (int)(head & 3u), in->xform, prev, err)) != VX_OK)
+            return r;
+        if (head & INST_NAMED) {
+            uint64_t nat = vx_rd_pos(&rd);
+            if ((r = rd_name(&rd, in->name, S, "instance name", err)) != VX_OK) return r;
+            if (!in->name[0]) /* one form per scene: unnamed instances store no name */
+                return vx_fail(err, VX_ERR_BAD_FORMAT, nat, "svo: section SCNE at byte %llu: instance %u is marked named but its name is empty",
+                               (unsigned long long)nat, i);
+        }
+        in->flags = (uint32_t)(head >> 3);
+        in->layer = layer == 0 ? UINT32_MAX : (uint32_t)(layer - 1);
+        s->instance_count = i + 1;
+    }
+    for (uint32_t i = 0; i < lc; i++) {
+        vx_svo_layer* l = &s->layers[i];
+        if ((r = rd_name(&rd, l->name, S, "layer name", err)) != VX_OK || (r = rd_var32(&rd, &l->flags, S, "layer flags", err)) != VX_OK ||
+            (r = rd_var32(&rd, &l->rgba, S, "layer colour", err)) != VX_OK)
+            return r;
+        s->layer_count = i + 1;
+    }
+    if (vx_rd_left(&rd))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, vx_rd_pos(&rd), "svo: section SCNE has %zu trailing bytes at byte %llu", vx_rd_left(&rd),
+                       (unsigned long long)vx_rd_pos(&rd));
+    return VX_OK;
+}
+
+static vx_result read_palt(const uint8_t* d, const sec* ps, vx_svo_scene* s, vx_error* err) {
+    vx_rd rd = vx_rd_make(d + ps->offset, (size_t)ps->size);
+    rd.base = ps->offset;
+    uint8_t form, bits[32];
+    if (!vx_rd_u8(&rd, &form) || !vx_rd_bytes(&rd, bits, 32))
+        return vx_fail(err, VX_ERR_TRUNCATED, ps->offset, "svo: section PALT at byte %llu is %llu bytes, the bitmap needs 33",
+                       (unsigned long long)ps->offset, (unsigned long long)ps->size);
+    if (form & ~(unsigned)PALT_RGB)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, ps->offset, "svo: section PALT: unknown form byte 0x%02x", form);
+    size_t n = 0, esz = (form & PALT_RGB) ? 3 : 4;
+    for (int i = 0; i < 32; i++) n += (size_t)__builtin_popcount(bits[i]);
+    if (vx_rd_left(&rd) != n * esz)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, ps->offset, "svo: section PALT: %zu entries of %zu bytes need %zu bytes, the section has %zu",
+                       n, esz, n * esz, vx_rd_left(&rd));
+    memset(s->palette, 0, sizeof s->palette);
+    for (int i = 0; i < 256; i++) {
+        if (!(bits[i >> 3] >> (i & 7) & 1u)) continue;
+        uint8_t c[4] = {0, 0, 0, 0xFF};
+        vx_rd_bytes(&rd, c, esz);
+        s->palette[i] = rd32(c);
+    }
+    s->has_palette = true;
+    return VX_OK;
+}
+
+static vx_result read_matl(const uint8_t* d, const sec* ms, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
+    const char* S = "MATL";
+    vx_rd rd = vx_rd_make(d + ms->offset, (size_t)ms->size);
+    rd.base = ms->offset;
+    vx_result r;
+    uint64_t nd, at = vx_rd_pos(&rd);
+    if ((r = rd_var(&rd, UINT32_MAX, &nd, S, "dictionary count", err)) != VX_OK) return r;
+    if (nd > vx_rd_left(&rd)) /* each dictionary takes at least its length byte */
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section MATL at byte %llu: %llu dictionaries, %zu bytes left",
+                       (unsigned long long)at, (unsigned long long)nd, vx_rd_left(&rd));
+    size_t* doff = (size_t*)vx_calloc(A, nd ? (size_t)nd : 1, sizeof *doff);
+    uint32_t* dsz = (uint32_t*)vx_calloc(A, nd ? (size_t)nd : 1, sizeof *dsz);
+    if (!doff || !dsz) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto done;
+    }
+    for (uint64_t i = 0; i < nd; i++) {
+        if ((r = rd_var32(&rd, &dsz[i], S, "dictionary size", err)) != VX_OK ||
+            (r = rd_need(&rd, dsz[i], S, "dictionary", err)) != VX_OK)
+            goto done;
+        doff[i] = rd.off;
+        vx_rd_skip(&rd, dsz[i]);
+    }
+    uint64_t nm;
+    at = vx_rd_pos(&rd);
+    if ((r = rd_var(&rd, UINT32_MAX, &nm, S, "material count", err)) != VX_OK) goto done;
+    if (nm > vx_rd_left(&rd) / 2) {
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section MATL at byte %llu: %llu materials, %zu bytes left", (unsigned long long)at,
+                    (unsigned long long)nm, vx_rd_left(&rd));
+        goto done;
+    }
+    s->materials = (vx_svo_material*)vx_calloc(A, nm ? (size_t)nm : 1, sizeof *s->materials);
+    if (!s->materials) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto done;
+    }
+    uint64_t expanded = 0;
+    for (uint64_t i = 0; i < nm; i++) {
+        vx_svo_material* mt = &s->materials[i];
+        uint64_t di;
+        at = vx_rd_pos(&rd);
+        if ((r = rd_var32(&rd, &mt->id, S, "material id", err)) != VX_OK ||
+            (r = rd_var(&rd, nd ? nd - 1 : 0, &di, S, "material dictionary index", err)) != VX_OK)
+            goto done;
+        if (nd == 0) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section MATL at byte %llu: material %llu refers to a dictionary, there are none",
+                        (unsigned long long)at, (unsigned long long)i);
+            goto done;
+        }
+        expanded += dsz[di];
+        if (expanded > MATL_EXPANDED_MAX) {
+            r = vx_fail(err, VX_ERR_LIMIT, at, "svo: section MATL: material dictionaries expand to more than %llu bytes",
+                        (unsigned long long)MATL_EXPANDED_MAX);
+            goto done;
+        }
+        s->material_count = (uint32_t)i + 1;
+        if (dsz[di]) {
+            mt->dict = (char*)vx_alloc(A, dsz[di]);
+            if (!mt->dict) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+                goto done;
+            }
+            memcpy(mt->dict, rd.p + doff[di], dsz[di]);
+            mt->dict_size = dsz[di];
+        }
+    }
+    if (vx_rd_left(&rd))
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, vx_rd_pos(&rd), "svo: section MATL has %zu trailing bytes", vx_rd_left(&rd));
+done:
+    vx_free(A, doff);
+    vx_free(A, dsz);
+    return r;
+}
 
 vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t size, vx_svo_scene* out, vx_error* err) {
     vx_svo_read_desc rdd;
@@ -131,20 +674,15 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     sec* secs = NULL;
     vx_svo_scene s;
     vx_svo_scene_init(&s, A);
-    vx_result r = parse_table(d, size, &version, &count, NULL, err);
+    vx_result r = load_table(d, size, A, &version, &count, &secs, err);
     if (r != VX_OK) return r;
-    secs = (sec*)vx_calloc(A, count ? count : 1, sizeof *secs);
-    if (!secs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-    r = parse_table(d, size, &version, &count, secs, err);
-    if (r != VX_OK) goto fail;
 
     const sec* known[S_COUNT] = {0};
     for (uint32_t i = 0; i < count; i++) {
         const sec* e = &secs[i];
         int ti = tag_index(e->tag);
         char tg[5];
-        for (int k = 0; k < 4; k++) tg[k] = (e->tag[k] >= 32 && e->tag[k] < 127) ? (char)e->tag[k] : '?';
-        tg[4] = 0;
+        tag_str(e->tag, tg);
         if (ti < 0) {
             if (e->flags & SEC_REQUIRED) {
                 r = vx_fail(err, VX_ERR_UNSUPPORTED, e->offset, "svo: section %s is marked required but unknown to this reader", tg);
@@ -170,195 +708,23 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: the %s section is missing", known[S_SCNE] ? "NODE" : "SCNE");
         goto fail;
     }
-
-    /* SCNE */
-    const sec* sc = known[S_SCNE];
-    const uint8_t* p = d + sc->offset;
-    if (sc->size < SCENE_FIXED) {
-        r = vx_fail(err, VX_ERR_TRUNCATED, sc->offset, "svo: section SCNE is %llu bytes, needs at least %d",
-                    (unsigned long long)sc->size, SCENE_FIXED);
-        goto fail;
-    }
-    uint32_t mc = rd32(p), ic = rd32(p + 4), lc = rd32(p + 8);
-    uint64_t need = SCENE_FIXED + (uint64_t)mc * MODEL_REC + (uint64_t)ic * INST_REC + (uint64_t)lc * LAYER_REC;
-    if (need != sc->size) {
-        r = vx_fail(err, VX_ERR_BAD_FORMAT, sc->offset,
-                    "svo: section SCNE at byte %llu: %u models, %u instances, %u layers need %llu bytes, the section has %llu",
-                    (unsigned long long)sc->offset, mc, ic, lc, (unsigned long long)need, (unsigned long long)sc->size);
-        goto fail;
-    }
-    union { uint64_t u; double f; } cv;
-    for (int i = 0; i < 12; i++) cv.u = rd64(p + 16 + 8 * i), s.world_from_grid[i] = cv.f;
-    for (int i = 0; i < 3; i++) {
-        cv.u = rd64(p + 112 + 8 * i);
-        s.bounds_min[i] = cv.f;
-        cv.u = rd64(p + 136 + 8 * i);
-        s.bounds_max[i] = cv.f;
-    }
-    uint64_t node_words = known[S_NODE]->size / 4;
     if (known[S_NODE]->size % 4) {
         r = vx_fail(err, VX_ERR_BAD_FORMAT, known[S_NODE]->offset, "svo: section NODE size %llu is not a multiple of 4",
                     (unsigned long long)known[S_NODE]->size);
         goto fail;
     }
-    uint64_t ch_recs[5];
     for (unsigned c = 0; c < 5; c++) {
         const sec* cs = known[S_APAL + c];
-        ch_recs[c] = cs ? cs->size / CH_SIZE[c] : 0;
         if (cs && cs->size % CH_SIZE[c]) {
             r = vx_fail(err, VX_ERR_BAD_FORMAT, cs->offset, "svo: section %s size %llu is not a multiple of %u", TAGS[S_APAL + c],
                         (unsigned long long)cs->size, CH_SIZE[c]);
             goto fail;
         }
     }
-    if (known[S_PALT] && known[S_PALT]->size != 1024) {
-        r = vx_fail(err, VX_ERR_BAD_FORMAT, known[S_PALT]->offset, "svo: section PALT is %llu bytes, must be 1024",
-                    (unsigned long long)known[S_PALT]->size);
-        goto fail;
-    }
-    s.models = (vx_svo_model*)vx_calloc(A, mc ? mc : 1, sizeof *s.models);
-    s.instances = (vx_svo_instance*)vx_calloc(A, ic ? ic : 1, sizeof *s.instances);
-    s.layers = (vx_svo_layer*)vx_calloc(A, lc ? lc : 1, sizeof *s.layers);
-    if (!s.models || !s.instances || !s.layers) goto nomem;
-    for (uint32_t i = 0; i < mc; i++) {
-        const uint8_t* q = p + SCENE_FIXED + (size_t)i * MODEL_REC;
-        uint64_t at = sc->offset + SCENE_FIXED + (uint64_t)i * MODEL_REC;
-        vx_svo_model* m = &s.models[i];
-        s.model_count = i + 1; /* so that a failure frees what was copied */
-        for (int k = 0; k < 3; k++) m->size[k] = rd32(q + 4 * k);
-        m->depth = rd32(q + 12);
-        m->root = rd32(q + 16);
-        m->root_attr = rd32(q + 20);
-        m->attrs = rd32(q + 24);
-        m->node_count = rd32(q + 28);
-        m->voxel_count = rd64(q + 32);
-        uint64_t nf = rd64(q + 40);
-        m->attr_count = rd32(q + 48);
-        if (m->attrs & ~(uint32_t)VX_ATTR_ALL) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, at + 24, "svo: SCNE model %u: unknown attribute bits 0x%x", i, m->attrs);
-            goto fail;
-        }
-        if (nf > node_words || m->node_count > node_words - nf) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, at + 40, "svo: SCNE model %u: node words %llu..+%u outside the %llu words of NODE", i,
-                        (unsigned long long)nf, m->node_count, (unsigned long long)node_words);
-            goto fail;
-        }
-        m->nodes = (uint32_t*)vx_calloc(A, m->node_count ? m->node_count : 1, 4);
-        if (!m->nodes) goto nomem;
-        const uint8_t* np = d + known[S_NODE]->offset + nf * 4;
-        for (uint32_t k = 0; k < m->node_count; k++) m->nodes[k] = rd32(np + 4 * (size_t)k);
-        for (unsigned c = 0; c < 5; c++) {
-            uint64_t af = rd64(q + 56 + 8 * c);
-            if (!(m->attrs >> c & 1u)) continue;
-            const sec* cs = known[S_APAL + c];
-            if (!cs) {
-                r = vx_fail(err, VX_ERR_BAD_FORMAT, at + 24, "svo: SCNE model %u uses channel %s but the section is missing", i,
-                            TAGS[S_APAL + c]);
-                goto fail;
-            }
-            if (af > ch_recs[c] || m->attr_count > ch_recs[c] - af) {
-                r = vx_fail(err, VX_ERR_BAD_FORMAT, at + 56 + 8 * c,
-                            "svo: SCNE model %u: records %llu..+%u outside the %llu records of %s", i, (unsigned long long)af,
-                            m->attr_count, (unsigned long long)ch_recs[c], TAGS[S_APAL + c]);
-                goto fail;
-            }
-            void* arr = vx_alloc(A, (size_t)m->attr_count * CH_SIZE[c]);
-            if (!arr) goto nomem;
-            const uint8_t* ap = d + cs->offset + af * CH_SIZE[c];
-            for (uint32_t k = 0; k < m->attr_count; k++) {
-                const uint8_t* v = ap + (size_t)k * CH_SIZE[c];
-                switch (c) {
-                case 0: ((uint8_t*)arr)[k] = v[0]; break;
-                case 1: ((uint32_t*)arr)[k] = rd32(v); break;
-                case 2: ((uint32_t*)arr)[k] = rd32(v); break;
-                case 3: ((uint16_t*)arr)[k] = (uint16_t)(v[0] | (v[1] << 8)); break;
-                default: {
-                    union { uint32_t u; float f; } fv = {rd32(v)};
-                    ((float*)arr)[k] = fv.f;
-                }
-                }
-            }
-            switch (c) {
-            case 0: m->palette = (uint8_t*)arr; break;
-            case 1: m->rgba = (uint32_t*)arr; break;
-            case 2: m->normal = (uint32_t*)arr; break;
-            case 3: m->material = (uint16_t*)arr; break;
-            default: m->density = (float*)arr;
-            }
-        }
-        if ((m->attrs & VX_ATTR_PALETTE) && !known[S_PALT]) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, at + 24, "svo: SCNE model %u uses palette indices but the PALT section is missing", i);
-            goto fail;
-        }
-    }
-    for (uint32_t i = 0; i < ic; i++) {
-        const uint8_t* q = p + SCENE_FIXED + (size_t)mc * MODEL_REC + (size_t)i * INST_REC;
-        vx_svo_instance* in = &s.instances[i];
-        for (int k = 0; k < 12; k++) cv.u = rd64(q + 8 * k), in->xform[k] = cv.f;
-        in->model = rd32(q + 96);
-        in->layer = rd32(q + 100);
-        in->flags = rd32(q + 104);
-        str_copy(in->name, q + 112, 64);
-    }
-    s.instance_count = ic;
-    for (uint32_t i = 0; i < lc; i++) {
-        const uint8_t* q = p + SCENE_FIXED + (size_t)mc * MODEL_REC + (size_t)ic * INST_REC + (size_t)i * LAYER_REC;
-        str_copy(s.layers[i].name, q, 64);
-        s.layers[i].flags = rd32(q + 64);
-        s.layers[i].rgba = rd32(q + 68);
-    }
-    s.layer_count = lc;
-    if (known[S_PALT]) {
-        s.has_palette = true;
-        for (int i = 0; i < 256; i++) s.palette[i] = rd32(d + known[S_PALT]->offset + 4 * i);
-    }
-    if (known[S_MATL]) {
-        const sec* ms = known[S_MATL];
-        vx_rd rd = vx_rd_make(d + ms->offset, (size_t)ms->size);
-        rd.base = ms->offset;
-        uint32_t n;
-        if (!vx_rd_u32le(&rd, &n)) {
-            r = vx_fail(err, VX_ERR_TRUNCATED, ms->offset, "svo: section MATL is too short for its count");
-            goto fail;
-        }
-        if (n > vx_rd_left(&rd) / 8) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, ms->offset, "svo: section MATL declares %u materials, %zu bytes left", n,
-                        vx_rd_left(&rd));
-            goto fail;
-        }
-        s.materials = (vx_svo_material*)vx_calloc(A, n ? n : 1, sizeof *s.materials);
-        if (!s.materials) goto nomem;
-        for (uint32_t i = 0; i < n; i++) {
-            vx_svo_material* mt = &s.materials[i];
-            uint64_t at = vx_rd_pos(&rd);
-            if (!vx_rd_u32le(&rd, &mt->id) || !vx_rd_u32le(&rd, &mt->dict_size)) {
-                r = vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section MATL: material %u header is truncated", i);
-                goto fail;
-            }
-            size_t padded = ((size_t)mt->dict_size + 3) & ~(size_t)3;
-            if (mt->dict_size > vx_rd_left(&rd) || padded > vx_rd_left(&rd)) {
-                r = vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section MATL: material %u dictionary of %u bytes, %zu left", i,
-                            mt->dict_size, vx_rd_left(&rd));
-                mt->dict_size = 0;
-                goto fail;
-            }
-            s.material_count = i + 1;
-            if (mt->dict_size) {
-                mt->dict = (char*)vx_alloc(A, mt->dict_size);
-                if (!mt->dict) {
-                    mt->dict_size = 0;
-                    goto nomem;
-                }
-                vx_rd_bytes(&rd, mt->dict, mt->dict_size);
-                vx_rd_skip(&rd, padded - mt->dict_size);
-            }
-        }
-        s.material_count = n;
-        if (vx_rd_left(&rd)) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, vx_rd_pos(&rd), "svo: section MATL has %zu trailing bytes", vx_rd_left(&rd));
-            goto fail;
-        }
-    }
+    int bounds_form = BOUNDS_COMPUTED;
+    if ((r = read_scne(d, known, A, &s, &bounds_form, err)) != VX_OK) goto fail;
+    if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
+    if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     r = vx_svo_validate_scene(&s, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -366,11 +732,10 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         vx_error_prefix(err, "svo: structure");
         goto fail;
     }
+    if (bounds_form == BOUNDS_COMPUTED) vx_svo_scene_update_bounds(&s);
     vx_free(A, secs);
     *out = s;
     return VX_OK;
-nomem:
-    r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
 fail:
     vx_free(A, secs);
     vx_svo_scene_free(&s);
@@ -393,7 +758,167 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
 
 /* ---- writing ------------------------------------------------------------------------------ */
 
-static bool pad8(vx_buf* b) { return vx_buf_zeros(b, (8 - b->size % 8) % 8); }
+static bool f64s_int32(const double* v, int n, int32_t* out) {
+    for (int i = 0; i < n; i++)
+        if (!int_translation(v[i], &out[i])) return false;
+    return true;
+}
+
+static void write_scne(vx_buf* b, const vx_svo_scene* s) {
+    double bmin[3], bmax[3];
+    vx__svo_scene_bounds(s, bmin, bmax);
+    int32_t bi[6];
+    int bounds_form = BOUNDS_F64;
+    if (memcmp(bmin, s->bounds_min, sizeof bmin) == 0 && memcmp(bmax, s->bounds_max, sizeof bmax) == 0)
+        bounds_form = BOUNDS_COMPUTED;
+    else if (f64s_int32(s->bounds_min, 3, bi) && f64s_int32(s->bounds_max, 3, bi + 3))
+        bounds_form = BOUNDS_INT;
+    bool world = memcmp(s->world_from_grid, IDENTITY12, sizeof IDENTITY12) != 0;
+    vx_buf_u8(b, (uint8_t)((world ? SCNE_WORLD : 0) | bounds_form << SCNE_BOUNDS_SHIFT));
+    if (world)
+        for (int i = 0; i < 12; i++) vx_buf_f64le(b, s->world_from_grid[i]);
+    if (bounds_form == BOUNDS_F64) {
+        for (int i = 0; i < 3; i++) vx_buf_f64le(b, s->bounds_min[i]);
+        for (int i = 0; i < 3; i++) vx_buf_f64le(b, s->bounds_max[i]);
+    } else if (bounds_form == BOUNDS_INT) {
+        for (int i = 0; i < 6; i++) buf_var(b, zig32(bi[i]));
+    }
+    buf_var(b, s->model_count);
+    buf_var(b, s->instance_count);
+    buf_var(b, s->layer_count);
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        bool same = i > 0 && memcmp(m->size, m[-1].size, sizeof m->size) == 0;
+        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u));
+        if (!same)
+            for (int k = 0; k < 3; k++) buf_var(b, m->size[k]);
+        buf_var(b, m->node_count);
+        /* the writer puts the root last, so the usual code is one byte */
+        buf_var(b, m->root == VX_SVO_ROOT_EMPTY  ? ROOT_CODE_EMPTY
+                   : m->root == VX_SVO_ROOT_LEAF ? ROOT_CODE_LEAF
+                                                 : ROOT_CODE_BACK + (uint64_t)(m->node_count - 1 - m->root));
+        buf_var(b, m->voxel_count);
+        if (m->attrs) {
+            buf_var(b, m->attr_count);
+            buf_var(b, m->root_attr);
+        }
+    }
+    int32_t prev[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const vx_svo_instance* in = &s->instances[i];
+        uint8_t pay[3];
+        size_t pay_len = 0;
+        int32_t t[3];
+        int kind = xform_kind(in->xform, pay, &pay_len, t);
+        bool named = in->name[0] != 0;
+        buf_var(b, (uint64_t)in->flags << 3 | (named ? INST_NAMED : 0u) | (uint64_t)kind);
+        buf_var(b, in->model);
+        buf_var(b, in->layer == UINT32_MAX ? 0 : (uint64_t)in->layer + 1);
+        if (kind == XF_F64) {
+            for (int k = 0; k < 12; k++) vx_buf_f64le(b, in->xform[k]);
+        } else {
+            vx_buf_append(b, pay, pay_len);
+            for (int k = 0; k < 3; k++) {
+                buf_var(b, zig64((int64_t)t[k] - prev[k]));
+                prev[k] = t[k];
+            }
+        }
+        if (named) buf_name(b, in->name);
+    }
+    for (uint32_t i = 0; i < s->layer_count; i++) {
+        buf_name(b, s->layers[i].name);
+        buf_var(b, s->layers[i].flags);
+        buf_var(b, s->layers[i].rgba);
+    }
+}
+
+/* Only the entries that some palette record refers to are stored. */
+static void write_palt(vx_buf* b, const vx_svo_scene* s) {
+    uint8_t bits[32] = {0};
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (!(m->attrs & VX_ATTR_PALETTE)) continue;
+        for (uint32_t k = 0; k < m->attr_count; k++) bits[m->palette[k] >> 3] |= (uint8_t)(1u << (m->palette[k] & 7));
+    }
+    bool rgb = true;
+    for (int i = 0; i < 256; i++)
+        if ((bits[i >> 3] >> (i & 7) & 1u) && (s->palette[i] >> 24) != 0xFFu) rgb = false;
+    vx_buf_u8(b, rgb ? PALT_RGB : 0);
+    vx_buf_append(b, bits, 32);
+    for (int i = 0; i < 256; i++) {
+        if (!(bits[i >> 3] >> (i & 7) & 1u)) continue;
+        uint8_t c[4] = {(uint8_t)s->palette[i], (uint8_t)(s->palette[i] >> 8), (uint8_t)(s->palette[i] >> 16),
+                        (uint8_t)(s->palette[i] >> 24)};
+        vx_buf_append(b, c, rgb ? 3 : 4);
+    }
+}
+
+static uint64_t dict_hash(const vx_svo_material* m) {
+    uint64_t h = 0xcbf29ce484222325ull ^ m->dict_size;
+    for (uint32_t i = 0; i < m->dict_size; i++) h = (h ^ (uint8_t)m->dict[i]) * 0x100000001b3ull;
+    return h;
+}
+static bool dict_equal(const vx_svo_material* a, const vx_svo_material* b) {
+    return a->dict_size == b->dict_size && (a->dict_size == 0 || memcmp(a->dict, b->dict, a->dict_size) == 0);
+}
+
+/* Identical dictionaries are stored once, in order of first use; a hash
+ * table keeps this linear for scenes with many materials. */
+static bool write_matl(vx_buf* b, const vx_svo_scene* s, const vx_allocator* A) {
+    uint32_t n = s->material_count;
+    size_t cap = 16;
+    while (cap < 2 * (size_t)n) cap *= 2;
+    uint32_t* slot = (uint32_t*)vx_calloc(A, cap, sizeof *slot); /* first material with that dictionary, + 1 */
+    uint32_t* dix = (uint32_t*)vx_calloc(A, n ? n : 1, sizeof *dix);
+    uint32_t* first = (uint32_t*)vx_calloc(A, n ? n : 1, sizeof *first);
+    bool ok = slot && dix && first;
+    uint32_t nd = 0;
+    for (uint32_t i = 0; ok && i < n; i++) {
+        const vx_svo_material* m = &s->materials[i];
+        size_t h = (size_t)dict_hash(m) & (cap - 1);
+        while (slot[h] && !dict_equal(&s->materials[slot[h] - 1], m)) h = (h + 1) & (cap - 1);
+        if (!slot[h]) {
+            slot[h] = i + 1;
+            dix[i] = nd;
+            first[nd++] = i;
+        } else {
+            dix[i] = dix[slot[h] - 1];
+        }
+    }
+    if (ok) {
+        buf_var(b, nd);
+        for (uint32_t k = 0; k < nd; k++) {
+            const vx_svo_material* m = &s->materials[first[k]];
+            buf_var(b, m->dict_size);
+            if (m->dict_size) vx_buf_append(b, m->dict, m->dict_size);
+        }
+        buf_var(b, n);
+        for (uint32_t i = 0; i < n; i++) {
+            buf_var(b, s->materials[i].id);
+            buf_var(b, dix[i]);
+        }
+    }
+    vx_free(A, slot);
+    vx_free(A, dix);
+    vx_free(A, first);
+    return ok;
+}
+
+static void write_channel(vx_buf* b, const vx_svo_scene* s, unsigned c) {
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (!(m->attrs >> c & 1u)) continue;
+        for (uint32_t k = 0; k < m->attr_count; k++) {
+            switch (c) {
+            case 0: vx_buf_u8(b, m->palette[k]); break;
+            case 1: vx_buf_u32le(b, m->rgba[k]); break;
+            case 2: vx_buf_u32le(b, m->normal[k]); break;
+            case 3: vx_buf_u16le(b, m->material[k]); break;
+            default: vx_buf_f32le(b, m->density[k]);
+            }
+        }
+    }
+}
 
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err) {
@@ -413,123 +938,64 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
     if (used & VX_ATTR_PALETTE) order[ns++] = S_PALT;
     if (s->material_count) order[ns++] = S_MATL;
 
-    vx_buf b = {0};
-    b.alloc = alloc;
-    vx_buf_zeros(&b, HEADER_SIZE + (size_t)ns * ENTRY_SIZE);
+    /* sections first (their sizes and CRCs go into the table), then the
+     * header and table in front of them */
+    vx_buf body = {0}, head = {0};
+    body.alloc = head.alloc = alloc;
     uint64_t offs[S_COUNT], sizes[S_COUNT];
+    uint32_t flags[S_COUNT];
+    bool ok = true;
     for (int si = 0; si < ns; si++) {
         int t = order[si];
-        pad8(&b);
-        offs[si] = b.size;
-        if (t == S_SCNE) {
-            vx_buf_u32le(&b, s->model_count);
-            vx_buf_u32le(&b, s->instance_count);
-            vx_buf_u32le(&b, s->layer_count);
-            vx_buf_u32le(&b, 0);
-            for (int i = 0; i < 12; i++) vx_buf_f64le(&b, s->world_from_grid[i]);
-            for (int i = 0; i < 3; i++) vx_buf_f64le(&b, s->bounds_min[i]);
-            for (int i = 0; i < 3; i++) vx_buf_f64le(&b, s->bounds_max[i]);
-            uint64_t nf = 0, af[5] = {0};
+        flags[si] = SEC_REQUIRED | (t == S_NODE ? SEC_ALIGN4 : 0u);
+        offs[si] = body.size;
+        if (t == S_SCNE) write_scne(&body, s);
+        else if (t == S_NODE) {
             for (uint32_t i = 0; i < s->model_count; i++) {
                 const vx_svo_model* m = &s->models[i];
-                for (int k = 0; k < 3; k++) vx_buf_u32le(&b, m->size[k]);
-                vx_buf_u32le(&b, m->depth);
-                vx_buf_u32le(&b, m->root);
-                vx_buf_u32le(&b, m->root_attr);
-                vx_buf_u32le(&b, m->attrs);
-                vx_buf_u32le(&b, m->node_count);
-                vx_buf_u64le(&b, m->voxel_count);
-                vx_buf_u64le(&b, nf);
-                vx_buf_u32le(&b, m->attr_count);
-                vx_buf_u32le(&b, 0);
-                nf += m->node_count;
-                for (unsigned c = 0; c < 5; c++) {
-                    bool has = m->attrs >> c & 1u;
-                    vx_buf_u64le(&b, has ? af[c] : 0);
-                    if (has) af[c] += m->attr_count;
-                }
+                for (uint32_t k = 0; k < m->node_count; k++) vx_buf_u32le(&body, m->nodes[k]);
             }
-            for (uint32_t i = 0; i < s->instance_count; i++) {
-                const vx_svo_instance* in = &s->instances[i];
-                for (int k = 0; k < 12; k++) vx_buf_f64le(&b, in->xform[k]);
-                vx_buf_u32le(&b, in->model);
-                vx_buf_u32le(&b, in->layer);
-                vx_buf_u32le(&b, in->flags);
-                vx_buf_u32le(&b, 0);
-                /* bytes after the NUL are written as zeros so output is deterministic */
-                char name[64] = {0};
-                size_t len = strnlen(in->name, sizeof in->name);
-                memcpy(name, in->name, len);
-                vx_buf_append(&b, name, 64);
-            }
-            for (uint32_t i = 0; i < s->layer_count; i++) {
-                char name[64] = {0};
-                size_t len = strnlen(s->layers[i].name, sizeof s->layers[i].name);
-                memcpy(name, s->layers[i].name, len);
-                vx_buf_append(&b, name, 64);
-                vx_buf_u32le(&b, s->layers[i].flags);
-                vx_buf_u32le(&b, s->layers[i].rgba);
-            }
-        } else if (t == S_NODE) {
-            for (uint32_t i = 0; i < s->model_count; i++) {
-                const vx_svo_model* m = &s->models[i];
-                for (uint32_t k = 0; k < m->node_count; k++) vx_buf_u32le(&b, m->nodes[k]);
-            }
-        } else if (t >= S_APAL && t <= S_ADEN) {
-            unsigned c = (unsigned)(t - S_APAL);
-            for (uint32_t i = 0; i < s->model_count; i++) {
-                const vx_svo_model* m = &s->models[i];
-                if (!(m->attrs >> c & 1u)) continue;
-                for (uint32_t k = 0; k < m->attr_count; k++) {
-                    switch (c) {
-                    case 0: vx_buf_u8(&b, m->palette[k]); break;
-                    case 1: vx_buf_u32le(&b, m->rgba[k]); break;
-                    case 2: vx_buf_u32le(&b, m->normal[k]); break;
-                    case 3: vx_buf_u16le(&b, m->material[k]); break;
-                    default: vx_buf_f32le(&b, m->density[k]);
-                    }
-                }
-            }
-        } else if (t == S_PALT) {
-            for (int i = 0; i < 256; i++) vx_buf_u32le(&b, s->palette[i]);
-        } else if (t == S_MATL) {
-            vx_buf_u32le(&b, s->material_count);
-            for (uint32_t i = 0; i < s->material_count; i++) {
-                const vx_svo_material* mt = &s->materials[i];
-                vx_buf_u32le(&b, mt->id);
-                vx_buf_u32le(&b, mt->dict_size);
-                if (mt->dict_size) vx_buf_append(&b, mt->dict, mt->dict_size);
-                vx_buf_zeros(&b, (4 - mt->dict_size % 4) % 4);
-            }
-        }
-        sizes[si] = b.size - offs[si];
+        } else if (t >= S_APAL && t <= S_ADEN) write_channel(&body, s, (unsigned)(t - S_APAL));
+        else if (t == S_PALT) write_palt(&body, s);
+        else if (t == S_MATL) ok = write_matl(&body, s, alloc) && ok;
+        sizes[si] = body.size - offs[si];
     }
-    /* no padding after the last section: any truncation cuts into a section */
-    if (b.failed) {
-        vx_buf_free(&b);
+    vx_buf_append(&head, MAGIC, 8);
+    vx_buf_u16le(&head, (uint16_t)VX_SVO_FORMAT_VERSION);
+    vx_buf_u16le(&head, (uint16_t)ns);
+    for (int si = 0; si < ns; si++) {
+        vx_buf_append(&head, TAGS[order[si]], 4);
+        buf_var(&head, flags[si]);
+        buf_var(&head, sizes[si]);
+        vx_buf_u32le(&head, body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)sizes[si]));
+    }
+    vx_buf_u32le(&head, head.failed ? 0 : vx_crc32(0, head.data, head.size));
+    /* The body was laid out from 0 without gaps; shift it behind the head in
+     * place (last section first, so no source is overwritten before it has
+     * moved) instead of copying it, which would double peak memory. */
+    uint64_t fin[S_COUNT], fo = head.size;
+    for (int si = 0; si < ns; si++) {
+        if (flags[si] & SEC_ALIGN4) fo += (4 - fo % 4) % 4;
+        fin[si] = fo;
+        fo += sizes[si];
+    }
+    bool failed = !ok || head.failed || !vx_buf_zeros(&body, (size_t)(fo - body.size));
+    if (!failed) {
+        for (int si = ns - 1; si >= 0; si--) memmove(body.data + fin[si], body.data + offs[si], (size_t)sizes[si]);
+        uint64_t end = head.size;
+        for (int si = 0; si < ns; si++) {
+            memset(body.data + end, 0, (size_t)(fin[si] - end));
+            end = fin[si] + sizes[si];
+        }
+        memcpy(body.data, head.data, head.size);
+    }
+    vx_buf_free(&head);
+    if (failed) {
+        vx_buf_free(&body);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
     }
-    uint8_t* h = b.data;
-    memcpy(h, MAGIC, 8);
-    vx_buf_put_u32le(h + 8, VX_SVO_FORMAT_VERSION);
-    vx_buf_put_u32le(h + 12, (uint32_t)ns);
-    vx_buf_put_u32le(h + 16, HEADER_SIZE);
-    vx_buf_put_u32le(h + 20, 0);
-    for (int si = 0; si < ns; si++) {
-        uint8_t* e = h + HEADER_SIZE + (size_t)si * ENTRY_SIZE;
-        memcpy(e, TAGS[order[si]], 4);
-        vx_buf_put_u32le(e + 4, SEC_REQUIRED);
-        vx_buf_put_u32le(e + 8, (uint32_t)offs[si]);
-        vx_buf_put_u32le(e + 12, (uint32_t)(offs[si] >> 32));
-        vx_buf_put_u32le(e + 16, (uint32_t)sizes[si]);
-        vx_buf_put_u32le(e + 20, (uint32_t)(sizes[si] >> 32));
-        vx_buf_put_u32le(e + 24, vx_crc32(0, h + offs[si], (size_t)sizes[si]));
-        vx_buf_put_u32le(e + 28, 0);
-    }
-    vx_buf_put_u32le(h + 24, vx_crc32(0, h + HEADER_SIZE, (size_t)ns * ENTRY_SIZE));
-    vx_buf_put_u32le(h + 28, vx_crc32(0, h, 28));
-    *out_data = b.data;
-    *out_size = b.size;
+    *out_data = body.data;
+    *out_size = body.size;
     return VX_OK;
 }
 

@@ -6,6 +6,23 @@
 // negative, positions are float bit patterns whose mantissa bits are the
 // octree path, so a pop finds its level from the highest differing bit.
 // Layouts must match render/render_internal.h.
+//
+// Built twice: as is (float) and with -DPRECISE (render/render.cmake). The
+// float variant keeps 23 - depth bits below a cell, too few past ~16 levels
+// (see VX_RENDER_PRECISE_DEPTH in render/render.h); the PRECISE variant, used
+// only for scenes with such models, generates the ray from the frame's double
+// camera and the instances' double matrices and runs the same traversal in
+// float64 (positions stay multiples of 2^-23, exact in a double, and the pop
+// takes the octree path from their integer offsets instead of float bits).
+#ifdef PRECISE
+#define REAL double
+#define RVEC2 dvec2
+#define RVEC3 dvec3
+#else
+#define REAL float
+#define RVEC2 vec2
+#define RVEC3 vec3
+#endif
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -33,6 +50,11 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims; // width, height, spp, instance count
     uvec4 dims2;
     vec4 grid_lo;
+#ifdef PRECISE
+    dvec4 pfwd; // w: t_start
+    dvec4 prx;
+    dvec4 puy;
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -42,9 +64,13 @@ layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
 layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
+#ifdef PRECISE
+// model-from-world rows (world relative to the frame reference), 3 per instance
+layout(std430, binding = 9) readonly buffer PInsts { dvec4 pinst[]; };
+#endif
 
 struct Hit {
-    float t;      // world distance from the ray origin
+    REAL t;       // world distance from the ray origin
     uint inst;    // instance slot, NO_HIT for none
     uvec3 cell;
     int axis;     // entry face axis
@@ -55,66 +81,75 @@ struct Hit {
 uint g_iter = 0u;
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+#ifdef PRECISE
+bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
+#endif
 
 // 1/d without infinities: a zero (or denormal) component becomes +-1e30 with
 // its sign, so that (plane - o) * inv is never 0 * inf = NaN and a ray lying
 // in a slab plane counts as displaced towards the sign of its component.
-vec3 safe_inv(vec3 d) {
-    vec3 r;
+RVEC3 safe_inv(RVEC3 d) {
+    RVEC3 r;
     for (int i = 0; i < 3; i++)
         r[i] = abs(d[i]) < 1e-30 ? (sign_neg(d[i]) ? -1e30 : 1e30) : 1.0 / d[i];
     return r;
 }
 
 // Ray/box slab test: (t entry, t exit).
-vec2 box_t(vec3 o, vec3 rd_inv, vec3 lo, vec3 hi) {
-    vec3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
-    vec3 tn = min(a, b), tf = max(a, b);
-    return vec2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
+RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
+    RVEC3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
+    RVEC3 tn = min(a, b), tf = max(a, b);
+    return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
 
 // Traces model space ray o + t d (t in world units, d not normalised)
 // through model mi over [t0, t1]. Returns true and fills h on a hit.
-bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
+bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
-    float side = exp2(float(m.depth));
+    REAL side = REAL(exp2(float(m.depth)));
     // Advance to the cube first so that the [1,2] coordinates keep the
     // model's precision even when the origin is far away.
-    vec2 tb = box_t(o, safe_inv(d), vec3(0.0), vec3(side));
-    float te = max(tb.x, t0);
-    float tx = min(tb.y, t1);
+    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(side));
+    REAL te = max(tb.x, t0);
+    REAL tx = min(tb.y, t1);
     if (!(te < tx)) return false;
-    vec3 oa = o + d * te;
-    float sc = 1.0 / side;
-    vec3 ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
-    vec3 dl = d * sc;
-    float L = length(dl);
+    RVEC3 oa = o + d * te;
+    REAL sc = 1.0 / side;
+    RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
+    RVEC3 dl = d * sc;
+    REAL L = length(dl);
     dl /= L;
-    float tl1 = (tx - te) * L;
+    REAL tl1 = (tx - te) * L;
 
     // Tiny components would make the coefficients overflow; replace them
-    // with +-2^-23 keeping the sign (so -0 stays "negative").
+    // with +-2^-23 keeping the sign (so -0 stays "negative"). In double,
+    // +-2^-40: the ray then drifts at most 2^-39 over the cube (2^-18 of a
+    // depth-21 cell) and |coef * pos| stays below 2^42, far from overflow.
+#ifdef PRECISE
+    const double eps = 1.0LF / 1099511627776.0LF;
+#else
     const float eps = exp2(-float(S_MAX));
+#endif
     if (abs(dl.x) < eps) dl.x = sign_neg(dl.x) ? -eps : eps;
     if (abs(dl.y) < eps) dl.y = sign_neg(dl.y) ? -eps : eps;
     if (abs(dl.z) < eps) dl.z = sign_neg(dl.z) ? -eps : eps;
-    vec3 coef = 1.0 / -abs(dl);
-    vec3 bias = coef * ol;
+    RVEC3 coef = 1.0 / -abs(dl);
+    RVEC3 bias = coef * ol;
     int oct = 7;
     if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
     if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
     if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
 
-    float tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
-    float tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
-    float hh = tmax;
+    REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+    REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+    REAL hh = tmax;
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
 
-    vec3 pos = vec3(1.0);
+    RVEC3 pos = RVEC3(1.0);
     int scale = S_MAX - 1;
-    float scale_exp2 = 0.5;
+    REAL scale_exp2 = 0.5;
     bool hit = false;
     uint attr_rec = 0u;
     bool have_attr = false;
@@ -129,7 +164,7 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
         }
     } else {
         int stk_node[S_MAX];
-        float stk_t[S_MAX];
+        REAL stk_t[S_MAX];
         uint parent = m.root;
         uint desc = 0u;
         bool loaded = false;
@@ -141,21 +176,21 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
             g_iter++;
             if (g_iter > MAX_ITER) break;
             if (!loaded) { desc = nodes[m.node_off + parent]; loaded = true; }
-            vec3 tc = pos * coef - bias;
-            float tc_max = min(min(tc.x, tc.y), tc.z);
+            RVEC3 tc = pos * coef - bias;
+            REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ (oct ^ 7); // real octant: mirrored axes flipped
             uint valid = (desc >> 8) & 0xFFu;
             uint leaf = desc & 0xFFu;
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
-                float tv_max = min(tmax, tc_max);
-                float half_ = scale_exp2 * 0.5;
-                vec3 tcen = half_ * coef + tc;
+                REAL tv_max = min(tmax, tc_max);
+                REAL half_ = scale_exp2 * 0.5;
+                RVEC3 tcen = half_ * coef + tc;
                 if (tmin <= tv_max) {
                     bool is_leaf = ((leaf >> cs) & 1u) != 0u;
                     bool stop = is_leaf;
                     if (LOD && !stop) {
                         // world footprint of a pixel at this distance, in [1,2] units
-                        float tw = te + tmin / L;
+                        REAL tw = te + tmin / L;
                         stop = (lod_a + lod_b * tw) * L >= scale_exp2;
                     }
                     if (stop) {
@@ -195,6 +230,27 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
             idx ^= step;
             if ((idx & step) != 0) {
                 // pop: the highest differing position bit is the common ancestor's level
+#ifdef PRECISE
+                // the path bits are the integer offsets of pos from 1 in units
+                // of 2^-23 (exact; negative once the ray leaves the root, whose
+                // sign bit then differs, so findMSB >= S_MAX)
+                ivec3 ip = ivec3((pos - 1.0) * 8388608.0);
+                ivec3 iq = ip + (1 << scale);
+                uint diff = 0u;
+                if ((step & 1) != 0) diff |= uint(ip.x ^ iq.x);
+                if ((step & 2) != 0) diff |= uint(ip.y ^ iq.y);
+                if ((step & 4) != 0) diff |= uint(ip.z ^ iq.z);
+                scale = findMSB(diff);
+                if (scale >= S_MAX) break;
+                scale_exp2 = double(1 << scale) / 8388608.0;
+                parent = uint(stk_node[scale]);
+                tmax = stk_t[scale];
+                ivec3 sh = ip >> scale;
+                pos = 1.0 + dvec3(sh << scale) / 8388608.0;
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                hh = 0.0;
+                loaded = false;
+#else
                 uint diff = 0u;
                 if ((step & 1) != 0) diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x + scale_exp2);
                 if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
@@ -209,17 +265,18 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
                 hh = 0.0;
                 loaded = false;
+#endif
             }
         }
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
     }
     if (!hit) return false;
-    float t = te + tmin / L;
+    REAL t = te + tmin / L;
     if (!(t <= h.t)) return false;
     if (any_hit) { h.t = t; return true; }
 
     // entry face: the cube's entry planes in mirrored space are its max corners
-    vec3 tent = (pos + scale_exp2) * coef - bias;
+    RVEC3 tent = (pos + scale_exp2) * coef - bias;
     int axis = 0;
     if (tent.y > tent[axis]) axis = 1;
     if (tent.z > tent[axis]) axis = 2;
@@ -227,10 +284,10 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
     if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
     if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
     if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
-    vec3 lo = (pos - 1.0) * side;
-    float sz = scale_exp2 * side;
-    vec3 p = oa + d * (tmin / L);
-    vec3 c = clamp(floor(p), lo, lo + sz - 1.0);
+    RVEC3 lo = (pos - 1.0) * side;
+    REAL sz = scale_exp2 * side;
+    RVEC3 p = oa + d * (tmin / L);
+    RVEC3 c = clamp(floor(p), lo, lo + sz - 1.0);
     // the entry axis is decided by the ray direction, not by rounding
     if (d[axis] > 0.0 || (d[axis] == 0.0 && !sign_neg(d[axis]))) c[axis] = lo[axis];
     else c[axis] = lo[axis] + sz - 1.0;
@@ -244,10 +301,15 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, floa
     return true;
 }
 
-bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     Inst I = insts[i];
-    vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
-    vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+#ifdef PRECISE
+    dvec4 r0 = pinst[3u * i], r1 = pinst[3u * i + 1u], r2 = pinst[3u * i + 2u];
+#else
+    vec4 r0 = I.r0, r1 = I.r1, r2 = I.r2;
+#endif
+    RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
+    RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
     float lod_b = F.uy.w, lod_a = F.misc.x;
     if (trace_model(I.model, om, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
         h.inst = i;
@@ -257,18 +319,18 @@ bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h)
 }
 
 // Nearest hit (or any hit) along o + t d, t in [t0, h.t].
-bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
     if (!USE_BVH) {
         if (F.dims.w > 0u) found = trace_instance(0u, o, d, t0, any_hit, h);
         return found;
     }
     if (F.dims.w == 0u) return false;
-    vec3 dinv = safe_inv(d);
+    RVEC3 dinv = safe_inv(d);
     uint stack[64];
     int sp = 0;
     uint node = 0u;
-    vec2 rt = box_t(o, dinv, bvh[0].lo.xyz, bvh[0].hi.xyz);
+    RVEC2 rt = box_t(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
     while (true) {
         BNode n = bvh[node];
@@ -283,8 +345,8 @@ bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
             }
         } else {
             BNode a = bvh[first], b = bvh[first + 1u];
-            vec2 ta = box_t(o, dinv, a.lo.xyz, a.hi.xyz);
-            vec2 tb = box_t(o, dinv, b.lo.xyz, b.hi.xyz);
+            RVEC2 ta = box_t(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
+            RVEC2 tb = box_t(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
             bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
             bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
             if (ha && hb) {
@@ -302,7 +364,7 @@ bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
         bool next = false;
         while (sp > 0) {
             uint c = stack[--sp];
-            vec2 tc = box_t(o, dinv, bvh[c].lo.xyz, bvh[c].hi.xyz);
+            RVEC2 tc = box_t(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
             if (tc.x <= h.t) { node = c; next = true; break; }
         }
         if (!next) break;
@@ -338,8 +400,25 @@ void main() {
         if (s > 0u) off = fract(vec2(0.5) + float(s) * vec2(0.7548776662466927, 0.5698402909980532)) - 0.5;
         float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
         float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
-        vec3 o, d;
-        float t_off;
+        RVEC3 o, d;
+        REAL t_off;
+#ifdef PRECISE
+        // the camera in double, as the CPU reference computes it
+        dvec2 offd = dvec2(off);
+        double ud = ((double(px.x) + 0.5 + offd.x) / double(W)) * 2.0 - 1.0;
+        double vd = 1.0 - ((double(px.y) + 0.5 + offd.y) / double(H)) * 2.0;
+        if (ortho) {
+            o = ud * F.prx.xyz + vd * F.puy.xyz;
+            d = F.pfwd.xyz;
+            t_off = F.pfwd.w;
+        } else {
+            dvec3 du = F.pfwd.xyz + ud * F.prx.xyz + vd * F.puy.xyz;
+            double len = length(du);
+            d = du / len;
+            o = F.pfwd.w * (ud * F.prx.xyz + vd * F.puy.xyz);
+            t_off = F.pfwd.w * len;
+        }
+#else
         if (ortho) {
             o = u * F.rx.xyz + v * F.uy.xyz;
             d = F.fwd.xyz;
@@ -351,6 +430,7 @@ void main() {
             o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
             t_off = t_start * len;
         }
+#endif
         g_iter = 0u;
         Hit h;
         h.t = 3.0e38;
@@ -375,13 +455,13 @@ void main() {
                     float ndl = max(dot(nw, F.light.xyz), 0.0);
                     float vis = 0.0;
                     if (ndl > 0.0) {
-                        vec3 p = o + d * h.t;
+                        RVEC3 p = o + d * h.t;
                         float cell = insts[h.inst].cell;
-                        vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+                        RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
                         Hit sh;
                         sh.t = 3.0e38;
                         sh.inst = NO_HIT;
-                        vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
+                        vis = trace_scene(ps, RVEC3(F.light.xyz), 0.0, true, sh) ? 0.0 : 1.0;
                     }
                     c = vec4(alb * (amb + (1.0 - amb) * ndl * vis), 1.0);
                 }
@@ -389,7 +469,7 @@ void main() {
         } else if (MODE == MODE_NORMAL) {
             c = vec4(nw, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_DEPTH) {
-            float t = hit ? t_off + h.t : uintBitsToFloat(0x7F800000u);
+            float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
             c = vec4(t, t, t, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_INSTANCE) {
             c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
@@ -400,7 +480,7 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? t_off + h.t : 0.0), prim_iter, 0u, 0u);
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, 0u);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);

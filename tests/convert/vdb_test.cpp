@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "convert/volume.h"
+#include "formats/vdb.h"
 #include "svo/svo.h"
 #include "tests/test.h"
 
@@ -181,6 +182,74 @@ void test_sphere_surface_and_solid(void) {
     // the surface is exactly the solid's cells with an outside face neighbour
     CHECK(std::includes(want_solid.begin(), want_solid.end(), want.begin(), want.end()));
     vx_svo_scene_free(&s);
+}
+
+// Active interior tiles in a level set: only their face cells with an
+// outside neighbour are surface (found square by square, not cell by cell).
+void test_level_set_active_tiles(void) {
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(2.0f);
+    g->setGridClass(openvdb::GRID_LEVEL_SET);
+    g->tree().addTile(1, openvdb::Coord(0, 0, 0), -1.0f, true);
+    g->tree().addTile(1, openvdb::Coord(8, 0, 0), -1.0f, true);   // shares a face with the first
+    g->tree().addTile(2, openvdb::Coord(128, 0, 0), -1.0f, true); // 128^3
+    g->tree().setValue(openvdb::Coord(0, -1, 0), -0.5f);          // inside, below a tile cell
+    g->tree().setValue(openvdb::Coord(200, 128, 5), -0.5f);       // touches the big tile's top face
+    std::string bytes = to_bytes({g});
+    vx_svo_scene s = {};
+    REQUIRE(convert(bytes, vx_conv_vdb_desc{}, &s));
+    Decoded got;
+    REQUIRE(decode(s, &got));
+    std::vector<Cell> want = brute_surface(*g);
+    CHECKF(got.cells == want, "%zu cells, expected %zu", got.cells.size(), want.size());
+    const Cell open_x = {0, 0, 0}, covered = {200, 127, 5}, top = {201, 127, 5};
+    CHECK(std::binary_search(want.begin(), want.end(), open_x)); // still open towards -x
+    CHECK(!std::binary_search(want.begin(), want.end(), covered)); // its only outside side is covered
+    CHECK(std::binary_search(want.begin(), want.end(), top));
+    vx_svo_scene_free(&s);
+}
+
+// The shim reports what OpenVDB reports.
+void test_shim_info(void) {
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.5f);
+    g->setName("fog");
+    g->setGridClass(openvdb::GRID_FOG_VOLUME);
+    g->setSaveFloatAsHalf(true);
+    g->setTransform(openvdb::math::Transform::createLinearTransform(0.125));
+    g->transform().postTranslate(openvdb::Vec3d(1, 2, 3));
+    g->tree().setValue(openvdb::Coord(-5, 6, 7), 1.0f);
+    g->tree().addTile(1, openvdb::Coord(64, 64, 64), 1.0f, true);
+    std::string bytes = to_bytes({g});
+    vx_vdb_file* f = nullptr;
+    vx_error err = {};
+    REQUIRE(vx_vdb_read(bytes.data(), bytes.size(), &f, &err) == VX_OK);
+    REQUIRE(vx_vdb_grid_count(f) == 1);
+    vx_vdb_grid_info info;
+    REQUIRE(vx_vdb_grid_get_info(f, 0, &info, &err) == VX_OK);
+    CHECK(std::string(info.name) == "fog");
+    CHECK(info.value_type == VX_VDB_TYPE_FLOAT && info.components == 1);
+    CHECK(info.grid_class == VX_VDB_CLASS_FOG_VOLUME);
+    CHECK(info.saved_as_half);
+    CHECK(info.linear);
+    CHECK(info.active_voxels == g->activeVoxelCount() && info.active_voxels == 513u);
+    CHECK(info.active_tiles == 1u);
+    CHECK(info.background[0] == 0.5);
+    CHECK(info.bbox_min[0] == -5 && info.bbox_max[2] == 71);
+    const openvdb::Vec3d w = g->transform().indexToWorld(openvdb::Coord(3, -4, 5));
+    for (int r = 0; r < 3; r++) {
+        const double* m = &info.index_to_world[r * 4];
+        CHECK(std::fabs(m[0] * 3 + m[1] * -4 + m[2] * 5 + m[3] - w[r]) < 1e-12);
+    }
+    const int32_t in_tile[3] = {70, 65, 64}, in_leaf[3] = {-5, 6, 7}, outside[3] = {100000, 0, 0};
+    double v[3];
+    bool active = false;
+    uint32_t l2 = 99;
+    CHECK(vx_vdb_probe(f, 0, in_tile, v, &active, &l2) && v[0] == 1.0 && active && l2 == 3);
+    CHECK(vx_vdb_probe(f, 0, in_leaf, v, &active, &l2) && v[0] == 1.0 && active && l2 == 0);
+    CHECK(vx_vdb_probe(f, 0, outside, v, &active, &l2) && v[0] == 0.5 && !active && l2 == 12);
+    CHECK(!vx_vdb_probe(f, 1, outside, v, &active, &l2));
+    CHECK(vx_vdb_iterate(f, 1, VX_VDB_ITER_ACTIVE, [](void*, const int32_t*, uint32_t, bool, const double*) { return true; },
+                         nullptr, &err) == VX_ERR_INVALID_ARG);
+    vx_vdb_file_free(f);
 }
 
 void test_fog_thresholds_and_density(void) {
@@ -482,6 +551,8 @@ void test_corpus_sphere(void) {
 int main() {
     openvdb::initialize();
     RUN(test_sphere_surface_and_solid);
+    RUN(test_level_set_active_tiles);
+    RUN(test_shim_info);
     RUN(test_fog_thresholds_and_density);
     RUN(test_tiles_collapse);
     RUN(test_split_regions);

@@ -1,5 +1,8 @@
-/* tests/svo/test_svo_io.c - the .svo container: round trips, probing and
- * corrupted files (each rejected with a clear error, never a crash).
+/* tests/svo/test_svo_io.c - the .svo container: round trips, the compact
+ * encodings (transforms, palette, materials, bounds), probing and corrupted
+ * files (each rejected with a clear error, never a crash). The container is
+ * parsed and assembled here by a small independent implementation of
+ * docs/FORMAT.md, so that hand-made files check the reader against the spec.
  * `svo_io --write-seeds DIR` writes the fuzz seed files. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -106,47 +109,190 @@ static bool model_equal(const vx_svo_model* a, const vx_svo_model* b) {
     return true;
 }
 
-/* Recomputes every CRC so that a patched file fails on structure, not CRC. */
-static void fix_crcs(uint8_t* d, size_t size) {
-    uint32_t count;
-    memcpy(&count, d + 12, 4);
-    uint64_t toff;
-    memcpy(&toff, d + 16, 8);
-    if (toff > size || count > (size - toff) / 32) { /* the test broke the table on purpose */
-        uint32_t hc = vx_crc32(0, d, 28);
-        memcpy(d + 28, &hc, 4);
-        return;
+/* ---- an independent reading of the container (docs/FORMAT.md 1) ---------------------------- */
+
+typedef struct tbuf {
+    uint8_t* d;
+    size_t n, cap;
+} tbuf;
+static void tb_put(tbuf* b, const void* p, size_t n) {
+    if (b->n + n > b->cap) {
+        b->cap = (b->n + n) * 2 + 64;
+        b->d = (uint8_t*)realloc(b->d, b->cap);
     }
-    for (uint32_t i = 0; i < count; i++) {
-        uint8_t* e = d + toff + 32 * (size_t)i;
-        uint64_t off, sz;
-        memcpy(&off, e + 8, 8);
-        memcpy(&sz, e + 16, 8);
-        if (off <= size && sz <= size - off) {
-            uint32_t c = vx_crc32(0, d + off, (size_t)sz);
-            memcpy(e + 24, &c, 4);
-        }
+    if (n) memcpy(b->d + b->n, p, n);
+    b->n += n;
+}
+static void tb_u8(tbuf* b, uint8_t v) { tb_put(b, &v, 1); }
+static void tb_u32(tbuf* b, uint32_t v) {
+    uint8_t t[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
+    tb_put(b, t, 4);
+}
+static void tb_f64(tbuf* b, double v) { tb_put(b, &v, 8); } /* the test hosts are little-endian */
+static void tb_var(tbuf* b, uint64_t v) {
+    while (v >= 0x80) {
+        tb_u8(b, (uint8_t)(v | 0x80));
+        v >>= 7;
     }
-    uint32_t tc = vx_crc32(0, d + toff, 32 * (size_t)count);
-    memcpy(d + 24, &tc, 4);
-    uint32_t hc = vx_crc32(0, d, 28);
-    memcpy(d + 28, &hc, 4);
+    tb_u8(b, (uint8_t)v);
+}
+static uint32_t tzig(int32_t v) { return v < 0 ? ((uint32_t)(-(v + 1)) << 1) | 1u : (uint32_t)v << 1; }
+static uint64_t t_var(const uint8_t* d, size_t* at) {
+    uint64_t v = 0;
+    for (unsigned sh = 0;; sh += 7) {
+        uint8_t c = d[(*at)++];
+        v |= (uint64_t)(c & 0x7F) << sh;
+        if (!(c & 0x80)) return v;
+    }
 }
 
-/* Offset of section tag in the file (0 if absent). */
-static uint64_t sec_off(const uint8_t* d, const char* tag, uint64_t* size) {
-    uint32_t count;
-    memcpy(&count, d + 12, 4);
-    for (uint32_t i = 0; i < count; i++) {
-        const uint8_t* e = d + 32 + 32 * (size_t)i;
-        if (memcmp(e, tag, 4) == 0) {
-            uint64_t off;
-            memcpy(&off, e + 8, 8);
-            if (size) memcpy(size, e + 16, 8);
-            return off;
-        }
+typedef struct tsec {
+    char tag[5];
+    uint32_t flags;
+    uint64_t off, size;
+    size_t crc_at;
+} tsec;
+
+/* The table of a well-formed file; returns the section count, -1 if it is
+ * broken (tests break files on purpose). *crc_at: the table CRC. */
+static int t_table(const uint8_t* d, size_t n, tsec* out, int max, size_t* tcrc_at) {
+    if (n < 16) return -1;
+    int count = d[10] | d[11] << 8;
+    if (count > max) return -1;
+    size_t at = 12;
+    for (int i = 0; i < count; i++) {
+        if (at + 4 + 20 + 4 > n) return -1;
+        memcpy(out[i].tag, d + at, 4);
+        out[i].tag[4] = 0;
+        at += 4;
+        out[i].flags = (uint32_t)t_var(d, &at);
+        out[i].size = t_var(d, &at);
+        out[i].crc_at = at;
+        at += 4;
     }
-    return 0;
+    *tcrc_at = at;
+    uint64_t off = at + 4;
+    for (int i = 0; i < count; i++) {
+        if (out[i].flags & 2) off = (off + 3) & ~3ull;
+        out[i].off = off;
+        off += out[i].size;
+    }
+    return count;
+}
+
+/* Recomputes every CRC so that a patched file fails on structure, not CRC. */
+static void fix_crcs(uint8_t* d, size_t size) {
+    tsec t[16];
+    size_t tc;
+    int count = t_table(d, size, t, 16, &tc);
+    if (count < 0 || tc + 4 > size) return;
+    for (int i = 0; i < count; i++)
+        if (t[i].off <= size && t[i].size <= size - t[i].off) {
+            uint32_t c = vx_crc32(0, d + t[i].off, (size_t)t[i].size);
+            memcpy(d + t[i].crc_at, &c, 4);
+        }
+    uint32_t c = vx_crc32(0, d, tc);
+    memcpy(d + tc, &c, 4);
+}
+
+typedef struct tpart {
+    char tag[5];
+    uint32_t flags;
+    const uint8_t* data;
+    size_t size;
+} tpart;
+
+/* Writes a container around parts exactly as FORMAT.md 1 describes it. */
+static uint8_t* assemble(const tpart* p, int count, size_t* out_n) {
+    tbuf b = {0};
+    static const uint8_t magic[8] = {'V', 'X', 'S', 'V', 'O', 0, '\r', '\n'};
+    tb_put(&b, magic, 8);
+    uint8_t vc[4] = {1, 0, (uint8_t)count, (uint8_t)(count >> 8)};
+    tb_put(&b, vc, 4);
+    for (int i = 0; i < count; i++) {
+        tb_put(&b, p[i].tag, 4);
+        tb_var(&b, p[i].flags);
+        tb_var(&b, p[i].size);
+        tb_u32(&b, vx_crc32(0, p[i].data, p[i].size));
+    }
+    tb_u32(&b, vx_crc32(0, b.d, b.n));
+    for (int i = 0; i < count; i++) {
+        while ((p[i].flags & 2) && b.n % 4) tb_u8(&b, 0);
+        tb_put(&b, p[i].data, p[i].size);
+    }
+    *out_n = b.n;
+    return b.d;
+}
+
+/* The sections of d as parts (pointing into d); returns the count. */
+static int parts_of(const uint8_t* d, size_t n, tpart* p, int max) {
+    tsec t[16];
+    size_t tc;
+    int count = t_table(d, n, t, max < 16 ? max : 16, &tc);
+    for (int i = 0; i < count; i++) {
+        memcpy(p[i].tag, t[i].tag, 5);
+        p[i].flags = t[i].flags;
+        p[i].data = d + t[i].off;
+        p[i].size = (size_t)t[i].size;
+    }
+    return count;
+}
+
+/* d with section tag's payload replaced (CRCs fixed); caller frees. */
+static uint8_t* replace_section(const uint8_t* d, size_t n, const char* tag, const uint8_t* data, size_t size, size_t* out_n) {
+    tpart p[16];
+    int count = parts_of(d, n, p, 16);
+    for (int i = 0; i < count; i++)
+        if (strcmp(p[i].tag, tag) == 0) p[i].data = data, p[i].size = size;
+    return assemble(p, count, out_n);
+}
+
+static const uint8_t* section(const uint8_t* d, size_t n, const char* tag, size_t* size) {
+    tpart p[16];
+    int count = parts_of(d, n, p, 16);
+    for (int i = 0; i < count; i++)
+        if (strcmp(p[i].tag, tag) == 0) {
+            if (size) *size = p[i].size;
+            return p[i].data;
+        }
+    return NULL;
+}
+
+static bool write_read(const vx_svo_scene* s, vx_svo_scene* r, uint8_t** d, size_t* n) {
+    vx_error e;
+    if (vx_svo_write(s, NULL, d, n, &e) != VX_OK) {
+        fprintf(stderr, "write: %s\n", e.msg);
+        return false;
+    }
+    if (vx_svo_read(NULL, *d, *n, r, &e) != VX_OK) {
+        fprintf(stderr, "read: %s\n", e.msg);
+        free(*d);
+        return false;
+    }
+    return true;
+}
+
+/* write -> read -> write gives the same bytes */
+static bool stable(const uint8_t* d, size_t n, const vx_svo_scene* r) {
+    uint8_t* d2;
+    size_t n2;
+    vx_error e;
+    if (vx_svo_write(r, NULL, &d2, &n2, &e) != VX_OK) return false;
+    bool same = n == n2 && memcmp(d, d2, n) == 0;
+    free(d2);
+    return same;
+}
+
+/* ---- tests --------------------------------------------------------------------------------- */
+
+static bool palette_used(const vx_svo_scene* s, int idx) {
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->attrs & VX_ATTR_PALETTE)
+            for (uint32_t k = 0; k < m->attr_count; k++)
+                if (m->palette[k] == idx) return true;
+    }
+    return false;
 }
 
 static void test_round_trip(void) {
@@ -161,18 +307,35 @@ static void test_round_trip(void) {
     for (int i = 0; i < 3; i++) CHECK(model_equal(&s.models[i], &r.models[i]));
     CHECK(memcmp(s.instances, r.instances, 4 * sizeof *s.instances) == 0);
     CHECK(memcmp(s.layers, r.layers, 2 * sizeof *s.layers) == 0);
-    CHECK(r.has_palette && memcmp(s.palette, r.palette, sizeof s.palette) == 0);
+    /* the palette keeps exactly the entries that records refer to */
+    CHECK(r.has_palette);
+    int used = 0;
+    for (int i = 0; i < 256; i++) {
+        bool u = palette_used(&s, i);
+        used += u;
+        CHECKF(r.palette[i] == (u ? s.palette[i] : 0u), "palette entry %d", i);
+    }
+    CHECK(used == 5); /* build() draws indices 1..5 */
     CHECK(memcmp(s.world_from_grid, r.world_from_grid, sizeof s.world_from_grid) == 0);
     CHECK(memcmp(s.bounds_min, r.bounds_min, sizeof s.bounds_min) == 0 && memcmp(s.bounds_max, r.bounds_max, sizeof s.bounds_max) == 0);
     CHECK(r.materials[0].id == 4 && strcmp(vx_svo_material_get(&r.materials[0], "_rough"), "0.1") == 0);
-    CHECK(r.materials[1].id == 9 && r.materials[1].dict_size == 0);
+    CHECK(r.materials[1].id == 9 && r.materials[1].dict_size == 0 && r.materials[1].dict == NULL);
     REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
     CHECK(n1 == n2 && memcmp(d1, d2, n1) == 0);
-    /* probe: every section known, CRCs fine */
+    /* probe: every section known, CRCs fine, node words 4-byte aligned,
+     * the same table as the independent parser */
     vx_svo_file_info info;
     REQUIRE(vx_svo_probe(d1, n1, &info, &e) == VX_OK);
     CHECK(info.version == VX_SVO_FORMAT_VERSION && info.section_count == 9 && info.file_size == n1);
-    for (uint32_t i = 0; i < info.section_count; i++) CHECK(info.sections[i].known && info.sections[i].crc_ok && info.sections[i].offset % 8 == 0);
+    tsec t[16];
+    size_t tc;
+    REQUIRE(t_table(d1, n1, t, 16, &tc) == 9);
+    for (uint32_t i = 0; i < info.section_count; i++) {
+        CHECK(info.sections[i].known && info.sections[i].crc_ok);
+        CHECK(strcmp(info.sections[i].tag, t[i].tag) == 0 && info.sections[i].offset == t[i].off && info.sections[i].size == t[i].size);
+        if (strcmp(t[i].tag, "NODE") == 0) CHECK(t[i].off % 4 == 0 && (info.sections[i].flags & 2));
+    }
+    CHECK(t[8].off + t[8].size == n1);
     /* file round trip through a temporary path */
     char path[] = "/tmp/vx_svo_testXXXXXX";
     int fd = mkstemp(path);
@@ -204,6 +367,9 @@ static void test_geometry_only_sections(void) {
     vx_svo_file_info info;
     REQUIRE(vx_svo_probe(d, n, &info, &e) == VX_OK);
     CHECK(info.section_count == 2 && strcmp(info.sections[0].tag, "SCNE") == 0 && strcmp(info.sections[1].tag, "NODE") == 0);
+    /* fixed overhead: 16-byte header + 2 entries, a 1-byte form, 3 counts,
+     * one short model record, at most 3 alignment bytes */
+    CHECKF(n - info.sections[1].size < 64, "%zu bytes beyond the node words", (size_t)(n - info.sections[1].size));
     vx_svo_scene r;
     REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
     CHECK(!r.has_palette && r.models[0].attrs == 0 && model_equal(&s.models[0], &r.models[0]));
@@ -214,6 +380,196 @@ static void test_geometry_only_sections(void) {
     d = NULL;
     CHECK(vx_svo_write(&s, NULL, &d, &n, &e) == VX_ERR_BAD_FORMAT && d == NULL && strstr(e.msg, "root"));
     s.models[0].root = VX_SVO_ROOT_EMPTY;
+    vx_svo_scene_free(&s);
+}
+
+/* Every transform form round-trips bit for bit, and the compact forms are
+ * chosen exactly when they are exact. */
+static void test_transforms(void) {
+    vx_svo_scene s;
+    make_scene(&s, 50);
+    static const double X[][12] = {
+        {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0},                      /* identity: rotation byte */
+        {0, -1, 0, 66, 1, 0, 0, -10, 0, 0, -1, 2147483647.0},      /* rotation, extreme translation */
+        {0, 0, 1, -2147483648.0, -1, 0, 0, 5, 0, 1, 0, 7},          /* rotation */
+        {1, 1, 0, 3, 0, -1, 0, 4, 0, 0, 1, -5},                     /* entries in {-1,0,1}, not a permutation */
+        {0, 0, 0, 1, 0, 0, 0, 2, 1, -1, 1, 3},                      /* ditto, with a zero row */
+        {0.5, 0, 0, 1, 0, 0.5, 0, 2, 0, 0, 0.5, 3},                 /* scale: f64 */
+        {1, 0, 0, 0.25, 0, 1, 0, 0, 0, 0, 1, 0},                    /* fractional translation: f64 */
+        {1, 0, 0, 2147483648.0, 0, 1, 0, 0, 0, 0, 1, 0},            /* beyond int32: f64 */
+        {1, -0.0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0},                    /* -0.0 entry: f64 keeps the sign */
+        {1, 0, 0, -0.0, 0, 1, 0, 0, 0, 0, 1, 0},                    /* -0.0 translation: f64 */
+        {0.8, -0.6, 0, 1e-300, 0.6, 0.8, 0, -1e300, 0, 0, 1, 0.1}, /* general rotation */
+    };
+    const int nx = (int)(sizeof X / sizeof X[0]);
+    free(s.instances);
+    s.instance_count = (uint32_t)nx;
+    s.instances = (vx_svo_instance*)calloc((size_t)nx, sizeof *s.instances);
+    for (int i = 0; i < nx; i++) {
+        memcpy(s.instances[i].xform, X[i], sizeof X[i]);
+        s.instances[i].model = (uint32_t)i % 3;
+        s.instances[i].layer = UINT32_MAX;
+    }
+    vx_svo_scene_update_bounds(&s);
+    vx_svo_scene r;
+    uint8_t* d;
+    size_t n;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    REQUIRE(r.instance_count == (uint32_t)nx);
+    for (int i = 0; i < nx; i++) CHECKF(memcmp(r.instances[i].xform, X[i], sizeof X[i]) == 0, "transform %d", i);
+    CHECK(memcmp(r.bounds_min, s.bounds_min, sizeof s.bounds_min) == 0 && memcmp(r.bounds_max, s.bounds_max, sizeof s.bounds_max) == 0);
+    CHECK(stable(d, n, &r));
+    /* the compact forms: one instance alone, SCNE size difference */
+    size_t sz[4];
+    const int pick[4] = {0, 1, 3, 5};
+    for (int k = 0; k < 4; k++) {
+        vx_svo_instance keep = s.instances[pick[k]];
+        vx_svo_scene one = s;
+        one.instance_count = 1;
+        one.instances = &keep;
+        vx_svo_scene_update_bounds(&one);
+        uint8_t* d1;
+        size_t n1;
+        vx_error e;
+        REQUIRE(vx_svo_write(&one, NULL, &d1, &n1, &e) == VX_OK);
+        REQUIRE(section(d1, n1, "SCNE", &sz[k]));
+        free(d1);
+    }
+    /* identity: rotation byte + 3 one-byte zeros; 66 -> 2 bytes, -10 -> 1, 2^31-1 -> 5 */
+    CHECKF(sz[1] - sz[0] == 5, "rotation with int32 extremes: %zu vs %zu", sz[1], sz[0]);
+    CHECKF(sz[2] - sz[0] == 2, "signed entries: %zu vs %zu", sz[2], sz[0]);
+    CHECKF(sz[3] - sz[0] == 96 - 4, "f64: %zu vs %zu", sz[3], sz[0]);
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+static void test_palette_dropped(void) {
+    vx_svo_scene s;
+    make_scene(&s, 200);
+    s.palette[200] = 0x12345678u; /* not referenced: dropped */
+    s.palette[3] = 0x7F010203u;   /* referenced, not opaque: the 4-byte form */
+    vx_svo_scene r;
+    uint8_t* d;
+    size_t n, ps;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    const uint8_t* p = section(d, n, "PALT", &ps);
+    REQUIRE(p);
+    CHECK(ps == 1 + 32 + 5 * 4 && p[0] == 0 && p[1] == 0x3E); /* indices 1..5 */
+    CHECK(r.palette[200] == 0 && r.palette[3] == 0x7F010203u && r.palette[5] == s.palette[5]);
+    CHECK(stable(d, n, &r));
+    vx_svo_scene_free(&r);
+    free(d);
+    /* all used entries opaque: 3 bytes each */
+    s.palette[3] = 0xFF010203u;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    p = section(d, n, "PALT", &ps);
+    CHECK(p && ps == 1 + 32 + 5 * 3 && p[0] == 1 && r.palette[3] == 0xFF010203u);
+    CHECK(stable(d, n, &r));
+    vx_svo_scene_free(&r);
+    /* a bitmap that disagrees with the size is rejected */
+    uint8_t bad[1 + 32 + 15];
+    memcpy(bad, p, sizeof bad);
+    bad[1] |= 0x80; /* a sixth entry */
+    size_t n2;
+    uint8_t* d2 = replace_section(d, n, "PALT", bad, sizeof bad, &n2);
+    vx_error e;
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "PALT"));
+    free(d2);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+static void test_material_dedup(void) {
+    vx_svo_scene s;
+    make_scene(&s, 40);
+    static const char da[] = "_type\0_glass\0_alpha\0" "0.5", db[] = "_type\0_emit\0_emit\0" "2";
+    const uint32_t nm = 40;
+    vx_svo_material* mt = (vx_svo_material*)calloc(nm, sizeof *mt);
+    for (uint32_t i = 0; i < nm; i++) {
+        mt[i].id = 200 - 3 * i;
+        const char* src = i % 3 == 0 ? da : i % 3 == 1 ? db : NULL;
+        if (!src) continue; /* empty dictionaries are shared too */
+        mt[i].dict_size = src == da ? sizeof da : sizeof db;
+        mt[i].dict = (char*)malloc(mt[i].dict_size);
+        memcpy(mt[i].dict, src, mt[i].dict_size);
+    }
+    for (uint32_t i = 0; i < s.material_count; i++) free(s.materials[i].dict);
+    free(s.materials);
+    s.materials = mt;
+    s.material_count = nm;
+    vx_svo_scene r;
+    uint8_t* d;
+    size_t n, ms;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    REQUIRE(r.material_count == nm);
+    for (uint32_t i = 0; i < nm; i++) {
+        CHECK(r.materials[i].id == mt[i].id && r.materials[i].dict_size == mt[i].dict_size);
+        CHECK(mt[i].dict_size == 0 || memcmp(r.materials[i].dict, mt[i].dict, mt[i].dict_size) == 0);
+        CHECK(r.materials[i].dict == NULL || r.materials[i].dict != r.materials[0].dict || i == 0); /* own copies */
+    }
+    const uint8_t* p = section(d, n, "MATL", &ms);
+    REQUIRE(p);
+    /* 3 dictionaries (count, 2 sizes + bytes, an empty one), 40 x (id, index) */
+    size_t ids = 0;
+    for (uint32_t i = 0; i < nm; i++) ids += mt[i].id < 128 ? 1 : 2;
+    CHECKF(ms == 1 + (1 + sizeof da) + (1 + sizeof db) + 1 + 1 + ids + nm, "MATL is %zu bytes", ms);
+    CHECK(p[0] == 3);
+    CHECK(stable(d, n, &r));
+    vx_svo_scene_free(&r);
+    /* a dictionary index past the table is rejected */
+    uint8_t* bad = (uint8_t*)malloc(ms);
+    memcpy(bad, p, ms);
+    bad[ms - 1] = 3;
+    size_t n2;
+    uint8_t* d2 = replace_section(d, n, "MATL", bad, ms, &n2);
+    vx_error e;
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "dictionary index"));
+    free(d2);
+    free(bad);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+/* Bounds equal to the computed ones are omitted; others are kept exactly. */
+static void test_bounds_and_world(void) {
+    vx_svo_scene s;
+    make_scene(&s, 60);
+    size_t base = 0;
+    const double cases[][6] = {{0, 0, 0, 0, 0, 0}, {-5, 0, 2, 100, 3, 2147483647.0}, {-0.5, 0, 0, 1, 1, 1}, {0, 0, 0, 1e30, 1, 1}};
+    for (int k = -1; k < 4; k++) {
+        if (k >= 0) memcpy(s.bounds_min, cases[k], 24), memcpy(s.bounds_max, cases[k] + 3, 24);
+        vx_svo_scene r;
+        uint8_t* d;
+        size_t n, ss;
+        REQUIRE(write_read(&s, &r, &d, &n));
+        CHECKF(memcmp(r.bounds_min, s.bounds_min, 24) == 0 && memcmp(r.bounds_max, s.bounds_max, 24) == 0, "bounds case %d", k);
+        CHECK(stable(d, n, &r));
+        REQUIRE(section(d, n, "SCNE", &ss));
+        if (k == -1) base = ss;
+        else if (k <= 1) CHECKF(ss > base && ss <= base + 30, "integral bounds: %zu vs %zu", ss, base);
+        else CHECKF(ss == base + 48, "f64 bounds: %zu vs %zu", ss, base);
+        vx_svo_scene_free(&r);
+        free(d);
+    }
+    /* world_from_grid: the identity costs nothing, anything else 96 bytes */
+    vx_svo_scene_update_bounds(&s);
+    size_t sw, si;
+    uint8_t* d;
+    size_t n;
+    vx_svo_scene r;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    CHECK(memcmp(r.world_from_grid, s.world_from_grid, 96) == 0);
+    REQUIRE(section(d, n, "SCNE", &sw));
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_scene_init(&r, NULL); /* an identity to copy */
+    memcpy(s.world_from_grid, r.world_from_grid, 96);
+    REQUIRE(write_read(&s, &r, &d, &n));
+    REQUIRE(section(d, n, "SCNE", &si));
+    CHECK(sw == si + 96 && r.world_from_grid[0] == 1.0 && r.world_from_grid[3] == 0.0);
+    vx_svo_scene_free(&r);
+    free(d);
     vx_svo_scene_free(&s);
 }
 
@@ -248,14 +604,14 @@ static void test_flips(void) {
     size_t n;
     REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
     uint8_t* c = (uint8_t*)malloc(n);
-    size_t crc_rejects = 0, flips = 0;
+    size_t rejects = 0, flips = 0;
     for (size_t at = 0; at < n; at += 1 + at / 64) {
         memcpy(c, d, n);
         c[at] ^= (uint8_t)(1u << (at % 8));
         vx_svo_scene r;
         vx_result res = vx_svo_read(NULL, c, n, &r, &e);
         flips++;
-        if (res != VX_OK) crc_rejects++;
+        if (res != VX_OK) rejects++;
         else vx_svo_scene_free(&r);
         /* without checksums: structure decides; a pass must decode safely */
         res = vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, c, n, &r, &e);
@@ -266,8 +622,8 @@ static void test_flips(void) {
             CHECK(e.msg[0] != 0);
         }
     }
-    /* a flip in padding bytes is the only thing a CRC cannot see */
-    CHECKF(crc_rejects + 8 >= flips, "%zu of %zu flips rejected", crc_rejects, flips);
+    /* every byte is covered by a CRC or must be zero (alignment gaps) */
+    CHECKF(rejects == flips, "%zu of %zu flips rejected", rejects, flips);
     free(c);
     free(d);
     vx_svo_scene_free(&s);
@@ -280,9 +636,10 @@ static void test_bad_crc_and_skip(void) {
     uint8_t* d;
     size_t n;
     REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
-    uint64_t po = sec_off(d, "PALT", NULL);
-    REQUIRE(po);
-    d[po + 4 * 7] ^= 0x55;
+    size_t ps;
+    uint8_t* pp = (uint8_t*)section(d, n, "PALT", &ps);
+    REQUIRE(pp && ps > 33 && (pp[1] & 2)); /* entry 1 is the first one stored */
+    pp[33] ^= 0x55;                        /* its red byte */
     vx_svo_scene r;
     CHECK(vx_svo_read(NULL, d, n, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "PALT") && strstr(e.msg, "CRC"));
     vx_svo_file_info info;
@@ -295,16 +652,17 @@ static void test_bad_crc_and_skip(void) {
         }
     CHECK(seen);
     REQUIRE(vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, d, n, &r, &e) == VX_OK);
-    CHECK(r.palette[7] == (s.palette[7] ^ 0x55u));
+    CHECK(r.palette[1] == (s.palette[1] ^ 0x55u));
     vx_svo_scene_free(&r);
+    pp[33] ^= 0x55;
     /* a node word flipped with skip_checksums: rejected by structure */
-    d[po + 4 * 7] ^= 0x55;
-    uint64_t no = sec_off(d, "NODE", NULL);
+    uint8_t* no = (uint8_t*)section(d, n, "NODE", NULL);
+    REQUIRE(no);
     uint32_t root = s.models[0].root;
     uint32_t w;
-    memcpy(&w, d + no + 4 * (size_t)root, 4);
+    memcpy(&w, no + 4 * (size_t)root, 4);
     w |= 0xFFFEu << 17; /* pointer far beyond the array start */
-    memcpy(d + no + 4 * (size_t)root, &w, 4);
+    memcpy(no + 4 * (size_t)root, &w, 4);
     CHECK(vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, d, n, &r, &e) == VX_ERR_BAD_FORMAT &&
           strstr(e.msg, "structure"));
     free(d);
@@ -324,7 +682,7 @@ static void test_corrupt_pointers(void) {
     size_t n;
     REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
     const vx_svo_model* m = &s.models[0];
-    uint64_t no = sec_off(d, "NODE", NULL);
+    size_t no = (size_t)(section(d, n, "NODE", NULL) - d);
     uint8_t* c = (uint8_t*)malloc(n);
     uint32_t root = m->root, rd = m->nodes[root];
     struct {
@@ -361,86 +719,285 @@ static void test_corrupt_pointers(void) {
     vx_svo_scene_free(&s);
 }
 
-static void put32(uint8_t* p, uint32_t v) { memcpy(p, &v, 4); }
-static void put64(uint8_t* p, uint64_t v) { memcpy(p, &v, 8); }
+/* A hand-encoded SCNE (FORMAT.md 2.1) for model 0 of a palette scene, with
+ * fields overridable so that each case breaks exactly one thing. */
+typedef struct scne_spec {
+    uint64_t mc, ic, lc, node_count, root_code, attrs, attr_count, size0;
+    int form;
+    const uint8_t* raw_name; /* instance name bytes (with raw_len) */
+    size_t raw_len;
+    int xkind;              /* 0 rotation, 1 signed, 2 f64, 3 bad */
+    uint8_t rot;            /* rotation byte */
+    uint8_t ent[3];         /* signed entries */
+    const uint8_t* count_raw; /* replaces the model count varint */
+    size_t count_raw_len;
+    bool trailing, unnamed;
+    uint64_t inst_model;
+    uint64_t t_over; /* replaces the third translation varint */
+} scne_spec;
 
-static void test_bad_counts(void) {
+static scne_spec spec_for(const vx_svo_model* m) {
+    scne_spec p = {.mc = 1, .ic = 1, .lc = 1, .node_count = m->node_count, .root_code = 2 + (m->node_count - 1 - m->root),
+                   .attrs = m->attrs, .attr_count = m->attr_count, .size0 = m->size[0], .rot = 0x04};
+    return p;
+}
+
+static void scne_encode(tbuf* b, const vx_svo_model* m, const scne_spec* p) {
+    tb_u8(b, (uint8_t)p->form); /* identity world, computed bounds */
+    if (p->count_raw) tb_put(b, p->count_raw, p->count_raw_len);
+    else tb_var(b, p->mc);
+    tb_var(b, p->ic);
+    tb_var(b, p->lc);
+    tb_var(b, p->attrs); /* model head: attrs, size stored */
+    tb_var(b, p->size0);
+    tb_var(b, m->size[1]);
+    tb_var(b, m->size[2]);
+    tb_var(b, p->node_count);
+    tb_var(b, p->root_code);
+    tb_var(b, m->voxel_count);
+    tb_var(b, p->attr_count);
+    tb_var(b, m->root_attr);
+    /* instance: visible, named, kind, model 0, layer 0 (+1) */
+    tb_var(b, (uint64_t)p->xkind | (p->unnamed ? 0u : 4u));
+    tb_var(b, p->inst_model);
+    tb_var(b, 1);
+    if (p->xkind == 0) tb_u8(b, p->rot);
+    else if (p->xkind == 1) tb_put(b, p->ent, 3);
+    else if (p->xkind == 2)
+        for (int k = 0; k < 12; k++) tb_f64(b, k % 5 == 0 ? 1.0 : 0.0);
+    if (p->xkind != 2)
+        for (int k = 0; k < 3; k++) tb_var(b, k == 2 && p->t_over ? p->t_over : tzig(-7 * k));
+    if (p->unnamed) {
+    } else if (p->raw_name) {
+        tb_var(b, p->raw_len);
+        tb_put(b, p->raw_name, p->raw_len);
+    } else {
+        tb_var(b, 4);
+        tb_put(b, "inst", 4);
+    }
+    /* layer "ground", hidden, colour */
+    tb_var(b, 6);
+    tb_put(b, "ground", 6);
+    tb_var(b, 1);
+    tb_var(b, 0xFF00FF00u);
+    if (p->trailing) tb_u8(b, 0);
+}
+
+static void test_hand_encoded_scene(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 1;
+    s.models = (vx_svo_model*)calloc(1, sizeof *s.models);
+    REQUIRE(build(&s.models[0], 16, 120, VX_ATTR_PALETTE));
+    s.has_palette = true;
+    for (int i = 0; i < 256; i++) s.palette[i] = 0xFF000000u | (uint32_t)i * 0x010101u;
+    vx_error e;
+    uint8_t* d;
+    size_t n;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    const vx_svo_model* m = &s.models[0];
+
+    /* the reference case reads back as what it says */
+    scne_spec ok = spec_for(m);
+    tbuf b = {0};
+    scne_encode(&b, m, &ok);
+    size_t n2;
+    uint8_t* d2 = replace_section(d, n, "SCNE", b.d, b.n, &n2);
+    vx_svo_scene r;
+    REQUIRE(vx_svo_read(NULL, d2, n2, &r, &e) == VX_OK);
+    CHECK(r.model_count == 1 && model_equal(&r.models[0], m) && r.models[0].depth == m->depth);
+    CHECK(r.instance_count == 1 && r.instances[0].model == 0 && r.instances[0].layer == 0 && r.instances[0].flags == 0 &&
+          strcmp(r.instances[0].name, "inst") == 0);
+    const double want[12] = {1, 0, 0, 0, 0, 1, 0, -7, 0, 0, 1, -14};
+    CHECK(memcmp(r.instances[0].xform, want, sizeof want) == 0);
+    CHECK(r.layer_count == 1 && strcmp(r.layers[0].name, "ground") == 0 && r.layers[0].flags == 1 && r.layers[0].rgba == 0xFF00FF00u);
+    /* layer 0 is hidden: no visible instance, bounds computed as zero */
+    CHECK(r.bounds_min[0] == 0 && r.bounds_max[2] == 0);
+    vx_svo_scene_free(&r);
+    free(d2);
+    free(b.d);
+
+    static const uint8_t overflow[10] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x02};
+    static const uint8_t overlong[2] = {0x81, 0x00};
+    static const uint8_t big33[5] = {0x80, 0x80, 0x80, 0x80, 0x10}; /* 2^32 */
+    static const uint8_t unterminated[3] = {0x81, 0x81, 0x81};
+    uint8_t name64[64], name_nul[5] = {'a', 'b', 0, 'c', 'd'};
+    memset(name64, 'x', sizeof name64);
+    struct {
+        scne_spec p;
+        vx_result want;
+        const char* msg;
+    } cases[16];
+    int nc = 0;
+#define CASE(field_init, w, m_)                                                                                                   \
+    do {                                                                                                                         \
+        cases[nc].p = spec_for(m);                                                                                               \
+        field_init;                                                                                                              \
+        cases[nc].want = w;                                                                                                      \
+        cases[nc].msg = m_;                                                                                                      \
+        nc++;                                                                                                                    \
+    } while (0)
+    CASE(cases[nc].p.mc = 0xFFFFFFFFu, VX_ERR_BAD_FORMAT, "4294967295 models");
+    CASE(cases[nc].p.ic = 0x80000000u, VX_ERR_BAD_FORMAT, "at least");
+    CASE(cases[nc].p.node_count++, VX_ERR_BAD_FORMAT, "NODE");
+    CASE(cases[nc].p.node_count--, VX_ERR_BAD_FORMAT, "NODE has");
+    CASE(cases[nc].p.attr_count = 0xFFFFFFFFu, VX_ERR_BAD_FORMAT, "APAL");
+    CASE(cases[nc].p.attrs = 0x100, VX_ERR_BAD_FORMAT, "attribute");
+    CASE(cases[nc].p.root_code = 2 + m->node_count, VX_ERR_BAD_FORMAT, "root");
+    CASE(cases[nc].p.size0 = 1u << 22, VX_ERR_BAD_FORMAT, "structure");
+    CASE((cases[nc].p.count_raw = overflow, cases[nc].p.count_raw_len = 10), VX_ERR_BAD_FORMAT, "overflows 64 bits");
+    CASE((cases[nc].p.count_raw = overlong, cases[nc].p.count_raw_len = 2), VX_ERR_BAD_FORMAT, "over-long");
+    CASE((cases[nc].p.count_raw = big33, cases[nc].p.count_raw_len = 5), VX_ERR_BAD_FORMAT, "limit is 4294967295");
+    CASE((cases[nc].p.raw_name = name64, cases[nc].p.raw_len = 64), VX_ERR_BAD_FORMAT, "64 bytes long");
+    CASE((cases[nc].p.raw_name = name_nul, cases[nc].p.raw_len = 5), VX_ERR_BAD_FORMAT, "NUL");
+    CASE((cases[nc].p.rot = 0x03), VX_ERR_BAD_FORMAT, "rotation byte");
+    CASE((cases[nc].p.xkind = 1, cases[nc].p.ent[0] = 3), VX_ERR_BAD_FORMAT, "code 3");
+    CASE((cases[nc].p.xkind = 3), VX_ERR_BAD_FORMAT, "transform kind");
+    for (int i = 0; i < nc; i++) {
+        memset(&b, 0, sizeof b);
+        scne_encode(&b, m, &cases[i].p);
+        d2 = replace_section(d, n, "SCNE", b.d, b.n, &n2);
+        memset(&e, 0, sizeof e);
+        vx_result res = vx_svo_read(NULL, d2, n2, &r, &e);
+        CHECKF(res == cases[i].want && strstr(e.msg, cases[i].msg), "case %d: %d %s", i, res, res ? e.msg : "accepted");
+        if (res == VX_OK) vx_svo_scene_free(&r);
+        free(d2);
+        free(b.d);
+    }
+    /* more single breaks */
+    scne_spec more[8] = {spec_for(m), spec_for(m), spec_for(m), spec_for(m), spec_for(m), spec_for(m), spec_for(m), spec_for(m)};
+    more[0].trailing = true;
+    more[1].form = 0x08;
+    more[2].inst_model = 1;
+    more[3].count_raw = unterminated, more[3].count_raw_len = 3, more[3].ic = 1; /* runs into the following bytes */
+    more[4].raw_name = name_nul, more[4].raw_len = 0;                             /* named, but empty */
+    more[5].attrs |= 0x20;                                                        /* model 0 repeats a size */
+    more[6].t_over = 0x100000000ull;                                              /* +2^31: outside int32 */
+    more[7].unnamed = true; /* valid: no name stored */
+    const char* mmsg[8] = {"trailing", "form", "model 1", NULL, "name is empty", "repeats the size", "outside int32", NULL};
+    for (int i = 0; i < 7; i++) {
+        memset(&b, 0, sizeof b);
+        scne_encode(&b, m, &more[i]);
+        d2 = replace_section(d, n, "SCNE", b.d, b.n, &n2);
+        memset(&e, 0, sizeof e);
+        vx_result res = vx_svo_read(NULL, d2, n2, &r, &e);
+        CHECKF(res != VX_OK && (!mmsg[i] || strstr(e.msg, mmsg[i])), "more %d: %s", i, res ? e.msg : "accepted");
+        if (res == VX_OK) vx_svo_scene_free(&r);
+        free(d2);
+        free(b.d);
+    }
+    memset(&b, 0, sizeof b);
+    scne_encode(&b, m, &more[7]);
+    d2 = replace_section(d, n, "SCNE", b.d, b.n, &n2);
+    vx_result ur = vx_svo_read(NULL, d2, n2, &r, &e);
+    CHECKF(ur == VX_OK, "unnamed: %s", ur ? e.msg : "");
+    if (ur == VX_OK) {
+        CHECK(r.instances[0].name[0] == 0);
+        vx_svo_scene_free(&r);
+    }
+    free(d2);
+    free(b.d);
+    /* a name whose length runs past the section */
+    memset(&b, 0, sizeof b);
+    scne_spec cut = spec_for(m);
+    scne_encode(&b, m, &cut);
+    tb_var(&b, 0); /* harmless until cut */
+    b.n -= 1 + 1 + 6 + 1 + 5 + 4; /* drop the layer and the instance name bytes */
+    d2 = replace_section(d, n, "SCNE", b.d, b.n, &n2);
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_TRUNCATED && strstr(e.msg, "instance name"));
+    free(d2);
+    free(b.d);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+static void put16(uint8_t* p, uint16_t v) { memcpy(p, &v, 2); }
+
+static void test_bad_container(void) {
     vx_svo_scene s;
     make_scene(&s, 30);
     vx_error e;
     uint8_t* d;
     size_t n;
     REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
-    uint8_t* c = (uint8_t*)malloc(n);
-    uint64_t so = sec_off(d, "SCNE", NULL);
-    struct {
-        uint64_t at;
-        int width;
-        uint64_t v;
-        vx_result want;
-        const char* msg;
-    } cases[] = {
-        {so + 0, 4, 0xFFFFFFFFu, VX_ERR_BAD_FORMAT, "SCNE"},          /* model count */
-        {so + 4, 4, 0x80000000u, VX_ERR_BAD_FORMAT, "SCNE"},          /* instance count */
-        {so + 160 + 28, 4, 0xFFFFFFFFu, VX_ERR_BAD_FORMAT, "NODE"},   /* node_count */
-        {so + 160 + 40, 8, ~0ull, VX_ERR_BAD_FORMAT, "NODE"},         /* node_first */
-        {so + 160 + 48, 4, 0xFFFFFFFFu, VX_ERR_BAD_FORMAT, "APAL"},   /* attr_count */
-        {so + 160 + 56, 8, ~0ull - 3, VX_ERR_BAD_FORMAT, "APAL"},     /* attr_first */
-        {so + 160 + 24, 4, 0x100u, VX_ERR_BAD_FORMAT, "attribute"},   /* attrs */
-        {so + 160 + 12, 4, 25u, VX_ERR_BAD_FORMAT, "depth"},          /* depth */
-        {12, 4, 0xFFFFFFFFu, VX_ERR_LIMIT, "sections"},               /* section count */
-        {16, 8, ~0ull - 7, VX_ERR_TRUNCATED, "table"},                 /* table offset */
-        {32 + 16, 8, ~0ull, VX_ERR_TRUNCATED, "SCNE"},                /* section size */
-        {32 + 8, 8, ~0ull - 7, VX_ERR_TRUNCATED, "SCNE"},             /* section offset */
-        {32 + 8, 8, 33, VX_ERR_BAD_FORMAT, "aligned"},
-        {8, 4, VX_SVO_FORMAT_VERSION + 1, VX_ERR_UNSUPPORTED, "version"},
-        {0, 1, 'W', VX_ERR_BAD_FORMAT, "magic"},
-    };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        memcpy(c, d, n);
-        if (cases[i].width == 4) put32(c + cases[i].at, (uint32_t)cases[i].v);
-        else if (cases[i].width == 8) put64(c + cases[i].at, cases[i].v);
-        else c[cases[i].at] = (uint8_t)cases[i].v;
-        fix_crcs(c, n);
-        vx_svo_scene r;
-        vx_result res = vx_svo_read(NULL, c, n, &r, &e);
-        CHECKF(res == cases[i].want && strstr(e.msg, cases[i].msg), "case %zu: %d %s", i, res, res ? e.msg : "accepted");
-        if (res == VX_OK) vx_svo_scene_free(&r);
-    }
-    /* a header CRC mismatch alone */
-    memcpy(c, d, n);
-    c[20] ^= 1;
+    uint8_t* c = (uint8_t*)malloc(n + 8);
     vx_svo_scene r;
-    CHECK(vx_svo_read(NULL, c, n, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "header"));
+    /* header fields */
+    memcpy(c, d, n);
+    put16(c + 10, 2000);
+    fix_crcs(c, n);
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) == VX_ERR_LIMIT && strstr(e.msg, "sections"));
+    memcpy(c, d, n);
+    put16(c + 8, VX_SVO_FORMAT_VERSION + 1);
+    fix_crcs(c, n);
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, "version"));
+    memcpy(c, d, n);
+    c[0] = 'W';
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "magic"));
+    memcpy(c, d, n);
+    c[10] ^= 1; /* section count, CRC not fixed */
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) != VX_OK && e.msg[0]);
+    memcpy(c, d, n);
+    c[12] ^= 1; /* first tag */
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "table CRC"));
+    /* trailing bytes after the last section */
+    memcpy(c, d, n);
+    memset(c + n, 0, 8);
+    CHECK(vx_svo_read(NULL, c, n + 8, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "after the last section"));
+    /* reserved flag bits, a non-zero alignment byte, a section past the end */
+    tpart p[16];
+    int count = parts_of(d, n, p, 16);
+    REQUIRE(count == 9 && strcmp(p[1].tag, "NODE") == 0);
+    p[2].flags |= 4;
+    size_t n2;
+    uint8_t* d2 = assemble(p, count, &n2);
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "reserved flag"));
+    free(d2);
+    p[2].flags &= ~4u;
+    /* make SCNE one byte longer so that the NODE gap is not empty */
+    uint8_t* scne = (uint8_t*)malloc(p[0].size + 4);
+    bool gap_tested = false;
+    for (size_t extra = 0; extra < 4 && !gap_tested; extra++) {
+        memcpy(scne, p[0].data, p[0].size);
+        memset(scne + p[0].size, 0, extra);
+        tpart q[16];
+        memcpy(q, p, sizeof q);
+        q[0].data = scne;
+        q[0].size = p[0].size + extra;
+        d2 = assemble(q, count, &n2);
+        tsec t[16];
+        size_t tc;
+        t_table(d2, n2, t, 16, &tc);
+        uint64_t gap = t[1].off - (t[0].off + t[0].size);
+        if (gap) {
+            d2[t[1].off - 1] = 0xAA;
+            CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "alignment gap"));
+            gap_tested = true;
+        }
+        free(d2);
+    }
+    CHECK(gap_tested);
+    free(scne);
+    memcpy(c, d, n);
+    tsec t[16];
+    size_t tc;
+    t_table(c, n, t, 16, &tc);
+    c[t[0].crc_at - 1] = 0x7F; /* SCNE size: 127 bytes */
+    fix_crcs(c, n);
+    CHECK(vx_svo_read(NULL, c, n, &r, &e) != VX_OK && e.msg[0]);
     free(c);
     free(d);
     vx_svo_scene_free(&s);
 }
 
-/* Rebuilds a file with one more section at the end. */
 static uint8_t* add_section(const uint8_t* d, size_t n, const char* tag, uint32_t flags, size_t* out_n) {
-    uint32_t count;
-    memcpy(&count, d + 12, 4);
-    size_t at = (n + 32 + 7) & ~(size_t)7, nn = at + 13;
-    uint8_t* o = (uint8_t*)calloc(1, nn);
-    memcpy(o, d, 32);
-    put32(o + 12, count + 1);
-    for (uint32_t i = 0; i < count; i++) {
-        memcpy(o + 32 + 32 * i, d + 32 + 32 * i, 32);
-        uint64_t off;
-        memcpy(&off, d + 32 + 32 * i + 8, 8);
-        put64(o + 32 + 32 * i + 8, off + 32);
-    }
-    uint8_t* e = o + 32 + 32 * (size_t)count;
-    memcpy(e, tag, 4);
-    put32(e + 4, flags);
-    put64(e + 8, at);
-    put64(e + 16, 13);
-    memcpy(o + 32 + 32 * ((size_t)count + 1), d + 32 + 32 * (size_t)count, n - 32 - 32 * (size_t)count);
-    memcpy(o + at, "future data!!", 13);
-    fix_crcs(o, nn);
-    *out_n = nn;
-    return o;
+    tpart p[17];
+    int count = parts_of(d, n, p, 16);
+    memcpy(p[count].tag, tag, 5);
+    p[count].flags = flags;
+    p[count].data = (const uint8_t*)"future data!!";
+    p[count].size = 13;
+    return assemble(p, count + 1, out_n);
 }
 
 static void test_unknown_sections(void) {
@@ -464,6 +1021,19 @@ static void test_unknown_sections(void) {
     o = add_section(d, n, "NODE", 0, &n2);
     CHECK(vx_svo_read(NULL, o, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "twice"));
     free(o);
+    /* an unknown section with ALIGN4 before NODE: the layout still resolves */
+    tpart p[17];
+    int count = parts_of(d, n, p, 16);
+    memmove(p + 2, p + 1, (size_t)(count - 1) * sizeof *p);
+    memcpy(p[1].tag, "XTRB", 5);
+    p[1].flags = 2;
+    p[1].data = (const uint8_t*)"abc";
+    p[1].size = 3;
+    o = assemble(p, count + 1, &n2);
+    REQUIRE(vx_svo_read(NULL, o, n2, &r, &e) == VX_OK);
+    CHECK(model_equal(&r.models[2], &s.models[2]));
+    vx_svo_scene_free(&r);
+    free(o);
     free(d);
     vx_svo_scene_free(&s);
 }
@@ -474,25 +1044,96 @@ static void test_far_file(void) {
     vx_svo_scene s;
     make_scene(&s, 800);
     vx__svo_far_limit = VX__SVO_PTR_MAX;
-    vx_error e;
+    vx_svo_scene r;
     uint8_t* d;
     size_t n;
-    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
-    vx_svo_scene r;
-    REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
+    REQUIRE(write_read(&s, &r, &d, &n));
     for (int i = 0; i < 3; i++) CHECK(model_equal(&s.models[i], &r.models[i]));
+    CHECK(stable(d, n, &r));
     vx_svo_scene_free(&r);
     free(d);
     vx_svo_scene_free(&s);
 }
 
+/* Models of one size after another store the size once. */
+static void test_same_size_models(void) {
+    vx_svo_scene s;
+    make_scene(&s, 40);
+    vx_svo_scene r;
+    uint8_t* d;
+    size_t n, a, b;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    REQUIRE(section(d, n, "SCNE", &a));
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_model_free(NULL, &s.models[1]);
+    REQUIRE(build(&s.models[1], 16, 30, VX_ATTR_PALETTE)); /* the size of model 0 */
+    vx_svo_scene_update_bounds(&s);
+    REQUIRE(write_read(&s, &r, &d, &n));
+    REQUIRE(section(d, n, "SCNE", &b));
+    for (int i = 0; i < 3; i++) CHECK(model_equal(&s.models[i], &r.models[i]));
+    CHECK(r.models[1].depth == 4 && stable(d, n, &r));
+    CHECKF(b + 3 <= a + 2, "SCNE %zu -> %zu bytes", a, b); /* 3 size bytes gone; counts may differ by 2 */
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+/* Failing allocations: every failure is NOMEM, nothing leaks (ASan). */
+static int oom_left;
+static void* oom_alloc(void* u, size_t n) {
+    (void)u;
+    if (oom_left-- <= 0) return NULL;
+    return malloc(n ? n : 1);
+}
+static void oom_free(void* u, void* p) { (void)u, free(p); }
+
+static void test_oom(void) {
+    vx_svo_scene s;
+    make_scene(&s, 40);
+    vx_error e;
+    uint8_t* d;
+    size_t n;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    vx_allocator A = {oom_alloc, oom_free, NULL};
+    int done_w = 0, done_r = 0;
+    for (int k = 0; k < 200 && !(done_w && done_r); k++) {
+        uint8_t* o = NULL;
+        size_t on;
+        oom_left = k;
+        vx_result res = vx_svo_write(&s, &A, &o, &on, &e);
+        if (res == VX_OK) {
+            CHECK(on == n && memcmp(o, d, n) == 0);
+            oom_free(NULL, o);
+            done_w = 1;
+        } else {
+            CHECK(res == VX_ERR_NOMEM && o == NULL);
+        }
+        vx_svo_scene r;
+        oom_left = k;
+        res = vx_svo_read(&(vx_svo_read_desc){.alloc = &A}, d, n, &r, &e);
+        if (res == VX_OK) {
+            vx_svo_scene_free(&r);
+            done_r = 1;
+        } else {
+            CHECK(res == VX_ERR_NOMEM);
+        }
+    }
+    CHECK(done_w && done_r);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+/* Tiny seeds (FORMAT.md examples for the fuzzer): palette + all channels +
+ * geometry; geometry only; compact and f64 transforms with materials; far
+ * pointers. */
 static int write_seeds(const char* dir) {
     char path[4096];
     vx_error e;
     for (int k = 0; k < 4; k++) {
         vx_svo_scene s;
         if (k == 3) vx__svo_far_limit = 2;
-        make_scene(&s, k == 0 ? 3 : (size_t)(20 * k));
+        make_scene(&s, k == 0 ? 3 : (size_t)(6 * k));
         vx__svo_far_limit = VX__SVO_PTR_MAX;
         if (k == 1) { /* geometry only */
             for (uint32_t i = 0; i < 2; i++) vx_svo_model_free(NULL, &s.models[i]);
@@ -500,6 +1141,18 @@ static int write_seeds(const char* dir) {
             s.models[0] = s.models[2];
             memset(&s.models[2], 0, sizeof s.models[2]);
             for (uint32_t i = 0; i < s.instance_count; i++) s.instances[i].model = 0;
+        }
+        if (k == 2) { /* every transform form, shared dictionaries */
+            const double rot[12] = {0, -1, 0, 4, 1, 0, 0, -2, 0, 0, 1, 0};
+            const double sig[12] = {1, 1, 0, 0, 0, 1, 0, 0, 0, 0, -1, 3};
+            const double gen[12] = {0.5, 0, 0, 0.25, 0, 0.5, 0, 0, 0, 0, 0.5, 0};
+            memcpy(s.instances[1].xform, rot, sizeof rot);
+            memcpy(s.instances[2].xform, sig, sizeof sig);
+            memcpy(s.instances[3].xform, gen, sizeof gen);
+            s.materials[1].dict = (char*)malloc(s.materials[0].dict_size);
+            memcpy(s.materials[1].dict, s.materials[0].dict, s.materials[0].dict_size);
+            s.materials[1].dict_size = s.materials[0].dict_size;
+            vx_svo_scene_update_bounds(&s);
         }
         snprintf(path, sizeof path, "%s/seed%d.svo", dir, k);
         if (vx_svo_write_file(&s, path, &e) != VX_OK) {
@@ -515,12 +1168,19 @@ int main(int argc, char** argv) {
     if (argc == 3 && strcmp(argv[1], "--write-seeds") == 0) return write_seeds(argv[2]);
     RUN(test_round_trip);
     RUN(test_geometry_only_sections);
+    RUN(test_transforms);
+    RUN(test_palette_dropped);
+    RUN(test_material_dedup);
+    RUN(test_bounds_and_world);
     RUN(test_truncations);
     RUN(test_flips);
     RUN(test_bad_crc_and_skip);
     RUN(test_corrupt_pointers);
-    RUN(test_bad_counts);
+    RUN(test_hand_encoded_scene);
+    RUN(test_bad_container);
     RUN(test_unknown_sections);
     RUN(test_far_file);
+    RUN(test_same_size_models);
+    RUN(test_oom);
     return vx_test_finish();
 }
