@@ -39,6 +39,17 @@ int vx_tool_errorf(const char* fmt, ...) {
     return 1;
 }
 
+_Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, ...) {
+    va_list ap;
+    fprintf(stderr, "%s: ", vx_tool_name);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    usage(2);
+    exit(2); /* usage() does not return; this keeps the contract if it ever did */
+}
+
 /* ---- progress bar ---------------------------------------------------------- */
 
 static double bar_last;

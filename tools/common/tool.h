@@ -21,6 +21,14 @@ int vx_tool_errorf(const char* fmt, ...)
 #endif
     ;
 
+/* A usage mistake: "tool: <message>" on stderr, then usage(2), which must
+ * print the help to stderr and exit with status 2. */
+_Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* Progress bar on stderr when it is a terminal (quiet disables it). */
 vx_progress vx_tool_progress(bool quiet);
 void vx_tool_progress_done(void);

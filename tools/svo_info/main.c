@@ -43,12 +43,7 @@ _Noreturn static void usage(int status) {
     exit(status);
 }
 
-_Noreturn static void usage_error(const char* fmt, const char* arg) {
-    fprintf(stderr, "%s: ", vx_tool_name);
-    fprintf(stderr, fmt, arg);
-    fputc('\n', stderr);
-    usage(2);
-}
+#define usage_error(...) vx_tool_usage_error(usage, __VA_ARGS__)
 
 static options parse(int argc, char** argv) {
     options o = {0};
