@@ -434,6 +434,90 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
     return VX_OK;
 }
 
+/* ---- single-ray queries ------------------------------------------------------------- */
+
+struct vx_render_caster {
+    cscene cs;
+    const vx_allocator* alloc;
+};
+
+vx_result vx_render_caster_create(const vx_svo_scene* s, const vx_allocator* alloc, vx_render_caster** out,
+                                  vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_render_caster* c = vx_calloc(alloc, 1, sizeof *c);
+    if (!c) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    c->alloc = alloc;
+    vx_result r = cscene_build(&c->cs, s, alloc, err);
+    if (r) {
+        cscene_free(&c->cs, alloc);
+        vx_free(alloc, c);
+        return r;
+    }
+    *out = c;
+    return VX_OK;
+}
+
+void vx_render_caster_destroy(vx_render_caster* c) {
+    if (!c) return;
+    cscene_free(&c->cs, c->alloc);
+    vx_free(c->alloc, c);
+}
+
+/* Whether the model cell next to cell across axis a (on the side ns) is filled. */
+static bool cell_solid(const cmodel* c, const int64_t cell[3], int a, double ns) {
+    int64_t q[3] = {cell[0], cell[1], cell[2]};
+    q[a] += ns > 0 ? 1 : -1;
+    for (int k = 0; k < 3; k++)
+        if (q[k] < 0 || q[k] >= (int64_t)c->m->size[k]) return false;
+    uint64_t key = vx_svo_morton((uint32_t)q[0], (uint32_t)q[1], (uint32_t)q[2]);
+    for (uint32_t k = 0; k <= c->m->depth + 1; k++) {
+        const centry* e = cm_find(c, block_of(key, k), k);
+        if (e) return e->full != 0;
+    }
+    return false;
+}
+
+bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
+                    vx_render_ray_hit* hit) {
+    chit h = {.t = tmax};
+    uint32_t which = 0, steps = 0;
+    if (!trace_scene(&c->cs, o, d, any, &h, &which, &steps)) return false;
+    if (!hit) return true;
+    const cinst* in = &c->cs.inst[which];
+    const vx_svo_scene* s = c->cs.s;
+    const vx_svo_model* m = &s->models[in->model];
+    /* A ray that crosses an edge exactly enters the diagonal cell and the
+     * tracer names the first tied axis; for shading, prefer a tied axis
+     * whose face is exposed (the neighbour across it is empty). */
+    const cmodel* cm = &c->cs.models[in->model];
+    double dm[3];
+    for (int r = 0; r < 3; r++) dm[r] = in->inv[4 * r] * d[0] + in->inv[4 * r + 1] * d[1] + in->inv[4 * r + 2] * d[2];
+    if (cell_solid(cm, h.cell, h.axis, h.nsign)) {
+        double om[3];
+        for (int r = 0; r < 3; r++)
+            om[r] = in->inv[4 * r] * o[0] + in->inv[4 * r + 1] * o[1] + in->inv[4 * r + 2] * o[2] + in->inv[4 * r + 3];
+        for (int a = 0; a < 3; a++) {
+            if (a == h.axis || dm[a] == 0) continue;
+            double plane = (double)(dm[a] < 0 ? h.cell[a] + 1 : h.cell[a]);
+            double ta = (plane - om[a]) / dm[a];
+            double ns = dm[a] < 0 ? 1.0 : -1.0;
+            if (fabs(ta - h.t) <= 1e-9 * fmax(1, fabs(h.t)) && !cell_solid(cm, h.cell, a, ns)) {
+                h.axis = a, h.nsign = ns;
+                break;
+            }
+        }
+    }
+    const double* row = &in->inv[4 * h.axis];
+    double l = sqrt(row[0] * row[0] + row[1] * row[1] + row[2] * row[2]);
+    hit->t = h.t;
+    for (int k = 0; k < 3; k++) hit->normal[k] = h.nsign * row[k] / l, hit->cell[k] = (uint32_t)h.cell[k];
+    hit->cell_size = in->cell;
+    hit->instance = in->id;
+    hit->rgba = m->attrs ? vx__attr_color(s, m, h.attr) : 0xFFFFFFFFu;
+    hit->palette = (m->attrs & VX_ATTR_PALETTE) && h.attr < m->attr_count ? m->palette[h.attr] : 0;
+    return true;
+}
+
 /* ---- grid cells of a scene (dense baseline) ----------------------------------------- */
 
 typedef struct grid_ctx {

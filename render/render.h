@@ -206,6 +206,33 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
 vx_result vx_render_cpu(const vx_svo_scene* scene, const vx_render_desc* desc, const vx_allocator* alloc,
                         vx_render_image* out, vx_error* err);
 
+/* ---- CPU ray casting (the reference tracer's rays, for the probe baker) ----------- */
+
+/* A scene prepared for single-ray queries in double precision with the CPU
+ * reference's rules (a ray starting inside a voxel hits it at t = 0). The
+ * scene is borrowed for the caster's lifetime. Casts are read-only and may
+ * run from several threads at once. */
+typedef struct vx_render_caster vx_render_caster;
+
+typedef struct vx_render_ray_hit {
+    double t;         /* world distance along the unit direction */
+    double normal[3]; /* world geometric normal, facing the ray */
+    double cell_size; /* world size of one cell of the hit instance */
+    uint32_t instance;
+    uint32_t cell[3];
+    uint32_t rgba;    /* attribute colour (opaque white without attributes) */
+    uint32_t palette; /* palette index, 0 if the model has none */
+} vx_render_ray_hit;
+
+vx_result vx_render_caster_create(const vx_svo_scene* scene, const vx_allocator* alloc, vx_render_caster** out,
+                                  vx_error* err);
+void vx_render_caster_destroy(vx_render_caster* c);
+/* First hit with t in [0, tmax) along the unit world direction d from o;
+ * any: stop at the first hit found (shadow rays; hit->t etc. unspecified
+ * then, but hit may be NULL). */
+bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
+                    vx_render_ray_hit* hit);
+
 /* Checks a frame desc (sizes, mode, camera finite); no GPU needed. */
 vx_result vx_render_desc_validate(const vx_render_desc* desc, vx_error* err);
 

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "formats/image.h"
+#include "probes/probes.h"
 #include "render/render.h"
 
 typedef struct options {
@@ -13,6 +14,10 @@ typedef struct options {
     vx_render_desc r;
     const char* device;
     bool cpu, validate, verbose, list;
+    /* probe modes (CPU): gi, pathtrace, gi-indirect, pathtrace-indirect */
+    bool probe_mode;
+    vx_probe_render_desc p;
+    const char* probes;
 } options;
 
 static const char* prog = "svo_render";
@@ -39,7 +44,13 @@ _Noreturn static void usage(int status) {
             "       8-bit modes write PNG, float modes (depth, normal) EXR.\n"
             "\n"
             "Options:\n"
-            "  --mode M             color|albedo|normal|depth|instance|iterations (default: %s)\n"
+            "  --mode M             color|albedo|normal|depth|instance|iterations (default: %s),\n"
+            "                       or gi|gi-indirect (needs --probes) and pathtrace|pathtrace-indirect\n"
+            "                       (float radiance, CPU; EXR keeps the values, PNG clamps)\n"
+            "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
+            "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
+            "  --seed S             path tracer seed (default: 0)\n"
+            "  --threads N          CPU threads for the probe modes (default: 2)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -59,9 +70,10 @@ _Noreturn static void usage(int status) {
             "Examples:\n"
             "  %s scene.svo out.png\n"
             "  %s scene.svo depth.exr --mode depth --size 1280x720\n"
-            "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n",
+            "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
+            "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
             prog, vx_render_mode_name(d.r.mode), d.r.width, d.r.height, d.r.spp, d.r.camera.fov, d.r.lod_pixels,
-            d.r.ambient, prog, prog, prog);
+            d.r.ambient, prog, prog, prog, prog);
     exit(status);
 }
 
@@ -134,7 +146,28 @@ int main(int argc, char** argv) {
             return 0;
         } else if (!strcmp(a, "--mode")) {
             NEED();
-            if (!vx_render_mode_parse(argv[++i], &o.r.mode)) usage_error("unknown mode '%s'", argv[i]);
+            ++i;
+            o.probe_mode = false;
+            if (!vx_render_mode_parse(argv[i], &o.r.mode)) {
+                if (!vx_probe_render_mode_parse(argv[i], &o.p.mode)) usage_error("unknown mode '%s'", argv[i]);
+                o.probe_mode = true;
+            }
+        } else if (!strcmp(a, "--probes")) {
+            NEED();
+            o.probes = argv[++i];
+        } else if (!strcmp(a, "--bounces")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
+                usage_error("bad bounces '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--seed")) {
+            NEED();
+            uint32_t sd;
+            if (!parse_uint(argv[++i], &sd)) usage_error("bad seed '%s'", argv[i]);
+            o.p.seed = sd;
+        } else if (!strcmp(a, "--threads")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
+                usage_error("bad threads '%s' (1..64)", argv[i]);
         } else if (!strcmp(a, "--size")) {
             NEED();
             unsigned w, h;
@@ -205,6 +238,9 @@ int main(int argc, char** argv) {
     bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
     if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
     if (want_float && !exr) usage_error("mode %s writes float data: use an .exr output", vx_render_mode_name(o.r.mode));
+    bool needs_probes = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_GI || o.p.mode == VX_PROBE_RENDER_INDIRECT);
+    if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
+    if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
     if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
     if (o.verbose) {
@@ -232,7 +268,22 @@ int main(int argc, char** argv) {
     vx_gpu* gpu = NULL;
     vx_render_scene* rs = NULL;
     vx_logger logger = {log_cb, NULL};
-    if (o.cpu) {
+    vx_probe_set probes = {0};
+    if (o.probes) {
+        if (vx_probe_read_file(NULL, o.probes, &probes, &err)) {
+            fprintf(stderr, "%s: %s\n", prog, err.msg);
+            vx_svo_scene_free(&scene);
+            return 1;
+        }
+    }
+    if (o.probe_mode) {
+        /* the probe modes run on the CPU (no GPU variant yet) */
+        printf("device: CPU (probe GI / path tracer, double precision)\n");
+        o.p.base = &o.r;
+        if (!o.p.threads) o.p.threads = 2;
+        if (o.r.spp > 1) o.p.spp = o.r.spp;
+        r = vx_probe_render(&scene, o.probes ? &probes : NULL, &o.p, &img, &err);
+    } else if (o.cpu) {
         printf("device: CPU reference (double precision)\n");
         r = vx_render_cpu(&scene, &o.r, NULL, &img, &err);
     } else {
@@ -245,6 +296,7 @@ int main(int argc, char** argv) {
         if (!r && vx_gpu_validation_errors(gpu))
             r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
     }
+    vx_probe_set_free(&probes);
     if (r) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
         vx_render_scene_destroy(rs);
@@ -278,7 +330,8 @@ int main(int argc, char** argv) {
         printf("scene: %u models, %u instances (load %.3f s%s)\n", scene.model_count, scene.instance_count, t_load,
                "");
         printf("render: %ux%u, %u spp, mode %s: %.3f ms (%s), %.2f Mrays/s\n", img.width, img.height, o.r.spp,
-               vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3, o.cpu ? "wall clock" : "GPU timestamps",
+               o.probe_mode ? vx_probe_render_mode_name(o.p.mode) : vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3,
+               o.cpu || o.probe_mode ? "wall clock" : "GPU timestamps",
                img.gpu_seconds > 0 ? img.rays / img.gpu_seconds * 1e-6 : 0.0);
         printf("wrote %s\n", o.out);
     } else {

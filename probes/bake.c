@@ -1,0 +1,517 @@
+/* probes/bake.c - probe placement and the CPU reference bake (double
+ * precision path tracing on the CPU tracer's rays), filtering into the
+ * irradiance and distance-moment maps, merging shards. */
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+#include "probes/probes_internal.h"
+#include "render/render_internal.h"
+
+void vx_probe_set_free(vx_probe_set* ps) {
+    if (!ps) return;
+    const vx_allocator* a = ps->alloc;
+    vx_free(a, ps->probes);
+    vx_free(a, ps->radiance);
+    vx_free(a, ps->normal);
+    vx_free(a, ps->distance);
+    vx_free(a, ps->low);
+    vx_free(a, ps->irradiance);
+    vx_free(a, ps->moments);
+    memset(ps, 0, sizeof *ps);
+}
+
+/* ---- placement ---------------------------------------------------------------------- */
+
+static bool inside_solid(const vx_render_caster* c, const double p[3]) {
+    static const double dir[3] = {0.5773502691896258, 0.5773502691896258, 0.5773502691896258};
+    vx_render_ray_hit h;
+    return vx_render_cast(c, p, dir, 1e-9, false, &h) && h.t == 0;
+}
+
+typedef struct offs {
+    double d2;
+    int a, b, c;
+} offs;
+
+static int offs_cmp(const void* x, const void* y) {
+    const offs *p = x, *q = y;
+    if (p->d2 != q->d2) return p->d2 < q->d2 ? -1 : 1;
+    if (p->a != q->a) return p->a - q->a;
+    if (p->b != q->b) return p->b - q->b;
+    return p->c - q->c;
+}
+
+#include <stdlib.h>
+
+static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const vx_render_caster* c,
+                       vx_probe_set* ps, vx_error* err) {
+    double lo[3], hi[3];
+    if (d->bounds_set) {
+        memcpy(lo, d->bounds_lo, sizeof lo);
+        memcpy(hi, d->bounds_hi, sizeof hi);
+    } else {
+        vx__scene_world_bounds(s, lo, hi);
+    }
+    double diag = 0;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(lo[k]) || !isfinite(hi[k]) || !(hi[k] >= lo[k]))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bounds are empty or not finite");
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    diag = sqrt(diag);
+    if (!(diag > 0)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "scene bounds are empty: give bounds");
+    bool grid_set = d->grid[0] || d->grid[1] || d->grid[2];
+    if (grid_set && d->spacing) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "give a grid or a spacing, not both");
+    double sp = d->spacing ? d->spacing : diag / 8;
+    if (!(sp > 0) || !isfinite(sp)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "spacing must be positive");
+    uint64_t total = 1;
+    for (int k = 0; k < 3; k++) {
+        double ext = hi[k] - lo[k];
+        if (grid_set) {
+            if (!d->grid[k] || d->grid[k] > 4096)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "grid axis %d: %u probes (1..4096)", k, d->grid[k]);
+            ps->grid[k] = d->grid[k];
+            ps->spacing[k] = ext > 0 ? ext / d->grid[k] : sp;
+        } else {
+            double n = ceil(ext / sp);
+            if (n < 1) n = 1;
+            if (n > 4096) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "spacing %g gives more than 4096 probes per axis", sp);
+            ps->grid[k] = (uint32_t)n;
+            ps->spacing[k] = sp;
+        }
+        /* centred: cell centres of the grid over the bounds */
+        ps->origin[k] = 0.5 * (lo[k] + hi[k]) - 0.5 * (ps->grid[k] - 1) * ps->spacing[k];
+        total *= ps->grid[k];
+    }
+    if (total > VX_PROBE_MAX_PROBES)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%llu probes (at most %u)", (unsigned long long)total,
+                       VX_PROBE_MAX_PROBES);
+    ps->probe_count = (uint32_t)total;
+    ps->probes = vx_calloc(ps->alloc, total, sizeof *ps->probes);
+    if (!ps->probes) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    /* The distances a probe can see stay within the bounds grown by the grid. */
+    double ext2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double a = fmin(lo[k], ps->origin[k] - ps->spacing[k]), b = fmax(hi[k], ps->origin[k] + ps->grid[k] * ps->spacing[k]);
+        ext2 += (b - a) * (b - a);
+    }
+    ps->dist_step = sqrt(ext2) / (VX_PROBE_DIST_MISS - 1);
+    ps->dist_max = ps->dist_step * (VX_PROBE_DIST_MISS - 1);
+    ps->dist_max_error = ps->dist_step * 0.5;
+
+    enum { H = 4, SIDE = 2 * H + 1 };
+    offs cand[SIDE * SIDE * SIDE];
+    int nc = 0;
+    for (int a = -H; a <= H; a++)
+        for (int b = -H; b <= H; b++)
+            for (int cc = -H; cc <= H; cc++) {
+                double x = a * ps->spacing[0], y = b * ps->spacing[1], z = cc * ps->spacing[2];
+                cand[nc++] = (offs){x * x + y * y + z * z, a, b, cc};
+            }
+    qsort(cand, (size_t)nc, sizeof cand[0], offs_cmp);
+    for (uint32_t z = 0; z < ps->grid[2]; z++)
+        for (uint32_t y = 0; y < ps->grid[1]; y++)
+            for (uint32_t x = 0; x < ps->grid[0]; x++) {
+                vx_probe* p = &ps->probes[x + (size_t)ps->grid[0] * (y + (size_t)ps->grid[1] * z)];
+                double g[3] = {ps->origin[0] + x * ps->spacing[0], ps->origin[1] + y * ps->spacing[1],
+                               ps->origin[2] + z * ps->spacing[2]};
+                p->state = VX_PROBE_DISABLED;
+                memcpy(p->pos, g, sizeof g);
+                for (int i = 0; i < nc; i++) {
+                    /* offsets of at most half a cell per axis (H steps of spacing / 2H) */
+                    double q[3] = {g[0] + cand[i].a * ps->spacing[0] / (2 * H), g[1] + cand[i].b * ps->spacing[1] / (2 * H),
+                                   g[2] + cand[i].c * ps->spacing[2] / (2 * H)};
+                    if (!inside_solid(c, q)) {
+                        memcpy(p->pos, q, sizeof q);
+                        p->state = i == 0 ? VX_PROBE_OK : VX_PROBE_MOVED;
+                        break;
+                    }
+                }
+            }
+    return VX_OK;
+}
+
+static vx_result resolve(const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err) {
+    ps->res = d->res ? d->res : 128;
+    if (ps->res < 16 || ps->res > VX_PROBE_MAX_RES || ps->res % 16)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "res %u: must be a multiple of 16 in 16..%u", ps->res,
+                       VX_PROBE_MAX_RES);
+    ps->low_res = ps->res / 16;
+    ps->spp = d->spp ? d->spp : 16;
+    if (ps->spp > 65536) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "spp %u: at most 65536", ps->spp);
+    ps->bounces = d->bounces == 0 ? 1 : (d->bounces < 0 ? 0 : (uint32_t)d->bounces);
+    if (ps->bounces > 64) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bounces %u: at most 64", ps->bounces);
+    ps->seed = d->seed;
+    return VX_OK;
+}
+
+vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err) {
+    if (!scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    vx_probe_set ps = {.alloc = d.alloc};
+    vx_result r = resolve(&d, &ps, err);
+    if (r) return r;
+    vx_render_caster* c = NULL;
+    if ((r = vx_render_caster_create(scene, d.alloc, &c, err))) return r;
+    vx__light L;
+    vx__light_init(&L, c, scene, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky);
+    memcpy(ps.light_dir, L.light_dir, sizeof ps.light_dir);
+    memcpy(ps.sun, L.sun, sizeof ps.sun);
+    memcpy(ps.sky, L.sky, sizeof ps.sky);
+    r = place(scene, &d, c, &ps, err);
+    vx_render_caster_destroy(c);
+    if (r) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    uint32_t first = d.first, end = d.count ? d.first + d.count : ps.probe_count;
+    if (first > ps.probe_count || end > ps.probe_count || end < first) {
+        uint32_t n = ps.probe_count;
+        vx_probe_set_free(&ps);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe range %u..%u outside the %u probes", first, end, n);
+    }
+    ps.first = first;
+    ps.count = 0;
+    *out = ps;
+    return VX_OK;
+}
+
+/* ---- baking --------------------------------------------------------------------------- */
+
+/* per-probe element counts */
+typedef struct sizes {
+    size_t rad, nrm, dist, low, irr, mom;
+} sizes;
+
+static sizes sizes_of(const vx_probe_set* ps) {
+    sizes z;
+    z.rad = vx__bsq(ps->res) * 3;
+    z.nrm = vx__bsq(ps->res);
+    z.dist = vx__bsq(ps->res);
+    z.low = vx__bsq(ps->low_res);
+    z.irr = vx__bsq(VX_PROBE_IRR_RES) * 3;
+    z.mom = vx__bsq(VX_PROBE_DIST_RES) * 2;
+    return z;
+}
+
+/* Grows the data arrays to hold n probes (zeroed). */
+static bool grow_data(vx_probe_set* ps, uint32_t n) {
+    sizes z = sizes_of(ps);
+    void** arr[6] = {(void**)&ps->radiance, (void**)&ps->normal, (void**)&ps->distance,
+                     (void**)&ps->low, (void**)&ps->irradiance, (void**)&ps->moments};
+    size_t el[6] = {z.rad * 2, z.nrm * 4, z.dist * 2, z.low * 2, z.irr * 2, z.mom * 4};
+    for (int i = 0; i < 6; i++) {
+        size_t old, want;
+        if (!vx_mul_size(el[i], ps->count, &old) || !vx_mul_size(el[i], n, &want)) return false;
+        uint8_t* p = vx_calloc(ps->alloc, want ? want : 1, 1);
+        if (!p) return false;
+        if (*arr[i] && old) memcpy(p, *arr[i], old < want ? old : want);
+        vx_free(ps->alloc, *arr[i]);
+        *arr[i] = p;
+    }
+    return true;
+}
+
+typedef struct tables {
+    uint32_t res;
+    double* dir;   /* res^2 texel centre directions */
+    double* omega; /* res^2 solid angles */
+    double irr_dir[VX_PROBE_IRR_RES * VX_PROBE_IRR_RES][3];
+    double mom_dir[VX_PROBE_DIST_RES * VX_PROBE_DIST_RES][3];
+} tables;
+
+typedef struct job {
+    const vx_probe_set* ps;
+    vx_probe_set* out;
+    const vx__light* L;
+    const tables* T;
+    uint32_t begin, end;
+    uint32_t next; /* guarded by mu */
+    uint32_t done;
+    bool cancel, failed;
+    pthread_mutex_t mu;
+    const vx_progress* progress;
+    const vx_allocator* alloc;
+} job;
+
+static void fill_border_u16(uint16_t* m, uint32_t n, uint32_t ch) {
+    for (uint32_t bj = 0; bj < n + 2; bj++)
+        for (uint32_t bi = 0; bi < n + 2; bi++) {
+            if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
+            uint32_t si, sj;
+            vx_probe_border_src(n, bi, bj, &si, &sj);
+            for (uint32_t c = 0; c < ch; c++) m[(bj * (n + 2) + bi) * ch + c] = m[((sj + 1) * (n + 2) + si + 1) * ch + c];
+        }
+}
+static void fill_border_u32(uint32_t* m, uint32_t n) {
+    for (uint32_t bj = 0; bj < n + 2; bj++)
+        for (uint32_t bi = 0; bi < n + 2; bi++) {
+            if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
+            uint32_t si, sj;
+            vx_probe_border_src(n, bi, bj, &si, &sj);
+            m[bj * (n + 2) + bi] = m[(sj + 1) * (n + 2) + si + 1];
+        }
+}
+static void fill_border_f32(float* m, uint32_t n, uint32_t ch) {
+    for (uint32_t bj = 0; bj < n + 2; bj++)
+        for (uint32_t bi = 0; bi < n + 2; bi++) {
+            if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
+            uint32_t si, sj;
+            vx_probe_border_src(n, bi, bj, &si, &sj);
+            for (uint32_t c = 0; c < ch; c++) m[(bj * (n + 2) + bi) * ch + c] = m[((sj + 1) * (n + 2) + si + 1) * ch + c];
+        }
+}
+
+#define MOMENT_POWER 50.0
+
+/* Bakes one probe into slot k of out; scratch holds res^2 * 4 doubles. */
+static void bake_probe(const job* J, uint32_t pi, uint32_t k, double* scratch) {
+    const vx_probe_set* ps = J->ps;
+    vx_probe_set* out = J->out;
+    const tables* T = J->T;
+    const vx_probe* pr = &ps->probes[pi];
+    sizes z = sizes_of(ps);
+    uint16_t* rad = out->radiance + z.rad * k;
+    uint32_t* nrm = out->normal + z.nrm * k;
+    uint16_t* dist = out->distance + z.dist * k;
+    uint16_t* low = out->low + z.low * k;
+    uint16_t* irr = out->irradiance + z.irr * k;
+    float* mom = out->moments + z.mom * k;
+    if (pr->state == VX_PROBE_DISABLED) return; /* stays zero */
+    uint32_t n = ps->res, nb = n + 2;
+    double* L = scratch;          /* res^2 * 3 radiance */
+    double* D = scratch + 3 * (size_t)n * n; /* res^2 decoded distances */
+    for (uint32_t j = 0; j < n; j++)
+        for (uint32_t i = 0; i < n; i++) {
+            size_t t = (size_t)j * n + i;
+            const double* d = &T->dir[3 * t];
+            vx_render_ray_hit h;
+            size_t b = (size_t)(j + 1) * nb + i + 1;
+            if (vx_render_cast(J->L->caster, pr->pos, d, ps->dist_max, false, &h)) {
+                double q = nearbyint(h.t / ps->dist_step);
+                dist[b] = (uint16_t)(q > VX_PROBE_DIST_MISS - 1 ? VX_PROBE_DIST_MISS - 1 : q);
+                nrm[b] = vx_probe_oct_pack16(h.normal);
+                D[t] = dist[b] * ps->dist_step;
+            } else {
+                dist[b] = VX_PROBE_DIST_MISS;
+                nrm[b] = 0;
+                D[t] = ps->dist_max;
+            }
+            double acc[3] = {0, 0, 0};
+            for (uint32_t s = 0; s < ps->spp; s++) {
+                vx__rng rng = vx__rng_make(ps->seed, pi, t, s);
+                /* jittered inside the texel (sample 0 too: the map is an average) */
+                double uv[2] = {(2.0 * (i + vx__rng_next(&rng))) / n - 1, (2.0 * (j + vx__rng_next(&rng))) / n - 1};
+                double dd[3], c[3];
+                vx_probe_oct_decode(uv, dd);
+                vx__path(J->L, pr->pos, dd, ps->bounces, &rng, c);
+                for (int q = 0; q < 3; q++) acc[q] += c[q];
+            }
+            for (int q = 0; q < 3; q++) {
+                L[3 * t + q] = acc[q] / ps->spp;
+                rad[3 * b + q] = vx_probe_half((float)L[3 * t + q]);
+            }
+        }
+    fill_border_u16(rad, n, 3);
+    fill_border_u32(nrm, n);
+    fill_border_u16(dist, n, 1);
+    /* low-resolution minimum distance: each texel the minimum over its block */
+    uint32_t lr = ps->low_res, blk = n / lr;
+    for (uint32_t lj = 0; lj < lr; lj++)
+        for (uint32_t li = 0; li < lr; li++) {
+            uint16_t m = 0xFFFF;
+            for (uint32_t j = lj * blk; j < (lj + 1) * blk; j++)
+                for (uint32_t i = li * blk; i < (li + 1) * blk; i++) {
+                    uint16_t v = dist[(size_t)(j + 1) * nb + i + 1];
+                    if (v < m) m = v;
+                }
+            low[(lj + 1) * (lr + 2) + li + 1] = m;
+        }
+    fill_border_u16(low, lr, 1);
+    /* cosine-convolved irradiance: E(n) = sum L(w) max(0, n.w) dw */
+    for (uint32_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++) {
+        const double* nn = T->irr_dir[q];
+        double e[3] = {0, 0, 0};
+        for (size_t t = 0; t < (size_t)n * n; t++) {
+            const double* w = &T->dir[3 * t];
+            double c = nn[0] * w[0] + nn[1] * w[1] + nn[2] * w[2];
+            if (c <= 0) continue;
+            c *= T->omega[t];
+            e[0] += L[3 * t] * c, e[1] += L[3 * t + 1] * c, e[2] += L[3 * t + 2] * c;
+        }
+        uint32_t i = q % VX_PROBE_IRR_RES, j = q / VX_PROBE_IRR_RES;
+        size_t b = (size_t)(j + 1) * (VX_PROBE_IRR_RES + 2) + i + 1;
+        for (int c = 0; c < 3; c++) irr[3 * b + c] = vx_probe_half((float)e[c]);
+    }
+    fill_border_u16(irr, VX_PROBE_IRR_RES, 3);
+    /* distance moments with a sharp cosine lobe (DDGI's power 50) */
+    for (uint32_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++) {
+        const double* nn = T->mom_dir[q];
+        double m1 = 0, m2 = 0, ws = 0;
+        for (size_t t = 0; t < (size_t)n * n; t++) {
+            const double* w = &T->dir[3 * t];
+            double c = nn[0] * w[0] + nn[1] * w[1] + nn[2] * w[2];
+            if (c <= 0.75) continue; /* cos^50 < 6e-7 beyond: negligible */
+            double wt = pow(c, MOMENT_POWER) * T->omega[t];
+            m1 += wt * D[t], m2 += wt * D[t] * D[t], ws += wt;
+        }
+        uint32_t i = q % VX_PROBE_DIST_RES, j = q / VX_PROBE_DIST_RES;
+        size_t b = (size_t)(j + 1) * (VX_PROBE_DIST_RES + 2) + i + 1;
+        mom[2 * b] = (float)(ws > 0 ? m1 / ws : ps->dist_max);
+        mom[2 * b + 1] = (float)(ws > 0 ? m2 / ws : ps->dist_max * ps->dist_max);
+    }
+    fill_border_f32(mom, VX_PROBE_DIST_RES, 2);
+}
+
+static void* worker(void* arg) {
+    job* J = arg;
+    size_t n = (size_t)J->ps->res * J->ps->res * 4;
+    double* scratch = vx_alloc(J->alloc, n * sizeof(double));
+    pthread_mutex_lock(&J->mu);
+    if (!scratch) J->failed = true;
+    while (!J->failed && !J->cancel && J->next < J->end) {
+        uint32_t pi = J->next++;
+        pthread_mutex_unlock(&J->mu);
+        bake_probe(J, pi, pi - J->out->first, scratch);
+        pthread_mutex_lock(&J->mu);
+        J->done++;
+        if (!vx_progress_report(J->progress, "bake", J->done, J->end - J->begin)) J->cancel = true;
+    }
+    pthread_mutex_unlock(&J->mu);
+    vx_free(J->alloc, scratch);
+    return NULL;
+}
+
+vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* ps,
+                             uint32_t end, vx_error* err) {
+    if (!scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    uint32_t begin = ps->first + ps->count;
+    if (end > ps->probe_count || end < begin)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
+    if (end == begin) return VX_OK;
+    vx_render_caster* c = NULL;
+    vx_result r = vx_render_caster_create(scene, ps->alloc, &c, err);
+    if (r) return r;
+    vx__light L;
+    vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false);
+    for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
+    tables T = {.res = ps->res};
+    size_t nt = (size_t)ps->res * ps->res;
+    T.dir = vx_calloc(ps->alloc, nt, 3 * sizeof(double));
+    T.omega = vx_calloc(ps->alloc, nt, sizeof(double));
+    if (!T.dir || !T.omega || !grow_data(ps, end - ps->first)) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+        goto done;
+    }
+    for (uint32_t j = 0; j < ps->res; j++)
+        for (uint32_t i = 0; i < ps->res; i++) {
+            vx_probe_texel_dir(ps->res, i, j, &T.dir[3 * ((size_t)j * ps->res + i)]);
+            T.omega[(size_t)j * ps->res + i] = vx_probe_texel_solid_angle(ps->res, i, j);
+        }
+    for (uint32_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++)
+        vx_probe_texel_dir(VX_PROBE_IRR_RES, q % VX_PROBE_IRR_RES, q / VX_PROBE_IRR_RES, T.irr_dir[q]);
+    for (uint32_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++)
+        vx_probe_texel_dir(VX_PROBE_DIST_RES, q % VX_PROBE_DIST_RES, q / VX_PROBE_DIST_RES, T.mom_dir[q]);
+    job J = {.ps = ps, .out = ps, .L = &L, .T = &T, .begin = begin, .end = end, .next = begin,
+             .progress = &d.progress, .alloc = ps->alloc};
+    pthread_mutex_init(&J.mu, NULL);
+    uint32_t nth = d.threads ? d.threads : 1;
+    if (nth > 64) nth = 64;
+    pthread_t th[64];
+    uint32_t started = 0;
+    for (uint32_t i = 1; i < nth; i++)
+        if (!pthread_create(&th[started], NULL, worker, &J)) started++;
+    worker(&J);
+    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    pthread_mutex_destroy(&J.mu);
+    if (J.failed) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    } else if (J.cancel) {
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+    }
+    if (!r) {
+        ps->count = end - ps->first;
+    }
+    /* on failure count stays: the probes baked so far are not recorded (the
+     * arrays merely grew), so a resume redoes them */
+done:
+    vx_free(ps->alloc, T.dir);
+    vx_free(ps->alloc, T.omega);
+    vx_render_caster_destroy(c);
+    return r;
+}
+
+vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err) {
+    if (!scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_set ps;
+    vx_result r = vx_probe_place(scene, desc, &ps, err);
+    if (r) return r;
+    uint32_t end = desc && desc->count ? desc->first + desc->count : ps.probe_count;
+    if ((r = vx_probe_bake_more(scene, desc, &ps, end, err))) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    *out = ps;
+    return VX_OK;
+}
+
+/* ---- merging ------------------------------------------------------------------------ */
+
+static bool same_grid(const vx_probe_set* a, const vx_probe_set* b) {
+    if (a->res != b->res || a->low_res != b->low_res || a->probe_count != b->probe_count || a->spp != b->spp ||
+        a->bounces != b->bounces || a->seed != b->seed || a->dist_step != b->dist_step)
+        return false;
+    for (int k = 0; k < 3; k++)
+        if (a->grid[k] != b->grid[k] || a->origin[k] != b->origin[k] || a->spacing[k] != b->spacing[k] ||
+            a->light_dir[k] != b->light_dir[k] || a->sun[k] != b->sun[k] || a->sky[k] != b->sky[k])
+            return false;
+    return !memcmp(a->probes, b->probes, sizeof *a->probes * a->probe_count);
+}
+
+vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_allocator* alloc, vx_probe_set* out,
+                         vx_error* err) {
+    if (!parts || !n || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "nothing to merge");
+    const vx_probe_set* a = parts[0];
+    for (uint32_t i = 1; i < n; i++)
+        if (!same_grid(a, parts[i]))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "part %u: different grid or bake parameters than part 0", i);
+    /* the ranges must tile [0, probe_count) exactly */
+    uint32_t covered = 0;
+    for (uint32_t at = 0; at < a->probe_count;) {
+        uint32_t hit = UINT32_MAX;
+        for (uint32_t i = 0; i < n; i++)
+            if (parts[i]->first == at && parts[i]->count) hit = i;
+        if (hit == UINT32_MAX) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no part holds probe %u", at);
+        at += parts[hit]->count;
+        covered++;
+    }
+    uint32_t nonempty = 0;
+    for (uint32_t i = 0; i < n; i++) nonempty += parts[i]->count != 0;
+    if (covered != nonempty) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "parts overlap");
+    vx_probe_set ps = *a;
+    ps.alloc = alloc;
+    ps.first = ps.count = 0;
+    ps.radiance = NULL, ps.normal = NULL, ps.distance = NULL, ps.low = NULL, ps.irradiance = NULL, ps.moments = NULL;
+    ps.probes = vx_calloc(alloc, a->probe_count, sizeof *ps.probes);
+    if (!ps.probes || !grow_data(&ps, a->probe_count)) {
+        vx_probe_set_free(&ps);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    memcpy(ps.probes, a->probes, sizeof *ps.probes * a->probe_count);
+    sizes z = sizes_of(&ps);
+    for (uint32_t i = 0; i < n; i++) {
+        const vx_probe_set* p = parts[i];
+        size_t f = p->first, c = p->count;
+        memcpy(ps.radiance + z.rad * f, p->radiance, z.rad * c * 2);
+        memcpy(ps.normal + z.nrm * f, p->normal, z.nrm * c * 4);
+        memcpy(ps.distance + z.dist * f, p->distance, z.dist * c * 2);
+        memcpy(ps.low + z.low * f, p->low, z.low * c * 2);
+        memcpy(ps.irradiance + z.irr * f, p->irradiance, z.irr * c * 2);
+        memcpy(ps.moments + z.mom * f, p->moments, z.mom * c * 4);
+    }
+    ps.count = a->probe_count;
+    *out = ps;
+    return VX_OK;
+}

@@ -1,0 +1,245 @@
+/* probes/probes.h - light field probes: a grid of octahedral maps of what
+ * each probe sees (radiance, surface normal, radial distance, after McGuire
+ * et al. 2017) plus the filtered irradiance and distance moments diffuse GI
+ * needs (DDGI, Majercik et al. 2019); baking, the .probes file, and a CPU
+ * renderer that uses them.
+ *
+ * Usage:
+ *   vx_probe_set ps; vx_probe_bake(&scene, &(vx_probe_bake_desc){ .res = 32 }, &ps, &err);
+ *   vx_probe_write_file(&ps, "out.probes", &err);  ...  vx_probe_set_free(&ps);
+ *   vx_probe_read_file(NULL, "out.probes", &ps, &err);
+ *   vx_probe_render(&scene, &ps, &(vx_probe_render_desc){ .mode = VX_PROBE_RENDER_GI }, &img, &err);
+ *
+ * Octahedral maps: direction d maps to p = d.xy / (|x|+|y|+|z|), folded for
+ * z < 0 to ((1-|p.y|) sign p.x, (1-|p.x|) sign p.y); p in [-1,1]^2. A map of
+ * n x n texels has texel (i, j) centred exactly at
+ * u = (2i + 1)/n - 1, v = (2j + 1)/n - 1 (i along u, row j along v). Maps are
+ * stored with a one-texel border, (n+2)^2 texels, interior texel (i, j) at
+ * (i+1, j+1); border texels repeat the texel across the fold, so the edge
+ * u = 1 at v continues at u = 1 at -v and all four corners are the texel
+ * diagonally opposite (see vx_probe_border_src). Bilinear filtering of a
+ * bordered map never needs wrap logic.
+ *
+ * Lighting model (bake and renderer): diffuse surfaces with albedo = the
+ * voxel's attribute colour / 255; one directional light (irradiance
+ * sun[] on a surface facing it, hard shadows); a uniform sky of radiance
+ * sky[] for rays that leave the scene; MagicaVoxel emissive materials
+ * ("_type" "_emit") emit albedo * _emit * 2^_flux. Radiance stored for a
+ * texel is the light leaving the first surface hit towards the probe with
+ * `bounces` further diffuse bounces (0: direct light and emission only).
+ *
+ * Distances are world units. Threads: a bake may use several threads; the
+ * result does not depend on how many (every sample has its own random
+ * stream keyed by seed, probe, texel and sample).
+ */
+#ifndef VX_PROBES_H
+#define VX_PROBES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "render/render.h"
+#include "svo/core.h"
+#include "svo/svo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VX_PROBE_FORMAT_VERSION 1u
+#define VX_PROBE_IRR_RES 8u    /* irradiance map interior texels per side */
+#define VX_PROBE_DIST_RES 16u  /* distance moments map interior texels per side */
+#define VX_PROBE_MAX_RES 1024u
+#define VX_PROBE_MAX_PROBES (1u << 20)
+#define VX_PROBE_DIST_MISS 0xFFFFu /* radial distance code of a ray that hit nothing */
+
+/* ---- octahedral mapping ------------------------------------------------------------- */
+
+/* d need not be unit length (must be nonzero); uv in [-1,1]^2. */
+void vx_probe_oct_encode(const double d[3], double uv[2]);
+/* Unit direction of uv in [-1,1]^2. */
+void vx_probe_oct_decode(const double uv[2], double d[3]);
+/* 2 x snorm16 (u in the low half), rounded to nearest; and back to a unit vector.
+ * Worst-case angular error: VX_PROBE_OCT16_MAX_ERROR radians. */
+uint32_t vx_probe_oct_pack16(const double d[3]);
+void vx_probe_oct_unpack16(uint32_t v, double d[3]);
+/* Half a quantum (0.5/32767 per axis) moves the unnormalised octahedron
+ * point by at most sqrt(6) times that, and |p| >= 1/sqrt(3): the angle
+ * is at most sqrt(18) * 0.5/32767 (plus rounding). */
+#define VX_PROBE_OCT16_MAX_ERROR (4.2426406871192851 * 0.5 / 32767.0 * 1.000001)
+/* Centre direction of interior texel (i, j) of an n x n map. */
+void vx_probe_texel_dir(uint32_t n, uint32_t i, uint32_t j, double d[3]);
+/* Exact solid angle of interior texel (i, j) of an n x n map (n even). */
+double vx_probe_texel_solid_angle(uint32_t n, uint32_t i, uint32_t j);
+/* The interior texel (si, sj) that bordered texel (bi, bj) in [0, n+2)^2
+ * repeats (interior texels give themselves). */
+void vx_probe_border_src(uint32_t n, uint32_t bi, uint32_t bj, uint32_t* si, uint32_t* sj);
+
+/* IEEE half floats (round to nearest even). */
+uint16_t vx_probe_half(float f);
+float vx_probe_half_to_float(uint16_t h);
+
+/* ---- probe sets --------------------------------------------------------------------- */
+
+enum {
+    VX_PROBE_OK = 0,       /* at its grid point */
+    VX_PROBE_MOVED = 1,    /* grid point inside a voxel: moved to the nearest free point within half a cell */
+    VX_PROBE_DISABLED = 2  /* no free point within half a cell: no data, ignored by the renderer */
+};
+
+typedef struct vx_probe {
+    double pos[3]; /* world */
+    uint32_t state; /* VX_PROBE_* */
+} vx_probe;
+
+/* Everything a .probes file holds. Probe p (grid index x + nx*(y + ny*z))
+ * has grid point origin + (x,y,z) * spacing. The per-probe arrays hold probes
+ * first .. first+count-1 (a shard holds a part; a full set first = 0,
+ * count = probe_count), each probe's maps contiguous:
+ *   radiance:   (res+2)^2 * 3 halfs (RGB)
+ *   normal:     (res+2)^2 oct 2 x snorm16 (0 where the ray missed)
+ *   distance:   (res+2)^2 u16, world distance = code * dist_step
+ *               (VX_PROBE_DIST_MISS: nothing within dist_max)
+ *   low:        (low_res+2)^2 u16, minimum of the res/low_res square block
+ *   irradiance: (8+2)^2 * 3 halfs, E(n) = integral of L max(0, n.w) dw
+ *   moments:    (16+2)^2 * 2 floats, mean and mean square of the distance
+ *               (misses count as dist_max) with weight max(0, n.w)^50
+ * Disabled probes' maps are all zero. */
+typedef struct vx_probe_set {
+    uint32_t res, low_res;           /* low_res = max(1, res / 16) */
+    uint32_t grid[3];
+    double origin[3], spacing[3];    /* world units */
+    double dist_step;                /* world units per distance code */
+    double dist_max;                 /* largest distance stored (VX_PROBE_DIST_MISS - 1) * dist_step */
+    double dist_max_error;           /* maximum quantisation error = dist_step / 2 */
+    /* bake parameters, recorded for reproducibility and for the renderer */
+    uint32_t spp, bounces;
+    uint64_t seed;
+    double light_dir[3], sun[3], sky[3];
+    uint32_t probe_count;
+    vx_probe* probes;
+    uint32_t first, count;
+    uint16_t* radiance;
+    uint32_t* normal;
+    uint16_t* distance;
+    uint16_t* low;
+    uint16_t* irradiance;
+    float* moments;
+    const vx_allocator* alloc;
+} vx_probe_set;
+
+void vx_probe_set_free(vx_probe_set* ps);
+
+/* ---- baking ------------------------------------------------------------------------- */
+
+/* Bake options; zero-initialised means the defaults.
+ *  grid:       probes per axis; all zero == from spacing
+ *  spacing:    world distance between probes, 0 == (bounds diagonal) / 8
+ *  bounds_set: use bounds_lo/hi (world) instead of the scene bounds; probes
+ *              sit at the cell centres of the grid over the bounds
+ *  res:        0 == 128 (even, 16..1024, a multiple of 16 for the low map
+ *              to tile exactly)
+ *  spp:        paths per radiance texel, 0 == 16
+ *  bounces:    0 == 1, negative == 0 (direct light and emission only)
+ *  light_dir:  towards the light, zero == (0.35, -0.45, 0.82) (svo_render's)
+ *  sun:        zero == (3, 3, 3); no_sun: no directional light
+ *  sky:        zero == (0.62, 0.75, 0.92) * 0.5; black_sky: no sky light
+ *  first, count: bake only probes first .. first+count-1 (count 0 == all
+ *              from first); the set still describes the whole grid
+ *  threads:    0 == 1
+ *  progress:   called per finished probe */
+typedef struct vx_probe_bake_desc {
+    uint32_t grid[3];
+    double spacing;
+    bool bounds_set;
+    double bounds_lo[3], bounds_hi[3];
+    uint32_t res;
+    uint32_t spp;
+    int32_t bounces;
+    uint64_t seed;
+    double light_dir[3];
+    double sun[3];
+    bool no_sun;
+    double sky[3];
+    bool black_sky;
+    uint32_t first, count;
+    uint32_t threads;
+    const vx_allocator* alloc;
+    vx_progress progress;
+} vx_probe_bake_desc;
+
+/* Places the grid and probes (moving or disabling the ones inside voxels)
+ * without baking: *out has count = 0 and no maps. */
+vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
+/* Places and bakes; *out owns everything (free with vx_probe_set_free). */
+vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
+/* Bakes probes [ps->first + ps->count, end) into a set from vx_probe_place or
+ * an earlier partial bake with the same desc (resuming), growing the arrays;
+ * end <= first + count of the desc. */
+vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* ps,
+                             uint32_t end, vx_error* err);
+
+/* Joins parts with identical grids and parameters whose ranges tile
+ * [0, probe_count) (in any order) into one full set. */
+vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_allocator* alloc, vx_probe_set* out,
+                         vx_error* err);
+
+/* ---- files -------------------------------------------------------------------------- */
+
+typedef struct vx_probe_read_desc {
+    const vx_allocator* alloc;
+    uint32_t max_res;     /* 0 == VX_PROBE_MAX_RES */
+    uint32_t max_probes;  /* 0 == VX_PROBE_MAX_PROBES */
+} vx_probe_read_desc;
+
+/* Serialises (docs/FORMAT.md, "## .probes"); *out freed with vx_free(alloc, ...). */
+vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint8_t** out, size_t* out_size,
+                         vx_error* err);
+vx_result vx_probe_write_file(const vx_probe_set* ps, const char* path, vx_error* err);
+/* Bounded reader: every length and CRC checked; errors name the byte offset. */
+vx_result vx_probe_read(const vx_probe_read_desc* desc, const void* data, size_t size, vx_probe_set* out,
+                        vx_error* err);
+vx_result vx_probe_read_file(const vx_probe_read_desc* desc, const char* path, vx_probe_set* out, vx_error* err);
+
+/* ---- using the probes --------------------------------------------------------------- */
+
+/* Irradiance at world point p with normal n (unit) from the 8 surrounding
+ * probes: trilinear weights, Chebyshev visibility from the distance moments
+ * and the normal weight (DDGI). The set must be complete. */
+void vx_probe_irradiance(const vx_probe_set* ps, const double p[3], const double n[3], double out[3]);
+
+typedef enum vx_probe_render_mode {
+    VX_PROBE_RENDER_GI = 0,     /* direct + albedo/pi * probe irradiance */
+    VX_PROBE_RENDER_PATHTRACE,  /* path-traced reference, same lights and materials */
+    VX_PROBE_RENDER_INDIRECT,   /* albedo/pi * probe irradiance only (for error measurements) */
+    VX_PROBE_RENDER_PT_INDIRECT /* path-traced indirect diffuse only */
+} vx_probe_render_mode;
+
+/* Renderer options (CPU, double precision). The camera comes from base:
+ * width, height, camera; base.spp and base.mode are ignored.
+ *  spp:     paths per pixel for the path tracer, 0 == 16 (gi: 1)
+ *  bounces: indirect bounces of the path tracer, 0 == probes' bounces + 1
+ *           (or 2 without probes); light, sun and sky: from the probes,
+ *           or the bake defaults without probes
+ *  seed:    path tracer random seed */
+typedef struct vx_probe_render_desc {
+    const vx_render_desc* base; /* NULL: defaults */
+    vx_probe_render_mode mode;
+    uint32_t spp;
+    uint32_t bounces;
+    uint64_t seed;
+    uint32_t threads; /* 0 == 1 */
+} vx_probe_render_desc;
+
+/* Renders RGBA float radiance (alpha 1 on hits); probes may be NULL for
+ * the path tracer modes. Free out with vx_render_image_free. */
+vx_result vx_probe_render(const vx_svo_scene* scene, const vx_probe_set* probes, const vx_probe_render_desc* desc,
+                          vx_render_image* out, vx_error* err);
+const char* vx_probe_render_mode_name(vx_probe_render_mode m);
+bool vx_probe_render_mode_parse(const char* s, vx_probe_render_mode* out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_PROBES_H */

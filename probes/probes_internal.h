@@ -1,0 +1,70 @@
+/* probes/probes_internal.h - shared between the probes/ sources (not public). */
+#ifndef VX_PROBES_INTERNAL_H
+#define VX_PROBES_INTERNAL_H
+
+#include "probes/probes.h"
+
+/* ---- random numbers: one stream per (seed, a, b, c), independent of threads ---- */
+
+typedef struct vx__rng {
+    uint64_t s;
+} vx__rng;
+
+static inline uint64_t vx__mix64(uint64_t z) {
+    z += 0x9E3779B97F4A7C15ULL;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+static inline vx__rng vx__rng_make(uint64_t seed, uint64_t a, uint64_t b, uint64_t c) {
+    vx__rng r = {vx__mix64(vx__mix64(vx__mix64(vx__mix64(seed) ^ a) ^ b) ^ c)};
+    return r;
+}
+/* uniform in [0, 1) with 53 bits */
+static inline double vx__rng_next(vx__rng* r) {
+    r->s += 0x9E3779B97F4A7C15ULL;
+    uint64_t z = r->s;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}
+
+/* ---- the lighting model shared by the baker and the renderer -------------------- */
+
+typedef struct vx__light {
+    const vx_render_caster* caster;
+    const vx_svo_scene* scene;
+    double light_dir[3]; /* unit */
+    double sun[3];       /* irradiance on a surface facing the light */
+    double sky[3];       /* radiance */
+    double emit[256];    /* emission scale by palette index */
+} vx__light;
+
+/* Fills emission from the scene's materials and resolves defaults. */
+void vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const double light_dir[3],
+                    const double sun[3], bool no_sun, const double sky[3], bool black_sky);
+
+typedef struct vx__surface {
+    double p[3];   /* hit point, offset off the surface along the normal */
+    double n[3];
+    double albedo[3];
+    double emit[3];
+} vx__surface;
+
+/* Resolves a hit into a surface; o, d the ray. */
+void vx__surface_of(const vx__light* L, const double o[3], const double d[3], const vx_render_ray_hit* h,
+                    vx__surface* s);
+/* Directional light reflected by a surface (albedo/pi * sun * n.l * visibility). */
+void vx__direct(const vx__light* L, const vx__surface* s, double out[3]);
+/* Radiance arriving at o from direction d: the first surface's emission and
+ * direct light plus `bounces` further diffuse bounces (sky on a miss). */
+void vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, vx__rng* rng,
+              double out[3]);
+/* Cosine-weighted direction around unit n. */
+void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
+
+/* Probe map sizes in texels (with borders) and the per-probe block size. */
+static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
+
+#endif

@@ -1,0 +1,263 @@
+/* probes/render_gi.c - the CPU renderer that uses the probes (diffuse GI
+ * from the irradiance probes, DDGI style) and the path-traced reference
+ * with the same lighting model. */
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+#include "probes/probes_internal.h"
+#include "render/render_internal.h"
+
+static const double pi = 3.14159265358979323846;
+
+/* Bilinear sample of a bordered n x n map (ch channels) at direction d. */
+static void sample_half(const uint16_t* map, uint32_t n, uint32_t ch, const double d[3], double* out) {
+    double uv[2];
+    vx_probe_oct_encode(d, uv);
+    /* interior texel i is centred at (uv+1)/2*n = i + 0.5, stored at i + 1 */
+    double x = (uv[0] + 1) * 0.5 * n + 0.5, y = (uv[1] + 1) * 0.5 * n + 0.5;
+    double fx = floor(x), fy = floor(y);
+    uint32_t x0 = (uint32_t)fx, y0 = (uint32_t)fy;
+    if (x0 > n) x0 = n;
+    if (y0 > n) y0 = n;
+    double ax = x - x0, ay = y - y0;
+    for (uint32_t c = 0; c < ch; c++) {
+        double v00 = vx_probe_half_to_float(map[(y0 * (n + 2) + x0) * ch + c]);
+        double v10 = vx_probe_half_to_float(map[(y0 * (n + 2) + x0 + 1) * ch + c]);
+        double v01 = vx_probe_half_to_float(map[((y0 + 1) * (n + 2) + x0) * ch + c]);
+        double v11 = vx_probe_half_to_float(map[((y0 + 1) * (n + 2) + x0 + 1) * ch + c]);
+        out[c] = (v00 * (1 - ax) + v10 * ax) * (1 - ay) + (v01 * (1 - ax) + v11 * ax) * ay;
+    }
+}
+
+static void sample_f32(const float* map, uint32_t n, uint32_t ch, const double d[3], double* out) {
+    double uv[2];
+    vx_probe_oct_encode(d, uv);
+    double x = (uv[0] + 1) * 0.5 * n + 0.5, y = (uv[1] + 1) * 0.5 * n + 0.5;
+    uint32_t x0 = (uint32_t)floor(x), y0 = (uint32_t)floor(y);
+    if (x0 > n) x0 = n;
+    if (y0 > n) y0 = n;
+    double ax = x - x0, ay = y - y0;
+    for (uint32_t c = 0; c < ch; c++) {
+        double v00 = map[(y0 * (n + 2) + x0) * ch + c], v10 = map[(y0 * (n + 2) + x0 + 1) * ch + c];
+        double v01 = map[((y0 + 1) * (n + 2) + x0) * ch + c], v11 = map[((y0 + 1) * (n + 2) + x0 + 1) * ch + c];
+        out[c] = (v00 * (1 - ax) + v10 * ax) * (1 - ay) + (v01 * (1 - ax) + v11 * ax) * ay;
+    }
+}
+
+/* DDGI irradiance with an explicit view direction for the surface bias
+ * (vd: unit direction from the eye to p, may be NULL). */
+static void irradiance_at(const vx_probe_set* ps, const double p_in[3], const double n[3], const double* vd,
+                          double out[3]) {
+    double smin = fmin(ps->spacing[0], fmin(ps->spacing[1], ps->spacing[2]));
+    /* move the lookup off the surface so the probes' distance moments see it
+     * in front of the nearest wall (DDGI's normal and view bias) */
+    double p[3];
+    for (int k = 0; k < 3; k++) p[k] = p_in[k] + (n[k] * 0.2 - (vd ? vd[k] : 0) * 0.1) * smin;
+    int64_t base[3];
+    double alpha[3];
+    for (int k = 0; k < 3; k++) {
+        double g = (p[k] - ps->origin[k]) / ps->spacing[k];
+        double top = (double)ps->grid[k] - 1;
+        g = g < 0 ? 0 : (g > top ? top : g);
+        double f = fmin(floor(g), fmax(top - 1, 0));
+        base[k] = (int64_t)f;
+        alpha[k] = top > 0 ? g - f : 0;
+    }
+    double sum[3] = {0, 0, 0}, wsum = 0;
+    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2;
+    for (int c = 0; c < 8; c++) {
+        int64_t idx[3];
+        double tri = 1;
+        bool skip = false;
+        for (int k = 0; k < 3; k++) {
+            int o = (c >> k) & 1;
+            idx[k] = base[k] + o;
+            if (idx[k] >= (int64_t)ps->grid[k]) skip = true;
+            tri *= o ? alpha[k] : 1 - alpha[k];
+        }
+        if (skip) continue;
+        size_t pi = (size_t)idx[0] + ps->grid[0] * ((size_t)idx[1] + ps->grid[1] * (size_t)idx[2]);
+        const vx_probe* pr = &ps->probes[pi];
+        if (pr->state == VX_PROBE_DISABLED || pi < ps->first || pi >= (size_t)ps->first + ps->count) continue;
+        size_t k = pi - ps->first;
+        double to[3], r = 0;
+        for (int q = 0; q < 3; q++) to[q] = pr->pos[q] - p[q], r += to[q] * to[q];
+        r = sqrt(r);
+        double dir[3] = {0, 0, 1};
+        if (r > 0)
+            for (int q = 0; q < 3; q++) dir[q] = to[q] / r;
+        /* smooth backface weight */
+        double wn = 0.5 * (dir[0] * n[0] + dir[1] * n[1] + dir[2] * n[2] + 1);
+        double w = wn * wn + 0.2;
+        /* Chebyshev visibility: is p farther from the probe than what it sees there? */
+        double back[3] = {-dir[0], -dir[1], -dir[2]}, mom[2];
+        sample_f32(ps->moments + nm * k, VX_PROBE_DIST_RES, 2, back, mom);
+        if (r > mom[0]) {
+            double var = fabs(mom[1] - mom[0] * mom[0]);
+            double dd = r - mom[0];
+            double cheb = var / (var + dd * dd);
+            w *= fmax(cheb * cheb * cheb, 0.0);
+        }
+        w = fmax(w, 1e-6);
+        /* crush tiny weights (DDGI): keeps light from leaking at low weights */
+        if (w < 0.2) w = w * w * w / (0.2 * 0.2);
+        w *= tri;
+        double e[3];
+        sample_half(ps->irradiance + ni * k, VX_PROBE_IRR_RES, 3, n, e);
+        for (int q = 0; q < 3; q++) sum[q] += w * e[q];
+        wsum += w;
+    }
+    for (int q = 0; q < 3; q++) out[q] = wsum > 0 ? sum[q] / wsum : 0;
+}
+
+void vx_probe_irradiance(const vx_probe_set* ps, const double p[3], const double n[3], double out[3]) {
+    irradiance_at(ps, p, n, NULL, out);
+}
+
+const char* vx_probe_render_mode_name(vx_probe_render_mode m) {
+    switch (m) {
+    case VX_PROBE_RENDER_GI: return "gi";
+    case VX_PROBE_RENDER_PATHTRACE: return "pathtrace";
+    case VX_PROBE_RENDER_INDIRECT: return "gi-indirect";
+    case VX_PROBE_RENDER_PT_INDIRECT: return "pathtrace-indirect";
+    }
+    return "?";
+}
+
+bool vx_probe_render_mode_parse(const char* s, vx_probe_render_mode* out) {
+    for (int m = 0; m <= VX_PROBE_RENDER_PT_INDIRECT; m++)
+        if (!strcmp(s, vx_probe_render_mode_name((vx_probe_render_mode)m))) {
+            *out = (vx_probe_render_mode)m;
+            return true;
+        }
+    return false;
+}
+
+typedef struct rjob {
+    const vx__frame* f;
+    const vx__light* L;
+    const vx_probe_set* ps;
+    vx_probe_render_mode mode;
+    uint32_t spp, bounces;
+    uint64_t seed;
+    float* pixels;
+    uint32_t next_row;
+    pthread_mutex_t mu;
+} rjob;
+
+static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px) {
+    const vx__frame* f = J->f;
+    double acc[4] = {0};
+    for (uint32_t s = 0; s < J->spp; s++) {
+        vx__rng rng = vx__rng_make(J->seed, 0x9000000000ull + y, x, s);
+        double ox = 0, oy = 0;
+        if (J->spp > 1) ox = vx__rng_next(&rng) - 0.5, oy = vx__rng_next(&rng) - 0.5;
+        double u = ((x + 0.5 + ox) / f->width) * 2 - 1, v = 1 - ((y + 0.5 + oy) / f->height) * 2;
+        double P[3], d[3];
+        if (f->ortho) {
+            for (int k = 0; k < 3; k++) P[k] = u * f->rx[k] + v * f->uy[k], d[k] = f->fwd[k];
+        } else {
+            double du[3], len = 0;
+            for (int k = 0; k < 3; k++) du[k] = f->fwd[k] + u * f->rx[k] + v * f->uy[k], len += du[k] * du[k];
+            len = sqrt(len);
+            for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f->t_start * (u * f->rx[k] + v * f->uy[k]);
+        }
+        double o[3] = {f->ref[0] + P[0], f->ref[1] + P[1], f->ref[2] + P[2]};
+        double c[3] = {0, 0, 0};
+        vx_render_ray_hit h;
+        bool hit = vx_render_cast(J->L->caster, o, d, INFINITY, false, &h);
+        if (!hit) {
+            if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_PATHTRACE) memcpy(c, J->L->sky, sizeof c);
+        } else {
+            vx__surface sf;
+            vx__surface_of(J->L, o, d, &h, &sf);
+            bool direct = J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_PATHTRACE;
+            if (direct) {
+                double dl[3];
+                vx__direct(J->L, &sf, dl);
+                for (int k = 0; k < 3; k++) c[k] += sf.emit[k] + dl[k];
+            }
+            if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_INDIRECT) {
+                double e[3];
+                irradiance_at(J->ps, sf.p, sf.n, d, e);
+                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] / pi * e[k];
+            } else if (J->bounces > 0) {
+                double nd[3], li[3];
+                vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
+                vx__path(J->L, sf.p, nd, J->bounces - 1, &rng, li);
+                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] * li[k];
+            }
+            acc[3] += 1;
+        }
+        for (int k = 0; k < 3; k++) acc[k] += c[k];
+    }
+    for (int k = 0; k < 4; k++) px[k] = (float)(acc[k] / J->spp);
+}
+
+static void* rworker(void* arg) {
+    rjob* J = arg;
+    for (;;) {
+        pthread_mutex_lock(&J->mu);
+        uint32_t y = J->next_row++;
+        pthread_mutex_unlock(&J->mu);
+        if (y >= J->f->height) break;
+        for (uint32_t x = 0; x < J->f->width; x++)
+            render_pixel(J, x, y, &J->pixels[4 * ((size_t)y * J->f->width + x)]);
+    }
+    return NULL;
+}
+
+vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const vx_probe_render_desc* desc,
+                          vx_render_image* out, vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
+    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT;
+    if (d.mode > VX_PROBE_RENDER_PT_INDIRECT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
+                       vx_probe_render_mode_name(d.mode));
+    vx_render_desc base = d.base ? *d.base : (vx_render_desc){0};
+    base.mode = VX_RENDER_COLOR;
+    base.spp = 1;
+    double lo[3], hi[3];
+    vx__scene_world_bounds(s, lo, hi);
+    vx__frame f;
+    vx_result r = vx__frame_setup(lo, hi, &base, &f, err);
+    if (r) return r;
+    vx_render_caster* c = NULL;
+    if ((r = vx_render_caster_create(s, NULL, &c, err))) return r;
+    vx__light L;
+    if (ps) {
+        vx__light_init(&L, c, s, ps->light_dir, NULL, false, NULL, false);
+        for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
+    } else {
+        vx__light_init(&L, c, s, base.light_dir, NULL, false, NULL, false);
+    }
+    rjob J = {.f = &f, .L = &L, .ps = ps, .mode = d.mode, .seed = d.seed};
+    J.spp = d.spp ? d.spp : (need_probes ? 1 : 16);
+    J.bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
+    img.pixels = vx_calloc(NULL, (size_t)f.width * f.height, 16);
+    if (!img.pixels) {
+        vx_render_caster_destroy(c);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+    }
+    J.pixels = img.pixels;
+    double t0 = vx_time_now();
+    pthread_mutex_init(&J.mu, NULL);
+    uint32_t nth = d.threads ? d.threads : 1;
+    if (nth > 64) nth = 64;
+    pthread_t th[64];
+    uint32_t started = 0;
+    for (uint32_t i = 1; i < nth; i++)
+        if (!pthread_create(&th[started], NULL, rworker, &J)) started++;
+    rworker(&J);
+    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    pthread_mutex_destroy(&J.mu);
+    img.gpu_seconds = vx_time_now() - t0;
+    img.rays = (uint64_t)f.width * f.height * J.spp;
+    vx_render_caster_destroy(c);
+    *out = img;
+    return VX_OK;
+}

@@ -1,0 +1,418 @@
+/* tests/probes/test_probes.c - octahedral mapping, baking, the .probes file
+ * and probe GI, each against an independent path (analytic values, a
+ * brute-force reference, or a second bake). */
+#include <math.h>
+#include <stdio.h>
+
+#include "probes/probes.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static const double PI = 3.14159265358979323846;
+
+static size_t vx__bsq_test(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
+
+static double angle(const double a[3], const double b[3]) {
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
+static void unit(double d[3]) {
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++) d[k] /= l;
+}
+
+static double rnd(uint32_t* s) { return (ts_rng(s) >> 8) * (1.0 / 16777216.0); }
+
+static void test_oct_roundtrip(void) {
+    /* bound recorded in probes.h: sqrt(18) * 0.5 / 32767 rad = 6.47e-5 */
+    double bound = VX_PROBE_OCT16_MAX_ERROR, worst16 = 0, worstf = 0;
+    uint32_t s = 12345;
+    for (int i = 0; i < 1000000; i++) {
+        /* uniform on the sphere */
+        double z = 2 * rnd(&s) - 1, ph = 2 * PI * rnd(&s), r = sqrt(fmax(0, 1 - z * z));
+        double d[3] = {r * cos(ph), r * sin(ph), z}, e[3], uv[2];
+        vx_probe_oct_unpack16(vx_probe_oct_pack16(d), e);
+        worst16 = fmax(worst16, angle(d, e));
+        vx_probe_oct_encode(d, uv);
+        vx_probe_oct_decode(uv, e);
+        worstf = fmax(worstf, angle(d, e));
+    }
+    /* poles, seams (axes and the z = 0 equator, the fold), diamond and corners */
+    double special[][3] = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0},   {-1, 0, 0},   {0, 1, 0},     {0, -1, 0},
+                           {1, 1, 0},  {-1, 1, 0}, {1, -1, 0},  {-1, -1, 0},  {1, 0, -1e-9}, {0, 1, -1e-12},
+                           {1, 1, -1}, {-1, -1, -1}, {1e-9, 1e-9, -1}, {-1e-9, 1e-9, -1}, {1, 2, 1e-15}, {3, -1, -1e-7}};
+    for (size_t i = 0; i < sizeof special / sizeof special[0]; i++) {
+        double d[3] = {special[i][0], special[i][1], special[i][2]}, e[3];
+        unit(d);
+        vx_probe_oct_unpack16(vx_probe_oct_pack16(d), e);
+        CHECKF(angle(d, e) <= bound, "special %zu: %g rad", i, angle(d, e));
+        worst16 = fmax(worst16, angle(d, e));
+    }
+    fprintf(stderr, "  oct16 max error %.3g rad (bound %.3g), float64 %.3g\n", worst16, bound, worstf);
+    CHECK(worst16 <= bound);
+    CHECK(worst16 > bound * 0.2); /* the bound is not vacuous */
+    CHECK(worstf < 1e-12);
+}
+
+static void test_texels(void) {
+    uint32_t sizes[] = {2, 8, 16, 128};
+    for (size_t q = 0; q < 4; q++) {
+        uint32_t n = sizes[q];
+        double sum = 0, lo = 1e9, hi = 0;
+        for (uint32_t j = 0; j < n; j++)
+            for (uint32_t i = 0; i < n; i++) {
+                double w = vx_probe_texel_solid_angle(n, i, j);
+                sum += w, lo = fmin(lo, w), hi = fmax(hi, w);
+                /* texel centres are exact */
+                double d[3], uv[2];
+                vx_probe_texel_dir(n, i, j, d);
+                vx_probe_oct_encode(d, uv);
+                CHECK(fabs(uv[0] - ((2.0 * i + 1) / n - 1)) < 1e-12 && fabs(uv[1] - ((2.0 * j + 1) / n - 1)) < 1e-12);
+            }
+        fprintf(stderr, "  n=%u: sum of texel solid angles - 4 pi = %.3g (min %.3g max %.3g)\n", n, sum - 4 * PI, lo, hi);
+        CHECK(fabs(sum - 4 * PI) < 1e-10);
+        /* Monte Carlo cross-check of one texel's solid angle */
+        if (n == 8) {
+            uint32_t s = 7, in = 0, N = 400000;
+            for (uint32_t k = 0; k < N; k++) {
+                double z = 2 * rnd(&s) - 1, ph = 2 * PI * rnd(&s), r = sqrt(fmax(0, 1 - z * z));
+                double d[3] = {r * cos(ph), r * sin(ph), z}, uv[2];
+                vx_probe_oct_encode(d, uv);
+                int i = (int)floor((uv[0] + 1) / 2 * n), j = (int)floor((uv[1] + 1) / 2 * n);
+                in += i == 6 && j == 1; /* a texel cut by the diamond */
+            }
+            double mc = 4 * PI * in / N, ex = vx_probe_texel_solid_angle(n, 6, 1);
+            CHECKF(fabs(mc - ex) < 0.05 * ex, "MC %g exact %g", mc, ex);
+        }
+        /* border texels repeat a texel adjacent on the sphere to their interior neighbour */
+        double tex = 2 * PI / n * 2; /* a generous two texels' angle */
+        for (uint32_t bj = 0; bj < n + 2; bj++)
+            for (uint32_t bi = 0; bi < n + 2; bi++) {
+                if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
+                uint32_t si, sj, ni = bi < 1 ? 0 : (bi > n ? n - 1 : bi - 1), nj = bj < 1 ? 0 : (bj > n ? n - 1 : bj - 1);
+                vx_probe_border_src(n, bi, bj, &si, &sj);
+                CHECK(si < n && sj < n);
+                double a[3], b[3];
+                vx_probe_texel_dir(n, si, sj, a);
+                vx_probe_texel_dir(n, ni, nj, b);
+                CHECKF(angle(a, b) <= tex, "n=%u border (%u,%u) -> (%u,%u): %g rad from (%u,%u)", n, bi, bj, si, sj,
+                       angle(a, b), ni, nj);
+            }
+    }
+}
+
+static void test_half(void) {
+    int bad = 0;
+    for (uint32_t h = 0; h < 65536; h++) {
+        if ((h & 0x7C00u) == 0x7C00u && (h & 0x3FFu)) continue; /* NaN */
+        if (vx_probe_half(vx_probe_half_to_float((uint16_t)h)) != h) bad++;
+    }
+    CHECK(bad == 0);
+    CHECK(vx_probe_half(1.0f) == 0x3C00);
+    CHECK(vx_probe_half(65504.0f) == 0x7BFF);
+    CHECK(vx_probe_half(1e6f) == 0x7C00);
+    CHECK(vx_probe_half(1.0f + 1.0f / 4096) == 0x3C00); /* tie to even */
+    CHECK(fabsf(vx_probe_half_to_float(vx_probe_half(3.14159f)) - 3.14159f) < 2e-3f);
+}
+
+/* A closed hollow box of side n (walls one voxel thick), palette colour c. */
+static void box_scene(vx_svo_scene* s, uint32_t n, uint8_t c) {
+    size_t cap = (size_t)n * n * n, k = 0;
+    uint32_t* xyz = malloc(cap * 12);
+    uint8_t* pal = malloc(cap);
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++)
+                if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1) {
+                    xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z;
+                    pal[k++] = c;
+                }
+    vx_svo_model m;
+    uint32_t size[3] = {n, n, n};
+    ts_model(&m, size, xyz, pal, k);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+    free(xyz);
+    free(pal);
+}
+
+static void test_box_distances(void) {
+    vx_svo_scene s;
+    box_scene(&s, 16, 5);
+    vx_probe_set ps;
+    vx_error err = {0};
+    vx_probe_bake_desc d = {.grid = {1, 1, 1}, .res = 32, .spp = 1, .bounces = -1};
+    vx_result r = vx_probe_bake(&s, &d, &ps, &err);
+    if (r) fprintf(stderr, "%s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    REQUIRE(ps.probe_count == 1 && ps.count == 1 && ps.probes[0].state == VX_PROBE_OK);
+    CHECK(fabs(ps.probes[0].pos[0] - 8) < 1e-12 && fabs(ps.probes[0].pos[2] - 8) < 1e-12);
+    double worst = 0;
+    int inward = 0, axis_ok = 0;
+    uint32_t n = ps.res;
+    for (uint32_t j = 0; j < n; j++)
+        for (uint32_t i = 0; i < n; i++) {
+            double dir[3], nr[3];
+            vx_probe_texel_dir(n, i, j, dir);
+            double m = fmax(fabs(dir[0]), fmax(fabs(dir[1]), fabs(dir[2])));
+            double analytic = 7.0 / m; /* interior is [1,15]^3, probe at 8 */
+            size_t b = (size_t)(j + 1) * (n + 2) + i + 1;
+            double got = ps.distance[b] * ps.dist_step;
+            worst = fmax(worst, fabs(got - analytic));
+            vx_probe_oct_unpack16(ps.normal[b], nr);
+            inward += nr[0] * dir[0] + nr[1] * dir[1] + nr[2] * dir[2] < 0;
+            /* the normal is the axis of the wall hit (away from it) */
+            bool ok = false;
+            for (int k = 0; k < 3; k++)
+                if (fabs(dir[k]) == m && fabs(nr[k] + (dir[k] > 0 ? 1 : -1)) < 1e-4) ok = true;
+            axis_ok += ok;
+        }
+    fprintf(stderr, "  max |distance - analytic| = %.3g (recorded max quantisation error %.3g)\n", worst,
+            ps.dist_max_error);
+    CHECK(worst <= ps.dist_max_error * (1 + 1e-9));
+    CHECK(inward == (int)(n * n));
+    CHECK(axis_ok == (int)(n * n));
+    /* the min-distance map is a lower bound of every texel in its block */
+    uint32_t lr = ps.low_res;
+    CHECK(lr == 2);
+    for (uint32_t j = 0; j < n; j++)
+        for (uint32_t i = 0; i < n; i++)
+            CHECK(ps.low[(j / 16 + 1) * (lr + 2) + i / 16 + 1] <= ps.distance[(size_t)(j + 1) * (n + 2) + i + 1]);
+    vx_probe_set_free(&ps);
+
+    /* a grid point inside a wall is moved (within half a cell) or disabled */
+    d = (vx_probe_bake_desc){.grid = {2, 1, 1}, .bounds_set = true, .bounds_lo = {-0.5, 7, 7}, .bounds_hi = {3.5, 9, 9},
+                             .res = 16, .spp = 1};
+    /* grid points at x = 0.5 (in the wall, free space within 1 cell at x >= 1) and 2.5 (free) */
+    r = vx_probe_place(&s, &d, &ps, &err);
+    REQUIRE(r == VX_OK);
+    CHECK(ps.probes[0].state == VX_PROBE_MOVED);
+    CHECK(fabs(ps.probes[0].pos[0] - 0.5) <= 1.0 && fabs(ps.probes[0].pos[0] - 0.5) >= 0.5); /* out of the wall [0,1] */
+    CHECK(ps.probes[1].state == VX_PROBE_OK);
+    vx_probe_set_free(&ps);
+    /* a cell of 0.2 around (0.5, 0.5, 0.5): every point within half a cell is in the corner voxel */
+    d.grid[0] = 1;
+    for (int k = 0; k < 3; k++) d.bounds_lo[k] = 0.4, d.bounds_hi[k] = 0.6;
+    r = vx_probe_place(&s, &d, &ps, &err);
+    REQUIRE(r == VX_OK);
+    CHECK(ps.probes[0].state == VX_PROBE_DISABLED);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
+static void test_furnace(void) {
+    vx_svo_scene s;
+    ts_scene(&s, NULL, 0, NULL, 0);
+    vx_probe_bake_desc d = {.grid = {2, 1, 1}, .bounds_set = true, .bounds_hi = {2, 1, 1}, .res = 32, .spp = 2,
+                            .sky = {0.8, 0.5, 0.25}};
+    vx_probe_set ps;
+    vx_error err = {0};
+    vx_result r = vx_probe_bake(&s, &d, &ps, &err);
+    if (r) fprintf(stderr, "%s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    double worst = 0;
+    size_t ni = vx__bsq_test(VX_PROBE_IRR_RES);
+    for (size_t p = 0; p < 2; p++)
+        for (size_t t = 0; t < ni; t++)
+            for (int c = 0; c < 3; c++) {
+                double e = vx_probe_half_to_float(ps.irradiance[(p * ni + t) * 3 + c]);
+                worst = fmax(worst, fabs(e / (PI * d.sky[c]) - 1));
+            }
+    fprintf(stderr, "  furnace: max relative irradiance error %.3g\n", worst);
+    CHECK(worst < 0.01);
+    double e[3], pt[3] = {1, 0.5, 0.5}, nn[3] = {0.6, 0, 0.8};
+    vx_probe_irradiance(&ps, pt, nn, e);
+    for (int c = 0; c < 3; c++) CHECK(fabs(e[c] / (PI * d.sky[c]) - 1) < 0.01);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
+/* A small lit room: floor, two walls, an emissive block (palette 9). */
+static void room_scene(vx_svo_scene* s) {
+    uint32_t n = 12, cap = n * n * n, k = 0;
+    uint32_t* xyz = malloc((size_t)cap * 12);
+    uint8_t* pal = malloc(cap);
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++) {
+                uint8_t c = 0;
+                if (z == 0) c = 3;
+                else if (x == 0 || y == n - 1) c = 4;
+                else if (x >= 5 && x <= 6 && y >= 5 && y <= 6 && z <= 2) c = 9;
+                if (!c) continue;
+                xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z;
+                pal[k++] = c;
+            }
+    vx_svo_model m;
+    uint32_t size[3] = {n, n, n};
+    ts_model(&m, size, xyz, pal, k);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+    s->palette[3] = 0xFF80A0C0u, s->palette[4] = 0xFF4080E0u, s->palette[9] = 0xFFFFFFFFu;
+    static char dict[] = "_type\0_emit\0_emit\0" "0.5\0_flux\0" "1";
+    s->materials = calloc(1, sizeof *s->materials);
+    s->materials[0].id = 9;
+    s->materials[0].dict_size = sizeof dict;
+    s->materials[0].dict = malloc(sizeof dict);
+    memcpy(s->materials[0].dict, dict, sizeof dict);
+    s->material_count = 1;
+    free(xyz);
+    free(pal);
+}
+
+static bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
+    vx_error err = {0};
+    if (vx_probe_write(ps, NULL, data, size, &err)) {
+        fprintf(stderr, "write: %s\n", err.msg);
+        return false;
+    }
+    return true;
+}
+
+static void test_determinism_shards(void) {
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .seed = 42};
+    vx_probe_set a, b, c;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &d, &a, &err) == VX_OK);
+    d.threads = 2;
+    REQUIRE(vx_probe_bake(&s, &d, &b, &err) == VX_OK);
+    d.seed = 43;
+    REQUIRE(vx_probe_bake(&s, &d, &c, &err) == VX_OK);
+    uint8_t *da, *db, *dc;
+    size_t na, nb, nc;
+    REQUIRE(bytes_of(&a, &da, &na) && bytes_of(&b, &db, &nb) && bytes_of(&c, &dc, &nc));
+    CHECK(na == nb && !memcmp(da, db, na)); /* same seed, other thread count: same bytes */
+    CHECK(na == nc && memcmp(da, dc, na));  /* another seed: other noise */
+    /* emission reaches the probes: some radiance above the sky's */
+    float mx = 0;
+    for (size_t i = 0; i < a.count * vx__bsq_test(a.res) * 3; i++) mx = fmaxf(mx, vx_probe_half_to_float(a.radiance[i]));
+    CHECK(mx > 0.9f);
+    /* three shards (one empty-range free) merged in shuffled order == one bake */
+    d.seed = 42;
+    d.threads = 1;
+    vx_probe_set sh[3];
+    uint32_t cuts[4] = {0, 3, 5, 8};
+    for (int i = 0; i < 3; i++) {
+        d.first = cuts[i], d.count = cuts[i + 1] - cuts[i];
+        REQUIRE(vx_probe_bake(&s, &d, &sh[i], &err) == VX_OK);
+    }
+    /* resume: shard 0 baked in two steps (through a file, as svo_bake does) */
+    vx_probe_set part, resumed;
+    d.first = 0, d.count = 3;
+    REQUIRE(vx_probe_place(&s, &d, &part, &err) == VX_OK);
+    REQUIRE(vx_probe_bake_more(&s, &d, &part, 1, &err) == VX_OK);
+    uint8_t* pd;
+    size_t pn;
+    REQUIRE(bytes_of(&part, &pd, &pn));
+    REQUIRE(vx_probe_read(NULL, pd, pn, &resumed, &err) == VX_OK);
+    REQUIRE(vx_probe_bake_more(&s, &d, &resumed, 3, &err) == VX_OK);
+    uint8_t *d0, *dr;
+    size_t n0, nr;
+    REQUIRE(bytes_of(&sh[0], &d0, &n0) && bytes_of(&resumed, &dr, &nr));
+    CHECK(n0 == nr && !memcmp(d0, dr, n0));
+    const vx_probe_set* parts[3] = {&sh[2], &sh[0], &sh[1]};
+    vx_probe_set m;
+    REQUIRE(vx_probe_merge(parts, 3, NULL, &m, &err) == VX_OK);
+    uint8_t* dm;
+    size_t nm;
+    REQUIRE(bytes_of(&m, &dm, &nm));
+    CHECK(nm == na && !memcmp(dm, da, na));
+    /* gaps and overlaps are refused */
+    const vx_probe_set* gap[2] = {&sh[0], &sh[2]};
+    vx_probe_set bad;
+    CHECK(vx_probe_merge(gap, 2, NULL, &bad, &err) == VX_ERR_INVALID_ARG);
+    const vx_probe_set* dup[4] = {&sh[0], &sh[1], &sh[2], &sh[1]};
+    CHECK(vx_probe_merge(dup, 4, NULL, &bad, &err) == VX_ERR_INVALID_ARG);
+    free(da), free(db), free(dc), free(pd), free(d0), free(dr), free(dm);
+    vx_probe_set_free(&a), vx_probe_set_free(&b), vx_probe_set_free(&c), vx_probe_set_free(&m);
+    vx_probe_set_free(&part), vx_probe_set_free(&resumed);
+    for (int i = 0; i < 3; i++) vx_probe_set_free(&sh[i]);
+    vx_svo_scene_free(&s);
+}
+
+static void test_reader(void) {
+    vx_svo_scene s;
+    box_scene(&s, 8, 2);
+    vx_probe_set ps, back;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.grid = {1, 1, 2}, .res = 16, .spp = 1}, &ps, &err) == VX_OK);
+    uint8_t* data;
+    size_t n;
+    REQUIRE(bytes_of(&ps, &data, &n));
+    REQUIRE(vx_probe_read(NULL, data, n, &back, &err) == VX_OK);
+    uint8_t* again;
+    size_t n2;
+    REQUIRE(bytes_of(&back, &again, &n2));
+    CHECK(n2 == n && !memcmp(again, data, n));
+    vx_probe_set_free(&back);
+    /* every truncation fails cleanly */
+    int ok = 0;
+    for (size_t k = 0; k < n; k += (k < 300 ? 1 : 97))
+        if (vx_probe_read(NULL, data, k, &back, &err) == VX_OK) ok++, vx_probe_set_free(&back);
+    CHECK(ok == 0);
+    /* a flipped byte in a section is caught by its CRC and named */
+    data[200] ^= 0x10;
+    CHECK(vx_probe_read(NULL, data, n, &back, &err) == VX_ERR_BAD_FORMAT);
+    CHECK(strstr(err.msg, "CRC-32") != NULL);
+    data[200] ^= 0x10;
+    /* an absurd grid with a recomputed CRC is refused before any allocation */
+    uint8_t* g = data + 16 + 16; /* GRID payload */
+    vx_buf_put_u32le(g + 16, 100000), vx_buf_put_u32le(g + 20, 100000);
+    vx_buf_put_u32le(data + 16 + 4, vx_crc32(0, g, ps.probe_count * 28u + 192u));
+    CHECK(vx_probe_read(NULL, data, n, &back, &err) == VX_ERR_BAD_FORMAT);
+    fprintf(stderr, "  absurd grid: %s\n", err.msg);
+    free(data), free(again);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
+/* Indirect diffuse from the probes against the path tracer on the room. */
+static void test_gi_vs_pathtrace(void) {
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_probe_set ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.spacing = 3, .res = 16, .spp = 16, .threads = 2}, &ps, &err) ==
+            VX_OK);
+    vx_render_desc base = {.width = 32, .height = 24};
+    vx_render_image gi = {0}, pt = {0};
+    REQUIRE(vx_probe_render(&s, &ps, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_INDIRECT}, &gi,
+                            &err) == VX_OK);
+    REQUIRE(vx_probe_render(&s, &ps,
+                            &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 64,
+                                                    .threads = 2},
+                            &pt, &err) == VX_OK);
+    double se = 0, ref = 0;
+    size_t hits = 0;
+    for (size_t i = 0; i < (size_t)32 * 24; i++) {
+        if (pt.pixels[4 * i + 3] == 0) continue;
+        hits++;
+        for (int c = 0; c < 3; c++) {
+            double a = gi.pixels[4 * i + c], b = pt.pixels[4 * i + c];
+            se += (a - b) * (a - b), ref += b * b;
+        }
+    }
+    double rel = sqrt(se / ref);
+    fprintf(stderr, "  %zu hit pixels, indirect relative RMSE gi vs pathtrace(64 spp) %.3f\n", hits, rel);
+    CHECK(hits > 200);
+    CHECK(rel < 0.35); /* probe GI at 3-voxel spacing: a coarse but real bound */
+    vx_render_image_free(&gi), vx_render_image_free(&pt);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    (void)ts_random_model;
+    RUN(test_oct_roundtrip);
+    RUN(test_texels);
+    RUN(test_half);
+    RUN(test_box_distances);
+    RUN(test_furnace);
+    RUN(test_determinism_shards);
+    RUN(test_reader);
+    RUN(test_gi_vs_pathtrace);
+    return vx_test_finish();
+}

@@ -1,0 +1,408 @@
+/* tools/svo_bake/main.c - svo_bake SCENE.svo OUT.probes [options]
+ *                         svo_bake --merge OUT.probes PART.probes... */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "formats/image.h"
+#include "probes/probes.h"
+#include "tools/common/tool.h"
+
+typedef struct options {
+    vx_probe_bake_desc b;
+    uint32_t shard, shards;
+    const char* exr_dir;
+    bool merge, cpu, quiet, verbose, fresh;
+    uint32_t threads;
+} options;
+
+static options default_options(void) {
+    options o = {0};
+    o.b.res = 128;
+    o.b.spp = 16;
+    o.b.bounces = 1;
+    o.b.seed = 1;
+    o.shards = 1;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    o.threads = n > 0 && n < 64 ? (uint32_t)n : 1;
+    return o;
+}
+
+_Noreturn static void usage(int status) {
+    options d = default_options();
+    FILE* f = status == 0 ? stdout : stderr;
+    fprintf(f,
+            "Usage: %s SCENE.svo OUT.probes [options]\n"
+            "       %s --merge OUT.probes PART.probes...\n"
+            "\n"
+            "Which: bakes light field probes for a .svo scene: per probe octahedral maps of\n"
+            "       radiance, normal and radial distance, a low-resolution minimum-distance map,\n"
+            "       irradiance and distance moments (docs/FORMAT.md, .probes). Path tracing on the\n"
+            "       CPU reference tracer's rays (double precision). --shard I/N bakes a part that\n"
+            "       --merge joins; an interrupted run continues from OUT.probes.partial.\n"
+            "\n"
+            "Options:\n"
+            "  --grid X,Y,Z       probes per axis over the bounds (default: from --spacing)\n"
+            "  --spacing S        world distance between probes (default: bounds diagonal / 8)\n"
+            "  --bounds X0,Y0,Z0,X1,Y1,Z1  world box for the grid (default: scene bounds)\n"
+            "  --res R            radiance/normal/distance map side, multiple of 16 (default: %u)\n"
+            "  --spp N            paths per texel (default: %u)\n"
+            "  --bounces N        diffuse bounces after the first hit (default: %d)\n"
+            "  --seed S           random seed; same seed, same bytes (default: %llu)\n"
+            "  --light X,Y,Z      direction towards the sun (default: 0.35,-0.45,0.82)\n"
+            "  --sun R,G,B        sun irradiance (default: 3,3,3); 0,0,0 for none\n"
+            "  --sky R,G,B        sky radiance (default: 0.31,0.375,0.46); 0,0,0 for none\n"
+            "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
+            "  --threads N        worker threads (default: %u, the CPU count)\n"
+            "  --exr DIR          also write the atlases as EXR images into DIR\n"
+            "  --fresh            ignore a checkpoint from an interrupted run\n"
+            "  --cpu              bake on the CPU (the only baker so far; the default)\n"
+            "  -q                 no progress bar;  -v: timings and the effective options\n"
+            "  -h, --help         this help;  -version: versions\n"
+            "\n"
+            "Examples:\n"
+            "  %s scene.svo scene.probes --spacing 16 --res 64 --spp 32\n"
+            "  %s scene.svo part0.probes --shard 0/2 && %s scene.svo part1.probes --shard 1/2\n"
+            "  %s --merge scene.probes part0.probes part1.probes\n",
+            vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed, d.shard,
+            d.shards, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+    exit(status);
+}
+
+_Noreturn static void usage_error(const char* fmt, const char* arg) {
+    fprintf(stderr, "%s: ", vx_tool_name);
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n");
+    usage(2);
+}
+
+static bool parse_vec(const char* s, double* v, int n) {
+    for (int i = 0; i < n; i++) {
+        char* end;
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i])) return false;
+        s = end;
+        if (i < n - 1) {
+            if (*s != ',') return false;
+            s++;
+        }
+    }
+    return *s == 0;
+}
+
+/* ---- progress with ETA ---------------------------------------------------------- */
+
+typedef struct eta {
+    double t0, last;
+    uint64_t base;  /* probes done before the current bake call */
+    uint64_t start; /* probes done before this run (resumed) */
+    uint64_t total;
+} eta;
+
+static bool eta_func(void* user, const char* stage, uint64_t done, uint64_t total) {
+    (void)stage, (void)total;
+    eta* e = user;
+    double now = vx_time_now();
+    uint64_t all = e->base + done;
+    if (all < e->total && now - e->last < 0.25) return true;
+    e->last = now;
+    double rate = all > e->start ? (now - e->t0) / (double)(all - e->start) : 0;
+    double left = rate * (double)(e->total - all);
+    fprintf(stderr, "\r%s: %s/%s probes %3d%%  %.0f s elapsed, ETA %.0f s   ", vx_tool_name, vx_tool_num(all),
+            vx_tool_num(e->total), (int)(100.0 * (double)all / (double)(e->total ? e->total : 1)), now - e->t0, left);
+    fflush(stderr);
+    return true;
+}
+
+/* ---- EXR atlases --------------------------------------------------------------------- */
+
+/* Tiles every probe's bordered map (side n+2) into a square-ish atlas. */
+static int write_atlas(const char* dir, const char* name, const vx_probe_set* ps, uint32_t n, uint32_t ch,
+                       void (*texel)(const vx_probe_set*, size_t probe, size_t t, float* out)) {
+    uint32_t side = n + 2, cols = (uint32_t)ceil(sqrt((double)ps->count));
+    if (!cols) return 0;
+    uint32_t rows = (ps->count + cols - 1) / cols, w = cols * side, h = rows * side;
+    float* px = calloc((size_t)w * h * ch, sizeof(float));
+    if (!px) return vx_tool_errorf("out of memory for the %s atlas", name);
+    for (uint32_t p = 0; p < ps->count; p++)
+        for (uint32_t y = 0; y < side; y++)
+            for (uint32_t x = 0; x < side; x++) {
+                size_t at = ((size_t)(p / cols * side + y) * w + p % cols * side + x) * ch;
+                texel(ps, p, (size_t)y * side + x, px + at);
+            }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.exr", dir, name);
+    vx_error err = {0};
+    vx_result r = vx_image_write(path, &(vx_image_desc){.width = w, .height = h, .channels = ch, .type = VX_IMAGE_F32, .pixels = px}, &err);
+    free(px);
+    if (r) return vx_tool_error(path, &err);
+    return 0;
+}
+
+static void tx_radiance(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (size_t)(ps->res + 2) * (ps->res + 2);
+    for (int c = 0; c < 3; c++) o[c] = vx_probe_half_to_float(ps->radiance[(p * n + t) * 3 + c]);
+}
+static void tx_normal(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (size_t)(ps->res + 2) * (ps->res + 2);
+    uint32_t v = ps->normal[p * n + t];
+    double d[3] = {0, 0, 0};
+    if (v) vx_probe_oct_unpack16(v, d);
+    for (int c = 0; c < 3; c++) o[c] = (float)d[c];
+}
+static void tx_distance(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (size_t)(ps->res + 2) * (ps->res + 2);
+    uint16_t v = ps->distance[p * n + t];
+    o[0] = v == VX_PROBE_DIST_MISS ? INFINITY : (float)(v * ps->dist_step);
+}
+static void tx_low(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (size_t)(ps->low_res + 2) * (ps->low_res + 2);
+    uint16_t v = ps->low[p * n + t];
+    o[0] = v == VX_PROBE_DIST_MISS ? INFINITY : (float)(v * ps->dist_step);
+}
+static void tx_irradiance(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (VX_PROBE_IRR_RES + 2) * (VX_PROBE_IRR_RES + 2);
+    for (int c = 0; c < 3; c++) o[c] = vx_probe_half_to_float(ps->irradiance[(p * n + t) * 3 + c]);
+}
+static void tx_moments(const vx_probe_set* ps, size_t p, size_t t, float* o) {
+    size_t n = (VX_PROBE_DIST_RES + 2) * (VX_PROBE_DIST_RES + 2);
+    o[0] = ps->moments[(p * n + t) * 2], o[1] = ps->moments[(p * n + t) * 2 + 1], o[2] = 0;
+}
+
+static int write_exr(const char* dir, const vx_probe_set* ps) {
+    mkdir(dir, 0777);
+    int rc = 0;
+    rc |= write_atlas(dir, "radiance", ps, ps->res, 3, tx_radiance);
+    rc |= write_atlas(dir, "normal", ps, ps->res, 3, tx_normal);
+    rc |= write_atlas(dir, "distance", ps, ps->res, 1, tx_distance);
+    rc |= write_atlas(dir, "low_distance", ps, ps->low_res, 1, tx_low);
+    rc |= write_atlas(dir, "irradiance", ps, VX_PROBE_IRR_RES, 3, tx_irradiance);
+    rc |= write_atlas(dir, "moments", ps, VX_PROBE_DIST_RES, 3, tx_moments);
+    return rc;
+}
+
+/* ---- merge ------------------------------------------------------------------------------ */
+
+static int do_merge(const char* out, char** parts, int n) {
+    vx_probe_set* sets = calloc((size_t)n, sizeof *sets);
+    const vx_probe_set** ptrs = calloc((size_t)n, sizeof *ptrs);
+    int rc = 0, loaded = 0;
+    vx_error err = {0};
+    if (!sets || !ptrs) rc = vx_tool_errorf("out of memory");
+    for (int i = 0; i < n && !rc; i++, loaded++) {
+        if (vx_probe_read_file(NULL, parts[i], &sets[i], &err)) rc = vx_tool_error(NULL, &err);
+        ptrs[i] = &sets[i];
+    }
+    vx_probe_set m = {0};
+    if (!rc && vx_probe_merge(ptrs, (uint32_t)n, NULL, &m, &err)) rc = vx_tool_error(out, &err);
+    if (!rc && vx_probe_write_file(&m, out, &err)) rc = vx_tool_error(out, &err);
+    if (!rc) printf("merged %d parts: %u probes -> %s\n", n, m.probe_count, out);
+    vx_probe_set_free(&m);
+    for (int i = 0; i < loaded; i++) vx_probe_set_free(&sets[i]);
+    free(sets);
+    free(ptrs);
+    return rc;
+}
+
+/* ---- checkpoint ------------------------------------------------------------------------ */
+
+/* The checkpoint belongs to this job when its grid section (probes, grid and
+ * bake parameters) is byte-identical to a fresh placement's. */
+static bool same_job(const vx_probe_set* placed, const vx_probe_set* ck) {
+    vx_probe_set a = *placed, b = *ck;
+    a.count = b.count = 0;
+    a.first = b.first = 0;
+    uint8_t *da = NULL, *db = NULL;
+    size_t na = 0, nb = 0;
+    bool same = !vx_probe_write(&a, NULL, &da, &na, NULL) && !vx_probe_write(&b, NULL, &db, &nb, NULL) && na == nb &&
+                !memcmp(da, db, na) && placed->first == ck->first;
+    free(da);
+    free(db);
+    return same;
+}
+
+int main(int argc, char** argv) {
+    vx_tool_init(argc, argv);
+    options o = default_options();
+    const char* pos[2];
+    int npos = 0;
+    char** merge_parts = NULL;
+    int nmerge = 0;
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+#define NEED()                                                            \
+    do {                                                                  \
+        if (i + 1 >= argc) usage_error("option %s needs an argument", a); \
+    } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
+        else if (!strcmp(a, "-version") || !strcmp(a, "--version")) {
+            printf("%s %s (probes format %u, svo format %u)\n", vx_tool_name, VX_VERSION_STRING, VX_PROBE_FORMAT_VERSION,
+                   VX_SVO_FORMAT_VERSION);
+            return 0;
+        } else if (!strcmp(a, "--merge")) {
+            o.merge = true;
+            merge_parts = argv + i + 1;
+            nmerge = argc - i - 1;
+            break;
+        } else if (!strcmp(a, "--grid")) {
+            NEED();
+            double v[3];
+            if (!parse_vec(argv[++i], v, 3)) usage_error("bad grid '%s' (X,Y,Z)", argv[i]);
+            for (int k = 0; k < 3; k++) {
+                if (!(v[k] >= 1 && v[k] <= 4096 && v[k] == floor(v[k]))) usage_error("bad grid '%s' (1..4096 each)", argv[i]);
+                o.b.grid[k] = (uint32_t)v[k];
+            }
+        } else if (!strcmp(a, "--spacing")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.b.spacing, 1) || !(o.b.spacing > 0)) usage_error("bad spacing '%s'", argv[i]);
+        } else if (!strcmp(a, "--bounds")) {
+            NEED();
+            double v[6];
+            if (!parse_vec(argv[++i], v, 6)) usage_error("bad bounds '%s' (X0,Y0,Z0,X1,Y1,Z1)", argv[i]);
+            o.b.bounds_set = true;
+            memcpy(o.b.bounds_lo, v, 24);
+            memcpy(o.b.bounds_hi, v + 3, 24);
+        } else if (!strcmp(a, "--res")) {
+            NEED();
+            if (!vx_tool_parse_u32(argv[++i], &o.b.res) || o.b.res < 16 || o.b.res % 16 || o.b.res > VX_PROBE_MAX_RES)
+                usage_error("bad res '%s' (a multiple of 16, 16..1024)", argv[i]);
+        } else if (!strcmp(a, "--spp")) {
+            NEED();
+            if (!vx_tool_parse_u32(argv[++i], &o.b.spp) || !o.b.spp || o.b.spp > 65536) usage_error("bad spp '%s'", argv[i]);
+        } else if (!strcmp(a, "--bounces")) {
+            NEED();
+            uint32_t v;
+            if (!vx_tool_parse_u32(argv[++i], &v) || v > 64) usage_error("bad bounces '%s' (0..64)", argv[i]);
+            o.b.bounces = v ? (int32_t)v : -1;
+        } else if (!strcmp(a, "--seed")) {
+            NEED();
+            char* end;
+            o.b.seed = strtoull(argv[++i], &end, 10);
+            if (end == argv[i] || *end) usage_error("bad seed '%s'", argv[i]);
+        } else if (!strcmp(a, "--light")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.b.light_dir, 3)) usage_error("bad light direction '%s'", argv[i]);
+        } else if (!strcmp(a, "--sun")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.b.sun, 3)) usage_error("bad sun '%s'", argv[i]);
+            o.b.no_sun = !o.b.sun[0] && !o.b.sun[1] && !o.b.sun[2];
+        } else if (!strcmp(a, "--sky")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.b.sky, 3)) usage_error("bad sky '%s'", argv[i]);
+            o.b.black_sky = !o.b.sky[0] && !o.b.sky[1] && !o.b.sky[2];
+        } else if (!strcmp(a, "--shard")) {
+            NEED();
+            char c;
+            if (sscanf(argv[++i], "%u/%u%c", &o.shard, &o.shards, &c) != 2 || !o.shards || o.shard >= o.shards)
+                usage_error("bad shard '%s' (I/N with I < N)", argv[i]);
+        } else if (!strcmp(a, "--threads")) {
+            NEED();
+            if (!vx_tool_parse_u32(argv[++i], &o.threads) || !o.threads || o.threads > 64)
+                usage_error("bad threads '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--exr")) {
+            NEED();
+            o.exr_dir = argv[++i];
+        } else if (!strcmp(a, "--cpu")) o.cpu = true;
+        else if (!strcmp(a, "--fresh")) o.fresh = true;
+        else if (!strcmp(a, "-q")) o.quiet = true;
+        else if (!strcmp(a, "-v")) o.verbose = true;
+        else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
+        else if (npos < 2) pos[npos++] = a;
+        else usage_error("unexpected argument '%s'", a);
+#undef NEED
+    }
+    if (o.merge) {
+        if (npos != 0 || nmerge < 2) usage_error("%s", "--merge needs OUT.probes and at least one part");
+        return do_merge(merge_parts[0], merge_parts + 1, nmerge - 1);
+    }
+    if (npos != 2) usage_error("%s", npos == 0 ? "no scene and output given" : "no output file given");
+    if ((o.b.grid[0] || o.b.grid[1] || o.b.grid[2]) && o.b.spacing) usage_error("%s", "give --grid or --spacing, not both");
+    const char* in = pos[0];
+    const char* out = pos[1];
+    o.b.threads = o.threads;
+    if (o.verbose)
+        printf("%s %s %s --res %u --spp %u --bounces %d --seed %llu --shard %u/%u --threads %u\n", vx_tool_name, in, out,
+               o.b.res, o.b.spp, o.b.bounces < 0 ? 0 : o.b.bounces, (unsigned long long)o.b.seed, o.shard, o.shards,
+               o.threads);
+
+    vx_error err = {0};
+    vx_svo_scene scene;
+    if (vx_svo_read_file(NULL, in, &scene, &err)) return vx_tool_error(NULL, &err);
+    double t0 = vx_time_now();
+    vx_probe_set ps;
+    if (vx_probe_place(&scene, &o.b, &ps, &err)) {
+        vx_svo_scene_free(&scene);
+        return vx_tool_error(in, &err);
+    }
+    uint32_t total = ps.probe_count;
+    uint32_t first = (uint32_t)((uint64_t)total * o.shard / o.shards), end = (uint32_t)((uint64_t)total * (o.shard + 1) / o.shards);
+    vx_probe_set_free(&ps);
+    o.b.first = first;
+    o.b.count = end - first;
+    /* an empty shard (more shards than probes) still gets a valid file */
+    int rc = 0;
+    if (vx_probe_place(&scene, &o.b, &ps, &err)) {
+        vx_svo_scene_free(&scene);
+        return vx_tool_error(in, &err);
+    }
+    uint32_t moved = 0, disabled = 0;
+    for (uint32_t i = 0; i < ps.probe_count; i++) moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
+    printf("grid: %ux%ux%u = %s probes (%u moved out of voxels, %u disabled), spacing %g,%g,%g; baking %u..%u\n", ps.grid[0],
+           ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0], ps.spacing[1],
+           ps.spacing[2], first, end);
+    /* resume from a checkpoint of the same job */
+    char ckpath[4096];
+    snprintf(ckpath, sizeof ckpath, "%s.partial", out);
+    if (!o.fresh && access(ckpath, F_OK) == 0) {
+        vx_probe_set ck;
+        vx_error e2 = {0};
+        if (!vx_probe_read_file(NULL, ckpath, &ck, &e2) && same_job(&ps, &ck) && ck.first + ck.count <= end) {
+            printf("resuming from %s: %u of %u probes done\n", ckpath, ck.count, end - first);
+            vx_probe_set_free(&ps);
+            ps = ck;
+        } else {
+            if (!e2.code) vx_probe_set_free(&ck);
+            fprintf(stderr, "%s: %s: not a checkpoint of this job, starting over\n", vx_tool_name, ckpath);
+        }
+    }
+    eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
+    vx_probe_bake_desc bd = o.b;
+    if (!o.quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
+    /* checkpoint about every 20 s of work, at least one probe a step */
+    uint32_t step = 2 * o.threads;
+    double t_step = vx_time_now();
+    while (!rc && ps.first + ps.count < end) {
+        uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
+        e.base = ps.count;
+        if (vx_probe_bake_more(&scene, &bd, &ps, to, &err)) {
+            rc = vx_tool_error(in, &err);
+            break;
+        }
+        double now = vx_time_now(), dt = now - t_step;
+        t_step = now;
+        if (ps.first + ps.count < end) {
+            if (vx_probe_write_file(&ps, ckpath, &err)) {
+                rc = vx_tool_error(ckpath, &err);
+                break;
+            }
+            step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
+        }
+    }
+    if (!o.quiet && isatty(2)) fprintf(stderr, "\n");
+    double t_bake = vx_time_now() - t0;
+    if (!rc && vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
+    if (!rc) {
+        remove(ckpath);
+        printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",
+               ps.count, ps.res, ps.res, ps.spp, ps.bounces, t_bake, ps.count ? t_bake / ps.count : 0.0, ps.dist_step,
+               ps.dist_max_error);
+        printf("wrote %s\n", out);
+    }
+    if (!rc && o.exr_dir) rc = write_exr(o.exr_dir, &ps);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&scene);
+    return rc;
+}
