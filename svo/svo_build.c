@@ -45,6 +45,7 @@ typedef struct bld {
     const vx_allocator* a;
     uint32_t attrs;
     bool collapse, dag;
+    uint32_t limit; /* largest near pointer (vx__svo_far_limit when building) */
     /* One channel only: attribute references in nodes and runs are the
      * 32-bit values themselves, so representatives need no interning. */
     bool direct;
@@ -277,6 +278,7 @@ static bool nhash_grow(bld* b) {
     return true;
 }
 
+static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep);
 /* Adds (or with the DAG on, finds) the node; returns its id or UINT32_MAX. */
 static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep) {
     size_t j = 0;
@@ -289,6 +291,13 @@ static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
             j = (j + 1) & (b->nhcap - 1);
         }
     }
+    uint32_t id = pool_append(b, hdr, kids, nk, rep);
+    if (id != UINT32_MAX && b->dag) b->nhash[j] = id + 1;
+    return id;
+}
+
+/* Appends a node to the pool without looking for an equal one. */
+static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep) {
     size_t need = b->npool + N_KIDS + nk;
     if (need >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
@@ -306,7 +315,6 @@ static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
     memcpy(n + N_KIDS, kids, nk * sizeof *kids);
     b->npool = need;
     b->nnodes++;
-    if (b->dag) b->nhash[j] = id + 1;
     return id;
 }
 
@@ -354,7 +362,7 @@ static bool finalize(bld* b, unsigned l) {
         }
     }
     uint32_t rep = b->attrs ? representative(b, ids, n) : 0;
-    if (rep == UINT32_MAX) return false;
+    if (rep == UINT32_MAX && !b->direct) return false; /* direct values may be 0xFFFFFFFF (opaque white) */
     uint32_t id = node_intern(b, p->valid | (p->leaf << 8), kids, n, rep);
     if (id == UINT32_MAX) return false;
     b->ncollapsed++;
@@ -554,8 +562,7 @@ static inline bool node_has_block(const bld* b, const uint32_t* n) {
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
 static bool layout(bld* b, outw* o) {
-    uint32_t limit = vx__svo_far_limit;
-    if (limit < 1 || limit > VX__SVO_PTR_MAX) limit = VX__SVO_PTR_MAX;
+    uint32_t limit = b->limit;
     size_t off = 0;
     while (off < b->npool) {
         uint32_t* n = b->pool + off;
@@ -666,6 +673,60 @@ static bool layout(bld* b, outw* o) {
     return out_push(b, o, vx_svo_desc_make((uint32_t)(o->n - blk), false, hdr & 0xFFu, hdr >> 8));
 }
 
+/* The output side shared by the builder and the .svo reader (vx__svo_unpack):
+ * lays out the pool (unless the root is a leaf or the model is empty), picks
+ * root_attr and fills m's words and record arrays. On failure m owns nothing
+ * new and b->fail is set. */
+static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
+    if (!empty) {
+        uint32_t root_rec;
+        if (b->root_is_leaf) {
+            m->root = VX_SVO_ROOT_LEAF;
+            root_rec = b->root;
+        } else {
+            if (!layout(b, o)) return false;
+            m->root = (uint32_t)(o->n - 1);
+            root_rec = b->pool[b->root + N_REP];
+        }
+        if (b->attrs) {
+            size_t at = o->nid;
+            for (size_t i = 0; i < o->nid; i++)
+                if (o->ids[i] == root_rec) { at = i; break; }
+            if (at == o->nid && run_intern(b, o, &root_rec, 1) == UINT32_MAX) return false;
+            m->root_attr = (uint32_t)at;
+        }
+    }
+    m->node_count = (uint32_t)o->n;
+    m->nodes = o->w;
+    o->w = NULL;
+    m->attr_count = b->attrs ? (uint32_t)o->nid : 0;
+    size_t na = m->attr_count;
+    bool ok = true;
+    if (b->attrs & VX_ATTR_PALETTE) ok = ok && (m->palette = (uint8_t*)vx_alloc(b->a, na * 1)) != NULL;
+    if (b->attrs & VX_ATTR_RGBA8) ok = ok && (m->rgba = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    if (b->attrs & VX_ATTR_NORMAL) ok = ok && (m->normal = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    if (b->attrs & VX_ATTR_MATERIAL) ok = ok && (m->material = (uint16_t*)vx_alloc(b->a, na * 2)) != NULL;
+    if (b->attrs & VX_ATTR_DENSITY) ok = ok && (m->density = (float*)vx_alloc(b->a, na * 4)) != NULL;
+    if (!ok) {
+        vx_svo_model_free(b->a, m);
+        if (b->fail == VX_OK)
+            b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
+        return false;
+    }
+    for (size_t i = 0; i < na; i++) {
+        rec dv;
+        const rec* r = &dv;
+        if (b->direct) rec_from_value(b->attrs, o->ids[i], &dv);
+        else r = &b->recs[o->ids[i]];
+        if (m->palette) m->palette[i] = r->palette;
+        if (m->rgba) m->rgba[i] = r->rgba;
+        if (m->normal) m->normal[i] = r->normal;
+        if (m->material) m->material[i] = r->material;
+        if (m->density) m->density[i] = r->density;
+    }
+    return true;
+}
+
 /* ---- entry point ---------------------------------------------------------------------------- */
 
 static const char* attr_name(uint32_t bit) {
@@ -732,6 +793,7 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
     b.collapse = !d.no_collapse;
     b.dag = !d.no_dag;
     b.depth = depth;
+    b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
     vx_svo_build_stats st;
@@ -962,60 +1024,16 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
     if (!b.have_root) goto finish_empty; /* cannot happen with n > 0 */
     st.desc_plain = b.root_plain;
     st.desc_collapsed = b.ncollapsed;
-    uint32_t root_rec;
-    if (b.root_is_leaf) {
-        m.root = VX_SVO_ROOT_LEAF;
-        root_rec = b.root;
-    } else {
-        if (!layout(&b, &o)) { res = b.fail; goto done; }
-        m.root = (uint32_t)(o.n - 1);
-        root_rec = b.pool[b.root + N_REP];
-    }
+    if (!finish_model(&b, &o, &m, false)) { res = b.fail; goto done; }
     st.far_pointers = o.far;
-    if (b.attrs) {
-        size_t at = o.nid;
-        for (size_t i = 0; i < o.nid; i++)
-            if (o.ids[i] == root_rec) { at = i; break; }
-        if (at == o.nid) {
-            if (run_intern(&b, &o, &root_rec, 1) == UINT32_MAX) { res = b.fail; goto done; }
-        }
-        m.root_attr = (uint32_t)at;
-    }
     m.voxel_count = st.voxels;
     goto finish;
 
 finish_empty:
     m.root = VX_SVO_ROOT_EMPTY;
+    if (!finish_model(&b, &o, &m, true)) { res = b.fail; goto done; }
 finish:
     {
-        uint64_t words = o.n;
-        m.node_count = (uint32_t)words;
-        m.nodes = o.w;
-        o.w = NULL;
-        m.attr_count = b.attrs ? (uint32_t)o.nid : 0;
-        size_t na = m.attr_count;
-        bool ok = true;
-        if (b.attrs & VX_ATTR_PALETTE) ok = ok && (m.palette = (uint8_t*)vx_alloc(b.a, na * 1)) != NULL;
-        if (b.attrs & VX_ATTR_RGBA8) ok = ok && (m.rgba = (uint32_t*)vx_alloc(b.a, na * 4)) != NULL;
-        if (b.attrs & VX_ATTR_NORMAL) ok = ok && (m.normal = (uint32_t*)vx_alloc(b.a, na * 4)) != NULL;
-        if (b.attrs & VX_ATTR_MATERIAL) ok = ok && (m.material = (uint16_t*)vx_alloc(b.a, na * 2)) != NULL;
-        if (b.attrs & VX_ATTR_DENSITY) ok = ok && (m.density = (float*)vx_alloc(b.a, na * 4)) != NULL;
-        if (!ok) {
-            vx_svo_model_free(b.a, &m);
-            res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
-            goto done;
-        }
-        for (size_t i = 0; i < na; i++) {
-            rec dv;
-            const rec* r = &dv;
-            if (b.direct) rec_from_value(b.attrs, o.ids[i], &dv);
-            else r = &b.recs[o.ids[i]];
-            if (m.palette) m.palette[i] = r->palette;
-            if (m.rgba) m.rgba[i] = r->rgba;
-            if (m.normal) m.normal[i] = r->normal;
-            if (m.material) m.material[i] = r->material;
-            if (m.density) m.density[i] = r->density;
-        }
         /* descriptor words written: one per non-leaf child of a stored node, plus the root */
         uint64_t ndesc = 0;
         if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
@@ -1047,6 +1065,142 @@ done:
     vx_free(b.a, ents);
     vx_free(b.a, etmp);
     vx_free(b.a, cnt);
+    vx_free(b.a, o.w);
+    vx_free(b.a, o.ids);
+    vx_free(b.a, o.runh);
+    vx_free(b.a, o.lb_key);
+    vx_free(b.a, o.lb_pos);
+    bld_free(&b);
+    return res;
+}
+
+/* ---- reconstruction from depth-first symbols (the .svo reader) ------------------------------- */
+
+typedef struct unp {
+    bld* b;
+    const vx__svo_src* src;
+    uint32_t* done; /* pool ids in completion order: back-references count from the end */
+    size_t ndone, capdone;
+    uint64_t words, max_words;
+    vx_error* err;
+} unp;
+
+static bool unp_fail(unp* u, vx_result r) {
+    if (u->b->fail == VX_OK) u->b->fail = r;
+    return false;
+}
+
+/* Reads one node (and, recursively, its new children) into the pool. */
+static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
+    bld* b = u->b;
+    uint32_t valid, leaf;
+    vx_error* err = u->err;
+    if (!u->src->next(u->src->user, VX__SYM_VALID, level, &valid, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+    if (valid == 0 || valid > 0xFFu)
+        return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a node at level %u has valid mask 0x%x",
+                                   level, valid));
+    if (level == 1) leaf = valid;
+    else if (!u->src->next(u->src->user, VX__SYM_LEAF, level | valid << 8, &leaf, err))
+        return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+    if (leaf & ~valid)
+        return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                   "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
+    uint32_t kids[8], ids[8];
+    unsigned n = 0;
+    for (unsigned o = 0; o < 8; o++) {
+        if (!(valid >> o & 1u)) continue;
+        if (leaf >> o & 1u) {
+            uint32_t id = 0;
+            if (b->attrs) {
+                rec r;
+                memset(&r, 0, sizeof r);
+                for (unsigned c = 0; c < 5; c++) {
+                    if (!(b->attrs >> c & 1u)) continue;
+                    uint32_t v;
+                    if (!u->src->next(u->src->user, VX__SYM_VALUE, c, &v, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+                    if (c == 0) r.palette = (uint8_t)v;
+                    else if (c == 1) r.rgba = v;
+                    else if (c == 3) r.material = (uint16_t)v;
+                }
+                id = b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+                if (id == UINT32_MAX && !b->direct) return false;
+            }
+            kids[n] = ids[n] = id;
+        } else {
+            /* every non-leaf child is one descriptor word of its parent's block */
+            if (++u->words >= u->max_words)
+                return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                           "svo: section NODE: the tree has more descriptors than the %llu declared words",
+                                           (unsigned long long)u->max_words));
+            uint32_t ref, c;
+            if (!u->src->next(u->src->user, VX__SYM_REF, level, &ref, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+            if (ref == 0) {
+                if (!unp_visit(u, level - 1, &c)) return false; /* level >= 2 here: level 1 children are leaves */
+            } else if (ref > u->ndone) {
+                return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                           "svo: section NODE: back-reference %u but only %zu nodes precede it", ref, u->ndone));
+            } else {
+                c = u->done[u->ndone - ref];
+            }
+            kids[n] = c;
+            ids[n] = b->pool[c + N_REP];
+        }
+        n++;
+    }
+    uint32_t rep = b->attrs ? representative(b, ids, n) : 0;
+    if (rep == UINT32_MAX && !b->direct) return false;
+    uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
+    if (id == UINT32_MAX) return false;
+    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done)) return oom(b, "node list");
+    u->done[u->ndone++] = id;
+    *out = id;
+    return true;
+}
+
+vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, vx_svo_model* out, vx_error* err) {
+    if (d->attrs & ~(uint32_t)(VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL) || d->depth < 1 ||
+        d->depth > VX_SVO_MAX_DEPTH || d->limit < 1 || d->limit > VX__SVO_PTR_MAX)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo unpack: bad arguments");
+    bld b;
+    memset(&b, 0, sizeof b);
+    b.a = d->alloc;
+    b.attrs = d->attrs;
+    b.dag = d->dag;
+    b.collapse = true;
+    b.limit = d->limit;
+    b.depth = d->depth;
+    b.err = err;
+    b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
+    outw o;
+    memset(&o, 0, sizeof o);
+    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err};
+    vx_svo_model m;
+    memset(&m, 0, sizeof m);
+    vx_result res = VX_OK;
+    if (!b.attrs) {
+        rec z;
+        memset(&z, 0, sizeof z);
+        if (rec_intern(&b, &z) == UINT32_MAX) goto fail;
+    }
+    if (u.max_words == 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a tree declared with 0 words");
+    if (!unp_visit(&u, d->depth, &b.root)) goto fail;
+    b.have_root = true;
+    b.root_is_leaf = false;
+    if (!finish_model(&b, &o, &m, false)) goto fail;
+    out->nodes = m.nodes;
+    out->node_count = m.node_count;
+    out->root = m.root;
+    out->root_attr = m.root_attr;
+    out->attr_count = m.attr_count;
+    out->palette = m.palette;
+    out->rgba = m.rgba;
+    out->material = m.material;
+    goto done;
+fail:
+    res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
+done:
+    vx_free(b.a, u.done);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);

@@ -55,4 +55,44 @@ void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3])
 void vx__oct_decode(uint32_t v, float n[3]);
 uint32_t vx__oct_encode(const float n[3]);
 
+/* ---- structural packing of the NODE section (svo_pack.c; the reconstruction
+ * shares the builder's layout code in svo_build.c) --------------------------- */
+
+/* Symbols of a model's structure, in depth-first order (docs/FORMAT.md 3.4). */
+enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE };
+
+/* Where vx__svo_unpack takes its symbols from. ctx: the level for VALID and
+ * REF, level | valid << 8 for LEAF, the channel bit index for VALUE. Returns
+ * false (with err set) when the source cannot deliver. */
+typedef struct vx__svo_src {
+    bool (*next)(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err);
+    void* user;
+} vx__svo_src;
+
+typedef struct vx__svo_unpack_desc {
+    uint32_t depth, attrs; /* attrs: a subset of PALETTE | RGBA8 | MATERIAL */
+    bool dag;              /* the model was built with DAG sharing (runs of records shared) */
+    uint32_t limit;        /* largest near pointer, 1..VX__SVO_PTR_MAX */
+    uint64_t max_words;    /* declared node_count: the symbols may not describe more */
+    const vx_allocator* alloc;
+} vx__svo_unpack_desc;
+
+/* Rebuilds a model's node words and records from its depth-first symbols by
+ * running the builder's own layout, so that a model built by
+ * vx_svo_build_model comes back word for word. Fills out->nodes, node_count,
+ * root, root_attr, attr_count and the record arrays (attrs, size, depth and
+ * voxel_count are left to the caller). */
+vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, vx_svo_model* out, vx_error* err);
+
+/* NODE section payload for all models of s (validated), and its inverse,
+ * which fills the words and records of s's models from their declared
+ * counts (node_count, attr_count, root, root_attr as read from SCNE). */
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A);
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err);
+
+/* Test-only (like vx__svo_far_limit): the writer skips validation and the
+ * structural form, storing words and records as they are, so that tests can
+ * write corrupt trees and check that the reader rejects them. */
+extern bool vx__svo_write_raw_unchecked;
+
 #endif

@@ -2,9 +2,8 @@
  * docs/FORMAT.md is the specification; keep the two in step.
  *
  * The metadata (header, table, SCNE, PALT, MATL) is varint-coded so that a
- * small scene costs a few dozen bytes beyond its node words and attribute
- * records; the NODE and attribute sections stay flat little-endian arrays
- * that a renderer can upload as they are. */
+ * small scene costs a few dozen bytes; node words and attribute records are
+ * range-coded in NODE (svo_pack.c), mostly as the bare DAG structure. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -41,9 +40,8 @@ enum {
 #define MATL_EXPANDED_MAX ((uint64_t)64 << 20)
 
 /* Known sections; the channel ones are in VX_ATTR_* bit order. */
-enum { S_SCNE, S_NODE, S_APAL, S_ARGB, S_ANRM, S_AMAT, S_ADEN, S_PALT, S_MATL, S_COUNT };
-static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "APAL", "ARGB", "ANRM", "AMAT", "ADEN", "PALT", "MATL"};
-static const unsigned CH_SIZE[5] = {1, 4, 4, 2, 4};
+enum { S_SCNE, S_NODE, S_PALT, S_MATL, S_COUNT };
+static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "PALT", "MATL"};
 
 static int tag_index(const uint8_t t[4]) {
     for (int i = 0; i < S_COUNT; i++)
@@ -379,28 +377,9 @@ vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_
 
 static const double IDENTITY12[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
-static void* copy_channel(const vx_allocator* A, unsigned c, const uint8_t* ap, uint32_t n) {
-    void* arr = vx_calloc(A, n ? n : 1, CH_SIZE[c]);
-    if (!arr) return NULL;
-    for (uint32_t k = 0; k < n; k++) {
-        const uint8_t* v = ap + (size_t)k * CH_SIZE[c];
-        switch (c) {
-        case 0: ((uint8_t*)arr)[k] = v[0]; break;
-        case 1:
-        case 2: ((uint32_t*)arr)[k] = rd32(v); break;
-        case 3: ((uint16_t*)arr)[k] = (uint16_t)(v[0] | (v[1] << 8)); break;
-        default: {
-            union { uint32_t u; float f; } fv = {rd32(v)};
-            ((float*)arr)[k] = fv.f;
-        }
-        }
-    }
-    return arr;
-}
-
-/* SCNE into s (with the models' node words and records copied out of the
- * NODE and channel sections); *bounds_form says whether bounds are still to
- * be computed. */
+/* SCNE into s (the models' words and records are decoded from NODE later,
+ * against the counts declared here); *bounds_form says whether bounds are
+ * still to be computed. */
 static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_allocator* A, vx_svo_scene* s, int* bounds_form,
                            vx_error* err) {
     const char* S = "SCNE";
@@ -447,10 +426,6 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
     s->layers = (vx_svo_layer*)vx_calloc(A, lc ? lc : 1, sizeof *s->layers);
     if (!s->models || !s->instances || !s->layers) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
 
-    const sec* ns = known[S_NODE];
-    uint64_t node_words = ns->size / 4, nf = 0, ch_recs[5] = {0}, af[5] = {0};
-    for (unsigned c = 0; c < 5; c++)
-        if (known[S_APAL + c]) ch_recs[c] = known[S_APAL + c]->size / CH_SIZE[c];
     for (uint32_t i = 0; i < mc; i++) {
         vx_svo_model* m = &s->models[i];
         s->model_count = i + 1; /* so that a failure frees what was copied */
@@ -488,49 +463,10 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
         else
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: root code %llu, the model has %u words",
                            (unsigned long long)at, i, (unsigned long long)root_code, m->node_count);
-        if (m->node_count > node_words - nf)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, at,
-                           "svo: section SCNE at byte %llu: model %u: words %llu..+%u outside the %llu words of NODE",
-                           (unsigned long long)at, i, (unsigned long long)nf, m->node_count, (unsigned long long)node_words);
-        m->nodes = (uint32_t*)vx_calloc(A, m->node_count ? m->node_count : 1, 4);
-        if (!m->nodes) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-        const uint8_t* np = d + ns->offset + nf * 4;
-        for (uint32_t k = 0; k < m->node_count; k++) m->nodes[k] = rd32(np + 4 * (size_t)k);
-        nf += m->node_count;
         if ((m->attrs & VX_ATTR_PALETTE) && !known[S_PALT])
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses palette indices but PALT is missing",
                            (unsigned long long)at, i);
-        for (unsigned c = 0; c < 5; c++) {
-            if (!(m->attrs >> c & 1u)) continue;
-            const sec* cs = known[S_APAL + c];
-            if (!cs)
-                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses channel %s but the section is missing",
-                               (unsigned long long)at, i, TAGS[S_APAL + c]);
-            if (m->attr_count > ch_recs[c] - af[c])
-                return vx_fail(err, VX_ERR_BAD_FORMAT, at,
-                               "svo: section SCNE at byte %llu: model %u: records %llu..+%u outside the %llu records of %s",
-                               (unsigned long long)at, i, (unsigned long long)af[c], m->attr_count, (unsigned long long)ch_recs[c],
-                               TAGS[S_APAL + c]);
-            void* arr = copy_channel(A, c, d + cs->offset + af[c] * CH_SIZE[c], m->attr_count);
-            if (!arr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-            af[c] += m->attr_count;
-            switch (c) {
-            case 0: m->palette = (uint8_t*)arr; break;
-            case 1: m->rgba = (uint32_t*)arr; break;
-            case 2: m->normal = (uint32_t*)arr; break;
-            case 3: m->material = (uint16_t*)arr; break;
-            default: m->density = (float*)arr;
-            }
-        }
     }
-    /* models are stored back to back: every word and record belongs to one */
-    if (nf != node_words)
-        return vx_fail(err, VX_ERR_BAD_FORMAT, ns->offset, "svo: section NODE has %llu words, the models use %llu",
-                       (unsigned long long)node_words, (unsigned long long)nf);
-    for (unsigned c = 0; c < 5; c++)
-        if (known[S_APAL + c] && af[c] != ch_recs[c])
-            return vx_fail(err, VX_ERR_BAD_FORMAT, known[S_APAL + c]->offset, "svo: section %s has %llu records, the models use %llu",
-                           TAGS[S_APAL + c], (unsigned long long)ch_recs[c], (unsigned long long)af[c]);
     int32_t prev[3] = {0, 0, 0};
     for (uint32_t i = 0; i < ic; i++) {
         vx_svo_instance* in = &s->instances[i];
@@ -708,21 +644,10 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: the %s section is missing", known[S_SCNE] ? "NODE" : "SCNE");
         goto fail;
     }
-    if (known[S_NODE]->size % 4) {
-        r = vx_fail(err, VX_ERR_BAD_FORMAT, known[S_NODE]->offset, "svo: section NODE size %llu is not a multiple of 4",
-                    (unsigned long long)known[S_NODE]->size);
-        goto fail;
-    }
-    for (unsigned c = 0; c < 5; c++) {
-        const sec* cs = known[S_APAL + c];
-        if (cs && cs->size % CH_SIZE[c]) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, cs->offset, "svo: section %s size %llu is not a multiple of %u", TAGS[S_APAL + c],
-                        (unsigned long long)cs->size, CH_SIZE[c]);
-            goto fail;
-        }
-    }
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, A, &s, &bounds_form, err)) != VX_OK) goto fail;
+    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, A, err)) != VX_OK)
+        goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     r = vx_svo_validate_scene(&s, err);
@@ -904,26 +829,10 @@ static bool write_matl(vx_buf* b, const vx_svo_scene* s, const vx_allocator* A) 
     return ok;
 }
 
-static void write_channel(vx_buf* b, const vx_svo_scene* s, unsigned c) {
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (!(m->attrs >> c & 1u)) continue;
-        for (uint32_t k = 0; k < m->attr_count; k++) {
-            switch (c) {
-            case 0: vx_buf_u8(b, m->palette[k]); break;
-            case 1: vx_buf_u32le(b, m->rgba[k]); break;
-            case 2: vx_buf_u32le(b, m->normal[k]); break;
-            case 3: vx_buf_u16le(b, m->material[k]); break;
-            default: vx_buf_f32le(b, m->density[k]);
-            }
-        }
-    }
-}
-
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err) {
     if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
-    vx_result r = vx_svo_validate_scene(s, err);
+    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx_svo_validate_scene(s, err);
     if (r != VX_OK) {
         vx_error_prefix(err, "svo write");
         return r;
@@ -933,8 +842,6 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
     int order[S_COUNT], ns = 0;
     order[ns++] = S_SCNE;
     order[ns++] = S_NODE;
-    for (unsigned c = 0; c < 5; c++)
-        if (used >> c & 1u) order[ns++] = S_APAL + (int)c;
     if (used & VX_ATTR_PALETTE) order[ns++] = S_PALT;
     if (s->material_count) order[ns++] = S_MATL;
 
@@ -947,15 +854,10 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
     bool ok = true;
     for (int si = 0; si < ns; si++) {
         int t = order[si];
-        flags[si] = SEC_REQUIRED | (t == S_NODE ? SEC_ALIGN4 : 0u);
+        flags[si] = SEC_REQUIRED;
         offs[si] = body.size;
         if (t == S_SCNE) write_scne(&body, s);
-        else if (t == S_NODE) {
-            for (uint32_t i = 0; i < s->model_count; i++) {
-                const vx_svo_model* m = &s->models[i];
-                for (uint32_t k = 0; k < m->node_count; k++) vx_buf_u32le(&body, m->nodes[k]);
-            }
-        } else if (t >= S_APAL && t <= S_ADEN) write_channel(&body, s, (unsigned)(t - S_APAL));
+        else if (t == S_NODE) ok = vx__svo_pack_write(&body, s, alloc) && ok;
         else if (t == S_PALT) write_palt(&body, s);
         else if (t == S_MATL) ok = write_matl(&body, s, alloc) && ok;
         sizes[si] = body.size - offs[si];

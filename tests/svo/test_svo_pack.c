@@ -1,0 +1,321 @@
+/* tests/svo/test_svo_pack.c - the coded NODE section (FORMAT.md 3.4): models
+ * built with every option come back word for word and record for record
+ * through the structural form, the raw form covers the rest, and corrupt or
+ * truncated coded streams are rejected. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "svo/svo.h"
+#include "svo/svo_internal.h"
+#include "tests/test.h"
+
+static uint64_t rs = 0x2545F4914F6CDD1Dull;
+static uint64_t rnd(void) {
+    rs ^= rs << 13;
+    rs ^= rs >> 7;
+    rs ^= rs << 17;
+    return rs;
+}
+
+/* Random boxes (so that collapse and sharing happen) plus scattered cells;
+ * with tiles some boxes are given as aligned 2^L cubes. */
+static bool build(vx_svo_model* m, uint32_t S, uint32_t attrs, bool collapse, bool dag, bool tiles) {
+    size_t cap = 200000, n = 0;
+    uint64_t* k = (uint64_t*)malloc(cap * 8);
+    uint8_t* lv = (uint8_t*)calloc(cap, 1);
+    uint8_t* p = (uint8_t*)malloc(cap);
+    uint32_t* c = (uint32_t*)malloc(cap * 4);
+    uint16_t* mt = (uint16_t*)malloc(cap * 2);
+    uint32_t* nr = (uint32_t*)malloc(cap * 4);
+    float* de = (float*)malloc(cap * 4);
+    for (int b = 0; b < 6 && n < cap; b++) {
+        uint32_t x0 = (uint32_t)(rnd() % S), y0 = (uint32_t)(rnd() % S), z0 = (uint32_t)(rnd() % S), e = 1 + (uint32_t)(rnd() % 9);
+        uint8_t col = (uint8_t)(1 + rnd() % 3);
+        for (uint32_t z = z0; z < z0 + e && z < S; z++)
+            for (uint32_t y = y0; y < y0 + e && y < S; y++)
+                for (uint32_t x = x0; x < x0 + e && x < S && n < cap; x++, n++) {
+                    k[n] = vx_svo_morton(x, y, z);
+                    p[n] = (uint8_t)(rnd() % 8 ? col : 1 + rnd() % 200);
+                    c[n] = p[n] * 0x01030507u;
+                    mt[n] = (uint16_t)(p[n] % 3);
+                    nr[n] = (uint32_t)rnd() & 0x7FFF7FFFu;
+                    de[n] = (float)(p[n] % 7) / 4.0f;
+                }
+    }
+    for (int i = 0; i < 300 && n < cap; i++, n++) {
+        k[n] = vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S));
+        p[n] = (uint8_t)(1 + rnd() % 255);
+        c[n] = (uint32_t)rnd();
+        mt[n] = (uint16_t)rnd();
+        nr[n] = (uint32_t)rnd() & 0x7FFF7FFFu;
+        de[n] = (float)(rnd() % 100) / 8.0f;
+    }
+    if (tiles) { /* a few aligned cubes far from the rest: tiles may not overlap cells */
+        n = 0;
+        for (uint32_t t = 0; t < 4; t++) {
+            k[n] = vx_svo_morton(t * 8 % S, (t * 8 / S) * 8, 0);
+            lv[n] = 3;
+            p[n] = (uint8_t)(1 + t), c[n] = 0xFF0000FFu + t, mt[n] = (uint16_t)t, nr[n] = t, de[n] = (float)t;
+            n++;
+        }
+        for (uint32_t i = 0; i < 50; i++, n++) {
+            k[n] = vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), 8 + (uint32_t)(rnd() % (S - 8)));
+            p[n] = (uint8_t)(1 + rnd() % 9), c[n] = (uint32_t)rnd(), mt[n] = 1, nr[n] = 0, de[n] = 1;
+        }
+    }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = k, .level = tiles ? lv : NULL, .attrs = attrs};
+    if (attrs & VX_ATTR_PALETTE) in.palette = p;
+    if (attrs & VX_ATTR_RGBA8) in.rgba = c;
+    if (attrs & VX_ATTR_NORMAL) in.normal = nr;
+    if (attrs & VX_ATTR_MATERIAL) in.material = mt;
+    if (attrs & VX_ATTR_DENSITY) in.density = de;
+    vx_svo_build_desc d = {.no_collapse = !collapse, .no_dag = !dag};
+    vx_error e;
+    bool ok = vx_svo_build_model(&d, &in, m, NULL, &e) == VX_OK;
+    if (!ok) fprintf(stderr, "build: %s\n", e.msg);
+    free(k), free(lv), free(p), free(c), free(mt), free(nr), free(de);
+    return ok;
+}
+
+static bool same_model(const vx_svo_model* a, const vx_svo_model* b) {
+    if (a->node_count != b->node_count || a->root != b->root || a->root_attr != b->root_attr || a->attr_count != b->attr_count ||
+        a->attrs != b->attrs || a->voxel_count != b->voxel_count || a->depth != b->depth)
+        return false;
+    if (a->node_count && memcmp(a->nodes, b->nodes, (size_t)a->node_count * 4)) return false;
+    size_t n = a->attr_count;
+    if (a->palette && memcmp(a->palette, b->palette, n)) return false;
+    if (a->rgba && memcmp(a->rgba, b->rgba, n * 4)) return false;
+    if (a->normal && memcmp(a->normal, b->normal, n * 4)) return false;
+    if (a->material && memcmp(a->material, b->material, n * 2)) return false;
+    if (a->density && memcmp(a->density, b->density, n * 4)) return false;
+    return true;
+}
+
+static void one_model_scene(vx_svo_scene* s) {
+    vx_svo_scene_init(s, NULL);
+    s->model_count = 1;
+    s->models = (vx_svo_model*)calloc(1, sizeof *s->models);
+    s->instance_count = 1;
+    s->instances = (vx_svo_instance*)calloc(1, sizeof *s->instances);
+    s->instances[0].xform[0] = s->instances[0].xform[5] = s->instances[0].xform[10] = 1;
+    s->instances[0].layer = UINT32_MAX;
+    s->has_palette = true;
+    for (int i = 0; i < 256; i++) s->palette[i] = 0xFF000000u | (uint32_t)i * 0x010203u;
+}
+
+/* write -> read -> compare -> write again (byte identity); returns the size,
+ * and in *raw the size of the same scene stored in the raw form. */
+static size_t round_trip(vx_svo_scene* s, size_t* raw) {
+    vx_svo_scene_update_bounds(s);
+    uint8_t *d = NULL, *d2 = NULL;
+    size_t n = 0, n2 = 0;
+    vx_error e;
+    if (vx_svo_write(s, NULL, &d, &n, &e) != VX_OK) {
+        CHECKF(false, "write: %s", e.msg);
+        return 0;
+    }
+    vx_svo_scene r;
+    if (vx_svo_read(NULL, d, n, &r, &e) != VX_OK) {
+        CHECKF(false, "read: %s", e.msg);
+        free(d);
+        return 0;
+    }
+    for (uint32_t i = 0; i < s->model_count; i++) CHECKF(same_model(&s->models[i], &r.models[i]), "model %u differs", i);
+    CHECK(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK && n2 == n && memcmp(d, d2, n) == 0);
+    vx_svo_scene_free(&r);
+    free(d2);
+    free(d);
+    vx__svo_write_raw_unchecked = true;
+    CHECK(vx_svo_write(s, NULL, &d, raw, &e) == VX_OK);
+    vx__svo_write_raw_unchecked = false;
+    free(d);
+    return n;
+}
+
+static void test_structural_round_trip(void) {
+    const uint32_t attrs[] = {0, VX_ATTR_PALETTE, VX_ATTR_RGBA8, VX_ATTR_MATERIAL, VX_ATTR_PALETTE | VX_ATTR_MATERIAL,
+                              VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL};
+    for (size_t a = 0; a < sizeof attrs / sizeof attrs[0]; a++)
+        for (int opt = 0; opt < 4; opt++) {
+            vx_svo_scene s;
+            one_model_scene(&s);
+            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], opt & 1, opt & 2, false));
+            size_t raw = 0, n = round_trip(&s, &raw);
+            /* the structural form was taken: far smaller than the raw words */
+            CHECKF(n && n * 4 < raw * 3, "attrs 0x%x opt %d: %zu bytes, raw %zu", attrs[a], opt, n, raw);
+            vx_svo_scene_free(&s);
+        }
+}
+
+static void test_far_pointers(void) {
+    /* forced low limit: far slots in a small tree, still structural */
+    for (int dag = 0; dag < 2; dag++) {
+        vx__svo_far_limit = 3;
+        vx_svo_scene s;
+        one_model_scene(&s);
+        REQUIRE(build(&s.models[0], 64, VX_ATTR_PALETTE, true, dag, false));
+        uint32_t far = 0;
+        for (uint32_t i = 0; i < s.models[0].node_count; i++) far += (s.models[0].nodes[i] & 0xFFFFu) && vx_svo_desc_far(s.models[0].nodes[i]);
+        CHECK(far > 0);
+        size_t raw = 0, n = round_trip(&s, &raw);
+        CHECKF(n && n * 4 < raw * 3, "far dag %d: %zu bytes, raw %zu", dag, n, raw);
+        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        /* written with the default limit in force the model still comes back (raw form) */
+        n = round_trip(&s, &raw);
+        CHECK(n > 0);
+        vx_svo_scene_free(&s);
+    }
+    /* real far pointers: a tree with more than 32767 words after its first block */
+    vx_svo_scene s;
+    one_model_scene(&s);
+    size_t cnt = 60000;
+    uint64_t* k = (uint64_t*)malloc(cnt * 8);
+    uint8_t* p = (uint8_t*)malloc(cnt);
+    for (size_t i = 0; i < cnt; i++) {
+        k[i] = vx_svo_morton((uint32_t)(rnd() % 512), (uint32_t)(rnd() % 512), (uint32_t)(rnd() % 512));
+        p[i] = (uint8_t)(1 + rnd() % 4);
+    }
+    vx_svo_voxels in = {.size = {512, 512, 512}, .count = cnt, .keys = k, .attrs = VX_ATTR_PALETTE, .palette = p};
+    vx_svo_build_stats st;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &s.models[0], &st, &e) == VX_OK);
+    free(k), free(p);
+    CHECK(st.far_pointers > 0);
+    size_t raw = 0, n = round_trip(&s, &raw);
+    CHECKF(n && n * 4 < raw * 3, "real far: %zu bytes, raw %zu", n, raw);
+    vx_svo_scene_free(&s);
+}
+
+static void test_tiles_and_float_channels(void) {
+    vx_svo_scene s;
+    one_model_scene(&s);
+    REQUIRE(build(&s.models[0], 32, VX_ATTR_PALETTE | VX_ATTR_RGBA8, true, true, true));
+    size_t raw = 0, n = round_trip(&s, &raw);
+    CHECK(n && n * 4 < raw * 3);
+    vx_svo_scene_free(&s);
+    /* normals and densities: the raw form (representatives use floats) */
+    one_model_scene(&s);
+    REQUIRE(build(&s.models[0], 24, VX_ATTR_ALL, true, true, false));
+    CHECK(round_trip(&s, &raw) > 0);
+    vx_svo_scene_free(&s);
+}
+
+/* Symbols handed straight to the reconstruction: each breaks one rule. */
+typedef struct arr {
+    const uint32_t* v;
+    size_t n, pos;
+} arr;
+static bool arr_next(void* u, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
+    (void)kind, (void)ctx;
+    arr* a = (arr*)u;
+    if (a->pos >= a->n) return vx_fail(err, VX_ERR_TRUNCATED, VX_NO_OFFSET, "symbols exhausted"), false;
+    *v = a->v[a->pos++];
+    return true;
+}
+static void test_bad_symbols(void) {
+    /* depth 2, no attributes: root valid, leaf, then per non-leaf child a ref */
+    static const uint32_t ok[] = {0x03, 0x00, 0, 0x01, 1};                 /* child 0 new, child 1 = back-ref to it */
+    static const uint32_t backref[] = {0x03, 0x00, 0, 0x01, 2};            /* only one node precedes */
+    static const uint32_t first_ref[] = {0x01, 0x00, 1};                   /* back-reference with nothing before */
+    static const uint32_t empty[] = {0x00};                                /* valid mask 0 */
+    static const uint32_t notsub[] = {0x01, 0x02};                         /* leaf not within valid */
+    static const uint32_t trunc[] = {0x03, 0x00, 0};                       /* ends inside the tree */
+    struct {
+        const uint32_t* v;
+        size_t n;
+        uint64_t words;
+        const char* msg;
+    } cases[] = {
+        {ok, 5, 3, NULL},
+        {backref, 5, 3, "back-reference"},
+        {first_ref, 3, 3, "back-reference"},
+        {empty, 1, 3, "valid mask"},
+        {notsub, 2, 3, "subset"},
+        {trunc, 3, 3, "exhausted"},
+        {ok, 5, 2, "declared words"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        arr a = {cases[i].v, cases[i].n, 0};
+        vx__svo_src src = {arr_next, &a};
+        vx__svo_unpack_desc d = {.depth = 2, .attrs = 0, .dag = true, .limit = VX__SVO_PTR_MAX, .max_words = cases[i].words};
+        vx_svo_model m;
+        memset(&m, 0, sizeof m);
+        vx_error e;
+        memset(&e, 0, sizeof e);
+        vx_result r = vx__svo_unpack(&d, &src, &m, &e);
+        if (!cases[i].msg) {
+            CHECKF(r == VX_OK && m.node_count == 3 && m.root == 2, "case %zu: %s", i, e.msg);
+            m.size[0] = m.size[1] = m.size[2] = 4;
+            m.depth = 2;
+            m.voxel_count = 2;
+            CHECKF(vx_svo_validate_model(&m, &e) == VX_OK, "case %zu: %s", i, e.msg);
+        } else {
+            CHECKF(r != VX_OK && strstr(e.msg, cases[i].msg), "case %zu: %s", i, r ? e.msg : "accepted");
+        }
+        vx_svo_model_free(NULL, &m);
+    }
+}
+
+/* The coded stream of a real scene, truncated, extended and bit-flipped. */
+static void test_corrupt_stream(void) {
+    vx_svo_scene s;
+    one_model_scene(&s);
+    REQUIRE(build(&s.models[0], 48, VX_ATTR_PALETTE, true, true, false));
+    vx_svo_scene_update_bounds(&s);
+    uint8_t* d;
+    size_t n;
+    vx_error e;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    vx_svo_file_info info;
+    REQUIRE(vx_svo_probe(d, n, &info, &e) == VX_OK);
+    REQUIRE(info.section_count >= 2 && strcmp(info.sections[1].tag, "NODE") == 0);
+    const uint8_t* node = d + info.sections[1].offset;
+    size_t nsz = (size_t)info.sections[1].size;
+    uint8_t* buf = (uint8_t*)malloc(nsz + 8);
+    /* the declared counts as the reader has them after SCNE */
+    vx_svo_scene t;
+    vx_svo_scene_init(&t, NULL);
+    t.model_count = 1;
+    t.models = (vx_svo_model*)calloc(1, sizeof *t.models);
+    int rejected = 0, tried = 0;
+    for (int mode = 0; mode < 3; mode++) {
+        int reps = mode == 2 ? 400 : 6;
+        for (int i = 1; i <= reps; i++) {
+            size_t len = nsz;
+            memcpy(buf, node, nsz);
+            if (mode == 0) len = nsz - (size_t)i;      /* truncated */
+            else if (mode == 1) buf[len++] = (uint8_t)i; /* trailing bytes */
+            else buf[rnd() % nsz] ^= (uint8_t)(1u << (rnd() % 8));
+            vx_svo_model* m = &t.models[0];
+            vx_svo_model_free(NULL, m);
+            *m = s.models[0];
+            m->nodes = NULL, m->palette = NULL;
+            memset(&e, 0, sizeof e);
+            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, &e);
+            tried++;
+            if (r != VX_OK) {
+                rejected++;
+                CHECKF(strstr(e.msg, "NODE") != NULL, "mode %d: %s", mode, e.msg);
+            } else if (mode < 2) {
+                CHECKF(false, "mode %d case %d accepted", mode, i);
+            } else if (vx_svo_validate_model(m, &e) == VX_OK) {
+                /* a flip that still decodes must at least give a valid tree */
+            }
+        }
+    }
+    CHECK(rejected > tried / 2);
+    vx_svo_scene_free(&t);
+    free(buf);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    RUN(test_structural_round_trip);
+    RUN(test_far_pointers);
+    RUN(test_tiles_and_float_channels);
+    RUN(test_bad_symbols);
+    RUN(test_corrupt_stream);
+    return vx_test_finish();
+}
