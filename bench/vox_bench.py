@@ -50,8 +50,9 @@ def run(bin_dir, src, dst, flags):
     outb = int(re.search(r"output\s+([\d,]+) bytes", out).group(1).replace(",", ""))
     conv = float(re.search(r"convert ([\d.]+)", out).group(1)) * 1e-3
     peak = re.search(r"peak memory\s+(.*)", out).group(1).strip()
+    mem = int(re.search(r"in memory\s+([\d,]+) bytes", out).group(1).replace(",", ""))
     desc = re.search(r"plain ([\d,]+) -> collapsed ([\d,]+) -> dag ([\d,]+)", out).groups()
-    return wall, conv, voxels, outb, peak, [int(d.replace(",", "")) for d in desc]
+    return wall, conv, voxels, outb, peak, [int(d.replace(",", "")) for d in desc], mem
 
 
 def main():
@@ -65,8 +66,8 @@ def main():
     print(f"machine: {machine()}")
     print(f"command: bench/vox_bench.py --runs {a.runs}\n")
     print("| file | voxels | input B/voxel | descriptors plain / collapsed / dag | "
-          "B/voxel none | collapse | dag | both | tool run ms (median) | build ms | peak memory |")
-    print("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+          "file B/voxel none | collapse | dag | both | in-memory B/voxel none / both | tool run ms (median) | build ms | peak memory |")
+    print("|---|---:|---:|---|---:|---:|---:|---:|---|---:|---:|---:|")
     tot_vox = 0
     tot_out = 0
     tot_in = 0
@@ -87,6 +88,7 @@ def main():
             d = both[0][5]
             print(f"| {f} | {voxels:,} | {in_bytes / max(voxels, 1):.2f} | {d[0]:,} / {d[1]:,} / {d[2]:,} | "
                   f"{bpv['none']:.3f} | {bpv['collapse']:.3f} | {bpv['dag']:.3f} | **{bpv['both']:.3f}** | "
+                  f"{row['none'][0][6] / max(voxels, 1):.2f} / {both[0][6] / max(voxels, 1):.2f} | "
                   f"{wall:.1f} | {conv:.1f} | {both[0][4]} |")
             tot_vox += voxels
             tot_out += both[0][3]

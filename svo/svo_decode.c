@@ -269,16 +269,56 @@ static bool finite12(const double* v) {
 }
 static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
 
-vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) {
+vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) { return vx__svo_validate_scene_ext(s, NULL, err); }
+
+typedef struct analyze_jobs {
+    const vx_svo_scene* s;
+    vx__svo_extent* ext;
+    vx_result* res;
+    vx_error* errs;
+} analyze_jobs;
+
+static void analyze_job(void* ctx, uint32_t i) {
+    analyze_jobs* j = (analyze_jobs*)ctx;
+    j->res[i] = vx__svo_analyze(&j->s->models[i], j->ext ? &j->ext[i] : NULL, &j->errs[i]);
+}
+
+/* Analyses every model (in parallel for large scenes); the first failing
+ * model in index order gives the error. */
+static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, uint32_t* bad, vx_error* err) {
+    unsigned threads = vx__svo_threads(s);
+    vx_result* res = threads > 1 ? (vx_result*)vx_calloc(s->alloc, s->model_count, sizeof *res) : NULL;
+    vx_error* errs = threads > 1 ? (vx_error*)vx_calloc(s->alloc, s->model_count, sizeof *errs) : NULL;
+    vx_result r = VX_OK;
+    if (res && errs) {
+        analyze_jobs j = {s, ext, res, errs};
+        vx__svo_run_jobs(threads, s->model_count, analyze_job, &j);
+        for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
+            if (res[i] != VX_OK) {
+                r = res[i];
+                *bad = i;
+                if (err) *err = errs[i];
+            }
+    } else {
+        for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
+            if ((r = vx__svo_analyze(&s->models[i], ext ? &ext[i] : NULL, err)) != VX_OK) *bad = i;
+    }
+    vx_free(s->alloc, res);
+    vx_free(s->alloc, errs);
+    return r;
+}
+
+vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
         (s->material_count && !s->materials))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        vx_result r = vx_svo_validate_model(&s->models[i], err);
+    uint32_t bad = 0;
+    {
+        vx_result r = analyze_models(s, ext, &bad, err);
         if (r != VX_OK) {
             char p[32];
-            snprintf(p, sizeof p, "model %u", i);
+            snprintf(p, sizeof p, "model %u", bad);
             vx_error_prefix(err, p);
             return r;
         }

@@ -689,9 +689,9 @@ static bool f64s_int32(const double* v, int n, int32_t* out) {
     return true;
 }
 
-static void write_scne(vx_buf* b, const vx_svo_scene* s) {
+static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext) {
     double bmin[3], bmax[3];
-    vx__svo_scene_bounds(s, bmin, bmax);
+    vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
     int32_t bi[6];
     int bounds_form = BOUNDS_F64;
     if (memcmp(bmin, s->bounds_min, sizeof bmin) == 0 && memcmp(bmax, s->bounds_max, sizeof bmax) == 0)
@@ -832,10 +832,19 @@ static bool write_matl(vx_buf* b, const vx_svo_scene* s, const vx_allocator* A) 
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err) {
     if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
-    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx_svo_validate_scene(s, err);
+    /* validation analyses every model; the extents it finds give the bounds
+     * written to SCNE without a second pass over the trees */
+    vx__svo_extent* ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *ext) : NULL;
+    if (s->model_count && !ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
+    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, ext, err);
     if (r != VX_OK) {
+        vx_free(alloc, ext);
         vx_error_prefix(err, "svo write");
         return r;
+    }
+    if (vx__svo_write_raw_unchecked && ext) {
+        vx_free(alloc, ext); /* tests writing deliberately broken models: analyse lazily */
+        ext = NULL;
     }
     uint32_t used = 0;
     for (uint32_t i = 0; i < s->model_count; i++) used |= s->models[i].attrs;
@@ -856,12 +865,13 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
         int t = order[si];
         flags[si] = SEC_REQUIRED;
         offs[si] = body.size;
-        if (t == S_SCNE) write_scne(&body, s);
+        if (t == S_SCNE) write_scne(&body, s, ext);
         else if (t == S_NODE) ok = vx__svo_pack_write(&body, s, alloc) && ok;
         else if (t == S_PALT) write_palt(&body, s);
         else if (t == S_MATL) ok = write_matl(&body, s, alloc) && ok;
         sizes[si] = body.size - offs[si];
     }
+    vx_free(alloc, ext);
     vx_buf_append(&head, MAGIC, 8);
     vx_buf_u16le(&head, (uint16_t)VX_SVO_FORMAT_VERSION);
     vx_buf_u16le(&head, (uint16_t)ns);

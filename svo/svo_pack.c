@@ -319,8 +319,18 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     return ok;
 }
 
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A) {
-    if (s->model_count == 0) return true;
+/* ---- per-model streams and threads ------------------------------------------------------------- */
+
+/* Each model is one independent coded stream (fresh contexts), so models
+ * pack and unpack in parallel; NODE is, per model, a LEB128 byte length and
+ * the stream. Threads are only used for large scenes: small ones stay on the
+ * caller's thread, which keeps allocation order (and the OOM tests) exact.
+ * The bytes never depend on the thread count. */
+static unsigned pack_threads(const vx_svo_scene* s) { return vx__svo_threads(s); }
+#define run_jobs vx__svo_run_jobs
+
+/* Codes one model into its own stream. */
+static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     pk_init_models(k);
@@ -334,34 +344,26 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     x.A = A;
     arr_src src;
     memset(&src, 0, sizeof src);
-    for (uint32_t mi = 0; ok && mi < s->model_count; mi++) {
-        const vx_svo_model* m = &s->models[mi];
-        bool structural = false, dag = false;
-        uint32_t limit = VX__SVO_PTR_MAX;
-        if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
-            x.m = m;
-            size_t need = 16;
-            while (need < 2 * (size_t)m->node_count) need *= 2;
-            if (need > x.hcap) {
-                vx_free(A, x.hk);
-                vx_free(A, x.hv);
-                x.hk = (uint64_t*)vx_calloc(A, need, sizeof *x.hk);
-                x.hv = (uint32_t*)vx_calloc(A, need, sizeof *x.hv);
-                x.hcap = need;
-                if (!x.hk || !x.hv) {
-                    ok = false;
-                    break;
-                }
-            }
-            /* the builder's settings are not stored in the model: try them */
-            uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
-            for (int t = 0; t < 4 && !structural; t++) {
-                dag = t < 2;
-                limit = lims[t & 1];
-                if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-                structural = try_struct(m, A, dag, limit, &x, &src);
-            }
+    bool structural = false, dag = false;
+    uint32_t limit = VX__SVO_PTR_MAX;
+    if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
+        x.m = m;
+        size_t need = 16;
+        while (need < 2 * (size_t)m->node_count) need *= 2;
+        x.hk = (uint64_t*)vx_calloc(A, need, sizeof *x.hk);
+        x.hv = (uint32_t*)vx_calloc(A, need, sizeof *x.hv);
+        x.hcap = need;
+        ok = x.hk && x.hv;
+        /* the builder's settings are not stored in the model: try them */
+        uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
+        for (int t = 0; ok && t < 4 && !structural; t++) {
+            dag = t < 2;
+            limit = lims[t & 1];
+            if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
+            structural = try_struct(m, A, dag, limit, &x, &src);
         }
+    }
+    if (ok) {
         bit(k, &k->form[0], structural);
         if (structural) {
             bit(k, &k->form[1], dag);
@@ -379,14 +381,64 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
                         sym(k, VX__SYM_VALUE, c, &v);
                     }
         }
+        for (int i = 0; i < 5; i++) shift_low(k);
     }
-    for (int i = 0; i < 5; i++) shift_low(k);
     vx_free(A, x.v);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
     vx_free(A, src.kind);
     vx_free(A, src.ctx);
     vx_free(A, k);
+    return ok && !out->failed;
+}
+
+typedef struct pack_jobs {
+    const vx_svo_scene* s;
+    const vx_allocator* A;
+    vx_buf* bufs;
+    bool* ok;
+} pack_jobs;
+
+static void pack_job(void* ctx, uint32_t i) {
+    pack_jobs* j = (pack_jobs*)ctx;
+    j->ok[i] = pack_model(&j->s->models[i], j->A, &j->bufs[i]);
+}
+
+static bool put_var(vx_buf* b, uint64_t v) {
+    do {
+        uint8_t c = (uint8_t)(v & 0x7Fu);
+        v >>= 7;
+        if (!vx_buf_u8(b, (uint8_t)(c | (v ? 0x80u : 0u)))) return false;
+    } while (v);
+    return true;
+}
+
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A) {
+    if (s->model_count == 0) return true;
+    unsigned threads = pack_threads(s);
+    if (threads == 1) { /* one stream at a time, straight into the output */
+        for (uint32_t mi = 0; mi < s->model_count; mi++) {
+            vx_buf one = {0};
+            one.alloc = A;
+            bool ok = pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+            vx_buf_free(&one);
+            if (!ok) return false;
+        }
+        return !out->failed;
+    }
+    vx_buf* bufs = (vx_buf*)vx_calloc(A, s->model_count, sizeof *bufs);
+    bool* oks = (bool*)vx_calloc(A, s->model_count, sizeof *oks);
+    bool ok = bufs && oks;
+    if (ok) {
+        for (uint32_t i = 0; i < s->model_count; i++) bufs[i].alloc = A;
+        pack_jobs j = {s, A, bufs, oks};
+        run_jobs(threads, s->model_count, pack_job, &j);
+        for (uint32_t i = 0; ok && i < s->model_count; i++)
+            ok = oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
+    }
+    for (uint32_t i = 0; bufs && i < s->model_count; i++) vx_buf_free(&bufs[i]);
+    vx_free(A, bufs);
+    vx_free(A, oks);
     return ok && !out->failed;
 }
 
@@ -475,21 +527,17 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
     return VX_OK;
 }
 
-vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err) {
-    if (s->model_count == 0) {
-        if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
-        return VX_OK;
-    }
-    uint64_t words = 0, recs = 0;
-    for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count, recs += s->models[i].attr_count;
+/* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
+static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
+                              vx_error* err) {
     uint64_t cap = ((uint64_t)n + 16) * PACK_RATIO_MAX;
-    if (words > cap || recs > cap)
+    if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
-                       "svo: section NODE at byte %llu: the models declare %llu words and %llu records, more than %u per byte of its %zu bytes",
-                       (unsigned long long)base, (unsigned long long)words, (unsigned long long)recs, PACK_RATIO_MAX, n);
+                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
+                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
     if (n < 5 || p[0] != 0)
-        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: not a coded stream (%s)", (unsigned long long)base,
-                       n < 5 ? "shorter than 5 bytes" : "first byte not 0");
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: not a coded stream (%s)",
+                       (unsigned long long)base, mi, n < 5 ? "shorter than 5 bytes" : "first byte not 0");
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     pk_init_models(k);
@@ -498,13 +546,10 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     k->range = 0xFFFFFFFFu;
     for (int i = 0; i < 5; i++) k->code = (k->code << 8) | next_byte(k);
     vx_result r = VX_OK;
-    for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++) {
-        vx_svo_model* m = &s->models[mi];
-        uint64_t at = base + k->pos;
-        if (!bit(k, &k->form[0], 0)) {
-            r = read_raw(k, m, A, base, mi, err);
-            continue;
-        }
+    uint64_t at = base + k->pos;
+    if (!bit(k, &k->form[0], 0)) {
+        r = read_raw(k, m, A, base, mi, err);
+    } else {
         bool dag = bit(k, &k->form[1], 0);
         uint32_t limit = VX__SVO_PTR_MAX;
         if (bit(k, &k->form[2], 0)) limit = plain_bits(k, 15, 0);
@@ -513,34 +558,127 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             r = vx_fail(err, VX_ERR_BAD_FORMAT, at,
                         "svo: section NODE near byte %llu: model %u: the structural form needs a root node, depth 1..21, channels palette/rgba/material only and a far limit >= 1",
                         (unsigned long long)at, mi);
-            break;
-        }
-        vx_svo_model want = *m;
-        rc_src rs = {k, base};
-        vx__svo_src src = {rc_next, &rs};
-        vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
-        r = vx__svo_unpack(&ud, &src, m, err);
-        if (r != VX_OK) {
-            if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
-            if (err) err->code = r;
-            char pre[96];
-            snprintf(pre, sizeof pre, "model %u (NODE near byte %llu)", mi, (unsigned long long)(base + (k->pos < n ? k->pos : n)));
-            vx_error_prefix(err, pre);
-            break;
-        }
-        if (m->node_count != want.node_count || m->root != want.root || m->attr_count != want.attr_count ||
-            m->root_attr != want.root_attr) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, at,
-                        "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
-                        (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
-                        want.attr_count, want.root_attr);
+        } else {
+            vx_svo_model want = *m;
+            rc_src rs = {k, base};
+            vx__svo_src src = {rc_next, &rs};
+            vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
+            r = vx__svo_unpack(&ud, &src, m, err);
+            if (r != VX_OK) {
+                if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
+                if (err) err->code = r;
+                char pre[96];
+                snprintf(pre, sizeof pre, "model %u (NODE near byte %llu)", mi, (unsigned long long)(base + (k->pos < n ? k->pos : n)));
+                vx_error_prefix(err, pre);
+            } else if (m->node_count != want.node_count || m->root != want.root || m->attr_count != want.attr_count ||
+                       m->root_attr != want.root_attr) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, at,
+                            "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
+                            (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
+                            want.attr_count, want.root_attr);
+            }
         }
     }
     if (r == VX_OK && (k->over || k->pos != n))
         r = vx_fail(err, k->over ? VX_ERR_TRUNCATED : VX_ERR_BAD_FORMAT, base + (k->over ? n : k->pos),
-                    k->over ? "svo: section NODE: the coded stream is truncated (%zu bytes, more needed)"
-                            : "svo: section NODE: %zu bytes, the coded stream ends earlier",
-                    n);
+                    k->over ? "svo: section NODE: model %u: the coded stream is truncated (%zu bytes, more needed)"
+                            : "svo: section NODE: model %u: %zu bytes, the coded stream ends earlier",
+                    mi, n);
     vx_free(A, k);
+    return r;
+}
+
+typedef struct unpack_jobs {
+    vx_svo_scene* s;
+    const uint8_t* p;
+    uint64_t base;
+    const size_t* off;
+    const size_t* len;
+    const vx_allocator* A;
+    vx_result* res;
+    vx_error* errs;
+} unpack_jobs;
+
+static void unpack_job(void* ctx, uint32_t i) {
+    unpack_jobs* j = (unpack_jobs*)ctx;
+    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);
+}
+
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err) {
+    if (s->model_count == 0) {
+        if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
+        return VX_OK;
+    }
+    /* the stream table first: every length is checked before anything is decoded */
+    size_t* off = (size_t*)vx_calloc(A, s->model_count, sizeof *off);
+    size_t* len = (size_t*)vx_calloc(A, s->model_count, sizeof *len);
+    if (!off || !len) {
+        vx_free(A, off);
+        vx_free(A, len);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    }
+    vx_result r = VX_OK;
+    size_t pos = 0;
+    for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++) {
+        uint64_t v = 0;
+        unsigned shift = 0;
+        size_t at = pos;
+        for (;;) {
+            if (pos >= n) {
+                r = vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream length cut off",
+                            (unsigned long long)(base + at), mi);
+                break;
+            }
+            uint8_t c = p[pos++];
+            if (shift == 63 && (c & 0x7Eu)) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at, "svo: section NODE at byte %llu: model %u: stream length overflows",
+                            (unsigned long long)(base + at), mi);
+                break;
+            }
+            v |= (uint64_t)(c & 0x7Fu) << shift;
+            if (!(c & 0x80u)) break;
+            shift += 7;
+            if (shift > 63) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at, "svo: section NODE at byte %llu: model %u: stream length is not a varint",
+                            (unsigned long long)(base + at), mi);
+                break;
+            }
+        }
+        if (r != VX_OK) break;
+        if (v > n - pos) {
+            r = vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream of %llu bytes, %zu left",
+                        (unsigned long long)(base + at), mi, (unsigned long long)v, n - pos);
+            break;
+        }
+        off[mi] = pos;
+        len[mi] = (size_t)v;
+        pos += (size_t)v;
+    }
+    if (r == VX_OK && pos != n)
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
+    if (r == VX_OK) {
+        unsigned threads = pack_threads(s);
+        if (threads == 1) {
+            for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
+                r = unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
+        } else {
+            vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
+            vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
+            if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+            else {
+                unpack_jobs j = {s, p, base, off, len, A, res, errs};
+                run_jobs(threads, s->model_count, unpack_job, &j);
+                for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
+                    if (res[mi] != VX_OK) {
+                        r = res[mi];
+                        if (err) *err = errs[mi];
+                    }
+            }
+            vx_free(A, res);
+            vx_free(A, errs);
+        }
+    }
+    vx_free(A, off);
+    vx_free(A, len);
     return r;
 }

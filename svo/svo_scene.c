@@ -51,12 +51,35 @@ static bool model_extent(const vx_svo_model* m, vx__svo_extent* e) {
     return e->cells != 0;
 }
 
+typedef struct extent_jobs {
+    const vx_svo_scene* s;
+    vx__svo_extent* ext;
+} extent_jobs;
+
+static void extent_job(void* ctx, uint32_t i) {
+    extent_jobs* j = (extent_jobs*)ctx;
+    if (!model_extent(&j->s->models[i], &j->ext[i])) memset(&j->ext[i], 0, sizeof j->ext[i]);
+}
+
 void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]) {
+    /* large scenes: every model's extent in parallel first (each is a full
+     * pass over its tree), then the instances */
+    unsigned threads = s->models ? vx__svo_threads(s) : 1;
+    vx__svo_extent* ext = threads > 1 ? (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *ext) : NULL;
+    if (ext) {
+        extent_jobs j = {s, ext};
+        vx__svo_run_jobs(threads, s->model_count, extent_job, &j);
+    }
+    vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
+    vx_free(s->alloc, ext);
+}
+
+void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]) {
     double mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
     bool any = false;
     vx__svo_extent* cache = NULL;
     uint8_t* state = NULL; /* 0 not analysed, 1 empty, 2 extent in cache */
-    if (s->models && s->model_count) {
+    if (!known && s->models && s->model_count) {
         cache = (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *cache);
         state = (uint8_t*)vx_calloc(s->alloc, s->model_count, 1);
     }
@@ -66,7 +89,10 @@ void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3])
         if (in->layer < s->layer_count && s->layers && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) continue;
         if (in->model >= s->model_count || !s->models) continue;
         vx__svo_extent local, *e = &local;
-        if (cache && state) {
+        if (known) {
+            local = known[in->model];
+            if (local.cells == 0) continue;
+        } else if (cache && state) {
             e = &cache[in->model];
             if (!state[in->model]) state[in->model] = model_extent(&s->models[in->model], e) ? 2 : 1;
             if (state[in->model] == 1) continue;

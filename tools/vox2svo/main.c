@@ -148,6 +148,8 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
         printf("  (%.1f%% of plain)", 100.0 * (double)b->desc_dag / (double)b->desc_plain);
     printf("\n");
     printf("  far pointers %s, attribute records %s\n", vx_tool_num(b->far_pointers), vx_tool_num(b->attr_records));
+    /* what the tracer holds: node words and records, before the file's entropy coding */
+    printf("  in memory    %s bytes, %.3f bytes/voxel\n", vx_tool_num(b->bytes), (double)b->bytes / vox);
     printf("  output       %s bytes, %.3f bytes/voxel", vx_tool_num(out_bytes), (double)out_bytes / vox);
     if (in_bytes && !strcmp(kind, ".vox")) printf(" (input %.3f)", (double)in_bytes / vox);
     printf("\n");

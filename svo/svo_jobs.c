@@ -1,0 +1,56 @@
+/* svo/svo_jobs.c - per-model work spread over threads.
+ *
+ * Models of a scene are independent (their own node arrays, their own coded
+ * streams), so validation, bounds and the NODE coder run one model per job.
+ * Threads are only used for large scenes: small ones stay on the caller's
+ * thread, which keeps allocation order (and the OOM tests) exact. Results
+ * never depend on the thread count. */
+#define _POSIX_C_SOURCE 200809L
+#include <pthread.h>
+#include <unistd.h>
+
+#include "svo/svo_internal.h"
+
+#define MAX_THREADS 16
+
+uint64_t vx__svo_parallel_words = (uint64_t)1 << 20;
+
+unsigned vx__svo_threads(const vx_svo_scene* s) {
+    uint64_t words = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count;
+    if (s->model_count < 2 || words < vx__svo_parallel_words) return 1;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    unsigned t = n < 1 ? 1u : n > MAX_THREADS ? MAX_THREADS : (unsigned)n;
+    return t < s->model_count ? t : s->model_count;
+}
+
+typedef struct job_set {
+    uint32_t count;
+    void (*run)(void* ctx, uint32_t i);
+    void* ctx;
+    pthread_mutex_t lock;
+    uint32_t next;
+} job_set;
+
+static void* job_worker(void* user) {
+    job_set* j = (job_set*)user;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        uint32_t i = j->next < j->count ? j->next++ : UINT32_MAX;
+        pthread_mutex_unlock(&j->lock);
+        if (i == UINT32_MAX) return NULL;
+        j->run(j->ctx, i);
+    }
+}
+
+void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx) {
+    if (threads > MAX_THREADS) threads = MAX_THREADS;
+    job_set j = {count, run, ctx, PTHREAD_MUTEX_INITIALIZER, 0};
+    pthread_t tid[MAX_THREADS];
+    unsigned started = 0;
+    for (unsigned t = 1; t < threads; t++)
+        if (pthread_create(&tid[started], NULL, job_worker, &j) == 0) started++;
+    job_worker(&j); /* the caller works too; with no thread started it does everything */
+    for (unsigned t = 0; t < started; t++) pthread_join(tid[t], NULL);
+    pthread_mutex_destroy(&j.lock);
+}
