@@ -1,72 +1,160 @@
-/* bench/probes_bench.c - error of probe GI's indirect diffuse light (RMSE and
- * relative MSE over hit pixels against a path-traced reference) against bake
- * and render time, and the path tracer's own error at matching time.
- *   probes_bench SCENE.svo WxH REF_SPP [spacing:res:spp ...] */
+/* bench/probes_bench.c - light field probes: bake time, and the error of the
+ * indirect diffuse light (RMSE and relative MSE over hit pixels against a
+ * path-traced reference) against bake and render time, with the path
+ * tracer's own error at matching time. Needs only libvulkan and libc.
+ *
+ *   probes_bench [--cpu] [--device N|NAME] bake SCENE.{svo,vox} [GX,GY,GZ RES SPP]
+ *       bakes a GX*GY*GZ grid (default 8,8,8 = 512 probes) at RES (128) with
+ *       SPP (64) paths per texel, 1 bounce; prints the time.
+ *   probes_bench [--cpu] [--device N|NAME] error SCENE WxH REF_SPP [spacing:res:spp ...]
+ *       reference: path-traced indirect at REF_SPP; then the path tracer at
+ *       1, 4, 16, 64 spp and probe GI for each bake configuration.
+ * Default: the GPU (bake and render); --cpu: the CPU reference paths.
+ * Meshes: convert first, e.g. `vox2svo rtxgi_cornell.glb cornell.svo --res 256`. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "convert/convert.h"
 #include "probes/probes.h"
 
+static bool use_cpu;
+static vx_gpu* gpu;
+static vx_render_scene* rs;
+
+static int load(const char* path, vx_svo_scene* s, vx_error* err) {
+    const char* ext = strrchr(path, '.');
+    if (ext && !strcmp(ext, ".vox")) {
+        vx_vox_scene vs;
+        if (vx_vox_read_file(NULL, path, &vs, err)) return 1;
+        vx_result r = vx_conv_vox(NULL, &vs, s, NULL, err);
+        vx_vox_scene_free(&vs);
+        return r != VX_OK;
+    }
+    return vx_svo_read_file(NULL, path, s, err) != VX_OK;
+}
+
+static vx_result bake(const vx_svo_scene* s, const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err) {
+    return use_cpu ? vx_probe_bake(s, d, ps, err) : vx_probe_bake_gpu(rs, s, d, ps, err);
+}
+static vx_result render(const vx_svo_scene* s, const vx_probe_set* ps, const vx_probe_render_desc* d,
+                        vx_render_image* img, vx_error* err) {
+    return use_cpu ? vx_probe_render(s, ps, d, img, err) : vx_probe_render_gpu(rs, s, ps, d, img, err);
+}
+
 static void err_of(const vx_render_image* a, const vx_render_image* ref, double* rmse, double* rel) {
-    double se = 0, rs = 0;
+    double se = 0, rs2 = 0;
     size_t n = 0;
     for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
         if (ref->pixels[4 * i + 3] == 0) continue;
         for (int c = 0; c < 3; c++) {
             double d = a->pixels[4 * i + c] - ref->pixels[4 * i + c];
-            se += d * d, rs += ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+            se += d * d, rs2 += ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
         }
         n += 3;
     }
     *rmse = n ? sqrt(se / n) : 0;
-    *rel = rs > 0 ? se / rs : 0;
+    *rel = rs2 > 0 ? se / rs2 : 0;
+}
+
+static int usage(void) {
+    fprintf(stderr, "usage: probes_bench [--cpu] [--device N|NAME] bake SCENE [GX,GY,GZ RES SPP]\n"
+                    "       probes_bench [--cpu] [--device N|NAME] error SCENE WxH REF_SPP [spacing:res:spp ...]\n");
+    return 2;
 }
 
 int main(int argc, char** argv) {
-    if (argc < 4) {
-        fprintf(stderr, "usage: probes_bench SCENE.svo WxH REF_SPP [spacing:res:spp ...]\n");
-        return 2;
+    const char* device = NULL;
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-'; i++) {
+        if (!strcmp(argv[i], "--cpu")) use_cpu = true;
+        else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        else return usage();
     }
+    if (argc - i < 2) return usage();
+    const char* cmd = argv[i], *path = argv[i + 1];
+    i += 2;
     vx_error err = {0};
     vx_svo_scene s;
-    if (vx_svo_read_file(NULL, argv[1], &s, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-    unsigned w, h, ref_spp = (unsigned)atoi(argv[3]);
-    if (sscanf(argv[2], "%ux%u", &w, &h) != 2) return 2;
-    vx_render_desc base = {.width = w, .height = h};
-    vx_render_image ref = {0};
-    if (vx_probe_render(&s, NULL, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = ref_spp, .seed = 999, .threads = 2}, &ref, &err))
-        return fprintf(stderr, "%s\n", err.msg), 1;
-    printf("| scene | method | probes | res | spp | bake s | render s | RMSE | relMSE |\n|---|---|---|---|---|---|---|---|---|\n");
-    printf("| %s | pathtrace ref | - | - | %u | - | %.2f | 0 | 0 |\n", argv[1], ref_spp, ref.gpu_seconds);
-    for (unsigned spp = 1; spp <= 16; spp *= 4) {
-        vx_render_image pt = {0};
-        vx_probe_render(&s, NULL, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = spp, .seed = 7, .threads = 2}, &pt, &err);
-        double rmse, rel;
-        err_of(&pt, &ref, &rmse, &rel);
-        printf("| %s | pathtrace | - | - | %u | - | %.3f | %.4f | %.4f |\n", argv[1], spp, pt.gpu_seconds, rmse, rel);
-        vx_render_image_free(&pt);
+    if (load(path, &s, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+    if (!use_cpu) {
+        if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err)) {
+            fprintf(stderr, "GPU: %s (--cpu for the CPU paths)\n", err.msg);
+            return 1;
+        }
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    } else {
+        printf("device: CPU (2 threads)\n");
     }
-    for (int i = 4; i < argc; i++) {
-        double sp;
-        unsigned res, spp;
-        if (sscanf(argv[i], "%lf:%u:%u", &sp, &res, &spp) != 3) return 2;
+    int rc = 0;
+    if (!strcmp(cmd, "bake")) {
+        vx_probe_bake_desc d = {.grid = {8, 8, 8}, .res = 128, .spp = 64, .bounces = 1, .threads = use_cpu ? 2 : 16};
+        if (argc - i >= 3) {
+            if (sscanf(argv[i], "%u,%u,%u", &d.grid[0], &d.grid[1], &d.grid[2]) != 3) return usage();
+            d.res = (uint32_t)atoi(argv[i + 1]), d.spp = (uint32_t)atoi(argv[i + 2]);
+        }
         vx_probe_set ps;
         double t0 = vx_time_now();
-        if (vx_probe_bake(&s, &(vx_probe_bake_desc){.spacing = sp, .res = res, .spp = spp, .threads = 2}, &ps, &err))
-            return fprintf(stderr, "%s\n", err.msg), 1;
-        double tb = vx_time_now() - t0;
-        vx_render_image gi = {0};
-        vx_probe_render(&s, &ps, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_INDIRECT, .threads = 2}, &gi, &err);
-        double rmse, rel;
-        err_of(&gi, &ref, &rmse, &rel);
-        printf("| %s | gi | %u | %u | %u | %.2f | %.3f | %.4f | %.4f |\n", argv[1], ps.probe_count, res, spp, tb,
-               gi.gpu_seconds, rmse, rel);
-        vx_render_image_free(&gi);
+        if (bake(&s, &d, &ps, &err)) return fprintf(stderr, "bake: %s\n", err.msg), 1;
+        double t = vx_time_now() - t0;
+        printf("| scene | probes | res | spp | bounces | bake s | s per probe |\n|---|---|---|---|---|---|---|\n");
+        printf("| %s | %u | %u | %u | %u | %.2f | %.4f |\n", path, ps.probe_count, ps.res, ps.spp, ps.bounces, t,
+               t / ps.probe_count);
         vx_probe_set_free(&ps);
+    } else if (!strcmp(cmd, "error") && argc - i >= 2) {
+        unsigned w, h, ref_spp = (unsigned)atoi(argv[i + 1]);
+        if (sscanf(argv[i], "%ux%u", &w, &h) != 2) return usage();
+        vx_render_desc base = {.width = w, .height = h};
+        vx_render_image ref = {0};
+        vx_probe_render_desc rd = {.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = ref_spp, .seed = 999,
+                                   .threads = 2};
+        if (render(&s, NULL, &rd, &ref, &err)) return fprintf(stderr, "reference: %s\n", err.msg), 1;
+        printf("| scene | method | probes | res | spp | bake s | render s | RMSE | relMSE |\n"
+               "|---|---|---|---|---|---|---|---|---|\n");
+        printf("| %s | pathtrace ref | - | - | %u | - | %.3f | 0 | 0 |\n", path, ref_spp, ref.gpu_seconds);
+        for (unsigned spp = 1; spp <= 64 && spp < ref_spp; spp *= 4) {
+            vx_render_image pt = {0};
+            rd.spp = spp, rd.seed = 7;
+            if (render(&s, NULL, &rd, &pt, &err)) return fprintf(stderr, "pathtrace: %s\n", err.msg), 1;
+            double rmse, rel;
+            err_of(&pt, &ref, &rmse, &rel);
+            printf("| %s | pathtrace | - | - | %u | - | %.4f | %.4f | %.4f |\n", path, spp, pt.gpu_seconds, rmse, rel);
+            vx_render_image_free(&pt);
+        }
+        for (int k = i + 2; k < argc && !rc; k++) {
+            double sp;
+            unsigned res, spp;
+            if (sscanf(argv[k], "%lf:%u:%u", &sp, &res, &spp) != 3) return usage();
+            vx_probe_set ps;
+            double t0 = vx_time_now();
+            if (bake(&s, &(vx_probe_bake_desc){.spacing = sp, .res = res, .spp = spp, .threads = use_cpu ? 2 : 16}, &ps,
+                     &err)) {
+                fprintf(stderr, "bake: %s\n", err.msg);
+                rc = 1;
+                break;
+            }
+            double tb = vx_time_now() - t0;
+            vx_render_image gi = {0};
+            vx_probe_render_desc gd = {.base = &base, .mode = VX_PROBE_RENDER_INDIRECT, .threads = 2};
+            if (render(&s, &ps, &gd, &gi, &err)) {
+                fprintf(stderr, "gi: %s\n", err.msg);
+                rc = 1;
+            } else {
+                double rmse, rel;
+                err_of(&gi, &ref, &rmse, &rel);
+                printf("| %s | gi | %u | %u | %u | %.2f | %.4f | %.4f | %.4f |\n", path, ps.probe_count, res, spp, tb,
+                       gi.gpu_seconds, rmse, rel);
+            }
+            vx_render_image_free(&gi);
+            vx_probe_set_free(&ps);
+        }
+        vx_render_image_free(&ref);
+    } else {
+        rc = usage();
     }
-    vx_render_image_free(&ref);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
     vx_svo_scene_free(&s);
-    return 0;
+    return rc;
 }

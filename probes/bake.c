@@ -196,7 +196,7 @@ static sizes sizes_of(const vx_probe_set* ps) {
 }
 
 /* Grows the data arrays to hold n probes (zeroed). */
-static bool grow_data(vx_probe_set* ps, uint32_t n) {
+bool vx__probe_grow(vx_probe_set* ps, uint32_t n) {
     sizes z = sizes_of(ps);
     void** arr[6] = {(void**)&ps->radiance, (void**)&ps->normal, (void**)&ps->distance,
                      (void**)&ps->low, (void**)&ps->irradiance, (void**)&ps->moments};
@@ -213,19 +213,37 @@ static bool grow_data(vx_probe_set* ps, uint32_t n) {
     return true;
 }
 
-typedef struct tables {
-    uint32_t res;
-    double* dir;   /* res^2 texel centre directions */
-    double* omega; /* res^2 solid angles */
-    double irr_dir[VX_PROBE_IRR_RES * VX_PROBE_IRR_RES][3];
-    double mom_dir[VX_PROBE_DIST_RES * VX_PROBE_DIST_RES][3];
-} tables;
+bool vx__tables_make(vx__tables* T, uint32_t res, const vx_allocator* alloc) {
+    memset(T, 0, sizeof *T);
+    T->res = res;
+    T->alloc = alloc;
+    size_t nt = (size_t)res * res;
+    T->dir = vx_calloc(alloc, nt, 3 * sizeof(double));
+    T->omega = vx_calloc(alloc, nt, sizeof(double));
+    if (!T->dir || !T->omega) return false;
+    for (uint32_t j = 0; j < res; j++)
+        for (uint32_t i = 0; i < res; i++) {
+            vx_probe_texel_dir(res, i, j, &T->dir[3 * ((size_t)j * res + i)]);
+            T->omega[(size_t)j * res + i] = vx_probe_texel_solid_angle(res, i, j);
+        }
+    for (uint32_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++)
+        vx_probe_texel_dir(VX_PROBE_IRR_RES, q % VX_PROBE_IRR_RES, q / VX_PROBE_IRR_RES, T->irr_dir[q]);
+    for (uint32_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++)
+        vx_probe_texel_dir(VX_PROBE_DIST_RES, q % VX_PROBE_DIST_RES, q / VX_PROBE_DIST_RES, T->mom_dir[q]);
+    return true;
+}
+
+void vx__tables_free(vx__tables* T) {
+    vx_free(T->alloc, T->dir);
+    vx_free(T->alloc, T->omega);
+    T->dir = T->omega = NULL;
+}
 
 typedef struct job {
     const vx_probe_set* ps;
     vx_probe_set* out;
     const vx__light* L;
-    const tables* T;
+    const vx__tables* T;
     uint32_t begin, end;
     uint32_t next; /* guarded by mu */
     uint32_t done;
@@ -269,15 +287,11 @@ static void fill_border_f32(float* m, uint32_t n, uint32_t ch) {
 static void bake_probe(const job* J, uint32_t pi, uint32_t k, double* scratch) {
     const vx_probe_set* ps = J->ps;
     vx_probe_set* out = J->out;
-    const tables* T = J->T;
+    const vx__tables* T = J->T;
     const vx_probe* pr = &ps->probes[pi];
     sizes z = sizes_of(ps);
-    uint16_t* rad = out->radiance + z.rad * k;
     uint32_t* nrm = out->normal + z.nrm * k;
     uint16_t* dist = out->distance + z.dist * k;
-    uint16_t* low = out->low + z.low * k;
-    uint16_t* irr = out->irradiance + z.irr * k;
-    float* mom = out->moments + z.mom * k;
     if (pr->state == VX_PROBE_DISABLED) return; /* stays zero */
     uint32_t n = ps->res, nb = n + 2;
     double* L = scratch;          /* res^2 * 3 radiance */
@@ -308,11 +322,25 @@ static void bake_probe(const job* J, uint32_t pi, uint32_t k, double* scratch) {
                 vx__path(J->L, pr->pos, dd, ps->bounces, &rng, c);
                 for (int q = 0; q < 3; q++) acc[q] += c[q];
             }
-            for (int q = 0; q < 3; q++) {
-                L[3 * t + q] = acc[q] / ps->spp;
-                rad[3 * b + q] = vx_probe_half((float)L[3 * t + q]);
-            }
+            for (int q = 0; q < 3; q++) L[3 * t + q] = acc[q] / ps->spp;
         }
+    vx__probe_finish(out, T, k, L, D);
+}
+
+void vx__probe_finish(vx_probe_set* out, const vx__tables* T, uint32_t k, const double* L, const double* D) {
+    const vx_probe_set* ps = out;
+    sizes z = sizes_of(ps);
+    uint16_t* rad = out->radiance + z.rad * k;
+    uint32_t* nrm = out->normal + z.nrm * k;
+    uint16_t* dist = out->distance + z.dist * k;
+    uint16_t* low = out->low + z.low * k;
+    uint16_t* irr = out->irradiance + z.irr * k;
+    float* mom = out->moments + z.mom * k;
+    uint32_t n = ps->res, nb = n + 2;
+    for (size_t t = 0; t < (size_t)n * n; t++) {
+        size_t b = (t / n + 1) * nb + t % n + 1;
+        for (int q = 0; q < 3; q++) rad[3 * b + q] = vx_probe_half((float)L[3 * t + q]);
+    }
     fill_border_u16(rad, n, 3);
     fill_border_u32(nrm, n);
     fill_border_u16(dist, n, 1);
@@ -397,23 +425,11 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
     vx__light L;
     vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false);
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    tables T = {.res = ps->res};
-    size_t nt = (size_t)ps->res * ps->res;
-    T.dir = vx_calloc(ps->alloc, nt, 3 * sizeof(double));
-    T.omega = vx_calloc(ps->alloc, nt, sizeof(double));
-    if (!T.dir || !T.omega || !grow_data(ps, end - ps->first)) {
+    vx__tables T;
+    if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
     }
-    for (uint32_t j = 0; j < ps->res; j++)
-        for (uint32_t i = 0; i < ps->res; i++) {
-            vx_probe_texel_dir(ps->res, i, j, &T.dir[3 * ((size_t)j * ps->res + i)]);
-            T.omega[(size_t)j * ps->res + i] = vx_probe_texel_solid_angle(ps->res, i, j);
-        }
-    for (uint32_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++)
-        vx_probe_texel_dir(VX_PROBE_IRR_RES, q % VX_PROBE_IRR_RES, q / VX_PROBE_IRR_RES, T.irr_dir[q]);
-    for (uint32_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++)
-        vx_probe_texel_dir(VX_PROBE_DIST_RES, q % VX_PROBE_DIST_RES, q / VX_PROBE_DIST_RES, T.mom_dir[q]);
     job J = {.ps = ps, .out = ps, .L = &L, .T = &T, .begin = begin, .end = end, .next = begin,
              .progress = &d.progress, .alloc = ps->alloc};
     pthread_mutex_init(&J.mu, NULL);
@@ -437,8 +453,7 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
     /* on failure count stays: the probes baked so far are not recorded (the
      * arrays merely grew), so a resume redoes them */
 done:
-    vx_free(ps->alloc, T.dir);
-    vx_free(ps->alloc, T.omega);
+    vx__tables_free(&T);
     vx_render_caster_destroy(c);
     return r;
 }
@@ -495,7 +510,7 @@ vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_
     ps.first = ps.count = 0;
     ps.radiance = NULL, ps.normal = NULL, ps.distance = NULL, ps.low = NULL, ps.irradiance = NULL, ps.moments = NULL;
     ps.probes = vx_calloc(alloc, a->probe_count, sizeof *ps.probes);
-    if (!ps.probes || !grow_data(&ps, a->probe_count)) {
+    if (!ps.probes || !vx__probe_grow(&ps, a->probe_count)) {
         vx_probe_set_free(&ps);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }

@@ -180,6 +180,18 @@ vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* des
 vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* ps,
                              uint32_t end, vx_error* err);
 
+/* The same bake with the path tracing on the GPU (render/shaders/probe.comp,
+ * float traversal; the filtering runs on desc->threads host threads). rs must
+ * be vx_render_scene_create(gpu, scene). Same seed, same bytes on one device
+ * and driver; results do not depend on the batch size or sharding. The GPU
+ * draws its own random numbers (pcg4d streams keyed by seed, probe, texel and
+ * sample), so GPU and CPU bakes agree statistically, not bit for bit.
+ * VX_ERR_UNSUPPORTED for scenes that need the float64 tracer. */
+vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                            vx_probe_set* out, vx_error* err);
+vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                 vx_probe_set* ps, uint32_t end, vx_error* err);
+
 /* Joins parts with identical grids and parameters whose ranges tile
  * [0, probe_count) (in any order) into one full set. */
 vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_allocator* alloc, vx_probe_set* out,
@@ -236,6 +248,11 @@ typedef struct vx_probe_render_desc {
  * the path tracer modes. Free out with vx_render_image_free. */
 vx_result vx_probe_render(const vx_svo_scene* scene, const vx_probe_set* probes, const vx_probe_render_desc* desc,
                           vx_render_image* out, vx_error* err);
+/* The same on the GPU (float; threads ignored): image gpu_seconds from GPU
+ * timestamps. Scenes without probes use the pathtrace modes only; the plain
+ * trace pipeline (vx_render_frame) is untouched by the probe variants. */
+vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* probes,
+                              const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err);
 const char* vx_probe_render_mode_name(vx_probe_render_mode m);
 bool vx_probe_render_mode_parse(const char* s, vx_probe_render_mode* out);
 

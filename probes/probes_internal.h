@@ -2,6 +2,8 @@
 #ifndef VX_PROBES_INTERNAL_H
 #define VX_PROBES_INTERNAL_H
 
+#include <math.h>
+
 #include "probes/probes.h"
 
 /* ---- random numbers: one stream per (seed, a, b, c), independent of threads ---- */
@@ -66,5 +68,31 @@ void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
 
 /* Probe map sizes in texels (with borders) and the per-probe block size. */
 static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
+
+/* ---- bake pieces shared by the CPU and the GPU baker (bake.c) -------------------- */
+
+typedef struct vx__tables {
+    uint32_t res;
+    double* dir;   /* res^2 texel centre directions */
+    double* omega; /* res^2 solid angles */
+    double irr_dir[VX_PROBE_IRR_RES * VX_PROBE_IRR_RES][3];
+    double mom_dir[VX_PROBE_DIST_RES * VX_PROBE_DIST_RES][3];
+    const vx_allocator* alloc;
+} vx__tables;
+
+bool vx__tables_make(vx__tables* T, uint32_t res, const vx_allocator* alloc); /* false: out of memory (free anyway) */
+void vx__tables_free(vx__tables* T);
+/* Grows the data arrays to hold n probes from ps->first (new ones zeroed). */
+bool vx__probe_grow(vx_probe_set* ps, uint32_t n);
+/* Completes slot k of ps whose interior distance and normal codes are set:
+ * L is the interior radiance (res^2 RGB, row-major), D the decoded distances
+ * (dist_max for misses). Writes the radiance halfs, the borders, the
+ * low-resolution minimum map, the irradiance and the distance moments. */
+void vx__probe_finish(vx_probe_set* ps, const vx__tables* T, uint32_t k, const double* L, const double* D);
+/* Distance code of a hit at world distance t. */
+static inline uint16_t vx__dist_code(const vx_probe_set* ps, double t) {
+    double q = nearbyint(t / ps->dist_step);
+    return (uint16_t)(q > VX_PROBE_DIST_MISS - 1 ? VX_PROBE_DIST_MISS - 1 : q);
+}
 
 #endif

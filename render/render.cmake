@@ -7,8 +7,9 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
-  # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
-  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE)
+  # name:source[:define]; trace_precise is trace.comp in float64 (deep models);
+  # probe.comp holds the light field probes' bake and GI passes.
+  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE probe:probe)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -23,7 +24,7 @@ if(VX_WITH_VULKAN)
     add_custom_command(
       OUTPUT ${out}
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
-      DEPENDS ${src}
+      DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})

@@ -215,6 +215,24 @@ vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,
                              float* depth_out, vx_error* err);
 
+/* ---- other GPU passes over a scene (probes/probe_gpu.c) ------------------------------ */
+
+/* shaders/probe.comp: the light field probes' bake and GI passes (float variant). */
+const uint32_t* vx__spirv_probe(size_t* bytes);
+vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
+/* Writes the per-frame tables and the frame block for f (f->ref is the origin
+ * of the shader's float coordinates; the camera matters only to camera rays)
+ * and returns the scene's bindings 0-6 (frame, nodes, colors, models,
+ * instances, BVH nodes, BVH items) and the trace spec constants. Float
+ * variant only: VX_ERR_UNSUPPORTED for scenes that need float64. */
+vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
+                                uint32_t spec[VX__SPEC_COUNT], vx_error* err);
+/* Palette index (0: none) of every entry of the colors buffer, in its order
+ * (the models' attribute records one model after another); *out freed with
+ * vx_free(alloc, ...). */
+vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
+                                 vx_error* err);
+
 /* ---- CPU reference internals used by the benchmark's dense baseline ----------------- */
 
 /* Calls fn for every filled model cell (via vx_svo_decode_model) placed in

@@ -295,6 +295,43 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     return vx__dispatch(g, &dd, seconds, err);
 }
 
+vx_gpu* vx__render_scene_gpu(vx_render_scene* rs) { return rs ? rs->gpu : NULL; }
+
+vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
+                                uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
+    if (use_precise(rs))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
+                       VX_RENDER_PRECISE_DEPTH);
+    write_frame_tables(rs, f);
+    fill_gpu_frame(rs, f, rs->frame.map);
+    vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
+    memcpy(bufs, b, sizeof b);
+    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
+    memcpy(spec, sp, sizeof sp);
+    return VX_OK;
+}
+
+/* Must walk the models as prepare_models does. */
+vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
+                                 vx_error* err) {
+    size_t total = 0;
+    for (uint32_t i = 0; i < s->model_count; i++)
+        if (s->models[i].attrs) total += s->models[i].attr_count;
+    uint8_t* p = vx_calloc(alloc, total ? total : 1, 1);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", total);
+    size_t at = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (!m->attrs) continue;
+        for (uint32_t a = 0; a < m->attr_count; a++)
+            p[at++] = (m->attrs & VX_ATTR_PALETTE) && m->palette ? m->palette[a] : 0;
+    }
+    *out = p;
+    *n = total;
+    return VX_OK;
+}
+
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err) {
     if (!rs || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     bool want_hits = desc && desc->want_hits;

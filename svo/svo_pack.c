@@ -13,6 +13,7 @@
  * beats deflate clearly because it has no tables to transmit. */
 #include <stdio.h>
 #include <string.h>
+#include <zlib.h>
 
 #include "svo/svo_internal.h"
 
@@ -30,7 +31,10 @@ typedef uint16_t prob;
 
 typedef struct pk {
     bool enc;
-    vx_buf* out; /* encoder */
+    vx_buf* out;  /* encoder: the coded bytes */
+    vx_buf* side; /* encoder: raw side bytes of 4-byte values */
+    const uint8_t* raw; /* decoder: the side bytes */
+    size_t raw_n, raw_pos;
     uint64_t low;
     uint32_t range;
     uint8_t cache;
@@ -129,6 +133,26 @@ static uint32_t plain_bits(pk* k, unsigned nb, uint32_t v) {
     return out;
 }
 
+/* RGBA colours, normals and densities vary too much for the byte trees to
+ * gain much (texture colours shrank by a few percent) while coding them bit
+ * by bit was most of the writer's time; their differing values are stored
+ * as plain bytes in the model's side stream. */
+static uint32_t raw_u32(pk* k, uint32_t v) {
+    if (k->enc) {
+        uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
+        vx_buf_append(k->side, b, 4);
+        return v;
+    }
+    if (k->raw_n - k->raw_pos < 4) {
+        k->over = true;
+        k->raw_pos = k->raw_n;
+        return 0;
+    }
+    const uint8_t* b = k->raw + k->raw_pos;
+    k->raw_pos += 4;
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
 static unsigned level_class(unsigned level) { return level >= 4 ? 3 : level - 1; }
 static const unsigned CH_BYTES[5] = {1, 4, 4, 2, 4};
 
@@ -161,7 +185,9 @@ static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
         unsigned c = ctx;
         unsigned same = bit(k, &k->eq[c][k->preveq[c]], *v == k->prev[c]);
         uint32_t out = k->prev[c];
-        if (!same) {
+        if (!same && CH_BYTES[c] == 4) {
+            out = raw_u32(k, *v);
+        } else if (!same) {
             out = 0;
             for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= tree8(k, k->val[c][j], (*v >> (8 * j)) & 0xFFu) << (8 * j);
         }
@@ -329,13 +355,25 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
 static unsigned pack_threads(const vx_svo_scene* s) { return vx__svo_threads(s); }
 #define run_jobs vx__svo_run_jobs
 
+static bool put_var(vx_buf* b, uint64_t v) {
+    do {
+        uint8_t c = (uint8_t)(v & 0x7Fu);
+        v >>= 7;
+        if (!vx_buf_u8(b, (uint8_t)(c | (v ? 0x80u : 0u)))) return false;
+    } while (v);
+    return true;
+}
+
 /* Codes one model into its own stream. */
 static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
+    vx_buf coded = {0}, side = {0};
+    coded.alloc = side.alloc = A;
     pk_init_models(k);
     k->enc = true;
-    k->out = out;
+    k->out = &coded;
+    k->side = &side;
     k->range = 0xFFFFFFFFu;
     k->cache_size = 1;
     bool ok = true;
@@ -382,7 +420,22 @@ static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out
                     }
         }
         for (int i = 0; i < 5; i++) shift_low(k);
+        /* the model's stream: side length, [deflated side length, deflated
+         * side bytes], coded bytes. Deflate level 1: most of zlib's gain on
+         * colour data at a small fraction of the range coder's time. */
+        ok = put_var(out, side.size);
+        if (ok && side.size) {
+            uLongf zn = compressBound((uLong)side.size);
+            uint8_t* z = side.size == (uLong)side.size ? (uint8_t*)vx_alloc(A, zn) : NULL;
+            ok = z && compress2(z, &zn, side.data, (uLong)side.size, 1) == Z_OK && put_var(out, zn) &&
+                 vx_buf_append(out, z, zn);
+            vx_free(A, z);
+        }
+        ok = ok && vx_buf_append(out, coded.data, coded.size);
     }
+    ok = ok && !coded.failed && !side.failed;
+    vx_buf_free(&coded);
+    vx_buf_free(&side);
     vx_free(A, x.v);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
@@ -402,15 +455,6 @@ typedef struct pack_jobs {
 static void pack_job(void* ctx, uint32_t i) {
     pack_jobs* j = (pack_jobs*)ctx;
     j->ok[i] = pack_model(&j->s->models[i], j->A, &j->bufs[i]);
-}
-
-static bool put_var(vx_buf* b, uint64_t v) {
-    do {
-        uint8_t c = (uint8_t)(v & 0x7Fu);
-        v >>= 7;
-        if (!vx_buf_u8(b, (uint8_t)(c | (v ? 0x80u : 0u)))) return false;
-    } while (v);
-    return true;
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A) {
@@ -527,10 +571,57 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
     return VX_OK;
 }
 
+static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
+                              uint32_t mi, const vx_allocator* A, vx_error* err);
+
 /* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
 static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
                               vx_error* err) {
-    uint64_t cap = ((uint64_t)n + 16) * PACK_RATIO_MAX;
+    /* side bytes first: their length, then (if any) the deflated length and
+     * the deflated bytes. Both lengths are checked before anything is
+     * allocated: the side holds at most 4 bytes per declared record and
+     * 4-byte channel (RGBA8, normal, density). */
+    uint64_t side_n = 0, z_n = 0;
+    size_t hdr = 0;
+    for (int which = 0; which < 2; which++) {
+        uint64_t* dst = which ? &z_n : &side_n;
+        if (which && side_n == 0) break;
+        for (unsigned shift = 0;; shift += 7) {
+            if (hdr >= n || shift > 35)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: side length %s",
+                               (unsigned long long)base, mi, hdr >= n ? "cut off" : "too long");
+            uint8_t c = p[hdr++];
+            *dst |= (uint64_t)(c & 0x7Fu) << shift;
+            if (!(c & 0x80u)) break;
+        }
+    }
+    uint64_t side_max = 4u * vx__popc8(m->attrs & (VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_DENSITY)) * (uint64_t)m->attr_count;
+    if (side_n > side_max || z_n > n - hdr)
+        return vx_fail(err, side_n > side_max ? VX_ERR_BAD_FORMAT : VX_ERR_TRUNCATED, base,
+                       "svo: section NODE at byte %llu: model %u: %llu side bytes (%llu deflated) for %u records, %zu bytes left",
+                       (unsigned long long)base, mi, (unsigned long long)side_n, (unsigned long long)z_n, m->attr_count, n - hdr);
+    uint8_t* side = NULL;
+    if (side_n) {
+        side = (uint8_t*)vx_alloc(A, (size_t)side_n);
+        if (!side) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        uLongf got = (uLongf)side_n;
+        if (uncompress(side, &got, p + hdr, (uLong)z_n) != Z_OK || got != side_n) {
+            vx_free(A, side);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, base + hdr, "svo: section NODE at byte %llu: model %u: side bytes do not inflate to %llu bytes",
+                           (unsigned long long)(base + hdr), mi, (unsigned long long)side_n);
+        }
+    }
+    p += hdr + (size_t)z_n;
+    base += hdr + z_n;
+    n -= hdr + (size_t)z_n;
+    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, err);
+    vx_free(A, side);
+    return r;
+}
+
+static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
+                              uint32_t mi, const vx_allocator* A, vx_error* err) {
+    uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
     if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
                        "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
@@ -543,6 +634,8 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     pk_init_models(k);
     k->p = p;
     k->n = n;
+    k->raw = side;
+    k->raw_n = side_n;
     k->range = 0xFFFFFFFFu;
     for (int i = 0; i < 5; i++) k->code = (k->code << 8) | next_byte(k);
     vx_result r = VX_OK;
@@ -581,9 +674,11 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     }
     if (r == VX_OK && (k->over || k->pos != n))
         r = vx_fail(err, k->over ? VX_ERR_TRUNCATED : VX_ERR_BAD_FORMAT, base + (k->over ? n : k->pos),
-                    k->over ? "svo: section NODE: model %u: the coded stream is truncated (%zu bytes, more needed)"
+                    k->over ? "svo: section NODE: model %u: the coded stream or its side bytes are truncated (%zu bytes, more needed)"
                             : "svo: section NODE: model %u: %zu bytes, the coded stream ends earlier",
                     mi, n);
+    if (r == VX_OK && k->raw_pos != k->raw_n)
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE: model %u: %zu side bytes left over", mi, k->raw_n - k->raw_pos);
     vx_free(A, k);
     return r;
 }

@@ -5,12 +5,11 @@
 #include <stdio.h>
 
 #include "probes/probes.h"
-#include "tests/render/scenes.h"
+#include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
 
 static const double PI = 3.14159265358979323846;
 
-static size_t vx__bsq_test(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
 
 static double angle(const double a[3], const double b[3]) {
     double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -117,26 +116,6 @@ static void test_half(void) {
 }
 
 /* A closed hollow box of side n (walls one voxel thick), palette colour c. */
-static void box_scene(vx_svo_scene* s, uint32_t n, uint8_t c) {
-    size_t cap = (size_t)n * n * n, k = 0;
-    uint32_t* xyz = malloc(cap * 12);
-    uint8_t* pal = malloc(cap);
-    for (uint32_t z = 0; z < n; z++)
-        for (uint32_t y = 0; y < n; y++)
-            for (uint32_t x = 0; x < n; x++)
-                if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1) {
-                    xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z;
-                    pal[k++] = c;
-                }
-    vx_svo_model m;
-    uint32_t size[3] = {n, n, n};
-    ts_model(&m, size, xyz, pal, k);
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(s, &m, 1, &in, 1);
-    free(xyz);
-    free(pal);
-}
-
 static void test_box_distances(void) {
     vx_svo_scene s;
     box_scene(&s, 16, 5);
@@ -226,39 +205,6 @@ static void test_furnace(void) {
     for (int c = 0; c < 3; c++) CHECK(fabs(e[c] / (PI * d.sky[c]) - 1) < 0.01);
     vx_probe_set_free(&ps);
     vx_svo_scene_free(&s);
-}
-
-/* A small lit room: floor, two walls, an emissive block (palette 9). */
-static void room_scene(vx_svo_scene* s) {
-    uint32_t n = 12, cap = n * n * n, k = 0;
-    uint32_t* xyz = malloc((size_t)cap * 12);
-    uint8_t* pal = malloc(cap);
-    for (uint32_t z = 0; z < n; z++)
-        for (uint32_t y = 0; y < n; y++)
-            for (uint32_t x = 0; x < n; x++) {
-                uint8_t c = 0;
-                if (z == 0) c = 3;
-                else if (x == 0 || y == n - 1) c = 4;
-                else if (x >= 5 && x <= 6 && y >= 5 && y <= 6 && z <= 2) c = 9;
-                if (!c) continue;
-                xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z;
-                pal[k++] = c;
-            }
-    vx_svo_model m;
-    uint32_t size[3] = {n, n, n};
-    ts_model(&m, size, xyz, pal, k);
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(s, &m, 1, &in, 1);
-    s->palette[3] = 0xFF80A0C0u, s->palette[4] = 0xFF4080E0u, s->palette[9] = 0xFFFFFFFFu;
-    static char dict[] = "_type\0_emit\0_emit\0" "0.5\0_flux\0" "1";
-    s->materials = calloc(1, sizeof *s->materials);
-    s->materials[0].id = 9;
-    s->materials[0].dict_size = sizeof dict;
-    s->materials[0].dict = malloc(sizeof dict);
-    memcpy(s->materials[0].dict, dict, sizeof dict);
-    s->material_count = 1;
-    free(xyz);
-    free(pal);
 }
 
 static bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
@@ -369,6 +315,62 @@ static void test_reader(void) {
     vx_svo_scene_free(&s);
 }
 
+/* An allocator that fails the n-th allocation (SQLite's OOM loop) and counts
+ * live blocks, so a failed read must leave none behind. */
+typedef struct oom {
+    long countdown; /* fails when it reaches 0; negative: never */
+    long live;
+} oom;
+static void* oom_alloc(void* user, size_t size) {
+    oom* o = user;
+    if (o->countdown >= 0 && o->countdown-- == 0) return NULL;
+    void* p = malloc(size);
+    if (p) o->live++;
+    return p;
+}
+static void oom_free(void* user, void* p) {
+    oom* o = user;
+    o->live--;
+    free(p);
+}
+
+static void test_reader_oom(void) {
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_probe_set ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.grid = {2, 1, 1}, .res = 16, .spp = 1}, &ps, &err) == VX_OK);
+    uint8_t* data;
+    size_t n;
+    REQUIRE(bytes_of(&ps, &data, &n));
+    oom o = {0};
+    vx_allocator a = {oom_alloc, oom_free, &o};
+    long fails = 0, n_ok = -1;
+    for (long k = 0; k < 1000 && n_ok < 0; k++) {
+        o.countdown = k, o.live = 0;
+        vx_probe_set back;
+        vx_result r = vx_probe_read(&(vx_probe_read_desc){.alloc = &a}, data, n, &back, &err);
+        if (r == VX_OK) {
+            n_ok = k;
+            uint8_t* again;
+            size_t n2;
+            REQUIRE(bytes_of(&back, &again, &n2));
+            CHECK(n2 == n && !memcmp(again, data, n));
+            free(again);
+            vx_probe_set_free(&back);
+        } else {
+            fails++;
+            CHECKF(r == VX_ERR_NOMEM, "allocation %ld failing gave %d: %s", k, (int)r, err.msg);
+        }
+        CHECKF(o.live == 0, "allocation %ld failing left %ld blocks", k, o.live);
+    }
+    fprintf(stderr, "  reader: every one of its %ld allocations failed in turn, cleanly\n", fails);
+    CHECK(n_ok > 0 && fails == n_ok);
+    free(data);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
 /* Indirect diffuse from the probes against the path tracer on the room. */
 static void test_gi_vs_pathtrace(void) {
     vx_svo_scene s;
@@ -413,6 +415,7 @@ int main(void) {
     RUN(test_furnace);
     RUN(test_determinism_shards);
     RUN(test_reader);
+    RUN(test_reader_oom);
     RUN(test_gi_vs_pathtrace);
     return vx_test_finish();
 }

@@ -1,6 +1,7 @@
 #!/bin/sh
 # svo_bake end to end: usage exit codes, shards + merge == one bake (bytes),
-# an interrupted job's checkpoint is resumed, svo_render --mode gi runs.
+# an interrupted job's checkpoint is resumed, svo_render --mode gi runs; the
+# same on the GPU when a Vulkan device exists (otherwise: exit 1 naming --cpu).
 set -u
 BIN=$1
 T=$(mktemp -d)
@@ -12,7 +13,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 "$BIN/svo_bake" >/dev/null 2>&1; [ $? -eq 2 ] || fail "no arguments must exit 2"
 "$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --res 17 >/dev/null 2>&1; [ $? -eq 2 ] || fail "bad res must exit 2"
 "$BIN/svo_bake" "$T/missing.svo" "$T/x.probes" >/dev/null 2>&1; [ $? -eq 1 ] || fail "missing input must exit 1"
-O="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q"
+O="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q --cpu"
 "$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >/dev/null || fail "bake"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p0.probes" $O --shard 0/3 >/dev/null || fail "shard 0"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p1.probes" $O --shard 1/3 >/dev/null || fail "shard 1"
@@ -25,6 +26,23 @@ cp "$T/p0.probes" "$T/resumed.probes.partial"
 "$BIN/svo_bake" "$T/demo.svo" "$T/resumed.probes" $O | grep -q "resuming" || fail "no resume"
 cmp -s "$T/full.probes" "$T/resumed.probes" || fail "resumed bake differs"
 [ ! -e "$T/resumed.probes.partial" ] || fail "checkpoint left behind"
-"$BIN/svo_render" "$T/demo.svo" "$T/gi.exr" --probes "$T/full.probes" --mode gi --size 32x24 >/dev/null || fail "render gi"
+"$BIN/svo_render" "$T/demo.svo" "$T/gi.exr" --probes "$T/full.probes" --mode gi --size 32x24 --cpu >/dev/null || fail "render gi"
 "$BIN/svo_render" "$T/demo.svo" "$T/gi.png" --mode gi --size 32x24 >/dev/null 2>&1; [ $? -eq 2 ] || fail "gi without probes must exit 2"
+# GPU: the default baker
+G="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q"
+"$BIN/svo_bake" "$T/demo.svo" "$T/g.probes" $G >"$T/g.out" 2>&1
+rc=$?
+if [ $rc -eq 0 ]; then
+  "$BIN/svo_bake" "$T/demo.svo" "$T/g2.probes" $G >/dev/null || fail "GPU bake 2"
+  cmp -s "$T/g.probes" "$T/g2.probes" || fail "GPU: same seed, different bytes"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/q0.probes" $G --shard 0/2 >/dev/null || fail "GPU shard 0"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/q1.probes" $G --shard 1/2 >/dev/null || fail "GPU shard 1"
+  "$BIN/svo_bake" --merge "$T/gm.probes" "$T/q1.probes" "$T/q0.probes" >/dev/null || fail "GPU merge"
+  cmp -s "$T/g.probes" "$T/gm.probes" || fail "GPU shards + merge differ from one GPU bake"
+  "$BIN/svo_render" "$T/demo.svo" "$T/ggi.exr" --probes "$T/g.probes" --mode gi --size 32x24 >/dev/null || fail "GPU render gi"
+  "$BIN/svo_render" "$T/demo.svo" "$T/gpt.exr" --mode pathtrace --spp 2 --size 32x24 >/dev/null || fail "GPU pathtrace"
+else
+  [ $rc -eq 1 ] && grep -q -- "--cpu" "$T/g.out" || fail "no GPU: svo_bake must exit 1 and suggest --cpu"
+  echo "no Vulkan device: GPU checks skipped"
+fi
 echo "svo_bake: all checks passed"

@@ -15,6 +15,7 @@ typedef struct options {
     vx_probe_bake_desc b;
     uint32_t shard, shards;
     const char* exr_dir;
+    const char* device;
     bool merge, cpu, quiet, verbose, fresh;
     uint32_t threads;
 } options;
@@ -41,8 +42,10 @@ _Noreturn static void usage(int status) {
             "Which: bakes light field probes for a .svo scene: per probe octahedral maps of\n"
             "       radiance, normal and radial distance, a low-resolution minimum-distance map,\n"
             "       irradiance and distance moments (docs/FORMAT.md, .probes). Path tracing on the\n"
-            "       CPU reference tracer's rays (double precision). --shard I/N bakes a part that\n"
-            "       --merge joins; an interrupted run continues from OUT.probes.partial.\n"
+            "       GPU (Vulkan compute, float), or with --cpu on the CPU reference tracer's rays\n"
+            "       (double precision); the two agree statistically, each is reproducible by itself.\n"
+            "       --shard I/N bakes a part that --merge joins (bake all parts on the same kind of\n"
+            "       device); an interrupted run continues from OUT.probes.partial.\n"
             "\n"
             "Options:\n"
             "  --grid X,Y,Z       probes per axis over the bounds (default: from --spacing)\n"
@@ -56,10 +59,11 @@ _Noreturn static void usage(int status) {
             "  --sun R,G,B        sun irradiance (default: 3,3,3); 0,0,0 for none\n"
             "  --sky R,G,B        sky radiance (default: 0.31,0.375,0.46); 0,0,0 for none\n"
             "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
-            "  --threads N        worker threads (default: %u, the CPU count)\n"
+            "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
             "  --fresh            ignore a checkpoint from an interrupted run\n"
-            "  --cpu              bake on the CPU (the only baker so far; the default)\n"
+            "  --cpu              bake on the CPU (default: the GPU)\n"
+            "  --device N|NAME    Vulkan device (default: a discrete GPU, else any)\n"
             "  -q                 no progress bar;  -v: timings and the effective options\n"
             "  -h, --help         this help;  -version: versions\n"
             "\n"
@@ -305,6 +309,9 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--exr")) {
             NEED();
             o.exr_dir = argv[++i];
+        } else if (!strcmp(a, "--device")) {
+            NEED();
+            o.device = argv[++i];
         } else if (!strcmp(a, "--cpu")) o.cpu = true;
         else if (!strcmp(a, "--fresh")) o.fresh = true;
         else if (!strcmp(a, "-q")) o.quiet = true;
@@ -320,6 +327,7 @@ int main(int argc, char** argv) {
     }
     if (npos != 2) usage_error("%s", npos == 0 ? "no scene and output given" : "no output file given");
     if ((o.b.grid[0] || o.b.grid[1] || o.b.grid[2]) && o.b.spacing) usage_error("%s", "give --grid or --spacing, not both");
+    if (o.cpu && o.device) usage_error("%s", "--cpu conflicts with --device");
     const char* in = pos[0];
     const char* out = pos[1];
     o.b.threads = o.threads;
@@ -331,9 +339,29 @@ int main(int argc, char** argv) {
     vx_error err = {0};
     vx_svo_scene scene;
     if (vx_svo_read_file(NULL, in, &scene, &err)) return vx_tool_error(NULL, &err);
+    vx_gpu* gpu = NULL;
+    vx_render_scene* rs = NULL;
+    if (!o.cpu) {
+        if (vx_gpu_create(&(vx_gpu_desc){.device = o.device}, &gpu, &err)) {
+            vx_svo_scene_free(&scene);
+            fprintf(stderr, "%s: no usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, err.msg);
+            return 1;
+        }
+        if (vx_render_scene_create(gpu, &scene, &rs, &err)) {
+            vx_gpu_destroy(gpu);
+            vx_svo_scene_free(&scene);
+            fprintf(stderr, "%s: %s: %s (--cpu bakes on the CPU)\n", vx_tool_name, in, err.msg);
+            return 1;
+        }
+        printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
+    } else {
+        printf("device: CPU (%u threads, double precision)\n", o.threads);
+    }
     double t0 = vx_time_now();
     vx_probe_set ps;
     if (vx_probe_place(&scene, &o.b, &ps, &err)) {
+        vx_render_scene_destroy(rs);
+        vx_gpu_destroy(gpu);
         vx_svo_scene_free(&scene);
         return vx_tool_error(in, &err);
     }
@@ -345,6 +373,8 @@ int main(int argc, char** argv) {
     /* an empty shard (more shards than probes) still gets a valid file */
     int rc = 0;
     if (vx_probe_place(&scene, &o.b, &ps, &err)) {
+        vx_render_scene_destroy(rs);
+        vx_gpu_destroy(gpu);
         vx_svo_scene_free(&scene);
         return vx_tool_error(in, &err);
     }
@@ -372,12 +402,14 @@ int main(int argc, char** argv) {
     vx_probe_bake_desc bd = o.b;
     if (!o.quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
     /* checkpoint about every 20 s of work, at least one probe a step */
-    uint32_t step = 2 * o.threads;
+    uint32_t step = o.cpu ? 2 * o.threads : 16;
     double t_step = vx_time_now();
     while (!rc && ps.first + ps.count < end) {
         uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
         e.base = ps.count;
-        if (vx_probe_bake_more(&scene, &bd, &ps, to, &err)) {
+        vx_result br = o.cpu ? vx_probe_bake_more(&scene, &bd, &ps, to, &err)
+                             : vx_probe_bake_more_gpu(rs, &scene, &bd, &ps, to, &err);
+        if (br) {
             rc = vx_tool_error(in, &err);
             break;
         }
@@ -403,6 +435,8 @@ int main(int argc, char** argv) {
     }
     if (!rc && o.exr_dir) rc = write_exr(o.exr_dir, &ps);
     vx_probe_set_free(&ps);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
     vx_svo_scene_free(&scene);
     return rc;
 }

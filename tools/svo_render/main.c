@@ -46,11 +46,12 @@ _Noreturn static void usage(int status) {
             "Options:\n"
             "  --mode M             color|albedo|normal|depth|instance|iterations (default: %s),\n"
             "                       or gi|gi-indirect (needs --probes) and pathtrace|pathtrace-indirect\n"
-            "                       (float radiance, CPU; EXR keeps the values, PNG clamps)\n"
+            "                       (float radiance on the GPU, or the CPU with --cpu; EXR keeps the\n"
+            "                       values, PNG clamps)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
             "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
             "  --seed S             path tracer seed (default: 0)\n"
-            "  --threads N          CPU threads for the probe modes (default: 2)\n"
+            "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -276,13 +277,26 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    if (o.probe_mode) {
-        /* the probe modes run on the CPU (no GPU variant yet) */
+    if (o.probe_mode && o.cpu) {
         printf("device: CPU (probe GI / path tracer, double precision)\n");
         o.p.base = &o.r;
         if (!o.p.threads) o.p.threads = 2;
         if (o.r.spp > 1) o.p.spp = o.r.spp;
         r = vx_probe_render(&scene, o.probes ? &probes : NULL, &o.p, &img, &err);
+    } else if (o.probe_mode) {
+        o.p.base = &o.r;
+        if (o.r.spp > 1) o.p.spp = o.r.spp;
+        r = vx_gpu_create(&(vx_gpu_desc){.device = o.device, .validate = o.validate, .logger = &logger}, &gpu, &err);
+        if (r) {
+            fprintf(stderr, "%s: no usable Vulkan device; --cpu renders the probe modes on the CPU\n", prog);
+        } else {
+            printf("device: %s%s (probe %s)\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "",
+                   vx_probe_render_mode_name(o.p.mode));
+            r = vx_render_scene_create(gpu, &scene, &rs, &err);
+        }
+        if (!r) r = vx_probe_render_gpu(rs, &scene, o.probes ? &probes : NULL, &o.p, &img, &err);
+        if (!r && vx_gpu_validation_errors(gpu))
+            r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
     } else if (o.cpu) {
         printf("device: CPU reference (double precision)\n");
         r = vx_render_cpu(&scene, &o.r, NULL, &img, &err);
@@ -331,7 +345,7 @@ int main(int argc, char** argv) {
                "");
         printf("render: %ux%u, %u spp, mode %s: %.3f ms (%s), %.2f Mrays/s\n", img.width, img.height, o.r.spp,
                o.probe_mode ? vx_probe_render_mode_name(o.p.mode) : vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3,
-               o.cpu || o.probe_mode ? "wall clock" : "GPU timestamps",
+               o.cpu ? "wall clock" : "GPU timestamps",
                img.gpu_seconds > 0 ? img.rays / img.gpu_seconds * 1e-6 : 0.0);
         printf("wrote %s\n", o.out);
     } else {

@@ -1,0 +1,85 @@
+/* bench/view_bench.c - svo_view's edit path: one edit (move an instance by a
+ * cell) plus the scene update the viewer does after it (the render scene is
+ * rebuilt: BVH build and instance upload; models re-uploaded), for N
+ * instances of a small model; and a frame of that scene for comparison.
+ * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render.h"
+#include "tools/svo_view/editor.h"
+
+static int cmp(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char** argv) {
+    uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
+    if (!n || !rep || rep > 1000) return 2;
+    /* one 8^3 model with a sphere of cells, on a square grid of instances */
+    uint64_t keys[512];
+    size_t nk = 0;
+    for (uint32_t z = 0; z < 8; z++)
+        for (uint32_t y = 0; y < 8; y++)
+            for (uint32_t x = 0; x < 8; x++) {
+                double dx = x - 3.5, dy = y - 3.5, dz = z - 3.5;
+                if (dx * dx + dy * dy + dz * dz < 16) keys[nk++] = vx_svo_morton(x, y, z);
+            }
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    vx_error err = {0};
+    s.models = calloc(1, sizeof *s.models);
+    s.instances = calloc(n, sizeof *s.instances);
+    if (!s.models || !s.instances) return 1;
+    s.model_count = 1;
+    if (vx_svo_build_model(NULL, &(vx_svo_voxels){.size = {8, 8, 8}, .count = nk, .keys = keys}, &s.models[0], NULL, &err))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    uint32_t side = 1;
+    while (side * side < n) side++;
+    for (uint32_t i = 0; i < n; i++) {
+        vx_svo_instance* in = &s.instances[i];
+        in->xform[0] = in->xform[5] = in->xform[10] = 1;
+        in->xform[3] = 10.0 * (i % side), in->xform[7] = 10.0 * (i / side);
+        in->layer = UINT32_MAX;
+    }
+    s.instance_count = n;
+    vx_svo_scene_update_bounds(&s);
+    vx_gpu* gpu;
+    vx_render_scene* rs = NULL;
+    if (vx_gpu_create(NULL, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    ved e;
+    ved_init(&e, &s);
+    double* edit = calloc(rep, sizeof *edit);
+    double* bvh = calloc(rep, sizeof *bvh);
+    double* frame = calloc(rep, sizeof *frame);
+    for (uint32_t k = 0; k < rep; k++) {
+        double t0 = vx_time_now();
+        if (ved_begin(&e, &err)) return 1;
+        ved_move(&s, k % n, (int32_t[3]){1, 0, 0});
+        vx_render_scene_destroy(rs);
+        if (vx_render_scene_create(gpu, &s, &rs, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        edit[k] = (vx_time_now() - t0) * 1e3;
+        bvh[k] = vx_render_scene_bvh_seconds(rs) * 1e3;
+        vx_render_image img = {0};
+        double t1 = vx_time_now();
+        if (vx_render_frame(rs, &(vx_render_desc){.width = 640, .height = 480}, &img, &err))
+            return fprintf(stderr, "%s\n", err.msg), 1;
+        frame[k] = (vx_time_now() - t1) * 1e3;
+        vx_render_image_free(&img);
+    }
+    qsort(edit, rep, sizeof *edit, cmp);
+    qsort(bvh, rep, sizeof *bvh, cmp);
+    qsort(frame, rep, sizeof *frame, cmp);
+    printf("view_bench: %u instances on %s: edit + scene update median %.3f ms (BVH build %.3f ms); "
+           "640x480 frame (vx_render_frame wall) median %.3f ms\n",
+           n, vx_gpu_device_name(gpu), edit[rep / 2], bvh[rep / 2], frame[rep / 2]);
+    free(edit), free(bvh), free(frame);
+    ved_free(&e);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    vx_svo_scene_free(&s);
+    return 0;
+}

@@ -1,0 +1,351 @@
+/* probes/probe_gpu.c - the GPU bake and the GPU probe renderer on the Vulkan
+ * tracer (render/shaders/probe.comp). The GPU path-traces the texels (or
+ * pixels); the filtering of a baked probe (irradiance, moments, min map) is
+ * the CPU bake's own code (vx__probe_finish), run on host threads, so both
+ * bakers write the same kinds of maps from their radiance and distances. */
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+#include "probes/probes_internal.h"
+#include "render/render_internal.h"
+
+/* std430 block "Params" of probe.comp */
+typedef struct gpu_params {
+    float light[4], sun[4], sky[4];
+    uint32_t a[4];    /* res|width, spp, bounces, first probe|height */
+    uint32_t seed[4]; /* lo, hi, probes in this dispatch */
+    uint32_t grid[4]; /* xyz, probe count */
+    float origin[4];  /* xyz relative to the reference, w: dist_max */
+    float spacing[4]; /* xyz, w: minimum */
+} gpu_params;
+_Static_assert(sizeof(gpu_params) == 128, "gpu_params vs probe.comp");
+
+enum { PMODE_BAKE = 0 };
+
+typedef struct gctx {
+    vx_gpu* g;
+    const vx_allocator* alloc;
+    vx__frame f;
+    vx__buffer* scene[7];
+    uint32_t spec[VX__SPEC_COUNT + 1];
+    vx__buffer params, emit, probes, out, maps;
+} gctx;
+
+static void ctx_free(gctx* c) {
+    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps};
+    for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(c->g, b[i]);
+}
+
+static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t size, const char* label, vx_error* err) {
+    vx_result r = vx__buffer_create(c->g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+    if (!r && data) r = vx__buffer_upload(c->g, b, data, size, err);
+    return r;
+}
+
+/* Binds the scene relative to f->ref and uploads the emission per attribute
+ * record and the probe positions (ps may be NULL). */
+static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, const vx__frame* f,
+                          const vx_probe_set* ps, const vx__light* L, vx_error* err) {
+    memset(c, 0, sizeof *c);
+    c->g = vx__render_scene_gpu(rs);
+    c->alloc = ps ? ps->alloc : NULL;
+    c->f = *f;
+    vx_result r = vx__render_scene_bind(rs, f, c->scene, c->spec, err);
+    if (r) return r;
+    uint8_t* pal = NULL;
+    size_t na = 0;
+    if ((r = vx__scene_attr_palette(s, c->alloc, &pal, &na, err))) return r;
+    float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
+    size_t np = ps ? ps->probe_count : 1;
+    float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));
+    if (!em || !pp) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    } else {
+        for (size_t i = 0; i < na; i++) em[i] = (float)L->emit[pal[i]];
+        for (size_t i = 0; ps && i < np; i++) {
+            for (int k = 0; k < 3; k++) pp[4 * i + k] = (float)(ps->probes[i].pos[k] - f->ref[k]);
+            pp[4 * i + 3] = (float)ps->probes[i].state;
+        }
+        if (!(r = upload_new(c, &c->emit, em, (na ? na : 1) * sizeof(float), "probe emission", err)))
+            r = upload_new(c, &c->probes, pp, np * 4 * sizeof(float), "probe positions", err);
+        if (!r)
+            r = vx__buffer_create(c->g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probe params",
+                                  &c->params, err);
+        if (!r && !c->params.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe parameters are not host visible");
+    }
+    vx_free(c->alloc, pal);
+    vx_free(c->alloc, em);
+    vx_free(c->alloc, pp);
+    return r;
+}
+
+static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
+    memset(p, 0, sizeof *p);
+    for (int k = 0; k < 3; k++) {
+        p->light[k] = (float)L->light_dir[k];
+        p->sun[k] = (float)L->sun[k];
+        p->sky[k] = (float)L->sky[k];
+    }
+    p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32);
+}
+
+static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[3]) {
+    double smin = fmin(ps->spacing[0], fmin(ps->spacing[1], ps->spacing[2]));
+    for (int k = 0; k < 3; k++) {
+        p->grid[k] = ps->grid[k];
+        p->origin[k] = (float)(ps->origin[k] - ref[k]);
+        p->spacing[k] = (float)ps->spacing[k];
+    }
+    p->grid[3] = ps->probe_count;
+    p->origin[3] = (float)ps->dist_max;
+    p->spacing[3] = (float)smin;
+}
+
+static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* seconds, vx_error* err) {
+    c->spec[VX__SPEC_COUNT] = pmode;
+    size_t spv_size;
+    const uint32_t* spv = vx__spirv_probe(&spv_size);
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 12,
+                                       .spec_count = VX__SPEC_COUNT + 1, .label = "probe"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < 12; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, c->spec, sizeof c->spec);
+    uint64_t key = 0x9B0BEull;
+    for (int i = 0; i <= VX__SPEC_COUNT; i++) key = key * 131 + c->spec[i];
+    vx__pipeline* p;
+    vx_result r = vx__pipeline_get(c->g, key, &pd, &p, err);
+    if (r) return r;
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 12, .groups = {gx, gy, 1}, .label = "probe"};
+    for (int i = 0; i < 7; i++) dd.buffers[i] = c->scene[i];
+    dd.buffers[7] = &c->params, dd.buffers[8] = &c->emit, dd.buffers[9] = &c->probes, dd.buffers[10] = &c->out;
+    dd.buffers[11] = &c->maps;
+    return vx__dispatch(c->g, &dd, seconds, err);
+}
+
+/* ---- bake --------------------------------------------------------------------------- */
+
+typedef struct fjob {
+    vx_probe_set* ps;
+    const vx__tables* T;
+    const float* raw; /* per slot res^2 * 8 floats */
+    uint32_t first_slot, count, next;
+    bool failed;
+    pthread_mutex_t mu;
+} fjob;
+
+static void finish_one(fjob* J, uint32_t i, double* L, double* D) {
+    vx_probe_set* ps = J->ps;
+    uint32_t k = J->first_slot + i, n = ps->res;
+    if (ps->probes[ps->first + k].state == VX_PROBE_DISABLED) return; /* stays zero, as the CPU bake */
+    size_t nt = (size_t)n * n, nb = n + 2;
+    uint16_t* dist = ps->distance + vx__bsq(n) * k;
+    uint32_t* nrm = ps->normal + vx__bsq(n) * k;
+    const float* o = J->raw + (size_t)i * nt * 8;
+    for (size_t t = 0; t < nt; t++) {
+        const float* v = o + 8 * t;
+        size_t b = (t / n + 1) * nb + t % n + 1;
+        for (int q = 0; q < 3; q++) L[3 * t + q] = v[q];
+        if (v[3] >= 0 && v[7] > 0) {
+            double nn[3] = {v[4], v[5], v[6]};
+            dist[b] = vx__dist_code(ps, v[3]);
+            nrm[b] = vx_probe_oct_pack16(nn);
+            D[t] = dist[b] * ps->dist_step;
+        } else {
+            dist[b] = VX_PROBE_DIST_MISS;
+            nrm[b] = 0;
+            D[t] = ps->dist_max;
+        }
+    }
+    vx__probe_finish(ps, J->T, k, L, D);
+}
+
+static void* fworker(void* arg) {
+    fjob* J = arg;
+    size_t nt = (size_t)J->ps->res * J->ps->res;
+    double* L = vx_alloc(J->ps->alloc, nt * 4 * sizeof(double));
+    pthread_mutex_lock(&J->mu);
+    if (!L) J->failed = true;
+    while (!J->failed && J->next < J->count) {
+        uint32_t i = J->next++;
+        pthread_mutex_unlock(&J->mu);
+        finish_one(J, i, L, L + 3 * nt);
+        pthread_mutex_lock(&J->mu);
+    }
+    pthread_mutex_unlock(&J->mu);
+    vx_free(J->ps->alloc, L);
+    return NULL;
+}
+
+static bool finish_batch(vx_probe_set* ps, const vx__tables* T, const float* raw, uint32_t first_slot, uint32_t count,
+                         uint32_t threads) {
+    fjob J = {.ps = ps, .T = T, .raw = raw, .first_slot = first_slot, .count = count};
+    pthread_mutex_init(&J.mu, NULL);
+    uint32_t nth = threads ? threads : 1;
+    if (nth > 64) nth = 64;
+    if (nth > count) nth = count ? count : 1;
+    pthread_t th[64];
+    uint32_t started = 0;
+    for (uint32_t i = 1; i < nth; i++)
+        if (!pthread_create(&th[started], NULL, fworker, &J)) started++;
+    fworker(&J);
+    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    pthread_mutex_destroy(&J.mu);
+    return !J.failed;
+}
+
+vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                 vx_probe_set* ps, uint32_t end, vx_error* err) {
+    if (!rs || !scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    uint32_t begin = ps->first + ps->count;
+    if (end > ps->probe_count || end < begin)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
+    if (end == begin) return VX_OK;
+    vx__light L;
+    vx__light_init(&L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false);
+    for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
+    /* float coordinates relative to the scene's centre */
+    double lo[3], hi[3];
+    vx__scene_world_bounds(scene, lo, hi);
+    vx__frame f;
+    vx_result r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &f, err);
+    if (r) return r;
+    for (int k = 0; k < 3; k++) f.ref[k] = 0.5 * (lo[k] + hi[k]);
+    gctx c;
+    vx__tables T = {0};
+    float* raw = NULL;
+    if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
+    uint64_t nt = (uint64_t)ps->res * ps->res;
+    /* a batch: about 2^26 path segments and at most 256 MiB of output */
+    uint64_t per_probe = nt * ps->spp * (ps->bounces + 1);
+    uint64_t batch = (UINT64_C(1) << 26) / (per_probe ? per_probe : 1);
+    uint64_t cap = (UINT64_C(1) << 28) / (nt * 32);
+    if (batch > cap) batch = cap;
+    if (batch < 1) batch = 1;
+    if (batch > end - begin) batch = end - begin;
+    if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first) ||
+        !(raw = vx_alloc(ps->alloc, (size_t)(batch * nt * 32)))) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+        goto done;
+    }
+    if ((r = vx__buffer_create(c.g, batch * nt * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels", &c.out,
+                               err)) ||
+        (r = vx__buffer_create(c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &c.maps, err)))
+        goto done;
+    for (uint32_t at = begin; at < end;) {
+        uint32_t cnt = (uint32_t)(end - at < batch ? end - at : batch);
+        gpu_params* p = c.params.map;
+        params_common(p, &L, ps->seed);
+        params_grid(p, ps, f.ref);
+        p->a[0] = ps->res, p->a[1] = ps->spp, p->a[2] = ps->bounces, p->a[3] = at;
+        p->seed[2] = cnt;
+        if ((r = run(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, NULL, err))) goto done;
+        if ((r = vx__buffer_download(c.g, &c.out, raw, (VkDeviceSize)cnt * nt * 32, err))) goto done;
+        if (!finish_batch(ps, &T, raw, at - ps->first, cnt, d.threads)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+            goto done;
+        }
+        at += cnt;
+        if (!vx_progress_report(&d.progress, "bake", at - begin, end - begin)) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+            goto done;
+        }
+    }
+    ps->count = end - ps->first;
+done:
+    vx_free(ps->alloc, raw);
+    vx__tables_free(&T);
+    ctx_free(&c);
+    return r;
+}
+
+vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                            vx_probe_set* out, vx_error* err) {
+    if (!rs || !scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_set ps;
+    vx_result r = vx_probe_place(scene, desc, &ps, err);
+    if (r) return r;
+    uint32_t end = desc && desc->count ? desc->first + desc->count : ps.probe_count;
+    if ((r = vx_probe_bake_more_gpu(rs, scene, desc, &ps, end, err))) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    *out = ps;
+    return VX_OK;
+}
+
+/* ---- rendering ------------------------------------------------------------------------ */
+
+vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,
+                              const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err) {
+    if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
+    if (d.mode > VX_PROBE_RENDER_PT_INDIRECT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT;
+    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
+                       vx_probe_render_mode_name(d.mode));
+    vx_render_desc base = d.base ? *d.base : (vx_render_desc){0};
+    base.mode = VX_RENDER_COLOR;
+    base.spp = 1;
+    base.lod = false;
+    double lo[3], hi[3];
+    vx__scene_world_bounds(s, lo, hi);
+    vx__frame f;
+    vx_result r = vx__frame_setup(lo, hi, &base, &f, err);
+    if (r) return r;
+    vx__light L;
+    if (ps) {
+        vx__light_init(&L, NULL, s, ps->light_dir, NULL, false, NULL, false);
+        for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
+    } else {
+        vx__light_init(&L, NULL, s, base.light_dir, NULL, false, NULL, false);
+    }
+    uint32_t spp = d.spp ? d.spp : (need_probes ? 1 : 16);
+    uint32_t bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
+    gctx c;
+    float* maps = NULL;
+    const vx_allocator* a = ps ? ps->alloc : NULL;
+    if ((r = ctx_init(&c, rs, s, &f, need_probes ? ps : NULL, &L, err))) goto done;
+    size_t npx = (size_t)f.width * f.height;
+    if ((r = vx__buffer_create(c.g, npx * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)))
+        goto done;
+    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2, nmaps = 4;
+    if (need_probes) {
+        nmaps = (ni + nm) * ps->probe_count;
+        maps = vx_alloc(a, nmaps * sizeof(float));
+        if (!maps) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes' maps", ps->probe_count);
+            goto done;
+        }
+        for (size_t i = 0; i < ni * ps->probe_count; i++) maps[i] = vx_probe_half_to_float(ps->irradiance[i]);
+        memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
+    }
+    if ((r = upload_new(&c, &c.maps, maps, nmaps * sizeof(float), "probe maps", err))) goto done;
+    gpu_params* p = c.params.map;
+    params_common(p, &L, d.seed);
+    if (need_probes) params_grid(p, ps, f.ref);
+    p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
+    uint64_t groups = (npx + 63) / 64;
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    double sec = 0;
+    if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &sec, err))) goto done;
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
+    img.pixels = vx_alloc(NULL, npx * 16);
+    if (!img.pixels) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+        goto done;
+    }
+    if ((r = vx__buffer_download(c.g, &c.out, img.pixels, npx * 16, err))) {
+        vx_render_image_free(&img);
+        goto done;
+    }
+    img.gpu_seconds = sec;
+    img.rays = (uint64_t)npx * spp;
+    *out = img;
+done:
+    vx_free(a, maps);
+    ctx_free(&c);
+    return r;
+}

@@ -1,0 +1,378 @@
+// render/shaders/trace_common.glsl - the scene's bindings 0-6 (and 9 in the
+// PRECISE variant) and the traversal: BVH over instances, then each model's
+// octree in the manner of Laine & Karras. Included by trace.comp and
+// probe.comp; layouts must match render/render_internal.h.
+#ifdef PRECISE
+#define REAL double
+#define RVEC2 dvec2
+#define RVEC3 dvec3
+#else
+#define REAL float
+#define RVEC2 vec2
+#define RVEC3 vec3
+#endif
+
+layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
+layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
+layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
+layout(constant_id = 3) const bool LOD = false;
+layout(constant_id = 4) const bool WRITE_HITS = false;
+
+const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
+const int S_MAX = 23;
+const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
+const uint MAX_ITER = 100000u;
+
+struct Model { uint node_off, color_off, depth, root, root_attr, flags, pad0, pad1; };
+struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; };
+struct BNode { vec4 lo; vec4 hi; };
+
+layout(std140, binding = 0) uniform Frame {
+    vec4 fwd;   // w: t_start
+    vec4 rx;    // w: ortho
+    vec4 uy;    // w: lod footprint per unit distance
+    vec4 light; // w: ambient
+    vec4 misc;  // x: lod footprint at distance 0, y: lod pixels
+    uvec4 dims; // width, height, spp, instance count
+    uvec4 dims2;
+    vec4 grid_lo;
+#ifdef PRECISE
+    dvec4 pfwd; // w: t_start
+    dvec4 prx;
+    dvec4 puy;
+#endif
+} F;
+layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
+layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
+layout(std430, binding = 3) readonly buffer Models { Model models[]; };
+layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
+layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
+layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
+#ifdef PRECISE
+// model-from-world rows (world relative to the frame reference), 3 per instance
+layout(std430, binding = 9) readonly buffer PInsts { dvec4 pinst[]; };
+#endif
+
+struct Hit {
+    REAL t;       // world distance from the ray origin
+    uint inst;    // instance slot, NO_HIT for none
+    uvec3 cell;
+    int axis;     // entry face axis
+    float nsign;  // model-space normal = nsign * e_axis
+    uint color;
+    uint attr;    // index into colors[] of the hit's attribute, NO_HIT without
+};
+
+uint g_iter = 0u;
+
+bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+#ifdef PRECISE
+bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
+#endif
+
+// 1/d without infinities: a zero (or denormal) component becomes +-1e30 with
+// its sign, so that (plane - o) * inv is never 0 * inf = NaN and a ray lying
+// in a slab plane counts as displaced towards the sign of its component.
+RVEC3 safe_inv(RVEC3 d) {
+    RVEC3 r;
+    for (int i = 0; i < 3; i++)
+        r[i] = abs(d[i]) < 1e-30 ? (sign_neg(d[i]) ? -1e30 : 1e30) : 1.0 / d[i];
+    return r;
+}
+
+// Ray/box slab test: (t entry, t exit).
+RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
+    RVEC3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
+    RVEC3 tn = min(a, b), tf = max(a, b);
+    return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
+}
+
+// Traces model space ray o + t d (t in world units, d not normalised)
+// through model mi over [t0, t1]. Returns true and fills h on a hit.
+bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
+    Model m = models[mi];
+    if (m.root == ROOT_EMPTY) return false;
+    REAL side = REAL(exp2(float(m.depth)));
+    // Advance to the cube first so that the [1,2] coordinates keep the
+    // model's precision even when the origin is far away.
+    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(side));
+    REAL te = max(tb.x, t0);
+    REAL tx = min(tb.y, t1);
+    if (!(te < tx)) return false;
+    RVEC3 oa = o + d * te;
+    REAL sc = 1.0 / side;
+    RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
+    RVEC3 dl = d * sc;
+    REAL L = length(dl);
+    dl /= L;
+    REAL tl1 = (tx - te) * L;
+
+    // Tiny components would make the coefficients overflow; replace them
+    // with +-2^-23 keeping the sign (so -0 stays "negative"). In double,
+    // +-2^-40: the ray then drifts at most 2^-39 over the cube (2^-18 of a
+    // depth-21 cell) and |coef * pos| stays below 2^42, far from overflow.
+#ifdef PRECISE
+    const double eps = 1.0LF / 1099511627776.0LF;
+#else
+    const float eps = exp2(-float(S_MAX));
+#endif
+    if (abs(dl.x) < eps) dl.x = sign_neg(dl.x) ? -eps : eps;
+    if (abs(dl.y) < eps) dl.y = sign_neg(dl.y) ? -eps : eps;
+    if (abs(dl.z) < eps) dl.z = sign_neg(dl.z) ? -eps : eps;
+    RVEC3 coef = 1.0 / -abs(dl);
+    RVEC3 bias = coef * ol;
+    int oct = 7;
+    if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
+    if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
+    if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
+
+    REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+    REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+    REAL hh = tmax;
+    tmin = max(tmin, 0.0);
+    tmax = min(tmax, tl1);
+
+    RVEC3 pos = RVEC3(1.0);
+    int scale = S_MAX - 1;
+    REAL scale_exp2 = 0.5;
+    bool hit = false;
+    uint attr_rec = 0u;
+    bool have_attr = false;
+
+    if (m.root == ROOT_LEAF) {
+        if (tmin <= tmax) {
+            hit = true;
+            scale = S_MAX;
+            scale_exp2 = 1.0;
+            attr_rec = m.root_attr;
+            have_attr = true;
+        }
+    } else {
+        int stk_node[S_MAX];
+        REAL stk_t[S_MAX];
+        uint parent = m.root;
+        uint desc = 0u;
+        bool loaded = false;
+        int idx = 0;
+        if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+        if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+        if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+        while (scale < S_MAX) {
+            g_iter++;
+            if (g_iter > MAX_ITER) break;
+            if (!loaded) { desc = nodes[m.node_off + parent]; loaded = true; }
+            RVEC3 tc = pos * coef - bias;
+            REAL tc_max = min(min(tc.x, tc.y), tc.z);
+            int cs = idx ^ (oct ^ 7); // real octant: mirrored axes flipped
+            uint valid = (desc >> 8) & 0xFFu;
+            uint leaf = desc & 0xFFu;
+            if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
+                REAL tv_max = min(tmax, tc_max);
+                REAL half_ = scale_exp2 * 0.5;
+                RVEC3 tcen = half_ * coef + tc;
+                if (tmin <= tv_max) {
+                    bool is_leaf = ((leaf >> cs) & 1u) != 0u;
+                    bool stop = is_leaf;
+                    if (LOD && !stop) {
+                        // world footprint of a pixel at this distance, in [1,2] units
+                        REAL tw = te + tmin / L;
+                        stop = (lod_a + lod_b * tw) * L >= scale_exp2;
+                    }
+                    if (stop) {
+                        hit = true;
+                        if (HAS_COLOR && (m.flags & 1u) != 0u) {
+                            uint blk = parent - (desc >> 17);
+                            if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
+                            uint a = nodes[m.node_off + blk + bitCount(valid & ~leaf)];
+                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
+                            have_attr = true;
+                        }
+                        break;
+                    }
+                    // push
+                    if (tc_max < hh) { stk_node[scale] = int(parent); stk_t[scale] = tmax; }
+                    hh = tc_max;
+                    uint blk = parent - (desc >> 17);
+                    if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
+                    parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+                    idx = 0;
+                    scale--;
+                    scale_exp2 = half_;
+                    if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
+                    if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
+                    if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+                    tmax = tv_max;
+                    loaded = false;
+                    continue;
+                }
+            }
+            // advance
+            int step = 0;
+            if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
+            if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
+            if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
+            tmin = tc_max;
+            idx ^= step;
+            if ((idx & step) != 0) {
+                // pop: the highest differing position bit is the common ancestor's level
+#ifdef PRECISE
+                // the path bits are the integer offsets of pos from 1 in units
+                // of 2^-23 (exact; negative once the ray leaves the root, whose
+                // sign bit then differs, so findMSB >= S_MAX)
+                ivec3 ip = ivec3((pos - 1.0) * 8388608.0);
+                ivec3 iq = ip + (1 << scale);
+                uint diff = 0u;
+                if ((step & 1) != 0) diff |= uint(ip.x ^ iq.x);
+                if ((step & 2) != 0) diff |= uint(ip.y ^ iq.y);
+                if ((step & 4) != 0) diff |= uint(ip.z ^ iq.z);
+                scale = findMSB(diff);
+                if (scale >= S_MAX) break;
+                scale_exp2 = double(1 << scale) / 8388608.0;
+                parent = uint(stk_node[scale]);
+                tmax = stk_t[scale];
+                ivec3 sh = ip >> scale;
+                pos = 1.0 + dvec3(sh << scale) / 8388608.0;
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                hh = 0.0;
+                loaded = false;
+#else
+                uint diff = 0u;
+                if ((step & 1) != 0) diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x + scale_exp2);
+                if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
+                if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
+                scale = findMSB(diff);
+                if (scale >= S_MAX) break;
+                scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+                parent = uint(stk_node[scale]);
+                tmax = stk_t[scale];
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                pos = intBitsToFloat(sh << scale);
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                hh = 0.0;
+                loaded = false;
+#endif
+            }
+        }
+        if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+    }
+    if (!hit) return false;
+    REAL t = te + tmin / L;
+    if (!(t <= h.t)) return false;
+    if (any_hit) { h.t = t; return true; }
+
+    // entry face: the cube's entry planes in mirrored space are its max corners
+    RVEC3 tent = (pos + scale_exp2) * coef - bias;
+    int axis = 0;
+    if (tent.y > tent[axis]) axis = 1;
+    if (tent.z > tent[axis]) axis = 2;
+    // unmirror the leaf cube and find the cell holding the hit point
+    if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
+    if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
+    if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
+    RVEC3 lo = (pos - 1.0) * side;
+    REAL sz = scale_exp2 * side;
+    RVEC3 p = oa + d * (tmin / L);
+    RVEC3 c = clamp(floor(p), lo, lo + sz - 1.0);
+    // the entry axis is decided by the ray direction, not by rounding
+    if (d[axis] > 0.0 || (d[axis] == 0.0 && !sign_neg(d[axis]))) c[axis] = lo[axis];
+    else c[axis] = lo[axis] + sz - 1.0;
+    if (tmin <= 0.0 && te <= t0) c[axis] = clamp(floor(p[axis]), lo[axis], lo[axis] + sz - 1.0);
+    h.t = t;
+    h.cell = uvec3(c);
+    h.axis = axis;
+    h.nsign = sign_neg(d[axis]) ? 1.0 : -1.0;
+    h.color = 0xFFFFFFFFu;
+    h.attr = NO_HIT;
+    if (HAS_COLOR && have_attr && (m.flags & 1u) != 0u) {
+        h.attr = m.color_off + attr_rec;
+        h.color = colors[h.attr];
+    }
+    return true;
+}
+
+bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
+    Inst I = insts[i];
+#ifdef PRECISE
+    dvec4 r0 = pinst[3u * i], r1 = pinst[3u * i + 1u], r2 = pinst[3u * i + 2u];
+#else
+    vec4 r0 = I.r0, r1 = I.r1, r2 = I.r2;
+#endif
+    RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
+    RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
+    float lod_b = F.uy.w, lod_a = F.misc.x;
+    if (trace_model(I.model, om, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+        h.inst = i;
+        return true;
+    }
+    return false;
+}
+
+// Nearest hit (or any hit) along o + t d, t in [t0, h.t].
+bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
+    bool found = false;
+    if (!USE_BVH) {
+        if (F.dims.w > 0u) found = trace_instance(0u, o, d, t0, any_hit, h);
+        return found;
+    }
+    if (F.dims.w == 0u) return false;
+    RVEC3 dinv = safe_inv(d);
+    uint stack[64];
+    int sp = 0;
+    uint node = 0u;
+    RVEC2 rt = box_t(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
+    if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    while (true) {
+        BNode n = bvh[node];
+        uint count = floatBitsToUint(n.hi.w);
+        uint first = floatBitsToUint(n.lo.w);
+        if (count > 0u) {
+            for (uint k = 0u; k < count; k++) {
+                if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+                    found = true;
+                    if (any_hit) return true;
+                }
+            }
+        } else {
+            BNode a = bvh[first], b = bvh[first + 1u];
+            RVEC2 ta = box_t(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
+            RVEC2 tb = box_t(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
+            bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
+            bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
+            if (ha && hb) {
+                // nearest first; the far one waits on the stack
+                uint nearc = ta.x <= tb.x ? first : first + 1u;
+                uint farc = ta.x <= tb.x ? first + 1u : first;
+                if (sp < 64) stack[sp++] = farc;
+                node = nearc;
+                continue;
+            }
+            if (ha) { node = first; continue; }
+            if (hb) { node = first + 1u; continue; }
+        }
+        // pop, skipping nodes now beyond the nearest hit
+        bool next = false;
+        while (sp > 0) {
+            uint c = stack[--sp];
+            RVEC2 tc = box_t(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
+            if (tc.x <= h.t) { node = c; next = true; break; }
+        }
+        if (!next) break;
+    }
+    return found;
+}
+
+vec3 unpack_rgb(uint c) {
+    return vec3(float(c & 0xFFu), float((c >> 8) & 0xFFu), float((c >> 16) & 0xFFu)) / 255.0;
+}
+
+vec3 inst_color(uint id) {
+    uint h = id * 2654435761u + 0x9E3779B9u;
+    h ^= h >> 15; h *= 0x85EBCA6Bu; h ^= h >> 13;
+    return vec3(float(h & 0xFFu), float((h >> 8) & 0xFFu), float((h >> 16) & 0xFFu)) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 heat(uint it) {
+    float x = clamp(float(it) / 256.0, 0.0, 1.0);
+    return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
+}
+

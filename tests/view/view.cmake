@@ -1,0 +1,17 @@
+# svo_view: the editor's operations in-process (leak-checked), then the
+# window tests under Xvfb (the test re-executes itself with xvfb-run -a when
+# DISPLAY is unset, and skips the window tests when neither is available).
+if(TARGET svo_view)
+  add_executable(test_view ${CMAKE_CURRENT_LIST_DIR}/test_view.c ${CMAKE_SOURCE_DIR}/tools/svo_view/editor.c)
+  target_link_libraries(test_view PRIVATE vx_render vx_convert vx_image vx_svo m)
+  target_compile_definitions(test_view PRIVATE VX_CORPUS_DIR_DEFAULT="${VX_CORPUS_DIR}")
+  add_dependencies(test_view svo_view)
+  add_test(NAME test_view_editor COMMAND test_view --editor)
+  # svo_render is passed by path, without a build dependency: when it is not
+  # built the screenshot comparison skips. Lavapipe's and X's modules are
+  # unloaded at exit, so their leaks cannot be attributed or suppressed
+  # (as for test_svo_bake); our code's leak check is test_view_editor.
+  add_test(NAME test_view COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
+           ${CMAKE_CURRENT_BINARY_DIR}/view_out)
+  set_tests_properties(test_view PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()

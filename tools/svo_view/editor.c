@@ -1,0 +1,270 @@
+/* tools/svo_view/editor.c - scene edits with undo and redo (see editor.h). */
+#include "tools/svo_view/editor.h"
+
+#include <math.h>
+#include <string.h>
+
+static void snap_free(const vx_allocator* a, ved_snapshot* sn) {
+    vx_free(a, sn->inst);
+    vx_free(a, sn->layer_flags);
+    memset(sn, 0, sizeof *sn);
+}
+
+static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* err) {
+    ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count};
+    sn.inst = vx_calloc(s->alloc, s->instance_count ? s->instance_count : 1, sizeof *sn.inst);
+    sn.layer_flags = vx_calloc(s->alloc, s->layer_count ? s->layer_count : 1, sizeof *sn.layer_flags);
+    if (!sn.inst || !sn.layer_flags) {
+        snap_free(s->alloc, &sn);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for an undo step of %u instances",
+                       s->instance_count);
+    }
+    if (s->instance_count) memcpy(sn.inst, s->instances, (size_t)s->instance_count * sizeof *sn.inst);
+    for (uint32_t l = 0; l < s->layer_count; l++) sn.layer_flags[l] = s->layers[l].flags;
+    *out = sn;
+    return VX_OK;
+}
+
+/* Makes sn the scene's state; the scene's previous instance array goes into sn. */
+static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
+    vx_svo_instance* inst = s->instances;
+    uint32_t n = s->instance_count;
+    s->instances = sn->inst;
+    s->instance_count = sn->inst_count;
+    sn->inst = inst;
+    sn->inst_count = n;
+    /* layers are never added or removed, only flagged */
+    for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
+        uint32_t f = s->layers[l].flags;
+        s->layers[l].flags = sn->layer_flags[l];
+        sn->layer_flags[l] = f;
+    }
+}
+
+void ved_init(ved* e, vx_svo_scene* s) {
+    memset(e, 0, sizeof *e);
+    e->s = s;
+}
+
+void ved_free(ved* e) {
+    for (uint32_t i = 0; i < e->undo_count; i++) snap_free(e->s->alloc, &e->undo[i]);
+    for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
+    e->undo_count = e->redo_count = 0;
+}
+
+vx_result ved_begin(ved* e, vx_error* err) {
+    ved_snapshot sn;
+    vx_result r = snap_take(e->s, &sn, err);
+    if (r) return r;
+    for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
+    e->redo_count = 0;
+    if (e->undo_count == VED_MAX_UNDO) {
+        snap_free(e->s->alloc, &e->undo[0]);
+        memmove(e->undo, e->undo + 1, (VED_MAX_UNDO - 1) * sizeof e->undo[0]);
+        e->undo_count--;
+    }
+    e->undo[e->undo_count++] = sn;
+    return VX_OK;
+}
+
+bool ved_undo(ved* e, vx_error* err) {
+    (void)err;
+    if (!e->undo_count) return false;
+    ved_snapshot sn = e->undo[--e->undo_count];
+    snap_swap(e->s, &sn);
+    e->redo[e->redo_count++] = sn;
+    return true;
+}
+
+bool ved_redo(ved* e, vx_error* err) {
+    (void)err;
+    if (!e->redo_count) return false;
+    ved_snapshot sn = e->redo[--e->redo_count];
+    snap_swap(e->s, &sn);
+    e->undo[e->undo_count++] = sn;
+    return true;
+}
+
+void ved_instance_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]) {
+    const vx_svo_instance* in = &s->instances[i];
+    const vx_svo_model* m = &s->models[in->model];
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int c = 0; c < 8; c++) {
+        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
+        for (int r = 0; r < 3; r++) {
+            const double* row = &in->xform[4 * r];
+            double q = row[0] * p[0] + row[1] * p[1] + row[2] * p[2] + row[3];
+            lo[r] = fmin(lo[r], q), hi[r] = fmax(hi[r], q);
+        }
+    }
+}
+
+void ved_pivot(const vx_svo_scene* s, uint32_t i, int axis, bool rotate, double p[3]) {
+    double lo[3], hi[3];
+    ved_instance_box(s, i, lo, hi);
+    for (int k = 0; k < 3; k++) p[k] = 0.5 * (lo[k] + hi[k]);
+    int a = (axis + 1) % 3, b = (axis + 2) % 3, lo_ax = a < b ? a : b;
+    /* a quarter turn maps cells to cells only when p_a + p_b is whole */
+    double sum = p[a] + p[b];
+    if (rotate && sum != floor(sum)) p[lo_ax] -= 0.5;
+}
+
+void ved_move(vx_svo_scene* s, uint32_t i, const int32_t d[3]) {
+    for (int k = 0; k < 3; k++) s->instances[i].xform[4 * k + 3] += d[k];
+}
+
+void ved_quarter_turn(int axis, int q, int32_t r[9]) {
+    q = ((q % 4) + 4) % 4;
+    int32_t one[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(r, one, sizeof one);
+    int a = (axis + 1) % 3, b = (axis + 2) % 3; /* the rotated plane, a -> b for a positive turn */
+    for (int t = 0; t < q; t++) {
+        /* new row a = -old row b, new row b = old row a (rows of R * prev) */
+        for (int c = 0; c < 3; c++) {
+            int32_t ra = r[3 * a + c], rb = r[3 * b + c];
+            r[3 * a + c] = -rb;
+            r[3 * b + c] = ra;
+        }
+    }
+}
+
+/* Applies x -> R (x - p) + p to instance i: M' = R M, t' = R (t - p) + p. */
+static void apply_linear(vx_svo_scene* s, uint32_t i, const int32_t r[9], const double p[3]) {
+    vx_svo_instance* in = &s->instances[i];
+    double m[12];
+    memcpy(m, in->xform, sizeof m);
+    double tp[3] = {m[3] - p[0], m[7] - p[1], m[11] - p[2]};
+    for (int row = 0; row < 3; row++) {
+        for (int col = 0; col < 3; col++)
+            in->xform[4 * row + col] =
+                r[3 * row] * m[col] + r[3 * row + 1] * m[4 + col] + r[3 * row + 2] * m[8 + col];
+        in->xform[4 * row + 3] = r[3 * row] * tp[0] + r[3 * row + 1] * tp[1] + r[3 * row + 2] * tp[2] + p[row];
+    }
+}
+
+void ved_rotate(vx_svo_scene* s, uint32_t i, int axis, int quarter_turns) {
+    int32_t r[9];
+    double p[3];
+    ved_quarter_turn(axis, quarter_turns, r);
+    ved_pivot(s, i, axis, true, p);
+    apply_linear(s, i, r, p);
+}
+
+void ved_mirror(vx_svo_scene* s, uint32_t i, int axis) {
+    int32_t r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double p[3];
+    r[4 * axis] = -1;
+    ved_pivot(s, i, axis, false, p);
+    apply_linear(s, i, r, p);
+}
+
+vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err) {
+    uint32_t n = s->instance_count;
+    if (n == UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "too many instances");
+    vx_svo_instance* a = vx_calloc(s->alloc, (size_t)n + 1, sizeof *a);
+    if (!a) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", n + 1);
+    memcpy(a, s->instances, (size_t)n * sizeof *a);
+    a[n] = s->instances[i];
+    vx_free(s->alloc, s->instances);
+    s->instances = a;
+    s->instance_count = n + 1;
+    *out = n;
+    return VX_OK;
+}
+
+void ved_delete(vx_svo_scene* s, uint32_t i) {
+    memmove(&s->instances[i], &s->instances[i + 1], (size_t)(s->instance_count - i - 1) * sizeof s->instances[0]);
+    s->instance_count--;
+}
+
+typedef struct recolor_ctx {
+    uint64_t* keys;
+    uint32_t* rgba;
+    size_t n;
+    const vx_svo_model* m;
+    const uint32_t* palette;
+} recolor_ctx;
+
+static bool recolor_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    recolor_ctx* c = user;
+    c->keys[c->n] = vx_svo_morton(x, y, z);
+    uint32_t p = attr < c->m->attr_count ? c->m->palette[attr] : 0;
+    c->rgba[c->n] = c->palette[p];
+    c->n++;
+    return true;
+}
+
+/* Rebuilds a palette-coloured model with RGBA8 attributes (colours from the
+ * palette it was made for); other channels are dropped. */
+static vx_result recolor_model(const vx_allocator* a, vx_svo_model* m, const uint32_t palette[256], vx_error* err) {
+    size_t n = (size_t)m->voxel_count;
+    if ((uint64_t)n != m->voxel_count) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model too large");
+    recolor_ctx c = {.m = m, .palette = palette};
+    c.keys = vx_calloc(a, n ? n : 1, sizeof *c.keys);
+    c.rgba = vx_calloc(a, n ? n : 1, sizeof *c.rgba);
+    vx_result r = VX_OK;
+    if (!c.keys || !c.rgba) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory recolouring a model");
+    if (!r) r = vx_svo_decode_model(m, recolor_cb, &c, err);
+    vx_svo_model nm;
+    if (!r) {
+        vx_svo_voxels v = {.count = c.n, .keys = c.keys, .attrs = VX_ATTR_RGBA8, .rgba = c.rgba};
+        memcpy(v.size, m->size, sizeof v.size);
+        r = vx_svo_build_model(&(vx_svo_build_desc){.alloc = a}, &v, &nm, NULL, err);
+    }
+    if (!r) {
+        vx_svo_model_free(a, m);
+        *m = nm;
+    }
+    vx_free(a, c.keys);
+    vx_free(a, c.rgba);
+    return r;
+}
+
+vx_result ved_add_scene(vx_svo_scene* s, vx_svo_scene* o, const int32_t d[3], uint32_t* first, vx_error* err) {
+    bool uses_palette = false, s_uses_palette = false;
+    for (uint32_t i = 0; i < o->model_count; i++) uses_palette |= (o->models[i].attrs & VX_ATTR_PALETTE) != 0;
+    for (uint32_t i = 0; i < s->model_count; i++) s_uses_palette |= (s->models[i].attrs & VX_ATTR_PALETTE) != 0;
+    bool same_palette = s->has_palette && o->has_palette && !memcmp(s->palette, o->palette, sizeof s->palette);
+    vx_result r;
+    if (uses_palette && s_uses_palette && !same_palette) {
+        for (uint32_t i = 0; i < o->model_count; i++)
+            if ((o->models[i].attrs & VX_ATTR_PALETTE) &&
+                (r = recolor_model(o->alloc, &o->models[i], o->palette, err)))
+                return r;
+    } else if (uses_palette && !s_uses_palette) {
+        memcpy(s->palette, o->palette, sizeof s->palette);
+        s->has_palette = true;
+    }
+    uint32_t mc = s->model_count, ic = s->instance_count;
+    if (o->model_count > UINT32_MAX - mc || o->instance_count > UINT32_MAX - ic)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "too many models or instances");
+    vx_svo_model* models = vx_calloc(s->alloc, (size_t)mc + o->model_count + 1, sizeof *models);
+    vx_svo_instance* inst = vx_calloc(s->alloc, (size_t)ic + o->instance_count + 1, sizeof *inst);
+    if (!models || !inst) {
+        vx_free(s->alloc, models);
+        vx_free(s->alloc, inst);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory adding %u models", o->model_count);
+    }
+    if (mc) memcpy(models, s->models, (size_t)mc * sizeof *models);
+    if (o->model_count) memcpy(models + mc, o->models, (size_t)o->model_count * sizeof *models);
+    if (ic) memcpy(inst, s->instances, (size_t)ic * sizeof *inst);
+    for (uint32_t i = 0; i < o->instance_count; i++) {
+        vx_svo_instance in = o->instances[i];
+        in.model += mc;
+        in.layer = UINT32_MAX; /* the added file's layers are not merged */
+        for (int k = 0; k < 3; k++) in.xform[4 * k + 3] += d[k];
+        inst[ic + i] = in;
+    }
+    vx_free(s->alloc, s->models);
+    vx_free(s->alloc, s->instances);
+    s->models = models;
+    s->instances = inst;
+    s->model_count = mc + o->model_count;
+    s->instance_count = ic + o->instance_count;
+    /* the models now belong to s */
+    vx_free(o->alloc, o->models);
+    o->models = NULL;
+    o->model_count = 0;
+    *first = ic;
+    return VX_OK;
+}

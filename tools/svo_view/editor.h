@@ -1,0 +1,75 @@
+/* tools/svo_view/editor.h - scene edits for svo_view, with undo and redo.
+ *
+ * The editor works on a vx_svo_scene in place: instances are moved, rotated,
+ * mirrored, duplicated and deleted; layers and instances hidden or shown;
+ * models from another file added. Every edit keeps transforms exact: the
+ * linear part stays a signed permutation times the original and
+ * translations move by whole cells, so the scene still exports to .vox.
+ *
+ * Rotation and mirroring pivot on the centre p = (lo + hi) / 2 of the
+ * instance's grid-space box [lo, hi] (its model box [0,size]^3 mapped by
+ * the transform): a point x goes to R (x - p) + p, so the cell with centre
+ * w + 1/2 goes to the cell with centre R (w + 1/2 - p) + p. Mirroring is
+ * always cell-exact and its own inverse. A quarter turn in the plane of
+ * axes a < b is cell-exact when p_a + p_b is whole (the footprint's sides
+ * have equal parity: then four turns are the identity); otherwise p_a is
+ * lowered by 1/2 first (a turn then also shifts the box by half a cell).
+ *
+ * Undo: ved_begin() snapshots the instances and the layer flags before an
+ * edit; ved_undo()/ved_redo() swap snapshots. Models are only ever appended
+ * (ved_add_scene), so snapshots stay valid; undoing an add leaves the new
+ * models unreferenced.
+ */
+#ifndef VX_SVO_VIEW_EDITOR_H
+#define VX_SVO_VIEW_EDITOR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "svo/svo.h"
+
+typedef struct ved_snapshot {
+    vx_svo_instance* inst;
+    uint32_t inst_count;
+    uint32_t* layer_flags;
+    uint32_t layer_count;
+} ved_snapshot;
+
+#define VED_MAX_UNDO 256
+
+typedef struct ved {
+    vx_svo_scene* s; /* borrowed */
+    ved_snapshot undo[VED_MAX_UNDO], redo[VED_MAX_UNDO];
+    uint32_t undo_count, redo_count;
+} ved;
+
+void ved_init(ved* e, vx_svo_scene* s);
+void ved_free(ved* e);
+/* Snapshot before an edit (drops the redo list). */
+vx_result ved_begin(ved* e, vx_error* err);
+/* false when there is nothing to undo / redo. */
+bool ved_undo(ved* e, vx_error* err);
+bool ved_redo(ved* e, vx_error* err);
+
+/* Grid-space box of instance i's model box. */
+void ved_instance_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]);
+/* The pivot of a rotation about / mirror along axis for instance i (see above). */
+void ved_pivot(const vx_svo_scene* s, uint32_t i, int axis, bool rotate, double p[3]);
+
+void ved_move(vx_svo_scene* s, uint32_t i, const int32_t d[3]);
+/* quarter turns counter-clockwise (right-handed) about axis 0/1/2; negative turns clockwise */
+void ved_rotate(vx_svo_scene* s, uint32_t i, int axis, int quarter_turns);
+void ved_mirror(vx_svo_scene* s, uint32_t i, int axis);
+/* Appends a copy of instance i (same model, same place); *out = its index. */
+vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err);
+void ved_delete(vx_svo_scene* s, uint32_t i);
+/* Moves other's models and instances into s (other is emptied and may then
+ * be freed), offset by d cells; palette-coloured models whose palette
+ * differs from s's are rebuilt with RGBA8 attributes. *first = index of the
+ * first added instance. Both scenes must use the default allocator. */
+vx_result ved_add_scene(vx_svo_scene* s, vx_svo_scene* other, const int32_t d[3], uint32_t* first, vx_error* err);
+
+/* The 3x3 rotation of a quarter turn about an axis, row-major integers. */
+void ved_quarter_turn(int axis, int quarter_turns, int32_t r[9]);
+
+#endif

@@ -1,0 +1,471 @@
+/* tools/svo_view/present.c - GLFW window, Vulkan device and swapchain (see present.h). */
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+#include "tools/svo_view/present.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define VP_MAX_IMAGES 8
+
+struct vp {
+    GLFWwindow* win;
+    bool glfw_init;
+    VkInstance inst;
+    VkPhysicalDevice phys;
+    VkDevice dev;
+    uint32_t family;
+    VkQueue queue;
+    bool float64;
+    VkSurfaceKHR surface;
+    VkSwapchainKHR sc;
+    VkFormat format;
+    VkExtent2D extent;
+    uint32_t image_count;
+    VkImage images[VP_MAX_IMAGES];
+    VkSemaphore done[VP_MAX_IMAGES];
+    VkSemaphore acquired;
+    VkFence fence;
+    VkCommandPool pool;
+    VkCommandBuffer cmd;
+    VkBuffer staging;
+    VkDeviceMemory staging_mem;
+    VkDeviceSize staging_size;
+    void* staging_map;
+    bool vsync, dirty;
+};
+
+static vx_result vk_fail(vx_error* err, VkResult r, const char* what) {
+    return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "%s failed: VkResult %d", what, (int)r);
+}
+#define VP_VK(call, what)                                \
+    do {                                                 \
+        VkResult vp__r = (call);                         \
+        if (vp__r != VK_SUCCESS) return vk_fail(err, vp__r, what); \
+    } while (0)
+
+/* The window's user pointer belongs to the application, so a resize is
+ * noticed by comparing the framebuffer with the swapchain. */
+static void check_resize(vp* p) {
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(p->win, &fw, &fh);
+    if ((uint32_t)fw != p->extent.width || (uint32_t)fh != p->extent.height) p->dirty = true;
+}
+
+static int type_rank(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+    }
+}
+
+/* A queue family that computes and presents to the window (compute queues
+ * also do transfers, all the presentation path needs). */
+static bool present_family(vp* p, VkPhysicalDevice pd, uint32_t* out) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
+    if (n == 0 || n > 64) return false;
+    VkQueueFamilyProperties q[64];
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
+    int best = -1;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(q[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+        VkBool32 ok = VK_FALSE;
+        if (vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, p->surface, &ok) != VK_SUCCESS || !ok) continue;
+        if (best < 0 || (q[i].timestampValidBits && !q[best].timestampValidBits)) best = (int)i;
+    }
+    if (best < 0) return false;
+    *out = (uint32_t)best;
+    return true;
+}
+
+static vx_result pick_device(vp* p, const char* want, vx_error* err) {
+    uint32_t n = 0;
+    VP_VK(vkEnumeratePhysicalDevices(p->inst, &n, NULL), "vkEnumeratePhysicalDevices");
+    if (n == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device found");
+    if (n > 32) n = 32;
+    VkPhysicalDevice pds[32];
+    VkResult vr = vkEnumeratePhysicalDevices(p->inst, &n, pds);
+    if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) return vk_fail(err, vr, "vkEnumeratePhysicalDevices");
+    int pick = -1, best_rank = 99;
+    char* end = NULL;
+    long idx = want && *want ? strtol(want, &end, 10) : -1;
+    bool by_index = want && *want && end && *end == 0;
+    for (uint32_t i = 0; i < n; i++) {
+        VkPhysicalDeviceProperties pr;
+        vkGetPhysicalDeviceProperties(pds[i], &pr);
+        uint32_t fam;
+        if (by_index && (long)i != idx) continue;
+        if (want && *want && !by_index && !strstr(pr.deviceName, want)) continue;
+        if (!present_family(p, pds[i], &fam)) continue;
+        int rank = type_rank(pr.deviceType);
+        if (rank < best_rank) best_rank = rank, pick = (int)i;
+    }
+    if (pick < 0)
+        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device%s%s can compute and present to this window",
+                       want && *want ? " matching " : "", want && *want ? want : "");
+    p->phys = pds[pick];
+    present_family(p, p->phys, &p->family);
+    return VX_OK;
+}
+
+static vx_result create_device(vp* p, vx_error* err) {
+    VkPhysicalDeviceFeatures have, feat = {0};
+    vkGetPhysicalDeviceFeatures(p->phys, &have);
+    feat.shaderFloat64 = have.shaderFloat64;
+    p->float64 = have.shaderFloat64 == VK_TRUE;
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+                                   .queueFamilyIndex = p->family,
+                                   .queueCount = 1,
+                                   .pQueuePriorities = &prio};
+    const char* exts[] = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+    VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+                              .queueCreateInfoCount = 1,
+                              .pQueueCreateInfos = &qci,
+                              .enabledExtensionCount = 1,
+                              .ppEnabledExtensionNames = exts,
+                              .pEnabledFeatures = &feat};
+    VP_VK(vkCreateDevice(p->phys, &dci, NULL, &p->dev), "vkCreateDevice");
+    vkGetDeviceQueue(p->dev, p->family, 0, &p->queue);
+    VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                   .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                   .queueFamilyIndex = p->family};
+    VP_VK(vkCreateCommandPool(p->dev, &pci, NULL, &p->pool), "vkCreateCommandPool");
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                      .commandPool = p->pool,
+                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                      .commandBufferCount = 1};
+    VP_VK(vkAllocateCommandBuffers(p->dev, &ai, &p->cmd), "vkAllocateCommandBuffers");
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VP_VK(vkCreateFence(p->dev, &fci, NULL, &p->fence), "vkCreateFence");
+    VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->acquired), "vkCreateSemaphore");
+    return VX_OK;
+}
+
+static void destroy_swapchain_parts(vp* p) {
+    for (uint32_t i = 0; i < VP_MAX_IMAGES; i++)
+        if (p->done[i]) vkDestroySemaphore(p->dev, p->done[i], NULL), p->done[i] = VK_NULL_HANDLE;
+}
+
+static vx_result create_swapchain(vp* p, vx_error* err) {
+    vkDeviceWaitIdle(p->dev);
+    destroy_swapchain_parts(p);
+    VkSurfaceCapabilitiesKHR caps;
+    VP_VK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(p->phys, p->surface, &caps), "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
+    if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the swapchain images cannot be copied to");
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(p->win, &fw, &fh);
+    VkExtent2D ext = caps.currentExtent;
+    if (ext.width == UINT32_MAX) {
+        ext.width = (uint32_t)(fw > 0 ? fw : 1), ext.height = (uint32_t)(fh > 0 ? fh : 1);
+        if (ext.width < caps.minImageExtent.width) ext.width = caps.minImageExtent.width;
+        if (ext.height < caps.minImageExtent.height) ext.height = caps.minImageExtent.height;
+        if (ext.width > caps.maxImageExtent.width) ext.width = caps.maxImageExtent.width;
+        if (ext.height > caps.maxImageExtent.height) ext.height = caps.maxImageExtent.height;
+    }
+    p->dirty = false;
+    if (ext.width == 0 || ext.height == 0) { /* minimised: keep the old swapchain until it has a size */
+        p->extent = ext;
+        return VX_OK;
+    }
+    uint32_t nf = 0;
+    VP_VK(vkGetPhysicalDeviceSurfaceFormatsKHR(p->phys, p->surface, &nf, NULL), "vkGetPhysicalDeviceSurfaceFormatsKHR");
+    VkSurfaceFormatKHR fmts[64];
+    if (nf > 64) nf = 64;
+    if (nf == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "the surface offers no formats");
+    VkResult vr = vkGetPhysicalDeviceSurfaceFormatsKHR(p->phys, p->surface, &nf, fmts);
+    if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) return vk_fail(err, vr, "vkGetPhysicalDeviceSurfaceFormatsKHR");
+    /* UNORM first: the bytes are already display-encoded (as in the PNG) */
+    VkSurfaceFormatKHR fmt = fmts[0];
+    bool found = false;
+    VkFormat prefer[] = {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_SRGB,
+                         VK_FORMAT_R8G8B8A8_SRGB};
+    for (size_t k = 0; k < 4 && !found; k++)
+        for (uint32_t i = 0; i < nf && !found; i++)
+            if (fmts[i].format == prefer[k]) fmt = fmts[i], found = true;
+    if (!found) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the surface offers no 8-bit RGBA/BGRA format");
+    uint32_t npm = 0;
+    VkPresentModeKHR modes[16];
+    VP_VK(vkGetPhysicalDeviceSurfacePresentModesKHR(p->phys, p->surface, &npm, NULL), "vkGetPhysicalDeviceSurfacePresentModesKHR");
+    if (npm > 16) npm = 16;
+    vr = vkGetPhysicalDeviceSurfacePresentModesKHR(p->phys, p->surface, &npm, modes);
+    if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) return vk_fail(err, vr, "vkGetPhysicalDeviceSurfacePresentModesKHR");
+    VkPresentModeKHR mode = VK_PRESENT_MODE_FIFO_KHR;
+    if (!p->vsync) {
+        for (uint32_t i = 0; i < npm; i++)
+            if (modes[i] == VK_PRESENT_MODE_IMMEDIATE_KHR) mode = modes[i];
+        for (uint32_t i = 0; i < npm; i++)
+            if (modes[i] == VK_PRESENT_MODE_MAILBOX_KHR) mode = modes[i];
+    }
+    uint32_t count = caps.minImageCount + 1;
+    if (caps.maxImageCount && count > caps.maxImageCount) count = caps.maxImageCount;
+    if (count > VP_MAX_IMAGES) count = VP_MAX_IMAGES;
+    VkCompositeAlphaFlagBitsKHR alpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    VkCompositeAlphaFlagBitsKHR alphas[] = {VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR, VK_COMPOSITE_ALPHA_INHERIT_BIT_KHR,
+                                            VK_COMPOSITE_ALPHA_PRE_MULTIPLIED_BIT_KHR,
+                                            VK_COMPOSITE_ALPHA_POST_MULTIPLIED_BIT_KHR};
+    for (int k = 3; k >= 0; k--)
+        if (caps.supportedCompositeAlpha & alphas[k]) alpha = alphas[k];
+    VkSwapchainKHR old = p->sc;
+    VkSwapchainCreateInfoKHR ci = {.sType = VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR,
+                                   .surface = p->surface,
+                                   .minImageCount = count,
+                                   .imageFormat = fmt.format,
+                                   .imageColorSpace = fmt.colorSpace,
+                                   .imageExtent = ext,
+                                   .imageArrayLayers = 1,
+                                   .imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                   .imageSharingMode = VK_SHARING_MODE_EXCLUSIVE,
+                                   .preTransform = caps.currentTransform,
+                                   .compositeAlpha = alpha,
+                                   .presentMode = mode,
+                                   .clipped = VK_TRUE,
+                                   .oldSwapchain = old};
+    VP_VK(vkCreateSwapchainKHR(p->dev, &ci, NULL, &p->sc), "vkCreateSwapchainKHR");
+    if (old) vkDestroySwapchainKHR(p->dev, old, NULL);
+    p->format = fmt.format;
+    p->extent = ext;
+    uint32_t ni = 0;
+    VP_VK(vkGetSwapchainImagesKHR(p->dev, p->sc, &ni, NULL), "vkGetSwapchainImagesKHR");
+    if (ni > VP_MAX_IMAGES) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "swapchain has %u images", ni);
+    VP_VK(vkGetSwapchainImagesKHR(p->dev, p->sc, &ni, p->images), "vkGetSwapchainImagesKHR");
+    p->image_count = ni;
+    VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    /* one per image: a present may still wait on its semaphore when the next frame signals */
+    for (uint32_t i = 0; i < ni; i++) VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->done[i]), "vkCreateSemaphore");
+    return VX_OK;
+}
+
+vx_result vp_create(const vp_desc* desc_in, vp** out, vx_error* err) {
+    vp_desc d = desc_in ? *desc_in : (vp_desc){0};
+    if (!d.width) d.width = 1280;
+    if (!d.height) d.height = 800;
+    vp* p = calloc(1, sizeof *p);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    p->vsync = d.vsync;
+    vx_result r = VX_OK;
+    if (!glfwInit()) {
+        const char* why = NULL;
+        glfwGetError(&why);
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "cannot open a window: %s", why ? why : "glfwInit failed");
+        goto fail;
+    }
+    p->glfw_init = true;
+    if (!glfwVulkanSupported()) {
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GLFW finds no Vulkan loader with window-system support");
+        goto fail;
+    }
+    uint32_t next = 0;
+    const char** gexts = glfwGetRequiredInstanceExtensions(&next);
+    if (!gexts || next > 15) {
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "Vulkan cannot present to this window system");
+        goto fail;
+    }
+    const char* exts[16];
+    memcpy(exts, gexts, next * sizeof *exts);
+    const char* layers[1] = {"VK_LAYER_KHRONOS_validation"};
+    VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+                             .pApplicationName = "svo_view",
+                             .pEngineName = "voxkit",
+                             .apiVersion = VK_API_VERSION_1_1};
+    VkInstanceCreateInfo ici = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+                                .pApplicationInfo = &app,
+                                .enabledLayerCount = d.validate ? 1 : 0,
+                                .ppEnabledLayerNames = layers,
+                                .enabledExtensionCount = next,
+                                .ppEnabledExtensionNames = exts};
+    VkResult vr = vkCreateInstance(&ici, NULL, &p->inst);
+    if (vr != VK_SUCCESS) {
+        r = vk_fail(err, vr, d.validate ? "vkCreateInstance (with VK_LAYER_KHRONOS_validation)" : "vkCreateInstance");
+        goto fail;
+    }
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    glfwWindowHint(GLFW_VISIBLE, d.hidden ? GLFW_FALSE : GLFW_TRUE);
+    glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);
+    p->win = glfwCreateWindow((int)d.width, (int)d.height, d.title ? d.title : "svo_view", NULL, NULL);
+    if (!p->win) {
+        const char* why = NULL;
+        glfwGetError(&why);
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "cannot create a window: %s", why ? why : "unknown");
+        goto fail;
+    }
+    vr = glfwCreateWindowSurface(p->inst, p->win, NULL, &p->surface);
+    if (vr != VK_SUCCESS) {
+        r = vk_fail(err, vr, "glfwCreateWindowSurface");
+        goto fail;
+    }
+    if ((r = pick_device(p, d.device, err)) || (r = create_device(p, err)) || (r = create_swapchain(p, err))) goto fail;
+    *out = p;
+    return VX_OK;
+fail:
+    vp_destroy(p);
+    return r;
+}
+
+void vp_destroy(vp* p) {
+    if (!p) return;
+    if (p->dev) {
+        vkDeviceWaitIdle(p->dev);
+        destroy_swapchain_parts(p);
+        if (p->staging) vkDestroyBuffer(p->dev, p->staging, NULL);
+        if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL);
+        if (p->sc) vkDestroySwapchainKHR(p->dev, p->sc, NULL);
+        if (p->acquired) vkDestroySemaphore(p->dev, p->acquired, NULL);
+        if (p->fence) vkDestroyFence(p->dev, p->fence, NULL);
+        if (p->pool) vkDestroyCommandPool(p->dev, p->pool, NULL);
+        vkDestroyDevice(p->dev, NULL);
+    }
+    if (p->surface) vkDestroySurfaceKHR(p->inst, p->surface, NULL);
+    if (p->win) glfwDestroyWindow(p->win);
+    if (p->inst) vkDestroyInstance(p->inst, NULL);
+    if (p->glfw_init) glfwTerminate();
+    free(p);
+}
+
+GLFWwindow* vp_window(vp* p) { return p->win; }
+
+void vp_external(vp* p, vx_gpu_desc* gd) {
+    gd->external.instance = p->inst;
+    gd->external.physical_device = p->phys;
+    gd->external.device = p->dev;
+    gd->external.queue = p->queue;
+    gd->external.queue_family = p->family;
+    gd->external.float64 = p->float64;
+}
+
+void vp_frame_size(vp* p, uint32_t* w, uint32_t* h) {
+    check_resize(p);
+    if (p->dirty) {
+        vx_error e;
+        create_swapchain(p, &e); /* a failure shows as a zero size and is retried */
+    }
+    *w = p->extent.width;
+    *h = p->extent.height;
+}
+
+bool vp_frame_bgra(const vp* p) { return p->format == VK_FORMAT_B8G8R8A8_UNORM || p->format == VK_FORMAT_B8G8R8A8_SRGB; }
+
+void vp_set_vsync(vp* p, bool vsync) {
+    if (p->vsync != vsync) p->vsync = vsync, p->dirty = true;
+}
+bool vp_vsync(const vp* p) { return p->vsync; }
+
+static vx_result ensure_staging(vp* p, VkDeviceSize size, vx_error* err) {
+    if (p->staging && p->staging_size >= size) return VX_OK;
+    if (p->staging) vkDestroyBuffer(p->dev, p->staging, NULL), p->staging = VK_NULL_HANDLE;
+    if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL), p->staging_mem = VK_NULL_HANDLE;
+    VkBufferCreateInfo bi = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+                             .size = size,
+                             .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                             .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
+    VP_VK(vkCreateBuffer(p->dev, &bi, NULL, &p->staging), "vkCreateBuffer");
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(p->dev, p->staging, &req);
+    VkPhysicalDeviceMemoryProperties mp;
+    vkGetPhysicalDeviceMemoryProperties(p->phys, &mp);
+    uint32_t type = UINT32_MAX;
+    VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; i++)
+        if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
+    if (type == UINT32_MAX) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible coherent memory");
+    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                               .allocationSize = req.size,
+                               .memoryTypeIndex = type};
+    VP_VK(vkAllocateMemory(p->dev, &ai, NULL, &p->staging_mem), "vkAllocateMemory");
+    VP_VK(vkBindBufferMemory(p->dev, p->staging, p->staging_mem, 0), "vkBindBufferMemory");
+    VP_VK(vkMapMemory(p->dev, p->staging_mem, 0, VK_WHOLE_SIZE, 0, &p->staging_map), "vkMapMemory");
+    p->staging_size = size;
+    return VX_OK;
+}
+
+static void barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
+                    VkAccessFlags dst, VkPipelineStageFlags s0, VkPipelineStageFlags s1) {
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = src,
+                              .dstAccessMask = dst,
+                              .oldLayout = from,
+                              .newLayout = to,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .image = img,
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+    vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
+}
+
+vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error* err) {
+    check_resize(p);
+    if (p->dirty) {
+        vx_result r = create_swapchain(p, err);
+        if (r) return r;
+    }
+    if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
+    vx_result r = ensure_staging(p, (VkDeviceSize)w * h * 4, err);
+    if (r) return r;
+    memcpy(p->staging_map, px, (size_t)w * h * 4);
+    uint32_t idx;
+    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->acquired, VK_NULL_HANDLE, &idx);
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
+        p->dirty = true;
+        return VX_OK; /* the next frame renders at the new size */
+    }
+    if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
+    VkImage img = p->images[idx];
+    VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
+    barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    uint32_t cw = w < p->extent.width ? w : p->extent.width, ch = h < p->extent.height ? h : p->extent.height;
+    if (cw != p->extent.width || ch != p->extent.height) {
+        VkClearColorValue black = {{0, 0, 0, 1}};
+        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
+                             0, NULL);
+    }
+    VkBufferImageCopy region = {.bufferOffset = 0,
+                                .bufferRowLength = w,
+                                .bufferImageHeight = h,
+                                .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                                .imageOffset = {0, 0, 0},
+                                .imageExtent = {cw, ch, 1}};
+    vkCmdCopyBufferToImage(p->cmd, p->staging, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+            VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                       .waitSemaphoreCount = 1,
+                       .pWaitSemaphores = &p->acquired,
+                       .pWaitDstStageMask = &wait_stage,
+                       .commandBufferCount = 1,
+                       .pCommandBuffers = &p->cmd,
+                       .signalSemaphoreCount = 1,
+                       .pSignalSemaphores = &p->done[idx]};
+    VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
+    VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    vr = vkQueuePresentKHR(p->queue, &pi);
+    /* the staging buffer, command buffer and acquire semaphore are reused next frame */
+    VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
+    if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
+    else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
+    return VX_OK;
+}

@@ -1,0 +1,50 @@
+/* tools/svo_view/present.h - a GLFW window with a Vulkan swapchain that
+ * shows 8-bit frames, on a device the tracer adopts (vx_gpu_desc.external).
+ *
+ * The tracer writes float pixels to a buffer of its own and reads them back
+ * (vx_render_frame); the viewer converts them to 8 bits on the CPU (the same
+ * conversion svo_render uses for PNG, so a screenshot equals svo_render's
+ * image), draws the overlay there, and vp_present copies the bytes into the
+ * swapchain image with one vkCmdCopyBufferToImage. One queue does compute,
+ * transfer and present.
+ *
+ * Usage: vp_create -> vx_gpu_create(&(vx_gpu_desc){.external = ...vp_external}) ->
+ *        loop { vp_frame_size; render; vp_present } -> vx_gpu_destroy -> vp_destroy.
+ */
+#ifndef VX_SVO_VIEW_PRESENT_H
+#define VX_SVO_VIEW_PRESENT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/render.h"
+
+typedef struct vp vp;
+struct GLFWwindow;
+
+typedef struct vp_desc {
+    uint32_t width, height; /* window size in screen coordinates, 0 == 1280 x 800 */
+    const char* title;
+    const char* device;     /* as vx_gpu_desc.device */
+    bool validate;
+    bool vsync;             /* FIFO presentation (default off: mailbox/immediate when available) */
+    bool hidden;            /* do not show the window (still presents) */
+} vp_desc;
+
+vx_result vp_create(const vp_desc* desc, vp** out, vx_error* err);
+void vp_destroy(vp* p);
+struct GLFWwindow* vp_window(vp* p);
+/* Fills the external part of a vx_gpu_desc with the window's device. */
+void vp_external(vp* p, vx_gpu_desc* gd);
+/* Current swapchain size (the framebuffer size in pixels: HiDPI aware). */
+void vp_frame_size(vp* p, uint32_t* w, uint32_t* h);
+bool vp_frame_bgra(const vp* p); /* the swapchain wants B,G,R,A bytes */
+/* Changes vsync; takes effect by recreating the swapchain. */
+void vp_set_vsync(vp* p, bool vsync);
+bool vp_vsync(const vp* p);
+/* Copies a w x h frame of 4-byte pixels (rows top first) to the next
+ * swapchain image (clipped or padded with black when the sizes differ) and
+ * presents it. Recreates the swapchain when the window was resized. */
+vx_result vp_present(vp* p, const uint8_t* pixels, uint32_t w, uint32_t h, vx_error* err);
+
+#endif
