@@ -34,6 +34,7 @@ static float vnoise(float x, float z, uint32_t seed) {
 int main(int argc, char** argv) {
     uint32_t E = 4096, T = 6;
     bool geom = false;
+    const char* out_path = NULL; /* -o FILE: also time writing and reading the .svo file */
     vx_svo_build_desc desc = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-e") && i + 1 < argc) E = (uint32_t)atoi(argv[++i]);
@@ -41,8 +42,9 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "-geom")) geom = true;
         else if (!strcmp(argv[i], "-no-collapse")) desc.no_collapse = true;
         else if (!strcmp(argv[i], "-no-dag")) desc.no_dag = true;
+        else if (!strcmp(argv[i], "-o") && i + 1 < argc) out_path = argv[++i];
         else {
-            fprintf(stderr, "usage: %s [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag]\n", argv[0]);
+            fprintf(stderr, "usage: %s [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag] [-o FILE.svo]\n", argv[0]);
             return 2;
         }
     }
@@ -101,7 +103,43 @@ int main(int argc, char** argv) {
     printf("descriptors:      plain %llu, collapsed %llu, dag %llu, far pointers %llu\n", (unsigned long long)st.desc_plain,
            (unsigned long long)st.desc_collapsed, (unsigned long long)st.desc_dag, (unsigned long long)st.far_pointers);
     printf("records:          %llu; node words %u\n", (unsigned long long)st.attr_records, m.node_count);
-    printf("output:           %llu bytes = %.3f bytes per voxel\n", (unsigned long long)st.bytes, (double)st.bytes / (double)st.voxels);
+    printf("in memory:        %llu bytes = %.3f bytes per voxel\n", (unsigned long long)st.bytes, (double)st.bytes / (double)st.voxels);
+    if (out_path) {
+        /* the whole scene through the file: write (validate + code) and read back */
+        vx_svo_scene sc;
+        vx_svo_scene_init(&sc, NULL);
+        vx_svo_instance inst = {.xform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, .model = 0, .layer = UINT32_MAX};
+        sc.model_count = 1;
+        sc.models = &m;
+        sc.instance_count = 1;
+        sc.instances = &inst;
+        vx_svo_scene_update_bounds(&sc);
+        double w0 = vx_time_now();
+        r = vx_svo_write_file(&sc, out_path, &err);
+        double tw = vx_time_now() - w0;
+        if (r != VX_OK) {
+            fprintf(stderr, "svo_build_bench: %s: %s\n", out_path, err.msg);
+            return 1;
+        }
+        vx_svo_scene back;
+        double r0 = vx_time_now();
+        r = vx_svo_read_file(NULL, out_path, &back, &err);
+        double tr = vx_time_now() - r0;
+        if (r != VX_OK) {
+            fprintf(stderr, "svo_build_bench: reading %s: %s\n", out_path, err.msg);
+            return 1;
+        }
+        FILE* f = fopen(out_path, "rb");
+        long fsz = 0;
+        if (f) {
+            fseek(f, 0, SEEK_END);
+            fsz = ftell(f);
+            fclose(f);
+        }
+        printf("file:             %ld bytes = %.3f bytes per voxel; write %.2f s, read %.2f s\n", fsz,
+               (double)fsz / (double)st.voxels, tw, tr);
+        vx_svo_scene_free(&back);
+    }
     vx_svo_model_free(NULL, &m);
     free(keys);
     free(rgba);
