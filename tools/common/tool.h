@@ -42,6 +42,9 @@ const char* vx_tool_bytes(uint64_t v);
 bool vx_tool_parse_u32(const char* s, uint32_t* out);
 bool vx_tool_parse_double(const char* s, double* out);
 
+/* Parses n comma-separated finite numbers ("1,2.5,-3"); false if malformed. */
+bool vx_tool_parse_vec(const char* s, double* v, int n);
+
 /* Logger printing warnings as "tool: warning: msg" (verbose also INFO). */
 vx_logger vx_tool_logger(bool verbose);
 

@@ -76,26 +76,9 @@ _Noreturn static void usage(int status) {
     exit(status);
 }
 
-_Noreturn static void usage_error(const char* fmt, const char* arg) {
-    fprintf(stderr, "%s: ", vx_tool_name);
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n");
-    usage(2);
-}
+#define usage_error(...) vx_tool_usage_error(usage, __VA_ARGS__)
 
-static bool parse_vec(const char* s, double* v, int n) {
-    for (int i = 0; i < n; i++) {
-        char* end;
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i])) return false;
-        s = end;
-        if (i < n - 1) {
-            if (*s != ',') return false;
-            s++;
-        }
-    }
-    return *s == 0;
-}
+#define parse_vec vx_tool_parse_vec
 
 /* ---- progress with ETA ---------------------------------------------------------- */
 

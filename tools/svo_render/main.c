@@ -7,6 +7,7 @@
 #include "formats/image.h"
 #include "probes/probes.h"
 #include "render/render.h"
+#include "tools/common/tool.h"
 
 typedef struct options {
     const char* in;
@@ -78,26 +79,9 @@ _Noreturn static void usage(int status) {
     exit(status);
 }
 
-_Noreturn static void usage_error(const char* fmt, const char* arg) {
-    fprintf(stderr, "%s: ", prog);
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n");
-    usage(2);
-}
+#define usage_error(...) vx_tool_usage_error(usage, __VA_ARGS__)
 
-static bool parse_vec(const char* s, double* v, int n) {
-    for (int i = 0; i < n; i++) {
-        char* end;
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i])) return false;
-        s = end;
-        if (i < n - 1) {
-            if (*s != ',') return false;
-            s++;
-        }
-    }
-    return *s == 0;
-}
+#define parse_vec vx_tool_parse_vec
 
 static bool parse_uint(const char* s, uint32_t* out) {
     char* end;
@@ -129,8 +113,8 @@ static const char* ext_of(const char* p) {
 }
 
 int main(int argc, char** argv) {
-    const char* slash = strrchr(argv[0], '/');
-    prog = slash ? slash + 1 : argv[0];
+    vx_tool_init(argc, argv);
+    prog = vx_tool_name;
     options o = default_options();
     const char* pos[2];
     int npos = 0;
