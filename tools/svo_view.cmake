@@ -6,7 +6,7 @@ endif()
 if(VX_WITH_VULKAN AND TARGET vx_image AND VX_GLFW_FOUND)
   add_executable(svo_view ${CMAKE_CURRENT_LIST_DIR}/svo_view/main.c ${CMAKE_CURRENT_LIST_DIR}/svo_view/present.c
                           ${CMAKE_CURRENT_LIST_DIR}/svo_view/editor.c ${CMAKE_CURRENT_LIST_DIR}/svo_view/font.c)
-  target_link_libraries(svo_view PRIVATE vx_render vx_convert vx_image vx_tool PkgConfig::VX_GLFW m)
+  target_link_libraries(svo_view PRIVATE vx_probes vx_render vx_convert vx_image vx_tool PkgConfig::VX_GLFW m)
   if(TARGET vx_conv_mesh)
     target_link_libraries(svo_view PRIVATE vx_conv_mesh)
     target_compile_definitions(svo_view PRIVATE VX_HAVE_MESH=1)

@@ -1,7 +1,9 @@
 /* tests/view/test_view.c - svo_view under Xvfb with lavapipe: a scripted
  * edit checked cell by cell against edits applied independently here, the
  * saved file reopening identically, --screenshot against svo_render, a pick
- * against the tracer's hit buffer, and bad files.
+ * against the tracer's hit buffer, bad files, and mode gi with probes baked
+ * here (screenshot against svo_render --mode gi, picks, bad .probes,
+ * --validate's error count).
  *
  * Usage: test_view --editor: the editor's operations in-process (no window,
  *        no GPU: this part is leak-checked);
@@ -12,6 +14,7 @@
  *        (as tests/probes does for the tools). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -19,6 +22,7 @@
 
 #include "convert/convert.h"
 #include "formats/image.h"
+#include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
 #include "tools/svo_view/editor.h"
@@ -30,9 +34,13 @@ static bool g_display;
 
 /* ---- helpers --------------------------------------------------------------------------- */
 
-static int run_cmd(const char* fmt, const char* a, const char* b, const char* c, const char* d) {
+static int run_cmd(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+static int run_cmd(const char* fmt, ...) {
     char cmd[8192];
-    snprintf(cmd, sizeof cmd, fmt, a, b, c, d);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
     int st = system(cmd);
     if (st == -1 || !WIFEXITED(st)) return -1; /* a crash */
     return WEXITSTATUS(st);
@@ -484,9 +492,138 @@ static void test_bad_files(void) {
     free(out);
     CHECK(access(shot, R_OK) == 0);
     /* usage errors exit 2 */
-    CHECK(run_cmd("%s %s --size 0x5 > /dev/null 2>&1%s%s", g_view, in, "", "") == 2);
-    CHECK(run_cmd("%s > /dev/null 2>&1%s%s%s", g_view, "", "", "") == 2);
-    CHECK(run_cmd("%s --help > /dev/null%s%s%s", g_view, "", "", "") == 0);
+    CHECK(run_cmd("%s %s --size 0x5 > /dev/null 2>&1", g_view, in) == 2);
+    CHECK(run_cmd("%s > /dev/null 2>&1", g_view) == 2);
+    CHECK(run_cmd("%s --help > /dev/null", g_view) == 0);
+}
+
+/* ---- mode gi ------------------------------------------------------------------------------ */
+
+/* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
+ * in every pixel: a hit well inside an object. */
+static bool object_pixel(const char* png, uint32_t* ox, uint32_t* oy) {
+    uint32_t w, h, c;
+    void* px = NULL;
+    if (vx_image_read(png, VX_IMAGE_U8, 0, &w, &h, &c, &px, NULL)) return false;
+    const uint8_t* p = px;
+    bool found = false;
+    for (uint32_t y = 2; !found && y + 2 < h; y++)
+        for (uint32_t x = 2; !found && x + 2 < w; x++) {
+            bool all = true;
+            for (int dy = -2; all && dy <= 2; dy++)
+                for (int dx = -2; all && dx <= 2; dx++)
+                    all = memcmp(p + ((size_t)(y + dy) * w + (x + dx)) * c, p, c) != 0;
+            if (all) *ox = x, *oy = y, found = true;
+        }
+    vx_free(NULL, px);
+    return found;
+}
+
+static void test_gi_mode(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    char svo[1024], probes[1024], bad[1024], shard[1024], a[1024], b[1024], c[1024], s2[1024], log[1024];
+    char script[1024];
+    path(svo, sizeof svo, "gi.svo");
+    path(probes, sizeof probes, "gi.probes");
+    path(bad, sizeof bad, "bad.probes");
+    path(shard, sizeof shard, "shard.probes");
+    path(a, sizeof a, "view_gi.png");
+    path(b, sizeof b, "render_gi.png");
+    path(c, sizeof c, "view_gi_color.png");
+    path(s2, sizeof s2, "view_gi_script.png");
+    path(log, sizeof log, "gi.log");
+    path(script, sizeof script, "gi.txt");
+    /* a tiny bake through the probes API (CPU): what svo_bake --grid 2,2,2 --res 16 --spp 4 --cpu writes */
+    vx_svo_scene s;
+    REQUIRE(load_vox(in, &s));
+    REQUIRE(vx_svo_write_file(&s, svo, NULL) == VX_OK);
+    vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 4, .seed = 1};
+    vx_probe_set ps, part;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &bd, &ps, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(&ps, probes, &err) == VX_OK);
+    bd.first = 0, bd.count = 4; /* half the grid: a shard, which the viewer must refuse */
+    REQUIRE(vx_probe_bake(&s, &bd, &part, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(&part, shard, &err) == VX_OK);
+    vx_probe_set_free(&part);
+    /* a truncated copy */
+    uint8_t* bytes = NULL;
+    size_t size = 0;
+    REQUIRE(vx_probe_write(&ps, NULL, &bytes, &size, &err) == VX_OK);
+    FILE* f = fopen(bad, "wb");
+    REQUIRE(f);
+    fwrite(bytes, 1, size / 2, f);
+    fclose(f);
+    vx_free(NULL, bytes);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+
+    /* --screenshot in mode gi equals svo_render --mode gi */
+    int rc = run_cmd("%s %s --probes %s --mode gi --screenshot %s --size 200x150 --hidden > /dev/null 2>&1", g_view, svo,
+                     probes, a);
+    REQUIRE(rc == 0);
+    rc = run_cmd("%s %s %s --probes %s --mode gi --size 200x150 > /dev/null 2>&1", g_render, svo, b, probes);
+    REQUIRE(rc == 0);
+    double d = image_diff(a, b);
+    CHECKF(d <= 0.01, "mode gi: %.2f%% of pixels differ from svo_render", d * 100);
+    fprintf(stderr, "  mode gi: %.3f%% of pixels differ from svo_render\n", d * 100);
+    /* and it is not the colour mode (probes loaded, mode colour: nothing of gi) */
+    rc = run_cmd("%s %s --probes %s --screenshot %s --size 200x150 --hidden > /dev/null 2>&1", g_view, svo, probes, c);
+    REQUIRE(rc == 0);
+    d = image_diff(a, c);
+    CHECKF(d > 0.5, "mode gi differs from mode color in only %.2f%% of pixels", d * 100);
+
+    /* a script: gi refused without probes and with bad ones (messages, the run goes on), then
+     * loaded; a pick in mode gi finds what the colour mode's pick finds */
+    uint32_t px = 0, py = 0;
+    REQUIRE(object_pixel(b, &px, &py));
+    char pick[64];
+    snprintf(pick, sizeof pick, "pick %u %u", px, py);
+    f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "mode gi\nprobes %s\nprobes %s\nmode gi\n%s\nprobes %s\nmode gi\n%s\nscreenshot %s\nmode color\n%s\nquit\n",
+            bad, shard, pick, probes, pick, s2, pick);
+    fclose(f);
+    rc = run_cmd("%s %s --script %s --hidden --size 200x150 > %s 2>&1", g_view, svo, script, log);
+    char* out = slurp(log);
+    CHECKF(rc == 0, "status %d: %s", rc, out ? out : "(none)");
+    const char* need[] = {"mode gi needs light field probes", "bad.probes:", "shard.probes: a shard", "2x2x2 grid"};
+    for (int i = 0; i < 4; i++) CHECKF(out && strstr(out, need[i]), "expected '%s' in:\n%s", need[i], out ? out : "(none)");
+    /* three picks of one pixel (colour, gi, colour again) name one instance */
+    uint32_t hits[3], nh = 0;
+    for (const char* q = out; q && (q = strstr(q, pick)) && nh < 3; q += strlen(pick)) {
+        unsigned id;
+        if (sscanf(q + strlen(pick), ": instance %u", &id) == 1) hits[nh] = id;
+        else hits[nh] = VX_RENDER_NO_HIT;
+        nh++;
+    }
+    CHECKF(nh == 3 && hits[0] != VX_RENDER_NO_HIT && hits[0] == hits[1] && hits[1] == hits[2],
+           "picks at %u,%u: %s", px, py, out ? out : "(none)");
+    free(out);
+    d = image_diff(s2, b);
+    CHECKF(d <= 0.01, "scripted mode gi: %.2f%% of pixels differ from svo_render", d * 100);
+
+    /* on the command line: usage error without probes, status 1 naming a bad file */
+    CHECK(run_cmd("%s %s --mode gi --screenshot %s --hidden > /dev/null 2>&1", g_view, svo, a) == 2);
+    rc = run_cmd("%s %s --probes %s --mode gi --screenshot %s --hidden > %s 2>&1", g_view, svo, bad, a, log);
+    CHECKF(rc == 1, "status %d", rc);
+    out = slurp(log);
+    CHECKF(out && strstr(out, "bad.probes"), "message: %s", out ? out : "(none)");
+    free(out);
+
+    /* --validate counts the layer's errors and prints the count */
+    if (access("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json", R_OK)) {
+        fprintf(stderr, "  --validate: skipped (VK_LAYER_KHRONOS_validation is not installed)\n");
+        return;
+    }
+    rc = run_cmd("%s %s --probes %s --mode gi --screenshot %s --size 64x48 --hidden --validate > %s 2>&1", g_view, svo,
+                 probes, a, log);
+    out = slurp(log);
+    CHECKF(rc == 0 && out && strstr(out, "0 Vulkan validation errors"), "status %d: %s", rc, out ? out : "(none)");
+    free(out);
 }
 
 int main(int argc, char** argv) {
@@ -512,5 +649,6 @@ int main(int argc, char** argv) {
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);
+    RUN(test_gi_mode);
     return vx_test_finish();
 }

@@ -10,6 +10,7 @@
 
 #include "convert/convert.h"
 #include "formats/image.h"
+#include "probes/probes.h"
 #include "render/render.h"
 #include "tools/common/tool.h"
 #include "tools/svo_view/editor.h"
@@ -33,6 +34,8 @@ typedef struct options {
     uint32_t width, height; /* render size; 0 == the window's framebuffer */
     uint32_t win_w, win_h;
     vx_render_mode mode;
+    bool gi;            /* --mode gi: direct light + probe GI (needs probes) */
+    const char* probes; /* light field probes from svo_bake */
     double fov;
     const char* device;
     bool validate, vsync, verbose, hidden;
@@ -72,7 +75,10 @@ _Noreturn static void usage(int status) {
             "                          (.exr keeps float data, as svo_render writes it)\n"
             "    --size WxH            render size (default: the window's framebuffer)\n"
             "    --window WxH          window size (default: %ux%u, or --size)\n"
-            "    --mode M              color|albedo|normal|depth|instance|iterations (default: %s)\n"
+            "    --mode M              color|albedo|normal|depth|instance|iterations, or gi with --probes\n"
+            "                          (default: %s)\n"
+            "    --probes FILE         light field probes from svo_bake: mode gi (key 7) shows direct light\n"
+            "                          plus the probes' diffuse GI, exactly as svo_render --mode gi\n"
             "    --fov DEG             vertical field of view (default: %g)\n"
             "    --script FILE         play commands from FILE (see below)\n"
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
@@ -80,28 +86,32 @@ _Noreturn static void usage(int status) {
             "    --vsync               start with vsync on (V toggles)\n"
             "    --hidden              do not show the window (scripts, benchmarks)\n"
             "    --device N|NAME       Vulkan device (default: a discrete GPU, else any)\n"
-            "    --validate            enable the Vulkan validation layer\n"
+            "    --validate            enable the Vulkan validation layer; prints the error count at exit\n"
+            "                          (status 1 when there were any)\n"
             "    --frame N, --keep-hidden, --no-collapse, --no-dag      (.vox)\n"
             "    --res N (default: %u), --scene N, --solid, --normals  (.gltf/.glb)\n"
             "    --grid NAME, --threshold X, --density, --color NAME   (.vdb)\n"
             "    -v, --verbose         print the effective options and timings\n"
             "    -h, --help            print this help and exit;  --version: versions\n"
             "Keys: WASD/Q/E fly, right mouse look, wheel speed (orbit: zoom), O orbit, F frame the\n"
-            "      selection or scene, 1-6 modes, V vsync, Tab overlay, P screenshot; click picks;\n"
+            "      selection or scene, 1-6 modes (7: gi, with probes), V vsync, Tab overlay,\n"
+            "      P screenshot; click picks;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
             "      Ctrl+Z/Ctrl+Y undo/redo, Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
             "Script commands (one a line, # comments): camera EX EY EZ TX TY TZ | camera default |\n"
-            "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | select N|none | pick X Y |\n"
-            "      frame | move DX DY DZ | rotate x|y|z [TURNS] | mirror x|y|z | duplicate | delete |\n"
+            "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | probes FILE | select N|none |\n"
+            "      pick X Y |"
+            " frame | move DX DY DZ | rotate x|y|z [TURNS] | mirror x|y|z | duplicate | delete |\n"
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
             "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
+            "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
             vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.fov, d.res, vx_tool_name, vx_tool_name,
-            vx_tool_name);
+            vx_tool_name, vx_tool_name);
     exit(status);
 }
 
@@ -140,7 +150,12 @@ static options parse(int argc, char** argv) {
                 usage_error("bad --window '%s' (WxH)", argv[i]);
             window_set = true;
         } else if (!strcmp(a, "--mode")) {
-            if (!vx_render_mode_parse(need_arg(argc, argv, &i), &o.mode)) usage_error("unknown mode '%s'", argv[i]);
+            const char* m = need_arg(argc, argv, &i);
+            o.gi = !strcmp(m, "gi");
+            if (!o.gi && !vx_render_mode_parse(m, &o.mode))
+                usage_error("unknown mode '%s' (color|albedo|normal|depth|instance|iterations|gi)", m);
+        } else if (!strcmp(a, "--probes")) {
+            o.probes = need_arg(argc, argv, &i);
         } else if (!strcmp(a, "--fov")) {
             if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fov) || !(o.fov > 0 && o.fov < 180))
                 usage_error("bad --fov '%s' (degrees in (0,180))", argv[i]);
@@ -182,6 +197,7 @@ static options parse(int argc, char** argv) {
     if (!o.in) usage_error("%s", "no input file given");
     if (o.screenshot && o.script) usage_error("%s", "--screenshot and --script conflict (use the script's screenshot command)");
     if (o.screenshot && o.bench) usage_error("%s", "--screenshot and --bench conflict");
+    if (o.gi && !o.probes) usage_error("%s", "mode gi needs --probes FILE");
     if (o.screenshot) {
         const char* ext = vx_tool_ext(o.screenshot);
         if (strcmp(ext, "png") && strcmp(ext, "exr")) usage_error("screenshot '%s' must end in .png or .exr", o.screenshot);
@@ -247,7 +263,13 @@ typedef struct app {
     bool orbit;
     double orbit_center[3], orbit_dist;
     vx_render_mode mode;
+    bool gi; /* mode gi: replaces `mode` while probes are loaded */
     bool overlay;
+    /* light field probes (mode gi); nothing of them is touched while none are loaded */
+    vx_probe_set probes;
+    bool have_probes;
+    char probes_path[1024];
+    uint32_t validation_errors;
     uint32_t sel;
     /* pending editor operation: 'g' grab, 'r' rotate, 'm' mirror, 'l' layer */
     char op;
@@ -287,6 +309,50 @@ static void message(app* a, bool error, const char* fmt, ...) {
     a->msg_error = error;
     a->msg_until = glfwGetTime() + 6;
     fprintf(error ? stderr : stdout, "%s: %s\n", vx_tool_name, a->msg);
+}
+
+static const char* mode_name(const app* a) { return a->gi ? "gi" : vx_render_mode_name(a->mode); }
+
+/* Reads a complete probe set; the current one stays on failure. */
+static vx_result load_probes(app* a, const char* path, vx_error* err) {
+    vx_probe_set ps;
+    vx_result r = vx_probe_read_file(NULL, path, &ps, err);
+    if (r) {
+        /* the reader names the file; vx_file_read's messages may not */
+        if (strncmp(err->msg, path, strlen(path))) vx_error_prefix(err, path);
+        return r;
+    }
+    if (ps.first != 0 || ps.count != ps.probe_count) {
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                    "%s: a shard (probes %u to %u of %u): merge the shards with svo_bake first", path, ps.first,
+                    ps.first + ps.count, ps.probe_count);
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    if (a->have_probes) vx_probe_set_free(&a->probes);
+    a->probes = ps;
+    a->have_probes = true;
+    snprintf(a->probes_path, sizeof a->probes_path, "%s", path);
+    return VX_OK;
+}
+
+static void do_probes(app* a, const char* path) {
+    vx_error err = {0};
+    if (load_probes(a, path, &err)) {
+        message(a, true, "%s", err.msg);
+        return;
+    }
+    message(a, false, "probes %s: %ux%ux%u grid, res %u", path, a->probes.grid[0], a->probes.grid[1],
+            a->probes.grid[2], a->probes.res);
+}
+
+/* Mode gi is only offered with probes loaded; otherwise a message, and the mode stays. */
+static void set_gi(app* a) {
+    if (!a->have_probes) {
+        message(a, true, "mode gi needs light field probes (--probes FILE, or the script command probes FILE)");
+        return;
+    }
+    a->gi = true;
 }
 
 static void world_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]) {
@@ -662,8 +728,8 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     uint32_t nd = 0;
     for (uint32_t i = 0; i < a->scene.instance_count; i++)
         if (drawn(&a->scene, i)) nd++, voxels += a->scene.models[a->scene.instances[i].model].voxel_count;
-    const char* lines[8];
-    char buf[8][256];
+    const char* lines[9];
+    char buf[9][256];
     int nl = 0;
     snprintf(buf[nl], sizeof buf[0], "FPS %.1f  frame %.2f ms  trace %.2f ms  %.1f Mrays/s  edit+BVH %.2f ms",
              med > 0 ? 1000.0 / med : 0.0, med, a->trace_ms, a->rays_per_s * 1e-6, a->update_ms);
@@ -673,9 +739,15 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     snprintf(buf[nl], sizeof buf[0], "scene: %u models, %u instances (%u drawn), %s voxels, %u layers",
              a->scene.model_count, a->scene.instance_count, nd, vx_tool_num(voxels), a->scene.layer_count);
     lines[nl] = buf[nl], nl++;
-    snprintf(buf[nl], sizeof buf[0], "mode: %s  camera: %s  vsync: %s  size %ux%u", vx_render_mode_name(a->mode),
+    snprintf(buf[nl], sizeof buf[0], "mode: %s  camera: %s  vsync: %s  size %ux%u", mode_name(a),
              a->orbit ? "orbit" : "fly", vp_vsync(a->p) ? "on" : "off", cv->width, cv->height);
     lines[nl] = buf[nl], nl++;
+    if (a->have_probes) {
+        const vx_probe_set* ps = &a->probes;
+        snprintf(buf[nl], sizeof buf[0], "probes: %ux%ux%u grid (%u probes, res %u, %u bounces)%s", ps->grid[0],
+                 ps->grid[1], ps->grid[2], ps->probe_count, ps->res, ps->bounces, a->gi ? "" : "  7: gi");
+        lines[nl] = buf[nl], nl++;
+    }
     if (a->sel != NO_SEL) {
         const vx_svo_instance* in = &a->scene.instances[a->sel];
         snprintf(buf[nl], sizeof buf[0], "selected: instance %u '%s' model %u at %g,%g,%g", a->sel, in->name, in->model,
@@ -713,9 +785,25 @@ static vx_result frame(app* a, vx_error* err) {
     double t0 = vx_time_now();
     vx_render_image_free(&a->img);
     vx_render_desc d = {.width = w, .height = h, .mode = a->mode, .camera = camera_desc(a), .want_hits = a->pick_pending};
-    if (a->rs) {
+    vx_render_image pick_img = {0}; /* gi frames carry no hit records: a pick traces its own */
+    if (a->rs && a->gi) {
+        /* svo_render --mode gi: its default spp, seed and bounces, the probes' light */
+        vx_render_desc base = {.width = w, .height = h, .camera = d.camera};
+        vx_probe_render_desc pd = {.base = &base, .mode = VX_PROBE_RENDER_GI};
+        vx_result r = vx_probe_render_gpu(a->rs, &a->scene, &a->probes, &pd, &a->img, err);
+        if (r && (a->o.screenshot || a->o.bench)) return r;
+        if (r) {
+            message(a, true, "mode gi: %s", err->msg);
+            a->gi = false;
+        } else if (a->pick_pending && (r = vx_render_frame(a->rs, &d, &pick_img, err))) {
+            return r;
+        }
+    }
+    if (a->rs && !a->gi) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
         if (r) return r;
+    }
+    if (a->rs && a->img.pixels) {
         a->trace_ms = a->img.gpu_seconds * 1e3;
         a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
     }
@@ -723,7 +811,9 @@ static vx_result frame(app* a, vx_error* err) {
         a->pick_pending = false;
         uint32_t x = (uint32_t)a->pick_x, y = (uint32_t)a->pick_y;
         uint32_t hit = VX_RENDER_NO_HIT;
-        if (a->img.hits && a->pick_x >= 0 && a->pick_y >= 0 && x < w && y < h) hit = a->img.hits[(size_t)y * w + x].instance;
+        const vx_render_hit* hits = pick_img.hits ? pick_img.hits : a->img.hits;
+        if (hits && a->pick_x >= 0 && a->pick_y >= 0 && x < w && y < h) hit = hits[(size_t)y * w + x].instance;
+        vx_render_image_free(&pick_img);
         a->sel = hit == VX_RENDER_NO_HIT ? NO_SEL : hit;
         if (hit == VX_RENDER_NO_HIT) printf("%s: pick %u %u: nothing\n", vx_tool_name, x, y);
         else printf("%s: pick %u %u: instance %u\n", vx_tool_name, x, y, hit);
@@ -731,7 +821,7 @@ static vx_result frame(app* a, vx_error* err) {
     if (a->shot && a->img.pixels) {
         vx_result r = save_image(&a->img, a->shot, err);
         if (r) message(a, true, "%s: %s", a->shot, err->msg);
-        else printf("%s: wrote %s (%ux%u, mode %s)\n", vx_tool_name, a->shot, w, h, vx_render_mode_name(a->mode));
+        else printf("%s: wrote %s (%ux%u, mode %s)\n", vx_tool_name, a->shot, w, h, mode_name(a));
         if (r && a->o.screenshot) return r;
     }
     a->shot = NULL;
@@ -824,7 +914,8 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
         } else if (key == GLFW_KEY_Q) a->quit = true;
         return;
     }
-    if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) a->mode = (vx_render_mode)(key - GLFW_KEY_1);
+    if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) a->mode = (vx_render_mode)(key - GLFW_KEY_1), a->gi = false;
+    else if (key == GLFW_KEY_7) set_gi(a);
     else if (key == GLFW_KEY_V) vp_set_vsync(a->p, !vp_vsync(a->p));
     else if (key == GLFW_KEY_TAB) a->overlay = !a->overlay;
     else if (key == GLFW_KEY_F) do_frame(a);
@@ -997,7 +1088,11 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         if (nt != 2) BAD();
         a->orbit = !strcmp(tok[1], "on");
     } else if (!strcmp(c, "mode")) {
-        if (nt != 2 || !vx_render_mode_parse(tok[1], &a->mode)) BAD();
+        if (nt == 2 && !strcmp(tok[1], "gi")) set_gi(a);
+        else if (nt != 2 || !vx_render_mode_parse(tok[1], &a->mode)) BAD();
+        else a->gi = false;
+    } else if (!strcmp(c, "probes") && nt == 2) {
+        do_probes(a, tok[1]);
     } else if (!strcmp(c, "select")) {
         uint32_t n;
         if (nt == 2 && !strcmp(tok[1], "none")) a->sel = NO_SEL;
@@ -1152,7 +1247,7 @@ static int run(app* a) {
         uint32_t fw = a->o.width, fh = a->o.height;
         if (!fw) vp_frame_size(a->p, &fw, &fh);
         printf("%s: %u frames %ux%u mode %s on %s: median frame %.3f ms, median trace %.3f ms (GPU timestamps)\n",
-               vx_tool_name, frames, fw, fh, vx_render_mode_name(a->mode), vx_gpu_device_name(a->gpu),
+               vx_tool_name, frames, fw, fh, mode_name(a), vx_gpu_device_name(a->gpu),
                bench[frames / 2], bench_trace[frames / 2]);
     }
     free(bench);
@@ -1166,9 +1261,10 @@ int main(int argc, char** argv) {
     a.o = parse(argc, argv);
     a.sel = NO_SEL;
     a.mode = a.o.mode;
+    a.gi = a.o.gi;
     a.overlay = true;
     if (a.o.verbose)
-        printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, vx_render_mode_name(a.o.mode), a.o.fov,
+        printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, mode_name(&a), a.o.fov,
                a.o.screenshot ? " --screenshot " : "", a.o.screenshot ? a.o.screenshot : "",
                a.o.script ? " --script " : "", a.o.script ? a.o.script : "");
     if (a.o.script && load_script(&a)) return 1;
@@ -1179,6 +1275,11 @@ int main(int argc, char** argv) {
         return vx_tool_error(a.o.in, &err);
     }
     double t_load = vx_time_now() - t0;
+    if (a.o.probes && load_probes(&a, a.o.probes, &err)) {
+        vx_svo_scene_free(&a.scene);
+        if (a.lines) free(a.lines[0]), free(a.lines);
+        return vx_tool_errorf("%s", err.msg); /* the message names the file */
+    }
     ved_init(&a.ed, &a.scene);
     int status = 1;
     char title[512];
@@ -1186,7 +1287,8 @@ int main(int argc, char** argv) {
     vx_logger logger = {log_cb, NULL};
     vx_gpu_desc gd = {.validate = a.o.validate, .logger = &logger};
     if (vp_create(&(vp_desc){.width = a.o.win_w, .height = a.o.win_h, .title = title, .device = a.o.device,
-                             .validate = a.o.validate, .vsync = a.o.vsync, .hidden = a.o.hidden},
+                             .validate = a.o.validate, .validation_errors = &a.validation_errors,
+                             .logger = &logger, .vsync = a.o.vsync, .hidden = a.o.hidden},
                   &a.p, &err)) {
         vx_tool_error(a.o.in, &err);
         goto done;
@@ -1214,9 +1316,17 @@ int main(int argc, char** argv) {
 done:
     vx_render_image_free(&a.img);
     vx_render_scene_destroy(a.rs);
+    uint32_t gpu_errors = vx_gpu_validation_errors(a.gpu);
     vx_gpu_destroy(a.gpu);
     /* the window's callbacks point at `a`; the presenter goes last */
     vp_destroy(a.p);
+    if (a.o.validate) {
+        /* the tracer runs on the window's device, so the window's messenger sees its errors too */
+        uint32_t n = a.validation_errors + gpu_errors;
+        fprintf(n ? stderr : stdout, "%s: %u Vulkan validation error%s\n", vx_tool_name, n, n == 1 ? "" : "s");
+        if (n && !status) status = 1;
+    }
+    if (a.have_probes) vx_probe_set_free(&a.probes);
     ved_free(&a.ed);
     vx_svo_scene_free(&a.scene);
     free(a.px8);

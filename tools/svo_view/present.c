@@ -34,7 +34,29 @@ struct vp {
     VkDeviceSize staging_size;
     void* staging_map;
     bool vsync, dirty;
+    /* validation: the window's instance is the tracer's (external), so the
+     * messenger that counts errors lives here */
+    VkDebugUtilsMessengerEXT messenger;
+    struct vp_valid {
+        uint32_t* errors;
+        const vx_logger* logger;
+    } valid;
 };
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL debug_cb(VkDebugUtilsMessageSeverityFlagBitsEXT sev,
+                                               VkDebugUtilsMessageTypeFlagsEXT type,
+                                               const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    (void)type;
+    const struct vp_valid* v = user;
+    const char* msg = data && data->pMessage ? data->pMessage : "?";
+    if (sev & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        if (v->errors) ++*v->errors;
+        vx_log(v->logger, VX_LOG_WARN, "gpu.validation", "%s", msg);
+    } else {
+        vx_log(v->logger, VX_LOG_INFO, "gpu.validation_warning", "%s", msg);
+    }
+    return VK_FALSE;
+}
 
 static vx_result vk_fail(vx_error* err, VkResult r, const char* what) {
     return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "%s failed: VkResult %d", what, (int)r);
@@ -268,14 +290,27 @@ vx_result vp_create(const vp_desc* desc_in, vp** out, vx_error* err) {
         r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "Vulkan cannot present to this window system");
         goto fail;
     }
-    const char* exts[16];
+    const char* exts[17];
     memcpy(exts, gexts, next * sizeof *exts);
+    p->valid.errors = d.validate ? d.validation_errors : NULL;
+    p->valid.logger = d.logger;
+    /* chained into the instance info as well, so creating and destroying the
+     * instance are validated too (the layer provides the extension) */
+    VkDebugUtilsMessengerCreateInfoEXT dbg = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+        .pfnUserCallback = debug_cb,
+        .pUserData = &p->valid};
+    if (d.validate) exts[next++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
     const char* layers[1] = {"VK_LAYER_KHRONOS_validation"};
     VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
                              .pApplicationName = "svo_view",
                              .pEngineName = "voxkit",
                              .apiVersion = VK_API_VERSION_1_1};
     VkInstanceCreateInfo ici = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+                                .pNext = d.validate ? &dbg : NULL,
                                 .pApplicationInfo = &app,
                                 .enabledLayerCount = d.validate ? 1 : 0,
                                 .ppEnabledLayerNames = layers,
@@ -285,6 +320,15 @@ vx_result vp_create(const vp_desc* desc_in, vp** out, vx_error* err) {
     if (vr != VK_SUCCESS) {
         r = vk_fail(err, vr, d.validate ? "vkCreateInstance (with VK_LAYER_KHRONOS_validation)" : "vkCreateInstance");
         goto fail;
+    }
+    if (d.validate) {
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(p->inst, "vkCreateDebugUtilsMessengerEXT");
+        vr = create ? create(p->inst, &dbg, NULL, &p->messenger) : VK_ERROR_EXTENSION_NOT_PRESENT;
+        if (vr != VK_SUCCESS) {
+            r = vk_fail(err, vr, "vkCreateDebugUtilsMessengerEXT");
+            goto fail;
+        }
     }
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     glfwWindowHint(GLFW_VISIBLE, d.hidden ? GLFW_FALSE : GLFW_TRUE);
@@ -324,6 +368,11 @@ void vp_destroy(vp* p) {
     }
     if (p->surface) vkDestroySurfaceKHR(p->inst, p->surface, NULL);
     if (p->win) glfwDestroyWindow(p->win);
+    if (p->messenger) {
+        PFN_vkDestroyDebugUtilsMessengerEXT destroy =
+            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(p->inst, "vkDestroyDebugUtilsMessengerEXT");
+        if (destroy) destroy(p->inst, p->messenger, NULL);
+    }
     if (p->inst) vkDestroyInstance(p->inst, NULL);
     if (p->glfw_init) glfwTerminate();
     free(p);

@@ -26,7 +26,10 @@ typedef struct vp_desc {
     uint32_t width, height; /* window size in screen coordinates, 0 == 1280 x 800 */
     const char* title;
     const char* device;     /* as vx_gpu_desc.device */
-    bool validate;
+    bool validate;          /* VK_LAYER_KHRONOS_validation, errors counted (below) and logged */
+    uint32_t* validation_errors; /* with validate: incremented per validation error; must outlive vp_destroy
+                                    (teardown is validated too) */
+    const vx_logger* logger;     /* with validate: the messages ("gpu.validation") */
     bool vsync;             /* FIFO presentation (default off: mailbox/immediate when available) */
     bool hidden;            /* do not show the window (still presents) */
 } vp_desc;
