@@ -1,2 +1,15 @@
 add_library(vx_tool STATIC ${CMAKE_CURRENT_LIST_DIR}/common/tool.c)
 target_link_libraries(vx_tool PUBLIC vx_core m)
+
+# Converter options and loading by extension, shared by vox2svo and svo_view.
+# The mesh and volume readers are optional (VX_WITH_GLTF / VX_WITH_OPENVDB).
+add_library(vx_tool_conv STATIC ${CMAKE_CURRENT_LIST_DIR}/common/conv.c)
+target_link_libraries(vx_tool_conv PUBLIC vx_convert vx_tool)
+if(TARGET vx_conv_mesh)
+  target_link_libraries(vx_tool_conv PUBLIC vx_conv_mesh)
+  target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_MESH=1)
+endif()
+if(TARGET vx_conv_vdb)
+  target_link_libraries(vx_tool_conv PUBLIC vx_conv_vdb)
+  target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
+endif()

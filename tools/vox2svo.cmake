@@ -1,11 +1,2 @@
 add_executable(vox2svo ${CMAKE_CURRENT_LIST_DIR}/vox2svo/main.c ${CMAKE_CURRENT_LIST_DIR}/vox2svo/demo.c)
-target_link_libraries(vox2svo PRIVATE vx_convert vx_tool)
-# The mesh and volume readers are optional (VX_WITH_GLTF / VX_WITH_OPENVDB).
-if(TARGET vx_conv_mesh)
-  target_link_libraries(vox2svo PRIVATE vx_conv_mesh)
-  target_compile_definitions(vox2svo PRIVATE VX_HAVE_MESH=1)
-endif()
-if(TARGET vx_conv_vdb)
-  target_link_libraries(vox2svo PRIVATE vx_conv_vdb)
-  target_compile_definitions(vox2svo PRIVATE VX_HAVE_VDB=1)
-endif()
+target_link_libraries(vox2svo PRIVATE vx_tool_conv vx_tool)

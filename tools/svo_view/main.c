@@ -12,16 +12,11 @@
 #include "formats/image.h"
 #include "probes/probes.h"
 #include "render/render.h"
+#include "tools/common/conv.h"
 #include "tools/common/tool.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/font.h"
 #include "tools/svo_view/present.h"
-#ifdef VX_HAVE_MESH
-#include "convert/mesh.h"
-#endif
-#ifdef VX_HAVE_VDB
-#include "convert/volume.h"
-#endif
 
 #define NO_SEL UINT32_MAX
 #define PI 3.14159265358979323846
@@ -40,18 +35,7 @@ typedef struct options {
     const char* device;
     bool validate, vsync, verbose, hidden;
     uint32_t bench;
-    /* converter options, as vox2svo has them */
-    uint32_t frame;
-    bool keep_hidden, no_collapse, no_dag;
-    uint32_t res;
-    bool scene_set;
-    uint32_t scene;
-    bool solid, normals;
-    const char* grid;
-    bool threshold_set;
-    double threshold;
-    bool density;
-    const char* color;
+    vx_tool_conv conv; /* converter options, as vox2svo has them */
 } options;
 
 static options default_options(void) {
@@ -59,7 +43,7 @@ static options default_options(void) {
     o.win_w = 1280;
     o.win_h = 800;
     o.fov = 45;
-    o.res = 256;
+    o.conv = vx_tool_conv_defaults();
     return o;
 }
 
@@ -110,7 +94,7 @@ _Noreturn static void usage(int status) {
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
             "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
-            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.fov, d.res, vx_tool_name, vx_tool_name,
+            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.fov, d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
 }
@@ -168,26 +152,7 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--hidden")) o.hidden = true;
         else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
         else if (!strcmp(a, "--validate") || !strcmp(a, "-validate")) o.validate = true;
-        else if (!strcmp(a, "--frame")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.frame)) usage_error("bad --frame value '%s'", argv[i]);
-        } else if (!strcmp(a, "--keep-hidden")) o.keep_hidden = true;
-        else if (!strcmp(a, "--no-collapse")) o.no_collapse = true;
-        else if (!strcmp(a, "--no-dag")) o.no_dag = true;
-        else if (!strcmp(a, "--res")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.res) || o.res < 1 || o.res > 65536)
-                usage_error("bad --res value '%s' (1 to 65536)", argv[i]);
-        } else if (!strcmp(a, "--scene")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.scene)) usage_error("bad --scene value '%s'", argv[i]);
-            o.scene_set = true;
-        } else if (!strcmp(a, "--solid")) o.solid = true;
-        else if (!strcmp(a, "--normals")) o.normals = true;
-        else if (!strcmp(a, "--grid")) o.grid = need_arg(argc, argv, &i);
-        else if (!strcmp(a, "--threshold")) {
-            if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.threshold))
-                usage_error("bad --threshold value '%s'", argv[i]);
-            o.threshold_set = true;
-        } else if (!strcmp(a, "--density")) o.density = true;
-        else if (!strcmp(a, "--color")) o.color = need_arg(argc, argv, &i);
+        else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) o.verbose = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (npos == 0) o.in = a, npos++;
@@ -210,42 +175,8 @@ static options parse(int argc, char** argv) {
 /* ---- loading ---------------------------------------------------------------------- */
 
 static vx_result load_scene(const options* o, const char* path, vx_svo_scene* out, vx_error* err) {
-    const char* ext = vx_tool_ext(path);
-    vx_svo_build_desc build = {.no_collapse = o->no_collapse, .no_dag = o->no_dag};
     vx_logger log = vx_tool_logger(o->verbose);
-    vx_result r;
-    if (!strcmp(ext, "svo")) {
-        r = vx_svo_read_file(NULL, path, out, err);
-    } else if (!strcmp(ext, "vox")) {
-        vx_vox_scene vs;
-        vx_vox_read_desc rd = {.logger = &log, .frame = o->frame, .keep_hidden = o->keep_hidden};
-        r = vx_vox_read_file(&rd, path, &vs, err);
-        if (!r) {
-            r = vx_conv_vox(&(vx_conv_vox_desc){.build = build}, &vs, out, NULL, err);
-            vx_vox_scene_free(&vs);
-        }
-    } else if (!strcmp(ext, "gltf") || !strcmp(ext, "glb")) {
-#ifdef VX_HAVE_MESH
-        vx_conv_mesh_desc md = {.build = build, .logger = &log, .res = o->res, .scene_set = o->scene_set,
-                                .scene = o->scene, .solid = o->solid, .normals = o->normals};
-        r = vx_conv_mesh_file(&md, path, out, NULL, err);
-#else
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "this build has no glTF support");
-#endif
-    } else if (!strcmp(ext, "vdb")) {
-#ifdef VX_HAVE_VDB
-        vx_conv_vdb_desc vd = {.build = build, .logger = &log, .grid = o->grid, .solid = o->solid,
-                               .threshold_set = o->threshold_set, .threshold = o->threshold, .density = o->density,
-                               .color_grid = o->color};
-        r = vx_conv_vdb_file(&vd, path, out, NULL, err);
-#else
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "this build has no OpenVDB support");
-#endif
-    } else {
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "unknown input type '.%s' (expected .svo, .vox, .gltf, .glb or .vdb)",
-                    ext);
-    }
-    return r;
+    return vx_tool_conv_load(path, &o->conv, true, &log, (vx_progress){0}, out, NULL, err);
 }
 
 /* ---- application state ---------------------------------------------------------------- */

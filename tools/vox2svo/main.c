@@ -5,39 +5,21 @@
 #include <string.h>
 
 #include "convert/convert.h"
+#include "tools/common/conv.h"
 #include "tools/common/tool.h"
 #include "tools/vox2svo/demo.h"
-#ifdef VX_HAVE_MESH
-#include "convert/mesh.h"
-#endif
-#ifdef VX_HAVE_VDB
-#include "convert/volume.h"
-#endif
 
 typedef struct options {
     const char* in;
     const char* out;
     const char* write_demo;
-    uint32_t frame;
-    bool keep_hidden;
-    bool no_collapse, no_dag;
     bool quiet, verbose;
-    /* meshes */
-    uint32_t res;
-    bool scene_set;
-    uint32_t scene;
-    bool solid, normals;
-    /* OpenVDB */
-    const char* grid;
-    bool threshold_set;
-    double threshold;
-    bool density;
-    const char* color;
+    vx_tool_conv conv; /* reader and builder options */
 } options;
 
 static options default_options(void) {
     options o = {0};
-    o.res = 256;
+    o.conv = vx_tool_conv_defaults();
     return o;
 }
 
@@ -74,7 +56,7 @@ _Noreturn static void usage(int status) {
             "    %s --write-demo demo.vox && %s demo.vox demo.svo\n"
             "    %s DamagedHelmet.glb helmet.svo --res 1024\n"
             "    %s smoke.vdb smoke.svo --density\n",
-            vx_tool_name, vx_tool_name, d.frame, d.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
+            vx_tool_name, vx_tool_name, d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
             vx_tool_name);
     exit(status);
 }
@@ -96,26 +78,7 @@ static options parse(int argc, char** argv) {
             printf("%s %s (.svo format version %u; reads .vox versions 150 and 200)\n", vx_tool_name, VX_VERSION_STRING,
                    VX_SVO_FORMAT_VERSION);
             exit(0);
-        } else if (!strcmp(a, "--frame")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.frame)) usage_error("bad --frame value '%s'", argv[i]);
-        } else if (!strcmp(a, "--keep-hidden")) o.keep_hidden = true;
-        else if (!strcmp(a, "--no-collapse")) o.no_collapse = true;
-        else if (!strcmp(a, "--no-dag")) o.no_dag = true;
-        else if (!strcmp(a, "--res")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.res) || o.res < 1 || o.res > 65536)
-                usage_error("bad --res value '%s' (1 to 65536)", argv[i]);
-        } else if (!strcmp(a, "--scene")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.scene)) usage_error("bad --scene value '%s'", argv[i]);
-            o.scene_set = true;
-        } else if (!strcmp(a, "--solid")) o.solid = true;
-        else if (!strcmp(a, "--normals")) o.normals = true;
-        else if (!strcmp(a, "--grid")) o.grid = need_arg(argc, argv, &i);
-        else if (!strcmp(a, "--threshold")) {
-            if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.threshold))
-                usage_error("bad --threshold value '%s'", argv[i]);
-            o.threshold_set = true;
-        } else if (!strcmp(a, "--density")) o.density = true;
-        else if (!strcmp(a, "--color")) o.color = need_arg(argc, argv, &i);
+        } else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
         else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) o.verbose = true;
@@ -180,65 +143,15 @@ int main(int argc, char** argv) {
 
     vx_error err = {0};
     vx_logger log = vx_tool_logger(o.verbose);
-    vx_progress prog = vx_tool_progress(o.quiet);
-    vx_svo_build_desc build = {.no_collapse = o.no_collapse, .no_dag = o.no_dag, .progress = prog};
     vx_svo_scene scene;
-    vx_conv_stats cs = {0};
-    const char* ext = vx_tool_ext(o.in);
-    const char* kind = ext;
-    double t0 = vx_time_now(), t_read = 0, t_convert = 0;
-    uint64_t in_bytes = 0;
-    vx_result r;
-
-    if (!strcmp(ext, "vox")) {
-        kind = ".vox";
-        vx_vox_scene vs;
-        uint8_t* data = NULL;
-        size_t size = 0;
-        r = vx_file_read(o.in, NULL, 0, &data, &size, &err);
-        if (r != VX_OK) return vx_tool_error(o.in, &err);
-        in_bytes = size;
-        vx_vox_read_desc rd = {.logger = &log, .frame = o.frame, .keep_hidden = o.keep_hidden};
-        r = vx_vox_read(&rd, data, size, &vs, &err);
-        free(data);
-        if (r != VX_OK) return vx_tool_error(o.in, &err);
-        t_read = vx_time_now() - t0;
-        double t1 = vx_time_now();
-        r = vx_conv_vox(&(vx_conv_vox_desc){.build = build}, &vs, &scene, &cs, &err);
-        vx_vox_scene_free(&vs);
-        if (r != VX_OK) return vx_tool_error(o.in, &err);
-        t_convert = vx_time_now() - t1;
-    } else if (!strcmp(ext, "gltf") || !strcmp(ext, "glb")) {
-#ifdef VX_HAVE_MESH
-        kind = !strcmp(ext, "glb") ? ".glb" : ".gltf";
-        vx_conv_mesh_desc md = {.build = build, .logger = &log, .res = o.res, .scene_set = o.scene_set,
-                                .scene = o.scene, .solid = o.solid, .normals = o.normals};
-        r = vx_conv_mesh_file(&md, o.in, &scene, &cs, &err);
-        vx_tool_progress_done();
-        if (r != VX_OK) return vx_tool_error(o.in, &err);
-        t_read = cs.seconds_read;
-        t_convert = vx_time_now() - t0 - t_read;
-#else
-        return vx_tool_errorf("%s: this build has no glTF support", o.in);
-#endif
-    } else if (!strcmp(ext, "vdb")) {
-#ifdef VX_HAVE_VDB
-        kind = ".vdb";
-        vx_conv_vdb_desc vd = {.build = build, .logger = &log, .grid = o.grid, .solid = o.solid,
-                               .threshold_set = o.threshold_set, .threshold = o.threshold, .density = o.density,
-                               .color_grid = o.color};
-        r = vx_conv_vdb_file(&vd, o.in, &scene, &cs, &err);
-        vx_tool_progress_done();
-        if (r != VX_OK) return vx_tool_error(o.in, &err);
-        t_read = cs.seconds_read;
-        t_convert = vx_time_now() - t0 - t_read;
-#else
-        return vx_tool_errorf("%s: this build has no OpenVDB support", o.in);
-#endif
-    } else {
-        return vx_tool_errorf("%s: unknown input type '.%s' (expected .vox, .gltf, .glb or .vdb)", o.in, ext);
-    }
+    vx_tool_loaded li;
+    vx_result r = vx_tool_conv_load(o.in, &o.conv, false, &log, vx_tool_progress(o.quiet), &scene, &li, &err);
     vx_tool_progress_done();
+    if (r != VX_OK) return vx_tool_error(o.in, &err);
+    const char* kind = li.kind;
+    const vx_conv_stats cs = li.stats;
+    double t_read = li.seconds_read, t_convert = li.seconds_total - li.seconds_read;
+    uint64_t in_bytes = li.in_bytes;
 
     double t2 = vx_time_now();
     uint8_t* bytes = NULL;
@@ -249,15 +162,6 @@ int main(int argc, char** argv) {
     vx_svo_scene_free(&scene);
     vx_free(NULL, bytes);
     if (r != VX_OK) return vx_tool_error(o.out, &err);
-    if (in_bytes == 0) {
-        FILE* f = fopen(o.in, "rb");
-        if (f) {
-            fseek(f, 0, SEEK_END);
-            long n = ftell(f);
-            in_bytes = n > 0 ? (uint64_t)n : 0;
-            fclose(f);
-        }
-    }
     print_stats(&o, kind, &cs, in_bytes, nbytes, t_read, t_convert, t_write);
     return 0;
 }

@@ -1,0 +1,52 @@
+/* tools/common/conv.h - the converter options every tool that reads scenes
+ * accepts (vox2svo, svo_view), and loading any supported input into an svo
+ * scene by its extension. */
+#ifndef VX_TOOL_CONV_H
+#define VX_TOOL_CONV_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "convert/convert.h"
+
+typedef struct vx_tool_conv {
+    /* .vox */
+    uint32_t frame;
+    bool keep_hidden;
+    /* octree builder */
+    bool no_collapse, no_dag;
+    /* .gltf / .glb */
+    uint32_t res; /* 256 by default (vx_tool_conv_defaults) */
+    bool scene_set;
+    uint32_t scene;
+    bool solid, normals; /* solid: level sets too */
+    /* .vdb */
+    const char* grid;
+    bool threshold_set;
+    double threshold;
+    bool density;
+    const char* color;
+} vx_tool_conv;
+
+vx_tool_conv vx_tool_conv_defaults(void);
+
+/* If argv[*i] is a converter option, takes it (and its value, advancing *i)
+ * and returns true; a missing or malformed value is a usage error:
+ * vx_tool_usage_error(usage, ...). */
+bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*usage)(int status));
+
+/* What vx_tool_conv_load read. */
+typedef struct vx_tool_loaded {
+    const char* kind;      /* ".vox", ".glb", ".gltf", ".vdb", ".svo" */
+    uint64_t in_bytes;     /* size of the input file */
+    double seconds_read;   /* reading and parsing the input */
+    double seconds_total;  /* the whole load */
+    vx_conv_stats stats;   /* converters only */
+} vx_tool_loaded;
+
+/* Reads path by its extension: .vox, .gltf/.glb, .vdb (converted with c),
+ * and .svo when allow_svo. info may be NULL. */
+vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
+                            vx_progress progress, vx_svo_scene* out, vx_tool_loaded* info, vx_error* err);
+
+#endif
