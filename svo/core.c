@@ -92,6 +92,16 @@ bool vx_grow(const vx_allocator* a, void** p, size_t* cap, size_t need, size_t s
     }
     size_t bytes, old;
     if (!vx_mul_size(ncap, size, &bytes)) return false;
+    if (!a || (!a->alloc && !a->free)) {
+        /* the default allocator: realloc can move a large block's pages
+         * instead of copying them, so growing a file-sized buffer does not
+         * briefly need twice its memory */
+        void* np = realloc(*p, bytes);
+        if (!np) return false;
+        *p = np;
+        *cap = ncap;
+        return true;
+    }
     void* np = vx_alloc(a, bytes);
     if (!np) return false;
     old = *cap * size; /* cannot overflow: it was allocated before */

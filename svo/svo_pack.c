@@ -470,17 +470,29 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         }
         return !out->failed;
     }
-    vx_buf* bufs = (vx_buf*)vx_calloc(A, s->model_count, sizeof *bufs);
-    bool* oks = (bool*)vx_calloc(A, s->model_count, sizeof *oks);
+    /* models in batches of a few per thread: each batch's streams are appended
+     * in order and freed before the next, so the extra memory is a batch's
+     * output, not the whole file's */
+    uint32_t batch = threads * 2;
+    vx_buf* bufs = (vx_buf*)vx_calloc(A, batch, sizeof *bufs);
+    bool* oks = (bool*)vx_calloc(A, batch, sizeof *oks);
     bool ok = bufs && oks;
-    if (ok) {
-        for (uint32_t i = 0; i < s->model_count; i++) bufs[i].alloc = A;
-        pack_jobs j = {s, A, bufs, oks};
-        run_jobs(threads, s->model_count, pack_job, &j);
-        for (uint32_t i = 0; ok && i < s->model_count; i++)
-            ok = oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
+    for (uint32_t first = 0; ok && first < s->model_count; first += batch) {
+        uint32_t n = s->model_count - first < batch ? s->model_count - first : batch;
+        vx_svo_scene part = *s; /* the batch's models, as a scene of their own */
+        part.models = s->models + first;
+        part.model_count = n;
+        for (uint32_t i = 0; i < n; i++) {
+            memset(&bufs[i], 0, sizeof bufs[i]);
+            bufs[i].alloc = A;
+        }
+        pack_jobs j = {&part, A, bufs, oks};
+        run_jobs(threads < n ? threads : n, n, pack_job, &j);
+        for (uint32_t i = 0; i < n; i++) {
+            ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
+            vx_buf_free(&bufs[i]);
+        }
     }
-    for (uint32_t i = 0; bufs && i < s->model_count; i++) vx_buf_free(&bufs[i]);
     vx_free(A, bufs);
     vx_free(A, oks);
     return ok && !out->failed;
