@@ -433,14 +433,7 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
     job J = {.ps = ps, .out = ps, .L = &L, .T = &T, .begin = begin, .end = end, .next = begin,
              .progress = &d.progress, .alloc = ps->alloc};
     pthread_mutex_init(&J.mu, NULL);
-    uint32_t nth = d.threads ? d.threads : 1;
-    if (nth > 64) nth = 64;
-    pthread_t th[64];
-    uint32_t started = 0;
-    for (uint32_t i = 1; i < nth; i++)
-        if (!pthread_create(&th[started], NULL, worker, &J)) started++;
-    worker(&J);
-    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    vx_run_threads(d.threads, worker, &J);
     pthread_mutex_destroy(&J.mu);
     if (J.failed) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");

@@ -181,15 +181,7 @@ static bool finish_batch(vx_probe_set* ps, const vx__tables* T, const float* raw
                          uint32_t threads) {
     fjob J = {.ps = ps, .T = T, .raw = raw, .first_slot = first_slot, .count = count};
     pthread_mutex_init(&J.mu, NULL);
-    uint32_t nth = threads ? threads : 1;
-    if (nth > 64) nth = 64;
-    if (nth > count) nth = count ? count : 1;
-    pthread_t th[64];
-    uint32_t started = 0;
-    for (uint32_t i = 1; i < nth; i++)
-        if (!pthread_create(&th[started], NULL, fworker, &J)) started++;
-    fworker(&J);
-    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    vx_run_threads(threads < count ? threads : (count ? count : 1), fworker, &J);
     pthread_mutex_destroy(&J.mu);
     return !J.failed;
 }

@@ -246,14 +246,7 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
     J.pixels = img.pixels;
     double t0 = vx_time_now();
     pthread_mutex_init(&J.mu, NULL);
-    uint32_t nth = d.threads ? d.threads : 1;
-    if (nth > 64) nth = 64;
-    pthread_t th[64];
-    uint32_t started = 0;
-    for (uint32_t i = 1; i < nth; i++)
-        if (!pthread_create(&th[started], NULL, rworker, &J)) started++;
-    rworker(&J);
-    for (uint32_t i = 0; i < started; i++) pthread_join(th[i], NULL);
+    vx_run_threads(d.threads, rworker, &J);
     pthread_mutex_destroy(&J.mu);
     img.gpu_seconds = vx_time_now() - t0;
     img.rays = (uint64_t)f.width * f.height * J.spp;

@@ -3,6 +3,7 @@
 #include "svo/core.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -261,6 +262,16 @@ vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, 
     }
     free(tmp);
     return VX_OK;
+}
+
+void vx_run_threads(unsigned threads, void* (*worker)(void* arg), void* arg) {
+    if (threads > VX_MAX_THREADS) threads = VX_MAX_THREADS;
+    pthread_t tid[VX_MAX_THREADS];
+    unsigned started = 0;
+    for (unsigned t = 1; t < threads; t++)
+        if (pthread_create(&tid[started], NULL, worker, arg) == 0) started++;
+    worker(arg);
+    for (unsigned t = 0; t < started; t++) pthread_join(tid[t], NULL);
 }
 
 double vx_time_now(void) {

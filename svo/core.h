@@ -253,6 +253,16 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
  * failure never leaves a half-written output. */
 vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err);
 
+/* ---- threads -------------------------------------------------------------------------- */
+
+#define VX_MAX_THREADS 64
+
+/* Runs worker(arg) on `threads` threads at once, the caller's thread
+ * included, and returns when all have returned. Workers take their work
+ * from shared state in arg (so if a thread cannot be started the others
+ * do its share); 0 means 1; more than VX_MAX_THREADS are capped. */
+void vx_run_threads(unsigned threads, void* (*worker)(void* arg), void* arg);
+
 /* ---- misc ---------------------------------------------------------------------------- */
 
 /* Monotonic seconds, for statistics. */

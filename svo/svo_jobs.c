@@ -44,13 +44,7 @@ static void* job_worker(void* user) {
 }
 
 void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx) {
-    if (threads > MAX_THREADS) threads = MAX_THREADS;
     job_set j = {count, run, ctx, PTHREAD_MUTEX_INITIALIZER, 0};
-    pthread_t tid[MAX_THREADS];
-    unsigned started = 0;
-    for (unsigned t = 1; t < threads; t++)
-        if (pthread_create(&tid[started], NULL, job_worker, &j) == 0) started++;
-    job_worker(&j); /* the caller works too; with no thread started it does everything */
-    for (unsigned t = 0; t < started; t++) pthread_join(tid[t], NULL);
+    vx_run_threads(threads, job_worker, &j);
     pthread_mutex_destroy(&j.lock);
 }
