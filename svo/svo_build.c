@@ -198,6 +198,19 @@ static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
     }
 }
 
+
+/* The LOD rule for indices (palette, material): the most frequent of the n
+ * (<= 8) children's values, ties to the smallest. */
+static unsigned most_frequent(const unsigned* v, unsigned n) {
+    unsigned best = 0, bestn = 0;
+    for (unsigned i = 0; i < n; i++) {
+        unsigned k = 0;
+        for (unsigned j = 0; j < n; j++) k += v[j] == v[i];
+        if (k > bestn || (k == bestn && v[i] < best)) best = v[i], bestn = k;
+    }
+    return best;
+}
+
 static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     bool same = true;
     for (unsigned i = 1; i < n; i++) same = same && ids[i] == ids[0];
@@ -214,23 +227,16 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
             c[i] = &b->recs[ids[i]];
         }
     }
-    if (b->attrs & VX_ATTR_PALETTE) {
-        unsigned best = 0, bestn = 0;
-        for (unsigned i = 0; i < n; i++) {
-            unsigned k = 0;
-            for (unsigned j = 0; j < n; j++) k += c[j]->palette == c[i]->palette;
-            if (k > bestn || (k == bestn && c[i]->palette < best)) best = c[i]->palette, bestn = k;
+    if (b->attrs & (VX_ATTR_PALETTE | VX_ATTR_MATERIAL)) {
+        unsigned v[8];
+        if (b->attrs & VX_ATTR_PALETTE) {
+            for (unsigned i = 0; i < n; i++) v[i] = c[i]->palette;
+            r.palette = (uint8_t)most_frequent(v, n);
         }
-        r.palette = (uint8_t)best;
-    }
-    if (b->attrs & VX_ATTR_MATERIAL) {
-        unsigned best = 0, bestn = 0;
-        for (unsigned i = 0; i < n; i++) {
-            unsigned k = 0;
-            for (unsigned j = 0; j < n; j++) k += c[j]->material == c[i]->material;
-            if (k > bestn || (k == bestn && c[i]->material < best)) best = c[i]->material, bestn = k;
+        if (b->attrs & VX_ATTR_MATERIAL) {
+            for (unsigned i = 0; i < n; i++) v[i] = c[i]->material;
+            r.material = (uint16_t)most_frequent(v, n);
         }
-        r.material = (uint16_t)best;
     }
     if (b->attrs & VX_ATTR_RGBA8) {
         uint32_t out = 0;

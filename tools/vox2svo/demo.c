@@ -25,21 +25,6 @@ static uint32_t rnd(void) {
     return rng_state >> 8;
 }
 
-typedef struct vbuf {
-    uint8_t* xyzi;
-    uint32_t n, cap;
-} vbuf;
-
-static bool put(vbuf* b, int x, int y, int z, uint8_t c) {
-    if (b->n == b->cap) return false;
-    uint8_t* v = b->xyzi + 4 * (size_t)b->n++;
-    v[0] = (uint8_t)x;
-    v[1] = (uint8_t)y;
-    v[2] = (uint8_t)z;
-    v[3] = c;
-    return true;
-}
-
 static double height(int x, int y) {
     double fx = x / 128.0 - 0.5, fy = y / 128.0 - 0.5;
     double r = sqrt(fx * fx + fy * fy);
@@ -47,83 +32,58 @@ static double height(int x, int y) {
     return h;
 }
 
-static vx_result make_terrain(const vx_allocator* a, vx_vox_model* m) {
-    m->size[0] = 128;
-    m->size[1] = 128;
-    m->size[2] = 16;
-    vbuf b = {vx_calloc(a, 128 * 128 * 16, 4), 0, 128 * 128 * 16};
-    if (!b.xyzi) return VX_ERR_NOMEM;
-    for (int y = 0; y < 128; y++)
-        for (int x = 0; x < 128; x++) {
-            double h = height(x, y);
-            int top = (int)floor(h);
-            if (top < 1) {
-                put(&b, x, y, 0, C_WATER); /* sea level */
-                continue;
-            }
-            if (top > 15) top = 15;
-            for (int z = 0; z <= top; z++) {
-                uint8_t c = z == top ? (top <= 2 ? C_SAND : ((x * 7 + y * 13) % 5 ? C_GRASS : C_GRASS2))
-                                     : (z > top - 3 ? C_DIRT : C_ROCK);
-                put(&b, x, y, z, c);
-            }
-        }
-    m->xyzi = b.xyzi;
-    m->voxel_count = b.n;
-    return VX_OK;
+/* Each model is a function from a cell to its colour index (0: empty). */
+typedef uint8_t (*cell_fn)(int x, int y, int z);
+
+static uint8_t terrain_cell(int x, int y, int z) {
+    int top = (int)floor(height(x, y));
+    if (top < 1) return z == 0 ? C_WATER : 0; /* sea level */
+    if (top > 15) top = 15;
+    if (z > top) return 0;
+    if (z == top) return top <= 2 ? C_SAND : ((x * 7 + y * 13) % 5 ? C_GRASS : C_GRASS2);
+    return z > top - 3 ? C_DIRT : C_ROCK;
 }
 
-static vx_result make_tree(const vx_allocator* a, vx_vox_model* m) {
-    m->size[0] = 11;
-    m->size[1] = 11;
-    m->size[2] = 18;
-    vbuf b = {vx_calloc(a, 11 * 11 * 18, 4), 0, 11 * 11 * 18};
-    if (!b.xyzi) return VX_ERR_NOMEM;
-    for (int z = 0; z < 18; z++)
-        for (int y = 0; y < 11; y++)
-            for (int x = 0; x < 11; x++) {
-                double dx = x - 5, dy = y - 5, dz = z - 12;
-                if (z < 10 && x == 5 && y == 5) put(&b, x, y, z, C_BARK);
-                else if (z == 2 && x == 6 && y == 5) put(&b, x, y, z, C_BARK); /* a root: makes rotations visible */
-                else if (z >= 7 && dx * dx + dy * dy + dz * dz * 1.4 <= 26) put(&b, x, y, z, (x + z) % 3 ? C_LEAF : C_LEAF2);
-            }
-    m->xyzi = b.xyzi;
-    m->voxel_count = b.n;
-    return VX_OK;
+static uint8_t tree_cell(int x, int y, int z) {
+    double dx = x - 5, dy = y - 5, dz = z - 12;
+    if (z < 10 && x == 5 && y == 5) return C_BARK;
+    if (z == 2 && x == 6 && y == 5) return C_BARK; /* a root: makes rotations visible */
+    if (z >= 7 && dx * dx + dy * dy + dz * dz * 1.4 <= 26) return (x + z) % 3 ? C_LEAF : C_LEAF2;
+    return 0;
 }
 
-static vx_result make_tower(const vx_allocator* a, vx_vox_model* m) {
-    m->size[0] = 16;
-    m->size[1] = 16;
-    m->size[2] = 40;
-    vbuf b = {vx_calloc(a, 16 * 16 * 40, 4), 0, 16 * 16 * 40};
-    if (!b.xyzi) return VX_ERR_NOMEM;
-    for (int z = 0; z < 40; z++)
-        for (int y = 0; y < 16; y++)
-            for (int x = 0; x < 16; x++) {
-                double dx = x - 7.5, dy = y - 7.5, r = sqrt(dx * dx + dy * dy);
-                if (z < 32) {
-                    bool wall = r <= 7.5 && r > 5.6;
-                    bool window = (z % 8 >= 3 && z % 8 <= 5) && (abs(x - 7) <= 0 || abs(y - 7) <= 0);
-                    if ((wall && !window) || (z == 0 && r <= 7.5)) put(&b, x, y, z, C_STONE);
-                } else if (r <= 7.5 - (z - 32) * 0.9) {
-                    put(&b, x, y, z, z == 39 ? C_LAMP : C_ROOF);
-                }
-            }
-    m->xyzi = b.xyzi;
-    m->voxel_count = b.n;
-    return VX_OK;
+static uint8_t tower_cell(int x, int y, int z) {
+    double dx = x - 7.5, dy = y - 7.5, r = sqrt(dx * dx + dy * dy);
+    if (z < 32) {
+        bool wall = r <= 7.5 && r > 5.6;
+        bool window = (z % 8 >= 3 && z % 8 <= 5) && (x == 7 || y == 7);
+        return (wall && !window) || (z == 0 && r <= 7.5) ? C_STONE : 0;
+    }
+    if (r <= 7.5 - (z - 32) * 0.9) return z == 39 ? C_LAMP : C_ROOF;
+    return 0;
 }
 
-static vx_result make_crate(const vx_allocator* a, vx_vox_model* m) {
-    m->size[0] = m->size[1] = m->size[2] = 6;
-    vbuf b = {vx_calloc(a, 216, 4), 0, 216};
-    if (!b.xyzi) return VX_ERR_NOMEM;
-    for (int z = 0; z < 6; z++)
-        for (int y = 0; y < 6; y++)
-            for (int x = 0; x < 6; x++) put(&b, x, y, z, C_RED);
-    m->xyzi = b.xyzi;
-    m->voxel_count = b.n;
+static uint8_t crate_cell(int x, int y, int z) {
+    (void)x, (void)y, (void)z;
+    return C_RED;
+}
+
+static vx_result make_model(const vx_allocator* a, vx_vox_model* m, int sx, int sy, int sz, cell_fn cell) {
+    m->size[0] = (uint32_t)sx;
+    m->size[1] = (uint32_t)sy;
+    m->size[2] = (uint32_t)sz;
+    m->xyzi = (uint8_t*)vx_calloc(a, (size_t)sx * sy * sz, 4);
+    if (!m->xyzi) return VX_ERR_NOMEM;
+    uint32_t n = 0;
+    for (int z = 0; z < sz; z++)
+        for (int y = 0; y < sy; y++)
+            for (int x = 0; x < sx; x++) {
+                uint8_t c = cell(x, y, z);
+                if (!c) continue;
+                uint8_t* v = m->xyzi + 4 * (size_t)n++;
+                v[0] = (uint8_t)x, v[1] = (uint8_t)y, v[2] = (uint8_t)z, v[3] = c;
+            }
+    m->voxel_count = n;
     return VX_OK;
 }
 
@@ -149,8 +109,8 @@ vx_result vx_demo_scene(const vx_allocator* a, vx_vox_scene* out) {
     vx_result r = VX_ERR_NOMEM;
     if (!s.models || !s.instances || !s.layers || !s.materials) goto fail;
     s.model_count = 4;
-    if ((r = make_terrain(a, &s.models[0])) || (r = make_tree(a, &s.models[1])) || (r = make_tower(a, &s.models[2])) ||
-        (r = make_crate(a, &s.models[3])))
+    if ((r = make_model(a, &s.models[0], 128, 128, 16, terrain_cell)) || (r = make_model(a, &s.models[1], 11, 11, 18, tree_cell)) ||
+        (r = make_model(a, &s.models[2], 16, 16, 40, tower_cell)) || (r = make_model(a, &s.models[3], 6, 6, 6, crate_cell)))
         goto fail;
 
     s.has_rgba = true;
