@@ -20,6 +20,7 @@
 #include "probes/probes.h"
 
 static bool use_cpu;
+static unsigned lf_spp_max = 16; /* --lf-spp N: light field renders at 1, 4, ... up to N rays per pixel */
 static vx_gpu* gpu;
 static vx_render_scene* rs;
 
@@ -60,7 +61,8 @@ static void err_of(const vx_render_image* a, const vx_render_image* ref, double*
 
 static int usage(void) {
     fprintf(stderr, "usage: probes_bench [--cpu] [--device N|NAME] bake SCENE [GX,GY,GZ RES SPP]\n"
-                    "       probes_bench [--cpu] [--device N|NAME] error SCENE WxH REF_SPP [spacing:res:spp ...]\n");
+                    "       probes_bench [--cpu] [--device N|NAME] [--lf-spp N] error SCENE WxH REF_SPP "
+                    "[spacing:res:spp ...]\n");
     return 2;
 }
 
@@ -70,6 +72,7 @@ int main(int argc, char** argv) {
     for (; i < argc && argv[i][0] == '-'; i++) {
         if (!strcmp(argv[i], "--cpu")) use_cpu = true;
         else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        else if (!strcmp(argv[i], "--lf-spp") && i + 1 < argc) lf_spp_max = (unsigned)atoi(argv[++i]);
         else return usage();
     }
     if (argc - i < 2) return usage();
@@ -147,6 +150,26 @@ int main(int argc, char** argv) {
                        gi.gpu_seconds, rmse, rel);
             }
             vx_render_image_free(&gi);
+            for (unsigned lspp = 1; lspp <= lf_spp_max && !rc; lspp *= 4) {
+                vx_render_image lf = {0};
+                vx_probe_render_stats st = {0};
+                vx_probe_render_desc ld = {.base = &base, .mode = VX_PROBE_RENDER_LF_INDIRECT, .spp = lspp, .seed = 7,
+                                           .threads = 2, .stats = &st};
+                if (render(&s, &ps, &ld, &lf, &err)) {
+                    fprintf(stderr, "lightfield: %s\n", err.msg);
+                    rc = 1;
+                } else {
+                    double rmse, rel;
+                    err_of(&lf, &ref, &rmse, &rel);
+                    printf("| %s | lightfield %u spp | %u | %u | %u | %.2f | %.4f | %.4f | %.4f |", path, lspp,
+                           ps.probe_count, res, spp, tb, lf.gpu_seconds, rmse, rel);
+                    if (st.rays)
+                        printf(" fallback %.1f%%, %.2f probes/ray", 100.0 * st.fallbacks / st.rays,
+                               (double)st.probe_traces / st.rays);
+                    printf("\n");
+                }
+                vx_render_image_free(&lf);
+            }
             vx_probe_set_free(&ps);
         }
         vx_render_image_free(&ref);

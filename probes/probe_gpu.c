@@ -18,8 +18,11 @@ typedef struct gpu_params {
     uint32_t grid[4]; /* xyz, probe count */
     float origin[4];  /* xyz relative to the reference, w: dist_max */
     float spacing[4]; /* xyz, w: minimum */
+    uint32_t lf[4];   /* light field: res, low res, words per probe */
+    float lf_lo[4];   /* scene bounds relative to the reference, w: distance step */
+    float lf_hi[4];
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 128, "gpu_params vs probe.comp");
+_Static_assert(sizeof(gpu_params) == 176, "gpu_params vs probe.comp");
 
 enum { PMODE_BAKE = 0 };
 
@@ -29,11 +32,11 @@ typedef struct gctx {
     vx__frame f;
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + 1];
-    vx__buffer params, emit, probes, out, maps;
+    vx__buffer params, emit, probes, out, maps, lf;
 } gctx;
 
 static void ctx_free(gctx* c) {
-    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps};
+    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps, &c->lf};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(c->g, b[i]);
 }
 
@@ -69,6 +72,8 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
         }
         if (!(r = upload_new(c, &c->emit, em, (na ? na : 1) * sizeof(float), "probe emission", err)))
             r = upload_new(c, &c->probes, pp, np * 4 * sizeof(float), "probe positions", err);
+        /* the light field maps: a placeholder unless a light field mode replaces it */
+        if (!r) r = upload_new(c, &c->lf, NULL, 16, "probe light field", err);
         if (!r)
             r = vx__buffer_create(c->g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probe params",
                                   &c->params, err);
@@ -106,20 +111,20 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
     c->spec[VX__SPEC_COUNT] = pmode;
     size_t spv_size;
     const uint32_t* spv = vx__spirv_probe(&spv_size);
-    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 12,
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 13,
                                        .spec_count = VX__SPEC_COUNT + 1, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < 12; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < 13; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, c->spec, sizeof c->spec);
     uint64_t key = 0x9B0BEull;
     for (int i = 0; i <= VX__SPEC_COUNT; i++) key = key * 131 + c->spec[i];
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(c->g, key, &pd, &p, err);
     if (r) return r;
-    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 12, .groups = {gx, gy, 1}, .label = "probe"};
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 13, .groups = {gx, gy, 1}, .label = "probe"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = c->scene[i];
     dd.buffers[7] = &c->params, dd.buffers[8] = &c->emit, dd.buffers[9] = &c->probes, dd.buffers[10] = &c->out;
-    dd.buffers[11] = &c->maps;
+    dd.buffers[11] = &c->maps, dd.buffers[12] = &c->lf;
     return vx__dispatch(c->g, &dd, seconds, err);
 }
 
@@ -269,12 +274,38 @@ vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, cons
 
 /* ---- rendering ------------------------------------------------------------------------ */
 
+/* Packs the maps the light field walk reads (layout: LfMaps in probe.comp). */
+static vx_result upload_lightfield(gctx* c, const vx_probe_set* ps, uint32_t* words_per_probe, vx_error* err) {
+    size_t nb = vx__bsq(ps->res), lb = vx__bsq(ps->low_res);
+    size_t dw = (nb + 1) / 2, lw = (lb + 1) / 2, nw = nb, rw = (nb * 3 + 1) / 2, per = dw + lw + nw + rw;
+    if (per > UINT32_MAX / 4 || ps->probe_count > SIZE_MAX / 4 / per)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u probes at %u: too large for the GPU", ps->probe_count,
+                       ps->res);
+    size_t total = per * ps->probe_count;
+    uint32_t* w = vx_calloc(c->alloc, total, 4);
+    if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the light field (%zu bytes)", total * 4);
+    for (size_t k = 0; k < ps->probe_count; k++) {
+        uint32_t* b = w + per * k;
+        uint16_t* d16 = (uint16_t*)b; /* little-endian halves, as the shader reads them */
+        memcpy(d16, ps->distance + nb * k, nb * 2);
+        memcpy((uint16_t*)(b + dw), ps->low + lb * k, lb * 2);
+        memcpy(b + dw + lw, ps->normal + nb * k, nb * 4);
+        memcpy((uint16_t*)(b + dw + lw + nw), ps->radiance + nb * 3 * k, nb * 3 * 2);
+    }
+    vx_result r = upload_new(c, &c->lf, w, total * 4, "probe light field", err);
+    vx_free(c->alloc, w);
+    *words_per_probe = (uint32_t)per;
+    return r;
+}
+
 vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,
                               const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err) {
     if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
-    if (d.mode > VX_PROBE_RENDER_PT_INDIRECT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
-    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT;
+    if ((unsigned)d.mode >= VX_PROBE_RENDER_MODE_COUNT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    bool lf = d.mode == VX_PROBE_RENDER_LIGHTFIELD || d.mode == VX_PROBE_RENDER_LF_INDIRECT;
+    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT || lf;
     if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
                        vx_probe_render_mode_name(d.mode));
@@ -294,7 +325,7 @@ vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const 
     } else {
         vx__light_init(&L, NULL, s, base.light_dir, NULL, false, NULL, false);
     }
-    uint32_t spp = d.spp ? d.spp : (need_probes ? 1 : 16);
+    uint32_t spp = d.spp ? d.spp : (need_probes && !lf ? 1 : 16);
     uint32_t bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
     gctx c;
     float* maps = NULL;
@@ -315,9 +346,19 @@ vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const 
         memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
     }
     if ((r = upload_new(&c, &c.maps, maps, nmaps * sizeof(float), "probe maps", err))) goto done;
+    uint32_t lf_words = 0;
+    if (lf) {
+        vx__buffer_destroy(c.g, &c.lf);
+        if ((r = upload_lightfield(&c, ps, &lf_words, err))) goto done;
+    }
     gpu_params* p = c.params.map;
     params_common(p, &L, d.seed);
     if (need_probes) params_grid(p, ps, f.ref);
+    if (lf) {
+        p->lf[0] = ps->res, p->lf[1] = ps->low_res, p->lf[2] = lf_words;
+        for (int k = 0; k < 3; k++) p->lf_lo[k] = (float)(lo[k] - f.ref[k]), p->lf_hi[k] = (float)(hi[k] - f.ref[k]);
+        p->lf_lo[3] = (float)ps->dist_step;
+    }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
     uint64_t groups = (npx + 63) / 64;
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);

@@ -98,7 +98,8 @@ typedef struct vx_probe {
  * first .. first+count-1 (a shard holds a part; a full set first = 0,
  * count = probe_count), each probe's maps contiguous:
  *   radiance:   (res+2)^2 * 3 halfs (RGB)
- *   normal:     (res+2)^2 oct 2 x snorm16 (0 where the ray missed)
+ *   normal:     (res+2)^2 oct 2 x snorm16 (0 where the ray missed, which is
+ *               also +z: the distance code tells misses apart)
  *   distance:   (res+2)^2 u16, world distance = code * dist_step
  *               (VX_PROBE_DIST_MISS: nothing within dist_max)
  *   low:        (low_res+2)^2 u16, minimum of the res/low_res square block
@@ -134,10 +135,13 @@ void vx_probe_set_free(vx_probe_set* ps);
 /* ---- baking ------------------------------------------------------------------------- */
 
 /* Bake options; zero-initialised means the defaults.
- *  grid:       probes per axis; all zero == from spacing
- *  spacing:    world distance between probes, 0 == (bounds diagonal) / 8
- *  bounds_set: use bounds_lo/hi (world) instead of the scene bounds; probes
- *              sit at the cell centres of the grid over the bounds
+ *  grid:       probes per axis, at the cell centres of that grid over the
+ *              bounds; all zero == from spacing
+ *  spacing:    world distance between probes, 0 == (bounds diagonal) / 8;
+ *              the grid is centred on the bounds and reaches at least a
+ *              quarter spacing beyond them, so that outer faces have probes
+ *              on their side
+ *  bounds_set: use bounds_lo/hi (world) instead of the scene bounds
  *  res:        0 == 128 (even, 16..1024, a multiple of 16 for the low map
  *              to tile exactly)
  *  spp:        paths per radiance texel, 0 == 16
@@ -225,8 +229,21 @@ typedef enum vx_probe_render_mode {
     VX_PROBE_RENDER_GI = 0,     /* direct + albedo/pi * probe irradiance */
     VX_PROBE_RENDER_PATHTRACE,  /* path-traced reference, same lights and materials */
     VX_PROBE_RENDER_INDIRECT,   /* albedo/pi * probe irradiance only (for error measurements) */
-    VX_PROBE_RENDER_PT_INDIRECT /* path-traced indirect diffuse only */
+    VX_PROBE_RENDER_PT_INDIRECT, /* path-traced indirect diffuse only */
+    VX_PROBE_RENDER_LIGHTFIELD,  /* direct + albedo * one bounce traced through the probes' distance maps */
+    VX_PROBE_RENDER_LF_INDIRECT  /* that bounce only (for error measurements) */
 } vx_probe_render_mode;
+#define VX_PROBE_RENDER_MODE_COUNT 6
+
+/* What the light field modes did (filled when vx_probe_render_desc.stats is set). */
+typedef struct vx_probe_render_stats {
+    uint64_t rays;         /* indirect rays traced through the light field */
+    uint64_t probe_traces; /* probe maps walked (a ray tries the next probe where one cannot answer) */
+    uint64_t texels;       /* full-resolution texels tested */
+    uint64_t coarse_skips; /* low-resolution texels skipped whole */
+    uint64_t hits, misses; /* rays answered by a probe: a surface, or the sky */
+    uint64_t fallbacks;    /* rays no probe could answer, traced in the octree */
+} vx_probe_render_stats;
 
 /* Renderer options (CPU, double precision). The camera comes from base:
  * width, height, camera; base.spp and base.mode are ignored.
@@ -234,7 +251,12 @@ typedef enum vx_probe_render_mode {
  *  bounces: indirect bounces of the path tracer, 0 == probes' bounces + 1
  *           (or 2 without probes); light, sun and sky: from the probes,
  *           or the bake defaults without probes
- *  seed:    path tracer random seed */
+ *  seed:    path tracer (and light field ray) random seed
+ * Light field modes: spp indirect rays per pixel (0 == 16), each walked
+ * through the distance maps of the 8 probes around its origin, nearest
+ * first (each continuing where the last could not answer), radiance from the
+ * texel hit; rays no probe answers are traced in the octree and shaded with
+ * direct light plus the probes' irradiance. */
 typedef struct vx_probe_render_desc {
     const vx_render_desc* base; /* NULL: defaults */
     vx_probe_render_mode mode;
@@ -242,6 +264,7 @@ typedef struct vx_probe_render_desc {
     uint32_t bounces;
     uint64_t seed;
     uint32_t threads; /* 0 == 1 */
+    vx_probe_render_stats* stats; /* optional out: light field counts */
 } vx_probe_render_desc;
 
 /* Renders RGBA float radiance (alpha 1 on hits); probes may be NULL for

@@ -95,4 +95,31 @@ static inline uint16_t vx__dist_code(const vx_probe_set* ps, double t) {
     return (uint16_t)(q > VX_PROBE_DIST_MISS - 1 ? VX_PROBE_DIST_MISS - 1 : q);
 }
 
+/* ---- light field tracing (lightfield.c) ------------------------------------------ */
+
+typedef enum { VX__LF_HIT, VX__LF_MISS, VX__LF_UNKNOWN } vx__lf_status;
+
+typedef struct vx__lf_counts {
+    uint64_t rays, probe_traces, texels, coarse_skips, hits, misses, fallbacks;
+} vx__lf_counts;
+
+/* Walks o + t d, t in [*t_io, t_end], through probe pi's distance map (the
+ * probe must be in ps's range). HIT: *t_io the hit, *texel its bordered
+ * texel index; MISS: free up to t_end; UNKNOWN: free (as far as this probe
+ * can tell) up to *t_io, where the ray went behind a surface it sees. */
+vx__lf_status vx__lf_trace_probe(const vx_probe_set* ps, uint32_t pi, const double o[3], const double d[3],
+                                 double* t_io, double t_end, uint32_t* texel, vx__lf_counts* cnt);
+
+typedef struct vx__lf {
+    const vx__light* L;
+    const vx_probe_set* ps; /* complete */
+    double lo[3], hi[3];    /* world bounds of the scene: a ray that leaves them sees the sky */
+} vx__lf;
+
+/* Radiance arriving at o from unit direction d through the light field: the
+ * 8 probes around o, nearest first, each continuing where the last could not
+ * answer; then the octree tracer, the hit shaded with direct light and the
+ * probes' irradiance. */
+void vx__lf_radiance(const vx__lf* lf, const double o[3], const double d[3], double out[3], vx__lf_counts* cnt);
+
 #endif

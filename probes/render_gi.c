@@ -121,12 +121,14 @@ const char* vx_probe_render_mode_name(vx_probe_render_mode m) {
     case VX_PROBE_RENDER_PATHTRACE: return "pathtrace";
     case VX_PROBE_RENDER_INDIRECT: return "gi-indirect";
     case VX_PROBE_RENDER_PT_INDIRECT: return "pathtrace-indirect";
+    case VX_PROBE_RENDER_LIGHTFIELD: return "lightfield";
+    case VX_PROBE_RENDER_LF_INDIRECT: return "lightfield-indirect";
     }
     return "?";
 }
 
 bool vx_probe_render_mode_parse(const char* s, vx_probe_render_mode* out) {
-    for (int m = 0; m <= VX_PROBE_RENDER_PT_INDIRECT; m++)
+    for (int m = 0; m < VX_PROBE_RENDER_MODE_COUNT; m++)
         if (!strcmp(s, vx_probe_render_mode_name((vx_probe_render_mode)m))) {
             *out = (vx_probe_render_mode)m;
             return true;
@@ -141,12 +143,19 @@ typedef struct rjob {
     vx_probe_render_mode mode;
     uint32_t spp, bounces;
     uint64_t seed;
+    const vx__lf* lf;
     float* pixels;
     uint32_t next_row;
+    vx__lf_counts counts;
     pthread_mutex_t mu;
 } rjob;
 
-static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px) {
+static bool is_lf(vx_probe_render_mode m) { return m == VX_PROBE_RENDER_LIGHTFIELD || m == VX_PROBE_RENDER_LF_INDIRECT; }
+static bool has_direct(vx_probe_render_mode m) {
+    return m == VX_PROBE_RENDER_GI || m == VX_PROBE_RENDER_PATHTRACE || m == VX_PROBE_RENDER_LIGHTFIELD;
+}
+
+static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__lf_counts* cnt) {
     const vx__frame* f = J->f;
     double acc[4] = {0};
     for (uint32_t s = 0; s < J->spp; s++) {
@@ -168,12 +177,11 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px) {
         vx_render_ray_hit h;
         bool hit = vx_render_cast(J->L->caster, o, d, INFINITY, false, &h);
         if (!hit) {
-            if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_PATHTRACE) memcpy(c, J->L->sky, sizeof c);
+            if (has_direct(J->mode)) memcpy(c, J->L->sky, sizeof c);
         } else {
             vx__surface sf;
             vx__surface_of(J->L, o, d, &h, &sf);
-            bool direct = J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_PATHTRACE;
-            if (direct) {
+            if (has_direct(J->mode)) {
                 double dl[3];
                 vx__direct(J->L, &sf, dl);
                 for (int k = 0; k < 3; k++) c[k] += sf.emit[k] + dl[k];
@@ -182,6 +190,11 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px) {
                 double e[3];
                 irradiance_at(J->ps, sf.p, sf.n, d, e);
                 for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] / pi * e[k];
+            } else if (is_lf(J->mode)) {
+                double nd[3], li[3];
+                vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
+                vx__lf_radiance(J->lf, sf.p, nd, li, cnt);
+                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] * li[k];
             } else if (J->bounces > 0) {
                 double nd[3], li[3];
                 vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
@@ -197,14 +210,20 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px) {
 
 static void* rworker(void* arg) {
     rjob* J = arg;
+    vx__lf_counts cnt = {0};
     for (;;) {
         pthread_mutex_lock(&J->mu);
         uint32_t y = J->next_row++;
         pthread_mutex_unlock(&J->mu);
         if (y >= J->f->height) break;
         for (uint32_t x = 0; x < J->f->width; x++)
-            render_pixel(J, x, y, &J->pixels[4 * ((size_t)y * J->f->width + x)]);
+            render_pixel(J, x, y, &J->pixels[4 * ((size_t)y * J->f->width + x)], &cnt);
     }
+    pthread_mutex_lock(&J->mu);
+    J->counts.rays += cnt.rays, J->counts.probe_traces += cnt.probe_traces, J->counts.texels += cnt.texels;
+    J->counts.coarse_skips += cnt.coarse_skips, J->counts.hits += cnt.hits, J->counts.misses += cnt.misses;
+    J->counts.fallbacks += cnt.fallbacks;
+    pthread_mutex_unlock(&J->mu);
     return NULL;
 }
 
@@ -212,8 +231,8 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
                           vx_render_image* out, vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
-    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT;
-    if (d.mode > VX_PROBE_RENDER_PT_INDIRECT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT || is_lf(d.mode);
+    if ((unsigned)d.mode >= VX_PROBE_RENDER_MODE_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
     if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
                        vx_probe_render_mode_name(d.mode));
@@ -234,8 +253,10 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
     } else {
         vx__light_init(&L, c, s, base.light_dir, NULL, false, NULL, false);
     }
-    rjob J = {.f = &f, .L = &L, .ps = ps, .mode = d.mode, .seed = d.seed};
-    J.spp = d.spp ? d.spp : (need_probes ? 1 : 16);
+    vx__lf lf = {.L = &L, .ps = ps};
+    memcpy(lf.lo, lo, sizeof lo), memcpy(lf.hi, hi, sizeof hi);
+    rjob J = {.f = &f, .L = &L, .ps = ps, .lf = &lf, .mode = d.mode, .seed = d.seed};
+    J.spp = d.spp ? d.spp : (need_probes && !is_lf(d.mode) ? 1 : 16);
     J.bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_calloc(NULL, (size_t)f.width * f.height, 16);
@@ -249,6 +270,11 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
     vx_run_threads(d.threads, rworker, &J);
     pthread_mutex_destroy(&J.mu);
     img.gpu_seconds = vx_time_now() - t0;
+    if (d.stats)
+        *d.stats = (vx_probe_render_stats){.rays = J.counts.rays, .probe_traces = J.counts.probe_traces,
+                                           .texels = J.counts.texels, .coarse_skips = J.counts.coarse_skips,
+                                           .hits = J.counts.hits, .misses = J.counts.misses,
+                                           .fallbacks = J.counts.fallbacks};
     img.rays = (uint64_t)f.width * f.height * J.spp;
     vx_render_caster_destroy(c);
     *out = img;

@@ -5,8 +5,9 @@
 // with shadow rays, a uniform sky, emissive attributes.
 //   PMODE 0 (bake): one invocation per (texel, probe): the texel centre ray's
 //     distance and normal, and the radiance averaged over spp jittered paths.
-//   PMODE 1..4 (gi, pathtrace, gi-indirect, pathtrace-indirect): one
-//     invocation per pixel, as probes/render_gi.c.
+//   PMODE 1..6 (gi, pathtrace, gi-indirect, pathtrace-indirect, lightfield,
+//     lightfield-indirect): one invocation per pixel, as probes/render_gi.c
+//     and probes/lightfield.c.
 // Random numbers: every path draws from its own counter-based stream keyed by
 // (seed, probe or pixel, texel or row, sample), so results do not depend on
 // the dispatch order or batch size. Layouts: probes/probe_gpu.c.
@@ -17,7 +18,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #include "trace_common.glsl"
 
 layout(constant_id = 5) const int PMODE = 0;
-const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4;
+const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
     vec4 light;    // xyz: unit, towards the light
@@ -28,12 +29,19 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 grid;    // xyz: probes per axis, w: probe count
     vec4 origin;   // xyz: grid origin relative to the reference point, w: dist_max
     vec4 spacing;  // xyz: spacing, w: minimum spacing
+    uvec4 lf;      // light field: x: res, y: low res, z: words per probe in LfMaps
+    vec4 lf_lo;    // xyz: scene bounds relative to the reference point, w: distance step
+    vec4 lf_hi;    // xyz: scene bounds (max)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
 layout(std430, binding = 10) writeonly buffer Out { vec4 outv[]; };
 // per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
+// light field modes, per probe: distance u16 ((res+2)^2, padded to a word),
+// min-distance u16 ((low+2)^2, padded), normal oct16 ((res+2)^2), radiance
+// half RGB ((res+2)^2 * 3, padded)
+layout(std430, binding = 12) readonly buffer LfMaps { uint lfw[]; };
 
 const float PI = 3.14159265358979323846;
 const float BIG = 3.0e38;
@@ -225,6 +233,237 @@ vec3 irradiance_at(vec3 p_in, vec3 n, vec3 vd) {
     return wsum > 0.0 ? sum / wsum : vec3(0.0);
 }
 
+
+// ---- light field tracing (probes/lightfield.c: the walk, its rules and why) ----
+uint lf_u16(uint word_at, uint i) { return (lfw[word_at + (i >> 1u)] >> (16u * (i & 1u))) & 0xFFFFu; }
+uint lf_base(uint k) { return k * P.lf.z; }
+uint lf_bsq(uint n) { return (n + 2u) * (n + 2u); }
+uint lf_dist(uint k, uint at) { return lf_u16(lf_base(k), at); }
+uint lf_low(uint k, uint at) { return lf_u16(lf_base(k) + (lf_bsq(P.lf.x) + 1u) / 2u, at); }
+uint lf_nrm(uint k, uint at) {
+    return lfw[lf_base(k) + (lf_bsq(P.lf.x) + 1u) / 2u + (lf_bsq(P.lf.y) + 1u) / 2u + at];
+}
+vec3 lf_rad(uint k, uint at) {
+    uint b = lf_base(k) + (lf_bsq(P.lf.x) + 1u) / 2u + (lf_bsq(P.lf.y) + 1u) / 2u + lf_bsq(P.lf.x);
+    return vec3(unpackHalf2x16(lf_u16(b, 3u * at)).x, unpackHalf2x16(lf_u16(b, 3u * at + 1u)).x,
+                unpackHalf2x16(lf_u16(b, 3u * at + 2u)).x);
+}
+vec3 lf_unpack16(uint v) { return oct_decode(max(unpackSnorm2x16(v), vec2(-1.0))); }
+
+bool lf_enc_octant(vec3 q, vec3 s, out vec2 uv) {
+    float l1 = dot(s, q);
+    uv = vec2(0.0);
+    if (!(l1 > 0.0)) return false;
+    vec2 p = q.xy / l1;
+    if (s.z < 0.0) p = vec2((1.0 - s.y * p.y) * s.x, (1.0 - s.x * p.x) * s.y);
+    uv = p;
+    return true;
+}
+float lf_t_of_dir(vec3 q0, vec3 d, vec3 w, float fb) {
+    vec3 cdw = cross(d, w);
+    float den = dot(cdw, cdw);
+    return den > 0.0 ? -dot(cross(q0, w), cdw) / den : fb;
+}
+bool g_first;
+// 0 free, 1 hit, 2 unknown
+int lf_texel(uint k, ivec2 f, vec3 q0, vec3 d, float t0, float t1, out float th) {
+    uint n = P.lf.x;
+    uint at = uint(f.y + 1) * (n + 2u) + uint(f.x + 1);
+    bool first = g_first;
+    g_first = false;
+    th = t0;
+    uint code = lf_dist(k, at);
+    if (code == 0xFFFFu) return 0;
+    float step = P.lf_lo.w, D = float(code) * step;
+    vec3 w = oct_decode((2.0 * vec2(f) + 1.0) / float(n) - 1.0);
+    vec3 N = lf_unpack16(lf_nrm(k, at));
+    float c0 = dot(q0 - D * w, N), sd = dot(d, N);
+    float s0 = c0 + t0 * sd, s1 = c0 + t1 * sd;
+    float thick = 2.0 * step + D / float(n);
+    if (D <= thick) return 2;
+    float near = thick + D * 4.25 / float(n);
+    if (s0 >= 0.0 && s1 < 0.0) {
+        th = t0 + (t1 - t0) * (s0 / (s0 - s1));
+        return length(q0 + th * d - D * w) <= near ? 1 : 2;
+    }
+    if (s0 < -thick) return 2;
+    if (s0 < 0.0 && sd < 0.0) return (first || length(q0 + t0 * d - D * w) > near) ? 2 : 1;
+    float cosw = abs(dot(w, N));
+    float ang = acos(min(cosw, 1.0)) + 4.25 / float(n);
+    if (ang < 1.5 && max(length(q0 + t0 * d), length(q0 + t1 * d)) > D * cosw / cos(ang) + thick) return 2;
+    return 0;
+}
+
+struct Dda { ivec2 i, s; vec2 nx, dl; };
+Dda dda_init(vec2 A, vec2 B, float a0, int m) {
+    Dda g;
+    vec2 e = B - A, p = A + a0 * e;
+    g.s = ivec2(e.x > 0.0 ? 1 : (e.x < 0.0 ? -1 : 0), e.y > 0.0 ? 1 : (e.y < 0.0 ? -1 : 0));
+    vec2 fl = floor(p);
+    if (fl.x == p.x && g.s.x < 0) fl.x -= 1.0;
+    if (fl.y == p.y && g.s.y < 0) fl.y -= 1.0;
+    fl = clamp(fl, vec2(0.0), vec2(float(m - 1)));
+    g.i = ivec2(fl);
+    g.dl = vec2(g.s.x != 0 ? 1.0 / abs(e.x) : BIG, g.s.y != 0 ? 1.0 / abs(e.y) : BIG);
+    g.nx = vec2(g.s.x != 0 ? ((fl.x + (g.s.x > 0 ? 1.0 : 0.0)) - A.x) / e.x : BIG,
+                g.s.y != 0 ? ((fl.y + (g.s.y > 0 ? 1.0 : 0.0)) - A.y) / e.y : BIG);
+    return g;
+}
+float dda_step(inout Dda g) {
+    if (g.nx.x < g.nx.y) {
+        float a = g.nx.x;
+        g.i.x += g.s.x;
+        g.nx.x += g.dl.x;
+        return a;
+    }
+    float a = g.nx.y;
+    g.i.y += g.s.y;
+    g.nx.y += g.dl.y;
+    return a;
+}
+
+const int LF_HIT = 0, LF_MISS = 1, LF_UNKNOWN = 2;
+int lf_trace_probe(uint k, vec3 o, vec3 d, inout float t, float t_end, out uint texel) {
+    uint n = P.lf.x, lr = P.lf.y;
+    texel = 0u;
+    vec3 q0 = o - probes[k].xyz;
+    g_first = true;
+    float ts[5];
+    int nt = 0;
+    ts[nt++] = t;
+    for (int a = 0; a < 3; a++) {
+        if (d[a] == 0.0) continue;
+        float tb = -q0[a] / d[a];
+        if (tb > t && tb < t_end) ts[nt++] = tb;
+    }
+    for (int i = 1; i < nt; i++)
+        for (int j = i; j > 0 && ts[j] < ts[j - 1]; j--) {
+            float x = ts[j];
+            ts[j] = ts[j - 1];
+            ts[j - 1] = x;
+        }
+    ts[nt++] = t_end;
+    float fpc = float(n / lr);
+    int per = int(n / lr);
+    for (int sg = 0; sg + 1 < nt; sg++) {
+        float ta = ts[sg], tb = ts[sg + 1];
+        if (!(tb > ta)) continue;
+        vec3 qm = q0 + 0.5 * (ta + tb) * d;
+        vec3 s = vec3(qm.x < 0.0 ? -1.0 : 1.0, qm.y < 0.0 ? -1.0 : 1.0, qm.z < 0.0 ? -1.0 : 1.0);
+        vec3 qa = q0 + ta * d, qb = q0 + tb * d;
+        vec2 ua, ub;
+        float e = min(1e-4, 0.5 * (tb - ta));
+        if (!lf_enc_octant(qa, s, ua)) qa = q0 + (ta + e) * d;
+        if (!lf_enc_octant(qb, s, ub)) qb = q0 + (tb - e) * d;
+        if (!lf_enc_octant(qa, s, ua) || !lf_enc_octant(qb, s, ub)) {
+            t = ta;
+            return LF_UNKNOWN;
+        }
+        vec2 A = (ua + 1.0) * 0.5 * float(lr), B = (ub + 1.0) * 0.5 * float(lr);
+        vec2 Af = A * fpc, Bf = B * fpc, ef = Bf - Af;
+        bool radial = abs(ef.x) + abs(ef.y) < 1e-6;
+        Dda gc = dda_init(A, B, 0.0, int(lr));
+        float ac0 = 0.0, tc0 = ta;
+        for (uint guard = 0u; ac0 < 1.0 && guard < 4u * lr + 8u; guard++) {
+            ivec2 c = gc.i;
+            float ac1 = radial ? 1.0 : min(dda_step(gc), 1.0);
+            float tc1 = tb;
+            if (ac1 < 1.0)
+                tc1 = min(max(lf_t_of_dir(q0, d, oct_decode((Af + ac1 * ef) / float(n) * 2.0 - 1.0), tc0), tc0), tb);
+            uint lc = lf_low(k, uint(c.y + 1) * (lr + 2u) + uint(c.x + 1));
+            float dmin = lc == 0xFFFFu ? BIG : float(lc) * P.lf_lo.w;
+            float rmax = max(length(q0 + tc0 * d), length(q0 + tc1 * d));
+            if (g_first || rmax >= dmin * (1.0 - 8.0 / float(n))) {
+                Dda gf = dda_init(Af, Bf, ac0, int(n));
+                float af0 = ac0, tf0 = tc0;
+                ivec2 lo = c * per, hi = lo + per - 1;
+                for (uint g2 = 0u; af0 < ac1 && g2 < 4u * uint(per) + 8u; g2++) {
+                    ivec2 f = clamp(gf.i, lo, hi);
+                    float af1 = radial ? ac1 : min(dda_step(gf), ac1);
+                    float tf1 = tc1;
+                    if (af1 < ac1)
+                        tf1 = min(max(lf_t_of_dir(q0, d, oct_decode((Af + af1 * ef) / float(n) * 2.0 - 1.0), tf0), tf0),
+                                  tc1);
+                    float th;
+                    int r = lf_texel(k, f, q0, d, tf0, tf1, th);
+                    if (r == 1) {
+                        t = th;
+                        texel = uint(f.y + 1) * (n + 2u) + uint(f.x + 1);
+                        return LF_HIT;
+                    }
+                    if (r == 2) {
+                        t = tf0;
+                        return LF_UNKNOWN;
+                    }
+                    af0 = af1;
+                    tf0 = tf1;
+                    if (radial) break;
+                }
+            }
+            ac0 = ac1;
+            tc0 = tc1;
+            if (radial) break;
+        }
+    }
+    t = t_end;
+    return LF_MISS;
+}
+
+float lf_exit(vec3 o, vec3 d) {
+    float tn = 0.0, tf = BIG;
+    for (int k = 0; k < 3; k++) {
+        if (d[k] == 0.0) {
+            if (o[k] < P.lf_lo[k] || o[k] > P.lf_hi[k]) return 0.0;
+            continue;
+        }
+        float a = (P.lf_lo[k] - o[k]) / d[k], b = (P.lf_hi[k] - o[k]) / d[k];
+        tn = max(tn, min(a, b));
+        tf = min(tf, max(a, b));
+    }
+    return tf >= tn ? tf : 0.0;
+}
+
+vec3 lf_radiance(vec3 o, vec3 d) {
+    float t_end = lf_exit(o, d);
+    if (!(t_end > 0.0)) return P.sky.xyz;
+    ivec3 base;
+    for (int k = 0; k < 3; k++) {
+        float g = (o[k] - P.origin[k]) / P.spacing[k], top = float(P.grid[k]) - 1.0;
+        g = clamp(g, 0.0, top);
+        base[k] = int(min(floor(g), max(top - 1.0, 0.0)));
+    }
+    uint cand[8];
+    float cd[8];
+    int nc = 0;
+    for (int c = 0; c < 8; c++) {
+        ivec3 idx = base + ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        if (any(greaterThanEqual(idx, ivec3(P.grid.xyz)))) continue;
+        uint pi = uint(idx.x) + P.grid.x * (uint(idx.y) + P.grid.y * uint(idx.z));
+        if (probes[pi].w == 2.0) continue;
+        vec3 dv = probes[pi].xyz - o;
+        float r = dot(dv, dv);
+        int j = nc++;
+        for (; j > 0 && cd[j - 1] > r; j--) {
+            cand[j] = cand[j - 1];
+            cd[j] = cd[j - 1];
+        }
+        cand[j] = pi;
+        cd[j] = r;
+    }
+    float t = 0.0;
+    for (int c = 0; c < nc; c++) {
+        uint texel;
+        int st = lf_trace_probe(cand[c], o, d, t, t_end, texel);
+        if (st == LF_HIT) return lf_rad(cand[c], texel);
+        if (st == LF_MISS) return P.sky.xyz;
+    }
+    // no probe could answer: the octree, shaded with the irradiance probes
+    Hit h;
+    if (!cast_ray(o, d, BIG, h)) return P.sky.xyz;
+    Surf sf = surface(o, d, h);
+    return sf.emit + direct(sf) + sf.alb / PI * irradiance_at(sf.p, sf.n, d);
+}
+
 void bake() {
     uint res = P.a.x, texel = gl_GlobalInvocationID.x, slot = gl_GlobalInvocationID.y;
     if (texel >= res * res || slot >= P.seed.z) return;
@@ -285,12 +524,15 @@ void render() {
         vec3 c = vec3(0.0);
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
-            if (PMODE == P_GI || PMODE == P_PT) c = P.sky.xyz;
+            if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
         } else {
             Surf sf = surface(o, d, h);
-            if (PMODE == P_GI || PMODE == P_PT) c += sf.emit + direct(sf);
+            if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c += sf.emit + direct(sf);
             if (PMODE == P_GI || PMODE == P_GI_IND) {
                 c += sf.alb / PI * irradiance_at(sf.p, sf.n, d);
+            } else if (PMODE == P_LF || PMODE == P_LF_IND) {
+                float u1 = rnd(), u2 = rnd();
+                c += sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2));
             } else if (P.a.z > 0u) {
                 float u1 = rnd(), u2 = rnd();
                 c += sf.alb * path(sf.p, cosine_dir(sf.n, u1, u2), P.a.z - 1u);

@@ -18,3 +18,8 @@ if(VX_WITH_VULKAN AND VX_WITH_OIIO)
   # test_probes and test_probes_gpu
   set_tests_properties(test_svo_bake PROPERTIES TIMEOUT 300 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()
+if(VX_WITH_VULKAN)
+  # rays through the probes' distance maps against the octree tracer
+  vx_add_test(test_lightfield SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_lightfield.c LIBS vx_probes vx_render vx_svo
+              LABELS probes)
+endif()

@@ -406,6 +406,43 @@ static void test_gi_vs_pathtrace(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A closed hollow box under the sky alone: its inside is dark, every outer
+ * face sees only sky, E = pi * sky. A grid from a spacing must put probes
+ * outside the box; with probes only inside (as cell centres over the bounds
+ * did), every outer face interpolated the dark inside. */
+static void test_closed_box_outside(void) {
+    vx_svo_scene s;
+    box_scene(&s, 16, 5);
+    vx_probe_set ps;
+    vx_error err = {0};
+    vx_probe_bake_desc d = {.spacing = 6, .res = 16, .spp = 4, .no_sun = true, .threads = 2};
+    REQUIRE(vx_probe_bake(&s, &d, &ps, &err) == VX_OK);
+    for (int k = 0; k < 3; k++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (uint32_t i = 0; i < ps.probe_count; i++) lo = fmin(lo, ps.probes[i].pos[k]), hi = fmax(hi, ps.probes[i].pos[k]);
+        CHECK(lo < 0 && hi > 16); /* the box is [0,16]^3 */
+    }
+    double worst = 0;
+    for (int f = 0; f < 6; f++) {
+        int ax = f / 2;
+        double sg = f % 2 ? 1 : -1;
+        for (int q = 0; q < 4; q++) {
+            /* points spread over the face, off the probe planes */
+            double p[3], n[3] = {0, 0, 0};
+            for (int k = 0; k < 3; k++) p[k] = 3.5 + 3 * ((q + k) % 4);
+            p[ax] = sg > 0 ? 16 : 0;
+            n[ax] = sg;
+            double e[3];
+            vx_probe_irradiance(&ps, p, n, e);
+            for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(e[c] / (PI * ps.sky[c]) - 1));
+        }
+    }
+    fprintf(stderr, "  closed box, outer faces: max relative irradiance error %.3g\n", worst);
+    CHECK(worst < 0.1);
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     RUN(test_oct_roundtrip);
@@ -417,5 +454,6 @@ int main(void) {
     RUN(test_reader);
     RUN(test_reader_oom);
     RUN(test_gi_vs_pathtrace);
+    RUN(test_closed_box_outside);
     return vx_test_finish();
 }

@@ -247,6 +247,50 @@ static void test_gpu_render(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The light field walk on the GPU (float) estimates the same image as the
+ * CPU's (double): random streams differ, so compare against the CPU's own
+ * noise (a second seed). */
+static void test_gpu_lightfield(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_probe_set ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.spacing = 3, .res = 32, .spp = 8, .threads = 2}, &ps, &err) ==
+            VX_OK);
+    vx_render_desc base = {.width = 32, .height = 24};
+    const vx_probe_render_mode modes[2] = {VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT};
+    for (int mi = 0; mi < 2; mi++) {
+        vx_render_image c = {0}, g = {0}, c2 = {0};
+        vx_probe_render_desc rd = {.base = &base, .mode = modes[mi], .spp = 32, .threads = 2};
+        REQUIRE(vx_probe_render(&s, &ps, &rd, &c, &err) == VX_OK);
+        vx_result r = vx_probe_render_gpu(rs, &s, &ps, &rd, &g, &err);
+        if (r) fprintf(stderr, "  %s\n", err.msg);
+        REQUIRE(r == VX_OK);
+        rd.seed = 77;
+        REQUIRE(vx_probe_render(&s, &ps, &rd, &c2, &err) == VX_OK);
+        double mc = 0, mg = 0, se_g = 0, se_c = 0;
+        size_t n = (size_t)32 * 24 * 4;
+        for (size_t i = 0; i < n; i++) {
+            if (i % 4 == 3) continue;
+            mc += c.pixels[i], mg += g.pixels[i];
+            se_g += (c.pixels[i] - g.pixels[i]) * (c.pixels[i] - g.pixels[i]);
+            se_c += (c.pixels[i] - c2.pixels[i]) * (c.pixels[i] - c2.pixels[i]);
+        }
+        fprintf(stderr, "  %s 32 spp: mean GPU/CPU %.4f, RMSE GPU-CPU %.4f vs CPU-CPU (other seed) %.4f\n",
+                vx_probe_render_mode_name(modes[mi]), mg / mc, sqrt(se_g / n), sqrt(se_c / n));
+        CHECK(mc > 0);
+        CHECK(fabs(mg / mc - 1) < 0.03);
+        CHECK(sqrt(se_g / n) < 1.25 * sqrt(se_c / n));
+        vx_render_image_free(&c), vx_render_image_free(&g), vx_render_image_free(&c2);
+    }
+    vx_probe_set_free(&ps);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     /* Keeps lavapipe mapped after vkDestroyInstance: otherwise LeakSanitizer
@@ -262,6 +306,7 @@ int main(void) {
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_render);
+    RUN(test_gpu_lightfield);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

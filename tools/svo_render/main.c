@@ -46,7 +46,8 @@ _Noreturn static void usage(int status) {
             "\n"
             "Options:\n"
             "  --mode M             color|albedo|normal|depth|instance|iterations (default: %s),\n"
-            "                       or gi|gi-indirect (needs --probes) and pathtrace|pathtrace-indirect\n"
+            "                       or gi|gi-indirect|lightfield|lightfield-indirect (need --probes)\n"
+            "                       and pathtrace|pathtrace-indirect\n"
             "                       (float radiance on the GPU, or the CPU with --cpu; EXR keeps the\n"
             "                       values, PNG clamps)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
@@ -223,7 +224,7 @@ int main(int argc, char** argv) {
     bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
     if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
     if (want_float && !exr) usage_error("mode %s writes float data: use an .exr output", vx_render_mode_name(o.r.mode));
-    bool needs_probes = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_GI || o.p.mode == VX_PROBE_RENDER_INDIRECT);
+    bool needs_probes = o.probe_mode && o.p.mode != VX_PROBE_RENDER_PATHTRACE && o.p.mode != VX_PROBE_RENDER_PT_INDIRECT;
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
     if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
@@ -254,6 +255,8 @@ int main(int argc, char** argv) {
     vx_render_scene* rs = NULL;
     vx_logger logger = {log_cb, NULL};
     vx_probe_set probes = {0};
+    vx_probe_render_stats lf_stats = {0};
+    o.p.stats = &lf_stats;
     if (o.probes) {
         if (vx_probe_read_file(NULL, o.probes, &probes, &err)) {
             fprintf(stderr, "%s: %s\n", prog, err.msg);
@@ -331,6 +334,13 @@ int main(int argc, char** argv) {
                o.probe_mode ? vx_probe_render_mode_name(o.p.mode) : vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3,
                o.cpu ? "wall clock" : "GPU timestamps",
                img.gpu_seconds > 0 ? img.rays / img.gpu_seconds * 1e-6 : 0.0);
+        if (lf_stats.rays)
+            printf("light field: %llu rays: %.1f%% hit a probe's surface, %.1f%% sky, %.1f%% traced in the octree; "
+                   "%.2f probes and %.1f texels per ray, %llu coarse texels skipped\n",
+                   (unsigned long long)lf_stats.rays, 100.0 * lf_stats.hits / lf_stats.rays,
+                   100.0 * lf_stats.misses / lf_stats.rays, 100.0 * lf_stats.fallbacks / lf_stats.rays,
+                   (double)lf_stats.probe_traces / lf_stats.rays, (double)lf_stats.texels / lf_stats.rays,
+                   (unsigned long long)lf_stats.coarse_skips);
         printf("wrote %s\n", o.out);
     } else {
         fprintf(stderr, "%s: %s\n", prog, err.msg);
