@@ -570,6 +570,17 @@ static void test_gi_mode(void) {
     double d = image_diff(a, b);
     CHECKF(d <= 0.01, "mode gi: %.2f%% of pixels differ from svo_render", d * 100);
     fprintf(stderr, "  mode gi: %.3f%% of pixels differ from svo_render\n", d * 100);
+    /* mode lightfield too: the same GPU walk, seed and default rays per pixel */
+    rc = run_cmd("%s %s --probes %s --mode lightfield --screenshot %s --size 200x150 --hidden > /dev/null 2>&1", g_view,
+                 svo, probes, a);
+    REQUIRE(rc == 0);
+    rc = run_cmd("%s %s %s --probes %s --mode lightfield --size 200x150 > /dev/null 2>&1", g_render, svo, b, probes);
+    REQUIRE(rc == 0);
+    d = image_diff(a, b);
+    CHECKF(d <= 0.01, "mode lightfield: %.2f%% of pixels differ from svo_render", d * 100);
+    fprintf(stderr, "  mode lightfield: %.3f%% of pixels differ from svo_render\n", d * 100);
+    rc = run_cmd("%s %s %s --probes %s --mode gi --size 200x150 > /dev/null 2>&1", g_render, svo, b, probes);
+    REQUIRE(rc == 0);
     /* and it is not the colour mode (probes loaded, mode colour: nothing of gi) */
     rc = run_cmd("%s %s --probes %s --screenshot %s --size 200x150 --hidden > /dev/null 2>&1", g_view, svo, probes, c);
     REQUIRE(rc == 0);

@@ -29,7 +29,8 @@ typedef struct options {
     uint32_t width, height; /* render size; 0 == the window's framebuffer */
     uint32_t win_w, win_h;
     vx_render_mode mode;
-    bool gi;            /* --mode gi: direct light + probe GI (needs probes) */
+    bool gi;            /* --mode gi|lightfield: a probe mode (needs probes) */
+    vx_probe_render_mode pmode;
     const char* probes; /* light field probes from svo_bake */
     double fov;
     const char* device;
@@ -59,10 +60,12 @@ _Noreturn static void usage(int status) {
             "                          (.exr keeps float data, as svo_render writes it)\n"
             "    --size WxH            render size (default: the window's framebuffer)\n"
             "    --window WxH          window size (default: %ux%u, or --size)\n"
-            "    --mode M              color|albedo|normal|depth|instance|iterations, or gi with --probes\n"
+            "    --mode M              color|albedo|normal|depth|instance|iterations, or gi|lightfield\n"
+            "                          with --probes\n"
             "                          (default: %s)\n"
             "    --probes FILE         light field probes from svo_bake: mode gi (key 7) shows direct light\n"
-            "                          plus the probes' diffuse GI, exactly as svo_render --mode gi\n"
+            "                          plus the probes' diffuse GI, mode lightfield (key 8) one bounce\n"
+            "                          traced through them, exactly as svo_render does\n"
             "    --fov DEG             vertical field of view (default: %g)\n"
             "    --script FILE         play commands from FILE (see below)\n"
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
@@ -78,7 +81,7 @@ _Noreturn static void usage(int status) {
             "    -v, --verbose         print the effective options and timings\n"
             "    -h, --help            print this help and exit;  --version: versions\n"
             "Keys: WASD/Q/E fly, right mouse look, wheel speed (orbit: zoom), O orbit, F frame the\n"
-            "      selection or scene, 1-6 modes (7: gi, with probes), V vsync, Tab overlay,\n"
+            "      selection or scene, 1-6 modes (7: gi, 8: lightfield, with probes), V vsync, Tab overlay,\n"
             "      P screenshot; click picks;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
@@ -135,9 +138,10 @@ static options parse(int argc, char** argv) {
             window_set = true;
         } else if (!strcmp(a, "--mode")) {
             const char* m = need_arg(argc, argv, &i);
-            o.gi = !strcmp(m, "gi");
+            o.gi = !strcmp(m, "gi") || !strcmp(m, "lightfield");
+            if (o.gi) vx_probe_render_mode_parse(m, &o.pmode);
             if (!o.gi && !vx_render_mode_parse(m, &o.mode))
-                usage_error("unknown mode '%s' (color|albedo|normal|depth|instance|iterations|gi)", m);
+                usage_error("unknown mode '%s' (color|albedo|normal|depth|instance|iterations|gi|lightfield)", m);
         } else if (!strcmp(a, "--probes")) {
             o.probes = need_arg(argc, argv, &i);
         } else if (!strcmp(a, "--fov")) {
@@ -162,7 +166,7 @@ static options parse(int argc, char** argv) {
     if (!o.in) usage_error("%s", "no input file given");
     if (o.screenshot && o.script) usage_error("%s", "--screenshot and --script conflict (use the script's screenshot command)");
     if (o.screenshot && o.bench) usage_error("%s", "--screenshot and --bench conflict");
-    if (o.gi && !o.probes) usage_error("%s", "mode gi needs --probes FILE");
+    if (o.gi && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.pmode));
     if (o.screenshot) {
         const char* ext = vx_tool_ext(o.screenshot);
         if (strcmp(ext, "png") && strcmp(ext, "exr")) usage_error("screenshot '%s' must end in .png or .exr", o.screenshot);
@@ -194,7 +198,8 @@ typedef struct app {
     bool orbit;
     double orbit_center[3], orbit_dist;
     vx_render_mode mode;
-    bool gi; /* mode gi: replaces `mode` while probes are loaded */
+    bool gi; /* a probe mode (gi, lightfield): replaces `mode` while probes are loaded */
+    vx_probe_render_mode pmode;
     bool overlay;
     /* light field probes (mode gi); nothing of them is touched while none are loaded */
     vx_probe_set probes;
@@ -242,7 +247,9 @@ static void message(app* a, bool error, const char* fmt, ...) {
     fprintf(error ? stderr : stdout, "%s: %s\n", vx_tool_name, a->msg);
 }
 
-static const char* mode_name(const app* a) { return a->gi ? "gi" : vx_render_mode_name(a->mode); }
+static const char* mode_name(const app* a) {
+    return a->gi ? vx_probe_render_mode_name(a->pmode) : vx_render_mode_name(a->mode);
+}
 
 /* Reads a complete probe set; the current one stays on failure. */
 static vx_result load_probes(app* a, const char* path, vx_error* err) {
@@ -278,12 +285,14 @@ static void do_probes(app* a, const char* path) {
 }
 
 /* Mode gi is only offered with probes loaded; otherwise a message, and the mode stays. */
-static void set_gi(app* a) {
+static void set_probe_mode(app* a, vx_probe_render_mode m) {
     if (!a->have_probes) {
-        message(a, true, "mode gi needs light field probes (--probes FILE, or the script command probes FILE)");
+        message(a, true, "mode %s needs light field probes (--probes FILE, or the script command probes FILE)",
+                vx_probe_render_mode_name(m));
         return;
     }
     a->gi = true;
+    a->pmode = m;
 }
 
 static void world_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]) {
@@ -676,7 +685,7 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     if (a->have_probes) {
         const vx_probe_set* ps = &a->probes;
         snprintf(buf[nl], sizeof buf[0], "probes: %ux%ux%u grid (%u probes, res %u, %u bounces)%s", ps->grid[0],
-                 ps->grid[1], ps->grid[2], ps->probe_count, ps->res, ps->bounces, a->gi ? "" : "  7: gi");
+                 ps->grid[1], ps->grid[2], ps->probe_count, ps->res, ps->bounces, a->gi ? "" : "  7: gi  8: lightfield");
         lines[nl] = buf[nl], nl++;
     }
     if (a->sel != NO_SEL) {
@@ -718,13 +727,13 @@ static vx_result frame(app* a, vx_error* err) {
     vx_render_desc d = {.width = w, .height = h, .mode = a->mode, .camera = camera_desc(a), .want_hits = a->pick_pending};
     vx_render_image pick_img = {0}; /* gi frames carry no hit records: a pick traces its own */
     if (a->rs && a->gi) {
-        /* svo_render --mode gi: its default spp, seed and bounces, the probes' light */
+        /* svo_render --mode gi|lightfield: its default spp, seed and bounces, the probes' light */
         vx_render_desc base = {.width = w, .height = h, .camera = d.camera};
-        vx_probe_render_desc pd = {.base = &base, .mode = VX_PROBE_RENDER_GI};
+        vx_probe_render_desc pd = {.base = &base, .mode = a->pmode};
         vx_result r = vx_probe_render_gpu(a->rs, &a->scene, &a->probes, &pd, &a->img, err);
         if (r && (a->o.screenshot || a->o.bench)) return r;
         if (r) {
-            message(a, true, "mode gi: %s", err->msg);
+            message(a, true, "mode %s: %s", vx_probe_render_mode_name(a->pmode), err->msg);
             a->gi = false;
         } else if (a->pick_pending && (r = vx_render_frame(a->rs, &d, &pick_img, err))) {
             return r;
@@ -846,7 +855,8 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
         return;
     }
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) a->mode = (vx_render_mode)(key - GLFW_KEY_1), a->gi = false;
-    else if (key == GLFW_KEY_7) set_gi(a);
+    else if (key == GLFW_KEY_7) set_probe_mode(a, VX_PROBE_RENDER_GI);
+    else if (key == GLFW_KEY_8) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
     else if (key == GLFW_KEY_V) vp_set_vsync(a->p, !vp_vsync(a->p));
     else if (key == GLFW_KEY_TAB) a->overlay = !a->overlay;
     else if (key == GLFW_KEY_F) do_frame(a);
@@ -1019,7 +1029,8 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         if (nt != 2) BAD();
         a->orbit = !strcmp(tok[1], "on");
     } else if (!strcmp(c, "mode")) {
-        if (nt == 2 && !strcmp(tok[1], "gi")) set_gi(a);
+        if (nt == 2 && !strcmp(tok[1], "gi")) set_probe_mode(a, VX_PROBE_RENDER_GI);
+        else if (nt == 2 && !strcmp(tok[1], "lightfield")) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
         else if (nt != 2 || !vx_render_mode_parse(tok[1], &a->mode)) BAD();
         else a->gi = false;
     } else if (!strcmp(c, "probes") && nt == 2) {
@@ -1193,6 +1204,7 @@ int main(int argc, char** argv) {
     a.sel = NO_SEL;
     a.mode = a.o.mode;
     a.gi = a.o.gi;
+    a.pmode = a.o.pmode;
     a.overlay = true;
     if (a.o.verbose)
         printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, mode_name(&a), a.o.fov,
