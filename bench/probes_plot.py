@@ -2,17 +2,18 @@
 """Plots bench/probes_error.sh output as an SVG (no dependencies). One panel
 per scene: relative MSE of the indirect diffuse light (log) against render
 time (log): the path tracer (1..256 spp), the light field (1..256 rays per
-pixel, one line per bake) and probe GI (one point per bake); a last panel:
-probe GI's error against bake time. The dotted line is the 5% relative RMSE
+pixel, one line per bake) and probe GI (1, 4, 16 samples per pixel, one line
+per bake); a last panel:
+probe GI's error (16 jittered samples per pixel) against bake time. The dotted line is the 5% relative RMSE
 goal (relMSE 0.0025).
 Usage: probes_plot.py RESULTS.txt OUT.svg"""
 import math
 import sys
 
-scenes = []  # (name, {'pt': [(t, e)], 'gi': [(bake, t, e, label)], 'lf': {bake label: [(t, e)]}})
+scenes = []  # (name, {'pt': [(t, e)], 'gi': {bake label: [(bake s, t, e)]}, 'lf': {bake label: [(t, e)]}})
 for line in open(sys.argv[1]):
     if line.startswith('## '):
-        scenes.append((line[3:].split(' (')[0].strip(), {'pt': [], 'gi': [], 'lf': {}}))
+        scenes.append((line[3:].split(' (')[0].strip(), {'pt': [], 'gi': {}, 'lf': {}}))
         continue
     if not line.startswith('|') or not scenes or '---' in line or '| scene |' in line:
         continue
@@ -21,8 +22,8 @@ for line in open(sys.argv[1]):
     d = scenes[-1][1]
     if method == 'pathtrace':
         d['pt'].append((secs, rel))
-    elif method == 'gi':
-        d['gi'].append((float(bake), secs, rel, f'{probes} probes R{res} {spp}spp'))
+    elif method.startswith('gi'):
+        d['gi'].setdefault(f'{probes} probes R{res} {spp}spp', []).append((float(bake), secs, rel))
     elif method.startswith('lightfield'):
         d['lf'].setdefault(f'{probes} probes R{res} {spp}spp', []).append((secs, rel))
 
@@ -68,28 +69,34 @@ FLOOR = 2e-5  # render times below the timer's resolution are drawn here
 for i, (name, d) in enumerate(scenes):
     x0 = i * (PW + M + 15)
     xs = [max(t, FLOOR) for t, _ in d['pt']] + [max(t, FLOOR) for v in d['lf'].values() for t, _ in v] + \
-         [max(t, FLOOR) for _, t, _, _ in d['gi']]
-    ys = [e for _, e in d['pt']] + [e for v in d['lf'].values() for _, e in v] + [e for _, _, e, _ in d['gi']]
+         [max(t, FLOOR) for v in d['gi'].values() for _, t, _ in v]
+    ys = [e for _, e in d['pt']] + [e for v in d['lf'].values() for _, e in v] + \
+         [e for v in d['gi'].values() for _, _, e in v]
     X, Y = axes(x0, name, 'render seconds (GPU)', xs, [y for y in ys if y > 0])
     for k, pts in enumerate(d['lf'].values()):
         line(X, Y, [(max(t, FLOOR), e) for t, e in pts], '#2ca02c', 1.0, '4 2')
     line(X, Y, [(max(t, FLOOR), e) for t, e in d['pt']], '#1f77b4', 2.2)
-    for _, t, e, _ in d['gi']:
-        svg.append(f'<rect x="{X(max(t, FLOOR)) - 3:.1f}" y="{Y(e) - 3:.1f}" width="6" height="6" fill="#d62728"/>')
+    for pts in d['gi'].values():
+        line(X, Y, [(max(t, FLOOR), e) for _, t, e in pts], '#d62728', 1.0)
+        for _, t, e in pts:
+            svg.append(f'<rect x="{X(max(t, FLOOR)) - 3:.1f}" y="{Y(e) - 3:.1f}" width="6" height="6" fill="#d62728"/>')
 
 x0 = len(scenes) * (PW + M + 15)
 colours = ['#d62728', '#9467bd', '#8c564b', '#e377c2']
-bx = [b for _, d in scenes for b, _, _, _ in d['gi']]
-by = [e for _, d in scenes for _, _, e, _ in d['gi']]
+# the bake-time panel uses each bake's best-sampled GI render (16 spp)
+best = [(i, v[-1]) for i, (_, d) in enumerate(scenes) for v in d['gi'].values()]
+bx = [b for _, (b, _, _) in best]
+by = [e for _, (_, _, e) in best]
 if bx:
     X, Y = axes(x0, 'probe GI against bake time', 'bake seconds (GPU machine)', bx, by)
-    for i, (name, d) in enumerate(scenes):
+    for i, (b, _, e) in best:
+        svg.append(f'<circle cx="{X(b):.1f}" cy="{Y(e):.1f}" r="3.5" fill="{colours[i % len(colours)]}"/>')
+    for i, (name, _) in enumerate(scenes):
         c = colours[i % len(colours)]
-        for b, _, e, _ in d['gi']:
-            svg.append(f'<circle cx="{X(b):.1f}" cy="{Y(e):.1f}" r="3.5" fill="{c}"/>')
-        svg.append(f'<text x="{x0 + M + 8}" y="{M + 14 + 13 * i}" fill="{c}">{name}</text>')
+        svg.append(f'<rect x="{x0 + M + 8}" y="{M + 6 + 14 * i}" width="9" height="9" fill="{c}"/>')
+        svg.append(f'<text x="{x0 + M + 21}" y="{M + 14 + 14 * i}">{name}</text>')
 legend = [('#1f77b4', 'path tracing 1..256 spp'), ('#2ca02c', 'light field 1..256 rays/pixel (one line per bake)'),
-          ('#d62728', 'probe GI (one square per bake)'), ('#000', 'dotted: 5% relative RMSE')]
+          ('#d62728', 'probe GI 1, 4, 16 spp (one line per bake)'), ('#000', 'dotted: 5% relative RMSE')]
 for i, (c, t) in enumerate(legend):
     svg.append(f'<rect x="{M + i * 260}" y="{H - 16}" width="10" height="10" fill="{c}"/>')
     svg.append(f'<text x="{M + i * 260 + 14}" y="{H - 7}">{t}</text>')
