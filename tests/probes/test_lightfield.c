@@ -13,38 +13,22 @@
 
 static double rnd(uint32_t* s) { return (ts_rng(s) >> 8) * (1.0 / 16777216.0); }
 
-/* A closed 16^3 box with a pillar and a floating slab inside: every probe
- * sees depth discontinuities. */
+/* A closed 16^3 box (5) with a pillar (6) and a floating slab (7) inside:
+ * every probe sees depth discontinuities. */
+static uint8_t pillar_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1) return 5;
+    if (x >= 6 && x < 8 && y >= 5 && y < 8) return 6;
+    return (z == 9 && x >= 9 && x < 13 && y >= 3 && y < 12) ? 7 : 0;
+}
+
 static void pillar_scene(vx_svo_scene* s) {
-    uint32_t n = 16, k = 0;
-    uint32_t* xyz = malloc((size_t)n * n * n * 12);
-    uint8_t* pal = malloc((size_t)n * n * n);
-    for (uint32_t z = 0; z < n; z++)
-        for (uint32_t y = 0; y < n; y++)
-            for (uint32_t x = 0; x < n; x++) {
-                uint8_t c = 0;
-                if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1) c = 5;
-                else if (x >= 6 && x < 8 && y >= 5 && y < 8) c = 6;
-                else if (z == 9 && x >= 9 && x < 13 && y >= 3 && y < 12) c = 7;
-                if (!c) continue;
-                xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z;
-                pal[k++] = c;
-            }
-    vx_svo_model m;
-    uint32_t size[3] = {n, n, n};
-    ts_model(&m, size, xyz, pal, k);
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(s, &m, 1, &in, 1);
+    cells_scene(s, 16, pillar_cell);
     s->palette[5] = 0xFFC0C0C0u, s->palette[6] = 0xFF2060C0u, s->palette[7] = 0xFFC06020u;
-    free(xyz);
-    free(pal);
 }
 
 static bool pillar_solid(int x, int y, int z) {
     if (x < 0 || y < 0 || z < 0 || x > 15 || y > 15 || z > 15) return false;
-    if (!x || !y || !z || x == 15 || y == 15 || z == 15) return true;
-    if (x >= 6 && x < 8 && y >= 5 && y < 8) return true;
-    return z == 9 && x >= 9 && x < 13 && y >= 3 && y < 12;
+    return pillar_cell((uint32_t)x, (uint32_t)y, (uint32_t)z, 16) != 0;
 }
 
 /* Distance from p to the nearest solid voxel of the pillar scene (brute force). */

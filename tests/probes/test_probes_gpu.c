@@ -181,6 +181,26 @@ static void test_gpu_vs_cpu_bake(void) {
 }
 
 /* GPU gi vs CPU gi per pixel (same probes); GPU vs CPU path tracer by image statistics. */
+/* A GPU (g) and a CPU (c) Monte Carlo image with different random streams
+ * estimate the same image: equal means, and a difference no larger than
+ * between two CPU images of different seeds (c, c2). */
+static void same_estimate(const char* what, const vx_render_image* c, const vx_render_image* g,
+                          const vx_render_image* c2) {
+    double mc = 0, mg = 0, se_g = 0, se_c = 0;
+    size_t n = (size_t)c->width * c->height * 4;
+    for (size_t i = 0; i < n; i++) {
+        if (i % 4 == 3) continue;
+        mc += c->pixels[i], mg += g->pixels[i];
+        se_g += (c->pixels[i] - g->pixels[i]) * (c->pixels[i] - g->pixels[i]);
+        se_c += (c->pixels[i] - c2->pixels[i]) * (c->pixels[i] - c2->pixels[i]);
+    }
+    fprintf(stderr, "  %s: mean GPU/CPU %.4f, RMSE GPU-CPU %.4f vs CPU-CPU (other seed) %.4f\n", what, mg / mc,
+            sqrt(se_g / n), sqrt(se_c / n));
+    CHECK(mc > 0);
+    CHECK(fabs(mg / mc - 1) < 0.03);
+    CHECK(sqrt(se_g / n) < 1.25 * sqrt(se_c / n));
+}
+
 static void test_gpu_render(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -229,18 +249,7 @@ static void test_gpu_render(void) {
     vx_render_image c2 = {0};
     rd.seed = 77;
     REQUIRE(vx_probe_render(&s, &ps, &rd, &c2, &err) == VX_OK);
-    double mc = 0, mg = 0, se_g = 0, se_c = 0;
-    size_t n = (size_t)32 * 24 * 4;
-    for (size_t i = 0; i < n; i++) {
-        if (i % 4 == 3) continue;
-        mc += c.pixels[i], mg += g.pixels[i];
-        se_g += (c.pixels[i] - g.pixels[i]) * (c.pixels[i] - g.pixels[i]);
-        se_c += (c.pixels[i] - c2.pixels[i]) * (c.pixels[i] - c2.pixels[i]);
-    }
-    fprintf(stderr, "  pathtrace 32 spp: mean GPU/CPU %.4f, RMSE GPU-CPU %.4f vs CPU-CPU (other seed) %.4f\n", mg / mc,
-            sqrt(se_g / n), sqrt(se_c / n));
-    CHECK(fabs(mg / mc - 1) < 0.03);
-    CHECK(sqrt(se_g / n) < 1.25 * sqrt(se_c / n));
+    same_estimate("pathtrace 32 spp", &c, &g, &c2);
     vx_render_image_free(&c), vx_render_image_free(&g), vx_render_image_free(&c2);
     vx_probe_set_free(&ps);
     vx_render_scene_destroy(rs);
@@ -271,19 +280,7 @@ static void test_gpu_lightfield(void) {
         REQUIRE(r == VX_OK);
         rd.seed = 77;
         REQUIRE(vx_probe_render(&s, &ps, &rd, &c2, &err) == VX_OK);
-        double mc = 0, mg = 0, se_g = 0, se_c = 0;
-        size_t n = (size_t)32 * 24 * 4;
-        for (size_t i = 0; i < n; i++) {
-            if (i % 4 == 3) continue;
-            mc += c.pixels[i], mg += g.pixels[i];
-            se_g += (c.pixels[i] - g.pixels[i]) * (c.pixels[i] - g.pixels[i]);
-            se_c += (c.pixels[i] - c2.pixels[i]) * (c.pixels[i] - c2.pixels[i]);
-        }
-        fprintf(stderr, "  %s 32 spp: mean GPU/CPU %.4f, RMSE GPU-CPU %.4f vs CPU-CPU (other seed) %.4f\n",
-                vx_probe_render_mode_name(modes[mi]), mg / mc, sqrt(se_g / n), sqrt(se_c / n));
-        CHECK(mc > 0);
-        CHECK(fabs(mg / mc - 1) < 0.03);
-        CHECK(sqrt(se_g / n) < 1.25 * sqrt(se_c / n));
+        same_estimate(vx_probe_render_mode_name(modes[mi]), &c, &g, &c2);
         vx_render_image_free(&c), vx_render_image_free(&g), vx_render_image_free(&c2);
     }
     vx_probe_set_free(&ps);
