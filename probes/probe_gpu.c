@@ -33,6 +33,7 @@ typedef struct gctx {
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + 1];
     vx__buffer params, emit, probes, out, maps, lf;
+    const vx__buffer *maps_in, *lf_in; /* a vx_probe_gpu's maps, else maps and lf */
 } gctx;
 
 static void ctx_free(gctx* c) {
@@ -40,10 +41,13 @@ static void ctx_free(gctx* c) {
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(c->g, b[i]);
 }
 
-static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t size, const char* label, vx_error* err) {
-    vx_result r = vx__buffer_create(c->g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
-    if (!r && data) r = vx__buffer_upload(c->g, b, data, size, err);
+static vx_result upload_to(vx_gpu* g, vx__buffer* b, const void* data, size_t size, const char* label, vx_error* err) {
+    vx_result r = vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+    if (!r && data) r = vx__buffer_upload(g, b, data, size, err);
     return r;
+}
+static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t size, const char* label, vx_error* err) {
+    return upload_to(c->g, b, data, size, label, err);
 }
 
 /* Binds the scene relative to f->ref and uploads the emission per attribute
@@ -124,7 +128,8 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 13, .groups = {gx, gy, 1}, .label = "probe"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = c->scene[i];
     dd.buffers[7] = &c->params, dd.buffers[8] = &c->emit, dd.buffers[9] = &c->probes, dd.buffers[10] = &c->out;
-    dd.buffers[11] = &c->maps, dd.buffers[12] = &c->lf;
+    dd.buffers[11] = (vx__buffer*)(c->maps_in ? c->maps_in : &c->maps);
+    dd.buffers[12] = (vx__buffer*)(c->lf_in ? c->lf_in : &c->lf);
     return vx__dispatch(c->g, &dd, seconds, err);
 }
 
@@ -274,15 +279,28 @@ vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, cons
 
 /* ---- rendering ------------------------------------------------------------------------ */
 
+/* The probe maps on the GPU, kept between frames (irradiance and moments at
+ * once, the light field maps at the first light field frame). */
+struct vx_probe_gpu {
+    vx_render_scene* rs;
+    const vx_svo_scene* scene;
+    const vx_probe_set* ps; /* NULL: path tracer only (a part of a set: its light only) */
+    bool complete;          /* ps holds every probe: the probe modes can use it */
+    vx_gpu* g;
+    vx__buffer maps, lf;
+    uint32_t lf_words; /* 0 until the light field maps are uploaded */
+};
+
 /* Packs the maps the light field walk reads (layout: LfMaps in probe.comp). */
-static vx_result upload_lightfield(gctx* c, const vx_probe_set* ps, uint32_t* words_per_probe, vx_error* err) {
+static vx_result upload_lightfield(vx_probe_gpu* pg, vx_error* err) {
+    const vx_probe_set* ps = pg->ps;
     size_t nb = vx__bsq(ps->res), lb = vx__bsq(ps->low_res);
     size_t dw = (nb + 1) / 2, lw = (lb + 1) / 2, nw = nb, rw = (nb * 3 + 1) / 2, per = dw + lw + nw + rw;
     if (per > UINT32_MAX / 4 || ps->probe_count > SIZE_MAX / 4 / per)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u probes at %u: too large for the GPU", ps->probe_count,
                        ps->res);
     size_t total = per * ps->probe_count;
-    uint32_t* w = vx_calloc(c->alloc, total, 4);
+    uint32_t* w = vx_calloc(ps->alloc, total, 4);
     if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the light field (%zu bytes)", total * 4);
     for (size_t k = 0; k < ps->probe_count; k++) {
         uint32_t* b = w + per * k;
@@ -292,21 +310,62 @@ static vx_result upload_lightfield(gctx* c, const vx_probe_set* ps, uint32_t* wo
         memcpy(b + dw + lw, ps->normal + nb * k, nb * 4);
         memcpy((uint16_t*)(b + dw + lw + nw), ps->radiance + nb * 3 * k, nb * 3 * 2);
     }
-    vx_result r = upload_new(c, &c->lf, w, total * 4, "probe light field", err);
-    vx_free(c->alloc, w);
-    *words_per_probe = (uint32_t)per;
+    vx_result r = upload_to(pg->g, &pg->lf, w, total * 4, "probe light field", err);
+    vx_free(ps->alloc, w);
+    if (!r) pg->lf_words = (uint32_t)per;
     return r;
 }
 
-vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,
-                              const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err) {
+vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps, vx_probe_gpu** out,
+                              vx_error* err) {
     if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
+    const vx_allocator* a = ps ? ps->alloc : NULL;
+    vx_probe_gpu* pg = vx_calloc(a, 1, sizeof *pg);
+    if (!pg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    *pg = (vx_probe_gpu){.rs = rs, .scene = s, .ps = ps, .g = vx__render_scene_gpu(rs),
+                         .complete = ps && ps->first == 0 && ps->count == ps->probe_count};
+    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2, nmaps = 4;
+    float* maps = NULL;
+    if (pg->complete) {
+        nmaps = (ni + nm) * ps->probe_count;
+        maps = vx_alloc(a, nmaps * sizeof(float));
+        if (!maps) {
+            vx_free(a, pg);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes' maps", ps->probe_count);
+        }
+        for (size_t i = 0; i < ni * ps->probe_count; i++) maps[i] = vx_probe_half_to_float(ps->irradiance[i]);
+        memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
+    }
+    vx_result r = upload_to(pg->g, &pg->maps, maps, nmaps * sizeof(float), "probe maps", err);
+    vx_free(a, maps);
+    if (!r) r = upload_to(pg->g, &pg->lf, NULL, 16, "probe light field", err); /* until a light field frame */
+    if (r) {
+        vx_probe_gpu_destroy(pg);
+        return r;
+    }
+    *out = pg;
+    return VX_OK;
+}
+
+void vx_probe_gpu_destroy(vx_probe_gpu* pg) {
+    if (!pg) return;
+    vx__buffer_destroy(pg->g, &pg->maps);
+    vx__buffer_destroy(pg->g, &pg->lf);
+    vx_free(pg->ps ? pg->ps->alloc : NULL, pg);
+}
+
+vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out,
+                              vx_error* err) {
+    if (!pg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    const vx_svo_scene* s = pg->scene;
+    const vx_probe_set* ps = pg->ps;
     vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
     if ((unsigned)d.mode >= VX_PROBE_RENDER_MODE_COUNT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
     bool lf = d.mode == VX_PROBE_RENDER_LIGHTFIELD || d.mode == VX_PROBE_RENDER_LF_INDIRECT;
     bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT || lf;
-    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
+    if (need_probes && !pg->complete)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
                        vx_probe_render_mode_name(d.mode));
     vx_render_desc base = d.base ? *d.base : (vx_render_desc){0};
@@ -327,35 +386,24 @@ vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const 
     }
     uint32_t spp = d.spp ? d.spp : (need_probes && !lf ? 1 : 16);
     uint32_t bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
+    if (lf && !pg->lf_words) {
+        vx__buffer_destroy(pg->g, &pg->lf);
+        if ((r = upload_lightfield(pg, err))) {
+            upload_to(pg->g, &pg->lf, NULL, 16, "probe light field", NULL); /* keep a valid placeholder */
+            return r;
+        }
+    }
     gctx c;
-    float* maps = NULL;
-    const vx_allocator* a = ps ? ps->alloc : NULL;
-    if ((r = ctx_init(&c, rs, s, &f, need_probes ? ps : NULL, &L, err))) goto done;
+    if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &L, err))) goto done;
+    c.maps_in = &pg->maps, c.lf_in = &pg->lf;
     size_t npx = (size_t)f.width * f.height;
     if ((r = vx__buffer_create(c.g, npx * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)))
         goto done;
-    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2, nmaps = 4;
-    if (need_probes) {
-        nmaps = (ni + nm) * ps->probe_count;
-        maps = vx_alloc(a, nmaps * sizeof(float));
-        if (!maps) {
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes' maps", ps->probe_count);
-            goto done;
-        }
-        for (size_t i = 0; i < ni * ps->probe_count; i++) maps[i] = vx_probe_half_to_float(ps->irradiance[i]);
-        memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
-    }
-    if ((r = upload_new(&c, &c.maps, maps, nmaps * sizeof(float), "probe maps", err))) goto done;
-    uint32_t lf_words = 0;
-    if (lf) {
-        vx__buffer_destroy(c.g, &c.lf);
-        if ((r = upload_lightfield(&c, ps, &lf_words, err))) goto done;
-    }
     gpu_params* p = c.params.map;
     params_common(p, &L, d.seed);
     if (need_probes) params_grid(p, ps, f.ref);
     if (lf) {
-        p->lf[0] = ps->res, p->lf[1] = ps->low_res, p->lf[2] = lf_words;
+        p->lf[0] = ps->res, p->lf[1] = ps->low_res, p->lf[2] = pg->lf_words;
         for (int k = 0; k < 3; k++) p->lf_lo[k] = (float)(lo[k] - f.ref[k]), p->lf_hi[k] = (float)(hi[k] - f.ref[k]);
         p->lf_lo[3] = (float)ps->dist_step;
     }
@@ -378,7 +426,24 @@ vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const 
     img.rays = (uint64_t)npx * spp;
     *out = img;
 done:
-    vx_free(a, maps);
     ctx_free(&c);
+    return r;
+}
+
+vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,
+                              const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err) {
+    if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_probe_render_mode m = desc ? desc->mode : VX_PROBE_RENDER_GI;
+    bool need_probes = m != VX_PROBE_RENDER_PATHTRACE && m != VX_PROBE_RENDER_PT_INDIRECT;
+    /* checked before any upload: a path tracer frame needs only the probes' light */
+    if ((unsigned)m >= VX_PROBE_RENDER_MODE_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
+                       vx_probe_render_mode_name(m));
+    vx_probe_gpu* pg;
+    vx_result r = vx_probe_gpu_create(rs, s, ps, &pg, err);
+    if (r) return r;
+    r = vx_probe_gpu_render(pg, desc, out, err);
+    vx_probe_gpu_destroy(pg);
     return r;
 }

@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "probes/probes.h"
 #include "tests/probes/probe_scenes.h"
@@ -283,6 +284,34 @@ static void test_gpu_lightfield(void) {
         same_estimate(vx_probe_render_mode_name(modes[mi]), &c, &g, &c2);
         vx_render_image_free(&c), vx_render_image_free(&g), vx_render_image_free(&c2);
     }
+    /* maps kept on the GPU across frames and modes give the same images as
+     * one-off renders, byte for byte */
+    vx_probe_gpu* pg = NULL;
+    REQUIRE(vx_probe_gpu_create(rs, &s, &ps, &pg, &err) == VX_OK);
+    const vx_probe_render_mode seq[4] = {VX_PROBE_RENDER_GI, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_GI,
+                                         VX_PROBE_RENDER_PATHTRACE};
+    for (int i = 0; i < 4; i++) {
+        vx_render_image a = {0}, b = {0};
+        vx_probe_render_desc rd = {.base = &base, .mode = seq[i], .spp = 4};
+        REQUIRE(vx_probe_gpu_render(pg, &rd, &a, &err) == VX_OK);
+        REQUIRE(vx_probe_render_gpu(rs, &s, &ps, &rd, &b, &err) == VX_OK);
+        CHECK(!memcmp(a.pixels, b.pixels, (size_t)32 * 24 * 16));
+        vx_render_image_free(&a), vx_render_image_free(&b);
+    }
+    vx_probe_gpu_destroy(pg);
+    /* a shard renders the path tracer (its light) but not the probe modes */
+    vx_probe_set part;
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.spacing = 3, .res = 16, .spp = 1, .count = 2}, &part, &err) ==
+            VX_OK);
+    REQUIRE(vx_probe_gpu_create(rs, &s, &part, &pg, &err) == VX_OK);
+    vx_render_image a = {0};
+    CHECK(vx_probe_gpu_render(pg, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_LIGHTFIELD}, &a,
+                              &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_probe_gpu_render(pg, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 1},
+                              &a, &err) == VX_OK);
+    vx_render_image_free(&a);
+    vx_probe_gpu_destroy(pg);
+    vx_probe_set_free(&part);
     vx_probe_set_free(&ps);
     vx_render_scene_destroy(rs);
     vx_svo_scene_free(&s);

@@ -203,6 +203,7 @@ typedef struct app {
     bool overlay;
     /* light field probes (mode gi); nothing of them is touched while none are loaded */
     vx_probe_set probes;
+    vx_probe_gpu* probes_gpu; /* their maps on the GPU for rs (made at the first probe frame) */
     bool have_probes;
     char probes_path[1024];
     uint32_t validation_errors;
@@ -267,6 +268,8 @@ static vx_result load_probes(app* a, const char* path, vx_error* err) {
         vx_probe_set_free(&ps);
         return r;
     }
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
     if (a->have_probes) vx_probe_set_free(&a->probes);
     a->probes = ps;
     a->have_probes = true;
@@ -372,6 +375,8 @@ static vx_render_camera camera_desc(const app* a) {
 
 static void rebuild(app* a) {
     double t0 = vx_time_now();
+    vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
+    a->probes_gpu = NULL;
     vx_render_scene_destroy(a->rs);
     a->rs = NULL;
     vx_error err = {0};
@@ -730,7 +735,10 @@ static vx_result frame(app* a, vx_error* err) {
         /* svo_render --mode gi|lightfield: its default spp, seed and bounces, the probes' light */
         vx_render_desc base = {.width = w, .height = h, .camera = d.camera};
         vx_probe_render_desc pd = {.base = &base, .mode = a->pmode};
-        vx_result r = vx_probe_render_gpu(a->rs, &a->scene, &a->probes, &pd, &a->img, err);
+        /* the probe maps stay on the GPU between frames (light field maps: up to
+         * hundreds of MB) until the scene is rebuilt or other probes load */
+        vx_result r = a->probes_gpu ? VX_OK : vx_probe_gpu_create(a->rs, &a->scene, &a->probes, &a->probes_gpu, err);
+        if (!r) r = vx_probe_gpu_render(a->probes_gpu, &pd, &a->img, err);
         if (r && (a->o.screenshot || a->o.bench)) return r;
         if (r) {
             message(a, true, "mode %s: %s", vx_probe_render_mode_name(a->pmode), err->msg);
@@ -1258,6 +1266,7 @@ int main(int argc, char** argv) {
     status = run(&a);
 done:
     vx_render_image_free(&a.img);
+    vx_probe_gpu_destroy(a.probes_gpu);
     vx_render_scene_destroy(a.rs);
     uint32_t gpu_errors = vx_gpu_validation_errors(a.gpu);
     vx_gpu_destroy(a.gpu);
