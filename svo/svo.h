@@ -262,7 +262,11 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
 /* Serialises a scene (validated first). *out_data is freed with vx_free(alloc, ...). */
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);
-/* Writes through a temporary file and a rename: no partial output on failure. */
+/* Writes the same bytes as vx_svo_write, streamed: the sections go to a
+ * scratch file beside the output as they are made (never the whole file in
+ * memory), then a temporary file gets the header and the sections and is
+ * renamed into place. No partial output and no scratch file is left on
+ * failure; errors name the path. */
 vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err);
 
 /* Section table of a file, for svo_info. */

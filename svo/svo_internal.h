@@ -109,7 +109,17 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
 /* NODE section payload for all models of s (validated), and its inverse,
  * which fills the words and records of s's models from their declared
  * counts (node_count, attr_count, root, root_attr as read from SCNE). */
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A);
+/* Where a writer can send what it has produced so far: flush() consumes
+ * out->data[0, out->size) and empties it (out->size = 0); false on failure. */
+typedef struct vx__svo_sink {
+    bool (*flush)(void* user, vx_buf* out);
+    void* user;
+} vx__svo_sink;
+/* Appends the NODE section to out; with a sink, out is flushed between model
+ * streams whenever it holds vx__svo_flush_bytes or more (sink NULL: all in
+ * memory). The threshold is 16 MB; tests lower it to flush after every model. */
+extern size_t vx__svo_flush_bytes;
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, const vx__svo_sink* sink);
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err);
 
 /* Test-only (like vx__svo_far_limit): the writer skips validation and the

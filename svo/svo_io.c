@@ -5,9 +5,12 @@
  * small scene costs a few dozen bytes; node words and attribute records are
  * range-coded in NODE (svo_pack.c), mostly as the bare DAG structure. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "svo/svo_internal.h"
 
@@ -829,75 +832,105 @@ static bool write_matl(vx_buf* b, const vx_svo_scene* s, const vx_allocator* A) 
     return ok;
 }
 
-vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
-                       vx_error* err) {
-    if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
+/* What a writer needs before producing sections: the validated scene's
+ * model extents (for SCNE's bounds) and the sections to write, in order. */
+typedef struct wplan {
+    vx__svo_extent* ext;
+    int order[S_COUNT], ns;
+    uint64_t sizes[S_COUNT];
+    uint32_t flags[S_COUNT], crcs[S_COUNT];
+} wplan;
+
+static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, wplan* w, vx_error* err) {
+    memset(w, 0, sizeof *w);
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees */
-    vx__svo_extent* ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *ext) : NULL;
-    if (s->model_count && !ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, ext, err);
+    w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
+    if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
+    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, w->ext, err);
     if (r != VX_OK) {
-        vx_free(alloc, ext);
+        vx_free(alloc, w->ext);
+        w->ext = NULL;
         vx_error_prefix(err, "svo write");
         return r;
     }
-    if (vx__svo_write_raw_unchecked && ext) {
-        vx_free(alloc, ext); /* tests writing deliberately broken models: analyse lazily */
-        ext = NULL;
+    if (vx__svo_write_raw_unchecked && w->ext) {
+        vx_free(alloc, w->ext); /* tests writing deliberately broken models: analyse lazily */
+        w->ext = NULL;
     }
     uint32_t used = 0;
     for (uint32_t i = 0; i < s->model_count; i++) used |= s->models[i].attrs;
-    int order[S_COUNT], ns = 0;
-    order[ns++] = S_SCNE;
-    order[ns++] = S_NODE;
-    if (used & VX_ATTR_PALETTE) order[ns++] = S_PALT;
-    if (s->material_count) order[ns++] = S_MATL;
+    w->order[w->ns++] = S_SCNE;
+    w->order[w->ns++] = S_NODE;
+    if (used & VX_ATTR_PALETTE) w->order[w->ns++] = S_PALT;
+    if (s->material_count) w->order[w->ns++] = S_MATL;
+    for (int si = 0; si < w->ns; si++) w->flags[si] = SEC_REQUIRED;
+    return VX_OK;
+}
 
+/* Appends section si of the plan to b (NODE flushed through sink, if any). */
+static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene* s, const vx_allocator* alloc,
+                          const vx__svo_sink* sink) {
+    int t = w->order[si];
+    if (t == S_SCNE) write_scne(b, s, w->ext);
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, sink) && !b->failed;
+    else if (t == S_PALT) write_palt(b, s);
+    else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
+    return !b->failed;
+}
+
+/* The header and section table; fin[] receives each section's file offset. */
+static bool write_head(vx_buf* head, const wplan* w, uint64_t fin[S_COUNT]) {
+    vx_buf_append(head, MAGIC, 8);
+    vx_buf_u16le(head, (uint16_t)VX_SVO_FORMAT_VERSION);
+    vx_buf_u16le(head, (uint16_t)w->ns);
+    for (int si = 0; si < w->ns; si++) {
+        vx_buf_append(head, TAGS[w->order[si]], 4);
+        buf_var(head, w->flags[si]);
+        buf_var(head, w->sizes[si]);
+        vx_buf_u32le(head, w->crcs[si]);
+    }
+    vx_buf_u32le(head, head->failed ? 0 : vx_crc32(0, head->data, head->size));
+    uint64_t fo = head->size;
+    for (int si = 0; si < w->ns; si++) {
+        if (w->flags[si] & SEC_ALIGN4) fo += (4 - fo % 4) % 4;
+        fin[si] = fo;
+        fo += w->sizes[si];
+    }
+    return !head->failed;
+}
+
+vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
+                       vx_error* err) {
+    if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
+    wplan w;
+    vx_result r = plan_write(s, alloc, &w, err);
+    if (r != VX_OK) return r;
     /* sections first (their sizes and CRCs go into the table), then the
      * header and table in front of them */
     vx_buf body = {0}, head = {0};
     body.alloc = head.alloc = alloc;
-    uint64_t offs[S_COUNT], sizes[S_COUNT];
-    uint32_t flags[S_COUNT];
+    uint64_t offs[S_COUNT], fin[S_COUNT];
     bool ok = true;
-    for (int si = 0; si < ns; si++) {
-        int t = order[si];
-        flags[si] = SEC_REQUIRED;
+    for (int si = 0; si < w.ns; si++) {
         offs[si] = body.size;
-        if (t == S_SCNE) write_scne(&body, s, ext);
-        else if (t == S_NODE) ok = vx__svo_pack_write(&body, s, alloc) && ok;
-        else if (t == S_PALT) write_palt(&body, s);
-        else if (t == S_MATL) ok = write_matl(&body, s, alloc) && ok;
-        sizes[si] = body.size - offs[si];
+        ok = write_section(&body, &w, si, s, alloc, NULL) && ok;
+        w.sizes[si] = body.size - offs[si];
+        w.crcs[si] = body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
     }
-    vx_free(alloc, ext);
-    vx_buf_append(&head, MAGIC, 8);
-    vx_buf_u16le(&head, (uint16_t)VX_SVO_FORMAT_VERSION);
-    vx_buf_u16le(&head, (uint16_t)ns);
-    for (int si = 0; si < ns; si++) {
-        vx_buf_append(&head, TAGS[order[si]], 4);
-        buf_var(&head, flags[si]);
-        buf_var(&head, sizes[si]);
-        vx_buf_u32le(&head, body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)sizes[si]));
-    }
-    vx_buf_u32le(&head, head.failed ? 0 : vx_crc32(0, head.data, head.size));
+    vx_free(alloc, w.ext);
+    ok = write_head(&head, &w, fin) && ok;
     /* The body was laid out from 0 without gaps; shift it behind the head in
      * place (last section first, so no source is overwritten before it has
      * moved) instead of copying it, which would double peak memory. */
-    uint64_t fin[S_COUNT], fo = head.size;
-    for (int si = 0; si < ns; si++) {
-        if (flags[si] & SEC_ALIGN4) fo += (4 - fo % 4) % 4;
-        fin[si] = fo;
-        fo += sizes[si];
-    }
-    bool failed = !ok || head.failed || !vx_buf_zeros(&body, (size_t)(fo - body.size));
+    uint64_t end_all = w.ns ? fin[w.ns - 1] + w.sizes[w.ns - 1] : head.size;
+    bool failed = !ok || !vx_buf_zeros(&body, (size_t)(end_all - body.size));
     if (!failed) {
-        for (int si = ns - 1; si >= 0; si--) memmove(body.data + fin[si], body.data + offs[si], (size_t)sizes[si]);
+        for (int si = w.ns - 1; si >= 0; si--) memmove(body.data + fin[si], body.data + offs[si], (size_t)w.sizes[si]);
         uint64_t end = head.size;
-        for (int si = 0; si < ns; si++) {
+        for (int si = 0; si < w.ns; si++) {
             memset(body.data + end, 0, (size_t)(fin[si] - end));
-            end = fin[si] + sizes[si];
+            end = fin[si] + w.sizes[si];
         }
         memcpy(body.data, head.data, head.size);
     }
@@ -911,13 +944,102 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
     return VX_OK;
 }
 
+/* ---- writing a file: sections streamed to disk --------------------------------------------- */
+
+/* The sections go to a scratch file beside the output as they are made (the
+ * NODE section in pieces of 16 MB), their sizes and CRCs counted on the way;
+ * then the output's temporary file gets the header and table and the
+ * sections copied behind them, and is renamed into place. Peak memory is the
+ * scene plus a few pieces, not the scene plus the whole file. */
+typedef struct spill {
+    FILE* f;
+    uint32_t crc;
+    uint64_t size;
+    bool failed;
+} spill;
+
+static bool spill_flush(void* user, vx_buf* out) {
+    spill* sp = (spill*)user;
+    if (sp->failed || out->failed) return false;
+    if (out->size && fwrite(out->data, 1, out->size, sp->f) != out->size) {
+        sp->failed = true;
+        return false;
+    }
+    sp->crc = vx_crc32(sp->crc, out->data, out->size);
+    sp->size += out->size;
+    out->size = 0;
+    return true;
+}
+
+static bool copy_bytes(FILE* from, FILE* to, uint64_t n, uint8_t* chunk, size_t chunk_size) {
+    while (n) {
+        size_t k = n < chunk_size ? (size_t)n : chunk_size;
+        if (fread(chunk, 1, k, from) != k || fwrite(chunk, 1, k, to) != k) return false;
+        n -= k;
+    }
+    return true;
+}
+
 vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err) {
-    uint8_t* data = NULL;
-    size_t size = 0;
-    vx_result r = vx_svo_write(s, NULL, &data, &size, err);
-    if (r != VX_OK) return r;
-    r = vx_file_write_atomic(path, data, size, err);
-    if (r != VX_OK) vx_error_prefix(err, path);
-    vx_free(NULL, data);
+    if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
+    wplan w;
+    vx_result r = plan_write(s, NULL, &w, err);
+    if (r != VX_OK) return vx_error_prefix(err, path), r;
+    size_t plen = strlen(path);
+    char* names = (char*)malloc(2 * (plen + 48));
+    if (!names) {
+        vx_free(NULL, w.ext);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
+    }
+    char *tmp = names, *scratch = names + plen + 48;
+    snprintf(tmp, plen + 48, "%s.tmp%ld", path, (long)getpid());
+    snprintf(scratch, plen + 48, "%s.tmp%ld.sections", path, (long)getpid());
+    FILE* sf = fopen(scratch, "w+b");
+    FILE* f = NULL;
+    uint8_t* chunk = NULL;
+    const size_t chunk_size = (size_t)4 << 20;
+    bool nomem = false, io = !sf;
+    for (int si = 0; !io && !nomem && si < w.ns; si++) {
+        vx_buf b = {0};
+        spill sp = {.f = sf};
+        vx__svo_sink sink = {spill_flush, &sp};
+        bool ok = write_section(&b, &w, si, s, NULL, &sink) && spill_flush(&sp, &b);
+        if (!ok) io = sp.failed, nomem = !sp.failed;
+        w.sizes[si] = sp.size;
+        w.crcs[si] = sp.crc;
+        vx_buf_free(&b);
+    }
+    vx_free(NULL, w.ext);
+    vx_buf head = {0};
+    uint64_t fin[S_COUNT];
+    if (!io && !nomem) {
+        nomem = !write_head(&head, &w, fin) || !(chunk = (uint8_t*)malloc(chunk_size));
+        io = !nomem && (fflush(sf) != 0 || fseek(sf, 0, SEEK_SET) != 0 || !(f = fopen(tmp, "wb")));
+    }
+    if (!io && !nomem) {
+        io = fwrite(head.data, 1, head.size, f) != head.size;
+        uint64_t end = head.size;
+        static const uint8_t zeros[4] = {0};
+        for (int si = 0; !io && si < w.ns; si++) {
+            io = (fin[si] > end && fwrite(zeros, 1, (size_t)(fin[si] - end), f) != fin[si] - end) ||
+                 !copy_bytes(sf, f, w.sizes[si], chunk, chunk_size);
+            end = fin[si] + w.sizes[si];
+        }
+        io = io || fflush(f) != 0;
+        io = io || (fsync(fileno(f)) != 0 && errno != EINVAL && errno != EROFS);
+    }
+    int e = errno;
+    if (f && fclose(f) != 0 && !io && !nomem) io = true, e = errno;
+    if (sf) fclose(sf);
+    remove(scratch);
+    free(chunk);
+    vx_buf_free(&head);
+    if (!io && !nomem && rename(tmp, path) != 0) io = true, e = errno;
+    if (io || nomem) {
+        remove(tmp);
+        r = nomem ? vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path)
+                  : vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));
+    }
+    free(names);
     return r;
 }

@@ -457,7 +457,16 @@ static void pack_job(void* ctx, uint32_t i) {
     j->ok[i] = pack_model(&j->s->models[i], j->A, &j->bufs[i]);
 }
 
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A) {
+size_t vx__svo_flush_bytes = (size_t)16 << 20;
+
+/* A writer's chance to move what is in `out` elsewhere (to disk) between
+ * model streams, once it holds more than a few MB. */
+static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
+    if (!sink || out->size < vx__svo_flush_bytes) return !out->failed;
+    return !out->failed && sink->flush(sink->user, out);
+}
+
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
     unsigned threads = pack_threads(s);
     if (threads == 1) { /* one stream at a time, straight into the output */
@@ -466,7 +475,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             one.alloc = A;
             bool ok = pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
             vx_buf_free(&one);
-            if (!ok) return false;
+            if (!ok || !maybe_flush(out, sink)) return false;
         }
         return !out->failed;
     }
@@ -491,6 +500,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
             vx_buf_free(&bufs[i]);
+            ok = ok && maybe_flush(out, sink);
         }
     }
     vx_free(A, bufs);

@@ -1081,6 +1081,63 @@ static void test_same_size_models(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_write_file streams the sections to disk: the file must hold the
+ * same bytes as vx_svo_write's, whether NODE is flushed after every model or
+ * kept whole; a failed write leaves nothing behind. */
+static uint8_t* slurp_file(const char* path, size_t* n) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long sz = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    uint8_t* d = (uint8_t*)malloc(sz > 0 ? (size_t)sz : 1);
+    *n = d && fread(d, 1, (size_t)sz, f) == (size_t)sz ? (size_t)sz : 0;
+    fclose(f);
+    return d;
+}
+
+static void test_streamed_file(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    uint8_t* mem = NULL;
+    size_t nm = 0;
+    REQUIRE(vx_svo_write(&s, NULL, &mem, &nm, &e) == VX_OK);
+    char dir[] = "/tmp/vx_svo_streamXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/out.svo", dir);
+    size_t saved = vx__svo_flush_bytes;
+    uint64_t saved_par = vx__svo_parallel_words;
+    const size_t thresholds[4] = {0, 1, saved, 0};
+    for (int i = 0; i < 4; i++) {
+        vx__svo_flush_bytes = thresholds[i];
+        vx__svo_parallel_words = i == 3 ? 0 : saved_par; /* last: models coded in parallel batches */
+        REQUIRE(vx_svo_write_file(&s, path, &e) == VX_OK);
+        size_t nf = 0;
+        uint8_t* file = slurp_file(path, &nf);
+        CHECKF(file && nf == nm && !memcmp(file, mem, nm), "flush threshold %zu: %zu vs %zu bytes", thresholds[i], nf,
+               nm);
+        free(file);
+    }
+    vx__svo_flush_bytes = saved;
+    vx__svo_parallel_words = saved_par;
+    /* only the output is left in the directory (no scratch or temporary files) */
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "test \"$(ls -A %s)\" = out.svo", dir);
+    CHECK(system(cmd) == 0);
+    /* an output in a missing directory: an error naming it, nothing written */
+    snprintf(path, sizeof path, "%s/missing/out.svo", dir);
+    CHECK(vx_svo_write_file(&s, path, &e) == VX_ERR_IO);
+    CHECKF(strstr(e.msg, "missing/out.svo") != NULL, "message: %s", e.msg);
+    snprintf(cmd, sizeof cmd, "test \"$(ls -A %s)\" = out.svo", dir);
+    CHECK(system(cmd) == 0);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+    free(mem);
+    vx_svo_scene_free(&s);
+}
+
 /* Failing allocations: every failure is NOMEM, nothing leaks (ASan). */
 static int oom_left;
 static void* oom_alloc(void* u, size_t n) {
@@ -1186,6 +1243,7 @@ int main(int argc, char** argv) {
     RUN(test_unknown_sections);
     RUN(test_far_file);
     RUN(test_same_size_models);
+    RUN(test_streamed_file);
     RUN(test_oom);
     return vx_test_finish();
 }

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "convert/convert.h"
 #include "tools/common/conv.h"
@@ -154,14 +155,13 @@ int main(int argc, char** argv) {
     uint64_t in_bytes = li.in_bytes;
 
     double t2 = vx_time_now();
-    uint8_t* bytes = NULL;
-    size_t nbytes = 0;
-    r = vx_svo_write(&scene, NULL, &bytes, &nbytes, &err);
-    if (r == VX_OK) r = vx_file_write_atomic(o.out, bytes, nbytes, &err);
+    /* streamed to disk: the file is never held in memory beside the scene */
+    r = vx_svo_write_file(&scene, o.out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
-    vx_free(NULL, bytes);
-    if (r != VX_OK) return vx_tool_error(o.out, &err);
+    if (r != VX_OK) return vx_tool_errorf("%s", err.msg); /* the message names the file */
+    struct stat st;
+    size_t nbytes = stat(o.out, &st) == 0 ? (size_t)st.st_size : 0;
     print_stats(&o, kind, &cs, in_bytes, nbytes, t_read, t_convert, t_write);
     return 0;
 }
