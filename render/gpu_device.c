@@ -84,21 +84,63 @@ static int type_rank(VkPhysicalDeviceType t) {
     }
 }
 
-static bool compute_family(VkPhysicalDevice pd, uint32_t* out) {
+/* A family with a compute queue (compute queues also transfer) that
+ * family_ok accepts, preferring one with timestamps. */
+static bool pick_family(VkPhysicalDevice pd, bool (*family_ok)(void*, const void*, uint32_t), void* user,
+                        uint32_t* out) {
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
     if (n == 0 || n > 64) return false;
     VkQueueFamilyProperties q[64];
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
-    /* prefer a family with timestamps */
     int best = -1;
     for (uint32_t i = 0; i < n; i++) {
         if (!(q[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+        if (family_ok && !family_ok(user, (const void*)pd, i)) continue;
         if (best < 0 || (q[i].timestampValidBits && !q[best].timestampValidBits)) best = (int)i;
     }
     if (best < 0) return false;
     *out = (uint32_t)best;
     return true;
+}
+
+vx_result vx_gpu_pick_device(const void* instance, const char* want,
+                             bool (*family_ok)(void* user, const void* physical_device, uint32_t family), void* user,
+                             const char* needs, const void** physical_device, uint32_t* family, vx_error* err) {
+    VkInstance inst = (VkInstance)instance;
+    uint32_t n = 0;
+    VX__VK(vkEnumeratePhysicalDevices(inst, &n, NULL), "vkEnumeratePhysicalDevices");
+    if (n == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device found");
+    if (n > 32) n = 32;
+    VkPhysicalDevice pds[32];
+    VkResult r = vkEnumeratePhysicalDevices(inst, &n, pds);
+    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return vx__vk_fail(err, r, "vkEnumeratePhysicalDevices");
+    bool named = want && *want;
+    char* end = NULL;
+    long idx = named ? strtol(want, &end, 10) : -1;
+    bool by_index = named && end && *end == 0;
+    if (by_index && (idx < 0 || (uint32_t)idx >= n))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "device %ld does not exist (%u devices)", idx, n);
+    int pick = -1, best_rank = 99;
+    bool matched = false;
+    uint32_t fam = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(pds[i], &p);
+        if (by_index ? (long)i != idx : (named && !strstr(p.deviceName, want))) continue;
+        matched = true;
+        if (!pick_family(pds[i], family_ok, user, &fam)) continue;
+        int rank = type_rank(p.deviceType);
+        if (rank < best_rank) best_rank = rank, pick = (int)i;
+        if (named) break; /* the first device the name or index selects */
+    }
+    if (!matched) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no Vulkan device named like '%s'", want);
+    if (pick < 0)
+        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device%s%s has %s", named ? " matching " : "",
+                       named ? want : "", needs ? needs : "a compute queue");
+    pick_family(pds[pick], family_ok, user, family);
+    *physical_device = (const void*)pds[pick];
+    return VX_OK;
 }
 
 static vx_result create_instance(vx_gpu* g, bool validate, vx_error* err) {
@@ -151,47 +193,10 @@ static vx_result create_instance(vx_gpu* g, bool validate, vx_error* err) {
 }
 
 static vx_result select_device(vx_gpu* g, const char* want, vx_error* err) {
-    uint32_t n = 0;
-    VX__VK(vkEnumeratePhysicalDevices(g->instance, &n, NULL), "vkEnumeratePhysicalDevices");
-    if (n == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device found");
-    if (n > 32) n = 32;
-    VkPhysicalDevice pds[32];
-    VkResult r = vkEnumeratePhysicalDevices(g->instance, &n, pds);
-    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return vx__vk_fail(err, r, "vkEnumeratePhysicalDevices");
-    int pick = -1;
-    if (want && *want) {
-        char* end = NULL;
-        long idx = strtol(want, &end, 10);
-        if (end && *end == 0) {
-            if (idx < 0 || (uint32_t)idx >= n)
-                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "device %ld does not exist (%u devices)", idx, n);
-            pick = (int)idx;
-        } else {
-            for (uint32_t i = 0; i < n && pick < 0; i++) {
-                VkPhysicalDeviceProperties p;
-                vkGetPhysicalDeviceProperties(pds[i], &p);
-                if (strstr(p.deviceName, want)) pick = (int)i;
-            }
-            if (pick < 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no Vulkan device named like '%s'", want);
-        }
-        uint32_t fam;
-        if (!compute_family(pds[pick], &fam))
-            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "device %d has no compute queue", pick);
-    } else {
-        int best_rank = 99;
-        for (uint32_t i = 0; i < n; i++) {
-            VkPhysicalDeviceProperties p;
-            vkGetPhysicalDeviceProperties(pds[i], &p);
-            uint32_t fam;
-            if (!compute_family(pds[i], &fam)) continue;
-            int rank = type_rank(p.deviceType);
-            if (rank < best_rank) best_rank = rank, pick = (int)i;
-        }
-        if (pick < 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device with a compute queue");
-    }
-    g->phys = pds[pick];
-    compute_family(g->phys, &g->queue_family);
-    return VX_OK;
+    const void* pd = NULL;
+    vx_result r = vx_gpu_pick_device((const void*)g->instance, want, NULL, NULL, NULL, &pd, &g->queue_family, err);
+    if (r == VX_OK) g->phys = (VkPhysicalDevice)pd;
+    return r;
 }
 
 static vx_result create_device(vx_gpu* g, vx_error* err) {

@@ -105,6 +105,17 @@ const char* vx_gpu_device_name(const vx_gpu* gpu);
 bool vx_gpu_is_cpu(const vx_gpu* gpu); /* lavapipe or another CPU device */
 /* Validation errors recorded since creation (0 without validation). */
 uint32_t vx_gpu_validation_errors(const vx_gpu* gpu);
+/* Picks a physical device and queue family of a Vulkan instance (a
+ * VkInstance) the way vx_gpu_create does, for hosts that make their own
+ * device (svo_view's window): `want` is an index or a part of the device
+ * name (NULL or "": the best kind, discrete, integrated, virtual, then CPU);
+ * the family has a compute queue (timestamps preferred) that
+ * family_ok(user, physical device, family) accepts (NULL: any), e.g. one that
+ * can present to a window; `needs` says what is required, for the error
+ * message (NULL: "a compute queue"). *physical_device is a VkPhysicalDevice. */
+vx_result vx_gpu_pick_device(const void* instance, const char* want,
+                             bool (*family_ok)(void* user, const void* physical_device, uint32_t family), void* user,
+                             const char* needs, const void** physical_device, uint32_t* family, vx_error* err);
 /* Lists physical devices: calls fn(user, index, name, type) for each, where
  * type is "discrete", "integrated", "virtual", "cpu" or "other". */
 vx_result vx_gpu_list_devices(void (*fn)(void* user, uint32_t index, const char* name, const char* type),

@@ -75,64 +75,20 @@ static void check_resize(vp* p) {
     if ((uint32_t)fw != p->extent.width || (uint32_t)fh != p->extent.height) p->dirty = true;
 }
 
-static int type_rank(VkPhysicalDeviceType t) {
-    switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-    default: return 4;
-    }
-}
-
-/* A queue family that computes and presents to the window (compute queues
- * also do transfers, all the presentation path needs). */
-static bool present_family(vp* p, VkPhysicalDevice pd, uint32_t* out) {
-    uint32_t n = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
-    if (n == 0 || n > 64) return false;
-    VkQueueFamilyProperties q[64];
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
-    int best = -1;
-    for (uint32_t i = 0; i < n; i++) {
-        if (!(q[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
-        VkBool32 ok = VK_FALSE;
-        if (vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, p->surface, &ok) != VK_SUCCESS || !ok) continue;
-        if (best < 0 || (q[i].timestampValidBits && !q[best].timestampValidBits)) best = (int)i;
-    }
-    if (best < 0) return false;
-    *out = (uint32_t)best;
-    return true;
+/* The viewer computes and presents on one queue (compute queues also do the
+ * transfers the presentation path needs). */
+static bool can_present(void* user, const void* pd, uint32_t family) {
+    vp* p = (vp*)user;
+    VkBool32 ok = VK_FALSE;
+    return vkGetPhysicalDeviceSurfaceSupportKHR((VkPhysicalDevice)pd, family, p->surface, &ok) == VK_SUCCESS && ok;
 }
 
 static vx_result pick_device(vp* p, const char* want, vx_error* err) {
-    uint32_t n = 0;
-    VP_VK(vkEnumeratePhysicalDevices(p->inst, &n, NULL), "vkEnumeratePhysicalDevices");
-    if (n == 0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device found");
-    if (n > 32) n = 32;
-    VkPhysicalDevice pds[32];
-    VkResult vr = vkEnumeratePhysicalDevices(p->inst, &n, pds);
-    if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) return vk_fail(err, vr, "vkEnumeratePhysicalDevices");
-    int pick = -1, best_rank = 99;
-    char* end = NULL;
-    long idx = want && *want ? strtol(want, &end, 10) : -1;
-    bool by_index = want && *want && end && *end == 0;
-    for (uint32_t i = 0; i < n; i++) {
-        VkPhysicalDeviceProperties pr;
-        vkGetPhysicalDeviceProperties(pds[i], &pr);
-        uint32_t fam;
-        if (by_index && (long)i != idx) continue;
-        if (want && *want && !by_index && !strstr(pr.deviceName, want)) continue;
-        if (!present_family(p, pds[i], &fam)) continue;
-        int rank = type_rank(pr.deviceType);
-        if (rank < best_rank) best_rank = rank, pick = (int)i;
-    }
-    if (pick < 0)
-        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no Vulkan device%s%s can compute and present to this window",
-                       want && *want ? " matching " : "", want && *want ? want : "");
-    p->phys = pds[pick];
-    present_family(p, p->phys, &p->family);
-    return VX_OK;
+    const void* pd = NULL;
+    vx_result r = vx_gpu_pick_device((const void*)p->inst, want, can_present, p,
+                                     "a queue that computes and presents to this window", &pd, &p->family, err);
+    if (r == VX_OK) p->phys = (VkPhysicalDevice)pd;
+    return r;
 }
 
 static vx_result create_device(vp* p, vx_error* err) {
