@@ -595,14 +595,17 @@ static void test_gi_mode(void) {
     snprintf(pick, sizeof pick, "pick %u %u", px, py);
     f = fopen(script, "w");
     REQUIRE(f);
-    fprintf(f, "mode gi\nprobes %s\nprobes %s\nmode gi\n%s\nprobes %s\nmode gi\n%s\nscreenshot %s\nmode color\n%s\nquit\n",
-            bad, shard, pick, probes, pick, s2, pick);
+    fprintf(f, "mode gi\nprobes %s\nprobes %s\nmode gi\n%s\nprobes %s\nmode gi\n%s\nscreenshot %s\nmode color\n%s\n"
+               "open %s\nmode lightfield\nquit\n",
+            bad, shard, pick, probes, pick, s2, pick, svo);
     fclose(f);
     rc = run_cmd("%s %s --script %s --hidden --size 200x150 > %s 2>&1", g_view, svo, script, log);
     char* out = slurp(log);
     CHECKF(rc == 0, "status %d: %s", rc, out ? out : "(none)");
-    const char* need[] = {"mode gi needs light field probes", "bad.probes:", "shard.probes: a shard", "2x2x2 grid"};
-    for (int i = 0; i < 4; i++) CHECKF(out && strstr(out, need[i]), "expected '%s' in:\n%s", need[i], out ? out : "(none)");
+    /* opening a scene unloads the probes of the previous one */
+    const char* need[] = {"mode gi needs light field probes", "bad.probes:", "shard.probes: a shard", "2x2x2 grid",
+                          "probes of the previous scene unloaded", "mode lightfield needs light field probes"};
+    for (int i = 0; i < 6; i++) CHECKF(out && strstr(out, need[i]), "expected '%s' in:\n%s", need[i], out ? out : "(none)");
     /* three picks of one pixel (colour, gi, colour again) name one instance */
     uint32_t hits[3], nh = 0;
     for (const char* q = out; q && (q = strstr(q, pick)) && nh < 3; q += strlen(pick)) {

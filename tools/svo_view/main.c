@@ -424,7 +424,17 @@ static void do_open(app* a, const char* path) {
         return;
     }
     set_scene(a, &s);
-    message(a, false, "opened %s: %u models, %u instances", path, a->scene.model_count, a->scene.instance_count);
+    /* probes describe the light of the scene they were baked in */
+    bool had = a->have_probes;
+    if (had) {
+        vx_probe_gpu_destroy(a->probes_gpu);
+        a->probes_gpu = NULL;
+        vx_probe_set_free(&a->probes);
+        a->have_probes = false;
+        a->gi = false;
+    }
+    message(a, false, "opened %s: %u models, %u instances%s", path, a->scene.model_count, a->scene.instance_count,
+            had ? " (probes of the previous scene unloaded)" : "");
 }
 
 static void do_add(app* a, const char* path) {
