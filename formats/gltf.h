@@ -49,8 +49,9 @@ typedef struct vx_gltf_material {
 /* Triangle soup of one scene. Per triangle t and corner v (0..2):
  *   pos[9t + 3v + a]   world-space position (a = x, y, z)
  *   uv[6t + 2v + c]    the texture coordinates the triangle's material samples
- *                      with (0 0 where the primitive has none); NULL if no
- *                      material of the scene has a texture
+ *                      with, its KHR_texture_transform applied (0 0 where the
+ *                      primitive has none); NULL if no material of the scene
+ *                      has a texture
  *   color[12t + 4v + c] linear RGBA vertex colour COLOR_0 (1 1 1 1 where the
  *                      primitive has none); NULL if no primitive has COLOR_0
  *   material[t]        index into materials, or UINT32_MAX when the primitive

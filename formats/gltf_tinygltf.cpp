@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -46,6 +47,10 @@ struct Ctx {
     std::vector<float> pos, uv, col;
     std::vector<uint32_t> mat;
     std::vector<bool> mat_textured;
+    // per material: KHR_texture_transform as u' = a0 u + a1 v + a2, v' = a3 u + a4 v + a5,
+    // and the TEXCOORD set it samples
+    std::vector<std::array<double, 6>> mat_uvx;
+    std::vector<int> mat_texcoord;
     bool any_color = false;
     uint64_t max_tris;
     uint32_t instances = 0;
@@ -207,7 +212,7 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
     bool want_uv = mat != UINT32_MAX && c.mat_textured[mat];
     bool has_uv = false, has_col = false;
     if (want_uv) {
-        int set = m.materials[mat].pbrMetallicRoughness.baseColorTexture.texCoord;
+        int set = c.mat_texcoord[mat];
         auto it = p.attributes.find("TEXCOORD_" + std::to_string(set));
         if (it != p.attributes.end()) {
             if ((r = get_acc(c, it->second, "TEXCOORD", &uv))) return r;
@@ -264,8 +269,15 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
                     return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: vertex %zu has a non-finite position", mesh_idx, vi);
                 c.pos.push_back((float)w);
             }
-            if (has_uv) { c.uv.push_back((float)uv.get(vi, 0)); c.uv.push_back((float)uv.get(vi, 1)); }
-            else { c.uv.push_back(0.f); c.uv.push_back(0.f); }
+            if (has_uv) {
+                const std::array<double, 6>& x = c.mat_uvx[mat];
+                double u0 = uv.get(vi, 0), v0 = uv.get(vi, 1);
+                c.uv.push_back((float)(x[0] * u0 + x[1] * v0 + x[2]));
+                c.uv.push_back((float)(x[3] * u0 + x[4] * v0 + x[5]));
+            } else {
+                c.uv.push_back(0.f);
+                c.uv.push_back(0.f);
+            }
             for (int ch = 0; ch < 4; ch++)
                 c.col.push_back(has_col ? (ch < col.comps ? (float)col.get(vi, ch) : 1.f) : 1.f);
         }
@@ -330,6 +342,47 @@ bool sniff_size(const uint8_t* b, size_t n, uint32_t* w, uint32_t* h) {
         }
     }
     return false;
+}
+
+// A number of an extension object: absent keeps *out; present must be a finite number.
+bool ext_number(const tinygltf::Value& v, double* out) {
+    if (!v.IsNumber() && !v.IsInt()) return false;
+    double d = v.IsInt() ? (double)v.GetNumberAsInt() : v.GetNumberAsDouble();
+    if (!std::isfinite(d)) return false;
+    *out = d;
+    return true;
+}
+
+// KHR_texture_transform on the base colour texture: uv' = T R S uv with
+// T the offset, R the rotation in radians with rows [cos sin; -sin cos]
+// (the extension's matrix read row by row, as viewers that pass Khronos'
+// TextureTransformTest apply it) and S the scale, and an optional texCoord
+// that replaces the texture info's.
+vx_result texture_transform(Ctx& c, size_t mat, const tinygltf::Value& ext, std::array<double, 6>* x, int* texcoord) {
+    double off[2] = {0, 0}, sc[2] = {1, 1}, rot = 0;
+    bool ok = ext.IsObject();
+    if (ok && ext.Has("offset")) {
+        const tinygltf::Value& o = ext.Get("offset");
+        ok = o.IsArray() && o.ArrayLen() == 2 && ext_number(o.Get(0), &off[0]) && ext_number(o.Get(1), &off[1]);
+    }
+    if (ok && ext.Has("scale")) {
+        const tinygltf::Value& o = ext.Get("scale");
+        ok = o.IsArray() && o.ArrayLen() == 2 && ext_number(o.Get(0), &sc[0]) && ext_number(o.Get(1), &sc[1]);
+    }
+    if (ok && ext.Has("rotation")) ok = ext_number(ext.Get("rotation"), &rot);
+    if (ok && ext.Has("texCoord")) {
+        double t = 0;
+        ok = ext_number(ext.Get("texCoord"), &t) && t >= 0 && t <= 255 && t == std::floor(t);
+        if (ok) *texcoord = (int)t;
+    }
+    if (!ok)
+        return fail(c, VX_ERR_BAD_FORMAT,
+                    "material %zu: KHR_texture_transform: offset and scale must be two numbers, rotation a number, "
+                    "texCoord a set index",
+                    mat);
+    double cs = std::cos(rot), sn = std::sin(rot);
+    *x = {cs * sc[0], sn * sc[1], off[0], -sn * sc[0], cs * sc[1], off[1]};
+    return VX_OK;
 }
 
 vx_result decode_image(Ctx& c, int img_idx, vx_gltf_image* out) {
@@ -397,7 +450,7 @@ uint8_t wrap_mode(int w) {
 
 // Required extensions we can honour (the others change what the data means
 // or how it is stored, so the file cannot be read without them).
-const char* const kSupported[] = {"KHR_mesh_quantization", "KHR_materials_emissive_strength",
+const char* const kSupported[] = {"KHR_mesh_quantization", "KHR_texture_transform", "KHR_materials_emissive_strength",
                                   "KHR_materials_unlit", "KHR_materials_ior",
                                   "KHR_materials_specular", "KHR_materials_transmission",
                                   "KHR_materials_volume", "KHR_materials_clearcoat",
@@ -449,6 +502,8 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
     std::vector<vx_gltf_image> imgs(m.images.size());
     std::vector<char> decoded(m.images.size(), 0);
     c.mat_textured.assign(m.materials.size(), false);
+    c.mat_uvx.assign(m.materials.size(), std::array<double, 6>{1, 0, 0, 0, 1, 0});
+    c.mat_texcoord.assign(m.materials.size(), 0);
     for (size_t i = 0; i < m.materials.size(); i++) {
         const tinygltf::PbrMetallicRoughness& pbr = m.materials[i].pbrMetallicRoughness;
         vx_gltf_material& g = mats[i];
@@ -467,9 +522,11 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
             vx_log(desc->logger, VX_LOG_WARN, "gltf.texture_no_source", "texture %d has no usable image", ti);
             continue;
         }
-        if (pbr.baseColorTexture.extensions.count("KHR_texture_transform"))
-            vx_log(desc->logger, VX_LOG_WARN, "gltf.texture_transform",
-                   "material %zu: KHR_texture_transform ignored", i);
+        c.mat_texcoord[i] = pbr.baseColorTexture.texCoord;
+        auto tt = pbr.baseColorTexture.extensions.find("KHR_texture_transform");
+        if (tt != pbr.baseColorTexture.extensions.end() &&
+            (r = texture_transform(c, i, tt->second, &c.mat_uvx[i], &c.mat_texcoord[i])))
+            break;
         if (tex.sampler >= 0 && (size_t)tex.sampler < m.samplers.size()) {
             g.wrap_s = wrap_mode(m.samplers[(size_t)tex.sampler].wrapS);
             g.wrap_t = wrap_mode(m.samplers[(size_t)tex.sampler].wrapT);

@@ -463,6 +463,73 @@ static void test_scene_select(void) {
     vx_gltf_mesh_free(&m);
 }
 
+/* KHR_texture_transform: the reader hands out uv' = T R S uv (glTF's
+ * offset, counter-clockwise rotation and scale) from the texCoord set the
+ * extension names; a malformed transform is an error naming the material. */
+static const char* kTriGltf =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1,\"TEXCOORD_1\":2},"
+    "\"material\":0}]}],"
+    "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0%s}}}],"
+    "\"textures\":[{\"source\":0}],"
+    "\"images\":[{\"uri\":\"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAEklEQVR4nGP4z8DwHwy"
+    "BNBgAAEnICff5q7YNAAAAAElFTkSuQmCC\"}],"
+    "\"buffers\":[{\"byteLength\":84,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"
+    "AAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAPwAAAD8AAEA/AAAAPwAAAD8AAEA/\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+    "\"byteLength\":24},{\"buffer\":0,\"byteOffset\":60,\"byteLength\":24}],"
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+    "\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"},"
+    "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}]}";
+
+static vx_result read_tri(const char* ext, vx_gltf_mesh* m, vx_error* err) {
+    char json[4096];
+    snprintf(json, sizeof json, kTriGltf, ext);
+    return vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", m, err);
+}
+
+static void test_texture_transform(void) {
+    static const double uv0[6] = {0, 0, 1, 0, 0, 1}, uv1[6] = {0.5, 0.5, 0.75, 0.5, 0.5, 0.75};
+    struct {
+        const char* ext;
+        double off[2], rot, sc[2];
+        const double* src;
+    } cases[] = {
+        {"", {0, 0}, 0, {1, 1}, uv0},
+        {",\"extensions\":{\"KHR_texture_transform\":{\"offset\":[0.25,0.5],\"rotation\":0.3,\"scale\":[2,3]}}",
+         {0.25, 0.5}, 0.3, {2, 3}, uv0},
+        {",\"extensions\":{\"KHR_texture_transform\":{\"scale\":[-1,0.5],\"texCoord\":1}}", {0, 0}, 0, {-1, 0.5}, uv1},
+        {",\"texCoord\":1", {0, 0}, 0, {1, 1}, uv1},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = read_tri(cases[i].ext, &m, &err);
+        if (r) fprintf(stderr, "  case %zu: %s\n", i, err.msg);
+        REQUIRE(r == VX_OK);
+        REQUIRE(m.tri_count == 1 && m.uv != NULL && m.image_count == 1 && m.images[0].rgba != NULL);
+        double worst = 0;
+        double c = cos(cases[i].rot), s = sin(cases[i].rot);
+        for (int v = 0; v < 3; v++) {
+            double u = cases[i].src[2 * v], w = cases[i].src[2 * v + 1];
+            double su = cases[i].sc[0] * u, sw = cases[i].sc[1] * w;
+            double eu = c * su + s * sw + cases[i].off[0], ew = -s * su + c * sw + cases[i].off[1];
+            worst = fmax(worst, fmax(fabs(m.uv[2 * v] - eu), fabs(m.uv[2 * v + 1] - ew)));
+        }
+        CHECKF(worst < 1e-6, "case %zu: uv off by %g", i, worst);
+        vx_gltf_mesh_free(&m);
+    }
+    const char* bad[] = {",\"extensions\":{\"KHR_texture_transform\":{\"offset\":[1]}}",
+                         ",\"extensions\":{\"KHR_texture_transform\":{\"rotation\":\"x\"}}",
+                         ",\"extensions\":{\"KHR_texture_transform\":{\"texCoord\":-1}}"};
+    for (int i = 0; i < 3; i++) {
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        CHECK(read_tri(bad[i], &m, &err) == VX_ERR_BAD_FORMAT);
+        CHECKF(strstr(err.msg, "material 0: KHR_texture_transform") != NULL, "message: %s", err.msg);
+    }
+}
+
 int main(void) {
     RUN(test_boundary_faces);
     RUN(test_slivers_degenerate);
@@ -474,5 +541,6 @@ int main(void) {
     RUN(test_corpus_duck);
     RUN(test_corpus_all);
     RUN(test_scene_select);
+    RUN(test_texture_transform);
     return vx_test_finish();
 }
