@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,7 @@ vx_result fail(Ctx& c, vx_result r, const char* fmt, ...) {
 // A checked view of an accessor's elements.
 struct Acc {
     const uint8_t* base = nullptr; // nullptr: no buffer view, every value is 0
+    std::shared_ptr<std::vector<uint8_t>> dense; // a sparse accessor's values, materialised
     size_t stride = 0, count = 0;
     int comps = 0, ctype = 0;
     bool norm = false;
@@ -107,13 +109,75 @@ size_t comp_size(int ctype) {
     }
 }
 
+// The bytes [offset, offset + n) of buffer view bv, or nullptr.
+const uint8_t* view_bytes(const tinygltf::Model& m, int bv, size_t offset, size_t n) {
+    if (bv < 0 || (size_t)bv >= m.bufferViews.size()) return nullptr;
+    const tinygltf::BufferView& v = m.bufferViews[(size_t)bv];
+    if (v.buffer < 0 || (size_t)v.buffer >= m.buffers.size()) return nullptr;
+    const std::vector<unsigned char>& d = m.buffers[(size_t)v.buffer].data;
+    size_t end;
+    if (v.byteOffset > d.size() || v.byteLength > d.size() - v.byteOffset || !vx_add_size(offset, n, &end) ||
+        end > v.byteLength)
+        return nullptr;
+    return d.data() + v.byteOffset + offset;
+}
+
+// A sparse accessor (glTF 2.0, 3.6.2.3): its base values (from the buffer
+// view, or zeros) with `count` elements replaced at strictly increasing
+// indices, materialised tightly packed in the accessor's component type.
+vx_result apply_sparse(Ctx& c, int idx, const char* what, Acc* out) {
+    const tinygltf::Model& m = *c.m;
+    const tinygltf::Accessor& a = m.accessors[(size_t)idx];
+    size_t cs = comp_size(out->ctype), elem = (size_t)out->comps * cs, total;
+    if (!vx_mul_size(elem, out->count, &total) || total > ((size_t)1 << 31))
+        return fail(c, VX_ERR_LIMIT, "%s: sparse accessor %d: %zu elements are too many", what, idx, out->count);
+    size_t n = a.sparse.count > 0 ? (size_t)a.sparse.count : 0;
+    if (a.sparse.count < 1 || n > out->count)
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: sparse accessor %d: %d replaced elements of %zu", what, idx,
+                    a.sparse.count, out->count);
+    size_t ics = a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                 : a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                 : a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                            : 0;
+    if (ics == 0)
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: sparse accessor %d: indices of component type %d", what, idx,
+                    a.sparse.indices.componentType);
+    const uint8_t* ib = a.sparse.indices.byteOffset >= 0
+                            ? view_bytes(m, a.sparse.indices.bufferView, (size_t)a.sparse.indices.byteOffset, n * ics)
+                            : nullptr;
+    const uint8_t* vb = a.sparse.values.byteOffset >= 0
+                            ? view_bytes(m, a.sparse.values.bufferView, (size_t)a.sparse.values.byteOffset, n * elem)
+                            : nullptr;
+    if (!ib || !vb)
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: sparse accessor %d: its %s lie outside their buffer view", what, idx,
+                    !ib ? "indices" : "values");
+    auto dense = std::make_shared<std::vector<uint8_t>>(total, 0);
+    if (out->base)
+        for (size_t i = 0; i < out->count; i++) memcpy(dense->data() + i * elem, out->base + i * out->stride, elem);
+    uint64_t prev = 0;
+    for (size_t k = 0; k < n; k++) {
+        uint64_t at = 0;
+        if (ics == 1) at = ib[k];
+        else if (ics == 2) { uint16_t v; memcpy(&v, ib + 2 * k, 2); at = v; }
+        else { uint32_t v; memcpy(&v, ib + 4 * k, 4); at = v; }
+        if (at >= out->count || (k > 0 && at <= prev))
+            return fail(c, VX_ERR_BAD_FORMAT,
+                        "%s: sparse accessor %d: index %llu (element %zu) is out of range or not increasing", what,
+                        idx, (unsigned long long)at, k);
+        memcpy(dense->data() + at * elem, vb + k * elem, elem);
+        prev = at;
+    }
+    out->dense = dense;
+    out->base = dense->data();
+    out->stride = elem;
+    return VX_OK;
+}
+
 vx_result get_acc(Ctx& c, int idx, const char* what, Acc* out) {
     const tinygltf::Model& m = *c.m;
     if (idx < 0 || (size_t)idx >= m.accessors.size())
         return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d out of range (%zu accessors)", what, idx, m.accessors.size());
     const tinygltf::Accessor& a = m.accessors[(size_t)idx];
-    if (a.sparse.isSparse)
-        return fail(c, VX_ERR_UNSUPPORTED, "%s: accessor %d is sparse (not supported)", what, idx);
     int comps = tinygltf::GetNumComponentsInType((uint32_t)a.type);
     size_t cs = comp_size(a.componentType);
     if (comps <= 0 || comps > 4 || cs == 0)
@@ -124,7 +188,8 @@ vx_result get_acc(Ctx& c, int idx, const char* what, Acc* out) {
     out->norm = a.normalized;
     out->count = a.count;
     out->base = nullptr;
-    if (a.bufferView < 0) return VX_OK;
+    out->dense.reset();
+    if (a.bufferView < 0) return a.sparse.isSparse ? apply_sparse(c, idx, what, out) : VX_OK;
     if ((size_t)a.bufferView >= m.bufferViews.size())
         return fail(c, VX_ERR_BAD_FORMAT, "%s: accessor %d names buffer view %d of %zu", what, idx, a.bufferView,
                     m.bufferViews.size());
@@ -150,7 +215,7 @@ vx_result get_acc(Ctx& c, int idx, const char* what, Acc* out) {
     }
     out->base = data.data() + bv.byteOffset + a.byteOffset;
     out->stride = stride;
-    return VX_OK;
+    return a.sparse.isSparse ? apply_sparse(c, idx, what, out) : VX_OK;
 }
 
 typedef double Mat[16]; // column-major like glTF

@@ -530,6 +530,46 @@ static void test_texture_transform(void) {
     }
 }
 
+/* Sparse accessors (glTF 2.0 3.6.2.3): positions with one element replaced,
+ * texture coordinates with no buffer view (zeros) and one element set; a
+ * replacement index out of range is an error. */
+static const char* kSparseGltf =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"material\":0}]}],"
+    "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+    "\"textures\":[{\"source\":0}],"
+    "\"images\":[{\"uri\":\"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAEklEQVR4nGP4z8DwHwy"
+    "BNBgAAEnICff5q7YNAAAAAElFTkSuQmCC\"}],"
+    "\"buffers\":[{\"byteLength\":116,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"
+    "AAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAPwAAAD8AAEA/AAAAPwAAAD8AAEA/AgAAAAAAAAAAAABAAAAAAAEAAAAAAAA/"
+    "AACAPgUAAAA=\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":84,"
+    "\"byteLength\":1},{\"buffer\":0,\"byteOffset\":88,\"byteLength\":12},{\"buffer\":0,\"byteOffset\":%d,"
+    "\"byteLength\":1},{\"buffer\":0,\"byteOffset\":104,\"byteLength\":8}],"
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+    "\"max\":[1,2,0],\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":1,\"componentType\":5121},"
+    "\"values\":{\"bufferView\":2}}},"
+    "{\"componentType\":5126,\"count\":3,\"type\":\"VEC2\",\"sparse\":{\"count\":1,"
+    "\"indices\":{\"bufferView\":3,\"componentType\":5121},\"values\":{\"bufferView\":4}}}]}";
+
+static void test_sparse(void) {
+    char json[4096];
+    snprintf(json, sizeof json, kSparseGltf, 100);
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_result r = vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m, &err);
+    if (r) fprintf(stderr, "  %s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    REQUIRE(m.tri_count == 1 && m.uv != NULL);
+    static const float want_pos[9] = {0, 0, 0, 1, 0, 0, 0, 2, 0}, want_uv[6] = {0, 0, 0.5f, 0.25f, 0, 0};
+    CHECK(!memcmp(m.pos, want_pos, sizeof want_pos));
+    CHECK(!memcmp(m.uv, want_uv, sizeof want_uv));
+    vx_gltf_mesh_free(&m);
+    snprintf(json, sizeof json, kSparseGltf, 112); /* replacement index 5 of 3 elements */
+    CHECK(vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m, &err) == VX_ERR_BAD_FORMAT);
+    CHECKF(strstr(err.msg, "sparse accessor 1: index 5") != NULL, "message: %s", err.msg);
+}
+
 int main(void) {
     RUN(test_boundary_faces);
     RUN(test_slivers_degenerate);
@@ -542,5 +582,6 @@ int main(void) {
     RUN(test_corpus_all);
     RUN(test_scene_select);
     RUN(test_texture_transform);
+    RUN(test_sparse);
     return vx_test_finish();
 }
