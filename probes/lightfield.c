@@ -8,17 +8,20 @@
  * segment per octant: at most four, split where the ray crosses the probe's
  * coordinate planes. Each segment is walked with a 2D DDA over the R/16
  * minimum-distance map first; a coarse texel whose minimum distance is
- * beyond the ray's farthest point in it is skipped whole, and only the
- * others are walked at full resolution.
+ * beyond the ray's farthest point in it (with a margin for surfaces seen at
+ * a slant) is skipped whole, and only the others are walked at full
+ * resolution.
  *
- * Along the walk f(t) = |ray(t) - probe| - distance(texel) says: f < 0, free
- * space (the point is in front of everything the probe sees there); f
- * crossing 0 inside a texel, or a step to f in [0, tol] at a texel boundary,
- * on a surface facing the ray: a hit, whose radiance is that texel's; a step
- * to f > tol: the ray went behind a surface the probe sees (a silhouette),
- * so this probe cannot answer; the next probe continues from there. The
- * front-facing test (the texel's stored normal against the ray) keeps a ray
- * from "hitting" the surface it leaves. */
+ * Each texel's stored distance and normal give the plane of the surface the
+ * probe saw through it (exact for voxel faces). Inside the texel's view cone
+ * the ray is: in front of that plane, free space; crossing it from the front
+ * near the point the probe saw, a hit, whose radiance is that texel's; behind
+ * it (beyond its uncertainty), or farther from the probe than the plane
+ * reaches anywhere in the cone (an edge or corner inside the texel), past a
+ * surface the probe sees: this probe cannot answer, and the next continues
+ * from there. The normal also keeps a ray from "hitting" the surface it
+ * leaves (it crosses that plane from behind). The maximum cone half-angle of
+ * an octahedral texel is 4.25 / R (measured over R = 16..128). */
 #include <math.h>
 #include <string.h>
 
@@ -157,8 +160,8 @@ static int texel_test(walk* W, int fx, int fy, double t0, double t1, double* t_h
     }
     /* In front of the plane (or leaving it). One plane per texel is wrong
      * where the cone holds an edge or a corner: a ray farther from the probe
-     * than the plane reaches anywhere in the cone (half-angle
-     * at most 4.25 / n) has passed some other surface. */
+     * than the plane reaches anywhere in the cone has passed some other
+     * surface. */
     double cosw = fabs(w[0] * N[0] + w[1] * N[1] + w[2] * N[2]);
     double ang = acos(fmin(cosw, 1.0)) + 4.25 / n;
     if (ang < 1.5) {
