@@ -81,8 +81,8 @@ static void dda_init(dda* g, const double A[2], const double B[2], double a0, in
     /* on a boundary, start in the cell the segment goes into */
     if (fx == px && g->sx < 0) fx -= 1;
     if (fy == py && g->sy < 0) fy -= 1;
-    fx = fx < 0 ? 0 : (fx > m - 1 ? m - 1 : fx);
-    fy = fy < 0 ? 0 : (fy > m - 1 ? m - 1 : fy);
+    fx = !(fx >= 0) ? 0 : (fx > m - 1 ? m - 1 : fx); /* NaN too: the cast below must stay in range */
+    fy = !(fy >= 0) ? 0 : (fy > m - 1 ? m - 1 : fy);
     g->ix = (int)fx, g->iy = (int)fy;
     g->dx = g->sx ? 1.0 / fabs(ex) : INFINITY;
     g->dy = g->sy ? 1.0 / fabs(ey) : INFINITY;
@@ -216,8 +216,8 @@ vx__lf_status vx__lf_trace_probe(const vx_probe_set* ps, uint32_t pi, const doub
             double e = fmin(1e-6, 0.5 * (tb - ta));
             for (int a = 0; a < 3; a++) qb[a] = q0[a] + (tb - e) * d[a];
         }
-        if (!enc_octant(qa, s, ua) || !enc_octant(qb, s, ub)) {
-            *t_io = ta; /* a segment shorter than the precision: nothing to tell */
+        if (!enc_octant(qa, s, ua) || !enc_octant(qb, s, ub) || !isfinite(ua[0] + ua[1] + ub[0] + ub[1])) {
+            *t_io = ta; /* too short for the precision, or beyond it (a file's extreme values) */
             return VX__LF_UNKNOWN;
         }
         /* coarse texel coordinates (fine = coarse * n / lr) */

@@ -355,7 +355,8 @@ int lf_trace_probe(uint k, vec3 o, vec3 d, inout float t, float t_end, out uint 
         float e = min(1e-4, 0.5 * (tb - ta));
         if (!lf_enc_octant(qa, s, ua)) qa = q0 + (ta + e) * d;
         if (!lf_enc_octant(qb, s, ub)) qb = q0 + (tb - e) * d;
-        if (!lf_enc_octant(qa, s, ua) || !lf_enc_octant(qb, s, ub)) {
+        if (!lf_enc_octant(qa, s, ua) || !lf_enc_octant(qb, s, ub) || any(isnan(vec4(ua, ub))) ||
+            any(isinf(vec4(ua, ub)))) {
             t = ta;
             return LF_UNKNOWN;
         }

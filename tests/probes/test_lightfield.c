@@ -296,10 +296,44 @@ static void test_lightfield_vs_pathtrace(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A probe set read from a file may hold extreme (finite) values: the walk
+ * must end and answer something, never loop or read outside the maps. */
+static void test_extreme_values(void) {
+    vx_svo_scene s;
+    box_scene(&s, 16, 5);
+    vx_error err = {0};
+    vx_probe_set ps;
+    REQUIRE(vx_probe_bake(&s, &(vx_probe_bake_desc){.grid = {1, 1, 1}, .res = 16, .spp = 1, .bounces = -1}, &ps,
+                          &err) == VX_OK);
+    const double far[3] = {1e300, -1e300, 1e-300};
+    double steps[3] = {1e300, 1e-300, ps.dist_step};
+    uint32_t seed = 3;
+    for (int k = 0; k < 3; k++) {
+        ps.dist_step = steps[k];
+        for (int i = 0; i < 200; i++) {
+            double o[3], d[3], len = 0;
+            for (int a = 0; a < 3; a++) {
+                o[a] = (i % 3 == 0) ? far[(a + i) % 3] : rnd(&seed) * 16;
+                d[a] = rnd(&seed) * 2 - 1, len += d[a] * d[a];
+            }
+            if (len < 1e-6) continue;
+            for (int a = 0; a < 3; a++) d[a] /= sqrt(len);
+            double t = 0;
+            uint32_t texel = 0;
+            vx__lf_status st = vx__lf_trace_probe(&ps, 0, o, d, &t, i % 2 ? 1e300 : 40, &texel, NULL);
+            CHECK(st == VX__LF_HIT || st == VX__LF_MISS || st == VX__LF_UNKNOWN);
+            if (st == VX__LF_HIT) CHECK(texel < (ps.res + 2) * (ps.res + 2));
+        }
+    }
+    vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     RUN(test_trace_agrees_with_octree);
     RUN(test_trace_special_rays);
+    RUN(test_extreme_values);
     RUN(test_lightfield_vs_pathtrace);
     return vx_test_finish();
 }
