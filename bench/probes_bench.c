@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "convert/convert.h"
+#include "bench/bench_load.h"
 #include "probes/probes.h"
 
 static bool use_cpu;
@@ -43,17 +43,6 @@ static bool parse_list(const char* s, double* v, int n) {
 static vx_gpu* gpu;
 static vx_render_scene* rs;
 
-static int load(const char* path, vx_svo_scene* s, vx_error* err) {
-    const char* ext = strrchr(path, '.');
-    if (ext && !strcmp(ext, ".vox")) {
-        vx_vox_scene vs;
-        if (vx_vox_read_file(NULL, path, &vs, err)) return 1;
-        vx_result r = vx_conv_vox(NULL, &vs, s, NULL, err);
-        vx_vox_scene_free(&vs);
-        return r != VX_OK;
-    }
-    return vx_svo_read_file(NULL, path, s, err) != VX_OK;
-}
 
 static vx_result bake(const vx_svo_scene* s, const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err) {
     return use_cpu ? vx_probe_bake(s, d, ps, err) : vx_probe_bake_gpu(rs, s, d, ps, err);
@@ -128,7 +117,7 @@ int main(int argc, char** argv) {
     i += 2;
     vx_error err = {0};
     vx_svo_scene s;
-    if (load(path, &s, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+    if (bench_load(path, &s, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
     if (!use_cpu) {
         if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err)) {
             fprintf(stderr, "GPU: %s (--cpu for the CPU paths)\n", err.msg);

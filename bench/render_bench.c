@@ -17,20 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "convert/convert.h"
+#include "bench/bench_load.h"
 #include "render/render_internal.h"
 
-static int load(const char* path, vx_svo_scene* s, vx_error* err) {
-    const char* ext = strrchr(path, '.');
-    if (ext && !strcmp(ext, ".vox")) {
-        vx_vox_scene vs;
-        if (vx_vox_read_file(NULL, path, &vs, err)) return 1;
-        vx_result r = vx_conv_vox(NULL, &vs, s, NULL, err);
-        vx_vox_scene_free(&vs);
-        return r != VX_OK;
-    }
-    return vx_svo_read_file(NULL, path, s, err) != VX_OK;
-}
 
 /* Terrain over 4096 x 4096 cells: columns of 8x8 cells whose top two
  * 8^3 tiles are filled (level-3 tiles, so the builder never expands them),
@@ -126,7 +115,7 @@ int main(int argc, char** argv) {
         double t0 = vx_time_now();
         if (k < nf) {
             name = strrchr(files[k], '/') ? strrchr(files[k], '/') + 1 : files[k];
-            if (load(files[k], &s, &err)) {
+            if (bench_load(files[k], &s, &err)) {
                 fprintf(stderr, "render_bench: %s: %s\n", files[k], err.msg);
                 continue;
             }

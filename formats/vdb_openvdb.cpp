@@ -69,18 +69,31 @@ void read_raw_chunk(std::istream& is, char* data, size_t numBytes, Int64 n, cons
     if (data) is.read(data, -n);
     else is.seekg(-n, std::ios_base::cur);
 }
+
+// The part both chunk kinds share: size, uncompressed or skipped chunks, and
+// the bounds check before the compressed bytes are read into *src. Returns
+// their count, or 0 when there is nothing left to decompress.
+Int64 read_compressed(std::istream& is, char* data, size_t numBytes, const char* kind, std::unique_ptr<char[]>* src) {
+    const Int64 n = read_chunk_size(is, kind);
+    if (n <= 0) {
+        read_raw_chunk(is, data, numBytes, n, kind);
+        return 0;
+    }
+    if (!data) {
+        is.seekg(n, std::ios_base::cur);
+        return 0;
+    }
+    check_chunk_fits(is, n, kind);
+    src->reset(new char[static_cast<size_t>(n)]);
+    is.read(src->get(), n);
+    return n;
+}
 } // namespace
 
 void bloscFromStream(std::istream& is, char* data, size_t numBytes) {
-    const Int64 n = read_chunk_size(is, "blosc");
-    if (n <= 0) return read_raw_chunk(is, data, numBytes, n, "blosc");
-    if (!data) {
-        is.seekg(n, std::ios_base::cur);
-        return;
-    }
-    check_chunk_fits(is, n, "blosc");
-    std::unique_ptr<char[]> src(new char[static_cast<size_t>(n)]);
-    is.read(src.get(), n);
+    std::unique_ptr<char[]> src;
+    const Int64 n = read_compressed(is, data, numBytes, "blosc", &src);
+    if (n == 0) return;
     size_t nbytes = 0, cbytes = 0, blocksize = 0;
     if (n < BLOSC_MIN_HEADER_LENGTH) OPENVDB_THROW(RuntimeError, "blosc chunk shorter than its header");
     blosc_cbuffer_sizes(src.get(), &nbytes, &cbytes, &blocksize);
@@ -100,17 +113,12 @@ void bloscFromStream(std::istream& is, char* data, size_t numBytes) {
 }
 
 void unzipFromStream(std::istream& is, char* data, size_t numBytes) {
-    const Int64 n = read_chunk_size(is, "zip");
-    if (n <= 0) return read_raw_chunk(is, data, numBytes, n, "zip");
-    if (!data) {
-        is.seekg(n, std::ios_base::cur);
-        return;
-    }
-    check_chunk_fits(is, n, "zip");
-    std::unique_ptr<Bytef[]> src(new Bytef[static_cast<size_t>(n)]);
-    is.read(reinterpret_cast<char*>(src.get()), n);
+    std::unique_ptr<char[]> src;
+    const Int64 n = read_compressed(is, data, numBytes, "zip", &src);
+    if (n == 0) return;
     uLongf out = static_cast<uLongf>(numBytes);
-    const int zr = uncompress(reinterpret_cast<Bytef*>(data), &out, src.get(), static_cast<uLong>(n));
+    const int zr = uncompress(reinterpret_cast<Bytef*>(data), &out, reinterpret_cast<const Bytef*>(src.get()),
+                              static_cast<uLong>(n));
     if (zr != Z_OK || out != numBytes)
         OPENVDB_THROW(RuntimeError, "zip chunk does not decompress to " + std::to_string(numBytes) + " bytes");
 }

@@ -396,18 +396,27 @@ static vx_result parse_frame_key(vox_ctx* c, vox_str v, uint32_t* f, int32_t nod
     return VX_OK;
 }
 
-static vx_result chunk_ntrn(vox_ctx* c, vx_rd* r) {
-    vox_node n = {.type = VX_VOX_NODE_TRN, .off = c->chunk_off};
-    uint32_t pairs, frames;
-    int32_t reserved;
-    TRY(rd_i32(c, r, &n.id, "node id"));
+/* Every scene graph node starts with its id and an attribute dictionary;
+ * _name and _hidden are the keys a node of any type may carry (a shape's
+ * _hidden is read but not used: MagicaVoxel hides through transforms). */
+static vx_result rd_node_head(vox_ctx* c, vx_rd* r, vox_node* n) {
+    uint32_t pairs;
+    TRY(rd_i32(c, r, &n->id, "node id"));
     TRY(rd_dict_count(c, r, &pairs, "node attributes"));
     for (uint32_t i = 0; i < pairs; i++) {
         vox_str k, v;
         TRY(rd_pair(c, r, &k, &v, "node attributes"));
-        if (str_is(k, "_name")) copy_name(n.name, v);
-        else if (str_is(k, "_hidden")) n.hidden = str_is(v, "1");
+        if (str_is(k, "_name")) copy_name(n->name, v);
+        else if (str_is(k, "_hidden")) n->hidden = str_is(v, "1");
     }
+    return VX_OK;
+}
+
+static vx_result chunk_ntrn(vox_ctx* c, vx_rd* r) {
+    vox_node n = {.type = VX_VOX_NODE_TRN, .off = c->chunk_off};
+    uint32_t pairs, frames;
+    int32_t reserved;
+    TRY(rd_node_head(c, r, &n));
     TRY(rd_i32(c, r, &n.child, "child node id"));
     TRY(rd_i32(c, r, &reserved, "reserved id"));
     TRY(rd_i32(c, r, &n.layer, "layer id"));
@@ -450,15 +459,8 @@ static vx_result chunk_ntrn(vox_ctx* c, vx_rd* r) {
 
 static vx_result chunk_ngrp(vox_ctx* c, vx_rd* r) {
     vox_node n = {.type = VX_VOX_NODE_GRP, .off = c->chunk_off, .layer = -1};
-    uint32_t pairs, count;
-    TRY(rd_i32(c, r, &n.id, "node id"));
-    TRY(rd_dict_count(c, r, &pairs, "node attributes"));
-    for (uint32_t i = 0; i < pairs; i++) {
-        vox_str k, v;
-        TRY(rd_pair(c, r, &k, &v, "node attributes"));
-        if (str_is(k, "_name")) copy_name(n.name, v);
-        else if (str_is(k, "_hidden")) n.hidden = str_is(v, "1");
-    }
+    uint32_t count;
+    TRY(rd_node_head(c, r, &n));
     uint64_t at = vx_rd_pos(r);
     TRY(rd_u32(c, r, &count, "child count"));
     if (count > vx_rd_left(r) / 4)
@@ -474,13 +476,7 @@ static vx_result chunk_ngrp(vox_ctx* c, vx_rd* r) {
 static vx_result chunk_nshp(vox_ctx* c, vx_rd* r) {
     vox_node n = {.type = VX_VOX_NODE_SHP, .off = c->chunk_off, .layer = -1};
     uint32_t pairs, count;
-    TRY(rd_i32(c, r, &n.id, "node id"));
-    TRY(rd_dict_count(c, r, &pairs, "node attributes"));
-    for (uint32_t i = 0; i < pairs; i++) {
-        vox_str k, v;
-        TRY(rd_pair(c, r, &k, &v, "node attributes"));
-        if (str_is(k, "_name")) copy_name(n.name, v);
-    }
+    TRY(rd_node_head(c, r, &n));
     uint64_t at = vx_rd_pos(r);
     TRY(rd_u32(c, r, &count, "model count"));
     if (count == 0) return cfail(c, VX_ERR_BAD_FORMAT, at, "node %d: no models", n.id);

@@ -259,31 +259,16 @@ typedef struct job {
     const vx_allocator* alloc;
 } job;
 
-static void fill_border_u16(uint16_t* m, uint32_t n, uint32_t ch) {
+/* Copies each border texel of a bordered n x n map of `elem`-byte texels
+ * from the interior texel it repeats (vx_probe_border_src). */
+static void fill_border(void* map, uint32_t n, size_t elem) {
+    uint8_t* m = (uint8_t*)map;
     for (uint32_t bj = 0; bj < n + 2; bj++)
         for (uint32_t bi = 0; bi < n + 2; bi++) {
             if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
             uint32_t si, sj;
             vx_probe_border_src(n, bi, bj, &si, &sj);
-            for (uint32_t c = 0; c < ch; c++) m[(bj * (n + 2) + bi) * ch + c] = m[((sj + 1) * (n + 2) + si + 1) * ch + c];
-        }
-}
-static void fill_border_u32(uint32_t* m, uint32_t n) {
-    for (uint32_t bj = 0; bj < n + 2; bj++)
-        for (uint32_t bi = 0; bi < n + 2; bi++) {
-            if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
-            uint32_t si, sj;
-            vx_probe_border_src(n, bi, bj, &si, &sj);
-            m[bj * (n + 2) + bi] = m[(sj + 1) * (n + 2) + si + 1];
-        }
-}
-static void fill_border_f32(float* m, uint32_t n, uint32_t ch) {
-    for (uint32_t bj = 0; bj < n + 2; bj++)
-        for (uint32_t bi = 0; bi < n + 2; bi++) {
-            if (bi >= 1 && bi <= n && bj >= 1 && bj <= n) continue;
-            uint32_t si, sj;
-            vx_probe_border_src(n, bi, bj, &si, &sj);
-            for (uint32_t c = 0; c < ch; c++) m[(bj * (n + 2) + bi) * ch + c] = m[((sj + 1) * (n + 2) + si + 1) * ch + c];
+            memcpy(m + ((size_t)bj * (n + 2) + bi) * elem, m + ((size_t)(sj + 1) * (n + 2) + si + 1) * elem, elem);
         }
 }
 
@@ -347,9 +332,9 @@ void vx__probe_finish(vx_probe_set* out, const vx__tables* T, uint32_t k, const 
         size_t b = (t / n + 1) * nb + t % n + 1;
         for (int q = 0; q < 3; q++) rad[3 * b + q] = vx_probe_half((float)L[3 * t + q]);
     }
-    fill_border_u16(rad, n, 3);
-    fill_border_u32(nrm, n);
-    fill_border_u16(dist, n, 1);
+    fill_border(rad, n, 3 * sizeof *rad);
+    fill_border(nrm, n, sizeof *nrm);
+    fill_border(dist, n, sizeof *dist);
     /* low-resolution minimum distance: each texel the minimum over its block */
     uint32_t lr = ps->low_res, blk = n / lr;
     for (uint32_t lj = 0; lj < lr; lj++)
@@ -362,7 +347,7 @@ void vx__probe_finish(vx_probe_set* out, const vx__tables* T, uint32_t k, const 
                 }
             low[(lj + 1) * (lr + 2) + li + 1] = m;
         }
-    fill_border_u16(low, lr, 1);
+    fill_border(low, lr, sizeof *low);
     /* cosine-convolved irradiance: E(n) = sum L(w) max(0, n.w) dw */
     for (uint32_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++) {
         const double* nn = T->irr_dir[q];
@@ -378,7 +363,7 @@ void vx__probe_finish(vx_probe_set* out, const vx__tables* T, uint32_t k, const 
         size_t b = (size_t)(j + 1) * (VX_PROBE_IRR_RES + 2) + i + 1;
         for (int c = 0; c < 3; c++) irr[3 * b + c] = vx_probe_half((float)e[c]);
     }
-    fill_border_u16(irr, VX_PROBE_IRR_RES, 3);
+    fill_border(irr, VX_PROBE_IRR_RES, 3 * sizeof *irr);
     /* distance moments with a sharp cosine lobe (DDGI's power 50) */
     for (uint32_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++) {
         const double* nn = T->mom_dir[q];
@@ -395,7 +380,7 @@ void vx__probe_finish(vx_probe_set* out, const vx__tables* T, uint32_t k, const 
         mom[2 * b] = (float)(ws > 0 ? m1 / ws : ps->dist_max);
         mom[2 * b + 1] = (float)(ws > 0 ? m2 / ws : ps->dist_max * ps->dist_max);
     }
-    fill_border_f32(mom, VX_PROBE_DIST_RES, 2);
+    fill_border(mom, VX_PROBE_DIST_RES, 2 * sizeof *mom);
 }
 
 static void* worker(void* arg) {

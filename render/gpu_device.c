@@ -199,23 +199,37 @@ static vx_result select_device(vx_gpu* g, const char* want, vx_error* err) {
     return r;
 }
 
-static vx_result create_device(vx_gpu* g, vx_error* err) {
+vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const char* const* extensions,
+                             uint32_t extension_count, const void** device, bool* float64, vx_error* err) {
+    VkPhysicalDevice pd = (VkPhysicalDevice)physical_device;
     /* float64 only serves the precise trace variant (deep models); scenes
      * that need it are refused at load on devices without it */
     VkPhysicalDeviceFeatures have, want = {0};
-    vkGetPhysicalDeviceFeatures(g->phys, &have);
+    vkGetPhysicalDeviceFeatures(pd, &have);
     want.shaderFloat64 = have.shaderFloat64;
-    g->has_float64 = have.shaderFloat64 == VK_TRUE;
     float prio = 1.0f;
     VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
-                                   .queueFamilyIndex = g->queue_family,
+                                   .queueFamilyIndex = family,
                                    .queueCount = 1,
                                    .pQueuePriorities = &prio};
     VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                               .queueCreateInfoCount = 1,
                               .pQueueCreateInfos = &qci,
+                              .enabledExtensionCount = extension_count,
+                              .ppEnabledExtensionNames = extensions,
                               .pEnabledFeatures = &want};
-    VX__VK(vkCreateDevice(g->phys, &dci, NULL, &g->device), "vkCreateDevice");
+    VkDevice dev = VK_NULL_HANDLE;
+    VX__VK(vkCreateDevice(pd, &dci, NULL, &dev), "vkCreateDevice");
+    *device = (const void*)dev;
+    if (float64) *float64 = have.shaderFloat64 == VK_TRUE;
+    return VX_OK;
+}
+
+static vx_result create_device(vx_gpu* g, vx_error* err) {
+    const void* dev = NULL;
+    vx_result r = vx_gpu_make_device((const void*)g->phys, g->queue_family, NULL, 0, &dev, &g->has_float64, err);
+    if (r) return r;
+    g->device = (VkDevice)dev;
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);
     return VX_OK;
 }

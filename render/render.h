@@ -116,6 +116,11 @@ uint32_t vx_gpu_validation_errors(const vx_gpu* gpu);
 vx_result vx_gpu_pick_device(const void* instance, const char* want,
                              bool (*family_ok)(void* user, const void* physical_device, uint32_t family), void* user,
                              const char* needs, const void** physical_device, uint32_t* family, vx_error* err);
+/* Creates a VkDevice (*device) with one queue of `family` and the features
+ * the tracer uses (shaderFloat64 where the device has it: *float64), plus
+ * the given device extensions (a window's swapchain); the caller destroys it. */
+vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const char* const* extensions,
+                             uint32_t extension_count, const void** device, bool* float64, vx_error* err);
 /* Lists physical devices: calls fn(user, index, name, type) for each, where
  * type is "discrete", "integrated", "virtual", "cpu" or "other". */
 vx_result vx_gpu_list_devices(void (*fn)(void* user, uint32_t index, const char* name, const char* type),

@@ -92,23 +92,11 @@ static vx_result pick_device(vp* p, const char* want, vx_error* err) {
 }
 
 static vx_result create_device(vp* p, vx_error* err) {
-    VkPhysicalDeviceFeatures have, feat = {0};
-    vkGetPhysicalDeviceFeatures(p->phys, &have);
-    feat.shaderFloat64 = have.shaderFloat64;
-    p->float64 = have.shaderFloat64 == VK_TRUE;
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
-                                   .queueFamilyIndex = p->family,
-                                   .queueCount = 1,
-                                   .pQueuePriorities = &prio};
     const char* exts[] = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
-    VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
-                              .queueCreateInfoCount = 1,
-                              .pQueueCreateInfos = &qci,
-                              .enabledExtensionCount = 1,
-                              .ppEnabledExtensionNames = exts,
-                              .pEnabledFeatures = &feat};
-    VP_VK(vkCreateDevice(p->phys, &dci, NULL, &p->dev), "vkCreateDevice");
+    const void* dev = NULL;
+    vx_result r = vx_gpu_make_device((const void*)p->phys, p->family, exts, 1, &dev, &p->float64, err);
+    if (r) return r;
+    p->dev = (VkDevice)dev;
     vkGetDeviceQueue(p->dev, p->family, 0, &p->queue);
     VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
                                    .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
