@@ -315,11 +315,8 @@ void vx__lf_radiance(const vx__lf* lf, const double o[3], const double d[3], dou
     double cd[8];
     int nc = 0;
     int64_t base[3];
-    for (int k = 0; k < 3; k++) {
-        double g = (o[k] - ps->origin[k]) / ps->spacing[k], top = (double)ps->grid[k] - 1;
-        g = g < 0 ? 0 : (g > top ? top : g);
-        base[k] = (int64_t)fmin(floor(g), fmax(top - 1, 0));
-    }
+    double alpha[3];
+    vx__probe_cage(ps, o, base, alpha);
     for (int c = 0; c < 8; c++) {
         int64_t idx[3];
         bool skip = false;

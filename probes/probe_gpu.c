@@ -288,6 +288,7 @@ struct vx_probe_gpu {
     bool complete;          /* ps holds every probe: the probe modes can use it */
     vx_gpu* g;
     vx__buffer maps, lf;
+    bool maps_ready;   /* irradiance and moments uploaded (at the first gi or light field frame) */
     uint32_t lf_words; /* 0 until the light field maps are uploaded */
 };
 
@@ -316,6 +317,23 @@ static vx_result upload_lightfield(vx_probe_gpu* pg, vx_error* err) {
     return r;
 }
 
+/* Irradiance (as floats) then moments, every probe (layout: Maps in probe.comp). */
+static vx_result upload_maps(vx_probe_gpu* pg, vx_error* err) {
+    const vx_probe_set* ps = pg->ps;
+    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2;
+    size_t nmaps = (ni + nm) * ps->probe_count;
+    float* maps = vx_alloc(ps->alloc, nmaps * sizeof(float));
+    if (!maps) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes' maps", ps->probe_count);
+    for (size_t i = 0; i < ni * ps->probe_count; i++) maps[i] = vx_probe_half_to_float(ps->irradiance[i]);
+    memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
+    vx__buffer_destroy(pg->g, &pg->maps);
+    vx_result r = upload_to(pg->g, &pg->maps, maps, nmaps * sizeof(float), "probe maps", err);
+    vx_free(ps->alloc, maps);
+    if (r) upload_to(pg->g, &pg->maps, NULL, 16, "probe maps", NULL); /* keep a valid placeholder */
+    else pg->maps_ready = true;
+    return r;
+}
+
 vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps, vx_probe_gpu** out,
                               vx_error* err) {
     if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -325,21 +343,9 @@ vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const 
     if (!pg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     *pg = (vx_probe_gpu){.rs = rs, .scene = s, .ps = ps, .g = vx__render_scene_gpu(rs),
                          .complete = ps && ps->first == 0 && ps->count == ps->probe_count};
-    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2, nmaps = 4;
-    float* maps = NULL;
-    if (pg->complete) {
-        nmaps = (ni + nm) * ps->probe_count;
-        maps = vx_alloc(a, nmaps * sizeof(float));
-        if (!maps) {
-            vx_free(a, pg);
-            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes' maps", ps->probe_count);
-        }
-        for (size_t i = 0; i < ni * ps->probe_count; i++) maps[i] = vx_probe_half_to_float(ps->irradiance[i]);
-        memcpy(maps + ni * ps->probe_count, ps->moments, nm * ps->probe_count * sizeof(float));
-    }
-    vx_result r = upload_to(pg->g, &pg->maps, maps, nmaps * sizeof(float), "probe maps", err);
-    vx_free(a, maps);
-    if (!r) r = upload_to(pg->g, &pg->lf, NULL, 16, "probe light field", err); /* until a light field frame */
+    /* placeholders until a frame needs the maps */
+    vx_result r = upload_to(pg->g, &pg->maps, NULL, 16, "probe maps", err);
+    if (!r) r = upload_to(pg->g, &pg->lf, NULL, 16, "probe light field", err);
     if (r) {
         vx_probe_gpu_destroy(pg);
         return r;
@@ -360,32 +366,15 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
     if (!pg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     const vx_svo_scene* s = pg->scene;
     const vx_probe_set* ps = pg->ps;
-    vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
-    if ((unsigned)d.mode >= VX_PROBE_RENDER_MODE_COUNT)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
-    bool lf = d.mode == VX_PROBE_RENDER_LIGHTFIELD || d.mode == VX_PROBE_RENDER_LF_INDIRECT;
-    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT || lf;
-    if (need_probes && !pg->complete)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
-                       vx_probe_render_mode_name(d.mode));
-    vx_render_desc base = d.base ? *d.base : (vx_render_desc){0};
-    base.mode = VX_RENDER_COLOR;
-    base.spp = 1;
-    base.lod = false;
-    double lo[3], hi[3];
-    vx__scene_world_bounds(s, lo, hi);
-    vx__frame f;
-    vx_result r = vx__frame_setup(lo, hi, &base, &f, err);
+    vx__prender P;
+    vx_result r = vx__prender_setup(s, ps, pg->complete, desc, &P, err);
     if (r) return r;
-    vx__light L;
-    if (ps) {
-        vx__light_init(&L, NULL, s, ps->light_dir, NULL, false, NULL, false);
-        for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    } else {
-        vx__light_init(&L, NULL, s, base.light_dir, NULL, false, NULL, false);
-    }
-    uint32_t spp = d.spp ? d.spp : (need_probes && !lf ? 1 : 16);
-    uint32_t bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
+    const vx_probe_render_desc d = P.d;
+    const vx__frame f = P.f;
+    const double *lo = P.lo, *hi = P.hi;
+    bool lf = P.lightfield, need_probes = P.uses_probes;
+    uint32_t spp = P.spp, bounces = P.bounces;
+    if (need_probes && !pg->maps_ready && (r = upload_maps(pg, err))) return r;
     if (lf && !pg->lf_words) {
         vx__buffer_destroy(pg->g, &pg->lf);
         if ((r = upload_lightfield(pg, err))) {
@@ -394,13 +383,13 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
         }
     }
     gctx c;
-    if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &L, err))) goto done;
+    if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &P.L, err))) goto done;
     c.maps_in = &pg->maps, c.lf_in = &pg->lf;
     size_t npx = (size_t)f.width * f.height;
     if ((r = vx__buffer_create(c.g, npx * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)))
         goto done;
     gpu_params* p = c.params.map;
-    params_common(p, &L, d.seed);
+    params_common(p, &P.L, d.seed);
     if (need_probes) params_grid(p, ps, f.ref);
     if (lf) {
         p->lf[0] = ps->res, p->lf[1] = ps->low_res, p->lf[2] = pg->lf_words;
@@ -433,13 +422,6 @@ done:
 vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,
                               const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err) {
     if (!rs || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    vx_probe_render_mode m = desc ? desc->mode : VX_PROBE_RENDER_GI;
-    bool need_probes = m != VX_PROBE_RENDER_PATHTRACE && m != VX_PROBE_RENDER_PT_INDIRECT;
-    /* checked before any upload: a path tracer frame needs only the probes' light */
-    if ((unsigned)m >= VX_PROBE_RENDER_MODE_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
-    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
-                       vx_probe_render_mode_name(m));
     vx_probe_gpu* pg;
     vx_result r = vx_probe_gpu_create(rs, s, ps, &pg, err);
     if (r) return r;

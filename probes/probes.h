@@ -279,8 +279,9 @@ vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* scene, co
 /* The probe maps kept on the GPU between frames (a viewer renders many
  * frames of one set: the light field maps alone can be hundreds of MB).
  * rs, scene and ps must outlive it; ps may be NULL or a part of a set (then
- * only the path tracer modes render, ps giving their light). The light field
- * maps are uploaded at the first light field frame. */
+ * only the path tracer modes render, ps giving their light). Maps are
+ * uploaded at the first frame that needs them (the light field maps only for
+ * a light field frame). */
 typedef struct vx_probe_gpu vx_probe_gpu;
 vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps,
                               vx_probe_gpu** out, vx_error* err);
@@ -288,6 +289,8 @@ void vx_probe_gpu_destroy(vx_probe_gpu* pg);
 /* vx_probe_render_gpu with the maps of pg. */
 vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err);
 const char* vx_probe_render_mode_name(vx_probe_render_mode m);
+/* Whether mode m reads the probes (gi and lightfield modes; not the path tracer). */
+bool vx_probe_render_mode_uses_probes(vx_probe_render_mode m);
 bool vx_probe_render_mode_parse(const char* s, vx_probe_render_mode* out);
 
 #ifdef __cplusplus

@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "probes/probes.h"
+#include "render/render_internal.h"
 
 /* ---- random numbers: one stream per (seed, a, b, c), independent of threads ---- */
 
@@ -65,6 +66,37 @@ void vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
               double out[3]);
 /* Cosine-weighted direction around unit n. */
 void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
+
+/* The grid cell of the 8 probes around world point p (clamped to the grid):
+ * probe (base + (c & 1, c >> 1 & 1, c >> 2 & 1)) for c in 0..7, skipping
+ * indices past the grid's end; alpha: trilinear weights along each axis. */
+static inline void vx__probe_cage(const vx_probe_set* ps, const double p[3], int64_t base[3], double alpha[3]) {
+    for (int k = 0; k < 3; k++) {
+        double g = (p[k] - ps->origin[k]) / ps->spacing[k];
+        double top = (double)ps->grid[k] - 1;
+        g = g < 0 ? 0 : (g > top ? top : g);
+        double f = fmin(floor(g), fmax(top - 1, 0));
+        base[k] = (int64_t)f;
+        alpha[k] = top > 0 ? g - f : 0;
+    }
+}
+
+/* What a probe render resolves before it traces, the same on the CPU
+ * (render_gi.c) and the GPU (probe_gpu.c): the checked desc, the frame, the
+ * light (the probes', or the bake defaults; L.caster left NULL), samples
+ * and bounces. */
+typedef struct vx__prender {
+    vx_probe_render_desc d;
+    vx__frame f;
+    double lo[3], hi[3]; /* world bounds of the scene */
+    vx__light L;
+    uint32_t spp, bounces;
+    bool uses_probes, lightfield;
+} vx__prender;
+
+/* complete: ps holds every probe (the probe modes need that). */
+vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool complete,
+                            const vx_probe_render_desc* desc, vx__prender* out, vx_error* err);
 
 /* Probe map sizes in texels (with borders) and the per-probe block size. */
 static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }

@@ -56,14 +56,7 @@ static void irradiance_at(const vx_probe_set* ps, const double p_in[3], const do
     for (int k = 0; k < 3; k++) p[k] = p_in[k] + (n[k] * 0.2 - (vd ? vd[k] : 0) * 0.1) * smin;
     int64_t base[3];
     double alpha[3];
-    for (int k = 0; k < 3; k++) {
-        double g = (p[k] - ps->origin[k]) / ps->spacing[k];
-        double top = (double)ps->grid[k] - 1;
-        g = g < 0 ? 0 : (g > top ? top : g);
-        double f = fmin(floor(g), fmax(top - 1, 0));
-        base[k] = (int64_t)f;
-        alpha[k] = top > 0 ? g - f : 0;
-    }
+    vx__probe_cage(ps, p, base, alpha);
     double sum[3] = {0, 0, 0}, wsum = 0;
     size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2;
     for (int c = 0; c < 8; c++) {
@@ -151,6 +144,38 @@ typedef struct rjob {
 } rjob;
 
 static bool is_lf(vx_probe_render_mode m) { return m == VX_PROBE_RENDER_LIGHTFIELD || m == VX_PROBE_RENDER_LF_INDIRECT; }
+
+bool vx_probe_render_mode_uses_probes(vx_probe_render_mode m) {
+    return m == VX_PROBE_RENDER_GI || m == VX_PROBE_RENDER_INDIRECT || is_lf(m);
+}
+
+vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool complete,
+                            const vx_probe_render_desc* desc, vx__prender* out, vx_error* err) {
+    vx__prender* P = out;
+    memset(P, 0, sizeof *P);
+    P->d = desc ? *desc : (vx_probe_render_desc){0};
+    vx_probe_render_mode m = P->d.mode;
+    if ((unsigned)m >= VX_PROBE_RENDER_MODE_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
+    P->uses_probes = vx_probe_render_mode_uses_probes(m);
+    P->lightfield = is_lf(m);
+    if (P->uses_probes && !complete)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
+                       vx_probe_render_mode_name(m));
+    vx_render_desc base = P->d.base ? *P->d.base : (vx_render_desc){0};
+    base.mode = VX_RENDER_COLOR;
+    base.spp = 1;
+    base.lod = false;
+    vx__scene_world_bounds(s, P->lo, P->hi);
+    vx_result r = vx__frame_setup(P->lo, P->hi, &base, &P->f, err);
+    if (r) return r;
+    vx__light_init(&P->L, NULL, s, ps ? ps->light_dir : base.light_dir, NULL, false, NULL, false);
+    if (ps)
+        for (int k = 0; k < 3; k++) P->L.sun[k] = ps->sun[k], P->L.sky[k] = ps->sky[k];
+    P->spp = P->d.spp ? P->d.spp : (P->uses_probes && !P->lightfield ? 1 : 16);
+    P->bounces = P->d.bounces ? P->d.bounces : (ps ? ps->bounces + 1 : 2);
+    return VX_OK;
+}
+
 static bool has_direct(vx_probe_render_mode m) {
     return m == VX_PROBE_RENDER_GI || m == VX_PROBE_RENDER_PATHTRACE || m == VX_PROBE_RENDER_LIGHTFIELD;
 }
@@ -230,34 +255,18 @@ static void* rworker(void* arg) {
 vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const vx_probe_render_desc* desc,
                           vx_render_image* out, vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    vx_probe_render_desc d = desc ? *desc : (vx_probe_render_desc){0};
-    bool need_probes = d.mode == VX_PROBE_RENDER_GI || d.mode == VX_PROBE_RENDER_INDIRECT || is_lf(d.mode);
-    if ((unsigned)d.mode >= VX_PROBE_RENDER_MODE_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown mode");
-    if (need_probes && (!ps || ps->first != 0 || ps->count != ps->probe_count))
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mode %s needs a complete probe set",
-                       vx_probe_render_mode_name(d.mode));
-    vx_render_desc base = d.base ? *d.base : (vx_render_desc){0};
-    base.mode = VX_RENDER_COLOR;
-    base.spp = 1;
-    double lo[3], hi[3];
-    vx__scene_world_bounds(s, lo, hi);
-    vx__frame f;
-    vx_result r = vx__frame_setup(lo, hi, &base, &f, err);
+    vx__prender P;
+    vx_result r = vx__prender_setup(s, ps, ps && ps->first == 0 && ps->count == ps->probe_count, desc, &P, err);
     if (r) return r;
+    const vx_probe_render_desc d = P.d;
+    const vx__frame f = P.f;
     vx_render_caster* c = NULL;
     if ((r = vx_render_caster_create(s, NULL, &c, err))) return r;
-    vx__light L;
-    if (ps) {
-        vx__light_init(&L, c, s, ps->light_dir, NULL, false, NULL, false);
-        for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    } else {
-        vx__light_init(&L, c, s, base.light_dir, NULL, false, NULL, false);
-    }
-    vx__lf lf = {.L = &L, .ps = ps};
-    memcpy(lf.lo, lo, sizeof lo), memcpy(lf.hi, hi, sizeof hi);
-    rjob J = {.f = &f, .L = &L, .ps = ps, .lf = &lf, .mode = d.mode, .seed = d.seed};
-    J.spp = d.spp ? d.spp : (need_probes && !is_lf(d.mode) ? 1 : 16);
-    J.bounces = d.bounces ? d.bounces : (ps ? ps->bounces + 1 : 2);
+    P.L.caster = c;
+    vx__lf lf = {.L = &P.L, .ps = ps};
+    memcpy(lf.lo, P.lo, sizeof lf.lo), memcpy(lf.hi, P.hi, sizeof lf.hi);
+    rjob J = {.f = &f, .L = &P.L, .ps = ps, .lf = &lf, .mode = d.mode, .seed = d.seed, .spp = P.spp,
+              .bounces = P.bounces};
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_calloc(NULL, (size_t)f.width * f.height, 16);
     if (!img.pixels) {

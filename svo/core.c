@@ -238,30 +238,60 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
     return VX_OK;
 }
 
-vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err) {
+vx_result vx_atomic_open(vx_atomic_file* af, const char* path, vx_error* err) {
+    memset(af, 0, sizeof *af);
     if (!path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null path");
     size_t plen = strlen(path);
-    char* tmp = (char*)malloc(plen + 32);
-    if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    snprintf(tmp, plen + 32, "%s.tmp%ld", path, (long)getpid());
-    FILE* f = fopen(tmp, "wb");
-    if (!f) {
-        vx_result r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot create %s: %s", tmp, strerror(errno));
-        free(tmp);
+    af->tmp = (char*)malloc(plen + 32);
+    if (!af->tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    snprintf(af->tmp, plen + 32, "%s.tmp%ld", path, (long)getpid());
+    af->f = fopen(af->tmp, "wb");
+    if (!af->f) {
+        vx_result r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot create %s: %s", af->tmp, strerror(errno));
+        free(af->tmp);
+        af->tmp = NULL;
         return r;
     }
-    bool ok = (size == 0 || fwrite(data, 1, size, f) == size);
-    ok = (fflush(f) == 0) && ok;
-    ok = (fsync(fileno(f)) == 0 || errno == EINVAL || errno == EROFS) && ok;
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        free(tmp);
+    af->path = path;
+    return VX_OK;
+}
+
+bool vx_atomic_write(vx_atomic_file* af, const void* data, size_t n) {
+    if (af->failed_errno) return false;
+    if (n && fwrite(data, 1, n, (FILE*)af->f) != n) af->failed_errno = errno ? errno : EIO;
+    return !af->failed_errno;
+}
+
+void vx_atomic_abort(vx_atomic_file* af) {
+    if (af->f) fclose((FILE*)af->f);
+    if (af->tmp) remove(af->tmp);
+    free(af->tmp);
+    memset(af, 0, sizeof *af);
+}
+
+vx_result vx_atomic_commit(vx_atomic_file* af, vx_error* err) {
+    FILE* f = (FILE*)af->f;
+    int e = af->failed_errno;
+    if (!e && fflush(f) != 0) e = errno;
+    if (!e && fsync(fileno(f)) != 0 && errno != EINVAL && errno != EROFS) e = errno;
+    af->f = NULL;
+    if (fclose(f) != 0 && !e) e = errno;
+    if (!e && rename(af->tmp, af->path) != 0) e = errno;
+    if (e) {
+        vx_atomic_abort(af);
         return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot write: %s", strerror(e));
     }
-    free(tmp);
+    free(af->tmp);
+    memset(af, 0, sizeof *af);
     return VX_OK;
+}
+
+vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err) {
+    vx_atomic_file af;
+    vx_result r = vx_atomic_open(&af, path, err);
+    if (r) return r;
+    vx_atomic_write(&af, data, size);
+    return vx_atomic_commit(&af, err);
 }
 
 void vx_run_threads(unsigned threads, void* (*worker)(void* arg), void* arg) {

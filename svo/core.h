@@ -253,6 +253,21 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
  * failure never leaves a half-written output. */
 vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err);
 
+/* The same written in pieces: vx_atomic_open creates the temporary file,
+ * vx_atomic_write appends (a failure is remembered), vx_atomic_commit
+ * flushes, syncs and renames it over path (or removes it and fails);
+ * vx_atomic_abort removes it. Either of the last two ends the file. */
+typedef struct vx_atomic_file {
+    void* f; /* FILE* */
+    char* tmp;
+    const char* path;
+    int failed_errno; /* 0 while every write succeeded */
+} vx_atomic_file;
+vx_result vx_atomic_open(vx_atomic_file* af, const char* path, vx_error* err);
+bool vx_atomic_write(vx_atomic_file* af, const void* data, size_t n);
+vx_result vx_atomic_commit(vx_atomic_file* af, vx_error* err);
+void vx_atomic_abort(vx_atomic_file* af);
+
 /* ---- threads -------------------------------------------------------------------------- */
 
 #define VX_MAX_THREADS 64

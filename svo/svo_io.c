@@ -971,40 +971,29 @@ static bool spill_flush(void* user, vx_buf* out) {
     return true;
 }
 
-static bool copy_bytes(FILE* from, FILE* to, uint64_t n, uint8_t* chunk, size_t chunk_size) {
-    while (n) {
-        size_t k = n < chunk_size ? (size_t)n : chunk_size;
-        if (fread(chunk, 1, k, from) != k || fwrite(chunk, 1, k, to) != k) return false;
-        n -= k;
-    }
-    return true;
-}
-
 vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     wplan w;
     vx_result r = plan_write(s, NULL, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
-    size_t plen = strlen(path);
-    char* names = (char*)malloc(2 * (plen + 48));
-    if (!names) {
+    size_t slen = strlen(path) + 48;
+    char* scratch = (char*)malloc(slen);
+    if (!scratch) {
         vx_free(NULL, w.ext);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
     }
-    char *tmp = names, *scratch = names + plen + 48;
-    snprintf(tmp, plen + 48, "%s.tmp%ld", path, (long)getpid());
-    snprintf(scratch, plen + 48, "%s.tmp%ld.sections", path, (long)getpid());
+    snprintf(scratch, slen, "%s.tmp%ld.sections", path, (long)getpid());
     FILE* sf = fopen(scratch, "w+b");
-    FILE* f = NULL;
     uint8_t* chunk = NULL;
     const size_t chunk_size = (size_t)4 << 20;
     bool nomem = false, io = !sf;
+    int e = errno;
     for (int si = 0; !io && !nomem && si < w.ns; si++) {
         vx_buf b = {0};
         spill sp = {.f = sf};
         vx__svo_sink sink = {spill_flush, &sp};
         bool ok = write_section(&b, &w, si, s, NULL, &sink) && spill_flush(&sp, &b);
-        if (!ok) io = sp.failed, nomem = !sp.failed;
+        if (!ok) io = sp.failed, nomem = !sp.failed, e = errno;
         w.sizes[si] = sp.size;
         w.crcs[si] = sp.crc;
         vx_buf_free(&b);
@@ -1014,32 +1003,40 @@ vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* e
     uint64_t fin[S_COUNT];
     if (!io && !nomem) {
         nomem = !write_head(&head, &w, fin) || !(chunk = (uint8_t*)malloc(chunk_size));
-        io = !nomem && (fflush(sf) != 0 || fseek(sf, 0, SEEK_SET) != 0 || !(f = fopen(tmp, "wb")));
+        io = !nomem && (fflush(sf) != 0 || fseek(sf, 0, SEEK_SET) != 0);
+        e = errno;
     }
     if (!io && !nomem) {
-        io = fwrite(head.data, 1, head.size, f) != head.size;
-        uint64_t end = head.size;
-        static const uint8_t zeros[4] = {0};
-        for (int si = 0; !io && si < w.ns; si++) {
-            io = (fin[si] > end && fwrite(zeros, 1, (size_t)(fin[si] - end), f) != fin[si] - end) ||
-                 !copy_bytes(sf, f, w.sizes[si], chunk, chunk_size);
-            end = fin[si] + w.sizes[si];
+        /* the output: header and table, then each section copied behind them */
+        vx_atomic_file af;
+        r = vx_atomic_open(&af, path, err);
+        if (r == VX_OK) {
+            vx_atomic_write(&af, head.data, head.size);
+            uint64_t end = head.size;
+            static const uint8_t zeros[4] = {0};
+            for (int si = 0; si < w.ns; si++) {
+                vx_atomic_write(&af, zeros, (size_t)(fin[si] - end));
+                for (uint64_t left = w.sizes[si]; left;) {
+                    size_t k = left < chunk_size ? (size_t)left : chunk_size;
+                    if (fread(chunk, 1, k, sf) != k) {
+                        af.failed_errno = EIO; /* the scratch file came back short */
+                        break;
+                    }
+                    vx_atomic_write(&af, chunk, k);
+                    left -= k;
+                }
+                end = fin[si] + w.sizes[si];
+            }
+            r = vx_atomic_commit(&af, err);
         }
-        io = io || fflush(f) != 0;
-        io = io || (fsync(fileno(f)) != 0 && errno != EINVAL && errno != EROFS);
+        if (r) vx_error_prefix(err, path);
     }
-    int e = errno;
-    if (f && fclose(f) != 0 && !io && !nomem) io = true, e = errno;
     if (sf) fclose(sf);
     remove(scratch);
+    free(scratch);
     free(chunk);
     vx_buf_free(&head);
-    if (!io && !nomem && rename(tmp, path) != 0) io = true, e = errno;
-    if (io || nomem) {
-        remove(tmp);
-        r = nomem ? vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path)
-                  : vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));
-    }
-    free(names);
+    if (nomem) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path);
+    if (io) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));
     return r;
 }

@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
     bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
     if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
     if (want_float && !exr) usage_error("mode %s writes float data: use an .exr output", vx_render_mode_name(o.r.mode));
-    bool needs_probes = o.probe_mode && o.p.mode != VX_PROBE_RENDER_PATHTRACE && o.p.mode != VX_PROBE_RENDER_PT_INDIRECT;
+    bool needs_probes = o.probe_mode && vx_probe_render_mode_uses_probes(o.p.mode);
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
     if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
