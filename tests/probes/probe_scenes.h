@@ -3,6 +3,7 @@
 #define VX_TEST_PROBE_SCENES_H
 #include <stdio.h>
 
+#include "probes/probes.h"
 #include "tests/render/scenes.h"
 
 static inline size_t vx__bsq_test(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
@@ -60,6 +61,16 @@ static void room_scene(vx_svo_scene* s) {
     s->materials[0].dict = malloc(sizeof dict);
     memcpy(s->materials[0].dict, dict, sizeof dict);
     s->material_count = 1;
+}
+
+/* A set's .probes bytes (for byte-for-byte comparisons of bakes). */
+static inline bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
+    vx_error err = {0};
+    if (vx_probe_write(ps, NULL, data, size, &err)) {
+        fprintf(stderr, "write: %s\n", err.msg);
+        return false;
+    }
+    return true;
 }
 
 #endif

@@ -207,15 +207,6 @@ static void test_furnace(void) {
     vx_svo_scene_free(&s);
 }
 
-static bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
-    vx_error err = {0};
-    if (vx_probe_write(ps, NULL, data, size, &err)) {
-        fprintf(stderr, "write: %s\n", err.msg);
-        return false;
-    }
-    return true;
-}
-
 static void test_determinism_shards(void) {
     vx_svo_scene s;
     room_scene(&s);

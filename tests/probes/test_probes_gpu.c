@@ -22,15 +22,6 @@ static vx_render_scene* scene_on_gpu(const vx_svo_scene* s) {
     return rs;
 }
 
-static bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
-    vx_error err = {0};
-    if (vx_probe_write(ps, NULL, data, size, &err)) {
-        fprintf(stderr, "write: %s\n", err.msg);
-        return false;
-    }
-    return true;
-}
-
 static void test_gpu_box_distances(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
