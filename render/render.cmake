@@ -9,7 +9,9 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_HEADERS)
   # name:source[:define]; trace_precise is trace.comp in float64 (deep models);
   # probe.comp holds the light field probes' bake and GI passes.
-  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE probe:probe)
+  # gbuffer, direct, ao, resolve and post are the pass pipeline's shaders (pipeline.c).
+  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE probe:probe
+               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -25,6 +27,7 @@ if(VX_WITH_VULKAN)
       OUTPUT ${out}
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})
@@ -36,6 +39,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_SOURCE_DIR}/gpu_pipeline.c
     ${CMAKE_CURRENT_SOURCE_DIR}/gpu_dispatch.c
     ${CMAKE_CURRENT_SOURCE_DIR}/render_scene.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/pipeline.c
     ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
     ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
     ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c

@@ -61,7 +61,7 @@ void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, doubl
 
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
-#define VX_GPU_MAX_BINDINGS 13
+#define VX_GPU_MAX_BINDINGS 16
 #define VX_GPU_MAX_PIPELINES 32
 
 typedef struct vx__buffer {

@@ -1,0 +1,520 @@
+/* render/pipeline.c - a frame as an ordered list of passes (render/pipeline.h):
+ * pass-list parsing, the per-scene buffers, recording every pass of every
+ * sample into one command buffer with a timestamp pair around each dispatch
+ * (split only where a gi method submits its own work), and the readback. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render/pipeline.h"
+#include "render/render_internal.h"
+
+#include "ao.comp.h"
+#include "direct.comp.h"
+#include "gbuffer.comp.h"
+#include "post.comp.h"
+#include "resolve.comp.h"
+
+/* ---- pass lists ---------------------------------------------------------------------- */
+
+static const char* const pass_names[VX_PASS_KIND_COUNT] = {"gbuffer", "dof", "direct", "gi", "ao", "aa", "tonemap"};
+/* Order rank of each pass: a list must not decrease (direct, gi, ao share one). */
+static const int pass_rank[VX_PASS_KIND_COUNT] = {0, 1, 2, 2, 2, 3, 4};
+
+const char* vx_pass_name(vx_pass_kind k) { return (unsigned)k < VX_PASS_KIND_COUNT ? pass_names[k] : "?"; }
+
+bool vx_pass_list_has(const vx_pass_list* l, vx_pass_kind k) {
+    for (uint32_t i = 0; l && i < l->count; i++)
+        if (l->kinds[i] == k) return true;
+    return false;
+}
+
+vx_result vx_pass_list_parse(const char* s, vx_pass_list* out, vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_pass_list l = {0};
+    snprintf(l.gi, sizeof l.gi, "none");
+    const char* p = s;
+    while (*p) {
+        const char* e = strchr(p, ',');
+        size_t n = e ? (size_t)(e - p) : strlen(p);
+        char item[64];
+        if (n == 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "empty pass name in '%s'", s);
+        if (n >= sizeof item) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass name too long in '%s'", s);
+        memcpy(item, p, n);
+        item[n] = 0;
+        char* arg = strchr(item, '=');
+        if (arg) *arg++ = 0;
+        int k = -1;
+        for (int i = 0; i < VX_PASS_KIND_COUNT; i++)
+            if (!strcmp(item, pass_names[i])) k = i;
+        if (k < 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown pass '%s'", item);
+        if (k == VX_PASS_GI) {
+            if (!arg || !*arg)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass 'gi' needs a method: gi=NAME");
+            if (strlen(arg) >= sizeof l.gi)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gi method name too long");
+            snprintf(l.gi, sizeof l.gi, "%s", arg);
+        } else if (arg) {
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass '%s' takes no '=' argument", item);
+        }
+        if (vx_pass_list_has(&l, (vx_pass_kind)k))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass '%s' appears twice", item);
+        if (l.count && pass_rank[l.kinds[l.count - 1]] > pass_rank[k])
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass '%s' is misplaced: it must come before '%s'",
+                           item, pass_names[l.kinds[l.count - 1]]);
+        if (k != VX_PASS_GBUFFER && !vx_pass_list_has(&l, VX_PASS_GBUFFER))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass '%s' needs 'gbuffer' before it", item);
+        l.kinds[l.count++] = (vx_pass_kind)k;
+        p += n;
+        if (*p == ',') p++;
+    }
+    if (!strcmp(l.gi, "none") && vx_pass_list_has(&l, VX_PASS_GI)) { /* gi=none: no pass at all */
+        uint32_t j = 0;
+        for (uint32_t i = 0; i < l.count; i++)
+            if (l.kinds[i] != VX_PASS_GI) l.kinds[j++] = l.kinds[i];
+        l.count = j;
+    }
+    *out = l;
+    return VX_OK;
+}
+
+void vx_pass_list_format(const vx_pass_list* l, char* buf, size_t size) {
+    if (!size) return;
+    buf[0] = 0;
+    size_t at = 0;
+    for (uint32_t i = 0; l && i < l->count && at < size; i++) {
+        int n = l->kinds[i] == VX_PASS_GI ? snprintf(buf + at, size - at, "%sgi=%s", i ? "," : "", l->gi)
+                                          : snprintf(buf + at, size - at, "%s%s", i ? "," : "", pass_names[l->kinds[i]]);
+        if (n < 0) break;
+        at += (size_t)n;
+    }
+}
+
+static const char* const show_names[VX_SHOW_COUNT] = {"final", "albedo", "normal",   "depth",   "direct",
+                                                       "gi",    "ao",     "instance", "material"};
+
+const char* vx_show_name(vx_show s) { return (unsigned)s < VX_SHOW_COUNT ? show_names[s] : "?"; }
+
+bool vx_show_parse(const char* s, vx_show* out) {
+    for (int i = 0; s && i < VX_SHOW_COUNT; i++)
+        if (!strcmp(s, show_names[i])) {
+            *out = (vx_show)i;
+            return true;
+        }
+    return false;
+}
+
+vx_frame_desc vx_frame_desc_defaults(void) {
+    vx_frame_desc d = {0};
+    d.base.width = 640, d.base.height = 480, d.base.spp = 1;
+    d.base.camera.fov = 45;
+    d.base.ambient = 0.3;
+    d.base.lod_pixels = 1;
+    d.ao_rays = 4;
+    d.edge_threshold = 0.1;
+    return d;
+}
+
+/* ---- the renderer -------------------------------------------------------------------- */
+
+enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_COUNT };
+#define NBIND 16
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 16 bindings");
+
+typedef struct push_block {
+    float f0[4]; /* lens radius, focus, ao radius, 2^exposure */
+    float f1[4]; /* sun, edge threshold */
+    float f2[4]; /* sky */
+    uint32_t u0[4]; /* sample, samples, ao rays, seed */
+} push_block;
+
+typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_COUNT } shader_id;
+
+struct vx_frame_renderer {
+    vx_render_scene* rs;
+    vx_gpu* g;
+    double lo[3], hi[3];
+    double max_cell; /* largest world cell over the drawn instances */
+    vx__buffer b[B_COUNT];
+    size_t cap_px;         /* pixels the image buffers hold */
+    size_t emit_count;     /* records in b[B_EMIT] */
+    const float* emit_src; /* what b[B_EMIT] was filled from */
+    VkQueryPool qp;
+    uint32_t qcap;
+};
+
+vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
+                                   vx_error* err) {
+    if (!rs || !scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_gpu* g = vx__render_scene_gpu(rs);
+    vx_frame_renderer* fr = vx_calloc(&g->alloc, 1, sizeof *fr);
+    if (!fr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    fr->rs = rs, fr->g = g;
+    vx__scene_world_bounds(scene, fr->lo, fr->hi);
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        if (!vx__instance_drawn(scene, i)) continue;
+        double w[12];
+        vx__instance_world(scene, &scene->instances[i], w);
+        for (int c = 0; c < 3; c++) {
+            double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
+            if (n > fr->max_cell) fr->max_cell = n;
+        }
+    }
+    *out = fr;
+    return VX_OK;
+}
+
+void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
+    if (!fr) return;
+    for (int i = 0; i < B_COUNT; i++) vx__buffer_destroy(fr->g, &fr->b[i]);
+    if (fr->qp) vkDestroyQueryPool(fr->g->device, fr->qp, NULL);
+    vx_allocator a = fr->g->alloc;
+    vx_free(&a, fr);
+}
+
+static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, const char* label, vx_error* err) {
+    vx__buffer* b = &fr->b[which];
+    if (b->buf && b->size >= size) return VX_OK;
+    vx__buffer_destroy(fr->g, b);
+    return vx__buffer_create(fr->g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+}
+
+static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], vx__pipeline** out, vx_error* err) {
+    static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post"};
+    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 8, .push_constant_size = sizeof(push_block),
+                                       .label = labels[sh]};
+    switch (sh) {
+    case SH_GBUFFER: pd.spirv = vx__gbuffer_spv_arr, pd.spirv_size = sizeof vx__gbuffer_spv_arr; break;
+    case SH_DIRECT: pd.spirv = vx__direct_spv_arr, pd.spirv_size = sizeof vx__direct_spv_arr; break;
+    case SH_AO: pd.spirv = vx__ao_spv_arr, pd.spirv_size = sizeof vx__ao_spv_arr; break;
+    case SH_RESOLVE: pd.spirv = vx__resolve_spv_arr, pd.spirv_size = sizeof vx__resolve_spv_arr; break;
+    default: pd.spirv = vx__post_spv_arr, pd.spirv_size = sizeof vx__post_spv_arr; break;
+    }
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, spec, 8 * sizeof spec[0]);
+    uint64_t key = 0x9A55000ull + (uint64_t)sh;
+    for (int i = 0; i < 8; i++) key = key * 131 + spec[i];
+    return vx__pipeline_get(g, key, &pd, out, err);
+}
+
+/* One recorded dispatch: which timing row it adds to. */
+typedef struct rec {
+    vx_frame_renderer* fr;
+    VkDescriptorSet set;
+    uint32_t groups[2];
+    uint32_t nq;       /* timestamps written in this submission */
+    int row_of[4096];  /* timing row of dispatch k of this submission */
+    uint32_t nd;
+    bool recording;
+    vx_frame_result* res;
+    double first_ts_ms; /* unused when no timestamps */
+} rec;
+
+static int timing_row(vx_frame_result* res, const char* name) {
+    for (uint32_t i = 0; i < res->timing_count; i++)
+        if (!strcmp(res->timings[i].name, name)) return (int)i;
+    res->timings[res->timing_count] = (vx_pass_timing){.name = name};
+    return (int)res->timing_count++;
+}
+
+static vx_result rec_begin(rec* R, vx_error* err) {
+    vx_result r = vx__cmd_begin(R->fr->g, err);
+    if (r) return r;
+    R->nq = 0, R->nd = 0, R->recording = true;
+    if (R->fr->g->has_timestamps) vkCmdResetQueryPool(R->fr->g->cmd, R->fr->qp, 0, R->fr->qcap);
+    return VX_OK;
+}
+
+static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const char* row) {
+    vx_gpu* g = R->fr->g;
+    VkCommandBuffer cb = g->cmd;
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &R->set, 0, NULL);
+    vkCmdPushConstants(cb, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
+    bool ts = g->has_timestamps && R->nq + 2 <= R->fr->qcap && R->nd < 4096;
+    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->fr->qp, R->nq);
+    vkCmdDispatch(cb, R->groups[0], R->groups[1], 1);
+    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->fr->qp, R->nq + 1);
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                          .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                             VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &mb, 0, NULL, 0, NULL);
+    int rowi = timing_row(R->res, row);
+    R->res->timings[rowi].dispatches++;
+    if (ts) {
+        R->row_of[R->nd++] = rowi;
+        R->nq += 2;
+    }
+}
+
+/* Submits, waits and adds the timestamps to the rows and the frame time. */
+static vx_result rec_submit(rec* R, vx_error* err) {
+    if (!R->recording) return VX_OK;
+    R->recording = false;
+    vx_gpu* g = R->fr->g;
+    double t0 = vx_time_now();
+    vx_result r = vx__cmd_submit_wait(g, err);
+    if (r) return r;
+    double wall = vx_time_now() - t0;
+    if (!g->has_timestamps || R->nq == 0) {
+        R->res->frame_ms += wall * 1e3;
+        return VX_OK;
+    }
+    uint64_t* ts = vx_alloc(&g->alloc, (size_t)R->nq * 8);
+    if (!ts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for timestamps");
+    VkResult vr = vkGetQueryPoolResults(g->device, R->fr->qp, 0, R->nq, (size_t)R->nq * 8, ts, 8,
+                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    if (vr != VK_SUCCESS) {
+        vx_free(&g->alloc, ts);
+        return vx__vk_fail(err, vr, "vkGetQueryPoolResults");
+    }
+    double per = g->props.limits.timestampPeriod * 1e-6; /* ms per tick */
+    for (uint32_t k = 0; k < R->nd; k++)
+        R->res->timings[R->row_of[k]].ms += (double)(ts[2 * k + 1] - ts[2 * k]) * per;
+    R->res->frame_ms += (double)(ts[R->nq - 1] - ts[0]) * per;
+    vx_free(&g->alloc, ts);
+    return VX_OK;
+}
+
+static bool any_emission(const float* e, size_t n) {
+    for (size_t i = 0; e && i < n; i++)
+        if (e[i] > 0) return true;
+    return false;
+}
+
+vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err) {
+    if (!fr || !desc || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    memset(out, 0, sizeof *out);
+    vx_gpu* g = fr->g;
+    vx_pass_list deflist;
+    vx_result r = VX_OK;
+    const vx_pass_list* L = desc->passes;
+    if (!L) {
+        if ((r = vx_pass_list_parse(VX_PASS_LIST_DEFAULT, &deflist, err))) return r;
+        L = &deflist;
+    }
+    if ((unsigned)desc->show >= VX_SHOW_COUNT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown show image");
+    bool has_gb = vx_pass_list_has(L, VX_PASS_GBUFFER), has_direct = vx_pass_list_has(L, VX_PASS_DIRECT);
+    bool has_gi = vx_pass_list_has(L, VX_PASS_GI), has_ao = vx_pass_list_has(L, VX_PASS_AO);
+    bool has_dof = vx_pass_list_has(L, VX_PASS_DOF), has_aa = vx_pass_list_has(L, VX_PASS_AA);
+    bool has_tm = vx_pass_list_has(L, VX_PASS_TONEMAP);
+    const vx_gi_method* gm = desc->gi;
+    if (has_gi && (!gm || !gm->render))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass gi=%s has no method registered", L->gi);
+    if (has_gi && gm->name && strcmp(gm->name, L->gi))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass gi=%s but the method given is '%s'", L->gi,
+                       gm->name);
+    if (vx_render_scene_precise(fr->rs))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the pass pipeline traces in float; this scene has models deeper than %u levels",
+                       VX_RENDER_PRECISE_DEPTH);
+    vx_render_desc base = desc->base;
+    base.mode = VX_RENDER_COLOR;
+    base.want_hits = false;
+    if (has_gi)
+        for (int k = 0; k < 3; k++) base.light_dir[k] = gm->light_dir[k];
+    if (!base.spp) base.spp = has_aa || has_dof ? 8 : 1;
+    vx__frame f;
+    if ((r = vx__frame_setup(fr->lo, fr->hi, &base, &f, err))) return r;
+    bool ids = desc->want_ids;
+    bool phys = has_gi;
+    bool emit = phys && any_emission(gm->emit_attr, gm->emit_count);
+    size_t npx = (size_t)f.width * f.height;
+    VkDeviceSize px = (VkDeviceSize)npx;
+    /* image buffers; absent passes get a 16-byte placeholder */
+    if ((r = ensure(fr, B_GB0, px * 16, "gbuffer 0", err)) || (r = ensure(fr, B_GB1, px * 16, "gbuffer 1", err)) ||
+        (r = ensure(fr, B_GB2, ids ? px * 32 : 16, "gbuffer ids", err)) ||
+        (r = ensure(fr, B_DIRECT, has_direct ? px * 16 : 16, "direct", err)) ||
+        (r = ensure(fr, B_AO, has_ao ? px * 4 : 16, "ao", err)) ||
+        (r = ensure(fr, B_GI, has_gi ? px * 16 : 16, "gi", err)) || (r = ensure(fr, B_ACC, px * 16, "accumulation", err)) ||
+        (r = ensure(fr, B_OUT2, has_aa ? px * 16 : 16, "post", err)))
+        return r;
+    if (emit && (fr->emit_src != gm->emit_attr || fr->emit_count != gm->emit_count)) {
+        vx__buffer_destroy(g, &fr->b[B_EMIT]);
+        if ((r = vx__buffer_create(g, gm->emit_count * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
+                                   &fr->b[B_EMIT], err)) ||
+            (r = vx__buffer_upload(g, &fr->b[B_EMIT], gm->emit_attr, gm->emit_count * 4, err)))
+            return r;
+        fr->emit_src = gm->emit_attr, fr->emit_count = gm->emit_count;
+    } else if (!fr->b[B_EMIT].buf && (r = ensure(fr, B_EMIT, 16, "emission", err))) {
+        return r;
+    }
+    vx__buffer* scene_bufs[7];
+    uint32_t tspec[VX__SPEC_COUNT];
+    if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) return r;
+    tspec[VX__SPEC_HITS] = ids;
+    /* timestamps: two per dispatch of the largest submission */
+    uint32_t per_sample = 1 + has_direct + has_ao + 1;
+    uint64_t want_q = 2ull * ((uint64_t)f.spp * per_sample + 2);
+    if (want_q > 8192) want_q = 8192; /* later dispatches still run, untimed: counted by wall time below */
+    if (g->has_timestamps && fr->qcap < want_q) {
+        if (fr->qp) vkDestroyQueryPool(g->device, fr->qp, NULL);
+        fr->qp = VK_NULL_HANDLE, fr->qcap = 0;
+        VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+                                    .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                                    .queryCount = (uint32_t)want_q};
+        VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &fr->qp), "vkCreateQueryPool");
+        fr->qcap = (uint32_t)want_q;
+    }
+    /* pipelines */
+    uint32_t spec[8] = {0};
+    memcpy(spec, tspec, sizeof tspec);
+    vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL;
+    spec[5] = has_dof && !f.ortho, spec[6] = 0;
+    if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
+    spec[5] = 0, spec[6] = phys;
+    if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, &p_direct, err))) return r;
+    spec[6] = 0;
+    if (has_ao && (r = get_pipeline(g, SH_AO, spec, &p_ao, err))) return r;
+    spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u);
+    spec[6] = (uint32_t)desc->show;
+    if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
+    bool final = desc->show == VX_SHOW_FINAL;
+    bool run_aa = has_aa && final, run_tm = has_tm && final;
+    spec[5] = 0, spec[6] = 0;
+    if (run_aa && (r = get_pipeline(g, SH_POST, spec, &p_aa, err))) return r;
+    spec[5] = 1, spec[6] = run_aa;
+    if (run_tm && (r = get_pipeline(g, SH_POST, spec, &p_tm, err))) return r;
+    /* push constants */
+    push_block pc = {0};
+    double eye[3], target[3], diag = 0;
+    for (int k = 0; k < 3; k++) {
+        eye[k] = f.ref[k] - f.fwd[k] * f.t_start;
+        target[k] = base.camera.set ? base.camera.target[k] : 0.5 * (fr->lo[k] + fr->hi[k]);
+        diag += (fr->hi[k] - fr->lo[k]) * (fr->hi[k] - fr->lo[k]);
+    }
+    double focus = desc->focus;
+    if (!(focus > 0)) {
+        focus = 0;
+        for (int k = 0; k < 3; k++) focus += (target[k] - eye[k]) * f.fwd[k];
+        if (!(focus > 0)) focus = f.t_start;
+    }
+    pc.f0[0] = (float)(desc->aperture > 0 ? desc->aperture : 0.01 * sqrt(diag));
+    pc.f0[1] = (float)focus;
+    pc.f0[2] = (float)(desc->ao_radius > 0 ? desc->ao_radius : 4 * (fr->max_cell > 0 ? fr->max_cell : 1));
+    pc.f0[3] = (float)exp2(desc->exposure);
+    pc.f1[3] = (float)(desc->edge_threshold > 0 ? desc->edge_threshold : 0.1);
+    if (phys)
+        for (int k = 0; k < 3; k++) pc.f1[k] = (float)gm->sun[k], pc.f2[k] = (float)gm->sky[k];
+    pc.u0[1] = f.spp;
+    pc.u0[2] = desc->ao_rays ? desc->ao_rays : 4;
+    pc.u0[3] = (uint32_t)(desc->seed ^ (desc->seed >> 32));
+    /* descriptor set */
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NBIND}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+                                      .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = sizes};
+    VkDescriptorPool pool;
+    VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
+    rec* R = vx_calloc(&g->alloc, 1, sizeof *R);
+    if (!R) {
+        vkDestroyDescriptorPool(g->device, pool, NULL);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    R->fr = fr, R->res = out;
+    R->groups[0] = (f.width + 7) / 8, R->groups[1] = (f.height + 7) / 8;
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = pool, .descriptorSetCount = 1, .pSetLayouts = &p_gb->dsl};
+    VkResult vr = vkAllocateDescriptorSets(g->device, &ai, &R->set);
+    if (vr != VK_SUCCESS) {
+        r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
+        goto done;
+    }
+    {
+        vx__buffer* all[NBIND] = {scene_bufs[0], scene_bufs[1], scene_bufs[2], scene_bufs[3], scene_bufs[4],
+                                  scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
+                                  &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
+                                  &fr->b[B_OUT2]};
+        VkDescriptorBufferInfo infos[NBIND];
+        VkWriteDescriptorSet w[NBIND];
+        for (uint32_t i = 0; i < NBIND; i++) {
+            infos[i] = (VkDescriptorBufferInfo){.buffer = all[i]->buf, .range = VK_WHOLE_SIZE};
+            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                          .dstSet = R->set,
+                                          .dstBinding = i,
+                                          .descriptorCount = 1,
+                                          .descriptorType =
+                                              i == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                          .pBufferInfo = &infos[i]};
+        }
+        vkUpdateDescriptorSets(g->device, NBIND, w, 0, NULL);
+    }
+    if ((r = rec_begin(R, err))) goto done;
+    vx_render_desc gi_frame = base;
+    gi_frame.spp = 1;
+    for (uint32_t s = 0; s < f.spp; s++) {
+        pc.u0[0] = s;
+        if (has_gb) {
+            rec_dispatch(R, p_gb, &pc, "gbuffer");
+        } else {
+            /* no gbuffer: every pixel is a miss (the background) */
+            vkCmdFillBuffer(g->cmd, fr->b[B_GB1].buf, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                  .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                  .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb,
+                                 0, NULL, 0, NULL);
+        }
+        if (has_direct) rec_dispatch(R, p_direct, &pc, "direct");
+        if (has_ao) rec_dispatch(R, p_ao, &pc, "ao");
+        if (has_gi) {
+            /* the method records and submits its own work */
+            if ((r = rec_submit(R, err))) goto done;
+            vx_gi_io io = {.frame = &gi_frame, .sample = s, .out = &fr->b[B_GI]};
+            double sec = 0;
+            if ((r = gm->render(gm->user, &io, &sec, err))) goto done;
+            int row = timing_row(out, "gi");
+            out->timings[row].ms += sec * 1e3;
+            out->timings[row].dispatches++;
+            out->frame_ms += sec * 1e3;
+            /* the method rewrote the shared frame block for its own frame */
+            if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) goto done;
+            if ((r = rec_begin(R, err))) goto done;
+        }
+        rec_dispatch(R, p_resolve, &pc, "resolve");
+    }
+    if (run_aa) rec_dispatch(R, p_aa, &pc, "aa");
+    if (run_tm) rec_dispatch(R, p_tm, &pc, "tonemap");
+    if ((r = rec_submit(R, err))) goto done;
+    {
+        vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
+        img.pixels = vx_alloc(img.alloc, npx * 16);
+        uint32_t* raw = ids ? vx_alloc(img.alloc, npx * 32) : NULL;
+        if (ids) img.hits = vx_alloc(img.alloc, npx * sizeof *img.hits);
+        if (!img.pixels || (ids && (!raw || !img.hits))) {
+            vx_free(img.alloc, raw);
+            vx_render_image_free(&img);
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+            goto done;
+        }
+        r = vx__buffer_download(g, &fr->b[run_aa ? B_OUT2 : B_ACC], img.pixels, npx * 16, err);
+        if (!r && ids) r = vx__buffer_download(g, &fr->b[B_GB2], raw, npx * 32, err);
+        for (size_t i = 0; !r && ids && i < npx; i++) {
+            const uint32_t* w = raw + 8 * i;
+            img.hits[i].instance = w[0];
+            img.hits[i].cell[0] = w[1], img.hits[i].cell[1] = w[2], img.hits[i].cell[2] = w[3];
+            memcpy(&img.hits[i].t, &w[4], 4);
+            img.hits[i].iterations = w[5];
+        }
+        vx_free(img.alloc, raw);
+        if (r) {
+            vx_render_image_free(&img);
+            goto done;
+        }
+        img.gpu_seconds = out->frame_ms * 1e-3;
+        img.rays = (uint64_t)npx * f.spp;
+        out->image = img;
+    }
+done:
+    if (R->recording) {
+        vkEndCommandBuffer(g->cmd);
+        R->recording = false;
+    }
+    vx_free(&g->alloc, R);
+    vkDestroyDescriptorPool(g->device, pool, NULL);
+    return r;
+}

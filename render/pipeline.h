@@ -1,0 +1,182 @@
+/* render/pipeline.h - a frame as an ordered list of GPU passes over shared images.
+ *
+ * The passes, in the only order they may appear:
+ *   gbuffer  primary rays through the BVH and the octrees: hit point, depth,
+ *            instance, entry face (the normal), albedo, attribute record
+ *            (the material id), and with ids wanted the instance id and cell
+ *   dof      thin-lens depth of field as primary-ray jitter (see below)
+ *   direct   every light with ray-traced shadows (today: the sun)
+ *   gi       one global illumination method, registered by the caller
+ *            (vx_gi_method: probes, lightfield and pathtrace come from probes/)
+ *   ao       ray-traced ambient occlusion: short octree rays, radius and count
+ *   aa       jittered accumulation over the samples plus an edge filter
+ *   tonemap  exposure, a filmic curve (ACES fit) and the sRGB transfer
+ * direct, gi and ao may come in any order among themselves. gbuffer, direct,
+ * gi and ao run once per sample; a resolve step (always) combines them into
+ * the sample's colour and accumulates it; aa's filter and tonemap run once on
+ * the average.
+ *
+ * Depth of field is primary-ray jitter, not a blur of the G-buffer: a blur
+ * from one depth image leaks sharp foreground over blurred background at
+ * silhouettes and cannot show what the lens sees around an edge, while the
+ * tracer already casts the rays; the price is samples (it converges with aa's
+ * accumulation, and one sample is a pinhole frame with noise).
+ *
+ * Light models. Without a gi pass the frame uses the colour mode's model:
+ * colour = albedo * (ambient * ao + (1 - ambient) * n.l * visibility), sky
+ * (0.62, 0.75, 0.92) on a miss; the default list "gbuffer,direct" then gives
+ * the same bytes as vx_render_frame in VX_RENDER_COLOR. With a gi pass the
+ * method's radiometric light is used (a sun of irradiance `sun`, a sky of
+ * radiance `sky`, emissive attribute records): colour = emission +
+ * albedo / pi * sun * n.l * visibility + gi * ao.
+ *
+ * A pass the list leaves out is not dispatched and has no buffer; the
+ * resolve shader is specialised on what is present (no AO term without ao,
+ * no emission term without emissive records).
+ *
+ * GPU time per pass comes from timestamps around each dispatch in one
+ * submission (the gi method's own dispatches are timed by the method).
+ * Float traversal only: scenes that need the float64 variant (a model deeper
+ * than VX_RENDER_PRECISE_DEPTH) are refused with VX_ERR_UNSUPPORTED; use
+ * vx_render_frame for them. */
+#ifndef VX_RENDER_PIPELINE_H
+#define VX_RENDER_PIPELINE_H
+
+#include "render/render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum vx_pass_kind {
+    VX_PASS_GBUFFER = 0,
+    VX_PASS_DOF,
+    VX_PASS_DIRECT,
+    VX_PASS_GI,
+    VX_PASS_AO,
+    VX_PASS_AA,
+    VX_PASS_TONEMAP,
+    VX_PASS_KIND_COUNT
+} vx_pass_kind;
+
+/* A parsed pass list: kinds in order, and the gi method's name ("none" or
+ * what follows "gi="). */
+typedef struct vx_pass_list {
+    uint32_t count;
+    vx_pass_kind kinds[VX_PASS_KIND_COUNT];
+    char gi[32];
+} vx_pass_list;
+
+#define VX_PASS_LIST_DEFAULT "gbuffer,direct"
+
+/* Parses "gbuffer,direct,gi=probes,ao,tonemap". Errors (VX_ERR_INVALID_ARG)
+ * name the pass: unknown, repeated, out of order, "gi" without a method, or
+ * a pass without gbuffer before it. An empty string is the empty list (the
+ * frame is the background). */
+vx_result vx_pass_list_parse(const char* s, vx_pass_list* out, vx_error* err);
+bool vx_pass_list_has(const vx_pass_list* l, vx_pass_kind k);
+const char* vx_pass_name(vx_pass_kind k);
+/* Writes the list back as text ("gbuffer,direct,gi=probes"). */
+void vx_pass_list_format(const vx_pass_list* l, char* buf, size_t size);
+
+/* The image a frame returns. FINAL is the resolved (and post-processed)
+ * colour; the others are the intermediates, averaged over the samples. */
+typedef enum vx_show {
+    VX_SHOW_FINAL = 0,
+    VX_SHOW_ALBEDO,   /* attribute colour (1 without attributes), 0 on a miss */
+    VX_SHOW_NORMAL,   /* world normal xyz */
+    VX_SHOW_DEPTH,    /* depth in every channel, +inf on a miss (float) */
+    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo) */
+    VX_SHOW_GI,       /* the gi pass's radiance */
+    VX_SHOW_AO,       /* unoccluded share, 1 where ao is absent */
+    VX_SHOW_INSTANCE, /* a colour per instance id */
+    VX_SHOW_MATERIAL, /* attribute record index (float), -1 on a miss */
+    VX_SHOW_COUNT
+} vx_show;
+const char* vx_show_name(vx_show s);
+bool vx_show_parse(const char* s, vx_show* out);
+
+/* A GI method's GPU pass, registered by the module that implements it.
+ * render() fills `out` (a device buffer of width*height vec4: the indirect
+ * radiance leaving each pixel's first surface, alpha unused) for sample
+ * `sample` of the frame described by `frame` (the same camera as the
+ * G-buffer's; spp is 1 and the method traces its own pixel-centre rays);
+ * *gpu_seconds receives its GPU time. The light fields are the method's
+ * light; emit_attr, when not NULL, is the emission scale of each attribute
+ * record in the order of the scene's colour buffer (emit_count records). */
+typedef struct vx_gi_io {
+    const vx_render_desc* frame;
+    uint32_t sample;
+    void* out; /* the pipeline's gi buffer, opaque (render/gpu.h: vx__buffer) */
+} vx_gi_io;
+
+typedef struct vx_gi_method {
+    const char* name;
+    void* user;
+    vx_result (*render)(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err);
+    double light_dir[3]; /* towards the sun, unit */
+    double sun[3];       /* irradiance on a surface facing the sun */
+    double sky[3];       /* sky radiance */
+    const float* emit_attr;
+    size_t emit_count;
+} vx_gi_method;
+
+/* Frame options; zero-initialised means the defaults (vx_frame_desc_defaults
+ * gives them, and the tools' --help prints them).
+ *  base:        size, camera, spp (samples accumulated; 0: 1, or 8 with aa),
+ *               light_dir and ambient of the colour model
+ *  passes:      NULL: VX_PASS_LIST_DEFAULT
+ *  gi:          the method for "gi=NAME" (its name must match)
+ *  ao_radius:   world units; 0: 4 cells of the largest instance cell
+ *  ao_rays:     per pixel and sample; 0: 4
+ *  aperture:    lens radius in world units; 0: 1/100 of the scene's diagonal
+ *  focus:       focus distance in world units; 0: the depth at the image centre
+ *  exposure:    stops; tonemap multiplies by 2^exposure
+ *  edge_threshold: aa's luma contrast that counts as an edge; 0: 0.1
+ *  seed:        random streams of ao and dof
+ *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth) */
+typedef struct vx_frame_desc {
+    vx_render_desc base;
+    const vx_pass_list* passes;
+    const vx_gi_method* gi;
+    vx_show show;
+    double ao_radius;
+    uint32_t ao_rays;
+    double aperture, focus;
+    double exposure;
+    double edge_threshold;
+    uint64_t seed;
+    bool want_ids;
+} vx_frame_desc;
+
+/* The resolved defaults of a desc, for --help and for callers who want to
+ * see them (fields that depend on the scene stay 0: radius, aperture, focus). */
+vx_frame_desc vx_frame_desc_defaults(void);
+
+typedef struct vx_pass_timing {
+    const char* name; /* a pass name, or "resolve" */
+    double ms;        /* GPU time summed over the frame's samples */
+    uint32_t dispatches;
+} vx_pass_timing;
+
+typedef struct vx_frame_result {
+    vx_render_image image;    /* mode VX_RENDER_COLOR; hits when want_ids */
+    vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
+    uint32_t timing_count;
+    double frame_ms; /* GPU time from the first pass's start to the last's end, summed over submissions */
+} vx_frame_result;
+
+/* The per-scene state of the pipeline (buffers sized to the last frame). */
+typedef struct vx_frame_renderer vx_frame_renderer;
+
+/* `scene` is the one rs was made from; borrowed only during the call. */
+vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
+                                   vx_error* err);
+void vx_frame_renderer_destroy(vx_frame_renderer* fr);
+/* Renders one frame; out->image is freed with vx_render_image_free. */
+vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_RENDER_PIPELINE_H */

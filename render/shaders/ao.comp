@@ -1,0 +1,33 @@
+#version 450
+// render/shaders/ao.comp - ray-traced ambient occlusion: PC.u0.z
+// cosine-weighted rays of length PC.f0.z (world units) from just off the
+// surface; writes the unoccluded share (1: open, 0: fully occluded). Rays
+// stop at the first hit (any-hit traversal), so short rays stay cheap.
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#include "trace_common.glsl"
+#include "passes_common.glsl"
+
+void main() {
+    uvec2 px;
+    uint i;
+    if (!pass_pixel(px, i)) return;
+    uvec4 g1 = gb1[i];
+    if (g1.y == NO_HIT) {
+        ao_img[i] = 1.0;
+        return;
+    }
+    vec3 nw = gb_normal(g1);
+    vec3 ps = gb_offset_point(uintBitsToFloat(gb0[i].xyz), nw, g1.y);
+    uint n = max(PC.u0.z, 1u), blocked = 0u;
+    for (uint k = 0u; k < n; k++) {
+        vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
+        Hit h;
+        h.t = PC.f0.z;
+        h.inst = NO_HIT;
+        if (trace_scene(ps, dir, 0.0, true, h)) blocked++;
+    }
+    ao_img[i] = 1.0 - float(blocked) / float(n);
+}

@@ -1,0 +1,7 @@
+# The pass pipeline (render/pipeline.h) on lavapipe.
+if(VX_WITH_VULKAN)
+  vx_add_test(test_passes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_passes.c
+              LIBS vx_render vx_convert vx_formats vx_svo)
+  set_tests_properties(test_passes PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+endif()

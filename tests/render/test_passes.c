@@ -1,0 +1,408 @@
+/* tests/render/test_passes.c - the pass pipeline (render/pipeline.h) on
+ * lavapipe: the default list equals the single-shader colour mode bit for
+ * bit, every pass can be left out, bad lists are usage errors naming the
+ * pass, per-pass times add up to the frame, ambient occlusion against the
+ * analytic value at an inner corner and on an open plane, and the gi hook.
+ * Skips (with a message) when there is no Vulkan device. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "convert/convert.h"
+#include "formats/vox.h"
+#include "render/pipeline.h"
+#include "render/render_internal.h" /* vx__buffer, for the fake gi method */
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+static bool load_vox(const char* rel, vx_svo_scene* s) {
+    const char* path = vx_test_corpus(rel);
+    if (!path) return false;
+    vx_vox_scene vs;
+    vx_error err = {0};
+    if (vx_vox_read_file(NULL, path, &vs, &err)) return false;
+    vx_result r = vx_conv_vox(NULL, &vs, s, NULL, &err);
+    vx_vox_scene_free(&vs);
+    return r == VX_OK;
+}
+
+/* A random scene of a few instances (rotations, a mirror) when the corpus is absent. */
+static void generated_scene(vx_svo_scene* s) {
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    ts_random_model(&m[0], 24, 20, 16, 30, 7);
+    ts_random_model(&m[1], 9, 9, 9, 60, 8);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mir[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 30, 4, 2), ts_inst(1, mir, -12, 10, 5)};
+    ts_scene(s, m, 2, in, 3);
+}
+
+typedef struct fixture {
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+} fixture;
+
+static bool fx_open(const vx_svo_scene* s, fixture* fx) {
+    vx_error err = {0};
+    memset(fx, 0, sizeof *fx);
+    if (vx_render_scene_create(gpu, s, &fx->rs, &err) || vx_frame_renderer_create(fx->rs, s, &fx->fr, &err)) {
+        fprintf(stderr, "  create: %s\n", err.msg);
+        vx_render_scene_destroy(fx->rs);
+        return false;
+    }
+    return true;
+}
+static void fx_close(fixture* fx) {
+    vx_frame_renderer_destroy(fx->fr);
+    vx_render_scene_destroy(fx->rs);
+}
+
+static bool render_list(fixture* fx, const char* list, vx_frame_desc d, vx_frame_result* out) {
+    vx_pass_list L;
+    vx_error err = {0};
+    if (vx_pass_list_parse(list, &L, &err)) {
+        fprintf(stderr, "  parse '%s': %s\n", list, err.msg);
+        return false;
+    }
+    d.passes = &L;
+    if (vx_frame_render(fx->fr, &d, out, &err)) {
+        fprintf(stderr, "  render '%s': %s\n", list, err.msg);
+        return false;
+    }
+    return true;
+}
+
+/* The default list against vx_render_frame's colour mode: the same floats. */
+static void compare_default(const char* name, const vx_svo_scene* s, vx_render_desc base) {
+    fixture fx;
+    if (!fx_open(s, &fx)) {
+        CHECKF(false, "%s: scene", name);
+        return;
+    }
+    vx_error err = {0};
+    vx_render_image ref = {0};
+    base.mode = VX_RENDER_COLOR;
+    CHECK(vx_render_frame(fx.rs, &base, &ref, &err) == VX_OK);
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base = base;
+    vx_frame_result fres;
+    CHECK(vx_frame_render(fx.fr, &d, &fres, &err) == VX_OK);
+    if (ref.pixels && fres.image.pixels) {
+        size_t n = (size_t)ref.width * ref.height * 4, diff = 0, hits = 0;
+        for (size_t i = 0; i < n; i++) diff += memcmp(&ref.pixels[i], &fres.image.pixels[i], 4) != 0;
+        for (size_t i = 3; i < n; i += 4) hits += ref.pixels[i] > 0;
+        printf("  %-34s %ux%u %u spp: %zu hit pixels, %zu of %zu floats differ\n", name, ref.width, ref.height,
+               base.spp ? base.spp : 1, hits, diff, n);
+        CHECKF(diff == 0, "%s: the default pass list differs from colour mode in %zu floats", name, diff);
+        CHECKF(hits > 0, "%s: nothing hit", name);
+    }
+    vx_render_image_free(&ref);
+    vx_render_image_free(&fres.image);
+    fx_close(&fx);
+}
+
+static void test_default_equals_color(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    compare_default("generated", &s, (vx_render_desc){.width = 96, .height = 64});
+    compare_default("generated 5 spp", &s, (vx_render_desc){.width = 64, .height = 40, .spp = 5});
+    vx_render_desc ortho = {.width = 50, .height = 50};
+    ortho.camera.ortho = true;
+    compare_default("generated ortho", &s, ortho);
+    vx_svo_scene_free(&s);
+    static const char* files[] = {"eph_monu1.vox", "eph_teapot.vox", "ogt_test_groups.vox", "ogt_chr_knight.vox",
+                                  "ogt_doom.vox"};
+    int done = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char rel[96];
+        snprintf(rel, sizeof rel, "vox/%s", files[i]);
+        if (!load_vox(rel, &s)) {
+            fprintf(stderr, "  %s: not in the corpus, skipped\n", rel);
+            continue;
+        }
+        compare_default(files[i], &s, (vx_render_desc){.width = 120, .height = 90});
+        compare_default(files[i], &s, (vx_render_desc){.width = 48, .height = 36, .spp = 3});
+        vx_svo_scene_free(&s);
+        done++;
+    }
+    if (!done) fprintf(stderr, "  corpus not available: generated scene only\n");
+}
+
+static void test_parse(void) {
+    vx_pass_list L;
+    vx_error err = {0};
+    CHECK(vx_pass_list_parse("gbuffer,direct,gi=probes,ao,tonemap", &L, &err) == VX_OK);
+    CHECK(L.count == 5 && !strcmp(L.gi, "probes") && vx_pass_list_has(&L, VX_PASS_AO));
+    char buf[128];
+    vx_pass_list_format(&L, buf, sizeof buf);
+    CHECK(!strcmp(buf, "gbuffer,direct,gi=probes,ao,tonemap"));
+    CHECK(vx_pass_list_parse("gbuffer,ao,gi=x,direct,aa", &L, &err) == VX_OK); /* one rank: any order */
+    CHECK(vx_pass_list_parse("gbuffer,gi=none", &L, &err) == VX_OK && L.count == 1);
+    CHECK(vx_pass_list_parse("", &L, &err) == VX_OK && L.count == 0);
+    struct { const char* list; const char* names; } bad[] = {
+        {"gbuffer,bloom", "'bloom'"},           {"direct,gbuffer", "'direct'"},
+        {"gbuffer,tonemap,aa", "'aa'"},         {"gbuffer,direct,direct", "'direct'"},
+        {"gbuffer,gi", "gi=NAME"},              {"gbuffer,ao=3", "'ao'"},
+        {"gbuffer,,direct", "empty"},           {"gbuffer,aa,dof", "'dof'"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        err = (vx_error){0};
+        vx_result r = vx_pass_list_parse(bad[i].list, &L, &err);
+        CHECKF(r == VX_ERR_INVALID_ARG, "'%s' accepted", bad[i].list);
+        CHECKF(strstr(err.msg, bad[i].names) != NULL, "'%s': message '%s' does not name %s", bad[i].list, err.msg,
+               bad[i].names);
+    }
+    vx_show sh;
+    CHECK(vx_show_parse("ao", &sh) && sh == VX_SHOW_AO && !vx_show_parse("nope", &sh));
+}
+
+static bool all_finite(const vx_render_image* im) {
+    size_t n = (size_t)im->width * im->height * 4;
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(im->pixels[i])) return false;
+    return true;
+}
+
+/* Every pass of the full list left out in turn (and all of them): valid frames. */
+static void test_switch_off(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    fixture fx;
+    REQUIRE(fx_open(&s, &fx));
+    static const char* full[] = {"gbuffer", "dof", "direct", "ao", "aa", "tonemap"};
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = 40, d.base.height = 30, d.base.spp = 2;
+    for (int drop = -1; drop < 6; drop++) {
+        char list[128] = "";
+        for (int k = 0; k < 6; k++)
+            if (k != drop) snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", *list ? "," : "", full[k]);
+        if (drop == 0) snprintf(list, sizeof list, "%s", ""); /* without gbuffer nothing else can run */
+        vx_frame_result res;
+        bool ok = render_list(&fx, list, d, &res);
+        CHECKF(ok, "list '%s'", list);
+        if (!ok) continue;
+        CHECKF(all_finite(&res.image), "'%s': non-finite pixels", list);
+        size_t n = (size_t)res.image.width * res.image.height, hits = 0;
+        for (size_t i = 0; i < n; i++) {
+            const float* p = &res.image.pixels[4 * i];
+            hits += p[3] > 0;
+            for (int k = 0; k < 3; k++) CHECKF(p[k] >= 0 && p[k] <= 1.0001f, "'%s': value %g out of range", list, p[k]);
+        }
+        if (drop == 0) CHECKF(hits == 0, "no gbuffer, yet %zu hits", hits);
+        else CHECKF(hits > 0, "'%s': no hits", list);
+        /* a pass left out is not run */
+        for (uint32_t t = 0; t < res.timing_count; t++)
+            CHECKF(drop < 0 || strcmp(res.timings[t].name, full[drop]), "'%s' ran though left out", full[drop]);
+        vx_render_image_free(&res.image);
+    }
+    /* intermediates: ao without the pass is 1, depth is the tracer's */
+    vx_frame_result res;
+    d.show = VX_SHOW_AO;
+    if (render_list(&fx, "gbuffer,direct", d, &res)) {
+        size_t n = (size_t)res.image.width * res.image.height;
+        for (size_t i = 0; i < n; i++) CHECK(res.image.pixels[4 * i] == 1.0f);
+        vx_render_image_free(&res.image);
+    }
+    fx_close(&fx);
+    vx_svo_scene_free(&s);
+}
+
+static void test_timings(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    fixture fx;
+    REQUIRE(fx_open(&s, &fx));
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = 160, d.base.height = 120, d.base.spp = 3;
+    vx_frame_result res;
+    if (render_list(&fx, "gbuffer,direct,ao,aa,tonemap", d, &res)) {
+        double sum = 0;
+        for (uint32_t t = 0; t < res.timing_count; t++) {
+            printf("  %-8s %8.3f ms  %u dispatches\n", res.timings[t].name, res.timings[t].ms, res.timings[t].dispatches);
+            sum += res.timings[t].ms;
+        }
+        printf("  frame    %8.3f ms (sum %.3f)\n", res.frame_ms, sum);
+        CHECK(res.timing_count == 6); /* gbuffer direct ao resolve aa tonemap */
+        CHECK(res.timings[0].dispatches == 3);
+        CHECKF(res.frame_ms > 0 && fabs(sum - res.frame_ms) <= 0.05 * res.frame_ms, "sum %g vs frame %g", sum,
+               res.frame_ms);
+        vx_render_image_free(&res.image);
+    }
+    fx_close(&fx);
+    vx_svo_scene_free(&s);
+}
+
+/* Cosine-weighted share of directions from (dx, dy, 0+) above a floor that
+ * enter the walls x < 0 or y < 0 (each filling z in [0, inf)) within
+ * distance r, by midpoint quadrature over the hemisphere's disc map. */
+static double corner_occlusion(double dx, double dy, double r, bool two_walls) {
+    const int N = 1500;
+    double blocked = 0;
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            double u1 = (i + 0.5) / N, u2 = (j + 0.5) / N;
+            double s = sqrt(u1), phi = 6.283185307179586 * u2;
+            double x = s * cos(phi), y = s * sin(phi);
+            bool b = x < 0 && dx / -x < r;
+            if (two_walls) b = b || (y < 0 && dy / -y < r);
+            blocked += b;
+        }
+    return blocked / ((double)N * N);
+}
+
+/* AO at an inner corner (floor plus two walls) against the quadrature, and
+ * on an open plane (exactly 1). Orthographic view from above, one pixel per
+ * quarter cell, 1024 rays per pixel. */
+static void test_ao_analytic(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    for (int walls = 0; walls <= 2; walls += 2) {
+        const uint32_t n = 32;
+        uint32_t* xyz = malloc((size_t)n * n * n * 12);
+        size_t cnt = 0;
+        for (uint32_t z = 0; z < n; z++)
+            for (uint32_t y = 0; y < n; y++)
+                for (uint32_t x = 0; x < n; x++) {
+                    bool fill = z == 0 || (walls && (x == 0 || y == 0));
+                    if (fill) xyz[3 * cnt] = x, xyz[3 * cnt + 1] = y, xyz[3 * cnt + 2] = z, cnt++;
+                }
+        vx_svo_model m = {0};
+        uint32_t size[3] = {n, n, n};
+        ts_model(&m, size, xyz, NULL, cnt);
+        free(xyz);
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        vx_svo_scene s;
+        ts_scene(&s, &m, 1, &in, 1);
+        fixture fx;
+        REQUIRE(fx_open(&s, &fx));
+        /* view of x, y in [1, 5]: 16 x 16 pixels from above */
+        vx_frame_desc d = vx_frame_desc_defaults();
+        d.base.width = d.base.height = 16;
+        d.base.camera.set = true, d.base.camera.ortho = true, d.base.camera.ortho_height = 4;
+        double eye[3] = {3, 3, 100}, tgt[3] = {3, 3, 0}, up[3] = {0, 1, 0};
+        memcpy(d.base.camera.eye, eye, sizeof eye);
+        memcpy(d.base.camera.target, tgt, sizeof tgt);
+        memcpy(d.base.camera.up, up, sizeof up);
+        d.show = VX_SHOW_AO;
+        d.ao_rays = 1024;
+        d.ao_radius = 3;
+        d.want_ids = true;
+        vx_frame_result res;
+        bool ok = render_list(&fx, "gbuffer,ao", d, &res);
+        CHECK(ok);
+        if (ok) {
+            double worst = 0, sum_err = 0;
+            int count = 0;
+            for (uint32_t py = 0; py < 16; py++)
+                for (uint32_t px = 0; px < 16; px++) {
+                    size_t i = (size_t)py * 16 + px;
+                    double x = 1 + (px + 0.5) / 4, y = 5 - (py + 0.5) / 4; /* row 0 at the top (+y) */
+                    const vx_render_hit* h = &res.image.hits[i];
+                    /* the pixel-to-world map is right: the hit cell is the floor cell below (x, y) */
+                    CHECKF(h->instance == 0 && h->cell[0] == (uint32_t)x && h->cell[1] == (uint32_t)y && h->cell[2] == 0,
+                           "pixel %u,%u hit %u,%u,%u", px, py, h->cell[0], h->cell[1], h->cell[2]);
+                    double got = 1 - res.image.pixels[4 * i];
+                    if (!walls) {
+                        CHECKF(got == 0, "open plane occluded %g at %u,%u", got, px, py);
+                        continue;
+                    }
+                    if ((px % 5) || (py % 5)) continue; /* the quadrature is slow: 16 pixels */
+                    double want = corner_occlusion(x - 1, y - 1, 3, true);
+                    double e = fabs(got - want);
+                    worst = fmax(worst, e), sum_err += e, count++;
+                    CHECKF(e < 0.06, "corner pixel %u,%u (%.3f, %.3f): occlusion %.4f, analytic %.4f", px, py, x - 1,
+                           y - 1, got, want);
+                }
+            if (walls) {
+                printf("  inner corner: %d pixels, mean |error| %.4f, worst %.4f (1024 rays; sigma <= 0.016)\n", count,
+                       sum_err / count, worst);
+                CHECK(sum_err / count < 0.02);
+            }
+            vx_render_image_free(&res.image);
+        }
+        fx_close(&fx);
+        vx_svo_scene_free(&s);
+    }
+    /* the quadrature itself: the corner's limit is 3/4, one wall's 1/2, far away 0 */
+    CHECK(fabs(corner_occlusion(1e-9, 1e-9, 3, true) - 0.75) < 1e-3);
+    CHECK(fabs(corner_occlusion(1e-9, 5, 3, false) - 0.5) < 1e-3);
+    CHECK(corner_occlusion(4, 4, 3, true) == 0);
+}
+
+/* A gi method that writes one constant radiance: the resolve adds exactly it. */
+static vx_result fake_gi(void* user, const vx_gi_io* io, double* sec, vx_error* err) {
+    float v = *(const float*)user;
+    vx__buffer* b = io->out;
+    vx_result r = vx__cmd_begin(gpu, err);
+    if (r) return r;
+    uint32_t bits;
+    memcpy(&bits, &v, 4);
+    vkCmdFillBuffer(gpu->cmd, b->buf, 0, VK_WHOLE_SIZE, bits);
+    *sec = 0;
+    return vx__cmd_submit_wait(gpu, err);
+}
+
+static void test_gi_hook(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    fixture fx;
+    REQUIRE(fx_open(&s, &fx));
+    float val = 0.375f;
+    vx_gi_method gm = {.name = "const", .user = &val, .render = fake_gi, .light_dir = {0, 0, 1}, .sky = {0.1, 0.2, 0.3}};
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = 40, d.base.height = 30;
+    d.gi = &gm;
+    vx_frame_result res;
+    if (render_list(&fx, "gbuffer,gi=const", d, &res)) {
+        size_t n = (size_t)res.image.width * res.image.height, hits = 0;
+        for (size_t i = 0; i < n; i++) {
+            const float* p = &res.image.pixels[4 * i];
+            if (p[3] > 0) {
+                hits++;
+                CHECK(p[0] == val && p[1] == val && p[2] == val);
+            }
+            else CHECK(p[0] == 0.1f && p[1] == 0.2f && p[2] == 0.3f);
+        }
+        CHECK(hits > 0);
+        bool timed = false;
+        for (uint32_t t = 0; t < res.timing_count; t++) timed |= !strcmp(res.timings[t].name, "gi");
+        CHECK(timed);
+        vx_render_image_free(&res.image);
+    }
+    vx_error err = {0};
+    vx_pass_list L;
+    vx_pass_list_parse("gbuffer,gi=other", &L, &err);
+    d.passes = &L;
+    CHECK(vx_frame_render(fx.fr, &d, &res, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "other"));
+    d.gi = NULL;
+    CHECK(vx_frame_render(fx.fr, &d, &res, &err) == VX_ERR_INVALID_ARG);
+    fx_close(&fx);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
+    vx_error err = {0};
+    static char why[256];
+    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
+        gpu_skip = why;
+    } else {
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    }
+    RUN(test_parse);
+    RUN(test_default_equals_color);
+    RUN(test_switch_off);
+    RUN(test_timings);
+    RUN(test_ao_analytic);
+    RUN(test_gi_hook);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
