@@ -8,6 +8,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/file.c
     ${CMAKE_CURRENT_LIST_DIR}/render_gi.c
     ${CMAKE_CURRENT_LIST_DIR}/lightfield.c
-    ${CMAKE_CURRENT_LIST_DIR}/probe_gpu.c)
+    ${CMAKE_CURRENT_LIST_DIR}/probe_gpu.c
+    ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c)
   target_link_libraries(vx_probes PUBLIC vx_render vx_svo Threads::Threads m)
 endif()

@@ -39,6 +39,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "render/pipeline.h"
 #include "render/render.h"
 #include "svo/core.h"
 #include "svo/svo.h"
@@ -288,6 +289,19 @@ vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_probe_gpu_destroy(vx_probe_gpu* pg);
 /* vx_probe_render_gpu with the maps of pg. */
 vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err);
+/* The probe GI methods as the pass pipeline's gi pass (render/pipeline.h):
+ * method "probes" (irradiance probes), "lightfield" (one bounce through the
+ * distance maps) or "pathtrace" (path-traced indirect light; ps may be NULL,
+ * or give the light). desc gives spp, bounces and seed (mode and base are
+ * set per frame). Fills *method (valid while *out lives) with the render
+ * callback and the light the pipeline's direct pass must use (the probes'
+ * sun, sky and direction, emission per attribute record). rs, scene and ps
+ * must outlive *out. */
+typedef struct vx_probe_gi vx_probe_gi;
+vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps, const char* method,
+                             const vx_probe_render_desc* desc, vx_gi_method* method_out, vx_probe_gi** out,
+                             vx_error* err);
+void vx_probe_gi_destroy(vx_probe_gi* gi);
 const char* vx_probe_render_mode_name(vx_probe_render_mode m);
 /* Whether mode m reads the probes (gi and lightfield modes; not the path tracer). */
 bool vx_probe_render_mode_uses_probes(vx_probe_render_mode m);

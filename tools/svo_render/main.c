@@ -6,6 +6,7 @@
 
 #include "formats/image.h"
 #include "probes/probes.h"
+#include "render/pipeline.h"
 #include "render/render.h"
 #include "tools/common/tool.h"
 
@@ -19,6 +20,12 @@ typedef struct options {
     bool probe_mode;
     vx_probe_render_desc p;
     const char* probes;
+    /* the pass pipeline (colour mode on the GPU) */
+    const char* passes;
+    bool passes_given, show_given, spp_given;
+    vx_frame_desc fd;
+    const char* timings;
+    uint32_t frames;
 } options;
 
 static const char* prog = "svo_render";
@@ -31,6 +38,9 @@ static options default_options(void) {
     o.r.camera.fov = 45;
     o.r.ambient = 0.3;
     o.r.lod_pixels = 1;
+    o.fd = vx_frame_desc_defaults();
+    o.passes = VX_PASS_LIST_DEFAULT;
+    o.frames = 1;
     return o;
 }
 
@@ -50,6 +60,18 @@ _Noreturn static void usage(int status) {
             "                       and pathtrace|pathtrace-indirect\n"
             "                       (float radiance on the GPU, or the CPU with --cpu; EXR keeps the\n"
             "                       values, PNG clamps)\n"
+            "  --passes LIST        the frame's passes in order (default: %s):\n"
+            "                       gbuffer,dof,direct,gi=METHOD,ao,aa,tonemap (direct, gi, ao in any order);\n"
+            "                       colour mode on the GPU; gi=probes|lightfield (need --probes) or gi=pathtrace\n"
+            "  --show IMAGE         write an intermediate: final|albedo|normal|depth|direct|gi|ao|instance|material\n"
+            "                       (default: final; normal, depth and material need .exr)\n"
+            "  --ao-radius R        ambient occlusion ray length in world units (default: 4 cells)\n"
+            "  --ao-rays N          ambient occlusion rays per pixel and sample (default: %u)\n"
+            "  --aperture A         depth of field lens radius, world units (default: 1/100 of the scene diagonal)\n"
+            "  --focus D            depth of field focus distance (default: the camera target's depth)\n"
+            "  --exposure EV        tonemap exposure in stops (default: %g)\n"
+            "  --timings FILE.csv   per-pass GPU times, one row per frame and pass\n"
+            "  --frames N           render the frame N times (timings; default: 1)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
             "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
             "  --seed S             path tracer seed (default: 0)\n"
@@ -67,7 +89,7 @@ _Noreturn static void usage(int status) {
             "  --list-devices       print the Vulkan devices and exit\n"
             "  --validate           enable the Vulkan validation layer\n"
             "  --cpu                use the CPU reference tracer\n"
-            "  -v                   print the effective options as a command line\n"
+            "  -v                   print the effective options as a command line and the per-pass times\n"
             "  -h, --help           this help;  -version: versions\n"
             "\n"
             "Examples:\n"
@@ -75,7 +97,7 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo depth.exr --mode depth --size 1280x720\n"
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
-            prog, vx_render_mode_name(d.r.mode), d.r.width, d.r.height, d.r.spp, d.r.camera.fov, d.r.lod_pixels,
+            prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp, d.r.camera.fov, d.r.lod_pixels,
             d.r.ambient, prog, prog, prog, prog);
     exit(status);
 }
@@ -111,6 +133,63 @@ static void log_cb(void* user, vx_log_level level, const char* id, const char* m
 static const char* ext_of(const char* p) {
     const char* d = strrchr(p, '.');
     return d ? d + 1 : "";
+}
+
+/* The colour mode through the pass pipeline: options.frames frames (the last
+ * one is kept), per-pass times printed with -v and written to --timings. */
+static vx_result render_passes(options* o, vx_gpu* gpu, vx_render_scene* rs, const vx_svo_scene* scene,
+                               const vx_pass_list* passes, const vx_probe_set* probes, vx_render_image* img,
+                               vx_error* err) {
+    (void)gpu;
+    vx_frame_renderer* fr = NULL;
+    vx_result r = vx_frame_renderer_create(rs, scene, &fr, err);
+    if (r) return r;
+    vx_gi_method gm = {0};
+    vx_probe_gi* pgi = NULL;
+    if (vx_pass_list_has(passes, VX_PASS_GI)) {
+        vx_probe_render_desc pd = o->p;
+        pd.base = &o->r;
+        if ((r = vx_probe_gi_create(rs, scene, probes, passes->gi, &pd, &gm, &pgi, err))) goto done;
+    }
+    vx_frame_desc fd = o->fd;
+    fd.base = o->r;
+    if (!o->spp_given) fd.base.spp = 0; /* the pipeline's default: 1, or 8 with aa or dof */
+    fd.passes = passes;
+    fd.gi = pgi ? &gm : NULL;
+    FILE* csv = NULL;
+    if (o->timings) {
+        csv = fopen(o->timings, "w");
+        if (!csv) {
+            r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot open for writing", o->timings);
+            goto done;
+        }
+        fprintf(csv, "frame,pass,ms,dispatches\n");
+    }
+    vx_frame_result res = {0};
+    for (uint32_t k = 0; k < o->frames && !r; k++) {
+        vx_render_image_free(&res.image);
+        if ((r = vx_frame_render(fr, &fd, &res, err))) break;
+        for (uint32_t t = 0; csv && t < res.timing_count; t++)
+            fprintf(csv, "%u,%s,%.6f,%u\n", k, res.timings[t].name, res.timings[t].ms, res.timings[t].dispatches);
+        if (csv) fprintf(csv, "%u,frame,%.6f,0\n", k, res.frame_ms);
+    }
+    if (csv && fclose(csv) && !r) r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: write failed", o->timings);
+    if (!r && o->verbose) {
+        printf("%-10s %10s %7s %10s\n", "pass", "ms", "share", "dispatches");
+        double sum = 0;
+        for (uint32_t t = 0; t < res.timing_count; t++) sum += res.timings[t].ms;
+        for (uint32_t t = 0; t < res.timing_count; t++)
+            printf("%-10s %10.3f %6.1f%% %10u\n", res.timings[t].name, res.timings[t].ms,
+                   sum > 0 ? 100 * res.timings[t].ms / sum : 0.0, res.timings[t].dispatches);
+        printf("%-10s %10.3f %6.1f%%  (GPU, first pass start to last pass end)\n", "frame", res.frame_ms,
+               sum > 0 ? 100 * res.frame_ms / sum : 0.0);
+    }
+    if (!r) *img = res.image;
+    else vx_render_image_free(&res.image);
+done:
+    vx_probe_gi_destroy(pgi);
+    vx_frame_renderer_destroy(fr);
+    return r;
 }
 
 int main(int argc, char** argv) {
@@ -150,6 +229,7 @@ int main(int argc, char** argv) {
             uint32_t sd;
             if (!parse_uint(argv[++i], &sd)) usage_error("bad seed '%s'", argv[i]);
             o.p.seed = sd;
+            o.fd.seed = sd;
         } else if (!strcmp(a, "--threads")) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
@@ -164,6 +244,7 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--spp")) {
             NEED();
             if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > 1024) usage_error("bad spp '%s'", argv[i]);
+            o.spp_given = true;
         } else if (!strcmp(a, "--camera")) {
             NEED();
             double v[6];
@@ -197,6 +278,41 @@ int main(int argc, char** argv) {
                 if (!parse_vec(argv[++i], &o.r.lod_pixels, 1) || !(o.r.lod_pixels > 0))
                     usage_error("bad lod pixels '%s'", argv[i]);
             }
+        } else if (!strcmp(a, "--passes")) {
+            NEED();
+            o.passes = argv[++i];
+            o.passes_given = true;
+        } else if (!strcmp(a, "--show")) {
+            NEED();
+            if (!vx_show_parse(argv[++i], &o.fd.show)) usage_error("unknown image '%s' for --show", argv[i]);
+            o.show_given = true;
+        } else if (!strcmp(a, "--ao-radius")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.fd.ao_radius, 1) || !(o.fd.ao_radius > 0 && o.fd.ao_radius < 1e30))
+                usage_error("bad ao radius '%s'", argv[i]);
+        } else if (!strcmp(a, "--ao-rays")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.fd.ao_rays) || !o.fd.ao_rays || o.fd.ao_rays > 4096)
+                usage_error("bad ao rays '%s' (1..4096)", argv[i]);
+        } else if (!strcmp(a, "--aperture")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.fd.aperture, 1) || !(o.fd.aperture > 0 && o.fd.aperture < 1e30))
+                usage_error("bad aperture '%s'", argv[i]);
+        } else if (!strcmp(a, "--focus")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.fd.focus, 1) || !(o.fd.focus > 0 && o.fd.focus < 1e30))
+                usage_error("bad focus distance '%s'", argv[i]);
+        } else if (!strcmp(a, "--exposure")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.fd.exposure, 1) || !(fabs(o.fd.exposure) <= 64))
+                usage_error("bad exposure '%s' (stops, -64..64)", argv[i]);
+        } else if (!strcmp(a, "--timings")) {
+            NEED();
+            o.timings = argv[++i];
+        } else if (!strcmp(a, "--frames")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.frames) || !o.frames || o.frames > 100000)
+                usage_error("bad frame count '%s'", argv[i]);
         } else if (!strcmp(a, "--device")) {
             NEED();
             o.device = argv[++i];
@@ -220,10 +336,28 @@ int main(int argc, char** argv) {
     if (npos != 2) usage_error("%s", npos == 0 ? "no input and output given" : "no output file given");
     o.in = pos[0], o.out = pos[1];
     const char* ext = ext_of(o.out);
-    bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL;
+    vx_pass_list passes;
+    {
+        vx_error perr = {0};
+        if (vx_pass_list_parse(o.passes, &passes, &perr)) usage_error("--passes: %s", perr.msg);
+    }
+    /* the pass pipeline renders the colour mode on the GPU */
+    bool pipeline = !o.cpu && !o.probe_mode && o.r.mode == VX_RENDER_COLOR;
+    if ((o.passes_given || o.show_given || o.timings) && !pipeline)
+        usage_error("%s", "--passes, --show and --timings need the GPU colour mode (no --cpu, no other --mode)");
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace"))
+        usage_error("gi=%s needs --probes FILE", passes.gi);
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
+        strcmp(passes.gi, "pathtrace"))
+        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace)", passes.gi);
+    vx_show show = o.fd.show;
+    bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
+                      (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
     bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
     if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
-    if (want_float && !exr) usage_error("mode %s writes float data: use an .exr output", vx_render_mode_name(o.r.mode));
+    if (want_float && !exr)
+        usage_error("%s %s writes float data: use an .exr output", pipeline ? "--show" : "mode",
+                    pipeline ? vx_show_name(show) : vx_render_mode_name(o.r.mode));
     bool needs_probes = o.probe_mode && vx_probe_render_mode_uses_probes(o.p.mode);
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
     if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
@@ -238,6 +372,11 @@ int main(int argc, char** argv) {
                    o.r.camera.target[0], o.r.camera.target[1], o.r.camera.target[2]);
         if (o.r.lod) printf(" --lod %g", o.r.lod_pixels);
         if (o.device) printf(" --device %s", o.device);
+        if (pipeline) {
+            char pl[160];
+            vx_pass_list_format(&passes, pl, sizeof pl);
+            printf(" --passes '%s' --show %s", pl, vx_show_name(show));
+        }
         printf("\n");
     }
 
@@ -293,7 +432,20 @@ int main(int argc, char** argv) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             r = vx_render_scene_create(gpu, &scene, &rs, &err);
         }
-        if (!r) r = vx_render_frame(rs, &o.r, &img, &err);
+        if (!r && pipeline && vx_render_scene_precise(rs)) {
+            /* the pass shaders trace in float; deep models need the float64 single shader */
+            if (o.passes_given || o.show_given || o.timings)
+                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                            "the scene has models deeper than %u levels: --passes/--show/--timings need float tracing",
+                            VX_RENDER_PRECISE_DEPTH);
+            pipeline = false;
+            if (o.verbose) printf("note: deep models: the float64 single-shader colour mode renders this scene\n");
+        }
+        if (!r && pipeline) {
+            r = render_passes(&o, gpu, rs, &scene, &passes, o.probes ? &probes : NULL, &img, &err);
+        } else if (!r) {
+            r = vx_render_frame(rs, &o.r, &img, &err);
+        }
         if (!r && vx_gpu_validation_errors(gpu))
             r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
     }
@@ -308,7 +460,7 @@ int main(int argc, char** argv) {
     size_t npx = (size_t)img.width * img.height;
     vx_image_desc id = {.width = img.width, .height = img.height};
     void* buf = NULL;
-    if (want_float && o.r.mode == VX_RENDER_DEPTH) {
+    if (want_float && (pipeline ? show == VX_SHOW_DEPTH || show == VX_SHOW_MATERIAL : o.r.mode == VX_RENDER_DEPTH)) {
         float* p = malloc(npx * 4);
         for (size_t i = 0; p && i < npx; i++) p[i] = img.pixels[4 * i];
         buf = p, id.channels = 1, id.type = VX_IMAGE_F32;
@@ -330,8 +482,10 @@ int main(int argc, char** argv) {
     if (!r) {
         printf("scene: %u models, %u instances (load %.3f s%s)\n", scene.model_count, scene.instance_count, t_load,
                "");
-        printf("render: %ux%u, %u spp, mode %s: %.3f ms (%s), %.2f Mrays/s\n", img.width, img.height, o.r.spp,
-               o.probe_mode ? vx_probe_render_mode_name(o.p.mode) : vx_render_mode_name(o.r.mode), img.gpu_seconds * 1e3,
+        printf("render: %ux%u, %u spp, %s %s: %.3f ms (%s), %.2f Mrays/s\n", img.width, img.height,
+               (uint32_t)(img.rays / (npx ? npx : 1)), pipeline ? "passes" : "mode",
+               pipeline ? o.passes : o.probe_mode ? vx_probe_render_mode_name(o.p.mode) : vx_render_mode_name(o.r.mode),
+               img.gpu_seconds * 1e3,
                o.cpu ? "wall clock" : "GPU timestamps",
                img.gpu_seconds > 0 ? img.rays / img.gpu_seconds * 1e-6 : 0.0);
         if (lf_stats.rays)

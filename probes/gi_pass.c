@@ -1,0 +1,107 @@
+/* probes/gi_pass.c - the probe module's GI methods as the pass pipeline's gi
+ * pass (render/pipeline.h): "probes" (irradiance probes), "lightfield" (one
+ * bounce through the probes' distance maps) and "pathtrace" (the path
+ * tracer's indirect light). Each renders the indirect-only mode of
+ * vx_probe_gpu_render for the pipeline's camera and puts the radiance into
+ * the pipeline's gi buffer; the light (sun, sky, emission) is the probes'
+ * (or the bake defaults without probes), and the pipeline shades its direct
+ * pass with it, so direct + gi is what the full probe modes render.
+ *
+ * Known cost: the image goes through host memory (download, upload) because
+ * the probe shader writes its own accumulation layout; the gi timing row is
+ * the probe shader's GPU time only. */
+#include <string.h>
+
+#include "probes/probes.h"
+#include "probes/probes_internal.h"
+#include "render/render_internal.h"
+
+struct vx_probe_gi {
+    vx_gpu* g;
+    vx_probe_gpu* pg;
+    vx_probe_render_desc desc;
+    vx_render_desc base;
+    float* emit_attr;
+    size_t emit_count;
+    const vx_allocator* alloc;
+};
+
+static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err) {
+    vx_probe_gi* gi = user;
+    vx_probe_render_desc d = gi->desc;
+    gi->base = *io->frame;
+    d.base = &gi->base;
+    /* a fresh random stream per accumulated sample */
+    d.seed = gi->desc.seed + (uint64_t)io->sample * UINT64_C(0x9E3779B97F4A7C15);
+    vx_render_image img = {0};
+    vx_result r = vx_probe_gpu_render(gi->pg, &d, &img, err);
+    if (r) return r;
+    vx__buffer* out = io->out;
+    size_t bytes = (size_t)img.width * img.height * 16;
+    if (out->size < bytes) {
+        vx_render_image_free(&img);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gi buffer of %llu bytes holds less than the %ux%u image",
+                       (unsigned long long)out->size, img.width, img.height);
+    }
+    r = vx__buffer_upload(gi->g, out, img.pixels, bytes, err);
+    *gpu_seconds = img.gpu_seconds;
+    vx_render_image_free(&img);
+    return r;
+}
+
+vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps, const char* method,
+                             const vx_probe_render_desc* desc, vx_gi_method* out_method, vx_probe_gi** out,
+                             vx_error* err) {
+    if (!rs || !scene || !method || !out_method || !out)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
+    vx_probe_render_mode mode;
+    if (!strcmp(method, "probes")) mode = VX_PROBE_RENDER_INDIRECT;
+    else if (!strcmp(method, "lightfield")) mode = VX_PROBE_RENDER_LF_INDIRECT;
+    else if (!strcmp(method, "pathtrace")) mode = VX_PROBE_RENDER_PT_INDIRECT;
+    else return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown gi method '%s' (probes, lightfield, pathtrace)", method);
+    if (vx_probe_render_mode_uses_probes(mode) && !ps)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gi=%s needs a probe set", method);
+    const vx_allocator* a = ps ? ps->alloc : NULL;
+    vx_probe_gi* gi = vx_calloc(a, 1, sizeof *gi);
+    if (!gi) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    gi->alloc = a;
+    gi->g = vx__render_scene_gpu(rs);
+    gi->desc = desc ? *desc : (vx_probe_render_desc){0};
+    gi->desc.mode = mode;
+    gi->desc.stats = NULL;
+    /* the light the method was made for: resolved the way the probe renderer does */
+    vx__prender P;
+    vx_result r = vx__prender_setup(scene, ps, ps && ps->first == 0 && ps->count == ps->probe_count, &gi->desc, &P, err);
+    uint8_t* pal = NULL;
+    size_t n = 0;
+    if (!r) r = vx__scene_attr_palette(scene, a, &pal, &n, err);
+    if (!r && !(gi->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
+    if (!r) {
+        for (size_t i = 0; i < n; i++) gi->emit_attr[i] = (float)P.L.emit[pal[i]];
+        gi->emit_count = n;
+        r = vx_probe_gpu_create(rs, scene, ps, &gi->pg, err);
+    }
+    vx_free(a, pal);
+    if (r) {
+        vx_probe_gi_destroy(gi);
+        return r;
+    }
+    *out_method = (vx_gi_method){.name = method, .user = gi, .render = gi_render, .emit_attr = gi->emit_attr,
+                                 .emit_count = gi->emit_count};
+    for (int k = 0; k < 3; k++) {
+        out_method->light_dir[k] = P.L.light_dir[k];
+        out_method->sun[k] = P.L.sun[k];
+        out_method->sky[k] = P.L.sky[k];
+    }
+    *out = gi;
+    return VX_OK;
+}
+
+void vx_probe_gi_destroy(vx_probe_gi* gi) {
+    if (!gi) return;
+    vx_probe_gpu_destroy(gi->pg);
+    vx_free(gi->alloc, gi->emit_attr);
+    vx_free(gi->alloc, gi);
+}
