@@ -26,6 +26,10 @@ _Static_assert(sizeof(gpu_params) == 176, "gpu_params vs probe.comp");
 
 enum { PMODE_BAKE = 0 };
 
+/* Samples per pixel in one dispatch on a CPU device (llvmpipe's loop limit,
+ * probe.comp): fewer than 256 fit on the Cornell box with 2 bounces. */
+enum { CPU_DEVICE_CHUNK = 32 };
+
 typedef struct gctx {
     vx_gpu* g;
     const vx_allocator* alloc;
@@ -382,11 +386,22 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
             return r;
         }
     }
+    if (spp > UINT32_C(1) << 24) /* sample counts are exact floats on the GPU */
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u samples per pixel: at most 2^24 on the GPU", spp);
     gctx c;
+    float* acc = NULL;
     if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &P.L, err))) goto done;
     c.maps_in = &pg->maps, c.lf_in = &pg->lf;
     size_t npx = (size_t)f.width * f.height;
-    if ((r = vx__buffer_create(c.g, npx * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)))
+    /* flags, then per pixel the running sum and the samples done (probe.comp) */
+    size_t nout = (2 * npx + 1) * 16;
+    acc = vx_calloc(NULL, 2 * npx + 1, 16);
+    if (!acc) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+        goto done;
+    }
+    if ((r = vx__buffer_create(c.g, nout, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)) ||
+        (r = vx__buffer_upload(c.g, &c.out, acc, nout, err)))
         goto done;
     gpu_params* p = c.params.map;
     params_common(p, &P.L, d.seed);
@@ -397,24 +412,56 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
         p->lf_lo[3] = (float)ps->dist_step;
     }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
+    p->lf[3] = 2; /* loops_intact() */
     uint64_t groups = (npx + 63) / 64;
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    /* Samples per dispatch: llvmpipe ends every loop of a SIMD group after
+     * 65535 iterations in all, silently (see probe.comp); each dispatch
+     * checks that, and one the limit cut is repeated with half the samples.
+     * The image does not depend on the split: each pixel adds its samples to
+     * its running sum in sample order, whatever the dispatches. */
+    uint32_t chunk = vx_gpu_is_cpu(c.g) ? CPU_DEVICE_CHUNK : spp;
     double sec = 0;
-    if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &sec, err))) goto done;
+    for (uint32_t runs = 0;; runs++) {
+        /* each dispatch either advances every unfinished pixel or halves the chunk */
+        if (runs > spp + 32) {
+            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe render: samples still missing after %u dispatches", runs);
+            goto done;
+        }
+        p->seed[3] = chunk < spp ? chunk : spp;
+        double t = 0;
+        float flags[4];
+        if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &t, err)) ||
+            (r = vx__buffer_download(c.g, &c.out, flags, sizeof flags, err)))
+            goto done;
+        sec += t;
+        if (flags[0] != 0) {
+            if (chunk == 1) {
+                r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                            "probe render: one sample per pixel exceeds the device's loop limit (%s)",
+                            vx_gpu_device_name(c.g));
+                goto done;
+            }
+            chunk /= 2;
+        }
+        if (flags[1] == 0) break;
+        memset(flags, 0, sizeof flags);
+        if ((r = vx__buffer_upload(c.g, &c.out, flags, sizeof flags, err))) goto done;
+    }
+    if ((r = vx__buffer_download(c.g, &c.out, acc, nout, err))) goto done;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_alloc(NULL, npx * 16);
     if (!img.pixels) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
         goto done;
     }
-    if ((r = vx__buffer_download(c.g, &c.out, img.pixels, npx * 16, err))) {
-        vx_render_image_free(&img);
-        goto done;
-    }
+    for (size_t i = 0; i < npx; i++)
+        for (int k = 0; k < 4; k++) img.pixels[4 * i + k] = acc[4 * (2 * i + 1) + k] / (float)spp;
     img.gpu_seconds = sec;
     img.rays = (uint64_t)npx * spp;
     *out = img;
 done:
+    vx_free(NULL, acc);
     ctx_free(&c);
     return r;
 }

@@ -11,6 +11,23 @@
 // Random numbers: every path draws from its own counter-based stream keyed by
 // (seed, probe or pixel, texel or row, sample), so results do not depend on
 // the dispatch order or batch size. Layouts: probes/probe_gpu.c.
+//
+// Loop limit: llvmpipe (lavapipe) compiles a shader with a guard against
+// endless loops, one counter per SIMD group of 8 invocations (AVX2) shared by
+// every loop of the shader (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS = 65535,
+// lp_exec_endloop): once that group's loops have run 65535 iterations in all,
+// every loop exits at the end of its current iteration, silently. A pixel
+// looping over its samples in one invocation then stops after the sample
+// during which the limit was reached (and that sample's rays are cut short),
+// and 8 neighbouring pixels divide a partial sum by spp: at 512 spp on the
+// Cornell box about 250 samples fit. So render() traces at most P.seed.w
+// samples per dispatch, keeps each pixel's running sum and sample count in
+// the output buffer (the same float additions in the same order however the
+// samples are split: the image does not depend on the split a device needs),
+// and checks that the guard never fired (loops_intact) before it stores; a
+// dispatch the guard cut stores nothing for those pixels and raises a flag,
+// and the host repeats it with fewer samples. Hardware GPUs have no such
+// guard (a dispatch runs to the end or the device is lost).
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
@@ -25,17 +42,19 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 sun;      // rgb: irradiance on a surface facing the light
     vec4 sky;      // rgb: radiance
     uvec4 a;       // x: res (bake) / width, y: spp, z: bounces, w: first probe (bake) / height
-    uvec4 seed;    // x, y: seed low and high words, z: probes in this dispatch (bake)
+    uvec4 seed;    // x, y: seed low and high words, z: probes in this dispatch (bake), w: samples per dispatch (render)
     uvec4 grid;    // xyz: probes per axis, w: probe count
     vec4 origin;   // xyz: grid origin relative to the reference point, w: dist_max
     vec4 spacing;  // xyz: spacing, w: minimum spacing
-    uvec4 lf;      // light field: x: res, y: low res, z: words per probe in LfMaps
+    uvec4 lf;      // light field: x: res, y: low res, z: words per probe in LfMaps; w: 2 (loops_intact)
     vec4 lf_lo;    // xyz: scene bounds relative to the reference point, w: distance step
     vec4 lf_hi;    // xyz: scene bounds (max)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
-layout(std430, binding = 10) writeonly buffer Out { vec4 outv[]; };
+// bake: 2 per texel; render: [0] flags (x: the loop guard fired, y: samples
+// left), then per pixel the running sum (rgb, hits) and (samples done, 0, 0, 0)
+layout(std430, binding = 10) buffer Out { vec4 outv[]; };
 // per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
 // light field modes, per probe: distance u16 ((res+2)^2, padded to a word),
@@ -499,16 +518,28 @@ void bake() {
     outv[at + 1u] = geo;
 }
 
+// True unless llvmpipe's loop guard fired in this SIMD group (see the header):
+// a loop of P.lf.w == 2 iterations that the compiler cannot count; once the
+// guard has fired it runs once.
+bool loops_intact() {
+    uint n = 0u;
+    for (uint i = 0u; i < P.lf.w; i++) n += 1u;
+    return n == P.lf.w;
+}
+
 void render() {
     uint W = P.a.x, H = P.a.w;
     uint idx = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
     if (idx >= W * H) return;
     uint x = idx % W, y = idx / W;
     uint spp = max(P.a.y, 1u);
+    uint s0 = uint(outv[2u * idx + 2u].x), s1 = min(s0 + P.seed.w, spp);
+    if (s0 >= spp) return;
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
-    vec4 acc = vec4(0.0);
-    for (uint s = 0u; s < spp; s++) {
+    vec4 acc = outv[2u * idx + 1u];
+    uint s = s0;
+    for (; s < s1; s++) {
         rng_init(0x90000000u + y, x, s);
         vec2 off = vec2(0.0);
         if (spp > 1u) off = vec2(rnd(), rnd()) - 0.5;
@@ -542,7 +573,15 @@ void render() {
         }
         acc.xyz += c;
     }
-    outv[y * W + x] = acc / float(spp);
+    // identical values from every invocation that writes them
+    if (s != s1 || !loops_intact()) {
+        outv[0].x = 1.0;
+        outv[0].y = 1.0;
+        return;
+    }
+    outv[2u * idx + 1u] = acc;
+    outv[2u * idx + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
+    if (s1 < spp) outv[0].y = 1.0;
 }
 
 void main() {
