@@ -1,0 +1,175 @@
+/* bench/passes_bench.c - the pass pipeline's cost (render/pipeline.h): per
+ * pass GPU times and the frame time for several pass lists, and the
+ * pipeline's overhead over the single trace shader (trace.comp's colour
+ * mode) on the same rays. Needs only libvulkan and libc.
+ *
+ *   passes_bench [--device N|NAME] [--runs N] [--size WxH] SCENE.{vox,svo} ...
+ *
+ * For each scene, two views: the default framing ("overview") and a close-up
+ * from a quarter of the default distance ("close-up"); hit share stated per view. Times
+ * are GPU timestamps, the median of --runs frames (default 15) after 3
+ * warm-up frames; the single shader runs the same number of dispatches. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/bench_load.h"
+#include "render/pipeline.h"
+#include "render/render_internal.h" /* vx__render_dispatch */
+
+static int cmpd(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+static double median(double* v, int n) {
+    qsort(v, (size_t)n, sizeof *v, cmpd);
+    return n ? v[n / 2] : 0;
+}
+
+static const char* const lists[] = {"gbuffer", "gbuffer,direct", "gbuffer,direct,tonemap", "gbuffer,direct,ao,tonemap",
+                                    "gbuffer,direct,ao,aa,tonemap"};
+#define NLISTS (sizeof lists / sizeof lists[0])
+
+int main(int argc, char** argv) {
+    const char* device = NULL;
+    int runs = 15;
+    uint32_t W = 1920, H = 1080;
+    int first = 1;
+    for (; first < argc && argv[first][0] == '-'; first++) {
+        if (!strcmp(argv[first], "--device") && first + 1 < argc) device = argv[++first];
+        else if (!strcmp(argv[first], "--runs") && first + 1 < argc) runs = atoi(argv[++first]);
+        else if (!strcmp(argv[first], "--size") && first + 1 < argc) {
+            if (sscanf(argv[++first], "%ux%u", &W, &H) != 2) return 2;
+        } else {
+            fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] SCENE...\n");
+            return 2;
+        }
+    }
+    if (runs < 1 || runs > 1000 || first >= argc) {
+        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] SCENE...\n");
+        return 2;
+    }
+    vx_error err = {0};
+    vx_gpu* gpu;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err)) {
+        fprintf(stderr, "passes_bench: %s\n", err.msg);
+        return 1;
+    }
+    printf("# passes_bench on %s, %ux%u, median of %d frames after 3 warm-up frames\n", vx_gpu_device_name(gpu), W, H,
+           runs);
+    double* t = calloc((size_t)runs, sizeof *t);
+    double* tp = calloc((size_t)runs * (VX_PASS_KIND_COUNT + 1), sizeof *tp);
+    int status = 0;
+    for (int a = first; a < argc; a++) {
+        vx_svo_scene s;
+        if (bench_load(argv[a], &s, &err)) {
+            fprintf(stderr, "passes_bench: %s\n", err.msg);
+            status = 1;
+            continue;
+        }
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        if (vx_render_scene_create(gpu, &s, &rs, &err) || vx_frame_renderer_create(rs, &s, &fr, &err)) {
+            fprintf(stderr, "passes_bench: %s: %s\n", argv[a], err.msg);
+            vx_render_scene_destroy(rs);
+            vx_svo_scene_free(&s);
+            status = 1;
+            continue;
+        }
+        double lo[3], hi[3];
+        vx__scene_world_bounds(&s, lo, hi);
+        for (int view = 0; view < 2; view++) {
+            vx_render_desc base = {.width = W, .height = H};
+            if (view == 1) {
+                /* close-up: a quarter of the default eye distance, same direction */
+                vx__frame f;
+                vx__frame_setup(lo, hi, &base, &f, NULL);
+                double c[3], d = 0;
+                for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]);
+                for (int k = 0; k < 3; k++) {
+                    double e = f.ref[k] - f.fwd[k] * f.t_start;
+                    d += (e - c[k]) * (e - c[k]);
+                }
+                d = sqrt(d);
+                base.camera.set = true;
+                for (int k = 0; k < 3; k++) {
+                    base.camera.target[k] = c[k] - 0.08 * (hi[2] - lo[2]) * (k == 2);
+                    base.camera.eye[k] = c[k] - f.fwd[k] * d * 0.25;
+                }
+            }
+            /* hit share */
+            vx_frame_desc fd = vx_frame_desc_defaults();
+            fd.base = base;
+            fd.want_ids = true;
+            vx_frame_result res;
+            if (vx_frame_render(fr, &fd, &res, &err)) {
+                fprintf(stderr, "passes_bench: %s: %s\n", argv[a], err.msg);
+                status = 1;
+                break;
+            }
+            size_t hits = 0, npx = (size_t)W * H;
+            for (size_t i = 0; i < npx; i++) hits += res.image.hits[i].instance != VX_RENDER_NO_HIT;
+            vx_render_image_free(&res.image);
+            const char* vname = view ? "close-up" : "overview";
+            printf("\n## %s, %s (%.1f%% of pixels hit)\n\n", argv[a], vname, 100.0 * hits / npx);
+            /* the single shader, colour mode */
+            base.mode = VX_RENDER_COLOR;
+            vx__frame f;
+            double sec;
+            for (int k = 0; k < 3 + runs; k++) {
+                if (vx__render_dispatch(rs, &base, false, 1, &f, &sec, &err)) {
+                    fprintf(stderr, "passes_bench: %s\n", err.msg);
+                    status = 1;
+                    break;
+                }
+                if (k >= 3) t[k - 3] = sec * 1e3;
+            }
+            double single = median(t, runs);
+            printf("| passes | frame ms | per pass ms | vs single shader |\n| --- | ---: | --- | ---: |\n");
+            printf("| single shader (trace.comp colour) | %.3f | | 1.00 |\n", single);
+            for (size_t l = 0; l < NLISTS; l++) {
+                vx_pass_list L;
+                vx_pass_list_parse(lists[l], &L, &err);
+                fd = vx_frame_desc_defaults();
+                fd.base = base;
+                fd.base.spp = 1; /* aa: one sample, so the rows compare per-frame costs */
+                fd.passes = &L;
+                const char* names[VX_PASS_KIND_COUNT + 1] = {0};
+                uint32_t nn = 0;
+                bool ok = true;
+                for (int k = 0; k < 3 + runs && ok; k++) {
+                    if (vx_frame_render(fr, &fd, &res, &err)) {
+                        fprintf(stderr, "passes_bench: %s\n", err.msg);
+                        ok = false;
+                        status = 1;
+                        break;
+                    }
+                    if (k >= 3) {
+                        t[k - 3] = res.frame_ms;
+                        nn = res.timing_count;
+                        for (uint32_t q = 0; q < nn; q++) {
+                            names[q] = res.timings[q].name;
+                            tp[q * runs + (k - 3)] = res.timings[q].ms;
+                        }
+                    }
+                    vx_render_image_free(&res.image);
+                }
+                if (!ok) break;
+                double fm = median(t, runs);
+                char per[256] = "";
+                for (uint32_t q = 0; q < nn; q++)
+                    snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.3f", q ? ", " : "", names[q],
+                             median(tp + q * runs, runs));
+                printf("| %s | %.3f | %s | %.2f |\n", lists[l], fm, per, single > 0 ? fm / single : 0);
+            }
+        }
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+    }
+    free(t);
+    free(tp);
+    vx_gpu_destroy(gpu);
+    return status;
+}
