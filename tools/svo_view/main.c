@@ -11,6 +11,7 @@
 #include "convert/convert.h"
 #include "formats/image.h"
 #include "probes/probes.h"
+#include "render/pipeline.h"
 #include "render/render.h"
 #include "tools/common/conv.h"
 #include "tools/common/tool.h"
@@ -32,6 +33,7 @@ typedef struct options {
     bool gi;            /* --mode gi|lightfield: a probe mode (needs probes) */
     vx_probe_render_mode pmode;
     const char* probes; /* light field probes from svo_bake */
+    const char* passes; /* the colour mode's pass list (render/pipeline.h) */
     double fov;
     const char* device;
     bool validate, vsync, verbose, hidden;
@@ -45,6 +47,7 @@ static options default_options(void) {
     o.win_h = 800;
     o.fov = 45;
     o.conv = vx_tool_conv_defaults();
+    o.passes = VX_PASS_LIST_DEFAULT;
     return o;
 }
 
@@ -66,6 +69,9 @@ _Noreturn static void usage(int status) {
             "    --probes FILE         light field probes from svo_bake: mode gi (key 7) shows direct light\n"
             "                          plus the probes' diffuse GI, mode lightfield (key 8) one bounce\n"
             "                          traced through them, exactly as svo_render does\n"
+            "    --passes LIST         the colour mode's passes, as svo_render --passes (default: %s);\n"
+            "                          key 9 cycles presets (ao, aa, tonemap, dof); the overlay shows each\n"
+            "                          pass's GPU time\n"
             "    --fov DEG             vertical field of view (default: %g)\n"
             "    --script FILE         play commands from FILE (see below)\n"
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
@@ -87,7 +93,8 @@ _Noreturn static void usage(int status) {
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
             "      Ctrl+Z/Ctrl+Y undo/redo, Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
             "Script commands (one a line, # comments): camera EX EY EZ TX TY TZ | camera default |\n"
-            "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | probes FILE | select N|none |\n"
+            "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | passes LIST | probes FILE |\n"
+            "      select N|none |"
             "      pick X Y |"
             " frame | move DX DY DZ | rotate x|y|z [TURNS] | mirror x|y|z | duplicate | delete |\n"
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
@@ -97,7 +104,7 @@ _Noreturn static void usage(int status) {
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
             "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
-            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.fov, d.conv.res, vx_tool_name, vx_tool_name,
+            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
 }
@@ -144,6 +151,11 @@ static options parse(int argc, char** argv) {
                 usage_error("unknown mode '%s' (color|albedo|normal|depth|instance|iterations|gi|lightfield)", m);
         } else if (!strcmp(a, "--probes")) {
             o.probes = need_arg(argc, argv, &i);
+        } else if (!strcmp(a, "--passes")) {
+            o.passes = need_arg(argc, argv, &i);
+            vx_pass_list pl;
+            vx_error perr = {0};
+            if (vx_pass_list_parse(o.passes, &pl, &perr)) usage_error("--passes: %s", perr.msg);
         } else if (!strcmp(a, "--fov")) {
             if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fov) || !(o.fov > 0 && o.fov < 180))
                 usage_error("bad --fov '%s' (degrees in (0,180))", argv[i]);
@@ -204,6 +216,14 @@ typedef struct app {
     /* light field probes (mode gi); nothing of them is touched while none are loaded */
     vx_probe_set probes;
     vx_probe_gpu* probes_gpu; /* their maps on the GPU for rs (made at the first probe frame) */
+    /* the colour mode's pass pipeline over rs, its gi method (made at the first frame that needs it) */
+    vx_frame_renderer* fr;
+    vx_pass_list passes;
+    vx_probe_gi* pgi;
+    vx_gi_method gm;
+    vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
+    uint32_t timing_count;
+    double passes_ms;
     bool have_probes;
     char probes_path[1024];
     uint32_t validation_errors;
@@ -270,6 +290,8 @@ static vx_result load_probes(app* a, const char* path, vx_error* err) {
     }
     vx_probe_gpu_destroy(a->probes_gpu);
     a->probes_gpu = NULL;
+    vx_probe_gi_destroy(a->pgi); /* made for the old set */
+    a->pgi = NULL;
     if (a->have_probes) vx_probe_set_free(&a->probes);
     a->probes = ps;
     a->have_probes = true;
@@ -373,14 +395,24 @@ static vx_render_camera camera_desc(const app* a) {
     return c;
 }
 
+/* The pipeline's objects bound to rs (and its gi method bound to the probes). */
+static void drop_passes(app* a) {
+    vx_probe_gi_destroy(a->pgi);
+    a->pgi = NULL;
+    vx_frame_renderer_destroy(a->fr);
+    a->fr = NULL;
+}
+
 static void rebuild(app* a) {
     double t0 = vx_time_now();
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
+    drop_passes(a);
     vx_render_scene_destroy(a->rs);
     a->rs = NULL;
     vx_error err = {0};
     if (vx_render_scene_create(a->gpu, &a->scene, &a->rs, &err)) message(a, true, "cannot draw the scene: %s", err.msg);
+    else if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) message(a, true, "pass pipeline: %s", err.msg);
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
@@ -429,6 +461,8 @@ static void do_open(app* a, const char* path) {
     if (had) {
         vx_probe_gpu_destroy(a->probes_gpu);
         a->probes_gpu = NULL;
+        vx_probe_gi_destroy(a->pgi);
+        a->pgi = NULL;
         vx_probe_set_free(&a->probes);
         a->have_probes = false;
         a->gi = false;
@@ -683,8 +717,8 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     uint32_t nd = 0;
     for (uint32_t i = 0; i < a->scene.instance_count; i++)
         if (drawn(&a->scene, i)) nd++, voxels += a->scene.models[a->scene.instances[i].model].voxel_count;
-    const char* lines[9];
-    char buf[9][256];
+    const char* lines[10];
+    char buf[10][256];
     int nl = 0;
     snprintf(buf[nl], sizeof buf[0], "FPS %.1f  frame %.2f ms  trace %.2f ms  %.1f Mrays/s  edit+BVH %.2f ms",
              med > 0 ? 1000.0 / med : 0.0, med, a->trace_ms, a->rays_per_s * 1e-6, a->update_ms);
@@ -697,6 +731,13 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     snprintf(buf[nl], sizeof buf[0], "mode: %s  camera: %s  vsync: %s  size %ux%u", mode_name(a),
              a->orbit ? "orbit" : "fly", vp_vsync(a->p) ? "on" : "off", cv->width, cv->height);
     lines[nl] = buf[nl], nl++;
+    if (a->timing_count && !a->gi && a->mode == VX_RENDER_COLOR) {
+        int at = snprintf(buf[nl], sizeof buf[0], "passes (9 cycles):");
+        for (uint32_t t = 0; t < a->timing_count && at > 0 && at < (int)sizeof buf[0]; t++)
+            at += snprintf(buf[nl] + at, sizeof buf[0] - (size_t)at, " %s %.2f", a->timings[t].name, a->timings[t].ms);
+        if (at > 0 && at < (int)sizeof buf[0]) snprintf(buf[nl] + at, sizeof buf[0] - (size_t)at, " ms  (GPU %.2f)", a->passes_ms);
+        lines[nl] = buf[nl], nl++;
+    }
     if (a->have_probes) {
         const vx_probe_set* ps = &a->probes;
         snprintf(buf[nl], sizeof buf[0], "probes: %ux%ux%u grid (%u probes, res %u, %u bounces)%s", ps->grid[0],
@@ -730,6 +771,54 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     }
 }
 
+/* The colour mode through the pass pipeline (a->passes): svo_render's
+ * --passes frame for the same camera; per-pass times kept for the overlay. */
+static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
+    if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi) {
+        vx_probe_render_desc pd = {0};
+        vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
+                                         &a->gm, &a->pgi, err);
+        if (r) return r;
+    }
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base = *d;
+    fd.base.mode = VX_RENDER_COLOR;
+    fd.base.spp = 0;
+    fd.passes = &a->passes;
+    fd.gi = a->pgi ? &a->gm : NULL;
+    fd.want_ids = d->want_hits;
+    vx_frame_result res;
+    vx_result r = vx_frame_render(a->fr, &fd, &res, err);
+    if (r) return r;
+    a->img = res.image;
+    memcpy(a->timings, res.timings, sizeof a->timings);
+    a->timing_count = res.timing_count;
+    a->passes_ms = res.frame_ms;
+    return VX_OK;
+}
+
+/* Sets the pass list (script command `passes LIST`, key 9 cycles presets). */
+static bool set_passes(app* a, const char* list) {
+    vx_pass_list pl;
+    vx_error err = {0};
+    if (vx_pass_list_parse(list, &pl, &err)) {
+        message(a, true, "passes: %s", err.msg);
+        return false;
+    }
+    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && !a->have_probes) {
+        message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
+        return false;
+    }
+    vx_probe_gi_destroy(a->pgi);
+    a->pgi = NULL;
+    a->passes = pl;
+    a->timing_count = 0;
+    char t[160];
+    vx_pass_list_format(&pl, t, sizeof t);
+    message(a, false, "passes %s", t[0] ? t : "(none)");
+    return true;
+}
+
 /* Renders, converts, overlays and presents one frame. */
 static vx_result frame(app* a, vx_error* err) {
     uint32_t w = a->o.width, h = a->o.height;
@@ -757,7 +846,10 @@ static vx_result frame(app* a, vx_error* err) {
             return r;
         }
     }
-    if (a->rs && !a->gi) {
+    if (a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs)) {
+        vx_result r = render_passes(a, &d, err);
+        if (r) return r;
+    } else if (a->rs && !a->gi) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
         if (r) return r;
     }
@@ -875,6 +967,16 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) a->mode = (vx_render_mode)(key - GLFW_KEY_1), a->gi = false;
     else if (key == GLFW_KEY_7) set_probe_mode(a, VX_PROBE_RENDER_GI);
     else if (key == GLFW_KEY_8) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
+    else if (key == GLFW_KEY_9) {
+        static const char* const presets[] = {VX_PASS_LIST_DEFAULT, "gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap",
+                                              "gbuffer,dof,direct,ao,aa,tonemap"};
+        char cur[160];
+        vx_pass_list_format(&a->passes, cur, sizeof cur);
+        size_t k = 0, n = sizeof presets / sizeof presets[0];
+        while (k < n && strcmp(cur, presets[k])) k++;
+        set_passes(a, presets[(k + 1) % n]);
+        a->mode = VX_RENDER_COLOR, a->gi = false;
+    }
     else if (key == GLFW_KEY_V) vp_set_vsync(a->p, !vp_vsync(a->p));
     else if (key == GLFW_KEY_TAB) a->overlay = !a->overlay;
     else if (key == GLFW_KEY_F) do_frame(a);
@@ -1051,6 +1153,8 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         else if (nt == 2 && !strcmp(tok[1], "lightfield")) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
         else if (nt != 2 || !vx_render_mode_parse(tok[1], &a->mode)) BAD();
         else a->gi = false;
+    } else if (!strcmp(c, "passes") && nt <= 2) {
+        if (!set_passes(a, nt == 2 ? tok[1] : "")) return false;
     } else if (!strcmp(c, "probes") && nt == 2) {
         do_probes(a, tok[1]);
     } else if (!strcmp(c, "select")) {
@@ -1224,6 +1328,7 @@ int main(int argc, char** argv) {
     a.gi = a.o.gi;
     a.pmode = a.o.pmode;
     a.overlay = true;
+    vx_pass_list_parse(a.o.passes, &a.passes, NULL); /* checked by parse() */
     if (a.o.verbose)
         printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, mode_name(&a), a.o.fov,
                a.o.screenshot ? " --screenshot " : "", a.o.screenshot ? a.o.screenshot : "",
@@ -1277,6 +1382,7 @@ int main(int argc, char** argv) {
 done:
     vx_render_image_free(&a.img);
     vx_probe_gpu_destroy(a.probes_gpu);
+    drop_passes(&a);
     vx_render_scene_destroy(a.rs);
     uint32_t gpu_errors = vx_gpu_validation_errors(a.gpu);
     vx_gpu_destroy(a.gpu);
