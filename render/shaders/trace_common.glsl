@@ -261,10 +261,16 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     if (any_hit) { h.t = t; return true; }
 
     // entry face: the cube's entry planes in mirrored space are its max corners
+    // No vector is indexed by a variable below: with per-pixel hits in the
+    // depth mode the NVIDIA compiler (driver 580, H100) turned the dynamic
+    // component accesses (c[axis] = ..., d[axis], p[axis]) into code that
+    // never finished for some pixels of a 1920x1080 frame (issue 21);
+    // explicit selects compute the same cell.
     RVEC3 tent = (pos + scale_exp2) * coef - bias;
     int axis = 0;
-    if (tent.y > tent[axis]) axis = 1;
-    if (tent.z > tent[axis]) axis = 2;
+    REAL ta = tent.x;
+    if (tent.y > ta) { axis = 1; ta = tent.y; }
+    if (tent.z > ta) axis = 2;
     // unmirror the leaf cube and find the cell holding the hit point
     if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
     if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
@@ -274,13 +280,18 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     RVEC3 p = oa + d * (tmin / L);
     RVEC3 c = clamp(floor(p), lo, lo + sz - 1.0);
     // the entry axis is decided by the ray direction, not by rounding
-    if (d[axis] > 0.0 || (d[axis] == 0.0 && !sign_neg(d[axis]))) c[axis] = lo[axis];
-    else c[axis] = lo[axis] + sz - 1.0;
-    if (tmin <= 0.0 && te <= t0) c[axis] = clamp(floor(p[axis]), lo[axis], lo[axis] + sz - 1.0);
+    REAL da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+    REAL la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
+    REAL pa = axis == 0 ? p.x : (axis == 1 ? p.y : p.z);
+    REAL ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
+    if (tmin <= 0.0 && te <= t0) ca = clamp(floor(pa), la, la + sz - 1.0);
+    if (axis == 0) c.x = ca;
+    else if (axis == 1) c.y = ca;
+    else c.z = ca;
     h.t = t;
     h.cell = uvec3(c);
     h.axis = axis;
-    h.nsign = sign_neg(d[axis]) ? 1.0 : -1.0;
+    h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
     if (HAS_COLOR && have_attr && (m.flags & 1u) != 0u) {

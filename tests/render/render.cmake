@@ -9,3 +9,9 @@ if(VX_WITH_VULKAN)
     set_tests_properties(test_render_gpu PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
   endif()
 endif()
+# The hits frame on the bench's deep terrain (issue 21: it hung on an H100).
+if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_hits.c)
+  vx_add_test(test_render_hits SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_hits.c
+              LIBS vx_render vx_svo)
+  set_tests_properties(test_render_hits PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
+endif()
