@@ -33,23 +33,11 @@ static bool norm3(double v[3]) {
     return true;
 }
 
-static void affine_mul(const double a[12], const double b[12], double o[12]) {
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 4; c++) {
-            double v = a[4 * r + 0] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c];
-            if (c == 3) v += a[4 * r + 3];
-            o[4 * r + c] = v;
-        }
-    }
-}
-
 void vx__affine_apply(const double m[12], const double p[3], double o[3]) {
     for (int r = 0; r < 3; r++) o[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
 }
 
-void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]) {
-    affine_mul(s->world_from_grid, in->xform, w);
-}
+void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]) { vx_svo_instance_world(s, in, w); }
 
 bool vx__affine_inverse(const double m[12], double o[12]) {
     double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
@@ -70,50 +58,17 @@ bool vx__affine_inverse(const double m[12], double o[12]) {
     return true;
 }
 
-void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) {
-    /* from the drawn instances' model boxes, so that a scene whose stored
-     * bounds are stale still gets framed */
-    bool any = false;
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
-        double a[3], b[3];
-        vx__instance_bounds(s, &s->instances[i], a, b);
-        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
-        any = true;
-    }
-    if (!any)
-        for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;
-}
+/* The scene facts live in svo/ (vx_svo_instance_drawn and friends); these
+ * names stay for render/'s and probes/ sources. */
+void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) { vx_svo_scene_world_bounds(s, lo, hi); }
 
 void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
-    const vx_svo_model* m = &s->models[in->model];
-    double w[12];
-    vx__instance_world(s, in, w);
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (int c = 0; c < 8; c++) {
-        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
-        double q[3];
-        vx__affine_apply(w, p, q);
-        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], q[k]), hi[k] = fmax(hi[k], q[k]);
-    }
+    vx_svo_instance_world_box(s, in, lo, hi);
 }
 
-bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i) {
-    const vx_svo_instance* in = &s->instances[i];
-    if (in->flags & VX_SVO_INSTANCE_HIDDEN) return false;
-    if (in->layer != UINT32_MAX && in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN))
-        return false;
-    if (in->model >= s->model_count) return false;
-    return s->models[in->model].root != VX_SVO_ROOT_EMPTY;
-}
+bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i) { return vx_svo_instance_drawn(s, i); }
 
-uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a) {
-    if (a >= m->attr_count) return 0xFFFFFFFFu;
-    if ((m->attrs & VX_ATTR_RGBA8) && m->rgba) return m->rgba[a];
-    if ((m->attrs & VX_ATTR_PALETTE) && m->palette) return s->palette[m->palette[a]];
-    return 0xFFFFFFFFu;
-}
+uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a) { return vx_svo_attr_rgba(s, m, a); }
 
 vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err) {
     for (uint32_t i = 0; i < s->instance_count; i++) {

@@ -169,6 +169,24 @@ void vx_svo_scene_init(vx_svo_scene* scene, const vx_allocator* a);
 /* Recomputes bounds_min/max from the instances (hidden ones excluded) using
  * each model's occupied extent. */
 void vx_svo_scene_update_bounds(vx_svo_scene* scene);
+/* ---- scene facts shared by every module (svo_scene.c) ------------------------------ */
+
+/* Whether instance i is shown: not hidden, not on a hidden layer, its model
+ * index in range. */
+bool vx_svo_instance_visible(const vx_svo_scene* scene, uint32_t i);
+/* Whether instance i is drawn: visible and its model not empty. */
+bool vx_svo_instance_drawn(const vx_svo_scene* scene, uint32_t i);
+/* The instance's world map (3x4 row-major): world_from_grid * xform. */
+void vx_svo_instance_world(const vx_svo_scene* scene, const vx_svo_instance* in, double w[12]);
+/* World AABB of the instance's model box [0, size]. */
+void vx_svo_instance_world_box(const vx_svo_scene* scene, const vx_svo_instance* in, double lo[3], double hi[3]);
+/* World bounds of the drawn instances' model boxes (all zero when none is
+ * drawn); computed from the instances, so stale stored bounds do not matter. */
+void vx_svo_scene_world_bounds(const vx_svo_scene* scene, double lo[3], double hi[3]);
+/* RGBA8 of attribute record a of model m: its colour, or the palette entry of
+ * its index; opaque white without attributes or past the records. */
+uint32_t vx_svo_attr_rgba(const vx_svo_scene* scene, const vx_svo_model* m, uint32_t a);
+
 /* Looks up a key in a material's dictionary; NULL if absent. */
 const char* vx_svo_material_get(const vx_svo_material* m, const char* key);
 

@@ -85,9 +85,7 @@ void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known
     }
     for (uint32_t i = 0; s->instances && i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
-        if (in->flags & VX_SVO_INSTANCE_HIDDEN) continue;
-        if (in->layer < s->layer_count && s->layers && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) continue;
-        if (in->model >= s->model_count || !s->models) continue;
+        if (!s->models || !vx_svo_instance_visible(s, i)) continue;
         vx__svo_extent local, *e = &local;
         if (known) {
             local = known[in->model];
@@ -139,4 +137,64 @@ const char* vx_svo_material_get(const vx_svo_material* m, const char* key) {
         p = z2 + 1;
     }
     return NULL;
+}
+
+/* ---- scene facts --------------------------------------------------------------------- */
+
+bool vx_svo_instance_visible(const vx_svo_scene* s, uint32_t i) {
+    if (!s || i >= s->instance_count) return false;
+    const vx_svo_instance* in = &s->instances[i];
+    if (in->flags & VX_SVO_INSTANCE_HIDDEN) return false;
+    if (in->layer < s->layer_count && s->layers && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) return false;
+    return in->model < s->model_count;
+}
+
+bool vx_svo_instance_drawn(const vx_svo_scene* s, uint32_t i) {
+    return vx_svo_instance_visible(s, i) && s->models[s->instances[i].model].root != VX_SVO_ROOT_EMPTY;
+}
+
+void vx_svo_instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]) {
+    const double* a = s->world_from_grid;
+    const double* b = in->xform;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++) {
+            double v = a[4 * r + 0] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c];
+            if (c == 3) v += a[4 * r + 3];
+            w[4 * r + c] = v;
+        }
+}
+
+void vx_svo_instance_world_box(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
+    const vx_svo_model* m = &s->models[in->model];
+    double w[12];
+    vx_svo_instance_world(s, in, w);
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int c = 0; c < 8; c++) {
+        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
+        for (int r = 0; r < 3; r++) {
+            double q = w[4 * r] * p[0] + w[4 * r + 1] * p[1] + w[4 * r + 2] * p[2] + w[4 * r + 3];
+            lo[r] = fmin(lo[r], q), hi[r] = fmax(hi[r], q);
+        }
+    }
+}
+
+void vx_svo_scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) {
+    bool any = false;
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        double a[3], b[3];
+        vx_svo_instance_world_box(s, &s->instances[i], a, b);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
+        any = true;
+    }
+    if (!any)
+        for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;
+}
+
+uint32_t vx_svo_attr_rgba(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a) {
+    if (a >= m->attr_count) return 0xFFFFFFFFu;
+    if ((m->attrs & VX_ATTR_RGBA8) && m->rgba) return m->rgba[a];
+    if ((m->attrs & VX_ATTR_PALETTE) && m->palette) return s->palette[m->palette[a]];
+    return 0xFFFFFFFFu;
 }

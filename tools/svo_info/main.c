@@ -197,8 +197,7 @@ static int dump(const options* o, const vx_svo_scene* s) {
     c->len = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
-        bool hidden = (in->flags & VX_SVO_INSTANCE_HIDDEN) ||
-                      (in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN));
+        bool hidden = !vx_svo_instance_visible(s, i);
         if (hidden && !o->all) continue;
         c->m = &s->models[in->model];
         c->x = in->xform;

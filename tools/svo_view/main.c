@@ -334,12 +334,7 @@ static void world_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi
     }
 }
 
-static bool drawn(const vx_svo_scene* s, uint32_t i) {
-    const vx_svo_instance* in = &s->instances[i];
-    if (in->flags & VX_SVO_INSTANCE_HIDDEN) return false;
-    if (in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) return false;
-    return in->model < s->model_count && s->models[in->model].root != VX_SVO_ROOT_EMPTY;
-}
+static bool drawn(const vx_svo_scene* s, uint32_t i) { return vx_svo_instance_drawn(s, i); }
 
 static void scene_box(const vx_svo_scene* s, double lo[3], double hi[3]) {
     bool any = false;
