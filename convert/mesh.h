@@ -7,22 +7,38 @@
  *   vx_svo_scene_free(&s);
  *
  * The grid (vx_conv_mesh_grid_make):
- *   h = longest side of the mesh's world bounds / res (a flat or point-like
- *   mesh with longest side 0 gets h = 1). Grid coordinates of a world point p
- *   are g = (p - min) / h, computed in double; cell (i, j, k) is the CLOSED
- *   unit cube [i, i+1] x [j, j+1] x [k, k+1] in g, i.e. the world cube
- *   [min + (i,j,k) h, min + (i+1,j+1,k+1) h]. size[a] = ceil(extent_a / h),
- *   at least 1 (a relative slack of 1e-9 absorbs the rounding of
- *   extent / (extent / res), so the longest side gets exactly res cells).
- *   Cells with index == size (touched only by faces lying exactly on the
- *   max boundary of the bounds) are not part of the grid: the closed cube of
- *   the cell below already contains those faces.
+ *   min = the mesh's world bounds' minimum (floats, exact in double). h =
+ *   longest extent / res, rounded up to the next double when the division
+ *   rounded down, so that res * h >= the extent exactly (a flat or
+ *   point-like mesh with longest extent 0 gets h = 1). size[a] = the fewest
+ *   cells n >= 1 with n * h >= extent_a, exactly (fma); the longest side
+ *   gets exactly res cells. Grid coordinates of a world point p are
+ *   g = (p - min) / h, computed in double. So the mesh lies within
+ *   [0, size] on every axis, in exact arithmetic as well as in g: the
+ *   mesh's min faces have g = 0 exactly, and its max faces are never an
+ *   ulp beyond the last cell (they were, with h rounded down: a flat top on
+ *   the max bound was voxelized although an exact test puts it outside).
+ *   Inside the grid g is the double quotient itself (the specification,
+ *   which the tests share): no float rounding of positions or of min.
  *
- * A cell is set iff some triangle intersects its closed cube (exact: the
- * triangle is clipped to the cell's slabs, so faces lying on a cell
- * boundary set the cells on both sides). Degenerate triangles (segments,
- * points) set the cells they touch by the same rule. NaN or infinite
- * vertices are an error (VX_ERR_BAD_FORMAT).
+ * The cells are half-open: cell (i, j, k) is [i, i+1) x [j, j+1) x [k, k+1)
+ * in g, except that the last cell along an axis (index size - 1) also
+ * holds its max face, [size-1, size]. The cells partition the grid box, so
+ * every point of a surface lies in exactly one cell. A cell is set iff
+ * some triangle meets its box. Consequences, on purpose:
+ *   - A face lying exactly on a cell boundary plane g = k sets one layer,
+ *     the cells [k, k+1) on its + side, never both sides: a flat bottom on
+ *     the grid's lower bound (or on any boundary) gives exactly one layer
+ *     of cells, a flat top on the grid's max bound the last layer.
+ *   - A cell that a surface only touches at its max face, edge or corner
+ *     is not set (that point belongs to the neighbour), so no cell is set
+ *     that does not hold part of the surface; a vertex on a corner shared
+ *     by 8 cells sets one of them.
+ *   - A face on an interior boundary with its solid below (a flat top at
+ *     g = k) lands in the layer above it, k, like a bottom would. That is
+ *     the price of a rule that does not depend on the winding.
+ * Degenerate triangles (segments, points) set the cells they meet by the
+ * same rule. NaN or infinite vertices are an error (VX_ERR_BAD_FORMAT).
  *
  * Solid (desc.solid): a cell whose centre is inside the mesh by a parity
  * count along at least two of the three axes (rays through cell centres) is

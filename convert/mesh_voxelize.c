@@ -1,18 +1,22 @@
-/* convert/mesh_voxelize.c - conservative triangle voxelization by bricks.
+/* convert/mesh_voxelize.c - triangle voxelization by bricks.
  *
- * Exactness: a triangle intersects the closed cell [i,i+1]x[j,j+1]x[k,k+1]
- * iff its part inside the column [i,i+1]x[j,j+1] (a convex polygon, found by
+ * Exactness: a triangle meets the closed cell [i,i+1]x[j,j+1]x[k,k+1] iff
+ * its part inside the column [i,i+1]x[j,j+1] (a convex polygon, found by
  * clipping against two slabs) spans a d-interval meeting [k,k+1]. So the
  * cells are enumerated by clipping strip by strip and column by column
  * (Sutherland-Hodgman with closed half-spaces; a clipped coordinate is set
- * exactly to the slab plane), which is exact up to the rounding of the clip
- * points and handles zero-area triangles the same way. The clip of the
- * column polygon against the cell's d-slab also gives the area and centroid
- * used to weight and sample the attributes.
+ * exactly to the slab plane, the others interpolated by slopes from the
+ * nearer endpoint), which is exact up to the rounding of the clip points
+ * and handles zero-area triangles the same way. The half-open cells of
+ * convert/mesh.h then drop a cell whose part of the triangle lies wholly
+ * on one of its max faces (tri_cells). The clip of the column polygon
+ * against the cell's d-slab also gives the area and centroid used to
+ * weight and sample the attributes.
  */
 #define _GNU_SOURCE /* sched_getaffinity: the cores this process may use */
 #include "convert/mesh_internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <sched.h>
@@ -25,6 +29,13 @@
 #define MAXP 16
 
 /* ---- grid ------------------------------------------------------------------------ */
+
+/* a - b rounded up: the double just above fl(a - b) when the subtraction
+ * rounded down (two-sum error term), so that exact(a - b) <= the result. */
+static double sub_up(double a, double b) {
+    double s = a - b, bb = s - a, e = (a - (s - bb)) + (-b - bb);
+    return e > 0 ? nextafter(s, INFINITY) : s;
+}
 
 vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t res, vx_conv_mesh_grid* out,
                                  vx_error* err) {
@@ -42,14 +53,23 @@ vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t re
         if (v < lo[a]) lo[a] = v;
         if (v > hi[a]) hi[a] = v;
     }
-    double L = 0;
-    for (int a = 0; a < 3; a++) L = fmax(L, hi[a] - lo[a]);
+    /* extents rounded up, h rounded up so that res * h >= L exactly (fma gives
+     * the sign of the exact residual): the mesh's max faces then lie inside
+     * the grid in exact arithmetic too, not an ulp beyond its last cell */
+    double e[3], L = 0;
+    for (int a = 0; a < 3; a++) {
+        e[a] = sub_up(hi[a], lo[a]);
+        L = fmax(L, e[a]);
+    }
     double h = L > 0 ? L / res : 1.0;
+    if (L > 0 && fma(h, (double)res, -L) < 0) h = nextafter(h, INFINITY);
     if (!(h > 0) || !isfinite(h)) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "mesh bounds are degenerate");
     for (int a = 0; a < 3; a++) {
-        double e = (hi[a] - lo[a]) / h;
-        double c = ceil(e - e * 1e-9);
+        /* the fewest cells n with n * h >= extent (exactly) */
+        double c = ceil(e[a] / h);
         if (c < 1) c = 1;
+        while (c > 1 && fma(c - 1, h, -e[a]) >= 0) c--;
+        while (fma(c, h, -e[a]) < 0) c++;
         if (c > 65536) c = 65536;
         out->size[a] = (uint32_t)c;
         out->min[a] = lo[a];
@@ -60,6 +80,22 @@ vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t re
 
 /* ---- clipping ---------------------------------------------------------------------- */
 
+/* The point of edge a-b on the plane p[axis] = val, interpolated from the
+ * endpoint nearer the plane by slopes (b[k] - a[k]) / (b[axis] - a[axis]):
+ * exact for a coordinate that is constant along the edge or changes like
+ * p[axis] does (a diagonal edge y == z meets y = 64 at z = 64 exactly),
+ * and the same for a-b as for b-a. */
+static void clip_point(const double* a, const double* b, int axis, double val, double* out) {
+    if (fabs(b[axis] - val) < fabs(a[axis] - val)) {
+        const double* t = a;
+        a = b;
+        b = t;
+    }
+    double da = b[axis] - a[axis], s = val - a[axis];
+    for (int k = 0; k < 3; k++) out[k] = b[k] == a[k] ? a[k] : a[k] + s * ((b[k] - a[k]) / da);
+    out[axis] = val;
+}
+
 /* Keeps the part of polygon in[n] with lo <= p[axis] <= hi. */
 static int clip_slab(const double (*in)[3], int n, int axis, double lo, double hi, double (*out)[3]) {
     double tmp[MAXP][3];
@@ -69,11 +105,7 @@ static int clip_slab(const double (*in)[3], int n, int axis, double lo, double h
         const double* b = in[(i + 1) % n];
         bool ia = a[axis] >= lo, ib = b[axis] >= lo;
         if (ia) memcpy(tmp[m++], a, sizeof tmp[0]);
-        if (ia != ib) {
-            double t = (lo - a[axis]) / (b[axis] - a[axis]);
-            for (int k = 0; k < 3; k++) tmp[m][k] = a[k] + t * (b[k] - a[k]);
-            tmp[m++][axis] = lo;
-        }
+        if (ia != ib) clip_point(a, b, axis, lo, tmp[m++]);
     }
     int r = 0;
     for (int i = 0; i < m; i++) { /* p[axis] <= hi */
@@ -81,11 +113,7 @@ static int clip_slab(const double (*in)[3], int n, int axis, double lo, double h
         const double* b = tmp[(i + 1) % m];
         bool ia = a[axis] <= hi, ib = b[axis] <= hi;
         if (ia) memcpy(out[r++], a, sizeof tmp[0]);
-        if (ia != ib) {
-            double t = (hi - a[axis]) / (b[axis] - a[axis]);
-            for (int k = 0; k < 3; k++) out[r][k] = a[k] + t * (b[k] - a[k]);
-            out[r++][axis] = hi;
-        }
+        if (ia != ib) clip_point(a, b, axis, hi, out[r++]);
     }
     return r;
 }
@@ -100,9 +128,15 @@ static void poly_range(const double (*p)[3], int n, int axis, double* lo, double
     *hi = b;
 }
 
-/* Cells i (unit cubes [i, i+1]) meeting [lo, hi], clamped to [cmin, cmax]. */
-static bool cell_range(double lo, double hi, int cmin, int cmax, int* a, int* b) {
-    double fa = ceil(lo) - 1, fb = floor(hi);
+/* Cells i meeting [lo, hi], clamped to [cmin, cmax]. last == ALL_CLOSED:
+ * closed cells [i, i+1] (a superset, for binning); otherwise half-open
+ * cells [i, i+1) except the closed cell [last, last + 1] (the grid's last
+ * cell; NO_LAST when it is not in [cmin, cmax]). */
+#define ALL_CLOSED INT_MIN
+#define NO_LAST INT_MAX
+static bool cell_range(double lo, double hi, int cmin, int cmax, int last, int* a, int* b) {
+    double fa = last == ALL_CLOSED ? ceil(lo) - 1 : floor(lo), fb = floor(hi);
+    if (last != ALL_CLOSED && lo == (double)last + 1) fa = last;
     if (fa < cmin) fa = cmin;
     if (fb > cmax) fb = cmax;
     if (fa > fb) return false;
@@ -131,12 +165,31 @@ static int stack_axis(const double* v) {
 
 typedef void (*cell_fn)(void* user, const int c[3], const double (*poly)[3], int n);
 
-/* Calls fn for every cell in [cmin, cmax] (inclusive, per axis) whose closed
- * cube meets triangle v (unit-cell coordinates). With want_poly, poly is the
- * part of the triangle inside the cell. */
-static void tri_cells(const double* v, const int cmin[3], const int cmax[3], bool want_poly, cell_fn fn,
-                      void* user) {
+/* Does polygon p[n] (inside the closed cell box) keep a point off the max
+ * face of the cell at index c along axis (p[axis] < c + 1)? The grid's last
+ * cell is closed: always. */
+static bool off_max(const double (*p)[3], int n, int axis, int c, int last) {
+    if (c == last) return true;
+    for (int i = 0; i < n; i++)
+        if (p[i][axis] < c + 1) return true;
+    return false;
+}
+
+/* Calls fn for every cell in [cmin, cmax] (inclusive, per axis) whose box
+ * meets triangle v (unit-cell coordinates). last == NULL: closed boxes
+ * [c, c+1] (a superset, for binning); otherwise the rule of convert/mesh.h:
+ * half-open boxes [c, c+1) per axis, closed at the top along axis a when
+ * c == last[a] (the grid's last cell; NO_LAST when outside [cmin, cmax]).
+ * With want_poly, poly is the part of the triangle inside the closed box.
+ *
+ * The half-open test: the triangle's part P inside the closed box is convex,
+ * so it misses the half-open box iff it lies within one max face, i.e. iff
+ * min over P of p[a] == c[a] + 1 for some axis a. Along the stack axis the
+ * cell range does this; along u and w the clipped polygons are checked. */
+static void tri_cells(const double* v, const int cmin[3], const int cmax[3], const int* last, bool want_poly,
+                      cell_fn fn, void* user) {
     int d = stack_axis(v), u = (d + 1) % 3, w = (d + 2) % 3;
+    int lu = last ? last[u] : ALL_CLOSED, lw = last ? last[w] : ALL_CLOSED, ld = last ? last[d] : ALL_CLOSED;
     double tri[3][3], p1[MAXP][3], p2[MAXP][3], p3[MAXP][3];
     memcpy(tri, v, sizeof tri);
     double lo, hi;
@@ -155,22 +208,31 @@ static void tri_cells(const double* v, const int cmin[3], const int cmax[3], boo
         return;
     }
     poly_range((const double(*)[3])tri, 3, u, &lo, &hi);
-    if (!cell_range(lo, hi, cmin[u], cmax[u], &ua, &ub)) return;
+    if (!cell_range(lo, hi, cmin[u], cmax[u], lu, &ua, &ub)) return;
     for (int iu = ua; iu <= ub; iu++) {
         int n1 = clip_slab((const double(*)[3])tri, 3, u, iu, iu + 1, p1);
         if (n1 == 0) continue;
         poly_range((const double(*)[3])p1, n1, w, &lo, &hi);
-        if (!cell_range(lo, hi, cmin[w], cmax[w], &wa, &wb)) continue;
+        if (!cell_range(lo, hi, cmin[w], cmax[w], lw, &wa, &wb)) continue;
         for (int iw = wa; iw <= wb; iw++) {
             int n2 = clip_slab((const double(*)[3])p1, n1, w, iw, iw + 1, p2);
             if (n2 == 0) continue;
+            bool check = false; /* does the column polygon touch a max face of u or w? */
+            if (last) {
+                if (!off_max((const double(*)[3])p2, n2, u, iu, lu)) continue; /* all of it on u = iu + 1 */
+                double l2, h2;
+                poly_range((const double(*)[3])p2, n2, u, &l2, &h2);
+                check = iu != lu && h2 >= iu + 1;
+                poly_range((const double(*)[3])p2, n2, w, &l2, &h2);
+                check = check || (iw != lw && h2 >= iw + 1);
+            }
             poly_range((const double(*)[3])p2, n2, d, &lo, &hi);
-            if (!cell_range(lo, hi, cmin[d], cmax[d], &da, &db)) continue;
+            if (!cell_range(lo, hi, cmin[d], cmax[d], ld, &da, &db)) continue;
             c[u] = iu;
             c[w] = iw;
             for (int id = da; id <= db; id++) {
                 c[d] = id;
-                if (!want_poly) {
+                if (!want_poly && !check) {
                     fn(user, c, NULL, 0);
                     continue;
                 }
@@ -179,7 +241,10 @@ static void tri_cells(const double* v, const int cmin[3], const int cmax[3], boo
                     memcpy(p3[0], p2[0], sizeof p3[0]);
                     n3 = 1;
                 }
-                fn(user, c, (const double(*)[3])p3, n3);
+                if (check && (!off_max((const double(*)[3])p3, n3, u, iu, lu) ||
+                              !off_max((const double(*)[3])p3, n3, w, iw, lw)))
+                    continue; /* only the cell's max face is touched */
+                fn(user, c, want_poly ? (const double(*)[3])p3 : NULL, want_poly ? n3 : 0);
             }
         }
     }
@@ -464,10 +529,11 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     uint32_t bx, by, bz;
     vx_svo_demorton(j->pairs[first] >> 32, &bx, &by, &bz);
     uint32_t org[3] = {bx * BRICK, by * BRICK, bz * BRICK};
-    int cmin[3] = {0, 0, 0}, cmax[3];
+    int cmin[3] = {0, 0, 0}, cmax[3], last[3];
     for (int a = 0; a < 3; a++) {
         uint32_t left = j->grid->size[a] - org[a];
         cmax[a] = (int)(left < BRICK ? left : BRICK) - 1;
+        last[a] = left <= BRICK ? cmax[a] : NO_LAST; /* the grid's last cell is in this brick */
     }
     bool attrs = j->attrs != 0;
     memset(w->bits, 0, BRICK_CELLS / 8);
@@ -478,7 +544,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
         for (int k = 0; k < 9; k++) v[k] = j->g[9 * t + k] - org[k % 3];
         w->v = v;
         if (attrs) setup_tri_attrs(w, t);
-        tri_cells(v, cmin, cmax, attrs, attrs ? hit_attr : hit_geom, w);
+        tri_cells(v, cmin, cmax, last, attrs, attrs ? hit_attr : hit_geom, w);
     }
     /* solid: interior cells, marked in a second bitmap half (after the surface bits) */
     bool solid = j->vote[0] != NULL;
@@ -939,7 +1005,7 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
             double v[9];
             for (int k = 0; k < 9; k++) v[k] = j.g[9 * t + k] / BRICK;
             b.tri = (uint32_t)t;
-            tri_cells(v, cmin, cmax, false, bin_hit, &b);
+            tri_cells(v, cmin, cmax, NULL, false, bin_hit, &b);
         }
         /* solid: bricks with no triangle can still be inside; one filler pair each */
         if (desc->solid)

@@ -1,9 +1,13 @@
 /* tests/convert/mesh_test.c - the mesh voxelizer against a brute-force
  * reference: every cell of the grid tested against every triangle with the
- * separating-axis test (13 axes, projections of all 8 box corners and 3
- * vertices, double precision) - a code path independent of the voxelizer's
- * slab clipping. Only the grid definition (vx_conv_mesh_grid_make and
- * g = (p - min) / h) is shared, because it is the specification. */
+ * separating-axis test (Akenine-Moeller: 13 axes, projections of all 8 box
+ * corners and 3 vertices, double precision) - a code path independent of
+ * the voxelizer's slab clipping. Only the grid definition
+ * (vx_conv_mesh_grid_make and g = (p - min) / h) is shared, because it is
+ * the specification. The cells are half-open (convert/mesh.h): the
+ * reference shrinks each box's max faces by an infinitesimal eps (closed
+ * box [c, c+1-eps]; the grid's last cell keeps its max face), carried
+ * symbolically as (value, eps coefficient) pairs. */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -20,8 +24,11 @@ static void cross3(const double* a, const double* b, double* o) {
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Closed triangle vs closed box [lo, lo+1]^3: intersect iff no axis separates. */
-static bool sat_overlap(const double* t, const double* lo) {
+/* Triangle t vs the box at lo: [lo, lo+1) per axis, or [lo, lo+1] along
+ * axis a when closed[a] (the grid's last cell); closed == NULL: closed box.
+ * Corner k projects to p0 - eps p1 on an axis; they intersect iff no axis
+ * separates them for every small enough eps > 0. */
+static bool sat_overlap(const double* t, const double* lo, const bool* closed) {
     double e[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, f[3][3], axes[13][3];
     int na = 0;
     for (int k = 0; k < 3; k++)
@@ -32,18 +39,26 @@ static bool sat_overlap(const double* t, const double* lo) {
         for (int b = 0; b < 3; b++) cross3(e[a], f[b], axes[na++]);
     for (int x = 0; x < na; x++) {
         const double* A = axes[x];
-        double tmin = INFINITY, tmax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
+        double tmin = INFINITY, tmax = -INFINITY;
         for (int v = 0; v < 3; v++) {
             double p = A[0] * t[3 * v] + A[1] * t[3 * v + 1] + A[2] * t[3 * v + 2];
             tmin = fmin(tmin, p);
             tmax = fmax(tmax, p);
         }
+        /* box extremes, lexicographic in (p0, -eps p1) */
+        double b0 = INFINITY, b1 = 0, B0 = -INFINITY, B1 = 0;
         for (int c = 0; c < 8; c++) {
-            double p = A[0] * (lo[0] + (c & 1)) + A[1] * (lo[1] + ((c >> 1) & 1)) + A[2] * (lo[2] + ((c >> 2) & 1));
-            bmin = fmin(bmin, p);
-            bmax = fmax(bmax, p);
+            double p0 = 0, p1 = 0;
+            for (int k = 0; k < 3; k++) {
+                int bit = (c >> k) & 1;
+                p0 += A[k] * (lo[k] + bit);
+                if (bit && closed && !closed[k]) p1 += A[k];
+            }
+            if (p0 < b0 || (p0 == b0 && p1 > b1)) { b0 = p0; b1 = p1; }
+            if (p0 > B0 || (p0 == B0 && p1 < B1)) { B0 = p0; B1 = p1; }
         }
-        if (tmax < bmin || tmin > bmax) return false;
+        if (tmax < b0 || (tmax == b0 && b1 < 0)) return false;
+        if (tmin > B0 || (tmin == B0 && B1 > 0)) return false;
     }
     return true;
 }
@@ -72,7 +87,8 @@ static uint8_t* reference(const vx_gltf_mesh* m, const vx_conv_mesh_grid* g) {
                 for (uint32_t x = 0; x < g->size[0]; x++) {
                     if (x + 1.0 < lo[0] || x > hi[0]) continue;
                     double c[3] = {x, y, z};
-                    if (sat_overlap(v, c)) bits[cell_index(g, x, y, z)] = 1;
+                    bool closed[3] = {x + 1 == g->size[0], y + 1 == g->size[1], z + 1 == g->size[2]};
+                    if (sat_overlap(v, c, closed)) bits[cell_index(g, x, y, z)] = 1;
                 }
             }
         }
@@ -195,7 +211,8 @@ static void test_corpus_duck(void) {
     vx_gltf_mesh_free(&m);
 }
 
-/* Faces exactly on cell boundaries set the cells on both sides. */
+/* Faces exactly on cell boundaries set one layer: the cells on their +
+ * side (half-open cells), or the last cell at the grid's max bound. */
 static void test_boundary_faces(void) {
     float pos[9 * 40];
     float lo[3] = {0, 0, 0}, hi[3] = {8, 8, 8};
@@ -207,9 +224,10 @@ static void test_boundary_faces(void) {
     vx_gltf_mesh m = soup(pos, n);
     size_t cells = 0;
     CHECK(compare(&m, (vx_conv_mesh_desc){.res = 8}, &cells) == 0);
-    /* hand count: the box shell fills the 8^3 grid's outer layer (the max
-     * faces lie on the grid's max boundary and only set the cells below);
-     * the inner quad sets x = 2 and 3 for y, z in [1, 5] */
+    /* hand count: the box shell fills the 8^3 grid's outer layer (the min
+     * faces set layer 0, the max faces lie on the grid's max bound and set
+     * its last layer); the inner quad sets x = 3 for y, z in [2, 5] (cells
+     * [2, 3) .. [5, 6) meet the closed quad; [1, 2) does not) */
     uint32_t* xyz = NULL;
     size_t count = 0;
     REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 8}, &m, NULL, &xyz, NULL, &count, NULL) == VX_OK);
@@ -218,10 +236,10 @@ static void test_boundary_faces(void) {
         uint32_t x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
         bool on_shell = x == 0 || y == 0 || z == 0 || x == 7 || y == 7 || z == 7;
         if (!on_shell) inner++;
-        if (!on_shell) CHECK((x == 2 || x == 3) && y >= 1 && y <= 5 && z >= 1 && z <= 5);
+        if (!on_shell) CHECK(x == 3 && y >= 2 && y <= 5 && z >= 2 && z <= 5);
     }
     CHECK(count == shell + inner);
-    CHECK(inner == 2 * 5 * 5); /* x = 2, 3; y, z in 1..5 (none on the shell) */
+    CHECK(inner == 4 * 4); /* one layer, x = 3 */
     free(xyz);
     /* the same at other resolutions and with the box off the origin */
     for (uint32_t res = 16; res <= 64; res *= 2) {
@@ -232,6 +250,112 @@ static void test_boundary_faces(void) {
         vx_gltf_mesh m2 = soup(pos, k + 2);
         CHECKF(compare(&m2, (vx_conv_mesh_desc){.res = res}, NULL) == 0, "res %u", res);
     }
+}
+
+/* A bottle of our own: a profile (r, y) revolved in segs segments, float
+ * positions. Flat bottom at y0 (the grid's lower bound), wall, a flat
+ * shoulder step at y_step (normal +y), neck, flat cap at y1 (the upper
+ * bound); radii scale with the height y1 - y0 (0.26044 gives the held-out
+ * bottle's 0.0544 units). */
+static size_t bottle(float* out, int segs, double y0, double y1, double y_step) {
+    double s = (y1 - y0) / 0.260440678, R = 0.05445001 * s;
+    const double prof[][2] = {{0, y0},          {0.05 * s, y0},  {R, y0 + 0.005 * s}, {R, y_step}, {0.03 * s, y_step},
+                              {0.02 * s, y_step + 0.02 * s}, {0.02 * s, y1}, {0, y1}};
+    const int np = (int)(sizeof prof / sizeof prof[0]);
+    size_t n = 0;
+    for (int i = 0; i < segs; i++) {
+        double a0 = 6.283185307179586 * i / segs, a1 = 6.283185307179586 * (i + 1) / segs;
+        for (int j = 0; j + 1 < np; j++) {
+            float p[4][3];
+            for (int k = 0; k < 4; k++) {
+                double r = prof[j + (k >> 1)][0], a = k & 1 ? a1 : a0;
+                p[k][0] = (float)(r * cos(a));
+                p[k][1] = (float)prof[j + (k >> 1)][1];
+                p[k][2] = (float)(r * sin(a));
+            }
+            const float* t[2][3] = {{p[0], p[1], p[3]}, {p[0], p[3], p[2]}};
+            for (int q = 0; q < 2; q++) {
+                if (prof[j + q][0] == 0) continue; /* on the axis: a fan */
+                for (int v = 0; v < 3; v++) memcpy(out + 9 * n + 3 * v, t[q][v], 12);
+                n++;
+            }
+        }
+    }
+    return n;
+}
+
+/* Is the square of cells (x, z) wholly between radii f0 and f1 (fractions
+ * of the bottle's height) of the bottle's axis? */
+static bool square_in_ring(const vx_conv_mesh_grid* g, uint32_t x, uint32_t z, double f0, double f1, double height) {
+    for (int c = 0; c < 4; c++) {
+        double px = g->min[0] + (x + (c & 1)) * g->h, pz = g->min[2] + (z + (c >> 1)) * g->h;
+        double r = sqrt(px * px + pz * pz) / height * 0.260440678;
+        if (r <= f0 || r >= f1) return false;
+    }
+    return true;
+}
+
+/* Each flat face sets exactly one layer: squares wholly inside the bottom
+ * disc, the step ring and the cap are set in their layer, not in the next. */
+static void check_layers(const vx_gltf_mesh* m, uint32_t res, uint32_t k_step, double height) {
+    vx_conv_mesh_grid g;
+    uint32_t* xyz = NULL;
+    size_t count = 0;
+    REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = res}, m, &g, &xyz, NULL, &count, NULL) == VX_OK);
+    uint8_t* got = (uint8_t*)calloc((size_t)g.size[0] * g.size[1] * g.size[2], 1);
+    for (size_t i = 0; i < count; i++) got[cell_index(&g, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2])] = 1;
+    struct { uint32_t on, off; double r0, r1; } faces[3] = {
+        {0, 1, 0, 0.0498}, {k_step, k_step - 1, 0.0301, 0.054}, {res - 1, res - 2, 0, 0.0199}};
+    for (int f = 0; f < 3; f++) {
+        if (f == 1 && !k_step) continue;
+        size_t inside = 0, on = 0, off = 0;
+        for (uint32_t z = 0; z < g.size[2]; z++)
+            for (uint32_t x = 0; x < g.size[0]; x++) {
+                if (!square_in_ring(&g, x, z, faces[f].r0, faces[f].r1, height)) continue;
+                inside++;
+                on += got[cell_index(&g, x, faces[f].on, z)];
+                off += got[cell_index(&g, x, faces[f].off, z)];
+            }
+        CHECKF(inside > 4 && on == inside && off == 0, "res %u face %d: %zu squares, %zu set in layer %u, %zu in layer %u",
+               res, f, inside, on, faces[f].on, off, faces[f].off);
+    }
+    free(got);
+    free(xyz);
+}
+
+/* The held-out bottle's case: flat faces on the grid's lower and upper
+ * bounds, cell size not exact in binary (0.260440678 / 96). Exact against
+ * the reference, and the bounds are exact in exact arithmetic too: before,
+ * h = L / 96 rounded down put the cap 1e-14 cells beyond the last layer,
+ * and its 146 cells were set where an exact test leaves them empty. Then
+ * the same bottle 24 units tall (h = 1/4 exactly) with its shoulder step on
+ * the interior boundary y = 60: one layer there too. */
+static void test_bottle(void) {
+    enum { SEGS = 48 };
+    static float pos[9 * 2 * 8 * SEGS];
+    vx_gltf_mesh m = soup(pos, bottle(pos, SEGS, -0.130220339, 0.130220339, 0.0123));
+    vx_conv_mesh_grid g;
+    REQUIRE(vx_conv_mesh_grid_make(m.pos, m.tri_count, 96, &g, NULL) == VX_OK);
+    CHECK(g.size[1] == 96 && g.size[0] == 41 && g.size[2] == 41);
+    CHECK(g.min[1] == (double)-0.130220339f); /* the origin is the float minimum itself */
+    /* exact bounds: the cap (y1 - y0, an exact difference of floats) lies within 96 cells */
+    double L = (double)0.130220339f - (double)-0.130220339f, W = 2 * (double)(float)(0.05445001);
+    CHECKF(fma(96.0, g.h, -L) >= 0, "96 h = %.17g < L = %.17g", 96 * g.h, L);
+    CHECK(fma(95.0, g.h, -L) < 0);
+    CHECK(fma(40.0, g.h, -W) < 0 && fma(41.0, g.h, -W) >= 0);
+    static const uint32_t res[] = {96, 37, 100};
+    for (int i = 0; i < 3; i++) {
+        size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = res[i]}, &cells);
+        CHECKF(bad == 0, "bottle res %u: %zu mismatches of %zu cells", res[i], bad, cells);
+        check_layers(&m, res[i], 0, 0.260440678);
+    }
+    /* 24 units tall, step at y = -12 + 60 / 4 */
+    m = soup(pos, bottle(pos, SEGS, -12, 12, 3));
+    REQUIRE(vx_conv_mesh_grid_make(m.pos, m.tri_count, 96, &g, NULL) == VX_OK);
+    REQUIRE(g.h == 0.25 && g.size[1] == 96);
+    size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = 96}, &cells);
+    CHECKF(bad == 0, "bottle 24 units: %zu mismatches of %zu cells", bad, cells);
+    check_layers(&m, 96, 60, 24);
 }
 
 /* Slivers and zero-area triangles (segments, points). */
@@ -262,9 +386,10 @@ static void test_slivers_degenerate(void) {
         size_t cells = 0, bad = compare(&m, (vx_conv_mesh_desc){.res = res}, &cells);
         CHECKF(bad == 0, "slivers res %u: %zu mismatches of %zu", res, bad, cells);
     }
-    /* the point alone: at res 10 it sits on the corner shared by 8 cells */
-    float only[18] = {5, 5, 5, 5, 5, 5, 5, 5, 5, 0, 0, 0, 10, 10, 10, 10, 10, 10};
-    vx_gltf_mesh p = soup(only, 2);
+    /* the point alone: at res 10 it sits on the corner shared by 8 cells
+     * and sets one of them, the one it is the min corner of */
+    float only[27] = {5, 5, 5, 5, 5, 5, 5, 5, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 10, 10, 10, 10, 10, 10, 10, 10, 10};
+    vx_gltf_mesh p = soup(only, 3);
     uint32_t* xyz = NULL;
     size_t count = 0;
     REQUIRE(vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 10}, &p, NULL, &xyz, NULL, &count, NULL) == VX_OK);
@@ -272,7 +397,12 @@ static void test_slivers_degenerate(void) {
     for (size_t i = 0; i < count; i++)
         corner += xyz[3 * i] >= 4 && xyz[3 * i] <= 5 && xyz[3 * i + 1] >= 4 && xyz[3 * i + 1] <= 5 &&
                   xyz[3 * i + 2] >= 4 && xyz[3 * i + 2] <= 5;
-    CHECK(corner == 8);
+    CHECK(corner == 1);
+    CHECK(count == 3); /* and the two points fixing the bounds: cells 0 0 0 and 9 9 9 (closed last cell) */
+    for (size_t i = 0; i < count; i++)
+        if (xyz[3 * i] >= 4 && xyz[3 * i] <= 5 && xyz[3 * i + 1] >= 4 && xyz[3 * i + 1] <= 5) {
+            CHECK(xyz[3 * i] == 5 && xyz[3 * i + 1] == 5 && xyz[3 * i + 2] == 5);
+        }
     free(xyz);
 }
 
@@ -572,6 +702,7 @@ static void test_sparse(void) {
 
 int main(void) {
     RUN(test_boundary_faces);
+    RUN(test_bottle);
     RUN(test_slivers_degenerate);
     RUN(test_large_and_random);
     RUN(test_nan);
