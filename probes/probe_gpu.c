@@ -137,12 +137,49 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
     return vx__dispatch(c->g, &dd, seconds, err);
 }
 
+/* Runs pass pmode (bake or render in probe.comp) over samples 0..spp-1 in as
+ * many dispatches as the device needs: llvmpipe ends every loop of a SIMD
+ * group after 65535 iterations in all, silently (see probe.comp); each
+ * dispatch checks that, and one the limit cut is repeated with half the
+ * samples. The result does not depend on the split: every texel or pixel adds
+ * its samples to its running sum in sample order, whatever the dispatches.
+ * c->out starts with the flags; the render's state must be zero. */
+static vx_result run_samples(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, uint32_t spp, double* seconds,
+                             vx_error* err) {
+    gpu_params* p = c->params.map;
+    uint32_t chunk = vx_gpu_is_cpu(c->g) ? CPU_DEVICE_CHUNK : spp;
+    p->lf[3] = 2; /* loops_intact() */
+    if (seconds) *seconds = 0;
+    for (uint32_t runs = 0;; runs++) {
+        /* each dispatch either advances every unfinished texel or pixel or halves the chunk */
+        if (runs > spp + 32)
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe pass: samples still missing after %u dispatches", runs);
+        if (pmode == PMODE_BAKE) p->lf[0] = runs == 0; /* the bake's first dispatch writes its state */
+        p->seed[3] = chunk < spp ? chunk : spp;
+        float flags[4] = {0};
+        double t = 0;
+        vx_result r = vx__buffer_upload(c->g, &c->out, flags, sizeof flags, err);
+        if (r || (r = run(c, pmode, gx, gy, &t, err)) ||
+            (r = vx__buffer_download(c->g, &c->out, flags, sizeof flags, err)))
+            return r;
+        if (seconds) *seconds += t;
+        if (flags[0] != 0) {
+            if (chunk == 1)
+                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "one sample exceeds the loop limit of %s",
+                               vx_gpu_device_name(c->g));
+            chunk /= 2;
+        }
+        if (flags[1] == 0) return VX_OK;
+    }
+}
+
 /* ---- bake --------------------------------------------------------------------------- */
 
 typedef struct fjob {
     vx_probe_set* ps;
     const vx__tables* T;
-    const float* raw; /* per slot res^2 * 8 floats */
+    const float* raw; /* per slot res^2 * 12 floats (probe.comp's Out after the flags) */
+    uint32_t spp;
     uint32_t first_slot, count, next;
     bool failed;
     pthread_mutex_t mu;
@@ -155,11 +192,11 @@ static void finish_one(fjob* J, uint32_t i, double* L, double* D) {
     size_t nt = (size_t)n * n, nb = n + 2;
     uint16_t* dist = ps->distance + vx__bsq(n) * k;
     uint32_t* nrm = ps->normal + vx__bsq(n) * k;
-    const float* o = J->raw + (size_t)i * nt * 8;
+    const float* o = J->raw + (size_t)i * nt * 12;
     for (size_t t = 0; t < nt; t++) {
-        const float* v = o + 8 * t;
+        const float* v = o + 12 * t;
         size_t b = (t / n + 1) * nb + t % n + 1;
-        for (int q = 0; q < 3; q++) L[3 * t + q] = v[q];
+        for (int q = 0; q < 3; q++) L[3 * t + q] = v[q] / (float)J->spp;
         if (v[3] >= 0 && v[7] > 0) {
             double nn[3] = {v[4], v[5], v[6]};
             dist[b] = vx__dist_code(ps, v[3]);
@@ -193,7 +230,7 @@ static void* fworker(void* arg) {
 
 static bool finish_batch(vx_probe_set* ps, const vx__tables* T, const float* raw, uint32_t first_slot, uint32_t count,
                          uint32_t threads) {
-    fjob J = {.ps = ps, .T = T, .raw = raw, .first_slot = first_slot, .count = count};
+    fjob J = {.ps = ps, .T = T, .raw = raw, .spp = ps->spp ? ps->spp : 1, .first_slot = first_slot, .count = count};
     pthread_mutex_init(&J.mu, NULL);
     vx_run_threads(threads < count ? threads : (count ? count : 1), fworker, &J);
     pthread_mutex_destroy(&J.mu);
@@ -223,20 +260,20 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     float* raw = NULL;
     if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
     uint64_t nt = (uint64_t)ps->res * ps->res;
-    /* a batch: about 2^26 path segments and at most 256 MiB of output */
+    /* a batch: about 2^26 path segments and at most 384 MiB of output (48 bytes a texel) */
     uint64_t per_probe = nt * ps->spp * (ps->bounces + 1);
     uint64_t batch = (UINT64_C(1) << 26) / (per_probe ? per_probe : 1);
-    uint64_t cap = (UINT64_C(1) << 28) / (nt * 32);
+    uint64_t cap = (UINT64_C(3) << 27) / (nt * 48);
     if (batch > cap) batch = cap;
     if (batch < 1) batch = 1;
     if (batch > end - begin) batch = end - begin;
     if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first) ||
-        !(raw = vx_alloc(ps->alloc, (size_t)(batch * nt * 32)))) {
+        !(raw = vx_alloc(ps->alloc, (size_t)(16 + batch * nt * 48)))) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
     }
-    if ((r = vx__buffer_create(c.g, batch * nt * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels", &c.out,
-                               err)) ||
+    if ((r = vx__buffer_create(c.g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
+                               &c.out, err)) ||
         (r = vx__buffer_create(c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &c.maps, err)))
         goto done;
     for (uint32_t at = begin; at < end;) {
@@ -246,9 +283,10 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         params_grid(p, ps, f.ref);
         p->a[0] = ps->res, p->a[1] = ps->spp, p->a[2] = ps->bounces, p->a[3] = at;
         p->seed[2] = cnt;
-        if ((r = run(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, NULL, err))) goto done;
-        if ((r = vx__buffer_download(c.g, &c.out, raw, (VkDeviceSize)cnt * nt * 32, err))) goto done;
-        if (!finish_batch(ps, &T, raw, at - ps->first, cnt, d.threads)) {
+        if ((r = run_samples(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, ps->spp ? ps->spp : 1, NULL, err)))
+            goto done;
+        if ((r = vx__buffer_download(c.g, &c.out, raw, 16 + (VkDeviceSize)cnt * nt * 48, err))) goto done;
+        if (!finish_batch(ps, &T, raw + 4, at - ps->first, cnt, d.threads)) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
             goto done;
         }
@@ -412,42 +450,10 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
         p->lf_lo[3] = (float)ps->dist_step;
     }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
-    p->lf[3] = 2; /* loops_intact() */
     uint64_t groups = (npx + 63) / 64;
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
-    /* Samples per dispatch: llvmpipe ends every loop of a SIMD group after
-     * 65535 iterations in all, silently (see probe.comp); each dispatch
-     * checks that, and one the limit cut is repeated with half the samples.
-     * The image does not depend on the split: each pixel adds its samples to
-     * its running sum in sample order, whatever the dispatches. */
-    uint32_t chunk = vx_gpu_is_cpu(c.g) ? CPU_DEVICE_CHUNK : spp;
     double sec = 0;
-    for (uint32_t runs = 0;; runs++) {
-        /* each dispatch either advances every unfinished pixel or halves the chunk */
-        if (runs > spp + 32) {
-            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe render: samples still missing after %u dispatches", runs);
-            goto done;
-        }
-        p->seed[3] = chunk < spp ? chunk : spp;
-        double t = 0;
-        float flags[4];
-        if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &t, err)) ||
-            (r = vx__buffer_download(c.g, &c.out, flags, sizeof flags, err)))
-            goto done;
-        sec += t;
-        if (flags[0] != 0) {
-            if (chunk == 1) {
-                r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                            "probe render: one sample per pixel exceeds the device's loop limit (%s)",
-                            vx_gpu_device_name(c.g));
-                goto done;
-            }
-            chunk /= 2;
-        }
-        if (flags[1] == 0) break;
-        memset(flags, 0, sizeof flags);
-        if ((r = vx__buffer_upload(c.g, &c.out, flags, sizeof flags, err))) goto done;
-    }
+    if ((r = run_samples(&c, (uint32_t)d.mode + 1, gx, gy, spp, &sec, err))) goto done;
     if ((r = vx__buffer_download(c.g, &c.out, acc, nout, err))) goto done;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_alloc(NULL, npx * 16);

@@ -4,7 +4,7 @@
 // probes/light.c (see probes/probes.h): diffuse albedo, one directional light
 // with shadow rays, a uniform sky, emissive attributes.
 //   PMODE 0 (bake): one invocation per (texel, probe): the texel centre ray's
-//     distance and normal, and the radiance averaged over spp jittered paths.
+//     distance and normal, and the radiance summed over spp jittered paths.
 //   PMODE 1..6 (gi, pathtrace, gi-indirect, pathtrace-indirect, lightfield,
 //     lightfield-indirect): one invocation per pixel, as probes/render_gi.c
 //     and probes/lightfield.c.
@@ -13,21 +13,22 @@
 // the dispatch order or batch size. Layouts: probes/probe_gpu.c.
 //
 // Loop limit: llvmpipe (lavapipe) compiles a shader with a guard against
-// endless loops, one counter per SIMD group of 8 invocations (AVX2) shared by
-// every loop of the shader (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS = 65535,
-// lp_exec_endloop): once that group's loops have run 65535 iterations in all,
-// every loop exits at the end of its current iteration, silently. A pixel
-// looping over its samples in one invocation then stops after the sample
-// during which the limit was reached (and that sample's rays are cut short),
-// and 8 neighbouring pixels divide a partial sum by spp: at 512 spp on the
-// Cornell box about 250 samples fit. So render() traces at most P.seed.w
-// samples per dispatch, keeps each pixel's running sum and sample count in
-// the output buffer (the same float additions in the same order however the
-// samples are split: the image does not depend on the split a device needs),
-// and checks that the guard never fired (loops_intact) before it stores; a
-// dispatch the guard cut stores nothing for those pixels and raises a flag,
-// and the host repeats it with fewer samples. Hardware GPUs have no such
-// guard (a dispatch runs to the end or the device is lost).
+// endless loops: one counter per SIMD group of 8 invocations (256-bit
+// vectors), shared by every loop of the shader and decremented at each
+// iteration (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS = 65535, lp_exec_endloop).
+// Once a group's loops have run 65535 iterations in all, every loop exits at
+// the end of its current iteration, silently. A pixel (or texel) looping over
+// all its samples in one invocation then stops after the sample during which
+// the limit was reached, and the 8 pixels of its group (a run along a row)
+// divide a partial sum by spp (issue 10: on the Cornell box at 160x120 the busiest groups fit
+// fewer than 256 samples). So bake() and render() trace at most P.seed.w
+// samples per dispatch and keep each texel's or pixel's running sum and
+// sample count in the output buffer (the same float additions in the same
+// order however the samples are split, so the result does not depend on the
+// split a device needs); before they store, they check that the guard never
+// fired (loops_intact). Where it fired, they store nothing and raise a flag,
+// and the host repeats the dispatch with half the samples. Hardware GPUs have
+// no such guard (a dispatch runs to its end or the device is lost).
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
@@ -42,18 +43,21 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 sun;      // rgb: irradiance on a surface facing the light
     vec4 sky;      // rgb: radiance
     uvec4 a;       // x: res (bake) / width, y: spp, z: bounces, w: first probe (bake) / height
-    uvec4 seed;    // x, y: seed low and high words, z: probes in this dispatch (bake), w: samples per dispatch (render)
+    uvec4 seed;    // x, y: seed low and high words, z: probes in this dispatch (bake), w: samples per dispatch
     uvec4 grid;    // xyz: probes per axis, w: probe count
     vec4 origin;   // xyz: grid origin relative to the reference point, w: dist_max
     vec4 spacing;  // xyz: spacing, w: minimum spacing
-    uvec4 lf;      // light field: x: res, y: low res, z: words per probe in LfMaps; w: 2 (loops_intact)
+    uvec4 lf;      // light field: x: res (bake: 1 in the first dispatch), y: low res, z: words per probe
+                   // in LfMaps; w: 2 (loops_intact)
     vec4 lf_lo;    // xyz: scene bounds relative to the reference point, w: distance step
     vec4 lf_hi;    // xyz: scene bounds (max)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
-// bake: 2 per texel; render: [0] flags (x: the loop guard fired, y: samples
-// left), then per pixel the running sum (rgb, hits) and (samples done, 0, 0, 0)
+// [0] flags (x: the loop guard fired, y: samples left), then per texel of
+// each probe (bake): the running sum (rgb, w: distance or -1), the normal
+// (xyz, w: 1 on a hit) and (samples done, 0, 0, 0); per pixel (render): the
+// running sum (rgb, w: samples that hit) and (samples done, 0, 0, 0)
 layout(std430, binding = 10) buffer Out { vec4 outv[]; };
 // per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
@@ -484,40 +488,6 @@ vec3 lf_radiance(vec3 o, vec3 d) {
     return sf.emit + direct(sf) + sf.alb / PI * irradiance_at(sf.p, sf.n, d);
 }
 
-void bake() {
-    uint res = P.a.x, texel = gl_GlobalInvocationID.x, slot = gl_GlobalInvocationID.y;
-    if (texel >= res * res || slot >= P.seed.z) return;
-    uint probe = P.a.w + slot;
-    vec4 pr = probes[probe];
-    uint at = 2u * (slot * res * res + texel);
-    if (pr.w == 2.0) {
-        outv[at] = vec4(0.0);
-        outv[at + 1u] = vec4(0.0);
-        return;
-    }
-    uint i = texel % res, j = texel / res;
-    vec3 o = pr.xyz;
-    vec2 uvc = (2.0 * vec2(i, j) + 1.0) / float(res) - 1.0;
-    Hit h;
-    vec4 geo = vec4(0.0);
-    float dist = -1.0;
-    if (cast_ray(o, oct_decode(uvc), P.origin.w, h)) {
-        Inst I = insts[h.inst];
-        vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
-        geo = vec4(normalize(row.xyz * h.nsign), 1.0);
-        dist = h.t;
-    }
-    vec3 acc = vec3(0.0);
-    uint spp = P.a.y;
-    for (uint s = 0u; s < spp; s++) {
-        rng_init(probe, texel, s);
-        vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
-        acc += path(o, oct_decode(uv), P.a.z);
-    }
-    outv[at] = vec4(acc / float(spp), dist);
-    outv[at + 1u] = geo;
-}
-
 // True unless llvmpipe's loop guard fired in this SIMD group (see the header):
 // a loop of P.lf.w == 2 iterations that the compiler cannot count; once the
 // guard has fired it runs once.
@@ -525,6 +495,57 @@ bool loops_intact() {
     uint n = 0u;
     for (uint i = 0u; i < P.lf.w; i++) n += 1u;
     return n == P.lf.w;
+}
+
+void bake() {
+    uint res = P.a.x, texel = gl_GlobalInvocationID.x, slot = gl_GlobalInvocationID.y;
+    if (texel >= res * res || slot >= P.seed.z) return;
+    uint probe = P.a.w + slot;
+    vec4 pr = probes[probe];
+    uint spp = max(P.a.y, 1u);
+    uint at = 1u + 3u * (slot * res * res + texel);
+    if (pr.w == 2.0) {
+        outv[at] = vec4(0.0);
+        outv[at + 1u] = vec4(0.0);
+        outv[at + 2u] = vec4(float(spp), 0.0, 0.0, 0.0);
+        return;
+    }
+    bool fresh = P.lf.x != 0u; // the first dispatch: the state is not written yet
+    uint s0 = fresh ? 0u : uint(outv[at + 2u].x), s1 = min(s0 + P.seed.w, spp);
+    if (s0 >= spp) return;
+    uint i = texel % res, j = texel / res;
+    vec3 o = pr.xyz;
+    vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0); // acc.w: distance (-1: none)
+    if (s0 == 0u) {
+        vec2 uvc = (2.0 * vec2(i, j) + 1.0) / float(res) - 1.0;
+        Hit h;
+        if (cast_ray(o, oct_decode(uvc), P.origin.w, h)) {
+            Inst I = insts[h.inst];
+            vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+            geo = vec4(normalize(row.xyz * h.nsign), 1.0);
+            acc.w = h.t;
+        }
+    } else {
+        acc = outv[at];
+        geo = outv[at + 1u];
+    }
+    uint s = s0;
+    for (; s < s1; s++) {
+        rng_init(probe, texel, s);
+        vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
+        acc.xyz += path(o, oct_decode(uv), P.a.z);
+    }
+    // identical values from every invocation that writes them
+    if (s != s1 || !loops_intact()) {
+        if (fresh) outv[at + 2u] = vec4(0.0); // a valid state: no samples yet
+        outv[0].x = 1.0;
+        outv[0].y = 1.0;
+        return;
+    }
+    outv[at] = acc;
+    outv[at + 1u] = geo;
+    outv[at + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
+    if (s1 < spp) outv[0].y = 1.0;
 }
 
 void render() {

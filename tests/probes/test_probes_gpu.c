@@ -248,14 +248,38 @@ static void test_gpu_render(void) {
     vx_svo_scene_free(&s);
 }
 
-/* The GPU path tracer at high sample counts against the CPU's (issue 10):
- * lavapipe ends every loop of an 8-invocation SIMD group once its loops have
- * run 65535 iterations in all, silently (probe.comp), so a pixel that looped
- * over all its samples in one dispatch kept a partial sum divided by spp:
- * runs of 8 pixels at a fraction of their value (half at 512 spp on the
- * Cornell box). Both renderers estimate the same image: the mean, the RMSE
- * against the CPU's own noise (another seed) and every run of 8 pixels along
- * a row (the SIMD groups) must agree within the noise. */
+/* Issue 10: lavapipe ends every loop of an 8-invocation SIMD group once its
+ * loops have run 65535 iterations in all, silently (probe.comp), so a pixel
+ * or texel that looped over all its samples in one dispatch kept a partial
+ * sum divided by spp: runs of 8 at a fraction of their value (half at 512 spp
+ * on the Cornell box). These compare the GPU with the CPU at 1024 samples by
+ * runs of 8 consecutive values (the SIMD groups): the worst run's GPU-CPU
+ * difference in standard deviations, the variance from two CPU estimates of
+ * different seeds (c, c2), n values of 3 channels, n a multiple of 8. */
+static double worst_run_sigma(const double* c, const double* g, const double* c2, size_t n, double* ratio) {
+    double worst = 0;
+    *ratio = 1;
+    for (size_t r0 = 0; r0 + 8 <= n; r0 += 8) {
+        double sc = 0, sg = 0, var = 0;
+        for (size_t i = 3 * r0; i < 3 * (r0 + 8); i++) {
+            sc += c[i], sg += g[i];
+            var += 0.5 * (c[i] - c2[i]) * (c[i] - c2[i]); /* one estimate's variance */
+        }
+        /* a difference of two estimates: twice that; a floor for noise-free runs (sky) */
+        double z = fabs(sg - sc) / sqrt(2 * var + 1e-6 * sc * sc + 1e-12);
+        if (z > worst) worst = z, *ratio = sc > 0 ? sg / sc : 1;
+    }
+    return worst;
+}
+
+static void rgb_of(const vx_render_image* im, double* out) {
+    for (size_t i = 0; i < (size_t)im->width * im->height; i++)
+        for (int q = 0; q < 3; q++) out[3 * i + q] = im->pixels[4 * i + q];
+}
+
+/* The path tracer: same estimate (mean, RMSE against the CPU's own noise),
+ * every run of 8 pixels along a row within 8 sigma (the variance estimate
+ * is rough; a cut run is off by over 100), the same bytes twice. */
 static void test_gpu_pathtrace_high_spp(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -271,33 +295,53 @@ static void test_gpu_pathtrace_high_spp(void) {
     vx_result r = vx_probe_render_gpu(rs, &s, NULL, &rd, &g, &err);
     if (r) fprintf(stderr, "  %s\n", err.msg);
     REQUIRE(r == VX_OK);
-    /* deterministic: the same bytes again */
     REQUIRE(vx_probe_render_gpu(rs, &s, NULL, &rd, &g2, &err) == VX_OK);
     CHECK(!memcmp(g.pixels, g2.pixels, (size_t)W * H * 16));
     rd.seed = 77;
     REQUIRE(vx_probe_render(&s, NULL, &rd, &c2, &err) == VX_OK);
     same_estimate("pathtrace 1024 spp", &c, &g, &c2);
-    /* each run of 8 pixels: GPU/CPU sums within 6 standard deviations of
-     * their difference, estimated from the two CPU images (a run the limit
-     * cut holds a fraction of its value) */
-    double worst_z = 0, worst_ratio = 1;
-    for (int y = 0; y < H; y++)
-        for (int x0 = 0; x0 < W; x0 += 8) {
-            double sc = 0, sg = 0, var = 0;
-            for (int x = x0; x < x0 + 8; x++)
-                for (int q = 0; q < 3; q++) {
-                    size_t i = 4 * ((size_t)y * W + x) + q;
-                    sc += c.pixels[i], sg += g.pixels[i];
-                    var += 0.5 * (c.pixels[i] - c2.pixels[i]) * (c.pixels[i] - c2.pixels[i]);
-                }
-            /* the difference of two estimates: twice the variance of one; a floor for noise-free runs (sky) */
-            double z = fabs(sg - sc) / sqrt(2 * var + 1e-6 * sc * sc + 1e-12);
-            if (z > worst_z) worst_z = z, worst_ratio = sc > 0 ? sg / sc : 1;
-        }
-    fprintf(stderr, "  pathtrace %d spp, runs of 8 pixels: worst |GPU-CPU| %.2f sigma (GPU/CPU %.4f)\n", SPP, worst_z,
-            worst_ratio);
-    CHECK(worst_z < 6);
+    double vc[W * H * 3], vg[W * H * 3], vc2[W * H * 3], ratio;
+    rgb_of(&c, vc), rgb_of(&g, vg), rgb_of(&c2, vc2);
+    double z = worst_run_sigma(vc, vg, vc2, W * H, &ratio);
+    fprintf(stderr, "  pathtrace %d spp, runs of 8 pixels: worst |GPU-CPU| %.2f sigma (GPU/CPU %.4f)\n", SPP, z, ratio);
+    CHECK(z < 8);
     vx_render_image_free(&c), vx_render_image_free(&g), vx_render_image_free(&g2), vx_render_image_free(&c2);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+/* The bake: radiance texels (runs of 8 along a map row) and the mean. */
+static void test_gpu_bake_high_spp(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    enum { N = 16 };
+    vx_probe_bake_desc d = {.grid = {1, 1, 1}, .res = N, .spp = 1024, .seed = 3, .threads = 2};
+    vx_probe_set c, g, c2;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &d, &c, &err) == VX_OK);
+    vx_result r = vx_probe_bake_gpu(rs, &s, &d, &g, &err);
+    if (r) fprintf(stderr, "  %s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    d.seed = 4;
+    REQUIRE(vx_probe_bake(&s, &d, &c2, &err) == VX_OK);
+    double vc[N * N * 3], vg[N * N * 3], vc2[N * N * 3], mc = 0, mg = 0, ratio;
+    for (size_t t = 0; t < N * N; t++)
+        for (int q = 0; q < 3; q++) {
+            size_t b = 3 * ((t / N + 1) * (N + 2) + t % N + 1) + q; /* interior texel t of the bordered map */
+            vc[3 * t + q] = vx_probe_half_to_float(c.radiance[b]);
+            vg[3 * t + q] = vx_probe_half_to_float(g.radiance[b]);
+            vc2[3 * t + q] = vx_probe_half_to_float(c2.radiance[b]);
+            mc += vc[3 * t + q], mg += vg[3 * t + q];
+        }
+    double z = worst_run_sigma(vc, vg, vc2, N * N, &ratio);
+    fprintf(stderr, "  bake 1024 spp: mean GPU/CPU %.4f; runs of 8 texels: worst |GPU-CPU| %.2f sigma (GPU/CPU %.4f)\n",
+            mg / mc, z, ratio);
+    CHECK(mc > 0 && fabs(mg / mc - 1) < 0.02);
+    CHECK(z < 8);
+    vx_probe_set_free(&c), vx_probe_set_free(&g), vx_probe_set_free(&c2);
     vx_render_scene_destroy(rs);
     vx_svo_scene_free(&s);
 }
@@ -378,6 +422,7 @@ int main(void) {
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_render);
     RUN(test_gpu_pathtrace_high_spp);
+    RUN(test_gpu_bake_high_spp);
     RUN(test_gpu_lightfield);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
