@@ -20,15 +20,15 @@
 // the end of its current iteration, silently. A pixel (or texel) looping over
 // all its samples in one invocation then stops after the sample during which
 // the limit was reached, and the 8 pixels of its group (a run along a row)
-// divide a partial sum by spp (issue 10: on the Cornell box at 160x120 the busiest groups fit
-// fewer than 256 samples). So bake() and render() trace at most P.seed.w
-// samples per dispatch and keep each texel's or pixel's running sum and
-// sample count in the output buffer (the same float additions in the same
-// order however the samples are split, so the result does not depend on the
-// split a device needs); before they store, they check that the guard never
-// fired (loops_intact). Where it fired, they store nothing and raise a flag,
-// and the host repeats the dispatch with half the samples. Hardware GPUs have
-// no such guard (a dispatch runs to its end or the device is lost).
+// divide a partial sum by spp (issue 10: on the Cornell box at 160x120 the
+// busiest groups fit fewer than 256 samples). So bake() and render() trace at
+// most P.seed.w samples per dispatch and keep each texel's or pixel's running
+// sum and sample count in the output buffer (the same float additions in the
+// same order however the samples are split, so the result does not depend on
+// the split a device needs); before they store, they check that the guard
+// never fired (loops_intact). Where it fired, they store nothing and raise a
+// flag, and the host repeats the dispatch with half the samples. Hardware
+// GPUs have no such guard (a dispatch runs to its end or the device is lost).
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
