@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
                 fd.base = base;
                 fd.base.spp = 1; /* aa: one sample, so the rows compare per-frame costs */
                 fd.passes = &L;
+                fd.no_readback = true;
                 const char* names[VX_PASS_KIND_COUNT + 1] = {0};
                 uint32_t nn = 0;
                 bool ok = true;

@@ -482,6 +482,12 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if ((r = rec_submit(R, err))) goto done;
     {
         vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
+        if (desc->no_readback && !ids) {
+            img.gpu_seconds = out->frame_ms * 1e-3;
+            img.rays = (uint64_t)npx * f.spp;
+            out->image = img;
+            goto done;
+        }
         img.pixels = vx_alloc(img.alloc, npx * 16);
         uint32_t* raw = ids ? vx_alloc(img.alloc, npx * 32) : NULL;
         if (ids) img.hits = vx_alloc(img.alloc, npx * sizeof *img.hits);

@@ -134,7 +134,9 @@ typedef struct vx_gi_method {
  *  exposure:    stops; tonemap multiplies by 2^exposure
  *  edge_threshold: aa's luma contrast that counts as an edge; 0: 0.1
  *  seed:        random streams of ao and dof
- *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth) */
+ *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth)
+ *  no_readback: benchmarks: leave the image on the GPU (image.pixels NULL),
+ *               so back-to-back frames keep the GPU busy and at its clocks */
 typedef struct vx_frame_desc {
     vx_render_desc base;
     const vx_pass_list* passes;
@@ -147,6 +149,7 @@ typedef struct vx_frame_desc {
     double edge_threshold;
     uint64_t seed;
     bool want_ids;
+    bool no_readback;
 } vx_frame_desc;
 
 /* The resolved defaults of a desc, for --help and for callers who want to
