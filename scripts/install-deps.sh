@@ -12,4 +12,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libglfw3-dev xvfb xauth \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \
     libtinygltf-dev nlohmann-json3-dev \
-    libopenimageio-dev
+    libopenimageio-dev \
+    python3-matplotlib

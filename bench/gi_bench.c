@@ -1,0 +1,331 @@
+/* bench/gi_bench.c - every GI method on one scene and camera against a
+ * path-traced reference: relative MSE of the full image (direct + indirect)
+ * and of the indirect light alone, render time (GPU timestamps, median of
+ * --runs renders) and build time (a probe bake) where the method has one.
+ * Needs only libvulkan and libc, so it runs on a GPU machine with a bare
+ * loader. bench/gi_table runs it on every scene and draws the plot.
+ *
+ *   gi_bench [options] SCENE.{svo,vox} WxH [spacing:res:spp ...]
+ *
+ * The reference is the mean of two path-traced images of REF_SPP samples
+ * with different seeds (999 and 1000), for the full image and for the
+ * indirect light; the row "reference" gives the relMSE between the two (its
+ * own noise: the mean's expected relMSE against the converged image is a
+ * quarter of that). Errors are over the pixels whose reference hits the
+ * scene (the sky is exact in every method). Each bake setting is baked once
+ * (on the GPU, filtering on --threads CPU threads) and shared by every
+ * method that reads probes.
+ *
+ * Options: --device N|NAME, --ref-spp N (1024), --runs N (5), --threads N (2),
+ * --methods a,b,.. (all), --max-spp METHOD=N (the method's default),
+ * --camera EX,EY,EZ,TX,TY,TZ [--up X,Y,Z] [--fov DEG], --light X,Y,Z
+ * (towards the sun), --bounds X0,Y0,Z0,X1,Y1,Z1 (the probe grid's box),
+ * --name NAME (the scene column; default: the file name), --csv FILE
+ * (appends one line per row, with a header when the file is new).
+ *
+ * Adding a method: one entry in methods[]. Methods of the probe renderer
+ * name their two modes; another module's method gives its own render()
+ * (and a build kind if it needs a build step before rendering). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/bench_load.h"
+#include "probes/probes.h"
+
+/* What a method needs built before it renders, per setting. */
+typedef enum build_kind {
+    BUILD_NONE = 0, /* nothing: one row set, setting "-" */
+    BUILD_PROBES    /* a probe bake per spacing:res:spp setting on the command line */
+} build_kind;
+
+/* What is built for one setting (shared by the methods of that build kind). */
+typedef struct built {
+    const char* setting;
+    vx_probe_set ps;
+    bool has_ps;
+    vx_probe_gpu* pg; /* the probe renderer, with ps or without probes */
+    double seconds;   /* build wall time (0: none) */
+} built;
+
+typedef struct gi_method gi_method;
+struct gi_method {
+    const char* name;
+    build_kind build;
+    unsigned max_spp; /* rows at 1, 4, 16, ... max_spp samples (or rays) per pixel */
+    vx_probe_render_mode full, indirect;
+    /* NULL: the probe renderer in mode full or indirect */
+    vx_result (*render)(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
+                        vx_error* err);
+};
+
+static const gi_method methods[] = {
+    {"pathtrace", BUILD_NONE, 256, VX_PROBE_RENDER_PATHTRACE, VX_PROBE_RENDER_PT_INDIRECT, NULL},
+    {"probes", BUILD_PROBES, 16, VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT, NULL},
+    {"lightfield", BUILD_PROBES, 256, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT, NULL},
+};
+#define METHOD_COUNT (sizeof methods / sizeof methods[0])
+
+static vx_render_desc base;      /* size, camera, sun direction */
+static vx_gpu* gpu;
+static vx_render_scene* rs;
+static vx_svo_scene scene;
+static unsigned runs = 5, threads = 2;
+
+static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
+                              vx_error* err) {
+    vx_probe_render_desc d = {.base = &base, .mode = indirect ? m->indirect : m->full, .spp = spp, .seed = 7};
+    return vx_probe_gpu_render(b->pg, &d, out, err);
+}
+
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+/* Renders `runs` times; *out is the first image with the median GPU time. */
+static vx_result render_median(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
+                               vx_error* err) {
+    double t[64];
+    unsigned n = runs < 64 ? runs : 64;
+    for (unsigned i = 0; i < n; i++) {
+        vx_render_image img = {0};
+        vx_result r = (m->render ? m->render : probe_render)(m, b, indirect, spp, &img, err);
+        if (r) {
+            if (i) vx_render_image_free(out);
+            return r;
+        }
+        t[i] = img.gpu_seconds;
+        if (i) vx_render_image_free(&img);
+        else *out = img;
+    }
+    qsort(t, n, sizeof t[0], cmp_double);
+    out->gpu_seconds = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    return VX_OK;
+}
+
+/* Sum of squared errors over the reference's hit pixels (RGB) divided by
+ * the sum of the squared reference values there. */
+static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
+    double se = 0, rs2 = 0;
+    for (size_t i = 0; i < (size_t)ref->width * ref->height; i++) {
+        if (ref->pixels[4 * i + 3] == 0) continue;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+            se += d * d, rs2 += (double)ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+        }
+    }
+    return rs2 > 0 ? se / rs2 : 0;
+}
+
+static FILE* csv;
+static const char* scene_name;
+
+static void row(const char* method, const char* setting, unsigned probes, unsigned spp, double build_s, double full_s,
+                double ind_s, double rel_full, double rel_ind) {
+    char pr[16] = "-", bs[24] = "-";
+    if (probes) snprintf(pr, sizeof pr, "%u", probes);
+    if (build_s > 0) snprintf(bs, sizeof bs, "%.3f", build_s);
+    printf("| %s | %s | %s | %s | %u | %s | %.4g | %.4g | %.4g | %.4g |\n", scene_name, method, setting, pr, spp, bs,
+           full_s * 1e3, ind_s * 1e3, rel_full, rel_ind);
+    if (csv) {
+        fprintf(csv, "%s,%s,%s,%u,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,\"%s\"\n", scene_name, method, setting, probes, spp,
+                build_s, full_s * 1e3, ind_s * 1e3, rel_full, rel_ind, base.width, base.height, vx_gpu_device_name(gpu));
+        fflush(csv);
+    }
+}
+
+static bool parse_list(const char* s, double* v, int n) {
+    char* end;
+    for (int i = 0; i < n; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || (i + 1 < n && *end != ',') || (i + 1 == n && *end)) return false;
+        s = end + 1;
+    }
+    return true;
+}
+
+static int usage(void) {
+    fprintf(stderr,
+            "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--threads N] [--methods a,b]\n"
+            "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
+            "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
+            "                SCENE.{svo,vox} WxH [spacing:res:spp ...]\n"
+            "methods:");
+    for (size_t k = 0; k < METHOD_COUNT; k++) fprintf(stderr, " %s (max spp %u)", methods[k].name, methods[k].max_spp);
+    fprintf(stderr, "\n");
+    return 2;
+}
+
+/* Renders every row of method m with what b holds. */
+static int method_rows(const gi_method* m, const unsigned* max_spp, const built* b, const vx_render_image* ref_full,
+                       const vx_render_image* ref_ind) {
+    for (unsigned spp = 1; spp <= max_spp[m - methods]; spp *= 4) {
+        vx_render_image full = {0}, ind = {0};
+        vx_error err = {0};
+        if (render_median(m, b, false, spp, &full, &err) || render_median(m, b, true, spp, &ind, &err)) {
+            vx_render_image_free(&full);
+            fprintf(stderr, "%s: %s %s %u spp: %s\n", scene_name, m->name, b->setting, spp, err.msg);
+            return 1;
+        }
+        row(m->name, b->setting, b->has_ps ? b->ps.probe_count : 0, spp, b->seconds, full.gpu_seconds, ind.gpu_seconds,
+            rel_mse(&full, ref_full), rel_mse(&ind, ref_ind));
+        vx_render_image_free(&full);
+        vx_render_image_free(&ind);
+    }
+    return 0;
+}
+
+int main(int argc, char** argv) {
+    const char *device = NULL, *method_list = NULL, *csv_path = NULL;
+    unsigned ref_spp = 1024, max_spp[METHOD_COUNT];
+    bool bounds_set = false;
+    double bounds[6] = {0};
+    for (size_t k = 0; k < METHOD_COUNT; k++) max_spp[k] = methods[k].max_spp;
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-' && argv[i][1] == '-'; i++) {
+        const char* o = argv[i];
+        if (i + 1 >= argc) return usage();
+        const char* v = argv[++i];
+        if (!strcmp(o, "--device")) device = v;
+        else if (!strcmp(o, "--ref-spp")) ref_spp = (unsigned)atoi(v);
+        else if (!strcmp(o, "--runs")) runs = (unsigned)atoi(v);
+        else if (!strcmp(o, "--threads")) threads = (unsigned)atoi(v);
+        else if (!strcmp(o, "--methods")) method_list = v;
+        else if (!strcmp(o, "--name")) scene_name = v;
+        else if (!strcmp(o, "--csv")) csv_path = v;
+        else if (!strcmp(o, "--max-spp")) {
+            const char* eq = strchr(v, '=');
+            size_t k = 0;
+            while (eq && k < METHOD_COUNT &&
+                   !(strlen(methods[k].name) == (size_t)(eq - v) && !strncmp(methods[k].name, v, (size_t)(eq - v))))
+                k++;
+            if (!eq || k == METHOD_COUNT) return usage();
+            max_spp[k] = (unsigned)atoi(eq + 1);
+        } else if (!strcmp(o, "--camera")) {
+            double c[6];
+            if (!parse_list(v, c, 6)) return usage();
+            base.camera.set = true;
+            memcpy(base.camera.eye, c, 24), memcpy(base.camera.target, c + 3, 24);
+        } else if (!strcmp(o, "--up")) {
+            if (!parse_list(v, base.camera.up, 3)) return usage();
+        } else if (!strcmp(o, "--fov")) {
+            if (!parse_list(v, &base.camera.fov, 1)) return usage();
+        } else if (!strcmp(o, "--light")) {
+            if (!parse_list(v, base.light_dir, 3)) return usage();
+        } else if (!strcmp(o, "--bounds")) {
+            if (!parse_list(v, bounds, 6)) return usage();
+            bounds_set = true;
+        } else return usage();
+    }
+    if (argc - i < 2 || !runs || !ref_spp || !threads) return usage();
+    const char* path = argv[i];
+    if (sscanf(argv[i + 1], "%ux%u", &base.width, &base.height) != 2) return usage();
+    int first_setting = i + 2;
+    if (!scene_name) {
+        const char* slash = strrchr(path, '/');
+        scene_name = slash ? slash + 1 : path;
+    }
+    bool use[METHOD_COUNT];
+    for (size_t k = 0; k < METHOD_COUNT; k++) {
+        use[k] = !method_list;
+        if (method_list) {
+            size_t n = strlen(methods[k].name);
+            for (const char* p = method_list; (p = strstr(p, methods[k].name)); p += n)
+                if ((p == method_list || p[-1] == ',') && (p[n] == ',' || !p[n])) use[k] = true;
+        }
+    }
+
+    vx_error err = {0};
+    if (bench_load(path, &scene, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) ||
+        vx_render_scene_create(gpu, &scene, &rs, &err)) {
+        fprintf(stderr, "GPU: %s\n", err.msg);
+        return 1;
+    }
+    if (csv_path) {
+        csv = fopen(csv_path, "a");
+        if (!csv) return fprintf(stderr, "%s: cannot open\n", csv_path), 1;
+        if (ftell(csv) == 0)
+            fprintf(csv, "scene,method,setting,probes,spp,build_s,full_ms,indirect_ms,relmse_full,relmse_indirect,"
+                         "width,height,device\n");
+    }
+    printf("device: %s; %s at %ux%u, reference %u spp x 2 seeds, median of %u renders\n", vx_gpu_device_name(gpu),
+           scene_name, base.width, base.height, ref_spp, runs);
+    printf("| scene | method | setting | probes | spp | build s | full ms | indirect ms | relMSE full | "
+           "relMSE indirect |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    int rc = 0;
+    built none = {.setting = "-"};
+    if (vx_probe_gpu_create(rs, &scene, NULL, &none.pg, &err)) return fprintf(stderr, "GPU: %s\n", err.msg), 1;
+
+    /* the reference: two seeds each for the full image and the indirect light */
+    vx_render_image ref[2][2] = {{{0}}}; /* [indirect][seed] */
+    double ref_s[2] = {0};
+    for (int ind = 0; ind < 2 && !rc; ind++)
+        for (int k = 0; k < 2 && !rc; k++) {
+            vx_probe_render_desc d = {.base = &base,
+                                      .mode = ind ? VX_PROBE_RENDER_PT_INDIRECT : VX_PROBE_RENDER_PATHTRACE,
+                                      .spp = ref_spp,
+                                      .seed = 999 + (uint64_t)k};
+            if (vx_probe_gpu_render(none.pg, &d, &ref[ind][k], &err)) {
+                fprintf(stderr, "%s: reference: %s\n", scene_name, err.msg);
+                rc = 1;
+            }
+            ref_s[ind] += ref[ind][k].gpu_seconds / 2;
+        }
+    if (rc) return rc;
+    double noise[2];
+    for (int ind = 0; ind < 2; ind++) {
+        noise[ind] = rel_mse(&ref[ind][0], &ref[ind][1]);
+        float* a = ref[ind][0].pixels;
+        const float* b = ref[ind][1].pixels;
+        for (size_t p = 0; p < (size_t)base.width * base.height * 4; p++) a[p] = 0.5f * (a[p] + b[p]);
+        vx_render_image_free(&ref[ind][1]);
+    }
+    char ref_setting[64];
+    snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
+    row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1]);
+
+    for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
+        if (use[k] && methods[k].build == BUILD_NONE) rc = method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
+    for (int s = first_setting; s < argc && !rc; s++) {
+        bool needed = false;
+        for (size_t k = 0; k < METHOD_COUNT; k++) needed |= use[k] && methods[k].build == BUILD_PROBES;
+        if (!needed) break;
+        double sp;
+        unsigned res, spp;
+        if (sscanf(argv[s], "%lf:%u:%u", &sp, &res, &spp) != 3) {
+            rc = usage();
+            break;
+        }
+        built b = {.setting = argv[s], .has_ps = true};
+        vx_probe_bake_desc bd = {.spacing = sp, .res = res, .spp = spp, .threads = threads, .bounds_set = bounds_set};
+        memcpy(bd.bounds_lo, bounds, 24), memcpy(bd.bounds_hi, bounds + 3, 24);
+        memcpy(bd.light_dir, base.light_dir, 24);
+        double t0 = vx_time_now();
+        if (vx_probe_bake_gpu(rs, &scene, &bd, &b.ps, &err)) {
+            fprintf(stderr, "%s: bake %s: %s\n", scene_name, argv[s], err.msg);
+            rc = 1;
+            break;
+        }
+        b.seconds = vx_time_now() - t0;
+        if (vx_probe_gpu_create(rs, &scene, &b.ps, &b.pg, &err)) {
+            fprintf(stderr, "GPU: %s\n", err.msg);
+            rc = 1;
+        }
+        for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
+            if (use[k] && methods[k].build == BUILD_PROBES)
+                rc = method_rows(&methods[k], max_spp, &b, &ref[0][0], &ref[1][0]);
+        vx_probe_gpu_destroy(b.pg);
+        vx_probe_set_free(&b.ps);
+    }
+    vx_render_image_free(&ref[0][0]);
+    vx_render_image_free(&ref[1][0]);
+    vx_probe_gpu_destroy(none.pg);
+    if (csv) fclose(csv);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    vx_svo_scene_free(&scene);
+    return rc;
+}
