@@ -27,24 +27,38 @@ static int cmp_double(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
+/* The timestamp pool (gpu_device.c) holds 64 queries, two per run: runs go
+ * in submissions of at most VX__RUNS_PER_SUBMIT, so any repeat count is timed;
+ * *seconds is the median run (wall time per run without timestamps). */
+#define VX__RUNS_PER_SUBMIT 32u
+
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
     uint32_t repeat = d->repeat ? d->repeat : 1;
-    if (repeat > 31) repeat = 31; /* two timestamps per run in a pool of 64 */
     VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VX_GPU_MAX_BINDINGS},
                                      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VX_GPU_MAX_BINDINGS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 1,
                                       .poolSizeCount = 2,
                                       .pPoolSizes = sizes};
+    bool timed = g->has_timestamps && seconds;
+    double* runs = NULL;
+    if (timed) {
+        runs = vx_alloc(&g->alloc, (size_t)repeat * sizeof *runs);
+        if (!runs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u run times", repeat);
+    }
     VkDescriptorPool pool;
-    VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
+    VkResult vr = vkCreateDescriptorPool(g->device, &pci, NULL, &pool);
+    if (vr != VK_SUCCESS) {
+        vx_free(&g->alloc, runs);
+        return vx__vk_fail(err, vr, "vkCreateDescriptorPool");
+    }
     vx_result r = VX_OK;
     VkDescriptorSet set;
     VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                       .descriptorPool = pool,
                                       .descriptorSetCount = 1,
                                       .pSetLayouts = &d->pipeline->dsl};
-    VkResult vr = vkAllocateDescriptorSets(g->device, &ai, &set);
+    vr = vkAllocateDescriptorSets(g->device, &ai, &set);
     if (vr != VK_SUCCESS) {
         r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
         goto done;
@@ -63,48 +77,55 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
                                       .pBufferInfo = &infos[i]};
     }
     vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
-    if ((r = vx__cmd_begin(g, err))) goto done;
-    if (g->begin_label && d->label) {
-        VkDebugUtilsLabelEXT l = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = d->label};
-        g->begin_label(g->cmd, &l);
-    }
-    if (g->has_timestamps) vkCmdResetQueryPool(g->cmd, g->timestamps, 0, 2 * repeat);
-    vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
-    vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
-    for (uint32_t k = 0; k < repeat; k++) {
-        if (g->has_timestamps) vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 2 * k);
-        vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
-        if (g->has_timestamps)
-            vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);
-        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-                              .dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                                               VK_ACCESS_HOST_READ_BIT};
-        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                                 VK_PIPELINE_STAGE_HOST_BIT,
-                             0, 1, &mb, 0, NULL, 0, NULL);
-    }
-    if (g->end_label && d->label) g->end_label(g->cmd);
-    double t0 = vx_time_now();
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
-    double wall = vx_time_now() - t0;
-    if (seconds) *seconds = wall / repeat;
-    if (g->has_timestamps && seconds) {
-        uint64_t ts[64];
-        vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, 2 * repeat, sizeof ts, ts, sizeof ts[0],
-                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-        if (vr != VK_SUCCESS) {
-            r = vx__vk_fail(err, vr, "vkGetQueryPoolResults");
-            goto done;
+    double wall = 0;
+    for (uint32_t done_runs = 0; done_runs < repeat;) {
+        uint32_t n = repeat - done_runs < VX__RUNS_PER_SUBMIT ? repeat - done_runs : VX__RUNS_PER_SUBMIT;
+        if ((r = vx__cmd_begin(g, err))) goto done;
+        if (g->begin_label && d->label) {
+            VkDebugUtilsLabelEXT l = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = d->label};
+            g->begin_label(g->cmd, &l);
         }
-        double runs[32];
-        for (uint32_t k = 0; k < repeat; k++)
-            runs[k] = (double)(ts[2 * k + 1] - ts[2 * k]) * g->props.limits.timestampPeriod * 1e-9;
+        if (g->has_timestamps) vkCmdResetQueryPool(g->cmd, g->timestamps, 0, 2 * n);
+        vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
+        vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
+        for (uint32_t k = 0; k < n; k++) {
+            if (g->has_timestamps) vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 2 * k);
+            vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
+            if (g->has_timestamps)
+                vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);
+            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                  .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                  .dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                                                   VK_ACCESS_HOST_READ_BIT};
+            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                     VK_PIPELINE_STAGE_HOST_BIT,
+                                 0, 1, &mb, 0, NULL, 0, NULL);
+        }
+        if (g->end_label && d->label) g->end_label(g->cmd);
+        double t0 = vx_time_now();
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        wall += vx_time_now() - t0;
+        if (timed) {
+            uint64_t ts[2 * VX__RUNS_PER_SUBMIT];
+            vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, 2 * n, sizeof ts, ts, sizeof ts[0],
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+            if (vr != VK_SUCCESS) {
+                r = vx__vk_fail(err, vr, "vkGetQueryPoolResults");
+                goto done;
+            }
+            for (uint32_t k = 0; k < n; k++)
+                runs[done_runs + k] = (double)(ts[2 * k + 1] - ts[2 * k]) * g->props.limits.timestampPeriod * 1e-9;
+        }
+        done_runs += n;
+    }
+    if (seconds) *seconds = wall / repeat;
+    if (timed) {
         qsort(runs, repeat, sizeof runs[0], cmp_double);
         *seconds = runs[repeat / 2];
     }
 done:
     vkDestroyDescriptorPool(g->device, pool, NULL);
+    vx_free(&g->alloc, runs);
     return r;
 }
