@@ -1,6 +1,18 @@
 # Tracer benchmark: needs only libvulkan and libc (no OpenImageIO/OpenVDB/GLFW),
-# so the binary runs on a GPU machine that has just a Vulkan loader.
+# so the binary runs on a GPU machine that has just a Vulkan loader. The ESVO
+# baseline's kernel (bench/shaders/esvo.comp) is embedded like render's shaders.
 if(VX_WITH_VULKAN)
-  add_executable(render_bench ${CMAKE_CURRENT_LIST_DIR}/render_bench.c)
+  set(VX_BENCH_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
+  file(MAKE_DIRECTORY ${VX_BENCH_SPV_DIR})
+  add_custom_command(
+    OUTPUT ${VX_BENCH_SPV_DIR}/esvo.comp.h
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__esvo_spv_arr -o ${VX_BENCH_SPV_DIR}/esvo.comp.h
+            ${CMAKE_CURRENT_LIST_DIR}/shaders/esvo.comp
+    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/esvo.comp
+    COMMENT "glslangValidator esvo.comp"
+    VERBATIM)
+  add_executable(render_bench ${CMAKE_CURRENT_LIST_DIR}/render_bench.c ${CMAKE_CURRENT_LIST_DIR}/esvo.c
+                 ${VX_BENCH_SPV_DIR}/esvo.comp.h)
+  target_include_directories(render_bench PRIVATE ${VX_BENCH_SPV_DIR})
   target_link_libraries(render_bench PRIVATE vx_render vx_convert vx_formats vx_svo)
 endif()

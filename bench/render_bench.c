@@ -1,190 +1,343 @@
-/* bench/render_bench.c - rays per second of the octree tracer (primary and
- * shadow rays) against a dense-grid 3D-DDA baseline over the same voxels.
+/* bench/render_bench.c - rays per second of voxkit's octree tracer against
+ * two baselines over the same cells and the same primary rays: an ESVO
+ * octree (a plain full-depth octree traced by the loop of Laine and Karras
+ * 2010, bench/esvo.c and bench/shaders/esvo.comp) and a dense-grid 3D-DDA
+ * (scenes up to 2^30 cells).
  *
- *   render_bench [--device N|NAME] [--sizes 1920x1080,1280x720] [--runs N]
+ *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
+ *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                FILE.{svo,vox}...
+ *                [--no-esvo] FILE.{svo,vox}...
  *
- * Times are GPU timestamps: one warm-up, then the median of --runs
- * dispatches. --generate adds procedural terrains 1024 (fits the dense
- * baseline) and 4096 cells wide; --deep the 1024 terrain placed in a model
- * 2^20 cells wide (20 levels: the float64 trace variant), seen by a camera
- * that frames the terrain. --variant forces the float or the float64
- * variant of the trace shader (auto: chosen by model depth).
- * Output: one table row per scene, size and kind. */
+ * Each scene is seen from three views: the default overview, an oblique view
+ * from low over a corner, and a full-frame close-up (a surface point of the
+ * oblique view seen from nearby, at least 98% of the pixels hit where
+ * possible). Per view: the GPU first runs each kernel for --warmup seconds
+ * (clocks up), then the median of --runs timestamped dispatches is taken.
+ * Hit share, the share of rays that enter an octree (voxkit: at least one
+ * traversal step; ESVO: the ray meets the octree's cube), steps per ray (loop
+ * iterations of the traversal, the same count in both kernels) and the
+ * per-pixel depth agreement come from one frame of each. --generate adds the
+ * procedural terrains 1024 and 4096 cells wide (bench/bench_terrain.h);
+ * --deep the 1024 terrain placed in a model 2^20 cells wide (the float64
+ * variant; no ESVO row). Output: one table row per scene, view and size. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bench/bench_load.h"
+#include "bench/bench_terrain.h"
+#include "bench/esvo.h"
 #include "render/render_internal.h"
 
+typedef struct view_result {
+    double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
+} view_result;
 
-/* Terrain over 4096 x 4096 cells: columns of 8x8 cells whose top two
- * 8^3 tiles are filled (level-3 tiles, so the builder never expands them),
- * heights from a few sines up to ~3000 cells, plus 2048 single-cell
- * "pebbles" on top: extent 4096^3, depth 12. */
-static int generate(vx_svo_scene* s, uint32_t extent, uint32_t deep_offset, vx_error* err) {
-    const uint32_t cols = extent / 8;
-    const double hs = extent / 4096.0;
-    size_t cap = (size_t)cols * cols * 2 + 4096, n = 0;
-    uint64_t* keys = malloc(cap * 8);
-    uint8_t* level = malloc(cap);
-    uint8_t* pal = malloc(cap);
-    if (!keys || !level || !pal) return 1;
-    for (uint32_t y = 0; y < cols; y++)
-        for (uint32_t x = 0; x < cols; x++) {
-            double h = hs * (1400 + 700 * sin(x * 0.021 / hs) * cos(y * 0.017 / hs) + 500 * sin((x + 2 * y) * 0.0061 / hs) +
-                            150 * sin(x * 0.11 / hs + y * 0.07 / hs));
-            uint32_t top = (uint32_t)(h / 8);
-            for (uint32_t k = 0; k < 2 && top >= k; k++) {
-                keys[n] = vx_svo_morton(deep_offset + x * 8, deep_offset + y * 8, deep_offset + (top - k) * 8);
-                level[n] = 3;
-                pal[n++] = (uint8_t)(1 + (top % 200));
-            }
-        }
-    uint32_t seed = 1;
-    for (int i = 0; i < 2048; i++) {
-        seed = seed * 1664525u + 1013904223u;
-        uint32_t x = (seed >> 8) % extent;
-        seed = seed * 1664525u + 1013904223u;
-        uint32_t y = (seed >> 8) % extent;
-        keys[n] = vx_svo_morton(deep_offset + x, deep_offset + y, deep_offset + extent - 96 + i % 64);
-        level[n] = 0;
-        pal[n++] = 250;
+static void usage(FILE* out, const char* prog) {
+    fprintf(out,
+            "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
+            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo] FILE...\n"
+            "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5\n",
+            prog);
+}
+
+/* Runs fn(repeat 32) until `seconds` of wall time have passed. */
+static vx_result warm(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, const vx_render_desc* d,
+                      double seconds, vx_error* err) {
+    double t0 = vx_time_now(), sec;
+    vx__frame f;
+    do {
+        vx_result r = es ? bench_esvo_frame(es, s, d, 32, &sec, NULL, NULL, err)
+                         : vx__render_dispatch(rs, d, false, 32, &f, &sec, err);
+        if (r) return r;
+    } while (vx_time_now() - t0 < seconds);
+    return VX_OK;
+}
+
+/* The world point that pixel (px, py) of frame f sees at depth t. */
+static void pixel_point(const vx__frame* f, uint32_t px, uint32_t py, double t, double p[3], double dir[3]) {
+    double u = ((px + 0.5) / f->width) * 2 - 1, v = 1 - ((py + 0.5) / f->height) * 2, l = 0;
+    for (int k = 0; k < 3; k++) dir[k] = f->fwd[k] + u * f->rx[k] + v * f->uy[k], l += dir[k] * dir[k];
+    l = sqrt(l);
+    for (int k = 0; k < 3; k++) dir[k] /= l, p[k] = f->ref[k] - f->fwd[k] * f->t_start + dir[k] * t;
+}
+
+/* Share of pixels hit in a small probe frame of camera c; the frame's hits
+ * go to *keep when it is not NULL (free with vx_render_image_free). */
+static double probe_hits(vx_render_scene* rs, vx_render_camera c, vx_render_image* keep) {
+    vx_render_desc d = {.width = 97, .height = 55, .mode = VX_RENDER_DEPTH, .camera = c, .want_hits = true};
+    vx_render_image img = {0};
+    vx_error err = {0};
+    if (vx_render_frame(rs, &d, &img, &err)) return 0;
+    size_t n = (size_t)img.width * img.height, h = 0;
+    for (size_t i = 0; i < n; i++) h += img.hits[i].instance != VX_RENDER_NO_HIT;
+    if (keep) *keep = img;
+    else vx_render_image_free(&img);
+    return (double)h / n;
+}
+
+/* Cameras of the three views (overview: the default framing). */
+static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_camera cams[3]) {
+    double lo[3], hi[3], c[3], rad = 0;
+    vx__scene_world_bounds(s, lo, hi);
+    for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), rad += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    rad = 0.5 * sqrt(rad);
+    memset(cams, 0, 3 * sizeof *cams);
+    /* oblique: from low over the (-x, -y) corner, about 17 degrees up */
+    double dir[3] = {-0.7, -0.6, 0.3}, l = sqrt(0.49 + 0.36 + 0.09);
+    cams[1].set = true;
+    for (int k = 0; k < 3; k++) cams[1].eye[k] = c[k] + dir[k] / l * 1.3 * rad, cams[1].target[k] = c[k];
+    /* close-up: the hit nearest the centre of the oblique view, from nearby */
+    vx_render_image img = {0};
+    probe_hits(rs, cams[1], &img);
+    if (!img.hits) return false;
+    vx__frame f;
+    vx_error err = {0};
+    vx_render_desc d = {.width = img.width, .height = img.height, .camera = cams[1]};
+    if (vx__frame_setup(lo, hi, &d, &f, &err)) {
+        vx_render_image_free(&img);
+        return false;
     }
-    uint32_t side = deep_offset ? 1u << 20 : extent;
-    vx_svo_voxels v = {.size = {side, side, side}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_PALETTE,
-                       .palette = pal};
-    vx_svo_scene_init(s, NULL);
-    s->models = calloc(1, sizeof *s->models);
-    s->instances = calloc(1, sizeof *s->instances);
-    if (!s->models || !s->instances) return 1;
-    vx_result r = vx_svo_build_model(NULL, &v, &s->models[0], NULL, err);
-    free(keys), free(level), free(pal);
-    if (r) return 1;
-    s->model_count = 1;
-    s->instance_count = 1;
-    s->instances[0].xform[0] = s->instances[0].xform[5] = s->instances[0].xform[10] = 1;
-    s->instances[0].layer = UINT32_MAX;
-    s->has_palette = true;
-    for (int i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (uint32_t)(i * 0x010203);
-    vx_svo_scene_update_bounds(s);
+    double best = INFINITY;
+    uint32_t bx = 0, by = 0;
+    for (uint32_t y = 0; y < img.height; y++)
+        for (uint32_t x = 0; x < img.width; x++) {
+            if (img.hits[y * img.width + x].instance == VX_RENDER_NO_HIT) continue;
+            double dx = x - 0.5 * img.width, dy = y - 0.5 * img.height;
+            if (dx * dx + dy * dy < best) best = dx * dx + dy * dy, bx = x, by = y;
+        }
+    if (!isfinite(best)) {
+        vx_render_image_free(&img);
+        return false;
+    }
+    double p[3], rd[3];
+    pixel_point(&f, bx, by, img.hits[by * img.width + bx].t, p, rd);
+    vx_render_image_free(&img);
+    double best_share = -1;
+    static const double dist[] = {0.25, 0.12, 0.06, 0.03, 0.015, 0.008};
+    for (size_t i = 0; i < sizeof dist / sizeof dist[0]; i++) {
+        vx_render_camera cc = {.set = true};
+        double dd = fmax(dist[i] * rad, 6.0);
+        for (int k = 0; k < 3; k++) cc.eye[k] = p[k] - rd[k] * dd, cc.target[k] = p[k];
+        double share = probe_hits(rs, cc, NULL);
+        if (share > best_share) best_share = share, cams[2] = cc;
+        if (share >= 0.98) break;
+    }
+    return true;
+}
+
+static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, vx_render_desc d, bool dense,
+                    uint32_t runs, double warmup, view_result* out, vx_error* err) {
+    memset(out, 0, sizeof *out);
+    size_t npx = (size_t)d.width * d.height;
+    /* one frame of each with per-pixel results */
+    d.mode = VX_RENDER_DEPTH;
+    d.want_hits = true;
+    vx_render_image img = {0};
+    if (vx_render_frame(rs, &d, &img, err)) return 1;
+    float* edepth = es ? malloc(npx * sizeof *edepth) : NULL;
+    uint32_t* esteps = es ? malloc(npx * sizeof *esteps) : NULL;
+    double sec;
+    if (es && (!edepth || !esteps || bench_esvo_frame(es, s, &d, 1, &sec, edepth, esteps, err))) {
+        free(edepth), free(esteps);
+        vx_render_image_free(&img);
+        return 1;
+    }
+    size_t hits = 0, ent_vx = 0, ent_es = 0, agree = 0;
+    double st_vx = 0, st_es = 0;
+    for (size_t i = 0; i < npx; i++) {
+        const vx_render_hit* h = &img.hits[i];
+        bool hv = h->instance != VX_RENDER_NO_HIT;
+        hits += hv;
+        ent_vx += h->iterations > 0;
+        st_vx += h->iterations;
+        if (!es) continue;
+        ent_es += esteps[i] >> 31;
+        st_es += esteps[i] & 0x7FFFFFFFu;
+        bool he = isfinite(edepth[i]);
+        if (hv == he && (!hv || fabs((double)h->t - edepth[i]) <= 1e-4 * fmax(fabs((double)h->t), 1.0))) agree++;
+    }
+    vx_render_image_free(&img);
+    free(edepth), free(esteps);
+    out->hit = (double)hits / npx;
+    out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx;
+    out->enter_es = (double)ent_es / npx, out->steps_es = st_es / npx;
+    out->agree = (double)agree / npx;
+    d.want_hits = false;
+    vx__frame f;
+    /* voxkit primary rays (depth mode), then primary + shadow (colour mode) */
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, s, &d, warmup, err) ||
+        vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err))
+        return 1;
+    if (es && (warm(NULL, es, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
+        return 1;
+    d.mode = VX_RENDER_COLOR;
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) ||
+        vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_shadow, err))
+        return 1;
+    d.mode = VX_RENDER_DEPTH;
+    if (dense && (vx__dense_dispatch(rs, &d, 1, &sec, NULL, err) ||
+                  vx__dense_dispatch(rs, &d, runs, &out->sec_dense, NULL, err)))
+        return 1;
     return 0;
 }
 
 int main(int argc, char** argv) {
     const char* device = NULL;
-    const char* sizes = "1920x1080,1280x720";
-    uint32_t runs = 5;
-    bool gen = false, deep = false;
+    const char* sizes = "1920x1080";
+    const char* views = "overview,oblique,closeup";
+    uint32_t runs = 15;
+    double warmup = 0.5;
+    bool gen = false, deep = false, use_esvo = true;
     int variant = -1;
     const char* files[64];
     int nf = 0;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+            usage(stdout, argv[0]);
+            return 0;
+        } else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) sizes = argv[++i];
-        else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = (uint32_t)atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--generate")) gen = true;
+        else if (!strcmp(argv[i], "--views") && i + 1 < argc) views = argv[++i];
+        else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
+            char* end;
+            errno = 0;
+            unsigned long n = strtoul(argv[++i], &end, 10);
+            if (errno || *end || end == argv[i] || n < 1 || n > 100000 || argv[i][0] == '-') {
+                fprintf(stderr, "render_bench: --runs wants a count from 1 to 100000, not '%s'\n", argv[i]);
+                return 2;
+            }
+            runs = (uint32_t)n;
+        } else if (!strcmp(argv[i], "--warmup") && i + 1 < argc) {
+            char* end;
+            warmup = strtod(argv[++i], &end);
+            if (*end || !(warmup >= 0 && warmup <= 60)) {
+                fprintf(stderr, "render_bench: --warmup wants seconds from 0 to 60, not '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(argv[i], "--generate")) gen = true;
         else if (!strcmp(argv[i], "--deep")) deep = true;
+        else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
             i++;
             variant = !strcmp(argv[i], "float") ? 0 : !strcmp(argv[i], "precise") ? 1 : -1;
-        }
-        else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--generate] [--deep] "
-                            "[--variant auto|float|precise] FILE...\n", argv[0]);
+        } else if (argv[i][0] == '-') {
+            fprintf(stderr, "render_bench: unknown option %s\n", argv[i]);
+            usage(stderr, argv[0]);
             return 2;
         } else if (nf < 64) files[nf++] = argv[i];
     }
-    if (runs < 1 || runs > 31) runs = 5;
     vx_error err = {0};
     vx_gpu* gpu;
     if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err)) {
         fprintf(stderr, "render_bench: %s\n", err.msg);
         return 1;
     }
-    printf("device: %s\n", vx_gpu_device_name(gpu));
-    printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "scene", "size", "voxels", "primary", "shadow", "dense", "oct/den");
-    printf("%-24s %-10s %10s %12s %12s %12s %8s\n", "", "", "", "Mrays/s", "Mpix/s", "Mrays/s", "");
+    printf("device: %s; median of %u timestamped dispatches after %.2f s warm-up per kernel and view\n",
+           vx_gpu_device_name(gpu), runs, warmup);
+    printf("%-20s %-8s %-9s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s\n", "scene", "view", "size",
+           "hit", "entVX", "entES", "stVX", "stES", "GrayVX", "GrayES", "GstVX", "GstES", "VX/ES", "depth=",
+           "GpixSh", "GrayDn", "MiB VX", "MiB ES");
+    fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
+    int failed = 0;
     for (int k = 0; k < total; k++) {
         vx_svo_scene s;
         const char* name;
         double t0 = vx_time_now();
+        bool is_deep = false;
         if (k < nf) {
             name = strrchr(files[k], '/') ? strrchr(files[k], '/') + 1 : files[k];
             if (bench_load(files[k], &s, &err)) {
                 fprintf(stderr, "render_bench: %s: %s\n", files[k], err.msg);
+                failed = 1;
                 continue;
             }
         } else {
-            bool is_deep = deep && k == total - 1;
+            is_deep = deep && k == total - 1;
             uint32_t extent = is_deep || k == nf ? 1024 : 4096;
-            name = is_deep ? "terrain1024 in 2^20" : extent == 1024 ? "terrain1024 (generated)" : "terrain4096 (generated)";
-            if (generate(&s, extent, is_deep ? (1u << 19) + 12344 : 0, &err)) {
+            name = is_deep ? "terrain1024in2^20" : extent == 1024 ? "terrain1024" : "terrain4096";
+            if (bench_terrain(&s, extent, is_deep ? (1u << 19) + 12344 : 0, &err)) {
                 fprintf(stderr, "render_bench: generate: %s\n", err.msg);
+                failed = 1;
                 continue;
             }
         }
         double t_load = vx_time_now() - t0;
-        uint64_t voxels = 0;
-        for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
         vx_render_scene* rs;
         if (vx_render_scene_create(gpu, &s, &rs, &err)) {
             fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
             vx_svo_scene_free(&s);
+            failed = 1;
             continue;
         }
         vx__render_scene_force_precise(rs, variant);
-        /* the deep terrain: frame its 1024^3 box as the default camera frames a scene */
-        bool deep_cam = deep && k == total - 1;
-        bool dense = !deep_cam && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
-        const char* p = sizes;
-        while (*p) {
-            unsigned w, h;
-            if (sscanf(p, "%ux%u", &w, &h) != 2) break;
-            vx_render_desc d = {.width = w, .height = h, .mode = VX_RENDER_DEPTH};
-            if (deep_cam) {
-                double c0 = (1u << 19) + 12344 + 512.0;
-                d.camera.set = true;
-                d.camera.target[0] = d.camera.target[1] = c0, d.camera.target[2] = c0 - 200;
-                d.camera.eye[0] = c0 - 1100, d.camera.eye[1] = c0 - 1500, d.camera.eye[2] = c0 + 1300;
-            }
-            vx__frame f;
-            double sp = 0, ss = 0, sd = 0;
-            vx_result r = vx__render_dispatch(rs, &d, false, 1, &f, &sp, &err); /* warm-up */
-            if (!r) r = vx__render_dispatch(rs, &d, false, runs, &f, &sp, &err);
-            d.mode = VX_RENDER_COLOR;
-            if (!r) r = vx__render_dispatch(rs, &d, false, 1, &f, &ss, &err);
-            if (!r) r = vx__render_dispatch(rs, &d, false, runs, &f, &ss, &err);
-            d.mode = VX_RENDER_DEPTH;
-            if (!r && dense) {
-                r = vx__dense_dispatch(rs, &d, 1, &sd, NULL, &err);
-                if (!r) r = vx__dense_dispatch(rs, &d, runs, &sd, NULL, &err);
-            }
-            if (r) {
-                fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
-                break;
-            }
-            double px = (double)w * h;
-            char sz[32], dn[32], ratio[32];
-            snprintf(sz, sizeof sz, "%ux%u", w, h);
-            snprintf(dn, sizeof dn, "%.2f", dense ? px / sd * 1e-6 : 0.0);
-            snprintf(ratio, sizeof ratio, "%.2f", dense ? sd / sp : 0.0);
-            printf("%-24.24s %-10s %10llu %12.2f %12.2f %12s %8s%s\n", name, sz, (unsigned long long)voxels,
-                   px / sp * 1e-6, px / ss * 1e-6, dense ? dn : "-", dense ? ratio : "-",
-                   vx_render_scene_precise(rs) ? "  (float64)" : "");
-            fflush(stdout);
-            p = strchr(p, ',');
-            if (!p) break;
-            p++;
+        uint64_t vx_bytes = 0;
+        for (uint32_t i = 0; i < s.model_count; i++)
+            vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
+        bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
+        bench_esvo es = {0}, *esp = NULL;
+        if (use_esvo && !is_deep && !vx_render_scene_precise(rs)) {
+            if (bench_esvo_create(gpu, &s, &es, &err))
+                fprintf(stderr, "render_bench: %s: no ESVO baseline: %s\n", name, err.msg);
+            else
+                esp = &es;
         }
-        fprintf(stderr, "  (%s: load %.2f s, bvh %.3f ms)\n", name, t_load, vx_render_scene_bvh_seconds(rs) * 1e3);
+        vx_render_camera cams[3] = {{0}};
+        if (is_deep) {
+            double c0 = (1u << 19) + 12344 + 512.0;
+            cams[0].set = true;
+            cams[0].target[0] = cams[0].target[1] = c0, cams[0].target[2] = c0 - 200;
+            cams[0].eye[0] = c0 - 1100, cams[0].eye[1] = c0 - 1500, cams[0].eye[2] = c0 + 1300;
+        }
+        bool have_views = !is_deep && make_views(rs, &s, cams);
+        static const char* vnames[3] = {"overview", "oblique", "closeup"};
+        for (int v = 0; v < 3; v++) {
+            if (!strstr(views, vnames[v]) || (v > 0 && !have_views)) continue;
+            const char* p = sizes;
+            while (*p) {
+                unsigned w, h;
+                if (sscanf(p, "%ux%u", &w, &h) != 2) break;
+                vx_render_desc d = {.width = w, .height = h, .camera = cams[v]};
+                view_result r;
+                if (run_view(rs, esp, &s, d, dense, runs, warmup, &r, &err)) {
+                    fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
+                    failed = 1;
+                    break;
+                }
+                double px = (double)w * h;
+                char sz[32], ges[16], stes[16], gstes[16], ratio[16], agree[16], dn[16], mes[16], enes[16];
+                snprintf(sz, sizeof sz, "%ux%u", w, h);
+                snprintf(enes, sizeof enes, esp ? "%.0f%%" : "-", 100 * r.enter_es);
+                snprintf(stes, sizeof stes, esp ? "%.1f" : "-", r.steps_es);
+                snprintf(ges, sizeof ges, esp ? "%.2f" : "-", px / r.sec_es * 1e-9);
+                snprintf(gstes, sizeof gstes, esp ? "%.0f" : "-", px * r.steps_es / r.sec_es * 1e-9);
+                snprintf(ratio, sizeof ratio, esp ? "%.2f" : "-", r.sec_es / r.sec_vx);
+                snprintf(agree, sizeof agree, esp ? "%.3f%%" : "-", 100 * r.agree);
+                snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * 1e-9);
+                snprintf(mes, sizeof mes, esp ? "%.2f" : "-", bench_esvo_bytes(&es) / 1048576.0);
+                printf("%-20.20s %-8s %-9s %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s\n",
+                       name, vnames[v], sz, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
+                       px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
+                       px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes,
+                       vx_render_scene_precise(rs) ? "  (float64)" : "");
+                fflush(stdout);
+                p = strchr(p, ',');
+                if (!p) break;
+                p++;
+            }
+        }
+        uint64_t voxels = 0;
+        for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
+        fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s)\n", name, (unsigned long long)voxels,
+                t_load, esp ? es.build_seconds : 0.0);
+        bench_esvo_destroy(&es);
         vx_render_scene_destroy(rs);
         vx_svo_scene_free(&s);
     }
     vx_gpu_destroy(gpu);
-    return 0;
+    return failed;
 }

@@ -1,14 +1,16 @@
 #!/bin/sh
 # bench/render_bench.sh - the whole tracer table in one run:
 #   bench/render_bench.sh [BUILD_DIR] [extra render_bench options]
-# Corpus .vox scenes (read directly) plus the generated 4096^3 terrain, at
-# 1920x1080 and 1280x720; primary rays, primary+shadow, dense-grid baseline.
+# Corpus .vox scenes (read directly) plus the generated 1024^3 and 4096^3
+# terrains, each from an overview, an oblique and a full-frame close-up view
+# at 1920x1080: voxkit's primary rays against the ESVO octree baseline (and
+# the dense DDA where the grid fits), primary+shadow, steps, memory.
 set -e
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$here/build-release}
 [ $# -gt 0 ] && shift
 corpus=${VX_CORPUS_DIR:-$here/../shared/corpus}
-bin=$build/bin/render_bench
+bin=${RENDER_BENCH:-$build/bin/render_bench}
 [ -x "$bin" ] || { echo "render_bench: build the render_bench target in $build first" >&2; exit 1; }
 files=""
 for f in eph_monu1 eph_menger eph_dragon ogt_doom ogt_test_multiple_model_scene; do

@@ -1,0 +1,196 @@
+/* bench/esvo.c - the ESVO baseline's octree (built from the scene's cells)
+ * and its dispatch; see bench/esvo.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/esvo.h"
+#include "esvo.comp.h"
+
+#define ESVO_VALID 0x80000000u
+#define ESVO_LEAF 0x40000000u
+#define ESVO_MAX_SLOTS (UINT64_C(1) << 30)
+
+typedef struct esvo_frame {
+    float fwd[4], rx[4], uy[4], box[4];
+    uint32_t dims[4];
+} esvo_frame;
+
+static uint32_t new_group(bench_esvo* e) {
+    if (e->slot_count + 8 > ESVO_MAX_SLOTS) {
+        e->too_big = true;
+        return 0;
+    }
+    if (e->slot_count + 8 > e->cap) {
+        size_t cap = e->cap ? e->cap * 2 : 1u << 16;
+        uint32_t* p = realloc(e->slots, cap * 4);
+        if (!p) {
+            e->too_big = true;
+            return 0;
+        }
+        e->slots = p, e->cap = cap;
+    }
+    uint32_t g = (uint32_t)e->slot_count;
+    memset(e->slots + g, 0, 32);
+    e->slot_count += 8;
+    return g;
+}
+
+/* Inserts one cell (relative to e->lo) top-down; cells arrive in Morton
+ * order per model, so the walk starts below the deepest level shared with
+ * the previous cell. */
+static void insert(bench_esvo* e, int64_t x, int64_t y, int64_t z, uint32_t rgb) {
+    uint32_t D = e->depth;
+    uint32_t start = 0;
+    if (e->have_last) /* the groups of levels above the first differing octant are shared */
+        while (start < D - 1) {
+            uint32_t b = D - 1 - start;
+            if (((x ^ e->last[0]) >> b) | ((y ^ e->last[1]) >> b) | ((z ^ e->last[2]) >> b)) break;
+            start++;
+        }
+    for (uint32_t l = start; l < D && !e->too_big; l++) {
+        uint32_t b = D - 1 - l;
+        uint32_t oct = (uint32_t)(((x >> b) & 1) | (((y >> b) & 1) << 1) | (((z >> b) & 1) << 2));
+        size_t si = (size_t)e->path[l] + oct;
+        if (l == D - 1) {
+            e->slots[si] = ESVO_VALID | ESVO_LEAF | (rgb & 0xFFFFFFu);
+            break;
+        }
+        if (!(e->slots[si] & ESVO_VALID)) {
+            uint32_t g = new_group(e);
+            if (e->too_big) return;
+            e->slots[si] = ESVO_VALID | g;
+        }
+        e->path[l + 1] = e->slots[si] & 0x3FFFFFFFu;
+    }
+    e->last[0] = x, e->last[1] = y, e->last[2] = z;
+    e->have_last = true;
+}
+
+typedef struct cell_ctx {
+    bench_esvo* e;
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    double w[12];
+} cell_ctx;
+
+static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    cell_ctx* c = user;
+    double p[3] = {x + 0.5, y + 0.5, z + 0.5}, q[3];
+    vx__affine_apply(c->w, p, q);
+    int64_t g[3];
+    for (int k = 0; k < 3; k++) {
+        g[k] = (int64_t)floor(q[k]) - c->e->lo[k];
+        if (g[k] < 0 || g[k] >= ((int64_t)1 << c->e->depth)) return true;
+    }
+    uint32_t rgb = c->m->attrs ? vx__attr_color(c->s, c->m, attr) : 0xFFFFFFu;
+    insert(c->e, g[0], g[1], g[2], rgb);
+    return !c->e->too_big;
+}
+
+vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, vx_error* err) {
+    memset(e, 0, sizeof *e);
+    e->gpu = gpu;
+    double t0 = vx_time_now();
+    double lo[3], hi[3];
+    vx__scene_world_bounds(s, lo, hi);
+    int64_t ext = 1;
+    for (int k = 0; k < 3; k++) {
+        e->lo[k] = (int64_t)floor(lo[k]);
+        int64_t n = (int64_t)ceil(hi[k]) - e->lo[k];
+        if (n > ext) ext = n;
+    }
+    e->depth = 1;
+    while (((int64_t)1 << e->depth) < ext) e->depth++;
+    if (e->depth > 22)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "ESVO baseline: %u levels exceed the float traversal's 22",
+                       e->depth);
+    new_group(e); /* the root's children */
+    vx_result r = VX_OK;
+    for (uint32_t i = 0; i < s->instance_count && !r && !e->too_big; i++) {
+        if (!vx__instance_drawn(s, i)) continue;
+        cell_ctx c = {.e = e, .s = s, .m = &s->models[s->instances[i].model]};
+        vx__instance_world(s, &s->instances[i], c.w);
+        e->have_last = false;
+        r = vx_svo_decode_model(c.m, cell_cb, &c, err);
+    }
+    if (!r && e->too_big)
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "ESVO baseline: more than 2^30 slots (or out of memory)");
+    e->build_seconds = vx_time_now() - t0;
+    if (!r)
+        r = vx__buffer_create(gpu, (VkDeviceSize)e->slot_count * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                              "esvo slots", &e->buf, err);
+    if (!r) r = vx__buffer_upload(gpu, &e->buf, e->slots, (VkDeviceSize)e->slot_count * 4, err);
+    if (!r)
+        r = vx__buffer_create(gpu, sizeof(esvo_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "esvo frame",
+                              &e->frame, err);
+    if (!r && !e->frame.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "ESVO frame buffer is not host visible");
+    free(e->slots);
+    e->slots = NULL;
+    if (r) bench_esvo_destroy(e);
+    return r;
+}
+
+void bench_esvo_destroy(bench_esvo* e) {
+    if (!e || !e->gpu) return;
+    vkDeviceWaitIdle(e->gpu->device);
+    vx__buffer_destroy(e->gpu, &e->out);
+    vx__buffer_destroy(e->gpu, &e->frame);
+    vx__buffer_destroy(e->gpu, &e->buf);
+    free(e->slots);
+    memset(e, 0, sizeof *e);
+}
+
+uint64_t bench_esvo_bytes(const bench_esvo* e) { return (uint64_t)e->slot_count * 4; }
+
+vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
+                           double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+    vx_gpu* g = e->gpu;
+    double lo[3], hi[3];
+    vx__scene_world_bounds(s, lo, hi);
+    vx__frame f;
+    vx_result r = vx__frame_setup(lo, hi, desc, &f, err);
+    if (r) return r;
+    VkDeviceSize npx = (VkDeviceSize)f.width * f.height;
+    if (!e->out.buf || e->out.size < npx * 8) {
+        vx__buffer_destroy(g, &e->out);
+        if ((r = vx__buffer_create(g, npx * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "esvo out", &e->out, err)))
+            return r;
+    }
+    esvo_frame* ef = e->frame.map;
+    memset(ef, 0, sizeof *ef);
+    for (int k = 0; k < 3; k++) {
+        ef->fwd[k] = (float)f.fwd[k];
+        ef->rx[k] = (float)f.rx[k];
+        ef->uy[k] = (float)f.uy[k];
+        ef->box[k] = (float)((double)e->lo[k] - f.ref[k]);
+    }
+    ef->fwd[3] = (float)f.t_start;
+    ef->rx[3] = f.ortho ? 1.0f : 0.0f;
+    ef->box[3] = (float)((int64_t)1 << e->depth);
+    ef->dims[0] = f.width, ef->dims[1] = f.height;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__esvo_spv_arr, .spirv_size = sizeof vx__esvo_spv_arr,
+                                       .binding_count = 3, .label = "esvo"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    vx__pipeline* p;
+    if ((r = vx__pipeline_get(g, UINT64_C(0xE5F0E5F0), &pd, &p, err))) return r;
+    vx__dispatch_desc dd = {.pipeline = p,
+                            .buffer_count = 3,
+                            .buffers = {&e->frame, &e->buf, &e->out},
+                            .groups = {(f.width + 7) / 8, (f.height + 7) / 8, 1},
+                            .repeat = repeat,
+                            .label = "esvo"};
+    if ((r = vx__dispatch(g, &dd, seconds, err))) return r;
+    if (depth || steps) {
+        uint32_t* tmp = malloc((size_t)npx * 8);
+        if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        r = vx__buffer_download(g, &e->out, tmp, npx * 8, err);
+        for (size_t i = 0; !r && i < npx; i++) {
+            if (depth) memcpy(&depth[i], &tmp[2 * i], 4);
+            if (steps) steps[i] = tmp[2 * i + 1];
+        }
+        free(tmp);
+    }
+    return r;
+}

@@ -1,0 +1,36 @@
+/* bench/esvo.h - the ESVO baseline of bench/render_bench: the scene's cells
+ * in a plain full-depth octree (groups of eight 32-bit child slots: bit 31
+ * valid, bit 30 leaf, bits 0-29 the children's group or the leaf's RGB),
+ * traced by the loop of Laine and Karras 2010 in bench/shaders/esvo.comp on
+ * the same primary rays as voxkit's tracer. Needs an identity
+ * world_from_grid (world cells are grid cells), like the dense baseline. */
+#ifndef VX_BENCH_ESVO_H
+#define VX_BENCH_ESVO_H
+#include "render/render_internal.h"
+
+typedef struct bench_esvo {
+    vx_gpu* gpu;
+    uint32_t* slots; /* host copy while building, freed after the upload */
+    size_t slot_count, cap;
+    uint32_t depth;
+    int64_t lo[3];
+    uint32_t path[24];
+    int64_t last[3];
+    bool have_last, too_big;
+    vx__buffer buf, frame, out;
+    double build_seconds;
+} bench_esvo;
+
+/* Builds the octree of every drawn instance's cells and uploads it. Fails
+ * with VX_ERR_LIMIT past 2^30 slots. */
+vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, vx_error* err);
+void bench_esvo_destroy(bench_esvo* e);
+/* Bytes of the octree on the GPU. */
+uint64_t bench_esvo_bytes(const bench_esvo* e);
+/* One frame of primary rays (desc's camera and size; mode ignored), repeat
+ * timed dispatches (median in *seconds); with depth/steps non-NULL the
+ * per-pixel depth (+inf for a miss) and steps (bit 31: the ray entered the
+ * octree's cube) of the last run. */
+vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
+                           double* seconds, float* depth, uint32_t* steps, vx_error* err);
+#endif
