@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "probes/probes_internal.h"
-#include "render/render_internal.h"
+#include "render/trace.h"
 
 void vx_probe_set_free(vx_probe_set* ps) {
     if (!ps) return;

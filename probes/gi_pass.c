@@ -14,7 +14,7 @@
 
 #include "probes/probes.h"
 #include "probes/probes_internal.h"
-#include "render/render_internal.h"
+#include "render/gpu.h"
 
 struct vx_probe_gi {
     vx_gpu* g;

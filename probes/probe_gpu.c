@@ -1,5 +1,5 @@
 /* probes/probe_gpu.c - the GPU bake and the GPU probe renderer on the Vulkan
- * tracer (render/shaders/probe.comp). The GPU path-traces the texels (or
+ * tracer (probes/shaders/probe.comp). The GPU path-traces the texels (or
  * pixels); the filtering of a baked probe (irradiance, moments, min map) is
  * the CPU bake's own code (vx__probe_finish), run on host threads, so both
  * bakers write the same kinds of maps from their radiance and distances. */
@@ -8,7 +8,9 @@
 #include <string.h>
 
 #include "probes/probes_internal.h"
-#include "render/render_internal.h"
+#include "render/gpu.h"
+
+#include "probe.comp.h" /* shaders/probe.comp, embedded at build time */
 
 /* std430 block "Params" of probe.comp */
 typedef struct gpu_params {
@@ -118,7 +120,8 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* seconds, vx_error* err) {
     c->spec[VX__SPEC_COUNT] = pmode;
     size_t spv_size;
-    const uint32_t* spv = vx__spirv_probe(&spv_size);
+    const uint32_t* spv = vx__probe_spv_arr;
+    spv_size = sizeof vx__probe_spv_arr;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 13,
                                        .spec_count = VX__SPEC_COUNT + 1, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;

@@ -5,7 +5,7 @@
 #include <math.h>
 
 #include "probes/probes.h"
-#include "render/render_internal.h"
+#include "render/trace.h"
 
 /* ---- random numbers: one stream per (seed, a, b, c), independent of threads ---- */
 

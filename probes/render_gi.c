@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "probes/probes_internal.h"
-#include "render/render_internal.h"
+#include "render/trace.h"
 
 static const double pi = 3.14159265358979323846;
 

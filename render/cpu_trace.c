@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/render_internal.h"
+#include "render/trace.h"
 
 typedef struct centry {
     uint64_t key; /* (block key << 5 | level) + 1; 0 = free slot */

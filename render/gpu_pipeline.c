@@ -9,7 +9,6 @@
 #include "trace.comp.h"
 #include "dense.comp.h"
 #include "trace_precise.comp.h"
-#include "probe.comp.h"
 
 const uint32_t* vx__spirv_trace(size_t* bytes) {
     *bytes = sizeof vx__trace_spv_arr;
@@ -18,10 +17,6 @@ const uint32_t* vx__spirv_trace(size_t* bytes) {
 const uint32_t* vx__spirv_trace_precise(size_t* bytes) {
     *bytes = sizeof vx__trace_precise_spv_arr;
     return vx__trace_precise_spv_arr;
-}
-const uint32_t* vx__spirv_probe(size_t* bytes) {
-    *bytes = sizeof vx__probe_spv_arr;
-    return vx__probe_spv_arr;
 }
 const uint32_t* vx__spirv_dense(size_t* bytes) {
     *bytes = sizeof vx__dense_spv_arr;

@@ -1,4 +1,10 @@
-# render/: the Vulkan compute tracer (library vx_render) and the CPU reference.
+# render/: the plain-C trace layer (library vx_trace: BVH, CPU reference,
+# camera maths; no Vulkan) and the Vulkan compute tracer (library vx_render).
+add_library(vx_trace STATIC
+  ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c)
+target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)
   find_package(Vulkan REQUIRED)
   find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
@@ -7,10 +13,9 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
-  # name:source[:define]; trace_precise is trace.comp in float64 (deep models);
-  # probe.comp holds the light field probes' bake and GI passes.
+  # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
   # gbuffer, direct, ao, resolve and post are the pass pipeline's shaders (pipeline.c).
-  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE probe:probe
+  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
@@ -40,10 +45,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_SOURCE_DIR}/gpu_dispatch.c
     ${CMAKE_CURRENT_SOURCE_DIR}/render_scene.c
     ${CMAKE_CURRENT_SOURCE_DIR}/pipeline.c
-    ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
-    ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
-    ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
     ${VX_RENDER_SPV_HEADERS})
   target_include_directories(vx_render PRIVATE ${VX_RENDER_SPV_DIR})
-  target_link_libraries(vx_render PUBLIC vx_svo Vulkan::Vulkan m)
+  target_link_libraries(vx_render PUBLIC vx_trace vx_svo Vulkan::Vulkan m)
 endif()

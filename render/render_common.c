@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "render/render_internal.h"
+#include "render/trace.h"
 
 static const char* const mode_names[VX_RENDER_MODE_NUM] = {"color", "albedo", "normal", "depth", "instance",
                                                            "iterations"};

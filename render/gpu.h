@@ -1,0 +1,147 @@
+/* render/gpu.h - the GPU layer under the tracer, shared by render/ and the
+ * modules that add GPU passes over a scene (probes/, later GI methods):
+ * the device (struct vx_gpu), buffers, cached compute pipelines with
+ * specialisation constants, recorded dispatches with timestamps, and the
+ * scene's bindings 0-6 for a frame (vx__render_scene_bind). Shaders that
+ * trace the scene include render/shaders/trace_common.glsl and declare
+ * bindings 0-6 as it does. Names keep the vx__ prefix: this is the toolkit's
+ * own layer, documented for modules, not part of the user API (render.h).
+ *
+ * Typical use by a module's pass:
+ *   vx_gpu* g = vx__render_scene_gpu(rs);
+ *   vx__buffer out; vx__buffer_create(g, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "mine", &out, err);
+ *   vx__buffer* scene[7]; uint32_t spec[VX__SPEC_COUNT];
+ *   vx__render_scene_bind(rs, &frame, scene, spec, err);   // frame from vx__frame_setup (trace.h)
+ *   vx__pipeline* p; vx__pipeline_get(g, key, &(vx_gpu_compute_pipeline_desc){...}, &p, err);
+ *   vx__dispatch(g, &(vx__dispatch_desc){.pipeline = p, ...}, &seconds, err);
+ *   vx__buffer_download(g, &out, host, bytes, err); vx__buffer_destroy(g, &out); */
+#ifndef VX_RENDER_GPU_H
+#define VX_RENDER_GPU_H
+
+#include <vulkan/vulkan.h>
+
+#include "render/trace.h"
+
+/* ---- Vulkan ------------------------------------------------------------------------ */
+
+#define VX_GPU_MAX_BINDINGS 16
+#define VX_GPU_MAX_PIPELINES 32
+
+typedef struct vx__buffer {
+    VkBuffer buf;
+    VkDeviceMemory mem;
+    VkDeviceSize size;
+    void* map;           /* persistently mapped when host visible */
+    bool host_visible;
+} vx__buffer;
+
+typedef struct vx_gpu_compute_pipeline_desc {
+    const uint32_t* spirv;
+    size_t spirv_size;           /* bytes */
+    const char* entry;           /* NULL == "main" */
+    uint32_t push_constant_size;
+    uint32_t binding_count;
+    VkDescriptorType bindings[VX_GPU_MAX_BINDINGS];
+    uint32_t spec_count;
+    uint32_t spec[8];            /* 32-bit specialisation constants, ids 0.. */
+    const char* label;
+} vx_gpu_compute_pipeline_desc;
+
+typedef struct vx__pipeline {
+    uint64_t key;
+    VkDescriptorSetLayout dsl;
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+} vx__pipeline;
+
+struct vx_gpu {
+    vx_allocator alloc;
+    const vx_logger* logger;
+    bool external;
+    bool validate;
+    VkInstance instance;
+    VkDebugUtilsMessengerEXT messenger;
+    PFN_vkSetDebugUtilsObjectNameEXT set_name;
+    PFN_vkCmdBeginDebugUtilsLabelEXT begin_label;
+    PFN_vkCmdEndDebugUtilsLabelEXT end_label;
+    VkPhysicalDevice phys;
+    VkPhysicalDeviceProperties props;
+    VkPhysicalDeviceMemoryProperties memprops;
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+    VkCommandPool cmd_pool;
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkQueryPool timestamps;
+    bool has_timestamps;
+    bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
+    uint32_t validation_errors;
+    uint32_t pipeline_count;
+    vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];
+};
+
+const char* vx__vk_str(VkResult r);
+vx_result vx__vk_fail(vx_error* err, VkResult r, const char* what);
+#define VX__VK(call, what)                                          \
+    do {                                                            \
+        VkResult vx__r = (call);                                    \
+        if (vx__r != VK_SUCCESS) return vx__vk_fail(err, vx__r, what); \
+    } while (0)
+
+void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* label);
+
+/* gpu_memory.c: device-local when possible; host-visible ones stay mapped. */
+vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
+                            const char* label, vx__buffer* out, vx_error* err);
+void vx__buffer_destroy(vx_gpu* g, vx__buffer* b);
+/* Copies data into a buffer (through a staging buffer if not mapped). */
+vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err);
+vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);
+
+/* gpu_pipeline.c: created once per distinct key and cached in the vx_gpu. */
+vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc, vx__pipeline** out,
+                           vx_error* err);
+void vx__pipelines_destroy(vx_gpu* g);
+/* Embedded SPIR-V. */
+const uint32_t* vx__spirv_trace(size_t* bytes);
+const uint32_t* vx__spirv_dense(size_t* bytes);
+/* trace.comp built with -DPRECISE (float64 traversal; needs has_float64). */
+const uint32_t* vx__spirv_trace_precise(size_t* bytes);
+
+/* gpu_dispatch.c */
+vx_result vx__cmd_begin(vx_gpu* g, vx_error* err);
+vx_result vx__cmd_submit_wait(vx_gpu* g, vx_error* err);
+
+typedef struct vx__dispatch_desc {
+    vx__pipeline* pipeline;
+    uint32_t buffer_count;
+    vx__buffer* buffers[VX_GPU_MAX_BINDINGS];
+    uint32_t groups[3];
+    uint32_t repeat;            /* 0 == 1: timed dispatches in one submission */
+    const char* label;
+} vx__dispatch_desc;
+/* Records, submits and waits; *seconds is the median GPU time per repeat
+ * from timestamps (wall time if the queue has no timestamps). */
+vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err);
+
+/* Specialisation constants of trace_common.glsl (ids 0-4); a pass's own start at 5. */
+enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX__SPEC_HITS, VX__SPEC_COUNT };
+
+/* ---- other GPU passes over a scene (probes/probe_gpu.c) ------------------------------ */
+
+vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
+/* Writes the per-frame tables and the frame block for f (f->ref is the origin
+ * of the shader's float coordinates; the camera matters only to camera rays)
+ * and returns the scene's bindings 0-6 (frame, nodes, colors, models,
+ * instances, BVH nodes, BVH items) and the trace spec constants. Float
+ * variant only: VX_ERR_UNSUPPORTED for scenes that need float64. */
+vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
+                                uint32_t spec[VX__SPEC_COUNT], vx_error* err);
+/* Palette index (0: none) of every entry of the colors buffer, in its order
+ * (the models' attribute records one model after another); *out freed with
+ * vx_free(alloc, ...). */
+vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
+                                 vx_error* err);
+
+#endif

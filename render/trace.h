@@ -1,0 +1,72 @@
+/* render/trace.h - the tracer's plain-C layer, shared by render/ and probes/:
+ * camera and frame set-up, affine helpers, the colours of the debug modes,
+ * scene checks and the CPU reference's grid walk. It needs no Vulkan (the
+ * library vx_trace builds without it: bvh.c, cpu_trace.c, render_common.c).
+ * Names keep the vx__ prefix: this is the toolkit's own layer under the
+ * public render.h, documented for the modules built on it, not for users. */
+#ifndef VX_RENDER_TRACE_H
+#define VX_RENDER_TRACE_H
+
+#include "render/render.h"
+
+/* ---- camera and frame set-up, shared by the GPU and the CPU paths ----------------- */
+
+/* Rays are generated relative to a reference point R near the scene (so the
+ * GPU's floats keep the scene's precision even when the eye is far away):
+ *   perspective:  P(u,v) = t_start * (u*rx + v*uy)   d = normalize(fwd + u*rx + v*uy)
+ *                 depth = t_start * |fwd + u*rx + v*uy| + s
+ *   orthographic: P(u,v) = u*rx + v*uy               d = fwd
+ *                 depth = t_start + s
+ * where s is the distance along d from P, u,v in [-1,1] (v up) and
+ * R = eye + t_start * fwd lies before all scene geometry. */
+typedef struct vx__frame {
+    uint32_t width, height, spp;
+    vx_render_mode mode;
+    bool ortho;
+    double ref[3];             /* R in world space */
+    double fwd[3], rx[3], uy[3];
+    double t_start;
+    double light[3];           /* unit, towards the light */
+    double ambient;
+    double pixel_angle;        /* LOD cone: world footprint per unit distance */
+    double pixel_size;         /* orthographic footprint */
+    double lod_pixels;
+    bool lod;
+} vx__frame;
+
+/* World bounds of the drawn instances' model boxes (zero when none). */
+void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]);
+/* Resolves defaults and the camera into a frame. */
+vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc, vx__frame* f,
+                          vx_error* err);
+/* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
+void vx__sample_offset(uint32_t i, double* ox, double* oy);
+/* World (3x4) of instance i: world_from_grid * xform. */
+void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]);
+void vx__affine_apply(const double m[12], const double p[3], double out[3]);
+/* Inverse of a 3x4 affine map; false if singular. */
+bool vx__affine_inverse(const double m[12], double out[12]);
+/* Colour of an instance id for VX_RENDER_INSTANCE; heat map for iterations. */
+void vx__instance_color(uint32_t id, float rgb[3]);
+void vx__heat_color(uint32_t iterations, float rgb[3]);
+/* Checks models and instances for the tracer's limits (depth, invertible). */
+vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err);
+/* Whether instance i is drawn (not hidden, nor in a hidden layer, model not empty). */
+bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i);
+/* RGBA8 of attribute record a of model m (palette looked up; white without attributes). */
+uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a);
+/* World AABB of an instance's model box [0,size]. */
+void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]);
+
+#define VX__SKY_R 0.62f
+#define VX__SKY_G 0.75f
+#define VX__SKY_B 0.92f
+
+/* ---- CPU reference internals used by the benchmark's dense baseline ----------------- */
+
+/* Calls fn for every filled model cell (via vx_svo_decode_model) placed in
+ * grid space with floor(M (v + 1/2) + t). */
+typedef void (*vx__grid_cell_fn)(void* user, int64_t x, int64_t y, int64_t z);
+vx_result vx__scene_grid_cells(const vx_svo_scene* s, vx__grid_cell_fn fn, void* user, vx_error* err);
+
+#endif
