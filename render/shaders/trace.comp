@@ -72,6 +72,7 @@ void main() {
         h.t = 3.0e38;
         h.inst = NO_HIT;
         h.color = 0xFFFFFFFFu;
+        h.cell = uvec3(0u); // a miss's hits record is written too
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         vec4 c = vec4(0.0);

@@ -10,6 +10,7 @@
  * Without arguments: 1920x1080 on a GPU, 192x108 on a CPU device (lavapipe).
  * The arguments run one frame only and print its time (for diagnosis on the
  * GPU machine). A frame that does not return within 60 s ends the process. */
+#include <dlfcn.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -98,8 +99,11 @@ static void test_hits_frame(void) {
                                 i / w, (int)a->instance, a->t, t);
                     bad++;
                 }
+                /* the two specialisations may round t differently (contractions) */
                 const vx_render_hit* b = &dh.hits[i];
-                if (b->instance != a->instance || b->t != a->t || memcmp(b->cell, a->cell, sizeof a->cell)) bad_col++;
+                if (b->instance != a->instance ||
+                    (!miss && (!(fabsf(b->t - a->t) <= 1e-5f * fmaxf(a->t, 1.0f)) || memcmp(b->cell, a->cell, sizeof a->cell))))
+                    bad_col++;
             }
             printf("view %d %ux%u: %.1f%% hits; depth %.3f s, colour+hits %.3f s, depth+hits %.3f s wall; %zu pixels "
                    "differ from depth, %zu between the two hits frames\n",
@@ -134,6 +138,10 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    /* as in test_render_gpu.c: pinned driver and layer keep their frames
+     * symbolised for tests/render/lsan.supp */
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
     vx_error err = {0};
     /* validation on when the layer is installed */
     vx_result r = vx_gpu_create(&(vx_gpu_desc){.validate = true}, &gpu, &err);
