@@ -126,6 +126,7 @@ typedef struct push_block {
     float f1[4]; /* sun, edge threshold */
     float f2[4]; /* sky */
     uint32_t u0[4]; /* sample, samples, ao rays, seed */
+    uint32_t u1[4]; /* first ao ray of the dispatch, ao rays in it */
 } push_block;
 
 typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_COUNT } shader_id;
@@ -204,7 +205,7 @@ typedef struct rec {
     VkDescriptorSet set;
     uint32_t groups[2];
     uint32_t nq;       /* timestamps written in this submission */
-    int row_of[4096];  /* timing row of dispatch k of this submission */
+    int row_of[8192];  /* timing row of dispatch k of this submission */
     uint32_t nd;
     bool recording;
     vx_frame_result* res;
@@ -232,7 +233,7 @@ static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const ch
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &R->set, 0, NULL);
     vkCmdPushConstants(cb, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
-    bool ts = g->has_timestamps && R->nq + 2 <= R->fr->qcap && R->nd < 4096;
+    bool ts = g->has_timestamps && R->nq + 2 <= R->fr->qcap && R->nd < 8192;
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->fr->qp, R->nq);
     vkCmdDispatch(cb, R->groups[0], R->groups[1], 1);
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->fr->qp, R->nq + 1);
@@ -349,9 +350,10 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) return r;
     tspec[VX__SPEC_HITS] = ids;
     /* timestamps: two per dispatch of the largest submission */
-    uint32_t per_sample = 1 + has_direct + has_ao + 1;
+    uint32_t ao_rays = desc->ao_rays ? desc->ao_rays : 4;
+    uint32_t per_sample = 1 + has_direct + (has_ao ? (vx_gpu_is_cpu(g) ? (ao_rays + 15) / 16 : 1) : 0) + 1;
     uint64_t want_q = 2ull * ((uint64_t)f.spp * per_sample + 2);
-    if (want_q > 8192) want_q = 8192; /* later dispatches still run, untimed: counted by wall time below */
+    if (want_q > 16384) want_q = 16384; /* later dispatches run untimed: rows and frame then cover the first 8192 */
     if (g->has_timestamps && fr->qcap < want_q) {
         if (fr->qp) vkDestroyQueryPool(g->device, fr->qp, NULL);
         fr->qp = VK_NULL_HANDLE, fr->qcap = 0;
@@ -404,6 +406,9 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     pc.u0[1] = f.spp;
     pc.u0[2] = desc->ao_rays ? desc->ao_rays : 4;
     pc.u0[3] = (uint32_t)(desc->seed ^ (desc->seed >> 32));
+    /* AO rays per dispatch: all of them on a GPU; on a CPU device few enough
+     * that llvmpipe's 65535-iteration loop guard cannot cut a short-ray walk */
+    uint32_t ao_chunk = vx_gpu_is_cpu(g) ? 16 : pc.u0[2];
     /* descriptor set */
     VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NBIND}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
@@ -460,7 +465,10 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
                                  0, NULL, 0, NULL);
         }
         if (has_direct) rec_dispatch(R, p_direct, &pc, "direct");
-        if (has_ao) rec_dispatch(R, p_ao, &pc, "ao");
+        for (uint32_t k = 0; has_ao && k < pc.u0[2]; k += ao_chunk) {
+            pc.u1[0] = k, pc.u1[1] = pc.u0[2] - k < ao_chunk ? pc.u0[2] - k : ao_chunk;
+            rec_dispatch(R, p_ao, &pc, "ao");
+        }
         if (has_gi) {
             /* the method records and submits its own work */
             if ((r = rec_submit(R, err))) goto done;

@@ -3,6 +3,11 @@
 // cosine-weighted rays of length PC.f0.z (world units) from just off the
 // surface; writes the unoccluded share (1: open, 0: fully occluded). Rays
 // stop at the first hit (any-hit traversal), so short rays stay cheap.
+// The rays may come in several dispatches (rays PC.u1.x .. +PC.u1.y): the
+// image holds the blocked count until the last one turns it into the share.
+// Ray k's directions depend on k alone, so the split does not change the
+// result; it exists for llvmpipe, which silently ends every loop of a group
+// of invocations after 65535 iterations in all (see probes/shaders/probe.comp).
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -21,13 +26,14 @@ void main() {
     }
     vec3 nw = gb_normal(g1);
     vec3 ps = gb_offset_point(uintBitsToFloat(gb0[i].xyz), nw, g1.y);
-    uint n = max(PC.u0.z, 1u), blocked = 0u;
-    for (uint k = 0u; k < n; k++) {
+    uint n = max(PC.u0.z, 1u), first = PC.u1.x, count = PC.u1.y;
+    float blocked = first == 0u ? 0.0 : ao_img[i];
+    for (uint k = first; k < first + count; k++) {
         vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
         Hit h;
         h.t = PC.f0.z;
         h.inst = NO_HIT;
-        if (trace_scene(ps, dir, 0.0, true, h)) blocked++;
+        if (trace_scene(ps, dir, 0.0, true, h)) blocked += 1.0;
     }
-    ao_img[i] = 1.0 - float(blocked) / float(n);
+    ao_img[i] = first + count >= n ? 1.0 - blocked / float(n) : blocked;
 }

@@ -26,6 +26,7 @@ layout(push_constant) uniform Push {
     vec4 f1;  // xyz: sun irradiance (radiometric light), w: aa edge threshold
     vec4 f2;  // xyz: sky radiance (radiometric light), w: 0
     uvec4 u0; // x: sample, y: samples, z: ao rays, w: seed
+    uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch
 } PC;
 
 const float PI = 3.14159265358979;
