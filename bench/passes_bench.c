@@ -27,7 +27,9 @@ static double median(double* v, int n) {
     return n ? v[n / 2] : 0;
 }
 
-static const char* const lists[] = {"gbuffer", "gbuffer,direct", "gbuffer,direct,tonemap", "gbuffer,direct,ao,tonemap",
+/* "=" marks a list run with separate_passes (each pass its own dispatch) */
+static const char* const lists[] = {"gbuffer",        "gbuffer,direct",           "=gbuffer,direct",
+                                    "gbuffer,direct,tonemap", "=gbuffer,direct,tonemap", "gbuffer,direct,ao,tonemap",
                                     "gbuffer,direct,ao,aa,tonemap"};
 #define NLISTS (sizeof lists / sizeof lists[0])
 
@@ -130,12 +132,14 @@ int main(int argc, char** argv) {
             printf("| single shader (trace.comp colour) | %.3f | | 1.00 |\n", single);
             for (size_t l = 0; l < NLISTS; l++) {
                 vx_pass_list L;
-                vx_pass_list_parse(lists[l], &L, &err);
+                bool sep = lists[l][0] == '=';
+                vx_pass_list_parse(lists[l] + sep, &L, &err);
                 fd = vx_frame_desc_defaults();
                 fd.base = base;
                 fd.base.spp = 1; /* aa: one sample, so the rows compare per-frame costs */
                 fd.passes = &L;
                 fd.no_readback = true;
+                fd.separate_passes = sep;
                 const char* names[VX_PASS_KIND_COUNT + 1] = {0};
                 uint32_t nn = 0;
                 bool ok = true;
@@ -162,7 +166,8 @@ int main(int argc, char** argv) {
                 for (uint32_t q = 0; q < nn; q++)
                     snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.3f", q ? ", " : "", names[q],
                              median(tp + q * runs, runs));
-                printf("| %s | %.3f | %s | %.2f |\n", lists[l], fm, per, single > 0 ? fm / single : 0);
+                printf("| %s%s | %.3f | %s | %.2f |\n", lists[l] + sep, sep ? " (separate passes)" : "", fm, per,
+                       single > 0 ? fm / single : 0);
             }
         }
         vx_frame_renderer_destroy(fr);

@@ -11,6 +11,7 @@
 
 #include "ao.comp.h"
 #include "direct.comp.h"
+#include "frame.comp.h"
 #include "gbuffer.comp.h"
 #include "post.comp.h"
 #include "resolve.comp.h"
@@ -129,7 +130,7 @@ typedef struct push_block {
     uint32_t u1[4]; /* first ao ray of the dispatch, ao rays in it */
 } push_block;
 
-typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_COUNT } shader_id;
+typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_FRAME, SH_COUNT } shader_id;
 
 struct vx_frame_renderer {
     vx_render_scene* rs;
@@ -181,7 +182,7 @@ static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, con
 }
 
 static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], vx__pipeline** out, vx_error* err) {
-    static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post"};
+    static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame"};
     vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 8, .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
     switch (sh) {
@@ -189,6 +190,7 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], v
     case SH_DIRECT: pd.spirv = vx__direct_spv_arr, pd.spirv_size = sizeof vx__direct_spv_arr; break;
     case SH_AO: pd.spirv = vx__ao_spv_arr, pd.spirv_size = sizeof vx__ao_spv_arr; break;
     case SH_RESOLVE: pd.spirv = vx__resolve_spv_arr, pd.spirv_size = sizeof vx__resolve_spv_arr; break;
+    case SH_FRAME: pd.spirv = vx__frame_spv_arr, pd.spirv_size = sizeof vx__frame_spv_arr; break;
     default: pd.spirv = vx__post_spv_arr, pd.spirv_size = sizeof vx__post_spv_arr; break;
     }
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -366,7 +368,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     /* pipelines */
     uint32_t spec[8] = {0};
     memcpy(spec, tspec, sizeof tspec);
-    vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL;
+    vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
+    /* gbuffer, direct and resolve merge into one dispatch when nothing needs
+     * their images in between (no ao, no gi, no intermediate shown) */
+    bool merge = has_gb && !has_gi && !has_ao && desc->show == VX_SHOW_FINAL && !desc->separate_passes;
+    const char* merged_name = has_direct ? "gbuffer+direct+resolve" : "gbuffer+resolve";
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
     if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
     spec[5] = 0, spec[6] = phys;
@@ -376,6 +382,12 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u);
     spec[6] = (uint32_t)desc->show;
     if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
+    if (merge) {
+        uint32_t ms[8];
+        memcpy(ms, spec, sizeof ms);
+        ms[5] = has_direct ? 1u : 0u, ms[6] = has_dof && !f.ortho;
+        if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
+    }
     bool final = desc->show == VX_SHOW_FINAL;
     bool run_aa = has_aa && final, run_tm = has_tm && final;
     spec[5] = 0, spec[6] = 0;
@@ -453,6 +465,10 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     gi_frame.spp = 1;
     for (uint32_t s = 0; s < f.spp; s++) {
         pc.u0[0] = s;
+        if (merge) {
+            rec_dispatch(R, p_merged, &pc, merged_name);
+            continue;
+        }
         if (has_gb) {
             rec_dispatch(R, p_gb, &pc, "gbuffer");
         } else {

@@ -34,6 +34,12 @@
  * resolve shader is specialised on what is present (no AO term without ao,
  * no emission term without emissive records).
  *
+ * Merging: when nothing reads the G-buffer between them (no ao, no gi, no
+ * intermediate shown), gbuffer, direct and resolve run as one kernel per
+ * sample (shaders/frame.comp, the same functions as the three pass shaders,
+ * values kept in registers), reported as one timing row; separate_passes
+ * turns that off.
+ *
  * GPU time per pass comes from timestamps around each dispatch in one
  * submission (the gi method's own dispatches are timed by the method).
  * Float traversal only: scenes that need the float64 variant (a model deeper
@@ -136,7 +142,11 @@ typedef struct vx_gi_method {
  *  seed:        random streams of ao and dof
  *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth)
  *  no_readback: benchmarks: leave the image on the GPU (image.pixels NULL),
- *               so back-to-back frames keep the GPU busy and at its clocks */
+ *               so back-to-back frames keep the GPU busy and at its clocks
+ *  separate_passes: never merge passes (each pass its own dispatch and
+ *               timing row); by default gbuffer, direct and resolve run as
+ *               one dispatch ("gbuffer+direct+resolve") when no ao, gi or
+ *               intermediate image needs their results in between */
 typedef struct vx_frame_desc {
     vx_render_desc base;
     const vx_pass_list* passes;
@@ -150,6 +160,7 @@ typedef struct vx_frame_desc {
     uint64_t seed;
     bool want_ids;
     bool no_readback;
+    bool separate_passes;
 } vx_frame_desc;
 
 /* The resolved defaults of a desc, for --help and for callers who want to

@@ -14,9 +14,10 @@ if(VX_WITH_VULKAN)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
   # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
-  # gbuffer, direct, ao, resolve and post are the pass pipeline's shaders (pipeline.c).
+  # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
+  # are the pass pipeline's shaders (pipeline.c).
   foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE
-               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post)
+               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -33,6 +34,7 @@ if(VX_WITH_VULKAN)
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})

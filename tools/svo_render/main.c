@@ -70,6 +70,8 @@ _Noreturn static void usage(int status) {
             "  --aperture A         depth of field lens radius, world units (default: 1/100 of the scene diagonal)\n"
             "  --focus D            depth of field focus distance (default: the camera target's depth)\n"
             "  --exposure EV        tonemap exposure in stops (default: %g)\n"
+            "  --separate-passes    never merge passes: by default gbuffer, direct and resolve run as one\n"
+            "                       kernel when no ao, gi or --show image needs them apart\n"
             "  --timings FILE.csv   per-pass GPU times, one row per frame and pass\n"
             "  --frames N           render the frame N times (timings; default: 1)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
@@ -175,13 +177,13 @@ static vx_result render_passes(options* o, vx_gpu* gpu, vx_render_scene* rs, con
     }
     if (csv && fclose(csv) && !r) r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: write failed", o->timings);
     if (!r && o->verbose) {
-        printf("%-10s %10s %7s %10s\n", "pass", "ms", "share", "dispatches");
+        printf("%-24s %10s %7s %10s\n", "pass", "ms", "share", "dispatches");
         double sum = 0;
         for (uint32_t t = 0; t < res.timing_count; t++) sum += res.timings[t].ms;
         for (uint32_t t = 0; t < res.timing_count; t++)
-            printf("%-10s %10.3f %6.1f%% %10u\n", res.timings[t].name, res.timings[t].ms,
+            printf("%-24s %10.3f %6.1f%% %10u\n", res.timings[t].name, res.timings[t].ms,
                    sum > 0 ? 100 * res.timings[t].ms / sum : 0.0, res.timings[t].dispatches);
-        printf("%-10s %10.3f %6.1f%%  (GPU, first pass start to last pass end)\n", "frame", res.frame_ms,
+        printf("%-24s %10.3f %6.1f%%  (GPU, first pass start to last pass end)\n", "frame", res.frame_ms,
                sum > 0 ? 100 * res.frame_ms / sum : 0.0);
     }
     if (!r) *img = res.image;
@@ -306,6 +308,9 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_vec(argv[++i], &o.fd.exposure, 1) || !(fabs(o.fd.exposure) <= 64))
                 usage_error("bad exposure '%s' (stops, -64..64)", argv[i]);
+        } else if (!strcmp(a, "--separate-passes")) {
+            o.fd.separate_passes = true;
+            o.passes_given = true;
         } else if (!strcmp(a, "--timings")) {
             NEED();
             o.timings = argv[++i];
