@@ -32,6 +32,7 @@ extern "C" {
 
 typedef struct vx_conv_stats {
     uint32_t models, instances;
+    uint32_t models_unused;   /* .vox: models no instance places (left out, or kept with keep_unused) */
     vx_svo_build_stats build; /* summed over all models */
     double seconds_read;      /* parsing the input file */
     double seconds_voxelize;  /* making voxels (meshes, grids) */
@@ -42,12 +43,17 @@ typedef struct vx_conv_stats {
 /* .vox scene -> svo scene. Each vox model becomes one svo model (instancing
  * kept); each vox instance an instance with M = R, t = t_vox - R floor(s/2)
  * (the MagicaVoxel pivot), so floor(M (v + 1/2) + t) is the MagicaVoxel
- * world cell. Models used by no instance are kept (unreferenced). The
- * palette is stored only when some voxel uses it; MATL records become
- * material records; layers are copied. */
+ * world cell. Models that no instance places (through the scene graph, for
+ * the frame and hidden-node choice the reader made: other animation
+ * frames, shapes under hidden nodes, models no shape names) are left out
+ * and the others renumbered in their file order, unless keep_unused;
+ * stats->models_unused counts them either way. The palette is stored only
+ * when some stored voxel uses it; MATL records of the colours stored
+ * voxels use become material records; layers are copied. */
 typedef struct vx_conv_vox_desc {
     vx_svo_build_desc build;
     const vx_allocator* alloc;
+    bool keep_unused; /* also store models no instance places (default: left out) */
 } vx_conv_vox_desc;
 
 vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_svo_scene* out, vx_conv_stats* stats,

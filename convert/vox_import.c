@@ -1,7 +1,9 @@
 /* convert/vox_import.c - MagicaVoxel scene -> svo scene.
  *
- * One svo model per vox model (instancing is kept: shapes that share a model
- * become instances of one octree), palette indices as the only attribute. */
+ * One svo model per vox model that some instance places (instancing is
+ * kept: shapes that share a model become instances of one octree; unused
+ * models are left out unless keep_unused), palette indices as the only
+ * attribute. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,8 +66,27 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     vx_svo_scene_init(&s, a);
     vx_result r = VX_OK;
 
-    s.model_count = in->model_count;
-    s.models = (vx_svo_model*)vx_calloc(a, in->model_count ? in->model_count : 1, sizeof *s.models);
+    /* models some instance places; new_index[i]: svo model of vox model i */
+    uint32_t* new_index = (uint32_t*)vx_calloc(a, in->model_count ? in->model_count : 1, sizeof *new_index);
+    if (!new_index) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (uint32_t i = 0; i < in->model_count; i++) new_index[i] = UINT32_MAX;
+    for (uint32_t i = 0; i < in->instance_count; i++) {
+        uint32_t m = in->instances[i].model;
+        if (m >= in->model_count) {
+            vx_free(a, new_index);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u uses model %u of %u", i, m,
+                           in->model_count);
+        }
+        new_index[m] = 0;
+    }
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < in->model_count; i++) {
+        if (new_index[i] == UINT32_MAX) cs.models_unused++;
+        if (new_index[i] != UINT32_MAX || d.keep_unused) new_index[i] = kept++;
+    }
+
+    s.model_count = kept;
+    s.models = (vx_svo_model*)vx_calloc(a, kept ? kept : 1, sizeof *s.models);
     s.instances = (vx_svo_instance*)vx_calloc(a, in->instance_count ? in->instance_count : 1, sizeof *s.instances);
     s.layers = (vx_svo_layer*)vx_calloc(a, in->layer_count ? in->layer_count : 1, sizeof *s.layers);
     s.materials = (vx_svo_material*)vx_calloc(a, in->material_count ? in->material_count : 1, sizeof *s.materials);
@@ -75,8 +96,9 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
         goto fail;
     }
     for (uint32_t i = 0; i < in->model_count; i++) {
+        if (new_index[i] == UINT32_MAX) continue; /* left out */
         vx_svo_build_stats st = {0};
-        r = build_model(&d, &in->models[i], &s.models[i], &st, err);
+        r = build_model(&d, &in->models[i], &s.models[new_index[i]], &st, err);
         if (r != VX_OK) {
             char where[48];
             snprintf(where, sizeof where, "model %u", i);
@@ -102,11 +124,6 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     for (uint32_t i = 0; i < in->instance_count; i++) {
         const vx_vox_instance* vi = &in->instances[i];
         vx_svo_instance* si = &s.instances[i];
-        if (vi->model >= in->model_count) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u uses model %u of %u", i, vi->model,
-                        in->model_count);
-            goto fail;
-        }
         const uint32_t* sz = in->models[vi->model].size;
         int32_t c[3] = {vox_floor_half(sz[0]), vox_floor_half(sz[1]), vox_floor_half(sz[2])};
         /* MagicaVoxel pivot: cell v lands at floor(R (v + 1/2 - c) + t), i.e.
@@ -119,7 +136,7 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
             }
             si->xform[row * 4 + 3] = (double)((int64_t)vi->t[row] - rc);
         }
-        si->model = vi->model;
+        si->model = new_index[vi->model];
         si->flags = vi->hidden ? VX_SVO_INSTANCE_HIDDEN : 0u;
         si->layer = UINT32_MAX;
         for (uint32_t l = 0; l < in->layer_count; l++)
@@ -128,10 +145,11 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     }
 
     /* MagicaVoxel files carry a material for each of the 256 palette
-     * entries; only those some voxel uses describe the scene. */
+     * entries; only those some stored voxel uses describe the scene. */
     bool used[256] = {false};
     for (uint32_t i = 0; i < in->model_count; i++)
-        for (uint32_t k = 0; k < in->models[i].voxel_count; k++) used[in->models[i].xyzi[4 * (size_t)k + 3]] = true;
+        if (new_index[i] != UINT32_MAX)
+            for (uint32_t k = 0; k < in->models[i].voxel_count; k++) used[in->models[i].xyzi[4 * (size_t)k + 3]] = true;
     s.material_count = 0;
     for (uint32_t i = 0; i < in->material_count; i++) {
         const vx_vox_material* m = &in->materials[i];
@@ -153,11 +171,13 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     cs.instances = s.instance_count;
     cs.seconds_build = vx_time_now() - t0;
     cs.peak_bytes = vx_peak_rss();
+    vx_free(a, new_index);
     if (stats) *stats = cs;
     *out = s;
     return VX_OK;
 
 fail:
+    vx_free(a, new_index);
     vx_svo_scene_free(&s);
     return r;
 }

@@ -127,6 +127,17 @@ static bool through_file(const vx_vox_scene* vs, vx_svo_scene* out, const vx_svo
     return true;
 }
 
+/* Models some instance of vs places (what vx_conv_vox stores by default). */
+static uint32_t placed_models(const vx_vox_scene* vs) {
+    uint32_t n = 0;
+    for (uint32_t m = 0; m < vs->model_count; m++) {
+        bool used = false;
+        for (uint32_t i = 0; i < vs->instance_count && !used; i++) used = vs->instances[i].model == m;
+        n += used;
+    }
+    return n;
+}
+
 static void check_scene(const char* name, const vx_vox_scene* vs) {
     cells a = {0}, b = {0}, c = {0}, d = {0};
     cells_from_vox(vs, &a);
@@ -134,7 +145,7 @@ static void check_scene(const char* name, const vx_vox_scene* vs) {
     for (unsigned mode = 0; mode < 4; mode++) {
         vx_svo_scene s;
         REQUIRE(through_file(vs, &s, &modes[mode]));
-        CHECK(s.model_count == vs->model_count); /* instancing kept: no copies */
+        CHECK(s.model_count == placed_models(vs)); /* instancing kept: no copies; unused models left out */
         b.n = 0;
         CHECK(cells_from_svo(&s, &b));
         CHECKF(same_cells(&a, &b, name), "%s: reader placement != decoded svo (mode %u)", name, mode);
@@ -217,8 +228,196 @@ static void test_keep_hidden(void) {
     vx_vox_scene_free(&vs);
 }
 
+/* A scene written by the project's own writer: 5 models of different
+ * sizes and colours, model 2 placed twice (one mirrored), model 4 only by
+ * an instance on a hidden layer, models 0, 1 and 3 by nothing (like the
+ * other frames of an animation). Colours 10 + m, a MATL record for each. */
+static vx_result unused_scene(bool keep_hidden, vx_vox_scene* out) {
+    vx_vox_scene s;
+    memset(&s, 0, sizeof s);
+    s.version = 150;
+    s.model_count = 5;
+    s.models = calloc(5, sizeof *s.models);
+    s.instances = calloc(3, sizeof *s.instances);
+    s.layers = calloc(2, sizeof *s.layers);
+    s.materials = calloc(5, sizeof *s.materials);
+    if (!s.models || !s.instances || !s.layers || !s.materials) return VX_ERR_NOMEM;
+    for (uint32_t m = 0; m < 5; m++) {
+        vx_vox_model* vm = &s.models[m];
+        uint32_t n = 3 + m;
+        vm->size[0] = n;
+        vm->size[1] = n + 1;
+        vm->size[2] = 2 * n;
+        vm->xyzi = malloc(4 * (size_t)n * n);
+        if (!vm->xyzi) return VX_ERR_NOMEM;
+        for (uint32_t y = 0; y < n; y++) /* a diagonal wall: x == z / 2 */
+            for (uint32_t x = 0; x < n; x++) {
+                uint8_t* v = vm->xyzi + 4 * (size_t)vm->voxel_count++;
+                v[0] = (uint8_t)x;
+                v[1] = (uint8_t)y;
+                v[2] = (uint8_t)(2 * x + (y & 1));
+                v[3] = (uint8_t)(10 + m);
+            }
+        static const char dict[] = "_type\0_metal\0";
+        s.materials[m].id = 10 + m;
+        s.materials[m].dict_size = sizeof dict - 1; /* the literal's own NUL is not part of it */
+        s.materials[m].dict = malloc(sizeof dict);
+        if (!s.materials[m].dict) return VX_ERR_NOMEM;
+        memcpy(s.materials[m].dict, dict, sizeof dict);
+    }
+    s.material_count = 5;
+    memcpy(s.palette, vx_vox_default_palette, sizeof s.palette);
+    s.layer_count = 2;
+    s.layers[0] = (vx_vox_layer){.id = 0, .name = "shown"};
+    s.layers[1] = (vx_vox_layer){.id = 1, .hidden = true, .name = "hidden"};
+    static const int32_t id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 0, 1, 0, 1, 0};
+    s.instances[0] = (vx_vox_instance){.model = 2, .layer = 0, .t = {5, -3, 7}, .name = "placed"};
+    memcpy(s.instances[0].rot, id, sizeof id);
+    s.instances[1] = (vx_vox_instance){.model = 2, .layer = 0, .t = {-20, 4, 0}, .name = "placed, mirrored"};
+    memcpy(s.instances[1].rot, mirror, sizeof mirror);
+    s.instances[2] = (vx_vox_instance){.model = 4, .layer = 1, .t = {0, 30, 0}, .name = "on the hidden layer"};
+    memcpy(s.instances[2].rot, id, sizeof id);
+    s.instance_count = 3;
+    uint8_t* bytes = NULL;
+    size_t n = 0;
+    vx_error err = {0};
+    vx_result r = vx_vox_write(&s, NULL, &bytes, &n, &err);
+    vx_vox_scene_free(&s);
+    if (!r) r = vx_vox_read(&(vx_vox_read_desc){.keep_hidden = keep_hidden}, bytes, n, out, &err);
+    free(bytes);
+    if (r) fprintf(stderr, "  unused_scene: %s\n", err.msg);
+    return r;
+}
+
+/* Unused models are left out by default (renumbered, the same voxels),
+ * kept with keep_unused; the statistics count them either way. */
+static void test_unused_models(void) {
+    vx_vox_scene vs;
+    REQUIRE(unused_scene(false, &vs) == VX_OK);
+    REQUIRE(vs.model_count == 5 && vs.instance_count == 2); /* the hidden layer's instance is not read */
+    cells want = {0};
+    cells_from_vox(&vs, &want);
+    CHECK(want.n == 2 * 5 * 5);
+    size_t bytes[2] = {0, 0};
+    for (int keep = 0; keep < 2; keep++) {
+        vx_svo_scene s;
+        vx_conv_stats st;
+        vx_error err = {0};
+        REQUIRE(vx_conv_vox(&(vx_conv_vox_desc){.keep_unused = keep}, &vs, &s, &st, &err) == VX_OK);
+        CHECKF(st.models_unused == 4, "keep %d: %u unused", keep, st.models_unused);
+        CHECKF(s.model_count == (keep ? 5u : 1u) && st.models == s.model_count, "keep %d: %u models", keep, s.model_count);
+        for (uint32_t i = 0; i < s.instance_count; i++) CHECK(s.instances[i].model == (keep ? 2u : 0u));
+        /* the materials of the stored models' colours */
+        CHECKF(s.material_count == (keep ? 5u : 1u) && s.materials[0].id == (keep ? 10u : 12u), "%u materials, first id %u",
+               s.material_count, s.material_count ? s.materials[0].id : 0);
+        cells got = {0};
+        CHECK(cells_from_svo(&s, &got));
+        CHECKF(same_cells(&want, &got, "unused models"), "keep %d: voxels differ", keep);
+        free(got.v);
+        uint8_t* data = NULL;
+        REQUIRE(vx_svo_write(&s, NULL, &data, &bytes[keep], &err) == VX_OK);
+        free(data);
+        vx_svo_scene_free(&s);
+    }
+    CHECKF(bytes[0] < bytes[1], "%zu bytes without the unused models, %zu with", bytes[0], bytes[1]);
+    vx_vox_scene_free(&vs);
+    free(want.v);
+    /* keep_hidden: the hidden instance places model 4, which is then stored
+     * (as model 1, after model 2 as model 0) */
+    REQUIRE(unused_scene(true, &vs) == VX_OK);
+    REQUIRE(vs.instance_count == 3);
+    vx_svo_scene s;
+    vx_conv_stats st;
+    REQUIRE(vx_conv_vox(NULL, &vs, &s, &st, NULL) == VX_OK);
+    CHECK(st.models_unused == 3 && s.model_count == 2);
+    uint32_t hidden = 0;
+    for (uint32_t i = 0; i < s.instance_count; i++) {
+        bool h = (s.instances[i].flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+        hidden += h;
+        CHECK(s.instances[i].model == (h ? 1u : 0u));
+    }
+    CHECK(hidden == 1);
+    CHECK(s.material_count == 2);
+    check_scene("unused models (keep hidden)", &vs);
+    vx_svo_scene_free(&s);
+    vx_vox_scene_free(&vs);
+}
+
+static void put32(uint8_t** p, uint32_t v) {
+    for (int i = 0; i < 4; i++) *(*p)++ = (uint8_t)(v >> (8 * i));
+}
+
+/* A legacy animation (.vox 150 without a scene graph, PACK of 8 frames,
+ * frame f a 4^3 cube of varied colours shifted by f cells): only the chosen frame's model is
+ * placed, and stored; keep_unused stores all 8 (about 8 times the bytes). */
+static void test_unused_animation_frames(void) {
+    enum { FRAMES = 8, N = 4 * 4 * 4 };
+    static uint8_t file[8 + 12 + 16 + FRAMES * (24 + 16 + 4 * N)];
+    uint8_t* p = file;
+    memcpy(p, "VOX ", 4);
+    p += 4;
+    put32(&p, 150);
+    memcpy(p, "MAIN", 4);
+    p += 4;
+    put32(&p, 0);
+    put32(&p, (uint32_t)(sizeof file - 20));
+    memcpy(p, "PACK", 4);
+    p += 4;
+    put32(&p, 4);
+    put32(&p, 0);
+    put32(&p, FRAMES);
+    for (uint32_t f = 0; f < FRAMES; f++) {
+        memcpy(p, "SIZE", 4);
+        p += 4;
+        put32(&p, 12);
+        put32(&p, 0);
+        put32(&p, 4 + f);
+        put32(&p, 4);
+        put32(&p, 4);
+        memcpy(p, "XYZI", 4);
+        p += 4;
+        put32(&p, 4 + 4 * N);
+        put32(&p, 0);
+        put32(&p, N);
+        for (uint32_t i = 0; i < N; i++) {
+            *p++ = (uint8_t)(f + (i & 3));
+            *p++ = (uint8_t)((i >> 2) & 3);
+            *p++ = (uint8_t)(i >> 4);
+            *p++ = (uint8_t)(1 + (i * 37 + f * 11) % 200); /* varied colours: no collapse */
+        }
+    }
+    REQUIRE(p == file + sizeof file);
+    for (uint32_t frame = 0; frame < FRAMES; frame += 5) {
+        vx_vox_scene vs;
+        vx_error err = {0};
+        vx_result r = vx_vox_read(&(vx_vox_read_desc){.frame = frame}, file, sizeof file, &vs, &err);
+        CHECKF(r == VX_OK, "%s", err.msg);
+        if (r) return;
+        REQUIRE(vs.model_count == FRAMES && vs.instance_count == 1 && vs.instances[0].model == frame);
+        size_t bytes[2] = {0, 0};
+        for (int keep = 0; keep < 2; keep++) {
+            vx_svo_scene s;
+            vx_conv_stats st;
+            REQUIRE(vx_conv_vox(&(vx_conv_vox_desc){.keep_unused = keep}, &vs, &s, &st, &err) == VX_OK);
+            CHECK(st.models_unused == FRAMES - 1);
+            CHECK(s.model_count == (keep ? FRAMES : 1u) && s.instances[0].model == (keep ? frame : 0u));
+            CHECK(s.models[s.instances[0].model].size[0] >= 4 + frame);
+            uint8_t* data = NULL;
+            REQUIRE(vx_svo_write(&s, NULL, &data, &bytes[keep], &err) == VX_OK);
+            free(data);
+            vx_svo_scene_free(&s);
+        }
+        fprintf(stderr, "  frame %u: %zu bytes, %zu with the 7 unused frames\n", frame, bytes[0], bytes[1]);
+        CHECKF(bytes[0] * 3 < bytes[1], "%zu vs %zu bytes", bytes[0], bytes[1]); /* the header and palette are shared */
+        check_scene("legacy animation", &vs);
+        vx_vox_scene_free(&vs);
+    }
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
+    RUN(test_unused_models);
+    RUN(test_unused_animation_frames);
     return vx_test_finish();
 }

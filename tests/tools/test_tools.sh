@@ -21,6 +21,7 @@ expect_status() { # expected description command...
 expect_status 0 "vox2svo --help" "$BIN/vox2svo" --help
 grep -q "^Usage:" "$T/out" && grep -q "^Options:" "$T/out" && grep -q "^Examples:" "$T/out" && ok "help sections" || bad "help sections"
 grep -q "default: 256" "$T/out" && ok "help shows defaults" || bad "help shows defaults"
+grep -q -- "--keep-unused" "$T/out" && ok "help lists --keep-unused" || bad "help lists --keep-unused"
 expect_status 2 "vox2svo without arguments" "$BIN/vox2svo"
 expect_status 2 "vox2svo unknown option" "$BIN/vox2svo" a.vox b.svo --bogus
 grep -q "not a valid option" "$T/err" && ok "unknown option message" || bad "unknown option message"
@@ -35,6 +36,7 @@ grep -q "none.vox" "$T/err" && ok "error names the file" || bad "error names the
 expect_status 0 "write demo" "$BIN/vox2svo" --write-demo "$T/demo.vox"
 expect_status 0 "convert demo" "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo"
 grep -q "descriptors  plain" "$T/out" && grep -q "bytes/voxel" "$T/out" && ok "statistics printed" || bad "statistics printed"
+cp "$T/out" "$T/out.demo"
 expect_status 0 "svo_info demo" "$BIN/svo_info" "$T/demo.svo"
 grep -q "^model 0" "$T/out" && grep -q "^sections" "$T/out" && ok "svo_info lists sections and models" || bad "svo_info lists sections and models"
 expect_status 0 "verify demo" "$BIN/svo_info" "$T/demo.svo" --verify
@@ -50,6 +52,17 @@ cmp -s "$T/d1" "$T/d2" && ok "dump(svo) == dump(svo -> vox -> svo)" || bad "dump
 cmp -s "$T/d1" "$T/d3" && ok "minimization does not change the voxels" || bad "minimization does not change the voxels"
 s1=$(wc -c <"$T/demo.svo"); s3=$(wc -c <"$T/plain.svo")
 [ "$s1" -lt "$s3" ] && ok "minimized file smaller ($s1 < $s3 bytes)" || bad "minimized file smaller ($s1 vs $s3)"
+# the crate model is placed only on the hidden layer: left out by default,
+# kept with --keep-unused (same voxels, a larger file), placed with --keep-hidden
+grep -q "models       3, instances 16, unused models left out 1" "$T/out.demo" && ok "statistics count the unused model" ||
+    bad "statistics count the unused model: $(grep models "$T/out.demo")"
+expect_status 0 "convert --keep-unused" "$BIN/vox2svo" "$T/demo.vox" "$T/keep.svo" --keep-unused
+grep -q "models       4, instances 16, unused models kept 1" "$T/out" && ok "--keep-unused keeps it" ||
+    bad "--keep-unused keeps it: $(grep models "$T/out")"
+"$BIN/svo_info" "$T/keep.svo" --dump | sort >"$T/d5"
+cmp -s "$T/d1" "$T/d5" && ok "--keep-unused does not change the voxels" || bad "--keep-unused does not change the voxels"
+s5=$(wc -c <"$T/keep.svo")
+[ "$s1" -lt "$s5" ] && ok "unused model left out: $s1 < $s5 bytes" || bad "unused model left out: $s1 vs $s5 bytes"
 "$BIN/vox2svo" "$T/demo.vox" "$T/hid.svo" --keep-hidden -q
 "$BIN/svo_info" "$T/hid.svo" --dump --all | sort >"$T/d4"
 [ "$(wc -l <"$T/d4")" -gt "$n" ] && ok "--keep-hidden keeps the hidden layer" || bad "--keep-hidden keeps the hidden layer"

@@ -30,6 +30,7 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
         if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->frame))
             vx_tool_usage_error(usage, "bad --frame value '%s'", argv[*i]);
     } else if (!strcmp(a, "--keep-hidden")) c->keep_hidden = true;
+    else if (!strcmp(a, "--keep-unused")) c->keep_unused = true;
     else if (!strcmp(a, "--no-collapse")) c->no_collapse = true;
     else if (!strcmp(a, "--no-dag")) c->no_dag = true;
     else if (!strcmp(a, "--res")) {
@@ -79,7 +80,8 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
         r = vx_vox_read_file(&rd, path, &vs, err);
         li.seconds_read = vx_time_now() - t0;
         if (r == VX_OK) {
-            r = vx_conv_vox(&(vx_conv_vox_desc){.build = build}, &vs, out, &li.stats, err);
+            r = vx_conv_vox(&(vx_conv_vox_desc){.build = build, .keep_unused = c->keep_unused}, &vs, out, &li.stats,
+                            err);
             vx_vox_scene_free(&vs);
         }
     } else if (!strcmp(ext, "gltf") || !strcmp(ext, "glb")) {

@@ -13,6 +13,7 @@ typedef struct vx_tool_conv {
     /* .vox */
     uint32_t frame;
     bool keep_hidden;
+    bool keep_unused; /* also store models no instance places */
     /* octree builder */
     bool no_collapse, no_dag;
     /* .gltf / .glb */

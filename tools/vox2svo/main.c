@@ -36,6 +36,8 @@ _Noreturn static void usage(int status) {
             "Options:\n"
             "    --frame N        animation frame of a .vox scene (default: %u)\n"
             "    --keep-hidden    keep hidden nodes, groups and layers of a .vox scene\n"
+            "    --keep-unused    keep the models of a .vox scene that no instance places\n"
+            "                     (other animation frames, hidden shapes; default: left out)\n"
             "    --no-collapse    skip minimization step 1 (uniform full subtrees -> one leaf)\n"
             "    --no-dag         skip minimization step 2 (share identical subtrees)\n"
             "    --res N          meshes: voxels along the longest side (default: %u)\n"
@@ -105,7 +107,10 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
     printf("%s: %s -> %s\n", vx_tool_name, o->in, o->out);
     printf("  input        %s, %s bytes\n", kind, vx_tool_num(in_bytes));
     printf("  voxels       %s (%s given)\n", vx_tool_num(b->voxels), vx_tool_num(b->input_voxels));
-    printf("  models       %u, instances %u\n", cs->models, cs->instances);
+    printf("  models       %u, instances %u", cs->models, cs->instances);
+    if (!strcmp(kind, ".vox"))
+        printf(", unused models %s %u", o->conv.keep_unused ? "kept" : "left out", cs->models_unused);
+    printf("\n");
     printf("  descriptors  plain %s -> collapsed %s -> dag %s", vx_tool_num(b->desc_plain),
            vx_tool_num(b->desc_collapsed), vx_tool_num(b->desc_dag));
     if (b->desc_plain)
