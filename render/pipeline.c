@@ -107,10 +107,7 @@ bool vx_show_parse(const char* s, vx_show* out) {
 
 vx_frame_desc vx_frame_desc_defaults(void) {
     vx_frame_desc d = {0};
-    d.base.width = 640, d.base.height = 480, d.base.spp = 1;
-    d.base.camera.fov = 45;
-    d.base.ambient = 0.3;
-    d.base.lod_pixels = 1;
+    d.base = vx_render_desc_defaults();
     d.ao_rays = 4;
     d.edge_threshold = 0.1;
     return d;

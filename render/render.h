@@ -173,6 +173,11 @@ typedef struct vx_render_desc {
     bool want_hits;
 } vx_render_desc;
 
+/* What a zero-initialised desc means, field by field (the tools' --help
+ * prints these): 640x480, 1 spp, fov 45, ambient 0.3, lod_pixels 1, light
+ * (0.35, -0.45, 0.82); camera unset (frame the scene bounds). */
+vx_render_desc vx_render_desc_defaults(void);
+
 #define VX_RENDER_NO_HIT 0xFFFFFFFFu
 
 /* What the centre ray of a pixel hit. instance is VX_RENDER_NO_HIT for a

@@ -118,21 +118,29 @@ vx_result vx_render_desc_validate(const vx_render_desc* d, vx_error* err) {
     return VX_OK;
 }
 
+vx_render_desc vx_render_desc_defaults(void) {
+    vx_render_desc d = {.width = 640, .height = 480, .spp = 1, .lod_pixels = 1, .ambient = 0.3,
+                        .light_dir = {0.35, -0.45, 0.82}};
+    d.camera.fov = 45;
+    return d;
+}
+
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
                           vx_error* err) {
+    const vx_render_desc D = vx_render_desc_defaults(); /* what a zero field means */
     vx_render_desc d = desc_in ? *desc_in : (vx_render_desc){0};
     vx_result r = vx_render_desc_validate(&d, err);
     if (r) return r;
     memset(f, 0, sizeof *f);
-    f->width = d.width ? d.width : 640;
-    f->height = d.height ? d.height : 480;
-    f->spp = d.spp ? d.spp : 1;
+    f->width = d.width ? d.width : D.width;
+    f->height = d.height ? d.height : D.height;
+    f->spp = d.spp ? d.spp : D.spp;
     f->mode = d.mode;
     f->ortho = d.camera.ortho;
     f->lod = d.lod;
-    f->lod_pixels = d.lod_pixels > 0 ? d.lod_pixels : 1.0;
-    f->ambient = d.ambient > 0 ? d.ambient : 0.3;
-    double fov = (d.camera.fov > 0 ? d.camera.fov : 45.0) * 3.14159265358979323846 / 180.0;
+    f->lod_pixels = d.lod_pixels > 0 ? d.lod_pixels : D.lod_pixels;
+    f->ambient = d.ambient > 0 ? d.ambient : D.ambient;
+    double fov = (d.camera.fov > 0 ? d.camera.fov : D.camera.fov) * 3.14159265358979323846 / 180.0;
     double c[3], rad = 0;
     for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), rad += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     rad = 0.5 * sqrt(rad);
@@ -186,7 +194,7 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
     if (f->t_start < 0) f->t_start = 0;
     for (int k = 0; k < 3; k++) f->ref[k] = eye[k] + fwd[k] * f->t_start;
     double ld[3] = {d.light_dir[0], d.light_dir[1], d.light_dir[2]};
-    if (ld[0] == 0 && ld[1] == 0 && ld[2] == 0) ld[0] = 0.35, ld[1] = -0.45, ld[2] = 0.82;
+    if (ld[0] == 0 && ld[1] == 0 && ld[2] == 0) memcpy(ld, D.light_dir, sizeof ld);
     if (!norm3(ld)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light direction is degenerate");
     memcpy(f->light, ld, sizeof ld);
     return VX_OK;

@@ -32,12 +32,7 @@ static const char* prog = "svo_render";
 
 static options default_options(void) {
     options o = {0};
-    o.r.width = 640;
-    o.r.height = 480;
-    o.r.spp = 1;
-    o.r.camera.fov = 45;
-    o.r.ambient = 0.3;
-    o.r.lod_pixels = 1;
+    o.r = vx_render_desc_defaults();
     o.fd = vx_frame_desc_defaults();
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
