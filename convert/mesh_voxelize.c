@@ -5,8 +5,8 @@
  * clipping against two slabs) spans a d-interval meeting [k,k+1]. So the
  * cells are enumerated by clipping strip by strip and column by column
  * (Sutherland-Hodgman with closed half-spaces; a clipped coordinate is set
- * exactly to the slab plane, the others interpolated by slopes from the
- * nearer endpoint), which is exact up to the rounding of the clip points
+ * exactly to the slab plane, the others interpolated from the nearer
+ * endpoint), which is exact up to the rounding of the clip points
  * and handles zero-area triangles the same way. The half-open cells of
  * convert/mesh.h then drop a cell whose part of the triangle lies wholly
  * on one of its max faces (tri_cells). The clip of the column polygon
@@ -81,18 +81,20 @@ vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t re
 /* ---- clipping ---------------------------------------------------------------------- */
 
 /* The point of edge a-b on the plane p[axis] = val, interpolated from the
- * endpoint nearer the plane by slopes (b[k] - a[k]) / (b[axis] - a[axis]):
- * exact for a coordinate that is constant along the edge or changes like
- * p[axis] does (a diagonal edge y == z meets y = 64 at z = 64 exactly),
- * and the same for a-b as for b-a. */
-static void clip_point(const double* a, const double* b, int axis, double val, double* out) {
+ * endpoint nearer the plane (the same for a-b as for b-a); exact for a
+ * coordinate that is constant along the edge or changes by as much as
+ * p[axis] does (a diagonal edge y == z meets y = 64 at z = 64 exactly). */
+static inline void clip_point(const double* a, const double* b, int axis, double val, double* out) {
     if (fabs(b[axis] - val) < fabs(a[axis] - val)) {
         const double* t = a;
         a = b;
         b = t;
     }
-    double da = b[axis] - a[axis], s = val - a[axis];
-    for (int k = 0; k < 3; k++) out[k] = b[k] == a[k] ? a[k] : a[k] + s * ((b[k] - a[k]) / da);
+    double da = b[axis] - a[axis], s = val - a[axis], t = s / da;
+    for (int k = 0; k < 3; k++) {
+        double dk = b[k] - a[k];
+        out[k] = dk == 0 ? a[k] : dk == da ? a[k] + s : dk == -da ? a[k] - s : a[k] + t * dk;
+    }
     out[axis] = val;
 }
 
@@ -121,11 +123,22 @@ static int clip_slab(const double (*in)[3], int n, int axis, double lo, double h
 static void poly_range(const double (*p)[3], int n, int axis, double* lo, double* hi) {
     double a = p[0][axis], b = a;
     for (int i = 1; i < n; i++) {
-        a = fmin(a, p[i][axis]);
-        b = fmax(b, p[i][axis]);
+        double v = p[i][axis];
+        a = v < a ? v : a;
+        b = v > b ? v : b;
     }
     *lo = a;
     *hi = b;
+}
+
+static void poly_box(const double (*p)[3], int n, double mn[3], double mx[3]) {
+    for (int k = 0; k < 3; k++) mn[k] = mx[k] = p[0][k];
+    for (int i = 1; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            double v = p[i][k];
+            mn[k] = v < mn[k] ? v : mn[k];
+            mx[k] = v > mx[k] ? v : mx[k];
+        }
 }
 
 /* Cells i meeting [lo, hi], clamped to [cmin, cmax]. last == ALL_CLOSED:
@@ -185,7 +198,11 @@ static bool off_max(const double (*p)[3], int n, int axis, int c, int last) {
  * The half-open test: the triangle's part P inside the closed box is convex,
  * so it misses the half-open box iff it lies within one max face, i.e. iff
  * min over P of p[a] == c[a] + 1 for some axis a. Along the stack axis the
- * cell range does this; along u and w the clipped polygons are checked. */
+ * cell range does this; along u and w the clipped polygons are checked:
+ * a whole column polygon on a max face is skipped, and a cell's part can
+ * only lie on a max face where the cell's d-slab meets the column polygon
+ * in one plane (a convex polygon's part in a slab of positive thickness
+ * is no thinner than the polygon itself). */
 static void tri_cells(const double* v, const int cmin[3], const int cmax[3], const int* last, bool want_poly,
                       cell_fn fn, void* user) {
     int d = stack_axis(v), u = (d + 1) % 3, w = (d + 2) % 3;
@@ -217,22 +234,26 @@ static void tri_cells(const double* v, const int cmin[3], const int cmax[3], con
         for (int iw = wa; iw <= wb; iw++) {
             int n2 = clip_slab((const double(*)[3])p1, n1, w, iw, iw + 1, p2);
             if (n2 == 0) continue;
+            double mn[3], mx[3];
+            poly_box((const double(*)[3])p2, n2, mn, mx);
             bool check = false; /* does the column polygon touch a max face of u or w? */
             if (last) {
-                if (!off_max((const double(*)[3])p2, n2, u, iu, lu)) continue; /* all of it on u = iu + 1 */
-                double l2, h2;
-                poly_range((const double(*)[3])p2, n2, u, &l2, &h2);
-                check = iu != lu && h2 >= iu + 1;
-                poly_range((const double(*)[3])p2, n2, w, &l2, &h2);
-                check = check || (iw != lw && h2 >= iw + 1);
+                if ((iu != lu && mn[u] >= iu + 1) || (iw != lw && mn[w] >= iw + 1))
+                    continue; /* all of it on u = iu + 1 or on w = iw + 1 */
+                check = (iu != lu && mx[u] >= iu + 1) || (iw != lw && mx[w] >= iw + 1);
             }
-            poly_range((const double(*)[3])p2, n2, d, &lo, &hi);
+            lo = mn[d];
+            hi = mx[d];
             if (!cell_range(lo, hi, cmin[d], cmax[d], ld, &da, &db)) continue;
             c[u] = iu;
             c[w] = iw;
             for (int id = da; id <= db; id++) {
                 c[d] = id;
-                if (!want_poly && !check) {
+                /* the part in the cell can lie wholly on a max face of u or w
+                 * only where the d-slab meets the column polygon in a single
+                 * plane: at d = hi = id, or d = lo = id + 1 in the last cell */
+                bool edge = check && ((double)id == hi || (id == ld && lo == id + 1.0));
+                if (!want_poly && !edge) {
                     fn(user, c, NULL, 0);
                     continue;
                 }
@@ -241,8 +262,8 @@ static void tri_cells(const double* v, const int cmin[3], const int cmax[3], con
                     memcpy(p3[0], p2[0], sizeof p3[0]);
                     n3 = 1;
                 }
-                if (check && (!off_max((const double(*)[3])p3, n3, u, iu, lu) ||
-                              !off_max((const double(*)[3])p3, n3, w, iw, lw)))
+                if (edge && (!off_max((const double(*)[3])p3, n3, u, iu, lu) ||
+                             !off_max((const double(*)[3])p3, n3, w, iw, lw)))
                     continue; /* only the cell's max face is touched */
                 fn(user, c, want_poly ? (const double(*)[3])p3 : NULL, want_poly ? n3 : 0);
             }
