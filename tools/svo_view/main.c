@@ -81,7 +81,7 @@ _Noreturn static void usage(int status) {
             "    --device N|NAME       Vulkan device (default: a discrete GPU, else any)\n"
             "    --validate            enable the Vulkan validation layer; prints the error count at exit\n"
             "                          (status 1 when there were any)\n"
-            "    --frame N, --keep-hidden, --no-collapse, --no-dag      (.vox)\n"
+            "    --frame N, --keep-hidden, --keep-unused, --no-collapse, --no-dag  (.vox)\n"
             "    --res N (default: %u), --scene N, --solid, --normals  (.gltf/.glb)\n"
             "    --grid NAME, --threshold X, --density, --color NAME   (.vdb)\n"
             "    -v, --verbose         print the effective options and timings\n"
