@@ -17,6 +17,8 @@
  * method that reads probes.
  *
  * Options: --device N|NAME, --ref-spp N (1024), --runs N (5), --threads N (2),
+ * --warm MS (0: off; a path-traced frame of about MS GPU ms before each timed
+ * render, so that short frames are timed at a busy GPU's clocks),
  * --methods a,b,.. (all), --max-spp METHOD=N (the method's default),
  * --camera EX,EY,EZ,TX,TY,TZ [--up X,Y,Z] [--fov DEG], --light X,Y,Z
  * (towards the sun), --bounds X0,Y0,Z0,X1,Y1,Z1 (the probe grid's box),
@@ -72,6 +74,9 @@ static vx_gpu* gpu;
 static vx_render_scene* rs;
 static vx_svo_scene scene;
 static unsigned runs = 5, threads = 2;
+static double warm_ms;           /* --warm MS: a path-traced frame of about MS GPU ms before each timed render */
+static double pt_ms_per_spp;     /* the indirect reference's GPU ms per sample, sizes that frame */
+static built* warm_with;         /* the path tracer without probes */
 
 static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                               vx_error* err) {
@@ -84,6 +89,22 @@ static int cmp_double(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
+/* A GPU left idle between short frames (each render reads its image back)
+ * runs them at lower clocks: on an H100, 16- and 64-sample frames timed
+ * 1.4 ms per sample where 1- and 256-sample frames took 0.44. With --warm,
+ * a path-traced frame of about warm_ms GPU ms runs just before each timed
+ * render, so short frames are timed at the clocks of a busy GPU. */
+static vx_result warm_up(vx_error* err) {
+    if (warm_ms <= 0 || pt_ms_per_spp <= 0) return VX_OK;
+    double spp = ceil(warm_ms / pt_ms_per_spp);
+    vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .seed = 5};
+    d.spp = spp > 1e6 ? 1000000 : (uint32_t)spp;
+    vx_render_image img = {0};
+    vx_result r = vx_probe_gpu_render(warm_with->pg, &d, &img, err);
+    vx_render_image_free(&img);
+    return r;
+}
+
 /* Renders `runs` times; *out is the first image with the median GPU time. */
 static vx_result render_median(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                                vx_error* err) {
@@ -91,7 +112,8 @@ static vx_result render_median(const gi_method* m, const built* b, bool indirect
     unsigned n = runs < 64 ? runs : 64;
     for (unsigned i = 0; i < n; i++) {
         vx_render_image img = {0};
-        vx_result r = (m->render ? m->render : probe_render)(m, b, indirect, spp, &img, err);
+        vx_result r = warm_up(err);
+        if (!r) r = (m->render ? m->render : probe_render)(m, b, indirect, spp, &img, err);
         if (r) {
             if (i) vx_render_image_free(out);
             return r;
@@ -131,7 +153,8 @@ static void row(const char* method, const char* setting, unsigned probes, unsign
            full_s * 1e3, ind_s * 1e3, rel_full, rel_ind);
     if (csv) {
         fprintf(csv, "%s,%s,%s,%u,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,\"%s\"\n", scene_name, method, setting, probes, spp,
-                build_s, full_s * 1e3, ind_s * 1e3, rel_full, rel_ind, base.width, base.height, vx_gpu_device_name(gpu));
+                build_s, full_s * 1e3, ind_s * 1e3, rel_full, rel_ind, base.width, base.height,
+                vx_gpu_device_name(gpu));
         fflush(csv);
     }
 }
@@ -148,7 +171,7 @@ static bool parse_list(const char* s, double* v, int n) {
 
 static int usage(void) {
     fprintf(stderr,
-            "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--threads N] [--methods a,b]\n"
+            "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--warm MS] [--threads N] [--methods a,b]\n"
             "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
             "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
             "                SCENE.{svo,vox} WxH [spacing:res:spp ...]\n"
@@ -191,6 +214,7 @@ int main(int argc, char** argv) {
         if (!strcmp(o, "--device")) device = v;
         else if (!strcmp(o, "--ref-spp")) ref_spp = (unsigned)atoi(v);
         else if (!strcmp(o, "--runs")) runs = (unsigned)atoi(v);
+        else if (!strcmp(o, "--warm")) warm_ms = atof(v);
         else if (!strcmp(o, "--threads")) threads = (unsigned)atoi(v);
         else if (!strcmp(o, "--methods")) method_list = v;
         else if (!strcmp(o, "--name")) scene_name = v;
@@ -251,8 +275,8 @@ int main(int argc, char** argv) {
             fprintf(csv, "scene,method,setting,probes,spp,build_s,full_ms,indirect_ms,relmse_full,relmse_indirect,"
                          "width,height,device\n");
     }
-    printf("device: %s; %s at %ux%u, reference %u spp x 2 seeds, median of %u renders\n", vx_gpu_device_name(gpu),
-           scene_name, base.width, base.height, ref_spp, runs);
+    printf("device: %s; %s at %ux%u, reference %u spp x 2 seeds, median of %u renders, warm-up %g ms\n",
+           vx_gpu_device_name(gpu), scene_name, base.width, base.height, ref_spp, runs, warm_ms);
     printf("| scene | method | setting | probes | spp | build s | full ms | indirect ms | relMSE full | "
            "relMSE indirect |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     int rc = 0;
@@ -286,9 +310,12 @@ int main(int argc, char** argv) {
     char ref_setting[64];
     snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
     row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1]);
+    pt_ms_per_spp = ref_s[1] * 1e3 / ref_spp;
+    warm_with = &none;
 
     for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
-        if (use[k] && methods[k].build == BUILD_NONE) rc = method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
+        if (use[k] && methods[k].build == BUILD_NONE)
+            rc = method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
     for (int s = first_setting; s < argc && !rc; s++) {
         bool needed = false;
         for (size_t k = 0; k < METHOD_COUNT; k++) needed |= use[k] && methods[k].build == BUILD_PROBES;
