@@ -23,7 +23,8 @@
  * --camera EX,EY,EZ,TX,TY,TZ [--up X,Y,Z] [--fov DEG], --light X,Y,Z
  * (towards the sun), --bounds X0,Y0,Z0,X1,Y1,Z1 (the probe grid's box),
  * --name NAME (the scene column; default: the file name), --csv FILE
- * (appends one line per row, with a header when the file is new).
+ * (appends one line per row, with a header when the file is new). A row
+ * whose images hold non-finite pixels says how many (its relMSE is then nan).
  *
  * Adding a method: one entry in methods[]. Methods of the probe renderer
  * name their two modes; another module's method gives its own render()
@@ -141,20 +142,29 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
     return rs2 > 0 ? se / rs2 : 0;
 }
 
+/* Pixels with a non-finite channel (a method's failure: the row says so). */
+static size_t nonfinite(const vx_render_image* a) {
+    size_t n = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height; i++)
+        n += !isfinite(a->pixels[4 * i]) || !isfinite(a->pixels[4 * i + 1]) || !isfinite(a->pixels[4 * i + 2]);
+    return n;
+}
+
 static FILE* csv;
 static const char* scene_name;
 
 static void row(const char* method, const char* setting, unsigned probes, unsigned spp, double build_s, double full_s,
-                double ind_s, double rel_full, double rel_ind) {
+                double ind_s, double rel_full, double rel_ind, size_t bad) {
     char pr[16] = "-", bs[24] = "-";
     if (probes) snprintf(pr, sizeof pr, "%u", probes);
     if (build_s > 0) snprintf(bs, sizeof bs, "%.3f", build_s);
-    printf("| %s | %s | %s | %s | %u | %s | %.4g | %.4g | %.4g | %.4g |\n", scene_name, method, setting, pr, spp, bs,
+    printf("| %s | %s | %s | %s | %u | %s | %.4g | %.4g | %.4g | %.4g |", scene_name, method, setting, pr, spp, bs,
            full_s * 1e3, ind_s * 1e3, rel_full, rel_ind);
+    printf(bad ? " %zu pixels not finite\n" : "\n", bad);
     if (csv) {
-        fprintf(csv, "%s,%s,%s,%u,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,\"%s\"\n", scene_name, method, setting, probes, spp,
-                build_s, full_s * 1e3, ind_s * 1e3, rel_full, rel_ind, base.width, base.height,
-                vx_gpu_device_name(gpu));
+        fprintf(csv, "%s,%s,%s,%u,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,\"%s\",%zu\n", scene_name, method, setting, probes,
+                spp, build_s, full_s * 1e3, ind_s * 1e3, rel_full, rel_ind, base.width, base.height,
+                vx_gpu_device_name(gpu), bad);
         fflush(csv);
     }
 }
@@ -192,8 +202,12 @@ static int method_rows(const gi_method* m, const unsigned* max_spp, const built*
             fprintf(stderr, "%s: %s %s %u spp: %s\n", scene_name, m->name, b->setting, spp, err.msg);
             return 1;
         }
+        size_t bad[2] = {nonfinite(&full), nonfinite(&ind)};
+        if (bad[0] || bad[1])
+            fprintf(stderr, "%s: %s %s %u spp: %zu (full) and %zu (indirect) pixels not finite\n", scene_name, m->name,
+                    b->setting, spp, bad[0], bad[1]);
         row(m->name, b->setting, b->has_ps ? b->ps.probe_count : 0, spp, b->seconds, full.gpu_seconds, ind.gpu_seconds,
-            rel_mse(&full, ref_full), rel_mse(&ind, ref_ind));
+            rel_mse(&full, ref_full), rel_mse(&ind, ref_ind), bad[0] + bad[1]);
         vx_render_image_free(&full);
         vx_render_image_free(&ind);
     }
@@ -273,7 +287,7 @@ int main(int argc, char** argv) {
         if (!csv) return fprintf(stderr, "%s: cannot open\n", csv_path), 1;
         if (ftell(csv) == 0)
             fprintf(csv, "scene,method,setting,probes,spp,build_s,full_ms,indirect_ms,relmse_full,relmse_indirect,"
-                         "width,height,device\n");
+                         "width,height,device,nonfinite\n");
     }
     printf("device: %s; %s at %ux%u, reference %u spp x 2 seeds, median of %u renders, warm-up %g ms\n",
            vx_gpu_device_name(gpu), scene_name, base.width, base.height, ref_spp, runs, warm_ms);
@@ -309,7 +323,8 @@ int main(int argc, char** argv) {
     }
     char ref_setting[64];
     snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
-    row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1]);
+    row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1],
+        nonfinite(&ref[0][0]) + nonfinite(&ref[1][0]));
     pt_ms_per_spp = ref_s[1] * 1e3 / ref_spp;
     warm_with = &none;
 

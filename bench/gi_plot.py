@@ -21,8 +21,8 @@ def load(path):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     for r in rows:
-        for k in ("probes", "spp", "width", "height"):
-            r[k] = int(r[k])
+        for k in ("probes", "spp", "width", "height", "nonfinite"):
+            r[k] = int(r.get(k) or 0)
         for k in ("build_s", "full_ms", "indirect_ms", "relmse_full", "relmse_indirect"):
             r[k] = float(r[k])
     return rows
@@ -50,6 +50,12 @@ def write_md(rows, path):
             r["scene"], "reference noise (seed A vs B)" if ref else r["method"], r["setting"],
             r["probes"] or "", r["spp"], "%.2f" % r["build_s"] if r["build_s"] > 0 else "",
             r["full_ms"], r["indirect_ms"], r["relmse_full"], r["relmse_indirect"]))
+    bad = [r for r in rows if r["nonfinite"]]
+    if bad:
+        out.append("")
+        out.append("Non-finite pixels (relMSE nan): " + "; ".join(
+            "%s %s %s %d spp: %d" % (r["scene"], r["method"], r["setting"], r["spp"], r["nonfinite"])
+            for r in bad) + ".")
     out.append("")
     with open(path, "w") as f:
         f.write("\n".join(out))
@@ -97,7 +103,7 @@ def plot(rows, outdir):
             if c == 0:
                 ax.legend(fontsize=6, loc="lower left")
         ax = axes[2][c]
-        built = [r for r in sr if r["build_s"] > 0]
+        built = [r for r in sr if r["build_s"] > 0 and r["relmse_full"] > 0]  # nan compares false
         for m in methods:
             mr = [r for r in built if r["method"] == m]
             best = OrderedDict()
@@ -121,6 +127,10 @@ def plot(rows, outdir):
         ax.grid(True, which="both", alpha=0.25)
         if built:
             ax.legend(fontsize=6, loc="best")
+    for ax in axes.flat:  # an empty panel cannot be log-scaled
+        if not ax.lines:
+            ax.set_xscale("linear")
+            ax.set_yscale("linear")
     fig.tight_layout()
     for ext in ("png", "svg"):
         fig.savefig(os.path.join(outdir, "gi_error." + ext), dpi=110)
