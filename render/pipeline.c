@@ -368,8 +368,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
     /* gbuffer, direct and resolve merge into one dispatch when nothing needs
      * their images in between (no ao, no gi, no intermediate shown) */
-    bool merge = has_gb && !has_gi && !has_ao && desc->show == VX_SHOW_FINAL && !desc->separate_passes;
-    const char* merged_name = has_direct ? "gbuffer+direct+resolve" : "gbuffer+resolve";
+    uint32_t ao_n = desc->ao_rays ? desc->ao_rays : 4;
+    bool merge = has_gb && !has_gi && (!has_ao || !vx_gpu_is_cpu(g) || ao_n <= 16) && desc->show == VX_SHOW_FINAL &&
+                 !desc->separate_passes;
+    const char* merged_name = has_direct ? (has_ao ? "gbuffer+direct+ao+resolve" : "gbuffer+direct+resolve")
+                                         : (has_ao ? "gbuffer+ao+resolve" : "gbuffer+resolve");
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
     if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
     spec[5] = 0, spec[6] = phys;
@@ -382,7 +385,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (merge) {
         uint32_t ms[8];
         memcpy(ms, spec, sizeof ms);
-        ms[5] = has_direct ? 1u : 0u, ms[6] = has_dof && !f.ortho;
+        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u), ms[6] = has_dof && !f.ortho;
         if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
     }
     bool final = desc->show == VX_SHOW_FINAL;

@@ -34,11 +34,12 @@
  * resolve shader is specialised on what is present (no AO term without ao,
  * no emission term without emissive records).
  *
- * Merging: when nothing reads the G-buffer between them (no ao, no gi, no
- * intermediate shown), gbuffer, direct and resolve run as one kernel per
- * sample (shaders/frame.comp, the same functions as the three pass shaders,
- * values kept in registers), reported as one timing row; separate_passes
- * turns that off.
+ * Merging: when nothing reads the G-buffer between them (no gi, no
+ * intermediate shown), gbuffer, direct, ao (on a CPU device only up to 16
+ * rays: more are split over dispatches) and resolve run as one kernel per sample
+ * (shaders/frame.comp, the same functions as the pass shaders, values kept
+ * in registers), reported as one timing row ("gbuffer+direct+resolve");
+ * separate_passes turns that off.
  *
  * GPU time per pass comes from timestamps around each dispatch in one
  * submission (the gi method's own dispatches are timed by the method).

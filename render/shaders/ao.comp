@@ -15,6 +15,10 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 
+const bool DOF = false, PHYS = false;
+const uint FLAGS = 0u, SHOW = 0u;
+#include "pass_bodies.glsl"
+
 void main() {
     uvec2 px;
     uint i;
@@ -24,16 +28,7 @@ void main() {
         ao_img[i] = 1.0;
         return;
     }
-    vec3 nw = gb_normal(g1);
-    vec3 ps = gb_offset_point(uintBitsToFloat(gb0[i].xyz), nw, g1.y);
     uint n = max(PC.u0.z, 1u), first = PC.u1.x, count = PC.u1.y;
-    float blocked = first == 0u ? 0.0 : ao_img[i];
-    for (uint k = first; k < first + count; k++) {
-        vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
-        Hit h;
-        h.t = PC.f0.z;
-        h.inst = NO_HIT;
-        if (trace_scene(ps, dir, 0.0, true, h)) blocked += 1.0;
-    }
+    float blocked = (first == 0u ? 0.0 : ao_img[i]) + ao_blocked(px, gb0[i], g1, first, count);
     ao_img[i] = first + count >= n ? 1.0 - blocked / float(n) : blocked;
 }

@@ -1,9 +1,10 @@
 #version 450
-// render/shaders/frame.comp - the gbuffer, direct and resolve passes merged
-// into one dispatch per sample (render/pipeline.c merges them when nothing
-// between them needs their images: no ao, no gi, no intermediate shown, and
-// the caller did not ask for separate passes). The same functions as the
-// three shaders (pass_bodies.glsl), with the values in registers.
+// render/shaders/frame.comp - the gbuffer, direct, ao and resolve passes
+// merged into one dispatch per sample (render/pipeline.c merges them when
+// nothing between them needs their images: no gi, no intermediate shown, ao
+// only with few rays on a CPU device (which splits many over dispatches), and the caller did not ask for
+// separate passes). The same functions as the pass shaders
+// (pass_bodies.glsl), with the values in registers.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -11,7 +12,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 
-layout(constant_id = 5) const uint FLAGS = 0u; // as resolve.comp (direct only)
+layout(constant_id = 5) const uint FLAGS = 0u; // as resolve.comp (direct and ao only)
 layout(constant_id = 6) const bool DOF = false;
 const uint SHOW = 0u;
 const bool PHYS = false;
@@ -28,5 +29,10 @@ void main() {
         gb2[2u * i + 1u] = ids1;
     }
     vec4 dir = HAS_DIRECT ? direct_pixel(g0, g1) : vec4(0.0);
-    accumulate(i, resolve_pixel(g0, g1, dir, 1.0, vec4(0.0)));
+    float ao = 1.0;
+    if (HAS_AO && g1.y != NO_HIT) {
+        uint n = max(PC.u0.z, 1u);
+        ao = 1.0 - ao_blocked(px, g0, g1, 0u, n) / float(n);
+    }
+    accumulate(i, resolve_pixel(g0, g1, dir, ao, vec4(0.0)));
 }

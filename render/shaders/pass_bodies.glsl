@@ -79,6 +79,22 @@ vec4 direct_pixel(uvec4 g0, uvec4 g1) {
     return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
 }
 
+// Ambient occlusion rays first .. first+count-1 of a G-buffer entry: how many
+// of them hit within PC.f0.z (ray k's direction depends on k alone).
+float ao_blocked(uvec2 px, uvec4 g0, uvec4 g1, uint first, uint count) {
+    vec3 nw = gb_normal(g1);
+    vec3 ps = gb_offset_point(uintBitsToFloat(g0.xyz), nw, g1.y);
+    float blocked = 0.0;
+    for (uint k = first; k < first + count; k++) {
+        vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
+        Hit h;
+        h.t = PC.f0.z;
+        h.inst = NO_HIT;
+        if (trace_scene(ps, dir, 0.0, true, h)) blocked += 1.0;
+    }
+    return blocked;
+}
+
 const bool HAS_DIRECT = (FLAGS & 1u) != 0u, HAS_GI = (FLAGS & 2u) != 0u, HAS_AO = (FLAGS & 4u) != 0u;
 const bool HAS_EMIT = (FLAGS & 8u) != 0u;
 

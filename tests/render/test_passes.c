@@ -171,6 +171,40 @@ static bool all_finite(const vx_render_image* im) {
     return true;
 }
 
+/* Merged kernels against separate passes: the same floats, with and without
+ * ao, dof and several samples. */
+static void test_merged_equals_separate(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    fixture fx;
+    REQUIRE(fx_open(&s, &fx));
+    static const char* lists[] = {"gbuffer", "gbuffer,direct", "gbuffer,direct,ao", "gbuffer,ao,tonemap",
+                                  "gbuffer,dof,direct,ao,aa"};
+    for (size_t l = 0; l < sizeof lists / sizeof lists[0]; l++) {
+        vx_frame_desc d = vx_frame_desc_defaults();
+        d.base.width = 48, d.base.height = 32, d.base.spp = 3;
+        d.ao_rays = 8;
+        vx_frame_result a, b;
+        bool ok = render_list(&fx, lists[l], d, &a);
+        d.separate_passes = true;
+        ok = render_list(&fx, lists[l], d, &b) && ok;
+        CHECKF(ok, "%s", lists[l]);
+        if (!ok) continue;
+        CHECKF(a.timing_count < b.timing_count, "%s: not merged (%u rows vs %u)", lists[l], a.timing_count,
+               b.timing_count);
+        size_t n = (size_t)a.image.width * a.image.height * 4, diff = 0;
+        for (size_t i = 0; i < n; i++) diff += memcmp(&a.image.pixels[i], &b.image.pixels[i], 4) != 0;
+        printf("  %-28s merged %u row(s) '%s', separate %u rows: %zu of %zu floats differ\n", lists[l],
+               a.timing_count, a.timings[0].name, b.timing_count, diff, n);
+        CHECKF(diff == 0, "%s: merged and separate passes differ in %zu floats", lists[l], diff);
+        vx_render_image_free(&a.image);
+        vx_render_image_free(&b.image);
+    }
+    fx_close(&fx);
+    vx_svo_scene_free(&s);
+}
+
 /* Every pass of the full list left out in turn (and all of them): valid frames. */
 static void test_switch_off(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -224,6 +258,7 @@ static void test_timings(void) {
     REQUIRE(fx_open(&s, &fx));
     vx_frame_desc d = vx_frame_desc_defaults();
     d.base.width = 160, d.base.height = 120, d.base.spp = 3;
+    d.separate_passes = true; /* a row per pass */
     /* Gaps between dispatches (the scheduler of a software device on a busy
      * machine) can widen the frame; the passes must still account for it:
      * the sum never exceeds the frame, and in one of a few frames it is
@@ -415,6 +450,7 @@ int main(void) {
     }
     RUN(test_parse);
     RUN(test_default_equals_color);
+    RUN(test_merged_equals_separate);
     RUN(test_switch_off);
     RUN(test_timings);
     RUN(test_ao_analytic);
