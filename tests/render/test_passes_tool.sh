@@ -1,0 +1,66 @@
+#!/bin/sh
+# tests/render/test_passes_tool.sh BIN_DIR - svo_render's and svo_view's pass
+# options on lavapipe: usage errors name the pass, -v prints a row per pass,
+# --timings writes one row per frame and pass, --show writes intermediates
+# (float ones only as EXR), the default list equals --mode color byte for
+# byte, and svo_view's 'passes' script command gives svo_render's image.
+set -u
+BIN=$1
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "[  ok  ] $1"; }
+bad() { fail=$((fail + 1)); echo "[ FAIL ] $1"; }
+expect_status() { # expected description command...
+    want=$1; what=$2; shift 2
+    "$@" >"$T/out" 2>"$T/err"
+    got=$?
+    if [ "$got" = "$want" ]; then ok "$what"; else bad "$what (exit $got, wanted $want)"; cat "$T/err"; fi
+}
+R="$BIN/svo_render"
+"$BIN/vox2svo" --write-demo "$T/demo.vox" >/dev/null && "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo" >/dev/null ||
+    { echo "cannot make the demo scene"; exit 1; }
+if ! "$R" "$T/demo.svo" "$T/probe.png" --size 8x8 >/dev/null 2>&1; then
+    echo "skipped: no Vulkan device"
+    exit 0
+fi
+S="--size 96x64"
+expect_status 2 "unknown pass" "$R" "$T/demo.svo" "$T/x.png" --passes gbuffer,bloom
+grep -q "'bloom'" "$T/err" && ok "the error names the pass" || bad "the error names the pass"
+expect_status 2 "misplaced pass" "$R" "$T/demo.svo" "$T/x.png" --passes direct,gbuffer
+grep -q "'direct'" "$T/err" && ok "misplaced: the error names the pass" || bad "misplaced: the error names the pass"
+expect_status 2 "gi without a method" "$R" "$T/demo.svo" "$T/x.png" --passes gbuffer,gi
+expect_status 2 "gi=probes without probes" "$R" "$T/demo.svo" "$T/x.png" --passes gbuffer,gi=probes
+expect_status 2 "float intermediate to PNG" "$R" "$T/demo.svo" "$T/x.png" --show depth
+expect_status 2 "--passes with --cpu" "$R" "$T/demo.svo" "$T/x.png" --cpu --passes gbuffer
+[ ! -e "$T/x.png" ] && ok "usage errors write nothing" || bad "usage errors write nothing"
+expect_status 0 "default list" "$R" "$T/demo.svo" "$T/a.png" $S
+expect_status 0 "mode color, separate passes" "$R" "$T/demo.svo" "$T/b.png" $S --separate-passes
+cmp -s "$T/a.png" "$T/b.png" && ok "merged and separate passes: same bytes" || bad "merged and separate passes: same bytes"
+expect_status 0 "every pass, -v, timings" "$R" "$T/demo.svo" "$T/c.png" $S --spp 2 -v --frames 2 \
+    --passes gbuffer,dof,direct,ao,aa,tonemap --separate-passes --timings "$T/t.csv"
+for p in gbuffer direct ao resolve aa tonemap; do
+    grep -q "^$p " "$T/out" && ok "-v row $p" || bad "-v row $p"
+    n=$(grep -c ",$p," "$T/t.csv")
+    [ "$n" = 2 ] && ok "timings: 2 frames of $p" || bad "timings: $n rows of $p, wanted 2"
+done
+[ "$(grep -c ',frame,' "$T/t.csv")" = 2 ] && ok "timings: a frame row per frame" || bad "timings: frame rows"
+for s in albedo ao direct instance; do
+    expect_status 0 "--show $s" "$R" "$T/demo.svo" "$T/s-$s.png" $S --passes gbuffer,direct,ao --show $s
+done
+for s in depth normal material; do
+    expect_status 0 "--show $s (EXR)" "$R" "$T/demo.svo" "$T/s-$s.exr" $S --show $s
+done
+expect_status 0 "gi=pathtrace" "$R" "$T/demo.svo" "$T/gi.exr" --size 32x24 --passes gbuffer,direct,gi=pathtrace,tonemap
+if [ -x "$BIN/svo_view" ] && command -v xvfb-run >/dev/null 2>&1; then
+    printf 'passes gbuffer,direct,ao,aa,tonemap\nscreenshot %s\nquit\n' "$T/v.png" >"$T/script.txt"
+    expect_status 0 "svo_view passes script" xvfb-run -a "$BIN/svo_view" "$T/demo.svo" --script "$T/script.txt" \
+        --hidden --size 96x64
+    expect_status 0 "svo_render same passes" "$R" "$T/demo.svo" "$T/r.png" $S --passes gbuffer,direct,ao,aa,tonemap
+    cmp -s "$T/v.png" "$T/r.png" && ok "svo_view's frame equals svo_render's" || bad "svo_view's frame equals svo_render's"
+else
+    echo "svo_view or xvfb-run missing: viewer checks skipped"
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]
