@@ -63,6 +63,7 @@ def write_md(rows, path):
 
 def plot(rows, outdir):
     import matplotlib
+    import matplotlib.ticker
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -92,16 +93,13 @@ def plot(rows, outdir):
                     ax.annotate(str(pts[-1][2]), (pts[-1][0], pts[-1][1]), fontsize=6, color=colour[m],
                                 xytext=(3, 0), textcoords="offset points")
             if ref and ref[key] > 0:
-                ax.axhline(ref[key], color="grey", ls="--", lw=1,
-                           label="reference noise (seed A vs B, %d spp)" % ref["spp"])
+                ax.axhline(ref[key], color="grey", ls="--", lw=1, label="reference noise")
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_xlabel("render ms (GPU)")
             ax.set_ylabel("relMSE, %s" % label)
             ax.set_title("%s: %s" % (scene, label), fontsize=10)
             ax.grid(True, which="both", alpha=0.25)
-            if c == 0:
-                ax.legend(fontsize=6, loc="lower left")
         ax = axes[2][c]
         built = [r for r in sr if r["build_s"] > 0 and r["relmse_full"] > 0]  # nan compares false
         for m in methods:
@@ -121,17 +119,29 @@ def plot(rows, outdir):
             ax.axhline(ref["relmse_full"], color="grey", ls="--", lw=1, label="reference noise")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        ticks = sorted(set(round(r["build_s"], 2) for r in built))
+        if ticks:  # the bake times themselves as ticks (they often span less than a decade)
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax.set_xticks(ticks, ["%.2g" % t for t in ticks], fontsize=7)
         ax.set_xlabel("build (bake) s")
         ax.set_ylabel("relMSE, full image")
         ax.set_title("%s: error against build time" % scene, fontsize=10)
         ax.grid(True, which="both", alpha=0.25)
         if built:
             ax.legend(fontsize=6, loc="best")
+    # one legend for the render-time panels: every (method, setting) of any scene
+    seen = OrderedDict()
+    for ax in list(axes[0]) + list(axes[1]):
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab.startswith("reference noise"):
+                lab = "reference noise (seed A vs B)"
+            seen.setdefault(lab, h)
+    fig.legend(list(seen.values()), list(seen.keys()), loc="lower center", ncol=min(6, len(seen)), fontsize=7)
     for ax in axes.flat:  # an empty panel cannot be log-scaled
         if not ax.lines:
             ax.set_xscale("linear")
             ax.set_yscale("linear")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     for ext in ("png", "svg"):
         fig.savefig(os.path.join(outdir, "gi_error." + ext), dpi=110)
 
