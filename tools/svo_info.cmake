@@ -1,2 +1,8 @@
 add_executable(svo_info ${CMAKE_CURRENT_LIST_DIR}/svo_info/main.c)
 target_link_libraries(svo_info PRIVATE vx_convert vx_tool)
+# --to-glb where the .glb writer is built (formats/voxmesh.cmake)
+if(TARGET vx_glb)
+  target_sources(svo_info PRIVATE ${CMAKE_CURRENT_LIST_DIR}/svo_info/glb.c)
+  target_link_libraries(svo_info PRIVATE vx_glb vx_voxmesh m)
+  target_compile_definitions(svo_info PRIVATE VX_HAVE_GLB=1)
+endif()

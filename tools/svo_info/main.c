@@ -6,6 +6,9 @@
 
 #include "convert/convert.h"
 #include "tools/common/tool.h"
+#ifdef VX_HAVE_GLB
+#include "tools/svo_info/glb.h"
+#endif
 
 typedef struct options {
     const char* in;
@@ -14,6 +17,7 @@ typedef struct options {
     bool all;
     bool models;
     const char* to_vox;
+    const char* to_glb;
     bool quiet;
 } options;
 
@@ -28,9 +32,12 @@ _Noreturn static void usage(int status) {
             "                     status says the result (0 valid, 1 invalid)\n"
             "    --dump           print every voxel of the scene in grid cells, one per line\n"
             "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
-            "    --all            with --dump: include hidden instances and layers\n"
+            "    --all            with --dump and --to-glb: include hidden instances and layers\n"
             "    --models         list every model and instance (default: the first 16)\n"
             "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
+            "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
+            "                     voxel surface, vertex colours), one node per instance; grid axes\n"
+            "                     kept (a .vox scene stays +Z up)\n"
             "    -q, --quiet      print only errors (and the dump)\n"
             "    -h, --help       print this help and exit\n"
             "    --version        print the tool and format versions and exit\n"
@@ -38,8 +45,9 @@ _Noreturn static void usage(int status) {
             "    %s castle.svo\n"
             "    %s castle.svo --verify\n"
             "    %s castle.svo --dump | sort > cells.txt\n"
-            "    %s castle.svo --to-vox castle2.vox\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+            "    %s castle.svo --to-vox castle2.vox\n"
+            "    %s castle.svo --to-glb castle.glb\n",
+            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
     exit(status);
 }
 
@@ -61,6 +69,9 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--to-vox")) {
             if (i + 1 >= argc) usage_error("option %s needs an argument", a);
             o.to_vox = argv[++i];
+        } else if (!strcmp(a, "--to-glb")) {
+            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
+            o.to_glb = argv[++i];
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (!o.in) o.in = a;
@@ -245,6 +256,19 @@ int main(int argc, char** argv) {
         }
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
         else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
+    }
+    if (status == 0 && o.to_glb) {
+#ifdef VX_HAVE_GLB
+        svo_glb_stats gs;
+        r = svo_info_to_glb(&s, o.all, o.to_glb, &gs, &err);
+        if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
+        else if (!o.quiet && !o.dump)
+            printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
+                   o.to_glb, gs.meshes, gs.nodes, vx_tool_num(gs.quads), vx_tool_num(gs.faces), gs.seconds_mesh);
+#else
+        status = vx_tool_errorf("%s: this svo_info was built without tinygltf (libtinygltf-dev): no .glb export",
+                                o.to_glb);
+#endif
     }
     vx_svo_scene_free(&s);
     return status;

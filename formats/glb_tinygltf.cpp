@@ -1,0 +1,150 @@
+// formats/glb_tinygltf.cpp - the .glb writer of formats/glb.h: a tinygltf
+// Model with one buffer, serialized by tinygltf as binary glTF into memory
+// and written with vx_file_write_atomic.
+#include "formats/glb.h"
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <cfloat>
+#include <cstring>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Appends n bytes to the buffer and returns a buffer view over them.
+int add_view(tinygltf::Model& m, const void* data, size_t n, int target) {
+    std::vector<unsigned char>& b = m.buffers[0].data;
+    while (b.size() % 4) b.push_back(0);
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = b.size();
+    v.byteLength = n;
+    v.target = target;
+    const unsigned char* p = static_cast<const unsigned char*>(data);
+    b.insert(b.end(), p, p + n);
+    m.bufferViews.push_back(v);
+    return int(m.bufferViews.size() - 1);
+}
+
+int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t count) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.byteOffset = 0;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    m.accessors.push_back(a);
+    return int(m.accessors.size() - 1);
+}
+
+vx_result check(const vx_glb_scene* s, vx_error* err) {
+    uint64_t bytes = 0;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        const vx_glb_mesh& me = s->meshes[i];
+        if (!me.vertex_count || !me.pos || me.index_count < 3 || me.index_count % 3 || !me.index)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u has no triangles", i);
+        if (me.vertex_count > UINT32_MAX)
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb: mesh %u has %zu vertices (32-bit indices)", i,
+                           me.vertex_count);
+        for (size_t k = 0; k < me.index_count; k++)
+            if (me.index[k] >= me.vertex_count)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u index %zu is %u of %zu vertices", i,
+                               k, me.index[k], me.vertex_count);
+        bytes += (uint64_t)me.vertex_count * 4 * (3 + (me.normal ? 3 : 0) + (me.color ? 4 : 0)) +
+                 (uint64_t)me.index_count * 4 + 16;
+    }
+    for (uint32_t i = 0; i < s->node_count; i++)
+        if (s->nodes[i].mesh < -1 || s->nodes[i].mesh >= (int64_t)s->mesh_count)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: node %u names mesh %d of %u", i,
+                           s->nodes[i].mesh, s->mesh_count);
+    // the GLB header's lengths are 32-bit; leave room for the JSON chunk
+    if (bytes > (uint64_t)UINT32_MAX - ((uint64_t)1 << 28))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb: %llu bytes of geometry, more than a .glb holds",
+                       (unsigned long long)bytes);
+    return VX_OK;
+}
+
+} // namespace
+
+extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, vx_error* err) {
+    if (!s || !path || (s->mesh_count && !s->meshes) || (s->node_count && !s->nodes))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL argument");
+    vx_result r = check(s, err);
+    if (r) return r;
+    try {
+        tinygltf::Model m;
+        m.asset.version = "2.0";
+        m.asset.generator = s->generator ? s->generator : "voxkit";
+        m.buffers.resize(1);
+        if (s->mesh_count) {
+            tinygltf::Material mat;
+            mat.name = "voxel";
+            mat.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+            mat.pbrMetallicRoughness.metallicFactor = 0.0;
+            mat.pbrMetallicRoughness.roughnessFactor = 1.0;
+            m.materials.push_back(mat);
+        }
+        for (uint32_t i = 0; i < s->mesh_count; i++) {
+            const vx_glb_mesh& me = s->meshes[i];
+            tinygltf::Primitive prim;
+            prim.mode = TINYGLTF_MODE_TRIANGLES;
+            prim.material = 0;
+            int pos = add_accessor(m, add_view(m, me.pos, me.vertex_count * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, me.vertex_count);
+            std::vector<double> lo(3, DBL_MAX), hi(3, -DBL_MAX);
+            for (size_t v = 0; v < me.vertex_count; v++)
+                for (int a = 0; a < 3; a++) {
+                    double x = me.pos[3 * v + a];
+                    if (x < lo[a]) lo[a] = x;
+                    if (x > hi[a]) hi[a] = x;
+                }
+            m.accessors[pos].minValues = lo;
+            m.accessors[pos].maxValues = hi;
+            prim.attributes["POSITION"] = pos;
+            if (me.normal)
+                prim.attributes["NORMAL"] =
+                    add_accessor(m, add_view(m, me.normal, me.vertex_count * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, me.vertex_count);
+            if (me.color)
+                prim.attributes["COLOR_0"] =
+                    add_accessor(m, add_view(m, me.color, me.vertex_count * 16, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, me.vertex_count);
+            prim.indices =
+                add_accessor(m, add_view(m, me.index, me.index_count * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, me.index_count);
+            tinygltf::Mesh mesh;
+            if (me.name) mesh.name = me.name;
+            mesh.primitives.push_back(prim);
+            m.meshes.push_back(mesh);
+        }
+        tinygltf::Scene scene;
+        for (uint32_t i = 0; i < s->node_count; i++) {
+            const vx_glb_node& n = s->nodes[i];
+            tinygltf::Node node;
+            if (n.name) node.name = n.name;
+            node.mesh = n.mesh;
+            static const double id[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+            if (memcmp(n.matrix, id, sizeof id) != 0) node.matrix.assign(n.matrix, n.matrix + 16);
+            m.nodes.push_back(node);
+            scene.nodes.push_back(int(i));
+        }
+        m.scenes.push_back(scene);
+        m.defaultScene = 0;
+        if (m.buffers[0].data.empty()) m.buffers.clear();
+
+        tinygltf::TinyGLTF writer;
+        std::ostringstream os;
+        if (!writer.WriteGltfSceneToStream(&m, os, false, true))
+            return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: tinygltf could not serialize the scene", path);
+        const std::string bytes = os.str();
+        return vx_file_write_atomic(path, bytes.data(), bytes.size(), err);
+    } catch (const std::bad_alloc&) {
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "glb: out of memory");
+    } catch (const std::exception& ex) {
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "glb: %s", ex.what());
+    }
+}

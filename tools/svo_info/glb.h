@@ -1,0 +1,24 @@
+/* tools/svo_info/glb.h - svo_info --to-glb: the scene as a binary glTF. */
+#ifndef VX_SVO_INFO_GLB_H
+#define VX_SVO_INFO_GLB_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "svo/svo.h"
+
+typedef struct svo_glb_stats {
+    uint32_t meshes, nodes;
+    uint64_t quads; /* greedy quads written (two triangles each) */
+    uint64_t faces; /* exposed voxel faces: the quads of a naive mesh */
+    double seconds_mesh;
+} svo_glb_stats;
+
+/* One mesh per non-empty model (greedy-meshed surface, model cell units,
+ * flat normals, linear vertex colours decoded from the sRGB voxel colours),
+ * one node per shown instance (every instance with all) whose matrix is
+ * world_from_grid * xform. The grid's axes are kept as they are (a .vox
+ * scene stays +Z up). */
+vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err);
+
+#endif
