@@ -4,11 +4,15 @@
  *    z<<42), so each of the six neighbours of a cell is one probe.
  * 2. Every exposed face becomes a record whose sort key is (axis, direction,
  *    plane, v, u); the records are sorted.
- * 3. Each plane is swept row by row (v): consecutive faces of one colour
- *    make a run [u0, u1); a run equal in u0, u1 and colour to a quad that
- *    ended on the row before extends that quad, otherwise it starts one.
- * Time O(n log n) for n cells; memory about 16 bytes per cell for the set
- * and 16 per exposed face.
+ * 3. A plane whose faces fill at least 1/16 of their bounding rectangle
+ *    is meshed greedily on a mask of that rectangle: each unused face, in
+ *    row-major order, starts a quad that grows along u while the colour
+ *    holds, then along v while the whole row segment matches. A sparser
+ *    plane is swept row by row (v): consecutive faces of one colour make a
+ *    run [u0, u1); a run equal in u0, u1 and colour to a quad that ended on
+ *    the row before extends that quad, otherwise it starts one.
+ * Time O(n log n) for n cells; memory about 16 bytes per cell for the set,
+ * 16 per exposed face and 8 per mask cell (at most 16 per face of a plane).
  */
 #include "formats/voxmesh.h"
 
@@ -86,6 +90,8 @@ vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const
     size_t nq = 0, qcap = 0;
     size_t *open_prev = NULL, *open_cur = NULL;
     size_t oprev_cap = 0, ocur_cap = 0;
+    uint64_t* mask = NULL;
+    size_t mask_cap = 0;
     if (!set.keys) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxmesh: out of memory for %zu cells", count);
 
     for (size_t i = 0; i < count; i++)
@@ -126,6 +132,59 @@ vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const
         uint32_t hi = faces[i].hi;
         size_t j = i;
         while (j < nf && faces[j].hi == hi) j++;
+        /* Dense plane (its faces' bounding rectangle at most 16 cells per
+         * face, plus 4096): classic greedy on a mask. Each unused face in
+         * row-major order starts a quad that grows along u while the colour
+         * holds, then along v while the whole row segment matches. */
+        uint32_t umin = UINT32_MAX, umax = 0;
+        for (size_t k = i; k < j; k++) {
+            uint32_t u = (uint32_t)(faces[k].lo & 0x1FFFFF);
+            if (u < umin) umin = u;
+            if (u > umax) umax = u;
+        }
+        uint32_t vmin = (uint32_t)(faces[i].lo >> 21), vmax = (uint32_t)(faces[j - 1].lo >> 21);
+        uint64_t w = (uint64_t)umax - umin + 1, h = (uint64_t)vmax - vmin + 1;
+        if (w * h <= 16 * (uint64_t)(j - i) + 4096) {
+            size_t cells = (size_t)(w * h);
+            if (!vx_grow(alloc, (void**)&mask, &mask_cap, cells, sizeof(uint64_t))) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxmesh: out of memory");
+                goto done;
+            }
+            memset(mask, 0, cells * sizeof(uint64_t));
+            /* bit 32: face present and unused; low 32 bits: colour */
+            for (size_t k = i; k < j; k++)
+                mask[(size_t)(((faces[k].lo >> 21) - vmin) * w + ((faces[k].lo & 0x1FFFFF) - umin))] =
+                    (uint64_t)1 << 32 | faces[k].rgba;
+            for (size_t y = 0; y < h; y++)
+                for (size_t x = 0; x < w; x++) {
+                    uint64_t m0 = mask[y * w + x];
+                    if (!(m0 >> 32)) continue;
+                    size_t qw = 1, qh = 1;
+                    while (x + qw < w && mask[y * w + x + qw] == m0) qw++;
+                    for (; y + qh < h; qh++) {
+                        size_t k = 0;
+                        while (k < qw && mask[(y + qh) * w + x + k] == m0) k++;
+                        if (k < qw) break;
+                    }
+                    for (size_t yy = y; yy < y + qh; yy++) memset(mask + yy * w + x, 0, qw * sizeof(uint64_t));
+                    if (nq == qcap && !vx_grow(alloc, (void**)&quads, &qcap, nq + 1, sizeof(vx_voxmesh_quad))) {
+                        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxmesh: out of memory for %zu quads", nq + 1);
+                        goto done;
+                    }
+                    quads[nq++] = (vx_voxmesh_quad){.axis = (uint8_t)(hi >> 23),
+                                                    .positive = (hi >> 22) & 1,
+                                                    .plane = hi & 0x3FFFFF,
+                                                    .u0 = umin + (uint32_t)x,
+                                                    .u1 = umin + (uint32_t)(x + qw),
+                                                    .v0 = vmin + (uint32_t)y,
+                                                    .v1 = vmin + (uint32_t)(y + qh),
+                                                    .rgba = (uint32_t)m0};
+                }
+            i = j;
+            continue;
+        }
+        /* Sparse plane: runs of a row merged with equal quads of the row
+         * before. */
         size_t n_prev = 0;
         uint64_t prev_v = UINT64_MAX; /* row of open_prev's quads */
         for (size_t k = i; k < j;) {
@@ -181,8 +240,7 @@ vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const
         }
         i = j;
     }
-    /* quads start in (plane, v0, u0) order but a merged quad keeps its
-     * first row's place; that is already the documented order. */
+    /* quads come out in (plane, v0, u0) order: the documented order */
     out->quad_count = nq;
     out->quads = quads;
     out->faces = nf;
@@ -195,6 +253,7 @@ done:
     vx_free(alloc, quads);
     vx_free(alloc, open_prev);
     vx_free(alloc, open_cur);
+    vx_free(alloc, mask);
     return r;
 }
 

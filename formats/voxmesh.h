@@ -4,10 +4,12 @@
  * A voxel is a unit cell [x, x+1] x [y, y+1] x [z, z+1] with a colour. A
  * face of a cell is exposed when the cell on its other side is not in the
  * set (cells outside 0..2^21-1 count as empty). Every exposed face is
- * covered by exactly one quad and no other face is: the quads of one plane
- * and direction are built from runs of exposed faces of equal colour along
- * u (consecutive cells of a row), and a run is merged with the quad of the
- * row before when both span the same u range and colour. The naive mesh (one
+ * covered by exactly one quad and no other face is. The quads of one plane
+ * and direction are greedy: each unused face, in row-major order, starts a
+ * quad that grows along u while the colour holds, then along v while the
+ * whole row segment matches (on planes whose faces fill less than 1/16 of
+ * their bounding rectangle, runs of a row merge with equal quads of the row
+ * before instead, to keep memory bounded). The naive mesh (one
  * quad per exposed face) is vx_voxmesh.faces quads.
  *
  * Axes: a quad with normal axis a spans u along axis (a+1)%3 and v along

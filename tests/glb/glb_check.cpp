@@ -310,22 +310,27 @@ static int check_files(const char* svo_path, const char* glb_path, bool all) {
 static int self_test() {
     std::mt19937 rng(19);
     uint64_t total_faces = 0, total_quads = 0;
-    for (int t = 0; t < 200; t++) {
+    // sets 0..199: one block (dense planes, meshed on a mask); 200..259:
+    // eight blocks 3000 cells apart (sparse planes, row runs merged)
+    for (int t = 0; t < 260; t++) {
         uint32_t n = 1 + t % 13;
         double density = (t % 7 + 1) / 8.0;
         int colours = 1 + t % 3;
-        uint32_t base = t % 5 == 0 ? (1u << 21) - n : 0; // touch the top of the coordinate range
+        uint32_t base = t % 5 == 0 ? (1u << 21) - 3000 - n : 0; // touch the top of the coordinate range
         std::vector<uint32_t> xyz, rgba;
         Model m;
-        for (uint32_t z = 0; z < n; z++)
-            for (uint32_t y = 0; y < n; y++)
-                for (uint32_t x = 0; x < n; x++)
-                    if (std::uniform_real_distribution<double>(0, 1)(rng) < density) {
-                        uint32_t c = 0xFF000000u | (rng() % colours) * 0x404040u;
-                        xyz.insert(xyz.end(), {base + x, base + y, base + z});
-                        rgba.push_back(c);
-                        m.cells[key(base + x, base + y, base + z)] = c;
-                    }
+        for (uint32_t b = 0; b < (t < 200 ? 1u : 8u); b++) {
+            uint32_t o[3] = {base + 3000 * (b & 1), base + 3000 * (b >> 1 & 1), base + 3000 * (b >> 2)};
+            for (uint32_t z = 0; z < n; z++)
+                for (uint32_t y = 0; y < n; y++)
+                    for (uint32_t x = 0; x < n; x++)
+                        if (std::uniform_real_distribution<double>(0, 1)(rng) < density) {
+                            uint32_t c = 0xFF000000u | (rng() % colours) * 0x404040u;
+                            xyz.insert(xyz.end(), {o[0] + x, o[1] + y, o[2] + z});
+                            rgba.push_back(c);
+                            m.cells[key(o[0] + x, o[1] + y, o[2] + z)] = c;
+                        }
+        }
         exposed(m);
         vx_voxmesh vm;
         vx_error err = {};
@@ -365,7 +370,7 @@ static int self_test() {
         vm.faces != 6 * 64)
         FAIL("8^3 block: %zu quads, %llu faces", vm.quad_count, (unsigned long long)vm.faces);
     vx_voxmesh_free(&vm);
-    printf("self-test: 200 random sets, %llu exposed faces covered once by %llu quads\n",
+    printf("self-test: 260 random sets, %llu exposed faces covered once by %llu quads\n",
            (unsigned long long)total_faces, (unsigned long long)total_quads);
     return failures ? 1 : 0;
 }
