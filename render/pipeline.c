@@ -523,13 +523,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         }
         r = vx__buffer_download(g, &fr->b[run_aa ? B_OUT2 : B_ACC], img.pixels, npx * 16, err);
         if (!r && ids) r = vx__buffer_download(g, &fr->b[B_GB2], raw, npx * 32, err);
-        for (size_t i = 0; !r && ids && i < npx; i++) {
-            const uint32_t* w = raw + 8 * i;
-            img.hits[i].instance = w[0];
-            img.hits[i].cell[0] = w[1], img.hits[i].cell[1] = w[2], img.hits[i].cell[2] = w[3];
-            memcpy(&img.hits[i].t, &w[4], 4);
-            img.hits[i].iterations = w[5];
-        }
+        if (!r && ids) vx__hits_unpack(raw, npx, img.hits);
         vx_free(img.alloc, raw);
         if (r) {
             vx_render_image_free(&img);

@@ -45,6 +45,10 @@ typedef struct vx__gpu_inst_precise {
 } vx__gpu_inst_precise;
 
 
+/* The hits records of trace.comp (and the pipeline's gbuffer ids): two uvec4
+ * per pixel (instance id, cell; depth bits, iterations) into n vx_render_hit. */
+void vx__hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits);
+
 /* ---- benchmark entry points (render_scene.c) ---------------------------------------- */
 
 /* Runs the trace `repeat` times in one submission; *seconds is the median. */

@@ -332,6 +332,14 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
     return VX_OK;
 }
 
+void vx__hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t* w = raw + 8 * i;
+        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5]};
+        memcpy(&hits[i].t, &w[4], 4);
+    }
+}
+
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err) {
     if (!rs || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     bool want_hits = desc && desc->want_hits;
@@ -356,13 +364,7 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
         vx_render_image_free(&img);
         return r;
     }
-    for (size_t i = 0; want_hits && i < npx; i++) {
-        const uint32_t* w = raw + 8 * i;
-        img.hits[i].instance = w[0];
-        img.hits[i].cell[0] = w[1], img.hits[i].cell[1] = w[2], img.hits[i].cell[2] = w[3];
-        memcpy(&img.hits[i].t, &w[4], 4);
-        img.hits[i].iterations = w[5];
-    }
+    if (want_hits) vx__hits_unpack(raw, npx, img.hits);
     vx_free(img.alloc, raw);
     img.gpu_seconds = sec;
     img.rays = (uint64_t)npx * f.spp;

@@ -6,18 +6,7 @@
 # byte, and svo_view's 'passes' script command gives svo_render's image.
 set -u
 BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "[  ok  ] $1"; }
-bad() { fail=$((fail + 1)); echo "[ FAIL ] $1"; }
-expect_status() { # expected description command...
-    want=$1; what=$2; shift 2
-    "$@" >"$T/out" 2>"$T/err"
-    got=$?
-    if [ "$got" = "$want" ]; then ok "$what"; else bad "$what (exit $got, wanted $want)"; cat "$T/err"; fi
-}
+. "$(dirname "$0")/../common/expect.sh"
 R="$BIN/svo_render"
 "$BIN/vox2svo" --write-demo "$T/demo.vox" >/dev/null && "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo" >/dev/null ||
     { echo "cannot make the demo scene"; exit 1; }

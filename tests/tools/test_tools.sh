@@ -5,18 +5,7 @@
 set -u
 BIN=$1
 CORPUS=$2
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "[  ok  ] $1"; }
-bad() { fail=$((fail + 1)); echo "[ FAIL ] $1"; }
-expect_status() { # expected description command...
-    want=$1; what=$2; shift 2
-    "$@" >"$T/out" 2>"$T/err"
-    got=$?
-    if [ "$got" = "$want" ]; then ok "$what"; else bad "$what (exit $got, wanted $want)"; cat "$T/err"; fi
-}
+. "$(dirname "$0")/../common/expect.sh"
 
 expect_status 0 "vox2svo --help" "$BIN/vox2svo" --help
 grep -q "^Usage:" "$T/out" && grep -q "^Options:" "$T/out" && grep -q "^Examples:" "$T/out" && ok "help sections" || bad "help sections"
