@@ -3,14 +3,15 @@
  *
  * Everything goes into one buffer (the GLB's BIN chunk): per mesh one
  * primitive of triangles with POSITION (with its min/max), NORMAL and
- * COLOR_0 (linear RGBA floats) where given, and 32-bit indices, drawn with
+ * COLOR_0 (linear RGBA, unsigned 16-bit normalized) where given, and 32-bit
+ * indices (without NORMAL, glTF viewers compute flat normals), drawn with
  * one opaque material (white base colour, roughness 1, metallic 0) that
  * the vertex colours multiply. Nodes are all roots of the one scene; a
  * node's matrix is column-major, as glTF stores it.
  *
  * Errors: VX_ERR_LIMIT when the buffer would pass the GLB's 4 GiB, VX_ERR_IO
  * when the file cannot be written (nothing is left behind: the file is
- * written to a temporary name and renamed).
+ * streamed to a temporary name and renamed).
  */
 #ifndef VX_GLB_H
 #define VX_GLB_H
@@ -30,7 +31,7 @@ typedef struct vx_glb_mesh {
     size_t vertex_count;    /* at least 1 */
     const float* pos;       /* 3 per vertex */
     const float* normal;    /* 3 per vertex, or NULL */
-    const float* color;     /* 4 per vertex (linear RGBA), or NULL */
+    const uint16_t* color;  /* 4 per vertex (linear RGBA, 65535 = 1), or NULL */
     size_t index_count;     /* a multiple of 3, at least 3 */
     const uint32_t* index;  /* triangles, counter-clockwise seen from the front */
 } vx_glb_mesh;

@@ -9,7 +9,8 @@
 #include <cfloat>
 #include <cstring>
 #include <exception>
-#include <sstream>
+#include <ostream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -54,7 +55,7 @@ vx_result check(const vx_glb_scene* s, vx_error* err) {
             if (me.index[k] >= me.vertex_count)
                 return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u index %zu is %u of %zu vertices", i,
                                k, me.index[k], me.vertex_count);
-        bytes += (uint64_t)me.vertex_count * 4 * (3 + (me.normal ? 3 : 0) + (me.color ? 4 : 0)) +
+        bytes += (uint64_t)me.vertex_count * (12 + (me.normal ? 12 : 0) + (me.color ? 8 : 0)) +
                  (uint64_t)me.index_count * 4 + 16;
     }
     for (uint32_t i = 0; i < s->node_count; i++)
@@ -68,6 +69,39 @@ vx_result check(const vx_glb_scene* s, vx_error* err) {
     return VX_OK;
 }
 
+// An output stream buffer that appends to a vx_atomic_file, so tinygltf
+// serializes straight into the temporary file (no copy of the whole .glb in
+// memory).
+class atomic_buf : public std::streambuf {
+  public:
+    explicit atomic_buf(vx_atomic_file* f) : f_(f) { setp(buf_, buf_ + sizeof buf_); }
+    int sync() override { return flush() ? 0 : -1; }
+
+  protected:
+    int_type overflow(int_type c) override {
+        if (!flush()) return traits_type::eof();
+        if (!traits_type::eq_int_type(c, traits_type::eof())) {
+            *pptr() = traits_type::to_char_type(c);
+            pbump(1);
+        }
+        return traits_type::not_eof(c);
+    }
+    std::streamsize xsputn(const char* s, std::streamsize n) override {
+        if (!flush()) return 0;
+        if (n >= std::streamsize(sizeof buf_)) return vx_atomic_write(f_, s, size_t(n)) ? n : 0;
+        return std::streambuf::xsputn(s, n);
+    }
+
+  private:
+    bool flush() {
+        size_t n = size_t(pptr() - pbase());
+        setp(buf_, buf_ + sizeof buf_);
+        return n == 0 || vx_atomic_write(f_, buf_, n);
+    }
+    vx_atomic_file* f_;
+    char buf_[1 << 16];
+};
+
 } // namespace
 
 extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, vx_error* err) {
@@ -75,6 +109,8 @@ extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, 
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL argument");
     vx_result r = check(s, err);
     if (r) return r;
+    vx_atomic_file f = {};
+    bool open = false;
     try {
         tinygltf::Model m;
         m.asset.version = "2.0";
@@ -109,10 +145,12 @@ extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, 
                 prim.attributes["NORMAL"] =
                     add_accessor(m, add_view(m, me.normal, me.vertex_count * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, me.vertex_count);
-            if (me.color)
-                prim.attributes["COLOR_0"] =
-                    add_accessor(m, add_view(m, me.color, me.vertex_count * 16, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, me.vertex_count);
+            if (me.color) {
+                int c = add_accessor(m, add_view(m, me.color, me.vertex_count * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, me.vertex_count);
+                m.accessors[c].normalized = true;
+                prim.attributes["COLOR_0"] = c;
+            }
             prim.indices =
                 add_accessor(m, add_view(m, me.index, me.index_count * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, me.index_count);
@@ -137,14 +175,27 @@ extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, 
         if (m.buffers[0].data.empty()) m.buffers.clear();
 
         tinygltf::TinyGLTF writer;
-        std::ostringstream os;
-        if (!writer.WriteGltfSceneToStream(&m, os, false, true))
+        r = vx_atomic_open(&f, path, err);
+        if (r) return r;
+        open = true;
+        bool ok;
+        {
+            atomic_buf sb(&f);
+            std::ostream os(&sb);
+            ok = writer.WriteGltfSceneToStream(&m, os, false, true);
+            os.flush();
+        }
+        open = false;
+        if (!ok) {
+            vx_atomic_abort(&f);
             return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: tinygltf could not serialize the scene", path);
-        const std::string bytes = os.str();
-        return vx_file_write_atomic(path, bytes.data(), bytes.size(), err);
+        }
+        return vx_atomic_commit(&f, err);
     } catch (const std::bad_alloc&) {
+        if (open) vx_atomic_abort(&f);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "glb: out of memory");
     } catch (const std::exception& ex) {
+        if (open) vx_atomic_abort(&f);
         return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "glb: %s", ex.what());
     }
 }

@@ -98,7 +98,7 @@ static void cover(const Model& m, std::unordered_set<uint64_t>& seen, int a, boo
                 float want[4] = {srgb_to_linear(col & 0xFF), srgb_to_linear(col >> 8 & 0xFF),
                                  srgb_to_linear(col >> 16 & 0xFF), float(col >> 24) / 255.0f};
                 for (int k = 0; k < 4; k++)
-                    if (std::fabs(rgba[k] - want[k]) > 1e-6f) {
+                    if (std::fabs(rgba[k] - want[k]) > 0.6f / 65535) {
                         FAIL("%s: cell (%u %u %u) colour %g, voxel %g (channel %d)", what, c[0], c[1], c[2], rgba[k],
                              want[k], k);
                         break;
@@ -149,10 +149,11 @@ static size_t check_mesh(const tinygltf::Model& g, int mi, const Model& m, const
         }
         const float* pos = accessor_data<float>(g, pit->second, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3,
                                                 &np, what);
-        const float* col = cit == p.attributes.end()
-                               ? nullptr
-                               : accessor_data<float>(g, cit->second, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                      TINYGLTF_TYPE_VEC4, 4, &nc, what);
+        const uint16_t* col = cit == p.attributes.end()
+                                  ? nullptr
+                                  : accessor_data<uint16_t>(g, cit->second, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                                            TINYGLTF_TYPE_VEC4, 4, &nc, what);
+        if (col && !g.accessors[cit->second].normalized) FAIL("%s: COLOR_0 not normalized", what);
         const uint32_t* idx = accessor_data<uint32_t>(g, p.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                                                       TINYGLTF_TYPE_SCALAR, 1, &ni, what);
         if (!pos || !idx || !col || nc != np) {
@@ -211,13 +212,14 @@ static size_t check_mesh(const tinygltf::Model& g, int mi, const Model& m, const
                 continue;
             }
             // every corner of the quad has the same colour
-            const float* c0 = col + 4 * idx[q];
+            const uint16_t* c0 = col + 4 * idx[q];
             for (int k = 1; k < 6; k++)
-                if (memcmp(c0, col + 4 * idx[q + k], 16) != 0) bad = true;
+                if (memcmp(c0, col + 4 * idx[q + k], 8) != 0) bad = true;
+            float c0f[4] = {c0[0] / 65535.0f, c0[1] / 65535.0f, c0[2] / 65535.0f, c0[3] / 65535.0f};
             if (bad) FAIL("%s: quad %zu has more than one colour", what, q / 6);
             // counter-clockwise seen from outside: the winding's normal points out
             cover(m, seen, axis, sign > 0, uint32_t(mn[axis]), uint32_t(mn[ua]), uint32_t(mx[ua]), uint32_t(mn[va]),
-                  uint32_t(mx[va]), c0, what);
+                  uint32_t(mx[va]), c0f, what);
             area += uint64_t(rect);
             quads++;
         }

@@ -33,7 +33,8 @@ static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
 }
 
 typedef struct mesh_data {
-    float *pos, *normal, *color;
+    float* pos;
+    uint16_t* color;
     uint32_t* index;
     size_t vertices, indices;
     char name[32];
@@ -45,29 +46,28 @@ static double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* The quads as triangles: 4 corners each, counter-clockwise from outside. */
-static vx_result quads_to_mesh(const vx_voxmesh* vm, const float lin[256], mesh_data* md, vx_error* err) {
+/* The quads as triangles: 4 corners each, counter-clockwise from outside (no
+ * normals: glTF viewers compute flat ones, which these are). */
+static vx_result quads_to_mesh(const vx_voxmesh* vm, const uint16_t lin[256], mesh_data* md, vx_error* err) {
     size_t nq = vm->quad_count;
     md->vertices = 4 * nq;
     md->indices = 6 * nq;
     md->pos = (float*)vx_calloc(NULL, md->vertices, 3 * sizeof(float));
-    md->normal = (float*)vx_calloc(NULL, md->vertices, 3 * sizeof(float));
-    md->color = (float*)vx_calloc(NULL, md->vertices, 4 * sizeof(float));
+    md->color = (uint16_t*)vx_calloc(NULL, md->vertices, 4 * sizeof(uint16_t));
     md->index = (uint32_t*)vx_calloc(NULL, md->indices, sizeof(uint32_t));
-    if (!md->pos || !md->normal || !md->color || !md->index)
+    if (!md->pos || !md->color || !md->index)
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu quads", nq);
     for (size_t q = 0; q < nq; q++) {
         const vx_voxmesh_quad* Q = &vm->quads[q];
         uint32_t a = Q->axis, ua = (a + 1) % 3, va = (a + 2) % 3;
         const uint32_t uv[4][2] = {{Q->u0, Q->v0}, {Q->u1, Q->v0}, {Q->u1, Q->v1}, {Q->u0, Q->v1}};
-        float rgba[4] = {lin[Q->rgba & 0xFF], lin[(Q->rgba >> 8) & 0xFF], lin[(Q->rgba >> 16) & 0xFF],
-                         (float)(Q->rgba >> 24) / 255.0f};
+        uint16_t rgba[4] = {lin[Q->rgba & 0xFF], lin[(Q->rgba >> 8) & 0xFF], lin[(Q->rgba >> 16) & 0xFF],
+                            (uint16_t)((Q->rgba >> 24) * 257u)};
         for (int k = 0; k < 4; k++) {
             size_t v = 4 * q + (size_t)k;
             md->pos[3 * v + a] = (float)Q->plane;
             md->pos[3 * v + ua] = (float)uv[k][0];
             md->pos[3 * v + va] = (float)uv[k][1];
-            md->normal[3 * v + a] = Q->positive ? 1.0f : -1.0f;
             memcpy(md->color + 4 * v, rgba, sizeof rgba);
         }
         static const uint32_t front[6] = {0, 1, 2, 0, 2, 3}, back[6] = {0, 2, 1, 0, 3, 2};
@@ -77,10 +77,10 @@ static vx_result quads_to_mesh(const vx_voxmesh* vm, const float lin[256], mesh_
 }
 
 vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err) {
-    float lin[256]; /* sRGB byte -> linear */
+    uint16_t lin[256]; /* sRGB byte -> linear, 65535 = 1 */
     for (int i = 0; i < 256; i++) {
         double c = i / 255.0;
-        lin[i] = (float)(c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4));
+        lin[i] = (uint16_t)lround(65535.0 * (c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4)));
     }
     svo_glb_stats st = {0};
     vx_result r = VX_OK;
@@ -110,7 +110,6 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
             meshes[st.meshes] = (vx_glb_mesh){.name = d->name,
                                               .vertex_count = d->vertices,
                                               .pos = d->pos,
-                                              .normal = d->normal,
                                               .color = d->color,
                                               .index_count = d->indices,
                                               .index = d->index};
@@ -148,7 +147,6 @@ done:
     if (md)
         for (uint32_t i = 0; i < s->model_count; i++) {
             vx_free(NULL, md[i].pos);
-            vx_free(NULL, md[i].normal);
             vx_free(NULL, md[i].color);
             vx_free(NULL, md[i].index);
         }

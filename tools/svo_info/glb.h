@@ -15,7 +15,8 @@ typedef struct svo_glb_stats {
 } svo_glb_stats;
 
 /* One mesh per non-empty model (greedy-meshed surface, model cell units,
- * flat normals, linear vertex colours decoded from the sRGB voxel colours),
+ * linear vertex colours decoded from the sRGB voxel colours, no normals:
+ * viewers compute the flat ones),
  * one node per shown instance (every instance with all) whose matrix is
  * world_from_grid * xform. The grid's axes are kept as they are (a .vox
  * scene stays +Z up). */
