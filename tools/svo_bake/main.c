@@ -5,20 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "formats/image.h"
 #include "probes/probes.h"
 #include "tools/common/tool.h"
-
-typedef struct options {
-    vx_probe_bake_desc b;
-    uint32_t shard, shards;
-    const char* exr_dir;
-    const char* device;
-    bool merge, cpu, quiet, verbose, fresh;
-    uint32_t threads;
-} options;
+#include "tools/svo_bake/svo_bake.h"
 
 static options default_options(void) {
     options o = {0};
@@ -46,6 +39,8 @@ _Noreturn static void usage(int status) {
             "       (double precision); the two agree statistically, each is reproducible by itself.\n"
             "       --shard I/N bakes a part that --merge joins (bake all parts on the same kind of\n"
             "       device); an interrupted run continues from OUT.probes.partial.\n"
+            "       Under MPI (mpirun -n N %s ...; where built with MPI) the ranks share the\n"
+            "       probes in batches and rank 0 writes the file: the same bytes whatever N.\n"
             "\n"
             "Options:\n"
             "  --grid X,Y,Z       probes per axis over the bounds (default: from --spacing)\n"
@@ -60,11 +55,13 @@ _Noreturn static void usage(int status) {
             "  --sun R,G,B        sun irradiance (default: 3,3,3); 0,0,0 for none\n"
             "  --sky R,G,B        sky radiance (default: 0.31,0.375,0.46); 0,0,0 for none\n"
             "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
-            "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count)\n"
+            "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count;\n"
+            "                     under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
             "  --fresh            ignore a checkpoint from an interrupted run\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
-            "  --device N|NAME    Vulkan device (default: a discrete GPU, else any)\n"
+            "  --device N|NAME    Vulkan device (default: a discrete GPU, else any; under MPI rank r takes\n"
+            "                     GPU r mod GPUs of its host)\n"
             "  -q                 no progress bar;  -v: timings and the effective options\n"
             "  -h, --help         this help;  -version: versions\n"
             "\n"
@@ -72,7 +69,7 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo scene.probes --spacing 16 --res 64 --spp 32\n"
             "  %s scene.svo part0.probes --shard 0/2 && %s scene.svo part1.probes --shard 1/2\n"
             "  %s --merge scene.probes part0.probes part1.probes\n",
-            vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed, d.shard,
+            vx_tool_name, vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed, d.shard,
             d.shards, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
     exit(status);
 }
@@ -160,7 +157,7 @@ static void tx_moments(const vx_probe_set* ps, size_t p, size_t t, float* o) {
     o[0] = ps->moments[(p * n + t) * 2], o[1] = ps->moments[(p * n + t) * 2 + 1], o[2] = 0;
 }
 
-static int write_exr(const char* dir, const vx_probe_set* ps) {
+int write_exr(const char* dir, const vx_probe_set* ps) {
     mkdir(dir, 0777);
     int rc = 0;
     rc |= write_atlas(dir, "radiance", ps, ps->res, 3, tx_radiance);
@@ -195,6 +192,111 @@ static int do_merge(const char* out, char** parts, int n) {
     return rc;
 }
 
+/* ---- the job ----------------------------------------------------------------------- */
+
+int bake_job_open(bake_job* j, const char* device, const char* who) {
+    vx_error err = {0};
+    snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
+    if (vx_svo_read_file(NULL, j->in, &j->scene, &err)) {
+        fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
+        return 1;
+    }
+    if (j->o.cpu) return 0;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &j->gpu, &err)) {
+        fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
+        return 1;
+    }
+    if (vx_render_scene_create(j->gpu, &j->scene, &j->rs, &err)) {
+        fprintf(stderr, "%s: %s%s: %s (--cpu bakes on the CPU)\n", vx_tool_name, who, j->in, err.msg);
+        return 1;
+    }
+    return 0;
+}
+
+void bake_job_close(bake_job* j) {
+    vx_render_scene_destroy(j->rs);
+    vx_gpu_destroy(j->gpu);
+    vx_svo_scene_free(&j->scene);
+    j->rs = NULL, j->gpu = NULL;
+}
+
+vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err) {
+    return j->o.cpu ? vx_probe_bake_more(&j->scene, bd, ps, end, err)
+                    : vx_probe_bake_more_gpu(j->rs, &j->scene, bd, ps, end, err);
+}
+
+/* ---- probe maps as bytes --------------------------------------------------------------- */
+
+/* element bytes per probe of the six maps, in the order of probes.h */
+static void map_sizes(const vx_probe_set* ps, size_t z[6]) {
+    size_t nb = (size_t)(ps->res + 2) * (ps->res + 2), lb = (size_t)(ps->low_res + 2) * (ps->low_res + 2);
+    z[0] = nb * 3 * 2;
+    z[1] = nb * 4;
+    z[2] = nb * 2;
+    z[3] = lb * 2;
+    z[4] = (VX_PROBE_IRR_RES + 2) * (VX_PROBE_IRR_RES + 2) * 3 * 2;
+    z[5] = (VX_PROBE_DIST_RES + 2) * (VX_PROBE_DIST_RES + 2) * 2 * 4;
+}
+
+static void map_arrays(vx_probe_set* ps, void*** a) {
+    a[0] = (void**)&ps->radiance, a[1] = (void**)&ps->normal, a[2] = (void**)&ps->distance;
+    a[3] = (void**)&ps->low, a[4] = (void**)&ps->irradiance, a[5] = (void**)&ps->moments;
+}
+
+size_t maps_probe_bytes(const vx_probe_set* ps) {
+    size_t z[6], n = 0;
+    map_sizes(ps, z);
+    for (int i = 0; i < 6; i++) n += z[i];
+    return n;
+}
+
+void maps_pack(const vx_probe_set* ps, uint32_t from, uint32_t n, uint8_t* buf) {
+    size_t z[6];
+    void** a[6];
+    map_sizes(ps, z);
+    map_arrays((vx_probe_set*)ps, a);
+    for (int i = 0; i < 6; i++) {
+        memcpy(buf, (const uint8_t*)*a[i] + z[i] * (from - ps->first), z[i] * n);
+        buf += z[i] * n;
+    }
+}
+
+void maps_unpack(vx_probe_set* ps, uint32_t from, uint32_t n, const uint8_t* buf) {
+    size_t z[6];
+    void** a[6];
+    map_sizes(ps, z);
+    map_arrays(ps, a);
+    for (int i = 0; i < 6; i++) {
+        memcpy((uint8_t*)*a[i] + z[i] * (from - ps->first), buf, z[i] * n);
+        buf += z[i] * n;
+    }
+}
+
+bool maps_reserve(vx_probe_set* ps, uint32_t n) {
+    size_t z[6];
+    void** a[6];
+    map_sizes(ps, z);
+    map_arrays(ps, a);
+    for (int i = 0; i < 6; i++) {
+        uint8_t* p = vx_calloc(ps->alloc, n ? n : 1, z[i]);
+        if (!p) return false;
+        if (*a[i] && ps->count) memcpy(p, *a[i], z[i] * (ps->count < n ? ps->count : n));
+        vx_free(ps->alloc, *a[i]);
+        *a[i] = p;
+    }
+    return true;
+}
+
+void maps_free(vx_probe_set* ps) {
+    void** a[6];
+    map_arrays(ps, a);
+    for (int i = 0; i < 6; i++) {
+        vx_free(ps->alloc, *a[i]);
+        *a[i] = NULL;
+    }
+    ps->count = 0;
+}
+
 /* ---- checkpoint ------------------------------------------------------------------------ */
 
 /* The checkpoint belongs to this job when its grid section (probes, grid and
@@ -212,9 +314,113 @@ static bool same_job(const vx_probe_set* placed, const vx_probe_set* ck) {
     return same;
 }
 
+bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
+    if (j->o.fresh || access(j->ckpath, F_OK) != 0) return false;
+    vx_probe_set ck;
+    vx_error e2 = {0};
+    if (!vx_probe_read_file(NULL, j->ckpath, &ck, &e2) && same_job(ps, &ck) && ck.first + ck.count <= end) {
+        printf("resuming from %s: %u of %u probes done\n", j->ckpath, ck.count, end - ps->first);
+        vx_probe_set_free(ps);
+        *ps = ck;
+        return true;
+    }
+    if (!e2.code) vx_probe_set_free(&ck);
+    fprintf(stderr, "%s: %s: not a checkpoint of this job, starting over\n", vx_tool_name, j->ckpath);
+    return false;
+}
+
+/* ---- one process ---------------------------------------------------------------------- */
+
+static int bake_single(bake_job* j) {
+    options* o = &j->o;
+    vx_error err = {0};
+    if (bake_job_open(j, o->device, "")) {
+        bake_job_close(j);
+        return 1;
+    }
+    if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
+    else printf("device: CPU (%u threads, double precision)\n", o->threads);
+    double t0 = vx_time_now();
+    vx_probe_set ps;
+    if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
+        bake_job_close(j);
+        return vx_tool_error(j->in, &err);
+    }
+    uint32_t total = ps.probe_count;
+    uint32_t first = (uint32_t)((uint64_t)total * o->shard / o->shards),
+             end = (uint32_t)((uint64_t)total * (o->shard + 1) / o->shards);
+    vx_probe_set_free(&ps);
+    o->b.first = first;
+    o->b.count = end - first;
+    /* an empty shard (more shards than probes) still gets a valid file */
+    int rc = 0;
+    if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
+        bake_job_close(j);
+        return vx_tool_error(j->in, &err);
+    }
+    uint32_t moved = 0, disabled = 0;
+    for (uint32_t i = 0; i < ps.probe_count; i++)
+        moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
+    printf("grid: %ux%ux%u = %s probes (%u moved out of voxels, %u disabled), spacing %g,%g,%g; baking %u..%u\n",
+           ps.grid[0], ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0],
+           ps.spacing[1], ps.spacing[2], first, end);
+    /* resume from a checkpoint of the same job */
+    resume_checkpoint(j, &ps, end);
+    eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
+    vx_probe_bake_desc bd = o->b;
+    if (!o->quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
+    /* checkpoint about every 20 s of work, at least one probe a step */
+    uint32_t step = o->cpu ? 2 * o->threads : 16;
+    double t_step = vx_time_now();
+    while (!rc && ps.first + ps.count < end) {
+        uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
+        e.base = ps.count;
+        if (bake_range(j, &bd, &ps, to, &err)) {
+            rc = vx_tool_error(j->in, &err);
+            break;
+        }
+        double now = vx_time_now(), dt = now - t_step;
+        t_step = now;
+        if (ps.first + ps.count < end) {
+            if (vx_probe_write_file(&ps, j->ckpath, &err)) {
+                rc = vx_tool_error(j->ckpath, &err);
+                break;
+            }
+            step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
+        }
+    }
+    if (!o->quiet && isatty(2)) fprintf(stderr, "\n");
+    double t_bake = vx_time_now() - t0;
+    if (!rc && vx_probe_write_file(&ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (!rc) {
+        remove(j->ckpath);
+        printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",
+               ps.count, ps.res, ps.res, ps.spp, ps.bounces, t_bake, ps.count ? t_bake / ps.count : 0.0, ps.dist_step,
+               ps.dist_max_error);
+        printf("wrote %s\n", j->out);
+    }
+    if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
+    vx_probe_set_free(&ps);
+    bake_job_close(j);
+    return rc;
+}
+
 int main(int argc, char** argv) {
     vx_tool_init(argc, argv);
     options o = default_options();
+#ifdef VX_HAVE_MPI
+    /* under mpirun only rank 0 prints usage errors and the effective options */
+    int saved_out = -1, saved_err = -1;
+    if (bake_mpi_launched() && bake_mpi_env_rank() > 0) {
+        int null = open("/dev/null", O_WRONLY);
+        if (null >= 0) {
+            fflush(stdout);
+            saved_out = dup(1), saved_err = dup(2);
+            dup2(null, 1), dup2(null, 2);
+            close(null);
+        }
+    }
+#endif
     const char* pos[2];
     int npos = 0;
     char** merge_parts = NULL;
@@ -290,6 +496,7 @@ int main(int argc, char** argv) {
             NEED();
             if (!vx_tool_parse_u32(argv[++i], &o.threads) || !o.threads || o.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
+            o.threads_set = true;
         } else if (!strcmp(a, "--exr")) {
             NEED();
             o.exr_dir = argv[++i];
@@ -312,115 +519,22 @@ int main(int argc, char** argv) {
     if (npos != 2) usage_error("%s", npos == 0 ? "no scene and output given" : "no output file given");
     if ((o.b.grid[0] || o.b.grid[1] || o.b.grid[2]) && o.b.spacing) usage_error("%s", "give --grid or --spacing, not both");
     if (o.cpu && o.device) usage_error("%s", "--cpu conflicts with --device");
-    const char* in = pos[0];
-    const char* out = pos[1];
     o.b.threads = o.threads;
     if (o.verbose)
-        printf("%s %s %s --res %u --spp %u --bounces %d --seed %llu --shard %u/%u --threads %u\n", vx_tool_name, in, out,
-               o.b.res, o.b.spp, o.b.bounces < 0 ? 0 : o.b.bounces, (unsigned long long)o.b.seed, o.shard, o.shards,
-               o.threads);
-
-    vx_error err = {0};
-    vx_svo_scene scene;
-    if (vx_svo_read_file(NULL, in, &scene, &err)) return vx_tool_error(NULL, &err);
-    vx_gpu* gpu = NULL;
-    vx_render_scene* rs = NULL;
-    if (!o.cpu) {
-        if (vx_gpu_create(&(vx_gpu_desc){.device = o.device}, &gpu, &err)) {
-            vx_svo_scene_free(&scene);
-            fprintf(stderr, "%s: no usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, err.msg);
-            return 1;
-        }
-        if (vx_render_scene_create(gpu, &scene, &rs, &err)) {
-            vx_gpu_destroy(gpu);
-            vx_svo_scene_free(&scene);
-            fprintf(stderr, "%s: %s: %s (--cpu bakes on the CPU)\n", vx_tool_name, in, err.msg);
-            return 1;
-        }
-        printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
-    } else {
-        printf("device: CPU (%u threads, double precision)\n", o.threads);
+        printf("%s %s %s --res %u --spp %u --bounces %d --seed %llu --shard %u/%u --threads %u\n", vx_tool_name, pos[0],
+               pos[1], o.b.res, o.b.spp, o.b.bounces < 0 ? 0 : o.b.bounces, (unsigned long long)o.b.seed, o.shard,
+               o.shards, o.threads);
+#ifdef VX_HAVE_MPI
+    if (saved_out >= 0) {
+        fflush(stdout);
+        dup2(saved_out, 1), dup2(saved_err, 2);
+        close(saved_out), close(saved_err);
     }
-    double t0 = vx_time_now();
-    vx_probe_set ps;
-    if (vx_probe_place(&scene, &o.b, &ps, &err)) {
-        vx_render_scene_destroy(rs);
-        vx_gpu_destroy(gpu);
-        vx_svo_scene_free(&scene);
-        return vx_tool_error(in, &err);
+    if (bake_mpi_launched()) {
+        if (o.shards > 1) usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
+        return bake_mpi(&o, pos[0], pos[1]);
     }
-    uint32_t total = ps.probe_count;
-    uint32_t first = (uint32_t)((uint64_t)total * o.shard / o.shards), end = (uint32_t)((uint64_t)total * (o.shard + 1) / o.shards);
-    vx_probe_set_free(&ps);
-    o.b.first = first;
-    o.b.count = end - first;
-    /* an empty shard (more shards than probes) still gets a valid file */
-    int rc = 0;
-    if (vx_probe_place(&scene, &o.b, &ps, &err)) {
-        vx_render_scene_destroy(rs);
-        vx_gpu_destroy(gpu);
-        vx_svo_scene_free(&scene);
-        return vx_tool_error(in, &err);
-    }
-    uint32_t moved = 0, disabled = 0;
-    for (uint32_t i = 0; i < ps.probe_count; i++) moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
-    printf("grid: %ux%ux%u = %s probes (%u moved out of voxels, %u disabled), spacing %g,%g,%g; baking %u..%u\n", ps.grid[0],
-           ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0], ps.spacing[1],
-           ps.spacing[2], first, end);
-    /* resume from a checkpoint of the same job */
-    char ckpath[4096];
-    snprintf(ckpath, sizeof ckpath, "%s.partial", out);
-    if (!o.fresh && access(ckpath, F_OK) == 0) {
-        vx_probe_set ck;
-        vx_error e2 = {0};
-        if (!vx_probe_read_file(NULL, ckpath, &ck, &e2) && same_job(&ps, &ck) && ck.first + ck.count <= end) {
-            printf("resuming from %s: %u of %u probes done\n", ckpath, ck.count, end - first);
-            vx_probe_set_free(&ps);
-            ps = ck;
-        } else {
-            if (!e2.code) vx_probe_set_free(&ck);
-            fprintf(stderr, "%s: %s: not a checkpoint of this job, starting over\n", vx_tool_name, ckpath);
-        }
-    }
-    eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
-    vx_probe_bake_desc bd = o.b;
-    if (!o.quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
-    /* checkpoint about every 20 s of work, at least one probe a step */
-    uint32_t step = o.cpu ? 2 * o.threads : 16;
-    double t_step = vx_time_now();
-    while (!rc && ps.first + ps.count < end) {
-        uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
-        e.base = ps.count;
-        vx_result br = o.cpu ? vx_probe_bake_more(&scene, &bd, &ps, to, &err)
-                             : vx_probe_bake_more_gpu(rs, &scene, &bd, &ps, to, &err);
-        if (br) {
-            rc = vx_tool_error(in, &err);
-            break;
-        }
-        double now = vx_time_now(), dt = now - t_step;
-        t_step = now;
-        if (ps.first + ps.count < end) {
-            if (vx_probe_write_file(&ps, ckpath, &err)) {
-                rc = vx_tool_error(ckpath, &err);
-                break;
-            }
-            step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
-        }
-    }
-    if (!o.quiet && isatty(2)) fprintf(stderr, "\n");
-    double t_bake = vx_time_now() - t0;
-    if (!rc && vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
-    if (!rc) {
-        remove(ckpath);
-        printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",
-               ps.count, ps.res, ps.res, ps.spp, ps.bounces, t_bake, ps.count ? t_bake / ps.count : 0.0, ps.dist_step,
-               ps.dist_max_error);
-        printf("wrote %s\n", out);
-    }
-    if (!rc && o.exr_dir) rc = write_exr(o.exr_dir, &ps);
-    vx_probe_set_free(&ps);
-    vx_render_scene_destroy(rs);
-    vx_gpu_destroy(gpu);
-    vx_svo_scene_free(&scene);
-    return rc;
+#endif
+    bake_job j = {.o = o, .in = pos[0], .out = pos[1]};
+    return bake_single(&j);
 }

@@ -1,0 +1,475 @@
+/* tools/svo_bake/mpi.c - svo_bake under MPI: mpirun -n N svo_bake SCENE OUT [options].
+ *
+ * Every rank reads the scene, opens its device (GPU `local rank mod GPUs` of
+ * its host, or --device, or --cpu) and places the same probe grid. Rank 0
+ * hands out batches of consecutive probes (guided sizes: a share of what is
+ * left, so probes that cost more, near geometry, even out) and bakes
+ * batches itself; each worker holds two assignments, so the next is there
+ * when it sends a batch's maps back. Rank 0 answers between and during its
+ * own batches (from the bake's progress callback), copies each batch into
+ * the output set, checkpoints the baked prefix to OUT.probes.partial (the
+ * single-process checkpoint: either kind of run resumes the other's) and
+ * finally writes OUT.probes atomically. A probe's maps depend only on the
+ * seed and its index, so the bytes equal a single-process bake whatever N.
+ * A rank that fails calls MPI_Abort, which ends every rank before rank 0
+ * writes anything under the output name. Ranks must share one byte order.
+ *
+ * Test hooks (environment): VX_BAKE_MPI_FAIL=R:K[:error] makes rank R die
+ * of SIGKILL (or fail with an error) after sending its K-th batch;
+ * VX_BAKE_CHECKPOINT_S sets the seconds between checkpoints (default 20). */
+#include <mpi.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tools/common/tool.h"
+#include "tools/svo_bake/svo_bake.h"
+
+enum { TAG_ASSIGN = 1, TAG_RESULT = 2 };
+enum { DEPTH = 2 }; /* assignments a worker holds */
+
+bool bake_mpi_launched(void) {
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE");
+}
+
+int bake_mpi_env_rank(void) {
+    const char* v = getenv("OMPI_COMM_WORLD_RANK");
+    if (!v) v = getenv("PMIX_RANK");
+    if (!v) v = getenv("PMI_RANK");
+    return v ? atoi(v) : 0;
+}
+
+static int g_rank;
+static char g_host[MPI_MAX_PROCESSOR_NAME];
+
+/* One line naming the rank and host, then the whole job ends. */
+_Noreturn static void die(const char* fmt, ...) {
+    va_list ap;
+    fprintf(stderr, "%s: rank %d (%s): ", vx_tool_name, g_rank, g_host);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs("; ending the job\n", stderr);
+    fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    exit(1); /* not reached */
+}
+
+/* per-rank timings, gathered to rank 0 */
+enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_N };
+
+/* A set that shares placed's probes and grid and holds maps for a batch
+ * from `first` (none yet): what vx_probe_place would give for that range. */
+static vx_probe_set view_at(const vx_probe_set* placed, uint32_t first) {
+    vx_probe_set v = *placed;
+    v.first = first, v.count = 0;
+    v.radiance = NULL, v.normal = NULL, v.distance = NULL, v.low = NULL, v.irradiance = NULL, v.moments = NULL;
+    return v;
+}
+
+/* ---- rank 0: the coordinator ------------------------------------------------------ */
+
+typedef struct coord {
+    bake_job* j;
+    vx_probe_set* ps;       /* output: maps for [first, end), count = baked prefix */
+    uint32_t first, end;
+    uint32_t next;          /* next probe to hand out */
+    uint32_t received;      /* probes stored (own and workers') */
+    uint32_t outstanding;   /* probes handed to workers, not yet back */
+    uint8_t* done;          /* per probe from first */
+    int nranks;
+    bool* ended;            /* per rank: sent the empty assignment */
+    uint32_t min_batch, cap, byte_cap;
+    size_t pb;              /* bytes per probe */
+    uint8_t* buf;           /* receive buffer */
+    size_t buf_size;
+    bool serve_in_bake;     /* the progress callback may call MPI */
+    double st[ST_N];
+    /* progress line */
+    bool show;
+    double t0, last_show;
+    uint32_t own_done;
+    double serving; /* seconds answering inside the current own batch */
+} coord;
+
+static uint32_t batch_size(const coord* c) {
+    uint32_t left = c->end - c->next;
+    uint32_t b = (uint32_t)((left + 2u * (uint32_t)c->nranks - 1) / (2u * (uint32_t)c->nranks));
+    if (b > c->cap) b = c->cap;
+    if (b < c->min_batch) b = c->min_batch;
+    return b < left ? b : left;
+}
+
+static void hand_out(coord* c, int to) {
+    uint32_t a[2];
+    if (c->next < c->end) {
+        uint32_t n = batch_size(c);
+        a[0] = c->next, a[1] = c->next + n;
+        c->next += n;
+        c->outstanding += n;
+    } else if (!c->ended[to]) {
+        a[0] = a[1] = c->end;
+        c->ended[to] = true;
+    } else {
+        return;
+    }
+    MPI_Send(a, 2, MPI_UINT32_T, to, TAG_ASSIGN, MPI_COMM_WORLD);
+}
+
+static void advance_prefix(coord* c) {
+    uint32_t p = c->ps->first + c->ps->count;
+    while (p < c->end && c->done[p - c->first]) p++;
+    c->ps->count = p - c->ps->first;
+}
+
+static void store(coord* c, uint32_t from, uint32_t n, const uint8_t* maps, int source) {
+    if (from < c->first || n > c->end - from) die("rank %d sent probes %u..%u outside %u..%u", source, from, from + n, c->first, c->end);
+    for (uint32_t i = from; i < from + n; i++) {
+        if (c->done[i - c->first]) die("rank %d sent probe %u twice", source, i);
+        c->done[i - c->first] = 1;
+    }
+    maps_unpack(c->ps, from, n, maps);
+    c->received += n;
+    advance_prefix(c);
+}
+
+/* Receives one result (probed: status) and answers with the next assignment. */
+static void take_result(coord* c, MPI_Status* status) {
+    double t = vx_time_now();
+    int count = 0;
+    MPI_Get_count(status, MPI_BYTE, &count);
+    if ((size_t)count > c->buf_size) {
+        free(c->buf);
+        c->buf_size = (size_t)count;
+        if (!(c->buf = malloc(c->buf_size))) die("out of memory for a batch of %d bytes", count);
+    }
+    MPI_Recv(c->buf, count, MPI_BYTE, status->MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    uint32_t h[2];
+    if (count < 8) die("rank %d sent a %d-byte result", status->MPI_SOURCE, count);
+    memcpy(h, c->buf, 8);
+    if ((size_t)count != 8 + (size_t)h[1] * c->pb)
+        die("rank %d sent %d bytes for %u probes (%zu each)", status->MPI_SOURCE, count, h[1], c->pb);
+    if (h[1] > c->outstanding) die("rank %d sent probes nobody asked for", status->MPI_SOURCE);
+    c->outstanding -= h[1];
+    hand_out(c, status->MPI_SOURCE);
+    store(c, h[0], h[1], c->buf + 8, status->MPI_SOURCE);
+    c->st[ST_COMM] += vx_time_now() - t;
+}
+
+/* Answers every result that has arrived; with block, waits for one first. */
+static void serve(coord* c, bool block) {
+    for (;;) {
+        MPI_Status s;
+        int flag = 1;
+        if (block) {
+            double t = vx_time_now();
+            MPI_Probe(MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &s);
+            c->st[ST_WAIT] += vx_time_now() - t;
+            block = false;
+        } else {
+            MPI_Iprobe(MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &flag, &s);
+        }
+        if (!flag) return;
+        take_result(c, &s);
+    }
+}
+
+static void show(coord* c, bool force) {
+    if (!c->show) return;
+    double now = vx_time_now();
+    if (!force && now - c->last_show < 0.25) return;
+    c->last_show = now;
+    uint32_t all = c->received + c->own_done, total = c->end - c->first;
+    fprintf(stderr, "\r%s: %s/%s probes %3d%% on %d ranks  %.0f s elapsed   ", vx_tool_name, vx_tool_num(all),
+            vx_tool_num(total), (int)(100.0 * all / (total ? total : 1)), c->nranks, now - c->t0);
+    fflush(stderr);
+}
+
+/* rank 0's own bake: serve the workers while it runs */
+static bool coord_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
+    (void)stage, (void)total;
+    coord* c = user;
+    c->own_done = (uint32_t)done;
+    if (c->serve_in_bake) {
+        double t = vx_time_now();
+        serve(c, false);
+        c->serving += vx_time_now() - t; /* answering is not baking */
+    }
+    show(c, false);
+    return true;
+}
+
+static void checkpoint(coord* c, double interval, double* last, uint32_t* last_count) {
+    if (c->ps->count == *last_count || c->ps->first + c->ps->count >= c->end) return;
+    double now = vx_time_now();
+    if (now - *last < interval) return;
+    vx_error err = {0};
+    if (vx_probe_write_file(c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
+    *last = vx_time_now();
+    *last_count = c->ps->count;
+    c->st[ST_COMM] += *last - now;
+}
+
+static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
+    const char* ck_env = getenv("VX_BAKE_CHECKPOINT_S");
+    double interval = ck_env ? atof(ck_env) : 20.0, last_ck = vx_time_now();
+    uint32_t last_count = c->ps->count;
+    for (int r = 1; r < c->nranks; r++)
+        for (int k = 0; k < DEPTH; k++) hand_out(c, r);
+    vx_probe_bake_desc bd = *b;
+    bd.progress = (vx_progress){coord_progress, c};
+    uint8_t* own = NULL;
+    size_t own_size = 0;
+    while (c->next < c->end) {
+        uint32_t a = c->next, n = batch_size(c);
+        c->next += n;
+        vx_probe_set v = view_at(c->ps, a);
+        double t = vx_time_now();
+        c->own_done = 0, c->serving = 0;
+        vx_error err = {0};
+        if (bake_range(c->j, &bd, &v, a + n, &err)) die("%s: %s", c->j->in, err.msg);
+        double dt = vx_time_now() - t;
+        c->st[ST_BAKE] += dt - c->serving;
+        c->st[ST_PROBES] += n, c->st[ST_BATCHES] += 1;
+        t = vx_time_now();
+        if (n * c->pb > own_size) {
+            free(own);
+            own_size = n * c->pb;
+            if (!(own = malloc(own_size))) die("out of memory for a batch of %u probes", n);
+        }
+        maps_pack(&v, a, n, own);
+        maps_free(&v);
+        c->own_done = 0;
+        store(c, a, n, own, 0);
+        c->st[ST_COMM] += vx_time_now() - t;
+        /* about 5 to 40 s a batch, as the single-process steps */
+        if (dt < 5 && c->cap < c->byte_cap / 2) c->cap *= 2;
+        else if (dt > 40 && c->cap > c->min_batch) c->cap /= 2;
+        serve(c, false);
+        checkpoint(c, interval, &last_ck, &last_count);
+        show(c, false);
+    }
+    free(own);
+    while (c->outstanding) {
+        serve(c, true);
+        checkpoint(c, interval, &last_ck, &last_count);
+        show(c, false);
+    }
+    /* every worker has had its empty assignment by now (each result is
+     * answered), except ones that never got work */
+    for (int r = 1; r < c->nranks; r++) hand_out(c, r);
+    show(c, true);
+    if (c->show) fputc('\n', stderr);
+}
+
+/* ---- ranks > 0: workers ---------------------------------------------------------- */
+
+static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_bake_desc* bd, double st[ST_N]) {
+    int fail_rank = -1, fail_after = 0;
+    bool fail_error = false;
+    const char* f = getenv("VX_BAKE_MPI_FAIL");
+    if (f) {
+        char kind[16] = "";
+        if (sscanf(f, "%d:%d:%15s", &fail_rank, &fail_after, kind) < 2) fail_rank = -1;
+        fail_error = !strcmp(kind, "error");
+    }
+    size_t pb = maps_probe_bytes(placed);
+    uint8_t* buf = NULL;
+    size_t buf_size = 0;
+    uint32_t cur[2], nxt[2];
+    double t = vx_time_now();
+    MPI_Recv(cur, 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    st[ST_WAIT] += vx_time_now() - t;
+    MPI_Request send = MPI_REQUEST_NULL, recv = MPI_REQUEST_NULL;
+    while (cur[0] < cur[1]) {
+        MPI_Irecv(nxt, 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv);
+        uint32_t n = cur[1] - cur[0];
+        vx_probe_set v = view_at(placed, cur[0]);
+        t = vx_time_now();
+        vx_error err = {0};
+        if (bake_range(j, bd, &v, cur[1], &err)) die("%s: %s", j->in, err.msg);
+        st[ST_BAKE] += vx_time_now() - t;
+        st[ST_PROBES] += n, st[ST_BATCHES] += 1;
+        t = vx_time_now();
+        MPI_Wait(&send, MPI_STATUS_IGNORE);
+        size_t need = 8 + n * pb;
+        if (need > (size_t)INT32_MAX) die("a batch of %u probes is too large for one message", n);
+        if (need > buf_size) {
+            free(buf);
+            buf_size = need;
+            if (!(buf = malloc(buf_size))) die("out of memory for a batch of %u probes", n);
+        }
+        memcpy(buf, cur, 4);
+        memcpy(buf + 4, &n, 4);
+        maps_pack(&v, cur[0], n, buf + 8);
+        maps_free(&v);
+        MPI_Isend(buf, (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send);
+        st[ST_COMM] += vx_time_now() - t;
+        if (g_rank == fail_rank && (int)st[ST_BATCHES] >= fail_after) {
+            if (fail_error) die("failing after %d batches (VX_BAKE_MPI_FAIL)", fail_after);
+            MPI_Wait(&send, MPI_STATUS_IGNORE);
+            fprintf(stderr, "%s: rank %d: killing itself after %d batches (VX_BAKE_MPI_FAIL)\n", vx_tool_name, g_rank,
+                    fail_after);
+            fflush(stderr);
+            raise(SIGKILL);
+        }
+        t = vx_time_now();
+        MPI_Wait(&recv, MPI_STATUS_IGNORE);
+        st[ST_WAIT] += vx_time_now() - t;
+        cur[0] = nxt[0], cur[1] = nxt[1];
+    }
+    t = vx_time_now();
+    MPI_Wait(&send, MPI_STATUS_IGNORE);
+    st[ST_COMM] += vx_time_now() - t;
+    free(buf);
+}
+
+/* ---- devices ----------------------------------------------------------------------- */
+
+typedef struct gpu_list {
+    uint32_t index[64];
+    uint32_t n;
+} gpu_list;
+
+static void list_fn(void* user, uint32_t index, const char* name, const char* type) {
+    (void)name;
+    gpu_list* l = user;
+    if (strcmp(type, "cpu") && strcmp(type, "other") && l->n < 64) l->index[l->n++] = index;
+}
+
+/* ---- the job ------------------------------------------------------------------------- */
+
+int bake_mpi(options* o, const char* in, const char* out) {
+    int provided = 0, nranks = 1;
+    MPI_Init_thread(NULL, NULL, MPI_THREAD_SERIALIZED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &nranks);
+    int len = 0;
+    MPI_Get_processor_name(g_host, &len);
+    MPI_Comm local;
+    int local_rank = 0, local_size = 1;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, g_rank, MPI_INFO_NULL, &local);
+    MPI_Comm_rank(local, &local_rank);
+    MPI_Comm_size(local, &local_size);
+    MPI_Comm_free(&local);
+    if (!o->threads_set) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        long t = cpus > 0 ? cpus / local_size : 1;
+        o->threads = t < 1 ? 1 : (t > 64 ? 64 : (uint32_t)t);
+    }
+    o->b.threads = o->threads;
+    o->b.first = o->b.count = 0;
+    bake_job j = {.o = *o, .in = in, .out = out};
+    char device[16];
+    const char* dev = o->device;
+    if (!o->cpu && !dev) {
+        gpu_list gl = {.n = 0};
+        vx_error err = {0};
+        if (!vx_gpu_list_devices(list_fn, &gl, &err) && gl.n) {
+            snprintf(device, sizeof device, "%u", gl.index[local_rank % (int)gl.n]);
+            dev = device;
+        }
+    }
+    char who[MPI_MAX_PROCESSOR_NAME + 32];
+    snprintf(who, sizeof who, "rank %d (%s): ", g_rank, g_host);
+    if (bake_job_open(&j, dev, who)) {
+        fflush(stderr);
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    vx_error err = {0};
+    vx_probe_set ps;
+    if (vx_probe_place(&j.scene, &o->b, &ps, &err)) die("%s: %s", in, err.msg);
+    /* one line per rank, in rank order */
+    for (int r = 0; r < nranks; r++) {
+        if (r == g_rank) {
+            if (j.gpu)
+                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_rank, g_host, vx_gpu_device_name(j.gpu),
+                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "", o->threads);
+            else
+                printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_rank, g_host, o->threads);
+            fflush(stdout);
+        }
+        MPI_Barrier(MPI_COMM_WORLD);
+    }
+    double st[ST_N] = {0};
+    double t_write = 0, t_start = 0;
+    int rc = 0;
+    coord c = {0};
+    if (g_rank == 0) {
+        uint32_t moved = 0, disabled = 0;
+        for (uint32_t i = 0; i < ps.probe_count; i++)
+            moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
+        printf("grid: %ux%ux%u = %s probes (%u moved out of voxels, %u disabled), spacing %g,%g,%g; %d ranks\n",
+               ps.grid[0], ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0],
+               ps.spacing[1], ps.spacing[2], nranks);
+        uint32_t end = ps.probe_count;
+        resume_checkpoint(&j, &ps, end);
+        fflush(stdout);
+        c.j = &j, c.ps = &ps, c.first = ps.first, c.end = end, c.nranks = nranks;
+        c.next = ps.first + ps.count;
+        c.received = ps.count;
+        c.pb = maps_probe_bytes(&ps);
+        c.done = calloc(end - c.first + 1, 1);
+        c.ended = calloc((size_t)nranks, sizeof *c.ended);
+        if (!c.done || !c.ended || !maps_reserve(&ps, end - c.first))
+            die("out of memory for %u probes at res %u", end - c.first, ps.res);
+        memset(c.done, 1, ps.count);
+        c.min_batch = o->cpu ? o->threads : 1;
+        uint64_t bc = (UINT64_C(1) << 28) / c.pb; /* 256 MiB a message */
+        c.byte_cap = (uint32_t)(bc < 1 ? 1 : (bc > (1u << 20) ? (1u << 20) : bc));
+        if (c.min_batch > c.byte_cap) c.min_batch = c.byte_cap;
+        c.cap = 2 * c.min_batch;
+        c.serve_in_bake = provided >= MPI_THREAD_SERIALIZED || !o->cpu || o->threads == 1;
+        c.show = !o->quiet && isatty(2);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    t_start = vx_time_now();
+    c.t0 = t_start;
+    if (g_rank == 0) {
+        run_coordinator(&c, &o->b);
+        memcpy(st, c.st, sizeof st);
+    } else {
+        run_worker(&j, &ps, &o->b, st);
+    }
+    /* workers idle here until rank 0 holds every probe: load imbalance */
+    double t = vx_time_now();
+    MPI_Barrier(MPI_COMM_WORLD);
+    st[ST_WAIT] += vx_time_now() - t;
+    st[ST_WALL] = vx_time_now() - t_start;
+    if (g_rank == 0) {
+        t = vx_time_now();
+        if (vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
+        t_write = vx_time_now() - t;
+        if (!rc) remove(j.ckpath);
+    }
+    double* all = g_rank == 0 ? calloc((size_t)nranks * ST_N, sizeof(double)) : NULL;
+    MPI_Gather(st, ST_N, MPI_DOUBLE, all, ST_N, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (g_rank == 0 && !rc) {
+        double wmax = 0;
+        for (int r = 0; r < nranks && all; r++) {
+            const double* s = all + (size_t)r * ST_N;
+            double share = s[ST_WALL] > 0 ? s[ST_WAIT] / s[ST_WALL] : 0;
+            if (share > wmax) wmax = share;
+            if (o->verbose)
+                printf("rank %d: %.0f probes in %.0f batches, bake %.3f s, wait %.3f s (%.1f%%), messages %.3f s\n", r,
+                       s[ST_PROBES], s[ST_BATCHES], s[ST_BAKE], s[ST_WAIT], 100 * share, s[ST_COMM]);
+        }
+        printf("baked %u probes at %ux%u, %u spp, %u bounces on %d ranks in %.2f s (most waiting: %.1f%%; rank 0 "
+               "storing results %.3f s, writing %.3f s); distance step %.4g (max error %.4g)\n",
+               ps.count, ps.res, ps.res, ps.spp, ps.bounces, nranks, st[ST_WALL], 100 * wmax, st[ST_COMM], t_write,
+               ps.dist_step, ps.dist_max_error);
+        printf("wrote %s\n", out);
+        if (o->exr_dir) rc = write_exr(o->exr_dir, &ps);
+    }
+    free(all);
+    free(c.done);
+    free(c.ended);
+    free(c.buf);
+    vx_probe_set_free(&ps);
+    bake_job_close(&j);
+    MPI_Finalize();
+    return rc;
+}

@@ -1,0 +1,77 @@
+/* tools/svo_bake/svo_bake.h - what svo_bake's single-process path (main.c)
+ * and its MPI path (mpi.c) share: the options, the opened job (scene,
+ * device, checkpoint name), baking a probe range on the CPU or the GPU, the
+ * checkpoint check, and moving a range of probe maps in and out of a byte
+ * buffer (a message, or a part of the output set). */
+#ifndef VX_SVO_BAKE_H
+#define VX_SVO_BAKE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "probes/probes.h"
+
+typedef struct options {
+    vx_probe_bake_desc b;
+    uint32_t shard, shards;
+    const char* exr_dir;
+    const char* device;
+    bool merge, cpu, quiet, verbose, fresh;
+    bool threads_set; /* --threads given (MPI: otherwise the CPUs are split over the host's ranks) */
+    uint32_t threads;
+} options;
+
+typedef struct bake_job {
+    options o;
+    const char* in;
+    const char* out;
+    char ckpath[4096]; /* OUT.probes.partial */
+    vx_svo_scene scene;
+    vx_gpu* gpu;          /* NULL with --cpu */
+    vx_render_scene* rs;  /* NULL with --cpu */
+} bake_job;
+
+/* Reads the scene and opens the device (o.device; NULL: the default pick).
+ * On failure prints one line (prefixed with `who`, e.g. "rank 1: ", may be
+ * "") and returns 1; bake_job_close is safe either way. */
+int bake_job_open(bake_job* j, const char* device, const char* who);
+void bake_job_close(bake_job* j);
+
+/* Bakes probes [ps->first + ps->count, end) of ps on the job's device. */
+vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err);
+
+/* Replaces *ps (placed, nothing baked) by the checkpoint j->ckpath when that
+ * belongs to the same job and lies within [ps->first, end); says so on
+ * stdout. Returns whether it did. */
+bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end);
+
+/* ---- probe maps as bytes ------------------------------------------------------- */
+
+/* Bytes one probe's six maps take (radiance, normal, distance, low,
+ * irradiance, moments; the layout of probes.h). */
+size_t maps_probe_bytes(const vx_probe_set* ps);
+/* Copies probes [from, from + n) (grid indices, inside what ps holds) into
+ * buf: each map's n probes in turn, native byte order. */
+void maps_pack(const vx_probe_set* ps, uint32_t from, uint32_t n, uint8_t* buf);
+/* The reverse, into arrays that hold probes [from, from + n) (maps_reserve). */
+void maps_unpack(vx_probe_set* ps, uint32_t from, uint32_t n, const uint8_t* buf);
+/* Makes the arrays hold n probes from ps->first (keeping the ps->count
+ * baked ones, zeroing the rest); ps->count is unchanged. */
+bool maps_reserve(vx_probe_set* ps, uint32_t n);
+/* Frees the maps only (a view sharing another set's probes array). */
+void maps_free(vx_probe_set* ps);
+
+/* The atlases as EXR images into dir (--exr). */
+int write_exr(const char* dir, const vx_probe_set* ps);
+
+#ifdef VX_HAVE_MPI
+/* Whether this process was started by an MPI launcher (mpirun, srun). */
+bool bake_mpi_launched(void);
+/* This process's rank from the launcher's environment (0 when unknown). */
+int bake_mpi_env_rank(void);
+/* The whole MPI bake (every rank calls it after parsing the options);
+ * returns the exit status (failures end the job through MPI_Abort). */
+int bake_mpi(options* o, const char* in, const char* out);
+#endif
+
+#endif /* VX_SVO_BAKE_H */
