@@ -24,7 +24,7 @@
 
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
-#define VX_GPU_MAX_BINDINGS 16
+#define VX_GPU_MAX_BINDINGS 20
 #define VX_GPU_MAX_PIPELINES 32
 
 typedef struct vx__buffer {

@@ -115,9 +115,51 @@ vx_frame_desc vx_frame_desc_defaults(void) {
 
 /* ---- the renderer -------------------------------------------------------------------- */
 
-enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_COUNT };
-#define NBIND 16
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 16 bindings");
+enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_COUNT };
+#define NBIND 17
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 17 bindings");
+
+/* std430 layout of a light in passes_common.glsl */
+typedef struct gpu_light {
+    float a[4], b[4], c[4], d[4];
+} gpu_light;
+
+vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
+    if (!l) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: NULL", i);
+    if ((unsigned)l->type > VX_LIGHT_SPOT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: unknown type", i);
+    double v[14] = {l->position[0], l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
+                    l->color[0],    l->color[1],    l->color[2],    l->intensity,    l->range,        l->inner_cone,
+                    l->outer_cone, 0};
+    for (int k = 0; k < 13; k++)
+        if (!isfinite(v[k]) || fabs(v[k]) > 1e30)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: a value is not finite", i);
+    if (l->intensity < 0 || l->color[0] < 0 || l->color[1] < 0 || l->color[2] < 0 || l->range < 0)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: negative intensity, colour or range", i);
+    double dl = sqrt(l->direction[0] * l->direction[0] + l->direction[1] * l->direction[1] +
+                     l->direction[2] * l->direction[2]);
+    if (l->type != VX_LIGHT_POINT && !(dl > 0))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: zero direction", i);
+    if (l->type == VX_LIGHT_SPOT &&
+        !(l->inner_cone >= 0 && l->inner_cone <= l->outer_cone && l->outer_cone <= 1.5707963267948966))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "light %u: spot cones must satisfy 0 <= inner <= outer <= pi/2 (radians)", i);
+    return VX_OK;
+}
+
+static void pack_light(const vx_light* l, const double ref[3], gpu_light* o) {
+    memset(o, 0, sizeof *o);
+    for (int k = 0; k < 3; k++) o->a[k] = (float)(l->position[k] - ref[k]);
+    o->a[3] = (float)l->type;
+    double dl = sqrt(l->direction[0] * l->direction[0] + l->direction[1] * l->direction[1] +
+                     l->direction[2] * l->direction[2]);
+    for (int k = 0; k < 3; k++) o->b[k] = dl > 0 ? (float)(l->direction[k] / dl) : 0.0f;
+    o->b[3] = (float)l->range;
+    for (int k = 0; k < 3; k++) o->c[k] = (float)(l->color[k] * l->intensity);
+    /* glTF's spot falloff: clamp(cos * scale + offset)^2, scale over at least 0.001 */
+    double ci = cos(l->inner_cone), co = cos(l->outer_cone);
+    double scale = 1.0 / fmax(0.001, ci - co);
+    o->d[0] = (float)scale, o->d[1] = (float)(-co * scale);
+}
 
 typedef struct push_block {
     float f0[4]; /* lens radius, focus, ao radius, 2^exposure */
@@ -322,8 +364,17 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     vx__frame f;
     if ((r = vx__frame_setup(fr->lo, fr->hi, &base, &f, err))) return r;
     bool ids = desc->want_ids;
-    bool phys = has_gi;
-    bool emit = phys && any_emission(gm->emit_attr, gm->emit_count);
+    uint32_t nl = desc->light_count;
+    if (nl && !desc->lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", nl);
+    if (nl && has_gi)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "lights with a gi pass: the gi method (gi=%s) lights the scene with its own sun and sky", L->gi);
+    if (nl > 65536) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most 65536", nl);
+    for (uint32_t i = 0; i < nl; i++)
+        if ((r = vx_light_validate(&desc->lights[i], i, err))) return r;
+    bool phys = has_gi || nl > 0;
+    bool sky = nl > 0; /* the radiometric model without gi: the sky times ao */
+    bool emit = has_gi && any_emission(gm->emit_attr, gm->emit_count);
     size_t npx = (size_t)f.width * f.height;
     VkDeviceSize px = (VkDeviceSize)npx;
     /* image buffers; absent passes get a 16-byte placeholder */
@@ -332,7 +383,8 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         (r = ensure(fr, B_DIRECT, has_direct ? px * 16 : 16, "direct", err)) ||
         (r = ensure(fr, B_AO, has_ao ? px * 4 : 16, "ao", err)) ||
         (r = ensure(fr, B_GI, has_gi ? px * 16 : 16, "gi", err)) || (r = ensure(fr, B_ACC, px * 16, "accumulation", err)) ||
-        (r = ensure(fr, B_OUT2, has_aa ? px * 16 : 16, "post", err)))
+        (r = ensure(fr, B_OUT2, has_aa ? px * 16 : 16, "post", err)) ||
+        (r = ensure(fr, B_LIGHTS, nl ? (VkDeviceSize)nl * sizeof(gpu_light) : 16, "lights", err)))
         return r;
     if (emit && (fr->emit_src != gm->emit_attr || fr->emit_count != gm->emit_count)) {
         vx__buffer_destroy(g, &fr->b[B_EMIT]);
@@ -348,6 +400,14 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     uint32_t tspec[VX__SPEC_COUNT];
     if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) return r;
     tspec[VX__SPEC_HITS] = ids;
+    if (nl) {
+        gpu_light* gl = vx_alloc(&g->alloc, (size_t)nl * sizeof *gl);
+        if (!gl) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u lights", nl);
+        for (uint32_t i = 0; i < nl; i++) pack_light(&desc->lights[i], f.ref, &gl[i]);
+        r = vx__buffer_upload(g, &fr->b[B_LIGHTS], gl, (VkDeviceSize)nl * sizeof *gl, err);
+        vx_free(&g->alloc, gl);
+        if (r) return r;
+    }
     /* timestamps: two per dispatch of the largest submission */
     uint32_t ao_rays = desc->ao_rays ? desc->ao_rays : 4;
     uint32_t per_sample = 1 + has_direct + (has_ao ? (vx_gpu_is_cpu(g) ? (ao_rays + 15) / 16 : 1) : 0) + 1;
@@ -379,13 +439,15 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, &p_direct, err))) return r;
     spec[6] = 0;
     if (has_ao && (r = get_pipeline(g, SH_AO, spec, &p_ao, err))) return r;
-    spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u);
+    spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) |
+              (sky ? 32u : 0u);
     spec[6] = (uint32_t)desc->show;
     if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
     if (merge) {
         uint32_t ms[8];
         memcpy(ms, spec, sizeof ms);
-        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u), ms[6] = has_dof && !f.ortho;
+        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
+        ms[6] = has_dof && !f.ortho;
         if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
     }
     bool final = desc->show == VX_SHOW_FINAL;
@@ -413,8 +475,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     pc.f0[2] = (float)(desc->ao_radius > 0 ? desc->ao_radius : 4 * (fr->max_cell > 0 ? fr->max_cell : 1));
     pc.f0[3] = (float)exp2(desc->exposure);
     pc.f1[3] = (float)(desc->edge_threshold > 0 ? desc->edge_threshold : 0.1);
-    if (phys)
+    if (has_gi)
         for (int k = 0; k < 3; k++) pc.f1[k] = (float)gm->sun[k], pc.f2[k] = (float)gm->sky[k];
+    else if (sky)
+        for (int k = 0; k < 3; k++) pc.f2[k] = (float)desc->sky[k]; /* no sun: the lights are explicit */
+    pc.u1[2] = nl;
     pc.u0[1] = f.spp;
     pc.u0[2] = desc->ao_rays ? desc->ao_rays : 4;
     pc.u0[3] = (uint32_t)(desc->seed ^ (desc->seed >> 32));
@@ -445,7 +510,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         vx__buffer* all[NBIND] = {scene_bufs[0], scene_bufs[1], scene_bufs[2], scene_bufs[3], scene_bufs[4],
                                   scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
                                   &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
-                                  &fr->b[B_OUT2]};
+                                  &fr->b[B_OUT2], &fr->b[B_LIGHTS]};
         VkDescriptorBufferInfo infos[NBIND];
         VkWriteDescriptorSet w[NBIND];
         for (uint32_t i = 0; i < NBIND; i++) {

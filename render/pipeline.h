@@ -128,6 +128,28 @@ typedef struct vx_gi_method {
     size_t emit_count;
 } vx_gi_method;
 
+/* A light of the direct pass (the first step of issue 11: lights in the
+ * frame; the .svo lights section, area lights and clustered culling come
+ * later). Units as glTF's KHR_lights_punctual: intensity is the irradiance
+ * (directional) or the intensity per steradian (point, spot), times colour.
+ *  direction: directional: towards the light; spot: where the light points
+ *  range:     point, spot: 0 for none, else glTF's window (1 - (d/range)^4)^2
+ *  inner_cone, outer_cone: spot, radians from the axis (0 <= inner <= outer <= pi/2) */
+typedef enum vx_light_type { VX_LIGHT_DIRECTIONAL = 0, VX_LIGHT_POINT, VX_LIGHT_SPOT } vx_light_type;
+typedef struct vx_light {
+    vx_light_type type;
+    double position[3];
+    double direction[3];
+    double color[3];
+    double intensity;
+    double range;
+    double inner_cone, outer_cone;
+} vx_light;
+
+/* Checks a light: finite values, intensity >= 0, a direction for directional
+ * and spot lights, cone angles in order; the error names the light's index. */
+vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
+
 /* Frame options; zero-initialised means the defaults (vx_frame_desc_defaults
  * gives them, and the tools' --help prints them).
  *  base:        size, camera, spp (samples accumulated; 0: 1, or 8 with aa),
@@ -141,6 +163,11 @@ typedef struct vx_gi_method {
  *  exposure:    stops; tonemap multiplies by 2^exposure
  *  edge_threshold: aa's luma contrast that counts as an edge; 0: 0.1
  *  seed:        random streams of ao and dof
+ *  lights:      light_count lights for the direct pass; with any, the frame
+ *               uses the radiometric model (the colour model's sun and
+ *               ambient are not added): colour = albedo / pi * irradiance +
+ *               albedo * sky * ao, sky radiance `sky` (also the background).
+ *               Not with a gi pass yet (its method brings its own light).
  *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth)
  *  no_readback: benchmarks: leave the image on the GPU (image.pixels NULL),
  *               so back-to-back frames keep the GPU busy and at its clocks
@@ -159,6 +186,9 @@ typedef struct vx_frame_desc {
     double exposure;
     double edge_threshold;
     uint64_t seed;
+    const vx_light* lights;
+    uint32_t light_count;
+    double sky[3];
     bool want_ids;
     bool no_readback;
     bool separate_passes;

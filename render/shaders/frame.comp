@@ -12,10 +12,10 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 
-layout(constant_id = 5) const uint FLAGS = 0u; // as resolve.comp (direct and ao only)
+layout(constant_id = 5) const uint FLAGS = 0u; // as resolve.comp (no gi)
 layout(constant_id = 6) const bool DOF = false;
 const uint SHOW = 0u;
-const bool PHYS = false;
+const bool PHYS = (FLAGS & 16u) != 0u;
 #include "pass_bodies.glsl"
 
 void main() {

@@ -59,6 +59,50 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
     ids1 = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), g_iter, 0u, 0u);
 }
 
+// Irradiance from the frame's lights (render/pipeline.h) at a G-buffer
+// entry, each with a ray-traced shadow: directional E = c n.l; point and spot
+// E = c n.l / d^2 times glTF's range window (1 - (d/range)^4)^2 and, for a
+// spot, its cone factor. d^2 is kept above (cell/100)^2 so that a light on
+// the surface gives a finite value.
+vec3 lights_pixel(uvec4 g0, uvec4 g1, vec3 nw) {
+    vec3 p = uintBitsToFloat(g0.xyz);
+    vec3 ps = gb_offset_point(p, nw, g1.y);
+    float cell = insts[g1.y].cell;
+    vec3 e = vec3(0.0);
+    for (uint k = 0u; k < PC.u1.z; k++) {
+        Light L = lights[k];
+        uint type = uint(L.a.w);
+        vec3 l;
+        float dist, f = 1.0;
+        if (type == 0u) {
+            l = L.b.xyz;
+            dist = 3.0e38;
+        } else {
+            vec3 v = L.a.xyz - ps;
+            float d2 = max(dot(v, v), 1e-4 * cell * cell);
+            dist = sqrt(dot(v, v));
+            l = dist > 0.0 ? v / dist : nw;
+            f = 1.0 / d2;
+            if (L.b.w > 0.0) {
+                float q = dist / L.b.w;
+                f *= pow(clamp(1.0 - q * q * q * q, 0.0, 1.0), 2.0);
+            }
+            if (type == 2u) {
+                float a = clamp(dot(-l, L.b.xyz) * L.d.x + L.d.y, 0.0, 1.0);
+                f *= a * a;
+            }
+        }
+        float ndl = dot(nw, l);
+        if (ndl <= 0.0 || f <= 0.0) continue;
+        Hit sh;
+        sh.t = type == 0u ? 3.0e38 : dist * 0.9999;
+        sh.inst = NO_HIT;
+        if (trace_scene(ps, l, 0.0, true, sh)) continue;
+        e += L.c.xyz * (ndl * f);
+    }
+    return e;
+}
+
 // What the direct pass delivers for a G-buffer entry: in the colour model
 // (1 - ambient) * n.l * visibility, in the radiometric one (PHYS) sun
 // irradiance * n.l * visibility.
@@ -67,16 +111,21 @@ vec4 direct_pixel(uvec4 g0, uvec4 g1) {
     vec3 nw = gb_normal(g1);
     float ndl = max(dot(nw, F.light.xyz), 0.0);
     float vis = 0.0;
-    if (ndl > 0.0) {
+    bool sun = !PHYS || PC.f1.x > 0.0 || PC.f1.y > 0.0 || PC.f1.z > 0.0; // no sun ray without a sun
+    if (ndl > 0.0 && sun) {
         vec3 ps = gb_offset_point(uintBitsToFloat(g0.xyz), nw, g1.y);
         Hit sh;
         sh.t = 3.0e38;
         sh.inst = NO_HIT;
         vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
     }
-    if (PHYS) return vec4(PC.f1.xyz * ndl * vis, 1.0);
-    float amb = F.light.w;
-    return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
+    if (!PHYS) {
+        float amb = F.light.w;
+        return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
+    }
+    vec3 e = PC.f1.xyz * ndl * vis;
+    if (PC.u1.z > 0u) e += lights_pixel(g0, g1, nw);
+    return vec4(e, 1.0);
 }
 
 // Ambient occlusion rays first .. first+count-1 of a G-buffer entry: how many
@@ -96,7 +145,7 @@ float ao_blocked(uvec2 px, uvec4 g0, uvec4 g1, uint first, uint count) {
 }
 
 const bool HAS_DIRECT = (FLAGS & 1u) != 0u, HAS_GI = (FLAGS & 2u) != 0u, HAS_AO = (FLAGS & 4u) != 0u;
-const bool HAS_EMIT = (FLAGS & 8u) != 0u;
+const bool HAS_EMIT = (FLAGS & 8u) != 0u, HAS_SKY = (FLAGS & 32u) != 0u;
 
 // The sample's colour (or the intermediate SHOW asks for) from its images.
 vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
@@ -114,6 +163,7 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
         if (HAS_EMIT && g1.w != NO_HIT) rad += alb * emit_attr[g1.w];
         if (HAS_DIRECT) rad += alb / PI * dir.xyz;
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);
+        if (HAS_SKY) rad += alb * PC.f2.xyz * (HAS_AO ? ao : 1.0); // sky radiance times its visibility
         return vec4(rad, 1.0);
     }
     if (SHOW == 1u) return hit ? vec4(alb, 1.0) : vec4(0.0);

@@ -20,13 +20,20 @@ layout(std430, binding = 12) buffer Gi { vec4 gi_img[]; };
 layout(std430, binding = 13) buffer Acc { vec4 acc_img[]; };
 layout(std430, binding = 14) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 15) buffer Out2 { vec4 out2_img[]; };
+// Lights (render/pipeline.h vx_light), PC.u1.z of them:
+//   a: xyz position (point, spot), w type (0 directional, 1 point, 2 spot)
+//   b: xyz direction (directional: towards the light; spot: where it points), w range (0: none)
+//   c: rgb colour times intensity (directional: irradiance; point, spot: intensity per sr)
+//   d: x cone scale, y cone offset (spot: clamp(cos * x + y)^2, glTF's smooth edge)
+struct Light { vec4 a, b, c, d; };
+layout(std430, binding = 16) readonly buffer Lights { Light lights[]; };
 
 layout(push_constant) uniform Push {
     vec4 f0;  // x: lens radius, y: focus distance, z: ao radius, w: 2^exposure
     vec4 f1;  // xyz: sun irradiance (radiometric light), w: aa edge threshold
     vec4 f2;  // xyz: sky radiance (radiometric light), w: 0
     uvec4 u0; // x: sample, y: samples, z: ao rays, w: seed
-    uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch
+    uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch, z: lights
 } PC;
 
 const float PI = 3.14159265358979;

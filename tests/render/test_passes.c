@@ -40,6 +40,8 @@ static void generated_scene(vx_svo_scene* s) {
     ts_scene(s, m, 2, in, 3);
 }
 
+static bool all_finite(const vx_render_image* im);
+
 typedef struct fixture {
     vx_render_scene* rs;
     vx_frame_renderer* fr;
@@ -385,6 +387,114 @@ static void test_ao_analytic(void) {
     CHECK(corner_occlusion(4, 4, 3, true) == 0);
 }
 
+/* Lights against their closed forms: a point light over a diffuse floor gives
+ * E = I cos(theta) / r^2 (here I h / r^3), a spot the same inside its inner
+ * cone and exactly 0 outside its outer one, glTF's range window; stiff
+ * lights (inside a voxel, on the surface, a zero-angle spot) stay finite;
+ * bad lights are errors naming the light. Orthographic view from above,
+ * two pixels per cell. */
+static void test_lights_analytic(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    const uint32_t n = 32;
+    uint32_t* xyz = malloc((size_t)n * n * 12);
+    for (uint32_t y = 0; y < n; y++)
+        for (uint32_t x = 0; x < n; x++) xyz[3 * (y * n + x)] = x, xyz[3 * (y * n + x) + 1] = y, xyz[3 * (y * n + x) + 2] = 0;
+    vx_svo_model m = {0};
+    uint32_t size[3] = {n, n, n};
+    ts_model(&m, size, xyz, NULL, (size_t)n * n);
+    free(xyz);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    fixture fx;
+    REQUIRE(fx_open(&s, &fx));
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = d.base.height = 32;
+    d.base.camera.set = true, d.base.camera.ortho = true, d.base.camera.ortho_height = 16;
+    double eye[3] = {16, 16, 100}, tgt[3] = {16, 16, 0}, up[3] = {0, 1, 0};
+    memcpy(d.base.camera.eye, eye, sizeof eye);
+    memcpy(d.base.camera.target, tgt, sizeof tgt);
+    memcpy(d.base.camera.up, up, sizeof up);
+    d.show = VX_SHOW_DIRECT;
+    const double I = 100, h = 8, lx = 16.3, ly = 15.8;
+    vx_light lights[4];
+    memset(lights, 0, sizeof lights);
+    lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {lx, ly, 1 + h}, .color = {1, 1, 1}, .intensity = I};
+    lights[1] = lights[0];
+    lights[1].type = VX_LIGHT_SPOT;
+    lights[1].direction[2] = -1;
+    lights[1].inner_cone = 15 * 3.14159265358979 / 180, lights[1].outer_cone = 20 * 3.14159265358979 / 180;
+    lights[2] = lights[0];
+    lights[2].range = 10;
+    const char* names[3] = {"point", "spot", "point with range"};
+    for (int k = 0; k < 3; k++) {
+        d.lights = &lights[k], d.light_count = 1;
+        vx_frame_result res;
+        bool ok = render_list(&fx, "gbuffer,direct", d, &res);
+        CHECK(ok);
+        if (!ok) continue;
+        double worst = 0;
+        int inside = 0, outside = 0;
+        for (uint32_t py = 0; py < 32; py++)
+            for (uint32_t px = 0; px < 32; px++) {
+                double x = 8 + (px + 0.5) / 2, y = 24 - (py + 0.5) / 2;
+                double dx = x - lx, dy = y - ly, r2 = dx * dx + dy * dy + h * h, r = sqrt(r2);
+                double want = I * h / (r2 * r);
+                double cosang = h / r, ci = cos(lights[1].inner_cone), co = cos(lights[1].outer_cone);
+                if (k == 1 && cosang < co) want = 0, outside++;
+                else if (k == 1 && cosang < ci) continue; /* the smooth edge: not a closed form here */
+                else if (k == 1) inside++;
+                if (k == 2) {
+                    double q = r / 10, w = 1 - q * q * q * q;
+                    want *= w > 0 ? w * w : 0;
+                }
+                float got = res.image.pixels[4 * ((size_t)py * 32 + px)];
+                double e = want > 0 ? fabs(got - want) / want : fabs(got);
+                /* the range window's edge is steep: the shading point sits 1e-3 cell above the floor, so
+                 * there an absolute tolerance of 1e-4 (the peak is I / h^2 = 1.56) */
+                bool good = want > 0 ? e < 0.01 || (k == 2 && fabs(got - want) < 1e-4) : got == 0;
+                if (want > 1e-2) worst = fmax(worst, e);
+                CHECKF(good, "%s pixel %u,%u: E %.6g, closed form %.6g", names[k], px, py, got, want);
+            }
+        printf("  %-16s worst relative error %.2e (E > 0.01)%s", names[k], worst, k == 1 ? "" : "\n");
+        if (k == 1) printf(" (%d pixels inside the inner cone, %d outside the outer: exactly 0)\n", inside, outside);
+        CHECK(k != 1 || (inside > 10 && outside > 100));
+        vx_render_image_free(&res.image);
+    }
+    /* stiff lights: inside a voxel, on the surface, a zero-angle spot: finite, and the final image too */
+    vx_light stiff[3] = {{.type = VX_LIGHT_POINT, .position = {5.5, 5.5, 0.5}, .color = {1, 1, 1}, .intensity = 1e4},
+                         {.type = VX_LIGHT_POINT, .position = {16, 16, 1}, .color = {1, 1, 1}, .intensity = 1e4},
+                         {.type = VX_LIGHT_SPOT, .position = {16, 16, 9}, .direction = {0, 0, -1}, .color = {1, 1, 1},
+                          .intensity = 1e4}};
+    for (int k = 0; k < 3; k++)
+        for (int show = 0; show < 2; show++) {
+            d.lights = &stiff[k], d.light_count = 1;
+            d.show = show ? VX_SHOW_DIRECT : VX_SHOW_FINAL;
+            vx_frame_result res;
+            if (render_list(&fx, "gbuffer,direct,ao,tonemap", d, &res)) {
+                CHECKF(all_finite(&res.image), "stiff light %d: non-finite pixels", k);
+                vx_render_image_free(&res.image);
+            } else {
+                CHECK(false);
+            }
+        }
+    /* bad lights */
+    vx_light bad = lights[0];
+    bad.intensity = -1;
+    vx_error err = {0};
+    d.lights = &bad, d.light_count = 1;
+    vx_frame_result res;
+    CHECK(vx_frame_render(fx.fr, &d, &res, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "light 0"));
+    bad = lights[0];
+    bad.position[1] = NAN;
+    CHECK(vx_light_validate(&bad, 3, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "light 3"));
+    bad = lights[1];
+    bad.inner_cone = 0.5, bad.outer_cone = 0.2;
+    CHECK(vx_light_validate(&bad, 0, &err) == VX_ERR_INVALID_ARG);
+    fx_close(&fx);
+    vx_svo_scene_free(&s);
+}
+
 /* A gi method that writes one constant radiance: the resolve adds exactly it. */
 static vx_result fake_gi(void* user, const vx_gi_io* io, double* sec, vx_error* err) {
     float v = *(const float*)user;
@@ -454,6 +564,7 @@ int main(void) {
     RUN(test_switch_off);
     RUN(test_timings);
     RUN(test_ao_analytic);
+    RUN(test_lights_analytic);
     RUN(test_gi_hook);
     vx_gpu_destroy(gpu);
     return vx_test_finish();

@@ -26,6 +26,9 @@ typedef struct options {
     vx_frame_desc fd;
     const char* timings;
     uint32_t frames;
+    vx_light lights[64];
+    uint32_t light_count;
+    bool sky_given;
 } options;
 
 static const char* prog = "svo_render";
@@ -34,6 +37,7 @@ static options default_options(void) {
     options o = {0};
     o.r = vx_render_desc_defaults();
     o.fd = vx_frame_desc_defaults();
+    o.fd.sky[0] = 0.31, o.fd.sky[1] = 0.375, o.fd.sky[2] = 0.46; /* the probe bake's sky */
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
     return o;
@@ -81,6 +85,11 @@ _Noreturn static void usage(int status) {
             "  --ortho [H]          orthographic, view height H (default: frame the bounds)\n"
             "  --lod [PIXELS]       stop where a voxel is smaller than PIXELS pixels (default: off, %g)\n"
             "  --light X,Y,Z        direction towards the light (default: 0.35,-0.45,0.82)\n"
+            "  --light SPEC         add a light (repeatable; the frame then uses radiometric units):\n"
+            "                       point:X,Y,Z:R,G,B[:RANGE]  spot:X,Y,Z:DX,DY,DZ:R,G,B:INNER,OUTER[:RANGE]\n"
+            "                       sun:DX,DY,DZ:R,G,B  (R,G,B: intensity per sr, irradiance for sun;\n"
+            "                       cone angles in degrees; RANGE: glTF's range window)\n"
+            "  --sky R,G,B          sky radiance with --light SPEC (default: 0.31,0.375,0.46)\n"
             "  --ambient A          sky light share (default: %g)\n"
             "  --device N|NAME      Vulkan device (default: a discrete GPU, else any)\n"
             "  --list-devices       print the Vulkan devices and exit\n"
@@ -132,6 +141,37 @@ static const char* ext_of(const char* p) {
     return d ? d + 1 : "";
 }
 
+/* --light TYPE:...: a light of the pass pipeline. */
+static bool parse_light(const char* spec, vx_light* l) {
+    char buf[256];
+    if (strlen(spec) >= sizeof buf) return false;
+    snprintf(buf, sizeof buf, "%s", spec);
+    char* part[6] = {0};
+    int n = 0;
+    for (char* t = strtok(buf, ":"); t && n < 6; t = strtok(NULL, ":")) part[n++] = t;
+    memset(l, 0, sizeof *l);
+    l->intensity = 1;
+    double ang[2];
+    if (!strcmp(part[0], "point") && (n == 3 || n == 4)) {
+        l->type = VX_LIGHT_POINT;
+        return parse_vec(part[1], l->position, 3) && parse_vec(part[2], l->color, 3) &&
+               (n == 3 || parse_vec(part[3], &l->range, 1));
+    }
+    if (!strcmp(part[0], "spot") && (n == 5 || n == 6)) {
+        l->type = VX_LIGHT_SPOT;
+        if (!parse_vec(part[1], l->position, 3) || !parse_vec(part[2], l->direction, 3) ||
+            !parse_vec(part[3], l->color, 3) || !parse_vec(part[4], ang, 2) || (n == 6 && !parse_vec(part[5], &l->range, 1)))
+            return false;
+        l->inner_cone = ang[0] * 3.14159265358979323846 / 180, l->outer_cone = ang[1] * 3.14159265358979323846 / 180;
+        return true;
+    }
+    if (!strcmp(part[0], "sun") && n == 3) {
+        l->type = VX_LIGHT_DIRECTIONAL;
+        return parse_vec(part[1], l->direction, 3) && parse_vec(part[2], l->color, 3);
+    }
+    return false;
+}
+
 /* The colour mode through the pass pipeline: options.frames frames (the last
  * one is kept), per-pass times printed with -v and written to --timings. */
 static vx_result render_passes(options* o, vx_gpu* gpu, vx_render_scene* rs, const vx_svo_scene* scene,
@@ -153,6 +193,7 @@ static vx_result render_passes(options* o, vx_gpu* gpu, vx_render_scene* rs, con
     if (!o->spp_given) fd.base.spp = 0; /* the pipeline's default: 1, or 8 with aa or dof */
     fd.passes = passes;
     fd.gi = pgi ? &gm : NULL;
+    fd.lights = o->lights, fd.light_count = o->light_count;
     FILE* csv = NULL;
     if (o->timings) {
         csv = fopen(o->timings, "w");
@@ -254,7 +295,24 @@ int main(int argc, char** argv) {
             if (!parse_vec(argv[++i], o.r.camera.up, 3)) usage_error("bad up vector '%s'", argv[i]);
         } else if (!strcmp(a, "--light")) {
             NEED();
-            if (!parse_vec(argv[++i], o.r.light_dir, 3)) usage_error("bad light direction '%s'", argv[i]);
+            if (strchr(argv[++i], ':')) {
+                if (o.light_count >= 64) usage_error("%s", "at most 64 --light lights");
+                if (!parse_light(argv[i], &o.lights[o.light_count]))
+                    usage_error("bad light '%s' (point:X,Y,Z:R,G,B[:RANGE], spot:X,Y,Z:DX,DY,DZ:R,G,B:INNER,OUTER[:RANGE], "
+                                "sun:DX,DY,DZ:R,G,B)", argv[i]);
+                vx_error lerr = {0};
+                if (vx_light_validate(&o.lights[o.light_count], o.light_count, &lerr))
+                    usage_error("--light %s: %s", argv[i], lerr.msg);
+                o.light_count++;
+                o.passes_given = true;
+            } else if (!parse_vec(argv[i], o.r.light_dir, 3)) {
+                usage_error("bad light direction '%s'", argv[i]);
+            }
+        } else if (!strcmp(a, "--sky")) {
+            NEED();
+            if (!parse_vec(argv[++i], o.fd.sky, 3) || o.fd.sky[0] < 0 || o.fd.sky[1] < 0 || o.fd.sky[2] < 0)
+                usage_error("bad sky radiance '%s' (R,G,B >= 0)", argv[i]);
+            o.sky_given = true;
         } else if (!strcmp(a, "--fov")) {
             NEED();
             if (!parse_vec(argv[++i], &o.r.camera.fov, 1) || !(o.r.camera.fov > 0 && o.r.camera.fov < 180))
@@ -350,6 +408,7 @@ int main(int argc, char** argv) {
     if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
         strcmp(passes.gi, "pathtrace"))
         usage_error("unknown gi method '%s' (probes, lightfield, pathtrace)", passes.gi);
+    if (o.sky_given && !o.light_count) usage_error("%s", "--sky goes with --light TYPE:... lights");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
                       (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
