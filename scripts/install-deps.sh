@@ -13,4 +13,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \
     libtinygltf-dev nlohmann-json3-dev \
     libopenimageio-dev \
+    libopenmpi-dev openmpi-bin \
     python3-matplotlib

@@ -1,0 +1,65 @@
+#!/bin/sh
+# svo_bake under MPI (issue 22): mpirun -n 1, 2 and 3 bakes equal the
+# single-process bake byte for byte, and so does --shard + --merge; the same
+# on the GPU (lavapipe) where a Vulkan device exists; a rank killed after its
+# first batch (or failing with an error) ends the job nonzero with no output
+# file, and the rerun continues from the checkpoint to the same bytes; a
+# single-process checkpoint is resumed by an MPI run.
+# Usage: test_svo_bake_mpi.sh BIN_DIR [MPIEXEC]; exits 77 (skipped) without mpirun.
+set -u
+BIN=$1
+MPIRUN=${2:-mpirun}
+command -v "$MPIRUN" >/dev/null 2>&1 || { echo "SKIP: no $MPIRUN (install openmpi-bin)"; exit 77; }
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+# OpenMPI refuses root without these, and more ranks than cores without --oversubscribe
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+MPIFLAGS=""
+"$MPIRUN" --version 2>/dev/null | grep -qi "open mpi\|openrte" && MPIFLAGS="--oversubscribe"
+run() { n=$1; shift; "$MPIRUN" $MPIFLAGS -n "$n" "$@"; }
+"$BIN/vox2svo" --write-demo "$T/demo.vox" >/dev/null || fail "write demo"
+"$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo" >/dev/null || fail "vox2svo"
+O="--grid 4,3,3 --res 16 --spp 2 --seed 5 -q --cpu"
+"$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >/dev/null || fail "single bake"
+for n in 1 2 3; do
+  run $n "$BIN/svo_bake" "$T/demo.svo" "$T/m$n.probes" $O >"$T/m$n.out" 2>&1 || { cat "$T/m$n.out"; fail "mpirun -n $n"; }
+  cmp -s "$T/full.probes" "$T/m$n.probes" || fail "mpirun -n $n differs from the single bake"
+  grep -q "on $n ranks" "$T/m$n.out" || fail "mpirun -n $n: no summary line"
+done
+"$BIN/svo_bake" "$T/demo.svo" "$T/p0.probes" $O --shard 0/2 >/dev/null || fail "shard 0"
+"$BIN/svo_bake" "$T/demo.svo" "$T/p1.probes" $O --shard 1/2 >/dev/null || fail "shard 1"
+"$BIN/svo_bake" --merge "$T/merged.probes" "$T/p1.probes" "$T/p0.probes" >/dev/null || fail "merge"
+cmp -s "$T/full.probes" "$T/merged.probes" || fail "shards + merge differ from the single and MPI bakes"
+# usage errors: once, exit 2
+run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" $O --shard 0/2 >"$T/u.out" 2>&1; [ $? -ne 0 ] || fail "--shard under mpirun must fail"
+[ "$(grep -c "under mpirun" "$T/u.out")" = 1 ] || { cat "$T/u.out"; fail "usage error not printed once"; }
+# a rank killed after its first batch: nonzero, nothing under the output name
+VX_BAKE_CHECKPOINT_S=0 VX_BAKE_MPI_FAIL=1:1 run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/k.probes" $O >"$T/k.out" 2>&1
+[ $? -ne 0 ] || fail "a killed rank must fail the job"
+[ ! -e "$T/k.probes" ] || fail "killed job left an output file"
+ls "$T" | grep -q "^k.probes.tmp" && fail "killed job left a temporary file"
+run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/k.probes" $O >"$T/k2.out" 2>&1 || { cat "$T/k2.out"; fail "rerun after the kill"; }
+cmp -s "$T/full.probes" "$T/k.probes" || fail "rerun after the kill differs"
+[ ! -e "$T/k.probes.partial" ] || fail "checkpoint left behind"
+# a rank failing with an error: a message naming it, nonzero, no output
+VX_BAKE_MPI_FAIL=1:1:error run 3 "$BIN/svo_bake" "$T/demo.svo" "$T/e.probes" $O >"$T/e.out" 2>&1
+[ $? -ne 0 ] || fail "a failing rank must fail the job"
+grep -q "rank 1 (.*): failing after 1 batches" "$T/e.out" || { cat "$T/e.out"; fail "no message naming the rank"; }
+[ ! -e "$T/e.probes" ] || fail "failed job left an output file"
+# a single-process checkpoint (shard 0's probes) is continued under MPI
+cp "$T/p0.probes" "$T/r.probes.partial"
+run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/r.probes" $O >"$T/r.out" 2>&1 || fail "resume under MPI"
+grep -q "resuming from" "$T/r.out" || fail "no resume under MPI"
+cmp -s "$T/full.probes" "$T/r.probes" || fail "resumed MPI bake differs"
+# GPU (lavapipe here): rank r on its host's GPU r mod GPUs
+G="--grid 4,3,3 --res 16 --spp 2 --seed 5 -q"
+if "$BIN/svo_bake" "$T/demo.svo" "$T/g.probes" $G >/dev/null 2>&1; then
+  for n in 2 3; do
+    run $n "$BIN/svo_bake" "$T/demo.svo" "$T/g$n.probes" $G >"$T/g$n.out" 2>&1 || { cat "$T/g$n.out"; fail "GPU mpirun -n $n"; }
+    cmp -s "$T/g.probes" "$T/g$n.probes" || fail "GPU: mpirun -n $n differs from the single bake"
+  done
+else
+  echo "no Vulkan device: GPU checks skipped"
+fi
+echo "svo_bake under MPI: all checks passed"
