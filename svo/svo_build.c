@@ -507,6 +507,7 @@ static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
             for (unsigned len = 8; len > n; len--) {
                 uint32_t st = run_intern_exact(b, o, u, len, false);
                 if (st != UINT32_MAX) return st;
+                if (b->fail) return UINT32_MAX; /* the run table could not grow: not "absent" */
             }
         }
     }

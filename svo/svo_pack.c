@@ -317,7 +317,8 @@ static bool model_same(const vx_svo_model* a, const vx_svo_model* b) {
 }
 
 /* Tries the structural form with one (dag, limit) setting; on success the
- * symbols with their kinds and contexts are left in x / src. */
+ * symbols with their kinds and contexts are left in x / src. An allocation
+ * failure returns false with x->oom set. */
 static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, uint32_t limit, ext* x, arr_src* src) {
     x->n = 0;
     x->ndone = 0;
@@ -330,7 +331,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     vx_free(A, src->ctx);
     src->kind = (uint8_t*)vx_alloc(A, x->n ? x->n : 1);
     src->ctx = (uint32_t*)vx_calloc(A, x->n ? x->n : 1, sizeof *src->ctx);
-    if (!src->kind || !src->ctx) return false;
+    if (!src->kind || !src->ctx) return x->oom = true, false;
     src->v = x->v;
     src->n = x->n;
     src->pos = 0;
@@ -340,7 +341,9 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     memset(&r, 0, sizeof r);
     r.attrs = m->attrs;
     vx_error e;
-    bool ok = vx__svo_unpack(&ud, &s, &r, &e) == VX_OK && src->pos == src->n && model_same(&r, m);
+    vx_result ur = vx__svo_unpack(&ud, &s, &r, &e);
+    if (ur == VX_ERR_NOMEM) x->oom = true;
+    bool ok = ur == VX_OK && src->pos == src->n && model_same(&r, m);
     vx_svo_model_free(A, &r);
     return ok;
 }
@@ -399,6 +402,9 @@ static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
             structural = try_struct(m, A, dag, limit, &x, &src);
+            /* out of memory is an error, not "this form does not fit": falling
+             * back to the raw form would give other bytes for the same scene */
+            if (x.oom) ok = false;
         }
     }
     if (ok) {

@@ -1,0 +1,397 @@
+/* tests/reliability/test_alloc_fail.c - allocation-failure injection
+ * (issue 17). A test allocator fails the N-th allocation (transient: that one
+ * only; persistent: that one and every later one) and counts live blocks.
+ * Each operation runs for N = 1, 2, ... until it succeeds without a failed
+ * allocation; every failing run must return VX_ERR_NOMEM, leave the output
+ * untouched and zero live blocks. Operations: the .vox reader, the .vox ->
+ * .svo converter, the .svo writer (to memory), the .svo reader (memory and
+ * file), the .probes reader (memory and file) and writer (to memory), over
+ * small inputs built here or checked in (tests/probes/fuzz_seeds). Prints
+ * the number of injection points per operation (docs/RELIABILITY.md).
+ *
+ * Not reachable through vx_allocator (so not injected here): the .svo and
+ * .probes file writers (vx_svo_write_file, vx_probe_write_file and
+ * vx_file_write_atomic take no allocator and use malloc for the temporary
+ * name and the streaming buffers), zlib's own allocations (compress2 and
+ * uncompress in svo_pack.c) and thread start-up. */
+#define _DEFAULT_SOURCE
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "convert/convert.h"
+#include "formats/vox.h"
+#include "probes/probes.h"
+#include "svo/svo.h"
+#include "tests/test.h"
+
+typedef struct tfail {
+    long n, fail_at, live;
+    bool persistent, failed;
+} tfail;
+
+static void* tfail_alloc(void* user, size_t size) {
+    tfail* f = (tfail*)user;
+    f->n++;
+    if (f->fail_at && (f->n == f->fail_at || (f->persistent && f->n > f->fail_at))) {
+        f->failed = true;
+        return NULL;
+    }
+    void* p = malloc(size);
+    if (p) f->live++;
+    return p;
+}
+static void tfail_free(void* user, void* p) {
+    tfail* f = (tfail*)user;
+    if (p) f->live--;
+    free(p);
+}
+
+/* One operation under test: runs with allocator a and, on success, writes
+ * what it made as bytes (the .vox or .svo or .probes writer with the default
+ * allocator) to *digest, then frees it through a. */
+typedef struct op_ctx {
+    const uint8_t* d; /* input bytes, or */
+    size_t n;
+    const char* path; /* input file */
+    const void* obj;  /* input object (writers) */
+} op_ctx;
+typedef vx_result (*op_fn)(const vx_allocator* a, const op_ctx* c, uint8_t** digest, size_t* digest_n, vx_error* err);
+
+/* Injection points covered (transient runs, all operations), for the summary. */
+static long points_total;
+
+static void oom_loop(const char* what, op_fn fn, const op_ctx* c) {
+    uint8_t *ref = NULL, *got = NULL;
+    size_t ref_n = 0, got_n = 0;
+    vx_error e = {0};
+    vx_result r = fn(NULL, c, &ref, &ref_n, &e);
+    if (r != VX_OK) {
+        CHECKF(0, "%s: fails without injection: %s (%s)", what, vx_result_str(r), e.msg);
+        return;
+    }
+    for (int persistent = 0; persistent < 2; persistent++) {
+        long fails = 0, recovered = 0;
+        for (long at = 1;; at++) {
+            tfail f = {.fail_at = at, .persistent = persistent != 0};
+            vx_allocator a = {tfail_alloc, tfail_free, &f};
+            got = NULL;
+            r = fn(&a, c, &got, &got_n, &e);
+            CHECKF(f.live == 0, "%s: allocation %ld failed (%s): %ld blocks leaked", what, at, vx_result_str(r), f.live);
+            if (r == VX_OK) {
+                /* success after a failed allocation is a fallback: the result must not change */
+                CHECKF(got_n == ref_n && !memcmp(got, ref, ref_n), "%s: allocation %ld failed: different result",
+                       what, at);
+                free(got);
+                if (!f.failed) {
+                    fprintf(stderr, "  %-26s %-10s %4ld failing runs, %ld recovered (%ld allocations)\n", what,
+                            persistent ? "persistent" : "transient", fails, recovered, f.n);
+                    if (!persistent) points_total += fails + recovered;
+                    break;
+                }
+                recovered++;
+            } else {
+                fails++;
+                CHECKF(f.failed, "%s: failed with %s (%s) before the injected failure %ld", what, vx_result_str(r),
+                       e.msg, at);
+                CHECKF(r == VX_ERR_NOMEM, "%s: allocation %ld failed: %s (%s)", what, at, vx_result_str(r), e.msg);
+            }
+            if (vx_t_cur_failed || at > 100000) break;
+        }
+    }
+    free(ref);
+}
+
+/* ---- a small .vox file: two models, a group with three shapes (one hidden,
+ * one on a layer, rotations), a palette, materials, layers ---------------- */
+
+static void u32(vx_buf* b, uint32_t v) { vx_buf_u32le(b, v); }
+static void str(vx_buf* b, const char* s) {
+    u32(b, (uint32_t)strlen(s));
+    vx_buf_append(b, s, strlen(s));
+}
+static void dict(vx_buf* b, int n, ...) {
+    va_list ap;
+    va_start(ap, n);
+    u32(b, (uint32_t)n);
+    for (int i = 0; i < 2 * n; i++) str(b, va_arg(ap, const char*));
+    va_end(ap);
+}
+static size_t begin(vx_buf* b, const char* id) {
+    size_t at = b->size;
+    vx_buf_append(b, id, 4);
+    u32(b, 0);
+    u32(b, 0);
+    return at;
+}
+static void end(vx_buf* b, size_t at) { vx_buf_put_u32le(b->data + at + 4, (uint32_t)(b->size - at - 12)); }
+static void trn(vx_buf* b, uint32_t id, uint32_t child, int32_t layer, const char* r, const char* t) {
+    size_t at = begin(b, "nTRN");
+    u32(b, id);
+    dict(b, 1, "_name", "node");
+    u32(b, child);
+    u32(b, UINT32_MAX);
+    u32(b, (uint32_t)layer);
+    u32(b, 1);
+    dict(b, 2, "_r", r, "_t", t);
+    end(b, at);
+}
+static void shp(vx_buf* b, uint32_t id, uint32_t model) {
+    size_t at = begin(b, "nSHP");
+    u32(b, id);
+    dict(b, 0);
+    u32(b, 1);
+    u32(b, model);
+    dict(b, 0);
+    end(b, at);
+}
+
+static vx_buf make_vox(void) {
+    vx_buf b = {0};
+    vx_buf_append(&b, "VOX ", 4);
+    u32(&b, 200);
+    begin(&b, "MAIN");
+    for (int m = 0; m < 2; m++) {
+        uint32_t s = m ? 5 : 8;
+        size_t at = begin(&b, "SIZE");
+        u32(&b, s), u32(&b, s + 1), u32(&b, s + 2);
+        end(&b, at);
+        at = begin(&b, "XYZI");
+        uint32_t n = 0;
+        size_t cnt = b.size;
+        u32(&b, 0);
+        for (uint32_t z = 0; z < s + 2; z++)
+            for (uint32_t y = 0; y < s + 1; y++)
+                for (uint32_t x = 0; x < s; x++)
+                    if ((x + y + z) % 3 == 0 || z == 0) {
+                        uint8_t v[4] = {(uint8_t)x, (uint8_t)y, (uint8_t)z, (uint8_t)(1 + (x * 7 + z) % 9 + m * 10)};
+                        vx_buf_append(&b, v, 4);
+                        n++;
+                    }
+        vx_buf_put_u32le(b.data + cnt, n);
+        end(&b, at);
+    }
+    trn(&b, 0, 1, -1, "4", "0 0 0");
+    size_t at = begin(&b, "nGRP");
+    u32(&b, 1);
+    dict(&b, 0);
+    u32(&b, 3), u32(&b, 2), u32(&b, 4), u32(&b, 6);
+    end(&b, at);
+    trn(&b, 2, 3, 0, "4", "10 0 0");
+    shp(&b, 3, 0);
+    trn(&b, 4, 5, 1, "17", "-3 4 5");
+    shp(&b, 5, 1);
+    trn(&b, 6, 7, 0, "98", "0 -9 2");
+    shp(&b, 7, 0);
+    for (int l = 0; l < 2; l++) {
+        at = begin(&b, "LAYR");
+        u32(&b, (uint32_t)l);
+        dict(&b, 1, "_name", l ? "second" : "first");
+        u32(&b, UINT32_MAX);
+        end(&b, at);
+    }
+    at = begin(&b, "RGBA");
+    for (int i = 0; i < 256; i++) u32(&b, 0xFF000000u | (uint32_t)i * 0x010305u);
+    end(&b, at);
+    for (int i = 1; i < 4; i++) {
+        at = begin(&b, "MATL");
+        u32(&b, (uint32_t)i);
+        dict(&b, 2, "_type", i == 1 ? "_emit" : "_metal", "_rough", "0.25");
+        end(&b, at);
+    }
+    vx_buf_put_u32le(b.data + 16, (uint32_t)(b.size - 20));
+    return b;
+}
+
+/* ---- operations ------------------------------------------------------------------------ */
+
+static vx_result svo_digest(const vx_svo_scene* s, uint8_t** d, size_t* n, vx_error* err) {
+    return vx_svo_write(s, NULL, d, n, err);
+}
+
+static vx_result op_vox_read(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_vox_scene s;
+    memset(&s, 0xAB, sizeof s);
+    vx_result r = vx_vox_read(&(vx_vox_read_desc){.alloc = a, .keep_hidden = true}, c->d, c->n, &s, err);
+    if (r) {
+        CHECK(s.model_count == 0xABABABABu); /* output untouched */
+        return r;
+    }
+    r = vx_vox_write(&s, NULL, d, n, err);
+    vx_vox_scene_free(&s);
+    return r;
+}
+
+/* .vox bytes -> scene -> svo scene (what vox2svo does in memory) */
+static vx_result op_vox_convert(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_vox_scene vs;
+    vx_result r = vx_vox_read(&(vx_vox_read_desc){.alloc = a}, c->d, c->n, &vs, err);
+    if (r) return r;
+    vx_svo_scene s;
+    memset(&s, 0xAB, sizeof s);
+    vx_conv_vox_desc cd = {.alloc = a, .build = {.alloc = a}};
+    r = vx_conv_vox(&cd, &vs, &s, NULL, err);
+    vx_vox_scene_free(&vs);
+    if (r) {
+        CHECK(s.model_count == 0xABABABABu);
+        return r;
+    }
+    r = svo_digest(&s, d, n, err);
+    vx_svo_scene_free(&s);
+    return r;
+}
+
+static vx_result op_svo_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    uint8_t* out = (uint8_t*)&out;
+    size_t on = 12345;
+    vx_result r = vx_svo_write((const vx_svo_scene*)c->obj, a, &out, &on, err);
+    if (r) {
+        CHECK(out == (uint8_t*)&out || out == NULL);
+        return r;
+    }
+    *d = (uint8_t*)malloc(on);
+    if (*d) memcpy(*d, out, on);
+    *n = on;
+    vx_free(a, out);
+    return *d ? VX_OK : VX_ERR_NOMEM;
+}
+
+static vx_result op_svo_read(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_svo_scene s;
+    memset(&s, 0xAB, sizeof s);
+    vx_result r = c->path ? vx_svo_read_file(&(vx_svo_read_desc){.alloc = a}, c->path, &s, err)
+                          : vx_svo_read(&(vx_svo_read_desc){.alloc = a}, c->d, c->n, &s, err);
+    if (r) {
+        CHECK(s.model_count == 0xABABABABu);
+        return r;
+    }
+    r = svo_digest(&s, d, n, err);
+    vx_svo_scene_free(&s);
+    return r;
+}
+
+static vx_result op_probes_read(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_probe_set ps;
+    memset(&ps, 0xAB, sizeof ps);
+    vx_probe_read_desc pd = {.alloc = a};
+    vx_result r = c->path ? vx_probe_read_file(&pd, c->path, &ps, err) : vx_probe_read(&pd, c->d, c->n, &ps, err);
+    if (r) {
+        CHECK(ps.res == 0xABABABABu);
+        return r;
+    }
+    r = vx_probe_write(&ps, NULL, d, n, err);
+    vx_probe_set_free(&ps);
+    return r;
+}
+
+static vx_result op_probes_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    uint8_t* out = NULL;
+    size_t on = 0;
+    vx_result r = vx_probe_write((const vx_probe_set*)c->obj, a, &out, &on, err);
+    if (r) {
+        CHECK(out == NULL);
+        return r;
+    }
+    *d = (uint8_t*)malloc(on);
+    if (*d) memcpy(*d, out, on);
+    *n = on;
+    vx_free(a, out);
+    return *d ? VX_OK : VX_ERR_NOMEM;
+}
+
+/* ---- tests ----------------------------------------------------------------------------- */
+
+static char tmpdir[64];
+
+static void write_file(const char* path, const void* d, size_t n) {
+    FILE* f = fopen(path, "wb");
+    if (f) {
+        fwrite(d, 1, n, f);
+        fclose(f);
+    }
+}
+
+static void test_vox_and_svo(void) {
+    vx_buf v = make_vox();
+    REQUIRE(!v.failed);
+    op_ctx vin = {.d = v.data, .n = v.size};
+    oom_loop("vox read", op_vox_read, &vin);
+    oom_loop("vox read + convert", op_vox_convert, &vin);
+
+    /* the reference scene and file, with the default allocator */
+    vx_error e;
+    vx_vox_scene vs;
+    REQUIRE(vx_vox_read(NULL, v.data, v.size, &vs, &e) == VX_OK);
+    vx_svo_scene s;
+    vx_result r = vx_conv_vox(&(vx_conv_vox_desc){0}, &vs, &s, NULL, &e);
+    vx_vox_scene_free(&vs);
+    vx_buf_free(&v);
+    REQUIRE(r == VX_OK);
+    CHECK(s.model_count == 2 && s.instance_count == 3);
+    uint8_t* svo = NULL;
+    size_t svo_n = 0;
+    r = vx_svo_write(&s, NULL, &svo, &svo_n, &e);
+    CHECK(r == VX_OK);
+    if (r == VX_OK) {
+        oom_loop("svo write (memory)", op_svo_write, &(op_ctx){.obj = &s});
+        oom_loop("svo read", op_svo_read, &(op_ctx){.d = svo, .n = svo_n});
+        char path[128];
+        snprintf(path, sizeof path, "%s/scene.svo", tmpdir);
+        write_file(path, svo, svo_n);
+        oom_loop("svo read (file)", op_svo_read, &(op_ctx){.path = path});
+        remove(path);
+    }
+    vx_free(NULL, svo);
+    vx_svo_scene_free(&s);
+}
+
+static void test_svo_seeds(void) {
+    /* the .svo fuzz seeds: palette and colour attributes, materials */
+    int found = 0;
+    for (int i = 0; i < 4; i++) {
+        char path[4096], what[32];
+        snprintf(path, sizeof path, "%s/tests/fuzz/svo_seeds/seed%d.svo", VX_SOURCE_DIR, i);
+        if (access(path, R_OK) != 0) continue;
+        found++;
+        snprintf(what, sizeof what, "svo read seed%d (file)", i);
+        oom_loop(what, op_svo_read, &(op_ctx){.path = path});
+    }
+    if (!found) SKIP("no seeds in tests/fuzz/svo_seeds");
+}
+
+static void test_probes(void) {
+    for (int i = 0; i < 2; i++) {
+        char path[4096], what[40];
+        snprintf(path, sizeof path, "%s/tests/probes/fuzz_seeds/seed%d.probes", VX_SOURCE_DIR, i);
+        uint8_t* d = NULL;
+        size_t n = 0;
+        vx_error e;
+        if (vx_file_read(path, NULL, 0, &d, &n, &e) != VX_OK) SKIP("%s: %s", path, e.msg);
+        snprintf(what, sizeof what, "probes read seed%d", i);
+        oom_loop(what, op_probes_read, &(op_ctx){.d = d, .n = n});
+        snprintf(what, sizeof what, "probes read seed%d (file)", i);
+        oom_loop(what, op_probes_read, &(op_ctx){.path = path});
+        vx_probe_set ps;
+        if (vx_probe_read(NULL, d, n, &ps, &e) == VX_OK) {
+            snprintf(what, sizeof what, "probes write seed%d", i);
+            oom_loop(what, op_probes_write, &(op_ctx){.obj = &ps});
+            vx_probe_set_free(&ps);
+        } else {
+            CHECKF(0, "%s: %s", path, e.msg);
+        }
+        vx_free(NULL, d);
+    }
+}
+
+int main(void) {
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/vx_alloc_fail_XXXXXX");
+    if (!mkdtemp(tmpdir)) return 1;
+    RUN(test_vox_and_svo);
+    RUN(test_svo_seeds);
+    RUN(test_probes);
+    rmdir(tmpdir);
+    fprintf(stderr, "%ld injection points (transient) in all\n", points_total);
+    return vx_test_finish();
+}
