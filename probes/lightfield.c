@@ -233,7 +233,10 @@ vx__lf_status vx__lf_trace_probe(const vx_probe_set* ps, uint32_t pi, const doub
         double ac0 = 0;
         double tc0 = ta;
         while (ac0 < 1) {
-            int cx = gc.ix, cy = gc.iy;
+            /* a step can land one cell past the map's edge (the segment ends
+             * on it up to rounding): stay on the map, as the GPU walk does */
+            int cx = gc.ix < 0 ? 0 : (gc.ix > (int)lr - 1 ? (int)lr - 1 : gc.ix);
+            int cy = gc.iy < 0 ? 0 : (gc.iy > (int)lr - 1 ? (int)lr - 1 : gc.iy);
             double ac1 = radial ? 1 : fmin(dda_step(&gc), 1);
             double tc1 = tb;
             if (ac1 < 1) {

@@ -389,7 +389,10 @@ int lf_trace_probe(uint k, vec3 o, vec3 d, inout float t, float t_end, out uint 
         Dda gc = dda_init(A, B, 0.0, int(lr));
         float ac0 = 0.0, tc0 = ta;
         for (uint guard = 0u; ac0 < 1.0 && guard < 4u * lr + 8u; guard++) {
-            ivec2 c = gc.i;
+            // a step can land one cell past the map's edge (the segment ends on it up to
+            // rounding); a texel index from there read outside the probe's maps (NaN
+            // halves on lavapipe, other probes' radiance elsewhere): stay on the map
+            ivec2 c = clamp(gc.i, ivec2(0), ivec2(int(lr) - 1));
             float ac1 = radial ? 1.0 : min(dda_step(gc), 1.0);
             float tc1 = tb;
             if (ac1 < 1.0)
@@ -402,7 +405,7 @@ int lf_trace_probe(uint k, vec3 o, vec3 d, inout float t, float t_end, out uint 
                 float af0 = ac0, tf0 = tc0;
                 ivec2 lo = c * per, hi = lo + per - 1;
                 for (uint g2 = 0u; af0 < ac1 && g2 < 4u * uint(per) + 8u; g2++) {
-                    ivec2 f = clamp(gf.i, lo, hi);
+                    ivec2 f = clamp(clamp(gf.i, lo, hi), ivec2(0), ivec2(int(n) - 1));
                     float af1 = radial ? ac1 : min(dda_step(gf), ac1);
                     float tf1 = tc1;
                     if (af1 < ac1)

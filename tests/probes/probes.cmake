@@ -2,7 +2,8 @@
 # determinism, shards), the .probes reader, probe GI against the path tracer.
 if(VX_WITH_VULKAN)
   vx_add_test(test_probes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes.c LIBS vx_probes vx_render vx_svo LABELS probes)
-  vx_add_test(test_probes_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes_gpu.c LIBS vx_probes vx_render vx_svo ${CMAKE_DL_LIBS}
+  vx_add_test(test_probes_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes_gpu.c
+              LIBS vx_probes vx_render vx_convert vx_formats vx_svo ${CMAKE_DL_LIBS}
               LABELS probes)
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
