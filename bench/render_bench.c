@@ -7,7 +7,7 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] FILE.{svo,vox}...
+ *                [--no-esvo] [--shader-stats] FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
  * from low over a corner, and a full-frame close-up (a surface point of the
@@ -20,7 +20,12 @@
  * per-pixel depth agreement come from one frame of each. --generate adds the
  * procedural terrains 1024 and 4096 cells wide (bench/bench_terrain.h);
  * --deep the 1024 terrain placed in a model 2^20 cells wide (the float64
- * variant; no ESVO row). Output: one table row per scene, view and size. */
+ * variant; no ESVO row). Output: one table row per scene, view and size.
+ * --shader-stats: the driver's statistics of every kernel the run creates
+ * (VK_KHR_pipeline_executable_properties where the device has it: registers,
+ * local memory, instructions; lines "stats: LABEL [spec ...] ..."), the pass
+ * pipeline's frame.comp and gbuffer.comp included (one small frame each). */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -30,6 +35,7 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "bench/esvo.h"
+#include "render/pipeline.h"
 #include "render/render_internal.h"
 
 typedef struct view_result {
@@ -39,9 +45,32 @@ typedef struct view_result {
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
-            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo] FILE...\n"
+            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
+            "          [--shader-stats] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5\n",
             prog);
+}
+
+static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)user, (void)level;
+    if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
+    fflush(stdout);
+}
+
+/* One small frame through the pass pipeline, merged (frame.comp) and as
+ * separate passes (gbuffer.comp, direct.comp, resolve.comp), so that their
+ * kernels are created (and their statistics logged). */
+static vx_result pass_kernels(vx_render_scene* rs, const vx_svo_scene* s, vx_render_camera cam, vx_error* err) {
+    vx_frame_renderer* fr = NULL;
+    vx_result r = vx_frame_renderer_create(rs, s, &fr, err);
+    for (int sep = 0; sep < 2 && !r; sep++) {
+        vx_frame_desc fd = {.base = {.width = 64, .height = 64, .camera = cam}, .separate_passes = sep};
+        vx_frame_result res = {0};
+        r = vx_frame_render(fr, &fd, &res, err);
+        vx_render_image_free(&res.image);
+    }
+    vx_frame_renderer_destroy(fr);
+    return r;
 }
 
 /* Runs fn(repeat 32) until `seconds` of wall time have passed. */
@@ -191,7 +220,7 @@ int main(int argc, char** argv) {
     const char* views = "overview,oblique,closeup";
     uint32_t runs = 15;
     double warmup = 0.5;
-    bool gen = false, deep = false, use_esvo = true;
+    bool gen = false, deep = false, use_esvo = true, stats = false;
     int variant = -1;
     const char* files[64];
     int nf = 0;
@@ -221,6 +250,7 @@ int main(int argc, char** argv) {
         } else if (!strcmp(argv[i], "--generate")) gen = true;
         else if (!strcmp(argv[i], "--deep")) deep = true;
         else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
+        else if (!strcmp(argv[i], "--shader-stats")) stats = true;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
             i++;
             variant = !strcmp(argv[i], "float") ? 0 : !strcmp(argv[i], "precise") ? 1 : -1;
@@ -232,7 +262,10 @@ int main(int argc, char** argv) {
     }
     vx_error err = {0};
     vx_gpu* gpu;
-    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err)) {
+    /* read by render/gpu_device.c and gpu_pipeline.c */
+    if (stats && setenv("VX_GPU_SHADER_STATS", "1", 1)) stats = false;
+    vx_logger logger = {.func = print_stats};
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device, .logger = stats ? &logger : NULL}, &gpu, &err)) {
         fprintf(stderr, "render_bench: %s\n", err.msg);
         return 1;
     }
@@ -329,6 +362,10 @@ int main(int argc, char** argv) {
                 if (!p) break;
                 p++;
             }
+        }
+        if (stats && !vx_render_scene_precise(rs) && pass_kernels(rs, &s, cams[0], &err)) {
+            fprintf(stderr, "render_bench: %s: passes: %s\n", name, err.msg);
+            failed = 1;
         }
         uint64_t voxels = 0;
         for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;

@@ -212,7 +212,16 @@ vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const
                                    .queueFamilyIndex = family,
                                    .queueCount = 1,
                                    .pQueuePriorities = &prio};
+    /* shader statistics (VX_GPU_SHADER_STATS=1, gpu_pipeline.c): the
+     * extension's feature is enabled with the extension */
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR pep = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR,
+        .pipelineExecutableInfo = VK_TRUE};
+    bool stats = false;
+    for (uint32_t i = 0; i < extension_count; i++)
+        stats |= strcmp(extensions[i], VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) == 0;
     VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+                              .pNext = stats ? &pep : NULL,
                               .queueCreateInfoCount = 1,
                               .pQueueCreateInfos = &qci,
                               .enabledExtensionCount = extension_count,
@@ -225,9 +234,35 @@ vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const
     return VX_OK;
 }
 
+/* True when VX_GPU_SHADER_STATS=1 and the device has
+ * VK_KHR_pipeline_executable_properties: the device is then created with it,
+ * and gpu_pipeline.c logs each pipeline's statistics (the same test there). */
+bool vx__gpu_shader_stats_wanted(VkPhysicalDevice pd) {
+    const char* env = getenv("VX_GPU_SHADER_STATS");
+    if (!env || strcmp(env, "1") != 0) return false;
+    uint32_t n = 0;
+    if (vkEnumerateDeviceExtensionProperties(pd, NULL, &n, NULL) != VK_SUCCESS || n == 0) return false;
+    VkExtensionProperties* p = calloc(n, sizeof *p);
+    if (!p) return false;
+    bool found = false;
+    if (vkEnumerateDeviceExtensionProperties(pd, NULL, &n, p) == VK_SUCCESS)
+        for (uint32_t i = 0; i < n; i++)
+            if (strcmp(p[i].extensionName, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) == 0) found = true;
+    free(p);
+    if (!found) return false;
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR pep = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+    VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &pep};
+    vkGetPhysicalDeviceFeatures2(pd, &f2);
+    return pep.pipelineExecutableInfo == VK_TRUE;
+}
+
 static vx_result create_device(vx_gpu* g, vx_error* err) {
     const void* dev = NULL;
-    vx_result r = vx_gpu_make_device((const void*)g->phys, g->queue_family, NULL, 0, &dev, &g->has_float64, err);
+    const char* stats_ext = VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
+    bool stats = vx__gpu_shader_stats_wanted(g->phys);
+    vx_result r = vx_gpu_make_device((const void*)g->phys, g->queue_family, stats ? &stats_ext : NULL, stats ? 1u : 0u,
+                                     &dev, &g->has_float64, err);
     if (r) return r;
     g->device = (VkDevice)dev;
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);

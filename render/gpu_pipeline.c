@@ -2,6 +2,7 @@
  * once per (shader, specialisation) key and cached in the vx_gpu. The SPIR-V
  * is compiled at build time by glslangValidator and embedded here. */
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "render/render_internal.h"
@@ -39,6 +40,60 @@ static vx_result validate_desc(const vx_gpu_compute_pipeline_desc* d, vx_error* 
 }
 #endif
 
+/* gpu_device.c: VX_GPU_SHADER_STATS=1 and the device has
+ * VK_KHR_pipeline_executable_properties (then created with it). */
+bool vx__gpu_shader_stats_wanted(VkPhysicalDevice pd);
+
+/* Logs the driver's statistics of each executable of p ("gpu.shader_stats",
+ * info): one line per executable, "LABEL [spec a,b,..] NAME: stat=value; ...",
+ * e.g. registers, local memory and instruction counts, in the driver's words.
+ * Benchmarks ask for it (render_bench --shader-stats); failures only skip. */
+static void log_stats(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, VkPipeline pipe) {
+    PFN_vkGetPipelineExecutablePropertiesKHR get_props =
+        (PFN_vkGetPipelineExecutablePropertiesKHR)vkGetDeviceProcAddr(g->device, "vkGetPipelineExecutablePropertiesKHR");
+    PFN_vkGetPipelineExecutableStatisticsKHR get_stats =
+        (PFN_vkGetPipelineExecutableStatisticsKHR)vkGetDeviceProcAddr(g->device, "vkGetPipelineExecutableStatisticsKHR");
+    if (!get_props || !get_stats) return;
+    VkPipelineInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR, .pipeline = pipe};
+    VkPipelineExecutablePropertiesKHR props[4];
+    uint32_t ne = 4;
+    for (uint32_t i = 0; i < ne; i++) props[i] = (VkPipelineExecutablePropertiesKHR){.sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_PROPERTIES_KHR};
+    VkResult r = get_props(g->device, &pi, &ne, props);
+    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return;
+    char spec[64] = "";
+    for (uint32_t i = 0, o = 0; i < d->spec_count && o < sizeof spec - 12; i++)
+        o += (uint32_t)snprintf(spec + o, sizeof spec - o, "%s%u", i ? "," : "", d->spec[i]);
+    for (uint32_t e = 0; e < ne; e++) {
+        VkPipelineExecutableInfoKHR ei = {.sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR,
+                                          .pipeline = pipe,
+                                          .executableIndex = e};
+        VkPipelineExecutableStatisticKHR st[32];
+        uint32_t ns = 32;
+        for (uint32_t i = 0; i < ns; i++) st[i] = (VkPipelineExecutableStatisticKHR){.sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR};
+        r = get_stats(g->device, &ei, &ns, st);
+        if (r != VK_SUCCESS && r != VK_INCOMPLETE) continue;
+        char line[1536];
+        int o = snprintf(line, sizeof line, "%s [spec %s] %s (subgroup %u):", d->label ? d->label : "?", spec,
+                         props[e].name, props[e].subgroupSize);
+        for (uint32_t i = 0; i < ns && o > 0 && (size_t)o < sizeof line; i++) {
+            size_t left = sizeof line - (size_t)o;
+            switch (st[i].format) {
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+                o += snprintf(line + o, left, " %s=%s;", st[i].name, st[i].value.b32 ? "true" : "false");
+                break;
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+                o += snprintf(line + o, left, " %s=%lld;", st[i].name, (long long)st[i].value.i64);
+                break;
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+                o += snprintf(line + o, left, " %s=%llu;", st[i].name, (unsigned long long)st[i].value.u64);
+                break;
+            default: o += snprintf(line + o, left, " %s=%g;", st[i].name, st[i].value.f64); break;
+            }
+        }
+        vx_log(g->logger, VX_LOG_INFO, "gpu.shader_stats", "%s", line);
+    }
+}
+
 static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, vx_error* err) {
     VkDescriptorSetLayoutBinding b[VX_GPU_MAX_BINDINGS];
     for (uint32_t i = 0; i < d->binding_count; i++)
@@ -69,7 +124,9 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                .pMapEntries = me,
                                .dataSize = 4u * d->spec_count,
                                .pData = d->spec};
+    bool stats = !g->external && vx__gpu_shader_stats_wanted(g->phys);
     VkComputePipelineCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+                                      .flags = stats ? VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR : 0u,
                                       .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
                                                 .stage = VK_SHADER_STAGE_COMPUTE_BIT,
                                                 .module = mod,
@@ -80,6 +137,7 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
     vkDestroyShaderModule(g->device, mod, NULL);
     if (r != VK_SUCCESS) return vx__vk_fail(err, r, "vkCreateComputePipelines");
     vx__gpu_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)p->pipe, d->label);
+    if (stats) log_stats(g, d, p->pipe);
     return VX_OK;
 }
 
