@@ -2,8 +2,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "svo/core.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -238,9 +240,47 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
     return VX_OK;
 }
 
+/* A writer killed between creating its temporary file and the rename
+ * (SIGKILL, a crash) leaves PATH.tmpPID (and PATH.tmpPID.sections from the
+ * .svo writer) behind; nothing else would ever remove it. The next write of
+ * PATH removes those whose process is gone: kill(pid, 0) fails with ESRCH.
+ * A live writer's files are kept (also one in another PID namespace that
+ * happens to match a live pid here); one whose pid is unknown here (another
+ * host on a shared folder) would lose its temporary file and fail cleanly at
+ * its rename, never leave a partial PATH. */
+static void remove_stale_tmp(const char* path) {
+    const char* slash = strrchr(path, '/');
+    const char* base = slash ? slash + 1 : path;
+    size_t dlen = slash ? (size_t)(slash - path) + 1 : 0, blen = strlen(base);
+    char* name = (char*)malloc(dlen + 256 + 2);
+    if (!name || !blen) {
+        free(name);
+        return;
+    }
+    memcpy(name, path, dlen);
+    name[dlen] = 0;
+    DIR* d = opendir(dlen ? name : ".");
+    struct dirent* e;
+    while (d && (e = readdir(d))) {
+        const char* n = e->d_name;
+        if (strncmp(n, base, blen) != 0 || strncmp(n + blen, ".tmp", 4) != 0) continue;
+        const char* p = n + blen + 4;
+        char* end;
+        if (*p < '0' || *p > '9') continue;
+        long pid = strtol(p, &end, 10);
+        if ((*end && strcmp(end, ".sections") != 0) || pid <= 0 || pid == (long)getpid()) continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH || strlen(n) > 255) continue;
+        memcpy(name + dlen, n, strlen(n) + 1);
+        remove(name);
+    }
+    if (d) closedir(d);
+    free(name);
+}
+
 vx_result vx_atomic_open(vx_atomic_file* af, const char* path, vx_error* err) {
     memset(af, 0, sizeof *af);
     if (!path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null path");
+    remove_stale_tmp(path);
     size_t plen = strlen(path);
     af->tmp = (char*)malloc(plen + 32);
     if (!af->tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");

@@ -984,6 +984,9 @@ vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* e
     }
     snprintf(scratch, slen, "%s.tmp%ld.sections", path, (long)getpid());
     FILE* sf = fopen(scratch, "w+b");
+    /* only ever used through sf: unnamed from the start, so a killed writer
+     * leaves no scratch file (the remove below is then a no-op) */
+    if (sf) remove(scratch);
     uint8_t* chunk = NULL;
     const size_t chunk_size = (size_t)4 << 20;
     bool nomem = false, io = !sf;
