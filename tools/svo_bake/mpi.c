@@ -96,8 +96,10 @@ typedef struct coord {
 } coord;
 
 static uint32_t batch_size(const coord* c) {
-    uint32_t left = c->end - c->next;
-    uint32_t b = (uint32_t)((left + 2u * (uint32_t)c->nranks - 1) / (2u * (uint32_t)c->nranks));
+    /* a 1/(2 DEPTH N) share of what is left: a worker holds DEPTH batches,
+     * so the last ones are small enough to end the ranks together */
+    uint32_t left = c->end - c->next, parts = 2u * DEPTH * (uint32_t)c->nranks;
+    uint32_t b = (left + parts - 1) / parts;
     if (b > c->cap) b = c->cap;
     if (b < c->min_batch) b = c->min_batch;
     return b < left ? b : left;
