@@ -148,8 +148,11 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
             have_attr = true;
         }
     } else {
+        // Without contours a child's span ends at min(ray end, its cube's
+        // exit) (a cube's exit is never later than its parent's, in float
+        // too: pos * coef - bias is monotonic in pos), so the stack holds
+        // parents only and tmax stays the ray's end.
         int stk_node[S_MAX];
-        REAL stk_t[S_MAX];
         uint parent = m.root;
         uint desc = 0u;
         bool loaded = false;
@@ -190,7 +193,7 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                         break;
                     }
                     // push
-                    if (tc_max < hh) { stk_node[scale] = int(parent); stk_t[scale] = tmax; }
+                    if (tc_max < hh) stk_node[scale] = int(parent);
                     hh = tc_max;
                     uint blk = parent - (desc >> 17);
                     if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
@@ -201,7 +204,6 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
                     if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-                    tmax = tv_max;
                     loaded = false;
                     continue;
                 }
@@ -229,7 +231,6 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                 if (scale >= S_MAX) break;
                 scale_exp2 = double(1 << scale) / 8388608.0;
                 parent = uint(stk_node[scale]);
-                tmax = stk_t[scale];
                 ivec3 sh = ip >> scale;
                 pos = 1.0 + dvec3(sh << scale) / 8388608.0;
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -244,7 +245,6 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
                 parent = uint(stk_node[scale]);
-                tmax = stk_t[scale];
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
