@@ -153,7 +153,9 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         // too: pos * coef - bias is monotonic in pos), so the stack holds
         // parents only and tmax stays the ray's end.
         int stk_node[S_MAX];
-        uint parent = m.root;
+        uint nbase = m.node_off; // node indices below are absolute (far pointers are model-relative)
+        uint parent = nbase + m.root;
+        int oct7 = oct ^ 7;
         uint desc = 0u;
         bool loaded = false;
         int idx = 0;
@@ -163,10 +165,10 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         while (scale < S_MAX) {
             g_iter++;
             if (g_iter > MAX_ITER) break;
-            if (!loaded) { desc = nodes[m.node_off + parent]; loaded = true; }
+            if (!loaded) { desc = nodes[parent]; loaded = true; }
             RVEC3 tc = pos * coef - bias;
             REAL tc_max = min(min(tc.x, tc.y), tc.z);
-            int cs = idx ^ (oct ^ 7); // real octant: mirrored axes flipped
+            int cs = idx ^ oct7; // real octant: mirrored axes flipped
             uint valid = (desc >> 8) & 0xFFu;
             uint leaf = desc & 0xFFu;
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
@@ -185,8 +187,8 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                         hit = true;
                         if (HAS_COLOR && (m.flags & 1u) != 0u) {
                             uint blk = parent - (desc >> 17);
-                            if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
-                            uint a = nodes[m.node_off + blk + bitCount(valid & ~leaf)];
+                            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                            uint a = nodes[blk + bitCount(valid & ~leaf)];
                             attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
                             have_attr = true;
                         }
@@ -196,7 +198,7 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     if (tc_max < hh) stk_node[scale] = int(parent);
                     hh = tc_max;
                     uint blk = parent - (desc >> 17);
-                    if ((desc & 0x10000u) != 0u) blk = nodes[m.node_off + blk];
+                    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
                     idx = 0;
                     scale--;
