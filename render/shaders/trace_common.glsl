@@ -169,14 +169,25 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
             RVEC3 tc = pos * coef - bias;
             REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
+#ifdef PRECISE
+            // the mask form below made the NVIDIA compiler give the float64
+            // depth kernel 80 registers instead of 64 (20% slower on the H100)
             uint valid = (desc >> 8) & 0xFFu;
             uint leaf = desc & 0xFFu;
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
+#else
+            uint cbit = 1u << cs; // the child's leaf bit; its valid bit is cbit << 8
+            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+#endif
                 REAL tv_max = min(tmax, tc_max);
                 REAL half_ = scale_exp2 * 0.5;
                 RVEC3 tcen = half_ * coef + tc;
                 if (tmin <= tv_max) {
+#ifdef PRECISE
                     bool is_leaf = ((leaf >> cs) & 1u) != 0u;
+#else
+                    bool is_leaf = (desc & cbit) != 0u;
+#endif
                     bool stop = is_leaf;
                     if (LOD && !stop) {
                         // world footprint of a pixel at this distance, in [1,2] units
@@ -186,6 +197,10 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     if (stop) {
                         hit = true;
                         if (HAS_COLOR && (m.flags & 1u) != 0u) {
+#ifndef PRECISE
+                            uint valid = (desc >> 8) & 0xFFu;
+                            uint leaf = desc & 0xFFu;
+#endif
                             uint blk = parent - (desc >> 17);
                             if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                             uint a = nodes[blk + bitCount(valid & ~leaf)];
@@ -199,7 +214,12 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     hh = tc_max;
                     uint blk = parent - (desc >> 17);
                     if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+#ifdef PRECISE
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+#else
+                    // inner children before this one: valid, not leaf, below cbit
+                    parent = blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+#endif
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
