@@ -164,7 +164,6 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
         while (scale < S_MAX) {
             g_iter++;
-            if (g_iter > MAX_ITER) break;
             if (!loaded) { desc = nodes[parent]; loaded = true; }
             RVEC3 tc = pos * coef - bias;
             REAL tc_max = min(min(tc.x, tc.y), tc.z);
@@ -230,7 +229,9 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     continue;
                 }
             }
-            // advance
+            // advance; the iteration guard is checked here only: pushes are
+            // bounded by the depth, and a ray past the guard is a miss below
+            if (g_iter > MAX_ITER) break;
             int step = 0;
             if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
             if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
