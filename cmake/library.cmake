@@ -86,11 +86,11 @@ target_link_libraries(voxkit PRIVATE ${VX_LIB_BUILT})
 set_target_properties(voxkit PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION ${VX_SOVERSION}
                       LINKER_LANGUAGE CXX)
 # Exports: cmake/voxkit.map (the C API only). --no-undefined: every symbol
-# is resolved at link time (not under the sanitizers, whose runtime the
-# program brings).
+# is resolved at link time (not under sanitizers, whose runtime the program
+# brings with clang).
 target_link_options(voxkit PRIVATE -Wl,--version-script=${CMAKE_CURRENT_LIST_DIR}/voxkit.map)
 set_property(TARGET voxkit APPEND PROPERTY LINK_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/voxkit.map)
-if(NOT VX_SANITIZE)
+if(NOT VX_SANITIZE AND NOT CMAKE_C_FLAGS MATCHES "sanitize" AND NOT CMAKE_CXX_FLAGS MATCHES "sanitize")
   target_link_options(voxkit PRIVATE -Wl,--no-undefined)
 endif()
 
