@@ -4,7 +4,7 @@
  * its host, or --device, or --cpu) and places the same probe grid. Rank 0
  * hands out batches of consecutive probes (guided sizes: a share of what is
  * left, so probes that cost more, near geometry, even out) and bakes
- * batches itself; each worker holds two assignments, so the next is there
+ * batches itself; each worker holds three assignments, so the next is there
  * when it sends a batch's maps back. Rank 0 answers between and during its
  * own batches (from the bake's progress callback), copies each batch into
  * the output set, checkpoints the baked prefix to OUT.probes.partial (the
@@ -29,7 +29,7 @@
 #include "tools/svo_bake/svo_bake.h"
 
 enum { TAG_ASSIGN = 1, TAG_RESULT = 2 };
-enum { DEPTH = 2 }; /* assignments a worker holds */
+enum { DEPTH = 3 }; /* assignments a worker holds */
 
 bool bake_mpi_launched(void) {
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE");
@@ -279,54 +279,67 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         fail_error = !strcmp(kind, "error");
     }
     size_t pb = maps_probe_bytes(placed);
-    uint8_t* buf = NULL;
-    size_t buf_size = 0;
-    uint32_t cur[2], nxt[2];
-    double t = vx_time_now();
-    MPI_Recv(cur, 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    st[ST_WAIT] += vx_time_now() - t;
-    MPI_Request send = MPI_REQUEST_NULL, recv = MPI_REQUEST_NULL;
-    while (cur[0] < cur[1]) {
-        MPI_Irecv(nxt, 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv);
-        uint32_t n = cur[1] - cur[0];
-        vx_probe_set v = view_at(placed, cur[0]);
+    /* a ring of DEPTH slots: slot k % DEPTH receives assignment k and sends
+     * result k, so a result waits for rank 0 only when DEPTH - 1 newer
+     * batches are baked (rank 0 answers between its own GPU batches) */
+    uint32_t q[DEPTH][2];
+    MPI_Request recv[DEPTH], send[DEPTH];
+    uint8_t* buf[DEPTH] = {NULL};
+    size_t buf_size[DEPTH] = {0};
+    for (int k = 0; k < DEPTH; k++) {
+        send[k] = MPI_REQUEST_NULL;
+        MPI_Irecv(q[k], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[k]);
+    }
+    for (uint32_t k = 0;; k++) {
+        uint32_t s = k % DEPTH;
+        double t = vx_time_now();
+        MPI_Wait(&recv[s], MPI_STATUS_IGNORE);
+        st[ST_WAIT] += vx_time_now() - t;
+        uint32_t a = q[s][0], n = q[s][1] - q[s][0];
+        if (!n) break;
+        vx_probe_set v = view_at(placed, a);
         t = vx_time_now();
         vx_error err = {0};
-        if (bake_range(j, bd, &v, cur[1], &err)) die("%s: %s", j->in, err.msg);
+        if (bake_range(j, bd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
         st[ST_BAKE] += vx_time_now() - t;
         st[ST_PROBES] += n, st[ST_BATCHES] += 1;
         t = vx_time_now();
-        MPI_Wait(&send, MPI_STATUS_IGNORE);
+        MPI_Wait(&send[s], MPI_STATUS_IGNORE);
         size_t need = 8 + n * pb;
         if (need > (size_t)INT32_MAX) die("a batch of %u probes is too large for one message", n);
-        if (need > buf_size) {
-            free(buf);
-            buf_size = need;
-            if (!(buf = malloc(buf_size))) die("out of memory for a batch of %u probes", n);
+        if (need > buf_size[s]) {
+            free(buf[s]);
+            buf_size[s] = need;
+            if (!(buf[s] = malloc(need))) die("out of memory for a batch of %u probes", n);
         }
-        memcpy(buf, cur, 4);
-        memcpy(buf + 4, &n, 4);
-        maps_pack(&v, cur[0], n, buf + 8);
+        memcpy(buf[s], &a, 4);
+        memcpy(buf[s] + 4, &n, 4);
+        maps_pack(&v, a, n, buf[s] + 8);
         maps_free(&v);
-        MPI_Isend(buf, (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send);
+        MPI_Isend(buf[s], (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send[s]);
+        MPI_Irecv(q[s], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[s]);
         st[ST_COMM] += vx_time_now() - t;
         if (g_rank == fail_rank && (int)st[ST_BATCHES] >= fail_after) {
             if (fail_error) die("failing after %d batches (VX_BAKE_MPI_FAIL)", fail_after);
-            MPI_Wait(&send, MPI_STATUS_IGNORE);
+            MPI_Wait(&send[s], MPI_STATUS_IGNORE);
             fprintf(stderr, "%s: rank %d: killing itself after %d batches (VX_BAKE_MPI_FAIL)\n", vx_tool_name, g_rank,
                     fail_after);
             fflush(stderr);
             raise(SIGKILL);
         }
-        t = vx_time_now();
-        MPI_Wait(&recv, MPI_STATUS_IGNORE);
-        st[ST_WAIT] += vx_time_now() - t;
-        cur[0] = nxt[0], cur[1] = nxt[1];
     }
-    t = vx_time_now();
-    MPI_Wait(&send, MPI_STATUS_IGNORE);
+    /* rank 0 sends nothing after the empty assignment: drop the receives
+     * still posted, finish the sends */
+    double t = vx_time_now();
+    for (int k = 0; k < DEPTH; k++) {
+        if (recv[k] != MPI_REQUEST_NULL) {
+            MPI_Cancel(&recv[k]);
+            MPI_Wait(&recv[k], MPI_STATUS_IGNORE);
+        }
+        MPI_Wait(&send[k], MPI_STATUS_IGNORE);
+        free(buf[k]);
+    }
     st[ST_COMM] += vx_time_now() - t;
-    free(buf);
 }
 
 /* ---- devices ----------------------------------------------------------------------- */
