@@ -27,6 +27,10 @@ for n in 1 2 3; do
   cmp -s "$T/full.probes" "$T/m$n.probes" || fail "mpirun -n $n differs from the single bake"
   grep -q "on $n ranks" "$T/m$n.out" || fail "mpirun -n $n: no summary line"
 done
+# more ranks than probes: idle ranks, the same single probe
+"$BIN/svo_bake" "$T/demo.svo" "$T/one.probes" --grid 1,1,1 --res 16 --spp 1 --cpu -q >/dev/null || fail "1-probe bake"
+run 3 "$BIN/svo_bake" "$T/demo.svo" "$T/one3.probes" --grid 1,1,1 --res 16 --spp 1 --cpu -q >/dev/null 2>&1 || fail "1 probe on 3 ranks"
+cmp -s "$T/one.probes" "$T/one3.probes" || fail "1 probe on 3 ranks differs"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p0.probes" $O --shard 0/2 >/dev/null || fail "shard 0"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p1.probes" $O --shard 1/2 >/dev/null || fail "shard 1"
 "$BIN/svo_bake" --merge "$T/merged.probes" "$T/p1.probes" "$T/p0.probes" >/dev/null || fail "merge"
@@ -39,7 +43,12 @@ VX_BAKE_CHECKPOINT_S=0 VX_BAKE_MPI_FAIL=1:1 run 2 "$BIN/svo_bake" "$T/demo.svo" 
 [ $? -ne 0 ] || fail "a killed rank must fail the job"
 [ ! -e "$T/k.probes" ] || fail "killed job left an output file"
 ls "$T" | grep -q "^k.probes.tmp" && fail "killed job left a temporary file"
+had_checkpoint=0
+[ -e "$T/k.probes.partial" ] && had_checkpoint=1
 run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/k.probes" $O >"$T/k2.out" 2>&1 || { cat "$T/k2.out"; fail "rerun after the kill"; }
+# rank 0 checkpoints the baked prefix (every batch here); whether it had one
+# before the kill depends on timing, but one that exists must be resumed
+[ $had_checkpoint = 0 ] || grep -q "resuming from" "$T/k2.out" || fail "rerun did not resume the killed job's checkpoint"
 cmp -s "$T/full.probes" "$T/k.probes" || fail "rerun after the kill differs"
 [ ! -e "$T/k.probes.partial" ] || fail "checkpoint left behind"
 # a rank failing with an error: a message naming it, nonzero, no output
