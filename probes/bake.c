@@ -138,15 +138,21 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
     return VX_OK;
 }
 
+vx_probe_bake_desc vx_probe_bake_desc_defaults(void) {
+    return (vx_probe_bake_desc){.res = 128, .spp = 16, .bounces = 1, .light_dir = {0.35, -0.45, 0.82},
+                                .sun = {3, 3, 3}, .sky = {0.31, 0.375, 0.46}};
+}
+
 static vx_result resolve(const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err) {
-    ps->res = d->res ? d->res : 128;
+    const vx_probe_bake_desc D = vx_probe_bake_desc_defaults();
+    ps->res = d->res ? d->res : D.res;
     if (ps->res < 16 || ps->res > VX_PROBE_MAX_RES || ps->res % 16)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "res %u: must be a multiple of 16 in 16..%u", ps->res,
                        VX_PROBE_MAX_RES);
     ps->low_res = ps->res / 16;
-    ps->spp = d->spp ? d->spp : 16;
+    ps->spp = d->spp ? d->spp : D.spp;
     if (ps->spp > 65536) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "spp %u: at most 65536", ps->spp);
-    ps->bounces = d->bounces == 0 ? 1 : (d->bounces < 0 ? 0 : (uint32_t)d->bounces);
+    ps->bounces = d->bounces == 0 ? (uint32_t)D.bounces : (d->bounces < 0 ? 0 : (uint32_t)d->bounces);
     if (ps->bounces > 64) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bounces %u: at most 64", ps->bounces);
     ps->seed = d->seed;
     return VX_OK;

@@ -13,14 +13,14 @@ void vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene*
     memset(L, 0, sizeof *L);
     L->caster = c;
     L->scene = s;
-    double ld[3] = {0.35, -0.45, 0.82};
+    const vx_probe_bake_desc D = vx_probe_bake_desc_defaults(); /* the light's defaults */
+    double ld[3] = {D.light_dir[0], D.light_dir[1], D.light_dir[2]};
     if (light_dir && (light_dir[0] || light_dir[1] || light_dir[2])) memcpy(ld, light_dir, sizeof ld);
     double l = sqrt(ld[0] * ld[0] + ld[1] * ld[1] + ld[2] * ld[2]);
     for (int k = 0; k < 3; k++) L->light_dir[k] = ld[k] / l;
     for (int k = 0; k < 3; k++) {
-        L->sun[k] = no_sun ? 0 : (sun && (sun[0] || sun[1] || sun[2]) ? sun[k] : 3.0);
-        static const double sky_def[3] = {0.62 * 0.5, 0.75 * 0.5, 0.92 * 0.5};
-        L->sky[k] = black_sky ? 0 : (sky && (sky[0] || sky[1] || sky[2]) ? sky[k] : sky_def[k]);
+        L->sun[k] = no_sun ? 0 : (sun && (sun[0] || sun[1] || sun[2]) ? sun[k] : D.sun[k]);
+        L->sky[k] = black_sky ? 0 : (sky && (sky[0] || sky[1] || sky[2]) ? sky[k] : D.sky[k]);
     }
     for (uint32_t i = 0; s && i < s->material_count; i++) {
         const vx_svo_material* m = &s->materials[i];

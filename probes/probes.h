@@ -174,6 +174,12 @@ typedef struct vx_probe_bake_desc {
     vx_progress progress;
 } vx_probe_bake_desc;
 
+/* What a zero field of a bake desc means (the one source of these defaults;
+ * svo_bake's --help prints them): res 128, spp 16, 1 bounce, seed 0, light
+ * (0.35, -0.45, 0.82), sun irradiance 3,3,3, sky radiance 0.31,0.375,0.46;
+ * the grid from a spacing of the bounds' diagonal / 8. */
+vx_probe_bake_desc vx_probe_bake_desc_defaults(void);
+
 /* Places the grid and probes (moving or disabling the ones inside voxels)
  * without baking: *out has count = 0 and no maps. */
 vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);

@@ -110,6 +110,7 @@ vx_frame_desc vx_frame_desc_defaults(void) {
     d.base = vx_render_desc_defaults();
     d.ao_rays = 4;
     d.edge_threshold = 0.1;
+    d.sky[0] = 0.31, d.sky[1] = 0.375, d.sky[2] = 0.46; /* the probe bake's sky (probes.h) */
     return d;
 }
 

@@ -15,10 +15,7 @@
 
 static options default_options(void) {
     options o = {0};
-    o.b.res = 128;
-    o.b.spp = 16;
-    o.b.bounces = 1;
-    o.b.seed = 1;
+    o.b = vx_probe_bake_desc_defaults(); /* the library's defaults, printed by --help */
     o.shards = 1;
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     o.threads = n > 0 && n < 64 ? (uint32_t)n : 1;
@@ -51,9 +48,9 @@ _Noreturn static void usage(int status) {
             "  --spp N            paths per texel (default: %u)\n"
             "  --bounces N        diffuse bounces after the first hit (default: %d)\n"
             "  --seed S           random seed; same seed, same bytes (default: %llu)\n"
-            "  --light X,Y,Z      direction towards the sun (default: 0.35,-0.45,0.82)\n"
-            "  --sun R,G,B        sun irradiance (default: 3,3,3); 0,0,0 for none\n"
-            "  --sky R,G,B        sky radiance (default: 0.31,0.375,0.46); 0,0,0 for none\n"
+            "  --light X,Y,Z      direction towards the sun (default: %g,%g,%g)\n"
+            "  --sun R,G,B        sun irradiance (default: %g,%g,%g); 0,0,0 for none\n"
+            "  --sky R,G,B        sky radiance (default: %g,%g,%g); 0,0,0 for none\n"
             "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
             "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count;\n"
             "                     under MPI the CPU count over the ranks on the host)\n"
@@ -69,7 +66,9 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo scene.probes --spacing 16 --res 64 --spp 32\n"
             "  %s scene.svo part0.probes --shard 0/2 && %s scene.svo part1.probes --shard 1/2\n"
             "  %s --merge scene.probes part0.probes part1.probes\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed, d.shard,
+            vx_tool_name, vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed,
+            d.b.light_dir[0], d.b.light_dir[1], d.b.light_dir[2], d.b.sun[0], d.b.sun[1], d.b.sun[2], d.b.sky[0], d.b.sky[1],
+            d.b.sky[2], d.shard,
             d.shards, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
     exit(status);
 }

@@ -37,7 +37,6 @@ static options default_options(void) {
     options o = {0};
     o.r = vx_render_desc_defaults();
     o.fd = vx_frame_desc_defaults();
-    o.fd.sky[0] = 0.31, o.fd.sky[1] = 0.375, o.fd.sky[2] = 0.46; /* the probe bake's sky */
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
     return o;
@@ -89,7 +88,7 @@ _Noreturn static void usage(int status) {
             "                       point:X,Y,Z:R,G,B[:RANGE]  spot:X,Y,Z:DX,DY,DZ:R,G,B:INNER,OUTER[:RANGE]\n"
             "                       sun:DX,DY,DZ:R,G,B  (R,G,B: intensity per sr, irradiance for sun;\n"
             "                       cone angles in degrees; RANGE: glTF's range window)\n"
-            "  --sky R,G,B          sky radiance with --light SPEC (default: 0.31,0.375,0.46)\n"
+            "  --sky R,G,B          sky radiance with --light SPEC (default: %g,%g,%g)\n"
             "  --ambient A          sky light share (default: %g)\n"
             "  --device N|NAME      Vulkan device (default: a discrete GPU, else any)\n"
             "  --list-devices       print the Vulkan devices and exit\n"
@@ -103,8 +102,8 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo depth.exr --mode depth --size 1280x720\n"
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
-            prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp, d.r.camera.fov, d.r.lod_pixels,
-            d.r.ambient, prog, prog, prog, prog);
+            prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
+            d.r.camera.fov, d.r.lod_pixels, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2], d.r.ambient, prog, prog, prog, prog);
     exit(status);
 }
 
