@@ -17,4 +17,9 @@ if [ -x "$BUILD/bin/svo_render" ]; then
     "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island.png" --size 640x360 ||
         "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island.png" --size 640x360 --cpu
     echo "demo: rendered $BUILD/demo/island.png"
+    # the pass pipeline: ambient occlusion and anti-aliasing, with each pass's GPU time
+    if "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island-passes.png" --size 640x360 \
+        --passes gbuffer,direct,ao,aa --ao-rays 8 -v; then
+        echo "demo: rendered $BUILD/demo/island-passes.png (passes gbuffer,direct,ao,aa)"
+    fi
 fi

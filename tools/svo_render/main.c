@@ -422,8 +422,12 @@ int main(int argc, char** argv) {
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
     if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
     if (o.verbose) {
+        /* the pipeline's own default: 8 samples with aa or dof, else 1 */
+        uint32_t spp = pipeline && !o.spp_given
+                           ? (vx_pass_list_has(&passes, VX_PASS_AA) || vx_pass_list_has(&passes, VX_PASS_DOF) ? 8 : 1)
+                           : o.r.spp;
         printf("%s %s %s --mode %s --size %ux%u --spp %u --fov %g --ambient %g%s%s", prog, o.in, o.out,
-               vx_render_mode_name(o.r.mode), o.r.width, o.r.height, o.r.spp, o.r.camera.fov, o.r.ambient,
+               vx_render_mode_name(o.r.mode), o.r.width, o.r.height, spp, o.r.camera.fov, o.r.ambient,
                o.r.camera.ortho ? " --ortho" : "", o.cpu ? " --cpu" : "");
         if (o.r.camera.set)
             printf(" --camera %g,%g,%g,%g,%g,%g", o.r.camera.eye[0], o.r.camera.eye[1], o.r.camera.eye[2],
