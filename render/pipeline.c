@@ -136,6 +136,9 @@ vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: a value is not finite", i);
     if (l->intensity < 0 || l->color[0] < 0 || l->color[1] < 0 || l->color[2] < 0 || l->range < 0)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: negative intensity, colour or range", i);
+    for (int k = 0; k < 3; k++) /* the shader holds colour * intensity in a float */
+        if (l->color[k] * l->intensity > 1e30)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: colour times intensity above 1e30", i);
     double dl = sqrt(l->direction[0] * l->direction[0] + l->direction[1] * l->direction[1] +
                      l->direction[2] * l->direction[2]);
     if (l->type != VX_LIGHT_POINT && !(dl > 0))

@@ -491,6 +491,12 @@ static void test_lights_analytic(void) {
     bad = lights[1];
     bad.inner_cone = 0.5, bad.outer_cone = 0.2;
     CHECK(vx_light_validate(&bad, 0, &err) == VX_ERR_INVALID_ARG);
+    bad = lights[0];
+    bad.intensity = 1e20, bad.color[0] = 1e20; /* finite, but not as a float */
+    CHECK(vx_light_validate(&bad, 0, &err) == VX_ERR_INVALID_ARG);
+    bad = lights[0];
+    bad.type = VX_LIGHT_DIRECTIONAL; /* no direction */
+    CHECK(vx_light_validate(&bad, 0, &err) == VX_ERR_INVALID_ARG);
     fx_close(&fx);
     vx_svo_scene_free(&s);
 }
