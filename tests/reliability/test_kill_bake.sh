@@ -63,7 +63,7 @@ while [ $i -lt "$KILLS" ]; do
     grep -q "resuming" resume.log && resumed=$((resumed + 1))
     cmp -s out.probes ref.probes || bad "run after kill $i at $at ms: differs from an uninterrupted bake"
     [ ! -e out.probes.partial ] || bad "run after kill $i: checkpoint left behind"
-    left=$(ls -a | grep '\.tmp' | tr '\n' ' ')
+    left=$(for f in out.probes*.tmp*; do [ -e "$f" ] && printf '%s ' "$f"; done)
     [ -z "$left" ] || bad "after kill $i and a successful run, temporary files remain: $left"
     i=$((i + 1))
 done

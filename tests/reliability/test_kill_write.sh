@@ -24,6 +24,8 @@ bad() {
     fail=1
 }
 now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# temporary files of out.svo, space-separated
+tmp_files() { for f in out.svo.tmp*; do [ -e "$f" ] && printf '%s ' "$f"; done; }
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox old.svo || exit 1
@@ -55,7 +57,7 @@ echo partial >"out.svo.tmp$dead.sections"
 echo partial >"out.svo.tmp$$"
 echo partial >"other.svo.tmp$dead"
 "$BIN/vox2svo" -q demo.vox out.svo || bad "run over stale temporary files failed"
-[ ! -e "out.svo.tmp$dead" ] && [ ! -e "out.svo.tmp$dead.sections" ] || bad "a dead writer's temporary files were kept"
+if [ -e "out.svo.tmp$dead" ] || [ -e "out.svo.tmp$dead.sections" ]; then bad "a dead writer's temporary files were kept"; fi
 [ -e "out.svo.tmp$$" ] || bad "a live writer's temporary file was removed"
 [ -e "other.svo.tmp$dead" ] || bad "another output's temporary file was removed"
 rm -f "out.svo.tmp$$" "other.svo.tmp$dead"
@@ -85,12 +87,12 @@ while [ $i -lt "$KILLS" ]; do
     else
         bad "kill $i at ${at} ms: out.svo is neither the old nor the new file ($(wc -c <out.svo) bytes)"
     fi
-    n=$(ls -a | grep -c '^out\.svo\.tmp')
+    n=$(tmp_files | wc -w)
     tmp_after_kill=$((tmp_after_kill + n))
     # the next successful run: the new file, and no temporary file left
     "$BIN/vox2svo" -q noise.vox out.svo || bad "run after kill $i failed"
     cmp -s out.svo new.svo || bad "run after kill $i: out.svo differs from an uninterrupted run"
-    left=$(ls -a | grep '^out\.svo\.tmp' | tr '\n' ' ')
+    left=$(tmp_files)
     [ -z "$left" ] || bad "after kill $i and a successful run, temporary files remain: $left"
     rm -f out.svo.tmp*
     i=$((i + 1))
