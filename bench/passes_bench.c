@@ -8,7 +8,9 @@
  * For each scene, two views: the default framing ("overview") and a close-up
  * from a quarter of the default distance ("close-up"); hit share stated per view. Times
  * are GPU timestamps, the median of --runs frames (default 15) after 3
- * warm-up frames; the single shader runs the same number of dispatches. */
+ * warm-up frames; the single shader runs the same number of dispatches.
+ * Then 1 to 512 point lights spread over the scene bounds, every one with a
+ * shadow ray per pixel (brute force: the direct pass's cost per light). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -168,6 +170,53 @@ int main(int argc, char** argv) {
                              median(tp + q * runs, runs));
                 printf("| %s%s | %.3f | %s | %.2f |\n", lists[l] + sep, sep ? " (separate passes)" : "", fm, per,
                        single > 0 ? fm / single : 0);
+            }
+            /* brute-force point lights with ray-traced shadows: the direct pass loops over every
+             * light (the baseline for issue 11's clustered culling) */
+            printf("\n| point lights (all shadowed) | frame ms | direct ms | direct ms per light |\n"
+                   "| ---: | ---: | ---: | ---: |\n");
+            static const uint32_t counts[] = {1, 8, 64, 512};
+            for (size_t c = 0; c < sizeof counts / sizeof counts[0] && !status; c++) {
+                uint32_t nl = counts[c];
+                vx_light* ls = calloc(nl, sizeof *ls);
+                uint32_t rng = 12345;
+                for (uint32_t i = 0; ls && i < nl; i++) {
+                    ls[i].type = VX_LIGHT_POINT;
+                    for (int k = 0; k < 3; k++) {
+                        rng = rng * 1664525u + 1013904223u;
+                        ls[i].position[k] = lo[k] + (hi[k] - lo[k]) * ((rng >> 8) / 16777216.0);
+                    }
+                    ls[i].color[0] = ls[i].color[1] = ls[i].color[2] = 1;
+                    ls[i].intensity = 100.0 / nl;
+                }
+                vx_pass_list L;
+                vx_pass_list_parse("gbuffer,direct", &L, &err);
+                fd = vx_frame_desc_defaults();
+                fd.base = base;
+                fd.base.spp = 1;
+                fd.passes = &L;
+                fd.no_readback = true;
+                fd.separate_passes = true;
+                fd.lights = ls, fd.light_count = nl;
+                double* td = tp; /* direct pass times */
+                for (int k = 0; k < 3 + runs && ls; k++) {
+                    if (vx_frame_render(fr, &fd, &res, &err)) {
+                        fprintf(stderr, "passes_bench: %s\n", err.msg);
+                        status = 1;
+                        break;
+                    }
+                    if (k >= 3) {
+                        t[k - 3] = res.frame_ms;
+                        td[k - 3] = 0;
+                        for (uint32_t q = 0; q < res.timing_count; q++)
+                            if (!strcmp(res.timings[q].name, "direct")) td[k - 3] = res.timings[q].ms;
+                    }
+                    vx_render_image_free(&res.image);
+                }
+                free(ls);
+                if (status) break;
+                double fm = median(t, runs), dm = median(td, runs);
+                printf("| %u | %.3f | %.3f | %.4f |\n", nl, fm, dm, dm / nl);
             }
         }
         vx_frame_renderer_destroy(fr);
