@@ -7,9 +7,10 @@
  * (or the bake defaults without probes), and the pipeline shades its direct
  * pass with it, so direct + gi is what the full probe modes render.
  *
- * Known cost: the image goes through host memory (download, upload) because
- * the probe shader writes its own accumulation layout; the gi timing row is
- * the probe shader's GPU time only. */
+ * The image stays on the GPU: the probe renderer's accumulation is divided
+ * into the gi buffer by probes/shaders/probe_out.comp; the gi timing row is
+ * the GPU time of both. The methods trace their own pixel-centre primary
+ * rays (the same camera as the G-buffer). */
 #include <string.h>
 
 #include "probes/probes.h"
@@ -33,20 +34,8 @@ static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, 
     d.base = &gi->base;
     /* a fresh random stream per accumulated sample */
     d.seed = gi->desc.seed + (uint64_t)io->sample * UINT64_C(0x9E3779B97F4A7C15);
-    vx_render_image img = {0};
-    vx_result r = vx_probe_gpu_render(gi->pg, &d, &img, err);
-    if (r) return r;
-    vx__buffer* out = io->out;
-    size_t bytes = (size_t)img.width * img.height * 16;
-    if (out->size < bytes) {
-        vx_render_image_free(&img);
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gi buffer of %llu bytes holds less than the %ux%u image",
-                       (unsigned long long)out->size, img.width, img.height);
-    }
-    r = vx__buffer_upload(gi->g, out, img.pixels, bytes, err);
-    *gpu_seconds = img.gpu_seconds;
-    vx_render_image_free(&img);
-    return r;
+    /* the probe renderer writes straight into the pipeline's gi buffer */
+    return vx_probe_gpu_render_into(gi->pg, &d, io->out, gpu_seconds, err);
 }
 
 vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps, const char* method,

@@ -10,7 +10,8 @@
 #include "probes/probes_internal.h"
 #include "render/gpu.h"
 
-#include "probe.comp.h" /* shaders/probe.comp, embedded at build time */
+#include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
+#include "probe_out.comp.h" /* shaders/probe_out.comp */
 
 /* std430 block "Params" of probe.comp */
 typedef struct gpu_params {
@@ -406,9 +407,25 @@ void vx_probe_gpu_destroy(vx_probe_gpu* pg) {
     vx_free(pg->ps ? pg->ps->alloc : NULL, pg);
 }
 
-vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out,
+/* Divides the accumulation into dst (probe_out.comp), on the GPU. */
+static vx_result resolve_into(vx_gpu* g, vx__buffer* src, vx__buffer* dst, size_t npx, uint32_t spp, double* sec,
                               vx_error* err) {
-    if (!pg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_out_spv_arr, .spirv_size = sizeof vx__probe_out_spv_arr,
+                                       .binding_count = 2, .push_constant_size = 12, .label = "probe out"};
+    pd.bindings[0] = pd.bindings[1] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    vx__pipeline* p;
+    vx_result r = vx__pipeline_get(g, 0x9B0BE0u, &pd, &p, err);
+    if (r) return r;
+    uint64_t groups = (npx + 63) / 64;
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    uint32_t pc[3] = {(uint32_t)npx, spp, gx * 64};
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 2, .buffers = {src, dst}, .groups = {gx, gy, 1},
+                            .push = pc, .push_size = sizeof pc, .label = "probe out"};
+    return vx__dispatch(g, &dd, sec, err);
+}
+
+static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx__buffer* dst,
+                        double* dst_seconds, vx_error* err) {
     const vx_svo_scene* s = pg->scene;
     const vx_probe_set* ps = pg->ps;
     vx__prender P;
@@ -457,6 +474,18 @@ vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
     double sec = 0;
     if ((r = run_samples(&c, (uint32_t)d.mode + 1, gx, gy, spp, &sec, err))) goto done;
+    if (dst) {
+        /* stays on the GPU: the pixels divided into the caller's buffer */
+        double t = 0;
+        if (dst->size < npx * 16) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
+                        (unsigned long long)dst->size, f.width, f.height);
+            goto done;
+        }
+        if ((r = resolve_into(c.g, &c.out, dst, npx, spp, &t, err))) goto done;
+        *dst_seconds = sec + t;
+        goto done;
+    }
     if ((r = vx__buffer_download(c.g, &c.out, acc, nout, err))) goto done;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_alloc(NULL, npx * 16);
@@ -473,6 +502,18 @@ done:
     vx_free(NULL, acc);
     ctx_free(&c);
     return r;
+}
+
+vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out,
+                              vx_error* err) {
+    if (!pg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return render(pg, desc, out, NULL, NULL, err);
+}
+
+vx_result vx_probe_gpu_render_into(vx_probe_gpu* pg, const vx_probe_render_desc* desc, void* buffer,
+                                   double* gpu_seconds, vx_error* err) {
+    if (!pg || !buffer || !gpu_seconds) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return render(pg, desc, NULL, buffer, gpu_seconds, err);
 }
 
 vx_result vx_probe_render_gpu(vx_render_scene* rs, const vx_svo_scene* s, const vx_probe_set* ps,

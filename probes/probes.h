@@ -295,6 +295,11 @@ vx_result vx_probe_gpu_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_probe_gpu_destroy(vx_probe_gpu* pg);
 /* vx_probe_render_gpu with the maps of pg. */
 vx_result vx_probe_gpu_render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx_error* err);
+/* The same image left on the GPU: written into `buffer` (a vx__buffer of
+ * render/gpu.h holding at least width*height vec4) instead of read back;
+ * *gpu_seconds: the render's and the copy's GPU time. */
+vx_result vx_probe_gpu_render_into(vx_probe_gpu* pg, const vx_probe_render_desc* desc, void* buffer,
+                                   double* gpu_seconds, vx_error* err);
 /* The probe GI methods as the pass pipeline's gi pass (render/pipeline.h):
  * method "probes" (irradiance probes), "lightfield" (one bounce through the
  * distance maps) or "pathtrace" (path-traced indirect light; ps may be NULL,

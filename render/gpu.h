@@ -49,6 +49,8 @@ typedef struct vx_gpu_compute_pipeline_desc {
 
 typedef struct vx__pipeline {
     uint64_t key;
+    uint32_t binding_count;
+    VkDescriptorType bindings[VX_GPU_MAX_BINDINGS]; /* as created: vx__dispatch writes descriptors of these types */
     VkDescriptorSetLayout dsl;
     VkPipelineLayout layout;
     VkPipeline pipe;
@@ -119,6 +121,8 @@ typedef struct vx__dispatch_desc {
     vx__buffer* buffers[VX_GPU_MAX_BINDINGS];
     uint32_t groups[3];
     uint32_t repeat;            /* 0 == 1: timed dispatches in one submission */
+    const void* push;           /* push constants (push_size bytes; the pipeline's push_constant_size) */
+    uint32_t push_size;
     const char* label;
 } vx__dispatch_desc;
 /* Records, submits and waits; *seconds is the median GPU time per repeat

@@ -67,13 +67,12 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
     VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
     for (uint32_t i = 0; i < d->buffer_count; i++) {
         infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
-        /* binding 0 of every shader here is the uniform frame block */
+        /* each binding as the pipeline declared it (the trace shaders: binding 0 the uniform frame block) */
         w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                                       .dstSet = set,
                                       .dstBinding = i,
                                       .descriptorCount = 1,
-                                      .descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                                               : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                      .descriptorType = d->pipeline->bindings[i],
                                       .pBufferInfo = &infos[i]};
     }
     vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
@@ -88,6 +87,8 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
         if (g->has_timestamps) vkCmdResetQueryPool(g->cmd, g->timestamps, 0, 2 * n);
         vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
         vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
+        if (d->push && d->push_size)
+            vkCmdPushConstants(g->cmd, d->pipeline->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, d->push_size, d->push);
         for (uint32_t k = 0; k < n; k++) {
             if (g->has_timestamps) vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 2 * k);
             vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);

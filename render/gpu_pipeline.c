@@ -96,6 +96,8 @@ static void log_stats(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, VkPipeli
 
 static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, vx_error* err) {
     VkDescriptorSetLayoutBinding b[VX_GPU_MAX_BINDINGS];
+    p->binding_count = d->binding_count;
+    memcpy(p->bindings, d->bindings, sizeof p->bindings);
     for (uint32_t i = 0; i < d->binding_count; i++)
         b[i] = (VkDescriptorSetLayoutBinding){.binding = i,
                                               .descriptorType = d->bindings[i],

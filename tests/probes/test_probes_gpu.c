@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "convert/convert.h"
@@ -444,6 +445,59 @@ static void test_gpu_lightfield_finite(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The probe GI methods as the pass pipeline's gi pass: the gi image the
+ * pipeline shows is the probe renderer's indirect image (which it writes
+ * into the pipeline's buffer on the GPU), and direct + gi is the full mode. */
+static void test_gi_pass_equals_renderer(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_error err = {0};
+    vx_frame_renderer* fr = NULL;
+    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
+    vx_probe_render_desc pd = {.spp = 8, .bounces = 2, .seed = 7};
+    vx_gi_method gm;
+    vx_probe_gi* pgi = NULL;
+    REQUIRE(vx_probe_gi_create(rs, &s, NULL, "pathtrace", &pd, &gm, &pgi, &err) == VX_OK);
+    vx_pass_list L;
+    REQUIRE(vx_pass_list_parse("gbuffer,direct,gi=pathtrace", &L, &err) == VX_OK);
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base.width = 24, fd.base.height = 16;
+    fd.passes = &L;
+    fd.gi = &gm;
+    fd.show = VX_SHOW_GI;
+    vx_frame_result res;
+    REQUIRE(vx_frame_render(fr, &fd, &res, &err) == VX_OK);
+    vx_render_desc base = fd.base;
+    base.light_dir[0] = gm.light_dir[0], base.light_dir[1] = gm.light_dir[1], base.light_dir[2] = gm.light_dir[2];
+    vx_probe_render_desc rd = pd;
+    rd.base = &base;
+    rd.mode = VX_PROBE_RENDER_PT_INDIRECT;
+    vx_render_image ref = {0};
+    CHECK(vx_probe_render_gpu(rs, &s, NULL, &rd, &ref, &err) == VX_OK);
+    double worst = 0;
+    size_t n = (size_t)24 * 16, lit = 0;
+    for (size_t i = 0; ref.pixels && i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            double a = res.image.pixels[4 * i + k], b = ref.pixels[4 * i + k];
+            if (fabs(a - b) / fmax(fabs(b), 1e-6) > worst && getenv("VX_DEBUG"))
+                fprintf(stderr, "  px %zu ch %d: pipeline %g renderer %g\n", i, k, a, b);
+            worst = fmax(worst, fabs(a - b) / fmax(fabs(b), 1e-6));
+            lit += b > 0;
+        }
+    printf("  gi pass vs probe renderer: worst relative difference %.2e over %zu lit values\n", worst, lit);
+    CHECK(lit > 50);
+    CHECK(worst < 1e-5); /* the same shader and samples; only the division may round differently */
+    vx_render_image_free(&ref);
+    vx_render_image_free(&res.image);
+    vx_probe_gi_destroy(pgi);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     /* Keeps lavapipe mapped after vkDestroyInstance: otherwise LeakSanitizer
@@ -463,6 +517,7 @@ int main(void) {
     RUN(test_gpu_bake_high_spp);
     RUN(test_gpu_lightfield);
     RUN(test_gpu_lightfield_finite);
+    RUN(test_gi_pass_equals_renderer);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
