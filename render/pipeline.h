@@ -5,7 +5,8 @@
  *            instance, entry face (the normal), albedo, attribute record
  *            (the material id), and with ids wanted the instance id and cell
  *   dof      thin-lens depth of field as primary-ray jitter (see below)
- *   direct   every light with ray-traced shadows (today: the sun)
+ *   direct   every light with ray-traced shadows: the sun, or the frame's
+ *            lights (vx_light: directional, point, spot)
  *   gi       one global illumination method, registered by the caller
  *            (vx_gi_method: probes, lightfield and pathtrace come from probes/)
  *   ao       ray-traced ambient occlusion: short octree rays, radius and count
@@ -28,7 +29,9 @@
  * the same bytes as vx_render_frame in VX_RENDER_COLOR. With a gi pass the
  * method's radiometric light is used (a sun of irradiance `sun`, a sky of
  * radiance `sky`, emissive attribute records): colour = emission +
- * albedo / pi * sun * n.l * visibility + gi * ao.
+ * albedo / pi * sun * n.l * visibility + gi * ao. With lights (and no gi
+ * pass) the radiometric model too: colour = albedo / pi * sum of the
+ * lights' irradiance + albedo * sky * ao.
  *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,
