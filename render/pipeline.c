@@ -575,29 +575,9 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if ((r = rec_submit(R, err))) goto done;
     {
         vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
-        if (desc->no_readback && !ids) {
-            img.gpu_seconds = out->frame_ms * 1e-3;
-            img.rays = (uint64_t)npx * f.spp;
-            out->image = img;
+        bool read = ids || !desc->no_readback; /* no_readback: the image stays on the GPU */
+        if (read && (r = vx__image_read(g, &fr->b[run_aa ? B_OUT2 : B_ACC], ids ? &fr->b[B_GB2] : NULL, &img, err)))
             goto done;
-        }
-        img.pixels = vx_alloc(img.alloc, npx * 16);
-        uint32_t* raw = ids ? vx_alloc(img.alloc, npx * 32) : NULL;
-        if (ids) img.hits = vx_alloc(img.alloc, npx * sizeof *img.hits);
-        if (!img.pixels || (ids && (!raw || !img.hits))) {
-            vx_free(img.alloc, raw);
-            vx_render_image_free(&img);
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
-            goto done;
-        }
-        r = vx__buffer_download(g, &fr->b[run_aa ? B_OUT2 : B_ACC], img.pixels, npx * 16, err);
-        if (!r && ids) r = vx__buffer_download(g, &fr->b[B_GB2], raw, npx * 32, err);
-        if (!r && ids) vx__hits_unpack(raw, npx, img.hits);
-        vx_free(img.alloc, raw);
-        if (r) {
-            vx_render_image_free(&img);
-            goto done;
-        }
         img.gpu_seconds = out->frame_ms * 1e-3;
         img.rays = (uint64_t)npx * f.spp;
         out->image = img;

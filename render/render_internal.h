@@ -45,9 +45,11 @@ typedef struct vx__gpu_inst_precise {
 } vx__gpu_inst_precise;
 
 
-/* The hits records of trace.comp (and the pipeline's gbuffer ids): two uvec4
- * per pixel (instance id, cell; depth bits, iterations) into n vx_render_hit. */
-void vx__hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits);
+/* Reads a frame back into img (width, height and alloc set): the vec4 pixels,
+ * and with hits the records of trace.comp / the pipeline's gbuffer ids (two
+ * uvec4 per pixel: instance id, cell; depth bits, iterations). On failure img
+ * holds nothing. */
+vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_render_image* img, vx_error* err);
 
 /* ---- benchmark entry points (render_scene.c) ---------------------------------------- */
 

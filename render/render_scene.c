@@ -332,12 +332,28 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
     return VX_OK;
 }
 
-void vx__hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
+static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t* w = raw + 8 * i;
         hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5]};
         memcpy(&hits[i].t, &w[4], 4);
     }
+}
+
+vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_render_image* img, vx_error* err) {
+    size_t npx = (size_t)img->width * img->height;
+    img->pixels = vx_alloc(img->alloc, npx * 16);
+    uint32_t* raw = hits ? vx_alloc(img->alloc, npx * 32) : NULL;
+    if (hits) img->hits = vx_alloc(img->alloc, npx * sizeof *img->hits);
+    vx_result r = VX_OK;
+    if (!img->pixels || (hits && (!raw || !img->hits)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", img->width, img->height);
+    if (!r) r = vx__buffer_download(g, pixels, img->pixels, npx * 16, err);
+    if (!r && hits) r = vx__buffer_download(g, hits, raw, npx * 32, err);
+    if (!r && hits) hits_unpack(raw, npx, img->hits);
+    vx_free(img->alloc, raw);
+    if (r) vx_render_image_free(img);
+    return r;
 }
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err) {
@@ -349,23 +365,7 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
     if (r) return r;
     size_t npx = (size_t)f.width * f.height;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &rs->gpu->alloc};
-    img.pixels = vx_alloc(img.alloc, npx * 16);
-    uint32_t* raw = want_hits ? vx_alloc(img.alloc, npx * 32) : NULL;
-    if (want_hits) img.hits = vx_alloc(img.alloc, npx * sizeof *img.hits);
-    if (!img.pixels || (want_hits && (!raw || !img.hits))) {
-        vx_free(img.alloc, raw);
-        vx_render_image_free(&img);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
-    }
-    r = vx__buffer_download(rs->gpu, &rs->pixels, img.pixels, npx * 16, err);
-    if (!r && want_hits) r = vx__buffer_download(rs->gpu, &rs->hits, raw, npx * 32, err);
-    if (r) {
-        vx_free(img.alloc, raw);
-        vx_render_image_free(&img);
-        return r;
-    }
-    if (want_hits) vx__hits_unpack(raw, npx, img.hits);
-    vx_free(img.alloc, raw);
+    if ((r = vx__image_read(rs->gpu, &rs->pixels, want_hits ? &rs->hits : NULL, &img, err))) return r;
     img.gpu_seconds = sec;
     img.rays = (uint64_t)npx * f.spp;
     *out = img;
