@@ -83,7 +83,7 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
         g[k] = (int64_t)floor(q[k]) - c->e->lo[k];
         if (g[k] < 0 || g[k] >= ((int64_t)1 << c->e->depth)) return true;
     }
-    uint32_t rgb = c->m->attrs ? vx__attr_color(c->s, c->m, attr) : 0xFFFFFFu;
+    uint32_t rgb = c->m->attrs ? vx_svo_attr_rgba(c->s, c->m, attr) : 0xFFFFFFu;
     insert(c->e, g[0], g[1], g[2], rgb);
     return !c->e->too_big;
 }
@@ -93,7 +93,7 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
     e->gpu = gpu;
     double t0 = vx_time_now();
     double lo[3], hi[3];
-    vx__scene_world_bounds(s, lo, hi);
+    vx_svo_scene_world_bounds(s, lo, hi);
     int64_t ext = 1;
     for (int k = 0; k < 3; k++) {
         e->lo[k] = (int64_t)floor(lo[k]);
@@ -108,9 +108,9 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
     new_group(e); /* the root's children */
     vx_result r = VX_OK;
     for (uint32_t i = 0; i < s->instance_count && !r && !e->too_big; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         cell_ctx c = {.e = e, .s = s, .m = &s->models[s->instances[i].model]};
-        vx__instance_world(s, &s->instances[i], c.w);
+        vx_svo_instance_world(s, &s->instances[i], c.w);
         e->have_last = false;
         r = vx_svo_decode_model(c.m, cell_cb, &c, err);
     }
@@ -147,7 +147,7 @@ vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render
                            double* seconds, float* depth, uint32_t* steps, vx_error* err) {
     vx_gpu* g = e->gpu;
     double lo[3], hi[3];
-    vx__scene_world_bounds(s, lo, hi);
+    vx_svo_scene_world_bounds(s, lo, hi);
     vx__frame f;
     vx_result r = vx__frame_setup(lo, hi, desc, &f, err);
     if (r) return r;

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
             continue;
         }
         double lo[3], hi[3];
-        vx__scene_world_bounds(&s, lo, hi);
+        vx_svo_scene_world_bounds(&s, lo, hi);
         for (int view = 0; view < 2; view++) {
             vx_render_desc base = {.width = W, .height = H};
             if (view == 1) {

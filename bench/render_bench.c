@@ -111,7 +111,7 @@ static double probe_hits(vx_render_scene* rs, vx_render_camera c, vx_render_imag
 /* Cameras of the three views (overview: the default framing). */
 static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_camera cams[3]) {
     double lo[3], hi[3], c[3], rad = 0;
-    vx__scene_world_bounds(s, lo, hi);
+    vx_svo_scene_world_bounds(s, lo, hi);
     for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), rad += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     rad = 0.5 * sqrt(rad);
     memset(cams, 0, 3 * sizeof *cams);

@@ -51,7 +51,7 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
         memcpy(lo, d->bounds_lo, sizeof lo);
         memcpy(hi, d->bounds_hi, sizeof hi);
     } else {
-        vx__scene_world_bounds(s, lo, hi);
+        vx_svo_scene_world_bounds(s, lo, hi);
     }
     double diag = 0;
     for (int k = 0; k < 3; k++) {

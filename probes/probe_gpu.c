@@ -254,7 +254,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
     /* float coordinates relative to the scene's centre */
     double lo[3], hi[3];
-    vx__scene_world_bounds(scene, lo, hi);
+    vx_svo_scene_world_bounds(scene, lo, hi);
     vx__frame f;
     vx_result r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &f, err);
     if (r) return r;

@@ -165,7 +165,7 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
     base.mode = VX_RENDER_COLOR;
     base.spp = 1;
     base.lod = false;
-    vx__scene_world_bounds(s, P->lo, P->hi);
+    vx_svo_scene_world_bounds(s, P->lo, P->hi);
     vx_result r = vx__frame_setup(P->lo, P->hi, &base, &P->f, err);
     if (r) return r;
     vx__light_init(&P->L, NULL, s, ps ? ps->light_dir : base.light_dir, NULL, false, NULL, false);

@@ -294,12 +294,12 @@ static vx_result cscene_build(cscene* cs, const vx_svo_scene* s, const vx_alloca
     cs->inst = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof *cs->inst);
     if (!cs->models || !cs->inst) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         uint32_t mi = s->instances[i].model;
         if (!cs->models[mi].tab && (r = cm_build(&cs->models[mi], &s->models[mi], alloc, err))) return r;
         cinst* ci = &cs->inst[cs->n++];
         double w[12];
-        vx__instance_world(s, &s->instances[i], w);
+        vx_svo_instance_world(s, &s->instances[i], w);
         vx__affine_inverse(w, ci->inv);
         ci->model = mi;
         ci->id = i;
@@ -322,7 +322,7 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     double t_begin = vx_time_now();
     double lo[3], hi[3];
-    vx__scene_world_bounds(s, lo, hi);
+    vx_svo_scene_world_bounds(s, lo, hi);
     vx__frame f;
     vx_result r = vx__frame_setup(lo, hi, desc, &f, err);
     if (r) return r;
@@ -376,7 +376,7 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
                         c[0] = VX__SKY_R, c[1] = VX__SKY_G, c[2] = VX__SKY_B;
                     } else {
                         const vx_svo_model* m = &s->models[in->model];
-                        uint32_t col = m->attrs ? vx__attr_color(s, m, h.attr) : 0xFFFFFFFFu;
+                        uint32_t col = m->attrs ? vx_svo_attr_rgba(s, m, h.attr) : 0xFFFFFFFFu;
                         double alb[3] = {(col & 0xFF) / 255.0, ((col >> 8) & 0xFF) / 255.0, ((col >> 16) & 0xFF) / 255.0};
                         double shade = 1;
                         if (f.mode == VX_RENDER_COLOR) {
@@ -513,7 +513,7 @@ bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d
     for (int k = 0; k < 3; k++) hit->normal[k] = h.nsign * row[k] / l, hit->cell[k] = (uint32_t)h.cell[k];
     hit->cell_size = in->cell;
     hit->instance = in->id;
-    hit->rgba = m->attrs ? vx__attr_color(s, m, h.attr) : 0xFFFFFFFFu;
+    hit->rgba = m->attrs ? vx_svo_attr_rgba(s, m, h.attr) : 0xFFFFFFFFu;
     hit->palette = (m->attrs & VX_ATTR_PALETTE) && h.attr < m->attr_count ? m->palette[h.attr] : 0;
     return true;
 }
@@ -537,9 +537,9 @@ static bool grid_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
 
 vx_result vx__scene_grid_cells(const vx_svo_scene* s, vx__grid_cell_fn fn, void* user, vx_error* err) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         grid_ctx g = {.fn = fn, .user = user};
-        vx__instance_world(s, &s->instances[i], g.w);
+        vx_svo_instance_world(s, &s->instances[i], g.w);
         vx_result r = vx_svo_decode_model(&s->models[s->instances[i].model], grid_cb, &g, err);
         if (r) return r;
     }

@@ -195,11 +195,11 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     vx_frame_renderer* fr = vx_calloc(&g->alloc, 1, sizeof *fr);
     if (!fr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     fr->rs = rs, fr->g = g;
-    vx__scene_world_bounds(scene, fr->lo, fr->hi);
+    vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
     for (uint32_t i = 0; i < scene->instance_count; i++) {
-        if (!vx__instance_drawn(scene, i)) continue;
+        if (!vx_svo_instance_drawn(scene, i)) continue;
         double w[12];
-        vx__instance_world(scene, &scene->instances[i], w);
+        vx_svo_instance_world(scene, &scene->instances[i], w);
         for (int c = 0; c < 3; c++) {
             double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
             if (n > fr->max_cell) fr->max_cell = n;

@@ -37,7 +37,6 @@ void vx__affine_apply(const double m[12], const double p[3], double o[3]) {
     for (int r = 0; r < 3; r++) o[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
 }
 
-void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]) { vx_svo_instance_world(s, in, w); }
 
 bool vx__affine_inverse(const double m[12], double o[12]) {
     double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
@@ -58,25 +57,13 @@ bool vx__affine_inverse(const double m[12], double o[12]) {
     return true;
 }
 
-/* The scene facts live in svo/ (vx_svo_instance_drawn and friends); these
- * names stay for render/'s and probes/ sources. */
-void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) { vx_svo_scene_world_bounds(s, lo, hi); }
-
-void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
-    vx_svo_instance_world_box(s, in, lo, hi);
-}
-
-bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i) { return vx_svo_instance_drawn(s, i); }
-
-uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a) { return vx_svo_attr_rgba(s, m, a); }
-
 vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
         if (in->model >= s->model_count)
             return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u refers to model %u of %u", i, in->model,
                            s->model_count);
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         const vx_svo_model* m = &s->models[in->model];
         if (m->depth > VX_RENDER_MAX_DEPTH)
             return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
@@ -86,7 +73,7 @@ vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err) {
             return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u outside %u node words", in->model,
                            m->root, m->node_count);
         double w[12], inv[12];
-        vx__instance_world(s, in, w);
+        vx_svo_instance_world(s, in, w);
         if (!vx__affine_inverse(w, inv))
             return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "instance %u has a singular or non-finite transform",
                            i);

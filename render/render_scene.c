@@ -65,7 +65,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
         if (m->attrs) {
-            for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx__attr_color(s, m, a);
+            for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx_svo_attr_rgba(s, m, a);
             co += m->attr_count;
             rs->has_color = true;
         }
@@ -88,7 +88,7 @@ done:
 
 static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     uint32_t n = 0;
-    for (uint32_t i = 0; i < s->instance_count; i++) n += vx__instance_drawn(s, i);
+    for (uint32_t i = 0; i < s->instance_count; i++) n += vx_svo_instance_drawn(s, i);
     rs->inst_count = n;
     rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
     double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
@@ -100,9 +100,9 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
     }
     uint32_t k = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         double w[12];
-        vx__instance_world(s, &s->instances[i], w);
+        vx_svo_instance_world(s, &s->instances[i], w);
         vx__affine_inverse(w, rs->inst[k].inv); /* checked by vx__check_scene */
         rs->inst[k].model = s->instances[i].model;
         rs->inst[k].id = i;
@@ -110,7 +110,7 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
         for (int c = 0; c < 3; c++)
             cell = fmax(cell, sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]));
         rs->inst[k].cell = (float)cell;
-        vx__instance_bounds(s, &s->instances[i], &lo[3 * k], &hi[3 * k]);
+        vx_svo_instance_world_box(s, &s->instances[i], &lo[3 * k], &hi[3 * k]);
         k++;
     }
     double t0 = vx_time_now();
@@ -143,7 +143,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     if (r) return r;
     uint32_t max_depth = 0, deep_model = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx__instance_drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         uint32_t d = s->models[s->instances[i].model].depth;
         if (d > max_depth) max_depth = d, deep_model = s->instances[i].model;
     }
@@ -160,7 +160,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
-    vx__scene_world_bounds(s, rs->lo, rs->hi);
+    vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
         return r;

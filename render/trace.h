@@ -34,15 +34,13 @@ typedef struct vx__frame {
     bool lod;
 } vx__frame;
 
-/* World bounds of the drawn instances' model boxes (zero when none). */
-void vx__scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]);
+/* Scene facts (drawn instances, their world maps and boxes, the world
+ * bounds, attribute colours) are svo/ functions: vx_svo_instance_drawn etc. */
 /* Resolves defaults and the camera into a frame. */
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc, vx__frame* f,
                           vx_error* err);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
-/* World (3x4) of instance i: world_from_grid * xform. */
-void vx__instance_world(const vx_svo_scene* s, const vx_svo_instance* in, double w[12]);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);
 /* Inverse of a 3x4 affine map; false if singular. */
 bool vx__affine_inverse(const double m[12], double out[12]);
@@ -51,12 +49,6 @@ void vx__instance_color(uint32_t id, float rgb[3]);
 void vx__heat_color(uint32_t iterations, float rgb[3]);
 /* Checks models and instances for the tracer's limits (depth, invertible). */
 vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err);
-/* Whether instance i is drawn (not hidden, nor in a hidden layer, model not empty). */
-bool vx__instance_drawn(const vx_svo_scene* s, uint32_t i);
-/* RGBA8 of attribute record a of model m (palette looked up; white without attributes). */
-uint32_t vx__attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t a);
-/* World AABB of an instance's model box [0,size]. */
-void vx__instance_bounds(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]);
 
 #define VX__SKY_R 0.62f
 #define VX__SKY_G 0.75f

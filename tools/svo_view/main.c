@@ -334,13 +334,12 @@ static void world_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi
     }
 }
 
-static bool drawn(const vx_svo_scene* s, uint32_t i) { return vx_svo_instance_drawn(s, i); }
 
 static void scene_box(const vx_svo_scene* s, double lo[3], double hi[3]) {
     bool any = false;
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!drawn(s, i)) continue;
+        if (!vx_svo_instance_drawn(s, i)) continue;
         double a[3], b[3];
         world_box(s, i, a, b);
         for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
@@ -711,7 +710,7 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     uint64_t voxels = 0;
     uint32_t nd = 0;
     for (uint32_t i = 0; i < a->scene.instance_count; i++)
-        if (drawn(&a->scene, i)) nd++, voxels += a->scene.models[a->scene.instances[i].model].voxel_count;
+        if (vx_svo_instance_drawn(&a->scene, i)) nd++, voxels += a->scene.models[a->scene.instances[i].model].voxel_count;
     const char* lines[10];
     char buf[10][256];
     int nl = 0;
