@@ -4,5 +4,5 @@
 # bare loader.
 if(VX_WITH_VULKAN)
   add_executable(gi_bench ${CMAKE_CURRENT_LIST_DIR}/gi_bench.c)
-  target_link_libraries(gi_bench PRIVATE vx_probes vx_render vx_convert vx_formats vx_svo)
+  target_link_libraries(gi_bench PRIVATE vx_probes vx_render vx_convert vx_formats vx_tool vx_svo)
 endif()

@@ -36,6 +36,7 @@
 
 #include "bench/bench_load.h"
 #include "probes/probes.h"
+#include "tools/common/tool.h" /* vx_tool_parse_vec */
 
 /* What a method needs built before it renders, per setting. */
 typedef enum build_kind {
@@ -169,15 +170,6 @@ static void row(const char* method, const char* setting, unsigned probes, unsign
     }
 }
 
-static bool parse_list(const char* s, double* v, int n) {
-    char* end;
-    for (int i = 0; i < n; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || (i + 1 < n && *end != ',') || (i + 1 == n && *end)) return false;
-        s = end + 1;
-    }
-    return true;
-}
 
 static int usage(void) {
     fprintf(stderr,
@@ -243,17 +235,17 @@ int main(int argc, char** argv) {
             max_spp[k] = (unsigned)atoi(eq + 1);
         } else if (!strcmp(o, "--camera")) {
             double c[6];
-            if (!parse_list(v, c, 6)) return usage();
+            if (!vx_tool_parse_vec(v, c, 6)) return usage();
             base.camera.set = true;
             memcpy(base.camera.eye, c, 24), memcpy(base.camera.target, c + 3, 24);
         } else if (!strcmp(o, "--up")) {
-            if (!parse_list(v, base.camera.up, 3)) return usage();
+            if (!vx_tool_parse_vec(v, base.camera.up, 3)) return usage();
         } else if (!strcmp(o, "--fov")) {
-            if (!parse_list(v, &base.camera.fov, 1)) return usage();
+            if (!vx_tool_parse_vec(v, &base.camera.fov, 1)) return usage();
         } else if (!strcmp(o, "--light")) {
-            if (!parse_list(v, base.light_dir, 3)) return usage();
+            if (!vx_tool_parse_vec(v, base.light_dir, 3)) return usage();
         } else if (!strcmp(o, "--bounds")) {
-            if (!parse_list(v, bounds, 6)) return usage();
+            if (!vx_tool_parse_vec(v, bounds, 6)) return usage();
             bounds_set = true;
         } else return usage();
     }

@@ -22,6 +22,7 @@
 
 #include "bench/bench_load.h"
 #include "probes/probes.h"
+#include "tools/common/tool.h" /* vx_tool_parse_vec */
 
 static bool use_cpu;
 static unsigned lf_spp_max = 16; /* --lf-spp N: light field renders at 1, 4, ... up to N rays per pixel */
@@ -31,15 +32,6 @@ static bool bounds_set;          /* --bounds X0,Y0,Z0,X1,Y1,Z1: the probe grid's
 static double bounds[6];
 static double light_dir[3];      /* --light X,Y,Z: towards the sun (default: the bake's) */
 
-static bool parse_list(const char* s, double* v, int n) {
-    char* end;
-    for (int i = 0; i < n; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || (i + 1 < n && *end != ',') || (i + 1 == n && *end)) return false;
-        s = end + 1;
-    }
-    return true;
-}
 static vx_gpu* gpu;
 static vx_render_scene* rs;
 
@@ -97,17 +89,17 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--pt-spp") && i + 1 < argc) pt_spp_max = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--camera") && i + 1 < argc) {
             double v[6];
-            if (!parse_list(argv[++i], v, 6)) return usage();
+            if (!vx_tool_parse_vec(argv[++i], v, 6)) return usage();
             camera.set = true;
             memcpy(camera.eye, v, 24), memcpy(camera.target, v + 3, 24);
         } else if (!strcmp(argv[i], "--up") && i + 1 < argc) {
-            if (!parse_list(argv[++i], camera.up, 3)) return usage();
+            if (!vx_tool_parse_vec(argv[++i], camera.up, 3)) return usage();
         } else if (!strcmp(argv[i], "--fov") && i + 1 < argc) {
-            if (!parse_list(argv[++i], &camera.fov, 1)) return usage();
+            if (!vx_tool_parse_vec(argv[++i], &camera.fov, 1)) return usage();
         } else if (!strcmp(argv[i], "--light") && i + 1 < argc) {
-            if (!parse_list(argv[++i], light_dir, 3)) return usage();
+            if (!vx_tool_parse_vec(argv[++i], light_dir, 3)) return usage();
         } else if (!strcmp(argv[i], "--bounds") && i + 1 < argc) {
-            if (!parse_list(argv[++i], bounds, 6)) return usage();
+            if (!vx_tool_parse_vec(argv[++i], bounds, 6)) return usage();
             bounds_set = true;
         }
         else return usage();

@@ -21,7 +21,6 @@ struct vx_probe_gi {
     vx_gpu* g;
     vx_probe_gpu* pg;
     vx_probe_render_desc desc;
-    vx_render_desc base;
     float* emit_attr;
     size_t emit_count;
     const vx_allocator* alloc;
@@ -30,8 +29,7 @@ struct vx_probe_gi {
 static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err) {
     vx_probe_gi* gi = user;
     vx_probe_render_desc d = gi->desc;
-    gi->base = *io->frame;
-    d.base = &gi->base;
+    d.base = io->frame;
     /* a fresh random stream per accumulated sample */
     d.seed = gi->desc.seed + (uint64_t)io->sample * UINT64_C(0x9E3779B97F4A7C15);
     /* the probe renderer writes straight into the pipeline's gi buffer */

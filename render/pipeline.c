@@ -128,9 +128,9 @@ typedef struct gpu_light {
 vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
     if (!l) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: NULL", i);
     if ((unsigned)l->type > VX_LIGHT_SPOT) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: unknown type", i);
-    double v[14] = {l->position[0], l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
+    double v[13] = {l->position[0], l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
                     l->color[0],    l->color[1],    l->color[2],    l->intensity,    l->range,        l->inner_cone,
-                    l->outer_cone, 0};
+                    l->outer_cone};
     for (int k = 0; k < 13; k++)
         if (!isfinite(v[k]) || fabs(v[k]) > 1e30)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: a value is not finite", i);

@@ -173,10 +173,9 @@ static bool parse_light(const char* spec, vx_light* l) {
 
 /* The colour mode through the pass pipeline: options.frames frames (the last
  * one is kept), per-pass times printed with -v and written to --timings. */
-static vx_result render_passes(options* o, vx_gpu* gpu, vx_render_scene* rs, const vx_svo_scene* scene,
+static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_scene* scene,
                                const vx_pass_list* passes, const vx_probe_set* probes, vx_render_image* img,
                                vx_error* err) {
-    (void)gpu;
     vx_frame_renderer* fr = NULL;
     vx_result r = vx_frame_renderer_create(rs, scene, &fr, err);
     if (r) return r;
@@ -504,7 +503,7 @@ int main(int argc, char** argv) {
             if (o.verbose) printf("note: deep models: the float64 single-shader colour mode renders this scene\n");
         }
         if (!r && pipeline) {
-            r = render_passes(&o, gpu, rs, &scene, &passes, o.probes ? &probes : NULL, &img, &err);
+            r = render_passes(&o, rs, &scene, &passes, o.probes ? &probes : NULL, &img, &err);
         } else if (!r) {
             r = vx_render_frame(rs, &o.r, &img, &err);
         }
