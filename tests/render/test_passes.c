@@ -309,38 +309,50 @@ static double corner_occlusion(double dx, double dy, double r, bool two_walls) {
     return blocked / ((double)N * N);
 }
 
+/* A 32^3 model of a floor (z = 0) and, with walls, the walls x = 0 and
+ * y = 0, placed at the origin. */
+static void floor_scene(vx_svo_scene* s, bool walls) {
+    const uint32_t n = 32;
+    uint32_t* xyz = malloc((size_t)n * n * n * 12);
+    size_t cnt = 0;
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++)
+                if (z == 0 || (walls && (x == 0 || y == 0)))
+                    xyz[3 * cnt] = x, xyz[3 * cnt + 1] = y, xyz[3 * cnt + 2] = z, cnt++;
+    vx_svo_model m = {0};
+    uint32_t size[3] = {n, n, n};
+    ts_model(&m, size, xyz, NULL, cnt);
+    free(xyz);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+}
+
+/* An orthographic view straight down at (cx, cy) showing a square of side
+ * `height` in px x px pixels, +y up in the image. */
+static vx_frame_desc top_view(uint32_t px, double cx, double cy, double height) {
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = d.base.height = px;
+    d.base.camera.set = true, d.base.camera.ortho = true, d.base.camera.ortho_height = height;
+    double eye[3] = {cx, cy, 100}, tgt[3] = {cx, cy, 0}, up[3] = {0, 1, 0};
+    memcpy(d.base.camera.eye, eye, sizeof eye);
+    memcpy(d.base.camera.target, tgt, sizeof tgt);
+    memcpy(d.base.camera.up, up, sizeof up);
+    return d;
+}
+
 /* AO at an inner corner (floor plus two walls) against the quadrature, and
  * on an open plane (exactly 1). Orthographic view from above, one pixel per
  * quarter cell, 1024 rays per pixel. */
 static void test_ao_analytic(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     for (int walls = 0; walls <= 2; walls += 2) {
-        const uint32_t n = 32;
-        uint32_t* xyz = malloc((size_t)n * n * n * 12);
-        size_t cnt = 0;
-        for (uint32_t z = 0; z < n; z++)
-            for (uint32_t y = 0; y < n; y++)
-                for (uint32_t x = 0; x < n; x++) {
-                    bool fill = z == 0 || (walls && (x == 0 || y == 0));
-                    if (fill) xyz[3 * cnt] = x, xyz[3 * cnt + 1] = y, xyz[3 * cnt + 2] = z, cnt++;
-                }
-        vx_svo_model m = {0};
-        uint32_t size[3] = {n, n, n};
-        ts_model(&m, size, xyz, NULL, cnt);
-        free(xyz);
-        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
         vx_svo_scene s;
-        ts_scene(&s, &m, 1, &in, 1);
+        floor_scene(&s, walls != 0);
         fixture fx;
         REQUIRE(fx_open(&s, &fx));
         /* view of x, y in [1, 5]: 16 x 16 pixels from above */
-        vx_frame_desc d = vx_frame_desc_defaults();
-        d.base.width = d.base.height = 16;
-        d.base.camera.set = true, d.base.camera.ortho = true, d.base.camera.ortho_height = 4;
-        double eye[3] = {3, 3, 100}, tgt[3] = {3, 3, 0}, up[3] = {0, 1, 0};
-        memcpy(d.base.camera.eye, eye, sizeof eye);
-        memcpy(d.base.camera.target, tgt, sizeof tgt);
-        memcpy(d.base.camera.up, up, sizeof up);
+        vx_frame_desc d = top_view(16, 3, 3, 4);
         d.show = VX_SHOW_AO;
         d.ao_rays = 1024;
         d.ao_radius = 3;
@@ -395,26 +407,11 @@ static void test_ao_analytic(void) {
  * two pixels per cell. */
 static void test_lights_analytic(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    const uint32_t n = 32;
-    uint32_t* xyz = malloc((size_t)n * n * 12);
-    for (uint32_t y = 0; y < n; y++)
-        for (uint32_t x = 0; x < n; x++) xyz[3 * (y * n + x)] = x, xyz[3 * (y * n + x) + 1] = y, xyz[3 * (y * n + x) + 2] = 0;
-    vx_svo_model m = {0};
-    uint32_t size[3] = {n, n, n};
-    ts_model(&m, size, xyz, NULL, (size_t)n * n);
-    free(xyz);
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
     vx_svo_scene s;
-    ts_scene(&s, &m, 1, &in, 1);
+    floor_scene(&s, false);
     fixture fx;
     REQUIRE(fx_open(&s, &fx));
-    vx_frame_desc d = vx_frame_desc_defaults();
-    d.base.width = d.base.height = 32;
-    d.base.camera.set = true, d.base.camera.ortho = true, d.base.camera.ortho_height = 16;
-    double eye[3] = {16, 16, 100}, tgt[3] = {16, 16, 0}, up[3] = {0, 1, 0};
-    memcpy(d.base.camera.eye, eye, sizeof eye);
-    memcpy(d.base.camera.target, tgt, sizeof tgt);
-    memcpy(d.base.camera.up, up, sizeof up);
+    vx_frame_desc d = top_view(32, 16, 16, 16);
     d.show = VX_SHOW_DIRECT;
     const double I = 100, h = 8, lx = 16.3, ly = 15.8;
     vx_light lights[4];
