@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "formats/vox.h"
+#include "tests/fail_alloc.h"
 #include "tests/test.h"
 
 /* ---- chunk builder (independent of the writer under test) ---------------- */
@@ -195,30 +196,6 @@ static void tlog_fn(void* user, vx_log_level level, const char* id, const char* 
     l->count++;
     snprintf(l->last_id, sizeof l->last_id, "%s", id);
     snprintf(l->last_msg, sizeof l->last_msg, "%s", msg);
-}
-
-/* Fails allocation number `fail_at` (1-based), and every later one when
- * persistent; counts live blocks so a leak shows without ASan too. */
-typedef struct tfail {
-    long n, fail_at, live;
-    bool persistent, failed;
-} tfail;
-
-static void* tfail_alloc(void* user, size_t size) {
-    tfail* f = (tfail*)user;
-    f->n++;
-    if (f->fail_at && (f->n == f->fail_at || (f->persistent && f->n > f->fail_at))) {
-        f->failed = true;
-        return NULL;
-    }
-    void* p = malloc(size);
-    if (p) f->live++;
-    return p;
-}
-static void tfail_free(void* user, void* p) {
-    tfail* f = (tfail*)user;
-    if (p) f->live--;
-    free(p);
 }
 
 static uint64_t rng_s = 0x243F6A8885A308D3ull;

@@ -25,29 +25,9 @@
 #include "formats/vox.h"
 #include "probes/probes.h"
 #include "svo/svo.h"
+#include "tests/fail_alloc.h"
 #include "tests/test.h"
 
-typedef struct tfail {
-    long n, fail_at, live;
-    bool persistent, failed;
-} tfail;
-
-static void* tfail_alloc(void* user, size_t size) {
-    tfail* f = (tfail*)user;
-    f->n++;
-    if (f->fail_at && (f->n == f->fail_at || (f->persistent && f->n > f->fail_at))) {
-        f->failed = true;
-        return NULL;
-    }
-    void* p = malloc(size);
-    if (p) f->live++;
-    return p;
-}
-static void tfail_free(void* user, void* p) {
-    tfail* f = (tfail*)user;
-    if (p) f->live--;
-    free(p);
-}
 
 /* One operation under test: runs with allocator a and, on success, writes
  * what it made as bytes (the .vox or .svo or .probes writer with the default
