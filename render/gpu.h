@@ -97,6 +97,9 @@ void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* lab
 vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
                             const char* label, vx__buffer* out, vx_error* err);
 void vx__buffer_destroy(vx_gpu* g, vx__buffer* b);
+/* A device-local storage buffer of at least size bytes: b is kept when it is
+ * large enough, else replaced (its contents are not kept). */
+vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err);
 /* Copies data into a buffer (through a staging buffer if not mapped). */
 vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err);
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);

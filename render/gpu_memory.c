@@ -113,3 +113,9 @@ vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize
     }
     return staged_copy(g, b, data, size, false, err);
 }
+
+vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err) {
+    if (b->buf && b->size >= size) return VX_OK;
+    vx__buffer_destroy(g, b);
+    return vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+}

@@ -218,10 +218,7 @@ void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
 }
 
 static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, const char* label, vx_error* err) {
-    vx__buffer* b = &fr->b[which];
-    if (b->buf && b->size >= size) return VX_OK;
-    vx__buffer_destroy(fr->g, b);
-    return vx__buffer_create(fr->g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+    return vx__buffer_ensure(fr->g, &fr->b[which], size, label, err);
 }
 
 static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], vx__pipeline** out, vx_error* err) {

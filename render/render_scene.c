@@ -251,21 +251,15 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
     gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
 }
 
-static vx_result ensure_buffer(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err) {
-    if (b->buf && b->size >= size) return VX_OK;
-    vx__buffer_destroy(g, b);
-    return vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
-}
-
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err) {
     vx_gpu* g = rs->gpu;
     vx_result r = vx__frame_setup(rs->lo, rs->hi, desc, f, err);
     if (r) return r;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
-    if ((r = ensure_buffer(g, &rs->pixels, npx * 16, "pixels", err))) return r;
-    if (want_hits && (r = ensure_buffer(g, &rs->hits, npx * 32, "hits", err))) return r;
-    if (!want_hits && (r = ensure_buffer(g, &rs->hits, 16, "hits", err))) return r;
+    if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
+    if (want_hits && (r = vx__buffer_ensure(g, &rs->hits, npx * 32, "hits", err))) return r;
+    if (!want_hits && (r = vx__buffer_ensure(g, &rs->hits, 16, "hits", err))) return r;
     write_frame_tables(rs, f);
     fill_gpu_frame(rs, f, rs->frame.map);
     bool precise = use_precise(rs);
@@ -429,7 +423,7 @@ vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, ui
     if (r) return r;
     if (!rs->dense_bits.buf) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "dense grid not prepared");
     VkDeviceSize npx = (VkDeviceSize)f.width * f.height;
-    if ((r = ensure_buffer(g, &rs->pixels, npx * 16, "pixels", err))) return r;
+    if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     vx__gpu_frame* gf = rs->frame.map;
     fill_gpu_frame(rs, &f, gf);
     for (int k = 0; k < 3; k++) {
