@@ -131,27 +131,7 @@ typedef struct vx_gi_method {
     size_t emit_count;
 } vx_gi_method;
 
-/* A light of the direct pass (the first step of issue 11: lights in the
- * frame; the .svo lights section, area lights and clustered culling come
- * later). Units as glTF's KHR_lights_punctual: intensity is the irradiance
- * (directional) or the intensity per steradian (point, spot), times colour.
- *  direction: directional: towards the light; spot: where the light points
- *  range:     point, spot: 0 for none, else glTF's window (1 - (d/range)^4)^2
- *  inner_cone, outer_cone: spot, radians from the axis (0 <= inner <= outer <= pi/2) */
-typedef enum vx_light_type { VX_LIGHT_DIRECTIONAL = 0, VX_LIGHT_POINT, VX_LIGHT_SPOT } vx_light_type;
-typedef struct vx_light {
-    vx_light_type type;
-    double position[3];
-    double direction[3];
-    double color[3];
-    double intensity;
-    double range;
-    double inner_cone, outer_cone;
-} vx_light;
-
-/* Checks a light: finite values, intensity >= 0, a direction for directional
- * and spot lights, cone angles in order; the error names the light's index. */
-vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
+/* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h. */
 
 /* Frame options; zero-initialised means the defaults (vx_frame_desc_defaults
  * gives them, and the tools' --help prints them).

@@ -190,6 +190,90 @@ uint32_t vx_svo_attr_rgba(const vx_svo_scene* scene, const vx_svo_model* m, uint
 /* Looks up a key in a material's dictionary; NULL if absent. */
 const char* vx_svo_material_get(const vx_svo_material* m, const char* key);
 
+/* ---- lights and materials (svo_light.c) ------------------------------------------- */
+
+/* A light. Units follow glTF's KHR_lights_punctual where it has the type:
+ *  directional: intensity = irradiance (lux) on a surface facing it;
+ *               direction = towards the light; angular_diameter (radians,
+ *               0 = a hard shadow; the sun is about 0.0093)
+ *  point, spot: intensity = luminous intensity (candela, W/sr in our
+ *               radiometric model): irradiance I cos(theta) / d^2;
+ *               radius = the source's radius for soft shadows (0 = a point)
+ *  spot:        direction = where it points; inner_cone <= outer_cone
+ *               (radians from the axis, at most pi/2), glTF's smooth falloff
+ *  sphere:      an emitting sphere of `radius` around position; intensity =
+ *               its radiance (W/m^2/sr), the same from every point and angle
+ *  rect:        an emitting rectangle centred at position, one-sided,
+ *               emitting along `direction` (its normal); `tangent` is the
+ *               first edge's direction, size[0] along it, size[1] along
+ *               direction x tangent; intensity = radiance
+ *  range:       point, spot: 0 for none, else glTF's window (1 - (d/range)^4)^2
+ * Every type multiplies intensity by colour. Positions are world units. */
+typedef enum vx_light_type {
+    VX_LIGHT_DIRECTIONAL = 0,
+    VX_LIGHT_POINT,
+    VX_LIGHT_SPOT,
+    VX_LIGHT_SPHERE,
+    VX_LIGHT_RECT,
+    VX_LIGHT_TYPE_COUNT
+} vx_light_type;
+typedef struct vx_light {
+    vx_light_type type;
+    double position[3];
+    double direction[3];
+    double color[3];
+    double intensity;
+    double range;
+    double inner_cone, outer_cone;
+    double radius;
+    double angular_diameter;
+    double tangent[3];
+    double size[2];
+} vx_light;
+
+/* Checks a light: finite values, intensity >= 0, a direction for directional,
+ * spot and rect lights, cone angles in order, sizes >= 0 (rect: a tangent not
+ * parallel to the normal); the error names the light's index. */
+vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
+
+/* A material resolved from a vx_svo_material dictionary (MagicaVoxel MATL
+ * keys; the glTF importer writes the same keys):
+ *  _type  "_diffuse" (default), "_metal", "_glass", "_emit" ("_blend" and
+ *         "_media" are treated as diffuse)
+ *  _rough roughness in [0,1] (GGX alpha = rough^2); default 0.1 metal/glass
+ *  _metal metalness in [0,1] (metal: default 1)
+ *  _spec  specular weight in [0,1] (default 0.5)
+ *  _ior   MagicaVoxel stores the index of refraction minus 1 (0.3 = 1.3);
+ *         _ri, when present, is the index itself. Default 1.5
+ *  _trans transmission in [0,1] (glass: default 1)
+ *  _emit, _flux  emission = colour * _emit * 2^_flux (MagicaVoxel), for
+ *         any type that has _emit > 0
+ * Out-of-range or unparsable values clamp to the range or fall back to the
+ * default; resolving never fails. */
+typedef enum vx_material_type {
+    VX_MATERIAL_DIFFUSE = 0,
+    VX_MATERIAL_METAL,
+    VX_MATERIAL_GLASS,
+    VX_MATERIAL_EMIT
+} vx_material_type;
+typedef struct vx_material {
+    vx_material_type type;
+    double roughness;
+    double metalness;
+    double specular;
+    double ior;
+    double transmission;
+    double emission; /* multiplier of the voxel colour; 0 = not emissive */
+} vx_material;
+
+/* The defaults for a type (no dictionary). */
+vx_material vx_material_default(vx_material_type type);
+/* m may be NULL (a diffuse material). */
+vx_material vx_svo_material_resolve(const vx_svo_material* m);
+/* The material of palette index / material id `id` in the scene (the record
+ * whose id matches), diffuse when there is none. */
+vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
+
 /* ---- building ---------------------------------------------------------------------- */
 
 /* The voxels of one model. keys[i] = vx_svo_morton(x, y, z) with x < size[0]

@@ -1,0 +1,93 @@
+/* svo/svo_light.c - lights and materials as scene data: validation of a
+ * light and the typed reading of a material dictionary (svo.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "svo/svo.h"
+
+static double len3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
+    if (!l) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: NULL", i);
+    if ((unsigned)l->type >= VX_LIGHT_TYPE_COUNT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: unknown type %u", i, (unsigned)l->type);
+    double v[20] = {l->position[0], l->position[1], l->position[2], l->direction[0], l->direction[1],
+                    l->direction[2], l->color[0],    l->color[1],    l->color[2],    l->intensity,
+                    l->range,        l->inner_cone,  l->outer_cone,  l->radius,      l->angular_diameter,
+                    l->tangent[0],   l->tangent[1],  l->tangent[2],  l->size[0],     l->size[1]};
+    for (int k = 0; k < 20; k++)
+        if (!isfinite(v[k]) || fabs(v[k]) > 1e30)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: a value is not finite", i);
+    if (l->intensity < 0 || l->color[0] < 0 || l->color[1] < 0 || l->color[2] < 0 || l->range < 0)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: negative intensity, colour or range", i);
+    if (l->radius < 0 || l->angular_diameter < 0 || l->size[0] < 0 || l->size[1] < 0)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: negative radius, angle or size", i);
+    if (l->angular_diameter >= 3.141592653589793)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: angular diameter must be below pi", i);
+    for (int k = 0; k < 3; k++) /* shaders hold colour * intensity in a float */
+        if (l->color[k] * l->intensity > 1e30)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: colour times intensity above 1e30", i);
+    bool directed = l->type == VX_LIGHT_DIRECTIONAL || l->type == VX_LIGHT_SPOT || l->type == VX_LIGHT_RECT;
+    double dl = len3(l->direction);
+    if (directed && !(dl > 0)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: zero direction", i);
+    if (l->type == VX_LIGHT_SPOT &&
+        !(l->inner_cone >= 0 && l->inner_cone <= l->outer_cone && l->outer_cone <= 1.5707963267948966))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "light %u: spot cones must satisfy 0 <= inner <= outer <= pi/2 (radians)", i);
+    if (l->type == VX_LIGHT_RECT) {
+        double tl = len3(l->tangent);
+        double c[3] = {l->direction[1] * l->tangent[2] - l->direction[2] * l->tangent[1],
+                       l->direction[2] * l->tangent[0] - l->direction[0] * l->tangent[2],
+                       l->direction[0] * l->tangent[1] - l->direction[1] * l->tangent[0]};
+        if (!(tl > 0) || !(len3(c) > 1e-6 * tl * dl))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                           "light %u: a rect light needs a tangent not parallel to its normal", i);
+    }
+    return VX_OK;
+}
+
+vx_material vx_material_default(vx_material_type type) {
+    vx_material m = {.type = type, .roughness = 0.1, .metalness = 0, .specular = 0.5, .ior = 1.5};
+    if (type == VX_MATERIAL_DIFFUSE || type == VX_MATERIAL_EMIT) m.roughness = 1;
+    if (type == VX_MATERIAL_METAL) m.metalness = 1;
+    if (type == VX_MATERIAL_GLASS) m.transmission = 1;
+    return m;
+}
+
+/* A number from the dictionary, or `def` when absent or not a finite number;
+ * clamped to [lo, hi]. */
+static double num(const vx_svo_material* m, const char* key, double def, double lo, double hi) {
+    const char* s = vx_svo_material_get(m, key);
+    if (!s || !*s) return def;
+    char* end;
+    double v = strtod(s, &end);
+    if (end == s || !isfinite(v)) return def;
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+vx_material vx_svo_material_resolve(const vx_svo_material* m) {
+    if (!m) return vx_material_default(VX_MATERIAL_DIFFUSE);
+    const char* t = vx_svo_material_get(m, "_type");
+    vx_material_type type = VX_MATERIAL_DIFFUSE;
+    if (t && !strcmp(t, "_metal")) type = VX_MATERIAL_METAL;
+    else if (t && !strcmp(t, "_glass")) type = VX_MATERIAL_GLASS;
+    else if (t && !strcmp(t, "_emit")) type = VX_MATERIAL_EMIT;
+    vx_material r = vx_material_default(type);
+    r.roughness = num(m, "_rough", r.roughness, 0, 1);
+    r.metalness = num(m, "_metal", r.metalness, 0, 1);
+    r.specular = num(m, "_spec", r.specular, 0, 1);
+    double ri = num(m, "_ri", 0, 1, 4);
+    r.ior = ri >= 1 && vx_svo_material_get(m, "_ri") ? ri : 1 + num(m, "_ior", r.ior - 1, 0, 3);
+    r.transmission = num(m, "_trans", r.transmission, 0, 1);
+    double e = num(m, "_emit", 0, 0, 1e30), f = num(m, "_flux", 0, 0, 16);
+    r.emission = e * pow(2.0, f);
+    if (type == VX_MATERIAL_EMIT && !(r.emission > 0)) r.type = VX_MATERIAL_DIFFUSE;
+    return r;
+}
+
+vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id) {
+    for (uint32_t i = 0; scene && i < scene->material_count; i++)
+        if (scene->materials[i].id == id) return vx_svo_material_resolve(&scene->materials[i]);
+    return vx_material_default(VX_MATERIAL_DIFFUSE);
+}
