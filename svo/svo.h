@@ -45,7 +45,11 @@
 extern "C" {
 #endif
 
-#define VX_SVO_FORMAT_VERSION 1u
+/* The newest version this library reads (it reads 1..2). A writer stamps a
+ * file with the lowest version that has all its sections: 2 only when it
+ * holds a section introduced in version 2 (LGHT), so files without one keep
+ * the bytes of version 1 (docs/FORMAT.md 6). */
+#define VX_SVO_FORMAT_VERSION 2u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute
@@ -141,6 +145,128 @@ typedef struct vx_svo_material {
     char* dict;
 } vx_svo_material;
 
+/* ---- lights and materials (svo_light.c) ------------------------------------------- */
+
+/* A light. Units follow glTF's KHR_lights_punctual where it has the type:
+ *  directional: intensity = irradiance (lux) on a surface facing it;
+ *               direction = towards the light; angular_diameter (radians,
+ *               0 = a hard shadow; the sun is about 0.0093)
+ *  point, spot: intensity = luminous intensity (candela, W/sr in our
+ *               radiometric model): irradiance I cos(theta) / d^2;
+ *               radius = the source's radius for soft shadows (0 = a point)
+ *  spot:        direction = where it points; inner_cone <= outer_cone
+ *               (radians from the axis, at most pi/2), glTF's smooth falloff
+ *  sphere:      an emitting sphere of `radius` around position; intensity =
+ *               its radiance (W/m^2/sr), the same from every point and angle
+ *  rect:        an emitting rectangle centred at position, one-sided,
+ *               emitting along `direction` (its normal); `tangent` is the
+ *               first edge's direction, size[0] along it, size[1] along
+ *               direction x tangent; intensity = radiance
+ *  range:       point, spot: 0 for none, else glTF's window (1 - (d/range)^4)^2
+ * Every type multiplies intensity by colour. Positions are world units.
+ * flags: VX_LIGHT_FROM_VOXELS marks a light that stands for emissive voxels
+ *  (vx_svo_emissive_lights); such lights are never stored in a file. */
+typedef enum vx_light_type {
+    VX_LIGHT_DIRECTIONAL = 0,
+    VX_LIGHT_POINT,
+    VX_LIGHT_SPOT,
+    VX_LIGHT_SPHERE,
+    VX_LIGHT_RECT,
+    VX_LIGHT_TYPE_COUNT
+} vx_light_type;
+typedef struct vx_light {
+    vx_light_type type;
+    double position[3];
+    double direction[3];
+    double color[3];
+    double intensity;
+    double range;
+    double inner_cone, outer_cone;
+    double radius;
+    double angular_diameter;
+    double tangent[3];
+    double size[2];
+    uint32_t flags; /* VX_LIGHT_FROM_VOXELS */
+} vx_light;
+
+/* The light is an emissive-voxel cluster seen as a sphere light (it encloses
+ * the voxels): a renderer that also shades the voxels' own emission (a path
+ * tracer hitting them) must not count it twice, and a shadow ray towards it
+ * ends at the sphere, not at its centre inside the voxels. */
+enum { VX_LIGHT_FROM_VOXELS = 1u << 0 };
+
+/* The sky: what a ray that leaves the scene sees, radiance (W/m^2/sr) by
+ * direction. World +z is up (MagicaVoxel's axis, the renderer's default).
+ *  VX_SKY_DEFAULT   the renderer's own sky (its --sky option); nothing stored
+ *  VX_SKY_CONSTANT  `color` in every direction
+ *  VX_SKY_GRADIENT  `color` at the zenith, `horizon` at z = 0, `ground` below:
+ *                   above the horizon mix(horizon, color, dz) with dz the
+ *                   direction's z, below it `ground` (a constant floor colour)
+ *  VX_SKY_ENVMAP    an equirectangular (latitude-longitude) HDR image at
+ *                   `path`, relative to the .svo file's folder (or absolute),
+ *                   read by the renderer through formats/image.h; texel x/w is
+ *                   the azimuth from +x towards +y, y/h the polar angle from +z;
+ *                   radiance = texel * intensity, turned by `rotation` radians
+ *                   about +z
+ * The library stores and checks the path but never opens it (a file read
+ * from an untrusted place names a path; the renderer decides). */
+typedef enum vx_sky_type {
+    VX_SKY_DEFAULT = 0,
+    VX_SKY_CONSTANT,
+    VX_SKY_GRADIENT,
+    VX_SKY_ENVMAP,
+    VX_SKY_TYPE_COUNT
+} vx_sky_type;
+#define VX_SKY_PATH_MAX 255u
+typedef struct vx_sky {
+    vx_sky_type type;
+    double color[3];   /* constant: the radiance; gradient: the zenith */
+    double horizon[3]; /* gradient */
+    double ground[3];  /* gradient */
+    double intensity;  /* envmap: multiplier of the texels */
+    double rotation;   /* envmap: radians about +z */
+    char path[VX_SKY_PATH_MAX + 1]; /* envmap: NUL-terminated, not empty */
+} vx_sky;
+
+/* Checks a light: finite values, intensity >= 0, a direction for directional,
+ * spot and rect lights, cone angles in order, sizes >= 0 (rect: a tangent not
+ * parallel to the normal); the error names the light's index. */
+vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
+/* Checks a sky: known type, finite colours >= 0, envmap: intensity >= 0, a
+ * finite rotation and a non-empty path of at most VX_SKY_PATH_MAX bytes;
+ * fields the type does not use must be zero (one stored form per sky). */
+vx_result vx_sky_validate(const vx_sky* sky, vx_error* err);
+
+/* A material resolved from a vx_svo_material dictionary (MagicaVoxel MATL
+ * keys; the glTF importer writes the same keys):
+ *  _type  "_diffuse" (default), "_metal", "_glass", "_emit" ("_blend" and
+ *         "_media" are treated as diffuse)
+ *  _rough roughness in [0,1] (GGX alpha = rough^2); default 0.1 metal/glass
+ *  _metal metalness in [0,1] (metal: default 1)
+ *  _spec  specular weight in [0,1] (default 0.5)
+ *  _ior   MagicaVoxel stores the index of refraction minus 1 (0.3 = 1.3);
+ *         _ri, when present, is the index itself. Default 1.5
+ *  _trans transmission in [0,1] (glass: default 1)
+ *  _emit, _flux  emission = colour * _emit * 2^_flux (MagicaVoxel), for
+ *         any type that has _emit > 0
+ * Out-of-range or unparsable values clamp to the range or fall back to the
+ * default; resolving never fails. */
+typedef enum vx_material_type {
+    VX_MATERIAL_DIFFUSE = 0,
+    VX_MATERIAL_METAL,
+    VX_MATERIAL_GLASS,
+    VX_MATERIAL_EMIT
+} vx_material_type;
+typedef struct vx_material {
+    vx_material_type type;
+    double roughness;
+    double metalness;
+    double specular;
+    double ior;
+    double transmission;
+    double emission; /* multiplier of the voxel colour; 0 = not emissive */
+} vx_material;
+
 typedef struct vx_svo_scene {
     uint32_t model_count;
     vx_svo_model* models;
@@ -158,6 +284,12 @@ typedef struct vx_svo_scene {
     /* Grid-space bounds of the visible instances' voxels, min inclusive,
      * max exclusive (all zero for an empty scene). */
     double bounds_min[3], bounds_max[3];
+    /* Lights and sky (section LGHT, written only when there is a light or
+     * sky.type != VX_SKY_DEFAULT). Lights derived from emissive voxels are
+     * not stored here (vx_svo_emissive_lights derives them when rendering). */
+    uint32_t light_count;
+    vx_light* lights;
+    vx_sky sky;
     const vx_allocator* alloc; /* what the arrays were allocated with */
 } vx_svo_scene;
 
@@ -189,82 +321,6 @@ uint32_t vx_svo_attr_rgba(const vx_svo_scene* scene, const vx_svo_model* m, uint
 
 /* Looks up a key in a material's dictionary; NULL if absent. */
 const char* vx_svo_material_get(const vx_svo_material* m, const char* key);
-
-/* ---- lights and materials (svo_light.c) ------------------------------------------- */
-
-/* A light. Units follow glTF's KHR_lights_punctual where it has the type:
- *  directional: intensity = irradiance (lux) on a surface facing it;
- *               direction = towards the light; angular_diameter (radians,
- *               0 = a hard shadow; the sun is about 0.0093)
- *  point, spot: intensity = luminous intensity (candela, W/sr in our
- *               radiometric model): irradiance I cos(theta) / d^2;
- *               radius = the source's radius for soft shadows (0 = a point)
- *  spot:        direction = where it points; inner_cone <= outer_cone
- *               (radians from the axis, at most pi/2), glTF's smooth falloff
- *  sphere:      an emitting sphere of `radius` around position; intensity =
- *               its radiance (W/m^2/sr), the same from every point and angle
- *  rect:        an emitting rectangle centred at position, one-sided,
- *               emitting along `direction` (its normal); `tangent` is the
- *               first edge's direction, size[0] along it, size[1] along
- *               direction x tangent; intensity = radiance
- *  range:       point, spot: 0 for none, else glTF's window (1 - (d/range)^4)^2
- * Every type multiplies intensity by colour. Positions are world units. */
-typedef enum vx_light_type {
-    VX_LIGHT_DIRECTIONAL = 0,
-    VX_LIGHT_POINT,
-    VX_LIGHT_SPOT,
-    VX_LIGHT_SPHERE,
-    VX_LIGHT_RECT,
-    VX_LIGHT_TYPE_COUNT
-} vx_light_type;
-typedef struct vx_light {
-    vx_light_type type;
-    double position[3];
-    double direction[3];
-    double color[3];
-    double intensity;
-    double range;
-    double inner_cone, outer_cone;
-    double radius;
-    double angular_diameter;
-    double tangent[3];
-    double size[2];
-} vx_light;
-
-/* Checks a light: finite values, intensity >= 0, a direction for directional,
- * spot and rect lights, cone angles in order, sizes >= 0 (rect: a tangent not
- * parallel to the normal); the error names the light's index. */
-vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
-
-/* A material resolved from a vx_svo_material dictionary (MagicaVoxel MATL
- * keys; the glTF importer writes the same keys):
- *  _type  "_diffuse" (default), "_metal", "_glass", "_emit" ("_blend" and
- *         "_media" are treated as diffuse)
- *  _rough roughness in [0,1] (GGX alpha = rough^2); default 0.1 metal/glass
- *  _metal metalness in [0,1] (metal: default 1)
- *  _spec  specular weight in [0,1] (default 0.5)
- *  _ior   MagicaVoxel stores the index of refraction minus 1 (0.3 = 1.3);
- *         _ri, when present, is the index itself. Default 1.5
- *  _trans transmission in [0,1] (glass: default 1)
- *  _emit, _flux  emission = colour * _emit * 2^_flux (MagicaVoxel), for
- *         any type that has _emit > 0
- * Out-of-range or unparsable values clamp to the range or fall back to the
- * default; resolving never fails. */
-typedef enum vx_material_type {
-    VX_MATERIAL_DIFFUSE = 0,
-    VX_MATERIAL_METAL,
-    VX_MATERIAL_GLASS,
-    VX_MATERIAL_EMIT
-} vx_material_type;
-typedef struct vx_material {
-    vx_material_type type;
-    double roughness;
-    double metalness;
-    double specular;
-    double ior;
-    double transmission;
-    double emission; /* multiplier of the voxel colour; 0 = not emissive */
-} vx_material;
 
 /* The defaults for a type (no dictionary). */
 vx_material vx_material_default(vx_material_type type);

@@ -311,7 +311,7 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, uint
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
-        (s->material_count && !s->materials))
+        (s->material_count && !s->materials) || (s->light_count && !s->lights))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
     uint32_t bad = 0;
     {
@@ -355,6 +355,17 @@ vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext,
         for (uint32_t k = 0; k < mt->dict_size; k++) nul += mt->dict[k] == 0;
         if (nul & 1u)
             return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: material %u dictionary has a key without a value", i);
+    }
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        vx_result r = vx_light_validate(&s->lights[i], i, err);
+        if (r == VX_OK && s->lights[i].flags)
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                        "light %u: flags 0x%x: lights derived from voxels are not scene data", i, s->lights[i].flags);
+        if (r != VX_OK) return vx_error_prefix(err, "svo scene"), r;
+    }
+    {
+        vx_result r = vx_sky_validate(&s->sky, err);
+        if (r != VX_OK) return vx_error_prefix(err, "svo scene"), r;
     }
     if (!finite12(s->world_from_grid))
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: world_from_grid is not finite");

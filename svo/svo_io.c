@@ -42,9 +42,39 @@ enum {
  * shared dictionaries a small file could otherwise ask for quadratic memory. */
 #define MATL_EXPANDED_MAX ((uint64_t)64 << 20)
 
-/* Known sections; the channel ones are in VX_ATTR_* bit order. */
-enum { S_SCNE, S_NODE, S_PALT, S_MATL, S_COUNT };
-static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "PALT", "MATL"};
+/* Known sections, and the format version that introduced each. */
+enum { S_SCNE, S_NODE, S_PALT, S_MATL, S_LGHT, S_COUNT };
+static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "PALT", "MATL", "LGHT"};
+static const uint16_t SINCE[S_COUNT] = {1, 1, 1, 1, 2};
+
+/* The version a file is stamped with: the newest that introduced one of its
+ * sections, so a file without version-2 sections keeps version 1's bytes
+ * (and old readers keep reading it). A reader refuses a section newer than
+ * the file's version: each file has one form. */
+static uint16_t file_version(const int* order, int n) {
+    uint16_t v = 1;
+    for (int i = 0; i < n; i++)
+        if (SINCE[order[i]] > v) v = SINCE[order[i]];
+    return v;
+}
+
+/* LGHT: a light's fields in groups, stored only when not all +0.0 (bit i of
+ * the light's mask is group i, in this order; docs/FORMAT.md 2.4). */
+enum { LGHT_GROUPS = 11, LGHT_TYPE_BITS = 3 };
+static double* light_group(vx_light* l, int g, int* n) {
+    *n = 0;
+    if (g < 0 || g >= LGHT_GROUPS) return NULL;
+    double* f[LGHT_GROUPS] = {l->position, l->direction, l->color, &l->intensity, &l->range, &l->inner_cone,
+                              &l->outer_cone, &l->radius, &l->angular_diameter, l->tangent, l->size};
+    static const int len[LGHT_GROUPS] = {3, 3, 3, 1, 1, 1, 1, 1, 1, 3, 2};
+    *n = len[g];
+    return f[g];
+}
+static bool all_pos_zero(const double* v, int n) {
+    for (int i = 0; i < n; i++)
+        if (v[i] != 0 || signbit(v[i])) return false;
+    return true;
+}
 
 static int tag_index(const uint8_t t[4]) {
     for (int i = 0; i < S_COUNT; i++)
@@ -602,6 +632,79 @@ done:
     return r;
 }
 
+/* A sky or light the validator refused: a malformed file, at byte `at`. */
+static vx_result lght_bad(vx_error* err, uint64_t at) {
+    char p[64];
+    snprintf(p, sizeof p, "svo: section LGHT at byte %llu", (unsigned long long)at);
+    vx_error_prefix(err, p);
+    if (err) err->code = VX_ERR_BAD_FORMAT, err->offset = at;
+    return VX_ERR_BAD_FORMAT;
+}
+
+static vx_result read_lght(const uint8_t* d, const sec* ls, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
+    const char* S = "LGHT";
+    vx_rd rd = vx_rd_make(d + ls->offset, (size_t)ls->size);
+    rd.base = ls->offset;
+    vx_result r;
+    uint64_t sky_type, at = vx_rd_pos(&rd);
+    if ((r = rd_var(&rd, VX_SKY_TYPE_COUNT - 1, &sky_type, S, "sky type", err)) != VX_OK) return r;
+    vx_sky* k = &s->sky;
+    k->type = (vx_sky_type)sky_type;
+    if (k->type == VX_SKY_CONSTANT || k->type == VX_SKY_GRADIENT) {
+        if ((r = rd_f64s(&rd, k->color, 3, S, "sky colour", err)) != VX_OK) return r;
+        if (k->type == VX_SKY_GRADIENT && ((r = rd_f64s(&rd, k->horizon, 3, S, "sky horizon", err)) != VX_OK ||
+                                           (r = rd_f64s(&rd, k->ground, 3, S, "sky ground", err)) != VX_OK))
+            return r;
+    } else if (k->type == VX_SKY_ENVMAP) {
+        uint64_t len, pat;
+        if ((r = rd_f64s(&rd, &k->intensity, 1, S, "sky intensity", err)) != VX_OK ||
+            (r = rd_f64s(&rd, &k->rotation, 1, S, "sky rotation", err)) != VX_OK)
+            return r;
+        pat = vx_rd_pos(&rd);
+        if ((r = rd_var(&rd, VX_SKY_PATH_MAX, &len, S, "sky path length", err)) != VX_OK ||
+            (r = rd_need(&rd, (size_t)len, S, "sky path", err)) != VX_OK)
+            return r;
+        vx_rd_bytes(&rd, k->path, (size_t)len);
+        if (len == 0 || memchr(k->path, 0, (size_t)len))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, pat, "svo: section LGHT at byte %llu: the sky path is empty or holds a NUL byte",
+                           (unsigned long long)pat);
+    }
+    if (vx_sky_validate(k, err) != VX_OK) return lght_bad(err, at);
+    uint64_t n;
+    at = vx_rd_pos(&rd);
+    if ((r = rd_var(&rd, UINT32_MAX, &n, S, "light count", err)) != VX_OK) return r;
+    if (n > vx_rd_left(&rd)) /* a light is at least its head byte */
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section LGHT at byte %llu: %llu lights, %zu bytes left", (unsigned long long)at,
+                       (unsigned long long)n, vx_rd_left(&rd));
+    s->lights = (vx_light*)vx_calloc(A, n ? (size_t)n : 1, sizeof *s->lights);
+    if (!s->lights) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    for (uint64_t i = 0; i < n; i++) {
+        vx_light* l = &s->lights[i];
+        uint64_t head;
+        at = vx_rd_pos(&rd);
+        if ((r = rd_var(&rd, ((uint64_t)1 << (LGHT_TYPE_BITS + LGHT_GROUPS)) - 1, &head, S, "light head", err)) != VX_OK) return r;
+        if ((head & 7u) >= VX_LIGHT_TYPE_COUNT)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section LGHT at byte %llu: light %llu has the unknown type %u",
+                           (unsigned long long)at, (unsigned long long)i, (unsigned)(head & 7u));
+        l->type = (vx_light_type)(head & 7u);
+        for (int g = 0; g < LGHT_GROUPS; g++) {
+            if (!(head >> (LGHT_TYPE_BITS + g) & 1u)) continue;
+            int gn;
+            double* v = light_group(l, g, &gn);
+            uint64_t gat = vx_rd_pos(&rd);
+            if ((r = rd_f64s(&rd, v, gn, S, "light field", err)) != VX_OK) return r;
+            if (all_pos_zero(v, gn))
+                return vx_fail(err, VX_ERR_BAD_FORMAT, gat, "svo: section LGHT at byte %llu: light %llu stores field group %d as zeros",
+                               (unsigned long long)gat, (unsigned long long)i, g);
+        }
+        s->light_count = (uint32_t)i + 1;
+        if (vx_light_validate(l, (uint32_t)i, err) != VX_OK) return lght_bad(err, at);
+    }
+    if (vx_rd_left(&rd))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, vx_rd_pos(&rd), "svo: section LGHT has %zu trailing bytes", vx_rd_left(&rd));
+    return VX_OK;
+}
+
 vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t size, vx_svo_scene* out, vx_error* err) {
     vx_svo_read_desc rdd;
     if (desc) rdd = *desc;
@@ -633,6 +736,11 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
             r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s appears twice", tg);
             goto fail;
         }
+        if (SINCE[ti] > version) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s needs format version %u, the file says %u", tg,
+                        SINCE[ti], version);
+            goto fail;
+        }
         if (!rdd.skip_checksums) {
             uint32_t c = vx_crc32(0, d + e->offset, (size_t)e->size);
             if (c != e->crc) {
@@ -653,6 +761,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
+    if (known[S_LGHT] && (r = read_lght(d, known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
     r = vx_svo_validate_scene(&s, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -832,6 +941,41 @@ static bool write_matl(vx_buf* b, const vx_svo_scene* s, const vx_allocator* A) 
     return ok;
 }
 
+static void write_lght(vx_buf* b, const vx_svo_scene* s) {
+    const vx_sky* k = &s->sky;
+    buf_var(b, (uint64_t)k->type);
+    if (k->type == VX_SKY_CONSTANT || k->type == VX_SKY_GRADIENT) {
+        for (int i = 0; i < 3; i++) vx_buf_f64le(b, k->color[i]);
+        if (k->type == VX_SKY_GRADIENT) {
+            for (int i = 0; i < 3; i++) vx_buf_f64le(b, k->horizon[i]);
+            for (int i = 0; i < 3; i++) vx_buf_f64le(b, k->ground[i]);
+        }
+    } else if (k->type == VX_SKY_ENVMAP) {
+        vx_buf_f64le(b, k->intensity);
+        vx_buf_f64le(b, k->rotation);
+        size_t len = strnlen(k->path, sizeof k->path); /* validated: 1..255 */
+        buf_var(b, len);
+        vx_buf_append(b, k->path, len);
+    }
+    buf_var(b, s->light_count);
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        vx_light l = s->lights[i];
+        uint64_t mask = 0;
+        for (int g = 0; g < LGHT_GROUPS; g++) {
+            int gn;
+            const double* v = light_group(&l, g, &gn);
+            if (!all_pos_zero(v, gn)) mask |= 1u << g;
+        }
+        buf_var(b, (uint64_t)l.type | mask << LGHT_TYPE_BITS);
+        for (int g = 0; g < LGHT_GROUPS; g++) {
+            int gn;
+            double* v = light_group(&l, g, &gn);
+            if (mask >> g & 1u)
+                for (int j = 0; j < gn; j++) vx_buf_f64le(b, v[j]);
+        }
+    }
+}
+
 /* What a writer needs before producing sections: the validated scene's
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
@@ -864,6 +1008,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, wp
     w->order[w->ns++] = S_NODE;
     if (used & VX_ATTR_PALETTE) w->order[w->ns++] = S_PALT;
     if (s->material_count) w->order[w->ns++] = S_MATL;
+    if (s->light_count || s->sky.type != VX_SKY_DEFAULT) w->order[w->ns++] = S_LGHT;
     for (int si = 0; si < w->ns; si++) w->flags[si] = SEC_REQUIRED;
     return VX_OK;
 }
@@ -876,13 +1021,14 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
+    else if (t == S_LGHT) write_lght(b, s);
     return !b->failed;
 }
 
 /* The header and section table; fin[] receives each section's file offset. */
 static bool write_head(vx_buf* head, const wplan* w, uint64_t fin[S_COUNT]) {
     vx_buf_append(head, MAGIC, 8);
-    vx_buf_u16le(head, (uint16_t)VX_SVO_FORMAT_VERSION);
+    vx_buf_u16le(head, file_version(w->order, w->ns));
     vx_buf_u16le(head, (uint16_t)w->ns);
     for (int si = 0; si < w->ns; si++) {
         vx_buf_append(head, TAGS[w->order[si]], 4);

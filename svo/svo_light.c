@@ -1,5 +1,6 @@
 /* svo/svo_light.c - lights and materials as scene data: validation of a
  * light and the typed reading of a material dictionary (svo.h). */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,8 @@ vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
     if (!l) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: NULL", i);
     if ((unsigned)l->type >= VX_LIGHT_TYPE_COUNT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: unknown type %u", i, (unsigned)l->type);
+    if (l->flags & ~(uint32_t)VX_LIGHT_FROM_VOXELS)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light %u: unknown flags 0x%x", i, l->flags);
     double v[20] = {l->position[0], l->position[1], l->position[2], l->direction[0], l->direction[1],
                     l->direction[2], l->color[0],    l->color[1],    l->color[2],    l->intensity,
                     l->range,        l->inner_cone,  l->outer_cone,  l->radius,      l->angular_diameter,
@@ -44,6 +47,37 @@ vx_result vx_light_validate(const vx_light* l, uint32_t i, vx_error* err) {
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
                            "light %u: a rect light needs a tangent not parallel to its normal", i);
     }
+    return VX_OK;
+}
+
+static bool zero_bits(const double* v, int n) {
+    for (int k = 0; k < n; k++)
+        if (v[k] != 0 || signbit(v[k])) return false;
+    return true;
+}
+
+vx_result vx_sky_validate(const vx_sky* k, vx_error* err) {
+    if (!k) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: NULL");
+    if ((unsigned)k->type >= VX_SKY_TYPE_COUNT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: unknown type %u", (unsigned)k->type);
+    double c[9] = {k->color[0],   k->color[1],   k->color[2],  k->horizon[0], k->horizon[1],
+                   k->horizon[2], k->ground[0],  k->ground[1], k->ground[2]};
+    for (int i = 0; i < 9; i++)
+        if (!(c[i] >= 0 && c[i] <= 1e30))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: a colour is negative or not finite");
+    if (!(k->intensity >= 0 && k->intensity <= 1e30) || !isfinite(k->rotation) || fabs(k->rotation) > 1e6)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: intensity below 0 or not finite, or a rotation that is not finite");
+    size_t plen = strnlen(k->path, sizeof k->path);
+    if (plen == sizeof k->path)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: the path is not NUL-terminated");
+    /* one form per sky: what the type does not use is zero, so a write of a
+     * sky read back gives the same bytes */
+    int used = k->type == VX_SKY_DEFAULT ? 0 : k->type == VX_SKY_CONSTANT ? 3 : k->type == VX_SKY_GRADIENT ? 9 : 0;
+    bool env = k->type == VX_SKY_ENVMAP;
+    if (!zero_bits(c + used, 9 - used) || (!env && (!zero_bits(&k->intensity, 1) || !zero_bits(&k->rotation, 1))))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: a value the sky type does not use is not zero");
+    if (env ? plen == 0 : plen != 0)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, env ? "sky: an environment map needs a path" : "sky: only an environment map has a path");
     return VX_OK;
 }
 

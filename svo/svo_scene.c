@@ -31,6 +31,7 @@ void vx_svo_scene_free(vx_svo_scene* s) {
     vx_free(a, s->instances);
     vx_free(a, s->layers);
     vx_free(a, s->materials);
+    vx_free(a, s->lights);
     memset(s, 0, sizeof *s);
 }
 

@@ -1,6 +1,10 @@
 add_library(vx_tool STATIC ${CMAKE_CURRENT_LIST_DIR}/common/tool.c)
 target_link_libraries(vx_tool PUBLIC vx_core m)
 
+# The --light syntax and light / sky descriptions (svo_render, svo_info, vox2svo).
+add_library(vx_tool_light STATIC ${CMAKE_CURRENT_LIST_DIR}/common/light.c)
+target_link_libraries(vx_tool_light PUBLIC vx_svo vx_tool)
+
 # Converter options and loading by extension, shared by vox2svo and svo_view.
 # The mesh and volume readers are optional (VX_WITH_GLTF / VX_WITH_OPENVDB).
 add_library(vx_tool_conv STATIC ${CMAKE_CURRENT_LIST_DIR}/common/conv.c)

@@ -1,5 +1,5 @@
 add_executable(svo_info ${CMAKE_CURRENT_LIST_DIR}/svo_info/main.c)
-target_link_libraries(svo_info PRIVATE vx_convert vx_tool)
+target_link_libraries(svo_info PRIVATE vx_convert vx_tool_light vx_tool)
 # --to-glb where the .glb writer is built (formats/voxmesh.cmake)
 if(TARGET vx_glb)
   target_sources(svo_info PRIVATE ${CMAKE_CURRENT_LIST_DIR}/svo_info/glb.c)

@@ -203,11 +203,11 @@ typedef struct tpart {
 } tpart;
 
 /* Writes a container around parts exactly as FORMAT.md 1 describes it. */
-static uint8_t* assemble(const tpart* p, int count, size_t* out_n) {
+static uint8_t* assemble_v(const tpart* p, int count, int version, size_t* out_n) {
     tbuf b = {0};
     static const uint8_t magic[8] = {'V', 'X', 'S', 'V', 'O', 0, '\r', '\n'};
     tb_put(&b, magic, 8);
-    uint8_t vc[4] = {1, 0, (uint8_t)count, (uint8_t)(count >> 8)};
+    uint8_t vc[4] = {(uint8_t)version, 0, (uint8_t)count, (uint8_t)(count >> 8)};
     tb_put(&b, vc, 4);
     for (int i = 0; i < count; i++) {
         tb_put(&b, p[i].tag, 4);
@@ -223,6 +223,7 @@ static uint8_t* assemble(const tpart* p, int count, size_t* out_n) {
     *out_n = b.n;
     return b.d;
 }
+static uint8_t* assemble(const tpart* p, int count, size_t* out_n) { return assemble_v(p, count, 1, out_n); }
 
 /* The sections of d as parts (pointing into d); returns the count. */
 static int parts_of(const uint8_t* d, size_t n, tpart* p, int max) {
@@ -323,10 +324,11 @@ static void test_round_trip(void) {
     REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
     CHECK(n1 == n2 && memcmp(d1, d2, n1) == 0);
     /* probe: every section known, CRCs fine, the same table as the
-     * independent parser; records live in NODE, no channel sections */
+     * independent parser; records live in NODE, no channel sections; no
+     * version-2 section, so the file keeps version 1 (FORMAT.md 6) */
     vx_svo_file_info info;
     REQUIRE(vx_svo_probe(d1, n1, &info, &e) == VX_OK);
-    CHECK(info.version == VX_SVO_FORMAT_VERSION && info.section_count == 4 && info.file_size == n1);
+    CHECK(info.version == 1 && info.section_count == 4 && info.file_size == n1);
     tsec t[16];
     size_t tc;
     REQUIRE(t_table(d1, n1, t, 16, &tc) == 4);
@@ -1138,6 +1140,181 @@ static void test_streamed_file(void) {
     vx_svo_scene_free(&s);
 }
 
+/* ---- lights and sky (FORMAT.md 2.4) ------------------------------------------------------ */
+
+/* One light of every type, with a -0.0 (stored: not +0.0 by bit pattern). */
+static void add_lights(vx_svo_scene* s) {
+    static const vx_light L[5] = {
+        {.type = VX_LIGHT_DIRECTIONAL, .direction = {0.3, -0.4, 0.8}, .color = {1, 0.9, 0.8}, .intensity = 3,
+         .angular_diameter = 0.0093},
+        {.type = VX_LIGHT_POINT, .position = {1, 2, 3}, .color = {1, 1, 1}, .intensity = 10},
+        {.type = VX_LIGHT_SPOT, .position = {-0.0, 5, 6}, .direction = {0, 0, -1}, .color = {0.5, 0.5, 1}, .intensity = 7,
+         .range = 20, .inner_cone = 0.2, .outer_cone = 0.6, .radius = 0.1},
+        {.type = VX_LIGHT_SPHERE, .position = {4, 4, 4}, .color = {1, 0.5, 0.25}, .intensity = 2.5, .radius = 0.75},
+        {.type = VX_LIGHT_RECT, .position = {8, 0, 9}, .direction = {0, 0, -1}, .tangent = {1, 0, 0}, .color = {1, 1, 1},
+         .intensity = 4, .size = {2, 0.5}},
+    };
+    s->lights = (vx_light*)malloc(sizeof L);
+    memcpy(s->lights, L, sizeof L);
+    s->light_count = 5;
+    s->sky = (vx_sky){.type = VX_SKY_GRADIENT, .color = {0.2, 0.4, 1}, .horizon = {0.8, 0.9, 1}, .ground = {0.1, 0.1, 0.1}};
+}
+
+static bool lights_equal(const vx_svo_scene* a, const vx_svo_scene* b) {
+    if (a->light_count != b->light_count || memcmp(&a->sky, &b->sky, sizeof a->sky) != 0) return false;
+    for (uint32_t i = 0; i < a->light_count; i++) { /* field by field (padding is not data), bit for bit */
+        const vx_light *x = &a->lights[i], *y = &b->lights[i];
+        if (x->type != y->type || memcmp(x->position, y->position, 24) || memcmp(x->direction, y->direction, 24) ||
+            memcmp(x->color, y->color, 24) || memcmp(&x->intensity, &y->intensity, 8) || memcmp(&x->range, &y->range, 8) ||
+            memcmp(&x->inner_cone, &y->inner_cone, 8) || memcmp(&x->outer_cone, &y->outer_cone, 8) ||
+            memcmp(&x->radius, &y->radius, 8) || memcmp(&x->angular_diameter, &y->angular_diameter, 8) ||
+            memcmp(x->tangent, y->tangent, 24) || memcmp(x->size, y->size, 16) || x->flags != y->flags)
+            return false;
+    }
+    return true;
+}
+
+static void test_lights_round_trip(void) {
+    vx_svo_scene s, r;
+    make_scene(&s, 60);
+    uint8_t* d;
+    size_t n;
+    /* without lights: version 1, no LGHT, so older files keep their bytes */
+    REQUIRE(write_read(&s, &r, &d, &n));
+    CHECK(d[8] == 1 && d[9] == 0 && !section(d, n, "LGHT", NULL));
+    CHECK(r.light_count == 0 && r.sky.type == VX_SKY_DEFAULT);
+    vx_svo_scene_free(&r);
+    free(d);
+    add_lights(&s);
+    REQUIRE(write_read(&s, &r, &d, &n));
+    CHECK(d[8] == 2 && d[9] == 0);
+    CHECK(lights_equal(&s, &r));
+    CHECK(signbit(r.lights[2].position[0]));
+    CHECK(stable(d, n, &r));
+    tsec t[16];
+    size_t tc;
+    int count = t_table(d, n, t, 16, &tc);
+    bool req = false;
+    for (int i = 0; i < count; i++)
+        if (!strcmp(t[i].tag, "LGHT")) req = t[i].flags == 1;
+    CHECK(req);
+    vx_svo_scene_free(&r);
+    free(d);
+    /* every sky type alone (no lights) gives LGHT too */
+    vx_sky skies[3] = {{.type = VX_SKY_CONSTANT, .color = {0.5, 0.6, 0.7}},
+                       {.type = VX_SKY_ENVMAP, .intensity = 1.5, .rotation = -0.25, .path = "env/sky.exr"},
+                       {.type = VX_SKY_DEFAULT}};
+    free(s.lights);
+    s.lights = NULL;
+    s.light_count = 0;
+    for (int k = 0; k < 3; k++) {
+        s.sky = skies[k];
+        REQUIRE(write_read(&s, &r, &d, &n));
+        CHECK(lights_equal(&s, &r) && stable(d, n, &r));
+        CHECK((section(d, n, "LGHT", NULL) != NULL) == (k < 2) && d[8] == (k < 2 ? 2 : 1));
+        vx_svo_scene_free(&r);
+        free(d);
+    }
+    vx_svo_scene_free(&s);
+}
+
+/* The example of FORMAT.md 2.4, encoded here from the text: the writer's
+ * bytes equal it and the reader gives the light back. */
+static void test_lights_hand_encoded(void) {
+    vx_svo_scene s, r;
+    make_scene(&s, 20);
+    s.lights = (vx_light*)calloc(1, sizeof *s.lights);
+    s.light_count = 1;
+    s.lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {1, 2, 3}, .color = {1, 1, 1}, .intensity = 10};
+    s.sky = (vx_sky){.type = VX_SKY_CONSTANT, .color = {0.25, 0.5, 1}};
+    tbuf b = {0};
+    tb_var(&b, 1); /* constant sky */
+    tb_f64(&b, 0.25), tb_f64(&b, 0.5), tb_f64(&b, 1);
+    tb_var(&b, 1);    /* one light */
+    tb_u8(&b, 0x69); /* point, groups position, colour, intensity */
+    for (int k = 0; k < 3; k++) tb_f64(&b, k + 1.0);
+    for (int k = 0; k < 3; k++) tb_f64(&b, 1.0);
+    tb_f64(&b, 10);
+    CHECK(b.n == 1 + 24 + 1 + 57);
+    uint8_t* d;
+    size_t n, ln;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    const uint8_t* l = section(d, n, "LGHT", &ln);
+    CHECK(l && ln == b.n && memcmp(l, b.d, b.n) == 0);
+    CHECK(lights_equal(&s, &r));
+    vx_svo_scene_free(&r);
+
+    /* corruptions of the hand-made section (sky type at byte 0, light count
+     * at 25, the light's head at 26, position at 27, intensity at 75), each
+     * an error naming what is wrong */
+    tpart p[16];
+    int count = parts_of(d, n, p, 16);
+    uint8_t* o;
+    size_t on;
+    vx_error e;
+    /* a version-1 file with LGHT */
+    o = assemble_v(p, count, 1, &on);
+    CHECK(vx_svo_read(NULL, o, on, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "version"));
+    free(o);
+    uint8_t* m = (uint8_t*)malloc(b.n + 8);
+#define TRY_BAD(msgpart)                                                                                  \
+    do {                                                                                                  \
+        for (int i = 0; i < count; i++)                                                                   \
+            if (!strcmp(p[i].tag, "LGHT")) p[i].data = m, p[i].size = mn;                                  \
+        o = assemble_v(p, count, 2, &on);                                                                 \
+        vx_result rr = vx_svo_read(NULL, o, on, &r, &e);                                                  \
+        CHECKF(rr == VX_ERR_BAD_FORMAT && strstr(e.msg, msgpart), "%s: %s", msgpart, rr ? e.msg : "ok"); \
+        if (rr == VX_OK) vx_svo_scene_free(&r);                                                           \
+        free(o);                                                                                          \
+    } while (0)
+    size_t mn = b.n;
+    memcpy(m, b.d, b.n), m[0] = 4;
+    TRY_BAD("sky type");
+    memcpy(m, b.d, b.n), m[26] = 0x6D; /* type 5 */
+    TRY_BAD("unknown type");
+    double nan = NAN, neg = -1;
+    memcpy(m, b.d, b.n), memcpy(m + 27, &nan, 8); /* NaN position */
+    TRY_BAD("light 0");
+    memcpy(m, b.d, b.n), memcpy(m + 27 + 48, &neg, 8); /* negative intensity */
+    TRY_BAD("light 0: negative intensity");
+    double z = 0;
+    memcpy(m, b.d, b.n), memcpy(m + 27, &z, 8), memcpy(m + 35, &z, 8), memcpy(m + 43, &z, 8); /* stored zero group */
+    TRY_BAD("as zeros");
+    memcpy(m, b.d, b.n), m[b.n] = 0, mn = b.n + 1; /* a trailing byte */
+    TRY_BAD("trailing");
+    memcpy(m, b.d, b.n), m[25] = 200, mn = b.n; /* more lights than bytes */
+    TRY_BAD("lights");
+    memcpy(m, b.d, b.n), mn = b.n - 1; /* truncated */
+    for (int i = 0; i < count; i++)
+        if (!strcmp(p[i].tag, "LGHT")) p[i].data = m, p[i].size = mn;
+    o = assemble_v(p, count, 2, &on);
+    CHECK(vx_svo_read(NULL, o, on, &r, &e) == VX_ERR_TRUNCATED);
+    free(o);
+    /* an envmap sky with an empty path */
+    tbuf eb = {0};
+    tb_var(&eb, 3), tb_f64(&eb, 1), tb_f64(&eb, 0), tb_var(&eb, 0), tb_var(&eb, 0);
+    memcpy(m, eb.d, eb.n), mn = eb.n;
+    TRY_BAD("path");
+#undef TRY_BAD
+    free(eb.d);
+    free(m);
+    free(d);
+    free(b.d);
+
+    /* the writer refuses what the reader would: the error names the light */
+    s.lights[0].intensity = -2;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "light 0"));
+    s.lights[0].intensity = 1, s.lights[0].position[1] = NAN;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "light 0"));
+    s.lights[0].position[1] = 0, s.lights[0].flags = VX_LIGHT_FROM_VOXELS;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "voxels"));
+    s.lights[0].flags = 0, s.lights[0].type = (vx_light_type)7;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "unknown type"));
+    s.lights[0].type = VX_LIGHT_POINT, s.sky.horizon[0] = 1; /* a field a constant sky does not use */
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "sky"));
+    vx_svo_scene_free(&s);
+}
+
 /* Failing allocations: every failure is NOMEM, nothing leaks (ASan). */
 static int oom_left;
 static void* oom_alloc(void* u, size_t n) {
@@ -1150,6 +1327,7 @@ static void oom_free(void* u, void* p) { (void)u, free(p); }
 static void test_oom(void) {
     vx_svo_scene s;
     make_scene(&s, 40);
+    add_lights(&s);
     vx_error e;
     uint8_t* d;
     size_t n;
@@ -1185,11 +1363,11 @@ static void test_oom(void) {
 
 /* Tiny seeds (FORMAT.md examples for the fuzzer): palette + all channels +
  * geometry; geometry only; compact and f64 transforms with materials; far
- * pointers. */
+ * pointers; lights and a gradient sky. */
 static int write_seeds(const char* dir) {
     char path[4096];
     vx_error e;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 5; k++) {
         vx_svo_scene s;
         if (k == 3) vx__svo_far_limit = 2;
         make_scene(&s, k == 0 ? 3 : (size_t)(6 * k));
@@ -1212,6 +1390,7 @@ static int write_seeds(const char* dir) {
             s.materials[1].dict_size = s.materials[0].dict_size;
             vx_svo_scene_update_bounds(&s);
         }
+        if (k == 4) add_lights(&s); /* version 2: LGHT with every light type */
         snprintf(path, sizeof path, "%s/seed%d.svo", dir, k);
         /* k == 3: written while the low limit is in force, so its palette
          * model is stored structurally with the limit in the file */
@@ -1244,6 +1423,8 @@ int main(int argc, char** argv) {
     RUN(test_far_file);
     RUN(test_same_size_models);
     RUN(test_streamed_file);
+    RUN(test_lights_round_trip);
+    RUN(test_lights_hand_encoded);
     RUN(test_oom);
     return vx_test_finish();
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "convert/convert.h"
+#include "tools/common/light.h"
 #include "tools/common/tool.h"
 #ifdef VX_HAVE_GLB
 #include "tools/svo_info/glb.h"
@@ -33,7 +34,7 @@ _Noreturn static void usage(int status) {
             "    --dump           print every voxel of the scene in grid cells, one per line\n"
             "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
             "    --all            with --dump and --to-glb: include hidden instances and layers\n"
-            "    --models         list every model and instance (default: the first 16)\n"
+            "    --models         list every model, instance and light (default: the first 16)\n"
             "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
             "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
             "                     voxel surface, vertex colours), one node per instance; grid axes\n"
@@ -173,6 +174,20 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
                x[6], x[8], x[9], x[10], in->name[0] ? ", \"" : "", in->name, in->name[0] ? "\"" : "");
     }
     if (shown < s->instance_count) printf("  ... %u more instances (--models lists all)\n", s->instance_count - shown);
+    char line[512];
+    vx_tool_sky_str(&s->sky, line, sizeof line);
+    printf("sky          %s\n", line);
+    printf("lights       %u stored", s->light_count);
+    uint64_t emissive = 0;
+    for (uint32_t i = 0; i < s->material_count; i++) emissive += vx_svo_material_resolve(&s->materials[i]).emission > 0;
+    if (emissive) printf(", %llu emissive materials (their voxels light the scene too)", (unsigned long long)emissive);
+    printf("\n");
+    shown = o->models ? s->light_count : (s->light_count < 16 ? s->light_count : 16);
+    for (uint32_t i = 0; i < shown; i++) {
+        vx_tool_light_str(&s->lights[i], line, sizeof line);
+        printf("light %-6u %s\n", i, line);
+    }
+    if (shown < s->light_count) printf("  ... %u more lights (--models lists all)\n", s->light_count - shown);
 }
 
 typedef struct dump_ctx {
