@@ -330,6 +330,41 @@ vx_material vx_svo_material_resolve(const vx_svo_material* m);
  * whose id matches), diffuse when there is none. */
 vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
 
+/* ---- emissive voxels as lights (svo_emissive.c) ----------------------------------- */
+
+/* Emissive voxels (a material with emission > 0: MagicaVoxel _emit, the
+ * glTF importer's emissive materials) as lights the direct pass and a path
+ * tracer's light sampling can see. The material id of a cell is its
+ * VX_ATTR_MATERIAL value, else its palette index; its radiance is its colour
+ * (bytes / 255, as the renderers read it) times the material's emission.
+ *
+ * One light per cluster, not per voxel: a lamp of 30 voxels is one light, so
+ * the light count follows the number of lamps, not of voxels, and the many-
+ * light passes stay cheap. A cluster is a set of face-connected emissive
+ * cells of one model within one aligned block of `block` cells per side
+ * (default 8): the cut keeps a long neon tube from becoming one sphere at
+ * its middle. Each cluster becomes, per drawn instance of its model, a
+ * VX_LIGHT_SPHERE with VX_LIGHT_FROM_VOXELS set: centred on the cluster's
+ * box, radius = half the box's diagonal (world units), and the radiance that
+ * gives the sphere the power the cluster's exposed faces emit
+ * (sum over faces whose neighbour cell is empty of pi L area, faces of the
+ * model's boundary count as exposed), Ls = P / (4 pi^2 r^2). The sphere
+ * encloses the voxels: a shadow ray towards it should end at its surface.
+ * These lights are derived when rendering, never stored in the file (the
+ * voxels are the data; stored copies would go stale when voxels change). */
+typedef struct vx_svo_emissive_desc {
+    const vx_allocator* alloc;
+    uint32_t block;      /* cluster cut, cells per side, a power of two; 0 == 8 */
+    uint64_t max_cells;  /* emissive cells per model; 0 == 2^24; more is VX_ERR_LIMIT */
+    uint32_t max_lights; /* 0 == 2^22; more is VX_ERR_LIMIT */
+} vx_svo_emissive_desc;
+vx_svo_emissive_desc vx_svo_emissive_desc_defaults(void);
+/* *out (free with vx_free(desc->alloc, ...)) gets *count lights in instance
+ * order, each model's clusters in the Morton order of their first cell;
+ * NULL and 0 when the scene has no emissive material or cell. */
+vx_result vx_svo_emissive_lights(const vx_svo_scene* scene, const vx_svo_emissive_desc* desc, vx_light** out,
+                                 uint32_t* count, vx_error* err);
+
 /* ---- building ---------------------------------------------------------------------- */
 
 /* The voxels of one model. keys[i] = vx_svo_morton(x, y, z) with x < size[0]

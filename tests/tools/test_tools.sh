@@ -71,6 +71,28 @@ printf 'not a voxel file at all' >"$T/junk.vox"
 expect_status 1 "junk .vox" "$BIN/vox2svo" "$T/junk.vox" "$T/junk.svo"
 expect_status 1 "unknown extension" "$BIN/vox2svo" "$T/demo.svo" "$T/x.svo"
 
+# lights and sky (LGHT): svo_info lists them; svo_render uses them by default
+LIT="$(dirname "$0")/../fuzz/svo_seeds/seed4.svo"
+expect_status 0 "svo_info lights" "$BIN/svo_info" "$LIT"
+grep -q "^lights       5 stored" "$T/out" && grep -q "^light 2 .*spot at (-0 5 6)" "$T/out" &&
+    grep -q "^sky          gradient zenith 0.2 0.4 1" "$T/out" && ok "svo_info prints lights and sky" || bad "svo_info prints lights and sky"
+grep -q "LGHT" "$T/out" && grep -q "format version 2" "$T/out" && ok "a file with lights is version 2" || bad "a file with lights is version 2"
+if [ -x "$BIN/svo_render" ]; then
+    expect_status 0 "svo_render --help" "$BIN/svo_render" --help
+    grep -q -- "--no-scene-lights" "$T/out" && grep -q "sphere:X,Y,Z:R,G,B:RADIUS" "$T/out" && grep -q "rect:X,Y,Z:NX,NY,NZ" "$T/out" &&
+        ok "svo_render --help documents the lights" || bad "svo_render --help documents the lights"
+    expect_status 2 "svo_render bad --light" "$BIN/svo_render" "$LIT" "$T/l.png" --light sphere:1,2,3:1,1,1
+    grep -q "sphere:X,Y,Z:R,G,B:RADIUS" "$T/err" && ok "bad --light names the syntax" || bad "bad --light names the syntax"
+    expect_status 2 "svo_render negative --light" "$BIN/svo_render" "$LIT" "$T/l.png" --light point:1,2,3:1,1,1:-1
+    grep -q "light 0" "$T/err" && ok "a bad light is named" || bad "a bad light is named"
+    "$BIN/svo_render" "$LIT" "$T/l.png" -v --size 32x32 >"$T/out" 2>"$T/err"
+    grep -q "lights: 5 from the file, 0 from emissive voxels, 0 from --light" "$T/out" && ok "svo_render uses the file's lights" ||
+        bad "svo_render uses the file's lights"
+    "$BIN/svo_render" "$LIT" "$T/l.png" -v --size 32x32 --no-scene-lights --light point:1,2,3:1,1,1 >"$T/out" 2>"$T/err"
+    grep -q "lights: 0 from the file, 0 from emissive voxels, 1 from --light" "$T/out" && ok "--no-scene-lights drops them" ||
+        bad "--no-scene-lights drops them"
+fi
+
 # a corpus scene with instancing, when the corpus is there
 if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then
     expect_status 0 "convert corpus scene" "$BIN/vox2svo" "$CORPUS/vox/ogt_test_multiple_model_scene.vox" "$T/m.svo"

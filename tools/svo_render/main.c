@@ -8,6 +8,7 @@
 #include "probes/probes.h"
 #include "render/pipeline.h"
 #include "render/render.h"
+#include "tools/common/light.h"
 #include "tools/common/tool.h"
 
 typedef struct options {
@@ -26,9 +27,11 @@ typedef struct options {
     vx_frame_desc fd;
     const char* timings;
     uint32_t frames;
-    vx_light lights[64];
+    vx_light lights[64]; /* --light */
     uint32_t light_count;
-    bool sky_given;
+    bool sky_given, no_scene_lights, voxel_lights;
+    const vx_light* frame_lights; /* what the frame uses (gather_lights) */
+    uint32_t frame_light_count;
 } options;
 
 static const char* prog = "svo_render";
@@ -84,11 +87,15 @@ _Noreturn static void usage(int status) {
             "  --ortho [H]          orthographic, view height H (default: frame the bounds)\n"
             "  --lod [PIXELS]       stop where a voxel is smaller than PIXELS pixels (default: off, %g)\n"
             "  --light X,Y,Z        direction towards the light (default: 0.35,-0.45,0.82)\n"
-            "  --light SPEC         add a light (repeatable; the frame then uses radiometric units):\n"
-            "                       point:X,Y,Z:R,G,B[:RANGE]  spot:X,Y,Z:DX,DY,DZ:R,G,B:INNER,OUTER[:RANGE]\n"
-            "                       sun:DX,DY,DZ:R,G,B  (R,G,B: intensity per sr, irradiance for sun;\n"
-            "                       cone angles in degrees; RANGE: glTF's range window)\n"
-            "  --sky R,G,B          sky radiance with --light SPEC (default: %g,%g,%g)\n"
+            "  --light SPEC         add a light (repeatable; with any light, the file's or these, the frame\n"
+            "                       uses radiometric units):\n"
+            "%s"
+            "  --no-scene-lights    ignore the lights and the sky stored in the file (LGHT); by default the\n"
+            "                       colour mode on the GPU uses them\n"
+            "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
+            "                       (vx_svo_emissive_lights; off by default until the direct pass samples\n"
+            "                       sphere lights)\n"
+            "  --sky R,G,B          sky radiance with lights (default: the file's constant sky, else %g,%g,%g)\n"
             "  --ambient A          sky light share (default: %g)\n"
             "  --device N|NAME      Vulkan device (default: a discrete GPU, else any)\n"
             "  --list-devices       print the Vulkan devices and exit\n"
@@ -103,7 +110,7 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
-            d.r.camera.fov, d.r.lod_pixels, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2], d.r.ambient, prog, prog, prog, prog);
+            d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2], d.r.ambient, prog, prog, prog, prog);
     exit(status);
 }
 
@@ -140,35 +147,30 @@ static const char* ext_of(const char* p) {
     return d ? d + 1 : "";
 }
 
-/* --light TYPE:...: a light of the pass pipeline. */
-static bool parse_light(const char* spec, vx_light* l) {
-    char buf[256];
-    if (strlen(spec) >= sizeof buf) return false;
-    snprintf(buf, sizeof buf, "%s", spec);
-    char* part[6] = {0};
-    int n = 0;
-    for (char* t = strtok(buf, ":"); t && n < 6; t = strtok(NULL, ":")) part[n++] = t;
-    memset(l, 0, sizeof *l);
-    l->intensity = 1;
-    double ang[2];
-    if (!strcmp(part[0], "point") && (n == 3 || n == 4)) {
-        l->type = VX_LIGHT_POINT;
-        return parse_vec(part[1], l->position, 3) && parse_vec(part[2], l->color, 3) &&
-               (n == 3 || parse_vec(part[3], &l->range, 1));
+/* The frame's lights: the file's (unless --no-scene-lights), then those of
+ * its emissive voxels (--voxel-lights), then --light's. *out is malloc'ed. */
+static vx_result gather_lights(const options* o, const vx_svo_scene* scene, vx_light** out, uint32_t* count,
+                               uint32_t* from_voxels, vx_error* err) {
+    vx_light* vox = NULL;
+    uint32_t nv = 0, ns = o->no_scene_lights ? 0 : scene->light_count;
+    if (o->voxel_lights && !o->no_scene_lights) {
+        vx_result r = vx_svo_emissive_lights(scene, NULL, &vox, &nv, err);
+        if (r) return r;
     }
-    if (!strcmp(part[0], "spot") && (n == 5 || n == 6)) {
-        l->type = VX_LIGHT_SPOT;
-        if (!parse_vec(part[1], l->position, 3) || !parse_vec(part[2], l->direction, 3) ||
-            !parse_vec(part[3], l->color, 3) || !parse_vec(part[4], ang, 2) || (n == 6 && !parse_vec(part[5], &l->range, 1)))
-            return false;
-        l->inner_cone = ang[0] * 3.14159265358979323846 / 180, l->outer_cone = ang[1] * 3.14159265358979323846 / 180;
-        return true;
+    size_t n = (size_t)ns + nv + o->light_count;
+    vx_light* all = (vx_light*)malloc((n ? n : 1) * sizeof *all);
+    if (!all) {
+        vx_free(NULL, vox);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu lights", n);
     }
-    if (!strcmp(part[0], "sun") && n == 3) {
-        l->type = VX_LIGHT_DIRECTIONAL;
-        return parse_vec(part[1], l->direction, 3) && parse_vec(part[2], l->color, 3);
-    }
-    return false;
+    if (ns) memcpy(all, scene->lights, ns * sizeof *all);
+    if (nv) memcpy(all + ns, vox, nv * sizeof *all);
+    if (o->light_count) memcpy(all + ns + nv, o->lights, o->light_count * sizeof *all);
+    vx_free(NULL, vox);
+    *out = all;
+    *count = (uint32_t)n;
+    *from_voxels = nv;
+    return VX_OK;
 }
 
 /* The colour mode through the pass pipeline: options.frames frames (the last
@@ -191,7 +193,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     if (!o->spp_given) fd.base.spp = 0; /* the pipeline's default: 1, or 8 with aa or dof */
     fd.passes = passes;
     fd.gi = pgi ? &gm : NULL;
-    fd.lights = o->lights, fd.light_count = o->light_count;
+    fd.lights = o->frame_lights, fd.light_count = o->frame_light_count;
     FILE* csv = NULL;
     if (o->timings) {
         csv = fopen(o->timings, "w");
@@ -295,9 +297,9 @@ int main(int argc, char** argv) {
             NEED();
             if (strchr(argv[++i], ':')) {
                 if (o.light_count >= 64) usage_error("%s", "at most 64 --light lights");
-                if (!parse_light(argv[i], &o.lights[o.light_count]))
-                    usage_error("bad light '%s' (point:X,Y,Z:R,G,B[:RANGE], spot:X,Y,Z:DX,DY,DZ:R,G,B:INNER,OUTER[:RANGE], "
-                                "sun:DX,DY,DZ:R,G,B)", argv[i]);
+                char why[160];
+                if (!vx_tool_parse_light(argv[i], &o.lights[o.light_count], why, sizeof why))
+                    usage_error("bad light '%s': %s", argv[i], why);
                 vx_error lerr = {0};
                 if (vx_light_validate(&o.lights[o.light_count], o.light_count, &lerr))
                     usage_error("--light %s: %s", argv[i], lerr.msg);
@@ -306,6 +308,10 @@ int main(int argc, char** argv) {
             } else if (!parse_vec(argv[i], o.r.light_dir, 3)) {
                 usage_error("bad light direction '%s'", argv[i]);
             }
+        } else if (!strcmp(a, "--no-scene-lights")) {
+            o.no_scene_lights = true;
+        } else if (!strcmp(a, "--voxel-lights")) {
+            o.voxel_lights = true;
         } else if (!strcmp(a, "--sky")) {
             NEED();
             if (!parse_vec(argv[++i], o.fd.sky, 3) || o.fd.sky[0] < 0 || o.fd.sky[1] < 0 || o.fd.sky[2] < 0)
@@ -406,7 +412,7 @@ int main(int argc, char** argv) {
     if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
         strcmp(passes.gi, "pathtrace"))
         usage_error("unknown gi method '%s' (probes, lightfield, pathtrace)", passes.gi);
-    if (o.sky_given && !o.light_count) usage_error("%s", "--sky goes with --light TYPE:... lights");
+    if (o.voxel_lights && o.no_scene_lights) usage_error("%s", "--voxel-lights and --no-scene-lights exclude each other");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
                       (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
@@ -449,6 +455,26 @@ int main(int argc, char** argv) {
         return 1;
     }
     double t_load = vx_time_now() - t0;
+    vx_light* frame_lights = NULL;
+    uint32_t from_voxels = 0;
+    if (gather_lights(&o, &scene, &frame_lights, &o.frame_light_count, &from_voxels, &err)) {
+        fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
+        vx_svo_scene_free(&scene);
+        free(frame_lights);
+        return 1;
+    }
+    o.frame_lights = frame_lights;
+    if (o.sky_given && !o.frame_light_count) usage_error("%s", "--sky goes with lights (--light, or the file's)");
+    if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
+        memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
+    if (!o.no_scene_lights && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP))
+        fprintf(stderr, "%s: note: the file's %s sky is not rendered yet; the frame uses --sky's\n", prog,
+                scene.sky.type == VX_SKY_GRADIENT ? "gradient" : "environment map");
+    if (o.frame_light_count && (!pipeline || o.cpu))
+        fprintf(stderr, "%s: note: %u lights ignored: lights need the colour mode on the GPU\n", prog, o.frame_light_count);
+    if (o.verbose && o.frame_light_count)
+        printf("lights: %u from the file, %u from emissive voxels, %u from --light\n",
+               o.frame_light_count - from_voxels - o.light_count, from_voxels, o.light_count);
     vx_render_image img = {0};
     vx_result r;
     vx_gpu* gpu = NULL;
@@ -461,6 +487,7 @@ int main(int argc, char** argv) {
         if (vx_probe_read_file(NULL, o.probes, &probes, &err)) {
             fprintf(stderr, "%s: %s\n", prog, err.msg);
             vx_svo_scene_free(&scene);
+            free(frame_lights);
             return 1;
         }
     }
@@ -516,6 +543,7 @@ int main(int argc, char** argv) {
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
         vx_svo_scene_free(&scene);
+        free(frame_lights);
         return 1;
     }
     size_t npx = (size_t)img.width * img.height;
@@ -565,5 +593,6 @@ int main(int argc, char** argv) {
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
     vx_svo_scene_free(&scene);
+    free(frame_lights);
     return r ? 1 : 0;
 }

@@ -1,0 +1,271 @@
+/* svo/svo_emissive.c - emissive voxels as lights (vx_svo_emissive_lights):
+ * face-connected clusters of emissive cells, cut at aligned blocks, become
+ * one sphere light each that carries the cluster's emitted power. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "svo/svo_internal.h"
+
+static const double pi = 3.14159265358979323846;
+
+vx_svo_emissive_desc vx_svo_emissive_desc_defaults(void) {
+    return (vx_svo_emissive_desc){.block = 8, .max_cells = (uint64_t)1 << 24, .max_lights = 1u << 22};
+}
+
+/* Whether cell (x, y, z) of a valid model is set: one descent from the root. */
+static bool occupied(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z) {
+    if (x >= m->size[0] || y >= m->size[1] || z >= m->size[2] || m->root == VX_SVO_ROOT_EMPTY) return false;
+    if (m->root == VX_SVO_ROOT_LEAF) return true;
+    uint32_t i = m->root;
+    for (uint32_t l = m->depth; l-- > 0;) {
+        uint32_t d = m->nodes[i];
+        uint32_t o = ((x >> l) & 1u) | ((y >> l) & 1u) << 1 | ((z >> l) & 1u) << 2;
+        uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+        if (!(valid >> o & 1u)) return false;
+        if (leaf >> o & 1u) return true;
+        uint32_t p = vx_svo_desc_ptr(d), block = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+        i = block + vx__popc8(valid & ~leaf & ((1u << o) - 1u));
+    }
+    return true; /* not reached for a valid tree: level 1 children are leaves */
+}
+
+typedef struct ecell {
+    uint64_t key; /* Morton key of the cell */
+    float L[3];   /* emitted radiance */
+    uint32_t parent;
+} ecell;
+
+typedef struct collect {
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    const float* emit_by_id; /* emission multiplier per material id */
+    uint32_t id_count;
+    ecell* cells;
+    size_t n, cap, max;
+    bool nomem, limit;
+    const vx_allocator* A;
+} collect;
+
+static bool collect_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
+    collect* c = (collect*)user;
+    const vx_svo_model* m = c->m;
+    uint32_t id = (m->attrs & VX_ATTR_MATERIAL) ? m->material[a] : (m->attrs & VX_ATTR_PALETTE) ? m->palette[a] : UINT32_MAX;
+    float e = id < c->id_count ? c->emit_by_id[id] : 0.f;
+    if (!(e > 0)) return true;
+    if (c->n == c->max) return c->limit = true, false;
+    if (c->n == c->cap) {
+        size_t cap = c->cap ? c->cap * 2 : 256;
+        ecell* nc = (ecell*)vx_alloc(c->A, cap * sizeof *nc);
+        if (!nc) return c->nomem = true, false;
+        if (c->n) memcpy(nc, c->cells, c->n * sizeof *nc);
+        vx_free(c->A, c->cells);
+        c->cells = nc, c->cap = cap;
+    }
+    /* the voxel's colour as the renderers read it (bytes / 255), times the emission */
+    uint32_t rgba = vx_svo_attr_rgba(c->s, m, a);
+    ecell* ce = &c->cells[c->n++];
+    ce->key = vx__morton(x, y, z);
+    for (int k = 0; k < 3; k++) ce->L[k] = (float)((rgba >> (8 * k) & 0xFFu) / 255.0 * e);
+    ce->parent = (uint32_t)(c->n - 1);
+    return true;
+}
+
+static int key_cmp(const void* a, const void* b) {
+    uint64_t x = ((const ecell*)a)->key, y = ((const ecell*)b)->key;
+    return x < y ? -1 : x > y;
+}
+static size_t find(const ecell* c, size_t n, uint64_t key) {
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (c[mid].key < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < n && c[lo].key == key ? lo : SIZE_MAX;
+}
+static uint32_t root_of(ecell* c, uint32_t i) {
+    while (c[i].parent != i) i = c[i].parent = c[c[i].parent].parent;
+    return i;
+}
+
+/* A cluster in model cells: its box and its emitted power per face axis
+ * (radiance x face count, so that any instance map scales it by the area
+ * of one face along that axis). */
+typedef struct cluster {
+    uint32_t lo[3], hi[3];
+    double power[3][3]; /* [face axis][channel]: sum of L over exposed faces */
+} cluster;
+
+static void cross(const double a[3], const double b[3], double o[3]) {
+    o[0] = a[1] * b[2] - a[2] * b[1], o[1] = a[2] * b[0] - a[0] * b[2], o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_desc* desc, vx_light** out,
+                                 uint32_t* out_count, vx_error* err) {
+    if (!s || !out || !out_count) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "emissive lights: NULL argument");
+    *out = NULL;
+    *out_count = 0;
+    vx_svo_emissive_desc d = vx_svo_emissive_desc_defaults(), z = desc ? *desc : (vx_svo_emissive_desc){0};
+    d.alloc = z.alloc;
+    if (z.block) d.block = z.block;
+    if (z.max_cells) d.max_cells = z.max_cells;
+    if (z.max_lights) d.max_lights = z.max_lights;
+    if (d.block & (d.block - 1))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "emissive lights: block %u is not a power of two", d.block);
+    const vx_allocator* A = d.alloc;
+    /* emission by material id; a scene without an emissive material costs nothing more */
+    uint32_t ids = 0;
+    for (uint32_t i = 0; i < s->material_count; i++)
+        if (vx_svo_material_resolve(&s->materials[i]).emission > 0 && s->materials[i].id < 65536 && s->materials[i].id + 1 > ids)
+            ids = s->materials[i].id + 1;
+    if (!ids) return VX_OK;
+    float* emit = (float*)vx_calloc(A, ids, sizeof *emit);
+    if (!emit) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
+    for (uint32_t i = 0; i < s->material_count; i++)
+        if (s->materials[i].id < ids) {
+            double e = vx_svo_material_resolve(&s->materials[i]).emission;
+            emit[s->materials[i].id] = (float)fmin(e, 1e30);
+        }
+    vx_result r = VX_OK;
+    vx_light* lights = NULL;
+    size_t nl = 0, lcap = 0;
+    collect c = {.s = s, .emit_by_id = emit, .id_count = ids, .max = d.max_cells, .A = A};
+    cluster* cl = NULL;
+    uint8_t* drawn = (uint8_t*)vx_calloc(A, s->model_count ? s->model_count : 1, 1); /* models some drawn instance uses */
+    if (!drawn) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
+    for (uint32_t i = 0; drawn && i < s->instance_count; i++)
+        if (vx_svo_instance_drawn(s, i)) drawn[s->instances[i].model] = 1;
+    for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++) {
+        const vx_svo_model* m = &s->models[mi];
+        if (!drawn[mi] || !(m->attrs & (VX_ATTR_PALETTE | VX_ATTR_MATERIAL))) continue;
+        c.m = m, c.n = 0;
+        r = vx_svo_decode_model(m, collect_cell, &c, err);
+        if (r == VX_OK && c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
+        if (r == VX_OK && c.limit)
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "emissive lights: model %u has more than %llu emissive cells", mi,
+                        (unsigned long long)d.max_cells);
+        if (r != VX_OK || c.n == 0) continue;
+        /* clusters: face neighbours within one aligned block of d.block cells */
+        qsort(c.cells, c.n, sizeof *c.cells, key_cmp);
+        for (size_t i = 0; i < c.n; i++) c.cells[i].parent = (uint32_t)i;
+        for (size_t i = 0; i < c.n; i++) {
+            uint32_t p[3];
+            vx_svo_demorton(c.cells[i].key, &p[0], &p[1], &p[2]);
+            for (int a = 0; a < 3; a++) {
+                uint32_t q[3] = {p[0], p[1], p[2]};
+                q[a]++;
+                if (q[a] % d.block == 0) continue; /* the next block starts there */
+                size_t j = find(c.cells, c.n, vx__morton(q[0], q[1], q[2]));
+                if (j == SIZE_MAX) continue;
+                uint32_t ra = root_of(c.cells, (uint32_t)i), rb = root_of(c.cells, (uint32_t)j);
+                if (ra != rb) c.cells[ra > rb ? ra : rb].parent = ra < rb ? ra : rb; /* the smallest key leads */
+            }
+        }
+        /* roots in key order number the clusters */
+        size_t ncl = 0;
+        uint32_t* slot = (uint32_t*)vx_alloc(A, c.n * sizeof *slot);
+        for (size_t i = 0; slot && i < c.n; i++)
+            if (root_of(c.cells, (uint32_t)i) == i) slot[i] = (uint32_t)ncl++;
+        vx_free(A, cl);
+        cl = slot ? (cluster*)vx_calloc(A, ncl, sizeof *cl) : NULL;
+        if (!cl) {
+            vx_free(A, slot);
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
+            break;
+        }
+        for (size_t i = 0; i < ncl; i++)
+            for (int a = 0; a < 3; a++) cl[i].lo[a] = UINT32_MAX;
+        for (size_t i = 0; i < c.n; i++) {
+            cluster* k = &cl[slot[root_of(c.cells, (uint32_t)i)]];
+            uint32_t p[3];
+            vx_svo_demorton(c.cells[i].key, &p[0], &p[1], &p[2]);
+            for (int a = 0; a < 3; a++) {
+                if (p[a] < k->lo[a]) k->lo[a] = p[a];
+                if (p[a] + 1 > k->hi[a]) k->hi[a] = p[a] + 1;
+                /* a face emits when the cell beyond it is empty (inside the
+                 * model; outside it nothing covers it) */
+                for (int sgn = -1; sgn <= 1; sgn += 2) {
+                    uint32_t q[3] = {p[0], p[1], p[2]};
+                    if (sgn < 0 && q[a] == 0) {
+                        for (int ch = 0; ch < 3; ch++) k->power[a][ch] += c.cells[i].L[ch];
+                        continue;
+                    }
+                    q[a] += (uint32_t)sgn;
+                    if (!occupied(m, q[0], q[1], q[2]))
+                        for (int ch = 0; ch < 3; ch++) k->power[a][ch] += c.cells[i].L[ch];
+                }
+            }
+        }
+        vx_free(A, slot);
+        /* one sphere light per cluster and drawn instance of the model */
+        for (uint32_t ii = 0; r == VX_OK && ii < s->instance_count; ii++) {
+            if (s->instances[ii].model != mi || !vx_svo_instance_drawn(s, ii)) continue;
+            double w[12];
+            vx_svo_instance_world(s, &s->instances[ii], w);
+            double col[3][3], area[3];
+            for (int a = 0; a < 3; a++)
+                for (int r3 = 0; r3 < 3; r3++) col[a][r3] = w[4 * r3 + a];
+            for (int a = 0; a < 3; a++) { /* world area of one face across axis a */
+                double x[3];
+                cross(col[(a + 1) % 3], col[(a + 2) % 3], x);
+                area[a] = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+            }
+            for (size_t k = 0; k < ncl; k++) {
+                if (nl == d.max_lights) {
+                    r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "emissive lights: more than %u lights", d.max_lights);
+                    break;
+                }
+                if (nl == lcap) {
+                    size_t cap = lcap ? lcap * 2 : 64;
+                    vx_light* nlg = (vx_light*)vx_alloc(A, cap * sizeof *nlg);
+                    if (!nlg) {
+                        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
+                        break;
+                    }
+                    if (nl) memcpy(nlg, lights, nl * sizeof *nlg);
+                    vx_free(A, lights);
+                    lights = nlg, lcap = cap;
+                }
+                const cluster* q = &cl[k];
+                vx_light* L = &lights[nl++];
+                memset(L, 0, sizeof *L);
+                L->type = VX_LIGHT_SPHERE;
+                L->flags = VX_LIGHT_FROM_VOXELS;
+                double ctr[3] = {(q->lo[0] + q->hi[0]) * 0.5, (q->lo[1] + q->hi[1]) * 0.5, (q->lo[2] + q->hi[2]) * 0.5};
+                for (int r3 = 0; r3 < 3; r3++)
+                    L->position[r3] = w[4 * r3] * ctr[0] + w[4 * r3 + 1] * ctr[1] + w[4 * r3 + 2] * ctr[2] + w[4 * r3 + 3];
+                double rad = 0; /* the sphere through the box's corners (an affine map keeps the centre) */
+                for (int cn = 0; cn < 8; cn++) {
+                    double v[3] = {(cn & 1 ? q->hi[0] : q->lo[0]) - ctr[0], (cn & 2 ? q->hi[1] : q->lo[1]) - ctr[1],
+                                   (cn & 4 ? q->hi[2] : q->lo[2]) - ctr[2]};
+                    double t[3];
+                    for (int r3 = 0; r3 < 3; r3++) t[r3] = w[4 * r3] * v[0] + w[4 * r3 + 1] * v[1] + w[4 * r3 + 2] * v[2];
+                    rad = fmax(rad, sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]));
+                }
+                L->radius = rad;
+                /* power: pi L A per face; a sphere of radiance Ls emits pi Ls 4 pi r^2 */
+                double Ls[3], mx = 0;
+                for (int ch = 0; ch < 3; ch++) {
+                    double P = 0;
+                    for (int a = 0; a < 3; a++) P += pi * q->power[a][ch] * area[a];
+                    Ls[ch] = rad > 0 ? P / (4 * pi * pi * rad * rad) : 0;
+                    mx = fmax(mx, Ls[ch]);
+                }
+                L->intensity = fmin(mx, 1e30);
+                for (int ch = 0; ch < 3; ch++) L->color[ch] = mx > 0 ? Ls[ch] / mx : 0;
+            }
+        }
+    }
+    vx_free(A, drawn);
+    vx_free(A, cl);
+    vx_free(A, c.cells);
+    vx_free(A, emit);
+    if (r != VX_OK) {
+        vx_free(A, lights);
+        return r;
+    }
+    *out = lights;
+    *out_count = (uint32_t)nl;
+    return VX_OK;
+}
