@@ -458,6 +458,10 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
         goto done;
     }
+    /* rows left out start finished (spp samples done), so probe.comp skips them */
+    for (uint32_t y = 0; d.rows && y < f.height; y++)
+        if (!d.rows[y])
+            for (size_t i = (size_t)y * f.width; i < (size_t)(y + 1) * f.width; i++) acc[4 * (2 * i + 2)] = (float)spp;
     if ((r = vx__buffer_create(c.g, nout, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)) ||
         (r = vx__buffer_upload(c.g, &c.out, acc, nout, err)))
         goto done;
@@ -496,7 +500,7 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
     for (size_t i = 0; i < npx; i++)
         for (int k = 0; k < 4; k++) img.pixels[4 * i + k] = acc[4 * (2 * i + 1) + k] / (float)spp;
     img.gpu_seconds = sec;
-    img.rays = (uint64_t)npx * spp;
+    img.rays = (uint64_t)f.width * vx__prender_rows(&d, f.height) * spp;
     *out = img;
 done:
     vx_free(NULL, acc);

@@ -97,6 +97,8 @@ typedef struct vx__prender {
 /* complete: ps holds every probe (the probe modes need that). */
 vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool complete,
                             const vx_probe_render_desc* desc, vx__prender* out, vx_error* err);
+/* Rows the desc renders (desc->rows), of height. */
+uint32_t vx__prender_rows(const vx_probe_render_desc* desc, uint32_t height);
 
 /* Probe map sizes in texels (with borders) and the per-probe block size. */
 static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }

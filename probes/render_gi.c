@@ -138,6 +138,7 @@ typedef struct rjob {
     uint64_t seed;
     const vx__lf* lf;
     float* pixels;
+    const uint8_t* rows; /* NULL: all */
     uint32_t next_row;
     vx__lf_counts counts;
     pthread_mutex_t mu;
@@ -174,6 +175,13 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
     P->spp = P->d.spp ? P->d.spp : (P->uses_probes && !P->lightfield ? 1 : 16);
     P->bounces = P->d.bounces ? P->d.bounces : (ps ? ps->bounces + 1 : 2);
     return VX_OK;
+}
+
+uint32_t vx__prender_rows(const vx_probe_render_desc* d, uint32_t height) {
+    if (!d->rows) return height;
+    uint32_t n = 0;
+    for (uint32_t y = 0; y < height; y++) n += d->rows[y] != 0;
+    return n;
 }
 
 static bool has_direct(vx_probe_render_mode m) {
@@ -241,6 +249,7 @@ static void* rworker(void* arg) {
         uint32_t y = J->next_row++;
         pthread_mutex_unlock(&J->mu);
         if (y >= J->f->height) break;
+        if (J->rows && !J->rows[y]) continue;
         for (uint32_t x = 0; x < J->f->width; x++)
             render_pixel(J, x, y, &J->pixels[4 * ((size_t)y * J->f->width + x)], &cnt);
     }
@@ -266,7 +275,7 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
     vx__lf lf = {.L = &P.L, .ps = ps};
     memcpy(lf.lo, P.lo, sizeof lf.lo), memcpy(lf.hi, P.hi, sizeof lf.hi);
     rjob J = {.f = &f, .L = &P.L, .ps = ps, .lf = &lf, .mode = d.mode, .seed = d.seed, .spp = P.spp,
-              .bounces = P.bounces};
+              .bounces = P.bounces, .rows = d.rows};
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_calloc(NULL, (size_t)f.width * f.height, 16);
     if (!img.pixels) {
@@ -284,7 +293,7 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
                                            .texels = J.counts.texels, .coarse_skips = J.counts.coarse_skips,
                                            .hits = J.counts.hits, .misses = J.counts.misses,
                                            .fallbacks = J.counts.fallbacks};
-    img.rays = (uint64_t)f.width * f.height * J.spp;
+    img.rays = (uint64_t)f.width * vx__prender_rows(&d, f.height) * J.spp;
     vx_render_caster_destroy(c);
     *out = img;
     return VX_OK;

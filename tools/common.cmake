@@ -17,3 +17,10 @@ if(TARGET vx_conv_vdb)
   target_link_libraries(vx_tool_conv PUBLIC vx_conv_vdb)
   target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
 endif()
+
+# The MPI paths of svo_bake and svo_render (mpirun): launcher detection, ranks
+# per host, device choice, ending the job (VX_WITH_MPI, where MPI is found).
+if(VX_WITH_MPI AND MPI_C_FOUND AND TARGET vx_render)
+  add_library(vx_tool_mpi STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi.c)
+  target_link_libraries(vx_tool_mpi PUBLIC vx_tool vx_render MPI::MPI_C)
+endif()

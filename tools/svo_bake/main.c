@@ -11,6 +11,9 @@
 #include "formats/image.h"
 #include "probes/probes.h"
 #include "tools/common/tool.h"
+#ifdef VX_HAVE_MPI
+#include "tools/common/mpi.h"
+#endif
 #include "tools/svo_bake/svo_bake.h"
 
 static options default_options(void) {
@@ -410,7 +413,7 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     /* under mpirun only rank 0 prints usage errors and the effective options */
     int saved_out = -1, saved_err = -1;
-    if (bake_mpi_launched() && bake_mpi_env_rank() > 0) {
+    if (vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) {
         int null = open("/dev/null", O_WRONLY);
         if (null >= 0) {
             fflush(stdout);
@@ -524,14 +527,14 @@ int main(int argc, char** argv) {
                pos[1], o.b.res, o.b.spp, o.b.bounces < 0 ? 0 : o.b.bounces, (unsigned long long)o.b.seed, o.shard,
                o.shards, o.threads);
 #ifdef VX_HAVE_MPI
-    if (bake_mpi_launched() && o.shards > 1)
+    if (vx_tool_mpi_launched() && o.shards > 1)
         usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
     if (saved_out >= 0) {
         fflush(stdout);
         dup2(saved_out, 1), dup2(saved_err, 2);
         close(saved_out), close(saved_err);
     }
-    if (bake_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
+    if (vx_tool_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
 #endif
     bake_job j = {.o = o, .in = pos[0], .out = pos[1]};
     return bake_single(&j);

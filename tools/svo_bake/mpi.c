@@ -19,44 +19,21 @@
  * VX_BAKE_CHECKPOINT_S sets the seconds between checkpoints (default 20). */
 #include <mpi.h>
 #include <signal.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "tools/common/mpi.h"
 #include "tools/common/tool.h"
 #include "tools/svo_bake/svo_bake.h"
 
 enum { TAG_ASSIGN = 1, TAG_RESULT = 2 };
 enum { DEPTH = 3 }; /* assignments a worker holds */
 
-bool bake_mpi_launched(void) {
-    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE");
-}
-
-int bake_mpi_env_rank(void) {
-    const char* v = getenv("OMPI_COMM_WORLD_RANK");
-    if (!v) v = getenv("PMIX_RANK");
-    if (!v) v = getenv("PMI_RANK");
-    return v ? atoi(v) : 0;
-}
-
-static int g_rank;
-static char g_host[MPI_MAX_PROCESSOR_NAME];
-
-/* One line naming the rank and host, then the whole job ends. */
-_Noreturn static void die(const char* fmt, ...) {
-    va_list ap;
-    fprintf(stderr, "%s: rank %d (%s): ", vx_tool_name, g_rank, g_host);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputs("; ending the job\n", stderr);
-    fflush(stderr);
-    MPI_Abort(MPI_COMM_WORLD, 1);
-    exit(1); /* not reached */
-}
+/* this rank's place (set once by bake_mpi) */
+static vx_tool_mpi g_mpi;
+#define die vx_tool_mpi_die
 
 /* per-rank timings, gathered to rank 0 */
 enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_N };
@@ -319,10 +296,10 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         MPI_Isend(buf[s], (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send[s]);
         MPI_Irecv(q[s], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[s]);
         st[ST_COMM] += vx_time_now() - t;
-        if (g_rank == fail_rank && (int)st[ST_BATCHES] >= fail_after) {
+        if (g_mpi.rank == fail_rank && (int)st[ST_BATCHES] >= fail_after) {
             if (fail_error) die("failing after %d batches (VX_BAKE_MPI_FAIL)", fail_after);
             MPI_Wait(&send[s], MPI_STATUS_IGNORE);
-            fprintf(stderr, "%s: rank %d: killing itself after %d batches (VX_BAKE_MPI_FAIL)\n", vx_tool_name, g_rank,
+            fprintf(stderr, "%s: rank %d: killing itself after %d batches (VX_BAKE_MPI_FAIL)\n", vx_tool_name, g_mpi.rank,
                     fail_after);
             fflush(stderr);
             raise(SIGKILL);
@@ -342,34 +319,11 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
     st[ST_COMM] += vx_time_now() - t;
 }
 
-/* ---- devices ----------------------------------------------------------------------- */
-
-typedef struct gpu_list {
-    uint32_t index[64];
-    uint32_t n;
-} gpu_list;
-
-static void list_fn(void* user, uint32_t index, const char* name, const char* type) {
-    (void)name;
-    gpu_list* l = user;
-    if (strcmp(type, "cpu") && strcmp(type, "other") && l->n < 64) l->index[l->n++] = index;
-}
-
 /* ---- the job ------------------------------------------------------------------------- */
 
 int bake_mpi(options* o, const char* in, const char* out) {
-    int provided = 0, nranks = 1;
-    MPI_Init_thread(NULL, NULL, MPI_THREAD_SERIALIZED, &provided);
-    MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &nranks);
-    int len = 0;
-    MPI_Get_processor_name(g_host, &len);
-    MPI_Comm local;
-    int local_rank = 0, local_size = 1;
-    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, g_rank, MPI_INFO_NULL, &local);
-    MPI_Comm_rank(local, &local_rank);
-    MPI_Comm_size(local, &local_size);
-    MPI_Comm_free(&local);
+    vx_tool_mpi_init(&g_mpi);
+    int provided = g_mpi.thread_level, nranks = g_mpi.nranks, local_size = g_mpi.local_size;
     if (!o->threads_set) {
         long cpus = sysconf(_SC_NPROCESSORS_ONLN);
         long t = cpus > 0 ? cpus / local_size : 1;
@@ -379,17 +333,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
     o->b.first = o->b.count = 0;
     bake_job j = {.o = *o, .in = in, .out = out};
     char device[16];
-    const char* dev = o->device;
-    if (!o->cpu && !dev) {
-        gpu_list gl = {.n = 0};
-        vx_error err = {0};
-        if (!vx_gpu_list_devices(list_fn, &gl, &err) && gl.n) {
-            snprintf(device, sizeof device, "%u", gl.index[local_rank % (int)gl.n]);
-            dev = device;
-        }
-    }
-    char who[MPI_MAX_PROCESSOR_NAME + 32];
-    snprintf(who, sizeof who, "rank %d (%s): ", g_rank, g_host);
+    const char* dev = vx_tool_mpi_device(&g_mpi, o->device, o->cpu, device);
+    char who[300];
+    snprintf(who, sizeof who, "rank %d (%s): ", g_mpi.rank, g_mpi.host);
     if (bake_job_open(&j, dev, who)) {
         fflush(stderr);
         MPI_Abort(MPI_COMM_WORLD, 1);
@@ -399,12 +345,12 @@ int bake_mpi(options* o, const char* in, const char* out) {
     if (vx_probe_place(&j.scene, &o->b, &ps, &err)) die("%s: %s", in, err.msg);
     /* one line per rank, in rank order */
     for (int r = 0; r < nranks; r++) {
-        if (r == g_rank) {
+        if (r == g_mpi.rank) {
             if (j.gpu)
-                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_rank, g_host, vx_gpu_device_name(j.gpu),
+                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
                        vx_gpu_is_cpu(j.gpu) ? " (software)" : "", o->threads);
             else
-                printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_rank, g_host, o->threads);
+                printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_mpi.rank, g_mpi.host, o->threads);
             fflush(stdout);
         }
         MPI_Barrier(MPI_COMM_WORLD);
@@ -413,7 +359,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     double t_write = 0, t_start = 0;
     int rc = 0;
     coord c = {0};
-    if (g_rank == 0) {
+    if (g_mpi.rank == 0) {
         uint32_t moved = 0, disabled = 0;
         for (uint32_t i = 0; i < ps.probe_count; i++)
             moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
@@ -443,7 +389,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     MPI_Barrier(MPI_COMM_WORLD);
     t_start = vx_time_now();
     c.t0 = t_start;
-    if (g_rank == 0) {
+    if (g_mpi.rank == 0) {
         run_coordinator(&c, &o->b);
         memcpy(st, c.st, sizeof st);
     } else {
@@ -454,15 +400,15 @@ int bake_mpi(options* o, const char* in, const char* out) {
     MPI_Barrier(MPI_COMM_WORLD);
     st[ST_WAIT] += vx_time_now() - t;
     st[ST_WALL] = vx_time_now() - t_start;
-    if (g_rank == 0) {
+    if (g_mpi.rank == 0) {
         t = vx_time_now();
         if (vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
         t_write = vx_time_now() - t;
         if (!rc) remove(j.ckpath);
     }
-    double* all = g_rank == 0 ? calloc((size_t)nranks * ST_N, sizeof(double)) : NULL;
+    double* all = g_mpi.rank == 0 ? calloc((size_t)nranks * ST_N, sizeof(double)) : NULL;
     MPI_Gather(st, ST_N, MPI_DOUBLE, all, ST_N, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    if (g_rank == 0 && !rc) {
+    if (g_mpi.rank == 0 && !rc) {
         double wmax = 0;
         for (int r = 0; r < nranks && all; r++) {
             const double* s = all + (size_t)r * ST_N;

@@ -65,10 +65,6 @@ void maps_free(vx_probe_set* ps);
 int write_exr(const char* dir, const vx_probe_set* ps);
 
 #ifdef VX_HAVE_MPI
-/* Whether this process was started by an MPI launcher (mpirun, srun). */
-bool bake_mpi_launched(void);
-/* This process's rank from the launcher's environment (0 when unknown). */
-int bake_mpi_env_rank(void);
 /* The whole MPI bake (every rank calls it after parsing the options);
  * returns the exit status (failures end the job through MPI_Abort). */
 int bake_mpi(options* o, const char* in, const char* out);

@@ -10,6 +10,10 @@
 #include "render/render.h"
 #include "tools/common/light.h"
 #include "tools/common/tool.h"
+#ifdef VX_HAVE_MPI
+#include "tools/common/mpi.h"
+#include "tools/svo_render/render_mpi.h"
+#endif
 
 typedef struct options {
     const char* in;
@@ -80,7 +84,7 @@ _Noreturn static void usage(int status) {
             "  --seed S             path tracer seed (default: 0)\n"
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --size WxH           image size (default: %ux%u)\n"
-            "  --spp N              samples per pixel (default: %u)\n"
+            "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
             "  --up X,Y,Z           up vector (default: 0,0,1)\n"
             "  --fov DEG            vertical field of view (default: %g)\n"
@@ -281,7 +285,7 @@ int main(int argc, char** argv) {
             o.r.width = w, o.r.height = h;
         } else if (!strcmp(a, "--spp")) {
             NEED();
-            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > 1024) usage_error("bad spp '%s'", argv[i]);
+            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > (1u << 24)) usage_error("bad spp '%s'", argv[i]);
             o.spp_given = true;
         } else if (!strcmp(a, "--camera")) {
             NEED();
@@ -425,6 +429,17 @@ int main(int argc, char** argv) {
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
     if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
+    if (!o.probe_mode && o.r.spp > 1024) usage_error("--spp %u: at most 1024 outside the probe modes", o.r.spp);
+    bool mpi = false;
+#ifdef VX_HAVE_MPI
+    /* under mpirun: the probe and path tracer modes, rows over the ranks */
+    mpi = vx_tool_mpi_launched();
+    if (mpi && !o.probe_mode) {
+        if (vx_tool_mpi_env_rank() > 0) return 2; /* rank 0 says why */
+        usage_error("%s", "under mpirun, svo_render renders the probe modes (--mode pathtrace, gi, ...)");
+    }
+    if (mpi && vx_tool_mpi_env_rank() > 0) o.verbose = false; /* one header */
+#endif
     if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
     if (o.verbose) {
         /* the pipeline's own default: 8 samples with aa or dof, else 1 */
@@ -491,7 +506,25 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    if (o.probe_mode && o.cpu) {
+    bool root = true;
+    if (mpi) {
+#ifdef VX_HAVE_MPI
+        o.p.base = &o.r;
+        if (!o.p.threads) o.p.threads = o.cpu ? 2 : 1;
+        if (o.r.spp > 1) o.p.spp = o.r.spp;
+        render_mpi_job job = {.scene = &scene, .probes = o.probes ? &probes : NULL, .desc = o.p, .cpu = o.cpu,
+                              .device = o.device, .validate = o.validate, .verbose = o.verbose};
+        render_mpi(&job, &img, &root); /* a failure ends the job */
+        r = VX_OK;
+        if (!root) {
+            vx_probe_set_free(&probes);
+            free(frame_lights);
+            vx_svo_scene_free(&scene);
+            render_mpi_finalize();
+            return 0;
+        }
+#endif
+    } else if (o.probe_mode && o.cpu) {
         printf("device: CPU (probe GI / path tracer, double precision)\n");
         o.p.base = &o.r;
         if (!o.p.threads) o.p.threads = 2;
@@ -594,5 +627,8 @@ int main(int argc, char** argv) {
     vx_gpu_destroy(gpu);
     vx_svo_scene_free(&scene);
     free(frame_lights);
+#ifdef VX_HAVE_MPI
+    if (mpi) render_mpi_finalize();
+#endif
     return r ? 1 : 0;
 }

@@ -1,0 +1,40 @@
+/* tools/common/mpi.h - what the tools' MPI paths share (svo_bake, svo_render
+ * under mpirun): launcher detection before MPI_Init, the rank's place on its
+ * host, the device a rank uses, and ending the whole job with one line that
+ * names the rank. Built only where MPI is found (VX_HAVE_MPI). */
+#ifndef VX_TOOL_MPI_H
+#define VX_TOOL_MPI_H
+
+#include <stdbool.h>
+
+/* Whether this process was started by an MPI launcher (mpirun, srun);
+ * callable before MPI_Init. */
+bool vx_tool_mpi_launched(void);
+/* This process's rank from the launcher's environment (0 when unknown), for
+ * deciding before MPI_Init which rank prints a usage error. */
+int vx_tool_mpi_env_rank(void);
+
+typedef struct vx_tool_mpi {
+    int rank, nranks;
+    int local_rank, local_size; /* among the ranks of this host */
+    int thread_level;           /* what MPI_Init_thread provided */
+    char host[256];
+} vx_tool_mpi;
+
+/* MPI_Init_thread (serialized) and the ranks' places. Remembers the rank and
+ * host for vx_tool_mpi_die. */
+void vx_tool_mpi_init(vx_tool_mpi* m);
+
+/* The device a rank opens: `device` when given, none with cpu, else the GPU
+ * `local rank mod GPUs` of its host (buf holds its index), else NULL (the
+ * default pick). */
+const char* vx_tool_mpi_device(const vx_tool_mpi* m, const char* device, bool cpu, char buf[16]);
+
+/* "tool: rank R (host): message; ending the job" on stderr, then MPI_Abort. */
+_Noreturn void vx_tool_mpi_die(const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+#endif

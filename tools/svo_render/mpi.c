@@ -1,0 +1,129 @@
+/* tools/svo_render/mpi.c - mpirun -n N svo_render SCENE OUT --mode pathtrace:
+ * rows spread over the ranks, gathered bit for bit (render_mpi.h). */
+#include <mpi.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tools/common/mpi.h"
+#include "tools/common/tool.h"
+#include "tools/svo_render/render_mpi.h"
+
+enum { BAND = 8 }; /* rows per band */
+
+static uint8_t* rows_of(int rank, int nranks, uint32_t height) {
+    uint8_t* rows = calloc(height ? height : 1, 1);
+    if (!rows) return NULL;
+    for (uint32_t y = 0; y < height; y++) rows[y] = (int)((y / BAND) % (uint32_t)nranks) == rank;
+    return rows;
+}
+
+/* per-rank timings gathered to rank 0 */
+enum { ST_SETUP, ST_RENDER, ST_WAIT, ST_GATHER, ST_ROWS, ST_N };
+
+void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root) {
+    vx_tool_mpi m;
+    vx_tool_mpi_init(&m);
+    memset(out, 0, sizeof *out);
+    *root = m.rank == 0;
+    double st[ST_N] = {0};
+    double t0 = vx_time_now();
+    vx_error err = {0};
+    vx_gpu* gpu = NULL;
+    vx_render_scene* rs = NULL;
+    char device[16];
+    const char* dev = vx_tool_mpi_device(&m, job->device, job->cpu, device);
+    if (!job->cpu) {
+        vx_logger logger = vx_tool_logger(job->verbose);
+        if (vx_gpu_create(&(vx_gpu_desc){.device = dev, .validate = job->validate, .logger = &logger}, &gpu, &err) ||
+            vx_render_scene_create(gpu, job->scene, &rs, &err))
+            vx_tool_mpi_die("%s", err.msg);
+    }
+    /* the render's size: base, or the defaults */
+    vx_render_desc base = job->desc.base ? *job->desc.base : vx_render_desc_defaults();
+    uint32_t W = base.width ? base.width : vx_render_desc_defaults().width;
+    uint32_t H = base.height ? base.height : vx_render_desc_defaults().height;
+    uint8_t* rows = rows_of(m.rank, m.nranks, H);
+    if (!rows) vx_tool_mpi_die("out of memory for %u rows", H);
+    for (uint32_t y = 0; y < H; y++) st[ST_ROWS] += rows[y];
+    for (int r = 0; r < m.nranks; r++) { /* one line per rank, in rank order */
+        if (r == m.rank) {
+            printf("rank %d (%s): device: %s%s, %.0f of %u rows\n", m.rank, m.host,
+                   gpu ? vx_gpu_device_name(gpu) : "CPU (double precision)", gpu && vx_gpu_is_cpu(gpu) ? " (software)" : "",
+                   st[ST_ROWS], H);
+            fflush(stdout);
+        }
+        MPI_Barrier(MPI_COMM_WORLD);
+    }
+    st[ST_SETUP] = vx_time_now() - t0;
+    vx_probe_render_desc d = job->desc;
+    d.rows = rows;
+    vx_render_image img = {0};
+    double t = vx_time_now();
+    vx_result r = job->cpu ? vx_probe_render(job->scene, job->probes, &d, &img, &err)
+                           : vx_probe_render_gpu(rs, job->scene, job->probes, &d, &img, &err);
+    if (r) vx_tool_mpi_die("%s", err.msg);
+    if (img.width != W || img.height != H)
+        vx_tool_mpi_die("rendered %ux%u, expected %ux%u", img.width, img.height, W, H);
+    st[ST_RENDER] = vx_time_now() - t;
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    /* ranks that finished early wait here: the load imbalance */
+    t = vx_time_now();
+    MPI_Barrier(MPI_COMM_WORLD);
+    st[ST_WAIT] = vx_time_now() - t;
+    /* rank 0 takes each rank's rows from its image (whole images: a few
+     * tens of MB at 1080p, one message each) */
+    t = vx_time_now();
+    size_t row_floats = (size_t)W * 4;
+    if (row_floats * H > (size_t)INT32_MAX) vx_tool_mpi_die("a %ux%u image is too large for one message", W, H);
+    int count = (int)(row_floats * H);
+    if (m.rank == 0) {
+        float* other = m.nranks > 1 ? malloc((size_t)count * sizeof(float)) : NULL;
+        if (m.nranks > 1 && !other) vx_tool_mpi_die("out of memory for a %ux%u image", W, H);
+        uint64_t rays = img.rays;
+        for (int q = 1; q < m.nranks; q++) {
+            MPI_Recv(other, count, MPI_FLOAT, q, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            uint64_t rq = 0;
+            MPI_Recv(&rq, 1, MPI_UINT64_T, q, 8, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            rays += rq;
+            uint8_t* their = rows_of(q, m.nranks, H);
+            if (!their) vx_tool_mpi_die("out of memory for %u rows", H);
+            for (uint32_t y = 0; y < H; y++)
+                if (their[y])
+                    memcpy(img.pixels + y * row_floats, other + y * row_floats, row_floats * sizeof(float));
+            free(their);
+        }
+        free(other);
+        img.rays = rays;
+    } else {
+        MPI_Send(img.pixels, count, MPI_FLOAT, 0, 7, MPI_COMM_WORLD);
+        MPI_Send(&img.rays, 1, MPI_UINT64_T, 0, 8, MPI_COMM_WORLD);
+        vx_render_image_free(&img);
+    }
+    st[ST_GATHER] = vx_time_now() - t;
+    double* all = m.rank == 0 ? calloc((size_t)m.nranks * ST_N, sizeof(double)) : NULL;
+    MPI_Gather(st, ST_N, MPI_DOUBLE, all, ST_N, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (m.rank == 0) {
+        double wall = vx_time_now() - t0, wmax = 0, rmax = 0;
+        for (int q = 0; q < m.nranks && all; q++) {
+            const double* s = all + (size_t)q * ST_N;
+            double busy = s[ST_RENDER] + s[ST_WAIT];
+            double share = busy > 0 ? s[ST_WAIT] / busy : 0;
+            if (share > wmax) wmax = share;
+            if (s[ST_RENDER] > rmax) rmax = s[ST_RENDER];
+            if (job->verbose)
+                printf("rank %d: %.0f rows, set-up %.3f s, render %.3f s, wait %.3f s (%.1f%%), gather %.3f s\n", q,
+                       s[ST_ROWS], s[ST_SETUP], s[ST_RENDER], s[ST_WAIT], 100 * share, s[ST_GATHER]);
+        }
+        printf("rendered %ux%u on %d ranks in %.2f s (slowest render %.3f s, most waiting %.1f%%, gather %.3f s)\n", W,
+               H, m.nranks, wall, rmax, 100 * wmax, st[ST_GATHER]);
+        img.gpu_seconds = rmax;
+        *out = img;
+    }
+    free(all);
+    free(rows);
+}
+
+void render_mpi_finalize(void) { MPI_Finalize(); }
