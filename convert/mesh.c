@@ -1,6 +1,7 @@
 /* convert/mesh.c - glTF mesh -> svo scene: one model per non-empty region
  * of the brick voxelizer (convert/mesh_voxelize.c), placed by integer
  * translations in grid space. */
+#include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <string.h>
@@ -43,6 +44,7 @@ static vx_result scene_add(void* user, const vx__mesh_region* r, vx_error* err) 
     in.attrs = r->attrs;
     in.rgba = r->rgba;
     in.normal = r->normal;
+    in.material = r->material;
     vx_svo_build_desc bd = k->desc->build;
     if (!bd.alloc) bd.alloc = a;
     bd.progress.func = NULL; /* progress comes from the voxelizer (this may run on any thread) */
@@ -115,6 +117,94 @@ static vx_result sink_assemble(scene_sink* k, vx_svo_scene* s, vx_error* err) {
     return VX_OK;
 }
 
+/* Appends "key\0value\0" to a dictionary buffer of cap bytes. */
+static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double v) {
+    char val[32];
+    snprintf(val, sizeof val, "%.9g", v);
+    size_t kl = strlen(key) + 1, vl = strlen(val) + 1;
+    if (*len + kl + vl > cap) return;
+    memcpy(d + *len, key, kl);
+    memcpy(d + *len + kl, val, vl);
+    *len += (uint32_t)(kl + vl);
+}
+
+/* glTF materials as MATL records with MagicaVoxel keys (svo.h,
+ * vx_svo_material_resolve), one per special material, id = index + 1 as
+ * the voxels' VX_ATTR_MATERIAL values say (vx__mesh_material_id):
+ *   transmission > 0: _type _glass, _trans, _rough, _ior = ior - 1
+ *   else metallic > 0: _type _metal, _metal, _rough, _ior = ior - 1
+ *   else: _type _emit (when emissive) or _diffuse, _rough
+ *   emissive: _emit = the largest channel of emissiveFactor x strength; the
+ *   voxel's colour gives the hue (MagicaVoxel's model: emission = colour x
+ *   _emit), so a glTF emissive colour unlike the base colour changes hue. */
+static vx_result add_materials(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_allocator* a, vx_error* err) {
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < mesh->material_count; i++) n += vx__mesh_material_id(mesh, i) != 0;
+    if (!n) return VX_OK;
+    s->materials = (vx_svo_material*)vx_calloc(a, n, sizeof *s->materials);
+    if (!s->materials) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u materials", n);
+    for (uint32_t i = 0; i < mesh->material_count; i++) {
+        uint16_t id = vx__mesh_material_id(mesh, i);
+        if (!id) continue;
+        const vx_gltf_material* g = &mesh->materials[i];
+        char d[256];
+        uint32_t len = 0;
+        double e = fmax(g->emissive[0], fmax(g->emissive[1], g->emissive[2]));
+        bool glass = g->transmission > 0, metal = !glass && g->metallic > 0;
+        const char* type = glass ? "_glass" : metal ? "_metal" : e > 0 ? "_emit" : "_diffuse";
+        size_t tl = strlen("_type") + 1, vl = strlen(type) + 1;
+        memcpy(d, "_type", tl), memcpy(d + tl, type, vl), len = (uint32_t)(tl + vl);
+        if (glass) dict_put(d, sizeof d, &len, "_trans", g->transmission);
+        if (metal) dict_put(d, sizeof d, &len, "_metal", g->metallic);
+        dict_put(d, sizeof d, &len, "_rough", g->roughness);
+        if (glass || metal) dict_put(d, sizeof d, &len, "_ior", g->ior - 1.0);
+        if (e > 0) dict_put(d, sizeof d, &len, "_emit", e);
+        vx_svo_material* m = &s->materials[s->material_count];
+        m->id = id;
+        m->dict = (char*)vx_alloc(a, len);
+        if (!m->dict) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "material %u", i);
+        memcpy(m->dict, d, len);
+        m->dict_size = len;
+        s->material_count++;
+    }
+    return VX_OK;
+}
+
+/* KHR_lights_punctual lights as scene lights: the glTF world frame is the
+ * scene's world frame (world_from_grid maps grid cells back to it), so
+ * positions and directions carry over; a directional light's vx_light
+ * direction points towards the light, the opposite of glTF's. */
+static vx_result add_lights(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_allocator* a, vx_error* err) {
+    if (!mesh->light_count) return VX_OK;
+    s->lights = (vx_light*)vx_calloc(a, mesh->light_count, sizeof *s->lights);
+    if (!s->lights) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u lights", mesh->light_count);
+    for (uint32_t i = 0; i < mesh->light_count; i++) {
+        const vx_gltf_light* g = &mesh->lights[i];
+        vx_light* l = &s->lights[i];
+        l->type = g->type == VX_GLTF_LIGHT_DIRECTIONAL ? VX_LIGHT_DIRECTIONAL
+                  : g->type == VX_GLTF_LIGHT_SPOT      ? VX_LIGHT_SPOT
+                                                       : VX_LIGHT_POINT;
+        for (int k = 0; k < 3; k++) {
+            l->position[k] = l->type == VX_LIGHT_DIRECTIONAL ? 0 : g->position[k];
+            l->direction[k] = l->type == VX_LIGHT_DIRECTIONAL ? -g->direction[k] : l->type == VX_LIGHT_SPOT ? g->direction[k] : 0;
+            l->color[k] = g->color[k];
+        }
+        l->intensity = g->intensity;
+        l->range = l->type == VX_LIGHT_DIRECTIONAL ? 0 : g->range;
+        if (l->type == VX_LIGHT_SPOT) l->inner_cone = g->inner_cone, l->outer_cone = g->outer_cone;
+        s->light_count = i + 1;
+        vx_result r = vx_light_validate(l, i, err);
+        if (r) {
+            char p[96];
+            snprintf(p, sizeof p, "glTF light %u ('%s') on node %u", g->index, g->name, g->node);
+            vx_error_prefix(err, p);
+            if (err) err->code = VX_ERR_BAD_FORMAT;
+            return VX_ERR_BAD_FORMAT;
+        }
+    }
+    return VX_OK;
+}
+
 vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mesh, vx_svo_scene* out,
                        vx_conv_stats* stats, vx_error* err) {
     vx_conv_mesh_desc desc = desc_in ? *desc_in : (vx_conv_mesh_desc){0};
@@ -134,6 +224,8 @@ vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mes
     pthread_mutex_init(&k.lock, NULL);
     r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), scene_add, &k, err);
     if (!r) r = sink_assemble(&k, &s, err);
+    if (!r) r = add_materials(mesh, &s, desc.alloc, err);
+    if (!r) r = add_lights(mesh, &s, desc.alloc, err);
     sink_free(&k);
     if (r) {
         vx_svo_scene_free(&s);

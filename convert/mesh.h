@@ -57,6 +57,21 @@
  * their x row within the same 64^3 brick (else the brick's first surface
  * cell, else opaque white / +z).
  *
+ * Materials: a glTF material that is metallic, transmissive or emissive
+ * (formats/gltf.h) becomes a MATL record with MagicaVoxel keys, id = its
+ * index + 1, and then every cell stores VX_ATTR_MATERIAL: the id of the
+ * material of the triangle with the largest piece in the cell (0 = none,
+ * diffuse). A file whose materials are all plain diffuse stores no material
+ * channel and no records. The keys (convert/mesh.c, add_materials):
+ * _type _glass with _trans, or _metal with _metal, or _emit / _diffuse;
+ * _rough; _ior = IOR - 1; _emit = the largest channel of emissiveFactor x
+ * emissive strength (the voxel's colour gives the hue, as in MagicaVoxel).
+ *
+ * Lights: KHR_lights_punctual lights become scene lights (vx_light) in the
+ * same world frame as the voxels (world_from_grid maps grid cells back to
+ * glTF world units); a light that vx_light_validate refuses is an error
+ * naming it.
+ *
  * Scale: the grid is voxelized in 64^3 bricks (triangles binned to bricks,
  * bricks spread over threads), so memory follows the surface, not the
  * volume. Each region of desc.region^3 cells becomes one model, placed

@@ -16,8 +16,21 @@ typedef struct vx__mesh_region {
     const uint64_t* keys;
     const uint32_t* rgba;
     const uint32_t* normal;
+    const uint16_t* material; /* VX_ATTR_MATERIAL: vx__mesh_material_id of the cell's material */
     uint32_t attrs;
 } vx__mesh_region;
+
+/* Whether a glTF material needs a MATL record (it is not plain diffuse:
+ * metallic, transmissive or emissive). Only then does the scene store
+ * VX_ATTR_MATERIAL, so that a file of diffuse materials keeps colour only. */
+static inline bool vx__mesh_material_special(const vx_gltf_material* m) {
+    return m->metallic > 0 || m->transmission > 0 || m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
+}
+/* The material id a cell of glTF material mi gets: mi + 1 for a special
+ * material (ids up to 65535), else 0 (no record: diffuse). */
+static inline uint16_t vx__mesh_material_id(const vx_gltf_mesh* mesh, uint32_t mi) {
+    return mi < mesh->material_count && mi < 65535u && vx__mesh_material_special(&mesh->materials[mi]) ? (uint16_t)(mi + 1) : 0;
+}
 
 typedef vx_result (*vx__mesh_sink)(void* user, const vx__mesh_region* r, vx_error* err);
 

@@ -350,6 +350,8 @@ static uint32_t oct_encode(double x, double y, double z) {
 
 typedef struct acc {
     float c[4], w, n[3];
+    float mw;     /* the largest clipped area seen, and its material */
+    uint16_t mat;
 } acc;
 
 typedef struct brick_out {
@@ -357,6 +359,7 @@ typedef struct brick_out {
     uint32_t* local; /* local Morton keys, sorted */
     uint32_t* rgba;
     uint32_t* normal;
+    uint16_t* material;
 } brick_out;
 
 typedef struct job {
@@ -365,7 +368,7 @@ typedef struct job {
     const vx_conv_mesh_grid* grid;
     const vx_allocator* alloc;
     uint32_t attrs;
-    bool color, normals;
+    bool color, normals, materials;
     double* g;               /* grid coordinates, 9 per triangle */
     uint64_t* pairs;         /* brick Morton << 32 | triangle, sorted by brick */
     size_t pair_count;
@@ -408,7 +411,8 @@ static pthread_once_t mort_once = PTHREAD_ONCE_INIT;
 typedef struct region_buf {
     uint64_t* keys;
     uint32_t *rgba, *nrm;
-    size_t kcap, rcap, ncap;
+    uint16_t* mat;
+    size_t kcap, rcap, ncap, mcap;
 } region_buf;
 
 typedef struct worker {
@@ -418,9 +422,11 @@ typedef struct worker {
     acc* acc;       /* BRICK_CELLS when attributes */
     uint32_t* fin_rgba;
     uint32_t* fin_nrm;
+    uint16_t* fin_mat;
     /* current triangle */
     const double* v; /* local coordinates */
     float uv[6], col[12], base[4], nrm[3];
+    uint16_t mat;
     const vx_gltf_image* img;
     int ws, wt;
     double d00, d01, d11, den;
@@ -494,6 +500,8 @@ static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     }
     for (int k = 0; k < 3; k++) a->n[k] += wgt * w->nrm[k];
     a->w += wgt;
+    /* the material of the triangle with the largest piece in the cell */
+    if (wgt > a->mw) a->mw = wgt, a->mat = w->mat;
 }
 
 static void setup_tri_attrs(worker* w, size_t t) {
@@ -512,8 +520,9 @@ static void setup_tri_attrs(worker* w, size_t t) {
     w->d01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
     w->den = w->d00 * w->d11 - w->d01 * w->d01;
     if (!(w->den > 1e-30 * w->d00 * w->d11)) w->den = 0;
-    if (!w->j->color) return;
     uint32_t mi = mesh->material ? mesh->material[t] : UINT32_MAX;
+    w->mat = w->j->materials ? vx__mesh_material_id(mesh, mi) : 0;
+    if (!w->j->color) return;
     w->img = NULL;
     for (int k = 0; k < 4; k++) w->base[k] = 1.f;
     if (mi < mesh->material_count) {
@@ -588,12 +597,15 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     o->local = (uint32_t*)vx_alloc(j->alloc, count * 4);
     if (j->attrs & VX_ATTR_RGBA8) o->rgba = (uint32_t*)vx_alloc(j->alloc, count * 4);
     if (j->attrs & VX_ATTR_NORMAL) o->normal = (uint32_t*)vx_alloc(j->alloc, count * 4);
-    if (!o->local || ((j->attrs & VX_ATTR_RGBA8) && !o->rgba) || ((j->attrs & VX_ATTR_NORMAL) && !o->normal))
+    if (j->materials) o->material = (uint16_t*)vx_alloc(j->alloc, count * 2);
+    if (!o->local || ((j->attrs & VX_ATTR_RGBA8) && !o->rgba) || ((j->attrs & VX_ATTR_NORMAL) && !o->normal) ||
+        (j->materials && !o->material))
         return VX_ERR_NOMEM;
     if (solid && attrs) {
         /* final surface attributes, then interior cells copy the nearest
          * surface cell before them in their x row (else the brick's first) */
         uint32_t first_rgba = 0xFFFFFFFFu, first_nrm = oct_encode(0, 0, 1);
+        uint16_t first_mat = 0;
         bool have_first = false;
         for (size_t i = 0; i < BRICK_CELLS / 64; i++)
             for (uint64_t word = w->bits[i]; word; word &= word - 1) {
@@ -601,23 +613,28 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 const acc* a = &w->acc[m];
                 w->fin_rgba[m] = finish_rgba(a);
                 w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
+                w->fin_mat[m] = a->mat;
                 if (!have_first) {
                     first_rgba = w->fin_rgba[m];
                     first_nrm = w->fin_nrm[m];
+                    first_mat = w->fin_mat[m];
                     have_first = true;
                 }
             }
         for (int z = 0; z <= cmax[2]; z++)
             for (int y = 0; y <= cmax[1]; y++) {
                 uint32_t cr = first_rgba, cn = first_nrm;
+                uint16_t cm = first_mat;
                 for (int x = 0; x <= cmax[0]; x++) {
                     uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
                     if (w->bits[m >> 6] & (1ull << (m & 63))) {
                         cr = w->fin_rgba[m];
                         cn = w->fin_nrm[m];
+                        cm = w->fin_mat[m];
                     } else if (inner[m >> 6] & (1ull << (m & 63))) {
                         w->fin_rgba[m] = cr;
                         w->fin_nrm[m] = cn;
+                        w->fin_mat[m] = cm;
                     }
                 }
             }
@@ -631,10 +648,12 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
             if (attrs && solid) {
                 if (o->rgba) o->rgba[k] = w->fin_rgba[m];
                 if (o->normal) o->normal[k] = w->fin_nrm[m];
+                if (o->material) o->material[k] = w->fin_mat[m];
             } else if (attrs) {
                 const acc* a = &w->acc[m];
                 if (o->rgba) o->rgba[k] = finish_rgba(a);
                 if (o->normal) o->normal[k] = oct_encode(a->n[0], a->n[1], a->n[2]);
+                if (o->material) o->material[k] = a->mat;
             }
             k++;
         }
@@ -646,10 +665,12 @@ static void worker_free(worker* w, const vx_allocator* a) {
     vx_free(a, w->buf.keys);
     vx_free(a, w->buf.rgba);
     vx_free(a, w->buf.nrm);
+    vx_free(a, w->buf.mat);
     vx_free(a, w->bits);
     vx_free(a, w->acc);
     vx_free(a, w->fin_rgba);
     vx_free(a, w->fin_nrm);
+    vx_free(a, w->fin_mat);
 }
 
 static bool worker_init(worker* w, job* j) {
@@ -663,7 +684,8 @@ static bool worker_init(worker* w, job* j) {
         if (j->vote[0]) {
             w->fin_rgba = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
             w->fin_nrm = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
-            if (!w->fin_rgba || !w->fin_nrm) return false;
+            w->fin_mat = (uint16_t*)vx_alloc(j->alloc, 2 * BRICK_CELLS);
+            if (!w->fin_rgba || !w->fin_nrm || !w->fin_mat) return false;
         }
     }
     return true;
@@ -854,6 +876,12 @@ uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh)
     }
     if (!desc->no_color && has_color) attrs |= VX_ATTR_RGBA8;
     if (desc->normals) attrs |= VX_ATTR_NORMAL;
+    /* a material channel only when some triangle has a special material */
+    for (size_t t = 0; mesh->material && t < mesh->tri_count; t++)
+        if (vx__mesh_material_id(mesh, mesh->material[t])) {
+            attrs |= VX_ATTR_MATERIAL;
+            break;
+        }
     return attrs;
 }
 
@@ -872,7 +900,8 @@ static vx_result region_emit(job* j, size_t ri, brick_out* outs, region_buf* rb,
     for (size_t b = 0; b < nbk; b++) total += outs[b].count;
     if (total > 0 && (!vx_grow(j->alloc, (void**)&rb->keys, &rb->kcap, total, 8) ||
                       (j->color && !vx_grow(j->alloc, (void**)&rb->rgba, &rb->rcap, total, 4)) ||
-                      (j->normals && !vx_grow(j->alloc, (void**)&rb->nrm, &rb->ncap, total, 4))))
+                      (j->normals && !vx_grow(j->alloc, (void**)&rb->nrm, &rb->ncap, total, 4)) ||
+                      (j->materials && !vx_grow(j->alloc, (void**)&rb->mat, &rb->mcap, total, 2))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", total);
     uint64_t region = (j->pairs[j->bstart[b0]] >> 32) >> (3 * j->rb);
     for (size_t b = 0; b < nbk; b++) {
@@ -882,11 +911,13 @@ static vx_result region_emit(job* j, size_t ri, brick_out* outs, region_buf* rb,
             for (size_t i = 0; i < o->count; i++) rb->keys[k + i] = bm << 18 | o->local[i];
             if (j->color) memcpy(rb->rgba + k, o->rgba, o->count * 4);
             if (j->normals) memcpy(rb->nrm + k, o->normal, o->count * 4);
+            if (j->materials) memcpy(rb->mat + k, o->material, o->count * 2);
             k += o->count;
         }
         vx_free(j->alloc, o->local);
         vx_free(j->alloc, o->rgba);
         vx_free(j->alloc, o->normal);
+        vx_free(j->alloc, o->material);
         memset(o, 0, sizeof *o);
     }
     if (r || total == 0) return r;
@@ -907,6 +938,7 @@ static vx_result region_emit(job* j, size_t ri, brick_out* outs, region_buf* rb,
     reg.keys = rb->keys;
     reg.rgba = j->color ? rb->rgba : NULL;
     reg.normal = j->normals ? rb->nrm : NULL;
+    reg.material = j->materials ? rb->mat : NULL;
     reg.attrs = j->attrs;
     return j->sink(j->user, &reg, err);
 }
@@ -946,6 +978,7 @@ static void region_loop(worker* w, bool is_main) {
                     vx_free(j->alloc, outs[b].local);
                     vx_free(j->alloc, outs[b].rgba);
                     vx_free(j->alloc, outs[b].normal);
+                    vx_free(j->alloc, outs[b].material);
                 }
             vx_free(j->alloc, outs);
         }
@@ -990,6 +1023,7 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
     j.attrs = attrs;
     j.color = (attrs & VX_ATTR_RGBA8) != 0;
     j.normals = (attrs & VX_ATTR_NORMAL) != 0;
+    j.materials = (attrs & VX_ATTR_MATERIAL) != 0;
     j.sink = sink;
     j.user = user;
     j.R = R;
@@ -1126,6 +1160,7 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
                     vx_free(j.alloc, j.outs[b].local);
                     vx_free(j.alloc, j.outs[b].rgba);
                     vx_free(j.alloc, j.outs[b].normal);
+                    vx_free(j.alloc, j.outs[b].material);
                 }
                 if (atomic_load(&j.failed)) r = vx_fail(err, (vx_result)atomic_load(&j.failed), VX_NO_OFFSET, "voxelizer: out of memory");
             }

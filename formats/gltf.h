@@ -13,7 +13,7 @@
  *   vx_gltf_mesh_free(&m);
  *
  * Errors: a malformed file (bad accessor or buffer-view ranges, bad
- * indices, node cycles) is VX_ERR_BAD_FORMAT; a required extension that is
+ * indices, node cycles, bad lights) is VX_ERR_BAD_FORMAT; a required extension that is
  * not implemented (KHR_draco_mesh_compression, EXT_meshopt_compression, ...)
  * is VX_ERR_UNSUPPORTED with the extension's name in the message; NaN or
  * infinite positions are VX_ERR_BAD_FORMAT. Everything returned is copied
@@ -44,7 +44,40 @@ typedef struct vx_gltf_material {
     float base_color[4];    /* baseColorFactor (linear), default 1 1 1 1 */
     int32_t image;          /* baseColorTexture's decoded image, -1 if none */
     uint8_t wrap_s, wrap_t; /* VX_GLTF_WRAP_* */
+    /* The rest of the metallic-roughness model, clamped to the ranges the
+     * extensions give (non-finite values fall back to the default):
+     * metallic, roughness: the factors (default 1 1; with a
+     *   metallicRoughnessTexture, which is not sampled, metallic reads 0:
+     *   the texture says where the metal is, the factor alone would turn the
+     *   whole material into metal)
+     * emissive: emissiveFactor x KHR_materials_emissive_strength (linear
+     *   radiance scale; default 0 0 0)
+     * transmission: KHR_materials_transmission's factor (default 0)
+     * ior: KHR_materials_ior (default 1.5, at least 1) */
+    float metallic, roughness;
+    float emissive[3];
+    float transmission;
+    float ior;
 } vx_gltf_material;
+
+/* KHR_lights_punctual types (the extension's strings). */
+enum { VX_GLTF_LIGHT_DIRECTIONAL = 0, VX_GLTF_LIGHT_POINT = 1, VX_GLTF_LIGHT_SPOT = 2 };
+
+/* A light placed by a node of the flattened scene (one per node that names
+ * one), in world space: the node's world matrix applied to the origin and
+ * to -Z, the direction the light points along (normalized). Properties are
+ * the extension's, not scaled by the node (as the extension says). */
+typedef struct vx_gltf_light {
+    uint32_t type;         /* VX_GLTF_LIGHT_* */
+    double position[3];
+    double direction[3];   /* where it shines (directional, spot) */
+    double color[3];       /* linear, default 1 1 1 */
+    double intensity;      /* candela (point, spot) or lux (directional), default 1 */
+    double range;          /* 0: none */
+    double inner_cone, outer_cone; /* spot, radians: 0 <= inner < outer <= pi/2 (default 0, pi/4) */
+    uint32_t index, node;  /* in KHR_lights_punctual.lights, and the node */
+    char name[64];         /* truncated */
+} vx_gltf_light;
 
 /* Triangle soup of one scene. Per triangle t and corner v (0..2):
  *   pos[9t + 3v + a]   world-space position (a = x, y, z)
@@ -55,7 +88,12 @@ typedef struct vx_gltf_material {
  *   color[12t + 4v + c] linear RGBA vertex colour COLOR_0 (1 1 1 1 where the
  *                      primitive has none); NULL if no primitive has COLOR_0
  *   material[t]        index into materials, or UINT32_MAX when the primitive
- *                      names none (the glTF default: white, no texture) */
+ *                      names none (the glTF default: white, no texture)
+ * lights: KHR_lights_punctual lights of the scene's nodes, in visiting order.
+ * A light with an unknown type, a negative or non-finite intensity, colour
+ * or range, cone angles out of order, or a node that puts it at a
+ * non-finite position or gives it no direction is VX_ERR_BAD_FORMAT, the
+ * message naming the light ("light 2 ('lamp') on node 5: ..."). */
 typedef struct vx_gltf_mesh {
     size_t tri_count;
     float* pos;
@@ -68,6 +106,8 @@ typedef struct vx_gltf_mesh {
     vx_gltf_image* images; /* only images used as baseColorTexture are decoded; others have rgba NULL */
     uint32_t scene;        /* the scene that was flattened (UINT32_MAX: no scene, all root nodes) */
     uint32_t instance_count; /* mesh instances flattened */
+    uint32_t light_count;
+    vx_gltf_light* lights;
     const vx_allocator* alloc;
 } vx_gltf_mesh;
 

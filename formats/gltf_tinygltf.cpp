@@ -52,6 +52,7 @@ struct Ctx {
     // and the TEXCOORD set it samples
     std::vector<std::array<double, 6>> mat_uvx;
     std::vector<int> mat_texcoord;
+    std::vector<vx_gltf_light> lights;
     bool any_color = false;
     uint64_t max_tris;
     uint32_t instances = 0;
@@ -351,6 +352,60 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
     return VX_OK;
 }
 
+bool ext_number(const tinygltf::Value& v, double* out);
+
+// A KHR_lights_punctual light placed by node (world matrix M, column-major).
+vx_result add_light(Ctx& c, int node, int li, const double* M) {
+    const tinygltf::Model& m = *c.m;
+    if (li < 0 || (size_t)li >= m.lights.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "node %d: KHR_lights_punctual light %d of %zu", node, li, m.lights.size());
+    const tinygltf::Light& L = m.lights[(size_t)li];
+    std::string who = "light " + std::to_string(li);
+    if (!L.name.empty()) who += " ('" + L.name.substr(0, 60) + "')";
+    who += " on node " + std::to_string(node);
+    vx_gltf_light g;
+    memset(&g, 0, sizeof g);
+    g.index = (uint32_t)li;
+    g.node = (uint32_t)node;
+    snprintf(g.name, sizeof g.name, "%s", L.name.c_str());
+    if (L.type == "directional") g.type = VX_GLTF_LIGHT_DIRECTIONAL;
+    else if (L.type == "point") g.type = VX_GLTF_LIGHT_POINT;
+    else if (L.type == "spot") g.type = VX_GLTF_LIGHT_SPOT;
+    else return fail(c, VX_ERR_BAD_FORMAT, "%s: unknown type '%.40s'", who.c_str(), L.type.c_str());
+    if (!L.color.empty() && L.color.size() != 3) return fail(c, VX_ERR_BAD_FORMAT, "%s: color has %zu values", who.c_str(), L.color.size());
+    for (int k = 0; k < 3; k++) {
+        g.color[k] = L.color.empty() ? 1.0 : L.color[(size_t)k];
+        if (!(g.color[k] >= 0 && g.color[k] <= 1e30))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: colour %g is negative or not finite", who.c_str(), g.color[k]);
+    }
+    g.intensity = L.intensity;
+    if (!(g.intensity >= 0 && g.intensity <= 1e30))
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: negative or non-finite intensity %g", who.c_str(), g.intensity);
+    g.range = L.range; // tinygltf: 0 when absent
+    if (!(g.range >= 0 && g.range <= 1e30))
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: range %g must be positive", who.c_str(), g.range);
+    if (g.type == VX_GLTF_LIGHT_SPOT) {
+        g.inner_cone = L.spot.innerConeAngle, g.outer_cone = L.spot.outerConeAngle;
+        if (!(g.inner_cone >= 0 && g.inner_cone < g.outer_cone && g.outer_cone <= 1.5707963267948966))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: spot cones %g, %g must satisfy 0 <= inner < outer <= pi/2", who.c_str(),
+                        g.inner_cone, g.outer_cone);
+    }
+    double len = 0;
+    for (int k = 0; k < 3; k++) {
+        g.position[k] = M[12 + k];
+        g.direction[k] = -M[8 + k]; // the node's -Z axis
+        len += g.direction[k] * g.direction[k];
+        if (!std::isfinite(g.position[k]) || std::fabs(g.position[k]) > 1e30)
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: the node puts it at a non-finite position", who.c_str());
+    }
+    len = std::sqrt(len);
+    if (g.type != VX_GLTF_LIGHT_POINT && !(len > 0 && std::isfinite(len)))
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: the node's transform leaves it no direction", who.c_str());
+    for (int k = 0; k < 3; k++) g.direction[k] = len > 0 && std::isfinite(len) ? g.direction[k] / len : 0.0;
+    c.lights.push_back(g);
+    return VX_OK;
+}
+
 vx_result visit(Ctx& c, int node, const double* parent, std::vector<char>& on_path, int depth) {
     const tinygltf::Model& m = *c.m;
     if (node < 0 || (size_t)node >= m.nodes.size())
@@ -370,6 +425,15 @@ vx_result visit(Ctx& c, int node, const double* parent, std::vector<char>& on_pa
             for (const tinygltf::Primitive& p : m.meshes[(size_t)n.mesh].primitives)
                 if ((r = add_primitive(c, p, world, (uint32_t)n.mesh))) break;
         }
+    }
+    auto le = n.extensions.find("KHR_lights_punctual");
+    if (!r && le != n.extensions.end()) {
+        const tinygltf::Value& v = le->second;
+        double li = -1;
+        if (!v.IsObject() || !v.Has("light") || !ext_number(v.Get("light"), &li) || li != std::floor(li) || li < 0 || li > 1e9)
+            r = fail(c, VX_ERR_BAD_FORMAT, "node %d: KHR_lights_punctual needs a light index", node);
+        else
+            r = add_light(c, node, (int)li, world);
     }
     for (size_t i = 0; !r && i < n.children.size(); i++) r = visit(c, n.children[i], world, on_path, depth + 1);
     on_path[(size_t)node] = 0;
@@ -553,6 +617,32 @@ vx_result check_required(const unsigned char* b, size_t size, bool glb, vx_error
     return VX_OK;
 }
 
+// A finite number clamped to [lo, hi], else def.
+float clampf(double v, double lo, double hi, double def) {
+    if (!std::isfinite(v)) return (float)def;
+    return (float)std::fmin(std::fmax(v, lo), hi);
+}
+// A number field of a material extension, or def.
+double ext_field(const tinygltf::Material& mt, const char* ext, const char* key, double def) {
+    auto it = mt.extensions.find(ext);
+    double v = def;
+    if (it != mt.extensions.end() && it->second.IsObject() && it->second.Has(key) && ext_number(it->second.Get(key), &v)) return v;
+    return def;
+}
+
+// The metallic-roughness model beyond the base colour (gltf.h: vx_gltf_material).
+void pbr_rest(const tinygltf::Material& mt, vx_gltf_material* g) {
+    const tinygltf::PbrMetallicRoughness& pbr = mt.pbrMetallicRoughness;
+    g->metallic = pbr.metallicRoughnessTexture.index >= 0 ? 0.f : clampf(pbr.metallicFactor, 0, 1, 1);
+    g->roughness = clampf(pbr.roughnessFactor, 0, 1, 1);
+    double strength = ext_field(mt, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+    if (!(strength >= 0)) strength = 1.0;
+    for (int k = 0; k < 3; k++)
+        g->emissive[k] = clampf((mt.emissiveFactor.size() == 3 ? mt.emissiveFactor[(size_t)k] : 0.0) * strength, 0, 1e30, 0);
+    g->transmission = clampf(ext_field(mt, "KHR_materials_transmission", "transmissionFactor", 0.0), 0, 1, 0);
+    g->ior = clampf(ext_field(mt, "KHR_materials_ior", "ior", 1.5), 1, 4, 1.5);
+}
+
 vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gltf_mesh* out, vx_error* err) {
     Ctx c;
     c.desc = desc;
@@ -578,6 +668,7 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         }
         g.image = -1;
         g.wrap_s = g.wrap_t = VX_GLTF_WRAP_REPEAT;
+        pbr_rest(m.materials[i], &g);
         int ti = pbr.baseColorTexture.index;
         if (ti < 0 || desc->no_images) continue;
         if ((size_t)ti >= m.textures.size())
@@ -648,7 +739,9 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         o.materials = copy_out(desc->alloc, mats);
         o.image_count = (uint32_t)imgs.size();
         o.images = copy_out(desc->alloc, imgs);
-        if (!o.pos || !o.material || (any_tex && !o.uv) || (c.any_color && !o.color) || !o.materials || !o.images) {
+        o.light_count = (uint32_t)c.lights.size();
+        o.lights = copy_out(desc->alloc, c.lights);
+        if (!o.pos || !o.material || (any_tex && !o.uv) || (c.any_color && !o.color) || !o.materials || !o.images || !o.lights) {
             for (vx_gltf_image& im : imgs) vx_free(desc->alloc, im.rgba);
             imgs.clear();
             if (o.images) o.image_count = 0;
@@ -735,6 +828,7 @@ extern "C" void vx_gltf_mesh_free(vx_gltf_mesh* m) {
     vx_free(a, m->color);
     vx_free(a, m->material);
     vx_free(a, m->materials);
+    vx_free(a, m->lights);
     if (m->images)
         for (uint32_t i = 0; i < m->image_count; i++) vx_free(a, m->images[i].rgba);
     vx_free(a, m->images);

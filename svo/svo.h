@@ -340,10 +340,12 @@ vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
  *
  * One light per cluster, not per voxel: a lamp of 30 voxels is one light, so
  * the light count follows the number of lamps, not of voxels, and the many-
- * light passes stay cheap. A cluster is a set of face-connected emissive
- * cells of one model within one aligned block of `block` cells per side
- * (default 8): the cut keeps a long neon tube from becoming one sphere at
- * its middle. Each cluster becomes, per drawn instance of its model, a
+ * light passes stay cheap. A cluster is a component of face-connected
+ * emissive cells of one model; a component wider than `block` cells
+ * (default 8) on some axis is cut at the aligned blocks of that size, its
+ * cells grouped by block: the cut keeps a long neon tube from becoming one
+ * sphere at its middle, while a small lamp stays one light wherever it
+ * sits. Each cluster becomes, per drawn instance of its model, a
  * VX_LIGHT_SPHERE with VX_LIGHT_FROM_VOXELS set: centred on the cluster's
  * box, radius = half the box's diagonal (world units), and the radiance that
  * gives the sphere the power the cluster's exposed faces emit

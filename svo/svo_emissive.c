@@ -1,6 +1,7 @@
 /* svo/svo_emissive.c - emissive voxels as lights (vx_svo_emissive_lights):
- * face-connected clusters of emissive cells, cut at aligned blocks, become
- * one sphere light each that carries the cluster's emitted power. */
+ * face-connected clusters of emissive cells (those wider than a block cut
+ * at the aligned blocks) become one sphere light each that carries the
+ * cluster's emitted power. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -89,6 +90,19 @@ static uint32_t root_of(ecell* c, uint32_t i) {
     return i;
 }
 
+/* A cell's group: its component and, for components wider than a block,
+ * its block's Morton key + 1 (0 for narrow components). */
+typedef struct grp {
+    uint32_t comp, cell;
+    uint64_t block;
+} grp;
+static int grp_cmp(const void* a, const void* b) {
+    const grp *x = (const grp*)a, *y = (const grp*)b;
+    if (x->comp != y->comp) return x->comp < y->comp ? -1 : 1;
+    if (x->block != y->block) return x->block < y->block ? -1 : 1;
+    return x->cell < y->cell ? -1 : x->cell > y->cell;
+}
+
 /* A cluster in model cells: its box and its emitted power per face axis
  * (radiance x face count, so that any instance map scales it by the area
  * of one face along that axis). */
@@ -146,7 +160,7 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
             r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "emissive lights: model %u has more than %llu emissive cells", mi,
                         (unsigned long long)d.max_cells);
         if (r != VX_OK || c.n == 0) continue;
-        /* clusters: face neighbours within one aligned block of d.block cells */
+        /* components: face neighbours (union-find, the smallest key leads) */
         qsort(c.cells, c.n, sizeof *c.cells, key_cmp);
         for (size_t i = 0; i < c.n; i++) c.cells[i].parent = (uint32_t)i;
         for (size_t i = 0; i < c.n; i++) {
@@ -155,20 +169,49 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
             for (int a = 0; a < 3; a++) {
                 uint32_t q[3] = {p[0], p[1], p[2]};
                 q[a]++;
-                if (q[a] % d.block == 0) continue; /* the next block starts there */
                 size_t j = find(c.cells, c.n, vx__morton(q[0], q[1], q[2]));
                 if (j == SIZE_MAX) continue;
                 uint32_t ra = root_of(c.cells, (uint32_t)i), rb = root_of(c.cells, (uint32_t)j);
-                if (ra != rb) c.cells[ra > rb ? ra : rb].parent = ra < rb ? ra : rb; /* the smallest key leads */
+                if (ra != rb) c.cells[ra > rb ? ra : rb].parent = ra < rb ? ra : rb;
             }
         }
-        /* roots in key order number the clusters */
-        size_t ncl = 0;
+        /* a component wider than a block on some axis is cut at the aligned
+         * blocks: its cells group by (component, block) */
+        size_t ncomp = 0, ncl = 0;
         uint32_t* slot = (uint32_t*)vx_alloc(A, c.n * sizeof *slot);
-        for (size_t i = 0; slot && i < c.n; i++)
-            if (root_of(c.cells, (uint32_t)i) == i) slot[i] = (uint32_t)ncl++;
+        uint32_t(*box)[6] = NULL;
+        grp* gs = NULL;
+        if (slot) {
+            for (size_t i = 0; i < c.n; i++)
+                if (root_of(c.cells, (uint32_t)i) == i) slot[i] = (uint32_t)ncomp++;
+            box = (uint32_t(*)[6])vx_alloc(A, ncomp * sizeof *box);
+            gs = (grp*)vx_alloc(A, c.n * sizeof *gs);
+        }
+        if (box && gs) {
+            for (size_t k = 0; k < ncomp; k++) box[k][0] = box[k][1] = box[k][2] = UINT32_MAX, box[k][3] = box[k][4] = box[k][5] = 0;
+            for (size_t i = 0; i < c.n; i++) {
+                uint32_t* bb = box[slot[root_of(c.cells, (uint32_t)i)]], p[3];
+                vx_svo_demorton(c.cells[i].key, &p[0], &p[1], &p[2]);
+                for (int a = 0; a < 3; a++) bb[a] = p[a] < bb[a] ? p[a] : bb[a], bb[3 + a] = p[a] + 1 > bb[3 + a] ? p[a] + 1 : bb[3 + a];
+            }
+            unsigned lb = 0;
+            while ((1u << lb) < d.block) lb++;
+            for (size_t i = 0; i < c.n; i++) {
+                uint32_t comp = slot[root_of(c.cells, (uint32_t)i)];
+                const uint32_t* bb = box[comp];
+                bool wide = bb[3] - bb[0] > d.block || bb[4] - bb[1] > d.block || bb[5] - bb[2] > d.block;
+                gs[i] = (grp){comp, (uint32_t)i, wide ? (c.cells[i].key >> (3 * lb)) + 1 : 0};
+            }
+            qsort(gs, c.n, sizeof *gs, grp_cmp);
+            for (size_t i = 0; i < c.n; i++) {
+                if (i == 0 || gs[i].comp != gs[i - 1].comp || gs[i].block != gs[i - 1].block) ncl++;
+                slot[gs[i].cell] = (uint32_t)(ncl - 1); /* now: the cell's cluster */
+            }
+        }
+        vx_free(A, box);
+        vx_free(A, gs);
         vx_free(A, cl);
-        cl = slot ? (cluster*)vx_calloc(A, ncl, sizeof *cl) : NULL;
+        cl = slot && ncl ? (cluster*)vx_calloc(A, ncl, sizeof *cl) : NULL;
         if (!cl) {
             vx_free(A, slot);
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
@@ -177,7 +220,7 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
         for (size_t i = 0; i < ncl; i++)
             for (int a = 0; a < 3; a++) cl[i].lo[a] = UINT32_MAX;
         for (size_t i = 0; i < c.n; i++) {
-            cluster* k = &cl[slot[root_of(c.cells, (uint32_t)i)]];
+            cluster* k = &cl[slot[i]];
             uint32_t p[3];
             vx_svo_demorton(c.cells[i].key, &p[0], &p[1], &p[2]);
             for (int a = 0; a < 3; a++) {

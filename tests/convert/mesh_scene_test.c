@@ -72,7 +72,8 @@ static void test_regions_match_cells(void) {
     float col[12 * 200];
     for (int i = 0; i < 200; i++) mat[i] = (uint32_t)(i % 2);
     for (int i = 0; i < 12 * 200; i++) col[i] = (float)((i * 37) % 100) / 100.0f;
-    vx_gltf_material mats[2] = {{{1, 0.5f, 0.25f, 1}, -1, 0, 0}, {{0.2f, 0.9f, 0.4f, 1}, -1, 0, 0}};
+    vx_gltf_material mats[2] = {{.base_color = {1, 0.5f, 0.25f, 1}, .image = -1, .roughness = 1, .ior = 1.5f},
+                                {.base_color = {0.2f, 0.9f, 0.4f, 1}, .image = -1, .roughness = 1, .ior = 1.5f}};
     vx_gltf_mesh m;
     memset(&m, 0, sizeof m);
     m.tri_count = 200;
@@ -113,8 +114,200 @@ static void test_files(void) {
     }
 }
 
+/* ---- lights and materials from a glTF file written here ------------------------------- */
+
+static void b64(const uint8_t* d, size_t n, char* out) {
+    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)d[i] << 16 | (i + 1 < n ? (uint32_t)d[i + 1] << 8 : 0) | (i + 2 < n ? d[i + 2] : 0);
+        out[o++] = t[v >> 18 & 63], out[o++] = t[v >> 12 & 63];
+        out[o++] = i + 1 < n ? t[v >> 6 & 63] : '=';
+        out[o++] = i + 2 < n ? t[v & 63] : '=';
+    }
+    out[o] = 0;
+}
+
+/* Four triangles side by side (triangle i covers x in [2i, 2i+1], y in
+ * [0, 1], z = 0) with materials 0 metal, 1 glass, 2 emissive, 3 diffuse
+ * (per `mats`), and the nodes and lights in `nodes_lights`. */
+static char* light_gltf(const char* mats, const char* nodes, const char* lights) {
+    float pos[36];
+    for (int i = 0; i < 4; i++) {
+        float v[9] = {2.f * i, 0, 0, 2.f * i + 1, 0, 0, 2.f * i, 1, 0};
+        memcpy(pos + 9 * i, v, sizeof v);
+    }
+    char data[256];
+    b64((const uint8_t*)pos, sizeof pos, data);
+    size_t cap = 8192;
+    char* j = (char*)malloc(cap);
+    int n = snprintf(j, cap,
+                     "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_lights_punctual\"],\"scene\":0,"
+                     "\"scenes\":[{\"nodes\":[0,3,4]}],\"nodes\":%s,"
+                     "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":%s}},"
+                     "\"meshes\":[{\"primitives\":[",
+                     nodes, lights);
+    for (int i = 0; i < 4; i++)
+        n += snprintf(j + n, cap - (size_t)n, "%s{\"attributes\":{\"POSITION\":%d},\"material\":%d}", i ? "," : "", i, i);
+    n += snprintf(j + n, cap - (size_t)n, "]}],\"materials\":%s,\"buffers\":[{\"byteLength\":144,"
+                  "\"uri\":\"data:application/octet-stream;base64,%s\"}],\"bufferViews\":[", mats, data);
+    for (int i = 0; i < 4; i++)
+        n += snprintf(j + n, cap - (size_t)n, "%s{\"buffer\":0,\"byteOffset\":%d,\"byteLength\":36}", i ? "," : "", 36 * i);
+    n += snprintf(j + n, cap - (size_t)n, "],\"accessors\":[");
+    for (int i = 0; i < 4; i++)
+        n += snprintf(j + n, cap - (size_t)n,
+                      "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[%d,0,0],"
+                      "\"max\":[%d,1,0]}",
+                      i ? "," : "", i, 2 * i, 2 * i + 1);
+    snprintf(j + n, cap - (size_t)n, "]}");
+    return j;
+}
+
+static const char* kMats =
+    "[{\"pbrMetallicRoughness\":{\"metallicFactor\":1,\"roughnessFactor\":0.25}},"
+    "{\"pbrMetallicRoughness\":{\"metallicFactor\":0,\"roughnessFactor\":0.5},"
+    "\"extensions\":{\"KHR_materials_transmission\":{\"transmissionFactor\":0.75},\"KHR_materials_ior\":{\"ior\":1.25}}},"
+    "{\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,0],"
+    "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":4}}},"
+    "{\"pbrMetallicRoughness\":{\"metallicFactor\":0}}]";
+static const char* kMatsDiffuse =
+    "[{\"pbrMetallicRoughness\":{\"metallicFactor\":0}},{\"pbrMetallicRoughness\":{\"metallicFactor\":0}},"
+    "{\"pbrMetallicRoughness\":{\"metallicFactor\":0}},{\"pbrMetallicRoughness\":{\"metallicFactor\":0}}]";
+/* node 0: the mesh, scaled by 2 and moved by (10, 0, 0), with child 1 (the
+ * point light at (1, 2, 3): world (12, 4, 6)); node 3: the spot, turned 90
+ * degrees about +x (its -z axis becomes +y); node 4: the sun, unturned
+ * (shining along -z, so towards the light is +z); node 2 is not in the scene. */
+static const char* kNodes =
+    "[{\"mesh\":0,\"scale\":[2,2,2],\"translation\":[10,0,0],\"children\":[1]},"
+    "{\"translation\":[1,2,3],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
+    "{\"extensions\":{\"KHR_lights_punctual\":{\"light\":2}}},"
+    "{\"translation\":[0,0,5],\"rotation\":[0.70710678118654752,0,0,0.70710678118654752],"
+    "\"extensions\":{\"KHR_lights_punctual\":{\"light\":1}}},"
+    "{\"extensions\":{\"KHR_lights_punctual\":{\"light\":2}}}]";
+static const char* kLights =
+    "[{\"type\":\"point\",\"name\":\"bulb\",\"color\":[1,0.5,0.25],\"intensity\":100,\"range\":10},"
+    "{\"type\":\"spot\",\"intensity\":20,\"spot\":{\"innerConeAngle\":0.2,\"outerConeAngle\":0.5}},"
+    "{\"type\":\"directional\",\"intensity\":3}]";
+
+static bool near(double a, double b, double tol) { return fabs(a - b) <= tol; }
+
+/* Decoded cells: triangle i covers world x in [10 + 4i, 12 + 4i] (scale 2,
+ * moved by 10), so a cell's centre names its triangle and the material id
+ * it must carry (i + 1 for the three special materials, 0 for diffuse). */
+typedef struct mat_dec {
+    const vx_svo_model* m;
+    double w[12];
+    size_t cells, wrong;
+} mat_dec;
+static bool mat_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    mat_dec* d = (mat_dec*)user;
+    double cx = d->w[0] * (x + 0.5) + d->w[1] * (y + 0.5) + d->w[2] * (z + 0.5) + d->w[3];
+    int i = (int)floor((cx - 10) / 4);
+    uint16_t want = i >= 0 && i < 3 ? (uint16_t)(i + 1) : 0;
+    d->cells++;
+    d->wrong += i < 0 || i > 3 || d->m->material[attr] != want;
+    return true;
+}
+
+static void test_gltf_lights(void) {
+    char* j = light_gltf(kMats, kNodes, kLights);
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_result r = vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err);
+    if (r) fprintf(stderr, "%s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    vx_svo_scene s;
+    r = vx_conv_mesh(&(vx_conv_mesh_desc){.res = 28}, &m, &s, NULL, &err);
+    if (r) fprintf(stderr, "%s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    REQUIRE(s.light_count == 3);
+    const vx_light* L = s.lights;
+    CHECK(L[0].type == VX_LIGHT_POINT && L[0].position[0] == 12 && L[0].position[1] == 4 && L[0].position[2] == 6);
+    CHECK(L[0].intensity == 100 && L[0].range == 10 && L[0].color[1] == 0.5 && L[0].color[2] == 0.25);
+    CHECK(L[1].type == VX_LIGHT_SPOT && near(L[1].position[2], 5, 0) && near(L[1].direction[1], 1, 1e-12) &&
+          near(L[1].direction[2], 0, 1e-12) && L[1].inner_cone == 0.2 && L[1].outer_cone == 0.5 && L[1].intensity == 20);
+    CHECK(L[2].type == VX_LIGHT_DIRECTIONAL && L[2].direction[2] == 1 && L[2].intensity == 3 && L[2].color[0] == 1);
+    /* the voxels sit in the same world frame: the mesh spans x in [10, 24] */
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    CHECK(near(lo[0], 10, 1e-9) && near(hi[0], 24, 1e-9));
+    /* materials: records 1..3 for the special ones, none for the diffuse one */
+    REQUIRE(s.material_count == 3);
+    vx_material mt = vx_svo_scene_material(&s, 1), gl = vx_svo_scene_material(&s, 2), em = vx_svo_scene_material(&s, 3);
+    CHECK(mt.type == VX_MATERIAL_METAL && mt.metalness == 1 && near(mt.roughness, 0.25, 1e-6));
+    CHECK(gl.type == VX_MATERIAL_GLASS && near(gl.transmission, 0.75, 1e-6) && near(gl.ior, 1.25, 1e-6) &&
+          near(gl.roughness, 0.5, 1e-6));
+    CHECK(em.type == VX_MATERIAL_EMIT && near(em.emission, 4, 1e-6));
+    CHECK(vx_svo_scene_material(&s, 4).type == VX_MATERIAL_DIFFUSE);
+    /* every cell carries the id of its triangle's material (0 for the diffuse one) */
+    size_t cells = 0, wrong = 0;
+    for (uint32_t mi = 0; mi < s.model_count; mi++) {
+        const vx_svo_model* md = &s.models[mi];
+        CHECK(md->attrs & VX_ATTR_MATERIAL);
+        for (uint32_t a = 0; a < md->attr_count; a++) wrong += md->material[a] > 3;
+    }
+    for (uint32_t ii = 0; ii < s.instance_count; ii++) {
+        mat_dec d = {&s.models[s.instances[ii].model], {0}, 0, 0};
+        vx_svo_instance_world(&s, &s.instances[ii], d.w);
+        CHECK(vx_svo_decode_model(d.m, mat_visit, &d, &err) == VX_OK);
+        cells += d.cells, wrong += d.wrong;
+    }
+    CHECK(cells > 0);
+    CHECK(wrong == 0);
+    /* the same scene with diffuse materials only: no channel, no records */
+    vx_svo_scene_free(&s);
+    vx_gltf_mesh_free(&m);
+    free(j);
+    j = light_gltf(kMatsDiffuse, kNodes, kLights);
+    REQUIRE(vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err) == VX_OK);
+    REQUIRE(vx_conv_mesh(&(vx_conv_mesh_desc){.res = 28}, &m, &s, NULL, &err) == VX_OK);
+    CHECK(s.material_count == 0 && s.light_count == 3);
+    for (uint32_t mi = 0; mi < s.model_count; mi++) CHECK(!(s.models[mi].attrs & VX_ATTR_MATERIAL));
+    vx_svo_scene_free(&s);
+    vx_gltf_mesh_free(&m);
+    free(j);
+}
+
+/* Bad lights are errors naming the light. */
+static void test_gltf_bad_lights(void) {
+    struct {
+        const char* lights;
+        const char* nodes;
+        const char* want;
+    } cases[] = {
+        {"[{\"type\":\"point\",\"name\":\"bulb\",\"intensity\":-5},{\"type\":\"spot\",\"spot\":{}},{\"type\":\"directional\"}]", NULL,
+         "light 0 ('bulb') on node 1: negative"},
+        {"[{\"type\":\"point\"},{\"type\":\"spot\",\"spot\":{}},{\"type\":\"area\"}]", NULL, "light 2 on node 4: unknown type 'area'"},
+        {"[{\"type\":\"point\"},{\"type\":\"spot\",\"spot\":{\"innerConeAngle\":0.6,\"outerConeAngle\":0.5}},"
+         "{\"type\":\"directional\"}]",
+         NULL, "light 1 on node 3: spot cones"},
+        {"[{\"type\":\"point\",\"color\":[1,-1,1]},{\"type\":\"spot\",\"spot\":{}},{\"type\":\"directional\"}]", NULL, "light 0 on node 1: colour"},
+        /* JSON has no NaN or infinity: a node chain whose world matrix overflows */
+        {NULL,
+         "[{\"mesh\":0},{\"translation\":[1e300,0,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
+         "{},{\"scale\":[1e300,1e300,1e300],\"children\":[1]},{}]",
+         "light 0 ('bulb') on node 1: the node puts it at a non-finite position"},
+        {NULL,
+         "[{\"mesh\":0,\"children\":[1]},{\"scale\":[1,1,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":2}}},"
+         "{},{},{}]",
+         "light 2 on node 1: the node's transform leaves it no direction"},
+        {NULL, "[{\"mesh\":0},{},{},{\"extensions\":{\"KHR_lights_punctual\":{\"light\":7}}},{}]", "node 3"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char* j = light_gltf(kMats, cases[i].nodes ? cases[i].nodes : kNodes, cases[i].lights ? cases[i].lights : kLights);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err);
+        CHECKF(r == VX_ERR_BAD_FORMAT && strstr(err.msg, cases[i].want), "case %zu: %s", i, r ? err.msg : "accepted");
+        if (r == VX_OK) vx_gltf_mesh_free(&m);
+        free(j);
+    }
+}
+
 int main(void) {
     RUN(test_regions_match_cells);
     RUN(test_files);
+    RUN(test_gltf_lights);
+    RUN(test_gltf_bad_lights);
     return vx_test_finish();
 }

@@ -487,7 +487,7 @@ static void test_colors(void) {
     float lo[3] = {0, 0, 0}, hi[3] = {3, 2, 1};
     size_t n = box(pos, lo, hi, -1);
     uint32_t mat[12] = {0};
-    vx_gltf_material mtl = {{0.5f, 0.25f, 1.0f, 0.75f}, -1, 0, 0};
+    vx_gltf_material mtl = {.base_color = {0.5f, 0.25f, 1.0f, 0.75f}, .image = -1, .roughness = 1, .ior = 1.5f};
     vx_gltf_mesh m = soup(pos, n);
     m.material = mat;
     m.material_count = 1;
@@ -506,7 +506,7 @@ static void test_colors(void) {
     /* a 1x1 texture (sRGB 200 100 50) times vertex colour 0.5 grey (linear) */
     uint8_t texel[4] = {200, 100, 50, 255};
     vx_gltf_image img = {1, 1, texel};
-    vx_gltf_material tm = {{1, 1, 1, 1}, 0, VX_GLTF_WRAP_REPEAT, VX_GLTF_WRAP_CLAMP};
+    vx_gltf_material tm = {.base_color = {1, 1, 1, 1}, .image = 0, .wrap_s = VX_GLTF_WRAP_REPEAT, .wrap_t = VX_GLTF_WRAP_CLAMP, .roughness = 1, .ior = 1.5f};
     float uv[6 * 12], col[12 * 12];
     for (int i = 0; i < 6 * 12; i++) uv[i] = (float)(rnd() * 4 - 2);
     for (int i = 0; i < 12 * 12; i++) col[i] = (i % 4 == 3) ? 1.f : 0.5f;

@@ -248,8 +248,8 @@ static void test_emissive_covered_faces(void) {
     emissive_free(&s);
 }
 
-/* A line of 20 cells along x is cut at blocks of 8 (3 lights) or kept whole
- * (block 32); the total power is the same either way and equals the brute
+/* A line of 20 cells along x, wider than a block, is cut at blocks of 8
+ * (3 lights) or kept whole (block 32); the total power is the same either way and equals the brute
  * force count of faces: 20 * 4 side faces + 2 ends (+ 2 per cut, since a
  * cut face between two emissive cells is not exposed: it stays 82). Two
  * instances double the lights; a hidden one adds none. */
@@ -278,6 +278,14 @@ static void test_emissive_clusters(void) {
     CHECK(vx_svo_emissive_lights(&s, &(vx_svo_emissive_desc){.max_lights = 3}, &L, &n, &e) == VX_ERR_LIMIT && L == NULL);
     CHECK(vx_svo_emissive_lights(&s, &(vx_svo_emissive_desc){.max_cells = 10}, &L, &n, &e) == VX_ERR_LIMIT);
     CHECK(vx_svo_emissive_lights(&s, &(vx_svo_emissive_desc){.block = 6}, &L, &n, &e) == VX_ERR_INVALID_ARG);
+    emissive_free(&s);
+    /* a small lamp across a block corner stays one light: only wide clusters are cut */
+    const uint32_t lamp[4][4] = {{7, 7, 3, 5}, {8, 7, 3, 5}, {7, 8, 3, 5}, {8, 8, 3, 5}};
+    emissive_scene(&s, lamp, 4, 1, 1, dict, sizeof dict);
+    REQUIRE(vx_svo_emissive_lights(&s, NULL, &L, &n, &e) == VX_OK);
+    CHECK(n == 1 && near(L[0].position[0], 8) && near(L[0].position[1], 8) && near(L[0].position[2], 3.5));
+    CHECK(n == 1 && near(sphere_power(&L[0], 0), PI * 4 * 16)); /* 4 cells x (2 top/bottom + 2 outer sides) */
+    free(L);
     emissive_free(&s);
 }
 

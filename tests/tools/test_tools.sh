@@ -28,6 +28,9 @@ grep -q "descriptors  plain" "$T/out" && grep -q "bytes/voxel" "$T/out" && ok "s
 cp "$T/out" "$T/out.demo"
 expect_status 0 "svo_info demo" "$BIN/svo_info" "$T/demo.svo"
 grep -q "^model 0" "$T/out" && grep -q "^sections" "$T/out" && ok "svo_info lists sections and models" || bad "svo_info lists sections and models"
+grep -q "3 materials" "$T/out" && ok "demo has lamp, glass and metal materials" || bad "demo has lamp, glass and metal materials"
+nl=$(sed -n 's/^lights       0 stored, \([0-9]*\) from the voxels of 1 emissive materials.*/\1/p' "$T/out")
+[ "${nl:-0}" -ge 5 ] && ok "demo lamps: $nl lights from emissive voxels" || bad "demo lamps: ${nl:-no} lights from emissive voxels"
 expect_status 0 "verify demo" "$BIN/svo_info" "$T/demo.svo" --verify
 "$BIN/svo_info" "$T/demo.svo" --dump | sort >"$T/d1" || bad "dump"
 n=$(wc -l <"$T/d1")
@@ -43,10 +46,10 @@ s1=$(wc -c <"$T/demo.svo"); s3=$(wc -c <"$T/plain.svo")
 [ "$s1" -lt "$s3" ] && ok "minimized file smaller ($s1 < $s3 bytes)" || bad "minimized file smaller ($s1 vs $s3)"
 # the crate model is placed only on the hidden layer: left out by default,
 # kept with --keep-unused (same voxels, a larger file), placed with --keep-hidden
-grep -q "models       3, instances 16, unused models left out 1" "$T/out.demo" && ok "statistics count the unused model" ||
+grep -q "models       6, instances 22, unused models left out 1" "$T/out.demo" && ok "statistics count the unused model" ||
     bad "statistics count the unused model: $(grep models "$T/out.demo")"
 expect_status 0 "convert --keep-unused" "$BIN/vox2svo" "$T/demo.vox" "$T/keep.svo" --keep-unused
-grep -q "models       4, instances 16, unused models kept 1" "$T/out" && ok "--keep-unused keeps it" ||
+grep -q "models       7, instances 22, unused models kept 1" "$T/out" && ok "--keep-unused keeps it" ||
     bad "--keep-unused keeps it: $(grep models "$T/out")"
 "$BIN/svo_info" "$T/keep.svo" --dump | sort >"$T/d5"
 cmp -s "$T/d1" "$T/d5" && ok "--keep-unused does not change the voxels" || bad "--keep-unused does not change the voxels"
@@ -92,6 +95,26 @@ if [ -x "$BIN/svo_render" ]; then
     grep -q "lights: 0 from the file, 0 from emissive voxels, 1 from --light" "$T/out" && ok "--no-scene-lights drops them" ||
         bad "--no-scene-lights drops them"
 fi
+
+# glTF KHR_lights_punctual through vox2svo: stored, counted, listed by svo_info
+cat >"$T/lamp.gltf" <<'EOF'
+{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],
+ "nodes":[{"mesh":0},{"translation":[0.5,0.5,2],"extensions":{"KHR_lights_punctual":{"light":0}}}],
+ "extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","name":"bulb","intensity":40,"color":[1,0.8,0.6]}]}},
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+ "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]}
+EOF
+expect_status 0 "vox2svo glTF with a light" "$BIN/vox2svo" "$T/lamp.gltf" "$T/lamp.svo" --res 8
+grep -q "lights       1 stored, 0 from emissive voxels" "$T/out" && ok "vox2svo counts the lights" || bad "vox2svo counts the lights"
+expect_status 0 "svo_info glTF light" "$BIN/svo_info" "$T/lamp.svo"
+grep -q "^light 0      point at (0.5 0.5 2), colour 1 0.8 0.6 x 40" "$T/out" && ok "the light keeps its node's place" ||
+    bad "the light keeps its node's place"
+sed 's/"intensity":40/"intensity":-40/' "$T/lamp.gltf" >"$T/bad.gltf"
+expect_status 1 "vox2svo negative light" "$BIN/vox2svo" "$T/bad.gltf" "$T/bad.svo"
+grep -q "light 0 ('bulb') on node 1: negative" "$T/err" && [ ! -e "$T/bad.svo" ] && ok "a bad light is an error naming it" ||
+    bad "a bad light is an error naming it"
 
 # a corpus scene with instancing, when the corpus is there
 if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then

@@ -180,7 +180,17 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
     printf("lights       %u stored", s->light_count);
     uint64_t emissive = 0;
     for (uint32_t i = 0; i < s->material_count; i++) emissive += vx_svo_material_resolve(&s->materials[i]).emission > 0;
-    if (emissive) printf(", %llu emissive materials (their voxels light the scene too)", (unsigned long long)emissive);
+    if (emissive) {
+        /* what a renderer derives from the emissive voxels (not stored) */
+        vx_light* vl = NULL;
+        uint32_t nv = 0;
+        vx_error e = {0};
+        if (vx_svo_emissive_lights(s, NULL, &vl, &nv, &e) == VX_OK)
+            printf(", %u from the voxels of %llu emissive materials (derived when rendering)", nv, (unsigned long long)emissive);
+        else
+            printf(", %llu emissive materials (%s)", (unsigned long long)emissive, e.msg);
+        vx_free(NULL, vl);
+    }
     printf("\n");
     shown = o->models ? s->light_count : (s->light_count < 16 ? s->light_count : 16);
     for (uint32_t i = 0; i < shown; i++) {

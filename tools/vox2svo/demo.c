@@ -3,8 +3,11 @@
  * A small island made by the program itself, so a fresh checkout can show
  * the whole pipeline without any input file: a terrain model, one tree model
  * placed 14 times (rotated and mirrored: instancing), a hollow tower, nested
- * groups, two layers (one hidden, left out by default) and an emissive lamp
- * material. Deterministic: the same bytes on every run. */
+ * groups, two layers (one hidden, left out by default) and three materials:
+ * emissive lamps (the tower's top and four lamp posts around it, each head a
+ * cluster of emissive voxels that vx_svo_emissive_lights turns into a
+ * light), a glass greenhouse and a metal statue. Deterministic: the same
+ * bytes on every run. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,11 +15,11 @@
 
 #include "tools/vox2svo/demo.h"
 
-enum { C_WATER = 1, C_SAND, C_GRASS, C_GRASS2, C_DIRT, C_ROCK, C_BARK, C_LEAF, C_LEAF2, C_STONE, C_ROOF, C_LAMP, C_RED };
+enum { C_WATER = 1, C_SAND, C_GRASS, C_GRASS2, C_DIRT, C_ROCK, C_BARK, C_LEAF, C_LEAF2, C_STONE, C_ROOF, C_LAMP, C_RED, C_GLASS, C_METAL };
 
 static const uint32_t demo_colors[] = {
     0, 0xFFB06A2Au, 0xFF8FD6E8u, 0xFF3FA34Du, 0xFF2E8A3Bu, 0xFF3B5A7Au, 0xFF8A8A8Au,
-    0xFF2A4A6Bu, 0xFF2FB35Au, 0xFF1E8C44u, 0xFFB8B8C8u, 0xFF3040A8u, 0xFF7FF0FFu, 0xFF2020D0u,
+    0xFF2A4A6Bu, 0xFF2FB35Au, 0xFF1E8C44u, 0xFFB8B8C8u, 0xFF3040A8u, 0xFF7FF0FFu, 0xFF2020D0u, 0xFFF0E8C8u, 0xFFD8D0C8u,
 };
 
 static uint32_t rng_state = 12345u;
@@ -63,6 +66,26 @@ static uint8_t tower_cell(int x, int y, int z) {
     return 0;
 }
 
+/* A lamp post: a stone pole under a 3x3x2 head of lamp voxels (one cluster). */
+static uint8_t lamp_post_cell(int x, int y, int z) {
+    if (z >= 6) return C_LAMP;
+    return x == 1 && y == 1 ? C_STONE : 0;
+}
+
+/* A greenhouse: glass walls and roof on a stone floor, hollow inside. */
+static uint8_t greenhouse_cell(int x, int y, int z) {
+    if (z == 0) return C_STONE;
+    bool wall = x == 0 || x == 9 || y == 0 || y == 7 || z == 6;
+    return wall ? C_GLASS : 0;
+}
+
+/* A metal ball on a stone plinth. */
+static uint8_t statue_cell(int x, int y, int z) {
+    if (z < 3) return x >= 2 && x <= 6 && y >= 2 && y <= 6 ? C_STONE : 0;
+    double dx = x - 4, dy = y - 4, dz = z - 7;
+    return dx * dx + dy * dy + dz * dz <= 16.5 ? C_METAL : 0;
+}
+
 static uint8_t crate_cell(int x, int y, int z) {
     (void)x, (void)y, (void)z;
     return C_RED;
@@ -102,15 +125,17 @@ vx_result vx_demo_scene(const vx_allocator* a, vx_vox_scene* out) {
     s.alloc = a;
     s.version = 150;
     rng_state = 12345u;
-    s.models = vx_calloc(a, 4, sizeof *s.models);
+    s.models = vx_calloc(a, 7, sizeof *s.models);
     s.instances = vx_calloc(a, 32, sizeof *s.instances);
     s.layers = vx_calloc(a, 2, sizeof *s.layers);
-    s.materials = vx_calloc(a, 1, sizeof *s.materials);
+    s.materials = vx_calloc(a, 3, sizeof *s.materials);
     vx_result r = VX_ERR_NOMEM;
     if (!s.models || !s.instances || !s.layers || !s.materials) goto fail;
-    s.model_count = 4;
+    s.model_count = 7;
     if ((r = make_model(a, &s.models[0], 128, 128, 16, terrain_cell)) || (r = make_model(a, &s.models[1], 11, 11, 18, tree_cell)) ||
-        (r = make_model(a, &s.models[2], 16, 16, 40, tower_cell)) || (r = make_model(a, &s.models[3], 6, 6, 6, crate_cell)))
+        (r = make_model(a, &s.models[2], 16, 16, 40, tower_cell)) || (r = make_model(a, &s.models[3], 6, 6, 6, crate_cell)) ||
+        (r = make_model(a, &s.models[4], 3, 3, 8, lamp_post_cell)) || (r = make_model(a, &s.models[5], 10, 8, 7, greenhouse_cell)) ||
+        (r = make_model(a, &s.models[6], 9, 9, 12, statue_cell)))
         goto fail;
 
     s.has_rgba = true;
@@ -146,19 +171,46 @@ vx_result vx_demo_scene(const vx_allocator* a, vx_vox_scene* out) {
         in->t[1] = y - 64;
         in->t[2] = (int32_t)floor(height(x, y)) + 1 + 9;
     }
+    /* models standing on the ground at terrain column (x, y): a .vox
+     * translation is the model's centre (size / 2, rounded down) */
+    static const struct {
+        uint32_t model;
+        int x, y, turns;
+        const char* name;
+    } props[] = {{4, 40, 74, 0, "lamp post 1"}, {4, 64, 74, 0, "lamp post 2"}, {4, 52, 60, 0, "lamp post 3"},
+                 {4, 52, 88, 0, "lamp post 4"}, {5, 80, 64, 1, "greenhouse"},  {6, 70, 50, 0, "statue"}};
+    for (size_t i = 0; i < sizeof props / sizeof props[0]; i++) {
+        in = &s.instances[n++];
+        *in = (vx_vox_instance){.model = props[i].model, .layer = 0};
+        snprintf(in->name, sizeof in->name, "%s", props[i].name);
+        set_rot(in, props[i].turns, false);
+        in->t[0] = props[i].x - 64;
+        in->t[1] = props[i].y - 64;
+        in->t[2] = (int32_t)floor(height(props[i].x, props[i].y)) + 1 + (int32_t)s.models[props[i].model].size[2] / 2;
+    }
     in = &s.instances[n++];
     *in = (vx_vox_instance){.model = 3, .layer = 1, .name = "crate (hidden layer)"};
     set_rot(in, 0, false);
     in->t[2] = 40;
     s.instance_count = n;
 
+    /* MagicaVoxel MATL dictionaries (_ior is the index of refraction - 1) */
     static const char lamp[] = "_type\0_emit\0_emit\0" "0.8\0_flux\0" "2";
-    s.materials[0].id = C_LAMP;
-    s.materials[0].dict_size = sizeof lamp; /* includes the last NUL */
-    s.materials[0].dict = vx_alloc(a, sizeof lamp);
-    if (!s.materials[0].dict) goto fail;
-    memcpy(s.materials[0].dict, lamp, sizeof lamp);
-    s.material_count = 1;
+    static const char glass[] = "_type\0_glass\0_trans\0" "0.9\0_rough\0" "0.05\0_ior\0" "0.5";
+    static const char metal[] = "_type\0_metal\0_metal\0" "1\0_rough\0" "0.2\0_spec\0" "0.5";
+    static const struct {
+        uint32_t id;
+        const char* dict;
+        uint32_t size; /* includes the last NUL */
+    } mats[] = {{C_LAMP, lamp, sizeof lamp}, {C_GLASS, glass, sizeof glass}, {C_METAL, metal, sizeof metal}};
+    for (uint32_t i = 0; i < 3; i++) {
+        s.materials[i].id = mats[i].id;
+        s.materials[i].dict_size = mats[i].size;
+        s.materials[i].dict = vx_alloc(a, mats[i].size);
+        if (!s.materials[i].dict) goto fail;
+        memcpy(s.materials[i].dict, mats[i].dict, mats[i].size);
+        s.material_count = i + 1;
+    }
     s.has_scene_graph = true;
     *out = s;
     return VX_OK;

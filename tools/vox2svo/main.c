@@ -33,6 +33,11 @@ _Noreturn static void usage(int status) {
             "Which: converts a voxel scene, a triangle mesh or a volume into a compact sparse voxel\n"
             "       octree file (.svo): one Laine-Karras octree per model after tree minimization,\n"
             "       instances with their transforms. The reader is picked by the file extension.\n"
+            "Lights and materials: glTF KHR_lights_punctual lights are stored (node transforms\n"
+            "       applied); glTF metallic, glass (KHR_materials_transmission, _ior) and emissive\n"
+            "       materials and MagicaVoxel MATL materials are stored as MATL records. Emissive\n"
+            "       voxels are not stored as lights: renderers derive one light per cluster\n"
+            "       (svo_render --voxel-lights); the statistics count both.\n"
             "Options:\n"
             "    --frame N        animation frame of a .vox scene (default: %u)\n"
             "    --keep-hidden    keep hidden nodes, groups and layers of a .vox scene\n"
@@ -100,7 +105,8 @@ static options parse(int argc, char** argv) {
 }
 
 static void print_stats(const options* o, const char* kind, const vx_conv_stats* cs, uint64_t in_bytes,
-                        uint64_t out_bytes, double t_read, double t_convert, double t_write) {
+                        uint64_t out_bytes, double t_read, double t_convert, double t_write, uint32_t lights,
+                        uint32_t voxel_lights) {
     if (o->quiet) return;
     const vx_svo_build_stats* b = &cs->build;
     double vox = b->voxels ? (double)b->voxels : 1.0;
@@ -116,6 +122,8 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
     if (b->desc_plain)
         printf("  (%.1f%% of plain)", 100.0 * (double)b->desc_dag / (double)b->desc_plain);
     printf("\n");
+    /* stored: glTF KHR_lights_punctual; from voxels: what a renderer derives (vx_svo_emissive_lights) */
+    printf("  lights       %u stored, %u from emissive voxels (derived when rendering)\n", lights, voxel_lights);
     printf("  far pointers %s, attribute records %s\n", vx_tool_num(b->far_pointers), vx_tool_num(b->attr_records));
     /* what the tracer holds: node words and records, before the file's entropy coding */
     printf("  in memory    %s bytes, %.3f bytes/voxel\n", vx_tool_num(b->bytes), (double)b->bytes / vox);
@@ -159,6 +167,10 @@ int main(int argc, char** argv) {
     double t_read = li.seconds_read, t_convert = li.seconds_total - li.seconds_read;
     uint64_t in_bytes = li.in_bytes;
 
+    uint32_t lights = scene.light_count, voxel_lights = 0;
+    vx_light* vl = NULL;
+    if (vx_svo_emissive_lights(&scene, NULL, &vl, &voxel_lights, &err) != VX_OK) voxel_lights = 0; /* statistics only */
+    vx_free(NULL, vl);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
     r = vx_svo_write_file(&scene, o.out, &err);
@@ -167,6 +179,6 @@ int main(int argc, char** argv) {
     if (r != VX_OK) return vx_tool_errorf("%s", err.msg); /* the message names the file */
     struct stat st;
     size_t nbytes = stat(o.out, &st) == 0 ? (size_t)st.st_size : 0;
-    print_stats(&o, kind, &cs, in_bytes, nbytes, t_read, t_convert, t_write);
+    print_stats(&o, kind, &cs, in_bytes, nbytes, t_read, t_convert, t_write, lights, voxel_lights);
     return 0;
 }
