@@ -1,8 +1,13 @@
 # svo_bake: bake light field probes for a .svo scene (CPU or GPU), shards and
 # merge; with MPI (VX_WITH_MPI, where found) also mpirun -n N svo_bake.
-if(VX_WITH_VULKAN AND VX_WITH_OIIO)
+# OpenImageIO only for --exr: a GPU machine without it still bakes.
+if(VX_WITH_VULKAN)
   add_executable(svo_bake ${CMAKE_CURRENT_LIST_DIR}/svo_bake/main.c)
-  target_link_libraries(svo_bake PRIVATE vx_probes vx_image vx_tool vx_svo)
+  target_link_libraries(svo_bake PRIVATE vx_probes vx_tool vx_svo)
+  if(VX_WITH_OIIO)
+    target_link_libraries(svo_bake PRIVATE vx_image)
+    target_compile_definitions(svo_bake PRIVATE VX_HAVE_IMAGE=1)
+  endif()
   if(VX_WITH_MPI AND MPI_C_FOUND)
     target_sources(svo_bake PRIVATE ${CMAKE_CURRENT_LIST_DIR}/svo_bake/mpi.c)
     target_link_libraries(svo_bake PRIVATE vx_tool_mpi MPI::MPI_C)

@@ -8,7 +8,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#ifdef VX_HAVE_IMAGE
 #include "formats/image.h"
+#endif
 #include "probes/probes.h"
 #include "tools/common/tool.h"
 #ifdef VX_HAVE_MPI
@@ -123,7 +125,11 @@ static int write_atlas(const char* dir, const char* name, const vx_probe_set* ps
     char path[4096];
     snprintf(path, sizeof path, "%s/%s.exr", dir, name);
     vx_error err = {0};
+#ifdef VX_HAVE_IMAGE
     vx_result r = vx_image_write(path, &(vx_image_desc){.width = w, .height = h, .channels = ch, .type = VX_IMAGE_F32, .pixels = px}, &err);
+#else
+    vx_result r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "built without OpenImageIO: no EXR output");
+#endif
     free(px);
     if (r) return vx_tool_error(path, &err);
     return 0;
@@ -502,6 +508,9 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--exr")) {
             NEED();
             o.exr_dir = argv[++i];
+#ifndef VX_HAVE_IMAGE
+            usage_error("%s", "--exr: this svo_bake was built without OpenImageIO");
+#endif
         } else if (!strcmp(a, "--device")) {
             NEED();
             o.device = argv[++i];

@@ -30,6 +30,7 @@
 
 enum { TAG_ASSIGN = 1, TAG_RESULT = 2 };
 enum { DEPTH = 3 }; /* assignments a worker holds */
+enum { HEAD = 16 }; /* a result: first probe (u32), count (u32), bake seconds (f64), then the maps */
 
 /* this rank's place (set once by bake_mpi) */
 static vx_tool_mpi g_mpi;
@@ -60,6 +61,7 @@ typedef struct coord {
     int nranks;
     bool* ended;            /* per rank: sent the empty assignment */
     uint32_t min_batch, cap, byte_cap;
+    double per_probe;       /* seconds a probe takes to bake (running estimate), 0 before any */
     size_t pb;              /* bytes per probe */
     uint8_t* buf;           /* receive buffer */
     size_t buf_size;
@@ -71,6 +73,18 @@ typedef struct coord {
     uint32_t own_done;
     double serving; /* seconds answering inside the current own batch */
 } coord;
+
+/* A batch should take about TARGET_S seconds: long enough that the per-batch
+ * costs (a GPU bake's set-up, a message) stay small, short enough for the load
+ * balance. Every batch's bake time (any rank's) refines the estimate. */
+#define TARGET_S 3.0
+static void learn(coord* c, uint32_t n, double sec) {
+    if (!n || !(sec > 0)) return;
+    double per = sec / n;
+    c->per_probe = c->per_probe > 0 ? 0.7 * c->per_probe + 0.3 * per : per;
+    double want = TARGET_S / c->per_probe;
+    c->cap = want < c->min_batch ? c->min_batch : (want > c->byte_cap ? c->byte_cap : (uint32_t)want);
+}
 
 static uint32_t batch_size(const coord* c) {
     /* a 1/(2 DEPTH N) share of what is left: a worker holds DEPTH batches,
@@ -127,14 +141,17 @@ static void take_result(coord* c, MPI_Status* status) {
     }
     MPI_Recv(c->buf, count, MPI_BYTE, status->MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     uint32_t h[2];
-    if (count < 8) die("rank %d sent a %d-byte result", status->MPI_SOURCE, count);
+    double sec = 0;
+    if (count < HEAD) die("rank %d sent a %d-byte result", status->MPI_SOURCE, count);
     memcpy(h, c->buf, 8);
-    if ((size_t)count != 8 + (size_t)h[1] * c->pb)
+    memcpy(&sec, c->buf + 8, 8);
+    if ((size_t)count != HEAD + (size_t)h[1] * c->pb)
         die("rank %d sent %d bytes for %u probes (%zu each)", status->MPI_SOURCE, count, h[1], c->pb);
     if (h[1] > c->outstanding) die("rank %d sent probes nobody asked for", status->MPI_SOURCE);
     c->outstanding -= h[1];
+    learn(c, h[1], sec);
     hand_out(c, status->MPI_SOURCE);
-    store(c, h[0], h[1], c->buf + 8, status->MPI_SOURCE);
+    store(c, h[0], h[1], c->buf + HEAD, status->MPI_SOURCE);
     c->st[ST_COMM] += vx_time_now() - t;
 }
 
@@ -224,9 +241,7 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
         c->own_done = 0;
         store(c, a, n, own, 0);
         c->st[ST_COMM] += vx_time_now() - t;
-        /* about 5 to 40 s a batch, as the single-process steps */
-        if (dt < 5 && c->cap < c->byte_cap / 2) c->cap *= 2;
-        else if (dt > 40 && c->cap > c->min_batch) c->cap /= 2;
+        learn(c, n, dt - c->serving);
         serve(c, false);
         checkpoint(c, interval, &last_ck, &last_count);
         show(c, false);
@@ -246,6 +261,13 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
 
 /* ---- ranks > 0: workers ---------------------------------------------------------- */
 
+static bool worker_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
+    (void)stage, (void)done, (void)total;
+    int flag;
+    MPI_Testall(DEPTH, user, &flag, MPI_STATUSES_IGNORE);
+    return true;
+}
+
 static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_bake_desc* bd, double st[ST_N]) {
     int fail_rank = -1, fail_after = 0;
     bool fail_error = false;
@@ -263,6 +285,12 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
     MPI_Request recv[DEPTH], send[DEPTH];
     uint8_t* buf[DEPTH] = {NULL};
     size_t buf_size[DEPTH] = {0};
+    /* MPI moves a large message only while the sender calls into it (without
+     * single-copy shared memory, e.g. in containers): the bake's progress
+     * callback lets the sends of earlier batches proceed during the next */
+    vx_probe_bake_desc wbd = *bd;
+    if (g_mpi.thread_level >= MPI_THREAD_SERIALIZED || !j->o.cpu || j->o.threads == 1) /* CPU bakes report from their threads */
+        wbd.progress = (vx_progress){worker_progress, send};
     for (int k = 0; k < DEPTH; k++) {
         send[k] = MPI_REQUEST_NULL;
         MPI_Irecv(q[k], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[k]);
@@ -276,22 +304,25 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         if (!n) break;
         vx_probe_set v = view_at(placed, a);
         t = vx_time_now();
+        double t0 = t;
         vx_error err = {0};
-        if (bake_range(j, bd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
+        if (bake_range(j, &wbd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
         st[ST_BAKE] += vx_time_now() - t;
         st[ST_PROBES] += n, st[ST_BATCHES] += 1;
         t = vx_time_now();
         MPI_Wait(&send[s], MPI_STATUS_IGNORE);
-        size_t need = 8 + n * pb;
+        size_t need = HEAD + n * pb;
         if (need > (size_t)INT32_MAX) die("a batch of %u probes is too large for one message", n);
         if (need > buf_size[s]) {
             free(buf[s]);
             buf_size[s] = need;
             if (!(buf[s] = malloc(need))) die("out of memory for a batch of %u probes", n);
         }
+        double sec = vx_time_now() - t0;
         memcpy(buf[s], &a, 4);
         memcpy(buf[s] + 4, &n, 4);
-        maps_pack(&v, a, n, buf[s] + 8);
+        memcpy(buf[s] + 8, &sec, 8);
+        maps_pack(&v, a, n, buf[s] + HEAD);
         maps_free(&v);
         MPI_Isend(buf[s], (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send[s]);
         MPI_Irecv(q[s], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[s]);
