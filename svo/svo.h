@@ -232,6 +232,11 @@ typedef struct vx_sky {
  * spot and rect lights, cone angles in order, sizes >= 0 (rect: a tangent not
  * parallel to the normal); the error names the light's index. */
 vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
+/* The file an environment-map sky names, for a scene read from svo_path:
+ * the sky's path when absolute, else joined to svo_path's folder. A
+ * renderer reads it with formats/image.h (vx_image_read, VX_IMAGE_F32).
+ * false (out = "") when the sky is no map or the result does not fit n. */
+bool vx_sky_path(const vx_sky* sky, const char* svo_path, char* out, size_t n);
 /* Checks a sky: known type, finite colours >= 0, envmap: intensity >= 0, a
  * finite rotation and a non-empty path of at most VX_SKY_PATH_MAX bytes;
  * fields the type does not use must be zero (one stored form per sky). */

@@ -81,6 +81,23 @@ vx_result vx_sky_validate(const vx_sky* k, vx_error* err) {
     return VX_OK;
 }
 
+bool vx_sky_path(const vx_sky* k, const char* svo_path, char* out, size_t n) {
+    if (!out || n == 0) return false;
+    out[0] = 0;
+    if (!k || k->type != VX_SKY_ENVMAP || !k->path[0]) return false;
+    size_t dir = 0; /* the folder part of svo_path, with its slash */
+    if (k->path[0] != '/' && svo_path) {
+        const char* slash = strrchr(svo_path, '/');
+        dir = slash ? (size_t)(slash - svo_path) + 1 : 0;
+    }
+    size_t pl = strnlen(k->path, sizeof k->path);
+    if (dir + pl + 1 > n || pl == sizeof k->path) return false;
+    memcpy(out, svo_path, dir);
+    memcpy(out + dir, k->path, pl);
+    out[dir + pl] = 0;
+    return true;
+}
+
 vx_material vx_material_default(vx_material_type type) {
     vx_material m = {.type = type, .roughness = 0.1, .metalness = 0, .specular = 0.5, .ior = 1.5};
     if (type == VX_MATERIAL_DIFFUSE || type == VX_MATERIAL_EMIT) m.roughness = 1;

@@ -156,6 +156,20 @@ static void test_sky_validate(void) {
     CHECK(vx_sky_validate(&k, &e) != VX_OK && strstr(e.msg, "unknown type"));
 }
 
+/* The map's file: relative paths are beside the .svo, absolute ones stay. */
+static void test_sky_path(void) {
+    vx_sky k = {.type = VX_SKY_ENVMAP, .intensity = 1, .path = "maps/sky.exr"};
+    char out[64];
+    CHECK(vx_sky_path(&k, "/data/scenes/a.svo", out, sizeof out) && !strcmp(out, "/data/scenes/maps/sky.exr"));
+    CHECK(vx_sky_path(&k, "a.svo", out, sizeof out) && !strcmp(out, "maps/sky.exr"));
+    CHECK(vx_sky_path(&k, NULL, out, sizeof out) && !strcmp(out, "maps/sky.exr"));
+    CHECK(!vx_sky_path(&k, "/data/scenes/a.svo", out, 20) && out[0] == 0); /* does not fit */
+    snprintf(k.path, sizeof k.path, "/abs/sky.hdr");
+    CHECK(vx_sky_path(&k, "/data/a.svo", out, sizeof out) && !strcmp(out, "/abs/sky.hdr"));
+    k = (vx_sky){.type = VX_SKY_CONSTANT, .color = {1, 1, 1}};
+    CHECK(!vx_sky_path(&k, "/data/a.svo", out, sizeof out) && out[0] == 0);
+}
+
 /* ---- emissive voxels as lights ---------------------------------------------------------- */
 
 /* A scene of one 32^3 palette model with cells (x y z palette) and one
@@ -297,6 +311,7 @@ int main(void) {
     RUN(test_scene_material);
     RUN(test_light_validate);
     RUN(test_sky_validate);
+    RUN(test_sky_path);
     RUN(test_emissive_single);
     RUN(test_emissive_covered_faces);
     RUN(test_emissive_clusters);

@@ -482,9 +482,12 @@ int main(int argc, char** argv) {
     if (o.sky_given && !o.frame_light_count) usage_error("%s", "--sky goes with lights (--light, or the file's)");
     if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
         memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
-    if (!o.no_scene_lights && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP))
-        fprintf(stderr, "%s: note: the file's %s sky is not rendered yet; the frame uses --sky's\n", prog,
-                scene.sky.type == VX_SKY_GRADIENT ? "gradient" : "environment map");
+    if (!o.no_scene_lights && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP)) {
+        char map[4096];
+        bool is_map = vx_sky_path(&scene.sky, o.in, map, sizeof map);
+        fprintf(stderr, "%s: note: the file's %s sky%s%s is not rendered yet; the frame uses --sky's\n", prog,
+                is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
+    }
     if (o.frame_light_count && (!pipeline || o.cpu))
         fprintf(stderr, "%s: note: %u lights ignored: lights need the colour mode on the GPU\n", prog, o.frame_light_count);
     if (o.verbose && o.frame_light_count)
