@@ -92,7 +92,7 @@ bool vx_sky_path(const vx_sky* k, const char* svo_path, char* out, size_t n) {
     }
     size_t pl = strnlen(k->path, sizeof k->path);
     if (dir + pl + 1 > n || pl == sizeof k->path) return false;
-    memcpy(out, svo_path, dir);
+    if (dir) memcpy(out, svo_path, dir);
     memcpy(out + dir, k->path, pl);
     out[dir + pl] = 0;
     return true;
