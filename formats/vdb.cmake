@@ -12,7 +12,7 @@ if(VX_WITH_OPENVDB)
   find_package(ZLIB)
   if(VX_OPENVDB_INCLUDE AND VX_OPENVDB_LIB AND VX_TBB_LIB AND VX_IMATH_LIB AND VX_BLOSC_LIB AND VX_BLOSC_INCLUDE
      AND ZLIB_FOUND)
-    add_library(vx_vdb STATIC ${CMAKE_CURRENT_LIST_DIR}/vdb_openvdb.cpp)
+    add_library(vx_vdb STATIC ${CMAKE_CURRENT_LIST_DIR}/vdb_openvdb.cpp ${CMAKE_CURRENT_LIST_DIR}/vdb_scan.c)
     target_include_directories(vx_vdb SYSTEM PRIVATE ${VX_OPENVDB_INCLUDE})
     target_include_directories(vx_vdb SYSTEM PRIVATE ${VX_BLOSC_INCLUDE})
     target_link_libraries(vx_vdb PUBLIC vx_core ${VX_OPENVDB_LIB} ${VX_TBB_LIB} ${VX_IMATH_LIB} ${VX_BLOSC_LIB}

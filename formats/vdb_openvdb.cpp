@@ -4,6 +4,7 @@
 // hungry to compile. Every entry point catches all C++ exceptions: nothing
 // may unwind into C callers, and nothing is printed.
 #include "formats/vdb.h"
+#include "formats/vdb_scan.h"
 
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/Stream.h>
@@ -253,6 +254,9 @@ extern "C" {
 
 vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error* err) {
     if (!out || (!data && size)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    // OpenVDB allocates what a length says before reading: lengths first
+    vx_result sr = vx__vdb_scan(data, size, err);
+    if (sr) return sr;
     MemBuf buf(static_cast<const char*>(data), size);
     try {
         static std::once_flag once;

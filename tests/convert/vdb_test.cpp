@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <sstream>
 #include <string>
@@ -473,6 +474,56 @@ void test_bad_input(void) {
     CHECK(vx_conv_vdb_file(nullptr, "/nonexistent/x.vdb", &s, nullptr, &err) == VX_ERR_IO);
 }
 
+
+// A length field past the end is refused before OpenVDB reads (it would
+// allocate and zero what the field says: docs/RELIABILITY.md), naming the field.
+static void put_u32(std::string& b, size_t at, uint32_t v) {
+    for (int k = 0; k < 4; k++) b[at + k] = char((v >> (8 * k)) & 0xFF);
+}
+
+void test_length_caps(void) {
+    openvdb::FloatGrid::Ptr g =
+        openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(4.0f, openvdb::Vec3f(0, 0, 0), 0.5f, 2.0f);
+    g->setName("ball");
+    const std::string bytes = to_bytes({g});
+    vx_svo_scene s = {};
+    vx_error err = {};
+    CHECK(vx_conv_vdb_memory(nullptr, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    // header 57 bytes, file metadata count, grid count, then grid 0's name
+    std::string m = bytes;
+    put_u32(m, 57, 0x10000000u);
+    CHECK(vx_conv_vdb_memory(nullptr, m.data(), m.size(), &s, nullptr, &err) == VX_ERR_LIMIT);
+    CHECKF(strstr(err.msg, "file metadata entries"), "%s", err.msg);
+    size_t meta = 57;
+    uint32_t file_meta = uint8_t(bytes[meta]) | uint32_t(uint8_t(bytes[meta + 1])) << 8;
+    CHECK(file_meta == 0); // what to_bytes writes: no file metadata
+    size_t name = 57 + 4 + 4;
+    CHECK(bytes.compare(name + 4, 4, "ball") == 0);
+    m = bytes;
+    put_u32(m, name, 1701147220u); // the 1.7 GB of the fuzz finding
+    CHECK(vx_conv_vdb_memory(nullptr, m.data(), m.size(), &s, nullptr, &err) == VX_ERR_LIMIT);
+    CHECKF(strstr(err.msg, "grid 0's name of 1701147220 bytes"), "%s", err.msg);
+    m = bytes;
+    put_u32(m, 57 + 4, 0xFFFFFFF0u);
+    CHECK(vx_conv_vdb_memory(nullptr, m.data(), m.size(), &s, nullptr, &err) == VX_ERR_LIMIT);
+    CHECKF(strstr(err.msg, "grids cannot fit"), "%s", err.msg);
+    // a grid metadata value: after "class" (length 5) and its type "string"
+    size_t cls = bytes.find(std::string("\x05\0\0\0class\x06\0\0\0string", 19));
+    CHECK(cls != std::string::npos);
+    if (cls != std::string::npos) {
+        m = bytes;
+        put_u32(m, cls + 19, 2998055602u); // the 3 GB finding
+        CHECK(vx_conv_vdb_memory(nullptr, m.data(), m.size(), &s, nullptr, &err) == VX_ERR_LIMIT);
+        CHECKF(strstr(err.msg, "value of grid 0's metadata entry"), "%s", err.msg);
+    }
+    // an old format version is refused by name
+    m = bytes;
+    put_u32(m, 8, 221);
+    CHECK(vx_conv_vdb_memory(nullptr, m.data(), m.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(strstr(err.msg, "file format 221"), "%s", err.msg);
+}
+
 template <class F>
 void with_corpus_grid(const char* rel, F f) {
     const char* path = vx_test_corpus(rel);
@@ -560,6 +611,7 @@ int main() {
     RUN(test_half_and_grid_choice);
     RUN(test_frustum_refused);
     RUN(test_bad_input);
+    RUN(test_length_caps);
     RUN(test_corpus_smoke);
     RUN(test_corpus_sphere);
     return vx_test_finish();
