@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "render/render.h"
 #include "tools/common/tool.h"
@@ -24,6 +25,8 @@ int vx_tool_mpi_env_rank(void) {
     if (!v) v = getenv("PMI_RANK");
     return v ? atoi(v) : 0;
 }
+
+void vx_tool_mpi_linger(void) { sleep(2); }
 
 void vx_tool_mpi_init(vx_tool_mpi* m) {
     memset(m, 0, sizeof *m);

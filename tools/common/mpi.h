@@ -14,6 +14,12 @@ bool vx_tool_mpi_launched(void);
  * deciding before MPI_Init which rank prints a usage error. */
 int vx_tool_mpi_env_rank(void);
 
+/* A rank > 0 that stops on a usage error (printed by rank 0 only) calls this
+ * before it exits: mpirun ends the whole job as soon as one rank exits
+ * nonzero, which under load can kill rank 0 before its message is out; a
+ * short wait (2 s) lets rank 0 finish first. */
+void vx_tool_mpi_linger(void);
+
 typedef struct vx_tool_mpi {
     int rank, nranks;
     int local_rank, local_size; /* among the ranks of this host */

@@ -75,6 +75,9 @@ _Noreturn static void usage(int status) {
             d.b.light_dir[0], d.b.light_dir[1], d.b.light_dir[2], d.b.sun[0], d.b.sun[1], d.b.sun[2], d.b.sky[0], d.b.sky[1],
             d.b.sky[2], d.shard,
             d.shards, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+#ifdef VX_HAVE_MPI
+    if (status && vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) vx_tool_mpi_linger(); /* rank 0 prints */
+#endif
     exit(status);
 }
 

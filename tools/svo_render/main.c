@@ -435,7 +435,10 @@ int main(int argc, char** argv) {
     /* under mpirun: the probe and path tracer modes, rows over the ranks */
     mpi = vx_tool_mpi_launched();
     if (mpi && !o.probe_mode) {
-        if (vx_tool_mpi_env_rank() > 0) return 2; /* rank 0 says why */
+        if (vx_tool_mpi_env_rank() > 0) { /* rank 0 says why */
+            vx_tool_mpi_linger();
+            return 2;
+        }
         usage_error("%s", "under mpirun, svo_render renders the probe modes (--mode pathtrace, gi, ...)");
     }
     if (mpi && vx_tool_mpi_env_rank() > 0) o.verbose = false; /* one header */
