@@ -167,7 +167,13 @@ vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* de
     vx_render_caster* c = NULL;
     if ((r = vx_render_caster_create(scene, d.alloc, &c, err))) return r;
     vx__light L;
-    vx__light_init(&L, c, scene, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky);
+    r = vx__light_init(&L, c, scene, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky, err);
+    vx__light_free(&L); /* only the resolved light is recorded here */
+    if (r) {
+        vx_render_caster_destroy(c);
+        vx_probe_set_free(&ps);
+        return r;
+    }
     memcpy(ps.light_dir, L.light_dir, sizeof ps.light_dir);
     memcpy(ps.sun, L.sun, sizeof ps.sun);
     memcpy(ps.sky, L.sky, sizeof ps.sky);
@@ -316,7 +322,7 @@ static void bake_probe(const job* J, uint32_t pi, uint32_t k, double* scratch) {
                 double uv[2] = {(2.0 * (i + vx__rng_next(&rng))) / n - 1, (2.0 * (j + vx__rng_next(&rng))) / n - 1};
                 double dd[3], c[3];
                 vx_probe_oct_decode(uv, dd);
-                vx__path(J->L, pr->pos, dd, ps->bounces, &rng, c);
+                vx__path(J->L, pr->pos, dd, ps->bounces, false, &rng, c);
                 for (int q = 0; q < 3; q++) acc[q] += c[q];
             }
             for (int q = 0; q < 3; q++) L[3 * t + q] = acc[q] / ps->spp;
@@ -420,9 +426,9 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
     vx_result r = vx_render_caster_create(scene, ps->alloc, &c, err);
     if (r) return r;
     vx__light L;
-    vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false);
+    vx__tables T = {0};
+    if ((r = vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false, err))) goto done;
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    vx__tables T;
     if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
@@ -444,6 +450,7 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
      * arrays merely grew), so a resume redoes them */
 done:
     vx__tables_free(&T);
+    vx__light_free(&L);
     vx_render_caster_destroy(c);
     return r;
 }

@@ -6,6 +6,8 @@
  * the pipeline's gi buffer; the light (sun, sky, emission) is the probes'
  * (or the bake defaults without probes), and the pipeline shades its direct
  * pass with it, so direct + gi is what the full probe modes render.
+ * pathtrace also carries the frame's lights (vx_light) along its paths; the
+ * direct pass shades them at the first surface.
  *
  * The image stays on the GPU: the probe renderer's accumulation is divided
  * into the gi buffer by probes/shaders/probe_out.comp; the gi timing row is
@@ -47,6 +49,9 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     else if (!strcmp(method, "lightfield")) mode = VX_PROBE_RENDER_LF_INDIRECT;
     else if (!strcmp(method, "pathtrace")) mode = VX_PROBE_RENDER_PT_INDIRECT;
     else return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown gi method '%s' (probes, lightfield, pathtrace)", method);
+    if (desc && desc->light_count && mode != VX_PROBE_RENDER_PT_INDIRECT)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "gi=%s takes no lights (its light is the probes' sun and sky); gi=pathtrace does", method);
     if (vx_probe_render_mode_uses_probes(mode) && !ps)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "gi=%s needs a probe set", method);
     const vx_allocator* a = ps ? ps->alloc : NULL;
@@ -57,6 +62,7 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     gi->desc = desc ? *desc : (vx_probe_render_desc){0};
     gi->desc.mode = mode;
     gi->desc.stats = NULL;
+    gi->desc.pixel_centre = true; /* the G-buffer's rays: the direct pass shades the pixel centre too */
     /* the light the method was made for: resolved the way the probe renderer does */
     vx__prender P;
     vx_result r = vx__prender_setup(scene, ps, ps && ps->first == 0 && ps->count == ps->probe_count, &gi->desc, &P, err);
@@ -71,17 +77,19 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
         r = vx_probe_gpu_create(rs, scene, ps, &gi->pg, err);
     }
     vx_free(a, pal);
-    if (r) {
-        vx_probe_gi_destroy(gi);
-        return r;
-    }
-    *out_method = (vx_gi_method){.name = method, .user = gi, .render = gi_render, .emit_attr = gi->emit_attr,
-                                 .emit_count = gi->emit_count};
     for (int k = 0; k < 3; k++) {
         out_method->light_dir[k] = P.L.light_dir[k];
         out_method->sun[k] = P.L.sun[k];
         out_method->sky[k] = P.L.sky[k];
     }
+    vx__prender_free(&P);
+    if (r) {
+        vx_probe_gi_destroy(gi);
+        return r;
+    }
+    out_method->name = method, out_method->user = gi, out_method->render = gi_render;
+    out_method->emit_attr = gi->emit_attr, out_method->emit_count = gi->emit_count;
+    out_method->lights = gi->desc.lights, out_method->light_count = gi->desc.light_count;
     *out = gi;
     return VX_OK;
 }

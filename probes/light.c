@@ -8,11 +8,12 @@
 
 static const double pi = 3.14159265358979323846;
 
-void vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const double light_dir[3],
-                    const double sun[3], bool no_sun, const double sky[3], bool black_sky) {
+vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const double light_dir[3],
+                         const double sun[3], bool no_sun, const double sky[3], bool black_sky, vx_error* err) {
     memset(L, 0, sizeof *L);
     L->caster = c;
     L->scene = s;
+    L->alloc = s ? s->alloc : NULL;
     const vx_probe_bake_desc D = vx_probe_bake_desc_defaults(); /* the light's defaults */
     double ld[3] = {D.light_dir[0], D.light_dir[1], D.light_dir[2]};
     if (light_dir && (light_dir[0] || light_dir[1] || light_dir[2])) memcpy(ld, light_dir, sizeof ld);
@@ -22,18 +23,106 @@ void vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene*
         L->sun[k] = no_sun ? 0 : (sun && (sun[0] || sun[1] || sun[2]) ? sun[k] : D.sun[k]);
         L->sky[k] = black_sky ? 0 : (sky && (sky[0] || sky[1] || sky[2]) ? sky[k] : D.sky[k]);
     }
+    for (uint32_t i = 0; i < 256; i++) L->mat[i] = vx_material_default(VX_MATERIAL_DIFFUSE);
+    bool glass = false;
     for (uint32_t i = 0; s && i < s->material_count; i++) {
-        const vx_svo_material* m = &s->materials[i];
-        const char* type = vx_svo_material_get(m, "_type");
-        if (m->id >= 256 || !type || strcmp(type, "_emit")) continue;
-        const char* e = vx_svo_material_get(m, "_emit");
-        const char* f = vx_svo_material_get(m, "_flux");
-        double ev = e ? strtod(e, NULL) : 0, fv = f ? strtod(f, NULL) : 0;
-        if (!isfinite(ev) || ev < 0) ev = 0;
-        if (!isfinite(fv) || fv < 0) fv = 0;
-        if (fv > 16) fv = 16;
-        L->emit[m->id] = ev * pow(2.0, fv);
+        uint32_t id = s->materials[i].id;
+        if (id >= 256) continue;
+        vx_material m = vx_svo_scene_material(s, id); /* the first record of that id, as the scene defines */
+        L->mat[id] = m;
+        L->emit[id] = m.emission;
+        L->materials |= m.type == VX_MATERIAL_METAL || m.type == VX_MATERIAL_GLASS;
+        glass |= m.type == VX_MATERIAL_GLASS && m.transmission > 0;
     }
+    if (glass && s->instance_count) {
+        L->inst_inv = vx_calloc(L->alloc, s->instance_count, 12 * sizeof(double));
+        if (!L->inst_inv)
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instance maps", s->instance_count);
+        for (uint32_t i = 0; i < s->instance_count; i++) {
+            double w[12];
+            vx_svo_instance_world(s, &s->instances[i], w);
+            if (!vx__affine_inverse(w, L->inst_inv + 12 * i)) memset(L->inst_inv + 12 * i, 0, 12 * sizeof(double));
+        }
+    }
+    return VX_OK;
+}
+
+typedef struct em_ctx {
+    vx__light* L;
+    const vx_svo_model* m;
+    double w[12];
+    size_t cap;
+    bool nomem;
+} em_ctx;
+
+static bool em_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    em_ctx* E = user;
+    vx__light* L = E->L;
+    const vx_svo_model* m = E->m;
+    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
+    if (pal >= 256 || !(L->emit[pal] > 0)) return true;
+    uint32_t c = m->attrs ? vx_svo_attr_rgba(L->scene, m, attr) : 0xFFFFFFFFu;
+    double rad[3] = {(c & 0xFF) / 255.0 * L->emit[pal], ((c >> 8) & 0xFF) / 255.0 * L->emit[pal],
+                     ((c >> 16) & 0xFF) / 255.0 * L->emit[pal]};
+    if (!(rad[0] > 0 || rad[1] > 0 || rad[2] > 0)) return true;
+    if (!vx_grow(L->alloc, (void**)&L->em, &E->cap, (size_t)L->em_count + 1, sizeof *L->em)) {
+        E->nomem = true;
+        return false;
+    }
+    vx__emitter* e = &L->em[L->em_count++];
+    double p[3] = {x, y, z};
+    vx__affine_apply(E->w, p, e->corner);
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++) e->axis[a][k] = E->w[4 * k + a];
+    double area = 0;
+    for (int a = 0; a < 3; a++) {
+        const double *u = e->axis[(a + 1) % 3], *v = e->axis[(a + 2) % 3];
+        double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+        area += 2 * sqrt(cx * cx + cy * cy + cz * cz);
+    }
+    memcpy(e->rad, rad, sizeof rad);
+    e->area = area;
+    return true;
+}
+
+vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool emitters, vx_error* err) {
+    if (n && !lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", n);
+    for (uint32_t i = 0; i < n; i++) {
+        vx_result r = vx_light_validate(&lights[i], i, err);
+        if (r) return r;
+    }
+    L->lights = lights, L->light_count = n;
+    const vx_svo_scene* s = L->scene;
+    bool any = false;
+    for (int i = 0; i < 256; i++) any |= L->emit[i] > 0;
+    if (!emitters || !any || !s) return VX_OK;
+    em_ctx E = {.L = L};
+    for (uint32_t i = 0; i < s->instance_count && !E.nomem; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        E.m = &s->models[s->instances[i].model];
+        vx_svo_instance_world(s, &s->instances[i], E.w);
+        vx_result r = vx_svo_decode_model(E.m, em_voxel, &E, err);
+        if (r && !E.nomem) return r;
+    }
+    if (E.nomem || (L->em_count && !(L->em_cdf = vx_alloc(L->alloc, L->em_count * sizeof(double)))))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u emissive voxels", L->em_count);
+    double acc = 0;
+    for (uint32_t i = 0; i < L->em_count; i++) {
+        const double* c = L->em[i].rad;
+        acc += (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]) * L->em[i].area;
+        L->em_cdf[i] = acc;
+    }
+    for (uint32_t i = 0; i < L->em_count; i++) L->em_cdf[i] /= acc;
+    L->em_power = acc;
+    if (!(acc > 0) || !isfinite(acc)) L->em_count = 0; /* nothing to sample (colours without luminance) */
+    return VX_OK;
+}
+
+void vx__light_free(vx__light* L) {
+    vx_free(L->alloc, L->inst_inv);
+    vx_free(L->alloc, L->em);
+    vx_free(L->alloc, L->em_cdf);
+    L->inst_inv = NULL, L->em = NULL, L->em_cdf = NULL, L->em_count = 0;
 }
 
 void vx__surface_of(const vx__light* L, const double o[3], const double d[3], const vx_render_ray_hit* h,
@@ -48,7 +137,9 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
     for (int k = 0; k < 3; k++) s->n[k] = h->normal[k], s->p[k] += h->normal[k] * eps;
     uint32_t c = h->rgba;
     s->albedo[0] = (c & 0xFF) / 255.0, s->albedo[1] = ((c >> 8) & 0xFF) / 255.0, s->albedo[2] = ((c >> 16) & 0xFF) / 255.0;
-    double e = h->palette < 256 ? L->emit[h->palette] : 0;
+    s->palette = h->palette < 256 ? h->palette : 0;
+    s->cell = h->cell_size;
+    double e = L->emit[s->palette];
     for (int k = 0; k < 3; k++) s->emit[k] = s->albedo[k] * e;
 }
 
@@ -69,31 +160,4 @@ void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]) {
     double r = sqrt(u1), phi = 2 * pi * u2;
     double x = r * cos(phi), y = r * sin(phi), z = sqrt(fmax(0, 1 - u1));
     for (int k = 0; k < 3; k++) d[k] = x * t[k] + y * bt[k] + z * n[k];
-}
-
-void vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, vx__rng* rng,
-              double out[3]) {
-    double thr[3] = {1, 1, 1}, acc[3] = {0, 0, 0};
-    double ro[3], rd[3];
-    memcpy(ro, o, sizeof ro);
-    memcpy(rd, d, sizeof rd);
-    for (uint32_t depth = 0;; depth++) {
-        vx_render_ray_hit h;
-        if (!vx_render_cast(L->caster, ro, rd, INFINITY, false, &h)) {
-            for (int k = 0; k < 3; k++) acc[k] += thr[k] * L->sky[k];
-            break;
-        }
-        vx__surface s;
-        vx__surface_of(L, ro, rd, &h, &s);
-        double dl[3];
-        vx__direct(L, &s, dl);
-        for (int k = 0; k < 3; k++) acc[k] += thr[k] * (s.emit[k] + dl[k]);
-        if (depth >= bounces) break;
-        double u1 = vx__rng_next(rng), u2 = vx__rng_next(rng);
-        vx__cosine_dir(s.n, u1, u2, rd);
-        memcpy(ro, s.p, sizeof ro);
-        for (int k = 0; k < 3; k++) thr[k] *= s.albedo[k];
-        if (thr[0] == 0 && thr[1] == 0 && thr[2] == 0) break;
-    }
-    memcpy(out, acc, sizeof acc);
 }

@@ -24,8 +24,12 @@ typedef struct gpu_params {
     uint32_t lf[4];   /* light field: res, low res, words per probe */
     float lf_lo[4];   /* scene bounds relative to the reference, w: distance step */
     float lf_hi[4];
+    uint32_t cnt[4]; /* lights, emissive voxels, pixel centres only */
+    float pt[4];     /* total emitted power of the emissive voxels */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 176, "gpu_params vs probe.comp");
+_Static_assert(sizeof(gpu_params) == 208, "gpu_params vs probe.comp");
+
+enum { NBIND = 16 };
 
 enum { PMODE_BAKE = 0 };
 
@@ -38,13 +42,15 @@ typedef struct gctx {
     const vx_allocator* alloc;
     vx__frame f;
     vx__buffer* scene[7];
-    uint32_t spec[VX__SPEC_COUNT + 1];
-    vx__buffer params, emit, probes, out, maps, lf;
+    uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then PMODE and MATS */
+    vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems;
+    uint32_t light_count, em_count;
+    float em_power;
     const vx__buffer *maps_in, *lf_in; /* a vx_probe_gpu's maps, else maps and lf */
 } gctx;
 
 static void ctx_free(gctx* c) {
-    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps, &c->lf};
+    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps, &c->lf, &c->mats, &c->lights, &c->ems};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(c->g, b[i]);
 }
 
@@ -55,6 +61,73 @@ static vx_result upload_to(vx_gpu* g, vx__buffer* b, const void* data, size_t si
 }
 static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t size, const char* label, vx_error* err) {
     return upload_to(c->g, b, data, size, label, err);
+}
+
+/* The path tracer's tables (probe.comp bindings 13-15): materials per
+ * attribute record only when some material is metal or glass, the lights
+ * and the emissive voxels relative to the frame's reference point; each a
+ * 16-byte placeholder when the scene has none. */
+static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* pal, size_t na, vx_error* err) {
+    const double* ref = c->f.ref;
+    size_t nm = L->materials ? na : 0, nl = 0, ne = L->em_count;
+    for (uint32_t i = 0; i < L->light_count; i++) nl += !(L->lights[i].flags & VX_LIGHT_FROM_VOXELS);
+    float* m = vx_calloc(c->alloc, nm ? 8 * nm : 4, sizeof(float));
+    float* l = vx_calloc(c->alloc, nl ? 20 * nl : 4, sizeof(float));
+    float* e = vx_calloc(c->alloc, ne ? 20 * ne : 4, sizeof(float));
+    vx_result r = VX_OK;
+    if (!m || !l || !e) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the path tracer's tables");
+        goto done;
+    }
+    for (size_t i = 0; i < nm; i++) {
+        const vx_material* mt = &L->mat[pal[i]];
+        float* o = m + 8 * i;
+        o[0] = mt->type == VX_MATERIAL_METAL ? 1.0f : (mt->type == VX_MATERIAL_GLASS ? 2.0f : 0.0f);
+        o[1] = (float)(mt->roughness * mt->roughness);
+        o[2] = (float)mt->metalness, o[3] = (float)mt->specular;
+        o[4] = (float)mt->ior, o[5] = (float)mt->transmission;
+    }
+    for (size_t i = 0, j = 0; j < L->light_count; j++) {
+        const vx_light* li = &L->lights[j];
+        if (li->flags & VX_LIGHT_FROM_VOXELS) continue; /* the voxels emit themselves (pathtrace.c) */
+        float* o = l + 20 * i++;
+        double n[3], t[3], dl = 0, tn = 0, tl = 0;
+        for (int k = 0; k < 3; k++) dl += li->direction[k] * li->direction[k];
+        dl = sqrt(dl);
+        for (int k = 0; k < 3; k++) n[k] = dl > 0 ? li->direction[k] / dl : 0, tn += li->tangent[k] * n[k];
+        for (int k = 0; k < 3; k++) t[k] = li->tangent[k] - tn * n[k], tl += t[k] * t[k];
+        tl = sqrt(tl);
+        for (int k = 0; k < 3; k++) {
+            o[k] = (float)(li->position[k] - ref[k]);
+            o[4 + k] = (float)n[k];
+            o[8 + k] = (float)(li->color[k] * li->intensity);
+            o[16 + k] = tl > 0 ? (float)(t[k] / tl) : 0.0f;
+        }
+        o[3] = (float)li->type, o[7] = (float)li->range, o[11] = (float)li->radius;
+        double ci = cos(li->inner_cone), co = cos(li->outer_cone), sc = 1.0 / fmax(0.001, ci - co);
+        o[12] = (float)sc, o[13] = (float)(-co * sc), o[14] = (float)li->angular_diameter, o[15] = (float)li->size[0];
+        o[19] = (float)li->size[1];
+    }
+    for (size_t i = 0; i < ne; i++) {
+        const vx__emitter* em = &L->em[i];
+        float* o = e + 20 * i;
+        for (int k = 0; k < 3; k++) {
+            o[k] = (float)(em->corner[k] - ref[k]);
+            for (int a = 0; a < 3; a++) o[4 * (a + 1) + k] = (float)em->axis[a][k];
+            o[16 + k] = (float)em->rad[k];
+        }
+        o[3] = (float)em->area, o[7] = (float)L->em_cdf[i];
+    }
+    if ((r = upload_new(c, &c->mats, m, nm ? 32 * nm : 16, "probe materials", err)) ||
+        (r = upload_new(c, &c->lights, l, nl ? 80 * nl : 16, "probe lights", err)) ||
+        (r = upload_new(c, &c->ems, e, ne ? 80 * ne : 16, "probe emitters", err)))
+        goto done;
+    c->light_count = (uint32_t)nl, c->em_count = (uint32_t)ne, c->em_power = (float)L->em_power;
+done:
+    vx_free(c->alloc, m);
+    vx_free(c->alloc, l);
+    vx_free(c->alloc, e);
+    return r;
 }
 
 /* Binds the scene relative to f->ref and uploads the emission per attribute
@@ -70,6 +143,11 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     uint8_t* pal = NULL;
     size_t na = 0;
     if ((r = vx__scene_attr_palette(s, c->alloc, &pal, &na, err))) return r;
+    c->spec[VX__SPEC_COUNT + 1] = L->materials;
+    if ((r = upload_path_tracer(c, L, pal, na, err))) {
+        vx_free(c->alloc, pal);
+        return r;
+    }
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
     size_t np = ps ? ps->probe_count : 1;
     float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));
@@ -106,6 +184,11 @@ static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
     p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32);
 }
 
+static void params_path(gpu_params* p, const gctx* c) {
+    p->cnt[0] = c->light_count, p->cnt[1] = c->em_count;
+    p->pt[0] = c->em_power;
+}
+
 static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[3]) {
     double smin = fmin(ps->spacing[0], fmin(ps->spacing[1], ps->spacing[2]));
     for (int k = 0; k < 3; k++) {
@@ -123,21 +206,22 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
     size_t spv_size;
     const uint32_t* spv = vx__probe_spv_arr;
     spv_size = sizeof vx__probe_spv_arr;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 13,
-                                       .spec_count = VX__SPEC_COUNT + 1, .label = "probe"};
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = NBIND,
+                                       .spec_count = VX__SPEC_COUNT + 2, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < 13; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, c->spec, sizeof c->spec);
-    uint64_t key = 0x9B0BEull;
-    for (int i = 0; i <= VX__SPEC_COUNT; i++) key = key * 131 + c->spec[i];
+    uint64_t key = 0x9B0BE2ull;
+    for (int i = 0; i < VX__SPEC_COUNT + 2; i++) key = key * 131 + c->spec[i];
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(c->g, key, &pd, &p, err);
     if (r) return r;
-    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = 13, .groups = {gx, gy, 1}, .label = "probe"};
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "probe"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = c->scene[i];
     dd.buffers[7] = &c->params, dd.buffers[8] = &c->emit, dd.buffers[9] = &c->probes, dd.buffers[10] = &c->out;
     dd.buffers[11] = (vx__buffer*)(c->maps_in ? c->maps_in : &c->maps);
     dd.buffers[12] = (vx__buffer*)(c->lf_in ? c->lf_in : &c->lf);
+    dd.buffers[13] = &c->mats, dd.buffers[14] = &c->lights, dd.buffers[15] = &c->ems;
     return vx__dispatch(c->g, &dd, seconds, err);
 }
 
@@ -250,14 +334,17 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
     if (end == begin) return VX_OK;
     vx__light L;
-    vx__light_init(&L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false);
+    vx_result r = vx__light_init(&L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false, err);
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
     /* float coordinates relative to the scene's centre */
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(scene, lo, hi);
     vx__frame f;
-    vx_result r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &f, err);
-    if (r) return r;
+    if (!r) r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &f, err);
+    if (r) {
+        vx__light_free(&L);
+        return r;
+    }
     for (int k = 0; k < 3; k++) f.ref[k] = 0.5 * (lo[k] + hi[k]);
     gctx c;
     vx__tables T = {0};
@@ -284,6 +371,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         uint32_t cnt = (uint32_t)(end - at < batch ? end - at : batch);
         gpu_params* p = c.params.map;
         params_common(p, &L, ps->seed);
+        params_path(p, &c);
         params_grid(p, ps, f.ref);
         p->a[0] = ps->res, p->a[1] = ps->spp, p->a[2] = ps->bounces, p->a[3] = at;
         p->seed[2] = cnt;
@@ -305,6 +393,7 @@ done:
     vx_free(ps->alloc, raw);
     vx__tables_free(&T);
     ctx_free(&c);
+    vx__light_free(&L);
     return r;
 }
 
@@ -424,13 +513,12 @@ static vx_result resolve_into(vx_gpu* g, vx__buffer* src, vx__buffer* dst, size_
     return vx__dispatch(g, &dd, sec, err);
 }
 
-static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx__buffer* dst,
-                        double* dst_seconds, vx_error* err) {
+static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image* out, vx__buffer* dst,
+                             double* dst_seconds, vx_error* err) {
     const vx_svo_scene* s = pg->scene;
     const vx_probe_set* ps = pg->ps;
-    vx__prender P;
-    vx_result r = vx__prender_setup(s, ps, pg->complete, desc, &P, err);
-    if (r) return r;
+    vx__prender P = *pr; /* a copy: the light's arrays stay the caller's */
+    vx_result r = VX_OK;
     const vx_probe_render_desc d = P.d;
     const vx__frame f = P.f;
     const double *lo = P.lo, *hi = P.hi;
@@ -467,6 +555,7 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
         goto done;
     gpu_params* p = c.params.map;
     params_common(p, &P.L, d.seed);
+    params_path(p, &c);
     if (need_probes) params_grid(p, ps, f.ref);
     if (lf) {
         p->lf[0] = ps->res, p->lf[1] = ps->low_res, p->lf[2] = pg->lf_words;
@@ -474,6 +563,7 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
         p->lf_lo[3] = (float)ps->dist_step;
     }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
+    p->cnt[2] = d.pixel_centre;
     uint64_t groups = (npx + 63) / 64;
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
     double sec = 0;
@@ -505,6 +595,16 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
 done:
     vx_free(NULL, acc);
     ctx_free(&c);
+    return r;
+}
+
+static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_render_image* out, vx__buffer* dst,
+                        double* dst_seconds, vx_error* err) {
+    vx__prender P;
+    vx_result r = vx__prender_setup(pg->scene, pg->ps, pg->complete, desc, &P, err);
+    if (r) return r;
+    r = render_with(pg, &P, out, dst, dst_seconds, err);
+    vx__prender_free(&P);
     return r;
 }
 

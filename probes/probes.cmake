@@ -22,6 +22,7 @@ if(VX_WITH_VULKAN)
   add_library(vx_probes STATIC
     ${CMAKE_CURRENT_LIST_DIR}/oct.c
     ${CMAKE_CURRENT_LIST_DIR}/light.c
+    ${CMAKE_CURRENT_LIST_DIR}/pathtrace.c
     ${CMAKE_CURRENT_LIST_DIR}/bake.c
     ${CMAKE_CURRENT_LIST_DIR}/file.c
     ${CMAKE_CURRENT_LIST_DIR}/render_gi.c

@@ -20,13 +20,20 @@
  * diagonally opposite (see vx_probe_border_src). Bilinear filtering of a
  * bordered map never needs wrap logic.
  *
- * Lighting model (bake and renderer): diffuse surfaces with albedo = the
- * voxel's attribute colour / 255; one directional light (irradiance
- * sun[] on a surface facing it, hard shadows); a uniform sky of radiance
- * sky[] for rays that leave the scene; MagicaVoxel emissive materials
- * ("_type" "_emit") emit albedo * _emit * 2^_flux. Radiance stored for a
- * texel is the light leaving the first surface hit towards the probe with
- * `bounces` further diffuse bounces (0: direct light and emission only).
+ * Lighting model (bake and renderer): albedo = the voxel's attribute colour
+ * / 255; one directional light (irradiance sun[] on a surface facing it,
+ * hard shadows); a uniform sky of radiance sky[] for rays that leave the
+ * scene; materials from the scene's MATL records (vx_svo_scene_material):
+ * emission albedo * _emit * 2^_flux, and in the path tracer metal (GGX) and
+ * glass (dielectric, a glass voxel a solid block) besides diffuse; the
+ * irradiance probes and the light field treat every surface as diffuse.
+ * The path tracer (pathtrace.c, probe.comp) also takes the frame's lights
+ * (vx_light: all types) and samples every light at every vertex with
+ * multiple importance sampling, emissive voxels included (renderer), and
+ * plays Russian roulette after 3 bounces. Radiance stored for a texel is the
+ * light leaving the first surface hit towards the probe with `bounces`
+ * further diffuse or glossy bounces (0: direct light and emission only;
+ * mirror-like and glass events do not count).
  *
  * Distances are world units. Threads: a bake may use several threads; the
  * result does not depend on how many (every sample has its own random
@@ -259,6 +266,11 @@ typedef struct vx_probe_render_stats {
  *           (or 2 without probes); light, sun and sky: from the probes,
  *           or the bake defaults without probes
  *  seed:    path tracer (and light field ray) random seed
+ *  lights:  light_count lights (borrowed, validated) for the path tracer
+ *           modes; any replace the sun (as in the pass pipeline). In
+ *           pathtrace-indirect the first surface's emission and its light
+ *           from the sun and the point, spot and directional lights are
+ *           left out (the pass pipeline's direct pass delivers them)
  * Light field modes: spp indirect rays per pixel (0 == 16), each walked
  * through the distance maps of the 8 probes around its origin, nearest
  * first (each continuing where the last could not answer), radiance from the
@@ -278,6 +290,9 @@ typedef struct vx_probe_render_desc {
      * rows rendered apart (mpirun svo_render) and put together equal one
      * render bit for bit. */
     const uint8_t* rows;
+    const vx_light* lights; /* the path tracer's lights (borrowed); any replace the sun */
+    uint32_t light_count;
+    bool pixel_centre; /* every sample through the pixel centre (no jitter): the gi pass's G-buffer rays */
 } vx_probe_render_desc;
 
 /* Renders RGBA float radiance (alpha 1 on hits); probes may be NULL for
@@ -310,9 +325,13 @@ vx_result vx_probe_gpu_render_into(vx_probe_gpu* pg, const vx_probe_render_desc*
  * method "probes" (irradiance probes), "lightfield" (one bounce through the
  * distance maps) or "pathtrace" (path-traced indirect light; ps may be NULL,
  * or give the light). desc gives spp, bounces and seed (mode and base are
- * set per frame). Fills *method (valid while *out lives) with the render
- * callback and the light the pipeline's direct pass must use (the probes'
- * sun, sky and direction, emission per attribute record). rs, scene and ps
+ * set per frame) and, for pathtrace, the frame's lights (desc->lights: the
+ * method's lights, which the frame must then pass too). Fills *method
+ * (valid while *out lives) with the render callback and the light the
+ * pipeline's direct pass must use (the probes' sun, sky and direction,
+ * emission per attribute record). The pipeline's direct pass shades the
+ * first surface as diffuse: with metal or glass there, gi=pathtrace adds
+ * only the light after the first bounce. rs, scene and ps
  * must outlive *out. */
 typedef struct vx_probe_gi vx_probe_gi;
 vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps, const char* method,

@@ -35,24 +35,54 @@ static inline double vx__rng_next(vx__rng* r) {
 
 /* ---- the lighting model shared by the baker and the renderer -------------------- */
 
+/* An emissive voxel as a light for next-event estimation: a parallelepiped
+ * corner + a u + b v + c w (u, v, w in [0,1]: the instance's cell axes),
+ * emitting radiance `rad` from its faces; `area` its surface area. */
+typedef struct vx__emitter {
+    double corner[3], axis[3][3];
+    double rad[3];
+    double area;
+} vx__emitter;
+
 typedef struct vx__light {
     const vx_render_caster* caster;
     const vx_svo_scene* scene;
     double light_dir[3]; /* unit */
     double sun[3];       /* irradiance on a surface facing the light */
     double sky[3];       /* radiance */
-    double emit[256];    /* emission scale by palette index */
+    double emit[256];    /* emission scale by palette index (vx_material.emission) */
+    vx_material mat[256]; /* by palette index */
+    bool materials;       /* some palette entry is metal or glass */
+    const vx_light* lights; /* the frame's lights (sampled at every vertex) */
+    uint32_t light_count;
+    /* model-from-world maps of the scene's instances (12 per instance), for
+     * walks through glass voxels; NULL without glass */
+    double* inst_inv;
+    /* emissive voxels sampled by power: cdf[i] = power of 0..i / em_power */
+    vx__emitter* em;
+    double* em_cdf;
+    uint32_t em_count;
+    double em_power; /* sum of luminance(rad) * area: the area density of a point on any emitter is lum(rad) / em_power */
+    const vx_allocator* alloc;
 } vx__light;
 
-/* Fills emission from the scene's materials and resolves defaults. */
-void vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const double light_dir[3],
-                    const double sun[3], bool no_sun, const double sky[3], bool black_sky);
+/* Fills the materials and emission from the scene's MATL records
+ * (vx_svo_scene_material) and resolves defaults. Owns memory: release with
+ * vx__light_free. */
+vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const double light_dir[3],
+                         const double sun[3], bool no_sun, const double sky[3], bool black_sky, vx_error* err);
+/* Adds the frame's lights (borrowed; validated here) and, with emitters, the
+ * scene's emissive voxels as lights for next-event estimation. */
+vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool emitters, vx_error* err);
+void vx__light_free(vx__light* L);
 
 typedef struct vx__surface {
     double p[3];   /* hit point, offset off the surface along the normal */
     double n[3];
     double albedo[3];
     double emit[3];
+    uint32_t palette;
+    double cell; /* world size of the hit instance's cells */
 } vx__surface;
 
 /* Resolves a hit into a surface; o, d the ray. */
@@ -60,10 +90,17 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
                     vx__surface* s);
 /* Directional light reflected by a surface (albedo/pi * sun * n.l * visibility). */
 void vx__direct(const vx__light* L, const vx__surface* s, double out[3]);
-/* Radiance arriving at o from direction d: the first surface's emission and
- * direct light plus `bounces` further diffuse bounces (sky on a miss). */
-void vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, vx__rng* rng,
+/* Radiance arriving at o from direction d (the path tracer, pathtrace.c):
+ * the first surface's emission and direct light plus up to `bounces` further
+ * diffuse or glossy bounces (smooth mirror and glass events do not count),
+ * next-event estimation of every light with multiple importance sampling,
+ * Russian roulette after VX__RR_DEPTH bounces. indirect: leave out the first
+ * surface's emission and its light from the sun and the point, spot and
+ * directional lights (what the pass pipeline's direct pass delivers), and
+ * the background of a primary miss. Returns whether the ray hit a voxel. */
+bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, bool indirect, vx__rng* rng,
               double out[3]);
+#define VX__RR_DEPTH 3
 /* Cosine-weighted direction around unit n. */
 void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
 
@@ -99,6 +136,7 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
                             const vx_probe_render_desc* desc, vx__prender* out, vx_error* err);
 /* Rows the desc renders (desc->rows), of height. */
 uint32_t vx__prender_rows(const vx_probe_render_desc* desc, uint32_t height);
+void vx__prender_free(vx__prender* P);
 
 /* Probe map sizes in texels (with borders) and the per-probe block size. */
 static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }

@@ -134,6 +134,7 @@ typedef struct rjob {
     const vx__light* L;
     const vx_probe_set* ps;
     vx_probe_render_mode mode;
+    bool jitter;
     uint32_t spp, bounces;
     uint64_t seed;
     const vx__lf* lf;
@@ -169,9 +170,18 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
     vx_svo_scene_world_bounds(s, P->lo, P->hi);
     vx_result r = vx__frame_setup(P->lo, P->hi, &base, &P->f, err);
     if (r) return r;
-    vx__light_init(&P->L, NULL, s, ps ? ps->light_dir : base.light_dir, NULL, false, NULL, false);
+    if ((r = vx__light_init(&P->L, NULL, s, ps ? ps->light_dir : base.light_dir, NULL, false, NULL, false, err)))
+        return r;
     if (ps)
         for (int k = 0; k < 3; k++) P->L.sun[k] = ps->sun[k], P->L.sky[k] = ps->sky[k];
+    /* the frame's lights replace the sun (as in the pass pipeline) */
+    if (P->d.light_count)
+        for (int k = 0; k < 3; k++) P->L.sun[k] = 0;
+    bool pt = m == VX_PROBE_RENDER_PATHTRACE || m == VX_PROBE_RENDER_PT_INDIRECT;
+    if ((r = vx__light_add(&P->L, P->d.lights, P->d.light_count, pt, err))) {
+        vx__light_free(&P->L);
+        return r;
+    }
     P->spp = P->d.spp ? P->d.spp : (P->uses_probes && !P->lightfield ? 1 : 16);
     P->bounces = P->d.bounces ? P->d.bounces : (ps ? ps->bounces + 1 : 2);
     return VX_OK;
@@ -188,13 +198,15 @@ static bool has_direct(vx_probe_render_mode m) {
     return m == VX_PROBE_RENDER_GI || m == VX_PROBE_RENDER_PATHTRACE || m == VX_PROBE_RENDER_LIGHTFIELD;
 }
 
+void vx__prender_free(vx__prender* P) { vx__light_free(&P->L); }
+
 static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__lf_counts* cnt) {
     const vx__frame* f = J->f;
     double acc[4] = {0};
     for (uint32_t s = 0; s < J->spp; s++) {
         vx__rng rng = vx__rng_make(J->seed, 0x9000000000ull + y, x, s);
         double ox = 0, oy = 0;
-        if (J->spp > 1) ox = vx__rng_next(&rng) - 0.5, oy = vx__rng_next(&rng) - 0.5;
+        if (J->jitter) ox = vx__rng_next(&rng) - 0.5, oy = vx__rng_next(&rng) - 0.5;
         double u = ((x + 0.5 + ox) / f->width) * 2 - 1, v = 1 - ((y + 0.5 + oy) / f->height) * 2;
         double P[3], d[3];
         if (f->ortho) {
@@ -207,6 +219,11 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
         }
         double o[3] = {f->ref[0] + P[0], f->ref[1] + P[1], f->ref[2] + P[2]};
         double c[3] = {0, 0, 0};
+        if (J->mode == VX_PROBE_RENDER_PATHTRACE || J->mode == VX_PROBE_RENDER_PT_INDIRECT) {
+            acc[3] += vx__path(J->L, o, d, J->bounces, J->mode == VX_PROBE_RENDER_PT_INDIRECT, &rng, c);
+            for (int k = 0; k < 3; k++) acc[k] += c[k];
+            continue;
+        }
         vx_render_ray_hit h;
         bool hit = vx_render_cast(J->L->caster, o, d, INFINITY, false, &h);
         if (!hit) {
@@ -227,11 +244,6 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
                 double nd[3], li[3];
                 vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
                 vx__lf_radiance(J->lf, sf.p, nd, li, cnt);
-                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] * li[k];
-            } else if (J->bounces > 0) {
-                double nd[3], li[3];
-                vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
-                vx__path(J->L, sf.p, nd, J->bounces - 1, &rng, li);
                 for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] * li[k];
             }
             acc[3] += 1;
@@ -270,16 +282,20 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
     const vx_probe_render_desc d = P.d;
     const vx__frame f = P.f;
     vx_render_caster* c = NULL;
-    if ((r = vx_render_caster_create(s, NULL, &c, err))) return r;
+    if ((r = vx_render_caster_create(s, NULL, &c, err))) {
+        vx__prender_free(&P);
+        return r;
+    }
     P.L.caster = c;
     vx__lf lf = {.L = &P.L, .ps = ps};
     memcpy(lf.lo, P.lo, sizeof lf.lo), memcpy(lf.hi, P.hi, sizeof lf.hi);
     rjob J = {.f = &f, .L = &P.L, .ps = ps, .lf = &lf, .mode = d.mode, .seed = d.seed, .spp = P.spp,
-              .bounces = P.bounces, .rows = d.rows};
+              .bounces = P.bounces, .rows = d.rows, .jitter = P.spp > 1 && !d.pixel_centre};
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
     img.pixels = vx_calloc(NULL, (size_t)f.width * f.height, 16);
     if (!img.pixels) {
         vx_render_caster_destroy(c);
+        vx__prender_free(&P);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
     }
     J.pixels = img.pixels;
@@ -295,6 +311,7 @@ vx_result vx_probe_render(const vx_svo_scene* s, const vx_probe_set* ps, const v
                                            .fallbacks = J.counts.fallbacks};
     img.rays = (uint64_t)f.width * vx__prender_rows(&d, f.height) * J.spp;
     vx_render_caster_destroy(c);
+    vx__prender_free(&P);
     *out = img;
     return VX_OK;
 }

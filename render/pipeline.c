@@ -342,9 +342,9 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     bool ids = desc->want_ids;
     uint32_t nl = desc->light_count;
     if (nl && !desc->lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", nl);
-    if (nl && has_gi)
+    if (nl && has_gi && (gm->light_count != nl || gm->lights != desc->lights))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                       "lights with a gi pass: the gi method (gi=%s) lights the scene with its own sun and sky", L->gi);
+                       "lights with a gi pass: the gi method (gi=%s) was not made with the frame's lights", L->gi);
     if (nl > 65536) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most 65536", nl);
     for (uint32_t i = 0; i < nl; i++) {
         if ((r = vx_light_validate(&desc->lights[i], i, err))) return r;
@@ -353,7 +353,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
                            "light %u: sphere and rect lights are not in the direct pass yet", i);
     }
     bool phys = has_gi || nl > 0;
-    bool sky = nl > 0; /* the radiometric model without gi: the sky times ao */
+    bool sky = nl > 0 && !has_gi; /* the radiometric model without gi: the sky times ao (a gi pass brings the sky) */
     bool emit = has_gi && any_emission(gm->emit_attr, gm->emit_count);
     size_t npx = (size_t)f.width * f.height;
     VkDeviceSize px = (VkDeviceSize)npx;

@@ -129,6 +129,10 @@ typedef struct vx_gi_method {
     double sky[3];       /* sky radiance */
     const float* emit_attr;
     size_t emit_count;
+    /* the frame lights the method's light includes (a frame with lights and
+     * a gi pass must give these, the same array and count) */
+    const vx_light* lights;
+    uint32_t light_count;
 } vx_gi_method;
 
 /* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h. */
@@ -150,7 +154,8 @@ typedef struct vx_gi_method {
  *               uses the radiometric model (the colour model's sun and
  *               ambient are not added): colour = albedo / pi * irradiance +
  *               albedo * sky * ao, sky radiance `sky` (also the background).
- *               Not with a gi pass yet (its method brings its own light).
+ *               With a gi pass only the lights the method was made with
+               (vx_gi_method.lights: gi=pathtrace takes them).
  *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth)
  *  no_readback: benchmarks: leave the image on the GPU (image.pixels NULL),
  *               so back-to-back frames keep the GPU busy and at its clocks

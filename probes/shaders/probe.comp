@@ -36,6 +36,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #include "trace_common.glsl"
 
 layout(constant_id = 5) const int PMODE = 0;
+layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 13)
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -51,6 +52,8 @@ layout(std430, binding = 7) readonly buffer Params {
                    // in LfMaps; w: 2 (loops_intact)
     vec4 lf_lo;    // xyz: scene bounds relative to the reference point, w: distance step
     vec4 lf_hi;    // xyz: scene bounds (max)
+    uvec4 cnt;     // x: lights (binding 14), y: emissive voxels (binding 15), z: 1: no jitter in the pixel
+    vec4 pt;       // x: total emitted power of the emissive voxels (sum of lum(radiance) * area)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
@@ -65,6 +68,15 @@ layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
 // min-distance u16 ((low+2)^2, padded), normal oct16 ((res+2)^2), radiance
 // half RGB ((res+2)^2 * 3, padded)
 layout(std430, binding = 12) readonly buffer LfMaps { uint lfw[]; };
+// path tracer (probes/pathtrace.c): per colors[] entry two vec4 (type, GGX alpha, metalness, specular),
+// (ior, transmission, 0, 0), when MATS
+layout(std430, binding = 13) readonly buffer Mats { vec4 mats[]; };
+// per light five vec4: (position - reference, type), (unit direction, range), (colour * intensity, radius),
+// (spot scale, spot offset, angular diameter, size0), (unit tangent orthogonal to the direction, size1)
+layout(std430, binding = 14) readonly buffer Lights { vec4 lights[]; };
+// per emissive voxel four vec4: (corner - reference, area), (axis 0, cdf), (axis 1, 0), (axis 2, 0), then
+// (radiance, 0)
+layout(std430, binding = 15) readonly buffer Emitters { vec4 ems[]; };
 
 const float PI = 3.14159265358979323846;
 const float BIG = 3.0e38;
@@ -102,8 +114,8 @@ vec2 oct_encode(vec3 d) {
     return p;
 }
 
-// ---- the lighting model (probes/light.c) ----
-struct Surf { vec3 p, n, alb, emit; };
+// ---- the lighting model (probes/light.c) and the path tracer (probes/pathtrace.c) ----
+struct Surf { vec3 p, n, alb, emit; float cell; uint attr; };
 
 bool cast_ray(vec3 o, vec3 d, float tmax, out Hit h) {
     h.t = tmax;
@@ -114,13 +126,14 @@ bool cast_ray(vec3 o, vec3 d, float tmax, out Hit h) {
     return trace_scene(o, d, 0.0, false, h);
 }
 
-bool occluded(vec3 o, vec3 d) {
+bool occluded_to(vec3 o, vec3 d, float tmax) {
     Hit h;
-    h.t = BIG;
+    h.t = tmax;
     h.inst = NO_HIT;
     g_iter = 0u;
     return trace_scene(o, d, 0.0, true, h);
 }
+bool occluded(vec3 o, vec3 d) { return occluded_to(o, d, BIG); }
 
 Surf surface(vec3 o, vec3 d, Hit h) {
     Surf s;
@@ -133,6 +146,8 @@ Surf surface(vec3 o, vec3 d, Hit h) {
     s.alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
     float e = h.attr != NO_HIT ? emit_attr[h.attr] : 0.0;
     s.emit = s.alb * e;
+    s.cell = I.cell;
+    s.attr = h.attr;
     return s;
 }
 
@@ -143,31 +158,438 @@ vec3 direct(Surf s) {
     return s.alb / PI * P.sun.xyz * ndl;
 }
 
-vec3 cosine_dir(vec3 n, float u1, float u2) {
+void basis(vec3 n, out vec3 t, out vec3 b) {
     float sg = n.z < 0.0 ? -1.0 : 1.0;
-    float a = -1.0 / (sg + n.z), b = n.x * n.y * a;
-    vec3 t = vec3(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x);
-    vec3 bt = vec3(b, sg + n.y * n.y * a, -n.y);
+    float a = -1.0 / (sg + n.z), c = n.x * n.y * a;
+    t = vec3(1.0 + sg * n.x * n.x * a, sg * c, -sg * n.x);
+    b = vec3(c, sg + n.y * n.y * a, -n.y);
+}
+
+vec3 cosine_dir(vec3 n, float u1, float u2) {
+    vec3 t, bt;
+    basis(n, t, bt);
     float r = sqrt(u1), phi = 2.0 * PI * u2;
     return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
 }
 
-vec3 path(vec3 o, vec3 d, uint bounces) {
+// uniform in the cone of 1 - cos(half angle) = omc around the unit axis
+vec3 cone_dir(vec3 axis, float omc, float u1, float u2) {
+    vec3 t, b;
+    basis(axis, t, b);
+    float z = 1.0 - u1 * omc, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PI * u2;
+    return normalize(s * cos(phi) * t + s * sin(phi) * b + z * axis);
+}
+
+float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+float mis(float a, float b) { return a * a / (a * a + b * b); }
+
+float ggx_d(float a2, float z) {
+    float c = z * z * (a2 - 1.0) + 1.0;
+    return a2 / (PI * c * c);
+}
+float ggx_lambda(float a2, float z) {
+    float z2 = z * z;
+    if (z2 >= 1.0) return 0.0;
+    if (!(z2 > 0.0)) return 1e30;
+    return 0.5 * (-1.0 + sqrt(1.0 + a2 * (1.0 - z2) / z2));
+}
+vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
+    vec3 vh = normalize(vec3(alpha * wo.xy, wo.z));
+    float l2 = dot(vh.xy, vh.xy);
+    vec3 t1 = l2 > 0.0 ? vec3(-vh.y, vh.x, 0.0) / sqrt(l2) : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(vh, t1);
+    float r = sqrt(u1), phi = 2.0 * PI * u2;
+    float p1 = r * cos(phi), p2 = r * sin(phi), s = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
+    vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+    return normalize(vec3(alpha * nh.xy, max(0.0, nh.z)));
+}
+float fresnel_dielectric(float cosi, float eta) {
+    float s2t = (1.0 - cosi * cosi) / (eta * eta);
+    if (s2t >= 1.0) return 1.0;
+    float ct = sqrt(1.0 - s2t);
+    float rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+const int B_LAMBERT = 0, B_GLOSSY = 1, B_GLASS = 2;
+struct Bsdf { int kind; vec3 alb, kd, f0; float alpha, a2, ps, eta; vec3 n, t, b; };
+
+Bsdf bsdf_of(Surf s) {
+    Bsdf B;
+    B.kind = B_LAMBERT;
+    B.alb = s.alb;
+    B.kd = vec3(0.0);
+    B.f0 = vec3(0.0);
+    B.alpha = 0.0;
+    B.a2 = 0.0;
+    B.ps = 0.0;
+    B.eta = 1.0;
+    B.n = s.n;
+    basis(s.n, B.t, B.b);
+    if (MATS && s.attr != NO_HIT) {
+        vec4 m0 = mats[2u * s.attr], m1 = mats[2u * s.attr + 1u];
+        if (m0.x == 1.0) {
+            B.kind = B_GLOSSY;
+            float mt = m0.z, f0d = 0.08 * m0.w;
+            B.kd = (1.0 - mt) * (1.0 - f0d) * s.alb;
+            B.f0 = (1.0 - mt) * f0d + mt * s.alb;
+            B.alpha = max(m0.y, 1e-3);
+            B.a2 = B.alpha * B.alpha;
+            B.ps = 0.5 * (1.0 + mt);
+        } else if (m0.x == 2.0 && m1.y > 0.0 && (m1.y >= 1.0 || rnd() < m1.y)) {
+            B.kind = B_GLASS;
+            B.alpha = m0.y;
+            B.a2 = B.alpha * B.alpha;
+            B.eta = m1.x;
+        }
+    }
+    return B;
+}
+
+vec3 to_local(Bsdf B, vec3 v) { return vec3(dot(v, B.t), dot(v, B.b), dot(v, B.n)); }
+
+vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
+    vec3 wo = to_local(B, wo_w), wi = to_local(B, wi_w);
+    pdf = 0.0;
+    if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);
+    if (B.kind == B_LAMBERT) {
+        pdf = wi.z / PI;
+        return B.alb / PI;
+    }
+    vec3 h = normalize(wo + wi);
+    float d = ggx_d(B.a2, h.z), lo = ggx_lambda(B.a2, wo.z), li = ggx_lambda(B.a2, wi.z);
+    float g2 = 1.0 / (1.0 + lo + li), s5 = pow(1.0 - max(0.0, dot(wi, h)), 5.0);
+    pdf = B.ps * d / (1.0 + lo) / (4.0 * wo.z) + (1.0 - B.ps) * wi.z / PI;
+    return B.kd / PI + (B.f0 + (1.0 - B.f0) * s5) * (d * g2 / (4.0 * wo.z * wi.z));
+}
+
+bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
+    vec3 wo = to_local(B, wo_w);
+    float u0 = rnd(), u1 = rnd(), u2 = rnd();
+    w = vec3(0.0);
+    pdf = 0.0;
+    if (B.kind == B_LAMBERT || u0 >= B.ps) {
+        wi_w = cosine_dir(B.n, u1, u2);
+    } else {
+        if (wo.z <= 0.0) return false;
+        vec3 m = ggx_vndf(B.alpha, wo, u1, u2);
+        vec3 wi = 2.0 * dot(wo, m) * m - wo;
+        wi_w = normalize(wi.x * B.t + wi.y * B.b + wi.z * B.n);
+    }
+    vec3 f = bsdf_eval(B, wo_w, wi_w, pdf);
+    float cs = dot(wi_w, B.n);
+    if (!(pdf > 0.0) || cs <= 0.0) return false;
+    w = f * cs / pdf;
+    return true;
+}
+
+// one event at a dielectric interface (n faces the incident side, eta = n_other / n_this)
+bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, out vec3 wi_w, out bool refracted, out float weight) {
+    weight = 1.0;
+    refracted = true;
+    wi_w = -wo_w;
+    if (abs(eta - 1.0) < 1e-6) return true; // index-matched: no interface
+    vec3 t, b;
+    basis(n, t, b);
+    vec3 wo = vec3(dot(wo_w, t), dot(wo_w, b), dot(wo_w, n));
+    if (wo.z <= 0.0) return false;
+    bool rough = alpha >= 1e-3;
+    float u1 = rnd(), u2 = rnd(), u3 = rnd();
+    vec3 m = rough ? ggx_vndf(alpha, wo, u1, u2) : vec3(0.0, 0.0, 1.0);
+    float c = dot(wo, m);
+    if (c <= 0.0) return false;
+    float fr = fresnel_dielectric(c, eta);
+    vec3 wi;
+    if (u3 < fr) {
+        wi = 2.0 * c * m - wo;
+        refracted = false;
+    } else {
+        float e = 1.0 / eta, k2 = 1.0 - e * e * (1.0 - c * c);
+        wi = -e * wo + (e * c - sqrt(max(0.0, k2))) * m;
+    }
+    if (rough) {
+        float a2 = alpha * alpha;
+        if (refracted ? wi.z >= 0.0 : wi.z <= 0.0) return false;
+        float li = ggx_lambda(a2, abs(wi.z)), lo = ggx_lambda(a2, wo.z);
+        weight = refracted ? 1.0 / (1.0 + li) : (1.0 + lo) / (1.0 + lo + li);
+    }
+    wi_w = normalize(wi.x * t + wi.y * b + wi.z * n);
+    return true;
+}
+
+bool is_glass(uint attr) {
+    return MATS && attr != NO_HIT && mats[2u * attr].x == 2.0 && mats[2u * attr + 1u].y > 0.0;
+}
+
+// Inside a glass voxel (cell of instance inst) at p along d: to the face where the glass ends
+// (probes/pathtrace.c glass_walk). false: absorbed. On true, o and d the ray that left.
+bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec3 d, inout vec3 thr, out vec3 o) {
+    uvec3 c = cell;
+    o = p;
+    for (int step = 0; step < 512; step++) {
+        Inst I = insts[inst];
+        vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+        vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+        float te = BIG;
+        int ax = -1;
+        for (int a = 0; a < 3; a++) {
+            if (dm[a] == 0.0) continue;
+            float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            if (ta < te) { te = ta; ax = a; }
+        }
+        if (ax < 0) return false;
+        te = max(te, 0.0);
+        vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
+        vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
+        vec3 q = p + d * te;
+        float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
+        vec3 qi = q + d * eps;
+        Hit g;
+        if (cast_ray(qi, d, eps, g)) {
+            if (!is_glass(g.attr)) return false; // an opaque voxel against the glass (probes/pathtrace.c)
+            inst = g.inst;
+            c = g.cell;
+            p = qi;
+            continue;
+        }
+        vec3 wi;
+        bool refr;
+        float w;
+        if (!dielectric(-nf, -d, 1.0 / ior, alpha, wi, refr, w)) return false;
+        thr *= w;
+        d = wi;
+        if (refr) {
+            o = q + nf * eps;
+            return true;
+        }
+        p = q - nf * eps;
+    }
+    return false;
+}
+
+Surf g_s; // the vertex being shaded (GLSL passes structs by value; one copy)
+
+// the frame's sphere and rect lights along a ray, nearest before tmax (probes/pathtrace.c area_hit)
+bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
+    bool found = false;
+    le = vec3(0.0);
+    pdf = 0.0;
+    for (uint i = 0u; i < P.cnt.x; i++) {
+        vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u];
+        uint type = uint(a.w);
+        float t = BIG, p = 0.0;
+        if (type == 3u) {
+            vec3 v = a.xyz - o;
+            float d2 = dot(v, v), r2 = c.w * c.w, bb = dot(v, d);
+            if (d2 <= r2 || bb <= 0.0) continue;
+            float disc = r2 - (d2 - bb * bb);
+            if (disc < 0.0) continue;
+            t = bb - sqrt(disc);
+            float s2 = r2 / d2, omc = s2 / (1.0 + sqrt(1.0 - s2));
+            p = 1.0 / (2.0 * PI * omc);
+        } else if (type == 4u) {
+            vec4 dd = lights[5u * i + 3u], e = lights[5u * i + 4u];
+            float dn = dot(d, b.xyz);
+            if (dn >= 0.0) continue;
+            t = dot(a.xyz - o, b.xyz) / dn;
+            if (!(t > 0.0)) continue;
+            vec3 y = o + d * t - a.xyz, t2 = cross(b.xyz, e.xyz);
+            float area = dd.w * e.w;
+            if (!(area > 0.0) || abs(dot(y, e.xyz)) > 0.5 * dd.w || abs(dot(y, t2)) > 0.5 * e.w) continue;
+            p = t * t / (area * -dn);
+        } else {
+            continue;
+        }
+        if (t < tmax) {
+            tmax = t;
+            found = true;
+            pdf = p;
+            le = c.xyz;
+        }
+    }
+    return found;
+}
+
+// light sampling at a non-delta vertex (probes/pathtrace.c nee)
+vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
+    vec3 out_l = vec3(0.0);
+    float bp;
+    Surf s = g_s;
+    if (!skip_direct && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) && dot(s.n, P.light.xyz) > 0.0 &&
+        !occluded(s.p, P.light.xyz)) {
+        vec3 f = bsdf_eval(B, wo, P.light.xyz, bp);
+        out_l += f * P.sun.xyz * dot(s.n, P.light.xyz);
+    }
+    for (uint i = 0u; i < P.cnt.x; i++) {
+        vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
+        uint type = uint(a.w);
+        vec3 e = c.xyz, l;
+        float pdf = 0.0, tmax = BIG, g = 1.0;
+        if (type == 0u) {
+            if (skip_direct) continue;
+            if (dd.z >= 1e-6) { // CONE_MIN of probes/pathtrace.c
+                float h = 0.5 * dd.z, sn = sin(h), sq = sin(0.5 * h), omc = 2.0 * sq * sq;
+                e = c.xyz / (PI * sn * sn);
+                l = cone_dir(b.xyz, omc, rnd(), rnd());
+                pdf = 1.0 / (2.0 * PI * omc);
+            } else {
+                l = b.xyz;
+            }
+        } else if (type == 1u || type == 2u) {
+            if (skip_direct) continue;
+            vec3 v = a.xyz - s.p;
+            float d2 = dot(v, v), dist = sqrt(d2);
+            if (!(dist > 0.0)) continue;
+            l = v / dist;
+            g = 1.0 / max(d2, 1e-4 * s.cell * s.cell);
+            if (b.w > 0.0) {
+                float q = dist / b.w, w = max(0.0, 1.0 - q * q * q * q);
+                g *= w * w;
+            }
+            if (type == 2u) {
+                float sp = clamp(-dot(l, b.xyz) * dd.x + dd.y, 0.0, 1.0);
+                g *= sp * sp;
+            }
+            tmax = dist * (1.0 - 1e-6);
+        } else if (type == 3u) {
+            vec3 v = a.xyz - s.p;
+            float d2 = dot(v, v), r2 = c.w * c.w;
+            if (d2 <= r2 || !(r2 > 0.0)) continue;
+            float dist = sqrt(d2), s2 = r2 / d2, omc = s2 / (1.0 + sqrt(1.0 - s2));
+            l = cone_dir(v / dist, omc, rnd(), rnd());
+            pdf = 1.0 / (2.0 * PI * omc);
+            float bb = dot(v, l), disc = r2 - (d2 - bb * bb);
+            tmax = (bb - sqrt(max(0.0, disc))) * (1.0 - 1e-6);
+        } else {
+            vec4 ee = lights[5u * i + 4u];
+            float area = dd.w * ee.w;
+            if (!(area > 0.0)) continue;
+            float u = rnd() - 0.5, w = rnd() - 0.5;
+            vec3 v = a.xyz + u * dd.w * ee.xyz + w * ee.w * cross(b.xyz, ee.xyz) - s.p;
+            float d2 = dot(v, v), dist = sqrt(d2);
+            if (!(dist > 0.0)) continue;
+            l = v / dist;
+            float cl = -dot(l, b.xyz);
+            if (cl <= 0.0) continue;
+            pdf = d2 / (area * cl);
+            tmax = dist * (1.0 - 1e-6);
+        }
+        float cs = dot(s.n, l);
+        if (cs <= 0.0 || !(g > 0.0) || isinf(g) || occluded_to(s.p, l, tmax)) continue;
+        vec3 f = bsdf_eval(B, wo, l, bp);
+        float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
+        out_l += f * e * (g * cs * w);
+    }
+    if (P.cnt.y > 0u && mis_on) { // not at the last vertex (probes/pathtrace.c)
+        float u = rnd();
+        uint lo = 0u, hi = P.cnt.y - 1u;
+        while (lo < hi) {
+            uint mid = lo + (hi - lo) / 2u;
+            if (ems[5u * mid + 1u].w <= u) lo = mid + 1u;
+            else hi = mid;
+        }
+        vec4 c0 = ems[5u * lo];
+        vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
+        vec3 rad = ems[5u * lo + 4u].xyz;
+        float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
+        float pick = rnd() * c0.w;
+        int a = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
+        float side = rnd() < 0.5 ? 0.0 : 1.0;
+        float u1 = rnd(), u2 = rnd();
+        vec3 ea = ax[a], eb = ax[(a + 1) % 3], ec = ax[(a + 2) % 3];
+        vec3 y = c0.xyz + side * ea + u1 * eb + u2 * ec;
+        vec3 n = normalize(cross(eb, ec));
+        if ((dot(n, ea) > 0.0) != (side == 1.0)) n = -n;
+        vec3 v = y - s.p;
+        float d2 = dot(v, v), dist = sqrt(d2);
+        if (dist > 0.0) {
+            vec3 l = v / dist;
+            float cy = -dot(l, n), cs = dot(s.n, l);
+            if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, dist - 1e-3 * length(ea))) {
+                float pdf = lum(rad) / P.pt.x * d2 / cy;
+                vec3 f = bsdf_eval(B, wo, l, bp);
+                float w = mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf;
+                out_l += f * rad * (cs * w);
+            }
+        }
+    }
+    return out_l;
+}
+
+// radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
+vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     vec3 thr = vec3(1.0), acc = vec3(0.0);
-    for (uint depth = 0u;; depth++) {
+    hit_out = false;
+    float prev_pdf = 0.0;
+    uint depth = 0u;
+    int vertex = 0;
+    for (int events = 0; events < 1024; events++) {
         Hit h;
-        if (!cast_ray(o, d, BIG, h)) {
-            acc += thr * P.sky.xyz;
+        bool hit = cast_ray(o, d, BIG, h);
+        bool skip = indirect && vertex == 0;
+        vec3 le;
+        float lp;
+        if (P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
+            if (!skip) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
             break;
         }
-        Surf s = surface(o, d, h);
-        acc += thr * (s.emit + direct(s));
+        if (!hit) {
+            if (!skip) acc += thr * P.sky.xyz;
+            for (uint i = 0u; i < P.cnt.x && !(indirect && vertex <= 1); i++) {
+                vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
+                if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;
+                float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
+                vec3 cr = cross(b.xyz, d);
+                if (!(dot(b.xyz, d) > 0.0 && dot(cr, cr) < sn * sn)) continue;
+                acc += thr * c.xyz / (PI * sn * sn) * (prev_pdf > 0.0 ? mis(prev_pdf, 1.0 / (2.0 * PI * omc)) : 1.0);
+            }
+            break;
+        }
+        if (vertex == 0) hit_out = true;
+        g_s = surface(o, d, h);
+        if (!skip && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
+            float w = 1.0;
+            if (prev_pdf > 0.0 && P.cnt.y > 0u) {
+                float cy = abs(dot(d, g_s.n));
+                w = cy > 0.0 ? mis(prev_pdf, lum(g_s.emit) / P.pt.x * h.t * h.t / cy) : 0.0;
+            }
+            acc += thr * g_s.emit * w;
+        }
+        vertex++;
+        Bsdf B = bsdf_of(g_s);
+        vec3 wo = -d;
+        if (B.kind == B_GLASS) {
+            vec3 wi;
+            bool refr;
+            float w;
+            if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
+            prev_pdf = 0.0;
+            thr *= w;
+            if (!refr) {
+                o = g_s.p;
+                d = wi;
+                continue;
+            }
+            thr *= B.alb;
+            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            d = wi;
+            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
+            continue;
+        }
+        acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
         if (depth >= bounces) break;
-        float u1 = rnd(), u2 = rnd();
-        d = cosine_dir(s.n, u1, u2);
-        o = s.p;
-        thr *= s.alb;
+        vec3 w;
+        if (!bsdf_sample(B, wo, d, w, prev_pdf)) break;
+        thr *= w;
+        depth++;
+        if (depth >= 3u) { // VX__RR_DEPTH
+            float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
+            if (!(rnd() < q)) break;
+            thr /= q;
+        }
         if (thr == vec3(0.0)) break;
+        o = g_s.p;
     }
     return acc;
 }
@@ -536,7 +958,8 @@ void bake() {
     for (; s < s1; s++) {
         rng_init(probe, texel, s);
         vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
-        acc.xyz += path(o, oct_decode(uv), P.a.z);
+        bool hit;
+        acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
     }
     // identical values from every invocation that writes them
     if (s != s1 || !loops_intact()) {
@@ -566,7 +989,7 @@ void render() {
     for (; s < s1; s++) {
         rng_init(0x90000000u + y, x, s);
         vec2 off = vec2(0.0);
-        if (spp > 1u) off = vec2(rnd(), rnd()) - 0.5;
+        if (spp > 1u && P.cnt.z == 0u) off = vec2(rnd(), rnd()) - 0.5;
         float u = ((float(x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
         float v = 1.0 - ((float(y) + 0.5 + off.y) / float(H)) * 2.0;
         vec3 o, d;
@@ -578,6 +1001,12 @@ void render() {
             o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
         }
         vec3 c = vec3(0.0);
+        if (PMODE == P_PT || PMODE == P_PT_IND) {
+            bool hit;
+            acc.xyz += path(o, d, P.a.z, PMODE == P_PT_IND, hit);
+            if (hit) acc.w += 1.0;
+            continue;
+        }
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
             if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
@@ -589,9 +1018,6 @@ void render() {
             } else if (PMODE == P_LF || PMODE == P_LF_IND) {
                 float u1 = rnd(), u2 = rnd();
                 c += sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2));
-            } else if (P.a.z > 0u) {
-                float u1 = rnd(), u2 = rnd();
-                c += sf.alb * path(sf.p, cosine_dir(sf.n, u1, u2), P.a.z - 1u);
             }
             acc.w += 1.0;
         }

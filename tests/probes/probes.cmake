@@ -5,6 +5,11 @@ if(VX_WITH_VULKAN)
   vx_add_test(test_probes_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes_gpu.c
               LIBS vx_probes vx_render vx_convert vx_formats vx_svo ${CMAKE_DL_LIBS}
               LABELS probes)
+  # the path tracer with lights and materials (furnaces, analytic lights, a stiff emitter, GPU vs CPU)
+  vx_add_test(test_pathtrace SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_pathtrace.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_pathtrace PROPERTIES TIMEOUT 600 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # .probes reader fuzz target; seeds written by svo_bake --cpu (tiny: res 16,

@@ -85,7 +85,7 @@ static void check_agreement(const vx_svo_scene* s, const vx_probe_set* ps, uint3
     vx_error err = {0};
     REQUIRE(vx_render_caster_create(s, NULL, &c, &err) == VX_OK);
     vx__light L;
-    vx__light_init(&L, c, s, NULL, NULL, false, NULL, false);
+    REQUIRE(vx__light_init(&L, c, s, NULL, NULL, false, NULL, false, &err) == VX_OK);
     double lo[3], hi[3];
     lo[0] = lo[1] = lo[2] = 0, hi[0] = hi[1] = hi[2] = 16;
     uint32_t seed = 7;
@@ -156,6 +156,7 @@ static void check_agreement(const vx_svo_scene* s, const vx_probe_set* ps, uint3
         }
         A->answered += answered;
     }
+    vx__light_free(&L);
     vx_render_caster_destroy(c);
 }
 

@@ -475,6 +475,7 @@ static void test_gi_pass_equals_renderer(void) {
     vx_probe_render_desc rd = pd;
     rd.base = &base;
     rd.mode = VX_PROBE_RENDER_PT_INDIRECT;
+    rd.pixel_centre = true; /* the gi pass traces the G-buffer's pixel-centre rays */
     vx_render_image ref = {0};
     CHECK(vx_probe_render_gpu(rs, &s, NULL, &rd, &ref, &err) == VX_OK);
     double worst = 0;

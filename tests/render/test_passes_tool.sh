@@ -47,8 +47,9 @@ expect_status 2 "malformed light" "$R" "$T/demo.svo" "$T/x.png" --light point:1,
 expect_status 2 "negative light" "$R" "$T/demo.svo" "$T/x.png" --light point:0,0,0:-1,1,1
 grep -q "light 0" "$T/err" && ok "the error names the light" || bad "the error names the light"
 expect_status 2 "--sky without lights" "$R" "$T/demo.svo" "$T/x.png" --sky 1,1,1
-expect_status 1 "lights with a gi pass" "$R" "$T/demo.svo" "$T/x.png" --light point:0,0,40:1,1,1 \
-    --passes gbuffer,direct,gi=pathtrace
+expect_status 0 "lights with gi=pathtrace" "$R" "$T/demo.svo" "$T/lgi.exr" --size 32x24 \
+    --light point:0,0,40:900,800,700 --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 \
+    --passes gbuffer,direct,gi=pathtrace,tonemap
 expect_status 0 "gi=pathtrace" "$R" "$T/demo.svo" "$T/gi.exr" --size 32x24 --passes gbuffer,direct,gi=pathtrace,tonemap
 if [ -x "$BIN/svo_view" ] && command -v xvfb-run >/dev/null 2>&1; then
     printf 'passes gbuffer,direct,ao,aa,tonemap\nscreenshot %s\nquit\n' "$T/v.png" >"$T/script.txt"

@@ -190,6 +190,8 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     if (vx_pass_list_has(passes, VX_PASS_GI)) {
         vx_probe_render_desc pd = o->p;
         pd.base = &o->r;
+        if (!strcmp(passes->gi, "pathtrace")) /* carries the frame's lights along its paths */
+            pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
         if ((r = vx_probe_gi_create(rs, scene, probes, passes->gi, &pd, &gm, &pgi, err))) goto done;
     }
     vx_frame_desc fd = o->fd;
@@ -491,8 +493,12 @@ int main(int argc, char** argv) {
         fprintf(stderr, "%s: note: the file's %s sky%s%s is not rendered yet; the frame uses --sky's\n", prog,
                 is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
     }
-    if (o.frame_light_count && (!pipeline || o.cpu))
-        fprintf(stderr, "%s: note: %u lights ignored: lights need the colour mode on the GPU\n", prog, o.frame_light_count);
+    bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
+    if (pt_mode) /* the path tracer carries the lights, on the GPU and the CPU */
+        o.p.lights = o.frame_lights, o.p.light_count = o.frame_light_count;
+    else if (o.frame_light_count && (!pipeline || o.cpu))
+        fprintf(stderr, "%s: note: %u lights ignored: lights need the colour mode on the GPU or --mode pathtrace\n", prog,
+                o.frame_light_count);
     if (o.verbose && o.frame_light_count)
         printf("lights: %u from the file, %u from emissive voxels, %u from --light\n",
                o.frame_light_count - from_voxels - o.light_count, from_voxels, o.light_count);
