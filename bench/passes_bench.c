@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "bench/bench_load.h"
+#include "bench/bench_view.h"
 #include "render/pipeline.h"
 #include "render/render_internal.h" /* vx__render_dispatch */
 
@@ -85,23 +86,7 @@ int main(int argc, char** argv) {
         vx_svo_scene_world_bounds(&s, lo, hi);
         for (int view = 0; view < 2; view++) {
             vx_render_desc base = {.width = W, .height = H};
-            if (view == 1) {
-                /* close-up: a quarter of the default eye distance, same direction */
-                vx__frame f;
-                vx__frame_setup(lo, hi, &base, &f, NULL);
-                double c[3], d = 0;
-                for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]);
-                for (int k = 0; k < 3; k++) {
-                    double e = f.ref[k] - f.fwd[k] * f.t_start;
-                    d += (e - c[k]) * (e - c[k]);
-                }
-                d = sqrt(d);
-                base.camera.set = true;
-                for (int k = 0; k < 3; k++) {
-                    base.camera.target[k] = c[k] - 0.08 * (hi[2] - lo[2]) * (k == 2);
-                    base.camera.eye[k] = c[k] - f.fwd[k] * d * 0.25;
-                }
-            }
+            if (view == 1) bench_closeup(lo, hi, &base);
             /* hit share */
             vx_frame_desc fd = vx_frame_desc_defaults();
             fd.base = base;

@@ -10,6 +10,7 @@
 #include "render/render_internal.h"
 
 #include "ao.comp.h"
+#include "cull.comp.h"
 #include "direct.comp.h"
 #include "frame.comp.h"
 #include "gbuffer.comp.h"
@@ -111,33 +112,85 @@ vx_frame_desc vx_frame_desc_defaults(void) {
     d.ao_rays = 4;
     d.edge_threshold = 0.1;
     d.sky[0] = 0.31, d.sky[1] = 0.375, d.sky[2] = 0.46; /* the probe bake's sky (probes.h) */
+    d.shadow_lights = VX_SHADOW_LIGHTS_DEFAULT; /* light_cutoff stays 0: it follows the exposure */
     return d;
+}
+
+static const char* const culling_names[VX_LIGHT_CULLING_COUNT] = {"auto", "brute", "tiled", "clustered"};
+
+const char* vx_light_culling_name(vx_light_culling c) {
+    return (unsigned)c < VX_LIGHT_CULLING_COUNT ? culling_names[c] : "?";
+}
+
+bool vx_light_culling_parse(const char* s, vx_light_culling* out) {
+    for (int i = 0; s && i < VX_LIGHT_CULLING_COUNT; i++)
+        if (!strcmp(s, culling_names[i])) {
+            *out = (vx_light_culling)i;
+            return true;
+        }
+    return false;
 }
 
 /* ---- the renderer -------------------------------------------------------------------- */
 
-enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_COUNT };
-#define NBIND 17
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 17 bindings");
+enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_COUNT };
+#define NBIND 19
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 19 bindings");
+
+/* The light grid (render/pipeline.h, shaders/passes_common.glsl). */
+enum { CLUSTER_TILE = 32, CLUSTER_SLICES = 32, TILED_TILE = 16 /* = cull.comp's depth step: 256 pixels a tile */ };
 
 /* std430 layout of a light in passes_common.glsl */
 typedef struct gpu_light {
-    float a[4], b[4], c[4], d[4];
+    float a[4], b[4], c[4], d[4], e[4], f[4];
 } gpu_light;
 
-static void pack_light(const vx_light* l, const double ref[3], gpu_light* o) {
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* The reach R of a light (pipeline.h): range, or where its irradiance falls
+ * to `cutoff`; 0 for directional lights (everywhere) and dark lights. */
+static double light_reach(const vx_light* l, double cutoff) {
+    double m = fmax(l->color[0], fmax(l->color[1], l->color[2])) * l->intensity;
+    if (l->type == VX_LIGHT_DIRECTIONAL || !(m > 0)) return 0;
+    if ((l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT) && l->range > 0) return l->range;
+    if (l->type == VX_LIGHT_SPHERE) return fmax(l->radius * sqrt(3.141592653589793 * m / cutoff), l->radius * 1.001);
+    if (l->type == VX_LIGHT_RECT) {
+        double area = l->size[0] * l->size[1];
+        return 0.5 * hypot(l->size[0], l->size[1]) + sqrt(m * area / cutoff);
+    }
+    return sqrt(m / cutoff);
+}
+
+static void pack_light(const vx_light* l, const double ref[3], double cutoff, gpu_light* o) {
     memset(o, 0, sizeof *o);
     for (int k = 0; k < 3; k++) o->a[k] = (float)(l->position[k] - ref[k]);
     o->a[3] = (float)l->type;
-    double dl = sqrt(l->direction[0] * l->direction[0] + l->direction[1] * l->direction[1] +
-                     l->direction[2] * l->direction[2]);
-    for (int k = 0; k < 3; k++) o->b[k] = dl > 0 ? (float)(l->direction[k] / dl) : 0.0f;
-    o->b[3] = (float)l->range;
+    double dl = sqrt(dot3(l->direction, l->direction)), n[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++) n[k] = dl > 0 ? l->direction[k] / dl : 0;
+    for (int k = 0; k < 3; k++) o->b[k] = (float)n[k];
+    o->b[3] = (float)light_reach(l, cutoff);
     for (int k = 0; k < 3; k++) o->c[k] = (float)(l->color[k] * l->intensity);
+    if (l->type == VX_LIGHT_DIRECTIONAL) {
+        double h = 0.5 * l->angular_diameter, s = sin(0.5 * h);
+        o->c[3] = (float)(2 * s * s); /* 1 - cos h without the cancellation */
+    } else if (l->type != VX_LIGHT_RECT) {
+        o->c[3] = (float)l->radius;
+    }
     /* glTF's spot falloff: clamp(cos * scale + offset)^2, scale over at least 0.001 */
     double ci = cos(l->inner_cone), co = cos(l->outer_cone);
     double scale = 1.0 / fmax(0.001, ci - co);
     o->d[0] = (float)scale, o->d[1] = (float)(-co * scale);
+    if (l->type == VX_LIGHT_RECT) { /* edges: the tangent made orthogonal to the normal, then n x t */
+        double t[3], tn = dot3(l->tangent, n), tl, v[3];
+        for (int k = 0; k < 3; k++) t[k] = l->tangent[k] - tn * n[k];
+        tl = sqrt(dot3(t, t));
+        for (int k = 0; k < 3; k++) t[k] /= tl;
+        v[0] = n[1] * t[2] - n[2] * t[1], v[1] = n[2] * t[0] - n[0] * t[2], v[2] = n[0] * t[1] - n[1] * t[0];
+        for (int k = 0; k < 3; k++) {
+            o->e[k] = (float)(t[k] * 0.5 * l->size[0]);
+            o->f[k] = (float)(v[k] * 0.5 * l->size[1]);
+        }
+    }
 }
 
 typedef struct push_block {
@@ -145,10 +198,13 @@ typedef struct push_block {
     float f1[4]; /* sun, edge threshold */
     float f2[4]; /* sky */
     uint32_t u0[4]; /* sample, samples, ao rays, seed */
-    uint32_t u1[4]; /* first ao ray of the dispatch, ao rays in it */
+    uint32_t u1[4]; /* first ao ray of the dispatch, ao rays in it, lights, directional lights */
+    float f3[4];    /* light grid: depth origin, near, (slices - 1) / ln(far / near), list capacity (bits) */
+    uint32_t u2[4]; /* light grid: tiles across, down, slices, tile pixels */
 } push_block;
+_Static_assert(sizeof(push_block) <= 128, "Vulkan guarantees 128 bytes of push constants");
 
-typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_FRAME, SH_COUNT } shader_id;
+typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_FRAME, SH_CULL, SH_COUNT } shader_id;
 
 struct vx_frame_renderer {
     vx_render_scene* rs;
@@ -161,6 +217,7 @@ struct vx_frame_renderer {
     const float* emit_src; /* what b[B_EMIT] was filled from */
     VkQueryPool qp;
     uint32_t qcap;
+    uint32_t lidx_cap; /* light list entries b[B_LIDX] holds */
 };
 
 vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
@@ -197,7 +254,7 @@ static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, con
 }
 
 static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], vx__pipeline** out, vx_error* err) {
-    static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame"};
+    static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame", "cull"};
     vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 8, .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
     switch (sh) {
@@ -206,6 +263,7 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], v
     case SH_AO: pd.spirv = vx__ao_spv_arr, pd.spirv_size = sizeof vx__ao_spv_arr; break;
     case SH_RESOLVE: pd.spirv = vx__resolve_spv_arr, pd.spirv_size = sizeof vx__resolve_spv_arr; break;
     case SH_FRAME: pd.spirv = vx__frame_spv_arr, pd.spirv_size = sizeof vx__frame_spv_arr; break;
+    case SH_CULL: pd.spirv = vx__cull_spv_arr, pd.spirv_size = sizeof vx__cull_spv_arr; break;
     default: pd.spirv = vx__post_spv_arr, pd.spirv_size = sizeof vx__post_spv_arr; break;
     }
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -244,7 +302,8 @@ static vx_result rec_begin(rec* R, vx_error* err) {
     return VX_OK;
 }
 
-static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const char* row) {
+/* Records one dispatch of groups[0] x groups[1] workgroups (NULL: the image's 8 x 8 tiles). */
+static void rec_dispatch_n(rec* R, vx__pipeline* p, const push_block* pc, const char* row, const uint32_t* groups) {
     vx_gpu* g = R->fr->g;
     VkCommandBuffer cb = g->cmd;
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
@@ -252,7 +311,8 @@ static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const ch
     vkCmdPushConstants(cb, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
     bool ts = g->has_timestamps && R->nq + 2 <= R->fr->qcap && R->nd < 8192;
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->fr->qp, R->nq);
-    vkCmdDispatch(cb, R->groups[0], R->groups[1], 1);
+    if (!groups) groups = R->groups;
+    vkCmdDispatch(cb, groups[0], groups[1], 1);
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->fr->qp, R->nq + 1);
     VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
@@ -268,6 +328,10 @@ static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const ch
         R->row_of[R->nd++] = rowi;
         R->nq += 2;
     }
+}
+
+static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const char* row) {
+    rec_dispatch_n(R, p, pc, row, NULL);
 }
 
 /* Submits, waits and adds the timestamps to the rows and the frame time. */
@@ -297,6 +361,18 @@ static vx_result rec_submit(rec* R, vx_error* err) {
     R->res->frame_ms += (double)(ts[R->nq - 1] - ts[0]) * per;
     vx_free(&g->alloc, ts);
     return VX_OK;
+}
+
+/* The culling dispatches (shaders/cull.comp): clear, (tiled) tile depths,
+ * count, scan, fill, all in the timing row "cull". */
+static void rec_cull(rec* R, vx__pipeline* const p[5], const push_block* pc, uint64_t cells, uint32_t lights,
+                     const uint32_t tiles[2]) {
+    uint32_t clear[2] = {(uint32_t)((cells + 255) / 256), 1}, one[2] = {1, 1}, per_light[2] = {(lights + 255) / 256, 1};
+    rec_dispatch_n(R, p[0], pc, "cull", clear);
+    if (p[1]) rec_dispatch_n(R, p[1], pc, "cull", tiles);
+    rec_dispatch_n(R, p[2], pc, "cull", per_light);
+    rec_dispatch_n(R, p[3], pc, "cull", one);
+    rec_dispatch_n(R, p[4], pc, "cull", per_light);
 }
 
 static bool any_emission(const float* e, size_t n) {
@@ -345,13 +421,35 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (nl && has_gi && (gm->light_count != nl || gm->lights != desc->lights))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "lights with a gi pass: the gi method (gi=%s) was not made with the frame's lights", L->gi);
-    if (nl > 65536) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most 65536", nl);
+    if (nl > 65535u * 256u) /* one culling invocation per light, at most 65535 workgroups */
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most %u", nl, 65535u * 256u);
+    uint32_t ndir = 0;
     for (uint32_t i = 0; i < nl; i++) {
         if ((r = vx_light_validate(&desc->lights[i], i, err))) return r;
-        if (desc->lights[i].type > VX_LIGHT_SPOT)
-            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                           "light %u: sphere and rect lights are not in the direct pass yet", i);
+        ndir += desc->lights[i].type == VX_LIGHT_DIRECTIONAL;
     }
+    if ((unsigned)desc->light_culling >= VX_LIGHT_CULLING_COUNT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown light culling %d", (int)desc->light_culling);
+    if (desc->shadow_lights < -1 || desc->shadow_lights > VX_SHADOW_LIGHTS_MAX)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "shadow_lights %d: -1 (none), 0 (default) or up to %d",
+                       (int)desc->shadow_lights, VX_SHADOW_LIGHTS_MAX);
+    if (!(desc->light_cutoff >= 0) || !isfinite(desc->light_cutoff) || !isfinite(desc->exposure))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "light_cutoff and exposure must be finite, cutoff >= 0");
+    double cutoff = desc->light_cutoff > 0 ? desc->light_cutoff : 3.141592653589793 / 1024 * exp2(-desc->exposure);
+    if (!(cutoff > 0) || !isfinite(cutoff))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "exposure %g leaves no light cut-off", desc->exposure);
+    /* the culling: only for lights with a reach (not directional) */
+    vx_light_culling cull = VX_LIGHT_CULLING_BRUTE;
+    if (nl > ndir && has_direct) {
+        cull = desc->light_culling;
+        if (cull == VX_LIGHT_CULLING_AUTO)
+            cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_CLUSTERED;
+    }
+    bool tiled = cull == VX_LIGHT_CULLING_TILED, culled = cull != VX_LIGHT_CULLING_BRUTE;
+    uint32_t shadows = desc->shadow_lights < 0 ? 0
+                       : desc->shadow_lights == 0 ? VX_SHADOW_LIGHTS_DEFAULT
+                                                  : (uint32_t)desc->shadow_lights;
+    if (shadows > nl) shadows = nl; /* no more slots than lights */
     bool phys = has_gi || nl > 0;
     bool sky = nl > 0 && !has_gi; /* the radiometric model without gi: the sky times ao (a gi pass brings the sky) */
     bool emit = has_gi && any_emission(gm->emit_attr, gm->emit_count);
@@ -365,6 +463,21 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         (r = ensure(fr, B_GI, has_gi ? px * 16 : 16, "gi", err)) || (r = ensure(fr, B_ACC, px * 16, "accumulation", err)) ||
         (r = ensure(fr, B_OUT2, has_aa ? px * 16 : 16, "post", err)) ||
         (r = ensure(fr, B_LIGHTS, nl ? (VkDeviceSize)nl * sizeof(gpu_light) : 16, "lights", err)))
+        return r;
+    /* the light grid: its cells, the scene's view depth range for the slices */
+    uint32_t tile = tiled ? TILED_TILE : CLUSTER_TILE;
+    uint32_t gx = (f.width + tile - 1) / tile, gy = (f.height + tile - 1) / tile, gz = tiled ? 1 : CLUSTER_SLICES;
+    uint64_t cells = culled ? (uint64_t)gx * gy * gz : 0;
+    if (culled) {
+        uint64_t want = (uint64_t)(nl - ndir) * 8 + cells;
+        if (want > (1u << 30)) want = 1u << 30;
+        if (fr->lidx_cap < want) {
+            if ((r = ensure(fr, B_LIDX, want * 4, "light lists", err))) return r;
+            fr->lidx_cap = (uint32_t)want;
+        }
+    }
+    if ((r = ensure(fr, B_CULL, culled ? (4 + cells * (tiled ? 4 : 2)) * 4 : 16, "light grid", err)) ||
+        (!culled && (r = ensure(fr, B_LIDX, 16, "light lists", err))))
         return r;
     if (emit && (fr->emit_src != gm->emit_attr || fr->emit_count != gm->emit_count)) {
         vx__buffer_destroy(g, &fr->b[B_EMIT]);
@@ -383,15 +496,20 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (nl) {
         gpu_light* gl = vx_alloc(&g->alloc, (size_t)nl * sizeof *gl);
         if (!gl) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u lights", nl);
-        for (uint32_t i = 0; i < nl; i++) pack_light(&desc->lights[i], f.ref, &gl[i]);
+        /* directional lights first: the shaders take the first ndir at every pixel */
+        uint32_t at_dir = 0, at_pos = ndir;
+        for (uint32_t i = 0; i < nl; i++) {
+            bool dir = desc->lights[i].type == VX_LIGHT_DIRECTIONAL;
+            pack_light(&desc->lights[i], f.ref, cutoff, &gl[dir ? at_dir++ : at_pos++]);
+        }
         r = vx__buffer_upload(g, &fr->b[B_LIGHTS], gl, (VkDeviceSize)nl * sizeof *gl, err);
         vx_free(&g->alloc, gl);
         if (r) return r;
     }
     /* timestamps: two per dispatch of the largest submission */
     uint32_t ao_rays = desc->ao_rays ? desc->ao_rays : 4;
-    uint32_t per_sample = 1 + has_direct + (has_ao ? (vx_gpu_is_cpu(g) ? (ao_rays + 15) / 16 : 1) : 0) + 1;
-    uint64_t want_q = 2ull * ((uint64_t)f.spp * per_sample + 2);
+    uint32_t per_sample = 1 + has_direct + (has_ao ? (vx_gpu_is_cpu(g) ? (ao_rays + 15) / 16 : 1) : 0) + 1 + 5 * tiled;
+    uint64_t want_q = 2ull * ((uint64_t)f.spp * per_sample + 2 + 4 * culled);
     if (want_q > 16384) want_q = 16384; /* later dispatches run untimed: rows and frame then cover the first 8192 */
     if (g->has_timestamps && fr->qcap < want_q) {
         if (fr->qp) vkDestroyQueryPool(g->device, fr->qp, NULL);
@@ -413,29 +531,44 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
                  !desc->separate_passes;
     const char* merged_name = has_direct ? (has_ao ? "gbuffer+direct+ao+resolve" : "gbuffer+direct+resolve")
                                          : (has_ao ? "gbuffer+ao+resolve" : "gbuffer+resolve");
-    spec[5] = has_dof && !f.ortho, spec[6] = 0;
-    if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
-    spec[5] = 0, spec[6] = phys;
-    if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, &p_direct, err))) return r;
-    spec[6] = 0;
-    if (has_ao && (r = get_pipeline(g, SH_AO, spec, &p_ao, err))) return r;
-    spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) |
-              (sky ? 32u : 0u);
-    spec[6] = (uint32_t)desc->show;
-    if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
-    if (merge) {
-        uint32_t ms[8];
-        memcpy(ms, spec, sizeof ms);
-        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
-        ms[6] = has_dof && !f.ortho;
-        if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
-    }
     bool final = desc->show == VX_SHOW_FINAL;
     bool run_aa = has_aa && final, run_tm = has_tm && final;
-    spec[5] = 0, spec[6] = 0;
-    if (run_aa && (r = get_pipeline(g, SH_POST, spec, &p_aa, err))) return r;
-    spec[5] = 1, spec[6] = run_aa;
-    if (run_tm && (r = get_pipeline(g, SH_POST, spec, &p_tm, err))) return r;
+    merge = merge && !tiled; /* tiled culling reads the G-buffer's depths before the direct pass */
+    uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
+                          shadows << 2;
+    vx__pipeline* p_cull[5] = {NULL};
+    /* twice: the cache evicts its oldest pipeline when full, which would move
+     * one fetched earlier in the first round; the second finds all in place */
+    for (int round = 0; round < 2; round++) {
+        spec[7] = 0;
+        spec[5] = has_dof && !f.ortho, spec[6] = 0;
+        if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
+        spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
+        if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, &p_direct, err))) return r;
+        spec[6] = 0, spec[7] = 0;
+        if (has_ao && (r = get_pipeline(g, SH_AO, spec, &p_ao, err))) return r;
+        spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
+                  (phys ? 16u : 0u) | (sky ? 32u : 0u);
+        spec[6] = (uint32_t)desc->show;
+        if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
+        if (merge) {
+            uint32_t ms[8];
+            memcpy(ms, spec, sizeof ms);
+            ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
+            ms[6] = has_dof && !f.ortho;
+            ms[7] = light_spec;
+            if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
+        }
+        spec[5] = 0, spec[6] = 0;
+        if (run_aa && (r = get_pipeline(g, SH_POST, spec, &p_aa, err))) return r;
+        spec[5] = 1, spec[6] = run_aa;
+        if (run_tm && (r = get_pipeline(g, SH_POST, spec, &p_tm, err))) return r;
+        for (uint32_t step = 0; culled && step < 5; step++) {
+            if (step == 1 && !tiled) continue;
+            spec[5] = step, spec[6] = tiled;
+            if ((r = get_pipeline(g, SH_CULL, spec, &p_cull[step], err))) return r;
+        }
+    }
     /* push constants */
     push_block pc = {0};
     double eye[3], target[3], diag = 0;
@@ -459,7 +592,25 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         for (int k = 0; k < 3; k++) pc.f1[k] = (float)gm->sun[k], pc.f2[k] = (float)gm->sky[k];
     else if (sky)
         for (int k = 0; k < 3; k++) pc.f2[k] = (float)desc->sky[k]; /* no sun: the lights are explicit */
-    pc.u1[2] = nl;
+    pc.u1[2] = nl, pc.u1[3] = ndir;
+    if (culled) {
+        /* depth slices over the view depths of the scene box (from the eye
+         * plane; orthographic: from just before the box) */
+        double zlo = INFINITY, zhi = -INFINITY;
+        for (int c = 0; c < 8; c++) {
+            double v[3] = {(c & 1 ? fr->hi : fr->lo)[0], (c & 2 ? fr->hi : fr->lo)[1], (c & 4 ? fr->hi : fr->lo)[2]};
+            double z = 0;
+            for (int k = 0; k < 3; k++) z += (v[k] - eye[k]) * f.fwd[k];
+            zlo = fmin(zlo, z), zhi = fmax(zhi, z);
+        }
+        double zb = f.ortho ? zlo - 0.05 * (zhi - zlo) - 1e-6 * fmax(1, fabs(zlo)) : 0;
+        double far = zhi - zb, near = fmax(zlo - zb, 1e-3 * far);
+        if (!(near > 0)) near = 1e-6, far = fmax(far, 1e-3);
+        if (!(far > 2 * near)) far = 2 * near;
+        pc.f3[0] = (float)zb, pc.f3[1] = (float)near;
+        pc.f3[2] = (float)((gz > 1 ? gz - 1 : 1) / log(far / near));
+        pc.u2[0] = gx, pc.u2[1] = gy, pc.u2[2] = gz, pc.u2[3] = tile;
+    }
     pc.u0[1] = f.spp;
     pc.u0[2] = desc->ao_rays ? desc->ao_rays : 4;
     pc.u0[3] = (uint32_t)(desc->seed ^ (desc->seed >> 32));
@@ -486,78 +637,106 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
         goto done;
     }
-    {
-        vx__buffer* all[NBIND] = {scene_bufs[0], scene_bufs[1], scene_bufs[2], scene_bufs[3], scene_bufs[4],
-                                  scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
-                                  &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
-                                  &fr->b[B_OUT2], &fr->b[B_LIGHTS]};
-        VkDescriptorBufferInfo infos[NBIND];
-        VkWriteDescriptorSet w[NBIND];
-        for (uint32_t i = 0; i < NBIND; i++) {
-            infos[i] = (VkDescriptorBufferInfo){.buffer = all[i]->buf, .range = VK_WHOLE_SIZE};
-            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                                          .dstSet = R->set,
-                                          .dstBinding = i,
-                                          .descriptorCount = 1,
-                                          .descriptorType =
-                                              i == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                          .pBufferInfo = &infos[i]};
+    const uint32_t tile_groups[2] = {gx, gy};
+    for (int attempt = 0;; attempt++) {
+        memcpy(&pc.f3[3], &fr->lidx_cap, 4);
+        {
+            vx__buffer* all[NBIND] = {scene_bufs[0], scene_bufs[1], scene_bufs[2], scene_bufs[3], scene_bufs[4],
+                                      scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
+                                      &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
+                                      &fr->b[B_OUT2], &fr->b[B_LIGHTS], &fr->b[B_CULL], &fr->b[B_LIDX]};
+            VkDescriptorBufferInfo infos[NBIND];
+            VkWriteDescriptorSet w[NBIND];
+            for (uint32_t i = 0; i < NBIND; i++) {
+                infos[i] = (VkDescriptorBufferInfo){.buffer = all[i]->buf, .range = VK_WHOLE_SIZE};
+                w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                              .dstSet = R->set,
+                                              .dstBinding = i,
+                                              .descriptorCount = 1,
+                                              .descriptorType =
+                                                  i == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                              .pBufferInfo = &infos[i]};
+            }
+            vkUpdateDescriptorSets(g->device, NBIND, w, 0, NULL);
         }
-        vkUpdateDescriptorSets(g->device, NBIND, w, 0, NULL);
+        if ((r = rec_begin(R, err))) goto done;
+        pc.u0[0] = 0;
+        if (culled && !tiled) rec_cull(R, p_cull, &pc, cells, nl - ndir, NULL); /* once: the grid is the camera's */
+        vx_render_desc gi_frame = base;
+        gi_frame.spp = 1;
+        for (uint32_t s = 0; s < f.spp; s++) {
+            pc.u0[0] = s;
+            if (merge) {
+                rec_dispatch(R, p_merged, &pc, merged_name);
+                continue;
+            }
+            if (has_gb) {
+                rec_dispatch(R, p_gb, &pc, "gbuffer");
+            } else {
+                /* no gbuffer: every pixel is a miss (the background) */
+                vkCmdFillBuffer(g->cmd, fr->b[B_GB1].buf, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+                VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                      .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+                vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb,
+                                     0, NULL, 0, NULL);
+            }
+            if (tiled) rec_cull(R, p_cull, &pc, cells, nl - ndir, tile_groups); /* this sample's depths */
+            if (has_direct) rec_dispatch(R, p_direct, &pc, "direct");
+            for (uint32_t k = 0; has_ao && k < pc.u0[2]; k += ao_chunk) {
+                pc.u1[0] = k, pc.u1[1] = pc.u0[2] - k < ao_chunk ? pc.u0[2] - k : ao_chunk;
+                rec_dispatch(R, p_ao, &pc, "ao");
+            }
+            if (has_gi) {
+                /* the method records and submits its own work */
+                if ((r = rec_submit(R, err))) goto done;
+                vx_gi_io io = {.frame = &gi_frame, .sample = s, .out = &fr->b[B_GI]};
+                double sec = 0;
+                if ((r = gm->render(gm->user, &io, &sec, err))) goto done;
+                int row = timing_row(out, "gi");
+                out->timings[row].ms += sec * 1e3;
+                out->timings[row].dispatches++;
+                out->frame_ms += sec * 1e3;
+                /* the method rewrote the shared frame block for its own frame */
+                if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) goto done;
+                if ((r = rec_begin(R, err))) goto done;
+            }
+            rec_dispatch(R, p_resolve, &pc, "resolve");
+        }
+        if (run_aa) rec_dispatch(R, p_aa, &pc, "aa");
+        if (run_tm) rec_dispatch(R, p_tm, &pc, "tonemap");
+        if ((r = rec_submit(R, err))) goto done;
+        if (culled) {
+            uint32_t head[4];
+            if ((r = vx__buffer_download(g, &fr->b[B_CULL], head, sizeof head, err))) goto done;
+            if (head[1] > fr->lidx_cap && attempt == 0) {
+                /* the lists overflowed: grow them to what the frame needs and render it again */
+                uint64_t want = (uint64_t)head[1] + head[1] / 4;
+                if (want > (1u << 30)) want = 1u << 30;
+                if ((r = ensure(fr, B_LIDX, want * 4, "light lists", err))) goto done;
+                fr->lidx_cap = (uint32_t)want;
+                memset(out, 0, sizeof *out); /* timings of the lost frame */
+                continue;
+            }
+            if (head[1] > fr->lidx_cap) {
+                r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "light lists need %u entries, more than %u", head[1],
+                            fr->lidx_cap);
+                goto done;
+            }
+            out->light_entries = head[0];
+        }
+        {
+            vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
+            bool read = ids || !desc->no_readback; /* no_readback: the image stays on the GPU */
+            if (read && (r = vx__image_read(g, &fr->b[run_aa ? B_OUT2 : B_ACC], ids ? &fr->b[B_GB2] : NULL, &img, err)))
+                goto done;
+            img.gpu_seconds = out->frame_ms * 1e-3;
+            img.rays = (uint64_t)npx * f.spp;
+            out->image = img;
+        }
+        break;
     }
-    if ((r = rec_begin(R, err))) goto done;
-    vx_render_desc gi_frame = base;
-    gi_frame.spp = 1;
-    for (uint32_t s = 0; s < f.spp; s++) {
-        pc.u0[0] = s;
-        if (merge) {
-            rec_dispatch(R, p_merged, &pc, merged_name);
-            continue;
-        }
-        if (has_gb) {
-            rec_dispatch(R, p_gb, &pc, "gbuffer");
-        } else {
-            /* no gbuffer: every pixel is a miss (the background) */
-            vkCmdFillBuffer(g->cmd, fr->b[B_GB1].buf, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                                  .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                                  .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
-            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb,
-                                 0, NULL, 0, NULL);
-        }
-        if (has_direct) rec_dispatch(R, p_direct, &pc, "direct");
-        for (uint32_t k = 0; has_ao && k < pc.u0[2]; k += ao_chunk) {
-            pc.u1[0] = k, pc.u1[1] = pc.u0[2] - k < ao_chunk ? pc.u0[2] - k : ao_chunk;
-            rec_dispatch(R, p_ao, &pc, "ao");
-        }
-        if (has_gi) {
-            /* the method records and submits its own work */
-            if ((r = rec_submit(R, err))) goto done;
-            vx_gi_io io = {.frame = &gi_frame, .sample = s, .out = &fr->b[B_GI]};
-            double sec = 0;
-            if ((r = gm->render(gm->user, &io, &sec, err))) goto done;
-            int row = timing_row(out, "gi");
-            out->timings[row].ms += sec * 1e3;
-            out->timings[row].dispatches++;
-            out->frame_ms += sec * 1e3;
-            /* the method rewrote the shared frame block for its own frame */
-            if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) goto done;
-            if ((r = rec_begin(R, err))) goto done;
-        }
-        rec_dispatch(R, p_resolve, &pc, "resolve");
-    }
-    if (run_aa) rec_dispatch(R, p_aa, &pc, "aa");
-    if (run_tm) rec_dispatch(R, p_tm, &pc, "tonemap");
-    if ((r = rec_submit(R, err))) goto done;
-    {
-        vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
-        bool read = ids || !desc->no_readback; /* no_readback: the image stays on the GPU */
-        if (read && (r = vx__image_read(g, &fr->b[run_aa ? B_OUT2 : B_ACC], ids ? &fr->b[B_GB2] : NULL, &img, err)))
-            goto done;
-        img.gpu_seconds = out->frame_ms * 1e-3;
-        img.rays = (uint64_t)npx * f.spp;
-        out->image = img;
-    }
+    if (nl) out->light_culling = cull;
 done:
     if (R->recording) {
         vkEndCommandBuffer(g->cmd);

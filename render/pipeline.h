@@ -5,8 +5,9 @@
  *            instance, entry face (the normal), albedo, attribute record
  *            (the material id), and with ids wanted the instance id and cell
  *   dof      thin-lens depth of field as primary-ray jitter (see below)
- *   direct   every light with ray-traced shadows: the sun, or the frame's
- *            lights (vx_light: directional, point, spot)
+ *   direct   the sun, or the frame's lights (vx_light: directional, point,
+ *            spot, sphere, rect) through a light grid culled on the GPU
+ *            each frame (see "Many lights" below), with ray-traced shadows
  *   gi       one global illumination method, registered by the caller
  *            (vx_gi_method: probes, lightfield and pathtrace come from probes/)
  *   ao       ray-traced ambient occlusion: short octree rays, radius and count
@@ -135,7 +136,52 @@ typedef struct vx_gi_method {
     uint32_t light_count;
 } vx_gi_method;
 
-/* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h. */
+/* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h.
+ *
+ * Many lights. Each light's irradiance is exact for its type: point and
+ * spot I cos / d^2 (glTF's cone and range window); sphere the closed form of
+ * a sphere's irradiance on a tilted plane, exact also where the horizon
+ * clips it (Snyder 1996); rect Lambert's polygon formula on the rectangle
+ * clipped to the surface's horizon. Every point, spot, sphere and rect light
+ * has a finite reach R, scaled by glTF's window (1 - (d/R)^4)^2 (d from its
+ * centre): R is `range` when set, else the cut-off radius where the light's
+ * irradiance falls to light_cutoff (point, spot: sqrt(I / cutoff); sphere:
+ * radius * sqrt(pi L / cutoff); rect: half its diagonal + sqrt(L area /
+ * cutoff)). The cut-off changes a point or spot light's irradiance by at
+ * most 1.09 light_cutoff anywhere (the window's loss below R, cutoff (2q^2 -
+ * q^6) with q = d/R, peaks at 4/3 sqrt(2/3); the whole light beyond R is
+ * below cutoff); sphere and rect lights by about as much. Directional
+ * lights reach everywhere and are never culled.
+ *
+ * Culling (light_culling) finds each pixel's lights in a grid built on the
+ * GPU every frame (render/shaders/cull.comp, timing row "cull"): clustered,
+ * screen tiles of 32 pixels times 32 depth slices exponential in view depth
+ * over the scene's depth range; tiled, screen tiles of 16 pixels each
+ * spanning the depths of its G-buffer hits (per sample, after the gbuffer
+ * pass, so never merged); or brute force, every light at every pixel. Each
+ * light is inserted into the cells its window sphere touches; the shading
+ * is the same for every method (equal up to the order of the sums).
+ *
+ * Shadows: the shadow_lights strongest lights of each pixel (by unshadowed
+ * irradiance, directional ones included) get one ray-traced shadow ray per
+ * sample; the others are added unshadowed, so a light beyond the budget
+ * shines through walls. A light with a size (point or spot radius, a
+ * sphere, a rect, the sun's angular diameter) sends its ray to a random
+ * point of its source (seeded per pixel, sample and light): soft shadows
+ * that converge over samples. */
+typedef enum vx_light_culling {
+    VX_LIGHT_CULLING_AUTO = 0,  /* brute force up to VX_LIGHT_CULLING_AUTO_MAX lights, clustered above */
+    VX_LIGHT_CULLING_BRUTE,
+    VX_LIGHT_CULLING_TILED,
+    VX_LIGHT_CULLING_CLUSTERED,
+    VX_LIGHT_CULLING_COUNT
+} vx_light_culling;
+/* Measured on an H100 at 1920x1080 (docs/PERFORMANCE.md, "Many lights"). */
+#define VX_LIGHT_CULLING_AUTO_MAX 32
+#define VX_SHADOW_LIGHTS_DEFAULT 4
+#define VX_SHADOW_LIGHTS_MAX 16
+const char* vx_light_culling_name(vx_light_culling c);
+bool vx_light_culling_parse(const char* s, vx_light_culling* out);
 
 /* Frame options; zero-initialised means the defaults (vx_frame_desc_defaults
  * gives them, and the tools' --help prints them).
@@ -155,7 +201,13 @@ typedef struct vx_gi_method {
  *               ambient are not added): colour = albedo / pi * irradiance +
  *               albedo * sky * ao, sky radiance `sky` (also the background).
  *               With a gi pass only the lights the method was made with
-               (vx_gi_method.lights: gi=pathtrace takes them).
+ *               (vx_gi_method.lights: gi=pathtrace takes them).
+ *  light_culling: how the direct pass finds each pixel's lights (above)
+ *  shadow_lights: lights per pixel with a shadow ray, the strongest; 0:
+ *               VX_SHADOW_LIGHTS_DEFAULT, -1: none, at most VX_SHADOW_LIGHTS_MAX
+ *  light_cutoff: irradiance where a light without a range ends (above);
+ *               0: pi / 1024 * 2^-exposure, a quarter of an 8-bit step of a
+ *               white diffuse surface at the frame's exposure
  *  want_ids:    also fill hits[] (sample 0: instance id, cell, depth)
  *  no_readback: benchmarks: leave the image on the GPU (image.pixels NULL),
  *               so back-to-back frames keep the GPU busy and at its clocks
@@ -177,6 +229,9 @@ typedef struct vx_frame_desc {
     const vx_light* lights;
     uint32_t light_count;
     double sky[3];
+    vx_light_culling light_culling;
+    int32_t shadow_lights;
+    double light_cutoff;
     bool want_ids;
     bool no_readback;
     bool separate_passes;
@@ -197,6 +252,8 @@ typedef struct vx_frame_result {
     vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
     uint32_t timing_count;
     double frame_ms; /* GPU time from the first pass's start to the last's end, summed over submissions */
+    vx_light_culling light_culling; /* the method that ran (with lights) */
+    uint64_t light_entries;         /* light list entries of the grid (last sample) */
 } vx_frame_result;
 
 /* The per-scene state of the pipeline (buffers sized to the last frame). */

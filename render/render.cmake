@@ -15,9 +15,9 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_HEADERS)
   # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
   # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
-  # are the pass pipeline's shaders (pipeline.c).
+  # are the pass pipeline's shaders (pipeline.c); cull builds its light grid.
   foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE
-               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame)
+               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)

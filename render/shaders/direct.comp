@@ -1,7 +1,7 @@
 #version 450
-// render/shaders/direct.comp - the direct-light pass: the sun with a
-// ray-traced shadow per pixel (the shadow ray of trace.comp); see
-// direct_pixel in pass_bodies.glsl.
+// render/shaders/direct.comp - the direct-light pass: the sun, or the
+// frame's lights through the light grid of cull.comp, with ray-traced
+// shadows; see direct_pixel in pass_bodies.glsl.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -18,5 +18,5 @@ void main() {
     uvec2 px;
     uint i;
     if (!pass_pixel(px, i)) return;
-    direct_img[i] = direct_pixel(gb0[i], gb1[i]);
+    direct_img[i] = direct_pixel(px, gb0[i], gb1[i]);
 }

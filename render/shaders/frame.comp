@@ -28,7 +28,7 @@ void main() {
         gb2[2u * i] = ids0;
         gb2[2u * i + 1u] = ids1;
     }
-    vec4 dir = HAS_DIRECT ? direct_pixel(g0, g1) : vec4(0.0);
+    vec4 dir = HAS_DIRECT ? direct_pixel(px, g0, g1) : vec4(0.0);
     float ao = 1.0;
     if (HAS_AO && g1.y != NO_HIT) {
         uint n = max(PC.u0.z, 1u);

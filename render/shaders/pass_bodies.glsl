@@ -59,46 +59,189 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
     ids1 = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), g_iter, 0u, 0u);
 }
 
-// Irradiance from the frame's lights (render/pipeline.h) at a G-buffer
-// entry, each with a ray-traced shadow: directional E = c n.l; point and spot
-// E = c n.l / d^2 times glTF's range window (1 - (d/range)^4)^2 and, for a
-// spot, its cone factor. d^2 is kept above (cell/100)^2 so that a light on
-// the surface gives a finite value.
-vec3 lights_pixel(uvec4 g0, uvec4 g1, vec3 nw) {
-    vec3 p = uintBitsToFloat(g0.xyz);
-    vec3 ps = gb_offset_point(p, nw, g1.y);
-    float cell = insts[g1.y].cell;
-    vec3 e = vec3(0.0);
-    for (uint k = 0u; k < PC.u1.z; k++) {
-        Light L = lights[k];
-        uint type = uint(L.a.w);
-        vec3 l;
-        float dist, f = 1.0;
-        if (type == 0u) {
-            l = L.b.xyz;
-            dist = 3.0e38;
+// ---- lights ---------------------------------------------------------------------
+// LIGHTS (pipeline.c): bits 0-1 the culling (0 every light, 1 tiled, 2
+// clustered), bits 2-7 how many lights per pixel get a shadow ray (the
+// strongest by unshadowed irradiance; the rest are added unshadowed).
+layout(constant_id = 7) const uint LIGHTS = 0u;
+const uint CULLING = LIGHTS & 3u, SHADOWED = (LIGHTS >> 2) & 63u;
+
+// The light's window: (1 - (d/R)^4)^2 below R, 0 from R on; R = 0: none.
+float light_window(float dist, float R) {
+    if (R <= 0.0) return 1.0;
+    float q = dist / R;
+    q *= q;
+    float w = clamp(1.0 - q * q, 0.0, 1.0);
+    return w * w;
+}
+
+// Irradiance of a sphere of radius r at distance dist (centre direction at
+// cos ct from the normal), per unit radiance: pi sin^2(s) ct while the sphere
+// is above the horizon, and the exact integral of the horizon-clipped cap
+// otherwise (Snyder 1996, "Area light sources for real-time graphics"; the
+// test checks both against a quadrature); pi inside the sphere.
+float sphere_irradiance(float ct, float dist, float r) {
+    if (dist <= r) return PI;
+    float s2 = (r / dist) * (r / dist);
+    if (ct > 0.0 && ct * ct >= s2) return PI * s2 * ct;
+    if (ct <= -sqrt(s2)) return 0.0;
+    float st = sqrt(max(0.0, 1.0 - ct * ct));
+    float x = sqrt(max(0.0, 1.0 / s2 - 1.0));
+    float y = clamp(-x * ct / max(st, 1e-20), -1.0, 1.0);
+    float q = st * sqrt(max(0.0, 1.0 - y * y));
+    return max(0.0, (ct * acos(y) - x * q) * s2 + atan(q, x));
+}
+
+// The projected solid angle of a quad (corners q0..q3 relative to the
+// shading point) above the plane of unit normal n: the quad clipped to
+// n.w >= 0, then Lambert's polygon formula 1/2 sum gamma_i n.(w_i x w_j)/|..|
+// with gamma_i the angle between consecutive corners (atan2, so that small
+// angles keep their precision).
+float quad_projected_angle(vec3 q0, vec3 q1, vec3 q2, vec3 q3, vec3 n) {
+    vec3 q[4] = vec3[4](q0, q1, q2, q3);
+    vec3 w[5];
+    uint m = 0u;
+    for (uint i = 0u; i < 4u; i++) {
+        vec3 a = q[i], b = q[(i + 1u) & 3u];
+        float da = dot(a, n), db = dot(b, n);
+        if (da >= 0.0) w[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && m < 5u) w[m++] = a + (b - a) * (da / (da - db));
+    }
+    float sum = 0.0;
+    for (uint i = 0u; i < m; i++) {
+        vec3 a = normalize(w[i]), b = normalize(w[i + 1u == m ? 0u : i + 1u]);
+        vec3 c = cross(a, b);
+        float lc = length(c);
+        float g = atan(lc, dot(a, b));
+        sum += dot(n, c) * (lc > 1e-20 ? g / lc : 1.0);
+    }
+    return m >= 3u ? 0.5 * abs(sum) : 0.0;
+}
+
+// Light k at the shading point ps (normal nw): its unshadowed irradiance e
+// and a shadow ray (direction sd, length st; st = 0: nothing to trace) to a
+// point of its source (seeded per pixel, sample and light: soft shadows of
+// area lights, point radii and the sun's disc converge over samples).
+// Returns false when the light adds nothing. Point and spot: E = c n.l / d^2
+// (d^2 kept above (cell/100)^2 so that a light on the surface stays finite)
+// times the window and, for a spot, its cone factor; directional: c n.l.
+bool light_eval(uint k, vec3 ps, vec3 nw, float cell, uvec2 px, out vec3 e, out vec3 sd, out float st) {
+    Light L = lights[k];
+    uint type = uint(L.a.w);
+    e = vec3(0.0), sd = nw, st = 0.0;
+    if (type == 0u) {
+        float ndl = dot(nw, L.b.xyz);
+        if (ndl <= 0.0) return false;
+        e = L.c.xyz * ndl;
+        sd = L.c.w > 0.0 ? pass_cone_dir(L.b.xyz, L.c.w, pass_rnd(px, 13u, 2u * k), pass_rnd(px, 13u, 2u * k + 1u))
+                         : L.b.xyz;
+        st = 3.0e38;
+        return true;
+    }
+    vec3 v = L.a.xyz - ps;
+    float d2 = dot(v, v), dist = sqrt(d2);
+    float f = light_window(dist, L.b.w);
+    if (f <= 0.0) return false;
+    vec3 l = dist > 0.0 ? v / dist : nw;
+    float r = L.c.w;
+    if (type == 4u) {
+        vec3 c = v, U = L.e.xyz, V = L.f.xyz;
+        if (dot(-v, L.b.xyz) <= 0.0) return false; // behind the one-sided rectangle
+        f *= quad_projected_angle(c - U - V, c + U - V, c + U + V, c - U + V, nw);
+        vec3 q = c + (2.0 * pass_rnd(px, 13u, 2u * k) - 1.0) * U + (2.0 * pass_rnd(px, 13u, 2u * k + 1u) - 1.0) * V;
+        float lq = length(q);
+        sd = lq > 0.0 ? q / lq : nw, st = lq * 0.9999;
+    } else {
+        if (type == 3u) {
+            f *= sphere_irradiance(dot(nw, l), dist, r);
         } else {
-            vec3 v = L.a.xyz - ps;
-            float d2 = max(dot(v, v), 1e-4 * cell * cell);
-            dist = sqrt(dot(v, v));
-            l = dist > 0.0 ? v / dist : nw;
-            f = 1.0 / d2;
-            if (L.b.w > 0.0) {
-                float q = dist / L.b.w;
-                f *= pow(clamp(1.0 - q * q * q * q, 0.0, 1.0), 2.0);
-            }
+            float ndl = dot(nw, l);
+            if (ndl <= 0.0) return false;
+            f *= ndl / max(d2, 1e-4 * cell * cell);
             if (type == 2u) {
                 float a = clamp(dot(-l, L.b.xyz) * L.d.x + L.d.y, 0.0, 1.0);
                 f *= a * a;
             }
         }
-        float ndl = dot(nw, l);
-        if (ndl <= 0.0 || f <= 0.0) continue;
+        sd = l, st = dist * 0.9999;
+        if (r > 0.0) { // a point of the source's sphere: a direction in the cone it subtends
+            if (dist <= r) {
+                st = 0.0; // inside the source: nothing in between
+            } else {
+                float s2 = (r / dist) * (r / dist);
+                sd = pass_cone_dir(l, s2 / (1.0 + sqrt(1.0 - s2)), pass_rnd(px, 13u, 2u * k),
+                                   pass_rnd(px, 13u, 2u * k + 1u));
+                float b = dot(sd, v), disc = b * b - (d2 - r * r);
+                st = (b - sqrt(max(disc, 0.0))) * 0.9999;
+            }
+        }
+    }
+    if (!(f > 0.0)) return false;
+    e = L.c.xyz * f;
+    return true;
+}
+
+// The light grid cell of a point p (relative to the frame reference); the
+// grid's outer tiles and slices reach to infinity, so every point has one.
+uint grid_cell(vec3 p, uvec2 px) {
+    vec3 vw = grid_view(p);
+    uint tx = grid_tile(vw, true), ty = grid_tile(vw, false);
+    uint k = CULLING == 2u ? grid_slice(vw.z - PC.f3.x) : 0u;
+    return (k * PC.u2.y + ty) * PC.u2.x + tx;
+}
+
+// Irradiance from the frame's lights at a G-buffer entry: every light
+// (brute force) or the lights of its grid cell, plus the directional ones;
+// the SHADOWED strongest get a ray-traced shadow.
+vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
+    vec3 p = uintBitsToFloat(g0.xyz);
+    vec3 ps = gb_offset_point(p, nw, g1.y);
+    float cell = insts[g1.y].cell;
+    vec3 e = vec3(0.0);
+    const uint K = SHADOWED > 0u ? SHADOWED : 1u;
+    vec3 ke[K], kd[K];
+    float kt[K], kw[K];
+    uint kn = 0u;
+    uint first = 0u, end = PC.u1.z, ndir = PC.u1.w;
+    uint off = 0u;
+    if (CULLING != 0u) {
+        uint c = grid_cell(p, px), C = PC.u2.x * PC.u2.y * PC.u2.z;
+        uint cap = floatBitsToUint(PC.f3.w);
+        off = cl[4u + C + c];
+        first = 0u;
+        end = ndir + min(cl[4u + c], off < cap ? cap - off : 0u);
+    }
+    for (uint j = first; j < end; j++) {
+        uint k = CULLING == 0u || j < ndir ? j : lidx[off + j - ndir];
+        vec3 le, sd;
+        float st;
+        if (!light_eval(k, ps, nw, cell, px, le, sd, st)) continue;
+        if (SHADOWED == 0u || st <= 0.0) {
+            e += le;
+            continue;
+        }
+        float w = dot(le, vec3(0.2126, 0.7152, 0.0722));
+        uint slot = kn;
+        if (kn < SHADOWED) {
+            kn++;
+        } else {
+            // the weakest of the shadowed: replaced when this light is stronger
+            slot = 0u;
+            for (uint i = 1u; i < SHADOWED; i++)
+                if (kw[i] < kw[slot]) slot = i;
+            if (w <= kw[slot]) {
+                e += le;
+                continue;
+            }
+            e += ke[slot];
+        }
+        ke[slot] = le, kd[slot] = sd, kt[slot] = st, kw[slot] = w;
+    }
+    for (uint i = 0u; i < kn; i++) {
         Hit sh;
-        sh.t = type == 0u ? 3.0e38 : dist * 0.9999;
+        sh.t = kt[i];
         sh.inst = NO_HIT;
-        if (trace_scene(ps, l, 0.0, true, sh)) continue;
-        e += L.c.xyz * (ndl * f);
+        if (!trace_scene(ps, kd[i], 0.0, true, sh)) e += ke[i];
     }
     return e;
 }
@@ -106,7 +249,7 @@ vec3 lights_pixel(uvec4 g0, uvec4 g1, vec3 nw) {
 // What the direct pass delivers for a G-buffer entry: in the colour model
 // (1 - ambient) * n.l * visibility, in the radiometric one (PHYS) sun
 // irradiance * n.l * visibility.
-vec4 direct_pixel(uvec4 g0, uvec4 g1) {
+vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
     if (g1.y == NO_HIT) return vec4(0.0);
     vec3 nw = gb_normal(g1);
     float ndl = max(dot(nw, F.light.xyz), 0.0);
@@ -124,7 +267,7 @@ vec4 direct_pixel(uvec4 g0, uvec4 g1) {
         return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
     }
     vec3 e = PC.f1.xyz * ndl * vis;
-    if (PC.u1.z > 0u) e += lights_pixel(g0, g1, nw);
+    if (PC.u1.z > 0u) e += lights_pixel(px, g0, g1, nw);
     return vec4(e, 1.0);
 }
 

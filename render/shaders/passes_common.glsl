@@ -20,20 +20,36 @@ layout(std430, binding = 12) buffer Gi { vec4 gi_img[]; };
 layout(std430, binding = 13) buffer Acc { vec4 acc_img[]; };
 layout(std430, binding = 14) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 15) buffer Out2 { vec4 out2_img[]; };
-// Lights (render/pipeline.h vx_light), PC.u1.z of them:
-//   a: xyz position (point, spot), w type (0 directional, 1 point, 2 spot)
-//   b: xyz direction (directional: towards the light; spot: where it points), w range (0: none)
-//   c: rgb colour times intensity (directional: irradiance; point, spot: intensity per sr)
+// Lights (svo/svo.h vx_light), PC.u1.z of them, the PC.u1.w directional
+// ones first (render/pipeline.c packs them):
+//   a: xyz position (centre), w type (0 directional, 1 point, 2 spot, 3 sphere, 4 rect)
+//   b: xyz direction (directional: towards the light; spot: where it points;
+//      rect: its emitting normal), w window radius R (0: none): the light is
+//      scaled by (1 - (d/R)^4)^2 and is 0 from R on; glTF's range, or the
+//      cut-off radius of pipeline.h (what the culling bounds)
+//   c: rgb colour times intensity (directional: irradiance; point, spot:
+//      intensity per sr; sphere, rect: radiance), w source size: directional
+//      1 - cos(half the angular diameter); point, spot, sphere: radius
 //   d: x cone scale, y cone offset (spot: clamp(cos * x + y)^2, glTF's smooth edge)
-struct Light { vec4 a, b, c, d; };
+//   e: xyz rect: half the first edge (tangent * size[0] / 2)
+//   f: xyz rect: half the second edge (normal x tangent * size[1] / 2)
+struct Light { vec4 a, b, c, d, e, f; };
 layout(std430, binding = 16) readonly buffer Lights { Light lights[]; };
+// Light culling (cull.comp): cl[0] entries written, cl[1] entries needed when
+// the list overflowed (0 otherwise), then per cluster its count (cl[4 + c])
+// and the offset of its list in lidx (cl[4 + C + c]), then (tiled) the view
+// depth range of each tile as float bits (cl[4 + 2C + 2t], cl[4 + 2C + 2t + 1]).
+layout(std430, binding = 17) buffer Cull { uint cl[]; };
+layout(std430, binding = 18) buffer LightIdx { uint lidx[]; };
 
 layout(push_constant) uniform Push {
     vec4 f0;  // x: lens radius, y: focus distance, z: ao radius, w: 2^exposure
     vec4 f1;  // xyz: sun irradiance (radiometric light), w: aa edge threshold
     vec4 f2;  // xyz: sky radiance (radiometric light), w: 0
     uvec4 u0; // x: sample, y: samples, z: ao rays, w: seed
-    uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch, z: lights
+    uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch, z: lights, w: directional lights
+    vec4 f3;  // light grid: x depth origin zb, y near, z (slices - 1) / ln(far / near), w list capacity (uint bits)
+    uvec4 u2; // light grid: x tiles across, y tiles down, z depth slices, w tile size in pixels
 } PC;
 
 const float PI = 3.14159265358979;
@@ -67,14 +83,64 @@ float pass_rnd(uvec2 px, uint stream, uint k) {
     return float(h.x >> 8) * (1.0 / 16777216.0);
 }
 
-// Cosine-weighted direction around unit n (Duff et al.'s orthonormal basis).
-vec3 pass_cosine_dir(vec3 n, float u1, float u2) {
+// An orthonormal basis t, b around unit n (Duff et al.).
+void pass_basis(vec3 n, out vec3 t, out vec3 bt) {
     float sg = n.z < 0.0 ? -1.0 : 1.0;
     float a = -1.0 / (sg + n.z), b = n.x * n.y * a;
-    vec3 t = vec3(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x);
-    vec3 bt = vec3(b, sg + n.y * n.y * a, -n.y);
+    t = vec3(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x);
+    bt = vec3(b, sg + n.y * n.y * a, -n.y);
+}
+
+// Cosine-weighted direction around unit n.
+vec3 pass_cosine_dir(vec3 n, float u1, float u2) {
+    vec3 t, bt;
+    pass_basis(n, t, bt);
     float r = sqrt(u1), phi = 2.0 * PI * u2;
     return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
+}
+
+// A direction uniform in the cone around unit n whose half angle has
+// 1 - cos = omc (given as 1 - cos so that the sun's small cone keeps its
+// precision).
+vec3 pass_cone_dir(vec3 n, float omc, float u1, float u2) {
+    vec3 t, bt;
+    pass_basis(n, t, bt);
+    float om = u1 * omc, s = sqrt(max(0.0, om * (2.0 - om))), phi = 2.0 * PI * u2;
+    return normalize(s * cos(phi) * t + s * sin(phi) * bt + (1.0 - om) * n);
+}
+
+// ---- the light grid (render/pipeline.c, cull.comp) ------------------------------
+// Tiles of PC.u2.w pixels (PC.u2.x across, PC.u2.y down) times PC.u2.z
+// depth slices; slice 0 ends at the view depth near (PC.f3.y, measured from
+// the depth origin zb = PC.f3.x), slice k >= 1 spans near * e^((k-1)/s) to
+// near * e^(k/s) with s = PC.f3.z, exponential in depth. The outer tiles
+// and the first and last slices reach to infinity: every point has a cell.
+
+// View coordinates of a point (relative to the frame reference): along the
+// image's right and up (unit) and the view depth (from the eye plane).
+vec3 grid_view(vec3 p) {
+    return vec3(dot(p, normalize(F.rx.xyz)), dot(p, normalize(F.uy.xyz)), dot(p, F.fwd.xyz) + F.fwd.w);
+}
+
+// The screen coordinate (u or v in [-1, 1] on the image) of a view point.
+float grid_screen(vec3 vw, bool across) {
+    float s = across ? length(F.rx.xyz) : length(F.uy.xyz);
+    float c = across ? vw.x : vw.y;
+    return F.rx.w != 0.0 ? c / s : c / (max(vw.z, 1e-30) * s);
+}
+
+// The tile column (across) or row of a screen coordinate, clamped to the grid.
+uint grid_tile_of(float uv, bool across) {
+    float n = across ? float(PC.u2.x) : float(PC.u2.y);
+    float px = across ? (uv + 1.0) * 0.5 * float(F.dims.x) : (1.0 - uv) * 0.5 * float(F.dims.y);
+    return uint(clamp(floor(px / float(PC.u2.w)), 0.0, n - 1.0));
+}
+uint grid_tile(vec3 vw, bool across) { return grid_tile_of(grid_screen(vw, across), across); }
+
+// The depth slice of s = view depth - zb.
+uint grid_slice(float s) {
+    if (!(s > PC.f3.y)) return 0u;
+    return uint(clamp(1.0 + floor(log(s / PC.f3.y) * PC.f3.z), 1.0, float(PC.u2.z - 1u)));
 }
 
 bool pass_pixel(out uvec2 px, out uint i) {

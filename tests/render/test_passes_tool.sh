@@ -43,6 +43,16 @@ for s in depth normal material; do
 done
 expect_status 0 "point and spot lights" "$R" "$T/demo.svo" "$T/l.png" $S --light point:0,0,40:900,800,700 \
     --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 --passes gbuffer,direct,ao,tonemap
+for m in brute tiled clustered; do
+    expect_status 0 "--light-culling $m" "$R" "$T/demo.svo" "$T/lc-$m.png" $S --light point:0,0,40:900,800,700 \
+        --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 --light-culling $m --shadow-lights 0 -v
+    grep -q -- "--light-culling $m --shadow-lights 0" "$T/out" && ok "-v prints --light-culling $m" ||
+        bad "-v prints --light-culling $m"
+done
+cmp -s "$T/lc-brute.png" "$T/lc-clustered.png" && ok "clustered culling: brute force's bytes" ||
+    bad "clustered culling: brute force's bytes"
+expect_status 2 "bad light culling" "$R" "$T/demo.svo" "$T/x.png" --light-culling fast
+expect_status 2 "too many shadow lights" "$R" "$T/demo.svo" "$T/x.png" --shadow-lights 17
 expect_status 2 "malformed light" "$R" "$T/demo.svo" "$T/x.png" --light point:1,2
 expect_status 2 "negative light" "$R" "$T/demo.svo" "$T/x.png" --light point:0,0,0:-1,1,1
 grep -q "light 0" "$T/err" && ok "the error names the light" || bad "the error names the light"

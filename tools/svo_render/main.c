@@ -100,6 +100,12 @@ _Noreturn static void usage(int status) {
             "                       (vx_svo_emissive_lights; off by default until the direct pass samples\n"
             "                       sphere lights)\n"
             "  --sky R,G,B          sky radiance with lights (default: the file's constant sky, else %g,%g,%g)\n"
+            "  --light-culling M    auto|brute|tiled|clustered: how the direct pass finds each pixel's\n"
+            "                       lights (default: %s: brute force up to %d lights, else clustered)\n"
+            "  --shadow-lights N    lights per pixel with a shadow ray, the strongest (0..%d, 0: none;\n"
+            "                       default: %d); the others shine unshadowed\n"
+            "  --light-cutoff E     irradiance where a light without a range ends (culling; default:\n"
+            "                       pi/1024 * 2^-exposure, a quarter of an 8-bit step on white)\n"
             "  --ambient A          sky light share (default: %g)\n"
             "  --device N|NAME      Vulkan device (default: a discrete GPU, else any)\n"
             "  --list-devices       print the Vulkan devices and exit\n"
@@ -114,7 +120,9 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
-            d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2], d.r.ambient, prog, prog, prog, prog);
+            d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
+            vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
+            (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog);
     exit(status);
 }
 
@@ -323,6 +331,20 @@ int main(int argc, char** argv) {
             if (!parse_vec(argv[++i], o.fd.sky, 3) || o.fd.sky[0] < 0 || o.fd.sky[1] < 0 || o.fd.sky[2] < 0)
                 usage_error("bad sky radiance '%s' (R,G,B >= 0)", argv[i]);
             o.sky_given = true;
+        } else if (!strcmp(a, "--light-culling")) {
+            NEED();
+            if (!vx_light_culling_parse(argv[++i], &o.fd.light_culling))
+                usage_error("bad light culling '%s' (auto, brute, tiled, clustered)", argv[i]);
+        } else if (!strcmp(a, "--shadow-lights")) {
+            NEED();
+            uint32_t n;
+            if (!parse_uint(argv[++i], &n) || n > VX_SHADOW_LIGHTS_MAX)
+                usage_error("bad shadow light count '%s' (0..%d)", argv[i], VX_SHADOW_LIGHTS_MAX);
+            o.fd.shadow_lights = n ? (int32_t)n : -1;
+        } else if (!strcmp(a, "--light-cutoff")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.fd.light_cutoff, 1) || !(o.fd.light_cutoff > 0 && o.fd.light_cutoff < 1e30))
+                usage_error("bad light cut-off '%s' (irradiance > 0)", argv[i]);
         } else if (!strcmp(a, "--fov")) {
             NEED();
             if (!parse_vec(argv[++i], &o.r.camera.fov, 1) || !(o.r.camera.fov > 0 && o.r.camera.fov < 180))
@@ -463,6 +485,9 @@ int main(int argc, char** argv) {
             char pl[160];
             vx_pass_list_format(&passes, pl, sizeof pl);
             printf(" --passes '%s' --show %s", pl, vx_show_name(show));
+            printf(" --light-culling %s --shadow-lights %d", vx_light_culling_name(o.fd.light_culling),
+                   o.fd.shadow_lights < 0 ? 0 : o.fd.shadow_lights ? o.fd.shadow_lights : VX_SHADOW_LIGHTS_DEFAULT);
+            if (o.fd.light_cutoff > 0) printf(" --light-cutoff %g", o.fd.light_cutoff);
         }
         printf("\n");
     }
