@@ -367,7 +367,10 @@ static vx_result rec_submit(rec* R, vx_error* err) {
  * count, scan, fill, all in the timing row "cull". */
 static void rec_cull(rec* R, vx__pipeline* const p[5], const push_block* pc, uint64_t cells, uint32_t lights,
                      const uint32_t tiles[2]) {
-    uint32_t clear[2] = {(uint32_t)((cells + 255) / 256), 1}, one[2] = {1, 1}, per_light[2] = {(lights + 255) / 256, 1};
+    /* 8 lights a workgroup (32 invocations each), over rows of at most 65535 workgroups */
+    uint32_t wgs = (lights + 7) / 8, rows = (wgs + 65534) / 65535;
+    uint32_t clear[2] = {(uint32_t)((cells + 255) / 256), 1}, one[2] = {1, 1};
+    uint32_t per_light[2] = {(wgs + rows - 1) / rows, rows};
     rec_dispatch_n(R, p[0], pc, "cull", clear);
     if (p[1]) rec_dispatch_n(R, p[1], pc, "cull", tiles);
     rec_dispatch_n(R, p[2], pc, "cull", per_light);
@@ -421,8 +424,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (nl && has_gi && (gm->light_count != nl || gm->lights != desc->lights))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "lights with a gi pass: the gi method (gi=%s) was not made with the frame's lights", L->gi);
-    if (nl > 65535u * 256u) /* one culling invocation per light, at most 65535 workgroups */
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most %u", nl, 65535u * 256u);
+    if (nl > (1u << 24)) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u lights: at most 2^24", nl);
     uint32_t ndir = 0;
     for (uint32_t i = 0; i < nl; i++) {
         if ((r = vx_light_validate(&desc->lights[i], i, err))) return r;
@@ -443,7 +445,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (nl > ndir && has_direct) {
         cull = desc->light_culling;
         if (cull == VX_LIGHT_CULLING_AUTO)
-            cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_CLUSTERED;
+            cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
     }
     bool tiled = cull == VX_LIGHT_CULLING_TILED, culled = cull != VX_LIGHT_CULLING_BRUTE;
     uint32_t shadows = desc->shadow_lights < 0 ? 0

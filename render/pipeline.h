@@ -170,14 +170,19 @@ typedef struct vx_gi_method {
  * point of its source (seeded per pixel, sample and light): soft shadows
  * that converge over samples. */
 typedef enum vx_light_culling {
-    VX_LIGHT_CULLING_AUTO = 0,  /* brute force up to VX_LIGHT_CULLING_AUTO_MAX lights, clustered above */
+    VX_LIGHT_CULLING_AUTO = 0,  /* brute force up to VX_LIGHT_CULLING_AUTO_MAX lights, tiled above */
     VX_LIGHT_CULLING_BRUTE,
     VX_LIGHT_CULLING_TILED,
     VX_LIGHT_CULLING_CLUSTERED,
     VX_LIGHT_CULLING_COUNT
 } vx_light_culling;
-/* Measured on an H100 at 1920x1080 (docs/PERFORMANCE.md, "Many lights"). */
-#define VX_LIGHT_CULLING_AUTO_MAX 32
+/* Measured on an H100 at 1920x1080 (docs/PERFORMANCE.md, "Many lights"):
+ * brute force wins up to between 32 and 100 lights; above, tiled beats
+ * clustered at every count (its cells hold only the depths of their hits,
+ * and a warp's pixels share one list), so auto takes tiled. Clustered
+ * stays: it needs no G-buffer (the frame kernel stays merged) and culls once
+ * per frame, not per sample. */
+#define VX_LIGHT_CULLING_AUTO_MAX 64
 #define VX_SHADOW_LIGHTS_DEFAULT 4
 #define VX_SHADOW_LIGHTS_MAX 16
 const char* vx_light_culling_name(vx_light_culling c);

@@ -8,9 +8,11 @@
 // or five dispatches:
 //   STEP 0 clear   one invocation per cell: count 0 (tiled: empty depth range)
 //   STEP 1 depth   tiled only, one invocation per pixel: the tile's depth range
-//   STEP 2 count   one invocation per light: count the cells it touches
+//   STEP 2 count   32 invocations per light: count the cells it touches
 //   STEP 3 scan    one workgroup: each cell's list offset (exclusive sum), count 0
-//   STEP 4 fill    one invocation per light: append its index to those cells
+//   STEP 4 fill    32 invocations per light: append its index to those cells
+// (32 per light, each taking every 32nd cell of the light's box, so that a
+// light that covers the screen costs no more than a few small ones.)
 // Directional lights (the first PC.u1.w) are in no list: every pixel takes
 // them. Lists past the capacity (PC.f3.w) are dropped and cl[1] says how
 // many entries were needed (the most over the frame's samples); pipeline.c
@@ -59,8 +61,9 @@ bool touches(vec3 c, float r, uint tx, uint ty, float z0, float z1) {
     return dot(d, d) <= r * r;
 }
 
-// Count (fill = false) or append light k to every cell it touches.
-void insert(uint k, bool fill) {
+// Count (fill = false) or append light k to every cell it touches; this
+// invocation takes the cells lane, lane + 32, ... of the light's box.
+void insert(uint k, uint lane, bool fill) {
     Light L = lights[k];
     float r = L.b.w * (1.0 + 1e-4) + 1e-6 * length(L.a.xyz); // conservative against rounding
     if (!(r > 0.0)) return;
@@ -88,26 +91,25 @@ void insert(uint k, bool fill) {
     uint k0 = 0u, k1 = 0u;
     if (!TILED) k0 = grid_slice(c.z - r - PC.f3.x), k1 = grid_slice(c.z + r - PC.f3.x);
     float near = PC.f3.y, inv = 1.0 / PC.f3.z;
-    for (uint ks = k0; ks <= k1; ks++) {
+    uint nx = t1[0] - t0[0] + 1u, ny = t1[1] - t0[1] + 1u, n = nx * ny * (k1 - k0 + 1u);
+    for (uint i = lane; i < n; i += 32u) {
+        uint tx = t0[0] + i % nx, ty = t0[1] + (i / nx) % ny, ks = k0 + i / (nx * ny);
         float z0 = ks == 0u ? -1e30 : near * exp(float(ks - 1u) * inv);
         float z1 = ks + 1u >= PC.u2.z ? 1e30 : near * exp(float(ks) * inv);
-        for (uint ty = t0[1]; ty <= t1[1]; ty++)
-            for (uint tx = t0[0]; tx <= t1[0]; tx++) {
-                uint cell = (ks * PC.u2.y + ty) * PC.u2.x + tx;
-                if (TILED) {
-                    z0 = uintBitsToFloat(cl[4u + 2u * C + 2u * cell]);
-                    z1 = uintBitsToFloat(cl[4u + 2u * C + 2u * cell + 1u]);
-                    if (z0 > z1) continue; // no hit in the tile
-                    z0 *= 1.0 - 1e-5, z1 *= 1.0 + 1e-5;
-                }
-                if (!touches(c, r, tx, ty, z0, z1)) continue;
-                if (!fill) {
-                    atomicAdd(cl[4u + cell], 1u);
-                    continue;
-                }
-                uint at = cl[4u + C + cell] + atomicAdd(cl[4u + cell], 1u);
-                if (at < cap) lidx[at] = k;
-            }
+        uint cell = (ks * PC.u2.y + ty) * PC.u2.x + tx;
+        if (TILED) {
+            z0 = uintBitsToFloat(cl[4u + 2u * C + 2u * cell]);
+            z1 = uintBitsToFloat(cl[4u + 2u * C + 2u * cell + 1u]);
+            if (z0 > z1) continue; // no hit in the tile
+            z0 *= 1.0 - 1e-5, z1 *= 1.0 + 1e-5;
+        }
+        if (!touches(c, r, tx, ty, z0, z1)) continue;
+        if (!fill) {
+            atomicAdd(cl[4u + cell], 1u);
+            continue;
+        }
+        uint at = cl[4u + C + cell] + atomicAdd(cl[4u + cell], 1u);
+        if (at < cap) lidx[at] = k;
     }
 }
 
@@ -147,8 +149,9 @@ void main() {
             atomicMax(cl[4u + 2u * C + 2u * tile + 1u], s_zmax);
         }
     } else if (STEP == 2u || STEP == 4u) {
-        uint k = PC.u1.w + id;
-        if (k < PC.u1.z) insert(k, STEP == 4u);
+        uint wg = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        uint k = PC.u1.w + wg * 8u + gl_LocalInvocationIndex / 32u;
+        if (k < PC.u1.z) insert(k, gl_LocalInvocationIndex % 32u, STEP == 4u);
     } else {
         // one workgroup: 256 contiguous chunks, their sums scanned in shared memory
         uint t = gl_LocalInvocationIndex, per = (C + 255u) / 256u;

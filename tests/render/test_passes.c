@@ -801,7 +801,7 @@ static void test_culling_equals_brute(void) {
             vx_render_image_free(&ref.image);
         }
     }
-    /* automatic: brute force for few lights, clustered for many */
+    /* automatic: brute force for few lights, tiled for many */
     vx_frame_desc d = vx_frame_desc_defaults();
     d.base.width = 32, d.base.height = 24;
     d.lights = l, d.light_count = VX_LIGHT_CULLING_AUTO_MAX;
@@ -812,7 +812,7 @@ static void test_culling_equals_brute(void) {
     }
     d.light_count = NL;
     if (render_list(&fx, "gbuffer,direct", d, &res)) {
-        CHECK(res.light_culling == VX_LIGHT_CULLING_CLUSTERED);
+        CHECK(res.light_culling == VX_LIGHT_CULLING_TILED);
         CHECK(all_finite(&res.image));
         vx_render_image_free(&res.image);
     }

@@ -101,7 +101,7 @@ _Noreturn static void usage(int status) {
             "                       sphere lights)\n"
             "  --sky R,G,B          sky radiance with lights (default: the file's constant sky, else %g,%g,%g)\n"
             "  --light-culling M    auto|brute|tiled|clustered: how the direct pass finds each pixel's\n"
-            "                       lights (default: %s: brute force up to %d lights, else clustered)\n"
+            "                       lights (default: %s: brute force up to %d lights, else tiled)\n"
             "  --shadow-lights N    lights per pixel with a shadow ray, the strongest (0..%d, 0: none;\n"
             "                       default: %d); the others shine unshadowed\n"
             "  --light-cutoff E     irradiance where a light without a range ends (culling; default:\n"
