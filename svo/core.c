@@ -86,6 +86,48 @@ void vx_free(const vx_allocator* a, void* p) {
     else free(p);
 }
 
+enum { BUDGET_HEAD = 16 }; /* keeps the alignment of malloc's blocks */
+
+static void* budget_alloc(void* user, size_t size) {
+    vx_budget* b = user;
+    size_t total;
+    if (!vx_add_size(size, BUDGET_HEAD, &total)) return NULL;
+    size_t used = __atomic_load_n(&b->used, __ATOMIC_RELAXED);
+    do {
+        if (b->limit && (total > b->limit || used > b->limit - total)) {
+            size_t zero = 0;
+            __atomic_compare_exchange_n(&b->refused, &zero, size, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+            return NULL;
+        }
+    } while (!__atomic_compare_exchange_n(&b->used, &used, used + total, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED));
+    size_t now = used + total, peak = __atomic_load_n(&b->peak, __ATOMIC_RELAXED);
+    while (now > peak && !__atomic_compare_exchange_n(&b->peak, &peak, now, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+    }
+    unsigned char* p = vx_alloc(b->parent, total);
+    if (!p) {
+        __atomic_fetch_sub(&b->used, total, __ATOMIC_RELAXED);
+        return NULL;
+    }
+    memcpy(p, &total, sizeof total);
+    return p + BUDGET_HEAD;
+}
+
+static void budget_free(void* user, void* ptr) {
+    vx_budget* b = user;
+    unsigned char* p = (unsigned char*)ptr - BUDGET_HEAD;
+    size_t total;
+    memcpy(&total, p, sizeof total);
+    __atomic_fetch_sub(&b->used, total, __ATOMIC_RELAXED);
+    vx_free(b->parent, p);
+}
+
+void vx_budget_init(vx_budget* b, size_t limit, const vx_allocator* parent) {
+    memset(b, 0, sizeof *b);
+    b->allocator = (vx_allocator){budget_alloc, budget_free, b};
+    b->parent = parent;
+    b->limit = limit;
+}
+
 bool vx_grow(const vx_allocator* a, void** p, size_t* cap, size_t need, size_t size) {
     if (need <= *cap) return true;
     size_t ncap = *cap ? *cap : 16;

@@ -102,6 +102,26 @@ void vx_free(const vx_allocator* a, void* p);
 /* Grows *p (count elements of size) to at least need elements; doubles. */
 bool vx_grow(const vx_allocator* a, void** p, size_t* cap, size_t need, size_t size);
 
+/* A memory budget (the tools' --max-memory): an allocator that refuses any
+ * allocation that would take the bytes in use past `limit`, before asking
+ * its parent (NULL: malloc). Give &b.allocator to readers, converters and
+ * writers; a refused allocation makes them fail with VX_ERR_NOMEM, and
+ * b.refused tells the caller that the budget, not the system, said no (the
+ * tools then name the cap). Each block carries a 16-byte header with its
+ * size; counters are updated atomically (readers allocate from threads).
+ * The budget must outlive everything allocated from it. Memory that
+ * third-party libraries allocate themselves (OpenVDB, tinygltf, OIIO) is not
+ * counted. */
+typedef struct vx_budget {
+    vx_allocator allocator;
+    const vx_allocator* parent;
+    size_t limit;   /* 0: no limit */
+    size_t used;    /* bytes in use, headers included */
+    size_t peak;    /* most bytes in use */
+    size_t refused; /* the first allocation refused (bytes), 0 if none */
+} vx_budget;
+void vx_budget_init(vx_budget* b, size_t limit, const vx_allocator* parent);
+
 /* ---- checked size arithmetic ---------------------------------------------
  * Every size computed from untrusted input goes through these: a wrapped
  * product would turn into a small allocation followed by a large write. */

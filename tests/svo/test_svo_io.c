@@ -6,6 +6,7 @@
  * `svo_io --write-seeds DIR` writes the fuzz seed files. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <unistd.h>
 
@@ -1405,6 +1406,72 @@ static int write_seeds(const char* dir) {
     return 0;
 }
 
+
+/* --max-memory: a budget refuses what would pass its limit, counts exactly
+ * (16-byte headers), and a reader under any budget either succeeds or fails
+ * with VX_ERR_NOMEM having freed every block it took. */
+static void* budget_churn(void* arg) {
+    vx_budget* b = arg;
+    uint32_t x = 12345;
+    void* held[16] = {0};
+    for (int i = 0; i < 200000; i++) {
+        x = x * 1664525u + 1013904223u;
+        int k = (int)(x >> 28);
+        if (held[k]) vx_free(&b->allocator, held[k]), held[k] = NULL;
+        else held[k] = vx_alloc(&b->allocator, 1 + (x >> 16) % 5000);
+    }
+    for (int k = 0; k < 16; k++) vx_free(&b->allocator, held[k]);
+    return NULL;
+}
+
+static void test_budget(void) {
+    vx_budget b;
+    vx_budget_init(&b, 1000, NULL);
+    void* p = vx_alloc(&b.allocator, 500);
+    CHECK(p && b.used == 516 && b.peak == 516);
+    CHECK(!vx_alloc(&b.allocator, 500) && b.refused == 500 && b.used == 516);
+    CHECK(!vx_alloc(&b.allocator, SIZE_MAX) && b.refused == 500); /* no wrap; the first refusal is kept */
+    void* q = vx_alloc(&b.allocator, 1000 - 516 - 16);             /* exactly to the limit */
+    CHECK(q && b.used == 1000);
+    vx_free(&b.allocator, p), vx_free(&b.allocator, q);
+    CHECK(b.used == 0 && b.peak == 1000);
+    /* two threads allocating and freeing against one budget (the readers' workers) */
+    vx_budget_init(&b, 64000, NULL);
+    pthread_t t[2];
+    for (int i = 0; i < 2; i++) pthread_create(&t[i], NULL, budget_churn, &b);
+    for (int i = 0; i < 2; i++) pthread_join(t[i], NULL);
+    CHECK(b.used == 0 && b.peak <= 64000 && b.peak > 0);
+    /* the reader: the unlimited peak P is what it needs; every smaller budget fails cleanly */
+    vx_svo_scene s;
+    make_scene(&s, 400);
+    uint8_t* data;
+    size_t n;
+    vx_error e;
+    CHECK(vx_svo_write(&s, NULL, &data, &n, &e) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_budget_init(&b, 0, NULL);
+    vx_svo_scene r;
+    CHECK(vx_svo_read(&(vx_svo_read_desc){.alloc = &b.allocator}, data, n, &r, &e) == VX_OK);
+    size_t need = b.peak;
+    CHECK(need > 0 && r.alloc == &b.allocator);
+    vx_svo_scene_free(&r);
+    CHECK(b.used == 0);
+    int failed = 0;
+    for (size_t lim = need / 32; lim < need; lim += need / 32) {
+        vx_budget_init(&b, lim, NULL);
+        vx_result res = vx_svo_read(&(vx_svo_read_desc){.alloc = &b.allocator}, data, n, &r, &e);
+        CHECKF(res == VX_ERR_NOMEM && b.refused > 0 && b.used == 0, "budget %zu of %zu: result %d, %zu bytes left",
+               lim, need, (int)res, b.used);
+        if (res == VX_OK) vx_svo_scene_free(&r);
+        failed++;
+    }
+    vx_budget_init(&b, need, NULL);
+    CHECK(vx_svo_read(&(vx_svo_read_desc){.alloc = &b.allocator}, data, n, &r, &e) == VX_OK);
+    vx_svo_scene_free(&r);
+    CHECK(failed >= 31 && b.used == 0);
+    free(data);
+}
+
 int main(int argc, char** argv) {
     if (argc == 3 && strcmp(argv[1], "--write-seeds") == 0) return write_seeds(argv[2]);
     RUN(test_round_trip);
@@ -1426,5 +1493,6 @@ int main(int argc, char** argv) {
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);
     RUN(test_oom);
+    RUN(test_budget);
     return vx_test_finish();
 }

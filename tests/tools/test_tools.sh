@@ -32,6 +32,18 @@ grep -q "3 materials" "$T/out" && ok "demo has lamp, glass and metal materials" 
 nl=$(sed -n 's/^lights       0 stored, \([0-9]*\) from the voxels of 1 emissive materials.*/\1/p' "$T/out")
 [ "${nl:-0}" -ge 5 ] && ok "demo lamps: $nl lights from emissive voxels" || bad "demo lamps: ${nl:-no} lights from emissive voxels"
 expect_status 0 "verify demo" "$BIN/svo_info" "$T/demo.svo" --verify
+# --max-memory: too small a budget is an error naming the cap, with no output;
+# a large one changes nothing
+expect_status 1 "vox2svo --max-memory 64K" "$BIN/vox2svo" "$T/demo.vox" "$T/small.svo" --max-memory 64K
+grep -q -- "needs more than --max-memory 64.0 KiB" "$T/err" && ok "vox2svo names the cap" || bad "vox2svo names the cap"
+[ ! -e "$T/small.svo" ] && ok "no output over the cap" || bad "no output over the cap"
+expect_status 0 "vox2svo --max-memory 1G" "$BIN/vox2svo" "$T/demo.vox" "$T/big.svo" --max-memory 1G
+cmp -s "$T/demo.svo" "$T/big.svo" && ok "a budget does not change the file" || bad "a budget does not change the file"
+expect_status 1 "svo_info --max-memory 4K" "$BIN/svo_info" "$T/demo.svo" --max-memory 4K
+grep -q -- "needs more than --max-memory 4.0 KiB" "$T/err" && grep -q "demo.svo" "$T/err" && ok "svo_info names the cap and file" || bad "svo_info names the cap and file"
+expect_status 0 "svo_info --max-memory 1G" "$BIN/svo_info" "$T/demo.svo" --max-memory 1G --verify
+expect_status 2 "bad --max-memory" "$BIN/vox2svo" "$T/demo.vox" "$T/x.svo" --max-memory 12X
+expect_status 2 "zero --max-memory" "$BIN/svo_info" "$T/demo.svo" --max-memory 0
 "$BIN/svo_info" "$T/demo.svo" --dump | sort >"$T/d1" || bad "dump"
 n=$(wc -l <"$T/d1")
 [ "$n" -gt 1000 ] && ok "dump has $n cells" || bad "dump has $n cells"

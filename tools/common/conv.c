@@ -49,6 +49,10 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
         c->threshold_set = true;
     } else if (!strcmp(a, "--density")) c->density = true;
     else if (!strcmp(a, "--color")) c->color = value(argc, argv, i, usage);
+    else if (!strcmp(a, "--max-memory")) {
+        if (!vx_tool_parse_bytes(value(argc, argv, i, usage), &c->max_memory) || !c->max_memory)
+            vx_tool_usage_error(usage, "bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[*i]);
+    }
     else return false;
     return true;
 }
@@ -66,28 +70,29 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
     vx_tool_loaded li = {0};
     const char* ext = vx_tool_ext(path);
     vx_svo_build_desc build = {.no_collapse = c->no_collapse, .no_dag = c->no_dag, .progress = progress};
+    const vx_allocator* A = c->alloc;
     double t0 = vx_time_now();
     vx_result r;
     li.in_bytes = file_size(path);
     if (allow_svo && !strcmp(ext, "svo")) {
         li.kind = ".svo";
-        r = vx_svo_read_file(NULL, path, out, err);
+        r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, path, out, err);
         li.seconds_read = vx_time_now() - t0;
     } else if (!strcmp(ext, "vox")) {
         li.kind = ".vox";
         vx_vox_scene vs;
-        vx_vox_read_desc rd = {.logger = log, .frame = c->frame, .keep_hidden = c->keep_hidden};
+        vx_vox_read_desc rd = {.alloc = A, .logger = log, .frame = c->frame, .keep_hidden = c->keep_hidden};
         r = vx_vox_read_file(&rd, path, &vs, err);
         li.seconds_read = vx_time_now() - t0;
         if (r == VX_OK) {
-            r = vx_conv_vox(&(vx_conv_vox_desc){.build = build, .keep_unused = c->keep_unused}, &vs, out, &li.stats,
-                            err);
+            vx_conv_vox_desc cd = {.build = build, .alloc = A, .keep_unused = c->keep_unused};
+            r = vx_conv_vox(&cd, &vs, out, &li.stats, err);
             vx_vox_scene_free(&vs);
         }
     } else if (!strcmp(ext, "gltf") || !strcmp(ext, "glb")) {
         li.kind = !strcmp(ext, "glb") ? ".glb" : ".gltf";
 #ifdef VX_HAVE_MESH
-        vx_conv_mesh_desc md = {.build = build, .logger = log, .res = c->res, .scene_set = c->scene_set,
+        vx_conv_mesh_desc md = {.build = build, .alloc = A, .logger = log, .res = c->res, .scene_set = c->scene_set,
                                 .scene = c->scene, .solid = c->solid, .normals = c->normals};
         r = vx_conv_mesh_file(&md, path, out, &li.stats, err);
         li.seconds_read = li.stats.seconds_read;
@@ -97,7 +102,7 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
     } else if (!strcmp(ext, "vdb")) {
         li.kind = ".vdb";
 #ifdef VX_HAVE_VDB
-        vx_conv_vdb_desc vd = {.build = build, .logger = log, .grid = c->grid, .solid = c->solid,
+        vx_conv_vdb_desc vd = {.build = build, .alloc = A, .logger = log, .grid = c->grid, .solid = c->solid,
                                .threshold_set = c->threshold_set, .threshold = c->threshold, .density = c->density,
                                .color_grid = c->color};
         r = vx_conv_vdb_file(&vd, path, out, &li.stats, err);

@@ -27,6 +27,10 @@ typedef struct vx_tool_conv {
     double threshold;
     bool density;
     const char* color;
+    /* memory: --max-memory (0: no limit); the tool makes the budget and sets
+     * alloc to it before vx_tool_conv_load (NULL: malloc) */
+    uint64_t max_memory;
+    const vx_allocator* alloc;
 } vx_tool_conv;
 
 vx_tool_conv vx_tool_conv_defaults(void);

@@ -29,6 +29,14 @@ int vx_tool_error(const char* file, const vx_error* err) {
     return 1;
 }
 
+int vx_tool_error_budget(const char* file, const vx_error* err, const vx_budget* b) {
+    if (!b || !b->refused) return vx_tool_error(file, err);
+    fprintf(stderr, "%s: %s: needs more than --max-memory %s (%s in use, %s more refused): %s\n", vx_tool_name,
+            file ? file : "", vx_tool_bytes(b->limit), vx_tool_bytes(b->used), vx_tool_bytes(b->refused),
+            err ? err->msg : "error");
+    return 1;
+}
+
 int vx_tool_errorf(const char* fmt, ...) {
     va_list ap;
     fprintf(stderr, "%s: ", vx_tool_name);
@@ -111,6 +119,24 @@ const char* vx_tool_bytes(uint64_t v) {
     else if (v < 1024ull * 1024 * 1024) snprintf(out, 32, "%.1f MiB", v / 1048576.0);
     else snprintf(out, 32, "%.2f GiB", v / 1073741824.0);
     return out;
+}
+
+bool vx_tool_parse_bytes(const char* s, uint64_t* out) {
+    if (!s || !isdigit((unsigned char)*s)) return false;
+    char* end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno) return false;
+    int shift = 0;
+    if (*end) {
+        const char* units = "KMGT";
+        const char* u = strchr(units, toupper((unsigned char)*end));
+        if (!u || end[1]) return false;
+        shift = 10 * (int)(u - units + 1);
+    }
+    if (v > (UINT64_C(1) << 62) >> shift) return false;
+    *out = (uint64_t)v << shift;
+    return true;
 }
 
 bool vx_tool_parse_u32(const char* s, uint32_t* out) {

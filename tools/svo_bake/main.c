@@ -60,6 +60,7 @@ _Noreturn static void usage(int status) {
             "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count;\n"
             "                     under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
+            "  --max-memory SIZE  refuse a scene that needs more memory than SIZE to read (e.g. 512M)\n"
             "  --fresh            ignore a checkpoint from an interrupted run\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
             "  --device N|NAME    Vulkan device (default: a discrete GPU, else any; under MPI rank r takes\n"
@@ -208,8 +209,14 @@ static int do_merge(const char* out, char** parts, int n) {
 int bake_job_open(bake_job* j, const char* device, const char* who) {
     vx_error err = {0};
     snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
-    if (vx_svo_read_file(NULL, j->in, &j->scene, &err)) {
-        fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
+    vx_budget_init(&j->budget, j->o.max_memory, NULL);
+    const vx_allocator* A = j->o.max_memory ? &j->budget.allocator : NULL;
+    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->scene, &err)) {
+        if (j->budget.refused)
+            fprintf(stderr, "%s: %s%s: needs more than --max-memory %s: %s\n", vx_tool_name, who, j->in,
+                    vx_tool_bytes(j->budget.limit), err.msg);
+        else
+            fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
         return 1;
     }
     if (j->o.cpu) return 0;
@@ -508,6 +515,10 @@ int main(int argc, char** argv) {
             if (!vx_tool_parse_u32(argv[++i], &o.threads) || !o.threads || o.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
             o.threads_set = true;
+        } else if (!strcmp(a, "--max-memory")) {
+            NEED();
+            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+                usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--exr")) {
             NEED();
             o.exr_dir = argv[++i];

@@ -18,6 +18,7 @@ typedef struct options {
     const char* device;
     bool merge, cpu, quiet, verbose, fresh;
     bool threads_set; /* --threads given (MPI: otherwise the CPUs are split over the host's ranks) */
+    uint64_t max_memory; /* --max-memory for reading the scene, 0: no limit */
     uint32_t threads;
 } options;
 
@@ -26,6 +27,7 @@ typedef struct bake_job {
     const char* in;
     const char* out;
     char ckpath[4096]; /* OUT.probes.partial */
+    vx_budget budget;     /* --max-memory (the scene's arrays come from it) */
     vx_svo_scene scene;
     vx_gpu* gpu;          /* NULL with --cpu */
     vx_render_scene* rs;  /* NULL with --cpu */

@@ -20,6 +20,7 @@ typedef struct options {
     const char* to_vox;
     const char* to_glb;
     bool quiet;
+    uint64_t max_memory; /* 0: no limit */
 } options;
 
 _Noreturn static void usage(int status) {
@@ -39,6 +40,8 @@ _Noreturn static void usage(int status) {
             "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
             "                     voxel surface, vertex colours), one node per instance; grid axes\n"
             "                     kept (a .vox scene stays +Z up)\n"
+            "    --max-memory SIZE  refuse a file that needs more memory than SIZE to read (e.g.\n"
+            "                     512M, 4G; the file's bytes count; default: no limit)\n"
             "    -q, --quiet      print only errors (and the dump)\n"
             "    -h, --help       print this help and exit\n"
             "    --version        print the tool and format versions and exit\n"
@@ -65,6 +68,11 @@ static options parse(int argc, char** argv) {
             exit(0);
         } else if (!strcmp(a, "--verify")) o.verify = true;
         else if (!strcmp(a, "--dump")) o.dump = true;
+        else if (!strcmp(a, "--max-memory")) {
+            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
+            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+                usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
+        }
         else if (!strcmp(a, "--all")) o.all = true;
         else if (!strcmp(a, "--models")) o.models = true;
         else if (!strcmp(a, "--to-vox")) {
@@ -255,18 +263,22 @@ int main(int argc, char** argv) {
     vx_error err = {0};
     uint8_t* data = NULL;
     size_t size = 0;
-    if (vx_file_read(o.in, NULL, (uint64_t)1 << 40, &data, &size, &err) != VX_OK) return vx_tool_error(o.in, &err);
+    vx_budget budget; /* --max-memory: the file's bytes and the scene; outlives the scene */
+    vx_budget_init(&budget, o.max_memory, NULL);
+    const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
+    if (vx_file_read(o.in, A, (uint64_t)1 << 40, &data, &size, &err) != VX_OK)
+        return vx_tool_error_budget(o.in, &err, &budget);
     vx_svo_file_info fi;
     if (vx_svo_probe(data, size, &fi, &err) != VX_OK) {
-        free(data);
+        vx_free(A, data);
         return vx_tool_error(o.in, &err);
     }
     vx_svo_scene s;
-    vx_result r = vx_svo_read(NULL, data, size, &s, &err);
-    free(data);
+    vx_result r = vx_svo_read(&(vx_svo_read_desc){.alloc = A}, data, size, &s, &err);
+    vx_free(A, data);
     if (r != VX_OK) {
         if (o.verify && !o.quiet) printf("%s: INVALID\n", o.in);
-        return vx_tool_error(o.in, &err);
+        return vx_tool_error_budget(o.in, &err, &budget);
     }
     int status = 0;
     if (!o.quiet && !o.dump) print_info(&o, &fi, &s);

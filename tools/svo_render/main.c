@@ -21,6 +21,7 @@ typedef struct options {
     vx_render_desc r;
     const char* device;
     bool cpu, validate, verbose, list;
+    uint64_t max_memory; /* --max-memory, 0: no limit */
     /* probe modes (CPU): gi, pathtrace, gi-indirect, pathtrace-indirect */
     bool probe_mode;
     vx_probe_render_desc p;
@@ -83,6 +84,8 @@ _Noreturn static void usage(int status) {
             "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
             "  --seed S             path tracer seed (default: 0)\n"
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
+            "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
+            "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -286,6 +289,10 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--max-memory")) {
+            NEED();
+            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+                usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--size")) {
             NEED();
             unsigned w, h;
@@ -495,10 +502,11 @@ int main(int argc, char** argv) {
     vx_error err = {0};
     vx_svo_scene scene;
     double t0 = vx_time_now();
-    if (vx_svo_read_file(NULL, o.in, &scene, &err)) {
-        fprintf(stderr, "%s: %s\n", prog, err.msg); /* the message names the file */
-        return 1;
-    }
+    vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
+    vx_budget_init(&budget, o.max_memory, NULL);
+    const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
+    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &scene, &err))
+        return vx_tool_error_budget(NULL, &err, &budget); /* the message names the file */
     double t_load = vx_time_now() - t0;
     vx_light* frame_lights = NULL;
     uint32_t from_voxels = 0;
@@ -536,8 +544,8 @@ int main(int argc, char** argv) {
     vx_probe_render_stats lf_stats = {0};
     o.p.stats = &lf_stats;
     if (o.probes) {
-        if (vx_probe_read_file(NULL, o.probes, &probes, &err)) {
-            fprintf(stderr, "%s: %s\n", prog, err.msg);
+        if (vx_probe_read_file(&(vx_probe_read_desc){.alloc = A}, o.probes, &probes, &err)) {
+            vx_tool_error_budget(NULL, &err, &budget);
             vx_svo_scene_free(&scene);
             free(frame_lights);
             return 1;

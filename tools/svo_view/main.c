@@ -84,6 +84,7 @@ _Noreturn static void usage(int status) {
             "    --frame N, --keep-hidden, --keep-unused, --no-collapse, --no-dag  (.vox)\n"
             "    --res N (default: %u), --scene N, --solid, --normals  (.gltf/.glb)\n"
             "    --grid NAME, --threshold X, --density, --color NAME   (.vdb)\n"
+            "    --max-memory SIZE     refuse a scene that needs more memory than SIZE to read (512M, 4G)\n"
             "    -v, --verbose         print the effective options and timings\n"
             "    -h, --help            print this help and exit;  --version: versions\n"
             "Keys: WASD/Q/E fly, right mouse look, wheel speed (orbit: zoom), O orbit, F frame the\n"
@@ -199,6 +200,7 @@ static vx_result load_scene(const options* o, const char* path, vx_svo_scene* ou
 
 typedef struct app {
     options o;
+    vx_budget budget; /* --max-memory: scenes the viewer loads come from it */
     vp* p;
     vx_gpu* gpu;
     vx_render_scene* rs;
@@ -1317,6 +1319,8 @@ int main(int argc, char** argv) {
     vx_tool_init(argc, argv);
     app a = {0};
     a.o = parse(argc, argv);
+    vx_budget_init(&a.budget, a.o.conv.max_memory, NULL);
+    if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
     a.mode = a.o.mode;
     a.gi = a.o.gi;
@@ -1332,7 +1336,7 @@ int main(int argc, char** argv) {
     double t0 = vx_time_now();
     if (load_scene(&a.o, a.o.in, &a.scene, &err)) {
         if (a.lines) free(a.lines[0]), free(a.lines);
-        return vx_tool_error(a.o.in, &err);
+        return vx_tool_error_budget(a.o.in, &err, &a.budget);
     }
     double t_load = vx_time_now() - t0;
     if (a.o.probes && load_probes(&a, a.o.probes, &err)) {

@@ -54,6 +54,9 @@ _Noreturn static void usage(int status) {
             "                     (default: any active value > 0)\n"
             "    --density        OpenVDB fog volumes: keep the values as a density attribute\n"
             "    --color NAME     OpenVDB: vec3 grid giving colours\n"
+            "    --max-memory SIZE  refuse an input that needs more memory than SIZE to read and\n"
+            "                     convert (e.g. 512M, 4G; default: no limit; OpenVDB's and tinygltf's\n"
+            "                     own memory is not counted)\n"
             "    --write-demo F   write the built-in demo scene (a .vox file) to F and exit\n"
             "    -q, --quiet      print nothing but errors\n"
             "    -v, --verbose    print warnings and details\n"
@@ -159,9 +162,12 @@ int main(int argc, char** argv) {
     vx_logger log = vx_tool_logger(o.verbose);
     vx_svo_scene scene;
     vx_tool_loaded li;
+    vx_budget budget; /* --max-memory; outlives the scene */
+    vx_budget_init(&budget, o.conv.max_memory, NULL);
+    if (o.conv.max_memory) o.conv.alloc = &budget.allocator;
     vx_result r = vx_tool_conv_load(o.in, &o.conv, false, &log, vx_tool_progress(o.quiet), &scene, &li, &err);
     vx_tool_progress_done();
-    if (r != VX_OK) return vx_tool_error(o.in, &err);
+    if (r != VX_OK) return vx_tool_error_budget(o.in, &err, &budget);
     const char* kind = li.kind;
     const vx_conv_stats cs = li.stats;
     double t_read = li.seconds_read, t_convert = li.seconds_total - li.seconds_read;
