@@ -31,9 +31,8 @@ int vx_tool_error(const char* file, const vx_error* err) {
 
 int vx_tool_error_budget(const char* file, const vx_error* err, const vx_budget* b) {
     if (!b || !b->refused) return vx_tool_error(file, err);
-    fprintf(stderr, "%s: %s: needs more than --max-memory %s (%s in use, %s more refused): %s\n", vx_tool_name,
-            file ? file : "", vx_tool_bytes(b->limit), vx_tool_bytes(b->used), vx_tool_bytes(b->refused),
-            err ? err->msg : "error");
+    fprintf(stderr, "%s: %s: needs more than --max-memory %s (a block of %s refused): %s\n", vx_tool_name,
+            file ? file : "", vx_tool_bytes(b->limit), vx_tool_bytes(b->refused), err ? err->msg : "error");
     return 1;
 }
 

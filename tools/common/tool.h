@@ -46,7 +46,8 @@ bool vx_tool_parse_double(const char* s, double* out);
  * (powers of 1024; "512M", "2G"); false if malformed or above 2^62. */
 bool vx_tool_parse_bytes(const char* s, uint64_t* out);
 /* vx_tool_error, or, when the budget refused an allocation, a line naming
- * the cap: "tool: file: needs more than --max-memory 512.0 MiB (...): msg". */
+ * the cap: "tool: file: needs more than --max-memory 512.0 MiB (a block of 2.0 MiB
+ * refused): msg". */
 int vx_tool_error_budget(const char* file, const vx_error* err, const vx_budget* b);
 
 /* Parses n comma-separated finite numbers ("1,2.5,-3"); false if malformed. */
