@@ -23,7 +23,9 @@
  * only), the frame's vx_lights and the emissive voxels. Point and spot
  * lights are deltas (glTF falloff; d^2 kept above (cell/100)^2); a
  * directional light with an angular diameter is a cone of radiance
- * E / (pi sin^2(diameter/2)), sampled uniformly in solid angle; sphere
+ * E / (pi sin^2(diameter/2)), sampled uniformly in solid angle (below
+ * CONE_MIN, 1e-6 rad, a delta: the cone's radiance would leave the GPU's
+ * float range); sphere
  * lights by their subtended cone, rect lights by area, emissive voxels by
  * power (a voxel with probability lum(radiance) * area / total, a point
  * uniformly on its surface, so a point's area density is
