@@ -261,10 +261,12 @@ static void test_timings(void) {
     vx_frame_desc d = vx_frame_desc_defaults();
     d.base.width = 160, d.base.height = 120, d.base.spp = 3;
     d.separate_passes = true; /* a row per pass */
-    /* Gaps between dispatches (the scheduler of a software device on a busy
-     * machine) can widen the frame; the passes must still account for it:
-     * the sum never exceeds the frame, and in one of a few frames it is
-     * within 5%. */
+    /* Gaps between dispatches (the barriers between passes: 5.4% of this
+     * small frame on an H100; the scheduler of a software device on a busy
+     * machine) widen the frame; the passes must still account for it: the
+     * sum never exceeds the frame, and in one of a few frames it is within
+     * 15% (a pass without its row would miss far more: ao alone is about a
+     * third of this frame). */
     bool close = false;
     for (int attempt = 0; attempt < 5 && !close; attempt++) {
         vx_frame_result res;
@@ -283,10 +285,10 @@ static void test_timings(void) {
         CHECK(res.timing_count == 6); /* gbuffer direct ao resolve aa tonemap */
         CHECK(res.timings[0].dispatches == 3);
         CHECKF(res.frame_ms > 0 && sum <= res.frame_ms * 1.01, "sum %g exceeds frame %g", sum, res.frame_ms);
-        close = fabs(sum - res.frame_ms) <= 0.05 * res.frame_ms;
+        close = fabs(sum - res.frame_ms) <= 0.15 * res.frame_ms;
         vx_render_image_free(&res.image);
     }
-    CHECKF(close, "per-pass times never summed to within 5%% of the frame time");
+    CHECKF(close, "per-pass times never summed to within 15%% of the frame time");
     fx_close(&fx);
     vx_svo_scene_free(&s);
 }
