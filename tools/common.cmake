@@ -5,18 +5,10 @@ target_link_libraries(vx_tool PUBLIC vx_core m)
 add_library(vx_tool_light STATIC ${CMAKE_CURRENT_LIST_DIR}/common/light.c)
 target_link_libraries(vx_tool_light PUBLIC vx_svo vx_tool)
 
-# Converter options and loading by extension, shared by vox2svo and svo_view.
-# The mesh and volume readers are optional (VX_WITH_GLTF / VX_WITH_OPENVDB).
+# Converter options of the command line, shared by vox2svo and svo_view; the
+# loading by extension is the library's (convert/file.h).
 add_library(vx_tool_conv STATIC ${CMAKE_CURRENT_LIST_DIR}/common/conv.c)
-target_link_libraries(vx_tool_conv PUBLIC vx_convert vx_tool)
-if(TARGET vx_conv_mesh)
-  target_link_libraries(vx_tool_conv PUBLIC vx_conv_mesh)
-  target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_MESH=1)
-endif()
-if(TARGET vx_conv_vdb)
-  target_link_libraries(vx_tool_conv PUBLIC vx_conv_vdb)
-  target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
-endif()
+target_link_libraries(vx_tool_conv PUBLIC vx_conv_file vx_tool)
 
 # The MPI paths of svo_bake and svo_render (mpirun): launcher detection, ranks
 # per host, device choice, ending the job (VX_WITH_MPI, where MPI is found).

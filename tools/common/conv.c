@@ -5,13 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "convert/file.h"
 #include "tools/common/tool.h"
-#ifdef VX_HAVE_MESH
-#include "convert/mesh.h"
-#endif
-#ifdef VX_HAVE_VDB
-#include "convert/volume.h"
-#endif
 
 vx_tool_conv vx_tool_conv_defaults(void) {
     vx_tool_conv c = {0};
@@ -68,52 +63,30 @@ static uint64_t file_size(const char* path) {
 vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
                             vx_progress progress, vx_svo_scene* out, vx_tool_loaded* info, vx_error* err) {
     vx_tool_loaded li = {0};
-    const char* ext = vx_tool_ext(path);
-    vx_svo_build_desc build = {.no_collapse = c->no_collapse, .no_dag = c->no_dag, .progress = progress};
-    const vx_allocator* A = c->alloc;
+    vx_conv_file_desc d = {
+        .build = {.no_collapse = c->no_collapse, .no_dag = c->no_dag, .progress = progress},
+        .alloc = c->alloc,
+        .logger = log,
+        .allow_svo = allow_svo,
+        .frame = c->frame,
+        .keep_hidden = c->keep_hidden,
+        .keep_unused = c->keep_unused,
+        .res = c->res,
+        .scene_set = c->scene_set,
+        .scene = c->scene,
+        .normals = c->normals,
+        .solid = c->solid,
+        .grid = c->grid,
+        .threshold_set = c->threshold_set,
+        .threshold = c->threshold,
+        .density = c->density,
+        .color_grid = c->color,
+    };
     double t0 = vx_time_now();
-    vx_result r;
     li.in_bytes = file_size(path);
-    if (allow_svo && !strcmp(ext, "svo")) {
-        li.kind = ".svo";
-        r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, path, out, err);
-        li.seconds_read = vx_time_now() - t0;
-    } else if (!strcmp(ext, "vox")) {
-        li.kind = ".vox";
-        vx_vox_scene vs;
-        vx_vox_read_desc rd = {.alloc = A, .logger = log, .frame = c->frame, .keep_hidden = c->keep_hidden};
-        r = vx_vox_read_file(&rd, path, &vs, err);
-        li.seconds_read = vx_time_now() - t0;
-        if (r == VX_OK) {
-            vx_conv_vox_desc cd = {.build = build, .alloc = A, .keep_unused = c->keep_unused};
-            r = vx_conv_vox(&cd, &vs, out, &li.stats, err);
-            vx_vox_scene_free(&vs);
-        }
-    } else if (!strcmp(ext, "gltf") || !strcmp(ext, "glb")) {
-        li.kind = !strcmp(ext, "glb") ? ".glb" : ".gltf";
-#ifdef VX_HAVE_MESH
-        vx_conv_mesh_desc md = {.build = build, .alloc = A, .logger = log, .res = c->res, .scene_set = c->scene_set,
-                                .scene = c->scene, .solid = c->solid, .normals = c->normals};
-        r = vx_conv_mesh_file(&md, path, out, &li.stats, err);
-        li.seconds_read = li.stats.seconds_read;
-#else
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "this build has no glTF support");
-#endif
-    } else if (!strcmp(ext, "vdb")) {
-        li.kind = ".vdb";
-#ifdef VX_HAVE_VDB
-        vx_conv_vdb_desc vd = {.build = build, .alloc = A, .logger = log, .grid = c->grid, .solid = c->solid,
-                               .threshold_set = c->threshold_set, .threshold = c->threshold, .density = c->density,
-                               .color_grid = c->color};
-        r = vx_conv_vdb_file(&vd, path, out, &li.stats, err);
-        li.seconds_read = li.stats.seconds_read;
-#else
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "this build has no OpenVDB support");
-#endif
-    } else {
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "unknown input type '.%s' (expected %s.vox, .gltf, .glb or .vdb)",
-                    ext, allow_svo ? ".svo, " : "");
-    }
+    li.kind = vx_conv_file_kind(path);
+    vx_result r = vx_conv_file(&d, path, out, &li.stats, err);
+    li.seconds_read = li.stats.seconds_read;
     li.seconds_total = vx_time_now() - t0;
     if (r == VX_OK && info) *info = li;
     return r;

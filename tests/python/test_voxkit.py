@@ -1,0 +1,183 @@
+"""The Python module against the tools (ctest python_build, python_installed).
+
+Usage: python3 test_voxkit.py BIN_DIR CORPUS_DIR WORK_DIR [PREFIX]
+
+BIN_DIR holds vox2svo and svo_info, the independent path: vox2svo converts,
+`svo_info --dump` prints every voxel; the module must give the same cells and
+colours. Without the corpus only the generated demo scene is checked (with a
+message). With PREFIX, the module and libvoxkit must be loaded from there.
+"""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import voxkit
+
+BIN, CORPUS, WORK = sys.argv[1:4]
+PREFIX = sys.argv[4] if len(sys.argv) > 4 else None
+os.makedirs(WORK, exist_ok=True)
+failures = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def tool(name, *args):
+    return subprocess.run([os.path.join(BIN, name), *args], check=True, capture_output=True).stdout
+
+
+def rows_sorted(a):
+    return a[np.lexsort(a.T[::-1])] if len(a) else a
+
+
+def dump(svo, all_=False):
+    text = tool("svo_info", svo, "--dump", *(["--all"] if all_ else []))
+    return rows_sorted(np.fromstring(text, dtype=np.int64, sep=" ").reshape(-1, 7))
+
+
+def module_cells(scene, all_=False):
+    xyz, rgba = scene.scene_voxels(all=all_)
+    if not (xyz.dtype == np.int64 and xyz.shape[1:] == (3,) and rgba.dtype == np.uint8 and rgba.shape == (len(xyz), 4)):
+        check(False, "scene_voxels: (N,3) int64 and (N,4) uint8")
+    return rows_sorted(np.hstack([xyz, rgba.astype(np.int64)]))
+
+
+def same_as_dump(name, src, svo, **options):
+    """src converted by vox2svo (options as its flags) and by the module."""
+    flags = []
+    for k, v in options.items():
+        flags += ["--" + k.replace("_", "-")] + ([] if v is True else [str(v)])
+    tool("vox2svo", src, svo, *flags)
+    ref = dump(svo)
+    s = voxkit.open(svo)
+    check(np.array_equal(module_cells(s), ref), f"{name}: scene_voxels equals svo_info --dump ({len(ref)} voxels)")
+    # the module's own conversion gives the same scene
+    check(np.array_equal(module_cells(voxkit.open(src, **options)), ref), f"{name}: voxkit.open({os.path.basename(src)}) "
+          "converts to the same voxels")
+    # models and instances: each model's cells placed by its instance's xform
+    placed = []
+    for i, inst in enumerate(s.instances):
+        if not inst["visible"]:
+            continue
+        m = s.models[inst["model"]]
+        xyz, rgba = s.voxels(inst["model"])
+        ok = len(xyz) == m["voxel_count"] and xyz.dtype == np.int32 and (xyz >= 0).all() and (xyz < m["size"]).all()
+        if not ok:
+            check(False, f"{name}: model {inst['model']} cells within its size, voxel_count of them")
+            return s
+        x = inst["xform"]
+        g = np.floor((xyz + 0.5) @ x[:, :3].T + x[:, 3]).astype(np.int64)
+        placed.append(np.hstack([g, rgba.astype(np.int64)]))
+    placed = rows_sorted(np.vstack(placed)) if placed else np.zeros((0, 7), np.int64)
+    check(np.array_equal(placed, ref), f"{name}: voxels(model) placed by instances[i]['xform'] equal the dump")
+    return s
+
+
+# ---- where the module comes from -----------------------------------------------
+print("voxkit", voxkit.__version__, "from", voxkit.__file__)
+if PREFIX:
+    prefix = os.path.realpath(PREFIX)
+    check(os.path.realpath(voxkit.__file__).startswith(prefix + "/"), "the module is loaded from the prefix")
+    with open("/proc/self/maps") as f:
+        libs = {line.split()[-1] for line in f if "libvoxkit.so" in line}
+    check(len(libs) == 1 and all(os.path.realpath(p).startswith(prefix + "/") for p in libs),
+          f"libvoxkit is loaded from the prefix ({', '.join(libs)})")
+check(issubclass(voxkit.Error, Exception), "voxkit.Error is an Exception")
+
+# ---- a generated scene: the demo island (hidden layer, rotations, mirrors) -----
+demo_vox, demo = os.path.join(WORK, "demo.vox"), os.path.join(WORK, "demo.svo")
+tool("vox2svo", "--write-demo", demo_vox)
+s = same_as_dump("demo", demo_vox, demo, keep_hidden=True)  # with its hidden layer
+check(np.array_equal(module_cells(s, True), dump(demo, True)) and len(module_cells(s, True)) > len(module_cells(s)),
+      "demo: scene_voxels(all=True) equals --dump --all (more voxels)")
+check(len(s.instances) > len(s.models) >= 3, f"demo: {len(s.models)} models, {len(s.instances)} instances")
+check(any(not i["visible"] for i in s.instances), "demo: the hidden layer's instance is listed as not visible")
+np.testing.assert_array_equal(s.world_from_grid, np.eye(3, 4))
+again = os.path.join(WORK, "demo-again.svo")
+s.save(again)
+check(np.array_equal(dump(again), dump(demo)), "save(): svo_info reads the same voxels back")
+vox_again = os.path.join(WORK, "demo-again.vox")
+s.to_vox(vox_again)
+check(np.array_equal(module_cells(voxkit.open(vox_again, keep_hidden=True)), dump(demo)), "to_vox(): the .vox converts back to the same voxels")
+conv = os.path.join(WORK, "demo-convert.svo")
+voxkit.convert(demo_vox, conv, no_dag=True, keep_hidden=True)
+check(np.array_equal(dump(conv), dump(demo)), "convert(src, dst, no_dag=True) writes the same voxels")
+
+# ---- errors --------------------------------------------------------------------
+bad = os.path.join(WORK, "bad.svo")
+with open(bad, "wb") as f:
+    f.write(b"this is not an octree" * 8)
+truncated = os.path.join(WORK, "truncated.svo")
+with open(demo, "rb") as f, open(truncated, "wb") as g:
+    g.write(f.read()[: os.path.getsize(demo) // 2])
+missing = os.path.join(WORK, "missing.svo")
+unknown = os.path.join(WORK, "scene.txt")
+open(unknown, "w").close()
+for path in (bad, truncated, missing, unknown):
+    try:
+        voxkit.open(path)
+        check(False, f"{os.path.basename(path)} raises voxkit.Error")
+    except voxkit.Error as e:
+        check(path in str(e) and e.path == path and isinstance(e.code, str),
+              f"{os.path.basename(path)} raises voxkit.Error naming it: {e}")
+for call, exc, what in ((lambda: voxkit.open(demo_vox, resolution=3), TypeError, "an unknown option"),
+                        (lambda: voxkit.open(demo_vox, res=0), ValueError, "res=0"),
+                        (lambda: s.voxels(len(s.models)), IndexError, "a model out of range")):
+    try:
+        call()
+        check(False, f"{what} raises {exc.__name__}")
+    except exc as e:
+        check(True, f"{what} raises {exc.__name__}: {e}")
+
+# ---- rendering -----------------------------------------------------------------
+if not voxkit.has_render:
+    print("skip: this build has no Vulkan tracer (render)")
+else:
+    cpu = s.render(80, 60, cpu=True)
+    check(cpu.shape == (60, 80, 4) and cpu.dtype == np.float32, "render(cpu=True): (60,80,4) float32")
+    try:
+        gpu = s.render(80, 60)
+    except voxkit.Error as e:
+        gpu = None
+        print(f"skip: no Vulkan device ({e})")
+    if gpu is not None:
+        diff = np.abs(gpu - cpu).max(axis=2) > 2 / 255
+        check(diff.mean() < 0.01, f"render(): GPU and CPU reference agree ({diff.sum()} of {diff.size} pixels differ)")
+        depth = s.render(80, 60, mode="depth")[:, :, 0]
+        hit = np.isfinite(depth)
+        check(0.1 < hit.mean() < 1 and (depth[hit] > 0).all(), f"render(mode='depth'): {hit.mean():.0%} of pixels hit")
+        lo, hi = np.array(s.bounds[0]), np.array(s.bounds[1])
+        view = dict(mode="depth", eye=(lo + hi) / 2 + [0, 0, 100], target=(lo + hi) / 2, up=[0, 1, 0], ortho=True,
+                    ortho_height=(hi - lo).max())
+        top, top_cpu = s.render(32, 32, **view)[:, :, 0], s.render(32, 32, cpu=True, **view)[:, :, 0]
+        same = (np.isinf(top) & np.isinf(top_cpu)) | (np.abs(top - top_cpu) < 1e-3)
+        check(same.mean() > 0.99 and np.isfinite(top).mean() > 0.5,
+              f"render(eye, target, up, ortho): a top-down depth view equals the CPU reference's ({same.mean():.1%})")
+
+# ---- corpus --------------------------------------------------------------------
+if not os.path.isdir(CORPUS):
+    print(f"skip: corpus {CORPUS} not found (only the generated scene was checked)")
+else:
+    cases = [("vox/ogt_test_multiple_model_scene.vox", {}), ("vox/ogt_test_groups.vox", {}),
+             ("vox/eph_chr_knight.vox", {}), ("vox/ogt_doom.vox", {}), ("gltf/julian_Duck.glb", {"res": 64}),
+             ("vdb/mjurczyk_sphere.vdb", {})]
+    for rel, opts in cases:
+        src = os.path.join(CORPUS, rel)
+        if not os.path.exists(src):
+            print(f"skip: {src} not found")
+            continue
+        out = os.path.join(WORK, os.path.basename(rel) + ".svo")
+        try:
+            same_as_dump(os.path.basename(rel), src, out, **opts)
+        except subprocess.CalledProcessError as e:
+            if b"without" in e.stderr or b"no glTF" in e.stderr or b"no OpenVDB" in e.stderr:
+                print(f"skip: {rel}: {e.stderr.decode().strip()}")
+            else:
+                raise
+
+print(f"{len(failures)} failures")
+sys.exit(1 if failures else 0)
