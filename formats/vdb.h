@@ -2,7 +2,7 @@
  *
  * Usage: vx_vdb_read(bytes) -> vx_vdb_grid_count / vx_vdb_grid_get_info ->
  * vx_vdb_iterate (values and tiles) and vx_vdb_probe (random access) ->
- * vx_vdb_file_free().
+ * vx_vdb_file_free(). Writing: vx_vdb_write_file (float and vec3f grids).
  *
  * Coordinates are OpenVDB index space: voxel (i, j, k) is centred on the
  * integer point (i, j, k); world = M * (i, j, k) + t for linear transforms.
@@ -98,6 +98,31 @@ vx_result vx_vdb_iterate(vx_vdb_file* f, uint32_t grid, uint32_t mode, vx_vdb_va
  * grid is out of range or of type OTHER. */
 bool vx_vdb_probe(vx_vdb_file* f, uint32_t grid, const int32_t ijk[3], double value[3], bool* active,
                   uint32_t* log2dim);
+
+/* ---- writing ---------------------------------------------------------------------- */
+
+/* One grid to write: active voxels at index points ijk with their values
+ * (background 0, every other voxel inactive), OpenVDB's index-to-world map
+ * (voxel ijk is centred on index_to_world * ijk), a name and a class. A
+ * voxel given twice takes its last value. share >= 0 names an earlier grid
+ * (share < 0 itself, same type) whose voxels this one has: the two grids
+ * share one tree, which OpenVDB stores once (grid instancing); count, ijk
+ * and value are then ignored. */
+typedef struct vx_vdb_write_grid {
+    const char* name;
+    vx_vdb_value_type value_type; /* VX_VDB_TYPE_FLOAT or VX_VDB_TYPE_VEC3F */
+    vx_vdb_grid_class grid_class;
+    double index_to_world[12];    /* row-major 3x4, finite and invertible */
+    int32_t share;                /* -1: voxels below */
+    size_t count;
+    const int32_t* ijk;           /* 3 per voxel */
+    const float* value;           /* 1 (float) or 3 (vec3f) per voxel */
+} vx_vdb_write_grid;
+
+/* Writes the grids as one .vdb file (OpenVDB's stream format, its default
+ * compression), through a temporary file renamed into place: a failure
+ * leaves nothing behind. */
+vx_result vx_vdb_write_file(const vx_vdb_write_grid* grids, uint32_t count, const char* path, vx_error* err);
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,7 @@
 #include <blosc.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
@@ -244,6 +245,43 @@ vx_result fail_msg(vx_error* err, vx_result code, uint64_t off, const char* what
     return vx_fail(err, code, off, "%s%s", what, msg);
 }
 
+void init_once() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// Output to a vx_atomic_file (written to a temporary name, renamed on commit).
+class AtomicBuf : public std::streambuf {
+  public:
+    explicit AtomicBuf(vx_atomic_file* af) : af_(af) {}
+
+  protected:
+    std::streamsize xsputn(const char* s, std::streamsize n) override {
+        return vx_atomic_write(af_, s, static_cast<size_t>(n)) ? n : 0;
+    }
+    int_type overflow(int_type c) override {
+        if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+        const char ch = traits_type::to_char_type(c);
+        return vx_atomic_write(af_, &ch, 1) ? c : traits_type::eof();
+    }
+
+  private:
+    vx_atomic_file* af_;
+};
+
+template <typename GridT, int N>
+typename GridT::Ptr make_grid(const vx_vdb_write_grid& w) {
+    using V = typename GridT::ValueType;
+    typename GridT::Ptr g = GridT::create(V(0));
+    auto acc = g->getAccessor();
+    for (size_t i = 0; i < w.count; i++) {
+        const openvdb::Coord ijk(w.ijk[3 * i], w.ijk[3 * i + 1], w.ijk[3 * i + 2]);
+        if constexpr (N == 1) acc.setValueOn(ijk, w.value[i]);
+        else acc.setValueOn(ijk, V(w.value[3 * i], w.value[3 * i + 1], w.value[3 * i + 2]));
+    }
+    return g;
+}
+
 } // namespace
 
 struct vx_vdb_file {
@@ -259,8 +297,7 @@ vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error
     if (sr) return sr;
     MemBuf buf(static_cast<const char*>(data), size);
     try {
-        static std::once_flag once;
-        std::call_once(once, [] { openvdb::initialize(); });
+        init_once();
         std::istream is(&buf);
         // A short read must raise at once: OpenVDB does not check every read,
         // and would otherwise build grids from zero-filled garbage.
@@ -416,6 +453,74 @@ bool vx_vdb_probe(vx_vdb_file* f, uint32_t grid, const int32_t ijk[3], double va
     } catch (...) {
         return false;
     }
+}
+
+vx_result vx_vdb_write_file(const vx_vdb_write_grid* grids, uint32_t count, const char* path, vx_error* err) {
+    if (!path || (!grids && count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    for (uint32_t i = 0; i < count; i++) {
+        const vx_vdb_write_grid& w = grids[i];
+        if (w.value_type != VX_VDB_TYPE_FLOAT && w.value_type != VX_VDB_TYPE_VEC3F)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u: only float and vec3f grids are written", i);
+        if (w.share >= 0 && (static_cast<uint32_t>(w.share) >= i || grids[w.share].value_type != w.value_type ||
+                             grids[w.share].share >= 0))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                           "vdb: grid %u shares grid %d, which is not an earlier unshared grid of its type", i, w.share);
+        if (w.share < 0 && w.count && (!w.ijk || !w.value))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u: no voxels given", i);
+        const double* m = w.index_to_world;
+        bool finite = true;
+        for (int k = 0; k < 12; k++) finite = finite && std::isfinite(m[k]);
+        const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                           m[2] * (m[4] * m[9] - m[5] * m[8]);
+        if (!finite || !(std::fabs(det) > 0) || !std::isfinite(det))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u: the transform is not finite and invertible",
+                           i);
+    }
+    vx_atomic_file af;
+    vx_result r = vx_atomic_open(&af, path, err);
+    if (r) return r;
+    try {
+        init_once();
+        openvdb::GridPtrVec out;
+        for (uint32_t i = 0; i < count; i++) {
+            const vx_vdb_write_grid& w = grids[i];
+            openvdb::GridBase::Ptr g;
+            if (w.share >= 0) g = out[static_cast<size_t>(w.share)]->copyGrid(); // the same tree, written once
+            else if (w.value_type == VX_VDB_TYPE_FLOAT) g = make_grid<openvdb::FloatGrid, 1>(w);
+            else g = make_grid<openvdb::Vec3SGrid, 3>(w);
+            g->setName(w.name ? w.name : "");
+            g->setGridClass(w.grid_class == VX_VDB_CLASS_FOG_VOLUME   ? openvdb::GRID_FOG_VOLUME
+                            : w.grid_class == VX_VDB_CLASS_LEVEL_SET ? openvdb::GRID_LEVEL_SET
+                                                                      : openvdb::GRID_UNKNOWN);
+            // OpenVDB multiplies row vectors: world = (i j k 1) * M.
+            openvdb::math::Mat4d M = openvdb::math::Mat4d::identity();
+            for (int row = 0; row < 3; row++) {
+                for (int col = 0; col < 3; col++) M(col, row) = w.index_to_world[row * 4 + col];
+                M(3, row) = w.index_to_world[row * 4 + 3];
+            }
+            g->setTransform(openvdb::math::Transform::createLinearTransform(M));
+            if (w.value_type == VX_VDB_TYPE_VEC3F) g->setVectorType(openvdb::VEC_INVARIANT); // colours
+            out.push_back(g);
+        }
+        AtomicBuf buf(&af);
+        std::ostream os(&buf);
+        openvdb::io::Stream(os).write(out);
+        os.flush();
+        if (!os.good()) {
+            vx_atomic_abort(&af);
+            return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "vdb: cannot write %s", path);
+        }
+    } catch (const std::bad_alloc&) {
+        vx_atomic_abort(&af);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory writing %u grids", count);
+    } catch (const std::exception& e) {
+        vx_atomic_abort(&af);
+        return fail_msg(err, VX_ERR_IO, VX_NO_OFFSET, "vdb: writing failed: ", e.what());
+    } catch (...) {
+        vx_atomic_abort(&af);
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "vdb: writing failed");
+    }
+    return vx_atomic_commit(&af, err);
 }
 
 } // extern "C"

@@ -10,27 +10,7 @@
 
 #include "formats/glb.h"
 #include "formats/voxmesh.h"
-
-typedef struct cells {
-    const vx_svo_scene* s;
-    const vx_svo_model* m;
-    uint32_t* xyz;
-    uint32_t* rgba;
-    size_t n, cap_xyz, cap_rgba;
-    bool nomem;
-} cells;
-
-static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
-    cells* c = (cells*)user;
-    if (!vx_grow(NULL, (void**)&c->xyz, &c->cap_xyz, 3 * (c->n + 1), sizeof(uint32_t)) ||
-        !vx_grow(NULL, (void**)&c->rgba, &c->cap_rgba, c->n + 1, sizeof(uint32_t))) {
-        c->nomem = true;
-        return false;
-    }
-    c->xyz[3 * c->n] = x, c->xyz[3 * c->n + 1] = y, c->xyz[3 * c->n + 2] = z;
-    c->rgba[c->n++] = vx_svo_attr_rgba(c->s, c->m, attr);
-    return true;
-}
+#include "tools/svo_info/cells.h"
 
 typedef struct mesh_data {
     float* pos;
@@ -77,11 +57,10 @@ static vx_result quads_to_mesh(const vx_voxmesh* vm, const uint16_t lin[256], me
 }
 
 vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err) {
+    double lind[256];
+    svo_srgb_to_linear(lind);
     uint16_t lin[256]; /* sRGB byte -> linear, 65535 = 1 */
-    for (int i = 0; i < 256; i++) {
-        double c = i / 255.0;
-        lin[i] = (uint16_t)lround(65535.0 * (c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4)));
-    }
+    for (int i = 0; i < 256; i++) lin[i] = (uint16_t)lround(65535.0 * lind[i]);
     svo_glb_stats st = {0};
     vx_result r = VX_OK;
     mesh_data* md = (mesh_data*)vx_calloc(NULL, s->model_count ? s->model_count : 1, sizeof(mesh_data));
@@ -96,13 +75,11 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
     double t0 = now();
     for (uint32_t i = 0; i < s->model_count; i++) {
         mesh_of[i] = -1;
-        cells c = {.s = s, .m = &s->models[i]};
-        r = vx_svo_decode_model(&s->models[i], add_cell, &c, err);
-        if (c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its voxels", i);
+        svo_cells c = {0};
+        r = svo_cells_decode(s, i, &c, err);
         vx_voxmesh vm = {0};
         if (r == VX_OK) r = vx_voxmesh_build(NULL, c.xyz, c.rgba, c.n, &vm, err);
-        vx_free(NULL, c.xyz);
-        vx_free(NULL, c.rgba);
+        svo_cells_free(&c);
         if (r == VX_OK && vm.quad_count) {
             mesh_data* d = &md[st.meshes];
             r = quads_to_mesh(&vm, lin, d, err);

@@ -10,6 +10,9 @@
 #ifdef VX_HAVE_GLB
 #include "tools/svo_info/glb.h"
 #endif
+#ifdef VX_HAVE_VDB
+#include "tools/svo_info/vdb.h"
+#endif
 
 typedef struct options {
     const char* in;
@@ -19,6 +22,8 @@ typedef struct options {
     bool models;
     const char* to_vox;
     const char* to_glb;
+    const char* to_vdb;
+    bool vdb_models;
     bool quiet;
     uint64_t max_memory; /* 0: no limit */
 } options;
@@ -34,12 +39,18 @@ _Noreturn static void usage(int status) {
             "                     status says the result (0 valid, 1 invalid)\n"
             "    --dump           print every voxel of the scene in grid cells, one per line\n"
             "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
-            "    --all            with --dump and --to-glb: include hidden instances and layers\n"
+            "    --all            with --dump, --to-glb and --to-vdb: include hidden instances and layers\n"
             "    --models         list every model, instance and light (default: the first 16)\n"
             "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
             "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
             "                     voxel surface, vertex colours), one node per instance; grid axes\n"
             "                     kept (a .vox scene stays +Z up)\n"
+            "    --to-vdb OUT     write the scene as OpenVDB grids: by default the flattened scene (the\n"
+            "                     --dump cells) as a fog volume 'density' and a vec3 grid 'color' (linear\n"
+            "                     RGB), index space = grid cells, transform = world_from_grid\n"
+            "    --vdb-models     with --to-vdb: instead a grid pair 'NAME/density', 'NAME/color' per\n"
+            "                     instance in model cells with its transform; instances of one model\n"
+            "                     share one tree\n"
             "    --max-memory SIZE  refuse a file that needs more memory than SIZE to read (e.g.\n"
             "                     512M, 4G; the file's bytes count; default: no limit)\n"
             "    -q, --quiet      print only errors (and the dump)\n"
@@ -50,8 +61,9 @@ _Noreturn static void usage(int status) {
             "    %s castle.svo --verify\n"
             "    %s castle.svo --dump | sort > cells.txt\n"
             "    %s castle.svo --to-vox castle2.vox\n"
-            "    %s castle.svo --to-glb castle.glb\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+            "    %s castle.svo --to-glb castle.glb\n"
+            "    %s castle.svo --to-vdb castle.vdb\n",
+            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
     exit(status);
 }
 
@@ -81,7 +93,11 @@ static options parse(int argc, char** argv) {
         } else if (!strcmp(a, "--to-glb")) {
             if (i + 1 >= argc) usage_error("option %s needs an argument", a);
             o.to_glb = argv[++i];
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
+        } else if (!strcmp(a, "--to-vdb")) {
+            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
+            o.to_vdb = argv[++i];
+        } else if (!strcmp(a, "--vdb-models")) o.vdb_models = true;
+        else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (!o.in) o.in = a;
         else usage_error("unexpected argument '%s'", a);
@@ -305,6 +321,19 @@ int main(int argc, char** argv) {
 #else
         status = vx_tool_errorf("%s: this svo_info was built without tinygltf (libtinygltf-dev): no .glb export",
                                 o.to_glb);
+#endif
+    }
+    if (status == 0 && o.to_vdb) {
+#ifdef VX_HAVE_VDB
+        svo_vdb_stats vs;
+        r = svo_info_to_vdb(&s, o.all, o.vdb_models, o.to_vdb, &vs, &err);
+        if (r != VX_OK) status = vx_tool_error(o.to_vdb, &err);
+        else if (!o.quiet && !o.dump)
+            printf("wrote        %s (%u grids, %s active voxels%s)\n", o.to_vdb, vs.grids, vx_tool_num(vs.voxels),
+                   vs.colors ? ", colours" : "");
+#else
+        status = vx_tool_errorf("%s: this svo_info was built without OpenVDB (libopenvdb-dev): no .vdb export",
+                                o.to_vdb);
 #endif
     }
     vx_svo_scene_free(&s);

@@ -1,0 +1,54 @@
+/* tools/svo_info/cells.c (see cells.h) */
+#include "tools/svo_info/cells.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct grow {
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    svo_cells c;
+    size_t cap_xyz, cap_rgba, cap_attr;
+    bool nomem;
+} grow;
+
+static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    grow* g = (grow*)user;
+    svo_cells* c = &g->c;
+    if (!vx_grow(NULL, (void**)&c->xyz, &g->cap_xyz, 3 * (c->n + 1), sizeof(uint32_t)) ||
+        !vx_grow(NULL, (void**)&c->rgba, &g->cap_rgba, c->n + 1, sizeof(uint32_t)) ||
+        !vx_grow(NULL, (void**)&c->attr, &g->cap_attr, c->n + 1, sizeof(uint32_t))) {
+        g->nomem = true;
+        return false;
+    }
+    c->xyz[3 * c->n] = x, c->xyz[3 * c->n + 1] = y, c->xyz[3 * c->n + 2] = z;
+    c->attr[c->n] = attr;
+    c->rgba[c->n++] = vx_svo_attr_rgba(g->s, g->m, attr);
+    return true;
+}
+
+vx_result svo_cells_decode(const vx_svo_scene* s, uint32_t m, svo_cells* out, vx_error* err) {
+    grow g = {.s = s, .m = &s->models[m]};
+    vx_result r = vx_svo_decode_model(g.m, add_cell, &g, err);
+    if (g.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its voxels", m);
+    if (r != VX_OK) {
+        svo_cells_free(&g.c);
+        return r;
+    }
+    *out = g.c;
+    return VX_OK;
+}
+
+void svo_cells_free(svo_cells* c) {
+    vx_free(NULL, c->xyz);
+    vx_free(NULL, c->rgba);
+    vx_free(NULL, c->attr);
+    memset(c, 0, sizeof *c);
+}
+
+void svo_srgb_to_linear(double lin[256]) {
+    for (int i = 0; i < 256; i++) {
+        double c = i / 255.0;
+        lin[i] = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+    }
+}
