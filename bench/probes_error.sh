@@ -19,9 +19,10 @@ echo "## cornell"
 # bake spp 1..256, resolution 32..128 and spacing 0.5..0.125 (bounds ~2.02 units)
 $PB --pt-spp 256 --lf-spp 256 error "$DATA/cornell.svo" "$SIZE" "$REF" \
     0.25:64:1 0.25:64:4 0.25:64:16 0.25:64:64 0.25:64:256 0.25:32:64 0.25:128:64 0.5:64:64 0.125:64:64
-echo "## two-rooms (outside, sun from above: the scene is y-up)"
-$PB --pt-spp 256 --lf-spp 256 --camera 220,120,260,0,10,0 --up 0,1,0 --light 0.35,0.82,0.45 \
-    --bounds -150,-5,-150,150,60,150 error "$DATA/tworooms512.svo" "$SIZE" "$REF" \
+echo "## two-rooms (outside, sun from above)"
+# converted +Z up (convert/mesh.h): the former +Y-up view turned by (x, y, z) -> (x, -z, y)
+$PB --pt-spp 256 --lf-spp 256 --camera 220,-260,120,0,0,10 --up 0,0,1 --light 0.35,-0.45,0.82 \
+    --bounds -150,-150,-5,150,150,60 error "$DATA/tworooms512.svo" "$SIZE" "$REF" \
     25:64:16 25:64:64 25:128:64 12.5:64:64
 echo "## monu1"
 $PB --pt-spp 256 --lf-spp 256 error "$DATA/eph_monu1.vox" "$SIZE" "$REF" \

@@ -40,6 +40,7 @@ typedef struct vx_conv_file_desc {
     bool normals;             /* store VX_ATTR_NORMAL */
     bool no_color;            /* never store colours */
     uint32_t threads;         /* 0 == all cores */
+    bool y_up;                /* keep glTF's +Y up (default: turned to voxkit's +Z up) */
     /* .gltf / .glb and .vdb */
     bool solid;               /* fill the inside (meshes, level sets) */
     /* .vdb (convert/volume.h) */

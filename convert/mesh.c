@@ -170,9 +170,10 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, vx_svo_scene* s, const 
     return VX_OK;
 }
 
-/* KHR_lights_punctual lights as scene lights: the glTF world frame is the
- * scene's world frame (world_from_grid maps grid cells back to it), so
- * positions and directions carry over; a directional light's vx_light
+/* KHR_lights_punctual lights as scene lights: the mesh's world frame is the
+ * scene's world frame (world_from_grid maps grid cells back to it;
+ * vx_conv_mesh_file turned both +Z up), so positions and directions carry
+ * over; a directional light's vx_light
  * direction points towards the light, the opposite of glTF's. */
 static vx_result add_lights(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_allocator* a, vx_error* err) {
     if (!mesh->light_count) return VX_OK;
@@ -264,6 +265,22 @@ vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc_in, const char* path, 
     vx_gltf_mesh m;
     vx_result r = vx_gltf_read_file(&rd, path, &m, err);
     if (r) return r;
+    if (!desc.y_up) { /* glTF's +Y up to voxkit's +Z up: (x, y, z) -> (x, -z, y) */
+        for (size_t v = 0; v < 3 * m.tri_count; v++) {
+            float* p = m.pos + 3 * v;
+            float y = p[1];
+            p[1] = -p[2];
+            p[2] = y;
+        }
+        for (uint32_t i = 0; i < m.light_count; i++) {
+            double* v[2] = {m.lights[i].position, m.lights[i].direction};
+            for (int k = 0; k < 2; k++) {
+                double y = v[k][1];
+                v[k][1] = -v[k][2];
+                v[k][2] = y;
+            }
+        }
+    }
     vx_conv_stats st;
     memset(&st, 0, sizeof st);
     st.seconds_read = vx_time_now() - t0;

@@ -69,8 +69,17 @@
  *
  * Lights: KHR_lights_punctual lights become scene lights (vx_light) in the
  * same world frame as the voxels (world_from_grid maps grid cells back to
- * glTF world units); a light that vx_light_validate refuses is an error
- * naming it.
+ * world units: glTF's, turned +Z up as below); a light that
+ * vx_light_validate refuses is an error naming it.
+ *
+ * Up axis: voxkit's world is +Z up (as MagicaVoxel's; svo_render's and
+ * svo_view's default camera, the .vox export); glTF's is +Y up. So
+ * vx_conv_mesh_file turns the file's positions, and its lights' positions
+ * and directions, (x, y, z) into (x, -z, y), a rotation about +X by 90
+ * degrees (exact in floats), before the grid is made: a model that stands on the glTF ground plane stands on ours, facing
+ * the same way (glTF's +Z "front" becomes -Y). desc.y_up keeps the file's
+ * axes instead. vx_conv_mesh and vx_conv_mesh_cells voxelize the positions
+ * they are given as they are.
  *
  * Scale: the grid is voxelized in 64^3 bricks (triangles binned to bricks,
  * bricks spread over threads), so memory follows the surface, not the
@@ -104,6 +113,7 @@ typedef struct vx_conv_mesh_desc {
     bool no_color;     /* never store colours */
     uint32_t threads;  /* 0 == all cores */
     uint32_t region;   /* cells per side of one model, power of two >= 64; 0 == 2048 */
+    bool y_up;         /* vx_conv_mesh_file: keep glTF's axes (+Y up); default: turned to +Z up */
 } vx_conv_mesh_desc;
 
 typedef struct vx_conv_mesh_grid {
@@ -127,7 +137,8 @@ vx_result vx_conv_mesh_cells(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* 
 vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, vx_svo_scene* out,
                        vx_conv_stats* stats, vx_error* err);
 
-/* Reads a .gltf / .glb (formats/gltf.h) and converts it. */
+/* Reads a .gltf / .glb (formats/gltf.h), turns it +Z up (unless desc.y_up)
+ * and converts it. */
 vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc, const char* path, vx_svo_scene* out, vx_conv_stats* stats,
                             vx_error* err);
 

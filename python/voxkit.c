@@ -433,6 +433,7 @@ static int conv_options(PyObject* kw, vx_conv_file_desc* d) {
                      : !strcmp(k, "density")     ? &d->density
                      : !strcmp(k, "no_collapse") ? &d->build.no_collapse
                      : !strcmp(k, "no_dag")      ? &d->build.no_dag
+                     : !strcmp(k, "y_up")        ? &d->y_up
                                                  : NULL;
         uint32_t* u = !strcmp(k, "frame") ? &d->frame : !strcmp(k, "res") ? &d->res : !strcmp(k, "threads") ? &d->threads
                                                       : !strcmp(k, "scene") ? &d->scene : NULL;
@@ -529,7 +530,7 @@ static PyMethodDef module_methods[] = {
      "open(path, **options) -> Scene\n"
      "Reads a .svo file, or converts a .vox, .gltf/.glb or .vdb file by its extension. Options\n"
      "(convert/file.h; the tools' options with _): frame, keep_hidden, keep_unused (.vox); res\n"
-     "(default 256), scene, solid, normals, no_color, threads (glTF); grid, solid, threshold,\n"
+     "(default 256), scene, solid, normals, no_color, threads, y_up (glTF); grid, solid, threshold,\n"
      "density, color_grid (.vdb); no_collapse, no_dag (all). Raises voxkit.Error."},
     {"convert", (PyCFunction)(void (*)(void))py_convert, METH_VARARGS | METH_KEYWORDS,
      "convert(src, dst, **options) -> Scene\n"

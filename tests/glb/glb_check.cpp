@@ -7,7 +7,7 @@
 // exactly once with quads (two triangles each, counter-clockwise from
 // outside, tiling an axis-aligned rectangle) of the voxel's colour, and
 // nothing else (no interior faces): the quads' total area equals the
-// brute-force face count. Each node must carry its instance's world matrix
+// brute-force face count. Each node must carry its instance's world matrix (turned +Y up)
 // and its model's mesh; accessors must lie inside their buffer views and
 // POSITION's min/max must be the real bounds. Exit 0 when all holds.
 #include <tiny_gltf.h>
@@ -267,7 +267,9 @@ static int check_files(const char* svo_path, const char* glb_path, bool all) {
         const vx_svo_instance& in = s.instances[shown[n]];
         double wm[12];
         vx_svo_instance_world(&s, &in, wm);
-        double want[16] = {wm[0], wm[4], wm[8], 0, wm[1], wm[5], wm[9], 0, wm[2], wm[6], wm[10], 0, wm[3], wm[7], wm[11], 1};
+        // column-major, with voxkit's +Z up turned to glTF's +Y up: rows x, z, -y
+        double want[16] = {wm[0], wm[8], -wm[4], 0, wm[1], wm[9], -wm[5], 0,
+                           wm[2], wm[10], -wm[6], 0, wm[3], wm[11], -wm[7], 1};
         std::vector<double> got = g.nodes[n].matrix;
         if (got.empty()) got = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
         if (got.size() != 16) FAIL("node %zu: matrix of %zu values", n, got.size());

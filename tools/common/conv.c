@@ -37,6 +37,7 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
         c->scene_set = true;
     } else if (!strcmp(a, "--solid")) c->solid = true;
     else if (!strcmp(a, "--normals")) c->normals = true;
+    else if (!strcmp(a, "--y-up")) c->y_up = true;
     else if (!strcmp(a, "--grid")) c->grid = value(argc, argv, i, usage);
     else if (!strcmp(a, "--threshold")) {
         if (!vx_tool_parse_double(value(argc, argv, i, usage), &c->threshold))
@@ -75,6 +76,7 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
         .scene_set = c->scene_set,
         .scene = c->scene,
         .normals = c->normals,
+        .y_up = c->y_up,
         .solid = c->solid,
         .grid = c->grid,
         .threshold_set = c->threshold_set,

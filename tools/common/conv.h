@@ -21,6 +21,7 @@ typedef struct vx_tool_conv {
     bool scene_set;
     uint32_t scene;
     bool solid, normals; /* solid: level sets too */
+    bool y_up;           /* keep glTF's +Y up axis */
     /* .vdb */
     const char* grid;
     bool threshold_set;

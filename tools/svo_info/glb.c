@@ -104,8 +104,13 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
         vx_glb_node* n = &nodes[st.nodes];
         double w[12];
         vx_svo_instance_world(s, in, w);
-        for (int row = 0; row < 3; row++)
-            for (int col = 0; col < 4; col++) n->matrix[col * 4 + row] = w[row * 4 + col];
+        /* voxkit's +Z up to glTF's +Y up: (x, y, z) -> (x, z, -y), the inverse
+         * of the glTF import's turn (convert/mesh.h) */
+        for (int col = 0; col < 4; col++) {
+            n->matrix[col * 4 + 0] = w[col];
+            n->matrix[col * 4 + 1] = w[8 + col];
+            n->matrix[col * 4 + 2] = -w[4 + col];
+        }
         n->matrix[15] = 1.0;
         n->mesh = mesh_of[in->model];
         if (in->name[0]) snprintf(names[st.nodes], 80, "%s", in->name);

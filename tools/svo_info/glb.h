@@ -18,8 +18,9 @@ typedef struct svo_glb_stats {
  * linear vertex colours decoded from the sRGB voxel colours, no normals:
  * viewers compute the flat ones),
  * one node per shown instance (every instance with all) whose matrix is
- * world_from_grid * xform. The grid's axes are kept as they are (a .vox
- * scene stays +Z up). */
+ * R * world_from_grid * xform, R turning voxkit's +Z up into glTF's +Y up:
+ * (x, y, z) -> (x, z, -y), so a scene stands upright in glTF viewers and a
+ * converted glTF file gets its own axes back. */
 vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err);
 
 #endif

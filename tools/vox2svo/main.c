@@ -49,6 +49,8 @@ _Noreturn static void usage(int status) {
             "    --scene N        meshes: glTF scene to convert (default: the file's default scene)\n"
             "    --solid          meshes and level sets: fill the inside, not only the surface\n"
             "    --normals        meshes: store oct-encoded normals\n"
+            "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
+            "                     (x, y, z) -> (x, -z, y), so models stand upright as in MagicaVoxel)\n"
             "    --grid NAME      OpenVDB: grid to convert (default: the first scalar grid)\n"
             "    --threshold X    OpenVDB fog volumes: keep active voxels with value >= X\n"
             "                     (default: any active value > 0)\n"
