@@ -292,6 +292,8 @@ static int check_files(const char* svo_path, const char* glb_path, bool all) {
         if (it == mesh_of.end()) mesh_of[in.model] = mesh;
         else if (it->second != mesh) FAIL("model %u drawn with meshes %d and %d", in.model, it->second, mesh);
     }
+    // every mesh is drawn by a node (an unused one is a glTF validator info)
+    if (g.meshes.size() != mesh_of.size()) FAIL("%zu meshes, %zu of them used by nodes", g.meshes.size(), mesh_of.size());
     uint64_t faces = 0, quads = 0;
     for (const auto& mm : mesh_of) {
         Model m;

@@ -73,8 +73,12 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
         goto done;
     }
     double t0 = now();
+    for (uint32_t i = 0; i < s->model_count; i++) mesh_of[i] = -2; /* -2: no node shows it */
+    for (uint32_t i = 0; i < s->instance_count; i++)
+        if (s->instances[i].model < s->model_count && (all || vx_svo_instance_visible(s, i)))
+            mesh_of[s->instances[i].model] = -1;
     for (uint32_t i = 0; i < s->model_count; i++) {
-        mesh_of[i] = -1;
+        if (mesh_of[i] == -2) continue; /* a mesh no node uses (glTF validators flag it) */
         svo_cells c = {0};
         r = svo_cells_decode(s, i, &c, err);
         vx_voxmesh vm = {0};

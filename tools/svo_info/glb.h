@@ -14,7 +14,7 @@ typedef struct svo_glb_stats {
     double seconds_mesh;
 } svo_glb_stats;
 
-/* One mesh per non-empty model (greedy-meshed surface, model cell units,
+/* One mesh per non-empty model that a written node shows (greedy-meshed surface, model cell units,
  * linear vertex colours decoded from the sRGB voxel colours, no normals:
  * viewers compute the flat ones),
  * one node per shown instance (every instance with all) whose matrix is
