@@ -21,6 +21,7 @@
 #include <numpy/arrayobject.h>
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "voxkit/convert/convert.h"
@@ -65,7 +66,8 @@ typedef struct {
 #ifdef VX_PY_RENDER
     vx_gpu* gpu;
     vx_render_scene* rs;
-    char* device; /* what gpu was created for */
+    char* device; /* what gpu was created for (malloc) */
+    PyThread_type_lock lock; /* one GPU frame at a time (render releases the GIL) */
 #endif
 } Scene;
 
@@ -73,7 +75,8 @@ static void scene_dealloc(Scene* self) {
 #ifdef VX_PY_RENDER
     if (self->rs) vx_render_scene_destroy(self->rs);
     if (self->gpu) vx_gpu_destroy(self->gpu);
-    PyMem_Free(self->device);
+    free(self->device);
+    if (self->lock) PyThread_free_lock(self->lock);
 #endif
     if (self->loaded) vx_svo_scene_free(&self->s);
     Py_TYPE(self)->tp_free((PyObject*)self);
@@ -339,29 +342,30 @@ static PyObject* scene_render(Scene* self, PyObject* args, PyObject* kw) {
     vx_render_image img = {0};
     vx_result r = VX_OK;
     const char* dev = device ? device : "";
-    if (!cpu && self->gpu && strcmp(self->device, dev)) { /* another device asked for */
-        vx_render_scene_destroy(self->rs);
-        vx_gpu_destroy(self->gpu);
-        self->rs = NULL, self->gpu = NULL;
-    }
     Py_BEGIN_ALLOW_THREADS
     if (cpu) r = vx_render_cpu(&self->s, &d, NULL, &img, &err);
     else {
-        if (!self->gpu) r = vx_gpu_create(&(vx_gpu_desc){.device = dev}, &self->gpu, &err);
-        if (r == VX_OK && !self->rs) r = vx_render_scene_create(self->gpu, &self->s, &self->rs, &err);
-        if (r == VX_OK) r = vx_render_frame(self->rs, &d, &img, &err);
-    }
-    Py_END_ALLOW_THREADS
-    if (!cpu && self->gpu) {
-        PyMem_Free(self->device);
-        self->device = PyMem_Malloc(strlen(dev) + 1);
-        if (self->device) strcpy(self->device, dev);
-        else {
+        PyThread_acquire_lock(self->lock, WAIT_LOCK);
+        if (self->gpu && strcmp(self->device, dev)) { /* another device asked for */
             vx_render_scene_destroy(self->rs);
             vx_gpu_destroy(self->gpu);
-            self->rs = NULL, self->gpu = NULL;
+            free(self->device);
+            self->rs = NULL, self->gpu = NULL, self->device = NULL;
         }
+        if (!self->gpu) {
+            self->device = strdup(dev);
+            r = self->device ? vx_gpu_create(&(vx_gpu_desc){.device = dev}, &self->gpu, &err)
+                             : vx_fail(&err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        }
+        if (r == VX_OK && !self->rs) r = vx_render_scene_create(self->gpu, &self->s, &self->rs, &err);
+        if (r == VX_OK) r = vx_render_frame(self->rs, &d, &img, &err);
+        if (!self->gpu) { /* creation failed */
+            free(self->device);
+            self->device = NULL;
+        }
+        PyThread_release_lock(self->lock);
     }
+    Py_END_ALLOW_THREADS
     if (r != VX_OK) return raise_error(NULL, &err);
     npy_intp dims[3] = {img.height, img.width, 4};
     PyObject* a = PyArray_SimpleNew(3, dims, NPY_FLOAT32);
@@ -477,6 +481,12 @@ static Scene* load(const char* path, PyObject* kw) {
     self->loaded = false;
 #ifdef VX_PY_RENDER
     self->gpu = NULL, self->rs = NULL, self->device = NULL;
+    self->lock = PyThread_allocate_lock();
+    if (!self->lock) {
+        Py_DECREF(self);
+        PyErr_NoMemory();
+        return NULL;
+    }
 #endif
     vx_error err = {0};
     vx_result r;

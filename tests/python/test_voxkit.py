@@ -147,6 +147,12 @@ else:
     if gpu is not None:
         diff = np.abs(gpu - cpu).max(axis=2) > 2 / 255
         check(diff.mean() < 0.01, f"render(): GPU and CPU reference agree ({diff.sum()} of {diff.size} pixels differ)")
+        import threading
+        out = [None] * 4
+        threads = [threading.Thread(target=lambda k=k: out.__setitem__(k, s.render(80, 60))) for k in range(4)]
+        [t.start() for t in threads]
+        [t.join() for t in threads]
+        check(all(o is not None and np.array_equal(o, gpu) for o in out), "render() from 4 threads at once: the same images")
         depth = s.render(80, 60, mode="depth")[:, :, 0]
         hit = np.isfinite(depth)
         check(0.1 < hit.mean() < 1 and (depth[hit] > 0).all(), f"render(mode='depth'): {hit.mean():.0%} of pixels hit")
