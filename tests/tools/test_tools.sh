@@ -93,6 +93,12 @@ grep -q "^lights       5 stored" "$T/out" && grep -q "^light 2 .*spot at (-0 5 6
     grep -q "^sky          gradient zenith 0.2 0.4 1" "$T/out" && ok "svo_info prints lights and sky" || bad "svo_info prints lights and sky"
 grep -q "LGHT" "$T/out" && grep -q "format version 2" "$T/out" && ok "a file with lights is version 2" || bad "a file with lights is version 2"
 if [ -x "$BIN/svo_render" ]; then
+    # the Vulkan driver (lavapipe) leaves its own allocations at exit, which
+    # LeakSanitizer cannot attribute: no leak check for the renderer here
+    # (ours is test_passes'); vox2svo and svo_info keep theirs
+    saved_asan=${ASAN_OPTIONS-}
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+    export ASAN_OPTIONS
     expect_status 0 "svo_render --help" "$BIN/svo_render" --help
     grep -q -- "--no-scene-lights" "$T/out" && grep -q "sphere:X,Y,Z:R,G,B:RADIUS" "$T/out" && grep -q "rect:X,Y,Z:NX,NY,NZ" "$T/out" &&
         ok "svo_render --help documents the lights" || bad "svo_render --help documents the lights"
@@ -106,6 +112,7 @@ if [ -x "$BIN/svo_render" ]; then
     "$BIN/svo_render" "$LIT" "$T/l.png" -v --size 32x32 --no-scene-lights --light point:1,2,3:1,1,1 >"$T/out" 2>"$T/err"
     grep -q "lights: 0 from the file, 0 from emissive voxels, 1 from --light" "$T/out" && ok "--no-scene-lights drops them" ||
         bad "--no-scene-lights drops them"
+    ASAN_OPTIONS=$saved_asan
 fi
 
 # glTF KHR_lights_punctual through vox2svo: stored, counted, listed by svo_info
