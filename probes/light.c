@@ -92,6 +92,7 @@ vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool e
         if (r) return r;
     }
     L->lights = lights, L->light_count = n;
+    for (uint32_t i = 0; i < n; i++) L->voxel_lights |= (lights[i].flags & VX_LIGHT_FROM_VOXELS) != 0;
     const vx_svo_scene* s = L->scene;
     bool any = false;
     for (int i = 0; i < 256; i++) any |= L->emit[i] > 0;

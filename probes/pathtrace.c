@@ -368,8 +368,9 @@ static bool in_cone(const double ax[3], double s2, const double d[3]) {
 
 /* Light arriving at a non-delta vertex by light sampling, through B towards
  * wo: every light once. mis_on: weight area lights against BSDF sampling
- * (off when the path ends here); skip_direct: leave out what the pass pipeline's
- * direct pass delivers (the sun, point, spot and directional lights). */
+ * (off when the path ends here); skip_direct: leave out what the pass
+ * pipeline's direct pass delivers (the sun and every frame light; the
+ * emissive voxels when a light stands for them). */
 static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const double wo[3], vx__rng* rng, bool mis_on,
                 bool skip_direct, double out[3]) {
     double f[3], bp, l[3];
@@ -385,8 +386,8 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
         if (li->flags & VX_LIGHT_FROM_VOXELS) continue;
         double e[3] = {li->color[0] * li->intensity, li->color[1] * li->intensity, li->color[2] * li->intensity};
         double pdf = 0, tmax = INFINITY, g = 1; /* pdf 0: a delta */
+        if (skip_direct) continue;
         if (li->type == VX_LIGHT_DIRECTIONAL) {
-            if (skip_direct) continue;
             if (li->angular_diameter >= CONE_MIN) {
                 double ax[3], omc, s2;
                 cone_of(li, ax, &omc, &s2, e);
@@ -397,7 +398,6 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
                 norm3(l);
             }
         } else if (li->type == VX_LIGHT_POINT || li->type == VX_LIGHT_SPOT) {
-            if (skip_direct) continue;
             double v[3] = {li->position[0] - s->p[0], li->position[1] - s->p[1], li->position[2] - s->p[2]};
             double d2 = dot3(v, v), dist = sqrt(d2), floor2 = 1e-4 * s->cell * s->cell;
             if (!(dist > 0)) continue; /* on the point itself: no direction, no light (finite) */
@@ -453,7 +453,7 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
         double w = pdf > 0 ? (mis_on ? mis(pdf, bp) / pdf : 1 / pdf) : 1;
         for (int k = 0; k < 3; k++) out[k] += f[k] * e[k] * g * cs * w;
     }
-    if (L->em_count && mis_on) {
+    if (L->em_count && mis_on && !(skip_direct && L->voxel_lights)) {
         /* an emissive voxel by power, a point uniformly on its surface; not
          * at a path's last vertex, where emission counts only when a path
          * hits it (so `bounces` means what it meant before light sampling:
@@ -513,9 +513,10 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
         bool hit = vx_render_cast(L->caster, ro, rd, INFINITY, false, &h);
         double le[3], lp = 0;
         bool skip = indirect && vertex == 0; /* the camera's own ray: the pipeline shows the first surface */
+        bool skip_lights = indirect && vertex <= 1; /* and the direct pass the lights on it */
         if (L->light_count && area_hit(L, ro, rd, hit ? h.t : INFINITY, le, &lp) >= 0) {
             double w = prev_pdf > 0 ? mis(prev_pdf, lp) : 1;
-            if (!skip)
+            if (!skip_lights)
                 for (int k = 0; k < 3; k++) acc[k] += thr[k] * le[k] * w;
             break;
         }
@@ -539,7 +540,7 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
         if (vertex == 0) primary_hit = true;
         vx__surface s;
         vx__surface_of(L, ro, rd, &h, &s);
-        if (!skip && (s.emit[0] > 0 || s.emit[1] > 0 || s.emit[2] > 0)) {
+        if (!skip && !(skip_lights && L->voxel_lights) && (s.emit[0] > 0 || s.emit[1] > 0 || s.emit[2] > 0)) {
             double w = 1;
             if (prev_pdf > 0 && L->em_count) {
                 double cy = fabs(dot3(rd, s.n));

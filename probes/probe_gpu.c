@@ -24,7 +24,7 @@ typedef struct gpu_params {
     uint32_t lf[4];   /* light field: res, low res, words per probe */
     float lf_lo[4];   /* scene bounds relative to the reference, w: distance step */
     float lf_hi[4];
-    uint32_t cnt[4]; /* lights, emissive voxels, pixel centres only */
+    uint32_t cnt[4]; /* lights, emissive voxels, pixel centres only, a light stands for emissive voxels */
     float pt[4];     /* total emitted power of the emissive voxels */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs probe.comp");
@@ -45,6 +45,7 @@ typedef struct gctx {
     uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then PMODE and MATS */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems;
     uint32_t light_count, em_count;
+    bool voxel_lights;
     float em_power;
     const vx__buffer *maps_in, *lf_in; /* a vx_probe_gpu's maps, else maps and lf */
 } gctx;
@@ -123,6 +124,7 @@ static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* 
         (r = upload_new(c, &c->ems, e, ne ? 80 * ne : 16, "probe emitters", err)))
         goto done;
     c->light_count = (uint32_t)nl, c->em_count = (uint32_t)ne, c->em_power = (float)L->em_power;
+    c->voxel_lights = L->voxel_lights;
 done:
     vx_free(c->alloc, m);
     vx_free(c->alloc, l);
@@ -185,7 +187,7 @@ static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
 }
 
 static void params_path(gpu_params* p, const gctx* c) {
-    p->cnt[0] = c->light_count, p->cnt[1] = c->em_count;
+    p->cnt[0] = c->light_count, p->cnt[1] = c->em_count, p->cnt[3] = c->voxel_lights;
     p->pt[0] = c->em_power;
 }
 

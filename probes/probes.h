@@ -269,8 +269,8 @@ typedef struct vx_probe_render_stats {
  *  lights:  light_count lights (borrowed, validated) for the path tracer
  *           modes; any replace the sun (as in the pass pipeline). In
  *           pathtrace-indirect the first surface's emission and its light
- *           from the sun and the point, spot and directional lights are
- *           left out (the pass pipeline's direct pass delivers them)
+ *           from the sun and the lights are left out (the pass pipeline's
+ *           direct pass delivers them)
  * Light field modes: spp indirect rays per pixel (0 == 16), each walked
  * through the distance maps of the 8 probes around its origin, nearest
  * first (each continuing where the last could not answer), radiance from the

@@ -55,6 +55,7 @@ typedef struct vx__light {
     bool materials;       /* some palette entry is metal or glass */
     const vx_light* lights; /* the frame's lights (sampled at every vertex) */
     uint32_t light_count;
+    bool voxel_lights; /* some light stands for emissive voxels (VX_LIGHT_FROM_VOXELS) */
     /* model-from-world maps of the scene's instances (12 per instance), for
      * walks through glass voxels; NULL without glass */
     double* inst_inv;
@@ -95,9 +96,9 @@ void vx__direct(const vx__light* L, const vx__surface* s, double out[3]);
  * diffuse or glossy bounces (smooth mirror and glass events do not count),
  * next-event estimation of every light with multiple importance sampling,
  * Russian roulette after VX__RR_DEPTH bounces. indirect: leave out the first
- * surface's emission and its light from the sun and the point, spot and
- * directional lights (what the pass pipeline's direct pass delivers), and
- * the background of a primary miss. Returns whether the ray hit a voxel. */
+ * surface's emission and its light from the sun and the frame's lights
+ * (what the pass pipeline's direct pass delivers; from the emissive voxels
+ * too when a light stands for them), and the background of a primary miss. Returns whether the ray hit a voxel. */
 bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, bool indirect, vx__rng* rng,
               double out[3]);
 #define VX__RR_DEPTH 3

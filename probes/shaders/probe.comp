@@ -52,7 +52,8 @@ layout(std430, binding = 7) readonly buffer Params {
                    // in LfMaps; w: 2 (loops_intact)
     vec4 lf_lo;    // xyz: scene bounds relative to the reference point, w: distance step
     vec4 lf_hi;    // xyz: scene bounds (max)
-    uvec4 cnt;     // x: lights (binding 14), y: emissive voxels (binding 15), z: 1: no jitter in the pixel
+    uvec4 cnt;     // x: lights (binding 14), y: emissive voxels (binding 15), z: 1: no jitter in the pixel,
+                   // w: 1: some light stands for emissive voxels (VX_LIGHT_FROM_VOXELS)
     vec4 pt;       // x: total emitted power of the emissive voxels (sum of lum(radiance) * area)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
@@ -426,8 +427,8 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         uint type = uint(a.w);
         vec3 e = c.xyz, l;
         float pdf = 0.0, tmax = BIG, g = 1.0;
+        if (skip_direct) continue; // the direct pass's (probes/pathtrace.c)
         if (type == 0u) {
-            if (skip_direct) continue;
             if (dd.z >= 1e-6) { // CONE_MIN of probes/pathtrace.c
                 float h = 0.5 * dd.z, sn = sin(h), sq = sin(0.5 * h), omc = 2.0 * sq * sq;
                 e = c.xyz / (PI * sn * sn);
@@ -437,7 +438,6 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
                 l = b.xyz;
             }
         } else if (type == 1u || type == 2u) {
-            if (skip_direct) continue;
             vec3 v = a.xyz - s.p;
             float d2 = dot(v, v), dist = sqrt(d2);
             if (!(dist > 0.0)) continue;
@@ -481,7 +481,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
         out_l += f * e * (g * cs * w);
     }
-    if (P.cnt.y > 0u && mis_on) { // not at the last vertex (probes/pathtrace.c)
+    if (P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
         float u = rnd();
         uint lo = 0u, hi = P.cnt.y - 1u;
         while (lo < hi) {
@@ -527,11 +527,11 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     for (int events = 0; events < 1024; events++) {
         Hit h;
         bool hit = cast_ray(o, d, BIG, h);
-        bool skip = indirect && vertex == 0;
+        bool skip = indirect && vertex == 0, skip_lights = indirect && vertex <= 1;
         vec3 le;
         float lp;
         if (P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
-            if (!skip) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
+            if (!skip_lights) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
             break;
         }
         if (!hit) {
@@ -548,7 +548,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         }
         if (vertex == 0) hit_out = true;
         g_s = surface(o, d, h);
-        if (!skip && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
+        if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
             float w = 1.0;
             if (prev_pdf > 0.0 && P.cnt.y > 0u) {
                 float cy = abs(dot(d, g_s.n));

@@ -593,10 +593,11 @@ static void test_pipeline_lights_with_pathtrace_gi(void) {
     REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
     vx_frame_renderer* fr = NULL;
     REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
-    vx_light L[2] = {{.type = VX_LIGHT_POINT, .position = {8, 3, 6}, .color = {1, 0.9, 0.7}, .intensity = 40},
+    vx_light L[3] = {{.type = VX_LIGHT_POINT, .position = {8, 3, 6}, .color = {1, 0.9, 0.7}, .intensity = 40},
                      {.type = VX_LIGHT_SPOT, .position = {3, 8, 9}, .direction = {0.2, -0.1, -1}, .color = {0.6, 0.8, 1},
-                      .intensity = 80, .inner_cone = 0.3, .outer_cone = 0.7}};
-    vx_probe_render_desc pd = {.spp = 256, .bounces = 3, .seed = 7, .lights = L, .light_count = 2};
+                      .intensity = 80, .inner_cone = 0.3, .outer_cone = 0.7},
+                     {.type = VX_LIGHT_SPHERE, .position = {7, 7, 11}, .color = {1, 1, 1}, .intensity = 30, .radius = 0.3}};
+    vx_probe_render_desc pd = {.spp = 256, .bounces = 3, .seed = 7, .lights = L, .light_count = 3};
     vx_gi_method gm;
     vx_probe_gi* pgi = NULL;
     REQUIRE(vx_probe_gi_create(rs, &s, NULL, "pathtrace", &pd, &gm, &pgi, &err) == VX_OK);
@@ -606,7 +607,7 @@ static void test_pipeline_lights_with_pathtrace_gi(void) {
     fd.base.width = 24, fd.base.height = 16;
     fd.passes = &list;
     fd.gi = &gm;
-    fd.lights = L, fd.light_count = 2;
+    fd.lights = L, fd.light_count = 3;
     vx_frame_result res = {0};
     vx_result r = vx_frame_render(fr, &fd, &res, &err);
     if (r) fprintf(stderr, "  frame: %s\n", err.msg);
@@ -632,7 +633,7 @@ static void test_pipeline_lights_with_pathtrace_gi(void) {
             sqrt(se / n), sqrt(se0 / n));
     CHECK(fabs(ratio - 1) < 0.02);
     CHECK(sqrt(se / n) < 1.3 * sqrt(se0 / n));
-    vx_light other[2];
+    vx_light other[3];
     memcpy(other, L, sizeof other);
     fd.lights = other;
     vx_frame_result bad = {0};
