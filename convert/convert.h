@@ -32,6 +32,7 @@ extern "C" {
 
 typedef struct vx_conv_stats {
     uint32_t models, instances;
+    uint32_t frames;          /* animation frames stored (1 for a static scene) */
     uint32_t models_unused;   /* .vox: models no instance places (left out, or kept with keep_unused) */
     vx_svo_build_stats build; /* summed over all models */
     double seconds_read;      /* parsing the input file */
@@ -40,11 +41,13 @@ typedef struct vx_conv_stats {
     uint64_t peak_bytes;      /* peak resident memory of the process, 0 if unknown */
 } vx_conv_stats;
 
-/* .vox scene -> svo scene. Each vox model becomes one svo model (instancing
- * kept); each vox instance an instance with M = R, t = t_vox - R floor(s/2)
+/* .vox scene -> svo scene. An animation read with all_frames (frame_count
+ * > 1 and frame_instances) becomes an animated svo scene: frame f of the svo
+ * scene is frame f of the vox scene, frame 0 the instances. Each vox model
+ * becomes one svo model (instancing kept); each vox instance an instance with M = R, t = t_vox - R floor(s/2)
  * (the MagicaVoxel pivot), so floor(M (v + 1/2) + t) is the MagicaVoxel
  * world cell. Models that no instance places (through the scene graph, for
- * the frame and hidden-node choice the reader made: other animation
+ * the frames and hidden-node choice the reader made: other animation
  * frames, shapes under hidden nodes, models no shape names) are left out
  * and the others renumbered in their file order, unless keep_unused;
  * stats->models_unused counts them either way. The palette is stored only

@@ -53,7 +53,8 @@ vx_result vx_conv_file(const vx_conv_file_desc* desc, const char* path, vx_svo_s
         st.peak_bytes = vx_peak_rss();
     } else if (!strcmp(kind, ".vox")) {
         vx_vox_scene vs;
-        vx_vox_read_desc rd = {.alloc = A, .logger = d.logger, .frame = d.frame, .keep_hidden = d.keep_hidden};
+        vx_vox_read_desc rd = {.alloc = A, .logger = d.logger, .frame = d.frame, .keep_hidden = d.keep_hidden,
+                               .all_frames = !d.one_frame};
         r = vx_vox_read_file(&rd, path, &vs, err);
         double tread = vx_time_now() - t0;
         if (r == VX_OK) {

@@ -30,7 +30,8 @@ typedef struct vx_conv_file_desc {
     const vx_logger* logger;  /* warnings of the readers */
     bool allow_svo;           /* also read .svo files (default: an error) */
     /* .vox (formats/vox.h, convert/convert.h) */
-    uint32_t frame;           /* animation frame, default 0 */
+    uint32_t frame;           /* with one_frame: that animation frame, default 0 */
+    bool one_frame;           /* only `frame` (default: every frame of an animation, FRMS) */
     bool keep_hidden;         /* keep hidden nodes, groups and layers */
     bool keep_unused;         /* also store models no instance places */
     /* .gltf / .glb (convert/mesh.h) */
@@ -52,7 +53,7 @@ typedef struct vx_conv_file_desc {
 } vx_conv_file_desc;
 
 /* The defaults, field by field (the tools' --help prints them): .vox frame
- * 0 without hidden nodes or unused models; glTF at res 256, default scene,
+ * every frame (one_frame: frame 0) without hidden nodes or unused models; glTF at res 256, default scene,
  * surface only, colours, no normals, all cores; .vdb: first scalar grid, no
  * threshold, density or colours. */
 vx_conv_file_desc vx_conv_file_defaults(void);

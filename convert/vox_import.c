@@ -43,6 +43,28 @@ static vx_result build_model(const vx_conv_vox_desc* d, const vx_vox_model* vm, 
     return r;
 }
 
+/* One vox instance as an svo instance (new_index: svo model of each vox model). */
+static void convert_instance(const vx_vox_scene* in, const vx_vox_instance* vi, const uint32_t* new_index, vx_svo_instance* si) {
+    const uint32_t* sz = in->models[vi->model].size;
+    int32_t c[3] = {vox_floor_half(sz[0]), vox_floor_half(sz[1]), vox_floor_half(sz[2])};
+    /* MagicaVoxel pivot: cell v lands at floor(R (v + 1/2 - c) + t), i.e.
+     * the affine map p -> R p + (t - R c) applied to the cell centre. */
+    for (int row = 0; row < 3; row++) {
+        int64_t rc = 0;
+        for (int col = 0; col < 3; col++) {
+            si->xform[row * 4 + col] = (double)vi->rot[row * 3 + col];
+            rc += (int64_t)vi->rot[row * 3 + col] * c[col];
+        }
+        si->xform[row * 4 + 3] = (double)((int64_t)vi->t[row] - rc);
+    }
+    si->model = new_index[vi->model];
+    si->flags = vi->hidden ? VX_SVO_INSTANCE_HIDDEN : 0u;
+    si->layer = UINT32_MAX;
+    for (uint32_t l = 0; l < in->layer_count; l++)
+        if (vi->layer >= 0 && in->layers[l].id == vi->layer) si->layer = l;
+    snprintf(si->name, sizeof si->name, "%s", vi->name);
+}
+
 static void add_stats(vx_svo_build_stats* sum, const vx_svo_build_stats* s) {
     sum->input_voxels += s->input_voxels;
     sum->voxels += s->voxels;
@@ -70,12 +92,19 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     uint32_t* new_index = (uint32_t*)vx_calloc(a, in->model_count ? in->model_count : 1, sizeof *new_index);
     if (!new_index) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; i < in->model_count; i++) new_index[i] = UINT32_MAX;
-    for (uint32_t i = 0; i < in->instance_count; i++) {
-        uint32_t m = in->instances[i].model;
+    /* an animation (frame_instances): every frame is stored, frame 0 as
+     * the instances and the others as frames; a model is used when some
+     * frame places it */
+    bool anim = in->frame_count > 1 && in->frame_instances;
+    uint32_t frames = anim ? in->frame_count : 1;
+    const vx_vox_instance* all = anim ? in->frame_instances : in->instances;
+    for (uint64_t i = 0; i < (uint64_t)frames * in->instance_count; i++) {
+        uint32_t m = all[i].model;
         if (m >= in->model_count) {
             vx_free(a, new_index);
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u uses model %u of %u", i, m,
-                           in->model_count);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "frame %llu instance %llu uses model %u of %u",
+                           (unsigned long long)(i / (in->instance_count ? in->instance_count : 1)),
+                           (unsigned long long)(i % (in->instance_count ? in->instance_count : 1)), m, in->model_count);
         }
         new_index[m] = 0;
     }
@@ -121,27 +150,13 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     }
 
     s.instance_count = in->instance_count;
-    for (uint32_t i = 0; i < in->instance_count; i++) {
-        const vx_vox_instance* vi = &in->instances[i];
-        vx_svo_instance* si = &s.instances[i];
-        const uint32_t* sz = in->models[vi->model].size;
-        int32_t c[3] = {vox_floor_half(sz[0]), vox_floor_half(sz[1]), vox_floor_half(sz[2])};
-        /* MagicaVoxel pivot: cell v lands at floor(R (v + 1/2 - c) + t), i.e.
-         * the affine map p -> R p + (t - R c) applied to the cell centre. */
-        for (int row = 0; row < 3; row++) {
-            int64_t rc = 0;
-            for (int col = 0; col < 3; col++) {
-                si->xform[row * 4 + col] = (double)vi->rot[row * 3 + col];
-                rc += (int64_t)vi->rot[row * 3 + col] * c[col];
-            }
-            si->xform[row * 4 + 3] = (double)((int64_t)vi->t[row] - rc);
-        }
-        si->model = new_index[vi->model];
-        si->flags = vi->hidden ? VX_SVO_INSTANCE_HIDDEN : 0u;
-        si->layer = UINT32_MAX;
-        for (uint32_t l = 0; l < in->layer_count; l++)
-            if (vi->layer >= 0 && in->layers[l].id == vi->layer) si->layer = l;
-        snprintf(si->name, sizeof si->name, "%s", vi->name);
+    for (uint32_t i = 0; i < in->instance_count; i++) convert_instance(in, &all[i], new_index, &s.instances[i]);
+    if (anim) {
+        if ((r = vx_svo_scene_alloc_frames(&s, frames, err)) != VX_OK) goto fail;
+        for (uint32_t f = 1; f < frames; f++)
+            for (uint32_t i = 0; i < in->instance_count; i++)
+                convert_instance(in, &all[(size_t)f * in->instance_count + i], new_index,
+                                 &s.frame_instances[(size_t)(f - 1) * in->instance_count + i]);
     }
 
     /* MagicaVoxel files carry a material for each of the 256 palette
@@ -169,6 +184,7 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
     vx_svo_scene_update_bounds(&s);
     cs.models = s.model_count;
     cs.instances = s.instance_count;
+    cs.frames = vx_svo_scene_frames(&s);
     cs.seconds_build = vx_time_now() - t0;
     cs.peak_bytes = vx_peak_rss();
     vx_free(a, new_index);

@@ -823,8 +823,64 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
     return VX_OK;
 }
 
+/* Flattens the graph for c->d.frame into s->instances (from scratch). */
+static vx_result flatten(vox_ctx* c, int64_t root) {
+    static const int32_t I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    static const int64_t zero[3] = {0, 0, 0};
+    for (size_t i = 0; i < c->node_count; i++) c->nodes[i].state = NODE_UNSEEN;
+    c->s.instance_count = 0;
+    c->nodes[root].state = NODE_ON_PATH;
+    return visit_trn(c, (uint32_t)root, 0, I, zero, false);
+}
+
+/* Frames of the animation: the largest _f key + 1 (every node's keys: a
+ * node's keys hold until its next one, so the last key starts the last
+ * frame that differs). */
+static uint64_t graph_frames(const vox_ctx* c) {
+    uint64_t last = 0;
+    for (size_t i = 0; i < c->key_count; i++)
+        if (c->keys[i].f > last) last = c->keys[i].f;
+    return last + 1;
+}
+
+/* all_frames: every frame flattened into frame_instances (root < 0: no
+ * scene graph, the one instance shows model f), then `instances` is frame
+ * d.frame again. */
+static vx_result flatten_all(vox_ctx* c, int64_t root) {
+    vx_vox_scene* s = &c->s;
+    uint32_t want = c->d.frame, F = s->frame_count, n = 0;
+    for (uint32_t f = 0; f < F; f++) {
+        c->d.frame = f;
+        if (root >= 0) {
+            TRY(flatten(c, root));
+        } else { /* no scene graph: frame f shows model f */
+            s->instances[0].model = f;
+        }
+        if (f == 0) {
+            n = s->instance_count;
+            if ((uint64_t)F * n > VX_VOX_FRAMES_MAX_BYTES / sizeof(vx_vox_instance))
+                return vx_fail(c->err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u frames of %u instances exceed %llu bytes (convert single frames)",
+                               F, n, (unsigned long long)VX_VOX_FRAMES_MAX_BYTES);
+            s->frame_instances = (vx_vox_instance*)vx_calloc(c->a, (size_t)F * n + 1, sizeof(vx_vox_instance));
+            if (!s->frame_instances) return nomem(c, "the animation frames");
+        } else if (s->instance_count != n) { /* the same graph: cannot happen, but never index past */
+            return vx_fail(c->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "frame %u has %u instances, frame 0 has %u", f, s->instance_count, n);
+        }
+        if (n) memcpy(s->frame_instances + (size_t)f * n, s->instances, (size_t)n * sizeof(vx_vox_instance));
+    }
+    c->d.frame = want;
+    if (want < F) {
+        if (n) memcpy(s->instances, s->frame_instances + (size_t)want * n, (size_t)n * sizeof(vx_vox_instance));
+        return VX_OK;
+    }
+    if (root >= 0) return flatten(c, root);
+    s->instances[0].model = want; /* checked by the caller */
+    return VX_OK;
+}
+
 static vx_result build_instances(vox_ctx* c) {
     vx_vox_scene* s = &c->s;
+    s->frame_count = 1;
     memcpy(c->chunk_id, "MAIN", 5);
     c->chunk_off = 8;
     if (c->have_pack && c->pack_models != s->model_count)
@@ -841,7 +897,12 @@ static vx_result build_instances(vox_ctx* c) {
         in->model = c->d.frame;
         in->rot[0] = in->rot[4] = in->rot[8] = 1;
         in->layer = -1;
-        return VX_OK;
+        s->frame_count = s->model_count ? s->model_count : 1;
+        if (!c->d.all_frames || s->frame_count < 2) return VX_OK;
+        if (s->frame_count > VX_VOX_MAX_FRAMES)
+            return vx_fail(c->err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u frames (models without a scene graph), the limit is %u",
+                           s->frame_count, VX_VOX_MAX_FRAMES);
+        return flatten_all(c, -1);
     }
     s->has_scene_graph = true;
     s->node_count = c->node_count > UINT32_MAX ? UINT32_MAX : (uint32_t)c->node_count;
@@ -884,10 +945,13 @@ static vx_result build_instances(vox_ctx* c) {
     if (root < 0 || c->nodes[root].type != VX_VOX_NODE_TRN)
         return vx_fail(c->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "scene graph: node 0 %s",
                        root < 0 ? "(the root) does not exist" : "(the root) is not a transform node");
-    static const int32_t I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    static const int64_t zero[3] = {0, 0, 0};
-    c->nodes[root].state = NODE_ON_PATH;
-    return visit_trn(c, (uint32_t)root, 0, I, zero, false);
+    uint64_t frames = graph_frames(c);
+    s->frame_count = frames > UINT32_MAX ? UINT32_MAX : (uint32_t)frames;
+    if (!c->d.all_frames || frames < 2) return flatten(c, root);
+    if (frames > VX_VOX_MAX_FRAMES)
+        return vx_fail(c->err, VX_ERR_LIMIT, VX_NO_OFFSET, "keyframes up to frame %llu, the limit is %u frames",
+                       (unsigned long long)(frames - 1), VX_VOX_MAX_FRAMES);
+    return flatten_all(c, root);
 }
 
 /* ---- entry points ------------------------------------------------------------------ */
@@ -899,6 +963,7 @@ void vx_vox_scene_free(vx_vox_scene* s) {
     for (uint32_t i = 0; i < s->material_count; i++) vx_free(a, s->materials[i].dict);
     vx_free(a, s->models);
     vx_free(a, s->instances);
+    vx_free(a, s->frame_instances);
     vx_free(a, s->layers);
     vx_free(a, s->materials);
     memset(s, 0, sizeof *s);
@@ -1008,19 +1073,29 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
                                p[2], p[3]);
         }
     }
-    for (uint32_t i = 0; i < s->instance_count; i++) {
-        const vx_vox_instance* in = &s->instances[i];
+    bool anim = s->frame_count > 1 && s->frame_instances;
+    if (anim && s->frame_count > VX_VOX_MAX_FRAMES)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u frames, the limit is %u", s->frame_count, VX_VOX_MAX_FRAMES);
+    uint64_t records = (uint64_t)(anim ? s->frame_count : 1) * s->instance_count;
+    const vx_vox_instance* all = anim ? s->frame_instances : s->instances;
+    for (uint64_t j = 0; j < records; j++) {
+        const vx_vox_instance* in = &all[j];
+        uint32_t i = (uint32_t)(j % s->instance_count), f = (uint32_t)(j / s->instance_count);
         if (in->model >= s->model_count)
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "instance %u: model %u out of range (%u models)", i,
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: model %u out of range (%u models)", f, i,
                            in->model, s->model_count);
         if (!vx_vox_rot_to_byte(in->rot, NULL))
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "instance %u: rotation is not a signed permutation", i);
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: rotation is not a signed permutation", f, i);
         for (int k = 0; k < 3; k++)
             if (in->t[k] > VOX_MAX_T || in->t[k] < -VOX_MAX_T)
-                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "instance %u: translation %d beyond +-%d", i, in->t[k],
+                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u instance %u: translation %d beyond +-%d", f, i, in->t[k],
                                VOX_MAX_T);
         if (!has_nul(in->name, sizeof in->name))
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "instance %u: name is not NUL-terminated", i);
+        /* the graph holds one name, layer and hidden flag per shape */
+        if (f && (strcmp(in->name, all[i].name) || in->layer != all[i].layer || in->hidden != all[i].hidden))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "frame %u instance %u: name, layer or hidden flag differs from frame 0 (.vox keeps one per shape)", f, i);
     }
     for (uint32_t i = 0; i < s->layer_count; i++)
         if (!has_nul(s->layers[i].name, sizeof s->layers[i].name))

@@ -19,6 +19,11 @@
  *    keep_hidden is set (the instance then carries hidden = true).
  *  - Animation: keyframe values (_f) on nTRN and model keys on nSHP are
  *    taken for `frame` (the last key at or before it; the first if none).
+ *    The animation has frame_count frames: the largest _f key + 1, or, in a
+ *    file without a scene graph, one frame per model (a PACK sequence).
+ *    With all_frames the reader flattens every frame (frame_instances); the
+ *    instance list is the same shapes in the same order in every frame, so
+ *    record i of each frame is one shape over time.
  *  - Files without a scene graph show one model at the identity (model 0, or
  *    model `frame` for PACK animations), with the same pivot rule.
  *  - A model used by several shapes stays one model with several instances.
@@ -96,6 +101,10 @@ typedef struct vx_vox_scene {
     uint32_t camera_count;       /* rCAM chunks */
     uint32_t note_count;         /* NOTE entries */
     uint32_t robj_count;         /* rOBJ chunks */
+    uint32_t frame_count;        /* frames of the animation, 1 for a still scene */
+    /* all_frames and frame_count > 1: frame_count * instance_count records,
+     * frame f's at frame_instances + f * instance_count (else NULL) */
+    vx_vox_instance* frame_instances;
     const vx_allocator* alloc;
 } vx_vox_scene;
 
@@ -104,10 +113,16 @@ typedef struct vx_vox_read_desc {
     const vx_allocator* alloc;
     const vx_logger* logger;  /* warnings (skipped voxels, unknown chunks) */
     uint32_t frame;           /* animation frame, default 0 */
+    bool all_frames;          /* also flatten every frame into frame_instances */
     bool keep_hidden;         /* keep hidden nodes, groups and layers */
     uint32_t max_dim;         /* 0 == 256: larger SIZE values are rejected */
     uint64_t max_voxels;      /* 0 == 1<<28 voxels in all models together */
 } vx_vox_read_desc;
+
+/* all_frames: at most this many frames, and frame records of at most
+ * VX_VOX_FRAMES_MAX_BYTES (else VX_ERR_LIMIT: convert single frames). */
+#define VX_VOX_MAX_FRAMES 65536u
+#define VX_VOX_FRAMES_MAX_BYTES ((uint64_t)256 << 20)
 
 vx_result vx_vox_read(const vx_vox_read_desc* desc, const void* data, size_t size, vx_vox_scene* out, vx_error* err);
 vx_result vx_vox_read_file(const vx_vox_read_desc* desc, const char* path, vx_vox_scene* out, vx_error* err);
@@ -131,7 +146,11 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err);
 
 /* Writes version 150 with a scene graph (root nTRN -> nGRP -> one nTRN +
  * nSHP per instance), RGBA when has_rgba, LAYR and MATL records. A single
- * model with one identity instance is written the same way. */
+ * model with one identity instance is written the same way. An animation
+ * (frame_count > 1 and frame_instances; `instances` is then not used) is
+ * written as keyframes (_f) on each instance's nTRN and nSHP, which the
+ * reader reads back as the same frames; names, layers and hidden flags must
+ * be the same in every frame (VX_ERR_UNSUPPORTED otherwise). */
 vx_result vx_vox_write(const vx_vox_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);
 vx_result vx_vox_write_file(const vx_vox_scene* s, const char* path, vx_error* err);

@@ -6,7 +6,11 @@
  *   MATL (per material) }
  * Each instance carries its already composed rotation and translation, so
  * reading the file back gives the same instances whatever graph they came
- * from. */
+ * from. An animation (frame_count > 1 with frame_instances) is written as
+ * keyframes: each instance's nTRN gets a frame (_f) where its rotation or
+ * translation changes and its nSHP a model key (_f) where its model
+ * changes, frame 0 always; instance 0 also gets a key at the last frame so
+ * that the reader finds the frame count again. */
 #include <stdio.h>
 #include <string.h>
 
@@ -57,6 +61,23 @@ static void put_models(vx_buf* b, const vx_vox_scene* s) {
     }
 }
 
+static bool animated(const vx_vox_scene* s) { return s->frame_count > 1 && s->frame_instances; }
+
+/* Instance i in frame f (the instance itself in a still scene). */
+static const vx_vox_instance* frame_of(const vx_vox_scene* s, uint32_t i, uint32_t f) {
+    return animated(s) ? &s->frame_instances[(size_t)f * s->instance_count + i] : &s->instances[i];
+}
+
+/* Whether instance i's nTRN has a frame at f. */
+static bool trn_key(const vx_vox_scene* s, uint32_t i, uint32_t f, uint32_t frames) {
+    if (f == 0 || (i == 0 && f == frames - 1)) return true;
+    const vx_vox_instance *a = frame_of(s, i, f), *p = frame_of(s, i, f - 1);
+    return memcmp(a->rot, p->rot, sizeof a->rot) != 0 || memcmp(a->t, p->t, sizeof a->t) != 0;
+}
+static bool shp_key(const vx_vox_scene* s, uint32_t i, uint32_t f) {
+    return f == 0 || frame_of(s, i, f)->model != frame_of(s, i, f - 1)->model;
+}
+
 static void put_graph(vx_buf* b, const vx_vox_scene* s) {
     static const char* const no_str[1] = {""};
     /* root transform -> group of every instance */
@@ -77,8 +98,10 @@ static void put_graph(vx_buf* b, const vx_vox_scene* s) {
     for (uint32_t i = 0; i < s->instance_count; i++) vx_buf_u32le(b, 2 + 2 * i);
     end_chunk(b, at);
 
+    bool anim = animated(s);
+    uint32_t frames = anim ? s->frame_count : 1;
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        const vx_vox_instance* in = &s->instances[i];
+        const vx_vox_instance* in = frame_of(s, i, 0);
         const char* keys[2];
         const char* vals[2];
         int n = 0;
@@ -90,23 +113,39 @@ static void put_graph(vx_buf* b, const vx_vox_scene* s) {
         vx_buf_u32le(b, 3 + 2 * i);
         vx_buf_u32le(b, UINT32_MAX);
         vx_buf_u32le(b, (uint32_t)in->layer);
-        vx_buf_u32le(b, 1);
-        uint8_t rb = 0;
-        vx_vox_rot_to_byte(in->rot, &rb); /* validated */
-        char rs[8], ts[48];
-        snprintf(rs, sizeof rs, "%u", (unsigned)rb);
-        snprintf(ts, sizeof ts, "%d %d %d", in->t[0], in->t[1], in->t[2]);
-        const char* fk[2] = {"_r", "_t"};
-        const char* fv[2] = {rs, ts};
-        put_dict(b, 2, fk, fv);
+        uint32_t nk = 0;
+        for (uint32_t f = 0; f < frames; f++) nk += trn_key(s, i, f, frames);
+        vx_buf_u32le(b, nk);
+        for (uint32_t f = 0; f < frames; f++) {
+            if (!trn_key(s, i, f, frames)) continue;
+            const vx_vox_instance* fi = frame_of(s, i, f);
+            uint8_t rb = 0;
+            vx_vox_rot_to_byte(fi->rot, &rb); /* validated */
+            char rs[8], ts[48], fs[16];
+            snprintf(rs, sizeof rs, "%u", (unsigned)rb);
+            snprintf(ts, sizeof ts, "%d %d %d", fi->t[0], fi->t[1], fi->t[2]);
+            snprintf(fs, sizeof fs, "%u", f);
+            const char* fk[3] = {"_r", "_t", "_f"};
+            const char* fv[3] = {rs, ts, fs};
+            put_dict(b, anim ? 3 : 2, fk, fv);
+        }
         end_chunk(b, at);
 
         at = begin_chunk(b, "nSHP");
         vx_buf_u32le(b, 3 + 2 * i);
         put_dict(b, 0, no_str, no_str);
-        vx_buf_u32le(b, 1);
-        vx_buf_u32le(b, in->model);
-        put_dict(b, 0, no_str, no_str);
+        nk = 0;
+        for (uint32_t f = 0; f < frames; f++) nk += shp_key(s, i, f);
+        vx_buf_u32le(b, nk);
+        for (uint32_t f = 0; f < frames; f++) {
+            if (!shp_key(s, i, f)) continue;
+            vx_buf_u32le(b, frame_of(s, i, f)->model);
+            char fs[16];
+            snprintf(fs, sizeof fs, "%u", f);
+            const char* mk[1] = {"_f"};
+            const char* mv[1] = {fs};
+            put_dict(b, anim ? 1 : 0, mk, mv);
+        }
         end_chunk(b, at);
     }
 }

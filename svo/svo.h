@@ -47,8 +47,8 @@ extern "C" {
 
 /* The newest version this library reads (it reads 1..2). A writer stamps a
  * file with the lowest version that has all its sections: 2 only when it
- * holds a section introduced in version 2 (LGHT), so files without one keep
- * the bytes of version 1 (docs/FORMAT.md 6). */
+ * holds a section introduced in version 2 (LGHT, FRMS), so files without one
+ * keep the bytes of version 1 (docs/FORMAT.md 6). */
 #define VX_SVO_FORMAT_VERSION 2u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
@@ -295,6 +295,17 @@ typedef struct vx_svo_scene {
     uint32_t light_count;
     vx_light* lights;
     vx_sky sky;
+    /* Animation. A static scene has frame_count 0 or 1 and frame_instances
+     * NULL. With frame_count >= 2, frame 0 is `instances` (code that knows
+     * nothing of frames sees frame 0, and bounds are frame 0's) and frame
+     * f >= 1 is the instance_count records at frame_instances +
+     * (f - 1) * instance_count. Record i of every frame animates instance i:
+     * its name and layer are instance i's; its model, transform and flags
+     * (hidden) are the frame's. All frames share the models. Read a frame
+     * through vx_svo_scene_frame() / vx_svo_scene_frame_instances(). */
+    uint32_t frame_count;
+    double frame_rate;                /* frames per second, 0 if not known */
+    vx_svo_instance* frame_instances; /* (frame_count - 1) * instance_count records */
     const vx_allocator* alloc; /* what the arrays were allocated with */
 } vx_svo_scene;
 
@@ -323,6 +334,27 @@ void vx_svo_scene_world_bounds(const vx_svo_scene* scene, double lo[3], double h
 /* RGBA8 of attribute record a of model m: its colour, or the palette entry of
  * its index; opaque white without attributes or past the records. */
 uint32_t vx_svo_attr_rgba(const vx_svo_scene* scene, const vx_svo_model* m, uint32_t a);
+
+/* ---- animation frames (svo_scene.c) ------------------------------------------------ */
+
+/* Number of frames: 1 for a static scene. */
+uint32_t vx_svo_scene_frames(const vx_svo_scene* scene);
+/* The instance_count records of frame f (scene->instances for frame 0 and
+ * for a static scene); NULL when f >= vx_svo_scene_frames(scene). */
+const vx_svo_instance* vx_svo_scene_frame_instances(const vx_svo_scene* scene, uint32_t f);
+/* A view of frame f as a static scene: a shallow copy of *scene whose
+ * instances are frame f's (frame_count 1, frame_instances NULL). Everything
+ * stays owned by scene: use the view while scene lives and never free it.
+ * Its bounds are the scene's (frame 0); vx_svo_scene_update_bounds(view)
+ * computes the frame's. False (view untouched) when f is out of range. */
+bool vx_svo_scene_frame(const vx_svo_scene* scene, uint32_t f, vx_svo_scene* view);
+/* Makes the scene animated with frame_count frames (>= 2), every frame a copy
+ * of `instances` (frames already there are freed). The records come from
+ * scene->alloc; VX_ERR_LIMIT when they would exceed VX_SVO_FRAMES_MAX_BYTES. */
+vx_result vx_svo_scene_alloc_frames(vx_svo_scene* scene, uint32_t frame_count, vx_error* err);
+/* Bytes of frame records a scene may hold (the reader refuses files that
+ * expand to more: a frame that changes nothing costs one byte on disk). */
+#define VX_SVO_FRAMES_MAX_BYTES ((uint64_t)256 << 20)
 
 /* Looks up a key in a material's dictionary; NULL if absent. */
 const char* vx_svo_material_get(const vx_svo_material* m, const char* key);
@@ -443,7 +475,9 @@ uint32_t vx_svo_attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_
 /* Checks a model's structure: every pointer in range and strictly backward,
  * masks consistent, attribute indices in range, depth limits. */
 vx_result vx_svo_validate_model(const vx_svo_model* m, vx_error* err);
-/* Checks the whole scene (models, instance model ids, layers, transforms finite). */
+/* Checks the whole scene (models, instance model ids, layers, transforms
+ * finite; with frames, every frame's records the same way, their names and
+ * layers equal to the instances they animate, a finite frame rate >= 0). */
 vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err);
 
 /* ---- files ------------------------------------------------------------------------------ */

@@ -271,6 +271,23 @@ static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
 
 vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) { return vx__svo_validate_scene_ext(s, NULL, err); }
 
+/* One instance record (of the scene or of a frame: `where` is "" or "frame F "). */
+static vx_result check_instance(const vx_svo_scene* s, const vx_svo_instance* in, uint32_t i, const char* where, vx_error* err) {
+    if (in->model >= s->model_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: %sinstance %u uses model %u of %u", where, i, in->model,
+                       s->model_count);
+    if (in->layer != UINT32_MAX && in->layer >= s->layer_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: %sinstance %u is on layer %u of %u", where, i, in->layer,
+                       s->layer_count);
+    if (!finite12(in->xform))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: %sinstance %u has a non-finite transform", where, i);
+    if (in->flags & ~(uint32_t)VX_SVO_INSTANCE_HIDDEN)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: %sinstance %u has unknown flags 0x%x", where, i, in->flags);
+    if (!has_nul(in->name, sizeof in->name))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: %sinstance %u name is not NUL-terminated", where, i);
+    return VX_OK;
+}
+
 typedef struct analyze_jobs {
     const vx_svo_scene* s;
     vx__svo_extent* ext;
@@ -324,19 +341,31 @@ vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext,
         }
     }
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        const vx_svo_instance* in = &s->instances[i];
-        if (in->model >= s->model_count)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u uses model %u of %u", i, in->model,
-                           s->model_count);
-        if (in->layer != UINT32_MAX && in->layer >= s->layer_count)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u is on layer %u of %u", i, in->layer,
-                           s->layer_count);
-        if (!finite12(in->xform))
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u has a non-finite transform", i);
-        if (in->flags & ~(uint32_t)VX_SVO_INSTANCE_HIDDEN)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u has unknown flags 0x%x", i, in->flags);
-        if (!has_nul(in->name, sizeof in->name))
-            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: instance %u name is not NUL-terminated", i);
+        vx_result r = check_instance(s, &s->instances[i], i, "", err);
+        if (r != VX_OK) return r;
+    }
+    if (s->frame_count > 1 || s->frame_instances) {
+        if (s->frame_count < 2 || (s->instance_count && !s->frame_instances))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: %u frames with%s frame records", s->frame_count,
+                           s->frame_instances ? "" : "out");
+        if (!isfinite(s->frame_rate) || s->frame_rate < 0)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo scene: frame rate %g is not finite and >= 0", s->frame_rate);
+        if ((uint64_t)(s->frame_count - 1) * s->instance_count > VX_SVO_FRAMES_MAX_BYTES / sizeof(vx_svo_instance))
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo scene: %u frames of %u instances exceed %llu bytes", s->frame_count,
+                           s->instance_count, (unsigned long long)VX_SVO_FRAMES_MAX_BYTES);
+        for (uint32_t f = 1; f < s->frame_count; f++) {
+            char where[40];
+            snprintf(where, sizeof where, "frame %u ", f);
+            const vx_svo_instance* fr = s->frame_instances + (size_t)(f - 1) * s->instance_count;
+            for (uint32_t i = 0; i < s->instance_count; i++) {
+                vx_result r = check_instance(s, &fr[i], i, where, err);
+                if (r != VX_OK) return r;
+                /* the file stores a frame's model, transform and flags only */
+                if (fr[i].layer != s->instances[i].layer || strcmp(fr[i].name, s->instances[i].name) != 0)
+                    return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                   "svo scene: frame %u instance %u: name or layer differs from the instance it animates", f, i);
+            }
+        }
     }
     for (uint32_t i = 0; i < s->layer_count; i++) {
         if (!has_nul(s->layers[i].name, sizeof s->layers[i].name))

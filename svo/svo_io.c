@@ -36,16 +36,17 @@ enum {
     ROOT_CODE_LEAF = 1,
     ROOT_CODE_BACK = 2, /* + (node_count - 1 - root) */
     MODEL_SAME_SIZE = 1u << 5, /* model head: size as the previous model's */
-    INST_NAMED = 1u << 2       /* instance head: a name follows */
+    INST_NAMED = 1u << 2,      /* instance head: a name follows */
+    FRMS_CHANGE_MIN = 7        /* smallest change record: gap, head, model, rotation byte, 3 translations */
 };
 /* Expanded material dictionaries (one copy per material) are capped: with
  * shared dictionaries a small file could otherwise ask for quadratic memory. */
 #define MATL_EXPANDED_MAX ((uint64_t)64 << 20)
 
 /* Known sections, and the format version that introduced each. */
-enum { S_SCNE, S_NODE, S_PALT, S_MATL, S_LGHT, S_COUNT };
-static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "PALT", "MATL", "LGHT"};
-static const uint16_t SINCE[S_COUNT] = {1, 1, 1, 1, 2};
+enum { S_SCNE, S_NODE, S_PALT, S_MATL, S_LGHT, S_FRMS, S_COUNT };
+static const char TAGS[S_COUNT][5] = {"SCNE", "NODE", "PALT", "MATL", "LGHT", "FRMS"};
+static const uint16_t SINCE[S_COUNT] = {1, 1, 1, 1, 2, 2};
 
 /* The version a file is stamped with: the newest that introduced one of its
  * sections, so a file without version-2 sections keeps version 1's bytes
@@ -141,7 +142,7 @@ static vx_result rd_var(vx_rd* rd, uint64_t max, uint64_t* out, const char* sec,
     return VX_OK;
 }
 static vx_result rd_var32(vx_rd* rd, uint32_t* out, const char* sec, const char* what, vx_error* err) {
-    uint64_t v;
+    uint64_t v = 0;
     vx_result r = rd_var(rd, UINT32_MAX, &v, sec, what, err);
     if (r == VX_OK) *out = (uint32_t)v;
     return r;
@@ -227,13 +228,12 @@ static int xform_kind(const double* x, uint8_t pay[3], size_t* pay_len, int32_t 
 /* prev: the translation of the previous compact instance (0 0 0 at first);
  * compact translations are stored as differences from it, because the
  * instances of a scene tend to sit near each other. */
-static vx_result rd_xform(vx_rd* rd, int kind, double* x, int32_t prev[3], vx_error* err) {
-    const char* S = "SCNE";
+static vx_result rd_xform(vx_rd* rd, const char* S, int kind, double* x, int32_t prev[3], vx_error* err) {
     uint64_t at = vx_rd_pos(rd);
     vx_result r;
     if (kind == XF_F64) return rd_f64s(rd, x, 12, S, "instance transform", err);
     if (kind != XF_ROT && kind != XF_SIGNED)
-        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: unknown transform kind %d", (unsigned long long)at,
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: unknown transform kind %d", S, (unsigned long long)at,
                        kind);
     int e[9] = {0};
     if (kind == XF_ROT) {
@@ -242,8 +242,8 @@ static vx_result rd_xform(vx_rd* rd, int kind, double* x, int32_t prev[3], vx_er
         vx_rd_u8(rd, &b);
         int c0 = b & 3, c1 = (b >> 2) & 3;
         if (c0 > 2 || c1 > 2 || c0 == c1 || (b & 0x80u))
-            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: rotation byte 0x%02x is not a signed permutation",
-                           (unsigned long long)at, b);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: rotation byte 0x%02x is not a signed permutation",
+                           S, (unsigned long long)at, b);
         int c2 = 3 - c0 - c1;
         e[c0] = (b >> 4) & 1 ? -1 : 1;
         e[3 + c1] = (b >> 5) & 1 ? -1 : 1;
@@ -254,13 +254,13 @@ static vx_result rd_xform(vx_rd* rd, int kind, double* x, int32_t prev[3], vx_er
         vx_rd_bytes(rd, b, 3);
         uint32_t bits = b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16;
         if (bits >> 18)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: matrix entry bits above bit 17 are set",
-                           (unsigned long long)at);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: matrix entry bits above bit 17 are set",
+                           S, (unsigned long long)at);
         for (int i = 0; i < 9; i++) {
             uint32_t c = bits >> (2 * i) & 3u;
             if (c == 3)
-                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: matrix entry %d has the invalid code 3",
-                               (unsigned long long)at, i);
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section %s at byte %llu: matrix entry %d has the invalid code 3",
+                               S, (unsigned long long)at, i);
             e[i] = c == 0 ? 0 : c == 1 ? 1 : -1;
         }
     }
@@ -269,8 +269,8 @@ static vx_result rd_xform(vx_rd* rd, int kind, double* x, int32_t prev[3], vx_er
         if ((r = rd_var(rd, UINT32_MAX * 2ull, &z, S, "instance translation", err)) != VX_OK) return r;
         int64_t t = prev[k] + unzig64(z);
         if (t < INT32_MIN || t > INT32_MAX)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, zat, "svo: section SCNE at byte %llu: instance translation %lld is outside int32",
-                           (unsigned long long)zat, (long long)t);
+            return vx_fail(err, VX_ERR_BAD_FORMAT, zat, "svo: section %s at byte %llu: instance translation %lld is outside int32",
+                           S, (unsigned long long)zat, (long long)t);
         prev[k] = (int32_t)t;
         x[4 * k + 3] = (double)t;
         for (int c = 0; c < 3; c++) x[4 * k + c] = (double)e[3 * k + c];
@@ -507,7 +507,7 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
         if ((r = rd_var(&rd, (uint64_t)UINT32_MAX << 3 | 7u, &head, S, "instance head", err)) != VX_OK ||
             (r = rd_var32(&rd, &in->model, S, "instance model", err)) != VX_OK ||
             (r = rd_var(&rd, UINT32_MAX, &layer, S, "instance layer", err)) != VX_OK ||
-            (r = rd_xform(&rd, (int)(head & 3u), in->xform, prev, err)) != VX_OK)
+            (r = rd_xform(&rd, S, (int)(head & 3u), in->xform, prev, err)) != VX_OK)
             return r;
         if (head & INST_NAMED) {
             uint64_t nat = vx_rd_pos(&rd);
@@ -705,6 +705,75 @@ static vx_result read_lght(const uint8_t* d, const sec* ls, const vx_allocator* 
     return VX_OK;
 }
 
+/* FRMS after SCNE (the instance and model counts): frames 1.. as changes
+ * against the frame before. The frame records are allocated only after the
+ * counts are checked against the bytes left and the expansion limit. */
+static vx_result read_frms(const uint8_t* d, const sec* fs, vx_svo_scene* s, vx_error* err) {
+    const char* S = "FRMS";
+    vx_rd rd = vx_rd_make(d + fs->offset, (size_t)fs->size);
+    rd.base = fs->offset;
+    vx_result r;
+    uint32_t F = 0;
+    uint64_t at = vx_rd_pos(&rd);
+    if ((r = rd_var32(&rd, &F, S, "frame count", err)) != VX_OK) return r;
+    if (F < 2)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: frame count %u, an animation has at least 2",
+                       (unsigned long long)at, F);
+    at = vx_rd_pos(&rd);
+    if ((r = rd_f64s(&rd, &s->frame_rate, 1, S, "frame rate", err)) != VX_OK) return r;
+    if (!isfinite(s->frame_rate) || s->frame_rate < 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: frame rate %g is not finite and >= 0",
+                       (unsigned long long)at, s->frame_rate);
+    at = vx_rd_pos(&rd);
+    if (F - 1 > vx_rd_left(&rd)) /* every frame takes at least its change count */
+        return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: %u frames need at least %u bytes, %zu left",
+                       (unsigned long long)at, F, F - 1, vx_rd_left(&rd));
+    if ((r = vx_svo_scene_alloc_frames(s, F, err)) != VX_OK) {
+        vx_error_prefix(err, "svo: section FRMS");
+        return r;
+    }
+    uint32_t I = s->instance_count;
+    int32_t prev[3] = {0, 0, 0};
+    for (uint32_t f = 1; f < F; f++) {
+        vx_svo_instance* cur = (vx_svo_instance*)vx_svo_scene_frame_instances(s, f);
+        if (f > 1 && I) memcpy(cur, vx_svo_scene_frame_instances(s, f - 1), (size_t)I * sizeof *cur);
+        uint32_t n = 0;
+        at = vx_rd_pos(&rd);
+        if ((r = rd_var32(&rd, &n, S, "change count", err)) != VX_OK) return r;
+        if (n > I || (uint64_t)n * FRMS_CHANGE_MIN > vx_rd_left(&rd))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: frame %u changes %u of %u instances, %zu bytes left",
+                           (unsigned long long)at, f, n, I, vx_rd_left(&rd));
+        uint64_t next = 0; /* the smallest instance index the next change may name */
+        for (uint32_t k = 0; k < n; k++) {
+            uint64_t gap = 0, head = 0;
+            uint32_t model = 0;
+            at = vx_rd_pos(&rd);
+            if ((r = rd_var(&rd, UINT32_MAX, &gap, S, "instance gap", err)) != VX_OK) return r;
+            if (next + gap >= I)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: frame %u changes instance %llu, the scene has %u",
+                               (unsigned long long)at, f, (unsigned long long)(next + gap), I);
+            uint32_t i = (uint32_t)(next + gap);
+            next = (uint64_t)i + 1;
+            if ((r = rd_var(&rd, (uint64_t)UINT32_MAX << 2 | 3u, &head, S, "change head", err)) != VX_OK) return r;
+            uint64_t mat = vx_rd_pos(&rd);
+            if ((r = rd_var32(&rd, &model, S, "change model", err)) != VX_OK) return r;
+            if (model >= s->model_count)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, mat, "svo: section FRMS at byte %llu: frame %u instance %u uses model %u of %u",
+                               (unsigned long long)mat, f, i, model, s->model_count);
+            if ((uint32_t)(head >> 2) & ~(uint32_t)VX_SVO_INSTANCE_HIDDEN)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section FRMS at byte %llu: frame %u instance %u has unknown flags 0x%x",
+                               (unsigned long long)at, f, i, (unsigned)(head >> 2));
+            if ((r = rd_xform(&rd, S, (int)(head & 3u), cur[i].xform, prev, err)) != VX_OK) return r;
+            cur[i].model = model;
+            cur[i].flags = (uint32_t)(head >> 2);
+        }
+    }
+    if (vx_rd_left(&rd))
+        return vx_fail(err, VX_ERR_BAD_FORMAT, vx_rd_pos(&rd), "svo: section FRMS has %zu trailing bytes at byte %llu", vx_rd_left(&rd),
+                       (unsigned long long)vx_rd_pos(&rd));
+    return VX_OK;
+}
+
 vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t size, vx_svo_scene* out, vx_error* err) {
     vx_svo_read_desc rdd;
     if (desc) rdd = *desc;
@@ -762,6 +831,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     if (known[S_LGHT] && (r = read_lght(d, known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
+    if (known[S_FRMS] && (r = read_frms(d, known[S_FRMS], &s, err)) != VX_OK) goto fail;
     r = vx_svo_validate_scene(&s, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -799,6 +869,19 @@ static bool f64s_int32(const double* v, int n, int32_t* out) {
     for (int i = 0; i < n; i++)
         if (!int_translation(v[i], &out[i])) return false;
     return true;
+}
+
+/* A transform's payload after the head that holds its kind (xform_kind). */
+static void buf_xform(vx_buf* b, const double* x, int kind, const uint8_t* pay, size_t pay_len, const int32_t t[3], int32_t prev[3]) {
+    if (kind == XF_F64) {
+        for (int k = 0; k < 12; k++) vx_buf_f64le(b, x[k]);
+        return;
+    }
+    vx_buf_append(b, pay, pay_len);
+    for (int k = 0; k < 3; k++) {
+        buf_var(b, zig64((int64_t)t[k] - prev[k]));
+        prev[k] = t[k];
+    }
 }
 
 static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext) {
@@ -851,15 +934,7 @@ static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* e
         buf_var(b, (uint64_t)in->flags << 3 | (named ? INST_NAMED : 0u) | (uint64_t)kind);
         buf_var(b, in->model);
         buf_var(b, in->layer == UINT32_MAX ? 0 : (uint64_t)in->layer + 1);
-        if (kind == XF_F64) {
-            for (int k = 0; k < 12; k++) vx_buf_f64le(b, in->xform[k]);
-        } else {
-            vx_buf_append(b, pay, pay_len);
-            for (int k = 0; k < 3; k++) {
-                buf_var(b, zig64((int64_t)t[k] - prev[k]));
-                prev[k] = t[k];
-            }
-        }
+        buf_xform(b, in->xform, kind, pay, pay_len, t, prev);
         if (named) buf_name(b, in->name);
     }
     for (uint32_t i = 0; i < s->layer_count; i++) {
@@ -976,6 +1051,41 @@ static void write_lght(vx_buf* b, const vx_svo_scene* s) {
     }
 }
 
+static bool instance_state_equal(const vx_svo_instance* a, const vx_svo_instance* b) {
+    return a->model == b->model && a->flags == b->flags && memcmp(a->xform, b->xform, sizeof a->xform) == 0;
+}
+
+/* Frames 1.. as changes against the frame before (frame 0 is SCNE's
+ * instances): an animation where little moves costs little. */
+static void write_frms(vx_buf* b, const vx_svo_scene* s) {
+    uint32_t I = s->instance_count;
+    buf_var(b, s->frame_count);
+    vx_buf_f64le(b, s->frame_rate);
+    int32_t prev[3] = {0, 0, 0};
+    for (uint32_t f = 1; f < s->frame_count; f++) {
+        const vx_svo_instance* cur = vx_svo_scene_frame_instances(s, f);
+        const vx_svo_instance* before = vx_svo_scene_frame_instances(s, f - 1);
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < I; i++) n += !instance_state_equal(&cur[i], &before[i]);
+        buf_var(b, n);
+        uint32_t last = 0;
+        bool first = true;
+        for (uint32_t i = 0; i < I; i++) {
+            if (instance_state_equal(&cur[i], &before[i])) continue;
+            uint8_t pay[3];
+            size_t pay_len = 0;
+            int32_t t[3];
+            int kind = xform_kind(cur[i].xform, pay, &pay_len, t);
+            buf_var(b, first ? i : i - last - 1);
+            buf_var(b, (uint64_t)cur[i].flags << 2 | (uint64_t)kind);
+            buf_var(b, cur[i].model);
+            buf_xform(b, cur[i].xform, kind, pay, pay_len, t, prev);
+            last = i;
+            first = false;
+        }
+    }
+}
+
 /* What a writer needs before producing sections: the validated scene's
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
@@ -1009,6 +1119,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, wp
     if (used & VX_ATTR_PALETTE) w->order[w->ns++] = S_PALT;
     if (s->material_count) w->order[w->ns++] = S_MATL;
     if (s->light_count || s->sky.type != VX_SKY_DEFAULT) w->order[w->ns++] = S_LGHT;
+    if (vx_svo_scene_frames(s) > 1) w->order[w->ns++] = S_FRMS;
     for (int si = 0; si < w->ns; si++) w->flags[si] = SEC_REQUIRED;
     return VX_OK;
 }
@@ -1022,6 +1133,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     else if (t == S_PALT) write_palt(b, s);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
+    else if (t == S_FRMS) write_frms(b, s);
     return !b->failed;
 }
 

@@ -32,7 +32,46 @@ void vx_svo_scene_free(vx_svo_scene* s) {
     vx_free(a, s->layers);
     vx_free(a, s->materials);
     vx_free(a, s->lights);
+    vx_free(a, s->frame_instances);
     memset(s, 0, sizeof *s);
+}
+
+/* ---- animation frames ------------------------------------------------------------- */
+
+uint32_t vx_svo_scene_frames(const vx_svo_scene* s) {
+    return s && s->frame_count > 1 && (s->frame_instances || s->instance_count == 0) ? s->frame_count : 1;
+}
+
+const vx_svo_instance* vx_svo_scene_frame_instances(const vx_svo_scene* s, uint32_t f) {
+    if (!s || f >= vx_svo_scene_frames(s)) return NULL;
+    return f == 0 ? s->instances : s->frame_instances + (size_t)(f - 1) * s->instance_count;
+}
+
+bool vx_svo_scene_frame(const vx_svo_scene* s, uint32_t f, vx_svo_scene* view) {
+    if (!s || !view || f >= vx_svo_scene_frames(s)) return false;
+    *view = *s;
+    view->instances = (vx_svo_instance*)vx_svo_scene_frame_instances(s, f);
+    view->frame_count = 1;
+    view->frame_instances = NULL;
+    return true;
+}
+
+vx_result vx_svo_scene_alloc_frames(vx_svo_scene* s, uint32_t frame_count, vx_error* err) {
+    if (!s || frame_count < 2 || (s->instance_count && !s->instances))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: frames: need a scene and at least 2 frames");
+    uint64_t n = (uint64_t)(frame_count - 1) * s->instance_count;
+    if (n > VX_SVO_FRAMES_MAX_BYTES / sizeof(vx_svo_instance))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo scene: %u frames of %u instances need %llu bytes, the limit is %llu",
+                       frame_count, s->instance_count, (unsigned long long)(n * sizeof(vx_svo_instance)),
+                       (unsigned long long)VX_SVO_FRAMES_MAX_BYTES);
+    vx_svo_instance* fi = (vx_svo_instance*)vx_calloc(s->alloc, n ? (size_t)n : 1, sizeof *fi);
+    if (!fi) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo scene: out of memory for %u frames", frame_count);
+    for (uint32_t f = 1; f < frame_count && s->instance_count; f++)
+        memcpy(fi + (size_t)(f - 1) * s->instance_count, s->instances, (size_t)s->instance_count * sizeof *fi);
+    vx_free(s->alloc, s->frame_instances);
+    s->frame_instances = fi;
+    s->frame_count = frame_count;
+    return VX_OK;
 }
 
 /* Bounds are exact for each model's occupied box: the box's extreme cell

@@ -348,11 +348,11 @@ static void put32(uint8_t** p, uint32_t v) {
 }
 
 /* A legacy animation (.vox 150 without a scene graph, PACK of 8 frames,
- * frame f a 4^3 cube of varied colours shifted by f cells): only the chosen frame's model is
- * placed, and stored; keep_unused stores all 8 (about 8 times the bytes). */
-static void test_unused_animation_frames(void) {
-    enum { FRAMES = 8, N = 4 * 4 * 4 };
-    static uint8_t file[8 + 12 + 16 + FRAMES * (24 + 16 + 4 * N)];
+ * frame f a 4^3 cube of varied colours shifted by f cells). */
+enum { FRAMES = 8, N = 4 * 4 * 4 };
+static uint8_t pack_file[8 + 12 + 16 + FRAMES * (24 + 16 + 4 * N)];
+static bool make_pack(void) {
+    uint8_t* file = pack_file;
     uint8_t* p = file;
     memcpy(p, "VOX ", 4);
     p += 4;
@@ -360,7 +360,7 @@ static void test_unused_animation_frames(void) {
     memcpy(p, "MAIN", 4);
     p += 4;
     put32(&p, 0);
-    put32(&p, (uint32_t)(sizeof file - 20));
+    put32(&p, (uint32_t)(sizeof pack_file - 20));
     memcpy(p, "PACK", 4);
     p += 4;
     put32(&p, 4);
@@ -386,11 +386,19 @@ static void test_unused_animation_frames(void) {
             *p++ = (uint8_t)(1 + (i * 37 + f * 11) % 200); /* varied colours: no collapse */
         }
     }
-    REQUIRE(p == file + sizeof file);
+    return p == file + sizeof pack_file;
+}
+
+/* With --frame, only the chosen frame's model is placed, and stored;
+ * keep_unused stores all 8 (about 8 times the bytes). */
+static void test_unused_animation_frames(void) {
+    REQUIRE(make_pack());
+    const uint8_t* file = pack_file;
+    const size_t file_size = sizeof pack_file;
     for (uint32_t frame = 0; frame < FRAMES; frame += 5) {
         vx_vox_scene vs;
         vx_error err = {0};
-        vx_result r = vx_vox_read(&(vx_vox_read_desc){.frame = frame}, file, sizeof file, &vs, &err);
+        vx_result r = vx_vox_read(&(vx_vox_read_desc){.frame = frame}, file, file_size, &vs, &err);
         CHECKF(r == VX_OK, "%s", err.msg);
         if (r) return;
         REQUIRE(vs.model_count == FRAMES && vs.instance_count == 1 && vs.instances[0].model == frame);
@@ -414,10 +422,149 @@ static void test_unused_animation_frames(void) {
     }
 }
 
+/* ---- animations: every frame equals an independent per-frame flattening ------------ */
+
+/* Cells of svo frame f (through the library's frame view). */
+static bool cells_of_frame(const vx_svo_scene* s, uint32_t f, cells* out) {
+    vx_svo_scene v;
+    return vx_svo_scene_frame(s, f, &v) && cells_from_svo(&v, out);
+}
+
+/* Frame f read from the file by the reader's single-frame path (--frame f),
+ * placed voxel by voxel, and the same frame converted alone (vox2svo
+ * --frame f): both must equal frame f of the all-frames file (anim). */
+static void check_frame(const char* what, const uint8_t* file, size_t size, const vx_svo_scene* anim, uint32_t f) {
+    vx_vox_scene one;
+    vx_error err = {0};
+    vx_result r = vx_vox_read(&(vx_vox_read_desc){.frame = f}, file, size, &one, &err);
+    CHECKF(r == VX_OK, "%s frame %u: %s", what, f, err.msg);
+    if (r) return;
+    cells want = {0}, got = {0}, single = {0};
+    cells_from_vox(&one, &want);
+    vx_svo_scene s1;
+    CHECK(cells_of_frame(anim, f, &got));
+    CHECKF(same_cells(&want, &got, what), "frame %u of the all-frames file", f);
+    if (through_file(&one, &s1, &(vx_svo_build_desc){0})) {
+        CHECK(cells_from_svo(&s1, &single) && vx_svo_scene_frames(&s1) == 1);
+        CHECKF(same_cells(&single, &got, what), "--frame %u vs frame %u of the all-frames file", f, f);
+        vx_svo_scene_free(&s1);
+    }
+    CHECK(want.n > 0);
+    free(want.v), free(got.v), free(single.v);
+    vx_vox_scene_free(&one);
+}
+
+/* A PACK model sequence: one instance whose model is the frame number. */
+static void test_pack_all_frames(void) {
+    REQUIRE(make_pack());
+    vx_vox_scene vs;
+    vx_error err = {0};
+    REQUIRE(vx_vox_read(&(vx_vox_read_desc){.all_frames = true}, pack_file, sizeof pack_file, &vs, &err) == VX_OK);
+    CHECK(vs.frame_count == FRAMES && vs.frame_instances && vs.instance_count == 1 && vs.instances[0].model == 0);
+    vx_svo_scene s;
+    REQUIRE(through_file(&vs, &s, &(vx_svo_build_desc){0}));
+    CHECK(vx_svo_scene_frames(&s) == FRAMES && s.model_count == FRAMES && s.instance_count == 1);
+    for (uint32_t f = 0; f < FRAMES; f++) check_frame("PACK", pack_file, sizeof pack_file, &s, f);
+    /* without all_frames the reader still reports the animation's length */
+    vx_vox_scene one;
+    REQUIRE(vx_vox_read(&(vx_vox_read_desc){.frame = 3}, pack_file, sizeof pack_file, &one, &err) == VX_OK);
+    CHECK(one.frame_count == FRAMES && !one.frame_instances);
+    vx_vox_scene_free(&one);
+    vx_svo_scene_free(&s);
+    vx_vox_scene_free(&vs);
+}
+
+/* A keyframed scene graph written by our writer (nTRN _f frames, nSHP model
+ * keys): 3 models, 3 shapes over 7 frames; shape 0 moves every frame, shape
+ * 1 turns and switches models, shape 2 stands still, frame 6 repeats 5. */
+static void test_keyframed_all_frames(void) {
+    enum { F = 7, I = 3 };
+    static const uint8_t rots[4] = {0x04, 0x11, 0x28, 0x06}; /* identity, two turns, a mirror */
+    vx_vox_scene g = {0};
+    g.version = 150;
+    g.model_count = 3;
+    g.models = calloc(3, sizeof *g.models);
+    uint32_t sizes[3][3] = {{5, 4, 3}, {6, 6, 2}, {3, 7, 4}};
+    for (uint32_t m = 0; m < 3; m++) {
+        vx_vox_model* vm = &g.models[m];
+        memcpy(vm->size, sizes[m], sizeof vm->size);
+        vm->xyzi = malloc(4u * 200);
+        for (uint32_t x = 0; x < vm->size[0]; x++)
+            for (uint32_t y = 0; y < vm->size[1]; y++)
+                for (uint32_t z = 0; z < vm->size[2]; z++)
+                    if ((x * 7 + y * 3 + z * 5 + m) % 3) {
+                        uint8_t* v = vm->xyzi + 4 * (size_t)vm->voxel_count++;
+                        v[0] = (uint8_t)x, v[1] = (uint8_t)y, v[2] = (uint8_t)z, v[3] = (uint8_t)(1 + (x + 9 * y + 31 * z + 50 * m) % 250);
+                    }
+    }
+    memcpy(g.palette, vx_vox_default_palette, sizeof g.palette);
+    g.layer_count = 1;
+    g.layers = calloc(1, sizeof *g.layers);
+    g.layers[0].id = 5;
+    snprintf(g.layers[0].name, sizeof g.layers[0].name, "actors");
+    g.instance_count = I;
+    g.instances = calloc(I, sizeof *g.instances);
+    g.frame_count = F;
+    g.frame_instances = calloc((size_t)F * I, sizeof *g.frame_instances);
+    for (uint32_t f = 0; f < F; f++)
+        for (uint32_t i = 0; i < I; i++) {
+            vx_vox_instance* in = &g.frame_instances[f * I + i];
+            uint32_t ff = f == 6 ? 5 : f;
+            in->model = i == 1 ? (ff >= 3 && ff < 5 ? 2 : 1) : i == 2 ? 0 : 0;
+            REQUIRE(vx_vox_rot_from_byte(i == 1 ? rots[ff % 4] : 0x04, in->rot));
+            in->t[0] = (int32_t)(i * 20 + (i == 0 ? ff : 0));
+            in->t[1] = (int32_t)(i == 0 ? 2 * ff : 0);
+            in->t[2] = (int32_t)(i == 0 ? -(int32_t)ff : 3);
+            in->layer = i == 2 ? -1 : 5;
+            snprintf(in->name, sizeof in->name, "shape%u", i);
+        }
+    memcpy(g.instances, g.frame_instances, I * sizeof *g.instances);
+    uint8_t* file = NULL;
+    size_t size = 0;
+    vx_error err = {0};
+    vx_result wr = vx_vox_write(&g, NULL, &file, &size, &err);
+    CHECKF(wr == VX_OK, "%s", err.msg);
+    if (wr) return;
+    vx_vox_scene vs;
+    REQUIRE(vx_vox_read(&(vx_vox_read_desc){.all_frames = true}, file, size, &vs, &err) == VX_OK);
+    CHECK(vs.frame_count == F && vs.instance_count == I);
+    /* the reader's frames are the generated ones */
+    for (uint32_t k = 0; k < F * I; k++) {
+        const vx_vox_instance *a = &g.frame_instances[k], *b = &vs.frame_instances[k];
+        CHECKF(a->model == b->model && !memcmp(a->rot, b->rot, sizeof a->rot) && !memcmp(a->t, b->t, sizeof a->t) &&
+                   a->layer == b->layer && !strcmp(a->name, b->name),
+               "frame %u instance %u", k / I, k % I);
+    }
+    vx_svo_scene s;
+    REQUIRE(through_file(&vs, &s, &(vx_svo_build_desc){0}));
+    CHECK(vx_svo_scene_frames(&s) == F && s.model_count == 3 && s.instance_count == I);
+    for (uint32_t f = 0; f < F; f++) {
+        check_frame("keyframed", file, size, &s, f);
+        /* and the generated frame placed directly */
+        vx_vox_scene gf = g;
+        gf.instances = g.frame_instances + (size_t)f * I;
+        cells want = {0}, got = {0};
+        cells_from_vox(&gf, &want);
+        CHECK(cells_of_frame(&s, f, &got));
+        CHECKF(same_cells(&want, &got, "keyframed"), "generated frame %u", f);
+        free(want.v), free(got.v);
+    }
+    vx_svo_scene_free(&s);
+    vx_vox_scene_free(&vs);
+    free(file);
+    /* one name per shape: a frame that renames it cannot be written */
+    snprintf(g.frame_instances[2 * I + 1].name, sizeof g.frame_instances[0].name, "other");
+    CHECK(vx_vox_write(&g, NULL, &file, &size, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "frame 2 instance 1"));
+    g.alloc = NULL;
+    vx_vox_scene_free(&g);
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
     RUN(test_unused_models);
     RUN(test_unused_animation_frames);
+    RUN(test_pack_all_frames);
+    RUN(test_keyframed_all_frames);
     return vx_test_finish();
 }

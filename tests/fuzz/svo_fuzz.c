@@ -1,6 +1,7 @@
 /* tests/fuzz/svo_fuzz.c - libFuzzer target for the .svo reader:
  * probe -> read (checksums on, then off so mutations reach the structure
- * checks) -> validate -> decode with a work cap -> free. */
+ * checks) -> validate -> decode with a work cap -> the last animation frame's
+ * bounds -> free. */
 #include <stddef.h>
 #include <stdint.h>
 
@@ -25,6 +26,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (s.models[i].attr_count) (void)vx_svo_attr_color(&s, &s.models[i], s.models[i].root_attr);
         }
         vx_svo_scene_update_bounds(&s);
+        vx_svo_scene last; /* an animation's last frame through the view */
+        if (vx_svo_scene_frame(&s, vx_svo_scene_frames(&s) - 1, &last)) vx_svo_scene_update_bounds(&last);
         vx_svo_scene_free(&s);
         break;
     }

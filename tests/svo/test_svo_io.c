@@ -246,7 +246,7 @@ static uint8_t* replace_section(const uint8_t* d, size_t n, const char* tag, con
     int count = parts_of(d, n, p, 16);
     for (int i = 0; i < count; i++)
         if (strcmp(p[i].tag, tag) == 0) p[i].data = data, p[i].size = size;
-    return assemble(p, count, out_n);
+    return assemble_v(p, count, d[8] | d[9] << 8, out_n); /* the file's own version */
 }
 
 static const uint8_t* section(const uint8_t* d, size_t n, const char* tag, size_t* size) {
@@ -1362,9 +1362,208 @@ static void test_oom(void) {
     vx_svo_scene_free(&s);
 }
 
+/* ---- animation frames (FRMS, docs/FORMAT.md 2.5) ------------------------------------------ */
+
+/* Frame f's records (f >= 1) in frame_instances. */
+#define I_(s, f) ((size_t)((f) - 1) * (s)->instance_count)
+
+/* The scene of make_scene animated over 5 frames: instance 0 moves through
+ * every transform form, instance 1 is hidden in frame 2 only, instance 3
+ * switches models in frame 3 and back in 4; instance 2 never changes. */
+static void make_animated(vx_svo_scene* s) {
+    make_scene(s, 300);
+    vx_error e;
+    if (vx_svo_scene_alloc_frames(s, 5, &e) != VX_OK) {
+        fprintf(stderr, "alloc frames: %s\n", e.msg);
+        return;
+    }
+    s->frame_rate = 12.5;
+    const double rot[12] = {0, -1, 0, 4, 1, 0, 0, -2, 0, 0, 1, 0};
+    const double sig[12] = {1, 1, 0, 0, 0, 1, 0, 0, 0, 0, -1, 3};
+    const double gen[12] = {0.5, 0, 0, 0.25, 0, 0.5, 0, 0, 0, 0, 0.5, 0};
+    vx_svo_instance* f1 = s->frame_instances;
+    memcpy(f1[0].xform, rot, sizeof rot);
+    memcpy(f1[I_(s, 2)].xform, sig, sizeof sig);
+    memcpy(f1[I_(s, 3)].xform, gen, sizeof gen);
+    f1[I_(s, 4)].xform[3] = -1e6; /* a large step back */
+    f1[I_(s, 2) + 1].flags = VX_SVO_INSTANCE_HIDDEN;
+    f1[I_(s, 3) + 3].model = 2;
+}
+
+static uint32_t frame_records_differ(const vx_svo_scene* a, const vx_svo_scene* b) {
+    uint32_t bad = 0;
+    for (uint32_t f = 0; f < vx_svo_scene_frames(a); f++) {
+        const vx_svo_instance *x = vx_svo_scene_frame_instances(a, f), *y = vx_svo_scene_frame_instances(b, f);
+        for (uint32_t i = 0; x && y && i < a->instance_count; i++)
+            bad += x[i].model != y[i].model || x[i].flags != y[i].flags || x[i].layer != y[i].layer ||
+                   memcmp(x[i].xform, y[i].xform, sizeof x[i].xform) != 0 || strcmp(x[i].name, y[i].name) != 0;
+        bad += !x || !y;
+    }
+    return bad;
+}
+
+static void test_frames_round_trip(void) {
+    vx_svo_scene s, r;
+    make_animated(&s);
+    REQUIRE(vx_svo_scene_frames(&s) == 5);
+    uint8_t* d;
+    size_t n;
+    REQUIRE(write_read(&s, &r, &d, &n));
+    CHECK((d[8] | d[9] << 8) == 2); /* FRMS is a version-2 section */
+    CHECK(section(d, n, "FRMS", NULL) != NULL);
+    CHECK(r.frame_count == 5 && r.frame_rate == 12.5);
+    CHECK(vx_svo_scene_frames(&r) == 5);
+    CHECK(frame_records_differ(&s, &r) == 0);
+    CHECK(stable(d, n, &r));
+    /* the view of a frame is that frame as a static scene */
+    vx_svo_scene v;
+    CHECK(vx_svo_scene_frame(&r, 3, &v) && v.instances == vx_svo_scene_frame_instances(&r, 3) && v.frame_count == 1 &&
+          !v.frame_instances && v.models == r.models);
+    CHECK(v.instances[3].model == 2 && v.instances[1].flags == 0);
+    CHECK(!vx_svo_scene_frame(&r, 5, &v) && !vx_svo_scene_frame_instances(&r, 5));
+    /* the static scene: version 1, no FRMS, the bytes of a scene never animated */
+    vx_svo_scene st;
+    make_scene(&st, 300);
+    uint8_t *d1, *d2;
+    size_t n1, n2;
+    vx_error e;
+    REQUIRE(vx_svo_write(&st, NULL, &d1, &n1, &e) == VX_OK);
+    st.frame_count = 1; /* one frame is a static scene */
+    REQUIRE(vx_svo_write(&st, NULL, &d2, &n2, &e) == VX_OK);
+    CHECK((d1[8] | d1[9] << 8) == 1 && !section(d1, n1, "FRMS", NULL));
+    CHECK(n1 == n2 && memcmp(d1, d2, n1) == 0);
+    free(d1), free(d2), free(d);
+    vx_svo_scene_free(&st), vx_svo_scene_free(&r), vx_svo_scene_free(&s);
+}
+
+/* A frame record whose name or layer differs from its instance cannot be
+ * stored (FRMS has no room for them): the writer refuses it. */
+static void test_frames_validation(void) {
+    vx_svo_scene s;
+    make_animated(&s);
+    uint8_t* d = NULL;
+    size_t n;
+    vx_error e;
+    s.frame_instances[2].layer = UINT32_MAX;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "frame 1 instance 2"));
+    s.frame_instances[2].layer = s.instances[2].layer;
+    s.frame_instances[5].model = 3;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "frame 2 instance 1 uses model 3"));
+    s.frame_instances[5].model = 0;
+    s.frame_rate = NAN;
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) != VX_OK && strstr(e.msg, "frame rate"));
+    s.frame_rate = 0;
+    CHECK(vx_svo_scene_alloc_frames(&s, 1, &e) == VX_ERR_INVALID_ARG);
+    CHECK(vx_svo_scene_alloc_frames(&s, UINT32_MAX, &e) == VX_ERR_LIMIT);
+    CHECK(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK); /* the failed calls left the frames alone */
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
+/* Hand-made FRMS sections (the layout of FORMAT.md 2.5) in the file of a
+ * 4-instance, 3-model scene: each flaw gives its own error, never a crash. */
+static void frms_case(const uint8_t* d, size_t n, const tbuf* f, vx_result want, const char* msg) {
+    size_t n2;
+    uint8_t* d2 = replace_section(d, n, "FRMS", f->d, f->n, &n2);
+    vx_svo_scene r;
+    vx_error e = {0};
+    vx_result got = vx_svo_read(NULL, d2, n2, &r, &e);
+    CHECKF(got == want && (want == VX_OK || strstr(e.msg, msg)), "want %d '%s', got %d '%s'", want, msg, got, e.msg);
+    if (got == VX_OK) vx_svo_scene_free(&r);
+    free(d2);
+}
+
+static void test_frames_bad(void) {
+    vx_svo_scene s;
+    make_animated(&s);
+    uint8_t* d;
+    size_t n;
+    vx_error e;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    tbuf f = {0};
+#define FRMS_HEAD(count) (f.n = 0, tb_var(&f, count), tb_f64(&f, 24.0))
+    /* a well-formed table: 2 frames, instance 1 moves to the identity at (1, 2, 3) */
+    FRMS_HEAD(2), tb_var(&f, 1), tb_var(&f, 1), tb_var(&f, 0), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, tzig(1)),
+        tb_var(&f, tzig(2)), tb_var(&f, tzig(3));
+    frms_case(d, n, &f, VX_OK, "");
+    {   /* what it means: frame 1 is frame 0 with instance 1's state replaced */
+        size_t n2;
+        uint8_t* d2 = replace_section(d, n, "FRMS", f.d, f.n, &n2);
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(NULL, d2, n2, &r, &e) == VX_OK);
+        const vx_svo_instance* f1 = vx_svo_scene_frame_instances(&r, 1);
+        const double want[12] = {1, 0, 0, 1, 0, 1, 0, 2, 0, 0, 1, 3};
+        CHECK(r.frame_count == 2 && r.frame_rate == 24.0 && f1[1].model == 0 && f1[1].flags == 0 &&
+              memcmp(f1[1].xform, want, sizeof want) == 0 && !strcmp(f1[1].name, "inst1") && f1[1].layer == 1);
+        for (uint32_t i = 0; i < 4; i++)
+            if (i != 1) CHECK(!memcmp(&f1[i], &r.instances[i], sizeof f1[i]));
+        vx_svo_scene_free(&r);
+        free(d2);
+    }
+    tbuf good = {0};
+    tb_put(&good, f.d, f.n);
+    FRMS_HEAD(1), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "frame count 1");
+    FRMS_HEAD(0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "frame count 0");
+    FRMS_HEAD(1000), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "1000 frames need at least 999 bytes");
+    FRMS_HEAD(4000000000u), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "frames need at least");
+    FRMS_HEAD(3), tb_var(&f, 0); /* frame 2 is missing */
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "3 frames need at least 2 bytes");
+    f.n = 0, tb_var(&f, 2), tb_f64(&f, -1.0), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "frame rate -1");
+    /* a change naming an instance the scene does not have (gap 4 of 4) */
+    FRMS_HEAD(2), tb_var(&f, 1), tb_var(&f, 4), tb_var(&f, 0), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0),
+        tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "changes instance 4, the scene has 4");
+    /* the second change of a frame runs past the last instance */
+    FRMS_HEAD(2), tb_var(&f, 2);
+    for (int k = 0; k < 2; k++)
+        tb_var(&f, 2), tb_var(&f, 0), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "changes instance 5");
+    /* a missing model */
+    FRMS_HEAD(2), tb_var(&f, 1), tb_var(&f, 0), tb_var(&f, 0), tb_var(&f, 3), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0),
+        tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "frame 1 instance 0 uses model 3 of 3");
+    /* more changes than instances, unknown flags, a bad transform kind */
+    FRMS_HEAD(2), tb_var(&f, 5);
+    for (int k = 0; k < 5; k++)
+        tb_var(&f, 0), tb_var(&f, 0), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0), tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "changes 5 of 4 instances");
+    FRMS_HEAD(2), tb_var(&f, 1), tb_var(&f, 0), tb_var(&f, 2 << 2), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0),
+        tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "unknown flags 0x2");
+    FRMS_HEAD(2), tb_var(&f, 1), tb_var(&f, 0), tb_var(&f, 3), tb_var(&f, 0), tb_u8(&f, 0x04), tb_var(&f, 0), tb_var(&f, 0),
+        tb_var(&f, 0);
+    frms_case(d, n, &f, VX_ERR_BAD_FORMAT, "unknown transform kind 3");
+    /* every truncation of a valid table, and a trailing byte */
+    for (size_t cut = 0; cut < good.n; cut++) {
+        tbuf t = {good.d, cut, good.cap};
+        frms_case(d, n, &t, cut < 9 ? VX_ERR_TRUNCATED : VX_ERR_BAD_FORMAT, cut < 9 ? "" : "");
+    }
+    tb_u8(&good, 0);
+    frms_case(d, n, &good, VX_ERR_BAD_FORMAT, "trailing");
+    /* FRMS in a version-1 file: a version-1 reader would have refused it */
+    size_t n2;
+    uint8_t* d2 = replace_section(d, n, "FRMS", good.d, good.n - 1, &n2);
+    d2[8] = 1;
+    fix_crcs(d2, n2);
+    vx_svo_scene r;
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "FRMS needs format version 2"));
+    /* and a version this reader does not know */
+    d2[8] = 3;
+    fix_crcs(d2, n2);
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, "version 3"));
+#undef FRMS_HEAD
+    free(d2), free(good.d), free(f.d), free(d);
+    vx_svo_scene_free(&s);
+}
+
 /* Tiny seeds (FORMAT.md examples for the fuzzer): palette + all channels +
  * geometry; geometry only; compact and f64 transforms with materials; far
- * pointers; lights and a gradient sky. */
+ * pointers; lights and a gradient sky; seed5: an animation (FRMS). */
 static int write_seeds(const char* dir) {
     char path[4096];
     vx_error e;
@@ -1402,6 +1601,15 @@ static int write_seeds(const char* dir) {
             return 1;
         }
         vx_svo_scene_free(&s);
+    }
+    vx_svo_scene s; /* seed5: an animation (FRMS) */
+    make_animated(&s);
+    snprintf(path, sizeof path, "%s/seed5.svo", dir);
+    vx_result wr = vx_svo_write_file(&s, path, &e);
+    vx_svo_scene_free(&s);
+    if (wr != VX_OK) {
+        fprintf(stderr, "%s: %s\n", path, e.msg);
+        return 1;
     }
     return 0;
 }
@@ -1494,5 +1702,8 @@ int main(int argc, char** argv) {
     RUN(test_lights_hand_encoded);
     RUN(test_oom);
     RUN(test_budget);
+    RUN(test_frames_round_trip);
+    RUN(test_frames_validation);
+    RUN(test_frames_bad);
     return vx_test_finish();
 }

@@ -71,6 +71,51 @@ s5=$(wc -c <"$T/keep.svo")
 "$BIN/svo_info" "$T/hid.svo" --dump --all | sort >"$T/d4"
 [ "$(wc -l <"$T/d4")" -gt "$n" ] && ok "--keep-hidden keeps the hidden layer" || bad "--keep-hidden keeps the hidden layer"
 
+# an animation (the demo over 24 frames): every frame by default, each frame
+# of the all-frames file dumps like the same frame converted alone (--frame)
+expect_status 0 "write animated demo" "$BIN/vox2svo" --write-demo "$T/anim.vox" --demo-frames 24
+expect_status 0 "convert animation" "$BIN/vox2svo" "$T/anim.vox" "$T/anim.svo"
+grep -q "instances [0-9]*, frames 24" "$T/out" && ok "vox2svo counts the frames" || bad "vox2svo counts the frames: $(grep models "$T/out")"
+expect_status 0 "svo_info animation" "$BIN/svo_info" "$T/anim.svo"
+grep -q "^frames       24" "$T/out" && grep -q "^frame 15 .*1 instances changed" "$T/out" && grep -q "8 more frames" "$T/out" &&
+    ok "svo_info lists the frames" || bad "svo_info lists the frames"
+grep -q "format version 2" "$T/out" && ok "an animation is format version 2" || bad "an animation is format version 2"
+grep -q "^frames" "$T/out" && "$BIN/svo_info" "$T/demo.svo" | grep -q "format version 1" &&
+    ok "a still scene stays version 1" || bad "a still scene stays version 1"
+for f in 0 7 23; do
+    "$BIN/vox2svo" "$T/anim.vox" "$T/one.svo" --frame $f -q
+    "$BIN/svo_info" "$T/one.svo" --dump | sort >"$T/f1"
+    "$BIN/svo_info" "$T/anim.svo" --dump --frame $f | sort >"$T/f2"
+    [ -s "$T/f1" ] && cmp -s "$T/f1" "$T/f2" && ok "frame $f == --frame $f" || bad "frame $f == --frame $f"
+done
+"$BIN/svo_info" "$T/anim.svo" --dump --frame 12 | sort >"$T/f3"
+cmp -s "$T/f2" "$T/f3" && bad "frames 23 and 12 differ" || ok "frames 23 and 12 differ"
+expect_status 1 "svo_info --frame past the end" "$BIN/svo_info" "$T/anim.svo" --dump --frame 24
+grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "names the frame count" || bad "names the frame count"
+# --to-vox writes every frame as keyframes; converted again, every frame is the same
+expect_status 0 "animation to vox" "$BIN/svo_info" "$T/anim.svo" --to-vox "$T/anim2.vox"
+expect_status 0 "convert the exported animation" "$BIN/vox2svo" "$T/anim2.vox" "$T/anim2.svo"
+grep -q "frames 24" "$T/out" && ok "the export keeps 24 frames" || bad "the export keeps 24 frames"
+same=0
+for f in 0 1 6 13 23; do
+    "$BIN/svo_info" "$T/anim.svo" --dump --frame $f | sort >"$T/g1"
+    "$BIN/svo_info" "$T/anim2.svo" --dump --frame $f | sort >"$T/g2"
+    cmp -s "$T/g1" "$T/g2" && same=$((same + 1))
+done
+[ $same -eq 5 ] && ok "svo -> vox -> svo keeps every frame" || bad "svo -> vox -> svo keeps every frame ($same of 5)"
+if [ -x "$BIN/svo_render" ]; then
+    # a sequence: one scene upload, frames traced in turn; each image equals
+    # the frame rendered alone, and frames differ
+    expect_status 0 "svo_render --frames 0..3" "$BIN/svo_render" "$T/anim.svo" "$T/seq_##.png" --frames 0..3 --size 48x32 --mode albedo
+    [ -s "$T/seq_00.png" ] && [ -s "$T/seq_03.png" ] && [ ! -e "$T/seq_04.png" ] && ok "four images written" || bad "four images written"
+    expect_status 0 "svo_render --frame 3" "$BIN/svo_render" "$T/anim.svo" "$T/one3.png" --frame 3 --size 48x32 --mode albedo
+    cmp -s "$T/seq_03.png" "$T/one3.png" && ok "sequence frame 3 == --frame 3" || bad "sequence frame 3 == --frame 3"
+    cmp -s "$T/seq_00.png" "$T/seq_03.png" && bad "frames 0 and 3 differ" || ok "frames 0 and 3 differ"
+    expect_status 2 "--frames without #" "$BIN/svo_render" "$T/anim.svo" "$T/seq.png" --frames 0..3
+    expect_status 1 "--frames past the end" "$BIN/svo_render" "$T/anim.svo" "$T/s_#.png" --frames 20..24 --size 8x8
+    grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "svo_render names the frame count" || bad "svo_render names the frame count"
+fi
+
 # bad input: truncated .vox, corrupted .svo; clear error, exit 1, no output
 head -c 2000 "$T/demo.vox" >"$T/trunc.vox"
 expect_status 1 "truncated .vox" "$BIN/vox2svo" "$T/trunc.vox" "$T/trunc.svo"

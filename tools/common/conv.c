@@ -24,6 +24,7 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
     if (!strcmp(a, "--frame")) {
         if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->frame))
             vx_tool_usage_error(usage, "bad --frame value '%s'", argv[*i]);
+        c->frame_set = true;
     } else if (!strcmp(a, "--keep-hidden")) c->keep_hidden = true;
     else if (!strcmp(a, "--keep-unused")) c->keep_unused = true;
     else if (!strcmp(a, "--no-collapse")) c->no_collapse = true;
@@ -70,6 +71,7 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
         .logger = log,
         .allow_svo = allow_svo,
         .frame = c->frame,
+        .one_frame = c->frame_set,
         .keep_hidden = c->keep_hidden,
         .keep_unused = c->keep_unused,
         .res = c->res,

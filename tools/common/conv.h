@@ -11,6 +11,7 @@
 
 typedef struct vx_tool_conv {
     /* .vox */
+    bool frame_set; /* --frame: that one frame; default: every frame of an animation */
     uint32_t frame;
     bool keep_hidden;
     bool keep_unused; /* also store models no instance places */

@@ -20,6 +20,8 @@ typedef struct options {
     bool dump;
     bool all;
     bool models;
+    bool frame_set;
+    uint32_t frame;
     const char* to_vox;
     const char* to_glb;
     const char* to_vdb;
@@ -40,7 +42,9 @@ _Noreturn static void usage(int status) {
             "    --dump           print every voxel of the scene in grid cells, one per line\n"
             "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
             "    --all            with --dump, --to-glb and --to-vdb: include hidden instances and layers\n"
-            "    --models         list every model, instance and light (default: the first 16)\n"
+            "    --models         list every model, instance, light and frame (default: the first 16)\n"
+            "    --frame N        an animation's frame N for --dump, --to-glb, --to-vdb, --to-vox and the\n"
+            "                     instance list (default: frame 0; --to-vox: every frame)\n"
             "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
             "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
             "                     voxel surface, vertex colours), one node per instance; turned from\n"
@@ -61,10 +65,11 @@ _Noreturn static void usage(int status) {
             "    %s castle.svo\n"
             "    %s castle.svo --verify\n"
             "    %s castle.svo --dump | sort > cells.txt\n"
+            "    %s walk.svo --dump --frame 3 | sort > frame3.txt\n"
             "    %s castle.svo --to-vox castle2.vox\n"
             "    %s castle.svo --to-glb castle.glb\n"
             "    %s castle.svo --to-vdb castle.vdb\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
     exit(status);
 }
 
@@ -88,6 +93,11 @@ static options parse(int argc, char** argv) {
         }
         else if (!strcmp(a, "--all")) o.all = true;
         else if (!strcmp(a, "--models")) o.models = true;
+        else if (!strcmp(a, "--frame")) {
+            if (i + 1 >= argc || !vx_tool_parse_u32(argv[i + 1], &o.frame)) usage_error("option %s needs a frame number", a);
+            o.frame_set = true;
+            i++;
+        }
         else if (!strcmp(a, "--to-vox")) {
             if (i + 1 >= argc) usage_error("option %s needs an argument", a);
             o.to_vox = argv[++i];
@@ -153,6 +163,32 @@ static bool xform_is_identity(const double* m) {
     return !memcmp(m, id, sizeof id);
 }
 
+/* One line per frame: what it shows and how it differs from the frame before. */
+static void print_frames(const options* o, const vx_svo_scene* s) {
+    uint32_t F = vx_svo_scene_frames(s);
+    if (F < 2) return;
+    if (s->frame_rate > 0) printf("frames       %u at %g frames per second (%g s)\n", F, s->frame_rate, F / s->frame_rate);
+    else printf("frames       %u (frame rate not known)\n", F);
+    uint32_t shown = o->models || F <= 16 ? F : 16;
+    for (uint32_t f = 0; f < shown; f++) {
+        vx_svo_scene v;
+        vx_svo_scene_frame(s, f, &v);
+        const vx_svo_instance* prev = f ? vx_svo_scene_frame_instances(s, f - 1) : NULL;
+        uint32_t shown_inst = 0, changed = 0;
+        uint64_t voxels = 0;
+        for (uint32_t i = 0; i < v.instance_count; i++) {
+            if (vx_svo_instance_visible(&v, i)) shown_inst++, voxels += v.models[v.instances[i].model].voxel_count;
+            if (prev && (prev[i].model != v.instances[i].model || prev[i].flags != v.instances[i].flags ||
+                         memcmp(prev[i].xform, v.instances[i].xform, sizeof prev[i].xform)))
+                changed++;
+        }
+        printf("frame %-6u %u instances shown, %s voxels", f, shown_inst, vx_tool_num(voxels));
+        if (f) printf(", %u instances changed", changed);
+        printf("\n");
+    }
+    if (shown < F) printf("  ... %u more frames (--models lists all)\n", F - shown);
+}
+
 static void print_info(const options* o, const vx_svo_file_info* fi, const vx_svo_scene* s) {
     printf("file         %s (%s bytes, .svo format version %u)\n", o->in, vx_tool_num(fi->file_size), fi->version);
     printf("sections     %u\n", fi->section_count);
@@ -188,9 +224,12 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
                vx_tool_num(m->node_count), vx_tool_num(m->attr_count), at);
     }
     if (shown < s->model_count) printf("  ... %u more models (--models lists all)\n", s->model_count - shown);
+    print_frames(o, s);
     shown = o->models ? s->instance_count : (s->instance_count < 16 ? s->instance_count : 16);
+    const vx_svo_instance* inst = vx_svo_scene_frame_instances(s, o->frame); /* checked by main */
+    if (vx_svo_scene_frames(s) > 1) printf("instances of frame %u:\n", o->frame);
     for (uint32_t i = 0; i < shown; i++) {
-        const vx_svo_instance* in = &s->instances[i];
+        const vx_svo_instance* in = &inst[i];
         const double* x = in->xform;
         printf("instance %-3u model %u, layer %s%s%s, t = (%g %g %g), M = [%g %g %g; %g %g %g; %g %g %g]%s%s%s\n", i,
                in->model, in->layer < s->layer_count ? "" : "-",
@@ -298,12 +337,18 @@ int main(int argc, char** argv) {
         return vx_tool_error_budget(o.in, &err, &budget);
     }
     int status = 0;
+    vx_svo_scene view; /* the frame that --dump, --to-glb and --frame's --to-vox show */
+    if (!vx_svo_scene_frame(&s, o.frame, &view)) {
+        uint32_t frames = vx_svo_scene_frames(&s);
+        vx_svo_scene_free(&s);
+        return vx_tool_errorf("%s: no frame %u (the scene has %u)", o.in, o.frame, frames);
+    }
     if (!o.quiet && !o.dump) print_info(&o, &fi, &s);
     if (o.verify && !o.quiet) printf("%s: valid (%u sections, checksums and structure verified)\n", o.in, fi.section_count);
-    if (o.dump) status = dump(&o, &s);
+    if (o.dump) status = dump(&o, &view);
     if (status == 0 && o.to_vox) {
         vx_vox_scene v;
-        r = vx_conv_svo_to_vox(&s, NULL, &v, &err);
+        r = vx_conv_svo_to_vox(o.frame_set ? &view : &s, NULL, &v, &err);
         if (r == VX_OK) {
             r = vx_vox_write_file(&v, o.to_vox, &err);
             vx_vox_scene_free(&v);
@@ -314,7 +359,7 @@ int main(int argc, char** argv) {
     if (status == 0 && o.to_glb) {
 #ifdef VX_HAVE_GLB
         svo_glb_stats gs;
-        r = svo_info_to_glb(&s, o.all, o.to_glb, &gs, &err);
+        r = svo_info_to_glb(&view, o.all, o.to_glb, &gs, &err);
         if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
@@ -327,7 +372,7 @@ int main(int argc, char** argv) {
     if (status == 0 && o.to_vdb) {
 #ifdef VX_HAVE_VDB
         svo_vdb_stats vs;
-        r = svo_info_to_vdb(&s, o.all, o.vdb_models, o.to_vdb, &vs, &err);
+        r = svo_info_to_vdb(&view, o.all, o.vdb_models, o.to_vdb, &vs, &err);
         if (r != VX_OK) status = vx_tool_error(o.to_vdb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u grids, %s active voxels%s)\n", o.to_vdb, vs.grids, vx_tool_num(vs.voxels),

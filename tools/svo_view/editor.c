@@ -25,8 +25,17 @@ static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* e
     return VX_OK;
 }
 
+/* Edits that add or remove instances make an animation static (its frame
+ * records are per instance index, so they would no longer line up). */
+static void drop_frames(vx_svo_scene* s) {
+    vx_free(s->alloc, s->frame_instances);
+    s->frame_instances = NULL;
+    s->frame_count = 0;
+}
+
 /* Makes sn the scene's state; the scene's previous instance array goes into sn. */
 static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
+    if (sn->inst_count != s->instance_count) drop_frames(s);
     vx_svo_instance* inst = s->instances;
     uint32_t n = s->instance_count;
     s->instances = sn->inst;
@@ -165,6 +174,7 @@ vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* er
     if (!a) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", n + 1);
     memcpy(a, s->instances, (size_t)n * sizeof *a);
     a[n] = s->instances[i];
+    drop_frames(s);
     vx_free(s->alloc, s->instances);
     s->instances = a;
     s->instance_count = n + 1;
@@ -173,6 +183,7 @@ vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* er
 }
 
 void ved_delete(vx_svo_scene* s, uint32_t i) {
+    drop_frames(s);
     memmove(&s->instances[i], &s->instances[i + 1], (size_t)(s->instance_count - i - 1) * sizeof s->instances[0]);
     s->instance_count--;
 }
@@ -255,6 +266,7 @@ vx_result ved_add_scene(vx_svo_scene* s, vx_svo_scene* o, const int32_t d[3], ui
         for (int k = 0; k < 3; k++) in.xform[4 * k + 3] += d[k];
         inst[ic + i] = in;
     }
+    drop_frames(s);
     vx_free(s->alloc, s->models);
     vx_free(s->alloc, s->instances);
     s->models = models;

@@ -218,3 +218,37 @@ fail:
     vx_vox_scene_free(&s);
     return r ? r : VX_ERR_NOMEM;
 }
+
+/* The island as an animation of `frames` frames: the tower slides east one
+ * cell per frame, the first four trees turn a quarter every 6 frames (a new
+ * keyframe each time), the terrain and the other trees stand still, so most
+ * voxels are shared by every frame. */
+vx_result vx_demo_animation(const vx_allocator* a, uint32_t frames, vx_vox_scene* out) {
+    vx_result r = vx_demo_scene(a, out);
+    if (r != VX_OK || frames < 2) return r;
+    vx_vox_scene* s = out;
+    uint32_t I = s->instance_count;
+    s->frame_instances = vx_calloc(a, (size_t)frames * I, sizeof *s->frame_instances);
+    if (!s->frame_instances) {
+        vx_vox_scene_free(s);
+        return VX_ERR_NOMEM;
+    }
+    s->frame_count = frames;
+    for (uint32_t f = 0; f < frames; f++) {
+        vx_vox_instance* fi = s->frame_instances + (size_t)f * I;
+        memcpy(fi, s->instances, (size_t)I * sizeof *fi);
+        fi[1].t[0] += (int32_t)f; /* the tower */
+        for (uint32_t k = 2; k < 6 && k < I; k++) {
+            int32_t q = (int32_t)(f / 6 % 4), R[9] = {0}, t[9];
+            R[8] = 1;
+            R[0] = q == 0 || q == 2 ? (q ? -1 : 1) : 0, R[4] = R[0];
+            R[1] = q == 1 ? -1 : q == 3 ? 1 : 0, R[3] = -R[1];
+            for (int i = 0; i < 3; i++) /* the turn after the tree's own rotation */
+                for (int j = 0; j < 3; j++)
+                    t[3 * i + j] = R[3 * i] * fi[k].rot[j] + R[3 * i + 1] * fi[k].rot[3 + j] + R[3 * i + 2] * fi[k].rot[6 + j];
+            memcpy(fi[k].rot, t, sizeof t);
+        }
+    }
+    return VX_OK;
+}
+

@@ -14,6 +14,7 @@ typedef struct options {
     const char* in;
     const char* out;
     const char* write_demo;
+    uint32_t demo_frames; /* --demo-frames: an animated demo */
     bool quiet, verbose;
     vx_tool_conv conv; /* reader and builder options */
 } options;
@@ -39,10 +40,11 @@ _Noreturn static void usage(int status) {
             "       voxels are not stored as lights: renderers derive one light per cluster\n"
             "       (svo_render --voxel-lights); the statistics count both.\n"
             "Options:\n"
-            "    --frame N        animation frame of a .vox scene (default: %u)\n"
+            "    --frame N        one animation frame of a .vox scene (default: every frame, frame %u\n"
+            "                     first; a static scene has one)\n"
             "    --keep-hidden    keep hidden nodes, groups and layers of a .vox scene\n"
             "    --keep-unused    keep the models of a .vox scene that no instance places\n"
-            "                     (other animation frames, hidden shapes; default: left out)\n"
+            "                     (hidden shapes; with --frame, other frames; default: left out)\n"
             "    --no-collapse    skip minimization step 1 (uniform full subtrees -> one leaf)\n"
             "    --no-dag         skip minimization step 2 (share identical subtrees)\n"
             "    --res N          meshes: voxels along the longest side (default: %u)\n"
@@ -60,6 +62,8 @@ _Noreturn static void usage(int status) {
             "                     convert (e.g. 512M, 4G; default: no limit; OpenVDB's and tinygltf's\n"
             "                     own memory is not counted)\n"
             "    --write-demo F   write the built-in demo scene (a .vox file) to F and exit\n"
+            "    --demo-frames N  with --write-demo: an animation of N frames (the tower moves,\n"
+            "                     four trees turn; default: the still scene)\n"
             "    -q, --quiet      print nothing but errors\n"
             "    -v, --verbose    print warnings and details\n"
             "    -h, --help       print this help and exit\n"
@@ -93,6 +97,10 @@ static options parse(int argc, char** argv) {
             exit(0);
         } else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
+        else if (!strcmp(a, "--demo-frames")) {
+            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.demo_frames) || o.demo_frames > 4096)
+                usage_error("bad --demo-frames value '%s' (0 to 4096)", argv[i]);
+        }
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
         else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) o.verbose = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
@@ -119,6 +127,7 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
     printf("  input        %s, %s bytes\n", kind, vx_tool_num(in_bytes));
     printf("  voxels       %s (%s given)\n", vx_tool_num(b->voxels), vx_tool_num(b->input_voxels));
     printf("  models       %u, instances %u", cs->models, cs->instances);
+    if (cs->frames > 1) printf(", frames %u", cs->frames);
     if (!strcmp(kind, ".vox"))
         printf(", unused models %s %u", o->conv.keep_unused ? "kept" : "left out", cs->models_unused);
     printf("\n");
@@ -144,13 +153,13 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
 static int write_demo(const options* o) {
     vx_vox_scene s;
     vx_error err = {0};
-    if (vx_demo_scene(NULL, &s) != VX_OK) return vx_tool_errorf("cannot build the demo scene: out of memory");
+    if (vx_demo_animation(NULL, o->demo_frames, &s) != VX_OK) return vx_tool_errorf("cannot build the demo scene: out of memory");
     vx_result r = vx_vox_write_file(&s, o->write_demo, &err);
     uint64_t voxels = 0;
     for (uint32_t i = 0; i < s.model_count; i++) voxels += s.models[i].voxel_count;
     if (r == VX_OK && !o->quiet)
-        printf("%s: wrote demo scene %s: %u models, %u instances, %s voxels\n", vx_tool_name, o->write_demo,
-               s.model_count, s.instance_count, vx_tool_num(voxels));
+        printf("%s: wrote demo scene %s: %u models, %u instances, %u frames, %s voxels\n", vx_tool_name, o->write_demo,
+               s.model_count, s.instance_count, s.frame_count > 1 ? s.frame_count : 1, vx_tool_num(voxels));
     vx_vox_scene_free(&s);
     return r == VX_OK ? 0 : vx_tool_error(o->write_demo, &err);
 }
