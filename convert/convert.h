@@ -62,7 +62,9 @@ typedef struct vx_conv_vox_desc {
 vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_svo_scene* out, vx_conv_stats* stats,
                       vx_error* err);
 
-/* svo scene -> .vox scene, for svo_info --to-vox and export. Needs integer
+/* svo scene -> .vox scene, for svo_info --to-vox and export. An animation
+ * becomes an animated .vox scene (frame_instances, written as keyframes;
+ * its hidden flags must not change between frames). Needs integer
  * signed-permutation instance matrices, integer translations, models of at
  * most 256 cells per side and palette attributes (RGBA8 attributes are
  * mapped to the nearest of up to 255 palette entries); otherwise

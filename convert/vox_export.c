@@ -45,6 +45,40 @@ static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
 
 static bool is_int(double v) { return isfinite(v) && v == floor(v) && fabs(v) < 2147483647.0; }
 
+/* Instance i of frame f (si) as a .vox instance: the MagicaVoxel pivot undone,
+ * whole-cell translations and signed permutations only. */
+static vx_result export_instance(const vx_svo_scene* in, const vx_svo_instance* si, uint32_t i, uint32_t f, vx_vox_instance* vi,
+                                 vx_error* err) {
+    if (si->model >= in->model_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "frame %u instance %u: model %u out of range", f, i, si->model);
+    const uint32_t* sz = in->models[si->model].size;
+    double c[3] = {(double)(sz[0] / 2), (double)(sz[1] / 2), (double)(sz[2] / 2)};
+    for (int row = 0; row < 3; row++) {
+        double rc = 0;
+        for (int col = 0; col < 3; col++) {
+            double e = si->xform[row * 4 + col];
+            if (e != 0.0 && e != 1.0 && e != -1.0)
+                return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "frame %u instance %u: matrix entry %g is not a .vox rotation", f,
+                               i, e);
+            vi->rot[row * 3 + col] = (int32_t)e;
+            rc += e * c[col];
+        }
+        double t = si->xform[row * 4 + 3] + rc;
+        if (!is_int(t))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "frame %u instance %u: translation %g is not a whole cell", f, i,
+                           si->xform[row * 4 + 3]);
+        vi->t[row] = (int32_t)t;
+    }
+    uint8_t b;
+    if (!vx_vox_rot_to_byte(vi->rot, &b))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "frame %u instance %u: matrix is not a signed permutation", f, i);
+    vi->model = si->model;
+    vi->layer = si->layer < in->layer_count ? (int32_t)si->layer : -1;
+    vi->hidden = (si->flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+    snprintf(vi->name, sizeof vi->name, "%s", si->name);
+    return VX_OK;
+}
+
 vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_vox_scene* out, vx_error* err) {
     if (!in || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null argument");
     vx_vox_scene v;
@@ -124,45 +158,24 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     }
     v.layer_count = in->layer_count;
 
-    for (uint32_t i = 0; i < in->instance_count; i++) {
-        const vx_svo_instance* si = &in->instances[i];
-        vx_vox_instance* vi = &v.instances[i];
-        if (si->model >= in->model_count) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u: model %u out of range", i, si->model);
+    /* an animation: every frame (the writer stores them as keyframes) */
+    uint32_t frames = vx_svo_scene_frames(in), I = in->instance_count;
+    if (frames > 1) {
+        v.frame_instances = (vx_vox_instance*)vx_calloc(a, (size_t)frames * I + 1, sizeof *v.frame_instances);
+        if (!v.frame_instances) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u frames", frames);
             goto fail;
         }
-        const uint32_t* sz = in->models[si->model].size;
-        double c[3] = {(double)(sz[0] / 2), (double)(sz[1] / 2), (double)(sz[2] / 2)};
-        for (int row = 0; row < 3; row++) {
-            double rc = 0;
-            for (int col = 0; col < 3; col++) {
-                double e = si->xform[row * 4 + col];
-                if (e != 0.0 && e != 1.0 && e != -1.0) {
-                    r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                                "instance %u: matrix entry %g is not a .vox rotation", i, e);
-                    goto fail;
-                }
-                vi->rot[row * 3 + col] = (int32_t)e;
-                rc += e * c[col];
-            }
-            double t = si->xform[row * 4 + 3] + rc;
-            if (!is_int(t)) {
-                r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "instance %u: translation %g is not a whole cell", i,
-                            si->xform[row * 4 + 3]);
-                goto fail;
-            }
-            vi->t[row] = (int32_t)t;
-        }
-        uint8_t b;
-        if (!vx_vox_rot_to_byte(vi->rot, &b)) {
-            r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "instance %u: matrix is not a signed permutation", i);
-            goto fail;
-        }
-        vi->model = si->model;
-        vi->layer = si->layer < in->layer_count ? (int32_t)si->layer : -1;
-        vi->hidden = (si->flags & VX_SVO_INSTANCE_HIDDEN) != 0;
-        snprintf(vi->name, sizeof vi->name, "%s", si->name);
+        v.frame_count = frames;
     }
+    for (uint32_t f = 0; f < frames; f++) {
+        const vx_svo_instance* fi = vx_svo_scene_frame_instances(in, f);
+        for (uint32_t i = 0; i < I; i++) {
+            vx_vox_instance* vi = frames > 1 ? &v.frame_instances[(size_t)f * I + i] : &v.instances[i];
+            if ((r = export_instance(in, &fi[i], i, f, vi, err)) != VX_OK) goto fail;
+        }
+    }
+    if (frames > 1 && I) memcpy(v.instances, v.frame_instances, (size_t)I * sizeof *v.instances);
     v.instance_count = in->instance_count;
 
     for (uint32_t i = 0; i < in->material_count; i++) {

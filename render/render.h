@@ -213,7 +213,14 @@ void vx_render_image_free(vx_render_image* img);
 /* The scene on the GPU. */
 typedef struct vx_render_scene vx_render_scene;
 
+/* An animated scene is created at frame 0 (its `instances`), with every
+ * model of every frame on the GPU; the default camera frames all frames
+ * (vx_svo_scene_world_bounds), so it holds still over a sequence. */
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_render_scene** out, vx_error* err);
+/* Shows frame `frame` of `scene`, the scene rs was created from: the
+ * instances and their BVH are rebuilt, the models stay on the GPU (no
+ * upload). Waits for the device to be idle first. */
+vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t frame, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
 /* Whether the scene is traced by the float64 variant (a model deeper than
  * VX_RENDER_PRECISE_DEPTH). */

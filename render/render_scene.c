@@ -23,6 +23,7 @@ struct vx_render_scene {
     vx_gpu* gpu;
     vx_allocator alloc;
     uint32_t inst_count;
+    uint32_t model_count; /* of the scene it was made from (vx_render_scene_set_frame checks it) */
     inst_host* inst;
     vx_bvh bvh;
     double bvh_seconds;
@@ -137,10 +138,8 @@ done:
     return r;
 }
 
-vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
-    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    vx_result r = vx__check_scene(s, err);
-    if (r) return r;
+/* The deepest model the scene draws, and whether this device can trace it. */
+static vx_result drawn_depth(vx_gpu* gpu, const vx_svo_scene* s, uint32_t* out, vx_error* err) {
     uint32_t max_depth = 0, deep_model = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
@@ -152,6 +151,15 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
                        "model %u has %u octree levels; past %u the tracer needs float64 shaders, which %s lacks "
                        "(split the model into instances of at most %u levels)",
                        deep_model, max_depth, VX_RENDER_PRECISE_DEPTH, gpu->props.deviceName, VX_RENDER_PRECISE_DEPTH);
+    *out = max_depth;
+    return VX_OK;
+}
+
+vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
+    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_result r = vx__check_scene(s, err);
+    uint32_t max_depth = 0;
+    if (r || (r = drawn_depth(gpu, s, &max_depth, err))) return r;
     vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
     if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     rs->gpu = gpu;
@@ -160,7 +168,8 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
-    vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
+    rs->model_count = s->model_count;
+    vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
         return r;
@@ -180,6 +189,34 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_allocator a = rs->alloc;
     vx_free(&a, rs->inst);
     vx_free(&a, rs);
+}
+
+/* The models stay on the GPU; the instance tables and the BVH over them are
+ * rebuilt for the frame (host-side work proportional to the instances). */
+vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, vx_error* err) {
+    vx_svo_scene v;
+    if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!vx_svo_scene_frame(s, frame, &v))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no frame %u (the scene has %u)", frame, vx_svo_scene_frames(s));
+    if (s->model_count != rs->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u: the scene has %u models, the GPU scene was made with %u",
+                       frame, s->model_count, rs->model_count);
+    uint32_t max_depth = 0;
+    vx_result r = vx__check_scene(&v, err);
+    if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
+    vx_gpu* g = rs->gpu;
+    vkDeviceWaitIdle(g->device); /* the old tables may still be read */
+    vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts};
+    for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
+    vx_bvh_free(&rs->bvh);
+    memset(&rs->bvh, 0, sizeof rs->bvh);
+    rs->bvh.alloc = &rs->alloc;
+    vx_free(&rs->alloc, rs->inst);
+    rs->inst = NULL;
+    rs->inst_count = 0;
+    if (max_depth > rs->max_depth) rs->max_depth = max_depth;
+    rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
+    return prepare_instances(rs, &v, err);
 }
 
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->bvh_seconds : 0; }

@@ -329,7 +329,9 @@ void vx_svo_instance_world(const vx_svo_scene* scene, const vx_svo_instance* in,
 /* World AABB of the instance's model box [0, size]. */
 void vx_svo_instance_world_box(const vx_svo_scene* scene, const vx_svo_instance* in, double lo[3], double hi[3]);
 /* World bounds of the drawn instances' model boxes (all zero when none is
- * drawn); computed from the instances, so stale stored bounds do not matter. */
+ * drawn); computed from the instances, so stale stored bounds do not matter.
+ * An animation: the union over its frames (a camera framing it holds still;
+ * a frame's own bounds come from its view, vx_svo_scene_frame). */
 void vx_svo_scene_world_bounds(const vx_svo_scene* scene, double lo[3], double hi[3]);
 /* RGBA8 of attribute record a of model m: its colour, or the palette entry of
  * its index; opaque white without attributes or past the records. */

@@ -221,12 +221,16 @@ void vx_svo_instance_world_box(const vx_svo_scene* s, const vx_svo_instance* in,
 void vx_svo_scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) {
     bool any = false;
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx_svo_instance_drawn(s, i)) continue;
-        double a[3], b[3];
-        vx_svo_instance_world_box(s, &s->instances[i], a, b);
-        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
-        any = true;
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++) {
+        vx_svo_scene v;
+        vx_svo_scene_frame(s, f, &v);
+        for (uint32_t i = 0; i < v.instance_count; i++) {
+            if (!vx_svo_instance_drawn(&v, i)) continue;
+            double a[3], b[3];
+            vx_svo_instance_world_box(&v, &v.instances[i], a, b);
+            for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
+            any = true;
+        }
     }
     if (!any)
         for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;

@@ -476,6 +476,62 @@ static void test_many_instances(void) {
     vx_svo_scene_free(&s);
 }
 
+/* An animation on the GPU: one scene (the models uploaded once), its
+ * frames switched in a scrambled order with vx_render_scene_set_frame; each
+ * frame against the CPU reference of that frame alone (its view). */
+static void test_frames(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 5, 6, 7, 40, 21) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 9, 3, 4, 50, 22) == VX_OK);
+    static const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, turn[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
+    vx_svo_instance in[12];
+    for (int i = 0; i < 12; i++) in[i] = ts_inst(i % 2, id, (double)(i % 4) * 10, (double)(i / 4) * 10, 0);
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 12);
+    vx_error err = {0};
+    REQUIRE(vx_svo_scene_alloc_frames(&s, 4, &err) == VX_OK);
+    vx_svo_instance* f1 = s.frame_instances;
+    for (int i = 0; i < 12; i++) {
+        f1[i].xform[11] += 3;                                  /* frame 1: everything up 3 cells */
+        if (i % 3 == 0) f1[12 + i].flags = VX_SVO_INSTANCE_HIDDEN; /* frame 2: a third hidden */
+        f1[24 + i].model = 1 - f1[24 + i].model;              /* frame 3: models swapped, */
+        if (i < 4) memcpy(&f1[24 + i].xform[0], turn, 3 * sizeof(double)), memcpy(&f1[24 + i].xform[4], turn + 3, 3 * sizeof(double)),
+                   memcpy(&f1[24 + i].xform[8], turn + 6, 3 * sizeof(double)); /* and four turned */
+    }
+    vx_render_desc d = cam(20, -40, 35, 15, 10, 2);
+    d.width = 64, d.height = 48, d.want_hits = true;
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    static const uint32_t order[] = {2, 0, 3, 1, 3};
+    size_t hits[4] = {0};
+    for (size_t k = 0; k < sizeof order / sizeof order[0]; k++) {
+        uint32_t f = order[k];
+        vx_svo_scene v;
+        REQUIRE(vx_svo_scene_frame(&s, f, &v));
+        CHECKF(vx_render_scene_set_frame(rs, &s, f, &err) == VX_OK, "frame %u: %s", f, err.msg);
+        vx_render_image gi = {0}, ci = {0};
+        CHECK(vx_render_frame(rs, &d, &gi, &err) == VX_OK);
+        CHECK(vx_render_cpu(&v, &d, NULL, &ci, &err) == VX_OK);
+        char name[32];
+        snprintf(name, sizeof name, "frame %u", f);
+        cmp_result c = compare(name, &gi, &ci);
+        CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ", name, c.bad,
+               c.pixels);
+        CHECKF(c.hits > 200, "%s: %zu hits", name, c.hits);
+        hits[f] = c.hits;
+        vx_render_image_free(&gi), vx_render_image_free(&ci);
+    }
+    CHECK(hits[2] < hits[0]); /* hidden instances are not drawn */
+    CHECK(vx_render_scene_set_frame(rs, &s, 4, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "no frame 4"));
+    vx_svo_scene other = s;
+    other.model_count = 1;
+    CHECK(vx_render_scene_set_frame(rs, &other, 1, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "made with 2"));
+    vx_render_scene_destroy(rs);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+    vx_svo_scene_free(&s);
+}
+
 /* Rotated and mirrored instances against the same voxels baked into one model. */
 static void test_instanced_vs_baked(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -639,6 +695,7 @@ int main(void) {
     RUN(test_precise_variant);
     RUN(test_many_instances);
     RUN(test_instanced_vs_baked);
+    RUN(test_frames);
     RUN(test_modes);
     RUN(test_corpus);
     if (gpu) {

@@ -57,6 +57,7 @@ _Noreturn static void usage(int status) {
             "  --sun R,G,B        sun irradiance (default: %g,%g,%g); 0,0,0 for none\n"
             "  --sky R,G,B        sky radiance (default: %g,%g,%g); 0,0,0 for none\n"
             "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
+            "  --frame N          an animation's frame N (default: %u)\n"
             "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count;\n"
             "                     under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
@@ -75,7 +76,7 @@ _Noreturn static void usage(int status) {
             vx_tool_name, vx_tool_name, vx_tool_name, d.b.res, d.b.spp, d.b.bounces, (unsigned long long)d.b.seed,
             d.b.light_dir[0], d.b.light_dir[1], d.b.light_dir[2], d.b.sun[0], d.b.sun[1], d.b.sun[2], d.b.sky[0], d.b.sky[1],
             d.b.sky[2], d.shard,
-            d.shards, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+            d.shards, d.frame, d.threads, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
 #ifdef VX_HAVE_MPI
     if (status && vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) vx_tool_mpi_linger(); /* rank 0 prints */
 #endif
@@ -208,10 +209,12 @@ static int do_merge(const char* out, char** parts, int n) {
 
 int bake_job_open(bake_job* j, const char* device, const char* who) {
     vx_error err = {0};
-    snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
+    /* a checkpoint of another frame must not be resumed */
+    if (j->o.frame) snprintf(j->ckpath, sizeof j->ckpath, "%s.f%u.partial", j->out, j->o.frame);
+    else snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
     vx_budget_init(&j->budget, j->o.max_memory, NULL);
     const vx_allocator* A = j->o.max_memory ? &j->budget.allocator : NULL;
-    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->scene, &err)) {
+    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->file, &err)) {
         if (j->budget.refused)
             fprintf(stderr, "%s: %s%s: needs more than --max-memory %s: %s\n", vx_tool_name, who, j->in,
                     vx_tool_bytes(j->budget.limit), err.msg);
@@ -219,6 +222,12 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
             fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
         return 1;
     }
+    if (!vx_svo_scene_frame(&j->file, j->o.frame, &j->scene)) {
+        fprintf(stderr, "%s: %s%s: no frame %u (the scene has %u)\n", vx_tool_name, who, j->in, j->o.frame,
+                vx_svo_scene_frames(&j->file));
+        return 1;
+    }
+    if (j->o.frame) vx_svo_scene_update_bounds(&j->scene); /* the frame's own bounds (the view has frame 0's) */
     if (j->o.cpu) return 0;
     if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &j->gpu, &err)) {
         fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
@@ -234,7 +243,8 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
 void bake_job_close(bake_job* j) {
     vx_render_scene_destroy(j->rs);
     vx_gpu_destroy(j->gpu);
-    vx_svo_scene_free(&j->scene);
+    vx_svo_scene_free(&j->file);
+    memset(&j->scene, 0, sizeof j->scene);
     j->rs = NULL, j->gpu = NULL;
 }
 
@@ -505,6 +515,9 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_vec(argv[++i], o.b.sky, 3)) usage_error("bad sky '%s'", argv[i]);
             o.b.black_sky = !o.b.sky[0] && !o.b.sky[1] && !o.b.sky[2];
+        } else if (!strcmp(a, "--frame")) {
+            NEED();
+            if (!vx_tool_parse_u32(argv[++i], &o.frame)) usage_error("bad frame '%s'", argv[i]);
         } else if (!strcmp(a, "--shard")) {
             NEED();
             char c;

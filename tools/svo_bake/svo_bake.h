@@ -20,15 +20,17 @@ typedef struct options {
     bool threads_set; /* --threads given (MPI: otherwise the CPUs are split over the host's ranks) */
     uint64_t max_memory; /* --max-memory for reading the scene, 0: no limit */
     uint32_t threads;
+    uint32_t frame; /* --frame: an animation's frame to bake (default 0) */
 } options;
 
 typedef struct bake_job {
     options o;
     const char* in;
     const char* out;
-    char ckpath[4096]; /* OUT.probes.partial */
+    char ckpath[4096]; /* OUT.probes.partial (OUT.probes.fN.partial for frame N > 0) */
     vx_budget budget;     /* --max-memory (the scene's arrays come from it) */
-    vx_svo_scene scene;
+    vx_svo_scene file;    /* what was read */
+    vx_svo_scene scene;   /* the view of o.frame: what is baked */
     vx_gpu* gpu;          /* NULL with --cpu */
     vx_render_scene* rs;  /* NULL with --cpu */
 } bake_job;

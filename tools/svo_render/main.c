@@ -31,7 +31,11 @@ typedef struct options {
     bool passes_given, show_given, spp_given;
     vx_frame_desc fd;
     const char* timings;
-    uint32_t frames;
+    uint32_t frames; /* --frames N: repeat the frame (timings) */
+    /* an animation: --frame N, or --frames A..B (a sequence, OUT has a # run) */
+    uint32_t frame_first, frame_last;
+    bool sequence;
+    int img_form; /* what the output gets: 0 RGB8, 1 one float channel, 3 RGB floats */
     vx_light lights[64]; /* --light */
     uint32_t light_count;
     bool sky_given, no_scene_lights, voxel_lights;
@@ -48,6 +52,42 @@ static options default_options(void) {
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
     return o;
+}
+
+/* Writes the image as options say (img_form). */
+static vx_result write_image(const options* o, const char* path, const vx_render_image* img, vx_error* err) {
+    size_t npx = (size_t)img->width * img->height;
+    vx_image_desc id = {.width = img->width, .height = img->height};
+    void* buf = NULL;
+    if (o->img_form == 1) {
+        float* p = malloc(npx * 4);
+        for (size_t i = 0; p && i < npx; i++) p[i] = img->pixels[4 * i];
+        buf = p, id.channels = 1, id.type = VX_IMAGE_F32;
+    } else if (o->img_form == 3) {
+        float* p = malloc(npx * 12);
+        for (size_t i = 0; p && i < npx; i++) memcpy(p + 3 * i, img->pixels + 4 * i, 12);
+        buf = p, id.channels = 3, id.type = VX_IMAGE_F32;
+    } else {
+        uint8_t* p = malloc(npx * 3);
+        for (size_t i = 0; p && i < 3 * npx; i++) {
+            float v = img->pixels[4 * (i / 3) + i % 3];
+            v = v < 0 ? 0 : (v > 1 ? 1 : v);
+            p[i] = (uint8_t)lrintf(v * 255.0f);
+        }
+        buf = p, id.channels = 3, id.type = VX_IMAGE_U8;
+    }
+    id.pixels = buf;
+    vx_result r = buf ? vx_image_write(path, &id, err) : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    free(buf);
+    return r;
+}
+
+/* OUT with its (last) run of # replaced by the zero-padded frame number. */
+static void frame_path(const char* out, uint32_t frame, char* path, size_t size) {
+    const char* end = strrchr(out, '#');
+    const char* start = end;
+    while (start > out && start[-1] == '#') start--;
+    snprintf(path, size, "%.*s%0*u%s", (int)(start - out), out, (int)(end - start + 1), frame, end + 1);
 }
 
 _Noreturn static void usage(int status) {
@@ -80,6 +120,10 @@ _Noreturn static void usage(int status) {
             "                       kernel when no ao, gi or --show image needs them apart\n"
             "  --timings FILE.csv   per-pass GPU times, one row per frame and pass\n"
             "  --frames N           render the frame N times (timings; default: 1)\n"
+            "  --frame N            an animation's frame N (default: 0)\n"
+            "  --frames A..B        an animation's frames A to B, one image each: OUT holds a run of #\n"
+            "                       replaced by the zero-padded frame number (render_####.png); the\n"
+            "                       models go to the GPU once, the frames are traced in turn (GPU modes)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
             "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
             "  --seed S             path tracer seed (default: 0)\n"
@@ -121,11 +165,12 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo out.png\n"
             "  %s scene.svo depth.exr --mode depth --size 1280x720\n"
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
-            "  %s scene.svo gi.exr --probes scene.probes --mode gi\n",
+            "  %s scene.svo gi.exr --probes scene.probes --mode gi\n"
+            "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
-            (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog);
+            (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
     exit(status);
 }
 
@@ -244,6 +289,33 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
 done:
     vx_probe_gi_destroy(pgi);
     vx_frame_renderer_destroy(fr);
+    return r;
+}
+
+/* --frames A..B: the scene's models are on the GPU once; each frame swaps
+ * the instance tables and BVH (vx_render_scene_set_frame) and is traced and
+ * written in turn. The camera frames the whole animation. */
+static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_scene* scene, bool pipeline,
+                                 const vx_pass_list* passes, const vx_probe_set* probes, vx_error* err) {
+    vx_result r = VX_OK;
+    double t0 = vx_time_now(), gpu = 0;
+    for (uint32_t f = o->frame_first; f <= o->frame_last && !r; f++) {
+        double ts = vx_time_now();
+        if (f != o->frame_first && (r = vx_render_scene_set_frame(rs, scene, f, err))) break;
+        double t_switch = vx_time_now() - ts;
+        vx_render_image img = {0};
+        r = pipeline ? render_passes(o, rs, scene, passes, probes, &img, err) : vx_render_frame(rs, &o->r, &img, err);
+        char path[4096];
+        frame_path(o->out, f, path, sizeof path);
+        if (!r) r = write_image(o, path, &img, err);
+        if (!r && o->verbose)
+            printf("frame %u: switch %.3f ms, trace %.3f ms (GPU) -> %s\n", f, t_switch * 1e3, img.gpu_seconds * 1e3, path);
+        gpu += img.gpu_seconds;
+        vx_render_image_free(&img);
+    }
+    if (!r)
+        printf("wrote frames %u..%u (%s): %.3f s, %.3f ms GPU per frame\n", o->frame_first, o->frame_last, o->out,
+               vx_time_now() - t0, gpu * 1e3 / (o->frame_last - o->frame_first + 1));
     return r;
 }
 
@@ -406,6 +478,18 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--timings")) {
             NEED();
             o.timings = argv[++i];
+        } else if (!strcmp(a, "--frames") && i + 1 < argc && strstr(argv[i + 1], "..")) {
+            const char* v = argv[++i];
+            char a0[16] = {0};
+            size_t n = (size_t)(strstr(v, "..") - v);
+            if (n >= sizeof a0 || (memcpy(a0, v, n), !parse_uint(a0, &o.frame_first)) || !parse_uint(v + n + 2, &o.frame_last) ||
+                o.frame_last < o.frame_first)
+                usage_error("bad frame range '%s' (A..B with A <= B)", v);
+            o.sequence = true;
+        } else if (!strcmp(a, "--frame")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.frame_first)) usage_error("bad frame number '%s'", argv[i]);
+            o.frame_last = o.frame_first;
         } else if (!strcmp(a, "--frames")) {
             NEED();
             if (!parse_uint(argv[++i], &o.frames) || !o.frames || o.frames > 100000)
@@ -452,6 +536,8 @@ int main(int argc, char** argv) {
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
                       (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
     bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
+    bool one_channel = pipeline ? show == VX_SHOW_DEPTH || show == VX_SHOW_MATERIAL : o.r.mode == VX_RENDER_DEPTH;
+    o.img_form = want_float && one_channel ? 1 : want_float || exr ? 3 : 0;
     if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
     if (want_float && !exr)
         usage_error("%s %s writes float data: use an .exr output", pipeline ? "--show" : "mode",
@@ -475,6 +561,9 @@ int main(int argc, char** argv) {
     if (mpi && vx_tool_mpi_env_rank() > 0) o.verbose = false; /* one header */
 #endif
     if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
+    if (o.sequence && (o.cpu || o.probe_mode))
+        usage_error("%s", "--frames A..B renders with the GPU tracer (no --cpu, no probe modes)");
+    if (o.sequence && !strchr(o.out, '#')) usage_error("--frames A..B: the output '%s' needs a run of # for the frame number", o.out);
     if (o.verbose) {
         /* the pipeline's own default: 8 samples with aa or dof, else 1 */
         uint32_t spp = pipeline && !o.spp_given
@@ -500,19 +589,25 @@ int main(int argc, char** argv) {
     }
 
     vx_error err = {0};
-    vx_svo_scene scene;
+    vx_svo_scene owned, scene; /* the file, and the view of the (first) frame rendered */
     double t0 = vx_time_now();
     vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
     vx_budget_init(&budget, o.max_memory, NULL);
     const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
-    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &scene, &err))
+    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err))
         return vx_tool_error_budget(NULL, &err, &budget); /* the message names the file */
     double t_load = vx_time_now() - t0;
+    if (o.frame_last >= vx_svo_scene_frames(&owned)) {
+        fprintf(stderr, "%s: %s: no frame %u (the scene has %u)\n", prog, o.in, o.frame_last, vx_svo_scene_frames(&owned));
+        vx_svo_scene_free(&owned);
+        return 1;
+    }
+    vx_svo_scene_frame(&owned, o.frame_first, &scene);
     vx_light* frame_lights = NULL;
     uint32_t from_voxels = 0;
     if (gather_lights(&o, &scene, &frame_lights, &o.frame_light_count, &from_voxels, &err)) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
-        vx_svo_scene_free(&scene);
+        vx_svo_scene_free(&owned);
         free(frame_lights);
         return 1;
     }
@@ -546,7 +641,7 @@ int main(int argc, char** argv) {
     if (o.probes) {
         if (vx_probe_read_file(&(vx_probe_read_desc){.alloc = A}, o.probes, &probes, &err)) {
             vx_tool_error_budget(NULL, &err, &budget);
-            vx_svo_scene_free(&scene);
+            vx_svo_scene_free(&owned);
             free(frame_lights);
             return 1;
         }
@@ -564,7 +659,7 @@ int main(int argc, char** argv) {
         if (!root) {
             vx_probe_set_free(&probes);
             free(frame_lights);
-            vx_svo_scene_free(&scene);
+            vx_svo_scene_free(&owned);
             render_mpi_finalize();
             return 0;
         }
@@ -596,7 +691,9 @@ int main(int argc, char** argv) {
         r = vx_gpu_create(&(vx_gpu_desc){.device = o.device, .validate = o.validate, .logger = &logger}, &gpu, &err);
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
-            r = vx_render_scene_create(gpu, &scene, &rs, &err);
+            /* the whole animation: its models, and a camera that frames every frame */
+            r = vx_render_scene_create(gpu, &owned, &rs, &err);
+            if (!r && o.frame_first) r = vx_render_scene_set_frame(rs, &owned, o.frame_first, &err);
         }
         if (!r && pipeline && vx_render_scene_precise(rs)) {
             /* the pass shaders trace in float; deep models need the float64 single shader */
@@ -607,8 +704,18 @@ int main(int argc, char** argv) {
             pipeline = false;
             if (o.verbose) printf("note: deep models: the float64 single-shader colour mode renders this scene\n");
         }
-        if (!r && pipeline) {
-            r = render_passes(&o, rs, &scene, &passes, o.probes ? &probes : NULL, &img, &err);
+        if (!r && o.sequence) {
+            r = render_sequence(&o, rs, &owned, pipeline, &passes, o.probes ? &probes : NULL, &err);
+            if (!r) {
+                vx_probe_set_free(&probes);
+                vx_render_scene_destroy(rs);
+                vx_gpu_destroy(gpu);
+                vx_svo_scene_free(&owned);
+                free(frame_lights);
+                return 0;
+            }
+        } else if (!r && pipeline) {
+            r = render_passes(&o, rs, &owned, &passes, o.probes ? &probes : NULL, &img, &err);
         } else if (!r) {
             r = vx_render_frame(rs, &o.r, &img, &err);
         }
@@ -620,32 +727,12 @@ int main(int argc, char** argv) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
-        vx_svo_scene_free(&scene);
+        vx_svo_scene_free(&owned);
         free(frame_lights);
         return 1;
     }
     size_t npx = (size_t)img.width * img.height;
-    vx_image_desc id = {.width = img.width, .height = img.height};
-    void* buf = NULL;
-    if (want_float && (pipeline ? show == VX_SHOW_DEPTH || show == VX_SHOW_MATERIAL : o.r.mode == VX_RENDER_DEPTH)) {
-        float* p = malloc(npx * 4);
-        for (size_t i = 0; p && i < npx; i++) p[i] = img.pixels[4 * i];
-        buf = p, id.channels = 1, id.type = VX_IMAGE_F32;
-    } else if (want_float || exr) {
-        float* p = malloc(npx * 12);
-        for (size_t i = 0; p && i < npx; i++) memcpy(p + 3 * i, img.pixels + 4 * i, 12);
-        buf = p, id.channels = 3, id.type = VX_IMAGE_F32;
-    } else {
-        uint8_t* p = malloc(npx * 3);
-        for (size_t i = 0; p && i < 3 * npx; i++) {
-            float v = img.pixels[4 * (i / 3) + i % 3];
-            v = v < 0 ? 0 : (v > 1 ? 1 : v);
-            p[i] = (uint8_t)lrintf(v * 255.0f);
-        }
-        buf = p, id.channels = 3, id.type = VX_IMAGE_U8;
-    }
-    id.pixels = buf;
-    r = buf ? vx_image_write(o.out, &id, &err) : vx_fail(&err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    r = write_image(&o, o.out, &img, &err);
     if (!r) {
         printf("scene: %u models, %u instances (load %.3f s%s)\n", scene.model_count, scene.instance_count, t_load,
                "");
@@ -666,11 +753,10 @@ int main(int argc, char** argv) {
     } else {
         fprintf(stderr, "%s: %s\n", prog, err.msg);
     }
-    free(buf);
     vx_render_image_free(&img);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
-    vx_svo_scene_free(&scene);
+    vx_svo_scene_free(&owned);
     free(frame_lights);
 #ifdef VX_HAVE_MPI
     if (mpi) render_mpi_finalize();
