@@ -266,6 +266,7 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
     uint32_t D = d->max_model_depth ? d->max_model_depth : VX_SVO_MAX_DEPTH;
     uint32_t bd = d->build.max_depth ? d->build.max_depth : VX_SVO_MAX_DEPTH;
     if (bd < D) D = bd;
+    if (d->brick_depth && d->brick_depth < D) D = d->brick_depth;
     if (D > VX_SVO_MAX_DEPTH) D = VX_SVO_MAX_DEPTH;
     if (D == 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: model depth must be at least 1");
 
@@ -306,9 +307,11 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
             if (i == 0 || c.items[i].p[k] < base[k]) base[k] = c.items[i].p[k];
     }
     for (int k = 0; k < 3; k++) base[k] = floor_shift(base[k], lg) * ((int64_t)1 << lg);
+    if (d->brick_depth) /* bricks at fixed places: the same in every frame of a sequence */
+        for (int k = 0; k < 3; k++) base[k] = 0;
     for (size_t i = 0; i < c.count; i++)
         for (int k = 0; k < 3; k++) {
-            int64_t rk = (c.items[i].p[k] - base[k]) >> D; /* non-negative */
+            int64_t rk = floor_shift(c.items[i].p[k] - base[k], D);
             if (i == 0) r0[k] = rk;
             else if (rk != r0[k]) single = false;
         }
@@ -319,7 +322,7 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory sorting %zu cells", c.count);
         }
         for (size_t i = 0; i < c.count; i++) {
-            for (int k = 0; k < 3; k++) order[i].r[k] = (c.items[i].p[k] - base[k]) >> D;
+            for (int k = 0; k < 3; k++) order[i].r[k] = floor_shift(c.items[i].p[k] - base[k], D);
             order[i].index = i;
         }
         qsort(order, c.count, sizeof *order, cmp_keyed);
@@ -513,4 +516,163 @@ vx_result vx_conv_vdb_file(const vx_conv_vdb_desc* desc, const char* path, vx_sv
         *stats = st;
     }
     return r;
+}
+
+/* ---- sequences ----------------------------------------------------------------------- */
+
+/* Where a frame placed one model: its brick (region index) and origin. */
+typedef struct placement {
+    int64_t brick[3];
+    uint32_t frame, model;
+    double origin[3];
+} placement;
+
+static int cmp_placement(const void* a, const void* b) {
+    const placement *p = (const placement*)a, *q = (const placement*)b;
+    for (int k = 0; k < 3; k++)
+        if (p->brick[k] != q->brick[k]) return p->brick[k] < q->brick[k] ? -1 : 1;
+    return p->frame < q->frame ? -1 : p->frame > q->frame;
+}
+
+/* The sequence's models without repeats: a model equal to a stored one is
+ * freed and the stored index used (open addressing on vx_svo_model_hash). */
+typedef struct model_set {
+    const vx_allocator* a;
+    vx_svo_scene* s;
+    size_t model_cap;
+    uint32_t* slot; /* model index + 1, 0 = empty */
+    size_t cap;
+} model_set;
+
+static vx_result model_set_add(model_set* ms, vx_svo_model* m, uint32_t* index, vx_error* err) {
+    if (2 * ((size_t)ms->s->model_count + 1) > ms->cap) {
+        size_t cap = ms->cap ? ms->cap * 2 : 64;
+        uint32_t* slot = (uint32_t*)vx_calloc(ms->a, cap, sizeof *slot);
+        if (!slot) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
+        for (uint32_t i = 0; i < ms->s->model_count; i++) {
+            size_t h = (size_t)vx_svo_model_hash(&ms->s->models[i]) & (cap - 1);
+            while (slot[h]) h = (h + 1) & (cap - 1);
+            slot[h] = i + 1;
+        }
+        vx_free(ms->a, ms->slot);
+        ms->slot = slot, ms->cap = cap;
+    }
+    size_t h = (size_t)vx_svo_model_hash(m) & (ms->cap - 1);
+    for (; ms->slot[h]; h = (h + 1) & (ms->cap - 1))
+        if (vx_svo_model_equal(&ms->s->models[ms->slot[h] - 1], m)) {
+            *index = ms->slot[h] - 1;
+            vx_svo_model_free(ms->a, m);
+            return VX_OK;
+        }
+    if (!vx_grow(ms->a, (void**)&ms->s->models, &ms->model_cap, (size_t)ms->s->model_count + 1, sizeof *ms->s->models))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
+    *index = ms->s->model_count;
+    ms->s->models[ms->s->model_count++] = *m;
+    memset(m, 0, sizeof *m);
+    ms->slot[h] = *index + 1;
+    return VX_OK;
+}
+
+static void add_build_stats(vx_svo_build_stats* sum, const vx_svo_build_stats* b) {
+    sum->input_voxels += b->input_voxels;
+    sum->voxels += b->voxels;
+    sum->desc_plain += b->desc_plain;
+    sum->desc_collapsed += b->desc_collapsed;
+    sum->desc_dag += b->desc_dag;
+    sum->far_pointers += b->far_pointers;
+    sum->attr_records += b->attr_records;
+    sum->bytes += b->bytes;
+}
+
+vx_result vx_conv_vdb_sequence(const vx_conv_vdb_desc* desc, const char* const* paths, uint32_t count, vx_svo_scene* out,
+                               vx_conv_stats* stats, vx_error* err) {
+    if (!paths || !out || count == 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb sequence: no frames");
+    vx_conv_vdb_desc d = {0};
+    if (desc) d = *desc;
+    if (!d.brick_depth) d.brick_depth = VX_CONV_VDB_SEQUENCE_BRICK_DEPTH;
+    const vx_allocator* a = d.alloc;
+    vx_conv_stats cs = {0};
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, a);
+    model_set ms = {.a = a, .s = &s};
+    placement* pl = NULL;
+    size_t np = 0, pl_cap = 0;
+    char name[64] = {0};
+    vx_result r = VX_OK;
+    for (uint32_t f = 0; f < count && r == VX_OK; f++) {
+        vx_svo_scene fs;
+        vx_conv_stats st = {0};
+        if ((r = vx_conv_vdb_file(&d, paths[f], &fs, &st, err)) != VX_OK) {
+            char where[64];
+            snprintf(where, sizeof where, "frame %u", f);
+            vx_error_prefix(err, paths[f]);
+            vx_error_prefix(err, where);
+            break;
+        }
+        cs.seconds_read += st.seconds_read;
+        cs.seconds_voxelize += st.seconds_voxelize;
+        cs.seconds_build += st.seconds_build;
+        add_build_stats(&cs.build, &st.build);
+        if (f == 0) memcpy(s.world_from_grid, fs.world_from_grid, sizeof s.world_from_grid);
+        else if (memcmp(s.world_from_grid, fs.world_from_grid, sizeof s.world_from_grid))
+            r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "frame %u (%s): its grid transform differs from frame 0's", f,
+                        paths[f]);
+        for (uint32_t i = 0; r == VX_OK && i < fs.instance_count; i++) {
+            const vx_svo_instance* in = &fs.instances[i]; /* one per model, translated by its origin */
+            if (!vx_grow(a, (void**)&pl, &pl_cap, np + 1, sizeof *pl)) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
+                break;
+            }
+            placement* p = &pl[np];
+            p->frame = f;
+            for (int k = 0; k < 3; k++) {
+                p->origin[k] = in->xform[4 * k + 3];
+                p->brick[k] = floor_shift((int64_t)p->origin[k], d.brick_depth);
+            }
+            if ((r = model_set_add(&ms, &fs.models[in->model], &p->model, err)) != VX_OK) break;
+            if (!name[0]) memcpy(name, in->name, sizeof name);
+            np++;
+        }
+        vx_svo_scene_free(&fs); /* the models it still has were repeats, already freed */
+    }
+    /* one instance per brick any frame fills; hidden in the frames where the
+     * brick is empty (with its first model and place) */
+    uint32_t I = 0;
+    if (r == VX_OK && np) {
+        qsort(pl, np, sizeof *pl, cmp_placement);
+        for (size_t i = 0; i < np; i++) I += i == 0 || memcmp(pl[i].brick, pl[i - 1].brick, sizeof pl[i].brick) != 0;
+        s.instances = (vx_svo_instance*)vx_calloc(a, I, sizeof *s.instances);
+        s.instance_count = I;
+        if (!s.instances) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
+        if (r == VX_OK && count > 1) r = vx_svo_scene_alloc_frames(&s, count, err);
+    }
+    for (size_t i = 0, b = 0; r == VX_OK && i < np; b++) {
+        size_t e = i + 1;
+        while (e < np && !memcmp(pl[e].brick, pl[i].brick, sizeof pl[i].brick)) e++;
+        vx_svo_instance first = {.model = pl[i].model, .layer = UINT32_MAX, .flags = VX_SVO_INSTANCE_HIDDEN};
+        first.xform[0] = first.xform[5] = first.xform[10] = 1.0;
+        for (int k = 0; k < 3; k++) first.xform[4 * k + 3] = pl[i].origin[k];
+        memcpy(first.name, name, sizeof first.name);
+        for (uint32_t f = 0; f < count; f++) *(vx_svo_instance*)&vx_svo_scene_frame_instances(&s, f)[b] = first;
+        for (; i < e; i++) {
+            vx_svo_instance* in = (vx_svo_instance*)&vx_svo_scene_frame_instances(&s, pl[i].frame)[b];
+            in->flags = 0;
+            in->model = pl[i].model;
+            for (int k = 0; k < 3; k++) in->xform[4 * k + 3] = pl[i].origin[k];
+        }
+    }
+    vx_free(a, pl);
+    vx_free(a, ms.slot);
+    if (r != VX_OK) {
+        vx_svo_scene_free(&s);
+        return r;
+    }
+    vx_svo_scene_update_bounds(&s);
+    cs.models = s.model_count;
+    cs.instances = s.instance_count;
+    cs.frames = vx_svo_scene_frames(&s);
+    cs.peak_bytes = vx_peak_rss();
+    if (stats) *stats = cs;
+    *out = s;
+    return VX_OK;
 }

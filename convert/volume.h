@@ -65,12 +65,26 @@ typedef struct vx_conv_vdb_desc {
     uint32_t max_model_depth;    /* 0 == VX_SVO_MAX_DEPTH; lower in tests to force splitting */
     uint64_t max_cells;          /* 0 == no limit; else VX_ERR_LIMIT past this many cells and tiles
                                     (a tile counts once; for untrusted input such as fuzzing) */
+    uint32_t brick_depth;        /* 0: regions as above; else regions are the cubes of 2^brick_depth
+                                    cells at multiples of 2^brick_depth (fixed places: sequences) */
 } vx_conv_vdb_desc;
 
 /* Reads path (whole file into memory) and converts it. On failure *out is
  * untouched and err names the problem (OpenVDB's message for bad files). */
 vx_result vx_conv_vdb_file(const vx_conv_vdb_desc* desc, const char* path, vx_svo_scene* out,
                            vx_conv_stats* stats, vx_error* err);
+
+/* A sequence of .vdb files (one frame each, the same options for every
+ * frame) as one animated scene. Each frame is cut into bricks of
+ * 2^brick_depth cells at fixed places (default VX_CONV_VDB_SEQUENCE_BRICK_DEPTH),
+ * one model per non-empty brick; a brick model equal to one stored before
+ * (vx_svo_model_equal: a part that did not change) is stored once. Each
+ * brick some frame fills is one instance, hidden in the frames where the
+ * brick is empty. Every frame must have frame 0's grid transform. Frame f is
+ * paths[f]; errors name the frame and its file. */
+#define VX_CONV_VDB_SEQUENCE_BRICK_DEPTH 5u
+vx_result vx_conv_vdb_sequence(const vx_conv_vdb_desc* desc, const char* const* paths, uint32_t count, vx_svo_scene* out,
+                               vx_conv_stats* stats, vx_error* err);
 
 /* The same from a .vdb file held in memory (borrowed). */
 vx_result vx_conv_vdb_memory(const vx_conv_vdb_desc* desc, const void* data, size_t size, vx_svo_scene* out,

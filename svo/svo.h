@@ -312,6 +312,12 @@ typedef struct vx_svo_scene {
 /* Frees every array of the scene and zeroes it. */
 void vx_svo_scene_free(vx_svo_scene* scene);
 void vx_svo_model_free(const vx_allocator* a, vx_svo_model* model);
+/* Whether two models are the same octree word for word and record for
+ * record (size, attributes, root, nodes and every channel), and a hash that
+ * agrees with it: converters store a model that repeats (an unchanged part
+ * of an animation) once. */
+bool vx_svo_model_equal(const vx_svo_model* a, const vx_svo_model* b);
+uint64_t vx_svo_model_hash(const vx_svo_model* m);
 /* Sets world_from_grid to the identity. */
 void vx_svo_scene_init(vx_svo_scene* scene, const vx_allocator* a);
 /* Recomputes bounds_min/max from the instances (hidden ones excluded) using

@@ -15,6 +15,51 @@ void vx_svo_model_free(const vx_allocator* a, vx_svo_model* m) {
     memset(m, 0, sizeof *m);
 }
 
+static uint64_t fnv(uint64_t h, const void* p, size_t n) {
+    const uint8_t* b = (const uint8_t*)p;
+    for (size_t i = 0; i < n; i++) h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
+
+/* The channel arrays of a model with their element sizes, in VX_ATTR_* order. */
+static void channels(const vx_svo_model* m, const void* ch[5], size_t el[5]) {
+    ch[0] = m->palette, el[0] = 1;
+    ch[1] = m->rgba, el[1] = 4;
+    ch[2] = m->normal, el[2] = 4;
+    ch[3] = m->material, el[3] = 2;
+    ch[4] = m->density, el[4] = 4;
+}
+
+uint64_t vx_svo_model_hash(const vx_svo_model* m) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv(h, m->size, sizeof m->size);
+    h = fnv(h, &m->root, sizeof m->root);
+    h = fnv(h, &m->root_attr, sizeof m->root_attr);
+    h = fnv(h, &m->attrs, sizeof m->attrs);
+    h = fnv(h, &m->attr_count, sizeof m->attr_count);
+    if (m->node_count && m->nodes) h = fnv(h, m->nodes, (size_t)m->node_count * 4);
+    const void* ch[5];
+    size_t el[5];
+    channels(m, ch, el);
+    for (int k = 0; k < 5; k++)
+        if ((m->attrs >> k & 1u) && ch[k] && m->attr_count) h = fnv(h, ch[k], el[k] * m->attr_count);
+    return h;
+}
+
+bool vx_svo_model_equal(const vx_svo_model* a, const vx_svo_model* b) {
+    if (memcmp(a->size, b->size, sizeof a->size) || a->depth != b->depth || a->root != b->root || a->root_attr != b->root_attr ||
+        a->attrs != b->attrs || a->voxel_count != b->voxel_count || a->node_count != b->node_count || a->attr_count != b->attr_count)
+        return false;
+    if (a->node_count && memcmp(a->nodes, b->nodes, (size_t)a->node_count * 4)) return false;
+    const void *ca[5], *cb[5];
+    size_t el[5];
+    channels(a, ca, el);
+    channels(b, cb, el);
+    for (int k = 0; k < 5; k++)
+        if ((a->attrs >> k & 1u) && a->attr_count && (!ca[k] || !cb[k] || memcmp(ca[k], cb[k], el[k] * a->attr_count))) return false;
+    return true;
+}
+
 void vx_svo_scene_init(vx_svo_scene* s, const vx_allocator* a) {
     if (!s) return;
     memset(s, 0, sizeof *s);

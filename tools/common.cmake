@@ -9,6 +9,9 @@ target_link_libraries(vx_tool_light PUBLIC vx_svo vx_tool)
 # loading by extension is the library's (convert/file.h).
 add_library(vx_tool_conv STATIC ${CMAKE_CURRENT_LIST_DIR}/common/conv.c)
 target_link_libraries(vx_tool_conv PUBLIC vx_conv_file vx_tool)
+if(TARGET vx_conv_vdb) # VDB sequences (smoke_####.vdb, a .txt list) are the tool's naming
+  target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
+endif()
 
 # The MPI paths of svo_bake and svo_render (mpirun): launcher detection, ranks
 # per host, device choice, ending the job (VX_WITH_MPI, where MPI is found).

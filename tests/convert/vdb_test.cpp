@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "convert/volume.h"
 #include "formats/vdb.h"
 #include "svo/svo.h"
@@ -52,10 +54,11 @@ bool on_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     return true;
 }
 
-// Grid cells of every instance (instances must be integer translations).
+// Grid cells of every shown instance (instances must be integer translations).
 bool decode(const vx_svo_scene& s, Decoded* out, bool keep_attrs = false) {
     for (uint32_t i = 0; i < s.instance_count; i++) {
         const vx_svo_instance& in = s.instances[i];
+        if (in.flags & VX_SVO_INSTANCE_HIDDEN) continue;
         const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
         for (int k = 0; k < 12; k++)
             if (k % 4 != 3 && in.xform[k] != id[k]) return false;
@@ -599,6 +602,132 @@ void test_corpus_sphere(void) {
 
 } // namespace
 
+
+// A 24-frame fog sequence written by OpenVDB: a fixed box (density 1) and a
+// sphere (density 2 + f/100) moving through it. Every frame of the one
+// animated scene equals OpenVDB's active voxels and values of that frame;
+// the box's bricks the sphere never touches are stored once, so the stored
+// voxels stay within the box plus, per frame, the bricks the sphere touches.
+static void test_sequence(void) {
+    char dir[] = "/tmp/vx_vdb_seqXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    enum { F = 24, B = 32 }; // B: the sequence's brick, 2^VX_CONV_VDB_SEQUENCE_BRICK_DEPTH
+    static_assert(B == 1 << VX_CONV_VDB_SEQUENCE_BRICK_DEPTH, "brick size");
+    std::vector<std::string> names;
+    std::vector<openvdb::FloatGrid::Ptr> grids;
+    uint64_t frame_voxels = 0, bound = 0;
+    std::map<Cell, int> box_brick_touched; // brick -> frames in which the sphere touches it
+    const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0), openvdb::Coord(69, 39, 19));
+    for (int f = 0; f < F; f++) {
+        openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+        g->setName("density");
+        g->setGridClass(openvdb::GRID_FOG_VOLUME);
+        auto acc = g->getAccessor();
+        for (auto p = box.begin(); p; ++p) acc.setValueOn(*p, 1.0f);
+        const int cx = 4 + 3 * f, cy = 20, cz = 10, R = 6;
+        for (int x = cx - R; x <= cx + R; x++)
+            for (int y = cy - R; y <= cy + R; y++)
+                for (int z = cz - R; z <= cz + R; z++)
+                    if ((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz) <= R * R)
+                        acc.setValueOn(openvdb::Coord(x, y, z), 2.0f + f / 100.0f);
+        char path[256];
+        snprintf(path, sizeof path, "%s/smoke_%04d.vdb", dir, f);
+        openvdb::io::File file(path);
+        file.write({g});
+        file.close();
+        names.push_back(path);
+        grids.push_back(g);
+        // the bricks the sphere touches in this frame are stored for this frame
+        std::map<Cell, uint64_t> in_brick;
+        for (auto it = g->tree().cbeginValueOn(); it; ++it) {
+            openvdb::CoordBBox b = it.getBoundingBox();
+            for (auto p = b.begin(); p; ++p) {
+                Cell br = {(*p).x() >> 5, (*p).y() >> 5, (*p).z() >> 5};
+                in_brick[br]++;
+                frame_voxels++;
+            }
+        }
+        for (int bx = (cx - R) >> 5; bx <= (cx + R) >> 5; bx++)
+            for (int by = (cy - R) >> 5; by <= (cy + R) >> 5; by++)
+                for (int bz = (cz - R) >> 5; bz <= (cz + R) >> 5; bz++) {
+                    bound += in_brick[{bx, by, bz}];
+                    box_brick_touched[{bx, by, bz}]++;
+                }
+    }
+    // box voxels of bricks the sphere leaves alone in some frame: once
+    for (auto p = box.begin(); p; ++p) {
+        auto t = box_brick_touched.find({(*p).x() >> 5, (*p).y() >> 5, (*p).z() >> 5});
+        if (t == box_brick_touched.end() || t->second < F) bound++;
+    }
+    std::vector<const char*> paths;
+    for (auto& n : names) paths.push_back(n.c_str());
+    vx_conv_vdb_desc d = {};
+    d.density = true;
+    vx_svo_scene s;
+    vx_conv_stats st = {};
+    vx_error err = {};
+    vx_result r = vx_conv_vdb_sequence(&d, paths.data(), F, &s, &st, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) return;
+    CHECK(vx_svo_scene_frames(&s) == F && st.frames == F);
+    // through the file: FRMS and shared models survive
+    uint8_t* data = nullptr;
+    size_t size = 0; // kept: the bytes of the animation
+    vx_svo_scene back;
+    REQUIRE(vx_svo_write(&s, nullptr, &data, &size, &err) == VX_OK);
+    REQUIRE(vx_svo_read(nullptr, data, size, &back, &err) == VX_OK);
+    free(data);
+    for (int f = 0; f < F; f++) {
+        vx_svo_scene v;
+        REQUIRE(vx_svo_scene_frame(&back, (uint32_t)f, &v));
+        Decoded got;
+        REQUIRE(decode(v, &got, true));
+        std::vector<Cell> want = brute_fog(*grids[f], 0, false);
+        CHECKF(got.cells == want, "frame %d: %zu cells, OpenVDB has %zu", f, got.cells.size(), want.size());
+        auto acc = grids[f]->getConstAccessor();
+        size_t bad = 0;
+        for (const Cell& c : got.cells)
+            bad += got.density[c] != acc.getValue(openvdb::Coord((int)c[0], (int)c[1], (int)c[2]));
+        CHECKF(bad == 0, "frame %d: %zu densities differ", f, bad);
+    }
+    uint64_t stored = 0;
+    for (uint32_t m = 0; m < back.model_count; m++) stored += back.models[m].voxel_count;
+    fprintf(stderr, "  24 frames, %llu voxels in all; %llu stored in %u models (bound %llu)\n", (unsigned long long)frame_voxels,
+            (unsigned long long)stored, back.model_count, (unsigned long long)bound);
+    CHECKF(stored <= bound, "%llu voxels stored, the static box alone would allow %llu", (unsigned long long)stored,
+           (unsigned long long)bound);
+    CHECK(stored * 2 < frame_voxels);
+    // bytes: the animation against its largest frame converted alone
+    size_t largest = 0;
+    for (int f = 0; f < F; f++) {
+        vx_svo_scene one;
+        REQUIRE(vx_conv_vdb_file(&d, paths[f], &one, nullptr, &err) == VX_OK);
+        uint8_t* b = nullptr;
+        size_t n = 0;
+        REQUIRE(vx_svo_write(&one, nullptr, &b, &n, &err) == VX_OK);
+        free(b);
+        largest = std::max(largest, n);
+        vx_svo_scene_free(&one);
+    }
+    fprintf(stderr, "  %zu bytes, the largest frame alone %zu (%.2fx)\n", size, largest, (double)size / largest);
+    vx_svo_scene_free(&back);
+    vx_svo_scene_free(&s);
+    // a frame whose transform differs is refused, naming the frame and file
+    openvdb::FloatGrid::Ptr g2 = grids[0]->deepCopy();
+    g2->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    {
+        openvdb::io::File file(names[5]);
+        file.write({g2});
+        file.close();
+    }
+    CHECK(vx_conv_vdb_sequence(&d, paths.data(), F, &s, &st, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "frame 5") &&
+          strstr(err.msg, "smoke_0005.vdb"));
+    remove(names[7].c_str());
+    CHECK(vx_conv_vdb_sequence(&d, paths.data(), F, &s, &st, &err) != VX_OK && strstr(err.msg, "frame 5"));
+    for (auto& n : names) remove(n.c_str());
+    rmdir(dir);
+}
+
 int main() {
     openvdb::initialize();
     RUN(test_sphere_surface_and_solid);
@@ -612,6 +741,7 @@ int main() {
     RUN(test_frustum_refused);
     RUN(test_bad_input);
     RUN(test_length_caps);
+    RUN(test_sequence);
     RUN(test_corpus_smoke);
     RUN(test_corpus_sphere);
     return vx_test_finish();

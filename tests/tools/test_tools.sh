@@ -116,6 +116,43 @@ if [ -x "$BIN/svo_render" ]; then
     grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "svo_render names the frame count" || bad "svo_render names the frame count"
 fi
 
+# a VDB sequence named by a pattern or a list (the corpus sphere as 3 frames):
+# one animation, each frame as converted alone, the repeats stored once
+SPH="$CORPUS/vdb/mjurczyk_sphere.vdb"
+SMK="$CORPUS/vdb/mjurczyk_smoke.vdb"
+if [ -f "$SPH" ] && [ -f "$SMK" ] && "$BIN/vox2svo" "$SPH" "$T/sph.svo" -q 2>/dev/null; then
+    SPH="$(cd "$(dirname "$SPH")" && pwd)/mjurczyk_sphere.vdb" # links from another folder
+    SMK="$(cd "$(dirname "$SMK")" && pwd)/mjurczyk_smoke.vdb"
+    mkdir -p "$T/seq"
+    ln -s "$SPH" "$T/seq/s_0000.vdb"
+    ln -s "$SPH" "$T/seq/s_0001.vdb"
+    ln -s "$SPH" "$T/seq/s_0002.vdb"
+    ln -s "$SMK" "$T/seq/s_01.vdb" # not 4 digits: not part of s_####.vdb
+    for pat in 's_####.vdb' 's_%04d.vdb' 'list.txt'; do
+        printf 's_0000.vdb\n\ns_0001.vdb\n# a comment\ns_0002.vdb\n' >"$T/seq/list.txt"
+        expect_status 0 "vox2svo $pat" "$BIN/vox2svo" "$T/seq/$pat" "$T/seq.svo"
+        grep -q "frames 3" "$T/out" && ok "$pat: 3 frames" || bad "$pat: 3 frames: $(grep models "$T/out")"
+        n=0
+        for f in 0 1 2; do
+            "$BIN/svo_info" "$T/sph.svo" --dump | sort >"$T/v1"
+            "$BIN/svo_info" "$T/seq.svo" --dump --frame $f | sort >"$T/v2"
+            [ -s "$T/v1" ] && cmp -s "$T/v1" "$T/v2" && n=$((n + 1))
+        done
+        [ $n -eq 3 ] && ok "$pat: every frame as converted alone" || bad "$pat: every frame as converted alone ($n of 3)"
+    done
+    m3=$(sed -n 's/^  models *\([0-9]*\),.*/\1/p' "$T/out")
+    printf 's_0000.vdb\n' >"$T/seq/one.txt"
+    "$BIN/vox2svo" "$T/seq/one.txt" "$T/seq1.svo" >"$T/out1"
+    m1=$(sed -n 's/^  models *\([0-9]*\),.*/\1/p' "$T/out1")
+    [ -n "$m3" ] && [ "$m3" = "$m1" ] && ok "repeated frames add no model ($m3)" || bad "repeated frames add no model ($m3 vs $m1)"
+    printf 's_0000.vdb\ns_01.vdb\n' >"$T/seq/mixed.txt"
+    expect_status 1 "frames with other transforms" "$BIN/vox2svo" "$T/seq/mixed.txt" "$T/x.svo"
+    grep -q "frame 1 (.*s_01.vdb): its grid transform differs from frame 0's" "$T/err" && ok "names the frame and file" ||
+        bad "names the frame and file"
+    expect_status 1 "no file matches" "$BIN/vox2svo" "$T/seq/none_###.vdb" "$T/x.svo"
+    grep -q "none_###.vdb: no file matches" "$T/err" && ok "names the pattern" || bad "names the pattern"
+fi
+
 # bad input: truncated .vox, corrupted .svo; clear error, exit 1, no output
 head -c 2000 "$T/demo.vox" >"$T/trunc.vox"
 expect_status 1 "truncated .vox" "$BIN/vox2svo" "$T/trunc.vox" "$T/trunc.svo"

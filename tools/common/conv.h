@@ -42,6 +42,11 @@ vx_tool_conv vx_tool_conv_defaults(void);
  * vx_tool_usage_error(usage, ...). */
 bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*usage)(int status));
 
+/* Whether IN names a frame sequence: a .vdb name with a run of # or a
+ * printf number (smoke_####.vdb, smoke_%04d.vdb), or a list file (.txt, one
+ * .vdb path per line); vx_tool_conv_load converts it into one animation. */
+bool vx_tool_conv_is_sequence(const char* path);
+
 /* What vx_tool_conv_load read. */
 typedef struct vx_tool_loaded {
     const char* kind;      /* ".vox", ".glb", ".gltf", ".vdb", ".svo" */

@@ -30,6 +30,8 @@ _Noreturn static void usage(int status) {
     FILE* f = status == 0 ? stdout : stderr;
     fprintf(f,
             "Usage: %s IN.{vox,gltf,glb,vdb} OUT.svo [options]\n"
+            "       %s 'smoke_####.vdb' OUT.svo   (a VDB sequence; also smoke_%%04d.vdb or a .txt list\n"
+            "                                        of .vdb paths: one animation, unchanged bricks stored once)\n"
             "       %s --write-demo OUT.vox\n"
             "Which: converts a voxel scene, a triangle mesh or a volume into a compact sparse voxel\n"
             "       octree file (.svo): one Laine-Karras octree per model after tree minimization,\n"
@@ -73,7 +75,7 @@ _Noreturn static void usage(int status) {
             "    %s --write-demo demo.vox && %s demo.vox demo.svo\n"
             "    %s DamagedHelmet.glb helmet.svo --res 1024\n"
             "    %s smoke.vdb smoke.svo --density\n",
-            vx_tool_name, vx_tool_name, d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
+            vx_tool_name, vx_tool_name, vx_tool_name, d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
             vx_tool_name);
     exit(status);
 }
