@@ -9,18 +9,7 @@
 set -u
 BIN=$1
 MPIRUN=${2:-mpirun}
-command -v "$MPIRUN" >/dev/null 2>&1 || { echo "SKIP: no $MPIRUN (install openmpi-bin)"; exit 77; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-# OpenMPI refuses root without these, and more ranks than cores without --oversubscribe
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-MPIFLAGS=""
-"$MPIRUN" --version 2>/dev/null | grep -qi "open mpi\|openrte" && MPIFLAGS="--oversubscribe"
-run() { n=$1; shift; "$MPIRUN" $MPIFLAGS -n "$n" "$@"; }
-# a launcher that cannot start processes here (no usable network set-up in a
-# container, say) is the environment's problem, not svo_bake's
-run 2 true >"$T/launch.out" 2>&1 || { cat "$T/launch.out"; echo "SKIP: $MPIRUN cannot start 2 processes here"; exit 77; }
+. "$(dirname "$0")/../common/mpi.sh"
 "$BIN/vox2svo" --write-demo "$T/demo.vox" >/dev/null || fail "write demo"
 "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo" >/dev/null || fail "vox2svo"
 O="--grid 4,3,3 --res 16 --spp 2 --seed 5 -q --cpu"
