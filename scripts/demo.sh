@@ -22,4 +22,10 @@ if [ -x "$BUILD/bin/svo_render" ]; then
         --passes gbuffer,direct,ao,aa --ao-rays 8 -v; then
         echo "demo: rendered $BUILD/demo/island-passes.png (passes gbuffer,direct,ao,aa)"
     fi
+    # the path tracer, the reference: the lamps' emissive voxels light the
+    # island at dusk, the greenhouse is glass, the statue metal
+    if "$BUILD/bin/svo_render" "$BUILD/demo/island.svo" "$BUILD/demo/island-pathtrace.png" --size 640x360 \
+        --mode pathtrace --spp 32; then
+        echo "demo: rendered $BUILD/demo/island-pathtrace.png (path tracer: lamps, glass, metal)"
+    fi
 fi
