@@ -26,17 +26,10 @@
 #include <string.h>
 
 #include "bench/bench_load.h"
+#include "bench/bench_stats.h"
 #include "bench/bench_view.h"
 #include "render/pipeline.h"
 
-static int cmpd(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-static double median(double* v, int n) {
-    qsort(v, (size_t)n, sizeof *v, cmpd);
-    return n ? v[n / 2] : 0;
-}
 static double row_ms(const vx_frame_result* r, const char* name) {
     for (uint32_t q = 0; q < r->timing_count; q++)
         if (!strcmp(r->timings[q].name, name)) return r->timings[q].ms;
@@ -211,8 +204,8 @@ int main(int argc, char** argv) {
                     vx_render_image_free(&res.image);
                 }
                 if (status) break;
-                for (int q = 0; q < 3; q++) med[sh][q] = median(t + q * runs, nr);
-                if (!sh) frame = median(t + 3 * runs, nr);
+                for (int q = 0; q < 3; q++) med[sh][q] = bench_median(t + q * runs, nr);
+                if (!sh) frame = bench_median(t + 3 * runs, nr);
             }
             if (status) break;
             printf("| %u | %.1f | %s | %llu | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", n, in_range,

@@ -19,18 +19,11 @@
 #include <string.h>
 
 #include "bench/bench_load.h"
+#include "bench/bench_stats.h"
 #include "bench/bench_view.h"
 #include "render/pipeline.h"
 #include "render/render_internal.h" /* vx__render_dispatch */
 
-static int cmpd(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-static double median(double* v, int n) {
-    qsort(v, (size_t)n, sizeof *v, cmpd);
-    return n ? v[n / 2] : 0;
-}
 
 /* "=" marks a list run with separate_passes (each pass its own dispatch) */
 static const char* const lists[] = {"gbuffer",        "gbuffer,direct",           "=gbuffer,direct",
@@ -116,7 +109,7 @@ int main(int argc, char** argv) {
                 }
                 if (k >= 3) t[k - 3] = sec * 1e3;
             }
-            double single = median(t, runs);
+            double single = bench_median(t, runs);
             printf("| passes | frame ms | per pass ms | vs single shader |\n| --- | ---: | --- | ---: |\n");
             printf("| single shader (trace.comp colour) | %.3f | | 1.00 |\n", single);
             for (size_t l = 0; l < NLISTS; l++) {
@@ -150,11 +143,11 @@ int main(int argc, char** argv) {
                     vx_render_image_free(&res.image);
                 }
                 if (!ok) break;
-                double fm = median(t, runs);
+                double fm = bench_median(t, runs);
                 char per[256] = "";
                 for (uint32_t q = 0; q < nn; q++)
                     snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.3f", q ? ", " : "", names[q],
-                             median(tp + q * runs, runs));
+                             bench_median(tp + q * runs, runs));
                 printf("| %s%s | %.3f | %s | %.2f |\n", lists[l] + sep, sep ? " (separate passes)" : "", fm, per,
                        single > 0 ? fm / single : 0);
             }
@@ -204,7 +197,7 @@ int main(int argc, char** argv) {
                 }
                 free(ls);
                 if (status) break;
-                double fm = median(t, runs), dm = median(td, runs);
+                double fm = bench_median(t, runs), dm = bench_median(td, runs);
                 printf("| %u | %.3f | %.3f | %.4f |\n", nl, fm, dm, dm / nl);
             }
         }

@@ -16,7 +16,7 @@
 
 vx_tool_conv vx_tool_conv_defaults(void) {
     vx_tool_conv c = {0};
-    c.res = 256;
+    c.res = vx_conv_file_defaults().res; /* one source of the converters' defaults */
     return c;
 }
 
