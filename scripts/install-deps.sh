@@ -14,4 +14,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libtinygltf-dev nlohmann-json3-dev \
     libopenimageio-dev \
     libopenmpi-dev openmpi-bin \
-    python3-matplotlib
+    python3-matplotlib \
+    libimgui-dev blender

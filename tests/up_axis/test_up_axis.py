@@ -13,13 +13,15 @@ above the body along z, so the check can fail.
 
 Usage: python3 test_up_axis.py BIN_DIR CORPUS_DIR WORK_DIR  (PYTHONPATH: the voxkit module)
 """
-import json
 import os
 import struct
 import subprocess
 import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from glbduck import head_lift, read_glb, to_srgb  # noqa: E402
 
 BIN, CORPUS, WORK = sys.argv[1:4]
 DUCK = os.path.join(CORPUS, "gltf", "julian_Duck.glb")
@@ -40,23 +42,12 @@ def tool(name, *args):
     return subprocess.run([os.path.join(BIN, name), *args], check=True, capture_output=True).stdout
 
 
-def classify(rgb):
-    """head (orange beak, dark eyes) and body (yellow) masks of (N,3) colours in [0,1]"""
-    r, g, b = rgb[:, 0], rgb[:, 1], rgb[:, 2]
-    head = ((r > 0.3) & (r > 1.4 * g)) | (r + g + b < 0.45)
-    body = (r > 0.3) & (g > 0.6 * r) & (b < 0.7 * g)
-    return head, body
-
-
 def head_above(name, pos, rgb, up, want=True, by=0.25):
     """the head's mean height above the body's by a part of the height (a quarter)"""
-    head, body = classify(rgb)
-    h = pos[:, up]
-    span = h.max() - h.min()
-    lift = (h[head].mean() - h[body].mean()) / span if head.any() and body.any() else float("nan")
-    ok = head.sum() > 10 and body.sum() > 10 and (lift > by) == want
+    nh, nb, lift = head_lift(pos, rgb, up)
+    ok = nh > 10 and nb > 10 and (lift > by) == want
     check(ok, f"{name}: head {'above' if want else 'not above'} the body along axis {'xyz'[up]} "
-              f"(head {head.sum()}, body {body.sum()}, lift {lift:+.2f} of the height)")
+              f"(head {nh}, body {nb}, lift {lift:+.2f} of the height)")
 
 
 def dump_cells(svo):
@@ -138,33 +129,8 @@ if xyzi and palette is not None:
 # ---- .glb export (glTF, +Y up) --------------------------------------------------
 glb = os.path.join(WORK, "duck.glb")
 tool("svo_info", svo, "--to-glb", glb)
-data = open(glb, "rb").read()
-jlen = struct.unpack_from("<I", data, 12)[0]
-g = json.loads(data[20:20 + jlen])
-binary = data[20 + jlen + 8:]
-
-
-def accessor(i):
-    a = g["accessors"][i]
-    bv = g["bufferViews"][a["bufferView"]]
-    dtype = {5126: np.float32, 5123: np.uint16}[a["componentType"]]
-    ncomp = {"VEC3": 3, "VEC4": 4}[a["type"]]
-    start = bv.get("byteOffset", 0) + a.get("byteOffset", 0)
-    x = np.frombuffer(binary, dtype, a["count"] * ncomp, start).reshape(-1, ncomp)
-    return x / 65535.0 if a.get("normalized") else x.astype(float)
-
-
-all_pos, all_rgb = [], []
-for node in g["nodes"]:
-    if "mesh" not in node:
-        continue
-    M = np.array(node.get("matrix", np.eye(4).reshape(-1))).reshape(4, 4).T  # column-major
-    for prim in g["meshes"][node["mesh"]]["primitives"]:
-        p = accessor(prim["attributes"]["POSITION"])
-        c = accessor(prim["attributes"]["COLOR_0"])[:, :3]
-        all_pos.append(p @ M[:3, :3].T + M[:3, 3])
-        all_rgb.append(np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055))  # to sRGB
-head_above(".glb export (glTF y, node matrices applied)", np.vstack(all_pos), np.vstack(all_rgb), 1)
+pos, rgb, _, _ = read_glb(glb)
+head_above(".glb export (glTF y, node matrices applied)", pos, to_srgb(rgb), 1)
 
 print(f"{len(failures)} failures")
 sys.exit(1 if failures else 0)
