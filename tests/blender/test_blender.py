@@ -24,6 +24,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from vxtest import Checks, tools  # noqa: E402
 from glbduck import head_lift, read_glb, to_srgb  # noqa: E402
 
 BIN, CORPUS, WORK = sys.argv[1:4]
@@ -33,17 +34,8 @@ if not BLENDER or not os.path.exists(BLENDER):
     sys.exit(77)
 shutil.rmtree(WORK, ignore_errors=True)
 os.makedirs(WORK)
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def tool(name, *args):
-    return subprocess.run([os.path.join(BIN, name), *args], check=True, capture_output=True).stdout
+check = Checks()
+tool = tools(BIN)
 
 
 def blender(kind, src):
@@ -147,5 +139,4 @@ if os.path.exists(duck):
 else:
     print(f"skip the Duck: {duck} not found")
 
-print(f"{len(failures)} failures")
-sys.exit(1 if failures else 0)
+check.exit()

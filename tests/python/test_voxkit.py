@@ -12,22 +12,16 @@ import subprocess
 import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vxtest import Checks, tools  # noqa: E402
 import voxkit
 
 BIN, CORPUS, WORK = sys.argv[1:4]
 PREFIX = sys.argv[4] if len(sys.argv) > 4 else None
 os.makedirs(WORK, exist_ok=True)
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def tool(name, *args):
-    return subprocess.run([os.path.join(BIN, name), *args], check=True, capture_output=True).stdout
+check = Checks()
+tool = tools(BIN)
 
 
 def rows_sorted(a):
@@ -185,5 +179,4 @@ else:
             else:
                 raise
 
-print(f"{len(failures)} failures")
-sys.exit(1 if failures else 0)
+check.exit()

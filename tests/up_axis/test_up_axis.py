@@ -15,12 +15,12 @@ Usage: python3 test_up_axis.py BIN_DIR CORPUS_DIR WORK_DIR  (PYTHONPATH: the vox
 """
 import os
 import struct
-import subprocess
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vxtest import Checks, tools  # noqa: E402
 from glbduck import head_lift, read_glb, to_srgb  # noqa: E402
 
 BIN, CORPUS, WORK = sys.argv[1:4]
@@ -29,17 +29,8 @@ if not os.path.exists(DUCK):
     print(f"skip: {DUCK} not found")
     sys.exit(0)
 os.makedirs(WORK, exist_ok=True)
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def tool(name, *args):
-    return subprocess.run([os.path.join(BIN, name), *args], check=True, capture_output=True).stdout
+check = Checks()
+tool = tools(BIN)
 
 
 def head_above(name, pos, rgb, up, want=True, by=0.25):
@@ -132,5 +123,4 @@ tool("svo_info", svo, "--to-glb", glb)
 pos, rgb, _, _ = read_glb(glb)
 head_above(".glb export (glTF y, node matrices applied)", pos, to_srgb(rgb), 1)
 
-print(f"{len(failures)} failures")
-sys.exit(1 if failures else 0)
+check.exit()
