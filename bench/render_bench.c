@@ -7,7 +7,7 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--shader-stats] FILE.{svo,vox}...
+ *                [--no-esvo] [--shader-stats] [--beam N,...] FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
  * from low over a corner, and a full-frame close-up (a surface point of the
@@ -24,7 +24,11 @@
  * --shader-stats: the driver's statistics of every kernel the run creates
  * (VK_KHR_pipeline_executable_properties where the device has it: registers,
  * local memory, instructions; lines "stats: LABEL [spec ...] ..."), the pass
- * pipeline's frame.comp and gbuffer.comp included (one small frame each). */
+ * pipeline's frame.comp and gbuffer.comp included (one small frame each).
+ * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
+ * 1: off, the default), one row each with the baselines timed once per
+ * view; steps per ray count the primary walk only (not the beam pass), and
+ * the depth agreement checks every beam size against ESVO. */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
@@ -46,9 +50,10 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--shader-stats] FILE...\n"
-            "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5\n",
-            prog);
+            "          [--shader-stats] [--beam N,...] FILE...\n"
+            "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
+            "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
+            prog, vx_render_desc_defaults().beam);
 }
 
 static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
@@ -158,9 +163,13 @@ static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_cam
     return true;
 }
 
+/* Times voxkit's kernels for d; the baselines (ESVO, dense) only with
+ * time_base (ESVO's depth frame is compared whenever es is set). */
 static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, vx_render_desc d, bool dense,
-                    uint32_t runs, double warmup, view_result* out, vx_error* err) {
+                    bool time_base, uint32_t runs, double warmup, view_result* out, vx_error* err) {
+    view_result prev = *out;
     memset(out, 0, sizeof *out);
+    if (!time_base) out->sec_es = prev.sec_es, out->sec_dense = prev.sec_dense;
     size_t npx = (size_t)d.width * d.height;
     /* one frame of each with per-pixel results */
     d.mode = VX_RENDER_DEPTH;
@@ -201,14 +210,15 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, 
     if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, s, &d, warmup, err) ||
         vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err))
         return 1;
-    if (es && (warm(NULL, es, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
+    if (es && time_base &&
+        (warm(NULL, es, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
         return 1;
     d.mode = VX_RENDER_COLOR;
     if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) ||
         vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_shadow, err))
         return 1;
     d.mode = VX_RENDER_DEPTH;
-    if (dense && (vx__dense_dispatch(rs, &d, 1, &sec, NULL, err) ||
+    if (dense && time_base && (vx__dense_dispatch(rs, &d, 1, &sec, NULL, err) ||
                   vx__dense_dispatch(rs, &d, runs, &out->sec_dense, NULL, err)))
         return 1;
     return 0;
@@ -218,6 +228,8 @@ int main(int argc, char** argv) {
     const char* device = NULL;
     const char* sizes = "1920x1080";
     const char* views = "overview,oblique,closeup";
+    uint32_t beam_list[8] = {0};
+    int nbeam = 1;
     uint32_t runs = 15;
     double warmup = 0.5;
     bool gen = false, deep = false, use_esvo = true, stats = false;
@@ -231,6 +243,20 @@ int main(int argc, char** argv) {
         } else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) sizes = argv[++i];
         else if (!strcmp(argv[i], "--views") && i + 1 < argc) views = argv[++i];
+        else if (!strcmp(argv[i], "--beam") && i + 1 < argc) {
+            const char* bp = argv[++i];
+            for (nbeam = 0; nbeam < 8;) {
+                char* end;
+                unsigned long n = strtoul(bp, &end, 10);
+                if (end == bp || n > 64 || (*end && *end != ',')) {
+                    fprintf(stderr, "render_bench: --beam wants up to 8 block sizes from 0 to 64, not '%s'\n", argv[i]);
+                    return 2;
+                }
+                beam_list[nbeam++] = (uint32_t)n;
+                if (!*end) break;
+                bp = end + 1;
+            }
+        }
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
             char* end;
             errno = 0;
@@ -271,8 +297,8 @@ int main(int argc, char** argv) {
     }
     printf("device: %s; median of %u timestamped dispatches after %.2f s warm-up per kernel and view\n",
            vx_gpu_device_name(gpu), runs, warmup);
-    printf("%-20s %-8s %-9s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s\n", "scene", "view", "size",
-           "hit", "entVX", "entES", "stVX", "stES", "GrayVX", "GrayES", "GstVX", "GstES", "VX/ES", "depth=",
+    printf("%-20s %-8s %-9s %4s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s\n", "scene", "view", "size",
+           "beam", "hit", "entVX", "entES", "stVX", "stES", "GrayVX", "GrayES", "GstVX", "GstES", "VX/ES", "depth=",
            "GpixSh", "GrayDn", "MiB VX", "MiB ES");
     fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
@@ -334,30 +360,33 @@ int main(int argc, char** argv) {
             while (*p) {
                 unsigned w, h;
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
-                vx_render_desc d = {.width = w, .height = h, .camera = cams[v]};
-                view_result r;
-                if (run_view(rs, esp, &s, d, dense, runs, warmup, &r, &err)) {
-                    fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
-                    failed = 1;
-                    break;
+                view_result r = {0};
+                for (int bi = 0; bi < nbeam; bi++) {
+                    uint32_t beam = beam_list[bi];
+                    vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
+                    if (run_view(rs, esp, &s, d, dense, bi == 0, runs, warmup, &r, &err)) {
+                        fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
+                        failed = 1;
+                        break;
+                    }
+                    double px = (double)w * h;
+                    char sz[32], ges[16], stes[16], gstes[16], ratio[16], agree[16], dn[16], mes[16], enes[16];
+                    snprintf(sz, sizeof sz, "%ux%u", w, h);
+                    snprintf(enes, sizeof enes, esp ? "%.0f%%" : "-", 100 * r.enter_es);
+                    snprintf(stes, sizeof stes, esp ? "%.1f" : "-", r.steps_es);
+                    snprintf(ges, sizeof ges, esp ? "%.2f" : "-", px / r.sec_es * 1e-9);
+                    snprintf(gstes, sizeof gstes, esp ? "%.0f" : "-", px * r.steps_es / r.sec_es * 1e-9);
+                    snprintf(ratio, sizeof ratio, esp ? "%.2f" : "-", r.sec_es / r.sec_vx);
+                    snprintf(agree, sizeof agree, esp ? "%.3f%%" : "-", 100 * r.agree);
+                    snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * 1e-9);
+                    snprintf(mes, sizeof mes, esp ? "%.2f" : "-", bench_esvo_bytes(&es) / 1048576.0);
+                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s\n",
+                           name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
+                           px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
+                           px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes,
+                           vx_render_scene_precise(rs) ? "  (float64)" : "");
+                    fflush(stdout);
                 }
-                double px = (double)w * h;
-                char sz[32], ges[16], stes[16], gstes[16], ratio[16], agree[16], dn[16], mes[16], enes[16];
-                snprintf(sz, sizeof sz, "%ux%u", w, h);
-                snprintf(enes, sizeof enes, esp ? "%.0f%%" : "-", 100 * r.enter_es);
-                snprintf(stes, sizeof stes, esp ? "%.1f" : "-", r.steps_es);
-                snprintf(ges, sizeof ges, esp ? "%.2f" : "-", px / r.sec_es * 1e-9);
-                snprintf(gstes, sizeof gstes, esp ? "%.0f" : "-", px * r.steps_es / r.sec_es * 1e-9);
-                snprintf(ratio, sizeof ratio, esp ? "%.2f" : "-", r.sec_es / r.sec_vx);
-                snprintf(agree, sizeof agree, esp ? "%.3f%%" : "-", 100 * r.agree);
-                snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * 1e-9);
-                snprintf(mes, sizeof mes, esp ? "%.2f" : "-", bench_esvo_bytes(&es) / 1048576.0);
-                printf("%-20.20s %-8s %-9s %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s\n",
-                       name, vnames[v], sz, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
-                       px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
-                       px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes,
-                       vx_render_scene_precise(rs) ? "  (float64)" : "");
-                fflush(stdout);
                 p = strchr(p, ',');
                 if (!p) break;
                 p++;

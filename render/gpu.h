@@ -110,6 +110,8 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
 void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);
+/* The primary rays' beam pass (run before trace.comp, same bindings). */
+const uint32_t* vx__spirv_beam(size_t* bytes);
 const uint32_t* vx__spirv_dense(size_t* bytes);
 /* trace.comp built with -DPRECISE (float64 traversal; needs has_float64). */
 const uint32_t* vx__spirv_trace_precise(size_t* bytes);
@@ -127,6 +129,11 @@ typedef struct vx__dispatch_desc {
     const void* push;           /* push constants (push_size bytes; the pipeline's push_constant_size) */
     uint32_t push_size;
     const char* label;
+    /* Optional first stage of every repeat (timed with it): pre_pipeline over
+     * pre_groups, the same buffers (its layout declares the same bindings),
+     * no push constants; a barrier orders its writes before the main stage. */
+    vx__pipeline* pre_pipeline;
+    uint32_t pre_groups[3];
 } vx__dispatch_desc;
 /* Records, submits and waits; *seconds is the median GPU time per repeat
  * from timestamps (wall time if the queue has no timestamps). */

@@ -34,10 +34,12 @@ static int cmp_double(const void* a, const void* b) {
 
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
     uint32_t repeat = d->repeat ? d->repeat : 1;
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VX_GPU_MAX_BINDINGS}};
+    /* one set per stage: the main pipeline's and the optional first stage's */
+    uint32_t nsets = d->pre_pipeline ? 2u : 1u;
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * VX_GPU_MAX_BINDINGS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                      .maxSets = 1,
+                                      .maxSets = 2,
                                       .poolSizeCount = 2,
                                       .pPoolSizes = sizes};
     bool timed = g->has_timestamps && seconds;
@@ -53,29 +55,33 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
         return vx__vk_fail(err, vr, "vkCreateDescriptorPool");
     }
     vx_result r = VX_OK;
-    VkDescriptorSet set;
-    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-                                      .descriptorPool = pool,
-                                      .descriptorSetCount = 1,
-                                      .pSetLayouts = &d->pipeline->dsl};
-    vr = vkAllocateDescriptorSets(g->device, &ai, &set);
-    if (vr != VK_SUCCESS) {
-        r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
-        goto done;
+    vx__pipeline* stage[2] = {d->pipeline, d->pre_pipeline};
+    VkDescriptorSet sets[2];
+    for (uint32_t s = 0; s < nsets; s++) {
+        VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                          .descriptorPool = pool,
+                                          .descriptorSetCount = 1,
+                                          .pSetLayouts = &stage[s]->dsl};
+        vr = vkAllocateDescriptorSets(g->device, &ai, &sets[s]);
+        if (vr != VK_SUCCESS) {
+            r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
+            goto done;
+        }
+        VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+        VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+        for (uint32_t i = 0; i < d->buffer_count; i++) {
+            infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
+            /* each binding as the pipeline declared it (the trace shaders: binding 0 the uniform frame block) */
+            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                          .dstSet = sets[s],
+                                          .dstBinding = i,
+                                          .descriptorCount = 1,
+                                          .descriptorType = stage[s]->bindings[i],
+                                          .pBufferInfo = &infos[i]};
+        }
+        vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
     }
-    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
-    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
-    for (uint32_t i = 0; i < d->buffer_count; i++) {
-        infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
-        /* each binding as the pipeline declared it (the trace shaders: binding 0 the uniform frame block) */
-        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                                      .dstSet = set,
-                                      .dstBinding = i,
-                                      .descriptorCount = 1,
-                                      .descriptorType = d->pipeline->bindings[i],
-                                      .pBufferInfo = &infos[i]};
-    }
-    vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+    VkDescriptorSet set = sets[0];
     double wall = 0;
     for (uint32_t done_runs = 0; done_runs < repeat;) {
         uint32_t n = repeat - done_runs < VX__RUNS_PER_SUBMIT ? repeat - done_runs : VX__RUNS_PER_SUBMIT;
@@ -91,6 +97,19 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
             vkCmdPushConstants(g->cmd, d->pipeline->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, d->push_size, d->push);
         for (uint32_t k = 0; k < n; k++) {
             if (g->has_timestamps) vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 2 * k);
+            if (d->pre_pipeline) {
+                vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pre_pipeline->pipe);
+                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pre_pipeline->layout, 0, 1, &sets[1], 0,
+                                        NULL);
+                vkCmdDispatch(g->cmd, d->pre_groups[0], d->pre_groups[1], d->pre_groups[2]);
+                VkMemoryBarrier pb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+                vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                                     1, &pb, 0, NULL, 0, NULL);
+                vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
+                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
+            }
             vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
             if (g->has_timestamps)
                 vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);

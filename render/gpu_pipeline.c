@@ -8,12 +8,17 @@
 #include "render/render_internal.h"
 
 #include "trace.comp.h"
+#include "beam.comp.h"
 #include "dense.comp.h"
 #include "trace_precise.comp.h"
 
 const uint32_t* vx__spirv_trace(size_t* bytes) {
     *bytes = sizeof vx__trace_spv_arr;
     return vx__trace_spv_arr;
+}
+const uint32_t* vx__spirv_beam(size_t* bytes) {
+    *bytes = sizeof vx__beam_spv_arr;
+    return vx__beam_spv_arr;
 }
 const uint32_t* vx__spirv_trace_precise(size_t* bytes) {
     *bytes = sizeof vx__trace_precise_spv_arr;

@@ -13,10 +13,11 @@ if(VX_WITH_VULKAN)
   set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
-  # name:source[:define]; trace_precise is trace.comp in float64 (deep models).
+  # name:source[:define]; trace_precise is trace.comp in float64 (deep models);
+  # beam is the primary rays' beam pass (before trace).
   # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
   # are the pass pipeline's shaders (pipeline.c); cull builds its light grid.
-  foreach(spec trace:trace dense:dense trace_precise:trace:PRECISE
+  foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)

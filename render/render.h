@@ -160,7 +160,15 @@ typedef struct vx_render_camera {
  *  lod_pixels:    0 == 1
  *  light_dir:     towards the light, zero == (0.35, -0.45, 0.82)
  *  ambient:       sky light share, 0 == 0.3
- *  want_hits:     also return per-pixel hit records (sample 0) */
+ *  want_hits:     also return per-pixel hit records (sample 0)
+ *  beam:          vx_render_frame on a GPU: 0 or 1 == off (the default); N (2..64):
+ *                 a first pass finds per block of N x N pixels where its rays
+ *                 can first meet a non-empty node, and they start there (the
+ *                 same cells and depths, fewer steps). It pays on sparse
+ *                 scenes whose rays cross much empty space inside the octree
+ *                 (8 is a good N there); elsewhere it costs more than it
+ *                 saves (docs/PERFORMANCE.md, issue 21). Not used with lod or
+ *                 by the float64 variant */
 typedef struct vx_render_desc {
     uint32_t width, height;
     vx_render_mode mode;
@@ -171,6 +179,7 @@ typedef struct vx_render_desc {
     double light_dir[3];
     double ambient;
     bool want_hits;
+    uint32_t beam;
 } vx_render_desc;
 
 /* What a zero-initialised desc means, field by field (the tools' --help

@@ -100,6 +100,7 @@ vx_result vx_render_desc_validate(const vx_render_desc* d, vx_error* err) {
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "ortho height must be positive");
     if (!(d->ambient >= 0 && d->ambient <= 1))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "ambient %g outside [0, 1]", d->ambient);
+    if (d->beam > 64) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "beam block %u exceeds 64 pixels", d->beam);
     if (!(d->lod_pixels >= 0) || !isfinite(d->lod_pixels))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "lod pixels must be positive");
     return VX_OK;
@@ -125,6 +126,7 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
     f->mode = d.mode;
     f->ortho = d.camera.ortho;
     f->lod = d.lod;
+    f->beam = d.beam; /* 0 and 1: off */
     f->lod_pixels = d.lod_pixels > 0 ? d.lod_pixels : D.lod_pixels;
     f->ambient = d.ambient > 0 ? d.ambient : D.ambient;
     double fov = (d.camera.fov > 0 ? d.camera.fov : D.camera.fov) * 3.14159265358979323846 / 180.0;

@@ -33,6 +33,7 @@ struct vx_render_scene {
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
+    vx__buffer beam; /* the beam pass's eye distance per pixel block */
     uint32_t dense_n[3];
     double dense_lo[3], dense_cell;
 };
@@ -182,8 +183,8 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     if (!rs) return;
     vx_gpu* g = rs->gpu;
     vkDeviceWaitIdle(g->device);
-    vx__buffer* bufs[] = {&rs->dense_bits, &rs->hits,  &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
-                          &rs->insts,      &rs->pinsts, &rs->models, &rs->colors, &rs->nodes};
+    vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame, &rs->bvh_items,
+                          &rs->bvh_nodes, &rs->insts, &rs->pinsts, &rs->models, &rs->colors, &rs->nodes};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
     vx_allocator a = rs->alloc;
@@ -303,26 +304,44 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (precise && !g->has_float64)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
                        g->props.deviceName);
-    uint32_t spec[VX__SPEC_COUNT] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits};
+    /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
+    uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
+    uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
+    /* the float kernel declares the beam binding either way */
+    if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
+    uint32_t spec[VX__SPEC_COUNT + 1] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < VX__SPEC_COUNT; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < VX__SPEC_COUNT + 1; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
-    uint32_t nb = precise ? 10 : 9;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb, .spec_count = VX__SPEC_COUNT,
-                                       .label = precise ? "trace (float64)" : "trace"};
+    /* bindings 0-8, 9 the float64 instances, 10 the beam */
+    uint32_t nb = precise ? 10 : 11;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
+                                       .spec_count = VX__SPEC_COUNT + 1, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
-    vx__pipeline* p;
+    vx__pipeline *p, *pre = NULL;
+    vx_gpu_compute_pipeline_desc bd = pd;
+    if (beam) {
+        bd.spirv = vx__spirv_beam(&bd.spirv_size);
+        bd.label = "beam";
+        /* the beam pass reads only the scene and the camera: one pipeline per BVH use and block size */
+        bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
+        if ((r = vx__pipeline_get(g, 0xBEA4000u + 2 * beam + (rs->inst_count > 1), &bd, &pre, err))) return r;
+    }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    /* getting p may have moved the cache's entries: look pre up again (a hit) */
+    if (beam && (r = vx__pipeline_get(g, 0xBEA4000u + 2 * beam + (rs->inst_count > 1), &bd, &pre, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
-                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts},
+                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
-                            .label = "trace"};
+                            .label = "trace",
+                            .pre_pipeline = pre,
+                            .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1}};
     return vx__dispatch(g, &dd, seconds, err);
 }
 

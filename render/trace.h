@@ -32,6 +32,7 @@ typedef struct vx__frame {
     double pixel_size;         /* orthographic footprint */
     double lod_pixels;
     bool lod;
+    uint32_t beam;             /* beam pass block side; 1: off */
 } vx__frame;
 
 /* Scene facts (drawn instances, their world maps and boxes, the world

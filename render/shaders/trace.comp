@@ -18,10 +18,17 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
+#ifndef PRECISE
+#define TRACE_BEAM
+#endif
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
+#ifdef TRACE_BEAM
+// beam.comp's eye distance per block (binding 9 is the float64 variant's)
+layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
+#endif
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
@@ -68,6 +75,13 @@ void main() {
         }
 #endif
         g_iter = 0u;
+#ifdef TRACE_BEAM
+        if (BEAM > 1u) {
+            // slightly before the block's bound: the two passes round differently
+            float s_blk = beam_s[(px.y / BEAM) * ((W + BEAM - 1u) / BEAM) + px.x / BEAM];
+            g_tskip = (s_blk - t_off) * 0.9999;
+        }
+#endif
         Hit h;
         h.t = 3.0e38;
         h.inst = NO_HIT;
@@ -95,6 +109,9 @@ void main() {
                         RVEC3 p = o + d * h.t;
                         float cell = insts[h.inst].cell;
                         RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+#ifdef TRACE_BEAM
+                        g_tskip = 0.0; // the beam bounds the primary rays only
+#endif
                         Hit sh;
                         sh.t = 3.0e38;
                         sh.inst = NO_HIT;

@@ -65,6 +65,16 @@ struct Hit {
 
 uint g_iter = 0u;
 
+#ifdef TRACE_BEAM
+// Beam optimization (trace.comp and beam.comp, float variant only): beam.comp
+// finds per block of BEAM x BEAM pixels the first distance at which any ray
+// of the block could meet a non-empty node; trace.comp's primary rays then
+// start their octree walk at g_tskip (world t) with unchanged coefficients,
+// so the cells and depths are those of the walk from the ray's start.
+layout(constant_id = 5) const uint BEAM = 0u; // block side in pixels; 0: off
+float g_tskip = 0.0;
+#endif
+
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 #ifdef PRECISE
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
@@ -85,6 +95,16 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
     RVEC3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
     RVEC3 tn = min(a, b), tf = max(a, b);
     return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
+}
+
+// The node index of inner child cbit (1 << octant) of node `parent` with
+// descriptor desc (absolute indices; far pointers are model-relative, nbase
+// the model's first node): the children's block, then the inner children
+// (valid, not leaf) below cbit.
+uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
+    uint blk = parent - (desc >> 17);
+    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+    return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
 // Traces model space ray o + t d (t in world units, d not normalised)
@@ -131,6 +151,13 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     REAL hh = tmax;
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
+#ifdef TRACE_BEAM
+    if (BEAM > 1u) {
+        // no cell before g_tskip holds anything (beam.comp): start there
+        tmin = max(tmin, (g_tskip - te) * L);
+        if (!(tmin <= tmax)) return false;
+    }
+#endif
 
     RVEC3 pos = RVEC3(1.0);
     int scale = S_MAX - 1;
@@ -211,13 +238,12 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     // push
                     if (tc_max < hh) stk_node[scale] = int(parent);
                     hh = tc_max;
+#ifdef PRECISE
                     uint blk = parent - (desc >> 17);
                     if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-#ifdef PRECISE
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
 #else
-                    // inner children before this one: valid, not leaf, below cbit
-                    parent = blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                    parent = child_node(parent, desc, cbit, nbase);
 #endif
                     idx = 0;
                     scale--;
@@ -324,6 +350,14 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     return true;
 }
 
+#ifdef BEAM_PASS
+// beam.comp: the tube's box test and model walk replace the ray's
+vec2 scene_box(vec3 o, vec3 dinv, vec3 lo, vec3 hi);
+bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h);
+#else
+#define scene_box box_t
+#endif
+
 bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     Inst I = insts[i];
 #ifdef PRECISE
@@ -333,8 +367,14 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 #endif
     RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
     RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
+#ifdef BEAM_PASS
+    // a world distance r is at most |M|_F r in the model (Frobenius bound)
+    float scale = sqrt(dot(r0.xyz, r0.xyz) + dot(r1.xyz, r1.xyz) + dot(r2.xyz, r2.xyz));
+    if (beam_model(I.model, om, dm, scale, t0, h)) {
+#else
     float lod_b = F.uy.w, lod_a = F.misc.x;
     if (trace_model(I.model, om, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+#endif
         h.inst = i;
         return true;
     }
@@ -353,7 +393,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     uint stack[64];
     int sp = 0;
     uint node = 0u;
-    RVEC2 rt = box_t(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
+    RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
     while (true) {
         BNode n = bvh[node];
@@ -368,8 +408,8 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
             }
         } else {
             BNode a = bvh[first], b = bvh[first + 1u];
-            RVEC2 ta = box_t(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
-            RVEC2 tb = box_t(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
+            RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
+            RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
             bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
             bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
             if (ha && hb) {
@@ -387,7 +427,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
         bool next = false;
         while (sp > 0) {
             uint c = stack[--sp];
-            RVEC2 tc = box_t(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
+            RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
             if (tc.x <= h.t) { node = c; next = true; break; }
         }
         if (!next) break;

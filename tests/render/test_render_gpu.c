@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "convert/convert.h"
 #include "formats/vox.h"
@@ -80,6 +81,34 @@ static cmp_result compare(const char* name, const vx_render_image* g, const vx_r
     return r;
 }
 
+/* The beam pass (vx_render_desc.beam) moves only where the primary walk
+ * starts: with blocks of 8 and of 3 pixels (ragged edges) the frame must
+ * hold the same instance, cell and depth bits as gi (beam off, the
+ * default). Float variant only (the float64 one has no beam pass). */
+static void check_beam(const char* name, vx_render_scene* rs, vx_render_desc d, const vx_render_image* gi) {
+    if (vx_render_scene_precise(rs) || d.lod) return;
+    static const uint32_t beams[] = {8, 3};
+    for (size_t b = 0; b < sizeof beams / sizeof beams[0]; b++) {
+        d.beam = beams[b];
+        vx_render_image bi = {0};
+        vx_error err = {0};
+        vx_result r = vx_render_frame(rs, &d, &bi, &err);
+        CHECKF(r == VX_OK, "%s beam %u: %s", name, beams[b], err.msg);
+        size_t n = (size_t)gi->width * gi->height, diff = 0;
+        for (size_t i = 0; !r && i < n; i++) {
+            const vx_render_hit *a = &gi->hits[i], *c = &bi.hits[i];
+            bool same = a->instance == c->instance && !memcmp(a->cell, c->cell, sizeof a->cell) &&
+                        !memcmp(&a->t, &c->t, sizeof a->t) && !memcmp(&gi->pixels[4 * i], &bi.pixels[4 * i], 16);
+            if (!same && diff++ < 4)
+                fprintf(stderr, "  %s beam %u pixel %zu,%zu: inst %d cell %u,%u,%u t %.9g | no beam inst %d cell %u,%u,%u t %.9g\n",
+                        name, beams[b], i % gi->width, i / gi->width, (int)c->instance, c->cell[0], c->cell[1],
+                        c->cell[2], c->t, (int)a->instance, a->cell[0], a->cell[1], a->cell[2], a->t);
+        }
+        CHECKF(diff == 0, "%s: %zu pixels differ between beam %u and none", name, diff, beams[b]);
+        vx_render_image_free(&bi);
+    }
+}
+
 /* Renders s on both paths and checks the 99.99% rule. min_hits guards
  * against a camera that sees nothing. With g_force == 0 (the float variant
  * forced, for comparison) it only reports. */
@@ -108,6 +137,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     vx_result rc = vx_render_cpu(s, &d, NULL, &ci, &err);
     CHECKF(rc == VX_OK, "%s: %s", name, err.msg);
     if (!r && !rc) c = compare(name, &gi, &ci);
+    if (!r) check_beam(name, rs, d, &gi);
     if (!r && !rc && g_force != 0) {
         CHECKF(c.hits >= min_hits, "%s: %zu hits, expected at least %zu", name, c.hits, min_hits);
         CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",
@@ -254,6 +284,24 @@ static void test_ray_origins(void) {
     d.camera.ortho = true, d.camera.ortho_height = 20;
     check_scene("origin 1e6 away (ortho)", &s, d, 200);
     vx_svo_scene_free(&s);
+}
+
+/* The eye inside filled cells (a full block, then 90% filled): the rays
+ * start in or next to solid cells, which the beam pass must not skip.
+ * (Perspective only: an orthographic view starts its rays on a plane
+ * before the scene's bounds.) */
+static void test_eye_inside(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const uint32_t pct[] = {100, 90};
+    for (int i = 0; i < 2; i++) {
+        vx_svo_scene s;
+        random_scene(&s, NULL, 0, 0, 0, pct[i]);
+        char nm[64];
+        snprintf(nm, sizeof nm, "eye inside, %u%% filled", pct[i]);
+        vx_render_desc d = cam(5.5, 6.25, 5.75, 9, 1, 3);
+        check_scene(nm, &s, d, 1000);
+        vx_svo_scene_free(&s);
+    }
 }
 
 static void test_grazing(void) {
@@ -688,6 +736,7 @@ int main(void) {
     RUN(test_axis_rays_on_edges);
     RUN(test_diagonal_edges_corners);
     RUN(test_ray_origins);
+    RUN(test_eye_inside);
     RUN(test_grazing);
     RUN(test_transforms);
     RUN(test_deep_octrees);

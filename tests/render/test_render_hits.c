@@ -2,7 +2,9 @@
  * what svo_view's picking uses) on a deep terrain-like scene (the bench's
  * 4096^3 terrain, 12 levels) from oblique and grazing views: it returns in
  * under a second on a real GPU, and its hits agree with the depth frame
- * (same instance or miss, same t) and with the colour frame's hits.
+ * (same instance or miss, same t) and with the colour frame's hits, and the
+ * beam pass (vx_render_desc.beam 8) changes no hit: the depth+hits frame
+ * with it holds the same instance, cell and t bits as without.
  * Issue 21: this frame hung on an NVIDIA H100 (it took 0.6 s on lavapipe).
  *
  *   test_render_hits [WxH] [--mode color|depth] [--no-hits] [--view N]
@@ -50,7 +52,9 @@ static vx_render_camera view(int i) {
 static int frame(vx_render_scene* rs, uint32_t w, uint32_t h, vx_render_mode mode, bool hits, int vi,
                  vx_render_image* img, double* wall) {
     vx_error err = {0};
-    vx_render_desc d = {.width = w, .height = h, .mode = mode, .camera = view(vi), .want_hits = hits};
+    /* mode | 0x100: with the beam pass (blocks of 8 pixels) */
+    vx_render_desc d = {.width = w, .height = h, .mode = mode & 0xFF, .camera = view(vi), .want_hits = hits,
+                        .beam = mode & 0x100 ? 8 : 0};
     alarm(60);
     double t0 = vx_time_now();
     vx_result r = vx_render_frame(rs, &d, img, &err);
@@ -80,14 +84,15 @@ static void test_hits_frame(void) {
     vx_render_scene* rs = NULL;
     REQUIRE(vx_render_scene_create(gpu, &terrain, &rs, &err) == VX_OK);
     for (int vi = 0; vi < 3; vi++) {
-        vx_render_image dep = {0}, col = {0}, dh = {0};
-        double t_dep = 0, t_col = 0, t_dh = 0;
+        vx_render_image dep = {0}, col = {0}, dh = {0}, nb = {0};
+        double t_dep = 0, t_col = 0, t_dh = 0, t_nb = 0;
         bool ok = !frame(rs, w, h, VX_RENDER_DEPTH, false, vi, &dep, &t_dep) &&
                   !frame(rs, w, h, VX_RENDER_COLOR, true, vi, &col, &t_col) &&
-                  !frame(rs, w, h, VX_RENDER_DEPTH, true, vi, &dh, &t_dh);
+                  !frame(rs, w, h, VX_RENDER_DEPTH, true, vi, &dh, &t_dh) &&
+                  !frame(rs, w, h, (vx_render_mode)(VX_RENDER_DEPTH | 0x100), true, vi, &nb, &t_nb);
         CHECKF(ok, "view %d: frames failed", vi);
         if (ok) {
-            size_t n = (size_t)w * h, hit = 0, bad = 0, bad_col = 0;
+            size_t n = (size_t)w * h, hit = 0, bad = 0, bad_col = 0, bad_beam = 0;
             for (size_t i = 0; i < n; i++) {
                 float t = dep.pixels[4 * i];
                 const vx_render_hit* a = &col.hits[i];
@@ -104,19 +109,24 @@ static void test_hits_frame(void) {
                 if (b->instance != a->instance ||
                     (!miss && (!(fabsf(b->t - a->t) <= 1e-5f * fmaxf(a->t, 1.0f)) || memcmp(b->cell, a->cell, sizeof a->cell))))
                     bad_col++;
+                const vx_render_hit* c = &nb.hits[i];
+                bad_beam += c->instance != b->instance || memcmp(c->cell, b->cell, sizeof c->cell) ||
+                            memcmp(&c->t, &b->t, sizeof c->t);
             }
-            printf("view %d %ux%u: %.1f%% hits; depth %.3f s, colour+hits %.3f s, depth+hits %.3f s wall; %zu pixels "
-                   "differ from depth, %zu between the two hits frames\n",
-                   vi, w, h, 100.0 * hit / n, t_dep, t_col, t_dh, bad, bad_col);
+            printf("view %d %ux%u: %.1f%% hits; depth %.3f s, colour+hits %.3f s, depth+hits %.3f s (beam %.3f s) wall; "
+                   "%zu pixels differ from depth, %zu between the two hits frames, %zu with the beam\n",
+                   vi, w, h, 100.0 * hit / n, t_dep, t_col, t_dh, t_nb, bad, bad_col, bad_beam);
             CHECKF(hit > n / 4, "view %d: only %zu hits", vi, hit);
             CHECKF(bad <= n / 10000, "view %d: %zu pixels differ from the depth frame", vi, bad);
             CHECKF(bad_col <= n / 10000, "view %d: %zu pixels differ between the colour and depth hits", vi, bad_col);
+            CHECKF(bad_beam == 0, "view %d: %zu pixels differ with the beam pass", vi, bad_beam);
             /* the frame includes the readback of 66 MB of hits at 1920x1080 */
             if (!cpu) CHECKF(t_col < 1.0 && t_dh < 1.0, "view %d: hits frames took %.2f s and %.2f s", vi, t_col, t_dh);
         }
         vx_render_image_free(&dep);
         vx_render_image_free(&col);
         vx_render_image_free(&dh);
+        vx_render_image_free(&nb);
     }
     vx_render_scene_destroy(rs);
     CHECK(vx_gpu_validation_errors(gpu) == 0);
