@@ -16,6 +16,11 @@
  * (on the GPU, filtering on --threads CPU threads) and shared by every
  * method that reads probes.
  *
+ * Method photons (photons/photons.h): spp counts progressive passes of
+ * --photons N photons each (default 2^20), first radius --photon-radius R
+ * (default: the scene diagonal / 100); its full image is the photon maps'
+ * whole estimate (direct light too), its indirect image the gi pass's.
+ *
  * Options: --device N|NAME, --ref-spp N (1024), --runs N (5), --threads N (2),
  * --warm MS (0: off; a path-traced frame of about MS GPU ms before each timed
  * render, so that short frames are timed at a busy GPU's clocks),
@@ -35,6 +40,7 @@
 #include <string.h>
 
 #include "bench/bench_load.h"
+#include "photons/photons.h"
 #include "probes/probes.h"
 #include "tools/common/tool.h" /* vx_tool_parse_vec */
 
@@ -64,10 +70,15 @@ struct gi_method {
                         vx_error* err);
 };
 
+static vx_result photon_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
+                               vx_error* err);
+
 static const gi_method methods[] = {
     {"pathtrace", BUILD_NONE, 256, VX_PROBE_RENDER_PATHTRACE, VX_PROBE_RENDER_PT_INDIRECT, NULL},
     {"probes", BUILD_PROBES, 16, VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT, NULL},
     {"lightfield", BUILD_PROBES, 256, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT, NULL},
+    /* spp: progressive photon passes (--photons N each); full: every photon, direct light too */
+    {"photons", BUILD_NONE, 16, 0, 0, photon_render},
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
@@ -79,6 +90,22 @@ static unsigned runs = 5, threads = 2;
 static double warm_ms;           /* --warm MS: a path-traced frame of about MS GPU ms before each timed render */
 static double pt_ms_per_spp;     /* the indirect reference's GPU ms per sample, sizes that frame */
 static built* warm_with;         /* the path tracer without probes */
+
+static vx_photon_desc photon_desc; /* --photons N, --photon-radius R */
+static vx_photon_gi* photon_gi;
+
+static vx_result photon_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
+                               vx_error* err) {
+    (void)m, (void)b;
+    vx_result r = VX_OK;
+    if (!photon_gi) {
+        vx_gi_method gm;
+        vx_photon_desc d = photon_desc;
+        memcpy(d.light_dir, base.light_dir, sizeof d.light_dir); /* the path tracer's sun */
+        if ((r = vx_photon_gi_create(rs, &scene, NULL, &d, &gm, &photon_gi, err))) return r;
+    }
+    return vx_photon_render(photon_gi, &base, spp, !indirect, out, err);
+}
 
 static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                               vx_error* err) {
@@ -176,6 +203,7 @@ static int usage(void) {
             "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--warm MS] [--threads N] [--methods a,b]\n"
             "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
             "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
+            "                [--photons N] [--photon-radius R]\n"
             "                SCENE.{svo,vox} WxH [spacing:res:spp ...]\n"
             "methods:");
     for (size_t k = 0; k < METHOD_COUNT; k++) fprintf(stderr, " %s (max spp %u)", methods[k].name, methods[k].max_spp);
@@ -225,6 +253,8 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--methods")) method_list = v;
         else if (!strcmp(o, "--name")) scene_name = v;
         else if (!strcmp(o, "--csv")) csv_path = v;
+        else if (!strcmp(o, "--photons")) photon_desc.photons = (uint32_t)atoi(v);
+        else if (!strcmp(o, "--photon-radius")) photon_desc.radius = atof(v);
         else if (!strcmp(o, "--max-spp")) {
             const char* eq = strchr(v, '=');
             size_t k = 0;
@@ -357,6 +387,7 @@ int main(int argc, char** argv) {
     vx_render_image_free(&ref[0][0]);
     vx_render_image_free(&ref[1][0]);
     vx_probe_gpu_destroy(none.pg);
+    vx_photon_gi_destroy(photon_gi);
     if (csv) fclose(csv);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);

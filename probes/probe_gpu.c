@@ -64,6 +64,17 @@ static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t siz
     return upload_to(c->g, b, data, size, label, err);
 }
 
+void vx__pack_materials(const vx__light* L, const uint8_t* pal, size_t n, float* out) {
+    for (size_t i = 0; i < n; i++) {
+        const vx_material* mt = &L->mat[pal[i]];
+        float* o = out + 8 * i;
+        o[0] = mt->type == VX_MATERIAL_METAL ? 1.0f : (mt->type == VX_MATERIAL_GLASS ? 2.0f : 0.0f);
+        o[1] = (float)(mt->roughness * mt->roughness);
+        o[2] = (float)mt->metalness, o[3] = (float)mt->specular;
+        o[4] = (float)mt->ior, o[5] = (float)mt->transmission;
+    }
+}
+
 /* The path tracer's tables (probe.comp bindings 13-15): materials per
  * attribute record only when some material is metal or glass, the lights
  * and the emissive voxels relative to the frame's reference point; each a
@@ -80,14 +91,7 @@ static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* 
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the path tracer's tables");
         goto done;
     }
-    for (size_t i = 0; i < nm; i++) {
-        const vx_material* mt = &L->mat[pal[i]];
-        float* o = m + 8 * i;
-        o[0] = mt->type == VX_MATERIAL_METAL ? 1.0f : (mt->type == VX_MATERIAL_GLASS ? 2.0f : 0.0f);
-        o[1] = (float)(mt->roughness * mt->roughness);
-        o[2] = (float)mt->metalness, o[3] = (float)mt->specular;
-        o[4] = (float)mt->ior, o[5] = (float)mt->transmission;
-    }
+    vx__pack_materials(L, pal, nm, m);
     for (size_t i = 0, j = 0; j < L->light_count; j++) {
         const vx_light* li = &L->lights[j];
         if (li->flags & VX_LIGHT_FROM_VOXELS) continue; /* the voxels emit themselves (pathtrace.c) */

@@ -2,7 +2,8 @@
 if(VX_WITH_VULKAN)
   find_package(Threads REQUIRED)
   # shaders/probe.comp (bake and GI passes) includes render/shaders/trace_common.glsl
-  # for the scene's bindings and traversal; embedded as a C array like render's.
+  # for the scene's bindings and traversal and shaders/path_common.glsl (materials, shared
+  # with photons/); embedded as a C array like render's.
   set(VX_PROBES_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_PROBES_SPV_DIR})
   add_custom_command(
@@ -16,7 +17,8 @@ if(VX_WITH_VULKAN)
     OUTPUT ${VX_PROBES_SPV_DIR}/probe.comp.h
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
             --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
+    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
     COMMENT "glslangValidator probe.comp"
     VERBATIM)
   add_library(vx_probes STATIC

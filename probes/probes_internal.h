@@ -139,6 +139,12 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
 uint32_t vx__prender_rows(const vx_probe_render_desc* desc, uint32_t height);
 void vx__prender_free(vx__prender* P);
 
+/* The materials of the colors[] entries whose palette indices are pal[0..n)
+ * as path_common.glsl reads them (mats[]): 8 floats each, (type: 0 diffuse,
+ * 1 metal, 2 glass; GGX alpha; metalness; specular), (ior, transmission, 0, 0).
+ * probe_gpu.c and photons/ upload them. */
+void vx__pack_materials(const vx__light* L, const uint8_t* pal, size_t n, float* out);
+
 /* Probe map sizes in texels (with borders) and the per-probe block size. */
 static inline size_t vx__bsq(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
 

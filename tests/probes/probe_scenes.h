@@ -63,6 +63,32 @@ static void room_scene(vx_svo_scene* s) {
     s->material_count = 1;
 }
 
+/* Adds material record `id` with the dictionary "k0\0v0\0k1\0v1\0..." of n pairs. */
+static inline void add_material(vx_svo_scene* s, uint32_t id, const char* const* kv, int n) {
+    size_t size = 0;
+    for (int i = 0; i < 2 * n; i++) size += strlen(kv[i]) + 1;
+    s->materials = realloc(s->materials, (s->material_count + 1) * sizeof *s->materials);
+    vx_svo_material* m = &s->materials[s->material_count++];
+    m->id = id;
+    m->dict_size = (uint32_t)size;
+    m->dict = malloc(size);
+    size_t at = 0;
+    for (int i = 0; i < 2 * n; i++) {
+        memcpy(m->dict + at, kv[i], strlen(kv[i]) + 1);
+        at += strlen(kv[i]) + 1;
+    }
+}
+
+/* The light of a render without a probe set: a set of no probes carries
+ * sun, sky and bounces (probes.h: "ps giving their light"). */
+static inline vx_probe_set light_only(double sun, const double sky[3], uint32_t bounces) {
+    vx_probe_set ps = {0};
+    ps.light_dir[2] = 1;
+    for (int k = 0; k < 3; k++) ps.sun[k] = sun, ps.sky[k] = sky[k];
+    ps.bounces = bounces - 1; /* the renderer's default bounces: the set's + 1 */
+    return ps;
+}
+
 /* A set's .probes bytes (for byte-for-byte comparisons of bakes). */
 static inline bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size) {
     vx_error err = {0};

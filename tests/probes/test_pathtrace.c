@@ -20,32 +20,6 @@
 static const double PI = 3.14159265358979323846;
 static vx_gpu* gpu;
 
-/* Adds material record `id` with the dictionary "k0\0v0\0k1\0v1\0..." of n pairs. */
-static void add_material(vx_svo_scene* s, uint32_t id, const char* const* kv, int n) {
-    size_t size = 0;
-    for (int i = 0; i < 2 * n; i++) size += strlen(kv[i]) + 1;
-    s->materials = realloc(s->materials, (s->material_count + 1) * sizeof *s->materials);
-    vx_svo_material* m = &s->materials[s->material_count++];
-    m->id = id;
-    m->dict_size = (uint32_t)size;
-    m->dict = malloc(size);
-    size_t at = 0;
-    for (int i = 0; i < 2 * n; i++) {
-        memcpy(m->dict + at, kv[i], strlen(kv[i]) + 1);
-        at += strlen(kv[i]) + 1;
-    }
-}
-
-/* The light of a render without a probe set: a set of no probes carries
- * sun, sky and bounces (probes.h: "ps giving their light"). */
-static vx_probe_set light_only(double sun, const double sky[3], uint32_t bounces) {
-    vx_probe_set ps = {0};
-    ps.light_dir[2] = 1;
-    for (int k = 0; k < 3; k++) ps.sun[k] = sun, ps.sky[k] = sky[k];
-    ps.bounces = bounces - 1; /* the renderer's default bounces: the set's + 1 */
-    return ps;
-}
-
 static bool render_cpu(const vx_svo_scene* s, const vx_probe_set* ps, const vx_probe_render_desc* d, vx_render_image* out) {
     vx_error err = {0};
     vx_result r = vx_probe_render(s, ps, d, out, &err);

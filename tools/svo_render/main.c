@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "formats/image.h"
+#include "photons/photons.h"
 #include "probes/probes.h"
 #include "render/pipeline.h"
 #include "render/render.h"
@@ -26,6 +27,7 @@ typedef struct options {
     bool probe_mode;
     vx_probe_render_desc p;
     const char* probes;
+    vx_photon_desc photons; /* gi=photons: --photons, --photon-radius */
     /* the pass pipeline (colour mode on the GPU) */
     const char* passes;
     bool passes_given, show_given, spp_given;
@@ -108,7 +110,11 @@ _Noreturn static void usage(int status) {
             "                       values, PNG clamps)\n"
             "  --passes LIST        the frame's passes in order (default: %s):\n"
             "                       gbuffer,dof,direct,gi=METHOD,ao,aa,tonemap (direct, gi, ao in any order);\n"
-            "                       colour mode on the GPU; gi=probes|lightfield (need --probes) or gi=pathtrace\n"
+            "                       colour mode on the GPU; gi=probes|lightfield (need --probes), gi=pathtrace\n"
+            "                       or gi=photons (progressive photon mapping: each sample, --spp, is a pass)\n"
+            "  --photons N          gi=photons: photons per pass (default: %u)\n"
+            "  --photon-radius R    gi=photons: first gather radius, world units (default: scene diagonal / 100;\n"
+            "                       caustics a quarter; shrinking by alpha %.3g per pass)\n"
             "  --show IMAGE         write an intermediate: final|albedo|normal|depth|direct|gi|ao|instance|material\n"
             "                       (default: final; normal, depth and material need .exr)\n"
             "  --ao-radius R        ambient occlusion ray length in world units (default: 4 cells)\n"
@@ -167,7 +173,8 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo top.png --camera 64,64,300,64,64,0 --up 0,1,0 --ortho\n"
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n"
             "  %s walk.svo walk_####.png --frames 0..23\n",
-            prog, vx_render_mode_name(d.r.mode), d.passes, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
+            prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
+            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
@@ -243,7 +250,13 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     if (r) return r;
     vx_gi_method gm = {0};
     vx_probe_gi* pgi = NULL;
-    if (vx_pass_list_has(passes, VX_PASS_GI)) {
+    vx_photon_gi* phg = NULL;
+    if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "photons")) {
+        vx_photon_desc pd = o->photons; /* carries the frame's lights; the probes give sun and sky */
+        pd.seed = o->p.seed, pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
+        memcpy(pd.light_dir, o->r.light_dir, sizeof pd.light_dir);
+        if ((r = vx_photon_gi_create(rs, scene, probes, &pd, &gm, &phg, err))) goto done;
+    } else if (vx_pass_list_has(passes, VX_PASS_GI)) {
         vx_probe_render_desc pd = o->p;
         pd.base = &o->r;
         if (!strcmp(passes->gi, "pathtrace")) /* carries the frame's lights along its paths */
@@ -254,7 +267,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     fd.base = o->r;
     if (!o->spp_given) fd.base.spp = 0; /* the pipeline's default: 1, or 8 with aa or dof */
     fd.passes = passes;
-    fd.gi = pgi ? &gm : NULL;
+    fd.gi = pgi || phg ? &gm : NULL;
     fd.lights = o->frame_lights, fd.light_count = o->frame_light_count;
     FILE* csv = NULL;
     if (o->timings) {
@@ -288,6 +301,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     else vx_render_image_free(&res.image);
 done:
     vx_probe_gi_destroy(pgi);
+    vx_photon_gi_destroy(phg);
     vx_frame_renderer_destroy(fr);
     return r;
 }
@@ -347,6 +361,16 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--probes")) {
             NEED();
             o.probes = argv[++i];
+        } else if (!strcmp(a, "--photons")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.photons.photons) || !o.photons.photons || o.photons.photons > (1u << 26))
+                usage_error("bad photon count '%s' (1..2^26)", argv[i]);
+        } else if (!strcmp(a, "--photon-radius")) {
+            NEED();
+            char* end;
+            o.photons.radius = strtod(argv[++i], &end);
+            if (*end || !(o.photons.radius > 0) || !isfinite(o.photons.radius))
+                usage_error("bad photon radius '%s'", argv[i]);
         } else if (!strcmp(a, "--bounces")) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
@@ -526,11 +550,12 @@ int main(int argc, char** argv) {
     bool pipeline = !o.cpu && !o.probe_mode && o.r.mode == VX_RENDER_COLOR;
     if ((o.passes_given || o.show_given || o.timings) && !pipeline)
         usage_error("%s", "--passes, --show and --timings need the GPU colour mode (no --cpu, no other --mode)");
-    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace"))
+    bool photons = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "photons");
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace") && !photons)
         usage_error("gi=%s needs --probes FILE", passes.gi);
     if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
-        strcmp(passes.gi, "pathtrace"))
-        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace)", passes.gi);
+        strcmp(passes.gi, "pathtrace") && !photons)
+        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace, photons)", passes.gi);
     if (o.voxel_lights && o.no_scene_lights) usage_error("%s", "--voxel-lights and --no-scene-lights exclude each other");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||

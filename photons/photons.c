@@ -1,0 +1,446 @@
+/* photons/photons.c - photon mapping on the GPU (photons/photons.h): the
+ * sources table, the buffers, the passes (trace, grid build, gather) and the
+ * pipeline's gi method. The GPU side is photons/shaders/photon.comp. */
+#include <math.h>
+#include <string.h>
+
+#include "photons/photons.h"
+#include "probes/probes_internal.h"
+#include "render/gpu.h"
+
+#include "photon.comp.h" /* shaders/photon.comp, embedded at build time */
+
+static const double pi = 3.14159265358979323846;
+
+/* std430 block "Params" of photon.comp */
+typedef struct gpu_params {
+    uint32_t a[4];    /* photons, capacity, stored bounces, buckets */
+    uint32_t seed[4]; /* seed lo, hi, pass, sources */
+    float r[4];       /* global radius, caustic radius, 1 / (pi rg^2), 1 / (pi rc^2) */
+    uint32_t img[4];  /* width, height, running mean, full */
+    float sphere[4];  /* bounding sphere centre (relative to the reference), radius */
+    float sky[4];     /* sky radiance, w: emissive voxels' power */
+    uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), 0, 0 */
+} gpu_params;
+_Static_assert(sizeof(gpu_params) == 112, "gpu_params vs photon.comp");
+
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER };
+enum { NBIND = 17, SRC_FLOATS = 24, PHOTON_BYTES = 32 };
+/* source types of photon.comp (0-4 are vx_light_type) */
+enum { SRC_SKY = 5, SRC_VOXELS = 6 };
+
+struct vx_photon_gi {
+    vx_render_scene* rs;
+    const vx_svo_scene* scene;
+    vx_gpu* g;
+    vx_photon_desc d; /* resolved */
+    vx__prender P;    /* the light (as the probe renderer resolves it) and the scene's bounds */
+    float* emit_attr;
+    size_t emit_count;
+    double centre[3], sphere_r;
+    uint32_t buckets, sources;
+    bool tables_for_ref; /* sources and emitters uploaded for ref */
+    double ref[3];
+    uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then STEP and MATS */
+    vx__buffer* scene_bufs[7];
+    vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img;
+    vx_photon_stats last;
+    const vx_allocator* alloc;
+};
+
+vx_photon_desc vx_photon_desc_defaults(void) {
+    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0};
+}
+
+static vx_result upload_new(vx_gpu* g, vx__buffer* b, const void* data, size_t size, const char* label,
+                            vx_error* err) {
+    vx_result r = vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+    if (!r && data) r = vx__buffer_upload(g, b, data, size, err);
+    return r;
+}
+
+static double lum(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+/* Integral of a spot's falloff squared over its cone, per steradian of the
+ * cone: E[sp^2] for directions uniform in the outer cone (midpoint rule in
+ * cos theta, where the cone's solid angle is uniform). */
+static double spot_mean(double sc, double off, double co) {
+    enum { N = 1024 };
+    double s = 0;
+    for (int i = 0; i < N; i++) {
+        double c = co + (1 - co) * (i + 0.5) / N, sp = fmin(1, fmax(0, c * sc + off));
+        s += sp * sp;
+    }
+    return s / N;
+}
+
+/* The sources table and the emissive voxels relative to ref (photon.comp's
+ * Sources and Emitters). Power in luminance picks the source. */
+static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error* err) {
+    const vx__light* L = &pg->P.L;
+    uint32_t n = 0, cap = 2 + L->light_count + 1;
+    float* s = vx_calloc(pg->alloc, cap, SRC_FLOATS * sizeof(float));
+    double* pw = vx_calloc(pg->alloc, cap, 4 * sizeof(double)); /* rgb power, luminance */
+    size_t ne = L->em_count;
+    float* e = vx_calloc(pg->alloc, ne ? 20 * ne : 4, sizeof(float));
+    vx_result r = VX_OK;
+    if (!s || !pw || !e) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the photon sources");
+        goto done;
+    }
+    double R = pg->sphere_r, disk = pi * R * R;
+    /* the sun: a directional source of irradiance sun */
+    if (L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0) {
+        float* o = s + SRC_FLOATS * n;
+        for (int k = 0; k < 3; k++) o[4 + k] = (float)L->light_dir[k], pw[4 * n + k] = L->sun[k] * disk;
+        o[3] = VX_LIGHT_DIRECTIONAL, o[21] = 1;
+        n++;
+    }
+    if (L->sky[0] > 0 || L->sky[1] > 0 || L->sky[2] > 0) {
+        float* o = s + SRC_FLOATS * n;
+        for (int k = 0; k < 3; k++) pw[4 * n + k] = L->sky[k] * 4 * pi * disk;
+        o[3] = SRC_SKY;
+        n++;
+    }
+    for (uint32_t j = 0; j < L->light_count; j++) {
+        const vx_light* li = &L->lights[j];
+        if (li->flags & VX_LIGHT_FROM_VOXELS) continue; /* the voxels emit themselves */
+        float* o = s + SRC_FLOATS * n;
+        double nd[3], t[3], dl = 0, tn = 0, tl = 0, c[3];
+        for (int k = 0; k < 3; k++) dl += li->direction[k] * li->direction[k];
+        dl = sqrt(dl);
+        for (int k = 0; k < 3; k++) nd[k] = dl > 0 ? li->direction[k] / dl : 0, tn += li->tangent[k] * nd[k];
+        for (int k = 0; k < 3; k++) t[k] = li->tangent[k] - tn * nd[k], tl += t[k] * t[k];
+        tl = sqrt(tl);
+        for (int k = 0; k < 3; k++) {
+            o[k] = (float)(li->position[k] - ref[k]);
+            o[4 + k] = (float)nd[k];
+            o[16 + k] = tl > 0 ? (float)(t[k] / tl) : 0.0f;
+            c[k] = li->color[k] * li->intensity;
+        }
+        o[3] = (float)li->type, o[7] = (float)li->range, o[15] = (float)li->radius, o[21] = 1;
+        double f = 0; /* power per unit of colour * intensity */
+        switch (li->type) {
+        case VX_LIGHT_DIRECTIONAL:
+            f = disk;
+            o[14] = (float)(1 - cos(0.5 * li->angular_diameter));
+            break;
+        case VX_LIGHT_POINT: f = 4 * pi; break;
+        case VX_LIGHT_SPOT: {
+            double ci = cos(li->inner_cone), co = cos(li->outer_cone), sc = 1.0 / fmax(0.001, ci - co);
+            o[12] = (float)sc, o[13] = (float)(-co * sc), o[14] = (float)(1 - co);
+            /* the photon's power is multiplied by the falloff in the shader: its mean is in the
+             * probability only */
+            f = 2 * pi * (1 - co);
+            pw[4 * n + 3] = lum(c) * f * spot_mean(sc, -co * sc, co);
+            break;
+        }
+        case VX_LIGHT_SPHERE: f = pi * 4 * pi * li->radius * li->radius; break;
+        case VX_LIGHT_RECT:
+            f = pi * li->size[0] * li->size[1];
+            o[19] = (float)li->size[0], o[20] = (float)li->size[1];
+            break;
+        default: break;
+        }
+        for (int k = 0; k < 3; k++) pw[4 * n + k] = c[k] * f;
+        n++;
+    }
+    if (ne) {
+        float* o = s + SRC_FLOATS * n;
+        o[3] = SRC_VOXELS, o[21] = L->voxel_lights; /* direct when a light stands for them */
+        for (int k = 0; k < 3; k++) pw[4 * n + k] = pi * L->em_power; /* scaled by rad / lum(rad) per voxel */
+        n++;
+        for (size_t i = 0; i < ne; i++) {
+            const vx__emitter* em = &L->em[i];
+            float* q = e + 20 * i;
+            for (int k = 0; k < 3; k++) {
+                q[k] = (float)(em->corner[k] - ref[k]);
+                for (int a = 0; a < 3; a++) q[4 * (a + 1) + k] = (float)em->axis[a][k];
+                q[16 + k] = (float)em->rad[k];
+            }
+            q[3] = (float)em->area, q[7] = (float)L->em_cdf[i];
+        }
+    }
+    double total = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(pw[4 * i + 3] > 0)) pw[4 * i + 3] = lum(pw + 4 * i);
+        if (!(pw[4 * i + 3] > 0) || !isfinite(pw[4 * i + 3])) pw[4 * i + 3] = 0;
+        total += pw[4 * i + 3];
+    }
+    double acc = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        float* o = s + SRC_FLOATS * i;
+        double p = total > 0 ? pw[4 * i + 3] / total : 0;
+        acc += p;
+        /* a source never picked keeps power 0; the last cdf entry is 1 whatever the rounding */
+        for (int k = 0; k < 3; k++) o[8 + k] = p > 0 ? (float)(pw[4 * i + k] / p) : 0.0f;
+        o[11] = i + 1 == n ? 1.0f : (float)acc;
+    }
+    vx__buffer_destroy(pg->g, &pg->src);
+    vx__buffer_destroy(pg->g, &pg->ems);
+    if ((r = upload_new(pg->g, &pg->src, s, (n ? n : 1) * SRC_FLOATS * sizeof(float), "photon sources", err)) ||
+        (r = upload_new(pg->g, &pg->ems, e, ne ? 80 * ne : 16, "photon emitters", err)))
+        goto done;
+    pg->sources = total > 0 ? n : 0;
+done:
+    vx_free(pg->alloc, s);
+    vx_free(pg->alloc, pw);
+    vx_free(pg->alloc, e);
+    return r;
+}
+
+static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
+    if (!items) return VX_OK;
+    pg->spec[VX__SPEC_COUNT] = (uint32_t)st;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 2, .label = "photon"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, pg->spec, sizeof pg->spec);
+    uint64_t key = 0x9407035ull;
+    for (int i = 0; i < VX__SPEC_COUNT + 2; i++) key = key * 131 + pg->spec[i];
+    vx__pipeline* p;
+    vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
+    if (r) return r;
+    uint64_t groups = (items + 63) / 64;
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
+    for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
+    vx__buffer* own[] = {&pg->params, &pg->emit, &pg->mats, &pg->src, &pg->ems, &pg->photons,
+                         &pg->sorted, &pg->cells, out,        &pg->counters};
+    for (int i = 0; i < 10; i++) dd.buffers[7 + i] = own[i];
+    double s = 0;
+    r = vx__dispatch(pg->g, &dd, &s, err);
+    *ms += s * 1e3;
+    return r;
+}
+
+/* The radius of pass k: r_k^2 = r_0^2 prod_{i=1..k} (i + alpha) / (i + 1). */
+static double pass_radius(double r0, double alpha, uint32_t k) {
+    double f = 1;
+    for (uint32_t i = 1; i <= k; i++) f *= (i + alpha) / (i + 1);
+    return r0 * sqrt(f);
+}
+
+/* One pass: photons traced, both grids built, the estimate written into out
+ * (running mean over the passes when mean). */
+static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_t pass, vx__buffer* out, bool mean,
+                          bool full, double* seconds, vx_error* err) {
+    vx_render_desc base = frame ? *frame : (vx_render_desc){0};
+    base.mode = VX_RENDER_COLOR, base.spp = 1, base.lod = false;
+    vx__frame f;
+    vx_result r = vx__frame_setup(pg->P.lo, pg->P.hi, &base, &f, err);
+    if (r) return r;
+    size_t npx = (size_t)f.width * f.height;
+    if (out->size < npx * 16)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
+                       (unsigned long long)out->size, f.width, f.height);
+    if ((r = vx__render_scene_bind(pg->rs, &f, pg->scene_bufs, pg->spec, err))) return r;
+    if (!pg->tables_for_ref || memcmp(pg->ref, f.ref, sizeof pg->ref)) {
+        if ((r = upload_sources(pg, f.ref, err))) return r;
+        memcpy(pg->ref, f.ref, sizeof pg->ref);
+        pg->tables_for_ref = true;
+    }
+    pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
+    const vx_photon_desc* d = &pg->d;
+    vx_photon_stats st = {.pass = pass};
+    st.radius = pass_radius(d->radius, d->alpha, pass);
+    st.caustic_radius = pass_radius(d->caustic_radius, d->alpha, pass);
+    gpu_params* p = pg->params.map;
+    memset(p, 0, sizeof *p);
+    uint64_t seed = d->seed + (uint64_t)pass * UINT64_C(0x9E3779B97F4A7C15);
+    p->a[0] = pg->sources ? d->photons : 0, p->a[1] = d->capacity, p->a[2] = d->bounces, p->a[3] = pg->buckets;
+    p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32), p->seed[2] = pass, p->seed[3] = pg->sources;
+    p->r[0] = (float)st.radius, p->r[1] = (float)st.caustic_radius;
+    p->r[2] = (float)(1 / (pi * st.radius * st.radius)), p->r[3] = (float)(1 / (pi * st.caustic_radius * st.caustic_radius));
+    p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
+    for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = (float)pg->P.L.sky[k];
+    p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->P.L.em_power;
+    p->cnt[0] = pg->P.L.em_count, p->cnt[1] = 2;
+    uint32_t ctr[4] = {0};
+    double build = 0;
+    if ((r = step(pg, STEP_CLEAR, pg->buckets, out, &build, err)) ||
+        (r = step(pg, STEP_TRACE, p->a[0], out, &st.trace_ms, err)) ||
+        (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
+        return r;
+    st.emitted = p->a[0];
+    st.stored = ctr[0] < d->capacity ? ctr[0] : d->capacity;
+    st.dropped = ctr[0] - st.stored;
+    if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
+    if (!r) r = step(pg, STEP_ALLOC, pg->buckets, out, &build, err);
+    if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
+    if (!r) r = step(pg, STEP_GATHER, npx, out, &st.gather_ms, err);
+    if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
+    if (r) return r;
+    if (ctr[2])
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
+                       vx_gpu_device_name(pg->g));
+    st.build_ms = build;
+    pg->last = st;
+    *seconds = (st.trace_ms + st.build_ms + st.gather_ms) * 1e-3;
+    return VX_OK;
+}
+
+static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err) {
+    vx_photon_gi* pg = user;
+    return run_pass(pg, io->frame, io->sample, io->out, false, false, gpu_seconds, err);
+}
+
+static uint32_t pow2_at_least(uint64_t n) {
+    uint32_t b = 1;
+    while (b < n && b < (1u << 31)) b <<= 1;
+    return b;
+}
+
+vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* light,
+                              const vx_photon_desc* desc, vx_gi_method* method, vx_photon_gi** out, vx_error* err) {
+    if (!rs || !scene || !method || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
+    const vx_photon_desc D = vx_photon_desc_defaults();
+    vx_photon_desc d = desc ? *desc : (vx_photon_desc){0};
+    if (!d.photons) d.photons = D.photons;
+    if (!(d.alpha > 0)) d.alpha = D.alpha;
+    if (!d.bounces) d.bounces = D.bounces;
+    if (!(d.alpha <= 1) || !(d.radius >= 0) || !(d.caustic_radius >= 0) || !isfinite(d.radius) ||
+        !isfinite(d.caustic_radius))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "photons: alpha %g (0..1], radius %g and caustic radius %g (>= 0, finite)", d.alpha, d.radius,
+                       d.caustic_radius);
+    if (d.photons > (1u << 26))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u photons per pass: at most 2^26", d.photons);
+    if (!d.capacity) d.capacity = 4 * d.photons;
+    if (d.capacity > (1u << 28))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a capacity of %u photons: at most 2^28", d.capacity);
+    const vx_allocator* a = scene->alloc;
+    vx_photon_gi* pg = vx_calloc(a, 1, sizeof *pg);
+    if (!pg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    pg->alloc = a, pg->rs = rs, pg->scene = scene, pg->g = vx__render_scene_gpu(rs);
+    vx_render_desc sun = {.light_dir = {d.light_dir[0], d.light_dir[1], d.light_dir[2]}};
+    vx_probe_render_desc pd = {.base = &sun, .mode = VX_PROBE_RENDER_PT_INDIRECT, .lights = d.lights,
+                               .light_count = d.light_count};
+    vx_result r = vx__prender_setup(scene, light, light && light->first == 0 && light->count == light->probe_count, &pd,
+                                    &pg->P, err);
+    if (r) {
+        vx_free(a, pg);
+        return r;
+    }
+    double diag = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = pg->P.hi[k] - pg->P.lo[k];
+        pg->centre[k] = 0.5 * (pg->P.lo[k] + pg->P.hi[k]);
+        diag += e * e;
+    }
+    diag = sqrt(diag);
+    pg->sphere_r = 0.5 * diag * 1.001 + 1e-6;
+    if (!(d.radius > 0)) d.radius = diag / 100;
+    if (!(d.caustic_radius > 0)) d.caustic_radius = d.radius / 4;
+    if (!(d.radius > 0) || !(d.caustic_radius > 0)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: an empty scene");
+    pg->d = d;
+    pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
+    uint8_t* pal = NULL;
+    size_t n = 0;
+    float* m = NULL;
+    if (!r) r = vx__scene_attr_palette(scene, a, &pal, &n, err);
+    if (!r && (!(pg->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))) || !(m = vx_calloc(a, n ? 8 * n : 4, sizeof(float)))))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", n);
+    if (!r) {
+        for (size_t i = 0; i < n; i++) pg->emit_attr[i] = (float)pg->P.L.emit[pal[i]];
+        pg->emit_count = n;
+        vx__pack_materials(&pg->P.L, pal, pg->P.L.materials ? n : 0, m);
+        size_t nm = pg->P.L.materials ? n : 0;
+        uint64_t ph = (uint64_t)d.capacity * PHOTON_BYTES;
+        r = upload_new(pg->g, &pg->emit, pg->emit_attr, (n ? n : 1) * sizeof(float), "photon emission", err);
+        if (!r) r = upload_new(pg->g, &pg->mats, m, nm ? 32 * nm : 16, "photon materials", err);
+        if (!r) r = upload_new(pg->g, &pg->photons, NULL, ph, "photons", err);
+        if (!r) r = upload_new(pg->g, &pg->sorted, NULL, ph, "photons sorted", err);
+        if (!r) r = upload_new(pg->g, &pg->cells, NULL, (uint64_t)pg->buckets * 8, "photon grid", err);
+        if (!r) r = upload_new(pg->g, &pg->src, NULL, 16, "photon sources", err);
+        if (!r) r = upload_new(pg->g, &pg->ems, NULL, 16, "photon emitters", err);
+        if (!r)
+            r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "photon counters", &pg->counters,
+                                  err);
+        if (!r)
+            r = vx__buffer_create(pg->g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "photon params",
+                                  &pg->params, err);
+        if (!r && !pg->params.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon parameters are not host visible");
+    }
+    vx_free(a, pal);
+    vx_free(a, m);
+    if (r) {
+        vx_photon_gi_destroy(pg);
+        return r;
+    }
+    *method = (vx_gi_method){.name = "photons", .user = pg, .render = gi_render, .emit_attr = pg->emit_attr,
+                             .emit_count = pg->emit_count, .lights = d.lights, .light_count = d.light_count};
+    for (int k = 0; k < 3; k++) {
+        method->light_dir[k] = pg->P.L.light_dir[k];
+        method->sun[k] = pg->P.L.sun[k];
+        method->sky[k] = pg->P.L.sky[k];
+    }
+    *out = pg;
+    return VX_OK;
+}
+
+void vx_photon_gi_destroy(vx_photon_gi* pg) {
+    if (!pg) return;
+    vx__buffer* b[] = {&pg->params, &pg->emit, &pg->mats, &pg->src,      &pg->ems,
+                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img};
+    for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
+    vx__prender_free(&pg->P);
+    vx_free(pg->alloc, pg->emit_attr);
+    vx_free(pg->alloc, pg);
+}
+
+vx_result vx_photon_render(vx_photon_gi* pg, const vx_render_desc* base, uint32_t passes, bool full,
+                           vx_render_image* out, vx_error* err) {
+    if (!pg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_render_desc b = base ? *base : (vx_render_desc){0};
+    vx__frame f;
+    vx_result r = vx__frame_setup(pg->P.lo, pg->P.hi, &b, &f, err);
+    if (r) return r;
+    size_t npx = (size_t)f.width * f.height;
+    if ((r = vx__buffer_ensure(pg->g, &pg->img, npx * 16, "photon image", err))) return r;
+    double total = 0;
+    for (uint32_t k = 0; k < (passes ? passes : 1) && !r; k++) {
+        double s = 0;
+        r = run_pass(pg, &b, k, &pg->img, true, full, &s, err);
+        total += s;
+    }
+    if (r) return r;
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
+    if (!(img.pixels = vx_alloc(NULL, npx * 16)))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+    if ((r = vx__buffer_download(pg->g, &pg->img, img.pixels, npx * 16, err))) {
+        vx_free(NULL, img.pixels);
+        return r;
+    }
+    img.gpu_seconds = total;
+    img.rays = (uint64_t)pg->last.emitted * (passes ? passes : 1);
+    *out = img;
+    return VX_OK;
+}
+
+void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out) {
+    if (pg && out) *out = pg->last;
+}
+
+vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err) {
+    if (!pg || !first || !all) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    size_t n = (size_t)pg->last.stored;
+    float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
+    if (!ph) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n);
+    vx_result r = n ? vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err) : VX_OK;
+    for (int k = 0; k < 3; k++) first[k] = all[k] = 0;
+    for (size_t i = 0; !r && i < n; i++) {
+        const float* q = ph + 8 * i;
+        uint32_t wi;
+        memcpy(&wi, q + 3, 4);
+        for (int k = 0; k < 3; k++) {
+            all[k] += q[4 + k];
+            if (wi & 1u) first[k] += q[4 + k]; /* photon.comp's F_FIRST */
+        }
+    }
+    vx_free(pg->alloc, ph);
+    return r;
+}

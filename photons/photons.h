@@ -1,0 +1,145 @@
+/* photons/photons.h - photon mapping on the GPU as a GI method of the pass
+ * pipeline (render/pipeline.h: gi=photons): global and caustic photon maps,
+ * rebuilt every pass, progressive radius shrinking.
+ *
+ * Usage:
+ *   vx_gi_method gm; vx_photon_gi* pg;
+ *   vx_photon_gi_create(rs, &scene, NULL, &(vx_photon_desc){ .photons = 1 << 20 }, &gm, &pg, &err);
+ *   frame_desc.gi = &gm;   ... vx_frame_render(...) ...   vx_photon_gi_destroy(pg);
+ *
+ * Light. The method's light is the probe renderer's (probes/probes.h): the
+ * sun and sky of `light` (a probe set, possibly of no probes) or the bake
+ * defaults, the emissive voxels (MATL _emit), and the desc's lights
+ * (vx_light: directional, point, spot, sphere, rect; any replace the sun).
+ * Photons leave every source with a probability proportional to its power
+ * (luminance): the sun and directional lights, and the sky, through the disk
+ * of the scene's bounding sphere seen from their direction; point and spot
+ * lights from their position (a spot's cone weighted by its falloff, glTF's
+ * range window applied at the first hit); sphere and rect lights and
+ * emissive voxel faces from a uniform point with a cosine direction. Each
+ * photon carries its source's power / (probability * photons), so the sum of
+ * the emitted power is the lights' power.
+ *
+ * Tracing (photons/shaders/photon.comp). Each photon walks the BVH and the
+ * octrees with the path tracer's materials (probes/shaders/path_common.glsl:
+ * Lambert, GGX metal, glass with refraction and Fresnel, the walk through a
+ * glass voxel). At every surface that is not glass it is stored (position,
+ * incoming direction, normal, power), then scatters by the BSDF with Russian
+ * roulette on its throughput (survivors keep about their power). A photon
+ * whose path since the light went only through glass is a caustic photon
+ * (the caustic map); all others form the global map. A photon that reached
+ * its first surface straight from a light the direct pass shades (sun,
+ * frame lights; emissive voxels only when a light stands for them) is
+ * marked direct: the estimate at the camera's first surface leaves it out,
+ * since the pipeline's direct pass delivers that light.
+ *
+ * Storage: a hashed uniform grid per map, cell = the map's gather radius,
+ * rebuilt every pass (count per bucket, claim ranges, scatter; three
+ * dispatches). Hashed rather than dense: its memory follows the photon
+ * count (2^k buckets, at least twice the photons' capacity), not the
+ * scene's extent over the radius, which for a 0.01-diagonal radius would
+ * be 10^6 cells of which most stay empty; collisions cost only tests of
+ * photons that the distance check rejects. A gather reads the 27 cells
+ * around the point (the 3^3 cells a sphere of radius r can touch).
+ *
+ * Estimate: at the camera's first surface that is not glass (glass on the
+ * way is followed by Fresnel choice, as the path tracer does), the
+ * radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
+ * photons of each map within its radius and of the surface's orientation
+ * (normals within 25 degrees); caustics from the caustic map with its own,
+ * smaller radius; indirect diffuse directly from the global map (no final
+ * gather). What the estimate gives is the pipeline's gi: the indirect light
+ * leaving the first surface (vx_probe_render PT_INDIRECT's quantity).
+ *
+ * Progressive: pass k (the pipeline's sample k) emits fresh photons with
+ * radius r_k, r_k^2 = r_0^2 prod_{i=1..k} (i + alpha) / (i + 1) (Knaus and
+ * Zwicker 2011, the memoryless form of stochastic progressive photon
+ * mapping); the mean over the passes converges to the path tracer's answer:
+ * its bias shrinks with the radius while the variance of the mean still
+ * falls (alpha in (0, 1)).
+ *
+ * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
+ * bytes per bucket. Photons beyond the capacity are dropped (counted in the
+ * stats; the estimate then falls short). */
+#ifndef VX_PHOTONS_H
+#define VX_PHOTONS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "probes/probes.h"
+#include "render/pipeline.h"
+#include "render/render.h"
+#include "svo/svo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Options; zero-initialised means the defaults (vx_photon_desc_defaults).
+ *  photons:        emitted per pass; 0: 2^20
+ *  radius:         the global map's gather radius in the first pass, world
+ *                  units; 0: the scene's bounding diagonal / 100
+ *  caustic_radius: the caustic map's first radius; 0: radius / 4
+ *  alpha:          radius shrinking per pass (above); 0: 2/3; 1 keeps it
+ *  bounces:        photons stored per path at most; 0: 8
+ *  capacity:       stored photons per pass at most; 0: 4 x photons
+ *  seed:           random streams (each pass its own)
+ *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
+ *  lights:         light_count lights (borrowed, validated; see above) */
+typedef struct vx_photon_desc {
+    uint32_t photons;
+    double radius;
+    double caustic_radius;
+    double alpha;
+    uint32_t bounces;
+    uint32_t capacity;
+    uint64_t seed;
+    double light_dir[3];
+    const vx_light* lights;
+    uint32_t light_count;
+} vx_photon_desc;
+
+/* The defaults (the one source; svo_render's --help prints them). Scene
+ * dependent fields (radius, caustic_radius) stay 0. */
+vx_photon_desc vx_photon_desc_defaults(void);
+
+/* What the last pass did. */
+typedef struct vx_photon_stats {
+    uint32_t pass;
+    uint64_t emitted;         /* photons emitted */
+    uint64_t stored;          /* photons stored (both maps) */
+    uint64_t dropped;         /* stored photons over the capacity, lost */
+    double radius, caustic_radius; /* this pass's radii */
+    double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
+} vx_photon_stats;
+
+typedef struct vx_photon_gi vx_photon_gi;
+
+/* Makes the method: fills *method (valid while *out lives) with the render
+ * callback and the light the pipeline's direct pass must use (as
+ * vx_probe_gi_create does); light may be NULL (the bake defaults). rs, scene,
+ * light and desc->lights must outlive *out. */
+vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* light,
+                              const vx_photon_desc* desc, vx_gi_method* method, vx_photon_gi** out, vx_error* err);
+void vx_photon_gi_destroy(vx_photon_gi* pg);
+
+/* Without the pipeline (tests, benchmarks): the mean of passes 0..passes-1
+ * of the indirect light for the camera of base (pixel centres); with full,
+ * the whole radiance instead: the first surface's emission and all photons
+ * there (direct light too), the sky on a miss. out (RGBA float, alpha 1) is
+ * freed with vx_render_image_free; its gpu_seconds is the sum of every
+ * pass's GPU time. */
+vx_result vx_photon_render(vx_photon_gi* pg, const vx_render_desc* base, uint32_t passes, bool full,
+                           vx_render_image* out, vx_error* err);
+void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out);
+
+/* Downloads the last pass's stored photons and sums their power (RGB):
+ * first: photons stored at the first surface of their path (no glass
+ * before), all: every stored photon. For tests of energy conservation. */
+vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_PHOTONS_H */

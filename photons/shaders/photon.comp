@@ -1,0 +1,352 @@
+#version 450
+// photons/shaders/photon.comp - GPU photon mapping (photons/photons.h): one
+// shader, one binding layout, the step chosen by the spec constant STEP:
+//   STEP 0 clear:   zero the bucket counts and the counters
+//   STEP 1 trace:   one invocation per photon: emit from a source picked by
+//                   power, trace through the BVH and octrees with the path
+//                   tracer's materials (path_common.glsl), store a photon at
+//                   every non-glass surface it reaches, Russian roulette
+//   STEP 2 count:   per stored photon, count it into its hash bucket
+//   STEP 3 alloc:   per bucket, claim a contiguous range of the sorted array
+//   STEP 4 scatter: per stored photon, copy it into its bucket's range
+//   STEP 5 gather:  per pixel, the radiance estimate at the camera's first
+//                   non-glass surface from the caustic and global maps
+// Coordinates are world minus the frame's reference point (as the tracer's).
+// Layouts: photons/photons.c.
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+
+#include "trace_common.glsl"
+
+layout(constant_id = 5) const int STEP = 0;
+layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
+const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5;
+
+layout(std430, binding = 7) readonly buffer Params {
+    uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces, w: buckets (2^k)
+    uvec4 seed;   // x, y: seed words, z: pass, w: sources
+    vec4 r;       // x: global radius, y: caustic radius, z: 1 / (pi rg^2), w: 1 / (pi rc^2)
+    uvec4 img;    // x: width, y: height, z: 1: average into Out with pass z of the seed (running mean), w: full
+    vec4 sphere;  // xyz: centre of the scene's bounding sphere, w: its radius
+    vec4 sky;     // rgb: sky radiance (seen through glass), w: emissive voxels' total power (sum lum(rad) area)
+    uvec4 cnt;    // x: emissive voxels, y: 2 (loops_intact), z: work items of a per-item step, w: 0
+} P;
+layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
+layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
+// per source six vec4: (position, type), (unit direction, range), (power / probability rgb, cdf),
+// (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0)
+layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
+// per emissive voxel five vec4 (probes/probe_gpu.c's layout): (corner, area), (axis 0, cdf), (axis 1, 0),
+// (axis 2, 0), (radiance, 0)
+layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
+// stored photons, two vec4 each: (position, bits of the packed incoming direction), (power rgb, bits of the
+// packed normal with the flags in its low bits: see pack_flags)
+layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
+layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
+// per bucket: count, then (after alloc) start
+layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
+layout(std430, binding = 15) buffer Out { vec4 outv[]; };
+// x: photons stored (may pass the capacity: the rest were dropped), y: sorted so far, z: the loop guard fired
+layout(std430, binding = 16) buffer Counters { uint ctr[]; };
+
+#include "path_common.glsl"
+
+uvec2 rng_seed() { return P.seed.xy; }
+Surf g_s; // the vertex being shaded (one copy: GLSL passes structs by value)
+
+const uint T_DIRECTIONAL = 0u, T_POINT = 1u, T_SPOT = 2u, T_SPHERE = 3u, T_RECT = 4u, T_SKY = 5u, T_VOXELS = 6u;
+const uint F_CAUSTIC = 1u, F_DIRECT = 2u; // in the normal's code
+const uint F_FIRST = 1u;                 // in the direction's code
+
+// True unless llvmpipe's loop guard fired in this SIMD group (probes/shaders/probe.comp explains it).
+bool loops_intact() {
+    uint n = 0u;
+    for (uint i = 0u; i < P.cnt.y; i++) n += 1u;
+    return n == P.cnt.y;
+}
+
+uint item() { return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u; }
+
+vec3 uniform_sphere(float u1, float u2) {
+    float z = 1.0 - 2.0 * u1, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PI * u2;
+    return vec3(s * cos(phi), s * sin(phi), z);
+}
+
+// A point of the disk of radius R through c perpendicular to unit w.
+vec3 disk_point(vec3 c, vec3 w, float R, float u1, float u2) {
+    vec3 t, b;
+    basis(w, t, b);
+    float r = R * sqrt(u1), phi = 2.0 * PI * u2;
+    return c + r * (cos(phi) * t + sin(phi) * b);
+}
+
+// ---- the hashed grid (cell = the map's gather radius) ----
+uint bucket(ivec3 c, uint map) {
+    uint h = uint(c.x) * 73856093u ^ uint(c.y) * 19349663u ^ uint(c.z) * 83492791u ^ map * 2654435761u;
+    h ^= h >> 15u;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12u;
+    return h & (P.a.w - 1u);
+}
+ivec3 cell_of(vec3 p, float r) { return ivec3(floor(p / r)); }
+uint photon_bucket(vec4 a, vec4 b) {
+    uint map = floatBitsToUint(b.w) & F_CAUSTIC;
+    return bucket(cell_of(a.xyz, map != 0u ? P.r.y : P.r.x), map);
+}
+
+// ---- emission ----
+// Samples a source by its cdf and a ray leaving it; phi: the photon's power. false: nothing emitted.
+bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, out vec3 lpos, out float range) {
+    float u = rnd();
+    uint n = P.seed.w, i = 0u;
+    while (i + 1u < n && src[6u * i + 2u].w <= u) i++;
+    vec4 a = src[6u * i], b = src[6u * i + 1u], c = src[6u * i + 2u], e = src[6u * i + 3u];
+    vec4 tg = src[6u * i + 4u], f = src[6u * i + 5u];
+    type = uint(a.w);
+    flags = f.y != 0.0 ? F_DIRECT : 0u;
+    phi = c.xyz / float(P.a.x);
+    lpos = a.xyz;
+    range = b.w;
+    float u1 = rnd(), u2 = rnd(), u3 = rnd(), u4 = rnd();
+    vec3 C = P.sphere.xyz;
+    float R = P.sphere.w;
+    if (type == T_DIRECTIONAL || type == T_SKY) {
+        // towards the light: b (directional), or a direction of the sphere (sky); enter through the
+        // disk of the scene's bounding sphere seen from there
+        vec3 w = type == T_SKY ? uniform_sphere(u3, u4) : b.xyz;
+        o = disk_point(C + 2.0 * R * w, w, R, u1, u2);
+        d = -w;
+        if (type == T_DIRECTIONAL && e.z > 0.0) d = cone_dir(-w, e.z, rnd(), rnd());
+    } else if (type == T_POINT) {
+        o = a.xyz;
+        d = uniform_sphere(u1, u2);
+    } else if (type == T_SPOT) {
+        o = a.xyz;
+        d = cone_dir(b.xyz, e.z, u1, u2);
+        float sp = clamp(dot(d, b.xyz) * e.x + e.y, 0.0, 1.0);
+        phi *= sp * sp;
+    } else if (type == T_SPHERE) {
+        vec3 nrm = uniform_sphere(u1, u2);
+        o = a.xyz + nrm * e.w * (1.0 + 1e-4);
+        d = cosine_dir(nrm, u3, u4);
+    } else if (type == T_RECT) {
+        vec3 t2 = cross(b.xyz, tg.xyz);
+        o = a.xyz + (u1 - 0.5) * tg.w * tg.xyz + (u2 - 0.5) * f.x * t2;
+        d = cosine_dir(b.xyz, u3, u4);
+    } else { // emissive voxels, by their power (probes/shaders/probe.comp's nee picks them alike)
+        float v = rnd();
+        uint lo = 0u, hi = P.cnt.x - 1u;
+        while (lo < hi) {
+            uint mid = lo + (hi - lo) / 2u;
+            if (ems[5u * mid + 1u].w <= v) lo = mid + 1u;
+            else hi = mid;
+        }
+        vec4 c0 = ems[5u * lo];
+        vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
+        vec3 rad = ems[5u * lo + 4u].xyz;
+        float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
+        float pick = u1 * c0.w;
+        int k = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
+        float side = u2 < 0.5 ? 0.0 : 1.0;
+        vec3 ea = ax[k], eb = ax[(k + 1) % 3], ec = ax[(k + 2) % 3];
+        vec3 nrm = normalize(cross(eb, ec));
+        if ((dot(nrm, ea) > 0.0) != (side == 1.0)) nrm = -nrm;
+        vec3 y = c0.xyz + side * ea + u3 * eb + u4 * ec;
+        // the voxel's radiance over the luminance the pick was proportional to
+        phi *= rad / max(lum(rad), 1e-30);
+        o = y + nrm * (1e-3 * length(ea));
+        d = cosine_dir(nrm, rnd(), rnd());
+        // a face against a neighbouring voxel emits nothing (the path tracer never sees it): a first
+        // hit at once below kills the photon
+        range = -1e-3 * length(ea) * 2.0;
+    }
+    return phi.x > 0.0 || phi.y > 0.0 || phi.z > 0.0;
+}
+
+void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
+    uint k = atomicAdd(ctr[0], 1u);
+    if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
+    // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
+    // bits (voxel normals are axis-aligned: two bits of its u code change nothing), F_FIRST (the
+    // photon's first surface, for vx_photon_power) in the direction's lowest bit (1/32767 of u)
+    uint nb = (packSnorm2x16(oct_encode(n)) & ~3u) | flags;
+    uint wb = (packSnorm2x16(oct_encode(wi)) & ~1u) | (first ? F_FIRST : 0u);
+    ph[2u * k] = vec4(p, uintBitsToFloat(wb));
+    ph[2u * k + 1u] = vec4(phi, uintBitsToFloat(nb));
+}
+
+void trace_photon() {
+    uint id = item();
+    if (id >= P.a.x) return;
+    rng_init(0x50000000u + P.seed.z, id, 0u);
+    vec3 o, d, phi, lpos;
+    uint flags, type;
+    float range;
+    if (!emit(o, d, phi, flags, type, lpos, range)) return;
+    bool specular = false; // the path went through glass since its last diffuse or glossy vertex
+    uint stored = 0u;
+    for (int events = 0; events < 256 && stored <= P.a.z; events++) {
+        Hit h;
+        if (!cast_ray(o, d, BIG, h)) break;
+        if (events == 0) {
+            if (range < 0.0 && h.t < -range) break; // a buried voxel face
+            if ((type == T_POINT || type == T_SPOT) && range > 0.0) {
+                // glTF's range window, as the path tracer's next-event estimation applies it
+                float q = h.t / range, w = max(0.0, 1.0 - q * q * q * q);
+                phi *= w * w;
+            }
+        }
+        g_s = surface(o, d, h);
+        Bsdf B = bsdf_of(g_s);
+        vec3 wo = -d;
+        if (B.kind == B_GLASS) {
+            vec3 wi;
+            bool refr;
+            float w;
+            if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
+            phi *= w;
+            specular = true;
+            if (!refr) {
+                o = g_s.p;
+                d = wi;
+                continue;
+            }
+            phi *= B.alb;
+            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            d = wi;
+            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, phi, o)) break;
+            continue;
+        }
+        // a surface that scatters: the photon is stored (caustic when only glass came before it since
+        // the light, direct when it came straight from a light the direct pass shades)
+        uint f = stored > 0u ? 0u : (specular ? F_CAUSTIC : flags & F_DIRECT);
+        store(g_s.p, wo, g_s.n, phi, f, stored == 0u && !specular);
+        stored++;
+        vec3 w;
+        float pdf;
+        if (!bsdf_sample(B, wo, d, w, pdf)) break;
+        // Russian roulette on the throughput: survivors keep about the power they had
+        float q = min(1.0, max(w.x, max(w.y, w.z)));
+        if (!(rnd() < q)) break;
+        phi *= w / q;
+        specular = false;
+        o = g_s.p;
+    }
+    if (!loops_intact()) ctr[2] = 1u;
+}
+
+// Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r.
+vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, bool direct) {
+    vec3 x = g_s.p, sum = vec3(0.0);
+    ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
+    float r2 = r * r;
+    for (int cz = lo.z; cz <= hi.z; cz++)
+        for (int cy = lo.y; cy <= hi.y; cy++)
+            for (int cx = lo.x; cx <= hi.x; cx++) {
+                uvec2 cl = cells[bucket(ivec3(cx, cy, cz), map)];
+                for (uint k = cl.y; k < cl.y + cl.x; k++) {
+                    vec4 a = sorted[2u * k], b = sorted[2u * k + 1u];
+                    vec3 v = a.xyz - x;
+                    if (dot(v, v) > r2) continue;
+                    uint nb = floatBitsToUint(b.w);
+                    if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
+                    if (!direct && (nb & F_DIRECT) != 0u) continue;
+                    vec3 pn = oct_decode(unpackSnorm2x16(nb & ~3u));
+                    if (dot(pn, g_s.n) < 0.9) continue; // another face (a wall's back, a step)
+                    vec3 wi = oct_decode(unpackSnorm2x16(floatBitsToUint(a.w)));
+                    float pdf;
+                    sum += bsdf_eval(B, wo, wi, pdf) * b.xyz;
+                }
+            }
+    return sum * norm;
+}
+
+void gather_pixel() {
+    uint idx = item(), W = P.img.x, H = P.img.y;
+    if (idx >= W * H) return;
+    uint x = idx % W, y = idx / W;
+    rng_init(0x60000000u + P.seed.z, x, y);
+    bool ortho = F.rx.w != 0.0;
+    float u = ((float(x) + 0.5) / float(W)) * 2.0 - 1.0, v = 1.0 - ((float(y) + 0.5) / float(H)) * 2.0;
+    vec3 o, d;
+    if (ortho) {
+        o = u * F.rx.xyz + v * F.uy.xyz;
+        d = F.fwd.xyz;
+    } else {
+        d = normalize(F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz);
+        o = F.fwd.w * (u * F.rx.xyz + v * F.uy.xyz);
+    }
+    bool full = P.img.w != 0u;
+    vec3 thr = vec3(1.0), L = vec3(0.0);
+    for (int events = 0; events < 64; events++) {
+        Hit h;
+        if (!cast_ray(o, d, BIG, h)) {
+            if (events > 0 || full) L += thr * P.sky.xyz;
+            break;
+        }
+        g_s = surface(o, d, h);
+        // the pass pipeline's direct pass adds the first surface's emission and direct light; behind
+        // glass the estimate has to give all of it
+        bool first = events == 0;
+        if (!first || full) L += thr * g_s.emit;
+        Bsdf B = bsdf_of(g_s);
+        vec3 wo = -d;
+        if (B.kind == B_GLASS) {
+            vec3 wi;
+            bool refr;
+            float w;
+            if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
+            thr *= w;
+            if (!refr) {
+                o = g_s.p;
+                d = wi;
+                continue;
+            }
+            thr *= B.alb;
+            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            d = wi;
+            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
+            continue;
+        }
+        bool direct = !first || full;
+        L += thr * (gather(B, wo, 0u, P.r.x, P.r.z, direct) + gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, direct));
+        break;
+    }
+    if (!loops_intact()) {
+        ctr[2] = 1u;
+        return;
+    }
+    if (P.img.z == 0u || P.seed.z == 0u) { // the first pass overwrites (the buffer holds anything)
+        outv[idx] = vec4(L, 1.0);
+    } else { // a running mean over the passes: pass k weighs 1 / (k + 1)
+        float k = float(P.seed.z);
+        outv[idx] = vec4((outv[idx].xyz * k + L) / (k + 1.0), 1.0);
+    }
+}
+
+void main() {
+    uint i = item();
+    if (STEP == S_CLEAR) {
+        if (i < P.a.w) cells[i] = uvec2(0u);
+        if (i < 4u) ctr[i] = 0u;
+    } else if (STEP == S_TRACE) {
+        trace_photon();
+    } else if (STEP == S_COUNT) {
+        if (i >= min(ctr[0], P.a.y)) return;
+        atomicAdd(cells[photon_bucket(ph[2u * i], ph[2u * i + 1u])].x, 1u);
+    } else if (STEP == S_ALLOC) {
+        if (i >= P.a.w) return;
+        uint n = cells[i].x;
+        cells[i] = uvec2(0u, n > 0u ? atomicAdd(ctr[1], n) : 0u);
+    } else if (STEP == S_SCATTER) {
+        if (i >= min(ctr[0], P.a.y)) return;
+        vec4 a = ph[2u * i], b = ph[2u * i + 1u];
+        uint c = photon_bucket(a, b);
+        uint k = cells[c].y + atomicAdd(cells[c].x, 1u);
+        sorted[2u * k] = a;
+        sorted[2u * k + 1u] = b;
+    } else {
+        gather_pixel();
+    }
+}

@@ -1,0 +1,292 @@
+// probes/shaders/path_common.glsl - what the path tracer (probe.comp) and the
+// photon tracer (photons/shaders/photon.comp) share: random numbers, rays
+// through the scene, surfaces, and the materials of probes/pathtrace.c
+// (Lambert, GGX metal, dielectric glass with Fresnel, the walk through a
+// glass voxel). Include after trace_common.glsl and after declaring
+//   bool MATS (a spec constant: some attribute record is metal or glass),
+//   emit_attr[] (emission scale per colors[] entry),
+//   mats[] (per colors[] entry two vec4, layout of probes/probe_gpu.c),
+// and define uvec2 rng_seed() (the seed's two words) somewhere in the shader.
+uvec2 rng_seed();
+const float PI = 3.14159265358979323846;
+const float BIG = 3.0e38;
+
+// ---- random numbers (Jarzynski & Olano 2020, pcg4d) ----
+uvec4 pcg4d(uvec4 v) {
+    v = v * 1664525u + 1013904223u;
+    v.x += v.y * v.w; v.y += v.z * v.x; v.z += v.x * v.y; v.w += v.y * v.z;
+    v ^= v >> 16u;
+    v.x += v.y * v.w; v.y += v.z * v.x; v.z += v.x * v.y; v.w += v.y * v.z;
+    return v;
+}
+uvec4 g_key;
+uint g_ctr;
+void rng_init(uint a, uint b, uint c) {
+    g_key = pcg4d(uvec4(a, b, c, rng_seed().x ^ (rng_seed().y * 0x9E3779B9u)));
+    g_ctr = 0u;
+}
+float rnd() {
+    g_ctr++;
+    uvec4 h = pcg4d(uvec4(g_key.x, g_key.y, g_key.z ^ g_ctr, g_key.w));
+    return float(h.x >> 8) * (1.0 / 16777216.0);
+}
+
+// ---- octahedral mapping (probes/oct.c) ----
+float sgn(float v) { return v < 0.0 ? -1.0 : 1.0; }
+vec3 oct_decode(vec2 uv) {
+    vec3 p = vec3(uv, 1.0 - abs(uv.x) - abs(uv.y));
+    if (p.z < 0.0) p.xy = vec2((1.0 - abs(uv.y)) * sgn(uv.x), (1.0 - abs(uv.x)) * sgn(uv.y));
+    return normalize(p);
+}
+vec2 oct_encode(vec3 d) {
+    vec2 p = d.xy / (abs(d.x) + abs(d.y) + abs(d.z));
+    if (d.z < 0.0) p = vec2((1.0 - abs(p.y)) * sgn(p.x), (1.0 - abs(p.x)) * sgn(p.y));
+    return p;
+}
+
+struct Surf { vec3 p, n, alb, emit; float cell; uint attr; };
+
+bool cast_ray(vec3 o, vec3 d, float tmax, out Hit h) {
+    h.t = tmax;
+    h.inst = NO_HIT;
+    h.color = 0xFFFFFFFFu;
+    h.attr = NO_HIT;
+    g_iter = 0u;
+    return trace_scene(o, d, 0.0, false, h);
+}
+
+bool occluded_to(vec3 o, vec3 d, float tmax) {
+    Hit h;
+    h.t = tmax;
+    h.inst = NO_HIT;
+    g_iter = 0u;
+    return trace_scene(o, d, 0.0, true, h);
+}
+bool occluded(vec3 o, vec3 d) { return occluded_to(o, d, BIG); }
+
+Surf surface(vec3 o, vec3 d, Hit h) {
+    Surf s;
+    Inst I = insts[h.inst];
+    vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+    s.n = normalize(row.xyz * h.nsign);
+    vec3 p = o + d * h.t;
+    // off the surface (as the tracer's shadow rays; float needs more than the CPU's 1e-6 cell)
+    s.p = p + s.n * (I.cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    s.alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
+    float e = h.attr != NO_HIT ? emit_attr[h.attr] : 0.0;
+    s.emit = s.alb * e;
+    s.cell = I.cell;
+    s.attr = h.attr;
+    return s;
+}
+
+
+void basis(vec3 n, out vec3 t, out vec3 b) {
+    float sg = n.z < 0.0 ? -1.0 : 1.0;
+    float a = -1.0 / (sg + n.z), c = n.x * n.y * a;
+    t = vec3(1.0 + sg * n.x * n.x * a, sg * c, -sg * n.x);
+    b = vec3(c, sg + n.y * n.y * a, -n.y);
+}
+
+vec3 cosine_dir(vec3 n, float u1, float u2) {
+    vec3 t, bt;
+    basis(n, t, bt);
+    float r = sqrt(u1), phi = 2.0 * PI * u2;
+    return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
+}
+
+// uniform in the cone of 1 - cos(half angle) = omc around the unit axis
+vec3 cone_dir(vec3 axis, float omc, float u1, float u2) {
+    vec3 t, b;
+    basis(axis, t, b);
+    float z = 1.0 - u1 * omc, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PI * u2;
+    return normalize(s * cos(phi) * t + s * sin(phi) * b + z * axis);
+}
+
+float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+float mis(float a, float b) { return a * a / (a * a + b * b); }
+
+float ggx_d(float a2, float z) {
+    float c = z * z * (a2 - 1.0) + 1.0;
+    return a2 / (PI * c * c);
+}
+float ggx_lambda(float a2, float z) {
+    float z2 = z * z;
+    if (z2 >= 1.0) return 0.0;
+    if (!(z2 > 0.0)) return 1e30;
+    return 0.5 * (-1.0 + sqrt(1.0 + a2 * (1.0 - z2) / z2));
+}
+vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
+    vec3 vh = normalize(vec3(alpha * wo.xy, wo.z));
+    float l2 = dot(vh.xy, vh.xy);
+    vec3 t1 = l2 > 0.0 ? vec3(-vh.y, vh.x, 0.0) / sqrt(l2) : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(vh, t1);
+    float r = sqrt(u1), phi = 2.0 * PI * u2;
+    float p1 = r * cos(phi), p2 = r * sin(phi), s = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
+    vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+    return normalize(vec3(alpha * nh.xy, max(0.0, nh.z)));
+}
+float fresnel_dielectric(float cosi, float eta) {
+    float s2t = (1.0 - cosi * cosi) / (eta * eta);
+    if (s2t >= 1.0) return 1.0;
+    float ct = sqrt(1.0 - s2t);
+    float rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+const int B_LAMBERT = 0, B_GLOSSY = 1, B_GLASS = 2;
+struct Bsdf { int kind; vec3 alb, kd, f0; float alpha, a2, ps, eta; vec3 n, t, b; };
+
+Bsdf bsdf_of(Surf s) {
+    Bsdf B;
+    B.kind = B_LAMBERT;
+    B.alb = s.alb;
+    B.kd = vec3(0.0);
+    B.f0 = vec3(0.0);
+    B.alpha = 0.0;
+    B.a2 = 0.0;
+    B.ps = 0.0;
+    B.eta = 1.0;
+    B.n = s.n;
+    basis(s.n, B.t, B.b);
+    if (MATS && s.attr != NO_HIT) {
+        vec4 m0 = mats[2u * s.attr], m1 = mats[2u * s.attr + 1u];
+        if (m0.x == 1.0) {
+            B.kind = B_GLOSSY;
+            float mt = m0.z, f0d = 0.08 * m0.w;
+            B.kd = (1.0 - mt) * (1.0 - f0d) * s.alb;
+            B.f0 = (1.0 - mt) * f0d + mt * s.alb;
+            B.alpha = max(m0.y, 1e-3);
+            B.a2 = B.alpha * B.alpha;
+            B.ps = 0.5 * (1.0 + mt);
+        } else if (m0.x == 2.0 && m1.y > 0.0 && (m1.y >= 1.0 || rnd() < m1.y)) {
+            B.kind = B_GLASS;
+            B.alpha = m0.y;
+            B.a2 = B.alpha * B.alpha;
+            B.eta = m1.x;
+        }
+    }
+    return B;
+}
+
+vec3 to_local(Bsdf B, vec3 v) { return vec3(dot(v, B.t), dot(v, B.b), dot(v, B.n)); }
+
+vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
+    vec3 wo = to_local(B, wo_w), wi = to_local(B, wi_w);
+    pdf = 0.0;
+    if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);
+    if (B.kind == B_LAMBERT) {
+        pdf = wi.z / PI;
+        return B.alb / PI;
+    }
+    vec3 h = normalize(wo + wi);
+    float d = ggx_d(B.a2, h.z), lo = ggx_lambda(B.a2, wo.z), li = ggx_lambda(B.a2, wi.z);
+    float g2 = 1.0 / (1.0 + lo + li), s5 = pow(1.0 - max(0.0, dot(wi, h)), 5.0);
+    pdf = B.ps * d / (1.0 + lo) / (4.0 * wo.z) + (1.0 - B.ps) * wi.z / PI;
+    return B.kd / PI + (B.f0 + (1.0 - B.f0) * s5) * (d * g2 / (4.0 * wo.z * wi.z));
+}
+
+bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
+    vec3 wo = to_local(B, wo_w);
+    float u0 = rnd(), u1 = rnd(), u2 = rnd();
+    w = vec3(0.0);
+    pdf = 0.0;
+    if (B.kind == B_LAMBERT || u0 >= B.ps) {
+        wi_w = cosine_dir(B.n, u1, u2);
+    } else {
+        if (wo.z <= 0.0) return false;
+        vec3 m = ggx_vndf(B.alpha, wo, u1, u2);
+        vec3 wi = 2.0 * dot(wo, m) * m - wo;
+        wi_w = normalize(wi.x * B.t + wi.y * B.b + wi.z * B.n);
+    }
+    vec3 f = bsdf_eval(B, wo_w, wi_w, pdf);
+    float cs = dot(wi_w, B.n);
+    if (!(pdf > 0.0) || cs <= 0.0) return false;
+    w = f * cs / pdf;
+    return true;
+}
+
+// one event at a dielectric interface (n faces the incident side, eta = n_other / n_this)
+bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, out vec3 wi_w, out bool refracted, out float weight) {
+    weight = 1.0;
+    refracted = true;
+    wi_w = -wo_w;
+    if (abs(eta - 1.0) < 1e-6) return true; // index-matched: no interface
+    vec3 t, b;
+    basis(n, t, b);
+    vec3 wo = vec3(dot(wo_w, t), dot(wo_w, b), dot(wo_w, n));
+    if (wo.z <= 0.0) return false;
+    bool rough = alpha >= 1e-3;
+    float u1 = rnd(), u2 = rnd(), u3 = rnd();
+    vec3 m = rough ? ggx_vndf(alpha, wo, u1, u2) : vec3(0.0, 0.0, 1.0);
+    float c = dot(wo, m);
+    if (c <= 0.0) return false;
+    float fr = fresnel_dielectric(c, eta);
+    vec3 wi;
+    if (u3 < fr) {
+        wi = 2.0 * c * m - wo;
+        refracted = false;
+    } else {
+        float e = 1.0 / eta, k2 = 1.0 - e * e * (1.0 - c * c);
+        wi = -e * wo + (e * c - sqrt(max(0.0, k2))) * m;
+    }
+    if (rough) {
+        float a2 = alpha * alpha;
+        if (refracted ? wi.z >= 0.0 : wi.z <= 0.0) return false;
+        float li = ggx_lambda(a2, abs(wi.z)), lo = ggx_lambda(a2, wo.z);
+        weight = refracted ? 1.0 / (1.0 + li) : (1.0 + lo) / (1.0 + lo + li);
+    }
+    wi_w = normalize(wi.x * t + wi.y * b + wi.z * n);
+    return true;
+}
+
+bool is_glass(uint attr) {
+    return MATS && attr != NO_HIT && mats[2u * attr].x == 2.0 && mats[2u * attr + 1u].y > 0.0;
+}
+
+// Inside a glass voxel (cell of instance inst) at p along d: to the face where the glass ends
+// (probes/pathtrace.c glass_walk). false: absorbed. On true, o and d the ray that left.
+bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec3 d, inout vec3 thr, out vec3 o) {
+    uvec3 c = cell;
+    o = p;
+    for (int step = 0; step < 512; step++) {
+        Inst I = insts[inst];
+        vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+        vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+        float te = BIG;
+        int ax = -1;
+        for (int a = 0; a < 3; a++) {
+            if (dm[a] == 0.0) continue;
+            float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            if (ta < te) { te = ta; ax = a; }
+        }
+        if (ax < 0) return false;
+        te = max(te, 0.0);
+        vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
+        vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
+        vec3 q = p + d * te;
+        float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
+        vec3 qi = q + d * eps;
+        Hit g;
+        if (cast_ray(qi, d, eps, g)) {
+            if (!is_glass(g.attr)) return false; // an opaque voxel against the glass (probes/pathtrace.c)
+            inst = g.inst;
+            c = g.cell;
+            p = qi;
+            continue;
+        }
+        vec3 wi;
+        bool refr;
+        float w;
+        if (!dielectric(-nf, -d, 1.0 / ior, alpha, wi, refr, w)) return false;
+        thr *= w;
+        d = wi;
+        if (refr) {
+            o = q + nf * eps;
+            return true;
+        }
+        p = q - nf * eps;
+    }
+    return false;
+}

@@ -1,0 +1,13 @@
+# photons: emitted power of every light type, the diffuse furnace, a caustic
+# against the path tracer, progressive convergence (lavapipe without a GPU).
+if(VX_WITH_VULKAN)
+  vx_add_test(test_photons SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_photons.c LIBS vx_photons vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS photons)
+  set_tests_properties(test_photons PROPERTIES TIMEOUT 600 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+endif()
+if(VX_WITH_VULKAN AND VX_WITH_OIIO)
+  add_test(NAME test_photons_tool COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/test_photons_tool.sh ${CMAKE_BINARY_DIR}/bin
+           ${VX_CORPUS_DIR})
+  set_tests_properties(test_photons_tool PROPERTIES TIMEOUT 300 LABELS photons)
+endif()

@@ -1,0 +1,338 @@
+/* tests/photons/test_photons.c - photon mapping (photons/photons.h) on the
+ * GPU (lavapipe without one), against independent values: the power every
+ * light type emits (closed forms and a quadrature written here), a diffuse
+ * furnace's analytic radiance, the path tracer's caustic under a glass
+ * slab, and the progressive estimate's error falling with the passes. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "photons/photons.h"
+#include "tests/probes/probe_scenes.h"
+#include "tests/test.h"
+
+static const double PI = 3.14159265358979323846;
+static vx_gpu* gpu;
+
+/* gray 0x80: the walls' albedo */
+#define GRAY 0xFF808080u
+static const double ALB = 128.0 / 255.0;
+
+typedef struct run {
+    vx_render_scene* rs;
+    vx_photon_gi* pg;
+    vx_gi_method gm;
+} run;
+
+static bool run_make(run* R, const vx_svo_scene* s, const vx_probe_set* light, const vx_photon_desc* d) {
+    vx_error err = {0};
+    memset(R, 0, sizeof *R);
+    vx_result r = vx_render_scene_create(gpu, s, &R->rs, &err);
+    if (!r) r = vx_photon_gi_create(R->rs, s, light, d, &R->gm, &R->pg, &err);
+    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+    return r == VX_OK;
+}
+static void run_free(run* R) {
+    vx_photon_gi_destroy(R->pg);
+    vx_render_scene_destroy(R->rs);
+}
+
+/* Stored power after one pass (first surface, all) and the pass's stats. */
+static bool pass_power(run* R, double first[3], double all[3], vx_photon_stats* st) {
+    vx_render_desc base = {.width = 4, .height = 4};
+    vx_render_image im = {0};
+    vx_error err = {0};
+    vx_result r = vx_photon_render(R->pg, &base, 1, false, &im, &err);
+    if (!r) r = vx_photon_power(R->pg, first, all, &err);
+    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+    vx_render_image_free(&im);
+    vx_photon_last_stats(R->pg, st);
+    return r == VX_OK;
+}
+
+/* A spot light's power over colour * intensity: 2 pi times the integral of
+ * the glTF falloff squared over cos theta, by Simpson's rule in theta. */
+static double spot_power(double inner, double outer) {
+    enum { N = 20000 };
+    double ci = cos(inner), co = cos(outer), s = 0, h = outer / N;
+    for (int i = 0; i <= N; i++) {
+        double t = i * h, c = cos(t), f = (c - co) / (ci - co);
+        f = f < 0 ? 0 : (f > 1 ? 1 : f);
+        s += (i == 0 || i == N ? 1 : (i % 2 ? 4 : 2)) * f * f * sin(t);
+    }
+    return 2 * PI * s * h / 3;
+}
+
+/* Emission: inside a closed gray box every photon lands on a wall, so the
+ * power stored at the photons' first surfaces is the lights' power; with
+ * Russian roulette keeping the power of survivors, all stored power is the
+ * geometric series power / (1 - albedo). */
+static void test_emission_power(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    box_scene(&s, 16, 1);
+    s.palette[1] = GRAY;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    const double col[3] = {1, 0.5, 0.25};
+    vx_light L[4] = {
+        {.type = VX_LIGHT_POINT, .position = {8, 8, 8}, .intensity = 2},
+        {.type = VX_LIGHT_SPOT, .position = {8, 8, 12}, .direction = {0, 0, -1}, .intensity = 3, .inner_cone = 0.3,
+         .outer_cone = 0.6},
+        {.type = VX_LIGHT_SPHERE, .position = {8, 8, 8}, .intensity = 0.5, .radius = 1},
+        {.type = VX_LIGHT_RECT, .position = {8, 8, 13}, .direction = {0, 0, -1}, .tangent = {1, 0, 0}, .intensity = 0.7,
+         .size = {2, 3}},
+    };
+    double expect[4] = {4 * PI * 2, 3 * spot_power(0.3, 0.6), 0.5 * PI * 4 * PI, 0.7 * PI * 6};
+    const char* names[4] = {"point", "spot", "sphere", "rect"};
+    for (int i = 0; i < 4; i++) {
+        memcpy(L[i].color, col, sizeof col);
+        vx_photon_desc d = {.photons = 100000, .bounces = 100, .capacity = 1000000, .lights = &L[i], .light_count = 1};
+        run R;
+        REQUIRE(run_make(&R, &s, &light, &d));
+        double first[3], all[3];
+        vx_photon_stats st;
+        REQUIRE(pass_power(&R, first, all, &st));
+        CHECK(st.dropped == 0 && st.emitted == 100000);
+        for (int k = 0; k < 3; k++) {
+            double e = expect[i] * col[k];
+            fprintf(stderr, "  %-6s ch %d: first %.5g all %.5g, expected %.5g and %.5g\n", names[i], k, first[k], all[k],
+                    e, e / (1 - ALB));
+            /* the spot's photons carry its falloff: statistical; the others' exact up to float sums */
+            CHECK(fabs(first[k] / e - 1) < (i == 1 ? 0.01 : 1e-3));
+            CHECK(fabs(all[k] * (1 - ALB) / e - 1) < 0.02);
+        }
+        run_free(&R);
+    }
+    vx_svo_scene_free(&s);
+}
+
+/* a 2 x 2 x 2 emissive block (palette 9) on the floor of a closed gray box */
+static uint8_t block_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1) return 1;
+    return x >= 7 && x <= 8 && y >= 7 && y <= 8 && z <= 2 ? 9 : 0;
+}
+/* a floor slab in the open */
+static uint8_t slab_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)x, (void)y, (void)n;
+    return z == 0 ? 1 : 0;
+}
+
+/* Emissive voxels emit from their visible faces only (the block's bottom
+ * lies on the floor, its inner faces touch each other: 20 unit faces); the
+ * sun's photons land on the slab's top (irradiance times area); the sky's on
+ * every face of the slab (a uniform sky gives pi L on any face). */
+static void test_emission_voxels_sun_sky(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, block_cell);
+    s.palette[1] = GRAY, s.palette[9] = GRAY;
+    const char* kv[] = {"_type", "_emit", "_emit", "2"};
+    add_material(&s, 9, kv, 2);
+    double black[3] = {0, 0, 0}, sky[3] = {0.3, 0.2, 0.1};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_photon_desc d = {.photons = 200000, .capacity = 2000000};
+    run R;
+    double first[3], all[3];
+    vx_photon_stats st;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    REQUIRE(pass_power(&R, first, all, &st));
+    run_free(&R);
+    vx_svo_scene_free(&s);
+    for (int k = 0; k < 3; k++) {
+        double e = PI * ALB * 2 * 20;
+        fprintf(stderr, "  voxels: first %.5g expected %.5g\n", first[k], e);
+        CHECK(fabs(first[k] / e - 1) < 0.02);
+    }
+    cells_scene(&s, 16, slab_cell);
+    s.palette[1] = GRAY;
+    for (int sun = 1; sun >= 0; sun--) {
+        light = light_only(sun ? 2 : 0, sun ? black : sky, 1);
+        REQUIRE(run_make(&R, &s, &light, &d));
+        REQUIRE(pass_power(&R, first, all, &st));
+        run_free(&R);
+        for (int k = 0; k < 3; k++) {
+            double e = sun ? 2 * 16 * 16 : PI * sky[k] * (2 * 16 * 16 + 4 * 16);
+            fprintf(stderr, "  %s: first %.5g expected %.5g\n", sun ? "sun" : "sky", first[k], e);
+            CHECK(fabs(first[k] / e - 1) < 0.02);
+        }
+    }
+    vx_svo_scene_free(&s);
+}
+
+static double mean_rgb(const vx_render_image* im) {
+    double m = 0;
+    size_t n = (size_t)im->width * im->height;
+    for (size_t i = 0; i < n; i++) m += im->pixels[4 * i] + im->pixels[4 * i + 1] + im->pixels[4 * i + 2];
+    return m / (3.0 * n);
+}
+
+/* The diffuse furnace: a closed box whose walls (albedo a) all emit Le. The
+ * radiance inside is Le / (1 - a) everywhere; the gi a wall sends (all but
+ * its own emission) is a Le / (1 - a). Within 2% at 8 passes of 200k
+ * photons (the walls' emission is not a direct-pass light, so every photon
+ * counts). */
+static void test_furnace(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    box_scene(&s, 16, 1);
+    s.palette[1] = GRAY;
+    const char* kv[] = {"_type", "_emit", "_emit", "1"};
+    add_material(&s, 1, kv, 2);
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_photon_desc d = {.photons = 200000, .radius = 1, .alpha = 1, .bounces = 64, .capacity = 2000000};
+    run R;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    vx_render_desc base = {.width = 16, .height = 16};
+    base.camera.set = true, base.camera.fov = 30;
+    base.camera.eye[0] = 8, base.camera.eye[1] = 8, base.camera.eye[2] = 8;
+    base.camera.target[0] = 8, base.camera.target[1] = 8, base.camera.target[2] = 1;
+    base.camera.up[1] = 1;
+    vx_render_image im = {0};
+    vx_error err = {0};
+    vx_result r = vx_photon_render(R.pg, &base, 8, false, &im, &err);
+    if (r) fprintf(stderr, "  %s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    double Le = ALB * 1, expect = ALB * Le / (1 - ALB), m = mean_rgb(&im);
+    fprintf(stderr, "  furnace: gi %.5f, analytic %.5f (%.2f%%)\n", m, expect, 100 * (m / expect - 1));
+    CHECK(fabs(m / expect - 1) < 0.02);
+    vx_render_image_free(&im);
+    run_free(&R);
+    vx_svo_scene_free(&s);
+}
+
+/* ---- a caustic: a glass slab (IOR 1.5) under a sphere light over a floor --------------- */
+
+static uint8_t glass_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 1;
+    if (z >= 4 && z <= 5 && x >= 4 && x < 12 && y >= 4 && y < 12) return 2;
+    return 0;
+}
+
+static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
+    double se = 0, r2 = 0;
+    for (size_t i = 0; i < (size_t)ref->width * ref->height; i++)
+        for (int c = 0; c < 3; c++) {
+            double e = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+            se += e * e, r2 += (double)ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+        }
+    return r2 > 0 ? se / r2 : INFINITY;
+}
+
+static vx_svo_scene caustic;
+static vx_light caustic_light = {.type = VX_LIGHT_SPHERE, .position = {8, 15, 10}, .color = {1, 1, 1},
+                                 .intensity = 4, .radius = 2};
+static vx_render_image caustic_ref, caustic_ref2; /* the path tracer, two seeds */
+static vx_render_desc caustic_view;
+
+static bool caustic_setup(void) {
+    if (caustic_ref.pixels) return true;
+    cells_scene(&caustic, 16, glass_cell);
+    caustic.palette[1] = GRAY, caustic.palette[2] = 0xFFFFFFFFu;
+    const char* kv[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    add_material(&caustic, 2, kv, 3);
+    /* straight down on the slab: every pixel sees the floor through the glass */
+    caustic_view = (vx_render_desc){.width = 24, .height = 24};
+    caustic_view.camera.set = true, caustic_view.camera.ortho = true, caustic_view.camera.ortho_height = 7;
+    caustic_view.camera.eye[0] = 8, caustic_view.camera.eye[1] = 8, caustic_view.camera.eye[2] = 40;
+    caustic_view.camera.target[0] = 8, caustic_view.camera.target[1] = 8, caustic_view.camera.target[2] = 1;
+    caustic_view.camera.up[1] = 1;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 6);
+    vx_render_scene* rs = NULL;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_create(gpu, &caustic, &rs, &err);
+    for (int k = 0; k < 2 && !r; k++) {
+        vx_probe_render_desc d = {.base = &caustic_view, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 2048,
+                                  .seed = 11 + (uint64_t)k, .lights = &caustic_light, .light_count = 1,
+                                  .pixel_centre = true};
+        r = vx_probe_render_gpu(rs, &caustic, &light, &d, k ? &caustic_ref2 : &caustic_ref, &err);
+    }
+    vx_render_scene_destroy(rs);
+    if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
+    return r == VX_OK;
+}
+
+static bool caustic_photons(uint32_t photons, uint32_t passes, double radius, vx_render_image* out) {
+    /* the slab's faces are flat: its caustic is smooth, one radius for both maps */
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 6);
+    vx_photon_desc d = {.photons = photons, .radius = radius, .caustic_radius = radius, .lights = &caustic_light,
+                        .light_count = 1};
+    run R;
+    if (!run_make(&R, &caustic, &light, &d)) return false;
+    vx_error err = {0};
+    vx_result r = vx_photon_render(R.pg, &caustic_view, passes, false, out, &err);
+    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+    run_free(&R);
+    return r == VX_OK;
+}
+
+/* Through the slab the floor gets the light only by refraction: the path
+ * tracer finds it with BSDF rays that cross the glass and meet the light,
+ * the photons as caustic photons. The photon image matches the reference
+ * (mean of two 2048-spp path-traced images, whose own noise adds about 0.01)
+ * within a relMSE of 0.03; the
+ * reference's own noise is printed (the relMSE between its two seeds). */
+static void test_caustic(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    REQUIRE(caustic_setup());
+    vx_render_image im = {0};
+    REQUIRE(caustic_photons(400000, 8, 0.6, &im));
+    double noise = rel_mse(&caustic_ref2, &caustic_ref);
+    vx_render_image ref = caustic_ref;
+    size_t n = (size_t)ref.width * ref.height * 4;
+    float* mean = malloc(n * sizeof(float));
+    for (size_t i = 0; i < n; i++) mean[i] = 0.5f * (caustic_ref.pixels[i] + caustic_ref2.pixels[i]);
+    ref.pixels = mean;
+    double e = rel_mse(&im, &ref), mp = mean_rgb(&im), mr = mean_rgb(&ref);
+    fprintf(stderr, "  caustic: mean photons %.5f path tracer %.5f; relMSE %.4f (reference seeds apart %.4f)\n", mp, mr,
+            e, noise);
+    CHECK(mr > 0.02); /* the caustic is there */
+    CHECK(fabs(mp / mr - 1) < 0.05);
+    CHECK(e < 0.03);
+    free(mean);
+    vx_render_image_free(&im);
+}
+
+/* The progressive estimate: passes of few photons with a large first radius
+ * (noisy and blurred); the error against the path tracer falls as passes
+ * accumulate and the radius shrinks. */
+static void test_progressive(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    REQUIRE(caustic_setup());
+    double e[3];
+    uint32_t passes[3] = {1, 4, 16};
+    for (int i = 0; i < 3; i++) {
+        vx_render_image im = {0};
+        REQUIRE(caustic_photons(20000, passes[i], 1.5, &im));
+        e[i] = rel_mse(&im, &caustic_ref);
+        fprintf(stderr, "  %2u passes: relMSE %.4f\n", passes[i], e[i]);
+        vx_render_image_free(&im);
+    }
+    CHECK(e[1] < e[0] && e[2] < e[1]);
+}
+
+int main(void) {
+    (void)ts_random_model, (void)room_scene;
+    dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE); /* see tests/probes/test_probes_gpu.c */
+    vx_error err = {0};
+    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+        fprintf(stderr, "no Vulkan device (%s)\n", err.msg);
+        gpu = NULL;
+    }
+    RUN(test_emission_power);
+    RUN(test_emission_voxels_sun_sky);
+    RUN(test_furnace);
+    RUN(test_caustic);
+    RUN(test_progressive);
+    vx_render_image_free(&caustic_ref);
+    vx_render_image_free(&caustic_ref2);
+    if (caustic.models) vx_svo_scene_free(&caustic);
+    if (gpu) vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
