@@ -1,0 +1,247 @@
+/* bench/photons_bench.c - photon mapping (photons/photons.h) on its own
+ * scenes: GPU time of one pass split into tracing, the grids' build and the
+ * gather per photon count, and the progressive estimate's error against
+ * the path tracer's against time, next to the path tracer's own.
+ *
+ *   photons_bench [options] cornell|caustic|FILE.{vox,svo}
+ *
+ * cornell: the seed's scene in voxels (64^3: white floor, ceiling and back,
+ * red and green side walls, open front, a glass and a metal sphere, a
+ * 12 x 12 emissive ceiling panel); caustic: a glass sphere (IOR 1.5) over a
+ * white floor under a 16 x 16 emissive panel. Both are MagicaVoxel scenes
+ * with MATL records (--write DIR writes them as .vox for the other tools)
+ * lit by their emissive voxels alone (no sun, a black sky: photons are not
+ * spent on the outside), the path tracer with the same light. A FILE is lit
+ * as gi_bench lights it (the bake defaults: sun and sky).
+ *
+ * Rows: "pass" per --photons count (median of --runs passes: trace, build
+ * and gather ms, stored photons, build ms per million stored); "photons"
+ * per progressive pass count 1, 4, 16, ... --max-passes (GPU ms, relMSE of
+ * the indirect light against the reference); "pathtrace" per spp 1, 4, ...
+ * --max-spp. The reference is the path tracer at --ref-spp (its noise: the
+ * relMSE between two seeds, printed). Needs only libvulkan and libc.
+ *
+ * Options: --device N|NAME, --size WxH (320x240), --photons N[,N...]
+ * (1000000), --radius R (photons.h's default), --runs N (3),
+ * --max-passes N (16), --max-spp N (256), --ref-spp N (1024),
+ * --write DIR. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/bench_load.h"
+#include "bench/bench_stats.h"
+#include "formats/vox.h"
+#include "photons/photons.h"
+
+enum { N = 64 };
+
+typedef uint8_t (*cell_fn)(int x, int y, int z);
+
+static bool in_sphere(int x, int y, int z, double cx, double cy, double cz, double r) {
+    double dx = x + 0.5 - cx, dy = y + 0.5 - cy, dz = z + 0.5 - cz;
+    return dx * dx + dy * dy + dz * dz <= r * r;
+}
+/* palette: 1 white, 2 red, 3 green, 4 emissive, 5 glass, 6 metal */
+static uint8_t cornell_cell(int x, int y, int z) {
+    if (z == N - 2 && x >= 26 && x < 38 && y >= 26 && y < 38) return 4;
+    if (x == 0) return 2;
+    if (x == N - 1) return 3;
+    if (z == 0 || z == N - 1 || y == N - 1) return 1;
+    if (in_sphere(x, y, z, 21, 40, 13, 12)) return 5;
+    if (in_sphere(x, y, z, 43, 26, 13, 12)) return 6;
+    return 0;
+}
+static uint8_t caustic_cell(int x, int y, int z) {
+    if (z == 0) return 1;
+    if (z == N - 4 && x >= 24 && x < 40 && y >= 24 && y < 40) return 4;
+    return in_sphere(x, y, z, 32, 32, 22, 14) ? 5 : 0;
+}
+
+static void add_matl(vx_vox_scene* s, uint32_t id, const char* const* kv, int n) {
+    size_t size = 0, at = 0;
+    for (int i = 0; i < 2 * n; i++) size += strlen(kv[i]) + 1;
+    vx_vox_material* m = &s->materials[s->material_count++];
+    m->id = id, m->dict_size = (uint32_t)size, m->dict = malloc(size);
+    for (int i = 0; i < 2 * n; i++) {
+        memcpy(m->dict + at, kv[i], strlen(kv[i]) + 1);
+        at += strlen(kv[i]) + 1;
+    }
+}
+
+static int make_scene(const char* name, vx_vox_scene* s) {
+    cell_fn cell = !strcmp(name, "cornell") ? cornell_cell : (!strcmp(name, "caustic") ? caustic_cell : NULL);
+    if (!cell) return 1;
+    memset(s, 0, sizeof *s);
+    s->version = 200;
+    s->model_count = 1, s->models = calloc(1, sizeof *s->models);
+    s->instance_count = 1, s->instances = calloc(1, sizeof *s->instances);
+    s->instances[0].rot[0] = s->instances[0].rot[4] = s->instances[0].rot[8] = 1;
+    s->instances[0].t[0] = s->instances[0].t[1] = s->instances[0].t[2] = N / 2; /* .vox centres models */
+    s->instances[0].layer = -1;
+    vx_vox_model* m = &s->models[0];
+    m->size[0] = m->size[1] = m->size[2] = N;
+    m->xyzi = malloc((size_t)N * N * N * 4);
+    for (int z = 0; z < N; z++)
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                uint8_t c = cell(x, y, z);
+                if (!c) continue;
+                uint8_t* v = m->xyzi + 4 * (size_t)m->voxel_count++;
+                v[0] = (uint8_t)x, v[1] = (uint8_t)y, v[2] = (uint8_t)z, v[3] = c;
+            }
+    s->has_rgba = true;
+    for (int i = 0; i < 256; i++) s->palette[i] = 0xFFBFBFBFu;
+    s->palette[2] = 0xFF2020C0u, s->palette[3] = 0xFF20C020u, s->palette[4] = 0xFFFFFFFFu;
+    s->palette[5] = 0xFFFFFFFFu, s->palette[6] = 0xFFC0C0C0u;
+    s->materials = calloc(3, sizeof *s->materials);
+    const char* emit[] = {"_type", "_emit", "_emit", "4", "_flux", "2"};
+    const char* glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    const char* metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.15"};
+    add_matl(s, 4, emit, 3);
+    add_matl(s, 5, glass, 3);
+    add_matl(s, 6, metal, 3);
+    s->frame_count = 1;
+    return 0;
+}
+
+static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
+    double se = 0, r2 = 0;
+    for (size_t i = 0; i < (size_t)ref->width * ref->height; i++) {
+        if (ref->pixels[4 * i + 3] == 0) continue;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+            se += d * d, r2 += (double)ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+        }
+    }
+    return r2 > 0 ? se / r2 : 0;
+}
+
+static int usage(void) {
+    fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R] [--runs N]\n"
+                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--write DIR]\n"
+                    "                     cornell|caustic|FILE.{vox,svo}\n");
+    return 2;
+}
+
+int main(int argc, char** argv) {
+    const char *device = NULL, *counts = "1000000", *write_dir = NULL;
+    vx_render_desc base = {.width = 320, .height = 240};
+    double radius = 0;
+    unsigned runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024;
+    int i = 1;
+    for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
+        const char* o = argv[i];
+        if (i + 1 >= argc) return usage();
+        const char* v = argv[++i];
+        if (!strcmp(o, "--device")) device = v;
+        else if (!strcmp(o, "--size")) {
+            if (sscanf(v, "%ux%u", &base.width, &base.height) != 2) return usage();
+        } else if (!strcmp(o, "--photons")) counts = v;
+        else if (!strcmp(o, "--radius")) radius = atof(v);
+        else if (!strcmp(o, "--runs")) runs = (unsigned)atoi(v);
+        else if (!strcmp(o, "--max-passes")) max_passes = (unsigned)atoi(v);
+        else if (!strcmp(o, "--max-spp")) max_spp = (unsigned)atoi(v);
+        else if (!strcmp(o, "--ref-spp")) ref_spp = (unsigned)atoi(v);
+        else if (!strcmp(o, "--write")) write_dir = v;
+        else return usage();
+    }
+    if (i + 1 != argc || !runs || !ref_spp) return usage();
+    const char* name = argv[i];
+    vx_error err = {0};
+    vx_svo_scene scene;
+    bool own = false;
+    vx_vox_scene vs;
+    if (!make_scene(name, &vs)) {
+        own = true;
+        if (write_dir) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s.vox", write_dir, name);
+            if (vx_vox_write_file(&vs, path, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+        }
+        vx_result r = vx_conv_vox(NULL, &vs, &scene, NULL, &err);
+        vx_vox_scene_free(&vs);
+        if (r) return fprintf(stderr, "%s: %s\n", name, err.msg), 1;
+        base.camera.set = true, base.camera.fov = 40, base.camera.up[2] = 1;
+        double cornell[6] = {0, -88, 0, 0, 0, -2}, caustic[6] = {0, -62, 58, 0, 0, -28};
+        const double* c = !strcmp(name, "cornell") ? cornell : caustic;
+        memcpy(base.camera.eye, c, 24), memcpy(base.camera.target, c + 3, 24);
+    } else if (bench_load(name, &scene, &err)) {
+        return fprintf(stderr, "%s: %s\n", name, err.msg), 1;
+    }
+    vx_gpu* gpu;
+    vx_render_scene* rs;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) || vx_render_scene_create(gpu, &scene, &rs, &err))
+        return fprintf(stderr, "GPU: %s\n", err.msg), 1;
+    /* the generated scenes: their emissive voxels only (a set of no probes carries sun and sky) */
+    vx_probe_set dark = {.light_dir = {0, 0, 1}, .bounces = 7};
+    const vx_probe_set* light = own ? &dark : NULL;
+    printf("device: %s; %s at %ux%u\n", vx_gpu_device_name(gpu), name, base.width, base.height);
+    printf("| scene | row | photons or spp | passes | stored | trace ms | build ms | build ms / M stored | "
+           "gather ms | total ms | relMSE indirect |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+
+    /* the reference: two seeds of the path tracer's indirect light */
+    vx_probe_gpu* pg;
+    vx_render_image ref[2] = {{0}};
+    if (vx_probe_gpu_create(rs, &scene, light, &pg, &err)) return fprintf(stderr, "GPU: %s\n", err.msg), 1;
+    for (int k = 0; k < 2; k++) {
+        vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = ref_spp,
+                                  .seed = 999 + (uint64_t)k, .pixel_centre = true};
+        if (vx_probe_gpu_render(pg, &d, &ref[k], &err)) return fprintf(stderr, "reference: %s\n", err.msg), 1;
+    }
+    double noise = rel_mse(&ref[1], &ref[0]);
+    for (size_t p = 0; p < (size_t)base.width * base.height * 4; p++)
+        ref[0].pixels[p] = 0.5f * (ref[0].pixels[p] + ref[1].pixels[p]);
+    printf("| %s | reference | %u | - | - | - | - | - | - | %.4g | %.4g (seeds apart) |\n", name, ref_spp,
+           ref[0].gpu_seconds * 1e3, noise);
+    /* the path tracer at the pixel centres, as the photons' gather */
+    for (unsigned spp = 1; spp <= max_spp; spp *= 4) {
+        vx_render_image im = {0};
+        vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = spp, .seed = 5,
+                                  .pixel_centre = true};
+        if (vx_probe_gpu_render(pg, &d, &im, &err)) return fprintf(stderr, "pathtrace: %s\n", err.msg), 1;
+        printf("| %s | pathtrace | %u | - | - | - | - | - | - | %.4g | %.4g |\n", name, spp, im.gpu_seconds * 1e3,
+               rel_mse(&im, &ref[0]));
+        vx_render_image_free(&im);
+    }
+    for (const char* c = counts; c && *c;) {
+        uint32_t photons = (uint32_t)strtoul(c, NULL, 10);
+        c = strchr(c, ',');
+        if (c) c++;
+        vx_gi_method gm;
+        vx_photon_gi* ph;
+        vx_photon_desc pd = {.photons = photons, .radius = radius, .light_dir = {0, 0, 1}};
+        if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+        /* one pass, timed runs times */
+        double t[3][64];
+        unsigned n = runs < 64 ? runs : 64;
+        vx_photon_stats st = {0};
+        for (unsigned k = 0; k < n; k++) {
+            vx_render_image im = {0};
+            if (vx_photon_render(ph, &base, 1, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            vx_render_image_free(&im);
+            vx_photon_last_stats(ph, &st);
+            t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
+        }
+        double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
+        printf("| %s | pass | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f | - |\n", name, photons,
+               (unsigned long long)st.stored, tr, bu, st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga);
+        for (unsigned passes = 1; passes <= max_passes; passes *= 4) {
+            vx_render_image im = {0};
+            if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            printf("| %s | photons | %u | %u | %llu | - | - | - | - | %.4g | %.4g |\n", name, photons, passes,
+                   (unsigned long long)st.stored, im.gpu_seconds * 1e3, rel_mse(&im, &ref[0]));
+            fflush(stdout);
+            vx_render_image_free(&im);
+        }
+        vx_photon_gi_destroy(ph);
+    }
+    vx_render_image_free(&ref[0]);
+    vx_render_image_free(&ref[1]);
+    vx_probe_gpu_destroy(pg);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    vx_svo_scene_free(&scene);
+    return 0;
+}
