@@ -135,31 +135,16 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
         o = a.xyz + (u1 - 0.5) * tg.w * tg.xyz + (u2 - 0.5) * f.x * t2;
         d = cosine_dir(b.xyz, u3, u4);
     } else { // emissive voxels, by their power (probes/shaders/probe.comp's nee picks them alike)
-        float v = rnd();
-        uint lo = 0u, hi = P.cnt.x - 1u;
-        while (lo < hi) {
-            uint mid = lo + (hi - lo) / 2u;
-            if (ems[5u * mid + 1u].w <= v) lo = mid + 1u;
-            else hi = mid;
-        }
-        vec4 c0 = ems[5u * lo];
-        vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
-        vec3 rad = ems[5u * lo + 4u].xyz;
-        float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
-        float pick = u1 * c0.w;
-        int k = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
-        float side = u2 < 0.5 ? 0.0 : 1.0;
-        vec3 ea = ax[k], eb = ax[(k + 1) % 3], ec = ax[(k + 2) % 3];
-        vec3 nrm = normalize(cross(eb, ec));
-        if ((dot(nrm, ea) > 0.0) != (side == 1.0)) nrm = -nrm;
-        vec3 y = c0.xyz + side * ea + u3 * eb + u4 * ec;
+        vec3 y, nrm, rad;
+        float edge;
+        emitter_point(P.cnt.x, y, nrm, rad, edge);
         // the voxel's radiance over the luminance the pick was proportional to
         phi *= rad / max(lum(rad), 1e-30);
-        o = y + nrm * (1e-3 * length(ea));
-        d = cosine_dir(nrm, rnd(), rnd());
+        o = y + nrm * (1e-3 * edge);
+        d = cosine_dir(nrm, u1, u2);
         // a face against a neighbouring voxel emits nothing (the path tracer never sees it): a first
-        // hit at once below kills the photon
-        range = -1e-3 * length(ea) * 2.0;
+        // hit at once (range < 0: its distance) kills the photon
+        range = -2e-3 * edge;
     }
     return phi.x > 0.0 || phi.y > 0.0 || phi.z > 0.0;
 }

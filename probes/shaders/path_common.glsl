@@ -6,6 +6,7 @@
 //   bool MATS (a spec constant: some attribute record is metal or glass),
 //   emit_attr[] (emission scale per colors[] entry),
 //   mats[] (per colors[] entry two vec4, layout of probes/probe_gpu.c),
+//   ems[] (emissive voxels, five vec4 each, layout of probes/probe_gpu.c),
 // and define uvec2 rng_seed() (the seed's two words) somewhere in the shader.
 uvec2 rng_seed();
 const float PI = 3.14159265358979323846;
@@ -289,4 +290,30 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec
         p = q - nf * eps;
     }
     return false;
+}
+
+// A point of an emissive voxel's surface, the voxel picked by power among the first `count` of ems[]
+// (their cdf), its face by area, the point uniform on the face: y, the face's outward normal n, the
+// voxel's radiance rad and the length of the face's normal edge (an offset scale).
+void emitter_point(uint count, out vec3 y, out vec3 n, out vec3 rad, out float edge) {
+    float u = rnd();
+    uint lo = 0u, hi = count - 1u;
+    while (lo < hi) {
+        uint mid = lo + (hi - lo) / 2u;
+        if (ems[5u * mid + 1u].w <= u) lo = mid + 1u;
+        else hi = mid;
+    }
+    vec4 c0 = ems[5u * lo];
+    vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
+    rad = ems[5u * lo + 4u].xyz;
+    float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
+    float pick = rnd() * c0.w;
+    int a = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
+    float side = rnd() < 0.5 ? 0.0 : 1.0;
+    float u1 = rnd(), u2 = rnd();
+    vec3 ea = ax[a], eb = ax[(a + 1) % 3], ec = ax[(a + 2) % 3];
+    y = c0.xyz + side * ea + u1 * eb + u2 * ec;
+    n = normalize(cross(eb, ec));
+    if ((dot(n, ea) > 0.0) != (side == 1.0)) n = -n;
+    edge = length(ea);
 }

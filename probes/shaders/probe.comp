@@ -204,31 +204,15 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         out_l += f * e * (g * cs * w);
     }
     if (P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
-        float u = rnd();
-        uint lo = 0u, hi = P.cnt.y - 1u;
-        while (lo < hi) {
-            uint mid = lo + (hi - lo) / 2u;
-            if (ems[5u * mid + 1u].w <= u) lo = mid + 1u;
-            else hi = mid;
-        }
-        vec4 c0 = ems[5u * lo];
-        vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
-        vec3 rad = ems[5u * lo + 4u].xyz;
-        float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
-        float pick = rnd() * c0.w;
-        int a = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
-        float side = rnd() < 0.5 ? 0.0 : 1.0;
-        float u1 = rnd(), u2 = rnd();
-        vec3 ea = ax[a], eb = ax[(a + 1) % 3], ec = ax[(a + 2) % 3];
-        vec3 y = c0.xyz + side * ea + u1 * eb + u2 * ec;
-        vec3 n = normalize(cross(eb, ec));
-        if ((dot(n, ea) > 0.0) != (side == 1.0)) n = -n;
+        vec3 y, n, rad;
+        float edge;
+        emitter_point(P.cnt.y, y, n, rad, edge);
         vec3 v = y - s.p;
         float d2 = dot(v, v), dist = sqrt(d2);
         if (dist > 0.0) {
             vec3 l = v / dist;
             float cy = -dot(l, n), cs = dot(s.n, l);
-            if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, dist - 1e-3 * length(ea))) {
+            if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, dist - 1e-3 * edge)) {
                 float pdf = lum(rad) / P.pt.x * d2 / cy;
                 vec3 f = bsdf_eval(B, wo, l, bp);
                 float w = mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf;
