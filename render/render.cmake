@@ -1,9 +1,11 @@
 # render/: the plain-C trace layer (library vx_trace: BVH, CPU reference,
-# camera maths; no Vulkan) and the Vulkan compute tracer (library vx_render).
+# camera maths, the compact GPU layout built on the CPU; no Vulkan) and the
+# Vulkan compute tracer (library vx_render).
 add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
-  ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c)
+  ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact.c)
 target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)
   find_package(Vulkan REQUIRED)

@@ -1,0 +1,623 @@
+/* render/compact.c - the compact GPU layout (render/compact.h): the geometry
+ * DAG rebuilt from each model's Laine-Karras tree without its attribute
+ * indices and hash-consed over the whole scene, and the attributes in
+ * Morton order, block-coded with per-block palettes. */
+#include "render/compact.h"
+
+#include <string.h>
+
+#define HDR_LEVEL_SHIFT 18u
+#define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
+
+static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
+
+/* Bits [pos, pos + n) of a little-end-first bit stream, n in 1..32. The
+ * caller sizes streams so that a straddling read stays inside. */
+static uint32_t get_bits(const uint32_t* w, uint64_t pos, uint32_t n) {
+    uint64_t i = pos >> 5;
+    uint32_t s = (uint32_t)(pos & 31u);
+    uint32_t v = w[i] >> s;
+    if (s + n > 32) v |= w[i + 1] << (32 - s);
+    return n == 32 ? v : v & ((1u << n) - 1u);
+}
+static void put_bits(uint32_t* w, uint64_t pos, uint32_t v, uint32_t n) {
+    uint64_t i = pos >> 5;
+    uint32_t s = (uint32_t)(pos & 31u);
+    w[i] |= v << s;
+    if (s + n > 32) w[i + 1] |= v >> (32 - s);
+}
+
+/* Words of the node whose header is h (header, pointers, offsets). */
+static uint32_t node_len(uint32_t h) {
+    uint32_t valid = h & 0xFFu, inner = valid & ~(h >> 8) & 0xFFu, s = 0;
+    if (inner) s = popc(valid & ~((2u << __builtin_ctz(inner)) - 1u));
+    return 1 + popc(inner) + (s * (8u << ((h >> 16) & 3u)) + 31) / 32;
+}
+
+static uint64_t hash_words(const uint32_t* w, uint32_t n) {
+    uint64_t h = 0x9E3779B97F4A7C15ull ^ n;
+    for (uint32_t i = 0; i < n; i++) {
+        h ^= w[i];
+        h *= 0xBF58476D1CE4E5B9ull;
+        h ^= h >> 31;
+    }
+    return h;
+}
+
+/* An open-addressing set of word sequences stored in a growable array (the
+ * scene's geometry, or one model's attribute payloads): entries are start
+ * indices, a sequence's length is len_of(ctx, data, start). */
+typedef uint32_t (*len_fn)(const void* ctx, const uint32_t* data, uint32_t start);
+typedef struct wordset {
+    uint32_t* tab; /* UINT32_MAX: empty */
+    size_t cap, n; /* cap a power of two */
+    len_fn len_of;
+    const void* ctx;
+} wordset;
+
+typedef struct builder {
+    const vx_allocator* a;
+    vx_error* err;
+    uint32_t* geom;
+    size_t geom_cap;
+    uint32_t geom_n;
+    wordset nodes;
+    wordset bricks; /* nodes of levels 1 and 2: 64-bit masks */
+    /* per model: the compact node and cell count of a source descriptor */
+    uint32_t* memo_node;
+    uint32_t* memo_count;
+    uint8_t* memo_level; /* 0: not built */
+    vx_compact_stats* st;
+} builder;
+
+static vx_result set_grow(const vx_allocator* a, wordset* s, const uint32_t* data, vx_error* err) {
+    size_t cap = s->cap ? s->cap * 2 : 1024;
+    uint32_t* t = vx_calloc(a, cap, 4);
+    if (!t) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %zu-entry hash table", cap);
+    memset(t, 0xFF, cap * 4);
+    for (size_t i = 0; i < s->cap; i++) {
+        uint32_t e = s->tab[i];
+        if (e == UINT32_MAX) continue;
+        size_t j = (size_t)hash_words(data + e, s->len_of(s->ctx, data, e)) & (cap - 1);
+        while (t[j] != UINT32_MAX) j = (j + 1) & (cap - 1);
+        t[j] = e;
+    }
+    vx_free(a, s->tab);
+    s->tab = t;
+    s->cap = cap;
+    return VX_OK;
+}
+
+/* Finds w[0..n) in the set over *data, or appends it to *data (growing it)
+ * and inserts it; *at gets its start, *found whether it was there. */
+static vx_result set_intern(const vx_allocator* a, wordset* s, uint32_t** data, size_t* cap, uint32_t* used,
+                            const uint32_t* w, uint32_t n, uint32_t limit, uint32_t* at, bool* found,
+                            vx_error* err) {
+    vx_result r;
+    if (2 * (s->n + 1) > s->cap && (r = set_grow(a, s, *data, err))) return r;
+    uint64_t h = hash_words(w, n);
+    size_t j = (size_t)h & (s->cap - 1);
+    for (; s->tab[j] != UINT32_MAX; j = (j + 1) & (s->cap - 1)) {
+        const uint32_t* e = *data + s->tab[j];
+        if (s->len_of(s->ctx, *data, s->tab[j]) == n && !memcmp(e, w, (size_t)n * 4)) {
+            *at = s->tab[j];
+            *found = true;
+            return VX_OK;
+        }
+    }
+    if (n > limit || *used > limit - n)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u words", limit);
+    if (!vx_grow(a, (void**)data, cap, (size_t)*used + n, 4))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", *used + n);
+    memcpy(*data + *used, w, (size_t)n * 4);
+    s->tab[j] = *used;
+    s->n++;
+    *at = *used;
+    *used += n;
+    *found = false;
+    return VX_OK;
+}
+
+static uint32_t node_len_of(const void* ctx, const uint32_t* data, uint32_t start) {
+    (void)ctx;
+    return node_len(data[start]);
+}
+static uint32_t brick_len_of(const void* ctx, const uint32_t* data, uint32_t start) {
+    (void)ctx, (void)data, (void)start;
+    return 2;
+}
+
+static void memo_set(builder* b, uint32_t w, uint32_t L, uint32_t node, uint64_t count) {
+    b->memo_node[w] = node;
+    b->memo_count[w] = (uint32_t)count;
+    b->memo_level[w] = (uint8_t)L;
+}
+
+/* A node of level 1 or 2 (the root of a model of depth <= 2 or a level-3
+ * node's child) as the 64-bit mask of its cells by Morton code: one level-2
+ * node and its level-1 children, 2 words where a header and eight child
+ * nodes would take up to 17. */
+static vx_result build_brick(builder* b, const vx_svo_model* m, uint32_t w, uint32_t L, uint32_t valid,
+                             uint32_t leaf, uint32_t block, uint32_t* out_node, uint64_t* out_count) {
+    uint64_t mask = 0;
+    for (uint32_t o = 0, k = 0; o < 8; o++) {
+        if (!((valid >> o) & 1u)) continue;
+        uint64_t child = L == 1 || ((leaf >> o) & 1u) ? 0xFFu : vx_svo_desc_valid(m->nodes[block + k++]);
+        mask |= L == 1 ? 1ull << o : child << (8 * o);
+    }
+    uint32_t words[2] = {(uint32_t)mask, (uint32_t)(mask >> 32)}, at = 0;
+    bool found = false;
+    vx_result r = set_intern(b->a, &b->bricks, &b->geom, &b->geom_cap, &b->geom_n, words, 2, VX_SVO_ROOT_LEAF - 1,
+                             &at, &found, b->err);
+    if (r) return r;
+    b->st->nodes += !found;
+    uint64_t count = (uint64_t)__builtin_popcountll(mask);
+    memo_set(b, w, L, at, count);
+    *out_node = at;
+    *out_count = count;
+    return VX_OK;
+}
+
+/* The compact node of source descriptor w at level L (its children are
+ * cubes of 2^(L-1) cells) and the cells below it. */
+static vx_result build_node(builder* b, const vx_svo_model* m, uint32_t w, uint32_t L, uint32_t* out_node,
+                            uint64_t* out_count) {
+    if (b->memo_level[w] == L) {
+        *out_node = b->memo_node[w];
+        *out_count = b->memo_count[w];
+        return VX_OK;
+    }
+    if (L < 1 || L > VX_SVO_MAX_DEPTH)
+        return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u at level %u", w, L);
+    uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), p = vx_svo_desc_ptr(d);
+    uint32_t inner = valid & ~leaf;
+    uint32_t block = 0;
+    if (inner) {
+        if (p < 1 || p > w) return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: pointer %u", w, p);
+        block = vx_svo_desc_far(d) ? m->nodes[w - p] : w - p;
+        if (block >= w || popc(inner) > w - block)
+            return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: children at %u", w, block);
+        if (L == 1) return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: children below cells", w);
+    }
+    if (L <= 2) return build_brick(b, m, w, L, valid, leaf, block, out_node, out_count);
+    uint32_t words[1 + 8 + 8] = {0}, np = 0;
+    uint64_t cnt[8] = {0}, cube = 1ull << (3 * (L - 1)), total = 0;
+    for (uint32_t o = 0; o < 8; o++) {
+        if (!((valid >> o) & 1u)) continue;
+        if ((leaf >> o) & 1u) {
+            cnt[o] = cube;
+        } else {
+            vx_result r = build_node(b, m, block + np, L - 1, &words[1 + np], &cnt[o]);
+            if (r) return r;
+            np++;
+        }
+    }
+    /* offsets of the valid children after the first non-leaf one */
+    uint64_t offs[8], maxoff = 0;
+    uint32_t ns = 0, f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
+    for (uint32_t o = 0; o < 8; o++) {
+        if (!((valid >> o) & 1u)) continue;
+        if (o > f) {
+            offs[ns++] = total;
+            if (total > maxoff) maxoff = total;
+        }
+        total += cnt[o];
+    }
+    if (total > UINT32_MAX)
+        return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "compact layout: a subtree of %llu cells (attribute indices have 32 bits)",
+                       (unsigned long long)total);
+    uint32_t wc = maxoff < 256 ? 0 : maxoff < 65536 ? 1 : 2, wb = 8u << wc;
+    words[0] = valid | (leaf << 8) | (wc << 16) | (L << HDR_LEVEL_SHIFT);
+    for (uint32_t i = 0; i < ns; i++) put_bits(words + 1 + np, (uint64_t)i * wb, (uint32_t)offs[i], wb);
+    uint32_t len = node_len(words[0]), at = 0;
+    bool found = false;
+    vx_result r = set_intern(b->a, &b->nodes, &b->geom, &b->geom_cap, &b->geom_n, words, len, VX_SVO_ROOT_LEAF - 1,
+                             &at, &found, b->err);
+    if (r) return r;
+    if (!found) {
+        b->st->nodes++;
+        b->st->offset_words += len - 1 - np;
+    }
+    memo_set(b, w, L, at, total);
+    *out_node = at;
+    *out_count = total;
+    return VX_OK;
+}
+
+/* ---- attributes ---------------------------------------------------------------------- */
+
+typedef struct attr_enc {
+    const vx_allocator* a;
+    vx_error* err;
+    vx_compact_stats* st;
+    const vx_svo_model* m;
+    uint32_t kind, B, width;
+    uint32_t* vals; /* B values of the current block */
+    uint32_t n;
+    uint32_t* hdr; /* block headers of the model */
+    uint32_t nblocks, next_block;
+    uint32_t* data; /* payloads (offsets from the region start = nblocks + index) */
+    size_t data_cap;
+    uint32_t data_n;
+    wordset payloads;
+    uint32_t* lens;  /* payload length by data index, for the payload set */
+    size_t lens_cap;
+    uint32_t* scratch; /* one payload being made */
+    uint32_t* dkey;    /* distinct-value hash (2B slots), valid where dstamp == stamp */
+    uint32_t* didx;
+    uint32_t* dstamp;
+    uint32_t stamp;
+    vx_result fail;
+    uint64_t cells;
+} attr_enc;
+
+/* payload lengths by start (a payload's code alone does not give it) */
+static uint32_t payload_len_of(const void* ctx, const uint32_t* data, uint32_t start) {
+    (void)data;
+    return (*(uint32_t* const*)ctx)[start];
+}
+
+/* RGBA8 -> (R - G + 128, G, B - G + 128, A) mod 256 when dec (exact: recorrelate undoes it) */
+static uint32_t decorrelate(uint32_t v, uint32_t dec) {
+    if (!dec) return v;
+    uint32_t r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
+    return (v & 0xFF00FF00u) | ((r - g + 128) & 0xFFu) | (((b - g + 128) & 0xFFu) << 16);
+}
+static uint32_t recorrelate(uint32_t v, uint32_t dec) {
+    if (!dec) return v;
+    uint32_t r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
+    return (v & 0xFF00FF00u) | ((r + g - 128) & 0xFFu) | (((b + g - 128) & 0xFFu) << 16);
+}
+
+static uint32_t ceil_log2(uint32_t k) {
+    uint32_t b = 0;
+    while ((1u << b) < k) b++;
+    return b;
+}
+
+static vx_result flush_block(attr_enc* e) {
+    uint32_t B = e->B, width = e->width, k = 0;
+    if (++e->stamp == 0) {
+        memset(e->dstamp, 0, (size_t)2 * B * 4);
+        e->stamp = 1;
+    }
+    uint32_t* pal = e->scratch + 2 * B; /* distinct values in order of appearance */
+    uint32_t* idx = e->scratch + 3 * B;
+    for (uint32_t i = 0; i < e->n; i++) {
+        uint32_t v = e->vals[i];
+        size_t j = (size_t)((v * 0x9E3779B1u) >> 7) & (2 * B - 1);
+        while (e->dstamp[j] == e->stamp && e->dkey[j] != v) j = (j + 1) & (2 * B - 1);
+        if (e->dstamp[j] != e->stamp) {
+            e->dstamp[j] = e->stamp;
+            e->dkey[j] = v;
+            e->didx[j] = k;
+            pal[k++] = v;
+        }
+        idx[i] = e->didx[j];
+    }
+    uint32_t bits = ceil_log2(k), iw = (uint32_t)(((uint64_t)B * bits + 31) / 32), pw = (k * width + 31) / 32;
+    uint32_t raw_words = (e->n * width + 31) / 32, code, len;
+    /* deltas (RGBA only): each channel's minimum and the residuals' bit
+     * widths, of the colours as they are or decorrelated (R - G, G, B - G: a
+     * texture's shading moves the three together), whichever is smaller */
+    uint32_t lo = 0, wsum = UINT32_MAX, wcode = 0, delta_words = UINT32_MAX;
+    for (uint32_t dec = 0; width == 32 && bits && dec < 2; dec++) {
+        uint32_t l = 0, ws = 0, wc = dec << 16;
+        for (uint32_t c = 0; c < 4; c++) {
+            uint32_t mn = 255, mx = 0;
+            for (uint32_t i = 0; i < k; i++) {
+                uint32_t v = (decorrelate(pal[i], dec) >> (8 * c)) & 0xFFu;
+                mn = v < mn ? v : mn;
+                mx = v > mx ? v : mx;
+            }
+            uint32_t w = ceil_log2(mx - mn + 1);
+            l |= mn << (8 * c);
+            wc |= w << (4 * c);
+            ws += w;
+        }
+        if (ws < wsum) lo = l, wsum = ws, wcode = wc;
+    }
+    if (wsum != UINT32_MAX) delta_words = 2 + (uint32_t)(((uint64_t)B * wsum + 31) / 32);
+    uint32_t* out = e->scratch;
+    memset(out, 0, (size_t)2 * B * 4);
+    if (bits && delta_words < iw + pw && delta_words < raw_words) {
+        code = VX_COMPACT_DELTA;
+        len = delta_words;
+        out[0] = lo;
+        out[1] = wcode;
+        for (uint32_t i = 0; i < e->n; i++) {
+            uint64_t pos = (uint64_t)i * wsum;
+            for (uint32_t c = 0; c < 4; c++) {
+                uint32_t w = (wcode >> (4 * c)) & 15u;
+                uint32_t v = (decorrelate(e->vals[i], wcode >> 16) >> (8 * c)) & 0xFFu;
+                if (w) put_bits(out + 2, pos, v - ((lo >> (8 * c)) & 0xFFu), w);
+                pos += w;
+            }
+        }
+        e->st->delta++;
+    } else if (bits && raw_words <= iw + pw) {
+        code = VX_COMPACT_RAW;
+        len = raw_words;
+        for (uint32_t i = 0; i < e->n; i++) put_bits(out, (uint64_t)i * width, e->vals[i], width);
+        e->st->raw++;
+    } else {
+        code = bits;
+        len = iw + pw;
+        for (uint32_t i = 0; bits && i < e->n; i++) put_bits(out, (uint64_t)i * bits, idx[i], bits);
+        for (uint32_t i = 0; i < k; i++) put_bits(out + iw, (uint64_t)i * width, pal[i], width);
+        e->st->uniform += k == 1;
+    }
+    e->st->blocks++;
+    e->st->distinct_sum += k;
+    /* the payload set reads lengths by data index: reserve this one's slot first */
+    if (!vx_grow(e->a, (void**)&e->lens, &e->lens_cap, (size_t)e->data_n + len, 4))
+        return vx_fail(e->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for attribute payloads");
+    e->lens[e->data_n] = len;
+    uint32_t at = 0;
+    bool found = false;
+    vx_result r = set_intern(e->a, &e->payloads, &e->data, &e->data_cap, &e->data_n, out, len, ATTR_OFF_MAX - 1,
+                             &at, &found, e->err);
+    if (r) return r;
+    e->st->shared += found;
+    e->hdr[e->next_block++] = (at << 5) | code; /* made relative to the region when it is laid out */
+    e->n = 0;
+    return VX_OK;
+}
+
+static bool enc_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    (void)x, (void)y, (void)z;
+    attr_enc* e = user;
+    if (attr >= e->m->attr_count) {
+        e->fail = vx_fail(e->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "attribute index %u of %u records", attr,
+                          e->m->attr_count);
+        return false;
+    }
+    e->vals[e->n++] = e->kind == VX_COMPACT_ATTR_RGBA ? e->m->rgba[attr] : e->m->palette[attr];
+    e->cells++;
+    if (e->n == e->B && (e->fail = flush_block(e))) return false;
+    return true;
+}
+
+/* Appends model m's attribute region to the scene's array. */
+static vx_result build_attrs(const vx_compact_desc* d, const vx_svo_model* m, vx_compact_model* cm,
+                             vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
+    uint32_t B = d->block;
+    attr_enc e = {.a = d->alloc, .err = err, .st = &c->stats, .m = m, .kind = cm->attr_kind, .B = B,
+                  .width = cm->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32};
+    e.payloads.len_of = payload_len_of;
+    e.payloads.ctx = &e.lens; /* lens moves as it grows */
+    e.nblocks = (uint32_t)(((uint64_t)cm->voxels + B - 1) / B);
+    e.vals = vx_calloc(e.a, B, 4);
+    e.scratch = vx_calloc(e.a, 4 * (size_t)B, 4);
+    e.dkey = vx_calloc(e.a, 2 * (size_t)B, 4);
+    e.didx = vx_calloc(e.a, 2 * (size_t)B, 4);
+    e.dstamp = vx_calloc(e.a, 2 * (size_t)B, 4);
+    e.hdr = vx_calloc(e.a, e.nblocks ? e.nblocks : 1, 4);
+    vx_result r = VX_OK;
+    if (!e.vals || !e.scratch || !e.dkey || !e.didx || !e.dstamp || !e.hdr) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u attribute blocks", e.nblocks);
+        goto done;
+    }
+    if (e.nblocks >= ATTR_OFF_MAX) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: %u attribute blocks (at most %u)", e.nblocks,
+                    ATTR_OFF_MAX - 1);
+        goto done;
+    }
+    r = vx_svo_decode_model(m, enc_cell, &e, err);
+    if (!r) r = e.fail;
+    if (!r && e.n) r = flush_block(&e);
+    if (r) goto done;
+    if (e.cells != cm->voxels || e.next_block != e.nblocks) {
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model decodes to %llu cells, its tree counts %u",
+                    (unsigned long long)e.cells, cm->voxels);
+        goto done;
+    }
+    /* groups of VX_COMPACT_GROUP blocks with one header word stand for all of it */
+    uint32_t ngroups = (e.nblocks + VX_COMPACT_GROUP - 1) / VX_COMPACT_GROUP, nh = 0;
+    for (uint32_t g = 0; g < ngroups; g++) {
+        uint32_t first = g * VX_COMPACT_GROUP, end = first + VX_COMPACT_GROUP < e.nblocks ? first + VX_COMPACT_GROUP : e.nblocks;
+        bool same = true;
+        for (uint32_t i = first + 1; same && i < end; i++) same = e.hdr[i] == e.hdr[first];
+        nh += same ? 1 : end - first;
+        c->stats.uniform_groups += same;
+    }
+    uint64_t words = (uint64_t)ngroups + nh + e.data_n;
+    if (words >= ATTR_OFF_MAX) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: a model's attributes need %llu words (at most %u)",
+                    (unsigned long long)words, ATTR_OFF_MAX - 1);
+        goto done;
+    }
+    if (words > UINT32_MAX - (uint64_t)c->attr_words) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than 2^32 attribute words");
+        goto done;
+    }
+    if (!vx_grow(d->alloc, (void**)&c->attr, attr_cap, (size_t)(c->attr_words + words), 4)) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu attribute words",
+                    (unsigned long long)words);
+        goto done;
+    }
+    cm->attr_base = c->attr_words;
+    cm->attr_words = (uint32_t)words;
+    uint32_t* region = c->attr + c->attr_words;
+    uint32_t shift = (ngroups + nh) << 5; /* payloads follow the groups and the headers */
+    for (uint32_t g = 0, h = ngroups; g < ngroups; g++) {
+        uint32_t first = g * VX_COMPACT_GROUP, end = first + VX_COMPACT_GROUP < e.nblocks ? first + VX_COMPACT_GROUP : e.nblocks;
+        bool same = true;
+        for (uint32_t i = first + 1; same && i < end; i++) same = e.hdr[i] == e.hdr[first];
+        region[g] = h | (same ? 1u << 31 : 0);
+        for (uint32_t i = first; i < (same ? first + 1 : end); i++) region[h++] = e.hdr[i] + shift;
+    }
+    if (e.data_n) memcpy(region + ngroups + nh, e.data, (size_t)e.data_n * 4);
+    c->attr_words += (uint32_t)words;
+done:
+    vx_free(e.a, e.vals);
+    vx_free(e.a, e.scratch);
+    vx_free(e.a, e.dkey);
+    vx_free(e.a, e.didx);
+    vx_free(e.a, e.dstamp);
+    vx_free(e.a, e.hdr);
+    vx_free(e.a, e.data);
+    vx_free(e.a, e.lens);
+    vx_free(e.a, e.payloads.tab);
+    return r;
+}
+
+/* ---- scene --------------------------------------------------------------------------- */
+
+vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = VX_COMPACT_BLOCK}; }
+
+void vx_compact_free(vx_compact_scene* c) {
+    if (!c) return;
+    vx_allocator a = c->alloc;
+    vx_free(&a, c->models);
+    vx_free(&a, c->geom);
+    vx_free(&a, c->attr);
+    memset(c, 0, sizeof *c);
+}
+
+vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
+                           vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_compact_desc d = vx_compact_desc_defaults();
+    if (desc_in) {
+        d.alloc = desc_in->alloc;
+        if (desc_in->block) d.block = desc_in->block;
+    }
+    if (d.block < 8 || d.block > 1024 || (d.block & (d.block - 1)))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact block %u: not a power of two in 8..1024",
+                       d.block);
+    vx_compact_scene c = {.block = d.block, .model_count = s->model_count};
+    if (d.alloc) c.alloc = *d.alloc;
+    d.alloc = &c.alloc;
+    memcpy(c.palette, s->palette, sizeof c.palette);
+    builder b = {.a = d.alloc, .err = err, .st = &c.stats, .nodes = {.len_of = node_len_of},
+                 .bricks = {.len_of = brick_len_of}};
+    size_t attr_cap = 0;
+    vx_result r = VX_OK;
+    c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
+    if (!c.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models", s->model_count);
+    for (uint32_t i = 0; !r && i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        vx_compact_model* cm = &c.models[i];
+        cm->depth = m->depth;
+        cm->root = m->root;
+        cm->attr_kind = (m->attrs & VX_ATTR_RGBA8) && m->rgba         ? VX_COMPACT_ATTR_RGBA
+                        : (m->attrs & VX_ATTR_PALETTE) && m->palette ? VX_COMPACT_ATTR_PALETTE
+                                                                      : VX_COMPACT_ATTR_NONE;
+        uint64_t cells = 0;
+        if (m->root == VX_SVO_ROOT_LEAF) {
+            cells = m->depth > 10 ? UINT64_MAX : 1ull << (3 * m->depth);
+        } else if (m->root != VX_SVO_ROOT_EMPTY) {
+            if (m->root >= m->node_count) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u of %u words", i, m->root,
+                            m->node_count);
+                break;
+            }
+            b.memo_node = vx_calloc(d.alloc, m->node_count, 4);
+            b.memo_count = vx_calloc(d.alloc, m->node_count, 4);
+            b.memo_level = vx_calloc(d.alloc, m->node_count, 1);
+            if (!b.memo_node || !b.memo_count || !b.memo_level)
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
+            else
+                r = build_node(&b, m, m->root, m->depth, &cm->root, &cells);
+            vx_free(d.alloc, b.memo_node);
+            vx_free(d.alloc, b.memo_count);
+            vx_free(d.alloc, b.memo_level);
+            if (r) {
+                vx_error_prefix(err, "compact layout");
+                break;
+            }
+        }
+        if (cells > UINT32_MAX) {
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u: more than 2^32 - 1 cells", i);
+            break;
+        }
+        cm->voxels = (uint32_t)cells;
+        if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs(&d, m, cm, &c, &attr_cap, err);
+    }
+    vx_free(d.alloc, b.nodes.tab);
+    vx_free(d.alloc, b.bricks.tab);
+    c.geom = b.geom;
+    c.geom_words = b.geom_n;
+    if (r) {
+        vx_compact_free(&c);
+        return r;
+    }
+    *out = c;
+    return VX_OK;
+}
+
+/* ---- lookup (the CPU form of the shader's walk) -------------------------------------- */
+
+bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint32_t y, uint32_t z, uint32_t* index) {
+    if (!c || mi >= c->model_count) return false;
+    const vx_compact_model* m = &c->models[mi];
+    uint32_t L = m->depth;
+    if (m->root == VX_SVO_ROOT_EMPTY || (L < 32 && (x >> L || y >> L || z >> L))) return false;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        *index = (uint32_t)vx_svo_morton(x, y, z);
+        return true;
+    }
+    uint32_t n = m->root;
+    uint64_t base = 0;
+    for (; L >= 1; L--) {
+        if (L <= 2) {
+            uint32_t r = (1u << L) - 1u, bit = (uint32_t)vx_svo_morton(x & r, y & r, z & r);
+            uint64_t mask = c->geom[n] | (uint64_t)c->geom[n + 1] << 32;
+            if (!((mask >> bit) & 1u)) return false;
+            *index = (uint32_t)(base + (uint64_t)__builtin_popcountll(mask & ((1ull << bit) - 1u)));
+            return true;
+        }
+        uint32_t h = c->geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
+        if (!((valid >> o) & 1u)) return false;
+        uint32_t below = valid & ((1u << o) - 1u), f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
+        if (o <= f) {
+            base += (uint64_t)popc(below) << (3 * s);
+        } else {
+            uint32_t wb = 8u << ((h >> 16) & 3u), rank = popc(below & ~((2u << f) - 1u));
+            base += get_bits(c->geom + n + 1 + popc(inner), (uint64_t)rank * wb, wb);
+        }
+        if ((leaf >> o) & 1u) {
+            uint32_t mask = (1u << s) - 1u;
+            *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
+            return true;
+        }
+        n = c->geom[n + 1 + popc(inner & ((1u << o) - 1u))];
+    }
+    return false;
+}
+
+static uint32_t wcode_sum(uint32_t wcode) {
+    return (wcode & 15u) + ((wcode >> 4) & 15u) + ((wcode >> 8) & 15u) + ((wcode >> 12) & 15u);
+}
+
+uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t mi, uint32_t i) {
+    if (!c || mi >= c->model_count) return 0xFFFFFFFFu;
+    const vx_compact_model* m = &c->models[mi];
+    if (m->attr_kind == VX_COMPACT_ATTR_NONE || i >= m->voxels) return 0xFFFFFFFFu;
+    uint32_t B = c->block, width = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32;
+    uint32_t blk = i / B, g = c->attr[m->attr_base + blk / VX_COMPACT_GROUP];
+    uint32_t h = c->attr[m->attr_base + (g & 0x7FFFFFFFu) + (g >> 31 ? 0 : blk % VX_COMPACT_GROUP)];
+    uint32_t code = h & 31u, j = i % B;
+    const uint32_t* p = c->attr + m->attr_base + (h >> 5);
+    uint32_t v;
+    if (code == VX_COMPACT_RAW) {
+        v = get_bits(p, (uint64_t)j * width, width);
+    } else if (code == VX_COMPACT_DELTA) {
+        uint32_t wcode = p[1], pos = 0;
+        v = 0;
+        for (uint32_t c = 0; c < 4; c++) {
+            uint32_t w = (wcode >> (4 * c)) & 15u, base = (p[0] >> (8 * c)) & 0xFFu;
+            uint32_t r = w ? get_bits(p + 2, (uint64_t)j * (wcode_sum(wcode)) + pos, w) : 0;
+            v |= ((base + r) & 0xFFu) << (8 * c);
+            pos += w;
+        }
+        v = recorrelate(v, (wcode >> 16) & 1u);
+    } else {
+        uint32_t k = code ? get_bits(p, (uint64_t)j * code, code) : 0;
+        v = get_bits(p + ((uint64_t)B * code + 31) / 32, (uint64_t)k * width, width);
+    }
+    return m->attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v & 0xFFu] : v;
+}

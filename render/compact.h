@@ -1,0 +1,138 @@
+/* render/compact.h - the compact GPU layout of a scene (issue 18): geometry as
+ * one DAG shared regardless of attributes, attributes in a separate array
+ * indexed by a voxel's rank in traversal (Morton) order.
+ *
+ * The layout today's tracer uploads (render_scene.c) is the .svo node array
+ * plus one 4-byte RGBA record per leaf. Its DAG shares a subtree only when the
+ * colours below agree too, so a textured mesh shares almost nothing (the
+ * DamagedHelmet at 4096^3: 5.06 bytes per voxel). Here the geometry DAG never
+ * sees a colour: subtrees that differ only in colour are one node, across
+ * the models of the scene as well. A cell's colour is found by its index i,
+ * the number of set cells before it in Morton order, which the traversal
+ * sums on the way down from per-node child offsets.
+ *
+ * Geometry: 32-bit words, one array for the scene, children before parents.
+ * A node of level 1 or 2 (a level-3 node's child, or the root of a model of
+ * depth <= 2) is a brick: 2 words, the 64-bit mask of its cells by their
+ * Morton code within the node (bit 8 * o2 + o1: octant o2 of the node,
+ * octant o1 of that child), low word first; the index of a cell within it is
+ * the number of set bits below its own. A node of level >= 3 at word n:
+ *   geom[n]      header: bits 0..7 valid mask, bits 8..15 leaf mask (a leaf
+ *                child is one cell at level 1, a full cube of 8^(level-1)
+ *                cells above), bits 16..17 offset width w (0: 8, 1: 16, 2: 32
+ *                bits), bits 18..22 the node's level (3..21; part of the
+ *                identity, so nodes of different levels are never merged).
+ *   geom[n + 1 + k], k < popcount(valid & ~leaf): absolute word index of the
+ *                k-th non-leaf child (octant order).
+ *   then packed offsets, little end first, (8 << w) bits each: for every valid
+ *                child after the first non-leaf child f, the number of cells
+ *                in the node's earlier children. A child o <= f has only leaf
+ *                children before it: offset popcount(valid & below(o)) *
+ *                8^(level-1), nothing stored (so a node whose first child
+ *                is its only non-leaf one stores no offsets at all).
+ * The index of a cell is the sum of its child offsets on the path, plus,
+ * inside a full-cube leaf, the Morton key of the cell relative to the cube.
+ *
+ * Attributes, per model, one value per cell in Morton order, cut into blocks
+ * of `block` values; each block has a header word and a payload that
+ * identical blocks of the model share, coded in the smallest of three ways
+ * (a textured mesh's exact colours: few distinct values per block, or few
+ * bits of spread per channel, or neither). Blocks form groups of
+ * VX_COMPACT_GROUP; a group whose blocks have one header keeps it once, so a
+ * uniform region costs a word per group, not per block:
+ *   attr[base + g]           group g = b / VX_COMPACT_GROUP: bits 0..30 word
+ *                            offset q (from base) of its headers, bit 31 set
+ *                            when the group has one header for all blocks
+ *   attr[base + q (+ b % VX_COMPACT_GROUP without bit 31)]
+ *                            header of block b: bits 0..4 code c, bits 5..31
+ *                            payload word offset p (from base)
+ *   c == 31 (raw):           the block's values packed at the value width
+ *   c == 30 (delta, RGBA):   word 0 each channel's minimum (RGBA8), word 1
+ *                            the residuals' bit widths w_ch (4 bits each, R
+ *                            lowest, 0..8) and in bit 16 the flag d, then per
+ *                            value its residuals (value - minimum) R, G, B, A
+ *                            at w_R..w_A bits, value j at bit
+ *                            j * (w_R + w_G + w_B + w_A). With d the channels
+ *                            are (R - G + 128, G, B - G + 128, A) mod 256.
+ *   c in 0..29 (palette):    block * c bits of indices (packed, little end
+ *                            first, ceil(block * c / 32) words), then the
+ *                            block's distinct values packed at the value width
+ * Value width: 8 bits for palette models (the scene palette index; the
+ * colour is palette[index]), 32 bits RGBA otherwise. Values are exact: a
+ * model's colour of cell x is vx_svo_attr_rgba() of its record.
+ *
+ * Limits: a model of more than 2^32 - 1 cells, or whose attribute region
+ * passes 2^27 words (512 MiB), is refused with VX_ERR_LIMIT. */
+#ifndef VX_COMPACT_H
+#define VX_COMPACT_H
+
+#include "svo/svo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VX_COMPACT_BLOCK 64u /* default attribute block, values (docs/PERFORMANCE.md issue 18) */
+#define VX_COMPACT_RAW 31u   /* block code: values stored as they are */
+#define VX_COMPACT_DELTA 30u /* block code: RGBA as per-channel minimum plus residuals */
+#define VX_COMPACT_GROUP 64u /* blocks per group word */
+
+typedef struct vx_compact_desc {
+    const vx_allocator* alloc;
+    uint32_t block; /* values per attribute block, a power of two in 8..1024; 0 == VX_COMPACT_BLOCK */
+} vx_compact_desc;
+vx_compact_desc vx_compact_desc_defaults(void);
+
+enum { VX_COMPACT_ATTR_NONE = 0, VX_COMPACT_ATTR_PALETTE = 1, VX_COMPACT_ATTR_RGBA = 2 };
+
+typedef struct vx_compact_model {
+    uint32_t root;      /* word index of the root node, or VX_SVO_ROOT_EMPTY / VX_SVO_ROOT_LEAF */
+    uint32_t depth;     /* the source model's depth */
+    uint32_t voxels;    /* cells set (attribute indices 0..voxels-1) */
+    uint32_t attr_kind; /* VX_COMPACT_ATTR_*: NONE is opaque white */
+    uint32_t attr_base; /* word index in attr of the model's first block header */
+    uint32_t attr_words; /* words of the model's region (headers and payloads) */
+} vx_compact_model;
+
+typedef struct vx_compact_stats {
+    uint64_t nodes;         /* geometry nodes of the scene */
+    uint64_t offset_words;  /* geometry words spent on child offsets */
+    uint64_t blocks;        /* attribute blocks */
+    uint64_t uniform;       /* blocks of one value (code 0) */
+    uint64_t raw;           /* blocks stored raw */
+    uint64_t delta;         /* blocks stored as deltas */
+    uint64_t uniform_groups; /* groups whose blocks share one header */
+    uint64_t shared;        /* blocks whose payload an earlier block of the model already had */
+    uint64_t distinct_sum;  /* distinct values summed over blocks */
+} vx_compact_stats;
+
+typedef struct vx_compact_scene {
+    uint32_t block;
+    uint32_t model_count;
+    vx_compact_model* models;
+    uint32_t geom_words;
+    uint32_t* geom;
+    uint32_t attr_words;
+    uint32_t* attr;
+    uint32_t palette[256]; /* the scene palette (palette models' colours) */
+    vx_compact_stats stats;
+    vx_allocator alloc;
+} vx_compact_scene;
+
+/* Builds the layout of every model of s (all of them, drawn or not, as the
+ * tracer uploads them). *out owns its arrays (vx_compact_free). s must be
+ * valid (vx_svo_validate_scene). */
+vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, vx_compact_scene* out, vx_error* err);
+void vx_compact_free(vx_compact_scene* c);
+
+/* Walks model m's geometry to cell (x, y, z): false when the cell is empty or
+ * outside the model's cube, else true and *index its attribute index. */
+bool vx_compact_lookup(const vx_compact_scene* c, uint32_t m, uint32_t x, uint32_t y, uint32_t z, uint32_t* index);
+/* Decodes attribute index i of model m (its block's payload); opaque white
+ * for a model without attributes or i past its cells. */
+uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,294 @@
+/* tests/render/test_compact.c - the compact GPU layout (render/compact.h)
+ * against the model's own voxel list: vx_svo_decode_model walks the .svo tree
+ * (an independent path) and gives every cell in Morton order with its
+ * attribute record; the compact walk must find each cell at its rank with
+ * the same colour, and find no cell the list lacks. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "convert/convert.h"
+#include "render/compact.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+#ifdef VX_TEST_HAVE_MESH
+#include "convert/mesh.h"
+#endif
+
+typedef struct walk {
+    const vx_compact_scene* c;
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    uint32_t mi, next, bad;
+    uint64_t* keys; /* Morton keys in decode order */
+} walk;
+
+static bool check_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    walk* w = user;
+    uint32_t idx = UINT32_MAX;
+    bool ok = vx_compact_lookup(w->c, w->mi, x, y, z, &idx) && idx == w->next &&
+              vx_compact_rgba(w->c, w->mi, idx) == vx_svo_attr_rgba(w->s, w->m, attr);
+    if (!ok && w->bad++ < 5)
+        fprintf(stderr, "  model %u cell (%u %u %u): rank %u, lookup %u, colour %08x, expected %08x\n", w->mi, x, y, z,
+                w->next, idx, vx_compact_rgba(w->c, w->mi, idx), vx_svo_attr_rgba(w->s, w->m, attr));
+    w->keys[w->next++] = vx_svo_morton(x, y, z);
+    return true;
+}
+
+/* position of key in the sorted keys, or -1 */
+static int64_t find_key(const uint64_t* keys, uint32_t n, uint64_t k) {
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (keys[mid] < k) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < n && keys[lo] == k ? (int64_t)lo : -1;
+}
+
+/* Every cell of every model, and cells around them and at random. */
+static void check_scene(const vx_svo_scene* s, const char* name, uint32_t block, vx_compact_scene* keep) {
+    vx_compact_desc d = vx_compact_desc_defaults();
+    d.block = block;
+    vx_compact_scene c;
+    vx_error err = {0};
+    vx_result r = vx_compact_build(&d, s, &c, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    if (r) return;
+    uint64_t voxels = 0;
+    uint32_t bad_total = 0, rng = 12345;
+    for (uint32_t mi = 0; mi < s->model_count; mi++) {
+        const vx_svo_model* m = &s->models[mi];
+        voxels += m->voxel_count;
+        CHECKF(c.models[mi].voxels == m->voxel_count, "%s model %u: %u cells, the model counts %llu", name, mi,
+               c.models[mi].voxels, (unsigned long long)m->voxel_count);
+        walk w = {.c = &c, .s = s, .m = m, .mi = mi, .keys = malloc((m->voxel_count ? m->voxel_count : 1) * 8)};
+        if (!w.keys) {
+            CHECK(!"out of memory");
+            break;
+        }
+        CHECK(vx_svo_decode_model(m, check_cell, &w, &err) == VX_OK);
+        CHECKF(w.bad == 0 && w.next == m->voxel_count, "%s model %u: %u of %u cells wrong", name, mi, w.bad, w.next);
+        bad_total += w.bad;
+        /* empty and set cells: the neighbours of set cells, and cells anywhere in the cube */
+        uint32_t side = m->depth >= 31 ? 0 : 1u << m->depth, wrong = 0;
+        for (uint32_t t = 0; side && t < 20000; t++) {
+            uint32_t x, y, z;
+            if (w.next && (t & 1)) {
+                vx_svo_demorton(w.keys[ts_rng(&rng) % w.next], &x, &y, &z);
+                x += ts_rng(&rng) % 3 - 1, y += ts_rng(&rng) % 3 - 1, z += ts_rng(&rng) % 3 - 1;
+            } else {
+                x = ts_rng(&rng) % side, y = ts_rng(&rng) % side, z = ts_rng(&rng) % side;
+            }
+            uint32_t idx;
+            bool in = x < side && y < side && z < side;
+            int64_t at = in ? find_key(w.keys, w.next, vx_svo_morton(x, y, z)) : -1;
+            bool found = vx_compact_lookup(&c, mi, x, y, z, &idx);
+            if (found != (at >= 0) || (found && idx != (uint64_t)at)) wrong++;
+        }
+        CHECKF(wrong == 0, "%s model %u: %u sampled cells looked up wrong", name, mi, wrong);
+        free(w.keys);
+    }
+    printf("  %-32s block %4u: %10llu voxels, geometry %.3f + attributes %.3f bytes/voxel (%llu nodes)%s\n", name,
+           block, (unsigned long long)voxels, voxels ? 4.0 * c.geom_words / (double)voxels : 0.0,
+           voxels ? 4.0 * c.attr_words / (double)voxels : 0.0, (unsigned long long)c.stats.nodes,
+           bad_total ? " WRONG" : "");
+    if (keep) *keep = c;
+    else vx_compact_free(&c);
+}
+
+/* A model from cells and per-cell RGBA (level tiles optional). */
+static vx_result rgba_model(vx_svo_model* m, uint32_t side, const uint64_t* keys, const uint8_t* level,
+                            const uint32_t* rgba, size_t n) {
+    vx_svo_voxels v = {.size = {side, side, side}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_RGBA8,
+                       .rgba = rgba};
+    vx_error err = {0};
+    return vx_svo_build_model(NULL, &v, m, NULL, &err);
+}
+
+static void test_generated(void) {
+    /* palette models: sparse, half full, nearly full (collapsed cubes) */
+    vx_svo_model pm[3];
+    REQUIRE(ts_random_model(&pm[0], 37, 20, 9, 5, 1) == VX_OK);
+    REQUIRE(ts_random_model(&pm[1], 24, 24, 24, 50, 2) == VX_OK);
+    REQUIRE(ts_random_model(&pm[2], 16, 16, 16, 99, 3) == VX_OK);
+    /* RGBA: smooth colours (few per block), noise (raw blocks), tiles of one colour (full cubes) */
+    size_t n = 0, cap = 64 * 64 * 64;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    uint8_t* level = calloc(cap, 1);
+    REQUIRE(keys && rgba && level);
+    uint32_t seed = 7;
+    vx_svo_model rm[3];
+    for (uint32_t z = 0; z < 64; z++)
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++)
+                if ((x - 32) * (x - 32) + (y - 32) * (y - 32) + (z - 32) * (z - 32) < 900 && ts_rng(&seed) % 4) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    /* coarse bands (block palettes), gradients (deltas), shading (decorrelated deltas) */
+                    uint32_t lum = (x * 3 + y * 2 + z) & 0xFFu;
+                    rgba[n++] = x < 32   ? 0xFF000000u | (x / 8) | ((y / 4) << 8) | ((z / 16) << 16)
+                                : x < 48 ? 0xFF000000u | (x * 3) | ((y * 3) << 8) | ((z * 3) << 16)
+                                         : 0xFF000000u | lum | (((lum + 5) & 0xFFu) << 8) | (((lum - 7) & 0xFFu) << 16);
+                }
+    REQUIRE(rgba_model(&rm[0], 64, keys, NULL, rgba, n) == VX_OK);
+    for (size_t i = 0; i < n; i++) rgba[i] = ts_rng(&seed);
+    REQUIRE(rgba_model(&rm[1], 64, keys, NULL, rgba, n) == VX_OK);
+    n = 0;
+    for (uint32_t z = 0; z < 64; z += 8)
+        for (uint32_t y = 0; y < 64; y += 8)
+            for (uint32_t x = 0; x < 64; x += 8)
+                if (ts_rng(&seed) % 3 == 0) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    level[n] = ts_rng(&seed) % 2 ? 3 : 2;
+                    rgba[n++] = 0xFF000000u | (ts_rng(&seed) % 3);
+                }
+    REQUIRE(rgba_model(&rm[2], 64, keys, level, rgba, n) == VX_OK);
+    free(keys), free(rgba), free(level);
+    vx_svo_model all[6] = {pm[0], pm[1], pm[2], rm[0], rm[1], rm[2]};
+    vx_svo_instance in[6];
+    for (uint32_t i = 0; i < 6; i++) in[i] = ts_inst(i, NULL, 70.0 * i, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, all, 6, in, 6);
+    static const uint32_t blocks[] = {8, 64, 1024};
+    for (int b = 0; b < 3; b++) check_scene(&s, "generated", blocks[b], NULL);
+    /* every block code appears: raw (noise), uniform (tiles), deltas (gradients), palettes */
+    vx_compact_scene c;
+    check_scene(&s, "generated", 64, &c);
+    CHECK(c.stats.raw > 0 && c.stats.uniform > 0 && c.stats.shared > 0 && c.stats.delta > 0 &&
+          c.stats.blocks > c.stats.raw + c.stats.uniform + c.stats.delta);
+    vx_compact_free(&c);
+    vx_svo_scene_free(&s);
+}
+
+/* Two copies of one shape in octants 0 and 7 of a 32^3 model: with one
+ * colour the .svo DAG shares them; with different colours it cannot, but the
+ * compact geometry must, and the two models' geometry must be one DAG. */
+static void test_colour_sharing(void) {
+    size_t n = 0;
+    uint32_t* xyz = malloc(2 * 16 * 16 * 16 * 12);
+    uint8_t* same = malloc(2 * 16 * 16 * 16);
+    uint8_t* diff = malloc(2 * 16 * 16 * 16);
+    REQUIRE(xyz && same && diff);
+    uint32_t seed = 5;
+    for (uint32_t z = 0; z < 16; z++)
+        for (uint32_t y = 0; y < 16; y++)
+            for (uint32_t x = 0; x < 16; x++)
+                if (ts_rng(&seed) % 3 == 0)
+                    for (uint32_t copy = 0; copy < 2; copy++) {
+                        xyz[3 * n] = x + 16 * copy, xyz[3 * n + 1] = y + 16 * copy, xyz[3 * n + 2] = z + 16 * copy;
+                        same[n] = 9;
+                        diff[n++] = (uint8_t)(copy ? 1 + ts_rng(&seed) % 255 : 9);
+                    }
+    vx_svo_model m[2];
+    uint32_t size[3] = {32, 32, 32};
+    REQUIRE(ts_model(&m[0], size, xyz, same, n) == VX_OK);
+    REQUIRE(ts_model(&m[1], size, xyz, diff, n) == VX_OK);
+    free(xyz), free(same), free(diff);
+    CHECKF(m[1].node_count > m[0].node_count + m[0].node_count / 4, ".svo words: %u with one colour, %u with two",
+           m[0].node_count, m[1].node_count);
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, 40, 0, 0)};
+    vx_svo_scene s, s1;
+    ts_scene(&s, m, 2, in, 2);
+    vx_compact_scene c, c1;
+    check_scene(&s, "colour sharing", 64, &c);
+    REQUIRE(c.model_count == 2);
+    CHECK(c.models[0].root == c.models[1].root);
+    /* the root's two children are one node */
+    uint32_t h = c.geom[c.models[1].root];
+    CHECK((h & 0xFFu) == 0x81u && ((h >> 8) & 0xFFu) == 0);
+    CHECK(c.geom[c.models[1].root + 1] == c.geom[c.models[1].root + 2]);
+    /* the second model adds no geometry to the first */
+    vx_svo_model only = s.models[0];
+    ts_scene(&s1, &only, 1, in, 1);
+    check_scene(&s1, "colour sharing, one model", 64, &c1);
+    CHECK(c1.geom_words == c.geom_words);
+    /* one colour: one group of one header and one payload */
+    CHECK(c1.stats.uniform_groups == 1 && c1.attr_words == 3);
+    s1.models[0] = (vx_svo_model){0}; /* owned by s */
+    vx_svo_scene_free(&s1);
+    vx_compact_free(&c);
+    vx_compact_free(&c1);
+    vx_svo_scene_free(&s);
+}
+
+/* Empty models, a model that is one full cube, bad options. */
+static void test_edges(void) {
+    uint32_t xyz[3 * 64], k = 0;
+    for (uint32_t z = 0; z < 4; z++)
+        for (uint32_t y = 0; y < 4; y++)
+            for (uint32_t x = 0; x < 4; x++) xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = z, k++;
+    uint8_t pal[64];
+    memset(pal, 3, sizeof pal);
+    vx_svo_model m[2];
+    uint32_t size[3] = {4, 4, 4};
+    REQUIRE(ts_model(&m[0], size, xyz, pal, 64) == VX_OK);
+    REQUIRE(ts_model(&m[1], size, xyz, pal, 0) == VX_OK);
+    CHECK(m[0].root == VX_SVO_ROOT_LEAF && m[1].root == VX_SVO_ROOT_EMPTY);
+    vx_svo_instance in[1] = {ts_inst(0, NULL, 0, 0, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 1);
+    vx_compact_scene c;
+    check_scene(&s, "full cube and empty model", 8, &c);
+    CHECK(c.geom_words == 0 && c.models[0].voxels == 64 && c.models[1].voxels == 0);
+    uint32_t idx;
+    CHECK(!vx_compact_lookup(&c, 1, 0, 0, 0, &idx) && !vx_compact_lookup(&c, 0, 4, 0, 0, &idx) &&
+          !vx_compact_lookup(&c, 2, 0, 0, 0, &idx));
+    CHECK(vx_compact_rgba(&c, 0, 64) == 0xFFFFFFFFu && vx_compact_rgba(&c, 0, 63) == s.palette[3]);
+    vx_compact_free(&c);
+    vx_compact_desc d = {.block = 12};
+    vx_error err = {0};
+    CHECK(vx_compact_build(&d, &s, &c, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "12"));
+    d.block = 2048;
+    CHECK(vx_compact_build(&d, &s, &c, &err) == VX_ERR_INVALID_ARG);
+    vx_svo_scene_free(&s);
+}
+
+static void test_corpus(void) {
+    static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
+                                  "eph_monu1.vox", "eph_teapot.vox", "ogt_chr_knight.vox",
+                                  "ogt_doom.vox", "ogt_test_groups.vox", "ogt_test_multiple_model_scene.vox"};
+    int done = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char rel[128];
+        snprintf(rel, sizeof rel, "vox/%s", files[i]);
+        const char* path = vx_test_corpus(rel);
+        if (!path) continue;
+        vx_vox_scene vs;
+        vx_svo_scene s;
+        vx_error err = {0};
+        REQUIRE(vx_vox_read_file(NULL, path, &vs, &err) == VX_OK);
+        vx_result r = vx_conv_vox(NULL, &vs, &s, NULL, &err);
+        vx_vox_scene_free(&vs);
+        CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
+        if (r) continue;
+        check_scene(&s, files[i], VX_COMPACT_BLOCK, NULL);
+        vx_svo_scene_free(&s);
+        done++;
+    }
+    if (!done) SKIP("no corpus .vox files");
+}
+
+/* An RGBA scene from a textured mesh (exact colours, not a palette). */
+static void test_corpus_mesh(void) {
+#ifdef VX_TEST_HAVE_MESH
+    const char* path = vx_test_corpus("gltf/khronos_DamagedHelmet.glb");
+    if (!path) SKIP("no DamagedHelmet.glb");
+    vx_svo_scene s;
+    vx_error err = {0};
+    vx_conv_mesh_desc d = {.res = 128};
+    REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
+    check_scene(&s, "DamagedHelmet at 128", VX_COMPACT_BLOCK, NULL);
+    vx_svo_scene_free(&s);
+#else
+    SKIP("built without the mesh converter");
+#endif
+}
+
+int main(void) {
+    RUN(test_generated);
+    RUN(test_colour_sharing);
+    RUN(test_edges);
+    RUN(test_corpus);
+    RUN(test_corpus_mesh);
+    return vx_test_finish();
+}
