@@ -19,7 +19,8 @@
  * Method photons (photons/photons.h): spp counts progressive passes of
  * --photons N photons each (default 2^20), first radius --photon-radius R
  * (default: the scene diagonal / 100); its full image is the photon maps'
- * whole estimate (direct light too), its indirect image the gi pass's.
+ * whole estimate (direct light too), its indirect image the gi pass's;
+ * photons-fg the same with a final gather of 16 rays per pixel and pass.
  *
  * Options: --device N|NAME, --ref-spp N (1024), --runs N (5), --threads N (2),
  * --warm MS (0: off; a path-traced frame of about MS GPU ms before each timed
@@ -79,6 +80,7 @@ static const gi_method methods[] = {
     {"lightfield", BUILD_PROBES, 256, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT, NULL},
     /* spp: progressive photon passes (--photons N each); full: every photon, direct light too */
     {"photons", BUILD_NONE, 16, 0, 0, photon_render},
+    {"photons-fg", BUILD_NONE, 16, 0, 0, photon_render}, /* the same with a final gather of 16 rays */
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
@@ -92,19 +94,21 @@ static double pt_ms_per_spp;     /* the indirect reference's GPU ms per sample, 
 static built* warm_with;         /* the path tracer without probes */
 
 static vx_photon_desc photon_desc; /* --photons N, --photon-radius R */
-static vx_photon_gi* photon_gi;
+static vx_photon_gi* photon_gi[2]; /* photons, photons-fg */
 
 static vx_result photon_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                                vx_error* err) {
-    (void)m, (void)b;
+    (void)b;
+    int k = strcmp(m->name, "photons") != 0;
     vx_result r = VX_OK;
-    if (!photon_gi) {
+    if (!photon_gi[k]) {
         vx_gi_method gm;
         vx_photon_desc d = photon_desc;
+        d.final_gather = k ? 16 : 0;
         memcpy(d.light_dir, base.light_dir, sizeof d.light_dir); /* the path tracer's sun */
-        if ((r = vx_photon_gi_create(rs, &scene, NULL, &d, &gm, &photon_gi, err))) return r;
+        if ((r = vx_photon_gi_create(rs, &scene, NULL, &d, &gm, &photon_gi[k], err))) return r;
     }
-    return vx_photon_render(photon_gi, &base, spp, !indirect, out, err);
+    return vx_photon_render(photon_gi[k], &base, spp, !indirect, out, err);
 }
 
 static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
@@ -387,7 +391,8 @@ int main(int argc, char** argv) {
     vx_render_image_free(&ref[0][0]);
     vx_render_image_free(&ref[1][0]);
     vx_probe_gpu_destroy(none.pg);
-    vx_photon_gi_destroy(photon_gi);
+    vx_photon_gi_destroy(photon_gi[0]);
+    vx_photon_gi_destroy(photon_gi[1]);
     if (csv) fclose(csv);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);

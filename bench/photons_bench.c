@@ -24,7 +24,8 @@
  * Options: --device N|NAME, --size WxH (320x240), --photons N[,N...]
  * (1000000), --radius R (photons.h's default), --runs N (3),
  * --max-passes N (16), --max-spp N (256), --ref-spp N (1024),
- * --write DIR. */
+ * --final-gather N (also rows "photons+fg N": a final gather of N rays per
+ * pixel and pass, up to 16 passes), --write DIR. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -120,7 +121,7 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
 
 static int usage(void) {
     fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R] [--runs N]\n"
-                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--write DIR]\n"
+                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--final-gather N] [--write DIR]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
 }
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
     const char *device = NULL, *counts = "1000000", *write_dir = NULL;
     vx_render_desc base = {.width = 320, .height = 240};
     double radius = 0;
-    unsigned runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024;
+    unsigned runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
     int i = 1;
     for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
         const char* o = argv[i];
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--max-spp")) max_spp = (unsigned)atoi(v);
         else if (!strcmp(o, "--ref-spp")) ref_spp = (unsigned)atoi(v);
         else if (!strcmp(o, "--write")) write_dir = v;
+        else if (!strcmp(o, "--final-gather")) fg = (unsigned)atoi(v);
         else return usage();
     }
     if (i + 1 != argc || !runs || !ref_spp) return usage();
@@ -232,6 +234,19 @@ int main(int argc, char** argv) {
             if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
             printf("| %s | photons | %u | %u | %llu | - | - | - | - | %.4g | %.4g |\n", name, photons, passes,
                    (unsigned long long)st.stored, im.gpu_seconds * 1e3, rel_mse(&im, &ref[0]));
+            fflush(stdout);
+            vx_render_image_free(&im);
+        }
+        vx_photon_gi_destroy(ph);
+        if (!fg) continue;
+        pd.final_gather = fg;
+        if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+        for (unsigned passes = 1; passes <= max_passes && passes <= 16; passes *= 4) {
+            vx_render_image im = {0};
+            if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            vx_photon_last_stats(ph, &st);
+            printf("| %s | photons+fg %u | %u | %u | %llu | - | - | - | %.3f | %.4g | %.4g |\n", name, fg, photons, passes,
+                   (unsigned long long)st.stored, st.gather_ms, im.gpu_seconds * 1e3, rel_mse(&im, &ref[0]));
             fflush(stdout);
             vx_render_image_free(&im);
         }

@@ -20,7 +20,7 @@ typedef struct gpu_params {
     uint32_t img[4];  /* width, height, running mean, full */
     float sphere[4];  /* bounding sphere centre (relative to the reference), radius */
     float sky[4];     /* sky radiance, w: emissive voxels' power */
-    uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), 0, 0 */
+    uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), final gather rays, a light stands for the voxels */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 112, "gpu_params vs photon.comp");
 
@@ -256,7 +256,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
     for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = (float)pg->P.L.sky[k];
     p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->P.L.em_power;
-    p->cnt[0] = pg->P.L.em_count, p->cnt[1] = 2;
+    p->cnt[0] = pg->P.L.em_count, p->cnt[1] = 2, p->cnt[2] = d->final_gather, p->cnt[3] = pg->P.L.voxel_lights;
     uint32_t ctr[4] = {0};
     double build = 0;
     if ((r = step(pg, STEP_CLEAR, pg->buckets, out, &build, err)) ||
@@ -307,6 +307,9 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
                        "photons: alpha %g (0..1], radius %g and caustic radius %g (>= 0, finite)", d.alpha, d.radius,
                        d.caustic_radius);
+    if (d.final_gather > 1024)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: %u final gather rays (at most 1024)",
+                       d.final_gather);
     if (d.photons > (1u << 26))
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u photons per pass: at most 2^26", d.photons);
     if (!d.capacity) d.capacity = 4 * d.photons;

@@ -47,9 +47,18 @@
  * radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
  * photons of each map within its radius and of the surface's orientation
  * (normals within 25 degrees); caustics from the caustic map with its own,
- * smaller radius; indirect diffuse directly from the global map (no final
- * gather). What the estimate gives is the pipeline's gi: the indirect light
+ * smaller radius; indirect diffuse directly from the global map, or with
+ * final_gather rays by a final gather for the light that bounced at least
+ * once: BSDF-sampled rays from the first surface, each ending at the next
+ * surface with the whole photon estimate there (both maps, direct photons
+ * too; a ray that meets glass ends, its light being the caustic map's),
+ * while the light straight from the sky and emissive voxels comes from the
+ * photons at their first surface there (rays would have to find a small
+ * bright emitter: noise). What the estimate gives is the pipeline's gi: the indirect light
  * leaving the first surface (vx_probe_render PT_INDIRECT's quantity).
+ * Sphere and rect lights seen by the camera through glass are left out
+ * (the path tracer shows them), and a camera ray that meets a sphere or rect
+ * light still gathers behind it (the path tracer stops there).
  *
  * Progressive: pass k (the pipeline's sample k) emits fresh photons with
  * radius r_k, r_k^2 = r_0^2 prod_{i=1..k} (i + alpha) / (i + 1) (Knaus and
@@ -82,6 +91,8 @@ extern "C" {
  *                  units; 0: the scene's bounding diagonal / 100
  *  caustic_radius: the caustic map's first radius; 0: radius / 4
  *  alpha:          radius shrinking per pass (above); 0: 2/3; 1 keeps it
+ *  final_gather:   rays per pixel and pass of a final gather (0: none, the
+ *                  global map's estimate at the first surface; at most 1024)
  *  bounces:        photons stored per path at most; 0: 8
  *  capacity:       stored photons per pass at most; 0: 4 x photons
  *  seed:           random streams (each pass its own)
@@ -92,6 +103,7 @@ typedef struct vx_photon_desc {
     double radius;
     double caustic_radius;
     double alpha;
+    uint32_t final_gather;
     uint32_t bounces;
     uint32_t capacity;
     uint64_t seed;

@@ -30,7 +30,8 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 img;    // x: width, y: height, z: 1: average into Out with pass z of the seed (running mean), w: full
     vec4 sphere;  // xyz: centre of the scene's bounding sphere, w: its radius
     vec4 sky;     // rgb: sky radiance (seen through glass), w: emissive voxels' total power (sum lum(rad) area)
-    uvec4 cnt;    // x: emissive voxels, y: 2 (loops_intact), z: work items of a per-item step, w: 0
+    uvec4 cnt;    // x: emissive voxels, y: 2 (loops_intact), z: final gather rays (0: none),
+                  // w: 1: a light stands for the emissive voxels (the direct pass shades them)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -221,8 +222,12 @@ void trace_photon() {
     if (!loops_intact()) ctr[2] = 1u;
 }
 
+// Which photons a gather takes: every one; all but those the direct pass's light brought to their
+// first surface; only photons at their first surface (and not the direct pass's).
+const int G_ALL = 0, G_INDIRECT = 1, G_FIRST = 2;
+
 // Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r.
-vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, bool direct) {
+vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
     vec3 x = g_s.p, sum = vec3(0.0);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
@@ -236,7 +241,8 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, bool direct) {
                     if (dot(v, v) > r2) continue;
                     uint nb = floatBitsToUint(b.w);
                     if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
-                    if (!direct && (nb & F_DIRECT) != 0u) continue;
+                    if (sel != G_ALL && (nb & F_DIRECT) != 0u) continue;
+                    if (sel == G_FIRST && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
                     vec3 pn = oct_decode(unpackSnorm2x16(nb & ~3u));
                     if (dot(pn, g_s.n) < 0.9) continue; // another face (a wall's back, a step)
                     vec3 wi = oct_decode(unpackSnorm2x16(floatBitsToUint(a.w)));
@@ -245,6 +251,29 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, bool direct) {
                 }
             }
     return sum * norm;
+}
+
+// Final gather: the light at the camera's first surface g_s that bounced at least once, from `rays`
+// BSDF-sampled rays, each ending at the next surface with the whole photon estimate there (both maps,
+// direct photons too); a ray that meets glass ends (the caustic map at the first surface holds that
+// light). Light straight from the sky and emissive voxels is the first surface's photons' (G_FIRST):
+// rays that had to find a small bright emitter would be noisy.
+vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
+    Surf s0 = g_s;
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < rays; i++) {
+        vec3 d, w;
+        float pdf;
+        if (!bsdf_sample(B, wo, d, w, pdf)) continue;
+        Hit h;
+        if (!cast_ray(s0.p, d, BIG, h)) continue;
+        g_s = surface(s0.p, d, h);
+        Bsdf B2 = bsdf_of(g_s);
+        if (B2.kind == B_GLASS) continue;
+        sum += w * (gather(B2, -d, 0u, P.r.x, P.r.z, G_ALL) + gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w, G_ALL));
+    }
+    g_s = s0;
+    return sum / float(rays);
 }
 
 void gather_pixel() {
@@ -294,8 +323,12 @@ void gather_pixel() {
             if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
             continue;
         }
-        bool direct = !first || full;
-        L += thr * (gather(B, wo, 0u, P.r.x, P.r.z, direct) + gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, direct));
+        int sel = !first || full ? G_ALL : G_INDIRECT;
+        vec3 caustics = gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel);
+        if (first && !full && P.cnt.z > 0u)
+            L += caustics + gather(B, wo, 0u, P.r.x, P.r.z, G_FIRST) + final_gather(B, wo, P.cnt.z);
+        else
+            L += thr * (caustics + gather(B, wo, 0u, P.r.x, P.r.z, sel));
         break;
     }
     if (!loops_intact()) {

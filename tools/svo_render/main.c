@@ -27,7 +27,7 @@ typedef struct options {
     bool probe_mode;
     vx_probe_render_desc p;
     const char* probes;
-    vx_photon_desc photons; /* gi=photons: --photons, --photon-radius */
+    vx_photon_desc photons; /* gi=photons: --photons, --photon-radius, --final-gather */
     /* the pass pipeline (colour mode on the GPU) */
     const char* passes;
     bool passes_given, show_given, spp_given;
@@ -113,6 +113,7 @@ _Noreturn static void usage(int status) {
             "                       colour mode on the GPU; gi=probes|lightfield (need --probes), gi=pathtrace\n"
             "                       or gi=photons (progressive photon mapping: each sample, --spp, is a pass)\n"
             "  --photons N          gi=photons: photons per pass (default: %u)\n"
+            "  --final-gather N     gi=photons: final gather rays per pixel and sample (default: 0, none)\n"
             "  --photon-radius R    gi=photons: first gather radius, world units (default: scene diagonal / 100;\n"
             "                       caustics a quarter; shrinking by alpha %.3g per pass)\n"
             "  --show IMAGE         write an intermediate: final|albedo|normal|depth|direct|gi|ao|instance|material\n"
@@ -365,6 +366,10 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.photons.photons) || !o.photons.photons || o.photons.photons > (1u << 26))
                 usage_error("bad photon count '%s' (1..2^26)", argv[i]);
+        } else if (!strcmp(a, "--final-gather")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.photons.final_gather) || o.photons.final_gather > 1024)
+                usage_error("bad final gather rays '%s' (0..1024)", argv[i]);
         } else if (!strcmp(a, "--photon-radius")) {
             NEED();
             char* end;
