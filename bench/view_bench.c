@@ -2,7 +2,11 @@
  * cell) plus the scene update the viewer does after it (the render scene is
  * rebuilt: BVH build and instance upload; models re-uploaded), for N
  * instances of a small model; and a frame of that scene for comparison.
- * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] */
+ * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)]
+ *        view_bench --animate IN.svo OUT.svo FRAMES: OUT is IN as an animation
+ *        of FRAMES frames, every instance one cell further along x each frame
+ *        (models shared: playback in svo_view --bench switches frames with no
+ *        upload; bench/view_bench.sh compares it with the still scene) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,7 +19,22 @@ static int cmp(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
+static int animate(const char* in, const char* out, uint32_t frames) {
+    vx_svo_scene s;
+    vx_error err = {0};
+    if (frames < 2 || vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s\n", frames < 2 ? "FRAMES >= 2" : err.msg), 1;
+    if (vx_svo_scene_alloc_frames(&s, frames, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    for (uint32_t f = 1; f < frames; f++)
+        for (uint32_t i = 0; i < s.instance_count; i++) s.frame_instances[(size_t)(f - 1) * s.instance_count + i].xform[3] += f;
+    s.frame_rate = 24;
+    vx_result r = vx_svo_write_file(&s, out, &err);
+    if (r) fprintf(stderr, "%s\n", err.msg);
+    vx_svo_scene_free(&s);
+    return r ? 1 : 0;
+}
+
 int main(int argc, char** argv) {
+    if (argc == 5 && !strcmp(argv[1], "--animate")) return animate(argv[2], argv[3], (uint32_t)strtoul(argv[4], NULL, 10));
     uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
     if (!n || !rep || rep > 1000) return 2;
     /* one 8^3 model with a sphere of cells, on a square grid of instances */

@@ -1,10 +1,25 @@
-# svo_view: interactive viewer and scene editor (GLFW window, Vulkan swapchain).
+# svo_view: interactive viewer and scene editor (GLFW window, Vulkan swapchain),
+# with Dear ImGui panels where libimgui-dev is found (VX_WITH_IMGUI; without
+# it the viewer keeps its text overlay: panels_none.c).
 find_package(PkgConfig QUIET)
 if(PKG_CONFIG_FOUND)
   pkg_check_modules(VX_GLFW QUIET IMPORTED_TARGET glfw3)
+  if(VX_WITH_IMGUI)
+    pkg_check_modules(VX_IMGUI QUIET IMPORTED_TARGET imgui)
+  endif()
 endif()
 if(VX_WITH_VULKAN AND TARGET vx_image AND VX_GLFW_FOUND)
-  add_executable(svo_view ${CMAKE_CURRENT_LIST_DIR}/svo_view/main.c ${CMAKE_CURRENT_LIST_DIR}/svo_view/present.c
-                          ${CMAKE_CURRENT_LIST_DIR}/svo_view/editor.c ${CMAKE_CURRENT_LIST_DIR}/svo_view/font.c)
+  set(_sv ${CMAKE_CURRENT_LIST_DIR}/svo_view)
+  add_executable(svo_view ${_sv}/main.c ${_sv}/present.c ${_sv}/editor.c ${_sv}/voxels.c ${_sv}/font.c)
   target_link_libraries(svo_view PRIVATE vx_probes vx_render vx_tool_conv vx_image vx_tool PkgConfig::VX_GLFW m)
+  if(VX_WITH_IMGUI AND VX_IMGUI_FOUND)
+    target_sources(svo_view PRIVATE ${_sv}/panels.c ${_sv}/ui.cpp)
+    target_link_libraries(svo_view PRIVATE PkgConfig::VX_IMGUI)
+    set_property(TARGET svo_view PROPERTY VX_PANELS 1) # tests/view reads it
+    message(STATUS "svo_view: panels with Dear ImGui ${VX_IMGUI_VERSION}")
+  else()
+    target_sources(svo_view PRIVATE ${_sv}/panels_none.c)
+    set_property(TARGET svo_view PROPERTY VX_PANELS 0)
+    message(STATUS "svo_view: no panels (Dear ImGui not found or VX_WITH_IMGUI off)")
+  endif()
 endif()

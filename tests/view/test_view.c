@@ -26,6 +26,7 @@
 #include "render/render.h"
 #include "tests/test.h"
 #include "tools/svo_view/editor.h"
+#include "tools/svo_view/voxels.h"
 
 static const char* g_view;
 static const char* g_render;
@@ -179,15 +180,15 @@ static void test_editor_ops(void) {
         int a = axis == 0 ? 1 : 0, b = axis == 2 ? 1 : 2;
         for (int t = 0; t < 4; t++) {
             REQUIRE(ved_begin(&e, NULL) == VX_OK);
-            ved_rotate(&s, 1, axis, 1);
+            ved_rotate(&s, 0, 1, axis, 1);
         }
         double lo[3], hi[3];
-        ved_instance_box(&s, 1, lo, hi);
+        ved_instance_box(&s, 0, 1, lo, hi);
         bool same_parity = (((int64_t)(hi[a] - lo[a])) & 1) == (((int64_t)(hi[b] - lo[b])) & 1);
         if (same_parity) CHECK(!memcmp(s.instances[1].xform, orig.xform, sizeof orig.xform));
         memcpy(s.instances[1].xform, orig.xform, sizeof orig.xform);
-        ved_mirror(&s, 1, axis);
-        ved_mirror(&s, 1, axis);
+        ved_mirror(&s, 0, 1, axis);
+        ved_mirror(&s, 0, 1, axis);
         CHECK(!memcmp(s.instances[1].xform, orig.xform, sizeof orig.xform));
     }
     /* a rotation maps the instance's cells as R (w - c) + c */
@@ -195,7 +196,7 @@ static void test_editor_ops(void) {
     instance_cells(&s, &s.instances[1], &before);
     double c[3];
     pivot_of(&s, &s.instances[1], 2, true, c);
-    ved_rotate(&s, 1, 2, 1);
+    ved_rotate(&s, 0, 1, 2, 1);
     instance_cells(&s, &s.instances[1], &after);
     for (size_t i = 0; i < before.n; i++) {
         int64_t q[3] = {before.v[i].p[0], before.v[i].p[1], before.v[i].p[2]};
@@ -238,6 +239,289 @@ static void test_editor_ops(void) {
     vx_svo_scene_free(&other);
     free(oc.v), free(added.v);
     free(before.v), free(after.v), free(want.v);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
+/* ---- voxel edits and animations (in process, leak-checked) ----------------------------- */
+
+/* The generated scene: model 0 is the cells of a 6x5x4 box with
+ * (x + 2y + z) % 3 != 0, palette colour 1 + x % 4; instance 0 places it at
+ * (5, 6, 7), instance 1 turned a quarter about z at (30, 0, 0); with frames,
+ * frame f moves both by (2f, 0, f). */
+#define GEN_X 6
+#define GEN_Y 5
+#define GEN_Z 4
+static bool gen_cell(int64_t x, int64_t y, int64_t z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < GEN_X && y < GEN_Y && z < GEN_Z && (x + 2 * y + z) % 3 != 0;
+}
+
+static void make_scene(vx_svo_scene* s, uint32_t frames) {
+    vx_svo_scene_init(s, NULL);
+    uint64_t keys[GEN_X * GEN_Y * GEN_Z];
+    uint8_t pal[GEN_X * GEN_Y * GEN_Z];
+    size_t n = 0;
+    for (uint32_t z = 0; z < GEN_Z; z++)
+        for (uint32_t y = 0; y < GEN_Y; y++)
+            for (uint32_t x = 0; x < GEN_X; x++)
+                if (gen_cell(x, y, z)) keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + x % 4);
+    s->models = vx_calloc(NULL, 1, sizeof *s->models);
+    s->instances = vx_calloc(NULL, 2, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = 1, s->instance_count = 2;
+    vx_svo_voxels v = {.size = {GEN_X, GEN_Y, GEN_Z}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    static const double x0[12] = {1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7}, x1[12] = {0, -1, 0, 30, 1, 0, 0, 0, 0, 0, 1, 0};
+    memcpy(s->instances[0].xform, x0, sizeof x0);
+    memcpy(s->instances[1].xform, x1, sizeof x1);
+    for (uint32_t i = 0; i < 2; i++) s->instances[i].layer = UINT32_MAX, snprintf(s->instances[i].name, 64, "inst%u", i);
+    s->has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (i * 0x00030507u & 0x00FFFFFFu);
+    if (frames >= 2) {
+        REQUIRE(vx_svo_scene_alloc_frames(s, frames, NULL) == VX_OK);
+        for (uint32_t f = 1; f < frames; f++)
+            for (uint32_t i = 0; i < 2; i++) {
+                vx_svo_instance* in = &s->frame_instances[(size_t)(f - 1) * 2 + i];
+                in->xform[3] += 2 * f, in->xform[11] += f;
+            }
+    }
+    vx_svo_scene_update_bounds(s);
+}
+
+/* The expected model after edits, brute force: a colour (palette index, 0 =
+ * empty) per cell of a box with a margin, in the generated model's cells. */
+#define EX_M 4
+#define EX_X (GEN_X + 2 * EX_M)
+#define EX_Y (GEN_Y + 2 * EX_M)
+#define EX_Z (GEN_Z + 2 * EX_M)
+typedef struct expect_model {
+    uint32_t c[EX_Z][EX_Y][EX_X]; /* RGBA8, 0: empty */
+} expect_model;
+
+static void expect_init(expect_model* e, const vx_svo_scene* s) {
+    memset(e, 0, sizeof *e);
+    for (int z = 0; z < GEN_Z; z++)
+        for (int y = 0; y < GEN_Y; y++)
+            for (int x = 0; x < GEN_X; x++)
+                if (gen_cell(x, y, z)) e->c[z + EX_M][y + EX_M][x + EX_M] = s->palette[1 + x % 4];
+}
+
+/* op 0 add, 1 remove, 2 paint; shape 0 voxel, 1 box, 2 sphere; c in generated-model cells */
+static void expect_apply(expect_model* e, int op, int shape, int r, const int c[3], uint32_t colour) {
+    if (shape == 0) r = 0;
+    for (int dz = -r; dz <= r; dz++)
+        for (int dy = -r; dy <= r; dy++)
+            for (int dx = -r; dx <= r; dx++) {
+                if (shape == 2 && dx * dx + dy * dy + dz * dz > r * r) continue;
+                int x = c[0] + dx + EX_M, y = c[1] + dy + EX_M, z = c[2] + dz + EX_M;
+                if (x < 0 || y < 0 || z < 0 || x >= EX_X || y >= EX_Y || z >= EX_Z) continue;
+                uint32_t* v = &e->c[z][y][x];
+                if (op == 0 && !*v) *v = colour;
+                else if (op == 1) *v = 0;
+                else if (op == 2 && *v) *v = colour;
+            }
+}
+
+/* The expected grid cells of an instance record whose transform places
+ * generated-model cell p at floor(M (p + 1/2) + t). */
+static void expect_cells(const expect_model* e, const vx_svo_instance* in, cells* out) {
+    for (int z = 0; z < EX_Z; z++)
+        for (int y = 0; y < EX_Y; y++)
+            for (int x = 0; x < EX_X; x++) {
+                if (!e->c[z][y][x]) continue;
+                double p[3] = {x - EX_M + 0.5, y - EX_M + 0.5, z - EX_M + 0.5};
+                int64_t g[3];
+                for (int r = 0; r < 3; r++)
+                    g[r] = (int64_t)floor(in->xform[4 * r] * p[0] + in->xform[4 * r + 1] * p[1] +
+                                          in->xform[4 * r + 2] * p[2] + in->xform[4 * r + 3]);
+                push(out, g, e->c[z][y][x]);
+            }
+}
+
+/* Every frame's every instance of `got` against the expected model placed by
+ * `orig`'s records, instance `moved` (UINT32_MAX: none) moved by `move`. */
+static size_t frames_diff(const vx_svo_scene* got, const vx_svo_scene* orig, const expect_model* e, uint32_t moved,
+                          const int32_t move[3]) {
+    size_t bad = 0;
+    uint32_t nf = vx_svo_scene_frames(orig);
+    if (vx_svo_scene_frames(got) != nf || got->instance_count != orig->instance_count) return SIZE_MAX;
+    for (uint32_t f = 0; f < nf; f++)
+        for (uint32_t i = 0; i < orig->instance_count; i++) {
+            vx_svo_instance want_in = vx_svo_scene_frame_instances(orig, f)[i];
+            for (int k = 0; k < 3 && i == moved; k++) want_in.xform[4 * k + 3] += move[k];
+            cells have = {0}, want = {0};
+            instance_cells(got, vx_svo_scene_frame_instances(got, f) + i, &have);
+            expect_cells(e, &want_in, &want);
+            size_t d = cells_diff(&have, &want);
+            if (d || !want.n) fprintf(stderr, "frame %u instance %u: %zu of %zu cells differ\n", f, i, d, want.n);
+            bad += d + !want.n;
+            free(have.v), free(want.v);
+        }
+    return bad;
+}
+
+static uint8_t* scene_bytes(const vx_svo_scene* s, size_t* n) {
+    uint8_t* b = NULL;
+    vx_svo_scene tmp = *s;
+    vx_svo_scene_update_bounds(&tmp); /* the writer stores bounds; edits leave them stale */
+    return vx_svo_write(&tmp, NULL, &b, n, NULL) ? NULL : b;
+}
+
+static void test_editor_voxels(void) {
+    vx_svo_scene s, orig;
+    make_scene(&s, 3);
+    make_scene(&orig, 3);
+    size_t n0;
+    uint8_t* b0 = scene_bytes(&s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    expect_model ex;
+    expect_init(&ex, &orig);
+    /* add a box reaching below x = 0: the model grows by two cells there and its
+     * instances step back, so every old cell stays where it was in the world */
+    vvx_brush b = {.shape = VVX_BOX, .radius = 1, .palette = 7};
+    uint64_t changed = 0;
+    REQUIRE(vvx_apply(&e, 0, VVX_ADD, &b, (int64_t[3]){-1, 2, 1}, &changed, NULL) == VX_OK);
+    expect_apply(&ex, 0, 1, 1, (int[3]){-1, 2, 1}, orig.palette[7]);
+    CHECK(changed > 9 && s.models[0].size[0] == GEN_X + 2);
+    CHECK(frames_diff(&s, &orig, &ex, UINT32_MAX, NULL) == 0);
+    /* the model's cells are now two further along x: generated cell (3, 2, 2) is (5, 2, 2) */
+    b = (vvx_brush){.shape = VVX_SPHERE, .radius = 1};
+    REQUIRE(vvx_apply(&e, 0, VVX_REMOVE, &b, (int64_t[3]){5, 2, 2}, &changed, NULL) == VX_OK);
+    expect_apply(&ex, 1, 2, 1, (int[3]){3, 2, 2}, 0);
+    CHECK(frames_diff(&s, &orig, &ex, UINT32_MAX, NULL) == 0);
+    b = (vvx_brush){.shape = VVX_BOX, .radius = 2, .palette = 9};
+    REQUIRE(vvx_apply(&e, 0, VVX_PAINT, &b, (int64_t[3]){2, 0, 0}, &changed, NULL) == VX_OK);
+    expect_apply(&ex, 2, 1, 2, (int[3]){0, 0, 0}, orig.palette[9]);
+    CHECK(frames_diff(&s, &orig, &ex, UINT32_MAX, NULL) == 0);
+    /* nothing there: no step */
+    uint32_t steps = e.undo_count;
+    b = (vvx_brush){0};
+    REQUIRE(vvx_apply(&e, 0, VVX_REMOVE, &b, (int64_t[3]){100, 0, 0}, &changed, NULL) == VX_OK);
+    CHECK(changed == 0 && e.undo_count == steps);
+    size_t n1;
+    uint8_t* b1 = scene_bytes(&s, &n1);
+    REQUIRE(b1);
+    /* undo to the start: the original bytes; redo: the edited ones */
+    while (ved_undo(&e, NULL)) {}
+    size_t n2, n3;
+    uint8_t* b2 = scene_bytes(&s, &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    while (ved_redo(&e, NULL)) {}
+    uint8_t* b3 = scene_bytes(&s, &n3);
+    CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+    vx_svo_scene_free(&orig);
+}
+
+/* Instance edits of an animation keep every frame: duplicate and delete per
+ * frame, a turn applied to the whole track about the chosen frame's pivot. */
+static void test_editor_frames(void) {
+    vx_svo_scene s, orig;
+    make_scene(&s, 4);
+    make_scene(&orig, 4);
+    size_t n0;
+    uint8_t* b0 = scene_bytes(&s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    uint32_t dup;
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    REQUIRE(ved_duplicate(&s, 1, &dup, NULL) == VX_OK);
+    CHECK(dup == 2 && s.instance_count == 3 && s.frame_count == 4);
+    for (uint32_t f = 0; f < 4; f++) {
+        const vx_svo_instance *g = vx_svo_scene_frame_instances(&s, f), *o = vx_svo_scene_frame_instances(&orig, f);
+        CHECKF(!memcmp(g, o, 2 * sizeof *g) && !memcmp(&g[2], &o[1], sizeof *g), "frame %u after duplicate", f);
+    }
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    ved_delete(&s, 0);
+    for (uint32_t f = 0; f < 4; f++) {
+        const vx_svo_instance *g = vx_svo_scene_frame_instances(&s, f), *o = vx_svo_scene_frame_instances(&orig, f);
+        CHECKF(s.instance_count == 2 && !memcmp(&g[0], &o[1], sizeof *g) && !memcmp(&g[1], &o[1], sizeof *g),
+               "frame %u after delete", f);
+    }
+    /* a quarter turn about z with frame 2's pivot: every frame's cells turn about that point */
+    double p[3];
+    pivot_of(&s, vx_svo_scene_frame_instances(&s, 2) + 0, 2, true, p);
+    cells before[4] = {{0}};
+    for (uint32_t f = 0; f < 4; f++) instance_cells(&s, vx_svo_scene_frame_instances(&s, f) + 0, &before[f]);
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    ved_rotate(&s, 2, 0, 2, 1);
+    for (uint32_t f = 0; f < 4; f++) {
+        cells after = {0};
+        instance_cells(&s, vx_svo_scene_frame_instances(&s, f) + 0, &after);
+        for (size_t i = 0; i < before[f].n; i++) turn_z(before[f].v[i].p, p);
+        CHECKF(before[f].n && cells_diff(&after, &before[f]) == 0, "frame %u after the turn", f);
+        free(after.v), free(before[f].v);
+    }
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    ved_hide(&s, 1, true);
+    for (uint32_t f = 0; f < 4; f++) CHECK(vx_svo_scene_frame_instances(&s, f)[1].flags & VX_SVO_INSTANCE_HIDDEN);
+    /* the saved file keeps every frame */
+    size_t n1;
+    uint8_t* b1 = scene_bytes(&s, &n1);
+    vx_svo_scene back;
+    CHECK(b1 && vx_svo_read(NULL, b1, n1, &back, NULL) == VX_OK && back.frame_count == 4 && back.instance_count == 2);
+    if (b1) vx_svo_scene_free(&back);
+    while (ved_undo(&e, NULL)) {}
+    size_t n2;
+    uint8_t* b2 = scene_bytes(&s, &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+    vx_svo_scene_free(&orig);
+}
+
+/* Random instance and voxel edits, then undo all the way: the original file
+ * bytes; redo all the way: the edited bytes. */
+static void test_editor_random(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3);
+    size_t n0;
+    uint8_t* b0 = scene_bytes(&s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    uint64_t rng = 0x9E3779B97F4A7C15ull;
+    uint32_t edits = 0;
+    for (int it = 0; it < VED_MAX_UNDO - 6; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 33), i = r % s.instance_count, k = (r >> 8) % 9;
+        if (k <= 2) {
+            vvx_brush b = {.shape = (vvx_shape)((r >> 12) % 3), .radius = (r >> 14) % 3, .palette = (uint8_t)(1 + (r >> 16) % 200)};
+            const vx_svo_model* m = &s.models[s.instances[i].model];
+            int64_t c[3] = {(int64_t)((r >> 4) % (m->size[0] + 2)) - 1, (int64_t)((r >> 20) % (m->size[1] + 2)) - 1,
+                            (int64_t)((r >> 24) % (m->size[2] + 2)) - 1};
+            uint64_t ch = 0;
+            REQUIRE(vvx_apply(&e, s.instances[i].model, (vvx_op)k, &b, c, &ch, NULL) == VX_OK);
+            edits += ch > 0;
+            continue;
+        }
+        REQUIRE(ved_begin(&e, NULL) == VX_OK);
+        edits++;
+        if (k == 3) ved_move(&s, i, (int32_t[3]){(int32_t)(r % 7) - 3, 1, -2});
+        else if (k == 4) ved_rotate(&s, (r >> 3) % 3, i, (r >> 5) % 3, (r >> 7) % 2 ? 1 : -1);
+        else if (k == 5) ved_mirror(&s, (r >> 3) % 3, i, (r >> 5) % 3);
+        else if (k == 6 && s.instance_count < 8) ved_duplicate(&s, i, &i, NULL);
+        else if (k == 7 && s.instance_count > 1) ved_delete(&s, i);
+        else ved_hide(&s, i, (r >> 9) & 1);
+    }
+    CHECK(edits > 100);
+    size_t n1;
+    uint8_t* b1 = scene_bytes(&s, &n1);
+    REQUIRE(b1);
+    while (ved_undo(&e, NULL)) {}
+    size_t n2, n3;
+    uint8_t* b2 = scene_bytes(&s, &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    while (ved_redo(&e, NULL)) {}
+    uint8_t* b3 = scene_bytes(&s, &n3);
+    CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
     ved_free(&e);
     vx_svo_scene_free(&s);
 }
@@ -293,7 +577,7 @@ static void test_scripted_edit(void) {
         vx_svo_scene s2;
         REQUIRE(load_vox(in, &s2));
         s2.instances[1] = i1;
-        ved_rotate(&s2, 1, 2, 1);
+        ved_rotate(&s2, 0, 1, 2, 1);
         s2.instances[1].xform[7] += 20;
         double c2[3];
         pivot_of(&s2, &s2.instances[1], 0, false, c2);
@@ -337,6 +621,88 @@ static void test_scripted_edit(void) {
     free(want.v), free(have.v), free(one.v), free(dup.v);
     vx_svo_scene_free(&s);
     vx_svo_scene_free(&got);
+}
+
+/* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
+static double image_diff_cols(const char* pa, const char* pb, uint32_t x0, uint32_t x1) {
+    uint32_t w1, h1, c1, w2, h2, c2;
+    void *p1 = NULL, *p2 = NULL;
+    if (vx_image_read(pa, VX_IMAGE_U8, 0, &w1, &h1, &c1, &p1, NULL) ||
+        vx_image_read(pb, VX_IMAGE_U8, 0, &w2, &h2, &c2, &p2, NULL) || w1 != w2 || h1 != h2 || c1 != c2 || x1 > w1) {
+        vx_free(NULL, p1);
+        vx_free(NULL, p2);
+        return 2;
+    }
+    size_t bad = 0, n = 0;
+    const uint8_t *a = p1, *b = p2;
+    for (uint32_t y = 0; y < h1; y++)
+        for (uint32_t x = x0; x < x1; x++, n++) {
+            size_t i = (size_t)y * w1 + x;
+            bool diff = false;
+            for (uint32_t k = 0; k < c1; k++) diff |= abs((int)a[i * c1 + k] - (int)b[i * c1 + k]) > 1;
+            bad += diff;
+        }
+    vx_free(NULL, p1);
+    vx_free(NULL, p2);
+    return n ? (double)bad / (double)n : 2;
+}
+
+/* A script paints, removes and adds voxels with brushes, undoes and redoes,
+ * steps the animation and moves an instance: the saved file keeps every
+ * frame and equals the same edits applied to the cells here, brute force.
+ * The displayed frame (grab) holds the panels; between them it is the
+ * tracer's image (screenshot). */
+static void test_scripted_voxels(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene orig;
+    make_scene(&orig, 3);
+    char in[1024], script[1024], out[1024], log[1024], grab[1024], shot[1024];
+    path(in, sizeof in, "gen_anim.svo");
+    path(script, sizeof script, "voxels.txt");
+    path(out, sizeof out, "voxels_out.svo");
+    path(log, sizeof log, "voxels.log");
+    path(grab, sizeof grab, "voxels_grab.png");
+    path(shot, sizeof shot, "voxels_shot.png");
+    remove(out);
+    REQUIRE(vx_svo_write_file(&orig, in, NULL) == VX_OK);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f,
+            /* palette entries 1-4 are in the file (a .svo stores the used ones): colour 2 is
+             * one, #102030 fills an empty entry (and is stored with the cells that use it) */
+            "overlay off\nselect 1\nbrush box 1\ncolor 2\nvoxel add -1 2 1\n"   /* grows the model by two cells below x = 0 */
+            "brush sphere 1\nvoxel remove 5 2 2\n"                 /* generated cell (3, 2, 2) */
+            "brush box 2\ncolor #102030\nvoxel paint 2 0 0\n"      /* generated (0, 0, 0) */
+            "brush voxel\ncolor 3\nvoxel add 9 0 0\nundo\nredo\nundo\n"
+            "anim step 2\nmove 0 3 0\nselect none\ngrab %s\nscreenshot %s\nsave %s\nquit\n",
+            grab, shot, out);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 800x480 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0 && text && strstr(text, "frame 2 of 3"), "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    vx_svo_scene got;
+    vx_error err = {0};
+    if (rc == 0 && vx_svo_read_file(NULL, out, &got, &err) == VX_OK) {
+        expect_model ex;
+        expect_init(&ex, &orig);
+        expect_apply(&ex, 0, 1, 1, (int[3]){-1, 2, 1}, orig.palette[2]);
+        expect_apply(&ex, 1, 2, 1, (int[3]){3, 2, 2}, 0);
+        expect_apply(&ex, 2, 1, 2, (int[3]){0, 0, 0}, 0xFF302010u);
+        CHECK(got.frame_count == 3);
+        CHECK(frames_diff(&got, &orig, &ex, 1, (int32_t[3]){0, 3, 0}) == 0);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", out, err.msg);
+    }
+    double panels = image_diff_cols(grab, shot, 0, 280), view = image_diff_cols(grab, shot, 310, 460);
+#if VX_VIEW_PANELS
+    CHECKF(panels > 0.5 && view == 0, "panel columns differ %.3f, view %.3f", panels, view);
+#else
+    CHECKF(view == 0, "view columns differ %.3f", view);
+    (void)panels;
+#endif
+    vx_svo_scene_free(&orig);
 }
 
 /* Fraction of pixels that differ by more than 1/255 in some channel. */
@@ -643,6 +1009,9 @@ static void test_gi_mode(void) {
 int main(int argc, char** argv) {
     if (argc == 2 && !strcmp(argv[1], "--editor")) { /* the leak-checked part: no window, no driver */
         RUN(test_editor_ops);
+        RUN(test_editor_voxels);
+        RUN(test_editor_frames);
+        RUN(test_editor_random);
         return vx_test_finish();
     }
     if (argc < 4) {
@@ -660,6 +1029,7 @@ int main(int argc, char** argv) {
     }
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
+    RUN(test_scripted_voxels);
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);

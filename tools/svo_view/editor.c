@@ -6,47 +6,61 @@
 
 static void snap_free(const vx_allocator* a, ved_snapshot* sn) {
     vx_free(a, sn->inst);
+    vx_free(a, sn->frame_inst);
     vx_free(a, sn->layer_flags);
+    if (sn->has_model) vx_svo_model_free(a, &sn->model);
     memset(sn, 0, sizeof *sn);
+}
+
+/* Frame records beyond frame 0, as the scene holds them. */
+static size_t frame_records(const vx_svo_scene* s) {
+    return s->frame_count >= 2 && s->frame_instances ? (size_t)(s->frame_count - 1) * s->instance_count : 0;
 }
 
 static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* err) {
     ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count};
+    size_t nf = frame_records(s);
     sn.inst = vx_calloc(s->alloc, s->instance_count ? s->instance_count : 1, sizeof *sn.inst);
+    sn.frame_inst = nf ? vx_calloc(s->alloc, nf, sizeof *sn.frame_inst) : NULL;
     sn.layer_flags = vx_calloc(s->alloc, s->layer_count ? s->layer_count : 1, sizeof *sn.layer_flags);
-    if (!sn.inst || !sn.layer_flags) {
+    if (!sn.inst || !sn.layer_flags || (nf && !sn.frame_inst)) {
         snap_free(s->alloc, &sn);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for an undo step of %u instances",
                        s->instance_count);
     }
     if (s->instance_count) memcpy(sn.inst, s->instances, (size_t)s->instance_count * sizeof *sn.inst);
+    if (nf) memcpy(sn.frame_inst, s->frame_instances, nf * sizeof *sn.frame_inst);
+    sn.frame_count = nf ? s->frame_count : 0;
     for (uint32_t l = 0; l < s->layer_count; l++) sn.layer_flags[l] = s->layers[l].flags;
     *out = sn;
     return VX_OK;
 }
 
-/* Edits that add or remove instances make an animation static (its frame
- * records are per instance index, so they would no longer line up). */
-static void drop_frames(vx_svo_scene* s) {
-    vx_free(s->alloc, s->frame_instances);
-    s->frame_instances = NULL;
-    s->frame_count = 0;
-}
-
-/* Makes sn the scene's state; the scene's previous instance array goes into sn. */
+/* Makes sn the scene's state; the scene's previous arrays go into sn. */
 static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
-    if (sn->inst_count != s->instance_count) drop_frames(s);
     vx_svo_instance* inst = s->instances;
     uint32_t n = s->instance_count;
     s->instances = sn->inst;
     s->instance_count = sn->inst_count;
     sn->inst = inst;
     sn->inst_count = n;
+    vx_svo_instance* fi = s->frame_instances;
+    uint32_t fc = s->frame_count;
+    s->frame_instances = sn->frame_inst;
+    s->frame_count = sn->frame_count;
+    sn->frame_inst = fi;
+    sn->frame_count = fc;
     /* layers are never added or removed, only flagged */
     for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
         uint32_t f = s->layers[l].flags;
         s->layers[l].flags = sn->layer_flags[l];
         sn->layer_flags[l] = f;
+    }
+    /* models are never removed: the index stays valid */
+    if (sn->has_model && sn->model_index < s->model_count) {
+        vx_svo_model m = s->models[sn->model_index];
+        s->models[sn->model_index] = sn->model;
+        sn->model = m;
     }
 }
 
@@ -94,8 +108,12 @@ bool ved_redo(ved* e, vx_error* err) {
     return true;
 }
 
-void ved_instance_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]) {
-    const vx_svo_instance* in = &s->instances[i];
+vx_svo_instance* ved_record(vx_svo_scene* s, uint32_t f, uint32_t i) {
+    return f == 0 ? &s->instances[i] : &s->frame_instances[(size_t)(f - 1) * s->instance_count + i];
+}
+
+void ved_instance_box(const vx_svo_scene* s, uint32_t f, uint32_t i, double lo[3], double hi[3]) {
+    const vx_svo_instance* in = vx_svo_scene_frame_instances(s, f) + i;
     const vx_svo_model* m = &s->models[in->model];
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (int c = 0; c < 8; c++) {
@@ -108,9 +126,9 @@ void ved_instance_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi
     }
 }
 
-void ved_pivot(const vx_svo_scene* s, uint32_t i, int axis, bool rotate, double p[3]) {
+void ved_pivot(const vx_svo_scene* s, uint32_t f, uint32_t i, int axis, bool rotate, double p[3]) {
     double lo[3], hi[3];
-    ved_instance_box(s, i, lo, hi);
+    ved_instance_box(s, f, i, lo, hi);
     for (int k = 0; k < 3; k++) p[k] = 0.5 * (lo[k] + hi[k]);
     int a = (axis + 1) % 3, b = (axis + 2) % 3, lo_ax = a < b ? a : b;
     /* a quarter turn maps cells to cells only when p_a + p_b is whole */
@@ -119,7 +137,15 @@ void ved_pivot(const vx_svo_scene* s, uint32_t i, int axis, bool rotate, double 
 }
 
 void ved_move(vx_svo_scene* s, uint32_t i, const int32_t d[3]) {
-    for (int k = 0; k < 3; k++) s->instances[i].xform[4 * k + 3] += d[k];
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++)
+        for (int k = 0; k < 3; k++) ved_record(s, f, i)->xform[4 * k + 3] += d[k];
+}
+
+void ved_hide(vx_svo_scene* s, uint32_t i, bool hide) {
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++) {
+        vx_svo_instance* in = ved_record(s, f, i);
+        in->flags = hide ? in->flags | VX_SVO_INSTANCE_HIDDEN : in->flags & ~(uint32_t)VX_SVO_INSTANCE_HIDDEN;
+    }
 }
 
 void ved_quarter_turn(int axis, int q, int32_t r[9]) {
@@ -137,9 +163,8 @@ void ved_quarter_turn(int axis, int q, int32_t r[9]) {
     }
 }
 
-/* Applies x -> R (x - p) + p to instance i: M' = R M, t' = R (t - p) + p. */
-static void apply_linear(vx_svo_scene* s, uint32_t i, const int32_t r[9], const double p[3]) {
-    vx_svo_instance* in = &s->instances[i];
+/* Applies x -> R (x - p) + p to one record: M' = R M, t' = R (t - p) + p. */
+static void apply_linear(vx_svo_instance* in, const int32_t r[9], const double p[3]) {
     double m[12];
     memcpy(m, in->xform, sizeof m);
     double tp[3] = {m[3] - p[0], m[7] - p[1], m[11] - p[2]};
@@ -151,40 +176,77 @@ static void apply_linear(vx_svo_scene* s, uint32_t i, const int32_t r[9], const 
     }
 }
 
-void ved_rotate(vx_svo_scene* s, uint32_t i, int axis, int quarter_turns) {
+void ved_rotate(vx_svo_scene* s, uint32_t f, uint32_t i, int axis, int quarter_turns) {
     int32_t r[9];
     double p[3];
     ved_quarter_turn(axis, quarter_turns, r);
-    ved_pivot(s, i, axis, true, p);
-    apply_linear(s, i, r, p);
+    ved_pivot(s, f, i, axis, true, p);
+    for (uint32_t g = 0; g < vx_svo_scene_frames(s); g++) apply_linear(ved_record(s, g, i), r, p);
 }
 
-void ved_mirror(vx_svo_scene* s, uint32_t i, int axis) {
+void ved_mirror(vx_svo_scene* s, uint32_t f, uint32_t i, int axis) {
     int32_t r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     double p[3];
     r[4 * axis] = -1;
-    ved_pivot(s, i, axis, false, p);
-    apply_linear(s, i, r, p);
+    ved_pivot(s, f, i, axis, false, p);
+    for (uint32_t g = 0; g < vx_svo_scene_frames(s); g++) apply_linear(ved_record(s, g, i), r, p);
+}
+
+/* Replaces the instance records of every frame with `add` more per frame:
+ * record j of each frame comes from old record map[j] of that frame
+ * (map[j] == UINT32_MAX: extra[j - first_extra] in every frame). */
+static vx_result relayout(vx_svo_scene* s, uint32_t count, const uint32_t* map, const vx_svo_instance* extra,
+                          uint32_t first_extra, vx_error* err) {
+    uint32_t nf = vx_svo_scene_frames(s), n = s->instance_count;
+    vx_svo_instance* inst = vx_calloc(s->alloc, count ? count : 1, sizeof *inst);
+    vx_svo_instance* fi = nf >= 2 && count ? vx_calloc(s->alloc, (size_t)(nf - 1) * count, sizeof *fi) : NULL;
+    if (!inst || (nf >= 2 && count && !fi)) {
+        vx_free(s->alloc, inst);
+        vx_free(s->alloc, fi);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances in %u frames", count, nf);
+    }
+    for (uint32_t f = 0; f < nf; f++) {
+        const vx_svo_instance* src = vx_svo_scene_frame_instances(s, f);
+        vx_svo_instance* dst = f == 0 ? inst : fi + (size_t)(f - 1) * count;
+        for (uint32_t j = 0; j < count; j++) dst[j] = map[j] < n ? src[map[j]] : extra[j - first_extra];
+    }
+    vx_free(s->alloc, s->instances);
+    vx_free(s->alloc, s->frame_instances);
+    s->instances = inst;
+    s->frame_instances = fi;
+    s->instance_count = count;
+    if (nf >= 2 && !count) s->frame_count = 0; /* no records left to animate */
+    return VX_OK;
 }
 
 vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err) {
     uint32_t n = s->instance_count;
     if (n == UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "too many instances");
-    vx_svo_instance* a = vx_calloc(s->alloc, (size_t)n + 1, sizeof *a);
-    if (!a) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", n + 1);
-    memcpy(a, s->instances, (size_t)n * sizeof *a);
-    a[n] = s->instances[i];
-    drop_frames(s);
-    vx_free(s->alloc, s->instances);
-    s->instances = a;
-    s->instance_count = n + 1;
-    *out = n;
-    return VX_OK;
+    uint32_t* map = vx_calloc(s->alloc, (size_t)n + 1, sizeof *map);
+    if (!map) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", n + 1);
+    for (uint32_t j = 0; j < n; j++) map[j] = j;
+    map[n] = i;
+    vx_result r = relayout(s, n + 1, map, NULL, n + 1, err);
+    vx_free(s->alloc, map);
+    if (!r) *out = n;
+    return r;
 }
 
 void ved_delete(vx_svo_scene* s, uint32_t i) {
-    drop_frames(s);
-    memmove(&s->instances[i], &s->instances[i + 1], (size_t)(s->instance_count - i - 1) * sizeof s->instances[0]);
+    /* in place: record j of frame f moves to j - (j > i) of the new stride n - 1, never forward */
+    uint32_t nf = vx_svo_scene_frames(s), n = s->instance_count;
+    memmove(&s->instances[i], &s->instances[i + 1], (size_t)(n - i - 1) * sizeof s->instances[0]);
+    if (nf >= 2) {
+        vx_svo_instance* fi = s->frame_instances;
+        size_t d = 0;
+        for (size_t k = 0; k < (size_t)(nf - 1) * n; k++)
+            if (k % n != i) fi[d++] = fi[k];
+        if (n == 1) {
+            vx_free(s->alloc, fi);
+            s->frame_instances = NULL;
+            s->frame_count = 0;
+        }
+    }
     s->instance_count--;
 }
 
@@ -249,30 +311,37 @@ vx_result ved_add_scene(vx_svo_scene* s, vx_svo_scene* o, const int32_t d[3], ui
     uint32_t mc = s->model_count, ic = s->instance_count;
     if (o->model_count > UINT32_MAX - mc || o->instance_count > UINT32_MAX - ic)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "too many models or instances");
+    uint32_t count = ic + o->instance_count;
     vx_svo_model* models = vx_calloc(s->alloc, (size_t)mc + o->model_count + 1, sizeof *models);
-    vx_svo_instance* inst = vx_calloc(s->alloc, (size_t)ic + o->instance_count + 1, sizeof *inst);
-    if (!models || !inst) {
+    uint32_t* map = vx_calloc(s->alloc, (size_t)count + 1, sizeof *map);
+    vx_svo_instance* extra = vx_calloc(s->alloc, (size_t)o->instance_count + 1, sizeof *extra);
+    if (!models || !map || !extra) {
         vx_free(s->alloc, models);
-        vx_free(s->alloc, inst);
+        vx_free(s->alloc, map);
+        vx_free(s->alloc, extra);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory adding %u models", o->model_count);
     }
-    if (mc) memcpy(models, s->models, (size_t)mc * sizeof *models);
-    if (o->model_count) memcpy(models + mc, o->models, (size_t)o->model_count * sizeof *models);
-    if (ic) memcpy(inst, s->instances, (size_t)ic * sizeof *inst);
+    for (uint32_t j = 0; j < count; j++) map[j] = j < ic ? j : UINT32_MAX;
+    /* the added file's frame 0, still in every frame of s */
     for (uint32_t i = 0; i < o->instance_count; i++) {
         vx_svo_instance in = o->instances[i];
         in.model += mc;
         in.layer = UINT32_MAX; /* the added file's layers are not merged */
         for (int k = 0; k < 3; k++) in.xform[4 * k + 3] += d[k];
-        inst[ic + i] = in;
+        extra[i] = in;
     }
-    drop_frames(s);
+    r = relayout(s, count, map, extra, ic, err);
+    vx_free(s->alloc, map);
+    vx_free(s->alloc, extra);
+    if (r) {
+        vx_free(s->alloc, models);
+        return r;
+    }
+    if (mc) memcpy(models, s->models, (size_t)mc * sizeof *models);
+    if (o->model_count) memcpy(models + mc, o->models, (size_t)o->model_count * sizeof *models);
     vx_free(s->alloc, s->models);
-    vx_free(s->alloc, s->instances);
     s->models = models;
-    s->instances = inst;
     s->model_count = mc + o->model_count;
-    s->instance_count = ic + o->instance_count;
     /* the models now belong to s */
     vx_free(o->alloc, o->models);
     o->models = NULL;

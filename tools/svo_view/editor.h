@@ -15,10 +15,20 @@
  * have equal parity: then four turns are the identity); otherwise p_a is
  * lowered by 1/2 first (a turn then also shifts the box by half a cell).
  *
- * Undo: ved_begin() snapshots the instances and the layer flags before an
- * edit; ved_undo()/ved_redo() swap snapshots. Models are only ever appended
- * (ved_add_scene), so snapshots stay valid; undoing an add leaves the new
- * models unreferenced.
+ * Animations (vx_svo_scene frames): record i of every frame animates
+ * instance i, so an edit of instance i applies to its record in every frame:
+ * a move, turn or mirror is one map applied to the whole track (the pivot is
+ * taken in the frame the user looks at, `frame` below, so that frame turns
+ * in place and the others keep their motion relative to it); hide and show
+ * set every frame's flag (a per-frame visibility key is lost on show);
+ * duplicate and delete add or remove record i in every frame; an added file
+ * is placed, still, in every frame. Frame 0 is always s->instances.
+ *
+ * Undo: ved_begin() snapshots the instances (every frame) and the layer
+ * flags before an edit; ved_undo()/ved_redo() swap snapshots. A voxel edit
+ * (voxels.h) also parks the model's previous octree in the snapshot. Models
+ * are only ever appended (ved_add_scene), so snapshots stay valid; undoing an
+ * add leaves the new models unreferenced.
  */
 #ifndef VX_SVO_VIEW_EDITOR_H
 #define VX_SVO_VIEW_EDITOR_H
@@ -31,8 +41,13 @@
 typedef struct ved_snapshot {
     vx_svo_instance* inst;
     uint32_t inst_count;
+    vx_svo_instance* frame_inst; /* (frame_count - 1) * inst_count records, NULL for a still scene */
+    uint32_t frame_count;
     uint32_t* layer_flags;
     uint32_t layer_count;
+    bool has_model;        /* a voxel edit: `model` is models[model_index] as it was */
+    uint32_t model_index;
+    vx_svo_model model;
 } ved_snapshot;
 
 #define VED_MAX_UNDO 256
@@ -51,16 +66,22 @@ vx_result ved_begin(ved* e, vx_error* err);
 bool ved_undo(ved* e, vx_error* err);
 bool ved_redo(ved* e, vx_error* err);
 
-/* Grid-space box of instance i's model box. */
-void ved_instance_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]);
-/* The pivot of a rotation about / mirror along axis for instance i (see above). */
-void ved_pivot(const vx_svo_scene* s, uint32_t i, int axis, bool rotate, double p[3]);
+/* Record i of frame f (frame 0: s->instances[i]); f < vx_svo_scene_frames(s). */
+vx_svo_instance* ved_record(vx_svo_scene* s, uint32_t f, uint32_t i);
+/* Grid-space box of instance i's model box in frame f. */
+void ved_instance_box(const vx_svo_scene* s, uint32_t f, uint32_t i, double lo[3], double hi[3]);
+/* The pivot of a rotation about / mirror along axis for instance i in frame f (see above). */
+void ved_pivot(const vx_svo_scene* s, uint32_t f, uint32_t i, int axis, bool rotate, double p[3]);
 
+/* Every frame's record of instance i moves by d cells. */
 void ved_move(vx_svo_scene* s, uint32_t i, const int32_t d[3]);
-/* quarter turns counter-clockwise (right-handed) about axis 0/1/2; negative turns clockwise */
-void ved_rotate(vx_svo_scene* s, uint32_t i, int axis, int quarter_turns);
-void ved_mirror(vx_svo_scene* s, uint32_t i, int axis);
-/* Appends a copy of instance i (same model, same place); *out = its index. */
+/* quarter turns counter-clockwise (right-handed) about axis 0/1/2; negative
+ * turns clockwise; the pivot is instance i's in frame f, every frame turns */
+void ved_rotate(vx_svo_scene* s, uint32_t f, uint32_t i, int axis, int quarter_turns);
+void ved_mirror(vx_svo_scene* s, uint32_t f, uint32_t i, int axis);
+/* Sets or clears instance i's hidden flag in every frame. */
+void ved_hide(vx_svo_scene* s, uint32_t i, bool hide);
+/* Appends a copy of instance i (same model, same place, in every frame); *out = its index. */
 vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err);
 void ved_delete(vx_svo_scene* s, uint32_t i);
 /* Moves other's models and instances into s (other is emptied and may then

@@ -94,3 +94,65 @@ void vf_line(vf_canvas* cv, double x0, double y0, double x1, double y1, uint32_t
         vf_fill_rect(cv, x - thickness / 2, y - thickness / 2, thickness, thickness, rgba, 255);
     }
 }
+
+/* Twice the signed area of (a, b, p): the edge function of a triangle. */
+static float edge(const vf_vertex* a, const vf_vertex* b, float px, float py) {
+    return (b->x - a->x) * (py - a->y) - (b->y - a->y) * (px - a->x);
+}
+
+static void triangle(vf_canvas* cv, const vf_vertex* v0, const vf_vertex* v1, const vf_vertex* v2, const float clip[4],
+                     const vf_texture* tex) {
+    float area = edge(v0, v1, v2->x, v2->y);
+    if (!(fabsf(area) > 1e-12f)) return; /* degenerate (or NaN) */
+    float x0 = fminf(v0->x, fminf(v1->x, v2->x)), x1 = fmaxf(v0->x, fmaxf(v1->x, v2->x));
+    float y0 = fminf(v0->y, fminf(v1->y, v2->y)), y1 = fmaxf(v0->y, fmaxf(v1->y, v2->y));
+    x0 = fmaxf(x0, fmaxf(clip[0], 0)), y0 = fmaxf(y0, fmaxf(clip[1], 0));
+    x1 = fminf(x1, fminf(clip[2], (float)cv->width)), y1 = fminf(y1, fminf(clip[3], (float)cv->height));
+    if (!(x0 < x1 && y0 < y1)) return;
+    /* pixel centres px + 0.5 in [x0, x1) */
+    int ix0 = (int)ceilf(x0 - 0.5f), ix1 = (int)ceilf(x1 - 0.5f), iy0 = (int)ceilf(y0 - 0.5f), iy1 = (int)ceilf(y1 - 0.5f);
+    float inv = 1.0f / area;
+    /* a rectangle of one colour and one texel (most of ImGui's fills) skips the interpolation */
+    bool flat = v0->rgba == v1->rgba && v1->rgba == v2->rgba && v0->u == v1->u && v1->u == v2->u && v0->v == v1->v &&
+                v1->v == v2->v;
+    int r = cv->bgra ? 2 : 0, b = cv->bgra ? 0 : 2;
+    /* Samples sit a hair off the pixel centre, in a direction no edge of ImGui's
+     * (integer corners, 45-degree diagonals) runs along: a centre on the
+     * shared diagonal of a quad's two triangles then falls in exactly one of
+     * them, and a translucent fill is not blended twice there. */
+    for (int y = iy0; y < iy1; y++) {
+        float py = (float)y + 0.5f + 1.0f / 2048;
+        for (int x = ix0; x < ix1; x++) {
+            float px = (float)x + 0.5f + 1.0f / 1024;
+            float w0 = edge(v1, v2, px, py) * inv, w1 = edge(v2, v0, px, py) * inv, w2 = 1.0f - w0 - w1;
+            if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+            float c[4], u, v;
+            if (flat) {
+                for (int k = 0; k < 4; k++) c[k] = (float)((v0->rgba >> (8 * k)) & 0xFF);
+                u = v0->u, v = v0->v;
+            } else {
+                for (int k = 0; k < 4; k++)
+                    c[k] = w0 * (float)((v0->rgba >> (8 * k)) & 0xFF) + w1 * (float)((v1->rgba >> (8 * k)) & 0xFF) +
+                           w2 * (float)((v2->rgba >> (8 * k)) & 0xFF);
+                u = w0 * v0->u + w1 * v1->u + w2 * v2->u, v = w0 * v0->v + w1 * v1->v + w2 * v2->v;
+            }
+            float alpha = c[3] / 255.0f;
+            if (tex && tex->alpha) {
+                long tx = lrintf(u * (float)tex->width - 0.5f), ty = lrintf(v * (float)tex->height - 0.5f);
+                tx = tx < 0 ? 0 : (tx >= (long)tex->width ? (long)tex->width - 1 : tx);
+                ty = ty < 0 ? 0 : (ty >= (long)tex->height ? (long)tex->height - 1 : ty);
+                alpha *= tex->alpha[(size_t)ty * tex->width + (size_t)tx] / 255.0f;
+            }
+            if (!(alpha > 0)) continue;
+            uint8_t* d = cv->pixels + 4 * ((size_t)y * cv->width + (size_t)x);
+            d[r] = (uint8_t)lrintf(d[r] + (c[0] - d[r]) * alpha);
+            d[1] = (uint8_t)lrintf(d[1] + (c[1] - d[1]) * alpha);
+            d[b] = (uint8_t)lrintf(d[b] + (c[2] - d[b]) * alpha);
+        }
+    }
+}
+
+void vf_triangles(vf_canvas* cv, const vf_vertex* vtx, const uint16_t* idx, uint32_t index_count, const float clip[4],
+                  const vf_texture* tex) {
+    for (uint32_t i = 0; i + 2 < index_count; i += 3) triangle(cv, &vtx[idx[i]], &vtx[idx[i + 1]], &vtx[idx[i + 2]], clip, tex);
+}

@@ -10,36 +10,15 @@
 
 #include "convert/convert.h"
 #include "formats/image.h"
-#include "probes/probes.h"
-#include "render/pipeline.h"
-#include "render/render.h"
-#include "tools/common/conv.h"
+#include "render/trace.h"
 #include "tools/common/tool.h"
-#include "tools/svo_view/editor.h"
+#include "tools/svo_view/app.h"
 #include "tools/svo_view/font.h"
-#include "tools/svo_view/present.h"
+#include "tools/svo_view/panels.h"
 
-#define NO_SEL UINT32_MAX
 #define PI 3.14159265358979323846
 
-typedef struct options {
-    const char* in;
-    const char* screenshot;
-    const char* script;
-    const char* save;       /* Ctrl+S target (default: IN with .svo replaced by .edited.svo) */
-    uint32_t width, height; /* render size; 0 == the window's framebuffer */
-    uint32_t win_w, win_h;
-    vx_render_mode mode;
-    bool gi;            /* --mode gi|lightfield: a probe mode (needs probes) */
-    vx_probe_render_mode pmode;
-    const char* probes; /* light field probes from svo_bake */
-    const char* passes; /* the colour mode's pass list (render/pipeline.h) */
-    double fov;
-    const char* device;
-    bool validate, vsync, verbose, hidden;
-    uint32_t bench;
-    vx_tool_conv conv; /* converter options, as vox2svo has them */
-} options;
+
 
 static options default_options(void) {
     options o = {0};
@@ -76,6 +55,8 @@ _Noreturn static void usage(int status) {
             "    --script FILE         play commands from FILE (see below)\n"
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
             "    --bench N             render N frames, print the median frame time, exit\n"
+            "    --fps X               an animation's playback rate (default: the file's, else %g)\n"
+            "    --no-panels           the text overlay instead of the panels%s\n"
             "    --vsync               start with vsync on (V toggles)\n"
             "    --hidden              do not show the window (scripts, benchmarks)\n"
             "    --device N|NAME       Vulkan device (default: a discrete GPU, else any)\n"
@@ -88,8 +69,9 @@ _Noreturn static void usage(int status) {
             "    -v, --verbose         print the effective options and timings\n"
             "    -h, --help            print this help and exit;  --version: versions\n"
             "Keys: WASD/Q/E fly, right mouse look, wheel speed (orbit: zoom), O orbit, F frame the\n"
-            "      selection or scene, 1-6 modes (7: gi, 8: lightfield, with probes), V vsync, Tab overlay,\n"
-            "      P screenshot; click picks;\n"
+            "      selection or scene, 1-6 modes (7: gi, 8: lightfield, with probes), V vsync, Tab panels\n"
+            "      (overlay without them), P screenshot; click picks; Space play/pause, ',' '.' step frames;\n"
+            "      B voxel mode: click adds, Shift+click removes, Alt+click paints with the brush;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
             "      Ctrl+Z/Ctrl+Y undo/redo, Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
@@ -99,13 +81,20 @@ _Noreturn static void usage(int status) {
             "      pick X Y |"
             " frame | move DX DY DZ | rotate x|y|z [TURNS] | mirror x|y|z | duplicate | delete |\n"
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
-            "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit\n"
+            "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit |\n"
+            "      anim frame N|step [K]|play|pause|fps X|tick SECONDS | exposure STOPS | panels on|off |\n"
+            "      overlay on|off (the text overlay, shown without panels) |\n"
+            "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
+            "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
+            "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
+            "      light N color R G B|position X Y Z|intensity X|range X\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
             "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
-            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, d.conv.res, vx_tool_name, vx_tool_name,
+            vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, SV_FPS_DEFAULT,
+            sv_panels_built() ? "" : " (this build has no panels: no Dear ImGui)", d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
 }
@@ -165,7 +154,11 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--bench")) {
             if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.bench) || !o.bench || o.bench > 100000)
                 usage_error("bad --bench '%s' (1 to 100000 frames)", argv[i]);
-        } else if (!strcmp(a, "--vsync")) o.vsync = true;
+        } else if (!strcmp(a, "--fps")) {
+            if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
+                usage_error("bad --fps '%s' (frames per second in (0,1000])", argv[i]);
+        } else if (!strcmp(a, "--no-panels")) o.no_panels = true;
+        else if (!strcmp(a, "--vsync")) o.vsync = true;
         else if (!strcmp(a, "--hidden")) o.hidden = true;
         else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
         else if (!strcmp(a, "--validate") || !strcmp(a, "-validate")) o.validate = true;
@@ -198,69 +191,10 @@ static vx_result load_scene(const options* o, const char* path, vx_svo_scene* ou
 
 /* ---- application state ---------------------------------------------------------------- */
 
-typedef struct app {
-    options o;
-    vx_budget budget; /* --max-memory: scenes the viewer loads come from it */
-    vp* p;
-    vx_gpu* gpu;
-    vx_render_scene* rs;
-    vx_svo_scene scene;
-    ved ed;
-    /* camera: eye + yaw/pitch (z up); default: svo_render's framing */
-    bool cam_default;
-    double eye[3], yaw, pitch, speed;
-    bool orbit;
-    double orbit_center[3], orbit_dist;
-    vx_render_mode mode;
-    bool gi; /* a probe mode (gi, lightfield): replaces `mode` while probes are loaded */
-    vx_probe_render_mode pmode;
-    bool overlay;
-    /* light field probes (mode gi); nothing of them is touched while none are loaded */
-    vx_probe_set probes;
-    vx_probe_gpu* probes_gpu; /* their maps on the GPU for rs (made at the first probe frame) */
-    /* the colour mode's pass pipeline over rs, its gi method (made at the first frame that needs it) */
-    vx_frame_renderer* fr;
-    vx_pass_list passes;
-    vx_probe_gi* pgi;
-    vx_gi_method gm;
-    vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
-    uint32_t timing_count;
-    double passes_ms;
-    bool have_probes;
-    char probes_path[1024];
-    uint32_t validation_errors;
-    uint32_t sel;
-    /* pending editor operation: 'g' grab, 'r' rotate, 'm' mirror, 'l' layer */
-    char op;
-    int op_axis;
-    int32_t grab_moved;
-    double grab_px;
-    bool pick_pending;
-    double pick_x, pick_y;
-    char msg[256];
-    double msg_until;
-    bool msg_error;
-    double frame_ms[64];
-    uint32_t frame_n;
-    double trace_ms, rays_per_s, update_ms;
-    bool quit;
-    int status;
-    /* script */
-    char** lines;
-    uint32_t line_count, line_pos, wait;
-    /* frame */
-    uint8_t* px8;
-    size_t px8_cap;
-    vx_render_image img;
-    const char* shot;
-    char shot_buf[1024];
-    uint32_t shot_counter;
-    double mouse_x, mouse_y;
-    bool rmb, lmb;
-} app;
 
-static void message(app* a, bool error, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
-static void message(app* a, bool error, const char* fmt, ...) {
+
+void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
+void sv_message(app* a, bool error, const char* fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(a->msg, sizeof a->msg, fmt, ap);
@@ -270,7 +204,7 @@ static void message(app* a, bool error, const char* fmt, ...) {
     fprintf(error ? stderr : stdout, "%s: %s\n", vx_tool_name, a->msg);
 }
 
-static const char* mode_name(const app* a) {
+const char* sv_mode_name(const app* a) {
     return a->gi ? vx_probe_render_mode_name(a->pmode) : vx_render_mode_name(a->mode);
 }
 
@@ -301,20 +235,20 @@ static vx_result load_probes(app* a, const char* path, vx_error* err) {
     return VX_OK;
 }
 
-static void do_probes(app* a, const char* path) {
+void sv_probes(app* a, const char* path) {
     vx_error err = {0};
     if (load_probes(a, path, &err)) {
-        message(a, true, "%s", err.msg);
+        sv_message(a, true, "%s", err.msg);
         return;
     }
-    message(a, false, "probes %s: %ux%ux%u grid, res %u", path, a->probes.grid[0], a->probes.grid[1],
+    sv_message(a, false, "probes %s: %ux%ux%u grid, res %u", path, a->probes.grid[0], a->probes.grid[1],
             a->probes.grid[2], a->probes.res);
 }
 
 /* Mode gi is only offered with probes loaded; otherwise a message, and the mode stays. */
-static void set_probe_mode(app* a, vx_probe_render_mode m) {
+void sv_set_probe_mode(app* a, vx_probe_render_mode m) {
     if (!a->have_probes) {
-        message(a, true, "mode %s needs light field probes (--probes FILE, or the script command probes FILE)",
+        sv_message(a, true, "mode %s needs light field probes (--probes FILE, or the script command probes FILE)",
                 vx_probe_render_mode_name(m));
         return;
     }
@@ -322,33 +256,9 @@ static void set_probe_mode(app* a, vx_probe_render_mode m) {
     a->pmode = m;
 }
 
-static void world_box(const vx_svo_scene* s, uint32_t i, double lo[3], double hi[3]) {
-    double glo[3], ghi[3];
-    ved_instance_box(s, i, glo, ghi);
-    const double* w = s->world_from_grid;
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (int c = 0; c < 8; c++) {
-        double p[3] = {(c & 1) ? ghi[0] : glo[0], (c & 2) ? ghi[1] : glo[1], (c & 4) ? ghi[2] : glo[2]};
-        for (int r = 0; r < 3; r++) {
-            double q = w[4 * r] * p[0] + w[4 * r + 1] * p[1] + w[4 * r + 2] * p[2] + w[4 * r + 3];
-            lo[r] = fmin(lo[r], q), hi[r] = fmax(hi[r], q);
-        }
-    }
-}
-
-
-static void scene_box(const vx_svo_scene* s, double lo[3], double hi[3]) {
-    bool any = false;
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx_svo_instance_drawn(s, i)) continue;
-        double a[3], b[3];
-        world_box(s, i, a, b);
-        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], a[k]), hi[k] = fmax(hi[k], b[k]);
-        any = true;
-    }
-    if (!any)
-        for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;
+/* World box of instance i as the frame shown places it. */
+static void world_box(const app* a, uint32_t i, double lo[3], double hi[3]) {
+    vx_svo_instance_world_box(&a->scene, vx_svo_scene_frame_instances(&a->scene, a->anim_frame) + i, lo, hi);
 }
 
 static void cam_fwd(const app* a, double f[3]) {
@@ -376,7 +286,7 @@ static void frame_box(app* a, const double lo[3], const double hi[3], const doub
 
 static void camera_default(app* a) {
     double lo[3], hi[3], dir[3] = {0.45, -1.0, 0.65};
-    scene_box(&a->scene, lo, hi);
+    vx_svo_scene_world_bounds(&a->scene, lo, hi); /* the tracer's default framing: every frame */
     frame_box(a, lo, hi, dir);
     a->cam_default = true;
 }
@@ -399,7 +309,7 @@ static void drop_passes(app* a) {
     a->fr = NULL;
 }
 
-static void rebuild(app* a) {
+void sv_rebuild(app* a) {
     double t0 = vx_time_now();
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
@@ -407,29 +317,33 @@ static void rebuild(app* a) {
     vx_render_scene_destroy(a->rs);
     a->rs = NULL;
     vx_error err = {0};
-    if (vx_render_scene_create(a->gpu, &a->scene, &a->rs, &err)) message(a, true, "cannot draw the scene: %s", err.msg);
-    else if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) message(a, true, "pass pipeline: %s", err.msg);
+    uint32_t nf = vx_svo_scene_frames(&a->scene);
+    if (a->anim_frame >= nf) a->anim_frame = nf - 1; /* an undo may have made the scene still */
+    if (vx_render_scene_create(a->gpu, &a->scene, &a->rs, &err)) sv_message(a, true, "cannot draw the scene: %s", err.msg);
+    else if (a->anim_frame && vx_render_scene_set_frame(a->rs, &a->scene, a->anim_frame, &err))
+        sv_message(a, true, "frame %u: %s", a->anim_frame, err.msg);
+    else if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
 /* Starts an edit: the camera stops following the scene bounds, and the
  * state is saved for undo. */
-static bool edit_begin(app* a, bool needs_sel) {
+bool sv_edit_begin(app* a, bool needs_sel) {
     if (needs_sel && a->sel == NO_SEL) {
-        message(a, true, "nothing selected");
+        sv_message(a, true, "nothing selected");
         return false;
     }
     a->cam_default = false;
     vx_error err = {0};
     if (ved_begin(&a->ed, &err)) {
-        message(a, true, "%s", err.msg);
+        sv_message(a, true, "%s", err.msg);
         return false;
     }
     return true;
 }
 
-static void edit_end(app* a, const char* what) {
-    rebuild(a);
+void sv_edit_end(app* a, const char* what) {
+    sv_rebuild(a);
     if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, what, a->update_ms);
 }
 
@@ -439,16 +353,20 @@ static void set_scene(app* a, vx_svo_scene* s) {
     a->scene = *s;
     ved_init(&a->ed, &a->scene);
     a->sel = NO_SEL;
+    a->sel_light = NO_SEL;
     a->op = 0;
+    a->anim_frame = 0;
+    a->playing = false;
+    a->fps = a->o.fps > 0 ? a->o.fps : a->scene.frame_rate > 0 ? a->scene.frame_rate : SV_FPS_DEFAULT;
     camera_default(a);
-    rebuild(a);
+    sv_rebuild(a);
 }
 
-static void do_open(app* a, const char* path) {
+void sv_open(app* a, const char* path) {
     vx_svo_scene s;
     vx_error err = {0};
     if (load_scene(&a->o, path, &s, &err)) {
-        message(a, true, "%s: %s", path, err.msg);
+        sv_message(a, true, "%s: %s", path, err.msg);
         return;
     }
     set_scene(a, &s);
@@ -463,15 +381,15 @@ static void do_open(app* a, const char* path) {
         a->have_probes = false;
         a->gi = false;
     }
-    message(a, false, "opened %s: %u models, %u instances%s", path, a->scene.model_count, a->scene.instance_count,
+    sv_message(a, false, "opened %s: %u models, %u instances%s", path, a->scene.model_count, a->scene.instance_count,
             had ? " (probes of the previous scene unloaded)" : "");
 }
 
-static void do_add(app* a, const char* path) {
+void sv_add(app* a, const char* path) {
     vx_svo_scene s;
     vx_error err = {0};
     if (load_scene(&a->o, path, &s, &err)) {
-        message(a, true, "%s: %s", path, err.msg);
+        sv_message(a, true, "%s: %s", path, err.msg);
         return;
     }
     /* next to the scene along +x, in grid cells */
@@ -484,29 +402,29 @@ static void do_add(app* a, const char* path) {
         d[2] = (int32_t)(floor(a->scene.bounds_min[2]) - floor(s.bounds_min[2]));
     }
     uint32_t first = 0, n = s.instance_count;
-    if (!edit_begin(a, false)) {
+    if (!sv_edit_begin(a, false)) {
         vx_svo_scene_free(&s);
         return;
     }
     if (ved_add_scene(&a->scene, &s, d, &first, &err)) {
-        message(a, true, "%s: %s", path, err.msg);
+        sv_message(a, true, "%s: %s", path, err.msg);
         ved_undo(&a->ed, NULL);
     } else {
         a->sel = n ? first : NO_SEL;
-        message(a, false, "added %s: %u instances", path, n);
+        sv_message(a, false, "added %s: %u instances", path, n);
     }
     vx_svo_scene_free(&s);
-    edit_end(a, "add");
+    sv_edit_end(a, "add");
 }
 
-static void do_save(app* a, const char* path) {
+void sv_save(app* a, const char* path) {
     vx_error err = {0};
     vx_svo_scene_update_bounds(&a->scene);
-    if (vx_svo_write_file(&a->scene, path, &err)) message(a, true, "%s: %s", path, err.msg);
-    else message(a, false, "saved %s", path);
+    if (vx_svo_write_file(&a->scene, path, &err)) sv_message(a, true, "%s: %s", path, err.msg);
+    else sv_message(a, false, "saved %s", path);
 }
 
-static void do_export(app* a, const char* path) {
+void sv_export(app* a, const char* path) {
     vx_error err = {0};
     vx_vox_scene vs;
     vx_result r = vx_conv_svo_to_vox(&a->scene, NULL, &vs, &err);
@@ -514,14 +432,14 @@ static void do_export(app* a, const char* path) {
         r = vx_vox_write_file(&vs, path, &err);
         vx_vox_scene_free(&vs);
     }
-    if (r) message(a, true, "%s: %s", path, err.msg);
-    else message(a, false, "exported %s", path);
+    if (r) sv_message(a, true, "%s: %s", path, err.msg);
+    else sv_message(a, false, "exported %s", path);
 }
 
-static void do_frame(app* a) {
+void sv_frame_camera(app* a) {
     double lo[3], hi[3], f[3];
-    if (a->sel != NO_SEL) world_box(&a->scene, a->sel, lo, hi);
-    else scene_box(&a->scene, lo, hi);
+    if (a->sel != NO_SEL) world_box(a, a->sel, lo, hi);
+    else vx_svo_scene_world_bounds(&a->scene, lo, hi);
     cam_fwd(a, f);
     double dir[3] = {-f[0], -f[1], -f[2]};
     frame_box(a, lo, hi, dir);
@@ -534,64 +452,172 @@ static void edit_move(app* a, int axis, int32_t n) {
     ved_move(&a->scene, a->sel, d);
 }
 
-static void do_rotate(app* a, int axis, int turns) {
-    if (!edit_begin(a, true)) return;
-    ved_rotate(&a->scene, a->sel, axis, turns);
-    edit_end(a, "rotate");
+void sv_rotate(app* a, int axis, int turns) {
+    if (!sv_edit_begin(a, true)) return;
+    ved_rotate(&a->scene, a->anim_frame, a->sel, axis, turns);
+    sv_edit_end(a, "rotate");
 }
 
-static void do_mirror(app* a, int axis) {
-    if (!edit_begin(a, true)) return;
-    ved_mirror(&a->scene, a->sel, axis);
-    edit_end(a, "mirror");
+void sv_mirror(app* a, int axis) {
+    if (!sv_edit_begin(a, true)) return;
+    ved_mirror(&a->scene, a->anim_frame, a->sel, axis);
+    sv_edit_end(a, "mirror");
 }
 
-static void do_duplicate(app* a) {
-    if (!edit_begin(a, true)) return;
+void sv_duplicate(app* a) {
+    if (!sv_edit_begin(a, true)) return;
     vx_error err = {0};
     uint32_t n;
-    if (ved_duplicate(&a->scene, a->sel, &n, &err)) message(a, true, "%s", err.msg);
+    if (ved_duplicate(&a->scene, a->sel, &n, &err)) sv_message(a, true, "%s", err.msg);
     else a->sel = n;
-    edit_end(a, "duplicate");
+    sv_edit_end(a, "duplicate");
 }
 
-static void do_delete(app* a) {
-    if (!edit_begin(a, true)) return;
+void sv_delete(app* a) {
+    if (!sv_edit_begin(a, true)) return;
     ved_delete(&a->scene, a->sel);
     a->sel = NO_SEL;
-    edit_end(a, "delete");
+    sv_edit_end(a, "delete");
 }
 
-static void do_hide(app* a, bool hide) {
-    if (!edit_begin(a, hide)) return;
-    if (hide) a->scene.instances[a->sel].flags |= VX_SVO_INSTANCE_HIDDEN;
+void sv_hide(app* a, bool hide) {
+    if (!sv_edit_begin(a, hide)) return;
+    if (hide) ved_hide(&a->scene, a->sel, true);
     else
-        for (uint32_t i = 0; i < a->scene.instance_count; i++) a->scene.instances[i].flags &= ~VX_SVO_INSTANCE_HIDDEN;
-    edit_end(a, hide ? "hide" : "show");
+        for (uint32_t i = 0; i < a->scene.instance_count; i++) ved_hide(&a->scene, i, false);
+    sv_edit_end(a, hide ? "hide" : "show");
 }
 
-static void do_layer(app* a, uint32_t l, int hide /* -1 toggles */) {
+void sv_hide_instance(app* a, uint32_t i, bool hide) {
+    if (i >= a->scene.instance_count || !sv_edit_begin(a, false)) return;
+    ved_hide(&a->scene, i, hide);
+    sv_edit_end(a, hide ? "hide" : "show");
+}
+
+void sv_select(app* a, uint32_t i) { a->sel = i < a->scene.instance_count ? i : NO_SEL; }
+
+void sv_move(app* a, const int32_t d[3]) {
+    if (!sv_edit_begin(a, true)) return;
+    ved_move(&a->scene, a->sel, d);
+    sv_edit_end(a, "move");
+}
+
+/* ---- animation ------------------------------------------------------------------------ */
+
+void sv_set_frame(app* a, uint32_t f) {
+    uint32_t nf = vx_svo_scene_frames(&a->scene);
+    if (f >= nf) f = nf - 1;
+    if (f == a->anim_frame) return;
+    a->anim_frame = f;
+    if (!a->rs) return;
+    double t0 = vx_time_now();
+    vx_error err = {0};
+    /* the instance tables and the BVH only: the models stay on the GPU */
+    if (vx_render_scene_set_frame(a->rs, &a->scene, f, &err)) sv_message(a, true, "frame %u: %s", f, err.msg);
+    a->switch_ms = (vx_time_now() - t0) * 1e3;
+}
+
+void sv_play(app* a, bool play) {
+    a->playing = play && vx_svo_scene_frames(&a->scene) > 1;
+    a->play_clock = 0;
+}
+
+void sv_set_fps(app* a, double fps) {
+    if (fps > 0 && fps <= 1000) a->fps = fps;
+}
+
+/* Advances playback by dt seconds of wall time (whole frames, wrapping). */
+static void play(app* a, double dt) {
+    uint32_t nf = vx_svo_scene_frames(&a->scene);
+    if (!a->playing || nf < 2) return;
+    a->play_clock += dt * a->fps;
+    if (a->play_clock < 1) return;
+    uint32_t steps = (uint32_t)fmin(a->play_clock, (double)nf);
+    a->play_clock -= floor(a->play_clock);
+    sv_set_frame(a, (a->anim_frame + steps) % nf);
+}
+
+/* ---- voxel editing ---------------------------------------------------------------------- */
+
+bool sv_brush_palette(app* a, uint32_t i) {
+    if (i < 1 || i > 255) return false;
+    if (a->scene.has_palette && !a->scene.palette[i]) {
+        /* a .svo stores the entries in use only (docs/FORMAT.md 2.2) */
+        sv_message(a, true, "palette entry %u is empty in this file; give a colour (#RRGGBB) instead", i);
+        return false;
+    }
+    a->brush.palette = (uint8_t)i;
+    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i];
+    return true;
+}
+
+bool sv_brush_rgba(app* a, uint32_t rgba) {
+    a->brush.rgba = rgba;
+    if (!a->scene.has_palette) return true;
+    /* palette models take the entry of that colour, or the first empty one */
+    uint32_t free_i = 0;
+    for (uint32_t i = 1; i < 256; i++) {
+        if (a->scene.palette[i] == rgba) {
+            a->brush.palette = (uint8_t)i;
+            return true;
+        }
+        if (!free_i && !a->scene.palette[i]) free_i = i;
+    }
+    if (!free_i) {
+        sv_message(a, true, "the palette is full: pick one of its colours");
+        return false;
+    }
+    a->scene.palette[free_i] = rgba; /* stored in the file once a cell uses it */
+    a->brush.palette = (uint8_t)free_i;
+    return true;
+}
+
+bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
+    if (a->sel == NO_SEL) {
+        sv_message(a, true, "voxel %s: nothing selected", vvx_op_name(op));
+        return false;
+    }
+    uint32_t model = vx_svo_scene_frame_instances(&a->scene, a->anim_frame)[a->sel].model;
+    double t0 = vx_time_now();
+    uint64_t n = 0;
+    vx_error err = {0};
+    if (vvx_apply(&a->ed, model, op, &a->brush, c, &n, &err)) {
+        sv_message(a, true, "voxel %s: %s", vvx_op_name(op), err.msg);
+        return false;
+    }
+    double t_model = (vx_time_now() - t0) * 1e3;
+    a->cam_default = false;
+    if (!n) return true;
+    sv_rebuild(a);
+    if (a->o.verbose)
+        printf("%s: voxel %s at %lld,%lld,%lld: %llu cells (model rebuild %.2f ms, scene upload %.2f ms)\n", vx_tool_name,
+               vvx_op_name(op), (long long)c[0], (long long)c[1], (long long)c[2], (unsigned long long)n, t_model,
+               a->update_ms);
+    return true;
+}
+
+void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */) {
     if (l >= a->scene.layer_count) {
-        message(a, true, "no layer %u (the scene has %u)", l, a->scene.layer_count);
+        sv_message(a, true, "no layer %u (the scene has %u)", l, a->scene.layer_count);
         return;
     }
-    if (!edit_begin(a, false)) return;
+    if (!sv_edit_begin(a, false)) return;
     uint32_t* f = &a->scene.layers[l].flags;
     bool h = hide < 0 ? !(*f & VX_SVO_LAYER_HIDDEN) : hide > 0;
     *f = h ? (*f | VX_SVO_LAYER_HIDDEN) : (*f & ~VX_SVO_LAYER_HIDDEN);
-    message(a, false, "layer %u '%s' %s", l, a->scene.layers[l].name, h ? "hidden" : "shown");
-    edit_end(a, "layer");
+    sv_message(a, false, "layer %u '%s' %s", l, a->scene.layers[l].name, h ? "hidden" : "shown");
+    sv_edit_end(a, "layer");
 }
 
-static void do_undo(app* a, bool redo) {
+void sv_undo(app* a, bool redo) {
     a->cam_default = false;
     bool ok = redo ? ved_redo(&a->ed, NULL) : ved_undo(&a->ed, NULL);
     if (!ok) {
-        message(a, false, "nothing to %s", redo ? "redo" : "undo");
+        sv_message(a, false, "nothing to %s", redo ? "redo" : "undo");
         return;
     }
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
-    edit_end(a, redo ? "redo" : "undo");
+    sv_edit_end(a, redo ? "redo" : "undo");
 }
 
 /* ---- frames -------------------------------------------------------------------------- */
@@ -661,6 +687,23 @@ static vx_result save_image(const vx_render_image* img, const char* path, vx_err
     return r;
 }
 
+/* Writes the displayed 8-bit frame (panels and overlay included) as PNG. */
+static vx_result save_canvas(const vf_canvas* cv, const char* path, vx_error* err) {
+    size_t npx = (size_t)cv->width * cv->height;
+    uint8_t* p = malloc(npx * 3);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    int r = cv->bgra ? 2 : 0, b = cv->bgra ? 0 : 2;
+    for (size_t i = 0; i < npx; i++) {
+        p[3 * i] = cv->pixels[4 * i + r];
+        p[3 * i + 1] = cv->pixels[4 * i + 1];
+        p[3 * i + 2] = cv->pixels[4 * i + b];
+    }
+    vx_image_desc id = {.width = cv->width, .height = cv->height, .channels = 3, .type = VX_IMAGE_U8, .pixels = p};
+    vx_result res = vx_image_write(path, &id, err);
+    free(p);
+    return res;
+}
+
 /* Projects a world point with the frame's camera (as the tracer sets it up). */
 static bool project(const app* a, const double eye[3], const double f[3], uint32_t w, uint32_t h, const double p[3],
                     double* sx, double* sy) {
@@ -684,7 +727,7 @@ static bool project(const app* a, const double eye[3], const double f[3], uint32
 static void draw_selection(app* a, vf_canvas* cv) {
     if (a->sel == NO_SEL || a->sel >= a->scene.instance_count) return;
     double lo[3], hi[3], f[3];
-    world_box(&a->scene, a->sel, lo, hi);
+    world_box(a, a->sel, lo, hi);
     cam_fwd(a, f);
     static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                      {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
@@ -724,7 +767,7 @@ static void draw_overlay(app* a, vf_canvas* cv) {
     snprintf(buf[nl], sizeof buf[0], "scene: %u models, %u instances (%u drawn), %s voxels, %u layers",
              a->scene.model_count, a->scene.instance_count, nd, vx_tool_num(voxels), a->scene.layer_count);
     lines[nl] = buf[nl], nl++;
-    snprintf(buf[nl], sizeof buf[0], "mode: %s  camera: %s  vsync: %s  size %ux%u", mode_name(a),
+    snprintf(buf[nl], sizeof buf[0], "mode: %s  camera: %s  vsync: %s  size %ux%u", sv_mode_name(a),
              a->orbit ? "orbit" : "fly", vp_vsync(a->p) ? "on" : "off", cv->width, cv->height);
     lines[nl] = buf[nl], nl++;
     if (a->timing_count && !a->gi && a->mode == VX_RENDER_COLOR) {
@@ -783,6 +826,10 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     fd.passes = &a->passes;
     fd.gi = a->pgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
+    fd.exposure = a->exposure;
+    /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
+    fd.lights = a->scene.lights;
+    fd.light_count = a->scene.light_count;
     vx_frame_result res;
     vx_result r = vx_frame_render(a->fr, &fd, &res, err);
     if (r) return r;
@@ -790,19 +837,28 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     memcpy(a->timings, res.timings, sizeof a->timings);
     a->timing_count = res.timing_count;
     a->passes_ms = res.frame_ms;
+    /* the statistics panel's history; a different pass list starts it again */
+    bool same = a->hist_layers == res.timing_count;
+    for (uint32_t t = 0; same && t < res.timing_count; t++) same = a->hist_names[t] == res.timings[t].name ||
+                                                                   !strcmp(a->hist_names[t], res.timings[t].name);
+    if (!same) a->hist_n = 0, a->hist_layers = res.timing_count;
+    for (uint32_t t = 0; t < res.timing_count; t++) a->hist_names[t] = res.timings[t].name;
+    if (a->hist_n == SV_HISTORY) memmove(a->hist[0], a->hist[1], (SV_HISTORY - 1) * sizeof a->hist[0]);
+    else a->hist_n++;
+    for (uint32_t t = 0; t < res.timing_count; t++) a->hist[a->hist_n - 1][t] = (float)res.timings[t].ms;
     return VX_OK;
 }
 
 /* Sets the pass list (script command `passes LIST`, key 9 cycles presets). */
-static bool set_passes(app* a, const char* list) {
+bool sv_set_passes(app* a, const char* list) {
     vx_pass_list pl;
     vx_error err = {0};
     if (vx_pass_list_parse(list, &pl, &err)) {
-        message(a, true, "passes: %s", err.msg);
+        sv_message(a, true, "passes: %s", err.msg);
         return false;
     }
     if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && !a->have_probes) {
-        message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
+        sv_message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
         return false;
     }
     vx_probe_gi_destroy(a->pgi);
@@ -811,8 +867,43 @@ static bool set_passes(app* a, const char* list) {
     a->timing_count = 0;
     char t[160];
     vx_pass_list_format(&pl, t, sizeof t);
-    message(a, false, "passes %s", t[0] ? t : "(none)");
+    sv_message(a, false, "passes %s", t[0] ? t : "(none)");
     return true;
+}
+
+/* The model cell a voxel click edits: for add the empty cell in front of the
+ * hit face (the face the pixel's ray enters the hit cell through, found by
+ * the slab test in model space with the tracer's own ray), else the hit cell. */
+static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint32_t y, const vx_render_hit* hit,
+                         vvx_op op, int64_t out[3]) {
+    for (int k = 0; k < 3; k++) out[k] = hit->cell[k];
+    if (op != VVX_ADD) return;
+    double lo[3], hi[3], wi[12], mi[12];
+    vx_svo_scene_world_bounds(&a->scene, lo, hi);
+    vx__frame f;
+    const vx_svo_instance* in = vx_svo_scene_frame_instances(&a->scene, a->anim_frame) + hit->instance;
+    if (vx__frame_setup(lo, hi, d, &f, NULL) || !vx__affine_inverse(a->scene.world_from_grid, wi) ||
+        !vx__affine_inverse(in->xform, mi))
+        return;
+    double u = ((x + 0.5) / f.width) * 2 - 1, v = 1 - ((y + 0.5) / f.height) * 2, o[3], dir[3], og[3], dg[3], om[3], dm[3];
+    for (int k = 0; k < 3; k++) {
+        double off = u * f.rx[k] + v * f.uy[k];
+        o[k] = f.ref[k] + (f.ortho ? off : f.t_start * off);
+        dir[k] = f.ortho ? f.fwd[k] : f.fwd[k] + off;
+    }
+    vx__affine_apply(wi, o, og);
+    vx__affine_apply(mi, og, om);
+    for (int r = 0; r < 3; r++) dg[r] = wi[4 * r] * dir[0] + wi[4 * r + 1] * dir[1] + wi[4 * r + 2] * dir[2];
+    for (int r = 0; r < 3; r++) dm[r] = mi[4 * r] * dg[0] + mi[4 * r + 1] * dg[1] + mi[4 * r + 2] * dg[2];
+    int axis = -1;
+    double best = -INFINITY;
+    for (int k = 0; k < 3; k++) {
+        if (dm[k] == 0) continue; /* parallel to the slab: never the entry face */
+        double t1 = ((double)hit->cell[k] - om[k]) / dm[k], t2 = ((double)hit->cell[k] + 1 - om[k]) / dm[k];
+        double tn = fmin(t1, t2);
+        if (tn > best) best = tn, axis = k;
+    }
+    if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
 }
 
 /* Renders, converts, overlays and presents one frame. */
@@ -836,7 +927,7 @@ static vx_result frame(app* a, vx_error* err) {
         if (!r) r = vx_probe_gpu_render(a->probes_gpu, &pd, &a->img, err);
         if (r && (a->o.screenshot || a->o.bench)) return r;
         if (r) {
-            message(a, true, "mode %s: %s", vx_probe_render_mode_name(a->pmode), err->msg);
+            sv_message(a, true, "mode %s: %s", vx_probe_render_mode_name(a->pmode), err->msg);
             a->gi = false;
         } else if (a->pick_pending && (r = vx_render_frame(a->rs, &d, &pick_img, err))) {
             return r;
@@ -858,16 +949,34 @@ static vx_result frame(app* a, vx_error* err) {
         uint32_t x = (uint32_t)a->pick_x, y = (uint32_t)a->pick_y;
         uint32_t hit = VX_RENDER_NO_HIT;
         const vx_render_hit* hits = pick_img.hits ? pick_img.hits : a->img.hits;
-        if (hits && a->pick_x >= 0 && a->pick_y >= 0 && x < w && y < h) hit = hits[(size_t)y * w + x].instance;
+        vx_render_hit hr = {.instance = VX_RENDER_NO_HIT};
+        if (hits && a->pick_x >= 0 && a->pick_y >= 0 && x < w && y < h) hr = hits[(size_t)y * w + x];
+        hit = hr.instance;
         vx_render_image_free(&pick_img);
-        a->sel = hit == VX_RENDER_NO_HIT ? NO_SEL : hit;
-        if (hit == VX_RENDER_NO_HIT) printf("%s: pick %u %u: nothing\n", vx_tool_name, x, y);
-        else printf("%s: pick %u %u: instance %u\n", vx_tool_name, x, y, hit);
+        if (a->pick_op >= 0) {
+            /* a voxel click edits the hit instance's model (and selects it) */
+            vvx_op op = (vvx_op)a->pick_op;
+            a->pick_op = -1;
+            if (hit == VX_RENDER_NO_HIT || hit >= a->scene.instance_count) {
+                printf("%s: voxel %s at %u %u: nothing there\n", vx_tool_name, vvx_op_name(op), x, y);
+            } else {
+                int64_t c[3];
+                click_target(a, &d, x, y, &hr, op, c);
+                a->sel = hit;
+                printf("%s: voxel %s at %u %u: instance %u cell %lld %lld %lld\n", vx_tool_name, vvx_op_name(op), x, y,
+                       hit, (long long)c[0], (long long)c[1], (long long)c[2]);
+                sv_voxels(a, op, c);
+            }
+        } else {
+            a->sel = hit == VX_RENDER_NO_HIT ? NO_SEL : hit;
+            if (hit == VX_RENDER_NO_HIT) printf("%s: pick %u %u: nothing\n", vx_tool_name, x, y);
+            else printf("%s: pick %u %u: instance %u\n", vx_tool_name, x, y, hit);
+        }
     }
     if (a->shot && a->img.pixels) {
         vx_result r = save_image(&a->img, a->shot, err);
-        if (r) message(a, true, "%s: %s", a->shot, err->msg);
-        else printf("%s: wrote %s (%ux%u, mode %s)\n", vx_tool_name, a->shot, w, h, mode_name(a));
+        if (r) sv_message(a, true, "%s: %s", a->shot, err->msg);
+        else printf("%s: wrote %s (%ux%u, mode %s)\n", vx_tool_name, a->shot, w, h, sv_mode_name(a));
         if (r && a->o.screenshot) return r;
     }
     a->shot = NULL;
@@ -883,7 +992,14 @@ static vx_result frame(app* a, vx_error* err) {
     else memset(a->px8, 0, need);
     if (!a->o.screenshot && !a->o.bench) {
         draw_selection(a, &cv);
-        if (a->overlay) draw_overlay(a, &cv);
+        if (a->ui && a->panels) sv_panels_draw(a, &cv);
+        else if (a->overlay) draw_overlay(a, &cv);
+    }
+    if (a->grab) {
+        vx_result r = save_canvas(&cv, a->grab, err);
+        if (r) sv_message(a, true, "%s: %s", a->grab, err->msg);
+        else printf("%s: wrote %s (%ux%u, the displayed frame)\n", vx_tool_name, a->grab, w, h);
+        a->grab = NULL;
     }
     vx_result r = vp_present(a->p, a->px8, w, h, err);
     if (r) return r;
@@ -898,7 +1014,7 @@ static int axis_key(int key) { return key == GLFW_KEY_X ? 0 : key == GLFW_KEY_Y 
 static void grab_end(app* a, bool keep) {
     if (!keep) {
         ved_undo(&a->ed, NULL); /* back to the snapshot taken at G */
-        rebuild(a);
+        sv_rebuild(a);
     }
     a->op = 0;
 }
@@ -906,13 +1022,14 @@ static void grab_end(app* a, bool keep) {
 static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     (void)sc;
     app* a = glfwGetWindowUserPointer(win);
-    if (action == GLFW_RELEASE) return;
+    sv_panels_key(a, key, action != GLFW_RELEASE, mods);
+    if (action == GLFW_RELEASE || sv_panels_wants_keyboard(a)) return;
     bool ctrl = mods & GLFW_MOD_CONTROL, shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
     if (a->op) {
         int ax = axis_key(key);
         if (a->op == 'l' && key >= GLFW_KEY_0 && key <= GLFW_KEY_9) {
             a->op = 0;
-            do_layer(a, (uint32_t)(key - GLFW_KEY_0), -1);
+            sv_layer(a, (uint32_t)(key - GLFW_KEY_0), -1);
             return;
         }
         if (a->op == 'g') {
@@ -927,21 +1044,21 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
                 if (shift) n *= 10;
                 edit_move(a, a->op_axis, n);
                 a->grab_moved += n;
-                rebuild(a);
+                sv_rebuild(a);
                 return;
             }
             if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) return grab_end(a, true);
             if (key == GLFW_KEY_ESCAPE) return grab_end(a, false);
             return;
         }
-        if (ax >= 0 && a->op == 'r') do_rotate(a, ax, shift ? -1 : 1);
-        else if (ax >= 0 && a->op == 'm') do_mirror(a, ax);
+        if (ax >= 0 && a->op == 'r') sv_rotate(a, ax, shift ? -1 : 1);
+        else if (ax >= 0 && a->op == 'm') sv_mirror(a, ax);
         a->op = 0;
         return;
     }
     if (ctrl) {
-        if (key == GLFW_KEY_Z) do_undo(a, shift);
-        else if (key == GLFW_KEY_Y) do_undo(a, true);
+        if (key == GLFW_KEY_Z) sv_undo(a, shift);
+        else if (key == GLFW_KEY_Y) sv_undo(a, true);
         else if (key == GLFW_KEY_S) {
             char path[1024];
             if (a->o.save) snprintf(path, sizeof path, "%s", a->o.save);
@@ -950,19 +1067,19 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
                 int n = dot ? (int)(dot - a->o.in) : (int)strlen(a->o.in);
                 snprintf(path, sizeof path, "%.*s.edited.svo", n, a->o.in);
             }
-            do_save(a, path);
+            sv_save(a, path);
         } else if (key == GLFW_KEY_E) {
             char path[1024];
             const char* dot = strrchr(a->o.in, '.');
             int n = dot ? (int)(dot - a->o.in) : (int)strlen(a->o.in);
             snprintf(path, sizeof path, "%.*s.edited.vox", n, a->o.in);
-            do_export(a, path);
+            sv_export(a, path);
         } else if (key == GLFW_KEY_Q) a->quit = true;
         return;
     }
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) a->mode = (vx_render_mode)(key - GLFW_KEY_1), a->gi = false;
-    else if (key == GLFW_KEY_7) set_probe_mode(a, VX_PROBE_RENDER_GI);
-    else if (key == GLFW_KEY_8) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
+    else if (key == GLFW_KEY_7) sv_set_probe_mode(a, VX_PROBE_RENDER_GI);
+    else if (key == GLFW_KEY_8) sv_set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
     else if (key == GLFW_KEY_9) {
         static const char* const presets[] = {VX_PASS_LIST_DEFAULT, "gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap",
                                               "gbuffer,dof,direct,ao,aa,tonemap"};
@@ -970,12 +1087,22 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
         vx_pass_list_format(&a->passes, cur, sizeof cur);
         size_t k = 0, n = sizeof presets / sizeof presets[0];
         while (k < n && strcmp(cur, presets[k])) k++;
-        set_passes(a, presets[(k + 1) % n]);
+        sv_set_passes(a, presets[(k + 1) % n]);
         a->mode = VX_RENDER_COLOR, a->gi = false;
     }
     else if (key == GLFW_KEY_V) vp_set_vsync(a->p, !vp_vsync(a->p));
+    else if (key == GLFW_KEY_TAB && a->ui) a->panels = !a->panels;
     else if (key == GLFW_KEY_TAB) a->overlay = !a->overlay;
-    else if (key == GLFW_KEY_F) do_frame(a);
+    else if (key == GLFW_KEY_SPACE) sv_play(a, !a->playing);
+    else if (key == GLFW_KEY_COMMA || key == GLFW_KEY_PERIOD) {
+        uint32_t nf = vx_svo_scene_frames(&a->scene);
+        sv_set_frame(a, (a->anim_frame + (key == GLFW_KEY_PERIOD ? 1 : nf - 1)) % nf);
+    } else if (key == GLFW_KEY_B) {
+        a->voxel_mode = !a->voxel_mode;
+        sv_message(a, false, "voxel mode %s (click: add, Shift: remove, Alt: paint; brush %s %u)",
+                   a->voxel_mode ? "on" : "off", vvx_shape_name(a->brush.shape), a->brush.radius);
+    }
+    else if (key == GLFW_KEY_F) sv_frame_camera(a);
     else if (key == GLFW_KEY_O) {
         a->orbit = !a->orbit;
         if (a->orbit) {
@@ -983,7 +1110,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
             cam_fwd(a, f);
             if (a->sel != NO_SEL) {
                 double lo[3], hi[3];
-                world_box(&a->scene, a->sel, lo, hi);
+                world_box(a, a->sel, lo, hi);
                 for (int k = 0; k < 3; k++) a->orbit_center[k] = 0.5 * (lo[k] + hi[k]);
             }
             double v[3] = {a->orbit_center[0] - a->eye[0], a->orbit_center[1] - a->eye[1], a->orbit_center[2] - a->eye[2]};
@@ -995,18 +1122,19 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
         snprintf(a->shot_buf, sizeof a->shot_buf, "svo_view_%03u.png", a->shot_counter++);
         a->shot = a->shot_buf;
     } else if (key == GLFW_KEY_G && a->sel != NO_SEL) {
-        if (edit_begin(a, true)) a->op = 'g', a->op_axis = -1, a->grab_moved = 0;
+        if (sv_edit_begin(a, true)) a->op = 'g', a->op_axis = -1, a->grab_moved = 0;
     } else if ((key == GLFW_KEY_R || key == GLFW_KEY_M) && a->sel != NO_SEL) a->op = key == GLFW_KEY_R ? 'r' : 'm';
     else if (key == GLFW_KEY_L) a->op = 'l';
-    else if (key == GLFW_KEY_D && shift) do_duplicate(a);
-    else if (key == GLFW_KEY_DELETE || key == GLFW_KEY_BACKSPACE) do_delete(a);
-    else if (key == GLFW_KEY_H) do_hide(a, !alt);
+    else if (key == GLFW_KEY_D && shift) sv_duplicate(a);
+    else if (key == GLFW_KEY_DELETE || key == GLFW_KEY_BACKSPACE) sv_delete(a);
+    else if (key == GLFW_KEY_H) sv_hide(a, !alt);
     else if (key == GLFW_KEY_ESCAPE) a->sel = NO_SEL;
 }
 
 static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
-    (void)mods;
     app* a = glfwGetWindowUserPointer(win);
+    sv_panels_button(a, button, action == GLFW_PRESS);
+    if (sv_panels_wants_mouse(a) && action == GLFW_PRESS) return;
     if (button == GLFW_MOUSE_BUTTON_RIGHT) a->rmb = action == GLFW_PRESS;
     if (button != GLFW_MOUSE_BUTTON_LEFT) return;
     a->lmb = action == GLFW_PRESS;
@@ -1022,10 +1150,20 @@ static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
     a->pick_x = a->mouse_x * fw / ww;
     a->pick_y = a->mouse_y * fh / wh;
     a->pick_pending = true;
+    a->pick_op = !a->voxel_mode ? -1 : (mods & GLFW_MOD_SHIFT) ? VVX_REMOVE : (mods & GLFW_MOD_ALT) ? VVX_PAINT : VVX_ADD;
 }
 
 static void cursor_cb(GLFWwindow* win, double x, double y) {
     app* a = glfwGetWindowUserPointer(win);
+    {
+        /* the panels work in frame pixels, the cursor comes in screen coordinates */
+        int ww, wh;
+        uint32_t fw, fh;
+        glfwGetWindowSize(win, &ww, &wh);
+        if (a->o.width) fw = a->o.width, fh = a->o.height;
+        else vp_frame_size(a->p, &fw, &fh);
+        if (ww > 0 && wh > 0) sv_panels_mouse(a, x * fw / ww, y * fh / wh);
+    }
     double dx = x - a->mouse_x, dy = y - a->mouse_y;
     a->mouse_x = x, a->mouse_y = y;
     if (a->rmb) {
@@ -1046,14 +1184,18 @@ static void cursor_cb(GLFWwindow* win, double x, double y) {
             a->grab_px -= n * 8;
             edit_move(a, a->op_axis, n);
             a->grab_moved += n;
-            rebuild(a);
+            sv_rebuild(a);
         }
     }
 }
 
+static void char_cb(GLFWwindow* win, unsigned int c) { sv_panels_char(glfwGetWindowUserPointer(win), c); }
+
 static void scroll_cb(GLFWwindow* win, double dx, double dy) {
     (void)dx;
     app* a = glfwGetWindowUserPointer(win);
+    sv_panels_wheel(a, dy);
+    if (sv_panels_wants_mouse(a)) return;
     if (a->orbit) {
         a->orbit_dist *= pow(0.9, dy);
         double f[3];
@@ -1067,7 +1209,7 @@ static void scroll_cb(GLFWwindow* win, double dx, double dy) {
 
 static void drop_cb(GLFWwindow* win, int n, const char** paths) {
     app* a = glfwGetWindowUserPointer(win);
-    for (int i = 0; i < n; i++) do_add(a, paths[i]);
+    for (int i = 0; i < n; i++) sv_add(a, paths[i]);
 }
 
 static void fly(app* a, double dt) {
@@ -1145,14 +1287,14 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         if (nt != 2) BAD();
         a->orbit = !strcmp(tok[1], "on");
     } else if (!strcmp(c, "mode")) {
-        if (nt == 2 && !strcmp(tok[1], "gi")) set_probe_mode(a, VX_PROBE_RENDER_GI);
-        else if (nt == 2 && !strcmp(tok[1], "lightfield")) set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
+        if (nt == 2 && !strcmp(tok[1], "gi")) sv_set_probe_mode(a, VX_PROBE_RENDER_GI);
+        else if (nt == 2 && !strcmp(tok[1], "lightfield")) sv_set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
         else if (nt != 2 || !vx_render_mode_parse(tok[1], &a->mode)) BAD();
         else a->gi = false;
     } else if (!strcmp(c, "passes") && nt <= 2) {
-        if (!set_passes(a, nt == 2 ? tok[1] : "")) return false;
+        if (!sv_set_passes(a, nt == 2 ? tok[1] : "")) return false;
     } else if (!strcmp(c, "probes") && nt == 2) {
-        do_probes(a, tok[1]);
+        sv_probes(a, tok[1]);
     } else if (!strcmp(c, "select")) {
         uint32_t n;
         if (nt == 2 && !strcmp(tok[1], "none")) a->sel = NO_SEL;
@@ -1166,8 +1308,8 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         } else BAD();
     } else if (!strcmp(c, "pick")) {
         if (nt != 3 || !parse_doubles(tok + 1, 2, v)) BAD();
-        a->pick_x = v[0], a->pick_y = v[1], a->pick_pending = true;
-    } else if (!strcmp(c, "frame")) do_frame(a);
+        a->pick_x = v[0], a->pick_y = v[1], a->pick_pending = true, a->pick_op = -1;
+    } else if (!strcmp(c, "frame")) sv_frame_camera(a);
     else if (!strcmp(c, "move")) {
         if (nt != 4 || !parse_doubles(tok + 1, 3, v)) BAD();
         int32_t d[3];
@@ -1175,43 +1317,133 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             if (v[k] != floor(v[k]) || fabs(v[k]) > 1e9) BAD();
             d[k] = (int32_t)v[k];
         }
-        if (!edit_begin(a, true)) return false;
+        if (!sv_edit_begin(a, true)) return false;
         ved_move(&a->scene, a->sel, d);
-        edit_end(a, "move");
+        sv_edit_end(a, "move");
     } else if (!strcmp(c, "rotate") || !strcmp(c, "mirror")) {
         int ax = parse_axis(tok[1]);
         double turns = 1;
         if (ax < 0 || nt > 3 || (nt == 3 && (!parse_doubles(tok + 2, 1, &turns) || turns != floor(turns)))) BAD();
         if (a->sel == NO_SEL) {
-            message(a, true, "%s:%u: nothing selected", a->o.script, lineno);
+            sv_message(a, true, "%s:%u: nothing selected", a->o.script, lineno);
             return false;
         }
-        if (c[0] == 'r') do_rotate(a, ax, (int)fmod(turns, 4));
-        else do_mirror(a, ax);
+        if (c[0] == 'r') sv_rotate(a, ax, (int)fmod(turns, 4));
+        else sv_mirror(a, ax);
     } else if (!strcmp(c, "duplicate") || !strcmp(c, "delete") || !strcmp(c, "hide")) {
         if (a->sel == NO_SEL) {
-            message(a, true, "%s:%u: nothing selected", a->o.script, lineno);
+            sv_message(a, true, "%s:%u: nothing selected", a->o.script, lineno);
             return false;
         }
-        if (c[1] == 'u') do_duplicate(a);
-        else if (c[0] == 'd') do_delete(a);
-        else do_hide(a, true);
-    } else if (!strcmp(c, "show")) do_hide(a, false);
+        if (c[1] == 'u') sv_duplicate(a);
+        else if (c[0] == 'd') sv_delete(a);
+        else sv_hide(a, true);
+    } else if (!strcmp(c, "show")) sv_hide(a, false);
     else if (!strcmp(c, "layer")) {
         uint32_t l;
         if (nt != 3 || !vx_tool_parse_u32(tok[1], &l) || (strcmp(tok[2], "hide") && strcmp(tok[2], "show"))) BAD();
-        do_layer(a, l, !strcmp(tok[2], "hide"));
-    } else if (!strcmp(c, "add") && nt == 2) do_add(a, tok[1]);
-    else if (!strcmp(c, "open") && nt == 2) do_open(a, tok[1]);
-    else if (!strcmp(c, "undo")) do_undo(a, false);
-    else if (!strcmp(c, "redo")) do_undo(a, true);
-    else if (!strcmp(c, "save") && nt == 2) do_save(a, tok[1]);
-    else if (!strcmp(c, "export") && nt == 2) do_export(a, tok[1]);
+        sv_layer(a, l, !strcmp(tok[2], "hide"));
+    } else if (!strcmp(c, "add") && nt == 2) sv_add(a, tok[1]);
+    else if (!strcmp(c, "open") && nt == 2) sv_open(a, tok[1]);
+    else if (!strcmp(c, "undo")) sv_undo(a, false);
+    else if (!strcmp(c, "redo")) sv_undo(a, true);
+    else if (!strcmp(c, "save") && nt == 2) sv_save(a, tok[1]);
+    else if (!strcmp(c, "export") && nt == 2) sv_export(a, tok[1]);
     else if (!strcmp(c, "screenshot") && nt == 2) {
         snprintf(a->shot_buf, sizeof a->shot_buf, "%s", tok[1]);
         a->shot = a->shot_buf;
     } else if (!strcmp(c, "wait") && nt == 2) {
         if (!vx_tool_parse_u32(tok[1], &a->wait)) BAD();
+    } else if (!strcmp(c, "anim")) {
+        uint32_t nf = vx_svo_scene_frames(&a->scene), n;
+        if (nt == 3 && !strcmp(tok[1], "frame") && vx_tool_parse_u32(tok[2], &n)) {
+            if (n >= nf) {
+                fprintf(stderr, "%s: %s:%u: no frame %u (the scene has %u)\n", vx_tool_name, a->o.script, lineno, n, nf);
+                return false;
+            }
+            sv_set_frame(a, n);
+        } else if ((nt == 2 || nt == 3) && !strcmp(tok[1], "step")) {
+            double k = 1;
+            if (nt == 3 && (!parse_doubles(tok + 2, 1, &k) || k != floor(k) || fabs(k) > 1e9)) BAD();
+            int64_t f = ((int64_t)a->anim_frame + (int64_t)k) % (int64_t)nf;
+            sv_set_frame(a, (uint32_t)(f < 0 ? f + nf : f));
+        } else if (nt == 2 && !strcmp(tok[1], "play")) sv_play(a, true);
+        else if (nt == 2 && !strcmp(tok[1], "pause")) sv_play(a, false);
+        else if (nt == 3 && !strcmp(tok[1], "fps") && parse_doubles(tok + 2, 1, v) && v[0] > 0 && v[0] <= 1000)
+            sv_set_fps(a, v[0]);
+        else if (nt == 3 && !strcmp(tok[1], "tick") && parse_doubles(tok + 2, 1, v) && v[0] >= 0) play(a, v[0]);
+        else BAD();
+        if (!strcmp(tok[1], "frame") || !strcmp(tok[1], "step") || !strcmp(tok[1], "tick"))
+            printf("%s: frame %u of %u\n", vx_tool_name, a->anim_frame, nf);
+    } else if (!strcmp(c, "exposure")) {
+        if (nt != 2 || !parse_doubles(tok + 1, 1, v) || fabs(v[0]) > 64) BAD();
+        a->exposure = v[0];
+    } else if (!strcmp(c, "overlay")) {
+        if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
+        a->overlay = !strcmp(tok[1], "on");
+    } else if (!strcmp(c, "panels")) {
+        if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
+        a->panels = !strcmp(tok[1], "on");
+        if (a->panels && !a->ui) sv_message(a, true, "no panels: %s", sv_panels_built() ? "none made" : "built without Dear ImGui");
+    } else if (!strcmp(c, "grab") && nt == 2) {
+        snprintf(a->grab_buf, sizeof a->grab_buf, "%s", tok[1]);
+        a->grab = a->grab_buf;
+    } else if (!strcmp(c, "click")) {
+        if (nt != 3 || !parse_doubles(tok + 1, 2, v)) BAD();
+        a->click_x = v[0], a->click_y = v[1], a->click_state = 2;
+    } else if (!strcmp(c, "voxel") || !strcmp(c, "vclick")) {
+        vvx_op op = VVX_OP_COUNT;
+        for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
+            if (!strcmp(tok[1], vvx_op_name((vvx_op)k))) op = (vvx_op)k;
+        bool cells = c[0] == 'v' && c[1] == 'o';
+        if (op == VVX_OP_COUNT || nt != (cells ? 5 : 4) || !parse_doubles(tok + 2, cells ? 3 : 2, v)) BAD();
+        if (cells) {
+            int64_t p[3];
+            for (int k = 0; k < 3; k++) {
+                if (v[k] != floor(v[k]) || fabs(v[k]) > 1e8) BAD();
+                p[k] = (int64_t)v[k];
+            }
+            if (!sv_voxels(a, op, p)) return false;
+        } else {
+            a->pick_x = v[0], a->pick_y = v[1], a->pick_pending = true, a->pick_op = (int)op;
+        }
+    } else if (!strcmp(c, "brush")) {
+        vvx_shape sh;
+        if (nt < 2 || nt > 3 || !vvx_shape_parse(tok[1], &sh) || (nt == 3 && !parse_doubles(tok + 2, 1, v)) ||
+            (nt == 3 && (v[0] != floor(v[0]) || v[0] < 0 || v[0] > VVX_MAX_RADIUS)))
+            BAD();
+        a->brush.shape = sh;
+        if (nt == 3) a->brush.radius = (uint32_t)v[0];
+    } else if (!strcmp(c, "color")) {
+        uint32_t idx;
+        unsigned rgb;
+        char extra;
+        if (nt == 2 && tok[1][0] == '#' && strlen(tok[1]) == 7 && sscanf(tok[1] + 1, "%6x%c", &rgb, &extra) == 1) {
+            if (!sv_brush_rgba(a, 0xFF000000u | ((rgb >> 16) & 0xFF) | (rgb & 0xFF00) | ((rgb & 0xFF) << 16))) return false;
+        } else if (nt == 2 && vx_tool_parse_u32(tok[1], &idx) && idx >= 1 && idx <= 255) {
+            if (!sv_brush_palette(a, idx)) return false;
+        } else BAD();
+    } else if (!strcmp(c, "light")) {
+        uint32_t l;
+        if (nt < 4 || !vx_tool_parse_u32(tok[1], &l)) BAD();
+        if (l >= a->scene.light_count) {
+            fprintf(stderr, "%s: %s:%u: no light %u (the scene has %u)\n", vx_tool_name, a->o.script, lineno, l,
+                    a->scene.light_count);
+            return false;
+        }
+        vx_light t = a->scene.lights[l];
+        const char* f = tok[2];
+        if (!strcmp(f, "color") && nt == 6 && parse_doubles(tok + 3, 3, v)) memcpy(t.color, v, sizeof t.color);
+        else if (!strcmp(f, "position") && nt == 6 && parse_doubles(tok + 3, 3, v)) memcpy(t.position, v, sizeof t.position);
+        else if (!strcmp(f, "intensity") && nt == 4 && parse_doubles(tok + 3, 1, v)) t.intensity = v[0];
+        else if (!strcmp(f, "range") && nt == 4 && parse_doubles(tok + 3, 1, v)) t.range = v[0];
+        else BAD();
+        vx_error lerr = {0};
+        if (vx_light_validate(&t, l, &lerr)) {
+            fprintf(stderr, "%s: %s:%u: %s\n", vx_tool_name, a->o.script, lineno, lerr.msg);
+            return false;
+        }
+        a->scene.lights[l] = t;
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
@@ -1262,9 +1494,11 @@ static void log_cb(void* user, vx_log_level level, const char* id, const char* m
 
 static int run(app* a) {
     vx_error err = {0};
-    double last = glfwGetTime();
+    double last = glfwGetTime(), last_play = last;
     double* bench = a->o.bench ? calloc(a->o.bench, sizeof *bench) : NULL;
     double* bench_trace = a->o.bench ? calloc(a->o.bench, sizeof *bench_trace) : NULL;
+    double* bench_switch = a->o.bench ? calloc(a->o.bench, sizeof *bench_switch) : NULL;
+    if (a->o.bench && (!bench || !bench_trace || !bench_switch)) a->quit = true, a->status = 1;
     uint32_t frames = 0;
     GLFWwindow* w = vp_window(a->p);
     if (a->o.screenshot) a->shot = a->o.screenshot;
@@ -1273,11 +1507,22 @@ static int run(app* a) {
         double now = glfwGetTime();
         fly(a, fmin(now - last, 0.25));
         last = now;
-        if (a->lines && !a->pick_pending) {
+        if (a->click_state == 1) { /* a scripted panel click: released one frame after the press */
+            sv_panels_button(a, 0, false);
+            a->click_state = 0;
+        } else if (a->click_state == 2) {
+            sv_panels_mouse(a, a->click_x, a->click_y);
+            sv_panels_button(a, 0, true);
+            a->click_state = 1;
+        }
+        play(a, fmin(now - last_play, 0.25));
+        last_play = now;
+        if (a->lines && !a->pick_pending && !a->click_state) {
             if (a->wait) a->wait--;
             else {
                 /* commands up to the next one that needs a frame (pick, screenshot, wait) */
-                while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait) {
+                while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait &&
+                       !a->grab && !a->click_state) {
                     uint32_t ln = a->line_pos++;
                     if (!run_command(a, a->lines[ln], ln + 1)) {
                         a->status = 1;
@@ -1285,9 +1530,14 @@ static int run(app* a) {
                     }
                 }
             }
-            if (a->quit && !a->shot && !a->pick_pending) break;
+            if (a->quit && !a->shot && !a->pick_pending && !a->grab && !a->click_state) break;
         }
         double t0 = vx_time_now();
+        if (a->o.bench && vx_svo_scene_frames(&a->scene) > 1) {
+            /* an animation plays, one frame per bench frame: the frame switch is in the time */
+            sv_set_frame(a, (a->anim_frame + 1) % vx_svo_scene_frames(&a->scene));
+            bench_switch[frames] = a->switch_ms;
+        }
         vx_result r = frame(a, &err);
         if (r) {
             fprintf(stderr, "%s: %s\n", vx_tool_name, err.msg);
@@ -1307,11 +1557,18 @@ static int run(app* a) {
         uint32_t fw = a->o.width, fh = a->o.height;
         if (!fw) vp_frame_size(a->p, &fw, &fh);
         printf("%s: %u frames %ux%u mode %s on %s: median frame %.3f ms, median trace %.3f ms (GPU timestamps)\n",
-               vx_tool_name, frames, fw, fh, mode_name(a), vx_gpu_device_name(a->gpu),
+               vx_tool_name, frames, fw, fh, sv_mode_name(a), vx_gpu_device_name(a->gpu),
                bench[frames / 2], bench_trace[frames / 2]);
+        if (vx_svo_scene_frames(&a->scene) > 1) {
+            qsort(bench_switch, frames, sizeof *bench_switch, cmp_double);
+            printf("%s: animation of %u frames played, one per bench frame: median frame switch %.3f ms "
+                   "(instance tables and BVH; no model upload)\n",
+                   vx_tool_name, vx_svo_scene_frames(&a->scene), bench_switch[frames / 2]);
+        }
     }
     free(bench);
     free(bench_trace);
+    free(bench_switch);
     return a->status;
 }
 
@@ -1322,13 +1579,15 @@ int main(int argc, char** argv) {
     vx_budget_init(&a.budget, a.o.conv.max_memory, NULL);
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
+    a.sel_light = NO_SEL;
+    a.pick_op = -1;
     a.mode = a.o.mode;
     a.gi = a.o.gi;
     a.pmode = a.o.pmode;
     a.overlay = true;
     vx_pass_list_parse(a.o.passes, &a.passes, NULL); /* checked by parse() */
     if (a.o.verbose)
-        printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, mode_name(&a), a.o.fov,
+        printf("%s %s --mode %s --fov %g%s%s%s%s\n", vx_tool_name, a.o.in, sv_mode_name(&a), a.o.fov,
                a.o.screenshot ? " --screenshot " : "", a.o.screenshot ? a.o.screenshot : "",
                a.o.script ? " --script " : "", a.o.script ? a.o.script : "");
     if (a.o.script && load_script(&a)) return 1;
@@ -1345,6 +1604,7 @@ int main(int argc, char** argv) {
         return vx_tool_errorf("%s", err.msg); /* the message names the file */
     }
     ved_init(&a.ed, &a.scene);
+    a.fps = a.o.fps > 0 ? a.o.fps : a.scene.frame_rate > 0 ? a.scene.frame_rate : SV_FPS_DEFAULT;
     int status = 1;
     char title[512];
     snprintf(title, sizeof title, "svo_view - %s", a.o.in);
@@ -1369,15 +1629,18 @@ int main(int argc, char** argv) {
     glfwSetCursorPosCallback(w, cursor_cb);
     glfwSetScrollCallback(w, scroll_cb);
     glfwSetDropCallback(w, drop_cb);
+    glfwSetCharCallback(w, char_cb);
     glfwGetCursorPos(w, &a.mouse_x, &a.mouse_y);
+    if (!a.o.screenshot && !a.o.bench && !a.o.no_panels) a.panels = sv_panels_create(&a);
     camera_default(&a);
-    rebuild(&a);
+    sv_rebuild(&a);
     if (!a.rs && (a.o.screenshot || a.o.bench)) goto done; /* the message names the problem */
     if (a.o.verbose)
         printf("%s: %s: %u models, %u instances (load %.1f ms, scene upload %.1f ms) on %s\n", vx_tool_name, a.o.in,
                a.scene.model_count, a.scene.instance_count, t_load * 1e3, a.update_ms, vx_gpu_device_name(a.gpu));
     status = run(&a);
 done:
+    sv_panels_destroy(&a);
     vx_render_image_free(&a.img);
     vx_probe_gpu_destroy(a.probes_gpu);
     drop_passes(&a);

@@ -1,0 +1,166 @@
+/* tools/svo_view/app.h - svo_view's state and the actions its keys, script
+ * commands and panels share (main.c implements them; panels.c draws the
+ * panels with them). */
+#ifndef VX_SVO_VIEW_APP_H
+#define VX_SVO_VIEW_APP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "probes/probes.h"
+#include "render/pipeline.h"
+#include "render/render.h"
+#include "tools/common/conv.h"
+#include "tools/svo_view/editor.h"
+#include "tools/svo_view/present.h"
+#include "tools/svo_view/voxels.h"
+
+#define NO_SEL UINT32_MAX
+#define SV_HISTORY 120     /* frames the statistics panel keeps */
+#define SV_FPS_DEFAULT 24.0 /* an animation whose file has no frame rate */
+
+typedef struct options {
+    const char* in;
+    const char* screenshot;
+    const char* script;
+    const char* save;       /* Ctrl+S target (default: IN with .svo replaced by .edited.svo) */
+    uint32_t width, height; /* render size; 0 == the window's framebuffer */
+    uint32_t win_w, win_h;
+    vx_render_mode mode;
+    bool gi;            /* --mode gi|lightfield: a probe mode (needs probes) */
+    vx_probe_render_mode pmode;
+    const char* probes; /* light field probes from svo_bake */
+    const char* passes; /* the colour mode's pass list (render/pipeline.h) */
+    double fov;
+    const char* device;
+    bool validate, vsync, verbose, hidden;
+    uint32_t bench;
+    double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
+    bool no_panels; /* the text overlay instead of the panels */
+    vx_tool_conv conv; /* converter options, as vox2svo has them */
+} options;
+
+typedef struct app {
+    options o;
+    vx_budget budget; /* --max-memory: scenes the viewer loads come from it */
+    vp* p;
+    vx_gpu* gpu;
+    vx_render_scene* rs;
+    vx_svo_scene scene;
+    ved ed;
+    /* camera: eye + yaw/pitch (z up); default: svo_render's framing */
+    bool cam_default;
+    double eye[3], yaw, pitch, speed;
+    bool orbit;
+    double orbit_center[3], orbit_dist;
+    vx_render_mode mode;
+    bool gi; /* a probe mode (gi, lightfield): replaces `mode` while probes are loaded */
+    vx_probe_render_mode pmode;
+    bool overlay;
+    /* light field probes (mode gi); nothing of them is touched while none are loaded */
+    vx_probe_set probes;
+    vx_probe_gpu* probes_gpu; /* their maps on the GPU for rs (made at the first probe frame) */
+    /* the colour mode's pass pipeline over rs, its gi method (made at the first frame that needs it) */
+    vx_frame_renderer* fr;
+    vx_pass_list passes;
+    vx_probe_gi* pgi;
+    vx_gi_method gm;
+    vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
+    uint32_t timing_count;
+    double passes_ms;
+    bool have_probes;
+    char probes_path[1024];
+    uint32_t validation_errors;
+    uint32_t sel;
+    /* pending editor operation: 'g' grab, 'r' rotate, 'm' mirror, 'l' layer */
+    char op;
+    int op_axis;
+    int32_t grab_moved;
+    double grab_px;
+    bool pick_pending;
+    int pick_op; /* -1: a click selects; else the vvx_op a click in voxel mode applies */
+    double pick_x, pick_y;
+    char msg[256];
+    double msg_until;
+    bool msg_error;
+    double frame_ms[64];
+    /* statistics panel: the per-pass GPU times of the last SV_HISTORY frames */
+    float hist[SV_HISTORY][VX_PASS_KIND_COUNT + 1];
+    const char* hist_names[VX_PASS_KIND_COUNT + 1];
+    uint32_t hist_layers, hist_n;
+    double exposure; /* the tonemap pass's stops (render panel, script `exposure`) */
+    /* animation: the frame shown, playback (play/pause/step/scrub/fps) */
+    uint32_t anim_frame;
+    bool playing;
+    double fps, play_clock;
+    double switch_ms; /* the last frame switch (vx_render_scene_set_frame) */
+    /* voxel editing: a click adds (Shift: removes, Alt: paints) with the brush */
+    bool voxel_mode;
+    vvx_brush brush;
+    double pick_rgb[3]; /* the panel's colour picker, taken by its button */
+    /* panels (NULL without ImGui or when off) */
+    struct ui* ui;
+    bool panels;
+    double ui_time; /* glfwGetTime() of the last panel frame */
+    uint32_t sel_light;
+    int click_state; /* a scripted click: 2 press, 1 release */
+    double click_x, click_y;
+    const char* grab; /* save the displayed frame (panels included) */
+    char grab_buf[1024];
+    uint32_t frame_n;
+    double trace_ms, rays_per_s, update_ms;
+    bool quit;
+    int status;
+    /* script */
+    char** lines;
+    uint32_t line_count, line_pos, wait;
+    /* frame */
+    uint8_t* px8;
+    size_t px8_cap;
+    vx_render_image img;
+    const char* shot;
+    char shot_buf[1024];
+    uint32_t shot_counter;
+    double mouse_x, mouse_y;
+    bool rmb, lmb;
+} app;
+
+void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
+const char* sv_mode_name(const app* a);
+/* Recreates the render scene from a->scene (after an edit), at the frame shown. */
+void sv_rebuild(app* a);
+/* An edit: sv_edit_begin snapshots for undo (false: nothing selected when
+ * needs_sel, or out of memory, with a message); sv_edit_end rebuilds. */
+bool sv_edit_begin(app* a, bool needs_sel);
+void sv_edit_end(app* a, const char* what);
+void sv_open(app* a, const char* path);
+void sv_add(app* a, const char* path);
+void sv_save(app* a, const char* path);
+void sv_export(app* a, const char* path);
+void sv_probes(app* a, const char* path);
+void sv_frame_camera(app* a);
+void sv_select(app* a, uint32_t instance); /* NO_SEL: none */
+void sv_move(app* a, const int32_t d[3]);
+void sv_rotate(app* a, int axis, int turns);
+void sv_mirror(app* a, int axis);
+void sv_duplicate(app* a);
+void sv_delete(app* a);
+void sv_hide(app* a, bool hide); /* hide the selection, or show every instance */
+void sv_hide_instance(app* a, uint32_t i, bool hide);
+void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */);
+void sv_undo(app* a, bool redo);
+bool sv_set_passes(app* a, const char* list);
+void sv_set_probe_mode(app* a, vx_probe_render_mode m);
+/* Animation: shows frame f (no model upload), play/pause, frames per second. */
+void sv_set_frame(app* a, uint32_t f);
+void sv_play(app* a, bool play);
+void sv_set_fps(app* a, double fps);
+/* The brush colour: a palette entry (false with a message when the file has
+ * it empty), or an RGBA8 colour (palette models: the entry of that colour,
+ * else the first empty entry takes it). */
+bool sv_brush_palette(app* a, uint32_t index);
+bool sv_brush_rgba(app* a, uint32_t rgba);
+/* Voxel edit with the brush at model cell c of the selected instance's model. */
+bool sv_voxels(app* a, vvx_op op, const int64_t c[3]);
+
+#endif

@@ -1,0 +1,306 @@
+/* tools/svo_view/panels.c - svo_view's panels (see panels.h), C over ui.h. */
+#include "tools/svo_view/panels.h"
+
+#include <GLFW/glfw3.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tools/svo_view/ui.h"
+
+static const char* const light_types[VX_LIGHT_TYPE_COUNT] = {"directional", "point", "spot", "sphere", "rect"};
+static const char* const gi_methods[] = {"none", "probes", "lightfield", "pathtrace"};
+#define GI_METHODS ((int)(sizeof gi_methods / sizeof gi_methods[0]))
+/* pass colours of the statistics bars, by timing row */
+static const uint32_t bar_colours[] = {0x4FA3F2u, 0x5CD65Cu, 0x3FC8F0u, 0xE0709Au, 0x4A7CE8u, 0xC0C040u, 0xA070E0u, 0x80B0B0u};
+
+bool sv_panels_built(void) { return true; }
+
+bool sv_panels_create(app* a) {
+    a->ui = ui_create();
+    if (!a->ui) sv_message(a, true, "panels: out of memory");
+    return a->ui != NULL;
+}
+
+void sv_panels_destroy(app* a) {
+    ui_destroy(a->ui);
+    a->ui = NULL;
+}
+
+void sv_panels_mouse(app* a, double x, double y) {
+    if (a->ui) ui_mouse(a->ui, x, y);
+}
+void sv_panels_button(app* a, int button, bool down) {
+    if (a->ui) ui_mouse_button(a->ui, button, down);
+}
+void sv_panels_wheel(app* a, double dy) {
+    if (a->ui) ui_wheel(a->ui, dy);
+}
+void sv_panels_key(app* a, int key, bool down, int mods) {
+    if (a->ui)
+        ui_key(a->ui, key, down, mods & GLFW_MOD_CONTROL, mods & GLFW_MOD_SHIFT, mods & GLFW_MOD_ALT);
+}
+void sv_panels_char(app* a, unsigned int c) {
+    if (a->ui) ui_char(a->ui, c);
+}
+bool sv_panels_wants_mouse(const app* a) { return a->ui && a->panels && ui_wants_mouse(a->ui); }
+bool sv_panels_wants_keyboard(const app* a) { return a->ui && a->panels && ui_wants_keyboard(a->ui); }
+
+/* ---- outliner --------------------------------------------------------------------------- */
+
+static void outliner(app* a) {
+    vx_svo_scene* s = &a->scene;
+    const vx_svo_instance* fr = vx_svo_scene_frame_instances(s, a->anim_frame);
+    char label[160];
+    if (s->layer_count && ui_collapsing("Layers", true)) {
+        for (uint32_t l = 0; l < s->layer_count; l++) {
+            bool shown = !(s->layers[l].flags & VX_SVO_LAYER_HIDDEN);
+            snprintf(label, sizeof label, "%u %s##layer%u", l, s->layers[l].name, l);
+            if (ui_checkbox(label, &shown)) sv_layer(a, l, !shown);
+        }
+    }
+    if (ui_collapsing("Instances", true)) {
+        /* a long list shows its first rows; the rest are picked in the view or by script */
+        uint32_t n = s->instance_count < 2000 ? s->instance_count : 2000;
+        for (uint32_t i = 0; i < n; i++) {
+            ui_push_id((int)i);
+            bool shown = !(fr[i].flags & VX_SVO_INSTANCE_HIDDEN);
+            if (ui_checkbox("##shown", &shown)) sv_hide_instance(a, i, !shown);
+            ui_same_line();
+            snprintf(label, sizeof label, "%u %s (model %u)", i, fr[i].name[0] ? fr[i].name : "-", fr[i].model);
+            if (ui_selectable(label, a->sel == i)) sv_select(a, a->sel == i ? NO_SEL : i);
+            ui_pop_id();
+        }
+        if (n < s->instance_count) ui_text("... %u more", s->instance_count - n);
+    }
+    if (ui_collapsing("Models", false)) {
+        for (uint32_t m = 0; m < s->model_count; m++) {
+            const vx_svo_model* md = &s->models[m];
+            uint32_t uses = 0;
+            for (uint32_t i = 0; i < s->instance_count; i++) uses += fr[i].model == m;
+            ui_text("%u: %ux%ux%u, %llu voxels, %u instance%s", m, md->size[0], md->size[1], md->size[2],
+                    (unsigned long long)md->voxel_count, uses, uses == 1 ? "" : "s");
+        }
+    }
+    if (ui_collapsing("Lights", true)) {
+        if (!s->light_count) ui_text("(none in the file)");
+        for (uint32_t l = 0; l < s->light_count; l++) {
+            snprintf(label, sizeof label, "light %u: %s##light%u", l,
+                     (unsigned)s->lights[l].type < VX_LIGHT_TYPE_COUNT ? light_types[s->lights[l].type] : "?", l);
+            if (ui_selectable(label, a->sel_light == l)) a->sel_light = a->sel_light == l ? NO_SEL : l;
+        }
+    }
+}
+
+/* ---- properties ------------------------------------------------------------------------- */
+
+static void brush_panel(app* a) {
+    vx_svo_scene* s = &a->scene;
+    ui_checkbox("voxel mode (B)", &a->voxel_mode);
+    ui_text("click: add  Shift: remove  Alt: paint");
+    static const char* const shapes[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere"};
+    int shape = (int)a->brush.shape, radius = (int)a->brush.radius;
+    if (ui_combo("brush", &shape, shapes, VVX_SHAPE_COUNT)) a->brush.shape = (vvx_shape)shape;
+    if (a->brush.shape != VVX_VOXEL && ui_slider_int("radius", &radius, 0, 16)) a->brush.radius = (uint32_t)radius;
+    if (s->has_palette) {
+        ui_text("palette: %u", a->brush.palette ? a->brush.palette : 1);
+        for (int i = 1; i < 256; i++) {
+            char id[16];
+            snprintf(id, sizeof id, "##pal%d", i);
+            if ((i - 1) % 16) ui_same_line();
+            uint8_t cur = a->brush.palette ? a->brush.palette : 1;
+            /* empty entries (a .svo keeps the used ones) show black; the colour below fills one */
+            if (ui_swatch(id, s->palette[i], cur == i, 12) && s->palette[i]) sv_brush_palette(a, (uint32_t)i);
+        }
+    }
+    /* a colour is taken on the button, not while dragging (each new colour
+     * fills an empty palette entry) */
+    ui_color3("##pick", a->pick_rgb);
+    ui_same_line();
+    if (ui_button("use colour")) {
+        uint32_t v = 0xFF000000u;
+        for (int k = 0; k < 3; k++) {
+            double x = a->pick_rgb[k] < 0 ? 0 : a->pick_rgb[k] > 1 ? 1 : a->pick_rgb[k];
+            v |= (uint32_t)(x * 255 + 0.5) << (8 * k);
+        }
+        sv_brush_rgba(a, v);
+    }
+    uint32_t c = a->brush.rgba ? a->brush.rgba : 0xFFFFFFFFu;
+    ui_text("brush colour #%02X%02X%02X", c & 0xFF, (c >> 8) & 0xFF, (c >> 16) & 0xFF);
+    if (ui_button("undo")) sv_undo(a, false);
+    ui_same_line();
+    if (ui_button("redo")) sv_undo(a, true);
+}
+
+static void instance_props(app* a) {
+    const vx_svo_instance* in = vx_svo_scene_frame_instances(&a->scene, a->anim_frame) + a->sel;
+    ui_text("instance %u '%s', model %u", a->sel, in->name, in->model);
+    if (in->layer < a->scene.layer_count) ui_text("layer %u '%s'", in->layer, a->scene.layers[in->layer].name);
+    int32_t t[3] = {(int32_t)in->xform[3], (int32_t)in->xform[7], (int32_t)in->xform[11]};
+    int32_t t0[3] = {t[0], t[1], t[2]};
+    if (ui_input_int3("position (cells, Enter)", t)) {
+        int32_t d[3] = {t[0] - t0[0], t[1] - t0[1], t[2] - t0[2]};
+        if (d[0] || d[1] || d[2]) sv_move(a, d);
+    }
+    ui_text("linear part: %g %g %g | %g %g %g | %g %g %g", in->xform[0], in->xform[1], in->xform[2], in->xform[4],
+            in->xform[5], in->xform[6], in->xform[8], in->xform[9], in->xform[10]);
+    static const char* const rot[3][2] = {{"turn X+", "turn X-"}, {"turn Y+", "turn Y-"}, {"turn Z+", "turn Z-"}};
+    static const char* const mir[3] = {"mirror X", "mirror Y", "mirror Z"};
+    for (int k = 0; k < 3; k++) {
+        if (ui_button(rot[k][0])) sv_rotate(a, k, 1);
+        ui_same_line();
+        if (ui_button(rot[k][1])) sv_rotate(a, k, -1);
+        ui_same_line();
+        if (ui_button(mir[k])) sv_mirror(a, k);
+    }
+    if (ui_button("duplicate")) sv_duplicate(a);
+    ui_same_line();
+    if (ui_button("delete")) sv_delete(a);
+    ui_same_line();
+    if (ui_button("hide")) sv_hide(a, true);
+    ui_same_line();
+    if (ui_button("frame")) sv_frame_camera(a);
+}
+
+static void light_props(app* a) {
+    vx_light* l = &a->scene.lights[a->sel_light];
+    vx_light before = *l;
+    ui_text("light %u", a->sel_light);
+    int type = (int)l->type;
+    if (ui_combo("type", &type, light_types, VX_LIGHT_TYPE_COUNT)) l->type = (vx_light_type)type;
+    ui_color3("colour", l->color);
+    ui_drag_double("intensity", &l->intensity, 0.05, 0, 1e9);
+    if (l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT) ui_drag_double("range (0: none)", &l->range, 0.1, 0, 1e9);
+    if (l->type != VX_LIGHT_DIRECTIONAL) ui_drag_double3("position", l->position, 0.1);
+    if (l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT || l->type == VX_LIGHT_SPHERE)
+        ui_drag_double("radius", &l->radius, 0.01, 0, 1e9);
+    /* an edit that breaks the light's rules (vx_light_validate) is taken back */
+    vx_error err = {0};
+    if (memcmp(&before, l, sizeof before) && vx_light_validate(l, a->sel_light, &err)) {
+        *l = before;
+        sv_message(a, true, "%s", err.msg);
+    }
+}
+
+/* ---- render and statistics -------------------------------------------------------------- */
+
+static void render_panel(app* a) {
+    static const char* const modes[VX_RENDER_MODE_NUM] = {"color", "albedo", "normal", "depth", "instance", "iterations"};
+    int mode = a->gi ? -1 : (int)a->mode;
+    if (a->gi) ui_text("mode %s (probes)", sv_mode_name(a));
+    if (ui_combo("mode", &mode, modes, VX_RENDER_MODE_NUM) && mode >= 0) a->mode = (vx_render_mode)mode, a->gi = false;
+    ui_text("passes (colour mode):");
+    bool on[VX_PASS_KIND_COUNT];
+    for (int k = 0; k < VX_PASS_KIND_COUNT; k++) on[k] = vx_pass_list_has(&a->passes, (vx_pass_kind)k);
+    int gi = 0;
+    for (int m = 1; m < GI_METHODS; m++)
+        if (on[VX_PASS_GI] && !strcmp(a->passes.gi, gi_methods[m])) gi = m;
+    bool changed = false;
+    for (int k = 0; k < VX_PASS_KIND_COUNT; k++) {
+        if (k == VX_PASS_GI) continue; /* the GI combo below */
+        if (k % 3) ui_same_line();
+        changed |= ui_checkbox(vx_pass_name((vx_pass_kind)k), &on[k]);
+    }
+    changed |= ui_combo("GI method", &gi, gi_methods, GI_METHODS);
+    if (changed) {
+        /* the list in the only order passes may take (render/pipeline.h) */
+        char list[200] = "";
+        size_t at = 0;
+        for (int k = 0; k < VX_PASS_KIND_COUNT && at < sizeof list; k++) {
+            if (k == VX_PASS_GI ? gi == 0 : !on[k]) continue;
+            at += (size_t)snprintf(list + at, sizeof list - at, "%s%s%s%s", at ? "," : "", vx_pass_name((vx_pass_kind)k),
+                                   k == VX_PASS_GI ? "=" : "", k == VX_PASS_GI ? gi_methods[gi] : "");
+        }
+        if (sv_set_passes(a, list)) a->mode = VX_RENDER_COLOR, a->gi = false;
+    }
+    ui_drag_double("exposure (stops, tonemap)", &a->exposure, 0.05, -16, 16);
+    bool vs = vp_vsync(a->p);
+    if (ui_checkbox("vsync", &vs)) vp_set_vsync(a->p, vs);
+}
+
+static void stats_panel(app* a) {
+    double med = 0;
+    uint32_t n = a->frame_n < 64 ? a->frame_n : 64;
+    for (uint32_t i = 0; i < n; i++) med += a->frame_ms[i];
+    med = n ? med / n : 0;
+    ui_text("%s%s", vx_gpu_device_name(a->gpu), vx_gpu_is_cpu(a->gpu) ? " (software)" : "");
+    ui_text("frame %.2f ms (%.1f FPS), trace %.2f ms GPU", med, med > 0 ? 1000 / med : 0.0, a->trace_ms);
+    ui_text("%.2f Mrays/s, last scene update %.2f ms", a->rays_per_s * 1e-6, a->update_ms);
+    uint64_t bytes = 0, voxels = 0;
+    for (uint32_t m = 0; m < a->scene.model_count; m++) {
+        const vx_svo_model* md = &a->scene.models[m];
+        size_t rec = ((md->attrs & VX_ATTR_PALETTE) ? 1 : 0) + ((md->attrs & VX_ATTR_RGBA8) ? 4 : 0) +
+                     ((md->attrs & VX_ATTR_NORMAL) ? 4 : 0) + ((md->attrs & VX_ATTR_MATERIAL) ? 2 : 0) +
+                     ((md->attrs & VX_ATTR_DENSITY) ? 4 : 0);
+        bytes += (uint64_t)md->node_count * 4 + (uint64_t)md->attr_count * rec;
+        voxels += md->voxel_count;
+    }
+    ui_text("models: %.2f MB octrees (%llu voxels), frame %.2f MB", bytes / 1048576.0, (unsigned long long)voxels,
+            (double)a->px8_cap / 1048576.0);
+    if (!a->hist_n || a->gi || a->mode != VX_RENDER_COLOR) {
+        ui_text("(per-pass times: the colour mode's passes)");
+        return;
+    }
+    float top = 0;
+    for (uint32_t f = 0; f < a->hist_n; f++) {
+        float sum = 0;
+        for (uint32_t l = 0; l < a->hist_layers; l++) sum += a->hist[f][l];
+        top = sum > top ? sum : top;
+    }
+    ui_text("GPU ms per pass, last %u frames (top %.2f ms):", a->hist_n, top);
+    int nc = (int)(sizeof bar_colours / sizeof bar_colours[0]);
+    ui_stacked_bars(&a->hist[0][0], (int)a->hist_n, (int)a->hist_layers, VX_PASS_KIND_COUNT + 1, bar_colours, nc, top, 60);
+    for (uint32_t l = 0; l < a->hist_layers; l++) {
+        char t[96];
+        snprintf(t, sizeof t, "%s %.2f ms", a->hist_names[l], a->hist[a->hist_n - 1][l]);
+        ui_legend(bar_colours[l % (uint32_t)nc], t);
+    }
+}
+
+static void anim_panel(app* a) {
+    uint32_t nf = vx_svo_scene_frames(&a->scene);
+    ui_text("frame %u of %u (0..%u)", a->anim_frame, nf, nf - 1);
+    if (ui_button("|<")) sv_set_frame(a, 0);
+    ui_same_line();
+    if (ui_button("<")) sv_set_frame(a, (a->anim_frame + nf - 1) % nf);
+    ui_same_line();
+    if (ui_button(a->playing ? "pause" : "play")) sv_play(a, !a->playing);
+    ui_same_line();
+    if (ui_button(">")) sv_set_frame(a, (a->anim_frame + 1) % nf);
+    ui_same_line();
+    if (ui_button(">|")) sv_set_frame(a, nf - 1);
+    int f = (int)a->anim_frame;
+    if (ui_slider_int("scrub", &f, 0, (int)nf - 1)) sv_set_frame(a, (uint32_t)f);
+    double fps = a->fps;
+    if (ui_drag_double("frames/s", &fps, 0.1, 0.1, 240)) sv_set_fps(a, fps);
+    ui_text("file rate %g, frame switch %.2f ms (no upload)", a->scene.frame_rate, a->switch_ms);
+}
+
+void sv_panels_draw(app* a, vf_canvas* cv) {
+    if (!a->ui) return;
+    double now = glfwGetTime(), dt = a->ui_time > 0 ? now - a->ui_time : 1.0 / 60;
+    a->ui_time = now;
+    ui_frame_begin(a->ui, cv->width, cv->height, dt);
+    float W = (float)cv->width, H = (float)cv->height, lw = 300, rw = 330;
+    if (ui_window_begin("Outliner", 0, 0, lw, H * 0.45f)) outliner(a);
+    ui_window_end();
+    if (ui_window_begin("Properties", 0, H * 0.45f, lw, H * 0.55f)) {
+        if (a->sel != NO_SEL && a->sel < a->scene.instance_count) instance_props(a);
+        else ui_text("select an instance (click, or the outliner)");
+        if (a->sel_light != NO_SEL && a->sel_light < a->scene.light_count) {
+            ui_separator();
+            light_props(a);
+        }
+        ui_separator();
+        if (ui_collapsing("Voxel editing", a->voxel_mode)) brush_panel(a);
+    }
+    ui_window_end();
+    if (ui_window_begin("Render", W - rw, 0, rw, H * 0.3f)) render_panel(a);
+    ui_window_end();
+    if (ui_window_begin("Statistics", W - rw, H * 0.3f, rw, H * 0.4f)) stats_panel(a);
+    ui_window_end();
+    if (vx_svo_scene_frames(&a->scene) > 1) {
+        if (ui_window_begin("Animation", W - rw, H * 0.7f, rw, H * 0.3f)) anim_panel(a);
+        ui_window_end();
+    }
+    ui_frame_end(a->ui, cv);
+}

@@ -1,0 +1,89 @@
+/* tools/svo_view/ui.h - the C face of Dear ImGui for svo_view's panels.
+ *
+ * A thin shim (ui.cpp, the only C++ of the viewer): one context, input fed
+ * by the viewer's GLFW callbacks in frame pixels, the widgets the panels use
+ * as C functions, and the frame's draw lists rasterized on the CPU into the
+ * 8-bit frame (font.h vf_triangles) before it goes to the swapchain. The
+ * CPU path keeps the viewer's one presentation path (the tracer's image is
+ * read back on every device, lavapipe under Xvfb included), and a grab of
+ * the displayed frame holds the panels. Debian's libimgui.a also carries the
+ * GLFW and Vulkan backends; they are not used: the Vulkan one wants a render
+ * pass over the swapchain image, which the copy-based presenter does not
+ * have, and the GLFW one reads the cursor itself where scripts inject it.
+ *
+ * Widgets work between ui_frame_begin and ui_frame_end as ImGui's do (ids
+ * from labels, "##" hides the rest of a label); they return true when the
+ * user changed the value or pressed the button.
+ *
+ * Built only with ImGui (CMake VX_WITH_IMGUI); without it svo_view has no
+ * panels (panels.h says so at run time). */
+#ifndef VX_SVO_VIEW_UI_H
+#define VX_SVO_VIEW_UI_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "tools/svo_view/font.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct ui ui;
+
+/* NULL when out of memory. */
+ui* ui_create(void);
+void ui_destroy(ui* u);
+
+/* Input in frame pixels (the canvas the panels are drawn on). */
+void ui_mouse(ui* u, double x, double y);
+void ui_mouse_button(ui* u, int button, bool down); /* 0 left, 1 right, 2 middle */
+void ui_wheel(ui* u, double dy);
+void ui_key(ui* u, int glfw_key, bool down, bool ctrl, bool shift, bool alt);
+void ui_char(ui* u, unsigned int codepoint);
+/* Whether the panels took the mouse / keyboard in the last frame (the
+ * viewer then neither picks nor handles its keys). */
+bool ui_wants_mouse(const ui* u);
+bool ui_wants_keyboard(const ui* u);
+
+void ui_frame_begin(ui* u, uint32_t width, uint32_t height, double dt_seconds);
+/* Ends the frame and draws it over cv. */
+void ui_frame_end(ui* u, vf_canvas* cv);
+
+/* ---- widgets ---- */
+/* A window placed at (x, y) with size (w, h) the first time it appears;
+ * false when collapsed (still call ui_window_end). */
+bool ui_window_begin(const char* title, float x, float y, float w, float h);
+void ui_window_end(void);
+bool ui_collapsing(const char* label, bool default_open);
+bool ui_tree_begin(const char* label, bool default_open); /* true: call ui_tree_end */
+void ui_tree_end(void);
+void ui_text(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+void ui_separator(void);
+void ui_same_line(void);
+void ui_push_id(int id);
+void ui_pop_id(void);
+bool ui_button(const char* label);
+bool ui_checkbox(const char* label, bool* v);
+bool ui_selectable(const char* label, bool selected);
+bool ui_combo(const char* label, int* current, const char* const* items, int count);
+/* Three integers, reported when Enter is pressed in a field. */
+bool ui_input_int3(const char* label, int32_t v[3]);
+bool ui_drag_double(const char* label, double* v, double speed, double min, double max);
+bool ui_drag_double3(const char* label, double v[3], double speed);
+bool ui_slider_int(const char* label, int* v, int min, int max);
+bool ui_color3(const char* label, double rgb[3]);
+/* A colour swatch (RGBA8, R low); a frame around it when selected. */
+bool ui_swatch(const char* id, uint32_t rgba, bool selected, float size);
+/* Bars of the last `count` frames, oldest first, each a stack of `layers`
+ * values (values[frame * stride + layer]) in colours[layer % colour_count],
+ * scaled so `top` fills `height` pixels. */
+void ui_stacked_bars(const float* values, int count, int layers, int stride, const uint32_t* colours, int colour_count,
+                     float top, float height);
+/* A small coloured square in the text line (a legend). */
+void ui_legend(uint32_t rgba, const char* label);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
