@@ -490,7 +490,7 @@ static void test_editor_random(void) {
     uint32_t edits = 0;
     for (int it = 0; it < VED_MAX_UNDO - 6; it++) {
         rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-        uint32_t r = (uint32_t)(rng >> 33), i = r % s.instance_count, k = (r >> 8) % 9;
+        uint32_t r = (uint32_t)(rng >> 33), i = r % s.instance_count, k = (r >> 8) % 10;
         if (k <= 2) {
             vvx_brush b = {.shape = (vvx_shape)((r >> 12) % 3), .radius = (r >> 14) % 3, .palette = (uint8_t)(1 + (r >> 16) % 200)};
             const vx_svo_model* m = &s.models[s.instances[i].model];
@@ -508,6 +508,7 @@ static void test_editor_random(void) {
         else if (k == 5) ved_mirror(&s, (r >> 3) % 3, i, (r >> 5) % 3);
         else if (k == 6 && s.instance_count < 8) ved_duplicate(&s, i, &i, NULL);
         else if (k == 7 && s.instance_count > 1) ved_delete(&s, i);
+        else if (k == 9) ved_rename(&s, i, (r >> 11) & 1 ? "renamed" : "");
         else ved_hide(&s, i, (r >> 9) & 1);
     }
     CHECK(edits > 100);
@@ -674,7 +675,7 @@ static void test_scripted_voxels(void) {
             "brush sphere 1\nvoxel remove 5 2 2\n"                 /* generated cell (3, 2, 2) */
             "brush box 2\ncolor #102030\nvoxel paint 2 0 0\n"      /* generated (0, 0, 0) */
             "brush voxel\ncolor 3\nvoxel add 9 0 0\nundo\nredo\nundo\n"
-            "anim step 2\nmove 0 3 0\nselect none\ngrab %s\nscreenshot %s\nsave %s\nquit\n",
+            "anim step 2\nmove 0 3 0\nrename walker\nselect none\ngrab %s\nscreenshot %s\nsave %s\nquit\n",
             grab, shot, out);
     fclose(f);
     int rc = run_cmd("%s %s --script %s --hidden --size 800x480 > %s 2>&1", g_view, in, script, log);
@@ -691,6 +692,8 @@ static void test_scripted_voxels(void) {
         expect_apply(&ex, 2, 1, 2, (int[3]){0, 0, 0}, 0xFF302010u);
         CHECK(got.frame_count == 3);
         CHECK(frames_diff(&got, &orig, &ex, 1, (int32_t[3]){0, 3, 0}) == 0);
+        for (uint32_t fr = 0; fr < 3 && got.instance_count == 2; fr++)
+            CHECK(!strcmp(vx_svo_scene_frame_instances(&got, fr)[1].name, "walker"));
         vx_svo_scene_free(&got);
     } else {
         CHECKF(false, "%s: %s", out, err.msg);
@@ -1006,6 +1009,75 @@ static void test_gi_mode(void) {
     free(out);
 }
 
+/* The line of `text` that starts with `prefix` (after "svo_view: "), parsed by fmt. */
+static int scan_line(const char* text, const char* prefix, const char* fmt, long long* v) {
+    const char* p = text;
+    while (p && (p = strstr(p, prefix))) {
+        int n = sscanf(p, fmt, &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]);
+        if (n == 6) return n;
+        p++;
+    }
+    return 0;
+}
+
+/* A click in voxel mode adds the cell in front of the face the pixel's ray
+ * enters: picking the same pixel afterwards hits the new cell (the tracer's
+ * own hit buffer), which was empty and is a face neighbour of the cell hit
+ * before; removing it there gives the first hit back. */
+static void test_vclick(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    char in[1024], shot[1024], script[1024], log[1024];
+    path(in, sizeof in, "gen_still.svo");
+    path(shot, sizeof shot, "vclick_shot.png");
+    path(script, sizeof script, "vclick.txt");
+    path(log, sizeof log, "vclick.log");
+    REQUIRE(vx_svo_write_file(&s, in, NULL) == VX_OK);
+    REQUIRE(run_cmd("%s %s --screenshot %s --size 160x120 --hidden > %s 2>&1", g_view, in, shot, log) == 0);
+    uint32_t bx, by;
+    REQUIRE(object_pixel(shot, &bx, &by));
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "pick %u %u\nvclick add %u %u\npick %u %u\nvclick remove %u %u\npick %u %u\nquit\n", bx, by, bx, by, bx, by,
+            bx, by, bx, by);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 160x120 > %s 2>&1", g_view, in, script, log);
+    char* out = slurp(log);
+    REQUIRE(out);
+    CHECKF(rc == 0, "status %d: %s", rc, out);
+    /* the three picks and the two edits, in order */
+    long long p0[6], add[6], p1[6], rem[6], p2[6];
+    const char* q[5];
+    q[0] = strstr(out, "pick ");
+    q[1] = q[0] ? strstr(q[0], "voxel add at") : NULL;
+    q[2] = q[1] ? strstr(q[1], "pick ") : NULL;
+    q[3] = q[2] ? strstr(q[2], "voxel remove at") : NULL;
+    q[4] = q[3] ? strstr(q[3], "pick ") : NULL;
+    bool ok = q[4] && scan_line(q[0], "pick ", "pick %lld %lld: instance %lld cell %lld %lld %lld", p0) &&
+              scan_line(q[1], "voxel add", "voxel add at %lld %lld: instance %lld cell %lld %lld %lld", add) &&
+              scan_line(q[2], "pick ", "pick %lld %lld: instance %lld cell %lld %lld %lld", p1) &&
+              scan_line(q[3], "voxel remove", "voxel remove at %lld %lld: instance %lld cell %lld %lld %lld", rem) &&
+              scan_line(q[4], "pick ", "pick %lld %lld: instance %lld cell %lld %lld %lld", p2);
+    CHECKF(ok, "picks and edits not found in:\n%s", out);
+    if (ok) {
+        /* the target: empty before, a face neighbour of the first hit */
+        long long d = llabs(add[3] - p0[3]) + llabs(add[4] - p0[4]) + llabs(add[5] - p0[5]);
+        CHECKF(d == 1 && !gen_cell(add[3], add[4], add[5]) && gen_cell(p0[3], p0[4], p0[5]),
+               "hit %lld %lld %lld, added %lld %lld %lld", p0[3], p0[4], p0[5], add[3], add[4], add[5]);
+        /* cells below 0 shifted the model's cells by the overhang */
+        long long sh[3];
+        for (int k = 0; k < 3; k++) sh[k] = add[3 + k] < 0 ? -add[3 + k] : 0;
+        CHECKF(p1[2] == p0[2] && p1[3] == add[3] + sh[0] && p1[4] == add[4] + sh[1] && p1[5] == add[5] + sh[2],
+               "after the add the pixel hits %lld %lld %lld, expected the new cell", p1[3], p1[4], p1[5]);
+        CHECK(rem[3] == p1[3] && rem[4] == p1[4] && rem[5] == p1[5]);
+        CHECKF(p2[3] == p0[3] + sh[0] && p2[4] == p0[4] + sh[1] && p2[5] == p0[5] + sh[2],
+               "after the remove the pixel hits %lld %lld %lld", p2[3], p2[4], p2[5]);
+    }
+    free(out);
+    vx_svo_scene_free(&s);
+}
+
 int main(int argc, char** argv) {
     if (argc == 2 && !strcmp(argv[1], "--editor")) { /* the leak-checked part: no window, no driver */
         RUN(test_editor_ops);
@@ -1030,6 +1102,7 @@ int main(int argc, char** argv) {
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
     RUN(test_scripted_voxels);
+    RUN(test_vclick);
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);

@@ -46,6 +46,7 @@ typedef struct app {
     vp* p;
     vx_gpu* gpu;
     vx_render_scene* rs;
+    uint32_t rs_models; /* the model count rs was made with */
     vx_svo_scene scene;
     ved ed;
     /* camera: eye + yaw/pitch (z up); default: svo_render's framing */
@@ -103,6 +104,8 @@ typedef struct app {
     bool panels;
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
+    char name_buf[64]; /* the properties panel's name field, for instance name_for */
+    uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */
     double click_x, click_y;
     const char* grab; /* save the displayed frame (panels included) */
@@ -127,10 +130,11 @@ typedef struct app {
 
 void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 const char* sv_mode_name(const app* a);
-/* Recreates the render scene from a->scene (after an edit), at the frame shown. */
+/* Recreates the render scene from a->scene (after a model edit), at the frame shown. */
 void sv_rebuild(app* a);
 /* An edit: sv_edit_begin snapshots for undo (false: nothing selected when
- * needs_sel, or out of memory, with a message); sv_edit_end rebuilds. */
+ * needs_sel, or out of memory, with a message); sv_edit_end updates the
+ * render scene (instances only, unless models were added). */
 bool sv_edit_begin(app* a, bool needs_sel);
 void sv_edit_end(app* a, const char* what);
 void sv_open(app* a, const char* path);
@@ -147,6 +151,10 @@ void sv_duplicate(app* a);
 void sv_delete(app* a);
 void sv_hide(app* a, bool hide); /* hide the selection, or show every instance */
 void sv_hide_instance(app* a, uint32_t i, bool hide);
+/* The selection's name, layer (UINT32_MAX: none) and model. */
+void sv_rename(app* a, const char* name);
+void sv_set_layer(app* a, uint32_t layer);
+void sv_set_model(app* a, uint32_t model);
 void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */);
 void sv_undo(app* a, bool redo);
 bool sv_set_passes(app* a, const char* list);

@@ -219,6 +219,22 @@ static vx_result relayout(vx_svo_scene* s, uint32_t count, const uint32_t* map, 
     return VX_OK;
 }
 
+void ved_rename(vx_svo_scene* s, uint32_t i, const char* name) {
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++) {
+        vx_svo_instance* in = ved_record(s, f, i);
+        memset(in->name, 0, sizeof in->name);
+        strncpy(in->name, name, sizeof in->name - 1);
+    }
+}
+
+void ved_set_layer(vx_svo_scene* s, uint32_t i, uint32_t layer) {
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++) ved_record(s, f, i)->layer = layer;
+}
+
+void ved_set_model(vx_svo_scene* s, uint32_t i, uint32_t model) {
+    for (uint32_t f = 0; f < vx_svo_scene_frames(s); f++) ved_record(s, f, i)->model = model;
+}
+
 vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err) {
     uint32_t n = s->instance_count;
     if (n == UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "too many instances");

@@ -81,6 +81,10 @@ void ved_rotate(vx_svo_scene* s, uint32_t f, uint32_t i, int axis, int quarter_t
 void ved_mirror(vx_svo_scene* s, uint32_t f, uint32_t i, int axis);
 /* Sets or clears instance i's hidden flag in every frame. */
 void ved_hide(vx_svo_scene* s, uint32_t i, bool hide);
+/* Instance i's name (cut to 63 bytes), layer (UINT32_MAX: none) or model, in every frame. */
+void ved_rename(vx_svo_scene* s, uint32_t i, const char* name);
+void ved_set_layer(vx_svo_scene* s, uint32_t i, uint32_t layer);
+void ved_set_model(vx_svo_scene* s, uint32_t i, uint32_t model);
 /* Appends a copy of instance i (same model, same place, in every frame); *out = its index. */
 vx_result ved_duplicate(vx_svo_scene* s, uint32_t i, uint32_t* out, vx_error* err);
 void ved_delete(vx_svo_scene* s, uint32_t i);

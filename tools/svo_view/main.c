@@ -83,7 +83,8 @@ _Noreturn static void usage(int status) {
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
             "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit |\n"
             "      anim frame N|step [K]|play|pause|fps X|tick SECONDS | exposure STOPS | panels on|off |\n"
-            "      overlay on|off (the text overlay, shown without panels) |\n"
+            "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
+            "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
             "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
             "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
@@ -311,6 +312,7 @@ static void drop_passes(app* a) {
 
 void sv_rebuild(app* a) {
     double t0 = vx_time_now();
+    a->name_for = NO_SEL; /* the panel's name field shows the name again */
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
     drop_passes(a);
@@ -323,6 +325,35 @@ void sv_rebuild(app* a) {
     else if (a->anim_frame && vx_render_scene_set_frame(a->rs, &a->scene, a->anim_frame, &err))
         sv_message(a, true, "frame %u: %s", a->anim_frame, err.msg);
     else if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+    a->rs_models = a->scene.model_count;
+    a->update_ms = (vx_time_now() - t0) * 1e3;
+}
+
+/* After an edit of instances only (the models as rs has them): the instance
+ * tables and the BVH are made again from the frame shown
+ * (vx_render_scene_set_frame, which takes any instance count); the models'
+ * node words stay on the GPU. The pass pipeline's and the probes' objects
+ * hold scene facts (bounds, cell sizes, lights): they are made again, which
+ * costs no GPU work until the next frame. */
+static void update_instances(app* a) {
+    if (!a->rs || a->scene.model_count != a->rs_models) {
+        sv_rebuild(a);
+        return;
+    }
+    double t0 = vx_time_now();
+    a->name_for = NO_SEL;
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    drop_passes(a);
+    uint32_t nf = vx_svo_scene_frames(&a->scene);
+    if (a->anim_frame >= nf) a->anim_frame = nf - 1;
+    vx_error err = {0};
+    if (vx_render_scene_set_frame(a->rs, &a->scene, a->anim_frame, &err)) {
+        sv_message(a, true, "instance update: %s", err.msg);
+        sv_rebuild(a);
+        return;
+    }
+    if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
@@ -343,7 +374,7 @@ bool sv_edit_begin(app* a, bool needs_sel) {
 }
 
 void sv_edit_end(app* a, const char* what) {
-    sv_rebuild(a);
+    update_instances(a); /* models changed: sv_rebuild */
     if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, what, a->update_ms);
 }
 
@@ -494,6 +525,32 @@ void sv_hide_instance(app* a, uint32_t i, bool hide) {
     sv_edit_end(a, hide ? "hide" : "show");
 }
 
+void sv_rename(app* a, const char* name) {
+    if (!sv_edit_begin(a, true)) return;
+    ved_rename(&a->scene, a->sel, name);
+    sv_edit_end(a, "rename");
+}
+
+void sv_set_layer(app* a, uint32_t layer) {
+    if (layer != UINT32_MAX && layer >= a->scene.layer_count) {
+        sv_message(a, true, "no layer %u (the scene has %u)", layer, a->scene.layer_count);
+        return;
+    }
+    if (!sv_edit_begin(a, true)) return;
+    ved_set_layer(&a->scene, a->sel, layer);
+    sv_edit_end(a, "layer");
+}
+
+void sv_set_model(app* a, uint32_t model) {
+    if (model >= a->scene.model_count) {
+        sv_message(a, true, "no model %u (the scene has %u)", model, a->scene.model_count);
+        return;
+    }
+    if (!sv_edit_begin(a, true)) return;
+    ved_set_model(&a->scene, a->sel, model);
+    sv_edit_end(a, "model");
+}
+
 void sv_select(app* a, uint32_t i) { a->sel = i < a->scene.instance_count ? i : NO_SEL; }
 
 void sv_move(app* a, const int32_t d[3]) {
@@ -617,7 +674,11 @@ void sv_undo(app* a, bool redo) {
         return;
     }
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
-    sv_edit_end(a, redo ? "redo" : "undo");
+    /* the step just swapped went to the other list: did it hold a model? */
+    const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
+    if (sn->has_model) sv_rebuild(a);
+    else update_instances(a);
+    if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, redo ? "redo" : "undo", a->update_ms);
 }
 
 /* ---- frames -------------------------------------------------------------------------- */
@@ -970,7 +1031,7 @@ static vx_result frame(app* a, vx_error* err) {
         } else {
             a->sel = hit == VX_RENDER_NO_HIT ? NO_SEL : hit;
             if (hit == VX_RENDER_NO_HIT) printf("%s: pick %u %u: nothing\n", vx_tool_name, x, y);
-            else printf("%s: pick %u %u: instance %u\n", vx_tool_name, x, y, hit);
+            else printf("%s: pick %u %u: instance %u cell %u %u %u\n", vx_tool_name, x, y, hit, hr.cell[0], hr.cell[1], hr.cell[2]);
         }
     }
     if (a->shot && a->img.pixels) {
@@ -1014,7 +1075,7 @@ static int axis_key(int key) { return key == GLFW_KEY_X ? 0 : key == GLFW_KEY_Y 
 static void grab_end(app* a, bool keep) {
     if (!keep) {
         ved_undo(&a->ed, NULL); /* back to the snapshot taken at G */
-        sv_rebuild(a);
+        update_instances(a);
     }
     a->op = 0;
 }
@@ -1044,7 +1105,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
                 if (shift) n *= 10;
                 edit_move(a, a->op_axis, n);
                 a->grab_moved += n;
-                sv_rebuild(a);
+                update_instances(a);
                 return;
             }
             if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) return grab_end(a, true);
@@ -1184,7 +1245,7 @@ static void cursor_cb(GLFWwindow* win, double x, double y) {
             a->grab_px -= n * 8;
             edit_move(a, a->op_axis, n);
             a->grab_moved += n;
-            sv_rebuild(a);
+            update_instances(a);
         }
     }
 }
@@ -1378,6 +1439,18 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
     } else if (!strcmp(c, "exposure")) {
         if (nt != 2 || !parse_doubles(tok + 1, 1, v) || fabs(v[0]) > 64) BAD();
         a->exposure = v[0];
+    } else if (!strcmp(c, "rename") || !strcmp(c, "setlayer") || !strcmp(c, "setmodel")) {
+        uint32_t n;
+        if (nt != 2) BAD();
+        if (a->sel == NO_SEL) {
+            sv_message(a, true, "%s:%u: nothing selected", a->o.script, lineno);
+            return false;
+        }
+        if (c[0] == 'r') sv_rename(a, tok[1]);
+        else if (!strcmp(c, "setlayer") && !strcmp(tok[1], "none")) sv_set_layer(a, UINT32_MAX);
+        else if (!vx_tool_parse_u32(tok[1], &n)) BAD();
+        else if (c[3] == 'l') sv_set_layer(a, n);
+        else sv_set_model(a, n);
     } else if (!strcmp(c, "overlay")) {
         if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
         a->overlay = !strcmp(tok[1], "on");
@@ -1580,6 +1653,7 @@ int main(int argc, char** argv) {
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
     a.sel_light = NO_SEL;
+    a.name_for = NO_SEL;
     a.pick_op = -1;
     a.mode = a.o.mode;
     a.gi = a.o.gi;

@@ -133,8 +133,30 @@ static void brush_panel(app* a) {
 
 static void instance_props(app* a) {
     const vx_svo_instance* in = vx_svo_scene_frame_instances(&a->scene, a->anim_frame) + a->sel;
-    ui_text("instance %u '%s', model %u", a->sel, in->name, in->model);
-    if (in->layer < a->scene.layer_count) ui_text("layer %u '%s'", in->layer, a->scene.layers[in->layer].name);
+    ui_text("instance %u", a->sel);
+    /* the field edits a copy; Enter renames (an undo step) */
+    if (a->name_for != a->sel) snprintf(a->name_buf, sizeof a->name_buf, "%s", in->name), a->name_for = a->sel;
+    if (ui_input_text("name (Enter)", a->name_buf, sizeof a->name_buf)) sv_rename(a, a->name_buf);
+    /* model and layer: combos over the scene's (at most 64 named here; scripts reach any) */
+    enum { MAXN = 64 };
+    char names[MAXN + 1][80]; /* "N " and a 63-byte name */
+    const char* items[MAXN + 1];
+    int nm = a->scene.model_count < MAXN ? (int)a->scene.model_count : MAXN, cur = (int)in->model;
+    for (int m = 0; m < nm; m++) {
+        const vx_svo_model* md = &a->scene.models[m];
+        snprintf(names[m], sizeof names[m], "%d: %ux%ux%u", m, md->size[0], md->size[1], md->size[2]);
+        items[m] = names[m];
+    }
+    if (cur < nm && ui_combo("model", &cur, items, nm)) sv_set_model(a, (uint32_t)cur);
+    int nl = a->scene.layer_count < MAXN ? (int)a->scene.layer_count : MAXN;
+    cur = in->layer < (uint32_t)nl ? (int)in->layer + 1 : 0;
+    snprintf(names[0], sizeof names[0], "none");
+    items[0] = names[0];
+    for (int l = 0; l < nl; l++) {
+        snprintf(names[l + 1], sizeof names[l + 1], "%d %s", l, a->scene.layers[l].name);
+        items[l + 1] = names[l + 1];
+    }
+    if (ui_combo("layer", &cur, items, nl + 1)) sv_set_layer(a, cur ? (uint32_t)cur - 1 : UINT32_MAX);
     int32_t t[3] = {(int32_t)in->xform[3], (int32_t)in->xform[7], (int32_t)in->xform[11]};
     int32_t t0[3] = {t[0], t[1], t[2]};
     if (ui_input_int3("position (cells, Enter)", t)) {

@@ -147,6 +147,9 @@ extern "C" bool ui_selectable(const char* label, bool selected) { return ImGui::
 extern "C" bool ui_combo(const char* label, int* current, const char* const* items, int count) {
     return ImGui::Combo(label, current, items, count);
 }
+extern "C" bool ui_input_text(const char* label, char* buf, size_t size) {
+    return ImGui::InputText(label, buf, size, ImGuiInputTextFlags_EnterReturnsTrue);
+}
 extern "C" bool ui_input_int3(const char* label, int32_t v[3]) {
     int t[3] = {v[0], v[1], v[2]};
     if (!ImGui::InputInt3(label, t, ImGuiInputTextFlags_EnterReturnsTrue)) return false;

@@ -21,6 +21,7 @@
 #define VX_SVO_VIEW_UI_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "tools/svo_view/font.h"
@@ -67,6 +68,8 @@ bool ui_button(const char* label);
 bool ui_checkbox(const char* label, bool* v);
 bool ui_selectable(const char* label, bool selected);
 bool ui_combo(const char* label, int* current, const char* const* items, int count);
+/* A text field over buf (size bytes), reported when Enter is pressed. */
+bool ui_input_text(const char* label, char* buf, size_t size);
 /* Three integers, reported when Enter is pressed in a field. */
 bool ui_input_int3(const char* label, int32_t v[3]);
 bool ui_drag_double(const char* label, double* v, double speed, double min, double max);
