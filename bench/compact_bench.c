@@ -4,7 +4,7 @@
  * attribute record), for .vox / .svo scenes and the tracer benchmarks'
  * terrain. One markdown row per scene and attribute block size.
  *
- * Usage: compact_bench [--blocks 16,64,...] [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,20 +32,28 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
     double t = vx_time_now() - t0, v = voxels ? (double)voxels : 1;
     bool pal = false;
     for (uint32_t i = 0; i < c.model_count; i++) pal |= c.models[i].attr_kind == VX_COMPACT_ATTR_PALETTE;
-    double today = 4.0 * (double)(words + colors), geom = 4.0 * c.geom_words, attr = 4.0 * c.attr_words + (pal ? 1024 : 0);
+    double today = 4.0 * (double)(words + colors), geom = 4.0 * c.geom_words;
+    double attr = 4.0 * c.attr_words + (pal ? 1024 : 0);
     const vx_compact_stats* st = &c.stats;
+    char bs[32];
+    uint32_t big = 0; /* automatic: the block of the largest model */
+    for (uint32_t i = 1; i < c.model_count; i++)
+        if (c.models[i].voxels > c.models[big].voxels) big = i;
+    if (block) snprintf(bs, sizeof bs, "%u", block);
+    else snprintf(bs, sizeof bs, "auto (%u)", c.model_count ? c.models[big].block : 0);
     double blocks = st->blocks ? (double)st->blocks : 1;
-    printf("| %s | %llu | %.1f MB = %.3f (%.3f + %.3f) | %u | %.1f MB = **%.3f** | %.3f | %.3f | %.1f%% / %.1f%% / %.1f%% / %.1f%% "
-           "| %.2f | %.2f s (load %.2f s) |\n",
-           name, (unsigned long long)voxels, today / 1e6, today / v, 4.0 * words / v, 4.0 * colors / v, block,
+    printf("| %s | %llu | %.1f MB = %.3f (%.3f + %.3f) | %s | %.1f MB = **%.3f** | %.3f | %.3f "
+           "| %.1f%% / %.1f%% / %.1f%% / %.1f%% | %.2f | %.2f s (load %.2f s) |\n",
+           name, (unsigned long long)voxels, today / 1e6, today / v, 4.0 * words / v, 4.0 * colors / v, bs,
            (geom + attr) / 1e6, (geom + attr) / v, geom / v, attr / v, 100.0 * st->uniform / blocks,
-           100.0 * st->delta / blocks, 100.0 * st->raw / blocks, 100.0 * st->shared / blocks, st->distinct_sum / blocks, t, load_s);
+           100.0 * st->delta / blocks, 100.0 * st->raw / blocks, 100.0 * st->shared / blocks,
+           st->distinct_sum / blocks, t, load_s);
     fflush(stdout);
     vx_compact_free(&c);
 }
 
 int main(int argc, char** argv) {
-    uint32_t blocks[16] = {VX_COMPACT_BLOCK}, nb = 1;
+    uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     printf("| scene | voxels | today: MB = bytes/voxel (nodes + colours) | block | compact: MB = bytes/voxel | "
            "geometry | attributes | blocks uniform / delta / raw / shared | distinct per block | build |\n");
     printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
@@ -75,7 +83,7 @@ int main(int argc, char** argv) {
             }
             snprintf(name, sizeof name, "terrain %u", e);
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: %s [--blocks 16,64,...] [--terrain EXTENT] [FILE.vox|FILE.svo ...]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--blocks 0,16,64,...] [--terrain EXTENT] [FILE.vox|FILE.svo ...]\n", argv[0]);
             return 2;
         } else {
             if (bench_load(argv[i], &s, &err)) {

@@ -379,10 +379,19 @@ static bool enc_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
     return true;
 }
 
+/* Blocks [first, end) of group g, and whether they all have one header. */
+static bool group_same(const uint32_t* hdr, uint32_t nblocks, uint32_t g, uint32_t* first, uint32_t* end) {
+    *first = g * VX_COMPACT_GROUP;
+    *end = nblocks - *first > VX_COMPACT_GROUP ? *first + VX_COMPACT_GROUP : nblocks;
+    for (uint32_t i = *first + 1; i < *end; i++)
+        if (hdr[i] != hdr[*first]) return false;
+    return true;
+}
+
 /* Appends model m's attribute region to the scene's array. */
-static vx_result build_attrs(const vx_compact_desc* d, const vx_svo_model* m, vx_compact_model* cm,
+static vx_result build_attrs(const vx_compact_desc* d, uint32_t B, const vx_svo_model* m, vx_compact_model* cm,
                              vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
-    uint32_t B = d->block;
+    cm->block = B;
     attr_enc e = {.a = d->alloc, .err = err, .st = &c->stats, .m = m, .kind = cm->attr_kind, .B = B,
                   .width = cm->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32};
     e.payloads.len_of = payload_len_of;
@@ -416,15 +425,15 @@ static vx_result build_attrs(const vx_compact_desc* d, const vx_svo_model* m, vx
     /* groups of VX_COMPACT_GROUP blocks with one header word stand for all of it */
     uint32_t ngroups = (e.nblocks + VX_COMPACT_GROUP - 1) / VX_COMPACT_GROUP, nh = 0;
     for (uint32_t g = 0; g < ngroups; g++) {
-        uint32_t first = g * VX_COMPACT_GROUP, end = first + VX_COMPACT_GROUP < e.nblocks ? first + VX_COMPACT_GROUP : e.nblocks;
-        bool same = true;
-        for (uint32_t i = first + 1; same && i < end; i++) same = e.hdr[i] == e.hdr[first];
+        uint32_t first, end;
+        bool same = group_same(e.hdr, e.nblocks, g, &first, &end);
         nh += same ? 1 : end - first;
         c->stats.uniform_groups += same;
     }
     uint64_t words = (uint64_t)ngroups + nh + e.data_n;
     if (words >= ATTR_OFF_MAX) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: a model's attributes need %llu words (at most %u)",
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                    "compact layout: a model's attributes need %llu words (at most %u)",
                     (unsigned long long)words, ATTR_OFF_MAX - 1);
         goto done;
     }
@@ -442,9 +451,8 @@ static vx_result build_attrs(const vx_compact_desc* d, const vx_svo_model* m, vx
     uint32_t* region = c->attr + c->attr_words;
     uint32_t shift = (ngroups + nh) << 5; /* payloads follow the groups and the headers */
     for (uint32_t g = 0, h = ngroups; g < ngroups; g++) {
-        uint32_t first = g * VX_COMPACT_GROUP, end = first + VX_COMPACT_GROUP < e.nblocks ? first + VX_COMPACT_GROUP : e.nblocks;
-        bool same = true;
-        for (uint32_t i = first + 1; same && i < end; i++) same = e.hdr[i] == e.hdr[first];
+        uint32_t first, end;
+        bool same = group_same(e.hdr, e.nblocks, g, &first, &end);
         region[g] = h | (same ? 1u << 31 : 0);
         for (uint32_t i = first; i < (same ? first + 1 : end); i++) region[h++] = e.hdr[i] + shift;
     }
@@ -465,7 +473,28 @@ done:
 
 /* ---- scene --------------------------------------------------------------------------- */
 
-vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = VX_COMPACT_BLOCK}; }
+vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = 0}; }
+
+/* The automatic block size: VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM
+ * where at least half of the blocks of 64 hold one value and the larger
+ * blocks take fewer words (a terrain whose colour changes every 8^3 tile pays
+ * a header per 64 cells otherwise). */
+static vx_result build_attrs_auto(const vx_compact_desc* d, const vx_svo_model* m, vx_compact_model* cm,
+                                  vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
+    if (d->block) return build_attrs(d, d->block, m, cm, c, attr_cap, err);
+    vx_compact_stats st0 = c->stats;
+    uint32_t w0 = c->attr_words;
+    vx_result r = build_attrs(d, VX_COMPACT_BLOCK, m, cm, c, attr_cap, err);
+    if (r || 2 * (c->stats.uniform - st0.uniform) < c->stats.blocks - st0.blocks) return r;
+    uint32_t w64 = c->attr_words - w0;
+    c->stats = st0;
+    c->attr_words = w0;
+    if ((r = build_attrs(d, VX_COMPACT_BLOCK_UNIFORM, m, cm, c, attr_cap, err))) return r;
+    if (c->attr_words - w0 < w64) return VX_OK;
+    c->stats = st0;
+    c->attr_words = w0;
+    return build_attrs(d, VX_COMPACT_BLOCK, m, cm, c, attr_cap, err);
+}
 
 void vx_compact_free(vx_compact_scene* c) {
     if (!c) return;
@@ -484,10 +513,10 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         d.alloc = desc_in->alloc;
         if (desc_in->block) d.block = desc_in->block;
     }
-    if (d.block < 8 || d.block > 1024 || (d.block & (d.block - 1)))
+    if (d.block && (d.block < 8 || d.block > 1024 || (d.block & (d.block - 1))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact block %u: not a power of two in 8..1024",
                        d.block);
-    vx_compact_scene c = {.block = d.block, .model_count = s->model_count};
+    vx_compact_scene c = {.model_count = s->model_count};
     if (d.alloc) c.alloc = *d.alloc;
     d.alloc = &c.alloc;
     memcpy(c.palette, s->palette, sizeof c.palette);
@@ -534,7 +563,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
             break;
         }
         cm->voxels = (uint32_t)cells;
-        if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs(&d, m, cm, &c, &attr_cap, err);
+        if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs_auto(&d, m, cm, &c, &attr_cap, err);
     }
     vx_free(d.alloc, b.nodes.tab);
     vx_free(d.alloc, b.bricks.tab);
@@ -597,7 +626,7 @@ uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t mi, uint32_t i) {
     if (!c || mi >= c->model_count) return 0xFFFFFFFFu;
     const vx_compact_model* m = &c->models[mi];
     if (m->attr_kind == VX_COMPACT_ATTR_NONE || i >= m->voxels) return 0xFFFFFFFFu;
-    uint32_t B = c->block, width = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32;
+    uint32_t B = m->block, width = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32;
     uint32_t blk = i / B, g = c->attr[m->attr_base + blk / VX_COMPACT_GROUP];
     uint32_t h = c->attr[m->attr_base + (g & 0x7FFFFFFFu) + (g >> 31 ? 0 : blk % VX_COMPACT_GROUP)];
     uint32_t code = h & 31u, j = i % B;

@@ -34,7 +34,7 @@
  * inside a full-cube leaf, the Morton key of the cell relative to the cube.
  *
  * Attributes, per model, one value per cell in Morton order, cut into blocks
- * of `block` values; each block has a header word and a payload that
+ * of the model's `block` values; each block has a header word and a payload that
  * identical blocks of the model share, coded in the smallest of three ways
  * (a textured mesh's exact colours: few distinct values per block, or few
  * bits of spread per channel, or neither). Blocks form groups of
@@ -72,14 +72,18 @@
 extern "C" {
 #endif
 
-#define VX_COMPACT_BLOCK 64u /* default attribute block, values (docs/PERFORMANCE.md issue 18) */
+#define VX_COMPACT_BLOCK 64u          /* attribute block, values (docs/PERFORMANCE.md issue 18) */
+#define VX_COMPACT_BLOCK_UNIFORM 512u /* the block of models mostly of one colour per block */
 #define VX_COMPACT_RAW 31u   /* block code: values stored as they are */
 #define VX_COMPACT_DELTA 30u /* block code: RGBA as per-channel minimum plus residuals */
 #define VX_COMPACT_GROUP 64u /* blocks per group word */
 
 typedef struct vx_compact_desc {
     const vx_allocator* alloc;
-    uint32_t block; /* values per attribute block, a power of two in 8..1024; 0 == VX_COMPACT_BLOCK */
+    /* values per attribute block, a power of two in 8..1024; 0: per model,
+     * VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM where at least half of
+     * the blocks of 64 hold one value and the larger blocks take fewer words */
+    uint32_t block;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -92,6 +96,7 @@ typedef struct vx_compact_model {
     uint32_t attr_kind; /* VX_COMPACT_ATTR_*: NONE is opaque white */
     uint32_t attr_base; /* word index in attr of the model's first block header */
     uint32_t attr_words; /* words of the model's region (headers and payloads) */
+    uint32_t block;      /* values per attribute block */
 } vx_compact_model;
 
 typedef struct vx_compact_stats {
@@ -107,7 +112,6 @@ typedef struct vx_compact_stats {
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {
-    uint32_t block;
     uint32_t model_count;
     vx_compact_model* models;
     uint32_t geom_words;

@@ -149,8 +149,8 @@ static void test_generated(void) {
     for (uint32_t i = 0; i < 6; i++) in[i] = ts_inst(i, NULL, 70.0 * i, 0, 0);
     vx_svo_scene s;
     ts_scene(&s, all, 6, in, 6);
-    static const uint32_t blocks[] = {8, 64, 1024};
-    for (int b = 0; b < 3; b++) check_scene(&s, "generated", blocks[b], NULL);
+    static const uint32_t blocks[] = {8, 64, 1024, 0};
+    for (int b = 0; b < 4; b++) check_scene(&s, "generated", blocks[b], NULL);
     /* every block code appears: raw (noise), uniform (tiles), deltas (gradients), palettes */
     vx_compact_scene c;
     check_scene(&s, "generated", 64, &c);
@@ -211,6 +211,39 @@ static void test_colour_sharing(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The automatic block size: blocks of 64 for a textured model, of 512 for
+ * 8^3 tiles of one colour each (a header per 64 cells would be 8 per tile). */
+static void test_auto_block(void) {
+    uint64_t keys[512];
+    uint8_t level[512];
+    uint32_t rgba[512], seed = 3;
+    for (uint32_t i = 0; i < 512; i++) {
+        uint32_t x, y, z;
+        vx_svo_demorton(i, &x, &y, &z);
+        keys[i] = vx_svo_morton(8 * x, 8 * y, 8 * z);
+        level[i] = 3;
+        rgba[i] = 0xFF000000u | i;
+    }
+    vx_svo_model m[2];
+    REQUIRE(rgba_model(&m[0], 64, keys, level, rgba, 512) == VX_OK);
+    for (uint32_t i = 0; i < 512; i++) {
+        keys[i] = vx_svo_morton(ts_rng(&seed) % 64, ts_rng(&seed) % 64, i % 64);
+        rgba[i] = ts_rng(&seed);
+    }
+    REQUIRE(rgba_model(&m[1], 64, keys, NULL, rgba, 512) == VX_OK);
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, 70, 0, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 2);
+    vx_compact_scene c, c64;
+    check_scene(&s, "tiles and noise, automatic", 0, &c);
+    check_scene(&s, "tiles and noise, 64", VX_COMPACT_BLOCK, &c64);
+    CHECK(c.models[0].block == VX_COMPACT_BLOCK_UNIFORM && c.models[1].block == VX_COMPACT_BLOCK);
+    CHECK(c.models[0].attr_words < c64.models[0].attr_words && c.models[1].attr_words == c64.models[1].attr_words);
+    vx_compact_free(&c);
+    vx_compact_free(&c64);
+    vx_svo_scene_free(&s);
+}
+
 /* Empty models, a model that is one full cube, bad options. */
 static void test_edges(void) {
     uint32_t xyz[3 * 64], k = 0;
@@ -261,7 +294,7 @@ static void test_corpus(void) {
         vx_vox_scene_free(&vs);
         CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
         if (r) continue;
-        check_scene(&s, files[i], VX_COMPACT_BLOCK, NULL);
+        check_scene(&s, files[i], 0, NULL);
         vx_svo_scene_free(&s);
         done++;
     }
@@ -277,7 +310,7 @@ static void test_corpus_mesh(void) {
     vx_error err = {0};
     vx_conv_mesh_desc d = {.res = 128};
     REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
-    check_scene(&s, "DamagedHelmet at 128", VX_COMPACT_BLOCK, NULL);
+    check_scene(&s, "DamagedHelmet at 128", 0, NULL);
     vx_svo_scene_free(&s);
 #else
     SKIP("built without the mesh converter");
@@ -287,6 +320,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     RUN(test_generated);
     RUN(test_colour_sharing);
+    RUN(test_auto_block);
     RUN(test_edges);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
