@@ -4,7 +4,7 @@
 # bare loader.
 if(VX_WITH_VULKAN)
   add_executable(gi_bench ${CMAKE_CURRENT_LIST_DIR}/gi_bench.c)
-  target_link_libraries(gi_bench PRIVATE vx_photons vx_probes vx_render vx_convert vx_formats vx_tool vx_svo)
+  target_link_libraries(gi_bench PRIVATE vx_photons vx_cones vx_probes vx_render vx_convert vx_formats vx_tool vx_svo)
 endif()
 # the path tracer's rate with lights and materials switched on one at a time (issue 11)
 if(VX_WITH_VULKAN)

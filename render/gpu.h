@@ -24,7 +24,7 @@
 
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
-#define VX_GPU_MAX_BINDINGS 20
+#define VX_GPU_MAX_BINDINGS 24
 #define VX_GPU_MAX_PIPELINES 32
 
 typedef struct vx__buffer {
@@ -157,5 +157,10 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
  * vx_free(alloc, ...). */
 vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
                                  vx_error* err);
+/* pipeline.c: light l in the std430 layout of passes_common.glsl's Light (24
+ * floats), position relative to ref; cutoff: the irradiance where a light
+ * without a range ends (vx_frame_desc.light_cutoff, resolved). For passes
+ * that call light_eval (cones/). */
+void vx__light_pack(const vx_light* l, const double ref[3], double cutoff, float out[24]);
 
 #endif

@@ -193,6 +193,13 @@ static void pack_light(const vx_light* l, const double ref[3], double cutoff, gp
     }
 }
 
+void vx__light_pack(const vx_light* l, const double ref[3], double cutoff, float out[24]) {
+    gpu_light g;
+    _Static_assert(sizeof g == 24 * sizeof(float), "gpu_light is 24 floats");
+    pack_light(l, ref, cutoff, &g);
+    memcpy(out, &g, sizeof g);
+}
+
 typedef struct push_block {
     float f0[4]; /* lens radius, focus, ao radius, 2^exposure */
     float f1[4]; /* sun, edge threshold */

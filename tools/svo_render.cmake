@@ -2,7 +2,7 @@
 # with MPI (where found) also mpirun -n N svo_render --mode pathtrace.
 if(VX_WITH_VULKAN AND VX_WITH_OIIO)
   add_executable(svo_render ${CMAKE_CURRENT_SOURCE_DIR}/svo_render/main.c)
-  target_link_libraries(svo_render PRIVATE vx_photons vx_probes vx_render vx_image vx_tool_light vx_tool vx_svo)
+  target_link_libraries(svo_render PRIVATE vx_photons vx_cones vx_probes vx_render vx_image vx_tool_light vx_tool vx_svo)
   if(TARGET vx_tool_mpi)
     # mpirun -n N svo_render --mode pathtrace: rows over the ranks
     target_sources(svo_render PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/svo_render/mpi.c)

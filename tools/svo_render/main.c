@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cones/cones.h"
 #include "formats/image.h"
 #include "photons/photons.h"
 #include "probes/probes.h"
@@ -43,6 +44,7 @@ typedef struct options {
     bool sky_given, no_scene_lights, voxel_lights;
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
+    vx_cone_desc cone; /* gi=cones (--cone-*) */
 } options;
 
 static const char* prog = "svo_render";
@@ -94,6 +96,7 @@ static void frame_path(const char* out, uint32_t frame, char* path, size_t size)
 
 _Noreturn static void usage(int status) {
     options d = default_options();
+    vx_cone_desc cd = vx_cone_desc_defaults();
     FILE* f = status == 0 ? stdout : stderr;
     fprintf(f,
             "Usage: %s FILE.svo OUT.{png,exr} [options]\n"
@@ -110,8 +113,9 @@ _Noreturn static void usage(int status) {
             "                       values, PNG clamps)\n"
             "  --passes LIST        the frame's passes in order (default: %s):\n"
             "                       gbuffer,dof,direct,gi=METHOD,ao,aa,tonemap (direct, gi, ao in any order);\n"
-            "                       colour mode on the GPU; gi=probes|lightfield (need --probes), gi=pathtrace\n"
-            "                       or gi=photons (progressive photon mapping: each sample, --spp, is a pass)\n"
+            "                       colour mode on the GPU; gi=probes|lightfield (need --probes), gi=pathtrace,\n"
+            "                       gi=photons (progressive photon mapping: each sample, --spp, is a pass)\n"
+            "                       or gi=cones (voxel cone tracing, --cone-* below)\n"
             "  --photons N          gi=photons: photons per pass (default: %u)\n"
             "  --final-gather N     gi=photons: final gather rays per pixel and sample (default: 0, none)\n"
             "  --photon-radius R    gi=photons: first gather radius, world units (default: scene diagonal / 100;\n"
@@ -133,6 +137,12 @@ _Noreturn static void usage(int status) {
             "                       models go to the GPU once, the frames are traced in turn (GPU modes)\n"
             "  --probes FILE        light field probes from svo_bake (their sun, sky and light direction)\n"
             "  --bounces N          path tracer bounces (default: the probes' bounces + 1, else 2)\n"
+            "  --cone-res R         gi=cones: voxels along the scene's longest side (default: %u)\n"
+            "  --cones N            gi=cones: diffuse cones per pixel (default: %u; at most %u)\n"
+            "  --cone-aperture DEG  gi=cones: cone half angle (default: acos(1 - 1/cones), %.1f for %u)\n"
+            "  --cone-bounces N     gi=cones: diffuse bounces kept in the volume (default: %u)\n"
+            "  --cone-isotropic     gi=cones: one radiance per voxel instead of six directions\n"
+            "  --cone-ao            gi=cones: the gi image is the cone ambient occlusion (--show gi)\n"
             "  --seed S             path tracer seed (default: 0)\n"
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
@@ -175,7 +185,8 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n"
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
-            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, d.r.width, d.r.height, d.r.spp,
+            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
+            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
@@ -252,11 +263,26 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     vx_gi_method gm = {0};
     vx_probe_gi* pgi = NULL;
     vx_photon_gi* phg = NULL;
+    vx_cone_gi* cgi = NULL;
     if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "photons")) {
         vx_photon_desc pd = o->photons; /* carries the frame's lights; the probes give sun and sky */
         pd.seed = o->p.seed, pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
         memcpy(pd.light_dir, o->r.light_dir, sizeof pd.light_dir);
         if ((r = vx_photon_gi_create(rs, scene, probes, &pd, &gm, &phg, err))) goto done;
+    } else if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "cones")) {
+        /* the frame's sun direction, sky and lights are injected into the volume */
+        vx_cone_desc cd = o->cone;
+        memcpy(cd.light_dir, o->r.light_dir, sizeof cd.light_dir);
+        if (o->sky_given) memcpy(cd.sky, o->fd.sky, sizeof cd.sky);
+        cd.lights = o->frame_lights, cd.light_count = o->frame_light_count;
+        if ((r = vx_cone_gi_create(rs, scene, &cd, &gm, &cgi, err))) goto done;
+        if (o->verbose) {
+            vx_cone_info ci;
+            vx_cone_gi_info(cgi, &ci);
+            printf("cones: %u levels, level 0 %ux%ux%u of %g, %u voxels with geometry, %.1f MB; GPU ms: voxelize %.3f, "
+                   "inject %.3f, filter %.3f\n", ci.levels, ci.dims[0][0], ci.dims[0][1], ci.dims[0][2], ci.voxel,
+                   ci.surface_voxels, ci.bytes / 1e6, ci.voxelize_ms, ci.inject_ms, ci.filter_ms);
+        }
     } else if (vx_pass_list_has(passes, VX_PASS_GI)) {
         vx_probe_render_desc pd = o->p;
         pd.base = &o->r;
@@ -268,7 +294,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     fd.base = o->r;
     if (!o->spp_given) fd.base.spp = 0; /* the pipeline's default: 1, or 8 with aa or dof */
     fd.passes = passes;
-    fd.gi = pgi || phg ? &gm : NULL;
+    fd.gi = pgi || phg || cgi ? &gm : NULL;
     fd.lights = o->frame_lights, fd.light_count = o->frame_light_count;
     FILE* csv = NULL;
     if (o->timings) {
@@ -303,6 +329,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
 done:
     vx_probe_gi_destroy(pgi);
     vx_photon_gi_destroy(phg);
+    vx_cone_gi_destroy(cgi);
     vx_frame_renderer_destroy(fr);
     return r;
 }
@@ -380,6 +407,26 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
                 usage_error("bad bounces '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--cone-res")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.cone.res) || o.cone.res < 2 || o.cone.res > VX_CONE_RES_MAX)
+                usage_error("bad cone resolution '%s' (2..%u)", argv[i], VX_CONE_RES_MAX);
+        } else if (!strcmp(a, "--cones")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.cone.cones) || !o.cone.cones || o.cone.cones > VX_CONE_CONES_MAX)
+                usage_error("bad cone count '%s' (1..%u)", argv[i], VX_CONE_CONES_MAX);
+        } else if (!strcmp(a, "--cone-aperture")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.cone.aperture, 1) || !(o.cone.aperture > 0 && o.cone.aperture < 89))
+                usage_error("bad cone aperture '%s' (degrees, above 0 and below 89)", argv[i]);
+        } else if (!strcmp(a, "--cone-bounces")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.cone.bounces) || !o.cone.bounces || o.cone.bounces > 4)
+                usage_error("bad cone bounces '%s' (1..4)", argv[i]);
+        } else if (!strcmp(a, "--cone-isotropic")) {
+            o.cone.isotropic = true;
+        } else if (!strcmp(a, "--cone-ao")) {
+            o.cone.output = VX_CONE_OUTPUT_AO;
         } else if (!strcmp(a, "--seed")) {
             NEED();
             uint32_t sd;
@@ -556,11 +603,12 @@ int main(int argc, char** argv) {
     if ((o.passes_given || o.show_given || o.timings) && !pipeline)
         usage_error("%s", "--passes, --show and --timings need the GPU colour mode (no --cpu, no other --mode)");
     bool photons = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "photons");
-    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace") && !photons)
+    bool cones = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "cones");
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace") && !photons && !cones)
         usage_error("gi=%s needs --probes FILE", passes.gi);
     if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
-        strcmp(passes.gi, "pathtrace") && !photons)
-        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace, photons)", passes.gi);
+        strcmp(passes.gi, "pathtrace") && !photons && !cones)
+        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace, photons, cones)", passes.gi);
     if (o.voxel_lights && o.no_scene_lights) usage_error("%s", "--voxel-lights and --no-scene-lights exclude each other");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||

@@ -1,0 +1,417 @@
+/* cones/cones.c - voxel cone tracing (cones/cones.h): the radiance volume's
+ * buffers and the dispatches of voxelize.comp, inject.comp, filter.comp and
+ * cone.comp (cones/shaders/), which all include the tracer's shaders for the
+ * scene bindings, the traversal and the lights (light_eval). */
+#include <math.h>
+#include <string.h>
+
+#include "cones/cones.h"
+#include "probes/probes.h" /* the probe bake's light: the defaults of every GI method */
+#include "render/gpu.h"
+
+#include "cone.comp.h"
+#include "filter.comp.h"
+#include "inject.comp.h"
+#include "voxelize.comp.h"
+
+/* std430 of ConeP in cone_common.glsl */
+typedef struct cone_params {
+    float origin[4];
+    uint32_t info[4];
+    float cone[4];
+    uint32_t ctl[4];
+    uint32_t dims[VX_CONE_LEVELS_MAX][4];
+    float dirs[VX_CONE_CONES_MAX][4];
+} cone_params;
+
+/* passes_common.glsl's push block */
+typedef struct push_block {
+    float f0[4], f1[4], f2[4];
+    uint32_t u0[4], u1[4];
+    float f3[4];
+    uint32_t u2[4];
+} push_block;
+
+enum { NBIND = 23, BIND_GI = 12, BIND_EMIT = 14, BIND_LIGHTS = 16, BIND_VOL = 19, BIND_REC, BIND_PARAMS, BIND_LIST };
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 23 bindings");
+enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_DUMMY, B_COUNT };
+typedef enum { SH_VOXELIZE, SH_INJECT, SH_FILTER, SH_CONE } shader_id;
+#define REC_VEC4 5 /* vec4 per listed voxel and side (cone_common.glsl) */
+#define LIGHT_FLOATS 24
+
+struct vx_cone_gi {
+    vx_render_scene* rs;
+    const vx_svo_scene* scene;
+    vx_gpu* g;
+    vx_cone_desc d;
+    vx__buffer b[B_COUNT];
+    float* emit_attr;
+    size_t emit_count;
+    vx_cone_info info;
+    double lo[3], hi[3]; /* the scene's world bounds (the frame's) */
+    double light_dir[3], sun[3], sky[3];
+    cone_params P;
+    uint64_t level0;
+    const vx_allocator* alloc;
+};
+
+vx_cone_desc vx_cone_desc_defaults(void) {
+    vx_probe_bake_desc b = vx_probe_bake_desc_defaults();
+    vx_cone_desc d = {.res = 128, .samples = 2, .cones = 6, .offset = 1.5, .step = 0.5, .bounces = 1};
+    memcpy(d.light_dir, b.light_dir, sizeof d.light_dir);
+    memcpy(d.sun, b.sun, sizeof d.sun);
+    memcpy(d.sky, b.sky, sizeof d.sky);
+    d.aperture = acos(1.0 - 1.0 / d.cones) * 180 / 3.14159265358979323846;
+    return d;
+}
+
+static bool zero3(const double v[3]) { return !v[0] && !v[1] && !v[2]; }
+
+/* The desc with its zeros resolved; the light into cg. */
+static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) {
+    vx_cone_desc D = vx_cone_desc_defaults(), d = in ? *in : (vx_cone_desc){0};
+    if (!d.res) d.res = D.res;
+    if (!d.samples) d.samples = D.samples;
+    if (!d.cones) d.cones = D.cones;
+    if (!(d.offset > 0)) d.offset = D.offset;
+    if (!(d.step > 0)) d.step = D.step;
+    if (!d.bounces) d.bounces = D.bounces;
+    if (d.res < 2 || d.res > VX_CONE_RES_MAX)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cone volume res %u: 2 to %u", d.res, VX_CONE_RES_MAX);
+    if (d.samples > 8) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u samples per face side: at most 8", d.samples);
+    if (d.cones > VX_CONE_CONES_MAX)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u cones: at most %u", d.cones, VX_CONE_CONES_MAX);
+    if (d.bounces > 4) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u bounces: at most 4", d.bounces);
+    if (!(d.aperture >= 0 && d.aperture < 89) || !(d.offset < 64) || !(d.step <= 4) || !(d.ao_distance >= 0))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "cone aperture %g (0 to 89 degrees), offset %g (below 64 voxels), step %g (at most 4), "
+                       "AO distance %g (0 or more)", d.aperture, d.offset, d.step, d.ao_distance);
+    if (!d.aperture) {
+        /* each cone an equal share of the hemisphere: 2 pi (1 - cos) = 2 pi / n */
+        double a = acos(1.0 - 1.0 / d.cones) * 180 / 3.14159265358979323846;
+        d.aperture = a < 75 ? a : 75;
+    }
+    if (d.light_count && !d.lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", d.light_count);
+    for (uint32_t i = 0; i < d.light_count; i++) {
+        vx_result r = vx_light_validate(&d.lights[i], i, err);
+        if (r) return r;
+    }
+    double ld[3];
+    memcpy(ld, zero3(d.light_dir) ? D.light_dir : d.light_dir, sizeof ld);
+    double l = sqrt(ld[0] * ld[0] + ld[1] * ld[1] + ld[2] * ld[2]);
+    if (!(l > 0) || !isfinite(l)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the sun's direction is not a direction");
+    for (int k = 0; k < 3; k++) {
+        cg->light_dir[k] = ld[k] / l;
+        cg->sun[k] = d.no_sun ? 0 : (zero3(d.sun) ? D.sun[k] : d.sun[k]);
+        cg->sky[k] = d.black_sky ? 0 : (zero3(d.sky) ? D.sky[k] : d.sky[k]);
+    }
+    cg->d = d;
+    return VX_OK;
+}
+
+/* The cone set around +z: directions cosine-distributed over the hemisphere
+ * (a Fibonacci spiral in the unit disc lifted to it, the first along +z),
+ * equal weights. */
+static void cone_set(cone_params* P, uint32_t n, double aperture_deg) {
+    const double golden = 2.39996322972865332;
+    for (uint32_t k = 0; k < n; k++) {
+        double u = n == 1 ? 0 : (k + 0.5) / n, r = sqrt(u), phi = k * golden;
+        P->dirs[k][0] = (float)(r * cos(phi));
+        P->dirs[k][1] = (float)(r * sin(phi));
+        P->dirs[k][2] = (float)sqrt(1 - u);
+        P->dirs[k][3] = (float)(1.0 / n);
+    }
+    P->ctl[0] = n;
+    P->cone[0] = (float)tan(aperture_deg * 3.14159265358979323846 / 180);
+}
+
+static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx__frame* f, uint32_t gx, uint32_t gy,
+                          const push_block* pc, vx__buffer* out, double* sec, vx_error* err) {
+    vx__buffer* scene[7];
+    uint32_t spec[VX__SPEC_COUNT];
+    vx_result r = vx__render_scene_bind(cg->rs, f, scene, spec, err);
+    if (r) return r;
+    /* the volume's corner relative to this frame's reference */
+    cone_params* P = cg->b[B_PARAMS].map;
+    *P = cg->P;
+    for (int k = 0; k < 3; k++) P->origin[k] = (float)(cg->info.origin[k] - f->ref[k]);
+    static const char* const labels[] = {"cone voxelize", "cone inject", "cone filter", "cone trace"};
+    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 7, .push_constant_size = sizeof(push_block),
+                                       .label = labels[sh]};
+    switch (sh) {
+    case SH_VOXELIZE: pd.spirv = vx__cone_voxelize_spv_arr, pd.spirv_size = sizeof vx__cone_voxelize_spv_arr; break;
+    case SH_INJECT: pd.spirv = vx__cone_inject_spv_arr, pd.spirv_size = sizeof vx__cone_inject_spv_arr; break;
+    case SH_FILTER: pd.spirv = vx__cone_filter_spv_arr, pd.spirv_size = sizeof vx__cone_filter_spv_arr; break;
+    default: pd.spirv = vx__cone_trace_spv_arr, pd.spirv_size = sizeof vx__cone_trace_spv_arr; break;
+    }
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, spec, sizeof spec);
+    pd.spec[5] = stage;
+    pd.spec[6] = cg->info.entries;
+    uint64_t key = 0xC0E5000ull + (uint64_t)sh;
+    for (int i = 0; i < 7; i++) key = key * 131 + pd.spec[i];
+    vx__pipeline* p;
+    if ((r = vx__pipeline_get(cg->g, key, &pd, &p, err))) return r;
+    vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .push = pc,
+                            .push_size = sizeof *pc, .label = labels[sh]};
+    for (int i = 0; i < 7; i++) dd.buffers[i] = scene[i];
+    for (int i = 7; i < NBIND; i++) dd.buffers[i] = &cg->b[B_DUMMY];
+    dd.buffers[BIND_GI] = out ? out : &cg->b[B_DUMMY];
+    dd.buffers[BIND_EMIT] = &cg->b[B_EMIT];
+    dd.buffers[BIND_LIGHTS] = &cg->b[B_LIGHTS];
+    dd.buffers[BIND_VOL] = &cg->b[B_VOL];
+    dd.buffers[BIND_REC] = &cg->b[B_REC];
+    dd.buffers[BIND_PARAMS] = &cg->b[B_PARAMS];
+    dd.buffers[BIND_LIST] = &cg->b[B_LIST];
+    double s = 0;
+    if ((r = vx__dispatch(cg->g, &dd, &s, err))) return r;
+    if (sec) *sec += s;
+    return VX_OK;
+}
+
+/* One invocation per item, 64 a group, the groups as a 2D grid. */
+static vx_result dispatch_n(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx__frame* f, uint64_t n,
+                            const push_block* pc, double* sec, vx_error* err) {
+    if (!n) return VX_OK;
+    uint64_t groups = (n + 63) / 64;
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    return dispatch(cg, sh, stage, f, gx, gy, pc, NULL, sec, err);
+}
+
+/* The frame the volume's steps bind: any camera (the shaders work relative
+ * to its reference), the sun's direction. */
+static vx_result light_frame(vx_cone_gi* cg, vx__frame* f, vx_error* err) {
+    vx_render_desc rd = {.width = 1, .height = 1};
+    memcpy(rd.light_dir, cg->light_dir, sizeof rd.light_dir);
+    return vx__frame_setup(cg->lo, cg->hi, &rd, f, err);
+}
+
+static vx_result filter_levels(vx_cone_gi* cg, const vx__frame* f, double* sec, vx_error* err) {
+    vx_result r = VX_OK;
+    for (uint32_t l = 1; l < cg->info.levels && !r; l++) {
+        push_block pc = {.u2 = {l}};
+        const uint32_t* d = cg->info.dims[l];
+        r = dispatch_n(cg, SH_FILTER, 0, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
+    }
+    return r;
+}
+
+static vx_result upload_lights(vx_cone_gi* cg, const vx__frame* f, vx_error* err) {
+    uint32_t n = cg->d.light_count;
+    float* gl = vx_calloc(cg->alloc, n ? n : 1, LIGHT_FLOATS * sizeof(float));
+    if (!gl) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u lights", n);
+    for (uint32_t i = 0; i < n; i++) vx__light_pack(&cg->d.lights[i], f->ref, 3.14159265358979323846 / 1024, gl + LIGHT_FLOATS * i);
+    vx__buffer_destroy(cg->g, &cg->b[B_LIGHTS]);
+    size_t bytes = (size_t)(n ? n : 1) * LIGHT_FLOATS * sizeof(float);
+    vx_result r = vx__buffer_create(cg->g, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone lights", &cg->b[B_LIGHTS], err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_LIGHTS], gl, bytes, err);
+    vx_free(cg->alloc, gl);
+    return r;
+}
+
+/* inject (+ bounces) and filter, with the light in cg */
+static vx_result inject(vx_cone_gi* cg, vx_error* err) {
+    vx__frame f;
+    vx_result r = light_frame(cg, &f, err);
+    if (!r) r = upload_lights(cg, &f, err);
+    if (r) return r;
+    push_block pc = {0};
+    for (int k = 0; k < 3; k++) pc.f1[k] = (float)cg->sun[k], pc.f2[k] = (float)cg->sky[k];
+    pc.u1[2] = cg->d.light_count;
+    double ti = 0, tf = 0;
+    uint32_t n = cg->info.surface_voxels;
+    cg->P.ctl[2] = 0;
+    r = dispatch_n(cg, SH_INJECT, 0, &f, n, &pc, &ti, err);
+    if (!r) r = filter_levels(cg, &f, &tf, err);
+    for (uint32_t b = 1; b < cg->d.bounces && !r; b++) {
+        /* each visible surface gathers the last volume's light, then all are injected again */
+        r = dispatch_n(cg, SH_INJECT, 1, &f, n, &pc, &ti, err);
+        cg->P.ctl[2] = 1;
+        if (!r) r = dispatch_n(cg, SH_INJECT, 0, &f, n, &pc, &ti, err);
+        if (!r) r = filter_levels(cg, &f, &tf, err);
+    }
+    cg->info.inject_ms = ti * 1e3, cg->info.filter_ms = tf * 1e3;
+    return r;
+}
+
+vx_result vx_cone_gi_voxelize(vx_cone_gi* cg, vx_error* err) {
+    if (!cg) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx__frame f;
+    vx_result r = light_frame(cg, &f, err);
+    uint32_t zero = 0;
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_LIST], &zero, sizeof zero, err);
+    if (r) return r;
+    push_block pc = {0};
+    double t = 0;
+    if ((r = dispatch_n(cg, SH_VOXELIZE, 0, &f, cg->level0, &pc, &t, err))) return r;
+    uint32_t n = 0;
+    if ((r = vx__buffer_download(cg->g, &cg->b[B_LIST], &n, sizeof n, err))) return r;
+    if (n > cg->level0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "the voxelizer listed %u of %llu voxels", n, (unsigned long long)cg->level0);
+    cg->info.surface_voxels = n;
+    VkDeviceSize rec = (VkDeviceSize)(n ? n : 1) * 6 * REC_VEC4 * 16;
+    if ((r = vx__buffer_ensure(cg->g, &cg->b[B_REC], rec, "cone surfaces", err))) return r;
+    if ((r = dispatch_n(cg, SH_VOXELIZE, 1, &f, n, &pc, &t, err))) return r;
+    cg->info.voxelize_ms = t * 1e3;
+    cg->info.bytes = cg->b[B_VOL].size + cg->b[B_REC].size + cg->b[B_LIST].size;
+    return inject(cg, err);
+}
+
+static void fill_method(vx_cone_gi* cg, vx_gi_method* m);
+
+vx_result vx_cone_gi_inject(vx_cone_gi* cg, const vx_cone_desc* desc, vx_gi_method* method, vx_error* err) {
+    if (!cg) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    /* only the light changes: the geometry options stay as built */
+    vx_cone_desc d = cg->d;
+    vx_cone_desc in = desc ? *desc : (vx_cone_desc){0};
+    memcpy(d.light_dir, in.light_dir, sizeof d.light_dir);
+    memcpy(d.sun, in.sun, sizeof d.sun);
+    memcpy(d.sky, in.sky, sizeof d.sky);
+    d.no_sun = in.no_sun, d.black_sky = in.black_sky;
+    d.lights = in.lights, d.light_count = in.light_count;
+    vx_cone_desc keep = cg->d;
+    double kl[3], ks[3], kk[3];
+    memcpy(kl, cg->light_dir, sizeof kl), memcpy(ks, cg->sun, sizeof ks), memcpy(kk, cg->sky, sizeof kk);
+    vx_result r = resolve(cg, &d, err);
+    if (r) {
+        cg->d = keep;
+        memcpy(cg->light_dir, kl, sizeof kl), memcpy(cg->sun, ks, sizeof ks), memcpy(cg->sky, kk, sizeof kk);
+        return r;
+    }
+    r = inject(cg, err);
+    if (!r && method) fill_method(cg, method);
+    return r;
+}
+
+static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err) {
+    vx_cone_gi* cg = user;
+    vx__frame f;
+    vx_result r = vx__frame_setup(cg->lo, cg->hi, io->frame, &f, err);
+    if (r) return r;
+    if (((vx__buffer*)io->out)->size < (VkDeviceSize)f.width * f.height * 16)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the gi buffer holds less than a %ux%u image", f.width, f.height);
+    push_block pc = {.u0 = {io->sample}};
+    for (int k = 0; k < 3; k++) pc.f2[k] = (float)cg->sky[k];
+    *gpu_seconds = 0;
+    return dispatch(cg, SH_CONE, 0, &f, (f.width + 7) / 8, (f.height + 7) / 8, &pc, io->out, gpu_seconds, err);
+}
+
+static void fill_method(vx_cone_gi* cg, vx_gi_method* m) {
+    *m = (vx_gi_method){.name = "cones", .user = cg, .render = gi_render, .emit_attr = cg->emit_attr,
+                        .emit_count = cg->emit_count, .lights = cg->d.lights, .light_count = cg->d.light_count};
+    for (int k = 0; k < 3; k++) m->light_dir[k] = cg->light_dir[k], m->sun[k] = cg->sun[k], m->sky[k] = cg->sky[k];
+}
+
+/* Level sizes: level 0 covers the bounds with a voxel of margin on each
+ * side (cones that leave it see the sky), each next level halves (ceil). */
+static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
+    vx_cone_info* I = &cg->info;
+    double ext = 0;
+    for (int k = 0; k < 3; k++) ext = fmax(ext, cg->hi[k] - cg->lo[k]);
+    if (!(ext > 0) || !isfinite(ext)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the scene is empty: nothing to trace cones through");
+    double s = ext / cg->d.res;
+    I->voxel = s;
+    uint64_t total = 0;
+    for (int k = 0; k < 3; k++) {
+        double n = ceil((cg->hi[k] - cg->lo[k]) / s - 1e-9);
+        I->dims[0][k] = (uint32_t)(n < 1 ? 1 : n) + 2;
+        I->origin[k] = cg->lo[k] - s;
+    }
+    I->levels = 0;
+    for (;;) {
+        const uint32_t* d = I->dims[I->levels];
+        cg->P.dims[I->levels][0] = d[0], cg->P.dims[I->levels][1] = d[1], cg->P.dims[I->levels][2] = d[2];
+        cg->P.dims[I->levels][3] = (uint32_t)total;
+        total += (uint64_t)d[0] * d[1] * d[2];
+        I->levels++;
+        if ((d[0] == 1 && d[1] == 1 && d[2] == 1) || I->levels == VX_CONE_LEVELS_MAX) break;
+        for (int k = 0; k < 3; k++) I->dims[I->levels][k] = (d[k] + 1) / 2;
+    }
+    I->entries = cg->d.isotropic ? 1 : 6;
+    cg->level0 = (uint64_t)I->dims[0][0] * I->dims[0][1] * I->dims[0][2];
+    if (total * I->entries >= (UINT64_C(1) << 31))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a cone volume of %llu voxels is too large", (unsigned long long)total);
+    cg->P.info[0] = I->levels, cg->P.info[1] = I->entries, cg->P.info[2] = cg->d.samples;
+    cg->P.origin[3] = (float)s;
+    cg->P.cone[1] = (float)cg->d.offset, cg->P.cone[2] = (float)cg->d.step, cg->P.cone[3] = (float)(cg->d.ao_distance / s);
+    cg->P.ctl[1] = cg->d.output == VX_CONE_OUTPUT_AO;
+    cone_set(&cg->P, cg->d.cones, cg->d.aperture);
+    vx_result r = vx__buffer_create(cg->g, total * I->entries * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone volume",
+                                    &cg->b[B_VOL], err);
+    if (!r) r = vx__buffer_create(cg->g, (cg->level0 + 1) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone list", &cg->b[B_LIST], err);
+    if (!r) r = vx__buffer_create(cg->g, sizeof(cone_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "cone params", &cg->b[B_PARAMS], err);
+    if (!r && !cg->b[B_PARAMS].map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "cone parameters are not host visible");
+    if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone dummy", &cg->b[B_DUMMY], err);
+    if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone surfaces", &cg->b[B_REC], err);
+    return r;
+}
+
+/* Emission scale per attribute record (the scene's materials). */
+static vx_result emission(vx_cone_gi* cg, vx_error* err) {
+    uint8_t* pal = NULL;
+    size_t n = 0;
+    vx_result r = vx__scene_attr_palette(cg->scene, cg->alloc, &pal, &n, err);
+    if (r) return r;
+    double em[256];
+    for (uint32_t i = 0; i < 256; i++) em[i] = vx_svo_scene_material(cg->scene, i).emission;
+    if (!(cg->emit_attr = vx_calloc(cg->alloc, n ? n : 1, sizeof(float)))) {
+        vx_free(cg->alloc, pal);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
+    }
+    for (size_t i = 0; i < n; i++) cg->emit_attr[i] = (float)em[pal[i]];
+    cg->emit_count = n;
+    vx_free(cg->alloc, pal);
+    r = vx__buffer_create(cg->g, (n ? n : 1) * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
+                          &cg->b[B_EMIT], err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (n ? n : 1) * sizeof(float), err);
+    return r;
+}
+
+vx_result vx_cone_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_cone_desc* desc,
+                            vx_gi_method* method, vx_cone_gi** out, vx_error* err) {
+    if (!rs || !scene || !method || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
+    vx_cone_gi* cg = vx_calloc(scene->alloc, 1, sizeof *cg);
+    if (!cg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    cg->alloc = scene->alloc, cg->rs = rs, cg->scene = scene, cg->g = vx__render_scene_gpu(rs);
+    vx_svo_scene_world_bounds(scene, cg->lo, cg->hi);
+    vx_result r = resolve(cg, desc, err);
+    if (!r) r = layout_volume(cg, err);
+    if (!r) r = emission(cg, err);
+    if (!r) r = vx_cone_gi_voxelize(cg, err);
+    if (r) {
+        vx_cone_gi_destroy(cg);
+        return r;
+    }
+    fill_method(cg, method);
+    *out = cg;
+    return VX_OK;
+}
+
+void vx_cone_gi_destroy(vx_cone_gi* cg) {
+    if (!cg) return;
+    for (int i = 0; i < B_COUNT; i++) vx__buffer_destroy(cg->g, &cg->b[i]);
+    vx_free(cg->alloc, cg->emit_attr);
+    vx_free(cg->alloc, cg);
+}
+
+void vx_cone_gi_info(const vx_cone_gi* cg, vx_cone_info* out) {
+    if (cg && out) *out = cg->info;
+}
+
+vx_result vx_cone_gi_read_level(vx_cone_gi* cg, uint32_t level, float* out, size_t floats, vx_error* err) {
+    if (!cg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (level >= cg->info.levels)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "level %u of a volume of %u levels", level, cg->info.levels);
+    const uint32_t* d = cg->info.dims[level];
+    size_t n = (size_t)d[0] * d[1] * d[2] * cg->info.entries;
+    if (floats < 4 * n) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "level %u needs %zu floats, got %zu", level, 4 * n, floats);
+    /* the levels before it, then this one: the buffer is read from its start */
+    size_t first = (size_t)cg->P.dims[level][3] * cg->info.entries;
+    uint16_t* h = vx_alloc(cg->alloc, (first + n) * 8);
+    if (!h) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", first + n);
+    vx_result r = vx__buffer_download(cg->g, &cg->b[B_VOL], h, (first + n) * 8, err);
+    for (size_t i = 0; !r && i < 4 * n; i++) out[i] = vx_probe_half_to_float(h[4 * first + i]);
+    vx_free(cg->alloc, h);
+    return r;
+}

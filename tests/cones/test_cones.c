@@ -1,0 +1,546 @@
+/* tests/cones/test_cones.c - voxel cone tracing (cones/cones.h) against
+ * independent paths: the voxelizer's opacities against a CPU brute force
+ * over the scene's cells, every filtered level against CPU averages (and
+ * front-to-back composites) of level 0, analytic lighting (an open plane
+ * under a constant sky, a floor under an emitting ceiling: the view factor
+ * of a square, a closed emitting box: the furnace) and the path tracer.
+ * Skipped without a Vulkan device. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cones/cones.h"
+#include "render/trace.h" /* vx__scene_grid_cells */
+#include "tests/probes/probe_scenes.h"
+#include "tests/test.h"
+
+static const double PI = 3.14159265358979323846;
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+static vx_render_scene* scene_on_gpu(const vx_svo_scene* s) {
+    vx_render_scene* rs = NULL;
+    vx_error err = {0};
+    if (vx_render_scene_create(gpu, s, &rs, &err)) fprintf(stderr, "  scene: %s\n", err.msg);
+    return rs;
+}
+
+/* One emissive material record: palette id, emission _emit (flux 0). */
+static void add_emission(vx_svo_scene* s, uint32_t id, const char* emit) {
+    size_t n = 0;
+    char dict[64];
+    const char* kv[] = {"_type", "_emit", "_emit", emit, "_flux", "0"};
+    for (int i = 0; i < 6; i++) {
+        size_t l = strlen(kv[i]) + 1;
+        memcpy(dict + n, kv[i], l);
+        n += l;
+    }
+    s->materials = realloc(s->materials, (s->material_count + 1) * sizeof *s->materials);
+    vx_svo_material* m = &s->materials[s->material_count++];
+    memset(m, 0, sizeof *m);
+    m->id = id;
+    m->dict_size = (uint32_t)n;
+    m->dict = malloc(n);
+    memcpy(m->dict, dict, n);
+}
+
+/* The gi image (or the final one) of the pass pipeline with method gm. */
+static bool render(vx_render_scene* rs, const vx_svo_scene* s, const vx_gi_method* gm, const vx_render_desc* base,
+                   vx_show show, vx_render_image* out) {
+    vx_error err = {0};
+    vx_frame_renderer* fr = NULL;
+    vx_pass_list L;
+    if (vx_frame_renderer_create(rs, s, &fr, &err) || vx_pass_list_parse("gbuffer,direct,gi=cones", &L, &err)) {
+        fprintf(stderr, "  pipeline: %s\n", err.msg);
+        vx_frame_renderer_destroy(fr);
+        return false;
+    }
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base = *base;
+    fd.passes = &L;
+    fd.gi = gm;
+    fd.show = show;
+    memcpy(fd.sky, gm->sky, sizeof fd.sky);
+    vx_frame_result res;
+    vx_result r = vx_frame_render(fr, &fd, &res, &err);
+    if (r) fprintf(stderr, "  frame: %s\n", err.msg);
+    vx_frame_renderer_destroy(fr);
+    if (!r) *out = res.image;
+    return !r;
+}
+
+static vx_render_desc view(uint32_t w, uint32_t h, double ex, double ey, double ez, double tx, double ty, double tz) {
+    vx_render_desc d = {.width = w, .height = h};
+    d.camera.set = true;
+    d.camera.eye[0] = ex, d.camera.eye[1] = ey, d.camera.eye[2] = ez;
+    d.camera.target[0] = tx, d.camera.target[1] = ty, d.camera.target[2] = tz;
+    d.camera.up[0] = 0, d.camera.up[1] = 1, d.camera.up[2] = 0;
+    d.camera.fov = 40;
+    return d;
+}
+
+/* ---- voxelization against a CPU brute force ------------------------------------ */
+
+static uint8_t* occ;   /* the scene's cells, N^3 */
+enum { N = 23 };
+static void mark(void* user, int64_t x, int64_t y, int64_t z) {
+    (void)user;
+    if (x >= 0 && y >= 0 && z >= 0 && x < N && y < N && z < N) occ[(z * N + y) * N + x] = 1;
+}
+static uint8_t blocks_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 1;                                   /* floor */
+    if (x == 9 && y < 17 && z < 14) return 2;               /* a wall one cell thin */
+    if (x >= 14 && x < 20 && y >= 3 && y < 8 && z < 6) return 3; /* a block */
+    if ((x * 7 + y * 3 + z * 5) % 11 == 0 && z > 15) return 4;   /* scattered cells */
+    return x == 22 && y == 22 && z == 22 ? 5 : 0;           /* the bounds' far corner */
+}
+
+/* The share of voxel v's rays from side `side` that meet a cell, as
+ * voxelize.comp casts them: S x S rays at the face's sub-square centres
+ * through the voxel. */
+static double brute_alpha(const vx_cone_info* I, const uint32_t v[3], int side, uint32_t S) {
+    const double EPS = 1e-3, s = I->voxel;
+    int a = side / 2, b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+    uint32_t hits = 0;
+    for (uint32_t j = 0; j < S * S; j++) {
+        double p[3];
+        p[b] = I->origin[b] + (v[b] + (j % S + 0.5) / S) * s;
+        p[c] = I->origin[c] + (v[c] + (j / S + 0.5) / S) * s;
+        /* from EPS inside the voxel to EPS before its far face (the strip
+         * outside the face counts only as the neighbour's covering) */
+        double lo = I->origin[a] + v[a] * s, t0 = lo + EPS * s, t1 = lo + s * (1 - EPS);
+        bool hit = false;
+        for (int64_t k = (int64_t)floor(t0); k <= (int64_t)floor(t1) && !hit; k++) {
+            int64_t q[3];
+            q[a] = k, q[b] = (int64_t)floor(p[b]), q[c] = (int64_t)floor(p[c]);
+            if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= N || q[1] >= N || q[2] >= N) continue;
+            hit = occ[(q[2] * N + q[1]) * N + q[0]];
+        }
+        hits += hit;
+    }
+    return (double)hits / (S * S);
+}
+
+static void test_voxelize_brute_force(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    cells_scene(&s, N, blocks_cell);
+    occ = calloc(N * N * N, 1);
+    vx_error err = {0};
+    REQUIRE(vx__scene_grid_cells(&s, mark, NULL, &err) == VX_OK);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    /* 10 voxels over 23 cells: voxels of 2.3 cells, whose 3 x 3 rays at 2.3 (2k + 1) / 6
+     * never run along a cell's face (23 (2k + 1) / 60 is never whole) */
+    vx_cone_desc d = {.res = 10, .samples = 3, .isotropic = false};
+    vx_gi_method gm;
+    vx_cone_gi* cg = NULL;
+    vx_result r = vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err);
+    if (r) fprintf(stderr, "  %s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    vx_cone_info I;
+    vx_cone_gi_info(cg, &I);
+    CHECK(I.entries == 6 && I.dims[0][0] == 12 && I.levels == 5);
+    size_t nv = (size_t)I.dims[0][0] * I.dims[0][1] * I.dims[0][2];
+    float* lv = malloc(nv * 6 * 16);
+    REQUIRE(vx_cone_gi_read_level(cg, 0, lv, nv * 24, &err) == VX_OK);
+    size_t bad = 0, nonzero = 0, listed = 0;
+    for (uint32_t z = 0; z < I.dims[0][2]; z++)
+        for (uint32_t y = 0; y < I.dims[0][1]; y++)
+            for (uint32_t x = 0; x < I.dims[0][0]; x++) {
+                uint32_t v[3] = {x, y, z};
+                size_t i = ((size_t)(z * I.dims[0][1] + y) * I.dims[0][0] + x) * 6;
+                bool any = false;
+                for (int side = 0; side < 6; side++) {
+                    double want = brute_alpha(&I, v, side, 3), got = lv[4 * (i + side) + 3];
+                    if (fabs(want - got) > 1e-3) {
+                        if (bad < 5) fprintf(stderr, "  voxel %u %u %u side %d: GPU %g, brute force %g\n", x, y, z, side, got, want);
+                        bad++;
+                    }
+                    nonzero += want > 0;
+                    any |= want > 0;
+                }
+                listed += any;
+            }
+    printf("  voxelize: %zu of %zu side opacities differ from the brute force; %zu non-zero; %zu voxels listed (GPU %u)\n",
+           bad, nv * 6, nonzero, listed, I.surface_voxels);
+    CHECK(bad == 0);
+    CHECK(nonzero > 100);
+    CHECK(listed == I.surface_voxels);
+    free(lv);
+    free(occ);
+    vx_cone_gi_destroy(cg);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+/* ---- every level against CPU averages of level 0 ------------------------------ */
+
+static void check_filter(bool aniso) {
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_error err = {0};
+    vx_cone_desc d = {.res = 13, .isotropic = !aniso};
+    vx_gi_method gm;
+    vx_cone_gi* cg = NULL;
+    REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+    vx_cone_info I;
+    vx_cone_gi_info(cg, &I);
+    uint32_t E = I.entries;
+    float* lv[VX_CONE_LEVELS_MAX] = {0};
+    for (uint32_t l = 0; l < I.levels; l++) {
+        size_t n = (size_t)I.dims[l][0] * I.dims[l][1] * I.dims[l][2] * E * 4;
+        lv[l] = malloc(n * sizeof(float));
+        REQUIRE(vx_cone_gi_read_level(cg, l, lv[l], n, &err) == VX_OK);
+    }
+    /* isotropic: every level's voxel is the mean of the level-0 voxels its block
+     * covers (outside the volume: empty), summed in double from level 0;
+     * anisotropic: level l from level l-1 as read (composite, then mean) */
+    double worst = 0, lit = 0;
+    for (uint32_t l = 1; l < I.levels; l++) {
+        const uint32_t* D = I.dims[l];
+        const uint32_t* D0 = aniso ? I.dims[l - 1] : I.dims[0];
+        const float* src = aniso ? lv[l - 1] : lv[0];
+        uint32_t B = aniso ? 2 : 1u << l;
+        for (uint32_t z = 0; z < D[2]; z++)
+            for (uint32_t y = 0; y < D[1]; y++)
+                for (uint32_t x = 0; x < D[0]; x++)
+                    for (uint32_t e = 0; e < E; e++) {
+                        double want[4] = {0};
+                        if (!aniso) {
+                            for (uint32_t k = 0; k < B * B * B; k++) {
+                                uint32_t c[3] = {x * B + k % B, y * B + k / B % B, z * B + k / (B * B)};
+                                if (c[0] >= D0[0] || c[1] >= D0[1] || c[2] >= D0[2]) continue;
+                                const float* v = src + 4 * ((size_t)(c[2] * D0[1] + c[1]) * D0[0] + c[0]);
+                                for (int q = 0; q < 4; q++) want[q] += v[q] / (double)(B * B * B);
+                            }
+                        } else {
+                            int a = (int)e / 2;
+                            uint32_t front = e % 2 == 0 ? 1 : 0;
+                            for (uint32_t k = 0; k < 4; k++) {
+                                const float* pair[2];
+                                for (int fb = 0; fb < 2; fb++) {
+                                    uint32_t c[3], o[2] = {k & 1, k >> 1}, m = 0;
+                                    for (int ax = 0; ax < 3; ax++)
+                                        c[ax] = 2 * (ax == 0 ? x : ax == 1 ? y : z) + (ax == a ? (fb ? 1 - front : front) : o[m++]);
+                                    bool in = c[0] < D0[0] && c[1] < D0[1] && c[2] < D0[2];
+                                    static const float zero[4] = {0};
+                                    pair[fb] = in ? src + 4 * (((size_t)(c[2] * D0[1] + c[1]) * D0[0] + c[0]) * E + e) : zero;
+                                }
+                                for (int q = 0; q < 4; q++) want[q] += 0.25 * (pair[0][q] + (1 - pair[0][3]) * pair[1][q]);
+                            }
+                        }
+                        const float* got = lv[l] + 4 * (((size_t)(z * D[1] + y) * D[0] + x) * E + e);
+                        for (int q = 0; q < 4; q++) {
+                            /* halfs: 2^-11 relative per rounding, one per level in between */
+                            double tol = 1e-4 + 1.5e-3 * l * fabs(want[q]);
+                            worst = fmax(worst, fabs(got[q] - want[q]) / tol);
+                            lit += q < 3 && want[q] > 0;
+                        }
+                    }
+    }
+    printf("  filter (%s, %u levels): worst |GPU - CPU| / tolerance %.3f, %.0f lit values\n",
+           aniso ? "anisotropic" : "isotropic", I.levels, worst, lit);
+    CHECK(worst <= 1);
+    CHECK(lit > 20);
+    for (uint32_t l = 0; l < I.levels; l++) free(lv[l]);
+    vx_cone_gi_destroy(cg);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+static void test_filter_isotropic(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    check_filter(false);
+}
+static void test_filter_anisotropic(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    check_filter(true);
+}
+
+/* ---- analytic light ------------------------------------------------------------- */
+
+/* The mean of channel k over the pixels of the image's central w x h window that hit. */
+static double centre_mean(const vx_render_image* img, uint32_t w, uint32_t h, int k, size_t* n) {
+    double sum = 0;
+    *n = 0;
+    for (uint32_t y = (img->height - h) / 2; y < (img->height + h) / 2; y++)
+        for (uint32_t x = (img->width - w) / 2; x < (img->width + w) / 2; x++) {
+            const float* p = img->pixels + 4 * ((size_t)y * img->width + x);
+            if (p[3] == 0) continue;
+            sum += p[k];
+            (*n)++;
+        }
+    return *n ? sum / *n : 0;
+}
+
+static uint8_t plane_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    return z == 0 ? 1 : (x == 0 && y == 0 && z == 31 ? 1 : 0); /* a plate; one cell makes the bounds cubic */
+}
+
+/* A white plate under a constant sky (no sun): each cone sees only sky, so
+ * the gi is albedo * sky (the weights sum to 1) and the cone AO 1; a black
+ * sky gives 0. Fails if the cones occlude their own surface (offset). */
+static void test_open_plane(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    cells_scene(&s, 32, plane_cell);
+    s.palette[1] = 0xFFFFFFFFu;
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_render_desc v = view(32, 32, 16, 16, 40, 16, 16, 0);
+    for (int aniso = 0; aniso < 2; aniso++)
+        for (int out = 0; out < 2; out++) {
+            vx_cone_desc d = {.res = 32, .isotropic = !aniso, .no_sun = true, .sky = {0.5, 0.75, 1.0},
+                              .output = out ? VX_CONE_OUTPUT_AO : VX_CONE_OUTPUT_RADIANCE};
+            vx_gi_method gm;
+            vx_cone_gi* cg = NULL;
+            vx_error err = {0};
+            REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+            vx_render_image img = {0};
+            REQUIRE(render(rs, &s, &gm, &v, VX_SHOW_GI, &img));
+            size_t n;
+            for (int k = 0; k < 3; k++) {
+                double m = centre_mean(&img, 16, 16, k, &n), want = out ? 1.0 : d.sky[k];
+                printf("  open plane (%s, %s) channel %d: %.4f, analytic %.4f (%zu pixels)\n",
+                       aniso ? "anisotropic" : "isotropic", out ? "AO" : "gi", k, m, want, n);
+                CHECK(n >= 200);
+                CHECK(fabs(m - want) <= 0.03 * want); /* the far cell's smeared opacity at coarse levels: 2% */
+            }
+            vx_render_image_free(&img);
+            vx_cone_gi_destroy(cg);
+        }
+    /* a black sky: nothing */
+    vx_cone_desc d = {.res = 32, .no_sun = true, .black_sky = true};
+    vx_gi_method gm;
+    vx_cone_gi* cg = NULL;
+    vx_error err = {0};
+    REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+    vx_render_image img = {0};
+    REQUIRE(render(rs, &s, &gm, &v, VX_SHOW_GI, &img));
+    double mx = 0;
+    for (size_t i = 0; i < 32 * 32 * 4; i++) mx = fmax(mx, i % 4 == 3 ? 0 : img.pixels[i]);
+    CHECK(mx == 0);
+    vx_render_image_free(&img);
+    vx_cone_gi_destroy(cg);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+static uint32_t thick; /* the ceiling's and the furnace box's wall thickness in cells */
+static uint8_t ceiling_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)x, (void)y, (void)n;
+    return z == 0 ? 1 : (z >= 8 && z < 8 + thick ? 2 : 0);
+}
+static uint8_t thick_box_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    uint32_t m = n - thick;
+    return (x < thick || y < thick || z < thick || x >= m || y >= m || z >= m) ? 1 : 0;
+}
+
+/* Irradiance over pi at a point under the centre of a parallel square of
+ * half side a at height h (the view factor of a differential area to a
+ * rectangle, four quarters). */
+static double square_view_factor(double a, double h) {
+    double X = a / h, q = sqrt(1 + X * X);
+    return 4 * (2 * X / q * atan(X / q)) / (2 * PI);
+}
+
+/* A white floor under an emitting white ceiling (emission 1, black sky, no
+ * sun), 32 x 32 cells, 7 cells above the floor's top, 1 or 4 cells thick:
+ * at the floor's centre gi = F (the ceiling's view factor) and the AO 1 - F
+ * (measured, anisotropic: gi 7-8% low, AO within 0.065; isotropic: gi 37%
+ * low, AO 0.32 high for the thin ceiling). */
+static void emitting_ceiling(uint32_t th) {
+    thick = th;
+    vx_svo_scene s;
+    cells_scene(&s, 32, ceiling_cell);
+    s.palette[1] = s.palette[2] = 0xFFFFFFFFu;
+    add_emission(&s, 2, "1");
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    double F = square_view_factor(16, 7);
+    /* looking down through the ceiling is not possible: an orthographic-like
+     * narrow view from just under the ceiling */
+    vx_render_desc v = view(16, 16, 16, 16, 7.5, 16, 16, 0);
+    v.camera.fov = 10;
+    for (int aniso = 0; aniso < 2; aniso++)
+        for (int out = 0; out < 2; out++) {
+            vx_cone_desc d = {.res = 32, .cones = 16, .isotropic = !aniso, .no_sun = true, .black_sky = true,
+                              .output = out ? VX_CONE_OUTPUT_AO : VX_CONE_OUTPUT_RADIANCE};
+            vx_gi_method gm;
+            vx_cone_gi* cg = NULL;
+            vx_error err = {0};
+            REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+            vx_render_image img = {0};
+            REQUIRE(render(rs, &s, &gm, &v, VX_SHOW_GI, &img));
+            size_t n;
+            double m = centre_mean(&img, 4, 4, 0, &n), want = out ? 1 - F : F;
+            printf("  emitting ceiling %u cells thick (%s, %s): %.4f, analytic %.4f (%zu pixels)\n", th,
+                   aniso ? "anisotropic" : "isotropic", out ? "AO" : "gi", m, want, n);
+            CHECK(n == 16);
+            /* anisotropic: within 10% of F; isotropic: the thin-wall leak
+             * (cones.h) loses up to half of the ceiling at coarse levels */
+            if (out) CHECK(fabs(m - want) <= (aniso ? 0.1 : 0.45));
+            else CHECK(fabs(m - want) <= (aniso ? 0.1 : 0.45) * F);
+            vx_render_image_free(&img);
+            vx_cone_gi_destroy(cg);
+        }
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+static void test_emitting_ceiling(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    emitting_ceiling(1);
+    emitting_ceiling(4);
+}
+
+/* The furnace: inside a closed box whose walls emit 1 (white, black sky, no
+ * sun) every cone ends on a wall of radiance 1, so the gi is exactly 1:
+ * more would be energy the cones create, less light lost through the walls
+ * (walls 1 and 3 cells thick, one voxel a cell). */
+static void furnace(uint32_t th) {
+    thick = th;
+    vx_svo_scene s;
+    cells_scene(&s, 14 + 2 * th, thick_box_cell);
+    s.palette[1] = 0xFFFFFFFFu;
+    add_emission(&s, 1, "1");
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    double c = 7.0 + th;
+    vx_render_desc v = view(24, 24, c, c, c, c, c + 7, c - 5);
+    for (int aniso = 0; aniso < 2; aniso++) {
+        vx_cone_desc d = {.res = 14 + 2 * th, .isotropic = !aniso, .no_sun = true, .black_sky = true};
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+        vx_render_image img = {0};
+        REQUIRE(render(rs, &s, &gm, &v, VX_SHOW_GI, &img));
+        double lo = 1e9, hi = 0;
+        size_t n = 0;
+        for (size_t i = 0; i < (size_t)24 * 24; i++) {
+            if (img.pixels[4 * i + 3] == 0) continue;
+            for (int k = 0; k < 3; k++) lo = fmin(lo, img.pixels[4 * i + k]), hi = fmax(hi, img.pixels[4 * i + k]);
+            n++;
+        }
+        printf("  furnace, walls %u cells (%s): gi in [%.4f, %.4f] over %zu pixels (exact: 1)\n", th,
+               aniso ? "anisotropic" : "isotropic", lo, hi, n);
+        CHECK(n == 24 * 24);
+        CHECK(hi <= 1.002); /* no energy created (halfs round) */
+        /* light lost where cones leave through the walls at coarse levels,
+         * whose blurred opacity lets a share through (measured: anisotropic
+         * 28-34%, isotropic 58-61% at the worst pixel) */
+        CHECK(lo >= (aniso ? 0.6 : 0.35));
+        vx_render_image_free(&img);
+        vx_cone_gi_destroy(cg);
+    }
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+static void test_furnace(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    furnace(1);
+    furnace(3);
+}
+
+/* ---- against the path tracer ----------------------------------------------------- */
+
+static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
+    double se = 0, rs2 = 0;
+    for (size_t i = 0; i < (size_t)ref->width * ref->height; i++) {
+        if (ref->pixels[4 * i + 3] == 0) continue;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+            se += d * d, rs2 += (double)ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+        }
+    }
+    return rs2 > 0 ? se / rs2 : 0;
+}
+
+/* The lit room (floor, two walls, an emitting block; the bake's sun and
+ * sky): direct + gi=cones against the path tracer's full image. */
+static void test_vs_pathtrace(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_render_desc v = {.width = 40, .height = 30};
+    vx_error err = {0};
+    vx_render_image ref = {0};
+    vx_probe_render_desc pd = {.base = &v, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 512, .seed = 3, .pixel_centre = true};
+    REQUIRE(vx_probe_render_gpu(rs, &s, NULL, &pd, &ref, &err) == VX_OK);
+    for (int aniso = 0; aniso < 2; aniso++) {
+        vx_cone_desc d = {.res = 24, .isotropic = !aniso, .bounces = 2};
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+        vx_render_image img = {0};
+        REQUIRE(render(rs, &s, &gm, &v, VX_SHOW_FINAL, &img));
+        double e = rel_mse(&img, &ref);
+        printf("  room, direct + gi=cones (%s) against the path tracer (512 spp): relMSE %.4f\n",
+               aniso ? "anisotropic" : "isotropic", e);
+        CHECK(e < (aniso ? 0.006 : 0.012)); /* measured on lavapipe: 0.0017 and 0.0048 */
+        vx_render_image_free(&img);
+        vx_cone_gi_destroy(cg);
+    }
+    vx_render_image_free(&ref);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+static void test_bad_options(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_cone_desc bad[] = {{.res = 1}, {.res = VX_CONE_RES_MAX + 1}, {.cones = VX_CONE_CONES_MAX + 1}, {.samples = 9},
+                          {.aperture = 90}, {.aperture = NAN}, {.offset = 1e9}, {.bounces = 5}, {.light_count = 1}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        vx_gi_method gm;
+        vx_cone_gi* cg = (vx_cone_gi*)&gm;
+        vx_error err = {0};
+        CHECK(vx_cone_gi_create(rs, &s, &bad[i], &gm, &cg, &err) == VX_ERR_INVALID_ARG);
+        CHECK(cg == NULL && err.msg[0]);
+    }
+    vx_svo_scene empty;
+    ts_scene(&empty, NULL, 0, NULL, 0);
+    vx_render_scene* rse = scene_on_gpu(&empty);
+    if (rse) {
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        vx_error err = {0};
+        CHECK(vx_cone_gi_create(rse, &empty, NULL, &gm, &cg, &err) == VX_ERR_INVALID_ARG);
+        vx_render_scene_destroy(rse);
+    }
+    vx_svo_scene_free(&empty);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    (void)ts_random_model, (void)box_scene;
+    dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE); /* see tests/probes/test_probes_gpu.c */
+    vx_error err = {0};
+    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+        fprintf(stderr, "no Vulkan device (%s): cone tests skipped\n", err.msg);
+        gpu_skip = "no Vulkan device";
+    }
+    RUN(test_voxelize_brute_force);
+    RUN(test_filter_isotropic);
+    RUN(test_filter_anisotropic);
+    RUN(test_open_plane);
+    RUN(test_emitting_ceiling);
+    RUN(test_furnace);
+    RUN(test_vs_pathtrace);
+    RUN(test_bad_options);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
