@@ -38,6 +38,7 @@
  *
  * Voxel cone tracing (cones/cones.h, issue 12): "cones" (the defaults),
  * "cones-iso" (isotropic), "cones-16" (16 cones), "cones-256" (res 256),
+ * "cones-512" (res 512; only when --methods names it),
  * rendered through the pass pipeline (gbuffer,direct,gi=cones; the indirect
  * image is its gi image; the times are the frame's and the gi pass's GPU
  * time); a line before their rows gives the volume's build (voxelize,
@@ -80,6 +81,7 @@ struct gi_method {
     /* NULL: the probe renderer in mode full or indirect */
     vx_result (*render)(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                         vx_error* err);
+    bool on_request; /* only when --methods names it */
 };
 
 static vx_result photon_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
@@ -88,16 +90,17 @@ static vx_result cone_render(const gi_method* m, const built* b, bool indirect, 
                              vx_error* err);
 
 static const gi_method methods[] = {
-    {"pathtrace", BUILD_NONE, 256, VX_PROBE_RENDER_PATHTRACE, VX_PROBE_RENDER_PT_INDIRECT, NULL},
-    {"probes", BUILD_PROBES, 16, VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT, NULL},
-    {"lightfield", BUILD_PROBES, 256, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT, NULL},
+    {"pathtrace", BUILD_NONE, 256, VX_PROBE_RENDER_PATHTRACE, VX_PROBE_RENDER_PT_INDIRECT, NULL, false},
+    {"probes", BUILD_PROBES, 16, VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT, NULL, false},
+    {"lightfield", BUILD_PROBES, 256, VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT, NULL, false},
     /* spp: progressive photon passes (--photons N each); full: every photon, direct light too */
-    {"photons", BUILD_NONE, 16, 0, 0, photon_render},
-    {"photons-fg", BUILD_NONE, 16, 0, 0, photon_render}, /* the same with a final gather of 16 rays */
-    {"cones", BUILD_NONE, 1, 0, 0, cone_render},
-    {"cones-iso", BUILD_NONE, 1, 0, 0, cone_render},
-    {"cones-16", BUILD_NONE, 1, 0, 0, cone_render},
-    {"cones-256", BUILD_NONE, 1, 0, 0, cone_render},
+    {"photons", BUILD_NONE, 16, 0, 0, photon_render, false},
+    {"photons-fg", BUILD_NONE, 16, 0, 0, photon_render, false}, /* the same with a final gather of 16 rays */
+    {"cones", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-iso", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-16", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-256", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-512", BUILD_NONE, 1, 0, 0, cone_render, true}, /* 13 GB of GPU memory */
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
@@ -175,6 +178,7 @@ static vx_result cone_render(const gi_method* m, const built* b, bool indirect, 
         d.isotropic = !strcmp(m->name, "cones-iso");
         if (!strcmp(m->name, "cones-16")) d.cones = 16;
         if (!strcmp(m->name, "cones-256")) d.res = 256;
+        if (!strcmp(m->name, "cones-512")) d.res = 512;
         if ((r = vx_cone_gi_create(rs, &scene, &d, &cone_gm, &cone_gi, err))) return r;
         /* again, timed alone: the first build includes the pipelines' creation */
         if ((r = vx_cone_gi_voxelize(cone_gi, err))) return r;
@@ -406,7 +410,7 @@ int main(int argc, char** argv) {
     }
     bool use[METHOD_COUNT];
     for (size_t k = 0; k < METHOD_COUNT; k++) {
-        use[k] = !method_list;
+        use[k] = !method_list && !methods[k].on_request;
         if (method_list) {
             size_t n = strlen(methods[k].name);
             for (const char* p = method_list; (p = strstr(p, methods[k].name)); p += n)

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "cones/cones.h"
 #include "probes/probes.h"
 #include "render/pipeline.h"
 #include "render/render.h"
@@ -65,6 +66,7 @@ typedef struct app {
     vx_frame_renderer* fr;
     vx_pass_list passes;
     vx_probe_gi* pgi;
+    vx_cone_gi* cgi; /* gi=cones: its volume, built at the first frame after a change */
     vx_gi_method gm;
     vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
     uint32_t timing_count;

@@ -49,7 +49,8 @@ _Noreturn static void usage(int status) {
             "                          plus the probes' diffuse GI, mode lightfield (key 8) one bounce\n"
             "                          traced through them, exactly as svo_render does\n"
             "    --passes LIST         the colour mode's passes, as svo_render --passes (default: %s);\n"
-            "                          key 9 cycles presets (ao, aa, tonemap, dof); the overlay shows each\n"
+            "                          key 9 cycles presets (ao, aa, tonemap, dof, gi=cones: voxel cone\n"
+            "                          tracing, its volume rebuilt after each edit); the overlay shows each\n"
             "                          pass's GPU time\n"
             "    --fov DEG             vertical field of view (default: %g)\n"
             "    --script FILE         play commands from FILE (see below)\n"
@@ -306,6 +307,8 @@ static vx_render_camera camera_desc(const app* a) {
 static void drop_passes(app* a) {
     vx_probe_gi_destroy(a->pgi);
     a->pgi = NULL;
+    vx_cone_gi_destroy(a->cgi);
+    a->cgi = NULL;
     vx_frame_renderer_destroy(a->fr);
     a->fr = NULL;
 }
@@ -874,7 +877,10 @@ static void draw_overlay(app* a, vf_canvas* cv) {
 /* The colour mode through the pass pipeline (a->passes): svo_render's
  * --passes frame for the same camera; per-pass times kept for the overlay. */
 static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
-    if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi) {
+    if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi && !strcmp(a->passes.gi, "cones")) {
+        vx_result r = vx_cone_gi_create(a->rs, &a->scene, NULL, &a->gm, &a->cgi, err);
+        if (r) return r;
+    } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
         vx_probe_render_desc pd = {0};
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
@@ -885,7 +891,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     fd.base.mode = VX_RENDER_COLOR;
     fd.base.spp = 0;
     fd.passes = &a->passes;
-    fd.gi = a->pgi ? &a->gm : NULL;
+    fd.gi = a->pgi || a->cgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
     fd.exposure = a->exposure;
     /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
@@ -918,12 +924,14 @@ bool sv_set_passes(app* a, const char* list) {
         sv_message(a, true, "passes: %s", err.msg);
         return false;
     }
-    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && !a->have_probes) {
+    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && strcmp(pl.gi, "cones") && !a->have_probes) {
         sv_message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
         return false;
     }
     vx_probe_gi_destroy(a->pgi);
     a->pgi = NULL;
+    vx_cone_gi_destroy(a->cgi);
+    a->cgi = NULL;
     a->passes = pl;
     a->timing_count = 0;
     char t[160];
@@ -1143,7 +1151,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     else if (key == GLFW_KEY_8) sv_set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
     else if (key == GLFW_KEY_9) {
         static const char* const presets[] = {VX_PASS_LIST_DEFAULT, "gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap",
-                                              "gbuffer,dof,direct,ao,aa,tonemap"};
+                                              "gbuffer,dof,direct,ao,aa,tonemap", "gbuffer,direct,gi=cones,aa,tonemap"};
         char cur[160];
         vx_pass_list_format(&a->passes, cur, sizeof cur);
         size_t k = 0, n = sizeof presets / sizeof presets[0];
