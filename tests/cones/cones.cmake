@@ -8,3 +8,8 @@ if(VX_WITH_VULKAN)
   set_tests_properties(test_cones PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
 endif()
+if(VX_WITH_VULKAN AND VX_WITH_OIIO)
+  # svo_render --passes ...,gi=cones: options, usage errors, frames
+  add_test(NAME test_cones_tool COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/test_cones_tool.sh ${CMAKE_BINARY_DIR}/bin)
+  set_tests_properties(test_cones_tool PROPERTIES TIMEOUT 600 LABELS cones)
+endif()
