@@ -73,8 +73,8 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
     if (!d.res) d.res = D.res;
     if (!d.samples) d.samples = D.samples;
     if (!d.cones) d.cones = D.cones;
-    if (!(d.offset > 0)) d.offset = D.offset;
-    if (!(d.step > 0)) d.step = D.step;
+    if (d.offset == 0) d.offset = D.offset;
+    if (d.step == 0) d.step = D.step;
     if (!d.bounces) d.bounces = D.bounces;
     if (d.res < 2 || d.res > VX_CONE_RES_MAX)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cone volume res %u: 2 to %u", d.res, VX_CONE_RES_MAX);
@@ -82,10 +82,11 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
     if (d.cones > VX_CONE_CONES_MAX)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u cones: at most %u", d.cones, VX_CONE_CONES_MAX);
     if (d.bounces > 4) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u bounces: at most 4", d.bounces);
-    if (!(d.aperture >= 0 && d.aperture < 89) || !(d.offset < 64) || !(d.step <= 4) || !(d.ao_distance >= 0))
+    if (!(d.aperture >= 0 && d.aperture < 89) || !(d.offset > 0 && d.offset < 64) || !(d.step >= 0.05 && d.step <= 4) ||
+        !(d.ao_distance >= 0 && d.ao_distance < INFINITY))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
-                       "cone aperture %g (0 to 89 degrees), offset %g (below 64 voxels), step %g (at most 4), "
-                       "AO distance %g (0 or more)", d.aperture, d.offset, d.step, d.ao_distance);
+                       "cone aperture %g (0 to 89 degrees), offset %g (above 0, below 64 voxels), step %g (0.05 to 4 "
+                       "diameters), AO distance %g (0 or more)", d.aperture, d.offset, d.step, d.ao_distance);
     if (!d.aperture) {
         /* each cone an equal share of the hemisphere: 2 pi (1 - cos) = 2 pi / n */
         double a = acos(1.0 - 1.0 / d.cones) * 180 / 3.14159265358979323846;
@@ -100,6 +101,9 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
     memcpy(ld, zero3(d.light_dir) ? D.light_dir : d.light_dir, sizeof ld);
     double l = sqrt(ld[0] * ld[0] + ld[1] * ld[1] + ld[2] * ld[2]);
     if (!(l > 0) || !isfinite(l)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the sun's direction is not a direction");
+    for (int k = 0; k < 3; k++)
+        if (!(d.sun[k] >= 0 && d.sun[k] < INFINITY && d.sky[k] >= 0 && d.sky[k] < INFINITY))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sun %g and sky %g: finite, 0 or more", d.sun[k], d.sky[k]);
     for (int k = 0; k < 3; k++) {
         cg->light_dir[k] = ld[k] / l;
         cg->sun[k] = d.no_sun ? 0 : (zero3(d.sun) ? D.sun[k] : d.sun[k]);

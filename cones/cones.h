@@ -99,8 +99,8 @@ typedef enum vx_cone_output {
  *               room are 2-3 times closer with six)
  *  cones:       diffuse cones per pixel (0: 6; at most VX_CONE_CONES_MAX)
  *  aperture:    cone half angle in degrees (0: acos(1 - 1/cones))
- *  offset:      near-surface offset in level-0 voxels (0: 1.5)
- *  step:        march step as a share of the cone's diameter (0: 0.5)
+ *  offset:      near-surface offset in level-0 voxels (0: 1.5; below 64)
+ *  step:        march step as a share of the cone's diameter (0: 0.5; 0.05 to 4)
  *  ao_distance: world distance within which the cone AO counts occlusion (0: unlimited)
  *  bounces:     diffuse bounces kept in the volume (0: 1: direct light only)
  *  light_dir, sun, sky: the light (0: the probe bake's defaults,

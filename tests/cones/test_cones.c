@@ -502,7 +502,9 @@ static void test_bad_options(void) {
     vx_render_scene* rs = scene_on_gpu(&s);
     REQUIRE(rs);
     vx_cone_desc bad[] = {{.res = 1}, {.res = VX_CONE_RES_MAX + 1}, {.cones = VX_CONE_CONES_MAX + 1}, {.samples = 9},
-                          {.aperture = 90}, {.aperture = NAN}, {.offset = 1e9}, {.bounces = 5}, {.light_count = 1}};
+                          {.aperture = 90}, {.aperture = NAN}, {.offset = 1e9}, {.offset = -1}, {.step = 0.01}, {.step = NAN},
+                          {.ao_distance = -1}, {.bounces = 5}, {.light_count = 1}, {.light_dir = {NAN, 0, 1}},
+                          {.sun = {1, -1, 1}}, {.sky = {INFINITY, 0, 0}}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         vx_gi_method gm;
         vx_cone_gi* cg = (vx_cone_gi*)&gm;
