@@ -74,9 +74,7 @@ vx_result vx_conv_file(const vx_conv_file_desc* desc, const char* path, vx_svo_s
 #endif
     } else { /* .gltf, .glb */
 #ifdef VX_HAVE_MESH
-        vx_conv_mesh_desc md = {.build = d.build, .alloc = A, .logger = d.logger, .res = d.res, .scene_set = d.scene_set,
-                                .scene = d.scene, .solid = d.solid, .normals = d.normals, .no_color = d.no_color,
-                                .threads = d.threads, .y_up = d.y_up};
+        vx_conv_mesh_desc md = vx_conv_mesh_desc_from_file(&d);
         r = vx_conv_mesh_file(&md, path, out, &st, err);
 #else
         r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "this build has no glTF support");

@@ -1,6 +1,9 @@
 /* convert/mesh.c - glTF mesh -> svo scene: one model per non-empty region
  * of the brick voxelizer (convert/mesh_voxelize.c), placed by integer
- * translations in grid space. */
+ * translations in grid space; a share of the regions as parts, and the
+ * scene assembled from all parts (the same path for one process and for
+ * vox2svo under mpirun). */
+#include <stdlib.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -8,34 +11,21 @@
 
 #include "convert/mesh_internal.h"
 
-/* ---- scene ------------------------------------------------------------------------ */
+/* ---- parts: one model per region ------------------------------------------------------ */
 
-/* Regions arrive from several threads in any order: each built model goes
- * to the slot of its region index, and the scene is assembled in index
+/* Regions arrive from several threads in any order: each built model is
+ * appended as a part with its region index, and the parts are put in index
  * order afterwards, so the output does not depend on thread timing. */
-typedef struct scene_sink {
+typedef struct part_sink {
     const vx_conv_mesh_desc* desc;
     pthread_mutex_t lock;
-    vx_svo_model* slot;
-    uint32_t (*origin)[3];
-    bool* used;
-    size_t slots;
-    vx_conv_stats* st;
-} scene_sink;
+    vx_conv_mesh_part* parts;
+    size_t count, cap;
+} part_sink;
 
-static vx_result scene_add(void* user, const vx__mesh_region* r, vx_error* err) {
-    scene_sink* k = (scene_sink*)user;
+static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
+    part_sink* k = (part_sink*)user;
     const vx_allocator* a = k->desc->alloc;
-    pthread_mutex_lock(&k->lock);
-    if (!k->slot) {
-        k->slot = (vx_svo_model*)vx_calloc(a, r->region_count, sizeof *k->slot);
-        k->origin = (uint32_t(*)[3])vx_calloc(a, r->region_count, sizeof *k->origin);
-        k->used = (bool*)vx_calloc(a, r->region_count, sizeof *k->used);
-        k->slots = r->region_count;
-    }
-    bool ok = k->slot && k->origin && k->used && r->index < k->slots;
-    pthread_mutex_unlock(&k->lock);
-    if (!ok) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "scene of %zu regions", r->region_count);
     vx_svo_voxels in;
     memset(&in, 0, sizeof in);
     memcpy(in.size, r->size, sizeof in.size);
@@ -48,13 +38,13 @@ static vx_result scene_add(void* user, const vx__mesh_region* r, vx_error* err) 
     vx_svo_build_desc bd = k->desc->build;
     if (!bd.alloc) bd.alloc = a;
     bd.progress.func = NULL; /* progress comes from the voxelizer (this may run on any thread) */
-    vx_svo_model m;
-    memset(&m, 0, sizeof m);
-    vx_svo_build_stats bs;
-    memset(&bs, 0, sizeof bs);
+    vx_conv_mesh_part p;
+    memset(&p, 0, sizeof p);
+    p.index = r->index;
+    memcpy(p.origin, r->origin, sizeof p.origin);
     double t0 = vx_time_now();
-    vx_result res = vx_svo_build_model(&bd, &in, &m, &bs, err);
-    double dt = vx_time_now() - t0;
+    vx_result res = vx_svo_build_model(&bd, &in, &p.model, &p.build, err);
+    p.seconds_build = vx_time_now() - t0;
     if (res) {
         char where[64];
         snprintf(where, sizeof where, "region at %u %u %u", r->origin[0], r->origin[1], r->origin[2]);
@@ -62,55 +52,100 @@ static vx_result scene_add(void* user, const vx__mesh_region* r, vx_error* err) 
         return res;
     }
     pthread_mutex_lock(&k->lock);
-    k->st->seconds_build += dt;
-    vx_svo_build_stats* sum = &k->st->build;
-    sum->input_voxels += bs.input_voxels;
-    sum->voxels += bs.voxels;
-    sum->desc_plain += bs.desc_plain;
-    sum->desc_collapsed += bs.desc_collapsed;
-    sum->desc_dag += bs.desc_dag;
-    sum->far_pointers += bs.far_pointers;
-    sum->attr_records += bs.attr_records;
-    sum->bytes += bs.bytes;
-    k->slot[r->index] = m;
-    memcpy(k->origin[r->index], r->origin, sizeof k->origin[0]);
-    k->used[r->index] = true;
+    bool ok = vx_grow(a, (void**)&k->parts, &k->cap, k->count + 1, sizeof *k->parts);
+    if (ok) k->parts[k->count++] = p;
     pthread_mutex_unlock(&k->lock);
+    if (!ok) {
+        vx_svo_model_free(a, &p.model);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu models", k->count + 1);
+    }
     return VX_OK;
 }
 
-static void sink_free(scene_sink* k) {
-    const vx_allocator* a = k->desc->alloc;
-    for (size_t i = 0; k->slot && i < k->slots; i++)
-        if (k->used[i]) vx_svo_model_free(a, &k->slot[i]);
-    vx_free(a, k->slot);
-    vx_free(a, k->origin);
-    vx_free(a, k->used);
-    pthread_mutex_destroy(&k->lock);
+static int part_cmp(const void* pa, const void* pb) {
+    const vx_conv_mesh_part *a = (const vx_conv_mesh_part*)pa, *b = (const vx_conv_mesh_part*)pb;
+    return a->index < b->index ? -1 : a->index > b->index;
 }
 
-/* Moves the built models into the scene, in region order. */
-static vx_result sink_assemble(scene_sink* k, vx_svo_scene* s, vx_error* err) {
-    const vx_allocator* a = k->desc->alloc;
-    size_t n = 0;
-    for (size_t i = 0; i < k->slots; i++) n += k->used[i];
+void vx_conv_mesh_parts_free(const vx_allocator* a, vx_conv_mesh_part* parts, size_t count) {
+    for (size_t i = 0; parts && i < count; i++) vx_svo_model_free(a, &parts[i].model);
+    vx_free(a, parts);
+}
+
+/* Sums the parts' build statistics and times into st. */
+static void parts_stats(const vx_conv_mesh_part* parts, size_t count, vx_conv_stats* st) {
+    for (size_t i = 0; i < count; i++) {
+        const vx_svo_build_stats* bs = &parts[i].build;
+        vx_svo_build_stats* sum = &st->build;
+        sum->input_voxels += bs->input_voxels;
+        sum->voxels += bs->voxels;
+        sum->desc_plain += bs->desc_plain;
+        sum->desc_collapsed += bs->desc_collapsed;
+        sum->desc_dag += bs->desc_dag;
+        sum->far_pointers += bs->far_pointers;
+        sum->attr_records += bs->attr_records;
+        sum->bytes += bs->bytes;
+        st->seconds_build += parts[i].seconds_build;
+    }
+}
+
+vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mesh, uint32_t share,
+                             uint32_t shares, vx_conv_mesh_part** out, size_t* out_count, vx_conv_stats* stats,
+                             vx_error* err) {
+    vx_conv_mesh_desc desc = desc_in ? *desc_in : (vx_conv_mesh_desc){0};
+    if (!mesh || !out || !out_count) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
+    *out = NULL;
+    *out_count = 0;
+    double t0 = vx_time_now();
+    vx_conv_mesh_grid grid;
+    vx_result r = vx_conv_mesh_grid_make(mesh->pos, mesh->tri_count, desc.res, &grid, err);
+    if (r) return r;
+    part_sink k;
+    memset(&k, 0, sizeof k);
+    k.desc = &desc;
+    pthread_mutex_init(&k.lock, NULL);
+    r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);
+    pthread_mutex_destroy(&k.lock);
+    if (r) {
+        vx_conv_mesh_parts_free(desc.alloc, k.parts, k.count);
+        return r;
+    }
+    if (k.count > 1) qsort(k.parts, k.count, sizeof *k.parts, part_cmp);
+    if (stats) {
+        vx_conv_stats st;
+        memset(&st, 0, sizeof st);
+        parts_stats(k.parts, k.count, &st);
+        st.models = st.instances = (uint32_t)(k.count < UINT32_MAX ? k.count : UINT32_MAX);
+        st.seconds_voxelize = vx_time_now() - t0 - st.seconds_build;
+        st.peak_bytes = vx_peak_rss();
+        st.seconds_read = stats->seconds_read;
+        *stats = st;
+    }
+    *out = k.parts;
+    *out_count = k.count;
+    return VX_OK;
+}
+
+/* Moves the parts' models into the scene, in region order. */
+static vx_result parts_to_scene(vx_conv_mesh_part* parts, size_t n, vx_svo_scene* s, const vx_allocator* a,
+                                vx_error* err) {
     if (n > UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu models", n);
     s->models = (vx_svo_model*)vx_calloc(a, n ? n : 1, sizeof *s->models);
     s->instances = (vx_svo_instance*)vx_calloc(a, n ? n : 1, sizeof *s->instances);
     if (!s->models || !s->instances) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "scene of %zu models", n);
-    for (size_t i = 0; i < k->slots; i++) {
-        if (!k->used[i]) continue;
+    for (size_t i = 0; i < n; i++) {
         uint32_t mi = s->model_count;
-        s->models[mi] = k->slot[i];
-        k->used[i] = false;
+        s->models[mi] = parts[i].model;
+        memset(&parts[i].model, 0, sizeof parts[i].model);
         vx_svo_instance* inst = &s->instances[mi];
+        const uint32_t* o = parts[i].origin;
         inst->xform[0] = inst->xform[5] = inst->xform[10] = 1.0;
-        inst->xform[3] = k->origin[i][0];
-        inst->xform[7] = k->origin[i][1];
-        inst->xform[11] = k->origin[i][2];
+        inst->xform[3] = o[0];
+        inst->xform[7] = o[1];
+        inst->xform[11] = o[2];
         inst->model = mi;
         inst->layer = UINT32_MAX;
-        snprintf(inst->name, sizeof inst->name, "region %u %u %u", k->origin[i][0], k->origin[i][1], k->origin[i][2]);
+        snprintf(inst->name, sizeof inst->name, "region %u %u %u", o[0], o[1], o[2]);
         s->model_count++;
         s->instance_count++;
     }
@@ -206,28 +241,25 @@ static vx_result add_lights(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_
     return VX_OK;
 }
 
-vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mesh, vx_svo_scene* out,
-                       vx_conv_stats* stats, vx_error* err) {
+vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mesh, vx_conv_mesh_part* parts,
+                                size_t count, vx_svo_scene* out, vx_conv_stats* stats, vx_error* err) {
     vx_conv_mesh_desc desc = desc_in ? *desc_in : (vx_conv_mesh_desc){0};
-    if (!mesh || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
-    vx_conv_stats st;
-    memset(&st, 0, sizeof st);
-    double t0 = vx_time_now();
+    if (!mesh || !out || (!parts && count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
+    if (count > 1) qsort(parts, count, sizeof *parts, part_cmp);
+    for (size_t i = 1; i < count; i++)
+        if (parts[i].index == parts[i - 1].index)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "region %zu given twice", parts[i].index);
     vx_conv_mesh_grid grid;
     vx_result r = vx_conv_mesh_grid_make(mesh->pos, mesh->tri_count, desc.res, &grid, err);
     if (r) return r;
+    vx_conv_stats st;
+    memset(&st, 0, sizeof st);
+    parts_stats(parts, count, &st);
     vx_svo_scene s;
     vx_svo_scene_init(&s, desc.alloc);
-    scene_sink k;
-    memset(&k, 0, sizeof k);
-    k.desc = &desc;
-    k.st = &st;
-    pthread_mutex_init(&k.lock, NULL);
-    r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), scene_add, &k, err);
-    if (!r) r = sink_assemble(&k, &s, err);
+    r = parts_to_scene(parts, count, &s, desc.alloc, err);
     if (!r) r = add_materials(mesh, &s, desc.alloc, err);
     if (!r) r = add_lights(mesh, &s, desc.alloc, err);
-    sink_free(&k);
     if (r) {
         vx_svo_scene_free(&s);
         return r;
@@ -240,18 +272,46 @@ vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc_in, const vx_gltf_mesh* mes
     vx_svo_scene_update_bounds(&s);
     st.models = s.model_count;
     st.instances = s.instance_count;
-    st.seconds_voxelize = vx_time_now() - t0 - st.seconds_build;
     st.peak_bytes = vx_peak_rss();
     if (stats) {
         st.seconds_read = stats->seconds_read;
+        st.seconds_voxelize = stats->seconds_voxelize;
         *stats = st;
     }
     *out = s;
     return VX_OK;
 }
 
-vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc_in, const char* path, vx_svo_scene* out,
-                            vx_conv_stats* stats, vx_error* err) {
+vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, vx_svo_scene* out,
+                       vx_conv_stats* stats, vx_error* err) {
+    if (!mesh || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
+    const vx_allocator* a = desc ? desc->alloc : NULL;
+    double t0 = vx_time_now();
+    vx_conv_mesh_part* parts = NULL;
+    size_t n = 0;
+    vx_result r = vx_conv_mesh_share(desc, mesh, 0, 1, &parts, &n, NULL, err);
+    if (r) return r;
+    vx_conv_stats st;
+    memset(&st, 0, sizeof st);
+    r = vx_conv_mesh_assemble(desc, mesh, parts, n, out, &st, err);
+    vx_conv_mesh_parts_free(a, parts, n);
+    if (r) return r;
+    st.seconds_voxelize = vx_time_now() - t0 - st.seconds_build;
+    if (stats) {
+        st.seconds_read = stats->seconds_read;
+        *stats = st;
+    }
+    return VX_OK;
+}
+
+vx_conv_mesh_desc vx_conv_mesh_desc_from_file(const vx_conv_file_desc* d) {
+    vx_conv_file_desc f = d ? *d : (vx_conv_file_desc){0}; /* res 0 means 256 in both */
+    return (vx_conv_mesh_desc){.build = f.build, .alloc = f.alloc, .logger = f.logger, .res = f.res,
+                               .scene_set = f.scene_set, .scene = f.scene, .solid = f.solid, .normals = f.normals,
+                               .no_color = f.no_color, .threads = f.threads, .y_up = f.y_up};
+}
+
+vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, vx_gltf_mesh* out, vx_error* err) {
     vx_conv_mesh_desc desc = desc_in ? *desc_in : (vx_conv_mesh_desc){0};
     if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
     vx_gltf_read_desc rd;
@@ -261,7 +321,6 @@ vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc_in, const char* path, 
     rd.scene_set = desc.scene_set;
     rd.scene = desc.scene;
     rd.no_images = desc.no_color;
-    double t0 = vx_time_now();
     vx_gltf_mesh m;
     vx_result r = vx_gltf_read_file(&rd, path, &m, err);
     if (r) return r;
@@ -281,10 +340,21 @@ vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc_in, const char* path, 
             }
         }
     }
+    *out = m;
+    return VX_OK;
+}
+
+vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc, const char* path, vx_svo_scene* out,
+                            vx_conv_stats* stats, vx_error* err) {
+    if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh: NULL argument");
+    double t0 = vx_time_now();
+    vx_gltf_mesh m;
+    vx_result r = vx_conv_mesh_read(desc, path, &m, err);
+    if (r) return r;
     vx_conv_stats st;
     memset(&st, 0, sizeof st);
     st.seconds_read = vx_time_now() - t0;
-    r = vx_conv_mesh(&desc, &m, out, &st, err);
+    r = vx_conv_mesh(desc, &m, out, &st, err);
     vx_gltf_mesh_free(&m);
     if (r == VX_OK && stats) *stats = st;
     return r;

@@ -95,6 +95,7 @@
 #include <stdint.h>
 
 #include "convert/convert.h"
+#include "convert/file.h"
 #include "formats/gltf.h"
 
 #ifdef __cplusplus
@@ -141,6 +142,48 @@ vx_result vx_conv_mesh(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, 
  * and converts it. */
 vx_result vx_conv_mesh_file(const vx_conv_mesh_desc* desc, const char* path, vx_svo_scene* out, vx_conv_stats* stats,
                             vx_error* err);
+/* The reading half of vx_conv_mesh_file: the mesh, turned +Z up unless
+ * desc.y_up. Free with vx_gltf_mesh_free. */
+vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc, const char* path, vx_gltf_mesh* out, vx_error* err);
+/* The mesh options of vx_conv_file's desc (the one mapping vx_conv_file uses). */
+vx_conv_mesh_desc vx_conv_mesh_desc_from_file(const vx_conv_file_desc* d);
+
+/* ---- a conversion in shares (vox2svo under mpirun) -----------------------------------
+ *
+ * vx_conv_mesh is vx_conv_mesh_share(0 of 1) followed by
+ * vx_conv_mesh_assemble; a distributed run gives each process one share of
+ * the regions and assembles every share's parts in one place, so its scene
+ * is the single process's, model for model and byte for byte when written.
+ * The partition is a function of the mesh and desc alone (every process
+ * bins the triangles itself and computes the same one): regions by their
+ * number of surface bricks, the most first, each to the share with the
+ * fewest bricks so far (ties to the lower share). A region is one model
+ * (desc.region), built whole by the process that voxelizes it, so a share
+ * needs the memory of its own regions only. */
+typedef struct vx_conv_mesh_part {
+    size_t index;              /* the region's index (regions in Morton order) */
+    uint32_t origin[3];        /* grid cell of the model's cell (0, 0, 0) */
+    vx_svo_model model;        /* owned by the part until vx_conv_mesh_assemble takes it */
+    vx_svo_build_stats build;  /* of this model */
+    double seconds_build;
+} vx_conv_mesh_part;
+
+/* The non-empty regions of share `share` (< shares) as parts, in region
+ * order; *out (free with vx_conv_mesh_parts_free(desc->alloc, ...)) may be
+ * NULL with *count 0 when the share got no region. stats (may be NULL): this
+ * share's models and times (seconds_read is kept). */
+vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, uint32_t share,
+                             uint32_t shares, vx_conv_mesh_part** out, size_t* count, vx_conv_stats* stats,
+                             vx_error* err);
+/* The scene of every share's parts (in any order; each region once): models
+ * in region order with their instances, materials, lights, world_from_grid
+ * and bounds, as vx_conv_mesh makes them. Takes the parts' models (their
+ * model fields are zeroed); the array stays the caller's. stats (may be
+ * NULL): the parts' sums; seconds_read and seconds_voxelize are kept. */
+vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, vx_conv_mesh_part* parts,
+                                size_t count, vx_svo_scene* out, vx_conv_stats* stats, vx_error* err);
+/* Frees the models still held by parts and the array. */
+void vx_conv_mesh_parts_free(const vx_allocator* a, vx_conv_mesh_part* parts, size_t count);
 
 #ifdef __cplusplus
 }

@@ -38,10 +38,12 @@ typedef vx_result (*vx__mesh_sink)(void* user, const vx__mesh_region* r, vx_erro
 uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh);
 
 /* Voxelizes mesh on grid region by region (desc->region, resolved), calling
- * sink once per non-empty region. The sink may be called from several
- * threads at once (for different regions, in any order): it must order its
- * results by index itself. */
+ * sink once per non-empty region of share `share` of `shares` (0 or 1
+ * shares: every region; see vx_conv_mesh_share for the partition). The
+ * sink may be called from several threads at once (for different regions,
+ * in any order): it must order its results by index itself. */
 vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
-                            uint32_t attrs, vx__mesh_sink sink, void* user, vx_error* err);
+                            uint32_t attrs, uint32_t share, uint32_t shares, vx__mesh_sink sink, void* user,
+                            vx_error* err);
 
 #endif

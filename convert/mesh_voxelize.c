@@ -21,6 +21,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -387,6 +388,9 @@ typedef struct job {
     size_t total_bricks;
     size_t* rstart;        /* brick index where each region starts; [region_count] = total_bricks */
     size_t region_count;
+    size_t* mine;          /* the regions this share converts, ascending (all of them for one share) */
+    size_t mine_count;
+    size_t mine_bricks;    /* their bricks: the progress total */
     unsigned rb;           /* region = 2^rb bricks per side */
     uint32_t R;
     atomic_size_t next_region;
@@ -885,7 +889,82 @@ uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh)
     return attrs;
 }
 
+/* ---- shares (convert/mesh.h, vx_conv_mesh_share) -------------------------------------- */
+
+typedef struct region_cost {
+    size_t bricks, index;
+} region_cost;
+
+static int cost_cmp(const void* pa, const void* pb) {
+    const region_cost *a = (const region_cost*)pa, *b = (const region_cost*)pb;
+    if (a->bricks != b->bricks) return a->bricks > b->bricks ? -1 : 1; /* costly first */
+    return a->index < b->index ? -1 : a->index > b->index;
+}
+static int index_cmp(const void* pa, const void* pb) {
+    size_t a = *(const size_t*)pa, b = *(const size_t*)pb;
+    return a < b ? -1 : a > b;
+}
+
+/* A binary heap of the shares by (load, share) in two parallel arrays: ties
+ * go to the lowest share, so every process computes the same assignment. */
+static bool heap_less(const uint64_t* load, const uint32_t* sh, size_t a, size_t b) {
+    return load[a] != load[b] ? load[a] < load[b] : sh[a] < sh[b];
+}
+static void heap_down(uint64_t* load, uint32_t* sh, size_t n, size_t i) {
+    for (;;) {
+        size_t l = 2 * i + 1, m = i;
+        if (l < n && heap_less(load, sh, l, m)) m = l;
+        if (l + 1 < n && heap_less(load, sh, l + 1, m)) m = l + 1;
+        if (m == i) return;
+        uint64_t tl = load[i];
+        uint32_t ts = sh[i];
+        load[i] = load[m], sh[i] = sh[m];
+        load[m] = tl, sh[m] = ts;
+        i = m;
+    }
+}
+
+/* The regions of share `share` of `shares`: longest processing time first
+ * (regions by their number of surface bricks, the most first, each to the
+ * share with the least bricks so far), a function of the binning alone, so
+ * every process computes the same partition without talking to the others.
+ * Bricks are a fair measure of a region's cost: voxelizing and building
+ * both follow the surface it holds. One share keeps every region. */
+static vx_result assign_regions(job* j, uint32_t share, uint32_t shares, vx_error* err) {
+    size_t n = j->region_count;
+    j->mine = (size_t*)vx_alloc(j->alloc, (n ? n : 1) * sizeof *j->mine);
+    if (!j->mine) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu regions", n);
+    if (shares <= 1) {
+        for (size_t i = 0; i < n; i++) j->mine[i] = i;
+        j->mine_count = n;
+        j->mine_bricks = j->total_bricks;
+        return VX_OK;
+    }
+    region_cost* c = (region_cost*)vx_alloc(j->alloc, (n ? n : 1) * sizeof *c);
+    uint64_t* load = (uint64_t*)vx_calloc(j->alloc, shares, sizeof *load);
+    uint32_t* sh = (uint32_t*)vx_alloc(j->alloc, (size_t)shares * sizeof *sh);
+    if (!c || !load || !sh) {
+        vx_free(j->alloc, c), vx_free(j->alloc, load), vx_free(j->alloc, sh);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu regions over %u shares", n, shares);
+    }
+    for (size_t i = 0; i < n; i++) c[i] = (region_cost){j->rstart[i + 1] - j->rstart[i], i};
+    qsort(c, n, sizeof *c, cost_cmp);
+    for (uint32_t s = 0; s < shares; s++) sh[s] = s; /* all loads 0: already a heap */
+    for (size_t i = 0; i < n; i++) {
+        if (sh[0] == share) {
+            j->mine[j->mine_count++] = c[i].index;
+            j->mine_bricks += c[i].bricks;
+        }
+        load[0] += c[i].bricks;
+        heap_down(load, sh, shares, 0);
+    }
+    qsort(j->mine, j->mine_count, sizeof *j->mine, index_cmp); /* Morton order, as one process goes */
+    vx_free(j->alloc, c), vx_free(j->alloc, load), vx_free(j->alloc, sh);
+    return VX_OK;
+}
+
 static void job_free(job* j) {
+    vx_free(j->alloc, j->mine);
     vx_free(j->alloc, j->g);
     vx_free(j->alloc, j->pairs);
     for (int a = 0; a < 3; a++) vx_free(j->alloc, j->vote[a]);
@@ -957,8 +1036,9 @@ static void region_loop(worker* w, bool is_main) {
     job* j = w->j;
     for (;;) {
         if (atomic_load(&j->failed) || atomic_load(&j->cancel)) return;
-        size_t ri = atomic_fetch_add(&j->next_region, 1);
-        if (ri >= j->region_count) return;
+        size_t k = atomic_fetch_add(&j->next_region, 1);
+        if (k >= j->mine_count) return;
+        size_t ri = j->mine[k];
         size_t b0 = j->rstart[ri], nbk = j->rstart[ri + 1] - b0;
         vx_error e = {0};
         brick_out* outs = (brick_out*)vx_calloc(j->alloc, nbk, sizeof *outs);
@@ -968,7 +1048,7 @@ static void region_loop(worker* w, bool is_main) {
             r = do_brick(w, j->bstart[b0 + b], j->bstart[b0 + b + 1], &outs[b]);
             if (r) vx_fail(&e, r, VX_NO_OFFSET, "voxelizer: out of memory");
             size_t done = atomic_fetch_add(&j->bricks_done, 1) + 1;
-            if (is_main && !vx_progress_report(&j->desc->build.progress, "voxelize", done, j->total_bricks))
+            if (is_main && !vx_progress_report(&j->desc->build.progress, "voxelize", done, j->mine_bricks))
                 atomic_store(&j->cancel, true);
         }
         if (outs) {
@@ -995,7 +1075,8 @@ static void* region_thread(void* arg) {
 }
 
 vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
-                            uint32_t attrs, vx__mesh_sink sink, void* user, vx_error* err) {
+                            uint32_t attrs, uint32_t share, uint32_t shares, vx__mesh_sink sink, void* user,
+                            vx_error* err) {
     pthread_once(&tables_once, init_tables);
     pthread_once(&mort_once, init_mort6);
     uint32_t R = desc->region;
@@ -1097,6 +1178,11 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
         }
         if (r) goto done;
     }
+    if (share >= (shares ? shares : 1)) {
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
+        goto done;
+    }
+    if ((r = assign_regions(&j, share, shares, err))) goto done;
     unsigned threads = desc->threads;
     if (threads == 0) {
         cpu_set_t set;
@@ -1108,7 +1194,7 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
     memset(ws, 0, sizeof ws);
     for (unsigned i = 0; i < threads && !r; i++)
         if (!worker_init(&ws[i], &j)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxelizer buffers");
-    if (!r && j.region_count >= 2 * threads) {
+    if (!r && j.mine_count >= 2 * threads) {
         pthread_t th[64];
         unsigned started = 0;
         for (unsigned i = 1; i < threads; i++) {
@@ -1119,7 +1205,9 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
         for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
     } else {
         /* few regions: one at a time, its bricks spread over the threads */
-        for (size_t ri = 0; ri < j.region_count && !r; ri++) {
+        size_t base = 0; /* bricks of this share's regions before this one, for the progress */
+        for (size_t k = 0; k < j.mine_count && !r; k++) {
+            size_t ri = j.mine[k];
             size_t b0 = j.rstart[ri], nbk = j.rstart[ri + 1] - b0;
             j.brick_first = j.bstart + b0;
             j.brick_count = nbk;
@@ -1148,8 +1236,8 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
                 }
                 size_t done = atomic_fetch_add(&j.bricks_done, 1) + 1;
                 (void)done;
-                if (!vx_progress_report(&desc->build.progress, "voxelize", b0 + atomic_load(&j.done) + 1,
-                                        j.total_bricks))
+                if (!vx_progress_report(&desc->build.progress, "voxelize", base + atomic_load(&j.done) + 1,
+                                        j.mine_bricks))
                     atomic_store(&j.cancel, true);
             }
             for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
@@ -1166,6 +1254,7 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
             }
             vx_free(j.alloc, j.outs);
             j.outs = NULL;
+            base += nbk;
         }
     }
     if (!r && atomic_load(&j.cancel)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");

@@ -13,9 +13,14 @@ if(TARGET vx_conv_vdb) # VDB sequences (smoke_####.vdb, a .txt list) are the too
   target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
 endif()
 
-# The MPI paths of svo_bake and svo_render (mpirun): launcher detection, ranks
-# per host, device choice, ending the job (VX_WITH_MPI, where MPI is found).
-if(VX_WITH_MPI AND MPI_C_FOUND AND TARGET vx_render)
+# The MPI paths of svo_bake, svo_render and vox2svo (mpirun): launcher
+# detection, ranks per host, ending the job (VX_WITH_MPI, where MPI is
+# found); the device choice apart, for the Vulkan tools only.
+if(VX_WITH_MPI AND MPI_C_FOUND)
   add_library(vx_tool_mpi STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi.c)
-  target_link_libraries(vx_tool_mpi PUBLIC vx_tool vx_render MPI::MPI_C)
+  target_link_libraries(vx_tool_mpi PUBLIC vx_tool MPI::MPI_C)
+  if(TARGET vx_render)
+    add_library(vx_tool_mpi_device STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi_device.c)
+    target_link_libraries(vx_tool_mpi_device PUBLIC vx_tool_mpi vx_render)
+  endif()
 endif()

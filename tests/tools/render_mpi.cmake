@@ -1,7 +1,7 @@
 # svo_render under mpirun (issue 22): the path tracer's image on 2 and 3
 # ranks equals one process's, byte for byte (GPU and --cpu); a failing rank
 # ends the job with no output. Skipped (77) without mpirun.
-if(TARGET svo_render AND TARGET vx_tool_mpi)
+if(TARGET svo_render AND TARGET vx_tool_mpi_device)
   set(VX_MPIEXEC_R "${MPIEXEC_EXECUTABLE}")
   if(NOT VX_MPIEXEC_R)
     set(VX_MPIEXEC_R mpirun)

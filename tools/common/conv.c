@@ -238,10 +238,9 @@ bool vx_tool_conv_is_sequence(const char* path) {
     return !strcmp(ext, "txt") || (!strcmp(ext, "vdb") && (strchr(path, '#') || strchr(path, '%')));
 }
 
-vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
-                            vx_progress progress, vx_svo_scene* out, vx_tool_loaded* info, vx_error* err) {
-    vx_tool_loaded li = {0};
-    vx_conv_file_desc d = {
+vx_conv_file_desc vx_tool_conv_file_desc(const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
+                                         vx_progress progress) {
+    return (vx_conv_file_desc){
         .build = {.no_collapse = c->no_collapse, .no_dag = c->no_dag, .progress = progress},
         .alloc = c->alloc,
         .logger = log,
@@ -262,6 +261,12 @@ vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_
         .density = c->density,
         .color_grid = c->color,
     };
+}
+
+vx_result vx_tool_conv_load(const char* path, const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
+                            vx_progress progress, vx_svo_scene* out, vx_tool_loaded* info, vx_error* err) {
+    vx_tool_loaded li = {0};
+    vx_conv_file_desc d = vx_tool_conv_file_desc(c, allow_svo, log, progress);
     double t0 = vx_time_now();
     li.in_bytes = file_size(path);
     vx_result r;

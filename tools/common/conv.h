@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "convert/convert.h"
+#include "convert/file.h"
 
 typedef struct vx_tool_conv {
     /* .vox */
@@ -55,6 +56,10 @@ typedef struct vx_tool_loaded {
     double seconds_total;  /* the whole load */
     vx_conv_stats stats;   /* converters only */
 } vx_tool_loaded;
+
+/* The library's options for c (what vx_tool_conv_load passes to vx_conv_file). */
+vx_conv_file_desc vx_tool_conv_file_desc(const vx_tool_conv* c, bool allow_svo, const vx_logger* log,
+                                         vx_progress progress);
 
 /* Reads path by its extension: .vox, .gltf/.glb, .vdb (converted with c),
  * and .svo when allow_svo. info may be NULL. */

@@ -1,6 +1,9 @@
 /* tools/common/mpi.c - the tools' shared MPI helpers (mpi.h). */
+#define _GNU_SOURCE /* sched_getaffinity: the CPUs mpirun bound this rank to */
 #include "tools/common/mpi.h"
 
+#include <sched.h>
+#include <fcntl.h>
 #include <mpi.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -8,7 +11,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "render/render.h"
 #include "tools/common/tool.h"
 
 /* set once by vx_tool_mpi_init, read by vx_tool_mpi_die */
@@ -28,6 +30,25 @@ int vx_tool_mpi_env_rank(void) {
 
 void vx_tool_mpi_linger(void) { sleep(2); }
 
+void vx_tool_mpi_mute(int saved[2]) {
+    saved[0] = saved[1] = -1;
+    if (!vx_tool_mpi_launched() || vx_tool_mpi_env_rank() == 0) return;
+    int null = open("/dev/null", O_WRONLY);
+    if (null < 0) return;
+    fflush(stdout);
+    saved[0] = dup(1), saved[1] = dup(2);
+    dup2(null, 1), dup2(null, 2);
+    close(null);
+}
+
+void vx_tool_mpi_unmute(int saved[2]) {
+    if (saved[0] < 0) return;
+    fflush(stdout);
+    dup2(saved[0], 1), dup2(saved[1], 2);
+    close(saved[0]), close(saved[1]);
+    saved[0] = saved[1] = -1;
+}
+
 void vx_tool_mpi_init(vx_tool_mpi* m) {
     memset(m, 0, sizeof *m);
     MPI_Init_thread(NULL, NULL, MPI_THREAD_SERIALIZED, &m->thread_level);
@@ -46,24 +67,12 @@ void vx_tool_mpi_init(vx_tool_mpi* m) {
     memcpy(die_host, m->host, sizeof die_host);
 }
 
-typedef struct gpu_list {
-    unsigned index[64];
-    unsigned n;
-} gpu_list;
-
-static void list_fn(void* user, uint32_t index, const char* name, const char* type) {
-    (void)name;
-    gpu_list* l = user;
-    if (strcmp(type, "cpu") && strcmp(type, "other") && l->n < 64) l->index[l->n++] = index;
-}
-
-const char* vx_tool_mpi_device(const vx_tool_mpi* m, const char* device, bool cpu, char buf[16]) {
-    if (device || cpu) return device;
-    gpu_list gl = {.n = 0};
-    vx_error err = {0};
-    if (vx_gpu_list_devices(list_fn, &gl, &err) || !gl.n) return NULL;
-    snprintf(buf, 16, "%u", gl.index[(unsigned)m->local_rank % gl.n]);
-    return buf;
+unsigned vx_tool_mpi_threads(const vx_tool_mpi* m) {
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    long t = cpus > 0 && m->local_size > 0 ? cpus / m->local_size : 1;
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) < t) t = CPU_COUNT(&set);
+    return t < 1 ? 1u : t > 64 ? 64u : (unsigned)t;
 }
 
 _Noreturn void vx_tool_mpi_die(const char* fmt, ...) {

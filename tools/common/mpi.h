@@ -14,6 +14,13 @@ bool vx_tool_mpi_launched(void);
  * deciding before MPI_Init which rank prints a usage error. */
 int vx_tool_mpi_env_rank(void);
 
+/* Under a launcher, ranks > 0 print nothing while the command line is
+ * parsed, so that a usage error (and what rank 0 prints of its options)
+ * appears once: vx_tool_mpi_mute(saved) before parsing, and
+ * vx_tool_mpi_unmute(saved) after (callable before MPI_Init). */
+void vx_tool_mpi_mute(int saved[2]);
+void vx_tool_mpi_unmute(int saved[2]);
+
 /* A rank > 0 that stops on a usage error (printed by rank 0 only) calls this
  * before it exits: mpirun ends the whole job as soon as one rank exits
  * nonzero, which under load can kill rank 0 before its message is out; a
@@ -31,9 +38,13 @@ typedef struct vx_tool_mpi {
  * host for vx_tool_mpi_die. */
 void vx_tool_mpi_init(vx_tool_mpi* m);
 
+/* CPU threads for a rank: the host's online CPUs shared by its ranks
+ * (1..64), and no more than the CPUs the launcher bound it to. */
+unsigned vx_tool_mpi_threads(const vx_tool_mpi* m);
+
 /* The device a rank opens: `device` when given, none with cpu, else the GPU
  * `local rank mod GPUs` of its host (buf holds its index), else NULL (the
- * default pick). */
+ * default pick). In vx_tool_mpi_device (mpi_device.c: Vulkan's tools only). */
 const char* vx_tool_mpi_device(const vx_tool_mpi* m, const char* device, bool cpu, char buf[16]);
 
 /* "tool: rank R (host): message; ending the job" on stderr, then MPI_Abort. */

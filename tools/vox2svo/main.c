@@ -9,6 +9,10 @@
 #include "tools/common/conv.h"
 #include "tools/common/tool.h"
 #include "tools/vox2svo/demo.h"
+#ifdef VX_HAVE_MPI
+#include "tools/common/mpi.h"
+#include "tools/vox2svo/mpi.h"
+#endif
 
 typedef struct options {
     const char* in;
@@ -33,6 +37,9 @@ _Noreturn static void usage(int status) {
             "       %s 'smoke_####.vdb' OUT.svo   (a VDB sequence; also smoke_%%04d.vdb or a .txt list\n"
             "                                        of .vdb paths: one animation, unchanged bricks stored once)\n"
             "       %s --write-demo OUT.vox\n"
+#ifdef VX_HAVE_MPI
+            "       mpirun -n N %s MESH.{gltf,glb} OUT.svo [options]   (the regions split over the ranks)\n"
+#endif
             "Which: converts a voxel scene, a triangle mesh or a volume into a compact sparse voxel\n"
             "       octree file (.svo): one Laine-Karras octree per model after tree minimization,\n"
             "       instances with their transforms. The reader is picked by the file extension.\n"
@@ -41,6 +48,15 @@ _Noreturn static void usage(int status) {
             "       materials and MagicaVoxel MATL materials are stored as MATL records. Emissive\n"
             "       voxels are not stored as lights: renderers derive one light per cluster\n"
             "       (svo_render --voxel-lights); the statistics count both.\n"
+#ifdef VX_HAVE_MPI
+            "Under MPI (mpirun -n N; this build has it): a glTF mesh's regions (the models of a mesh,\n"
+            "       up to 2048^3 cells each) are split over the ranks, balanced by their surface bricks;\n"
+            "       each rank voxelizes and builds its own regions' models (its memory: the mesh and\n"
+            "       its share), rank 0 gathers them and writes the file: the same bytes as one process.\n"
+            "       Threads per rank: the host's CPUs over its ranks. -v prints per rank the regions,\n"
+            "       voxels, read / convert / send seconds, wall time and peak memory. Other inputs:\n"
+            "       one process.\n"
+#endif
             "Options:\n"
             "    --frame N        one animation frame of a .vox scene (default: every frame, frame %u\n"
             "                     first; a static scene has one)\n"
@@ -75,8 +91,15 @@ _Noreturn static void usage(int status) {
             "    %s --write-demo demo.vox && %s demo.vox demo.svo\n"
             "    %s DamagedHelmet.glb helmet.svo --res 1024\n"
             "    %s smoke.vdb smoke.svo --density\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
+            vx_tool_name, vx_tool_name, vx_tool_name,
+#ifdef VX_HAVE_MPI
+            vx_tool_name,
+#endif
+            d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
             vx_tool_name);
+#ifdef VX_HAVE_MPI
+    if (status && vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) vx_tool_mpi_linger(); /* rank 0 prints */
+#endif
     exit(status);
 }
 
@@ -112,10 +135,19 @@ static options parse(int argc, char** argv) {
     }
     if (o.write_demo) {
         if (npos) usage_error("%s", "--write-demo takes no other file arguments");
+#ifdef VX_HAVE_MPI
+        if (vx_tool_mpi_launched()) usage_error("%s", "--write-demo under mpirun: run it as one process");
+#endif
         return o;
     }
     if (argc == 1) usage(2);
     if (npos != 2) usage_error("%s", "expected an input file and an output .svo file");
+#ifdef VX_HAVE_MPI
+    const char* kind = vx_conv_file_kind(o.in);
+    if (vx_tool_mpi_launched() && (!kind || (strcmp(kind, ".gltf") && strcmp(kind, ".glb"))))
+        usage_error("under mpirun only glTF meshes (.gltf, .glb) are split over the ranks; convert %s with one process",
+                    o.in);
+#endif
     return o;
 }
 
@@ -166,9 +198,44 @@ static int write_demo(const options* o) {
     return r == VX_OK ? 0 : vx_tool_error(o->write_demo, &err);
 }
 
+#ifdef VX_HAVE_MPI
+/* mpirun: rank 0 writes and prints what one process would; the other ranks
+ * only convert their share (vox2svo_mpi) */
+static int main_mpi(const options* o) {
+    vx_svo_scene scene;
+    vx_tool_loaded li;
+    if (!vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li)) return 0;
+    vx_error err = {0};
+    uint32_t lights = scene.light_count, voxel_lights = 0;
+    vx_light* vl = NULL;
+    if (vx_svo_emissive_lights(&scene, NULL, &vl, &voxel_lights, &err) != VX_OK) voxel_lights = 0; /* statistics only */
+    vx_free(NULL, vl);
+    double t2 = vx_time_now();
+    vx_result r = vx_svo_write_file(&scene, o->out, &err);
+    double t_write = vx_time_now() - t2;
+    vx_svo_scene_free(&scene);
+    if (r != VX_OK) vx_tool_mpi_die("%s", err.msg); /* the message names the file; the other ranks end too */
+    struct stat st;
+    size_t nbytes = stat(o->out, &st) == 0 ? (size_t)st.st_size : 0;
+    print_stats(o, li.kind, &li.stats, li.in_bytes, nbytes, li.seconds_read, li.seconds_total - li.seconds_read,
+                t_write, lights, voxel_lights);
+    fflush(stdout);
+    vox2svo_mpi_end(t_write);
+    return 0;
+}
+#endif
+
 int main(int argc, char** argv) {
     vx_tool_init(argc, argv);
+#ifdef VX_HAVE_MPI
+    int saved[2];
+    vx_tool_mpi_mute(saved); /* rank 0 alone prints usage errors */
     options o = parse(argc, argv);
+    vx_tool_mpi_unmute(saved);
+    if (vx_tool_mpi_launched()) return main_mpi(&o);
+#else
+    options o = parse(argc, argv);
+#endif
     if (o.write_demo) return write_demo(&o);
 
     vx_error err = {0};
