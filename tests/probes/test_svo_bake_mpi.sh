@@ -3,8 +3,9 @@
 # single-process bake byte for byte, and so does --shard + --merge; the same
 # on the GPU (lavapipe) where a Vulkan device exists; a rank killed after its
 # first batch (or failing with an error) ends the job nonzero with no output
-# file, and the rerun continues from the checkpoint to the same bytes; a
-# single-process checkpoint is resumed by an MPI run.
+# file, and the rerun continues from the checkpoint to the same bytes; the
+# same from the ranks' batch checkpoints (OUT.probes.ckpt/), also on another
+# number of ranks; a single-process checkpoint is resumed by an MPI run.
 # Usage: test_svo_bake_mpi.sh BIN_DIR [MPIEXEC]; exits 77 (skipped) without mpirun.
 set -u
 BIN=$1
@@ -43,6 +44,34 @@ run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/k.probes" $O >"$T/k2.out" 2>&1 || { cat 
 [ $had_checkpoint = 0 ] || grep -q "resuming from" "$T/k2.out" || fail "rerun did not resume the killed job's checkpoint"
 cmp -s "$T/full.probes" "$T/k.probes" || fail "rerun after the kill differs"
 [ ! -e "$T/k.probes.partial" ] || fail "checkpoint left behind"
+[ ! -e "$T/k.probes.ckpt" ] || fail "batch checkpoints left behind"
+# per-rank batch checkpoints: rank 1 killed after its second batch (no prefix
+# checkpoint in so short a bake): its two batch files are on disk, and a
+# rerun on 3 ranks takes them and the others' and ends with the same bytes
+VX_BAKE_MPI_FAIL=1:2 run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/b.probes" $O >"$T/b.out" 2>&1
+[ $? -ne 0 ] || fail "a killed rank must fail the job (batch checkpoints)"
+[ ! -e "$T/b.probes" ] || fail "killed job left an output file (batch checkpoints)"
+[ "$(ls "$T/b.probes.ckpt" 2>/dev/null | grep -c '^b[0-9]*-[0-9]*\.r1\.probes$')" -ge 2 ] ||
+  { ls -l "$T/b.probes.ckpt"; cat "$T/b.out"; fail "rank 1's batch checkpoints are missing"; }
+run 3 "$BIN/svo_bake" "$T/demo.svo" "$T/b.probes" $O >"$T/b2.out" 2>&1 || { cat "$T/b2.out"; fail "rerun from batch checkpoints"; }
+grep -q "resuming from .*b.probes.ckpt: [1-9][0-9]* probes from [1-9][0-9]* batch checkpoints" "$T/b2.out" ||
+  { cat "$T/b2.out"; fail "rerun did not take the batch checkpoints"; }
+cmp -s "$T/full.probes" "$T/b.probes" || fail "rerun from batch checkpoints differs from the single bake"
+[ ! -e "$T/b.probes.ckpt" ] || fail "batch checkpoints left behind after the rerun"
+# a batch file counts by its range, whoever wrote it: shard 1 (probes 18..35
+# of the 4x3x3 grid) resumes 18 probes; a batch of another job (another
+# seed) is ignored with a message and left alone
+mkdir "$T/s.probes.ckpt"
+cp "$T/p1.probes" "$T/s.probes.ckpt/b18-36.r7.probes"
+"$BIN/svo_bake" "$T/demo.svo" "$T/other.probes" --grid 4,3,3 --res 16 --spp 2 --seed 6 -q --cpu --shard 0/2 >/dev/null ||
+  fail "bake of another job"
+cp "$T/other.probes" "$T/s.probes.ckpt/b0-18.r3.probes"
+run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/s.probes" $O >"$T/s.out" 2>&1 || { cat "$T/s.out"; fail "bake over planted batches"; }
+grep -q ": 18 probes from 1 batch checkpoints" "$T/s.out" || { cat "$T/s.out"; fail "the shard as a batch was not taken"; }
+grep -q "b0-18.r3.probes: not a batch of this job" "$T/s.out" || { cat "$T/s.out"; fail "another job's batch not refused"; }
+cmp -s "$T/full.probes" "$T/s.probes" || fail "bake over planted batches differs"
+[ -e "$T/s.probes.ckpt/b0-18.r3.probes" ] || fail "another job's file was removed"
+[ ! -e "$T/s.probes.ckpt/b18-36.r7.probes" ] || fail "a taken batch file was left behind"
 # a rank failing with an error: a message naming it, nonzero, no output
 VX_BAKE_MPI_FAIL=1:1:error run 3 "$BIN/svo_bake" "$T/demo.svo" "$T/e.probes" $O >"$T/e.out" 2>&1
 [ $? -ne 0 ] || fail "a failing rank must fail the job"

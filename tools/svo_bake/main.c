@@ -42,7 +42,9 @@ _Noreturn static void usage(int status) {
             "       --shard I/N bakes a part that --merge joins (bake all parts on the same kind of\n"
             "       device); an interrupted run continues from OUT.probes.partial.\n"
             "       Under MPI (mpirun -n N %s ...; where built with MPI) the ranks share the\n"
-            "       probes in batches and rank 0 writes the file: the same bytes whatever N.\n"
+            "       probes in batches and rank 0 writes the file: the same bytes whatever N. Each\n"
+            "       rank saves every batch it bakes as OUT.probes.ckpt/bFIRST-END.rRANK.probes; a\n"
+            "       rerun (any N) bakes only the probes no batch file or OUT.probes.partial holds.\n"
             "\n"
             "Options:\n"
             "  --grid X,Y,Z       probes per axis over the bounds (default: from --spacing)\n"
@@ -62,7 +64,8 @@ _Noreturn static void usage(int status) {
             "                     under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
             "  --max-memory SIZE  refuse a scene that needs more memory than SIZE to read (e.g. 512M)\n"
-            "  --fresh            ignore a checkpoint from an interrupted run\n"
+            "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
+            "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
             "  --device N|NAME    Vulkan device (default: a discrete GPU, else any; under MPI rank r takes\n"
             "                     GPU r mod GPUs of its host)\n"
@@ -212,6 +215,8 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     /* a checkpoint of another frame must not be resumed */
     if (j->o.frame) snprintf(j->ckpath, sizeof j->ckpath, "%s.f%u.partial", j->out, j->o.frame);
     else snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
+    if (j->o.frame) snprintf(j->ckdir, sizeof j->ckdir, "%s.f%u.ckpt", j->out, j->o.frame);
+    else snprintf(j->ckdir, sizeof j->ckdir, "%s.ckpt", j->out);
     vx_budget_init(&j->budget, j->o.max_memory, NULL);
     const vx_allocator* A = j->o.max_memory ? &j->budget.allocator : NULL;
     if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->file, &err)) {
@@ -327,16 +332,14 @@ void maps_free(vx_probe_set* ps) {
 
 /* ---- checkpoint ------------------------------------------------------------------------ */
 
-/* The checkpoint belongs to this job when its grid section (probes, grid and
- * bake parameters) is byte-identical to a fresh placement's. */
-static bool same_job(const vx_probe_set* placed, const vx_probe_set* ck) {
+bool same_grid(const vx_probe_set* placed, const vx_probe_set* ck) {
     vx_probe_set a = *placed, b = *ck;
     a.count = b.count = 0;
     a.first = b.first = 0;
     uint8_t *da = NULL, *db = NULL;
     size_t na = 0, nb = 0;
     bool same = !vx_probe_write(&a, NULL, &da, &na, NULL) && !vx_probe_write(&b, NULL, &db, &nb, NULL) && na == nb &&
-                !memcmp(da, db, na) && placed->first == ck->first;
+                !memcmp(da, db, na);
     free(da);
     free(db);
     return same;
@@ -346,7 +349,9 @@ bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
     if (j->o.fresh || access(j->ckpath, F_OK) != 0) return false;
     vx_probe_set ck;
     vx_error e2 = {0};
-    if (!vx_probe_read_file(NULL, j->ckpath, &ck, &e2) && same_job(ps, &ck) && ck.first + ck.count <= end) {
+    /* the checkpoint is a baked prefix of this job's range */
+    if (!vx_probe_read_file(NULL, j->ckpath, &ck, &e2) && same_grid(ps, &ck) && ck.first == ps->first &&
+        ck.first + ck.count <= end) {
         printf("resuming from %s: %u of %u probes done\n", j->ckpath, ck.count, end - ps->first);
         vx_probe_set_free(ps);
         *ps = ck;
@@ -438,16 +443,8 @@ int main(int argc, char** argv) {
     options o = default_options();
 #ifdef VX_HAVE_MPI
     /* under mpirun only rank 0 prints usage errors and the effective options */
-    int saved_out = -1, saved_err = -1;
-    if (vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) {
-        int null = open("/dev/null", O_WRONLY);
-        if (null >= 0) {
-            fflush(stdout);
-            saved_out = dup(1), saved_err = dup(2);
-            dup2(null, 1), dup2(null, 2);
-            close(null);
-        }
-    }
+    int saved[2];
+    vx_tool_mpi_mute(saved);
 #endif
     const char* pos[2];
     int npos = 0;
@@ -565,11 +562,7 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     if (vx_tool_mpi_launched() && o.shards > 1)
         usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
-    if (saved_out >= 0) {
-        fflush(stdout);
-        dup2(saved_out, 1), dup2(saved_err, 2);
-        close(saved_out), close(saved_err);
-    }
+    vx_tool_mpi_unmute(saved);
     if (vx_tool_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
 #endif
     bake_job j = {.o = o, .in = pos[0], .out = pos[1]};

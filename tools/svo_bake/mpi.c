@@ -9,16 +9,29 @@
  * own batches (from the bake's progress callback), copies each batch into
  * the output set, checkpoints the baked prefix to OUT.probes.partial (the
  * single-process checkpoint: either kind of run resumes the other's) and
- * finally writes OUT.probes atomically. A probe's maps depend only on the
+ * finally writes OUT.probes atomically.
+ *
+ * Per-rank checkpoints: every rank also saves each batch it bakes, before
+ * sending it, as OUT.probes.ckpt/bFIRST-END.rRANK.probes (a .probes file of
+ * that range, written atomically), so a job that dies loses only the batches
+ * in flight, not every batch past the first gap of the prefix. A rerun's rank 0
+ * takes every batch file of the same job it finds there (and the prefix
+ * checkpoint) and hands out only the probes still missing; the files go once
+ * the output is written. Across hosts the folder must be shared for the
+ * batches of other hosts to count; the bytes are the same either way. A probe's maps depend only on the
  * seed and its index, so the bytes equal a single-process bake whatever N.
  * A rank that fails calls MPI_Abort, which ends every rank before rank 0
  * writes anything under the output name. Ranks must share one byte order.
  *
  * Test hooks (environment): VX_BAKE_MPI_FAIL=R:K[:error] makes rank R die
- * of SIGKILL (or fail with an error) after sending its K-th batch;
+ * of SIGKILL (or fail with an error) after sending its K-th batch (its
+ * batch files for those K batches are on disk by then);
  * VX_BAKE_CHECKPOINT_S sets the seconds between checkpoints (default 20). */
+#include <dirent.h>
+#include <errno.h>
 #include <mpi.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,7 +50,105 @@ static vx_tool_mpi g_mpi;
 #define die vx_tool_mpi_die
 
 /* per-rank timings, gathered to rank 0 */
-enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_N };
+enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_CKPT, ST_N };
+
+/* ---- per-rank batch checkpoints (OUT.probes.ckpt/) ------------------------------------ */
+
+/* the batch files this rank wrote or (rank 0) resumed: removed after success */
+static char** g_saved;
+static size_t g_saved_n, g_saved_cap;
+
+static void remember(const char* path) {
+    size_t n = strlen(path) + 1;
+    char* p = malloc(n);
+    if (p) memcpy(p, path, n);
+    if (!p || !vx_grow(NULL, (void**)&g_saved, &g_saved_cap, g_saved_n + 1, sizeof *g_saved)) die("out of memory");
+    g_saved[g_saved_n++] = p;
+}
+
+/* Saves the baked batch v (probes [v->first, v->first + v->count)). */
+static void save_batch(const bake_job* j, const vx_probe_set* v, double* seconds) {
+    double t = vx_time_now();
+    char path[4200];
+    if (snprintf(path, sizeof path, "%s/b%u-%u.r%d.probes", j->ckdir, v->first, v->first + v->count, g_mpi.rank) >=
+        (int)sizeof path)
+        die("%s: name too long", j->ckdir);
+    vx_error err = {0};
+    if (vx_probe_write_file(v, path, &err)) die("batch checkpoint %s", err.msg);
+    remember(path);
+    *seconds += vx_time_now() - t;
+}
+
+/* Whether name is a batch file's, bFIRST-END.rRANK.probes. */
+static bool batch_name(const char* name, uint32_t* a, uint32_t* b) {
+    int rank = -1, len = 0;
+    return sscanf(name, "b%u-%u.r%d.probes%n", a, b, &rank, &len) == 3 && name[len] == 0 && *a < *b && rank >= 0;
+}
+
+/* Every rank: the folder exists (on a shared file system the ranks make the
+ * same one). */
+static void make_ckdir(const bake_job* j) {
+    if (mkdir(j->ckdir, 0777) != 0 && errno != EEXIST) die("%s: cannot make the checkpoint folder: %s", j->ckdir, strerror(errno));
+}
+
+/* Rank 0 after the prefix checkpoint: each batch file of this job in the
+ * folder fills its probes not done yet (done[] per probe from ps->first,
+ * the maps reserved); --fresh removes them instead. Returns the probes taken. */
+static uint32_t resume_batches(const bake_job* j, vx_probe_set* ps, uint32_t end, uint8_t* done, size_t pb) {
+    DIR* d = opendir(j->ckdir);
+    if (!d) return 0;
+    uint32_t taken = 0, files = 0;
+    uint8_t* one = malloc(pb);
+    if (!one) die("out of memory");
+    for (struct dirent* e; (e = readdir(d));) {
+        uint32_t a, b;
+        if (!batch_name(e->d_name, &a, &b)) continue;
+        char path[4400];
+        if (snprintf(path, sizeof path, "%s/%s", j->ckdir, e->d_name) >= (int)sizeof path) continue;
+        if (j->o.fresh) {
+            remove(path);
+            continue;
+        }
+        vx_probe_set ck;
+        vx_error err = {0};
+        if (vx_probe_read_file(NULL, path, &ck, &err)) {
+            fprintf(stderr, "%s: %s: %s; ignored\n", vx_tool_name, path, err.msg);
+            continue;
+        }
+        if (!same_grid(ps, &ck) || ck.first != a || ck.count != b - a || a < ps->first || b > end) {
+            fprintf(stderr, "%s: %s: not a batch of this job; ignored\n", vx_tool_name, path);
+        } else {
+            for (uint32_t i = a; i < b; i++) {
+                if (done[i - ps->first]) continue;
+                maps_pack(&ck, i, 1, one);
+                maps_unpack(ps, i, 1, one);
+                done[i - ps->first] = 1;
+                taken++;
+            }
+            files++;
+            remember(path);
+        }
+        vx_probe_set_free(&ck);
+    }
+    closedir(d);
+    free(one);
+    if (files) printf("resuming from %s: %u probes from %u batch checkpoints\n", j->ckdir, taken, files);
+    return taken;
+}
+
+/* After the output is written: every rank removes its batch files, then
+ * rank 0 the folder (when no other files are in it). */
+static void remove_batches(const bake_job* j) {
+    for (size_t i = 0; i < g_saved_n; i++) remove(g_saved[i]);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (g_mpi.rank == 0) rmdir(j->ckdir);
+}
+
+static void free_saved(void) {
+    for (size_t i = 0; i < g_saved_n; i++) free(g_saved[i]);
+    free(g_saved);
+    g_saved = NULL, g_saved_n = g_saved_cap = 0;
+}
 
 /* A set that shares placed's probes and grid and holds maps for a batch
  * from `first` (none yet): what vx_probe_place would give for that range. */
@@ -96,12 +207,22 @@ static uint32_t batch_size(const coord* c) {
     return b < left ? b : left;
 }
 
+/* The next batch: from the first probe neither done (a resumed batch) nor
+ * handed out, at most batch_size probes, ending before a done one. */
+static bool take_run(coord* c, uint32_t* a, uint32_t* n) {
+    while (c->next < c->end && c->done[c->next - c->first]) c->next++;
+    if (c->next >= c->end) return false;
+    uint32_t want = batch_size(c), k = 1;
+    while (k < want && c->next + k < c->end && !c->done[c->next + k - c->first]) k++;
+    *a = c->next, *n = k;
+    c->next += k;
+    return true;
+}
+
 static void hand_out(coord* c, int to) {
-    uint32_t a[2];
-    if (c->next < c->end) {
-        uint32_t n = batch_size(c);
-        a[0] = c->next, a[1] = c->next + n;
-        c->next += n;
+    uint32_t a[2], n;
+    if (take_run(c, &a[0], &n)) {
+        a[1] = a[0] + n;
         c->outstanding += n;
     } else if (!c->ended[to]) {
         a[0] = a[1] = c->end;
@@ -219,9 +340,7 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
     bd.progress = (vx_progress){coord_progress, c};
     uint8_t* own = NULL;
     size_t own_size = 0;
-    while (c->next < c->end) {
-        uint32_t a = c->next, n = batch_size(c);
-        c->next += n;
+    for (uint32_t a, n; take_run(c, &a, &n);) {
         vx_probe_set v = view_at(c->ps, a);
         double t = vx_time_now();
         c->own_done = 0, c->serving = 0;
@@ -230,6 +349,7 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
         double dt = vx_time_now() - t;
         c->st[ST_BAKE] += dt - c->serving;
         c->st[ST_PROBES] += n, c->st[ST_BATCHES] += 1;
+        save_batch(c->j, &v, &c->st[ST_CKPT]);
         t = vx_time_now();
         if (n * c->pb > own_size) {
             free(own);
@@ -309,6 +429,7 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         if (bake_range(j, &wbd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
         st[ST_BAKE] += vx_time_now() - t;
         st[ST_PROBES] += n, st[ST_BATCHES] += 1;
+        save_batch(j, &v, &st[ST_CKPT]); /* on disk before rank 0 counts on it */
         t = vx_time_now();
         MPI_Wait(&send[s], MPI_STATUS_IGNORE);
         size_t need = HEAD + n * pb;
@@ -354,12 +475,8 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
 
 int bake_mpi(options* o, const char* in, const char* out) {
     vx_tool_mpi_init(&g_mpi);
-    int provided = g_mpi.thread_level, nranks = g_mpi.nranks, local_size = g_mpi.local_size;
-    if (!o->threads_set) {
-        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-        long t = cpus > 0 ? cpus / local_size : 1;
-        o->threads = t < 1 ? 1 : (t > 64 ? 64 : (uint32_t)t);
-    }
+    int provided = g_mpi.thread_level, nranks = g_mpi.nranks;
+    if (!o->threads_set) o->threads = vx_tool_mpi_threads(&g_mpi);
     o->b.threads = o->threads;
     o->b.first = o->b.count = 0;
     bake_job j = {.o = *o, .in = in, .out = out};
@@ -374,6 +491,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     vx_error err = {0};
     vx_probe_set ps;
     if (vx_probe_place(&j.scene, &o->b, &ps, &err)) die("%s: %s", in, err.msg);
+    make_ckdir(&j);
     /* one line per rank, in rank order */
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
@@ -399,7 +517,6 @@ int bake_mpi(options* o, const char* in, const char* out) {
                ps.spacing[1], ps.spacing[2], nranks);
         uint32_t end = ps.probe_count;
         resume_checkpoint(&j, &ps, end);
-        fflush(stdout);
         c.j = &j, c.ps = &ps, c.first = ps.first, c.end = end, c.nranks = nranks;
         c.next = ps.first + ps.count;
         c.received = ps.count;
@@ -409,6 +526,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
         if (!c.done || !c.ended || !maps_reserve(&ps, end - c.first))
             die("out of memory for %u probes at res %u", end - c.first, ps.res);
         memset(c.done, 1, ps.count);
+        c.received = ps.count + resume_batches(&j, &ps, end, c.done, c.pb);
+        advance_prefix(&c);
+        fflush(stdout);
         c.min_batch = o->cpu ? o->threads : 1;
         uint64_t bc = (UINT64_C(1) << 28) / c.pb; /* 256 MiB a message */
         c.byte_cap = (uint32_t)(bc < 1 ? 1 : (bc > (1u << 20) ? (1u << 20) : bc));
@@ -437,6 +557,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
         t_write = vx_time_now() - t;
         if (!rc) remove(j.ckpath);
     }
+    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!rc) remove_batches(&j);
+    free_saved();
     double* all = g_mpi.rank == 0 ? calloc((size_t)nranks * ST_N, sizeof(double)) : NULL;
     MPI_Gather(st, ST_N, MPI_DOUBLE, all, ST_N, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     if (g_mpi.rank == 0 && !rc) {
@@ -446,8 +569,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
             double share = s[ST_WALL] > 0 ? s[ST_WAIT] / s[ST_WALL] : 0;
             if (share > wmax) wmax = share;
             if (o->verbose)
-                printf("rank %d: %.0f probes in %.0f batches, bake %.3f s, wait %.3f s (%.1f%%), messages %.3f s\n", r,
-                       s[ST_PROBES], s[ST_BATCHES], s[ST_BAKE], s[ST_WAIT], 100 * share, s[ST_COMM]);
+                printf("rank %d: %.0f probes in %.0f batches, bake %.3f s, wait %.3f s (%.1f%%), messages %.3f s, "
+                       "batch checkpoints %.3f s\n",
+                       r, s[ST_PROBES], s[ST_BATCHES], s[ST_BAKE], s[ST_WAIT], 100 * share, s[ST_COMM], s[ST_CKPT]);
         }
         printf("baked %u probes at %ux%u, %u spp, %u bounces on %d ranks in %.2f s (most waiting: %.1f%%; rank 0 "
                "storing results %.3f s, writing %.3f s); distance step %.4g (max error %.4g)\n",

@@ -28,6 +28,7 @@ typedef struct bake_job {
     const char* in;
     const char* out;
     char ckpath[4096]; /* OUT.probes.partial (OUT.probes.fN.partial for frame N > 0) */
+    char ckdir[4096];  /* OUT.probes.ckpt (.fN.ckpt): the MPI ranks' batch checkpoints */
     vx_budget budget;     /* --max-memory (the scene's arrays come from it) */
     vx_svo_scene file;    /* what was read */
     vx_svo_scene scene;   /* the view of o.frame: what is baked */
@@ -43,6 +44,11 @@ void bake_job_close(bake_job* j);
 
 /* Bakes probes [ps->first + ps->count, end) of ps on the job's device. */
 vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err);
+
+/* Whether the probe set ck (a checkpoint, a batch, a shard) belongs to the
+ * job that placed `placed`: its grid section (probes, grid and bake
+ * parameters) is byte-identical to the placement's, whatever range it holds. */
+bool same_grid(const vx_probe_set* placed, const vx_probe_set* ck);
 
 /* Replaces *ps (placed, nothing baked) by the checkpoint j->ckpath when that
  * belongs to the same job and lies within [ps->first, end); says so on
