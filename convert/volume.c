@@ -222,8 +222,69 @@ typedef struct group_arrays {
     uint32_t* rgba;
 } group_arrays;
 
-static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_scene* out, vx_conv_stats* st,
-                              vx_error* err) {
+/* Receives one region's cells (in region order: z, then y, then x) with
+ * the region index, ready for vx_svo_build_model; origin is where the
+ * model's cell 0 lies in index space. */
+typedef vx_result (*region_fn)(void* user, const int64_t region[3], const int64_t origin[3], const vx_svo_voxels* vox,
+                               vx_error* err);
+
+/* OpenVDB centres voxel ijk on the point ijk; our cell g spans [g, g+1]. */
+static void world_from_index(const vx_vdb_grid_info* info, double out[12]) {
+    for (int row = 0; row < 3; row++) {
+        const double* m = &info->index_to_world[row * 4];
+        for (int k = 0; k < 4; k++) out[row * 4 + k] = m[k];
+        out[row * 4 + 3] = m[3] - 0.5 * (m[0] + m[1] + m[2]);
+    }
+}
+
+/* Orders the cells by region (z, y, x, then input order) into order[].
+ * The regions of a grid are few and dense, so a counting sort over their
+ * bounding box does it in linear time; a sparse spread of regions (a box
+ * much larger than the cell count) falls back to qsort. Same order both
+ * ways. Returns false when out of memory. */
+static bool order_by_region(const vx_allocator* a, keyed* order, size_t n) {
+    int64_t lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = hi[k] = order[0].r[k];
+    for (size_t i = 1; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            if (order[i].r[k] < lo[k]) lo[k] = order[i].r[k];
+            if (order[i].r[k] > hi[k]) hi[k] = order[i].r[k];
+        }
+    uint64_t ext[3], cells = 1;
+    bool dense = true;
+    for (int k = 0; k < 3 && dense; k++) {
+        ext[k] = (uint64_t)(hi[k] - lo[k]) + 1; /* regions are cells >> D, D >= 1: no overflow */
+        if (ext[k] > 4 * (uint64_t)n + 64 || cells > (4 * (uint64_t)n + 64) / ext[k]) dense = false;
+        else cells *= ext[k];
+    }
+    if (!dense) {
+        qsort(order, n, sizeof *order, cmp_keyed);
+        return true;
+    }
+    size_t* start = (size_t*)vx_calloc(a, (size_t)cells + 1, sizeof *start);
+    keyed* sorted = (keyed*)vx_calloc(a, n, sizeof *sorted);
+    if (!start || !sorted) {
+        vx_free(a, start);
+        vx_free(a, sorted);
+        return false;
+    }
+#define VX__REGION_SLOT(e) \
+    ((size_t)(((uint64_t)((e)->r[2] - lo[2]) * ext[1] + (uint64_t)((e)->r[1] - lo[1])) * ext[0] + (uint64_t)((e)->r[0] - lo[0])))
+    for (size_t i = 0; i < n; i++) start[VX__REGION_SLOT(&order[i]) + 1]++;
+    for (size_t j = 1; j <= cells; j++) start[j] += start[j - 1];
+    for (size_t i = 0; i < n; i++) sorted[start[VX__REGION_SLOT(&order[i])]++] = order[i];
+#undef VX__REGION_SLOT
+    memcpy(order, sorted, n * sizeof *order);
+    vx_free(a, sorted);
+    vx_free(a, start);
+    return true;
+}
+
+/* Selects the cells of the grid d names (or the first float grid), cuts
+ * them into regions and hands each region to fn. *info_out gets the grid's
+ * info. */
+static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_vdb_grid_info* info_out, region_fn fn,
+                              void* user, vx_conv_stats* st, vx_error* err) {
     const vx_allocator* a = d->alloc;
     vx_vdb_grid_info info, cinfo;
     char names[160];
@@ -248,6 +309,7 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
         if (!isfinite(info.index_to_world[k]))
             return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "vdb: grid '%s' has a non-finite transform",
                            info.name);
+    *info_out = info;
     int64_t color = -1;
     if (d->color_grid) {
         int ci = find_grid(f, d->color_grid, &cinfo, err);
@@ -317,31 +379,23 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
         }
     if (!single) {
         order = (keyed*)vx_calloc(a, c.count, sizeof *order);
-        if (!order) {
+        if (order) {
+            for (size_t i = 0; i < c.count; i++) {
+                for (int k = 0; k < 3; k++) order[i].r[k] = floor_shift(c.items[i].p[k] - base[k], D);
+                order[i].index = i;
+            }
+        }
+        if (!order || !order_by_region(a, order, c.count)) {
+            vx_free(a, order);
             vx_free(a, c.items);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory sorting %zu cells", c.count);
         }
-        for (size_t i = 0; i < c.count; i++) {
-            for (int k = 0; k < 3; k++) order[i].r[k] = floor_shift(c.items[i].p[k] - base[k], D);
-            order[i].index = i;
-        }
-        qsort(order, c.count, sizeof *order, cmp_keyed);
     }
     if (st) st->seconds_voxelize += vx_time_now() - t0;
 
-    vx_svo_scene s;
-    vx_svo_scene_init(&s, a);
-    /* OpenVDB centres voxel ijk on the point ijk; our cell g spans [g, g+1]. */
-    for (int row = 0; row < 3; row++) {
-        const double* m = &info.index_to_world[row * 4];
-        for (int k = 0; k < 4; k++) s.world_from_grid[row * 4 + k] = m[k];
-        s.world_from_grid[row * 4 + 3] = m[3] - 0.5 * (m[0] + m[1] + m[2]);
-    }
-    size_t model_cap = 0, inst_cap = 0;
     group_arrays g = {0};
     const bool want_density = d->density;
     const bool want_color = color >= 0;
-    double tb = 0.0;
 
     for (size_t begin = 0; begin < c.count && r == VX_OK;) {
         size_t end = c.count;
@@ -366,11 +420,12 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
         /* Tiles stay aligned in model space when the origin is a multiple
          * of the largest tile; it stays inside the region since the region
          * start is a multiple of 2^lg >= 2^lmax. */
-        int64_t origin[3];
+        int64_t origin[3], region[3];
         uint32_t size[3];
         for (int k = 0; k < 3; k++) {
             origin[k] = floor_shift(lo[k], lmax) * ((int64_t)1 << lmax);
             size[k] = (uint32_t)(hi[k] - origin[k]);
+            region[k] = order ? order[begin].r[k] : r0[k];
         }
         g.keys = (uint64_t*)vx_calloc(a, n, sizeof *g.keys);
         g.level = any_tile ? (uint8_t*)vx_calloc(a, n, 1) : NULL;
@@ -397,47 +452,7 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
         vox.attrs = (want_density ? VX_ATTR_DENSITY : 0u) | (want_color ? VX_ATTR_RGBA8 : 0u);
         vox.density = g.density;
         vox.rgba = g.rgba;
-
-        if (!vx_grow(a, (void**)&s.models, &model_cap, (size_t)s.model_count + 1, sizeof *s.models) ||
-            !vx_grow(a, (void**)&s.instances, &inst_cap, (size_t)s.instance_count + 1, sizeof *s.instances)) {
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory for model %u", s.model_count);
-            break;
-        }
-        vx_svo_build_desc bdesc = d->build;
-        if (!bdesc.alloc) bdesc.alloc = a;
-        vx_svo_model model;
-        memset(&model, 0, sizeof model);
-        vx_svo_build_stats bs = {0};
-        double tb0 = vx_time_now();
-        r = vx_svo_build_model(&bdesc, &vox, &model, &bs, err);
-        tb += vx_time_now() - tb0;
-        if (r != VX_OK) {
-            vx_error_prefix(err, "vdb");
-            break;
-        }
-        if (st) {
-            st->build.input_voxels += bs.input_voxels;
-            st->build.voxels += bs.voxels;
-            st->build.desc_plain += bs.desc_plain;
-            st->build.desc_collapsed += bs.desc_collapsed;
-            st->build.desc_dag += bs.desc_dag;
-            st->build.far_pointers += bs.far_pointers;
-            st->build.attr_records += bs.attr_records;
-            st->build.bytes += bs.bytes;
-        }
-        vx_svo_instance* in = &s.instances[s.instance_count];
-        memset(in, 0, sizeof *in);
-        in->xform[0] = in->xform[5] = in->xform[10] = 1.0;
-        in->xform[3] = (double)origin[0];
-        in->xform[7] = (double)origin[1];
-        in->xform[11] = (double)origin[2];
-        in->model = s.model_count;
-        in->layer = UINT32_MAX;
-        size_t name_len = strlen(info.name);
-        if (name_len >= sizeof in->name) name_len = sizeof in->name - 1; /* names are cut, not refused */
-        memcpy(in->name, info.name, name_len);
-        s.models[s.model_count++] = model;
-        s.instance_count++;
+        r = fn(user, region, origin, &vox, err);
 
         vx_free(a, g.keys);
         vx_free(a, g.level);
@@ -446,18 +461,97 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_
         memset(&g, 0, sizeof g);
         begin = end;
     }
-    vx_free(a, g.keys);
-    vx_free(a, g.level);
-    vx_free(a, g.density);
-    vx_free(a, g.rgba);
     vx_free(a, order);
     vx_free(a, c.items);
-    if (st) st->seconds_build += tb;
+    if (r == VX_OK && c.count == 0)
+        vx_log(d->logger, VX_LOG_WARN, "vdb.empty", "vdb: grid '%s': no cells selected", info.name);
+    return r;
+}
+
+static void add_build_stats(vx_svo_build_stats* sum, const vx_svo_build_stats* b) {
+    sum->input_voxels += b->input_voxels;
+    sum->voxels += b->voxels;
+    sum->desc_plain += b->desc_plain;
+    sum->desc_collapsed += b->desc_collapsed;
+    sum->desc_dag += b->desc_dag;
+    sum->far_pointers += b->far_pointers;
+    sum->attr_records += b->attr_records;
+    sum->bytes += b->bytes;
+}
+
+/* Builds one region's model: the build time and statistics go to st. */
+static vx_result build_region(const vx_conv_vdb_desc* d, const vx_svo_voxels* vox, vx_svo_model* model,
+                              vx_svo_build_stats* bs, vx_conv_stats* st, vx_error* err) {
+    vx_svo_build_desc bdesc = d->build;
+    if (!bdesc.alloc) bdesc.alloc = d->alloc;
+    memset(model, 0, sizeof *model);
+    memset(bs, 0, sizeof *bs);
+    double t0 = vx_time_now();
+    vx_result r = vx_svo_build_model(&bdesc, vox, model, bs, err);
+    if (st) st->seconds_build += vx_time_now() - t0;
+    if (r != VX_OK) {
+        vx_error_prefix(err, "vdb");
+        return r;
+    }
+    if (st) add_build_stats(&st->build, bs);
+    return VX_OK;
+}
+
+static void name_instance(vx_svo_instance* in, const char* name) {
+    size_t len = strlen(name);
+    if (len >= sizeof in->name) len = sizeof in->name - 1; /* names are cut, not refused */
+    memcpy(in->name, name, len);
+}
+
+/* A single grid: one model and one instance per region. */
+typedef struct scene_sink {
+    const vx_conv_vdb_desc* d;
+    vx_svo_scene* s;
+    size_t model_cap, inst_cap;
+    vx_conv_stats* st;
+    const char* name;
+} scene_sink;
+
+static vx_result scene_region(void* user, const int64_t region[3], const int64_t origin[3], const vx_svo_voxels* vox,
+                              vx_error* err) {
+    (void)region;
+    scene_sink* k = (scene_sink*)user;
+    vx_svo_scene* s = k->s;
+    const vx_allocator* a = k->d->alloc;
+    if (!vx_grow(a, (void**)&s->models, &k->model_cap, (size_t)s->model_count + 1, sizeof *s->models) ||
+        !vx_grow(a, (void**)&s->instances, &k->inst_cap, (size_t)s->instance_count + 1, sizeof *s->instances))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb: out of memory for model %u", s->model_count);
+    vx_svo_model model;
+    vx_svo_build_stats bs;
+    vx_result r = build_region(k->d, vox, &model, &bs, k->st, err);
+    if (r != VX_OK) return r;
+    vx_svo_instance* in = &s->instances[s->instance_count];
+    memset(in, 0, sizeof *in);
+    in->xform[0] = in->xform[5] = in->xform[10] = 1.0;
+    in->xform[3] = (double)origin[0];
+    in->xform[7] = (double)origin[1];
+    in->xform[11] = (double)origin[2];
+    in->model = s->model_count;
+    in->layer = UINT32_MAX;
+    name_instance(in, k->name);
+    s->models[s->model_count++] = model;
+    s->instance_count++;
+    return VX_OK;
+}
+
+static vx_result convert_file(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_svo_scene* out, vx_conv_stats* st,
+                              vx_error* err) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, d->alloc);
+    vx_vdb_grid_info info;
+    memset(&info, 0, sizeof info);
+    scene_sink k = {.d = d, .s = &s, .st = st, .name = info.name};
+    vx_result r = convert_grid(d, f, &info, scene_region, &k, st, err);
     if (r != VX_OK) {
         vx_svo_scene_free(&s);
         return r;
     }
-    if (c.count == 0) vx_log(d->logger, VX_LOG_WARN, "vdb.empty", "vdb: grid '%s': no cells selected", info.name);
+    world_from_index(&info, s.world_from_grid);
     vx_svo_scene_update_bounds(&s);
     if (st) {
         st->models = s.model_count;
@@ -484,7 +578,7 @@ static vx_result convert_bytes(const vx_conv_vdb_desc* desc, const void* data, s
     }
     st.seconds_read = vx_time_now() - t0;
     if (r != VX_OK) return r;
-    r = convert_grid(&d, f, out, &st, err);
+    r = convert_file(&d, f, out, &st, err);
     vx_vdb_file_free(f);
     if (r == VX_OK && stats) {
         st.peak_bytes = vx_peak_rss();
@@ -527,19 +621,27 @@ typedef struct placement {
     double origin[3];
 } placement;
 
+static int cmp_region(const int64_t* p, const int64_t* q) {
+    for (int k = 2; k >= 0; k--) /* the order convert_grid hands regions out in */
+        if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+
 static int cmp_placement(const void* a, const void* b) {
     const placement *p = (const placement*)a, *q = (const placement*)b;
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < 3; k++) /* instances by brick, x first */
         if (p->brick[k] != q->brick[k]) return p->brick[k] < q->brick[k] ? -1 : 1;
     return p->frame < q->frame ? -1 : p->frame > q->frame;
 }
 
 /* The sequence's models without repeats: a model equal to a stored one is
- * freed and the stored index used (open addressing on vx_svo_model_hash). */
+ * freed and the stored index used (open addressing on vx_svo_model_hash;
+ * each model's hash is kept, so growing the table hashes nothing again). */
 typedef struct model_set {
     const vx_allocator* a;
     vx_svo_scene* s;
-    size_t model_cap;
+    size_t model_cap, hash_cap;
+    uint64_t* hash; /* per stored model */
     uint32_t* slot; /* model index + 1, 0 = empty */
     size_t cap;
 } model_set;
@@ -550,38 +652,154 @@ static vx_result model_set_add(model_set* ms, vx_svo_model* m, uint32_t* index, 
         uint32_t* slot = (uint32_t*)vx_calloc(ms->a, cap, sizeof *slot);
         if (!slot) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
         for (uint32_t i = 0; i < ms->s->model_count; i++) {
-            size_t h = (size_t)vx_svo_model_hash(&ms->s->models[i]) & (cap - 1);
+            size_t h = (size_t)ms->hash[i] & (cap - 1);
             while (slot[h]) h = (h + 1) & (cap - 1);
             slot[h] = i + 1;
         }
         vx_free(ms->a, ms->slot);
         ms->slot = slot, ms->cap = cap;
     }
-    size_t h = (size_t)vx_svo_model_hash(m) & (ms->cap - 1);
+    const uint64_t hash = vx_svo_model_hash(m);
+    size_t h = (size_t)hash & (ms->cap - 1);
     for (; ms->slot[h]; h = (h + 1) & (ms->cap - 1))
-        if (vx_svo_model_equal(&ms->s->models[ms->slot[h] - 1], m)) {
+        if (ms->hash[ms->slot[h] - 1] == hash && vx_svo_model_equal(&ms->s->models[ms->slot[h] - 1], m)) {
             *index = ms->slot[h] - 1;
             vx_svo_model_free(ms->a, m);
             return VX_OK;
         }
-    if (!vx_grow(ms->a, (void**)&ms->s->models, &ms->model_cap, (size_t)ms->s->model_count + 1, sizeof *ms->s->models))
+    const size_t need = (size_t)ms->s->model_count + 1;
+    if (!vx_grow(ms->a, (void**)&ms->s->models, &ms->model_cap, need, sizeof *ms->s->models) ||
+        !vx_grow(ms->a, (void**)&ms->hash, &ms->hash_cap, need, sizeof *ms->hash))
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
     *index = ms->s->model_count;
+    ms->hash[*index] = hash;
     ms->s->models[ms->s->model_count++] = *m;
     memset(m, 0, sizeof *m);
     ms->slot[h] = *index + 1;
     return VX_OK;
 }
 
-static void add_build_stats(vx_svo_build_stats* sum, const vx_svo_build_stats* b) {
-    sum->input_voxels += b->input_voxels;
-    sum->voxels += b->voxels;
-    sum->desc_plain += b->desc_plain;
-    sum->desc_collapsed += b->desc_collapsed;
-    sum->desc_dag += b->desc_dag;
-    sum->far_pointers += b->far_pointers;
-    sum->attr_records += b->attr_records;
-    sum->bytes += b->bytes;
+/* One frame's regions with a copy of their cells. The next frame compares
+ * each of its regions with the same region here and takes the model of an
+ * unchanged one without building it: the parts of a sequence that stand
+ * still cost a comparison, not an octree build. Cells of a region are
+ * stored from off on; level is 0 for plain cells. */
+typedef struct frame_region {
+    int64_t region[3], origin[3];
+    uint32_t size[3];
+    size_t n, off;
+    uint32_t model;
+    vx_svo_build_stats bs;
+} frame_region;
+
+typedef struct frame_cells {
+    frame_region* r;
+    size_t count, cap;
+    uint64_t* keys;
+    uint8_t* level;
+    float* density;
+    uint32_t* rgba;
+    size_t cells, keys_cap, level_cap, density_cap, rgba_cap;
+    size_t cursor; /* the next frame's walk through r (both in region order) */
+} frame_cells;
+
+static void frame_cells_free(const vx_allocator* a, frame_cells* fc) {
+    vx_free(a, fc->r);
+    vx_free(a, fc->keys);
+    vx_free(a, fc->level);
+    vx_free(a, fc->density);
+    vx_free(a, fc->rgba);
+}
+
+static bool same_cells(const frame_cells* fc, const frame_region* p, const int64_t origin[3], const vx_svo_voxels* vox) {
+    if (memcmp(p->origin, origin, sizeof p->origin) || memcmp(p->size, vox->size, sizeof p->size) || p->n != vox->count)
+        return false;
+    const size_t n = vox->count;
+    if (memcmp(fc->keys + p->off, vox->keys, n * sizeof *vox->keys)) return false;
+    for (size_t i = 0; i < n; i++)
+        if (fc->level[p->off + i] != (vox->level ? vox->level[i] : 0)) return false;
+    if (vox->density && memcmp(fc->density + p->off, vox->density, n * sizeof *vox->density)) return false;
+    if (vox->rgba && memcmp(fc->rgba + p->off, vox->rgba, n * sizeof *vox->rgba)) return false;
+    return true;
+}
+
+typedef struct seq_sink {
+    const vx_conv_vdb_desc* d;
+    model_set* ms;
+    frame_cells *prev, *cur;
+    placement* pl;
+    size_t np, pl_cap;
+    uint32_t frame;
+    uint32_t reused; /* regions taken unchanged from the frame before */
+    vx_conv_stats* st;
+} seq_sink;
+
+static vx_result seq_region(void* user, const int64_t region[3], const int64_t origin[3], const vx_svo_voxels* vox,
+                            vx_error* err) {
+    seq_sink* k = (seq_sink*)user;
+    const vx_allocator* a = k->d->alloc;
+    frame_cells *prev = k->prev, *cur = k->cur;
+    while (prev->cursor < prev->count && cmp_region(prev->r[prev->cursor].region, region) < 0) prev->cursor++;
+    const frame_region* p = prev->cursor < prev->count ? &prev->r[prev->cursor] : NULL;
+    const size_t n = vox->count, off = cur->cells;
+    if (!vx_grow(a, (void**)&k->pl, &k->pl_cap, k->np + 1, sizeof *k->pl) ||
+        !vx_grow(a, (void**)&cur->r, &cur->cap, cur->count + 1, sizeof *cur->r) ||
+        !vx_grow(a, (void**)&cur->keys, &cur->keys_cap, off + n, sizeof *cur->keys) ||
+        !vx_grow(a, (void**)&cur->level, &cur->level_cap, off + n, sizeof *cur->level) ||
+        (vox->density && !vx_grow(a, (void**)&cur->density, &cur->density_cap, off + n, sizeof *cur->density)) ||
+        (vox->rgba && !vx_grow(a, (void**)&cur->rgba, &cur->rgba_cap, off + n, sizeof *cur->rgba)))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
+    frame_region* c = &cur->r[cur->count];
+    memset(c, 0, sizeof *c);
+    if (p && !cmp_region(p->region, region) && same_cells(prev, p, origin, vox)) {
+        c->model = p->model;
+        c->bs = p->bs;
+        if (k->st) add_build_stats(&k->st->build, &c->bs);
+        k->reused++;
+    } else {
+        vx_svo_model model;
+        vx_result r = build_region(k->d, vox, &model, &c->bs, k->st, err);
+        if (r == VX_OK) r = model_set_add(k->ms, &model, &c->model, err);
+        if (r != VX_OK) {
+            vx_svo_model_free(a, &model); /* emptied by model_set_add where it was kept */
+            return r;
+        }
+    }
+    memcpy(c->region, region, sizeof c->region);
+    memcpy(c->origin, origin, sizeof c->origin);
+    memcpy(c->size, vox->size, sizeof c->size);
+    c->n = n, c->off = off;
+    memcpy(cur->keys + off, vox->keys, n * sizeof *vox->keys);
+    if (vox->level) memcpy(cur->level + off, vox->level, n);
+    else memset(cur->level + off, 0, n);
+    if (vox->density) memcpy(cur->density + off, vox->density, n * sizeof *vox->density);
+    if (vox->rgba) memcpy(cur->rgba + off, vox->rgba, n * sizeof *vox->rgba);
+    cur->cells += n;
+    cur->count++;
+
+    placement* q = &k->pl[k->np++];
+    q->frame = k->frame;
+    q->model = c->model;
+    for (int i = 0; i < 3; i++) q->brick[i] = region[i], q->origin[i] = (double)origin[i];
+    return VX_OK;
+}
+
+/* Reads one frame's file and hands its regions to the sink. */
+static vx_result seq_frame(const vx_conv_vdb_desc* d, const char* path, seq_sink* k, vx_vdb_grid_info* info,
+                           vx_conv_stats* cs, vx_error* err) {
+    double t0 = vx_time_now();
+    uint8_t* data = NULL;
+    size_t size = 0;
+    vx_result r = vx_file_read(path, d->alloc, 0, &data, &size, err);
+    if (r != VX_OK) return r;
+    vx_vdb_file* f = NULL;
+    r = vx_vdb_read(data, size, &f, err);
+    vx_free(d->alloc, data);
+    cs->seconds_read += vx_time_now() - t0;
+    if (r != VX_OK) return r;
+    r = convert_grid(d, f, info, seq_region, k, cs, err);
+    vx_vdb_file_free(f);
+    return r;
 }
 
 vx_result vx_conv_vdb_sequence(const vx_conv_vdb_desc* desc, const char* const* paths, uint32_t count, vx_svo_scene* out,
@@ -595,46 +813,39 @@ vx_result vx_conv_vdb_sequence(const vx_conv_vdb_desc* desc, const char* const* 
     vx_svo_scene s;
     vx_svo_scene_init(&s, a);
     model_set ms = {.a = a, .s = &s};
-    placement* pl = NULL;
-    size_t np = 0, pl_cap = 0;
-    char name[64] = {0};
+    frame_cells fc[2];
+    memset(fc, 0, sizeof fc);
+    seq_sink k = {.d = &d, .ms = &ms, .prev = &fc[0], .cur = &fc[1], .st = &cs};
+    vx_svo_instance named; /* the grid's name as instances carry it */
+    memset(&named, 0, sizeof named);
     vx_result r = VX_OK;
     for (uint32_t f = 0; f < count && r == VX_OK; f++) {
-        vx_svo_scene fs;
-        vx_conv_stats st = {0};
-        if ((r = vx_conv_vdb_file(&d, paths[f], &fs, &st, err)) != VX_OK) {
+        vx_vdb_grid_info info;
+        memset(&info, 0, sizeof info);
+        k.frame = f;
+        if ((r = seq_frame(&d, paths[f], &k, &info, &cs, err)) != VX_OK) {
             char where[64];
             snprintf(where, sizeof where, "frame %u", f);
             vx_error_prefix(err, paths[f]);
             vx_error_prefix(err, where);
             break;
         }
-        cs.seconds_read += st.seconds_read;
-        cs.seconds_voxelize += st.seconds_voxelize;
-        cs.seconds_build += st.seconds_build;
-        add_build_stats(&cs.build, &st.build);
-        if (f == 0) memcpy(s.world_from_grid, fs.world_from_grid, sizeof s.world_from_grid);
-        else if (memcmp(s.world_from_grid, fs.world_from_grid, sizeof s.world_from_grid))
+        double w[12];
+        world_from_index(&info, w);
+        if (f == 0) memcpy(s.world_from_grid, w, sizeof s.world_from_grid);
+        else if (memcmp(s.world_from_grid, w, sizeof s.world_from_grid))
             r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "frame %u (%s): its grid transform differs from frame 0's", f,
                         paths[f]);
-        for (uint32_t i = 0; r == VX_OK && i < fs.instance_count; i++) {
-            const vx_svo_instance* in = &fs.instances[i]; /* one per model, translated by its origin */
-            if (!vx_grow(a, (void**)&pl, &pl_cap, np + 1, sizeof *pl)) {
-                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "vdb sequence: out of memory");
-                break;
-            }
-            placement* p = &pl[np];
-            p->frame = f;
-            for (int k = 0; k < 3; k++) {
-                p->origin[k] = in->xform[4 * k + 3];
-                p->brick[k] = floor_shift((int64_t)p->origin[k], d.brick_depth);
-            }
-            if ((r = model_set_add(&ms, &fs.models[in->model], &p->model, err)) != VX_OK) break;
-            if (!name[0]) memcpy(name, in->name, sizeof name);
-            np++;
-        }
-        vx_svo_scene_free(&fs); /* the models it still has were repeats, already freed */
+        if (f == 0) name_instance(&named, info.name);
+        frame_cells* t = k.prev; /* this frame is the next one's "before" */
+        k.prev = k.cur, k.cur = t;
+        k.cur->count = k.cur->cells = 0;
+        k.prev->cursor = 0;
     }
+    frame_cells_free(a, &fc[0]);
+    frame_cells_free(a, &fc[1]);
+    placement* pl = k.pl;
+    const size_t np = k.np;
     /* one instance per brick any frame fills; hidden in the frames where the
      * brick is empty (with its first model and place) */
     uint32_t I = 0;
@@ -651,18 +862,19 @@ vx_result vx_conv_vdb_sequence(const vx_conv_vdb_desc* desc, const char* const* 
         while (e < np && !memcmp(pl[e].brick, pl[i].brick, sizeof pl[i].brick)) e++;
         vx_svo_instance first = {.model = pl[i].model, .layer = UINT32_MAX, .flags = VX_SVO_INSTANCE_HIDDEN};
         first.xform[0] = first.xform[5] = first.xform[10] = 1.0;
-        for (int k = 0; k < 3; k++) first.xform[4 * k + 3] = pl[i].origin[k];
-        memcpy(first.name, name, sizeof first.name);
+        for (int k3 = 0; k3 < 3; k3++) first.xform[4 * k3 + 3] = pl[i].origin[k3];
+        memcpy(first.name, named.name, sizeof first.name);
         for (uint32_t f = 0; f < count; f++) *(vx_svo_instance*)&vx_svo_scene_frame_instances(&s, f)[b] = first;
         for (; i < e; i++) {
             vx_svo_instance* in = (vx_svo_instance*)&vx_svo_scene_frame_instances(&s, pl[i].frame)[b];
             in->flags = 0;
             in->model = pl[i].model;
-            for (int k = 0; k < 3; k++) in->xform[4 * k + 3] = pl[i].origin[k];
+            for (int k3 = 0; k3 < 3; k3++) in->xform[4 * k3 + 3] = pl[i].origin[k3];
         }
     }
     vx_free(a, pl);
     vx_free(a, ms.slot);
+    vx_free(a, ms.hash);
     if (r != VX_OK) {
         vx_svo_scene_free(&s);
         return r;

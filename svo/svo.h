@@ -76,23 +76,35 @@ static inline uint32_t vx_svo_desc_make(uint32_t ptr, bool far, uint32_t valid, 
     return (ptr << 17) | ((uint32_t)far << 16) | ((valid & 0xFFu) << 8) | (leaf & 0xFFu);
 }
 
+/* Morton keys: x in bits 3i, y in bits 3i + 1, z in bits 3i + 2 (21 bits
+ * each), by parallel bit spreading rather than a loop over the bits: the
+ * converters compute one per cell. vx__spread3 spreads the low 21 bits of v
+ * to every third bit; vx__compact3 gathers bits 3i of n (its inverse). */
+static inline uint64_t vx__spread3(uint32_t v) {
+    uint64_t x = v & 0x1fffffu;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+}
+static inline uint32_t vx__compact3(uint64_t n) {
+    n &= 0x1249249249249249ull;
+    n = (n ^ (n >> 2)) & 0x30c30c30c30c30c3ull;
+    n = (n ^ (n >> 4)) & 0xf00f00f00f00f00full;
+    n = (n ^ (n >> 8)) & 0x00ff0000ff0000ffull;
+    n = (n ^ (n >> 16)) & 0x00ff00000000ffffull;
+    n = (n ^ (n >> 32)) & 0x1fffffull;
+    return (uint32_t)n;
+}
 static inline uint64_t vx_svo_morton(uint32_t x, uint32_t y, uint32_t z) {
-    uint64_t k = 0;
-    for (unsigned i = 0; i < 21; i++)
-        k |= ((uint64_t)((x >> i) & 1u) << (3 * i)) | ((uint64_t)((y >> i) & 1u) << (3 * i + 1)) |
-             ((uint64_t)((z >> i) & 1u) << (3 * i + 2));
-    return k;
+    return vx__spread3(x) | (vx__spread3(y) << 1) | (vx__spread3(z) << 2);
 }
 static inline void vx_svo_demorton(uint64_t k, uint32_t* x, uint32_t* y, uint32_t* z) {
-    uint32_t a = 0, b = 0, c = 0;
-    for (unsigned i = 0; i < 21; i++) {
-        a |= (uint32_t)((k >> (3 * i)) & 1u) << i;
-        b |= (uint32_t)((k >> (3 * i + 1)) & 1u) << i;
-        c |= (uint32_t)((k >> (3 * i + 2)) & 1u) << i;
-    }
-    *x = a;
-    *y = b;
-    *z = c;
+    *x = vx__compact3(k);
+    *y = vx__compact3(k >> 1);
+    *z = vx__compact3(k >> 2);
 }
 
 /* ---- in-memory scene ----------------------------------------------------------- */

@@ -66,7 +66,7 @@ static bool collect_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_
     /* the voxel's colour as the renderers read it (bytes / 255), times the emission */
     uint32_t rgba = vx_svo_attr_rgba(c->s, m, a);
     ecell* ce = &c->cells[c->n++];
-    ce->key = vx__morton(x, y, z);
+    ce->key = vx_svo_morton(x, y, z);
     for (int k = 0; k < 3; k++) ce->L[k] = (float)((rgba >> (8 * k) & 0xFFu) / 255.0 * e);
     ce->parent = (uint32_t)(c->n - 1);
     return true;
@@ -169,7 +169,7 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
             for (int a = 0; a < 3; a++) {
                 uint32_t q[3] = {p[0], p[1], p[2]};
                 q[a]++;
-                size_t j = find(c.cells, c.n, vx__morton(q[0], q[1], q[2]));
+                size_t j = find(c.cells, c.n, vx_svo_morton(q[0], q[1], q[2]));
                 if (j == SIZE_MAX) continue;
                 uint32_t ra = root_of(c.cells, (uint32_t)i), rb = root_of(c.cells, (uint32_t)j);
                 if (ra != rb) c.cells[ra > rb ? ra : rb].parent = ra < rb ? ra : rb;

@@ -10,30 +10,6 @@
 extern uint32_t vx__svo_far_limit;
 #define VX__SVO_PTR_MAX 0x7FFFu
 
-/* Bits 3i of k gathered into an integer (x of a Morton key; k >> 1 gives y). */
-static inline uint32_t vx__compact3(uint64_t n) {
-    n &= 0x1249249249249249ull;
-    n = (n ^ (n >> 2)) & 0x30c30c30c30c30c3ull;
-    n = (n ^ (n >> 4)) & 0xf00f00f00f00f00full;
-    n = (n ^ (n >> 8)) & 0x00ff0000ff0000ffull;
-    n = (n ^ (n >> 16)) & 0x00ff00000000ffffull;
-    n = (n ^ (n >> 32)) & 0x1fffffull;
-    return (uint32_t)n;
-}
-/* Inverse of vx__compact3: spreads the low 21 bits to every third bit. */
-static inline uint64_t vx__spread3(uint32_t v) {
-    uint64_t x = v & 0x1fffffu;
-    x = (x | x << 32) & 0x1f00000000ffffull;
-    x = (x | x << 16) & 0x1f0000ff0000ffull;
-    x = (x | x << 8) & 0x100f00f00f00f00full;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-    x = (x | x << 2) & 0x1249249249249249ull;
-    return x;
-}
-static inline uint64_t vx__morton(uint32_t x, uint32_t y, uint32_t z) {
-    return vx__spread3(x) | (vx__spread3(y) << 1) | (vx__spread3(z) << 2);
-}
-
 /* Bit count of an 8-bit mask. A SWAR sum rather than __builtin_popcount:
  * without -mpopcnt (the x86-64 baseline Debian builds for) the builtin
  * becomes a libgcc call, measured at 2.5% of a whole mesh conversion. */

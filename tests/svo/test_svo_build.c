@@ -84,11 +84,19 @@ static uint32_t val_rgba(const vx_svo_model* m, uint32_t a) { return a < m->attr
 
 /* ---- tests ----------------------------------------------------------------------------- */
 
+/* The Morton helpers against the definition, bit by bit. */
 static void test_morton_helpers(void) {
     for (int i = 0; i < 20000; i++) {
         uint32_t x = (uint32_t)rnd() & 0x1FFFFF, y = (uint32_t)rnd() & 0x1FFFFF, z = (uint32_t)rnd() & 0x1FFFFF;
+        uint64_t want = 0;
+        for (unsigned bit = 0; bit < 21; bit++)
+            want |= ((uint64_t)(x >> bit & 1u) << (3 * bit)) | ((uint64_t)(y >> bit & 1u) << (3 * bit + 1)) |
+                    ((uint64_t)(z >> bit & 1u) << (3 * bit + 2));
         uint64_t k = vx_svo_morton(x, y, z);
-        CHECK(vx__morton(x, y, z) == k);
+        CHECK(k == want);
+        uint32_t a, b, c;
+        vx_svo_demorton(k, &a, &b, &c);
+        CHECK(a == x && b == y && c == z);
         CHECK(vx__compact3(k) == x && vx__compact3(k >> 1) == y && vx__compact3(k >> 2) == z);
     }
 }
@@ -150,7 +158,7 @@ typedef struct stream_chk {
 static bool stream_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
     stream_chk* c = (stream_chk*)user;
     if (c->mode == 0) {
-        if (vx__morton(x, y, z) != c->n) c->bad++;
+        if (vx_svo_morton(x, y, z) != c->n) c->bad++;
     } else if (((x + y + z) & 1) || c->m->palette[a] != 1 + (x & 2)) {
         c->bad++;
     }
@@ -167,7 +175,7 @@ static void test_full_cube(void) {
     size_t i = 0;
     for (uint32_t z = 0; z < S; z++)
         for (uint32_t y = 0; y < S; y++)
-            for (uint32_t x = 0; x < S; x++) keys[i] = vx__morton(x, y, z), pal[i++] = 9;
+            for (uint32_t x = 0; x < S; x++) keys[i] = vx_svo_morton(x, y, z), pal[i++] = 9;
     vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys};
     vx_svo_model m;
     vx_svo_build_stats st;
@@ -187,7 +195,7 @@ static void test_full_cube(void) {
     i = 0;
     for (uint32_t z = 0; z < 64; z++)
         for (uint32_t y = 0; y < 64; y++)
-            for (uint32_t x = 0; x < 64; x++) keys[i++] = vx__morton(x, y, z);
+            for (uint32_t x = 0; x < 64; x++) keys[i++] = vx_svo_morton(x, y, z);
     in.size[0] = in.size[1] = in.size[2] = 64;
     in.count = i;
     in.attrs = VX_ATTR_PALETTE;
@@ -208,7 +216,7 @@ static void test_checkerboard(void) {
     REQUIRE(keys && pal);
     for (uint32_t z = 0; z < S; z++)
         for (uint32_t y = 0; y < S; y++)
-            for (uint32_t x = (y + z) & 1; x < S; x += 2) keys[i] = vx__morton(x, y, z), pal[i++] = (uint8_t)(1 + (x & 2));
+            for (uint32_t x = (y + z) & 1; x < S; x += 2) keys[i] = vx_svo_morton(x, y, z), pal[i++] = (uint8_t)(1 + (x & 2));
     REQUIRE(i == n);
     vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
     vx_svo_model m;
