@@ -7,6 +7,7 @@
  *   s.models, s.instances                  # lists of dicts (sizes, 3x4 transforms, names)
  *   xyz, rgba = s.voxels(0)                # model cells (N,3) int32, colours (N,4) uint8
  *   xyz, rgba = s.scene_voxels()           # grid cells, instances applied (= svo_info --dump)
+ *   s.frame_count, s.frame_rate            # an animation: s.frame_instances(n), s.scene_voxels(frame=n)
  *   img = s.render(320, 240)               # (H,W,4) float32, lavapipe or a GPU (cpu=True: reference)
  *   s.save("castle.svo"); voxkit.convert("duck.glb", "duck.svo", res=128)
  *
@@ -125,9 +126,8 @@ static PyObject* scene_models(Scene* self, void* closure) {
     return l;
 }
 
-static PyObject* scene_instances(Scene* self, void* closure) {
-    (void)closure;
-    const vx_svo_scene* s = &self->s;
+/* The instances of s (the scene or a view of one frame) as dicts. */
+static PyObject* instance_list(const vx_svo_scene* s) {
     PyObject* l = PyList_New(s->instance_count);
     for (uint32_t i = 0; l && i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
@@ -146,6 +146,36 @@ static PyObject* scene_instances(Scene* self, void* closure) {
         PyList_SET_ITEM(l, i, d);
     }
     return l;
+}
+
+static PyObject* scene_instances(Scene* self, void* closure) {
+    (void)closure;
+    return instance_list(&self->s);
+}
+
+static PyObject* scene_frame_count(Scene* self, void* closure) {
+    (void)closure;
+    return PyLong_FromUnsignedLong(vx_svo_scene_frames(&self->s));
+}
+
+static PyObject* scene_frame_rate(Scene* self, void* closure) {
+    (void)closure;
+    return PyFloat_FromDouble(self->s.frame_rate);
+}
+
+/* Frame f of the scene as a view (borrowing self's arrays); IndexError
+ * when out of range. */
+static bool frame_view(Scene* self, unsigned int f, vx_svo_scene* view) {
+    if (vx_svo_scene_frame(&self->s, f, view)) return true;
+    PyErr_Format(PyExc_IndexError, "frame %u out of range (the scene has %u)", f, vx_svo_scene_frames(&self->s));
+    return false;
+}
+
+static PyObject* scene_frame_instances(Scene* self, PyObject* args) {
+    unsigned int f;
+    vx_svo_scene view;
+    if (!PyArg_ParseTuple(args, "I:frame_instances", &f) || !frame_view(self, f, &view)) return NULL;
+    return instance_list(&view);
 }
 
 static PyObject* scene_world_from_grid(Scene* self, void* closure) {
@@ -244,10 +274,14 @@ static PyObject* scene_voxels(Scene* self, PyObject* args) {
 }
 
 static PyObject* scene_scene_voxels(Scene* self, PyObject* args, PyObject* kw) {
-    static char* kwlist[] = {"all", NULL};
+    static char* kwlist[] = {"all", "frame", NULL};
     int all = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "|p:scene_voxels", kwlist, &all)) return NULL;
-    const vx_svo_scene* s = &self->s;
+    unsigned int frame = 0;
+    vx_svo_scene view;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "|pI:scene_voxels", kwlist, &all, &frame) ||
+        !frame_view(self, frame, &view))
+        return NULL;
+    const vx_svo_scene* s = &view;
     uint32_t* models = PyMem_Calloc(s->instance_count + 1, sizeof(uint32_t));
     const double** xf = PyMem_Calloc(s->instance_count + 1, sizeof(double*));
     if (!models || !xf) {
@@ -383,7 +417,12 @@ static PyMethodDef scene_methods[] = {
     {"scene_voxels", (PyCFunction)(void (*)(void))scene_scene_voxels, METH_VARARGS | METH_KEYWORDS,
      "scene_voxels(all=False) -> (xyz, rgba): every visible instance's cells in grid cells\n"
      "(floor(M (v + 1/2) + t)) as (N,3) int64, with (N,4) uint8 colours: what `svo_info --dump`\n"
-     "prints. all=True includes hidden instances and layers."},
+     "prints. all=True includes hidden instances and layers. frame=N: an animation's frame N\n"
+     "(svo_info --dump --frame N)."},
+    {"frame_instances", (PyCFunction)scene_frame_instances, METH_VARARGS,
+     "frame_instances(n) -> the instances of animation frame n (as `instances`: model, xform, hidden,\n"
+     "visible are the frame's; instance i of every frame is the same object, its model and transform\n"
+     "may change). Frame 0 is `instances`; a static scene has frame 0 only."},
     {"save", (PyCFunction)scene_save, METH_VARARGS, "save(path): writes the scene as a .svo file."},
     {"to_vox", (PyCFunction)scene_to_vox, METH_VARARGS,
      "to_vox(path): writes the scene as a MagicaVoxel .vox file (as svo_info --to-vox)."},
@@ -404,6 +443,8 @@ static PyGetSetDef scene_getset[] = {
      "list of dicts: model, name, layer, xform (3x4 model cells -> grid cells), world (3x4 model\n"
      "cells -> world units), hidden, visible",
      NULL},
+    {"frame_count", (getter)scene_frame_count, NULL, "animation frames (1 for a static scene)", NULL},
+    {"frame_rate", (getter)scene_frame_rate, NULL, "frames per second, 0.0 where the source does not say", NULL},
     {"world_from_grid", (getter)scene_world_from_grid, NULL, "3x4 map from grid cells to world units", NULL},
     {"bounds", (getter)scene_bounds, NULL, "world bounds (lo, hi) of the drawn instances", NULL},
     {NULL, NULL, NULL, NULL, NULL}};

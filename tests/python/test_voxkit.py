@@ -101,6 +101,45 @@ conv = os.path.join(WORK, "demo-convert.svo")
 voxkit.convert(demo_vox, conv, no_dag=True, keep_hidden=True)
 check(np.array_equal(dump(conv), dump(demo)), "convert(src, dst, no_dag=True) writes the same voxels")
 
+# ---- an animation: the demo with a moving tower (issue 24) ---------------------
+anim_vox, anim = os.path.join(WORK, "anim.vox"), os.path.join(WORK, "anim.svo")
+tool("vox2svo", "--write-demo", anim_vox, "--demo-frames", "6")
+tool("vox2svo", anim_vox, anim)
+a = voxkit.open(anim)
+info = tool("svo_info", anim).decode()
+check(a.frame_count == 6 and "frames       6 " in info and s.frame_count == 1,
+      f"frame_count: 6 as svo_info lists them ({a.frame_count}; the static demo: {s.frame_count})")
+check(a.frame_rate == 0.0 and "frame rate not known" in info, "frame_rate: 0.0 where the .vox has none")
+moved = 0
+for f in range(a.frame_count):
+    ref = rows_sorted(np.fromstring(tool("svo_info", anim, "--dump", "--frame", str(f)), dtype=np.int64,
+                                    sep=" ").reshape(-1, 7))
+    xyz, rgba = a.scene_voxels(frame=f)
+    got = rows_sorted(np.hstack([xyz, rgba.astype(np.int64)]))
+    # independent of scene_voxels: frame f's instances place their models' cells
+    placed = []
+    insts = a.frame_instances(f)
+    for inst in insts:
+        if inst["visible"]:
+            mx, mc = a.voxels(inst["model"])
+            x = inst["xform"]
+            placed.append(np.hstack([np.floor((mx + 0.5) @ x[:, :3].T + x[:, 3]).astype(np.int64), mc.astype(np.int64)]))
+    placed = rows_sorted(np.vstack(placed))
+    moved += f > 0 and any(not np.array_equal(i["xform"], j["xform"]) for i, j in zip(insts, a.instances))
+    check(np.array_equal(got, ref) and np.array_equal(placed, ref),
+          f"frame {f}: scene_voxels(frame={f}) and frame_instances({f}) placed equal --dump --frame {f} ({len(ref)} voxels)")
+check(moved == a.frame_count - 1, f"frame_instances: an instance moves in each of frames 1..5 ({moved})")
+check(len(a.frame_instances(0)) == len(a.instances) and
+      all(np.array_equal(i["xform"], j["xform"]) for i, j in zip(a.frame_instances(0), a.instances)),
+      "frame_instances(0) is instances")
+for call, what in ((lambda: a.frame_instances(6), "frame_instances(6)"), (lambda: a.scene_voxels(frame=6), "scene_voxels(frame=6)"),
+                   (lambda: s.frame_instances(1), "frame 1 of a static scene")):
+    try:
+        call()
+        check(False, f"{what} raises IndexError")
+    except IndexError as e:
+        check(True, f"{what} raises IndexError: {e}")
+
 # ---- errors --------------------------------------------------------------------
 bad = os.path.join(WORK, "bad.svo")
 with open(bad, "wb") as f:
