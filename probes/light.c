@@ -119,6 +119,11 @@ vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool e
     return VX_OK;
 }
 
+void vx__sky(const vx__light* L, const double d[3], double out[3]) {
+    if (L->sky_dir.type == VX_SKY_DEFAULT) memcpy(out, L->sky, sizeof L->sky);
+    else vx_sky_radiance(&L->sky_dir, &L->sky_map, d, out);
+}
+
 void vx__light_free(vx__light* L) {
     vx_free(L->alloc, L->inst_inv);
     vx_free(L->alloc, L->em);

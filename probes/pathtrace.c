@@ -19,8 +19,8 @@
  *                 shared with an opaque voxel ends there (the surface under
  *                 the glass is not shaded: a documented loss). Transmission into
  *                 the glass is tinted by the colour; IOR 1 is no interface.
- * Lights: the probes' sun (a delta) and sky (uniform, reached by BSDF rays
- * only), the frame's vx_lights and the emissive voxels. Point and spot
+ * Lights: the probes' sun (a delta) and sky (uniform, or the render's sky
+ * by direction: gradient or environment map; reached by BSDF rays only), the frame's vx_lights and the emissive voxels. Point and spot
  * lights are deltas (glTF falloff; d^2 kept above (cell/100)^2); a
  * directional light with an angular diameter is a cone of radiance
  * E / (pi sin^2(diameter/2)), sampled uniformly in solid angle (below
@@ -521,8 +521,11 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             break;
         }
         if (!hit) {
-            if (!skip)
-                for (int k = 0; k < 3; k++) acc[k] += thr[k] * L->sky[k];
+            if (!skip) {
+                double sky[3];
+                vx__sky(L, rd, sky);
+                for (int k = 0; k < 3; k++) acc[k] += thr[k] * sky[k];
+            }
             /* the cones of directional lights (from the first surface: the direct pass's in indirect mode) */
             for (uint32_t i = 0; i < L->light_count && !(indirect && vertex <= 1); i++) {
                 const vx_light* li = &L->lights[i];

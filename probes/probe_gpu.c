@@ -26,10 +26,13 @@ typedef struct gpu_params {
     float lf_hi[4];
     uint32_t cnt[4]; /* lights, emissive voxels, pixel centres only, a light stands for emissive voxels */
     float pt[4];     /* total emitted power of the emissive voxels */
+    float skyh[4];   /* sky by direction: horizon rgb, w: 0 uniform (sky), 1 gradient (sky: zenith), 2 map */
+    float skyg[4];   /* ground rgb, w: map intensity */
+    float skym[4];   /* map: rotation, width, height */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 208, "gpu_params vs probe.comp");
+_Static_assert(sizeof(gpu_params) == 256, "gpu_params vs probe.comp");
 
-enum { NBIND = 16 };
+enum { NBIND = 17 };
 
 enum { PMODE_BAKE = 0 };
 
@@ -43,7 +46,7 @@ typedef struct gctx {
     vx__frame f;
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then PMODE and MATS */
-    vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems;
+    vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
     float em_power;
@@ -51,7 +54,8 @@ typedef struct gctx {
 } gctx;
 
 static void ctx_free(gctx* c) {
-    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps, &c->lf, &c->mats, &c->lights, &c->ems};
+    vx__buffer* b[] = {&c->params, &c->emit, &c->probes, &c->out, &c->maps, &c->lf, &c->mats, &c->lights, &c->ems,
+                       &c->env};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(c->g, b[i]);
 }
 
@@ -123,9 +127,13 @@ static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* 
         }
         o[3] = (float)em->area, o[7] = (float)L->em_cdf[i];
     }
+    /* binding 16: the environment map's texels (RGB floats), only for a map sky */
+    const vx_sky_texels* t = &L->sky_map;
+    bool map = L->sky_dir.type == VX_SKY_ENVMAP && t->rgb;
     if ((r = upload_new(c, &c->mats, m, nm ? 32 * nm : 16, "probe materials", err)) ||
         (r = upload_new(c, &c->lights, l, nl ? 80 * nl : 16, "probe lights", err)) ||
-        (r = upload_new(c, &c->ems, e, ne ? 80 * ne : 16, "probe emitters", err)))
+        (r = upload_new(c, &c->ems, e, ne ? 80 * ne : 16, "probe emitters", err)) ||
+        (r = upload_new(c, &c->env, map ? t->rgb : NULL, map ? (size_t)t->width * t->height * 12 : 16, "probe sky map", err)))
         goto done;
     c->light_count = (uint32_t)nl, c->em_count = (uint32_t)ne, c->em_power = (float)L->em_power;
     c->voxel_lights = L->voxel_lights;
@@ -182,11 +190,17 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
 
 static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
     memset(p, 0, sizeof *p);
+    const vx_sky* k3 = &L->sky_dir;
     for (int k = 0; k < 3; k++) {
         p->light[k] = (float)L->light_dir[k];
         p->sun[k] = (float)L->sun[k];
-        p->sky[k] = (float)L->sky[k];
+        p->sky[k] = (float)(k3->type == VX_SKY_GRADIENT ? k3->color[k] : L->sky[k]);
+        p->skyh[k] = (float)k3->horizon[k];
+        p->skyg[k] = (float)k3->ground[k];
     }
+    p->skyh[3] = k3->type == VX_SKY_GRADIENT ? 1.0f : k3->type == VX_SKY_ENVMAP ? 2.0f : 0.0f;
+    p->skyg[3] = (float)k3->intensity;
+    p->skym[0] = (float)k3->rotation, p->skym[1] = (float)L->sky_map.width, p->skym[2] = (float)L->sky_map.height;
     p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32);
 }
 
@@ -227,7 +241,7 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
     dd.buffers[7] = &c->params, dd.buffers[8] = &c->emit, dd.buffers[9] = &c->probes, dd.buffers[10] = &c->out;
     dd.buffers[11] = (vx__buffer*)(c->maps_in ? c->maps_in : &c->maps);
     dd.buffers[12] = (vx__buffer*)(c->lf_in ? c->lf_in : &c->lf);
-    dd.buffers[13] = &c->mats, dd.buffers[14] = &c->lights, dd.buffers[15] = &c->ems;
+    dd.buffers[13] = &c->mats, dd.buffers[14] = &c->lights, dd.buffers[15] = &c->ems, dd.buffers[16] = &c->env;
     return vx__dispatch(c->g, &dd, seconds, err);
 }
 

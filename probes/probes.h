@@ -293,6 +293,13 @@ typedef struct vx_probe_render_desc {
     const vx_light* lights; /* the path tracer's lights (borrowed); any replace the sun */
     uint32_t light_count;
     bool pixel_centre; /* every sample through the pixel centre (no jitter): the gi pass's G-buffer rays */
+    /* The path tracer's sky (borrowed; the path tracer modes only): NULL or
+     * VX_SKY_DEFAULT: the uniform sky of the probes (or the bake default);
+     * else this sky by direction (vx_sky_radiance), an environment map with
+     * its texels in sky_map, which the caller reads (formats/image.h:
+     * vx_sky_path, vx_image_read). Reached by BSDF rays (no sky sampling). */
+    const vx_sky* sky;
+    const vx_sky_texels* sky_map;
 } vx_probe_render_desc;
 
 /* Renders RGBA float radiance (alpha 1 on hits); probes may be NULL for

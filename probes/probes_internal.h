@@ -49,7 +49,11 @@ typedef struct vx__light {
     const vx_svo_scene* scene;
     double light_dir[3]; /* unit */
     double sun[3];       /* irradiance on a surface facing the light */
-    double sky[3];       /* radiance */
+    double sky[3];       /* radiance (a uniform sky) */
+    /* sky by direction (vx__sky) when sky_dir.type is not VX_SKY_DEFAULT:
+     * the path tracer's (vx_probe_render_desc.sky, texels borrowed) */
+    vx_sky sky_dir;
+    vx_sky_texels sky_map;
     double emit[256];    /* emission scale by palette index (vx_material.emission) */
     vx_material mat[256]; /* by palette index */
     bool materials;       /* some palette entry is metal or glass */
@@ -76,6 +80,8 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
  * scene's emissive voxels as lights for next-event estimation. */
 vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool emitters, vx_error* err);
 void vx__light_free(vx__light* L);
+/* Sky radiance towards unit d: L->sky, or L->sky_dir by direction. */
+void vx__sky(const vx__light* L, const double d[3], double out[3]);
 
 typedef struct vx__surface {
     double p[3];   /* hit point, offset off the surface along the normal */

@@ -178,6 +178,21 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
     if (P->d.light_count)
         for (int k = 0; k < 3; k++) P->L.sun[k] = 0;
     bool pt = m == VX_PROBE_RENDER_PATHTRACE || m == VX_PROBE_RENDER_PT_INDIRECT;
+    if (pt && P->d.sky && P->d.sky->type != VX_SKY_DEFAULT) {
+        const vx_sky* k = P->d.sky;
+        const vx_sky_texels* t = P->d.sky_map;
+        if ((r = vx_sky_validate(k, err))) {
+            vx__light_free(&P->L);
+            return r;
+        }
+        if (k->type == VX_SKY_ENVMAP &&
+            (!t || !t->rgb || !t->width || !t->height || t->width > 65536 || t->height > 65536)) {
+            vx__light_free(&P->L);
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: the environment map '%s' has no texels", k->path);
+        }
+        if (k->type == VX_SKY_CONSTANT) memcpy(P->L.sky, k->color, sizeof P->L.sky); /* uniform: as before */
+        else P->L.sky_dir = *k, P->L.sky_map = t ? *t : (vx_sky_texels){0};
+    }
     if ((r = vx__light_add(&P->L, P->d.lights, P->d.light_count, pt, err))) {
         vx__light_free(&P->L);
         return r;

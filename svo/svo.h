@@ -249,6 +249,18 @@ vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
  * renderer reads it with formats/image.h (vx_image_read, VX_IMAGE_F32).
  * false (out = "") when the sky is no map or the result does not fit n. */
 bool vx_sky_path(const vx_sky* sky, const char* svo_path, char* out, size_t n);
+/* An environment map's texels as a renderer read them: RGB floats, row-major,
+ * row 0 at the top (polar angle 0, +z), width * height * 3 values. */
+typedef struct vx_sky_texels {
+    const float* rgb;
+    uint32_t width, height;
+} vx_sky_texels;
+/* The sky's radiance in unit direction d (the one definition the renderers
+ * follow: the GPU path tracer's shader does the same in float). Constant:
+ * color; gradient: as above; envmap: the texel the direction falls in
+ * (nearest, no filtering) times intensity, black without texels (map NULL
+ * or empty); VX_SKY_DEFAULT: black (the renderer's own sky applies). */
+void vx_sky_radiance(const vx_sky* sky, const vx_sky_texels* map, const double d[3], double out[3]);
 /* Checks a sky: known type, finite colours >= 0, envmap: intensity >= 0, a
  * finite rotation and a non-empty path of at most VX_SKY_PATH_MAX bytes;
  * fields the type does not use must be zero (one stored form per sky). */

@@ -81,6 +81,39 @@ vx_result vx_sky_validate(const vx_sky* k, vx_error* err) {
     return VX_OK;
 }
 
+void vx_sky_radiance(const vx_sky* k, const vx_sky_texels* map, const double d[3], double out[3]) {
+    static const double pi = 3.14159265358979323846;
+    out[0] = out[1] = out[2] = 0;
+    if (!k) return;
+    switch (k->type) {
+        case VX_SKY_CONSTANT:
+            for (int i = 0; i < 3; i++) out[i] = k->color[i];
+            break;
+        case VX_SKY_GRADIENT:
+            if (d[2] >= 0) { /* +0 and -0 alike: the horizon colour */
+                double t = fmin(d[2], 1.0);
+                for (int i = 0; i < 3; i++) out[i] = k->horizon[i] + (k->color[i] - k->horizon[i]) * t;
+            } else {
+                for (int i = 0; i < 3; i++) out[i] = k->ground[i];
+            }
+            break;
+        case VX_SKY_ENVMAP: {
+            if (!map || !map->rgb || !map->width || !map->height) break;
+            /* azimuth from +x towards +y, turned by -rotation (the map turns by +rotation), in turns */
+            double u = (atan2(d[1], d[0]) - k->rotation) / (2 * pi);
+            u -= floor(u);
+            double v = acos(fmax(-1.0, fmin(1.0, d[2]))) / pi;
+            if (!(u >= 0 && v >= 0)) break; /* NaN direction: black */
+            uint32_t x = (uint32_t)fmin(u * map->width, map->width - 1.0);
+            uint32_t y = (uint32_t)fmin(v * map->height, map->height - 1.0);
+            const float* t = map->rgb + 3 * ((size_t)y * map->width + x);
+            for (int i = 0; i < 3; i++) out[i] = t[i] * k->intensity;
+            break;
+        }
+        default: break;
+    }
+}
+
 bool vx_sky_path(const vx_sky* k, const char* svo_path, char* out, size_t n) {
     if (!out || n == 0) return false;
     out[0] = 0;

@@ -55,6 +55,9 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 cnt;     // x: lights (binding 14), y: emissive voxels (binding 15), z: 1: no jitter in the pixel,
                    // w: 1: some light stands for emissive voxels (VX_LIGHT_FROM_VOXELS)
     vec4 pt;       // x: total emitted power of the emissive voxels (sum of lum(radiance) * area)
+    vec4 skyh;     // the path tracer's sky: horizon rgb, w: 0 uniform (sky), 1 gradient (sky: zenith), 2 map
+    vec4 skyg;     // ground rgb, w: map intensity
+    vec4 skym;     // map: rotation (radians about +z), width, height
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
@@ -78,6 +81,8 @@ layout(std430, binding = 14) readonly buffer Lights { vec4 lights[]; };
 // per emissive voxel four vec4: (corner - reference, area), (axis 0, cdf), (axis 1, 0), (axis 2, 0), then
 // (radiance, 0)
 layout(std430, binding = 15) readonly buffer Emitters { vec4 ems[]; };
+// the environment map's texels, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
+layout(std430, binding = 16) readonly buffer Env { float env[]; };
 
 #include "path_common.glsl"
 
@@ -223,6 +228,20 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
     return out_l;
 }
 
+// sky radiance towards unit d (svo/svo_light.c vx_sky_radiance, in float)
+vec3 sky_radiance(vec3 d) {
+    uint kind = uint(P.skyh.w);
+    if (kind == 1u) return d.z >= 0.0 ? mix(P.skyh.xyz, P.sky.xyz, min(d.z, 1.0)) : P.skyg.xyz;
+    if (kind != 2u) return P.sky.xyz;
+    float phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : atan(d.y, d.x); // atan2(0, 0) = 0, as in C
+    float u = (phi - P.skym.x) / (2.0 * PI), v = acos(clamp(d.z, -1.0, 1.0)) / PI;
+    u -= floor(u);
+    uint w = uint(P.skym.y), h = uint(P.skym.z);
+    uint x = min(uint(max(u, 0.0) * P.skym.y), w - 1u), y = min(uint(max(v, 0.0) * P.skym.z), h - 1u);
+    uint i = 3u * (y * w + x);
+    return vec3(env[i], env[i + 1u], env[i + 2u]) * P.skyg.w;
+}
+
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     vec3 thr = vec3(1.0), acc = vec3(0.0);
@@ -241,7 +260,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             break;
         }
         if (!hit) {
-            if (!skip) acc += thr * P.sky.xyz;
+            if (!skip) acc += thr * sky_radiance(d);
             for (uint i = 0u; i < P.cnt.x && !(indirect && vertex <= 1); i++) {
                 vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
                 if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;

@@ -159,7 +159,8 @@ _Noreturn static void usage(int status) {
             "                       uses radiometric units):\n"
             "%s"
             "  --no-scene-lights    ignore the lights and the sky stored in the file (LGHT); by default the\n"
-            "                       colour mode on the GPU uses them\n"
+            "                       colour mode on the GPU uses them, and --mode pathtrace the file's sky\n"
+            "                       of any type (gradient; environment map read through OpenImageIO)\n"
             "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
             "                       (vx_svo_emissive_lights; off by default: with any light the frame uses\n"
             "                       the radiometric model, without the colour model's sun and ambient)\n"
@@ -682,24 +683,55 @@ int main(int argc, char** argv) {
     }
     vx_svo_scene_frame(&owned, o.frame_first, &scene);
     vx_light* frame_lights = NULL;
+    float* sky_rgb = NULL; /* the path tracer's environment map (the file's sky) */
     uint32_t from_voxels = 0;
     if (gather_lights(&o, &scene, &frame_lights, &o.frame_light_count, &from_voxels, &err)) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
         vx_svo_scene_free(&owned);
-        free(frame_lights);
+        free(frame_lights), vx_free(NULL, sky_rgb);
         return 1;
     }
     o.frame_lights = frame_lights;
     if (o.sky_given && !o.frame_light_count) usage_error("%s", "--sky goes with lights (--light, or the file's)");
     if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
         memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
-    if (!o.no_scene_lights && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP)) {
+    bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
+    /* the file's sky: the path tracer renders every type by direction (an
+     * environment map read here, through OpenImageIO); the pass pipeline
+     * only a constant one */
+    vx_sky_texels sky_map = {0};
+    if (!o.no_scene_lights && !o.sky_given && pt_mode && scene.sky.type != VX_SKY_DEFAULT) {
+        char map[4096];
+        if (vx_sky_path(&scene.sky, o.in, map, sizeof map)) {
+            uint32_t ch = 0;
+            float* px = NULL;
+            if (vx_image_read(map, VX_IMAGE_F32, 0, &sky_map.width, &sky_map.height, &ch, (void**)&px, &err)) {
+                fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.in, err.msg);
+                vx_svo_scene_free(&owned);
+                free(frame_lights);
+                return 1;
+            }
+            /* RGB per texel whatever the file has (grey: one channel; alpha dropped) */
+            sky_rgb = vx_calloc(NULL, (size_t)sky_map.width * sky_map.height, 3 * sizeof(float));
+            for (size_t i = 0; sky_rgb && i < (size_t)sky_map.width * sky_map.height; i++)
+                for (uint32_t k = 0; k < 3; k++) sky_rgb[3 * i + k] = px[i * ch + (k < ch ? k : 0)];
+            vx_free(NULL, px);
+            if (!sky_rgb) {
+                fprintf(stderr, "%s: %s: out of memory for the sky's environment map\n", prog, map);
+                vx_svo_scene_free(&owned);
+                free(frame_lights);
+                return 1;
+            }
+            sky_map.rgb = sky_rgb;
+            o.p.sky_map = &sky_map;
+        }
+        o.p.sky = &scene.sky;
+    } else if (!o.no_scene_lights && !o.sky_given && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP)) {
         char map[4096];
         bool is_map = vx_sky_path(&scene.sky, o.in, map, sizeof map);
-        fprintf(stderr, "%s: note: the file's %s sky%s%s is not rendered yet; the frame uses --sky's\n", prog,
-                is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
+        fprintf(stderr, "%s: note: the file's %s sky%s%s is rendered by --mode pathtrace; the pass pipeline uses --sky's\n",
+                prog, is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
     }
-    bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
     if (pt_mode) /* the path tracer carries the lights, on the GPU and the CPU */
         o.p.lights = o.frame_lights, o.p.light_count = o.frame_light_count;
     else if (o.frame_light_count && (!pipeline || o.cpu))
@@ -720,7 +752,7 @@ int main(int argc, char** argv) {
         if (vx_probe_read_file(&(vx_probe_read_desc){.alloc = A}, o.probes, &probes, &err)) {
             vx_tool_error_budget(NULL, &err, &budget);
             vx_svo_scene_free(&owned);
-            free(frame_lights);
+            free(frame_lights), vx_free(NULL, sky_rgb);
             return 1;
         }
     }
@@ -736,7 +768,7 @@ int main(int argc, char** argv) {
         r = VX_OK;
         if (!root) {
             vx_probe_set_free(&probes);
-            free(frame_lights);
+            free(frame_lights), vx_free(NULL, sky_rgb);
             vx_svo_scene_free(&owned);
             render_mpi_finalize();
             return 0;
@@ -789,7 +821,7 @@ int main(int argc, char** argv) {
                 vx_render_scene_destroy(rs);
                 vx_gpu_destroy(gpu);
                 vx_svo_scene_free(&owned);
-                free(frame_lights);
+                free(frame_lights), vx_free(NULL, sky_rgb);
                 return 0;
             }
         } else if (!r && pipeline) {
@@ -806,7 +838,7 @@ int main(int argc, char** argv) {
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
         vx_svo_scene_free(&owned);
-        free(frame_lights);
+        free(frame_lights), vx_free(NULL, sky_rgb);
         return 1;
     }
     size_t npx = (size_t)img.width * img.height;
@@ -835,7 +867,7 @@ int main(int argc, char** argv) {
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
     vx_svo_scene_free(&owned);
-    free(frame_lights);
+    free(frame_lights), vx_free(NULL, sky_rgb);
 #ifdef VX_HAVE_MPI
     if (mpi) render_mpi_finalize();
 #endif
