@@ -3,9 +3,10 @@
  * only; persistent: that one and every later one) and counts live blocks.
  * Each operation runs for N = 1, 2, ... until it succeeds without a failed
  * allocation; every failing run must return VX_ERR_NOMEM, leave the output
- * untouched and zero live blocks. Operations: the .vox reader, the .vox ->
- * .svo converter, the .svo writer (to memory), the .svo reader (memory and
- * file), the .probes reader (memory and file) and writer (to memory), over
+ * untouched and zero live blocks. Operations: the .vox reader and writer (to
+ * memory), the .vox -> .svo converter, the .svo -> .vox export, the .svo
+ * writer (to memory), the .svo reader (memory and file), the .probes reader
+ * (memory and file) and writer (to memory), over
  * small inputs built here or checked in (tests/probes/fuzz_seeds). Prints
  * the number of injection points per operation (docs/RELIABILITY.md).
  *
@@ -281,6 +282,35 @@ static vx_result op_probes_write(const vx_allocator* a, const op_ctx* c, uint8_t
     return *d ? VX_OK : VX_ERR_NOMEM;
 }
 
+/* svo scene -> .vox scene (svo_info --to-vox, the viewer's export) */
+static vx_result op_vox_export(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_vox_scene vs;
+    memset(&vs, 0xAB, sizeof vs);
+    vx_result r = vx_conv_svo_to_vox((const vx_svo_scene*)c->obj, a, &vs, err);
+    if (r) {
+        CHECK(vs.model_count == 0xABABABABu);
+        return r;
+    }
+    r = vx_vox_write(&vs, NULL, d, n, err);
+    vx_vox_scene_free(&vs);
+    return r;
+}
+
+static vx_result op_vox_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    uint8_t* out = NULL;
+    size_t on = 0;
+    vx_result r = vx_vox_write((const vx_vox_scene*)c->obj, a, &out, &on, err);
+    if (r) {
+        CHECK(out == NULL);
+        return r;
+    }
+    *d = (uint8_t*)malloc(on);
+    if (*d) memcpy(*d, out, on);
+    *n = on;
+    vx_free(a, out);
+    return *d ? VX_OK : VX_ERR_NOMEM;
+}
+
 /* ---- tests ----------------------------------------------------------------------------- */
 
 static char tmpdir[64];
@@ -304,6 +334,7 @@ static void test_vox_and_svo(void) {
     vx_error e;
     vx_vox_scene vs;
     REQUIRE(vx_vox_read(NULL, v.data, v.size, &vs, &e) == VX_OK);
+    oom_loop("vox write (memory)", op_vox_write, &(op_ctx){.obj = &vs});
     vx_svo_scene s;
     vx_result r = vx_conv_vox(&(vx_conv_vox_desc){0}, &vs, &s, NULL, &e);
     vx_vox_scene_free(&vs);
@@ -316,6 +347,7 @@ static void test_vox_and_svo(void) {
     CHECK(r == VX_OK);
     if (r == VX_OK) {
         oom_loop("svo write (memory)", op_svo_write, &(op_ctx){.obj = &s});
+        oom_loop("vox export (svo -> vox)", op_vox_export, &(op_ctx){.obj = &s});
         oom_loop("svo read", op_svo_read, &(op_ctx){.d = svo, .n = svo_n});
         char path[128];
         snprintf(path, sizeof path, "%s/scene.svo", tmpdir);
