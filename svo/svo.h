@@ -411,10 +411,12 @@ vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
  * the light count follows the number of lamps, not of voxels, and the many-
  * light passes stay cheap. A cluster is a component of face-connected
  * emissive cells of one model; a component wider than `block` cells
- * (default 8) on some axis is cut at the aligned blocks of that size, its
+ * (default 2) on some axis is cut at the aligned blocks of that size, its
  * cells grouped by block: the cut keeps a long neon tube from becoming one
  * sphere at its middle, while a small lamp stays one light wherever it
- * sits. Each cluster becomes, per drawn instance of its model, a
+ * sits. The default is the cut with the lowest error against the path
+ * tracer on bench/emissive_bench's room (docs/PERFORMANCE.md section 11):
+ * blocks of 2 beat one light per voxel (block 1) and larger blocks. Each cluster becomes, per drawn instance of its model, a
  * VX_LIGHT_SPHERE with VX_LIGHT_FROM_VOXELS set: centred on the cluster's
  * box, radius = half the box's diagonal (world units), and the radiance that
  * gives the sphere the power the cluster's exposed faces emit
@@ -425,7 +427,7 @@ vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
  * voxels are the data; stored copies would go stale when voxels change). */
 typedef struct vx_svo_emissive_desc {
     const vx_allocator* alloc;
-    uint32_t block;      /* cluster cut, cells per side, a power of two; 0 == 8 */
+    uint32_t block;      /* cluster cut, cells per side, a power of two; 0 == 2 */
     uint64_t max_cells;  /* emissive cells per model; 0 == 2^24; more is VX_ERR_LIMIT */
     uint32_t max_lights; /* 0 == 2^22; more is VX_ERR_LIMIT */
 } vx_svo_emissive_desc;

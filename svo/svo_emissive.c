@@ -11,7 +11,10 @@
 static const double pi = 3.14159265358979323846;
 
 vx_svo_emissive_desc vx_svo_emissive_desc_defaults(void) {
-    return (vx_svo_emissive_desc){.block = 8, .max_cells = (uint64_t)1 << 24, .max_lights = 1u << 22};
+    /* block 2: the lowest error against the path tracer in bench/emissive_bench
+     * (docs/PERFORMANCE.md section 11), below one light per voxel and far
+     * below 8 */
+    return (vx_svo_emissive_desc){.block = 2, .max_cells = (uint64_t)1 << 24, .max_lights = 1u << 22};
 }
 
 /* Whether cell (x, y, z) of a valid model is set: one descent from the root. */

@@ -263,7 +263,7 @@ static void test_emissive_covered_faces(void) {
 }
 
 /* A line of 20 cells along x, wider than a block, is cut at blocks of 8
- * (3 lights) or kept whole (block 32); the total power is the same either way and equals the brute
+ * (3 lights), of 2 (the default: 10 lights) or kept whole (block 32); the total power is the same either way and equals the brute
  * force count of faces: 20 * 4 side faces + 2 ends (+ 2 per cut, since a
  * cut face between two emissive cells is not exposed: it stays 82). Two
  * instances double the lights; a hidden one adds none. */
@@ -277,13 +277,19 @@ static void test_emissive_clusters(void) {
     vx_light* L;
     uint32_t n;
     vx_error e;
-    REQUIRE(vx_svo_emissive_lights(&s, NULL, &L, &n, &e) == VX_OK);
+    REQUIRE(vx_svo_emissive_lights(&s, &(vx_svo_emissive_desc){.block = 8}, &L, &n, &e) == VX_OK);
     REQUIRE(n == 6);
     double P = 0;
     for (uint32_t i = 0; i < 3; i++) P += sphere_power(&L[i], 0);
     CHECK(near(P, PI * 4 * 82));
     CHECK(near(L[0].position[0], 4) && near(L[1].position[0], 12) && near(L[2].position[0], 18));
     CHECK(near(L[3].position[0], 204) && near(L[5].position[0], 218)); /* instance 2 at x + 200 */
+    free(L);
+    REQUIRE(vx_svo_emissive_lights(&s, NULL, &L, &n, &e) == VX_OK);
+    CHECK(n == 20); /* 10 per shown instance */
+    P = 0;
+    for (uint32_t i = 0; i < 10 && n == 20; i++) P += sphere_power(&L[i], 0);
+    CHECK(near(P, PI * 4 * 82));
     free(L);
     REQUIRE(vx_svo_emissive_lights(&s, &(vx_svo_emissive_desc){.block = 32}, &L, &n, &e) == VX_OK);
     REQUIRE(n == 2);
