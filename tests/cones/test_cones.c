@@ -29,21 +29,8 @@ static vx_render_scene* scene_on_gpu(const vx_svo_scene* s) {
 
 /* One emissive material record: palette id, emission _emit (flux 0). */
 static void add_emission(vx_svo_scene* s, uint32_t id, const char* emit) {
-    size_t n = 0;
-    char dict[64];
     const char* kv[] = {"_type", "_emit", "_emit", emit, "_flux", "0"};
-    for (int i = 0; i < 6; i++) {
-        size_t l = strlen(kv[i]) + 1;
-        memcpy(dict + n, kv[i], l);
-        n += l;
-    }
-    s->materials = realloc(s->materials, (s->material_count + 1) * sizeof *s->materials);
-    vx_svo_material* m = &s->materials[s->material_count++];
-    memset(m, 0, sizeof *m);
-    m->id = id;
-    m->dict_size = (uint32_t)n;
-    m->dict = malloc(n);
-    memcpy(m->dict, dict, n);
+    add_material(s, id, kv, 3);
 }
 
 /* The gi image (or the final one) of the pass pipeline with method gm. */

@@ -69,6 +69,7 @@ static inline void add_material(vx_svo_scene* s, uint32_t id, const char* const*
     for (int i = 0; i < 2 * n; i++) size += strlen(kv[i]) + 1;
     s->materials = realloc(s->materials, (s->material_count + 1) * sizeof *s->materials);
     vx_svo_material* m = &s->materials[s->material_count++];
+    memset(m, 0, sizeof *m);
     m->id = id;
     m->dict_size = (uint32_t)size;
     m->dict = malloc(size);
