@@ -17,14 +17,7 @@
 uint32_t vx__svo_far_limit = VX__SVO_PTR_MAX;
 
 
-/* An attribute tuple; pad is always zero so records compare with memcmp. */
-typedef struct rec {
-    uint32_t rgba, normal;
-    float density;
-    uint16_t material;
-    uint8_t palette, pad;
-} rec;
-_Static_assert(sizeof(rec) == 16, "rec layout");
+typedef vx__svo_rec rec;
 
 /* Node record in the pool, addressed by its word offset (the node id):
  *   [0] valid | leaf << 8   [1] representative record   [2] block position
@@ -211,12 +204,59 @@ static unsigned most_frequent(const unsigned* v, unsigned n) {
     return best;
 }
 
+/* The rule of svo.h over n (1..8) children, channel by channel; equal
+ * children give themselves back exactly (see above). */
+void vx__svo_rec_mean(uint32_t attrs, const vx__svo_rec* const* c, unsigned n, vx__svo_rec* out) {
+    bool same = true;
+    for (unsigned i = 1; i < n; i++) same = same && memcmp(c[i], c[0], sizeof *c[0]) == 0;
+    if (same) {
+        *out = *c[0];
+        return;
+    }
+    rec r;
+    memset(&r, 0, sizeof r);
+    if (attrs & (VX_ATTR_PALETTE | VX_ATTR_MATERIAL)) {
+        unsigned v[8];
+        if (attrs & VX_ATTR_PALETTE) {
+            for (unsigned i = 0; i < n; i++) v[i] = c[i]->palette;
+            r.palette = (uint8_t)most_frequent(v, n);
+        }
+        if (attrs & VX_ATTR_MATERIAL) {
+            for (unsigned i = 0; i < n; i++) v[i] = c[i]->material;
+            r.material = (uint16_t)most_frequent(v, n);
+        }
+    }
+    if (attrs & VX_ATTR_RGBA8) {
+        uint32_t o = 0;
+        for (unsigned ch = 0; ch < 4; ch++) {
+            unsigned sum = 0;
+            for (unsigned i = 0; i < n; i++) sum += (c[i]->rgba >> (8 * ch)) & 0xFFu;
+            o |= ((sum + n / 2) / n) << (8 * ch); /* rounded, ties up */
+        }
+        r.rgba = o;
+    }
+    if (attrs & VX_ATTR_NORMAL) {
+        float m[3] = {0, 0, 0};
+        for (unsigned i = 0; i < n; i++) {
+            float v[3];
+            vx__oct_decode(c[i]->normal, v);
+            m[0] += v[0], m[1] += v[1], m[2] += v[2];
+        }
+        r.normal = vx__oct_encode(m);
+    }
+    if (attrs & VX_ATTR_DENSITY) {
+        double s = 0;
+        for (unsigned i = 0; i < n; i++) s += c[i]->density;
+        r.density = (float)(s / n);
+    }
+    *out = r;
+}
+
 static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     bool same = true;
     for (unsigned i = 1; i < n; i++) same = same && ids[i] == ids[0];
     if (same) return ids[0];
     rec r;
-    memset(&r, 0, sizeof r);
     const rec* c[8];
     rec tmp[8];
     for (unsigned i = 0; i < n; i++) {
@@ -227,40 +267,7 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
             c[i] = &b->recs[ids[i]];
         }
     }
-    if (b->attrs & (VX_ATTR_PALETTE | VX_ATTR_MATERIAL)) {
-        unsigned v[8];
-        if (b->attrs & VX_ATTR_PALETTE) {
-            for (unsigned i = 0; i < n; i++) v[i] = c[i]->palette;
-            r.palette = (uint8_t)most_frequent(v, n);
-        }
-        if (b->attrs & VX_ATTR_MATERIAL) {
-            for (unsigned i = 0; i < n; i++) v[i] = c[i]->material;
-            r.material = (uint16_t)most_frequent(v, n);
-        }
-    }
-    if (b->attrs & VX_ATTR_RGBA8) {
-        uint32_t out = 0;
-        for (unsigned ch = 0; ch < 4; ch++) {
-            unsigned sum = 0;
-            for (unsigned i = 0; i < n; i++) sum += (c[i]->rgba >> (8 * ch)) & 0xFFu;
-            out |= ((sum + n / 2) / n) << (8 * ch); /* rounded, ties up */
-        }
-        r.rgba = out;
-    }
-    if (b->attrs & VX_ATTR_NORMAL) {
-        float m[3] = {0, 0, 0};
-        for (unsigned i = 0; i < n; i++) {
-            float v[3];
-            vx__oct_decode(c[i]->normal, v);
-            m[0] += v[0], m[1] += v[1], m[2] += v[2];
-        }
-        r.normal = vx__oct_encode(m);
-    }
-    if (b->attrs & VX_ATTR_DENSITY) {
-        double s = 0;
-        for (unsigned i = 0; i < n; i++) s += c[i]->density;
-        r.density = (float)(s / n);
-    }
+    vx__svo_rec_mean(b->attrs, c, n, &r);
     return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
 }
 

@@ -43,7 +43,7 @@ static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* 
     return true;
 }
 
-vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* err) {
+vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err) {
     if (!m) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: null");
     if (m->depth > VX_SVO_MAX_DEPTH)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
@@ -172,7 +172,7 @@ vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* 
             }
         }
     }
-    for (size_t w = 0; w < nw; w++)
+    for (size_t w = 0; w < nw && !unreferenced_ok; w++)
         if (role[w] == ROLE_NONE) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
             goto out;
@@ -258,6 +258,10 @@ out:
     vx_free(NULL, pidx);
     vx_free(NULL, pe);
     return res;
+}
+
+vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* err) {
+    return vx__svo_analyze_opt(m, ext, false, err);
 }
 
 vx_result vx_svo_validate_model(const vx_svo_model* m, vx_error* err) { return vx__svo_analyze(m, NULL, err); }

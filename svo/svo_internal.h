@@ -30,6 +30,10 @@ typedef struct vx__svo_extent {
 /* Validates m (as vx_svo_validate_model) and, when ext is non-NULL, returns
  * its occupied extent. */
 vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* err);
+/* The same with unreferenced_ok: words that no descriptor reaches are
+ * allowed (an edited model's superseded copies, svo/edit.h); everything
+ * reachable is checked as strictly. Files never hold such words. */
+vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err);
 
 /* Node words from which a scene's models are handled in parallel (2^20);
  * tests lower it to exercise the threaded paths on small scenes. */
@@ -48,6 +52,20 @@ void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known
 /* The bounds vx_svo_scene_update_bounds would store, without modifying s
  * (the file writer omits bounds that equal them; the reader recomputes). */
 void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]);
+
+/* An attribute tuple, every channel (those a model lacks are zero); pad is
+ * always zero so tuples compare with memcmp (the builder's records and the
+ * incremental editor's, svo_edit.c). */
+typedef struct vx__svo_rec {
+    uint32_t rgba, normal;
+    float density;
+    uint16_t material;
+    uint8_t palette, pad;
+} vx__svo_rec;
+_Static_assert(sizeof(vx__svo_rec) == 16, "vx__svo_rec layout");
+/* The coarse-level rule of svo.h (vx_svo_build_model's representative) over
+ * n (1..8) children's tuples; n equal tuples give that tuple exactly. */
+void vx__svo_rec_mean(uint32_t attrs, const vx__svo_rec* const* c, unsigned n, vx__svo_rec* out);
 
 /* Octahedral normal helpers (2 x snorm16, x in the low half). */
 void vx__oct_decode(uint32_t v, float n[3]);

@@ -126,7 +126,7 @@ vx_result vx_svo_scene_alloc_frames(vx_svo_scene* s, uint32_t frame_count, vx_er
  * Each model is analysed once (many instances may share it); without memory
  * for that cache it is analysed per instance, with the same result. */
 static bool model_extent(const vx_svo_model* m, vx__svo_extent* e) {
-    if (vx__svo_analyze(m, e, NULL) != VX_OK) {
+    if (vx__svo_analyze_opt(m, e, true, NULL) != VX_OK) { /* an edited model counts by its cells */
         /* an invalid model: fall back to its declared size */
         if (m->root == VX_SVO_ROOT_EMPTY) return false;
         memset(e, 0, sizeof *e);

@@ -5,3 +5,4 @@ vx_add_test(svo_io SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_io.c LIBS vx_svo
 vx_add_fuzz(svo_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_fuzz.c LIBS vx_svo SEEDS ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_seeds)
 vx_add_test(svo_pack SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_pack.c LIBS vx_svo LABELS svo)
 vx_add_test(svo_light SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_light.c LIBS vx_svo LABELS svo)
+vx_add_test(svo_edit SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_edit.c LIBS vx_svo LABELS svo)
