@@ -4,13 +4,14 @@
  * A voxel is a unit cell [x, x+1] x [y, y+1] x [z, z+1] with a colour. A
  * face of a cell is exposed when the cell on its other side is not in the
  * set (cells outside 0..2^21-1 count as empty). Every exposed face is
- * covered by exactly one quad and no other face is. The quads of one plane
- * and direction are greedy: each unused face, in row-major order, starts a
- * quad that grows along u while the colour holds, then along v while the
- * whole row segment matches (on planes whose faces fill less than 1/16 of
- * their bounding rectangle, runs of a row merge with equal quads of the row
- * before instead, to keep memory bounded). The naive mesh (one
- * quad per exposed face) is vx_voxmesh.faces quads.
+ * covered by exactly one quad and no other face is. The space is cut into
+ * bricks of 64^3 cells, meshed independently (on every core for large
+ * sets; the output does not depend on the thread count): within a brick the
+ * quads of one plane and direction are greedy: each unused face, in
+ * row-major order, starts a quad that grows along u while the colour holds,
+ * then along v while the whole row segment matches. Quads do not cross
+ * brick boundaries. The naive mesh (one quad per exposed face) is
+ * vx_voxmesh.faces quads.
  *
  * Axes: a quad with normal axis a spans u along axis (a+1)%3 and v along
  * axis (a+2)%3, so u x v points to +a: corners (u0,v0) (u1,v0) (u1,v1)
@@ -48,7 +49,8 @@ typedef struct vx_voxmesh_quad {
 
 typedef struct vx_voxmesh {
     size_t quad_count;
-    vx_voxmesh_quad* quads; /* sorted by axis, direction, plane, v0, u0 */
+    vx_voxmesh_quad* quads; /* by brick (in the order of each brick's first cell in the
+                               input), then by axis, direction, plane, v0, u0 */
     uint64_t faces;         /* exposed unit faces (the quads' total area) */
     const vx_allocator* alloc;
 } vx_voxmesh;

@@ -316,16 +316,20 @@ static int check_files(const char* svo_path, const char* glb_path, bool all) {
 static int self_test() {
     std::mt19937 rng(19);
     uint64_t total_faces = 0, total_quads = 0;
-    // sets 0..199: one block (dense planes, meshed on a mask); 200..259:
-    // eight blocks 3000 cells apart (sparse planes, row runs merged)
-    for (int t = 0; t < 260; t++) {
-        uint32_t n = 1 + t % 13;
-        double density = (t % 7 + 1) / 8.0;
-        int colours = 1 + t % 3;
+    // sets 0..199: one small block; 200..259: eight blocks 3000 cells apart;
+    // 260..269: blocks of 60..96 cells a side across the mesher's 64^3
+    // bricks, at odd offsets and at the top of the coordinate range, half
+    // of them given in shuffled order (not grouped by brick); 270: 300 k
+    // cells of one colour (the multi-threaded path)
+    for (int t = 0; t < 271; t++) {
+        uint32_t n = t < 260 ? 1 + t % 13 : t < 270 ? 60 + 4 * (t - 260) : 100;
+        double density = t < 260 ? (t % 7 + 1) / 8.0 : t < 270 ? 0.2 + 0.07 * (t - 260) : 0.3;
+        int colours = t < 270 ? 1 + t % 3 : 1;
         uint32_t base = t % 5 == 0 ? (1u << 21) - 3000 - n : 0; // touch the top of the coordinate range
+        if (t >= 260) base = t % 2 ? 37 : (1u << 21) - n;
         std::vector<uint32_t> xyz, rgba;
         Model m;
-        for (uint32_t b = 0; b < (t < 200 ? 1u : 8u); b++) {
+        for (uint32_t b = 0; b < (t < 200 || t >= 260 ? 1u : 8u); b++) {
             uint32_t o[3] = {base + 3000 * (b & 1), base + 3000 * (b >> 1 & 1), base + 3000 * (b >> 2)};
             for (uint32_t z = 0; z < n; z++)
                 for (uint32_t y = 0; y < n; y++)
@@ -336,6 +340,13 @@ static int self_test() {
                             rgba.push_back(c);
                             m.cells[key(o[0] + x, o[1] + y, o[2] + z)] = c;
                         }
+        }
+        if (t >= 260 && t % 4 < 2) { // shuffled: the mesher must group the cells itself
+            for (size_t i = rgba.size(); i > 1; i--) {
+                size_t j = rng() % i;
+                std::swap(rgba[i - 1], rgba[j]);
+                for (int k = 0; k < 3; k++) std::swap(xyz[3 * (i - 1) + k], xyz[3 * j + k]);
+            }
         }
         exposed(m);
         vx_voxmesh vm;
@@ -376,7 +387,7 @@ static int self_test() {
         vm.faces != 6 * 64)
         FAIL("8^3 block: %zu quads, %llu faces", vm.quad_count, (unsigned long long)vm.faces);
     vx_voxmesh_free(&vm);
-    printf("self-test: 260 random sets, %llu exposed faces covered once by %llu quads\n",
+    printf("self-test: 271 random sets, %llu exposed faces covered once by %llu quads\n",
            (unsigned long long)total_faces, (unsigned long long)total_quads);
     return failures ? 1 : 0;
 }

@@ -29,6 +29,16 @@ static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
 
 vx_result svo_cells_decode(const vx_svo_scene* s, uint32_t m, svo_cells* out, vx_error* err) {
     grow g = {.s = s, .m = &s->models[m]};
+    /* room for every cell up front (vx_svo_read checked voxel_count against
+     * the tree), so that the per-cell growth checks never copy */
+    uint64_t hint = g.m->voxel_count < ((uint64_t)1 << 31) ? g.m->voxel_count : 0;
+    if (hint && (!vx_grow(NULL, (void**)&g.c.xyz, &g.cap_xyz, 3 * (size_t)hint, sizeof(uint32_t)) ||
+                 !vx_grow(NULL, (void**)&g.c.rgba, &g.cap_rgba, (size_t)hint, sizeof(uint32_t)) ||
+                 !vx_grow(NULL, (void**)&g.c.attr, &g.cap_attr, (size_t)hint, sizeof(uint32_t)))) {
+        svo_cells_free(&g.c);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its %llu voxels", m,
+                       (unsigned long long)hint);
+    }
     vx_result r = vx_svo_decode_model(g.m, add_cell, &g, err);
     if (g.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its voxels", m);
     if (r != VX_OK) {
