@@ -11,10 +11,10 @@
 #define ESVO_LEAF 0x40000000u
 #define ESVO_MAX_SLOTS (UINT64_C(1) << 30)
 
-typedef struct esvo_frame {
+typedef struct kernel_frame {
     float fwd[4], rx[4], uy[4], box[4];
     uint32_t dims[4];
-} esvo_frame;
+} kernel_frame;
 
 static uint32_t new_group(bench_esvo* e) {
     if (e->slot_count + 8 > ESVO_MAX_SLOTS) {
@@ -121,10 +121,6 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
         r = vx__buffer_create(gpu, (VkDeviceSize)e->slot_count * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                               "esvo slots", &e->buf, err);
     if (!r) r = vx__buffer_upload(gpu, &e->buf, e->slots, (VkDeviceSize)e->slot_count * 4, err);
-    if (!r)
-        r = vx__buffer_create(gpu, sizeof(esvo_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "esvo frame",
-                              &e->frame, err);
-    if (!r && !e->frame.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "ESVO frame buffer is not host visible");
     free(e->slots);
     e->slots = NULL;
     if (r) bench_esvo_destroy(e);
@@ -133,9 +129,7 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
 
 void bench_esvo_destroy(bench_esvo* e) {
     if (!e || !e->gpu) return;
-    vkDeviceWaitIdle(e->gpu->device);
-    vx__buffer_destroy(e->gpu, &e->out);
-    vx__buffer_destroy(e->gpu, &e->frame);
+    bench_kernel_destroy(e->gpu, &e->k);
     vx__buffer_destroy(e->gpu, &e->buf);
     free(e->slots);
     memset(e, 0, sizeof *e);
@@ -143,49 +137,59 @@ void bench_esvo_destroy(bench_esvo* e) {
 
 uint64_t bench_esvo_bytes(const bench_esvo* e) { return (uint64_t)e->slot_count * 4; }
 
-vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
-                           double* seconds, float* depth, uint32_t* steps, vx_error* err) {
-    vx_gpu* g = e->gpu;
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(s, lo, hi);
+void bench_kernel_destroy(vx_gpu* g, bench_kernel* k) {
+    if (!g) return;
+    vkDeviceWaitIdle(g->device);
+    vx__buffer_destroy(g, &k->out);
+    vx__buffer_destroy(g, &k->frame);
+}
+
+vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pipeline_desc* pd, uint64_t key,
+                             vx__buffer* data, const vx_svo_scene* s, const vx_render_desc* desc,
+                             const int64_t lo[3], double side, uint32_t p0, uint32_t p1, uint32_t repeat,
+                             double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+    double blo[3], bhi[3];
+    vx_svo_scene_world_bounds(s, blo, bhi);
     vx__frame f;
-    vx_result r = vx__frame_setup(lo, hi, desc, &f, err);
+    vx_result r = vx__frame_setup(blo, bhi, desc, &f, err);
     if (r) return r;
+    if (!k->frame.buf) {
+        r = vx__buffer_create(g, sizeof(kernel_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "bench frame",
+                              &k->frame, err);
+        if (!r && !k->frame.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "bench frame buffer is not host visible");
+        if (r) return r;
+    }
     VkDeviceSize npx = (VkDeviceSize)f.width * f.height;
-    if (!e->out.buf || e->out.size < npx * 8) {
-        vx__buffer_destroy(g, &e->out);
-        if ((r = vx__buffer_create(g, npx * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "esvo out", &e->out, err)))
+    if (!k->out.buf || k->out.size < npx * 8) {
+        vx__buffer_destroy(g, &k->out);
+        if ((r = vx__buffer_create(g, npx * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bench out", &k->out, err)))
             return r;
     }
-    esvo_frame* ef = e->frame.map;
+    kernel_frame* ef = k->frame.map;
     memset(ef, 0, sizeof *ef);
-    for (int k = 0; k < 3; k++) {
-        ef->fwd[k] = (float)f.fwd[k];
-        ef->rx[k] = (float)f.rx[k];
-        ef->uy[k] = (float)f.uy[k];
-        ef->box[k] = (float)((double)e->lo[k] - f.ref[k]);
+    for (int c = 0; c < 3; c++) {
+        ef->fwd[c] = (float)f.fwd[c];
+        ef->rx[c] = (float)f.rx[c];
+        ef->uy[c] = (float)f.uy[c];
+        ef->box[c] = (float)((double)lo[c] - f.ref[c]);
     }
     ef->fwd[3] = (float)f.t_start;
     ef->rx[3] = f.ortho ? 1.0f : 0.0f;
-    ef->box[3] = (float)((int64_t)1 << e->depth);
-    ef->dims[0] = f.width, ef->dims[1] = f.height;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__esvo_spv_arr, .spirv_size = sizeof vx__esvo_spv_arr,
-                                       .binding_count = 3, .label = "esvo"};
-    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    ef->box[3] = (float)side;
+    ef->dims[0] = f.width, ef->dims[1] = f.height, ef->dims[2] = p0, ef->dims[3] = p1;
     vx__pipeline* p;
-    if ((r = vx__pipeline_get(g, UINT64_C(0xE5F0E5F0), &pd, &p, err))) return r;
+    if ((r = vx__pipeline_get(g, key, pd, &p, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = 3,
-                            .buffers = {&e->frame, &e->buf, &e->out},
+                            .buffers = {&k->frame, data, &k->out},
                             .groups = {(f.width + 7) / 8, (f.height + 7) / 8, 1},
                             .repeat = repeat,
-                            .label = "esvo"};
+                            .label = pd->label};
     if ((r = vx__dispatch(g, &dd, seconds, err))) return r;
     if (depth || steps) {
         uint32_t* tmp = malloc((size_t)npx * 8);
         if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-        r = vx__buffer_download(g, &e->out, tmp, npx * 8, err);
+        r = vx__buffer_download(g, &k->out, tmp, npx * 8, err);
         for (size_t i = 0; !r && i < npx; i++) {
             if (depth) memcpy(&depth[i], &tmp[2 * i], 4);
             if (steps) steps[i] = tmp[2 * i + 1];
@@ -193,4 +197,14 @@ vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render
         free(tmp);
     }
     return r;
+}
+
+vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
+                           double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__esvo_spv_arr, .spirv_size = sizeof vx__esvo_spv_arr,
+                                       .binding_count = 3, .label = "esvo"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    return bench_kernel_frame(e->gpu, &e->k, &pd, UINT64_C(0xE5F0E5F0), &e->buf, s, desc, e->lo,
+                              (double)((int64_t)1 << e->depth), 0, 0, repeat, seconds, depth, steps, err);
 }

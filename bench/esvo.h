@@ -8,6 +8,24 @@
 #define VX_BENCH_ESVO_H
 #include "render/render_internal.h"
 
+/* The per-frame state of a baseline kernel: its Frame block (the camera,
+ * the cube, two parameters) and its per-pixel output (depth bits, steps). */
+typedef struct bench_kernel {
+    vx__buffer frame, out;
+} bench_kernel;
+
+/* One frame of a baseline kernel laid out like bench/shaders/esvo.comp
+ * (binding 0 the Frame block, 1 the kernel's data, 2 the output): desc's
+ * camera and size, the cube [lo, lo + side) in grid cells (box.w = side),
+ * dims.z and dims.w = p0 and p1; repeat timed dispatches (median in
+ * *seconds); with depth/steps non-NULL the last run's per-pixel depth (+inf
+ * for a miss) and steps (bit 31: the ray entered the cube). */
+vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pipeline_desc* pd, uint64_t key,
+                             vx__buffer* data, const vx_svo_scene* s, const vx_render_desc* desc,
+                             const int64_t lo[3], double side, uint32_t p0, uint32_t p1, uint32_t repeat,
+                             double* seconds, float* depth, uint32_t* steps, vx_error* err);
+void bench_kernel_destroy(vx_gpu* g, bench_kernel* k);
+
 typedef struct bench_esvo {
     vx_gpu* gpu;
     uint32_t* slots; /* host copy while building, freed after the upload */
@@ -17,7 +35,8 @@ typedef struct bench_esvo {
     uint32_t path[24];
     int64_t last[3];
     bool have_last, too_big;
-    vx__buffer buf, frame, out;
+    vx__buffer buf;
+    bench_kernel k;
     double build_seconds;
 } bench_esvo;
 

@@ -7,7 +7,8 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--shader-stats] [--beam N,...] FILE.{svo,vox}...
+ *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...]
+ *                FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
  * from low over a corner, and a full-frame close-up (a surface point of the
@@ -28,7 +29,13 @@
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
- * the depth agreement checks every beam size against ESVO. */
+ * the depth agreement checks every beam size against ESVO.
+ * --tree64: also the 64-tree prototype (bench/tree64.h; with ESVO only), its
+ * kernel variants 0 and 1 (tree64.comp's SKIP): steps per ray, rays/s,
+ * steps/s, rays/s over ESVO's, depth agreement with ESVO, and its GPU MiB,
+ * timed like ESVO (columns ...T64). --grid-world: world_from_grid of every
+ * file set to the identity (a converted mesh in cells, so that the baselines,
+ * which need world cells = grid cells, apply). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
@@ -39,18 +46,21 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "bench/esvo.h"
+#include "bench/tree64.h"
 #include "render/pipeline.h"
 #include "render/render_internal.h"
 
 typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
+    /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
+    double steps_t[2], sec_t[2], agree_t[2];
 } view_result;
 
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--shader-stats] [--beam N,...] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -79,13 +89,14 @@ static vx_result pass_kernels(vx_render_scene* rs, const vx_svo_scene* s, vx_ren
 }
 
 /* Runs fn(repeat 32) until `seconds` of wall time have passed. */
-static vx_result warm(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, const vx_render_desc* d,
-                      double seconds, vx_error* err) {
+static vx_result warm(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint32_t t6_variant,
+                      const vx_svo_scene* s, const vx_render_desc* d, double seconds, vx_error* err) {
     double t0 = vx_time_now(), sec;
     vx__frame f;
     do {
-        vx_result r = es ? bench_esvo_frame(es, s, d, 32, &sec, NULL, NULL, err)
-                         : vx__render_dispatch(rs, d, false, 32, &f, &sec, err);
+        vx_result r = t6   ? bench_tree64_frame(t6, t6_variant, s, d, 32, &sec, NULL, NULL, err)
+                      : es ? bench_esvo_frame(es, s, d, 32, &sec, NULL, NULL, err)
+                           : vx__render_dispatch(rs, d, false, 32, &f, &sec, err);
         if (r) return r;
     } while (vx_time_now() - t0 < seconds);
     return VX_OK;
@@ -165,11 +176,15 @@ static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_cam
 
 /* Times voxkit's kernels for d; the baselines (ESVO, dense) only with
  * time_base (ESVO's depth frame is compared whenever es is set). */
-static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, vx_render_desc d, bool dense,
-                    bool time_base, uint32_t runs, double warmup, view_result* out, vx_error* err) {
+static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint32_t t6_variants,
+                    const vx_svo_scene* s, vx_render_desc d, bool dense, bool time_base, uint32_t runs, double warmup,
+                    view_result* out, vx_error* err) {
     view_result prev = *out;
     memset(out, 0, sizeof *out);
-    if (!time_base) out->sec_es = prev.sec_es, out->sec_dense = prev.sec_dense;
+    if (!time_base)
+        out->sec_es = prev.sec_es, out->sec_dense = prev.sec_dense,
+        memcpy(out->sec_t, prev.sec_t, sizeof out->sec_t), memcpy(out->steps_t, prev.steps_t, sizeof out->steps_t),
+        memcpy(out->agree_t, prev.agree_t, sizeof out->agree_t);
     size_t npx = (size_t)d.width * d.height;
     /* one frame of each with per-pixel results */
     d.mode = VX_RENDER_DEPTH;
@@ -183,6 +198,26 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, 
         free(edepth), free(esteps);
         vx_render_image_free(&img);
         return 1;
+    }
+    for (uint32_t tv = 0; es && t6 && time_base && tv < t6_variants; tv++) {
+        /* the 64-tree against ESVO's depth, the same test as voxkit's */
+        float* tdepth = malloc(npx * sizeof *tdepth);
+        uint32_t* tsteps = malloc(npx * sizeof *tsteps);
+        if (!tdepth || !tsteps || bench_tree64_frame(t6, tv, s, &d, 1, &sec, tdepth, tsteps, err)) {
+            free(tdepth), free(tsteps), free(edepth), free(esteps);
+            vx_render_image_free(&img);
+            return 1;
+        }
+        size_t ag = 0;
+        double st = 0;
+        for (size_t i = 0; i < npx; i++) {
+            st += tsteps[i] & 0x7FFFFFFFu;
+            bool ht = isfinite(tdepth[i]), he = isfinite(edepth[i]);
+            if (ht == he && (!ht || fabs((double)tdepth[i] - edepth[i]) <= 1e-4 * fmax(fabs((double)edepth[i]), 1.0)))
+                ag++;
+        }
+        out->steps_t[tv] = st / npx, out->agree_t[tv] = (double)ag / npx;
+        free(tdepth), free(tsteps);
     }
     size_t hits = 0, ent_vx = 0, ent_es = 0, agree = 0;
     double st_vx = 0, st_es = 0;
@@ -207,12 +242,16 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, const vx_svo_scene* s, 
     d.want_hits = false;
     vx__frame f;
     /* voxkit primary rays (depth mode), then primary + shadow (colour mode) */
-    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, s, &d, warmup, err) ||
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, NULL, 0, s, &d, warmup, err) ||
         vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err))
         return 1;
     if (es && time_base &&
-        (warm(NULL, es, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
+        (warm(NULL, es, NULL, 0, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
         return 1;
+    for (uint32_t tv = 0; es && t6 && time_base && tv < t6_variants; tv++)
+        if (warm(NULL, NULL, t6, tv, s, &d, warmup, err) ||
+            bench_tree64_frame(t6, tv, s, &d, runs, &out->sec_t[tv], NULL, NULL, err))
+            return 1;
     d.mode = VX_RENDER_COLOR;
     if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) ||
         vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_shadow, err))
@@ -232,7 +271,9 @@ int main(int argc, char** argv) {
     int nbeam = 1;
     uint32_t runs = 15;
     double warmup = 0.5;
-    bool gen = false, deep = false, use_esvo = true, stats = false;
+    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false;
+    uint32_t t6_variants = 2;
+    bool grid_world = false;
     int variant = -1;
     const char* files[64];
     int nf = 0;
@@ -276,6 +317,8 @@ int main(int argc, char** argv) {
         } else if (!strcmp(argv[i], "--generate")) gen = true;
         else if (!strcmp(argv[i], "--deep")) deep = true;
         else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
+        else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
+        else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
             i++;
@@ -297,9 +340,13 @@ int main(int argc, char** argv) {
     }
     printf("device: %s; median of %u timestamped dispatches after %.2f s warm-up per kernel and view\n",
            vx_gpu_device_name(gpu), runs, warmup);
-    printf("%-20s %-8s %-9s %4s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s\n", "scene", "view", "size",
+    printf("%-20s %-8s %-9s %4s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s", "scene", "view", "size",
            "beam", "hit", "entVX", "entES", "stVX", "stES", "GrayVX", "GrayES", "GstVX", "GstES", "VX/ES", "depth=",
            "GpixSh", "GrayDn", "MiB VX", "MiB ES");
+    for (uint32_t tv = 0; use_tree64 && tv < t6_variants; tv++)
+        printf("  stT64.%u GrayT64 GstT64 T64/ES T64dep=", tv);
+    if (use_tree64) printf(" %9s", "MiB T64");
+    printf("\n");
     fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
     int failed = 0;
@@ -314,6 +361,11 @@ int main(int argc, char** argv) {
                 fprintf(stderr, "render_bench: %s: %s\n", files[k], err.msg);
                 failed = 1;
                 continue;
+            }
+            if (grid_world) { /* world units = cells, so that the baselines see the scene's cells */
+                static const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+                memcpy(s.world_from_grid, id, sizeof id);
+                vx_svo_scene_update_bounds(&s);
             }
         } else {
             is_deep = deep && k == total - 1;
@@ -339,11 +391,18 @@ int main(int argc, char** argv) {
             vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
+        bench_tree64 t6 = {0}, *t6p = NULL;
         if (use_esvo && !is_deep && !vx_render_scene_precise(rs)) {
             if (bench_esvo_create(gpu, &s, &es, &err))
                 fprintf(stderr, "render_bench: %s: no ESVO baseline: %s\n", name, err.msg);
             else
                 esp = &es;
+            if (esp && use_tree64) {
+                if (bench_tree64_create(gpu, &s, &t6, &err))
+                    fprintf(stderr, "render_bench: %s: no 64-tree: %s\n", name, err.msg);
+                else
+                    t6p = &t6;
+            }
         }
         vx_render_camera cams[3] = {{0}};
         if (is_deep) {
@@ -364,7 +423,7 @@ int main(int argc, char** argv) {
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
                     vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
-                    if (run_view(rs, esp, &s, d, dense, bi == 0, runs, warmup, &r, &err)) {
+                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0, runs, warmup, &r, &err)) {
                         fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
                         failed = 1;
                         break;
@@ -380,10 +439,21 @@ int main(int argc, char** argv) {
                     snprintf(agree, sizeof agree, esp ? "%.3f%%" : "-", 100 * r.agree);
                     snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * 1e-9);
                     snprintf(mes, sizeof mes, esp ? "%.2f" : "-", bench_esvo_bytes(&es) / 1048576.0);
-                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s\n",
+                    char t64[192] = "";
+                    for (uint32_t tv = 0; t6p && tv < t6_variants; tv++) {
+                        size_t at = strlen(t64);
+                        snprintf(t64 + at, sizeof t64 - at, " %8.1f %7.2f %6.0f %6.2f %6.3f%%", r.steps_t[tv],
+                                 px / r.sec_t[tv] * 1e-9, px * r.steps_t[tv] / r.sec_t[tv] * 1e-9,
+                                 r.sec_es / r.sec_t[tv], 100 * r.agree_t[tv]);
+                    }
+                    if (t6p) {
+                        size_t at = strlen(t64);
+                        snprintf(t64 + at, sizeof t64 - at, " %9.2f", bench_tree64_bytes(&t6) / 1048576.0);
+                    }
+                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
                            px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
-                           px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes,
+                           px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes, t64,
                            vx_render_scene_precise(rs) ? "  (float64)" : "");
                     fflush(stdout);
                 }
@@ -400,6 +470,10 @@ int main(int argc, char** argv) {
         for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
         fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s)\n", name, (unsigned long long)voxels,
                 t_load, esp ? es.build_seconds : 0.0);
+        if (t6p)
+            fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
+                    (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);
+        bench_tree64_destroy(&t6);
         bench_esvo_destroy(&es);
         vx_render_scene_destroy(rs);
         vx_svo_scene_free(&s);
