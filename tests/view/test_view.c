@@ -367,6 +367,49 @@ static uint8_t* scene_bytes(const vx_svo_scene* s, size_t* n) {
     return vx_svo_write(&tmp, NULL, &b, n, NULL) ? NULL : b;
 }
 
+/* The corpus scene with two lights and a gradient sky (lights allocated as
+ * the reader does, so the editor's undo may swap them). */
+static bool scene_with_lights(vx_svo_scene* s) {
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in || !load_vox(in, s)) return false;
+    s->lights = vx_calloc(s->alloc, 2, sizeof *s->lights);
+    if (!s->lights) return false;
+    s->light_count = 2;
+    s->lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {4, 5, 20}, .color = {1, 0.9, 0.8}, .intensity = 300};
+    s->lights[1] = (vx_light){.type = VX_LIGHT_DIRECTIONAL, .direction = {0, 0, 1}, .color = {1, 1, 1},
+                              .intensity = 2};
+    s->sky = (vx_sky){.type = VX_SKY_GRADIENT, .color = {0.2, 0.3, 0.6}, .horizon = {0.7, 0.7, 0.8}, .ground = {0.1, 0.1, 0.1}};
+    return true;
+}
+
+/* Light edits are undo steps: edit, undo gives the scene's bytes back, redo the edit's. */
+static void test_editor_lights(void) {
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    size_t n0, n1, n2, n3;
+    uint8_t* b0 = scene_bytes(&s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    vx_error err = {0};
+    REQUIRE(ved_begin(&e, &err) == VX_OK);
+    s.lights[0].color[0] = 0.25, s.lights[0].intensity = 7;
+    s.sky.color[2] = 0.9;
+    uint8_t* b1 = scene_bytes(&s, &n1);
+    REQUIRE(b1);
+    CHECK(n1 != n0 || memcmp(b0, b1, n0));
+    CHECK(ved_undo(&e, &err));
+    uint8_t* b2 = scene_bytes(&s, &n2);
+    CHECKF(b2 && n2 == n0 && !memcmp(b0, b2, n0), "undo of a light edit: %zu bytes, the original %zu, or other bytes", n2, n0);
+    CHECK(ved_redo(&e, &err));
+    uint8_t* b3 = scene_bytes(&s, &n3);
+    CHECKF(b3 && n3 == n1 && !memcmp(b1, b3, n1), "redo of a light edit gives other bytes");
+    CHECK(s.lights[0].intensity == 7 && s.sky.color[2] == 0.9);
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
 static void test_editor_voxels(void) {
     vx_svo_scene s, orig;
     make_scene(&s, 3);
@@ -621,6 +664,50 @@ static void test_scripted_edit(void) {
     free(a), free(b);
     free(want.v), free(have.v), free(one.v), free(dup.v);
     vx_svo_scene_free(&s);
+    vx_svo_scene_free(&got);
+}
+
+/* svo_view's script edits a light (two steps), undoes both and saves: the
+ * file's bytes are the unedited save's; redo brings the last edit back. */
+static void test_scripted_light_undo(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], plain[1024], undone[1024], redone[1024], log[1024];
+    path(in, sizeof in, "lights.svo");
+    path(script, sizeof script, "lights.txt");
+    path(plain, sizeof plain, "lights_plain.svo");
+    path(undone, sizeof undone, "lights_undone.svo");
+    path(redone, sizeof redone, "lights_redone.svo");
+    path(log, sizeof log, "lights.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(plain), remove(undone), remove(redone);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "save %s\nlight 0 color 0.1 0.2 0.3\nlight 0 intensity 42\nlight 1 intensity 0.5\nundo\nundo\nundo\n"
+               "save %s\nredo\nsave %s\nquit\n", plain, undone, redone);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    if (rc != 0) {
+        char* t = slurp(log);
+        fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+    }
+    REQUIRE(rc == 0);
+    char *a = slurp(plain), *b = slurp(undone);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(plain, &sa) && !stat(undone, &sb) && sa.st_size == sb.st_size &&
+               !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing the light edits the saved file differs from the unedited save");
+    free(a), free(b);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, redone, &got, &err) == VX_OK);
+    CHECKF(got.light_count == 2 && got.lights[0].color[0] == 0.1 && got.lights[0].color[2] == 0.3 &&
+               got.lights[0].intensity == 300,
+           "redo: light 0 is not the first edit's (colour %g,%g,%g, intensity %g)", got.lights[0].color[0],
+           got.lights[0].color[1], got.lights[0].color[2], got.lights[0].intensity);
     vx_svo_scene_free(&got);
 }
 
@@ -1082,6 +1169,7 @@ int main(int argc, char** argv) {
     if (argc == 2 && !strcmp(argv[1], "--editor")) { /* the leak-checked part: no window, no driver */
         RUN(test_editor_ops);
         RUN(test_editor_voxels);
+        RUN(test_editor_lights);
         RUN(test_editor_frames);
         RUN(test_editor_random);
         return vx_test_finish();
@@ -1101,6 +1189,7 @@ int main(int argc, char** argv) {
     }
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
+    RUN(test_scripted_light_undo);
     RUN(test_scripted_voxels);
     RUN(test_vclick);
     RUN(test_screenshot_matches_svo_render);

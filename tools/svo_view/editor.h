@@ -24,8 +24,8 @@
  * duplicate and delete add or remove record i in every frame; an added file
  * is placed, still, in every frame. Frame 0 is always s->instances.
  *
- * Undo: ved_begin() snapshots the instances (every frame) and the layer
- * flags before an edit; ved_undo()/ved_redo() swap snapshots. A voxel edit
+ * Undo: ved_begin() snapshots the instances (every frame), the layer
+ * flags, the lights and the sky before an edit; ved_undo()/ved_redo() swap snapshots. A voxel edit
  * (voxels.h) also parks the model's previous octree in the snapshot. Models
  * are only ever appended (ved_add_scene), so snapshots stay valid; undoing an
  * add leaves the new models unreferenced.
@@ -45,6 +45,9 @@ typedef struct ved_snapshot {
     uint32_t frame_count;
     uint32_t* layer_flags;
     uint32_t layer_count;
+    vx_light* lights; /* the scene's lights (few: copied whole at every step) */
+    uint32_t light_count;
+    vx_sky sky;
     bool has_model;        /* a voxel edit: `model` is models[model_index] as it was */
     uint32_t model_index;
     vx_svo_model model;

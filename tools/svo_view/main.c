@@ -75,7 +75,7 @@ _Noreturn static void usage(int status) {
             "      B voxel mode: click adds, Shift+click removes, Alt+click paints with the brush;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
-            "      Ctrl+Z/Ctrl+Y undo/redo, Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
+            "      Ctrl+Z/Ctrl+Y undo/redo (instance, voxel and light edits), Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
             "Script commands (one a line, # comments): camera EX EY EZ TX TY TZ | camera default |\n"
             "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | passes LIST | probes FILE |\n"
             "      select N|none |"
@@ -89,7 +89,7 @@ _Noreturn static void usage(int status) {
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
             "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
             "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
-            "      light N color R G B|position X Y Z|intensity X|range X\n"
+            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step)\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
@@ -388,6 +388,7 @@ static void set_scene(app* a, vx_svo_scene* s) {
     ved_init(&a->ed, &a->scene);
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
+    a->light_step_for = NO_SEL;
     a->op = 0;
     a->anim_frame = 0;
     a->playing = false;
@@ -677,11 +678,32 @@ void sv_undo(app* a, bool redo) {
         return;
     }
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
+    if (a->sel_light != NO_SEL && a->sel_light >= a->scene.light_count) a->sel_light = NO_SEL;
+    a->light_step_for = NO_SEL; /* the next light edit is a step of its own */
     /* the step just swapped went to the other list: did it hold a model? */
     const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
     if (sn->has_model) sv_rebuild(a);
     else update_instances(a);
     if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, redo ? "redo" : "undo", a->update_ms);
+}
+
+bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
+    vx_error err = {0};
+    if (l >= a->scene.light_count) {
+        sv_message(a, true, "no light %u (the scene has %u)", l, a->scene.light_count);
+        return false;
+    }
+    if (vx_light_validate(t, l, &err)) {
+        sv_message(a, true, "%s", err.msg);
+        return false;
+    }
+    if (!memcmp(t, &a->scene.lights[l], sizeof *t)) return true;
+    bool same = merge && a->light_step_for == l && a->light_step == a->ed.undo_count && a->ed.undo_count > 0 &&
+                a->ed.redo_count == 0;
+    if (!same && !sv_edit_begin(a, false)) return false;
+    a->scene.lights[l] = *t;
+    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.undo_count;
+    return true;
 }
 
 /* ---- frames -------------------------------------------------------------------------- */
@@ -1524,7 +1546,7 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             fprintf(stderr, "%s: %s:%u: %s\n", vx_tool_name, a->o.script, lineno, lerr.msg);
             return false;
         }
-        a->scene.lights[l] = t;
+        if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
@@ -1661,6 +1683,7 @@ int main(int argc, char** argv) {
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
     a.sel_light = NO_SEL;
+    a.light_step_for = NO_SEL;
     a.name_for = NO_SEL;
     a.pick_op = -1;
     a.mode = a.o.mode;
