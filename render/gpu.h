@@ -168,5 +168,10 @@ void vx__light_pack(const vx_light* l, const double ref[3], double cutoff, float
  * texels is black, as there). Shared by the path tracer (probes/) and the
  * pass pipeline, so both read one packing. */
 void vx__sky_pack(const vx_sky* sky, const vx_sky_texels* map, const double uniform[3], float out[16]);
+/* The pass shaders' sky buffer (passes_common.glsl binding "Sky"): the
+ * packing above, the table of the sky's irradiance E(n) / pi over normals
+ * (render/pipeline.c), the map's texels; b is grown as needed. */
+vx_result vx__sky_buffer(vx_gpu* g, const vx_sky* sky, const vx_sky_texels* map, const double uniform[3], vx__buffer* b,
+                         vx_error* err);
 
 #endif

@@ -283,6 +283,21 @@ static vx_result sky_table(const vx_gpu* g, const vx_sky* k, const vx_sky_texels
     return VX_OK;
 }
 
+vx_result vx__sky_buffer(vx_gpu* g, const vx_sky* k, const vx_sky_texels* map, const double uniform[3], vx__buffer* b,
+                         vx_error* err) {
+    bool texels = k && k->type == VX_SKY_ENVMAP && map && map->rgb;
+    size_t ntex = texels ? (size_t)map->width * map->height * 3 : 0, nf = SKY_ENV_AT + (ntex ? ntex : 1);
+    float* buf = vx_calloc(&g->alloc, nf, sizeof(float));
+    if (!buf) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the sky (%zu floats)", nf);
+    vx__sky_pack(k, texels ? map : NULL, uniform, buf);
+    vx_result r = sky_table(g, k, texels ? map : NULL, uniform, buf + 16, err);
+    if (!r && ntex) memcpy(buf + SKY_ENV_AT, map->rgb, ntex * sizeof(float));
+    if (!r) r = vx__buffer_ensure(g, b, nf * sizeof(float), "sky", err);
+    if (!r) r = vx__buffer_upload(g, b, buf, nf * sizeof(float), err);
+    vx_free(&g->alloc, buf);
+    return r;
+}
+
 typedef struct push_block {
     float f0[4]; /* lens radius, focus, ao radius, 2^exposure */
     float f1[4]; /* sun, edge threshold */
@@ -630,16 +645,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         vx_sky_texels mk = sk->type == VX_SKY_ENVMAP ? *sm : (vx_sky_texels){0};
         if (!fr->sky_valid || memcmp(&fr->sky_key, sk, sizeof *sk) || memcmp(&fr->sky_map_key, &mk, sizeof mk)) {
             fr->sky_valid = false;
-            size_t ntex = (size_t)mk.width * mk.height * 3, nf = SKY_ENV_AT + (ntex ? ntex : 1);
-            float* buf = vx_calloc(&g->alloc, nf, sizeof(float));
-            if (!buf) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the sky (%zu floats)", nf);
-            vx__sky_pack(sk, &mk, sky_uniform, buf);
-            r = sky_table(g, sk, &mk, sky_uniform, buf + 16, err);
-            if (!r && ntex) memcpy(buf + SKY_ENV_AT, mk.rgb, ntex * sizeof(float));
-            if (!r) r = ensure(fr, B_SKY, nf * sizeof(float), "sky", err);
-            if (!r) r = vx__buffer_upload(g, &fr->b[B_SKY], buf, nf * sizeof(float), err);
-            vx_free(&g->alloc, buf);
-            if (r) return r;
+            if ((r = vx__sky_buffer(g, sk, &mk, sky_uniform, &fr->b[B_SKY], err))) return r;
             fr->sky_key = *sk, fr->sky_map_key = mk, fr->sky_valid = true;
         }
     } else if (!fr->b[B_SKY].buf && (r = ensure(fr, B_SKY, 16, "sky", err))) {

@@ -159,12 +159,15 @@ _Noreturn static void usage(int status) {
             "                       uses radiometric units):\n"
             "%s"
             "  --no-scene-lights    ignore the lights and the sky stored in the file (LGHT); by default the\n"
-            "                       colour mode on the GPU uses them, and --mode pathtrace the file's sky\n"
-            "                       of any type (gradient; environment map read through OpenImageIO)\n"
+            "                       colour mode on the GPU and --mode pathtrace use them, the file's sky of\n"
+            "                       any type (constant, gradient, environment map read through OpenImageIO)\n"
+            "                       in the radiometric model (with lights or a gi pass): background, sky\n"
+            "                       light of the direct pass, gi=pathtrace and gi=cones\n"
             "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
             "                       (vx_svo_emissive_lights; off by default: with any light the frame uses\n"
             "                       the radiometric model, without the colour model's sun and ambient)\n"
-            "  --sky R,G,B          sky radiance with lights (default: the file's constant sky, else %g,%g,%g)\n"
+            "  --sky R,G,B          uniform sky radiance with lights, replaces the file's sky (default: the\n"
+            "                       file's sky, else %g,%g,%g)\n"
             "  --light-culling M    auto|brute|tiled|clustered: how the direct pass finds each pixel's\n"
             "                       lights (default: %s: brute force up to %d lights, else tiled)\n"
             "  --shadow-lights N    lights per pixel with a shadow ray, the strongest (0..%d, 0: none;\n"
@@ -275,6 +278,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
         vx_cone_desc cd = o->cone;
         memcpy(cd.light_dir, o->r.light_dir, sizeof cd.light_dir);
         if (o->sky_given) memcpy(cd.sky, o->fd.sky, sizeof cd.sky);
+        cd.sky_dir = o->fd.sky_dir, cd.sky_map = o->fd.sky_map; /* the file's sky (NULL with --sky) */
         cd.lights = o->frame_lights, cd.light_count = o->frame_light_count;
         if ((r = vx_cone_gi_create(rs, scene, &cd, &gm, &cgi, err))) goto done;
         if (o->verbose) {
@@ -696,11 +700,11 @@ int main(int argc, char** argv) {
     if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
         memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
     bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
-    /* the file's sky: the path tracer renders every type by direction (an
-     * environment map read here, through OpenImageIO); the pass pipeline
-     * only a constant one */
+    /* the file's sky by direction (an environment map read here, through
+     * OpenImageIO): the path tracer's, and the pass pipeline's background,
+     * sky term and gi=pathtrace's */
     vx_sky_texels sky_map = {0};
-    if (!o.no_scene_lights && !o.sky_given && pt_mode && scene.sky.type != VX_SKY_DEFAULT) {
+    if (!o.no_scene_lights && !o.sky_given && (pt_mode || pipeline) && scene.sky.type != VX_SKY_DEFAULT) {
         char map[4096];
         if (vx_sky_path(&scene.sky, o.in, map, sizeof map)) {
             uint32_t ch = 0;
@@ -723,14 +727,9 @@ int main(int argc, char** argv) {
                 return 1;
             }
             sky_map.rgb = sky_rgb;
-            o.p.sky_map = &sky_map;
+            o.p.sky_map = &sky_map, o.fd.sky_map = &sky_map;
         }
-        o.p.sky = &scene.sky;
-    } else if (!o.no_scene_lights && !o.sky_given && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP)) {
-        char map[4096];
-        bool is_map = vx_sky_path(&scene.sky, o.in, map, sizeof map);
-        fprintf(stderr, "%s: note: the file's %s sky%s%s is rendered by --mode pathtrace; the pass pipeline uses --sky's\n",
-                prog, is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
+        o.p.sky = &scene.sky, o.fd.sky_dir = &scene.sky;
     }
     if (pt_mode) /* the path tracer carries the lights, on the GPU and the CPU */
         o.p.lights = o.frame_lights, o.p.light_count = o.frame_light_count;
