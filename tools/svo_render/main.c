@@ -162,7 +162,7 @@ _Noreturn static void usage(int status) {
             "                       colour mode on the GPU and --mode pathtrace use them, the file's sky of\n"
             "                       any type (constant, gradient, environment map read through OpenImageIO)\n"
             "                       in the radiometric model (with lights or a gi pass): background, sky\n"
-            "                       light of the direct pass, gi=pathtrace and gi=cones\n"
+            "                       light of the direct pass, gi=pathtrace, gi=cones and gi=photons\n"
             "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
             "                       (vx_svo_emissive_lights; off by default: with any light the frame uses\n"
             "                       the radiometric model, without the colour model's sun and ambient)\n"
@@ -271,6 +271,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "photons")) {
         vx_photon_desc pd = o->photons; /* carries the frame's lights; the probes give sun and sky */
         pd.seed = o->p.seed, pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
+        pd.sky_dir = o->fd.sky_dir, pd.sky_map = o->fd.sky_map; /* the file's sky (NULL with --sky) */
         memcpy(pd.light_dir, o->r.light_dir, sizeof pd.light_dir);
         if ((r = vx_photon_gi_create(rs, scene, probes, &pd, &gm, &phg, err))) goto done;
     } else if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "cones")) {
