@@ -107,6 +107,10 @@ typedef struct app {
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
     uint32_t light_step_for, light_step; /* the light whose panel edit made undo step light_step - 1 */
+    char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
+    char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
+    float* sky_rgb;
+    vx_sky_texels sky_map;
     char name_buf[64]; /* the properties panel's name field, for instance name_for */
     uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */

@@ -405,6 +405,7 @@ void sv_open(app* a, const char* path) {
         return;
     }
     set_scene(a, &s);
+    snprintf(a->scene_file, sizeof a->scene_file, "%s", path);
     /* probes describe the light of the scene they were baked in */
     bool had = a->have_probes;
     if (had) {
@@ -898,12 +899,55 @@ static void draw_overlay(app* a, vf_canvas* cv) {
 
 /* The colour mode through the pass pipeline (a->passes): svo_render's
  * --passes frame for the same camera; per-pass times kept for the overlay. */
+/* The file's sky for the passes, as svo_render uses it: constant and
+ * gradient as stored, an environment map's texels read through OpenImageIO
+ * (once per map); *sky NULL without one or when the map cannot be read (a
+ * message says why, once). */
+static void file_sky(app* a, const vx_sky** sky, const vx_sky_texels** map) {
+    *sky = NULL, *map = NULL;
+    const vx_sky* k = &a->scene.sky;
+    if (k->type == VX_SKY_DEFAULT) return;
+    if (k->type != VX_SKY_ENVMAP) {
+        *sky = k;
+        return;
+    }
+    char path[sizeof a->sky_file];
+    if (!vx_sky_path(k, a->scene_file, path, sizeof path)) return;
+    if (strcmp(path, a->sky_file)) {
+        vx_free(NULL, a->sky_rgb);
+        a->sky_rgb = NULL, a->sky_map = (vx_sky_texels){0};
+        snprintf(a->sky_file, sizeof a->sky_file, "%s", path);
+        uint32_t w = 0, h = 0, ch = 0;
+        float* px = NULL;
+        vx_error err = {0};
+        if (vx_image_read(path, VX_IMAGE_F32, 0, &w, &h, &ch, (void**)&px, &err)) {
+            sv_message(a, true, "the sky's environment map: %s", err.msg);
+            return;
+        }
+        /* RGB per texel whatever the file has (grey: one channel; alpha dropped) */
+        a->sky_rgb = vx_calloc(NULL, (size_t)w * h, 3 * sizeof(float));
+        for (size_t i = 0; a->sky_rgb && i < (size_t)w * h; i++)
+            for (uint32_t c = 0; c < 3; c++) a->sky_rgb[3 * i + c] = px[i * ch + (c < ch ? c : 0)];
+        vx_free(NULL, px);
+        if (!a->sky_rgb) {
+            sv_message(a, true, "%s: out of memory for the sky's environment map", path);
+            return;
+        }
+        a->sky_map = (vx_sky_texels){.rgb = a->sky_rgb, .width = w, .height = h};
+    }
+    if (a->sky_rgb) *sky = k, *map = &a->sky_map;
+}
+
 static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
+    const vx_sky* sky;
+    const vx_sky_texels* sky_map;
+    file_sky(a, &sky, &sky_map);
     if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi && !strcmp(a->passes.gi, "cones")) {
-        vx_result r = vx_cone_gi_create(a->rs, &a->scene, NULL, &a->gm, &a->cgi, err);
+        vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map};
+        vx_result r = vx_cone_gi_create(a->rs, &a->scene, &cd, &a->gm, &a->cgi, err);
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
-        vx_probe_render_desc pd = {0};
+        vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
         if (r) return r;
@@ -919,6 +963,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
     fd.lights = a->scene.lights;
     fd.light_count = a->scene.light_count;
+    fd.sky_dir = sky, fd.sky_map = sky_map; /* and its sky */
     vx_frame_result res;
     vx_result r = vx_frame_render(a->fr, &fd, &res, err);
     if (r) return r;
@@ -1702,6 +1747,7 @@ int main(int argc, char** argv) {
         if (a.lines) free(a.lines[0]), free(a.lines);
         return vx_tool_error_budget(a.o.in, &err, &a.budget);
     }
+    snprintf(a.scene_file, sizeof a.scene_file, "%s", a.o.in);
     double t_load = vx_time_now() - t0;
     if (a.o.probes && load_probes(&a, a.o.probes, &err)) {
         vx_svo_scene_free(&a.scene);
@@ -1763,6 +1809,7 @@ done:
     if (a.have_probes) vx_probe_set_free(&a.probes);
     ved_free(&a.ed);
     vx_svo_scene_free(&a.scene);
+    vx_free(NULL, a.sky_rgb);
     free(a.px8);
     if (a.lines) free(a.lines[0]), free(a.lines);
     return status;
