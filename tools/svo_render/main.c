@@ -42,6 +42,7 @@ typedef struct options {
     vx_light lights[64]; /* --light */
     uint32_t light_count;
     bool sky_given, no_scene_lights, voxel_lights;
+    vx_sky sky; /* --sky's */
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
     vx_cone_desc cone; /* gi=cones (--cone-*) */
@@ -166,8 +167,9 @@ _Noreturn static void usage(int status) {
             "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
             "                       (vx_svo_emissive_lights; off by default: with any light the frame uses\n"
             "                       the radiometric model, without the colour model's sun and ambient)\n"
-            "  --sky R,G,B          uniform sky radiance with lights, replaces the file's sky (default: the\n"
-            "                       file's sky, else %g,%g,%g)\n"
+            "  --sky SPEC           the sky, replacing the file's (default: the file's sky, else a uniform\n"
+            "                       %g,%g,%g); with lights, a gi pass or --mode pathtrace:\n"
+            "%s"
             "  --light-culling M    auto|brute|tiled|clustered: how the direct pass finds each pixel's\n"
             "                       lights (default: %s: brute force up to %d lights, else tiled)\n"
             "  --shadow-lights N    lights per pixel with a shadow ray, the strongest (0..%d, 0: none;\n"
@@ -192,7 +194,7 @@ _Noreturn static void usage(int status) {
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
             cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
-            vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
+            vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
     exit(status);
 }
@@ -489,8 +491,9 @@ int main(int argc, char** argv) {
             o.voxel_lights = true;
         } else if (!strcmp(a, "--sky")) {
             NEED();
-            if (!parse_vec(argv[++i], o.fd.sky, 3) || o.fd.sky[0] < 0 || o.fd.sky[1] < 0 || o.fd.sky[2] < 0)
-                usage_error("bad sky radiance '%s' (R,G,B >= 0)", argv[i]);
+            char why[256];
+            if (!vx_tool_parse_sky(argv[++i], &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
+            if (o.sky.type == VX_SKY_CONSTANT) memcpy(o.fd.sky, o.sky.color, sizeof o.fd.sky);
             o.sky_given = true;
         } else if (!strcmp(a, "--light-culling")) {
             NEED();
@@ -697,7 +700,9 @@ int main(int argc, char** argv) {
         return 1;
     }
     o.frame_lights = frame_lights;
-    if (o.sky_given && !o.frame_light_count) usage_error("%s", "--sky goes with lights (--light, or the file's)");
+    if (o.sky_given && !o.frame_light_count && !(pipeline && vx_pass_list_has(&passes, VX_PASS_GI)) &&
+        !(o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT)))
+        usage_error("%s", "--sky goes with lights (--light, or the file's), a gi pass or --mode pathtrace");
     if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
         memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
     bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
@@ -705,13 +710,15 @@ int main(int argc, char** argv) {
      * OpenImageIO): the path tracer's, and the pass pipeline's background,
      * sky term and gi=pathtrace's */
     vx_sky_texels sky_map = {0};
-    if (!o.no_scene_lights && !o.sky_given && (pt_mode || pipeline) && scene.sky.type != VX_SKY_DEFAULT) {
+    const vx_sky* sky = o.sky_given ? &o.sky : !o.no_scene_lights ? &scene.sky : NULL; /* --sky replaces the file's */
+    if (sky && (pt_mode || pipeline) && sky->type != VX_SKY_DEFAULT) {
         char map[4096];
-        if (vx_sky_path(&scene.sky, o.in, map, sizeof map)) {
+        /* a file's map is relative to the file, --sky's to the working folder */
+        if (vx_sky_path(sky, o.sky_given ? NULL : o.in, map, sizeof map)) {
             uint32_t ch = 0;
             float* px = NULL;
             if (vx_image_read(map, VX_IMAGE_F32, 0, &sky_map.width, &sky_map.height, &ch, (void**)&px, &err)) {
-                fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.in, err.msg);
+                fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.sky_given ? "--sky" : o.in, err.msg);
                 vx_svo_scene_free(&owned);
                 free(frame_lights);
                 return 1;
@@ -730,7 +737,7 @@ int main(int argc, char** argv) {
             sky_map.rgb = sky_rgb;
             o.p.sky_map = &sky_map, o.fd.sky_map = &sky_map;
         }
-        o.p.sky = &scene.sky, o.fd.sky_dir = &scene.sky;
+        o.p.sky = sky, o.fd.sky_dir = sky;
     }
     if (pt_mode) /* the path tracer carries the lights, on the GPU and the CPU */
         o.p.lights = o.frame_lights, o.p.light_count = o.frame_light_count;
