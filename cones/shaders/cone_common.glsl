@@ -133,7 +133,7 @@ vec3 cone_march(vec3 q, vec3 d, float tanh, float h0, float dn, vec3 sky, out fl
 // (passes_common.glsl frame_sky: a point sample of the cone's solid angle).
 vec3 cone_gather(vec3 q, vec3 n, float rot, vec3 sky, out float ao) {
     vec3 t, bt;
-    pass_basis(n, t, bt);
+    basis(n, t, bt);
     float c = cos(rot), s = sin(rot);
     vec3 L = vec3(0.0);
     ao = 0.0;

@@ -141,7 +141,7 @@ bool light_eval(uint k, vec3 ps, vec3 nw, float cell, bool emissive, uvec2 px, o
         float ndl = dot(nw, L.b.xyz);
         if (ndl <= 0.0) return false;
         e = L.c.xyz * ndl;
-        sd = L.c.w > 0.0 ? pass_cone_dir(L.b.xyz, L.c.w, pass_rnd(px, 13u, 2u * k), pass_rnd(px, 13u, 2u * k + 1u))
+        sd = L.c.w > 0.0 ? cone_dir(L.b.xyz, L.c.w, pass_rnd(px, 13u, 2u * k), pass_rnd(px, 13u, 2u * k + 1u))
                          : L.b.xyz;
         st = 3.0e38;
         return true;
@@ -178,7 +178,7 @@ bool light_eval(uint k, vec3 ps, vec3 nw, float cell, bool emissive, uvec2 px, o
                 st = 0.0; // inside the source: nothing in between
             } else {
                 float s2 = (r / dist) * (r / dist);
-                sd = pass_cone_dir(l, s2 / (1.0 + sqrt(1.0 - s2)), pass_rnd(px, 13u, 2u * k),
+                sd = cone_dir(l, s2 / (1.0 + sqrt(1.0 - s2)), pass_rnd(px, 13u, 2u * k),
                                    pass_rnd(px, 13u, 2u * k + 1u));
                 float b = dot(sd, v), disc = b * b - (d2 - r * r);
                 st = (b - sqrt(max(disc, 0.0))) * 0.9999;
@@ -288,7 +288,7 @@ float ao_blocked(uvec2 px, uvec4 g0, uvec4 g1, uint first, uint count) {
     vec3 ps = gb_offset_point(uintBitsToFloat(g0.xyz), nw, g1.y);
     float blocked = 0.0;
     for (uint k = first; k < first + count; k++) {
-        vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
+        vec3 dir = cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
         Hit h;
         h.t = PC.f0.z;
         h.inst = NO_HIT;

@@ -117,31 +117,7 @@ float pass_rnd(uvec2 px, uint stream, uint k) {
     return float(h.x >> 8) * (1.0 / 16777216.0);
 }
 
-// An orthonormal basis t, b around unit n (Duff et al.).
-void pass_basis(vec3 n, out vec3 t, out vec3 bt) {
-    float sg = n.z < 0.0 ? -1.0 : 1.0;
-    float a = -1.0 / (sg + n.z), b = n.x * n.y * a;
-    t = vec3(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x);
-    bt = vec3(b, sg + n.y * n.y * a, -n.y);
-}
-
-// Cosine-weighted direction around unit n.
-vec3 pass_cosine_dir(vec3 n, float u1, float u2) {
-    vec3 t, bt;
-    pass_basis(n, t, bt);
-    float r = sqrt(u1), phi = 2.0 * PI * u2;
-    return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
-}
-
-// A direction uniform in the cone around unit n whose half angle has
-// 1 - cos = omc (given as 1 - cos so that the sun's small cone keeps its
-// precision).
-vec3 pass_cone_dir(vec3 n, float omc, float u1, float u2) {
-    vec3 t, bt;
-    pass_basis(n, t, bt);
-    float om = u1 * omc, s = sqrt(max(0.0, om * (2.0 - om))), phi = 2.0 * PI * u2;
-    return normalize(s * cos(phi) * t + s * sin(phi) * bt + (1.0 - om) * n);
-}
+#include "sampling.glsl"
 
 // ---- the light grid (render/pipeline.c, cull.comp) ------------------------------
 // Tiles of PC.u2.w pixels (PC.u2.x across, PC.u2.y down) times PC.u2.z
