@@ -818,6 +818,48 @@ static double image_diff(const char* pa, const char* pb) {
     return (double)bad / (double)n;
 }
 
+/* The file's lights reach gi=pathtrace and gi=cones in the viewer (as in
+ * svo_render: the frame refuses a gi method made without its lights), and a
+ * light edit and its undo remake the method: the frames differ after the
+ * edit and come back after the undo. */
+static void test_scripted_lights_gi(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], log[1024], shot[3][1024];
+    path(in, sizeof in, "lights_gi.svo");
+    path(script, sizeof script, "lights_gi.txt");
+    path(log, sizeof log, "lights_gi.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    const char* methods[2] = {"pathtrace", "cones"};
+    for (int m = 0; m < 2; m++) {
+        for (int k = 0; k < 3; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "lights_gi_%s_%d.png", methods[m], k);
+            path(shot[k], sizeof shot[k], name);
+            remove(shot[k]);
+        }
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        fprintf(f, "passes gbuffer,direct,gi=%s\nscreenshot %s\nlight 1 intensity 0.2\nscreenshot %s\nundo\n"
+                   "screenshot %s\nquit\n", methods[m], shot[0], shot[1], shot[2]);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+        char* t = slurp(log);
+        bool refused = t && strstr(t, "not made with the frame's lights");
+        if (rc != 0 || refused) fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+        CHECKF(rc == 0 && !refused, "gi=%s with the file's lights: rc %d%s", methods[m], rc, refused ? ", refused" : "");
+        double d01 = image_diff(shot[0], shot[1]), d02 = image_diff(shot[0], shot[2]);
+        fprintf(stderr, "  gi=%s: %.1f%% of pixels change with the light, %.1f%% after its undo\n", methods[m], d01 * 100,
+                d02 * 100);
+        CHECKF(d01 > 0.003 && d01 <= 1, "gi=%s: the light edit changes %.3f of the pixels (the scene covers a few %%)", methods[m], d01);
+        CHECKF(d02 <= 0.01, "gi=%s: after the undo %.3f of the pixels differ", methods[m], d02);
+    }
+}
+
 static void test_screenshot_matches_svo_render(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -1190,6 +1232,7 @@ int main(int argc, char** argv) {
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
     RUN(test_scripted_light_undo);
+    RUN(test_scripted_lights_gi);
     RUN(test_scripted_voxels);
     RUN(test_vclick);
     RUN(test_screenshot_matches_svo_render);

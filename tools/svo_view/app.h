@@ -107,6 +107,7 @@ typedef struct app {
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
     uint32_t light_step_for, light_step; /* the light whose panel edit made undo step light_step - 1 */
+    uint32_t light_serial, gi_light_serial; /* lights changed (edit, undo, open); what the gi method was made with */
     char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
     char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
     float* sky_rgb;

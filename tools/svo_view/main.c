@@ -389,6 +389,7 @@ static void set_scene(app* a, vx_svo_scene* s) {
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
     a->light_step_for = NO_SEL;
+    a->light_serial++;
     a->op = 0;
     a->anim_frame = 0;
     a->playing = false;
@@ -681,6 +682,7 @@ void sv_undo(app* a, bool redo) {
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
     if (a->sel_light != NO_SEL && a->sel_light >= a->scene.light_count) a->sel_light = NO_SEL;
     a->light_step_for = NO_SEL; /* the next light edit is a step of its own */
+    a->light_serial++;          /* the step may hold other lights */
     /* the step just swapped went to the other list: did it hold a model? */
     const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
     if (sn->has_model) sv_rebuild(a);
@@ -703,6 +705,7 @@ bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
                 a->ed.redo_count == 0;
     if (!same && !sv_edit_begin(a, false)) return false;
     a->scene.lights[l] = *t;
+    a->light_serial++;
     a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.undo_count;
     return true;
 }
@@ -942,12 +945,24 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
+    /* gi=pathtrace and gi=cones carry the file's lights (as in svo_render):
+     * made again when the lights changed */
+    bool carries = !strcmp(a->passes.gi, "pathtrace") || !strcmp(a->passes.gi, "cones");
+    if ((a->pgi || a->cgi) && carries && a->gi_light_serial != a->light_serial) {
+        vx_probe_gi_destroy(a->pgi);
+        a->pgi = NULL;
+        vx_cone_gi_destroy(a->cgi);
+        a->cgi = NULL;
+    }
+    a->gi_light_serial = a->light_serial;
     if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi && !strcmp(a->passes.gi, "cones")) {
-        vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map};
+        vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
+                           .light_count = a->scene.light_count};
         vx_result r = vx_cone_gi_create(a->rs, &a->scene, &cd, &a->gm, &a->cgi, err);
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
         vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
+        if (carries) pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
         if (r) return r;
