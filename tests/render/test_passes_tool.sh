@@ -76,6 +76,14 @@ expect_status 0 "lights with gi=pathtrace" "$R" "$T/demo.svo" "$T/lgi.exr" --siz
     --light point:0,0,40:900,800,700 --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 \
     --passes gbuffer,direct,gi=pathtrace,tonemap
 expect_status 0 "gi=pathtrace" "$R" "$T/demo.svo" "$T/gi.exr" --size 32x24 --passes gbuffer,direct,gi=pathtrace,tonemap
+# the probe methods take no lights: the error says so (it said the method lacked the frame's lights)
+if [ -x "$BIN/svo_bake" ]; then
+    expect_status 0 "a small bake" "$BIN/svo_bake" "$T/demo.svo" "$T/p.probes" --grid 2,2,2 --res 16 --spp 1
+    expect_status 1 "gi=probes with lights" "$R" "$T/demo.svo" "$T/x.png" --probes "$T/p.probes" \
+        --passes gbuffer,direct,gi=probes $LP
+    grep -q "gi=probes takes no lights" "$T/err" && ok "gi=probes with lights: the error says why" ||
+        bad "gi=probes with lights: the error says why"
+fi
 if [ -x "$BIN/svo_view" ] && command -v xvfb-run >/dev/null 2>&1; then
     printf 'passes gbuffer,direct,ao,aa,tonemap\nscreenshot %s\nquit\n' "$T/v.png" >"$T/script.txt"
     expect_status 0 "svo_view passes script" xvfb-run -a "$BIN/svo_view" "$T/demo.svo" --script "$T/script.txt" \

@@ -294,8 +294,9 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     } else if (vx_pass_list_has(passes, VX_PASS_GI)) {
         vx_probe_render_desc pd = o->p;
         pd.base = &o->r;
-        if (!strcmp(passes->gi, "pathtrace")) /* carries the frame's lights along its paths */
-            pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
+        /* gi=pathtrace carries the frame's lights along its paths; the probe
+         * methods' light is the bake's, and the direct pass shades the lights */
+        pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
         if ((r = vx_probe_gi_create(rs, scene, probes, passes->gi, &pd, &gm, &pgi, err))) goto done;
     }
     vx_frame_desc fd = o->fd;

@@ -945,10 +945,10 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
-    /* gi=pathtrace and gi=cones carry the file's lights (as in svo_render):
-     * made again when the lights changed */
-    bool carries = !strcmp(a->passes.gi, "pathtrace") || !strcmp(a->passes.gi, "cones");
-    if ((a->pgi || a->cgi) && carries && a->gi_light_serial != a->light_serial) {
+    /* the gi methods are made with the file's lights (as in svo_render:
+     * gi=pathtrace and gi=cones carry them, the probe methods give them to
+     * the direct pass): made again when the lights changed */
+    if ((a->pgi || a->cgi) && a->gi_light_serial != a->light_serial) {
         vx_probe_gi_destroy(a->pgi);
         a->pgi = NULL;
         vx_cone_gi_destroy(a->cgi);
@@ -962,7 +962,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
         vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
-        if (carries) pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
+        pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
         if (r) return r;
