@@ -331,8 +331,7 @@ static void checkpoint(coord* c, double interval, double* last, uint32_t* last_c
 }
 
 static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
-    const char* ck_env = getenv("VX_BAKE_CHECKPOINT_S");
-    double interval = ck_env ? atof(ck_env) : 20.0, last_ck = vx_time_now();
+    double interval = checkpoint_interval(), last_ck = vx_time_now();
     uint32_t last_count = c->ps->count;
     for (int r = 1; r < c->nranks; r++)
         for (int k = 0; k < DEPTH; k++) hand_out(c, r);
