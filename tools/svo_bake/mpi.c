@@ -495,8 +495,8 @@ int bake_mpi(options* o, const char* in, const char* out) {
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
             if (j.gpu)
-                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
-                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "", o->threads);
+                printf("rank %d (%s): device: %s%s\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
+                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "");
             else
                 printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_mpi.rank, g_mpi.host, o->threads);
             fflush(stdout);
