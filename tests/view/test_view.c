@@ -360,11 +360,15 @@ static size_t frames_diff(const vx_svo_scene* got, const vx_svo_scene* orig, con
     return bad;
 }
 
-static uint8_t* scene_bytes(const vx_svo_scene* s, size_t* n) {
+/* The file bytes of s, as svo_view saves it (e: the edits' ved, NULL before any). */
+static uint8_t* scene_bytes(const ved* e, const vx_svo_scene* s, size_t* n) {
     uint8_t* b = NULL;
     vx_svo_scene tmp = *s;
+    if (e && vvx_file_scene(e, &tmp, NULL)) return NULL;
     vx_svo_scene_update_bounds(&tmp); /* the writer stores bounds; edits leave them stale */
-    return vx_svo_write(&tmp, NULL, &b, n, NULL) ? NULL : b;
+    vx_result r = vx_svo_write(&tmp, NULL, &b, n, NULL);
+    if (e) vvx_file_scene_free(e, &tmp);
+    return r ? NULL : b;
 }
 
 static void test_editor_voxels(void) {
@@ -372,7 +376,7 @@ static void test_editor_voxels(void) {
     make_scene(&s, 3);
     make_scene(&orig, 3);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -401,15 +405,15 @@ static void test_editor_voxels(void) {
     REQUIRE(vvx_apply(&e, 0, VVX_REMOVE, &b, (int64_t[3]){100, 0, 0}, &changed, NULL) == VX_OK);
     CHECK(changed == 0 && e.undo_count == steps);
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     REQUIRE(b1);
     /* undo to the start: the original bytes; redo: the edited ones */
     while (ved_undo(&e, NULL)) {}
     size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&s, &n3);
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
     CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
     ved_free(&e);
@@ -424,7 +428,7 @@ static void test_editor_frames(void) {
     make_scene(&s, 4);
     make_scene(&orig, 4);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -462,13 +466,13 @@ static void test_editor_frames(void) {
     for (uint32_t f = 0; f < 4; f++) CHECK(vx_svo_scene_frame_instances(&s, f)[1].flags & VX_SVO_INSTANCE_HIDDEN);
     /* the saved file keeps every frame */
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     vx_svo_scene back;
     CHECK(b1 && vx_svo_read(NULL, b1, n1, &back, NULL) == VX_OK && back.frame_count == 4 && back.instance_count == 2);
     if (b1) vx_svo_scene_free(&back);
     while (ved_undo(&e, NULL)) {}
     size_t n2;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2);
     ved_free(&e);
@@ -482,7 +486,7 @@ static void test_editor_random(void) {
     vx_svo_scene s;
     make_scene(&s, 3);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -513,18 +517,106 @@ static void test_editor_random(void) {
     }
     CHECK(edits > 100);
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     REQUIRE(b1);
     while (ved_undo(&e, NULL)) {}
     size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&s, &n3);
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
     CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
     ved_free(&e);
     vx_svo_scene_free(&s);
+}
+
+/* Incremental brush edits (svo/edit.h) against the reference, the model
+ * decoded and built again for every edit (ved.vox_rebuild): random brushes
+ * on a palette model and on an RGBA8 + normal + material + density model
+ * (added cells take a neighbour's channels) give the same file bytes after
+ * every edit, and the same bytes after undoing and redoing all of them. */
+static void test_editor_incremental(void) {
+    vx_svo_scene s[2];
+    for (int k = 0; k < 2; k++) {
+        make_scene(&s[k], 1);
+        /* a second model with every other channel, drawn by a third instance */
+        vx_svo_model* ms = vx_calloc(NULL, 2, sizeof *ms);
+        vx_svo_instance* is = vx_calloc(NULL, 3, sizeof *is);
+        REQUIRE(ms && is);
+        ms[0] = s[k].models[0];
+        memcpy(is, s[k].instances, 2 * sizeof *is);
+        vx_free(NULL, s[k].models), vx_free(NULL, s[k].instances);
+        s[k].models = ms, s[k].instances = is;
+        uint64_t keys[9 * 7 * 5];
+        uint32_t rgba[9 * 7 * 5], nrm[9 * 7 * 5];
+        uint16_t mat[9 * 7 * 5];
+        float den[9 * 7 * 5];
+        size_t n = 0;
+        for (uint32_t z = 0; z < 5; z++)
+            for (uint32_t y = 0; y < 7; y++)
+                for (uint32_t x = 0; x < 9; x++)
+                    if ((x * y + z) % 4 != 1) {
+                        keys[n] = vx_svo_morton(x, y, z), rgba[n] = 0xFF000000u | (x * 0x30u) | (y << 12);
+                        nrm[n] = x % 3 * 0x1234u, mat[n] = (uint16_t)(z % 2), den[n] = 0.25f * (float)(y % 3);
+                        n++;
+                    }
+        vx_svo_voxels v = {.size = {9, 7, 5}, .count = n, .keys = keys, .rgba = rgba, .normal = nrm, .material = mat,
+                           .density = den, .attrs = VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL | VX_ATTR_DENSITY};
+        REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s[k].models[1], NULL, NULL) == VX_OK);
+        s[k].model_count = 2;
+        s[k].instances[2] = s[k].instances[0];
+        s[k].instances[2].model = 1;
+        s[k].instances[2].xform[3] += 40;
+        s[k].instance_count = 3;
+    }
+    ved e[2];
+    for (int k = 0; k < 2; k++) ved_init(&e[k], &s[k]);
+    e[1].vox_rebuild = true;
+    size_t n0;
+    uint8_t* b0 = scene_bytes(NULL, &s[0], &n0);
+    REQUIRE(b0);
+    uint64_t rng = 0xD1B54A32D192ED03ull;
+    uint32_t bad = 0, edits = 0;
+    for (int it = 0; it < 120; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 33), model = r & 1, op = (r >> 1) % 3;
+        vvx_brush b = {.shape = (vvx_shape)((r >> 3) % 3), .radius = (r >> 5) % 4, .palette = (uint8_t)(1 + (r >> 8) % 20),
+                       .rgba = 0xFF000000u | (r >> 13) % 5 * 0x00402010u};
+        const vx_svo_model* m = &s[0].models[model];
+        /* mostly inside, sometimes past the size (growth) or below 0 (a rebuild for both) */
+        int64_t c[3] = {(int64_t)((r >> 16) % (m->size[0] + 4)) - ((r >> 30) & 1 ? 1 : 0),
+                        (int64_t)((r >> 20) % (m->size[1] + 2)), (int64_t)((r >> 24) % (m->size[2] + 2))};
+        uint64_t ch[2] = {0, 0};
+        vx_result res0 = vvx_apply(&e[0], model, (vvx_op)op, &b, c, &ch[0], NULL);
+        vx_result res1 = vvx_apply(&e[1], model, (vvx_op)op, &b, c, &ch[1], NULL);
+        REQUIRE(res0 == VX_OK && res1 == VX_OK);
+        edits += ch[0] > 0;
+        size_t na, nb;
+        uint8_t* ba = scene_bytes(&e[0], &s[0], &na);
+        uint8_t* bb = scene_bytes(&e[1], &s[1], &nb);
+        bool same = ba && bb && na == nb && !memcmp(ba, bb, na) && ch[0] == ch[1];
+        if (!same && bad++ < 3)
+            fprintf(stderr, "edit %d (model %u, %s %s r%u at %lld,%lld,%lld): %llu vs %llu cells, %zu vs %zu bytes\n", it, model,
+                    vvx_op_name((vvx_op)op), vvx_shape_name(b.shape), b.radius, (long long)c[0], (long long)c[1],
+                    (long long)c[2], (unsigned long long)ch[0], (unsigned long long)ch[1], na, nb);
+        vx_free(NULL, ba), vx_free(NULL, bb);
+    }
+    CHECKF(bad == 0, "%u of 120 edits differ from the rebuild", bad);
+    CHECK(edits > 60);
+    size_t n1, n2, n3;
+    uint8_t* b1 = scene_bytes(&e[0], &s[0], &n1);
+    while (ved_undo(&e[0], NULL)) {}
+    uint8_t* b2 = scene_bytes(&e[0], &s[0], &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    while (ved_redo(&e[0], NULL)) {}
+    uint8_t* b3 = scene_bytes(&e[0], &s[0], &n3);
+    CHECK(b1 && b3 && n3 == n1 && !memcmp(b3, b1, n1));
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    for (int k = 0; k < 2; k++) {
+        ved_free(&e[k]);
+        vx_svo_scene_free(&s[k]);
+    }
 }
 
 /* ---- svo_view runs --------------------------------------------------------------------- */
@@ -1084,6 +1176,7 @@ int main(int argc, char** argv) {
         RUN(test_editor_voxels);
         RUN(test_editor_frames);
         RUN(test_editor_random);
+        RUN(test_editor_incremental);
         return vx_test_finish();
     }
     if (argc < 4) {

@@ -1,14 +1,16 @@
 /* tools/svo_view/voxels.h - voxel editing inside a model, for svo_view.
  *
  * A brush (one cell, a box or a ball of cells around a centre cell) adds,
- * removes or paints cells of one model. The edit decodes the model's octree
- * to its cell list (Morton order), applies the brush there and builds the
- * octree again with the library's builder (collapse and DAG sharing as
- * vox2svo does), so the stored model is exactly what converting the edited
- * cells gives. The whole model is rebuilt, not only the touched subtrees:
- * the builder has no incremental entry point, and the rebuild of a model of
- * a few hundred thousand cells takes milliseconds (svo_view -v prints it).
- * Every instance of the model (in every frame) sees the edit, as in
+ * removes or paints cells of one model through the model's vx_svo_editor
+ * (svo/edit.h, kept per model in the ved): only the paths to the written
+ * cells are made again, appended after the model's words and re-minimized
+ * (collapse, shared blocks), so the GPU scene takes only the appended words
+ * (vx_render_scene_update_model with ved.last). The saved file holds the
+ * compacted model (vvx_file_scene), exactly what converting the edited
+ * cells gives. A brush reaching below cell 0 shifts every key: that edit
+ * decodes the model's cells, applies the brush and builds the octree again
+ * (the builder, as vox2svo). Every instance of the model (in every frame)
+ * sees the edit, as in
  * MagicaVoxel, where a model is edited wherever it is placed.
  *
  * Cells: model cell coordinates; a cell added outside the model's box grows
@@ -23,8 +25,9 @@
  * painting changes only the colour channel. Painting a geometry-only model
  * is refused.
  *
- * Undo: the edit is one ved step (ved_begin is called here), the old
- * octree parked in the snapshot (editor.h). */
+ * Undo: the edit is one ved step (ved_begin is called here) that keeps the
+ * model's old header (the editor only appends), or for a rebuild parks the
+ * old octree (editor.h). */
 #ifndef VX_SVO_VIEW_VOXELS_H
 #define VX_SVO_VIEW_VOXELS_H
 
@@ -52,5 +55,12 @@ bool vvx_shape_parse(const char* s, vvx_shape* out);
  * recorded for undo when none changed. */
 vx_result vvx_apply(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const int64_t c[3], uint64_t* changed,
                     vx_error* err);
+
+/* The scene as a file holds it: ved's scene with every model an
+ * incremental edit changed compacted (vx_svo_model_compact: the builder's
+ * model of its cells; a file holds no superseded words). *out shares the
+ * scene's other arrays; free it with vvx_file_scene_free. */
+vx_result vvx_file_scene(const ved* e, vx_svo_scene* out, vx_error* err);
+void vvx_file_scene_free(const ved* e, vx_svo_scene* out);
 
 #endif
