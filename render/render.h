@@ -255,7 +255,8 @@ void vx_render_scene_destroy(vx_render_scene* rs);
  *    kept records use must not have changed.
  * Waits for the device (one submission; none on devices whose buffers are
  * host visible, unless a region moves or grows). On failure the GPU scene
- * shows the model as before. */
+ * shows the model as before (a failed rebuild of the instance tables leaves
+ * them as a failed vx_render_scene_set_frame does). */
 vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t model,
                                        uint32_t words_from, uint32_t records_from, vx_error* err);
 /* Whether the scene is traced by the float64 variant (a model deeper than

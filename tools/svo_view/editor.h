@@ -92,7 +92,7 @@ typedef struct ved {
     ved_voxels* vox; /* per model, vox_count of them (voxels.c) */
     uint32_t vox_count;
     ved_voxel_step last;
-    bool vox_rebuild; /* tests: every voxel edit decodes and builds the model again (the reference) */
+    bool vox_rebuild; /* tests: every brush edit but the face brush's decodes and builds the model again (the reference) */
 } ved;
 
 void ved_init(ved* e, vx_svo_scene* s);

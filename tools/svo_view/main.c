@@ -87,8 +87,10 @@ _Noreturn static void usage(int status) {
             "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
-            "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
-            "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
+            "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
+            "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
+            "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
+            "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
             "      light N color R G B|position X Y Z|intensity X|range X\n"
             "Examples:\n"
             "    %s castle.vox\n"
@@ -992,11 +994,13 @@ bool sv_set_passes(app* a, const char* list) {
 
 /* The model cell a voxel click edits: for add the empty cell in front of the
  * hit face (the face the pixel's ray enters the hit cell through, found by
- * the slab test in model space with the tracer's own ray), else the hit cell. */
+ * the slab test in model space with the tracer's own ray), else the hit cell;
+ * with the face brush the hit cell and that face (*face, 0..5). */
 static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint32_t y, const vx_render_hit* hit,
-                         vvx_op op, int64_t out[3]) {
+                         vvx_op op, int64_t out[3], uint8_t* face) {
     for (int k = 0; k < 3; k++) out[k] = hit->cell[k];
-    if (op != VVX_ADD) return;
+    bool want_face = a->brush.shape == VVX_FACE;
+    if (op != VVX_ADD && !want_face) return;
     double lo[3], hi[3], wi[12], mi[12];
     vx_svo_scene_world_bounds(&a->scene, lo, hi);
     vx__frame f;
@@ -1022,7 +1026,8 @@ static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint
         double tn = fmin(t1, t2);
         if (tn > best) best = tn, axis = k;
     }
-    if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
+    if (axis >= 0 && want_face) *face = (uint8_t)(2 * axis + (dm[axis] > 0 ? 0 : 1));
+    else if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
 }
 
 /* Renders, converts, overlays and presents one frame. */
@@ -1080,7 +1085,7 @@ static vx_result frame(app* a, vx_error* err) {
                 printf("%s: voxel %s at %u %u: nothing there\n", vx_tool_name, vvx_op_name(op), x, y);
             } else {
                 int64_t c[3];
-                click_target(a, &d, x, y, &hr, op, c);
+                click_target(a, &d, x, y, &hr, op, c, &a->brush.face);
                 a->sel = hit;
                 printf("%s: voxel %s at %u %u: instance %u cell %lld %lld %lld\n", vx_tool_name, vvx_op_name(op), x, y,
                        hit, (long long)c[0], (long long)c[1], (long long)c[2]);
@@ -1527,7 +1532,14 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
             if (!strcmp(tok[1], vvx_op_name((vvx_op)k))) op = (vvx_op)k;
         bool cells = c[0] == 'v' && c[1] == 'o';
-        if (op == VVX_OP_COUNT || nt != (cells ? 5 : 4) || !parse_doubles(tok + 2, cells ? 3 : 2, v)) BAD();
+        static const char* const faces[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+        int face = -1;
+        for (int k = 0; k < 6 && cells && nt == 6; k++)
+            if (!strcmp(tok[5], faces[k])) face = k;
+        if (op == VVX_OP_COUNT || (nt != (cells ? 5 : 4) && !(face >= 0 && nt == 6)) ||
+            !parse_doubles(tok + 2, cells ? 3 : 2, v))
+            BAD();
+        if (face >= 0) a->brush.face = (uint8_t)face;
         if (cells) {
             int64_t p[3];
             for (int k = 0; k < 3; k++) {

@@ -5,7 +5,7 @@
 #include <string.h>
 
 static const char* const op_names[VVX_OP_COUNT] = {"add", "remove", "paint"};
-static const char* const shape_names[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere"};
+static const char* const shape_names[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere", "face"};
 
 const char* vvx_op_name(vvx_op op) { return (unsigned)op < VVX_OP_COUNT ? op_names[op] : "?"; }
 const char* vvx_shape_name(vvx_shape s) { return (unsigned)s < VVX_SHAPE_COUNT ? shape_names[s] : "?"; }
@@ -155,21 +155,137 @@ static bool first_cell(const vx_svo_model* m, vx_svo_cell* out) {
     return true;
 }
 
+/* The model's voxel state with its editor (made at the model's first
+ * incremental edit). */
+static vx_result editor_of(ved* e, uint32_t model, ved_voxels** out, vx_error* err) {
+    vx_svo_scene* s = e->s;
+    ved_voxels* v = voxels_of(e, model, err);
+    if (!v) return VX_ERR_NOMEM;
+    if (!v->ed) {
+        vx_svo_editor_desc dd = {.alloc = s->alloc, .words_in_use = v->arrays.words_in_use,
+                                 .records_in_use = v->arrays.records_in_use};
+        vx_result r = vx_svo_editor_create(&dd, &s->models[model], &v->ed, err);
+        if (r) return r;
+        v->models = s->models;
+    }
+    *out = v;
+    return VX_OK;
+}
+
+/* Applies n writes through the model's editor as one undo step that keeps
+ * the old header; *changed = n (0 on failure: the model is as before). */
+static vx_result apply_writes(ved* e, uint32_t model, ved_voxels* v, const vx_svo_cell_write* w, size_t n,
+                              uint64_t* changed, vx_error* err) {
+    vx_svo_model* m = &e->s->models[model];
+    if (changed) *changed = n;
+    if (!n) return VX_OK;
+    vx_svo_model_header before = vx_svo_model_header_get(m);
+    vx_svo_edit_stats st;
+    vx_result res = vx_svo_editor_apply(v->ed, w, n, &st, err);
+    if (!res && (res = ved_begin(e, err))) vx_svo_model_header_set(m, &before); /* the appends stay unreferenced */
+    if (res) {
+        if (changed) *changed = 0;
+        return res;
+    }
+    ved_snapshot* sn = &e->undo[e->undo_count - 1];
+    sn->has_header = true;
+    sn->model_index = model;
+    sn->header = before;
+    ved_arrays* ar = &v->arrays;
+    if (!ar->edited) ar->edited = true, ar->pristine = before;
+    uint32_t wend = st.words_from + st.words_added, rend = st.records_from + st.records_added;
+    if (wend > ar->words_in_use) ar->words_in_use = wend;
+    if (rend > ar->records_in_use) ar->records_in_use = rend;
+    e->last = (ved_voxel_step){.incremental = true, .model = model, .words_from = st.words_from, .records_from = st.records_from};
+    return VX_OK;
+}
+
+/* The face brush: the cells of the plane region connected to the hit cell
+ * c (4-neighbours in the plane, within the radius) whose face toward n is
+ * exposed (set, and the cell beyond it empty); add extrudes the region by
+ * one layer (each new cell takes the values of the cell under it), remove
+ * takes the region away, paint recolours it. */
+static vx_result apply_face(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const int64_t c[3],
+                            uint64_t* changed, vx_error* err) {
+    vx_svo_scene* s = e->s;
+    const vx_svo_model* m = &s->models[model];
+    if (b->face > 5) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bad face %u (0..5: -x +x -y +y -z +z)", b->face);
+    for (int k = 0; k < 3; k++)
+        if (c[k] < 0 || c[k] >= (int64_t)m->size[k]) return VX_OK; /* no cell there */
+    ved_voxels* v = NULL;
+    vx_result vr = editor_of(e, model, &v, err);
+    if (vr) return vr;
+    int ax = b->face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+    int64_t d = b->face & 1 ? 1 : -1;
+    int64_t R = b->radius ? b->radius : VVX_MAX_RADIUS, side = 2 * R + 1;
+    /* set and exposed toward n */
+#define FACE_AT(p, cell)                                                                                            \
+    (vx_svo_editor_get(v->ed, (uint32_t)(p)[0], (uint32_t)(p)[1], (uint32_t)(p)[2], cell) &&                       \
+     !((p)[ax] + d >= 0 && vx_svo_editor_get(v->ed, (uint32_t)((p)[0] + (ax == 0) * d),                            \
+                                             (uint32_t)((p)[1] + (ax == 1) * d), (uint32_t)((p)[2] + (ax == 2) * d), NULL)))
+    vx_svo_cell cur;
+    if (!FACE_AT(c, &cur)) return VX_OK;
+    if (op == VVX_ADD && c[ax] + d < 0)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "the extrusion would reach below cell 0 of model %u", model);
+    uint8_t* seen = calloc((size_t)(side * side), 1);
+    int64_t* queue = malloc((size_t)(side * side) * 2 * sizeof *queue);
+    vx_svo_cell_write* w = malloc((size_t)(side * side) * sizeof *w);
+    if (!seen || !queue || !w) {
+        free(seen), free(queue), free(w);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a face of radius %lld", (long long)R);
+    }
+    uint8_t pal = b->palette ? b->palette : 1;
+    uint32_t rgba = b->rgba ? b->rgba : 0xFFFFFFFFu;
+    bool has_pal = m->attrs & VX_ATTR_PALETTE, has_rgba = m->attrs & VX_ATTR_RGBA8;
+    size_t qh = 0, qt = 0, n = 0;
+    queue[0] = 0, queue[1] = 0, qt = 1;
+    seen[(size_t)(R * side + R)] = 1;
+    while (qh < qt) {
+        int64_t du = queue[2 * qh], dv = queue[2 * qh + 1];
+        qh++;
+        int64_t p[3];
+        p[ax] = c[ax], p[a1] = c[a1] + du, p[a2] = c[a2] + dv;
+        if (!FACE_AT(p, &cur)) continue;
+        vx_svo_cell_write* o = &w[n];
+        *o = (vx_svo_cell_write){.x = (uint32_t)p[0], .y = (uint32_t)p[1], .z = (uint32_t)p[2], .set = op != VVX_REMOVE,
+                                 .value = cur};
+        if (op == VVX_ADD) {
+            uint32_t* q = &o->x;
+            q[ax] = (uint32_t)(p[ax] + d);
+            n++;
+        } else if (op == VVX_REMOVE) {
+            n++;
+        } else if ((has_pal && cur.palette != pal) || (has_rgba && cur.rgba != rgba)) {
+            o->value.palette = pal, o->value.rgba = rgba;
+            n++;
+        }
+        static const int nb4[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+        for (int q = 0; q < 4; q++) {
+            int64_t u = du + nb4[q][0], vv = dv + nb4[q][1];
+            if (u < -R || u > R || vv < -R || vv > R || c[a1] + u < 0 || c[a2] + vv < 0 ||
+                c[a1] + u >= (int64_t)m->size[a1] || c[a2] + vv >= (int64_t)m->size[a2])
+                continue;
+            uint8_t* sv = &seen[(size_t)((vv + R) * side + (u + R))];
+            if (*sv) continue;
+            *sv = 1;
+            queue[2 * qt] = u, queue[2 * qt + 1] = vv, qt++;
+        }
+    }
+#undef FACE_AT
+    vx_result res = apply_writes(e, model, v, w, n, changed, err);
+    free(seen), free(queue), free(w);
+    return res;
+}
+
 /* The edit through the model's vx_svo_editor: only the paths to the written
  * cells are made again (appended), the undo step keeps the old header. */
 static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const int64_t* cells,
                                    size_t nb, uint64_t* changed, vx_error* err) {
     vx_svo_scene* s = e->s;
-    ved_voxels* v = voxels_of(e, model, err);
-    if (!v) return VX_ERR_NOMEM;
+    ved_voxels* v = NULL;
+    vx_result vr = editor_of(e, model, &v, err);
+    if (vr) return vr;
     vx_svo_model* m = &s->models[model];
-    vx_result res = VX_OK;
-    if (!v->ed) {
-        vx_svo_editor_desc dd = {.alloc = s->alloc, .words_in_use = v->arrays.words_in_use,
-                                 .records_in_use = v->arrays.records_in_use};
-        if ((res = vx_svo_editor_create(&dd, m, &v->ed, err))) return res;
-        v->models = s->models;
-    }
     vx_svo_cell_write* w = malloc((nb ? nb : 1) * sizeof *w);
     if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu brush cells", nb);
     uint8_t pal = b->palette ? b->palette : 1;
@@ -210,31 +326,9 @@ static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_
         if (op != VVX_REMOVE) o->value.palette = pal, o->value.rgba = rgba;
         n++;
     }
-    if (changed) *changed = n;
-    if (!n) {
-        free(w);
-        return VX_OK;
-    }
-    vx_svo_model_header before = vx_svo_model_header_get(m);
-    vx_svo_edit_stats st;
-    res = vx_svo_editor_apply(v->ed, w, n, &st, err);
+    vx_result res = apply_writes(e, model, v, w, n, changed, err);
     free(w);
-    if (!res && (res = ved_begin(e, err))) vx_svo_model_header_set(m, &before); /* the appends stay unreferenced */
-    if (res) {
-        if (changed) *changed = 0;
-        return res;
-    }
-    ved_snapshot* sn = &e->undo[e->undo_count - 1];
-    sn->has_header = true;
-    sn->model_index = model;
-    sn->header = before;
-    ved_arrays* ar = &v->arrays;
-    if (!ar->edited) ar->edited = true, ar->pristine = before;
-    uint32_t wend = st.words_from + st.words_added, rend = st.records_from + st.records_added;
-    if (wend > ar->words_in_use) ar->words_in_use = wend;
-    if (rend > ar->records_in_use) ar->records_in_use = rend;
-    e->last = (ved_voxel_step){.incremental = true, .model = model, .words_from = st.words_from, .records_from = st.records_from};
-    return VX_OK;
+    return res;
 }
 
 vx_result vvx_apply(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const int64_t c[3], uint64_t* changed,
@@ -251,6 +345,7 @@ vx_result vvx_apply(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const
         if (c[k] < -CELL_MAX || c[k] > 2 * CELL_MAX)
             return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "cell %lld,%lld,%lld is too far from model %u",
                            (long long)c[0], (long long)c[1], (long long)c[2], model);
+    if (b->shape == VVX_FACE) return apply_face(e, model, op, b, c, changed, err);
     /* the brush's cells */
     int64_t r = b->shape == VVX_VOXEL ? 0 : b->radius, side = 2 * r + 1;
     size_t cap = (size_t)(side * side * side);

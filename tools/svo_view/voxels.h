@@ -18,6 +18,15 @@
  * instance of the model (every frame) moves back by M * shift, so nothing
  * moves in the world. At most 2^21 cells a side (VX_SVO_MAX_DEPTH).
  *
+ * The face brush (MagicaVoxel's and Goxel's extrude) starts at a set cell
+ * and one of its faces that is exposed (the cell beyond it is empty): the
+ * region is the cells of that plane connected to it by in-plane neighbours
+ * whose same face is exposed, within the radius. add extrudes the region
+ * one layer (each new cell copies the cell under it, colour included),
+ * remove takes the region away (the face pushed in one layer), paint
+ * recolours it. An extrusion below cell 0 is refused (grow the model with
+ * another brush first).
+ *
  * Attributes: an added cell gets the brush colour (a palette index for
  * palette models, RGBA8 for colour models; geometry-only models take no
  * colour) and the other channels (normal, material, density) of the
@@ -34,12 +43,14 @@
 #include "tools/svo_view/editor.h"
 
 typedef enum vvx_op { VVX_ADD = 0, VVX_REMOVE, VVX_PAINT, VVX_OP_COUNT } vvx_op;
-typedef enum vvx_shape { VVX_VOXEL = 0, VVX_BOX, VVX_SPHERE, VVX_SHAPE_COUNT } vvx_shape;
+typedef enum vvx_shape { VVX_VOXEL = 0, VVX_BOX, VVX_SPHERE, VVX_FACE, VVX_SHAPE_COUNT } vvx_shape;
 
 /* Zero-initialised: one cell, palette index 1, opaque white. */
 typedef struct vvx_brush {
     vvx_shape shape;
-    uint32_t radius;  /* box: cells with |d|_inf <= radius; sphere: |d|_2 <= radius (at most 64) */
+    uint32_t radius;  /* box: cells with |d|_inf <= radius; sphere: |d|_2 <= radius; face: the
+                       * region's cells within |d|_inf <= radius in its plane, 0 == 64 (at most 64) */
+    uint8_t face;     /* face: the hit face, 0..5 = -x, +x, -y, +y, -z, +z (model axes) */
     uint8_t palette;  /* palette models; 0 == 1 */
     uint32_t rgba;    /* colour models; 0 == opaque white */
 } vvx_brush;
