@@ -279,15 +279,53 @@ static vx_result apply_face(ved* e, uint32_t model, vvx_op op, const vvx_brush* 
 
 /* The edit through the model's vx_svo_editor: only the paths to the written
  * cells are made again (appended), the undo step keeps the old header. */
+/* The brush's box of cells read at once (vx_svo_editor_get_box): set and
+ * values of cell p at index ((p - lo) . (1, dx, dx dy)). */
+typedef struct box_read {
+    int64_t lo[3], hi[3];
+    uint32_t d[3];
+    bool* set;
+    vx_svo_cell* v;
+} box_read;
+
+static bool box_get(const box_read* r, const int64_t p[3], vx_svo_cell* out) {
+    for (int k = 0; k < 3; k++)
+        if (p[k] < r->lo[k] || p[k] > r->hi[k]) return false;
+    size_t i = ((size_t)(p[2] - r->lo[2]) * r->d[1] + (size_t)(p[1] - r->lo[1])) * r->d[0] + (size_t)(p[0] - r->lo[0]);
+    if (r->set[i] && out) *out = r->v[i];
+    return r->set[i];
+}
+
 static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const int64_t* cells,
-                                   size_t nb, uint64_t* changed, vx_error* err) {
+                                   size_t nb, const int64_t lo[3], const int64_t hi[3], uint64_t* changed, vx_error* err) {
     vx_svo_scene* s = e->s;
     ved_voxels* v = NULL;
     vx_result vr = editor_of(e, model, &v, err);
     if (vr) return vr;
     vx_svo_model* m = &s->models[model];
+    /* the brush's box, and for add its face neighbours, read in one walk */
+    box_read br;
+    size_t bn = 1;
+    uint32_t blo[3], bhi[3];
+    for (int k = 0; k < 3; k++) {
+        int64_t g = op == VVX_ADD ? 1 : 0;
+        br.lo[k] = lo[k] - g < 0 ? 0 : lo[k] - g;
+        br.hi[k] = hi[k] + g;
+        br.d[k] = (uint32_t)(br.hi[k] - br.lo[k] + 1);
+        blo[k] = (uint32_t)br.lo[k], bhi[k] = (uint32_t)br.hi[k];
+        bn *= br.d[k];
+    }
+    br.set = malloc(bn);
+    br.v = malloc(bn * sizeof *br.v);
     vx_svo_cell_write* w = malloc((nb ? nb : 1) * sizeof *w);
-    if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu brush cells", nb);
+    if (!w || !br.set || !br.v) {
+        free(w), free(br.set), free(br.v);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu brush cells", nb);
+    }
+    if ((vr = vx_svo_editor_get_box(v->ed, blo, bhi, br.set, br.v, err))) {
+        free(w), free(br.set), free(br.v);
+        return vr;
+    }
     uint8_t pal = b->palette ? b->palette : 1;
     uint32_t rgba = b->rgba ? b->rgba : 0xFFFFFFFFu;
     bool has_pal = m->attrs & VX_ATTR_PALETTE, has_rgba = m->attrs & VX_ATTR_RGBA8;
@@ -297,7 +335,7 @@ static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_
     for (size_t i = 0; i < nb; i++) {
         uint32_t x = (uint32_t)cells[3 * i], y = (uint32_t)cells[3 * i + 1], z = (uint32_t)cells[3 * i + 2];
         vx_svo_cell cur;
-        bool set = vx_svo_editor_get(v->ed, x, y, z, &cur);
+        bool set = box_get(&br, &cells[3 * i], &cur);
         vx_svo_cell_write* o = &w[n];
         *o = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = op != VVX_REMOVE};
         if (op == VVX_ADD) {
@@ -308,8 +346,7 @@ static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_
             bool found = false;
             for (int q = 0; q < 6 && !found; q++) {
                 int64_t p[3] = {(int64_t)x + nbr[q][0], (int64_t)y + nbr[q][1], (int64_t)z + nbr[q][2]};
-                if (p[0] < 0 || p[1] < 0 || p[2] < 0) continue;
-                found = vx_svo_editor_get(v->ed, (uint32_t)p[0], (uint32_t)p[1], (uint32_t)p[2], &src);
+                found = box_get(&br, p, &src);
             }
             if (!found) {
                 if (!have_first) first_set = first_cell(m, &first), have_first = true;
@@ -326,6 +363,7 @@ static vx_result apply_incremental(ved* e, uint32_t model, vvx_op op, const vvx_
         if (op != VVX_REMOVE) o->value.palette = pal, o->value.rgba = rgba;
         n++;
     }
+    free(br.set), free(br.v);
     vx_result res = apply_writes(e, model, v, w, n, changed, err);
     free(w);
     return res;
@@ -380,7 +418,7 @@ vx_result vvx_apply(ved* e, uint32_t model, vvx_op op, const vvx_brush* b, const
         }
     vx_result res;
     /* cells below 0 shift every key: the model is built again from its cells */
-    if (lo[0] >= 0 && lo[1] >= 0 && lo[2] >= 0 && !e->vox_rebuild) res = apply_incremental(e, model, op, b, cells, nb, changed, err);
+    if (lo[0] >= 0 && lo[1] >= 0 && lo[2] >= 0 && !e->vox_rebuild) res = apply_incremental(e, model, op, b, cells, nb, lo, hi, changed, err);
     else res = apply_rebuild(e, model, op, b, cells, nb, lo, hi, changed, err);
     free(cells);
     return res;
