@@ -322,7 +322,10 @@ static void get_box_node(const vx_svo_model* m, const cref* n, uint32_t L, const
             uint64_t e = (uint64_t)o[k] + side - 1;
             b[k] = e < hi[k] ? (uint32_t)e : hi[k];
         }
-        vx_svo_cell c = {n->rec.palette, n->rec.rgba, n->rec.normal, n->rec.material, n->rec.density};
+        vx_svo_cell c;
+        memset(&c, 0, sizeof c); /* padding too: callers may compare cells bytewise, as vx_svo_editor_get's */
+        c.palette = n->rec.palette, c.rgba = n->rec.rgba, c.normal = n->rec.normal;
+        c.material = n->rec.material, c.density = n->rec.density;
         for (uint32_t z = a[2]; z <= b[2]; z++)
             for (uint32_t y = a[1]; y <= b[1]; y++) {
                 size_t i = ((size_t)(z - lo[2]) * dim[1] + (y - lo[1])) * dim[0] + (a[0] - lo[0]);
