@@ -14,6 +14,13 @@ if(VX_WITH_VULKAN)
     COMMENT "glslangValidator probe_out.comp"
     VERBATIM)
   add_custom_command(
+    OUTPUT ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__probe_filter_spv_arr
+            -o ${VX_PROBES_SPV_DIR}/probe_filter.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_filter.comp
+    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_filter.comp
+    COMMENT "glslangValidator probe_filter.comp"
+    VERBATIM)
+  add_custom_command(
     OUTPUT ${VX_PROBES_SPV_DIR}/probe.comp.h
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
             --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
@@ -32,7 +39,8 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/probe_gpu.c
     ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c
     ${VX_PROBES_SPV_DIR}/probe.comp.h
-    ${VX_PROBES_SPV_DIR}/probe_out.comp.h)
+    ${VX_PROBES_SPV_DIR}/probe_out.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_filter.comp.h)
   target_include_directories(vx_probes PRIVATE ${VX_PROBES_SPV_DIR})
   target_link_libraries(vx_probes PUBLIC vx_render vx_svo Threads::Threads m)
 endif()

@@ -347,13 +347,26 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
             if (n > fr->max_cell) fr->max_cell = n;
         }
     }
-    /* the emission of each attribute record (the order of the scene's colour
-     * buffer), as the gi methods give it: the radiometric model without a gi
-     * pass shows it, and the direct pass knows emissive surfaces by it */
+    vx_result r = vx_frame_renderer_update_scene(fr, scene, err);
+    if (r) {
+        vx_frame_renderer_destroy(fr);
+        return r;
+    }
+    *out = fr;
+    return VX_OK;
+}
+
+/* The emission of each attribute record (the order of the scene's colour
+ * buffer), as the gi methods give it: the radiometric model without a gi
+ * pass shows it, and the direct pass knows emissive surfaces by it. */
+vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err) {
+    if (!fr || !scene) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_gpu* g = fr->g;
     uint8_t* pal = NULL;
     size_t n = 0;
+    float* e = NULL;
     vx_result r = vx__scene_attr_palette(scene, &g->alloc, &pal, &n, err);
-    if (!r && !(fr->scene_emit = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
+    if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
         float by_id[256] = {0};
@@ -361,16 +374,13 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
             uint32_t id = scene->materials[i].id;
             if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
         }
-        for (size_t i = 0; i < n; i++) fr->scene_emit[i] = by_id[pal[i]];
-        fr->scene_emit_count = n;
+        for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
+        vx_free(&g->alloc, fr->scene_emit);
+        fr->scene_emit = e, fr->scene_emit_count = n;
+        fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
     }
     vx_free(&g->alloc, pal);
-    if (r) {
-        vx_frame_renderer_destroy(fr);
-        return r;
-    }
-    *out = fr;
-    return VX_OK;
+    return r;
 }
 
 void vx_frame_renderer_destroy(vx_frame_renderer* fr) {

@@ -206,7 +206,7 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
     vec3 p = uintBitsToFloat(g0.xyz);
     vec3 ps = gb_offset_point(p, nw, g1.y);
     float cell = insts[g1.y].cell;
-    bool emissive = EMIT_KNOWN && g1.w != NO_HIT && emit_attr[g1.w] > 0.0;
+    bool emissive = EMIT_KNOWN && g1.w < uint(emit_attr.length()) && emit_attr[g1.w] > 0.0; // records past the table: none
     vec3 e = vec3(0.0);
     const uint K = SHADOWED > 0u ? SHADOWED : 1u;
     vec3 ke[K], kd[K];
@@ -313,7 +313,7 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
             return vec4(alb * (amb + e), 1.0);
         }
         vec3 rad = vec3(0.0);
-        if (HAS_EMIT && g1.w != NO_HIT) rad += alb * emit_attr[g1.w];
+        if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += alb * emit_attr[g1.w];
         if (HAS_DIRECT) rad += alb / PI * dir.xyz;
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);
         if (HAS_SKY) rad += alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0); // the sky's light times its visibility

@@ -331,8 +331,7 @@ static void checkpoint(coord* c, double interval, double* last, uint32_t* last_c
 }
 
 static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
-    const char* ck_env = getenv("VX_BAKE_CHECKPOINT_S");
-    double interval = ck_env ? atof(ck_env) : 20.0, last_ck = vx_time_now();
+    double interval = checkpoint_interval(), last_ck = vx_time_now();
     uint32_t last_count = c->ps->count;
     for (int r = 1; r < c->nranks; r++)
         for (int k = 0; k < DEPTH; k++) hand_out(c, r);
@@ -496,8 +495,8 @@ int bake_mpi(options* o, const char* in, const char* out) {
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
             if (j.gpu)
-                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
-                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "", o->threads);
+                printf("rank %d (%s): device: %s%s\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
+                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "");
             else
                 printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_mpi.rank, g_mpi.host, o->threads);
             fflush(stdout);

@@ -101,6 +101,7 @@ _Noreturn static void usage(int status) {
     FILE* f = status == 0 ? stdout : stderr;
     fprintf(f,
             "Usage: %s FILE.svo OUT.{png,exr} [options]\n"
+            "       (also .ppm and .pfm; a build without OpenImageIO writes only these)\n"
             "\n"
             "Which: renders a .svo scene with the Vulkan compute tracer (BVH over instances,\n"
             "       sparse voxel octree per model) or with the CPU reference tracer.\n"
@@ -623,12 +624,15 @@ int main(int argc, char** argv) {
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
                       (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
-    bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
+    /* float outputs: .exr, or .pfm (what a build without OpenImageIO writes);
+     * 8-bit: .png, or .ppm */
+    bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR") || !strcmp(ext, "pfm") || !strcmp(ext, "PFM");
     bool one_channel = pipeline ? show == VX_SHOW_DEPTH || show == VX_SHOW_MATERIAL : o.r.mode == VX_RENDER_DEPTH;
     o.img_form = want_float && one_channel ? 1 : want_float || exr ? 3 : 0;
-    if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
+    if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG") && strcmp(ext, "ppm") && strcmp(ext, "PPM"))
+        usage_error("output '%s' must end in .png or .exr (or .ppm, .pfm)", o.out);
     if (want_float && !exr)
-        usage_error("%s %s writes float data: use an .exr output", pipeline ? "--show" : "mode",
+        usage_error("%s %s writes float data: use an .exr (or .pfm) output", pipeline ? "--show" : "mode",
                     pipeline ? vx_show_name(show) : vx_render_mode_name(o.r.mode));
     bool needs_probes = o.probe_mode && vx_probe_render_mode_uses_probes(o.p.mode);
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));

@@ -77,6 +77,25 @@ static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
     }
 }
 
+/* After snap_swap: a voxel step's header, or the editor of a model whose
+ * arrays were swapped (made again at the next voxel edit). */
+static void vox_swap(ved* e, ved_snapshot* sn) {
+    vx_svo_scene* s = e->s;
+    if (sn->has_header && sn->model_index < s->model_count) {
+        vx_svo_model_header h = vx_svo_model_header_get(&s->models[sn->model_index]);
+        vx_svo_model_header_set(&s->models[sn->model_index], &sn->header);
+        sn->header = h;
+    }
+    if (sn->has_model && sn->model_index < e->vox_count) {
+        ved_voxels* v = &e->vox[sn->model_index];
+        vx_svo_editor_destroy(v->ed);
+        v->ed = NULL;
+        ved_arrays t = v->arrays;
+        v->arrays = sn->model_arrays;
+        sn->model_arrays = t;
+    }
+}
+
 void ved_init(ved* e, vx_svo_scene* s) {
     memset(e, 0, sizeof *e);
     e->s = s;
@@ -86,6 +105,10 @@ void ved_free(ved* e) {
     for (uint32_t i = 0; i < e->undo_count; i++) snap_free(e->s->alloc, &e->undo[i]);
     for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
     e->undo_count = e->redo_count = 0;
+    for (uint32_t i = 0; i < e->vox_count; i++) vx_svo_editor_destroy(e->vox[i].ed);
+    vx_free(e->s->alloc, e->vox);
+    e->vox = NULL;
+    e->vox_count = 0;
 }
 
 vx_result ved_begin(ved* e, vx_error* err) {
@@ -108,6 +131,7 @@ bool ved_undo(ved* e, vx_error* err) {
     if (!e->undo_count) return false;
     ved_snapshot sn = e->undo[--e->undo_count];
     snap_swap(e->s, &sn);
+    vox_swap(e, &sn);
     e->redo[e->redo_count++] = sn;
     return true;
 }
@@ -117,6 +141,7 @@ bool ved_redo(ved* e, vx_error* err) {
     if (!e->redo_count) return false;
     ved_snapshot sn = e->redo[--e->redo_count];
     snap_swap(e->s, &sn);
+    vox_swap(e, &sn);
     e->undo[e->undo_count++] = sn;
     return true;
 }

@@ -87,8 +87,10 @@ _Noreturn static void usage(int status) {
             "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
-            "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
-            "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
+            "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
+            "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
+            "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
+            "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
             "      light N color R G B|position X Y Z|intensity X|range X (each an undo step)\n"
             "Examples:\n"
             "    %s castle.vox\n"
@@ -454,17 +456,29 @@ void sv_add(app* a, const char* path) {
     sv_edit_end(a, "add");
 }
 
+/* The file holds the compacted models (vvx_file_scene). */
 void sv_save(app* a, const char* path) {
     vx_error err = {0};
     vx_svo_scene_update_bounds(&a->scene);
-    if (vx_svo_write_file(&a->scene, path, &err)) sv_message(a, true, "%s: %s", path, err.msg);
+    vx_svo_scene fs;
+    vx_result r = vvx_file_scene(&a->ed, &fs, &err);
+    if (!r) {
+        r = vx_svo_write_file(&fs, path, &err);
+        vvx_file_scene_free(&a->ed, &fs);
+    }
+    if (r) sv_message(a, true, "%s: %s", path, err.msg);
     else sv_message(a, false, "saved %s", path);
 }
 
 void sv_export(app* a, const char* path) {
     vx_error err = {0};
     vx_vox_scene vs;
-    vx_result r = vx_conv_svo_to_vox(&a->scene, NULL, &vs, &err);
+    vx_svo_scene fs;
+    vx_result r = vvx_file_scene(&a->ed, &fs, &err);
+    if (!r) {
+        r = vx_conv_svo_to_vox(&fs, NULL, &vs, &err);
+        vvx_file_scene_free(&a->ed, &fs);
+    }
     if (!r) {
         r = vx_vox_write_file(&vs, path, &err);
         vx_vox_scene_free(&vs);
@@ -635,12 +649,49 @@ bool sv_brush_rgba(app* a, uint32_t rgba) {
     return true;
 }
 
+/* After a voxel edit through the model's editor, or the undo or redo of
+ * one: only the model's new words go to the GPU
+ * (vx_render_scene_update_model); the gi methods' and the probes' objects,
+ * which hold per-record tables, are made again at the next frame that needs
+ * them, the pass pipeline's scene facts only when the model's size changed. */
+static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t records_from, const uint32_t size[3]) {
+    if (!a->rs || a->scene.model_count != a->rs_models) {
+        sv_rebuild(a);
+        return;
+    }
+    double t0 = vx_time_now();
+    vx_error err = {0};
+    if (vx_render_scene_update_model(a->rs, &a->scene, model, words_from, records_from, &err)) {
+        sv_message(a, true, "model update: %s", err.msg);
+        sv_rebuild(a);
+        return;
+    }
+    a->update_ms = (vx_time_now() - t0) * 1e3;
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    const uint32_t* ns = a->scene.models[model].size;
+    if (ns[0] != size[0] || ns[1] != size[1] || ns[2] != size[2]) {
+        drop_passes(a);
+        if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+    } else {
+        vx_probe_gi_destroy(a->pgi);
+        a->pgi = NULL;
+        vx_cone_gi_destroy(a->cgi);
+        a->cgi = NULL;
+        /* records appended: the pipeline's emission per record */
+        if (records_from != UINT32_MAX && a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err))
+            sv_message(a, true, "pass pipeline: %s", err.msg);
+    }
+}
+
 bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
     if (a->sel == NO_SEL) {
         sv_message(a, true, "voxel %s: nothing selected", vvx_op_name(op));
         return false;
     }
     uint32_t model = vx_svo_scene_frame_instances(&a->scene, a->anim_frame)[a->sel].model;
+    uint32_t size[3];
+    memcpy(size, a->scene.models[model].size, sizeof size);
     double t0 = vx_time_now();
     uint64_t n = 0;
     vx_error err = {0};
@@ -651,11 +702,13 @@ bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
     double t_model = (vx_time_now() - t0) * 1e3;
     a->cam_default = false;
     if (!n) return true;
-    sv_rebuild(a);
+    const ved_voxel_step* st = &a->ed.last;
+    if (st->incremental) update_model(a, model, st->words_from, st->records_from, size);
+    else sv_rebuild(a);
     if (a->o.verbose)
-        printf("%s: voxel %s at %lld,%lld,%lld: %llu cells (model rebuild %.2f ms, scene upload %.2f ms)\n", vx_tool_name,
-               vvx_op_name(op), (long long)c[0], (long long)c[1], (long long)c[2], (unsigned long long)n, t_model,
-               a->update_ms);
+        printf("%s: voxel %s at %lld,%lld,%lld: %llu cells (model %s %.2f ms, scene update %.2f ms)\n", vx_tool_name,
+               vvx_op_name(op), (long long)c[0], (long long)c[1], (long long)c[2], (unsigned long long)n,
+               st->incremental ? "edit" : "decode + rebuild", t_model, a->update_ms);
     return true;
 }
 
@@ -685,7 +738,9 @@ void sv_undo(app* a, bool redo) {
     a->light_serial++;          /* the step may hold other lights */
     /* the step just swapped went to the other list: did it hold a model? */
     const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
-    if (sn->has_model) sv_rebuild(a);
+    if (sn->has_header) /* a header restored: the words are on the GPU (or uploaded if it never had them) */
+        update_model(a, sn->model_index, UINT32_MAX, UINT32_MAX, sn->header.size);
+    else if (sn->has_model) sv_rebuild(a);
     else update_instances(a);
     if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, redo ? "redo" : "undo", a->update_ms);
 }
@@ -1024,11 +1079,13 @@ bool sv_set_passes(app* a, const char* list) {
 
 /* The model cell a voxel click edits: for add the empty cell in front of the
  * hit face (the face the pixel's ray enters the hit cell through, found by
- * the slab test in model space with the tracer's own ray), else the hit cell. */
+ * the slab test in model space with the tracer's own ray), else the hit cell;
+ * with the face brush the hit cell and that face (*face, 0..5). */
 static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint32_t y, const vx_render_hit* hit,
-                         vvx_op op, int64_t out[3]) {
+                         vvx_op op, int64_t out[3], uint8_t* face) {
     for (int k = 0; k < 3; k++) out[k] = hit->cell[k];
-    if (op != VVX_ADD) return;
+    bool want_face = a->brush.shape == VVX_FACE;
+    if (op != VVX_ADD && !want_face) return;
     double lo[3], hi[3], wi[12], mi[12];
     vx_svo_scene_world_bounds(&a->scene, lo, hi);
     vx__frame f;
@@ -1054,7 +1111,8 @@ static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint
         double tn = fmin(t1, t2);
         if (tn > best) best = tn, axis = k;
     }
-    if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
+    if (axis >= 0 && want_face) *face = (uint8_t)(2 * axis + (dm[axis] > 0 ? 0 : 1));
+    else if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
 }
 
 /* Renders, converts, overlays and presents one frame. */
@@ -1112,7 +1170,7 @@ static vx_result frame(app* a, vx_error* err) {
                 printf("%s: voxel %s at %u %u: nothing there\n", vx_tool_name, vvx_op_name(op), x, y);
             } else {
                 int64_t c[3];
-                click_target(a, &d, x, y, &hr, op, c);
+                click_target(a, &d, x, y, &hr, op, c, &a->brush.face);
                 a->sel = hit;
                 printf("%s: voxel %s at %u %u: instance %u cell %lld %lld %lld\n", vx_tool_name, vvx_op_name(op), x, y,
                        hit, (long long)c[0], (long long)c[1], (long long)c[2]);
@@ -1559,7 +1617,14 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
             if (!strcmp(tok[1], vvx_op_name((vvx_op)k))) op = (vvx_op)k;
         bool cells = c[0] == 'v' && c[1] == 'o';
-        if (op == VVX_OP_COUNT || nt != (cells ? 5 : 4) || !parse_doubles(tok + 2, cells ? 3 : 2, v)) BAD();
+        static const char* const faces[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+        int face = -1;
+        for (int k = 0; k < 6 && cells && nt == 6; k++)
+            if (!strcmp(tok[5], faces[k])) face = k;
+        if (op == VVX_OP_COUNT || (nt != (cells ? 5 : 4) && !(face >= 0 && nt == 6)) ||
+            !parse_doubles(tok + 2, cells ? 3 : 2, v))
+            BAD();
+        if (face >= 0) a->brush.face = (uint8_t)face;
         if (cells) {
             int64_t p[3];
             for (int k = 0; k < 3; k++) {

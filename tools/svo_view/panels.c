@@ -97,7 +97,7 @@ static void brush_panel(app* a) {
     vx_svo_scene* s = &a->scene;
     ui_checkbox("voxel mode (B)", &a->voxel_mode);
     ui_text("click: add  Shift: remove  Alt: paint");
-    static const char* const shapes[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere"};
+    static const char* const shapes[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere", "face"};
     int shape = (int)a->brush.shape, radius = (int)a->brush.radius;
     if (ui_combo("brush", &shape, shapes, VVX_SHAPE_COUNT)) a->brush.shape = (vvx_shape)shape;
     if (a->brush.shape != VVX_VOXEL && ui_slider_int("radius", &radius, 0, 16)) a->brush.radius = (uint32_t)radius;
