@@ -194,17 +194,15 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
 
 static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
     memset(p, 0, sizeof *p);
-    const vx_sky* k3 = &L->sky_dir;
     for (int k = 0; k < 3; k++) {
         p->light[k] = (float)L->light_dir[k];
         p->sun[k] = (float)L->sun[k];
-        p->sky[k] = (float)(k3->type == VX_SKY_GRADIENT ? k3->color[k] : L->sky[k]);
-        p->skyh[k] = (float)k3->horizon[k];
-        p->skyg[k] = (float)k3->ground[k];
     }
-    p->skyh[3] = k3->type == VX_SKY_GRADIENT ? 1.0f : k3->type == VX_SKY_ENVMAP ? 2.0f : 0.0f;
-    p->skyg[3] = (float)k3->intensity;
-    p->skym[0] = (float)k3->rotation, p->skym[1] = (float)L->sky_map.width, p->skym[2] = (float)L->sky_map.height;
+    /* render/shaders/sky.glsl's parameters, packed as the pass pipeline packs them */
+    float sk[16];
+    vx__sky_pack(&L->sky_dir, &L->sky_map, L->sky, sk);
+    memcpy(p->sky, sk, sizeof p->sky), memcpy(p->skyh, sk + 4, sizeof p->skyh);
+    memcpy(p->skyg, sk + 8, sizeof p->skyg), memcpy(p->skym, sk + 12, sizeof p->skym);
     p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32);
 }
 

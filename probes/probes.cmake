@@ -25,7 +25,7 @@ if(VX_WITH_VULKAN)
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
             --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
     COMMENT "glslangValidator probe.comp"
     VERBATIM)
   add_library(vx_probes STATIC

@@ -371,6 +371,49 @@ static uint8_t* scene_bytes(const ved* e, const vx_svo_scene* s, size_t* n) {
     return r ? NULL : b;
 }
 
+/* The corpus scene with two lights and a gradient sky (lights allocated as
+ * the reader does, so the editor's undo may swap them). */
+static bool scene_with_lights(vx_svo_scene* s) {
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in || !load_vox(in, s)) return false;
+    s->lights = vx_calloc(s->alloc, 2, sizeof *s->lights);
+    if (!s->lights) return false;
+    s->light_count = 2;
+    s->lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {4, 5, 20}, .color = {1, 0.9, 0.8}, .intensity = 300};
+    s->lights[1] = (vx_light){.type = VX_LIGHT_DIRECTIONAL, .direction = {0, 0, 1}, .color = {1, 1, 1},
+                              .intensity = 2};
+    s->sky = (vx_sky){.type = VX_SKY_GRADIENT, .color = {0.2, 0.3, 0.6}, .horizon = {0.7, 0.7, 0.8}, .ground = {0.1, 0.1, 0.1}};
+    return true;
+}
+
+/* Light edits are undo steps: edit, undo gives the scene's bytes back, redo the edit's. */
+static void test_editor_lights(void) {
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    size_t n0, n1, n2, n3;
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    vx_error err = {0};
+    REQUIRE(ved_begin(&e, &err) == VX_OK);
+    s.lights[0].color[0] = 0.25, s.lights[0].intensity = 7;
+    s.sky.color[2] = 0.9;
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
+    REQUIRE(b1);
+    CHECK(n1 != n0 || memcmp(b0, b1, n0));
+    CHECK(ved_undo(&e, &err));
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
+    CHECKF(b2 && n2 == n0 && !memcmp(b0, b2, n0), "undo of a light edit: %zu bytes, the original %zu, or other bytes", n2, n0);
+    CHECK(ved_redo(&e, &err));
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
+    CHECKF(b3 && n3 == n1 && !memcmp(b1, b3, n1), "redo of a light edit gives other bytes");
+    CHECK(s.lights[0].intensity == 7 && s.sky.color[2] == 0.9);
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
 static void test_editor_voxels(void) {
     vx_svo_scene s, orig;
     make_scene(&s, 3);
@@ -876,6 +919,50 @@ static void test_scripted_edit(void) {
     vx_svo_scene_free(&got);
 }
 
+/* svo_view's script edits a light (two steps), undoes both and saves: the
+ * file's bytes are the unedited save's; redo brings the last edit back. */
+static void test_scripted_light_undo(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], plain[1024], undone[1024], redone[1024], log[1024];
+    path(in, sizeof in, "lights.svo");
+    path(script, sizeof script, "lights.txt");
+    path(plain, sizeof plain, "lights_plain.svo");
+    path(undone, sizeof undone, "lights_undone.svo");
+    path(redone, sizeof redone, "lights_redone.svo");
+    path(log, sizeof log, "lights.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(plain), remove(undone), remove(redone);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "save %s\nlight 0 color 0.1 0.2 0.3\nlight 0 intensity 42\nlight 1 intensity 0.5\nundo\nundo\nundo\n"
+               "save %s\nredo\nsave %s\nquit\n", plain, undone, redone);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    if (rc != 0) {
+        char* t = slurp(log);
+        fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+    }
+    REQUIRE(rc == 0);
+    char *a = slurp(plain), *b = slurp(undone);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(plain, &sa) && !stat(undone, &sb) && sa.st_size == sb.st_size &&
+               !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing the light edits the saved file differs from the unedited save");
+    free(a), free(b);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, redone, &got, &err) == VX_OK);
+    CHECKF(got.light_count == 2 && got.lights[0].color[0] == 0.1 && got.lights[0].color[2] == 0.3 &&
+               got.lights[0].intensity == 300,
+           "redo: light 0 is not the first edit's (colour %g,%g,%g, intensity %g)", got.lights[0].color[0],
+           got.lights[0].color[1], got.lights[0].color[2], got.lights[0].intensity);
+    vx_svo_scene_free(&got);
+}
+
 /* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
 static double image_diff_cols(const char* pa, const char* pb, uint32_t x0, uint32_t x1) {
     uint32_t w1, h1, c1, w2, h2, c2;
@@ -1021,6 +1108,48 @@ static double image_diff(const char* pa, const char* pb) {
     vx_free(NULL, p1);
     vx_free(NULL, p2);
     return (double)bad / (double)n;
+}
+
+/* The file's lights reach gi=pathtrace and gi=cones in the viewer (as in
+ * svo_render: the frame refuses a gi method made without its lights), and a
+ * light edit and its undo remake the method: the frames differ after the
+ * edit and come back after the undo. */
+static void test_scripted_lights_gi(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], log[1024], shot[3][1024];
+    path(in, sizeof in, "lights_gi.svo");
+    path(script, sizeof script, "lights_gi.txt");
+    path(log, sizeof log, "lights_gi.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    const char* methods[2] = {"pathtrace", "cones"};
+    for (int m = 0; m < 2; m++) {
+        for (int k = 0; k < 3; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "lights_gi_%s_%d.png", methods[m], k);
+            path(shot[k], sizeof shot[k], name);
+            remove(shot[k]);
+        }
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        fprintf(f, "passes gbuffer,direct,gi=%s\nscreenshot %s\nlight 1 intensity 0.2\nscreenshot %s\nundo\n"
+                   "screenshot %s\nquit\n", methods[m], shot[0], shot[1], shot[2]);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+        char* t = slurp(log);
+        bool refused = t && strstr(t, "not made with the frame's lights");
+        if (rc != 0 || refused) fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+        CHECKF(rc == 0 && !refused, "gi=%s with the file's lights: rc %d%s", methods[m], rc, refused ? ", refused" : "");
+        double d01 = image_diff(shot[0], shot[1]), d02 = image_diff(shot[0], shot[2]);
+        fprintf(stderr, "  gi=%s: %.1f%% of pixels change with the light, %.1f%% after its undo\n", methods[m], d01 * 100,
+                d02 * 100);
+        CHECKF(d01 > 0.003 && d01 <= 1, "gi=%s: the light edit changes %.3f of the pixels (the scene covers a few %%)", methods[m], d01);
+        CHECKF(d02 <= 0.01, "gi=%s: after the undo %.3f of the pixels differ", methods[m], d02);
+    }
 }
 
 static void test_screenshot_matches_svo_render(void) {
@@ -1374,6 +1503,7 @@ int main(int argc, char** argv) {
     if (argc == 2 && !strcmp(argv[1], "--editor")) { /* the leak-checked part: no window, no driver */
         RUN(test_editor_ops);
         RUN(test_editor_voxels);
+        RUN(test_editor_lights);
         RUN(test_editor_frames);
         RUN(test_editor_random);
         RUN(test_editor_incremental);
@@ -1395,6 +1525,8 @@ int main(int argc, char** argv) {
     }
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
+    RUN(test_scripted_light_undo);
+    RUN(test_scripted_lights_gi);
     RUN(test_scripted_voxels);
     RUN(test_scripted_face);
     RUN(test_vclick);

@@ -8,6 +8,7 @@ static void snap_free(const vx_allocator* a, ved_snapshot* sn) {
     vx_free(a, sn->inst);
     vx_free(a, sn->frame_inst);
     vx_free(a, sn->layer_flags);
+    vx_free(a, sn->lights);
     if (sn->has_model) vx_svo_model_free(a, &sn->model);
     memset(sn, 0, sizeof *sn);
 }
@@ -18,18 +19,21 @@ static size_t frame_records(const vx_svo_scene* s) {
 }
 
 static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* err) {
-    ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count};
+    ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count,
+                       .light_count = s->light_count, .sky = s->sky};
     size_t nf = frame_records(s);
     sn.inst = vx_calloc(s->alloc, s->instance_count ? s->instance_count : 1, sizeof *sn.inst);
     sn.frame_inst = nf ? vx_calloc(s->alloc, nf, sizeof *sn.frame_inst) : NULL;
     sn.layer_flags = vx_calloc(s->alloc, s->layer_count ? s->layer_count : 1, sizeof *sn.layer_flags);
-    if (!sn.inst || !sn.layer_flags || (nf && !sn.frame_inst)) {
+    sn.lights = s->light_count ? vx_calloc(s->alloc, s->light_count, sizeof *sn.lights) : NULL;
+    if (!sn.inst || !sn.layer_flags || (nf && !sn.frame_inst) || (s->light_count && !sn.lights)) {
         snap_free(s->alloc, &sn);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for an undo step of %u instances",
                        s->instance_count);
     }
     if (s->instance_count) memcpy(sn.inst, s->instances, (size_t)s->instance_count * sizeof *sn.inst);
     if (nf) memcpy(sn.frame_inst, s->frame_instances, nf * sizeof *sn.frame_inst);
+    if (s->light_count) memcpy(sn.lights, s->lights, (size_t)s->light_count * sizeof *sn.lights);
     sn.frame_count = nf ? s->frame_count : 0;
     for (uint32_t l = 0; l < s->layer_count; l++) sn.layer_flags[l] = s->layers[l].flags;
     *out = sn;
@@ -50,6 +54,15 @@ static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
     s->frame_count = sn->frame_count;
     sn->frame_inst = fi;
     sn->frame_count = fc;
+    vx_light* lights = s->lights;
+    uint32_t nl = s->light_count;
+    s->lights = sn->lights;
+    s->light_count = sn->light_count;
+    sn->lights = lights;
+    sn->light_count = nl;
+    vx_sky sky = s->sky;
+    s->sky = sn->sky;
+    sn->sky = sky;
     /* layers are never added or removed, only flagged */
     for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
         uint32_t f = s->layers[l].flags;

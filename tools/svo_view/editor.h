@@ -24,8 +24,9 @@
  * duplicate and delete add or remove record i in every frame; an added file
  * is placed, still, in every frame. Frame 0 is always s->instances.
  *
- * Undo: ved_begin() snapshots the instances (every frame) and the layer
- * flags before an edit; ved_undo()/ved_redo() swap snapshots. A voxel edit
+ * Undo: ved_begin() snapshots the instances (every frame), the layer
+ * flags, the lights and the sky before an edit; ved_undo()/ved_redo() swap
+ * snapshots. A voxel edit
  * (voxels.h) also keeps the model's previous header (svo/edit.h: the
  * editor only appends, so restoring the header is the undo), or, for an
  * edit that rebuilt the model, parks its previous octree. Models
@@ -59,6 +60,9 @@ typedef struct ved_snapshot {
     uint32_t frame_count;
     uint32_t* layer_flags;
     uint32_t layer_count;
+    vx_light* lights; /* the scene's lights (few: copied whole at every step) */
+    uint32_t light_count;
+    vx_sky sky;
     bool has_model;        /* a voxel edit: `model` is models[model_index] as it was */
     uint32_t model_index;
     vx_svo_model model;
