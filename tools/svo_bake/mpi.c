@@ -74,7 +74,7 @@ static void save_batch(const bake_job* j, const vx_probe_set* v, double* seconds
         (int)sizeof path)
         die("%s: name too long", j->ckdir);
     vx_error err = {0};
-    if (vx_probe_write_file(v, path, &err)) die("batch checkpoint %s", err.msg);
+    if (vx_probe_write_file(NULL, v, path, &err)) die("batch checkpoint %s", err.msg);
     remember(path);
     *seconds += vx_time_now() - t;
 }
@@ -324,7 +324,7 @@ static void checkpoint(coord* c, double interval, double* last, uint32_t* last_c
     double now = vx_time_now();
     if (now - *last < interval) return;
     vx_error err = {0};
-    if (vx_probe_write_file(c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
+    if (vx_probe_write_file(NULL, c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
     *last = vx_time_now();
     *last_count = c->ps->count;
     c->st[ST_COMM] += *last - now;
@@ -553,7 +553,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     st[ST_WALL] = vx_time_now() - t_start;
     if (g_mpi.rank == 0) {
         t = vx_time_now();
-        if (vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
+        if (vx_probe_write_file(NULL, &ps, out, &err)) rc = vx_tool_error(out, &err);
         t_write = vx_time_now() - t;
         if (!rc) remove(j.ckpath);
     }

@@ -454,7 +454,7 @@ void sv_add(app* a, const char* path) {
 void sv_save(app* a, const char* path) {
     vx_error err = {0};
     vx_svo_scene_update_bounds(&a->scene);
-    if (vx_svo_write_file(&a->scene, path, &err)) sv_message(a, true, "%s: %s", path, err.msg);
+    if (vx_svo_write_file(NULL, &a->scene, path, &err)) sv_message(a, true, "%s: %s", path, err.msg);
     else sv_message(a, false, "saved %s", path);
 }
 
@@ -463,7 +463,7 @@ void sv_export(app* a, const char* path) {
     vx_vox_scene vs;
     vx_result r = vx_conv_svo_to_vox(&a->scene, NULL, &vs, &err);
     if (!r) {
-        r = vx_vox_write_file(&vs, path, &err);
+        r = vx_vox_write_file(NULL, &vs, path, &err);
         vx_vox_scene_free(&vs);
     }
     if (r) sv_message(a, true, "%s: %s", path, err.msg);
