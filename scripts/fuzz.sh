@@ -107,7 +107,9 @@ for t in $targets; do
         continue
     fi
     # executions, coverage, corpus: the last status line and the final stats
-    grep -E '^#[0-9]+[[:space:]]+DONE' "build-fuzz/$t.log" | tail -n 1 || true
+    # (with VX_FUZZ_JOBS > 1 the parent's last "#N: cov: ..." line, which
+    # counts the timeouts and out-of-memory inputs the jobs skipped)
+    grep -E '^#[0-9]+[[:space:]]+DONE|^#[0-9]+: cov:' "build-fuzz/$t.log" | tail -n 1 || true
     grep -E '^stat::(number_of_executed_units|slowest_unit_time_sec|peak_rss_mb)' "build-fuzz/$t.log" || true
 done
 exit $status
