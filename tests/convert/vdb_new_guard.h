@@ -7,7 +7,8 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-/* While on, every block from operator new is listed until it is deleted. */
+/* While on, every block that code of the executable or of libopenvdb gets
+ * from operator new is listed until it is deleted. */
 void vx_test_new_track(bool on);
 /* Frees the listed blocks (operator new blocks made while tracking that were
  * never deleted) and returns their count. Only between calls into OpenVDB:

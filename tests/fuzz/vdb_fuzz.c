@@ -10,9 +10,11 @@
  * are reclaimed, so a campaign's memory stays flat and LeakSanitizer, which
  * libFuzzer runs when an input ends with more mallocs than frees, is left to
  * find leaks of ours. After a successful one nothing may be left (what
- * OpenVDB allocates once on first use is kept). The crash regression input
- * tests/fuzz/regress/vdb/reclaim-before-init.vdb is a file that fails
- * after OpenVDB's initialisation. */
+ * OpenVDB allocates once on first use is kept). The regression inputs
+ * tests/fuzz/regress/vdb/reclaim-*.vdb are the two files whose runs freed
+ * blocks still in use (OpenVDB's type registry; TBB's scheduler, now left
+ * alone as vdb_new_guard.cpp lists only blocks asked for by this program's
+ * and libopenvdb's code). */
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
