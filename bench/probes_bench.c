@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
                        t / ps.probe_count);
                 if (out_path) {
                     double tw = vx_time_now();
-                    if (vx_probe_write_file(&ps, out_path, &err)) fprintf(stderr, "%s: %s\n", out_path, err.msg), rc = 1;
+                    if (vx_probe_write_file(NULL, &ps, out_path, &err)) fprintf(stderr, "%s: %s\n", out_path, err.msg), rc = 1;
                     else printf("wrote %s in %.3f s\n", out_path, vx_time_now() - tw);
                 }
                 printf("process so far %.3f s\n", vx_time_now() - tp0);

@@ -39,7 +39,7 @@ static int animate(const char* in, const char* out, uint32_t frames) {
     for (uint32_t f = 1; f < frames; f++)
         for (uint32_t i = 0; i < s.instance_count; i++) s.frame_instances[(size_t)(f - 1) * s.instance_count + i].xform[3] += f;
     s.frame_rate = 24;
-    vx_result r = vx_svo_write_file(&s, out, &err);
+    vx_result r = vx_svo_write_file(NULL, &s, out, &err);
     if (r) fprintf(stderr, "%s\n", err.msg);
     vx_svo_scene_free(&s);
     return r ? 1 : 0;

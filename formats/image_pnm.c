@@ -47,7 +47,7 @@ vx_result vx__image_pnm_write(const char* path, const vx_image_desc* img, vx_err
                                     img->height);
     size_t row = (size_t)img->width * want * (f32 ? 4 : 1); /* at most 65536 * 3 * 4 */
     vx_atomic_file af;
-    vx_result r = vx_atomic_open(&af, path, err);
+    vx_result r = vx_atomic_open(&af, path, NULL, err);
     if (r != VX_OK) return r;
     bool ok = vx_atomic_write(&af, head, (size_t)hn);
     for (uint32_t y = 0; ok && y < img->height; y++) {

@@ -121,13 +121,14 @@ vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint
     return VX_OK;
 }
 
-vx_result vx_probe_write_file(const vx_probe_set* ps, const char* path, vx_error* err) {
+vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps, const char* path, vx_error* err) {
+    const vx_allocator* a = desc ? desc->alloc : NULL;
     uint8_t* data = NULL;
     size_t size = 0;
-    vx_result r = vx_probe_write(ps, NULL, &data, &size, err);
+    vx_result r = vx_probe_write(ps, a, &data, &size, err);
     if (r) return r;
-    r = vx_file_write_atomic(path, data, size, err);
-    vx_free(NULL, data);
+    r = vx_file_write_atomic(path, a, data, size, err);
+    vx_free(a, data);
     return r;
 }
 

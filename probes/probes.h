@@ -6,7 +6,7 @@
  *
  * Usage:
  *   vx_probe_set ps; vx_probe_bake(&scene, &(vx_probe_bake_desc){ .res = 32 }, &ps, &err);
- *   vx_probe_write_file(&ps, "out.probes", &err);  ...  vx_probe_set_free(&ps);
+ *   vx_probe_write_file(NULL, &ps, "out.probes", &err);  ...  vx_probe_set_free(&ps);
  *   vx_probe_read_file(NULL, "out.probes", &ps, &err);
  *   vx_probe_render(&scene, &ps, &(vx_probe_render_desc){ .mode = VX_PROBE_RENDER_GI }, &img, &err);
  *
@@ -255,7 +255,9 @@ typedef struct vx_probe_read_desc {
 /* Serialises (docs/FORMAT.md, "## .probes"); *out freed with vx_free(alloc, ...). */
 vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint8_t** out, size_t* out_size,
                          vx_error* err);
-vx_result vx_probe_write_file(const vx_probe_set* ps, const char* path, vx_error* err);
+/* The same through a temporary file renamed over path; desc may be NULL
+ * (svo/core.h). */
+vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps, const char* path, vx_error* err);
 /* Bounded reader: every length and CRC checked; errors name the byte offset. */
 vx_result vx_probe_read(const vx_probe_read_desc* desc, const void* data, size_t size, vx_probe_set* out,
                         vx_error* err);

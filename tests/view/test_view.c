@@ -933,7 +933,7 @@ static void test_scripted_light_undo(void) {
     path(redone, sizeof redone, "lights_redone.svo");
     path(log, sizeof log, "lights.log");
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
     vx_svo_scene_free(&s);
     remove(plain), remove(undone), remove(redone);
     FILE* f = fopen(script, "w");
@@ -1004,7 +1004,7 @@ static void test_scripted_voxels(void) {
     path(grab, sizeof grab, "voxels_grab.png");
     path(shot, sizeof shot, "voxels_shot.png");
     remove(out);
-    REQUIRE(vx_svo_write_file(&orig, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &orig, in, NULL) == VX_OK);
     FILE* f = fopen(script, "w");
     REQUIRE(f);
     fprintf(f,
@@ -1060,7 +1060,7 @@ static void test_scripted_face(void) {
     path(out, sizeof out, "face_out.svo");
     path(log, sizeof log, "face.log");
     remove(out);
-    REQUIRE(vx_svo_write_file(&s, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
     FILE* f = fopen(script, "w");
     REQUIRE(f);
     fprintf(f, "select 0\nbrush face\nvoxel add 1 1 2 +z\nvoxel add 9 4 0 +x\nbrush face 1\ncolor 3\n"
@@ -1123,7 +1123,7 @@ static void test_scripted_lights_gi(void) {
     path(script, sizeof script, "lights_gi.txt");
     path(log, sizeof log, "lights_gi.log");
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(&s, in, &err) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
     vx_svo_scene_free(&s);
     const char* methods[2] = {"pathtrace", "cones"};
     for (int m = 0; m < 2; m++) {
@@ -1162,7 +1162,7 @@ static void test_screenshot_matches_svo_render(void) {
     path(log, sizeof log, "shot.log");
     vx_svo_scene s;
     REQUIRE(load_vox(in, &s));
-    REQUIRE(vx_svo_write_file(&s, svo, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, svo, NULL) == VX_OK);
     vx_svo_scene_free(&s);
     const char* modes[] = {"color", "instance"};
     for (int m = 0; m < 2; m++) {
@@ -1329,15 +1329,15 @@ static void test_gi_mode(void) {
     /* a tiny bake through the probes API (CPU): what svo_bake --grid 2,2,2 --res 16 --spp 4 --cpu writes */
     vx_svo_scene s;
     REQUIRE(load_vox(in, &s));
-    REQUIRE(vx_svo_write_file(&s, svo, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, svo, NULL) == VX_OK);
     vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 4, .seed = 1};
     vx_probe_set ps, part;
     vx_error err = {0};
     REQUIRE(vx_probe_bake(&s, &bd, &ps, &err) == VX_OK);
-    REQUIRE(vx_probe_write_file(&ps, probes, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(NULL, &ps, probes, &err) == VX_OK);
     bd.first = 0, bd.count = 4; /* half the grid: a shard, which the viewer must refuse */
     REQUIRE(vx_probe_bake(&s, &bd, &part, &err) == VX_OK);
-    REQUIRE(vx_probe_write_file(&part, shard, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(NULL, &part, shard, &err) == VX_OK);
     vx_probe_set_free(&part);
     /* a truncated copy */
     uint8_t* bytes = NULL;
@@ -1454,7 +1454,7 @@ static void test_vclick(void) {
     path(shot, sizeof shot, "vclick_shot.png");
     path(script, sizeof script, "vclick.txt");
     path(log, sizeof log, "vclick.log");
-    REQUIRE(vx_svo_write_file(&s, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
     REQUIRE(run_cmd("%s %s --screenshot %s --size 160x120 --hidden > %s 2>&1", g_view, in, shot, log) == 0);
     uint32_t bx, by;
     REQUIRE(object_pixel(shot, &bx, &by));

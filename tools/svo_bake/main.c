@@ -199,7 +199,7 @@ static int do_merge(const char* out, char** parts, int n) {
     }
     vx_probe_set m = {0};
     if (!rc && vx_probe_merge(ptrs, (uint32_t)n, NULL, &m, &err)) rc = vx_tool_error(out, &err);
-    if (!rc && vx_probe_write_file(&m, out, &err)) rc = vx_tool_error(out, &err);
+    if (!rc && vx_probe_write_file(NULL, &m, out, &err)) rc = vx_tool_error(out, &err);
     if (!rc) printf("merged %d parts: %u probes -> %s\n", n, m.probe_count, out);
     vx_probe_set_free(&m);
     for (int i = 0; i < loaded; i++) vx_probe_set_free(&sets[i]);
@@ -428,7 +428,7 @@ static int bake_single(bake_job* j) {
         double now = vx_time_now(), dt = now - t_step;
         if (ps.first + ps.count < end) {
             if (now - t_ck >= interval) {
-                if (vx_probe_write_file(&ps, j->ckpath, &err)) {
+                if (vx_probe_write_file(NULL, &ps, j->ckpath, &err)) {
                     rc = vx_tool_error(j->ckpath, &err);
                     break;
                 }
@@ -439,7 +439,7 @@ static int bake_single(bake_job* j) {
     }
     if (!o->quiet && isatty(2)) fprintf(stderr, "\n");
     double t_bake = vx_time_now() - t0;
-    if (!rc && vx_probe_write_file(&ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (!rc && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
     if (!rc) {
         remove(j->ckpath);
         printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",

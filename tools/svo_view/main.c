@@ -463,7 +463,7 @@ void sv_save(app* a, const char* path) {
     vx_svo_scene fs;
     vx_result r = vvx_file_scene(&a->ed, &fs, &err);
     if (!r) {
-        r = vx_svo_write_file(&fs, path, &err);
+        r = vx_svo_write_file(NULL, &fs, path, &err);
         vvx_file_scene_free(&a->ed, &fs);
     }
     if (r) sv_message(a, true, "%s: %s", path, err.msg);
@@ -480,7 +480,7 @@ void sv_export(app* a, const char* path) {
         vvx_file_scene_free(&a->ed, &fs);
     }
     if (!r) {
-        r = vx_vox_write_file(&vs, path, &err);
+        r = vx_vox_write_file(NULL, &vs, path, &err);
         vx_vox_scene_free(&vs);
     }
     if (r) sv_message(a, true, "%s: %s", path, err.msg);
