@@ -6,20 +6,16 @@ if(VX_WITH_VULKAN)
   # with photons/); embedded as a C array like render's.
   set(VX_PROBES_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_PROBES_SPV_DIR})
-  add_custom_command(
-    OUTPUT ${VX_PROBES_SPV_DIR}/probe_out.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__probe_out_spv_arr
-            -o ${VX_PROBES_SPV_DIR}/probe_out.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_out.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_out.comp
-    COMMENT "glslangValidator probe_out.comp"
-    VERBATIM)
-  add_custom_command(
-    OUTPUT ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__probe_filter_spv_arr
-            -o ${VX_PROBES_SPV_DIR}/probe_filter.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_filter.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_filter.comp
-    COMMENT "glslangValidator probe_filter.comp"
-    VERBATIM)
+  # the shaders that include nothing: one rule each
+  foreach(name probe_out probe_filter)
+    add_custom_command(
+      OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${name}_spv_arr
+              -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
+      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
+      COMMENT "glslangValidator ${name}.comp"
+      VERBATIM)
+  endforeach()
   add_custom_command(
     OUTPUT ${VX_PROBES_SPV_DIR}/probe.comp.h
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
