@@ -41,7 +41,7 @@ F="-fsanitize=fuzzer-no-link,address,undefined"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVX_FUZZ=ON \
     -DCMAKE_C_FLAGS="$F" -DCMAKE_CXX_FLAGS="$F" \
     -DVX_WITH_VULKAN=OFF -DVX_WITH_OPENVDB=ON -DVX_WITH_OIIO=OFF >/dev/null
-want=${*:-vox_fuzz svo_fuzz gltf_fuzz probes_fuzz vdb_fuzz}
+want=${*:-vox_fuzz svo_fuzz gltf_fuzz probes_fuzz vdb_fuzz pnm_fuzz}
 targets=""
 for t in $want; do
     if cmake --build build-fuzz --target "$t" -j"$(nproc)" >"build-fuzz/build-$t.log" 2>&1; then
