@@ -19,14 +19,22 @@ layout(std430, binding = 22) readonly buffer ConeP {
     vec4 origin;     // xyz: the volume's world corner relative to the frame reference, w: level-0 voxel side
     uvec4 info;      // x: levels, y: entries per voxel, z: samples per face side, w: 0
     vec4 cone;       // x: tan(half angle), y: offset (voxels), z: step share of the diameter, w: AO distance (voxels; 0: all)
-    uvec4 ctl;       // x: cones, y: output (1: AO), z: add the gathered light (inject), w: 0
+    uvec4 ctl;       // x: cones, y: output (1: AO), z: add the gathered light (inject), w: first entry of
+                     // the environment BRDF table in cmat[] (SPEC)
+    vec4 spec;       // x: the sun's 1 - cos(angular radius) (SHADOWS), y: the specular cone's tan(half
+                     // angle) per GGX alpha, z: its largest tan(half angle), w: 0
     uvec4 dims[16];  // per level: xyz voxels, w: first voxel
     vec4 dirs[32];   // cone directions around +z (tangent space), w: weight
 } CP;
 // list[0]: voxels listed, then their level-0 indices
 layout(std430, binding = 23) buffer List { uint list[]; };
 
-layout(constant_id = 6) const uint ENTRIES = 1u; // 1 isotropic, 6 anisotropic
+// bits 0-3: entries per voxel (1 isotropic, 6 anisotropic); the gi pass's
+// features: bit 4 specular cones (some attribute record is metal), bit 5
+// cone soft shadows (the gi image brings the direct light too)
+layout(constant_id = 6) const uint CONE_SPEC = 1u;
+const uint ENTRIES = CONE_SPEC & 15u;
+const bool SPEC = (CONE_SPEC & 16u) != 0u, SHADOWS = (CONE_SPEC & 32u) != 0u;
 
 vec4 vol_load(uint idx) {
     uvec2 v = vol[idx];
@@ -147,4 +155,48 @@ vec3 cone_gather(vec3 q, vec3 n, float rot, vec3 sky, out float ao) {
         ao += dl.w * (1.0 - occ);
     }
     return L;
+}
+
+// ---- specular cones (SPEC) -------------------------------------------------------
+// Per attribute record one vec4 (kind: 1 metal, roughness, metalness,
+// specular weight; probes/shaders/path_common.glsl's bsdf_of), then the
+// environment BRDF table from CP.ctl.w: ENV_N x ENV_N entries (A, B, 0, 0),
+// x the cosine of the view angle, y the roughness, both at (i + 1/2) / ENV_N,
+// such that the directional albedo of the path tracer's GGX lobe (Smith
+// height-correlated masking, Schlick Fresnel) is f0 A + B (cones/cones.c
+// env_table). The binding is passes_common.glsl's 15 (unused by the cone
+// shaders otherwise).
+#define cmat out2_img
+const uint ENV_N = 32u;
+
+vec2 env_brdf(float nv, float rough) {
+    vec2 g = vec2(nv, rough) * float(ENV_N) - 0.5;
+    vec2 f0 = clamp(floor(g), vec2(0.0), vec2(float(ENV_N) - 2.0));
+    vec2 f = clamp(g - f0, vec2(0.0), vec2(1.0));
+    uint b = CP.ctl.w + uint(f0.y) * ENV_N + uint(f0.x);
+    vec2 a = mix(cmat[b].xy, cmat[b + 1u].xy, f.x), c = mix(cmat[b + ENV_N].xy, cmat[b + ENV_N + 1u].xy, f.x);
+    return mix(a, c, f.y);
+}
+
+// Cone occlusion along unit d from q (as cone_march, no light): the
+// transmittance (1 - composited opacity) within t_max level-0 voxels.
+float cone_transmit(vec3 q, vec3 d, float tanh, float h0, float dn, float t_max) {
+    float A = 0.0;
+    vec3 hi = vec3(CP.dims[0].xyz);
+    float share = CP.cone.z;
+    float t = 0.5;
+    for (uint it = 0u; it < 4096u && t < t_max; it++) {
+        float dia = max(1.0, min(2.0 * t * tanh, (h0 + t * dn) / 3.0));
+        vec3 p = q + d * t;
+        if (any(lessThan(p, vec3(-0.5 * dia))) || any(greaterThan(p, hi + 0.5 * dia))) break;
+        float a = vol_sample(log2(dia), p, d).a;
+        if (a > 1e-6) {
+            // the last step only as far as t_max
+            float len = min(share * dia, t_max - t) / dia;
+            A += (1.0 - A) * (1.0 - pow(max(1.0 - min(a, 1.0), 0.0), len));
+            if (A >= 0.995) return 0.0;
+        }
+        t += share * dia;
+    }
+    return 1.0 - A;
 }
