@@ -23,6 +23,8 @@ typedef struct cone_params {
     float spec[4];
     uint32_t dims[VX_CONE_LEVELS_MAX][4];
     float dirs[VX_CONE_CONES_MAX][4];
+    float atlas[4];                      /* xyz: 1 / the atlas's size, w: its z stride per entry */
+    uint32_t atl[VX_CONE_LEVELS_MAX][4]; /* each level's corner in the atlas */
 } cone_params;
 
 /* passes_common.glsl's push block */
@@ -37,10 +39,11 @@ typedef struct push_block {
  * half-resolution samples (cone.comp), 15 the materials (cone_common.glsl
  * cmat), 17 the occupancy bits and 18 the lists of occupied voxels per level
  * (filter.comp) */
-enum { NBIND = 24, BIND_HALF = 7, BIND_GI = 12, BIND_EMIT = 14, BIND_MAT = 15, BIND_LIGHTS = 16, BIND_FLAGS = 17,
-       BIND_LLIST = 18, BIND_SKY = 19, BIND_VOL, BIND_REC, BIND_PARAMS, BIND_LIST };
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 24 bindings");
-enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_SKY, B_DUMMY, B_MAT, B_HALF, B_FLAGS, B_LLIST, B_FLIGHTS, B_COUNT };
+enum { NBIND = 26, BIND_HALF = 7, BIND_GI = 12, BIND_EMIT = 14, BIND_MAT = 15, BIND_LIGHTS = 16, BIND_FLAGS = 17,
+       BIND_LLIST = 18, BIND_SKY = 19, BIND_VOL, BIND_REC, BIND_PARAMS, BIND_LIST, BIND_TEX, BIND_IMG };
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 26 bindings");
+enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_SKY, B_DUMMY, B_MAT, B_HALF, B_FLAGS, B_LLIST, B_FLIGHTS, B_ATLAS,
+       B_COUNT };
 /* cone_common.glsl CONE_SPEC bits above the entries */
 enum { FEAT_SPEC = 16, FEAT_SHADOWS = 32 };
 #define ENV_N 32     /* the environment BRDF table's side (cone_common.glsl) */
@@ -186,6 +189,8 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     }
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    pd.bindings[BIND_TEX] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    pd.bindings[BIND_IMG] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     memcpy(pd.spec, spec, sizeof spec);
     pd.spec[5] = stage;
     pd.spec[6] = cg->info.entries | (sh == SH_CONE ? cg->features : 0);
@@ -205,6 +210,7 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     dd.buffers[BIND_REC] = &cg->b[B_REC];
     dd.buffers[BIND_PARAMS] = &cg->b[B_PARAMS];
     dd.buffers[BIND_LIST] = &cg->b[B_LIST];
+    dd.buffers[BIND_TEX] = dd.buffers[BIND_IMG] = &cg->b[B_ATLAS];
     if (cg->b[B_MAT].buf) dd.buffers[BIND_MAT] = &cg->b[B_MAT];
     if (cg->b[B_HALF].buf) dd.buffers[BIND_HALF] = &cg->b[B_HALF];
     if (cg->b[B_FLAGS].buf) dd.buffers[BIND_FLAGS] = &cg->b[B_FLAGS];
@@ -244,6 +250,13 @@ static vx_result filter_levels(vx_cone_gi* cg, const vx__frame* f, bool dense, d
         const uint32_t* d = cg->info.dims[l];
         if (dense || !cg->sparse) r = dispatch_n(cg, SH_FILTER, 0, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
         else r = dispatch_n(cg, SH_FILTER, 1, f, cg->llist_n[l], &pc, sec, err);
+    }
+    /* every level into the atlas the cones sample (filter.comp STAGE 3, 4) */
+    for (uint32_t l = 0; l < cg->info.levels && !r; l++) {
+        push_block pc = {.u2 = {l, cg->llist_off[l]}};
+        const uint32_t* d = cg->info.dims[l];
+        if (dense || !cg->sparse) r = dispatch_n(cg, SH_FILTER, 3, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
+        else r = dispatch_n(cg, SH_FILTER, 4, f, l ? cg->llist_n[l] : cg->info.surface_voxels, &pc, sec, err);
     }
     return r;
 }
@@ -467,8 +480,27 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     cg->P.spec[1] = (float)SPEC_TAN_PER_ALPHA, cg->P.spec[2] = (float)SPEC_TAN_MAX;
     if (cg->d.shadows) cg->features |= FEAT_SHADOWS;
     cone_set(&cg->P, cg->d.cones, cg->d.aperture);
-    vx_result r = vx__buffer_create(cg->g, total * I->entries * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone volume",
-                                    &cg->b[B_VOL], err);
+    /* the atlas the cones sample with the hardware's trilinear filter: level
+     * 0 at (1, 1, 1), the others beside it in x, stacked in y, every level
+     * with a zero voxel on each side (what a read outside a level sees: the
+     * shaders clamp reads to half a voxel beyond it); the entries stacked in z */
+    uint32_t ax[3] = {I->dims[0][0] + 2, I->dims[0][1] + 2, 0}, y = 1;
+    for (uint32_t l = 0; l < I->levels; l++) {
+        uint32_t* a = cg->P.atl[l];
+        a[0] = l ? I->dims[0][0] + 2 : 1, a[1] = l ? y : 1, a[2] = 1;
+        if (l) {
+            y += I->dims[l][1] + 1;
+            if (a[0] + I->dims[l][0] + 1 > ax[0]) ax[0] = a[0] + I->dims[l][0] + 1;
+            if (y > ax[1]) ax[1] = y;
+        }
+    }
+    uint32_t zs = I->dims[0][2] + 2;
+    ax[2] = zs * I->entries;
+    for (int k = 0; k < 3; k++) cg->P.atlas[k] = 1.0f / (float)ax[k];
+    cg->P.atlas[3] = (float)zs;
+    vx_result r = vx__image3d_create(cg->g, ax, "cone atlas", &cg->b[B_ATLAS], err);
+    if (!r) r = vx__buffer_create(cg->g, total * I->entries * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone volume",
+                                  &cg->b[B_VOL], err);
     if (!r) r = vx__buffer_create(cg->g, (cg->level0 + 1) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone list", &cg->b[B_LIST], err);
     if (!r) r = vx__buffer_create(cg->g, sizeof(cone_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "cone params", &cg->b[B_PARAMS], err);
     if (!r && !cg->b[B_PARAMS].map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "cone parameters are not host visible");

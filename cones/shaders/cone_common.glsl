@@ -25,7 +25,15 @@ layout(std430, binding = 22) readonly buffer ConeP {
                      // angle) per GGX alpha, z: its largest tan(half angle), w: 0
     uvec4 dims[16];  // per level: xyz voxels, w: first voxel
     vec4 dirs[32];   // cone directions around +z (tangent space), w: weight
+    vec4 atlas;      // xyz: 1 / the atlas's size (texels), w: its z stride per entry
+    uvec4 atl[16];   // per level: its corner in the atlas (texels)
 } CP;
+// The atlas the cones read (cones/cones.c layout_volume): every level of the
+// volume, each entry's copy stacked in z, with a zero voxel around each
+// level; sampled with the hardware's trilinear filter (zero outside), written
+// by filter.comp (STAGE 3, 4) after each filtering.
+layout(binding = 24) uniform sampler3D vol_tex;
+layout(binding = 25, rgba16f) uniform writeonly image3D vol_img;
 // list[0]: voxels listed, then their level-0 indices
 layout(std430, binding = 23) buffer List { uint list[]; };
 
@@ -61,20 +69,23 @@ vec4 vol_voxel(uint l, ivec3 c, vec3 d) {
 }
 
 // Trilinear read of level l at q (level-0 voxel units from the volume
-// origin; voxel centres of level l at (i + 1/2) 2^l); outside is empty.
+// origin; voxel centres of level l at (i + 1/2) 2^l); outside is empty. One
+// hardware-filtered fetch per entry read from the atlas: voxel i of level l
+// is texel atl + i, so the point is texel coordinate atl + q / 2^l; it is
+// clamped to half a voxel beyond the level, where the filter reads only the
+// zero voxels around it (and the value outside is zero anyway), so a read
+// never reaches another level. Anisotropic: the three sides facing the
+// cone, weighted by d^2 (vol_voxel).
 vec4 vol_trilinear(uint l, vec3 q, vec3 d) {
-    vec3 g = q / exp2(float(l)) - 0.5;
-    vec3 f0 = floor(g);
-    vec3 f = g - f0;
-    ivec3 b = ivec3(f0);
-    vec4 s = vec4(0.0);
-    for (int k = 0; k < 8; k++) {
-        ivec3 o = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-        vec3 w3 = mix(1.0 - f, f, vec3(o));
-        float w = w3.x * w3.y * w3.z;
-        if (w > 0.0) s += w * vol_voxel(l, b + o, d);
-    }
-    return s;
+    vec3 g = clamp(q / exp2(float(l)), vec3(-0.5), vec3(CP.dims[l].xyz) + 0.5) + vec3(CP.atl[l].xyz);
+    if (ENTRIES == 1u) return textureLod(vol_tex, g * CP.atlas.xyz, 0.0);
+    vec3 w = d * d;
+    float zs = CP.atlas.w;
+    // a cone going +x sees the voxel's -x side (entry 1)
+    vec4 sx = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.x > 0.0 ? 1.0 : 0.0))) * CP.atlas.xyz, 0.0);
+    vec4 sy = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.y > 0.0 ? 3.0 : 2.0))) * CP.atlas.xyz, 0.0);
+    vec4 sz = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.z > 0.0 ? 5.0 : 4.0))) * CP.atlas.xyz, 0.0);
+    return w.x * sx + w.y * sy + w.z * sz;
 }
 
 // Quadrilinear: trilinear in the two levels around lev, linear between.

@@ -12,6 +12,9 @@
 //   STAGE 2: the occupied list of level PC.u2.x (from PC.u2.y) from the one
 //     below (level 0: List; else from PC.u2.z): each parent once, by its
 //     occupancy bit (flags, one per voxel of the pyramid, by vol_index).
+//   STAGE 3: level PC.u2.x into the atlas (cone_common.glsl vol_img), every
+//     voxel; STAGE 4: only its occupied ones (level 0: List; else from
+//     PC.u2.y), the others being zero there since the last STAGE 3.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
@@ -52,6 +55,26 @@ void main() {
         uint bit = vol_index(l, pc);
         uint m = 1u << (bit & 31u);
         if ((atomicOr(flags[bit >> 5], m) & m) == 0u) llist[PC.u2.y + atomicAdd(llist[l], 1u)] = (pc.z * d.y + pc.y) * d.x + pc.x;
+        return;
+    }
+    if (STAGE >= 3u) {
+        uint v = gid;
+        if (STAGE == 4u) {
+            if (l == 0u) {
+                if (gid >= list[0]) return;
+                v = list[1u + gid];
+            } else {
+                if (gid >= llist[l]) return;
+                v = llist[PC.u2.y + gid];
+            }
+        } else if (gid >= d.x * d.y * d.z) {
+            return;
+        }
+        uvec3 c = uvec3(v % d.x, (v / d.x) % d.y, v / (d.x * d.y));
+        uint i = vol_index(l, c) * ENTRIES;
+        ivec3 a = ivec3(CP.atl[l].xyz + c);
+        for (uint e = 0u; e < ENTRIES; e++)
+            imageStore(vol_img, a + ivec3(0, 0, int(e) * int(CP.atlas.w)), vol_load(i + e));
         return;
     }
     uint vox = gid;
