@@ -42,7 +42,8 @@
  * "cones-iso-half" (diffuse cones at half resolution, depth- and
  * normal-aware upsampling), "cones-shadows" (cone soft shadows: the pass
  * list gbuffer,gi=cones, the gi image holds the direct light too, so its
- * indirect column is not the indirect light),
+ * indirect column is not the indirect light), "cones-half-4",
+ * "cones-iso-half-4" (4 cones), "cones-half-step1" (steps of a whole diameter),
  * rendered through the pass pipeline (gbuffer,direct,gi=cones; the indirect
  * image is its gi image; the times are the frame's and the gi pass's GPU
  * time); a line before their rows gives the volume's build (voxelize,
@@ -108,6 +109,9 @@ static const gi_method methods[] = {
     {"cones-half", BUILD_NONE, 1, 0, 0, cone_render, false},
     {"cones-iso-half", BUILD_NONE, 1, 0, 0, cone_render, false},
     {"cones-shadows", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-half-4", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-half-step1", BUILD_NONE, 1, 0, 0, cone_render, false},
+    {"cones-iso-half-4", BUILD_NONE, 1, 0, 0, cone_render, false},
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
@@ -186,6 +190,8 @@ static vx_result cone_render(const gi_method* m, const built* b, bool indirect, 
         d.half_res = strstr(m->name, "-half") != NULL;
         d.shadows = !strcmp(m->name, "cones-shadows");
         if (!strcmp(m->name, "cones-16")) d.cones = 16;
+        if (strstr(m->name, "-half-4")) d.cones = 4;
+        if (strstr(m->name, "-step1")) d.step = 1;
         if (!strcmp(m->name, "cones-256")) d.res = 256;
         if (!strcmp(m->name, "cones-512")) d.res = 512;
         if ((r = vx_cone_gi_create(rs, &scene, &d, &cone_gm, &cone_gi, err))) return r;

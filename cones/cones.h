@@ -47,6 +47,15 @@
  *     isotropic: the mean of the 8 children; anisotropic: per side, the
  *     children composited front to back along that axis, then the mean of
  *     the 4 columns (what a viewer on that side sees through the block).
+ *     After a voxelization every voxel of every level; after a light change
+ *     only the voxels with geometry below them (lists per level built at
+ *     voxelization: a parent once per occupancy bit), since every other
+ *     voxel stays empty.
+ *   atlas: the levels are copied into one 3D texture (RGBA16F; every level
+ *     with a zero voxel around it, the entries stacked in z) that the cones
+ *     sample with the hardware's trilinear filter: one fetch per entry read
+ *     instead of eight buffer loads; after a light change only the occupied
+ *     voxels are copied.
  *
  * Cone tracing (the gi pass, per pixel): the pixel's first surface (a
  * pixel-centre primary ray, as the G-buffer's) gathers `cones` diffuse cones
