@@ -251,13 +251,6 @@ static vx_result filter_levels(vx_cone_gi* cg, const vx__frame* f, bool dense, d
         if (dense || !cg->sparse) r = dispatch_n(cg, SH_FILTER, 0, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
         else r = dispatch_n(cg, SH_FILTER, 1, f, cg->llist_n[l], &pc, sec, err);
     }
-    /* every level into the atlas the cones sample (filter.comp STAGE 3, 4) */
-    for (uint32_t l = 0; l < cg->info.levels && !r; l++) {
-        push_block pc = {.u2 = {l, cg->llist_off[l]}};
-        const uint32_t* d = cg->info.dims[l];
-        if (dense || !cg->sparse) r = dispatch_n(cg, SH_FILTER, 3, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
-        else r = dispatch_n(cg, SH_FILTER, 4, f, l ? cg->llist_n[l] : cg->info.surface_voxels, &pc, sec, err);
-    }
     return r;
 }
 
@@ -480,10 +473,13 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     cg->P.spec[1] = (float)SPEC_TAN_PER_ALPHA, cg->P.spec[2] = (float)SPEC_TAN_MAX;
     if (cg->d.shadows) cg->features |= FEAT_SHADOWS;
     cone_set(&cg->P, cg->d.cones, cg->d.aperture);
-    /* the atlas the cones sample with the hardware's trilinear filter: level
-     * 0 at (1, 1, 1), the others beside it in x, stacked in y, every level
-     * with a zero voxel on each side (what a read outside a level sees: the
-     * shaders clamp reads to half a voxel beyond it); the entries stacked in z */
+    /* the volume is an atlas (a 3D image), which the cones sample with the
+     * hardware's trilinear filter: level 0 at (1, 1, 1), the others beside it
+     * in x, stacked in y, every level with a zero voxel on each side (what a
+     * read outside a level sees: the shaders clamp reads to half a voxel
+     * beyond it); the entries stacked in z. Not a buffer: a storage buffer's
+     * range stops at 4 GB (maxStorageBufferRange) and res 512 anisotropic
+     * needs 9 GB (the buffer's upper part read as zero there) */
     uint32_t ax[3] = {I->dims[0][0] + 2, I->dims[0][1] + 2, 0}, y = 1;
     for (uint32_t l = 0; l < I->levels; l++) {
         uint32_t* a = cg->P.atl[l];
@@ -499,8 +495,7 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     for (int k = 0; k < 3; k++) cg->P.atlas[k] = 1.0f / (float)ax[k];
     cg->P.atlas[3] = (float)zs;
     vx_result r = vx__image3d_create(cg->g, ax, "cone atlas", &cg->b[B_ATLAS], err);
-    if (!r) r = vx__buffer_create(cg->g, total * I->entries * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone volume",
-                                  &cg->b[B_VOL], err);
+    if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone level copy", &cg->b[B_VOL], err);
     if (!r) r = vx__buffer_create(cg->g, (cg->level0 + 1) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone list", &cg->b[B_LIST], err);
     if (!r) r = vx__buffer_create(cg->g, sizeof(cone_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "cone params", &cg->b[B_PARAMS], err);
     if (!r && !cg->b[B_PARAMS].map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "cone parameters are not host visible");
@@ -652,12 +647,16 @@ vx_result vx_cone_gi_read_level(vx_cone_gi* cg, uint32_t level, float* out, size
     const uint32_t* d = cg->info.dims[level];
     size_t n = (size_t)d[0] * d[1] * d[2] * cg->info.entries;
     if (floats < 4 * n) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "level %u needs %zu floats, got %zu", level, 4 * n, floats);
-    /* the levels before it, then this one: the buffer is read from its start */
-    size_t first = (size_t)cg->P.dims[level][3] * cg->info.entries;
-    uint16_t* h = vx_alloc(cg->alloc, (first + n) * 8);
-    if (!h) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", first + n);
-    vx_result r = vx__buffer_download(cg->g, &cg->b[B_VOL], h, (first + n) * 8, err);
-    for (size_t i = 0; !r && i < 4 * n; i++) out[i] = vx_probe_half_to_float(h[4 * first + i]);
+    /* the level copied out of the atlas (filter.comp STAGE 5), then downloaded */
+    uint16_t* h = vx_alloc(cg->alloc, n * 8);
+    if (!h) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", n);
+    vx__frame f;
+    vx_result r = vx__buffer_ensure(cg->g, &cg->b[B_VOL], n * 8, "cone level copy", err);
+    if (!r) r = light_frame(cg, &f, err);
+    push_block pc = {.u2 = {level}};
+    if (!r) r = dispatch_n(cg, SH_FILTER, 5, &f, (uint64_t)d[0] * d[1] * d[2], &pc, NULL, err);
+    if (!r) r = vx__buffer_download(cg->g, &cg->b[B_VOL], h, n * 8, err);
+    for (size_t i = 0; !r && i < 4 * n; i++) out[i] = vx_probe_half_to_float(h[i]);
     vx_free(cg->alloc, h);
     return r;
 }

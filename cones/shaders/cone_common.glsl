@@ -6,8 +6,10 @@
 //
 // Volume: level l's voxel (x, y, z) holds ENTRIES entries (1 isotropic; 6
 // anisotropic: what a viewer on the +x, -x, +y, -y, +z, -z side sees), each
-// premultiplied radiance RGB and opacity A as four halfs, at
-// vol[(CP.dims[l].w + (z * dy + y) * dx + x) * ENTRIES + e].
+// premultiplied radiance RGB and opacity A as four halfs: texel CP.atl[l] +
+// (x, y, z) + (0, 0, e * CP.atlas.w) of the atlas (below). vol[] only takes
+// a level's copy for vx_cone_gi_read_level (filter.comp STAGE 5), at
+// ((z * dy + y) * dx + x) * ENTRIES + e.
 layout(std430, binding = 20) buffer Vol { uvec2 vol[]; };
 // Per listed voxel and side (6 per voxel, 5 vec4 each): the visible surface
 // (voxelize.comp): 0 xyz mean hit point relative to the volume origin, w
@@ -28,12 +30,14 @@ layout(std430, binding = 22) readonly buffer ConeP {
     vec4 atlas;      // xyz: 1 / the atlas's size (texels), w: its z stride per entry
     uvec4 atl[16];   // per level: its corner in the atlas (texels)
 } CP;
-// The atlas the cones read (cones/cones.c layout_volume): every level of the
-// volume, each entry's copy stacked in z, with a zero voxel around each
-// level; sampled with the hardware's trilinear filter (zero outside), written
-// by filter.comp (STAGE 3, 4) after each filtering.
+// The atlas that holds the volume (cones/cones.c layout_volume): every
+// level, each entry's copy stacked in z, with a zero voxel around each
+// level; written and read texel by texel as an image (voxelize, inject,
+// filter), sampled by the cones with the hardware's trilinear filter (zero
+// outside). An image, not a buffer: a storage buffer's range stops at 4 GB
+// (maxStorageBufferRange), and the anisotropic volume at res 512 is 9 GB.
 layout(binding = 24) uniform sampler3D vol_tex;
-layout(binding = 25, rgba16f) uniform writeonly image3D vol_img;
+layout(binding = 25, rgba16f) uniform image3D vol_img;
 // list[0]: voxels listed, then their level-0 indices
 layout(std430, binding = 23) buffer List { uint list[]; };
 
@@ -44,28 +48,14 @@ layout(constant_id = 6) const uint CONE_SPEC = 1u;
 const uint ENTRIES = CONE_SPEC & 15u;
 const bool SPEC = (CONE_SPEC & 16u) != 0u, SHADOWS = (CONE_SPEC & 32u) != 0u;
 
-vec4 vol_load(uint idx) {
-    uvec2 v = vol[idx];
-    return vec4(unpackHalf2x16(v.x), unpackHalf2x16(v.y));
-}
-void vol_store(uint idx, vec4 c) { vol[idx] = uvec2(packHalf2x16(c.xy), packHalf2x16(c.zw)); }
+ivec3 vol_texel(uint l, uvec3 c, uint e) { return ivec3(CP.atl[l].xyz + c) + ivec3(0, 0, int(e) * int(CP.atlas.w)); }
+vec4 vol_get(uint l, uvec3 c, uint e) { return imageLoad(vol_img, vol_texel(l, c, e)); }
+void vol_put(uint l, uvec3 c, uint e, vec4 v) { imageStore(vol_img, vol_texel(l, c, e), v); }
 
+// A voxel's index in the whole pyramid (its occupancy bit, filter.comp).
 uint vol_index(uint l, uvec3 c) {
     uvec4 d = CP.dims[l];
     return d.w + (c.z * d.y + c.y) * d.x + c.x;
-}
-
-// The value a cone going along d reads from voxel c of level l: the entry
-// itself, or the three sides facing the cone weighted by d^2 (sum 1).
-vec4 vol_voxel(uint l, ivec3 c, vec3 d) {
-    uvec3 n = CP.dims[l].xyz;
-    if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(uvec3(c), n))) return vec4(0.0);
-    uint i = vol_index(l, uvec3(c)) * ENTRIES;
-    if (ENTRIES == 1u) return vol_load(i);
-    vec3 w = d * d;
-    // a cone going +x sees the voxel's -x side (entry 1)
-    return w.x * vol_load(i + (d.x > 0.0 ? 1u : 0u)) + w.y * vol_load(i + (d.y > 0.0 ? 3u : 2u)) +
-           w.z * vol_load(i + (d.z > 0.0 ? 5u : 4u));
 }
 
 // Trilinear read of level l at q (level-0 voxel units from the volume
@@ -75,7 +65,7 @@ vec4 vol_voxel(uint l, ivec3 c, vec3 d) {
 // clamped to half a voxel beyond the level, where the filter reads only the
 // zero voxels around it (and the value outside is zero anyway), so a read
 // never reaches another level. Anisotropic: the three sides facing the
-// cone, weighted by d^2 (vol_voxel).
+// cone, weighted by d^2 (sum 1).
 vec4 vol_trilinear(uint l, vec3 q, vec3 d) {
     vec3 g = clamp(q / exp2(float(l)), vec3(-0.5), vec3(CP.dims[l].xyz) + 0.5) + vec3(CP.atl[l].xyz);
     if (ENTRIES == 1u) return textureLod(vol_tex, g * CP.atlas.xyz, 0.0);

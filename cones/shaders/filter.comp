@@ -12,9 +12,7 @@
 //   STAGE 2: the occupied list of level PC.u2.x (from PC.u2.y) from the one
 //     below (level 0: List; else from PC.u2.z): each parent once, by its
 //     occupancy bit (flags, one per voxel of the pyramid, by vol_index).
-//   STAGE 3: level PC.u2.x into the atlas (cone_common.glsl vol_img), every
-//     voxel; STAGE 4: only its occupied ones (level 0: List; else from
-//     PC.u2.y), the others being zero there since the last STAGE 3.
+//   STAGE 5: level PC.u2.x copied into vol[] (vx_cone_gi_read_level).
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
@@ -33,7 +31,7 @@ layout(constant_id = 5) const uint STAGE = 0u;
 vec4 child(uint l, uvec3 c, uint e) {
     uvec3 n = CP.dims[l].xyz;
     if (any(greaterThanEqual(c, n))) return vec4(0.0);
-    return vol_load(vol_index(l, c) * ENTRIES + e);
+    return vol_get(l, c, e);
 }
 
 void main() {
@@ -57,24 +55,13 @@ void main() {
         if ((atomicOr(flags[bit >> 5], m) & m) == 0u) llist[PC.u2.y + atomicAdd(llist[l], 1u)] = (pc.z * d.y + pc.y) * d.x + pc.x;
         return;
     }
-    if (STAGE >= 3u) {
-        uint v = gid;
-        if (STAGE == 4u) {
-            if (l == 0u) {
-                if (gid >= list[0]) return;
-                v = list[1u + gid];
-            } else {
-                if (gid >= llist[l]) return;
-                v = llist[PC.u2.y + gid];
-            }
-        } else if (gid >= d.x * d.y * d.z) {
-            return;
+    if (STAGE == 5u) {
+        if (gid >= d.x * d.y * d.z) return;
+        uvec3 c = uvec3(gid % d.x, (gid / d.x) % d.y, gid / (d.x * d.y));
+        for (uint e = 0u; e < ENTRIES; e++) {
+            vec4 v = vol_get(l, c, e);
+            vol[gid * ENTRIES + e] = uvec2(packHalf2x16(v.xy), packHalf2x16(v.zw));
         }
-        uvec3 c = uvec3(v % d.x, (v / d.x) % d.y, v / (d.x * d.y));
-        uint i = vol_index(l, c) * ENTRIES;
-        ivec3 a = ivec3(CP.atl[l].xyz + c);
-        for (uint e = 0u; e < ENTRIES; e++)
-            imageStore(vol_img, a + ivec3(0, 0, int(e) * int(CP.atlas.w)), vol_load(i + e));
         return;
     }
     uint vox = gid;
@@ -86,11 +73,10 @@ void main() {
     }
     uvec3 c = uvec3(vox % d.x, (vox / d.x) % d.y, vox / (d.x * d.y));
     uvec3 b = c * 2u;
-    uint i = vol_index(l, c) * ENTRIES;
     if (ENTRIES == 1u) {
         vec4 sum = vec4(0.0);
         for (uint k = 0u; k < 8u; k++) sum += child(l - 1u, b + uvec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u), 0u);
-        vol_store(i, sum * 0.125);
+        vol_put(l, c, 0u, sum * 0.125);
         return;
     }
     for (uint side = 0u; side < 6u; side++) {
@@ -106,6 +92,6 @@ void main() {
             vec4 f = child(l - 1u, b + cf, side), bk = child(l - 1u, b + cb, side);
             sum += f + (1.0 - f.a) * bk;
         }
-        vol_store(i + side, sum * 0.25);
+        vol_put(l, c, side, sum * 0.25);
     }
 }
