@@ -144,7 +144,9 @@ typedef enum vx_cone_output {
  * is kd * sum w_i L_i (the diffuse cones) plus one cone along the mirror
  * direction, half angle atan(2 alpha) (2 alpha is tan(2 atan alpha) to first
  * order: twice the angle within which half of the GGX normals lie), at most
- * 45 degrees, times the lobe's directional albedo f0 A + B for the view
+ * 45 degrees (and, as every cone, at most a third of its height above the
+ * surface's tangent plane wide: past roughness 0.3 or so that limit, not the
+ * roughness, sets the width), times the lobe's directional albedo f0 A + B for the view
  * angle (a table integrated on the CPU from the same lobe, so a constant
  * environment is exact up to its interpolation). The direct light of a
  * metal stays the direct pass's (diffuse) unless `shadows` is on, where it
