@@ -80,7 +80,7 @@ struct vx_cone_gi {
 
 vx_cone_desc vx_cone_desc_defaults(void) {
     vx_probe_bake_desc b = vx_probe_bake_desc_defaults();
-    vx_cone_desc d = {.res = 128, .samples = 2, .cones = 6, .offset = 1.5, .step = 0.5, .bounces = 1};
+    vx_cone_desc d = {.res = 128, .samples = 2, .cones = 6, .offset = 1.5, .step = 0.5, .bounces = 1, .sun_angle = 0.53};
     memcpy(d.light_dir, b.light_dir, sizeof d.light_dir);
     memcpy(d.sun, b.sun, sizeof d.sun);
     memcpy(d.sky, b.sky, sizeof d.sky);
@@ -115,7 +115,7 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
         double a = acos(1.0 - 1.0 / d.cones) * 180 / 3.14159265358979323846;
         d.aperture = a < 75 ? a : 75;
     }
-    if (d.sun_angle == 0) d.sun_angle = 0.53;
+    if (d.sun_angle == 0) d.sun_angle = D.sun_angle;
     if (!(d.sun_angle > 0 && d.sun_angle < 30))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sun angle %g: above 0, below 30 degrees", d.sun_angle);
     if (d.light_count && !d.lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", d.light_count);

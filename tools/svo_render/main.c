@@ -148,7 +148,7 @@ _Noreturn static void usage(int status) {
             "  --cone-half          gi=cones: diffuse cones at half resolution, upsampled by depth and normal\n"
             "  --cone-shadows       gi=cones: cone soft shadows; the gi pass brings the direct light (the pass\n"
             "                       list's direct is dropped)\n"
-            "  --cone-sun-angle DEG gi=cones: the sun's angular diameter for --cone-shadows (default: 0.53)\n"
+            "  --cone-sun-angle DEG gi=cones: the sun's angular diameter for --cone-shadows (default: %g)\n"
             "  --cone-no-specular   gi=cones: metal shaded as diffuse (no specular cones)\n"
             "  --seed S             path tracer seed (default: 0)\n"
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
@@ -198,7 +198,7 @@ _Noreturn static void usage(int status) {
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
-            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, d.r.width, d.r.height, d.r.spp,
+            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
