@@ -20,8 +20,11 @@ typedef struct cone_params {
     uint32_t info[4];
     float cone[4];
     uint32_t ctl[4];
+    float spec[4];
     uint32_t dims[VX_CONE_LEVELS_MAX][4];
     float dirs[VX_CONE_CONES_MAX][4];
+    float atlas[4];                      /* xyz: 1 / the atlas's size, w: its z stride per entry */
+    uint32_t atl[VX_CONE_LEVELS_MAX][4]; /* each level's corner in the atlas */
 } cone_params;
 
 /* passes_common.glsl's push block */
@@ -32,9 +35,21 @@ typedef struct push_block {
     uint32_t u2[4];
 } push_block;
 
-enum { NBIND = 24, BIND_GI = 12, BIND_EMIT = 14, BIND_LIGHTS = 16, BIND_SKY = 19, BIND_VOL, BIND_REC, BIND_PARAMS, BIND_LIST };
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 24 bindings");
-enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_SKY, B_DUMMY, B_COUNT };
+/* bindings of passes_common.glsl the cone shaders give other uses: 7 the
+ * half-resolution samples (cone.comp), 15 the materials (cone_common.glsl
+ * cmat), 17 the occupancy bits and 18 the lists of occupied voxels per level
+ * (filter.comp) */
+enum { NBIND = 26, BIND_HALF = 7, BIND_GI = 12, BIND_EMIT = 14, BIND_MAT = 15, BIND_LIGHTS = 16, BIND_FLAGS = 17,
+       BIND_LLIST = 18, BIND_SKY = 19, BIND_VOL, BIND_REC, BIND_PARAMS, BIND_LIST, BIND_TEX, BIND_IMG };
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 26 bindings");
+enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_SKY, B_DUMMY, B_MAT, B_HALF, B_FLAGS, B_LLIST, B_FLIGHTS, B_ATLAS,
+       B_COUNT };
+/* cone_common.glsl CONE_SPEC bits above the entries */
+enum { FEAT_SPEC = 16, FEAT_SHADOWS = 32 };
+#define ENV_N 32     /* the environment BRDF table's side (cone_common.glsl) */
+#define LLIST_HEAD 16 /* llist[l]: voxels listed at level l; the lists from LLIST_HEAD */
+#define SPEC_TAN_PER_ALPHA 2.0 /* the specular cone: tan(half angle) = 2 alpha, at most SPEC_TAN_MAX */
+#define SPEC_TAN_MAX 1.0
 typedef enum { SH_VOXELIZE, SH_INJECT, SH_FILTER, SH_CONE } shader_id;
 #define REC_VEC4 5 /* vec4 per listed voxel and side (cone_common.glsl) */
 #define LIGHT_FLOATS 24
@@ -54,12 +69,18 @@ struct vx_cone_gi {
     vx_sky_texels sky_map;
     cone_params P;
     uint64_t level0;
+    uint32_t features;     /* FEAT_* the scene and options ask for */
+    uint32_t mat_records;  /* attribute records with a material entry (SPEC) */
+    uint32_t llist_off[VX_CONE_LEVELS_MAX], llist_n[VX_CONE_LEVELS_MAX]; /* occupied voxels per level (>= 1) */
+    bool sparse;           /* the lists are built: relighting filters only occupied voxels */
+    double lights_ref[3];  /* the frame reference b[B_FLIGHTS] was packed for (SHADOWS) */
+    bool lights_packed;
     const vx_allocator* alloc;
 };
 
 vx_cone_desc vx_cone_desc_defaults(void) {
     vx_probe_bake_desc b = vx_probe_bake_desc_defaults();
-    vx_cone_desc d = {.res = 128, .samples = 2, .cones = 6, .offset = 1.5, .step = 0.5, .bounces = 1};
+    vx_cone_desc d = {.res = 128, .samples = 2, .cones = 6, .offset = 1.5, .step = 0.5, .bounces = 1, .sun_angle = 0.53};
     memcpy(d.light_dir, b.light_dir, sizeof d.light_dir);
     memcpy(d.sun, b.sun, sizeof d.sun);
     memcpy(d.sky, b.sky, sizeof d.sky);
@@ -94,6 +115,9 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
         double a = acos(1.0 - 1.0 / d.cones) * 180 / 3.14159265358979323846;
         d.aperture = a < 75 ? a : 75;
     }
+    if (d.sun_angle == 0) d.sun_angle = D.sun_angle;
+    if (!(d.sun_angle > 0 && d.sun_angle < 30))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sun angle %g: above 0, below 30 degrees", d.sun_angle);
     if (d.light_count && !d.lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", d.light_count);
     for (uint32_t i = 0; i < d.light_count; i++) {
         vx_result r = vx_light_validate(&d.lights[i], i, err);
@@ -165,9 +189,11 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     }
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    pd.bindings[BIND_TEX] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    pd.bindings[BIND_IMG] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     memcpy(pd.spec, spec, sizeof spec);
     pd.spec[5] = stage;
-    pd.spec[6] = cg->info.entries;
+    pd.spec[6] = cg->info.entries | (sh == SH_CONE ? cg->features : 0);
     uint64_t key = 0xC0E5000ull + (uint64_t)sh;
     for (int i = 0; i < 7; i++) key = key * 131 + pd.spec[i];
     vx__pipeline* p;
@@ -184,6 +210,12 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     dd.buffers[BIND_REC] = &cg->b[B_REC];
     dd.buffers[BIND_PARAMS] = &cg->b[B_PARAMS];
     dd.buffers[BIND_LIST] = &cg->b[B_LIST];
+    dd.buffers[BIND_TEX] = dd.buffers[BIND_IMG] = &cg->b[B_ATLAS];
+    if (cg->b[B_MAT].buf) dd.buffers[BIND_MAT] = &cg->b[B_MAT];
+    if (cg->b[B_HALF].buf) dd.buffers[BIND_HALF] = &cg->b[B_HALF];
+    if (cg->b[B_FLAGS].buf) dd.buffers[BIND_FLAGS] = &cg->b[B_FLAGS];
+    if (cg->b[B_LLIST].buf) dd.buffers[BIND_LLIST] = &cg->b[B_LLIST];
+    if (sh == SH_CONE && cg->b[B_FLIGHTS].buf) dd.buffers[BIND_LIGHTS] = &cg->b[B_FLIGHTS];
     double s = 0;
     if ((r = vx__dispatch(cg->g, &dd, &s, err))) return r;
     if (sec) *sec += s;
@@ -207,13 +239,64 @@ static vx_result light_frame(vx_cone_gi* cg, vx__frame* f, vx_error* err) {
     return vx__frame_setup(cg->lo, cg->hi, &rd, f, err);
 }
 
-static vx_result filter_levels(vx_cone_gi* cg, const vx__frame* f, double* sec, vx_error* err) {
+/* Every level from the one below: over every voxel (dense: after a
+ * voxelization, which also clears what no longer holds geometry), or only
+ * over the voxels with geometry below them (the lists of mark_occupied: a
+ * light change leaves every other voxel empty, as the dense pass left it). */
+static vx_result filter_levels(vx_cone_gi* cg, const vx__frame* f, bool dense, double* sec, vx_error* err) {
     vx_result r = VX_OK;
     for (uint32_t l = 1; l < cg->info.levels && !r; l++) {
-        push_block pc = {.u2 = {l}};
+        push_block pc = {.u2 = {l, cg->llist_off[l]}};
         const uint32_t* d = cg->info.dims[l];
-        r = dispatch_n(cg, SH_FILTER, 0, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
+        if (dense || !cg->sparse) r = dispatch_n(cg, SH_FILTER, 0, f, (uint64_t)d[0] * d[1] * d[2], &pc, sec, err);
+        else r = dispatch_n(cg, SH_FILTER, 1, f, cg->llist_n[l], &pc, sec, err);
     }
+    return r;
+}
+
+/* The lists of occupied voxels per level above 0 (filter.comp STAGE 2): the
+ * parents of the voxels listed one level below, each once (an occupancy bit
+ * per voxel). A level's list holds at most as many voxels as the level, and
+ * as the level-0 list (n0): the lists take at most an eighth of the dense
+ * levels above 0, 4 bytes a voxel. */
+static vx_result mark_occupied(vx_cone_gi* cg, const vx__frame* f, double* sec, vx_error* err) {
+    vx_cone_info* I = &cg->info;
+    uint64_t n0 = I->surface_voxels, at = LLIST_HEAD, total = 0;
+    for (uint32_t l = 0; l < I->levels; l++) {
+        uint64_t v = (uint64_t)I->dims[l][0] * I->dims[l][1] * I->dims[l][2];
+        total += v;
+        cg->llist_off[l] = (uint32_t)at;
+        cg->llist_n[l] = 0;
+        if (l) at += v < n0 ? v : n0;
+    }
+    cg->sparse = false;
+    vx_result r = vx__buffer_ensure(cg->g, &cg->b[B_LLIST], at * 4, "cone level lists", err);
+    uint64_t words = (total + 31) / 32;
+    if (!r) r = vx__buffer_ensure(cg->g, &cg->b[B_FLAGS], words * 4, "cone occupancy", err);
+    uint32_t* zero = r ? NULL : vx_calloc(cg->alloc, words > LLIST_HEAD ? words : LLIST_HEAD, 4);
+    if (!r && !zero) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the cone occupancy bits");
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_FLAGS], zero, words * 4, err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_LLIST], zero, LLIST_HEAD * 4, err);
+    vx_free(cg->alloc, zero);
+    /* level l's list from level l - 1's (at most as many parents as children) */
+    uint64_t below = n0;
+    for (uint32_t l = 1; l < I->levels && !r; l++) {
+        push_block pc = {.u2 = {l, cg->llist_off[l], cg->llist_off[l - 1]}};
+        r = dispatch_n(cg, SH_FILTER, 2, f, below, &pc, sec, err);
+        uint64_t v = (uint64_t)I->dims[l][0] * I->dims[l][1] * I->dims[l][2];
+        below = v < below ? v : below;
+    }
+    uint32_t head[LLIST_HEAD];
+    if (!r) r = vx__buffer_download(cg->g, &cg->b[B_LLIST], head, sizeof head, err);
+    for (uint32_t l = 1; l < I->levels && !r; l++) {
+        uint64_t v = (uint64_t)I->dims[l][0] * I->dims[l][1] * I->dims[l][2];
+        if (head[l] > v || head[l] > n0)
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "level %u lists %u occupied voxels of %llu", l, head[l],
+                           (unsigned long long)v);
+        cg->llist_n[l] = head[l];
+    }
+    if (!r) cg->sparse = true;
+    for (uint32_t l = 1; l < I->levels && !r; l++) I->occupied_voxels += cg->llist_n[l];
     return r;
 }
 
@@ -236,6 +319,7 @@ static vx_result inject(vx_cone_gi* cg, vx_error* err) {
     vx_result r = light_frame(cg, &f, err);
     if (!r) r = upload_lights(cg, &f, err);
     if (r) return r;
+    cg->lights_packed = false; /* the gi pass's copy (cone shadows) too */
     push_block pc = {0};
     for (int k = 0; k < 3; k++) pc.f1[k] = (float)cg->sun[k], pc.f2[k] = (float)cg->sky[k];
     pc.f2[3] = cg->sky_dir.type != VX_SKY_DEFAULT; /* the sky by direction (binding 19) */
@@ -244,13 +328,13 @@ static vx_result inject(vx_cone_gi* cg, vx_error* err) {
     uint32_t n = cg->info.surface_voxels;
     cg->P.ctl[2] = 0;
     r = dispatch_n(cg, SH_INJECT, 0, &f, n, &pc, &ti, err);
-    if (!r) r = filter_levels(cg, &f, &tf, err);
+    if (!r) r = filter_levels(cg, &f, false, &tf, err);
     for (uint32_t b = 1; b < cg->d.bounces && !r; b++) {
         /* each visible surface gathers the last volume's light, then all are injected again */
         r = dispatch_n(cg, SH_INJECT, 1, &f, n, &pc, &ti, err);
         cg->P.ctl[2] = 1;
         if (!r) r = dispatch_n(cg, SH_INJECT, 0, &f, n, &pc, &ti, err);
-        if (!r) r = filter_levels(cg, &f, &tf, err);
+        if (!r) r = filter_levels(cg, &f, false, &tf, err);
     }
     cg->info.inject_ms = ti * 1e3, cg->info.filter_ms = tf * 1e3;
     return r;
@@ -270,11 +354,18 @@ vx_result vx_cone_gi_voxelize(vx_cone_gi* cg, vx_error* err) {
     if ((r = vx__buffer_download(cg->g, &cg->b[B_LIST], &n, sizeof n, err))) return r;
     if (n > cg->level0) return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "the voxelizer listed %u of %llu voxels", n, (unsigned long long)cg->level0);
     cg->info.surface_voxels = n;
+    cg->info.occupied_voxels = 0;
     VkDeviceSize rec = (VkDeviceSize)(n ? n : 1) * 6 * REC_VEC4 * 16;
     if ((r = vx__buffer_ensure(cg->g, &cg->b[B_REC], rec, "cone surfaces", err))) return r;
     if ((r = dispatch_n(cg, SH_VOXELIZE, 1, &f, n, &pc, &t, err))) return r;
+    /* every level's opacity (and no light) over the dense pyramid, then the
+     * occupied voxels' lists that relighting filters */
+    if ((r = filter_levels(cg, &f, true, &t, err))) return r;
+    if ((r = mark_occupied(cg, &f, &t, err))) return r;
     cg->info.voxelize_ms = t * 1e3;
-    cg->info.bytes = cg->b[B_VOL].size + cg->b[B_REC].size + cg->b[B_LIST].size;
+    cg->info.bytes = 0;
+    for (int i = 0; i < B_COUNT; i++)
+        if (i != B_HALF) cg->info.bytes += cg->b[i].size;
     return inject(cg, err);
 }
 
@@ -314,13 +405,33 @@ static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, 
     push_block pc = {.u0 = {io->sample}};
     for (int k = 0; k < 3; k++) pc.f2[k] = (float)cg->sky[k];
     pc.f2[3] = cg->sky_dir.type != VX_SKY_DEFAULT;
+    if (cg->d.shadows) {
+        /* the direct light: the sun, and the lights packed for this frame's reference */
+        for (int k = 0; k < 3; k++) pc.f1[k] = (float)cg->sun[k];
+        pc.u1[2] = cg->d.light_count;
+        if (cg->d.light_count && (!cg->lights_packed || memcmp(cg->lights_ref, f.ref, sizeof f.ref))) {
+            vx__buffer keep = cg->b[B_LIGHTS];
+            cg->b[B_LIGHTS] = (vx__buffer){0};
+            r = upload_lights(cg, &f, err);
+            vx__buffer_destroy(cg->g, &cg->b[B_FLIGHTS]);
+            cg->b[B_FLIGHTS] = cg->b[B_LIGHTS], cg->b[B_LIGHTS] = keep;
+            if (r) return r;
+            memcpy(cg->lights_ref, f.ref, sizeof f.ref);
+            cg->lights_packed = true;
+        }
+    }
     *gpu_seconds = 0;
-    return dispatch(cg, SH_CONE, 0, &f, (f.width + 7) / 8, (f.height + 7) / 8, &pc, io->out, gpu_seconds, err);
+    if (!cg->d.half_res) return dispatch(cg, SH_CONE, 0, &f, (f.width + 7) / 8, (f.height + 7) / 8, &pc, io->out, gpu_seconds, err);
+    uint32_t hw = (f.width + 1) / 2, hh = (f.height + 1) / 2;
+    if ((r = vx__buffer_ensure(cg->g, &cg->b[B_HALF], (VkDeviceSize)hw * hh * 32, "cone half resolution", err))) return r;
+    if ((r = dispatch(cg, SH_CONE, 1, &f, (hw + 7) / 8, (hh + 7) / 8, &pc, io->out, gpu_seconds, err))) return r;
+    return dispatch(cg, SH_CONE, 2, &f, (f.width + 7) / 8, (f.height + 7) / 8, &pc, io->out, gpu_seconds, err);
 }
 
 static void fill_method(vx_cone_gi* cg, vx_gi_method* m) {
     *m = (vx_gi_method){.name = "cones", .user = cg, .render = gi_render, .emit_attr = cg->emit_attr,
-                        .emit_count = cg->emit_count, .lights = cg->d.lights, .light_count = cg->d.light_count};
+                        .emit_count = cg->emit_count, .lights = cg->d.lights, .light_count = cg->d.light_count,
+                        .includes_direct = cg->d.shadows};
     for (int k = 0; k < 3; k++) m->light_dir[k] = cg->light_dir[k], m->sun[k] = cg->sun[k], m->sky[k] = cg->sky[k];
     if (cg->sky_dir.type != VX_SKY_DEFAULT) m->sky_dir = &cg->sky_dir, m->sky_map = &cg->sky_map;
 }
@@ -358,9 +469,33 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     cg->P.origin[3] = (float)s;
     cg->P.cone[1] = (float)cg->d.offset, cg->P.cone[2] = (float)cg->d.step, cg->P.cone[3] = (float)(cg->d.ao_distance / s);
     cg->P.ctl[1] = cg->d.output == VX_CONE_OUTPUT_AO;
+    cg->P.spec[0] = (float)(1 - cos(cg->d.sun_angle * 0.5 * 3.14159265358979323846 / 180));
+    cg->P.spec[1] = (float)SPEC_TAN_PER_ALPHA, cg->P.spec[2] = (float)SPEC_TAN_MAX;
+    if (cg->d.shadows) cg->features |= FEAT_SHADOWS;
     cone_set(&cg->P, cg->d.cones, cg->d.aperture);
-    vx_result r = vx__buffer_create(cg->g, total * I->entries * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone volume",
-                                    &cg->b[B_VOL], err);
+    /* the volume is an atlas (a 3D image), which the cones sample with the
+     * hardware's trilinear filter: level 0 at (1, 1, 1), the others beside it
+     * in x, stacked in y, every level with a zero voxel on each side (what a
+     * read outside a level sees: the shaders clamp reads to half a voxel
+     * beyond it); the entries stacked in z. Not a buffer: a storage buffer's
+     * range stops at 4 GB (maxStorageBufferRange) and res 512 anisotropic
+     * needs 9 GB (the buffer's upper part read as zero there) */
+    uint32_t ax[3] = {I->dims[0][0] + 2, I->dims[0][1] + 2, 0}, y = 1;
+    for (uint32_t l = 0; l < I->levels; l++) {
+        uint32_t* a = cg->P.atl[l];
+        a[0] = l ? I->dims[0][0] + 2 : 1, a[1] = l ? y : 1, a[2] = 1;
+        if (l) {
+            y += I->dims[l][1] + 1;
+            if (a[0] + I->dims[l][0] + 1 > ax[0]) ax[0] = a[0] + I->dims[l][0] + 1;
+            if (y > ax[1]) ax[1] = y;
+        }
+    }
+    uint32_t zs = I->dims[0][2] + 2;
+    ax[2] = zs * I->entries;
+    for (int k = 0; k < 3; k++) cg->P.atlas[k] = 1.0f / (float)ax[k];
+    cg->P.atlas[3] = (float)zs;
+    vx_result r = vx__image3d_create(cg->g, ax, "cone atlas", &cg->b[B_ATLAS], err);
+    if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone level copy", &cg->b[B_VOL], err);
     if (!r) r = vx__buffer_create(cg->g, (cg->level0 + 1) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone list", &cg->b[B_LIST], err);
     if (!r) r = vx__buffer_create(cg->g, sizeof(cone_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "cone params", &cg->b[B_PARAMS], err);
     if (!r && !cg->b[B_PARAMS].map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "cone parameters are not host visible");
@@ -371,7 +506,87 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     return r;
 }
 
-/* Emission scale per attribute record (the scene's materials). */
+/* The GGX lobe's directional albedo as f0 A + B (the path tracer's lobe:
+ * probes/shaders/path_common.glsl bsdf_eval, Schlick's Fresnel f0 + (1 - f0)
+ * (1 - wi.h)^5, Smith height-correlated masking), for ENV_N view cosines x
+ * ENV_N roughnesses at cell centres: 32 x 32 stratified VNDF samples each, of
+ * weight F G2 / G1(wo) (Heitz 2018: f cos / pdf of a visible normal). */
+static double lambda_ggx(double a2, double z) {
+    double z2 = z * z;
+    if (z2 >= 1) return 0;
+    if (!(z2 > 0)) return 1e30;
+    return 0.5 * (-1 + sqrt(1 + a2 * (1 - z2) / z2));
+}
+static void env_table(float* out) {
+    enum { S = 32 };
+    for (uint32_t j = 0; j < ENV_N; j++)
+        for (uint32_t i = 0; i < ENV_N; i++) {
+            double nv = (i + 0.5) / ENV_N, rough = (j + 0.5) / ENV_N;
+            double alpha = fmax(rough * rough, 1e-3), a2 = alpha * alpha;
+            double wo[3] = {sqrt(1 - nv * nv), 0, nv};
+            double A = 0, B = 0, lo = lambda_ggx(a2, nv);
+            /* the visible normals' frame (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") */
+            double vh[3] = {alpha * wo[0], alpha * wo[1], wo[2]}, lv = sqrt(vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2]);
+            for (int k = 0; k < 3; k++) vh[k] /= lv;
+            double l2 = vh[0] * vh[0] + vh[1] * vh[1];
+            double t1[3] = {1, 0, 0};
+            if (l2 > 0) t1[0] = -vh[1] / sqrt(l2), t1[1] = vh[0] / sqrt(l2), t1[2] = 0;
+            double t2[3] = {vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]};
+            for (int a = 0; a < S; a++)
+                for (int b = 0; b < S; b++) {
+                    double u1 = (a + 0.5) / S, u2 = (b + 0.5) / S;
+                    double r = sqrt(u1), phi = 2 * 3.14159265358979323846 * u2;
+                    double p1 = r * cos(phi), p2 = r * sin(phi), sh = 0.5 * (1 + vh[2]);
+                    p2 = (1 - sh) * sqrt(fmax(0, 1 - p1 * p1)) + sh * p2;
+                    double p3 = sqrt(fmax(0, 1 - p1 * p1 - p2 * p2)), nh[3];
+                    for (int k = 0; k < 3; k++) nh[k] = p1 * t1[k] + p2 * t2[k] + p3 * vh[k];
+                    double m[3] = {alpha * nh[0], alpha * nh[1], fmax(0, nh[2])};
+                    double lm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                    if (!(lm > 0)) continue;
+                    for (int k = 0; k < 3; k++) m[k] /= lm;
+                    double c = wo[0] * m[0] + wo[1] * m[1] + wo[2] * m[2];
+                    double wiz = 2 * c * m[2] - wo[2];
+                    if (c <= 0 || wiz <= 0) continue;
+                    double li = lambda_ggx(a2, wiz), w = (1 + lo) / (1 + lo + li);
+                    double s5 = pow(1 - c, 5); /* wi.h = wo.h */
+                    A += (1 - s5) * w, B += s5 * w;
+                }
+            float* o = out + 4 * (j * ENV_N + i);
+            o[0] = (float)(A / (S * S)), o[1] = (float)(B / (S * S)), o[2] = o[3] = 0;
+        }
+}
+
+/* Per attribute record its material for the specular cones (cone_common.glsl
+ * cmat: kind 1 metal, roughness, metalness, specular weight), then the
+ * environment BRDF table; only when some record is metal. */
+static vx_result materials(vx_cone_gi* cg, const uint8_t* pal, size_t n, vx_error* err) {
+    bool metal = false;
+    for (size_t i = 0; i < n && !cg->d.no_specular; i++) metal |= vx_svo_scene_material(cg->scene, pal[i]).type == VX_MATERIAL_METAL;
+    if (!metal) return VX_OK;
+    if (n > UINT32_MAX - ENV_N * ENV_N) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
+    size_t count = n + ENV_N * ENV_N;
+    float* m = vx_calloc(cg->alloc, count, 4 * sizeof(float));
+    if (!m) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu material records", n);
+    for (size_t i = 0; i < n; i++) {
+        vx_material mt = vx_svo_scene_material(cg->scene, pal[i]);
+        float* o = m + 4 * i;
+        o[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
+        o[1] = (float)mt.roughness, o[2] = (float)mt.metalness, o[3] = (float)mt.specular;
+    }
+    env_table(m + 4 * n);
+    vx_result r = vx__buffer_create(cg->g, count * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone materials",
+                                    &cg->b[B_MAT], err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_MAT], m, count * 16, err);
+    vx_free(cg->alloc, m);
+    if (r) return r;
+    cg->P.ctl[3] = (uint32_t)n;
+    cg->features |= FEAT_SPEC;
+    cg->info.specular = true;
+    return VX_OK;
+}
+
+/* Emission scale per attribute record (the scene's materials), and the
+ * materials of the specular cones. */
 static vx_result emission(vx_cone_gi* cg, vx_error* err) {
     uint8_t* pal = NULL;
     size_t n = 0;
@@ -385,8 +600,9 @@ static vx_result emission(vx_cone_gi* cg, vx_error* err) {
     }
     for (size_t i = 0; i < n; i++) cg->emit_attr[i] = (float)em[pal[i]];
     cg->emit_count = n;
+    r = materials(cg, pal, n, err);
     vx_free(cg->alloc, pal);
-    r = vx__buffer_create(cg->g, (n ? n : 1) * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
+    if (!r) r = vx__buffer_create(cg->g, (n ? n : 1) * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
                           &cg->b[B_EMIT], err);
     if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (n ? n : 1) * sizeof(float), err);
     return r;
@@ -431,12 +647,16 @@ vx_result vx_cone_gi_read_level(vx_cone_gi* cg, uint32_t level, float* out, size
     const uint32_t* d = cg->info.dims[level];
     size_t n = (size_t)d[0] * d[1] * d[2] * cg->info.entries;
     if (floats < 4 * n) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "level %u needs %zu floats, got %zu", level, 4 * n, floats);
-    /* the levels before it, then this one: the buffer is read from its start */
-    size_t first = (size_t)cg->P.dims[level][3] * cg->info.entries;
-    uint16_t* h = vx_alloc(cg->alloc, (first + n) * 8);
-    if (!h) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", first + n);
-    vx_result r = vx__buffer_download(cg->g, &cg->b[B_VOL], h, (first + n) * 8, err);
-    for (size_t i = 0; !r && i < 4 * n; i++) out[i] = vx_probe_half_to_float(h[4 * first + i]);
+    /* the level copied out of the atlas (filter.comp STAGE 5), then downloaded */
+    uint16_t* h = vx_alloc(cg->alloc, n * 8);
+    if (!h) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", n);
+    vx__frame f;
+    vx_result r = vx__buffer_ensure(cg->g, &cg->b[B_VOL], n * 8, "cone level copy", err);
+    if (!r) r = light_frame(cg, &f, err);
+    push_block pc = {.u2 = {level}};
+    if (!r) r = dispatch_n(cg, SH_FILTER, 5, &f, (uint64_t)d[0] * d[1] * d[2], &pc, NULL, err);
+    if (!r) r = vx__buffer_download(cg->g, &cg->b[B_VOL], h, n * 8, err);
+    for (size_t i = 0; !r && i < 4 * n; i++) out[i] = vx_probe_half_to_float(h[i]);
     vx_free(cg->alloc, h);
     return r;
 }

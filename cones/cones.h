@@ -47,6 +47,15 @@
  *     isotropic: the mean of the 8 children; anisotropic: per side, the
  *     children composited front to back along that axis, then the mean of
  *     the 4 columns (what a viewer on that side sees through the block).
+ *     After a voxelization every voxel of every level; after a light change
+ *     only the voxels with geometry below them (lists per level built at
+ *     voxelization: a parent once per occupancy bit), since every other
+ *     voxel stays empty.
+ *   atlas: the levels are copied into one 3D texture (RGBA16F; every level
+ *     with a zero voxel around it, the entries stacked in z) that the cones
+ *     sample with the hardware's trilinear filter: one fetch per entry read
+ *     instead of eight buffer loads; after a light change only the occupied
+ *     voxels are copied.
  *
  * Cone tracing (the gi pass, per pixel): the pixel's first surface (a
  * pixel-centre primary ray, as the G-buffer's) gathers `cones` diffuse cones
@@ -113,7 +122,37 @@ typedef enum vx_cone_output {
  *               kept in the volume; the method's sky_dir then gives the
  *               pipeline's background. NULL: the uniform sky
  *  lights:      frame lights injected too (borrowed; the frame must pass the same array)
- *  output:      what the gi image holds */
+ *  output:      what the gi image holds
+ *  half_res:    the diffuse cones at one pixel of each 2 x 2 block, spread to
+ *               the others on the same surface (normals within 18 degrees,
+ *               within half a level-0 voxel of the pixel's tangent plane;
+ *               a pixel with no such sample traces its own); the albedo, the
+ *               specular cones and the cone shadows stay per pixel
+ *  shadows:     cone soft shadows: the gi image also holds the direct light
+ *               (the sun and every frame light, visibility from one cone
+ *               towards each source as wide as the source), so the frame
+ *               must have no direct pass (vx_gi_method.includes_direct)
+ *  sun_angle:   the sun's angular diameter in degrees for the cone shadows
+ *               (0: 0.53, the sun's; below 30)
+ *  no_specular: metal records shaded as diffuse (the specular cones are
+ *               otherwise traced wherever the scene has a metal record)
+ *
+ * Specular cones: where the scene has metal records (svo/svo.h vx_material),
+ * the gi pass shades them as the path tracer's BSDF (probes/shaders/
+ * path_common.glsl bsdf_of): f = kd / pi + GGX (alpha = roughness^2, Smith
+ * masking, Schlick Fresnel with f0 from the metalness). The gi image there
+ * is kd * sum w_i L_i (the diffuse cones) plus one cone along the mirror
+ * direction, half angle atan(2 alpha) (2 alpha is tan(2 atan alpha) to first
+ * order: twice the angle within which half of the GGX normals lie), at most
+ * 45 degrees (and, as every cone, at most a third of its height above the
+ * surface's tangent plane wide: past roughness 0.3 or so that limit, not the
+ * roughness, sets the width), times the lobe's directional albedo f0 A + B for the view
+ * angle (a table integrated on the CPU from the same lobe, so a constant
+ * environment is exact up to its interpolation). The direct light of a
+ * metal stays the direct pass's (diffuse) unless `shadows` is on, where it
+ * is also diffuse: a specular highlight of the lights is not drawn. Glass
+ * is shaded as diffuse. A scene without metal records has no specular path
+ * in the shader (specialised out). */
 typedef struct vx_cone_desc {
     uint32_t res;
     uint32_t samples;
@@ -131,6 +170,10 @@ typedef struct vx_cone_desc {
     const vx_light* lights;
     uint32_t light_count;
     vx_cone_output output;
+    bool half_res;
+    bool shadows;
+    double sun_angle;
+    bool no_specular;
 } vx_cone_desc;
 
 vx_cone_desc vx_cone_desc_defaults(void);
@@ -143,6 +186,8 @@ typedef struct vx_cone_info {
     double origin[3];     /* world corner of voxel (0,0,0) at every level */
     double voxel;         /* level-0 voxel side, world units */
     uint32_t surface_voxels; /* level-0 voxels with geometry */
+    uint32_t occupied_voxels; /* voxels of the levels above 0 with geometry below them (filtered after a light change) */
+    bool specular;        /* the gi pass traces specular cones (some attribute record is metal) */
     uint64_t bytes;       /* GPU memory of the volume and its lists */
     double voxelize_ms, inject_ms, filter_ms; /* GPU time of the last of each step */
 } vx_cone_info;

@@ -95,6 +95,7 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     out_method->lights = gi->desc.lights, out_method->light_count = gi->desc.light_count;
     out_method->sky_dir = gi->sky_dir.type != VX_SKY_DEFAULT ? &gi->sky_dir : NULL;
     out_method->sky_map = gi->sky_dir.type != VX_SKY_DEFAULT ? &gi->sky_map : NULL;
+    out_method->includes_direct = false; /* the direct pass shades the frame's light */
     *out = gi;
     return VX_OK;
 }

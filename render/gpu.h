@@ -24,8 +24,14 @@
 
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
-#define VX_GPU_MAX_BINDINGS 24
-#define VX_GPU_MAX_PIPELINES 32
+#define VX_GPU_MAX_BINDINGS 26
+/* Pipelines cached per vx_gpu. Eviction (the oldest, when full) moves the
+ * others, so a vx__pipeline* held across another vx__pipeline_get may then
+ * point to another pipeline: the pass pipeline holds its passes' while the gi
+ * method creates its own, and test_cones' variants (cone stages, features,
+ * entries) overflowed 32 within one frame (the frame resolved with a stale
+ * pipeline). Large enough that a process's variants never evict. */
+#define VX_GPU_MAX_PIPELINES 128
 
 typedef struct vx__buffer {
     VkBuffer buf;
@@ -33,6 +39,12 @@ typedef struct vx__buffer {
     VkDeviceSize size;
     void* map;           /* persistently mapped when host visible */
     bool host_visible;
+    /* a 3D image instead (vx__image3d_create; buf is then VK_NULL_HANDLE):
+     * bound as VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER (trilinear, zero
+     * outside) or VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, always in the general layout */
+    VkImage image;
+    VkImageView view;
+    VkSampler sampler;
 } vx__buffer;
 
 typedef struct vx_gpu_compute_pipeline_desc {
@@ -100,6 +112,10 @@ void vx__buffer_destroy(vx_gpu* g, vx__buffer* b);
 /* A device-local storage buffer of at least size bytes: b is kept when it is
  * large enough, else replaced (its contents are not kept). */
 vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err);
+/* A device-local 3D image of RGBA16F texels, cleared to zero, in the general
+ * layout (sampled and stored), with a linear sampler whose outside is
+ * transparent black; destroyed by vx__buffer_destroy. */
+vx_result vx__image3d_create(vx_gpu* g, const uint32_t extent[3], const char* label, vx__buffer* out, vx_error* err);
 /* Copies data into a buffer (through a staging buffer if not mapped). */
 vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err);
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);

@@ -36,11 +36,13 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
     uint32_t repeat = d->repeat ? d->repeat : 1;
     /* one set per stage: the main pipeline's and the optional first stage's */
     uint32_t nsets = d->pre_pipeline ? 2u : 1u;
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * VX_GPU_MAX_BINDINGS}};
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * VX_GPU_MAX_BINDINGS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 2,
-                                      .poolSizeCount = 2,
+                                      .poolSizeCount = 4,
                                       .pPoolSizes = sizes};
     bool timed = g->has_timestamps && seconds;
     double* runs = NULL;
@@ -68,16 +70,22 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
             goto done;
         }
         VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+        VkDescriptorImageInfo images[VX_GPU_MAX_BINDINGS];
         VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
         for (uint32_t i = 0; i < d->buffer_count; i++) {
+            VkDescriptorType t = stage[s]->bindings[i];
+            bool image = t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
             infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
+            images[i] = (VkDescriptorImageInfo){.sampler = d->buffers[i]->sampler, .imageView = d->buffers[i]->view,
+                                                .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
             /* each binding as the pipeline declared it (the trace shaders: binding 0 the uniform frame block) */
             w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                                           .dstSet = sets[s],
                                           .dstBinding = i,
                                           .descriptorCount = 1,
-                                          .descriptorType = stage[s]->bindings[i],
-                                          .pBufferInfo = &infos[i]};
+                                          .descriptorType = t,
+                                          .pBufferInfo = image ? NULL : &infos[i],
+                                          .pImageInfo = image ? &images[i] : NULL};
         }
         vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
     }

@@ -65,6 +65,9 @@ vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usa
 
 void vx__buffer_destroy(vx_gpu* g, vx__buffer* b) {
     if (!b) return;
+    if (b->sampler) vkDestroySampler(g->device, b->sampler, NULL);
+    if (b->view) vkDestroyImageView(g->device, b->view, NULL);
+    if (b->image) vkDestroyImage(g->device, b->image, NULL);
     if (b->map) vkUnmapMemory(g->device, b->mem);
     if (b->buf) vkDestroyBuffer(g->device, b->buf, NULL);
     if (b->mem) vkFreeMemory(g->device, b->mem, NULL);
@@ -118,4 +121,87 @@ vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const c
     if (b->buf && b->size >= size) return VX_OK;
     vx__buffer_destroy(g, b);
     return vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
+}
+
+vx_result vx__image3d_create(vx_gpu* g, const uint32_t extent[3], const char* label, vx__buffer* out, vx_error* err) {
+    memset(out, 0, sizeof *out);
+    const VkFormat fmt = VK_FORMAT_R16G16B16A16_SFLOAT;
+    uint32_t lim = g->props.limits.maxImageDimension3D;
+    if (!extent[0] || !extent[1] || !extent[2] || extent[0] > lim || extent[1] > lim || extent[2] > lim)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a %ux%ux%u image for '%s': the device's 3D images reach %u",
+                       extent[0], extent[1], extent[2], label, lim);
+    VkImageCreateInfo ii = {.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+                            .imageType = VK_IMAGE_TYPE_3D,
+                            .format = fmt,
+                            .extent = {extent[0], extent[1], extent[2]},
+                            .mipLevels = 1,
+                            .arrayLayers = 1,
+                            .samples = VK_SAMPLE_COUNT_1_BIT,
+                            .tiling = VK_IMAGE_TILING_OPTIMAL,
+                            .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                            .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+                            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
+    VX__VK(vkCreateImage(g->device, &ii, NULL, &out->image), "vkCreateImage");
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(g->device, out->image, &req);
+    uint32_t type = 0;
+    if (!find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &type) &&
+        !find_type(g, req.memoryTypeBits, 0, &type)) {
+        vx__buffer_destroy(g, out);
+        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no suitable memory type for image '%s'", label);
+    }
+    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, .allocationSize = req.size, .memoryTypeIndex = type};
+    VkResult r = vkAllocateMemory(g->device, &ai, NULL, &out->mem);
+    if (r == VK_SUCCESS) r = vkBindImageMemory(g->device, out->image, out->mem, 0);
+    if (r == VK_SUCCESS) {
+        VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+                                    .image = out->image,
+                                    .viewType = VK_IMAGE_VIEW_TYPE_3D,
+                                    .format = fmt,
+                                    .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+        r = vkCreateImageView(g->device, &vi, NULL, &out->view);
+    }
+    if (r == VK_SUCCESS) {
+        VkSamplerCreateInfo si = {.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+                                  .magFilter = VK_FILTER_LINEAR,
+                                  .minFilter = VK_FILTER_LINEAR,
+                                  .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+                                  .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+                                  .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+                                  .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+                                  .borderColor = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK};
+        r = vkCreateSampler(g->device, &si, NULL, &out->sampler);
+    }
+    if (r != VK_SUCCESS) {
+        vx__buffer_destroy(g, out);
+        char what[96];
+        snprintf(what, sizeof what, "creating a %ux%ux%u image for '%s'", extent[0], extent[1], extent[2], label);
+        return vx__vk_fail(err, r, what);
+    }
+    out->size = req.size;
+    vx__gpu_name(g, VK_OBJECT_TYPE_IMAGE, (uint64_t)out->image, label);
+    /* to the general layout, cleared */
+    vx_result res = vx__cmd_begin(g, err);
+    if (!res) {
+        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                  .srcAccessMask = 0,
+                                  .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                  .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                                  .newLayout = VK_IMAGE_LAYOUT_GENERAL,
+                                  .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                  .image = out->image,
+                                  .subresourceRange = range};
+        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+        VkClearColorValue zero = {{0, 0, 0, 0}};
+        vkCmdClearColorImage(g->cmd, out->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        b.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+        res = vx__cmd_submit_wait(g, err);
+    }
+    if (res) vx__buffer_destroy(g, out);
+    return res;
 }

@@ -549,6 +549,9 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (has_gi && gm->name && strcmp(gm->name, L->gi))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pass gi=%s but the method given is '%s'", L->gi,
                        gm->name);
+    if (has_gi && has_direct && gm->includes_direct)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "gi=%s brings the direct light itself (cone shadows): leave direct out of the pass list", L->gi);
     if (vx_render_scene_precise(fr->rs))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the pass pipeline traces in float; this scene has models deeper than %u levels",

@@ -140,6 +140,9 @@ typedef struct vx_gi_method {
      * vx_probe_render_desc.sky and sky_map; borrowed, as long as the method) */
     const vx_sky* sky_dir;
     const vx_sky_texels* sky_map;
+    /* the gi image holds the direct light too (gi=cones with cone shadows):
+     * a pass list with both direct and this gi pass is refused */
+    bool includes_direct;
 } vx_gi_method;
 
 /* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h.

@@ -6,8 +6,10 @@
 //
 // Volume: level l's voxel (x, y, z) holds ENTRIES entries (1 isotropic; 6
 // anisotropic: what a viewer on the +x, -x, +y, -y, +z, -z side sees), each
-// premultiplied radiance RGB and opacity A as four halfs, at
-// vol[(CP.dims[l].w + (z * dy + y) * dx + x) * ENTRIES + e].
+// premultiplied radiance RGB and opacity A as four halfs: texel CP.atl[l] +
+// (x, y, z) + (0, 0, e * CP.atlas.w) of the atlas (below). vol[] only takes
+// a level's copy for vx_cone_gi_read_level (filter.comp STAGE 5), at
+// ((z * dy + y) * dx + x) * ENTRIES + e.
 layout(std430, binding = 20) buffer Vol { uvec2 vol[]; };
 // Per listed voxel and side (6 per voxel, 5 vec4 each): the visible surface
 // (voxelize.comp): 0 xyz mean hit point relative to the volume origin, w
@@ -19,54 +21,61 @@ layout(std430, binding = 22) readonly buffer ConeP {
     vec4 origin;     // xyz: the volume's world corner relative to the frame reference, w: level-0 voxel side
     uvec4 info;      // x: levels, y: entries per voxel, z: samples per face side, w: 0
     vec4 cone;       // x: tan(half angle), y: offset (voxels), z: step share of the diameter, w: AO distance (voxels; 0: all)
-    uvec4 ctl;       // x: cones, y: output (1: AO), z: add the gathered light (inject), w: 0
+    uvec4 ctl;       // x: cones, y: output (1: AO), z: add the gathered light (inject), w: first entry of
+                     // the environment BRDF table in cmat[] (SPEC)
+    vec4 spec;       // x: the sun's 1 - cos(angular radius) (SHADOWS), y: the specular cone's tan(half
+                     // angle) per GGX alpha, z: its largest tan(half angle), w: 0
     uvec4 dims[16];  // per level: xyz voxels, w: first voxel
     vec4 dirs[32];   // cone directions around +z (tangent space), w: weight
+    vec4 atlas;      // xyz: 1 / the atlas's size (texels), w: its z stride per entry
+    uvec4 atl[16];   // per level: its corner in the atlas (texels)
 } CP;
+// The atlas that holds the volume (cones/cones.c layout_volume): every
+// level, each entry's copy stacked in z, with a zero voxel around each
+// level; written and read texel by texel as an image (voxelize, inject,
+// filter), sampled by the cones with the hardware's trilinear filter (zero
+// outside). An image, not a buffer: a storage buffer's range stops at 4 GB
+// (maxStorageBufferRange), and the anisotropic volume at res 512 is 9 GB.
+layout(binding = 24) uniform sampler3D vol_tex;
+layout(binding = 25, rgba16f) uniform image3D vol_img;
 // list[0]: voxels listed, then their level-0 indices
 layout(std430, binding = 23) buffer List { uint list[]; };
 
-layout(constant_id = 6) const uint ENTRIES = 1u; // 1 isotropic, 6 anisotropic
+// bits 0-3: entries per voxel (1 isotropic, 6 anisotropic); the gi pass's
+// features: bit 4 specular cones (some attribute record is metal), bit 5
+// cone soft shadows (the gi image brings the direct light too)
+layout(constant_id = 6) const uint CONE_SPEC = 1u;
+const uint ENTRIES = CONE_SPEC & 15u;
+const bool SPEC = (CONE_SPEC & 16u) != 0u, SHADOWS = (CONE_SPEC & 32u) != 0u;
 
-vec4 vol_load(uint idx) {
-    uvec2 v = vol[idx];
-    return vec4(unpackHalf2x16(v.x), unpackHalf2x16(v.y));
-}
-void vol_store(uint idx, vec4 c) { vol[idx] = uvec2(packHalf2x16(c.xy), packHalf2x16(c.zw)); }
+ivec3 vol_texel(uint l, uvec3 c, uint e) { return ivec3(CP.atl[l].xyz + c) + ivec3(0, 0, int(e) * int(CP.atlas.w)); }
+vec4 vol_get(uint l, uvec3 c, uint e) { return imageLoad(vol_img, vol_texel(l, c, e)); }
+void vol_put(uint l, uvec3 c, uint e, vec4 v) { imageStore(vol_img, vol_texel(l, c, e), v); }
 
+// A voxel's index in the whole pyramid (its occupancy bit, filter.comp).
 uint vol_index(uint l, uvec3 c) {
     uvec4 d = CP.dims[l];
     return d.w + (c.z * d.y + c.y) * d.x + c.x;
 }
 
-// The value a cone going along d reads from voxel c of level l: the entry
-// itself, or the three sides facing the cone weighted by d^2 (sum 1).
-vec4 vol_voxel(uint l, ivec3 c, vec3 d) {
-    uvec3 n = CP.dims[l].xyz;
-    if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(uvec3(c), n))) return vec4(0.0);
-    uint i = vol_index(l, uvec3(c)) * ENTRIES;
-    if (ENTRIES == 1u) return vol_load(i);
-    vec3 w = d * d;
-    // a cone going +x sees the voxel's -x side (entry 1)
-    return w.x * vol_load(i + (d.x > 0.0 ? 1u : 0u)) + w.y * vol_load(i + (d.y > 0.0 ? 3u : 2u)) +
-           w.z * vol_load(i + (d.z > 0.0 ? 5u : 4u));
-}
-
 // Trilinear read of level l at q (level-0 voxel units from the volume
-// origin; voxel centres of level l at (i + 1/2) 2^l); outside is empty.
+// origin; voxel centres of level l at (i + 1/2) 2^l); outside is empty. One
+// hardware-filtered fetch per entry read from the atlas: voxel i of level l
+// is texel atl + i, so the point is texel coordinate atl + q / 2^l; it is
+// clamped to half a voxel beyond the level, where the filter reads only the
+// zero voxels around it (and the value outside is zero anyway), so a read
+// never reaches another level. Anisotropic: the three sides facing the
+// cone, weighted by d^2 (sum 1).
 vec4 vol_trilinear(uint l, vec3 q, vec3 d) {
-    vec3 g = q / exp2(float(l)) - 0.5;
-    vec3 f0 = floor(g);
-    vec3 f = g - f0;
-    ivec3 b = ivec3(f0);
-    vec4 s = vec4(0.0);
-    for (int k = 0; k < 8; k++) {
-        ivec3 o = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-        vec3 w3 = mix(1.0 - f, f, vec3(o));
-        float w = w3.x * w3.y * w3.z;
-        if (w > 0.0) s += w * vol_voxel(l, b + o, d);
-    }
-    return s;
+    vec3 g = clamp(q / exp2(float(l)), vec3(-0.5), vec3(CP.dims[l].xyz) + 0.5) + vec3(CP.atl[l].xyz);
+    if (ENTRIES == 1u) return textureLod(vol_tex, g * CP.atlas.xyz, 0.0);
+    vec3 w = d * d;
+    float zs = CP.atlas.w;
+    // a cone going +x sees the voxel's -x side (entry 1)
+    vec4 sx = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.x > 0.0 ? 1.0 : 0.0))) * CP.atlas.xyz, 0.0);
+    vec4 sy = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.y > 0.0 ? 3.0 : 2.0))) * CP.atlas.xyz, 0.0);
+    vec4 sz = textureLod(vol_tex, (g + vec3(0.0, 0.0, zs * (d.z > 0.0 ? 5.0 : 4.0))) * CP.atlas.xyz, 0.0);
+    return w.x * sx + w.y * sy + w.z * sz;
 }
 
 // Quadrilinear: trilinear in the two levels around lev, linear between.
@@ -147,4 +156,48 @@ vec3 cone_gather(vec3 q, vec3 n, float rot, vec3 sky, out float ao) {
         ao += dl.w * (1.0 - occ);
     }
     return L;
+}
+
+// ---- specular cones (SPEC) -------------------------------------------------------
+// Per attribute record one vec4 (kind: 1 metal, roughness, metalness,
+// specular weight; probes/shaders/path_common.glsl's bsdf_of), then the
+// environment BRDF table from CP.ctl.w: ENV_N x ENV_N entries (A, B, 0, 0),
+// x the cosine of the view angle, y the roughness, both at (i + 1/2) / ENV_N,
+// such that the directional albedo of the path tracer's GGX lobe (Smith
+// height-correlated masking, Schlick Fresnel) is f0 A + B (cones/cones.c
+// env_table). The binding is passes_common.glsl's 15 (unused by the cone
+// shaders otherwise).
+#define cmat out2_img
+const uint ENV_N = 32u;
+
+vec2 env_brdf(float nv, float rough) {
+    vec2 g = vec2(nv, rough) * float(ENV_N) - 0.5;
+    vec2 f0 = clamp(floor(g), vec2(0.0), vec2(float(ENV_N) - 2.0));
+    vec2 f = clamp(g - f0, vec2(0.0), vec2(1.0));
+    uint b = CP.ctl.w + uint(f0.y) * ENV_N + uint(f0.x);
+    vec2 a = mix(cmat[b].xy, cmat[b + 1u].xy, f.x), c = mix(cmat[b + ENV_N].xy, cmat[b + ENV_N + 1u].xy, f.x);
+    return mix(a, c, f.y);
+}
+
+// Cone occlusion along unit d from q (as cone_march, no light): the
+// transmittance (1 - composited opacity) within t_max level-0 voxels.
+float cone_transmit(vec3 q, vec3 d, float tanh, float h0, float dn, float t_max) {
+    float A = 0.0;
+    vec3 hi = vec3(CP.dims[0].xyz);
+    float share = CP.cone.z;
+    float t = 0.5;
+    for (uint it = 0u; it < 4096u && t < t_max; it++) {
+        float dia = max(1.0, min(2.0 * t * tanh, (h0 + t * dn) / 3.0));
+        vec3 p = q + d * t;
+        if (any(lessThan(p, vec3(-0.5 * dia))) || any(greaterThan(p, hi + 0.5 * dia))) break;
+        float a = vol_sample(log2(dia), p, d).a;
+        if (a > 1e-6) {
+            // the last step only as far as t_max
+            float len = min(share * dia, t_max - t) / dia;
+            A += (1.0 - A) * (1.0 - pow(max(1.0 - min(a, 1.0), 0.0), len));
+            if (A >= 0.995) return 0.0;
+        }
+        t += share * dia;
+    }
+    return 1.0 - A;
 }

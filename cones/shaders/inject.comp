@@ -71,10 +71,9 @@ void main() {
         seen_sum += r1.w;
     }
     if (STAGE == 1u) return;
-    uint i = vol_index(0u, c) * ENTRIES;
     if (ENTRIES == 1u) {
         float a = alpha_sum / 6.0;
-        vol_store(i, vec4(seen_sum > 0.0 ? rad_sum / seen_sum * a : vec3(0.0), a));
+        vol_put(0u, c, 0u, vec4(seen_sum > 0.0 ? rad_sum / seen_sum * a : vec3(0.0), a));
     } else {
         // a side's rays that start inside solid cells see an interior; it is
         // given the voxel's mean surface radiance (as the isotropic entry),
@@ -85,7 +84,7 @@ void main() {
         for (uint side = 0u; side < 6u; side++) {
             uint r = (gid * 6u + side) * 5u;
             float a = rec[r].w;
-            vol_store(i + side, vec4(rad[side] + max(a - rec[r + 1u].w, 0.0) * mean, a));
+            vol_put(0u, c, side, vec4(rad[side] + max(a - rec[r + 1u].w, 0.0) * mean, a));
         }
     }
 }

@@ -101,12 +101,11 @@ void main() {
         }
     }
     if (STAGE == 1u) return;
-    uint i = vol_index(0u, c) * ENTRIES;
     if (ENTRIES == 1u) {
         float a = (alpha[0] + alpha[1] + alpha[2] + alpha[3] + alpha[4] + alpha[5]) / 6.0;
-        vol_store(i, vec4(0.0, 0.0, 0.0, a));
+        vol_put(0u, c, 0u, vec4(0.0, 0.0, 0.0, a));
     } else {
-        for (uint side = 0u; side < 6u; side++) vol_store(i + side, vec4(0.0, 0.0, 0.0, alpha[side]));
+        for (uint side = 0u; side < 6u; side++) vol_put(0u, c, side, vec4(0.0, 0.0, 0.0, alpha[side]));
     }
     if (any_hit) list[1u + atomicAdd(list[0], 1u)] = vox;
 }

@@ -145,6 +145,11 @@ _Noreturn static void usage(int status) {
             "  --cone-bounces N     gi=cones: diffuse bounces kept in the volume (default: %u)\n"
             "  --cone-isotropic     gi=cones: one radiance per voxel instead of six directions\n"
             "  --cone-ao            gi=cones: the gi image is the cone ambient occlusion (--show gi)\n"
+            "  --cone-half          gi=cones: diffuse cones at half resolution, upsampled by depth and normal\n"
+            "  --cone-shadows       gi=cones: cone soft shadows; the gi pass brings the direct light (the pass\n"
+            "                       list's direct is dropped)\n"
+            "  --cone-sun-angle DEG gi=cones: the sun's angular diameter for --cone-shadows (default: %g)\n"
+            "  --cone-no-specular   gi=cones: metal shaded as diffuse (no specular cones)\n"
             "  --seed S             path tracer seed (default: 0)\n"
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
@@ -193,7 +198,7 @@ _Noreturn static void usage(int status) {
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
-            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, d.r.width, d.r.height, d.r.spp,
+            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
@@ -437,6 +442,16 @@ int main(int argc, char** argv) {
             o.cone.isotropic = true;
         } else if (!strcmp(a, "--cone-ao")) {
             o.cone.output = VX_CONE_OUTPUT_AO;
+        } else if (!strcmp(a, "--cone-half")) {
+            o.cone.half_res = true;
+        } else if (!strcmp(a, "--cone-shadows")) {
+            o.cone.shadows = true;
+        } else if (!strcmp(a, "--cone-no-specular")) {
+            o.cone.no_specular = true;
+        } else if (!strcmp(a, "--cone-sun-angle")) {
+            NEED();
+            if (!parse_vec(argv[++i], &o.cone.sun_angle, 1) || !(o.cone.sun_angle > 0 && o.cone.sun_angle < 30))
+                usage_error("bad sun angle '%s' (degrees, above 0 and below 30)", argv[i]);
         } else if (!strcmp(a, "--seed")) {
             NEED();
             uint32_t sd;
@@ -615,6 +630,13 @@ int main(int argc, char** argv) {
         usage_error("%s", "--passes, --show and --timings need the GPU colour mode (no --cpu, no other --mode)");
     bool photons = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "photons");
     bool cones = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "cones");
+    if (cones && o.cone.shadows) {
+        /* the gi pass brings the direct light (with cone shadows): no direct pass */
+        uint32_t k = 0;
+        for (uint32_t j = 0; j < passes.count; j++)
+            if (passes.kinds[j] != VX_PASS_DIRECT) passes.kinds[k++] = passes.kinds[j];
+        passes.count = k;
+    }
     if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace") && !photons && !cones)
         usage_error("gi=%s needs --probes FILE", passes.gi);
     if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
