@@ -288,6 +288,46 @@ static void make_scene(vx_svo_scene* s, uint32_t frames) {
     vx_svo_scene_update_bounds(s);
 }
 
+/* The undo history's bounds: a step limit drops the oldest steps (what is
+ * left undoes to the state after the dropped ones), and a byte bound drops
+ * them by the bytes the snapshots hold, keeping the newest. */
+static void test_editor_undo_bounds(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3);
+    ved e;
+    ved_init(&e, &s);
+    e.undo_limit = 8;
+    vx_svo_instance after12 = s.instances[0];
+    for (int k = 0; k < 20; k++) {
+        if (k == 12) after12 = s.instances[0];
+        REQUIRE(ved_begin(&e, NULL) == VX_OK);
+        ved_move(&s, 0, (int32_t[3]){1, 0, 0});
+    }
+    CHECKF(e.undo_count == 8 && e.dropped == 12, "%u steps kept, %u dropped (limit 8, 20 edits)", e.undo_count, e.dropped);
+    uint32_t undone = 0;
+    while (ved_undo(&e, NULL)) undone++;
+    CHECK(undone == 8 && !memcmp(&s.instances[0], &after12, sizeof after12));
+    while (ved_redo(&e, NULL)) {}
+    CHECK(s.instances[0].xform[3] == after12.xform[3] + 8);
+    /* a byte bound of three steps' snapshots keeps three */
+    ved_free(&e);
+    ved_init(&e, &s);
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    uint64_t one = ved_snapshot_bytes(&e.undo[0]);
+    CHECK(one >= 3 * sizeof(vx_svo_instance) * 2); /* two instances in three frames */
+    e.undo_bytes = 3 * one + one / 2;
+    for (int k = 0; k < 10; k++) REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    CHECKF(e.undo_count == 3, "%u steps kept under a bound of 3.5 steps' bytes", e.undo_count);
+    /* a limit past the old fixed 256 */
+    ved_free(&e);
+    ved_init(&e, &s);
+    e.undo_limit = 1500;
+    for (int k = 0; k < 1200; k++) REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    CHECK(e.undo_count == 1200 && e.dropped == 0);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
 /* The expected model after edits, brute force: a colour (palette index, 0 =
  * empty) per cell of a box with a margin, in the generated model's cells. */
 #define EX_M 4
@@ -535,7 +575,7 @@ static void test_editor_random(void) {
     ved_init(&e, &s);
     uint64_t rng = 0x9E3779B97F4A7C15ull;
     uint32_t edits = 0;
-    for (int it = 0; it < VED_MAX_UNDO - 6; it++) {
+    for (int it = 0; it < 250; it++) {
         rng = rng * 6364136223846793005ull + 1442695040888963407ull;
         uint32_t r = (uint32_t)(rng >> 33), i = r % s.instance_count, k = (r >> 8) % 10;
         if (k <= 2) {
@@ -961,6 +1001,139 @@ static void test_scripted_light_undo(void) {
            "redo: light 0 is not the first edit's (colour %g,%g,%g, intensity %g)", got.lights[0].color[0],
            got.lights[0].color[1], got.lights[0].color[2], got.lights[0].intensity);
     vx_svo_scene_free(&got);
+}
+
+/* Palette entries the models of s use (a .svo stores only those). */
+static uint32_t used_entries(const vx_svo_scene* s, uint8_t out[255]) {
+    bool used[256] = {0};
+    for (uint32_t m = 0; m < s->model_count; m++)
+        if (s->models[m].palette)
+            for (uint32_t a = 0; a < s->models[m].attr_count; a++) used[s->models[m].palette[a]] = true;
+    uint32_t n = 0;
+    for (int i = 1; i < 256; i++)
+        if (used[i] && s->palette[i]) out[n++] = (uint8_t)i;
+    return n;
+}
+
+/* A thousand random script edits (voxel add, remove and paint with every
+ * brush shape, moves, turns, mirrors, duplicates, deletes, hides, renames,
+ * light edits, some undone and redone on the way) with --undo-limit past
+ * them, then undo to the start: the saved file has the bytes of the save
+ * before the first edit; redo to the end gives the edited save's bytes. */
+static void test_scripted_random(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], plain[1024], edited[1024], undone[1024], redone[1024], log[1024];
+    path(in, sizeof in, "random_in.svo");
+    path(script, sizeof script, "random.txt");
+    path(plain, sizeof plain, "random_plain.svo");
+    path(edited, sizeof edited, "random_edited.svo");
+    path(undone, sizeof undone, "random_undone.svo");
+    path(redone, sizeof redone, "random_redone.svo");
+    path(log, sizeof log, "random.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    REQUIRE(vx_svo_read_file(NULL, in, &s, &err) == VX_OK); /* the palette as the file stores it */
+    uint8_t pal[255];
+    uint32_t npal = used_entries(&s, pal);
+    REQUIRE(npal > 0 && s.instance_count >= 2 && s.light_count == 2);
+    remove(plain), remove(edited), remove(undone), remove(redone);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "overlay off\nsave %s\n", plain);
+    uint32_t model[16], count = s.instance_count > 8 ? 8 : s.instance_count;
+    for (uint32_t i = 0; i < count; i++) model[i] = s.instances[i].model;
+    static const char* const shapes[3] = {"voxel", "box", "sphere"};
+    static const char* const ops[3] = {"add", "remove", "paint"};
+    static const char axes[3] = {'x', 'y', 'z'};
+    uint64_t rng = 0x2545F4914F6CDD1Dull;
+    const int edits = 1000;
+    for (int it = 0; it < edits; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 32), i = r % count, k = (r >> 4) % 12;
+        const uint32_t* sz = s.models[model[i]].size;
+        fprintf(f, "select %u\n", i);
+        if (k <= 3) {
+            fprintf(f, "brush %s %u\ncolor %u\nvoxel %s %d %d %d\n", shapes[(r >> 8) % 3], (r >> 10) % 3,
+                    pal[(r >> 12) % npal], ops[k % 3], (int)((r >> 16) % (sz[0] + 2)) - 1,
+                    (int)((r >> 20) % (sz[1] + 2)) - 1, (int)((r >> 24) % (sz[2] + 2)) - 1);
+        } else if (k == 4) fprintf(f, "move %d %d %d\n", (int)(r >> 8) % 7 - 3, (int)(r >> 12) % 5 - 2, (int)(r >> 16) % 3 - 1);
+        else if (k == 5) fprintf(f, "rotate %c %d\n", axes[(r >> 8) % 3], (r >> 10) & 1 ? 1 : -1);
+        else if (k == 6) fprintf(f, "mirror %c\n", axes[(r >> 8) % 3]);
+        else if (k == 7) {
+            if ((r >> 8) & 1) fprintf(f, "light %u intensity %g\n", (r >> 9) & 1, 0.5 + (r >> 12) % 400);
+            else fprintf(f, "light 0 color %g %g %g\n", ((r >> 12) % 11) / 10.0, ((r >> 16) % 11) / 10.0, ((r >> 20) % 11) / 10.0);
+        } else if (k == 8 && count < 8) {
+            fprintf(f, "duplicate\n");
+            model[count++] = model[i];
+        } else if (k == 8 || (k == 9 && count > 2)) {
+            if (k == 8) fprintf(f, "hide\n");
+            else {
+                fprintf(f, "delete\n");
+                for (uint32_t j = i; j + 1 < count; j++) model[j] = model[j + 1];
+                count--;
+            }
+        } else if (k == 9) fprintf(f, "rename r%u\n", r % 1000);
+        else if (k == 10) fprintf(f, "show\n");
+        else fprintf(f, "light 0 position %d %d %d\n", (int)(r >> 8) % 40, (int)(r >> 14) % 40, 5 + (int)(r >> 20) % 30);
+        if ((r >> 28) == 0) fprintf(f, "undo\nredo\n"); /* 1 in 16 */
+    }
+    fprintf(f, "save %s\n", edited);
+    for (int it = 0; it < edits + 8; it++) fprintf(f, "undo\n");
+    fprintf(f, "save %s\n", undone);
+    for (int it = 0; it < edits + 8; it++) fprintf(f, "redo\n");
+    fprintf(f, "save %s\nquit\n", redone);
+    fclose(f);
+    double t0 = vx_time_now();
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 --undo-limit 2000 -v > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    if (rc != 0) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    /* -v prints each step: the edits that changed something, and as many undone */
+    uint32_t undos = 0, kinds[3] = {0};
+    for (const char* p = text; (p = strstr(p, "svo_view: ")); p++) {
+        p += 10;
+        undos += !strncmp(p, "undo (", 6);
+        for (int k = 0; k < 3; k++) {
+            char pre[32];
+            snprintf(pre, sizeof pre, "voxel %s at", ops[k]);
+            kinds[k] += !strncmp(p, pre, strlen(pre));
+        }
+    }
+    fprintf(stderr, "  %d random script edits (%u undo steps; voxel add %u, remove %u, paint %u), undone and redone: %.1f s\n",
+            edits, undos, kinds[0], kinds[1], kinds[2], vx_time_now() - t0);
+    CHECKF(undos > 800 && kinds[0] > 10 && kinds[1] > 10 && kinds[2] > 10, "%u steps undone", undos);
+    free(text);
+    char *a = slurp(plain), *b = slurp(undone), *c = slurp(edited), *d = slurp(redone);
+    struct stat sa, sb, sc, sd;
+    REQUIRE(a && b && c && d && !stat(plain, &sa) && !stat(undone, &sb) && !stat(edited, &sc) && !stat(redone, &sd));
+    CHECKF(sa.st_size == sb.st_size && !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing %d random edits the saved file differs from the unedited save (%lld vs %lld bytes)", edits,
+           (long long)sb.st_size, (long long)sa.st_size);
+    CHECKF(sa.st_size != sc.st_size || memcmp(a, c, (size_t)sa.st_size), "the edits changed nothing");
+    CHECKF(sc.st_size == sd.st_size && !memcmp(c, d, (size_t)sc.st_size), "redoing every edit gives other bytes");
+    free(a), free(b), free(c), free(d);
+    /* the option is what kept them: with --undo-limit 5, ten moves do not undo to the start */
+    path(script, sizeof script, "random_limit.txt");
+    path(undone, sizeof undone, "random_limit.svo");
+    path(log, sizeof log, "random_limit.log");
+    f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\n");
+    for (int it = 0; it < 10; it++) fprintf(f, "move 1 0 0\n");
+    for (int it = 0; it < 12; it++) fprintf(f, "undo\n");
+    fprintf(f, "save %s\nquit\n", undone);
+    fclose(f);
+    CHECK(run_cmd("%s %s --script %s --hidden --size 64x48 --undo-limit 5 > %s 2>&1", g_view, in, script, log) == 0);
+    vx_svo_scene got;
+    if (vx_svo_read_file(NULL, undone, &got, &err) == VX_OK) {
+        CHECKF(got.instances[0].xform[3] == s.instances[0].xform[3] + 5, "instance 0 at x %g after 10 moves, 5 undone "
+               "(from %g)", got.instances[0].xform[3], s.instances[0].xform[3]);
+        vx_svo_scene_free(&got);
+    } else CHECKF(false, "%s: %s", undone, err.msg);
+    vx_svo_scene_free(&s);
 }
 
 /* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
@@ -1508,6 +1681,7 @@ int main(int argc, char** argv) {
         RUN(test_editor_random);
         RUN(test_editor_incremental);
         RUN(test_editor_face);
+        RUN(test_editor_undo_bounds);
         return vx_test_finish();
     }
     if (argc < 4) {
@@ -1519,11 +1693,15 @@ int main(int argc, char** argv) {
     if (!getenv("DISPLAY") && !getenv("VX_TEST_VIEW_XVFB")) {
         if (system("command -v xvfb-run > /dev/null 2>&1") == 0) {
             setenv("VX_TEST_VIEW_XVFB", "1", 1);
-            char* args[8] = {"xvfb-run", "-a", argv[0], argv[1], argv[2], argv[3], NULL};
+            char* args[8] = {"xvfb-run", "-a", argv[0], argv[1], argv[2], argv[3], argc >= 5 ? argv[4] : NULL, NULL};
             execvp("xvfb-run", args);
         }
     }
     g_display = getenv("DISPLAY") != NULL;
+    if (argc >= 5 && !strcmp(argv[4], "script")) { /* the long script tests, a ctest of their own */
+        RUN(test_scripted_random);
+        return vx_test_finish();
+    }
     RUN(test_scripted_edit);
     RUN(test_scripted_light_undo);
     RUN(test_scripted_lights_gi);

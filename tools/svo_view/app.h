@@ -38,6 +38,8 @@ typedef struct options {
     uint32_t bench;
     double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
     bool no_panels; /* the text overlay instead of the panels */
+    uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
+    uint64_t undo_bytes;
     vx_tool_conv conv; /* converter options, as vox2svo has them */
 } options;
 
@@ -106,7 +108,8 @@ typedef struct app {
     bool panels;
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
-    uint32_t light_step_for, light_step; /* the light whose panel edit made undo step light_step - 1 */
+    uint32_t light_step_for; /* the light whose panel edit made the undo step of ed.serial light_step */
+    uint64_t light_step;
     uint32_t light_serial, gi_light_serial; /* lights changed (edit, undo, open); what the gi method was made with */
     char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
     char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */

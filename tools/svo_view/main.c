@@ -57,6 +57,10 @@ _Noreturn static void usage(int status) {
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
             "    --bench N             render N frames, print the median frame time, exit\n"
             "    --fps X               an animation's playback rate (default: the file's, else %g)\n"
+            "    --undo-limit N        undo steps kept (default: %u; 1 to 1000000)\n"
+            "    --undo-memory SIZE    bytes the undo steps may hold, the oldest dropped first (default:\n"
+            "                          %lluM; a step holds every frame's instance records and the lights,\n"
+            "                          or the old model of a voxel edit that rebuilt it)\n"
             "    --no-panels           the text overlay instead of the panels%s\n"
             "    --vsync               start with vsync on (V toggles)\n"
             "    --hidden              do not show the window (scripts, benchmarks)\n"
@@ -98,6 +102,7 @@ _Noreturn static void usage(int status) {
             "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
             vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, SV_FPS_DEFAULT,
+            VED_UNDO_STEPS_DEFAULT, (unsigned long long)(VED_UNDO_BYTES_DEFAULT >> 20),
             sv_panels_built() ? "" : " (this build has no panels: no Dear ImGui)", d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
@@ -161,6 +166,12 @@ static options parse(int argc, char** argv) {
         } else if (!strcmp(a, "--fps")) {
             if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
                 usage_error("bad --fps '%s' (frames per second in (0,1000])", argv[i]);
+        } else if (!strcmp(a, "--undo-limit")) {
+            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.undo_limit) || !o.undo_limit || o.undo_limit > 1000000)
+                usage_error("bad --undo-limit '%s' (1 to 1000000 steps)", argv[i]);
+        } else if (!strcmp(a, "--undo-memory")) {
+            if (!vx_tool_parse_bytes(need_arg(argc, argv, &i), &o.undo_bytes) || !o.undo_bytes)
+                usage_error("bad --undo-memory '%s' (bytes, e.g. 512M, 4G)", argv[i]);
         } else if (!strcmp(a, "--no-panels")) o.no_panels = true;
         else if (!strcmp(a, "--vsync")) o.vsync = true;
         else if (!strcmp(a, "--hidden")) o.hidden = true;
@@ -388,6 +399,7 @@ static void set_scene(app* a, vx_svo_scene* s) {
     vx_svo_scene_free(&a->scene);
     a->scene = *s;
     ved_init(&a->ed, &a->scene);
+    a->ed.undo_limit = a->o.undo_limit, a->ed.undo_bytes = a->o.undo_bytes;
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
     a->light_step_for = NO_SEL;
@@ -756,12 +768,12 @@ bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
         return false;
     }
     if (!memcmp(t, &a->scene.lights[l], sizeof *t)) return true;
-    bool same = merge && a->light_step_for == l && a->light_step == a->ed.undo_count && a->ed.undo_count > 0 &&
+    bool same = merge && a->light_step_for == l && a->light_step == a->ed.serial && a->ed.undo_count > 0 &&
                 a->ed.redo_count == 0;
     if (!same && !sv_edit_begin(a, false)) return false;
     a->scene.lights[l] = *t;
     a->light_serial++;
-    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.undo_count;
+    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.serial;
     return true;
 }
 
@@ -1835,6 +1847,7 @@ int main(int argc, char** argv) {
         return vx_tool_errorf("%s", err.msg); /* the message names the file */
     }
     ved_init(&a.ed, &a.scene);
+    a.ed.undo_limit = a.o.undo_limit, a.ed.undo_bytes = a.o.undo_bytes;
     a.fps = a.o.fps > 0 ? a.o.fps : a.scene.frame_rate > 0 ? a.scene.frame_rate : SV_FPS_DEFAULT;
     int status = 1;
     char title[512];
