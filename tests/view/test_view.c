@@ -22,6 +22,7 @@
 
 #include "convert/convert.h"
 #include "formats/image.h"
+#include "formats/vox.h"
 #include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
@@ -1136,6 +1137,182 @@ static void test_scripted_random(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A tool beside svo_render (svo_info, vox2svo): the same directory. */
+static void sibling_tool(char* buf, size_t n, const char* name) {
+    const char* slash = strrchr(g_render, '/');
+    int dir = slash ? (int)(slash - g_render) : 1;
+    snprintf(buf, n, "%.*s/%s", dir, slash ? g_render : ".", name);
+}
+
+/* Model 0's cells (model coordinates) and colours. */
+static void model0_cells(const vx_svo_scene* s, cells* out) {
+    vx_svo_instance id = {.xform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, .model = 0};
+    instance_cells(s, &id, out);
+}
+
+/* A script paints, removes and adds voxels with the brushes and undoes some
+ * of it on a .vox file; the same edits are applied here to the file's voxel
+ * grid, written with formats/'s .vox writer and converted by vox2svo: the
+ * model svo_view saves has every cell and colour of that one, and its file
+ * passes svo_info --verify. */
+static void test_scripted_vox_compare(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* in = vx_test_corpus("vox/eph_chr_knight.vox");
+    if (!in) SKIP("corpus file vox/eph_chr_knight.vox not found");
+    char info[1024], v2s[1024];
+    sibling_tool(info, sizeof info, "svo_info");
+    sibling_tool(v2s, sizeof v2s, "vox2svo");
+    if (access(info, X_OK) || access(v2s, X_OK)) SKIP("svo_info or vox2svo is not built beside %s", g_render);
+    char script[1024], saved[1024], ref_vox[1024], ref_svo[1024], log[1024];
+    path(script, sizeof script, "voxcmp.txt");
+    path(saved, sizeof saved, "voxcmp_view.svo");
+    path(ref_vox, sizeof ref_vox, "voxcmp_ref.vox");
+    path(ref_svo, sizeof ref_svo, "voxcmp_ref.svo");
+    path(log, sizeof log, "voxcmp.log");
+    remove(saved), remove(ref_vox), remove(ref_svo);
+    vx_vox_scene vs;
+    vx_error err = {0};
+    REQUIRE(vx_vox_read_file(NULL, in, &vs, &err) == VX_OK);
+    REQUIRE(vs.model_count == 1 && vs.instance_count == 1);
+    const uint32_t* sz = vs.models[0].size;
+    size_t ncell = (size_t)sz[0] * sz[1] * sz[2];
+    /* the grid, palette indices; one copy per undo step */
+    enum { STEPS = 200 };
+    uint8_t* grid = calloc(ncell, 1);
+    uint8_t** stack = calloc(STEPS, sizeof *stack);
+    REQUIRE(grid && stack);
+    for (uint32_t v = 0; v < vs.models[0].voxel_count; v++) {
+        const uint8_t* q = &vs.models[0].xyzi[4 * v];
+        grid[((size_t)q[2] * sz[1] + q[1]) * sz[0] + q[0]] = q[3];
+    }
+    /* the precondition: svo_view's model cells are the .vox's voxel coordinates, colours its palette's */
+    vx_svo_scene orig;
+    REQUIRE(load_vox(in, &orig));
+    cells co = {0}, cv = {0};
+    model0_cells(&orig, &co);
+    for (uint32_t v = 0; v < vs.models[0].voxel_count; v++) {
+        const uint8_t* q = &vs.models[0].xyzi[4 * v];
+        push(&cv, (int64_t[3]){q[0], q[1], q[2]}, vs.palette[q[3]]);
+    }
+    REQUIRE(cells_diff(&co, &cv) == 0 && co.n > 0);
+    free(cv.v);
+    uint8_t colours[255];
+    uint32_t ncol = 0;
+    for (int i = 1; i < 256; i++)
+        if (vs.palette[i]) colours[ncol++] = (uint8_t)i;
+    REQUIRE(ncol > 0);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "overlay off\nselect 0\n");
+    static const char* const shapes[3] = {"voxel", "box", "sphere"};
+    static const char* const ops[3] = {"add", "remove", "paint"};
+    uint32_t depth = 0, changed_run = 0, undos = 0, counts[3] = {0};
+    uint64_t rng = 0xD1B54A32D192ED03ull;
+    for (int it = 0; it < STEPS; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 32);
+        int op = (int)(r % 3), shape = (int)((r >> 2) % 3), R = shape ? (int)((r >> 4) % 3) : 0;
+        int c[3] = {(int)((r >> 6) % sz[0]), (int)((r >> 12) % sz[1]), (int)((r >> 18) % sz[2])};
+        uint8_t col = colours[(r >> 24) % ncol];
+        /* remove and paint mostly at a set cell (the model is sparse) */
+        for (uint32_t t = 0; op && t < 64 && !grid[((size_t)c[2] * sz[1] + c[1]) * sz[0] + c[0]]; t++) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            uint64_t q = (rng >> 16) % ncell;
+            c[0] = (int)(q % sz[0]), c[1] = (int)(q / sz[0] % sz[1]), c[2] = (int)(q / sz[0] / sz[1]);
+        }
+        /* the grid before, as the undo step */
+        uint8_t* before = malloc(ncell);
+        REQUIRE(before);
+        memcpy(before, grid, ncell);
+        bool changed = false;
+        for (int dz = -R; dz <= R; dz++)
+            for (int dy = -R; dy <= R; dy++)
+                for (int dx = -R; dx <= R; dx++) {
+                    if (shape == 2 && dx * dx + dy * dy + dz * dz > R * R) continue;
+                    int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= (int)sz[0] || y >= (int)sz[1] || z >= (int)sz[2]) continue;
+                    uint8_t* g = &grid[((size_t)z * sz[1] + y) * sz[0] + x];
+                    uint8_t nv = op == 0 ? (*g ? *g : col) : op == 1 ? 0 : (*g ? col : 0);
+                    changed |= nv != *g;
+                    *g = nv;
+                }
+        /* cells outside the model's box would grow it: only centres whose brush stays inside */
+        bool inside = c[0] - R >= 0 && c[1] - R >= 0 && c[2] - R >= 0 && c[0] + R < (int)sz[0] &&
+                      c[1] + R < (int)sz[1] && c[2] + R < (int)sz[2];
+        if (!inside || !changed) {
+            memcpy(grid, before, ncell);
+            free(before);
+            continue;
+        }
+        fprintf(f, "brush %s %d\ncolor %u\nvoxel %s %d %d %d\n", shapes[shape], R, col, ops[op], c[0], c[1], c[2]);
+        counts[op]++;
+        stack[depth++] = before;
+        changed_run++;
+        /* undo the last one or two (every step here changed the model, so svo_view has as many) */
+        uint32_t k = (r >> 28) % 8 == 0 ? 2 : (r >> 28) % 8 == 1 ? 1 : 0;
+        if (k > changed_run) k = changed_run;
+        for (uint32_t u = 0; u < k; u++) {
+            fprintf(f, "undo\n");
+            memcpy(grid, stack[--depth], ncell);
+            free(stack[depth]);
+            undos++;
+        }
+        if (k) changed_run = 0;
+    }
+    fprintf(f, "save %s\nquit\n", saved);
+    fclose(f);
+    CHECKF(counts[0] > 5 && counts[1] > 5 && counts[2] > 5 && undos > 5, "add %u, remove %u, paint %u, undo %u",
+           counts[0], counts[1], counts[2], undos);
+    /* the reference: the grid written as the model of the same .vox scene */
+    uint32_t nv = 0;
+    for (size_t i = 0; i < ncell; i++) nv += grid[i] != 0;
+    uint8_t* xyzi = vx_alloc(vs.alloc, (size_t)(nv ? nv : 1) * 4);
+    REQUIRE(xyzi);
+    uint32_t k = 0;
+    for (uint32_t z = 0; z < sz[2]; z++)
+        for (uint32_t y = 0; y < sz[1]; y++)
+            for (uint32_t x = 0; x < sz[0]; x++) {
+                uint8_t g = grid[((size_t)z * sz[1] + y) * sz[0] + x];
+                if (!g) continue;
+                xyzi[4 * k] = (uint8_t)x, xyzi[4 * k + 1] = (uint8_t)y, xyzi[4 * k + 2] = (uint8_t)z, xyzi[4 * k + 3] = g;
+                k++;
+            }
+    vx_free(vs.alloc, vs.models[0].xyzi);
+    vs.models[0].xyzi = xyzi;
+    vs.models[0].voxel_count = nv;
+    REQUIRE(vx_vox_write_file(NULL, &vs, ref_vox, &err) == VX_OK);
+    REQUIRE(run_cmd("%s %s %s > %s 2>&1", v2s, ref_vox, ref_svo, log) == 0);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    if (rc != 0) {
+        char* text = slurp(log);
+        fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+        free(text);
+    }
+    REQUIRE(rc == 0);
+    vx_svo_scene got, want;
+    REQUIRE(vx_svo_read_file(NULL, saved, &got, &err) == VX_OK);
+    REQUIRE(vx_svo_read_file(NULL, ref_svo, &want, &err) == VX_OK);
+    cells cg = {0}, cw = {0};
+    REQUIRE(got.model_count == 1 && want.model_count == 1);
+    CHECKF(!memcmp(got.models[0].size, want.models[0].size, sizeof got.models[0].size), "size %ux%ux%u, vox2svo's %ux%ux%u",
+           got.models[0].size[0], got.models[0].size[1], got.models[0].size[2], want.models[0].size[0],
+           want.models[0].size[1], want.models[0].size[2]);
+    model0_cells(&got, &cg);
+    model0_cells(&want, &cw);
+    size_t d = cells_diff(&cg, &cw);
+    CHECKF(d == 0 && cw.n == nv, "%zu of %zu cells (cell or colour) differ from the edited .vox converted (%u voxels)",
+           d, cw.n, nv);
+    CHECKF(cells_diff(&co, &cw) != 0, "the edits left the model as it was");
+    fprintf(stderr, "  %u adds, %u removes, %u paints, %u undone: %zu cells, equal to the edited .vox's\n", counts[0],
+            counts[1], counts[2], undos, cg.n);
+    CHECK(run_cmd("%s %s --verify > %s 2>&1", info, saved, log) == 0);
+    free(co.v), free(cg.v), free(cw.v);
+    vx_svo_scene_free(&got), vx_svo_scene_free(&want), vx_svo_scene_free(&orig);
+    while (depth) free(stack[--depth]);
+    free(stack), free(grid);
+    vx_vox_scene_free(&vs);
+}
+
 /* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
 static double image_diff_cols(const char* pa, const char* pb, uint32_t x0, uint32_t x1) {
     uint32_t w1, h1, c1, w2, h2, c2;
@@ -1700,6 +1877,7 @@ int main(int argc, char** argv) {
     g_display = getenv("DISPLAY") != NULL;
     if (argc >= 5 && !strcmp(argv[4], "script")) { /* the long script tests, a ctest of their own */
         RUN(test_scripted_random);
+        RUN(test_scripted_vox_compare);
         return vx_test_finish();
     }
     RUN(test_scripted_edit);
