@@ -1529,6 +1529,88 @@ static void test_screenshot_matches_svo_render(void) {
     }
 }
 
+/* The numbers of svo_view's `stats` line after `prefix`. */
+static bool parse_stats(const char* text, int which, unsigned long long v[5]) {
+    const char* p = text;
+    for (int i = 0; i <= which; i++) {
+        p = strstr(p, "stats: render scenes made ");
+        if (!p) return false;
+        if (i < which) p++;
+    }
+    return sscanf(p, "stats: render scenes made %llu, node words uploaded %llu, records uploaded %llu; this scene: "
+                     "%*u words, %*u model updates, %llu instance table rebuilds", &v[0], &v[1], &v[2], &v[3]) == 4;
+}
+
+/* Instance edits (moves, quarter turns, mirrors, a duplicate, a hide) keep
+ * the GPU scene: the frames after them equal svo_render of the saved scene
+ * with the same camera (colour and instance modes), no render scene is made
+ * again and no node word or colour record is uploaded (svo_view's `stats`:
+ * vx_render_scene_get_stats), while the instance tables were rebuilt. */
+static void test_scripted_instances_gpu(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* src = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!src) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    char in[1024], script[1024], saved[1024], log[1024], va[1024], vb[1024], ra[1024], rb[1024], vd[1024];
+    path(in, sizeof in, "inst_in.svo");
+    path(vd, sizeof vd, "inst_view_default.png");
+    path(script, sizeof script, "inst.txt");
+    path(saved, sizeof saved, "inst_saved.svo");
+    path(log, sizeof log, "inst.log");
+    path(va, sizeof va, "inst_view_color.png");
+    path(vb, sizeof vb, "inst_view_instance.png");
+    path(ra, sizeof ra, "inst_render_color.png");
+    path(rb, sizeof rb, "inst_render_instance.png");
+    vx_svo_scene s;
+    REQUIRE(load_vox(src, &s));
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    REQUIRE(s.instance_count >= 3);
+    double lo[3], hi[3], c[3], r = 0;
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), r = fmax(r, hi[k] - lo[k]);
+    double eye[3] = {c[0] + 0.9 * r, c[1] - 1.3 * r, c[2] + 0.8 * r};
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f,
+            "overlay off\npanels off\ncamera %.6f %.6f %.6f %.6f %.6f %.6f\nstats\n"
+            "select 1\nmove 3 -2 1\nrotate z\nmirror x\nselect 2\nrotate y -1\nmove 0 4 2\nduplicate\nmove 60 0 25\n"
+            "select 0\nhide\nundo\nmirror y\nstats\nmode color\nscreenshot %s\nmode instance\nscreenshot %s\nstats\n"
+            "camera default\nscreenshot %s\nsave %s\nquit\n",
+            eye[0], eye[1], eye[2], c[0], c[1], c[2], va, vb, vd, saved);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 160x120 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    if (rc) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    unsigned long long s0[5], s1[5], s2[5];
+    REQUIRE(parse_stats(text, 0, s0) && parse_stats(text, 1, s1) && parse_stats(text, 2, s2));
+    CHECKF(s1[0] == s0[0] && s2[0] == s0[0], "render scenes made %llu, then %llu, %llu", s0[0], s1[0], s2[0]);
+    CHECKF(s1[1] == s0[1] && s1[2] == s0[2] && s2[1] == s0[1], "node words uploaded %llu, after the instance edits %llu",
+           s0[1], s1[1]);
+    CHECKF(s1[3] >= s0[3] + 10, "instance tables rebuilt %llu times for 10 edits and an undo", s1[3] - s0[3]);
+    CHECK(s0[1] > 0); /* the scene's own upload at creation is counted */
+    free(text);
+    const char* modes[2] = {"color", "instance"};
+    for (int m = 0; m < 2; m++) {
+        rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode %s > %s 2>&1", g_render,
+                     saved, m ? rb : ra, eye[0], eye[1], eye[2], c[0], c[1], c[2], modes[m], log);
+        REQUIRE(rc == 0);
+        double d = image_diff(m ? vb : va, m ? rb : ra);
+        fprintf(stderr, "  after instance edits, mode %s: %.3f%% of pixels differ from svo_render of the saved file\n",
+                modes[m], d * 100);
+        CHECKF(d <= 0.002, "mode %s: %.2f%% of pixels differ", modes[m], d * 100);
+    }
+    /* the default framing follows the moved instances, as svo_render frames the saved file */
+    rc = run_cmd("%s %s %s --size 160x120 --mode instance > %s 2>&1", g_render, saved, ra, log);
+    double dd = rc ? 2 : image_diff(vd, ra);
+    CHECKF(dd <= 0.002, "default camera: %.2f%% of pixels differ", dd * 100);
+    /* and the edits show: the unedited file's frame differs */
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render, in,
+                 rb, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    CHECK(rc == 0 && image_diff(va, rb) > 0.01);
+}
+
 static void test_pick_matches_hits(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -1878,6 +1960,7 @@ int main(int argc, char** argv) {
     if (argc >= 5 && !strcmp(argv[4], "script")) { /* the long script tests, a ctest of their own */
         RUN(test_scripted_random);
         RUN(test_scripted_vox_compare);
+        RUN(test_scripted_instances_gpu);
         return vx_test_finish();
     }
     RUN(test_scripted_edit);

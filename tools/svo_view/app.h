@@ -123,6 +123,10 @@ typedef struct app {
     char grab_buf[1024];
     uint32_t frame_n;
     double trace_ms, rays_per_s, update_ms;
+    /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
+     * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
+    uint32_t scenes_made;
+    uint64_t words_before, records_before;
     bool quit;
     int status;
     /* script */
@@ -143,6 +147,8 @@ void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(
 const char* sv_mode_name(const app* a);
 /* Recreates the render scene from a->scene (after a model edit), at the frame shown. */
 void sv_rebuild(app* a);
+/* Node words and colour records uploaded since the viewer started (every render scene made). */
+void sv_uploads(const app* a, uint64_t* words, uint64_t* records);
 /* An edit: sv_edit_begin snapshots for undo (false: nothing selected when
  * needs_sel, or out of memory, with a message); sv_edit_end updates the
  * render scene (instances only, unless models were added). */

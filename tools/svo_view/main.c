@@ -95,7 +95,8 @@ _Noreturn static void usage(int status) {
             "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
             "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
-            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step)\n"
+            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step) |\n"
+            "      stats (prints the render scenes made and the node words and records uploaded)\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
@@ -332,8 +333,12 @@ void sv_rebuild(app* a) {
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
     drop_passes(a);
+    vx_render_scene_stats st;
+    vx_render_scene_get_stats(a->rs, &st);
+    a->words_before += st.node_words_uploaded, a->records_before += st.records_uploaded;
     vx_render_scene_destroy(a->rs);
     a->rs = NULL;
+    a->scenes_made++;
     vx_error err = {0};
     uint32_t nf = vx_svo_scene_frames(&a->scene);
     if (a->anim_frame >= nf) a->anim_frame = nf - 1; /* an undo may have made the scene still */
@@ -343,6 +348,13 @@ void sv_rebuild(app* a) {
     else if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
     a->rs_models = a->scene.model_count;
     a->update_ms = (vx_time_now() - t0) * 1e3;
+}
+
+void sv_uploads(const app* a, uint64_t* words, uint64_t* records) {
+    vx_render_scene_stats st;
+    vx_render_scene_get_stats(a->rs, &st);
+    *words = a->words_before + st.node_words_uploaded;
+    *records = a->records_before + st.records_uploaded;
 }
 
 /* After an edit of instances only (the models as rs has them): the instance
@@ -1684,6 +1696,15 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             return false;
         }
         if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
+    } else if (!strcmp(c, "stats") && nt == 1) {
+        vx_render_scene_stats st;
+        vx_render_scene_get_stats(a->rs, &st);
+        uint64_t w, rec;
+        sv_uploads(a, &w, &rec);
+        printf("%s: stats: render scenes made %u, node words uploaded %llu, records uploaded %llu; this scene: "
+               "%llu words, %u model updates, %u instance table rebuilds\n",
+               vx_tool_name, a->scenes_made, (unsigned long long)w, (unsigned long long)rec,
+               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds);
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();

@@ -259,6 +259,10 @@ static void stats_panel(app* a) {
     }
     ui_text("models: %.2f MB octrees (%llu voxels), frame %.2f MB", bytes / 1048576.0, (unsigned long long)voxels,
             (double)a->px8_cap / 1048576.0);
+    uint64_t words, records;
+    sv_uploads(a, &words, &records);
+    ui_text("GPU scene made %u times; uploaded %.2f MB of node words, %.2f MB of colours", a->scenes_made,
+            words * 4 / 1048576.0, records * 4 / 1048576.0);
     if (!a->hist_n || a->gi || a->mode != VX_RENDER_COLOR) {
         ui_text("(per-pass times: the colour mode's passes)");
         return;
