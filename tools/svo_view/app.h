@@ -38,6 +38,7 @@ typedef struct options {
     uint32_t bench;
     double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
     bool no_panels; /* the text overlay instead of the panels */
+    const char* present;  /* --present auto|gpu|host */
     uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
     uint64_t undo_bytes;
     vx_tool_conv conv; /* converter options, as vox2svo has them */
@@ -123,6 +124,12 @@ typedef struct app {
     char grab_buf[1024];
     uint32_t frame_n;
     double trace_ms, rays_per_s, update_ms;
+    /* presentation: vx_display set: the colour passes' frames go to the
+     * swapchain on the GPU (vp_present_display); else, and for other modes,
+     * picks and screenshots, the host readback path (vp_present) */
+    vx_display* disp;
+    bool frame_on_gpu; /* the last frame took the GPU path */
+    char present_note[160];
     /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
      * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
     uint32_t scenes_made;

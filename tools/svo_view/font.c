@@ -62,6 +62,7 @@ void vf_fill_rect(vf_canvas* cv, int x0, int y0, int w, int h, uint32_t rgba, in
                 int ch = cv->bgra && k != 1 ? 2 - k : k;
                 p[ch] = (uint8_t)((src * alpha + p[ch] * (255 - alpha)) / 255);
             }
+            p[3] = (uint8_t)((255 * alpha + p[3] * (255 - alpha)) / 255); /* coverage (an overlay: header) */
         }
 }
 
@@ -148,6 +149,7 @@ static void triangle(vf_canvas* cv, const vf_vertex* v0, const vf_vertex* v1, co
             d[r] = (uint8_t)lrintf(d[r] + (c[0] - d[r]) * alpha);
             d[1] = (uint8_t)lrintf(d[1] + (c[1] - d[1]) * alpha);
             d[b] = (uint8_t)lrintf(d[b] + (c[2] - d[b]) * alpha);
+            d[3] = (uint8_t)lrintf(d[3] + (255 - d[3]) * alpha);
         }
     }
 }

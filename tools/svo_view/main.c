@@ -57,6 +57,10 @@ _Noreturn static void usage(int status) {
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
             "    --bench N             render N frames, print the median frame time, exit\n"
             "    --fps X               an animation's playback rate (default: the file's, else %g)\n"
+            "    --present auto|gpu|host  how frames reach the window: gpu converts the colour passes'\n"
+            "                          image and copies it to the swapchain on the GPU; host reads it\n"
+            "                          back and converts it on the CPU (default: auto, gpu except on CPU\n"
+            "                          devices such as lavapipe; other modes, picks and screenshots: host)\n"
             "    --undo-limit N        undo steps kept (default: %u; 1 to 1000000)\n"
             "    --undo-memory SIZE    bytes the undo steps may hold, the oldest dropped first (default:\n"
             "                          %lluM; a step holds every frame's instance records and the lights,\n"
@@ -167,6 +171,10 @@ static options parse(int argc, char** argv) {
         } else if (!strcmp(a, "--fps")) {
             if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
                 usage_error("bad --fps '%s' (frames per second in (0,1000])", argv[i]);
+        } else if (!strcmp(a, "--present")) {
+            o.present = need_arg(argc, argv, &i);
+            if (strcmp(o.present, "auto") && strcmp(o.present, "gpu") && strcmp(o.present, "host"))
+                usage_error("bad --present '%s' (auto, gpu or host)", o.present);
         } else if (!strcmp(a, "--undo-limit")) {
             if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.undo_limit) || !o.undo_limit || o.undo_limit > 1000000)
                 usage_error("bad --undo-limit '%s' (1 to 1000000 steps)", argv[i]);
@@ -1020,7 +1028,7 @@ static void file_sky(app* a, const vx_sky** sky, const vx_sky_texels** map) {
     if (a->sky_rgb) *sky = k, *map = &a->sky_map;
 }
 
-static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
+static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
@@ -1053,6 +1061,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     fd.passes = &a->passes;
     fd.gi = a->pgi || a->cgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
+    fd.no_readback = on_gpu; /* the image stays on the GPU for vx_display */
     fd.exposure = a->exposure;
     /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
     fd.lights = a->scene.lights;
@@ -1166,14 +1175,17 @@ static vx_result frame(app* a, vx_error* err) {
             return r;
         }
     }
-    if (a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs)) {
-        vx_result r = render_passes(a, &d, err);
+    bool passes = a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs);
+    /* the GPU path: the colour passes' image, unless this frame's pixels are wanted on the host */
+    bool on_gpu = a->disp && passes && !a->pick_pending && !a->shot && !a->o.screenshot;
+    if (passes) {
+        vx_result r = render_passes(a, &d, on_gpu, err);
         if (r) return r;
     } else if (a->rs && !a->gi) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
         if (r) return r;
     }
-    if (a->rs && a->img.pixels) {
+    if (a->rs && (a->img.pixels || on_gpu)) {
         a->trace_ms = a->img.gpu_seconds * 1e3;
         a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
     }
@@ -1221,21 +1233,40 @@ static vx_result frame(app* a, vx_error* err) {
         if (!a->px8) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u frame", w, h);
     }
     vf_canvas cv = {.pixels = a->px8, .width = w, .height = h, .bgra = vp_frame_bgra(a->p)};
-    if (a->img.pixels) convert(a, &a->img, &cv);
-    else memset(a->px8, 0, need);
-    if (!a->o.screenshot && !a->o.bench) {
-        draw_selection(a, &cv);
-        if (a->ui && a->panels) sv_panels_draw(a, &cv);
-        else if (a->overlay) draw_overlay(a, &cv);
+    bool draws = !a->o.screenshot && ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL)));
+    a->frame_on_gpu = on_gpu;
+    if (on_gpu) {
+        /* the overlay (selection, panels, text) is drawn on the CPU into the display's mapped buffer */
+        vf_canvas ov = cv;
+        if (draws && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
+        if (draws) {
+            draw_selection(a, &ov);
+            if (a->ui && a->panels) sv_panels_draw(a, &ov);
+            else if (a->overlay) draw_overlay(a, &ov);
+        }
+        vx_display_desc dd = {.fr = a->fr, .width = w, .height = h, .bgra = cv.bgra, .overlay = draws};
+        vx_result r = vp_present_display(a->p, a->disp, &dd, a->grab ? a->px8 : NULL, err);
+        if (r) return r;
+    } else {
+        if (a->img.pixels) convert(a, &a->img, &cv);
+        else memset(a->px8, 0, need);
+        if (draws) {
+            draw_selection(a, &cv);
+            if (a->ui && a->panels) sv_panels_draw(a, &cv);
+            else if (a->overlay) draw_overlay(a, &cv);
+        }
     }
     if (a->grab) {
         vx_result r = save_canvas(&cv, a->grab, err);
         if (r) sv_message(a, true, "%s: %s", a->grab, err->msg);
-        else printf("%s: wrote %s (%ux%u, the displayed frame)\n", vx_tool_name, a->grab, w, h);
+        else printf("%s: wrote %s (%ux%u, the displayed frame%s)\n", vx_tool_name, a->grab, w, h,
+                    on_gpu ? ", read back from the GPU path" : "");
         a->grab = NULL;
     }
-    vx_result r = vp_present(a->p, a->px8, w, h, err);
-    if (r) return r;
+    if (!on_gpu) {
+        vx_result r = vp_present(a->p, a->px8, w, h, err);
+        if (r) return r;
+    }
     a->frame_ms[a->frame_n++ % 64] = (vx_time_now() - t0) * 1e3;
     return VX_OK;
 }
@@ -1833,6 +1864,27 @@ static int run(app* a) {
     return a->status;
 }
 
+/* --present: the GPU path on devices that are not the CPU (auto), or as
+ * asked; it needs vx_display (a compute pipeline on the window's device). */
+static void choose_present(app* a) {
+    const char* want = a->o.present ? a->o.present : "auto";
+    bool cpu = vx_gpu_is_cpu(a->gpu);
+    if (!strcmp(want, "host") || (!strcmp(want, "auto") && cpu)) {
+        snprintf(a->present_note, sizeof a->present_note, "host readback (%s)",
+                 !strcmp(want, "host") ? "--present host" : "a CPU device: its memory is the host's");
+        return;
+    }
+    vx_error err = {0};
+    if (vx_display_create(a->gpu, &a->disp, &err)) {
+        snprintf(a->present_note, sizeof a->present_note, "host readback (the GPU path failed: %.100s)", err.msg);
+        a->disp = NULL;
+        return;
+    }
+    snprintf(a->present_note, sizeof a->present_note,
+             "GPU: colour passes -> display conversion + overlay -> swapchain copy in one submission (%s); "
+             "other modes, picks, screenshots: host readback", strcmp(want, "gpu") ? "auto" : "--present gpu");
+}
+
 int main(int argc, char** argv) {
     vx_tool_init(argc, argv);
     app a = {0};
@@ -1896,16 +1948,20 @@ int main(int argc, char** argv) {
     glfwSetDropCallback(w, drop_cb);
     glfwSetCharCallback(w, char_cb);
     glfwGetCursorPos(w, &a.mouse_x, &a.mouse_y);
-    if (!a.o.screenshot && !a.o.bench && !a.o.no_panels) a.panels = sv_panels_create(&a);
+    if (!a.o.screenshot && !a.o.no_panels) a.panels = sv_panels_create(&a);
+    choose_present(&a);
     camera_default(&a);
     sv_rebuild(&a);
     if (!a.rs && (a.o.screenshot || a.o.bench)) goto done; /* the message names the problem */
-    if (a.o.verbose)
+    if (a.o.verbose) {
         printf("%s: %s: %u models, %u instances (load %.1f ms, scene upload %.1f ms) on %s\n", vx_tool_name, a.o.in,
                a.scene.model_count, a.scene.instance_count, t_load * 1e3, a.update_ms, vx_gpu_device_name(a.gpu));
+        printf("%s: present: %s\n", vx_tool_name, a.present_note);
+    }
     status = run(&a);
 done:
     sv_panels_destroy(&a);
+    vx_display_destroy(a.disp);
     vx_render_image_free(&a.img);
     vx_probe_gpu_destroy(a.probes_gpu);
     drop_passes(&a);
