@@ -1681,6 +1681,93 @@ static void test_gpu_present(void) {
 #endif
 }
 
+/* The probe panel: a script bakes probes in steps between frames (probes
+ * bake), shows the grid and one probe's maps, saves the set: the file has
+ * the bytes of svo_bake's one-run bake with the same options (the GPU bake
+ * does not depend on its batches); the grab shows the panel (the probe's
+ * radiance map is in it, texel by texel) and the grid markers (the grab with
+ * the grid off is the tracer's image between the panels). */
+static void test_probe_panel(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+#if !VX_VIEW_PANELS
+    SKIP("svo_view has no panels in this build");
+#endif
+    const char* src = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!src) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char bake[1024];
+    sibling_tool(bake, sizeof bake, "svo_bake");
+    if (access(bake, X_OK)) SKIP("svo_bake is not built beside %s", g_render);
+    char in[1024], script[1024], log[1024], ga[1024], gc[1024], shot[1024], pv[1024], pb[1024];
+    path(in, sizeof in, "probe_in.svo");
+    path(script, sizeof script, "probe.txt");
+    path(log, sizeof log, "probe.log");
+    path(ga, sizeof ga, "probe_grab.png");
+    path(gc, sizeof gc, "probe_grab_nogrid.png");
+    path(shot, sizeof shot, "probe_shot.png");
+    path(pv, sizeof pv, "probe_view.probes");
+    path(pb, sizeof pb, "probe_bake.probes");
+    remove(pv), remove(pb);
+    vx_svo_scene s;
+    REQUIRE(load_vox(src, &s));
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "probes grid on\nprobes bake 16 4 3 3 3\nprobes show 13\ngrab %s\nscreenshot %s\nprobes save %s\n"
+               "probes grid off\ngrab %s\nquit\n", ga, shot, pv, gc);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 900x640 -v > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0 && text && strstr(text, "baked 27 probes"), "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    REQUIRE(rc == 0);
+    REQUIRE(run_cmd("%s %s %s --res 16 --spp 4 --grid 3,3,3 -q > %s 2>&1", bake, in, pb, log) == 0);
+    char *a = slurp(pv), *b = slurp(pb);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(pv, &sa) && !stat(pb, &sb) && sa.st_size == sb.st_size && !memcmp(a, b, (size_t)sa.st_size),
+           "the viewer's stepped bake differs from svo_bake's");
+    free(a), free(b);
+    /* the grid: markers between the panels, nothing there without them */
+    size_t over = 0;
+    int m = image_box_diff(ga, gc, 305, 565, 0, 640, 0, &over);
+    CHECKF(m > 0 && over >= 27, "grid on/off: %zu pixels differ between the panels", over);
+    m = image_box_diff(gc, shot, 305, 565, 0, 640, 0, &over);
+    CHECKF(m == 0, "without the grid the view differs from the tracer's image by up to %d", m);
+    /* probe 13's radiance map in the grab: 18 x 18 texels, 4 pixels each, as the panel tonemaps them */
+    vx_probe_set ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_read_file(NULL, pv, &ps, &err) == VX_OK);
+    REQUIRE(ps.res == 16 && ps.probe_count == 27);
+    uint32_t want[18 * 18];
+    for (uint32_t t = 0; t < 18 * 18; t++) {
+        uint32_t v = 0;
+        for (int j = 0; j < 3; j++) {
+            float x = vx_probe_half_to_float(ps.radiance[(13 * 18 * 18 + t) * 3 + j]);
+            x = x > 0 ? x / (1 + x) : 0;
+            x = sqrtf(x);
+            v |= (uint32_t)lrintf((x > 1 ? 1 : x) * 255) << (8 * j);
+        }
+        want[t] = v;
+    }
+    vx_probe_set_free(&ps);
+    uint32_t w, h, c;
+    void* px = NULL;
+    REQUIRE(vx_image_read(ga, VX_IMAGE_U8, 0, &w, &h, &c, &px, NULL) == VX_OK && c >= 3);
+    const uint8_t* g = px;
+    bool found = false;
+    for (uint32_t y = 300; y + 72 <= h && !found; y++)
+        for (uint32_t x = 560; x + 72 <= w && !found; x++) {
+            bool ok = true;
+            for (uint32_t t = 0; t < 18 * 18 && ok; t++) {
+                const uint8_t* q = g + ((size_t)(y + (t / 18) * 4 + 2) * w + x + (t % 18) * 4 + 2) * c;
+                for (int j = 0; j < 3 && ok; j++) ok = abs((int)q[j] - (int)((want[t] >> (8 * j)) & 255)) <= 1;
+            }
+            found = ok;
+        }
+    CHECKF(found, "probe 13's radiance map is not in the probe panel of %s", ga);
+    vx_free(NULL, px);
+}
+
 static void test_pick_matches_hits(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -2032,6 +2119,7 @@ int main(int argc, char** argv) {
         RUN(test_scripted_vox_compare);
         RUN(test_scripted_instances_gpu);
         RUN(test_gpu_present);
+        RUN(test_probe_panel);
         return vx_test_finish();
     }
     RUN(test_scripted_edit);

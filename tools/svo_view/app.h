@@ -76,6 +76,19 @@ typedef struct app {
     double passes_ms;
     bool have_probes;
     char probes_path[1024];
+    /* the probe panel: grid display, the probe whose maps are shown, and a
+     * bake run in steps between frames (the UI stays live): vx_probe_place,
+     * then vx_probe_bake_more_gpu over as many probes as fit about 40 ms */
+    bool probe_grid;
+    uint32_t probe_sel;
+    int bake_res_i, bake_spp, bake_grid; /* the panel's settings: res 16 << i, spp, probes per axis (0: spacing) */
+    struct sv_bake {
+        bool active;
+        vx_probe_bake_desc desc;
+        vx_probe_set ps; /* placed, baked up to ps.count */
+        uint32_t step;   /* probes the next step bakes */
+        double t0, ms;   /* start (wall), time spent baking */
+    } bake;
     uint32_t validation_errors;
     uint32_t sel;
     /* pending editor operation: 'g' grab, 'r' rotate, 'm' mirror, 'l' layer */
@@ -166,6 +179,14 @@ void sv_add(app* a, const char* path);
 void sv_save(app* a, const char* path);
 void sv_export(app* a, const char* path);
 void sv_probes(app* a, const char* path);
+/* Starts baking probes over the scene as shown (res, spp, grid probes per
+ * axis, 0 0 0: the default spacing) on the GPU, in steps between frames; the
+ * set replaces the loaded probes when done. An edit, open or rebuild cancels it. */
+void sv_probe_bake(app* a, uint32_t res, uint32_t spp, const uint32_t grid[3]);
+void sv_probe_bake_cancel(app* a, const char* why);
+bool sv_probe_save(app* a, const char* path);
+/* The probe set the panel shows: the bake in progress (its placed grid), else the loaded one; NULL: none. */
+const vx_probe_set* sv_probe_shown(const app* a);
 void sv_frame_camera(app* a);
 void sv_select(app* a, uint32_t instance); /* NO_SEL: none */
 void sv_move(app* a, const int32_t d[3]);

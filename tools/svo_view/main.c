@@ -100,7 +100,9 @@ _Noreturn static void usage(int status) {
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
             "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
             "      light N color R G B|position X Y Z|intensity X|range X (each an undo step) |\n"
-            "      stats (prints the render scenes made and the node words and records uploaded)\n"
+            "      stats (prints the render scenes made and the node words and records uploaded) |\n"
+            "      probes bake RES SPP [GX GY GZ] (on the GPU, in steps between frames; the script waits) |\n"
+            "      probes grid on|off | probes show N (the panel's maps) | probes save FILE.probes | probes cancel\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
@@ -269,6 +271,107 @@ void sv_probes(app* a, const char* path) {
             a->probes.grid[2], a->probes.res);
 }
 
+/* ---- probe bake in steps ------------------------------------------------------------- */
+
+const vx_probe_set* sv_probe_shown(const app* a) {
+    return a->bake.active ? &a->bake.ps : a->have_probes ? &a->probes : NULL;
+}
+
+void sv_probe_bake_cancel(app* a, const char* why) {
+    if (!a->bake.active) return;
+    vx_probe_set_free(&a->bake.ps);
+    a->bake.active = false;
+    sv_message(a, true, "probe bake cancelled: %s", why);
+}
+
+void sv_probe_bake(app* a, uint32_t res, uint32_t spp, const uint32_t grid[3]) {
+    if (a->bake.active) {
+        sv_message(a, true, "a probe bake is running (probes cancel stops it)");
+        return;
+    }
+    if (!a->rs || vx_render_scene_precise(a->rs)) {
+        sv_message(a, true, "probe bake: %s", a->rs ? "the scene needs the float64 tracer, which the GPU bake lacks"
+                                                  : "no scene on the GPU");
+        return;
+    }
+    /* svo_bake's options: the library's defaults with res, spp and the grid */
+    vx_probe_bake_desc d = vx_probe_bake_desc_defaults();
+    d.res = res, d.spp = spp;
+    memcpy(d.grid, grid, sizeof d.grid);
+    vx_error err = {0};
+    vx_svo_scene v;
+    if (!vx_svo_scene_frame(&a->scene, a->anim_frame, &v)) v = a->scene;
+    if (vx_probe_place(&v, &d, &a->bake.ps, &err)) {
+        sv_message(a, true, "probe bake: %s", err.msg);
+        return;
+    }
+    a->bake.desc = d;
+    a->bake.active = true;
+    a->bake.step = 1;
+    a->bake.t0 = vx_time_now();
+    a->bake.ms = 0;
+    if (a->probe_sel >= a->bake.ps.probe_count) a->probe_sel = 0;
+    sv_message(a, false, "baking %u probes (%ux%ux%u, res %u, %u spp)", a->bake.ps.probe_count, a->bake.ps.grid[0],
+               a->bake.ps.grid[1], a->bake.ps.grid[2], res, spp);
+}
+
+/* One step between frames: as many probes as took about 40 ms at the last
+ * step's rate, so the frame rate stays interactive while it runs. */
+static void probe_bake_step(app* a) {
+    struct sv_bake* b = &a->bake;
+    if (!b->active) return;
+    vx_probe_set* ps = &b->ps;
+    uint32_t end = ps->count + b->step;
+    if (end > ps->probe_count || end < ps->count) end = ps->probe_count;
+    vx_error err = {0};
+    vx_svo_scene v;
+    if (!vx_svo_scene_frame(&a->scene, a->anim_frame, &v)) v = a->scene;
+    double t0 = vx_time_now();
+    uint32_t before = ps->count;
+    if (vx_probe_bake_more_gpu(a->rs, &v, &b->desc, ps, end, &err)) {
+        vx_probe_set_free(ps);
+        b->active = false;
+        sv_message(a, true, "probe bake: %s", err.msg);
+        return;
+    }
+    double ms = (vx_time_now() - t0) * 1e3;
+    b->ms += ms;
+    uint32_t done = ps->count - before;
+    double per = done ? ms / done : ms;
+    double want = per > 0 ? 40.0 / per : 2.0 * b->step;
+    b->step = want < 1 ? 1 : want > 4096 ? 4096 : (uint32_t)want;
+    if (ps->count < ps->probe_count) return;
+    /* done: the set replaces the loaded probes (the gi method and the probes' GPU maps follow) */
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    vx_probe_gi_destroy(a->pgi);
+    a->pgi = NULL;
+    if (a->have_probes) vx_probe_set_free(&a->probes);
+    a->probes = *ps;
+    memset(ps, 0, sizeof *ps);
+    a->have_probes = true;
+    b->active = false;
+    snprintf(a->probes_path, sizeof a->probes_path, "(baked here)");
+    printf("%s: baked %u probes (res %u, %u spp) in %.2f s (%.1f ms baking, %.1f ms a probe)\n", vx_tool_name,
+           a->probes.probe_count, a->probes.res, a->probes.spp, vx_time_now() - b->t0, b->ms,
+           b->ms / (a->probes.probe_count ? a->probes.probe_count : 1));
+    sv_message(a, false, "baked %u probes", a->probes.probe_count);
+}
+
+bool sv_probe_save(app* a, const char* path) {
+    vx_error err = {0};
+    if (!a->have_probes) {
+        sv_message(a, true, "no probes to save (bake or load them first)");
+        return false;
+    }
+    if (vx_probe_write_file(NULL, &a->probes, path, &err)) {
+        sv_message(a, true, "%s: %s", path, err.msg);
+        return false;
+    }
+    printf("%s: saved probes %s\n", vx_tool_name, path);
+    return true;
+}
+
 /* Mode gi is only offered with probes loaded; otherwise a message, and the mode stays. */
 void sv_set_probe_mode(app* a, vx_probe_render_mode m) {
     if (!a->have_probes) {
@@ -337,6 +440,7 @@ static void drop_passes(app* a) {
 
 void sv_rebuild(app* a) {
     double t0 = vx_time_now();
+    sv_probe_bake_cancel(a, "the scene changed");
     a->name_for = NO_SEL; /* the panel's name field shows the name again */
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
@@ -372,6 +476,7 @@ void sv_uploads(const app* a, uint64_t* words, uint64_t* records) {
  * hold scene facts (bounds, cell sizes, lights): they are made again, which
  * costs no GPU work until the next frame. */
 static void update_instances(app* a) {
+    sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
         sv_rebuild(a);
         return;
@@ -687,6 +792,7 @@ bool sv_brush_rgba(app* a, uint32_t rgba) {
  * which hold per-record tables, are made again at the next frame that needs
  * them, the pass pipeline's scene facts only when the model's size changed. */
 static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t records_from, const uint32_t size[3]) {
+    sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
         sv_rebuild(a);
         return;
@@ -899,6 +1005,32 @@ static bool project(const app* a, const double eye[3], const double f[3], uint32
     *sx = (x + 1) * 0.5 * w;
     *sy = (1 - y) * 0.5 * h;
     return true;
+}
+
+/* The probe grid (panel: show grid): each probe a square at its position,
+ * green at its grid point, yellow moved out of a voxel, red disabled; the
+ * probe whose maps the panel shows larger and white; baked probes filled. */
+static void draw_probe_grid(app* a, vf_canvas* cv) {
+    const vx_probe_set* ps = sv_probe_shown(a);
+    if (!a->probe_grid || !ps) return;
+    double f[3];
+    cam_fwd(a, f);
+    for (uint32_t i = 0; i < ps->probe_count; i++) {
+        double x, y;
+        if (!project(a, a->eye, f, cv->width, cv->height, ps->probes[i].pos, &x, &y)) continue;
+        uint32_t st = ps->probes[i].state;
+        uint32_t c = i == a->probe_sel ? 0x00FFFFFFu : st == VX_PROBE_OK ? 0x0040E040u : st == VX_PROBE_MOVED ? 0x0030E0F0u
+                                                                                                            : 0x002020F0u;
+        int r = i == a->probe_sel ? 4 : 2;
+        bool baked = i >= ps->first && i < ps->first + ps->count;
+        if (baked) vf_fill_rect(cv, (int)x - r, (int)y - r, 2 * r + 1, 2 * r + 1, c, 255);
+        else {
+            vf_fill_rect(cv, (int)x - r, (int)y - r, 2 * r + 1, 1, c, 255);
+            vf_fill_rect(cv, (int)x - r, (int)y + r, 2 * r + 1, 1, c, 255);
+            vf_fill_rect(cv, (int)x - r, (int)y - r, 1, 2 * r + 1, c, 255);
+            vf_fill_rect(cv, (int)x + r, (int)y - r, 1, 2 * r + 1, c, 255);
+        }
+    }
 }
 
 static void draw_selection(app* a, vf_canvas* cv) {
@@ -1233,13 +1365,15 @@ static vx_result frame(app* a, vx_error* err) {
         if (!a->px8) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u frame", w, h);
     }
     vf_canvas cv = {.pixels = a->px8, .width = w, .height = h, .bgra = vp_frame_bgra(a->p)};
-    bool draws = !a->o.screenshot && ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL)));
+    bool draws = !a->o.screenshot &&
+                 ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL || a->probe_grid)));
     a->frame_on_gpu = on_gpu;
     if (on_gpu) {
         /* the overlay (selection, panels, text) is drawn on the CPU into the display's mapped buffer */
         vf_canvas ov = cv;
         if (draws && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
         if (draws) {
+            draw_probe_grid(a, &ov);
             draw_selection(a, &ov);
             if (a->ui && a->panels) sv_panels_draw(a, &ov);
             else if (a->overlay) draw_overlay(a, &ov);
@@ -1251,6 +1385,7 @@ static vx_result frame(app* a, vx_error* err) {
         if (a->img.pixels) convert(a, &a->img, &cv);
         else memset(a->px8, 0, need);
         if (draws) {
+            draw_probe_grid(a, &cv);
             draw_selection(a, &cv);
             if (a->ui && a->panels) sv_panels_draw(a, &cv);
             else if (a->overlay) draw_overlay(a, &cv);
@@ -1557,6 +1692,31 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         else a->gi = false;
     } else if (!strcmp(c, "passes") && nt <= 2) {
         if (!sv_set_passes(a, nt == 2 ? tok[1] : "")) return false;
+    } else if (!strcmp(c, "probes") && nt >= 2 && !strcmp(tok[1], "bake")) {
+        uint32_t res, spp, g[3] = {0, 0, 0};
+        if ((nt != 4 && nt != 7) || !vx_tool_parse_u32(tok[2], &res) || !vx_tool_parse_u32(tok[3], &spp) ||
+            (nt == 7 && (!vx_tool_parse_u32(tok[4], &g[0]) || !vx_tool_parse_u32(tok[5], &g[1]) ||
+                         !vx_tool_parse_u32(tok[6], &g[2]))))
+            BAD();
+        sv_probe_bake(a, res, spp, g);
+        if (!a->bake.active) return false; /* refused: the message says why */
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "grid")) {
+        if (strcmp(tok[2], "on") && strcmp(tok[2], "off")) BAD();
+        a->probe_grid = !strcmp(tok[2], "on");
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "show")) {
+        uint32_t n;
+        const vx_probe_set* ps = sv_probe_shown(a);
+        if (!vx_tool_parse_u32(tok[2], &n)) BAD();
+        if (!ps || n >= ps->probe_count) {
+            fprintf(stderr, "%s: %s:%u: no probe %u (%u probes)\n", vx_tool_name, a->o.script, lineno, n,
+                    ps ? ps->probe_count : 0);
+            return false;
+        }
+        a->probe_sel = n;
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "save")) {
+        if (!sv_probe_save(a, tok[2])) return false;
+    } else if (!strcmp(c, "probes") && nt == 2 && !strcmp(tok[1], "cancel")) {
+        sv_probe_bake_cancel(a, "asked");
     } else if (!strcmp(c, "probes") && nt == 2) {
         sv_probes(a, tok[1]);
     } else if (!strcmp(c, "select")) {
@@ -1809,12 +1969,13 @@ static int run(app* a) {
         }
         play(a, fmin(now - last_play, 0.25));
         last_play = now;
-        if (a->lines && !a->pick_pending && !a->click_state) {
+        probe_bake_step(a); /* a step of a running bake, between frames */
+        if (a->lines && !a->pick_pending && !a->click_state && !a->bake.active) {
             if (a->wait) a->wait--;
             else {
                 /* commands up to the next one that needs a frame (pick, screenshot, wait) */
                 while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait &&
-                       !a->grab && !a->click_state) {
+                       !a->grab && !a->click_state && !a->bake.active) {
                     uint32_t ln = a->line_pos++;
                     if (!run_command(a, a->lines[ln], ln + 1)) {
                         a->status = 1;
@@ -1896,6 +2057,7 @@ int main(int argc, char** argv) {
     a.light_step_for = NO_SEL;
     a.name_for = NO_SEL;
     a.pick_op = -1;
+    a.bake_res_i = 1, a.bake_spp = 8, a.bake_grid = 4; /* the probe panel's bake: res 32, 8 spp, 4^3 probes */
     a.mode = a.o.mode;
     a.gi = a.o.gi;
     a.pmode = a.o.pmode;
@@ -1977,6 +2139,7 @@ done:
         if (n && !status) status = 1;
     }
     if (a.have_probes) vx_probe_set_free(&a.probes);
+    if (a.bake.active) vx_probe_set_free(&a.bake.ps);
     ved_free(&a.ed);
     vx_svo_scene_free(&a.scene);
     vx_free(NULL, a.sky_rgb);
