@@ -137,11 +137,16 @@ typedef struct app {
     char grab_buf[1024];
     uint32_t frame_n;
     double trace_ms, rays_per_s, update_ms;
+    double panels_ms; /* drawing the panels into the frame or overlay (CPU), the last frame */
     /* presentation: vx_display set: the colour passes' frames go to the
      * swapchain on the GPU (vp_present_display); else, and for other modes,
      * picks and screenshots, the host readback path (vp_present) */
     vx_display* disp;
     bool frame_on_gpu; /* the last frame took the GPU path */
+    /* the GPU path's overlay is kept between frames while nothing it shows changed */
+    bool ui_dirty, ov_valid, ov_cam_default;
+    double ov_time, ov_cam[5];
+    uint32_t ov_w, ov_h;
     char present_note[160];
     /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
      * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */

@@ -1369,26 +1369,43 @@ static vx_result frame(app* a, vx_error* err) {
                  ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL || a->probe_grid)));
     a->frame_on_gpu = on_gpu;
     if (on_gpu) {
-        /* the overlay (selection, panels, text) is drawn on the CPU into the display's mapped buffer */
+        /* the overlay (selection, panels, text) is drawn on the CPU into the
+         * display's mapped buffer, again only when something may have changed
+         * it: input, a script command, the camera, playback, a bake, a
+         * message, a grab, or 250 ms passed (the statistics' numbers) */
         vf_canvas ov = cv;
-        if (draws && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
-        if (draws) {
+        double now = vx_time_now(), cam[5] = {a->eye[0], a->eye[1], a->eye[2], a->yaw, a->pitch};
+        bool redraw = draws && (a->ui_dirty || !a->ov_valid || a->ov_w != w || a->ov_h != h || a->grab || a->playing ||
+                                a->bake.active || a->op || now - a->ov_time > 0.25 || now < a->msg_until + 0.1 ||
+                                memcmp(cam, a->ov_cam, sizeof cam) || a->cam_default != a->ov_cam_default);
+        if (redraw && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
+        a->ov_valid = draws && (a->ov_valid || redraw);
+        a->panels_ms = 0;
+        if (redraw) {
+            a->ui_dirty = false;
+            a->ov_time = now, a->ov_w = w, a->ov_h = h, a->ov_cam_default = a->cam_default;
+            memcpy(a->ov_cam, cam, sizeof cam);
             draw_probe_grid(a, &ov);
             draw_selection(a, &ov);
+            double tp = vx_time_now();
             if (a->ui && a->panels) sv_panels_draw(a, &ov);
             else if (a->overlay) draw_overlay(a, &ov);
+            a->panels_ms = a->ui && a->panels ? (vx_time_now() - tp) * 1e3 : 0;
         }
         vx_display_desc dd = {.fr = a->fr, .width = w, .height = h, .bgra = cv.bgra, .overlay = draws};
         vx_result r = vp_present_display(a->p, a->disp, &dd, a->grab ? a->px8 : NULL, err);
         if (r) return r;
     } else {
+        a->ov_valid = false;
         if (a->img.pixels) convert(a, &a->img, &cv);
         else memset(a->px8, 0, need);
         if (draws) {
             draw_probe_grid(a, &cv);
             draw_selection(a, &cv);
+            double tp = vx_time_now();
             if (a->ui && a->panels) sv_panels_draw(a, &cv);
             else if (a->overlay) draw_overlay(a, &cv);
+            a->panels_ms = a->ui && a->panels ? (vx_time_now() - tp) * 1e3 : 0;
         }
     }
     if (a->grab) {
@@ -1421,6 +1438,7 @@ static void grab_end(app* a, bool keep) {
 static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     (void)sc;
     app* a = glfwGetWindowUserPointer(win);
+    a->ui_dirty = true;
     sv_panels_key(a, key, action != GLFW_RELEASE, mods);
     if (action == GLFW_RELEASE || sv_panels_wants_keyboard(a)) return;
     bool ctrl = mods & GLFW_MOD_CONTROL, shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
@@ -1531,6 +1549,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
 }
 
 static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     sv_panels_button(a, button, action == GLFW_PRESS);
     if (sv_panels_wants_mouse(a) && action == GLFW_PRESS) return;
@@ -1553,6 +1572,7 @@ static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
 }
 
 static void cursor_cb(GLFWwindow* win, double x, double y) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     {
         /* the panels work in frame pixels, the cursor comes in screen coordinates */
@@ -1588,9 +1608,13 @@ static void cursor_cb(GLFWwindow* win, double x, double y) {
     }
 }
 
-static void char_cb(GLFWwindow* win, unsigned int c) { sv_panels_char(glfwGetWindowUserPointer(win), c); }
+static void char_cb(GLFWwindow* win, unsigned int c) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
+    sv_panels_char(glfwGetWindowUserPointer(win), c);
+}
 
 static void scroll_cb(GLFWwindow* win, double dx, double dy) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     (void)dx;
     app* a = glfwGetWindowUserPointer(win);
     sv_panels_wheel(a, dy);
@@ -1607,6 +1631,7 @@ static void scroll_cb(GLFWwindow* win, double dx, double dy) {
 }
 
 static void drop_cb(GLFWwindow* win, int n, const char** paths) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     for (int i = 0; i < n; i++) sv_add(a, paths[i]);
 }
@@ -1648,6 +1673,7 @@ static bool parse_doubles(char** tok, int n, double* v) {
 
 /* Runs one script line; false (with a message) on a malformed command. */
 static bool run_command(app* a, char* line, uint32_t lineno) {
+    a->ui_dirty = true; /* the panels may show what the command changed */
     char* tok[8] = {0};
     int nt = 0;
     for (char* t = strtok(line, " \t\r"); t && nt < 8; t = strtok(NULL, " \t\r")) tok[nt++] = t;
@@ -1950,7 +1976,9 @@ static int run(app* a) {
     double* bench = a->o.bench ? calloc(a->o.bench, sizeof *bench) : NULL;
     double* bench_trace = a->o.bench ? calloc(a->o.bench, sizeof *bench_trace) : NULL;
     double* bench_switch = a->o.bench ? calloc(a->o.bench, sizeof *bench_switch) : NULL;
-    if (a->o.bench && (!bench || !bench_trace || !bench_switch)) a->quit = true, a->status = 1;
+    double* bench_panels = a->o.bench ? calloc(a->o.bench, sizeof *bench_panels) : NULL;
+    double* bench_edit = a->o.bench ? calloc(a->o.bench, sizeof *bench_edit) : NULL;
+    if (a->o.bench && (!bench || !bench_trace || !bench_switch || !bench_panels || !bench_edit)) a->quit = true, a->status = 1;
     uint32_t frames = 0;
     GLFWwindow* w = vp_window(a->p);
     if (a->o.screenshot) a->shot = a->o.screenshot;
@@ -1970,6 +1998,7 @@ static int run(app* a) {
         play(a, fmin(now - last_play, 0.25));
         last_play = now;
         probe_bake_step(a); /* a step of a running bake, between frames */
+        double t_edit = vx_time_now();
         if (a->lines && !a->pick_pending && !a->click_state && !a->bake.active) {
             if (a->wait) a->wait--;
             else {
@@ -2000,6 +2029,8 @@ static int run(app* a) {
         if (a->o.bench) {
             bench[frames] = (vx_time_now() - t0) * 1e3;
             bench_trace[frames] = a->trace_ms;
+            bench_panels[frames] = a->panels_ms;
+            bench_edit[frames] = (t0 - t_edit) * 1e3; /* the script's commands before this frame (edits) */
             if (++frames == a->o.bench) break;
         }
         if (a->o.screenshot) break;
@@ -2012,6 +2043,12 @@ static int run(app* a) {
         printf("%s: %u frames %ux%u mode %s on %s: median frame %.3f ms, median trace %.3f ms (GPU timestamps)\n",
                vx_tool_name, frames, fw, fh, sv_mode_name(a), vx_gpu_device_name(a->gpu),
                bench[frames / 2], bench_trace[frames / 2]);
+        qsort(bench_panels, frames, sizeof *bench_panels, cmp_double);
+        qsort(bench_edit, frames, sizeof *bench_edit, cmp_double);
+        printf("%s: panels %s (median %.3f ms drawing them on the CPU), present %s, script commands before a frame "
+               "median %.3f ms (max %.3f ms)\n",
+               vx_tool_name, a->ui && a->panels ? "on" : "off", bench_panels[frames / 2],
+               a->frame_on_gpu ? "GPU" : "host readback", bench_edit[frames / 2], bench_edit[frames - 1]);
         if (vx_svo_scene_frames(&a->scene) > 1) {
             qsort(bench_switch, frames, sizeof *bench_switch, cmp_double);
             printf("%s: animation of %u frames played, one per bench frame: median frame switch %.3f ms "
@@ -2022,6 +2059,8 @@ static int run(app* a) {
     free(bench);
     free(bench_trace);
     free(bench_switch);
+    free(bench_panels);
+    free(bench_edit);
     return a->status;
 }
 
