@@ -489,10 +489,16 @@ vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* des
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
     uint64_t bytes = 0;
-    if ((r = vx_display_record(disp, p->cmd, desc, &bytes, err))) {
-        vkEndCommandBuffer(p->cmd);
-        /* the acquired image must still be presented: a failed frame leaves it as it was */
-        return r;
+    vx_result failed = vx_display_record(disp, p->cmd, desc, &bytes, err);
+    if (failed) {
+        /* the acquired image is still presented (its semaphore waited for): as it was, in the present layout */
+        VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
+        VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
+        VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
+        barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, 0, 0,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+        grab = NULL;
+        goto submit;
     }
     VkBuffer src = (VkBuffer)(uintptr_t)bytes;
     barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
@@ -523,6 +529,7 @@ vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* des
     }
     barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
             VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+submit:
     VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
     VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
@@ -544,6 +551,7 @@ vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* des
     vr = vkQueuePresentKHR(p->queue, &pi);
     VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
     if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    if (failed) return failed;
     if (grab) memcpy(grab, p->staging_map, (size_t)w * h * 4);
     if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
     else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
