@@ -16,10 +16,10 @@
  *        undo (header restored + update), against the path before (the model
  *        decoded and built again, the render scene made again) on the same
  *        strokes. terrain256: the tracer benchmarks' terrain at 256^3.
- *        view_bench --frame IN.svo [W H (default 1920 1080)] [FRAMES (default 30)]:
+ *        view_bench --frame IN.svo [W H (default 1920 1080)] [FRAMES (default 30)] [PASSES]:
  *        svo_view's colour frame without a window, on each path, medians:
  *        the passes' GPU time (svo_render's trace time for the same passes,
- *        gbuffer,direct, the file's lights); the host path (the frame read
+ *        default gbuffer,direct, the file's lights); the host path (the frame read
  *        back, converted to 8 bits on the CPU as svo_view does); the GPU path
  *        (the image left on the GPU, vx_display's conversion with an overlay
  *        the size of svo_view's panel columns laid over it, a submission
@@ -178,7 +178,7 @@ static uint8_t to8(float v) {
     return (uint8_t)lrintf(v * 255.0f);
 }
 
-static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n) {
+static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
     vx_svo_scene s;
     vx_error err = {0};
     if (!w || !h || !n || n > 10000) return 2;
@@ -191,7 +191,7 @@ static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n) {
         vx_frame_renderer_create(rs, &s, &fr, &err) || vx_display_create(gpu, &disp, &err))
         return fprintf(stderr, "%s\n", err.msg), 1;
     vx_pass_list pl;
-    if (vx_pass_list_parse(VX_PASS_LIST_DEFAULT, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    if (vx_pass_list_parse(passes, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
     vx_frame_desc fd = vx_frame_desc_defaults();
     fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
     fd.passes = &pl;
@@ -260,7 +260,7 @@ static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n) {
         }
     double mg = median(gpu_ms, n);
     printf("view_bench --frame %s %ux%u on %s, %u frames, passes %s, medians:\n", in, w, h, vx_gpu_device_name(gpu), n,
-           VX_PASS_LIST_DEFAULT);
+           passes);
     printf("  passes GPU time (svo_render's trace time for these passes) %.3f ms\n", mg);
     printf("  frame render, image left on the GPU (wall, submission + wait)  %.3f ms\n", median(trace_wall, n));
     printf("  host path: render + readback + 8-bit conversion on the CPU      %.3f ms (%.2fx the passes)\n",
@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
     if (argc >= 3 && !strcmp(argv[1], "--frame"))
         return frame_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
                            argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
-                           argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 30);
+                           argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 30, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
     if (argc == 5 && !strcmp(argv[1], "--animate")) return animate(argv[2], argv[3], (uint32_t)strtoul(argv[4], NULL, 10));
     uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
     if (!n || !rep || rep > 1000) return 2;
