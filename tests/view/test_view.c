@@ -1609,6 +1609,35 @@ static void test_scripted_instances_gpu(void) {
     rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render, in,
                  rb, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
     CHECK(rc == 0 && image_diff(va, rb) > 0.01);
+    /* light edits with a move, on a scene with lights: the colour frame equals svo_render of the save
+     * (which lights it with the file's lights, as the viewer's passes do) */
+    vx_svo_scene ls;
+    REQUIRE(scene_with_lights(&ls));
+    REQUIRE(vx_svo_write_file(NULL, &ls, in, NULL) == VX_OK);
+    vx_svo_scene_free(&ls);
+    f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f,
+            "overlay off\npanels off\ncamera %.6f %.6f %.6f %.6f %.6f %.6f\nlight 0 color 0.2 0.9 0.3\n"
+            "light 0 position %.3f %.3f %.3f\nlight 1 intensity 0.7\nselect 1\nmove 2 3 0\nstats\nscreenshot %s\n"
+            "save %s\nquit\n",
+            eye[0], eye[1], eye[2], c[0], c[1], c[2], c[0] + 5, c[1] - 8, c[2] + 12, va, saved);
+    fclose(f);
+    rc = run_cmd("%s %s --script %s --hidden --size 160x120 > %s 2>&1", g_view, in, script, log);
+    text = slurp(log);
+    if (rc) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    CHECKF(parse_stats(text, 0, s0) && s0[0] == 1, "render scenes made after light edits and a move: %llu", s0[0]);
+    free(text);
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render,
+                 saved, ra, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    REQUIRE(rc == 0);
+    double dl = image_diff(va, ra);
+    fprintf(stderr, "  after light edits and a move: %.3f%% of pixels differ from svo_render of the saved file\n", dl * 100);
+    CHECKF(dl <= 0.002, "light edits: %.2f%% of pixels differ", dl * 100);
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render, in,
+                 rb, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    CHECK(rc == 0 && image_diff(va, rb) > 0.01); /* the edits show */
 }
 
 /* Largest channel difference and the pixels differing by more than tol in
