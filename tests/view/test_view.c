@@ -1678,6 +1678,10 @@ static int image_box_diff(const char* pa, const char* pb, uint32_t x0, uint32_t 
  * against blending each primitive into the frame); -v names the path. */
 static void test_gpu_present(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
+    /* usage errors: status 2, nothing opened */
+    CHECK(run_cmd("%s x.svo --present fast > /dev/null 2>&1", g_view) == 2);
+    CHECK(run_cmd("%s x.svo --undo-limit 0 > /dev/null 2>&1", g_view) == 2);
+    CHECK(run_cmd("%s x.svo --undo-memory lots > /dev/null 2>&1", g_view) == 2);
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
     if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
     char script[1024], ga[1024], gb[1024], log[1024];
