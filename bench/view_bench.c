@@ -15,12 +15,24 @@
  *        apply (vvx_apply) and the GPU update (vx_render_scene_update_model),
  *        undo (header restored + update), against the path before (the model
  *        decoded and built again, the render scene made again) on the same
- *        strokes. terrain256: the tracer benchmarks' terrain at 256^3. Needs
- *        only libvulkan and libc (runs on the GPU machine). */
+ *        strokes. terrain256: the tracer benchmarks' terrain at 256^3.
+ *        view_bench --frame IN.svo [W H (default 1920 1080)] [FRAMES (default 30)] [PASSES]:
+ *        svo_view's colour frame without a window, on each path, medians:
+ *        the passes' GPU time (svo_render's trace time for the same passes,
+ *        default gbuffer,direct, the file's lights); the host path (the frame read
+ *        back, converted to 8 bits on the CPU as svo_view does); the GPU path
+ *        (the image left on the GPU, vx_display's conversion with an overlay
+ *        the size of svo_view's panel columns laid over it, a submission
+ *        waited for: what svo_view records before its swapchain copy). The
+ *        panels' CPU drawing is svo_view's, not here (svo_view --bench -v
+ *        prints it). Needs only libvulkan and libc (runs on the GPU machine). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/display.h"
+#include "render/pipeline.h"
 #include "render/render.h"
 #include "bench/bench_terrain.h"
 #include "tools/svo_view/editor.h"
@@ -159,10 +171,124 @@ static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius) {
     return 0;
 }
 
+/* ---- --frame ---------------------------------------------------------------------------- */
+
+static uint8_t to8(float v) {
+    v = v < 0 ? 0 : (v > 1 ? 1 : v);
+    return (uint8_t)lrintf(v * 255.0f);
+}
+
+static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
+    vx_svo_scene s;
+    vx_error err = {0};
+    if (!w || !h || !n || n > 10000) return 2;
+    if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
+    vx_gpu* gpu;
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    if (vx_gpu_create(NULL, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err) ||
+        vx_frame_renderer_create(rs, &s, &fr, &err) || vx_display_create(gpu, &disp, &err))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_pass_list pl;
+    if (vx_pass_list_parse(passes, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
+    fd.passes = &pl;
+    fd.lights = s.lights, fd.light_count = s.light_count;
+    fd.sky_dir = &s.sky;
+    double *gpu_ms = calloc(n, sizeof(double)), *host = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)),
+           *gp_bare = calloc(n, sizeof(double)), *disp_ms = calloc(n, sizeof(double)), *trace_wall = calloc(n, sizeof(double)),
+           *kept = calloc(n, sizeof(double));
+    uint8_t* px8 = malloc((size_t)w * h * 4);
+    uint8_t* back = malloc((size_t)w * h * 4);
+    if (!gpu_ms || !host || !gp || !gp_bare || !disp_ms || !trace_wall || !kept || !px8 || !back) return 1;
+    /* panel columns as svo_view lays them out: a third of the width, left and right, translucent */
+    uint32_t lw = w * 3 / 8, rw = w * 3 / 8;
+    for (uint32_t k = 0; k < n + 2; k++) { /* two warm-up frames */
+        uint32_t i = k < 2 ? 0 : k - 2;
+        /* host path: read back, convert */
+        vx_frame_result res;
+        fd.no_readback = false;
+        double t0 = vx_time_now();
+        if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        const float* p = res.image.pixels;
+        for (size_t q = 0; q < (size_t)w * h; q++) {
+            px8[4 * q] = to8(p[4 * q]), px8[4 * q + 1] = to8(p[4 * q + 1]), px8[4 * q + 2] = to8(p[4 * q + 2]);
+            px8[4 * q + 3] = 255;
+        }
+        double t1 = vx_time_now();
+        vx_render_image_free(&res.image);
+        /* GPU path, no overlay */
+        fd.no_readback = true;
+        double t2 = vx_time_now();
+        if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        double t3 = vx_time_now();
+        vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true};
+        double ds = 0;
+        if (vx_display_run(disp, &dd, NULL, &ds, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        double t4 = vx_time_now();
+        /* GPU path with the overlay: zeroed and the panel columns filled (the drawing itself: svo_view's) */
+        double t5 = vx_time_now();
+        if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        uint8_t* ov = vx_display_overlay(disp, w, h, &err);
+        if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
+        for (uint32_t y = 0; y < h; y++) {
+            uint32_t* row = (uint32_t*)(ov + (size_t)y * w * 4);
+            for (uint32_t x = 0; x < lw; x++) row[x] = 0xF0141414u;
+            for (uint32_t x = w - rw; x < w; x++) row[x] = 0xF0141414u;
+        }
+        dd.overlay = true;
+        if (vx_display_run(disp, &dd, k == n + 1 ? back : NULL, NULL, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        double t6 = vx_time_now();
+        /* GPU path, the overlay kept from the last frame (svo_view redraws it on input or every 250 ms) */
+        double t7 = vx_time_now();
+        if (vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &dd, NULL, NULL, &err))
+            return fprintf(stderr, "%s\n", err.msg), 1;
+        double t8 = vx_time_now();
+        if (k < 2) continue;
+        kept[i] = (t8 - t7) * 1e3;
+        gpu_ms[i] = res.frame_ms, host[i] = (t1 - t0) * 1e3, trace_wall[i] = (t3 - t2) * 1e3;
+        gp_bare[i] = (t4 - t2) * 1e3, disp_ms[i] = ds * 1e3, gp[i] = (t6 - t5) * 1e3;
+    }
+    /* the GPU path's bytes between the panel columns are the host path's (B,G,R,A there) */
+    size_t bad = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = lw; x < w - rw; x++) {
+            const uint8_t *a = px8 + 4 * ((size_t)y * w + x), *b = back + 4 * ((size_t)y * w + x);
+            bad += a[0] != b[2] || a[1] != b[1] || a[2] != b[0];
+        }
+    double mg = median(gpu_ms, n);
+    printf("view_bench --frame %s %ux%u on %s, %u frames, passes %s, medians:\n", in, w, h, vx_gpu_device_name(gpu), n,
+           passes);
+    printf("  passes GPU time (svo_render's trace time for these passes) %.3f ms\n", mg);
+    printf("  frame render, image left on the GPU (wall, submission + wait)  %.3f ms\n", median(trace_wall, n));
+    printf("  host path: render + readback + 8-bit conversion on the CPU      %.3f ms (%.2fx the passes)\n",
+           median(host, n), median(host, n) / mg);
+    printf("  GPU path: render + display conversion (no overlay)              %.3f ms (%.2fx; conversion %.3f ms wall)\n",
+           median(gp_bare, n), median(gp_bare, n) / mg, median(disp_ms, n));
+    printf("  GPU path with the panels' overlay (zeroed + columns filled)     %.3f ms (%.2fx)\n", median(gp, n),
+           median(gp, n) / mg);
+    printf("  GPU path with the overlay kept from the last frame              %.3f ms (%.2fx)\n", median(kept, n),
+           median(kept, n) / mg);
+    printf("  GPU path bytes between the panels differing from the host path: %zu\n", bad);
+    free(gpu_ms), free(host), free(gp), free(gp_bare), free(disp_ms), free(trace_wall), free(kept), free(px8), free(back);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(gpu);
+    vx_svo_scene_free(&s);
+    return bad ? 1 : 0;
+}
+
 int main(int argc, char** argv) {
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
                             argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);
+    if (argc >= 3 && !strcmp(argv[1], "--frame"))
+        return frame_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
+                           argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
+                           argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 30, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
     if (argc == 5 && !strcmp(argv[1], "--animate")) return animate(argv[2], argv[3], (uint32_t)strtoul(argv[4], NULL, 10));
     uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
     if (!n || !rep || rep > 1000) return 2;

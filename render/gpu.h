@@ -173,6 +173,10 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
  * vx_free(alloc, ...). */
 vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
                                  vx_error* err);
+/* pipeline.c: the buffer holding the last frame's image (RGBA32F,
+ * rows top first, *w x *h), NULL before the first frame (render/display.c). */
+struct vx_frame_renderer;
+vx__buffer* vx__frame_renderer_image(const struct vx_frame_renderer* fr, uint32_t* w, uint32_t* h);
 /* pipeline.c: light l in the std430 layout of passes_common.glsl's Light (24
  * floats), position relative to ref; cutoff: the irradiance where a light
  * without a range ends (vx_frame_desc.light_cutoff, resolved). For passes

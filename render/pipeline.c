@@ -328,7 +328,15 @@ struct vx_frame_renderer {
     VkQueryPool qp;
     uint32_t qcap;
     uint32_t lidx_cap; /* light list entries b[B_LIDX] holds */
+    int last_out;          /* the buffer holding the last frame's image (-1: none yet) */
+    uint32_t last_w, last_h;
 };
+
+vx__buffer* vx__frame_renderer_image(const vx_frame_renderer* fr, uint32_t* w, uint32_t* h) {
+    if (!fr || fr->last_out < 0) return NULL;
+    *w = fr->last_w, *h = fr->last_h;
+    return (vx__buffer*)&fr->b[fr->last_out];
+}
 
 vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
                                    vx_error* err) {
@@ -337,6 +345,7 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     vx_frame_renderer* fr = vx_calloc(&g->alloc, 1, sizeof *fr);
     if (!fr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     fr->rs = rs, fr->g = g;
+    fr->last_out = -1;
     vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
     for (uint32_t i = 0; i < scene->instance_count; i++) {
         if (!vx_svo_instance_drawn(scene, i)) continue;
@@ -910,6 +919,8 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
             img.gpu_seconds = out->frame_ms * 1e-3;
             img.rays = (uint64_t)npx * f.spp;
             out->image = img;
+            fr->last_out = run_aa ? B_OUT2 : B_ACC;
+            fr->last_w = f.width, fr->last_h = f.height;
         }
         break;
     }

@@ -18,9 +18,11 @@ if(VX_WITH_VULKAN)
   # name:source[:define]; trace_precise is trace.comp in float64 (deep models);
   # beam is the primary rays' beam pass (before trace).
   # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
-  # are the pass pipeline's shaders (pipeline.c); cull builds its light grid.
+  # are the pass pipeline's shaders (pipeline.c); cull builds its light grid;
+  # display turns an image into display bytes on the GPU (display.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
-               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull)
+               gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
+               display:display)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -50,6 +52,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_SOURCE_DIR}/gpu_dispatch.c
     ${CMAKE_CURRENT_SOURCE_DIR}/render_scene.c
     ${CMAKE_CURRENT_SOURCE_DIR}/pipeline.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/display.c
     ${VX_RENDER_SPV_HEADERS})
   target_include_directories(vx_render PRIVATE ${VX_RENDER_SPV_DIR})
   target_link_libraries(vx_render PUBLIC vx_trace vx_svo Vulkan::Vulkan m)

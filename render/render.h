@@ -229,7 +229,10 @@ typedef struct vx_render_scene vx_render_scene;
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_render_scene** out, vx_error* err);
 /* Shows frame `frame` of `scene`, the scene rs was created from: the
  * instances and their BVH are rebuilt, the models stay on the GPU (no
- * upload). Waits for the device to be idle first. */
+ * upload). Also takes instance edits (the records of any frame changed,
+ * instances added or removed, the same models): the default camera's bounds
+ * are taken again from every frame of `scene` (for an animation that was not
+ * edited, the bounds it had). Waits for the device to be idle first. */
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t frame, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
 /* Model `model` of `scene` (the scene rs was made from, the same model
@@ -259,6 +262,17 @@ void vx_render_scene_destroy(vx_render_scene* rs);
  * them as a failed vx_render_scene_set_frame does). */
 vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t model,
                                        uint32_t words_from, uint32_t records_from, vx_error* err);
+/* What went to the GPU since vx_render_scene_create: node words and colour
+ * records uploaded (the models' at creation, then the appends
+ * vx_render_scene_update_model uploads; a region moved or a buffer grown by
+ * a GPU copy is not an upload), its calls, and the rebuilds of the instance
+ * tables and BVH (vx_render_scene_set_frame, and update_model when a size
+ * changed). Editors check with it that an edit uploaded what it should. */
+typedef struct vx_render_scene_stats {
+    uint64_t node_words_uploaded, records_uploaded;
+    uint32_t model_updates, instance_rebuilds;
+} vx_render_scene_stats;
+void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than
  * VX_RENDER_PRECISE_DEPTH). */
 bool vx_render_scene_precise(const vx_render_scene* rs);

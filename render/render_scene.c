@@ -58,6 +58,7 @@ struct vx_render_scene {
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
     vx__buffer stage;   /* staging for updates where the buffers are not mapped */
     uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
+    vx_render_scene_stats stats;
     uint32_t dense_n[3];
     double dense_lo[3], dense_cell;
 };
@@ -131,6 +132,8 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
                                &rs->models, err)) ||
         (r = vx__buffer_upload(g, &rs->models, gm, s->model_count * sizeof *gm, err)))
         goto done;
+    rs->stats.node_words_uploaded += words;
+    rs->stats.records_uploaded += colors;
 done:
     vx_free(&rs->alloc, nw);
     vx_free(&rs->alloc, cw);
@@ -271,7 +274,15 @@ vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, 
     if (max_depth > rs->max_depth) rs->max_depth = max_depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->shown = frame;
+    rs->stats.instance_rebuilds++;
+    /* the default framing: every frame's bounds, as at creation, of the scene as it is now (an instance edit moves them) */
+    vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
     return prepare_instances(rs, &v, err);
+}
+
+void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out) {
+    memset(out, 0, sizeof *out);
+    if (rs) *out = rs->stats;
 }
 
 /* ---- incremental model updates (an editor's appends) ------------------------------------ */
@@ -422,6 +433,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     vx_free(&rs->alloc, col);
     if (nwb.buf) vx__buffer_destroy(g, &rs->nodes), rs->nodes = nwb;
     if (ncb.buf) vx__buffer_destroy(g, &rs->colors), rs->colors = ncb;
+    rs->stats.node_words_uploaded += wn;
+    rs->stats.records_uploaded += cn;
+    rs->stats.model_updates++;
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;

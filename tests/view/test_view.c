@@ -22,6 +22,7 @@
 
 #include "convert/convert.h"
 #include "formats/image.h"
+#include "formats/vox.h"
 #include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
@@ -288,6 +289,46 @@ static void make_scene(vx_svo_scene* s, uint32_t frames) {
     vx_svo_scene_update_bounds(s);
 }
 
+/* The undo history's bounds: a step limit drops the oldest steps (what is
+ * left undoes to the state after the dropped ones), and a byte bound drops
+ * them by the bytes the snapshots hold, keeping the newest. */
+static void test_editor_undo_bounds(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3);
+    ved e;
+    ved_init(&e, &s);
+    e.undo_limit = 8;
+    vx_svo_instance after12 = s.instances[0];
+    for (int k = 0; k < 20; k++) {
+        if (k == 12) after12 = s.instances[0];
+        REQUIRE(ved_begin(&e, NULL) == VX_OK);
+        ved_move(&s, 0, (int32_t[3]){1, 0, 0});
+    }
+    CHECKF(e.undo_count == 8 && e.dropped == 12, "%u steps kept, %u dropped (limit 8, 20 edits)", e.undo_count, e.dropped);
+    uint32_t undone = 0;
+    while (ved_undo(&e, NULL)) undone++;
+    CHECK(undone == 8 && !memcmp(&s.instances[0], &after12, sizeof after12));
+    while (ved_redo(&e, NULL)) {}
+    CHECK(s.instances[0].xform[3] == after12.xform[3] + 8);
+    /* a byte bound of three steps' snapshots keeps three */
+    ved_free(&e);
+    ved_init(&e, &s);
+    REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    uint64_t one = ved_snapshot_bytes(&e.undo[0]);
+    CHECK(one >= 3 * sizeof(vx_svo_instance) * 2); /* two instances in three frames */
+    e.undo_bytes = 3 * one + one / 2;
+    for (int k = 0; k < 10; k++) REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    CHECKF(e.undo_count == 3, "%u steps kept under a bound of 3.5 steps' bytes", e.undo_count);
+    /* a limit past the old fixed 256 */
+    ved_free(&e);
+    ved_init(&e, &s);
+    e.undo_limit = 1500;
+    for (int k = 0; k < 1200; k++) REQUIRE(ved_begin(&e, NULL) == VX_OK);
+    CHECK(e.undo_count == 1200 && e.dropped == 0);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
 /* The expected model after edits, brute force: a colour (palette index, 0 =
  * empty) per cell of a box with a margin, in the generated model's cells. */
 #define EX_M 4
@@ -535,7 +576,7 @@ static void test_editor_random(void) {
     ved_init(&e, &s);
     uint64_t rng = 0x9E3779B97F4A7C15ull;
     uint32_t edits = 0;
-    for (int it = 0; it < VED_MAX_UNDO - 6; it++) {
+    for (int it = 0; it < 250; it++) {
         rng = rng * 6364136223846793005ull + 1442695040888963407ull;
         uint32_t r = (uint32_t)(rng >> 33), i = r % s.instance_count, k = (r >> 8) % 10;
         if (k <= 2) {
@@ -963,6 +1004,315 @@ static void test_scripted_light_undo(void) {
     vx_svo_scene_free(&got);
 }
 
+/* Palette entries the models of s use (a .svo stores only those). */
+static uint32_t used_entries(const vx_svo_scene* s, uint8_t out[255]) {
+    bool used[256] = {0};
+    for (uint32_t m = 0; m < s->model_count; m++)
+        if (s->models[m].palette)
+            for (uint32_t a = 0; a < s->models[m].attr_count; a++) used[s->models[m].palette[a]] = true;
+    uint32_t n = 0;
+    for (int i = 1; i < 256; i++)
+        if (used[i] && s->palette[i]) out[n++] = (uint8_t)i;
+    return n;
+}
+
+/* A thousand random script edits (voxel add, remove and paint with every
+ * brush shape, moves, turns, mirrors, duplicates, deletes, hides, renames,
+ * light edits, some undone and redone on the way) with --undo-limit past
+ * them, then undo to the start: the saved file has the bytes of the save
+ * before the first edit; redo to the end gives the edited save's bytes. */
+static void test_scripted_random(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], plain[1024], edited[1024], undone[1024], redone[1024], log[1024];
+    path(in, sizeof in, "random_in.svo");
+    path(script, sizeof script, "random.txt");
+    path(plain, sizeof plain, "random_plain.svo");
+    path(edited, sizeof edited, "random_edited.svo");
+    path(undone, sizeof undone, "random_undone.svo");
+    path(redone, sizeof redone, "random_redone.svo");
+    path(log, sizeof log, "random.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    REQUIRE(vx_svo_read_file(NULL, in, &s, &err) == VX_OK); /* the palette as the file stores it */
+    uint8_t pal[255];
+    uint32_t npal = used_entries(&s, pal);
+    REQUIRE(npal > 0 && s.instance_count >= 2 && s.light_count == 2);
+    remove(plain), remove(edited), remove(undone), remove(redone);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "overlay off\nsave %s\n", plain);
+    uint32_t model[16], count = s.instance_count > 8 ? 8 : s.instance_count;
+    for (uint32_t i = 0; i < count; i++) model[i] = s.instances[i].model;
+    static const char* const shapes[3] = {"voxel", "box", "sphere"};
+    static const char* const ops[3] = {"add", "remove", "paint"};
+    static const char axes[3] = {'x', 'y', 'z'};
+    uint64_t rng = 0x2545F4914F6CDD1Dull;
+    const int edits = 1000;
+    for (int it = 0; it < edits; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 32), i = r % count, k = (r >> 4) % 12;
+        const uint32_t* sz = s.models[model[i]].size;
+        fprintf(f, "select %u\n", i);
+        if (k <= 3) {
+            fprintf(f, "brush %s %u\ncolor %u\nvoxel %s %d %d %d\n", shapes[(r >> 8) % 3], (r >> 10) % 3,
+                    pal[(r >> 12) % npal], ops[k % 3], (int)((r >> 16) % (sz[0] + 2)) - 1,
+                    (int)((r >> 20) % (sz[1] + 2)) - 1, (int)((r >> 24) % (sz[2] + 2)) - 1);
+        } else if (k == 4) fprintf(f, "move %d %d %d\n", (int)(r >> 8) % 7 - 3, (int)(r >> 12) % 5 - 2, (int)(r >> 16) % 3 - 1);
+        else if (k == 5) fprintf(f, "rotate %c %d\n", axes[(r >> 8) % 3], (r >> 10) & 1 ? 1 : -1);
+        else if (k == 6) fprintf(f, "mirror %c\n", axes[(r >> 8) % 3]);
+        else if (k == 7) {
+            if ((r >> 8) & 1) fprintf(f, "light %u intensity %g\n", (r >> 9) & 1, 0.5 + (r >> 12) % 400);
+            else fprintf(f, "light 0 color %g %g %g\n", ((r >> 12) % 11) / 10.0, ((r >> 16) % 11) / 10.0, ((r >> 20) % 11) / 10.0);
+        } else if (k == 8 && count < 8) {
+            fprintf(f, "duplicate\n");
+            model[count++] = model[i];
+        } else if (k == 8 || (k == 9 && count > 2)) {
+            if (k == 8) fprintf(f, "hide\n");
+            else {
+                fprintf(f, "delete\n");
+                for (uint32_t j = i; j + 1 < count; j++) model[j] = model[j + 1];
+                count--;
+            }
+        } else if (k == 9) fprintf(f, "rename r%u\n", r % 1000);
+        else if (k == 10) fprintf(f, "show\n");
+        else fprintf(f, "light 0 position %d %d %d\n", (int)(r >> 8) % 40, (int)(r >> 14) % 40, 5 + (int)(r >> 20) % 30);
+        if ((r >> 28) == 0) fprintf(f, "undo\nredo\n"); /* 1 in 16 */
+    }
+    fprintf(f, "save %s\n", edited);
+    for (int it = 0; it < edits + 8; it++) fprintf(f, "undo\n");
+    fprintf(f, "save %s\n", undone);
+    for (int it = 0; it < edits + 8; it++) fprintf(f, "redo\n");
+    fprintf(f, "save %s\nquit\n", redone);
+    fclose(f);
+    double t0 = vx_time_now();
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 --undo-limit 2000 -v > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    if (rc != 0) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    /* -v prints each step: the edits that changed something, and as many undone */
+    uint32_t undos = 0, kinds[3] = {0};
+    for (const char* p = text; (p = strstr(p, "svo_view: ")); p++) {
+        p += 10;
+        undos += !strncmp(p, "undo (", 6);
+        for (int k = 0; k < 3; k++) {
+            char pre[32];
+            snprintf(pre, sizeof pre, "voxel %s at", ops[k]);
+            kinds[k] += !strncmp(p, pre, strlen(pre));
+        }
+    }
+    fprintf(stderr, "  %d random script edits (%u undo steps; voxel add %u, remove %u, paint %u), undone and redone: %.1f s\n",
+            edits, undos, kinds[0], kinds[1], kinds[2], vx_time_now() - t0);
+    CHECKF(undos > 800 && kinds[0] > 10 && kinds[1] > 10 && kinds[2] > 10, "%u steps undone", undos);
+    free(text);
+    char *a = slurp(plain), *b = slurp(undone), *c = slurp(edited), *d = slurp(redone);
+    struct stat sa, sb, sc, sd;
+    REQUIRE(a && b && c && d && !stat(plain, &sa) && !stat(undone, &sb) && !stat(edited, &sc) && !stat(redone, &sd));
+    CHECKF(sa.st_size == sb.st_size && !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing %d random edits the saved file differs from the unedited save (%lld vs %lld bytes)", edits,
+           (long long)sb.st_size, (long long)sa.st_size);
+    CHECKF(sa.st_size != sc.st_size || memcmp(a, c, (size_t)sa.st_size), "the edits changed nothing");
+    CHECKF(sc.st_size == sd.st_size && !memcmp(c, d, (size_t)sc.st_size), "redoing every edit gives other bytes");
+    free(a), free(b), free(c), free(d);
+    /* the option is what kept them: with --undo-limit 5, ten moves do not undo to the start */
+    path(script, sizeof script, "random_limit.txt");
+    path(undone, sizeof undone, "random_limit.svo");
+    path(log, sizeof log, "random_limit.log");
+    f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\n");
+    for (int it = 0; it < 10; it++) fprintf(f, "move 1 0 0\n");
+    for (int it = 0; it < 12; it++) fprintf(f, "undo\n");
+    fprintf(f, "save %s\nquit\n", undone);
+    fclose(f);
+    CHECK(run_cmd("%s %s --script %s --hidden --size 64x48 --undo-limit 5 > %s 2>&1", g_view, in, script, log) == 0);
+    vx_svo_scene got;
+    if (vx_svo_read_file(NULL, undone, &got, &err) == VX_OK) {
+        CHECKF(got.instances[0].xform[3] == s.instances[0].xform[3] + 5, "instance 0 at x %g after 10 moves, 5 undone "
+               "(from %g)", got.instances[0].xform[3], s.instances[0].xform[3]);
+        vx_svo_scene_free(&got);
+    } else CHECKF(false, "%s: %s", undone, err.msg);
+    vx_svo_scene_free(&s);
+}
+
+/* A tool beside svo_render (svo_info, vox2svo): the same directory. */
+static void sibling_tool(char* buf, size_t n, const char* name) {
+    const char* slash = strrchr(g_render, '/');
+    int dir = slash ? (int)(slash - g_render) : 1;
+    snprintf(buf, n, "%.*s/%s", dir, slash ? g_render : ".", name);
+}
+
+/* Model 0's cells (model coordinates) and colours. */
+static void model0_cells(const vx_svo_scene* s, cells* out) {
+    vx_svo_instance id = {.xform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, .model = 0};
+    instance_cells(s, &id, out);
+}
+
+/* A script paints, removes and adds voxels with the brushes and undoes some
+ * of it on a .vox file; the same edits are applied here to the file's voxel
+ * grid, written with formats/'s .vox writer and converted by vox2svo: the
+ * model svo_view saves has every cell and colour of that one, and its file
+ * passes svo_info --verify. */
+static void test_scripted_vox_compare(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* in = vx_test_corpus("vox/eph_chr_knight.vox");
+    if (!in) SKIP("corpus file vox/eph_chr_knight.vox not found");
+    char info[1024], v2s[1024];
+    sibling_tool(info, sizeof info, "svo_info");
+    sibling_tool(v2s, sizeof v2s, "vox2svo");
+    if (access(info, X_OK) || access(v2s, X_OK)) SKIP("svo_info or vox2svo is not built beside %s", g_render);
+    char script[1024], saved[1024], ref_vox[1024], ref_svo[1024], log[1024];
+    path(script, sizeof script, "voxcmp.txt");
+    path(saved, sizeof saved, "voxcmp_view.svo");
+    path(ref_vox, sizeof ref_vox, "voxcmp_ref.vox");
+    path(ref_svo, sizeof ref_svo, "voxcmp_ref.svo");
+    path(log, sizeof log, "voxcmp.log");
+    remove(saved), remove(ref_vox), remove(ref_svo);
+    vx_vox_scene vs;
+    vx_error err = {0};
+    REQUIRE(vx_vox_read_file(NULL, in, &vs, &err) == VX_OK);
+    REQUIRE(vs.model_count == 1 && vs.instance_count == 1);
+    const uint32_t* sz = vs.models[0].size;
+    size_t ncell = (size_t)sz[0] * sz[1] * sz[2];
+    /* the grid, palette indices; one copy per undo step */
+    enum { STEPS = 200 };
+    uint8_t* grid = calloc(ncell, 1);
+    uint8_t** stack = calloc(STEPS, sizeof *stack);
+    REQUIRE(grid && stack);
+    for (uint32_t v = 0; v < vs.models[0].voxel_count; v++) {
+        const uint8_t* q = &vs.models[0].xyzi[4 * v];
+        grid[((size_t)q[2] * sz[1] + q[1]) * sz[0] + q[0]] = q[3];
+    }
+    /* the precondition: svo_view's model cells are the .vox's voxel coordinates, colours its palette's */
+    vx_svo_scene orig;
+    REQUIRE(load_vox(in, &orig));
+    cells co = {0}, cv = {0};
+    model0_cells(&orig, &co);
+    for (uint32_t v = 0; v < vs.models[0].voxel_count; v++) {
+        const uint8_t* q = &vs.models[0].xyzi[4 * v];
+        push(&cv, (int64_t[3]){q[0], q[1], q[2]}, vs.palette[q[3]]);
+    }
+    REQUIRE(cells_diff(&co, &cv) == 0 && co.n > 0);
+    free(cv.v);
+    uint8_t colours[255];
+    uint32_t ncol = 0;
+    for (int i = 1; i < 256; i++)
+        if (vs.palette[i]) colours[ncol++] = (uint8_t)i;
+    REQUIRE(ncol > 0);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "overlay off\nselect 0\n");
+    static const char* const shapes[3] = {"voxel", "box", "sphere"};
+    static const char* const ops[3] = {"add", "remove", "paint"};
+    uint32_t depth = 0, changed_run = 0, undos = 0, counts[3] = {0};
+    uint64_t rng = 0xD1B54A32D192ED03ull;
+    for (int it = 0; it < STEPS; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 32);
+        int op = (int)(r % 3), shape = (int)((r >> 2) % 3), R = shape ? (int)((r >> 4) % 3) : 0;
+        int c[3] = {(int)((r >> 6) % sz[0]), (int)((r >> 12) % sz[1]), (int)((r >> 18) % sz[2])};
+        uint8_t col = colours[(r >> 24) % ncol];
+        /* remove and paint mostly at a set cell (the model is sparse) */
+        for (uint32_t t = 0; op && t < 64 && !grid[((size_t)c[2] * sz[1] + c[1]) * sz[0] + c[0]]; t++) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            uint64_t q = (rng >> 16) % ncell;
+            c[0] = (int)(q % sz[0]), c[1] = (int)(q / sz[0] % sz[1]), c[2] = (int)(q / sz[0] / sz[1]);
+        }
+        /* the grid before, as the undo step */
+        uint8_t* before = malloc(ncell);
+        REQUIRE(before);
+        memcpy(before, grid, ncell);
+        bool changed = false;
+        for (int dz = -R; dz <= R; dz++)
+            for (int dy = -R; dy <= R; dy++)
+                for (int dx = -R; dx <= R; dx++) {
+                    if (shape == 2 && dx * dx + dy * dy + dz * dz > R * R) continue;
+                    int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= (int)sz[0] || y >= (int)sz[1] || z >= (int)sz[2]) continue;
+                    uint8_t* g = &grid[((size_t)z * sz[1] + y) * sz[0] + x];
+                    uint8_t nv = op == 0 ? (*g ? *g : col) : op == 1 ? 0 : (*g ? col : 0);
+                    changed |= nv != *g;
+                    *g = nv;
+                }
+        /* cells outside the model's box would grow it: only centres whose brush stays inside */
+        bool inside = c[0] - R >= 0 && c[1] - R >= 0 && c[2] - R >= 0 && c[0] + R < (int)sz[0] &&
+                      c[1] + R < (int)sz[1] && c[2] + R < (int)sz[2];
+        if (!inside || !changed) {
+            memcpy(grid, before, ncell);
+            free(before);
+            continue;
+        }
+        fprintf(f, "brush %s %d\ncolor %u\nvoxel %s %d %d %d\n", shapes[shape], R, col, ops[op], c[0], c[1], c[2]);
+        counts[op]++;
+        stack[depth++] = before;
+        changed_run++;
+        /* undo the last one or two (every step here changed the model, so svo_view has as many) */
+        uint32_t k = (r >> 28) % 8 == 0 ? 2 : (r >> 28) % 8 == 1 ? 1 : 0;
+        if (k > changed_run) k = changed_run;
+        for (uint32_t u = 0; u < k; u++) {
+            fprintf(f, "undo\n");
+            memcpy(grid, stack[--depth], ncell);
+            free(stack[depth]);
+            undos++;
+        }
+        if (k) changed_run = 0;
+    }
+    fprintf(f, "save %s\nquit\n", saved);
+    fclose(f);
+    CHECKF(counts[0] > 5 && counts[1] > 5 && counts[2] > 5 && undos > 5, "add %u, remove %u, paint %u, undo %u",
+           counts[0], counts[1], counts[2], undos);
+    /* the reference: the grid written as the model of the same .vox scene */
+    uint32_t nv = 0;
+    for (size_t i = 0; i < ncell; i++) nv += grid[i] != 0;
+    uint8_t* xyzi = vx_alloc(vs.alloc, (size_t)(nv ? nv : 1) * 4);
+    REQUIRE(xyzi);
+    uint32_t k = 0;
+    for (uint32_t z = 0; z < sz[2]; z++)
+        for (uint32_t y = 0; y < sz[1]; y++)
+            for (uint32_t x = 0; x < sz[0]; x++) {
+                uint8_t g = grid[((size_t)z * sz[1] + y) * sz[0] + x];
+                if (!g) continue;
+                xyzi[4 * k] = (uint8_t)x, xyzi[4 * k + 1] = (uint8_t)y, xyzi[4 * k + 2] = (uint8_t)z, xyzi[4 * k + 3] = g;
+                k++;
+            }
+    vx_free(vs.alloc, vs.models[0].xyzi);
+    vs.models[0].xyzi = xyzi;
+    vs.models[0].voxel_count = nv;
+    REQUIRE(vx_vox_write_file(NULL, &vs, ref_vox, &err) == VX_OK);
+    REQUIRE(run_cmd("%s %s %s > %s 2>&1", v2s, ref_vox, ref_svo, log) == 0);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    if (rc != 0) {
+        char* text = slurp(log);
+        fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+        free(text);
+    }
+    REQUIRE(rc == 0);
+    vx_svo_scene got, want;
+    REQUIRE(vx_svo_read_file(NULL, saved, &got, &err) == VX_OK);
+    REQUIRE(vx_svo_read_file(NULL, ref_svo, &want, &err) == VX_OK);
+    cells cg = {0}, cw = {0};
+    REQUIRE(got.model_count == 1 && want.model_count == 1);
+    CHECKF(!memcmp(got.models[0].size, want.models[0].size, sizeof got.models[0].size), "size %ux%ux%u, vox2svo's %ux%ux%u",
+           got.models[0].size[0], got.models[0].size[1], got.models[0].size[2], want.models[0].size[0],
+           want.models[0].size[1], want.models[0].size[2]);
+    model0_cells(&got, &cg);
+    model0_cells(&want, &cw);
+    size_t d = cells_diff(&cg, &cw);
+    CHECKF(d == 0 && cw.n == nv, "%zu of %zu cells (cell or colour) differ from the edited .vox converted (%u voxels)",
+           d, cw.n, nv);
+    CHECKF(cells_diff(&co, &cw) != 0, "the edits left the model as it was");
+    fprintf(stderr, "  %u adds, %u removes, %u paints, %u undone: %zu cells, equal to the edited .vox's\n", counts[0],
+            counts[1], counts[2], undos, cg.n);
+    CHECK(run_cmd("%s %s --verify > %s 2>&1", info, saved, log) == 0);
+    free(co.v), free(cg.v), free(cw.v);
+    vx_svo_scene_free(&got), vx_svo_scene_free(&want), vx_svo_scene_free(&orig);
+    while (depth) free(stack[--depth]);
+    free(stack), free(grid);
+    vx_vox_scene_free(&vs);
+}
+
 /* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
 static double image_diff_cols(const char* pa, const char* pb, uint32_t x0, uint32_t x1) {
     uint32_t w1, h1, c1, w2, h2, c2;
@@ -1177,6 +1527,278 @@ static void test_screenshot_matches_svo_render(void) {
         CHECKF(d <= 0.01, "mode %s: %.2f%% of pixels differ", modes[m], d * 100);
         fprintf(stderr, "  mode %s: %.3f%% of pixels differ from svo_render\n", modes[m], d * 100);
     }
+}
+
+/* The numbers of svo_view's `stats` line after `prefix`. */
+static bool parse_stats(const char* text, int which, unsigned long long v[5]) {
+    const char* p = text;
+    for (int i = 0; i <= which; i++) {
+        p = strstr(p, "stats: render scenes made ");
+        if (!p) return false;
+        if (i < which) p++;
+    }
+    return sscanf(p, "stats: render scenes made %llu, node words uploaded %llu, records uploaded %llu; this scene: "
+                     "%*u words, %*u model updates, %llu instance table rebuilds", &v[0], &v[1], &v[2], &v[3]) == 4;
+}
+
+/* Instance edits (moves, quarter turns, mirrors, a duplicate, a hide) keep
+ * the GPU scene: the frames after them equal svo_render of the saved scene
+ * with the same camera (colour and instance modes), no render scene is made
+ * again and no node word or colour record is uploaded (svo_view's `stats`:
+ * vx_render_scene_get_stats), while the instance tables were rebuilt. */
+static void test_scripted_instances_gpu(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* src = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!src) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    char in[1024], script[1024], saved[1024], log[1024], va[1024], vb[1024], ra[1024], rb[1024], vd[1024];
+    path(in, sizeof in, "inst_in.svo");
+    path(vd, sizeof vd, "inst_view_default.png");
+    path(script, sizeof script, "inst.txt");
+    path(saved, sizeof saved, "inst_saved.svo");
+    path(log, sizeof log, "inst.log");
+    path(va, sizeof va, "inst_view_color.png");
+    path(vb, sizeof vb, "inst_view_instance.png");
+    path(ra, sizeof ra, "inst_render_color.png");
+    path(rb, sizeof rb, "inst_render_instance.png");
+    vx_svo_scene s;
+    REQUIRE(load_vox(src, &s));
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    REQUIRE(s.instance_count >= 3);
+    double lo[3], hi[3], c[3], r = 0;
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), r = fmax(r, hi[k] - lo[k]);
+    double eye[3] = {c[0] + 0.9 * r, c[1] - 1.3 * r, c[2] + 0.8 * r};
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f,
+            "overlay off\npanels off\ncamera %.6f %.6f %.6f %.6f %.6f %.6f\nstats\n"
+            "select 1\nmove 3 -2 1\nrotate z\nmirror x\nselect 2\nrotate y -1\nmove 0 4 2\nduplicate\nmove 60 0 25\n"
+            "select 0\nhide\nundo\nmirror y\nstats\nmode color\nscreenshot %s\nmode instance\nscreenshot %s\nstats\n"
+            "camera default\nscreenshot %s\nsave %s\nquit\n",
+            eye[0], eye[1], eye[2], c[0], c[1], c[2], va, vb, vd, saved);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 160x120 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    if (rc) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    unsigned long long s0[5], s1[5], s2[5];
+    REQUIRE(parse_stats(text, 0, s0) && parse_stats(text, 1, s1) && parse_stats(text, 2, s2));
+    CHECKF(s1[0] == s0[0] && s2[0] == s0[0], "render scenes made %llu, then %llu, %llu", s0[0], s1[0], s2[0]);
+    CHECKF(s1[1] == s0[1] && s1[2] == s0[2] && s2[1] == s0[1], "node words uploaded %llu, after the instance edits %llu",
+           s0[1], s1[1]);
+    CHECKF(s1[3] >= s0[3] + 10, "instance tables rebuilt %llu times for 10 edits and an undo", s1[3] - s0[3]);
+    CHECK(s0[1] > 0); /* the scene's own upload at creation is counted */
+    free(text);
+    const char* modes[2] = {"color", "instance"};
+    for (int m = 0; m < 2; m++) {
+        rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode %s > %s 2>&1", g_render,
+                     saved, m ? rb : ra, eye[0], eye[1], eye[2], c[0], c[1], c[2], modes[m], log);
+        REQUIRE(rc == 0);
+        double d = image_diff(m ? vb : va, m ? rb : ra);
+        fprintf(stderr, "  after instance edits, mode %s: %.3f%% of pixels differ from svo_render of the saved file\n",
+                modes[m], d * 100);
+        CHECKF(d <= 0.002, "mode %s: %.2f%% of pixels differ", modes[m], d * 100);
+    }
+    /* the default framing follows the moved instances, as svo_render frames the saved file */
+    rc = run_cmd("%s %s %s --size 160x120 --mode instance > %s 2>&1", g_render, saved, ra, log);
+    double dd = rc ? 2 : image_diff(vd, ra);
+    CHECKF(dd <= 0.002, "default camera: %.2f%% of pixels differ", dd * 100);
+    /* and the edits show: the unedited file's frame differs */
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render, in,
+                 rb, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    CHECK(rc == 0 && image_diff(va, rb) > 0.01);
+    /* light edits with a move, on a scene with lights: the colour frame equals svo_render of the save
+     * (which lights it with the file's lights, as the viewer's passes do) */
+    vx_svo_scene ls;
+    REQUIRE(scene_with_lights(&ls));
+    REQUIRE(vx_svo_write_file(NULL, &ls, in, NULL) == VX_OK);
+    vx_svo_scene_free(&ls);
+    f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f,
+            "overlay off\npanels off\ncamera %.6f %.6f %.6f %.6f %.6f %.6f\nlight 0 color 0.2 0.9 0.3\n"
+            "light 0 position %.3f %.3f %.3f\nlight 1 intensity 0.7\nselect 1\nmove 2 3 0\nstats\nscreenshot %s\n"
+            "save %s\nquit\n",
+            eye[0], eye[1], eye[2], c[0], c[1], c[2], c[0] + 5, c[1] - 8, c[2] + 12, va, saved);
+    fclose(f);
+    rc = run_cmd("%s %s --script %s --hidden --size 160x120 > %s 2>&1", g_view, in, script, log);
+    text = slurp(log);
+    if (rc) fprintf(stderr, "svo_view output:\n%s\n", text ? text : "(none)");
+    REQUIRE(rc == 0 && text);
+    CHECKF(parse_stats(text, 0, s0) && s0[0] == 1, "render scenes made after light edits and a move: %llu", s0[0]);
+    free(text);
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render,
+                 saved, ra, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    REQUIRE(rc == 0);
+    double dl = image_diff(va, ra);
+    fprintf(stderr, "  after light edits and a move: %.3f%% of pixels differ from svo_render of the saved file\n", dl * 100);
+    CHECKF(dl <= 0.002, "light edits: %.2f%% of pixels differ", dl * 100);
+    rc = run_cmd("%s %s %s --size 160x120 --camera %.6f,%.6f,%.6f,%.6f,%.6f,%.6f --mode color > %s 2>&1", g_render, in,
+                 rb, eye[0], eye[1], eye[2], c[0], c[1], c[2], log);
+    CHECK(rc == 0 && image_diff(va, rb) > 0.01); /* the edits show */
+}
+
+/* Largest channel difference and the pixels differing by more than tol in
+ * the box [x0, x1) x [y0, y1) of two images (-1: unreadable or sizes differ). */
+static int image_box_diff(const char* pa, const char* pb, uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1, int tol,
+                          size_t* over) {
+    uint32_t w1, h1, c1, w2, h2, c2;
+    void *p1 = NULL, *p2 = NULL;
+    int m = -1;
+    *over = 0;
+    if (!vx_image_read(pa, VX_IMAGE_U8, 0, &w1, &h1, &c1, &p1, NULL) &&
+        !vx_image_read(pb, VX_IMAGE_U8, 0, &w2, &h2, &c2, &p2, NULL) && w1 == w2 && h1 == h2 && c1 == c2 && x1 <= w1 &&
+        y1 <= h1) {
+        const uint8_t *a = p1, *b = p2;
+        m = 0;
+        for (uint32_t y = y0; y < y1; y++)
+            for (uint32_t x = x0; x < x1; x++) {
+                int d = 0;
+                for (uint32_t k = 0; k < c1; k++) {
+                    size_t i = ((size_t)y * w1 + x) * c1 + k;
+                    int e = abs((int)a[i] - (int)b[i]);
+                    d = e > d ? e : d;
+                }
+                m = d > m ? d : m;
+                *over += d > tol;
+            }
+    }
+    vx_free(NULL, p1);
+    vx_free(NULL, p2);
+    return m;
+}
+
+/* --present gpu (the colour passes' image converted, overlaid and copied to
+ * the swapchain on the GPU, lavapipe included when asked) against --present
+ * host (read back, converted and drawn on the CPU): the displayed frame
+ * (grab reads the GPU path's bytes back) is the same between the panels,
+ * byte for byte, and within rounding on the panels (premultiplied overlay
+ * against blending each primitive into the frame); -v names the path. */
+static void test_gpu_present(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    /* usage errors: status 2, nothing opened */
+    CHECK(run_cmd("%s x.svo --present fast > /dev/null 2>&1", g_view) == 2);
+    CHECK(run_cmd("%s x.svo --undo-limit 0 > /dev/null 2>&1", g_view) == 2);
+    CHECK(run_cmd("%s x.svo --undo-memory lots > /dev/null 2>&1", g_view) == 2);
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char script[1024], ga[1024], gb[1024], log[1024];
+    path(log, sizeof log, "present.log");
+    const char* modes[2] = {"gpu", "host"};
+    for (int m = 0; m < 2; m++) {
+        path(script, sizeof script, m ? "present_host.txt" : "present_gpu.txt");
+        path(m ? gb : ga, sizeof ga, m ? "present_host.png" : "present_gpu.png");
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        fprintf(f, "select 1\ngrab %s\nquit\n", m ? gb : ga);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 800x480 --present %s -v > %s 2>&1", g_view, in, script,
+                         modes[m], log);
+        char* text = slurp(log);
+        CHECKF(rc == 0 && text && strstr(text, m ? "present: host readback" : "present: GPU:") &&
+                   strstr(text, m ? "the displayed frame)" : "read back from the GPU path"),
+               "--present %s: status %d: %s", modes[m], rc, text ? text : "(none)");
+        free(text);
+    }
+    size_t over = 0;
+    int view = image_box_diff(ga, gb, 310, 460, 0, 480, 0, &over);
+    CHECKF(view == 0, "between the panels the GPU path differs from the host path by up to %d", view);
+#if VX_VIEW_PANELS
+    /* the outliner (no timings in it): the same within the overlay's rounding */
+    int panel = image_box_diff(ga, gb, 0, 280, 0, 200, 2, &over);
+    fprintf(stderr, "  GPU present path: view columns equal; outliner largest difference %d, %zu of 56000 pixels past 2\n",
+            panel, over);
+    CHECKF(panel >= 0 && panel <= 2 && over == 0, "outliner: %zu pixels differ by more than 2 (largest %d)", over, panel);
+#endif
+}
+
+/* The probe panel: a script bakes probes in steps between frames (probes
+ * bake), shows the grid and one probe's maps, saves the set: the file has
+ * the bytes of svo_bake's one-run bake with the same options (the GPU bake
+ * does not depend on its batches); the grab shows the panel (the probe's
+ * radiance map is in it, texel by texel) and the grid markers (the grab with
+ * the grid off is the tracer's image between the panels). */
+static void test_probe_panel(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+#if !VX_VIEW_PANELS
+    SKIP("svo_view has no panels in this build");
+#endif
+    const char* src = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!src) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char bake[1024];
+    sibling_tool(bake, sizeof bake, "svo_bake");
+    if (access(bake, X_OK)) SKIP("svo_bake is not built beside %s", g_render);
+    char in[1024], script[1024], log[1024], ga[1024], gc[1024], shot[1024], pv[1024], pb[1024];
+    path(in, sizeof in, "probe_in.svo");
+    path(script, sizeof script, "probe.txt");
+    path(log, sizeof log, "probe.log");
+    path(ga, sizeof ga, "probe_grab.png");
+    path(gc, sizeof gc, "probe_grab_nogrid.png");
+    path(shot, sizeof shot, "probe_shot.png");
+    path(pv, sizeof pv, "probe_view.probes");
+    path(pb, sizeof pb, "probe_bake.probes");
+    remove(pv), remove(pb);
+    vx_svo_scene s;
+    REQUIRE(load_vox(src, &s));
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "probes grid on\nprobes bake 16 4 3 3 3\nprobes show 13\ngrab %s\nscreenshot %s\nprobes save %s\n"
+               "probes grid off\ngrab %s\nquit\n", ga, shot, pv, gc);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 900x640 -v > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0 && text && strstr(text, "baked 27 probes"), "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    REQUIRE(rc == 0);
+    REQUIRE(run_cmd("%s %s %s --res 16 --spp 4 --grid 3,3,3 -q > %s 2>&1", bake, in, pb, log) == 0);
+    char *a = slurp(pv), *b = slurp(pb);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(pv, &sa) && !stat(pb, &sb) && sa.st_size == sb.st_size && !memcmp(a, b, (size_t)sa.st_size),
+           "the viewer's stepped bake differs from svo_bake's");
+    free(a), free(b);
+    /* the grid: markers between the panels, nothing there without them */
+    size_t over = 0;
+    int m = image_box_diff(ga, gc, 305, 565, 0, 640, 0, &over);
+    CHECKF(m > 0 && over >= 27, "grid on/off: %zu pixels differ between the panels", over);
+    m = image_box_diff(gc, shot, 305, 565, 0, 640, 0, &over);
+    CHECKF(m == 0, "without the grid the view differs from the tracer's image by up to %d", m);
+    /* probe 13's radiance map in the grab: 18 x 18 texels, 4 pixels each, as the panel tonemaps them */
+    vx_probe_set ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_read_file(NULL, pv, &ps, &err) == VX_OK);
+    REQUIRE(ps.res == 16 && ps.probe_count == 27);
+    uint32_t want[18 * 18];
+    for (uint32_t t = 0; t < 18 * 18; t++) {
+        uint32_t v = 0;
+        for (int j = 0; j < 3; j++) {
+            float x = vx_probe_half_to_float(ps.radiance[(13 * 18 * 18 + t) * 3 + j]);
+            x = x > 0 ? x / (1 + x) : 0;
+            x = sqrtf(x);
+            v |= (uint32_t)lrintf((x > 1 ? 1 : x) * 255) << (8 * j);
+        }
+        want[t] = v;
+    }
+    vx_probe_set_free(&ps);
+    uint32_t w, h, c;
+    void* px = NULL;
+    REQUIRE(vx_image_read(ga, VX_IMAGE_U8, 0, &w, &h, &c, &px, NULL) == VX_OK && c >= 3);
+    const uint8_t* g = px;
+    bool found = false;
+    for (uint32_t y = 300; y + 72 <= h && !found; y++)
+        for (uint32_t x = 560; x + 72 <= w && !found; x++) {
+            bool ok = true;
+            for (uint32_t t = 0; t < 18 * 18 && ok; t++) {
+                const uint8_t* q = g + ((size_t)(y + (t / 18) * 4 + 2) * w + x + (t % 18) * 4 + 2) * c;
+                for (int j = 0; j < 3 && ok; j++) ok = abs((int)q[j] - (int)((want[t] >> (8 * j)) & 255)) <= 1;
+            }
+            found = ok;
+        }
+    CHECKF(found, "probe 13's radiance map is not in the probe panel of %s", ga);
+    vx_free(NULL, px);
 }
 
 static void test_pick_matches_hits(void) {
@@ -1508,6 +2130,7 @@ int main(int argc, char** argv) {
         RUN(test_editor_random);
         RUN(test_editor_incremental);
         RUN(test_editor_face);
+        RUN(test_editor_undo_bounds);
         return vx_test_finish();
     }
     if (argc < 4) {
@@ -1519,11 +2142,19 @@ int main(int argc, char** argv) {
     if (!getenv("DISPLAY") && !getenv("VX_TEST_VIEW_XVFB")) {
         if (system("command -v xvfb-run > /dev/null 2>&1") == 0) {
             setenv("VX_TEST_VIEW_XVFB", "1", 1);
-            char* args[8] = {"xvfb-run", "-a", argv[0], argv[1], argv[2], argv[3], NULL};
+            char* args[8] = {"xvfb-run", "-a", argv[0], argv[1], argv[2], argv[3], argc >= 5 ? argv[4] : NULL, NULL};
             execvp("xvfb-run", args);
         }
     }
     g_display = getenv("DISPLAY") != NULL;
+    if (argc >= 5 && !strcmp(argv[4], "script")) { /* the long script tests, a ctest of their own */
+        RUN(test_scripted_random);
+        RUN(test_scripted_vox_compare);
+        RUN(test_scripted_instances_gpu);
+        RUN(test_gpu_present);
+        RUN(test_probe_panel);
+        return vx_test_finish();
+    }
     RUN(test_scripted_edit);
     RUN(test_scripted_light_undo);
     RUN(test_scripted_lights_gi);

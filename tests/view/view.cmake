@@ -15,4 +15,8 @@ if(TARGET svo_view)
   add_test(NAME test_view COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
            ${CMAKE_CURRENT_BINARY_DIR}/view_out)
   set_tests_properties(test_view PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+  # the long scripts (a thousand random edits undone, ...) as a test of their own, run beside test_view
+  add_test(NAME test_view_script COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
+           ${CMAKE_CURRENT_BINARY_DIR}/view_script_out script)
+  set_tests_properties(test_view_script PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()

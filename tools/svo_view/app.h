@@ -38,6 +38,9 @@ typedef struct options {
     uint32_t bench;
     double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
     bool no_panels; /* the text overlay instead of the panels */
+    const char* present;  /* --present auto|gpu|host */
+    uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
+    uint64_t undo_bytes;
     vx_tool_conv conv; /* converter options, as vox2svo has them */
 } options;
 
@@ -73,6 +76,19 @@ typedef struct app {
     double passes_ms;
     bool have_probes;
     char probes_path[1024];
+    /* the probe panel: grid display, the probe whose maps are shown, and a
+     * bake run in steps between frames (the UI stays live): vx_probe_place,
+     * then vx_probe_bake_more_gpu over as many probes as fit about 40 ms */
+    bool probe_grid;
+    uint32_t probe_sel;
+    int bake_res_i, bake_spp, bake_grid; /* the panel's settings: res 16 << i, spp, probes per axis (0: spacing) */
+    struct sv_bake {
+        bool active;
+        vx_probe_bake_desc desc;
+        vx_probe_set ps; /* placed, baked up to ps.count */
+        uint32_t step;   /* probes the next step bakes */
+        double t0, ms;   /* start (wall), time spent baking */
+    } bake;
     uint32_t validation_errors;
     uint32_t sel;
     /* pending editor operation: 'g' grab, 'r' rotate, 'm' mirror, 'l' layer */
@@ -106,7 +122,8 @@ typedef struct app {
     bool panels;
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
-    uint32_t light_step_for, light_step; /* the light whose panel edit made undo step light_step - 1 */
+    uint32_t light_step_for; /* the light whose panel edit made the undo step of ed.serial light_step */
+    uint64_t light_step;
     uint32_t light_serial, gi_light_serial; /* lights changed (edit, undo, open); what the gi method was made with */
     char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
     char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
@@ -120,6 +137,21 @@ typedef struct app {
     char grab_buf[1024];
     uint32_t frame_n;
     double trace_ms, rays_per_s, update_ms;
+    double panels_ms; /* drawing the panels into the frame or overlay (CPU), the last frame */
+    /* presentation: vx_display set: the colour passes' frames go to the
+     * swapchain on the GPU (vp_present_display); else, and for other modes,
+     * picks and screenshots, the host readback path (vp_present) */
+    vx_display* disp;
+    bool frame_on_gpu; /* the last frame took the GPU path */
+    /* the GPU path's overlay is kept between frames while nothing it shows changed */
+    bool ui_dirty, ov_valid, ov_cam_default;
+    double ov_time, ov_cam[5];
+    uint32_t ov_w, ov_h;
+    char present_note[160];
+    /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
+     * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
+    uint32_t scenes_made;
+    uint64_t words_before, records_before;
     bool quit;
     int status;
     /* script */
@@ -140,6 +172,8 @@ void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(
 const char* sv_mode_name(const app* a);
 /* Recreates the render scene from a->scene (after a model edit), at the frame shown. */
 void sv_rebuild(app* a);
+/* Node words and colour records uploaded since the viewer started (every render scene made). */
+void sv_uploads(const app* a, uint64_t* words, uint64_t* records);
 /* An edit: sv_edit_begin snapshots for undo (false: nothing selected when
  * needs_sel, or out of memory, with a message); sv_edit_end updates the
  * render scene (instances only, unless models were added). */
@@ -150,6 +184,14 @@ void sv_add(app* a, const char* path);
 void sv_save(app* a, const char* path);
 void sv_export(app* a, const char* path);
 void sv_probes(app* a, const char* path);
+/* Starts baking probes over the scene as shown (res, spp, grid probes per
+ * axis, 0 0 0: the default spacing) on the GPU, in steps between frames; the
+ * set replaces the loaded probes when done. An edit, open or rebuild cancels it. */
+void sv_probe_bake(app* a, uint32_t res, uint32_t spp, const uint32_t grid[3]);
+void sv_probe_bake_cancel(app* a, const char* why);
+bool sv_probe_save(app* a, const char* path);
+/* The probe set the panel shows: the bake in progress (its placed grid), else the loaded one; NULL: none. */
+const vx_probe_set* sv_probe_shown(const app* a);
 void sv_frame_camera(app* a);
 void sv_select(app* a, uint32_t instance); /* NO_SEL: none */
 void sv_move(app* a, const int32_t d[3]);

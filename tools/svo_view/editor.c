@@ -105,24 +105,70 @@ void ved_free(ved* e) {
     for (uint32_t i = 0; i < e->undo_count; i++) snap_free(e->s->alloc, &e->undo[i]);
     for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
     e->undo_count = e->redo_count = 0;
+    vx_free(e->s->alloc, e->undo);
+    vx_free(e->s->alloc, e->redo);
+    e->undo = e->redo = NULL;
+    e->cap = 0;
     for (uint32_t i = 0; i < e->vox_count; i++) vx_svo_editor_destroy(e->vox[i].ed);
     vx_free(e->s->alloc, e->vox);
     e->vox = NULL;
     e->vox_count = 0;
 }
 
+uint64_t ved_snapshot_bytes(const ved_snapshot* sn) {
+    uint64_t n = sizeof *sn + (uint64_t)sn->inst_count * sizeof(vx_svo_instance) +
+                 (uint64_t)sn->layer_count * sizeof(uint32_t) + (uint64_t)sn->light_count * sizeof(vx_light);
+    if (sn->frame_inst && sn->frame_count >= 2) n += (uint64_t)(sn->frame_count - 1) * sn->inst_count * sizeof(vx_svo_instance);
+    if (sn->has_model) {
+        const vx_svo_model* m = &sn->model;
+        uint64_t per = (m->palette ? 1 : 0) + (m->rgba ? 4 : 0) + (m->normal ? 4 : 0) + (m->material ? 2 : 0) +
+                       (m->density ? 4 : 0);
+        n += (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * per;
+    }
+    return n;
+}
+
+static void drop_oldest(ved* e) {
+    snap_free(e->s->alloc, &e->undo[0]);
+    memmove(e->undo, e->undo + 1, (size_t)(e->undo_count - 1) * sizeof e->undo[0]);
+    e->undo_count--;
+    e->dropped++;
+}
+
 vx_result ved_begin(ved* e, vx_error* err) {
+    uint32_t limit = e->undo_limit ? e->undo_limit : VED_UNDO_STEPS_DEFAULT;
+    uint64_t bytes = e->undo_bytes ? e->undo_bytes : VED_UNDO_BYTES_DEFAULT;
+    if (e->undo_count >= e->cap && e->cap < limit) {
+        /* both lists grow together: a redo entry was an undo entry */
+        uint32_t nc = e->cap ? (e->cap > limit / 2 ? limit : e->cap * 2) : (limit < 16 ? limit : 16);
+        ved_snapshot* u = vx_calloc(e->s->alloc, nc, sizeof *u);
+        ved_snapshot* d = vx_calloc(e->s->alloc, nc, sizeof *d);
+        if (!u || !d) {
+            vx_free(e->s->alloc, u);
+            vx_free(e->s->alloc, d);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u undo steps", nc);
+        }
+        if (e->undo_count) memcpy(u, e->undo, (size_t)e->undo_count * sizeof *u);
+        if (e->redo_count) memcpy(d, e->redo, (size_t)e->redo_count * sizeof *d);
+        vx_free(e->s->alloc, e->undo);
+        vx_free(e->s->alloc, e->redo);
+        e->undo = u, e->redo = d, e->cap = nc;
+    }
     ved_snapshot sn;
     vx_result r = snap_take(e->s, &sn, err);
     if (r) return r;
     for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
     e->redo_count = 0;
-    if (e->undo_count == VED_MAX_UNDO) {
-        snap_free(e->s->alloc, &e->undo[0]);
-        memmove(e->undo, e->undo + 1, (VED_MAX_UNDO - 1) * sizeof e->undo[0]);
-        e->undo_count--;
-    }
+    while (e->undo_count && e->undo_count >= (limit < e->cap ? limit : e->cap)) drop_oldest(e);
     e->undo[e->undo_count++] = sn;
+    e->serial++;
+    /* the byte bound: the oldest go first, the new step stays */
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < e->undo_count; i++) total += ved_snapshot_bytes(&e->undo[i]);
+    while (e->undo_count > 1 && total > bytes) {
+        total -= ved_snapshot_bytes(&e->undo[0]);
+        drop_oldest(e);
+    }
     return VX_OK;
 }
 
@@ -130,6 +176,7 @@ bool ved_undo(ved* e, vx_error* err) {
     (void)err;
     if (!e->undo_count) return false;
     ved_snapshot sn = e->undo[--e->undo_count];
+    e->serial++;
     snap_swap(e->s, &sn);
     vox_swap(e, &sn);
     e->redo[e->redo_count++] = sn;
@@ -140,6 +187,7 @@ bool ved_redo(ved* e, vx_error* err) {
     (void)err;
     if (!e->redo_count) return false;
     ved_snapshot sn = e->redo[--e->redo_count];
+    e->serial++;
     snap_swap(e->s, &sn);
     vox_swap(e, &sn);
     e->undo[e->undo_count++] = sn;

@@ -87,12 +87,25 @@ typedef struct ved_voxel_step {
     uint32_t model, words_from, records_from;
 } ved_voxel_step;
 
-#define VED_MAX_UNDO 256
+/* Undo history bounds (ved.undo_limit / ved.undo_bytes, 0: these): the
+ * oldest steps are dropped when there are more steps than the limit, or when
+ * the snapshots together hold more bytes than the byte bound (the newest
+ * step is always kept). A step holds a copy of every frame's instance
+ * records, the layer flags and the lights (about 200 bytes an instance a
+ * frame), and a voxel edit that rebuilt its model the old model's arrays;
+ * an incremental voxel step holds only a header (its appended words stay in
+ * the model's arrays until the scene is saved and reopened). */
+#define VED_UNDO_STEPS_DEFAULT 1024u
+#define VED_UNDO_BYTES_DEFAULT (256ull << 20)
 
 typedef struct ved {
     vx_svo_scene* s; /* borrowed */
-    ved_snapshot undo[VED_MAX_UNDO], redo[VED_MAX_UNDO];
-    uint32_t undo_count, redo_count;
+    ved_snapshot *undo, *redo; /* oldest first; cap entries each */
+    uint32_t undo_count, redo_count, cap;
+    uint32_t undo_limit; /* steps kept (0: VED_UNDO_STEPS_DEFAULT) */
+    uint64_t undo_bytes; /* bytes the snapshots may hold (0: VED_UNDO_BYTES_DEFAULT) */
+    uint32_t dropped;    /* steps dropped by the bounds since ved_init */
+    uint64_t serial;     /* counts ved_begin, ved_undo and ved_redo calls (the step count may stand still at the bound) */
     ved_voxels* vox; /* per model, vox_count of them (voxels.c) */
     uint32_t vox_count;
     ved_voxel_step last;
@@ -101,7 +114,10 @@ typedef struct ved {
 
 void ved_init(ved* e, vx_svo_scene* s);
 void ved_free(ved* e);
-/* Snapshot before an edit (drops the redo list). */
+/* Bytes the snapshot holds (what the history's byte bound counts). */
+uint64_t ved_snapshot_bytes(const ved_snapshot* sn);
+/* Snapshot before an edit (drops the redo list, then the oldest steps past
+ * the bounds above). */
 vx_result ved_begin(ved* e, vx_error* err);
 /* false when there is nothing to undo / redo. */
 bool ved_undo(ved* e, vx_error* err);

@@ -62,6 +62,7 @@ void vf_fill_rect(vf_canvas* cv, int x0, int y0, int w, int h, uint32_t rgba, in
                 int ch = cv->bgra && k != 1 ? 2 - k : k;
                 p[ch] = (uint8_t)((src * alpha + p[ch] * (255 - alpha)) / 255);
             }
+            p[3] = (uint8_t)((255 * alpha + p[3] * (255 - alpha)) / 255); /* coverage (an overlay: header) */
         }
 }
 
@@ -116,6 +117,29 @@ static void triangle(vf_canvas* cv, const vf_vertex* v0, const vf_vertex* v1, co
     bool flat = v0->rgba == v1->rgba && v1->rgba == v2->rgba && v0->u == v1->u && v1->u == v2->u && v0->v == v1->v &&
                 v1->v == v2->v;
     int r = cv->bgra ? 2 : 0, b = cv->bgra ? 0 : 2;
+    /* A flat triangle of some size (ImGui's window and widget backgrounds)
+     * blends every pixel with one colour and alpha: the blend of each
+     * possible byte is tabulated once (the same lrintf of the same float
+     * expression, so the same bytes) instead of evaluated per pixel. */
+    uint8_t lut[4][256];
+    bool use_lut = false;
+    if (flat && (float)(ix1 - ix0) * (float)(iy1 - iy0) >= 256.0f) {
+        float c[4], alpha;
+        for (int k = 0; k < 4; k++) c[k] = (float)((v0->rgba >> (8 * k)) & 0xFF);
+        alpha = c[3] / 255.0f;
+        if (tex && tex->alpha) {
+            long tx = lrintf(v0->u * (float)tex->width - 0.5f), ty = lrintf(v0->v * (float)tex->height - 0.5f);
+            tx = tx < 0 ? 0 : (tx >= (long)tex->width ? (long)tex->width - 1 : tx);
+            ty = ty < 0 ? 0 : (ty >= (long)tex->height ? (long)tex->height - 1 : ty);
+            alpha *= tex->alpha[(size_t)ty * tex->width + (size_t)tx] / 255.0f;
+        }
+        if (!(alpha > 0)) return;
+        for (int d = 0; d < 256; d++) {
+            for (int k = 0; k < 3; k++) lut[k][d] = (uint8_t)lrintf((float)d + (c[k] - (float)d) * alpha);
+            lut[3][d] = (uint8_t)lrintf((float)d + (255 - (float)d) * alpha);
+        }
+        use_lut = true;
+    }
     /* Samples sit a hair off the pixel centre, in a direction no edge of ImGui's
      * (integer corners, 45-degree diagonals) runs along: a centre on the
      * shared diagonal of a quad's two triangles then falls in exactly one of
@@ -126,6 +150,11 @@ static void triangle(vf_canvas* cv, const vf_vertex* v0, const vf_vertex* v1, co
             float px = (float)x + 0.5f + 1.0f / 1024;
             float w0 = edge(v1, v2, px, py) * inv, w1 = edge(v2, v0, px, py) * inv, w2 = 1.0f - w0 - w1;
             if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+            if (use_lut) {
+                uint8_t* d = cv->pixels + 4 * ((size_t)y * cv->width + (size_t)x);
+                d[r] = lut[0][d[r]], d[1] = lut[1][d[1]], d[b] = lut[2][d[b]], d[3] = lut[3][d[3]];
+                continue;
+            }
             float c[4], u, v;
             if (flat) {
                 for (int k = 0; k < 4; k++) c[k] = (float)((v0->rgba >> (8 * k)) & 0xFF);
@@ -148,6 +177,7 @@ static void triangle(vf_canvas* cv, const vf_vertex* v0, const vf_vertex* v1, co
             d[r] = (uint8_t)lrintf(d[r] + (c[0] - d[r]) * alpha);
             d[1] = (uint8_t)lrintf(d[1] + (c[1] - d[1]) * alpha);
             d[b] = (uint8_t)lrintf(d[b] + (c[2] - d[b]) * alpha);
+            d[3] = (uint8_t)lrintf(d[3] + (255 - d[3]) * alpha);
         }
     }
 }

@@ -10,6 +10,10 @@
 extern "C" {
 #endif
 
+/* Drawing blends over the pixels by each primitive's alpha and accumulates
+ * the coverage in byte 3: over a frame (byte 3 = 255) that stays 255; over a
+ * zeroed canvas the result is an overlay of premultiplied colour and
+ * coverage (render/display.h lays it over the frame on the GPU). */
 typedef struct vf_canvas {
     uint8_t* pixels; /* 4 bytes per pixel, rows top first */
     uint32_t width, height;

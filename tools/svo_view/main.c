@@ -1,9 +1,11 @@
 /* tools/svo_view/main.c - svo_view FILE [options]: an interactive viewer and
  * scene editor on the Vulkan tracer (GLFW window, swapchain, CPU overlay),
  * scriptable for headless runs under Xvfb. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime with CLOCK_THREAD_CPUTIME_ID */
 #include <GLFW/glfw3.h>
 #include <math.h>
 #include <stdarg.h>
+#include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +19,16 @@
 #include "tools/svo_view/panels.h"
 
 #define PI 3.14159265358979323846
+
+/* This thread's CPU seconds (the panels' drawing cost, not disturbed by
+ * other processes on a loaded machine); wall time where there is no such clock. */
+static double thread_seconds(void) {
+#ifdef CLOCK_THREAD_CPUTIME_ID
+    struct timespec ts;
+    if (!clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts)) return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+#endif
+    return vx_time_now();
+}
 
 
 
@@ -57,6 +69,14 @@ _Noreturn static void usage(int status) {
             "    --save FILE.svo       where Ctrl+S saves (default: FILE.edited.svo)\n"
             "    --bench N             render N frames, print the median frame time, exit\n"
             "    --fps X               an animation's playback rate (default: the file's, else %g)\n"
+            "    --present auto|gpu|host  how frames reach the window: gpu converts the colour passes'\n"
+            "                          image and copies it to the swapchain on the GPU; host reads it\n"
+            "                          back and converts it on the CPU (default: auto, gpu except on CPU\n"
+            "                          devices such as lavapipe; other modes, picks and screenshots: host)\n"
+            "    --undo-limit N        undo steps kept (default: %u; 1 to 1000000)\n"
+            "    --undo-memory SIZE    bytes the undo steps may hold, the oldest dropped first (default:\n"
+            "                          %lluM; a step holds every frame's instance records and the lights,\n"
+            "                          or the old model of a voxel edit that rebuilt it)\n"
             "    --no-panels           the text overlay instead of the panels%s\n"
             "    --vsync               start with vsync on (V toggles)\n"
             "    --hidden              do not show the window (scripts, benchmarks)\n"
@@ -91,13 +111,17 @@ _Noreturn static void usage(int status) {
             "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
             "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
-            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step)\n"
+            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step) |\n"
+            "      stats (prints the render scenes made and the node words and records uploaded) |\n"
+            "      probes bake RES SPP [GX GY GZ] (on the GPU, in steps between frames; the script waits) |\n"
+            "      probes grid on|off | probes show N (the panel's maps) | probes save FILE.probes | probes cancel\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
             "    %s scene.svo --probes scene.probes --mode gi\n"
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
             vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, SV_FPS_DEFAULT,
+            VED_UNDO_STEPS_DEFAULT, (unsigned long long)(VED_UNDO_BYTES_DEFAULT >> 20),
             sv_panels_built() ? "" : " (this build has no panels: no Dear ImGui)", d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
@@ -161,6 +185,16 @@ static options parse(int argc, char** argv) {
         } else if (!strcmp(a, "--fps")) {
             if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
                 usage_error("bad --fps '%s' (frames per second in (0,1000])", argv[i]);
+        } else if (!strcmp(a, "--present")) {
+            o.present = need_arg(argc, argv, &i);
+            if (strcmp(o.present, "auto") && strcmp(o.present, "gpu") && strcmp(o.present, "host"))
+                usage_error("bad --present '%s' (auto, gpu or host)", o.present);
+        } else if (!strcmp(a, "--undo-limit")) {
+            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.undo_limit) || !o.undo_limit || o.undo_limit > 1000000)
+                usage_error("bad --undo-limit '%s' (1 to 1000000 steps)", argv[i]);
+        } else if (!strcmp(a, "--undo-memory")) {
+            if (!vx_tool_parse_bytes(need_arg(argc, argv, &i), &o.undo_bytes) || !o.undo_bytes)
+                usage_error("bad --undo-memory '%s' (bytes, e.g. 512M, 4G)", argv[i]);
         } else if (!strcmp(a, "--no-panels")) o.no_panels = true;
         else if (!strcmp(a, "--vsync")) o.vsync = true;
         else if (!strcmp(a, "--hidden")) o.hidden = true;
@@ -249,6 +283,107 @@ void sv_probes(app* a, const char* path) {
             a->probes.grid[2], a->probes.res);
 }
 
+/* ---- probe bake in steps ------------------------------------------------------------- */
+
+const vx_probe_set* sv_probe_shown(const app* a) {
+    return a->bake.active ? &a->bake.ps : a->have_probes ? &a->probes : NULL;
+}
+
+void sv_probe_bake_cancel(app* a, const char* why) {
+    if (!a->bake.active) return;
+    vx_probe_set_free(&a->bake.ps);
+    a->bake.active = false;
+    sv_message(a, true, "probe bake cancelled: %s", why);
+}
+
+void sv_probe_bake(app* a, uint32_t res, uint32_t spp, const uint32_t grid[3]) {
+    if (a->bake.active) {
+        sv_message(a, true, "a probe bake is running (probes cancel stops it)");
+        return;
+    }
+    if (!a->rs || vx_render_scene_precise(a->rs)) {
+        sv_message(a, true, "probe bake: %s", a->rs ? "the scene needs the float64 tracer, which the GPU bake lacks"
+                                                  : "no scene on the GPU");
+        return;
+    }
+    /* svo_bake's options: the library's defaults with res, spp and the grid */
+    vx_probe_bake_desc d = vx_probe_bake_desc_defaults();
+    d.res = res, d.spp = spp;
+    memcpy(d.grid, grid, sizeof d.grid);
+    vx_error err = {0};
+    vx_svo_scene v;
+    if (!vx_svo_scene_frame(&a->scene, a->anim_frame, &v)) v = a->scene;
+    if (vx_probe_place(&v, &d, &a->bake.ps, &err)) {
+        sv_message(a, true, "probe bake: %s", err.msg);
+        return;
+    }
+    a->bake.desc = d;
+    a->bake.active = true;
+    a->bake.step = 1;
+    a->bake.t0 = vx_time_now();
+    a->bake.ms = 0;
+    if (a->probe_sel >= a->bake.ps.probe_count) a->probe_sel = 0;
+    sv_message(a, false, "baking %u probes (%ux%ux%u, res %u, %u spp)", a->bake.ps.probe_count, a->bake.ps.grid[0],
+               a->bake.ps.grid[1], a->bake.ps.grid[2], res, spp);
+}
+
+/* One step between frames: as many probes as took about 40 ms at the last
+ * step's rate, so the frame rate stays interactive while it runs. */
+static void probe_bake_step(app* a) {
+    struct sv_bake* b = &a->bake;
+    if (!b->active) return;
+    vx_probe_set* ps = &b->ps;
+    uint32_t end = ps->count + b->step;
+    if (end > ps->probe_count || end < ps->count) end = ps->probe_count;
+    vx_error err = {0};
+    vx_svo_scene v;
+    if (!vx_svo_scene_frame(&a->scene, a->anim_frame, &v)) v = a->scene;
+    double t0 = vx_time_now();
+    uint32_t before = ps->count;
+    if (vx_probe_bake_more_gpu(a->rs, &v, &b->desc, ps, end, &err)) {
+        vx_probe_set_free(ps);
+        b->active = false;
+        sv_message(a, true, "probe bake: %s", err.msg);
+        return;
+    }
+    double ms = (vx_time_now() - t0) * 1e3;
+    b->ms += ms;
+    uint32_t done = ps->count - before;
+    double per = done ? ms / done : ms;
+    double want = per > 0 ? 40.0 / per : 2.0 * b->step;
+    b->step = want < 1 ? 1 : want > 4096 ? 4096 : (uint32_t)want;
+    if (ps->count < ps->probe_count) return;
+    /* done: the set replaces the loaded probes (the gi method and the probes' GPU maps follow) */
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    vx_probe_gi_destroy(a->pgi);
+    a->pgi = NULL;
+    if (a->have_probes) vx_probe_set_free(&a->probes);
+    a->probes = *ps;
+    memset(ps, 0, sizeof *ps);
+    a->have_probes = true;
+    b->active = false;
+    snprintf(a->probes_path, sizeof a->probes_path, "(baked here)");
+    printf("%s: baked %u probes (res %u, %u spp) in %.2f s (%.1f ms baking, %.1f ms a probe)\n", vx_tool_name,
+           a->probes.probe_count, a->probes.res, a->probes.spp, vx_time_now() - b->t0, b->ms,
+           b->ms / (a->probes.probe_count ? a->probes.probe_count : 1));
+    sv_message(a, false, "baked %u probes", a->probes.probe_count);
+}
+
+bool sv_probe_save(app* a, const char* path) {
+    vx_error err = {0};
+    if (!a->have_probes) {
+        sv_message(a, true, "no probes to save (bake or load them first)");
+        return false;
+    }
+    if (vx_probe_write_file(NULL, &a->probes, path, &err)) {
+        sv_message(a, true, "%s: %s", path, err.msg);
+        return false;
+    }
+    printf("%s: saved probes %s\n", vx_tool_name, path);
+    return true;
+}
+
 /* Mode gi is only offered with probes loaded; otherwise a message, and the mode stays. */
 void sv_set_probe_mode(app* a, vx_probe_render_mode m) {
     if (!a->have_probes) {
@@ -317,12 +452,17 @@ static void drop_passes(app* a) {
 
 void sv_rebuild(app* a) {
     double t0 = vx_time_now();
+    sv_probe_bake_cancel(a, "the scene changed");
     a->name_for = NO_SEL; /* the panel's name field shows the name again */
     vx_probe_gpu_destroy(a->probes_gpu); /* bound to the old render scene */
     a->probes_gpu = NULL;
     drop_passes(a);
+    vx_render_scene_stats st;
+    vx_render_scene_get_stats(a->rs, &st);
+    a->words_before += st.node_words_uploaded, a->records_before += st.records_uploaded;
     vx_render_scene_destroy(a->rs);
     a->rs = NULL;
+    a->scenes_made++;
     vx_error err = {0};
     uint32_t nf = vx_svo_scene_frames(&a->scene);
     if (a->anim_frame >= nf) a->anim_frame = nf - 1; /* an undo may have made the scene still */
@@ -334,6 +474,13 @@ void sv_rebuild(app* a) {
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
+void sv_uploads(const app* a, uint64_t* words, uint64_t* records) {
+    vx_render_scene_stats st;
+    vx_render_scene_get_stats(a->rs, &st);
+    *words = a->words_before + st.node_words_uploaded;
+    *records = a->records_before + st.records_uploaded;
+}
+
 /* After an edit of instances only (the models as rs has them): the instance
  * tables and the BVH are made again from the frame shown
  * (vx_render_scene_set_frame, which takes any instance count); the models'
@@ -341,6 +488,7 @@ void sv_rebuild(app* a) {
  * hold scene facts (bounds, cell sizes, lights): they are made again, which
  * costs no GPU work until the next frame. */
 static void update_instances(app* a) {
+    sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
         sv_rebuild(a);
         return;
@@ -388,6 +536,7 @@ static void set_scene(app* a, vx_svo_scene* s) {
     vx_svo_scene_free(&a->scene);
     a->scene = *s;
     ved_init(&a->ed, &a->scene);
+    a->ed.undo_limit = a->o.undo_limit, a->ed.undo_bytes = a->o.undo_bytes;
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
     a->light_step_for = NO_SEL;
@@ -655,6 +804,7 @@ bool sv_brush_rgba(app* a, uint32_t rgba) {
  * which hold per-record tables, are made again at the next frame that needs
  * them, the pass pipeline's scene facts only when the model's size changed. */
 static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t records_from, const uint32_t size[3]) {
+    sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
         sv_rebuild(a);
         return;
@@ -756,12 +906,12 @@ bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
         return false;
     }
     if (!memcmp(t, &a->scene.lights[l], sizeof *t)) return true;
-    bool same = merge && a->light_step_for == l && a->light_step == a->ed.undo_count && a->ed.undo_count > 0 &&
+    bool same = merge && a->light_step_for == l && a->light_step == a->ed.serial && a->ed.undo_count > 0 &&
                 a->ed.redo_count == 0;
     if (!same && !sv_edit_begin(a, false)) return false;
     a->scene.lights[l] = *t;
     a->light_serial++;
-    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.undo_count;
+    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.serial;
     return true;
 }
 
@@ -867,6 +1017,32 @@ static bool project(const app* a, const double eye[3], const double f[3], uint32
     *sx = (x + 1) * 0.5 * w;
     *sy = (1 - y) * 0.5 * h;
     return true;
+}
+
+/* The probe grid (panel: show grid): each probe a square at its position,
+ * green at its grid point, yellow moved out of a voxel, red disabled; the
+ * probe whose maps the panel shows larger and white; baked probes filled. */
+static void draw_probe_grid(app* a, vf_canvas* cv) {
+    const vx_probe_set* ps = sv_probe_shown(a);
+    if (!a->probe_grid || !ps) return;
+    double f[3];
+    cam_fwd(a, f);
+    for (uint32_t i = 0; i < ps->probe_count; i++) {
+        double x, y;
+        if (!project(a, a->eye, f, cv->width, cv->height, ps->probes[i].pos, &x, &y)) continue;
+        uint32_t st = ps->probes[i].state;
+        uint32_t c = i == a->probe_sel ? 0x00FFFFFFu : st == VX_PROBE_OK ? 0x0040E040u : st == VX_PROBE_MOVED ? 0x0030E0F0u
+                                                                                                            : 0x002020F0u;
+        int r = i == a->probe_sel ? 4 : 2;
+        bool baked = i >= ps->first && i < ps->first + ps->count;
+        if (baked) vf_fill_rect(cv, (int)x - r, (int)y - r, 2 * r + 1, 2 * r + 1, c, 255);
+        else {
+            vf_fill_rect(cv, (int)x - r, (int)y - r, 2 * r + 1, 1, c, 255);
+            vf_fill_rect(cv, (int)x - r, (int)y + r, 2 * r + 1, 1, c, 255);
+            vf_fill_rect(cv, (int)x - r, (int)y - r, 1, 2 * r + 1, c, 255);
+            vf_fill_rect(cv, (int)x + r, (int)y - r, 1, 2 * r + 1, c, 255);
+        }
+    }
 }
 
 static void draw_selection(app* a, vf_canvas* cv) {
@@ -996,7 +1172,7 @@ static void file_sky(app* a, const vx_sky** sky, const vx_sky_texels** map) {
     if (a->sky_rgb) *sky = k, *map = &a->sky_map;
 }
 
-static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
+static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
@@ -1029,6 +1205,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     fd.passes = &a->passes;
     fd.gi = a->pgi || a->cgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
+    fd.no_readback = on_gpu; /* the image stays on the GPU for vx_display */
     fd.exposure = a->exposure;
     /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
     fd.lights = a->scene.lights;
@@ -1142,14 +1319,17 @@ static vx_result frame(app* a, vx_error* err) {
             return r;
         }
     }
-    if (a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs)) {
-        vx_result r = render_passes(a, &d, err);
+    bool passes = a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs);
+    /* the GPU path: the colour passes' image, unless this frame's pixels are wanted on the host */
+    bool on_gpu = a->disp && passes && !a->pick_pending && !a->shot && !a->o.screenshot;
+    if (passes) {
+        vx_result r = render_passes(a, &d, on_gpu, err);
         if (r) return r;
     } else if (a->rs && !a->gi) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
         if (r) return r;
     }
-    if (a->rs && a->img.pixels) {
+    if (a->rs && (a->img.pixels || on_gpu)) {
         a->trace_ms = a->img.gpu_seconds * 1e3;
         a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
     }
@@ -1197,21 +1377,60 @@ static vx_result frame(app* a, vx_error* err) {
         if (!a->px8) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u frame", w, h);
     }
     vf_canvas cv = {.pixels = a->px8, .width = w, .height = h, .bgra = vp_frame_bgra(a->p)};
-    if (a->img.pixels) convert(a, &a->img, &cv);
-    else memset(a->px8, 0, need);
-    if (!a->o.screenshot && !a->o.bench) {
-        draw_selection(a, &cv);
-        if (a->ui && a->panels) sv_panels_draw(a, &cv);
-        else if (a->overlay) draw_overlay(a, &cv);
+    bool draws = !a->o.screenshot &&
+                 ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL || a->probe_grid)));
+    a->frame_on_gpu = on_gpu;
+    if (on_gpu) {
+        /* the overlay (selection, panels, text) is drawn on the CPU into the
+         * display's mapped buffer, again only when something may have changed
+         * it: input, a script command, the camera, playback, a bake, a
+         * message, a grab, or 250 ms passed (the statistics' numbers) */
+        vf_canvas ov = cv;
+        double now = vx_time_now(), cam[5] = {a->eye[0], a->eye[1], a->eye[2], a->yaw, a->pitch};
+        bool redraw = draws && (a->ui_dirty || !a->ov_valid || a->ov_w != w || a->ov_h != h || a->grab || a->playing ||
+                                a->bake.active || a->op || now - a->ov_time > 0.25 || now < a->msg_until + 0.1 ||
+                                memcmp(cam, a->ov_cam, sizeof cam) || a->cam_default != a->ov_cam_default);
+        if (redraw && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
+        a->ov_valid = draws && (a->ov_valid || redraw);
+        a->panels_ms = 0;
+        if (redraw) {
+            a->ui_dirty = false;
+            a->ov_time = now, a->ov_w = w, a->ov_h = h, a->ov_cam_default = a->cam_default;
+            memcpy(a->ov_cam, cam, sizeof cam);
+            draw_probe_grid(a, &ov);
+            draw_selection(a, &ov);
+            double tp = thread_seconds();
+            if (a->ui && a->panels) sv_panels_draw(a, &ov);
+            else if (a->overlay) draw_overlay(a, &ov);
+            a->panels_ms = a->ui && a->panels ? (thread_seconds() - tp) * 1e3 : 0;
+        }
+        vx_display_desc dd = {.fr = a->fr, .width = w, .height = h, .bgra = cv.bgra, .overlay = draws};
+        vx_result r = vp_present_display(a->p, a->disp, &dd, a->grab ? a->px8 : NULL, err);
+        if (r) return r;
+    } else {
+        a->ov_valid = false;
+        if (a->img.pixels) convert(a, &a->img, &cv);
+        else memset(a->px8, 0, need);
+        if (draws) {
+            draw_probe_grid(a, &cv);
+            draw_selection(a, &cv);
+            double tp = thread_seconds();
+            if (a->ui && a->panels) sv_panels_draw(a, &cv);
+            else if (a->overlay) draw_overlay(a, &cv);
+            a->panels_ms = a->ui && a->panels ? (thread_seconds() - tp) * 1e3 : 0;
+        }
     }
     if (a->grab) {
         vx_result r = save_canvas(&cv, a->grab, err);
         if (r) sv_message(a, true, "%s: %s", a->grab, err->msg);
-        else printf("%s: wrote %s (%ux%u, the displayed frame)\n", vx_tool_name, a->grab, w, h);
+        else printf("%s: wrote %s (%ux%u, the displayed frame%s)\n", vx_tool_name, a->grab, w, h,
+                    on_gpu ? ", read back from the GPU path" : "");
         a->grab = NULL;
     }
-    vx_result r = vp_present(a->p, a->px8, w, h, err);
-    if (r) return r;
+    if (!on_gpu) {
+        vx_result r = vp_present(a->p, a->px8, w, h, err);
+        if (r) return r;
+    }
     a->frame_ms[a->frame_n++ % 64] = (vx_time_now() - t0) * 1e3;
     return VX_OK;
 }
@@ -1231,6 +1450,7 @@ static void grab_end(app* a, bool keep) {
 static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     (void)sc;
     app* a = glfwGetWindowUserPointer(win);
+    a->ui_dirty = true;
     sv_panels_key(a, key, action != GLFW_RELEASE, mods);
     if (action == GLFW_RELEASE || sv_panels_wants_keyboard(a)) return;
     bool ctrl = mods & GLFW_MOD_CONTROL, shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
@@ -1341,6 +1561,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
 }
 
 static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     sv_panels_button(a, button, action == GLFW_PRESS);
     if (sv_panels_wants_mouse(a) && action == GLFW_PRESS) return;
@@ -1363,6 +1584,7 @@ static void mouse_cb(GLFWwindow* win, int button, int action, int mods) {
 }
 
 static void cursor_cb(GLFWwindow* win, double x, double y) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     {
         /* the panels work in frame pixels, the cursor comes in screen coordinates */
@@ -1398,9 +1620,13 @@ static void cursor_cb(GLFWwindow* win, double x, double y) {
     }
 }
 
-static void char_cb(GLFWwindow* win, unsigned int c) { sv_panels_char(glfwGetWindowUserPointer(win), c); }
+static void char_cb(GLFWwindow* win, unsigned int c) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
+    sv_panels_char(glfwGetWindowUserPointer(win), c);
+}
 
 static void scroll_cb(GLFWwindow* win, double dx, double dy) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     (void)dx;
     app* a = glfwGetWindowUserPointer(win);
     sv_panels_wheel(a, dy);
@@ -1417,6 +1643,7 @@ static void scroll_cb(GLFWwindow* win, double dx, double dy) {
 }
 
 static void drop_cb(GLFWwindow* win, int n, const char** paths) {
+    ((app*)glfwGetWindowUserPointer(win))->ui_dirty = true;
     app* a = glfwGetWindowUserPointer(win);
     for (int i = 0; i < n; i++) sv_add(a, paths[i]);
 }
@@ -1458,6 +1685,7 @@ static bool parse_doubles(char** tok, int n, double* v) {
 
 /* Runs one script line; false (with a message) on a malformed command. */
 static bool run_command(app* a, char* line, uint32_t lineno) {
+    a->ui_dirty = true; /* the panels may show what the command changed */
     char* tok[8] = {0};
     int nt = 0;
     for (char* t = strtok(line, " \t\r"); t && nt < 8; t = strtok(NULL, " \t\r")) tok[nt++] = t;
@@ -1502,6 +1730,31 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         else a->gi = false;
     } else if (!strcmp(c, "passes") && nt <= 2) {
         if (!sv_set_passes(a, nt == 2 ? tok[1] : "")) return false;
+    } else if (!strcmp(c, "probes") && nt >= 2 && !strcmp(tok[1], "bake")) {
+        uint32_t res, spp, g[3] = {0, 0, 0};
+        if ((nt != 4 && nt != 7) || !vx_tool_parse_u32(tok[2], &res) || !vx_tool_parse_u32(tok[3], &spp) ||
+            (nt == 7 && (!vx_tool_parse_u32(tok[4], &g[0]) || !vx_tool_parse_u32(tok[5], &g[1]) ||
+                         !vx_tool_parse_u32(tok[6], &g[2]))))
+            BAD();
+        sv_probe_bake(a, res, spp, g);
+        if (!a->bake.active) return false; /* refused: the message says why */
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "grid")) {
+        if (strcmp(tok[2], "on") && strcmp(tok[2], "off")) BAD();
+        a->probe_grid = !strcmp(tok[2], "on");
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "show")) {
+        uint32_t n;
+        const vx_probe_set* ps = sv_probe_shown(a);
+        if (!vx_tool_parse_u32(tok[2], &n)) BAD();
+        if (!ps || n >= ps->probe_count) {
+            fprintf(stderr, "%s: %s:%u: no probe %u (%u probes)\n", vx_tool_name, a->o.script, lineno, n,
+                    ps ? ps->probe_count : 0);
+            return false;
+        }
+        a->probe_sel = n;
+    } else if (!strcmp(c, "probes") && nt == 3 && !strcmp(tok[1], "save")) {
+        if (!sv_probe_save(a, tok[2])) return false;
+    } else if (!strcmp(c, "probes") && nt == 2 && !strcmp(tok[1], "cancel")) {
+        sv_probe_bake_cancel(a, "asked");
     } else if (!strcmp(c, "probes") && nt == 2) {
         sv_probes(a, tok[1]);
     } else if (!strcmp(c, "select")) {
@@ -1672,6 +1925,15 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             return false;
         }
         if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
+    } else if (!strcmp(c, "stats") && nt == 1) {
+        vx_render_scene_stats st;
+        vx_render_scene_get_stats(a->rs, &st);
+        uint64_t w, rec;
+        sv_uploads(a, &w, &rec);
+        printf("%s: stats: render scenes made %u, node words uploaded %llu, records uploaded %llu; this scene: "
+               "%llu words, %u model updates, %u instance table rebuilds\n",
+               vx_tool_name, a->scenes_made, (unsigned long long)w, (unsigned long long)rec,
+               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds);
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
@@ -1726,7 +1988,9 @@ static int run(app* a) {
     double* bench = a->o.bench ? calloc(a->o.bench, sizeof *bench) : NULL;
     double* bench_trace = a->o.bench ? calloc(a->o.bench, sizeof *bench_trace) : NULL;
     double* bench_switch = a->o.bench ? calloc(a->o.bench, sizeof *bench_switch) : NULL;
-    if (a->o.bench && (!bench || !bench_trace || !bench_switch)) a->quit = true, a->status = 1;
+    double* bench_panels = a->o.bench ? calloc(a->o.bench, sizeof *bench_panels) : NULL;
+    double* bench_edit = a->o.bench ? calloc(a->o.bench, sizeof *bench_edit) : NULL;
+    if (a->o.bench && (!bench || !bench_trace || !bench_switch || !bench_panels || !bench_edit)) a->quit = true, a->status = 1;
     uint32_t frames = 0;
     GLFWwindow* w = vp_window(a->p);
     if (a->o.screenshot) a->shot = a->o.screenshot;
@@ -1745,12 +2009,14 @@ static int run(app* a) {
         }
         play(a, fmin(now - last_play, 0.25));
         last_play = now;
-        if (a->lines && !a->pick_pending && !a->click_state) {
+        probe_bake_step(a); /* a step of a running bake, between frames */
+        double t_edit = vx_time_now();
+        if (a->lines && !a->pick_pending && !a->click_state && !a->bake.active) {
             if (a->wait) a->wait--;
             else {
                 /* commands up to the next one that needs a frame (pick, screenshot, wait) */
                 while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait &&
-                       !a->grab && !a->click_state) {
+                       !a->grab && !a->click_state && !a->bake.active) {
                     uint32_t ln = a->line_pos++;
                     if (!run_command(a, a->lines[ln], ln + 1)) {
                         a->status = 1;
@@ -1775,6 +2041,8 @@ static int run(app* a) {
         if (a->o.bench) {
             bench[frames] = (vx_time_now() - t0) * 1e3;
             bench_trace[frames] = a->trace_ms;
+            bench_panels[frames] = a->panels_ms;
+            bench_edit[frames] = (t0 - t_edit) * 1e3; /* the script's commands before this frame (edits) */
             if (++frames == a->o.bench) break;
         }
         if (a->o.screenshot) break;
@@ -1787,6 +2055,12 @@ static int run(app* a) {
         printf("%s: %u frames %ux%u mode %s on %s: median frame %.3f ms, median trace %.3f ms (GPU timestamps)\n",
                vx_tool_name, frames, fw, fh, sv_mode_name(a), vx_gpu_device_name(a->gpu),
                bench[frames / 2], bench_trace[frames / 2]);
+        qsort(bench_panels, frames, sizeof *bench_panels, cmp_double);
+        qsort(bench_edit, frames, sizeof *bench_edit, cmp_double);
+        printf("%s: panels %s (median %.3f ms of CPU time drawing them), present %s, script commands before a frame "
+               "median %.3f ms (max %.3f ms)\n",
+               vx_tool_name, a->ui && a->panels ? "on" : "off", bench_panels[frames / 2],
+               a->frame_on_gpu ? "GPU" : "host readback", bench_edit[frames / 2], bench_edit[frames - 1]);
         if (vx_svo_scene_frames(&a->scene) > 1) {
             qsort(bench_switch, frames, sizeof *bench_switch, cmp_double);
             printf("%s: animation of %u frames played, one per bench frame: median frame switch %.3f ms "
@@ -1797,7 +2071,30 @@ static int run(app* a) {
     free(bench);
     free(bench_trace);
     free(bench_switch);
+    free(bench_panels);
+    free(bench_edit);
     return a->status;
+}
+
+/* --present: the GPU path on devices that are not the CPU (auto), or as
+ * asked; it needs vx_display (a compute pipeline on the window's device). */
+static void choose_present(app* a) {
+    const char* want = a->o.present ? a->o.present : "auto";
+    bool cpu = vx_gpu_is_cpu(a->gpu);
+    if (!strcmp(want, "host") || (!strcmp(want, "auto") && cpu)) {
+        snprintf(a->present_note, sizeof a->present_note, "host readback (%s)",
+                 !strcmp(want, "host") ? "--present host" : "a CPU device: its memory is the host's");
+        return;
+    }
+    vx_error err = {0};
+    if (vx_display_create(a->gpu, &a->disp, &err)) {
+        snprintf(a->present_note, sizeof a->present_note, "host readback (the GPU path failed: %.100s)", err.msg);
+        a->disp = NULL;
+        return;
+    }
+    snprintf(a->present_note, sizeof a->present_note,
+             "GPU: colour passes -> display conversion + overlay -> swapchain copy in one submission (%s); "
+             "other modes, picks, screenshots: host readback", strcmp(want, "gpu") ? "auto" : "--present gpu");
 }
 
 int main(int argc, char** argv) {
@@ -1811,6 +2108,7 @@ int main(int argc, char** argv) {
     a.light_step_for = NO_SEL;
     a.name_for = NO_SEL;
     a.pick_op = -1;
+    a.bake_res_i = 1, a.bake_spp = 8, a.bake_grid = 4; /* the probe panel's bake: res 32, 8 spp, 4^3 probes */
     a.mode = a.o.mode;
     a.gi = a.o.gi;
     a.pmode = a.o.pmode;
@@ -1835,6 +2133,7 @@ int main(int argc, char** argv) {
         return vx_tool_errorf("%s", err.msg); /* the message names the file */
     }
     ved_init(&a.ed, &a.scene);
+    a.ed.undo_limit = a.o.undo_limit, a.ed.undo_bytes = a.o.undo_bytes;
     a.fps = a.o.fps > 0 ? a.o.fps : a.scene.frame_rate > 0 ? a.scene.frame_rate : SV_FPS_DEFAULT;
     int status = 1;
     char title[512];
@@ -1862,16 +2161,20 @@ int main(int argc, char** argv) {
     glfwSetDropCallback(w, drop_cb);
     glfwSetCharCallback(w, char_cb);
     glfwGetCursorPos(w, &a.mouse_x, &a.mouse_y);
-    if (!a.o.screenshot && !a.o.bench && !a.o.no_panels) a.panels = sv_panels_create(&a);
+    if (!a.o.screenshot && !a.o.no_panels) a.panels = sv_panels_create(&a);
+    choose_present(&a);
     camera_default(&a);
     sv_rebuild(&a);
     if (!a.rs && (a.o.screenshot || a.o.bench)) goto done; /* the message names the problem */
-    if (a.o.verbose)
+    if (a.o.verbose) {
         printf("%s: %s: %u models, %u instances (load %.1f ms, scene upload %.1f ms) on %s\n", vx_tool_name, a.o.in,
                a.scene.model_count, a.scene.instance_count, t_load * 1e3, a.update_ms, vx_gpu_device_name(a.gpu));
+        printf("%s: present: %s\n", vx_tool_name, a.present_note);
+    }
     status = run(&a);
 done:
     sv_panels_destroy(&a);
+    vx_display_destroy(a.disp);
     vx_render_image_free(&a.img);
     vx_probe_gpu_destroy(a.probes_gpu);
     drop_passes(&a);
@@ -1887,6 +2190,7 @@ done:
         if (n && !status) status = 1;
     }
     if (a.have_probes) vx_probe_set_free(&a.probes);
+    if (a.bake.active) vx_probe_set_free(&a.bake.ps);
     ved_free(&a.ed);
     vx_svo_scene_free(&a.scene);
     vx_free(NULL, a.sky_rgb);

@@ -2,6 +2,7 @@
 #include "tools/svo_view/panels.h"
 
 #include <GLFW/glfw3.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -248,6 +249,8 @@ static void stats_panel(app* a) {
     ui_text("%s%s", vx_gpu_device_name(a->gpu), vx_gpu_is_cpu(a->gpu) ? " (software)" : "");
     ui_text("frame %.2f ms (%.1f FPS), trace %.2f ms GPU", med, med > 0 ? 1000 / med : 0.0, a->trace_ms);
     ui_text("%.2f Mrays/s, last scene update %.2f ms", a->rays_per_s * 1e-6, a->update_ms);
+    ui_text("present: %s", a->frame_on_gpu ? "GPU (display conversion + copy to the swapchain)" : a->disp ?
+            "host readback (this frame: not the colour passes, or a pick or screenshot)" : a->present_note);
     uint64_t bytes = 0, voxels = 0;
     for (uint32_t m = 0; m < a->scene.model_count; m++) {
         const vx_svo_model* md = &a->scene.models[m];
@@ -259,6 +262,10 @@ static void stats_panel(app* a) {
     }
     ui_text("models: %.2f MB octrees (%llu voxels), frame %.2f MB", bytes / 1048576.0, (unsigned long long)voxels,
             (double)a->px8_cap / 1048576.0);
+    uint64_t words, records;
+    sv_uploads(a, &words, &records);
+    ui_text("GPU scene made %u times; uploaded %.2f MB of node words, %.2f MB of colours", a->scenes_made,
+            words * 4 / 1048576.0, records * 4 / 1048576.0);
     if (!a->hist_n || a->gi || a->mode != VX_RENDER_COLOR) {
         ui_text("(per-pass times: the colour mode's passes)");
         return;
@@ -277,6 +284,107 @@ static void stats_panel(app* a) {
         snprintf(t, sizeof t, "%s %.2f ms", a->hist_names[l], a->hist[a->hist_n - 1][l]);
         ui_legend(bar_colours[l % (uint32_t)nc], t);
     }
+}
+
+/* One probe map as display texels, at most 64 a side (every k-th texel):
+ * kind 0 radiance (x / (1 + x), then a square root), 1 distance (near
+ * bright; misses dark blue), 2 normal (n / 2 + 1/2; black where the ray
+ * missed), 3 irradiance (as radiance, divided by pi). */
+static int probe_map_texels(const vx_probe_set* ps, uint32_t p, int kind, uint32_t* out, int* side) {
+    uint32_t n = kind == 3 ? VX_PROBE_IRR_RES + 2 : ps->res + 2, k = (n + 63) / 64, m = n / k;
+    size_t q = p - ps->first, nn = (size_t)n * n;
+    uint32_t dmax = 1;
+    if (kind == 1)
+        for (size_t i = 0; i < nn; i++) {
+            uint16_t c = ps->distance[q * nn + i];
+            if (c != VX_PROBE_DIST_MISS && c > dmax) dmax = c;
+        }
+    for (uint32_t y = 0; y < m; y++)
+        for (uint32_t x = 0; x < m; x++) {
+            size_t t = (size_t)(y * k) * n + x * k;
+            float c[3] = {0, 0, 0};
+            if (kind == 0 || kind == 3) {
+                const uint16_t* h = kind == 0 ? ps->radiance + (q * nn + t) * 3 : ps->irradiance + (q * nn + t) * 3;
+                for (int j = 0; j < 3; j++) {
+                    float v = vx_probe_half_to_float(h[j]) / (kind == 3 ? 3.14159265f : 1.0f);
+                    v = v > 0 ? v / (1 + v) : 0;
+                    c[j] = sqrtf(v);
+                }
+            } else if (kind == 1) {
+                uint16_t d = ps->distance[q * nn + t];
+                if (d == VX_PROBE_DIST_MISS) c[2] = 0.35f;
+                else c[0] = c[1] = c[2] = 1.0f - 0.85f * (float)d / (float)dmax;
+            } else {
+                if (ps->distance[q * nn + t] != VX_PROBE_DIST_MISS) {
+                    double d[3];
+                    vx_probe_oct_unpack16(ps->normal[q * nn + t], d);
+                    for (int j = 0; j < 3; j++) c[j] = (float)(0.5 * d[j] + 0.5);
+                }
+            }
+            uint32_t v = 0;
+            for (int j = 0; j < 3; j++) {
+                float f = c[j] < 0 ? 0 : c[j] > 1 ? 1 : c[j];
+                v |= (uint32_t)lrintf(f * 255) << (8 * j);
+            }
+            out[y * m + x] = v;
+        }
+    *side = (int)m;
+    return (int)m;
+}
+
+static void probe_maps(app* a);
+
+static void probe_panel(app* a) {
+    const vx_probe_set* ps = sv_probe_shown(a);
+    if (!ps) ui_text("no probes: bake them here, or load a .probes file");
+    else
+        ui_text("%u probes, %ux%ux%u, res %u, %u spp; %s", ps->probe_count, ps->grid[0], ps->grid[1], ps->grid[2],
+                ps->res, ps->spp, a->bake.active ? "baking" : a->probes_path);
+    ui_checkbox("show grid", &a->probe_grid);
+    if (a->bake.active) {
+        char t[96];
+        snprintf(t, sizeof t, "%u / %u probes, %.1f s", a->bake.ps.count, a->bake.ps.probe_count,
+                 vx_time_now() - a->bake.t0);
+        ui_progress(a->bake.ps.probe_count ? (float)a->bake.ps.count / (float)a->bake.ps.probe_count : 0, t);
+        if (ui_button("cancel")) sv_probe_bake_cancel(a, "asked");
+    }
+    probe_maps(a);
+    if (!a->bake.active && ui_collapsing("Bake", !ps)) {
+        static const char* const res_items[4] = {"16", "32", "64", "128"};
+        ui_combo("res", &a->bake_res_i, res_items, 4);
+        ui_slider_int("spp", &a->bake_spp, 1, 64);
+        ui_slider_int("per axis (0: spacing)", &a->bake_grid, 0, 16);
+        if (ui_button("bake (GPU, in steps)")) {
+            uint32_t g = (uint32_t)(a->bake_grid > 0 ? a->bake_grid : 0), grid[3] = {g, g, g};
+            sv_probe_bake(a, 16u << (a->bake_res_i & 3), (uint32_t)(a->bake_spp > 0 ? a->bake_spp : 1), grid);
+        }
+    }
+}
+
+/* The selected probe: where it is, and its maps as images. */
+static void probe_maps(app* a) {
+    const vx_probe_set* ps = sv_probe_shown(a);
+    if (!ps || !ps->probe_count) return;
+    ui_separator();
+    int sel = (int)(a->probe_sel < ps->probe_count ? a->probe_sel : 0);
+    if (ui_slider_int("probe", &sel, 0, (int)ps->probe_count - 1)) a->probe_sel = (uint32_t)sel;
+    const vx_probe* pr = &ps->probes[sel];
+    static const char* const states[3] = {"at its grid point", "moved out of a voxel", "disabled"};
+    ui_text("at %.1f %.1f %.1f, %s", pr->pos[0], pr->pos[1], pr->pos[2], states[pr->state < 3 ? pr->state : 2]);
+    if ((uint32_t)sel < ps->first || (uint32_t)sel >= ps->first + ps->count) {
+        ui_text("(not baked yet)");
+        return;
+    }
+    uint32_t texels[64 * 64]; /* 16 KB on the stack: at most 64 a side */
+    static const char* const names[4] = {"radiance", "distance", "normal", "irradiance"};
+    for (int kind = 0; kind < 4; kind++) {
+        int side;
+        probe_map_texels(ps, (uint32_t)sel, kind, texels, &side);
+        float scale = side > 0 ? (float)(int)(72 / side > 0 ? 72 / side : 1) : 1;
+        if (kind & 1) ui_same_line();
+        ui_image_rgba(texels, side, side, scale);
+    }
+    ui_text("%s, %s | %s, %s", names[0], names[1], names[2], names[3]);
 }
 
 static void anim_panel(app* a) {
@@ -319,11 +427,14 @@ void sv_panels_draw(app* a, vf_canvas* cv) {
     ui_window_end();
     if (ui_window_begin("Render", W - rw, 0, rw, H * 0.3f)) render_panel(a);
     ui_window_end();
-    if (ui_window_begin("Statistics", W - rw, H * 0.3f, rw, H * 0.4f)) stats_panel(a);
+    if (ui_window_begin("Statistics", W - rw, H * 0.3f, rw, H * 0.3f)) stats_panel(a);
     ui_window_end();
-    if (vx_svo_scene_frames(&a->scene) > 1) {
-        if (ui_window_begin("Animation", W - rw, H * 0.7f, rw, H * 0.3f)) anim_panel(a);
+    bool anim = vx_svo_scene_frames(&a->scene) > 1;
+    if (anim) {
+        if (ui_window_begin("Animation", W - rw, H * 0.6f, rw, H * 0.15f)) anim_panel(a);
         ui_window_end();
     }
+    if (ui_window_begin("Probes", W - rw, H * (anim ? 0.75f : 0.6f), rw, H * (anim ? 0.25f : 0.4f))) probe_panel(a);
+    ui_window_end();
     ui_frame_end(a->ui, cv);
 }

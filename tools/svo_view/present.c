@@ -356,7 +356,7 @@ static vx_result ensure_staging(vp* p, VkDeviceSize size, vx_error* err) {
     if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL), p->staging_mem = VK_NULL_HANDLE;
     VkBufferCreateInfo bi = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
                              .size = size,
-                             .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                             .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                              .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
     VP_VK(vkCreateBuffer(p->dev, &bi, NULL, &p->staging), "vkCreateBuffer");
     VkMemoryRequirements req;
@@ -458,6 +458,101 @@ vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error*
     /* the staging buffer, command buffer and acquire semaphore are reused next frame */
     VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
     if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
+    else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
+    return VX_OK;
+}
+
+/* The GPU path: the frame renderer's image, converted and overlaid by
+ * vx_display in this submission, copied to the acquired swapchain image
+ * (and, for a grab, to the staging buffer, read back after the wait). */
+vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* desc, uint8_t* grab, vx_error* err) {
+    check_resize(p);
+    if (p->dirty) {
+        vx_result r = create_swapchain(p, err);
+        if (r) return r;
+    }
+    if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
+    uint32_t w = desc->width, h = desc->height;
+    vx_result r = grab ? ensure_staging(p, (VkDeviceSize)w * h * 4, err) : VX_OK;
+    if (r) return r;
+    uint32_t idx;
+    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->acquired, VK_NULL_HANDLE, &idx);
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
+        p->dirty = true;
+        return VX_OK;
+    }
+    if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
+    VkImage img = p->images[idx];
+    VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
+    uint64_t bytes = 0;
+    vx_result failed = vx_display_record(disp, p->cmd, desc, &bytes, err);
+    if (failed) {
+        /* the acquired image is still presented (its semaphore waited for): as it was, in the present layout */
+        VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
+        VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
+        VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
+        barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, 0, 0,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+        grab = NULL;
+        goto submit;
+    }
+    VkBuffer src = (VkBuffer)(uintptr_t)bytes;
+    barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    uint32_t cw = w < p->extent.width ? w : p->extent.width, ch = h < p->extent.height ? h : p->extent.height;
+    if (cw != p->extent.width || ch != p->extent.height) {
+        VkClearColorValue black = {{0, 0, 0, 1}};
+        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
+                             0, NULL);
+    }
+    VkBufferImageCopy region = {.bufferRowLength = w,
+                                .bufferImageHeight = h,
+                                .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                                .imageExtent = {cw, ch, 1}};
+    vkCmdCopyBufferToImage(p->cmd, src, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    if (grab) {
+        VkBufferCopy c = {.size = (VkDeviceSize)w * h * 4};
+        vkCmdCopyBuffer(p->cmd, src, p->staging, 1, &c);
+        VkMemoryBarrier hb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, NULL, 0, NULL);
+    }
+    barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+            VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+submit:
+    VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                       .waitSemaphoreCount = 1,
+                       .pWaitSemaphores = &p->acquired,
+                       .pWaitDstStageMask = &wait_stage,
+                       .commandBufferCount = 1,
+                       .pCommandBuffers = &p->cmd,
+                       .signalSemaphoreCount = 1,
+                       .pSignalSemaphores = &p->done[idx]};
+    VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
+    VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    vr = vkQueuePresentKHR(p->queue, &pi);
+    VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
+    if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    if (failed) return failed;
+    if (grab) memcpy(grab, p->staging_map, (size_t)w * h * 4);
     if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
     else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
     return VX_OK;

@@ -1,12 +1,14 @@
 /* tools/svo_view/present.h - a GLFW window with a Vulkan swapchain that
  * shows 8-bit frames, on a device the tracer adopts (vx_gpu_desc.external).
  *
- * The tracer writes float pixels to a buffer of its own and reads them back
- * (vx_render_frame); the viewer converts them to 8 bits on the CPU (the same
- * conversion svo_render uses for PNG, so a screenshot equals svo_render's
- * image), draws the overlay there, and vp_present copies the bytes into the
- * swapchain image with one vkCmdCopyBufferToImage. One queue does compute,
- * transfer and present.
+ * Two paths. Host: the tracer writes float pixels to a buffer of its own and
+ * reads them back (vx_render_frame); the viewer converts them to 8 bits on
+ * the CPU (the same conversion svo_render uses for PNG, so a screenshot
+ * equals svo_render's image), draws the overlay there, and vp_present copies
+ * the bytes into the swapchain image with one vkCmdCopyBufferToImage. GPU
+ * (vp_present_display): the pass pipeline's image stays on the GPU and is
+ * converted, overlaid and copied to the swapchain image in the present's
+ * submission. One queue does compute, transfer and present.
  *
  * Usage: vp_create -> vx_gpu_create(&(vx_gpu_desc){.external = ...vp_external}) ->
  *        loop { vp_frame_size; render; vp_present } -> vx_gpu_destroy -> vp_destroy.
@@ -17,6 +19,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "render/display.h"
 #include "render/render.h"
 
 typedef struct vp vp;
@@ -49,5 +52,11 @@ bool vp_vsync(const vp* p);
  * swapchain image (clipped or padded with black when the sizes differ) and
  * presents it. Recreates the swapchain when the window was resized. */
 vx_result vp_present(vp* p, const uint8_t* pixels, uint32_t w, uint32_t h, vx_error* err);
+/* The GPU path: the frame renderer's last image (rendered with no_readback)
+ * goes to the next swapchain image in one submission: vx_display's
+ * conversion and overlay (render/display.h), a buffer-to-image copy, the
+ * present. No pixel passes through host memory, except with `grab` (w * h *
+ * 4 bytes): the displayed bytes are also copied back there. */
+vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* desc, uint8_t* grab, vx_error* err);
 
 #endif

@@ -214,3 +214,18 @@ extern "C" void ui_legend(uint32_t rgba, const char* label) {
     ImGui::SameLine();
     ImGui::TextUnformatted(label);
 }
+extern "C" void ui_image_rgba(const uint32_t* texels, int w, int h, float scale) {
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    ImVec2 p = ImGui::GetCursorScreenPos();
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w;) {
+            uint32_t c = texels[y * w + x];
+            int e = x + 1;
+            while (e < w && texels[y * w + e] == c) e++;
+            dl->AddRectFilled(ImVec2(p.x + x * scale, p.y + y * scale), ImVec2(p.x + e * scale, p.y + (y + 1) * scale),
+                              c | 0xFF000000u);
+            x = e;
+        }
+    ImGui::Dummy(ImVec2(w * scale, h * scale));
+}
+extern "C" void ui_progress(float fraction, const char* label) { ImGui::ProgressBar(fraction, ImVec2(-1, 0), label); }

@@ -85,6 +85,11 @@ void ui_stacked_bars(const float* values, int count, int layers, int stride, con
                      float top, float height);
 /* A small coloured square in the text line (a legend). */
 void ui_legend(uint32_t rgba, const char* label);
+/* An image drawn as rectangles, one per texel (runs of one colour merged):
+ * w x h RGBA8 texels (R in bits 0..7), each `scale` pixels; small maps only. */
+void ui_image_rgba(const uint32_t* texels, int w, int h, float scale);
+/* A progress bar of `fraction` in [0,1] with a label over it. */
+void ui_progress(float fraction, const char* label);
 
 #ifdef __cplusplus
 }
