@@ -70,6 +70,17 @@ extern "C" {
  * differ from the reference in up to ~1% of pixels by sub-1/100-cell slivers. */
 #define VX_RENDER_PRECISE_DEPTH 16u
 
+/* Models deeper than this many levels are walked in two frames on the float
+ * path (issue 18): when the walk descends into a node at depth depth/2 it
+ * moves the ray into that node's [1,2] cube, with an origin computed from a
+ * hi/lo pair, so the last levels keep the float mantissa (shaders/
+ * trace_common.glsl, trace_model). The float path then matches the CPU
+ * reference on at least 99.99% of the pixels up to VX_RENDER_PRECISE_DEPTH
+ * (tests/render/test_render_gpu.c, test_deep_float); shallower models keep
+ * the plain loop (the trace kernel's REBASE constant is off for scenes
+ * without a deeper model). */
+#define VX_RENDER_REBASE_DEPTH 8u
+
 /* ---- device ------------------------------------------------------------------------ */
 
 typedef struct vx_gpu vx_gpu;

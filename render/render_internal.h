@@ -11,7 +11,9 @@
 
 typedef struct vx__gpu_model {
     uint32_t node_off, color_off, depth, root;
-    uint32_t root_attr, flags, pad0, pad1;
+    uint32_t root_attr, flags;
+    uint32_t rebase; /* depth of the nodes whose frame the float walk moves into (0: none; VX_RENDER_REBASE_DEPTH) */
+    uint32_t pad1;
 } vx__gpu_model;
 enum { VX__MODEL_HAS_COLOR = 1u };
 
@@ -21,6 +23,7 @@ typedef struct vx__gpu_inst {
     float cell;     /* world size of one cell (largest column norm of M) */
     uint32_t id;    /* scene instance index */
     float pad;
+    float lo[4];    /* rounding errors of r[0..2][3] (the rebased walk of deep models keeps the origin in hi + lo) */
 } vx__gpu_inst;
 
 typedef struct vx__gpu_frame {

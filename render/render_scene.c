@@ -28,6 +28,7 @@ struct vx_render_scene {
     vx_bvh bvh;
     double bvh_seconds;
     bool has_color;
+    bool rebase;   /* a model deeper than VX_RENDER_REBASE_DEPTH: the trace kernel's REBASE constant */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
     uint32_t max_depth;
@@ -66,6 +67,9 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
+        /* half way down: the model frame then keeps 23 - depth/2 bits below a
+         * depth/2 node and the node's frame as many below a cell */
+        if (m->depth > VX_RENDER_REBASE_DEPTH && m->root < VX_SVO_ROOT_LEAF) gm[i].rebase = m->depth / 2, rs->rebase = true;
         if (m->attrs) {
             for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx_svo_attr_rgba(s, m, a);
             co += m->attr_count;
@@ -241,12 +245,14 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
             double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
             for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c], pi[i].r[r][c] = row[c];
             gi[i].r[r][3] = (float)w;
+            gi[i].lo[r] = (float)(w - (double)(float)w);
             pi[i].r[r][3] = w;
         }
         gi[i].model = h->model;
         gi[i].cell = h->cell;
         gi[i].id = h->id;
         gi[i].pad = 0;
+        gi[i].lo[3] = 0;
     }
     vx_bvh_node* bn = rs->bvh_nodes.map;
     for (uint32_t i = 0; i < rs->bvh.node_count; i++) {
@@ -309,15 +315,17 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    uint32_t spec[VX__SPEC_COUNT + 1] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam};
+    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's REBASE */
+    uint32_t spec[9] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+                        !precise && rs->rebase};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < VX__SPEC_COUNT + 1; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 9; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     /* bindings 0-8, 9 the float64 instances, 10 the beam */
     uint32_t nb = precise ? 10 : 11;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = VX__SPEC_COUNT + 1, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 9, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
