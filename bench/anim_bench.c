@@ -89,7 +89,7 @@ static void smoke(int res, int f, int rise, int puff, const char* path) {
                            .index_to_world = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, .share = -1, .count = c.n,
                            .ijk = c.ijk, .value = c.value};
     vx_error err = {0};
-    if (vx_vdb_write_file(&g, 1, path, &err) != VX_OK) {
+    if (vx_vdb_write_file(NULL, &g, 1, path, &err) != VX_OK) {
         fprintf(stderr, "anim_bench: %s: %s\n", path, err.msg);
         exit(1);
     }

@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
         if (write_dir) {
             char path[1024];
             snprintf(path, sizeof path, "%s/%s.vox", write_dir, name);
-            if (vx_vox_write_file(&vs, path, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+            if (vx_vox_write_file(NULL, &vs, path, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
         }
         vx_result r = vx_conv_vox(NULL, &vs, &scene, NULL, &err);
         vx_vox_scene_free(&vs);

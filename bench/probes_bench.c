@@ -5,7 +5,11 @@
  *
  *   probes_bench [--cpu] [--device N|NAME] bake SCENE.{svo,vox} [GX,GY,GZ RES SPP]
  *       bakes a GX*GY*GZ grid (default 8,8,8 = 512 probes) at RES (128) with
- *       SPP (64) paths per texel, 1 bounce; prints the time.
+ *       SPP (64) paths per texel, 1 bounce; prints the time and where it went
+ *       (vx_probe_bake_stats). --batch N: probes per GPU batch; --host-filter: the GPU bake filters on 16 host
+ *       threads (the reference path) instead of on the GPU; --runs N: N bakes
+ *       in the process (the first compiles the pipelines); --out FILE: writes
+ *       the last bake's .probes (timed).
  *   probes_bench [--cpu] [--device N|NAME] [options] error SCENE WxH REF_SPP [spacing:res:spp ...]
  *       reference: path-traced indirect at REF_SPP; then the path tracer at
  *       1, 4, 16, .. --pt-spp (64) spp, and for each bake configuration probe
@@ -31,6 +35,11 @@ static vx_render_camera camera;  /* --camera EX,EY,EZ,TX,TY,TZ [--up X,Y,Z] [--f
 static bool bounds_set;          /* --bounds X0,Y0,Z0,X1,Y1,Z1: the probe grid's box */
 static double bounds[6];
 static double light_dir[3];      /* --light X,Y,Z: towards the sun (default: the bake's) */
+
+static bool host_filter;         /* --host-filter: the GPU bake filters on host threads (the reference) */
+static const char* out_path;     /* --out FILE: write the bake's .probes (timed) */
+static unsigned bake_runs = 1;
+static unsigned bake_batch;      /* --batch N: probes per GPU batch (0: the bake's choice) */   /* --runs N: bake N times in the process (the first compiles the pipelines) */
 
 static vx_gpu* gpu;
 static vx_render_scene* rs;
@@ -72,7 +81,8 @@ static void err_of(const vx_render_image* a, const vx_render_image* ref, double*
 }
 
 static int usage(void) {
-    fprintf(stderr, "usage: probes_bench [--cpu] [--device N|NAME] bake SCENE [GX,GY,GZ RES SPP]\n"
+    fprintf(stderr, "usage: probes_bench [--cpu] [--device N|NAME] [--host-filter] [--batch N] [--runs N] [--out FILE]\n"
+                    "                    bake SCENE [GX,GY,GZ RES SPP]\n"
                     "       probes_bench [--cpu] [--device N|NAME] [--lf-spp N] [--pt-spp N] [--camera E,T [--up U]\n"
                     "                    [--fov DEG]] [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] error SCENE WxH REF_SPP "
                     "[spacing:res:spp ...]\n");
@@ -85,6 +95,13 @@ int main(int argc, char** argv) {
     for (; i < argc && argv[i][0] == '-'; i++) {
         if (!strcmp(argv[i], "--cpu")) use_cpu = true;
         else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        else if (!strcmp(argv[i], "--host-filter")) host_filter = true;
+        else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_path = argv[++i];
+        else if (!strcmp(argv[i], "--batch") && i + 1 < argc) bake_batch = (unsigned)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
+            bake_runs = (unsigned)atoi(argv[++i]);
+            if (bake_runs < 1 || bake_runs > 100) return fprintf(stderr, "--runs: 1..100\n"), 2;
+        }
         else if (!strcmp(argv[i], "--lf-spp") && i + 1 < argc) lf_spp_max = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--pt-spp") && i + 1 < argc) pt_spp_max = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--camera") && i + 1 < argc) {
@@ -109,12 +126,20 @@ int main(int argc, char** argv) {
     i += 2;
     vx_error err = {0};
     vx_svo_scene s;
+    double tp0 = vx_time_now();
     if (bench_load(path, &s, &err)) return fprintf(stderr, "%s: %s\n", path, err.msg), 1;
+    double tp1 = vx_time_now(), tp2 = tp1, tp3 = tp1;
     if (!use_cpu) {
-        if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err)) {
+        if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err)) {
             fprintf(stderr, "GPU: %s (--cpu for the CPU paths)\n", err.msg);
             return 1;
         }
+        tp2 = vx_time_now();
+        if (vx_render_scene_create(gpu, &s, &rs, &err)) {
+            fprintf(stderr, "GPU: %s (--cpu for the CPU paths)\n", err.msg);
+            return 1;
+        }
+        tp3 = vx_time_now();
         printf("device: %s\n", vx_gpu_device_name(gpu));
     } else {
         printf("device: CPU (2 threads)\n");
@@ -126,14 +151,34 @@ int main(int argc, char** argv) {
             if (sscanf(argv[i], "%u,%u,%u", &d.grid[0], &d.grid[1], &d.grid[2]) != 3) return usage();
             d.res = (uint32_t)atoi(argv[i + 1]), d.spp = (uint32_t)atoi(argv[i + 2]);
         }
-        vx_probe_set ps;
-        double t0 = vx_time_now();
-        if (bake(&s, &d, &ps, &err)) return fprintf(stderr, "bake: %s\n", err.msg), 1;
-        double t = vx_time_now() - t0;
-        printf("| scene | probes | res | spp | bounces | bake s | s per probe |\n|---|---|---|---|---|---|---|\n");
-        printf("| %s | %u | %u | %u | %u | %.2f | %.4f |\n", path, ps.probe_count, ps.res, ps.spp, ps.bounces, t,
-               t / ps.probe_count);
-        vx_probe_set_free(&ps);
+        vx_probe_bake_stats bs;
+        d.host_filter = host_filter, d.stats = &bs, d.batch = bake_batch;
+        printf("load %.3f s, Vulkan init %.3f s, scene upload %.3f s; filtering on the %s\n", tp1 - tp0, tp2 - tp1,
+               tp3 - tp2, use_cpu ? "CPU" : (host_filter ? "host (16 threads)" : "GPU"));
+        printf("| run | bake s | place s | setup s | loop s | batches | GPU trace s | GPU filter s | GPU copy s | wait s | "
+               "download s | host filter s | MB down | GPU busy |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for (unsigned run = 0; run < bake_runs && !rc; run++) {
+            vx_probe_set ps;
+            memset(&bs, 0, sizeof bs);
+            double t0 = vx_time_now();
+            if (bake(&s, &d, &ps, &err)) return fprintf(stderr, "bake: %s\n", err.msg), 1;
+            double t = vx_time_now() - t0;
+            printf("| %u | %.3f | %.3f | %.3f | %.3f | %u | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.1f | %.0f%% |\n", run, t,
+                   bs.place, bs.setup, bs.loop, bs.batches, bs.gpu_trace, bs.gpu_filter, bs.gpu_copy, bs.wait, bs.download,
+                   bs.host_filter, bs.bytes_down / 1e6, 100 * bs.busy);
+            if (run + 1 == bake_runs) {
+                printf("| scene | probes | res | spp | bounces | bake s | s per probe |\n|---|---|---|---|---|---|---|\n");
+                printf("| %s | %u | %u | %u | %u | %.3f | %.5f |\n", path, ps.probe_count, ps.res, ps.spp, ps.bounces, t,
+                       t / ps.probe_count);
+                if (out_path) {
+                    double tw = vx_time_now();
+                    if (vx_probe_write_file(NULL, &ps, out_path, &err)) fprintf(stderr, "%s: %s\n", out_path, err.msg), rc = 1;
+                    else printf("wrote %s in %.3f s\n", out_path, vx_time_now() - tw);
+                }
+                printf("process so far %.3f s\n", vx_time_now() - tp0);
+            }
+            vx_probe_set_free(&ps);
+        }
     } else if (!strcmp(cmd, "error") && argc - i >= 2) {
         unsigned w, h, ref_spp = (unsigned)atoi(argv[i + 1]);
         if (sscanf(argv[i], "%ux%u", &w, &h) != 2) return usage();

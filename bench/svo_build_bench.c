@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
         sc.instances = &inst;
         vx_svo_scene_update_bounds(&sc);
         double w0 = vx_time_now();
-        r = vx_svo_write_file(&sc, out_path, &err);
+        r = vx_svo_write_file(NULL, &sc, out_path, &err);
         double tw = vx_time_now() - w0;
         if (r != VX_OK) {
             fprintf(stderr, "svo_build_bench: %s: %s\n", out_path, err.msg);

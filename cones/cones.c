@@ -32,9 +32,9 @@ typedef struct push_block {
     uint32_t u2[4];
 } push_block;
 
-enum { NBIND = 23, BIND_GI = 12, BIND_EMIT = 14, BIND_LIGHTS = 16, BIND_VOL = 19, BIND_REC, BIND_PARAMS, BIND_LIST };
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 23 bindings");
-enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_DUMMY, B_COUNT };
+enum { NBIND = 24, BIND_GI = 12, BIND_EMIT = 14, BIND_LIGHTS = 16, BIND_SKY = 19, BIND_VOL, BIND_REC, BIND_PARAMS, BIND_LIST };
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "cone shaders use 24 bindings");
+enum { B_VOL, B_REC, B_PARAMS, B_LIST, B_EMIT, B_LIGHTS, B_SKY, B_DUMMY, B_COUNT };
 typedef enum { SH_VOXELIZE, SH_INJECT, SH_FILTER, SH_CONE } shader_id;
 #define REC_VEC4 5 /* vec4 per listed voxel and side (cone_common.glsl) */
 #define LIGHT_FLOATS 24
@@ -50,6 +50,8 @@ struct vx_cone_gi {
     vx_cone_info info;
     double lo[3], hi[3]; /* the scene's world bounds (the frame's) */
     double light_dir[3], sun[3], sky[3];
+    vx_sky sky_dir; /* gradient or map: the sky by direction (b[B_SKY]); else VX_SKY_DEFAULT */
+    vx_sky_texels sky_map;
     cone_params P;
     uint64_t level0;
     const vx_allocator* alloc;
@@ -109,6 +111,19 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
         cg->sun[k] = d.no_sun ? 0 : (zero3(d.sun) ? D.sun[k] : d.sun[k]);
         cg->sky[k] = d.black_sky ? 0 : (zero3(d.sky) ? D.sky[k] : d.sky[k]);
     }
+    /* the sky by direction: a constant one is the uniform sky */
+    if (d.sky_dir && !d.black_sky) {
+        vx_result r = vx_sky_validate(d.sky_dir, err);
+        if (r) return r;
+        const vx_sky* k = d.sky_dir;
+        const vx_sky_texels* t = d.sky_map;
+        if (k->type == VX_SKY_ENVMAP && (!t || !t->rgb || !t->width || !t->height || t->width > 65536 || t->height > 65536))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: the environment map '%s' has no texels", k->path);
+        if (k->type == VX_SKY_CONSTANT) memcpy(cg->sky, k->color, sizeof cg->sky);
+        if (k->type == VX_SKY_GRADIENT || k->type == VX_SKY_ENVMAP)
+            cg->sky_dir = *k, cg->sky_map = k->type == VX_SKY_ENVMAP ? *t : (vx_sky_texels){0};
+    }
+    d.sky_dir = NULL, d.sky_map = NULL; /* kept above */
     cg->d = d;
     return VX_OK;
 }
@@ -164,6 +179,7 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     dd.buffers[BIND_GI] = out ? out : &cg->b[B_DUMMY];
     dd.buffers[BIND_EMIT] = &cg->b[B_EMIT];
     dd.buffers[BIND_LIGHTS] = &cg->b[B_LIGHTS];
+    dd.buffers[BIND_SKY] = &cg->b[B_SKY];
     dd.buffers[BIND_VOL] = &cg->b[B_VOL];
     dd.buffers[BIND_REC] = &cg->b[B_REC];
     dd.buffers[BIND_PARAMS] = &cg->b[B_PARAMS];
@@ -222,6 +238,7 @@ static vx_result inject(vx_cone_gi* cg, vx_error* err) {
     if (r) return r;
     push_block pc = {0};
     for (int k = 0; k < 3; k++) pc.f1[k] = (float)cg->sun[k], pc.f2[k] = (float)cg->sky[k];
+    pc.f2[3] = cg->sky_dir.type != VX_SKY_DEFAULT; /* the sky by direction (binding 19) */
     pc.u1[2] = cg->d.light_count;
     double ti = 0, tf = 0;
     uint32_t n = cg->info.surface_voxels;
@@ -296,6 +313,7 @@ static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, 
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the gi buffer holds less than a %ux%u image", f.width, f.height);
     push_block pc = {.u0 = {io->sample}};
     for (int k = 0; k < 3; k++) pc.f2[k] = (float)cg->sky[k];
+    pc.f2[3] = cg->sky_dir.type != VX_SKY_DEFAULT;
     *gpu_seconds = 0;
     return dispatch(cg, SH_CONE, 0, &f, (f.width + 7) / 8, (f.height + 7) / 8, &pc, io->out, gpu_seconds, err);
 }
@@ -304,6 +322,7 @@ static void fill_method(vx_cone_gi* cg, vx_gi_method* m) {
     *m = (vx_gi_method){.name = "cones", .user = cg, .render = gi_render, .emit_attr = cg->emit_attr,
                         .emit_count = cg->emit_count, .lights = cg->d.lights, .light_count = cg->d.light_count};
     for (int k = 0; k < 3; k++) m->light_dir[k] = cg->light_dir[k], m->sun[k] = cg->sun[k], m->sky[k] = cg->sky[k];
+    if (cg->sky_dir.type != VX_SKY_DEFAULT) m->sky_dir = &cg->sky_dir, m->sky_map = &cg->sky_map;
 }
 
 /* Level sizes: level 0 covers the bounds with a voxel of margin on each
@@ -347,6 +366,8 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     if (!r && !cg->b[B_PARAMS].map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "cone parameters are not host visible");
     if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone dummy", &cg->b[B_DUMMY], err);
     if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone surfaces", &cg->b[B_REC], err);
+    if (!r && cg->sky_dir.type != VX_SKY_DEFAULT) r = vx__sky_buffer(cg->g, &cg->sky_dir, &cg->sky_map, cg->sky, &cg->b[B_SKY], err);
+    else if (!r) r = vx__buffer_create(cg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone sky", &cg->b[B_SKY], err);
     return r;
 }
 

@@ -105,6 +105,13 @@ typedef enum vx_cone_output {
  *  bounces:     diffuse bounces kept in the volume (0: 1: direct light only)
  *  light_dir, sun, sky: the light (0: the probe bake's defaults,
  *               vx_probe_bake_desc_defaults; no_sun / black_sky switch them off)
+ *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
+ *               borrowed, the texels for as long as the method): constant
+ *               replaces sky; gradient or environment map: what a cone
+ *               leaves unoccluded sees the sky along its axis (a point
+ *               sample of the cone), in the gi image and in the bounces
+ *               kept in the volume; the method's sky_dir then gives the
+ *               pipeline's background. NULL: the uniform sky
  *  lights:      frame lights injected too (borrowed; the frame must pass the same array)
  *  output:      what the gi image holds */
 typedef struct vx_cone_desc {
@@ -119,6 +126,8 @@ typedef struct vx_cone_desc {
     uint32_t bounces;
     double light_dir[3], sun[3], sky[3];
     bool no_sun, black_sky;
+    const vx_sky* sky_dir;
+    const vx_sky_texels* sky_map;
     const vx_light* lights;
     uint32_t light_count;
     vx_cone_output output;
@@ -151,7 +160,8 @@ void vx_cone_gi_destroy(vx_cone_gi* cg);
  * filter again. */
 vx_result vx_cone_gi_voxelize(vx_cone_gi* cg, vx_error* err);
 /* After a light change: the new sun (light_dir, sun, sky of desc; the
- * geometry options are ignored) injected and filtered; method is updated. */
+ * geometry options are ignored, and the sky by direction stays the one the
+ * method was made with) injected and filtered; method is updated. */
 vx_result vx_cone_gi_inject(vx_cone_gi* cg, const vx_cone_desc* desc, vx_gi_method* method, vx_error* err);
 void vx_cone_gi_info(const vx_cone_gi* cg, vx_cone_info* out);
 /* Downloads level `level` as float RGBA, entries per voxel in x-fastest

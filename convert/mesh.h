@@ -3,7 +3,7 @@
  *
  *   vx_svo_scene s;
  *   vx_conv_mesh_file(&(vx_conv_mesh_desc){ .res = 1024 }, "in.glb", &s, &stats, &err);
- *   vx_svo_write_file(&s, "out.svo", &err);
+ *   vx_svo_write_file(NULL, &s, "out.svo", &err);
  *   vx_svo_scene_free(&s);
  *
  * The grid (vx_conv_mesh_grid_make):

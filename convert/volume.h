@@ -1,7 +1,7 @@
 /* convert/volume.h - OpenVDB grids (.vdb) -> svo scene.
  *
  * Usage: vx_conv_vdb_file(&(vx_conv_vdb_desc){0}, "in.vdb", &scene, &stats,
- * &err) -> vx_svo_write_file(&scene, ...) -> vx_svo_scene_free(&scene).
+ * &err) -> vx_svo_write_file(NULL, &scene, ...) -> vx_svo_scene_free(&scene).
  *
  * Grid space is OpenVDB index space: grid cell (i, j, k) is voxel (i, j, k),
  * so `svo_info --dump` prints index coordinates (which may be negative).

@@ -50,7 +50,9 @@ typedef struct vx_glb_scene {
     const char* generator;  /* asset.generator, may be NULL */
 } vx_glb_scene;
 
-vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, vx_error* err);
+/* desc may be NULL (svo/core.h); its allocator serves the temporary file's
+ * name only (tinygltf builds the document with operator new). */
+vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_scene* s, const char* path, vx_error* err);
 
 #ifdef __cplusplus
 }

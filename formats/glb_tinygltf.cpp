@@ -104,7 +104,8 @@ class atomic_buf : public std::streambuf {
 
 } // namespace
 
-extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, vx_error* err) {
+extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_scene* s, const char* path,
+                                       vx_error* err) {
     if (!s || !path || (s->mesh_count && !s->meshes) || (s->node_count && !s->nodes))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL argument");
     vx_result r = check(s, err);
@@ -175,7 +176,7 @@ extern "C" vx_result vx_glb_write_file(const vx_glb_scene* s, const char* path, 
         if (m.buffers[0].data.empty()) m.buffers.clear();
 
         tinygltf::TinyGLTF writer;
-        r = vx_atomic_open(&f, path, err);
+        r = vx_atomic_open(&f, path, desc ? desc->alloc : NULL, err);
         if (r) return r;
         open = true;
         bool ok;

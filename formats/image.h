@@ -1,5 +1,8 @@
 /* formats/image.h - image files through OpenImageIO (PNG for 8-bit outputs,
- * EXR for float outputs), behind a small C interface.
+ * EXR for float outputs), behind a small C interface. .pfm (float, 1 or 3
+ * channels), .ppm and .pgm (8 bits) are written and read by voxkit's own
+ * code in every build; a build without OpenImageIO (VX_WITH_OIIO off)
+ * handles only those three and names the file for any other.
  *
  * Pixels are row-major, row 0 at the top, channels interleaved. The format
  * follows the file name's extension (.png, .exr, also .tif, .jpg, ...).

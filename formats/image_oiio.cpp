@@ -9,6 +9,7 @@
 
 extern "C" {
 #include "formats/image.h"
+#include "formats/image_pnm.h"
 }
 
 using namespace OIIO;
@@ -29,6 +30,9 @@ extern "C" vx_result vx_image_write(const char* path, const vx_image_desc* img, 
         img->channels > 4)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: bad image shape %ux%ux%u", path, img->width,
                        img->height, img->channels);
+    // PFM/PPM/PGM by our own code in every build (the same bytes with and
+    // without OpenImageIO; Debian's has no PFM writer)
+    if (vx__image_pnm_kind(path)) return vx__image_pnm_write(path, img, err);
     try {
         std::string tmp = tmp_name(path);
         auto out = ImageOutput::create(path);
@@ -66,6 +70,8 @@ extern "C" vx_result vx_image_read(const char* path, vx_image_type type, uint32_
     if (!path || !width || !height || !channels || !out_pixels)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (!max_dim) max_dim = 16384;
+    if (vx__image_pnm_kind(path))
+        return vx__image_pnm_read(path, type, max_dim, width, height, channels, out_pixels, err);
     try {
         auto in = ImageInput::open(path);
         if (!in) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: %s", path, OIIO::geterror().c_str());

@@ -17,6 +17,13 @@ if(VX_WITH_OPENVDB)
     target_include_directories(vx_vdb SYSTEM PRIVATE ${VX_BLOSC_INCLUDE})
     target_link_libraries(vx_vdb PUBLIC vx_core ${VX_OPENVDB_LIB} ${VX_TBB_LIB} ${VX_IMATH_LIB} ${VX_BLOSC_LIB}
                           ZLIB::ZLIB)
+    # OpenVDB's headers read file bytes straight into bool members (a root
+    # tile's active flag in RootNode::readTopology, instantiated here): a
+    # garbled byte is an invalid bool load inside OpenVDB, where the sanitizer
+    # build would stop (a fuzzing input in tests/fuzz/regress/vdb/ has one)
+    if(VX_SANITIZE)
+      target_compile_options(vx_vdb PRIVATE -fno-sanitize=bool)
+    endif()
   else()
     message(STATUS "OpenVDB not found: .vdb input disabled")
   endif()

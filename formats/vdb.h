@@ -121,8 +121,10 @@ typedef struct vx_vdb_write_grid {
 
 /* Writes the grids as one .vdb file (OpenVDB's stream format, its default
  * compression), through a temporary file renamed into place: a failure
- * leaves nothing behind. */
-vx_result vx_vdb_write_file(const vx_vdb_write_grid* grids, uint32_t count, const char* path, vx_error* err);
+ * leaves nothing behind. desc may be NULL (svo/core.h); its allocator serves
+ * the temporary file's name only (OpenVDB builds the grids with operator new). */
+vx_result vx_vdb_write_file(const vx_write_desc* desc, const vx_vdb_write_grid* grids, uint32_t count, const char* path,
+                            vx_error* err);
 
 #ifdef __cplusplus
 }

@@ -455,7 +455,8 @@ bool vx_vdb_probe(vx_vdb_file* f, uint32_t grid, const int32_t ijk[3], double va
     }
 }
 
-vx_result vx_vdb_write_file(const vx_vdb_write_grid* grids, uint32_t count, const char* path, vx_error* err) {
+vx_result vx_vdb_write_file(const vx_write_desc* desc, const vx_vdb_write_grid* grids, uint32_t count, const char* path,
+                            vx_error* err) {
     if (!path || (!grids && count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
     for (uint32_t i = 0; i < count; i++) {
         const vx_vdb_write_grid& w = grids[i];
@@ -477,7 +478,7 @@ vx_result vx_vdb_write_file(const vx_vdb_write_grid* grids, uint32_t count, cons
                            i);
     }
     vx_atomic_file af;
-    vx_result r = vx_atomic_open(&af, path, err);
+    vx_result r = vx_atomic_open(&af, path, desc ? desc->alloc : NULL, err);
     if (r) return r;
     try {
         init_once();

@@ -153,7 +153,9 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err);
  * be the same in every frame (VX_ERR_UNSUPPORTED otherwise). */
 vx_result vx_vox_write(const vx_vox_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);
-vx_result vx_vox_write_file(const vx_vox_scene* s, const char* path, vx_error* err);
+/* The same through a temporary file renamed over path (svo/core.h
+ * vx_file_write_atomic); desc may be NULL. */
+vx_result vx_vox_write_file(const vx_write_desc* desc, const vx_vox_scene* s, const char* path, vx_error* err);
 
 #ifdef __cplusplus
 }

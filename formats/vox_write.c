@@ -233,14 +233,15 @@ vx_result vx_vox_write(const vx_vox_scene* s, const vx_allocator* alloc, uint8_t
     return VX_OK;
 }
 
-vx_result vx_vox_write_file(const vx_vox_scene* s, const char* path, vx_error* err) {
+vx_result vx_vox_write_file(const vx_write_desc* desc, const vx_vox_scene* s, const char* path, vx_error* err) {
     if (!path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vx_vox_write_file: null path");
+    const vx_allocator* a = desc ? desc->alloc : NULL;
     uint8_t* data;
     size_t size;
-    vx_result r = vx_vox_write(s, NULL, &data, &size, err);
+    vx_result r = vx_vox_write(s, a, &data, &size, err);
     if (r != VX_OK) return r;
-    r = vx_file_write_atomic(path, data, size, err);
-    vx_free(NULL, data);
+    r = vx_file_write_atomic(path, a, data, size, err);
+    vx_free(a, data);
     if (r != VX_OK) vx_error_prefix(err, path);
     return r;
 }

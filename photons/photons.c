@@ -19,13 +19,14 @@ typedef struct gpu_params {
     float r[4];       /* global radius, caustic radius, 1 / (pi rg^2), 1 / (pi rc^2) */
     uint32_t img[4];  /* width, height, running mean, full */
     float sphere[4];  /* bounding sphere centre (relative to the reference), radius */
-    float sky[4];     /* sky radiance, w: emissive voxels' power */
+    float sky[4];     /* sky radiance (render/shaders/sky.glsl zen), w: emissive voxels' power */
     uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), final gather rays, a light stands for the voxels */
+    float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 112, "gpu_params vs photon.comp");
+_Static_assert(sizeof(gpu_params) == 160, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER };
-enum { NBIND = 17, SRC_FLOATS = 24, PHOTON_BYTES = 32 };
+enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -43,13 +44,36 @@ struct vx_photon_gi {
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then STEP and MATS */
     vx__buffer* scene_bufs[7];
-    vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img;
+    vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx_photon_stats last;
     const vx_allocator* alloc;
 };
 
 vx_photon_desc vx_photon_desc_defaults(void) {
     return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0};
+}
+
+/* The sky's mean radiance over the sphere of directions (a grid of 256 x 128
+ * directions, weighted by solid angle): the uniform sky's radiance, or the
+ * mean of the sky by direction (the share of the photons it sends). */
+static void sky_mean(const vx__light* L, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    if (L->sky_dir.type == VX_SKY_DEFAULT) {
+        memcpy(out, L->sky, 3 * sizeof *out);
+        return;
+    }
+    enum { GW = 256, GH = 128 };
+    double wsum = 0;
+    for (int y = 0; y < GH; y++) {
+        double th = (y + 0.5) * pi / GH, w = sin(th);
+        for (int x = 0; x < GW; x++) {
+            double ph = (x + 0.5) * 2 * pi / GW, d[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, v[3];
+            vx__sky(L, d, v);
+            for (int k = 0; k < 3; k++) out[k] += w * v[k];
+            wsum += w;
+        }
+    }
+    for (int k = 0; k < 3; k++) out[k] /= wsum;
 }
 
 static vx_result upload_new(vx_gpu* g, vx__buffer* b, const void* data, size_t size, const char* label,
@@ -96,9 +120,14 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
         o[3] = VX_LIGHT_DIRECTIONAL, o[21] = 1;
         n++;
     }
-    if (L->sky[0] > 0 || L->sky[1] > 0 || L->sky[2] > 0) {
+    /* the sky: photons from directions uniform on the sphere; by direction
+     * (gradient, map), a photon's power is scaled by the sky's radiance
+     * towards it over the mean radiance (e.xyz), which sets the source's power */
+    double mean[3];
+    sky_mean(L, mean);
+    if (mean[0] > 0 || mean[1] > 0 || mean[2] > 0) {
         float* o = s + SRC_FLOATS * n;
-        for (int k = 0; k < 3; k++) pw[4 * n + k] = L->sky[k] * 4 * pi * disk;
+        for (int k = 0; k < 3; k++) pw[4 * n + k] = mean[k] * 4 * pi * disk, o[12 + k] = mean[k] > 0 ? (float)(1 / mean[k]) : 0.f;
         o[3] = SRC_SKY;
         n++;
     }
@@ -207,8 +236,8 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
     vx__buffer* own[] = {&pg->params, &pg->emit, &pg->mats, &pg->src, &pg->ems, &pg->photons,
-                         &pg->sorted, &pg->cells, out,        &pg->counters};
-    for (int i = 0; i < 10; i++) dd.buffers[7 + i] = own[i];
+                         &pg->sorted, &pg->cells, out,        &pg->counters, &pg->env};
+    for (int i = 0; i < 11; i++) dd.buffers[7 + i] = own[i];
     double s = 0;
     r = vx__dispatch(pg->g, &dd, &s, err);
     *ms += s * 1e3;
@@ -254,7 +283,10 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     p->r[0] = (float)st.radius, p->r[1] = (float)st.caustic_radius;
     p->r[2] = (float)(1 / (pi * st.radius * st.radius)), p->r[3] = (float)(1 / (pi * st.caustic_radius * st.caustic_radius));
     p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
-    for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = (float)pg->P.L.sky[k];
+    float sk[16];
+    vx__sky_pack(&pg->P.L.sky_dir, &pg->P.L.sky_map, pg->P.L.sky, sk);
+    for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = sk[k];
+    memcpy(p->skyh, sk + 4, sizeof p->skyh), memcpy(p->skyg, sk + 8, sizeof p->skyg), memcpy(p->skym, sk + 12, sizeof p->skym);
     p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->P.L.em_power;
     p->cnt[0] = pg->P.L.em_count, p->cnt[1] = 2, p->cnt[2] = d->final_gather, p->cnt[3] = pg->P.L.voxel_lights;
     uint32_t ctr[4] = {0};
@@ -321,7 +353,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     pg->alloc = a, pg->rs = rs, pg->scene = scene, pg->g = vx__render_scene_gpu(rs);
     vx_render_desc sun = {.light_dir = {d.light_dir[0], d.light_dir[1], d.light_dir[2]}};
     vx_probe_render_desc pd = {.base = &sun, .mode = VX_PROBE_RENDER_PT_INDIRECT, .lights = d.lights,
-                               .light_count = d.light_count};
+                               .light_count = d.light_count, .sky = d.sky_dir, .sky_map = d.sky_map};
     vx_result r = vx__prender_setup(scene, light, light && light->first == 0 && light->count == light->probe_count, &pd,
                                     &pg->P, err);
     if (r) {
@@ -360,6 +392,9 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         if (!r) r = upload_new(pg->g, &pg->cells, NULL, (uint64_t)pg->buckets * 8, "photon grid", err);
         if (!r) r = upload_new(pg->g, &pg->src, NULL, 16, "photon sources", err);
         if (!r) r = upload_new(pg->g, &pg->ems, NULL, 16, "photon emitters", err);
+        const vx_sky_texels* t = &pg->P.L.sky_map; /* the sky's map (binding 17), when the sky is one */
+        bool map = pg->P.L.sky_dir.type == VX_SKY_ENVMAP && t->rgb;
+        if (!r) r = upload_new(pg->g, &pg->env, map ? t->rgb : NULL, map ? (size_t)t->width * t->height * 12 : 16, "photon sky map", err);
         if (!r)
             r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "photon counters", &pg->counters,
                                   err);
@@ -381,6 +416,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         method->sun[k] = pg->P.L.sun[k];
         method->sky[k] = pg->P.L.sky[k];
     }
+    if (pg->P.L.sky_dir.type != VX_SKY_DEFAULT) method->sky_dir = &pg->P.L.sky_dir, method->sky_map = &pg->P.L.sky_map;
     *out = pg;
     return VX_OK;
 }
@@ -388,7 +424,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_photon_gi_destroy(vx_photon_gi* pg) {
     if (!pg) return;
     vx__buffer* b[] = {&pg->params, &pg->emit, &pg->mats, &pg->src,      &pg->ems,
-                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img};
+                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
     vx__prender_free(&pg->P);
     vx_free(pg->alloc, pg->emit_attr);

@@ -11,7 +11,7 @@ if(VX_WITH_VULKAN)
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
             -I${CMAKE_SOURCE_DIR}/probes/shaders --vn vx__photon_spv_arr -o ${VX_PHOTONS_SPV_DIR}/photon.comp.h
             ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp ${CMAKE_SOURCE_DIR}/probes/shaders/path_common.glsl
+    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp ${CMAKE_SOURCE_DIR}/probes/shaders/path_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
             ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
     COMMENT "glslangValidator photon.comp"
     VERBATIM)

@@ -97,7 +97,15 @@ extern "C" {
  *  capacity:       stored photons per pass at most; 0: 4 x photons
  *  seed:           random streams (each pass its own)
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
- *  lights:         light_count lights (borrowed, validated; see above) */
+ *  lights:         light_count lights (borrowed, validated; see above)
+ *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
+ *                  as vx_probe_render_desc.sky): constant replaces the
+ *                  uniform sky; gradient or environment map: sky photons
+ *                  leave directions uniform on the sphere with power scaled
+ *                  by the radiance towards them over the sky's mean (no
+ *                  importance sampling: a small bright sun in a map is
+ *                  noisy), the final gather's misses see it by direction,
+ *                  and the pipeline's background shows it */
 typedef struct vx_photon_desc {
     uint32_t photons;
     double radius;
@@ -110,6 +118,8 @@ typedef struct vx_photon_desc {
     double light_dir[3];
     const vx_light* lights;
     uint32_t light_count;
+    const vx_sky* sky_dir;
+    const vx_sky_texels* sky_map;
 } vx_photon_desc;
 
 /* The defaults (the one source; svo_render's --help prints them). Scene

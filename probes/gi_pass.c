@@ -26,6 +26,8 @@ struct vx_probe_gi {
     float* emit_attr;
     size_t emit_count;
     const vx_allocator* alloc;
+    vx_sky sky_dir; /* the sky by direction the method renders (VX_SKY_DEFAULT: its uniform sky) */
+    vx_sky_texels sky_map;
 };
 
 static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, vx_error* err) {
@@ -82,6 +84,7 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
         out_method->sun[k] = P.L.sun[k];
         out_method->sky[k] = P.L.sky[k];
     }
+    gi->sky_dir = P.L.sky_dir, gi->sky_map = P.L.sky_map; /* the texels stay the caller's (desc->sky_map) */
     vx__prender_free(&P);
     if (r) {
         vx_probe_gi_destroy(gi);
@@ -90,6 +93,8 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     out_method->name = method, out_method->user = gi, out_method->render = gi_render;
     out_method->emit_attr = gi->emit_attr, out_method->emit_count = gi->emit_count;
     out_method->lights = gi->desc.lights, out_method->light_count = gi->desc.light_count;
+    out_method->sky_dir = gi->sky_dir.type != VX_SKY_DEFAULT ? &gi->sky_dir : NULL;
+    out_method->sky_map = gi->sky_dir.type != VX_SKY_DEFAULT ? &gi->sky_map : NULL;
     *out = gi;
     return VX_OK;
 }

@@ -1,8 +1,11 @@
 /* probes/probe_gpu.c - the GPU bake and the GPU probe renderer on the Vulkan
  * tracer (probes/shaders/probe.comp). The GPU path-traces the texels (or
- * pixels); the filtering of a baked probe (irradiance, moments, min map) is
- * the CPU bake's own code (vx__probe_finish), run on host threads, so both
- * bakers write the same kinds of maps from their radiance and distances. */
+ * pixels). A baked batch is filtered (quantised distances and normals,
+ * radiance halfs, min-distance, irradiance and moment maps) on the GPU
+ * (probes/shaders/probe_filter.comp), which reads back only the maps the
+ * .probes file stores while it traces the next batch; with host_filter the
+ * host filters it with the CPU bake's own code (vx__probe_finish), the
+ * reference the GPU filtering is tested against. */
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -12,6 +15,7 @@
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
+#include "probe_filter.comp.h" /* shaders/probe_filter.comp */
 
 /* std430 block "Params" of probe.comp */
 typedef struct gpu_params {
@@ -190,17 +194,15 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
 
 static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
     memset(p, 0, sizeof *p);
-    const vx_sky* k3 = &L->sky_dir;
     for (int k = 0; k < 3; k++) {
         p->light[k] = (float)L->light_dir[k];
         p->sun[k] = (float)L->sun[k];
-        p->sky[k] = (float)(k3->type == VX_SKY_GRADIENT ? k3->color[k] : L->sky[k]);
-        p->skyh[k] = (float)k3->horizon[k];
-        p->skyg[k] = (float)k3->ground[k];
     }
-    p->skyh[3] = k3->type == VX_SKY_GRADIENT ? 1.0f : k3->type == VX_SKY_ENVMAP ? 2.0f : 0.0f;
-    p->skyg[3] = (float)k3->intensity;
-    p->skym[0] = (float)k3->rotation, p->skym[1] = (float)L->sky_map.width, p->skym[2] = (float)L->sky_map.height;
+    /* render/shaders/sky.glsl's parameters, packed as the pass pipeline packs them */
+    float sk[16];
+    vx__sky_pack(&L->sky_dir, &L->sky_map, L->sky, sk);
+    memcpy(p->sky, sk, sizeof p->sky), memcpy(p->skyh, sk + 4, sizeof p->skyh);
+    memcpy(p->skyg, sk + 8, sizeof p->skyg), memcpy(p->skym, sk + 12, sizeof p->skym);
     p->seed[0] = (uint32_t)seed, p->seed[1] = (uint32_t)(seed >> 32);
 }
 
@@ -221,20 +223,22 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
     p->spacing[3] = (float)smin;
 }
 
-static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* seconds, vx_error* err) {
+/* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
+static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
     c->spec[VX__SPEC_COUNT] = pmode;
-    size_t spv_size;
-    const uint32_t* spv = vx__probe_spv_arr;
-    spv_size = sizeof vx__probe_spv_arr;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = NBIND,
-                                       .spec_count = VX__SPEC_COUNT + 2, .label = "probe"};
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_spv_arr, .spirv_size = sizeof vx__probe_spv_arr,
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 2, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, c->spec, sizeof c->spec);
     uint64_t key = 0x9B0BE2ull;
     for (int i = 0; i < VX__SPEC_COUNT + 2; i++) key = key * 131 + c->spec[i];
+    return vx__pipeline_get(c->g, key, &pd, out, err);
+}
+
+static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* seconds, vx_error* err) {
     vx__pipeline* p;
-    vx_result r = vx__pipeline_get(c->g, key, &pd, &p, err);
+    vx_result r = pipeline_of(c, pmode, &p, err);
     if (r) return r;
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "probe"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = c->scene[i];
@@ -252,17 +256,21 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
  * samples. The result does not depend on the split: every texel or pixel adds
  * its samples to its running sum in sample order, whatever the dispatches.
  * c->out starts with the flags; the render's state must be zero. */
-static vx_result run_samples(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, uint32_t spp, double* seconds,
-                             vx_error* err) {
+/* chunk_io: the samples per dispatch to start with (0: the device's), and
+ * on return the chunk that worked; resume: a bake whose state is written
+ * already (the GPU-filtered bake's batch after its own dispatches). */
+static vx_result run_samples_ex(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, uint32_t spp, uint32_t* chunk_io,
+                                bool resume, double* seconds, vx_error* err) {
     gpu_params* p = c->params.map;
-    uint32_t chunk = vx_gpu_is_cpu(c->g) ? CPU_DEVICE_CHUNK : spp;
+    uint32_t chunk = chunk_io && *chunk_io ? *chunk_io : (vx_gpu_is_cpu(c->g) ? CPU_DEVICE_CHUNK : spp);
     p->lf[3] = 2; /* loops_intact() */
     if (seconds) *seconds = 0;
     for (uint32_t runs = 0;; runs++) {
+        if (chunk_io) *chunk_io = chunk;
         /* each dispatch either advances every unfinished texel or pixel or halves the chunk */
         if (runs > spp + 32)
             return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe pass: samples still missing after %u dispatches", runs);
-        if (pmode == PMODE_BAKE) p->lf[0] = runs == 0; /* the bake's first dispatch writes its state */
+        if (pmode == PMODE_BAKE) p->lf[0] = runs == 0 && !resume; /* the bake's first dispatch writes its state */
         p->seed[3] = chunk < spp ? chunk : spp;
         float flags[4] = {0};
         double t = 0;
@@ -279,6 +287,11 @@ static vx_result run_samples(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, 
         }
         if (flags[1] == 0) return VX_OK;
     }
+}
+
+static vx_result run_samples(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, uint32_t spp, double* seconds,
+                             vx_error* err) {
+    return run_samples_ex(c, pmode, gx, gy, spp, NULL, false, seconds, err);
 }
 
 /* ---- bake --------------------------------------------------------------------------- */
@@ -345,6 +358,371 @@ static bool finish_batch(vx_probe_set* ps, const vx__tables* T, const float* raw
     return !J.failed;
 }
 
+/* ---- the bake with the filtering on the GPU ----------------------------------------- */
+
+/* Push constants of probe_filter.comp */
+typedef struct fpush {
+    uint32_t stage, res, spp, first, count, per, low, small, o_nrm, o_dist, o_low, o_irr, o_mom;
+    float step_hi, step_lo, dist_max;
+} fpush;
+
+/* Words of one probe's maps as probe_filter.comp packs them (the .probes
+ * file's block, each map padded to whole words). */
+typedef struct flayout {
+    size_t nb, lb;                                    /* bordered texels: full and low-resolution maps */
+    uint32_t o_nrm, o_dist, o_low, o_irr, o_mom, per; /* word offsets; per: words per probe */
+    uint32_t small;                                   /* Small floats per probe */
+} flayout;
+
+static flayout layout_of(const vx_probe_set* ps) {
+    flayout l;
+    l.nb = vx__bsq(ps->res), l.lb = vx__bsq(ps->low_res);
+    l.o_nrm = (uint32_t)(l.nb * 3 / 2); /* res even: (res+2)^2 even */
+    l.o_dist = l.o_nrm + (uint32_t)l.nb;
+    l.o_low = l.o_dist + (uint32_t)(l.nb / 2);
+    l.o_irr = l.o_low + (uint32_t)((l.lb + 1) / 2);
+    l.o_mom = l.o_irr + (uint32_t)(vx__bsq(VX_PROBE_IRR_RES) * 3 / 2);
+    l.per = l.o_mom + (uint32_t)(vx__bsq(VX_PROBE_DIST_RES) * 2);
+    l.small = 3 * VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + 2 * VX_PROBE_DIST_RES * VX_PROBE_DIST_RES +
+              ps->low_res * ps->low_res;
+    return l;
+}
+
+/* One batch in flight: its own parameters, trace output, filter scratch,
+ * packed maps and host-visible copy, so the next batch runs while the host
+ * stores this one. */
+typedef struct bslot {
+    vx__buffer params, out, texl, small, packed, back;
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkDescriptorSet trace_set, filter_set;
+    uint32_t at, cnt;
+} bslot;
+
+typedef struct gbake {
+    gctx* c;
+    vx_probe_set* ps;
+    vx__pipeline *trace, *filter;
+    vx__buffer tables;
+    VkCommandPool pool;
+    VkDescriptorPool dpool;
+    VkQueryPool queries; /* 4 per slot: start, traced, filtered, copied */
+    bslot slot[2];
+    flayout lay;
+    uint32_t batch, chunk, nt;
+} gbake;
+
+static void gbake_free(gbake* B) {
+    vx_gpu* g = B->c->g;
+    for (int i = 0; i < 2; i++) {
+        bslot* s = &B->slot[i];
+        vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back};
+        for (size_t k = 0; k < sizeof b / sizeof b[0]; k++) vx__buffer_destroy(g, b[k]);
+        if (s->fence) vkDestroyFence(g->device, s->fence, NULL);
+    }
+    vx__buffer_destroy(g, &B->tables);
+    if (B->queries) vkDestroyQueryPool(g->device, B->queries, NULL);
+    if (B->dpool) vkDestroyDescriptorPool(g->device, B->dpool, NULL);
+    if (B->pool) vkDestroyCommandPool(g->device, B->pool, NULL); /* frees the command buffers */
+}
+
+static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx__buffer* const* bufs, uint32_t n) {
+    VkDescriptorBufferInfo info[VX_GPU_MAX_BINDINGS];
+    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+    for (uint32_t i = 0; i < n; i++) {
+        info[i] = (VkDescriptorBufferInfo){.buffer = bufs[i]->buf, .range = VK_WHOLE_SIZE};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = set, .dstBinding = i,
+                                      .descriptorCount = 1, .descriptorType = p->bindings[i], .pBufferInfo = &info[i]};
+    }
+    vkUpdateDescriptorSets(g->device, n, w, 0, NULL);
+}
+
+static vx_result gbake_init(gbake* B, gctx* c, vx_probe_set* ps, uint32_t batch, vx_error* err) {
+    vx_gpu* g = c->g;
+    B->c = c, B->ps = ps, B->batch = batch, B->lay = layout_of(ps);
+    B->nt = ps->res * ps->res;
+    const flayout* L = &B->lay;
+    vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
+    if (r) return r;
+    vx_gpu_compute_pipeline_desc fd = {.spirv = vx__probe_filter_spv_arr,
+                                       .spirv_size = sizeof vx__probe_filter_spv_arr, .binding_count = 6,
+                                       .push_constant_size = sizeof(fpush), .label = "probe filter"};
+    for (int i = 0; i < 6; i++) fd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    if ((r = vx__pipeline_get(g, 0x9B0BF1u, &fd, &B->filter, err))) return r;
+    /* texel directions and solid angles, then the irradiance and moment texel directions (double -> float) */
+    vx__tables T;
+    size_t nrow = B->nt + VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + VX_PROBE_DIST_RES * VX_PROBE_DIST_RES;
+    float* tab = vx_calloc(ps->alloc, nrow, 4 * sizeof(float));
+    bool ok = vx__tables_make(&T, ps->res, ps->alloc) && tab;
+    if (ok) {
+        for (size_t t = 0; t < B->nt; t++) {
+            for (int k = 0; k < 3; k++) tab[4 * t + k] = (float)T.dir[3 * t + k];
+            tab[4 * t + 3] = (float)T.omega[t];
+        }
+        for (size_t q = 0; q < VX_PROBE_IRR_RES * VX_PROBE_IRR_RES; q++)
+            for (int k = 0; k < 3; k++) tab[4 * (B->nt + q) + k] = (float)T.irr_dir[q][k];
+        for (size_t q = 0; q < VX_PROBE_DIST_RES * VX_PROBE_DIST_RES; q++)
+            for (int k = 0; k < 3; k++)
+                tab[4 * (B->nt + VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + q) + k] = (float)T.mom_dir[q][k];
+    }
+    vx__tables_free(&T);
+    if (!ok) {
+        vx_free(ps->alloc, tab);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the filter tables at res %u", ps->res);
+    }
+    r = upload_to(g, &B->tables, tab, nrow * 4 * sizeof(float), "probe filter tables", err);
+    vx_free(ps->alloc, tab);
+    if (r) return r;
+    VkCommandPoolCreateInfo cpi = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                   .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                   .queueFamilyIndex = g->queue_family};
+    VX__VK(vkCreateCommandPool(g->device, &cpi, NULL, &B->pool), "vkCreateCommandPool");
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4}};
+    VkDescriptorPoolCreateInfo dpi = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 4,
+                                      .poolSizeCount = 2, .pPoolSizes = sizes};
+    VX__VK(vkCreateDescriptorPool(g->device, &dpi, NULL, &B->dpool), "vkCreateDescriptorPool");
+    if (g->has_timestamps) {
+        VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+                                    .queryType = VK_QUERY_TYPE_TIMESTAMP, .queryCount = 8};
+        VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &B->queries), "vkCreateQueryPool");
+    }
+    uint64_t nt = B->nt;
+    for (int i = 0; i < 2; i++) {
+        bslot* s = &B->slot[i];
+        if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
+                                   &s->params, err)) ||
+            (r = vx__buffer_create(g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
+                                   &s->out, err)) ||
+            (r = vx__buffer_create(g, batch * nt * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bake filter texels",
+                                   &s->texl, err)) ||
+            (r = vx__buffer_create(g, (VkDeviceSize)batch * L->small * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                                   "bake filter sums", &s->small, err)) ||
+            (r = vx__buffer_create(g, (VkDeviceSize)batch * L->per * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                                   "bake maps", &s->packed, err)) ||
+            (r = vx__buffer_create(g, 16 + (VkDeviceSize)batch * L->per * 4, 0, true, "bake readback", &s->back, err)))
+            return r;
+        if (!s->params.map || !s->back.map)
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible memory for the bake's parameters and results");
+        VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                          .commandPool = B->pool, .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                          .commandBufferCount = 1};
+        VX__VK(vkAllocateCommandBuffers(g->device, &ai, &s->cmd), "vkAllocateCommandBuffers");
+        VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VX__VK(vkCreateFence(g->device, &fi, NULL, &s->fence), "vkCreateFence");
+        VkDescriptorSetLayout dsl[2] = {B->trace->dsl, B->filter->dsl};
+        VkDescriptorSet sets[2];
+        VkDescriptorSetAllocateInfo si = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                          .descriptorPool = B->dpool, .descriptorSetCount = 2, .pSetLayouts = dsl};
+        VX__VK(vkAllocateDescriptorSets(g->device, &si, sets), "vkAllocateDescriptorSets");
+        s->trace_set = sets[0], s->filter_set = sets[1];
+        vx__buffer* tb[NBIND];
+        for (int k = 0; k < 7; k++) tb[k] = c->scene[k];
+        tb[7] = &s->params, tb[8] = &c->emit, tb[9] = &c->probes, tb[10] = &s->out, tb[11] = &c->maps;
+        tb[12] = &c->lf, tb[13] = &c->mats, tb[14] = &c->lights, tb[15] = &c->ems, tb[16] = &c->env;
+        write_set(g, s->trace_set, B->trace, tb, NBIND);
+        vx__buffer* fb[6] = {&c->probes, &s->out, &B->tables, &s->texl, &s->small, &s->packed};
+        write_set(g, s->filter_set, B->filter, fb, 6);
+    }
+    return VX_OK;
+}
+
+static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags sa, VkPipelineStageFlags dst,
+                    VkAccessFlags da) {
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = sa, .dstAccessMask = da};
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+#define CS VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT
+#define XF VK_PIPELINE_STAGE_TRANSFER_BIT
+#define SW VK_ACCESS_SHADER_WRITE_BIT
+#define SR VK_ACCESS_SHADER_READ_BIT
+#define TW VK_ACCESS_TRANSFER_WRITE_BIT
+
+/* Records and submits batch s->at .. +cnt: `traces` path-tracing dispatches
+ * of `chunk` samples (0: only the filtering, after run_samples_ex finished
+ * the samples), the three filter stages and the copy of the flags and maps
+ * into host-visible memory. Does not wait. */
+static vx_result gbake_submit(gbake* B, bslot* s, uint32_t traces, vx_error* err) {
+    vx_gpu* g = B->c->g;
+    const vx_probe_set* ps = B->ps;
+    const flayout* L = &B->lay;
+    VkCommandBuffer cmd = s->cmd;
+    uint32_t qi = (uint32_t)(s - B->slot) * 4;
+    VX__VK(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VX__VK(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+    if (B->queries) {
+        vkCmdResetQueryPool(cmd, B->queries, qi, 4);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, B->queries, qi);
+    }
+    VkDeviceSize raw = 16 + (VkDeviceSize)s->cnt * B->nt * 48;
+    for (uint32_t k = 0; k < traces; k++) {
+        /* a zero state (no samples yet) before the first; fresh flags before each */
+        vkCmdFillBuffer(cmd, s->out.buf, 0, k == 0 ? raw : 16, 0);
+        barrier(cmd, XF, TW, CS, SR | SW);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->trace->pipe);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->trace->layout, 0, 1, &s->trace_set, 0, NULL);
+        vkCmdDispatch(cmd, (B->nt + 63) / 64, s->cnt, 1);
+        barrier(cmd, CS, SW, CS | XF, SR | SW | TW);
+    }
+    if (B->queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, B->queries, qi + 1);
+    double step = ps->dist_step;
+    fpush pc = {.res = ps->res, .spp = ps->spp ? ps->spp : 1, .first = s->at, .count = s->cnt, .per = L->per,
+                .low = ps->low_res, .small = L->small, .o_nrm = L->o_nrm, .o_dist = L->o_dist, .o_low = L->o_low,
+                .o_irr = L->o_irr, .o_mom = L->o_mom, .step_hi = (float)step, .dist_max = (float)ps->dist_max};
+    pc.step_lo = (float)(step - (double)pc.step_hi);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->filter->pipe);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->filter->layout, 0, 1, &s->filter_set, 0, NULL);
+    uint32_t groups[3][2] = {{(uint32_t)((L->nb / 2 + 255) / 256), s->cnt},
+                             {VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + VX_PROBE_DIST_RES * VX_PROBE_DIST_RES +
+                                  ps->low_res * ps->low_res,
+                              s->cnt},
+                             {1, s->cnt}};
+    for (uint32_t st = 0; st < 3; st++) {
+        pc.stage = st;
+        vkCmdPushConstants(cmd, B->filter->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        vkCmdDispatch(cmd, groups[st][0], groups[st][1], 1);
+        barrier(cmd, CS, SW, CS | XF, SR | VK_ACCESS_TRANSFER_READ_BIT);
+    }
+    if (B->queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, B->queries, qi + 2);
+    VkBufferCopy cp[2] = {{.size = 16}, {.dstOffset = 16, .size = (VkDeviceSize)s->cnt * L->per * 4}};
+    vkCmdCopyBuffer(cmd, s->out.buf, s->back.buf, 1, &cp[0]);
+    vkCmdCopyBuffer(cmd, s->packed.buf, s->back.buf, 1, &cp[1]);
+    barrier(cmd, XF, TW, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    if (B->queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, B->queries, qi + 3);
+    VX__VK(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    VX__VK(vkResetFences(g->device, 1, &s->fence), "vkResetFences");
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
+    VX__VK(vkQueueSubmit(g->queue, 1, &si, s->fence), "vkQueueSubmit");
+    return VX_OK;
+}
+
+static vx_result gbake_wait(gbake* B, bslot* s, vx_probe_bake_stats* st, uint64_t ts[4], vx_error* err) {
+    vx_gpu* g = B->c->g;
+    double t = vx_time_now();
+    VX__VK(vkWaitForFences(g->device, 1, &s->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
+    st->wait += vx_time_now() - t;
+    if (B->queries) {
+        VX__VK(vkGetQueryPoolResults(g->device, B->queries, (uint32_t)(s - B->slot) * 4, 4, 4 * sizeof(uint64_t), ts,
+                                     sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+               "vkGetQueryPoolResults");
+        double per = g->props.limits.timestampPeriod * 1e-9;
+        st->gpu_trace += (double)(ts[1] - ts[0]) * per;
+        st->gpu_filter += (double)(ts[2] - ts[1]) * per;
+        st->gpu_copy += (double)(ts[3] - ts[2]) * per;
+    }
+    return VX_OK;
+}
+
+/* Stores a finished batch's maps into ps (what the file stores, word-padded). */
+static void gbake_store(gbake* B, const bslot* s) {
+    vx_probe_set* ps = B->ps;
+    const flayout* L = &B->lay;
+    size_t ni = vx__bsq(VX_PROBE_IRR_RES) * 3, nm = vx__bsq(VX_PROBE_DIST_RES) * 2;
+    const uint32_t* w = (const uint32_t*)s->back.map + 4;
+    for (uint32_t i = 0; i < s->cnt; i++, w += L->per) {
+        size_t k = s->at - ps->first + i;
+        memcpy(ps->radiance + L->nb * 3 * k, w, L->nb * 3 * 2);
+        memcpy(ps->normal + L->nb * k, w + L->o_nrm, L->nb * 4);
+        memcpy(ps->distance + L->nb * k, w + L->o_dist, L->nb * 2);
+        memcpy(ps->low + L->lb * k, w + L->o_low, L->lb * 2);
+        memcpy(ps->irradiance + ni * k, w + L->o_irr, ni * 2);
+        memcpy(ps->moments + nm * k, w + L->o_mom, nm * 4);
+    }
+}
+
+/* Batches of `batch` probes through two slots: while the host stores batch
+ * i - 1, the GPU traces and filters batch i. */
+static vx_result bake_gpu_filtered(gctx* c, vx_probe_set* ps, const vx__light* L, const vx__frame* f,
+                                   uint32_t begin, uint32_t end, uint32_t batch, const vx_progress* progress,
+                                   vx_probe_bake_stats* st, vx_error* err) {
+    double t0 = vx_time_now();
+    gbake B = {0};
+    vx_result r = gbake_init(&B, c, ps, batch, err);
+    uint32_t spp = ps->spp ? ps->spp : 1, nbatch = (end - begin + batch - 1) / batch;
+    B.chunk = vx_gpu_is_cpu(c->g) ? CPU_DEVICE_CHUNK : spp;
+    uint64_t (*ts)[4] = vx_calloc(ps->alloc, nbatch, sizeof *ts);
+    if (!r && !ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    double t1 = vx_time_now();
+    st->setup += t1 - t0;
+    uint32_t submitted = 0;
+    for (uint32_t i = 0; !r && i <= nbatch; i++) {
+        if (i < nbatch) {
+            bslot* s = &B.slot[i % 2];
+            s->at = begin + i * batch;
+            s->cnt = end - s->at < batch ? end - s->at : batch;
+            gpu_params* p = s->params.map;
+            params_common(p, L, ps->seed);
+            params_path(p, c);
+            params_grid(p, ps, f->ref);
+            p->a[0] = ps->res, p->a[1] = spp, p->a[2] = ps->bounces, p->a[3] = s->at;
+            p->seed[2] = s->cnt, p->seed[3] = B.chunk < spp ? B.chunk : spp;
+            p->lf[0] = 0, p->lf[3] = 2; /* the state zeroed by a fill; loops_intact() */
+            if ((r = gbake_submit(&B, s, (spp + B.chunk - 1) / B.chunk, err))) break;
+            submitted = i + 1;
+        }
+        if (i == 0) continue;
+        bslot* s = &B.slot[(i - 1) % 2];
+        if ((r = gbake_wait(&B, s, st, ts[i - 1], err))) break;
+        const float* flags = s->back.map;
+        if (flags[1] != 0) {
+            /* samples left (llvmpipe's loop guard fired): finish them with
+             * smaller chunks, then filter again (the results do not depend on
+             * the split; checked by recording too few dispatches on purpose:
+             * the same bytes). The batch's timestamps then cover the second
+             * filtering only. */
+            vkQueueWaitIdle(c->g->queue); /* batch i, if any, done: it keeps its own flags */
+            vx__buffer keep_out = c->out, keep_params = c->params;
+            c->out = s->out, c->params = s->params;
+            double sec = 0;
+            r = run_samples_ex(c, PMODE_BAKE, (B.nt + 63) / 64, s->cnt, spp, &B.chunk, true, &sec, err);
+            c->out = keep_out, c->params = keep_params;
+            st->gpu_trace += sec;
+            if (r || (r = gbake_submit(&B, s, 0, err)) || (r = gbake_wait(&B, s, st, ts[i - 1], err))) break;
+        }
+        double td = vx_time_now();
+        gbake_store(&B, s);
+        st->download += vx_time_now() - td;
+        st->bytes_down += 16 + (uint64_t)s->cnt * B.lay.per * 4;
+        st->batches++;
+        if (!vx_progress_report(progress, "bake", s->at + s->cnt - begin, end - begin)) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
+            break;
+        }
+    }
+    /* nothing of ours may still run when the buffers go */
+    if (r && submitted) vkQueueWaitIdle(c->g->queue);
+    st->loop += vx_time_now() - t1;
+    /* busy: the union of the batches' GPU intervals over the loop's wall time */
+    if (!r && B.queries && st->loop > 0) {
+        double busy = 0, per = c->g->props.limits.timestampPeriod * 1e-9;
+        uint64_t last = 0;
+        for (uint32_t i = 0; i < nbatch; i++) {
+            uint64_t a = ts[i][0] > last ? ts[i][0] : last;
+            if (ts[i][3] > a) busy += (double)(ts[i][3] - a) * per;
+            if (ts[i][3] > last) last = ts[i][3];
+        }
+        st->busy = busy / st->loop;
+    }
+    vx_free(ps->alloc, ts);
+    gbake_free(&B);
+    return r;
+}
+
+/* Probes per batch: about 2^seg_log2 path segments and at most `cap` bytes of trace output. */
+static uint32_t batch_of(const vx_probe_set* ps, uint32_t seg_log2, uint64_t cap, uint32_t want, uint32_t n) {
+    uint64_t nt = (uint64_t)ps->res * ps->res;
+    uint64_t per_probe = nt * ps->spp * (ps->bounces + 1);
+    uint64_t batch = want ? want : (UINT64_C(1) << seg_log2) / (per_probe ? per_probe : 1);
+    uint64_t most = cap / (nt * 48);
+    if (batch > most) batch = most;
+    if (batch < 1) batch = 1;
+    if (batch > n) batch = n;
+    return (uint32_t)batch;
+}
+
 vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                                  vx_probe_set* ps, uint32_t end, vx_error* err) {
     if (!rs || !scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -353,6 +731,8 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     if (end > ps->probe_count || end < begin)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
     if (end == begin) return VX_OK;
+    vx_probe_bake_stats st = {0};
+    double t0 = vx_time_now();
     vx__light L;
     vx_result r = vx__light_init(&L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false, err);
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
@@ -369,24 +749,37 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     gctx c;
     vx__tables T = {0};
     float* raw = NULL;
-    if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
+    vx__pipeline* pipe;
+    if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err)) || (r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
+    if (!vx__probe_grow(ps, end - ps->first)) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+        goto done;
+    }
+    if ((r = vx__buffer_create(c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &c.maps, err)))
+        goto done;
     uint64_t nt = (uint64_t)ps->res * ps->res;
+    if (!d.host_filter) {
+        /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
+         * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
+         * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, end - begin);
+        st.setup = vx_time_now() - t0;
+        if ((r = bake_gpu_filtered(&c, ps, &L, &f, begin, end, batch, &d.progress, &st, err))) goto done;
+        ps->count = end - ps->first;
+        if (d.stats) *d.stats = st;
+        goto done;
+    }
     /* a batch: about 2^26 path segments and at most 384 MiB of output (48 bytes a texel) */
-    uint64_t per_probe = nt * ps->spp * (ps->bounces + 1);
-    uint64_t batch = (UINT64_C(1) << 26) / (per_probe ? per_probe : 1);
-    uint64_t cap = (UINT64_C(3) << 27) / (nt * 48);
-    if (batch > cap) batch = cap;
-    if (batch < 1) batch = 1;
-    if (batch > end - begin) batch = end - begin;
-    if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first) ||
-        !(raw = vx_alloc(ps->alloc, (size_t)(16 + batch * nt * 48)))) {
+    uint32_t batch = batch_of(ps, 26, UINT64_C(3) << 27, d.batch, end - begin);
+    if (!vx__tables_make(&T, ps->res, ps->alloc) || !(raw = vx_alloc(ps->alloc, (size_t)(16 + batch * nt * 48)))) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
     }
     if ((r = vx__buffer_create(c.g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
-                               &c.out, err)) ||
-        (r = vx__buffer_create(c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &c.maps, err)))
+                               &c.out, err)))
         goto done;
+    double t1 = vx_time_now();
+    st.setup = t1 - t0;
     for (uint32_t at = begin; at < end;) {
         uint32_t cnt = (uint32_t)(end - at < batch ? end - at : batch);
         gpu_params* p = c.params.map;
@@ -395,13 +788,20 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         params_grid(p, ps, f.ref);
         p->a[0] = ps->res, p->a[1] = ps->spp, p->a[2] = ps->bounces, p->a[3] = at;
         p->seed[2] = cnt;
-        if ((r = run_samples(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, ps->spp ? ps->spp : 1, NULL, err)))
+        double sec = 0;
+        if ((r = run_samples(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, ps->spp ? ps->spp : 1, &sec, err)))
             goto done;
+        st.gpu_trace += sec;
+        double ta = vx_time_now();
         if ((r = vx__buffer_download(c.g, &c.out, raw, 16 + (VkDeviceSize)cnt * nt * 48, err))) goto done;
+        double tb = vx_time_now();
         if (!finish_batch(ps, &T, raw + 4, at - ps->first, cnt, d.threads)) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
             goto done;
         }
+        st.download += tb - ta, st.host_filter += vx_time_now() - tb;
+        st.bytes_down += 16 + (uint64_t)cnt * nt * 48;
+        st.batches++;
         at += cnt;
         if (!vx_progress_report(&d.progress, "bake", at - begin, end - begin)) {
             r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
@@ -409,6 +809,9 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         }
     }
     ps->count = end - ps->first;
+    st.loop = vx_time_now() - t1;
+    st.busy = st.loop > 0 ? (st.gpu_trace + st.gpu_filter + st.gpu_copy) / st.loop : 0;
+    if (d.stats) *d.stats = st;
 done:
     vx_free(ps->alloc, raw);
     vx__tables_free(&T);
@@ -421,13 +824,16 @@ vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, cons
                             vx_probe_set* out, vx_error* err) {
     if (!rs || !scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_probe_set ps;
+    double t0 = vx_time_now();
     vx_result r = vx_probe_place(scene, desc, &ps, err);
     if (r) return r;
+    double placed = vx_time_now() - t0;
     uint32_t end = desc && desc->count ? desc->first + desc->count : ps.probe_count;
     if ((r = vx_probe_bake_more_gpu(rs, scene, desc, &ps, end, err))) {
         vx_probe_set_free(&ps);
         return r;
     }
+    if (desc && desc->stats) desc->stats->place = placed;
     *out = ps;
     return VX_OK;
 }

@@ -6,7 +6,7 @@
  *
  * Usage:
  *   vx_probe_set ps; vx_probe_bake(&scene, &(vx_probe_bake_desc){ .res = 32 }, &ps, &err);
- *   vx_probe_write_file(&ps, "out.probes", &err);  ...  vx_probe_set_free(&ps);
+ *   vx_probe_write_file(NULL, &ps, "out.probes", &err);  ...  vx_probe_set_free(&ps);
  *   vx_probe_read_file(NULL, "out.probes", &ps, &err);
  *   vx_probe_render(&scene, &ps, &(vx_probe_render_desc){ .mode = VX_PROBE_RENDER_GI }, &img, &err);
  *
@@ -142,6 +142,24 @@ void vx_probe_set_free(vx_probe_set* ps);
 
 /* ---- baking ------------------------------------------------------------------------- */
 
+/* Where a GPU bake's time went (vx_probe_bake_desc.stats; seconds). GPU
+ * times come from timestamps; busy is the share of the batch loop's wall time
+ * in which the GPU ran the bake's work (trace, filtering, copies). */
+typedef struct vx_probe_bake_stats {
+    double place;       /* placing the probes (vx_probe_bake_gpu only; wall) */
+    double setup;       /* tables, buffers, uploads and pipelines before the first batch (wall) */
+    double loop;        /* the batch loop, first submission to the last probe stored (wall) */
+    double gpu_trace;   /* path tracing, all batches (GPU) */
+    double gpu_filter;  /* filtering, quantisation and packing on the GPU (GPU) */
+    double gpu_copy;    /* copies of results into host-visible memory (GPU) */
+    double wait;        /* the host waiting for the GPU (wall) */
+    double download;    /* copying results out of GPU memory (wall; staging copies included) */
+    double host_filter; /* filtering or unpacking on the host (wall) */
+    double busy;        /* (gpu_trace + gpu_filter + gpu_copy) / loop */
+    uint64_t bytes_down; /* bytes read back from the GPU */
+    uint32_t batches;
+} vx_probe_bake_stats;
+
 /* Bake options; zero-initialised means the defaults.
  *  grid:       probes per axis, at the cell centres of that grid over the
  *              bounds; all zero == from spacing
@@ -160,7 +178,13 @@ void vx_probe_set_free(vx_probe_set* ps);
  *  first, count: bake only probes first .. first+count-1 (count 0 == all
  *              from first); the set still describes the whole grid
  *  threads:    0 == 1
- *  progress:   called per finished probe */
+ *  progress:   called per finished probe
+ *  batch:      GPU bake only: probes per batch, 0 == about 2^28 path
+ *              segments (2^26 with host_filter); the bytes do not depend on it
+ *  host_filter: GPU bake only: filter each batch's radiance and distances
+ *              on `threads` host threads (vx__probe_finish, the CPU bake's
+ *              code: the reference) instead of on the GPU
+ *  stats:      GPU bake only: optional out, where the time went */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -179,6 +203,9 @@ typedef struct vx_probe_bake_desc {
     uint32_t threads;
     const vx_allocator* alloc;
     vx_progress progress;
+    uint32_t batch;
+    bool host_filter;
+    vx_probe_bake_stats* stats;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;
@@ -199,7 +226,9 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
                              uint32_t end, vx_error* err);
 
 /* The same bake with the path tracing on the GPU (render/shaders/probe.comp,
- * float traversal; the filtering runs on desc->threads host threads). rs must
+ * float traversal) and the filtering too (desc->host_filter: on
+ * desc->threads host threads; both give the same maps up to float rounding
+ * of the sums: tests/probes/test_probes_gpu.c). rs must
  * be vx_render_scene_create(gpu, scene). Same seed, same bytes on one device
  * and driver; results do not depend on the batch size or sharding. The GPU
  * draws its own random numbers (pcg4d streams keyed by seed, probe, texel and
@@ -226,7 +255,9 @@ typedef struct vx_probe_read_desc {
 /* Serialises (docs/FORMAT.md, "## .probes"); *out freed with vx_free(alloc, ...). */
 vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint8_t** out, size_t* out_size,
                          vx_error* err);
-vx_result vx_probe_write_file(const vx_probe_set* ps, const char* path, vx_error* err);
+/* The same through a temporary file renamed over path; desc may be NULL
+ * (svo/core.h). */
+vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps, const char* path, vx_error* err);
 /* Bounded reader: every length and CRC checked; errors name the byte offset. */
 vx_result vx_probe_read(const vx_probe_read_desc* desc, const void* data, size_t size, vx_probe_set* out,
                         vx_error* err);

@@ -308,7 +308,7 @@ static PyObject* scene_save(Scene* self, PyObject* args) {
     vx_error err = {0};
     vx_result r;
     Py_BEGIN_ALLOW_THREADS
-    r = vx_svo_write_file(&self->s, path, &err);
+    r = vx_svo_write_file(NULL, &self->s, path, &err);
     Py_END_ALLOW_THREADS
     PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
     Py_DECREF(pathobj);
@@ -323,7 +323,7 @@ static PyObject* scene_to_vox(Scene* self, PyObject* args) {
     vx_vox_scene v;
     vx_result r = vx_conv_svo_to_vox(&self->s, NULL, &v, &err);
     if (r == VX_OK) {
-        r = vx_vox_write_file(&v, path, &err);
+        r = vx_vox_write_file(NULL, &v, path, &err);
         vx_vox_scene_free(&v);
     }
     PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
@@ -563,7 +563,7 @@ static PyObject* py_convert(PyObject* mod, PyObject* args, PyObject* kw) {
         vx_error err = {0};
         vx_result r;
         Py_BEGIN_ALLOW_THREADS
-        r = vx_svo_write_file(&s->s, path, &err);
+        r = vx_svo_write_file(NULL, &s->s, path, &err);
         Py_END_ALLOW_THREADS
         if (r == VX_OK) out = (PyObject*)s;
         else {

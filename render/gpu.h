@@ -162,5 +162,16 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
  * without a range ends (vx_frame_desc.light_cutoff, resolved). For passes
  * that call light_eval (cones/). */
 void vx__light_pack(const vx_light* l, const double ref[3], double cutoff, float out[24]);
+/* A sky for render/shaders/sky.glsl (sky_eval's four vec4, in order zen,
+ * hor, gnd, map): VX_SKY_DEFAULT or sky NULL: the uniform radiance
+ * `uniform`; constant, gradient and map as vx_sky_radiance (a map without
+ * texels is black, as there). Shared by the path tracer (probes/) and the
+ * pass pipeline, so both read one packing. */
+void vx__sky_pack(const vx_sky* sky, const vx_sky_texels* map, const double uniform[3], float out[16]);
+/* The pass shaders' sky buffer (passes_common.glsl binding "Sky"): the
+ * packing above, the table of the sky's irradiance E(n) / pi over normals
+ * (render/pipeline.c), the map's texels; b is grown as needed. */
+vx_result vx__sky_buffer(vx_gpu* g, const vx_sky* sky, const vx_sky_texels* map, const double uniform[3], vx__buffer* b,
+                         vx_error* err);
 
 #endif

@@ -133,9 +133,9 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out) {
 
 /* ---- the renderer -------------------------------------------------------------------- */
 
-enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_COUNT };
-#define NBIND 19
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 19 bindings");
+enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_SKY, B_COUNT };
+#define NBIND 20
+_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 20 bindings");
 
 /* The light grid (render/pipeline.h, shaders/passes_common.glsl). */
 enum { CLUSTER_TILE = 32, CLUSTER_SLICES = 32, TILED_TILE = 16 /* = cull.comp's depth step: 256 pixels a tile */ };
@@ -180,6 +180,7 @@ static void pack_light(const vx_light* l, const double ref[3], double cutoff, gp
     double ci = cos(l->inner_cone), co = cos(l->outer_cone);
     double scale = 1.0 / fmax(0.001, ci - co);
     o->d[0] = (float)scale, o->d[1] = (float)(-co * scale);
+    o->d[2] = (l->flags & VX_LIGHT_FROM_VOXELS) ? 1.f : 0.f; /* emissive surfaces inside it are its own voxels */
     if (l->type == VX_LIGHT_RECT) { /* edges: the tangent made orthogonal to the normal, then n x t */
         double t[3], tn = dot3(l->tangent, n), tl, v[3];
         for (int k = 0; k < 3; k++) t[k] = l->tangent[k] - tn * n[k];
@@ -198,6 +199,103 @@ void vx__light_pack(const vx_light* l, const double ref[3], double cutoff, float
     _Static_assert(sizeof g == 24 * sizeof(float), "gpu_light is 24 floats");
     pack_light(l, ref, cutoff, &g);
     memcpy(out, &g, sizeof g);
+}
+
+void vx__sky_pack(const vx_sky* k, const vx_sky_texels* map, const double uniform[3], float out[16]) {
+    memset(out, 0, 16 * sizeof *out);
+    vx_sky_type t = k ? k->type : VX_SKY_DEFAULT;
+    bool texels = map && map->rgb && map->width && map->height;
+    for (int i = 0; i < 3; i++) {
+        out[i] = (float)(t == VX_SKY_DEFAULT ? uniform[i] : t == VX_SKY_ENVMAP ? 0 : k->color[i]);
+        out[4 + i] = t == VX_SKY_GRADIENT ? (float)k->horizon[i] : 0.f;
+        out[8 + i] = t == VX_SKY_GRADIENT ? (float)k->ground[i] : 0.f;
+    }
+    out[7] = t == VX_SKY_GRADIENT ? 1.f : t == VX_SKY_ENVMAP && texels ? 2.f : 0.f;
+    if (t == VX_SKY_ENVMAP && texels) {
+        out[11] = (float)k->intensity;
+        out[12] = (float)k->rotation, out[13] = (float)map->width, out[14] = (float)map->height;
+    }
+}
+
+/* The sky's light on a surface for the frame's sky term: E(n) / pi (the
+ * radiance a white diffuse surface of normal n reflects, unoccluded) on a
+ * grid of normals, SKY_IRR_W azimuths times SKY_IRR_H polar angles from +z
+ * to -z (poles included), read bilinearly by passes_common.glsl. The sky is
+ * integrated over a grid of at most SKY_GRID_W x SKY_GRID_H cells of equal
+ * azimuth and polar steps (a map's texels averaged into them, weighted by
+ * solid angle), each cell at its centre's cosine. */
+enum { SKY_IRR_W = 32, SKY_IRR_H = 17, SKY_GRID_W = 128, SKY_GRID_H = 64 };
+#define SKY_ENV_AT (16 + 3 * SKY_IRR_W * SKY_IRR_H) /* floats before the map's texels (passes_common.glsl) */
+
+static vx_result sky_table(const vx_gpu* g, const vx_sky* k, const vx_sky_texels* map, const double uniform[3],
+                           float* out, vx_error* err) {
+    static const double pi = 3.14159265358979323846;
+    vx_sky_type t = k ? k->type : VX_SKY_DEFAULT;
+    bool is_map = t == VX_SKY_ENVMAP && map && map->rgb && map->width && map->height;
+    uint32_t gw = is_map && map->width < SKY_GRID_W ? map->width : SKY_GRID_W;
+    uint32_t gh = is_map && map->height < SKY_GRID_H ? map->height : SKY_GRID_H;
+    double* L = vx_calloc(&g->alloc, (size_t)gw * gh, 4 * sizeof(double)); /* rgb, weight */
+    if (!L) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the sky's irradiance table");
+    double rot = is_map ? k->rotation : 0;
+    if (is_map) {
+        for (uint32_t y = 0; y < map->height; y++) {
+            double w = sin((y + 0.5) * pi / map->height); /* a texel's solid angle, up to a constant */
+            for (uint32_t x = 0; x < map->width; x++) {
+                double* c = L + 4 * ((size_t)(y * (uint64_t)gh / map->height) * gw + x * (uint64_t)gw / map->width);
+                const float* p = map->rgb + 3 * ((size_t)y * map->width + x);
+                for (int i = 0; i < 3; i++) c[i] += w * p[i] * k->intensity;
+                c[3] += w;
+            }
+        }
+        for (size_t c = 0; c < (size_t)gw * gh; c++)
+            for (int i = 0; i < 3; i++) L[4 * c + i] = L[4 * c + 3] > 0 ? L[4 * c + i] / L[4 * c + 3] : 0;
+    } else {
+        for (uint32_t y = 0; y < gh; y++)
+            for (uint32_t x = 0; x < gw; x++) {
+                double th = (y + 0.5) * pi / gh, ph = (x + 0.5) * 2 * pi / gw, v[3];
+                double d[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)};
+                if (t == VX_SKY_DEFAULT) memcpy(v, uniform, sizeof v);
+                else vx_sky_radiance(k, map, d, v);
+                memcpy(L + 4 * ((size_t)y * gw + x), v, sizeof v);
+            }
+    }
+    /* divided by the grid's own integral of the clamped cosine (pi up to
+     * the quadrature's error), so that a constant sky gives its radiance */
+    for (uint32_t ny = 0; ny < SKY_IRR_H; ny++)
+        for (uint32_t nx = 0; nx < SKY_IRR_W; nx++) {
+            double nth = ny * pi / (SKY_IRR_H - 1), nph = nx * 2 * pi / SKY_IRR_W;
+            double n[3] = {sin(nth) * cos(nph), sin(nth) * sin(nph), cos(nth)}, e[3] = {0, 0, 0}, kern = 0;
+            for (uint32_t y = 0; y < gh; y++) {
+                double th0 = y * pi / gh, th1 = (y + 1) * pi / gh, th = (y + 0.5) * pi / gh;
+                double omega = (cos(th0) - cos(th1)) * 2 * pi / gw;
+                for (uint32_t x = 0; x < gw; x++) {
+                    double ph = rot + (x + 0.5) * 2 * pi / gw;
+                    double c = n[0] * sin(th) * cos(ph) + n[1] * sin(th) * sin(ph) + n[2] * cos(th);
+                    if (c <= 0) continue;
+                    const double* l = L + 4 * ((size_t)y * gw + x);
+                    for (int i = 0; i < 3; i++) e[i] += l[i] * c * omega;
+                    kern += c * omega;
+                }
+            }
+            for (int i = 0; i < 3; i++) out[3 * (ny * SKY_IRR_W + nx) + i] = (float)(kern > 0 ? e[i] / kern : 0);
+        }
+    vx_free(&g->alloc, L);
+    return VX_OK;
+}
+
+vx_result vx__sky_buffer(vx_gpu* g, const vx_sky* k, const vx_sky_texels* map, const double uniform[3], vx__buffer* b,
+                         vx_error* err) {
+    bool texels = k && k->type == VX_SKY_ENVMAP && map && map->rgb;
+    size_t ntex = texels ? (size_t)map->width * map->height * 3 : 0, nf = SKY_ENV_AT + (ntex ? ntex : 1);
+    float* buf = vx_calloc(&g->alloc, nf, sizeof(float));
+    if (!buf) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the sky (%zu floats)", nf);
+    vx__sky_pack(k, texels ? map : NULL, uniform, buf);
+    vx_result r = sky_table(g, k, texels ? map : NULL, uniform, buf + 16, err);
+    if (!r && ntex) memcpy(buf + SKY_ENV_AT, map->rgb, ntex * sizeof(float));
+    if (!r) r = vx__buffer_ensure(g, b, nf * sizeof(float), "sky", err);
+    if (!r) r = vx__buffer_upload(g, b, buf, nf * sizeof(float), err);
+    vx_free(&g->alloc, buf);
+    return r;
 }
 
 typedef struct push_block {
@@ -220,8 +318,13 @@ struct vx_frame_renderer {
     double max_cell; /* largest world cell over the drawn instances */
     vx__buffer b[B_COUNT];
     size_t cap_px;         /* pixels the image buffers hold */
+    float* scene_emit;     /* emission per attribute record from the scene's materials (lights without gi) */
+    size_t scene_emit_count;
     size_t emit_count;     /* records in b[B_EMIT] */
     const float* emit_src; /* what b[B_EMIT] was filled from */
+    bool sky_valid;        /* b[B_SKY] holds sky_key's sky (sky.glsl's parameters, the table, the texels) */
+    vx_sky sky_key;
+    vx_sky_texels sky_map_key;
     VkQueryPool qp;
     uint32_t qcap;
     uint32_t lidx_cap; /* light list entries b[B_LIDX] holds */
@@ -244,12 +347,45 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
             if (n > fr->max_cell) fr->max_cell = n;
         }
     }
+    vx_result r = vx_frame_renderer_update_scene(fr, scene, err);
+    if (r) {
+        vx_frame_renderer_destroy(fr);
+        return r;
+    }
     *out = fr;
     return VX_OK;
 }
 
+/* The emission of each attribute record (the order of the scene's colour
+ * buffer), as the gi methods give it: the radiometric model without a gi
+ * pass shows it, and the direct pass knows emissive surfaces by it. */
+vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err) {
+    if (!fr || !scene) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_gpu* g = fr->g;
+    uint8_t* pal = NULL;
+    size_t n = 0;
+    float* e = NULL;
+    vx_result r = vx__scene_attr_palette(scene, &g->alloc, &pal, &n, err);
+    if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
+    if (!r) {
+        float by_id[256] = {0};
+        for (uint32_t i = 0; i < scene->material_count; i++) {
+            uint32_t id = scene->materials[i].id;
+            if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
+        }
+        for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
+        vx_free(&g->alloc, fr->scene_emit);
+        fr->scene_emit = e, fr->scene_emit_count = n;
+        fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
+    }
+    vx_free(&g->alloc, pal);
+    return r;
+}
+
 void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
     if (!fr) return;
+    vx_free(&fr->g->alloc, fr->scene_emit);
     for (int i = 0; i < B_COUNT; i++) vx__buffer_destroy(fr->g, &fr->b[i]);
     if (fr->qp) vkDestroyQueryPool(fr->g->device, fr->qp, NULL);
     vx_allocator a = fr->g->alloc;
@@ -461,7 +597,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (shadows > nl) shadows = nl; /* no more slots than lights */
     bool phys = has_gi || nl > 0;
     bool sky = nl > 0 && !has_gi; /* the radiometric model without gi: the sky times ao (a gi pass brings the sky) */
-    bool emit = has_gi && any_emission(gm->emit_attr, gm->emit_count);
+    /* emission: the gi method's records, or without gi the scene's (the
+     * radiometric model only: the colour model has none) */
+    const float* emit_tab = has_gi ? gm->emit_attr : fr->scene_emit;
+    size_t emit_n = has_gi ? gm->emit_count : fr->scene_emit_count;
+    bool emit = phys && any_emission(emit_tab, emit_n);
     size_t npx = (size_t)f.width * f.height;
     VkDeviceSize px = (VkDeviceSize)npx;
     /* image buffers; absent passes get a 16-byte placeholder */
@@ -488,14 +628,37 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if ((r = ensure(fr, B_CULL, culled ? (4 + cells * (tiled ? 4 : 2)) * 4 : 16, "light grid", err)) ||
         (!culled && (r = ensure(fr, B_LIDX, 16, "light lists", err))))
         return r;
-    if (emit && (fr->emit_src != gm->emit_attr || fr->emit_count != gm->emit_count)) {
+    if (emit && (fr->emit_src != emit_tab || fr->emit_count != emit_n)) {
         vx__buffer_destroy(g, &fr->b[B_EMIT]);
-        if ((r = vx__buffer_create(g, gm->emit_count * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
+        fr->emit_src = NULL, fr->emit_count = 0;
+        if ((r = vx__buffer_create(g, emit_n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
                                    &fr->b[B_EMIT], err)) ||
-            (r = vx__buffer_upload(g, &fr->b[B_EMIT], gm->emit_attr, gm->emit_count * 4, err)))
+            (r = vx__buffer_upload(g, &fr->b[B_EMIT], emit_tab, emit_n * 4, err)))
             return r;
-        fr->emit_src = gm->emit_attr, fr->emit_count = gm->emit_count;
+        fr->emit_src = emit_tab, fr->emit_count = emit_n;
     } else if (!fr->b[B_EMIT].buf && (r = ensure(fr, B_EMIT, 16, "emission", err))) {
+        return r;
+    }
+    /* the sky by direction (background, the sky term): the gi method's, else
+     * the frame's; a constant one is the uniform radiance of the push constants */
+    const vx_sky* sk = has_gi ? gm->sky_dir : desc->sky_dir;
+    const vx_sky_texels* sm = has_gi ? gm->sky_map : desc->sky_map;
+    double sky_uniform[3];
+    for (int k = 0; k < 3; k++) sky_uniform[k] = has_gi ? gm->sky[k] : desc->sky[k];
+    if (sk && sk->type == VX_SKY_CONSTANT) memcpy(sky_uniform, sk->color, sizeof sky_uniform);
+    bool sky_dir = phys && sk && (sk->type == VX_SKY_GRADIENT || sk->type == VX_SKY_ENVMAP);
+    if (sk && (r = vx_sky_validate(sk, err))) return r;
+    if (sky_dir && sk->type == VX_SKY_ENVMAP &&
+        (!sm || !sm->rgb || !sm->width || !sm->height || sm->width > 65536 || sm->height > 65536))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: the environment map '%s' has no texels", sk->path);
+    if (sky_dir) {
+        vx_sky_texels mk = sk->type == VX_SKY_ENVMAP ? *sm : (vx_sky_texels){0};
+        if (!fr->sky_valid || memcmp(&fr->sky_key, sk, sizeof *sk) || memcmp(&fr->sky_map_key, &mk, sizeof mk)) {
+            fr->sky_valid = false;
+            if ((r = vx__sky_buffer(g, sk, &mk, sky_uniform, &fr->b[B_SKY], err))) return r;
+            fr->sky_key = *sk, fr->sky_map_key = mk, fr->sky_valid = true;
+        }
+    } else if (!fr->b[B_SKY].buf && (r = ensure(fr, B_SKY, 16, "sky", err))) {
         return r;
     }
     vx__buffer* scene_bufs[7];
@@ -544,7 +707,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     bool run_aa = has_aa && final, run_tm = has_tm && final;
     merge = merge && !tiled; /* tiled culling reads the G-buffer's depths before the direct pass */
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
-                          shadows << 2;
+                          shadows << 2 | (emit ? 1u << 8 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
     /* twice: the cache evicts its oldest pipeline when full, which would move
      * one fetched earlier in the first round; the second finds all in place */
@@ -563,7 +726,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         if (merge) {
             uint32_t ms[8];
             memcpy(ms, spec, sizeof ms);
-            ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
+            ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
             ms[6] = has_dof && !f.ortho;
             ms[7] = light_spec;
             if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
@@ -598,9 +761,10 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     pc.f0[3] = (float)exp2(desc->exposure);
     pc.f1[3] = (float)(desc->edge_threshold > 0 ? desc->edge_threshold : 0.1);
     if (has_gi)
-        for (int k = 0; k < 3; k++) pc.f1[k] = (float)gm->sun[k], pc.f2[k] = (float)gm->sky[k];
+        for (int k = 0; k < 3; k++) pc.f1[k] = (float)gm->sun[k], pc.f2[k] = (float)sky_uniform[k];
     else if (sky)
-        for (int k = 0; k < 3; k++) pc.f2[k] = (float)desc->sky[k]; /* no sun: the lights are explicit */
+        for (int k = 0; k < 3; k++) pc.f2[k] = (float)sky_uniform[k]; /* no sun: the lights are explicit */
+    pc.f2[3] = sky_dir ? 1.f : 0.f; /* the sky by direction from b[B_SKY] */
     pc.u1[2] = nl, pc.u1[3] = ndir;
     if (culled) {
         /* depth slices over the view depths of the scene box (from the eye
@@ -653,7 +817,8 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
             vx__buffer* all[NBIND] = {scene_bufs[0], scene_bufs[1], scene_bufs[2], scene_bufs[3], scene_bufs[4],
                                       scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
                                       &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
-                                      &fr->b[B_OUT2], &fr->b[B_LIGHTS], &fr->b[B_CULL], &fr->b[B_LIDX]};
+                                      &fr->b[B_OUT2], &fr->b[B_LIGHTS], &fr->b[B_CULL], &fr->b[B_LIDX],
+                                      &fr->b[B_SKY]};
             VkDescriptorBufferInfo infos[NBIND];
             VkWriteDescriptorSet w[NBIND];
             for (uint32_t i = 0; i < NBIND; i++) {

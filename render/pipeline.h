@@ -31,8 +31,9 @@
  * method's radiometric light is used (a sun of irradiance `sun`, a sky of
  * radiance `sky`, emissive attribute records): colour = emission +
  * albedo / pi * sun * n.l * visibility + gi * ao. With lights (and no gi
- * pass) the radiometric model too: colour = albedo / pi * sum of the
- * lights' irradiance + albedo * sky * ao.
+ * pass) the radiometric model too: colour = emission + albedo / pi * sum of
+ * the lights' irradiance + albedo * sky * ao (emission from the scene's
+ * materials, per attribute record, as the gi methods take it).
  *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,
@@ -134,6 +135,11 @@ typedef struct vx_gi_method {
      * a gi pass must give these, the same array and count) */
     const vx_light* lights;
     uint32_t light_count;
+    /* the sky by direction the method's light includes (NULL: the uniform
+     * `sky`): the frame's background then shows it (gi=pathtrace takes
+     * vx_probe_render_desc.sky and sky_map; borrowed, as long as the method) */
+    const vx_sky* sky_dir;
+    const vx_sky_texels* sky_map;
 } vx_gi_method;
 
 /* Lights (vx_light, vx_light_validate) are scene data: svo/svo.h.
@@ -161,6 +167,15 @@ typedef struct vx_gi_method {
  * pass, so never merged); or brute force, every light at every pixel. Each
  * light is inserted into the cells its window sphere touches; the shading
  * is the same for every method (equal up to the order of the sums).
+ *
+ * Lights that stand for emissive voxels (VX_LIGHT_FROM_VOXELS, spheres
+ * around a cluster's cells) add nothing to an emissive surface inside their
+ * sphere: that surface is one of the voxels the light stands for (or of the
+ * next cluster of the same lamp) and shows its own emission; the path
+ * tracer, which samples the voxels themselves, gives such a face no light
+ * from its lamp (its neighbours lie in its plane or behind it). Lit by its
+ * own sphere (pi times the sphere's radiance inside it) a lamp showed 1.5x
+ * the path tracer's radiance (tests/probes/test_pathtrace.c).
  *
  * Shadows: the shadow_lights strongest lights of each pixel (by unshadowed
  * irradiance, directional ones included) get one ray-traced shadow ray per
@@ -203,10 +218,23 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out);
  *  seed:        random streams of ao and dof
  *  lights:      light_count lights for the direct pass; with any, the frame
  *               uses the radiometric model (the colour model's sun and
- *               ambient are not added): colour = albedo / pi * irradiance +
- *               albedo * sky * ao, sky radiance `sky` (also the background).
+ *               ambient are not added): colour = emission + albedo / pi *
+ *               irradiance + albedo * sky * ao, sky radiance `sky` (also the
+ *               background).
  *               With a gi pass only the lights the method was made with
  *               (vx_gi_method.lights: gi=pathtrace takes them).
+ *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's
+ *               sky; borrowed): NULL or VX_SKY_DEFAULT: the uniform `sky`;
+ *               constant: its colour replaces `sky`; gradient or environment
+ *               map (texels in sky_map, which the caller reads: vx_sky_path,
+ *               vx_image_read): in the radiometric model (with lights or a
+ *               gi pass) the background is vx_sky_radiance of each primary
+ *               ray's direction (render/shaders/sky.glsl, the path tracer's
+ *               code) and the sky term albedo * E(n) / pi * ao, E the sky's
+ *               irradiance on a surface of normal n, unoccluded (a table of
+ *               32 x 17 normals read bilinearly, integrated over the sky on
+ *               the CPU when the sky changes). With a gi pass the method's
+ *               sky (vx_gi_method.sky_dir) replaces these.
  *  light_culling: how the direct pass finds each pixel's lights (above)
  *  shadow_lights: lights per pixel with a shadow ray, the strongest; 0:
  *               VX_SHADOW_LIGHTS_DEFAULT, -1: none, at most VX_SHADOW_LIGHTS_MAX
@@ -234,6 +262,8 @@ typedef struct vx_frame_desc {
     const vx_light* lights;
     uint32_t light_count;
     double sky[3];
+    const vx_sky* sky_dir;
+    const vx_sky_texels* sky_map;
     vx_light_culling light_culling;
     int32_t shadow_lights;
     double light_cutoff;
@@ -268,6 +298,10 @@ typedef struct vx_frame_renderer vx_frame_renderer;
 vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
                                    vx_error* err);
 void vx_frame_renderer_destroy(vx_frame_renderer* fr);
+/* After the scene's attribute records changed (vx_render_scene_update_model
+ * appended some, or the materials changed): the emission per record the
+ * radiometric model and the direct pass read, taken from `scene` again. */
+vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err);
 /* Renders one frame; out->image is freed with vx_render_image_free. */
 vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err);
 

@@ -37,7 +37,7 @@ if(VX_WITH_VULKAN)
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})

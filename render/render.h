@@ -36,7 +36,8 @@
  *  - This header does not include vulkan.h; a host application may pass
  *    its own VkInstance/VkPhysicalDevice/VkDevice/VkQueue as const void*.
  *  - The scene is borrowed only during vx_render_scene_create (everything
- *    is copied to GPU buffers and to host-side tables).
+ *    is copied to GPU buffers and to host-side tables) and the updates
+ *    (vx_render_scene_set_frame, vx_render_scene_update_model).
  */
 #ifndef VX_RENDER_H
 #define VX_RENDER_H
@@ -242,6 +243,33 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_rend
  * upload). Waits for the device to be idle first. */
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t frame, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
+/* Model `model` of `scene` (the scene rs was made from, the same model
+ * count) changed in place by a vx_svo_editor (svo/edit.h), or an older or
+ * newer header of such a model was restored (undo, redo): only what changed
+ * goes to the GPU, not the model.
+ *  - Node words [words_from, node_count) and attribute records
+ *    [records_from, attr_count) are uploaded: an apply's
+ *    vx_svo_edit_stats.words_from / records_from; a restored header gives
+ *    UINT32_MAX (an editor never rewrites a word, so what rs holds stays
+ *    valid). Words rs never received (a scene made while the model held
+ *    fewer) are uploaded whatever words_from says.
+ *  - The models share one buffer of node words and one of colours, made
+ *    with headroom (1/16 plus 64 Ki entries); a model's appends go after
+ *    its words when its region is the last one, else the region moves
+ *    there first (a copy on the GPU, no upload); a buffer that has no room
+ *    left is replaced by a larger one (a copy on the GPU).
+ *  - The model's root, depth and offsets are rewritten; a new size, or a
+ *    model that became empty or non-empty, rebuilds the instance tables and
+ *    the BVH of the frame shown (as vx_render_scene_set_frame) and the
+ *    default framing's bounds.
+ *  - Colours come from the scene's palette as at creation: entries that
+ *    kept records use must not have changed.
+ * Waits for the device (one submission; none on devices whose buffers are
+ * host visible, unless a region moves or grows). On failure the GPU scene
+ * shows the model as before (a failed rebuild of the instance tables leaves
+ * them as a failed vx_render_scene_set_frame does). */
+vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t model,
+                                       uint32_t words_from, uint32_t records_from, vx_error* err);
 /* Whether the scene is traced by the float64 variant (a model deeper than
  * VX_RENDER_PRECISE_DEPTH). */
 bool vx_render_scene_precise(const vx_render_scene* rs);

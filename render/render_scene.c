@@ -12,6 +12,22 @@
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && sizeof(vx__gpu_frame) == 224, "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
+/* Where a model's node words (or colour records) live in the shared buffer:
+ * [off, off + cap) words are its region, the first `have` of them hold its
+ * words as last given (an edited model's appends go after them; see
+ * vx_render_scene_update_model). */
+typedef struct region {
+    uint32_t off, cap, have;
+} region;
+
+/* One of the two buffers the models share (node words, colour records),
+ * with headroom after the last region (the tail), the one a model's appends
+ * grow into. */
+typedef struct arena {
+    uint32_t cap;  /* 4-byte units the buffer holds */
+    uint32_t tail; /* the model whose region ends the used part (UINT32_MAX: none) */
+} arena;
+
 typedef struct inst_host {
     double inv[12]; /* model from world */
     uint32_t model;
@@ -35,9 +51,32 @@ struct vx_render_scene {
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
     vx__buffer beam; /* the beam pass's eye distance per pixel block */
+    /* the models' regions and table (vx_render_scene_update_model) */
+    region* wreg; /* node words, per model */
+    region* creg; /* colour records, per model */
+    arena wa, ca;
+    vx__gpu_model* gm;  /* host copy of the models buffer */
+    uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
+    vx__buffer stage;   /* staging for updates where the buffers are not mapped */
+    uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
     uint32_t dense_n[3];
     double dense_lo[3], dense_cell;
 };
+
+/* Headroom after the models in the shared buffers, so that an edited
+ * model's appended words usually fit without a new buffer: 1/16 more plus
+ * 64 Ki entries (a brush stroke on a 256^3 model appends some thousands). */
+static uint64_t with_headroom(uint64_t n, uint64_t limit) {
+    uint64_t c = n + n / 16 + 65536;
+    return c > limit ? (n > limit ? n : limit) : c;
+}
+
+/* The depth of the nodes whose frame the float walk moves into, 0 for none:
+ * half way down, where the model frame keeps 23 - depth/2 bits below a
+ * depth/2 node and the node's frame as many below a cell. */
+static uint32_t rebase_depth(const vx_svo_model* m) {
+    return m->depth > VX_RENDER_REBASE_DEPTH && m->root < VX_SVO_ROOT_LEAF ? m->depth / 2 : 0;
+}
 
 static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     vx_gpu* g = rs->gpu;
@@ -52,11 +91,16 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
                        "scene needs %llu node words and %llu colours; the device allows %llu per buffer",
                        (unsigned long long)words, (unsigned long long)colors, (unsigned long long)limit);
     size_t mcount = s->model_count ? s->model_count : 1;
+    uint64_t wcap = with_headroom(words, limit), ccap = with_headroom(colors, limit);
     uint32_t* nw = vx_calloc(&rs->alloc, words ? words : 1, 4);
     uint32_t* cw = vx_calloc(&rs->alloc, colors ? colors : 1, 4);
-    vx__gpu_model* gm = vx_calloc(&rs->alloc, mcount, sizeof *gm);
+    rs->gm = vx_calloc(&rs->alloc, mcount, sizeof *rs->gm);
+    rs->wreg = vx_calloc(&rs->alloc, mcount, sizeof *rs->wreg);
+    rs->creg = vx_calloc(&rs->alloc, mcount, sizeof *rs->creg);
+    rs->msize = vx_calloc(&rs->alloc, mcount, 4 * sizeof *rs->msize);
+    vx__gpu_model* gm = rs->gm;
     vx_result r = VX_OK;
-    if (!nw || !cw || !gm) {
+    if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory staging %llu node words",
                     (unsigned long long)words);
         goto done;
@@ -67,19 +111,31 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
-        /* half way down: the model frame then keeps 23 - depth/2 bits below a
-         * depth/2 node and the node's frame as many below a cell */
-        if (m->depth > VX_RENDER_REBASE_DEPTH && m->root < VX_SVO_ROOT_LEAF) gm[i].rebase = m->depth / 2, rs->rebase = true;
+        gm[i].rebase = rebase_depth(m);
+        rs->rebase |= gm[i].rebase != 0;
+        rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
+        rs->creg[i] = (region){.off = co};
         if (m->attrs) {
             for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx_svo_attr_rgba(s, m, a);
+            rs->creg[i].cap = rs->creg[i].have = m->attr_count;
             co += m->attr_count;
             rs->has_color = true;
         }
+        memcpy(&rs->msize[4 * i], m->size, 3 * sizeof m->size[0]);
+        rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
         wo += m->node_count;
     }
-    if ((r = vx__buffer_create(g, words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "nodes", &rs->nodes, err)) ||
+    rs->wa = (arena){.cap = (uint32_t)wcap, .tail = s->model_count ? s->model_count - 1 : UINT32_MAX};
+    rs->ca = rs->wa;
+    rs->ca.cap = (uint32_t)ccap;
+    if (s->model_count) {
+        region *lw = &rs->wreg[s->model_count - 1], *lc = &rs->creg[s->model_count - 1];
+        lw->cap = (uint32_t)wcap - lw->off;
+        lc->cap = (uint32_t)ccap - lc->off;
+    }
+    if ((r = vx__buffer_create(g, wcap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "nodes", &rs->nodes, err)) ||
         (r = vx__buffer_upload(g, &rs->nodes, nw, words * 4, err)) ||
-        (r = vx__buffer_create(g, colors * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "colors", &rs->colors, err)) ||
+        (r = vx__buffer_create(g, ccap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "colors", &rs->colors, err)) ||
         (r = vx__buffer_upload(g, &rs->colors, cw, colors * 4, err)) ||
         (r = vx__buffer_create(g, mcount * sizeof *gm, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "models",
                                &rs->models, err)) ||
@@ -88,7 +144,6 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
 done:
     vx_free(&rs->alloc, nw);
     vx_free(&rs->alloc, cw);
-    vx_free(&rs->alloc, gm);
     return r;
 }
 
@@ -187,12 +242,16 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     if (!rs) return;
     vx_gpu* g = rs->gpu;
     vkDeviceWaitIdle(g->device);
-    vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame, &rs->bvh_items,
-                          &rs->bvh_nodes, &rs->insts, &rs->pinsts, &rs->models, &rs->colors, &rs->nodes};
+    vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
+                          &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
     vx_allocator a = rs->alloc;
     vx_free(&a, rs->inst);
+    vx_free(&a, rs->gm);
+    vx_free(&a, rs->wreg);
+    vx_free(&a, rs->creg);
+    vx_free(&a, rs->msize);
     vx_free(&a, rs);
 }
 
@@ -221,7 +280,183 @@ vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, 
     rs->inst_count = 0;
     if (max_depth > rs->max_depth) rs->max_depth = max_depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
+    rs->shown = frame;
     return prepare_instances(rs, &v, err);
+}
+
+/* ---- incremental model updates (an editor's appends) ------------------------------------ */
+
+/* Room for `need` units of model mi's region in arena a: where the region
+ * goes (it moves behind the tail when it is not the tail and does not fit)
+ * and the buffer's capacity after (more than a->cap: a new buffer). */
+typedef struct room {
+    uint32_t off;
+    bool moved;
+    uint64_t cap;
+    uint32_t used; /* units of the old buffer a new one copies */
+} room;
+
+static vx_result plan_room(const arena* a, const region* reg, uint32_t mi, uint32_t need, uint32_t valid, uint64_t limit,
+                           const char* what, room* p, vx_error* err) {
+    const region* r = &reg[mi];
+    const region* t = &reg[a->tail];
+    *p = (room){.off = r->off, .cap = a->cap, .used = mi == a->tail ? r->off + valid : t->off + t->have};
+    if (need <= r->cap) return VX_OK;
+    if (mi != a->tail) p->moved = true, p->off = t->off + t->have;
+    uint64_t end = (uint64_t)p->off + need;
+    if (end > a->cap) {
+        if (end > limit)
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u needs %llu %s in the scene's buffer; the device allows %llu",
+                           mi, (unsigned long long)end, what, (unsigned long long)limit);
+        p->cap = with_headroom(end, limit);
+    }
+    return VX_OK;
+}
+
+/* Records the copies that make room: the old buffer's used part into the
+ * new one, the region's valid units to its new place. */
+static void record_room(vx_gpu* g, const vx__buffer* old, const vx__buffer* nb, const region* r, const room* p,
+                        uint32_t valid) {
+    const vx__buffer* dst = nb->buf ? nb : old;
+    if (nb->buf && p->used) {
+        VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)p->used * 4};
+        vkCmdCopyBuffer(g->cmd, old->buf, nb->buf, 1, &c);
+    }
+    if (p->moved && valid) {
+        VkBufferCopy c = {.srcOffset = (VkDeviceSize)r->off * 4, .dstOffset = (VkDeviceSize)p->off * 4,
+                          .size = (VkDeviceSize)valid * 4};
+        vkCmdCopyBuffer(g->cmd, old->buf, dst->buf, 1, &c);
+    }
+}
+
+/* After the update: the arena's bookkeeping for model mi's region. */
+static void commit_room(arena* a, region* reg, uint32_t mi, const room* p, uint32_t have) {
+    if (p->moved) {
+        region* t = &reg[a->tail];
+        t->cap = p->off - t->off; /* the old tail keeps what it holds */
+        reg[mi].off = p->off;
+        a->tail = mi;
+    }
+    a->cap = (uint32_t)p->cap;
+    if (a->tail == mi) reg[mi].cap = a->cap - reg[mi].off;
+    reg[mi].have = have;
+}
+
+vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, uint32_t words_from,
+                                       uint32_t records_from, vx_error* err) {
+    if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (s->model_count != rs->model_count || mi >= s->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: the scene has %u models, the GPU scene was made with %u",
+                       mi, s->model_count, rs->model_count);
+    const vx_svo_model* m = &s->models[mi];
+    vx_gpu* g = rs->gpu;
+    if (m->depth > VX_RENDER_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "model %u has %u octree levels; the tracer supports at most %u",
+                       mi, m->depth, VX_RENDER_MAX_DEPTH);
+    if (m->root != VX_SVO_ROOT_LEAF && m->root != VX_SVO_ROOT_EMPTY && m->root >= m->node_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u outside %u node words", mi, m->root,
+                       m->node_count);
+    if (m->node_count && !m->nodes)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
+    vx_svo_scene v;
+    if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
+    uint32_t depth = 0;
+    vx_result r = vx__check_scene(&v, err);
+    if (r || (r = drawn_depth(g, &v, &depth, err))) return r;
+    uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
+    region *wr = &rs->wreg[mi], *cr = &rs->creg[mi];
+    uint32_t nc = m->node_count, ac = m->attrs ? m->attr_count : 0;
+    /* valid: units the GPU holds that stay; [valid, count) is uploaded */
+    uint32_t wvalid = words_from < wr->have ? words_from : wr->have, cvalid = records_from < cr->have ? records_from : cr->have;
+    uint32_t whave = nc > wvalid ? nc : wvalid, chave = ac > cvalid ? ac : cvalid;
+    uint32_t wn = nc > wvalid ? nc - wvalid : 0, cn = ac > cvalid ? ac - cvalid : 0;
+    room wp, cp;
+    if ((r = plan_room(&rs->wa, rs->wreg, mi, whave, wvalid, limit, "node words", &wp, err)) ||
+        (r = plan_room(&rs->ca, rs->creg, mi, chave, cvalid, limit, "colours", &cp, err)))
+        return r;
+    vx__buffer nwb = {0}, ncb = {0};
+    uint32_t* col = NULL;
+    if (wp.cap > rs->wa.cap &&
+        (r = vx__buffer_create(g, wp.cap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "nodes", &nwb, err)))
+        return r;
+    if (cp.cap > rs->ca.cap &&
+        (r = vx__buffer_create(g, cp.cap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "colors", &ncb, err)))
+        goto fail;
+    col = vx_alloc(&rs->alloc, (size_t)(cn ? cn : 1) * 4);
+    if (!col) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u colours", cn);
+        goto fail;
+    }
+    for (uint32_t a = 0; a < cn; a++) col[a] = vx_svo_attr_rgba(s, m, cvalid + a);
+    vx__buffer *wt = nwb.buf ? &nwb : &rs->nodes, *ct = ncb.buf ? &ncb : &rs->colors;
+    /* staged where the target is not mapped (a discrete GPU's device-local memory) */
+    VkDeviceSize wst = wt->map ? 0 : (VkDeviceSize)wn * 4, cst = ct->map ? 0 : (VkDeviceSize)cn * 4;
+    if (wst + cst > rs->stage.size) {
+        vx__buffer_destroy(g, &rs->stage);
+        if ((r = vx__buffer_create(g, (wst + cst) * 2, 0, true, "update staging", &rs->stage, err))) goto fail;
+        if (!rs->stage.map) {
+            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "staging buffer is not host visible");
+            goto fail;
+        }
+    }
+    vx__gpu_model gm = rs->gm[mi];
+    gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
+    gm.rebase = rebase_depth(m);
+    bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
+    if (cmd) {
+        if (wst) memcpy(rs->stage.map, m->nodes + wvalid, wst);
+        if (cst) memcpy((uint8_t*)rs->stage.map + wst, col, cst);
+        if ((r = vx__cmd_begin(g, err))) goto fail;
+        record_room(g, &rs->nodes, &nwb, wr, &wp, wvalid);
+        record_room(g, &rs->colors, &ncb, cr, &cp, cvalid);
+        if (wst) {
+            VkBufferCopy c = {.srcOffset = 0, .dstOffset = ((VkDeviceSize)wp.off + wvalid) * 4, .size = wst};
+            vkCmdCopyBuffer(g->cmd, rs->stage.buf, wt->buf, 1, &c);
+        }
+        if (cst) {
+            VkBufferCopy c = {.srcOffset = wst, .dstOffset = ((VkDeviceSize)cp.off + cvalid) * 4, .size = cst};
+            vkCmdCopyBuffer(g->cmd, rs->stage.buf, ct->buf, 1, &c);
+        }
+        if (!rs->models.map) vkCmdUpdateBuffer(g->cmd, rs->models.buf, (VkDeviceSize)mi * sizeof gm, sizeof gm, &gm);
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT};
+        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
+                             0, NULL);
+        if ((r = vx__cmd_submit_wait(g, err))) goto fail;
+    }
+    /* mapped targets (lavapipe, resizable BAR): written in place */
+    if (wn && !wst) memcpy((uint32_t*)wt->map + wp.off + wvalid, m->nodes + wvalid, (size_t)wn * 4);
+    if (cn && !cst) memcpy((uint32_t*)ct->map + cp.off + cvalid, col, (size_t)cn * 4);
+    if (rs->models.map) memcpy((vx__gpu_model*)rs->models.map + mi, &gm, sizeof gm);
+    vx_free(&rs->alloc, col);
+    if (nwb.buf) vx__buffer_destroy(g, &rs->nodes), rs->nodes = nwb;
+    if (ncb.buf) vx__buffer_destroy(g, &rs->colors), rs->colors = ncb;
+    commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
+    commit_room(&rs->ca, rs->creg, mi, &cp, chave);
+    rs->gm[mi] = gm;
+    rs->rebase = false;
+    for (uint32_t i = 0; i < rs->model_count; i++) rs->rebase |= rs->gm[i].rebase != 0;
+    if (depth > rs->max_depth) rs->max_depth = depth;
+    rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
+    /* a new size or an emptied (or no longer empty) model changes instance
+     * boxes and which instances draw: the instance tables and the BVH */
+    uint32_t* ms = &rs->msize[4 * mi];
+    bool draws = m->root != VX_SVO_ROOT_EMPTY;
+    if (ms[0] != m->size[0] || ms[1] != m->size[1] || ms[2] != m->size[2] || ms[3] != draws) {
+        memcpy(ms, m->size, 3 * sizeof m->size[0]);
+        ms[3] = draws;
+        vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
+        uint32_t f = rs->shown < vx_svo_scene_frames(s) ? rs->shown : 0;
+        if ((r = vx_render_scene_set_frame(rs, s, f, err))) return r;
+    }
+    return VX_OK;
+fail:
+    vx__buffer_destroy(g, &nwb);
+    vx__buffer_destroy(g, &ncb);
+    vx_free(&rs->alloc, col);
+    return r;
 }
 
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->bvh_seconds : 0; }

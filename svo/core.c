@@ -290,13 +290,14 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
  * happens to match a live pid here); one whose pid is unknown here (another
  * host on a shared folder) would lose its temporary file and fail cleanly at
  * its rename, never leave a partial PATH. */
-static void remove_stale_tmp(const char* path) {
+static void remove_stale_tmp(const char* path, const vx_allocator* a) {
     const char* slash = strrchr(path, '/');
     const char* base = slash ? slash + 1 : path;
     size_t dlen = slash ? (size_t)(slash - path) + 1 : 0, blen = strlen(base);
-    char* name = (char*)malloc(dlen + 256 + 2);
+    /* out of memory: nothing is removed this time (the write goes on) */
+    char* name = (char*)vx_alloc(a, dlen + 256 + 2);
     if (!name || !blen) {
-        free(name);
+        vx_free(a, name);
         return;
     }
     memcpy(name, path, dlen);
@@ -316,21 +317,22 @@ static void remove_stale_tmp(const char* path) {
         remove(name);
     }
     if (d) closedir(d);
-    free(name);
+    vx_free(a, name);
 }
 
-vx_result vx_atomic_open(vx_atomic_file* af, const char* path, vx_error* err) {
+vx_result vx_atomic_open(vx_atomic_file* af, const char* path, const vx_allocator* a, vx_error* err) {
     memset(af, 0, sizeof *af);
     if (!path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null path");
-    remove_stale_tmp(path);
+    remove_stale_tmp(path, a);
     size_t plen = strlen(path);
-    af->tmp = (char*)malloc(plen + 32);
+    af->alloc = a;
+    af->tmp = (char*)vx_alloc(a, plen + 32);
     if (!af->tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     snprintf(af->tmp, plen + 32, "%s.tmp%ld", path, (long)getpid());
     af->f = fopen(af->tmp, "wb");
     if (!af->f) {
         vx_result r = vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot create %s: %s", af->tmp, strerror(errno));
-        free(af->tmp);
+        vx_free(a, af->tmp);
         af->tmp = NULL;
         return r;
     }
@@ -347,7 +349,7 @@ bool vx_atomic_write(vx_atomic_file* af, const void* data, size_t n) {
 void vx_atomic_abort(vx_atomic_file* af) {
     if (af->f) fclose((FILE*)af->f);
     if (af->tmp) remove(af->tmp);
-    free(af->tmp);
+    vx_free(af->alloc, af->tmp);
     memset(af, 0, sizeof *af);
 }
 
@@ -363,14 +365,15 @@ vx_result vx_atomic_commit(vx_atomic_file* af, vx_error* err) {
         vx_atomic_abort(af);
         return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot write: %s", strerror(e));
     }
-    free(af->tmp);
+    vx_free(af->alloc, af->tmp);
     memset(af, 0, sizeof *af);
     return VX_OK;
 }
 
-vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err) {
+vx_result vx_file_write_atomic(const char* path, const vx_allocator* a, const void* data, size_t size,
+                               vx_error* err) {
     vx_atomic_file af;
-    vx_result r = vx_atomic_open(&af, path, err);
+    vx_result r = vx_atomic_open(&af, path, a, err);
     if (r) return r;
     vx_atomic_write(&af, data, size);
     return vx_atomic_commit(&af, err);

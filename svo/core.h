@@ -268,10 +268,23 @@ uint32_t vx_crc32(uint32_t crc, const void* data, size_t n);
 vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_bytes, uint8_t** out_data,
                        size_t* out_size, vx_error* err);
 
+/* Options of the writers to a file (vx_svo_write_file, vx_vox_write_file,
+ * vx_probe_write_file, vx_glb_write_file, vx_vdb_write_file). NULL or
+ * zero-initialised: the defaults. */
+typedef struct vx_write_desc {
+    const vx_allocator* alloc; /* NULL: malloc/free. Every block the writer
+                                  allocates itself (the temporary file's name,
+                                  encoded sections, streaming buffers); not
+                                  what stdio, zlib, tinygltf or OpenVDB
+                                  allocate inside. Out of memory is
+                                  VX_ERR_NOMEM with the output name untouched. */
+} vx_write_desc;
+
 /* Writes data to path through a temporary file in the same folder that is
  * renamed over path only after everything was written and flushed, so a
- * failure never leaves a half-written output. */
-vx_result vx_file_write_atomic(const char* path, const void* data, size_t size, vx_error* err);
+ * failure never leaves a half-written output. a: as vx_write_desc.alloc. */
+vx_result vx_file_write_atomic(const char* path, const vx_allocator* a, const void* data, size_t size,
+                               vx_error* err);
 
 /* The same written in pieces: vx_atomic_open creates the temporary file,
  * vx_atomic_write appends (a failure is remembered), vx_atomic_commit
@@ -281,9 +294,10 @@ typedef struct vx_atomic_file {
     void* f; /* FILE* */
     char* tmp;
     const char* path;
-    int failed_errno; /* 0 while every write succeeded */
+    const vx_allocator* alloc; /* tmp's */
+    int failed_errno;          /* 0 while every write succeeded */
 } vx_atomic_file;
-vx_result vx_atomic_open(vx_atomic_file* af, const char* path, vx_error* err);
+vx_result vx_atomic_open(vx_atomic_file* af, const char* path, const vx_allocator* a, vx_error* err);
 bool vx_atomic_write(vx_atomic_file* af, const void* data, size_t n);
 vx_result vx_atomic_commit(vx_atomic_file* af, vx_error* err);
 void vx_atomic_abort(vx_atomic_file* af);

@@ -109,6 +109,13 @@ vx_result vx_svo_editor_create(const vx_svo_editor_desc* desc, vx_svo_model* m, 
 void vx_svo_editor_destroy(vx_svo_editor* e);
 /* Whether cell (x, y, z) is set (outside the model: false), and its values. */
 bool vx_svo_editor_get(const vx_svo_editor* e, uint32_t x, uint32_t y, uint32_t z, vx_svo_cell* out);
+/* Reads the box of cells [lo, hi] (inclusive on each axis) at once, for a
+ * brush that reads its cells and their neighbours (one walk of the subtrees
+ * the box meets instead of a descent per cell): set[i] (and out[i] when out
+ * is not NULL) for the cell lo + (x, y, z) at i = (z * dy + y) * dx + x,
+ * d = hi - lo + 1; cells outside the model read as not set. */
+vx_result vx_svo_editor_get_box(const vx_svo_editor* e, const uint32_t lo[3], const uint32_t hi[3], bool* set,
+                                vx_svo_cell* out, vx_error* err);
 /* Applies n writes (in any order; for a cell written twice the last wins).
  * A coordinate of 2^21 or more is VX_ERR_LIMIT; on any failure the model is
  * as before. stats may be NULL. */

@@ -534,8 +534,8 @@ vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t
  * scratch file beside the output as they are made (never the whole file in
  * memory), then a temporary file gets the header and the sections and is
  * renamed into place. No partial output and no scratch file is left on
- * failure; errors name the path. */
-vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err);
+ * failure; errors name the path. desc may be NULL (svo/core.h). */
+vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, const char* path, vx_error* err);
 
 /* Section table of a file, for svo_info. */
 typedef struct vx_svo_section_info {

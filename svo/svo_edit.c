@@ -307,6 +307,66 @@ bool vx_svo_editor_get(const vx_svo_editor* e, uint32_t x, uint32_t y, uint32_t 
     return true;
 }
 
+/* Fills the part of box [lo, hi] that node n (the cube of 2^L cells at o)
+ * covers. */
+static void get_box_node(const vx_svo_model* m, const cref* n, uint32_t L, const uint32_t o[3], const uint32_t lo[3],
+                         const uint32_t hi[3], const uint32_t dim[3], bool* set, vx_svo_cell* out) {
+    uint64_t side = (uint64_t)1 << L;
+    for (int k = 0; k < 3; k++)
+        if ((uint64_t)o[k] > hi[k] || (uint64_t)o[k] + side <= lo[k]) return;
+    if (n->kind == K_EMPTY) return;
+    if (n->kind == K_LEAF) {
+        uint32_t a[3], b[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = o[k] > lo[k] ? o[k] : lo[k];
+            uint64_t e = (uint64_t)o[k] + side - 1;
+            b[k] = e < hi[k] ? (uint32_t)e : hi[k];
+        }
+        vx_svo_cell c;
+        memset(&c, 0, sizeof c); /* padding too: callers may compare cells bytewise, as vx_svo_editor_get's */
+        c.palette = n->rec.palette, c.rgba = n->rec.rgba, c.normal = n->rec.normal;
+        c.material = n->rec.material, c.density = n->rec.density;
+        for (uint32_t z = a[2]; z <= b[2]; z++)
+            for (uint32_t y = a[1]; y <= b[1]; y++) {
+                size_t i = ((size_t)(z - lo[2]) * dim[1] + (y - lo[1])) * dim[0] + (a[0] - lo[0]);
+                for (uint32_t x = a[0]; x <= b[0]; x++, i++) {
+                    set[i] = true;
+                    if (out) out[i] = c;
+                }
+            }
+        return;
+    }
+    cref ch[8];
+    expand(m, n, ch);
+    uint32_t h = (uint32_t)(side / 2);
+    for (unsigned q = 0; q < 8; q++) {
+        if (ch[q].kind == K_EMPTY) continue;
+        uint32_t co[3] = {o[0] + (q & 1u) * h, o[1] + ((q >> 1) & 1u) * h, o[2] + ((q >> 2) & 1u) * h};
+        get_box_node(m, &ch[q], L - 1, co, lo, hi, dim, set, out);
+    }
+}
+
+vx_result vx_svo_editor_get_box(const vx_svo_editor* e, const uint32_t lo[3], const uint32_t hi[3], bool* set,
+                                vx_svo_cell* out, vx_error* err) {
+    if (!e || !lo || !hi || !set) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo edit: NULL argument");
+    uint32_t dim[3];
+    size_t n = 1;
+    for (int k = 0; k < 3; k++) {
+        if (hi[k] < lo[k]) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo edit: box axis %d is empty", k);
+        dim[k] = hi[k] - lo[k] + 1;
+        if (dim[k] == 0 || n > SIZE_MAX / sizeof *out / dim[k])
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo edit: box too large");
+        n *= dim[k];
+    }
+    memset(set, 0, n * sizeof *set);
+    if (out) memset(out, 0, n * sizeof *out);
+    const vx_svo_model* m = e->m;
+    cref root = root_ref(m);
+    uint32_t o[3] = {0, 0, 0};
+    get_box_node(m, &root, m->depth, o, lo, hi, dim, set, out); /* a valid model has no cell past its size */
+    return VX_OK;
+}
+
 /* ---- apply ---------------------------------------------------------------------------------- */
 
 /* Arrays were grown before the update (see apply): pushes cannot fail. */

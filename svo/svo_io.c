@@ -1229,15 +1229,16 @@ static bool spill_flush(void* user, vx_buf* out) {
     return true;
 }
 
-vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* err) {
+vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, const char* path, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
+    const vx_allocator* a = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, NULL, &w, err);
+    vx_result r = plan_write(s, a, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
     size_t slen = strlen(path) + 48;
-    char* scratch = (char*)malloc(slen);
+    char* scratch = (char*)vx_alloc(a, slen);
     if (!scratch) {
-        vx_free(NULL, w.ext);
+        vx_free(a, w.ext);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
     }
     snprintf(scratch, slen, "%s.tmp%ld.sections", path, (long)getpid());
@@ -1250,27 +1251,27 @@ vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* e
     bool nomem = false, io = !sf;
     int e = errno;
     for (int si = 0; !io && !nomem && si < w.ns; si++) {
-        vx_buf b = {0};
+        vx_buf b = {.alloc = a};
         spill sp = {.f = sf};
         vx__svo_sink sink = {spill_flush, &sp};
-        bool ok = write_section(&b, &w, si, s, NULL, &sink) && spill_flush(&sp, &b);
+        bool ok = write_section(&b, &w, si, s, a, &sink) && spill_flush(&sp, &b);
         if (!ok) io = sp.failed, nomem = !sp.failed, e = errno;
         w.sizes[si] = sp.size;
         w.crcs[si] = sp.crc;
         vx_buf_free(&b);
     }
-    vx_free(NULL, w.ext);
-    vx_buf head = {0};
+    vx_free(a, w.ext);
+    vx_buf head = {.alloc = a};
     uint64_t fin[S_COUNT];
     if (!io && !nomem) {
-        nomem = !write_head(&head, &w, fin) || !(chunk = (uint8_t*)malloc(chunk_size));
+        nomem = !write_head(&head, &w, fin) || !(chunk = (uint8_t*)vx_alloc(a, chunk_size));
         io = !nomem && (fflush(sf) != 0 || fseek(sf, 0, SEEK_SET) != 0);
         e = errno;
     }
     if (!io && !nomem) {
         /* the output: header and table, then each section copied behind them */
         vx_atomic_file af;
-        r = vx_atomic_open(&af, path, err);
+        r = vx_atomic_open(&af, path, a, err);
         if (r == VX_OK) {
             vx_atomic_write(&af, head.data, head.size);
             uint64_t end = head.size;
@@ -1294,8 +1295,8 @@ vx_result vx_svo_write_file(const vx_svo_scene* s, const char* path, vx_error* e
     }
     if (sf) fclose(sf);
     remove(scratch);
-    free(scratch);
-    free(chunk);
+    vx_free(a, scratch);
+    vx_free(a, chunk);
     vx_buf_free(&head);
     if (nomem) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path);
     if (io) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));

@@ -1,20 +1,21 @@
 // cones/shaders/cone_common.glsl - the radiance volume of voxel cone tracing
 // (cones/cones.h): its bindings, quadrilinear reads and the cone march.
-// Included after trace_common.glsl and passes_common.glsl (bindings 0-18);
+// Included after trace_common.glsl and passes_common.glsl (bindings 0-19, 19
+// the sky by direction);
 // layouts must match cones/cones.c.
 //
 // Volume: level l's voxel (x, y, z) holds ENTRIES entries (1 isotropic; 6
 // anisotropic: what a viewer on the +x, -x, +y, -y, +z, -z side sees), each
 // premultiplied radiance RGB and opacity A as four halfs, at
 // vol[(CP.dims[l].w + (z * dy + y) * dx + x) * ENTRIES + e].
-layout(std430, binding = 19) buffer Vol { uvec2 vol[]; };
+layout(std430, binding = 20) buffer Vol { uvec2 vol[]; };
 // Per listed voxel and side (6 per voxel, 5 vec4 each): the visible surface
 // (voxelize.comp): 0 xyz mean hit point relative to the volume origin, w
 // opacity from that side; 1 xyz normal, w share of the side's rays that see
 // a lit surface (not an interior); 2 albedo; 3 emitted radiance; 4 gathered
 // indirect radiance (bounces > 1).
-layout(std430, binding = 20) buffer Rec { vec4 rec[]; };
-layout(std430, binding = 21) readonly buffer ConeP {
+layout(std430, binding = 21) buffer Rec { vec4 rec[]; };
+layout(std430, binding = 22) readonly buffer ConeP {
     vec4 origin;     // xyz: the volume's world corner relative to the frame reference, w: level-0 voxel side
     uvec4 info;      // x: levels, y: entries per voxel, z: samples per face side, w: 0
     vec4 cone;       // x: tan(half angle), y: offset (voxels), z: step share of the diameter, w: AO distance (voxels; 0: all)
@@ -23,7 +24,7 @@ layout(std430, binding = 21) readonly buffer ConeP {
     vec4 dirs[32];   // cone directions around +z (tangent space), w: weight
 } CP;
 // list[0]: voxels listed, then their level-0 indices
-layout(std430, binding = 22) buffer List { uint list[]; };
+layout(std430, binding = 23) buffer List { uint list[]; };
 
 layout(constant_id = 6) const uint ENTRIES = 1u; // 1 isotropic, 6 anisotropic
 
@@ -127,10 +128,12 @@ vec3 cone_march(vec3 q, vec3 d, float tanh, float h0, float dn, vec3 sky, out fl
 // Diffuse light at a surface point q (level-0 voxel units, already off the
 // surface) with unit normal n: sum over the cones of weight * radiance (the
 // irradiance over pi); ao receives the weighted unoccluded share. rot turns
-// the cone set around n (per sample).
+// the cone set around n (per sample). What a cone leaves unoccluded sees the
+// uniform sky, or (PC.f2.w > 0) the sky by direction along the cone's axis
+// (passes_common.glsl frame_sky: a point sample of the cone's solid angle).
 vec3 cone_gather(vec3 q, vec3 n, float rot, vec3 sky, out float ao) {
     vec3 t, bt;
-    pass_basis(n, t, bt);
+    basis(n, t, bt);
     float c = cos(rot), s = sin(rot);
     vec3 L = vec3(0.0);
     ao = 0.0;
@@ -139,7 +142,8 @@ vec3 cone_gather(vec3 q, vec3 n, float rot, vec3 sky, out float ao) {
         vec2 xy = vec2(c * dl.x - s * dl.y, s * dl.x + c * dl.y);
         vec3 d = normalize(xy.x * t + xy.y * bt + dl.z * n);
         float occ;
-        L += dl.w * cone_march(q, d, CP.cone.x, CP.cone.y, max(dot(d, n), 0.0), sky, occ);
+        vec3 sk = PC.f2.w > 0.0 ? frame_sky(d) : sky;
+        L += dl.w * cone_march(q, d, CP.cone.x, CP.cone.y, max(dot(d, n), 0.0), sk, occ);
         ao += dl.w * (1.0 - occ);
     }
     return L;

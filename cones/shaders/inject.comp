@@ -57,10 +57,11 @@ void main() {
         float ndl = dot(n, F.light.xyz);
         if (ndl > 0.0 && any(greaterThan(PC.f1.xyz, vec3(0.0))) && !shadowed(p, F.light.xyz, 3.0e38))
             e += PC.f1.xyz * ndl;
+        bool emissive = any(greaterThan(rec[r + 3u].xyz, vec3(0.0))); // not lit by its own lamp's sphere (light_eval)
         for (uint k = 0u; k < PC.u1.z; k++) {
             vec3 le, sd;
             float st;
-            if (!light_eval(k, p, n, s, uvec2(gid, side), le, sd, st)) continue;
+            if (!light_eval(k, p, n, s, emissive, uvec2(gid, side), le, sd, st)) continue;
             if (st <= 0.0 || !shadowed(p, sd, st)) e += le;
         }
         vec3 L = rec[r + 3u].xyz + alb / PI * e;

@@ -29,14 +29,18 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 r;       // x: global radius, y: caustic radius, z: 1 / (pi rg^2), w: 1 / (pi rc^2)
     uvec4 img;    // x: width, y: height, z: 1: average into Out with pass z of the seed (running mean), w: full
     vec4 sphere;  // xyz: centre of the scene's bounding sphere, w: its radius
-    vec4 sky;     // rgb: sky radiance (seen through glass), w: emissive voxels' total power (sum lum(rad) area)
+    vec4 sky;     // rgb: sky radiance (render/shaders/sky.glsl zen), w: emissive voxels' total power (sum lum(rad) area)
     uvec4 cnt;    // x: emissive voxels, y: 2 (loops_intact), z: final gather rays (0: none),
                   // w: 1: a light stands for the emissive voxels (the direct pass shades them)
+    vec4 skyh;    // the sky by direction (sky.glsl): horizon rgb, w: kind (0 uniform: sky.rgb)
+    vec4 skyg;    // ground rgb, w: map intensity
+    vec4 skym;    // map: rotation, width, height
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // per source six vec4: (position, type), (unit direction, range), (power / probability rgb, cdf),
-// (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0)
+// (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0);
+// the sky: e.xyz 1 / its mean radiance
 layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
 // per emissive voxel five vec4 (probes/probe_gpu.c's layout): (corner, area), (axis 0, cdf), (axis 1, 0),
 // (axis 2, 0), (radiance, 0)
@@ -50,8 +54,14 @@ layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 15) buffer Out { vec4 outv[]; };
 // x: photons stored (may pass the capacity: the rest were dropped), y: sorted so far, z: the loop guard fired
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
+// the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
+layout(std430, binding = 17) readonly buffer Env { float env[]; };
 
 #include "path_common.glsl"
+#define SKY_TEXEL(i) env[i]
+#include "sky.glsl"
+// the sky's radiance towards unit d (uniform, or by direction: the path tracer's sky_eval)
+vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
 
 uvec2 rng_seed() { return P.seed.xy; }
 Surf g_s; // the vertex being shaded (one copy: GLSL passes structs by value)
@@ -118,6 +128,7 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
         vec3 w = type == T_SKY ? uniform_sphere(u3, u4) : b.xyz;
         o = disk_point(C + 2.0 * R * w, w, R, u1, u2);
         d = -w;
+        if (type == T_SKY && P.skyh.w != 0.0) phi *= sky_radiance(w) * e.xyz; // by direction, over the mean
         if (type == T_DIRECTIONAL && e.z > 0.0) d = cone_dir(-w, e.z, rnd(), rnd());
     } else if (type == T_POINT) {
         o = a.xyz;
@@ -296,7 +307,7 @@ void gather_pixel() {
     for (int events = 0; events < 64; events++) {
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
-            if (events > 0 || full) L += thr * P.sky.xyz;
+            if (events > 0 || full) L += thr * sky_radiance(d);
             break;
         }
         g_s = surface(o, d, h);

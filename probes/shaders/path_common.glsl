@@ -81,28 +81,7 @@ Surf surface(vec3 o, vec3 d, Hit h) {
     return s;
 }
 
-
-void basis(vec3 n, out vec3 t, out vec3 b) {
-    float sg = n.z < 0.0 ? -1.0 : 1.0;
-    float a = -1.0 / (sg + n.z), c = n.x * n.y * a;
-    t = vec3(1.0 + sg * n.x * n.x * a, sg * c, -sg * n.x);
-    b = vec3(c, sg + n.y * n.y * a, -n.y);
-}
-
-vec3 cosine_dir(vec3 n, float u1, float u2) {
-    vec3 t, bt;
-    basis(n, t, bt);
-    float r = sqrt(u1), phi = 2.0 * PI * u2;
-    return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
-}
-
-// uniform in the cone of 1 - cos(half angle) = omc around the unit axis
-vec3 cone_dir(vec3 axis, float omc, float u1, float u2) {
-    vec3 t, b;
-    basis(axis, t, b);
-    float z = 1.0 - u1 * omc, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PI * u2;
-    return normalize(s * cos(phi) * t + s * sin(phi) * b + z * axis);
-}
+#include "sampling.glsl" // basis, cosine_dir, cone_dir (shared with the pass shaders)
 
 float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 float mis(float a, float b) { return a * a / (a * a + b * b); }

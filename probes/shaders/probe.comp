@@ -228,19 +228,10 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
     return out_l;
 }
 
-// sky radiance towards unit d (svo/svo_light.c vx_sky_radiance, in float)
-vec3 sky_radiance(vec3 d) {
-    uint kind = uint(P.skyh.w);
-    if (kind == 1u) return d.z >= 0.0 ? mix(P.skyh.xyz, P.sky.xyz, min(d.z, 1.0)) : P.skyg.xyz;
-    if (kind != 2u) return P.sky.xyz;
-    float phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : atan(d.y, d.x); // atan2(0, 0) = 0, as in C
-    float u = (phi - P.skym.x) / (2.0 * PI), v = acos(clamp(d.z, -1.0, 1.0)) / PI;
-    u -= floor(u);
-    uint w = uint(P.skym.y), h = uint(P.skym.z);
-    uint x = min(uint(max(u, 0.0) * P.skym.y), w - 1u), y = min(uint(max(v, 0.0) * P.skym.z), h - 1u);
-    uint i = 3u * (y * w + x);
-    return vec3(env[i], env[i + 1u], env[i + 2u]) * P.skyg.w;
-}
+// sky radiance towards unit d (render/shaders/sky.glsl: vx_sky_radiance in float)
+#define SKY_TEXEL(i) env[i]
+#include "sky.glsl"
+vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
 
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {

@@ -52,7 +52,7 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
         uint face = uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u);
         g1 = uvec4(h.color, h.inst, face, h.attr);
     } else {
-        g0 = uvec4(0u, 0u, 0u, 0x7F800000u);
+        g0 = uvec4(floatBitsToUint(d.x), floatBitsToUint(d.y), floatBitsToUint(d.z), 0x7F800000u); // a miss: the ray's direction (the sky it sees)
         g1 = uvec4(0u, NO_HIT, 0u, NO_HIT);
     }
     ids0 = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
@@ -62,9 +62,11 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
 // ---- lights ---------------------------------------------------------------------
 // LIGHTS (pipeline.c): bits 0-1 the culling (0 every light, 1 tiled, 2
 // clustered), bits 2-7 how many lights per pixel get a shadow ray (the
-// strongest by unshadowed irradiance; the rest are added unshadowed).
+// strongest by unshadowed irradiance; the rest are added unshadowed), bit 8
+// emission records are bound (emit_attr: emissive surfaces are known).
 layout(constant_id = 7) const uint LIGHTS = 0u;
 const uint CULLING = LIGHTS & 3u, SHADOWED = (LIGHTS >> 2) & 63u;
+const bool EMIT_KNOWN = (LIGHTS & 256u) != 0u;
 
 // The light's window: (1 - (d/R)^4)^2 below R, 0 from R on; R = 0: none.
 float light_window(float dist, float R) {
@@ -125,7 +127,13 @@ float quad_projected_angle(vec3 q0, vec3 q1, vec3 q2, vec3 q3, vec3 n) {
 // Returns false when the light adds nothing. Point and spot: E = c n.l / d^2
 // (d^2 kept above (cell/100)^2 so that a light on the surface stays finite)
 // times the window and, for a spot, its cone factor; directional: c n.l.
-bool light_eval(uint k, vec3 ps, vec3 nw, float cell, uvec2 px, out vec3 e, out vec3 sd, out float st) {
+// A sphere that stands for emissive voxels (L.d.z, VX_LIGHT_FROM_VOXELS)
+// adds nothing to an emissive surface inside it: that surface is one of the
+// voxels it stands for (or of the next cluster of the same lamp), which
+// shows its own emission; lit by the sphere it would also count the light
+// its neighbours send along the surface, which the path tracer (sampling
+// the voxels themselves) finds to be none.
+bool light_eval(uint k, vec3 ps, vec3 nw, float cell, bool emissive, uvec2 px, out vec3 e, out vec3 sd, out float st) {
     Light L = lights[k];
     uint type = uint(L.a.w);
     e = vec3(0.0), sd = nw, st = 0.0;
@@ -133,7 +141,7 @@ bool light_eval(uint k, vec3 ps, vec3 nw, float cell, uvec2 px, out vec3 e, out 
         float ndl = dot(nw, L.b.xyz);
         if (ndl <= 0.0) return false;
         e = L.c.xyz * ndl;
-        sd = L.c.w > 0.0 ? pass_cone_dir(L.b.xyz, L.c.w, pass_rnd(px, 13u, 2u * k), pass_rnd(px, 13u, 2u * k + 1u))
+        sd = L.c.w > 0.0 ? cone_dir(L.b.xyz, L.c.w, pass_rnd(px, 13u, 2u * k), pass_rnd(px, 13u, 2u * k + 1u))
                          : L.b.xyz;
         st = 3.0e38;
         return true;
@@ -144,6 +152,7 @@ bool light_eval(uint k, vec3 ps, vec3 nw, float cell, uvec2 px, out vec3 e, out 
     if (f <= 0.0) return false;
     vec3 l = dist > 0.0 ? v / dist : nw;
     float r = L.c.w;
+    if (emissive && L.d.z > 0.0 && dist <= r + 0.01 * cell) return false;
     if (type == 4u) {
         vec3 c = v, U = L.e.xyz, V = L.f.xyz;
         if (dot(-v, L.b.xyz) <= 0.0) return false; // behind the one-sided rectangle
@@ -169,7 +178,7 @@ bool light_eval(uint k, vec3 ps, vec3 nw, float cell, uvec2 px, out vec3 e, out 
                 st = 0.0; // inside the source: nothing in between
             } else {
                 float s2 = (r / dist) * (r / dist);
-                sd = pass_cone_dir(l, s2 / (1.0 + sqrt(1.0 - s2)), pass_rnd(px, 13u, 2u * k),
+                sd = cone_dir(l, s2 / (1.0 + sqrt(1.0 - s2)), pass_rnd(px, 13u, 2u * k),
                                    pass_rnd(px, 13u, 2u * k + 1u));
                 float b = dot(sd, v), disc = b * b - (d2 - r * r);
                 st = (b - sqrt(max(disc, 0.0))) * 0.9999;
@@ -197,6 +206,7 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
     vec3 p = uintBitsToFloat(g0.xyz);
     vec3 ps = gb_offset_point(p, nw, g1.y);
     float cell = insts[g1.y].cell;
+    bool emissive = EMIT_KNOWN && g1.w < uint(emit_attr.length()) && emit_attr[g1.w] > 0.0; // records past the table: none
     vec3 e = vec3(0.0);
     const uint K = SHADOWED > 0u ? SHADOWED : 1u;
     vec3 ke[K], kd[K];
@@ -215,7 +225,7 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
         uint k = CULLING == 0u || j < ndir ? j : lidx[off + j - ndir];
         vec3 le, sd;
         float st;
-        if (!light_eval(k, ps, nw, cell, px, le, sd, st)) continue;
+        if (!light_eval(k, ps, nw, cell, emissive, px, le, sd, st)) continue;
         if (SHADOWED == 0u || st <= 0.0) {
             e += le;
             continue;
@@ -278,7 +288,7 @@ float ao_blocked(uvec2 px, uvec4 g0, uvec4 g1, uint first, uint count) {
     vec3 ps = gb_offset_point(uintBitsToFloat(g0.xyz), nw, g1.y);
     float blocked = 0.0;
     for (uint k = first; k < first + count; k++) {
-        vec3 dir = pass_cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
+        vec3 dir = cosine_dir(nw, pass_rnd(px, 11u, 2u * k), pass_rnd(px, 11u, 2u * k + 1u));
         Hit h;
         h.t = PC.f0.z;
         h.inst = NO_HIT;
@@ -295,7 +305,7 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
     bool hit = g1.y != NO_HIT;
     vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
     if (SHOW == 0u) {
-        if (!hit) return PHYS ? vec4(PC.f2.xyz, 0.0) : vec4(0.62, 0.75, 0.92, 0.0);
+        if (!hit) return PHYS ? vec4(frame_sky(uintBitsToFloat(g0.xyz)), 0.0) : vec4(0.62, 0.75, 0.92, 0.0);
         if (!PHYS) {
             float amb = F.light.w;
             float e = HAS_DIRECT ? dir.x : 0.0;
@@ -303,10 +313,10 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
             return vec4(alb * (amb + e), 1.0);
         }
         vec3 rad = vec3(0.0);
-        if (HAS_EMIT && g1.w != NO_HIT) rad += alb * emit_attr[g1.w];
+        if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += alb * emit_attr[g1.w];
         if (HAS_DIRECT) rad += alb / PI * dir.xyz;
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);
-        if (HAS_SKY) rad += alb * PC.f2.xyz * (HAS_AO ? ao : 1.0); // sky radiance times its visibility
+        if (HAS_SKY) rad += alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0); // the sky's light times its visibility
         return vec4(rad, 1.0);
     }
     if (SHOW == 1u) return hit ? vec4(alb, 1.0) : vec4(0.0);

@@ -5,7 +5,7 @@
 //
 // G-buffer, one entry per pixel:
 //   gb0: hit point xyz (world, relative to the frame reference) and depth as
-//        float bits; depth is +inf on a miss
+//        float bits; depth is +inf on a miss, and xyz then the ray's direction
 //   gb1: x attribute colour RGBA8, y instance slot (NO_HIT on a miss),
 //        z entry face axis | 4 if the model-space normal is negative,
 //        w attribute record (NO_HIT without one): the material id
@@ -41,11 +41,18 @@ layout(std430, binding = 16) readonly buffer Lights { Light lights[]; };
 // depth range of each tile as float bits (cl[4 + 2C + 2t], cl[4 + 2C + 2t + 1]).
 layout(std430, binding = 17) buffer Cull { uint cl[]; };
 layout(std430, binding = 18) buffer LightIdx { uint lidx[]; };
+// The sky by direction (render/pipeline.c, when PC.f2.w > 0): sky.glsl's four
+// vec4 (floats 0-15), then E(n) / pi, the sky's light on a white diffuse
+// surface of normal n, at SKY_IRR_W x SKY_IRR_H normals (azimuth steps from
+// +x towards +y, polar angles from +z to -z, poles included; rgb each), then
+// the environment map's texels.
+layout(std430, binding = 19) readonly buffer Sky { float skyf[]; };
+const uint SKY_IRR_W = 32u, SKY_IRR_H = 17u, SKY_ENV_AT = 16u + 3u * SKY_IRR_W * SKY_IRR_H;
 
 layout(push_constant) uniform Push {
     vec4 f0;  // x: lens radius, y: focus distance, z: ao radius, w: 2^exposure
     vec4 f1;  // xyz: sun irradiance (radiometric light), w: aa edge threshold
-    vec4 f2;  // xyz: sky radiance (radiometric light), w: 0
+    vec4 f2;  // xyz: sky radiance (radiometric light), w: 1: the sky by direction (binding 19) instead
     uvec4 u0; // x: sample, y: samples, z: ao rays, w: seed
     uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch, z: lights, w: directional lights
     vec4 f3;  // light grid: x depth origin zb, y near, z (slices - 1) / ln(far / near), w list capacity (uint bits)
@@ -53,6 +60,33 @@ layout(push_constant) uniform Push {
 } PC;
 
 const float PI = 3.14159265358979;
+
+#define SKY_TEXEL(i) skyf[SKY_ENV_AT + (i)]
+#include "sky.glsl"
+
+vec4 sky_param(uint k) { return vec4(skyf[4u * k], skyf[4u * k + 1u], skyf[4u * k + 2u], skyf[4u * k + 3u]); }
+
+// The frame's sky radiance towards unit d: uniform, or by direction.
+vec3 frame_sky(vec3 d) {
+    if (PC.f2.w <= 0.0) return PC.f2.xyz;
+    return sky_eval(sky_param(0u), sky_param(1u), sky_param(2u), sky_param(3u), d);
+}
+
+// E(n) / pi of the frame's sky at unit normal n (the table, bilinear; a
+// uniform sky: its radiance).
+vec3 frame_sky_irradiance(vec3 n) {
+    if (PC.f2.w <= 0.0) return PC.f2.xyz;
+    float u = (n.x == 0.0 && n.y == 0.0) ? 0.0 : atan(n.y, n.x) / (2.0 * PI);
+    u = (u - floor(u)) * float(SKY_IRR_W);
+    float v = acos(clamp(n.z, -1.0, 1.0)) / PI * float(SKY_IRR_H - 1u);
+    uint x0 = min(uint(u), SKY_IRR_W - 1u), x1 = (x0 + 1u) % SKY_IRR_W;
+    uint y0 = min(uint(v), SKY_IRR_H - 2u), y1 = y0 + 1u;
+    float ax = clamp(u - float(x0), 0.0, 1.0), ay = clamp(v - float(y0), 0.0, 1.0);
+    vec3 e[4];
+    uint at[4] = uint[4](y0 * SKY_IRR_W + x0, y0 * SKY_IRR_W + x1, y1 * SKY_IRR_W + x0, y1 * SKY_IRR_W + x1);
+    for (uint k = 0u; k < 4u; k++) e[k] = vec3(skyf[16u + 3u * at[k]], skyf[17u + 3u * at[k]], skyf[18u + 3u * at[k]]);
+    return mix(mix(e[0], e[1], ax), mix(e[2], e[3], ax), ay);
+}
 
 // The world normal of a G-buffer entry: instance row of the entry axis times
 // the sign, normalised (as trace.comp computes it).
@@ -83,31 +117,7 @@ float pass_rnd(uvec2 px, uint stream, uint k) {
     return float(h.x >> 8) * (1.0 / 16777216.0);
 }
 
-// An orthonormal basis t, b around unit n (Duff et al.).
-void pass_basis(vec3 n, out vec3 t, out vec3 bt) {
-    float sg = n.z < 0.0 ? -1.0 : 1.0;
-    float a = -1.0 / (sg + n.z), b = n.x * n.y * a;
-    t = vec3(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x);
-    bt = vec3(b, sg + n.y * n.y * a, -n.y);
-}
-
-// Cosine-weighted direction around unit n.
-vec3 pass_cosine_dir(vec3 n, float u1, float u2) {
-    vec3 t, bt;
-    pass_basis(n, t, bt);
-    float r = sqrt(u1), phi = 2.0 * PI * u2;
-    return normalize(r * cos(phi) * t + r * sin(phi) * bt + sqrt(max(0.0, 1.0 - u1)) * n);
-}
-
-// A direction uniform in the cone around unit n whose half angle has
-// 1 - cos = omc (given as 1 - cos so that the sun's small cone keeps its
-// precision).
-vec3 pass_cone_dir(vec3 n, float omc, float u1, float u2) {
-    vec3 t, bt;
-    pass_basis(n, t, bt);
-    float om = u1 * omc, s = sqrt(max(0.0, om * (2.0 - om))), phi = 2.0 * PI * u2;
-    return normalize(s * cos(phi) * t + s * sin(phi) * bt + (1.0 - om) * n);
-}
+#include "sampling.glsl"
 
 // ---- the light grid (render/pipeline.c, cull.comp) ------------------------------
 // Tiles of PC.u2.w pixels (PC.u2.x across, PC.u2.y down) times PC.u2.z

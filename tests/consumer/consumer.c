@@ -109,7 +109,7 @@ static int write_own_vox(const char* path) {
     s.instances[0].layer = -1;
     memcpy(s.palette, vx_vox_default_palette, sizeof s.palette);
     vx_error err = {0};
-    vx_result r = vx_vox_write_file(&s, path, &err);
+    vx_result r = vx_vox_write_file(NULL, &s, path, &err);
     vx_vox_scene_free(&s);
     if (r != VX_OK) {
         fprintf(stderr, "consumer: %s: %s\n", path, err.msg);
@@ -147,7 +147,7 @@ static void check_vox(const char* in, const char* workdir) {
 
     char path[4096];
     snprintf(path, sizeof path, "%s/consumer.svo", workdir);
-    EXPECT(vx_svo_write_file(&svo, path, &err) == VX_OK, "%s: %s", path, err.msg);
+    EXPECT(vx_svo_write_file(NULL, &svo, path, &err) == VX_OK, "%s: %s", path, err.msg);
     vx_svo_scene back;
     if (vx_svo_read_file(NULL, path, &back, &err) == VX_OK) {
         EXPECT(vx_svo_validate_scene(&back, &err) == VX_OK, "%s: %s", path, err.msg);

@@ -5,8 +5,9 @@ if(TARGET vx_conv_vdb)
   # The brute-force references sort millions of cells; unoptimised template
   # code under ASan made that half a minute.
   target_compile_options(vdb_convert PRIVATE -O1)
-  # Seeds are tiny grids written by OpenVDB (level sets with zip and blosc,
-  # half floats, a fog volume with a tile, vec3 and double grids).
+  # Seeds are tiny grids written by OpenVDB (tests/fuzz/make_vdb_seeds.cpp:
+  # level sets with zip and blosc, half floats, a fog volume with a tile, vec3
+  # and double grids).
   # 120 mutations each keeps the replay to seconds under ASan.
   vx_add_fuzz(vdb_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/vdb_fuzz.c LIBS vx_conv_vdb
               SEEDS -n 120 ${CMAKE_SOURCE_DIR}/tests/fuzz/vdb_seeds)

@@ -1128,7 +1128,7 @@ static void test_validate_and_write_errors(void) {
     int fd = mkstemp(path);
     REQUIRE(fd >= 0);
     close(fd);
-    CHECK(vx_vox_write_file(&s, path, &e) == VX_OK);
+    CHECK(vx_vox_write_file(NULL, &s, path, &e) == VX_OK);
     vx_vox_scene r;
     CHECK(vx_vox_read_file(NULL, path, &r, &e) == VX_OK);
     if (!vx_t_cur_failed) {
@@ -1137,7 +1137,7 @@ static void test_validate_and_write_errors(void) {
         vx_vox_scene_free(&r);
     }
     remove(path);
-    CHECK(vx_vox_write_file(&s, "/nonexistent-dir/x.vox", &e) == VX_ERR_IO);
+    CHECK(vx_vox_write_file(NULL, &s, "/nonexistent-dir/x.vox", &e) == VX_ERR_IO);
     CHECK(vx_vox_read_file(NULL, "/nonexistent-dir/x.vox", &r, &e) == VX_ERR_IO);
 }
 

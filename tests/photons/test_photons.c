@@ -162,6 +162,35 @@ static void test_emission_voxels_sun_sky(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A gradient sky (zenith c, horizon h, ground g) by direction: the power
+ * its photons leave at the slab's first surfaces is the closed form of its
+ * irradiance on each face times the area: top pi (h + 2c) / 3, bottom pi g,
+ * a side pi (g / 2 + h / 2 + (c - h) 2 / (3 pi)). */
+static void test_sky_gradient_power(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, slab_cell);
+    s.palette[1] = GRAY;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_sky grad = {.type = VX_SKY_GRADIENT, .color = {0.2, 0.4, 1.0}, .horizon = {0.9, 0.8, 0.7}, .ground = {0.3, 0.2, 0.1}};
+    vx_photon_desc d = {.photons = 400000, .capacity = 4000000, .sky_dir = &grad};
+    run R;
+    double first[3], all[3];
+    vx_photon_stats st;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    CHECK(R.gm.sky_dir && R.gm.sky_dir->type == VX_SKY_GRADIENT);
+    REQUIRE(pass_power(&R, first, all, &st));
+    run_free(&R);
+    for (int k = 0; k < 3; k++) {
+        double c = grad.color[k], h = grad.horizon[k], g = grad.ground[k];
+        double e = 256 * PI * (h + 2 * c) / 3 + 256 * PI * g + 64 * PI * (g / 2 + h / 2 + (c - h) * 2 / (3 * PI));
+        fprintf(stderr, "  gradient sky: first %.5g expected %.5g\n", first[k], e);
+        CHECK(fabs(first[k] / e - 1) < 0.02);
+    }
+    vx_svo_scene_free(&s);
+}
+
 static double mean_rgb(const vx_render_image* im) {
     double m = 0;
     size_t n = (size_t)im->width * im->height;
@@ -337,6 +366,7 @@ int main(void) {
     }
     RUN(test_emission_power);
     RUN(test_emission_voxels_sun_sky);
+    RUN(test_sky_gradient_power);
     RUN(test_furnace);
     RUN(test_caustic);
     RUN(test_progressive);

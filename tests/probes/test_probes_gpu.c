@@ -175,6 +175,126 @@ static void test_gpu_vs_cpu_bake(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Half a and b as integers on one line (sign-magnitude to ordered). */
+static int half_ord(uint16_t h) { return (h & 0x8000u) ? -(int)(h & 0x7FFFu) : (int)h; }
+
+/* The GPU filtering (probe_filter.comp) against the host's (vx__probe_finish,
+ * the CPU bake's code) of the same traced radiance and distances: the same
+ * device traces both bakes, so only the filtering differs. Quantised values
+ * (halfs, distance codes, snorm16 normals) may differ by one step only where
+ * float and double rounding straddle a tie; sums by float rounding. Then the
+ * batch split: any batch size gives the same bytes. A grid with moved and
+ * disabled probes, at res 16 (a 1x1 min-distance map: padding) and 32. */
+static void test_gpu_filter_vs_host(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_error err = {0};
+    for (uint32_t res = 16; res <= 32; res += 16) {
+        /* probes one apart from (5.8, 6, 1.5), in the emissive block [5,7]x[5,7]x[0,3] with all of its
+         * half cell (disabled); (6.8, 6, 1.5) in it too, but with free space within half a cell (moved) */
+        vx_probe_bake_desc d = {.grid = {3, 3, 3}, .bounds_set = true, .bounds_lo = {5.3, 5.5, 1.0},
+                                .bounds_hi = {8.3, 8.5, 4.0}, .res = res, .spp = 8, .seed = 11, .threads = 2};
+        vx_probe_set h, g;
+        vx_probe_bake_stats st = {0};
+        d.host_filter = true;
+        REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &h, &err) == VX_OK);
+        d.host_filter = false, d.stats = &st;
+        REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &g, &err) == VX_OK);
+        d.stats = NULL;
+        uint32_t states[3] = {0};
+        for (uint32_t p = 0; p < g.probe_count; p++) states[g.probes[p].state]++;
+        REQUIRE(states[VX_PROBE_DISABLED] >= 1 && states[VX_PROBE_MOVED] >= 1 && states[VX_PROBE_OK] >= 1);
+        size_t nb = vx__bsq_test(res), lr = res / 16, nl = vx__bsq_test((uint32_t)lr);
+        size_t ni = vx__bsq_test(VX_PROBE_IRR_RES) * 3, nm = vx__bsq_test(VX_PROBE_DIST_RES) * 2;
+        size_t n = g.count, rad_diff = 0, rad_far = 0, nrm_diff = 0, nrm_far = 0, dist_diff = 0, dist_far = 0;
+        size_t low_bad = 0, low_far = 0, zero_bad = 0;
+        double irr_worst = 0, mom_worst = 0;
+        for (size_t p = 0; p < n; p++) {
+            bool off = g.probes[p].state == VX_PROBE_DISABLED;
+            for (size_t t = 0; t < nb; t++) {
+                for (int q = 0; q < 3; q++) {
+                    int a = half_ord(g.radiance[(p * nb + t) * 3 + q]), b = half_ord(h.radiance[(p * nb + t) * 3 + q]);
+                    rad_diff += a != b, rad_far += abs(a - b) > 1;
+                    zero_bad += off && a != 0;
+                }
+                uint32_t a = g.normal[p * nb + t], b = h.normal[p * nb + t];
+                int du = (int16_t)(a & 0xFFFF) - (int16_t)(b & 0xFFFF), dv = (int16_t)(a >> 16) - (int16_t)(b >> 16);
+                nrm_diff += a != b, nrm_far += abs(du) > 1 || abs(dv) > 1;
+                int dd = (int)g.distance[p * nb + t] - (int)h.distance[p * nb + t];
+                dist_diff += dd != 0, dist_far += abs(dd) > 1;
+                zero_bad += off && (a || g.distance[p * nb + t]);
+            }
+            /* the min-distance map is exactly the minimum of the GPU's own codes */
+            const uint16_t* dg = g.distance + p * nb;
+            for (size_t lj = 0; lj < lr; lj++)
+                for (size_t li = 0; li < lr; li++) {
+                    uint16_t m = 0xFFFF;
+                    for (size_t j = lj * 16; j < lj * 16 + 16; j++)
+                        for (size_t i = li * 16; i < li * 16 + 16; i++) m = m < dg[(j + 1) * (res + 2) + i + 1] ? m : dg[(j + 1) * (res + 2) + i + 1];
+                    low_bad += !off && g.low[p * nl + (lj + 1) * (lr + 2) + li + 1] != m;
+                }
+            for (size_t b = 0; b < nl; b++) {
+                uint32_t si, sj;
+                vx_probe_border_src((uint32_t)lr, (uint32_t)(b % (lr + 2)), (uint32_t)(b / (lr + 2)), &si, &sj);
+                low_bad += g.low[p * nl + b] != g.low[p * nl + (sj + 1) * (lr + 2) + si + 1];
+                low_far += abs((int)g.low[p * nl + b] - (int)h.low[p * nl + b]) > 1;
+                zero_bad += off && g.low[p * nl + b];
+            }
+            for (size_t i = 0; i < ni; i++) {
+                float a = vx_probe_half_to_float(g.irradiance[p * ni + i]), b = vx_probe_half_to_float(h.irradiance[p * ni + i]);
+                /* one half step (2^-10 relative at most) plus float sums */
+                irr_worst = fmax(irr_worst, fabs(a - b) / (fmax(fabs(a), fabs(b)) * 0x1p-10 + 1e-30));
+                zero_bad += off && a != 0;
+            }
+            for (size_t i = 0; i < nm; i++) {
+                double a = g.moments[p * nm + i], b = h.moments[p * nm + i];
+                mom_worst = fmax(mom_worst, fabs(a - b) / (fmax(fabs(a), fabs(b)) + 1e-30));
+                zero_bad += off && a != 0;
+            }
+        }
+        size_t vals = n * nb;
+        fprintf(stderr,
+                "  res %u, %u probes (%u moved, %u disabled): GPU vs host filtering: radiance halfs %zu of %zu differ "
+                "(%zu by more than one step), normals %zu (%zu by more than one code), distances %zu (%zu), min map %zu "
+                "inconsistent, %zu more than one code off; irradiance worst %.3g half steps, moments worst relative "
+                "%.3g; GPU busy %.0f%%\n",
+                res, g.probe_count, states[VX_PROBE_MOVED], states[VX_PROBE_DISABLED], rad_diff, 3 * vals, rad_far,
+                nrm_diff, nrm_far, dist_diff, dist_far, low_bad, low_far, irr_worst, mom_worst, 100 * st.busy);
+        CHECK(rad_far == 0 && rad_diff <= 3 * vals / 1000);
+        CHECK(nrm_far == 0 && nrm_diff <= vals / 1000);
+        CHECK(dist_far == 0 && dist_diff <= vals / 1000);
+        CHECK(low_bad == 0 && low_far == 0);
+        CHECK(zero_bad == 0);
+        CHECK(irr_worst <= 1.0);
+        CHECK(mom_worst <= 1e-5);
+        /* the GPU filtering downloads the file's maps only (plus a 16-byte flag block per batch) */
+        size_t file_block = nb * 12 + nl * 2 + ni * 2 + nm * 4;
+        CHECK(st.batches >= 1 && st.bytes_down <= (uint64_t)n * (file_block + 2) + 16 * st.batches);
+
+        /* any batch split: the same bytes */
+        uint8_t *a, *b;
+        size_t na, nbytes;
+        REQUIRE(bytes_of(&g, &a, &na));
+        uint32_t batches[3] = {1, 4, 27};
+        for (int k = 0; k < 3; k++) {
+            vx_probe_set x;
+            d.batch = batches[k];
+            REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &x, &err) == VX_OK);
+            REQUIRE(bytes_of(&x, &b, &nbytes));
+            CHECKF(nbytes == na && !memcmp(a, b, na), "res %u, batches of %u probes: other bytes", res, batches[k]);
+            free(b);
+            vx_probe_set_free(&x);
+        }
+        free(a);
+        vx_probe_set_free(&h), vx_probe_set_free(&g);
+    }
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 /* GPU gi vs CPU gi per pixel (same probes); GPU vs CPU path tracer by image statistics. */
 /* A GPU (g) and a CPU (c) Monte Carlo image with different random streams
  * estimate the same image: equal means, and a difference no larger than
@@ -513,6 +633,7 @@ int main(void) {
     RUN(test_gpu_box_distances);
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
+    RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_render);
     RUN(test_gpu_pathtrace_high_spp);
     RUN(test_gpu_bake_high_spp);

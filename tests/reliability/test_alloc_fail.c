@@ -6,15 +6,19 @@
  * untouched and zero live blocks. Operations: the .vox reader and writer (to
  * memory), the .vox -> .svo converter, the .svo -> .vox export, the .svo
  * writer (to memory), the .svo reader (memory and file), the .probes reader
- * (memory and file) and writer (to memory), over
- * small inputs built here or checked in (tests/probes/fuzz_seeds). Prints
- * the number of injection points per operation (docs/RELIABILITY.md).
+ * (memory and file) and writer (to memory), and every writer to a file
+ * (vx_svo_write_file, vx_vox_write_file, vx_probe_write_file,
+ * vx_file_write_atomic, svo_info's --to-glb and --to-vdb exports where they
+ * are built), over small inputs built here or checked in
+ * (tests/probes/fuzz_seeds). A writer to a file writes over an old file: a
+ * failing run must leave that file as it was and no other file beside it (no
+ * temporary or scratch file). Prints the number of injection points per
+ * operation (docs/RELIABILITY.md).
  *
- * Not reachable through vx_allocator (so not injected here): the .svo and
- * .probes file writers (vx_svo_write_file, vx_probe_write_file and
- * vx_file_write_atomic take no allocator and use malloc for the temporary
- * name and the streaming buffers), zlib's own allocations (compress2 and
- * uncompress in svo_pack.c) and thread start-up. */
+ * Not reachable through vx_allocator (so not injected here): zlib's own
+ * allocations (compress2 and uncompress in svo_pack.c), what stdio,
+ * tinygltf and OpenVDB allocate inside the .glb and .vdb writers, and thread
+ * start-up. */
 #define _DEFAULT_SOURCE
 #include <stdarg.h>
 #include <stdio.h>
@@ -22,12 +26,21 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <dirent.h>
+#include <sys/stat.h>
+
 #include "convert/convert.h"
 #include "formats/vox.h"
 #include "probes/probes.h"
 #include "svo/svo.h"
 #include "tests/fail_alloc.h"
 #include "tests/test.h"
+#ifdef VX_HAVE_GLB
+#include "tools/svo_info/glb.h"
+#endif
+#ifdef VX_HAVE_VDB
+#include "tools/svo_info/vdb.h"
+#endif
 
 
 /* One operation under test: runs with allocator a and, on success, writes
@@ -311,7 +324,7 @@ static vx_result op_vox_write(const vx_allocator* a, const op_ctx* c, uint8_t** 
     return *d ? VX_OK : VX_ERR_NOMEM;
 }
 
-/* ---- tests ----------------------------------------------------------------------------- */
+/* ---- writers to a file ------------------------------------------------------------------- */
 
 static char tmpdir[64];
 
@@ -322,6 +335,104 @@ static void write_file(const char* path, const void* d, size_t n) {
         fclose(f);
     }
 }
+
+/* Files in dir (without . and ..); the first name goes to first. */
+static int count_files(const char* dir, char* first, size_t cap) {
+    DIR* d = opendir(dir);
+    int n = 0;
+    struct dirent* e;
+    while (d && (e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            if (!n && first) snprintf(first, cap, "%s", e->d_name);
+            n++;
+        }
+    if (d) closedir(d);
+    return n;
+}
+
+/* A writer under test: obj to path, allocating through wd. */
+typedef vx_result (*file_writer)(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err);
+typedef struct file_op {
+    file_writer write;
+    const void* obj;
+    size_t skip_at, skip_n; /* bytes left out of the digest (the .vdb header's random UUID) */
+} file_op;
+
+static const char old_file[] = "the old file: a failed write leaves it as it was\n";
+
+/* c->path is the output in a folder of its own, c->obj the file_op. */
+static vx_result op_write_file(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    const file_op* op = (const file_op*)c->obj;
+    write_file(c->path, old_file, sizeof old_file - 1);
+    char dir[128], name[256];
+    snprintf(dir, sizeof dir, "%s/out", tmpdir);
+    vx_result r = op->write(&(vx_write_desc){.alloc = a}, op->obj, c->path, err);
+    vx_error e2;
+    uint8_t* got = NULL;
+    size_t got_n = 0;
+    vx_result rr = vx_file_read(c->path, NULL, 0, &got, &got_n, &e2);
+    int files = count_files(dir, name, sizeof name);
+    CHECKF(files == 1, "%s: %d files in the output folder after a %s (%s)", c->path, files,
+           r ? "failed write" : "write", name);
+    if (r) {
+        /* the output name holds the old file */
+        CHECKF(rr == VX_OK && got_n == sizeof old_file - 1 && !memcmp(got, old_file, got_n),
+               "%s: changed by a failed write (%s)", c->path, err->msg);
+        free(got);
+        return r;
+    }
+    if (rr) {
+        *err = e2;
+        return rr;
+    }
+    if (op->skip_n && op->skip_at + op->skip_n <= got_n) memset(got + op->skip_at, 0, op->skip_n);
+    *d = got;
+    *n = got_n;
+    return VX_OK;
+}
+
+static vx_result w_svo(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return vx_svo_write_file(wd, (const vx_svo_scene*)obj, path, err);
+}
+static vx_result w_vox(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return vx_vox_write_file(wd, (const vx_vox_scene*)obj, path, err);
+}
+static vx_result w_probes(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return vx_probe_write_file(wd, (const vx_probe_set*)obj, path, err);
+}
+static vx_result w_atomic(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    const vx_buf* b = (const vx_buf*)obj;
+    return vx_file_write_atomic(path, wd->alloc, b->data, b->size, err);
+}
+#ifdef VX_HAVE_GLB
+static vx_result w_glb(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return svo_info_to_glb(wd, (const vx_svo_scene*)obj, true, path, NULL, err);
+}
+#endif
+#ifdef VX_HAVE_VDB
+static vx_result w_vdb(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return svo_info_to_vdb(wd, (const vx_svo_scene*)obj, true, false, path, NULL, err);
+}
+static vx_result w_vdb_models(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
+    return svo_info_to_vdb(wd, (const vx_svo_scene*)obj, true, true, path, NULL, err);
+}
+#endif
+
+static void file_loop(const char* what, file_writer w, const void* obj, const char* name) {
+    char dir[128], path[192];
+    snprintf(dir, sizeof dir, "%s/out", tmpdir);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    mkdir(dir, 0700);
+    file_op op = {.write = w, .obj = obj};
+    /* OpenVDB writes a random UUID into every header (magic, version, library
+     * version, offsets flag: 21 bytes, then 36 characters) */
+    if (strstr(name, ".vdb")) op.skip_at = 21, op.skip_n = 36;
+    oom_loop(what, op_write_file, &(op_ctx){.obj = &op, .path = path});
+    remove(path);
+    rmdir(dir);
+}
+
+/* ---- tests ----------------------------------------------------------------------------- */
 
 static void test_vox_and_svo(void) {
     vx_buf v = make_vox();
@@ -335,6 +446,7 @@ static void test_vox_and_svo(void) {
     vx_vox_scene vs;
     REQUIRE(vx_vox_read(NULL, v.data, v.size, &vs, &e) == VX_OK);
     oom_loop("vox write (memory)", op_vox_write, &(op_ctx){.obj = &vs});
+    file_loop("vox write (file)", w_vox, &vs, "scene.vox");
     vx_svo_scene s;
     vx_result r = vx_conv_vox(&(vx_conv_vox_desc){0}, &vs, &s, NULL, &e);
     vx_vox_scene_free(&vs);
@@ -354,6 +466,16 @@ static void test_vox_and_svo(void) {
         write_file(path, svo, svo_n);
         oom_loop("svo read (file)", op_svo_read, &(op_ctx){.path = path});
         remove(path);
+        file_loop("svo write (file)", w_svo, &s, "scene.svo");
+        vx_buf b = {.data = svo, .size = svo_n};
+        file_loop("file write atomic", w_atomic, &b, "bytes.bin");
+#ifdef VX_HAVE_GLB
+        file_loop("svo_info --to-glb", w_glb, &s, "scene.glb");
+#endif
+#ifdef VX_HAVE_VDB
+        file_loop("svo_info --to-vdb", w_vdb, &s, "scene.vdb");
+        file_loop("svo_info --to-vdb --vdb-models", w_vdb_models, &s, "models.vdb");
+#endif
     }
     vx_free(NULL, svo);
     vx_svo_scene_free(&s);
@@ -389,6 +511,8 @@ static void test_probes(void) {
         if (vx_probe_read(NULL, d, n, &ps, &e) == VX_OK) {
             snprintf(what, sizeof what, "probes write seed%d", i);
             oom_loop(what, op_probes_write, &(op_ctx){.obj = &ps});
+            snprintf(what, sizeof what, "probes write seed%d (file)", i);
+            file_loop(what, w_probes, &ps, "set.probes");
             vx_probe_set_free(&ps);
         } else {
             CHECKF(0, "%s: %s", path, e.msg);

@@ -39,6 +39,9 @@ done
 cmp -s old.probes ref.probes && { echo "old and new bakes are the same bytes"; exit 1; }
 echo "bake: $spp spp, run $T ms, $(wc -c <ref.probes) bytes"
 
+# a checkpoint after every step (the default is one per 20 s, more than this
+# whole bake), so that kills land while checkpoints are written and read back
+export VX_BAKE_CHECKPOINT_S=0
 killed=0 finished=0 resumed=0 saw_new=0
 i=0
 while [ $i -lt "$KILLS" ]; do

@@ -16,3 +16,8 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_hits.c)
               LIBS vx_render vx_svo)
   set_tests_properties(test_render_hits PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
 endif()
+# vx_render_scene_update_model: edited models' appends against scenes made from scratch.
+if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c)
+  vx_add_test(test_render_edit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c LIBS vx_render vx_svo)
+  set_tests_properties(test_render_edit PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
+endif()

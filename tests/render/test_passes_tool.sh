@@ -57,10 +57,33 @@ expect_status 2 "malformed light" "$R" "$T/demo.svo" "$T/x.png" --light point:1,
 expect_status 2 "negative light" "$R" "$T/demo.svo" "$T/x.png" --light point:0,0,0:-1,1,1
 grep -q "light 0" "$T/err" && ok "the error names the light" || bad "the error names the light"
 expect_status 2 "--sky without lights" "$R" "$T/demo.svo" "$T/x.png" --sky 1,1,1
+# --sky SPEC: malformed specs name the syntax; an even gradient is the constant sky (misses and the
+# direct pass's sky term: the same bytes); an uneven one changes the image; a missing map is named
+LP="--light point:0,0,40:900,800,700"
+expect_status 2 "malformed --sky" "$R" "$T/demo.svo" "$T/x.png" $LP --sky gradient:1,1,1
+grep -q "gradient:ZR" "$T/err" && ok "a bad --sky names the syntax" || bad "a bad --sky names the syntax"
+expect_status 2 "negative --sky" "$R" "$T/demo.svo" "$T/x.png" $LP --sky -1,0,0
+expect_status 0 "--sky constant" "$R" "$T/demo.svo" "$T/s1.png" $S $LP --sky 0.2,0.3,0.4
+expect_status 0 "--sky even gradient" "$R" "$T/demo.svo" "$T/s2.png" $S $LP --sky gradient:0.2,0.3,0.4:0.2,0.3,0.4:0.2,0.3,0.4
+cmp -s "$T/s1.png" "$T/s2.png" && ok "an even gradient is the constant sky" || bad "an even gradient is the constant sky"
+expect_status 0 "--sky gradient" "$R" "$T/demo.svo" "$T/s3.png" $S $LP --sky gradient:0.9,0.3,0.1:0.2,0.3,0.4:0,0,0
+cmp -s "$T/s1.png" "$T/s3.png" && bad "a gradient changes the image" || ok "a gradient changes the image"
+expect_status 0 "--sky gradient, gi=cones" "$R" "$T/demo.svo" "$T/s4.png" --size 32x24 --passes gbuffer,direct,gi=cones \
+    --sky gradient:0.9,0.3,0.1:0.2,0.3,0.4:0,0,0
+expect_status 1 "--sky map missing" "$R" "$T/demo.svo" "$T/x.png" $S $LP --sky "map:$T/none.exr"
+grep -q "none.exr" "$T/err" && ok "a missing sky map is named" || bad "a missing sky map is named"
 expect_status 0 "lights with gi=pathtrace" "$R" "$T/demo.svo" "$T/lgi.exr" --size 32x24 \
     --light point:0,0,40:900,800,700 --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 \
     --passes gbuffer,direct,gi=pathtrace,tonemap
 expect_status 0 "gi=pathtrace" "$R" "$T/demo.svo" "$T/gi.exr" --size 32x24 --passes gbuffer,direct,gi=pathtrace,tonemap
+# the probe methods take no lights: the error says so (it said the method lacked the frame's lights)
+if [ -x "$BIN/svo_bake" ]; then
+    expect_status 0 "a small bake" "$BIN/svo_bake" "$T/demo.svo" "$T/p.probes" --grid 2,2,2 --res 16 --spp 1
+    expect_status 1 "gi=probes with lights" "$R" "$T/demo.svo" "$T/x.png" --probes "$T/p.probes" \
+        --passes gbuffer,direct,gi=probes $LP
+    grep -q "gi=probes takes no lights" "$T/err" && ok "gi=probes with lights: the error says why" ||
+        bad "gi=probes with lights: the error says why"
+fi
 if [ -x "$BIN/svo_view" ] && command -v xvfb-run >/dev/null 2>&1; then
     printf 'passes gbuffer,direct,ao,aa,tonemap\nscreenshot %s\nquit\n' "$T/v.png" >"$T/script.txt"
     expect_status 0 "svo_view passes script" xvfb-run -a "$BIN/svo_view" "$T/demo.svo" --script "$T/script.txt" \

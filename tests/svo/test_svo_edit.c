@@ -243,6 +243,31 @@ static size_t brush(grid* g, uint32_t attrs, vx_svo_editor* e, vx_svo_cell_write
     return n;
 }
 
+/* vx_svo_editor_get_box of a random box (reaching past the model at times)
+ * against the grid. */
+static void check_box(const vx_svo_editor* e, const grid* g) {
+    uint32_t lo[3], hi[3], d[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = rnd_below(GMAX - 1);
+        hi[k] = lo[k] + rnd_below(24);
+        if (hi[k] >= GMAX) hi[k] = GMAX - 1;
+        d[k] = hi[k] - lo[k] + 1;
+    }
+    size_t n = (size_t)d[0] * d[1] * d[2], bad = 0;
+    bool* set = malloc(n);
+    vx_svo_cell* v = malloc(n * sizeof *v);
+    REQUIRE(set && v && vx_svo_editor_get_box(e, lo, hi, set, v, NULL) == VX_OK);
+    for (uint32_t z = 0; z < d[2]; z++)
+        for (uint32_t y = 0; y < d[1]; y++)
+            for (uint32_t x = 0; x < d[0]; x++) {
+                size_t i = ((size_t)z * d[1] + y) * d[0] + x, j = gi(lo[0] + x, lo[1] + y, lo[2] + z);
+                bool want = g->set[j] && lo[0] + x < g->size[0] && lo[1] + y < g->size[1] && lo[2] + z < g->size[2];
+                bad += set[i] != want || (want && memcmp(&v[i], &g->v[j], sizeof v[i]));
+            }
+    CHECKF(bad == 0, "box %u..%u x %u..%u x %u..%u: %zu cells differ", lo[0], hi[0], lo[1], hi[1], lo[2], hi[2], bad);
+    free(set), free(v);
+}
+
 /* A blocky start: a few filled boxes of few values, so collapsed leaves and
  * shared subtrees exist. */
 static void fill_start(grid* g, uint32_t attrs, uint32_t sx, uint32_t sy, uint32_t sz) {
@@ -286,6 +311,7 @@ static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int round
         shared += st.blocks_shared;
         CHECK(st.words_from >= h0.node_count && (m.node_count == 0 || m.node_count == st.words_from + st.words_added));
         check_cells(&m, &g);
+        if (it % 4 == 0) check_box(e, &g);
         if (it % 8 == 0 || it == rounds - 1) check_same_tree(&m, &g);
         if (it % 5 == 0) { /* undo by header, check, redo */
             vx_svo_model_header h1 = vx_svo_model_header_get(&m);

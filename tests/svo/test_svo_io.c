@@ -344,7 +344,7 @@ static void test_round_trip(void) {
     int fd = mkstemp(path);
     REQUIRE(fd >= 0);
     close(fd);
-    CHECK(vx_svo_write_file(&s, path, &e) == VX_OK);
+    CHECK(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
     vx_svo_scene_free(&r);
     REQUIRE(vx_svo_read_file(NULL, path, &r2, &e) == VX_OK);
     CHECK(model_equal(&s.models[1], &r2.models[1]));
@@ -1116,7 +1116,7 @@ static void test_streamed_file(void) {
     for (int i = 0; i < 4; i++) {
         vx__svo_flush_bytes = thresholds[i];
         vx__svo_parallel_words = i == 3 ? 0 : saved_par; /* last: models coded in parallel batches */
-        REQUIRE(vx_svo_write_file(&s, path, &e) == VX_OK);
+        REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
         size_t nf = 0;
         uint8_t* file = slurp_file(path, &nf);
         CHECKF(file && nf == nm && !memcmp(file, mem, nm), "flush threshold %zu: %zu vs %zu bytes", thresholds[i], nf,
@@ -1131,7 +1131,7 @@ static void test_streamed_file(void) {
     CHECK(system(cmd) == 0);
     /* an output in a missing directory: an error naming it, nothing written */
     snprintf(path, sizeof path, "%s/missing/out.svo", dir);
-    CHECK(vx_svo_write_file(&s, path, &e) == VX_ERR_IO);
+    CHECK(vx_svo_write_file(NULL, &s, path, &e) == VX_ERR_IO);
     CHECKF(strstr(e.msg, "missing/out.svo") != NULL, "message: %s", e.msg);
     snprintf(cmd, sizeof cmd, "test \"$(ls -A %s)\" = out.svo", dir);
     CHECK(system(cmd) == 0);
@@ -1594,7 +1594,7 @@ static int write_seeds(const char* dir) {
         snprintf(path, sizeof path, "%s/seed%d.svo", dir, k);
         /* k == 3: written while the low limit is in force, so its palette
          * model is stored structurally with the limit in the file */
-        vx_result wr = vx_svo_write_file(&s, path, &e);
+        vx_result wr = vx_svo_write_file(NULL, &s, path, &e);
         vx__svo_far_limit = VX__SVO_PTR_MAX;
         if (wr != VX_OK) {
             fprintf(stderr, "%s: %s\n", path, e.msg);
@@ -1605,7 +1605,7 @@ static int write_seeds(const char* dir) {
     vx_svo_scene s; /* seed5: an animation (FRMS) */
     make_animated(&s);
     snprintf(path, sizeof path, "%s/seed5.svo", dir);
-    vx_result wr = vx_svo_write_file(&s, path, &e);
+    vx_result wr = vx_svo_write_file(NULL, &s, path, &e);
     vx_svo_scene_free(&s);
     if (wr != VX_OK) {
         fprintf(stderr, "%s: %s\n", path, e.msg);

@@ -360,11 +360,58 @@ static size_t frames_diff(const vx_svo_scene* got, const vx_svo_scene* orig, con
     return bad;
 }
 
-static uint8_t* scene_bytes(const vx_svo_scene* s, size_t* n) {
+/* The file bytes of s, as svo_view saves it (e: the edits' ved, NULL before any). */
+static uint8_t* scene_bytes(const ved* e, const vx_svo_scene* s, size_t* n) {
     uint8_t* b = NULL;
     vx_svo_scene tmp = *s;
+    if (e && vvx_file_scene(e, &tmp, NULL)) return NULL;
     vx_svo_scene_update_bounds(&tmp); /* the writer stores bounds; edits leave them stale */
-    return vx_svo_write(&tmp, NULL, &b, n, NULL) ? NULL : b;
+    vx_result r = vx_svo_write(&tmp, NULL, &b, n, NULL);
+    if (e) vvx_file_scene_free(e, &tmp);
+    return r ? NULL : b;
+}
+
+/* The corpus scene with two lights and a gradient sky (lights allocated as
+ * the reader does, so the editor's undo may swap them). */
+static bool scene_with_lights(vx_svo_scene* s) {
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in || !load_vox(in, s)) return false;
+    s->lights = vx_calloc(s->alloc, 2, sizeof *s->lights);
+    if (!s->lights) return false;
+    s->light_count = 2;
+    s->lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {4, 5, 20}, .color = {1, 0.9, 0.8}, .intensity = 300};
+    s->lights[1] = (vx_light){.type = VX_LIGHT_DIRECTIONAL, .direction = {0, 0, 1}, .color = {1, 1, 1},
+                              .intensity = 2};
+    s->sky = (vx_sky){.type = VX_SKY_GRADIENT, .color = {0.2, 0.3, 0.6}, .horizon = {0.7, 0.7, 0.8}, .ground = {0.1, 0.1, 0.1}};
+    return true;
+}
+
+/* Light edits are undo steps: edit, undo gives the scene's bytes back, redo the edit's. */
+static void test_editor_lights(void) {
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    size_t n0, n1, n2, n3;
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    vx_error err = {0};
+    REQUIRE(ved_begin(&e, &err) == VX_OK);
+    s.lights[0].color[0] = 0.25, s.lights[0].intensity = 7;
+    s.sky.color[2] = 0.9;
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
+    REQUIRE(b1);
+    CHECK(n1 != n0 || memcmp(b0, b1, n0));
+    CHECK(ved_undo(&e, &err));
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
+    CHECKF(b2 && n2 == n0 && !memcmp(b0, b2, n0), "undo of a light edit: %zu bytes, the original %zu, or other bytes", n2, n0);
+    CHECK(ved_redo(&e, &err));
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
+    CHECKF(b3 && n3 == n1 && !memcmp(b1, b3, n1), "redo of a light edit gives other bytes");
+    CHECK(s.lights[0].intensity == 7 && s.sky.color[2] == 0.9);
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
 }
 
 static void test_editor_voxels(void) {
@@ -372,7 +419,7 @@ static void test_editor_voxels(void) {
     make_scene(&s, 3);
     make_scene(&orig, 3);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -401,15 +448,15 @@ static void test_editor_voxels(void) {
     REQUIRE(vvx_apply(&e, 0, VVX_REMOVE, &b, (int64_t[3]){100, 0, 0}, &changed, NULL) == VX_OK);
     CHECK(changed == 0 && e.undo_count == steps);
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     REQUIRE(b1);
     /* undo to the start: the original bytes; redo: the edited ones */
     while (ved_undo(&e, NULL)) {}
     size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&s, &n3);
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
     CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
     ved_free(&e);
@@ -424,7 +471,7 @@ static void test_editor_frames(void) {
     make_scene(&s, 4);
     make_scene(&orig, 4);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -462,13 +509,13 @@ static void test_editor_frames(void) {
     for (uint32_t f = 0; f < 4; f++) CHECK(vx_svo_scene_frame_instances(&s, f)[1].flags & VX_SVO_INSTANCE_HIDDEN);
     /* the saved file keeps every frame */
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     vx_svo_scene back;
     CHECK(b1 && vx_svo_read(NULL, b1, n1, &back, NULL) == VX_OK && back.frame_count == 4 && back.instance_count == 2);
     if (b1) vx_svo_scene_free(&back);
     while (ved_undo(&e, NULL)) {}
     size_t n2;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2);
     ved_free(&e);
@@ -482,7 +529,7 @@ static void test_editor_random(void) {
     vx_svo_scene s;
     make_scene(&s, 3);
     size_t n0;
-    uint8_t* b0 = scene_bytes(&s, &n0);
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
     REQUIRE(b0);
     ved e;
     ved_init(&e, &s);
@@ -513,16 +560,264 @@ static void test_editor_random(void) {
     }
     CHECK(edits > 100);
     size_t n1;
-    uint8_t* b1 = scene_bytes(&s, &n1);
+    uint8_t* b1 = scene_bytes(&e, &s, &n1);
     REQUIRE(b1);
     while (ved_undo(&e, NULL)) {}
     size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&s, &n2);
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
     CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
     while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&s, &n3);
+    uint8_t* b3 = scene_bytes(&e, &s, &n3);
     CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
     vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    ved_free(&e);
+    vx_svo_scene_free(&s);
+}
+
+/* Incremental brush edits (svo/edit.h) against the reference, the model
+ * decoded and built again for every edit (ved.vox_rebuild): random brushes
+ * on a palette model and on an RGBA8 + normal + material + density model
+ * (added cells take a neighbour's channels) give the same file bytes after
+ * every edit, and the same bytes after undoing and redoing all of them. */
+static void test_editor_incremental(void) {
+    vx_svo_scene s[2];
+    for (int k = 0; k < 2; k++) {
+        make_scene(&s[k], 1);
+        /* a second model with every other channel, drawn by a third instance */
+        vx_svo_model* ms = vx_calloc(NULL, 2, sizeof *ms);
+        vx_svo_instance* is = vx_calloc(NULL, 3, sizeof *is);
+        REQUIRE(ms && is);
+        ms[0] = s[k].models[0];
+        memcpy(is, s[k].instances, 2 * sizeof *is);
+        vx_free(NULL, s[k].models), vx_free(NULL, s[k].instances);
+        s[k].models = ms, s[k].instances = is;
+        uint64_t keys[9 * 7 * 5];
+        uint32_t rgba[9 * 7 * 5], nrm[9 * 7 * 5];
+        uint16_t mat[9 * 7 * 5];
+        float den[9 * 7 * 5];
+        size_t n = 0;
+        for (uint32_t z = 0; z < 5; z++)
+            for (uint32_t y = 0; y < 7; y++)
+                for (uint32_t x = 0; x < 9; x++)
+                    if ((x * y + z) % 4 != 1) {
+                        keys[n] = vx_svo_morton(x, y, z), rgba[n] = 0xFF000000u | (x * 0x30u) | (y << 12);
+                        nrm[n] = x % 3 * 0x1234u, mat[n] = (uint16_t)(z % 2), den[n] = 0.25f * (float)(y % 3);
+                        n++;
+                    }
+        vx_svo_voxels v = {.size = {9, 7, 5}, .count = n, .keys = keys, .rgba = rgba, .normal = nrm, .material = mat,
+                           .density = den, .attrs = VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL | VX_ATTR_DENSITY};
+        REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s[k].models[1], NULL, NULL) == VX_OK);
+        s[k].model_count = 2;
+        s[k].instances[2] = s[k].instances[0];
+        s[k].instances[2].model = 1;
+        s[k].instances[2].xform[3] += 40;
+        s[k].instance_count = 3;
+    }
+    ved e[2];
+    for (int k = 0; k < 2; k++) ved_init(&e[k], &s[k]);
+    e[1].vox_rebuild = true;
+    size_t n0;
+    uint8_t* b0 = scene_bytes(NULL, &s[0], &n0);
+    REQUIRE(b0);
+    uint64_t rng = 0xD1B54A32D192ED03ull;
+    uint32_t bad = 0, edits = 0;
+    for (int it = 0; it < 120; it++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t r = (uint32_t)(rng >> 33), model = r & 1, op = (r >> 1) % 3;
+        vvx_brush b = {.shape = (vvx_shape)((r >> 3) % 3), .radius = (r >> 5) % 4, .palette = (uint8_t)(1 + (r >> 8) % 20),
+                       .rgba = 0xFF000000u | (r >> 13) % 5 * 0x00402010u};
+        const vx_svo_model* m = &s[0].models[model];
+        /* mostly inside, sometimes past the size (growth) or below 0 (a rebuild for both) */
+        int64_t c[3] = {(int64_t)((r >> 16) % (m->size[0] + 4)) - ((r >> 30) & 1 ? 1 : 0),
+                        (int64_t)((r >> 20) % (m->size[1] + 2)), (int64_t)((r >> 24) % (m->size[2] + 2))};
+        uint64_t ch[2] = {0, 0};
+        vx_result res0 = vvx_apply(&e[0], model, (vvx_op)op, &b, c, &ch[0], NULL);
+        vx_result res1 = vvx_apply(&e[1], model, (vvx_op)op, &b, c, &ch[1], NULL);
+        REQUIRE(res0 == VX_OK && res1 == VX_OK);
+        edits += ch[0] > 0;
+        size_t na, nb;
+        uint8_t* ba = scene_bytes(&e[0], &s[0], &na);
+        uint8_t* bb = scene_bytes(&e[1], &s[1], &nb);
+        bool same = ba && bb && na == nb && !memcmp(ba, bb, na) && ch[0] == ch[1];
+        if (!same && bad++ < 3)
+            fprintf(stderr, "edit %d (model %u, %s %s r%u at %lld,%lld,%lld): %llu vs %llu cells, %zu vs %zu bytes\n", it, model,
+                    vvx_op_name((vvx_op)op), vvx_shape_name(b.shape), b.radius, (long long)c[0], (long long)c[1],
+                    (long long)c[2], (unsigned long long)ch[0], (unsigned long long)ch[1], na, nb);
+        vx_free(NULL, ba), vx_free(NULL, bb);
+    }
+    CHECKF(bad == 0, "%u of 120 edits differ from the rebuild", bad);
+    CHECK(edits > 60);
+    size_t n1, n2, n3;
+    uint8_t* b1 = scene_bytes(&e[0], &s[0], &n1);
+    while (ved_undo(&e[0], NULL)) {}
+    uint8_t* b2 = scene_bytes(&e[0], &s[0], &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    while (ved_redo(&e[0], NULL)) {}
+    uint8_t* b3 = scene_bytes(&e[0], &s[0], &n3);
+    CHECK(b1 && b3 && n3 == n1 && !memcmp(b3, b1, n1));
+    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    for (int k = 0; k < 2; k++) {
+        ved_free(&e[k]);
+        vx_svo_scene_free(&s[k]);
+    }
+}
+
+/* The face brush against brute force: a terraced 10x10x6 palette model;
+ * extrusions (+z on a terrace, -y and +x on sides, the +x one growing the
+ * model), a push (remove), a paint limited by the radius, a face that is not
+ * exposed (nothing) and one whose extrusion would reach below 0 (refused);
+ * after each, every cell and palette index equals a dense grid where the
+ * region is found by relaxation (cells marked until no exposed in-plane
+ * neighbour of a marked one is left), and undoing all gives the original
+ * bytes. */
+#define FG 16
+typedef struct face_grid {
+    uint8_t c[FG][FG][FG]; /* [z][y][x], palette index, 0: empty */
+} face_grid;
+
+static bool fg_exposed(const face_grid* g, const int p[3], int ax, int d) {
+    for (int k = 0; k < 3; k++)
+        if (p[k] < 0 || p[k] >= FG) return false;
+    if (!g->c[p[2]][p[1]][p[0]]) return false;
+    int q[3] = {p[0], p[1], p[2]};
+    q[ax] += d;
+    if (q[ax] < 0 || q[ax] >= FG) return true;
+    return !g->c[q[2]][q[1]][q[0]];
+}
+
+static void fg_apply(face_grid* g, int op, int face, int R, const int c[3], uint8_t pal) {
+    int ax = face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3, d = face & 1 ? 1 : -1;
+    if (!R) R = 64;
+    if (!fg_exposed(g, c, ax, d)) return;
+    static uint8_t mark[FG][FG]; /* [v][u] of the plane: u along a1, v along a2 */
+    memset(mark, 0, sizeof mark);
+    mark[c[a2]][c[a1]] = 1;
+    for (bool more = true; more;) {
+        more = false;
+        for (int v = 0; v < FG; v++)
+            for (int u = 0; u < FG; u++) {
+                if (mark[v][u] || abs(u - c[a1]) > R || abs(v - c[a2]) > R) continue;
+                int p[3];
+                p[ax] = c[ax], p[a1] = u, p[a2] = v;
+                bool nb = (u > 0 && mark[v][u - 1]) || (u + 1 < FG && mark[v][u + 1]) || (v > 0 && mark[v - 1][u]) ||
+                          (v + 1 < FG && mark[v + 1][u]);
+                if (nb && fg_exposed(g, p, ax, d)) mark[v][u] = 1, more = true;
+            }
+    }
+    face_grid before = *g;
+    for (int v = 0; v < FG; v++)
+        for (int u = 0; u < FG; u++) {
+            if (!mark[v][u]) continue;
+            int p[3];
+            p[ax] = c[ax], p[a1] = u, p[a2] = v;
+            uint8_t* cell = &g->c[p[2]][p[1]][p[0]];
+            if (op == VVX_ADD) {
+                int q[3] = {p[0], p[1], p[2]};
+                q[ax] += d;
+                g->c[q[2]][q[1]][q[0]] = before.c[p[2]][p[1]][p[0]];
+            } else if (op == VVX_REMOVE) {
+                *cell = 0;
+            } else {
+                *cell = pal;
+            }
+        }
+}
+
+static bool fg_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    void** u = user;
+    face_grid* g = u[0];
+    const vx_svo_model* m = u[1];
+    if (x < FG && y < FG && z < FG) g->c[z][y][x] = m->palette[attr];
+    return true;
+}
+
+static size_t fg_diff(const vx_svo_model* m, const face_grid* want) {
+    static face_grid have;
+    memset(&have, 0, sizeof have);
+    void* u[2] = {&have, (void*)m};
+    if (vx_svo_decode_model(m, fg_cb, u, NULL) || m->voxel_count > (uint64_t)FG * FG * FG) return SIZE_MAX;
+    size_t bad = 0;
+    for (int z = 0; z < FG; z++)
+        for (int y = 0; y < FG; y++)
+            for (int x = 0; x < FG; x++) bad += have.c[z][y][x] != want->c[z][y][x];
+    return bad;
+}
+
+/* The terraced 10x10x6 palette model and its grid. */
+static void make_face_scene(vx_svo_scene* s, face_grid* g) {
+    vx_svo_scene_init(s, NULL);
+    memset(g, 0, sizeof *g);
+    uint64_t keys[10 * 10 * 6];
+    uint8_t pal[10 * 10 * 6];
+    size_t n = 0;
+    for (uint32_t z = 0; z < 6; z++)
+        for (uint32_t y = 0; y < 10; y++)
+            for (uint32_t x = 0; x < 10; x++)
+                if (z < 3 + (x / 3 + y / 4) % 3) {
+                    keys[n] = vx_svo_morton(x, y, z), pal[n] = (uint8_t)(1 + (x + y) % 3);
+                    g->c[z][y][x] = pal[n++];
+                }
+    s->models = vx_calloc(NULL, 1, sizeof *s->models);
+    s->instances = vx_calloc(NULL, 1, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = s->instance_count = 1;
+    vx_svo_voxels v = {.size = {10, 10, 6}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    s->instances[0].xform[0] = s->instances[0].xform[5] = s->instances[0].xform[10] = 1;
+    s->instances[0].layer = UINT32_MAX;
+    s->has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | i * 0x010203u;
+    vx_svo_scene_update_bounds(s);
+}
+
+static void test_editor_face(void) {
+    vx_svo_scene s;
+    static face_grid g;
+    make_face_scene(&s, &g);
+    size_t n0;
+    uint8_t* b0 = scene_bytes(NULL, &s, &n0);
+    REQUIRE(b0);
+    ved e;
+    ved_init(&e, &s);
+    CHECK(fg_diff(&s.models[0], &g) == 0);
+    /* op, face, radius, cell, palette; the cells changed (0: nothing to do) */
+    static const struct {
+        int op, face, r, c[3], pal;
+        bool changes;
+    } steps[] = {
+        {VVX_ADD, 5, 0, {1, 1, 2}, 7, true},   /* +z on the lowest terrace: the terrace grows one layer */
+        {VVX_ADD, 5, 0, {4, 1, 2}, 7, false},  /* a covered face: nothing */
+        {VVX_ADD, 2, 1, {3, 4, 4}, 7, true},   /* -y side of a terrace step, radius 1 (2 of its 3 cells) */
+        {VVX_ADD, 1, 0, {9, 4, 0}, 7, true},   /* +x side: the model grows to 11 */
+        {VVX_REMOVE, 3, 0, {3, 9, 2}, 7, true}, /* +y side pushed in */
+        {VVX_PAINT, 5, 1, {7, 1, 4}, 9, true},  /* a top, radius 1 */
+        {VVX_PAINT, 5, 0, {7, 1, 4}, 9, true},  /* the rest of that region */
+    };
+    for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
+        vvx_brush b = {.shape = VVX_FACE, .radius = (uint32_t)steps[i].r, .face = (uint8_t)steps[i].face,
+                       .palette = (uint8_t)steps[i].pal};
+        uint64_t ch = 0;
+        int64_t c[3] = {steps[i].c[0], steps[i].c[1], steps[i].c[2]};
+        vx_error err = {0};
+        vx_result r = vvx_apply(&e, 0, (vvx_op)steps[i].op, &b, c, &ch, &err);
+        CHECKF(r == VX_OK, "face step %zu: %s", i, err.msg);
+        if (r) break;
+        fg_apply(&g, steps[i].op, steps[i].face, steps[i].r, steps[i].c, (uint8_t)steps[i].pal);
+        size_t d = fg_diff(&s.models[0], &g);
+        CHECKF(d == 0 && (ch > 0) == steps[i].changes, "face step %zu: %zu cells differ, %llu changed", i, d,
+               (unsigned long long)ch);
+    }
+    CHECK(s.models[0].size[0] == 11);
+    /* an extrusion below 0 is refused, the model unchanged */
+    vvx_brush b = {.shape = VVX_FACE, .face = 0};
+    uint32_t steps_before = e.undo_count;
+    CHECK(vvx_apply(&e, 0, VVX_ADD, &b, (int64_t[3]){0, 3, 1}, NULL, NULL) == VX_ERR_LIMIT);
+    CHECK(e.undo_count == steps_before && fg_diff(&s.models[0], &g) == 0);
+    while (ved_undo(&e, NULL)) {}
+    size_t n2;
+    uint8_t* b2 = scene_bytes(&e, &s, &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    vx_free(NULL, b0), vx_free(NULL, b2);
     ved_free(&e);
     vx_svo_scene_free(&s);
 }
@@ -624,6 +919,50 @@ static void test_scripted_edit(void) {
     vx_svo_scene_free(&got);
 }
 
+/* svo_view's script edits a light (two steps), undoes both and saves: the
+ * file's bytes are the unedited save's; redo brings the last edit back. */
+static void test_scripted_light_undo(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], plain[1024], undone[1024], redone[1024], log[1024];
+    path(in, sizeof in, "lights.svo");
+    path(script, sizeof script, "lights.txt");
+    path(plain, sizeof plain, "lights_plain.svo");
+    path(undone, sizeof undone, "lights_undone.svo");
+    path(redone, sizeof redone, "lights_redone.svo");
+    path(log, sizeof log, "lights.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(plain), remove(undone), remove(redone);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "save %s\nlight 0 color 0.1 0.2 0.3\nlight 0 intensity 42\nlight 1 intensity 0.5\nundo\nundo\nundo\n"
+               "save %s\nredo\nsave %s\nquit\n", plain, undone, redone);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    if (rc != 0) {
+        char* t = slurp(log);
+        fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+    }
+    REQUIRE(rc == 0);
+    char *a = slurp(plain), *b = slurp(undone);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(plain, &sa) && !stat(undone, &sb) && sa.st_size == sb.st_size &&
+               !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing the light edits the saved file differs from the unedited save");
+    free(a), free(b);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, redone, &got, &err) == VX_OK);
+    CHECKF(got.light_count == 2 && got.lights[0].color[0] == 0.1 && got.lights[0].color[2] == 0.3 &&
+               got.lights[0].intensity == 300,
+           "redo: light 0 is not the first edit's (colour %g,%g,%g, intensity %g)", got.lights[0].color[0],
+           got.lights[0].color[1], got.lights[0].color[2], got.lights[0].intensity);
+    vx_svo_scene_free(&got);
+}
+
 /* Fraction of pixels in columns [x0, x1) that differ by more than 1/255 in some channel. */
 static double image_diff_cols(const char* pa, const char* pb, uint32_t x0, uint32_t x1) {
     uint32_t w1, h1, c1, w2, h2, c2;
@@ -665,7 +1004,7 @@ static void test_scripted_voxels(void) {
     path(grab, sizeof grab, "voxels_grab.png");
     path(shot, sizeof shot, "voxels_shot.png");
     remove(out);
-    REQUIRE(vx_svo_write_file(&orig, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &orig, in, NULL) == VX_OK);
     FILE* f = fopen(script, "w");
     REQUIRE(f);
     fprintf(f,
@@ -708,6 +1047,46 @@ static void test_scripted_voxels(void) {
     vx_svo_scene_free(&orig);
 }
 
+/* The face brush through script commands (`brush face R`, `voxel OP X Y Z
+ * FACE`): the saved model equals the brute-force grid after the same steps. */
+static void test_scripted_face(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    static face_grid g;
+    make_face_scene(&s, &g);
+    char in[1024], script[1024], out[1024], log[1024];
+    path(in, sizeof in, "face.svo");
+    path(script, sizeof script, "face.txt");
+    path(out, sizeof out, "face_out.svo");
+    path(log, sizeof log, "face.log");
+    remove(out);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\nbrush face\nvoxel add 1 1 2 +z\nvoxel add 9 4 0 +x\nbrush face 1\ncolor 3\n"
+               "voxel paint 7 1 4 +z\nbrush face 0\nvoxel remove 3 9 2 +y\nvoxel add 2 2 3 +z\nundo\nsave %s\nquit\n",
+            out);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 320x240 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0, "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    fg_apply(&g, VVX_ADD, 5, 0, (int[3]){1, 1, 2}, 0);
+    fg_apply(&g, VVX_ADD, 1, 0, (int[3]){9, 4, 0}, 0);
+    fg_apply(&g, VVX_PAINT, 5, 1, (int[3]){7, 1, 4}, 3);
+    fg_apply(&g, VVX_REMOVE, 3, 0, (int[3]){3, 9, 2}, 0);
+    vx_svo_scene got;
+    vx_error err = {0};
+    if (rc == 0 && vx_svo_read_file(NULL, out, &got, &err) == VX_OK) {
+        CHECK(got.model_count == 1 && got.models[0].size[0] == 11);
+        CHECK(got.model_count == 1 && fg_diff(&got.models[0], &g) == 0);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", out, err.msg);
+    }
+    vx_svo_scene_free(&s);
+}
+
 /* Fraction of pixels that differ by more than 1/255 in some channel. */
 static double image_diff(const char* pa, const char* pb) {
     uint32_t w1, h1, c1, w2, h2, c2;
@@ -731,6 +1110,48 @@ static double image_diff(const char* pa, const char* pb) {
     return (double)bad / (double)n;
 }
 
+/* The file's lights reach gi=pathtrace and gi=cones in the viewer (as in
+ * svo_render: the frame refuses a gi method made without its lights), and a
+ * light edit and its undo remake the method: the frames differ after the
+ * edit and come back after the undo. */
+static void test_scripted_lights_gi(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    char in[1024], script[1024], log[1024], shot[3][1024];
+    path(in, sizeof in, "lights_gi.svo");
+    path(script, sizeof script, "lights_gi.txt");
+    path(log, sizeof log, "lights_gi.log");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    const char* methods[2] = {"pathtrace", "cones"};
+    for (int m = 0; m < 2; m++) {
+        for (int k = 0; k < 3; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "lights_gi_%s_%d.png", methods[m], k);
+            path(shot[k], sizeof shot[k], name);
+            remove(shot[k]);
+        }
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        fprintf(f, "passes gbuffer,direct,gi=%s\nscreenshot %s\nlight 1 intensity 0.2\nscreenshot %s\nundo\n"
+                   "screenshot %s\nquit\n", methods[m], shot[0], shot[1], shot[2]);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+        char* t = slurp(log);
+        bool refused = t && strstr(t, "not made with the frame's lights");
+        if (rc != 0 || refused) fprintf(stderr, "svo_view output:\n%s\n", t ? t : "(none)");
+        free(t);
+        CHECKF(rc == 0 && !refused, "gi=%s with the file's lights: rc %d%s", methods[m], rc, refused ? ", refused" : "");
+        double d01 = image_diff(shot[0], shot[1]), d02 = image_diff(shot[0], shot[2]);
+        fprintf(stderr, "  gi=%s: %.1f%% of pixels change with the light, %.1f%% after its undo\n", methods[m], d01 * 100,
+                d02 * 100);
+        CHECKF(d01 > 0.003 && d01 <= 1, "gi=%s: the light edit changes %.3f of the pixels (the scene covers a few %%)", methods[m], d01);
+        CHECKF(d02 <= 0.01, "gi=%s: after the undo %.3f of the pixels differ", methods[m], d02);
+    }
+}
+
 static void test_screenshot_matches_svo_render(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -741,7 +1162,7 @@ static void test_screenshot_matches_svo_render(void) {
     path(log, sizeof log, "shot.log");
     vx_svo_scene s;
     REQUIRE(load_vox(in, &s));
-    REQUIRE(vx_svo_write_file(&s, svo, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, svo, NULL) == VX_OK);
     vx_svo_scene_free(&s);
     const char* modes[] = {"color", "instance"};
     for (int m = 0; m < 2; m++) {
@@ -908,15 +1329,15 @@ static void test_gi_mode(void) {
     /* a tiny bake through the probes API (CPU): what svo_bake --grid 2,2,2 --res 16 --spp 4 --cpu writes */
     vx_svo_scene s;
     REQUIRE(load_vox(in, &s));
-    REQUIRE(vx_svo_write_file(&s, svo, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, svo, NULL) == VX_OK);
     vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 4, .seed = 1};
     vx_probe_set ps, part;
     vx_error err = {0};
     REQUIRE(vx_probe_bake(&s, &bd, &ps, &err) == VX_OK);
-    REQUIRE(vx_probe_write_file(&ps, probes, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(NULL, &ps, probes, &err) == VX_OK);
     bd.first = 0, bd.count = 4; /* half the grid: a shard, which the viewer must refuse */
     REQUIRE(vx_probe_bake(&s, &bd, &part, &err) == VX_OK);
-    REQUIRE(vx_probe_write_file(&part, shard, &err) == VX_OK);
+    REQUIRE(vx_probe_write_file(NULL, &part, shard, &err) == VX_OK);
     vx_probe_set_free(&part);
     /* a truncated copy */
     uint8_t* bytes = NULL;
@@ -1033,7 +1454,7 @@ static void test_vclick(void) {
     path(shot, sizeof shot, "vclick_shot.png");
     path(script, sizeof script, "vclick.txt");
     path(log, sizeof log, "vclick.log");
-    REQUIRE(vx_svo_write_file(&s, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
     REQUIRE(run_cmd("%s %s --screenshot %s --size 160x120 --hidden > %s 2>&1", g_view, in, shot, log) == 0);
     uint32_t bx, by;
     REQUIRE(object_pixel(shot, &bx, &by));
@@ -1082,8 +1503,11 @@ int main(int argc, char** argv) {
     if (argc == 2 && !strcmp(argv[1], "--editor")) { /* the leak-checked part: no window, no driver */
         RUN(test_editor_ops);
         RUN(test_editor_voxels);
+        RUN(test_editor_lights);
         RUN(test_editor_frames);
         RUN(test_editor_random);
+        RUN(test_editor_incremental);
+        RUN(test_editor_face);
         return vx_test_finish();
     }
     if (argc < 4) {
@@ -1101,7 +1525,10 @@ int main(int argc, char** argv) {
     }
     g_display = getenv("DISPLAY") != NULL;
     RUN(test_scripted_edit);
+    RUN(test_scripted_light_undo);
+    RUN(test_scripted_lights_gi);
     RUN(test_scripted_voxels);
+    RUN(test_scripted_face);
     RUN(test_vclick);
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);

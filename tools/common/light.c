@@ -23,6 +23,50 @@ static bool fail(char* why, size_t n, const char* msg) {
     return false;
 }
 
+const char vx_tool_sky_syntax[] =
+    "                       R,G,B  (uniform radiance)\n"
+    "                       gradient:ZR,ZG,ZB:HR,HG,HB:GR,GG,GB  (zenith, horizon, ground: linear from the\n"
+    "                       horizon to the zenith in the direction's z, the ground below)\n"
+    "                       map:FILE[:INTENSITY[:ROTATION]]  (an HDR environment map read through\n"
+    "                       OpenImageIO: equirectangular, top row +z; ROTATION degrees about +z)\n";
+
+bool vx_tool_parse_sky(const char* spec, vx_sky* k, char* why, size_t wn) {
+    char buf[512];
+    memset(k, 0, sizeof *k);
+    if (!spec || strlen(spec) >= sizeof buf) return fail(why, wn, "too long");
+    snprintf(buf, sizeof buf, "%s", spec);
+    char* part[5] = {0};
+    int n = 0;
+    for (char *p = buf, *c;; p = c + 1) {
+        if (n == 5) return fail(why, wn, "too many ':' fields");
+        part[n++] = p;
+        if (!(c = strchr(p, ':'))) break;
+        *c = 0;
+    }
+    if (!strcmp(part[0], "gradient")) {
+        k->type = VX_SKY_GRADIENT;
+        if (n != 4 || !vx_tool_parse_vec(part[1], k->color, 3) || !vx_tool_parse_vec(part[2], k->horizon, 3) ||
+            !vx_tool_parse_vec(part[3], k->ground, 3))
+            return fail(why, wn, "gradient:ZR,ZG,ZB:HR,HG,HB:GR,GG,GB");
+    } else if (!strcmp(part[0], "map")) {
+        k->type = VX_SKY_ENVMAP;
+        k->intensity = 1;
+        double rot = 0;
+        if (n < 2 || n > 4 || !part[1][0] || (n > 2 && !vx_tool_parse_vec(part[2], &k->intensity, 1)) ||
+            (n > 3 && !vx_tool_parse_vec(part[3], &rot, 1)))
+            return fail(why, wn, "map:FILE[:INTENSITY[:ROTATION]]");
+        if (strlen(part[1]) > VX_SKY_PATH_MAX) return fail(why, wn, "map: the path is too long");
+        snprintf(k->path, sizeof k->path, "%s", part[1]);
+        k->rotation = rot * deg;
+    } else {
+        k->type = VX_SKY_CONSTANT;
+        if (n != 1 || !vx_tool_parse_vec(part[0], k->color, 3)) return fail(why, wn, "R,G,B, gradient:... or map:...");
+    }
+    vx_error err = {0};
+    if (vx_sky_validate(k, &err)) return fail(why, wn, err.msg);
+    return true;
+}
+
 bool vx_tool_parse_light(const char* spec, vx_light* l, char* why, size_t wn) {
     char buf[512];
     memset(l, 0, sizeof *l);

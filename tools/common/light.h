@@ -18,6 +18,14 @@ extern const char vx_tool_light_syntax[];
  * the caller. */
 bool vx_tool_parse_light(const char* spec, vx_light* out, char* why, size_t why_size);
 
+/* The --sky syntax, for --help (indented by 23). */
+extern const char vx_tool_sky_syntax[];
+/* Parses a --sky spec: R,G,B (constant), gradient:ZENITH:HORIZON:GROUND
+ * (R,G,B each) or map:FILE[:INTENSITY[:ROTATION]] (degrees on the command
+ * line, radians in vx_sky); checked with vx_sky_validate. false with why
+ * filled when malformed or invalid. */
+bool vx_tool_parse_sky(const char* spec, vx_sky* out, char* why, size_t why_size);
+
 /* "point (1 2 3) colour 1 1 1 x 10, range 5" and the like. */
 void vx_tool_light_str(const vx_light* l, char* buf, size_t n);
 /* "gradient zenith ... horizon ... ground ..." / "environment map PATH x I" / "default". */

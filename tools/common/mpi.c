@@ -76,13 +76,21 @@ unsigned vx_tool_mpi_threads(const vx_tool_mpi* m) {
 }
 
 _Noreturn void vx_tool_mpi_die(const char* fmt, ...) {
+    /* one write of the whole line: stderr is unbuffered, and the pieces of
+     * several fprintf calls could be split by another rank's line or by
+     * mpirun's MPI_Abort banner (seen in the ASan suite) */
+    char line[1024];
+    int n = snprintf(line, sizeof line, "%s: rank %d (%s): ", vx_tool_name, die_rank, die_host);
+    if (n < 0 || n >= (int)sizeof line) n = 0;
     va_list ap;
-    fprintf(stderr, "%s: rank %d (%s): ", vx_tool_name, die_rank, die_host);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    int m = vsnprintf(line + n, sizeof line - (size_t)n, fmt, ap);
     va_end(ap);
-    fputs("; ending the job\n", stderr);
-    fflush(stderr);
+    n = m < 0 ? n : (n + m >= (int)sizeof line - 17 ? (int)sizeof line - 17 : n + m);
+    memcpy(line + n, "; ending the job\n", 17);
+    fflush(stdout);
+    if (write(2, line, (size_t)n + 17) < 0) { /* nothing left to tell */
+    }
     MPI_Abort(MPI_COMM_WORLD, 1);
     exit(1); /* not reached */
 }

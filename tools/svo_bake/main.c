@@ -60,8 +60,8 @@ _Noreturn static void usage(int status) {
             "  --sky R,G,B        sky radiance (default: %g,%g,%g); 0,0,0 for none\n"
             "  --shard I/N        bake the I-th of N parts (0-based) (default: %u/%u)\n"
             "  --frame N          an animation's frame N (default: %u)\n"
-            "  --threads N        worker threads (CPU bake; GPU bake: filtering) (default: %u, the CPU count;\n"
-            "                     under MPI the CPU count over the ranks on the host)\n"
+            "  --threads N        worker threads of the CPU bake (the GPU bake filters on the GPU) (default: %u,\n"
+            "                     the CPU count; under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
             "  --max-memory SIZE  refuse a scene that needs more memory than SIZE to read (e.g. 512M)\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
@@ -199,7 +199,7 @@ static int do_merge(const char* out, char** parts, int n) {
     }
     vx_probe_set m = {0};
     if (!rc && vx_probe_merge(ptrs, (uint32_t)n, NULL, &m, &err)) rc = vx_tool_error(out, &err);
-    if (!rc && vx_probe_write_file(&m, out, &err)) rc = vx_tool_error(out, &err);
+    if (!rc && vx_probe_write_file(NULL, &m, out, &err)) rc = vx_tool_error(out, &err);
     if (!rc) printf("merged %d parts: %u probes -> %s\n", n, m.probe_count, out);
     vx_probe_set_free(&m);
     for (int i = 0; i < loaded; i++) vx_probe_set_free(&sets[i]);
@@ -345,6 +345,12 @@ bool same_grid(const vx_probe_set* placed, const vx_probe_set* ck) {
     return same;
 }
 
+double checkpoint_interval(void) {
+    const char* env = getenv("VX_BAKE_CHECKPOINT_S");
+    double s = env ? atof(env) : 20.0;
+    return s >= 0 ? s : 20.0;
+}
+
 bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
     if (j->o.fresh || access(j->ckpath, F_OK) != 0) return false;
     vx_probe_set ck;
@@ -402,29 +408,38 @@ static int bake_single(bake_job* j) {
     eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
     vx_probe_bake_desc bd = o->b;
     if (!o->quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
-    /* checkpoint about every 20 s of work, at least one probe a step */
+    /* bake in steps of about 5-40 s of work (at least one probe), and write
+     * the baked prefix as a checkpoint when checkpoint_interval() has passed
+     * since the last one. The step is sized by the bake's own time: when it
+     * also counted the checkpoint writes, a prefix that took over 5 s to write
+     * stopped the steps from growing, and every small step then rewrote the
+     * whole growing prefix (4,096 probes at R=128 on an H200: 170 s, the bake
+     * itself 15 s) */
     uint32_t step = o->cpu ? 2 * o->threads : 16;
-    double t_step = vx_time_now();
+    double interval = checkpoint_interval(), t_ck = vx_time_now();
     while (!rc && ps.first + ps.count < end) {
         uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
         e.base = ps.count;
+        double t_step = vx_time_now();
         if (bake_range(j, &bd, &ps, to, &err)) {
             rc = vx_tool_error(j->in, &err);
             break;
         }
         double now = vx_time_now(), dt = now - t_step;
-        t_step = now;
         if (ps.first + ps.count < end) {
-            if (vx_probe_write_file(&ps, j->ckpath, &err)) {
-                rc = vx_tool_error(j->ckpath, &err);
-                break;
+            if (now - t_ck >= interval) {
+                if (vx_probe_write_file(NULL, &ps, j->ckpath, &err)) {
+                    rc = vx_tool_error(j->ckpath, &err);
+                    break;
+                }
+                t_ck = vx_time_now();
             }
             step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
         }
     }
     if (!o->quiet && isatty(2)) fprintf(stderr, "\n");
     double t_bake = vx_time_now() - t0;
-    if (!rc && vx_probe_write_file(&ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (!rc && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
     if (!rc) {
         remove(j->ckpath);
         printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",

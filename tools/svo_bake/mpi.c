@@ -27,6 +27,7 @@
  * of SIGKILL (or fail with an error) after sending its K-th batch (its
  * batch files for those K batches are on disk by then);
  * VX_BAKE_CHECKPOINT_S sets the seconds between checkpoints (default 20). */
+#define _POSIX_C_SOURCE 200809L /* kill() */
 #include <dirent.h>
 #include <errno.h>
 #include <mpi.h>
@@ -74,7 +75,7 @@ static void save_batch(const bake_job* j, const vx_probe_set* v, double* seconds
         (int)sizeof path)
         die("%s: name too long", j->ckdir);
     vx_error err = {0};
-    if (vx_probe_write_file(v, path, &err)) die("batch checkpoint %s", err.msg);
+    if (vx_probe_write_file(NULL, v, path, &err)) die("batch checkpoint %s", err.msg);
     remember(path);
     *seconds += vx_time_now() - t;
 }
@@ -85,6 +86,28 @@ static bool batch_name(const char* name, uint32_t* a, uint32_t* b) {
     return sscanf(name, "b%u-%u.r%d.probes%n", a, b, &rank, &len) == 3 && name[len] == 0 && *a < *b && rank >= 0;
 }
 
+/* Whether name is the temporary file of a batch file (bFIRST-END.rRANK.probes
+ * .tmpPID, vx_atomic_open's name) whose writer is gone: a rank killed while
+ * saving it. No later write has that name, so nothing else would remove it
+ * (svo/core.c removes only the stale temporary files of the name it writes);
+ * the test for a dead pid is core.c's. */
+static bool stale_batch_tmp(const char* name) {
+    const char* t = strstr(name, ".probes.tmp");
+    char base[256];
+    uint32_t a, b;
+    size_t n = t ? (size_t)(t - name) + strlen(".probes") : 0;
+    if (!t || n >= sizeof base) return false;
+    memcpy(base, name, n);
+    base[n] = 0;
+    if (!batch_name(base, &a, &b)) return false;
+    const char* p = t + strlen(".probes.tmp");
+    char* end;
+    if (*p < '0' || *p > '9') return false;
+    long pid = strtol(p, &end, 10);
+    if (*end || pid <= 0 || pid == (long)getpid()) return false;
+    return kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
 /* Every rank: the folder exists (on a shared file system the ranks make the
  * same one). */
 static void make_ckdir(const bake_job* j) {
@@ -93,7 +116,8 @@ static void make_ckdir(const bake_job* j) {
 
 /* Rank 0 after the prefix checkpoint: each batch file of this job in the
  * folder fills its probes not done yet (done[] per probe from ps->first,
- * the maps reserved); --fresh removes them instead. Returns the probes taken. */
+ * the maps reserved); --fresh removes them instead. Temporary files of
+ * killed writers go. Returns the probes taken. */
 static uint32_t resume_batches(const bake_job* j, vx_probe_set* ps, uint32_t end, uint8_t* done, size_t pb) {
     DIR* d = opendir(j->ckdir);
     if (!d) return 0;
@@ -102,9 +126,13 @@ static uint32_t resume_batches(const bake_job* j, vx_probe_set* ps, uint32_t end
     if (!one) die("out of memory");
     for (struct dirent* e; (e = readdir(d));) {
         uint32_t a, b;
-        if (!batch_name(e->d_name, &a, &b)) continue;
         char path[4400];
         if (snprintf(path, sizeof path, "%s/%s", j->ckdir, e->d_name) >= (int)sizeof path) continue;
+        if (stale_batch_tmp(e->d_name)) {
+            remove(path);
+            continue;
+        }
+        if (!batch_name(e->d_name, &a, &b)) continue;
         if (j->o.fresh) {
             remove(path);
             continue;
@@ -324,15 +352,14 @@ static void checkpoint(coord* c, double interval, double* last, uint32_t* last_c
     double now = vx_time_now();
     if (now - *last < interval) return;
     vx_error err = {0};
-    if (vx_probe_write_file(c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
+    if (vx_probe_write_file(NULL, c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
     *last = vx_time_now();
     *last_count = c->ps->count;
     c->st[ST_COMM] += *last - now;
 }
 
 static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
-    const char* ck_env = getenv("VX_BAKE_CHECKPOINT_S");
-    double interval = ck_env ? atof(ck_env) : 20.0, last_ck = vx_time_now();
+    double interval = checkpoint_interval(), last_ck = vx_time_now();
     uint32_t last_count = c->ps->count;
     for (int r = 1; r < c->nranks; r++)
         for (int k = 0; k < DEPTH; k++) hand_out(c, r);
@@ -496,8 +523,8 @@ int bake_mpi(options* o, const char* in, const char* out) {
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
             if (j.gpu)
-                printf("rank %d (%s): device: %s%s, %u filter threads\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
-                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "", o->threads);
+                printf("rank %d (%s): device: %s%s\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
+                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "");
             else
                 printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_mpi.rank, g_mpi.host, o->threads);
             fflush(stdout);
@@ -553,7 +580,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     st[ST_WALL] = vx_time_now() - t_start;
     if (g_mpi.rank == 0) {
         t = vx_time_now();
-        if (vx_probe_write_file(&ps, out, &err)) rc = vx_tool_error(out, &err);
+        if (vx_probe_write_file(NULL, &ps, out, &err)) rc = vx_tool_error(out, &err);
         t_write = vx_time_now() - t;
         if (!rc) remove(j.ckpath);
     }

@@ -50,6 +50,10 @@ vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps
  * parameters) is byte-identical to the placement's, whatever range it holds. */
 bool same_grid(const vx_probe_set* placed, const vx_probe_set* ck);
 
+/* Seconds between checkpoints of the baked prefix (OUT.probes.partial), in
+ * one process and on MPI's rank 0: VX_BAKE_CHECKPOINT_S, default 20. */
+double checkpoint_interval(void);
+
 /* Replaces *ps (placed, nothing baked) by the checkpoint j->ckpath when that
  * belongs to the same job and lies within [ps->first, end); says so on
  * stdout. Returns whether it did. */

@@ -15,9 +15,9 @@ typedef struct grow {
 static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     grow* g = (grow*)user;
     svo_cells* c = &g->c;
-    if (!vx_grow(NULL, (void**)&c->xyz, &g->cap_xyz, 3 * (c->n + 1), sizeof(uint32_t)) ||
-        !vx_grow(NULL, (void**)&c->rgba, &g->cap_rgba, c->n + 1, sizeof(uint32_t)) ||
-        !vx_grow(NULL, (void**)&c->attr, &g->cap_attr, c->n + 1, sizeof(uint32_t))) {
+    if (!vx_grow(c->alloc, (void**)&c->xyz, &g->cap_xyz, 3 * (c->n + 1), sizeof(uint32_t)) ||
+        !vx_grow(c->alloc, (void**)&c->rgba, &g->cap_rgba, c->n + 1, sizeof(uint32_t)) ||
+        !vx_grow(c->alloc, (void**)&c->attr, &g->cap_attr, c->n + 1, sizeof(uint32_t))) {
         g->nomem = true;
         return false;
     }
@@ -27,14 +27,14 @@ static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
     return true;
 }
 
-vx_result svo_cells_decode(const vx_svo_scene* s, uint32_t m, svo_cells* out, vx_error* err) {
-    grow g = {.s = s, .m = &s->models[m]};
+vx_result svo_cells_decode(const vx_allocator* a, const vx_svo_scene* s, uint32_t m, svo_cells* out, vx_error* err) {
+    grow g = {.s = s, .m = &s->models[m], .c = {.alloc = a}};
     /* room for every cell up front (vx_svo_read checked voxel_count against
      * the tree), so that the per-cell growth checks never copy */
     uint64_t hint = g.m->voxel_count < ((uint64_t)1 << 31) ? g.m->voxel_count : 0;
-    if (hint && (!vx_grow(NULL, (void**)&g.c.xyz, &g.cap_xyz, 3 * (size_t)hint, sizeof(uint32_t)) ||
-                 !vx_grow(NULL, (void**)&g.c.rgba, &g.cap_rgba, (size_t)hint, sizeof(uint32_t)) ||
-                 !vx_grow(NULL, (void**)&g.c.attr, &g.cap_attr, (size_t)hint, sizeof(uint32_t)))) {
+    if (hint && (!vx_grow(a, (void**)&g.c.xyz, &g.cap_xyz, 3 * (size_t)hint, sizeof(uint32_t)) ||
+                 !vx_grow(a, (void**)&g.c.rgba, &g.cap_rgba, (size_t)hint, sizeof(uint32_t)) ||
+                 !vx_grow(a, (void**)&g.c.attr, &g.cap_attr, (size_t)hint, sizeof(uint32_t)))) {
         svo_cells_free(&g.c);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its %llu voxels", m,
                        (unsigned long long)hint);
@@ -50,9 +50,9 @@ vx_result svo_cells_decode(const vx_svo_scene* s, uint32_t m, svo_cells* out, vx
 }
 
 void svo_cells_free(svo_cells* c) {
-    vx_free(NULL, c->xyz);
-    vx_free(NULL, c->rgba);
-    vx_free(NULL, c->attr);
+    vx_free(c->alloc, c->xyz);
+    vx_free(c->alloc, c->rgba);
+    vx_free(c->alloc, c->attr);
     memset(c, 0, sizeof *c);
 }
 

@@ -28,13 +28,14 @@ static double now(void) {
 
 /* The quads as triangles: 4 corners each, counter-clockwise from outside (no
  * normals: glTF viewers compute flat ones, which these are). */
-static vx_result quads_to_mesh(const vx_voxmesh* vm, const uint16_t lin[256], mesh_data* md, vx_error* err) {
+static vx_result quads_to_mesh(const vx_allocator* A, const vx_voxmesh* vm, const uint16_t lin[256], mesh_data* md,
+                               vx_error* err) {
     size_t nq = vm->quad_count;
     md->vertices = 4 * nq;
     md->indices = 6 * nq;
-    md->pos = (float*)vx_calloc(NULL, md->vertices, 3 * sizeof(float));
-    md->color = (uint16_t*)vx_calloc(NULL, md->vertices, 4 * sizeof(uint16_t));
-    md->index = (uint32_t*)vx_calloc(NULL, md->indices, sizeof(uint32_t));
+    md->pos = (float*)vx_calloc(A, md->vertices, 3 * sizeof(float));
+    md->color = (uint16_t*)vx_calloc(A, md->vertices, 4 * sizeof(uint16_t));
+    md->index = (uint32_t*)vx_calloc(A, md->indices, sizeof(uint32_t));
     if (!md->pos || !md->color || !md->index)
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu quads", nq);
     for (size_t q = 0; q < nq; q++) {
@@ -56,18 +57,20 @@ static vx_result quads_to_mesh(const vx_voxmesh* vm, const uint16_t lin[256], me
     return VX_OK;
 }
 
-vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err) {
+vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, const char* path,
+                          svo_glb_stats* stats, vx_error* err) {
+    const vx_allocator* A = desc ? desc->alloc : NULL;
     double lind[256];
     svo_srgb_to_linear(lind);
     uint16_t lin[256]; /* sRGB byte -> linear, 65535 = 1 */
     for (int i = 0; i < 256; i++) lin[i] = (uint16_t)lround(65535.0 * lind[i]);
     svo_glb_stats st = {0};
     vx_result r = VX_OK;
-    mesh_data* md = (mesh_data*)vx_calloc(NULL, s->model_count ? s->model_count : 1, sizeof(mesh_data));
-    int32_t* mesh_of = (int32_t*)vx_calloc(NULL, s->model_count ? s->model_count : 1, sizeof(int32_t));
-    vx_glb_mesh* meshes = (vx_glb_mesh*)vx_calloc(NULL, s->model_count ? s->model_count : 1, sizeof(vx_glb_mesh));
-    vx_glb_node* nodes = (vx_glb_node*)vx_calloc(NULL, s->instance_count ? s->instance_count : 1, sizeof(vx_glb_node));
-    char(*names)[80] = vx_calloc(NULL, s->instance_count ? s->instance_count : 1, 80);
+    mesh_data* md = (mesh_data*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(mesh_data));
+    int32_t* mesh_of = (int32_t*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(int32_t));
+    vx_glb_mesh* meshes = (vx_glb_mesh*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(vx_glb_mesh));
+    vx_glb_node* nodes = (vx_glb_node*)vx_calloc(A, s->instance_count ? s->instance_count : 1, sizeof(vx_glb_node));
+    char(*names)[80] = vx_calloc(A, s->instance_count ? s->instance_count : 1, 80);
     if (!md || !mesh_of || !meshes || !nodes || !names) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
         goto done;
@@ -80,13 +83,13 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
     for (uint32_t i = 0; i < s->model_count; i++) {
         if (mesh_of[i] == -2) continue; /* a mesh no node uses (glTF validators flag it) */
         svo_cells c = {0};
-        r = svo_cells_decode(s, i, &c, err);
+        r = svo_cells_decode(A, s, i, &c, err);
         vx_voxmesh vm = {0};
-        if (r == VX_OK) r = vx_voxmesh_build(NULL, c.xyz, c.rgba, c.n, &vm, err);
+        if (r == VX_OK) r = vx_voxmesh_build(A, c.xyz, c.rgba, c.n, &vm, err);
         svo_cells_free(&c);
         if (r == VX_OK && vm.quad_count) {
             mesh_data* d = &md[st.meshes];
-            r = quads_to_mesh(&vm, lin, d, err);
+            r = quads_to_mesh(A, &vm, lin, d, err);
             snprintf(d->name, sizeof d->name, "model %u", i);
             meshes[st.meshes] = (vx_glb_mesh){.name = d->name,
                                               .vertex_count = d->vertices,
@@ -127,19 +130,19 @@ vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo
                        .node_count = st.nodes,
                        .nodes = nodes,
                        .generator = "voxkit svo_info " VX_VERSION_STRING};
-    r = vx_glb_write_file(&gs, path, err);
+    r = vx_glb_write_file(desc, &gs, path, err);
     if (r == VX_OK && stats) *stats = st;
 done:
     if (md)
         for (uint32_t i = 0; i < s->model_count; i++) {
-            vx_free(NULL, md[i].pos);
-            vx_free(NULL, md[i].color);
-            vx_free(NULL, md[i].index);
+            vx_free(A, md[i].pos);
+            vx_free(A, md[i].color);
+            vx_free(A, md[i].index);
         }
-    vx_free(NULL, md);
-    vx_free(NULL, mesh_of);
-    vx_free(NULL, meshes);
-    vx_free(NULL, nodes);
-    vx_free(NULL, names);
+    vx_free(A, md);
+    vx_free(A, mesh_of);
+    vx_free(A, meshes);
+    vx_free(A, nodes);
+    vx_free(A, names);
     return r;
 }

@@ -20,7 +20,10 @@ typedef struct svo_glb_stats {
  * one node per shown instance (every instance with all) whose matrix is
  * R * world_from_grid * xform, R turning voxkit's +Z up into glTF's +Y up:
  * (x, y, z) -> (x, z, -y), so a scene stands upright in glTF viewers and a
- * converted glTF file gets its own axes back. */
-vx_result svo_info_to_glb(const vx_svo_scene* s, bool all, const char* path, svo_glb_stats* stats, vx_error* err);
+ * converted glTF file gets its own axes back. desc may be NULL; its
+ * allocator serves every block made here (cells, quads, the mesh arrays) and
+ * the temporary file's name. */
+vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, const char* path,
+                          svo_glb_stats* stats, vx_error* err);
 
 #endif

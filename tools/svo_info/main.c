@@ -350,7 +350,7 @@ int main(int argc, char** argv) {
         vx_vox_scene v;
         r = vx_conv_svo_to_vox(o.frame_set ? &view : &s, NULL, &v, &err);
         if (r == VX_OK) {
-            r = vx_vox_write_file(&v, o.to_vox, &err);
+            r = vx_vox_write_file(NULL, &v, o.to_vox, &err);
             vx_vox_scene_free(&v);
         }
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
@@ -359,7 +359,7 @@ int main(int argc, char** argv) {
     if (status == 0 && o.to_glb) {
 #ifdef VX_HAVE_GLB
         svo_glb_stats gs;
-        r = svo_info_to_glb(&view, o.all, o.to_glb, &gs, &err);
+        r = svo_info_to_glb(NULL, &view, o.all, o.to_glb, &gs, &err);
         if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
@@ -372,7 +372,7 @@ int main(int argc, char** argv) {
     if (status == 0 && o.to_vdb) {
 #ifdef VX_HAVE_VDB
         svo_vdb_stats vs;
-        r = svo_info_to_vdb(&view, o.all, o.vdb_models, o.to_vdb, &vs, &err);
+        r = svo_info_to_vdb(NULL, &view, o.all, o.vdb_models, o.to_vdb, &vs, &err);
         if (r != VX_OK) status = vx_tool_error(o.to_vdb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u grids, %s active voxels%s)\n", o.to_vdb, vs.grids, vx_tool_num(vs.voxels),

@@ -15,12 +15,13 @@ typedef struct pair {
     float* density;
     float* color;
     size_t n, cap_ijk, cap_d, cap_c;
+    const vx_allocator* alloc;
 } pair;
 
 static void pair_free(pair* p) {
-    vx_free(NULL, p->ijk);
-    vx_free(NULL, p->density);
-    vx_free(NULL, p->color);
+    vx_free(p->alloc, p->ijk);
+    vx_free(p->alloc, p->density);
+    vx_free(p->alloc, p->color);
     memset(p, 0, sizeof *p);
 }
 
@@ -36,9 +37,9 @@ static bool has_colors(const vx_svo_model* m) { return (m->attrs & (VX_ATTR_PALE
 static vx_result add_cells(const vx_svo_scene* s, uint32_t m, const svo_cells* c, const double* x, const double lin[256],
                            pair* p, vx_error* err) {
     const vx_svo_model* md = &s->models[m];
-    if (!vx_grow(NULL, (void**)&p->ijk, &p->cap_ijk, 3 * (p->n + c->n), sizeof(int32_t)) ||
-        !vx_grow(NULL, (void**)&p->density, &p->cap_d, p->n + c->n, sizeof(float)) ||
-        !vx_grow(NULL, (void**)&p->color, &p->cap_c, 3 * (p->n + c->n), sizeof(float)))
+    if (!vx_grow(p->alloc, (void**)&p->ijk, &p->cap_ijk, 3 * (p->n + c->n), sizeof(int32_t)) ||
+        !vx_grow(p->alloc, (void**)&p->density, &p->cap_d, p->n + c->n, sizeof(float)) ||
+        !vx_grow(p->alloc, (void**)&p->color, &p->cap_c, 3 * (p->n + c->n), sizeof(float)))
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu voxels", p->n + c->n);
     for (size_t i = 0; i < c->n; i++, p->n++) {
         const uint32_t* v = c->xyz + 3 * i;
@@ -57,23 +58,25 @@ static vx_result add_cells(const vx_svo_scene* s, uint32_t m, const svo_cells* c
     return VX_OK;
 }
 
-vx_result svo_info_to_vdb(const vx_svo_scene* s, bool all, bool models, const char* path, svo_vdb_stats* stats,
-                          vx_error* err) {
+vx_result svo_info_to_vdb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, bool models, const char* path,
+                          svo_vdb_stats* stats, vx_error* err) {
+    const vx_allocator* A = desc ? desc->alloc : NULL;
     double lin[256];
     svo_srgb_to_linear(lin);
     svo_vdb_stats st = {0};
     vx_result r = VX_OK;
     uint32_t mc = s->model_count ? s->model_count : 1, ic = s->instance_count ? s->instance_count : 1;
-    svo_cells* cells = (svo_cells*)vx_calloc(NULL, mc, sizeof(svo_cells));
-    bool* decoded = (bool*)vx_calloc(NULL, mc, sizeof(bool));
-    int32_t* first = (int32_t*)vx_calloc(NULL, mc, sizeof(int32_t)); /* grid index of a model's density grid */
-    pair* pairs = (pair*)vx_calloc(NULL, models ? mc : 1, sizeof(pair));
-    vx_vdb_write_grid* grids = (vx_vdb_write_grid*)vx_calloc(NULL, 2 * (size_t)ic + 2, sizeof(vx_vdb_write_grid));
-    char(*names)[2][96] = vx_calloc(NULL, ic, sizeof *names);
+    svo_cells* cells = (svo_cells*)vx_calloc(A, mc, sizeof(svo_cells));
+    bool* decoded = (bool*)vx_calloc(A, mc, sizeof(bool));
+    int32_t* first = (int32_t*)vx_calloc(A, mc, sizeof(int32_t)); /* grid index of a model's density grid */
+    pair* pairs = (pair*)vx_calloc(A, models ? mc : 1, sizeof(pair));
+    vx_vdb_write_grid* grids = (vx_vdb_write_grid*)vx_calloc(A, 2 * (size_t)ic + 2, sizeof(vx_vdb_write_grid));
+    char(*names)[2][96] = vx_calloc(A, ic, sizeof *names);
     if (!cells || !decoded || !first || !pairs || !grids || !names) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
         goto done;
     }
+    for (uint32_t m = 0; m < (models ? mc : 1); m++) pairs[m].alloc = A;
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
         if (in->model >= s->model_count || !(all || vx_svo_instance_visible(s, i))) continue;
@@ -85,7 +88,7 @@ vx_result svo_info_to_vdb(const vx_svo_scene* s, bool all, bool models, const ch
         uint32_t m = in->model;
         if (m >= s->model_count || !(all || vx_svo_instance_visible(s, i)) || !s->models[m].voxel_count) continue;
         if (!decoded[m]) {
-            if ((r = svo_cells_decode(s, m, &cells[m], err)) != VX_OK) goto done;
+            if ((r = svo_cells_decode(A, s, m, &cells[m], err)) != VX_OK) goto done;
             decoded[m] = true;
             if (models) { /* the model's own voxels, once */
                 if ((r = add_cells(s, m, &cells[m], NULL, lin, &pairs[m], err)) != VX_OK) goto done;
@@ -134,16 +137,16 @@ vx_result svo_info_to_vdb(const vx_svo_scene* s, bool all, bool models, const ch
         st.voxels = pairs[0].n;
     }
     st.grids = g;
-    r = vx_vdb_write_file(grids, g, path, err);
+    r = vx_vdb_write_file(desc, grids, g, path, err);
     if (r == VX_OK && stats) *stats = st;
 done:
     for (uint32_t m = 0; cells && m < s->model_count; m++) svo_cells_free(&cells[m]);
     for (uint32_t m = 0; pairs && m < (models ? s->model_count : 1); m++) pair_free(&pairs[m]);
-    vx_free(NULL, cells);
-    vx_free(NULL, decoded);
-    vx_free(NULL, first);
-    vx_free(NULL, pairs);
-    vx_free(NULL, grids);
-    vx_free(NULL, names);
+    vx_free(A, cells);
+    vx_free(A, decoded);
+    vx_free(A, first);
+    vx_free(A, pairs);
+    vx_free(A, grids);
+    vx_free(A, names);
     return r;
 }

@@ -21,8 +21,10 @@ typedef struct svo_vdb_stats {
  * on ijk). Overlapping instances: the later one's value.
  * models: one grid pair "NAME/density", "NAME/color" per shown instance (NAME
  * its name, or "instance I"), in model cells with the instance's world map
- * as the transform; instances of one model share its tree (stored once). */
-vx_result svo_info_to_vdb(const vx_svo_scene* s, bool all, bool models, const char* path, svo_vdb_stats* stats,
-                          vx_error* err);
+ * as the transform; instances of one model share its tree (stored once).
+ * desc may be NULL; its allocator serves every block made here (cells, the
+ * grids' voxel arrays) and the temporary file's name. */
+vx_result svo_info_to_vdb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, bool models, const char* path,
+                          svo_vdb_stats* stats, vx_error* err);
 
 #endif

@@ -42,6 +42,7 @@ typedef struct options {
     vx_light lights[64]; /* --light */
     uint32_t light_count;
     bool sky_given, no_scene_lights, voxel_lights;
+    vx_sky sky; /* --sky's */
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
     vx_cone_desc cone; /* gi=cones (--cone-*) */
@@ -100,6 +101,7 @@ _Noreturn static void usage(int status) {
     FILE* f = status == 0 ? stdout : stderr;
     fprintf(f,
             "Usage: %s FILE.svo OUT.{png,exr} [options]\n"
+            "       (also .ppm and .pfm; a build without OpenImageIO writes only these)\n"
             "\n"
             "Which: renders a .svo scene with the Vulkan compute tracer (BVH over instances,\n"
             "       sparse voxel octree per model) or with the CPU reference tracer.\n"
@@ -159,12 +161,16 @@ _Noreturn static void usage(int status) {
             "                       uses radiometric units):\n"
             "%s"
             "  --no-scene-lights    ignore the lights and the sky stored in the file (LGHT); by default the\n"
-            "                       colour mode on the GPU uses them, and --mode pathtrace the file's sky\n"
-            "                       of any type (gradient; environment map read through OpenImageIO)\n"
+            "                       colour mode on the GPU and --mode pathtrace use them, the file's sky of\n"
+            "                       any type (constant, gradient, environment map read through OpenImageIO)\n"
+            "                       in the radiometric model (with lights or a gi pass): background, sky\n"
+            "                       light of the direct pass, gi=pathtrace, gi=cones and gi=photons\n"
             "  --voxel-lights       also light with the file's emissive voxels: one sphere light per cluster\n"
             "                       (vx_svo_emissive_lights; off by default: with any light the frame uses\n"
             "                       the radiometric model, without the colour model's sun and ambient)\n"
-            "  --sky R,G,B          sky radiance with lights (default: the file's constant sky, else %g,%g,%g)\n"
+            "  --sky SPEC           the sky, replacing the file's (default: the file's sky, else a uniform\n"
+            "                       %g,%g,%g); with lights, a gi pass or --mode pathtrace:\n"
+            "%s"
             "  --light-culling M    auto|brute|tiled|clustered: how the direct pass finds each pixel's\n"
             "                       lights (default: %s: brute force up to %d lights, else tiled)\n"
             "  --shadow-lights N    lights per pixel with a shadow ray, the strongest (0..%d, 0: none;\n"
@@ -189,7 +195,7 @@ _Noreturn static void usage(int status) {
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
             cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, d.r.width, d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
-            vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
+            vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
     exit(status);
 }
@@ -268,6 +274,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "photons")) {
         vx_photon_desc pd = o->photons; /* carries the frame's lights; the probes give sun and sky */
         pd.seed = o->p.seed, pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
+        pd.sky_dir = o->fd.sky_dir, pd.sky_map = o->fd.sky_map; /* the file's sky (NULL with --sky) */
         memcpy(pd.light_dir, o->r.light_dir, sizeof pd.light_dir);
         if ((r = vx_photon_gi_create(rs, scene, probes, &pd, &gm, &phg, err))) goto done;
     } else if (vx_pass_list_has(passes, VX_PASS_GI) && !strcmp(passes->gi, "cones")) {
@@ -275,6 +282,7 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
         vx_cone_desc cd = o->cone;
         memcpy(cd.light_dir, o->r.light_dir, sizeof cd.light_dir);
         if (o->sky_given) memcpy(cd.sky, o->fd.sky, sizeof cd.sky);
+        cd.sky_dir = o->fd.sky_dir, cd.sky_map = o->fd.sky_map; /* the file's sky (NULL with --sky) */
         cd.lights = o->frame_lights, cd.light_count = o->frame_light_count;
         if ((r = vx_cone_gi_create(rs, scene, &cd, &gm, &cgi, err))) goto done;
         if (o->verbose) {
@@ -287,8 +295,9 @@ static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_sce
     } else if (vx_pass_list_has(passes, VX_PASS_GI)) {
         vx_probe_render_desc pd = o->p;
         pd.base = &o->r;
-        if (!strcmp(passes->gi, "pathtrace")) /* carries the frame's lights along its paths */
-            pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
+        /* gi=pathtrace carries the frame's lights along its paths; the probe
+         * methods' light is the bake's, and the direct pass shades the lights */
+        pd.lights = o->frame_lights, pd.light_count = o->frame_light_count;
         if ((r = vx_probe_gi_create(rs, scene, probes, passes->gi, &pd, &gm, &pgi, err))) goto done;
     }
     vx_frame_desc fd = o->fd;
@@ -484,8 +493,9 @@ int main(int argc, char** argv) {
             o.voxel_lights = true;
         } else if (!strcmp(a, "--sky")) {
             NEED();
-            if (!parse_vec(argv[++i], o.fd.sky, 3) || o.fd.sky[0] < 0 || o.fd.sky[1] < 0 || o.fd.sky[2] < 0)
-                usage_error("bad sky radiance '%s' (R,G,B >= 0)", argv[i]);
+            char why[256];
+            if (!vx_tool_parse_sky(argv[++i], &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
+            if (o.sky.type == VX_SKY_CONSTANT) memcpy(o.fd.sky, o.sky.color, sizeof o.fd.sky);
             o.sky_given = true;
         } else if (!strcmp(a, "--light-culling")) {
             NEED();
@@ -614,12 +624,15 @@ int main(int argc, char** argv) {
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
                       (pipeline && (show == VX_SHOW_DEPTH || show == VX_SHOW_NORMAL || show == VX_SHOW_MATERIAL));
-    bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR");
+    /* float outputs: .exr, or .pfm (what a build without OpenImageIO writes);
+     * 8-bit: .png, or .ppm */
+    bool exr = !strcmp(ext, "exr") || !strcmp(ext, "EXR") || !strcmp(ext, "pfm") || !strcmp(ext, "PFM");
     bool one_channel = pipeline ? show == VX_SHOW_DEPTH || show == VX_SHOW_MATERIAL : o.r.mode == VX_RENDER_DEPTH;
     o.img_form = want_float && one_channel ? 1 : want_float || exr ? 3 : 0;
-    if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG")) usage_error("output '%s' must end in .png or .exr", o.out);
+    if (!exr && strcmp(ext, "png") && strcmp(ext, "PNG") && strcmp(ext, "ppm") && strcmp(ext, "PPM"))
+        usage_error("output '%s' must end in .png or .exr (or .ppm, .pfm)", o.out);
     if (want_float && !exr)
-        usage_error("%s %s writes float data: use an .exr output", pipeline ? "--show" : "mode",
+        usage_error("%s %s writes float data: use an .exr (or .pfm) output", pipeline ? "--show" : "mode",
                     pipeline ? vx_show_name(show) : vx_render_mode_name(o.r.mode));
     bool needs_probes = o.probe_mode && vx_probe_render_mode_uses_probes(o.p.mode);
     if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
@@ -692,21 +705,25 @@ int main(int argc, char** argv) {
         return 1;
     }
     o.frame_lights = frame_lights;
-    if (o.sky_given && !o.frame_light_count) usage_error("%s", "--sky goes with lights (--light, or the file's)");
+    if (o.sky_given && !o.frame_light_count && !(pipeline && vx_pass_list_has(&passes, VX_PASS_GI)) &&
+        !(o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT)))
+        usage_error("%s", "--sky goes with lights (--light, or the file's), a gi pass or --mode pathtrace");
     if (!o.no_scene_lights && !o.sky_given && scene.sky.type == VX_SKY_CONSTANT && o.frame_light_count)
         memcpy(o.fd.sky, scene.sky.color, sizeof o.fd.sky);
     bool pt_mode = o.probe_mode && (o.p.mode == VX_PROBE_RENDER_PATHTRACE || o.p.mode == VX_PROBE_RENDER_PT_INDIRECT);
-    /* the file's sky: the path tracer renders every type by direction (an
-     * environment map read here, through OpenImageIO); the pass pipeline
-     * only a constant one */
+    /* the file's sky by direction (an environment map read here, through
+     * OpenImageIO): the path tracer's, and the pass pipeline's background,
+     * sky term and gi=pathtrace's */
     vx_sky_texels sky_map = {0};
-    if (!o.no_scene_lights && !o.sky_given && pt_mode && scene.sky.type != VX_SKY_DEFAULT) {
+    const vx_sky* sky = o.sky_given ? &o.sky : !o.no_scene_lights ? &scene.sky : NULL; /* --sky replaces the file's */
+    if (sky && (pt_mode || pipeline) && sky->type != VX_SKY_DEFAULT) {
         char map[4096];
-        if (vx_sky_path(&scene.sky, o.in, map, sizeof map)) {
+        /* a file's map is relative to the file, --sky's to the working folder */
+        if (vx_sky_path(sky, o.sky_given ? NULL : o.in, map, sizeof map)) {
             uint32_t ch = 0;
             float* px = NULL;
             if (vx_image_read(map, VX_IMAGE_F32, 0, &sky_map.width, &sky_map.height, &ch, (void**)&px, &err)) {
-                fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.in, err.msg);
+                fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.sky_given ? "--sky" : o.in, err.msg);
                 vx_svo_scene_free(&owned);
                 free(frame_lights);
                 return 1;
@@ -723,14 +740,9 @@ int main(int argc, char** argv) {
                 return 1;
             }
             sky_map.rgb = sky_rgb;
-            o.p.sky_map = &sky_map;
+            o.p.sky_map = &sky_map, o.fd.sky_map = &sky_map;
         }
-        o.p.sky = &scene.sky;
-    } else if (!o.no_scene_lights && !o.sky_given && (scene.sky.type == VX_SKY_GRADIENT || scene.sky.type == VX_SKY_ENVMAP)) {
-        char map[4096];
-        bool is_map = vx_sky_path(&scene.sky, o.in, map, sizeof map);
-        fprintf(stderr, "%s: note: the file's %s sky%s%s is rendered by --mode pathtrace; the pass pipeline uses --sky's\n",
-                prog, is_map ? "environment map" : "gradient", is_map ? " " : "", is_map ? map : "");
+        o.p.sky = sky, o.fd.sky_dir = sky;
     }
     if (pt_mode) /* the path tracer carries the lights, on the GPU and the CPU */
         o.p.lights = o.frame_lights, o.p.light_count = o.frame_light_count;

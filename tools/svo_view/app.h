@@ -106,6 +106,12 @@ typedef struct app {
     bool panels;
     double ui_time; /* glfwGetTime() of the last panel frame */
     uint32_t sel_light;
+    uint32_t light_step_for, light_step; /* the light whose panel edit made undo step light_step - 1 */
+    uint32_t light_serial, gi_light_serial; /* lights changed (edit, undo, open); what the gi method was made with */
+    char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
+    char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
+    float* sky_rgb;
+    vx_sky_texels sky_map;
     char name_buf[64]; /* the properties panel's name field, for instance name_for */
     uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */
@@ -159,6 +165,11 @@ void sv_set_layer(app* a, uint32_t layer);
 void sv_set_model(app* a, uint32_t model);
 void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */);
 void sv_undo(app* a, bool redo);
+/* Light l becomes *t (false with a message when vx_light_validate refuses
+ * it; the light is then unchanged). An undo step: its own, or with merge
+ * the step of the previous edit when that was also a merged edit of light l
+ * and nothing was edited or undone since (a drag in the panel is one step). */
+bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge);
 bool sv_set_passes(app* a, const char* list);
 void sv_set_probe_mode(app* a, vx_probe_render_mode m);
 /* Animation: shows frame f (no model upload), play/pause, frames per second. */

@@ -8,6 +8,7 @@ static void snap_free(const vx_allocator* a, ved_snapshot* sn) {
     vx_free(a, sn->inst);
     vx_free(a, sn->frame_inst);
     vx_free(a, sn->layer_flags);
+    vx_free(a, sn->lights);
     if (sn->has_model) vx_svo_model_free(a, &sn->model);
     memset(sn, 0, sizeof *sn);
 }
@@ -18,18 +19,21 @@ static size_t frame_records(const vx_svo_scene* s) {
 }
 
 static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* err) {
-    ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count};
+    ved_snapshot sn = {.inst_count = s->instance_count, .layer_count = s->layer_count,
+                       .light_count = s->light_count, .sky = s->sky};
     size_t nf = frame_records(s);
     sn.inst = vx_calloc(s->alloc, s->instance_count ? s->instance_count : 1, sizeof *sn.inst);
     sn.frame_inst = nf ? vx_calloc(s->alloc, nf, sizeof *sn.frame_inst) : NULL;
     sn.layer_flags = vx_calloc(s->alloc, s->layer_count ? s->layer_count : 1, sizeof *sn.layer_flags);
-    if (!sn.inst || !sn.layer_flags || (nf && !sn.frame_inst)) {
+    sn.lights = s->light_count ? vx_calloc(s->alloc, s->light_count, sizeof *sn.lights) : NULL;
+    if (!sn.inst || !sn.layer_flags || (nf && !sn.frame_inst) || (s->light_count && !sn.lights)) {
         snap_free(s->alloc, &sn);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for an undo step of %u instances",
                        s->instance_count);
     }
     if (s->instance_count) memcpy(sn.inst, s->instances, (size_t)s->instance_count * sizeof *sn.inst);
     if (nf) memcpy(sn.frame_inst, s->frame_instances, nf * sizeof *sn.frame_inst);
+    if (s->light_count) memcpy(sn.lights, s->lights, (size_t)s->light_count * sizeof *sn.lights);
     sn.frame_count = nf ? s->frame_count : 0;
     for (uint32_t l = 0; l < s->layer_count; l++) sn.layer_flags[l] = s->layers[l].flags;
     *out = sn;
@@ -50,6 +54,15 @@ static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
     s->frame_count = sn->frame_count;
     sn->frame_inst = fi;
     sn->frame_count = fc;
+    vx_light* lights = s->lights;
+    uint32_t nl = s->light_count;
+    s->lights = sn->lights;
+    s->light_count = sn->light_count;
+    sn->lights = lights;
+    sn->light_count = nl;
+    vx_sky sky = s->sky;
+    s->sky = sn->sky;
+    sn->sky = sky;
     /* layers are never added or removed, only flagged */
     for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
         uint32_t f = s->layers[l].flags;
@@ -64,6 +77,25 @@ static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
     }
 }
 
+/* After snap_swap: a voxel step's header, or the editor of a model whose
+ * arrays were swapped (made again at the next voxel edit). */
+static void vox_swap(ved* e, ved_snapshot* sn) {
+    vx_svo_scene* s = e->s;
+    if (sn->has_header && sn->model_index < s->model_count) {
+        vx_svo_model_header h = vx_svo_model_header_get(&s->models[sn->model_index]);
+        vx_svo_model_header_set(&s->models[sn->model_index], &sn->header);
+        sn->header = h;
+    }
+    if (sn->has_model && sn->model_index < e->vox_count) {
+        ved_voxels* v = &e->vox[sn->model_index];
+        vx_svo_editor_destroy(v->ed);
+        v->ed = NULL;
+        ved_arrays t = v->arrays;
+        v->arrays = sn->model_arrays;
+        sn->model_arrays = t;
+    }
+}
+
 void ved_init(ved* e, vx_svo_scene* s) {
     memset(e, 0, sizeof *e);
     e->s = s;
@@ -73,6 +105,10 @@ void ved_free(ved* e) {
     for (uint32_t i = 0; i < e->undo_count; i++) snap_free(e->s->alloc, &e->undo[i]);
     for (uint32_t i = 0; i < e->redo_count; i++) snap_free(e->s->alloc, &e->redo[i]);
     e->undo_count = e->redo_count = 0;
+    for (uint32_t i = 0; i < e->vox_count; i++) vx_svo_editor_destroy(e->vox[i].ed);
+    vx_free(e->s->alloc, e->vox);
+    e->vox = NULL;
+    e->vox_count = 0;
 }
 
 vx_result ved_begin(ved* e, vx_error* err) {
@@ -95,6 +131,7 @@ bool ved_undo(ved* e, vx_error* err) {
     if (!e->undo_count) return false;
     ved_snapshot sn = e->undo[--e->undo_count];
     snap_swap(e->s, &sn);
+    vox_swap(e, &sn);
     e->redo[e->redo_count++] = sn;
     return true;
 }
@@ -104,6 +141,7 @@ bool ved_redo(ved* e, vx_error* err) {
     if (!e->redo_count) return false;
     ved_snapshot sn = e->redo[--e->redo_count];
     snap_swap(e->s, &sn);
+    vox_swap(e, &sn);
     e->undo[e->undo_count++] = sn;
     return true;
 }

@@ -24,9 +24,12 @@
  * duplicate and delete add or remove record i in every frame; an added file
  * is placed, still, in every frame. Frame 0 is always s->instances.
  *
- * Undo: ved_begin() snapshots the instances (every frame) and the layer
- * flags before an edit; ved_undo()/ved_redo() swap snapshots. A voxel edit
- * (voxels.h) also parks the model's previous octree in the snapshot. Models
+ * Undo: ved_begin() snapshots the instances (every frame), the layer
+ * flags, the lights and the sky before an edit; ved_undo()/ved_redo() swap
+ * snapshots. A voxel edit
+ * (voxels.h) also keeps the model's previous header (svo/edit.h: the
+ * editor only appends, so restoring the header is the undo), or, for an
+ * edit that rebuilt the model, parks its previous octree. Models
  * are only ever appended (ved_add_scene), so snapshots stay valid; undoing an
  * add leaves the new models unreferenced.
  */
@@ -36,7 +39,19 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "svo/edit.h"
 #include "svo/svo.h"
+
+/* What an incremental edit left in a model's arrays: the words / records
+ * undo and redo steps may still reference (an editor made later must not
+ * overwrite them: vx_svo_editor_desc.words_in_use; 0: none past the
+ * model's), and the header the arrays had before their first such edit
+ * (while the model has it again, its words are the untouched original). */
+typedef struct ved_arrays {
+    uint32_t words_in_use, records_in_use;
+    bool edited;
+    vx_svo_model_header pristine;
+} ved_arrays;
 
 typedef struct ved_snapshot {
     vx_svo_instance* inst;
@@ -45,10 +60,32 @@ typedef struct ved_snapshot {
     uint32_t frame_count;
     uint32_t* layer_flags;
     uint32_t layer_count;
+    vx_light* lights; /* the scene's lights (few: copied whole at every step) */
+    uint32_t light_count;
+    vx_sky sky;
     bool has_model;        /* a voxel edit: `model` is models[model_index] as it was */
     uint32_t model_index;
     vx_svo_model model;
+    ved_arrays model_arrays;  /* has_model: the parked arrays' state */
+    bool has_header;          /* a voxel edit by the editor: `header` is models[model_index]'s as it was */
+    vx_svo_model_header header;
 } ved_snapshot;
+
+/* Per model: its incremental editor (made at its first voxel edit, NULL
+ * when none) and the state of its arrays. */
+typedef struct ved_voxels {
+    vx_svo_editor* ed;
+    const vx_svo_model* models; /* s->models when ed was made (ved_add_scene moves the array) */
+    ved_arrays arrays;
+} ved_voxels;
+
+/* What the last voxel edit did (voxels.c), for the render scene's update:
+ * incremental, the model's words and records from these on are new
+ * (vx_render_scene_update_model); else the model was built again. */
+typedef struct ved_voxel_step {
+    bool incremental;
+    uint32_t model, words_from, records_from;
+} ved_voxel_step;
 
 #define VED_MAX_UNDO 256
 
@@ -56,6 +93,10 @@ typedef struct ved {
     vx_svo_scene* s; /* borrowed */
     ved_snapshot undo[VED_MAX_UNDO], redo[VED_MAX_UNDO];
     uint32_t undo_count, redo_count;
+    ved_voxels* vox; /* per model, vox_count of them (voxels.c) */
+    uint32_t vox_count;
+    ved_voxel_step last;
+    bool vox_rebuild; /* tests: every brush edit but the face brush's decodes and builds the model again (the reference) */
 } ved;
 
 void ved_init(ved* e, vx_svo_scene* s);

@@ -75,7 +75,7 @@ _Noreturn static void usage(int status) {
             "      B voxel mode: click adds, Shift+click removes, Alt+click paints with the brush;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
-            "      Ctrl+Z/Ctrl+Y undo/redo, Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
+            "      Ctrl+Z/Ctrl+Y undo/redo (instance, voxel and light edits), Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
             "Script commands (one a line, # comments): camera EX EY EZ TX TY TZ | camera default |\n"
             "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | passes LIST | probes FILE |\n"
             "      select N|none |"
@@ -87,9 +87,11 @@ _Noreturn static void usage(int status) {
             "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
-            "      brush voxel|box|sphere [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z (model\n"
-            "      cells of the selection's model) | vclick add|remove|paint X Y (as a click in voxel mode) |\n"
-            "      light N color R G B|position X Y Z|intensity X|range X\n"
+            "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
+            "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
+            "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
+            "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
+            "      light N color R G B|position X Y Z|intensity X|range X (each an undo step)\n"
             "Examples:\n"
             "    %s castle.vox\n"
             "    %s scene.svo --screenshot shot.png --size 640x480 --mode albedo\n"
@@ -388,6 +390,8 @@ static void set_scene(app* a, vx_svo_scene* s) {
     ved_init(&a->ed, &a->scene);
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
+    a->light_step_for = NO_SEL;
+    a->light_serial++;
     a->op = 0;
     a->anim_frame = 0;
     a->playing = false;
@@ -404,6 +408,7 @@ void sv_open(app* a, const char* path) {
         return;
     }
     set_scene(a, &s);
+    snprintf(a->scene_file, sizeof a->scene_file, "%s", path);
     /* probes describe the light of the scene they were baked in */
     bool had = a->have_probes;
     if (had) {
@@ -451,19 +456,31 @@ void sv_add(app* a, const char* path) {
     sv_edit_end(a, "add");
 }
 
+/* The file holds the compacted models (vvx_file_scene). */
 void sv_save(app* a, const char* path) {
     vx_error err = {0};
     vx_svo_scene_update_bounds(&a->scene);
-    if (vx_svo_write_file(&a->scene, path, &err)) sv_message(a, true, "%s: %s", path, err.msg);
+    vx_svo_scene fs;
+    vx_result r = vvx_file_scene(&a->ed, &fs, &err);
+    if (!r) {
+        r = vx_svo_write_file(NULL, &fs, path, &err);
+        vvx_file_scene_free(&a->ed, &fs);
+    }
+    if (r) sv_message(a, true, "%s: %s", path, err.msg);
     else sv_message(a, false, "saved %s", path);
 }
 
 void sv_export(app* a, const char* path) {
     vx_error err = {0};
     vx_vox_scene vs;
-    vx_result r = vx_conv_svo_to_vox(&a->scene, NULL, &vs, &err);
+    vx_svo_scene fs;
+    vx_result r = vvx_file_scene(&a->ed, &fs, &err);
     if (!r) {
-        r = vx_vox_write_file(&vs, path, &err);
+        r = vx_conv_svo_to_vox(&fs, NULL, &vs, &err);
+        vvx_file_scene_free(&a->ed, &fs);
+    }
+    if (!r) {
+        r = vx_vox_write_file(NULL, &vs, path, &err);
         vx_vox_scene_free(&vs);
     }
     if (r) sv_message(a, true, "%s: %s", path, err.msg);
@@ -632,12 +649,49 @@ bool sv_brush_rgba(app* a, uint32_t rgba) {
     return true;
 }
 
+/* After a voxel edit through the model's editor, or the undo or redo of
+ * one: only the model's new words go to the GPU
+ * (vx_render_scene_update_model); the gi methods' and the probes' objects,
+ * which hold per-record tables, are made again at the next frame that needs
+ * them, the pass pipeline's scene facts only when the model's size changed. */
+static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t records_from, const uint32_t size[3]) {
+    if (!a->rs || a->scene.model_count != a->rs_models) {
+        sv_rebuild(a);
+        return;
+    }
+    double t0 = vx_time_now();
+    vx_error err = {0};
+    if (vx_render_scene_update_model(a->rs, &a->scene, model, words_from, records_from, &err)) {
+        sv_message(a, true, "model update: %s", err.msg);
+        sv_rebuild(a);
+        return;
+    }
+    a->update_ms = (vx_time_now() - t0) * 1e3;
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    const uint32_t* ns = a->scene.models[model].size;
+    if (ns[0] != size[0] || ns[1] != size[1] || ns[2] != size[2]) {
+        drop_passes(a);
+        if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+    } else {
+        vx_probe_gi_destroy(a->pgi);
+        a->pgi = NULL;
+        vx_cone_gi_destroy(a->cgi);
+        a->cgi = NULL;
+        /* records appended: the pipeline's emission per record */
+        if (records_from != UINT32_MAX && a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err))
+            sv_message(a, true, "pass pipeline: %s", err.msg);
+    }
+}
+
 bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
     if (a->sel == NO_SEL) {
         sv_message(a, true, "voxel %s: nothing selected", vvx_op_name(op));
         return false;
     }
     uint32_t model = vx_svo_scene_frame_instances(&a->scene, a->anim_frame)[a->sel].model;
+    uint32_t size[3];
+    memcpy(size, a->scene.models[model].size, sizeof size);
     double t0 = vx_time_now();
     uint64_t n = 0;
     vx_error err = {0};
@@ -648,11 +702,13 @@ bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
     double t_model = (vx_time_now() - t0) * 1e3;
     a->cam_default = false;
     if (!n) return true;
-    sv_rebuild(a);
+    const ved_voxel_step* st = &a->ed.last;
+    if (st->incremental) update_model(a, model, st->words_from, st->records_from, size);
+    else sv_rebuild(a);
     if (a->o.verbose)
-        printf("%s: voxel %s at %lld,%lld,%lld: %llu cells (model rebuild %.2f ms, scene upload %.2f ms)\n", vx_tool_name,
-               vvx_op_name(op), (long long)c[0], (long long)c[1], (long long)c[2], (unsigned long long)n, t_model,
-               a->update_ms);
+        printf("%s: voxel %s at %lld,%lld,%lld: %llu cells (model %s %.2f ms, scene update %.2f ms)\n", vx_tool_name,
+               vvx_op_name(op), (long long)c[0], (long long)c[1], (long long)c[2], (unsigned long long)n,
+               st->incremental ? "edit" : "decode + rebuild", t_model, a->update_ms);
     return true;
 }
 
@@ -677,11 +733,36 @@ void sv_undo(app* a, bool redo) {
         return;
     }
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
+    if (a->sel_light != NO_SEL && a->sel_light >= a->scene.light_count) a->sel_light = NO_SEL;
+    a->light_step_for = NO_SEL; /* the next light edit is a step of its own */
+    a->light_serial++;          /* the step may hold other lights */
     /* the step just swapped went to the other list: did it hold a model? */
     const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
-    if (sn->has_model) sv_rebuild(a);
+    if (sn->has_header) /* a header restored: the words are on the GPU (or uploaded if it never had them) */
+        update_model(a, sn->model_index, UINT32_MAX, UINT32_MAX, sn->header.size);
+    else if (sn->has_model) sv_rebuild(a);
     else update_instances(a);
     if (a->o.verbose) printf("%s: %s (scene update %.2f ms)\n", vx_tool_name, redo ? "redo" : "undo", a->update_ms);
+}
+
+bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
+    vx_error err = {0};
+    if (l >= a->scene.light_count) {
+        sv_message(a, true, "no light %u (the scene has %u)", l, a->scene.light_count);
+        return false;
+    }
+    if (vx_light_validate(t, l, &err)) {
+        sv_message(a, true, "%s", err.msg);
+        return false;
+    }
+    if (!memcmp(t, &a->scene.lights[l], sizeof *t)) return true;
+    bool same = merge && a->light_step_for == l && a->light_step == a->ed.undo_count && a->ed.undo_count > 0 &&
+                a->ed.redo_count == 0;
+    if (!same && !sv_edit_begin(a, false)) return false;
+    a->scene.lights[l] = *t;
+    a->light_serial++;
+    a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.undo_count;
+    return true;
 }
 
 /* ---- frames -------------------------------------------------------------------------- */
@@ -876,12 +957,67 @@ static void draw_overlay(app* a, vf_canvas* cv) {
 
 /* The colour mode through the pass pipeline (a->passes): svo_render's
  * --passes frame for the same camera; per-pass times kept for the overlay. */
+/* The file's sky for the passes, as svo_render uses it: constant and
+ * gradient as stored, an environment map's texels read through OpenImageIO
+ * (once per map); *sky NULL without one or when the map cannot be read (a
+ * message says why, once). */
+static void file_sky(app* a, const vx_sky** sky, const vx_sky_texels** map) {
+    *sky = NULL, *map = NULL;
+    const vx_sky* k = &a->scene.sky;
+    if (k->type == VX_SKY_DEFAULT) return;
+    if (k->type != VX_SKY_ENVMAP) {
+        *sky = k;
+        return;
+    }
+    char path[sizeof a->sky_file];
+    if (!vx_sky_path(k, a->scene_file, path, sizeof path)) return;
+    if (strcmp(path, a->sky_file)) {
+        vx_free(NULL, a->sky_rgb);
+        a->sky_rgb = NULL, a->sky_map = (vx_sky_texels){0};
+        snprintf(a->sky_file, sizeof a->sky_file, "%s", path);
+        uint32_t w = 0, h = 0, ch = 0;
+        float* px = NULL;
+        vx_error err = {0};
+        if (vx_image_read(path, VX_IMAGE_F32, 0, &w, &h, &ch, (void**)&px, &err)) {
+            sv_message(a, true, "the sky's environment map: %s", err.msg);
+            return;
+        }
+        /* RGB per texel whatever the file has (grey: one channel; alpha dropped) */
+        a->sky_rgb = vx_calloc(NULL, (size_t)w * h, 3 * sizeof(float));
+        for (size_t i = 0; a->sky_rgb && i < (size_t)w * h; i++)
+            for (uint32_t c = 0; c < 3; c++) a->sky_rgb[3 * i + c] = px[i * ch + (c < ch ? c : 0)];
+        vx_free(NULL, px);
+        if (!a->sky_rgb) {
+            sv_message(a, true, "%s: out of memory for the sky's environment map", path);
+            return;
+        }
+        a->sky_map = (vx_sky_texels){.rgb = a->sky_rgb, .width = w, .height = h};
+    }
+    if (a->sky_rgb) *sky = k, *map = &a->sky_map;
+}
+
 static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
+    const vx_sky* sky;
+    const vx_sky_texels* sky_map;
+    file_sky(a, &sky, &sky_map);
+    /* the gi methods are made with the file's lights (as in svo_render:
+     * gi=pathtrace and gi=cones carry them, the probe methods give them to
+     * the direct pass): made again when the lights changed */
+    if ((a->pgi || a->cgi) && a->gi_light_serial != a->light_serial) {
+        vx_probe_gi_destroy(a->pgi);
+        a->pgi = NULL;
+        vx_cone_gi_destroy(a->cgi);
+        a->cgi = NULL;
+    }
+    a->gi_light_serial = a->light_serial;
     if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi && !strcmp(a->passes.gi, "cones")) {
-        vx_result r = vx_cone_gi_create(a->rs, &a->scene, NULL, &a->gm, &a->cgi, err);
+        vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
+                           .light_count = a->scene.light_count};
+        vx_result r = vx_cone_gi_create(a->rs, &a->scene, &cd, &a->gm, &a->cgi, err);
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
-        vx_probe_render_desc pd = {0};
+        vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
+        pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
         if (r) return r;
@@ -897,6 +1033,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, vx_error* err) {
     /* the file's lights, as svo_render uses them by default (edited in the properties panel) */
     fd.lights = a->scene.lights;
     fd.light_count = a->scene.light_count;
+    fd.sky_dir = sky, fd.sky_map = sky_map; /* and its sky */
     vx_frame_result res;
     vx_result r = vx_frame_render(a->fr, &fd, &res, err);
     if (r) return r;
@@ -942,11 +1079,13 @@ bool sv_set_passes(app* a, const char* list) {
 
 /* The model cell a voxel click edits: for add the empty cell in front of the
  * hit face (the face the pixel's ray enters the hit cell through, found by
- * the slab test in model space with the tracer's own ray), else the hit cell. */
+ * the slab test in model space with the tracer's own ray), else the hit cell;
+ * with the face brush the hit cell and that face (*face, 0..5). */
 static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint32_t y, const vx_render_hit* hit,
-                         vvx_op op, int64_t out[3]) {
+                         vvx_op op, int64_t out[3], uint8_t* face) {
     for (int k = 0; k < 3; k++) out[k] = hit->cell[k];
-    if (op != VVX_ADD) return;
+    bool want_face = a->brush.shape == VVX_FACE;
+    if (op != VVX_ADD && !want_face) return;
     double lo[3], hi[3], wi[12], mi[12];
     vx_svo_scene_world_bounds(&a->scene, lo, hi);
     vx__frame f;
@@ -972,7 +1111,8 @@ static void click_target(const app* a, const vx_render_desc* d, uint32_t x, uint
         double tn = fmin(t1, t2);
         if (tn > best) best = tn, axis = k;
     }
-    if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
+    if (axis >= 0 && want_face) *face = (uint8_t)(2 * axis + (dm[axis] > 0 ? 0 : 1));
+    else if (axis >= 0) out[axis] += dm[axis] > 0 ? -1 : 1;
 }
 
 /* Renders, converts, overlays and presents one frame. */
@@ -1030,7 +1170,7 @@ static vx_result frame(app* a, vx_error* err) {
                 printf("%s: voxel %s at %u %u: nothing there\n", vx_tool_name, vvx_op_name(op), x, y);
             } else {
                 int64_t c[3];
-                click_target(a, &d, x, y, &hr, op, c);
+                click_target(a, &d, x, y, &hr, op, c, &a->brush.face);
                 a->sel = hit;
                 printf("%s: voxel %s at %u %u: instance %u cell %lld %lld %lld\n", vx_tool_name, vvx_op_name(op), x, y,
                        hit, (long long)c[0], (long long)c[1], (long long)c[2]);
@@ -1477,7 +1617,14 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
             if (!strcmp(tok[1], vvx_op_name((vvx_op)k))) op = (vvx_op)k;
         bool cells = c[0] == 'v' && c[1] == 'o';
-        if (op == VVX_OP_COUNT || nt != (cells ? 5 : 4) || !parse_doubles(tok + 2, cells ? 3 : 2, v)) BAD();
+        static const char* const faces[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+        int face = -1;
+        for (int k = 0; k < 6 && cells && nt == 6; k++)
+            if (!strcmp(tok[5], faces[k])) face = k;
+        if (op == VVX_OP_COUNT || (nt != (cells ? 5 : 4) && !(face >= 0 && nt == 6)) ||
+            !parse_doubles(tok + 2, cells ? 3 : 2, v))
+            BAD();
+        if (face >= 0) a->brush.face = (uint8_t)face;
         if (cells) {
             int64_t p[3];
             for (int k = 0; k < 3; k++) {
@@ -1524,7 +1671,7 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             fprintf(stderr, "%s: %s:%u: %s\n", vx_tool_name, a->o.script, lineno, lerr.msg);
             return false;
         }
-        a->scene.lights[l] = t;
+        if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
@@ -1661,6 +1808,7 @@ int main(int argc, char** argv) {
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
     a.sel_light = NO_SEL;
+    a.light_step_for = NO_SEL;
     a.name_for = NO_SEL;
     a.pick_op = -1;
     a.mode = a.o.mode;
@@ -1679,6 +1827,7 @@ int main(int argc, char** argv) {
         if (a.lines) free(a.lines[0]), free(a.lines);
         return vx_tool_error_budget(a.o.in, &err, &a.budget);
     }
+    snprintf(a.scene_file, sizeof a.scene_file, "%s", a.o.in);
     double t_load = vx_time_now() - t0;
     if (a.o.probes && load_probes(&a, a.o.probes, &err)) {
         vx_svo_scene_free(&a.scene);
@@ -1740,6 +1889,7 @@ done:
     if (a.have_probes) vx_probe_set_free(&a.probes);
     ved_free(&a.ed);
     vx_svo_scene_free(&a.scene);
+    vx_free(NULL, a.sky_rgb);
     free(a.px8);
     if (a.lines) free(a.lines[0]), free(a.lines);
     return status;

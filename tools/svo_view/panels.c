@@ -97,7 +97,7 @@ static void brush_panel(app* a) {
     vx_svo_scene* s = &a->scene;
     ui_checkbox("voxel mode (B)", &a->voxel_mode);
     ui_text("click: add  Shift: remove  Alt: paint");
-    static const char* const shapes[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere"};
+    static const char* const shapes[VVX_SHAPE_COUNT] = {"voxel", "box", "sphere", "face"};
     int shape = (int)a->brush.shape, radius = (int)a->brush.radius;
     if (ui_combo("brush", &shape, shapes, VVX_SHAPE_COUNT)) a->brush.shape = (vvx_shape)shape;
     if (a->brush.shape != VVX_VOXEL && ui_slider_int("radius", &radius, 0, 16)) a->brush.radius = (uint32_t)radius;
@@ -195,11 +195,12 @@ static void light_props(app* a) {
     if (l->type != VX_LIGHT_DIRECTIONAL) ui_drag_double3("position", l->position, 0.1);
     if (l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT || l->type == VX_LIGHT_SPHERE)
         ui_drag_double("radius", &l->radius, 0.01, 0, 1e9);
-    /* an edit that breaks the light's rules (vx_light_validate) is taken back */
-    vx_error err = {0};
-    if (memcmp(&before, l, sizeof before) && vx_light_validate(l, a->sel_light, &err)) {
+    /* the edit goes through the editor's undo (a drag is one step); one that
+     * breaks the light's rules (vx_light_validate) is taken back */
+    if (memcmp(&before, l, sizeof before)) {
+        vx_light t = *l;
         *l = before;
-        sv_message(a, true, "%s", err.msg);
+        sv_set_light(a, a->sel_light, &t, true);
     }
 }
 

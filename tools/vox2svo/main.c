@@ -209,7 +209,7 @@ static int write_demo(const options* o) {
     vx_vox_scene s;
     vx_error err = {0};
     if (vx_demo_animation(NULL, o->demo_frames, &s) != VX_OK) return vx_tool_errorf("cannot build the demo scene: out of memory");
-    vx_result r = vx_vox_write_file(&s, o->write_demo, &err);
+    vx_result r = vx_vox_write_file(NULL, &s, o->write_demo, &err);
     uint64_t voxels = 0;
     for (uint32_t i = 0; i < s.model_count; i++) voxels += s.models[i].voxel_count;
     if (r == VX_OK && !o->quiet)
@@ -229,7 +229,7 @@ static int main_mpi(const options* o) {
     vx_error err = {0};
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o->verbose);
     double t2 = vx_time_now();
-    vx_result r = vx_svo_write_file(&scene, o->out, &err);
+    vx_result r = vx_svo_write_file(NULL, &scene, o->out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
     if (r != VX_OK) vx_tool_mpi_die("%s", err.msg); /* the message names the file; the other ranks end too */
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o.verbose);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
-    r = vx_svo_write_file(&scene, o.out, &err);
+    r = vx_svo_write_file(NULL, &scene, o.out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
     if (r != VX_OK) return vx_tool_errorf("%s", err.msg); /* the message names the file */

@@ -1,0 +1,241 @@
+/* tests/render/test_render_edit.c - vx_render_scene_update_model against a
+ * render scene made from scratch: a scene of two models (a palette model
+ * drawn by two instances, a geometry-only one) is edited through
+ * vx_svo_editor (svo/edit.h) with random boxes and balls (add, remove,
+ * recolour, growth past the model's size and depth), and after each stroke
+ * the GPU scene is updated with only the appended words and records; its
+ * frame (instance, cell and colour of every pixel) must equal the frame of
+ * a scene created from the compacted models (vx_svo_model_compact: the
+ * builder's model of the same cells). Also after an undo and a redo
+ * (headers restored, nothing uploaded), after a stroke made after the undo,
+ * and on a scene created while the model was undone (the words it never
+ * received are uploaded). The strokes append more words than the buffers'
+ * headroom, so regions move and buffers grow. Lavapipe; skipped without a
+ * Vulkan device. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render/render.h"
+#include "svo/edit.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+static uint64_t rng = 0x2545F4914F6CDD1Dull;
+static uint32_t rnd(uint32_t n) {
+    rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
+    return (uint32_t)(rng % n);
+}
+
+#define W 112
+#define H 84
+
+/* A 40^3 palette model (a ball with a hole and colour bands) and a 24^3
+ * geometry-only slab; model 0 drawn twice (once turned). */
+static void make_scene(vx_svo_scene* s) {
+    vx_svo_scene_init(s, NULL);
+    s->models = vx_calloc(NULL, 2, sizeof *s->models);
+    s->instances = vx_calloc(NULL, 3, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = 2, s->instance_count = 3;
+    static uint64_t keys[40 * 40 * 40];
+    static uint8_t pal[40 * 40 * 40];
+    size_t n = 0;
+    for (uint32_t z = 0; z < 40; z++)
+        for (uint32_t y = 0; y < 40; y++)
+            for (uint32_t x = 0; x < 40; x++) {
+                double dx = x - 19.5, dy = y - 19.5, dz = z - 19.5, r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 < 19 * 19 && !(r2 < 8 * 8 && x > 20)) keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + (z / 5) % 6);
+            }
+    vx_svo_voxels v = {.size = {40, 40, 40}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    n = 0;
+    for (uint32_t z = 0; z < 6; z++)
+        for (uint32_t y = 0; y < 24; y++)
+            for (uint32_t x = 0; x < 24; x++)
+                if ((x ^ y) & 4) keys[n++] = vx_svo_morton(x, y, z);
+    vx_svo_voxels g = {.size = {24, 24, 6}, .count = n, .keys = keys};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &g, &s->models[1], NULL, NULL) == VX_OK);
+    static const double x0[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    static const double x1[12] = {0, -1, 0, 110, 1, 0, 0, 0, 0, 0, 1, 4};
+    static const double x2[12] = {1, 0, 0, 20, 0, 1, 0, -40, 0, 0, 1, 0};
+    memcpy(s->instances[0].xform, x0, sizeof x0);
+    memcpy(s->instances[1].xform, x1, sizeof x1);
+    memcpy(s->instances[2].xform, x2, sizeof x2);
+    s->instances[0].model = s->instances[1].model = 0;
+    s->instances[2].model = 1;
+    for (uint32_t i = 0; i < 3; i++) s->instances[i].layer = UINT32_MAX;
+    s->has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (i * 0x00294F83u & 0x00FFFFFFu);
+    vx_svo_scene_update_bounds(s);
+}
+
+static vx_render_desc view(void) {
+    vx_render_desc d = {.width = W, .height = H, .want_hits = true};
+    d.camera = (vx_render_camera){.set = true, .eye = {-20, -75, 85}, .target = {45, 5, 15}};
+    return d;
+}
+
+/* The frame of rs against the frame of a scene made from scratch from the
+ * compacted models of s: pixels whose instance, cell or colour differ. */
+static size_t frame_diff(vx_render_scene* rs, const vx_svo_scene* s, size_t* hits) {
+    vx_svo_scene c = *s;
+    vx_svo_model cm[2];
+    c.models = cm;
+    vx_error err = {0};
+    size_t bad = SIZE_MAX;
+    if (vx_svo_model_compact(NULL, &s->models[0], &cm[0], &err)) return SIZE_MAX;
+    if (vx_svo_model_compact(NULL, &s->models[1], &cm[1], &err)) {
+        vx_svo_model_free(NULL, &cm[0]);
+        return SIZE_MAX;
+    }
+    vx_render_scene* ref = NULL;
+    vx_render_image a = {0}, b = {0};
+    vx_render_desc d = view();
+    if (vx_render_scene_create(gpu, &c, &ref, &err) || vx_render_frame(rs, &d, &a, &err) ||
+        vx_render_frame(ref, &d, &b, &err)) {
+        fprintf(stderr, "frame: %s\n", err.msg);
+    } else {
+        bad = 0, *hits = 0;
+        for (size_t i = 0; i < (size_t)W * H; i++) {
+            const vx_render_hit *p = &a.hits[i], *q = &b.hits[i];
+            *hits += p->instance != VX_RENDER_NO_HIT;
+            bool same = p->instance == q->instance && (p->instance == VX_RENDER_NO_HIT || !memcmp(p->cell, q->cell, sizeof p->cell));
+            same = same && !memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 4 * sizeof(float));
+            if (!same && bad < 3)
+                fprintf(stderr, "  pixel %zu,%zu: instance %d cell %u,%u,%u vs %d %u,%u,%u\n", i % W, i / W, (int)p->instance,
+                        p->cell[0], p->cell[1], p->cell[2], (int)q->instance, q->cell[0], q->cell[1], q->cell[2]);
+            bad += !same;
+        }
+    }
+    vx_render_image_free(&a);
+    vx_render_image_free(&b);
+    vx_render_scene_destroy(ref);
+    vx_svo_model_free(NULL, &cm[0]);
+    vx_svo_model_free(NULL, &cm[1]);
+    return bad;
+}
+
+/* One random stroke on model mi: a box or ball of writes (set with a
+ * palette colour, clear, or recolour the set cells), sometimes past the
+ * model's size. */
+static bool stroke(vx_svo_editor* e, const vx_svo_model* m, bool palette, int64_t grow_x, vx_svo_edit_stats* st) {
+    static vx_svo_cell_write w[25 * 25 * 25];
+    size_t n = 0;
+    int r = 3 + (int)rnd(10), op = grow_x > 0 ? 0 : (int)rnd(3), ball = (int)rnd(2), noise = (int)rnd(4) != 0;
+    int64_t c[3];
+    for (int k = 0; k < 3; k++) c[k] = rnd(m->size[k]);
+    if (grow_x > 0) c[0] = grow_x; /* an add centred there */
+    vx_svo_cell v = {.palette = (uint8_t)(1 + rnd(9))};
+    for (int dz = -r; dz <= r; dz++)
+        for (int dy = -r; dy <= r; dy++)
+            for (int dx = -r; dx <= r; dx++) {
+                if (ball && dx * dx + dy * dy + dz * dz > r * r) continue;
+                int64_t p[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+                if (p[0] < 0 || p[1] < 0 || p[2] < 0) continue;
+                vx_svo_cell old;
+                bool set = vx_svo_editor_get(e, (uint32_t)p[0], (uint32_t)p[1], (uint32_t)p[2], &old);
+                if (op == 2 && (!set || !palette)) continue; /* recolour: the set cells */
+                /* half the strokes one colour, half noise (few shared blocks: many words) */
+                if (noise) v.palette = (uint8_t)(1 + rnd(9));
+                w[n++] = (vx_svo_cell_write){.x = (uint32_t)p[0], .y = (uint32_t)p[1], .z = (uint32_t)p[2],
+                                             .set = op != 1, .value = v};
+            }
+    vx_error err = {0};
+    vx_result res = vx_svo_editor_apply(e, w, n, st, &err);
+    if (res) fprintf(stderr, "apply: %s\n", err.msg);
+    return res == VX_OK;
+}
+
+static void test_update_model(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_scene(&s);
+    vx_error err = {0};
+    vx_svo_editor *e0 = NULL, *e1 = NULL;
+    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e0, &err) == VX_OK);
+    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[1], &e1, &err) == VX_OK);
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    size_t hits = 0, bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0 && hits > (size_t)W * H / 10, "before the edits: %zu pixels differ, %zu hits", bad, hits);
+    uint64_t w0 = (uint64_t)s.models[0].node_count + s.models[1].node_count, appended = 0;
+    vx_svo_model_header undo_to = {0}, redo_to = {0};
+    uint32_t strokes = 200;
+    for (uint32_t k = 0; k < strokes; k++) {
+        uint32_t mi = k % 5 == 4 ? 1 : 0;
+        if (k == 80) undo_to = vx_svo_model_header_get(&s.models[0]);
+        vx_svo_edit_stats st;
+        /* strokes 10 and 120 add past x = size (120: past 64 cells, one level deeper) */
+        int64_t gx = k == 10 ? s.models[0].size[0] + 3 : k == 120 ? 68 : 0;
+        REQUIRE(stroke(mi ? e1 : e0, &s.models[mi], mi == 0, gx, &st));
+        appended += st.words_added;
+        REQUIRE(vx_render_scene_update_model(rs, &s, mi, st.words_from, st.records_from, &err) == VX_OK);
+        if (k % 8 == 0 || k == 10 || k >= 118) {
+            bad = frame_diff(rs, &s, &hits);
+            CHECKF(bad == 0, "stroke %u (model %u, %llu words appended, size %u): %zu pixels differ", k, mi,
+                   (unsigned long long)st.words_added, s.models[mi].size[0], bad);
+        }
+    }
+    printf("%u strokes appended %llu node words to %llu (model 0 now %u words, depth %u)\n", strokes,
+           (unsigned long long)appended, (unsigned long long)w0, s.models[0].node_count, s.models[0].depth);
+    CHECKF(appended > w0 / 16 + 65536, "the strokes did not exceed the headroom (%llu words)", (unsigned long long)appended);
+    CHECK(s.models[0].depth == 7);
+    /* undo model 0 to before stroke 80 (its size and depth too), then redo */
+    redo_to = vx_svo_model_header_get(&s.models[0]);
+    vx_svo_model_header_set(&s.models[0], &undo_to);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, UINT32_MAX, UINT32_MAX, &err) == VX_OK);
+    bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0, "after the undo: %zu pixels differ", bad);
+    /* a scene made now holds only the undone model's words; the redo brings the rest */
+    vx_render_scene* rs2 = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs2, &err) == VX_OK);
+    vx_svo_model_header_set(&s.models[0], &redo_to);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, UINT32_MAX, UINT32_MAX, &err) == VX_OK);
+    REQUIRE(vx_render_scene_update_model(rs2, &s, 0, UINT32_MAX, UINT32_MAX, &err) == VX_OK);
+    bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0, "after the redo: %zu pixels differ", bad);
+    bad = frame_diff(rs2, &s, &hits);
+    CHECKF(bad == 0, "after the redo, scene made while undone: %zu pixels differ", bad);
+    /* undo again and edit: the stroke's words go after every earlier append */
+    vx_svo_model_header_set(&s.models[0], &undo_to);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, UINT32_MAX, UINT32_MAX, &err) == VX_OK);
+    vx_svo_edit_stats st;
+    REQUIRE(stroke(e0, &s.models[0], true, 0, &st));
+    CHECK(st.words_from >= redo_to.node_count);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
+    bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0, "a stroke after the undo: %zu pixels differ", bad);
+    /* bad arguments */
+    CHECK(vx_render_scene_update_model(rs, &s, 2, 0, 0, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_render_scene_update_model(NULL, &s, 0, 0, 0, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+    vx_render_scene_destroy(rs);
+    vx_render_scene_destroy(rs2);
+    vx_svo_editor_destroy(e0);
+    vx_svo_editor_destroy(e1);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    /* as in test_render_gpu.c: pinned driver and layer keep their frames
+     * symbolised for tests/render/lsan.supp */
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
+    vx_error err = {0};
+    vx_result r = vx_gpu_create(&(vx_gpu_desc){.validate = true}, &gpu, &err);
+    if (r) r = vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err);
+    static char why[256];
+    if (r) {
+        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
+        gpu_skip = why;
+    } else {
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    }
+    RUN(test_update_model);
+    if (gpu) vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
