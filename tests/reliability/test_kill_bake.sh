@@ -12,15 +12,9 @@
 set -u
 BIN=$1
 KILLS=${2:-10}
-W=$(mktemp -d "${TMPDIR:-/tmp}/vx_kill_bake.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-cd "$W" || exit 1
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
-now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# shellcheck source=../common/kill.sh
+. "$(dirname "$0")/../common/kill.sh"
+kill_workdir vx_kill_bake
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox demo.svo || exit 1
@@ -42,23 +36,19 @@ echo "bake: $spp spp, run $T ms, $(wc -c <ref.probes) bytes"
 # a checkpoint after every step (the default is one per 20 s, more than this
 # whole bake), so that kills land while checkpoints are written and read back
 export VX_BAKE_CHECKPOINT_S=0
-killed=0 finished=0 resumed=0 saw_new=0
+killed=0 finished=0 resumed=0
 i=0
 while [ $i -lt "$KILLS" ]; do
-    at=$(((i * 2 + 1) * T / (2 * KILLS)))
+    at=$(spread $i "$KILLS" "$T")
     cp old.probes out.probes
     rm -f out.probes.partial
     # shellcheck disable=SC2086
     "$BIN/svo_bake" demo.svo out.probes $O >/dev/null 2>&1 &
     pid=$!
-    sleep "$(awk -v ms="$at" 'BEGIN { printf "%.3f", ms / 1000 }')"
+    sleep_ms "$at"
     if kill -KILL $pid 2>/dev/null; then killed=$((killed + 1)); else finished=$((finished + 1)); fi
     wait $pid 2>/dev/null
-    if cmp -s out.probes ref.probes; then
-        saw_new=$((saw_new + 1))
-    elif ! cmp -s out.probes old.probes; then
-        bad "kill $i at $at ms: out.probes is neither the old nor the new file"
-    fi
+    check_old_new out.probes old.probes ref.probes "kill $i at $at ms"
     # resume (or start over when no checkpoint was written yet)
     # shellcheck disable=SC2086
     "$BIN/svo_bake" demo.svo out.probes $O >resume.log 2>&1 || bad "run after kill $i failed: $(cat resume.log)"
@@ -66,10 +56,8 @@ while [ $i -lt "$KILLS" ]; do
     grep -q "resuming" resume.log && resumed=$((resumed + 1))
     cmp -s out.probes ref.probes || bad "run after kill $i at $at ms: differs from an uninterrupted bake"
     [ ! -e out.probes.partial ] || bad "run after kill $i: checkpoint left behind"
-    left=$(for f in out.probes*.tmp*; do [ -e "$f" ] && printf '%s ' "$f"; done)
+    left=$(tmp_files out.probes)
     [ -z "$left" ] || bad "after kill $i and a successful run, temporary files remain: $left"
     i=$((i + 1))
 done
-echo "$KILLS kill points: $killed killed mid-run ($saw_new after the output was renamed into place), $finished ran to the end first; $resumed resumed from a checkpoint"
-[ $fail -eq 0 ] && echo "ok"
-exit $fail
+kill_end "$KILLS kill points: $killed killed mid-run ($saw_new after the output was renamed into place), $finished ran to the end first; $resumed resumed from a checkpoint"

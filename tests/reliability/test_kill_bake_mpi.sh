@@ -21,13 +21,9 @@ MPIRUN=${2:-mpirun}
 KILLS=${3:-8}
 . "$(dirname "$0")/../common/mpi.sh"
 command -v setsid >/dev/null 2>&1 || { echo "SKIP: no setsid"; exit 77; }
+# shellcheck source=../common/kill.sh
+. "$(dirname "$0")/../common/kill.sh"
 cd "$T" || exit 1
-err=0
-bad() {
-    echo "FAIL: $*"
-    err=1
-}
-now_ms() { echo $(($(date +%s%N) / 1000000)); }
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox demo.svo || exit 1
@@ -82,27 +78,21 @@ run 2 "$BIN/svo_bake" demo.svo out.probes $O >run.log 2>&1 || { cat run.log; bad
 [ -e "out.probes.ckpt/b3-5.r0.probes.tmp$$" ] || bad "a live writer's batch temporary file was removed"
 rm -rf out.probes.ckpt
 
-killed=0 finished=0 resumed=0 saw_old=0 saw_new=0 ckpt_after_kill=0
+killed=0 finished=0 resumed=0 ckpt_after_kill=0
 i=0
 while [ $i -lt "$KILLS" ]; do
-    at=$(((i * 2 + 1) * T / (2 * KILLS)))
+    at=$(spread $i "$KILLS" "$T")
     cp old.probes out.probes
     rm -rf out.probes.partial out.probes.ckpt
     # a session of its own, whose id is the pid: every rank is in it
     # shellcheck disable=SC2086
     setsid $MPIRUN $MPIFLAGS -n 2 "$BIN/svo_bake" demo.svo out.probes $O >/dev/null 2>&1 &
     pid=$!
-    sleep "$(awk -v ms="$at" 'BEGIN { printf "%.3f", ms / 1000 }')"
+    sleep_ms "$at"
     if kill_session $pid; then killed=$((killed + 1)); else finished=$((finished + 1)); fi
     wait $pid 2>/dev/null
     ps -eo sid= | awk -v s="$pid" '$1 == s { f = 1 } END { exit !f }' && bad "kill $i at $at ms: processes of the job are still running"
-    if cmp -s out.probes old.probes; then
-        saw_old=$((saw_old + 1))
-    elif cmp -s out.probes ref.probes; then
-        saw_new=$((saw_new + 1))
-    else
-        bad "kill $i at $at ms: out.probes is neither the old nor the new file"
-    fi
+    check_old_new out.probes old.probes ref.probes "kill $i at $at ms"
     [ -n "$(left_files)" ] && ckpt_after_kill=$((ckpt_after_kill + 1))
     # shellcheck disable=SC2086
     run 3 "$BIN/svo_bake" demo.svo out.probes $O >resume.log 2>&1 || bad "run after kill $i failed: $(cat resume.log)"
@@ -113,6 +103,4 @@ while [ $i -lt "$KILLS" ]; do
     [ -z "$l" ] || bad "after kill $i and a successful run, left behind: $l"
     i=$((i + 1))
 done
-echo "$KILLS kill points: $killed jobs killed ($saw_old left the old file, $saw_new the new one), $finished ended first; $ckpt_after_kill left checkpoints or temporary files, $resumed reruns resumed from checkpoints"
-[ $err -eq 0 ] && echo "ok"
-exit $err
+kill_end "$KILLS kill points: $killed jobs killed ($saw_old left the old file, $saw_new the new one), $finished ended first; $ckpt_after_kill left checkpoints or temporary files, $resumed reruns resumed from checkpoints"

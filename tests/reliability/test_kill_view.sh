@@ -25,17 +25,10 @@ if [ -z "${DISPLAY:-}" ]; then
     echo "SKIP: no display (xvfb-run not found)"
     exit 77
 fi
-W=$(mktemp -d "${TMPDIR:-/tmp}/vx_kill_view.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-cd "$W" || exit 1
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
-now_ms() { echo $(($(date +%s%N) / 1000000)); }
-tmp_files() { for f in out.svo.tmp*; do [ -e "$f" ] && printf '%s ' "$f"; done; }
-view() { "$BIN/svo_view" noise.svo --hidden --size 64x64 --script save.txt "$@"; }
+# shellcheck source=../common/kill.sh
+. "$(dirname "$0")/../common/kill.sh"
+kill_workdir vx_kill_view
+view() { "$BIN/svo_view" noise.svo --hidden --size 64x64 --script save.txt; }
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox old.svo || exit 1
@@ -75,7 +68,7 @@ done
 cp out.svo new.svo
 # the shortest of three saves: on a loaded machine one run's length varies by
 # 2x, and kills placed past a save's end only see the new file
-for k in 1 2 3; do
+for _ in 1 2 3; do
     d=$D
     measure || exit 1
     cmp -s out.svo new.svo || { echo "two saves of the same scene differ"; exit 1; }
@@ -84,39 +77,29 @@ done
 cmp -s old.svo new.svo && { echo "old and new outputs are the same bytes"; exit 1; }
 echo "scene 2 x ${size}^3 cells, the save takes about $D ms, $(wc -c <new.svo) bytes (old: $(wc -c <old.svo))"
 
-killed=0 finished=0 saw_old=0 saw_new=0 tmp_after_kill=0 early=0
+killed=0 finished=0 tmp_after_kill=0 early=0
 i=0
 while [ $i -lt "$KILLS" ]; do
-    at=$(((i * 2 + 1) * D * 11 / (20 * KILLS))) # over 110% of the save: its end is the rename
+    at=$(spread $i "$KILLS" $((D * 11 / 10))) # over 110% of the save: its end is the rename
     rm -f mark.png
     cp old.svo out.svo
     view >run.log 2>&1 &
     pid=$!
     while [ ! -e mark.png ] && kill -0 $pid 2>/dev/null; do sleep 0.002; done
     [ -e mark.png ] || early=$((early + 1))
-    sleep "$(awk -v ms="$at" 'BEGIN { printf "%.3f", ms / 1000 }')"
+    sleep_ms "$at"
     if kill -KILL $pid 2>/dev/null; then killed=$((killed + 1)); else finished=$((finished + 1)); fi
     wait $pid 2>/dev/null
-    if [ ! -f out.svo ]; then
-        bad "kill $i at ${at} ms into the save: out.svo missing"
-    elif cmp -s out.svo old.svo; then
-        saw_old=$((saw_old + 1))
-    elif cmp -s out.svo new.svo; then
-        saw_new=$((saw_new + 1))
-    else
-        bad "kill $i at ${at} ms into the save: out.svo is neither the old nor the new file ($(wc -c <out.svo) bytes)"
-    fi
-    n=$(tmp_files | wc -w)
+    check_old_new out.svo old.svo new.svo "kill $i at ${at} ms into the save"
+    n=$(tmp_files out.svo | wc -w)
     tmp_after_kill=$((tmp_after_kill + n))
     # the next run: the new file, and no temporary file left
     view >run.log 2>&1 || { cat run.log; bad "run after kill $i failed"; }
     cmp -s out.svo new.svo || bad "run after kill $i: out.svo differs from an uninterrupted save"
-    left=$(tmp_files)
+    left=$(tmp_files out.svo)
     [ -z "$left" ] || bad "after kill $i and a run, temporary files remain: $left"
     rm -f out.svo.tmp*
     i=$((i + 1))
 done
 [ "$early" -eq 0 ] || bad "$early runs ended before mark.png appeared"
-echo "$KILLS kill points over the save: $killed killed ($saw_old left the old file, $saw_new the new one), $finished had exited first; $tmp_after_kill temporary files seen right after the kills"
-[ $fail -eq 0 ] && echo "ok"
-exit $fail
+kill_end "$KILLS kill points over the save: $killed killed ($saw_old left the old file, $saw_new the new one), $finished had exited first; $tmp_after_kill temporary files seen right after the kills"

@@ -15,17 +15,9 @@ set -u
 BIN=$1
 GEN=$2
 KILLS=${3:-20}
-W=$(mktemp -d "${TMPDIR:-/tmp}/vx_kill.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-cd "$W" || exit 1
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
-now_ms() { echo $(($(date +%s%N) / 1000000)); }
-# temporary files of out.svo, space-separated
-tmp_files() { for f in out.svo.tmp*; do [ -e "$f" ] && printf '%s ' "$f"; done; }
+# shellcheck source=../common/kill.sh
+. "$(dirname "$0")/../common/kill.sh"
+kill_workdir vx_kill
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox old.svo || exit 1
@@ -62,41 +54,30 @@ if [ -e "out.svo.tmp$dead" ] || [ -e "out.svo.tmp$dead.sections" ]; then bad "a 
 [ -e "other.svo.tmp$dead" ] || bad "another output's temporary file was removed"
 rm -f "out.svo.tmp$$" "other.svo.tmp$dead"
 
-killed=0 finished=0 saw_old=0 saw_new=0 tmp_after_kill=0
+killed=0 finished=0 tmp_after_kill=0
 i=0
 while [ $i -lt "$KILLS" ]; do
     half=$((KILLS / 2))
     if [ $i -lt $half ]; then
-        at=$(((i * 2 + 1) * T / (2 * half)))
+        at=$(spread $i $half "$T")
     else
-        j=$((i - half))
-        at=$((wstart + (j * 2 + 1) * (T - wstart) / (2 * (KILLS - half))))
+        at=$((wstart + $(spread $((i - half)) $((KILLS - half)) $((T - wstart)))))
     fi
     cp old.svo out.svo
     "$BIN/vox2svo" -q noise.vox out.svo &
     pid=$!
-    sleep "$(awk -v ms="$at" 'BEGIN { printf "%.3f", ms / 1000 }')"
+    sleep_ms "$at"
     if kill -KILL $pid 2>/dev/null; then killed=$((killed + 1)); else finished=$((finished + 1)); fi
     wait $pid 2>/dev/null
-    if [ ! -f out.svo ]; then
-        bad "kill $i at ${at} ms: out.svo missing"
-    elif cmp -s out.svo old.svo; then
-        saw_old=$((saw_old + 1))
-    elif cmp -s out.svo new.svo; then
-        saw_new=$((saw_new + 1))
-    else
-        bad "kill $i at ${at} ms: out.svo is neither the old nor the new file ($(wc -c <out.svo) bytes)"
-    fi
-    n=$(tmp_files | wc -w)
+    check_old_new out.svo old.svo new.svo "kill $i at ${at} ms"
+    n=$(tmp_files out.svo | wc -w)
     tmp_after_kill=$((tmp_after_kill + n))
     # the next successful run: the new file, and no temporary file left
     "$BIN/vox2svo" -q noise.vox out.svo || bad "run after kill $i failed"
     cmp -s out.svo new.svo || bad "run after kill $i: out.svo differs from an uninterrupted run"
-    left=$(tmp_files)
+    left=$(tmp_files out.svo)
     [ -z "$left" ] || bad "after kill $i and a successful run, temporary files remain: $left"
     rm -f out.svo.tmp*
     i=$((i + 1))
 done
-echo "$KILLS kill points: $killed killed mid-run ($saw_old left the old file, $((killed - saw_old)) the new one), $finished ran to the end first; $tmp_after_kill temporary files seen right after the kills"
-[ $fail -eq 0 ] && echo "ok"
-exit $fail
+kill_end "$KILLS kill points: $killed killed mid-run ($saw_old left the old file, $((killed - saw_old)) the new one), $finished ran to the end first; $tmp_after_kill temporary files seen right after the kills"
