@@ -71,16 +71,32 @@ extern "C" {
  * differ from the reference in up to ~1% of pixels by sub-1/100-cell slivers. */
 #define VX_RENDER_PRECISE_DEPTH 16u
 
-/* Models deeper than this many levels are walked in two frames on the float
- * path (issue 18): when the walk descends into a node at depth depth/2 it
- * moves the ray into that node's [1,2] cube, with an origin computed from a
- * hi/lo pair, so the last levels keep the float mantissa (shaders/
- * trace_common.glsl, trace_model). The float path then matches the CPU
- * reference on at least 99.99% of the pixels up to VX_RENDER_PRECISE_DEPTH
- * (tests/render/test_render_gpu.c, test_deep_float); shallower models keep
- * the plain loop (the trace kernel's REBASE constant is off for scenes
- * without a deeper model). */
-#define VX_RENDER_REBASE_DEPTH 8u
+/* Deep models on the float path (issue 18). The float walk in the model's
+ * [1,2] cube keeps 23 - depth bits below a cell, and its crossing times
+ * pos * coef - bias lose as many to cancellation; the ray set-up rounds the
+ * origin to 2^-24 of the cube. Against the CPU reference under the strict
+ * rule (same cell, depth within 1e-4 relative; tests/render/test_render_gpu.c,
+ * test_deep_float) the plain walk's depths miss from 9 levels on (0.015% of
+ * close-up pixels at 9, 0.7% at 10, 12% at 12) and its cells from 11 (0.013%
+ * at 11, 0.024% at 12, 0.6% at 16). So:
+ *  - models deeper than VX_RENDER_EXACT_DEPTH keep the ray origin as a hi/lo
+ *    pair and take a hit's t from its cube's entry planes (exact differences),
+ *    not from the walk;
+ *  - models deeper than VX_RENDER_REBASE_DEPTH are also walked in two frames:
+ *    when the walk descends into a node at depth depth - VX_RENDER_FRAME_LEVELS
+ *    it moves the ray into that node's [1,2] cube (origin from the hi/lo pair),
+ *    so that no frame spans more than VX_RENDER_FRAME_LEVELS levels; the upper
+ *    frame keeps 23 - (depth - VX_RENDER_FRAME_LEVELS) bits at that depth.
+ * The float path then matches the reference on at least 99.99% of the
+ * close-up pixels up to VX_RENDER_PRECISE_DEPTH. Frames as deep as the
+ * precision allows make the lower frame's nodes wide, so that rays move
+ * between frames rarely (with depth/2 a grazing ray crossed dozens of them
+ * on the 4096^3 terrain). Shallower models keep the plain loop: the trace
+ * kernel's REBASE constant is off for scenes without a model deeper than
+ * VX_RENDER_EXACT_DEPTH (shaders/trace_common.glsl, trace_model). */
+#define VX_RENDER_EXACT_DEPTH 8u
+#define VX_RENDER_REBASE_DEPTH 10u
+#define VX_RENDER_FRAME_LEVELS 9u
 
 /* ---- device ------------------------------------------------------------------------ */
 

@@ -44,9 +44,13 @@ struct vx_render_scene {
     vx_bvh bvh;
     double bvh_seconds;
     bool has_color;
-    bool rebase;   /* a model deeper than VX_RENDER_REBASE_DEPTH: the trace kernel's REBASE constant */
+    bool rebase;   /* a model deeper than VX_RENDER_EXACT_DEPTH: the trace kernel's REBASE constant */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
+    /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
+    const uint32_t* alt_spv;
+    size_t alt_size;
+    uint32_t alt_tag;
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -71,11 +75,16 @@ static uint64_t with_headroom(uint64_t n, uint64_t limit) {
     return c > limit ? (n > limit ? n : limit) : c;
 }
 
-/* The depth of the nodes whose frame the float walk moves into, 0 for none:
- * half way down, where the model frame keeps 23 - depth/2 bits below a
- * depth/2 node and the node's frame as many below a cell. */
-static uint32_t rebase_depth(const vx_svo_model* m) {
-    return m->depth > VX_RENDER_REBASE_DEPTH && m->root < VX_SVO_ROOT_LEAF ? m->depth / 2 : 0;
+/* Deep models on the float path (issue 18): models deeper than
+ * VX_RENDER_EXACT_DEPTH get the hi/lo origin and a hit's t from its cube
+ * (VX__MODEL_EXACT); those deeper than VX_RENDER_REBASE_DEPTH also the walk
+ * in two frames, the lower one the frame of the nodes at depth
+ * depth - VX_RENDER_FRAME_LEVELS (Model.rebase; as shallow as the frame's
+ * precision allows, so that a ray moves between frames rarely). */
+static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
+    if (m->root >= VX_SVO_ROOT_LEAF) return;
+    if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
+    if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
 static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
@@ -111,8 +120,8 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
-        gm[i].rebase = rebase_depth(m);
-        rs->rebase |= gm[i].rebase != 0;
+        deep_model(m, &gm[i]);
+        rs->rebase |= (gm[i].flags & VX__MODEL_EXACT) != 0;
         rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
         rs->creg[i] = (region){.off = co};
         if (m->attrs) {
@@ -401,7 +410,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     }
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
-    gm.rebase = rebase_depth(m);
+    gm.flags &= VX__MODEL_HAS_COLOR, gm.rebase = 0;
+    deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {
         if (wst) memcpy(rs->stage.map, m->nodes + wvalid, wst);
@@ -437,7 +447,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
     rs->rebase = false;
-    for (uint32_t i = 0; i < rs->model_count; i++) rs->rebase |= rs->gm[i].rebase != 0;
+    for (uint32_t i = 0; i < rs->model_count; i++) rs->rebase |= (rs->gm[i].flags & VX__MODEL_EXACT) != 0;
     if (depth > rs->max_depth) rs->max_depth = depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     /* a new size or an emptied (or no longer empty) model changes instance
@@ -464,6 +474,10 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->
 static bool use_precise(const vx_render_scene* rs) { return rs->force_precise < 0 ? rs->precise : rs->force_precise > 0; }
 
 bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_precise(rs); }
+
+void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag) {
+    if (rs) rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
+}
 
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
@@ -557,6 +571,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     for (int i = 0; i < 9; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
+    if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam */
     uint32_t nb = precise ? 10 : 11;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,

@@ -28,6 +28,8 @@ const int S_MAX = 23;
 const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
 const uint MAX_ITER = 100000u;
 
+// flags: 1 has colours; 2 exact (REBASE kernels): the origin kept as hi/lo and
+// a hit's t computed from its cube's entry planes (trace_model)
 struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, pad1; };
 // lo.xyz: the translations' rounding errors (r0.w + lo.x is the model-space
 // x of the frame reference to about 2^-48 relative)
@@ -114,6 +116,27 @@ uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
+#ifndef PRECISE
+// three floats from the walk's stack slots i, i+1, i+2
+#define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
+// Exact models (Model flag 2): the ray's distance from the model cube's
+// entry point oa (+ its rounding error oa_lo) to
+// the entry of the box [lo, lo + sz] (model units, exact integers), the
+// largest crossing of its entry planes, at least 0. The differences to the
+// planes are exact or nearly (Sterbenz), so t is right to float rounding
+// where the walk's crossing times pos * coef - bias lose 2^(depth - 23) of a
+// cell to cancellation (the strict rule's depth errors, issue 18).
+float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
+    vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
+    vec3 tau = ((pl - oa) - oa_lo) / d;
+    float r = 0.0;
+    if (d.x != 0.0) r = max(r, tau.x);
+    if (d.y != 0.0) r = max(r, tau.y);
+    if (d.z != 0.0) r = max(r, tau.z);
+    return r;
+}
+#endif
+
 // Traces model space ray o + t d (t in world units, d not normalised)
 // through model mi over [t0, t1]. Returns true and fills h on a hit. o_lo is
 // the rounding error of o (float variant; the rebased walk reads it).
@@ -132,7 +155,12 @@ uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
 // of N through the faces the rebased walk found. The stack entries of the
 // rebased walk sit k below their scale, below those of the model frame's
 // levels; the state for going back lives in the stack array's slots past
-// S_MAX (local memory, touched once per node of depth k).
+// S_MAX (local memory, touched once per node of depth k). k is
+// depth - VX_RENDER_FRAME_LEVELS (render/render.h): the lower frame as deep as
+// its precision allows, so that its nodes are wide and a ray rarely moves
+// between frames. Exact models (Model flag 2, deeper than
+// VX_RENDER_EXACT_DEPTH, rebased or not) also take a hit's t from its cube's
+// entry planes (entry_tau), not from the walk's crossing times.
 bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
@@ -148,9 +176,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     REAL sc = 1.0 / side;
     RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
 #else
-    precise vec3 oa, ol, ol_lo = vec3(0.0);
+    precise vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
     float sc = 1.0 / side;
-    if (REBASE && m.rebase > 0u) {
+    bool exact = REBASE && (m.flags & 2u) != 0u;
+    if (exact) {
         // oa + ol_lo: o + o_lo + d te with the product's and the sum's
         // rounding errors kept (fma gives the product's exactly)
         precise vec3 pr = d * te;
@@ -158,7 +187,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         oa = o + pr;
         precise vec3 bb = oa - o;
         precise vec3 se = (o - (oa - bb)) + (pr - bb);
-        precise vec3 oa_lo = o_lo + (pe + se);
+        oa_lo = o_lo + (pe + se);
         ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
         // ol - 1 and oa * sc - (ol - 1) are exact (Sterbenz; sc a power of 2)
         ol_lo = (oa * sc - (ol - 1.0)) + oa_lo * sc;
@@ -193,10 +222,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifndef PRECISE
     // the rebased walk: koff = k while in a depth-k node's frame, else 0;
     // rb_scale the scale of a depth-k cube in the model frame (-100 while
-    // rebased: no second rebase); tbase = t_r
+    // rebased: no second rebase)
     int koff = 0;
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
-    float tbase = 0.0;
 #endif
 
     REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
@@ -215,10 +243,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     const int RB_SLOTS = 0;
 #else
     // the rebased walk's stack slots past S_MAX: mirrored origin hi and lo,
-    // the walk's start, N's cube, N's parent, the ray's end in the model frame
-    const int RB_SLOTS = 12;
+    // the walk's start, N's cube, N's parent, the ray's end in the model
+    // frame, |dl|, the model frame's bias, t_r. State the loop needs only at
+    // a rebase, on the way back or after the loop lives here rather than in
+    // registers (they bound the kernel's occupancy).
+    const int RB_SLOTS = 22;
     const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
-              RB_TMAX = S_MAX + 11;
+              RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
+              RB_OALO = S_MAX + 19;
 #endif
 
     RVEC3 pos = RVEC3(1.0);
@@ -229,6 +261,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     bool have_attr = false;
 
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+#ifndef PRECISE
+    if (exact) {
+        stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
+        stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
+    }
+#endif
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -263,6 +301,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             stk_node[RB_OLO] = floatBitsToInt(olm_lo.x), stk_node[RB_OLO + 1] = floatBitsToInt(olm_lo.y);
             stk_node[RB_OLO + 2] = floatBitsToInt(olm_lo.z);
             stk_node[RB_T0] = floatBitsToInt(tmin);
+            vec3 adl = abs(dl);
+            stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
+            stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
         }
 #endif
         while (scale < S_MAX) {
@@ -298,6 +339,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         stop = (lod_a + lod_b * tw) * L >= scale_exp2;
 #else
                         float us = intBitsToFloat((127 - koff) << 23); // 2^-koff
+                        float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0;
                         float tw = te + (tbase + tmin * us) / L;
                         stop = (lod_a + lod_b * tw) * L >= scale_exp2 * us;
 #endif
@@ -324,16 +366,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
                         stk_node[RB_PARENT] = int(parent);
                         stk_node[RB_TMAX] = floatBitsToInt(tmax);
+                        stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
+                        stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
                         // t_r: N's entry; q: the mirrored ray point at t_r
                         // relative to N's corner, (olm + olm_lo - pos) - |dl| t_r
                         // with the rounding errors of the product and sum kept
                         vec3 tent = scale_exp2 * coef + tc;
                         float tr = max(max(tent.x, tent.y), tent.z);
-                        vec3 olm = vec3(intBitsToFloat(stk_node[RB_OHI]), intBitsToFloat(stk_node[RB_OHI + 1]),
-                                        intBitsToFloat(stk_node[RB_OHI + 2]));
-                        vec3 olm_lo = vec3(intBitsToFloat(stk_node[RB_OLO]), intBitsToFloat(stk_node[RB_OLO + 1]),
-                                           intBitsToFloat(stk_node[RB_OLO + 2]));
-                        precise vec3 adl = abs(dl);
+                        vec3 olm = SLOTS3(RB_OHI);
+                        vec3 olm_lo = SLOTS3(RB_OLO);
+                        precise vec3 adl = SLOTS3(RB_ADL);
                         precise vec3 pr = adl * tr;
                         precise vec3 pe = fma(adl, vec3(tr), -pr);
                         precise vec3 a = olm - pos; // exact: both in [1,2]
@@ -350,7 +392,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         tmin = max(entn, t0n);
                         tmax = (tmax - tr) * sk;
                         hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
-                        tbase = tr;
+                        stk_node[RB_TBASE] = floatBitsToInt(tr);
                         koff = k;
                         rb_scale = -100;
                         parent = child_node(parent, desc, cbit, nbase);
@@ -429,22 +471,17 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     // out of the rebased node N through the faces `step`: back
                     // to the model frame at N's level, the same step there
                     float us = intBitsToFloat((127 - koff) << 23); // 2^-k
-                    tmin = tbase + tmin * us;
+                    tmin = intBitsToFloat(stk_node[RB_TBASE]) + tmin * us;
                     tmax = intBitsToFloat(stk_node[RB_TMAX]);
-                    pos = vec3(intBitsToFloat(stk_node[RB_POS]), intBitsToFloat(stk_node[RB_POS + 1]),
-                               intBitsToFloat(stk_node[RB_POS + 2]));
+                    pos = SLOTS3(RB_POS);
                     parent = uint(stk_node[RB_PARENT]);
                     scale = S_MAX - koff;
                     scale_exp2 = us;
                     ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
                     idx = nb.x | (nb.y << 1) | (nb.z << 2);
-                    bias = coef * ol;
-                    if (dl.x > 0.0) bias.x = 3.0 * coef.x - bias.x;
-                    if (dl.y > 0.0) bias.y = 3.0 * coef.y - bias.y;
-                    if (dl.z > 0.0) bias.z = 3.0 * coef.z - bias.z;
+                    bias = SLOTS3(RB_BIAS);
                     rb_scale = scale;
                     koff = 0;
-                    tbase = 0.0;
                     hh = 0.0;
                     loaded = false;
                     diff = 0u;
@@ -473,11 +510,17 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     REAL troot = tmin;
 #else
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
+    float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0; // t_r
     float troot = tbase + tmin * us;              // model frame [1,2] units
 #endif
     REAL t = te + troot / L;
-    if (!(t <= h.t)) return false;
-    if (any_hit) { h.t = t; return true; }
+#ifdef PRECISE
+    const bool exact = false;
+#endif
+    if (!exact || any_hit) {
+        if (!(t <= h.t)) return false;
+        if (any_hit) { h.t = t; return true; }
+    }
 
     // entry face: the cube's entry planes in mirrored space are its max corners
     // No vector is indexed by a variable below: with per-pixel hits in the
@@ -498,9 +541,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // in N's frame: the leaf's cube in the model's [1,2] cube (exact:
         // multiples of 2^-depth), the hit point's offsets in the leaf from
         // the crossing times, x(t) - pos = (tc - t) |dl| (mirrored)
-        vec3 offm = ((pos * coef - bias) - tmin) * abs(dl);
-        vec3 pn = vec3(intBitsToFloat(stk_node[RB_POS]), intBitsToFloat(stk_node[RB_POS + 1]),
-                       intBitsToFloat(stk_node[RB_POS + 2]));
+        vec3 adl = SLOTS3(RB_ADL);
+        vec3 offm = ((pos * coef - bias) - tmin) * adl;
+        vec3 pn = SLOTS3(RB_POS);
         vec3 posr = pn + (pos - 1.0) * us;
         float ser = scale_exp2 * us;
         if ((oct & 1) == 0) { posr.x = 3.0 - ser - posr.x; offm.x = scale_exp2 - offm.x; }
@@ -509,6 +552,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         lo = (posr - 1.0) * side;
         sz = ser * side;
         c = lo + clamp(floor(offm * (side * us)), vec3(0.0), vec3(sz - 1.0));
+        t = te + entry_tau(oa, SLOTS3(RB_OALO), d, lo, sz);
     } else
 #endif
     {
@@ -517,9 +561,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
         lo = (pos - 1.0) * side;
         sz = scale_exp2 * side;
-        RVEC3 p = oa + d * (tmin / L);
+        REAL tau = troot / L;
+#ifndef PRECISE
+        if (exact) tau = entry_tau(oa, SLOTS3(RB_OALO), d, lo, sz), t = te + tau;
+#endif
+        RVEC3 p = oa + d * tau;
         c = clamp(floor(p), lo, lo + sz - 1.0);
     }
+    if (exact && !(t <= h.t)) return false;
     // the entry axis is decided by the ray direction, not by rounding (but
     // a ray that starts in the leaf keeps the cell holding its start)
     REAL da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
