@@ -13,7 +13,10 @@ typedef struct vx__gpu_model {
     uint32_t node_off, color_off, depth, root;
     uint32_t root_attr, flags;
     uint32_t rebase; /* depth of the nodes whose frame the float walk moves into (0: none; see VX_RENDER_REBASE_DEPTH) */
-    uint32_t pad1;
+    /* the model's extent (size) in units of 2^max(depth - 10, 0) cells,
+     * rounded up, minus one: 10 bits per axis, x lowest (the ray is clipped
+     * to this box, tighter than the 2^depth cube) */
+    uint32_t box;
 } vx__gpu_model;
 /* EXACT: the trace kernel keeps the ray origin as hi/lo and computes a hit's
  * t from its cube's entry planes (models deeper than VX_RENDER_EXACT_DEPTH) */

@@ -81,6 +81,16 @@ static uint64_t with_headroom(uint64_t n, uint64_t limit) {
  * in two frames, the lower one the frame of the nodes at depth
  * depth - VX_RENDER_FRAME_LEVELS (Model.rebase; as shallow as the frame's
  * precision allows, so that a ray moves between frames rarely). */
+/* Model.box: the extent in 10 bits per axis, rounded up (so conservative). */
+static uint32_t model_box(const vx_svo_model* m) {
+    uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t q = m->size[k] ? ((m->size[k] - 1) >> sh) : 0; /* ceil(size / 2^sh) - 1 */
+        b |= (q > 1023 ? 1023 : q) << (10 * k);
+    }
+    return b;
+}
+
 static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->root >= VX_SVO_ROOT_LEAF) return;
     if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
@@ -120,6 +130,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
+        gm[i].box = model_box(m);
         deep_model(m, &gm[i]);
         rs->rebase |= (gm[i].flags & VX__MODEL_EXACT) != 0;
         rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
@@ -410,7 +421,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     }
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
-    gm.flags &= VX__MODEL_HAS_COLOR, gm.rebase = 0;
+    gm.flags &= VX__MODEL_HAS_COLOR, gm.rebase = 0, gm.box = model_box(m);
     deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {

@@ -30,7 +30,9 @@ const uint MAX_ITER = 100000u;
 
 // flags: 1 has colours; 2 exact (REBASE kernels): the origin kept as hi/lo and
 // a hit's t computed from its cube's entry planes (trace_model)
-struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, pad1; };
+// box: the extent in units of 2^max(depth - 10, 0) cells, rounded up, minus
+// one, 10 bits per axis (render_internal.h)
+struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, box; };
 // lo.xyz: the translations' rounding errors (r0.w + lo.x is the model-space
 // x of the frame reference to about 2^-48 relative)
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
@@ -165,9 +167,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     REAL side = REAL(exp2(float(m.depth)));
-    // Advance to the cube first so that the [1,2] coordinates keep the
-    // model's precision even when the origin is far away.
-    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(side));
+    // Advance to the model's box first so that the [1,2] coordinates keep
+    // the model's precision even when the origin is far away. The box is the
+    // model's extent (Model.box, rounded up to 2^(depth - 10) cells), often
+    // smaller than the 2^depth cube: rays that meet only the cube's empty
+    // rest are culled here, the others start and end the walk on the box.
+    uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
+    uvec3 bq = (uvec3(m.box, m.box >> 10, m.box >> 20) & 1023u) + 1u;
+    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(bq << bsh));
     REAL te = max(tb.x, t0);
     REAL tx = min(tb.y, t1);
     if (!(te < tx)) return false;
