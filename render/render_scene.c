@@ -44,7 +44,7 @@ struct vx_render_scene {
     vx_bvh bvh;
     double bvh_seconds;
     bool has_color;
-    bool rebase;   /* a model deeper than VX_RENDER_EXACT_DEPTH: the trace kernel's REBASE constant */
+    uint32_t deep; /* the trace kernel's DEEP constant: 1 some model is exact, 2 some model is rebased */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
     /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
@@ -81,6 +81,12 @@ static uint64_t with_headroom(uint64_t n, uint64_t limit) {
  * in two frames, the lower one the frame of the nodes at depth
  * depth - VX_RENDER_FRAME_LEVELS (Model.rebase; as shallow as the frame's
  * precision allows, so that a ray moves between frames rarely). */
+/* The DEEP constant a scene needs with model gm among its models. */
+static uint32_t deep_level(uint32_t deep, const vx__gpu_model* gm) {
+    uint32_t d = gm->rebase ? 2 : (gm->flags & VX__MODEL_EXACT) ? 1 : 0;
+    return d > deep ? d : deep;
+}
+
 /* Model.box: the extent in 10 bits per axis, rounded up (so conservative). */
 static uint32_t model_box(const vx_svo_model* m) {
     uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
@@ -132,7 +138,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
         gm[i].box = model_box(m);
         deep_model(m, &gm[i]);
-        rs->rebase |= (gm[i].flags & VX__MODEL_EXACT) != 0;
+        rs->deep = deep_level(rs->deep, &gm[i]);
         rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
         rs->creg[i] = (region){.off = co};
         if (m->attrs) {
@@ -457,8 +463,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
-    rs->rebase = false;
-    for (uint32_t i = 0; i < rs->model_count; i++) rs->rebase |= (rs->gm[i].flags & VX__MODEL_EXACT) != 0;
+    rs->deep = 0;
+    for (uint32_t i = 0; i < rs->model_count; i++) rs->deep = deep_level(rs->deep, &rs->gm[i]);
     if (depth > rs->max_depth) rs->max_depth = depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     /* a new size or an emptied (or no longer empty) model changes instance
@@ -575,9 +581,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's REBASE */
+    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP */
     uint32_t spec[9] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
-                        !precise && rs->rebase};
+                        precise ? 0 : rs->deep};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 9; i++) key = key * 131 + spec[i];
     size_t spv_size;

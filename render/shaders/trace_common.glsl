@@ -17,19 +17,22 @@ layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attribute
 layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 3) const bool LOD = false;
 layout(constant_id = 4) const bool WRITE_HITS = false;
-// Float variant: some model has Model.rebase > 0 (the walk moves into the
-// frame of the nodes at that depth, see trace_model). Off unless the
-// pipeline sets it (render_scene.c does for trace.comp), so that kernels of
-// shallow scenes keep the plain loop.
-layout(constant_id = 8) const bool REBASE = false;
+// Float variant, deep models (issue 18; see trace_model): 0 none (the plain
+// loop), 1 some model is exact (Model flag 2: a hit's t from its cube's entry
+// planes), 2 also some model has Model.rebase > 0 (the hi/lo origin and the
+// walk in two frames). The pipeline sets it (render_scene.c does for
+// trace.comp) from the scene's deepest model, so that kernels of shallow
+// scenes keep the plain loop and those of 9-10 level models pay only at hits.
+layout(constant_id = 8) const int DEEP = 0;
+const bool REBASE = DEEP >= 2;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
 const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
 const uint MAX_ITER = 100000u;
 
-// flags: 1 has colours; 2 exact (REBASE kernels): the origin kept as hi/lo and
-// a hit's t computed from its cube's entry planes (trace_model)
+// flags: 1 has colours; 2 exact (DEEP kernels): a hit's t computed from its
+// cube's entry planes, with the origin kept as hi/lo where DEEP is 2 (trace_model)
 // box: the extent in units of 2^max(depth - 10, 0) cells, rounded up, minus
 // one, 10 bits per axis (render_internal.h)
 struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, box; };
@@ -119,15 +122,13 @@ uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
 }
 
 #ifndef PRECISE
-// three floats from the walk's stack slots i, i+1, i+2
-#define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
-// Exact models (Model flag 2): the ray's distance from the model cube's
-// entry point oa (+ its rounding error oa_lo) to
-// the entry of the box [lo, lo + sz] (model units, exact integers), the
-// largest crossing of its entry planes, at least 0. The differences to the
-// planes are exact or nearly (Sterbenz), so t is right to float rounding
-// where the walk's crossing times pos * coef - bias lose 2^(depth - 23) of a
-// cell to cancellation (the strict rule's depth errors, issue 18).
+// Exact models (Model flag 2): the ray's distance from the model box's
+// entry point oa (+ its rounding error oa_lo) to the entry of the box
+// [lo, lo + sz] (model units, exact integers), the largest crossing of its
+// entry planes, at least 0. The differences to the planes are exact or
+// nearly (Sterbenz), so t is right to float rounding where the walk's
+// crossing times pos * coef - bias lose 2^(depth - 23) of a cell to
+// cancellation (the strict rule's depth errors, issue 18).
 float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
     vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
     vec3 tau = ((pl - oa) - oa_lo) / d;
@@ -137,6 +138,9 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
     if (d.z != 0.0) r = max(r, tau.z);
     return r;
 }
+
+// three floats from the walk's stack slots i, i+1, i+2
+#define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 #endif
 
 // Traces model space ray o + t d (t in world units, d not normalised)
@@ -162,7 +166,8 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // its precision allows, so that its nodes are wide and a ray rarely moves
 // between frames. Exact models (Model flag 2, deeper than
 // VX_RENDER_EXACT_DEPTH, rebased or not) also take a hit's t from its cube's
-// entry planes (entry_tau), not from the walk's crossing times.
+// entry planes against the frame's origin, not from the walk's crossing
+// times (after the loop).
 bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
@@ -183,21 +188,22 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     REAL sc = 1.0 / side;
     RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
 #else
-    precise vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
+    vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
     float sc = 1.0 / side;
-    bool exact = REBASE && (m.flags & 2u) != 0u;
-    if (exact) {
-        // oa + ol_lo: o + o_lo + d te with the product's and the sum's
+    bool exact = DEEP >= 1 && (m.flags & 2u) != 0u;
+    if (REBASE && exact) {
+        // oa + oa_lo: o + o_lo + d te with the product's and the sum's
         // rounding errors kept (fma gives the product's exactly)
         precise vec3 pr = d * te;
         precise vec3 pe = fma(d, vec3(te), -pr);
-        oa = o + pr;
-        precise vec3 bb = oa - o;
-        precise vec3 se = (o - (oa - bb)) + (pr - bb);
-        oa_lo = o_lo + (pe + se);
-        ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+        precise vec3 oas = o + pr;
+        precise vec3 bb = oas - o;
+        precise vec3 se = (o - (oas - bb)) + (pr - bb);
+        precise vec3 oal = o_lo + (pe + se);
+        precise vec3 ols = clamp(1.0 + oas * sc, vec3(1.0), vec3(2.0));
         // ol - 1 and oa * sc - (ol - 1) are exact (Sterbenz; sc a power of 2)
-        ol_lo = (oa * sc - (ol - 1.0)) + oa_lo * sc;
+        precise vec3 oll = (oas * sc - (ols - 1.0)) + oal * sc;
+        oa = oas, oa_lo = oal, ol = ols, ol_lo = oll;
     } else {
         oa = o + d * te;
         ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
@@ -254,10 +260,15 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // frame, |dl|, the model frame's bias, t_r. State the loop needs only at
     // a rebase, on the way back or after the loop lives here rather than in
     // registers (they bound the kernel's occupancy).
-    const int RB_SLOTS = 22;
+    const int RB_SLOTS = 28;
     const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
               RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
               RB_OALO = S_MAX + 19;
+    // exact models: the box entry point oa and the direction d for the hit's
+    // t, kept in memory rather than in registers across the loop: in slots
+    // 0-5 where DEEP is 1 (its models, at most VX_RENDER_REBASE_DEPTH deep,
+    // push no deeper than stk_node[S_MAX - 10])
+    const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
 #endif
 
     RVEC3 pos = RVEC3(1.0);
@@ -268,12 +279,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     bool have_attr = false;
 
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
-#ifndef PRECISE
-    if (exact) {
-        stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
-        stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
-    }
-#endif
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -297,6 +302,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
 #ifndef PRECISE
+        if (exact) {
+            stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
+            stk_node[OA + 2] = floatBitsToInt(oa.z);
+            stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
+            stk_node[DM + 2] = floatBitsToInt(d.z);
+        }
+        if (REBASE && exact) {
+            stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
+            stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
+        }
         if (REBASE && rb_scale > 0) {
             // mirrored origin (3 - ol on mirrored axes, exact) and its error
             vec3 olm = ol, olm_lo = ol_lo;
@@ -559,7 +574,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         lo = (posr - 1.0) * side;
         sz = ser * side;
         c = lo + clamp(floor(offm * (side * us)), vec3(0.0), vec3(sz - 1.0));
-        t = te + entry_tau(oa, SLOTS3(RB_OALO), d, lo, sz);
+        t = te + entry_tau(SLOTS3(OA), SLOTS3(RB_OALO), SLOTS3(DM), lo, sz);
     } else
 #endif
     {
@@ -570,7 +585,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         sz = scale_exp2 * side;
         REAL tau = troot / L;
 #ifndef PRECISE
-        if (exact) tau = entry_tau(oa, SLOTS3(RB_OALO), d, lo, sz), t = te + tau;
+        if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
 #endif
         RVEC3 p = oa + d * tau;
         c = clamp(floor(p), lo, lo + sz - 1.0);
