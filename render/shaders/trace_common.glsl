@@ -344,10 +344,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             uint cbit = 1u << cs; // the child's leaf bit; its valid bit is cbit << 8
             if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
 #endif
-                REAL tv_max = min(tmax, tc_max);
                 REAL half_ = scale_exp2 * 0.5;
                 RVEC3 tcen = half_ * coef + tc;
-                if (tmin <= tv_max) {
+                // (the child's span [tmin, min(tmax, tc_max)] is not tested
+                // for tc_max: tmin lies in the child by construction, as in
+                // the ESVO loop; tmin <= tmax is)
+                {
 #ifdef PRECISE
                     bool is_leaf = ((leaf >> cs) & 1u) != 0u;
 #else
