@@ -327,6 +327,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
             stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
         }
+        // the two-frame walk's switches run outside the walk's loop, so that
+        // their code and registers stay out of it: 1 into the depth-k child
+        // rb_cbit of parent, 2 out of N through the faces rb_step
+        int pending = 0, rb_step = 0;
+        uint rb_cbit = 0u;
+        while (true) {
 #endif
         while (scale < S_MAX) {
             g_iter++;
@@ -385,50 +391,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     }
 #ifndef PRECISE
                     if (REBASE && scale == rb_scale) {
-                        // into node N at depth k (the cube pos): rebase
-                        stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
-                        stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
-                        stk_node[RB_PARENT] = int(parent);
-                        stk_node[RB_TMAX] = floatBitsToInt(tmax);
-                        stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
-                        stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
-                        // t_r: N's entry; q: the mirrored ray point at t_r
-                        // relative to N's corner, (olm + olm_lo - pos) - |dl| t_r
-                        // with the rounding errors of the product and sum kept
-                        vec3 tent = scale_exp2 * coef + tc;
-                        float tr = max(max(tent.x, tent.y), tent.z);
-                        vec3 olm = SLOTS3(RB_OHI);
-                        vec3 olm_lo = SLOTS3(RB_OLO);
-                        precise vec3 adl = SLOTS3(RB_ADL);
-                        precise vec3 pr = adl * tr;
-                        precise vec3 pe = fma(adl, vec3(tr), -pr);
-                        precise vec3 a = olm - pos; // exact: both in [1,2]
-                        precise vec3 sq = a - pr;
-                        precise vec3 bb = sq - a;
-                        precise vec3 se = (a - (sq - bb)) - (pr + bb);
-                        precise vec3 q = sq + ((se - pe) + olm_lo);
-                        int k = S_MAX - scale;
-                        float sk = intBitsToFloat((127 + k) << 23); // 2^k
-                        vec3 qn = 1.0 + q * sk;
-                        bias = coef * qn;
-                        float t0n = (intBitsToFloat(stk_node[RB_T0]) - tr) * sk;
-                        float entn = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
-                        tmin = max(entn, t0n);
-                        tmax = (tmax - tr) * sk;
-                        hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
-                        stk_node[RB_TBASE] = floatBitsToInt(tr);
-                        koff = k;
-                        rb_scale = -100;
-                        parent = child_node(parent, desc, cbit, nbase);
-                        idx = 0;
-                        scale = S_MAX - 1;
-                        scale_exp2 = 0.5;
-                        pos = vec3(1.0);
-                        if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
-                        if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
-                        if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-                        loaded = false;
-                        continue;
+                        // into node N at depth k: after the loop
+                        pending = 1, rb_cbit = cbit;
+                        break;
                     }
 #endif
                     // push
@@ -492,29 +457,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
                 scale = findMSB(diff);
                 if (REBASE && scale >= S_MAX && koff != 0) {
-                    // out of the rebased node N through the faces `step`: back
-                    // to the model frame at N's level, the same step there
-                    float us = intBitsToFloat((127 - koff) << 23); // 2^-k
-                    tmin = intBitsToFloat(stk_node[RB_TBASE]) + tmin * us;
-                    tmax = intBitsToFloat(stk_node[RB_TMAX]);
-                    pos = SLOTS3(RB_POS);
-                    parent = uint(stk_node[RB_PARENT]);
-                    scale = S_MAX - koff;
-                    scale_exp2 = us;
-                    ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
-                    idx = nb.x | (nb.y << 1) | (nb.z << 2);
-                    bias = SLOTS3(RB_BIAS);
-                    rb_scale = scale;
-                    koff = 0;
-                    hh = 0.0;
-                    loaded = false;
-                    diff = 0u;
-                    if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
-                    if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
-                    if ((step & 4) != 0) { diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z - us); pos.z -= us; }
-                    idx ^= step;
-                    if ((idx & step) == 0) continue; // into a sibling of N
-                    scale = findMSB(diff);
+                    // out of the rebased node N: after the loop
+                    pending = 2, rb_step = step;
+                    break;
                 }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
@@ -527,6 +472,92 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
             }
         }
+#ifndef PRECISE
+            if (!REBASE || pending == 0) break;
+            if (pending == 1) {
+                // into node N at depth k (the cube pos): rebase
+                vec3 tc = pos * coef - bias;
+                stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
+                stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
+                stk_node[RB_PARENT] = int(parent);
+                stk_node[RB_TMAX] = floatBitsToInt(tmax);
+                stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
+                stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
+                // t_r: N's entry; q: the mirrored ray point at t_r
+                // relative to N's corner, (olm + olm_lo - pos) - |dl| t_r
+                // with the rounding errors of the product and sum kept
+                vec3 tent = scale_exp2 * coef + tc;
+                float tr = max(max(tent.x, tent.y), tent.z);
+                vec3 olm = SLOTS3(RB_OHI);
+                vec3 olm_lo = SLOTS3(RB_OLO);
+                precise vec3 adl = SLOTS3(RB_ADL);
+                precise vec3 pr = adl * tr;
+                precise vec3 pe = fma(adl, vec3(tr), -pr);
+                precise vec3 a = olm - pos; // exact: both in [1,2]
+                precise vec3 sq = a - pr;
+                precise vec3 bb = sq - a;
+                precise vec3 se = (a - (sq - bb)) - (pr + bb);
+                precise vec3 q = sq + ((se - pe) + olm_lo);
+                int k = S_MAX - scale;
+                float sk = intBitsToFloat((127 + k) << 23); // 2^k
+                vec3 qn = 1.0 + q * sk;
+                bias = coef * qn;
+                float t0n = (intBitsToFloat(stk_node[RB_T0]) - tr) * sk;
+                float entn = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+                tmin = max(entn, t0n);
+                tmax = (tmax - tr) * sk;
+                hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+                stk_node[RB_TBASE] = floatBitsToInt(tr);
+                koff = k;
+                rb_scale = -100;
+                parent = child_node(parent, desc, rb_cbit, nbase);
+                idx = 0;
+                scale = S_MAX - 1;
+                scale_exp2 = 0.5;
+                pos = vec3(1.0);
+                if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+                if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+                if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+                loaded = false;
+                pending = 0;
+                continue;
+            }
+            // out of N through the faces step: back to the model frame at
+            // N's level, the same step there
+            int step = rb_step;
+            pending = 0;
+            uint diff;
+            float us = intBitsToFloat((127 - koff) << 23); // 2^-k
+            tmin = intBitsToFloat(stk_node[RB_TBASE]) + tmin * us;
+            tmax = intBitsToFloat(stk_node[RB_TMAX]);
+            pos = SLOTS3(RB_POS);
+            parent = uint(stk_node[RB_PARENT]);
+            scale = S_MAX - koff;
+            scale_exp2 = us;
+            ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
+            idx = nb.x | (nb.y << 1) | (nb.z << 2);
+            bias = SLOTS3(RB_BIAS);
+            rb_scale = scale;
+            koff = 0;
+            hh = 0.0;
+            loaded = false;
+            diff = 0u;
+            if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
+            if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
+            if ((step & 4) != 0) { diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z - us); pos.z -= us; }
+            idx ^= step;
+            if ((idx & step) == 0) continue; // into a sibling of N
+            scale = findMSB(diff);
+            if (scale >= S_MAX) break;
+            scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+            parent = uint(stk_node[scale]);
+            ivec3 sh = floatBitsToInt(pos) >> scale;
+            pos = intBitsToFloat(sh << scale);
+            idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            hh = 0.0;
+            loaded = false;
+        }
+#endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
     }
     if (!hit) return false;
