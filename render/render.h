@@ -67,8 +67,8 @@ extern "C" {
  * fill ~128 pixels before it spans one), so .vox scenes (<= 8 levels),
  * converted meshes and volumes and the 4096^3 benchmark terrain keep the
  * fast path: float64 costs ~25% on lavapipe and far more on GPUs with slow
- * float64. Below the threshold, close-ups of models 10-16 levels deep may
- * differ from the reference in up to ~1% of pixels by sub-1/100-cell slivers. */
+ * float64. (These figures are the plain float walk's; models 9-16 levels
+ * deep now take the exact and two-frame paths below, within 0.01%.) */
 #define VX_RENDER_PRECISE_DEPTH 16u
 
 /* Deep models on the float path (issue 18). The float walk in the model's
