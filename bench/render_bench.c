@@ -35,7 +35,11 @@
  * steps/s, rays/s over ESVO's, depth agreement with ESVO, and its GPU MiB,
  * timed like ESVO (columns ...T64). --grid-world: world_from_grid of every
  * file set to the identity (a converted mesh in cells, so that the baselines,
- * which need world cells = grid cells, apply). */
+ * which need world cells = grid cells, apply). --kernels FILE.spv,...: voxkit's
+ * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
+ * of a shaders/trace.comp variant with the same bindings, e.g. from
+ * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
+ * view, the baselines timed once: per-step experiments measured side by side. */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
@@ -60,10 +64,23 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
+}
+
+/* The words of a SPIR-V file (free with free), or NULL. */
+static uint32_t* read_spirv(const char* path, size_t* bytes) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return NULL;
+    uint32_t* w = NULL;
+    long n = fseek(f, 0, SEEK_END) ? -1 : ftell(f);
+    if (n > 0 && n % 4 == 0 && !fseek(f, 0, SEEK_SET) && (w = malloc((size_t)n)) && fread(w, 1, (size_t)n, f) != (size_t)n)
+        free(w), w = NULL;
+    fclose(f);
+    *bytes = w ? (size_t)n : 0;
+    return w;
 }
 
 static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
@@ -269,6 +286,10 @@ int main(int argc, char** argv) {
     const char* views = "overview,oblique,closeup";
     uint32_t beam_list[8] = {0};
     int nbeam = 1;
+    const char* kname[9] = {NULL};
+    uint32_t* kspv[9] = {NULL};
+    size_t kbytes[9] = {0};
+    int nkern = 1; /* 0: the built-in kernel */
     uint32_t runs = 15;
     double warmup = 0.5;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false;
@@ -296,6 +317,17 @@ int main(int argc, char** argv) {
                 beam_list[nbeam++] = (uint32_t)n;
                 if (!*end) break;
                 bp = end + 1;
+            }
+        }
+        else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
+            char* list = argv[++i];
+            for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
+                if (nkern == 9 || !(kspv[nkern] = read_spirv(t, &kbytes[nkern]))) {
+                    fprintf(stderr, "render_bench: --kernels: %s: %s\n", t,
+                            nkern == 9 ? "more than 8 kernels" : "cannot read a SPIR-V file");
+                    return 2;
+                }
+                kname[nkern++] = t;
             }
         }
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
@@ -413,6 +445,7 @@ int main(int argc, char** argv) {
         }
         bool have_views = !is_deep && make_views(rs, &s, cams);
         static const char* vnames[3] = {"overview", "oblique", "closeup"};
+        bool first_view = true;
         for (int v = 0; v < 3; v++) {
             if (!strstr(views, vnames[v]) || (v > 0 && !have_views)) continue;
             const char* p = sizes;
@@ -420,10 +453,16 @@ int main(int argc, char** argv) {
                 unsigned w, h;
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
                 view_result r = {0};
+                for (int ki = 0; ki < nkern; ki++)
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
                     vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
-                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0, runs, warmup, &r, &err)) {
+                    vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], (uint32_t)ki);
+                    /* the scene's first view warms for at least 1 s: after a long host-side
+                     * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
+                     * the rest with 0.2-0.3 s (clocks down) */
+                    double wu = first_view && ki == 0 && bi == 0 ? fmax(warmup, 1.0) : warmup;
+                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0, runs, wu, &r, &err)) {
                         fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
                         failed = 1;
                         break;
@@ -450,13 +489,17 @@ int main(int argc, char** argv) {
                         size_t at = strlen(t64);
                         snprintf(t64 + at, sizeof t64 - at, " %9.2f", bench_tree64_bytes(&t6) / 1048576.0);
                     }
-                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s\n",
+                    char kl[280] = "";
+                    if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
+                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
                            px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
                            px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes, t64,
-                           vx_render_scene_precise(rs) ? "  (float64)" : "");
+                           vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
                 }
+                first_view = false;
+                vx__render_scene_trace_kernel(rs, NULL, 0, 0);
                 p = strchr(p, ',');
                 if (!p) break;
                 p++;
@@ -479,5 +522,6 @@ int main(int argc, char** argv) {
         vx_svo_scene_free(&s);
     }
     vx_gpu_destroy(gpu);
+    for (int ki = 1; ki < nkern; ki++) free(kspv[ki]);
     return failed;
 }

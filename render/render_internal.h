@@ -11,9 +11,16 @@
 
 typedef struct vx__gpu_model {
     uint32_t node_off, color_off, depth, root;
-    uint32_t root_attr, flags, pad0, pad1;
+    uint32_t root_attr, flags;
+    uint32_t rebase; /* depth of the nodes whose frame the float walk moves into (0: none; see VX_RENDER_REBASE_DEPTH) */
+    /* the model's extent (size) in units of 2^max(depth - 10, 0) cells,
+     * rounded up, minus one: 10 bits per axis, x lowest (the ray is clipped
+     * to this box, tighter than the 2^depth cube) */
+    uint32_t box;
 } vx__gpu_model;
-enum { VX__MODEL_HAS_COLOR = 1u };
+/* EXACT: the trace kernel keeps the ray origin as hi/lo and computes a hit's
+ * t from its cube's entry planes (models deeper than VX_RENDER_EXACT_DEPTH) */
+enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u };
 
 typedef struct vx__gpu_inst {
     float r[3][4];  /* model-from-world rows (world relative to the frame reference) */
@@ -21,6 +28,7 @@ typedef struct vx__gpu_inst {
     float cell;     /* world size of one cell (largest column norm of M) */
     uint32_t id;    /* scene instance index */
     float pad;
+    float lo[4];    /* rounding errors of r[0..2][3] (the rebased walk of deep models keeps the origin in hi + lo) */
 } vx__gpu_inst;
 
 typedef struct vx__gpu_frame {
@@ -60,6 +68,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
+/* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
+ * variant of shaders/trace.comp with the same bindings and constants; NULL
+ * restores the built-in one); tag (nonzero) tells their pipelines apart.
+ * The words must outlive their use. */
+void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag);
 /* Dense occupancy grid of the scene (identity world_from_grid) for the baseline. */
 vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err);
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,

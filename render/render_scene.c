@@ -44,8 +44,13 @@ struct vx_render_scene {
     vx_bvh bvh;
     double bvh_seconds;
     bool has_color;
+    uint32_t deep; /* the trace kernel's DEEP constant: 1 some model is exact, 2 some model is rebased */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
+    /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
+    const uint32_t* alt_spv;
+    size_t alt_size;
+    uint32_t alt_tag;
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -69,6 +74,34 @@ struct vx_render_scene {
 static uint64_t with_headroom(uint64_t n, uint64_t limit) {
     uint64_t c = n + n / 16 + 65536;
     return c > limit ? (n > limit ? n : limit) : c;
+}
+
+/* Deep models on the float path (issue 18): models deeper than
+ * VX_RENDER_EXACT_DEPTH get the hi/lo origin and a hit's t from its cube
+ * (VX__MODEL_EXACT); those deeper than VX_RENDER_REBASE_DEPTH also the walk
+ * in two frames, the lower one the frame of the nodes at depth
+ * depth - VX_RENDER_FRAME_LEVELS (Model.rebase; as shallow as the frame's
+ * precision allows, so that a ray moves between frames rarely). */
+/* The DEEP constant a scene needs with model gm among its models. */
+static uint32_t deep_level(uint32_t deep, const vx__gpu_model* gm) {
+    uint32_t d = gm->rebase ? 2 : (gm->flags & VX__MODEL_EXACT) ? 1 : 0;
+    return d > deep ? d : deep;
+}
+
+/* Model.box: the extent in 10 bits per axis, rounded up (so conservative). */
+static uint32_t model_box(const vx_svo_model* m) {
+    uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t q = m->size[k] ? ((m->size[k] - 1) >> sh) : 0; /* ceil(size / 2^sh) - 1 */
+        b |= (q > 1023 ? 1023 : q) << (10 * k);
+    }
+    return b;
+}
+
+static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
+    if (m->root >= VX_SVO_ROOT_LEAF) return;
+    if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
+    if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
 static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
@@ -104,6 +137,9 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
+        gm[i].box = model_box(m);
+        deep_model(m, &gm[i]);
+        rs->deep = deep_level(rs->deep, &gm[i]);
         rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
         rs->creg[i] = (region){.off = co};
         if (m->attrs) {
@@ -402,6 +438,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     }
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
+    gm.flags &= VX__MODEL_HAS_COLOR, gm.rebase = 0, gm.box = model_box(m);
+    deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {
         if (wst) memcpy(rs->stage.map, m->nodes + wvalid, wst);
@@ -439,6 +477,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
+    rs->deep = 0;
+    for (uint32_t i = 0; i < rs->model_count; i++) rs->deep = deep_level(rs->deep, &rs->gm[i]);
     if (depth > rs->max_depth) rs->max_depth = depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     /* a new size or an emptied (or no longer empty) model changes instance
@@ -466,6 +506,10 @@ static bool use_precise(const vx_render_scene* rs) { return rs->force_precise < 
 
 bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_precise(rs); }
 
+void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag) {
+    if (rs) rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
+}
+
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
@@ -481,12 +525,14 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
             double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
             for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c], pi[i].r[r][c] = row[c];
             gi[i].r[r][3] = (float)w;
+            gi[i].lo[r] = (float)(w - (double)(float)w);
             pi[i].r[r][3] = w;
         }
         gi[i].model = h->model;
         gi[i].cell = h->cell;
         gi[i].id = h->id;
         gi[i].pad = 0;
+        gi[i].lo[3] = 0;
     }
     vx_bvh_node* bn = rs->bvh_nodes.map;
     for (uint32_t i = 0; i < rs->bvh.node_count; i++) {
@@ -549,15 +595,18 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    uint32_t spec[VX__SPEC_COUNT + 1] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam};
+    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP */
+    uint32_t spec[9] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+                        precise ? 0 : rs->deep};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < VX__SPEC_COUNT + 1; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 9; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
+    if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam */
     uint32_t nb = precise ? 10 : 11;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = VX__SPEC_COUNT + 1, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 9, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);

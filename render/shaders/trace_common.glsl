@@ -17,14 +17,28 @@ layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attribute
 layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 3) const bool LOD = false;
 layout(constant_id = 4) const bool WRITE_HITS = false;
+// Float variant, deep models (issue 18; see trace_model): 0 none (the plain
+// loop), 1 some model is exact (Model flag 2: a hit's t from its cube's entry
+// planes), 2 also some model has Model.rebase > 0 (the hi/lo origin and the
+// walk in two frames). The pipeline sets it (render_scene.c does for
+// trace.comp) from the scene's deepest model, so that kernels of shallow
+// scenes keep the plain loop and those of 9-10 level models pay only at hits.
+layout(constant_id = 8) const int DEEP = 0;
+const bool REBASE = DEEP >= 2;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
 const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
 const uint MAX_ITER = 100000u;
 
-struct Model { uint node_off, color_off, depth, root, root_attr, flags, pad0, pad1; };
-struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; };
+// flags: 1 has colours; 2 exact (DEEP kernels): a hit's t computed from its
+// cube's entry planes, with the origin kept as hi/lo where DEEP is 2 (trace_model)
+// box: the extent in units of 2^max(depth - 10, 0) cells, rounded up, minus
+// one, 10 bits per axis (render_internal.h)
+struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, box; };
+// lo.xyz: the translations' rounding errors (r0.w + lo.x is the model-space
+// x of the frame reference to about 2^-48 relative)
+struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
 layout(std140, binding = 0) uniform Frame {
@@ -107,21 +121,94 @@ uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
+#ifndef PRECISE
+// Exact models (Model flag 2): the ray's distance from the model box's
+// entry point oa (+ its rounding error oa_lo) to the entry of the box
+// [lo, lo + sz] (model units, exact integers), the largest crossing of its
+// entry planes, at least 0. The differences to the planes are exact or
+// nearly (Sterbenz), so t is right to float rounding where the walk's
+// crossing times pos * coef - bias lose 2^(depth - 23) of a cell to
+// cancellation (the strict rule's depth errors, issue 18).
+float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
+    vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
+    vec3 tau = ((pl - oa) - oa_lo) / d;
+    float r = 0.0;
+    if (d.x != 0.0) r = max(r, tau.x);
+    if (d.y != 0.0) r = max(r, tau.y);
+    if (d.z != 0.0) r = max(r, tau.z);
+    return r;
+}
+
+// three floats from the walk's stack slots i, i+1, i+2
+#define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
+#endif
+
 // Traces model space ray o + t d (t in world units, d not normalised)
-// through model mi over [t0, t1]. Returns true and fills h on a hit.
-bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
+// through model mi over [t0, t1]. Returns true and fills h on a hit. o_lo is
+// the rounding error of o (float variant; the rebased walk reads it).
+//
+// Rebased walk (float variant, REBASE and Model.rebase = k > 0): in the
+// [1,2] cube a float keeps 23 - depth bits below a cell, and the crossing
+// times pos * coef - bias lose as many to the cancellation against bias
+// (|bias| ~ 1.5 |coef|), so at depth 16 a cell decision and the depth were
+// off by up to 2^-7 of a cell (issue 18). When the walk descends into a node
+// N at depth k, it moves into N's frame: N becomes the [1,2] cube, the
+// origin the point of the ray at N's entry t_r (computed from the origin kept
+// as a hi/lo pair, exact products and sums, so the new origin is right to
+// 2^-24 of N), t' = (t - t_r) 2^k. Below N the walk then keeps 23 - (depth - k)
+// bits; above, 23 - k bits of a depth-k node. When the walk leaves N (a pop
+// past N's cube) it goes back to the model frame at N's level, stepping out
+// of N through the faces the rebased walk found. The stack entries of the
+// rebased walk sit k below their scale, below those of the model frame's
+// levels; the state for going back lives in the stack array's slots past
+// S_MAX (local memory, touched once per node of depth k). k is
+// depth - VX_RENDER_FRAME_LEVELS (render/render.h): the lower frame as deep as
+// its precision allows, so that its nodes are wide and a ray rarely moves
+// between frames. Exact models (Model flag 2, deeper than
+// VX_RENDER_EXACT_DEPTH, rebased or not) also take a hit's t from its cube's
+// entry planes against the frame's origin, not from the walk's crossing
+// times (after the loop).
+bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     REAL side = REAL(exp2(float(m.depth)));
-    // Advance to the cube first so that the [1,2] coordinates keep the
-    // model's precision even when the origin is far away.
-    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(side));
+    // Advance to the model's box first so that the [1,2] coordinates keep
+    // the model's precision even when the origin is far away. The box is the
+    // model's extent (Model.box, rounded up to 2^(depth - 10) cells), often
+    // smaller than the 2^depth cube: rays that meet only the cube's empty
+    // rest are culled here, the others start and end the walk on the box.
+    uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
+    uvec3 bq = (uvec3(m.box, m.box >> 10, m.box >> 20) & 1023u) + 1u;
+    RVEC2 tb = box_t(o, safe_inv(d), RVEC3(0.0), RVEC3(bq << bsh));
     REAL te = max(tb.x, t0);
     REAL tx = min(tb.y, t1);
     if (!(te < tx)) return false;
+#ifdef PRECISE
     RVEC3 oa = o + d * te;
     REAL sc = 1.0 / side;
     RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
+#else
+    vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
+    float sc = 1.0 / side;
+    bool exact = DEEP >= 1 && (m.flags & 2u) != 0u;
+    if (REBASE && exact) {
+        // oa + oa_lo: o + o_lo + d te with the product's and the sum's
+        // rounding errors kept (fma gives the product's exactly)
+        precise vec3 pr = d * te;
+        precise vec3 pe = fma(d, vec3(te), -pr);
+        precise vec3 oas = o + pr;
+        precise vec3 bb = oas - o;
+        precise vec3 se = (o - (oas - bb)) + (pr - bb);
+        precise vec3 oal = o_lo + (pe + se);
+        precise vec3 ols = clamp(1.0 + oas * sc, vec3(1.0), vec3(2.0));
+        // ol - 1 and oa * sc - (ol - 1) are exact (Sterbenz; sc a power of 2)
+        precise vec3 oll = (oas * sc - (ols - 1.0)) + oal * sc;
+        oa = oas, oa_lo = oal, ol = ols, ol_lo = oll;
+    } else {
+        oa = o + d * te;
+        ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+    }
+#endif
     RVEC3 dl = d * sc;
     REAL L = length(dl);
     dl /= L;
@@ -145,6 +232,13 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
     if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
     if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
+#ifndef PRECISE
+    // the rebased walk: koff = k while in a depth-k node's frame, else 0;
+    // rb_scale the scale of a depth-k cube in the model frame (-100 while
+    // rebased: no second rebase)
+    int koff = 0;
+    int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
+#endif
 
     REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
     REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
@@ -158,6 +252,24 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         if (!(tmin <= tmax)) return false;
     }
 #endif
+#ifdef PRECISE
+    const int RB_SLOTS = 0;
+#else
+    // the rebased walk's stack slots past S_MAX: mirrored origin hi and lo,
+    // the walk's start, N's cube, N's parent, the ray's end in the model
+    // frame, |dl|, the model frame's bias, t_r. State the loop needs only at
+    // a rebase, on the way back or after the loop lives here rather than in
+    // registers (they bound the kernel's occupancy).
+    const int RB_SLOTS = 28;
+    const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
+              RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
+              RB_OALO = S_MAX + 19;
+    // exact models: the box entry point oa and the direction d for the hit's
+    // t, kept in memory rather than in registers across the loop: in slots
+    // 0-5 where DEEP is 1 (its models, at most VX_RENDER_REBASE_DEPTH deep,
+    // push no deeper than stk_node[S_MAX - 10])
+    const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
+#endif
 
     RVEC3 pos = RVEC3(1.0);
     int scale = S_MAX - 1;
@@ -166,6 +278,7 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     uint attr_rec = 0u;
     bool have_attr = false;
 
+    int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -179,7 +292,6 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         // exit) (a cube's exit is never later than its parent's, in float
         // too: pos * coef - bias is monotonic in pos), so the stack holds
         // parents only and tmax stays the ray's end.
-        int stk_node[S_MAX];
         uint nbase = m.node_off; // node indices below are absolute (far pointers are model-relative)
         uint parent = nbase + m.root;
         int oct7 = oct ^ 7;
@@ -189,6 +301,39 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#ifndef PRECISE
+        if (exact) {
+            stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
+            stk_node[OA + 2] = floatBitsToInt(oa.z);
+            stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
+            stk_node[DM + 2] = floatBitsToInt(d.z);
+        }
+        if (REBASE && exact) {
+            stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
+            stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
+        }
+        if (REBASE && rb_scale > 0) {
+            // mirrored origin (3 - ol on mirrored axes, exact) and its error
+            vec3 olm = ol, olm_lo = ol_lo;
+            if ((oct & 1) == 0) { olm.x = 3.0 - ol.x; olm_lo.x = -ol_lo.x; }
+            if ((oct & 2) == 0) { olm.y = 3.0 - ol.y; olm_lo.y = -ol_lo.y; }
+            if ((oct & 4) == 0) { olm.z = 3.0 - ol.z; olm_lo.z = -ol_lo.z; }
+            stk_node[RB_OHI] = floatBitsToInt(olm.x), stk_node[RB_OHI + 1] = floatBitsToInt(olm.y);
+            stk_node[RB_OHI + 2] = floatBitsToInt(olm.z);
+            stk_node[RB_OLO] = floatBitsToInt(olm_lo.x), stk_node[RB_OLO + 1] = floatBitsToInt(olm_lo.y);
+            stk_node[RB_OLO + 2] = floatBitsToInt(olm_lo.z);
+            stk_node[RB_T0] = floatBitsToInt(tmin);
+            vec3 adl = abs(dl);
+            stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
+            stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
+        }
+        // the two-frame walk's switches run outside the walk's loop, so that
+        // their code and registers stay out of it: 1 into the depth-k child
+        // rb_cbit of parent, 2 out of N through the faces rb_step
+        int pending = 0, rb_step = 0;
+        uint rb_cbit = 0u;
+        while (true) {
+#endif
         while (scale < S_MAX) {
             g_iter++;
             if (!loaded) { desc = nodes[parent]; loaded = true; }
@@ -208,7 +353,11 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                 REAL tv_max = min(tmax, tc_max);
                 REAL half_ = scale_exp2 * 0.5;
                 RVEC3 tcen = half_ * coef + tc;
-                if (tmin <= tv_max) {
+                // The DEEP kernels skip the test against the child's exit
+                // (tmin lies in the child by construction, as in the ESVO
+                // loop; tmin <= tmax is tested): 2-5% faster there on the
+                // H200, 1-2% slower in the plain kernel, which keeps it.
+                if (DEEP >= 1 || tmin <= tv_max) {
 #ifdef PRECISE
                     bool is_leaf = ((leaf >> cs) & 1u) != 0u;
 #else
@@ -217,8 +366,15 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                     bool stop = is_leaf;
                     if (LOD && !stop) {
                         // world footprint of a pixel at this distance, in [1,2] units
+#ifdef PRECISE
                         REAL tw = te + tmin / L;
                         stop = (lod_a + lod_b * tw) * L >= scale_exp2;
+#else
+                        float us = intBitsToFloat((127 - koff) << 23); // 2^-koff
+                        float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0;
+                        float tw = te + (tbase + tmin * us) / L;
+                        stop = (lod_a + lod_b * tw) * L >= scale_exp2 * us;
+#endif
                     }
                     if (stop) {
                         hit = true;
@@ -235,8 +391,19 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                         }
                         break;
                     }
+#ifndef PRECISE
+                    if (REBASE && scale == rb_scale) {
+                        // into node N at depth k: after the loop
+                        pending = 1, rb_cbit = cbit;
+                        break;
+                    }
+#endif
                     // push
+#ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
+#else
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+#endif
                     hh = tc_max;
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
@@ -291,9 +458,14 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
                 if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
                 if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
                 scale = findMSB(diff);
+                if (REBASE && scale >= S_MAX && koff != 0) {
+                    // out of the rebased node N: after the loop
+                    pending = 2, rb_step = step;
+                    break;
+                }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
-                parent = uint(stk_node[scale]);
+                parent = uint(stk_node[scale - koff]);
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -302,12 +474,110 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
 #endif
             }
         }
+#ifndef PRECISE
+            if (!REBASE || pending == 0) break;
+            if (pending == 1) {
+                // into node N at depth k (the cube pos): rebase
+                vec3 tc = pos * coef - bias;
+                stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
+                stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
+                stk_node[RB_PARENT] = int(parent);
+                stk_node[RB_TMAX] = floatBitsToInt(tmax);
+                stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
+                stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
+                // t_r: N's entry; q: the mirrored ray point at t_r
+                // relative to N's corner, (olm + olm_lo - pos) - |dl| t_r
+                // with the rounding errors of the product and sum kept
+                vec3 tent = scale_exp2 * coef + tc;
+                float tr = max(max(tent.x, tent.y), tent.z);
+                vec3 olm = SLOTS3(RB_OHI);
+                vec3 olm_lo = SLOTS3(RB_OLO);
+                precise vec3 adl = SLOTS3(RB_ADL);
+                precise vec3 pr = adl * tr;
+                precise vec3 pe = fma(adl, vec3(tr), -pr);
+                precise vec3 a = olm - pos; // exact: both in [1,2]
+                precise vec3 sq = a - pr;
+                precise vec3 bb = sq - a;
+                precise vec3 se = (a - (sq - bb)) - (pr + bb);
+                precise vec3 q = sq + ((se - pe) + olm_lo);
+                int k = S_MAX - scale;
+                float sk = intBitsToFloat((127 + k) << 23); // 2^k
+                vec3 qn = 1.0 + q * sk;
+                bias = coef * qn;
+                float t0n = (intBitsToFloat(stk_node[RB_T0]) - tr) * sk;
+                float entn = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+                tmin = max(entn, t0n);
+                tmax = (tmax - tr) * sk;
+                hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+                stk_node[RB_TBASE] = floatBitsToInt(tr);
+                koff = k;
+                rb_scale = -100;
+                parent = child_node(parent, desc, rb_cbit, nbase);
+                idx = 0;
+                scale = S_MAX - 1;
+                scale_exp2 = 0.5;
+                pos = vec3(1.0);
+                if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+                if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+                if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+                loaded = false;
+                pending = 0;
+                continue;
+            }
+            // out of N through the faces step: back to the model frame at
+            // N's level, the same step there
+            int step = rb_step;
+            pending = 0;
+            uint diff;
+            float us = intBitsToFloat((127 - koff) << 23); // 2^-k
+            tmin = intBitsToFloat(stk_node[RB_TBASE]) + tmin * us;
+            tmax = intBitsToFloat(stk_node[RB_TMAX]);
+            pos = SLOTS3(RB_POS);
+            parent = uint(stk_node[RB_PARENT]);
+            scale = S_MAX - koff;
+            scale_exp2 = us;
+            ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
+            idx = nb.x | (nb.y << 1) | (nb.z << 2);
+            bias = SLOTS3(RB_BIAS);
+            rb_scale = scale;
+            koff = 0;
+            hh = 0.0;
+            loaded = false;
+            diff = 0u;
+            if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
+            if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
+            if ((step & 4) != 0) { diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z - us); pos.z -= us; }
+            idx ^= step;
+            if ((idx & step) == 0) continue; // into a sibling of N
+            scale = findMSB(diff);
+            if (scale >= S_MAX) break;
+            scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+            parent = uint(stk_node[scale]);
+            ivec3 sh = floatBitsToInt(pos) >> scale;
+            pos = intBitsToFloat(sh << scale);
+            idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            hh = 0.0;
+            loaded = false;
+        }
+#endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
     }
     if (!hit) return false;
-    REAL t = te + tmin / L;
-    if (!(t <= h.t)) return false;
-    if (any_hit) { h.t = t; return true; }
+#ifdef PRECISE
+    REAL troot = tmin;
+#else
+    float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
+    float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0; // t_r
+    float troot = tbase + tmin * us;              // model frame [1,2] units
+#endif
+    REAL t = te + troot / L;
+#ifdef PRECISE
+    const bool exact = false;
+#endif
+    if (!exact || any_hit) {
+        if (!(t <= h.t)) return false;
+        if (any_hit) { h.t = t; return true; }
+    }
 
     // entry face: the cube's entry planes in mirrored space are its max corners
     // No vector is indexed by a variable below: with per-pixel hits in the
@@ -321,22 +591,51 @@ bool trace_model(uint mi, RVEC3 o, RVEC3 d, REAL t0, REAL t1, bool any_hit, floa
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) axis = 2;
     // unmirror the leaf cube and find the cell holding the hit point
-    if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
-    if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
-    if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
-    RVEC3 lo = (pos - 1.0) * side;
-    REAL sz = scale_exp2 * side;
-    RVEC3 p = oa + d * (tmin / L);
-    RVEC3 c = clamp(floor(p), lo, lo + sz - 1.0);
-    // the entry axis is decided by the ray direction, not by rounding
+    RVEC3 lo, c;
+    REAL sz;
+#ifndef PRECISE
+    if (REBASE && koff != 0) {
+        // in N's frame: the leaf's cube in the model's [1,2] cube (exact:
+        // multiples of 2^-depth), the hit point's offsets in the leaf from
+        // the crossing times, x(t) - pos = (tc - t) |dl| (mirrored)
+        vec3 adl = SLOTS3(RB_ADL);
+        vec3 offm = ((pos * coef - bias) - tmin) * adl;
+        vec3 pn = SLOTS3(RB_POS);
+        vec3 posr = pn + (pos - 1.0) * us;
+        float ser = scale_exp2 * us;
+        if ((oct & 1) == 0) { posr.x = 3.0 - ser - posr.x; offm.x = scale_exp2 - offm.x; }
+        if ((oct & 2) == 0) { posr.y = 3.0 - ser - posr.y; offm.y = scale_exp2 - offm.y; }
+        if ((oct & 4) == 0) { posr.z = 3.0 - ser - posr.z; offm.z = scale_exp2 - offm.z; }
+        lo = (posr - 1.0) * side;
+        sz = ser * side;
+        c = lo + clamp(floor(offm * (side * us)), vec3(0.0), vec3(sz - 1.0));
+        t = te + entry_tau(SLOTS3(OA), SLOTS3(RB_OALO), SLOTS3(DM), lo, sz);
+    } else
+#endif
+    {
+        if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
+        if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
+        if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
+        lo = (pos - 1.0) * side;
+        sz = scale_exp2 * side;
+        REAL tau = troot / L;
+#ifndef PRECISE
+        if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
+#endif
+        RVEC3 p = oa + d * tau;
+        c = clamp(floor(p), lo, lo + sz - 1.0);
+    }
+    if (exact && !(t <= h.t)) return false;
+    // the entry axis is decided by the ray direction, not by rounding (but
+    // a ray that starts in the leaf keeps the cell holding its start)
     REAL da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     REAL la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
-    REAL pa = axis == 0 ? p.x : (axis == 1 ? p.y : p.z);
     REAL ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
-    if (tmin <= 0.0 && te <= t0) ca = clamp(floor(pa), la, la + sz - 1.0);
-    if (axis == 0) c.x = ca;
-    else if (axis == 1) c.y = ca;
-    else c.z = ca;
+    if (!(troot <= 0.0 && te <= t0)) {
+        if (axis == 0) c.x = ca;
+        else if (axis == 1) c.y = ca;
+        else c.z = ca;
+    }
     h.t = t;
     h.cell = uvec3(c);
     h.axis = axis;
@@ -367,13 +666,25 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 #endif
     RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
     RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
+    vec3 om_lo = vec3(0.0);
+#ifndef PRECISE
+    if (REBASE) {
+        // the translation's and the sum's rounding errors (two-sum)
+        precise vec3 dt = vec3(dot(r0.xyz, o), dot(r1.xyz, o), dot(r2.xyz, o));
+        precise vec3 w = vec3(r0.w, r1.w, r2.w);
+        precise vec3 s = dt + w;
+        precise vec3 bb = s - dt;
+        om = s;
+        om_lo = ((dt - (s - bb)) + (w - bb)) + I.lo.xyz;
+    }
+#endif
 #ifdef BEAM_PASS
     // a world distance r is at most |M|_F r in the model (Frobenius bound)
     float scale = sqrt(dot(r0.xyz, r0.xyz) + dot(r1.xyz, r1.xyz) + dot(r2.xyz, r2.xyz));
     if (beam_model(I.model, om, dm, scale, t0, h)) {
 #else
     float lod_b = F.uy.w, lod_a = F.misc.x;
-    if (trace_model(I.model, om, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+    if (trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
 #endif
         h.inst = i;
         return true;

@@ -331,11 +331,62 @@ static void test_grazing(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A model 2^depth cells on a side holding, in each of three places (near
+ * the origin, near the far corner, mid-cube off the float grid), a
+ * checkerboard 3x3x3 and a random 6x6x6 block beside it; base[] gets the
+ * places' corners. */
+static void deep_scene(uint32_t depth, vx_svo_scene* s, uint32_t base[3][3]) {
+    uint32_t side = 1u << depth;
+    const uint32_t b[3][3] = {{5, 7, 9}, {side - 40, side - 30, side - 20}, {side / 2 - 1, side / 3, 100}};
+    memcpy(base, b, sizeof b);
+    uint32_t xyz[3 * (14 + 216) * 3];
+    uint8_t pal[3 * (14 + 216)];
+    size_t n = 0;
+    uint32_t seed = 99;
+    for (int c = 0; c < 3; c++) {
+        for (uint32_t z = 0; z < 3; z++)
+            for (uint32_t y = 0; y < 3; y++)
+                for (uint32_t x = 0; x < 3; x++)
+                    if ((x + y + z) % 2 == 0) {
+                        xyz[3 * n] = base[c][0] + x, xyz[3 * n + 1] = base[c][1] + y, xyz[3 * n + 2] = base[c][2] + z;
+                        pal[n] = (uint8_t)(2 + n % 200);
+                        n++;
+                    }
+        for (uint32_t z = 0; z < 6; z++)
+            for (uint32_t y = 0; y < 6; y++)
+                for (uint32_t x = 0; x < 6; x++)
+                    if (ts_rng(&seed) % 100 < 30) {
+                        xyz[3 * n] = base[c][0] + 5 + x, xyz[3 * n + 1] = base[c][1] + y;
+                        xyz[3 * n + 2] = base[c][2] + z;
+                        pal[n] = (uint8_t)(2 + n % 200);
+                        n++;
+                    }
+    }
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, (uint32_t[3]){side, side, side}, xyz, pal, n) == VX_OK);
+    CHECK(m.depth == depth);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+}
+
+/* Four views of place c (corner base): two close-ups (pixels ~1/3 and ~1/10
+ * of a cell) with eyes off the float grid, so that the instance offset
+ * rounds; one from outside the model, 1.2 * 2^depth away, a narrow cone
+ * across 2^depth cells of empty space; an orthographic diagonal. */
+static void deep_views(const uint32_t base[3], uint32_t side, uint32_t w, uint32_t h, vx_render_desc views[4]) {
+    double tx = base[0] + 5.0, ty = base[1] + 3.0, tz = base[2] + 3.0;
+    views[0] = cam(tx + 7.31, ty - 9.17, tz + 6.53, tx, ty, tz);
+    views[1] = cam(tx - 2.13, ty - 3.71, tz + 2.9, tx, ty, tz); /* pixels ~1/10 cell */
+    double far = 1.2 * side;
+    views[2] = cam(tx - 0.48 * far, ty - 0.6 * far, tz + 0.64 * far, tx, ty, tz);
+    views[2].camera.fov = 12.0 / far * 57.3;
+    views[3] = cam(tx + 30.7, ty + 20.3, tz - 10.1, tx, ty, tz);
+    views[3].camera.ortho = true, views[3].camera.ortho_height = 12;
+    for (int v = 0; v < 4; v++) views[v].width = w, views[v].height = h;
+}
+
 /* Octrees 17, 20 and 21 levels deep (above VX_RENDER_PRECISE_DEPTH: the
- * float64 variant) under the strict rule. Views that stress the float path:
- * eyes off the float grid (so the instance offset rounds), close-ups where
- * pixels are a fraction of a cell, views from outside the model across
- * 2^depth cells of empty space, and orthographic diagonals. The float
+ * float64 variant) under the strict rule, on deep_views(). The float
  * variant is rendered too, for the record (printed, not asserted). */
 static void test_deep_octrees(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -343,56 +394,18 @@ static void test_deep_octrees(void) {
     size_t fl_bad = 0, fl_px = 0, pr_bad = 0, pr_px = 0;
     for (size_t di = 0; di < sizeof depths / sizeof depths[0]; di++) {
         uint32_t depth = depths[di];
-        /* a checkerboard 3x3x3 and a random 6x6x6 block in each of three places */
-        uint32_t side = 1u << depth;
-        uint32_t base[3][3] = {{5, 7, 9}, {side - 40, side - 30, side - 20}, {side / 2 - 1, side / 3, 100}};
-        uint32_t xyz[3 * (14 + 216) * 3];
-        uint8_t pal[3 * (14 + 216)];
-        size_t n = 0;
-        uint32_t seed = 99;
-        for (int c = 0; c < 3; c++) {
-            for (uint32_t z = 0; z < 3; z++)
-                for (uint32_t y = 0; y < 3; y++)
-                    for (uint32_t x = 0; x < 3; x++)
-                        if ((x + y + z) % 2 == 0) {
-                            xyz[3 * n] = base[c][0] + x, xyz[3 * n + 1] = base[c][1] + y, xyz[3 * n + 2] = base[c][2] + z;
-                            pal[n] = (uint8_t)(2 + n % 200);
-                            n++;
-                        }
-            for (uint32_t z = 0; z < 6; z++)
-                for (uint32_t y = 0; y < 6; y++)
-                    for (uint32_t x = 0; x < 6; x++)
-                        if (ts_rng(&seed) % 100 < 30) {
-                            xyz[3 * n] = base[c][0] + 5 + x, xyz[3 * n + 1] = base[c][1] + y;
-                            xyz[3 * n + 2] = base[c][2] + z;
-                            pal[n] = (uint8_t)(2 + n % 200);
-                            n++;
-                        }
-        }
-        vx_svo_model m;
-        REQUIRE(ts_model(&m, (uint32_t[3]){side, side, side}, xyz, pal, n) == VX_OK);
-        CHECK(m.depth == depth);
-        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
         vx_svo_scene s;
-        ts_scene(&s, &m, 1, &in, 1);
+        uint32_t base[3][3];
+        deep_scene(depth, &s, base);
         vx_error err = {0};
         vx_render_scene* rs = NULL;
         CHECK(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
         CHECK(vx_render_scene_precise(rs));
         vx_render_scene_destroy(rs);
         for (int c = 0; c < 3; c++) {
-            double tx = base[c][0] + 5.0, ty = base[c][1] + 3.0, tz = base[c][2] + 3.0;
             vx_render_desc views[4];
-            views[0] = cam(tx + 7.31, ty - 9.17, tz + 6.53, tx, ty, tz);
-            views[1] = cam(tx - 2.13, ty - 3.71, tz + 2.9, tx, ty, tz); /* pixels ~1/10 cell */
-            /* from outside the model, 1.2 * 2^depth away, a narrow cone */
-            double far = 1.2 * side;
-            views[2] = cam(tx - 0.48 * far, ty - 0.6 * far, tz + 0.64 * far, tx, ty, tz);
-            views[2].camera.fov = 12.0 / far * 57.3;
-            views[3] = cam(tx + 30.7, ty + 20.3, tz - 10.1, tx, ty, tz);
-            views[3].camera.ortho = true, views[3].camera.ortho_height = 12;
+            deep_views(base[c], 1u << depth, 48, 40, views);
             for (int v = 0; v < 4; v++) {
-                views[v].width = 48, views[v].height = 40;
                 char nm[64];
                 snprintf(nm, sizeof nm, "depth %u place %d view %d", depth, c, v);
                 g_strict = true;
@@ -412,6 +425,59 @@ static void test_deep_octrees(void) {
     }
     printf("deep octrees, strict rule: float64 variant %zu of %zu pixels differ, float variant %zu of %zu\n", pr_bad,
            pr_px, fl_bad, fl_px);
+}
+
+/* The float variant up to VX_RENDER_PRECISE_DEPTH (issue 18, "exact at every
+ * depth"): octrees 10 (exact t, one frame), 12, 14 and 16 levels deep (two
+ * frames), the views of deep_views() at 128x96, under the strict rule (same
+ * cell, depth within 1e-4). On the close-ups (views 0, 1 and 3) at most 0.01%
+ * of the pixels of each depth may differ from the CPU reference; with the
+ * plain float walk 0.0045%, 0.024%, 0.14% and 0.61% differed in cell and
+ * 0.7-39% in depth. The far view
+ * (a narrow cone across 2^depth cells) keeps the float camera's error, a
+ * direction off by a few 2^-24 over 2^depth cells (0.03-0.6% of its pixels
+ * at 12-16): bounded at 1%, for the record. */
+static void test_deep_float(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    const uint32_t depths[] = {10, 12, 14, 16};
+    for (size_t di = 0; di < sizeof depths / sizeof depths[0]; di++) {
+        uint32_t depth = depths[di];
+        vx_svo_scene s;
+        uint32_t base[3][3];
+        deep_scene(depth, &s, base);
+        size_t bad = 0, px = 0, cells = 0, far_bad = 0, far_px = 0, hits = 0, amb = 0;
+        for (int c = 0; c < 3; c++) {
+            vx_render_desc views[4];
+            deep_views(base[c], 1u << depth, 128, 96, views);
+            for (int v = 0; v < 4; v++) {
+                char nm[64];
+                snprintf(nm, sizeof nm, "float depth %u place %d view %d", depth, c, v);
+                /* the share is asserted over the depth's close-ups below; one
+                 * view alone (12288 pixels) may hold a pixel or two */
+                g_strict = true;
+                g_min_share = v == 2 ? 0.99 : 0.999;
+                g_max_ambiguous = 0.01;
+                cmp_result r = check_scene(nm, &s, views[v], 200);
+                g_strict = false;
+                g_min_share = 0.9999;
+                g_max_ambiguous = 0.125;
+                hits += r.hits, amb += r.ambiguous;
+                if (v == 2) {
+                    far_bad += r.bad + r.depth_bad, far_px += r.pixels;
+                } else {
+                    bad += r.bad + r.depth_bad, px += r.pixels, cells += r.bad;
+                }
+            }
+        }
+        printf("deep float, depth %u: close-ups %zu of %zu pixels differ (%.4f%%; %zu in cell, %zu in depth only), "
+               "far view %zu of %zu (%.4f%%); %zu hits, %zu ambiguous\n",
+               depth, bad, px, 100.0 * bad / px, cells, bad - cells, far_bad, far_px, 100.0 * far_bad / far_px, hits,
+               amb);
+        CHECKF((double)bad <= 1e-4 * px, "depth %u: %zu of %zu close-up pixels differ (%.4f%%)", depth, bad, px,
+               100.0 * bad / px);
+        CHECKF((double)far_bad <= 1e-2 * far_px, "depth %u: %zu of %zu far view pixels differ", depth, far_bad, far_px);
+        vx_svo_scene_free(&s);
+    }
 }
 
 /* A device without shaderFloat64 must refuse deep models at load (and a
@@ -740,6 +806,7 @@ int main(void) {
     RUN(test_grazing);
     RUN(test_transforms);
     RUN(test_deep_octrees);
+    RUN(test_deep_float);
     RUN(test_deep_without_float64);
     RUN(test_precise_variant);
     RUN(test_many_instances);
