@@ -187,7 +187,7 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
     }
     for (size_t w = 0; w < nw; w++) {
         pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) npairs += (size_t)__builtin_popcount(lv[w]);
+        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w]);
         if (npairs > 0xFFFFFFF0u) {
             res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
             goto out;
@@ -221,7 +221,7 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
                 } else {
                     uint32_t c = b + k++;
                     /* the child's pair for level l-1: rank of that bit in its mask */
-                    const pair_ext* C = &pe[pidx[c] + (uint32_t)__builtin_popcount(lv[c] & ((1u << (l - 1)) - 1))];
+                    const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
                     cells = C->cells;
                     for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
                 }

@@ -19,6 +19,12 @@ static inline uint32_t vx__popc8(uint32_t m) {
     m = (m & 0x33u) + ((m >> 2) & 0x33u);
     return (m + (m >> 4)) & 0x0Fu;
 }
+/* The same for 32 bits (the validator's level masks). */
+static inline uint32_t vx__popc32(uint32_t m) {
+    m = m - ((m >> 1) & 0x55555555u);
+    m = (m & 0x33333333u) + ((m >> 2) & 0x33333333u);
+    return (((m + (m >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
 
 /* Occupied extent of a model, from its tree without expanding leaves or
  * shared subtrees: cells, and min (inclusive) / max (exclusive) corner. */
