@@ -278,6 +278,9 @@ typedef struct vx_write_desc {
                                   what stdio, zlib, tinygltf or OpenVDB
                                   allocate inside. Out of memory is
                                   VX_ERR_NOMEM with the output name untouched. */
+    unsigned threads;          /* writers that code in parallel (.svo): 0 = one per
+                                  CPU (at most 16), 1 = the caller's thread only.
+                                  The bytes never depend on it. */
 } vx_write_desc;
 
 /* Writes data to path through a temporary file in the same folder that is

@@ -519,6 +519,9 @@ vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err);
 typedef struct vx_svo_read_desc {
     const vx_allocator* alloc;
     bool skip_checksums; /* default: every section's CRC-32 is verified */
+    unsigned threads;    /* threads that decode, check and validate: 0 = one per CPU (at
+                            most 16), 1 = the caller's thread only. The scene read never
+                            depends on it; small scenes always use the caller's thread. */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out
@@ -530,6 +533,10 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
 /* Serialises a scene (validated first). *out_data is freed with vx_free(alloc, ...). */
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);
+/* The same with options (allocator, threads; desc may be NULL): the bytes
+ * of vx_svo_write whatever desc->threads is. */
+vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint8_t** out_data, size_t* out_size,
+                          vx_error* err);
 /* Writes the same bytes as vx_svo_write, streamed: the sections go to a
  * scratch file beside the output as they are made (never the whole file in
  * memory), then a temporary file gets the header and the sections and is

@@ -187,7 +187,7 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
     }
     for (size_t w = 0; w < nw; w++) {
         pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) npairs += (size_t)__builtin_popcount(lv[w]);
+        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w]);
         if (npairs > 0xFFFFFFF0u) {
             res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
             goto out;
@@ -221,7 +221,7 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
                 } else {
                     uint32_t c = b + k++;
                     /* the child's pair for level l-1: rank of that bit in its mask */
-                    const pair_ext* C = &pe[pidx[c] + (uint32_t)__builtin_popcount(lv[c] & ((1u << (l - 1)) - 1))];
+                    const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
                     cells = C->cells;
                     for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
                 }
@@ -273,7 +273,7 @@ static bool finite12(const double* v) {
 }
 static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
 
-vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) { return vx__svo_validate_scene_ext(s, NULL, err); }
+vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err) { return vx__svo_validate_scene_ext(s, NULL, 0, err); }
 
 /* One instance record (of the scene or of a frame: `where` is "" or "frame F "). */
 static vx_result check_instance(const vx_svo_scene* s, const vx_svo_instance* in, uint32_t i, const char* where, vx_error* err) {
@@ -306,8 +306,8 @@ static void analyze_job(void* ctx, uint32_t i) {
 
 /* Analyses every model (in parallel for large scenes); the first failing
  * model in index order gives the error. */
-static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, uint32_t* bad, vx_error* err) {
-    unsigned threads = vx__svo_threads(s);
+static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsigned want, uint32_t* bad, vx_error* err) {
+    unsigned threads = vx__svo_threads(s, want);
     vx_result* res = threads > 1 ? (vx_result*)vx_calloc(s->alloc, s->model_count, sizeof *res) : NULL;
     vx_error* errs = threads > 1 ? (vx_error*)vx_calloc(s->alloc, s->model_count, sizeof *errs) : NULL;
     vx_result r = VX_OK;
@@ -329,14 +329,14 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, uint
     return r;
 }
 
-vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, vx_error* err) {
+vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
         (s->material_count && !s->materials) || (s->light_count && !s->lights))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
     uint32_t bad = 0;
     {
-        vx_result r = analyze_models(s, ext, &bad, err);
+        vx_result r = analyze_models(s, ext, threads, &bad, err);
         if (r != VX_OK) {
             char p[32];
             snprintf(p, sizeof p, "model %u", bad);

@@ -19,6 +19,12 @@ static inline uint32_t vx__popc8(uint32_t m) {
     m = (m & 0x33u) + ((m >> 2) & 0x33u);
     return (m + (m >> 4)) & 0x0Fu;
 }
+/* The same for 32 bits (the validator's level masks). */
+static inline uint32_t vx__popc32(uint32_t m) {
+    m = m - ((m >> 1) & 0x55555555u);
+    m = (m & 0x33333333u) + ((m >> 2) & 0x33333333u);
+    return (((m + (m >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
 
 /* Occupied extent of a model, from its tree without expanding leaves or
  * shared subtrees: cells, and min (inclusive) / max (exclusive) corner. */
@@ -38,14 +44,17 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
 /* Node words from which a scene's models are handled in parallel (2^20);
  * tests lower it to exercise the threaded paths on small scenes. */
 extern uint64_t vx__svo_parallel_words;
-/* Threads worth using for per-model work on s (1 for small scenes). */
-unsigned vx__svo_threads(const vx_svo_scene* s);
+/* Threads worth using for per-model work on s (1 for small scenes); want:
+ * the caller's limit (a desc's threads field: 0 = one per CPU, up to 16). */
+unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want);
+/* The CPUs to use for want (0: one per online CPU, capped at 16). */
+unsigned vx__svo_cpus(unsigned want);
 /* Runs run(ctx, 0..count-1) on up to `threads` threads, the caller's included. */
 void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx);
 
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */
-vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, vx_error* err);
+vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err);
 /* Scene bounds from extents already known (known may be NULL: analyse). */
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]);
 
@@ -113,8 +122,9 @@ typedef struct vx__svo_sink {
  * streams whenever it holds vx__svo_flush_bytes or more (sink NULL: all in
  * memory). The threshold is 16 MB; tests lower it to flush after every model. */
 extern size_t vx__svo_flush_bytes;
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, const vx__svo_sink* sink);
-vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err);
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, const vx__svo_sink* sink);
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, unsigned threads,
+                            vx_error* err);
 
 /* Test-only (like vx__svo_far_limit): the writer skips validation and the
  * structural form, storing words and records as they are, so that tests can

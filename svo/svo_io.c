@@ -783,6 +783,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     const vx_allocator* A = rdd.alloc;
     uint32_t version, count;
     sec* secs = NULL;
+    vx__svo_extent* ext = NULL;
     vx_svo_scene s;
     vx_svo_scene_init(&s, A);
     vx_result r = load_table(d, size, A, &version, &count, &secs, err);
@@ -826,24 +827,33 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     }
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, A, &s, &bounds_form, err)) != VX_OK) goto fail;
-    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, A, err)) != VX_OK)
+    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, A, rdd.threads,
+                               err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     if (known[S_LGHT] && (r = read_lght(d, known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
     if (known[S_FRMS] && (r = read_frms(d, known[S_FRMS], &s, err)) != VX_OK) goto fail;
-    r = vx_svo_validate_scene(&s, err);
+    /* the validation's extents give the bounds of form 0 without another
+     * pass over the trees */
+    if (s.model_count && !(ext = (vx__svo_extent*)vx_calloc(A, s.model_count, sizeof *ext))) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto fail;
+    }
+    r = vx__svo_validate_scene_ext(&s, ext, rdd.threads, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
         if (err) err->code = r;
         vx_error_prefix(err, "svo: structure");
         goto fail;
     }
-    if (bounds_form == BOUNDS_COMPUTED) vx_svo_scene_update_bounds(&s);
+    if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
+    vx_free(A, ext);
     vx_free(A, secs);
     *out = s;
     return VX_OK;
 fail:
+    vx_free(A, ext);
     vx_free(A, secs);
     vx_svo_scene_free(&s);
     return r;
@@ -1090,18 +1100,20 @@ static void write_frms(vx_buf* b, const vx_svo_scene* s) {
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
     vx__svo_extent* ext;
+    unsigned threads; /* the caller's limit (vx_write_desc.threads) */
     int order[S_COUNT], ns;
     uint64_t sizes[S_COUNT];
     uint32_t flags[S_COUNT], crcs[S_COUNT];
 } wplan;
 
-static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, wplan* w, vx_error* err) {
+static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, unsigned threads, wplan* w, vx_error* err) {
     memset(w, 0, sizeof *w);
+    w->threads = threads;
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees */
     w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
     if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, w->ext, err);
+    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, w->ext, threads, err);
     if (r != VX_OK) {
         vx_free(alloc, w->ext);
         w->ext = NULL;
@@ -1129,7 +1141,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
                           const vx__svo_sink* sink) {
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1160,9 +1172,16 @@ static bool write_head(vx_buf* head, const wplan* w, uint64_t fin[S_COUNT]) {
 
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err) {
+    vx_write_desc d = {.alloc = alloc};
+    return vx_svo_write_ex(&d, s, out_data, out_size, err);
+}
+
+vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint8_t** out_data, size_t* out_size,
+                          vx_error* err) {
     if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
+    const vx_allocator* alloc = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, alloc, &w, err);
+    vx_result r = plan_write(s, alloc, desc ? desc->threads : 0, &w, err);
     if (r != VX_OK) return r;
     /* sections first (their sizes and CRCs go into the table), then the
      * header and table in front of them */
@@ -1233,7 +1252,7 @@ vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* a = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, a, &w, err);
+    vx_result r = plan_write(s, a, desc ? desc->threads : 0, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
     size_t slen = strlen(path) + 48;
     char* scratch = (char*)vx_alloc(a, slen);

@@ -15,12 +15,17 @@
 
 uint64_t vx__svo_parallel_words = (uint64_t)1 << 20;
 
-unsigned vx__svo_threads(const vx_svo_scene* s) {
+unsigned vx__svo_cpus(unsigned want) {
+    if (want) return want > MAX_THREADS ? MAX_THREADS : want;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1u : n > MAX_THREADS ? MAX_THREADS : (unsigned)n;
+}
+
+unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want) {
     uint64_t words = 0;
     for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count;
     if (s->model_count < 2 || words < vx__svo_parallel_words) return 1;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    unsigned t = n < 1 ? 1u : n > MAX_THREADS ? MAX_THREADS : (unsigned)n;
+    unsigned t = vx__svo_cpus(want);
     return t < s->model_count ? t : s->model_count;
 }
 

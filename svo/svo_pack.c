@@ -355,7 +355,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
  * the stream. Threads are only used for large scenes: small ones stay on the
  * caller's thread, which keeps allocation order (and the OOM tests) exact.
  * The bytes never depend on the thread count. */
-static unsigned pack_threads(const vx_svo_scene* s) { return vx__svo_threads(s); }
+static unsigned pack_threads(const vx_svo_scene* s, unsigned want) { return vx__svo_threads(s, want); }
 #define run_jobs vx__svo_run_jobs
 
 static bool put_var(vx_buf* b, uint64_t v) {
@@ -472,9 +472,9 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
     return !out->failed && sink->flush(sink->user, out);
 }
 
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, const vx__svo_sink* sink) {
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
-    unsigned threads = pack_threads(s);
+    unsigned threads = pack_threads(s, want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
             vx_buf one = {0};
@@ -727,7 +727,8 @@ static void unpack_job(void* ctx, uint32_t i) {
     j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);
 }
 
-vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, vx_error* err) {
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, unsigned want,
+                            vx_error* err) {
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -780,7 +781,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     if (r == VX_OK && pos != n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
     if (r == VX_OK) {
-        unsigned threads = pack_threads(s);
+        unsigned threads = pack_threads(s, want);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);

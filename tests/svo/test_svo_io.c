@@ -1175,6 +1175,81 @@ static bool lights_equal(const vx_svo_scene* a, const vx_svo_scene* b) {
     return true;
 }
 
+/* The threads option (vx_write_desc.threads, vx_svo_read_desc.threads):
+ * the bytes written and the scene read never depend on it, with the
+ * parallel paths forced on (vx__svo_parallel_words 0); a corrupt model gives
+ * the same error whatever the thread count (the first bad model in order). */
+static void test_thread_counts(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    uint8_t* base = NULL;
+    size_t nb = 0;
+    uint64_t saved_par = vx__svo_parallel_words;
+    vx_write_desc one = {.threads = 1};
+    REQUIRE(vx_svo_write_ex(&one, &s, &base, &nb, &e) == VX_OK);
+    vx__svo_parallel_words = 0;
+    char dir[] = "/tmp/vx_svo_threadsXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/out.svo", dir);
+    const unsigned counts[4] = {1, 2, 4, 0};
+    for (int i = 0; i < 4; i++) {
+        vx_write_desc wd = {.threads = counts[i]};
+        uint8_t* mem = NULL;
+        size_t nm = 0;
+        REQUIRE(vx_svo_write_ex(&wd, &s, &mem, &nm, &e) == VX_OK);
+        CHECKF(nm == nb && !memcmp(mem, base, nb), "%u threads: %zu vs %zu bytes", counts[i], nm, nb);
+        REQUIRE(vx_svo_write_file(&wd, &s, path, &e) == VX_OK);
+        size_t nf = 0;
+        uint8_t* file = slurp_file(path, &nf);
+        CHECKF(file && nf == nb && !memcmp(file, base, nb), "%u threads, file: %zu vs %zu bytes", counts[i], nf, nb);
+        free(file);
+        /* read back with this thread count: the same scene (it writes the same bytes) */
+        vx_svo_read_desc rd = {.threads = counts[i]};
+        vx_svo_scene b;
+        REQUIRE(vx_svo_read(&rd, mem, nm, &b, &e) == VX_OK);
+        CHECK(b.model_count == s.model_count);
+        CHECK(!memcmp(b.bounds_min, s.bounds_min, sizeof b.bounds_min) && !memcmp(b.bounds_max, s.bounds_max, sizeof b.bounds_max));
+        uint8_t* again = NULL;
+        size_t na = 0;
+        REQUIRE(vx_svo_write_ex(&one, &b, &again, &na, &e) == VX_OK);
+        CHECKF(na == nb && !memcmp(again, base, nb), "%u threads: read and written again differs", counts[i]);
+        vx_free(NULL, again);
+        vx_svo_scene_free(&b);
+        vx_free(NULL, mem);
+    }
+    /* two models' streams damaged (bytes at 1/2 and 3/4 of NODE; its CRC
+     * skipped): one error, the first model's, for every thread count */
+    char first_msg[sizeof e.msg] = "";
+    for (int i = 0; i < 4; i++) {
+        uint8_t* bad = (uint8_t*)malloc(nb);
+        REQUIRE(bad);
+        memcpy(bad, base, nb);
+        vx_svo_file_info fi;
+        REQUIRE(vx_svo_probe(base, nb, &fi, &e) == VX_OK);
+        uint64_t node_at = 0, node_n = 0;
+        for (uint32_t k = 0; k < fi.section_count; k++)
+            if (!strcmp(fi.sections[k].tag, "NODE")) node_at = fi.sections[k].offset, node_n = fi.sections[k].size;
+        REQUIRE(node_n > 16);
+        bad[node_at + node_n / 2] ^= 0x5A;
+        bad[node_at + node_n * 3 / 4] ^= 0x5A;
+        vx_svo_read_desc rd = {.threads = counts[i], .skip_checksums = true};
+        vx_svo_scene b;
+        vx_result r = vx_svo_read(&rd, bad, nb, &b, &e);
+        if (r == VX_OK) vx_svo_scene_free(&b);
+        CHECKF(r != VX_OK, "%u threads: a damaged stream was read", counts[i]);
+        if (i == 0) snprintf(first_msg, sizeof first_msg, "%s", e.msg);
+        else CHECKF(!strcmp(first_msg, e.msg), "%u threads: '%s' vs '%s'", counts[i], e.msg, first_msg);
+        free(bad);
+    }
+    vx__svo_parallel_words = saved_par;
+    remove(path);
+    rmdir(dir);
+    vx_free(NULL, base);
+    vx_svo_scene_free(&s);
+}
+
 static void test_lights_round_trip(void) {
     vx_svo_scene s, r;
     make_scene(&s, 60);
@@ -1698,6 +1773,7 @@ int main(int argc, char** argv) {
     RUN(test_far_file);
     RUN(test_same_size_models);
     RUN(test_streamed_file);
+    RUN(test_thread_counts);
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);
     RUN(test_oom);

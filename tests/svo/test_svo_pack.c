@@ -292,7 +292,7 @@ static void test_corrupt_stream(void) {
             *m = s.models[0];
             m->nodes = NULL, m->palette = NULL;
             memset(&e, 0, sizeof e);
-            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, &e);
+            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, 0, &e);
             tried++;
             if (r != VX_OK) {
                 rejected++;
@@ -329,7 +329,7 @@ static void test_parallel_models(void) {
     REQUIRE(vx_svo_write(&s, NULL, &serial, &ns, &e) == VX_OK);
     uint64_t saved = vx__svo_parallel_words;
     vx__svo_parallel_words = 0;
-    CHECK(vx__svo_threads(&s) >= 1);
+    CHECK(vx__svo_threads(&s, 0) >= 1);
     CHECK(vx_svo_write(&s, NULL, &parallel, &np, &e) == VX_OK);
     CHECK(np == ns && parallel && memcmp(serial, parallel, ns) == 0);
     vx_svo_scene r;

@@ -1,0 +1,129 @@
+/* bench/svo_io_bench.c - .svo read and write speed (issue 18: file I/O at
+ * disk speed). Reads FILE.svo once into memory, then times, for each thread
+ * count given, the parse of the in-memory bytes (vx_svo_read), the whole
+ * read from the file (vx_svo_read_file), the coding into memory
+ * (vx_svo_write) and the whole write of a file (vx_svo_write_file: scratch,
+ * copy, fsync, rename). Wall time and process CPU time, medians of --runs;
+ * every write is compared with the first (the bytes may not depend on the
+ * thread count).
+ *
+ * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "bench_stats.h"
+#include "svo/svo.h"
+
+static double cpu_now(void) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_utime.tv_sec + (double)ru.ru_stime.tv_sec + 1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
+static void die(const char* what, const vx_error* e) {
+    fprintf(stderr, "svo_io_bench: %s: %s\n", what, e->msg);
+    exit(1);
+}
+
+int main(int argc, char** argv) {
+    const char* path = NULL;
+    const char* out_dir = "/tmp";
+    const char* only = "";
+    int runs = 3;
+    unsigned threads[8] = {1, 2};
+    int nt = 2;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
+        else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            nt = 0;
+            for (char* s = argv[++i]; *s && nt < 8;) {
+                threads[nt++] = (unsigned)strtoul(s, &s, 10);
+                if (*s == ',') s++;
+            }
+        } else if (argv[i][0] != '-' && !path) path = argv[i];
+        else {
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write]\n");
+            return 2;
+        }
+    }
+    if (!path || runs < 1 || runs > 99) {
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write]\n");
+        return 2;
+    }
+    vx_error err;
+    uint8_t* data = NULL;
+    size_t size = 0;
+    if (vx_file_read(path, NULL, 0, &data, &size, &err) != VX_OK) die(path, &err);
+    vx_svo_scene sc;
+    if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(path, &err);
+    uint64_t words = 0, recs = 0, vox = 0;
+    for (uint32_t i = 0; i < sc.model_count; i++) {
+        words += sc.models[i].node_count;
+        recs += sc.models[i].attr_count;
+        vox += sc.models[i].voxel_count;
+    }
+    printf("file %s: %zu bytes, %u models, %llu voxels, %llu node words, %llu records\n", path, size, sc.model_count,
+           (unsigned long long)vox, (unsigned long long)words, (unsigned long long)recs);
+    char out_path[4096];
+    snprintf(out_path, sizeof out_path, "%s/svo_io_bench.%ld.svo", out_dir, (long)getpid());
+    uint8_t* first = NULL;
+    size_t first_n = 0;
+    printf("%-8s %-28s %10s %10s %10s\n", "threads", "step", "wall s", "cpu s", "MB/s");
+    for (int ti = 0; ti < nt; ti++) {
+        double w[4][99], c[4][99];
+        for (int k = 0; k < runs; k++) {
+            double t0, c0;
+            if (strcmp(only, "write")) {
+                vx_svo_read_desc rd = {.threads = threads[ti]};
+                vx_svo_scene b;
+                t0 = vx_time_now(), c0 = cpu_now();
+                if (vx_svo_read(&rd, data, size, &b, &err) != VX_OK) die("read", &err);
+                w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
+                vx_svo_scene_free(&b);
+                t0 = vx_time_now(), c0 = cpu_now();
+                if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
+                w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
+                vx_svo_scene_free(&b);
+            }
+            if (strcmp(only, "read")) {
+                vx_write_desc wd = {.threads = threads[ti]};
+                uint8_t* o = NULL;
+                size_t on = 0;
+                t0 = vx_time_now(), c0 = cpu_now();
+                if (vx_svo_write_ex(&wd, &sc, &o, &on, &err) != VX_OK) die("write", &err);
+                w[2][k] = vx_time_now() - t0, c[2][k] = cpu_now() - c0;
+                if (!first) first = o, first_n = on;
+                else {
+                    if (on != first_n || memcmp(o, first, on)) {
+                        fprintf(stderr, "svo_io_bench: the bytes differ with %u threads\n", threads[ti]);
+                        return 1;
+                    }
+                    vx_free(NULL, o);
+                }
+                t0 = vx_time_now(), c0 = cpu_now();
+                if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
+                w[3][k] = vx_time_now() - t0, c[3][k] = cpu_now() - c0;
+            }
+        }
+        static const char* names[4] = {"read (memory)", "read file", "write (memory)", "write file (with fsync)"};
+        for (int st = 0; st < 4; st++) {
+            if ((st < 2 && !strcmp(only, "write")) || (st >= 2 && !strcmp(only, "read"))) continue;
+            double wm = bench_median(w[st], runs), cm = bench_median(c[st], runs);
+            printf("%-8u %-28s %10.3f %10.3f %10.1f\n", threads[ti], names[st], wm, cm, (double)size / wm / 1e6);
+        }
+        fflush(stdout);
+    }
+    if (first) printf("written: %zu bytes%s\n", first_n, first_n == size ? ", the input's size" : "");
+    if (first && first_n == size) printf("written bytes %s the input file\n", memcmp(first, data, size) ? "differ from" : "equal");
+    remove(out_path);
+    vx_free(NULL, first);
+    vx_svo_scene_free(&sc);
+    vx_free(NULL, data);
+    return 0;
+}
