@@ -16,7 +16,9 @@
  * of the scene's bounding sphere seen from their direction; point and spot
  * lights from their position (a spot's cone weighted by its falloff, glTF's
  * range window applied at the first hit); sphere and rect lights and
- * emissive voxel faces from a uniform point with a cosine direction. Each
+ * emissive voxel faces from a uniform point with a cosine direction (only
+ * the exposed faces of the emissive voxels, those whose neighbour cell in
+ * their model is empty, picked by power: a buried face emits nothing). Each
  * photon carries its source's power / (probability * photons), so the sum of
  * the emitted power is the lights' power.
  *
@@ -35,7 +37,8 @@
  *
  * Storage: a hashed uniform grid per map, cell = the map's gather radius,
  * rebuilt every pass (count per bucket, claim ranges, scatter; three
- * dispatches). Hashed rather than dense: its memory follows the photon
+ * dispatches), over 2^k buckets, at least twice the photons stored in the
+ * pass (at most twice the capacity). Hashed rather than dense: its memory follows the photon
  * count (2^k buckets, at least twice the photons' capacity), not the
  * scene's extent over the radius, which for a 0.01-diagonal radius would
  * be 10^6 cells of which most stay empty; collisions cost only tests of
@@ -54,7 +57,10 @@
  * too; a ray that meets glass ends, its light being the caustic map's),
  * while the light straight from the sky and emissive voxels comes from the
  * photons at their first surface there (rays would have to find a small
- * bright emitter: noise). What the estimate gives is the pipeline's gi: the indirect light
+ * bright emitter: noise); in a full image (vx_photon_render) those photons
+ * include the ones the direct pass's lights brought. Each sum is exact
+ * (64-bit fixed point per photon term), so its value does not depend on the
+ * order the photons were stored in. What the estimate gives is the pipeline's gi: the indirect light
  * leaving the first surface (vx_probe_render PT_INDIRECT's quantity).
  * Sphere and rect lights seen by the camera through glass are left out
  * (the path tracer shows them), and a camera ray that meets a sphere or rect
@@ -95,7 +101,17 @@ extern "C" {
  *                  global map's estimate at the first surface; at most 1024)
  *  bounces:        photons stored per path at most; 0: 8
  *  capacity:       stored photons per pass at most; 0: 4 x photons
- *  seed:           random streams (each pass its own)
+ *  seed:           random streams (each pass its own); the same seed and
+ *                  settings give the same image bitwise on a device (the
+ *                  gather's sums are exact fixed-point, so the order the GPU
+ *                  stores the photons in does not matter) unless photons
+ *                  were dropped (stats.dropped: which ones is a race)
+ *  workgroup:      invocations per workgroup of the trace, a power of two
+ *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
+ *  batch:          photons each invocation of the trace traces in turn,
+ *                  starting the next as soon as one ends (path regeneration:
+ *                  a SIMD group's lanes stay busy while one photon of the
+ *                  group bounces on); 0: 4, at most 256
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
@@ -115,6 +131,8 @@ typedef struct vx_photon_desc {
     uint32_t bounces;
     uint32_t capacity;
     uint64_t seed;
+    uint32_t workgroup;
+    uint32_t batch;
     double light_dir[3];
     const vx_light* lights;
     uint32_t light_count;
