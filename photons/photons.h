@@ -112,6 +112,9 @@ extern "C" {
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the
  *                  group bounces on); 0: 4, at most 256
+ *  atomics:        0: the lanes of a subgroup that store photons at once
+ *                  take their slots with one atomic (where the device has
+ *                  subgroup ballots); 1: one atomic per stored photon
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
@@ -133,6 +136,7 @@ typedef struct vx_photon_desc {
     uint64_t seed;
     uint32_t workgroup;
     uint32_t batch;
+    uint32_t atomics;
     double light_dir[3];
     const vx_light* lights;
     uint32_t light_count;
@@ -178,6 +182,22 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out);
  * first: photons stored at the first surface of their path (no glass
  * before), all: every stored photon. For tests of energy conservation. */
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err);
+
+/* A stored photon of the last pass, decoded (vx_photon_stored). */
+enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4 };
+typedef struct vx_photon_record {
+    double position[3]; /* world */
+    float power[3];
+    float direction[3]; /* unit, towards where it came from (octahedral 2 x 16 bits) */
+    float normal[3];    /* the surface's, unit (octahedral 2 x 16 bits) */
+    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path */
+} vx_photon_record;
+
+/* Downloads the last pass's stored photons (in the order the GPU stored
+ * them, which changes from run to run): *out (free with vx_free(alloc, ...),
+ * alloc the scene's allocator) gets *count records. For independent checks
+ * of the gather (tests/photons: a brute-force estimate on the CPU). */
+vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* count, vx_error* err);
 
 #ifdef __cplusplus
 }

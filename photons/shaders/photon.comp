@@ -15,6 +15,7 @@
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 
 // GROUP (spec constant 7): invocations per workgroup (vx_photon_desc.workgroup)
 layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
@@ -24,6 +25,9 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6;
+// the trace with one atomic per subgroup and store instead of one per photon (where the device has
+// subgroup ballots in compute shaders: photons.c)
+const int S_TRACE_SG = 7;
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -174,7 +178,17 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
 }
 
 void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
-    uint k = atomicAdd(ctr[0], 1u);
+    uint k;
+    if (STEP == S_TRACE_SG) {
+        // the lanes storing now take consecutive slots: one atomic for them all (a single counter
+        // that every stored photon hits serialises in the memory system)
+        uvec4 ball = subgroupBallot(true);
+        uint base = 0u;
+        if (subgroupElect()) base = atomicAdd(ctr[0], subgroupBallotBitCount(ball));
+        k = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ball);
+    } else {
+        k = atomicAdd(ctr[0], 1u);
+    }
     if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: two bits of its u code change nothing), F_FIRST (the
@@ -313,6 +327,9 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
                     vec4 a = sorted[2u * k], b = sorted[2u * k + 1u];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
+                    // another cell's photon: two of the 27 cells can share a bucket, whose photons
+                    // would count twice (tests/photons test_gather_cpu found one pixel in 432 8% high)
+                    if (cell_of(a.xyz, r) != ivec3(cx, cy, cz)) continue;
                     uint nb = floatBitsToUint(b.w);
                     if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
                     if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
@@ -425,7 +442,7 @@ void main() {
         if (i < P.a.w) cells[i] = uvec2(0u);
     } else if (STEP == S_RESET) {
         if (i < 4u) ctr[i] = 0u;
-    } else if (STEP == S_TRACE) {
+    } else if (STEP == S_TRACE || STEP == S_TRACE_SG) {
         trace_photons();
     } else if (STEP == S_COUNT) {
         if (i >= min(ctr[0], P.a.y)) return;

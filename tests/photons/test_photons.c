@@ -420,6 +420,83 @@ static void test_reproducible(void) {
     }
 }
 
+/* The GPU's gather against a brute-force estimate on the CPU over the same
+ * photons (read back with vx_photon_stored): a gray slab lit by a point
+ * light, seen straight down (ortho) in a full image, where each pixel's
+ * value is sum (albedo / pi) power / (pi r^2) over the photons within r of
+ * the pixel's point on the slab's top whose normal is the top's. The GPU's
+ * hashed grid, its 27-cell lookup and the normal test must find exactly
+ * those photons: its value lies between the CPU's sums over radius
+ * r (1 - 1e-4) and r (1 + 1e-4) (the pixel's point is recomputed here, a
+ * photon on the circle's edge goes either way), and where the two agree it
+ * equals them to float precision. */
+static void test_gather_cpu(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, slab_cell);
+    s.palette[1] = GRAY;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_light pl = {.type = VX_LIGHT_POINT, .position = {8, 8, 6}, .color = {1, 0.8, 0.6}, .intensity = 20};
+    const double r = 0.5;
+    vx_photon_desc d = {.photons = 200000, .radius = r, .caustic_radius = r, .lights = &pl, .light_count = 1};
+    run R;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    enum { W = 24, H = 18 };
+    vx_render_desc view = {.width = W, .height = H};
+    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 9;
+    view.camera.eye[0] = 8, view.camera.eye[1] = 8, view.camera.eye[2] = 40;
+    view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 1;
+    view.camera.up[1] = 1;
+    vx_render_image im = {0};
+    vx_error err = {0};
+    vx_photon_record* ph = NULL;
+    size_t n = 0;
+    vx_result res = vx_photon_render(R.pg, &view, 1, true, &im, &err);
+    if (!res) res = vx_photon_stored(R.pg, &ph, &n, &err);
+    if (res) fprintf(stderr, "  photons: %s\n", err.msg);
+    run_free(&R);
+    vx_svo_scene_free(&s);
+    REQUIRE(res == VX_OK);
+    /* pixel centres on the top face (z = 1): right is +x, up +y; the view 9 high, 12 wide */
+    double hh = 4.5, hw = hh * W / H, f = ALB / PI / (PI * r * r);
+    size_t outside = 0, agree = 0, hits = 0;
+    double worst = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double u = ((x + 0.5) / W) * 2 - 1, v = 1 - ((y + 0.5) / H) * 2, p[3] = {8 + u * hw, 8 + v * hh, 1};
+            double lo[3] = {0}, hi[3] = {0};
+            size_t nlo = 0, nhi = 0;
+            for (size_t i = 0; i < n; i++) {
+                if (ph[i].normal[2] < 0.9) continue; /* not the top (GPU: normals within 25 degrees) */
+                double d2 = 0;
+                for (int k = 0; k < 3; k++) d2 += (ph[i].position[k] - p[k]) * (ph[i].position[k] - p[k]);
+                if (d2 > r * r * (1 + 2e-4)) continue;
+                bool in = d2 <= r * r * (1 - 2e-4);
+                for (int k = 0; k < 3; k++) {
+                    hi[k] += f * ph[i].power[k];
+                    if (in) lo[k] += f * ph[i].power[k];
+                }
+                nhi++, nlo += in;
+            }
+            hits += nlo;
+            const float* g = im.pixels + 4 * ((size_t)y * W + x);
+            for (int k = 0; k < 3; k++) {
+                if (g[k] < lo[k] * (1 - 1e-5) - 1e-9 || g[k] > hi[k] * (1 + 1e-5) + 1e-9) outside++;
+                if (nlo == nhi && lo[k] > 0) worst = fmax(worst, fabs(g[k] / lo[k] - 1));
+            }
+            agree += nlo == nhi;
+        }
+    fprintf(stderr, "  gather vs CPU: %zu photons, %.0f per pixel; %zu of %d values outside the CPU's bracket; "
+            "%zu of %d pixels without a photon on the circle's edge, there within %.2g\n",
+            n, (double)hits / (W * H), outside, 3 * W * H, agree, W * H, worst);
+    CHECK(n > 30000 && hits > (size_t)50 * W * H);
+    CHECK(outside == 0);
+    CHECK(agree > 0.9 * W * H && worst < 1e-5);
+    vx_free(NULL, ph);
+    vx_render_image_free(&im);
+}
+
 /* The progressive estimate: passes of few photons with a large first radius
  * (noisy and blurred); the error against the path tracer falls as passes
  * accumulate and the radius shrinks. */
@@ -454,6 +531,7 @@ int main(void) {
     RUN(test_caustic);
     RUN(test_progressive);
     RUN(test_reproducible);
+    RUN(test_gather_cpu);
     vx_render_image_free(&caustic_ref);
     vx_render_image_free(&caustic_ref2);
     if (caustic.models) vx_svo_scene_free(&caustic);
