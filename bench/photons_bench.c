@@ -25,9 +25,9 @@
  * (1000000), --radius R (photons.h's default), --runs N (3),
  * --max-passes N (16), --max-spp N (256), --ref-spp N (1024),
  * --step F (4: the factor between rows of the error curves),
- * --workgroup N[:B[:A]][,...] (the trace's workgroup sizes, batches and
- * atomics, vx_photon_desc's, timed in "pass" rows; the first is used for
- * the curves; 0: the defaults), --target E (0.01: each curve's
+ * --workgroup N[:B][,...] (the trace's workgroup sizes and batches,
+ * vx_photon_desc's, timed in "pass" rows; the first is used for the
+ * curves; 0: the defaults), --target E (0.01: each curve's
  * crossing of relMSE E, interpolated log-log between its rows, with and
  * without the reference's own noise, and the ratio of the times),
  * --final-gather N (also rows "photons+fg N": a final gather of N rays per
@@ -152,7 +152,7 @@ static void print_crossing(const char* name, const char* what, const double* t, 
 
 static int usage(void) {
     fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R] [--runs N]\n"
-                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B[:A]],..]\n"
+                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B],..]\n"
                     "                     [--target E] [--final-gather N] [--write DIR]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
@@ -262,8 +262,7 @@ int main(int argc, char** argv) {
         for (const char* w = groups; w && *w;) {
             char* e;
             pd.workgroup = (uint32_t)strtoul(w, &e, 10);
-            pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, &e, 10) : 0;
-            pd.atomics = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
+            pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
             w = strchr(w, ',');
             if (w) w++;
             if (ph) vx_photon_gi_destroy(ph);
@@ -280,9 +279,8 @@ int main(int argc, char** argv) {
             }
             double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
             vx_photon_desc D = vx_photon_desc_defaults();
-            printf("| %s | pass wg %u batch %u%s | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
-                   name, pd.workgroup ? pd.workgroup : D.workgroup, pd.batch ? pd.batch : D.batch,
-                   pd.atomics ? " atomic per photon" : "", photons, (unsigned long long)st.stored, tr, bu,
+            printf("| %s | pass wg %u batch %u | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
+                   name, pd.workgroup ? pd.workgroup : D.workgroup, pd.batch ? pd.batch : D.batch, photons, (unsigned long long)st.stored, tr, bu,
                    st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
             fflush(stdout);
             if (w && *w) continue;

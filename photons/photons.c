@@ -27,7 +27,7 @@ typedef struct gpu_params {
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_TRACE_SG };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
@@ -46,7 +46,6 @@ struct vx_photon_gi {
     double total_power;  /* the sources' luminance power (the photons' fixed-point unit follows it) */
     double centre[3], sphere_r;
     uint32_t buckets, sources;
-    bool ballot; /* the device has subgroup ballots in compute shaders: the trace's STEP_TRACE_SG */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
@@ -310,7 +309,7 @@ done:
 static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
     if (!items) return VX_OK;
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the other steps' 64 */
-    uint32_t wg = st == STEP_TRACE || st == STEP_TRACE_SG ? pg->d.workgroup : 64;
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : 64;
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -393,8 +392,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint32_t ctr[4] = {0};
     double build = 0;
     p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + d->batch - 1) / d->batch);
-    int trace = pg->ballot && !d->atomics ? STEP_TRACE_SG : STEP_TRACE;
-    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, trace, p->tr[0], out, &st.trace_ms, err)) ||
+    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
         (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
         return r;
     st.emitted = p->a[0];
@@ -409,7 +407,8 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
     if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    if (!r) r = step(pg, STEP_GATHER, npx, out, &st.gather_ms, err);
+    /* tiles of 8 x 8 pixels, 64 invocations each */
+    if (!r) r = step(pg, STEP_GATHER, (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64, out, &st.gather_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])
@@ -460,11 +459,6 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     vx_photon_gi* pg = vx_calloc(a, 1, sizeof *pg);
     if (!pg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     pg->alloc = a, pg->rs = rs, pg->scene = scene, pg->g = vx__render_scene_gpu(rs);
-    VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
-    VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &sg};
-    vkGetPhysicalDeviceProperties2(pg->g->phys, &p2);
-    pg->ballot = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
-                 (sg.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) && (sg.supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT);
     vx_render_desc sun = {.light_dir = {d.light_dir[0], d.light_dir[1], d.light_dir[2]}};
     vx_probe_render_desc pd = {.base = &sun, .mode = VX_PROBE_RENDER_PT_INDIRECT, .lights = d.lights,
                                .light_count = d.light_count, .sky = d.sky_dir, .sky_map = d.sky_map};

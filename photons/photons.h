@@ -112,9 +112,6 @@ extern "C" {
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the
  *                  group bounces on); 0: 4, at most 256
- *  atomics:        0: the lanes of a subgroup that store photons at once
- *                  take their slots with one atomic (where the device has
- *                  subgroup ballots); 1: one atomic per stored photon
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
@@ -136,7 +133,6 @@ typedef struct vx_photon_desc {
     uint64_t seed;
     uint32_t workgroup;
     uint32_t batch;
-    uint32_t atomics;
     double light_dir[3];
     const vx_light* lights;
     uint32_t light_count;

@@ -15,7 +15,6 @@
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
 
 // GROUP (spec constant 7): invocations per workgroup (vx_photon_desc.workgroup)
 layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
@@ -25,9 +24,6 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6;
-// the trace with one atomic per subgroup and store instead of one per photon (where the device has
-// subgroup ballots in compute shaders: photons.c)
-const int S_TRACE_SG = 7;
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -57,6 +53,8 @@ layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
 // stored photons, two vec4 each: (position, bits of the packed incoming direction), (power rgb, bits of the
 // packed normal with the flags in its low bits: see pack_flags)
 layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
+// the stored photons by bucket, split: [0, capacity) their first vec4 (position: all a gather reads of
+// a photon outside its radius), [capacity, 2 capacity) their second
 layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
 // per bucket: count, then (after alloc) start
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
@@ -178,17 +176,9 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
 }
 
 void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
-    uint k;
-    if (STEP == S_TRACE_SG) {
-        // the lanes storing now take consecutive slots: one atomic for them all (a single counter
-        // that every stored photon hits serialises in the memory system)
-        uvec4 ball = subgroupBallot(true);
-        uint base = 0u;
-        if (subgroupElect()) base = atomicAdd(ctr[0], subgroupBallotBitCount(ball));
-        k = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ball);
-    } else {
-        k = atomicAdd(ctr[0], 1u);
-    }
+    // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
+    // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
+    uint k = atomicAdd(ctr[0], 1u);
     if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: two bits of its u code change nothing), F_FIRST (the
@@ -324,12 +314,13 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
             for (int cx = lo.x; cx <= hi.x; cx++) {
                 uvec2 cl = cells[bucket(ivec3(cx, cy, cz), map)];
                 for (uint k = cl.y; k < cl.y + cl.x; k++) {
-                    vec4 a = sorted[2u * k], b = sorted[2u * k + 1u];
+                    vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
                     // another cell's photon: two of the 27 cells can share a bucket, whose photons
                     // would count twice (tests/photons test_gather_cpu found one pixel in 432 8% high)
                     if (cell_of(a.xyz, r) != ivec3(cx, cy, cz)) continue;
+                    vec4 b = sorted[P.a.y + k]; // read only for the photons within the radius
                     uint nb = floatBitsToUint(b.w);
                     if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
                     if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
@@ -368,9 +359,11 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
 }
 
 void gather_pixel() {
-    uint idx = item(), W = P.img.x, H = P.img.y;
-    if (idx >= W * H) return;
-    uint x = idx % W, y = idx / W;
+    // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
+    if (x >= W || y >= H) return;
+    uint idx = x + y * W;
     rng_init(0x60000000u + P.seed.z, x, y);
     bool ortho = F.rx.w != 0.0;
     float u = ((float(x) + 0.5) / float(W)) * 2.0 - 1.0, v = 1.0 - ((float(y) + 0.5) / float(H)) * 2.0;
@@ -442,7 +435,7 @@ void main() {
         if (i < P.a.w) cells[i] = uvec2(0u);
     } else if (STEP == S_RESET) {
         if (i < 4u) ctr[i] = 0u;
-    } else if (STEP == S_TRACE || STEP == S_TRACE_SG) {
+    } else if (STEP == S_TRACE) {
         trace_photons();
     } else if (STEP == S_COUNT) {
         if (i >= min(ctr[0], P.a.y)) return;
@@ -456,8 +449,8 @@ void main() {
         vec4 a = ph[2u * i], b = ph[2u * i + 1u];
         uint c = photon_bucket(a, b);
         uint k = cells[c].y + atomicAdd(cells[c].x, 1u);
-        sorted[2u * k] = a;
-        sorted[2u * k + 1u] = b;
+        sorted[k] = a;
+        sorted[P.a.y + k] = b;
     } else {
         gather_pixel();
     }
