@@ -122,7 +122,7 @@ static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
             else q[a]--;
             if (vx_svo_model_cell_set(m, q[0], q[1], q[2])) continue;
         exposed:
-            if (pg->face_count >= (1u << 26)) {
+            if (pg->face_count >= (1u << 24)) { /* 80 bytes each on the GPU: 1.3 GB */
                 F->r = VX_ERR_LIMIT;
                 return false;
             }
@@ -159,7 +159,7 @@ static vx_result make_faces(vx_photon_gi* pg, vx_error* err) {
         if (r && !F.r) return r;
     }
     if (F.r == VX_ERR_LIMIT)
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "photons: more than 2^26 exposed emissive voxel faces");
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "photons: more than 2^24 exposed emissive voxel faces");
     if (F.r) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u emissive faces", pg->face_count);
     if (!(pg->face_power > 0) || !isfinite(pg->face_power)) pg->face_count = 0, pg->face_power = 0;
     return VX_OK;
