@@ -214,8 +214,7 @@ void trace_photons() {
             rng_init(0x50000000u + P.seed.z, id, 0u);
             alive = emit(o, d, phi, flags, type, lpos, range);
             specular = false, stored = 0u, events = 0;
-            if (!alive) continue;
-            // on to its first ray in this iteration: the lanes that start a photon join the others' casts
+            continue;
         }
         if (events >= 256 || stored > P.a.z) {
             alive = false;
