@@ -24,8 +24,19 @@
  * Options: --device N|NAME, --size WxH (320x240), --photons N[,N...]
  * (1000000), --radius R (photons.h's default), --runs N (3),
  * --max-passes N (16), --max-spp N (256), --ref-spp N (1024),
+ * --step F (4: the factor between rows of the error curves),
+ * --workgroup N[:B][,...] (the trace's workgroup sizes and batches,
+ * vx_photon_desc's, timed in "pass" rows; the first is used for the
+ * curves; 0: the defaults), --target E (0.01: each curve's
+ * crossing of relMSE E, interpolated log-log between its rows, with and
+ * without the reference's own noise, and the ratio of the times),
  * --final-gather N (also rows "photons+fg N": a final gather of N rays per
- * pixel and pass, up to 16 passes), --write DIR. */
+ * pixel and pass, up to 16 passes), --write DIR.
+ *
+ * The reference's noise: its two halves (seeds apart) differ by a relMSE
+ * of 2 v (v: one half's), their mean's own is v / 2 = apart / 4; an
+ * estimate's relMSE against the mean is its own plus about that, so the
+ * rows also give "corrected" = relMSE - apart / 4. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -119,18 +130,39 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
     return r2 > 0 ? se / r2 : 0;
 }
 
+/* Where a curve (times t, errors e, n rows, in order) first reaches target:
+ * log-log interpolation between the rows around it; -1 when it never does. */
+static double crossing(const double* t, const double* e, int n, double target) {
+    for (int i = 0; i < n; i++) {
+        if (!(e[i] <= target)) continue;
+        if (i == 0 || !(e[i - 1] > 0) || !(e[i] > 0) || !(t[i - 1] > 0)) return t[i];
+        double f = (log(target) - log(e[i - 1])) / (log(e[i]) - log(e[i - 1]));
+        return exp(log(t[i - 1]) + f * (log(t[i]) - log(t[i - 1])));
+    }
+    return -1;
+}
+
+static void print_crossing(const char* name, const char* what, const double* t, const double* e, const double* ec, int n,
+                           double target, double* out, double* outc) {
+    *out = crossing(t, e, n, target), *outc = crossing(t, ec, n, target);
+    printf("%s: %s reaches relMSE %g at %s%.4g ms (corrected for the reference's noise: %s%.4g ms)\n", name, what,
+           target, *out < 0 ? "never, > " : "", *out < 0 ? t[n - 1] : *out, *outc < 0 ? "never, > " : "",
+           *outc < 0 ? t[n - 1] : *outc);
+}
+
 static int usage(void) {
     fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R] [--runs N]\n"
-                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--final-gather N] [--write DIR]\n"
+                    "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B],..]\n"
+                    "                     [--target E] [--final-gather N] [--write DIR]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
 }
 
 int main(int argc, char** argv) {
-    const char *device = NULL, *counts = "1000000", *write_dir = NULL;
+    const char *device = NULL, *counts = "1000000", *write_dir = NULL, *groups = "0";
     vx_render_desc base = {.width = 320, .height = 240};
-    double radius = 0;
-    unsigned runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
+    double radius = 0, target = 0.01;
+    unsigned step = 4, runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
     int i = 1;
     for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
         const char* o = argv[i];
@@ -147,9 +179,12 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--ref-spp")) ref_spp = (unsigned)atoi(v);
         else if (!strcmp(o, "--write")) write_dir = v;
         else if (!strcmp(o, "--final-gather")) fg = (unsigned)atoi(v);
+        else if (!strcmp(o, "--step")) step = (unsigned)atoi(v);
+        else if (!strcmp(o, "--workgroup")) groups = v;
+        else if (!strcmp(o, "--target")) target = atof(v);
         else return usage();
     }
-    if (i + 1 != argc || !runs || !ref_spp) return usage();
+    if (i + 1 != argc || !runs || !ref_spp || step < 2 || !(target > 0)) return usage();
     const char* name = argv[i];
     vx_error err = {0};
     vx_svo_scene scene;
@@ -192,21 +227,28 @@ int main(int argc, char** argv) {
                                   .seed = 999 + (uint64_t)k, .pixel_centre = true};
         if (vx_probe_gpu_render(pg, &d, &ref[k], &err)) return fprintf(stderr, "reference: %s\n", err.msg), 1;
     }
-    double noise = rel_mse(&ref[1], &ref[0]);
+    double noise = rel_mse(&ref[1], &ref[0]), mean_noise = noise / 4;
     for (size_t p = 0; p < (size_t)base.width * base.height * 4; p++)
         ref[0].pixels[p] = 0.5f * (ref[0].pixels[p] + ref[1].pixels[p]);
-    printf("| %s | reference | %u | - | - | - | - | - | - | %.4g | %.4g (seeds apart) |\n", name, ref_spp,
-           ref[0].gpu_seconds * 1e3, noise);
+    printf("| %s | reference | 2 x %u | - | - | - | - | - | - | %.4g | %.4g (halves apart; the mean's own: %.4g) |\n",
+           name, ref_spp, (ref[0].gpu_seconds + ref[1].gpu_seconds) * 1e3, noise, mean_noise);
     /* the path tracer at the pixel centres, as the photons' gather */
-    for (unsigned spp = 1; spp <= max_spp; spp *= 4) {
+    enum { ROWS = 40 };
+    double ct[ROWS], ce[ROWS], cc[ROWS], pt_at = -1, pt_atc = -1;
+    int rows = 0;
+    for (unsigned spp = 1; spp <= max_spp && rows < ROWS; spp *= step) {
         vx_render_image im = {0};
         vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = spp, .seed = 5,
                                   .pixel_centre = true};
         if (vx_probe_gpu_render(pg, &d, &im, &err)) return fprintf(stderr, "pathtrace: %s\n", err.msg), 1;
-        printf("| %s | pathtrace | %u | - | - | - | - | - | - | %.4g | %.4g |\n", name, spp, im.gpu_seconds * 1e3,
-               rel_mse(&im, &ref[0]));
+        ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
+        printf("| %s | pathtrace | %u | - | - | - | - | - | - | %.4g | %.4g (corrected %.4g) |\n", name, spp, ct[rows],
+               ce[rows], cc[rows]);
+        fflush(stdout);
+        rows++;
         vx_render_image_free(&im);
     }
+    print_crossing(name, "pathtrace", ct, ce, cc, rows, target, &pt_at, &pt_atc);
     for (const char* c = counts; c && *c;) {
         uint32_t photons = (uint32_t)strtoul(c, NULL, 10);
         c = strchr(c, ',');
@@ -214,34 +256,68 @@ int main(int argc, char** argv) {
         vx_gi_method gm;
         vx_photon_gi* ph;
         vx_photon_desc pd = {.photons = photons, .radius = radius, .light_dir = {0, 0, 1}};
-        if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-        /* one pass, timed runs times */
-        double t[3][64];
-        unsigned n = runs < 64 ? runs : 64;
         vx_photon_stats st = {0};
-        for (unsigned k = 0; k < n; k++) {
-            vx_render_image im = {0};
-            if (vx_photon_render(ph, &base, 1, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-            vx_render_image_free(&im);
-            vx_photon_last_stats(ph, &st);
-            t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
+        /* one pass, timed runs times, per workgroup size of the trace (the first one's object stays for the curves) */
+        ph = NULL;
+        for (const char* w = groups; w && *w;) {
+            char* e;
+            pd.workgroup = (uint32_t)strtoul(w, &e, 10);
+            pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
+            w = strchr(w, ',');
+            if (w) w++;
+            if (ph) vx_photon_gi_destroy(ph);
+            if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
+                return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            double t[3][64];
+            unsigned n = runs < 64 ? runs : 64;
+            for (unsigned k = 0; k < n; k++) {
+                vx_render_image im = {0};
+                if (vx_photon_render(ph, &base, 1, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                vx_render_image_free(&im);
+                vx_photon_last_stats(ph, &st);
+                t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
+            }
+            double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
+            vx_photon_desc D = vx_photon_desc_defaults();
+            printf("| %s | pass wg %u batch %u | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
+                   name, pd.workgroup ? pd.workgroup : D.workgroup, pd.batch ? pd.batch : D.batch, photons, (unsigned long long)st.stored, tr, bu,
+                   st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
+            fflush(stdout);
+            if (w && *w) continue;
+            /* the curves with the first size */
+            if (groups != w && strchr(groups, ',')) {
+                char* e;
+                pd.workgroup = (uint32_t)strtoul(groups, &e, 10);
+                pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
+                vx_photon_gi_destroy(ph);
+                if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
+                    return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            }
+            break;
         }
-        double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
-        printf("| %s | pass | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f | - |\n", name, photons,
-               (unsigned long long)st.stored, tr, bu, st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga);
-        for (unsigned passes = 1; passes <= max_passes; passes *= 4) {
+        rows = 0;
+        for (unsigned passes = 1; passes <= max_passes && rows < ROWS; passes *= step) {
             vx_render_image im = {0};
             if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-            printf("| %s | photons | %u | %u | %llu | - | - | - | - | %.4g | %.4g |\n", name, photons, passes,
-                   (unsigned long long)st.stored, im.gpu_seconds * 1e3, rel_mse(&im, &ref[0]));
+            ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
+            printf("| %s | photons | %u | %u | %llu | - | - | - | - | %.4g | %.4g (corrected %.4g) |\n", name, photons,
+                   passes, (unsigned long long)st.stored, ct[rows], ce[rows], cc[rows]);
             fflush(stdout);
+            rows++;
             vx_render_image_free(&im);
         }
+        double at, atc;
+        char what[64];
+        snprintf(what, sizeof what, "photons %u per pass", photons);
+        print_crossing(name, what, ct, ce, cc, rows, target, &at, &atc);
+        if (at > 0 && pt_at > 0) printf("%s: %s / pathtrace time at relMSE %g: %.4g\n", name, what, target, at / pt_at);
+        if (atc > 0 && pt_atc > 0)
+            printf("%s: %s / pathtrace time at relMSE %g (corrected): %.4g\n", name, what, target, atc / pt_atc);
         vx_photon_gi_destroy(ph);
         if (!fg) continue;
         pd.final_gather = fg;
         if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-        for (unsigned passes = 1; passes <= max_passes && passes <= 16; passes *= 4) {
+        for (unsigned passes = 1; passes <= max_passes && passes <= 16; passes *= step) {
             vx_render_image im = {0};
             if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
             vx_photon_last_stats(ph, &st);

@@ -22,11 +22,13 @@ typedef struct gpu_params {
     float sky[4];     /* sky radiance (render/shaders/sky.glsl zen), w: emissive voxels' power */
     uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), final gather rays, a light stands for the voxels */
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
+    float fx[4];      /* x: the gather's fixed-point units per unit of power (photon.comp fx_add) */
+    uint32_t tr[4];   /* x: invocations of the trace */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 160, "gpu_params vs photon.comp");
+_Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER };
-enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32 };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET };
+enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -38,11 +40,15 @@ struct vx_photon_gi {
     vx__prender P;    /* the light (as the probe renderer resolves it) and the scene's bounds */
     float* emit_attr;
     size_t emit_count;
+    double* faces;       /* the emissive voxels' exposed faces (FACE_FLOATS each, photon.comp's layout, world) */
+    uint32_t face_count;
+    double face_power;   /* sum of lum(radiance) * area over the faces */
+    double total_power;  /* the sources' luminance power (the photons' fixed-point unit follows it) */
     double centre[3], sphere_r;
     uint32_t buckets, sources;
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
-    uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then STEP and MATS */
+    uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx_photon_stats last;
@@ -50,7 +56,7 @@ struct vx_photon_gi {
 };
 
 vx_photon_desc vx_photon_desc_defaults(void) {
-    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0};
+    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0, .workgroup = 64, .batch = 4};
 }
 
 /* The sky's mean radiance over the sphere of directions (a grid of 256 x 128
@@ -74,6 +80,89 @@ static void sky_mean(const vx__light* L, double out[3]) {
         }
     }
     for (int k = 0; k < 3; k++) out[k] /= wsum;
+}
+
+/* The exposed faces of the emissive voxels: a face emits when the cell
+ * beyond it is empty in its model (faces on the model's boundary emit), as
+ * svo/svo_emissive.c counts a cluster's power. Photons leave these faces
+ * only; the probes' emitter table (vx__light em) samples all six faces of a
+ * voxel, and a photon from a buried face was lost (5% of the photons were
+ * stored on the caustic scene). The radiance is the path tracer's
+ * (probes/light.c em_voxel: colour times the palette entry's emission). */
+typedef struct face_ctx {
+    vx_photon_gi* pg;
+    const vx_svo_model* m;
+    double w[12];
+    size_t cap;
+    vx_result r;
+} face_ctx;
+
+static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    face_ctx* F = user;
+    vx_photon_gi* pg = F->pg;
+    const vx__light* L = &pg->P.L;
+    const vx_svo_model* m = F->m;
+    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
+    if (pal >= 256 || !(L->emit[pal] > 0)) return true;
+    uint32_t c = m->attrs ? vx_svo_attr_rgba(pg->scene, m, attr) : 0xFFFFFFFFu;
+    double rad[3] = {(c & 0xFF) / 255.0 * L->emit[pal], ((c >> 8) & 0xFF) / 255.0 * L->emit[pal],
+                     ((c >> 16) & 0xFF) / 255.0 * L->emit[pal]};
+    double l = 0.2126 * rad[0] + 0.7152 * rad[1] + 0.0722 * rad[2];
+    if (!(l > 0) || !isfinite(l)) return true;
+    uint32_t p[3] = {x, y, z};
+    double corner[3], ax[3][3];
+    for (int k = 0; k < 3; k++) corner[k] = F->w[4 * k] * x + F->w[4 * k + 1] * y + F->w[4 * k + 2] * z + F->w[4 * k + 3];
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++) ax[a][k] = F->w[4 * k + a];
+    for (int a = 0; a < 3; a++)
+        for (int side = 0; side < 2; side++) {
+            uint32_t q[3] = {p[0], p[1], p[2]};
+            if (side) q[a]++;
+            else if (q[a] == 0) goto exposed;
+            else q[a]--;
+            if (vx_svo_model_cell_set(m, q[0], q[1], q[2])) continue;
+        exposed:
+            if (pg->face_count >= (1u << 24)) { /* 80 bytes each on the GPU: 1.3 GB */
+                F->r = VX_ERR_LIMIT;
+                return false;
+            }
+            if (!vx_grow(pg->alloc, (void**)&pg->faces, &F->cap, ((size_t)pg->face_count + 1) * FACE_FLOATS, sizeof(double))) {
+                F->r = VX_ERR_NOMEM;
+                return false;
+            }
+            const double *u = ax[(a + 1) % 3], *v = ax[(a + 2) % 3], *e = ax[a];
+            double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+            double area = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), edge = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+            double out = (n[0] * e[0] + n[1] * e[1] + n[2] * e[2]) * (side ? 1 : -1) < 0 ? -1 : 1;
+            double* o = pg->faces + (size_t)FACE_FLOATS * pg->face_count++;
+            for (int k = 0; k < 3; k++) {
+                o[k] = corner[k] + side * e[k]; /* world here; relative to the frame's ref on upload */
+                o[4 + k] = u[k], o[8 + k] = v[k], o[12 + k] = out * n[k] / area, o[16 + k] = rad[k];
+            }
+            o[3] = area, o[15] = edge, o[11] = o[19] = 0;
+            o[7] = l * area; /* the face's power; the cdf on upload */
+            pg->face_power += l * area;
+        }
+    return true;
+}
+
+static vx_result make_faces(vx_photon_gi* pg, vx_error* err) {
+    const vx_svo_scene* s = pg->scene;
+    bool any = false;
+    for (int i = 0; i < 256; i++) any |= pg->P.L.emit[i] > 0;
+    face_ctx F = {.pg = pg};
+    for (uint32_t i = 0; any && i < s->instance_count && !F.r; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        F.m = &s->models[s->instances[i].model];
+        vx_svo_instance_world(s, &s->instances[i], F.w);
+        vx_result r = vx_svo_decode_model(F.m, face_voxel, &F, err);
+        if (r && !F.r) return r;
+    }
+    if (F.r == VX_ERR_LIMIT)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "photons: more than 2^24 exposed emissive voxel faces");
+    if (F.r) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u emissive faces", pg->face_count);
+    if (!(pg->face_power > 0) || !isfinite(pg->face_power)) pg->face_count = 0, pg->face_power = 0;
+    return VX_OK;
 }
 
 static vx_result upload_new(vx_gpu* g, vx__buffer* b, const void* data, size_t size, const char* label,
@@ -105,8 +194,8 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
     uint32_t n = 0, cap = 2 + L->light_count + 1;
     float* s = vx_calloc(pg->alloc, cap, SRC_FLOATS * sizeof(float));
     double* pw = vx_calloc(pg->alloc, cap, 4 * sizeof(double)); /* rgb power, luminance */
-    size_t ne = L->em_count;
-    float* e = vx_calloc(pg->alloc, ne ? 20 * ne : 4, sizeof(float));
+    size_t ne = pg->face_count;
+    float* e = vx_calloc(pg->alloc, ne ? FACE_FLOATS * ne : 4, sizeof(float));
     vx_result r = VX_OK;
     if (!s || !pw || !e) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the photon sources");
@@ -177,17 +266,15 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
     if (ne) {
         float* o = s + SRC_FLOATS * n;
         o[3] = SRC_VOXELS, o[21] = L->voxel_lights; /* direct when a light stands for them */
-        for (int k = 0; k < 3; k++) pw[4 * n + k] = pi * L->em_power; /* scaled by rad / lum(rad) per voxel */
+        for (int k = 0; k < 3; k++) pw[4 * n + k] = pi * pg->face_power; /* scaled by rad / lum(rad) per face */
         n++;
+        double acc = 0;
         for (size_t i = 0; i < ne; i++) {
-            const vx__emitter* em = &L->em[i];
-            float* q = e + 20 * i;
-            for (int k = 0; k < 3; k++) {
-                q[k] = (float)(em->corner[k] - ref[k]);
-                for (int a = 0; a < 3; a++) q[4 * (a + 1) + k] = (float)em->axis[a][k];
-                q[16 + k] = (float)em->rad[k];
-            }
-            q[3] = (float)em->area, q[7] = (float)L->em_cdf[i];
+            float* q = e + FACE_FLOATS * i;
+            const double* f = pg->faces + FACE_FLOATS * i;
+            for (int k = 0; k < FACE_FLOATS; k++) q[k] = (float)(k < 3 ? f[k] - ref[k] : f[k]);
+            acc += f[7];
+            q[7] = i + 1 == ne ? 1.0f : (float)(acc / pg->face_power);
         }
     }
     double total = 0;
@@ -208,9 +295,10 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
     vx__buffer_destroy(pg->g, &pg->src);
     vx__buffer_destroy(pg->g, &pg->ems);
     if ((r = upload_new(pg->g, &pg->src, s, (n ? n : 1) * SRC_FLOATS * sizeof(float), "photon sources", err)) ||
-        (r = upload_new(pg->g, &pg->ems, e, ne ? 80 * ne : 16, "photon emitters", err)))
+        (r = upload_new(pg->g, &pg->ems, e, ne ? FACE_FLOATS * sizeof(float) * ne : 16, "photon emitters", err)))
         goto done;
     pg->sources = total > 0 ? n : 0;
+    pg->total_power = total;
 done:
     vx_free(pg->alloc, s);
     vx_free(pg->alloc, pw);
@@ -220,18 +308,20 @@ done:
 
 static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
     if (!items) return VX_OK;
-    pg->spec[VX__SPEC_COUNT] = (uint32_t)st;
+    /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the other steps' 64 */
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : 64;
+    pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 2, .label = "photon"};
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, pg->spec, sizeof pg->spec);
     uint64_t key = 0x9407035ull;
-    for (int i = 0; i < VX__SPEC_COUNT + 2; i++) key = key * 131 + pg->spec[i];
+    for (int i = 0; i < VX__SPEC_COUNT + 3; i++) key = key * 131 + pg->spec[i];
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
     if (r) return r;
-    uint64_t groups = (items + 63) / 64;
+    uint64_t groups = (items + wg - 1) / wg;
     uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
@@ -242,6 +332,12 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     r = vx__dispatch(pg->g, &dd, &s, err);
     *ms += s * 1e3;
     return r;
+}
+
+static uint32_t pow2_at_least(uint64_t n) {
+    uint32_t b = 1;
+    while (b < n && b < (1u << 31)) b <<= 1;
+    return b;
 }
 
 /* The radius of pass k: r_k^2 = r_0^2 prod_{i=1..k} (i + alpha) / (i + 1). */
@@ -287,21 +383,32 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     vx__sky_pack(&pg->P.L.sky_dir, &pg->P.L.sky_map, pg->P.L.sky, sk);
     for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = sk[k];
     memcpy(p->skyh, sk + 4, sizeof p->skyh), memcpy(p->skyg, sk + 8, sizeof p->skyg), memcpy(p->skym, sk + 12, sizeof p->skym);
-    p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->P.L.em_power;
-    p->cnt[0] = pg->P.L.em_count, p->cnt[1] = 2, p->cnt[2] = d->final_gather, p->cnt[3] = pg->P.L.voxel_lights;
+    p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->face_power;
+    p->cnt[0] = pg->face_count, p->cnt[1] = 2, p->cnt[2] = d->final_gather, p->cnt[3] = pg->P.L.voxel_lights;
+    /* the gather's fixed-point unit: 2^-32 of an emitted photon's (luminance) power */
+    double unit = pg->total_power > 0 && d->photons ? pg->total_power / d->photons : 1;
+    p->fx[0] = (float)(4294967296.0 / unit);
+    if (!(p->fx[0] > 0) || !isfinite(p->fx[0])) p->fx[0] = 1;
     uint32_t ctr[4] = {0};
     double build = 0;
-    if ((r = step(pg, STEP_CLEAR, pg->buckets, out, &build, err)) ||
-        (r = step(pg, STEP_TRACE, p->a[0], out, &st.trace_ms, err)) ||
+    p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + d->batch - 1) / d->batch);
+    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
         (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
         return r;
     st.emitted = p->a[0];
     st.stored = ctr[0] < d->capacity ? ctr[0] : d->capacity;
     st.dropped = ctr[0] - st.stored;
+    /* the buckets this pass uses follow the photons stored (at least twice as many, a power of two):
+     * clearing and claiming ranges over buckets sized for the capacity cost 2.4 ms a pass at 10M
+     * photons where 5% were stored */
+    uint32_t used = pow2_at_least(2 * st.stored);
+    p->a[3] = used < 64 ? 64 : (used > pg->buckets ? pg->buckets : used);
+    if (!r) r = step(pg, STEP_CLEAR, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
-    if (!r) r = step(pg, STEP_ALLOC, pg->buckets, out, &build, err);
+    if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    if (!r) r = step(pg, STEP_GATHER, npx, out, &st.gather_ms, err);
+    /* tiles of 8 x 8 pixels, 64 invocations each */
+    if (!r) r = step(pg, STEP_GATHER, (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64, out, &st.gather_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])
@@ -319,11 +426,6 @@ static vx_result gi_render(void* user, const vx_gi_io* io, double* gpu_seconds, 
     return run_pass(pg, io->frame, io->sample, io->out, false, false, gpu_seconds, err);
 }
 
-static uint32_t pow2_at_least(uint64_t n) {
-    uint32_t b = 1;
-    while (b < n && b < (1u << 31)) b <<= 1;
-    return b;
-}
 
 vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* light,
                               const vx_photon_desc* desc, vx_gi_method* method, vx_photon_gi** out, vx_error* err) {
@@ -334,6 +436,12 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!d.photons) d.photons = D.photons;
     if (!(d.alpha > 0)) d.alpha = D.alpha;
     if (!d.bounces) d.bounces = D.bounces;
+    if (!d.workgroup) d.workgroup = D.workgroup;
+    if (!d.batch) d.batch = D.batch;
+    if (d.batch > 256) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: a batch of %u (at most 256)", d.batch);
+    if (d.workgroup > 1024 || (d.workgroup & (d.workgroup - 1)) || d.workgroup < 32)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: a workgroup of %u (a power of two, 32..1024)",
+                       d.workgroup);
     if (!(d.alpha <= 1) || !(d.radius >= 0) || !(d.caustic_radius >= 0) || !isfinite(d.radius) ||
         !isfinite(d.caustic_radius))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
@@ -373,6 +481,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!(d.radius > 0) || !(d.caustic_radius > 0)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: an empty scene");
     pg->d = d;
     pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
+    if (!r) r = make_faces(pg, err);
     uint8_t* pal = NULL;
     size_t n = 0;
     float* m = NULL;
@@ -428,6 +537,7 @@ void vx_photon_gi_destroy(vx_photon_gi* pg) {
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
     vx__prender_free(&pg->P);
     vx_free(pg->alloc, pg->emit_attr);
+    vx_free(pg->alloc, pg->faces);
     vx_free(pg->alloc, pg);
 }
 
@@ -482,4 +592,44 @@ vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_e
     }
     vx_free(pg->alloc, ph);
     return r;
+}
+
+/* photon.comp's unpackSnorm2x16 + oct_decode */
+static void oct_decode(uint32_t bits, float out[3]) {
+    int16_t ix = (int16_t)(bits & 0xFFFFu), iy = (int16_t)(bits >> 16);
+    float u = fmaxf(-1.0f, ix / 32767.0f), v = fmaxf(-1.0f, iy / 32767.0f);
+    float p[3] = {u, v, 1.0f - fabsf(u) - fabsf(v)};
+    if (p[2] < 0) {
+        p[0] = (1.0f - fabsf(v)) * (u < 0 ? -1.0f : 1.0f);
+        p[1] = (1.0f - fabsf(u)) * (v < 0 ? -1.0f : 1.0f);
+    }
+    float l = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; k++) out[k] = p[k] / l;
+}
+
+vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* count, vx_error* err) {
+    if (!pg || !out || !count) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL, *count = 0;
+    size_t n = (size_t)pg->last.stored;
+    float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
+    vx_photon_record* rec = vx_calloc(pg->alloc, n ? n : 1, sizeof *rec);
+    vx_result r = !ph || !rec ? vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n) : VX_OK;
+    if (!r && n) r = vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err);
+    for (size_t i = 0; !r && i < n; i++) {
+        const float* q = ph + 8 * i;
+        uint32_t wb, nb;
+        memcpy(&wb, q + 3, 4), memcpy(&nb, q + 7, 4);
+        vx_photon_record* o = &rec[i];
+        for (int k = 0; k < 3; k++) o->position[k] = q[k] + pg->ref[k], o->power[k] = q[4 + k];
+        oct_decode(wb, o->direction); /* its lowest bit, F_FIRST, is 1/32767 of u: left in */
+        oct_decode(nb & ~3u, o->normal);
+        o->flags = (nb & 1u ? VX_PHOTON_CAUSTIC : 0) | (nb & 2u ? VX_PHOTON_DIRECT : 0) | (wb & 1u ? VX_PHOTON_FIRST : 0);
+    }
+    vx_free(pg->alloc, ph);
+    if (r) {
+        vx_free(pg->alloc, rec);
+        return r;
+    }
+    *out = rec, *count = n;
+    return VX_OK;
 }

@@ -16,7 +16,9 @@
  * of the scene's bounding sphere seen from their direction; point and spot
  * lights from their position (a spot's cone weighted by its falloff, glTF's
  * range window applied at the first hit); sphere and rect lights and
- * emissive voxel faces from a uniform point with a cosine direction. Each
+ * emissive voxel faces from a uniform point with a cosine direction (only
+ * the exposed faces of the emissive voxels, those whose neighbour cell in
+ * their model is empty, picked by power: a buried face emits nothing). Each
  * photon carries its source's power / (probability * photons), so the sum of
  * the emitted power is the lights' power.
  *
@@ -35,7 +37,8 @@
  *
  * Storage: a hashed uniform grid per map, cell = the map's gather radius,
  * rebuilt every pass (count per bucket, claim ranges, scatter; three
- * dispatches). Hashed rather than dense: its memory follows the photon
+ * dispatches), over 2^k buckets, at least twice the photons stored in the
+ * pass (at most twice the capacity). Hashed rather than dense: its memory follows the photon
  * count (2^k buckets, at least twice the photons' capacity), not the
  * scene's extent over the radius, which for a 0.01-diagonal radius would
  * be 10^6 cells of which most stay empty; collisions cost only tests of
@@ -54,7 +57,10 @@
  * too; a ray that meets glass ends, its light being the caustic map's),
  * while the light straight from the sky and emissive voxels comes from the
  * photons at their first surface there (rays would have to find a small
- * bright emitter: noise). What the estimate gives is the pipeline's gi: the indirect light
+ * bright emitter: noise); in a full image (vx_photon_render) those photons
+ * include the ones the direct pass's lights brought. Each sum is exact
+ * (64-bit fixed point per photon term), so its value does not depend on the
+ * order the photons were stored in. What the estimate gives is the pipeline's gi: the indirect light
  * leaving the first surface (vx_probe_render PT_INDIRECT's quantity).
  * Sphere and rect lights seen by the camera through glass are left out
  * (the path tracer shows them), and a camera ray that meets a sphere or rect
@@ -95,7 +101,17 @@ extern "C" {
  *                  global map's estimate at the first surface; at most 1024)
  *  bounces:        photons stored per path at most; 0: 8
  *  capacity:       stored photons per pass at most; 0: 4 x photons
- *  seed:           random streams (each pass its own)
+ *  seed:           random streams (each pass its own); the same seed and
+ *                  settings give the same image bitwise on a device (the
+ *                  gather's sums are exact fixed-point, so the order the GPU
+ *                  stores the photons in does not matter) unless photons
+ *                  were dropped (stats.dropped: which ones is a race)
+ *  workgroup:      invocations per workgroup of the trace, a power of two
+ *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
+ *  batch:          photons each invocation of the trace traces in turn,
+ *                  starting the next as soon as one ends (path regeneration:
+ *                  a SIMD group's lanes stay busy while one photon of the
+ *                  group bounces on); 0: 4, at most 256
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
@@ -115,6 +131,8 @@ typedef struct vx_photon_desc {
     uint32_t bounces;
     uint32_t capacity;
     uint64_t seed;
+    uint32_t workgroup;
+    uint32_t batch;
     double light_dir[3];
     const vx_light* lights;
     uint32_t light_count;
@@ -160,6 +178,22 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out);
  * first: photons stored at the first surface of their path (no glass
  * before), all: every stored photon. For tests of energy conservation. */
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err);
+
+/* A stored photon of the last pass, decoded (vx_photon_stored). */
+enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4 };
+typedef struct vx_photon_record {
+    double position[3]; /* world */
+    float power[3];
+    float direction[3]; /* unit, towards where it came from (octahedral 2 x 16 bits) */
+    float normal[3];    /* the surface's, unit (octahedral 2 x 16 bits) */
+    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path */
+} vx_photon_record;
+
+/* Downloads the last pass's stored photons (in the order the GPU stored
+ * them, which changes from run to run): *out (free with vx_free(alloc, ...),
+ * alloc the scene's allocator) gets *count records. For independent checks
+ * of the gather (tests/photons: a brute-force estimate on the CPU). */
+vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* count, vx_error* err);
 
 #ifdef __cplusplus
 }

@@ -501,6 +501,10 @@ typedef bool (*vx_svo_voxel_fn)(void* user, uint32_t x, uint32_t y, uint32_t z, 
  * inverse of vx_svo_build_model. The model must be valid (as returned by
  * vx_svo_build_model or vx_svo_read). */
 vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* user, vx_error* err);
+/* Whether cell (x, y, z) of a valid model is set: one descent from the root;
+ * false outside the model's size. (The emissive lights' and the photons'
+ * exposed faces: a face emits when the cell beyond it is empty.) */
+bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z);
 
 /* RGBA8 colour of attribute record attr of model m (palette looked up;
  * opaque white for geometry-only models). */

@@ -17,8 +17,7 @@ vx_svo_emissive_desc vx_svo_emissive_desc_defaults(void) {
     return (vx_svo_emissive_desc){.block = 2, .max_cells = (uint64_t)1 << 24, .max_lights = 1u << 22};
 }
 
-/* Whether cell (x, y, z) of a valid model is set: one descent from the root. */
-static bool occupied(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z) {
+bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z) {
     if (x >= m->size[0] || y >= m->size[1] || z >= m->size[2] || m->root == VX_SVO_ROOT_EMPTY) return false;
     if (m->root == VX_SVO_ROOT_LEAF) return true;
     uint32_t i = m->root;
@@ -238,7 +237,7 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
                         continue;
                     }
                     q[a] += (uint32_t)sgn;
-                    if (!occupied(m, q[0], q[1], q[2]))
+                    if (!vx_svo_model_cell_set(m, q[0], q[1], q[2]))
                         for (int ch = 0; ch < 3; ch++) k->power[a][ch] += c.cells[i].L[ch];
                 }
             }

@@ -1,7 +1,8 @@
 #version 450
 // photons/shaders/photon.comp - GPU photon mapping (photons/photons.h): one
 // shader, one binding layout, the step chosen by the spec constant STEP:
-//   STEP 0 clear:   zero the bucket counts and the counters
+//   STEP 0 clear:   zero the bucket counts (the buckets this pass's stored photons use)
+//   STEP 6 reset:   zero the counters (before the trace)
 //   STEP 1 trace:   one invocation per photon: emit from a source picked by
 //                   power, trace through the BVH and octrees with the path
 //                   tracer's materials (path_common.glsl), store a photon at
@@ -15,16 +16,18 @@
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+// GROUP (spec constant 7): invocations per workgroup (vx_photon_desc.workgroup)
+layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 
 #include "trace_common.glsl"
 
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
-const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5;
+const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
-    uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces, w: buckets (2^k)
+    uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
+                  // w: buckets (2^k) this pass (set after the trace from the photons stored)
     uvec4 seed;   // x, y: seed words, z: pass, w: sources
     vec4 r;       // x: global radius, y: caustic radius, z: 1 / (pi rg^2), w: 1 / (pi rc^2)
     uvec4 img;    // x: width, y: height, z: 1: average into Out with pass z of the seed (running mean), w: full
@@ -35,6 +38,8 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 skyh;    // the sky by direction (sky.glsl): horizon rgb, w: kind (0 uniform: sky.rgb)
     vec4 skyg;    // ground rgb, w: map intensity
     vec4 skym;    // map: rotation, width, height
+    vec4 fx;      // x: the gather's fixed-point units per unit of radiance times area (fx_add)
+    uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -42,12 +47,14 @@ layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0);
 // the sky: e.xyz 1 / its mean radiance
 layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
-// per emissive voxel five vec4 (probes/probe_gpu.c's layout): (corner, area), (axis 0, cdf), (axis 1, 0),
-// (axis 2, 0), (radiance, 0)
+// per exposed face of an emissive voxel (photons.c's face table) five vec4: (corner, area), (edge u, cdf),
+// (edge v, 0), (outward unit normal, the cell's edge across the face), (radiance, 0)
 layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
 // stored photons, two vec4 each: (position, bits of the packed incoming direction), (power rgb, bits of the
 // packed normal with the flags in its low bits: see pack_flags)
 layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
+// the stored photons by bucket, split: [0, capacity) their first vec4 (position: all a gather reads of
+// a photon outside its radius), [capacity, 2 capacity) their second
 layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
 // per bucket: count, then (after alloc) start
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
@@ -77,7 +84,7 @@ bool loops_intact() {
     return n == P.cnt.y;
 }
 
-uint item() { return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u; }
+uint item() { return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x; }
 
 vec3 uniform_sphere(float u1, float u2) {
     float z = 1.0 - 2.0 * u1, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PI * u2;
@@ -146,22 +153,31 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
         vec3 t2 = cross(b.xyz, tg.xyz);
         o = a.xyz + (u1 - 0.5) * tg.w * tg.xyz + (u2 - 0.5) * f.x * t2;
         d = cosine_dir(b.xyz, u3, u4);
-    } else { // emissive voxels, by their power (probes/shaders/probe.comp's nee picks them alike)
-        vec3 y, nrm, rad;
-        float edge;
-        emitter_point(P.cnt.x, y, nrm, rad, edge);
-        // the voxel's radiance over the luminance the pick was proportional to
+    } else { // emissive voxels: an exposed face (its neighbour cell empty) picked by its power
+        float u0 = rnd();
+        uint lo = 0u, hi = P.cnt.x - 1u;
+        while (lo < hi) {
+            uint mid = lo + (hi - lo) / 2u;
+            if (ems[5u * mid + 1u].w <= u0) lo = mid + 1u;
+            else hi = mid;
+        }
+        vec3 nrm = ems[5u * lo + 3u].xyz, rad = ems[5u * lo + 4u].xyz;
+        float edge = ems[5u * lo + 3u].w;
+        // the face's radiance over the luminance the pick was proportional to
         phi *= rad / max(lum(rad), 1e-30);
-        o = y + nrm * (1e-3 * edge);
-        d = cosine_dir(nrm, u1, u2);
-        // a face against a neighbouring voxel emits nothing (the path tracer never sees it): a first
-        // hit at once (range < 0: its distance) kills the photon
+        o = ems[5u * lo].xyz + u1 * ems[5u * lo + 1u].xyz + u2 * ems[5u * lo + 2u].xyz + nrm * (1e-3 * edge);
+        d = cosine_dir(nrm, u3, u4);
+        // a face against another model's voxel still emits here (the table knows its own model's cells
+        // only): a first hit at once (range < 0: its distance) kills the photon, as the path tracer never
+        // sees that face
         range = -2e-3 * edge;
     }
     return phi.x > 0.0 || phi.y > 0.0 || phi.z > 0.0;
 }
 
 void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
+    // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
+    // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
     uint k = atomicAdd(ctr[0], 1u);
     if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
@@ -173,21 +189,47 @@ void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
     ph[2u * k + 1u] = vec4(phi, uintBitsToFloat(nb));
 }
 
-void trace_photon() {
-    uint id = item();
-    if (id >= P.a.x) return;
-    rng_init(0x50000000u + P.seed.z, id, 0u);
+// The trace: invocation i traces photons i, i + T, i + 2T, ... (T: P.tr.x invocations), starting the
+// next one as soon as its photon ends, so that the lanes of a SIMD group keep tracing while one photon
+// of the group takes many bounces (path regeneration); every photon's random stream is its own
+// (seeded by its index), so which invocation traces it changes nothing.
+void trace_photons() {
+    uint id = item(), T = P.tr.x;
+    if (id >= T || id >= P.a.x) return; // (the dispatch rounds T up to whole workgroups)
     vec3 o, d, phi, lpos;
     uint flags, type;
     float range;
-    if (!emit(o, d, phi, flags, type, lpos, range)) return;
-    bool specular = false; // the path went through glass since its last diffuse or glossy vertex
+    bool alive = false, done = false, specular = false; // specular: the path went through glass since its last diffuse or glossy vertex
     uint stored = 0u;
-    for (int events = 0; events < 256 && stored <= P.a.z; events++) {
+    int events = 0;
+    for (uint guard = 0u; guard < 65536u; guard++) {
+        if (!alive) {
+            if (guard > 0u) {
+                id += T;
+                if (id >= P.a.x) {
+                    done = true;
+                    break;
+                }
+            }
+            rng_init(0x50000000u + P.seed.z, id, 0u);
+            alive = emit(o, d, phi, flags, type, lpos, range);
+            specular = false, stored = 0u, events = 0;
+            continue;
+        }
+        if (events >= 256 || stored > P.a.z) {
+            alive = false;
+            continue;
+        }
         Hit h;
-        if (!cast_ray(o, d, BIG, h)) break;
-        if (events == 0) {
-            if (range < 0.0 && h.t < -range) break; // a buried voxel face
+        if (!cast_ray(o, d, BIG, h)) {
+            alive = false;
+            continue;
+        }
+        if (events++ == 0) {
+            if (range < 0.0 && h.t < -range) { // a buried voxel face
+                alive = false;
+                continue;
+            }
             if ((type == T_POINT || type == T_SPOT) && range > 0.0) {
                 // glTF's range window, as the path tracer's next-event estimation applies it
                 float q = h.t / range, w = max(0.0, 1.0 - q * q * q * q);
@@ -201,7 +243,8 @@ void trace_photon() {
             vec3 wi;
             bool refr;
             float w;
-            if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
+            alive = dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w);
+            if (!alive) continue;
             phi *= w;
             specular = true;
             if (!refr) {
@@ -212,7 +255,7 @@ void trace_photon() {
             phi *= B.alb;
             vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
             d = wi;
-            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, phi, o)) break;
+            alive = glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, phi, o);
             continue;
         }
         // a surface that scatters: the photon is stored (caustic when only glass came before it since
@@ -222,24 +265,48 @@ void trace_photon() {
         stored++;
         vec3 w;
         float pdf;
-        if (!bsdf_sample(B, wo, d, w, pdf)) break;
+        alive = bsdf_sample(B, wo, d, w, pdf);
+        if (!alive) continue;
         // Russian roulette on the throughput: survivors keep about the power they had
         float q = min(1.0, max(w.x, max(w.y, w.z)));
-        if (!(rnd() < q)) break;
+        alive = rnd() < q;
         phi *= w / q;
         specular = false;
         o = g_s.p;
     }
-    if (!loops_intact()) ctr[2] = 1u;
+    if (!done || !loops_intact()) ctr[2] = 1u; // photons left untraced
 }
 
 // Which photons a gather takes: every one; all but those the direct pass's light brought to their
-// first surface; only photons at their first surface (and not the direct pass's).
-const int G_ALL = 0, G_INDIRECT = 1, G_FIRST = 2;
+// first surface; only photons at their first surface (and not the direct pass's); only photons at
+// their first surface, the direct pass's too (a full image's direct light under a final gather).
+const int G_ALL = 0, G_INDIRECT = 1, G_FIRST = 2, G_FIRST_ANY = 3;
+
+// Order-independent sums. The photons of a bucket lie in the order the atomic counters gave them,
+// which changes from run to run; float sums in that order would too. Each photon's term is a float
+// that depends on the photon alone; it is added as a 64-bit fixed-point number (hi, lo words; unit
+// 1 / P.fx.x, about 2^-32 of one emitted photon's power), whose sum is exact and so the same in any
+// order: the same seed gives the same image bitwise (photons.h).
+// (no loop over the channels: llvmpipe's loop guard counts every iteration of a loop)
+void fx_add1(inout uint hi, inout uint lo, float t) {
+    float v = t * P.fx.x;
+    v = v > 0.0 ? min(v, 4.0e18) : 0.0; // NaN and negatives add nothing; 4e18 < 2^62: no overflow
+    float h = floor(v * (1.0 / 4294967296.0)); // exact: a power of two
+    uint carry;
+    lo = uaddCarry(lo, uint(v - h * 4294967296.0), carry); // v - h 2^32 is exact (< 2^32, a multiple of v's ulp)
+    hi += uint(h) + carry;
+}
+void fx_add(inout uvec3 hi, inout uvec3 lo, vec3 t) {
+    fx_add1(hi.x, lo.x, t.x);
+    fx_add1(hi.y, lo.y, t.y);
+    fx_add1(hi.z, lo.z, t.z);
+}
+vec3 fx_value(uvec3 hi, uvec3 lo) { return (vec3(hi) * 4294967296.0 + vec3(lo)) / P.fx.x; }
 
 // Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r.
 vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
-    vec3 x = g_s.p, sum = vec3(0.0);
+    vec3 x = g_s.p;
+    uvec3 shi = uvec3(0u), slo = uvec3(0u);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
     for (int cz = lo.z; cz <= hi.z; cz++)
@@ -247,21 +314,25 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
             for (int cx = lo.x; cx <= hi.x; cx++) {
                 uvec2 cl = cells[bucket(ivec3(cx, cy, cz), map)];
                 for (uint k = cl.y; k < cl.y + cl.x; k++) {
-                    vec4 a = sorted[2u * k], b = sorted[2u * k + 1u];
+                    vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
+                    // another cell's photon: two of the 27 cells can share a bucket, whose photons
+                    // would count twice (tests/photons test_gather_cpu found one pixel in 432 8% high)
+                    if (cell_of(a.xyz, r) != ivec3(cx, cy, cz)) continue;
+                    vec4 b = sorted[P.a.y + k]; // read only for the photons within the radius
                     uint nb = floatBitsToUint(b.w);
                     if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
-                    if (sel != G_ALL && (nb & F_DIRECT) != 0u) continue;
-                    if (sel == G_FIRST && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
+                    if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
+                    if (sel >= G_FIRST && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
                     vec3 pn = oct_decode(unpackSnorm2x16(nb & ~3u));
                     if (dot(pn, g_s.n) < 0.9) continue; // another face (a wall's back, a step)
                     vec3 wi = oct_decode(unpackSnorm2x16(floatBitsToUint(a.w)));
                     float pdf;
-                    sum += bsdf_eval(B, wo, wi, pdf) * b.xyz;
+                    fx_add(shi, slo, bsdf_eval(B, wo, wi, pdf) * b.xyz);
                 }
             }
-    return sum * norm;
+    return fx_value(shi, slo) * norm;
 }
 
 // Final gather: the light at the camera's first surface g_s that bounced at least once, from `rays`
@@ -288,9 +359,11 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
 }
 
 void gather_pixel() {
-    uint idx = item(), W = P.img.x, H = P.img.y;
-    if (idx >= W * H) return;
-    uint x = idx % W, y = idx / W;
+    // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
+    if (x >= W || y >= H) return;
+    uint idx = x + y * W;
     rng_init(0x60000000u + P.seed.z, x, y);
     bool ortho = F.rx.w != 0.0;
     float u = ((float(x) + 0.5) / float(W)) * 2.0 - 1.0, v = 1.0 - ((float(y) + 0.5) / float(H)) * 2.0;
@@ -336,8 +409,10 @@ void gather_pixel() {
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;
         vec3 caustics = gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel);
-        if (first && !full && P.cnt.z > 0u)
-            L += caustics + gather(B, wo, 0u, P.r.x, P.r.z, G_FIRST) + final_gather(B, wo, P.cnt.z);
+        // the final gather at the camera's first surface; in a full image the light that came straight
+        // from a source (the direct pass's too) is that surface's first-surface photons
+        if (first && P.cnt.z > 0u)
+            L += caustics + gather(B, wo, 0u, P.r.x, P.r.z, full ? G_FIRST_ANY : G_FIRST) + final_gather(B, wo, P.cnt.z);
         else
             L += thr * (caustics + gather(B, wo, 0u, P.r.x, P.r.z, sel));
         break;
@@ -358,9 +433,10 @@ void main() {
     uint i = item();
     if (STEP == S_CLEAR) {
         if (i < P.a.w) cells[i] = uvec2(0u);
+    } else if (STEP == S_RESET) {
         if (i < 4u) ctr[i] = 0u;
     } else if (STEP == S_TRACE) {
-        trace_photon();
+        trace_photons();
     } else if (STEP == S_COUNT) {
         if (i >= min(ctr[0], P.a.y)) return;
         atomicAdd(cells[photon_bucket(ph[2u * i], ph[2u * i + 1u])].x, 1u);
@@ -373,8 +449,8 @@ void main() {
         vec4 a = ph[2u * i], b = ph[2u * i + 1u];
         uint c = photon_bucket(a, b);
         uint k = cells[c].y + atomicAdd(cells[c].x, 1u);
-        sorted[2u * k] = a;
-        sorted[2u * k + 1u] = b;
+        sorted[k] = a;
+        sorted[P.a.y + k] = b;
     } else {
         gather_pixel();
     }

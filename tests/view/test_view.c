@@ -1460,10 +1460,11 @@ static double image_diff(const char* pa, const char* pb) {
     return (double)bad / (double)n;
 }
 
-/* The file's lights reach gi=pathtrace and gi=cones in the viewer (as in
- * svo_render: the frame refuses a gi method made without its lights), and a
- * light edit and its undo remake the method: the frames differ after the
- * edit and come back after the undo. */
+/* The file's lights reach gi=pathtrace, gi=cones and gi=photons in the
+ * viewer (as in svo_render: the frame refuses a gi method made without its
+ * lights), and a light edit and its undo remake the method: the frames
+ * differ after the edit and come back after the undo (the photons too: the
+ * same seed gives the same image). */
 static void test_scripted_lights_gi(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     vx_svo_scene s;
@@ -1475,8 +1476,8 @@ static void test_scripted_lights_gi(void) {
     vx_error err = {0};
     REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
     vx_svo_scene_free(&s);
-    const char* methods[2] = {"pathtrace", "cones"};
-    for (int m = 0; m < 2; m++) {
+    const char* methods[3] = {"pathtrace", "cones", "photons"};
+    for (int m = 0; m < 3; m++) {
         for (int k = 0; k < 3; k++) {
             char name[64];
             snprintf(name, sizeof name, "lights_gi_%s_%d.png", methods[m], k);
@@ -1500,6 +1501,40 @@ static void test_scripted_lights_gi(void) {
         CHECKF(d01 > 0.003 && d01 <= 1, "gi=%s: the light edit changes %.3f of the pixels (the scene covers a few %%)", methods[m], d01);
         CHECKF(d02 <= 0.01, "gi=%s: after the undo %.3f of the pixels differ", methods[m], d02);
     }
+}
+
+/* The viewer's gi=photons (--passes, as the script command and key 9 set
+ * it) renders what svo_render --passes renders with the same list: the same
+ * photons and seed, bitwise reproducible; and the photons' light shows (the
+ * image differs from the one without gi). */
+static void test_photons_view(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
+    if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    char svo[1024], a[1024], b[1024], c[1024], log[1024];
+    path(svo, sizeof svo, "photons.svo");
+    path(a, sizeof a, "view_photons.png");
+    path(b, sizeof b, "render_photons.png");
+    path(c, sizeof c, "view_nogi.png");
+    path(log, sizeof log, "photons.log");
+    vx_svo_scene s;
+    REQUIRE(load_vox(in, &s));
+    REQUIRE(vx_svo_write_file(NULL, &s, svo, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    const char* with = "gbuffer,direct,gi=photons,tonemap";
+    int rc = run_cmd("%s %s --screenshot %s --size 96x72 --hidden --passes %s > %s 2>&1", g_view, svo, a, with, log);
+    CHECKF(rc == 0, "svo_view --passes %s: rc %d", with, rc);
+    rc = run_cmd("%s %s %s --size 96x72 --passes %s > %s 2>&1", g_render, svo, b, with, log);
+    CHECKF(rc == 0, "svo_render --passes %s: rc %d", with, rc);
+    rc = run_cmd("%s %s --screenshot %s --size 96x72 --hidden --passes gbuffer,direct,tonemap > %s 2>&1", g_view, svo, c,
+                 log);
+    CHECKF(rc == 0, "svo_view without gi: rc %d", rc);
+    double d = image_diff(a, b), g = image_diff(a, c);
+    fprintf(stderr, "  gi=photons: %.3f%% of pixels differ from svo_render's, %.1f%% from the image without gi\n",
+            d * 100, g * 100);
+    CHECKF(d <= 0.001, "gi=photons: %.4f of the pixels differ from svo_render's", d);
+    CHECKF(g > 0.05 && g <= 1, "gi=photons changes %.3f of the pixels", g);
 }
 
 static void test_screenshot_matches_svo_render(void) {
@@ -2158,6 +2193,7 @@ int main(int argc, char** argv) {
     RUN(test_scripted_edit);
     RUN(test_scripted_light_undo);
     RUN(test_scripted_lights_gi);
+    RUN(test_photons_view);
     RUN(test_scripted_voxels);
     RUN(test_scripted_face);
     RUN(test_vclick);

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "cones/cones.h"
+#include "photons/photons.h"
 #include "probes/probes.h"
 #include "render/pipeline.h"
 #include "render/render.h"
@@ -70,6 +71,7 @@ typedef struct app {
     vx_pass_list passes;
     vx_probe_gi* pgi;
     vx_cone_gi* cgi; /* gi=cones: its volume, built at the first frame after a change */
+    vx_photon_gi* phgi; /* gi=photons: made at the first frame after a change (its photons every frame) */
     vx_gi_method gm;
     vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
     uint32_t timing_count;

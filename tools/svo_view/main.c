@@ -62,7 +62,8 @@ _Noreturn static void usage(int status) {
             "                          traced through them, exactly as svo_render does\n"
             "    --passes LIST         the colour mode's passes, as svo_render --passes (default: %s);\n"
             "                          key 9 cycles presets (ao, aa, tonemap, dof, gi=cones: voxel cone\n"
-            "                          tracing, its volume rebuilt after each edit); the overlay shows each\n"
+            "                          tracing, its volume rebuilt after each edit; gi=photons: photon\n"
+            "                          mapping, fresh photons every frame); the overlay shows each\n"
             "                          pass's GPU time\n"
             "    --fov DEG             vertical field of view (default: %g)\n"
             "    --script FILE         play commands from FILE (see below)\n"
@@ -266,6 +267,8 @@ static vx_result load_probes(app* a, const char* path, vx_error* err) {
     a->probes_gpu = NULL;
     vx_probe_gi_destroy(a->pgi); /* made for the old set */
     a->pgi = NULL;
+    vx_photon_gi_destroy(a->phgi); /* borrows the old set's sun and sky */
+    a->phgi = NULL;
     if (a->have_probes) vx_probe_set_free(&a->probes);
     a->probes = ps;
     a->have_probes = true;
@@ -446,6 +449,8 @@ static void drop_passes(app* a) {
     a->pgi = NULL;
     vx_cone_gi_destroy(a->cgi);
     a->cgi = NULL;
+    vx_photon_gi_destroy(a->phgi);
+    a->phgi = NULL;
     vx_frame_renderer_destroy(a->fr);
     a->fr = NULL;
 }
@@ -565,6 +570,8 @@ void sv_open(app* a, const char* path) {
         a->probes_gpu = NULL;
         vx_probe_gi_destroy(a->pgi);
         a->pgi = NULL;
+        vx_photon_gi_destroy(a->phgi);
+        a->phgi = NULL;
         vx_probe_set_free(&a->probes);
         a->have_probes = false;
         a->gi = false;
@@ -828,6 +835,8 @@ static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t r
         a->pgi = NULL;
         vx_cone_gi_destroy(a->cgi);
         a->cgi = NULL;
+        vx_photon_gi_destroy(a->phgi);
+        a->phgi = NULL;
         /* records appended: the pipeline's emission per record */
         if (records_from != UINT32_MAX && a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err))
             sv_message(a, true, "pass pipeline: %s", err.msg);
@@ -1179,19 +1188,28 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_
     /* the gi methods are made with the file's lights (as in svo_render:
      * gi=pathtrace and gi=cones carry them, the probe methods give them to
      * the direct pass): made again when the lights changed */
-    if ((a->pgi || a->cgi) && a->gi_light_serial != a->light_serial) {
+    if ((a->pgi || a->cgi || a->phgi) && a->gi_light_serial != a->light_serial) {
         vx_probe_gi_destroy(a->pgi);
         a->pgi = NULL;
         vx_cone_gi_destroy(a->cgi);
         a->cgi = NULL;
+        vx_photon_gi_destroy(a->phgi);
+        a->phgi = NULL;
     }
     a->gi_light_serial = a->light_serial;
-    if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi && !strcmp(a->passes.gi, "cones")) {
+    bool made = a->pgi || a->cgi || a->phgi;
+    if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made && !strcmp(a->passes.gi, "cones")) {
         vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
                            .light_count = a->scene.light_count};
         vx_result r = vx_cone_gi_create(a->rs, &a->scene, &cd, &a->gm, &a->cgi, err);
         if (r) return r;
-    } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !a->pgi && !a->cgi) {
+    } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made && !strcmp(a->passes.gi, "photons")) {
+        /* svo_render's gi=photons with its defaults (photons.h), the file's lights and sky */
+        vx_photon_desc pd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
+                             .light_count = a->scene.light_count};
+        vx_result r = vx_photon_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, &pd, &a->gm, &a->phgi, err);
+        if (r) return r;
+    } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made) {
         vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
         pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
@@ -1203,7 +1221,7 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_
     fd.base.mode = VX_RENDER_COLOR;
     fd.base.spp = 0;
     fd.passes = &a->passes;
-    fd.gi = a->pgi || a->cgi ? &a->gm : NULL;
+    fd.gi = a->pgi || a->cgi || a->phgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
     fd.no_readback = on_gpu; /* the image stays on the GPU for vx_display */
     fd.exposure = a->exposure;
@@ -1238,7 +1256,8 @@ bool sv_set_passes(app* a, const char* list) {
         sv_message(a, true, "passes: %s", err.msg);
         return false;
     }
-    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && strcmp(pl.gi, "cones") && !a->have_probes) {
+    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && strcmp(pl.gi, "cones") &&
+        strcmp(pl.gi, "photons") && !a->have_probes) {
         sv_message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
         return false;
     }
@@ -1246,6 +1265,8 @@ bool sv_set_passes(app* a, const char* list) {
     a->pgi = NULL;
     vx_cone_gi_destroy(a->cgi);
     a->cgi = NULL;
+    vx_photon_gi_destroy(a->phgi);
+    a->phgi = NULL;
     a->passes = pl;
     a->timing_count = 0;
     char t[160];
@@ -1511,7 +1532,8 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
     else if (key == GLFW_KEY_8) sv_set_probe_mode(a, VX_PROBE_RENDER_LIGHTFIELD);
     else if (key == GLFW_KEY_9) {
         static const char* const presets[] = {VX_PASS_LIST_DEFAULT, "gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap",
-                                              "gbuffer,dof,direct,ao,aa,tonemap", "gbuffer,direct,gi=cones,aa,tonemap"};
+                                              "gbuffer,dof,direct,ao,aa,tonemap", "gbuffer,direct,gi=cones,aa,tonemap",
+                                              "gbuffer,direct,gi=photons,aa,tonemap"};
         char cur[160];
         vx_pass_list_format(&a->passes, cur, sizeof cur);
         size_t k = 0, n = sizeof presets / sizeof presets[0];

@@ -9,7 +9,7 @@
 #include "tools/svo_view/ui.h"
 
 static const char* const light_types[VX_LIGHT_TYPE_COUNT] = {"directional", "point", "spot", "sphere", "rect"};
-static const char* const gi_methods[] = {"none", "probes", "lightfield", "pathtrace"};
+static const char* const gi_methods[] = {"none", "probes", "lightfield", "pathtrace", "cones", "photons"};
 #define GI_METHODS ((int)(sizeof gi_methods / sizeof gi_methods[0]))
 /* pass colours of the statistics bars, by timing row */
 static const uint32_t bar_colours[] = {0x4FA3F2u, 0x5CD65Cu, 0x3FC8F0u, 0xE0709Au, 0x4A7CE8u, 0xC0C040u, 0xA070E0u, 0x80B0B0u};
