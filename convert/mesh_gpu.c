@@ -18,7 +18,7 @@
 
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
-       B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_COUNT };
+       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_COUNT };
 #define SCAN_LEVELS 4
 
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_NUM };
@@ -136,10 +136,47 @@ static void read_u32(vx_conv_mesh_gpu* m, int id, uint64_t i, uint32_t slot) {
 static vx_result ensure(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_error* err) {
     return vx__buffer_ensure(m->g, &m->buf[id], bytes < 16 ? 16 : bytes, "meshgpu", err);
 }
-static vx_result put(vx_conv_mesh_gpu* m, int id, const void* data, uint64_t bytes, vx_error* err) {
-    vx_result r = ensure(m, id, bytes, err);
-    if (!r && data && bytes) r = vx__buffer_upload(m->g, &m->buf[id], data, bytes, err);
+/* A host-visible buffer (mapped; cached where the device has such memory,
+ * so that reading the results back is a plain memory read), kept between
+ * calls: the uploads and downloads go through two of them instead of a
+ * staging buffer allocated per copy. */
+static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_error* err) {
+    vx__buffer* b = &m->buf[id];
+    if (b->buf && b->size >= bytes) return VX_OK;
+    if (b->buf) vx__buffer_destroy(m->g, b);
+    vx_result r = vx__buffer_create(m->g, bytes < 16 ? 16 : bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.host", b, err);
+    if (!r && !b->map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU voxelizer: no host-visible memory");
     return r;
+}
+
+typedef struct upload {
+    int id;
+    const void* data;
+    uint64_t bytes, offset;
+} upload;
+
+/* Makes each upload's device buffer, copies the data into the upload
+ * buffer and records the copies into the open command buffer. */
+static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
+    uint64_t total = 0;
+    vx_result r;
+    for (int i = 0; i < n; i++) {
+        if ((r = ensure(m, u[i].id, u[i].bytes, err))) return r;
+        u[i].offset = total;
+        total += (u[i].bytes + 15) & ~15ull;
+    }
+    if ((r = ensure_host(m, B_UP, total, err))) return r;
+    for (int i = 0; i < n; i++)
+        if (u[i].data && u[i].bytes) memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
+    return VX_OK;
+}
+static void put_record(vx_conv_mesh_gpu* m, const upload* u, int n) {
+    for (int i = 0; i < n; i++) {
+        if (!u[i].data || !u[i].bytes) continue;
+        VkBufferCopy c = {.srcOffset = u[i].offset, .dstOffset = 0, .size = u[i].bytes};
+        vkCmdCopyBuffer(m->g->cmd, m->buf[B_UP].buf, m->buf[u[i].id].buf, 1, &c);
+    }
+    barrier(m->g);
 }
 
 /* ---- regions to the sink ------------------------------------------------------------------- */
@@ -250,7 +287,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint32_t* bricks = NULL;
     uint64_t* bm = NULL;
     uint32_t* trimat = NULL;
-    uint32_t *okeys = NULL, *orgba = NULL, *onrm = NULL, *omat = NULL;
+    const uint32_t *okeys = NULL, *orgba = NULL, *onrm = NULL, *omat = NULL; /* in the download buffer */
     size_t* cstart = NULL;
     float* mats = NULL;
     uint32_t* images = NULL;
@@ -334,16 +371,22 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.pairs = P;
 
     t0 = vx_time_now();
-    if ((r = put(m, B_G, bins.g, (uint64_t)T * 72, err)) || (r = put(m, B_PAIRS, pairs2, (uint64_t)P * 8, err)) ||
-        (r = put(m, B_BRICKS, bricks, (uint64_t)NB * 16, err)) || (r = put(m, B_COUNTS, NULL, ((uint64_t)P * 64 + 1) * 4, err)) ||
-        (r = put(m, B_TRIMAT, trimat, (uint64_t)T * 4, err)) || (r = put(m, B_MATS, mats, (uint64_t)MC * 32, err)) ||
-        (r = put(m, B_IMAGES, images, (uint64_t)mesh->image_count * 16, err)) ||
-        (r = put(m, B_TEXELS, texels, (uint64_t)texel_count * 4, err)) ||
-        (r = put(m, B_UV, mesh->uv, mesh->uv ? (uint64_t)T * 24 : 0, err)) ||
-        (r = put(m, B_COL, mesh->color, mesh->color ? (uint64_t)T * 48 : 0, err)) ||
-        (r = put(m, B_TABLES, &tables, sizeof tables, err)) || (r = put(m, B_RTABLES, &rtables, sizeof rtables, err)))
-        goto done;
-    m->stats.upload = vx_time_now() - t0;
+    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
+    upload ups[] = {{B_G, bins.g, (uint64_t)T * 72, 0},
+                    {B_PAIRS, pairs2, (uint64_t)P * 8, 0},
+                    {B_BRICKS, bricks, (uint64_t)NB * 16, 0},
+                    {B_COUNTS, NULL, ((uint64_t)P * 64 + 1) * 4, 0},
+                    {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
+                    {B_MATS, mats, (uint64_t)MC * 32, 0},
+                    {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
+                    {B_TEXELS, tex ? texels : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
+                    {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
+                    {B_TABLES, &tables, sizeof tables, 0},
+                    {B_RTABLES, &rtables, sizeof rtables, 0}};
+    int nups = (int)(sizeof ups / sizeof ups[0]);
+    if ((r = put_all(m, ups, nups, err))) goto done;
+    m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
 
     /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
     t0 = vx_time_now();
@@ -356,6 +399,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
+    put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 1) * 4, 0);
     barrier(g);
     if ((r = stage(m, P_COUNT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
@@ -428,20 +472,32 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.cells = C;
 
     t0 = vx_time_now();
-    okeys = (uint32_t*)vx_alloc(a, ((size_t)C + 1) * 8);
-    orgba = (uint32_t*)vx_alloc(a, ((size_t)C + 1) * 4);
-    onrm = (uint32_t*)vx_alloc(a, ((size_t)C + 1) * 4);
-    omat = (uint32_t*)vx_alloc(a, ((size_t)C + 1) * 4);
     cstart = (size_t*)vx_alloc(a, (bins.region_count + 1) * sizeof *cstart);
-    if (!okeys || !orgba || !onrm || !omat || !cstart) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %u cells", C);
+    if (!cstart) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu regions", bins.region_count);
         goto done;
     }
-    if ((r = vx__buffer_download(g, &m->buf[B_OKEYS], okeys, (VkDeviceSize)C * 8, err))) goto done;
-    if ((attrs & VX_ATTR_RGBA8) && (r = vx__buffer_download(g, &m->buf[B_ORGBA], orgba, (VkDeviceSize)C * 4, err))) goto done;
-    if ((attrs & VX_ATTR_NORMAL) && (r = vx__buffer_download(g, &m->buf[B_ONRM], onrm, (VkDeviceSize)C * 4, err))) goto done;
-    if ((attrs & VX_ATTR_MATERIAL) && (r = vx__buffer_download(g, &m->buf[B_OMAT], omat, (VkDeviceSize)C * 4, err)))
-        goto done;
+    {
+        /* one copy of each result into the download buffer, read where it lies */
+        uint64_t c8 = (uint64_t)C * 8, c4 = (uint64_t)C * 4;
+        if ((r = ensure_host(m, B_DOWN, c8 + 3 * c4 + 16, err)) || (r = rec_begin(m, err))) goto done;
+        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
+        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
+        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
+        for (int q = 0; q < 3; q++)
+            if ((attrs & bits[q]) && c4) {
+                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
+                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
+            }
+        barrier(g);
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        uint8_t* base = (uint8_t*)m->buf[B_DOWN].map;
+        okeys = (const uint32_t*)base;
+        orgba = (const uint32_t*)(base + c8);
+        onrm = (const uint32_t*)(base + c8 + c4);
+        omat = (const uint32_t*)(base + c8 + 2 * c4);
+    }
     m->stats.download = vx_time_now() - t0;
 
     /* regions: cells are sorted by brick index, regions are runs of bricks */
@@ -487,10 +543,6 @@ done:
     vx_free(a, mats);
     vx_free(a, images);
     vx_free(a, texels);
-    vx_free(a, okeys);
-    vx_free(a, orgba);
-    vx_free(a, onrm);
-    vx_free(a, omat);
     vx_free(a, cstart);
     vx__mesh_bins_free(a, &bins);
     return r;

@@ -12,11 +12,12 @@
  * Float divisions the C code makes are done in double and rounded to float
  * (the same result: a double quotient of two floats rounds innocuously);
  * 255ths and the sRGB table come from the CPU. */
-/* one workgroup per pair, one invocation per strip of cells along u (at
- * most 64 in a brick): short loops (llvmpipe stops an invocation's loops
- * after some tens of thousands of iterations) and the big triangles of a
- * brick spread over 64 threads instead of one */
-layout(local_size_x = 64) in;
+/* one workgroup per pair, its 16 invocations taking the strips of cells
+ * along u (at most 64 in a brick) in turn: short loops per strip (llvmpipe
+ * stops an invocation's loop after some tens of thousands of iterations:
+ * one invocation per pair lost the cells of big triangles) and the big
+ * triangles of a brick spread over 16 threads instead of one */
+layout(local_size_x = 16) in;
 
 layout(push_constant) uniform Push {
     uint pair_count;
@@ -167,7 +168,19 @@ double mod_exact(double x, double n) {
     return r;
 }
 
+/* x mod n in [0, n) (GLSL's % is undefined for negative operands) */
+int mod_int(int x, int n) { return x >= 0 ? x % n : n - 1 - (-x - 1) % n; }
+
 int wrap_coord(double x, uint n_u, uint mode) {
+    if (abs(x) < 1073741824.0lf) { /* the usual case, in exact integers */
+        int xi = int(x), ni = int(n_u);
+        if (mode == 1u) return xi < 0 ? 0 : (xi >= ni ? ni - 1 : xi);
+        if (mode == 2u) {
+            int m = mod_int(xi, 2 * ni);
+            return m >= ni ? 2 * ni - 1 - m : m;
+        }
+        return mod_int(xi, ni);
+    }
     double n = double(n_u);
     if (mode == 1u) return int(x < 0 ? 0 : (x >= n ? n - 1 : x));
     if (mode == 2u) {
@@ -379,8 +392,6 @@ void tri_cells(ivec3 cmin, ivec3 cmax, ivec3 last, bool want_poly, int strip) {
 
 void main() {
     uint p = pc.first + gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    int strip = int(gl_LocalInvocationID.x);
-    uint slot = p * 64u + uint(strip); /* counts: per (pair, strip), in the CPU's enumeration order */
     if (p >= pc.pair_count) return;
     uvec2 pr = pairs[p];
     uint t = pr.x;
@@ -397,10 +408,13 @@ void main() {
         precise dvec3 vk = gv - dvec3(org);
         V[k] = vk;
     }
-    cell_count = 0;
-    rec_base = pc.mode == 1u ? counts[slot] : 0u;
     bool attrs = pc.attrs != 0u;
     if (pc.mode == 1u && attrs) setup_tri_attrs(t);
-    tri_cells(cmin, cmax, last, pc.mode == 1u && attrs, strip);
-    if (pc.mode == 0u) counts[slot] = cell_count;
+    for (int strip = int(gl_LocalInvocationID.x); strip < 64; strip += 16) {
+        uint slot = p * 64u + uint(strip); /* counts: per (pair, strip), in the CPU's enumeration order */
+        cell_count = 0;
+        rec_base = pc.mode == 1u ? counts[slot] : 0u;
+        tri_cells(cmin, cmax, last, pc.mode == 1u && attrs, strip);
+        if (pc.mode == 0u) counts[slot] = cell_count;
+    }
 }
