@@ -375,7 +375,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     upload ups[] = {{B_G, bins.g, (uint64_t)T * 72, 0},
                     {B_PAIRS, pairs2, (uint64_t)P * 8, 0},
                     {B_BRICKS, bricks, (uint64_t)NB * 16, 0},
-                    {B_COUNTS, NULL, ((uint64_t)P * 64 + 1) * 4, 0},
+                    {B_COUNTS, NULL, ((uint64_t)P * 64 + 2) * 4, 0},
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
@@ -400,18 +400,21 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
     put_record(m, ups, nups);
-    vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 1) * 4, 0);
+    vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
     if ((r = stage(m, P_COUNT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
     if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
     read_u32(m, B_COUNTS, slots, 0);
+    read_u32(m, B_COUNTS, slots + 1, 1);
     if ((r = vx__cmd_submit_wait(g, err))) goto done;
-    uint32_t N;
-    if ((r = vx__buffer_download(g, &m->buf[B_READ], &N, 4, err))) goto done;
+    uint32_t NN[2];
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], NN, 8, err))) goto done;
+    uint32_t N = NN[0];
     m->stats.count = vx_time_now() - t0;
     m->stats.records = N;
-    if (N > UINT32_MAX - 4096) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: more than 2^32 cell pieces");
+    if ((uint64_t)NN[1] * 256 > (uint64_t)UINT32_MAX - (1u << 20)) { /* the bound, not the wrapped sum */
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: about %llu cell pieces, more than 2^32 (lower res)",
+                    (unsigned long long)NN[1] * 256);
         goto done;
     }
 

@@ -415,6 +415,11 @@ void main() {
         cell_count = 0;
         rec_base = pc.mode == 1u ? counts[slot] : 0u;
         tri_cells(cmin, cmax, last, pc.mode == 1u && attrs, strip);
-        if (pc.mode == 0u) counts[slot] = cell_count;
+        if (pc.mode == 0u) {
+            counts[slot] = cell_count;
+            /* an upper bound of all pieces / 256, which cannot wrap: the host
+             * refuses a total the 32-bit prefix sum would wrap */
+            if (cell_count > 0u) atomicAdd(counts[pc.pair_count * 64u + 1u], (cell_count + 255u) >> 8);
+        }
     }
 }

@@ -163,6 +163,9 @@ static options parse(int argc, char** argv) {
         const char* k = vx_conv_file_kind(o.in);
         if (!k || (strcmp(k, ".gltf") && strcmp(k, ".glb"))) usage_error("--gpu: meshes only (.gltf, .glb), not %s", o.in);
         if (o.conv.solid) usage_error("%s", "--gpu does not fill (--solid): convert on the CPU");
+#ifdef VX_HAVE_MPI
+        if (vx_tool_mpi_launched()) usage_error("%s", "--gpu under mpirun: the ranks voxelize on their CPUs");
+#endif
     }
 #ifdef VX_HAVE_MPI
     const char* kind = vx_conv_file_kind(o.in);
