@@ -42,6 +42,7 @@ typedef struct vx_conv_file_desc {
     bool no_color;            /* never store colours */
     uint32_t threads;         /* 0 == all cores */
     bool y_up;                /* keep glTF's +Y up (default: turned to voxkit's +Z up) */
+    const struct vx_conv_mesh_backend* mesh_backend; /* NULL: the CPU voxelizer (convert/mesh.h, backend) */
     /* .gltf / .glb and .vdb */
     bool solid;               /* fill the inside (meshes, level sets) */
     /* .vdb (convert/volume.h) */

@@ -104,7 +104,13 @@ vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc_in, const vx_gltf_mes
     memset(&k, 0, sizeof k);
     k.desc = &desc;
     pthread_mutex_init(&k.lock, NULL);
-    r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);
+    if (desc.backend && (share != 0 || shares > 1))
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "mesh backend: shares (share %u of %u)", share, shares);
+    else if (desc.backend)
+        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), part_add, &k,
+                                   err);
+    else
+        r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);
     pthread_mutex_destroy(&k.lock);
     if (r) {
         vx_conv_mesh_parts_free(desc.alloc, k.parts, k.count);
@@ -308,7 +314,8 @@ vx_conv_mesh_desc vx_conv_mesh_desc_from_file(const vx_conv_file_desc* d) {
     vx_conv_file_desc f = d ? *d : (vx_conv_file_desc){0}; /* res 0 means 256 in both */
     return (vx_conv_mesh_desc){.build = f.build, .alloc = f.alloc, .logger = f.logger, .res = f.res,
                                .scene_set = f.scene_set, .scene = f.scene, .solid = f.solid, .normals = f.normals,
-                               .no_color = f.no_color, .threads = f.threads, .y_up = f.y_up};
+                               .no_color = f.no_color, .threads = f.threads, .y_up = f.y_up,
+                               .backend = f.mesh_backend};
 }
 
 vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, vx_gltf_mesh* out, vx_error* err) {

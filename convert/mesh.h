@@ -115,6 +115,10 @@ typedef struct vx_conv_mesh_desc {
     uint32_t threads;  /* 0 == all cores */
     uint32_t region;   /* cells per side of one model, power of two >= 64; 0 == 2048 */
     bool y_up;         /* vx_conv_mesh_file: keep glTF's axes (+Y up); default: turned to +Z up */
+    /* NULL == the CPU voxelizer; else another one, e.g. the GPU's
+     * (convert/mesh_gpu.h), which gives the same cells and attributes.
+     * Borrowed; only for one share (vx_conv_mesh, share 0 of 1). */
+    const struct vx_conv_mesh_backend* backend;
 } vx_conv_mesh_desc;
 
 typedef struct vx_conv_mesh_grid {

@@ -46,4 +46,39 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
                             uint32_t attrs, uint32_t share, uint32_t shares, vx__mesh_sink sink, void* user,
                             vx_error* err);
 
+/* The brick binning both voxelizers start from (the GPU one in
+ * convert/mesh_gpu.c): grid coordinates (g[9t + 3v + a] = (pos - min) / h),
+ * the (brick, triangle) pairs, brick Morton << 32 | triangle, sorted by
+ * brick with triangles ascending within a brick, and the boundaries:
+ * bstart[b] is brick b's first pair ([total_bricks] = pair_count), rstart[r]
+ * region r's first brick ([region_count] = total_bricks); regions of R^3
+ * cells, 2^rb bricks a side. desc->solid must be false (no filler pairs). */
+typedef struct vx__mesh_bins {
+    double* g;
+    uint64_t* pairs;
+    size_t pair_count;
+    size_t* bstart;
+    size_t total_bricks;
+    size_t* rstart;
+    size_t region_count;
+    uint32_t R;
+    unsigned rb;
+} vx__mesh_bins;
+vx_result vx__mesh_bin(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
+                       vx__mesh_bins* out, vx_error* err);
+void vx__mesh_bins_free(const vx_allocator* a, vx__mesh_bins* b);
+/* The colour tables of the CPU voxelizer (lin_to_srgb8, sample_texture),
+ * for the GPU one: thr[256] (linear half-way points between sRGB codes),
+ * guess[4097], lin[256] (sRGB code to linear), a255[256] (k / 255.0f). */
+void vx__mesh_color_tables(float thr[256], uint32_t guess[4097], float lin[256], float a255[256]);
+
+/* A voxelizer other than vx__mesh_voxelize (convert/mesh_gpu.h), with its
+ * contract (every region once; share 0 of 1 only). */
+struct vx_conv_mesh_backend {
+    vx_result (*voxelize)(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
+                          const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
+                          vx_error* err);
+    void* self;
+};
+
 #endif

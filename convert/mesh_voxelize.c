@@ -299,6 +299,16 @@ static uint32_t lin_to_srgb8(float v) {
     while (srgb_threshold[c] < v) c++;
     return c;
 }
+void vx__mesh_color_tables(float thr[256], uint32_t guess[4097], float lin[256], float a255[256]) {
+    pthread_once(&tables_once, init_tables);
+    for (int i = 0; i < 256; i++) {
+        thr[i] = srgb_threshold[i];
+        lin[i] = srgb_to_lin[i];
+        a255[i] = i / 255.0f;
+    }
+    for (int i = 0; i <= 4096; i++) guess[i] = srgb_guess[i];
+}
+
 static uint32_t unorm8(float v) {
     if (!(v > 0)) return 0;
     if (v >= 1) return 255;
@@ -1074,11 +1084,17 @@ static void* region_thread(void* arg) {
     return NULL;
 }
 
-vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
-                            uint32_t attrs, uint32_t share, uint32_t shares, vx__mesh_sink sink, void* user,
-                            vx_error* err) {
+/* Everything before the bricks are voxelized: the region size, grid
+ * coordinates, solid votes (desc->solid), the (brick, triangle) pairs in
+ * brick order and the brick and region boundaries. j is initialised first,
+ * so the caller frees it (job_end) whatever this returns. */
+static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
+                           const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
+                           vx_error* err) {
     pthread_once(&tables_once, init_tables);
     pthread_once(&mort_once, init_mort6);
+    memset(j, 0, sizeof *j);
+    pthread_mutex_init(&j->lock, NULL);
     uint32_t R = desc->region;
     if (R == 0) {
         /* one model up to 512 cells; beyond, at least 8 regions (so that
@@ -1095,89 +1111,133 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "region %u: not a power of two in 64..2^21", R);
     if (mesh->tri_count > UINT32_MAX - 1)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu triangles is too many", mesh->tri_count);
-    job j;
-    memset(&j, 0, sizeof j);
-    j.desc = desc;
-    j.mesh = mesh;
-    j.grid = grid;
-    j.alloc = desc->alloc;
-    j.attrs = attrs;
-    j.color = (attrs & VX_ATTR_RGBA8) != 0;
-    j.normals = (attrs & VX_ATTR_NORMAL) != 0;
-    j.materials = (attrs & VX_ATTR_MATERIAL) != 0;
-    j.sink = sink;
-    j.user = user;
-    j.R = R;
-    while (((uint32_t)BRICK << j.rb) < R) j.rb++;
-    atomic_init(&j.next, 0);
-    atomic_init(&j.done, 0);
-    atomic_init(&j.failed, 0);
-    atomic_init(&j.cancel, false);
-    atomic_init(&j.next_region, 0);
-    atomic_init(&j.bricks_done, 0);
-    pthread_mutex_init(&j.lock, NULL);
+    j->desc = desc;
+    j->mesh = mesh;
+    j->grid = grid;
+    j->alloc = desc->alloc;
+    j->attrs = attrs;
+    j->color = (attrs & VX_ATTR_RGBA8) != 0;
+    j->normals = (attrs & VX_ATTR_NORMAL) != 0;
+    j->materials = (attrs & VX_ATTR_MATERIAL) != 0;
+    j->sink = sink;
+    j->user = user;
+    j->R = R;
+    while (((uint32_t)BRICK << j->rb) < R) j->rb++;
+    atomic_init(&j->next, 0);
+    atomic_init(&j->done, 0);
+    atomic_init(&j->failed, 0);
+    atomic_init(&j->cancel, false);
+    atomic_init(&j->next_region, 0);
+    atomic_init(&j->bricks_done, 0);
     size_t T = mesh->tri_count, n9;
     vx_result r = VX_OK;
-    if (!vx_mul_size(T, 9 * sizeof(double), &n9) || !(j.g = (double*)vx_alloc(j.alloc, n9))) {
+    if (!vx_mul_size(T, 9 * sizeof(double), &n9) || !(j->g = (double*)vx_alloc(j->alloc, n9))) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu triangles", T);
-        goto done;
+        return r;
     }
     for (size_t i = 0; i < 9 * T; i++) {
         double p = mesh->pos[i];
         if (!isfinite(p)) {
             r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "triangle %zu: vertex %zu has a NaN or infinite coordinate",
                         i / 9, (i % 9) / 3);
-            goto done;
+            return r;
         }
-        j.g[i] = (p - grid->min[i % 3]) / grid->h;
+        j->g[i] = (p - grid->min[i % 3]) / grid->h;
     }
-    if (desc->solid && (r = solid_votes(&j, err))) goto done;
+    if (desc->solid && (r = solid_votes(j, err))) return r;
     /* bin triangles into bricks */
-    for (int a = 0; a < 3; a++) j.nb[a] = (grid->size[a] + BRICK - 1) / BRICK;
+    for (int a = 0; a < 3; a++) j->nb[a] = (grid->size[a] + BRICK - 1) / BRICK;
     {
-        bin_ctx b = {&j, 0, 0, false};
-        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)j.nb[0] - 1, (int)j.nb[1] - 1, (int)j.nb[2] - 1};
+        bin_ctx b = {j, 0, 0, false};
+        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)j->nb[0] - 1, (int)j->nb[1] - 1, (int)j->nb[2] - 1};
         for (size_t t = 0; t < T && !b.nomem; t++) {
             double v[9];
-            for (int k = 0; k < 9; k++) v[k] = j.g[9 * t + k] / BRICK;
+            for (int k = 0; k < 9; k++) v[k] = j->g[9 * t + k] / BRICK;
             b.tri = (uint32_t)t;
             tri_cells(v, cmin, cmax, NULL, false, bin_hit, &b);
         }
         /* solid: bricks with no triangle can still be inside; one filler pair each */
         if (desc->solid)
-            for (uint32_t z = 0; z < j.nb[2] && !b.nomem; z++)
-                for (uint32_t y = 0; y < j.nb[1] && !b.nomem; y++)
-                    for (uint32_t x = 0; x < j.nb[0] && !b.nomem; x++) {
+            for (uint32_t z = 0; z < j->nb[2] && !b.nomem; z++)
+                for (uint32_t y = 0; y < j->nb[1] && !b.nomem; y++)
+                    for (uint32_t x = 0; x < j->nb[0] && !b.nomem; x++) {
                         b.tri = 0xFFFFFFFFu;
                         int c[3] = {(int)x, (int)y, (int)z};
                         bin_hit(&b, c, NULL, 0);
                     }
-        if (b.nomem || !radix_sort(j.alloc, j.pairs, j.pair_count, 32, 64)) {
+        if (b.nomem || !radix_sort(j->alloc, j->pairs, j->pair_count, 32, 64)) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
-            goto done;
+            return r;
         }
     }
     /* brick and region boundaries */
     {
         size_t bcap = 0, rcap = 0;
-        for (size_t i = 0; i <= j.pair_count && !r; i++) {
-            bool end = i == j.pair_count;
-            bool new_brick = end || i == 0 || (j.pairs[i] >> 32) != (j.pairs[i - 1] >> 32);
+        for (size_t i = 0; i <= j->pair_count && !r; i++) {
+            bool end = i == j->pair_count;
+            bool new_brick = end || i == 0 || (j->pairs[i] >> 32) != (j->pairs[i - 1] >> 32);
             if (!new_brick) continue;
-            bool new_region = end || i == 0 || (j.pairs[i] >> 32 >> (3 * j.rb)) != (j.pairs[i - 1] >> 32 >> (3 * j.rb));
-            if (!vx_grow(j.alloc, (void**)&j.bstart, &bcap, j.total_bricks + 1, sizeof(size_t)) ||
-                (new_region && !vx_grow(j.alloc, (void**)&j.rstart, &rcap, j.region_count + 1, sizeof(size_t)))) {
+            bool new_region = end || i == 0 || (j->pairs[i] >> 32 >> (3 * j->rb)) != (j->pairs[i - 1] >> 32 >> (3 * j->rb));
+            if (!vx_grow(j->alloc, (void**)&j->bstart, &bcap, j->total_bricks + 1, sizeof(size_t)) ||
+                (new_region && !vx_grow(j->alloc, (void**)&j->rstart, &rcap, j->region_count + 1, sizeof(size_t)))) {
                 r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick lists");
                 break;
             }
-            j.bstart[j.total_bricks] = i;
-            if (new_region) j.rstart[j.region_count] = j.total_bricks;
+            j->bstart[j->total_bricks] = i;
+            if (new_region) j->rstart[j->region_count] = j->total_bricks;
             if (end) break;
-            j.total_bricks++;
-            if (new_region) j.region_count++;
+            j->total_bricks++;
+            if (new_region) j->region_count++;
         }
-        if (r) goto done;
+        if (r) return r;
     }
+    return VX_OK;
+}
+
+static void job_end(job* j) {
+    vx_free(j->alloc, j->bstart);
+    vx_free(j->alloc, j->rstart);
+    pthread_mutex_destroy(&j->lock);
+    job_free(j);
+}
+
+vx_result vx__mesh_bin(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
+                       vx__mesh_bins* out, vx_error* err) {
+    job j;
+    vx_result r = job_begin(&j, desc, mesh, grid, 0, NULL, NULL, err);
+    if (!r) {
+        out->g = j.g;
+        out->pairs = j.pairs;
+        out->pair_count = j.pair_count;
+        out->bstart = j.bstart;
+        out->total_bricks = j.total_bricks;
+        out->rstart = j.rstart;
+        out->region_count = j.region_count;
+        out->R = j.R;
+        out->rb = j.rb;
+        j.g = NULL;
+        j.pairs = NULL;
+        j.bstart = NULL;
+        j.rstart = NULL;
+    }
+    job_end(&j);
+    return r;
+}
+
+void vx__mesh_bins_free(const vx_allocator* a, vx__mesh_bins* b) {
+    vx_free(a, b->g);
+    vx_free(a, b->pairs);
+    vx_free(a, b->bstart);
+    vx_free(a, b->rstart);
+    memset(b, 0, sizeof *b);
+}
+
+vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
+                            uint32_t attrs, uint32_t share, uint32_t shares, vx__mesh_sink sink, void* user,
+                            vx_error* err) {
+    job j;
+    vx_result r = job_begin(&j, desc, mesh, grid, attrs, sink, user, err);
+    if (r) goto done;
     if (share >= (shares ? shares : 1)) {
         r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
         goto done;
@@ -1264,9 +1324,6 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
     }
     for (unsigned i = 0; i < threads; i++) worker_free(&ws[i], j.alloc);
 done:
-    vx_free(j.alloc, j.bstart);
-    vx_free(j.alloc, j.rstart);
-    pthread_mutex_destroy(&j.lock);
-    job_free(&j);
+    job_end(&j);
     return r;
 }

@@ -14,3 +14,6 @@ if(TARGET vx_conv_mesh_core)
   vx_add_fuzz(gltf_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/gltf_fuzz.c LIBS vx_conv_mesh_core ARGS -n 300
               SEEDS ${VX_GLTF_SEEDS})
 endif()
+if(TARGET vx_conv_mesh_gpu)
+  vx_add_test(mesh_gpu_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/mesh_gpu_test.c LIBS vx_conv_mesh_gpu ${CMAKE_DL_LIBS} m)
+endif()

@@ -260,6 +260,7 @@ vx_conv_file_desc vx_tool_conv_file_desc(const vx_tool_conv* c, bool allow_svo, 
         .threshold = c->threshold,
         .density = c->density,
         .color_grid = c->color,
+        .mesh_backend = c->mesh_backend,
     };
 }
 

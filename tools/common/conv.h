@@ -34,6 +34,8 @@ typedef struct vx_tool_conv {
      * alloc to it before vx_tool_conv_load (NULL: malloc) */
     uint64_t max_memory;
     const vx_allocator* alloc;
+    /* meshes: another voxelizer (vox2svo --gpu sets the GPU's; NULL: the CPU's) */
+    const struct vx_conv_mesh_backend* mesh_backend;
 } vx_tool_conv;
 
 vx_tool_conv vx_tool_conv_defaults(void);

@@ -9,6 +9,10 @@
 #include "tools/common/conv.h"
 #include "tools/common/tool.h"
 #include "tools/vox2svo/demo.h"
+#ifdef VX_HAVE_MESH_GPU
+#include "convert/mesh_gpu.h"
+#include "render/render.h"
+#endif
 #ifdef VX_HAVE_MPI
 #include "tools/common/mpi.h"
 #include "tools/vox2svo/mpi.h"
@@ -20,6 +24,8 @@ typedef struct options {
     const char* write_demo;
     uint32_t demo_frames; /* --demo-frames: an animated demo */
     bool quiet, verbose;
+    bool gpu;          /* --gpu: meshes voxelized on the GPU */
+    const char* device; /* --device */
     vx_tool_conv conv; /* reader and builder options */
 } options;
 
@@ -69,6 +75,12 @@ _Noreturn static void usage(int status) {
             "    --scene N        meshes: glTF scene to convert (default: the file's default scene)\n"
             "    --solid          meshes and level sets: fill the inside, not only the surface\n"
             "    --normals        meshes: store oct-encoded normals\n"
+#ifdef VX_HAVE_MESH_GPU
+            "    --gpu            meshes: voxelize on the GPU (Vulkan, needs float64 shaders; the same\n"
+            "                     cells, colours and file as the CPU path; not with --solid); -v prints\n"
+            "                     the GPU stages' times\n"
+            "    --device D       with --gpu: the Vulkan device, an index or part of its name\n"
+#endif
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
             "                     (x, y, z) -> (x, -z, y), so models stand upright as in MagicaVoxel)\n"
             "    --grid NAME      OpenVDB: grid to convert (default: the first scalar grid)\n"
@@ -122,6 +134,10 @@ static options parse(int argc, char** argv) {
             exit(0);
         } else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
+#ifdef VX_HAVE_MESH_GPU
+        else if (!strcmp(a, "--gpu")) o.gpu = true;
+        else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
+#endif
         else if (!strcmp(a, "--demo-frames")) {
             if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.demo_frames) || o.demo_frames > 4096)
                 usage_error("bad --demo-frames value '%s' (0 to 4096)", argv[i]);
@@ -142,6 +158,15 @@ static options parse(int argc, char** argv) {
     }
     if (argc == 1) usage(2);
     if (npos != 2) usage_error("%s", "expected an input file and an output .svo file");
+    if (o.device && !o.gpu) usage_error("%s", "--device goes with --gpu");
+    if (o.gpu) {
+        const char* k = vx_conv_file_kind(o.in);
+        if (!k || (strcmp(k, ".gltf") && strcmp(k, ".glb"))) usage_error("--gpu: meshes only (.gltf, .glb), not %s", o.in);
+        if (o.conv.solid) usage_error("%s", "--gpu does not fill (--solid): convert on the CPU");
+#ifdef VX_HAVE_MPI
+        if (vx_tool_mpi_launched()) usage_error("%s", "--gpu under mpirun: the ranks voxelize on their CPUs");
+#endif
+    }
 #ifdef VX_HAVE_MPI
     const char* kind = vx_conv_file_kind(o.in);
     if (vx_tool_mpi_launched() && (!kind || (strcmp(kind, ".gltf") && strcmp(kind, ".glb"))))
@@ -263,8 +288,35 @@ int main(int argc, char** argv) {
     vx_budget budget; /* --max-memory; outlives the scene */
     vx_budget_init(&budget, o.conv.max_memory, NULL);
     if (o.conv.max_memory) o.conv.alloc = &budget.allocator;
+#ifdef VX_HAVE_MESH_GPU
+    vx_gpu* gpu = NULL;
+    vx_conv_mesh_gpu* mg = NULL;
+    if (o.gpu) {
+        if (vx_gpu_create(&(vx_gpu_desc){.device = o.device, .logger = &log}, &gpu, &err) ||
+            vx_conv_mesh_gpu_create(gpu, o.conv.alloc, &mg, &err)) {
+            vx_gpu_destroy(gpu);
+            return vx_tool_errorf("--gpu: %s", err.msg);
+        }
+        o.conv.mesh_backend = vx_conv_mesh_gpu_backend(mg);
+        if (o.verbose) fprintf(stderr, "%s: GPU voxelizer on %s\n", vx_tool_name, vx_gpu_device_name(gpu));
+    }
+#endif
     vx_result r = vx_tool_conv_load(o.in, &o.conv, false, &log, vx_tool_progress(o.quiet), &scene, &li, &err);
     vx_tool_progress_done();
+#ifdef VX_HAVE_MESH_GPU
+    if (mg && o.verbose && r == VX_OK) {
+        vx_conv_mesh_gpu_stats gs;
+        vx_conv_mesh_gpu_last_stats(mg, &gs);
+        fprintf(stderr,
+                "%s: GPU voxelizer: bin %.1f ms (CPU), upload %.1f, count %.1f, emit %.1f, sort %.1f (%u passes), "
+                "reduce %.1f, download %.1f, regions to the octree builder %.1f ms; %llu pairs, %llu pieces, %llu cells\n",
+                vx_tool_name, gs.bin * 1e3, gs.upload * 1e3, gs.count * 1e3, gs.emit * 1e3, gs.sort * 1e3,
+                gs.sort_passes, gs.reduce * 1e3, gs.download * 1e3, gs.sink * 1e3, (unsigned long long)gs.pairs,
+                (unsigned long long)gs.records, (unsigned long long)gs.cells);
+    }
+    vx_conv_mesh_gpu_destroy(mg);
+    if (gpu) vx_gpu_destroy(gpu);
+#endif
     if (r != VX_OK) return vx_tool_error_budget(o.in, &err, &budget);
     const char* kind = li.kind;
     const vx_conv_stats cs = li.stats;

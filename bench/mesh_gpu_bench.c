@@ -1,0 +1,146 @@
+/* bench/mesh_gpu_bench.c - the mesh voxelizer on the GPU against the CPU
+ * path, in one run: MESH.glb at each resolution, the CPU conversion
+ * (vx_conv_mesh, every core) and the GPU one (vx_conv_mesh with the GPU
+ * backend: voxelization on the GPU, the octree builds on the CPU), medians
+ * of timed runs after a warm-up, the GPU stages, and whether the two .svo
+ * files are equal byte for byte (the check of mesh_gpu_test, here on the
+ * bench's device and resolutions).
+ *
+ *   mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--device D] [--cells]
+ *
+ * --cells: the GPU runs voxelize into a flat cell list (vx_conv_mesh_cells,
+ * colours only) instead of building the octrees: the voxelizer's own time
+ * at resolutions where the CPU builds would take most of a run. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench/bench_stats.h"
+#include "convert/mesh_gpu.h"
+#include "render/render.h"
+
+#define MAXRUNS 32
+
+static size_t svo_bytes(const vx_svo_scene* s, uint8_t** out) {
+    size_t n = 0;
+    vx_error err = {0};
+    if (vx_svo_write(s, NULL, out, &n, &err)) {
+        fprintf(stderr, "write: %s\n", err.msg);
+        *out = NULL;
+        return 0;
+    }
+    return n;
+}
+
+int main(int argc, char** argv) {
+    const char* path = NULL;
+    const char* device = NULL;
+    uint32_t res[8], nres = 0;
+    int runs = 5, cpu_runs = 3;
+    bool cells_only = false;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--res") && i + 1 < argc && nres < 8) res[nres++] = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--cpu-runs") && i + 1 < argc) cpu_runs = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
+        else if (!strcmp(argv[i], "--cells")) cells_only = true;
+        else path = argv[i];
+    }
+    if (!path) {
+        fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--device D]\n");
+        return 2;
+    }
+    if (!nres) res[nres++] = 1024;
+    if (runs < 1) runs = 1;
+    if (runs > MAXRUNS) runs = MAXRUNS;
+    if (cpu_runs > MAXRUNS) cpu_runs = MAXRUNS;
+    vx_error err = {0};
+    vx_gpu* gpu = NULL;
+    vx_conv_mesh_gpu* mg = NULL;
+    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &gpu, &err) || vx_conv_mesh_gpu_create(gpu, NULL, &mg, &err)) {
+        fprintf(stderr, "GPU: %s\n", err.msg);
+        return 1;
+    }
+    printf("device: %s\n", vx_gpu_device_name(gpu));
+    vx_gltf_mesh mesh;
+    double t0 = vx_time_now();
+    if (vx_conv_mesh_read(NULL, path, &mesh, &err)) {
+        fprintf(stderr, "%s: %s\n", path, err.msg);
+        return 1;
+    }
+    printf("%s: %zu triangles, read in %.3f s\n", path, mesh.tri_count, vx_time_now() - t0);
+    int fail = 0;
+    for (uint32_t ri = 0; ri < nres; ri++) {
+        vx_conv_mesh_desc d = {.res = res[ri]};
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[8][MAXRUNS];
+        vx_svo_scene ref, got;
+        memset(&ref, 0, sizeof ref);
+        memset(&got, 0, sizeof got);
+        vx_conv_stats cs = {0};
+        for (int k = 0; k < cpu_runs; k++) {
+            if (k) vx_svo_scene_free(&ref);
+            t0 = vx_time_now();
+            if (vx_conv_mesh(&d, &mesh, &ref, &cs, &err)) {
+                fprintf(stderr, "CPU at %u: %s\n", res[ri], err.msg);
+                return 1;
+            }
+            cpu[k] = vx_time_now() - t0;
+        }
+        d.backend = vx_conv_mesh_gpu_backend(mg);
+        vx_conv_mesh_gpu_stats gs;
+        for (int k = -1; k < runs; k++) { /* run -1: warm-up (buffers grown, pipelines made) */
+            if (k >= 0 || got.model_count) vx_svo_scene_free(&got);
+            t0 = vx_time_now();
+            if (cells_only) {
+                uint32_t *xyz = NULL, *rgba = NULL;
+                size_t n = 0;
+                if (vx_conv_mesh_cells(&d, &mesh, NULL, &xyz, &rgba, &n, &err)) {
+                    fprintf(stderr, "GPU cells at %u: %s\n", res[ri], err.msg);
+                    return 1;
+                }
+                free(xyz);
+                free(rgba);
+            } else if (vx_conv_mesh(&d, &mesh, &got, NULL, &err)) {
+                fprintf(stderr, "GPU at %u: %s\n", res[ri], err.msg);
+                return 1;
+            }
+            double t = vx_time_now() - t0;
+            vx_conv_mesh_gpu_last_stats(mg, &gs);
+            if (k < 0) continue;
+            gpu_t[k] = t;
+            double v[8] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink};
+            for (int q = 0; q < 8; q++) st[q][k] = v[q];
+        }
+        uint8_t *a = NULL, *b = NULL;
+        bool compare = cpu_runs > 0 && !cells_only;
+        size_t na = compare ? svo_bytes(&ref, &a) : 0, nb = compare ? svo_bytes(&got, &b) : 0;
+        int equal = compare && na == nb && na && !memcmp(a, b, na);
+        if (compare && !equal) fail = 1;
+        double med[8];
+        for (int q = 0; q < 8; q++) med[q] = bench_median(st[q], runs);
+        double gpu_vox = med[1] + med[2] + med[3] + med[4] + med[5] + med[6];
+        double cpu_med = cpu_runs > 0 ? bench_median(cpu, cpu_runs) : 0, gpu_med = bench_median(gpu_t, runs);
+        printf("res %u: %llu pairs, %llu pieces, %llu cells, %u sort passes\n", res[ri], (unsigned long long)gs.pairs,
+               (unsigned long long)gs.records, (unsigned long long)gs.cells, gs.sort_passes);
+        printf("  CPU path (vx_conv_mesh, all cores): median %.1f ms of %d (voxelize %.1f + build %.1f ms, last run)\n",
+               cpu_med * 1e3, cpu_runs, cs.seconds_voxelize * 1e3, cs.seconds_build * 1e3);
+        printf("  GPU path: median %.1f ms of %d = bin (CPU) %.1f + upload %.1f + count %.1f + emit %.1f + sort %.1f + "
+               "reduce %.1f + download %.1f + %s %.1f ms\n",
+               gpu_med * 1e3, runs, med[0] * 1e3, med[1] * 1e3, med[2] * 1e3, med[3] * 1e3, med[4] * 1e3,
+               med[5] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)", med[7] * 1e3);
+        printf("  GPU voxelization alone (upload .. download): %.1f ms; with the CPU binning %.1f ms\n", gpu_vox * 1e3,
+               (gpu_vox + med[0]) * 1e3);
+        if (compare)
+            printf("  .svo CPU %zu bytes, GPU %zu bytes: %s; speed-up of the whole conversion %.2fx\n", na, nb,
+                   equal ? "EQUAL" : "DIFFERENT", cpu_med / gpu_med);
+        free(a);
+        free(b);
+        vx_svo_scene_free(&ref);
+        vx_svo_scene_free(&got);
+        fflush(stdout);
+    }
+    vx_gltf_mesh_free(&mesh);
+    vx_conv_mesh_gpu_destroy(mg);
+    vx_gpu_destroy(gpu);
+    return fail;
+}

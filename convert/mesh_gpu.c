@@ -1,0 +1,628 @@
+/* convert/mesh_gpu.c - the mesh voxelizer on the GPU (convert/mesh_gpu.h). */
+#include "convert/mesh_gpu.h"
+
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "convert/mesh_internal.h"
+#include "render/gpu.h"
+
+#include "gpuscan.comp.h"
+#include "gpusort.comp.h"
+#include "meshreduce.comp.h"
+#include "meshvox.comp.h"
+
+#define BRICK 64u
+
+enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
+       B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
+       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_COUNT };
+#define SCAN_LEVELS 4
+
+enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_NUM };
+
+struct vx_conv_mesh_gpu {
+    vx_gpu* g;
+    const vx_allocator* alloc;
+    struct vx_conv_mesh_backend backend;
+    vx__pipeline* pipe[P_NUM];
+    vx__buffer buf[B_COUNT];
+    VkDescriptorPool pool;
+    vx_conv_mesh_gpu_stats stats;
+};
+
+typedef struct meshvox_push {
+    uint32_t pair_count, attrs, first, mode;
+    int32_t size[4];
+} meshvox_push;
+typedef struct sort_push {
+    uint32_t n, shift, ntiles;
+} sort_push;
+
+/* ---- recording ----------------------------------------------------------------------- */
+
+static vx_result rec_begin(vx_conv_mesh_gpu* m, vx_error* err) {
+    VX__VK(vkResetDescriptorPool(m->g->device, m->pool, 0), "vkResetDescriptorPool");
+    return vx__cmd_begin(m->g, err);
+}
+
+static void barrier(vx_gpu* g) {
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                          .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                                           VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+/* Records one dispatch of `groups` workgroups (spread over x and y: the
+ * shaders number them y * x_count + x) over the buffers ids[n], then a
+ * barrier. */
+static vx_result stage(vx_conv_mesh_gpu* m, int pipe, const int* ids, uint32_t n, uint64_t groups, const void* push,
+                       uint32_t push_size, vx_error* err) {
+    vx_gpu* g = m->g;
+    if (groups == 0) return VX_OK;
+    vx__pipeline* p = m->pipe[pipe];
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = m->pool,
+                                      .descriptorSetCount = 1,
+                                      .pSetLayouts = &p->dsl};
+    VkDescriptorSet set;
+    VX__VK(vkAllocateDescriptorSets(g->device, &ai, &set), "vkAllocateDescriptorSets");
+    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+    for (uint32_t i = 0; i < n; i++) {
+        infos[i] = (VkDescriptorBufferInfo){.buffer = m->buf[ids[i]].buf, .offset = 0, .range = VK_WHOLE_SIZE};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                      .dstSet = set,
+                                      .dstBinding = i,
+                                      .descriptorCount = 1,
+                                      .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                      .pBufferInfo = &infos[i]};
+    }
+    vkUpdateDescriptorSets(g->device, n, w, 0, NULL);
+    vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
+    vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &set, 0, NULL);
+    if (push_size) vkCmdPushConstants(g->cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
+    uint64_t gx = groups < 65535 ? groups : 65535, gy = (groups + gx - 1) / gx;
+    if (gy > 65535) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %llu workgroups", (unsigned long long)groups);
+    vkCmdDispatch(g->cmd, (uint32_t)gx, (uint32_t)gy, 1);
+    barrier(g);
+    return VX_OK;
+}
+
+/* Exclusive prefix sums of buffer id's first n uints, in place (gpuscan.comp),
+ * level by level through the scan buffers. */
+static vx_result scan(vx_conv_mesh_gpu* m, int id, uint64_t n, int level, vx_error* err) {
+    if (n > UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: scan of %llu", (unsigned long long)n);
+    if (level >= SCAN_LEVELS) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: scan too deep");
+    uint64_t blocks = (n + 2047) / 2048;
+    int sums = B_SCAN0 + level;
+    if (m->buf[sums].size < blocks * 4)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "GPU voxelizer: scan buffers not prepared");
+    vx_result r;
+    uint32_t push = (uint32_t)n;
+    int ids[2] = {id, sums};
+    if ((r = stage(m, P_SCAN, ids, 2, blocks, &push, 4, err))) return r;
+    if (blocks <= 1) return VX_OK;
+    if ((r = scan(m, sums, blocks, level + 1, err))) return r;
+    return stage(m, P_ADD, ids, 2, blocks, &push, 4, err);
+}
+
+/* The scan buffers for n entries, made before recording (a buffer grown
+ * while recorded commands use it would be destroyed under them). */
+static vx_result scan_prepare(vx_conv_mesh_gpu* m, uint64_t n, vx_error* err) {
+    for (int level = 0; level < SCAN_LEVELS; level++) {
+        uint64_t blocks = (n + 2047) / 2048;
+        vx_result r = vx__buffer_ensure(m->g, &m->buf[B_SCAN0 + level], blocks * 4 + 16, "meshgpu.scan", err);
+        if (r) return r;
+        if (blocks <= 1) break;
+        n = blocks;
+    }
+    return VX_OK;
+}
+
+/* Records a copy of the uint at index i of buffer id into the read buffer's slot. */
+static void read_u32(vx_conv_mesh_gpu* m, int id, uint64_t i, uint32_t slot) {
+    VkBufferCopy c = {.srcOffset = i * 4, .dstOffset = slot * 4, .size = 4};
+    vkCmdCopyBuffer(m->g->cmd, m->buf[id].buf, m->buf[B_READ].buf, 1, &c);
+    barrier(m->g);
+}
+
+static vx_result ensure(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_error* err) {
+    return vx__buffer_ensure(m->g, &m->buf[id], bytes < 16 ? 16 : bytes, "meshgpu", err);
+}
+/* A host-visible buffer (mapped; cached where the device has such memory,
+ * so that reading the results back is a plain memory read), kept between
+ * calls: the uploads and downloads go through two of them instead of a
+ * staging buffer allocated per copy. */
+static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_error* err) {
+    vx__buffer* b = &m->buf[id];
+    if (b->buf && b->size >= bytes) return VX_OK;
+    if (b->buf) vx__buffer_destroy(m->g, b);
+    vx_result r = vx__buffer_create(m->g, bytes < 16 ? 16 : bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.host", b, err);
+    if (!r && !b->map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU voxelizer: no host-visible memory");
+    return r;
+}
+
+typedef struct upload {
+    int id;
+    const void* data;
+    uint64_t bytes, offset;
+} upload;
+
+/* Makes each upload's device buffer, copies the data into the upload
+ * buffer and records the copies into the open command buffer. */
+static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
+    uint64_t total = 0;
+    vx_result r;
+    for (int i = 0; i < n; i++) {
+        if ((r = ensure(m, u[i].id, u[i].bytes, err))) return r;
+        u[i].offset = total;
+        total += (u[i].bytes + 15) & ~15ull;
+    }
+    if ((r = ensure_host(m, B_UP, total, err))) return r;
+    for (int i = 0; i < n; i++)
+        if (u[i].data && u[i].bytes) memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
+    return VX_OK;
+}
+static void put_record(vx_conv_mesh_gpu* m, const upload* u, int n) {
+    for (int i = 0; i < n; i++) {
+        if (!u[i].data || !u[i].bytes) continue;
+        VkBufferCopy c = {.srcOffset = u[i].offset, .dstOffset = 0, .size = u[i].bytes};
+        vkCmdCopyBuffer(m->g->cmd, m->buf[B_UP].buf, m->buf[u[i].id].buf, 1, &c);
+    }
+    barrier(m->g);
+}
+
+/* ---- regions to the sink ------------------------------------------------------------------- */
+
+typedef struct region_job {
+    const vx__mesh_bins* bins;
+    const vx_conv_mesh_grid* grid;
+    const uint64_t* brick_morton; /* per brick index */
+    const uint32_t* okeys;        /* 2 per cell: (local | brick << 18, brick >> 14) */
+    const uint32_t *rgba, *nrm, *mat;
+    const size_t* cstart;         /* first cell of each region; [region_count] = cells */
+    uint32_t attrs;
+    vx__mesh_sink sink;
+    void* user;
+    const vx_allocator* alloc;
+    pthread_mutex_t lock;
+    size_t next;
+    vx_result failed;
+    vx_error first_err;
+} region_job;
+
+static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
+    const vx__mesh_bins* b = j->bins;
+    size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
+    if (n == 0) return VX_OK;
+    uint64_t* keys = (uint64_t*)vx_alloc(j->alloc, n * 8);
+    uint16_t* mat = (j->attrs & VX_ATTR_MATERIAL) ? (uint16_t*)vx_alloc(j->alloc, n * 2) : NULL;
+    if (!keys || ((j->attrs & VX_ATTR_MATERIAL) && !mat)) {
+        vx_free(j->alloc, keys);
+        vx_free(j->alloc, mat);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
+    }
+    uint64_t mask = (1ull << (3 * b->rb)) - 1;
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t* k = j->okeys + 2 * (c0 + i);
+        uint64_t brick = (uint64_t)(k[0] >> 18) | (uint64_t)k[1] << 14;
+        keys[i] = (j->brick_morton[brick] & mask) << 18 | (k[0] & 0x3FFFFu);
+        if (mat) mat[i] = (uint16_t)j->mat[c0 + i];
+    }
+    vx__mesh_region reg;
+    memset(&reg, 0, sizeof reg);
+    uint64_t region = j->brick_morton[b->rstart[ri]] >> (3 * b->rb);
+    uint32_t rx, ry, rz;
+    vx_svo_demorton(region, &rx, &ry, &rz);
+    reg.origin[0] = rx * b->R;
+    reg.origin[1] = ry * b->R;
+    reg.origin[2] = rz * b->R;
+    for (int a = 0; a < 3; a++) {
+        uint32_t left = j->grid->size[a] - reg.origin[a];
+        reg.size[a] = left < b->R ? left : b->R;
+    }
+    reg.index = ri;
+    reg.region_count = b->region_count;
+    reg.count = n;
+    reg.keys = keys;
+    reg.rgba = (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;
+    reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
+    reg.material = mat;
+    reg.attrs = j->attrs;
+    vx_result r = j->sink(j->user, &reg, err);
+    vx_free(j->alloc, keys);
+    vx_free(j->alloc, mat);
+    return r;
+}
+
+static void* region_thread(void* arg) {
+    region_job* j = (region_job*)arg;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        size_t ri = j->next++;
+        bool stop = j->failed != VX_OK || ri >= j->bins->region_count;
+        pthread_mutex_unlock(&j->lock);
+        if (stop) return NULL;
+        vx_error e = {0};
+        vx_result r = region_emit(j, ri, &e);
+        if (r) {
+            pthread_mutex_lock(&j->lock);
+            if (!j->failed) j->failed = r, j->first_err = e;
+            pthread_mutex_unlock(&j->lock);
+            return NULL;
+        }
+    }
+}
+
+/* ---- the voxelizer ---------------------------------------------------------------------- */
+
+static unsigned bits_for(uint64_t v) {
+    unsigned b = 0;
+    while (b < 64 && (v >> b)) b++;
+    return b;
+}
+
+static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
+                              const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
+                              vx_error* err) {
+    vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)self;
+    vx_gpu* g = m->g;
+    const vx_allocator* a = desc->alloc;
+    memset(&m->stats, 0, sizeof m->stats);
+    if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
+    double t0 = vx_time_now();
+    vx__mesh_bins bins;
+    memset(&bins, 0, sizeof bins);
+    vx_result r = vx__mesh_bin(desc, mesh, grid, &bins, err);
+    if (r) return r;
+    size_t P = bins.pair_count, NB = bins.total_bricks, T = mesh->tri_count;
+    uint32_t* pairs2 = NULL;
+    uint32_t* bricks = NULL;
+    uint64_t* bm = NULL;
+    uint32_t* trimat = NULL;
+    const uint32_t *okeys = NULL, *orgba = NULL, *onrm = NULL, *omat = NULL; /* in the download buffer */
+    size_t* cstart = NULL;
+    float* mats = NULL;
+    uint32_t* images = NULL;
+    uint32_t* texels = NULL;
+    if (P > UINT32_MAX / 64 - 1 || NB > (1ull << 40)) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu brick pairs", P);
+        goto done;
+    }
+    pairs2 = (uint32_t*)vx_alloc(a, (P ? P : 1) * 8);
+    bricks = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 16);
+    bm = (uint64_t*)vx_alloc(a, (NB ? NB : 1) * 8);
+    trimat = (uint32_t*)vx_alloc(a, (T ? T : 1) * 4);
+    if (!pairs2 || !bricks || !bm || !trimat) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu pairs", P);
+        goto done;
+    }
+    for (size_t b = 0; b < NB; b++) {
+        uint64_t mort = bins.pairs[bins.bstart[b]] >> 32;
+        uint32_t x, y, z;
+        vx_svo_demorton(mort, &x, &y, &z);
+        bm[b] = mort;
+        bricks[4 * b] = x * BRICK, bricks[4 * b + 1] = y * BRICK, bricks[4 * b + 2] = z * BRICK, bricks[4 * b + 3] = 0;
+        for (size_t p = bins.bstart[b]; p < bins.bstart[b + 1]; p++) {
+            pairs2[2 * p] = (uint32_t)(bins.pairs[p] & 0xFFFFFFFFu);
+            pairs2[2 * p + 1] = (uint32_t)b;
+        }
+    }
+    for (size_t t = 0; t < T; t++) trimat[t] = mesh->material ? mesh->material[t] : UINT32_MAX;
+    /* materials: base colour, the image it samples (-1: none; as setup_tri_attrs decides), wraps, MATL id */
+    uint32_t MC = mesh->material_count;
+    mats = (float*)vx_calloc(a, MC ? MC : 1, 32);
+    images = (uint32_t*)vx_calloc(a, mesh->image_count ? mesh->image_count : 1, 16);
+    size_t texel_count = 0;
+    for (uint32_t i = 0; i < mesh->image_count; i++)
+        if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
+    if (texel_count > UINT32_MAX) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
+        goto done;
+    }
+    texels = (uint32_t*)vx_alloc(a, (texel_count ? texel_count : 1) * 4);
+    if (!mats || !images || !texels) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
+        goto done;
+    }
+    {
+        size_t off = 0;
+        for (uint32_t i = 0; i < mesh->image_count; i++) {
+            const vx_gltf_image* im = &mesh->images[i];
+            images[4 * i] = (uint32_t)off, images[4 * i + 1] = im->width, images[4 * i + 2] = im->height;
+            if (!im->rgba) continue;
+            memcpy(texels + off, im->rgba, (size_t)im->width * im->height * 4);
+            off += (size_t)im->width * im->height;
+        }
+    }
+    for (uint32_t i = 0; i < MC; i++) {
+        const vx_gltf_material* mt = &mesh->materials[i];
+        float* o = mats + 8 * i;
+        memcpy(o, mt->base_color, 16);
+        int32_t img = -1;
+        if (mt->image >= 0 && (uint32_t)mt->image < mesh->image_count && mesh->images[mt->image].rgba && mesh->uv)
+            img = mt->image;
+        uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_material_id(mesh, i)};
+        memcpy(o + 4, u, 16);
+    }
+    struct {
+        float lin[256], a255[256];
+        uint32_t has_uv, has_color, mat_count, pad;
+    } tables;
+    struct {
+        float thr[256];
+        uint32_t guess[4097];
+        uint32_t attrs;
+    } rtables;
+    vx__mesh_color_tables(rtables.thr, rtables.guess, tables.lin, tables.a255);
+    tables.has_uv = mesh->uv != NULL;
+    tables.has_color = mesh->color != NULL;
+    tables.mat_count = MC;
+    tables.pad = 0;
+    rtables.attrs = attrs;
+    m->stats.bin = vx_time_now() - t0;
+    m->stats.pairs = P;
+
+    t0 = vx_time_now();
+    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
+    upload ups[] = {{B_G, bins.g, (uint64_t)T * 72, 0},
+                    {B_PAIRS, pairs2, (uint64_t)P * 8, 0},
+                    {B_BRICKS, bricks, (uint64_t)NB * 16, 0},
+                    {B_COUNTS, NULL, ((uint64_t)P * 64 + 2) * 4, 0},
+                    {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
+                    {B_MATS, mats, (uint64_t)MC * 32, 0},
+                    {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
+                    {B_TEXELS, tex ? texels : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
+                    {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
+                    {B_TABLES, &tables, sizeof tables, 0},
+                    {B_RTABLES, &rtables, sizeof rtables, 0}};
+    int nups = (int)(sizeof ups / sizeof ups[0]);
+    if ((r = put_all(m, ups, nups, err))) goto done;
+    m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
+
+    /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
+    t0 = vx_time_now();
+    meshvox_push mp = {(uint32_t)P, 0, 0, 0, {(int32_t)grid->size[0], (int32_t)grid->size[1], (int32_t)grid->size[2], 0}};
+    mp.attrs = ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
+               ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u);
+    static const int vox_ids[14] = {B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT,
+                                    B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL, B_TABLES, B_VALS};
+    if ((r = ensure(m, B_KEYS, 16, err)) || (r = ensure(m, B_RECS, 16, err)) || (r = ensure(m, B_VALS, 16, err)))
+        goto done;
+    uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
+    if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
+    put_record(m, ups, nups);
+    vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
+    barrier(g);
+    if ((r = stage(m, P_COUNT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
+    if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
+    read_u32(m, B_COUNTS, slots, 0);
+    read_u32(m, B_COUNTS, slots + 1, 1);
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    uint32_t NN[2];
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], NN, 8, err))) goto done;
+    uint32_t N = NN[0];
+    m->stats.count = vx_time_now() - t0;
+    m->stats.records = N;
+    if ((uint64_t)NN[1] * 256 > (uint64_t)UINT32_MAX - (1u << 20)) { /* the bound, not the wrapped sum */
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: about %llu cell pieces, more than 2^32 (lower res)",
+                    (unsigned long long)NN[1] * 256);
+        goto done;
+    }
+
+    /* records */
+    t0 = vx_time_now();
+    if ((r = ensure(m, B_KEYS, (uint64_t)N * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)N * 4, err)) ||
+        (r = ensure(m, B_RECS, attrs ? (uint64_t)N * 48 : 16, err)) || (r = ensure(m, B_KEYS2, (uint64_t)N * 8, err)) ||
+        (r = ensure(m, B_VALS2, (uint64_t)N * 4, err)))
+        goto done;
+    if ((r = rec_begin(m, err))) goto done;
+    mp.mode = 1;
+    if ((r = stage(m, P_EMIT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    m->stats.emit = vx_time_now() - t0;
+
+    /* stable radix sort by (brick index, local Morton key) */
+    t0 = vx_time_now();
+    unsigned key_bits = 18 + bits_for(NB ? NB - 1 : 0);
+    uint32_t passes = (key_bits + 3) / 4;
+    m->stats.sort_passes = passes;
+    uint64_t ntiles = ((uint64_t)N + 1023) / 1024;
+    if ((r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err))) goto done;
+    if ((r = rec_begin(m, err))) goto done;
+    int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
+    for (uint32_t pass = 0; pass < passes && N > 1; pass++) {
+        sort_push sp = {N, 4 * pass, (uint32_t)ntiles};
+        int ids[5] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, src ? B_KEYS : B_KEYS2, src ? B_VALS : B_VALS2, B_HIST};
+        if ((r = stage(m, P_HIST, ids, 5, ntiles, &sp, sizeof sp, err))) goto done;
+        if ((r = scan(m, B_HIST, ntiles * 16, 0, err))) goto done;
+        if ((r = stage(m, P_SCATTER, ids, 5, ntiles, &sp, sizeof sp, err))) goto done;
+        src ^= 1;
+    }
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    m->stats.sort = vx_time_now() - t0;
+
+    /* one cell per run of keys */
+    t0 = vx_time_now();
+    if ((r = ensure(m, B_POS, ((uint64_t)N + 1) * 4, err)) || (r = ensure(m, B_OKEYS, (uint64_t)N * 8, err)) ||
+        (r = ensure(m, B_ORGBA, (uint64_t)N * 4, err)) || (r = ensure(m, B_ONRM, (uint64_t)N * 4, err)) ||
+        (r = ensure(m, B_OMAT, (uint64_t)N * 4, err)) || (r = scan_prepare(m, (uint64_t)N + 1, err)))
+        goto done;
+    if ((r = rec_begin(m, err))) goto done;
+    {
+        int ids[9] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT,
+                      B_RTABLES};
+        uint32_t n = N;
+        vkCmdFillBuffer(g->cmd, m->buf[B_POS].buf, 0, ((VkDeviceSize)N + 1) * 4, 0);
+        barrier(g);
+        if ((r = stage(m, P_FLAG, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
+        if ((r = scan(m, B_POS, (uint64_t)N + 1, 0, err))) goto done;
+        if ((r = stage(m, P_REDUCE, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
+        read_u32(m, B_POS, N, 0);
+    }
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    uint32_t C;
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], &C, 4, err))) goto done;
+    m->stats.reduce = vx_time_now() - t0;
+    m->stats.cells = C;
+
+    t0 = vx_time_now();
+    cstart = (size_t*)vx_alloc(a, (bins.region_count + 1) * sizeof *cstart);
+    if (!cstart) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu regions", bins.region_count);
+        goto done;
+    }
+    {
+        /* one copy of each result into the download buffer, read where it lies */
+        uint64_t c8 = (uint64_t)C * 8, c4 = (uint64_t)C * 4;
+        if ((r = ensure_host(m, B_DOWN, c8 + 3 * c4 + 16, err)) || (r = rec_begin(m, err))) goto done;
+        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
+        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
+        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
+        for (int q = 0; q < 3; q++)
+            if ((attrs & bits[q]) && c4) {
+                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
+                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
+            }
+        barrier(g);
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        uint8_t* base = (uint8_t*)m->buf[B_DOWN].map;
+        okeys = (const uint32_t*)base;
+        orgba = (const uint32_t*)(base + c8);
+        onrm = (const uint32_t*)(base + c8 + c4);
+        omat = (const uint32_t*)(base + c8 + 2 * c4);
+    }
+    m->stats.download = vx_time_now() - t0;
+
+    /* regions: cells are sorted by brick index, regions are runs of bricks */
+    t0 = vx_time_now();
+    {
+        size_t c = 0;
+        for (size_t ri = 0; ri < bins.region_count; ri++) {
+            cstart[ri] = c;
+            uint64_t end_brick = bins.rstart[ri + 1];
+            while (c < C && ((uint64_t)(okeys[2 * c] >> 18) | (uint64_t)okeys[2 * c + 1] << 14) < end_brick) c++;
+        }
+        cstart[bins.region_count] = c;
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, attrs, sink, user, a,
+                        PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        unsigned threads = desc->threads ? desc->threads : 0;
+        if (threads == 0) {
+            long nc = sysconf(_SC_NPROCESSORS_ONLN);
+            threads = nc > 0 ? (unsigned)nc : 1;
+        }
+        if (threads > 64) threads = 64;
+        if (threads > bins.region_count) threads = (unsigned)(bins.region_count ? bins.region_count : 1);
+        pthread_t th[64];
+        unsigned started = 0;
+        for (unsigned i = 1; i < threads; i++) {
+            if (pthread_create(&th[i], NULL, region_thread, &j) != 0) break;
+            started = i;
+        }
+        region_thread(&j);
+        for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
+        pthread_mutex_destroy(&j.lock);
+        if (j.failed) {
+            r = j.failed;
+            if (err) *err = j.first_err;
+        }
+    }
+    m->stats.sink = vx_time_now() - t0;
+
+done:
+    vx_free(a, pairs2);
+    vx_free(a, bricks);
+    vx_free(a, bm);
+    vx_free(a, trimat);
+    vx_free(a, mats);
+    vx_free(a, images);
+    vx_free(a, texels);
+    vx_free(a, cstart);
+    vx__mesh_bins_free(a, &bins);
+    return r;
+}
+
+/* ---- the object ---------------------------------------------------------------------- */
+
+static vx_result make_pipe(vx_conv_mesh_gpu* m, int which, const uint32_t* spv, size_t bytes, uint32_t mode,
+                           uint32_t bindings, uint32_t push, const char* label, vx_error* err) {
+    vx_gpu_compute_pipeline_desc d;
+    memset(&d, 0, sizeof d);
+    d.spirv = spv;
+    d.spirv_size = bytes;
+    d.push_constant_size = push;
+    d.binding_count = bindings;
+    for (uint32_t i = 0; i < bindings; i++) d.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    d.spec_count = 1;
+    d.spec[0] = mode;
+    d.label = label;
+    return vx__pipeline_get(m->g, 0x6D76B000ull + (uint64_t)which, &d, &m->pipe[which], err);
+}
+
+vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc, vx_conv_mesh_gpu** out,
+                                  vx_error* err) {
+    if (!gpu || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "GPU voxelizer: NULL argument");
+    if (!gpu->has_float64)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "GPU voxelizer: the device has no shaderFloat64 (the CPU voxelizer's arithmetic is double)");
+    vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)vx_calloc(alloc, 1, sizeof *m);
+    if (!m) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer");
+    m->g = gpu;
+    m->alloc = alloc;
+    m->backend.voxelize = gpu_voxelize;
+    m->backend.self = m;
+    vx_result r;
+    if ((r = make_pipe(m, P_COUNT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 0, 14, sizeof(meshvox_push),
+                       "meshgpu.count", err)) ||
+        (r = make_pipe(m, P_EMIT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 1, 14, sizeof(meshvox_push),
+                       "meshgpu.emit", err)) ||
+        (r = make_pipe(m, P_HIST, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 0, 5, sizeof(sort_push),
+                       "meshgpu.hist", err)) ||
+        (r = make_pipe(m, P_SCATTER, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 1, 5, sizeof(sort_push),
+                       "meshgpu.scatter", err)) ||
+        (r = make_pipe(m, P_SCAN, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 0, 2, 4, "meshgpu.scan", err)) ||
+        (r = make_pipe(m, P_ADD, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 1, 2, 4, "meshgpu.add", err)) ||
+        (r = make_pipe(m, P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 9, 4, "meshgpu.flag", err)) ||
+        (r = make_pipe(m, P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 9, 4, "meshgpu.reduce",
+                       err)) ||
+        (r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err))) {
+        vx_conv_mesh_gpu_destroy(m);
+        return r;
+    }
+    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * 16};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+                                      .maxSets = 512,
+                                      .poolSizeCount = 1,
+                                      .pPoolSizes = &size};
+    VkResult vr = vkCreateDescriptorPool(gpu->device, &pci, NULL, &m->pool);
+    if (vr != VK_SUCCESS) {
+        vx_conv_mesh_gpu_destroy(m);
+        return vx__vk_fail(err, vr, "vkCreateDescriptorPool");
+    }
+    *out = m;
+    return VX_OK;
+}
+
+const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg) { return mg ? &mg->backend : NULL; }
+
+void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out) {
+    if (mg && out) *out = mg->stats;
+}
+
+void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* m) {
+    if (!m) return;
+    vkDeviceWaitIdle(m->g->device);
+    for (int i = 0; i < B_COUNT; i++)
+        if (m->buf[i].buf) vx__buffer_destroy(m->g, &m->buf[i]);
+    if (m->pool) vkDestroyDescriptorPool(m->g->device, m->pool, NULL);
+    vx_free(m->alloc, m);
+}

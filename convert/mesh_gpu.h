@@ -1,0 +1,65 @@
+/* convert/mesh_gpu.h - the mesh voxelizer (convert/mesh.h) on a Vulkan
+ * device: the same cells, colours, normals and materials as the CPU
+ * voxelizer, bit for bit (tests/convert/mesh_gpu_test.c checks it on the
+ * corpus), the octree then built from them by the CPU builder as before.
+ *
+ *   vx_gpu* gpu; vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err);      // render/render.h
+ *   vx_conv_mesh_gpu* mg; vx_conv_mesh_gpu_create(gpu, NULL, &mg, &err);
+ *   vx_conv_mesh(&(vx_conv_mesh_desc){ .res = 1024, .backend = vx_conv_mesh_gpu_backend(mg) }, &mesh, &s, &st, &err);
+ *   vx_conv_mesh_gpu_destroy(mg); vx_gpu_destroy(gpu);
+ *
+ * How (convert/mesh_gpu.c): the CPU bins triangles into 64^3 bricks as its
+ * own voxelizer does (vx__mesh_bin); the GPU then runs one thread per
+ * (brick, triangle) pair with the CPU's clipping in the same double
+ * arithmetic (shaders/meshvox.comp: counts, a prefix sum, records of each
+ * (cell, triangle) piece), a stable radix sort of the records by cell
+ * (shaders/gpusort.comp), and one thread per cell summing its pieces in
+ * triangle order with the CPU's float additions (shaders/meshreduce.comp).
+ * The cells come back in Morton order, region by region, to the sink.
+ *
+ * Needs shaderFloat64 (NVIDIA, lavapipe); without it, or with desc.solid,
+ * the voxelizer fails with VX_ERR_UNSUPPORTED (the CPU one does both).
+ * The object keeps its device buffers between calls (grown as needed); it
+ * is not for several threads at once. */
+#ifndef VX_CONVERT_MESH_GPU_H
+#define VX_CONVERT_MESH_GPU_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "convert/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct vx_gpu;
+typedef struct vx_conv_mesh_gpu vx_conv_mesh_gpu;
+
+/* Wall seconds of the last voxelization's stages (each a submission waited
+ * for), and its sizes. */
+typedef struct vx_conv_mesh_gpu_stats {
+    double bin;      /* CPU: grid coordinates and brick pairs (vx__mesh_bin) */
+    double upload;   /* triangles, pairs, materials, textures */
+    double count;    /* cells per pair and their prefix sum */
+    double emit;     /* the records */
+    double sort;     /* radix sort by cell */
+    double reduce;   /* per-cell sums and the finished attributes */
+    double download; /* the cells */
+    double sink;     /* CPU: regions handed to the sink (the octree builds) */
+    uint64_t pairs, records, cells;
+    uint32_t sort_passes;
+} vx_conv_mesh_gpu_stats;
+
+/* gpu is borrowed: it must outlive the object. alloc may be NULL (malloc). */
+vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc, vx_conv_mesh_gpu** out,
+                                  vx_error* err);
+/* For vx_conv_mesh_desc.backend (valid while mg lives). */
+const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg);
+void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out);
+void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* mg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* VX_CONVERT_MESH_GPU_H */

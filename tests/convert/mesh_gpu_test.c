@@ -1,0 +1,311 @@
+/* tests/convert/mesh_gpu_test.c - the GPU voxelizer (convert/mesh_gpu.h)
+ * against the CPU one: the same .svo bytes (cells, colours, normals,
+ * materials, regions and octrees) and the same cell lists, on every corpus
+ * mesh at 32, 64 and 128 cells (and 128 in regions of 64), and on generated
+ * meshes made to hit the hard cases: degenerate triangles (points,
+ * segments, slivers), vertices and faces exactly on cell boundaries,
+ * axis-aligned faces on the grid's bounds, textures with every wrap mode
+ * and uv far outside [0, 1], vertex colours, special materials.
+ * Runs on whatever device vx_gpu_create picks (lavapipe here); skipped
+ * without a device or without shaderFloat64. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "convert/mesh_gpu.h"
+#include "render/render.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static vx_conv_mesh_gpu* mg;
+static const char* gpu_skip;
+
+/* CPU and GPU conversions of mesh, written; 1 when the bytes are equal. */
+static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, bool normals, const char* what) {
+    vx_conv_mesh_desc d = {.res = res, .region = region, .normals = normals};
+    vx_svo_scene a, b;
+    vx_error err = {0};
+    vx_result r = vx_conv_mesh(&d, mesh, &a, NULL, &err);
+    if (r) {
+        fprintf(stderr, "  %s res %u: CPU: %s\n", what, res, err.msg);
+        return 0;
+    }
+    d.backend = vx_conv_mesh_gpu_backend(mg);
+    r = vx_conv_mesh(&d, mesh, &b, NULL, &err);
+    if (r) {
+        fprintf(stderr, "  %s res %u: GPU: %s\n", what, res, err.msg);
+        vx_svo_scene_free(&a);
+        return 0;
+    }
+    uint8_t *da = NULL, *db = NULL;
+    size_t na = 0, nb = 0;
+    int ok = vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK &&
+             na == nb && memcmp(da, db, na) == 0;
+    vx_conv_mesh_gpu_stats st;
+    vx_conv_mesh_gpu_last_stats(mg, &st);
+    if (!ok) fprintf(stderr, "  %s res %u region %u: .svo differs (%zu vs %zu bytes)\n", what, res, region, na, nb);
+    else fprintf(stderr, "  %s res %u region %u: %llu cells from %llu pieces, equal\n", what, res, region,
+                 (unsigned long long)st.cells, (unsigned long long)st.records);
+    free(da);
+    free(db);
+    vx_svo_scene_free(&a);
+    vx_svo_scene_free(&b);
+    return ok;
+}
+
+typedef struct cell {
+    uint32_t x, y, z, rgba;
+} cell;
+static int cell_cmp(const void* pa, const void* pb) {
+    const cell *a = (const cell*)pa, *b = (const cell*)pb;
+    if (a->z != b->z) return a->z < b->z ? -1 : 1;
+    if (a->y != b->y) return a->y < b->y ? -1 : 1;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    return 0;
+}
+static cell* cells_of(const vx_conv_mesh_desc* d, const vx_gltf_mesh* mesh, size_t* n) {
+    uint32_t *xyz = NULL, *rgba = NULL;
+    vx_error err = {0};
+    if (vx_conv_mesh_cells(d, mesh, NULL, &xyz, &rgba, n, &err)) {
+        fprintf(stderr, "  cells: %s\n", err.msg);
+        return NULL;
+    }
+    cell* c = (cell*)malloc((*n ? *n : 1) * sizeof *c);
+    for (size_t i = 0; i < *n; i++) c[i] = (cell){xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], rgba ? rgba[i] : 0};
+    qsort(c, *n, sizeof *c, cell_cmp);
+    free(xyz);
+    free(rgba);
+    return c;
+}
+
+/* The flat cell lists: how many cells or colours differ (0: equal). */
+static size_t cell_diffs(const vx_gltf_mesh* mesh, uint32_t res, const char* what) {
+    vx_conv_mesh_desc d = {.res = res};
+    size_t na = 0, nb = 0, diff = 0;
+    cell* a = cells_of(&d, mesh, &na);
+    d.backend = vx_conv_mesh_gpu_backend(mg);
+    cell* b = cells_of(&d, mesh, &nb);
+    if (!a || !b) diff = 1;
+    else if (na != nb) diff = na > nb ? na - nb : nb - na;
+    else
+        for (size_t i = 0; i < na; i++) {
+            if (cell_cmp(&a[i], &b[i]) || a[i].rgba != b[i].rgba) {
+                if (diff < 3)
+                    fprintf(stderr, "  %s res %u: cell %u %u %u rgba %08x, GPU %u %u %u rgba %08x\n", what, res, a[i].x,
+                            a[i].y, a[i].z, a[i].rgba, b[i].x, b[i].y, b[i].z, b[i].rgba);
+                diff++;
+            }
+        }
+    if (diff) fprintf(stderr, "  %s res %u: %zu vs %zu cells, %zu differ\n", what, res, na, nb, diff);
+    free(a);
+    free(b);
+    return diff;
+}
+
+static const char* corpus_meshes[] = {
+    "gltf/aleph_Box.glb", "gltf/tinygltf_box01.glb", "gltf/julian_Duck.glb", "gltf/rtxgi_cornell.glb",
+    "gltf/rtxgi_furnace.glb", "gltf/rtxgi_two-rooms.glb", "gltf/rtxgi_tunnel.glb", "gltf/khronos_DamagedHelmet.glb",
+    "gltf/khronos_Avocado_glTF/Avocado.gltf", "gltf/aleph_white-claw-can.glb", "gltf/mjurczyk_shuttle.glb",
+    "gltf/tinygltf_Cube/Cube.gltf", "gltf/tinygltf_CubeImageUriSpaces/CubeImageUriSpaces.gltf"};
+
+static void test_corpus(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    int found = 0;
+    for (size_t i = 0; i < sizeof corpus_meshes / sizeof corpus_meshes[0]; i++) {
+        const char* p = vx_test_corpus(corpus_meshes[i]);
+        if (!p) {
+            fprintf(stderr, "  %s: not in the corpus, skipped\n", corpus_meshes[i]);
+            continue;
+        }
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        if (vx_conv_mesh_read(NULL, p, &m, &err)) {
+            fprintf(stderr, "  %s: %s (the CPU path refuses it too: skipped)\n", corpus_meshes[i], err.msg);
+            continue;
+        }
+        found++;
+        static const uint32_t res[] = {32, 64, 128};
+        for (size_t k = 0; k < 3; k++) {
+            CHECKF(same_svo(&m, res[k], 0, true, corpus_meshes[i]), "%s at %u", corpus_meshes[i], res[k]);
+            /* the .svo bytes cover the cells; the lists say where they differ */
+            if (res[k] == 64) CHECKF(cell_diffs(&m, res[k], corpus_meshes[i]) == 0, "%s at %u", corpus_meshes[i], res[k]);
+        }
+        CHECKF(same_svo(&m, 128, 64, false, corpus_meshes[i]), "%s at 128 in regions of 64", corpus_meshes[i]);
+        vx_gltf_mesh_free(&m);
+    }
+    if (!found) SKIP("no corpus meshes (../shared/corpus or VX_CORPUS_DIR)");
+}
+
+/* ---- generated meshes -------------------------------------------------------------- */
+
+typedef struct gen {
+    vx_gltf_mesh m;
+    size_t cap;
+} gen;
+
+static uint64_t rng = 0x9E3779B97F4A7C15ull;
+static double frand(void) {
+    rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+
+static void tri(gen* g, const float v[9], uint32_t mat) {
+    if (g->m.tri_count == g->cap) {
+        g->cap = g->cap ? 2 * g->cap : 64;
+        g->m.pos = realloc(g->m.pos, g->cap * 36);
+        g->m.uv = realloc(g->m.uv, g->cap * 24);
+        g->m.color = realloc(g->m.color, g->cap * 48);
+        g->m.material = realloc(g->m.material, g->cap * 4);
+    }
+    size_t t = g->m.tri_count++;
+    memcpy(g->m.pos + 9 * t, v, 36);
+    for (int k = 0; k < 6; k++) g->m.uv[6 * t + k] = (float)(frand() * 6 - 3); /* every wrap, far outside [0, 1] */
+    for (int k = 0; k < 12; k++) g->m.color[12 * t + k] = (float)frand();
+    g->m.material[t] = mat;
+}
+
+static void gen_free(gen* g) {
+    free(g->m.pos), free(g->m.uv), free(g->m.color), free(g->m.material), free(g->m.materials);
+    for (uint32_t i = 0; i < g->m.image_count; i++) free(g->m.images[i].rgba);
+    free(g->m.images);
+    memset(g, 0, sizeof *g);
+}
+
+/* Materials: 0 textured (repeat), 1 textured clamp / mirror, 2 metallic
+ * (a MATL record), 3 plain; two small random images. */
+static void gen_materials(gen* g) {
+    g->m.image_count = 2;
+    g->m.images = calloc(2, sizeof *g->m.images);
+    for (int i = 0; i < 2; i++) {
+        vx_gltf_image* im = &g->m.images[i];
+        im->width = 5 + 3 * i;
+        im->height = 7 - 2 * i;
+        im->rgba = malloc((size_t)im->width * im->height * 4);
+        for (size_t k = 0; k < (size_t)im->width * im->height * 4; k++) im->rgba[k] = (uint8_t)(frand() * 256);
+    }
+    g->m.material_count = 4;
+    g->m.materials = calloc(4, sizeof *g->m.materials);
+    for (int i = 0; i < 4; i++) {
+        vx_gltf_material* mt = &g->m.materials[i];
+        for (int k = 0; k < 4; k++) mt->base_color[k] = (float)(0.3 + 0.7 * frand());
+        mt->image = i < 2 ? i : -1;
+        mt->wrap_s = i == 0 ? VX_GLTF_WRAP_REPEAT : VX_GLTF_WRAP_CLAMP;
+        mt->wrap_t = i == 0 ? VX_GLTF_WRAP_REPEAT : VX_GLTF_WRAP_MIRROR;
+        mt->roughness = 0.5f;
+        mt->ior = 1.5f;
+        mt->metallic = i == 2 ? 1.0f : 0.0f;
+    }
+}
+
+static void check_gen(gen* g, const char* what) {
+    static const uint32_t res[] = {16, 32, 64, 100};
+    for (size_t k = 0; k < 4; k++) {
+        CHECKF(same_svo(&g->m, res[k], 0, true, what), "%s at %u", what, res[k]);
+        CHECKF(cell_diffs(&g->m, res[k], what) == 0, "%s at %u", what, res[k]);
+    }
+}
+
+/* Vertices on a lattice of 1/8 of the box: at res 16, 32, 64 every vertex is
+ * a cell corner or lies on cell faces; axis-aligned faces, the box's own
+ * faces on the grid bounds, degenerate triangles (repeated vertices,
+ * collinear points) among them. */
+static void test_lattice(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    gen g;
+    memset(&g, 0, sizeof g);
+    gen_materials(&g);
+    /* the bounding box: two opposite corners, as faces on the bounds */
+    float box[][9] = {{0, 0, 0, 8, 0, 0, 8, 8, 0}, {0, 0, 8, 8, 8, 8, 0, 8, 8}, {0, 0, 0, 0, 8, 0, 0, 8, 8},
+                      {8, 0, 0, 8, 8, 8, 8, 0, 8}};
+    for (size_t i = 0; i < 4; i++) tri(&g, box[i], (uint32_t)i % 4);
+    for (int i = 0; i < 300; i++) {
+        float v[9];
+        for (int k = 0; k < 9; k++) v[k] = (float)floor(frand() * 9);
+        int kind = i % 6;
+        if (kind == 1) memcpy(v + 3, v, 12), memcpy(v + 6, v, 12);              /* a point */
+        if (kind == 2) memcpy(v + 6, v + 3, 12);                                /* a segment */
+        if (kind == 3) for (int k = 0; k < 3; k++) v[6 + k] = 2 * v[3 + k] - v[k]; /* collinear */
+        if (kind == 4) v[2] = v[5] = v[8];                                      /* axis-aligned */
+        if (kind == 5) for (int k = 0; k < 9; k++) v[k] = (float)(floor(frand() * 17) / 2); /* half cells */
+        if (kind == 3) {
+            bool in = true;
+            for (int k = 6; k < 9; k++) in = in && v[k] >= 0 && v[k] <= 8;
+            if (!in) continue;
+        }
+        tri(&g, v, i % 5 == 4 ? UINT32_MAX : (uint32_t)(i % 4));
+    }
+    check_gen(&g, "lattice");
+    gen_free(&g);
+}
+
+/* Random triangles of every size and slivers, textured, coloured. */
+static void test_random(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    gen g;
+    memset(&g, 0, sizeof g);
+    gen_materials(&g);
+    for (int i = 0; i < 400; i++) {
+        float v[9], c[3];
+        double s = i % 3 == 0 ? 0.02 : i % 3 == 1 ? 0.2 : 1.0;
+        for (int k = 0; k < 3; k++) c[k] = (float)(frand() * 10 - 5);
+        for (int k = 0; k < 9; k++) v[k] = c[k % 3] + (float)((frand() - 0.5) * s * 10);
+        if (i % 7 == 0) for (int k = 0; k < 3; k++) v[6 + k] = v[k] + (v[3 + k] - v[k]) * 0.5f + 1e-4f; /* sliver */
+        tri(&g, v, (uint32_t)(i % 4));
+    }
+    check_gen(&g, "random");
+    /* no colour source at all: a geometry-only model */
+    free(g.m.color), g.m.color = NULL;
+    free(g.m.material), g.m.material = NULL;
+    g.m.material_count = 0;
+    CHECK(same_svo(&g.m, 48, 0, false, "random, geometry only"));
+    gen_free(&g);
+}
+
+static void test_refusals(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 1};
+    vx_gltf_mesh m;
+    memset(&m, 0, sizeof m);
+    m.tri_count = 1;
+    m.pos = v;
+    vx_svo_scene s;
+    vx_error err = {0};
+    vx_conv_mesh_desc d = {.res = 16, .solid = true, .backend = vx_conv_mesh_gpu_backend(mg)};
+    CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "solid"));
+    vx_conv_mesh_part* parts = NULL;
+    size_t n = 0;
+    d.solid = false;
+    CHECK(vx_conv_mesh_share(&d, &m, 1, 2, &parts, &n, NULL, &err) == VX_ERR_UNSUPPORTED);
+    v[4] = NAN;
+    CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_BAD_FORMAT);
+}
+
+int main(void) {
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
+    vx_error err = {0};
+    static char why[256];
+    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
+        gpu_skip = why;
+    } else if (vx_conv_mesh_gpu_create(gpu, NULL, &mg, &err)) {
+        /* only a device without float64 is a reason to skip */
+        if (err.code != VX_ERR_UNSUPPORTED) {
+            fprintf(stderr, "vx_conv_mesh_gpu_create: %s\n", err.msg);
+            return 1;
+        }
+        snprintf(why, sizeof why, "%s", err.msg);
+        gpu_skip = why;
+    } else {
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    }
+    RUN(test_refusals);
+    RUN(test_lattice);
+    RUN(test_random);
+    RUN(test_corpus);
+    vx_conv_mesh_gpu_destroy(mg);
+    if (gpu) vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}

@@ -1,0 +1,6 @@
+# vox2svo --gpu (issue 12): the GPU voxelizer's file equals the CPU path's;
+# skipped (77) without a Vulkan device with float64 shaders.
+if(TARGET vox2svo AND TARGET vx_conv_mesh_gpu)
+  add_test(NAME test_vox2svo_gpu COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/test_vox2svo_gpu.sh ${CMAKE_BINARY_DIR}/bin)
+  set_tests_properties(test_vox2svo_gpu PROPERTIES TIMEOUT 900 SKIP_RETURN_CODE 77 LABELS tools)
+endif()
