@@ -392,6 +392,45 @@ static void barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImag
     vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
 }
 
+/* Ends the frame's command buffer, submits it (waiting on the acquire
+ * semaphore, signalling done[idx]), queues the present of image idx and waits
+ * for the submission: the staging buffer, command buffer and acquire
+ * semaphore are reused next frame. The present's own result goes to *vr for
+ * present_status, after the caller has read back what it needs. */
+static vx_result submit_present(vp* p, uint32_t idx, VkResult* vr_out, vx_error* err) {
+    VkResult vr;
+    VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                       .waitSemaphoreCount = 1,
+                       .pWaitSemaphores = &p->acquired,
+                       .pWaitDstStageMask = &wait_stage,
+                       .commandBufferCount = 1,
+                       .pCommandBuffers = &p->cmd,
+                       .signalSemaphoreCount = 1,
+                       .pSignalSemaphores = &p->done[idx]};
+    VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
+    VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    vr = vkQueuePresentKHR(p->queue, &pi);
+    *vr_out = vr;
+    VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
+    if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    return VX_OK;
+}
+
+/* An out-of-date or suboptimal swapchain is made again before the next frame. */
+static vx_result present_status(vp* p, VkResult vr, vx_error* err) {
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
+    else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
+    return VX_OK;
+}
+
 vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error* err) {
     check_resize(p);
     if (p->dirty) {
@@ -436,31 +475,9 @@ vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error*
     vkCmdCopyBufferToImage(p->cmd, p->staging, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
     barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
             VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-    VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-                       .waitSemaphoreCount = 1,
-                       .pWaitSemaphores = &p->acquired,
-                       .pWaitDstStageMask = &wait_stage,
-                       .commandBufferCount = 1,
-                       .pCommandBuffers = &p->cmd,
-                       .signalSemaphoreCount = 1,
-                       .pSignalSemaphores = &p->done[idx]};
-    VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
-    VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
-    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
-                           .waitSemaphoreCount = 1,
-                           .pWaitSemaphores = &p->done[idx],
-                           .swapchainCount = 1,
-                           .pSwapchains = &p->sc,
-                           .pImageIndices = &idx};
-    vr = vkQueuePresentKHR(p->queue, &pi);
-    /* the staging buffer, command buffer and acquire semaphore are reused next frame */
-    VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
-    if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
-    if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
-    else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
-    return VX_OK;
+    vx_result sr = submit_present(p, idx, &vr, err);
+    if (sr) return sr;
+    return present_status(p, vr, err);
 }
 
 /* The GPU path: the frame renderer's image, converted and overlaid by
@@ -530,30 +547,9 @@ vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* des
     barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
             VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
 submit:
-    VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-                       .waitSemaphoreCount = 1,
-                       .pWaitSemaphores = &p->acquired,
-                       .pWaitDstStageMask = &wait_stage,
-                       .commandBufferCount = 1,
-                       .pCommandBuffers = &p->cmd,
-                       .signalSemaphoreCount = 1,
-                       .pSignalSemaphores = &p->done[idx]};
-    VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
-    VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
-    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
-                           .waitSemaphoreCount = 1,
-                           .pWaitSemaphores = &p->done[idx],
-                           .swapchainCount = 1,
-                           .pSwapchains = &p->sc,
-                           .pImageIndices = &idx};
-    vr = vkQueuePresentKHR(p->queue, &pi);
-    VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
-    if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
+    vx_result sr = submit_present(p, idx, &vr, err);
+    if (sr) return sr;
     if (failed) return failed;
     if (grab) memcpy(grab, p->staging_map, (size_t)w * h * 4);
-    if (vr == VK_ERROR_OUT_OF_DATE_KHR || vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
-    else if (vr != VK_SUCCESS) return vk_fail(err, vr, "vkQueuePresentKHR");
-    return VX_OK;
+    return present_status(p, vr, err);
 }
