@@ -255,6 +255,25 @@ static double mean_ratio(const vx_render_image* a, const vx_render_image* ref) {
     return sr > 0 ? sa / sr : 0;
 }
 
+/* The generated scenes' common end: the cells (Morton keys, palette indices;
+ * both freed here) as the scene's one model under one identity instance.
+ * `ok` false (an allocation of the caller's failed) builds nothing. */
+static int single_model_scene(vx_svo_scene* s, uint32_t sx, uint32_t sy, uint32_t sz, uint64_t* keys, uint8_t* pal,
+                              size_t n, bool ok, vx_error* err) {
+    s->models = calloc(1, sizeof *s->models);
+    s->instances = calloc(1, sizeof *s->instances);
+    vx_svo_voxels v = {.size = {sx, sy, sz}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    vx_result r = ok && s->models && s->instances ? vx_svo_build_model(NULL, &v, s->models, NULL, err) : VX_ERR_NOMEM;
+    free(keys);
+    free(pal);
+    if (r) return 1;
+    s->model_count = 1, s->instance_count = 1;
+    s->instances[0].layer = UINT32_MAX;
+    for (int k = 0; k < 3; k++) s->instances[0].xform[4 * k + k] = 1;
+    vx_svo_scene_update_bounds(s);
+    return 0;
+}
+
 /* The thin-wall scene: a lit ground, a closed room of one-cell walls and
  * roof (x, y in [16, 48), z in [1, 25)) with a 8 x 8 window in its -y wall
  * (towards the default sun), world units = cells. */
@@ -277,18 +296,7 @@ static int thin_wall_scene(vx_svo_scene* s, vx_error* err) {
     vx_svo_scene_init(s, NULL);
     s->has_palette = true;
     s->palette[1] = 0xFF6080A0u, s->palette[2] = 0xFFD0D0D0u, s->palette[3] = 0xFF3040C0u;
-    s->models = calloc(1, sizeof *s->models);
-    s->instances = calloc(1, sizeof *s->instances);
-    vx_svo_voxels v = {.size = {64, 64, 26}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
-    vx_result r = s->models && s->instances ? vx_svo_build_model(NULL, &v, s->models, NULL, err) : VX_ERR_NOMEM;
-    free(keys);
-    free(pal);
-    if (r) return 1;
-    s->model_count = 1, s->instance_count = 1;
-    s->instances[0].layer = UINT32_MAX;
-    for (int k = 0; k < 3; k++) s->instances[0].xform[4 * k + k] = 1;
-    vx_svo_scene_update_bounds(s);
-    return 0;
+    return single_model_scene(s, 64, 64, 26, keys, pal, n, true, err);
 }
 
 /* The metal-room scene: a rough metal floor (roughness 0.3, 64 x 64 cells),
@@ -314,18 +322,7 @@ static int metal_room_scene(vx_svo_scene* s, vx_error* err) {
         s->materials[0].id = 1, s->materials[0].dict_size = sizeof dict;
         s->material_count = 1;
     }
-    s->models = calloc(1, sizeof *s->models);
-    s->instances = calloc(1, sizeof *s->instances);
-    vx_svo_voxels v = {.size = {64, 64, 33}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
-    vx_result r = s->models && s->instances && s->material_count ? vx_svo_build_model(NULL, &v, s->models, NULL, err) : VX_ERR_NOMEM;
-    free(keys);
-    free(pal);
-    if (r) return 1;
-    s->model_count = 1, s->instance_count = 1;
-    s->instances[0].layer = UINT32_MAX;
-    for (int k = 0; k < 3; k++) s->instances[0].xform[4 * k + k] = 1;
-    vx_svo_scene_update_bounds(s);
-    return 0;
+    return single_model_scene(s, 64, 64, 33, keys, pal, n, s->material_count == 1, err);
 }
 
 /* Renders `runs` times; *out is the first image with the median GPU time. */
