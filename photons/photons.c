@@ -102,11 +102,8 @@ static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
     vx_photon_gi* pg = F->pg;
     const vx__light* L = &pg->P.L;
     const vx_svo_model* m = F->m;
-    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
-    if (pal >= 256 || !(L->emit[pal] > 0)) return true;
-    uint32_t c = m->attrs ? vx_svo_attr_rgba(pg->scene, m, attr) : 0xFFFFFFFFu;
-    double rad[3] = {(c & 0xFF) / 255.0 * L->emit[pal], ((c >> 8) & 0xFF) / 255.0 * L->emit[pal],
-                     ((c >> 16) & 0xFF) / 255.0 * L->emit[pal]};
+    double rad[3];
+    if (!vx__light_voxel_radiance(L, pg->scene, m, attr, rad)) return true;
     double l = 0.2126 * rad[0] + 0.7152 * rad[1] + 0.0722 * rad[2];
     if (!(l > 0) || !isfinite(l)) return true;
     uint32_t p[3] = {x, y, z};

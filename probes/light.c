@@ -47,6 +47,15 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
     return VX_OK;
 }
 
+bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,
+                              double rad[3]) {
+    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
+    if (pal >= 256 || !(L->emit[pal] > 0)) return false;
+    uint32_t c = m->attrs ? vx_svo_attr_rgba(s, m, attr) : 0xFFFFFFFFu;
+    for (int k = 0; k < 3; k++) rad[k] = ((c >> (8 * k)) & 0xFF) / 255.0 * L->emit[pal];
+    return true;
+}
+
 typedef struct em_ctx {
     vx__light* L;
     const vx_svo_model* m;
@@ -59,11 +68,8 @@ static bool em_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
     em_ctx* E = user;
     vx__light* L = E->L;
     const vx_svo_model* m = E->m;
-    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
-    if (pal >= 256 || !(L->emit[pal] > 0)) return true;
-    uint32_t c = m->attrs ? vx_svo_attr_rgba(L->scene, m, attr) : 0xFFFFFFFFu;
-    double rad[3] = {(c & 0xFF) / 255.0 * L->emit[pal], ((c >> 8) & 0xFF) / 255.0 * L->emit[pal],
-                     ((c >> 16) & 0xFF) / 255.0 * L->emit[pal]};
+    double rad[3];
+    if (!vx__light_voxel_radiance(L, L->scene, m, attr, rad)) return true;
     if (!(rad[0] > 0 || rad[1] > 0 || rad[2] > 0)) return true;
     if (!vx_grow(L->alloc, (void**)&L->em, &E->cap, (size_t)L->em_count + 1, sizeof *L->em)) {
         E->nomem = true;

@@ -80,6 +80,12 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
  * scene's emissive voxels as lights for next-event estimation. */
 vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool emitters, vx_error* err);
 void vx__light_free(vx__light* L);
+/* The emitted radiance of a voxel (attribute `attr` of model m): its colour
+ * times its palette entry's emission; false, rad untouched, where the voxel
+ * does not emit. The one rule for the path tracer's emitter table and the
+ * photons' emitting faces. */
+bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,
+                              double rad[3]);
 /* Sky radiance towards unit d: L->sky, or L->sky_dir by direction. */
 void vx__sky(const vx__light* L, const double d[3], double out[3]);
 
