@@ -217,19 +217,8 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
         if (mat) mat[i] = (uint16_t)j->mat[c0 + i];
     }
     vx__mesh_region reg;
-    memset(&reg, 0, sizeof reg);
-    uint64_t region = j->brick_morton[b->rstart[ri]] >> (3 * b->rb);
-    uint32_t rx, ry, rz;
-    vx_svo_demorton(region, &rx, &ry, &rz);
-    reg.origin[0] = rx * b->R;
-    reg.origin[1] = ry * b->R;
-    reg.origin[2] = rz * b->R;
-    for (int a = 0; a < 3; a++) {
-        uint32_t left = j->grid->size[a] - reg.origin[a];
-        reg.size[a] = left < b->R ? left : b->R;
-    }
-    reg.index = ri;
-    reg.region_count = b->region_count;
+    vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri,
+                          b->region_count);
     reg.count = n;
     reg.keys = keys;
     reg.rgba = (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;

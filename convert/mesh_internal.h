@@ -20,6 +20,12 @@ typedef struct vx__mesh_region {
     uint32_t attrs;
 } vx__mesh_region;
 
+/* A region handed to the sink, placed: zeroed, then its origin and size in
+ * the grid (regions of R^3 cells, clipped at the grid's far faces) from its
+ * Morton index, and which of how many it is. */
+void vx__mesh_region_place(vx__mesh_region* reg, uint64_t region, uint32_t R, const uint32_t grid_size[3], size_t index,
+                           size_t region_count);
+
 /* Whether a glTF material needs a MATL record (it is not plain diffuse:
  * metallic, transmissive or emissive). Only then does the scene store
  * VX_ATTR_MATERIAL, so that a file of diffuse materials keeps colour only. */

@@ -1011,18 +1011,7 @@ static vx_result region_emit(job* j, size_t ri, brick_out* outs, region_buf* rb,
     }
     if (r || total == 0) return r;
     vx__mesh_region reg;
-    memset(&reg, 0, sizeof reg);
-    uint32_t rx, ry, rz;
-    vx_svo_demorton(region, &rx, &ry, &rz);
-    reg.origin[0] = rx * j->R;
-    reg.origin[1] = ry * j->R;
-    reg.origin[2] = rz * j->R;
-    for (int a = 0; a < 3; a++) {
-        uint32_t left = j->grid->size[a] - reg.origin[a];
-        reg.size[a] = left < j->R ? left : j->R;
-    }
-    reg.index = ri;
-    reg.region_count = j->region_count;
+    vx__mesh_region_place(&reg, region, j->R, j->grid->size, ri, j->region_count);
     reg.count = total;
     reg.keys = rb->keys;
     reg.rgba = j->color ? rb->rgba : NULL;
@@ -1326,4 +1315,18 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
 done:
     job_end(&j);
     return r;
+}
+
+void vx__mesh_region_place(vx__mesh_region* reg, uint64_t region, uint32_t R, const uint32_t grid_size[3], size_t index,
+                           size_t region_count) {
+    memset(reg, 0, sizeof *reg);
+    uint32_t r[3];
+    vx_svo_demorton(region, &r[0], &r[1], &r[2]);
+    for (int a = 0; a < 3; a++) {
+        reg->origin[a] = r[a] * R;
+        uint32_t left = grid_size[a] - reg->origin[a];
+        reg->size[a] = left < R ? left : R;
+    }
+    reg->index = index;
+    reg->region_count = region_count;
 }
