@@ -368,7 +368,7 @@ static bool put_var(vx_buf* b, uint64_t v) {
 }
 
 /* Codes one model into its own stream. */
-static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -460,7 +460,7 @@ typedef struct pack_jobs {
 
 static void pack_job(void* ctx, uint32_t i) {
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = pack_model(&j->s->models[i], j->A, &j->bufs[i]);
+    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -479,7 +479,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
             vx_buf one = {0};
             one.alloc = A;
-            bool ok = pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+            bool ok = vx__svo_pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
             vx_buf_free(&one);
             if (!ok || !maybe_flush(out, sink)) return false;
         }

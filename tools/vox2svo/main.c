@@ -198,6 +198,8 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
     /* stored: glTF KHR_lights_punctual; from voxels: what a renderer derives (vx_svo_emissive_lights) */
     if (voxel_lights == UINT32_MAX)
         printf("  lights       %u stored; emissive voxels give more when rendering (-v counts them)\n", lights);
+    else if (voxel_lights == UINT32_MAX - 1)
+        printf("  lights       %u stored; emissive voxels give more when rendering (not counted under mpirun)\n", lights);
     else
         printf("  lights       %u stored, %u from emissive voxels (derived when rendering)\n", lights, voxel_lights);
     printf("  far pointers %s, attribute records %s\n", vx_tool_num(b->far_pointers), vx_tool_num(b->attr_records));
@@ -252,9 +254,11 @@ static int main_mpi(const options* o) {
     vx_tool_loaded li;
     if (!vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li)) return 0;
     vx_error err = {0};
-    uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o->verbose);
+    /* the trees stay on their ranks: emissive voxels are not clustered here */
+    uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, false);
+    if (voxel_lights == UINT32_MAX) voxel_lights = UINT32_MAX - 1;
     double t2 = vx_time_now();
-    vx_result r = vx_svo_write_file(NULL, &scene, o->out, &err);
+    vx_result r = vox2svo_mpi_write(&scene, o->out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
     if (r != VX_OK) vx_tool_mpi_die("%s", err.msg); /* the message names the file; the other ranks end too */
