@@ -58,9 +58,11 @@ _Noreturn static void usage(int status) {
             "Under MPI (mpirun -n N; this build has it): a glTF mesh's regions (the models of a mesh,\n"
             "       up to 2048^3 cells each) are split over the ranks, balanced by their surface bricks;\n"
             "       each rank voxelizes and builds its own regions' models (its memory: the mesh and\n"
-            "       its share), rank 0 gathers them and writes the file: the same bytes as one process.\n"
+            "       its share) and codes them into their streams of the file; rank 0 writes the streams\n"
+            "       in order as they arrive, holding one at a time: the same bytes as one process.\n"
             "       Threads per rank: the host's CPUs over its ranks. -v prints per rank the regions,\n"
-            "       voxels, read / convert / send seconds, wall time and peak memory. Other inputs:\n"
+            "       voxels, read / convert / encode / send seconds, wall time and peak memory (emissive\n"
+            "       voxels are not counted as lights under mpirun: the trees stay on their ranks). Other inputs:\n"
             "       one process.\n"
 #endif
             "Options:\n"
