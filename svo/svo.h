@@ -548,6 +548,45 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
  * failure; errors name the path. desc may be NULL (svo/core.h). */
 vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, const char* path, vx_error* err);
 
+/* ---- a file from models coded apart (vox2svo under mpirun) -------------------------------
+ * A model's stream in the NODE section depends on that model alone, so the
+ * processes that build models can code them (vx_svo_model_encode) and one
+ * process writes the file from the streams in model order
+ * (vx_svo_write_file_coded), holding one stream at a time instead of every
+ * tree. The file is vx_svo_write_file's byte for byte. */
+typedef struct vx_svo_model_coded {
+    uint64_t stream_size;     /* bytes of the model's coded stream */
+    uint64_t cells;           /* occupied cells (the tree's count: the model's voxel_count) */
+    uint32_t min[3], max[3];  /* the occupied cells' box, min inclusive, max exclusive (all 0 when empty) */
+    uint8_t palette_used[32]; /* bit i (byte i / 8, bit i % 8): some record has palette index i */
+} vx_svo_model_coded;
+
+/* Validates m (as vx_svo_validate_model) and codes it: *stream (free with
+ * vx_free(desc->alloc, ...); desc may be NULL) gets info->stream_size bytes. */
+vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, vx_svo_model_coded* info, uint8_t** stream,
+                              vx_error* err);
+
+/* Where vx_svo_write_file_coded takes the streams: read(user, model, buf,
+ * size) fills buf with model's stream (size = info[model].stream_size),
+ * called once per model in model order; false fails the write (VX_ERR_IO). */
+typedef struct vx_svo_stream_source {
+    bool (*read)(void* user, uint32_t model, uint8_t* buf, uint64_t size);
+    void* user;
+} vx_svo_stream_source;
+
+/* vx_svo_write_file for a scene whose trees are elsewhere: each model gives
+ * only its fields (size, depth, attrs, node_count, root, voxel_count,
+ * attr_count, root_attr; its arrays are not read and may be NULL), info[i]
+ * is what vx_svo_model_encode returned for model i, src gives the streams.
+ * The scene's rules are checked as vx_svo_validate_scene checks them, each
+ * model's voxel_count against its info. Peak memory: the largest stream. */
+vx_result vx_svo_write_file_coded(const vx_write_desc* desc, const vx_svo_scene* s, const vx_svo_model_coded* info,
+                                  const vx_svo_stream_source* src, const char* path, vx_error* err);
+
+/* vx_svo_scene_update_bounds from the models' coded extents (info[i] for
+ * model i) instead of their trees. */
+void vx_svo_scene_update_bounds_coded(vx_svo_scene* s, const vx_svo_model_coded* info);
+
 /* Section table of a file, for svo_info. */
 typedef struct vx_svo_section_info {
     char tag[5];      /* four ASCII characters */

@@ -478,7 +478,10 @@ typedef struct outw {
     size_t n, cap;
     uint32_t* ids; /* attribute run record ids */
     size_t nid, capid;
-    uint32_t* runh; /* run start + 1 (len from hash key) */
+    /* run start + 1 in bits 0..27, its length in 28..31, and the upper half
+     * of its hash in 32..63: a probe compares that before it reads the run
+     * (the compare was a cache miss into ids for every probe of a new run) */
+    uint64_t* runh;
     size_t runcap, nrun;
     uint64_t far;
     /* blocks that are a lone attribute index (all children leaves): attribute
@@ -528,12 +531,12 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
     if (b->dag) {
         if ((o->nrun + 1) * 2 > o->runcap) {
             size_t ncap = o->runcap ? o->runcap * 2 : 4096;
-            uint32_t* t = (uint32_t*)vx_calloc(b->a, ncap, sizeof *t);
+            uint64_t* t = (uint64_t*)vx_calloc(b->a, ncap, sizeof *t);
             if (!t) return oom(b, "attribute runs"), UINT32_MAX;
-            /* entries store start + 1 and the run's length in the top 4 bits */
             for (size_t i = 0; i < o->runcap; i++)
                 if (o->runh[i]) {
-                    uint32_t e = o->runh[i], st = (e & 0x0FFFFFFFu) - 1, ln = e >> 28;
+                    uint64_t e = o->runh[i];
+                    uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1, ln = (uint32_t)e >> 28;
                     size_t k = (size_t)hash_words(o->ids + st, ln, 3) & (ncap - 1);
                     while (t[k]) k = (k + 1) & (ncap - 1);
                     t[k] = e;
@@ -544,9 +547,11 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
         }
         h = hash_words(ids, n, 3);
         j = (size_t)h & (o->runcap - 1);
+        uint64_t want = (h & 0xFFFFFFFF00000000ull) | (uint64_t)n << 28;
         while (o->runh[j]) {
-            uint32_t e = o->runh[j], st = (e & 0x0FFFFFFFu) - 1, ln = e >> 28;
-            if (ln == n && memcmp(o->ids + st, ids, n * sizeof *ids) == 0) return st;
+            uint64_t e = o->runh[j];
+            uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1;
+            if ((e & 0xFFFFFFFFF0000000ull) == want && memcmp(o->ids + st, ids, n * sizeof *ids) == 0) return st;
             j = (j + 1) & (o->runcap - 1);
         }
         if (!add) return UINT32_MAX;
@@ -558,7 +563,7 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             return UINT32_MAX;
         }
     } else if (b->dag) {
-        o->runh[j] = ((uint32_t)n << 28) | ((uint32_t)o->nid + 1);
+        o->runh[j] = (h & 0xFFFFFFFF00000000ull) | ((uint64_t)n << 28) | ((uint32_t)o->nid + 1);
         o->nrun++;
     }
     if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;

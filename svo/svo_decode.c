@@ -330,12 +330,16 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsi
 }
 
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err) {
+    return vx__svo_validate_scene_opt(s, ext, threads, true, err);
+}
+
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
         (s->material_count && !s->materials) || (s->light_count && !s->lights))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
     uint32_t bad = 0;
-    {
+    if (models) {
         vx_result r = analyze_models(s, ext, threads, &bad, err);
         if (r != VX_OK) {
             char p[32];

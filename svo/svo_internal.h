@@ -55,6 +55,9 @@ void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, u
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err);
+/* The same without the models' trees (models false): only the scene's own
+ * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded). */
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, vx_error* err);
 /* Scene bounds from extents already known (known may be NULL: analyse). */
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]);
 
@@ -122,6 +125,9 @@ typedef struct vx__svo_sink {
  * streams whenever it holds vx__svo_flush_bytes or more (sink NULL: all in
  * memory). The threshold is 16 MB; tests lower it to flush after every model. */
 extern size_t vx__svo_flush_bytes;
+/* One model's stream of the NODE section (without its length varint): the
+ * model alone decides its bytes. m must be valid. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, const vx__svo_sink* sink);
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, unsigned threads,
                             vx_error* err);

@@ -955,12 +955,24 @@ static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* e
 }
 
 /* Only the entries that some palette record refers to are stored. */
-static void write_palt(vx_buf* b, const vx_svo_scene* s) {
+static void palette_bits(const vx_svo_model* m, uint8_t bits[32]) {
+    if (!(m->attrs & VX_ATTR_PALETTE)) return;
+    for (uint32_t k = 0; k < m->attr_count; k++) bits[m->palette[k] >> 3] |= (uint8_t)(1u << (m->palette[k] & 7));
+}
+
+/* The models' streams when they were coded elsewhere (vx_svo_write_file_coded). */
+typedef struct coded_src {
+    const vx_svo_model_coded* info;
+    const vx_svo_stream_source* src;
+    bool read_failed;
+} coded_src;
+
+static void write_palt(vx_buf* b, const vx_svo_scene* s, const coded_src* cs) {
     uint8_t bits[32] = {0};
     for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (!(m->attrs & VX_ATTR_PALETTE)) continue;
-        for (uint32_t k = 0; k < m->attr_count; k++) bits[m->palette[k] >> 3] |= (uint8_t)(1u << (m->palette[k] & 7));
+        if (!cs) palette_bits(&s->models[i], bits);
+        else if (s->models[i].attrs & VX_ATTR_PALETTE)
+            for (int k = 0; k < 32; k++) bits[k] |= cs->info[i].palette_used[k];
     }
     bool rgb = true;
     for (int i = 0; i < 256; i++)
@@ -1106,14 +1118,25 @@ typedef struct wplan {
     uint32_t flags[S_COUNT], crcs[S_COUNT];
 } wplan;
 
-static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, unsigned threads, wplan* w, vx_error* err) {
+static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, unsigned threads, const coded_src* cs, wplan* w,
+                            vx_error* err) {
     memset(w, 0, sizeof *w);
     w->threads = threads;
     /* validation analyses every model; the extents it finds give the bounds
-     * written to SCNE without a second pass over the trees */
+     * written to SCNE without a second pass over the trees (models coded
+     * elsewhere bring theirs) */
     w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
     if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked ? VX_OK : vx__svo_validate_scene_ext(s, w->ext, threads, err);
+    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, threads, !cs, err);
+    for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
+        const vx_svo_model_coded* c = &cs->info[i];
+        if (c->cells != s->models[i].voxel_count || c->stream_size == 0)
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: coded with %llu cells in %llu bytes, the model declares %llu cells",
+                        i, (unsigned long long)c->cells, (unsigned long long)c->stream_size, (unsigned long long)s->models[i].voxel_count);
+        w->ext[i].cells = c->cells;
+        memcpy(w->ext[i].min, c->min, sizeof c->min);
+        memcpy(w->ext[i].max, c->max, sizeof c->max);
+    }
     if (r != VX_OK) {
         vx_free(alloc, w->ext);
         w->ext = NULL;
@@ -1137,12 +1160,34 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, un
 }
 
 /* Appends section si of the plan to b (NODE flushed through sink, if any). */
+/* NODE from streams coded elsewhere: each is read into the output buffer
+ * right after its length, then flushed, so one stream is held at a time. */
+static bool write_node_coded(vx_buf* b, const vx_svo_scene* s, coded_src* cs, const vx__svo_sink* sink) {
+    for (uint32_t mi = 0; mi < s->model_count; mi++) {
+        uint64_t n = cs->info[mi].stream_size;
+        uint64_t v = n;
+        do {
+            uint8_t c = (uint8_t)(v & 0x7Fu);
+            v >>= 7;
+            vx_buf_u8(b, (uint8_t)(c | (v ? 0x80u : 0u)));
+        } while (v);
+        if (n > SIZE_MAX - b->size || !vx_buf_zeros(b, (size_t)n)) return false;
+        if (!cs->src->read(cs->src->user, mi, b->data + b->size - (size_t)n, n)) {
+            cs->read_failed = true;
+            return false;
+        }
+        if (!sink->flush(sink->user, b)) return false;
+    }
+    return !b->failed;
+}
+
 static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene* s, const vx_allocator* alloc,
-                          const vx__svo_sink* sink) {
+                          const vx__svo_sink* sink, coded_src* cs) {
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext);
+    else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
     else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, sink) && !b->failed;
-    else if (t == S_PALT) write_palt(b, s);
+    else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
     else if (t == S_FRMS) write_frms(b, s);
@@ -1181,7 +1226,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
     if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* alloc = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, alloc, desc ? desc->threads : 0, &w, err);
+    vx_result r = plan_write(s, alloc, desc ? desc->threads : 0, NULL, &w, err);
     if (r != VX_OK) return r;
     /* sections first (their sizes and CRCs go into the table), then the
      * header and table in front of them */
@@ -1191,7 +1236,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
     bool ok = true;
     for (int si = 0; si < w.ns; si++) {
         offs[si] = body.size;
-        ok = write_section(&body, &w, si, s, alloc, NULL) && ok;
+        ok = write_section(&body, &w, si, s, alloc, NULL, NULL) && ok;
         w.sizes[si] = body.size - offs[si];
         w.crcs[si] = body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
     }
@@ -1248,11 +1293,11 @@ static bool spill_flush(void* user, vx_buf* out) {
     return true;
 }
 
-vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, const char* path, vx_error* err) {
+static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, coded_src* cs, const char* path, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* a = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, a, desc ? desc->threads : 0, &w, err);
+    vx_result r = plan_write(s, a, desc ? desc->threads : 0, cs, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
     size_t slen = strlen(path) + 48;
     char* scratch = (char*)vx_alloc(a, slen);
@@ -1273,8 +1318,8 @@ vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
         vx_buf b = {.alloc = a};
         spill sp = {.f = sf};
         vx__svo_sink sink = {spill_flush, &sp};
-        bool ok = write_section(&b, &w, si, s, a, &sink) && spill_flush(&sp, &b);
-        if (!ok) io = sp.failed, nomem = !sp.failed, e = errno;
+        bool ok = write_section(&b, &w, si, s, a, &sink, cs) && spill_flush(&sp, &b);
+        if (!ok) io = sp.failed || (cs && cs->read_failed), nomem = !io, e = sp.failed ? errno : EIO;
         w.sizes[si] = sp.size;
         w.crcs[si] = sp.crc;
         vx_buf_free(&b);
@@ -1318,6 +1363,43 @@ vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
     vx_free(a, chunk);
     vx_buf_free(&head);
     if (nomem) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path);
+    if (io && cs && cs->read_failed)
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: svo write: a model's coded stream could not be read", path);
     if (io) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));
     return r;
+}
+
+vx_result vx_svo_write_file(const vx_write_desc* desc, const vx_svo_scene* s, const char* path, vx_error* err) {
+    return write_file(desc, s, NULL, path, err);
+}
+
+vx_result vx_svo_write_file_coded(const vx_write_desc* desc, const vx_svo_scene* s, const vx_svo_model_coded* info,
+                                  const vx_svo_stream_source* src, const char* path, vx_error* err) {
+    if (!s || (s->model_count && !info) || !src || !src->read)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: svo write: null argument", path ? path : "(null)");
+    coded_src cs = {info, src, false};
+    return write_file(desc, s, &cs, path, err);
+}
+
+vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, vx_svo_model_coded* info, uint8_t** stream,
+                              vx_error* err) {
+    if (!m || !info || !stream) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo encode: null argument");
+    const vx_allocator* a = desc ? desc->alloc : NULL;
+    memset(info, 0, sizeof *info);
+    *stream = NULL;
+    vx__svo_extent ext;
+    vx_result r = vx__svo_analyze(m, &ext, err);
+    if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
+    vx_buf b = {.alloc = a};
+    if (!vx__svo_pack_model(m, a, &b)) {
+        vx_buf_free(&b);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
+    }
+    info->stream_size = b.size;
+    info->cells = ext.cells;
+    memcpy(info->min, ext.min, sizeof info->min);
+    memcpy(info->max, ext.max, sizeof info->max);
+    palette_bits(m, info->palette_used);
+    *stream = b.data;
+    return VX_OK;
 }

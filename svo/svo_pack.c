@@ -225,10 +225,18 @@ typedef struct ext {
     bool dag, oom;
     uint32_t* v;
     size_t n, cap;
+    /* A completed node is known by (block, masks). The first node seen with
+     * a block is kept in fb/fm, indexed by the block's word position (one
+     * access, no probing: most of the writer's time went to the hash's cache
+     * misses); nodes without a block and a second node with another mask on
+     * the same block go to the hash. */
+    uint32_t* fb; /* block -> completion index + 1 (0: none yet) */
+    uint16_t* fm; /* its masks */
     uint64_t* hk; /* (block << 16 | masks) + 1 -> completion index */
     uint32_t* hv;
-    size_t hcap;
+    size_t hcap, hused;
     uint32_t ndone;
+    unsigned tries; /* try_struct calls so far */
 } ext;
 
 static void ext_push(ext* x, uint32_t v) {
@@ -254,6 +262,36 @@ static size_t key_slot(const ext* x, uint64_t key) {
     return j;
 }
 
+/* The completion index of the node equal to descriptor i, or UINT32_MAX. */
+static uint32_t ext_find(const ext* x, uint32_t i) {
+    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+    if (b != UINT32_MAX) {
+        if (!x->fb[b]) return UINT32_MAX;
+        if (x->fm[b] == mk) return x->fb[b] - 1;
+    }
+    size_t j = key_slot(x, key_of(x->m, i));
+    return x->hk[j] ? x->hv[j] : UINT32_MAX;
+}
+
+/* Records descriptor i as completed node `done` unless an equal one is. */
+static void ext_add(ext* x, uint32_t i, uint32_t done) {
+    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+    if (b != UINT32_MAX) {
+        if (!x->fb[b]) {
+            x->fb[b] = done + 1;
+            x->fm[b] = (uint16_t)mk;
+            return;
+        }
+        if (x->fm[b] == mk) return;
+    }
+    size_t j = key_slot(x, key_of(x->m, i));
+    if (!x->hk[j]) {
+        x->hk[j] = key_of(x->m, i);
+        x->hv[j] = done;
+        x->hused++;
+    }
+}
+
 /* The model is valid (the writer validated it): indices are in range. */
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
     const vx_svo_model* m = x->m;
@@ -268,9 +306,9 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
                 if (m->attrs >> c & 1u) ext_push(x, rec_get(m, c, a + rank));
         } else {
             uint32_t ci = b + k++;
-            size_t j = x->dag ? key_slot(x, key_of(m, ci)) : 0;
-            if (x->dag && x->hk[j]) {
-                ext_push(x, x->ndone - x->hv[j]);
+            uint32_t done = x->dag ? ext_find(x, ci) : UINT32_MAX;
+            if (done != UINT32_MAX) {
+                ext_push(x, x->ndone - done);
             } else {
                 ext_push(x, 0);
                 ext_visit(x, ci, level - 1);
@@ -278,13 +316,7 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
         }
         rank++;
     }
-    if (x->dag) {
-        size_t j = key_slot(x, key_of(m, i));
-        if (!x->hk[j]) {
-            x->hk[j] = key_of(m, i);
-            x->hv[j] = x->ndone;
-        }
-    }
+    if (x->dag) ext_add(x, i, x->ndone);
     x->ndone++;
 }
 
@@ -324,7 +356,12 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     x->ndone = 0;
     x->dag = dag;
     x->oom = false;
-    if (x->hk) memset(x->hk, 0, x->hcap * sizeof *x->hk);
+    /* fresh tables are zero (calloc); only a second try clears what it used */
+    if (x->tries++) {
+        memset(x->fb, 0, (size_t)m->node_count * sizeof *x->fb);
+        if (x->hused) memset(x->hk, 0, x->hcap * sizeof *x->hk);
+        x->hused = 0;
+    }
     ext_visit(x, m->root, m->depth);
     if (x->oom) return false;
     vx_free(A, src->kind);
@@ -368,7 +405,7 @@ static bool put_var(vx_buf* b, uint64_t v) {
 }
 
 /* Codes one model into its own stream. */
-static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -393,8 +430,10 @@ static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out
         while (need < 2 * (size_t)m->node_count) need *= 2;
         x.hk = (uint64_t*)vx_calloc(A, need, sizeof *x.hk);
         x.hv = (uint32_t*)vx_calloc(A, need, sizeof *x.hv);
+        x.fb = (uint32_t*)vx_calloc(A, m->node_count, sizeof *x.fb);
+        x.fm = (uint16_t*)vx_calloc(A, m->node_count, sizeof *x.fm);
         x.hcap = need;
-        ok = x.hk && x.hv;
+        ok = x.hk && x.hv && x.fb && x.fm;
         /* the builder's settings are not stored in the model: try them */
         uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
         for (int t = 0; ok && t < 4 && !structural; t++) {
@@ -445,6 +484,8 @@ static bool pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out
     vx_free(A, x.v);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
+    vx_free(A, x.fb);
+    vx_free(A, x.fm);
     vx_free(A, src.kind);
     vx_free(A, src.ctx);
     vx_free(A, k);
@@ -460,7 +501,7 @@ typedef struct pack_jobs {
 
 static void pack_job(void* ctx, uint32_t i) {
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = pack_model(&j->s->models[i], j->A, &j->bufs[i]);
+    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -479,7 +520,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
             vx_buf one = {0};
             one.alloc = A;
-            bool ok = pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+            bool ok = vx__svo_pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
             vx_buf_free(&one);
             if (!ok || !maybe_flush(out, sink)) return false;
         }

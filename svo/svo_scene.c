@@ -202,6 +202,19 @@ void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known
     }
 }
 
+void vx_svo_scene_update_bounds_coded(vx_svo_scene* s, const vx_svo_model_coded* info) {
+    if (!s || (s->model_count && !info)) return;
+    vx__svo_extent* ext = s->model_count ? (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *ext) : NULL;
+    if (s->model_count && !ext) return;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        ext[i].cells = info[i].cells;
+        memcpy(ext[i].min, info[i].min, sizeof ext[i].min);
+        memcpy(ext[i].max, info[i].max, sizeof ext[i].max);
+    }
+    vx__svo_scene_bounds_ext(s, ext, s->bounds_min, s->bounds_max);
+    vx_free(s->alloc, ext);
+}
+
 void vx_svo_scene_update_bounds(vx_svo_scene* s) {
     if (!s) return;
     vx__svo_scene_bounds(s, s->bounds_min, s->bounds_max);

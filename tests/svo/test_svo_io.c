@@ -1250,6 +1250,100 @@ static void test_thread_counts(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Models coded apart (vx_svo_model_encode) and written from their streams
+ * (vx_svo_write_file_coded, vox2svo under mpirun): the file of
+ * vx_svo_write_file byte for byte, from a scene whose models have no arrays;
+ * the streams are asked for once each, in model order; a wrong summary or a
+ * stream that cannot be read fails with the path named and no output. */
+typedef struct stream_set {
+    uint8_t** streams;
+    uint32_t calls, next, fail_at;
+    bool in_order;
+} stream_set;
+
+static bool stream_read(void* user, uint32_t model, uint8_t* buf, uint64_t size) {
+    stream_set* ss = (stream_set*)user;
+    ss->calls++;
+    ss->in_order = ss->in_order && model == ss->next++;
+    if (model == ss->fail_at) return false;
+    memcpy(buf, ss->streams[model], (size_t)size);
+    return true;
+}
+
+static void test_coded_models(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    char dir[] = "/tmp/vx_svo_codedXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256], path2[256];
+    snprintf(path, sizeof path, "%s/all.svo", dir);
+    snprintf(path2, sizeof path2, "%s/coded.svo", dir);
+    vx_error e;
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
+    size_t nb = 0;
+    uint8_t* base = slurp_file(path, &nb);
+    REQUIRE(base);
+    uint32_t n = s.model_count;
+    vx_svo_model_coded* info = (vx_svo_model_coded*)calloc(n, sizeof *info);
+    uint8_t** streams = (uint8_t**)calloc(n, sizeof *streams);
+    vx_svo_model* hollow = (vx_svo_model*)calloc(n, sizeof *hollow);
+    REQUIRE(info && streams && hollow);
+    for (uint32_t i = 0; i < n; i++) {
+        REQUIRE(vx_svo_model_encode(NULL, &s.models[i], &info[i], &streams[i], &e) == VX_OK);
+        CHECK(info[i].stream_size > 0 && info[i].cells == s.models[i].voxel_count);
+        hollow[i] = s.models[i];
+        hollow[i].nodes = NULL, hollow[i].palette = NULL, hollow[i].rgba = NULL, hollow[i].normal = NULL;
+        hollow[i].material = NULL, hollow[i].density = NULL;
+    }
+    /* model 0 has palette records: their indices are in its summary */
+    bool any = false;
+    for (int k = 0; k < 32; k++) any = any || info[0].palette_used[k];
+    CHECK(any);
+    vx_svo_scene h = s;
+    h.models = hollow;
+    memset(h.bounds_min, 0, sizeof h.bounds_min);
+    memset(h.bounds_max, 0, sizeof h.bounds_max);
+    vx_svo_scene_update_bounds_coded(&h, info);
+    CHECK(!memcmp(h.bounds_min, s.bounds_min, sizeof h.bounds_min) && !memcmp(h.bounds_max, s.bounds_max, sizeof h.bounds_max));
+    stream_set ss = {streams, 0, 0, UINT32_MAX, true};
+    vx_svo_stream_source src = {stream_read, &ss};
+    REQUIRE(vx_svo_write_file_coded(NULL, &h, info, &src, path2, &e) == VX_OK);
+    size_t nc = 0;
+    uint8_t* coded = slurp_file(path2, &nc);
+    CHECKF(coded && nc == nb && !memcmp(coded, base, nb), "coded models: %zu bytes, one process %zu", nc, nb);
+    CHECK(ss.calls == n && ss.in_order);
+    free(coded);
+    remove(path2);
+    /* a summary that does not match its model: refused before any stream is read */
+    info[1].cells++;
+    ss = (stream_set){streams, 0, 0, UINT32_MAX, true};
+    CHECK(vx_svo_write_file_coded(NULL, &h, info, &src, path2, &e) == VX_ERR_INVALID_ARG);
+    CHECKF(strstr(e.msg, path2) && strstr(e.msg, "model 1"), "message: %s", e.msg);
+    CHECK(ss.calls == 0);
+    info[1].cells--;
+    /* a stream that cannot be read: an I/O error naming the file, no output */
+    ss = (stream_set){streams, 0, 0, 1, true};
+    CHECK(vx_svo_write_file_coded(NULL, &h, info, &src, path2, &e) == VX_ERR_IO);
+    CHECKF(strstr(e.msg, path2) != NULL, "message: %s", e.msg);
+    FILE* f = fopen(path2, "rb");
+    CHECK(f == NULL);
+    if (f) fclose(f);
+    /* an invalid model is not coded */
+    vx_svo_model bad = s.models[2];
+    bad.root = bad.node_count + 5;
+    uint8_t* bs = NULL;
+    vx_svo_model_coded bi;
+    CHECK(vx_svo_model_encode(NULL, &bad, &bi, &bs, &e) != VX_OK && bs == NULL);
+    for (uint32_t i = 0; i < n; i++) vx_free(NULL, streams[i]);
+    free(streams);
+    free(info);
+    free(hollow);
+    free(base);
+    remove(path);
+    rmdir(dir);
+    vx_svo_scene_free(&s);
+}
+
 static void test_lights_round_trip(void) {
     vx_svo_scene s, r;
     make_scene(&s, 60);
@@ -1774,6 +1868,7 @@ int main(int argc, char** argv) {
     RUN(test_same_size_models);
     RUN(test_streamed_file);
     RUN(test_thread_counts);
+    RUN(test_coded_models);
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);
     RUN(test_oom);

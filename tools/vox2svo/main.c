@@ -58,9 +58,11 @@ _Noreturn static void usage(int status) {
             "Under MPI (mpirun -n N; this build has it): a glTF mesh's regions (the models of a mesh,\n"
             "       up to 2048^3 cells each) are split over the ranks, balanced by their surface bricks;\n"
             "       each rank voxelizes and builds its own regions' models (its memory: the mesh and\n"
-            "       its share), rank 0 gathers them and writes the file: the same bytes as one process.\n"
+            "       its share) and codes them into their streams of the file; rank 0 writes the streams\n"
+            "       in order as they arrive, holding one at a time: the same bytes as one process.\n"
             "       Threads per rank: the host's CPUs over its ranks. -v prints per rank the regions,\n"
-            "       voxels, read / convert / send seconds, wall time and peak memory. Other inputs:\n"
+            "       voxels, read / convert / encode / send seconds, wall time and peak memory (emissive\n"
+            "       voxels are not counted as lights under mpirun: the trees stay on their ranks). Other inputs:\n"
             "       one process.\n"
 #endif
             "Options:\n"
@@ -198,6 +200,8 @@ static void print_stats(const options* o, const char* kind, const vx_conv_stats*
     /* stored: glTF KHR_lights_punctual; from voxels: what a renderer derives (vx_svo_emissive_lights) */
     if (voxel_lights == UINT32_MAX)
         printf("  lights       %u stored; emissive voxels give more when rendering (-v counts them)\n", lights);
+    else if (voxel_lights == UINT32_MAX - 1)
+        printf("  lights       %u stored; emissive voxels give more when rendering (not counted under mpirun)\n", lights);
     else
         printf("  lights       %u stored, %u from emissive voxels (derived when rendering)\n", lights, voxel_lights);
     printf("  far pointers %s, attribute records %s\n", vx_tool_num(b->far_pointers), vx_tool_num(b->attr_records));
@@ -252,9 +256,11 @@ static int main_mpi(const options* o) {
     vx_tool_loaded li;
     if (!vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li)) return 0;
     vx_error err = {0};
-    uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o->verbose);
+    /* the trees stay on their ranks: emissive voxels are not clustered here */
+    uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, false);
+    if (voxel_lights == UINT32_MAX) voxel_lights = UINT32_MAX - 1;
     double t2 = vx_time_now();
-    vx_result r = vx_svo_write_file(NULL, &scene, o->out, &err);
+    vx_result r = vox2svo_mpi_write(&scene, o->out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
     if (r != VX_OK) vx_tool_mpi_die("%s", err.msg); /* the message names the file; the other ranks end too */

@@ -2,18 +2,27 @@
  *
  * Every rank reads the mesh, bins its triangles and computes the same
  * partition of the regions (vx_conv_mesh_share: no messages before the
- * gather); each voxelizes and builds its own regions' models, then sends
- * them to rank 0, freeing each as it goes. Rank 0 assembles all parts with
- * vx_conv_mesh_assemble, the code one process runs, so the file is the
- * single-process file byte for byte (test_vox2svo_mpi). A region is one
- * model and the file format shares subtrees within a model only, so no
- * subtree has to be looked up across ranks: identical subtrees of a region
- * are shared (the DAG) by the rank that builds it, exactly as one process
- * shares them. The parts travel as raw structs and arrays: the ranks run
- * the same binary on hosts of one byte order. */
+ * gather); each voxelizes and builds its own regions' models and codes each
+ * into its stream of the file's NODE section (vx_svo_model_encode, on the
+ * rank's threads), freeing the model's arrays and keeping its fields. Rank 0
+ * gathers every part's fields and coded summary, assembles the scene with
+ * vx_conv_mesh_assemble (the code one process runs, here on models without
+ * their arrays), and writes the file with vx_svo_write_file_coded, taking
+ * the streams in model order: its own from memory, the others' from their
+ * ranks, which send them in region order, one at a time. So the file is the
+ * single-process file byte for byte (test_vox2svo_mpi), rank 0 never holds
+ * the scene's trees (its own streams and one received stream), and the
+ * entropy coding runs on every rank at once. A region is one model and the
+ * file format shares subtrees within a model only, so no subtree has to be
+ * looked up across ranks: identical subtrees of a region are shared (the
+ * DAG) by the rank that builds it, exactly as one process shares them. The
+ * parts' fields travel as raw structs: the ranks run the same binary on
+ * hosts of one byte order. */
 #include "tools/vox2svo/mpi.h"
 
 #include <mpi.h>
+#include <pthread.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -30,36 +39,33 @@ enum { TAG_COUNT = 1, TAG_META, TAG_DATA };
 static vx_tool_mpi g_mpi;
 
 /* What each rank reports at the end (-v). */
-enum { F_REGIONS, F_VOXELS, F_READ, F_CONVERT, F_GATHER, F_WALL, F_PEAK, F_SENT, F_COUNT };
+enum { F_REGIONS, F_VOXELS, F_READ, F_CONVERT, F_ENCODE, F_GATHER, F_WALL, F_PEAK, F_SENT, F_COUNT };
 static double g_fig[F_COUNT];
 static double g_t0;
 static bool g_verbose;
 
-/* The fixed fields of a part; the node words and attribute channels follow. */
+/* The fixed fields of a part and its coded summary; its stream follows,
+ * in region order, when rank 0 writes. */
 typedef struct part_meta {
     uint64_t index, voxel_count;
     uint32_t origin[3], size[3];
     uint32_t depth, root, root_attr, attrs, node_count, attr_count;
     vx_svo_build_stats build;
     double seconds_build;
+    vx_svo_model_coded coded;
 } part_meta;
 
-/* The model's arrays in a fixed order, with their element sizes. */
-typedef struct model_arrays {
-    void** ptr[6];
-    size_t bytes[6];
-} model_arrays;
+/* A part on rank 0: where its stream is (owner rank, or in memory). */
+typedef struct held {
+    size_t index;
+    vx_svo_model_coded coded;
+    int owner;
+    uint8_t* stream; /* owner 0: the stream until written */
+} held;
 
-static model_arrays arrays_of(vx_svo_model* m) {
-    model_arrays a;
-    size_t na = m->attr_count;
-    a.ptr[0] = (void**)&m->nodes, a.bytes[0] = (size_t)m->node_count * 4;
-    a.ptr[1] = (void**)&m->palette, a.bytes[1] = (m->attrs & VX_ATTR_PALETTE) ? na : 0;
-    a.ptr[2] = (void**)&m->rgba, a.bytes[2] = (m->attrs & VX_ATTR_RGBA8) ? na * 4 : 0;
-    a.ptr[3] = (void**)&m->normal, a.bytes[3] = (m->attrs & VX_ATTR_NORMAL) ? na * 4 : 0;
-    a.ptr[4] = (void**)&m->material, a.bytes[4] = (m->attrs & VX_ATTR_MATERIAL) ? na * 2 : 0;
-    a.ptr[5] = (void**)&m->density, a.bytes[5] = (m->attrs & VX_ATTR_DENSITY) ? na * 4 : 0;
-    return a;
+static int held_cmp(const void* a, const void* b) {
+    size_t x = ((const held*)a)->index, y = ((const held*)b)->index;
+    return x < y ? -1 : x > y;
 }
 
 static void send_bytes(const void* p, size_t n) {
@@ -76,8 +82,62 @@ static void recv_bytes(void* p, size_t n, int src) {
     }
 }
 
-static void send_part(vx_conv_mesh_part* p) {
-    vx_svo_model* m = &p->model;
+/* ---- coding this rank's parts on its threads ---- */
+
+typedef struct encode_jobs {
+    vx_conv_mesh_part* parts;
+    vx_svo_model_coded* coded;
+    uint8_t** streams;
+    size_t n, next;
+    pthread_mutex_t lock;
+    const vx_allocator* alloc;
+    int failed; /* first failing part + 1 */
+    vx_error err;
+} encode_jobs;
+
+static void* encode_worker(void* arg) {
+    encode_jobs* j = (encode_jobs*)arg;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        size_t i = j->next++;
+        bool stop = j->failed != 0;
+        pthread_mutex_unlock(&j->lock);
+        if (stop || i >= j->n) return NULL;
+        vx_svo_model* m = &j->parts[i].model;
+        vx_write_desc wd = {.alloc = j->alloc, .threads = 1};
+        vx_error e = {0};
+        if (vx_svo_model_encode(&wd, m, &j->coded[i], &j->streams[i], &e) != VX_OK) {
+            pthread_mutex_lock(&j->lock);
+            if (!j->failed) j->failed = (int)i + 1, j->err = e;
+            pthread_mutex_unlock(&j->lock);
+            return NULL;
+        }
+        /* coded: only the model's fields stay (the scene's SCNE needs them) */
+        vx_svo_model keep = *m;
+        keep.nodes = NULL, keep.palette = NULL, keep.normal = NULL, keep.material = NULL, keep.density = NULL, keep.rgba = NULL;
+        vx_svo_model_free(j->alloc, m);
+        *m = keep;
+    }
+}
+
+static void encode_parts(vx_conv_mesh_part* parts, size_t n, unsigned threads, const vx_allocator* alloc,
+                         vx_svo_model_coded* coded, uint8_t** streams) {
+    encode_jobs j = {.parts = parts, .coded = coded, .streams = streams, .n = n, .alloc = alloc};
+    pthread_mutex_init(&j.lock, NULL);
+    unsigned nt = threads < 1 ? 1 : threads > 64 ? 64 : threads;
+    if (nt > n) nt = n ? (unsigned)n : 1;
+    pthread_t tid[64];
+    unsigned started = 0;
+    for (unsigned t = 1; t < nt; t++)
+        if (pthread_create(&tid[started], NULL, encode_worker, &j) == 0) started++;
+    encode_worker(&j);
+    for (unsigned t = 0; t < started; t++) pthread_join(tid[t], NULL);
+    pthread_mutex_destroy(&j.lock);
+    if (j.failed) die("region %zu: %s", parts[j.failed - 1].index, j.err.msg);
+}
+
+static void send_part(const vx_conv_mesh_part* p, const vx_svo_model_coded* coded) {
+    const vx_svo_model* m = &p->model;
     part_meta h;
     memset(&h, 0, sizeof h);
     h.index = p->index;
@@ -88,15 +148,11 @@ static void send_part(vx_conv_mesh_part* p) {
     h.node_count = m->node_count, h.attr_count = m->attr_count;
     h.build = p->build;
     h.seconds_build = p->seconds_build;
+    h.coded = *coded;
     MPI_Send(&h, (int)sizeof h, MPI_BYTE, 0, TAG_META, MPI_COMM_WORLD);
-    model_arrays a = arrays_of(m);
-    for (int k = 0; k < 6; k++) {
-        send_bytes(*a.ptr[k], a.bytes[k]);
-        g_fig[F_SENT] += (double)a.bytes[k];
-    }
 }
 
-static void recv_part(int src, const vx_allocator* alloc, vx_conv_mesh_part* p) {
+static void recv_part(int src, vx_conv_mesh_part* p, held* hp) {
     part_meta h;
     MPI_Recv(&h, (int)sizeof h, MPI_BYTE, src, TAG_META, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     memset(p, 0, sizeof *p);
@@ -108,29 +164,62 @@ static void recv_part(int src, const vx_allocator* alloc, vx_conv_mesh_part* p) 
     memcpy(m->size, h.size, sizeof m->size);
     m->depth = h.depth, m->root = h.root, m->root_attr = h.root_attr, m->attrs = h.attrs;
     m->voxel_count = h.voxel_count, m->node_count = h.node_count, m->attr_count = h.attr_count;
-    model_arrays a = arrays_of(m);
-    for (int k = 0; k < 6; k++) {
-        if (!a.bytes[k]) continue;
-        *a.ptr[k] = vx_alloc(alloc, a.bytes[k]);
-        if (!*a.ptr[k]) die("out of memory receiving region %zu from rank %d (%zu bytes)", p->index, src, a.bytes[k]);
-        recv_bytes(*a.ptr[k], a.bytes[k], src);
-    }
+    hp->index = p->index;
+    hp->coded = h.coded;
+    hp->owner = src;
+    hp->stream = NULL;
 }
 
-/* Rank 0: its own parts, then every other rank's, in the order the ranks
- * finish (each rank's parts arrive in one run after its count). */
-static vx_conv_mesh_part* gather(vx_conv_mesh_part* parts, size_t* count, const vx_allocator* alloc) {
-    size_t cap = *count;
+/* Rank 0: its own parts, then every other rank's fields, in the order the
+ * ranks finish (each rank's parts arrive in one run after its count). */
+static vx_conv_mesh_part* gather(vx_conv_mesh_part* parts, size_t* count, held** hs, const vx_allocator* alloc) {
+    size_t cap = *count, hcap = *count;
     for (int k = 1; k < g_mpi.nranks; k++) {
         uint64_t n = 0;
         MPI_Status st;
         MPI_Recv(&n, 1, MPI_UINT64_T, MPI_ANY_SOURCE, TAG_COUNT, MPI_COMM_WORLD, &st);
         if (n > SIZE_MAX / sizeof *parts - *count) die("rank %d sent %llu regions", st.MPI_SOURCE, (unsigned long long)n);
-        if (n && !vx_grow(alloc, (void**)&parts, &cap, *count + (size_t)n, sizeof *parts))
+        if (n && (!vx_grow(alloc, (void**)&parts, &cap, *count + (size_t)n, sizeof *parts) ||
+                  !vx_grow(alloc, (void**)hs, &hcap, *count + (size_t)n, sizeof **hs)))
             die("out of memory for %zu regions", *count + (size_t)n);
-        for (uint64_t i = 0; i < n; i++) recv_part(st.MPI_SOURCE, alloc, &parts[(*count)++]);
+        for (uint64_t i = 0; i < n; i++, (*count)++) recv_part(st.MPI_SOURCE, &parts[*count], &(*hs)[*count]);
     }
     return parts;
+}
+
+/* Rank 0's state between vox2svo_mpi and vox2svo_mpi_write: every part in
+ * model (region) order. */
+static held* g_held;
+static size_t g_nheld;
+static const vx_allocator* g_alloc;
+
+static bool read_stream(void* user, uint32_t model, uint8_t* buf, uint64_t size) {
+    (void)user;
+    if (model >= g_nheld || size != g_held[model].coded.stream_size) return false;
+    held* h = &g_held[model];
+    if (h->owner == 0) {
+        memcpy(buf, h->stream, (size_t)size);
+        vx_free(g_alloc, h->stream);
+        h->stream = NULL;
+    } else {
+        recv_bytes(buf, (size_t)size, h->owner);
+    }
+    return true;
+}
+
+vx_result vox2svo_mpi_write(const vx_svo_scene* scene, const char* path, vx_error* err) {
+    if (scene->model_count != g_nheld) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: scene of %u models for %zu coded parts", path, scene->model_count, g_nheld);
+    vx_svo_model_coded* info = (vx_svo_model_coded*)vx_calloc(g_alloc, g_nheld ? g_nheld : 1, sizeof *info);
+    if (!info) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
+    for (size_t i = 0; i < g_nheld; i++) info[i] = g_held[i].coded;
+    vx_svo_stream_source src = {read_stream, NULL};
+    vx_result r = vx_svo_write_file_coded(NULL, scene, info, &src, path, err);
+    vx_free(g_alloc, info);
+    for (size_t i = 0; i < g_nheld; i++) vx_free(g_alloc, g_held[i].stream);
+    vx_free(g_alloc, g_held);
+    g_held = NULL;
+    g_nheld = 0;
+    return r;
 }
 
 bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, bool quiet, bool verbose, vx_svo_scene* scene,
@@ -158,27 +247,57 @@ bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, bool quiet, bool verb
     g_fig[F_CONVERT] = t2 - t1;
     g_fig[F_REGIONS] = (double)n;
     g_fig[F_VOXELS] = (double)st.build.voxels;
+    vx_svo_model_coded* coded = (vx_svo_model_coded*)vx_calloc(md.alloc, n ? n : 1, sizeof *coded);
+    uint8_t** streams = (uint8_t**)vx_calloc(md.alloc, n ? n : 1, sizeof *streams);
+    if (!coded || !streams) die("out of memory for %zu regions", n);
+    encode_parts(parts, n, md.threads, md.alloc, coded, streams);
+    double t3 = vx_time_now();
+    g_fig[F_ENCODE] = t3 - t2;
     if (!root) {
         uint64_t n64 = n;
         MPI_Send(&n64, 1, MPI_UINT64_T, 0, TAG_COUNT, MPI_COMM_WORLD);
-        for (size_t i = 0; i < n; i++) {
-            send_part(&parts[i]);
-            vx_svo_model_free(md.alloc, &parts[i].model); /* sent: nothing of it stays here */
-        }
+        for (size_t i = 0; i < n; i++) send_part(&parts[i], &coded[i]);
         vx_conv_mesh_parts_free(md.alloc, parts, n);
         vx_gltf_mesh_free(&mesh);
-        g_fig[F_GATHER] = vx_time_now() - t2;
+        /* the streams in region order (share's order): rank 0 takes them in
+         * model order, so each send meets its receive */
+        for (size_t i = 0; i < n; i++) {
+            send_bytes(streams[i], (size_t)coded[i].stream_size);
+            g_fig[F_SENT] += (double)coded[i].stream_size;
+            vx_free(md.alloc, streams[i]);
+        }
+        vx_free(md.alloc, streams);
+        vx_free(md.alloc, coded);
+        g_fig[F_GATHER] = vx_time_now() - t3;
         vox2svo_mpi_end(0);
         return false;
     }
-    parts = gather(parts, &n, md.alloc);
+    held* hs = (held*)vx_calloc(md.alloc, n ? n : 1, sizeof *hs);
+    if (!hs) die("out of memory for %zu regions", n);
+    for (size_t i = 0; i < n; i++) hs[i] = (held){parts[i].index, coded[i], 0, streams[i]};
+    vx_free(md.alloc, streams);
+    vx_free(md.alloc, coded);
+    parts = gather(parts, &n, &hs, md.alloc);
+    if (n > 1) qsort(hs, n, sizeof *hs, held_cmp); /* the scene's model order (vx_conv_mesh_assemble sorts the parts so) */
+    g_held = hs;
+    g_nheld = n;
+    g_alloc = md.alloc;
     vx_conv_stats cs = {0};
     cs.seconds_read = g_fig[F_READ];
     vx_result r = vx_conv_mesh_assemble(&md, &mesh, parts, n, scene, &cs, &err);
     vx_conv_mesh_parts_free(md.alloc, parts, n);
     vx_gltf_mesh_free(&mesh);
     if (r) die("%s: %s", in, err.msg);
-    g_fig[F_GATHER] = vx_time_now() - t2;
+    if (scene->model_count != n) die("%s: %u models assembled from %zu regions", in, scene->model_count, n);
+    /* the bounds from the ranks' extents (the models here have no trees) */
+    {
+        vx_svo_model_coded* info = (vx_svo_model_coded*)vx_calloc(md.alloc, n ? n : 1, sizeof *info);
+        if (!info) die("out of memory");
+        for (size_t i = 0; i < n; i++) info[i] = hs[i].coded;
+        vx_svo_scene_update_bounds_coded(scene, info);
+        vx_free(md.alloc, info);
+    }
+    g_fig[F_GATHER] = vx_time_now() - t3;
     struct stat sb;
     memset(info, 0, sizeof *info);
     info->kind = vx_conv_file_kind(in);
@@ -202,11 +321,11 @@ void vox2svo_mpi_end(double seconds_write) {
         for (int r = 1; r < N; r++) received += all[(size_t)r * F_COUNT + F_SENT];
         for (int r = 0; r < N; r++) {
             const double* f = all + (size_t)r * F_COUNT;
-            printf("rank %d: %.0f regions, %s voxels; read %.2f s, convert %.2f s, %s %.2f s (%s bytes), wall %.2f s, "
-                   "peak %s\n",
-                   r, f[F_REGIONS], vx_tool_num((uint64_t)f[F_VOXELS]), f[F_READ], f[F_CONVERT],
-                   r ? "send" : "gather+assemble", f[F_GATHER], vx_tool_num((uint64_t)(r ? f[F_SENT] : received)), f[F_WALL],
-                   vx_tool_bytes((uint64_t)f[F_PEAK]));
+            printf("rank %d: %.0f regions, %s voxels; read %.2f s, convert %.2f s, encode %.2f s, %s %.2f s (%s bytes), "
+                   "wall %.2f s, peak %s\n",
+                   r, f[F_REGIONS], vx_tool_num((uint64_t)f[F_VOXELS]), f[F_READ], f[F_CONVERT], f[F_ENCODE],
+                   r ? "send (as rank 0 writes)" : "gather+assemble", f[F_GATHER],
+                   vx_tool_num((uint64_t)(r ? f[F_SENT] : received)), f[F_WALL], vx_tool_bytes((uint64_t)f[F_PEAK]));
             sum += f[F_CONVERT];
             if (f[F_CONVERT] > most) most = f[F_CONVERT], most_r = r;
             if (f[F_PEAK] > peak) peak = f[F_PEAK], peak_r = r;
