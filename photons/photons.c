@@ -22,7 +22,7 @@ typedef struct gpu_params {
     float sky[4];     /* sky radiance (render/shaders/sky.glsl zen), w: emissive voxels' power */
     uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), final gather rays, a light stands for the voxels */
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
-    float fx[4];      /* x: the gather's fixed-point units per unit of power (photon.comp fx_add) */
+    float fx[4];      /* the gather's fixed-point units (photon.comp fx_add): x per unit of BSDF times power, y of power */
     uint32_t tr[4];   /* x: invocations of the trace */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
@@ -385,7 +385,11 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     /* the gather's fixed-point unit: 2^-32 of an emitted photon's (luminance) power */
     double unit = pg->total_power > 0 && d->photons ? pg->total_power / d->photons : 1;
     p->fx[0] = (float)(4294967296.0 / unit);
-    if (!(p->fx[0] > 0) || !isfinite(p->fx[0])) p->fx[0] = 1;
+    /* a Lambert surface's sums of powers: 2^-27 of it (a photon of up to 32 emitted photons' power, as
+     * a saturated colour's channel has, adds in one word) */
+    p->fx[1] = (float)(134217728.0 / unit);
+    for (int k = 0; k < 2; k++)
+        if (!(p->fx[k] > 0) || !isfinite(p->fx[k])) p->fx[k] = 1;
     uint32_t ctr[4] = {0};
     double build = 0;
     p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + d->batch - 1) / d->batch);
