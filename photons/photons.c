@@ -623,8 +623,9 @@ vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* cou
         vx_photon_record* o = &rec[i];
         for (int k = 0; k < 3; k++) o->position[k] = q[k] + pg->ref[k], o->power[k] = q[4 + k];
         oct_decode(wb, o->direction); /* its lowest bit, F_FIRST, is 1/32767 of u: left in */
-        oct_decode(nb & ~3u, o->normal);
-        o->flags = (nb & 1u ? VX_PHOTON_CAUSTIC : 0) | (nb & 2u ? VX_PHOTON_DIRECT : 0) | (wb & 1u ? VX_PHOTON_FIRST : 0);
+        oct_decode(nb & ~7u, o->normal);
+        o->flags = (nb & 1u ? VX_PHOTON_CAUSTIC : 0) | (nb & 2u ? VX_PHOTON_DIRECT : 0) | (wb & 1u ? VX_PHOTON_FIRST : 0) |
+                   (nb & 4u ? VX_PHOTON_LIGHT : 0);
     }
     vx_free(pg->alloc, ph);
     if (r) {

@@ -45,11 +45,16 @@
  * photons that the distance check rejects. A gather reads the 27 cells
  * around the point (the 3^3 cells a sphere of radius r can touch).
  *
- * Estimate: at the camera's first surface that is not glass (glass on the
- * way is followed by Fresnel choice, as the path tracer does), the
- * radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
+ * Estimate: at the camera's first surface that is neither glass nor glossy
+ * (glass on the way is followed by Fresnel choice, as the path tracer does;
+ * a glossy surface, metal or GGX, gives its diffuse lobe from the photons
+ * and follows its specular lobe by one sampled ray per pass, Jensen's rule,
+ * taking from photons there only the light such a ray cannot meet: the
+ * direct pass's lights' photons, caustic photons of sun and frame lights),
+ * the radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
  * photons of each map within its radius and of the surface's orientation
- * (normals within 25 degrees); caustics from the caustic map with its own,
+ * (normals within 25 degrees; on a Lambert surface f is one factor after
+ * the sum); caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next
@@ -180,13 +185,14 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out);
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err);
 
 /* A stored photon of the last pass, decoded (vx_photon_stored). */
-enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4 };
+enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4, VX_PHOTON_LIGHT = 8 };
 typedef struct vx_photon_record {
     double position[3]; /* world */
     float power[3];
     float direction[3]; /* unit, towards where it came from (octahedral 2 x 16 bits) */
     float normal[3];    /* the surface's, unit (octahedral 2 x 16 bits) */
-    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path */
+    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path;
+                           a caustic photon from a light that camera rays cannot meet (not sky, not voxels) */
 } vx_photon_record;
 
 /* Downloads the last pass's stored photons (in the order the GPU stored

@@ -74,7 +74,9 @@ uvec2 rng_seed() { return P.seed.xy; }
 Surf g_s; // the vertex being shaded (one copy: GLSL passes structs by value)
 
 const uint T_DIRECTIONAL = 0u, T_POINT = 1u, T_SPOT = 2u, T_SPHERE = 3u, T_RECT = 4u, T_SKY = 5u, T_VOXELS = 6u;
-const uint F_CAUSTIC = 1u, F_DIRECT = 2u; // in the normal's code
+// in the normal's code: the caustic map; brought by a light the direct pass shades (first surface);
+// a caustic photon from a light no camera ray can meet (not the sky nor an emissive voxel: see G_LIGHTS)
+const uint F_CAUSTIC = 1u, F_DIRECT = 2u, F_LIGHT = 4u, F_BITS = 7u;
 const uint F_FIRST = 1u;                 // in the direction's code
 
 // True unless llvmpipe's loop guard fired in this SIMD group (probes/shaders/probe.comp explains it).
@@ -122,7 +124,7 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
     vec4 a = src[6u * i], b = src[6u * i + 1u], c = src[6u * i + 2u], e = src[6u * i + 3u];
     vec4 tg = src[6u * i + 4u], f = src[6u * i + 5u];
     type = uint(a.w);
-    flags = f.y != 0.0 ? F_DIRECT : 0u;
+    flags = (f.y != 0.0 ? F_DIRECT : 0u) | (type < T_SKY ? F_LIGHT : 0u);
     phi = c.xyz / float(P.a.x);
     lpos = a.xyz;
     range = b.w;
@@ -181,9 +183,9 @@ void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
     uint k = atomicAdd(ctr[0], 1u);
     if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
-    // bits (voxel normals are axis-aligned: two bits of its u code change nothing), F_FIRST (the
+    // bits (voxel normals are axis-aligned: three bits of its u code change nothing), F_FIRST (the
     // photon's first surface, for vx_photon_power) in the direction's lowest bit (1/32767 of u)
-    uint nb = (packSnorm2x16(oct_encode(n)) & ~3u) | flags;
+    uint nb = (packSnorm2x16(oct_encode(n)) & ~F_BITS) | flags;
     uint wb = (packSnorm2x16(oct_encode(wi)) & ~1u) | (first ? F_FIRST : 0u);
     ph[2u * k] = vec4(p, uintBitsToFloat(wb));
     ph[2u * k + 1u] = vec4(phi, uintBitsToFloat(nb));
@@ -260,7 +262,7 @@ void trace_photons() {
         }
         // a surface that scatters: the photon is stored (caustic when only glass came before it since
         // the light, direct when it came straight from a light the direct pass shades)
-        uint f = stored > 0u ? 0u : (specular ? F_CAUSTIC : flags & F_DIRECT);
+        uint f = stored > 0u ? 0u : (specular ? F_CAUSTIC | (flags & F_LIGHT) : flags & F_DIRECT);
         store(g_s.p, wo, g_s.n, phi, f, stored == 0u && !specular);
         stored++;
         vec3 w;
@@ -280,7 +282,10 @@ void trace_photons() {
 // Which photons a gather takes: every one; all but those the direct pass's light brought to their
 // first surface; only photons at their first surface (and not the direct pass's); only photons at
 // their first surface, the direct pass's too (a full image's direct light under a final gather).
-const int G_ALL = 0, G_INDIRECT = 1, G_FIRST = 2, G_FIRST_ANY = 3;
+// G_LIGHTS: at a glossy surface, whose specular lobe follows a ray (gather_pixel), the light that ray
+// cannot find: global photons the direct pass's lights brought (F_DIRECT) and caustic photons from a
+// light no ray meets (F_LIGHT: sun, point, spot, sphere, rect).
+const int G_ALL = 0, G_INDIRECT = 1, G_FIRST = 2, G_FIRST_ANY = 3, G_LIGHTS = 4;
 
 // Order-independent sums. The photons of a bucket lie in the order the atomic counters gave them,
 // which changes from run to run; float sums in that order would too. Each photon's term is a float
@@ -342,8 +347,9 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
                     uint nb = floatBitsToUint(b.w);
                     if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
                     if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
-                    if (sel >= G_FIRST && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
-                    vec3 pn = oct_decode(unpackSnorm2x16(nb & ~3u));
+                    if ((sel == G_FIRST || sel == G_FIRST_ANY) && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
+                    if (sel == G_LIGHTS && (nb & (map != 0u ? F_LIGHT : F_DIRECT)) == 0u) continue;
+                    vec3 pn = oct_decode(unpackSnorm2x16(nb & ~F_BITS));
                     if (dot(pn, n) < 0.9) continue; // another face (a wall's back, a step)
                     vec3 wi = oct_decode(unpackSnorm2x16(floatBitsToUint(a.w)));
                     if (lambert) {
@@ -383,6 +389,23 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
     return sum / float(rays);
 }
 
+// The specular lobe of glossy B alone (S.kd = 0): a direction by the GGX visible normals, weight
+// f cos / pdf = F G2 / G1. false: no direction (below the surface).
+bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
+    vec3 wo = to_local(S, wo_w);
+    float u1 = rnd(), u2 = rnd();
+    w = vec3(0.0);
+    wi_w = S.n;
+    if (wo.z <= 0.0) return false;
+    vec3 m = ggx_vndf(S.alpha, wo, u1, u2);
+    vec3 wi = 2.0 * dot(wo, m) * m - wo;
+    if (wi.z <= 0.0) return false;
+    wi_w = normalize(wi.x * S.t + wi.y * S.b + wi.z * S.n);
+    float lo = ggx_lambda(S.a2, wo.z), li = ggx_lambda(S.a2, wi.z), s5 = pow(1.0 - max(0.0, dot(wi, m)), 5.0);
+    w = (S.f0 + (1.0 - S.f0) * s5) * ((1.0 + lo) / (1.0 + lo + li));
+    return dot(wi_w, S.n) > 0.0;
+}
+
 void gather_pixel() {
     // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
@@ -402,6 +425,7 @@ void gather_pixel() {
     }
     bool full = P.img.w != 0u;
     vec3 thr = vec3(1.0), L = vec3(0.0);
+    bool after_glossy = false;
     for (int events = 0; events < 64; events++) {
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
@@ -412,7 +436,10 @@ void gather_pixel() {
         // the pass pipeline's direct pass adds the first surface's emission and direct light; behind
         // glass the estimate has to give all of it
         bool first = events == 0;
-        if (!first || full) L += thr * g_s.emit;
+        // after a glossy surface an emissive voxel's light came from its photons (G_LIGHTS) when a
+        // light stands for the voxels (their photons are F_DIRECT)
+        if ((!first || full) && !(after_glossy && P.cnt.w != 0u)) L += thr * g_s.emit;
+        after_glossy = false;
         Bsdf B = bsdf_of(g_s);
         vec3 wo = -d;
         if (B.kind == B_GLASS) {
@@ -433,6 +460,29 @@ void gather_pixel() {
             continue;
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;
+        if (B.kind == B_GLOSSY) {
+            // A glossy surface (as Jensen's photon mapping treats it): the diffuse lobe from the photons,
+            // the specular lobe by a ray. The photon estimate divides by the disk pi r^2 but finds only
+            // the photons on facets of the surface's orientation, which on a curved voxel surface (a
+            // staircase of faces) cover part of that disk: cornell's metal sphere came out 40% dark, and
+            // its sharp lobe met few photons (noise). The ray sees emitters and the sky itself; the light
+            // of the lights it cannot meet comes from photons here (G_LIGHTS), the direct pass's lights
+            // at the camera's first surface excepted (the direct pass shades them).
+            Bsdf D = B, S = B;
+            D.kind = B_LAMBERT;
+            D.alb = B.kd;
+            S.kd = vec3(0.0);
+            if (B.kd != vec3(0.0))
+                L += thr * (gather(D, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(D, wo, 0u, P.r.x, P.r.z, sel));
+            L += thr * gather(S, wo, F_CAUSTIC, P.r.y, P.r.w, G_LIGHTS);
+            if (!first || full) L += thr * gather(S, wo, 0u, P.r.x, P.r.z, G_LIGHTS);
+            vec3 w;
+            if (!specular_sample(S, wo, d, w)) break;
+            thr *= w;
+            o = g_s.p;
+            after_glossy = true;
+            continue;
+        }
         vec3 caustics = gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel);
         // the final gather at the camera's first surface; in a full image the light that came straight
         // from a source (the direct pass's too) is that surface's first-surface photons
