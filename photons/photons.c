@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "photons/photons.h"
-#include "probes/probes_internal.h"
+#include "probes/light.h"
 #include "render/gpu.h"
 
 #include "photon.comp.h" /* shaders/photon.comp, embedded at build time */

@@ -15,6 +15,7 @@
 #include "render/trace.h" /* vx__scene_grid_cells */
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static const double PI = 3.14159265358979323846;
 static vx_gpu* gpu;
@@ -793,12 +794,7 @@ static void test_bad_options(void) {
 
 int main(void) {
     (void)ts_random_model, (void)box_scene;
-    dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE); /* see tests/probes/test_probes_gpu.c */
-    vx_error err = {0};
-    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
-        fprintf(stderr, "no Vulkan device (%s): cone tests skipped\n", err.msg);
-        gpu_skip = "no Vulkan device";
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_voxelize_brute_force);
     RUN(test_filter_isotropic);
     RUN(test_filter_anisotropic);

@@ -17,6 +17,7 @@
 #include "convert/mesh_gpu.h"
 #include "render/render.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
 static vx_conv_mesh_gpu* mg;
@@ -283,13 +284,9 @@ static void test_refusals(void) {
 }
 
 int main(void) {
-    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
-    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
     vx_error err = {0};
     static char why[256];
-    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
-        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
-        gpu_skip = why;
+    if ((gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu))) {
     } else if (vx_conv_mesh_gpu_create(gpu, NULL, &mg, &err)) {
         /* only a device without float64 is a reason to skip */
         if (err.code != VX_ERR_UNSUPPORTED) {
@@ -298,8 +295,6 @@ int main(void) {
         }
         snprintf(why, sizeof why, "%s", err.msg);
         gpu_skip = why;
-    } else {
-        printf("device: %s\n", vx_gpu_device_name(gpu));
     }
     RUN(test_refusals);
     RUN(test_lattice);

@@ -13,6 +13,7 @@
 #include "probes/probes.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static const double PI = 3.14159265358979323846;
 static vx_gpu* gpu;
@@ -621,15 +622,7 @@ static void test_gi_pass_equals_renderer(void) {
 
 int main(void) {
     (void)ts_random_model;
-    /* Keeps lavapipe mapped after vkDestroyInstance: otherwise LeakSanitizer
-     * sees its internal caches through an unloaded module, cannot attribute
-     * them, and tests/render/lsan.supp cannot name them (no effect elsewhere). */
-    dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE);
-    vx_error err = {0};
-    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
-        fprintf(stderr, "no Vulkan device (%s): GPU probe tests skipped\n", err.msg);
-        gpu_skip = "no Vulkan device";
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_gpu_box_distances);
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);

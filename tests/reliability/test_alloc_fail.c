@@ -237,6 +237,17 @@ static vx_result op_vox_convert(const vx_allocator* a, const op_ctx* c, uint8_t*
     return r;
 }
 
+/* The end of every in-memory writer's op: the writer's output (allocated
+ * through the injecting allocator a) copied to plain malloc memory for the
+ * digest, and given back to a. */
+static vx_result take_output(const vx_allocator* a, uint8_t* out, size_t on, uint8_t** d, size_t* n) {
+    *d = (uint8_t*)malloc(on);
+    if (*d) memcpy(*d, out, on);
+    *n = on;
+    vx_free(a, out);
+    return *d ? VX_OK : VX_ERR_NOMEM;
+}
+
 static vx_result op_svo_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
     uint8_t* out = (uint8_t*)&out;
     size_t on = 12345;
@@ -245,11 +256,7 @@ static vx_result op_svo_write(const vx_allocator* a, const op_ctx* c, uint8_t** 
         CHECK(out == (uint8_t*)&out || out == NULL);
         return r;
     }
-    *d = (uint8_t*)malloc(on);
-    if (*d) memcpy(*d, out, on);
-    *n = on;
-    vx_free(a, out);
-    return *d ? VX_OK : VX_ERR_NOMEM;
+    return take_output(a, out, on, d, n);
 }
 
 static vx_result op_svo_read(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
@@ -288,11 +295,7 @@ static vx_result op_probes_write(const vx_allocator* a, const op_ctx* c, uint8_t
         CHECK(out == NULL);
         return r;
     }
-    *d = (uint8_t*)malloc(on);
-    if (*d) memcpy(*d, out, on);
-    *n = on;
-    vx_free(a, out);
-    return *d ? VX_OK : VX_ERR_NOMEM;
+    return take_output(a, out, on, d, n);
 }
 
 /* svo scene -> .vox scene (svo_info --to-vox, the viewer's export) */
@@ -317,11 +320,7 @@ static vx_result op_vox_write(const vx_allocator* a, const op_ctx* c, uint8_t** 
         CHECK(out == NULL);
         return r;
     }
-    *d = (uint8_t*)malloc(on);
-    if (*d) memcpy(*d, out, on);
-    *n = on;
-    vx_free(a, out);
-    return *d ? VX_OK : VX_ERR_NOMEM;
+    return take_output(a, out, on, d, n);
 }
 
 /* ---- writers to a file ------------------------------------------------------------------- */

@@ -14,6 +14,7 @@
 #include "render/render_internal.h" /* vx__buffer, for the fake gi method */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
@@ -881,16 +882,7 @@ static void test_gi_hook(void) {
 }
 
 int main(void) {
-    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
-    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
-    vx_error err = {0};
-    static char why[256];
-    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
-        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
-        gpu_skip = why;
-    } else {
-        printf("device: %s\n", vx_gpu_device_name(gpu));
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_parse);
     RUN(test_default_equals_color);
     RUN(test_merged_equals_separate);

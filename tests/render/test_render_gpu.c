@@ -12,6 +12,7 @@
 #include "render/render_internal.h" /* vx__render_scene_force_precise */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
@@ -782,22 +783,8 @@ int main(void) {
     /* The loader unloads the driver and layer at vkDestroyInstance; pinning
      * them keeps their frames symbolised, so tests/render/lsan.supp can name
      * exactly these libraries (their internal caches are never freed). */
-    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
-    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
-    vx_error err = {0};
     /* validation on when the layer is installed */
-    vx_result r = vx_gpu_create(&(vx_gpu_desc){.validate = true, .logger = &logger}, &gpu, &err);
-    if (r) {
-        fprintf(stderr, "validation layer unavailable (%s); running without\n", err.msg);
-        r = vx_gpu_create(&(vx_gpu_desc){.logger = &logger}, &gpu, &err);
-    }
-    static char why[256];
-    if (r) {
-        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
-        gpu_skip = why;
-    } else {
-        printf("device: %s\n", vx_gpu_device_name(gpu));
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &logger}, true, &gpu);
     RUN(test_empty_and_single);
     RUN(test_axis_rays_on_edges);
     RUN(test_diagonal_edges_corners);

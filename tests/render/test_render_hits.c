@@ -23,6 +23,7 @@
 #include "render/render.h"
 #include "svo/core.h"
 #include "tests/test.h"
+#include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
@@ -148,21 +149,9 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    /* as in test_render_gpu.c: pinned driver and layer keep their frames
-     * symbolised for tests/render/lsan.supp */
-    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
-    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
-    vx_error err = {0};
     /* validation on when the layer is installed */
-    vx_result r = vx_gpu_create(&(vx_gpu_desc){.validate = true}, &gpu, &err);
-    if (r) r = vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err);
-    static char why[256];
-    if (r) {
-        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
-        gpu_skip = why;
-    } else {
-        printf("device: %s\n", vx_gpu_device_name(gpu));
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
+    vx_error err = {0};
     if (w && h) {
         /* one frame, for diagnosis */
         if (gpu_skip || !prepare()) return 1;
