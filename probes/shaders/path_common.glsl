@@ -162,7 +162,7 @@ vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
     }
     vec3 h = normalize(wo + wi);
     float d = ggx_d(B.a2, h.z), lo = ggx_lambda(B.a2, wo.z), li = ggx_lambda(B.a2, wi.z);
-    float g2 = 1.0 / (1.0 + lo + li), s5 = pow(1.0 - max(0.0, dot(wi, h)), 5.0);
+    float g2 = 1.0 / (1.0 + lo + li), s5 = pow(clamp(1.0 - dot(wi, h), 0.0, 1.0), 5.0); // dot can pass 1 by rounding: pow(< 0) is NaN
     pdf = B.ps * d / (1.0 + lo) / (4.0 * wo.z) + (1.0 - B.ps) * wi.z / PI;
     return B.kd / PI + (B.f0 + (1.0 - B.f0) * s5) * (d * g2 / (4.0 * wo.z * wi.z));
 }
