@@ -401,7 +401,7 @@ bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
     vec3 wi = 2.0 * dot(wo, m) * m - wo;
     if (wi.z <= 0.0) return false;
     wi_w = normalize(wi.x * S.t + wi.y * S.b + wi.z * S.n);
-    float lo = ggx_lambda(S.a2, wo.z), li = ggx_lambda(S.a2, wi.z), s5 = pow(1.0 - max(0.0, dot(wi, m)), 5.0);
+    float lo = ggx_lambda(S.a2, wo.z), li = ggx_lambda(S.a2, wi.z), s5 = pow(clamp(1.0 - dot(wi, m), 0.0, 1.0), 5.0);
     w = (S.f0 + (1.0 - S.f0) * s5) * ((1.0 + lo) / (1.0 + lo + li));
     return dot(wi_w, S.n) > 0.0;
 }

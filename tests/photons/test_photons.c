@@ -508,6 +508,144 @@ static void test_gather_cpu(void) {
     vx_render_image_free(&im);
 }
 
+/* ---- a glossy surface: a rough metal voxel sphere in a lit gray room ------------------- */
+
+static uint8_t metal_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    if (x == 0 || y == 0 || z == 0 || x == n - 1 || y == n - 1 || z == n - 1) return 1;
+    double dx = x + 0.5 - 8, dy = y + 0.5 - 9, dz = z + 0.5 - 6;
+    return dx * dx + dy * dy + dz * dz <= 16 ? 2 : 0;
+}
+
+/* A rough metal (GGX, roughness 0.2) voxel sphere in a closed gray room lit
+ * by a sphere light, seen from inside the room; the indirect light on the
+ * sphere is the lit room seen in it. A photon estimate there finds only the
+ * photons on the facets of the pixel's orientation, which on the sphere's
+ * staircase of faces cover part of the disk it divides by (cornell's metal
+ * sphere came out dark): glossy surfaces follow their specular lobe by a
+ * ray instead (photons.h). Over the pixels that see the sphere the mean
+ * matches the path tracer's (two 1024-spp seeds) within 5%, and the whole
+ * image within a relMSE of 0.03. Not matched (test_ggx_finite's scene, a
+ * third of the path tracer's mean): a small light seen through two
+ * reflections on the staircase, which the path tracer finds by next-event
+ * estimation at the second and the photons take from the density of that
+ * light's photons there (G_LIGHTS), as dark as before on a staircase. */
+static void test_glossy(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, metal_cell);
+    s.palette[1] = GRAY, s.palette[2] = 0xFFE0E0E0u;
+    const char* kv[] = {"_type", "_metal", "_metal", "1", "_rough", "0.2"};
+    add_material(&s, 2, kv, 3);
+    vx_light L = {.type = VX_LIGHT_SPHERE, .position = {3.5, 4, 12}, .color = {1, 1, 1}, .intensity = 11, .radius = 0.6};
+    vx_render_desc view = {.width = 32, .height = 24};
+    view.camera.set = true, view.camera.fov = 50;
+    view.camera.eye[0] = 8.3, view.camera.eye[1] = 1.6, view.camera.eye[2] = 9.1;
+    view.camera.target[0] = 8, view.camera.target[1] = 9, view.camera.target[2] = 6;
+    view.camera.up[2] = 1;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 6);
+    vx_render_image ref[2] = {{0}}, im = {0}, sph = {0};
+    vx_render_scene* rs = NULL;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    for (int k = 0; k < 2 && !r; k++) {
+        vx_probe_render_desc d = {.base = &view, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 1024,
+                                  .seed = 21 + (uint64_t)k, .lights = &L, .light_count = 1, .pixel_centre = true};
+        r = vx_probe_render_gpu(rs, &s, &light, &d, &ref[k], &err);
+    }
+    /* which pixels see the sphere: a render whose colour is the hit's palette entry */
+    vx_render_desc pv = view;
+    pv.mode = VX_RENDER_ALBEDO;
+    if (!r) r = vx_render_frame(rs, &pv, &sph, &err);
+    vx_render_scene_destroy(rs);
+    if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
+    REQUIRE(r == VX_OK);
+    vx_photon_desc d = {.photons = 200000, .radius = 0.5, .lights = &L, .light_count = 1};
+    run R;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    r = vx_photon_render(R.pg, &view, 8, false, &im, &err);
+    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+    run_free(&R);
+    vx_svo_scene_free(&s);
+    REQUIRE(r == VX_OK);
+    double noise = rel_mse(&ref[1], &ref[0]);
+    size_t n = (size_t)view.width * view.height, on = 0;
+    for (size_t i = 0; i < 4 * n; i++) ref[0].pixels[i] = 0.5f * (ref[0].pixels[i] + ref[1].pixels[i]);
+    double sp = 0, sr = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!(sph.pixels[4 * i] > 0.8f)) continue; /* the sphere's 0xE0 against the walls' 0x80 */
+        for (int c = 0; c < 3; c++) sp += im.pixels[4 * i + c], sr += ref[0].pixels[4 * i + c];
+        on++;
+    }
+    double e = rel_mse(&im, &ref[0]);
+    fprintf(stderr, "  glossy: the sphere's %zu pixels, photons / path tracer %.4f; relMSE %.4f (reference seeds apart %.4f)\n",
+            on, sp / sr, e, noise);
+    CHECK(on > 100 && sr > 0.01 * on);
+    CHECK(fabs(sp / sr - 1) < 0.05);
+    CHECK(e < 0.03);
+    vx_render_image_free(&im);
+    vx_render_image_free(&sph);
+    vx_render_image_free(&ref[0]);
+    vx_render_image_free(&ref[1]);
+}
+
+/* A rough metal sphere over a floor seen straight from the side (ortho):
+ * every pixel finite in the path tracer and the photons. The GGX Fresnel
+ * term took pow(1 - dot(wi, h), 5), and where a reflection leaves a face
+ * along its normal rounding puts the dot above 1: pow of a negative, NaN
+ * (3 pixels of this image at 1024 spp on lavapipe before the clamp in
+ * probes/shaders/path_common.glsl). */
+static uint8_t metal_floor_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 1;
+    double dx = x + 0.5 - 8, dy = y + 0.5 - 8, dz = z + 0.5 - 6.5;
+    return dx * dx + dy * dy + dz * dz <= 25 ? 2 : 0;
+}
+static void test_ggx_finite(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, metal_floor_cell);
+    s.palette[1] = GRAY, s.palette[2] = 0xFFE0E0E0u;
+    const char* kv[] = {"_type", "_metal", "_metal", "1", "_rough", "0.2"};
+    add_material(&s, 2, kv, 3);
+    vx_light L = {.type = VX_LIGHT_SPHERE, .position = {3, 2, 9}, .color = {1, 1, 1}, .intensity = 6, .radius = 1.5};
+    vx_render_desc view = {.width = 24, .height = 24};
+    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 11;
+    view.camera.eye[0] = 8, view.camera.eye[1] = -30, view.camera.eye[2] = 6.5;
+    view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 6.5;
+    view.camera.up[2] = 1;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 6);
+    vx_render_image im[2] = {{0}};
+    vx_render_scene* rs = NULL;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    vx_probe_render_desc d = {.base = &view, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 1024, .seed = 21,
+                              .lights = &L, .light_count = 1, .pixel_centre = true};
+    if (!r) r = vx_probe_render_gpu(rs, &s, &light, &d, &im[0], &err);
+    vx_render_scene_destroy(rs);
+    if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
+    run R;
+    vx_photon_desc pd = {.photons = 100000, .radius = 0.5, .lights = &L, .light_count = 1};
+    if (!r && !run_make(&R, &s, &light, &pd)) r = VX_ERR_GPU;
+    else if (!r) {
+        r = vx_photon_render(R.pg, &view, 2, false, &im[1], &err);
+        if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+        run_free(&R);
+    }
+    vx_svo_scene_free(&s);
+    REQUIRE(r == VX_OK);
+    size_t bad[2] = {0, 0};
+    for (int k = 0; k < 2; k++)
+        for (size_t i = 0; i < 4 * (size_t)view.width * view.height; i++) bad[k] += !isfinite(im[k].pixels[i]);
+    fprintf(stderr, "  GGX straight from the side: %zu and %zu non-finite values (path tracer, photons); means %.4f %.4f\n",
+            bad[0], bad[1], mean_rgb(&im[0]), mean_rgb(&im[1]));
+    CHECK(bad[0] == 0 && bad[1] == 0);
+    CHECK(mean_rgb(&im[0]) > 1e-4 && mean_rgb(&im[1]) > 1e-4); /* lit (the means differ: test_glossy's comment) */
+    vx_render_image_free(&im[0]);
+    vx_render_image_free(&im[1]);
+}
+
 /* The progressive estimate: passes of few photons with a large first radius
  * (noisy and blurred); the error against the path tracer falls as passes
  * accumulate and the radius shrinks. */
@@ -540,6 +678,8 @@ int main(void) {
     RUN(test_sky_gradient_power);
     RUN(test_furnace);
     RUN(test_caustic);
+    RUN(test_glossy);
+    RUN(test_ggx_finite);
     RUN(test_progressive);
     RUN(test_reproducible);
     RUN(test_gather_cpu);
