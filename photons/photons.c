@@ -585,7 +585,7 @@ vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_e
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
         uint32_t wi;
-        memcpy(&wi, q + 3, 4);
+        memcpy(&wi, q + 7, 4);
         for (int k = 0; k < 3; k++) {
             all[k] += q[4 + k];
             if (wi & 1u) first[k] += q[4 + k]; /* photon.comp's F_FIRST */
@@ -619,7 +619,7 @@ vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* cou
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
         uint32_t wb, nb;
-        memcpy(&wb, q + 3, 4), memcpy(&nb, q + 7, 4);
+        memcpy(&nb, q + 3, 4), memcpy(&wb, q + 7, 4);
         vx_photon_record* o = &rec[i];
         for (int k = 0; k < 3; k++) o->position[k] = q[k] + pg->ref[k], o->power[k] = q[4 + k];
         oct_decode(wb, o->direction); /* its lowest bit, F_FIRST, is 1/32767 of u: left in */

@@ -50,11 +50,12 @@ layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
 // per exposed face of an emissive voxel (photons.c's face table) five vec4: (corner, area), (edge u, cdf),
 // (edge v, 0), (outward unit normal, the cell's edge across the face), (radiance, 0)
 layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
-// stored photons, two vec4 each: (position, bits of the packed incoming direction), (power rgb, bits of the
-// packed normal with the flags in its low bits: see pack_flags)
+// stored photons, two vec4 each: (position, bits of the packed normal with the flags in its low bits),
+// (power rgb, bits of the packed incoming direction with F_FIRST in its lowest): see store(); a gather
+// decides on the first vec4 alone whether a photon counts
 layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
-// the stored photons by bucket, split: [0, capacity) their first vec4 (position: all a gather reads of
-// a photon outside its radius), [capacity, 2 capacity) their second
+// the stored photons by bucket, split: [0, capacity) their first vec4 (position, normal, flags: all a
+// gather reads of a photon that does not count), [capacity, 2 capacity) their second
 layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
 // per bucket: count, then (after alloc) start
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
@@ -110,8 +111,8 @@ uint bucket(ivec3 c, uint map) {
     return h & (P.a.w - 1u);
 }
 ivec3 cell_of(vec3 p, float r) { return ivec3(floor(p / r)); }
-uint photon_bucket(vec4 a, vec4 b) {
-    uint map = floatBitsToUint(b.w) & F_CAUSTIC;
+uint photon_bucket(vec4 a) {
+    uint map = floatBitsToUint(a.w) & F_CAUSTIC;
     return bucket(cell_of(a.xyz, map != 0u ? P.r.y : P.r.x), map);
 }
 
@@ -187,8 +188,8 @@ void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
     // photon's first surface, for vx_photon_power) in the direction's lowest bit (1/32767 of u)
     uint nb = (packSnorm2x16(oct_encode(n)) & ~F_BITS) | flags;
     uint wb = (packSnorm2x16(oct_encode(wi)) & ~1u) | (first ? F_FIRST : 0u);
-    ph[2u * k] = vec4(p, uintBitsToFloat(wb));
-    ph[2u * k + 1u] = vec4(phi, uintBitsToFloat(nb));
+    ph[2u * k] = vec4(p, uintBitsToFloat(nb));
+    ph[2u * k + 1u] = vec4(phi, uintBitsToFloat(wb));
 }
 
 // The trace: invocation i traces photons i, i + T, i + 2T, ... (T: P.tr.x invocations), starting the
@@ -323,6 +324,7 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
     bool lambert = B.kind == B_LAMBERT;
     if (lambert && dot(wo, B.n) <= 0.0) return vec3(0.0); // bsdf_eval's wo.z <= 0
     float scale = lambert ? P.fx.y : P.fx.x;
+    uint ncode = packSnorm2x16(oct_encode(n)) & ~F_BITS;
     uvec3 shi = uvec3(0u), slo = uvec3(0u);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
@@ -340,23 +342,26 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
                     vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
+                    uint nb = floatBitsToUint(a.w);
+                    if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
+                    if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
+                    if (sel == G_LIGHTS && (nb & (map != 0u ? F_LIGHT : F_DIRECT)) == 0u) continue;
+                    // another face (a wall's back, a step): normals within 25 degrees; the same code (a
+                    // voxel face's normal, most photons) needs no decoding
+                    if ((nb & ~F_BITS) != ncode && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), n) < 0.9) continue;
                     // another cell's photon: two of the 27 cells can share a bucket, whose photons
                     // would count twice (tests/photons test_gather_cpu found one pixel in 432 8% high)
                     if (cell_of(a.xyz, r) != ivec3(cx, cy, cz)) continue;
-                    vec4 b = sorted[P.a.y + k]; // read only for the photons within the radius
-                    uint nb = floatBitsToUint(b.w);
-                    if ((nb & F_CAUSTIC) != map) continue; // another map's photon in this bucket
-                    if ((sel == G_INDIRECT || sel == G_FIRST) && (nb & F_DIRECT) != 0u) continue;
-                    if ((sel == G_FIRST || sel == G_FIRST_ANY) && (floatBitsToUint(a.w) & F_FIRST) == 0u) continue;
-                    if (sel == G_LIGHTS && (nb & (map != 0u ? F_LIGHT : F_DIRECT)) == 0u) continue;
-                    vec3 pn = oct_decode(unpackSnorm2x16(nb & ~F_BITS));
-                    if (dot(pn, n) < 0.9) continue; // another face (a wall's back, a step)
-                    vec3 wi = oct_decode(unpackSnorm2x16(floatBitsToUint(a.w)));
+                    vec4 b = sorted[P.a.y + k]; // read only for the photons that count
+                    uint wb = floatBitsToUint(b.w);
+                    if ((sel == G_FIRST || sel == G_FIRST_ANY) && (wb & F_FIRST) == 0u) continue;
                     if (lambert) {
-                        if (dot(wi, B.n) > 0.0) fx_add(shi, slo, b.xyz, scale); // bsdf_eval's wi.z > 0
+                        // f = albedo / pi for every photon: each came from the front of its own face,
+                        // within 25 degrees of this one
+                        fx_add(shi, slo, b.xyz, scale);
                     } else {
                         float pdf;
-                        fx_add(shi, slo, bsdf_eval(B, wo, wi, pdf) * b.xyz, scale);
+                        fx_add(shi, slo, bsdf_eval(B, wo, oct_decode(unpackSnorm2x16(wb)), pdf) * b.xyz, scale);
                     }
                 }
             }
@@ -514,7 +519,7 @@ void main() {
         trace_photons();
     } else if (STEP == S_COUNT) {
         if (i >= min(ctr[0], P.a.y)) return;
-        atomicAdd(cells[photon_bucket(ph[2u * i], ph[2u * i + 1u])].x, 1u);
+        atomicAdd(cells[photon_bucket(ph[2u * i])].x, 1u);
     } else if (STEP == S_ALLOC) {
         if (i >= P.a.w) return;
         uint n = cells[i].x;
@@ -522,7 +527,7 @@ void main() {
     } else if (STEP == S_SCATTER) {
         if (i >= min(ctr[0], P.a.y)) return;
         vec4 a = ph[2u * i], b = ph[2u * i + 1u];
-        uint c = photon_bucket(a, b);
+        uint c = photon_bucket(a);
         uint k = cells[c].y + atomicAdd(cells[c].x, 1u);
         sorted[k] = a;
         sorted[P.a.y + k] = b;
