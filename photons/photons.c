@@ -137,7 +137,7 @@ static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
                 o[4 + k] = u[k], o[8 + k] = v[k], o[12 + k] = out * n[k] / area, o[16 + k] = rad[k];
             }
             o[3] = area, o[15] = edge, o[11] = o[19] = 0;
-            o[7] = l * area; /* the face's power; the cdf on upload */
+            o[7] = l * area; /* the face's power; the alias table's probability on upload */
             pg->face_power += l * area;
         }
     return true;
@@ -182,6 +182,39 @@ static double spot_mean(double sc, double off, double co) {
         s += sp * sp;
     }
     return s / N;
+}
+
+/* Walker's alias table over the faces' powers (Vose's construction), into
+ * the emitter table e: slot i (drawn uniformly) gives face i with
+ * probability e[i].prob, else face e[i].alias; a face in O(1), where a
+ * binary search over the cdf took log2(faces) dependent reads per photon. */
+static bool alias_table(vx_photon_gi* pg, float* e) {
+    size_t n = pg->face_count;
+    double* p = vx_alloc(pg->alloc, n * sizeof *p);
+    uint32_t* w = vx_alloc(pg->alloc, n * sizeof *w); /* the small slots from the front, the large from the back */
+    if (!p || !w) {
+        vx_free(pg->alloc, p);
+        vx_free(pg->alloc, w);
+        return false;
+    }
+    size_t ns = 0, nl = 0;
+    for (size_t i = 0; i < n; i++) {
+        p[i] = pg->faces[(size_t)FACE_FLOATS * i + 7] * (double)n / pg->face_power;
+        if (p[i] < 1) w[ns++] = (uint32_t)i;
+        else w[n - 1 - nl++] = (uint32_t)i;
+    }
+    for (size_t i = 0; i < n; i++) e[FACE_FLOATS * i + 7] = 1.0f; /* prob (slots left at the end: 1, rounding) */
+    for (size_t i = 0; i < n; i++) memcpy(&e[FACE_FLOATS * i + 11], &(uint32_t){(uint32_t)i}, 4);
+    while (ns && nl) {
+        uint32_t sm = w[--ns], lg = w[n - nl];
+        e[FACE_FLOATS * (size_t)sm + 7] = (float)p[sm];
+        memcpy(&e[FACE_FLOATS * (size_t)sm + 11], &lg, 4);
+        p[lg] = (p[lg] + p[sm]) - 1;
+        if (p[lg] < 1) nl--, w[ns++] = lg;
+    }
+    vx_free(pg->alloc, p);
+    vx_free(pg->alloc, w);
+    return true;
 }
 
 /* The sources table and the emissive voxels relative to ref (photon.comp's
@@ -265,13 +298,14 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
         o[3] = SRC_VOXELS, o[21] = L->voxel_lights; /* direct when a light stands for them */
         for (int k = 0; k < 3; k++) pw[4 * n + k] = pi * pg->face_power; /* scaled by rad / lum(rad) per face */
         n++;
-        double acc = 0;
         for (size_t i = 0; i < ne; i++) {
             float* q = e + FACE_FLOATS * i;
             const double* f = pg->faces + FACE_FLOATS * i;
             for (int k = 0; k < FACE_FLOATS; k++) q[k] = (float)(k < 3 ? f[k] - ref[k] : f[k]);
-            acc += f[7];
-            q[7] = i + 1 == ne ? 1.0f : (float)(acc / pg->face_power);
+        }
+        if (!alias_table(pg, e)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the alias table of %zu faces", ne);
+            goto done;
         }
     }
     double total = 0;

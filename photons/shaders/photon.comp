@@ -47,8 +47,9 @@ layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0);
 // the sky: e.xyz 1 / its mean radiance
 layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
-// per exposed face of an emissive voxel (photons.c's face table) five vec4: (corner, area), (edge u, cdf),
-// (edge v, 0), (outward unit normal, the cell's edge across the face), (radiance, 0)
+// per exposed face of an emissive voxel (photons.c's face table) five vec4: (corner, area), (edge u, the
+// alias table's probability), (edge v, bits of the alias), (outward unit normal, the cell's edge across
+// the face), (radiance, 0)
 layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
 // stored photons, two vec4 each: (position, bits of the packed normal with the flags in its low bits),
 // (power rgb, bits of the packed incoming direction with F_FIRST in its lowest): see store(); a gather
@@ -70,6 +71,11 @@ layout(std430, binding = 17) readonly buffer Env { float env[]; };
 #include "sky.glsl"
 // the sky's radiance towards unit d (uniform, or by direction: the path tracer's sky_eval)
 vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
+// A uniform 32-bit word of the invocation's random stream (path_common.glsl's rnd() keeps 24 bits).
+uint rnd_word() {
+    g_ctr++;
+    return pcg4d(uvec4(g_key.x, g_key.y, g_key.z ^ g_ctr, g_key.w)).x;
+}
 
 uvec2 rng_seed() { return P.seed.xy; }
 Surf g_s; // the vertex being shaded (one copy: GLSL passes structs by value)
@@ -157,13 +163,11 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
         o = a.xyz + (u1 - 0.5) * tg.w * tg.xyz + (u2 - 0.5) * f.x * t2;
         d = cosine_dir(b.xyz, u3, u4);
     } else { // emissive voxels: an exposed face (its neighbour cell empty) picked by its power
-        float u0 = rnd();
-        uint lo = 0u, hi = P.cnt.x - 1u;
-        while (lo < hi) {
-            uint mid = lo + (hi - lo) / 2u;
-            if (ems[5u * mid + 1u].w <= u0) lo = mid + 1u;
-            else hi = mid;
-        }
+        // Walker's alias table (photons.c alias_table): a uniform slot of a 32-bit word (rnd() keeps 24
+        // bits: too few for 2^24 faces), its face or its alias
+        uint lo, slot;
+        umulExtended(rnd_word(), P.cnt.x, slot, lo);
+        lo = rnd() < ems[5u * slot + 1u].w ? slot : floatBitsToUint(ems[5u * slot + 2u].w);
         vec3 nrm = ems[5u * lo + 3u].xyz, rad = ems[5u * lo + 4u].xyz;
         float edge = ems[5u * lo + 3u].w;
         // the face's radiance over the luminance the pick was proportional to
