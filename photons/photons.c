@@ -27,7 +27,7 @@ typedef struct gpu_params {
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
@@ -392,6 +392,9 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
                        (unsigned long long)out->size, f.width, f.height);
     if ((r = vx__render_scene_bind(pg->rs, &f, pg->scene_bufs, pg->spec, err))) return r;
+    /* the photons' buffer holds the density step's records (48 bytes a pixel) once the photons are sorted */
+    uint64_t ph_bytes = (uint64_t)pg->d.capacity * PHOTON_BYTES;
+    if ((r = vx__buffer_ensure(pg->g, &pg->photons, npx * 48 > ph_bytes ? npx * 48 : ph_bytes, "photons", err))) return r;
     if (!pg->tables_for_ref || memcmp(pg->ref, f.ref, sizeof pg->ref)) {
         if ((r = upload_sources(pg, f.ref, err))) return r;
         memcpy(pg->ref, f.ref, sizeof pg->ref);
@@ -442,8 +445,11 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
     if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    /* tiles of 8 x 8 pixels, 64 invocations each */
-    if (!r) r = step(pg, STEP_GATHER, (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64, out, &st.gather_ms, err);
+    /* tiles of 8 x 8 pixels, 64 invocations each: the camera's paths, then the Lambert sums (photon.comp
+     * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
+    uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
+    if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.gather_ms, err);
+    if (!r) r = step(pg, STEP_DENSITY, tiles, out, &st.gather_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])
@@ -609,12 +615,28 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out) {
     if (pg && out) *out = pg->last;
 }
 
+/* The last pass's n stored photons as the trace wrote them (8 floats each), from the sorted array (the
+ * photons' own buffer holds the density step's records by then): its first halves, then its second. */
+static vx_result download_photons(vx_photon_gi* pg, float* out, size_t n, vx_error* err) {
+    if (!n) return VX_OK;
+    size_t half = (size_t)pg->d.capacity * (PHOTON_BYTES / 2);
+    float* tmp = vx_alloc(pg->alloc, 2 * half);
+    if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n);
+    vx_result r = vx__buffer_download(pg->g, &pg->sorted, tmp, 2 * half, err);
+    for (size_t i = 0; !r && i < n; i++) {
+        memcpy(out + 8 * i, tmp + 4 * i, 16);
+        memcpy(out + 8 * i + 4, (const char*)tmp + half + 16 * i, 16);
+    }
+    vx_free(pg->alloc, tmp);
+    return r;
+}
+
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err) {
     if (!pg || !first || !all) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     size_t n = (size_t)pg->last.stored;
     float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
     if (!ph) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n);
-    vx_result r = n ? vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err) : VX_OK;
+    vx_result r = download_photons(pg, ph, n, err);
     for (int k = 0; k < 3; k++) first[k] = all[k] = 0;
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
@@ -649,7 +671,7 @@ vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* cou
     float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
     vx_photon_record* rec = vx_calloc(pg->alloc, n ? n : 1, sizeof *rec);
     vx_result r = !ph || !rec ? vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n) : VX_OK;
-    if (!r && n) r = vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err);
+    if (!r) r = download_photons(pg, ph, n, err);
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
         uint32_t wb, nb;

@@ -79,7 +79,8 @@
  * falls (alpha in (0, 1)).
  *
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
- * bytes per bucket. Photons beyond the capacity are dropped (counted in the
+ * bytes per bucket; the stored photons' buffer holds 48 bytes a pixel for
+ * the estimate's second step once they are sorted (at least that much). Photons beyond the capacity are dropped (counted in the
  * stats; the estimate then falls short). */
 #ifndef VX_PHOTONS_H
 #define VX_PHOTONS_H
@@ -195,8 +196,8 @@ typedef struct vx_photon_record {
                            a caustic photon from a light that camera rays cannot meet (not sky, not voxels) */
 } vx_photon_record;
 
-/* Downloads the last pass's stored photons (in the order the GPU stored
- * them, which changes from run to run): *out (free with vx_free(alloc, ...),
+/* Downloads the last pass's stored photons (in the grid's order, which
+ * changes from run to run): *out (free with vx_free(alloc, ...),
  * alloc the scene's allocator) gets *count records. For independent checks
  * of the gather (tests/photons: a brute-force estimate on the CPU). */
 vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* count, vx_error* err);

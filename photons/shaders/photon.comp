@@ -10,8 +10,13 @@
 //   STEP 2 count:   per stored photon, count it into its hash bucket
 //   STEP 3 alloc:   per bucket, claim a contiguous range of the sorted array
 //   STEP 4 scatter: per stored photon, copy it into its bucket's range
-//   STEP 5 gather:  per pixel, the radiance estimate at the camera's first
-//                   non-glass surface from the caustic and global maps
+//   STEP 5 gather:  per pixel, the camera's path to its last surface (through
+//                   glass and glossy reflection) and the estimate wherever it
+//                   is not a plain Lambert sum; the rest goes to STEP 7 as a
+//                   record in Photons (free after the scatter)
+//   STEP 7 density: per pixel, the record's Lambert sums over both maps, added
+//                   into Out (a small kernel: the gather loop runs at the
+//                   occupancy of its own registers, not the tracer's)
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
@@ -23,7 +28,7 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
-const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6;
+const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7;
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -53,7 +58,8 @@ layout(std430, binding = 10) readonly buffer Sources { vec4 src[]; };
 layout(std430, binding = 11) readonly buffer Emitters { vec4 ems[]; };
 // stored photons, two vec4 each: (position, bits of the packed normal with the flags in its low bits),
 // (power rgb, bits of the packed incoming direction with F_FIRST in its lowest): see store(); a gather
-// decides on the first vec4 alone whether a photon counts
+// decides on the first vec4 alone whether a photon counts. From the gather step on (the photons are in
+// Sorted then): three vec4 per pixel for the density step (gather_pixel)
 layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
 // the stored photons by bucket, split: [0, capacity) their first vec4 (position, normal, flags: all a
 // gather reads of a photon that does not count), [capacity, 2 capacity) their second
@@ -318,17 +324,12 @@ void fx_add(inout uvec3 hi, inout uvec3 lo, vec3 t, float scale) {
 }
 vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0 + vec3(lo)) / scale; }
 
-// Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r.
-// A Lambert surface's BSDF is the same for every photon in front of it: the photons' powers are summed
-// (exactly, P.fx.y units per unit of power) and multiplied by albedo / pi once, with no BSDF evaluation
-// per photon; other surfaces sum BSDF times power (P.fx.x units). Of the 27 cells around x (cell = r)
-// those whose box lies farther than r from x are skipped (on a surface about a tenth of the photons).
-vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
-    vec3 x = g_s.p, n = g_s.n;
-    bool lambert = B.kind == B_LAMBERT;
-    if (lambert && dot(wo, B.n) <= 0.0) return vec3(0.0); // bsdf_eval's wo.z <= 0
+// The sum over the photons of map `map` within radius r of x whose normal lies within 25 degrees of n
+// (ncode: n's packed code) of power (lambert) or BSDF B towards wo times power, exact (fixed point: units
+// of P.fx.y or P.fx.x). Of the 27 cells around x (cell = r) those whose box lies farther than r from x
+// are skipped (on a surface about a tenth of the photons).
+vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
     float scale = lambert ? P.fx.y : P.fx.x;
-    uint ncode = packSnorm2x16(oct_encode(n)) & ~F_BITS;
     uvec3 shi = uvec3(0u), slo = uvec3(0u);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
@@ -371,7 +372,17 @@ vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
             }
         }
     }
-    vec3 sum = fx_value(shi, slo, scale) * norm;
+    return fx_value(shi, slo, scale);
+}
+
+// Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r (norm:
+// 1 / (pi r^2)). A Lambert surface's BSDF is the same for every photon in front of it: the photons'
+// powers are summed and multiplied by albedo / pi once, with no BSDF per photon.
+vec3 gather(Bsdf B, vec3 wo, uint map, float r, float norm, int sel) {
+    bool lambert = B.kind == B_LAMBERT;
+    if (lambert && dot(wo, B.n) <= 0.0) return vec3(0.0); // bsdf_eval's wo.z <= 0
+    uint ncode = packSnorm2x16(oct_encode(g_s.n)) & ~F_BITS;
+    vec3 sum = photon_sum(g_s.p, g_s.n, ncode, lambert, B, wo, map, r, sel) * norm;
     return lambert ? sum * (B.alb / PI) : sum;
 }
 
@@ -435,6 +446,9 @@ void gather_pixel() {
     bool full = P.img.w != 0u;
     vec3 thr = vec3(1.0), L = vec3(0.0);
     bool after_glossy = false;
+    // the density step's record: the point, its normal's code with (deferred, sel) in its low bits, the
+    // factor of the sums (throughput times albedo / pi), the light found here
+    vec4 rec0 = vec4(0.0), rec1 = vec4(0.0);
     for (int events = 0; events < 64; events++) {
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
@@ -492,18 +506,50 @@ void gather_pixel() {
             after_glossy = true;
             continue;
         }
-        vec3 caustics = gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel);
         // the final gather at the camera's first surface; in a full image the light that came straight
         // from a source (the direct pass's too) is that surface's first-surface photons
-        if (first && P.cnt.z > 0u)
-            L += caustics + gather(B, wo, 0u, P.r.x, P.r.z, full ? G_FIRST_ANY : G_FIRST) + final_gather(B, wo, P.cnt.z);
-        else
-            L += thr * (caustics + gather(B, wo, 0u, P.r.x, P.r.z, sel));
+        if (first && P.cnt.z > 0u) {
+            L += gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, full ? G_FIRST_ANY : G_FIRST) +
+                 final_gather(B, wo, P.cnt.z);
+        } else if (B.kind == B_LAMBERT) {
+            // both maps' sums in the density step
+            if (dot(wo, B.n) > 0.0) {
+                uint ncode = packSnorm2x16(oct_encode(g_s.n)) & ~F_BITS;
+                rec0 = vec4(g_s.p, uintBitsToFloat(ncode | 1u | (sel == G_INDIRECT ? 2u : 0u)));
+                rec1 = vec4(thr * (B.alb / PI), 0.0);
+            }
+        } else {
+            L += thr * (gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, sel));
+        }
         break;
     }
     if (!loops_intact()) {
         ctr[2] = 1u;
         return;
+    }
+    ph[3u * idx] = rec0;
+    ph[3u * idx + 1u] = rec1;
+    ph[3u * idx + 2u] = vec4(L, 0.0);
+}
+
+// The density step: a record's sums over both maps (the same tiles of 8 x 8 pixels as gather_pixel), the
+// pixel's light written into Out.
+void density_pixel() {
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
+    if (x >= W || y >= H) return;
+    uint idx = x + y * W;
+    vec4 rec0 = ph[3u * idx];
+    vec3 L = ph[3u * idx + 2u].xyz;
+    uint bits = floatBitsToUint(rec0.w);
+    if ((bits & 1u) != 0u) {
+        uint ncode = bits & ~F_BITS;
+        int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
+        vec3 n = oct_decode(unpackSnorm2x16(ncode)), w = ph[3u * idx + 1u].xyz;
+        Bsdf B; // unused by the Lambert sums
+        vec3 c = photon_sum(rec0.xyz, n, ncode, true, B, vec3(0.0), F_CAUSTIC, P.r.y, sel);
+        vec3 g = photon_sum(rec0.xyz, n, ncode, true, B, vec3(0.0), 0u, P.r.x, sel);
+        L += w * (c * P.r.w + g * P.r.z);
     }
     if (P.img.z == 0u || P.seed.z == 0u) { // the first pass overwrites (the buffer holds anything)
         outv[idx] = vec4(L, 1.0);
@@ -535,6 +581,8 @@ void main() {
         uint k = cells[c].y + atomicAdd(cells[c].x, 1u);
         sorted[k] = a;
         sorted[P.a.y + k] = b;
+    } else if (STEP == S_DENSITY) {
+        density_pixel();
     } else {
         gather_pixel();
     }
