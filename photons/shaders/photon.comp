@@ -20,6 +20,8 @@
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 
 // GROUP (spec constant 7): invocations per workgroup (vx_photon_desc.workgroup)
 layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
@@ -327,7 +329,9 @@ vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0
 // The sum over the photons of map `map` within radius r of x whose normal lies within 25 degrees of n
 // (ncode: n's packed code) of power (lambert) or BSDF B towards wo times power, exact (fixed point: units
 // of P.fx.y or P.fx.x). Of the 27 cells around x (cell = r) those whose box lies farther than r from x
-// are skipped (on a surface about a tenth of the photons).
+// are skipped (on a surface about a tenth of the photons), and a bucket that two cells share is read
+// once: every photon within r lies in one of the cells left, so each counts once (before, a photon
+// counted only in its own cell: a floor per axis for every photon within r).
 vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
     float scale = lambert ? P.fx.y : P.fx.x;
     uvec3 shi = uvec3(0u), slo = uvec3(0u);
@@ -335,6 +339,8 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
     float r2 = r * r;
     // a cell's box is [c r, (c + 1) r] up to the rounding of floor(p / r): grown by a margin for that
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m);
+    uint seen[27];
+    int nseen = 0;
     for (int cz = lo.z; cz <= hi.z; cz++) {
         float dz = max(max(float(cz) * r - x.z, x.z - float(cz + 1) * r), 0.0);
         for (int cy = lo.y; cy <= hi.y; cy++) {
@@ -342,7 +348,12 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
             for (int cx = lo.x; cx <= hi.x; cx++) {
                 float dx = max(max(float(cx) * r - x.x, x.x - float(cx + 1) * r), 0.0);
                 if (dx * dx + dy * dy + dz * dz > rm2) continue; // no point of this cell within r
-                uvec2 cl = cells[bucket(ivec3(cx, cy, cz), map)];
+                uint bk = bucket(ivec3(cx, cy, cz), map);
+                bool dup = false;
+                for (int j = 0; j < nseen; j++) dup = dup || seen[j] == bk;
+                if (dup || nseen >= 27) continue;
+                seen[nseen++] = bk;
+                uvec2 cl = cells[bk];
                 for (uint k = cl.y; k < cl.y + cl.x; k++) {
                     vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
@@ -354,9 +365,6 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
                     // another face (a wall's back, a step): normals within 25 degrees; the same code (a
                     // voxel face's normal, most photons) needs no decoding
                     if ((nb & ~F_BITS) != ncode && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), n) < 0.9) continue;
-                    // another cell's photon: two of the 27 cells can share a bucket, whose photons
-                    // would count twice (tests/photons test_gather_cpu found one pixel in 432 8% high)
-                    if (cell_of(a.xyz, r) != ivec3(cx, cy, cz)) continue;
                     vec4 b = sorted[P.a.y + k]; // read only for the photons that count
                     uint wb = floatBitsToUint(b.w);
                     if ((sel == G_FIRST || sel == G_FIRST_ANY) && (wb & F_FIRST) == 0u) continue;
@@ -571,9 +579,12 @@ void main() {
         if (i >= min(ctr[0], P.a.y)) return;
         atomicAdd(cells[photon_bucket(ph[2u * i])].x, 1u);
     } else if (STEP == S_ALLOC) {
-        if (i >= P.a.w) return;
-        uint n = cells[i].x;
-        cells[i] = uvec2(0u, n > 0u ? atomicAdd(ctr[1], n) : 0u);
+        // one atomic per subgroup on the one counter (was one per non-empty bucket: they queue on one
+        // address); the subgroup's buckets take consecutive ranges in bucket order
+        uint n = i < P.a.w ? cells[i].x : 0u, total = subgroupAdd(n), base = 0u;
+        if (subgroupElect() && total > 0u) base = atomicAdd(ctr[1], total);
+        base = subgroupBroadcastFirst(base) + subgroupExclusiveAdd(n);
+        if (i < P.a.w) cells[i] = uvec2(0u, n > 0u ? base : 0u);
     } else if (STEP == S_SCATTER) {
         if (i >= min(ctr[0], P.a.y)) return;
         vec4 a = ph[2u * i], b = ph[2u * i + 1u];
