@@ -58,8 +58,8 @@
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next
- * surface with the whole photon estimate there (both maps, direct photons
- * too; a ray that meets glass ends, its light being the caustic map's),
+ * surface that is not glass with the whole photon estimate there (both
+ * maps, direct photons too; glass on the way followed by Fresnel choice),
  * while the light straight from the sky and emissive voxels comes from the
  * photons at their first surface there (rays would have to find a small
  * bright emitter: noise); in a full image (vx_photon_render) those photons

@@ -502,58 +502,66 @@ static void test_gather_cpu(void) {
     run R;
     REQUIRE(run_make(&R, &s, &light, &d));
     enum { W = 24, H = 18 };
-    vx_render_desc view = {.width = W, .height = H};
-    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 9;
-    view.camera.eye[0] = 8, view.camera.eye[1] = 8, view.camera.eye[2] = 40;
-    view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 1;
-    view.camera.up[1] = 1;
-    vx_render_image im = {0};
+    /* two views: the slab's middle 9 cells high (a tile of 8 x 8 pixels spans 6 radii: each pixel's own
+     * loop) and 1 high (a tile spans 0.9 radii: the tile's shared loop, photon.comp tile_sum) */
+    const double heights[2] = {9, 1};
+    vx_render_image ims[2] = {{0}};
     vx_error err = {0};
     vx_photon_record* ph = NULL;
     size_t n = 0;
-    vx_result res = vx_photon_render(R.pg, &view, 1, true, &im, &err);
+    vx_result res = VX_OK;
+    for (int v = 0; v < 2 && !res; v++) {
+        vx_render_desc view = {.width = W, .height = H};
+        view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = heights[v];
+        view.camera.eye[0] = 8, view.camera.eye[1] = 8, view.camera.eye[2] = 40;
+        view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 1;
+        view.camera.up[1] = 1;
+        res = vx_photon_render(R.pg, &view, 1, true, &ims[v], &err);
+    }
     if (!res) res = vx_photon_stored(R.pg, &ph, &n, &err);
     if (res) fprintf(stderr, "  photons: %s\n", err.msg);
     run_free(&R);
     vx_svo_scene_free(&s);
     REQUIRE(res == VX_OK);
-    /* pixel centres on the top face (z = 1): right is +x, up +y; the view 9 high, 12 wide */
-    double hh = 4.5, hw = hh * W / H, f = ALB / PI / (PI * r * r);
-    size_t outside = 0, agree = 0, hits = 0;
-    double worst = 0;
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            double u = ((x + 0.5) / W) * 2 - 1, v = 1 - ((y + 0.5) / H) * 2, p[3] = {8 + u * hw, 8 + v * hh, 1};
-            double lo[3] = {0}, hi[3] = {0};
-            size_t nlo = 0, nhi = 0;
-            for (size_t i = 0; i < n; i++) {
-                if (ph[i].normal[2] < 0.9) continue; /* not the top (GPU: normals within 25 degrees) */
-                double d2 = 0;
-                for (int k = 0; k < 3; k++) d2 += (ph[i].position[k] - p[k]) * (ph[i].position[k] - p[k]);
-                if (d2 > r * r * (1 + 2e-4)) continue;
-                bool in = d2 <= r * r * (1 - 2e-4);
-                for (int k = 0; k < 3; k++) {
-                    hi[k] += f * ph[i].power[k];
-                    if (in) lo[k] += f * ph[i].power[k];
+    for (int v = 0; v < 2; v++) {
+        /* pixel centres on the top face (z = 1): right is +x, up +y */
+        double hh = heights[v] / 2, hw = hh * W / H, f = ALB / PI / (PI * r * r);
+        size_t outside = 0, agree = 0, hits = 0;
+        double worst = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                double u = ((x + 0.5) / W) * 2 - 1, vv = 1 - ((y + 0.5) / H) * 2, p[3] = {8 + u * hw, 8 + vv * hh, 1};
+                double lo[3] = {0}, hi[3] = {0};
+                size_t nlo = 0, nhi = 0;
+                for (size_t i = 0; i < n; i++) {
+                    if (ph[i].normal[2] < 0.9) continue; /* not the top (GPU: normals within 25 degrees) */
+                    double d2 = 0;
+                    for (int k = 0; k < 3; k++) d2 += (ph[i].position[k] - p[k]) * (ph[i].position[k] - p[k]);
+                    if (d2 > r * r * (1 + 2e-4)) continue;
+                    bool in = d2 <= r * r * (1 - 2e-4);
+                    for (int k = 0; k < 3; k++) {
+                        hi[k] += f * ph[i].power[k];
+                        if (in) lo[k] += f * ph[i].power[k];
+                    }
+                    nhi++, nlo += in;
                 }
-                nhi++, nlo += in;
+                hits += nlo;
+                const float* g = ims[v].pixels + 4 * ((size_t)y * W + x);
+                for (int k = 0; k < 3; k++) {
+                    if (g[k] < lo[k] * (1 - 1e-5) - 1e-9 || g[k] > hi[k] * (1 + 1e-5) + 1e-9) outside++;
+                    if (nlo == nhi && lo[k] > 0) worst = fmax(worst, fabs(g[k] / lo[k] - 1));
+                }
+                agree += nlo == nhi;
             }
-            hits += nlo;
-            const float* g = im.pixels + 4 * ((size_t)y * W + x);
-            for (int k = 0; k < 3; k++) {
-                if (g[k] < lo[k] * (1 - 1e-5) - 1e-9 || g[k] > hi[k] * (1 + 1e-5) + 1e-9) outside++;
-                if (nlo == nhi && lo[k] > 0) worst = fmax(worst, fabs(g[k] / lo[k] - 1));
-            }
-            agree += nlo == nhi;
-        }
-    fprintf(stderr, "  gather vs CPU: %zu photons, %.0f per pixel; %zu of %d values outside the CPU's bracket; "
-            "%zu of %d pixels without a photon on the circle's edge, there within %.2g\n",
-            n, (double)hits / (W * H), outside, 3 * W * H, agree, W * H, worst);
-    CHECK(n > 30000 && hits > (size_t)50 * W * H);
-    CHECK(outside == 0);
-    CHECK(agree > 0.9 * W * H && worst < 1e-5);
+        fprintf(stderr, "  gather vs CPU, view %.1f high: %zu photons, %.0f per pixel; %zu of %d values outside the CPU's "
+                "bracket; %zu of %d pixels without a photon on the circle's edge, there within %.2g\n",
+                heights[v], n, (double)hits / (W * H), outside, 3 * W * H, agree, W * H, worst);
+        CHECK(n > 30000 && hits > (size_t)50 * W * H);
+        CHECK(outside == 0);
+        CHECK(agree > (v ? 0.75 : 0.9) * W * H && worst < 1e-5);
+        vx_render_image_free(&ims[v]);
+    }
     vx_free(NULL, ph);
-    vx_render_image_free(&im);
 }
 
 /* ---- a glossy surface: a rough metal voxel sphere in a lit gray room ------------------- */
