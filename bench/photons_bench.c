@@ -339,8 +339,10 @@ int main(int argc, char** argv) {
                 }
                 double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
                 vx_photon_desc D = vx_photon_desc_defaults();
-                printf("| %s | pass wg %u batch %u | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
-                       name, pd.workgroup ? pd.workgroup : D.workgroup, pd.batch ? pd.batch : D.batch, photons, (unsigned long long)st.stored, tr, bu,
+                char bt[16];
+                snprintf(bt, sizeof bt, pd.batch ? "%u" : "auto", pd.batch);
+                printf("| %s | pass wg %u batch %s | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
+                       name, pd.workgroup ? pd.workgroup : D.workgroup, bt, photons, (unsigned long long)st.stored, tr, bu,
                        st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
                 fflush(stdout);
                 if (w && *w) continue;

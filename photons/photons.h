@@ -117,7 +117,8 @@ extern "C" {
  *  batch:          photons each invocation of the trace traces in turn,
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the
- *                  group bounces on); 0: 4, at most 256
+ *                  group bounces on); 0: 4, or 2 or 1 where 4 would leave
+ *                  fewer than 2^17 invocations (small passes); at most 256
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;

@@ -432,8 +432,8 @@ static void test_caustic(void) {
 
 /* Same seed, same image, bitwise: runs of the method made afresh (on
  * lavapipe, the CPU), with and without a final gather: twice with the same
- * settings, and once with another trace layout (workgroups of 128, one
- * photon per invocation), which stores the
+ * settings, and once with another trace layout (workgroups of 128, four
+ * photons per invocation; the default here is 64 and one), which stores the
  * same photons in another order: the gather's sums are exact (photons.h),
  * so the image is the same to the bit (with float sums in storage order, as
  * before, that third run differed here; the first two did not: lavapipe
@@ -453,7 +453,7 @@ static void test_reproducible(void) {
         for (int k = 0; k < 4; k++) {
             vx_photon_desc d = {.photons = 30000, .radius = 0.6, .seed = k == 3 ? 8 : 7, .final_gather = fg ? 4 : 0,
                                 .lights = L, .light_count = 2};
-            if (k == 2) d.workgroup = 128, d.batch = 1;
+            if (k == 2) d.workgroup = 128, d.batch = 4; /* the default at 30k photons: 64 and 1 */
             run R;
             REQUIRE(run_make(&R, &caustic, &light, &d));
             vx_error err = {0};
