@@ -43,7 +43,13 @@
  * scene's extent over the radius, which for a 0.01-diagonal radius would
  * be 10^6 cells of which most stay empty; collisions cost only tests of
  * photons that the distance check rejects. A gather reads the 27 cells
- * around the point (the 3^3 cells a sphere of radius r can touch).
+ * around the point (the 3^3 cells a sphere of radius r can touch) but those
+ * whose box lies farther than r, a bucket two of them share once; cell = r
+ * rather than 2r with 8 cells: those would cover twice the area of photons
+ * to test on a surface (16 r^2 against about 8 r^2). The estimate runs in
+ * two steps: the camera's paths, then the Lambert sums of each tile of
+ * 8 x 8 pixels over the photons of the buckets the tile needs, read once
+ * into shared memory (photon.comp tile_sum).
  *
  * Estimate: at the camera's first surface that is neither glass nor glossy
  * (glass on the way is followed by Fresnel choice, as the path tracer does;
