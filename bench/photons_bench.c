@@ -22,7 +22,8 @@
  * relMSE between two seeds, printed). Needs only libvulkan and libc.
  *
  * Options: --device N|NAME, --size WxH (320x240), --photons N[,N...]
- * (1000000), --radius R (photons.h's default), --runs N (3),
+ * (1000000), --radius R[,R...] (photons.h's default; each radius its
+ * rows), --alpha A (photons.h's default), --runs N (3),
  * --max-passes N (16), --max-spp N (256), --ref-spp N (1024),
  * --step F (4: the factor between rows of the error curves),
  * --workgroup N[:B][,...] (the trace's workgroup sizes and batches,
@@ -130,6 +131,56 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
     return r2 > 0 ? se / r2 : 0;
 }
 
+/* The error's parts (where the photons' error comes from, issue 13's cornell
+ * plateau): relMSE after an 8 x 8 box filter of both images (noise falls by
+ * about 64 there, a bias stays), and the ratio of the images' sums (a bias
+ * of the light as a whole: emission, power). */
+static void error_parts(const vx_render_image* a, const vx_render_image* ref, double* filtered, double* ratio) {
+    enum { B = 8 };
+    double se = 0, r2 = 0, sa = 0, sr = 0;
+    for (uint32_t ty = 0; ty + B <= ref->height; ty += B)
+        for (uint32_t tx = 0; tx + B <= ref->width; tx += B) {
+            double ma[3] = {0}, mr[3] = {0};
+            for (uint32_t y = ty; y < ty + B; y++)
+                for (uint32_t x = tx; x < tx + B; x++) {
+                    size_t i = (size_t)y * ref->width + x;
+                    for (int c = 0; c < 3; c++) ma[c] += a->pixels[4 * i + c], mr[c] += ref->pixels[4 * i + c];
+                }
+            for (int c = 0; c < 3; c++) {
+                se += (ma[c] - mr[c]) * (ma[c] - mr[c]), r2 += mr[c] * mr[c];
+                sa += ma[c], sr += mr[c];
+            }
+        }
+    *filtered = r2 > 0 ? se / r2 : 0;
+    *ratio = sr > 0 ? sa / sr : 0;
+}
+
+/* The tiles (the image cut into 16 x 9) that hold the largest shares of the
+ * squared error, with their mean ratio to the reference: where the error sits. */
+static void error_tiles(const char* what, const vx_render_image* a, const vx_render_image* ref) {
+    enum { TX = 16, TY = 9, T = TX * TY };
+    double se[T] = {0}, sa[T] = {0}, sr[T] = {0}, tot = 0;
+    for (uint32_t y = 0; y < ref->height; y++)
+        for (uint32_t x = 0; x < ref->width; x++) {
+            size_t i = (size_t)y * ref->width + x;
+            int t = (int)(y * TY / ref->height) * TX + (int)(x * TX / ref->width);
+            for (int c = 0; c < 3; c++) {
+                double d = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+                se[t] += d * d, tot += d * d, sa[t] += a->pixels[4 * i + c], sr[t] += ref->pixels[4 * i + c];
+            }
+        }
+    printf("%s: the squared error's largest tiles of 16 x 9 (column, row: share, mean / reference's):", what);
+    for (int k = 0; k < 6; k++) {
+        int best = 0;
+        for (int t = 1; t < T; t++)
+            if (se[t] > se[best]) best = t;
+        printf(" (%d,%d: %.3f, %.3f)", best % TX, best / TX, tot > 0 ? se[best] / tot : 0.0,
+               sr[best] > 0 ? sa[best] / sr[best] : 0.0);
+        se[best] = -1;
+    }
+    printf("\n");
+}
+
 /* Where a curve (times t, errors e, n rows, in order) first reaches target:
  * log-log interpolation between the rows around it; -1 when it never does. */
 static double crossing(const double* t, const double* e, int n, double target) {
@@ -151,9 +202,9 @@ static void print_crossing(const char* name, const char* what, const double* t, 
 }
 
 static int usage(void) {
-    fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R] [--runs N]\n"
+    fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R[,R..]] [--runs N]\n"
                     "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B],..]\n"
-                    "                     [--target E] [--final-gather N] [--write DIR]\n"
+                    "                     [--alpha A] [--target E] [--final-gather N] [--write DIR]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
 }
@@ -161,7 +212,8 @@ static int usage(void) {
 int main(int argc, char** argv) {
     const char *device = NULL, *counts = "1000000", *write_dir = NULL, *groups = "0";
     vx_render_desc base = {.width = 320, .height = 240};
-    double radius = 0, target = 0.01;
+    const char* radii = "0";
+    double alpha = 0, target = 0.01;
     unsigned step = 4, runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
     int i = 1;
     for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
@@ -172,7 +224,8 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--size")) {
             if (sscanf(v, "%ux%u", &base.width, &base.height) != 2) return usage();
         } else if (!strcmp(o, "--photons")) counts = v;
-        else if (!strcmp(o, "--radius")) radius = atof(v);
+        else if (!strcmp(o, "--radius")) radii = v;
+        else if (!strcmp(o, "--alpha")) alpha = atof(v);
         else if (!strcmp(o, "--runs")) runs = (unsigned)atoi(v);
         else if (!strcmp(o, "--max-passes")) max_passes = (unsigned)atoi(v);
         else if (!strcmp(o, "--max-spp")) max_spp = (unsigned)atoi(v);
@@ -242,8 +295,11 @@ int main(int argc, char** argv) {
                                   .pixel_centre = true};
         if (vx_probe_gpu_render(pg, &d, &im, &err)) return fprintf(stderr, "pathtrace: %s\n", err.msg), 1;
         ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
-        printf("| %s | pathtrace | %u | - | - | - | - | - | - | %.4g | %.4g (corrected %.4g) |\n", name, spp, ct[rows],
-               ce[rows], cc[rows]);
+        double fe, ratio;
+        error_parts(&im, &ref[0], &fe, &ratio);
+        printf("| %s | pathtrace | %u | - | - | - | - | - | - | %.4g | %.4g (corrected %.4g; 8x8 %.4g; mean %.4f) |\n",
+               name, spp, ct[rows], ce[rows], cc[rows], fe, ratio);
+        if (spp * step > max_spp) error_tiles("pathtrace", &im, &ref[0]);
         fflush(stdout);
         rows++;
         vx_render_image_free(&im);
@@ -253,80 +309,94 @@ int main(int argc, char** argv) {
         uint32_t photons = (uint32_t)strtoul(c, NULL, 10);
         c = strchr(c, ',');
         if (c) c++;
-        vx_gi_method gm;
-        vx_photon_gi* ph;
-        vx_photon_desc pd = {.photons = photons, .radius = radius, .light_dir = {0, 0, 1}};
-        vx_photon_stats st = {0};
-        /* one pass, timed runs times, per workgroup size of the trace (the first one's object stays for the curves) */
-        ph = NULL;
-        for (const char* w = groups; w && *w;) {
-            char* e;
-            pd.workgroup = (uint32_t)strtoul(w, &e, 10);
-            pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
-            w = strchr(w, ',');
-            if (w) w++;
-            if (ph) vx_photon_gi_destroy(ph);
-            if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
-                return fprintf(stderr, "photons: %s\n", err.msg), 1;
-            double t[3][64];
-            unsigned n = runs < 64 ? runs : 64;
-            for (unsigned k = 0; k < n; k++) {
-                vx_render_image im = {0};
-                if (vx_photon_render(ph, &base, 1, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-                vx_render_image_free(&im);
-                vx_photon_last_stats(ph, &st);
-                t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
-            }
-            double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
-            vx_photon_desc D = vx_photon_desc_defaults();
-            printf("| %s | pass wg %u batch %u | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
-                   name, pd.workgroup ? pd.workgroup : D.workgroup, pd.batch ? pd.batch : D.batch, photons, (unsigned long long)st.stored, tr, bu,
-                   st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
-            fflush(stdout);
-            if (w && *w) continue;
-            /* the curves with the first size */
-            if (groups != w && strchr(groups, ',')) {
+        for (const char* rl = radii; rl && *rl;) {
+            double radius = atof(rl);
+            rl = strchr(rl, ',');
+            if (rl) rl++;
+            vx_gi_method gm;
+            vx_photon_gi* ph;
+            vx_photon_desc pd = {.photons = photons, .radius = radius, .alpha = alpha, .light_dir = {0, 0, 1}};
+            vx_photon_stats st = {0};
+            /* one pass, timed runs times, per workgroup size of the trace (the first one's object stays for the curves) */
+            ph = NULL;
+            for (const char* w = groups; w && *w;) {
                 char* e;
-                pd.workgroup = (uint32_t)strtoul(groups, &e, 10);
+                pd.workgroup = (uint32_t)strtoul(w, &e, 10);
                 pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
-                vx_photon_gi_destroy(ph);
+                w = strchr(w, ',');
+                if (w) w++;
+                if (ph) vx_photon_gi_destroy(ph);
                 if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
                     return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                double t[3][64];
+                unsigned n = runs < 64 ? runs : 64;
+                for (unsigned k = 0; k < n; k++) {
+                    vx_render_image im = {0};
+                    if (vx_photon_render(ph, &base, 1, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                    vx_render_image_free(&im);
+                    vx_photon_last_stats(ph, &st);
+                    t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
+                }
+                double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
+                vx_photon_desc D = vx_photon_desc_defaults();
+                char bt[16];
+                snprintf(bt, sizeof bt, pd.batch ? "%u" : "auto", pd.batch);
+                printf("| %s | pass wg %u batch %s | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
+                       name, pd.workgroup ? pd.workgroup : D.workgroup, bt, photons, (unsigned long long)st.stored, tr, bu,
+                       st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
+                fflush(stdout);
+                if (w && *w) continue;
+                /* the curves with the first size */
+                if (groups != w && strchr(groups, ',')) {
+                    char* e;
+                    pd.workgroup = (uint32_t)strtoul(groups, &e, 10);
+                    pd.batch = *e == ':' ? (uint32_t)strtoul(e + 1, NULL, 10) : 0;
+                    vx_photon_gi_destroy(ph);
+                    if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
+                        return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                }
+                break;
             }
-            break;
+            rows = 0;
+            for (unsigned passes = 1; passes <= max_passes && rows < ROWS; passes *= step) {
+                vx_render_image im = {0};
+                if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                vx_photon_last_stats(ph, &st);
+                ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
+                double fe, ratio;
+                error_parts(&im, &ref[0], &fe, &ratio);
+                printf("| %s | photons r %.4g | %u | %u | %llu | - | - | - | - | %.4g | %.4g (corrected %.4g; 8x8 %.4g; mean %.4f) |\n",
+                       name, st.radius, photons, passes, (unsigned long long)st.stored, ct[rows], ce[rows], cc[rows], fe, ratio);
+                if (passes * step > max_passes) error_tiles("photons", &im, &ref[0]);
+                fflush(stdout);
+                rows++;
+                vx_render_image_free(&im);
+            }
+            double at, atc;
+            char what[64];
+            snprintf(what, sizeof what, "photons %u per pass", photons);
+            print_crossing(name, what, ct, ce, cc, rows, target, &at, &atc);
+            if (at > 0 && pt_at > 0) printf("%s: %s / pathtrace time at relMSE %g: %.4g\n", name, what, target, at / pt_at);
+            if (atc > 0 && pt_atc > 0)
+                printf("%s: %s / pathtrace time at relMSE %g (corrected): %.4g\n", name, what, target, atc / pt_atc);
+            vx_photon_gi_destroy(ph);
+            if (!fg) continue;
+            pd.final_gather = fg;
+            if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+            for (unsigned passes = 1; passes <= max_passes && passes <= 16; passes *= step) {
+                vx_render_image im = {0};
+                if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
+                vx_photon_last_stats(ph, &st);
+                double fe, ratio;
+                error_parts(&im, &ref[0], &fe, &ratio);
+                printf("| %s | photons+fg %u | %u | %u | %llu | - | - | - | %.3f | %.4g | %.4g (8x8 %.4g; mean %.4f) |\n", name,
+                       fg, photons, passes, (unsigned long long)st.stored, st.gather_ms, im.gpu_seconds * 1e3,
+                       rel_mse(&im, &ref[0]), fe, ratio);
+                fflush(stdout);
+                vx_render_image_free(&im);
+            }
+            vx_photon_gi_destroy(ph);
         }
-        rows = 0;
-        for (unsigned passes = 1; passes <= max_passes && rows < ROWS; passes *= step) {
-            vx_render_image im = {0};
-            if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-            ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
-            printf("| %s | photons | %u | %u | %llu | - | - | - | - | %.4g | %.4g (corrected %.4g) |\n", name, photons,
-                   passes, (unsigned long long)st.stored, ct[rows], ce[rows], cc[rows]);
-            fflush(stdout);
-            rows++;
-            vx_render_image_free(&im);
-        }
-        double at, atc;
-        char what[64];
-        snprintf(what, sizeof what, "photons %u per pass", photons);
-        print_crossing(name, what, ct, ce, cc, rows, target, &at, &atc);
-        if (at > 0 && pt_at > 0) printf("%s: %s / pathtrace time at relMSE %g: %.4g\n", name, what, target, at / pt_at);
-        if (atc > 0 && pt_atc > 0)
-            printf("%s: %s / pathtrace time at relMSE %g (corrected): %.4g\n", name, what, target, atc / pt_atc);
-        vx_photon_gi_destroy(ph);
-        if (!fg) continue;
-        pd.final_gather = fg;
-        if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-        for (unsigned passes = 1; passes <= max_passes && passes <= 16; passes *= step) {
-            vx_render_image im = {0};
-            if (vx_photon_render(ph, &base, passes, false, &im, &err)) return fprintf(stderr, "photons: %s\n", err.msg), 1;
-            vx_photon_last_stats(ph, &st);
-            printf("| %s | photons+fg %u | %u | %u | %llu | - | - | - | %.3f | %.4g | %.4g |\n", name, fg, photons, passes,
-                   (unsigned long long)st.stored, st.gather_ms, im.gpu_seconds * 1e3, rel_mse(&im, &ref[0]));
-            fflush(stdout);
-            vx_render_image_free(&im);
-        }
-        vx_photon_gi_destroy(ph);
     }
     vx_render_image_free(&ref[0]);
     vx_render_image_free(&ref[1]);

@@ -22,12 +22,12 @@ typedef struct gpu_params {
     float sky[4];     /* sky radiance (render/shaders/sky.glsl zen), w: emissive voxels' power */
     uint32_t cnt[4];  /* emissive voxels, 2 (loops_intact), final gather rays, a light stands for the voxels */
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
-    float fx[4];      /* x: the gather's fixed-point units per unit of power (photon.comp fx_add) */
+    float fx[4];      /* the gather's fixed-point units (photon.comp fx_add): x per unit of BSDF times power, y of power */
     uint32_t tr[4];   /* x: invocations of the trace */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
@@ -56,7 +56,7 @@ struct vx_photon_gi {
 };
 
 vx_photon_desc vx_photon_desc_defaults(void) {
-    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0, .workgroup = 64, .batch = 4};
+    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0, .workgroup = 64, .batch = 0};
 }
 
 /* The sky's mean radiance over the sphere of directions (a grid of 256 x 128
@@ -137,7 +137,7 @@ static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
                 o[4 + k] = u[k], o[8 + k] = v[k], o[12 + k] = out * n[k] / area, o[16 + k] = rad[k];
             }
             o[3] = area, o[15] = edge, o[11] = o[19] = 0;
-            o[7] = l * area; /* the face's power; the cdf on upload */
+            o[7] = l * area; /* the face's power; the alias table's probability on upload */
             pg->face_power += l * area;
         }
     return true;
@@ -182,6 +182,39 @@ static double spot_mean(double sc, double off, double co) {
         s += sp * sp;
     }
     return s / N;
+}
+
+/* Walker's alias table over the faces' powers (Vose's construction), into
+ * the emitter table e: slot i (drawn uniformly) gives face i with
+ * probability e[i].prob, else face e[i].alias; a face in O(1), where a
+ * binary search over the cdf took log2(faces) dependent reads per photon. */
+static bool alias_table(vx_photon_gi* pg, float* e) {
+    size_t n = pg->face_count;
+    double* p = vx_alloc(pg->alloc, n * sizeof *p);
+    uint32_t* w = vx_alloc(pg->alloc, n * sizeof *w); /* the small slots from the front, the large from the back */
+    if (!p || !w) {
+        vx_free(pg->alloc, p);
+        vx_free(pg->alloc, w);
+        return false;
+    }
+    size_t ns = 0, nl = 0;
+    for (size_t i = 0; i < n; i++) {
+        p[i] = pg->faces[(size_t)FACE_FLOATS * i + 7] * (double)n / pg->face_power;
+        if (p[i] < 1) w[ns++] = (uint32_t)i;
+        else w[n - 1 - nl++] = (uint32_t)i;
+    }
+    for (size_t i = 0; i < n; i++) e[FACE_FLOATS * i + 7] = 1.0f; /* prob (slots left at the end: 1, rounding) */
+    for (size_t i = 0; i < n; i++) memcpy(&e[FACE_FLOATS * i + 11], &(uint32_t){(uint32_t)i}, 4);
+    while (ns && nl) {
+        uint32_t sm = w[--ns], lg = w[n - nl];
+        e[FACE_FLOATS * (size_t)sm + 7] = (float)p[sm];
+        memcpy(&e[FACE_FLOATS * (size_t)sm + 11], &lg, 4);
+        p[lg] = (p[lg] + p[sm]) - 1;
+        if (p[lg] < 1) nl--, w[ns++] = lg;
+    }
+    vx_free(pg->alloc, p);
+    vx_free(pg->alloc, w);
+    return true;
 }
 
 /* The sources table and the emissive voxels relative to ref (photon.comp's
@@ -265,13 +298,14 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
         o[3] = SRC_VOXELS, o[21] = L->voxel_lights; /* direct when a light stands for them */
         for (int k = 0; k < 3; k++) pw[4 * n + k] = pi * pg->face_power; /* scaled by rad / lum(rad) per face */
         n++;
-        double acc = 0;
         for (size_t i = 0; i < ne; i++) {
             float* q = e + FACE_FLOATS * i;
             const double* f = pg->faces + FACE_FLOATS * i;
             for (int k = 0; k < FACE_FLOATS; k++) q[k] = (float)(k < 3 ? f[k] - ref[k] : f[k]);
-            acc += f[7];
-            q[7] = i + 1 == ne ? 1.0f : (float)(acc / pg->face_power);
+        }
+        if (!alias_table(pg, e)) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the alias table of %zu faces", ne);
+            goto done;
         }
     }
     double total = 0;
@@ -358,6 +392,9 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
                        (unsigned long long)out->size, f.width, f.height);
     if ((r = vx__render_scene_bind(pg->rs, &f, pg->scene_bufs, pg->spec, err))) return r;
+    /* the photons' buffer holds the density step's records (48 bytes a pixel) once the photons are sorted */
+    uint64_t ph_bytes = (uint64_t)pg->d.capacity * PHOTON_BYTES;
+    if ((r = vx__buffer_ensure(pg->g, &pg->photons, npx * 48 > ph_bytes ? npx * 48 : ph_bytes, "photons", err))) return r;
     if (!pg->tables_for_ref || memcmp(pg->ref, f.ref, sizeof pg->ref)) {
         if ((r = upload_sources(pg, f.ref, err))) return r;
         memcpy(pg->ref, f.ref, sizeof pg->ref);
@@ -385,10 +422,19 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     /* the gather's fixed-point unit: 2^-32 of an emitted photon's (luminance) power */
     double unit = pg->total_power > 0 && d->photons ? pg->total_power / d->photons : 1;
     p->fx[0] = (float)(4294967296.0 / unit);
-    if (!(p->fx[0] > 0) || !isfinite(p->fx[0])) p->fx[0] = 1;
+    /* a Lambert surface's sums of powers: 2^-27 of it (a photon of up to 32 emitted photons' power, as
+     * a saturated colour's channel has, adds in one word) */
+    p->fx[1] = (float)(134217728.0 / unit);
+    for (int k = 0; k < 2; k++)
+        if (!(p->fx[k] > 0) || !isfinite(p->fx[k])) p->fx[k] = 1;
     uint32_t ctr[4] = {0};
     double build = 0;
-    p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + d->batch - 1) / d->batch);
+    /* batch 0: 4 photons an invocation, fewer while that leaves under 2^17 invocations (H200: 500k
+     * photons traced in 3.25 ms at 2 and 1, 3.38 ms at 4; 1M and 10M fastest at 4) */
+    uint32_t batch = d->batch;
+    if (!batch)
+        for (batch = 4; batch > 1 && p->a[0] / batch < (1u << 17);) batch /= 2;
+    p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + batch - 1) / batch);
     if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
         (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
         return r;
@@ -404,8 +450,11 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
     if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    /* tiles of 8 x 8 pixels, 64 invocations each */
-    if (!r) r = step(pg, STEP_GATHER, (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64, out, &st.gather_ms, err);
+    /* tiles of 8 x 8 pixels, 64 invocations each: the camera's paths, then the Lambert sums (photon.comp
+     * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
+    uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
+    if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.gather_ms, err);
+    if (!r) r = step(pg, STEP_DENSITY, tiles, out, &st.gather_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])
@@ -434,7 +483,6 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!(d.alpha > 0)) d.alpha = D.alpha;
     if (!d.bounces) d.bounces = D.bounces;
     if (!d.workgroup) d.workgroup = D.workgroup;
-    if (!d.batch) d.batch = D.batch;
     if (d.batch > 256) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: a batch of %u (at most 256)", d.batch);
     if (d.workgroup > 1024 || (d.workgroup & (d.workgroup - 1)) || d.workgroup < 32)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: a workgroup of %u (a power of two, 32..1024)",
@@ -571,17 +619,33 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out) {
     if (pg && out) *out = pg->last;
 }
 
+/* The last pass's n stored photons as the trace wrote them (8 floats each), from the sorted array (the
+ * photons' own buffer holds the density step's records by then): its first halves, then its second. */
+static vx_result download_photons(vx_photon_gi* pg, float* out, size_t n, vx_error* err) {
+    if (!n) return VX_OK;
+    size_t half = (size_t)pg->d.capacity * (PHOTON_BYTES / 2);
+    float* tmp = vx_alloc(pg->alloc, 2 * half);
+    if (!tmp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n);
+    vx_result r = vx__buffer_download(pg->g, &pg->sorted, tmp, 2 * half, err);
+    for (size_t i = 0; !r && i < n; i++) {
+        memcpy(out + 8 * i, tmp + 4 * i, 16);
+        memcpy(out + 8 * i + 4, (const char*)tmp + half + 16 * i, 16);
+    }
+    vx_free(pg->alloc, tmp);
+    return r;
+}
+
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err) {
     if (!pg || !first || !all) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     size_t n = (size_t)pg->last.stored;
     float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
     if (!ph) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n);
-    vx_result r = n ? vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err) : VX_OK;
+    vx_result r = download_photons(pg, ph, n, err);
     for (int k = 0; k < 3; k++) first[k] = all[k] = 0;
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
         uint32_t wi;
-        memcpy(&wi, q + 3, 4);
+        memcpy(&wi, q + 7, 4);
         for (int k = 0; k < 3; k++) {
             all[k] += q[4 + k];
             if (wi & 1u) first[k] += q[4 + k]; /* photon.comp's F_FIRST */
@@ -611,16 +675,17 @@ vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* cou
     float* ph = vx_alloc(pg->alloc, n ? n * PHOTON_BYTES : 16);
     vx_photon_record* rec = vx_calloc(pg->alloc, n ? n : 1, sizeof *rec);
     vx_result r = !ph || !rec ? vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu photons", n) : VX_OK;
-    if (!r && n) r = vx__buffer_download(pg->g, &pg->photons, ph, n * PHOTON_BYTES, err);
+    if (!r) r = download_photons(pg, ph, n, err);
     for (size_t i = 0; !r && i < n; i++) {
         const float* q = ph + 8 * i;
         uint32_t wb, nb;
-        memcpy(&wb, q + 3, 4), memcpy(&nb, q + 7, 4);
+        memcpy(&nb, q + 3, 4), memcpy(&wb, q + 7, 4);
         vx_photon_record* o = &rec[i];
         for (int k = 0; k < 3; k++) o->position[k] = q[k] + pg->ref[k], o->power[k] = q[4 + k];
         oct_decode(wb, o->direction); /* its lowest bit, F_FIRST, is 1/32767 of u: left in */
-        oct_decode(nb & ~3u, o->normal);
-        o->flags = (nb & 1u ? VX_PHOTON_CAUSTIC : 0) | (nb & 2u ? VX_PHOTON_DIRECT : 0) | (wb & 1u ? VX_PHOTON_FIRST : 0);
+        oct_decode(nb & ~7u, o->normal);
+        o->flags = (nb & 1u ? VX_PHOTON_CAUSTIC : 0) | (nb & 2u ? VX_PHOTON_DIRECT : 0) | (wb & 1u ? VX_PHOTON_FIRST : 0) |
+                   (nb & 4u ? VX_PHOTON_LIGHT : 0);
     }
     vx_free(pg->alloc, ph);
     if (r) {

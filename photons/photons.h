@@ -43,18 +43,29 @@
  * scene's extent over the radius, which for a 0.01-diagonal radius would
  * be 10^6 cells of which most stay empty; collisions cost only tests of
  * photons that the distance check rejects. A gather reads the 27 cells
- * around the point (the 3^3 cells a sphere of radius r can touch).
+ * around the point (the 3^3 cells a sphere of radius r can touch) but those
+ * whose box lies farther than r, a bucket two of them share once; cell = r
+ * rather than 2r with 8 cells: those would cover twice the area of photons
+ * to test on a surface (16 r^2 against about 8 r^2). The estimate runs in
+ * two steps: the camera's paths, then the Lambert sums of each tile of
+ * 8 x 8 pixels over the photons of the buckets the tile needs, read once
+ * into shared memory (photon.comp tile_sum).
  *
- * Estimate: at the camera's first surface that is not glass (glass on the
- * way is followed by Fresnel choice, as the path tracer does), the
- * radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
+ * Estimate: at the camera's first surface that is neither glass nor glossy
+ * (glass on the way is followed by Fresnel choice, as the path tracer does;
+ * a glossy surface, metal or GGX, gives its diffuse lobe from the photons
+ * and follows its specular lobe by one sampled ray per pass, Jensen's rule,
+ * taking from photons there only the light such a ray cannot meet: the
+ * direct pass's lights' photons, caustic photons of sun and frame lights),
+ * the radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
  * photons of each map within its radius and of the surface's orientation
- * (normals within 25 degrees); caustics from the caustic map with its own,
+ * (normals within 25 degrees; on a Lambert surface f is one factor after
+ * the sum); caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next
- * surface with the whole photon estimate there (both maps, direct photons
- * too; a ray that meets glass ends, its light being the caustic map's),
+ * surface that is not glass with the whole photon estimate there (both
+ * maps, direct photons too; glass on the way followed by Fresnel choice),
  * while the light straight from the sky and emissive voxels comes from the
  * photons at their first surface there (rays would have to find a small
  * bright emitter: noise); in a full image (vx_photon_render) those photons
@@ -74,7 +85,8 @@
  * falls (alpha in (0, 1)).
  *
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
- * bytes per bucket. Photons beyond the capacity are dropped (counted in the
+ * bytes per bucket; the stored photons' buffer holds 48 bytes a pixel for
+ * the estimate's second step once they are sorted (at least that much). Photons beyond the capacity are dropped (counted in the
  * stats; the estimate then falls short). */
 #ifndef VX_PHOTONS_H
 #define VX_PHOTONS_H
@@ -111,7 +123,8 @@ extern "C" {
  *  batch:          photons each invocation of the trace traces in turn,
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the
- *                  group bounces on); 0: 4, at most 256
+ *                  group bounces on); 0: 4, or 2 or 1 where 4 would leave
+ *                  fewer than 2^17 invocations (small passes); at most 256
  *  light_dir:      towards the sun where `light` is NULL; zero: the bake default
  *  lights:         light_count lights (borrowed, validated; see above)
  *  sky_dir, sky_map: the sky by direction (svo/svo.h vx_sky, the file's;
@@ -180,17 +193,18 @@ void vx_photon_last_stats(const vx_photon_gi* pg, vx_photon_stats* out);
 vx_result vx_photon_power(vx_photon_gi* pg, double first[3], double all[3], vx_error* err);
 
 /* A stored photon of the last pass, decoded (vx_photon_stored). */
-enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4 };
+enum { VX_PHOTON_CAUSTIC = 1, VX_PHOTON_DIRECT = 2, VX_PHOTON_FIRST = 4, VX_PHOTON_LIGHT = 8 };
 typedef struct vx_photon_record {
     double position[3]; /* world */
     float power[3];
     float direction[3]; /* unit, towards where it came from (octahedral 2 x 16 bits) */
     float normal[3];    /* the surface's, unit (octahedral 2 x 16 bits) */
-    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path */
+    uint32_t flags;     /* VX_PHOTON_*: caustic map; brought by a direct-pass light; first surface of its path;
+                           a caustic photon from a light that camera rays cannot meet (not sky, not voxels) */
 } vx_photon_record;
 
-/* Downloads the last pass's stored photons (in the order the GPU stored
- * them, which changes from run to run): *out (free with vx_free(alloc, ...),
+/* Downloads the last pass's stored photons (in the grid's order, which
+ * changes from run to run): *out (free with vx_free(alloc, ...),
  * alloc the scene's allocator) gets *count records. For independent checks
  * of the gather (tests/photons: a brute-force estimate on the CPU). */
 vx_result vx_photon_stored(vx_photon_gi* pg, vx_photon_record** out, size_t* count, vx_error* err);
