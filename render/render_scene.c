@@ -62,6 +62,12 @@ struct vx_render_scene {
     vx__gpu_model* gm;  /* host copy of the models buffer */
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
     vx__buffer stage;   /* staging for updates where the buffers are not mapped */
+    /* frames in flight (vx__render_scene_bind_cmd): their per-frame tables
+     * were written by commands in their own command buffers; until settle()
+     * the host neither writes the mapped tables nor changes what they read */
+    bool recorded;
+    void* scratch; /* host copy of the per-frame tables for those commands */
+    size_t scratch_size;
     uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
     vx_render_scene_stats stats;
     uint32_t dense_n[3];
@@ -281,7 +287,17 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->wreg);
     vx_free(&a, rs->creg);
     vx_free(&a, rs->msize);
+    vx_free(&a, rs->scratch);
     vx_free(&a, rs);
+}
+
+/* Waits for recorded frames (vx__render_scene_bind_cmd) before the host
+ * writes what they read: the mapped per-frame tables, the model records,
+ * the buffers an update replaces. One queue does all of the scene's work. */
+static void settle(vx_render_scene* rs) {
+    if (!rs->recorded) return;
+    vkQueueWaitIdle(rs->gpu->queue);
+    rs->recorded = false;
 }
 
 /* The models stay on the GPU; the instance tables and the BVH over them are
@@ -299,6 +315,7 @@ vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, 
     if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
     vx_gpu* g = rs->gpu;
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
+    rs->recorded = false;
     vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
@@ -395,6 +412,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
                        m->node_count);
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
+    settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
     uint32_t depth = 0;
@@ -514,18 +532,20 @@ void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
 
-/* Per-frame tables relative to the reference point R, computed in double. */
-static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
-    vx__gpu_inst* gi = rs->insts.map;
-    vx__gpu_inst_precise* pi = rs->pinsts.map;
+/* Per-frame tables relative to the reference point R, computed in double,
+ * into gi, pi (NULL: not written) and bn. */
+static void frame_tables(const vx_render_scene* rs, const vx__frame* f, vx__gpu_inst* gi, vx__gpu_inst_precise* pi,
+                         vx_bvh_node* bn) {
     for (uint32_t i = 0; i < rs->inst_count; i++) {
         const inst_host* h = &rs->inst[i];
         for (int r = 0; r < 3; r++) {
             const double* row = &h->inv[4 * r];
             double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
-            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c], pi[i].r[r][c] = row[c];
+            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c];
             gi[i].r[r][3] = (float)w;
             gi[i].lo[r] = (float)(w - (double)(float)w);
+            if (!pi) continue;
+            for (int c = 0; c < 3; c++) pi[i].r[r][c] = row[c];
             pi[i].r[r][3] = w;
         }
         gi[i].model = h->model;
@@ -534,7 +554,6 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
         gi[i].pad = 0;
         gi[i].lo[3] = 0;
     }
-    vx_bvh_node* bn = rs->bvh_nodes.map;
     for (uint32_t i = 0; i < rs->bvh.node_count; i++) {
         const vx_bvh_node* s = &rs->bvh.nodes[i];
         bn[i] = *s;
@@ -546,6 +565,11 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
             bn[i].lo[k] = fa, bn[i].hi[k] = fb;
         }
     }
+}
+
+static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
+    settle(rs);
+    frame_tables(rs, f, rs->insts.map, rs->pinsts.map, rs->bvh_nodes.map);
 }
 
 static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
@@ -644,6 +668,59 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
                        VX_RENDER_PRECISE_DEPTH);
     write_frame_tables(rs, f);
     fill_gpu_frame(rs, f, rs->frame.map);
+    vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
+    memcpy(bufs, b, sizeof b);
+    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
+    memcpy(spec, sp, sizeof sp);
+    return VX_OK;
+}
+
+/* vkCmdUpdateBuffer in its largest pieces (64 KiB). */
+static void update_buffer(VkCommandBuffer cb, const vx__buffer* b, const void* data, VkDeviceSize size) {
+    for (VkDeviceSize at = 0; at < size; at += 65536) {
+        VkDeviceSize n = size - at < 65536 ? size - at : 65536;
+        vkCmdUpdateBuffer(cb, b->buf, at, n, (const uint8_t*)data + at);
+    }
+}
+
+vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
+                                    uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
+    if (use_precise(rs))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
+                       VX_RENDER_PRECISE_DEPTH);
+    VkCommandBuffer cb = (VkCommandBuffer)cmd;
+    size_t ni = (size_t)rs->inst_count * sizeof(vx__gpu_inst), nb = (size_t)rs->bvh.node_count * sizeof(vx_bvh_node);
+    size_t need = sizeof(vx__gpu_frame) + ni + nb;
+    if (need > rs->scratch_size) {
+        void* p = vx_alloc(&rs->alloc, need);
+        if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu bytes of frame tables", need);
+        vx_free(&rs->alloc, rs->scratch);
+        rs->scratch = p, rs->scratch_size = need;
+    }
+    uint8_t* at = rs->scratch;
+    vx__gpu_frame* gf = (vx__gpu_frame*)at;
+    vx__gpu_inst* gi = (vx__gpu_inst*)(at + sizeof *gf);
+    vx_bvh_node* bn = (vx_bvh_node*)(at + sizeof *gf + ni);
+    frame_tables(rs, f, gi, NULL, bn);
+    fill_gpu_frame(rs, f, gf);
+    /* after the shader reads of frames before this one on the queue (an
+     * execution dependency is enough for a write after reads), before this
+     * frame's reads */
+    VkMemoryBarrier before = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, NULL, 0, NULL);
+    update_buffer(cb, &rs->frame, gf, sizeof *gf);
+    update_buffer(cb, &rs->insts, gi, ni);
+    update_buffer(cb, &rs->bvh_nodes, bn, nb);
+    /* also orders the earlier frames' shader writes (the shared images) before this frame's */
+    VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                             .dstAccessMask =
+                                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &after, 0, NULL, 0, NULL);
+    rs->recorded = true;
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
     uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};

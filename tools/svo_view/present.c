@@ -26,6 +26,11 @@ struct vp {
     VkImage images[VP_MAX_IMAGES];
     VkSemaphore done[VP_MAX_IMAGES];
     VkSemaphore acquired;
+    /* frames in flight (vp_acquire): an acquire semaphore per frame slot, the
+     * image the frame being recorded took */
+    VkSemaphore slot_acquired[VX_DISPLAY_FRAMES];
+    uint32_t frame_image;
+    bool frame_acquired;
     VkFence fence;
     VkCommandPool pool;
     VkCommandBuffer cmd;
@@ -111,6 +116,8 @@ static vx_result create_device(vp* p, vx_error* err) {
     VP_VK(vkCreateFence(p->dev, &fci, NULL, &p->fence), "vkCreateFence");
     VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->acquired), "vkCreateSemaphore");
+    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->slot_acquired[i]), "vkCreateSemaphore");
     return VX_OK;
 }
 
@@ -306,6 +313,8 @@ void vp_destroy(vp* p) {
         if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL);
         if (p->sc) vkDestroySwapchainKHR(p->dev, p->sc, NULL);
         if (p->acquired) vkDestroySemaphore(p->dev, p->acquired, NULL);
+        for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+            if (p->slot_acquired[i]) vkDestroySemaphore(p->dev, p->slot_acquired[i], NULL);
         if (p->fence) vkDestroyFence(p->dev, p->fence, NULL);
         if (p->pool) vkDestroyCommandPool(p->dev, p->pool, NULL);
         vkDestroyDevice(p->dev, NULL);
@@ -552,4 +561,46 @@ submit:
     if (failed) return failed;
     if (grab) memcpy(grab, p->staging_map, (size_t)w * h * 4);
     return present_status(p, vr, err);
+}
+
+/* ---- frames in flight ----------------------------------------------------------------- */
+
+vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err) {
+    memset(out, 0, sizeof *out);
+    p->frame_acquired = false;
+    if (slot >= VX_DISPLAY_FRAMES) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u", slot);
+    check_resize(p);
+    if (p->dirty) {
+        vx_result r = create_swapchain(p, err); /* waits for the device: no frame is in flight after it */
+        if (r) return r;
+    }
+    if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
+    uint32_t idx;
+    /* the slot's semaphore: the submission that waited on it last (this
+     * slot's previous frame) has finished, vx_display_frame_begin saw to it */
+    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->slot_acquired[slot], VK_NULL_HANDLE, &idx);
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
+        p->dirty = true;
+        return VX_OK;
+    }
+    if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
+    if (vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
+    p->frame_image = idx, p->frame_acquired = true;
+    *out = (vp_image){.image = (uint64_t)(uintptr_t)p->images[idx], .width = p->extent.width, .height = p->extent.height,
+                      .acquired = (uint64_t)(uintptr_t)p->slot_acquired[slot],
+                      .rendered = (uint64_t)(uintptr_t)p->done[idx], .layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR};
+    return VX_OK;
+}
+
+vx_result vp_present_acquired(vp* p, vx_error* err) {
+    if (!p->frame_acquired) return VX_OK;
+    p->frame_acquired = false;
+    uint32_t idx = p->frame_image;
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    return present_status(p, vkQueuePresentKHR(p->queue, &pi), err);
 }
