@@ -4,7 +4,10 @@
  * the viewer did before), and the instance update it does now (instance
  * tables and BVH, vx_render_scene_set_frame); and a frame of that scene for
  * comparison.
- * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)]
+ * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] [FRAMES (default 0)]:
+ *        the instance edit (in place since frames in flight: the CPU BVH
+ *        build and no wait) and, with FRAMES, FRAMES frames in flight at
+ *        1920x1080 without and with an instance moved before every frame
  *        view_bench --animate IN.svo OUT.svo FRAMES: OUT is IN as an animation
  *        of FRAMES frames, every instance one cell further along x each frame
  *        (models shared: playback in svo_view --bench switches frames with no
@@ -329,8 +332,10 @@ typedef struct loop_stats {
 /* n frames in flight (after warm-up), each: the passes, the conversion with
  * the overlay (mode 0: none, 1: kept from before the loop, 2: redrawn every
  * frame), the copy into the slot's image, one submission. */
+typedef bool (*before_fn)(void* user, uint32_t k);
+
 static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd, uint32_t w,
-                     uint32_t h, uint32_t n, int mode, loop_stats* st) {
+                     uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
     vx_error err = {0};
     uint32_t warm = 20, total = n + warm;
     double *t = calloc(total + 1, sizeof(double)), *gpu = calloc(total, sizeof(double)), *gap = calloc(total, sizeof(double)),
@@ -354,6 +359,10 @@ static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* im
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
         if (recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err)) pass[np++] = res.frame_ms;
+        if (before && !before(user, k)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
         if (mode == 2) {
             uint8_t* ov = vx_display_overlay(disp, w, h, &err);
             if (!ov) break;
@@ -431,7 +440,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
     draw_columns(ov, w, h);
     loop_stats none = {0}, kept = {0}, redrawn = {0};
-    if (!run_loop(fr, disp, img, &fd, w, h, n, 0, &none) || !run_loop(fr, disp, img, &fd, w, h, n, 1, &kept))
+    if (!run_loop(fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) || !run_loop(fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
         return 1;
     /* the last frame in flight (slot of frame n + warm - 1) against the same frame through the waited path */
     uint32_t last = (n + 20 - 1) % VX_DISPLAY_FRAMES;
@@ -442,7 +451,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         return fprintf(stderr, "%s\n", err.msg), 1;
     size_t bad = 0;
     for (size_t q = 0; read && q < (size_t)w * h * 4; q++) bad += want[q] != got[q];
-    if (!run_loop(fr, disp, img, &fd, w, h, n, 2, &redrawn)) return 1;
+    if (!run_loop(fr, disp, img, &fd, w, h, n, 2, NULL, NULL, &redrawn)) return 1;
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
@@ -464,6 +473,45 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     return read && !bad ? 0 : 1;
 }
 
+/* Instance edits with frames in flight: an instance moved (an undo step, the
+ * move, vx_render_scene_set_frame: in place) before every frame. */
+typedef struct mover {
+    vx_svo_scene* s;
+    vx_render_scene* rs;
+    ved* e;
+} mover;
+
+static bool move_one(void* user, uint32_t k) {
+    mover* m = user;
+    vx_error err = {0};
+    if (ved_begin(m->e, &err)) return false;
+    ved_move(m->s, k % m->s->instance_count, (int32_t[3]){(k / m->s->instance_count) % 2 ? -1 : 1, 0, 0});
+    if (vx_render_scene_set_frame(m->rs, m->s, 0, &err)) return fprintf(stderr, "%s\n", err.msg), false;
+    return true;
+}
+
+static bool inst_loop(vx_gpu* g, vx_render_scene* rs, vx_svo_scene* s, ved* e, uint32_t n, loop_stats* still,
+                      loop_stats* moving) {
+    vx_error err = {0};
+    uint32_t w = 1920, h = 1080;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    if (vx_frame_renderer_create(rs, s, &fr, &err) || vx_display_create(g, &disp, &err))
+        return fprintf(stderr, "%s\n", err.msg), false;
+    uint64_t img[VX_DISPLAY_FRAMES];
+    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        if (vx_display_image_create(disp, w, h, &img[i], &err)) return fprintf(stderr, "%s\n", err.msg), false;
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
+    fd.no_readback = true;
+    mover m = {s, rs, e};
+    bool ok = run_loop(fr, disp, img, &fd, w, h, n, 0, NULL, NULL, still) &&
+              run_loop(fr, disp, img, &fd, w, h, n, 0, move_one, &m, moving);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    return ok;
+}
+
 int main(int argc, char** argv) {
     if (argc >= 3 && !strcmp(argv[1], "--loop"))
         return loop_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
@@ -478,6 +526,7 @@ int main(int argc, char** argv) {
                            argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 30, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
     if (argc == 5 && !strcmp(argv[1], "--animate")) return animate(argv[2], argv[3], (uint32_t)strtoul(argv[4], NULL, 10));
     uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
+    uint32_t flight = argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 0;
     if (!n || !rep || rep > 1000) return 2;
     /* one 8^3 model with a sphere of cells, on a square grid of instances */
     uint64_t keys[512];
@@ -535,13 +584,21 @@ int main(int argc, char** argv) {
      * tables and BVH only (vx_render_scene_set_frame), no node upload */
     double* inst = calloc(rep, sizeof *inst);
     if (!inst) return 1;
+    double* inst_bvh = calloc(rep, sizeof *inst_bvh);
+    if (!inst_bvh) return 1;
+    vx_render_scene_stats st0, st1;
+    vx_render_scene_get_stats(rs, &st0);
     for (uint32_t k = 0; k < rep; k++) {
         double t0 = vx_time_now();
         if (ved_begin(&e, &err)) return 1;
         ved_move(&s, k % n, (int32_t[3]){1, 0, 0});
         if (vx_render_scene_set_frame(rs, &s, 0, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
         inst[k] = (vx_time_now() - t0) * 1e3;
+        inst_bvh[k] = vx_render_scene_bvh_seconds(rs) * 1e3;
     }
+    vx_render_scene_get_stats(rs, &st1);
+    loop_stats still = {0}, moving = {0};
+    if (flight && !inst_loop(gpu, rs, &s, &e, flight, &still, &moving)) return 1;
     qsort(inst, rep, sizeof *inst, cmp);
     qsort(edit, rep, sizeof *edit, cmp);
     qsort(bvh, rep, sizeof *bvh, cmp);
@@ -549,9 +606,17 @@ int main(int argc, char** argv) {
     printf("view_bench: %u instances on %s: edit + scene update median %.3f ms (BVH build %.3f ms); "
            "640x480 frame (vx_render_frame wall) median %.3f ms\n",
            n, vx_gpu_device_name(gpu), edit[rep / 2], bvh[rep / 2], frame[rep / 2]);
-    printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms\n",
-           inst[rep / 2]);
-    free(edit), free(bvh), free(frame), free(inst);
+    qsort(inst_bvh, rep, sizeof *inst_bvh, cmp);
+    printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms "
+           "(BVH build on the CPU %.3f ms; %u of %u in place)\n",
+           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep);
+    if (flight)
+        printf("view_bench: frames in flight at 1920x1080, %u frames: interval median %.4f ms (GPU start-to-start %.4f ms, "
+               "passes %.4f ms); with an instance moved before every frame (undo step + move + in-place update) %.4f ms "
+               "(GPU %.4f ms, passes %.4f ms, CPU record+submit incl. the edit %.4f ms)\n",
+               flight, still.interval_med, still.gpu_gap_med, still.passes_med, moving.interval_med, moving.gpu_gap_med,
+               moving.passes_med, moving.cpu_record_med);
+    free(edit), free(bvh), free(frame), free(inst), free(inst_bvh);
     ved_free(&e);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);

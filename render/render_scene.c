@@ -66,6 +66,8 @@ struct vx_render_scene {
      * were written by commands in their own command buffers; until settle()
      * the host neither writes the mapped tables nor changes what they read */
     bool recorded;
+    bool items_dirty; /* the BVH's item order changed in place: bvh_items is written with the next frame's tables */
+    uint32_t bvh_node_cap; /* nodes the bvh_nodes buffer holds (2n - 1 for n instances: any build fits) */
     void* scratch; /* host copy of the per-frame tables for those commands */
     size_t scratch_size;
     uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
@@ -182,9 +184,16 @@ done:
     return r;
 }
 
-static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+static uint32_t drawn_count(const vx_svo_scene* s) {
     uint32_t n = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) n += vx_svo_instance_drawn(s, i);
+    return n;
+}
+
+/* The host side of the instances: rs->inst (n drawn instances) and the BVH
+ * over their world boxes (rs->bvh), built on the CPU. */
+static vx_result instance_tables(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    uint32_t n = drawn_count(s);
     rs->inst_count = n;
     rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
     double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
@@ -212,10 +221,22 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
     double t0 = vx_time_now();
     if (n > 1 && (r = vx_bvh_build(lo, hi, n, &rs->alloc, &rs->bvh, err))) goto done;
     rs->bvh_seconds = vx_time_now() - t0;
+done:
+    vx_free(&rs->alloc, lo);
+    vx_free(&rs->alloc, hi);
+    return r;
+}
+
+static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    vx_result r = instance_tables(rs, s, err);
+    if (r) return r;
+    uint32_t n = rs->inst_count;
     vx_gpu* g = rs->gpu;
+    /* room for any BVH over n instances (a binary tree with non-empty leaves), so that an edit rebuilds it in place */
+    rs->bvh_node_cap = n > 1 ? 2 * n - 1 : 1;
     if ((r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                true, "instances", &rs->insts, err)) ||
-        (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.node_count ? rs->bvh.node_count : 1) * sizeof(vx_bvh_node),
+        (r = vx__buffer_create(g, (VkDeviceSize)rs->bvh_node_cap * sizeof(vx_bvh_node),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bvh nodes", &rs->bvh_nodes, err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.item_count ? rs->bvh.item_count : 1) * 4,
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bvh items", &rs->bvh_items, err)) ||
@@ -224,12 +245,10 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "instances (double)", &rs->pinsts, err)) ||
         (r = vx__buffer_create(g, sizeof(vx__gpu_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "frame", &rs->frame,
                                err)))
-        goto done;
+        return r;
+    rs->items_dirty = false;
     if (!rs->insts.map || !rs->pinsts.map || !rs->bvh_nodes.map || !rs->frame.map)
         r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "per-frame buffers are not host visible");
-done:
-    vx_free(&rs->alloc, lo);
-    vx_free(&rs->alloc, hi);
     return r;
 }
 
@@ -300,6 +319,14 @@ static void settle(vx_render_scene* rs) {
     rs->recorded = false;
 }
 
+/* The BVH's item order, when an in-place rebuild changed it (host writes:
+ * no frame in flight reads it). */
+static vx_result upload_items(vx_render_scene* rs, vx_error* err) {
+    if (!rs->items_dirty) return VX_OK;
+    rs->items_dirty = false;
+    return vx__buffer_upload(rs->gpu, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err);
+}
+
 /* The models stay on the GPU; the instance tables and the BVH over them are
  * rebuilt for the frame (host-side work proportional to the instances). */
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, vx_error* err) {
@@ -314,6 +341,39 @@ vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, 
     vx_result r = vx__check_scene(&v, err);
     if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
     vx_gpu* g = rs->gpu;
+    if (drawn_count(&v) == rs->inst_count && rs->inst_count > 0 && rs->insts.buf) {
+        /* the same number of instances drawn (moves, turns, a frame of an
+         * animation): the tables and the BVH are made again on the host in
+         * place of the old ones, no buffer changes and nothing waits for the
+         * device. The instance tables and BVH nodes go to the GPU with every
+         * frame's tables (relative to its camera) anyway; the BVH's item
+         * order (n words) goes with the next frame's, or now when no frame
+         * is in flight. A build over a few hundred instances takes well under
+         * a millisecond (docs/PERFORMANCE.md, "Frames in flight"). */
+        inst_host* old_inst = rs->inst;
+        vx_bvh old_bvh = rs->bvh;
+        memset(&rs->bvh, 0, sizeof rs->bvh);
+        rs->bvh.alloc = &rs->alloc;
+        rs->inst = NULL;
+        if ((r = instance_tables(rs, &v, err)) || rs->bvh.node_count > rs->bvh_node_cap) {
+            vx_free(&rs->alloc, rs->inst);
+            vx_bvh_free(&rs->bvh);
+            rs->inst = old_inst, rs->bvh = old_bvh, rs->inst_count = drawn_count(&v);
+            if (r) return r;
+        } else {
+            vx_free(&rs->alloc, old_inst);
+            vx_bvh_free(&old_bvh);
+            if (max_depth > rs->max_depth) rs->max_depth = max_depth;
+            rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
+            rs->shown = frame;
+            rs->stats.instance_rebuilds++;
+            rs->stats.instance_updates_in_place++;
+            vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
+            rs->items_dirty = true;
+            if (!rs->recorded) return upload_items(rs, err);
+            return VX_OK;
+        }
+    }
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
     rs->recorded = false;
     vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts};
@@ -567,9 +627,10 @@ static void frame_tables(const vx_render_scene* rs, const vx__frame* f, vx__gpu_
     }
 }
 
-static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
+static vx_result write_frame_tables(vx_render_scene* rs, const vx__frame* f, vx_error* err) {
     settle(rs);
     frame_tables(rs, f, rs->insts.map, rs->pinsts.map, rs->bvh_nodes.map);
+    return upload_items(rs, err);
 }
 
 static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
@@ -608,7 +669,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     if (want_hits && (r = vx__buffer_ensure(g, &rs->hits, npx * 32, "hits", err))) return r;
     if (!want_hits && (r = vx__buffer_ensure(g, &rs->hits, 16, "hits", err))) return r;
-    write_frame_tables(rs, f);
+    if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
     bool precise = use_precise(rs);
     if (precise && !g->has_float64)
@@ -666,7 +727,8 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
                        VX_RENDER_PRECISE_DEPTH);
-    write_frame_tables(rs, f);
+    vx_result r = write_frame_tables(rs, f, err);
+    if (r) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
@@ -713,6 +775,10 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     update_buffer(cb, &rs->frame, gf, sizeof *gf);
     update_buffer(cb, &rs->insts, gi, ni);
     update_buffer(cb, &rs->bvh_nodes, bn, nb);
+    if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
+        update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
+        rs->items_dirty = false;
+    }
     /* also orders the earlier frames' shader writes (the shared images) before this frame's */
     VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,

@@ -59,10 +59,15 @@ static bool draw_pattern(vx_display* disp, int p) {
     return true;
 }
 
+/* An instance edit: the BVH rebuilt in place (the same instances drawn), with no wait for the frames in flight. */
 static void move_instance(vx_svo_scene* s, vx_render_scene* rs, double dx) {
+    vx_render_scene_stats a, b;
+    vx_render_scene_get_stats(rs, &a);
     s->instances[1].xform[3] += dx;
     vx_svo_scene_update_bounds(s);
     CHECK(vx_render_scene_set_frame(rs, s, 0, NULL) == VX_OK);
+    vx_render_scene_get_stats(rs, &b);
+    CHECK(b.instance_updates_in_place == a.instance_updates_in_place + 1);
 }
 
 static void test_in_flight_equals_waited(void) {

@@ -2008,9 +2008,10 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         uint64_t w, rec;
         sv_uploads(a, &w, &rec);
         printf("%s: stats: render scenes made %u, node words uploaded %llu, records uploaded %llu; this scene: "
-               "%llu words, %u model updates, %u instance table rebuilds\n",
+               "%llu words, %u model updates, %u instance table rebuilds (%u in place)\n",
                vx_tool_name, a->scenes_made, (unsigned long long)w, (unsigned long long)rec,
-               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds);
+               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds,
+               st.instance_updates_in_place);
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
