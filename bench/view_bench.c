@@ -47,6 +47,7 @@
 #include <vulkan/vulkan.h> /* --loop: the headless surface query, image layouts */
 
 #include "render/display.h"
+#include "render/gpu.h" /* --loop: timestamps between a frame's stages */
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "bench/bench_terrain.h"
@@ -327,20 +328,33 @@ typedef struct loop_stats {
     double gpu_med, gpu_gap_med;        /* a frame's command buffer on the GPU; start to start */
     double passes_med;                  /* the passes' GPU time (vx_frame_record_result) */
     double cpu_record_med;              /* CPU: recording and submitting one frame */
+    /* GPU: a frame's command buffer by stages (timestamps): from its start
+     * to the passes' end (the scene tables' update included), the
+     * conversion, the copy into the image, the rest to its end */
+    double stage_med[4];
 } loop_stats;
 
 /* n frames in flight (after warm-up), each: the passes, the conversion with
  * the overlay (mode 0: none, 1: kept from before the loop, 2: redrawn every
- * frame), the copy into the slot's image, one submission. */
+ * frame), the copy into the slot's image, one submission; mode 3: the
+ * passes alone (the floor: what the trace costs in flight). */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
-static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd, uint32_t w,
-                     uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
     vx_error err = {0};
     uint32_t warm = 20, total = n + warm;
     double *t = calloc(total + 1, sizeof(double)), *gpu = calloc(total, sizeof(double)), *gap = calloc(total, sizeof(double)),
            *pass = calloc(total, sizeof(double)), *rec = calloc(total, sizeof(double));
-    uint32_t ng = 0, np = 0;
+    double* stage[4];
+    for (int i = 0; i < 4; i++) stage[i] = calloc(total, sizeof(double));
+    uint32_t ng = 0, np = 0, ns = 0;
+    /* three timestamps per slot: after the passes, the conversion, the copy */
+    VkQueryPool qp = VK_NULL_HANDLE;
+    VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                                .queryCount = 3 * VX_DISPLAY_FRAMES};
+    if (g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
+    double per = g->props.limits.timestampPeriod * 1e-6;
     double last_start = -1;
     uint64_t last_done = 0;
     bool ok = t && gpu && gap && pass && rec;
@@ -359,6 +373,14 @@ static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* im
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
         if (recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err)) pass[np++] = res.frame_ms;
+        uint64_t ts[3];
+        if (qp && recorded[slot] && k > warm &&
+            vkGetQueryPoolResults(g->device, qp, 3 * slot, 3, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
+            double at[5] = {dt.gpu_start_ms, ts[0] * per, ts[1] * per, ts[2] * per, dt.gpu_start_ms + dt.gpu_ms};
+            for (int i = 0; i < 4; i++) stage[i][ns] = at[i + 1] - at[i];
+            ns++;
+        }
+        if (qp) vkCmdResetQueryPool(cmd, qp, 3 * slot, 3);
         if (before && !before(user, k)) {
             vx_display_frame_cancel(disp);
             break;
@@ -369,12 +391,19 @@ static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* im
             draw_columns(ov, w, h);
         }
         uint64_t buf = 0;
-        vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true, .overlay = mode != 0};
-        if (vx_frame_record(fr, fd, cmd, slot, &res, &err) || vx_display_record(disp, cmd, &dd, &buf, &err)) {
+        vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true, .overlay = mode == 1 || mode == 2};
+        if (vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
             vx_display_frame_cancel(disp);
             break;
         }
-        vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
+        if (mode != 3 && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 1);
+        if (mode != 3) vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 2);
         if (vx_display_frame_submit(disp, 0, 0, &err)) break;
         recorded[slot] = true;
         rec[k] = (vx_time_now() - t[k]) * 1e3;
@@ -393,8 +422,11 @@ static bool run_loop(vx_frame_renderer* fr, vx_display* disp, const uint64_t* im
         st->gpu_gap_med = ng > 1 ? median(gap + 1, ng - 1) : 0;
         st->passes_med = median(pass, np);
         st->cpu_record_med = median(rec + warm, n);
+        for (int i = 0; i < 4; i++) st->stage_med[i] = median(stage[i], ns);
     }
+    if (qp) vkDestroyQueryPool(g->device, qp, NULL);
     free(t), free(gpu), free(gap), free(pass), free(rec);
+    for (int i = 0; i < 4; i++) free(stage[i]);
     return ok;
 }
 
@@ -439,8 +471,9 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     uint8_t* ov = vx_display_overlay(disp, w, h, &err);
     if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
     draw_columns(ov, w, h);
-    loop_stats none = {0}, kept = {0}, redrawn = {0};
-    if (!run_loop(fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) || !run_loop(fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
+    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0};
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) ||
+        !run_loop(g, fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
         return 1;
     /* the last frame in flight (slot of frame n + warm - 1) against the same frame through the waited path */
     uint32_t last = (n + 20 - 1) % VX_DISPLAY_FRAMES;
@@ -451,17 +484,23 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         return fprintf(stderr, "%s\n", err.msg), 1;
     size_t bad = 0;
     for (size_t q = 0; read && q < (size_t)w * h * 4; q++) bad += want[q] != got[q];
-    if (!run_loop(fr, disp, img, &fd, w, h, n, 2, NULL, NULL, &redrawn)) return 1;
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 2, NULL, NULL, &redrawn) ||
+        !run_loop(g, fr, disp, img, &fd, w, h, n, 3, NULL, NULL, &bare))
+        return 1;
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[3] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame"};
-    loop_stats* all[3] = {&none, &kept, &redrawn};
-    for (int m = 0; m < 3; m++)
+    const char* names[4] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+                            "passes alone (no conversion, no copy)"};
+    loop_stats* all[4] = {&none, &kept, &redrawn, &bare};
+    for (int m = 0; m < 4; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes), GPU per frame %.4f ms, GPU "
                "start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
                names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb, all[m]->gpu_med,
                all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb, all[m]->passes_med, all[m]->cpu_record_med);
+    for (int m = 0; m < 4; m++)
+        printf("  GPU stages, %-41s start to passes' end %.4f, conversion %.4f, copy %.4f, to the end %.4f ms\n", names[m],
+               all[m]->stage_med[0], all[m]->stage_med[1], all[m]->stage_med[2], all[m]->stage_med[3]);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
     free(base), free(base_wall), free(want), free(got);
@@ -505,8 +544,8 @@ static bool inst_loop(vx_gpu* g, vx_render_scene* rs, vx_svo_scene* s, ved* e, u
     fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
     fd.no_readback = true;
     mover m = {s, rs, e};
-    bool ok = run_loop(fr, disp, img, &fd, w, h, n, 0, NULL, NULL, still) &&
-              run_loop(fr, disp, img, &fd, w, h, n, 0, move_one, &m, moving);
+    bool ok = run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, still) &&
+              run_loop(g, fr, disp, img, &fd, w, h, n, 0, move_one, &m, moving);
     vx_display_destroy(disp);
     vx_frame_renderer_destroy(fr);
     return ok;

@@ -14,7 +14,7 @@ typedef struct dslot {
     VkCommandBuffer cmd;
     VkFence fence;
     bool pending; /* submitted, not yet waited for */
-    int overlay;  /* the overlay buffer its frame reads (-1: none) */
+    int overlay;  /* the host overlay its frame copies from (-1: none) */
 } dslot;
 
 struct vx_display {
@@ -22,12 +22,16 @@ struct vx_display {
     VkDescriptorPool pool;
     VkDescriptorSet set[SETS];
     VkDescriptorSetLayout set_layout[SETS]; /* the layout each set was allocated with */
-    /* two overlays, host-visible (the CPU draws into them): frames read
-     * overlay[ov]; a redraw goes to the other once no frame in flight reads
-     * it, and then becomes overlay[ov] */
+    /* two overlays, host-visible (the CPU draws into them): a redraw goes to
+     * the one no frame in flight copies from, and becomes overlay[ov]; the
+     * next frame copies it into overlay_dev, device-local, which the frames
+     * read (host memory read by every frame cost 0.16 ms at 1920x1080 on an
+     * H200: 8 MB over PCIe) */
     vx__buffer overlay[2];
     uint32_t ow[2], oh[2];
     int ov;
+    vx__buffer overlay_dev;
+    bool ov_dirty; /* overlay[ov] is newer than overlay_dev */
     vx__buffer out;   /* the display bytes */
     vx__buffer dummy; /* bound as the overlay when there is none */
     /* frames in flight */
@@ -108,6 +112,7 @@ void vx_display_destroy(vx_display* d) {
     }
     vx__buffer_destroy(g, &d->overlay[0]);
     vx__buffer_destroy(g, &d->overlay[1]);
+    vx__buffer_destroy(g, &d->overlay_dev);
     vx__buffer_destroy(g, &d->out);
     vx__buffer_destroy(g, &d->dummy);
     vx_allocator a = g->alloc;
@@ -162,7 +167,7 @@ uint8_t* vx_display_overlay(vx_display* d, uint32_t w, uint32_t h, vx_error* err
             return NULL;
         }
     }
-    d->ow[t] = w, d->oh[t] = h, d->ov = t;
+    d->ow[t] = w, d->oh[t] = h, d->ov = t, d->ov_dirty = true;
     memset(o->map, 0, (size_t)bytes);
     return o->map;
 }
@@ -211,8 +216,14 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
         VX__VK(vkAllocateDescriptorSets(g->device, &ai, set), "vkAllocateDescriptorSets");
         d->set_layout[si] = p->dsl;
     }
-    const vx__buffer* ovb = desc->overlay ? &d->overlay[ov] : &d->dummy;
-    if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = desc->overlay ? ov : -1;
+    if (desc->overlay && d->overlay_dev.size < n * 4) {
+        vkDeviceWaitIdle(g->device); /* frames in flight read the old one */
+        if ((r = vx__buffer_ensure(g, &d->overlay_dev, n * 4, "display overlay (device)", err))) return r;
+        d->ov_dirty = true;
+    }
+    bool copy = desc->overlay && d->ov_dirty;
+    const vx__buffer* ovb = desc->overlay ? &d->overlay_dev : &d->dummy;
+    if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = copy ? ov : -1;
     VkDescriptorBufferInfo bi[3] = {{src->buf, 0, n * 16}, {ovb->buf, 0, desc->overlay ? n * 4 : VK_WHOLE_SIZE},
                                     {d->out.buf, 0, n * 4}};
     VkWriteDescriptorSet w[3];
@@ -224,7 +235,18 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
                                       .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                       .pBufferInfo = &bi[i]};
     vkUpdateDescriptorSets(g->device, 3, w, 0, NULL);
-    /* the frame's passes ran in earlier submissions on this queue; the overlay was written by the host */
+    if (copy) {
+        /* the overlay drawn since the last frame, into the device's copy (after the frames before read it) */
+        VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_HOST_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0, NULL);
+        VkBufferCopy c = {.size = n * 4};
+        vkCmdCopyBuffer(cmd, d->overlay[ov].buf, d->overlay_dev.buf, 1, &c);
+        d->ov_dirty = false;
+    }
+    /* the frame's passes ran earlier on this queue (this or earlier submissions); the overlay's copy just before */
     VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
                           .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};

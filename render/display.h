@@ -47,10 +47,12 @@ void vx_display_destroy(vx_display* d);
 /* The overlay for a width x height frame: 4 bytes a pixel, rows top first,
  * host-mapped, zeroed by this call; valid until the next call or
  * vx_display_destroy. Frames recorded after the call lay it over their image
- * (until the next call: an overlay drawn once is kept). There are two: the
- * call returns the one no frame in flight reads (waiting for those that
- * still read it, the frames recorded before the previous call), so the CPU
- * draws while the GPU shows the last one. NULL on failure (err says why). */
+ * (until the next call: an overlay drawn once is kept); the first of them
+ * copies it into device memory, which the frames read (8 MB of host memory
+ * read by every 1920x1080 frame cost more than its trace). There are two:
+ * the call returns the one no frame in flight copies from (waiting for one
+ * that still does), so the CPU draws while the GPU shows the last one. NULL
+ * on failure (err says why). */
 uint8_t* vx_display_overlay(vx_display* d, uint32_t width, uint32_t height, vx_error* err);
 /* Records the conversion into `cmd` (a VkCommandBuffer in the recording
  * state, on the frame renderer's queue): a barrier after the frame's writes,

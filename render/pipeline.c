@@ -363,16 +363,6 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     if (!fr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     fr->rs = rs, fr->g = g;
     fr->last_out = -1;
-    vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
-    for (uint32_t i = 0; i < scene->instance_count; i++) {
-        if (!vx_svo_instance_drawn(scene, i)) continue;
-        double w[12];
-        vx_svo_instance_world(scene, &scene->instances[i], w);
-        for (int c = 0; c < 3; c++) {
-            double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
-            if (n > fr->max_cell) fr->max_cell = n;
-        }
-    }
     vx_result r = vx_frame_renderer_update_scene(fr, scene, err);
     if (r) {
         vx_frame_renderer_destroy(fr);
@@ -382,12 +372,27 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     return VX_OK;
 }
 
-/* The emission of each attribute record (the order of the scene's colour
- * buffer), as the gi methods give it: the radiometric model without a gi
- * pass shows it, and the direct pass knows emissive surfaces by it. */
+/* The scene facts: the bounds (the default framing, dof's aperture, the
+ * light grid's depths), the largest cell (ao's radius), and the emission of
+ * each attribute record (the order of the scene's colour buffer), as the gi
+ * methods give it: the radiometric model without a gi pass shows it, and
+ * the direct pass knows emissive surfaces by it. Host-side only: the
+ * emission goes to the GPU with the next frame that uses it, and only when
+ * it changed (a frame in flight may still read the old). */
 vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err) {
     if (!fr || !scene) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_gpu* g = fr->g;
+    vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
+    fr->max_cell = 0;
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        if (!vx_svo_instance_drawn(scene, i)) continue;
+        double w[12];
+        vx_svo_instance_world(scene, &scene->instances[i], w);
+        for (int c = 0; c < 3; c++) {
+            double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
+            if (n > fr->max_cell) fr->max_cell = n;
+        }
+    }
     uint8_t* pal = NULL;
     size_t n = 0;
     float* e = NULL;
@@ -401,9 +406,14 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
         }
         for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
-        vx_free(&g->alloc, fr->scene_emit);
-        fr->scene_emit = e, fr->scene_emit_count = n;
-        fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
+        bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, n * sizeof *e);
+        if (same) {
+            vx_free(&g->alloc, e); /* what the GPU holds stays */
+        } else {
+            vx_free(&g->alloc, fr->scene_emit);
+            fr->scene_emit = e, fr->scene_emit_count = n;
+            fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
+        }
     }
     vx_free(&g->alloc, pal);
     return r;

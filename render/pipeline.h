@@ -301,9 +301,14 @@ typedef struct vx_frame_renderer vx_frame_renderer;
 vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scene, vx_frame_renderer** out,
                                    vx_error* err);
 void vx_frame_renderer_destroy(vx_frame_renderer* fr);
-/* After the scene's attribute records changed (vx_render_scene_update_model
- * appended some, or the materials changed): the emission per record the
- * radiometric model and the direct pass read, taken from `scene` again. */
+/* After the scene changed without a new render scene (instances moved:
+ * vx_render_scene_set_frame; attribute records appended:
+ * vx_render_scene_update_model; the materials changed): the renderer's
+ * scene facts taken from `scene` again: the bounds (default framing, dof,
+ * light grid), the largest cell (ao's default radius), the emission per
+ * record that the radiometric model and the direct pass read. No buffer
+ * changes and nothing waits for the device (frames in flight keep running);
+ * a changed emission table goes to the GPU with the next frame. */
 vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err);
 /* Renders one frame; out->image is freed with vx_render_image_free. */
 vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err);

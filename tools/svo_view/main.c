@@ -490,8 +490,10 @@ void sv_uploads(const app* a, uint64_t* words, uint64_t* records) {
  * tables and the BVH are made again from the frame shown
  * (vx_render_scene_set_frame, which takes any instance count); the models'
  * node words stay on the GPU. The pass pipeline's and the probes' objects
- * hold scene facts (bounds, cell sizes, lights): they are made again, which
- * costs no GPU work until the next frame. */
+ * hold scene facts (bounds, cell sizes, lights): the probes' and the gi
+ * methods' are made again, which costs no GPU work until the next frame;
+ * the frame renderer takes its facts again and keeps its buffers and frames
+ * in flight. */
 static void update_instances(app* a) {
     sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
@@ -502,7 +504,12 @@ static void update_instances(app* a) {
     a->name_for = NO_SEL;
     vx_probe_gpu_destroy(a->probes_gpu);
     a->probes_gpu = NULL;
+    /* the gi methods are made again; the frame renderer keeps its buffers (and
+     * its frames in flight): only its scene facts change */
+    vx_frame_renderer* fr = a->fr;
+    a->fr = NULL;
     drop_passes(a);
+    a->fr = fr;
     uint32_t nf = vx_svo_scene_frames(&a->scene);
     if (a->anim_frame >= nf) a->anim_frame = nf - 1;
     vx_error err = {0};
@@ -511,7 +518,12 @@ static void update_instances(app* a) {
         sv_rebuild(a);
         return;
     }
-    if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+    if (a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err)) {
+        vx_frame_renderer_destroy(a->fr);
+        a->fr = NULL;
+    }
+    if (!a->fr && vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err))
+        sv_message(a, true, "pass pipeline: %s", err.msg);
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
@@ -828,8 +840,17 @@ static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t r
     a->probes_gpu = NULL;
     const uint32_t* ns = a->scene.models[model].size;
     if (ns[0] != size[0] || ns[1] != size[1] || ns[2] != size[2]) {
+        /* a new size moves the bounds: the gi methods made again, the frame renderer's facts taken again */
+        vx_frame_renderer* fr = a->fr;
+        a->fr = NULL;
         drop_passes(a);
-        if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+        a->fr = fr;
+        if (a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err)) {
+            vx_frame_renderer_destroy(a->fr);
+            a->fr = NULL;
+        }
+        if (!a->fr && vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err))
+            sv_message(a, true, "pass pipeline: %s", err.msg);
     } else {
         vx_probe_gi_destroy(a->pgi);
         a->pgi = NULL;
