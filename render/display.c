@@ -5,6 +5,7 @@
 
 #include "render/gpu.h"
 #include "display.comp.h"
+#include "display_image.comp.h"
 
 /* Descriptor sets: one per frame slot (a slot's is written again only after
  * its last frame ran), one for the calls outside frames. */
@@ -20,8 +21,9 @@ typedef struct dslot {
 struct vx_display {
     vx_gpu* g;
     VkDescriptorPool pool;
-    VkDescriptorSet set[SETS];
-    VkDescriptorSetLayout set_layout[SETS]; /* the layout each set was allocated with */
+    /* [0]: the conversion into the bytes buffer, [1]: into an image */
+    VkDescriptorSet set[2][SETS];
+    VkDescriptorSetLayout set_layout[2][SETS]; /* the layout each set was allocated with */
     /* two overlays, host-visible (the CPU draws into them): a redraw goes to
      * the one no frame in flight copies from, and becomes overlay[ov]; the
      * next frame copies it into overlay_dev, device-local, which the frames
@@ -45,11 +47,27 @@ struct vx_display {
     /* off-screen images (vx_display_image_create) and their memory */
     VkImage images[VX_DISPLAY_IMAGES];
     VkDeviceMemory image_mem[VX_DISPLAY_IMAGES];
+    VkImageView image_view[VX_DISPLAY_IMAGES]; /* with storage usage (vx_display_image_storage) */
+    bool image_storage;
 };
 
 typedef struct push_block {
-    uint32_t n, bgra, overlay, row;
+    uint32_t n, bgra, overlay, row, width, iw, ih;
 } push_block;
+
+static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
+                          VkAccessFlags dst, VkPipelineStageFlags s0, VkPipelineStageFlags s1) {
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = src,
+                              .dstAccessMask = dst,
+                              .oldLayout = from,
+                              .newLayout = to,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .image = img,
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+    vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
+}
 
 vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     if (!g || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -58,12 +76,13 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     d->g = g;
     d->cur = -1;
     for (int i = 0; i < VX_DISPLAY_FRAMES; i++) d->slot[i].overlay = -1;
-    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * SETS};
+    VkDescriptorPoolSize size[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * 2 * SETS},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, SETS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
-                                      .maxSets = SETS,
-                                      .poolSizeCount = 1,
-                                      .pPoolSizes = &size};
+                                      .maxSets = 2 * SETS,
+                                      .poolSizeCount = 2,
+                                      .pPoolSizes = size};
     VkResult vr = vkCreateDescriptorPool(g->device, &pci, NULL, &d->pool);
     vx_result r = vr != VK_SUCCESS ? vx__vk_fail(err, vr, "vkCreateDescriptorPool") : VX_OK;
     if (!r) r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "display dummy", &d->dummy, err);
@@ -83,6 +102,10 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
         else if ((vr = vkCreateFence(g->device, &fci, NULL, &d->slot[i].fence)) != VK_SUCCESS)
             r = vx__vk_fail(err, vr, "vkCreateFence");
     }
+    /* the off-screen images take the conversion's writes where the device can (a B,G,R,A storage image) */
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(g->phys, VK_FORMAT_B8G8R8A8_UNORM, &fp);
+    d->image_storage = g->has_storage_write && (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
     if (!r && g->has_timestamps) {
         VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
                                     .queryType = VK_QUERY_TYPE_TIMESTAMP,
@@ -107,6 +130,7 @@ void vx_display_destroy(vx_display* d) {
     if (d->cmd_pool) vkDestroyCommandPool(g->device, d->cmd_pool, NULL);
     if (d->qp) vkDestroyQueryPool(g->device, d->qp, NULL);
     for (int i = 0; i < VX_DISPLAY_IMAGES; i++) {
+        if (d->image_view[i]) vkDestroyImageView(g->device, d->image_view[i], NULL);
         if (d->images[i]) vkDestroyImage(g->device, d->images[i], NULL);
         if (d->image_mem[i]) vkFreeMemory(g->device, d->image_mem[i], NULL);
     }
@@ -172,11 +196,14 @@ uint8_t* vx_display_overlay(vx_display* d, uint32_t w, uint32_t h, vx_error* err
     return o->map;
 }
 
-vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_desc* desc, uint64_t* out_buffer,
-                            vx_error* err) {
+/* The conversion into d->out (view NULL), or into image `img` through its
+ * storage view (iw x ih, left in final_layout). */
+static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* desc, VkImage img, VkImageView view,
+                        uint32_t iw, uint32_t ih, VkImageLayout final_layout, uint64_t* out_buffer, vx_error* err) {
     if (!d || !cmd_handle || !desc || !desc->fr)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_gpu* g = d->g;
+    int to_image = view != VK_NULL_HANDLE;
     VkCommandBuffer cmd = (VkCommandBuffer)cmd_handle;
     uint32_t fw = 0, fh = 0;
     vx__buffer* src = vx__frame_renderer_image(desc->fr, &fw, &fh);
@@ -192,7 +219,7 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
     int si = d->cur >= 0 && cmd == d->slot[d->cur].cmd ? d->cur : VX_DISPLAY_FRAMES;
     uint64_t n = (uint64_t)fw * fh;
     vx_result r = VX_OK;
-    if (d->out.size < n * 4) {
+    if (!to_image && d->out.size < n * 4) {
         vkDeviceWaitIdle(g->device);
         vx__buffer_destroy(g, &d->out);
         r = vx__buffer_create(g, n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false,
@@ -202,19 +229,22 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__display_spv_arr, .spirv_size = sizeof vx__display_spv_arr,
                                        .push_constant_size = sizeof(push_block), .binding_count = 3,
                                        .label = "display"};
+    if (to_image)
+        pd.spirv = vx__display_image_spv_arr, pd.spirv_size = sizeof vx__display_image_spv_arr, pd.label = "display image";
     for (int i = 0; i < 3; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    if (to_image) pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     vx__pipeline* p;
-    if ((r = vx__pipeline_get(g, 0xD15B1A70u, &pd, &p, err))) return r;
+    if ((r = vx__pipeline_get(g, 0xD15B1A70u + (uint64_t)to_image, &pd, &p, err))) return r;
     /* the set follows the pipeline's layout (a cached pipeline may have been made again) */
-    VkDescriptorSet* set = &d->set[si];
-    if (!*set || d->set_layout[si] != p->dsl) {
+    VkDescriptorSet* set = &d->set[to_image][si];
+    if (!*set || d->set_layout[to_image][si] != p->dsl) {
         if (*set) vkFreeDescriptorSets(g->device, d->pool, 1, set), *set = VK_NULL_HANDLE;
         VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                           .descriptorPool = d->pool,
                                           .descriptorSetCount = 1,
                                           .pSetLayouts = &p->dsl};
         VX__VK(vkAllocateDescriptorSets(g->device, &ai, set), "vkAllocateDescriptorSets");
-        d->set_layout[si] = p->dsl;
+        d->set_layout[to_image][si] = p->dsl;
     }
     if (desc->overlay && d->overlay_dev.size < n * 4) {
         vkDeviceWaitIdle(g->device); /* frames in flight read the old one */
@@ -226,39 +256,62 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
     if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = copy ? ov : -1;
     VkDescriptorBufferInfo bi[3] = {{src->buf, 0, n * 16}, {ovb->buf, 0, desc->overlay ? n * 4 : VK_WHOLE_SIZE},
                                     {d->out.buf, 0, n * 4}};
+    VkDescriptorImageInfo ii = {.imageView = view, .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
     VkWriteDescriptorSet w[3];
     for (int i = 0; i < 3; i++)
         w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                                       .dstSet = *set,
                                       .dstBinding = (uint32_t)i,
                                       .descriptorCount = 1,
-                                      .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                      .pBufferInfo = &bi[i]};
+                                      .descriptorType = pd.bindings[i],
+                                      .pBufferInfo = i == 2 && to_image ? NULL : &bi[i],
+                                      .pImageInfo = i == 2 && to_image ? &ii : NULL};
     vkUpdateDescriptorSets(g->device, 3, w, 0, NULL);
     if (copy) {
-        /* the overlay drawn since the last frame, into the device's copy (after the frames before read it) */
+        /* the overlay drawn since the last frame, into the device's copy (after the frames before read it; the
+         * host's writes before the submission are visible to it without a barrier: vkQueueSubmit's guarantee) */
         VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_HOST_WRITE_BIT,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0, NULL);
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0,
+                             NULL);
         VkBufferCopy c = {.size = n * 4};
         vkCmdCopyBuffer(cmd, d->overlay[ov].buf, d->overlay_dev.buf, 1, &c);
         d->ov_dirty = false;
     }
     /* the frame's passes ran earlier on this queue (this or earlier submissions); the overlay's copy just before */
     VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
+                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                           .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL, 0, NULL);
+    if (to_image) {
+        /* its contents are not kept; black where the frame does not cover it */
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
+        if (fw < iw || fh < ih) {
+            VkClearColorValue black = {{0, 0, 0, 1}};
+            VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &black, 1, &range);
+            image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+        }
+    }
     uint64_t groups = (n + 255) / 256;
     uint32_t row = groups < 65535 ? (uint32_t)groups : 65535u;
-    push_block pc = {.n = (uint32_t)n, .bgra = desc->bgra, .overlay = desc->overlay, .row = row};
+    push_block pc = {.n = (uint32_t)n, .bgra = desc->bgra, .overlay = desc->overlay, .row = row, .width = fw, .iw = iw,
+                     .ih = ih};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, set, 0, NULL);
     vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     vkCmdDispatch(cmd, row, (uint32_t)((groups + row - 1) / row), 1);
+    if (to_image) {
+        /* a later reader (presentation, a readback) brings its own wait: its semaphore or barrier */
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, final_layout, VK_ACCESS_SHADER_WRITE_BIT, 0,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+        return VX_OK;
+    }
     VkMemoryBarrier tb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
                           .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT};
@@ -266,6 +319,23 @@ vx_result vx_display_record(vx_display* d, void* cmd_handle, const vx_display_de
                          NULL);
     *out_buffer = (uint64_t)(uintptr_t)d->out.buf;
     return VX_OK;
+}
+
+vx_result vx_display_record(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t* out_buffer, vx_error* err) {
+    if (!out_buffer) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return record(d, cmd, desc, VK_NULL_HANDLE, VK_NULL_HANDLE, 0, 0, VK_IMAGE_LAYOUT_UNDEFINED, out_buffer, err);
+}
+
+bool vx_display_image_storage(const vx_display* d) { return d && d->image_storage; }
+
+vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint32_t iw,
+                                  uint32_t ih, int final_layout, vx_error* err) {
+    if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    for (int k = 0; k < VX_DISPLAY_IMAGES; k++)
+        if (d->images[k] && (uint64_t)(uintptr_t)d->images[k] == image && d->image_view[k])
+            return record(d, cmd, desc, d->images[k], d->image_view[k], iw, ih, (VkImageLayout)final_layout, NULL, err);
+    return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                   "not an off-screen image of this display with storage (vx_display_image_storage)");
 }
 
 vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* bytes, double* seconds, vx_error* err) {
@@ -355,19 +425,6 @@ void vx_display_frame_times(const vx_display* d, vx_display_times* out) {
     out->gpu_start_ms = d->last_start_ms;
 }
 
-static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
-                          VkAccessFlags dst, VkPipelineStageFlags s0, VkPipelineStageFlags s1) {
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .srcAccessMask = src,
-                              .dstAccessMask = dst,
-                              .oldLayout = from,
-                              .newLayout = to,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .image = img,
-                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
-    vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
-}
 
 void vx_display_copy_to_image(void* cmd_handle, uint64_t buffer, uint32_t w, uint32_t h, uint64_t image, uint32_t iw,
                               uint32_t ih, int final_layout) {
@@ -413,7 +470,8 @@ vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_
                             .arrayLayers = 1,
                             .samples = VK_SAMPLE_COUNT_1_BIT,
                             .tiling = VK_IMAGE_TILING_OPTIMAL,
-                            .usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                            .usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                     (d->image_storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
                             .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
     VX__VK(vkCreateImage(g->device, &ii, NULL, &d->images[k]), "vkCreateImage");
     VkMemoryRequirements req;
@@ -428,6 +486,14 @@ vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_
                                .memoryTypeIndex = type};
     VkResult vr = type == UINT32_MAX ? VK_ERROR_OUT_OF_DEVICE_MEMORY : vkAllocateMemory(g->device, &ai, NULL, &d->image_mem[k]);
     if (vr == VK_SUCCESS) vr = vkBindImageMemory(g->device, d->images[k], d->image_mem[k], 0);
+    if (vr == VK_SUCCESS && d->image_storage) {
+        VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+                                    .image = d->images[k],
+                                    .viewType = VK_IMAGE_VIEW_TYPE_2D,
+                                    .format = VK_FORMAT_B8G8R8A8_UNORM,
+                                    .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+        vr = vkCreateImageView(g->device, &vi, NULL, &d->image_view[k]);
+    }
     if (vr != VK_SUCCESS) {
         vx_display_image_destroy(d, (uint64_t)(uintptr_t)d->images[k]);
         return vx__vk_fail(err, vr, "allocating an off-screen image");
@@ -441,9 +507,10 @@ void vx_display_image_destroy(vx_display* d, uint64_t image) {
     for (int k = 0; k < VX_DISPLAY_IMAGES; k++) {
         if ((uint64_t)(uintptr_t)d->images[k] != image) continue;
         vkDeviceWaitIdle(d->g->device);
+        if (d->image_view[k]) vkDestroyImageView(d->g->device, d->image_view[k], NULL);
         vkDestroyImage(d->g->device, d->images[k], NULL);
         if (d->image_mem[k]) vkFreeMemory(d->g->device, d->image_mem[k], NULL);
-        d->images[k] = VK_NULL_HANDLE, d->image_mem[k] = VK_NULL_HANDLE;
+        d->images[k] = VK_NULL_HANDLE, d->image_mem[k] = VK_NULL_HANDLE, d->image_view[k] = VK_NULL_HANDLE;
     }
 }
 
@@ -461,8 +528,8 @@ vx_result vx_display_image_read(vx_display* d, uint64_t image, uint32_t w, uint3
         VkCommandBuffer cmd = g->cmd;
         VkImage img = (VkImage)(uintptr_t)image;
         image_barrier(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                      VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                      VK_PIPELINE_STAGE_TRANSFER_BIT);
+                      VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
         VkBufferImageCopy c = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, .imageExtent = {w, h, 1}};
         vkCmdCopyImageToBuffer(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, st.buf, 1, &c);
         VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,

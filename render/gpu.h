@@ -90,6 +90,7 @@ struct vx_gpu {
     VkQueryPool timestamps;
     bool has_timestamps;
     bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
+    bool has_storage_write; /* shaderStorageImageWriteWithoutFormat enabled: vx_display writes images itself */
     uint32_t validation_errors;
     uint32_t pipeline_count;
     vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];

@@ -207,6 +207,8 @@ vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const
     VkPhysicalDeviceFeatures have, want = {0};
     vkGetPhysicalDeviceFeatures(pd, &have);
     want.shaderFloat64 = have.shaderFloat64;
+    /* vx_display's conversion into a B,G,R,A image (render/display.h): a storage image without a format */
+    want.shaderStorageImageWriteWithoutFormat = have.shaderStorageImageWriteWithoutFormat;
     float prio = 1.0f;
     VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
                                    .queueFamilyIndex = family,
@@ -263,6 +265,11 @@ static vx_result create_device(vx_gpu* g, vx_error* err) {
     bool stats = vx__gpu_shader_stats_wanted(g->phys);
     vx_result r = vx_gpu_make_device((const void*)g->phys, g->queue_family, stats ? &stats_ext : NULL, stats ? 1u : 0u,
                                      &dev, &g->has_float64, err);
+    if (!r) {
+        VkPhysicalDeviceFeatures have;
+        vkGetPhysicalDeviceFeatures(g->phys, &have); /* vx_gpu_make_device enables it where offered */
+        g->has_storage_write = have.shaderStorageImageWriteWithoutFormat == VK_TRUE;
+    }
     if (r) return r;
     g->device = (VkDevice)dev;
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);

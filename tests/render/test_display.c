@@ -70,8 +70,9 @@ static void move_instance(vx_svo_scene* s, vx_render_scene* rs, double dx) {
     CHECK(b.instance_updates_in_place == a.instance_updates_in_place + 1);
 }
 
-static void test_in_flight_equals_waited(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
+/* to_image: the conversion writes the off-screen image itself (a storage
+ * image) instead of a buffer copied to it. */
+static void in_flight_equals_waited(bool to_image) {
     vx_svo_model m[2];
     memset(m, 0, sizeof m);
     REQUIRE(ts_random_model(&m[0], 24, 20, 16, 30, 7) == VX_OK);
@@ -87,6 +88,13 @@ static void test_in_flight_equals_waited(void) {
     REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
     REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
     REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    if (to_image && !vx_display_image_storage(disp)) {
+        vx_display_destroy(disp);
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+        SKIP("the device cannot write B,G,R,A storage images");
+    }
     uint64_t img[K];
     for (int k = 0; k < K; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
     /* the frames in flight */
@@ -104,14 +112,17 @@ static void test_in_flight_equals_waited(void) {
         uint64_t buf = 0;
         vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
         vx_result r = vx_frame_record(fr, &d, cmd, slot, &res, &err);
-        if (!r) r = vx_display_record(disp, cmd, &dd, &buf, &err);
+        if (!r && to_image)
+            r = vx_display_record_image(disp, cmd, &dd, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err);
+        else if (!r)
+            r = vx_display_record(disp, cmd, &dd, &buf, &err);
         if (r) {
             vx_display_frame_cancel(disp);
             CHECKF(false, "frame %u: %s", k, err.msg);
             break;
         }
         CHECK(res.image.pixels == NULL && res.frame_ms == 0);
-        vx_display_copy_to_image(cmd, buf, W, H, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        if (!to_image) vx_display_copy_to_image(cmd, buf, W, H, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         REQUIRE(vx_display_frame_submit(disp, 0, 0, &err) == VX_OK);
         slot_of[k] = slot;
     }
@@ -160,9 +171,10 @@ static void test_in_flight_equals_waited(void) {
     for (uint32_t t = 0; t < rec_res.timing_count && t < ref_res.timing_count; t++)
         CHECK(!strcmp(rec_res.timings[t].name, ref_res.timings[t].name));
     CHECK(rec_res.frame_ms >= 0 && rec_res.image.rays == (uint64_t)W * H);
-    printf("  %d frames in flight (%d slots): %zu bytes differ in all; last frame's passes %.3f ms (waited: %.3f ms), "
+    printf("  %d frames in flight (%d slots, %s): %zu bytes differ in all; last frame's passes %.3f ms (waited: %.3f ms), "
            "its command buffer %.3f ms on the device\n",
-           K, VX_DISPLAY_FRAMES, bad_total, rec_res.frame_ms, ref_res.frame_ms, dt.gpu_ms);
+           K, VX_DISPLAY_FRAMES, to_image ? "written into the image" : "copied to the image", bad_total, rec_res.frame_ms,
+           ref_res.frame_ms, dt.gpu_ms);
     free(got), free(want), free(other);
     /* refusals: nothing is recorded, the frame is dropped */
     {
@@ -191,6 +203,16 @@ static void test_in_flight_equals_waited(void) {
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
 }
 
+static void test_in_flight_equals_waited(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    in_flight_equals_waited(false);
+}
+
+static void test_in_flight_into_image(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    in_flight_equals_waited(true);
+}
+
 int main(void) {
     static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
     for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
@@ -203,6 +225,7 @@ int main(void) {
         printf("device: %s\n", vx_gpu_device_name(gpu));
     }
     RUN(test_in_flight_equals_waited);
+    RUN(test_in_flight_into_image);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
