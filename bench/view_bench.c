@@ -401,7 +401,7 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
-        if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
+        if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
                      : mode != 3 && vx_display_record(disp, cmd, &dd, &buf, &err)) {
             vx_display_frame_cancel(disp);
             break;

@@ -328,9 +328,19 @@ vx_result vx_display_record(vx_display* d, void* cmd, const vx_display_desc* des
 
 bool vx_display_image_storage(const vx_display* d) { return d && d->image_storage; }
 
-vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint32_t iw,
-                                  uint32_t ih, int final_layout, vx_error* err) {
+bool vx_display_can_store(const vx_display* d, int format) {
+    if (!d || !d->g->has_storage_write) return false;
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(d->g->phys, (VkFormat)format, &fp);
+    return (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT) != 0;
+}
+
+vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint64_t view,
+                                  uint32_t iw, uint32_t ih, int final_layout, vx_error* err) {
     if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (view)
+        return record(d, cmd, desc, (VkImage)(uintptr_t)image, (VkImageView)(uintptr_t)view, iw, ih,
+                      (VkImageLayout)final_layout, NULL, err);
     for (int k = 0; k < VX_DISPLAY_IMAGES; k++)
         if (d->images[k] && (uint64_t)(uintptr_t)d->images[k] == image && d->image_view[k])
             return record(d, cmd, desc, d->images[k], d->image_view[k], iw, ih, (VkImageLayout)final_layout, NULL, err);

@@ -117,18 +117,21 @@ void vx_display_frame_times(const vx_display* d, vx_display_times* out);
 vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_t* image, vx_error* err);
 vx_result vx_display_image_read(vx_display* d, uint64_t image, uint32_t w, uint32_t h, uint8_t* bytes, vx_error* err);
 void vx_display_image_destroy(vx_display* d, uint64_t image);
-/* Where the device can (vx_display_image_storage: shaderStorageImageWriteWithoutFormat,
- * which vx_gpu_create enables where offered, and B8G8R8A8 storage images)
- * the off-screen images also take the conversion's writes themselves:
+/* Where the device can (shaderStorageImageWriteWithoutFormat, which
+ * vx_gpu_create and vx_gpu_make_device enable where offered, and storage
+ * images of the format: vx_display_can_store; vx_display_image_storage for
+ * the off-screen images) the conversion writes the image itself:
  * vx_display_record_image records the conversion and overlay into `image`
- * (one of vx_display_image_create's, iw x ih, left in final_layout) in place
- * of vx_display_record + vx_display_copy_to_image. The buffer-to-image copy
- * it saves cost 0.10 ms of a 1920x1080 frame on an H200, more than the
- * conversion (0.014 ms). Same bytes. svo_view's swapchain images still take
- * the copy. */
+ * (iw x ih, left in final_layout) through `view` (a VkImageView of it, 0:
+ * the image is one of vx_display_image_create's), in place of
+ * vx_display_record + vx_display_copy_to_image; the image needs STORAGE
+ * usage (a swapchain's: when the surface offers it). The buffer-to-image
+ * copy it saves cost 0.10 ms of a 1920x1080 frame on an H200, more than the
+ * conversion (0.014 ms). Same bytes. */
+bool vx_display_can_store(const vx_display* d, int format /* VkFormat */);
 bool vx_display_image_storage(const vx_display* d);
-vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint32_t iw,
-                                  uint32_t ih, int final_layout, vx_error* err);
+vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint64_t view,
+                                  uint32_t iw, uint32_t ih, int final_layout, vx_error* err);
 
 #ifdef __cplusplus
 }

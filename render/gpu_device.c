@@ -328,6 +328,7 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
         if (!g->instance || !g->phys || !g->queue)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "external device given without instance/queue");
         g->has_float64 = desc->external.float64;
+        g->has_storage_write = desc->external.storage_write;
     } else {
         if ((r = create_instance(g, g->validate, err))) return r;
         if ((r = select_device(g, desc->device, err))) return r;

@@ -124,6 +124,8 @@ typedef struct vx_gpu_desc {
         const void* queue;
         uint32_t queue_family;
         bool float64; /* the host enabled shaderFloat64 (needed for models deeper than VX_RENDER_PRECISE_DEPTH) */
+        bool storage_write; /* the host enabled shaderStorageImageWriteWithoutFormat (render/display.h writes
+                               B,G,R,A images itself; vx_gpu_make_device enables it where offered) */
     } external;
 } vx_gpu_desc;
 

@@ -113,7 +113,7 @@ static void in_flight_equals_waited(bool to_image) {
         vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
         vx_result r = vx_frame_record(fr, &d, cmd, slot, &res, &err);
         if (!r && to_image)
-            r = vx_display_record_image(disp, cmd, &dd, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err);
+            r = vx_display_record_image(disp, cmd, &dd, img[k], 0, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err);
         else if (!r)
             r = vx_display_record(disp, cmd, &dd, &buf, &err);
         if (r) {

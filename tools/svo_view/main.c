@@ -1303,7 +1303,10 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
     }
     /* without an image (minimised, a new swapchain next frame) the passes still run, unseen */
     uint64_t bytes = 0;
-    if (im.image) {
+    if (im.image && im.view) { /* the conversion writes the swapchain image itself */
+        r = vx_display_record_image(a->disp, cmd, dd, im.image, im.view, im.width, im.height, im.layout, err);
+        if (r) vx_display_copy_to_image(cmd, 0, dd->width, dd->height, im.image, im.width, im.height, im.layout);
+    } else if (im.image) {
         r = vx_display_record(a->disp, cmd, dd, &bytes, err);
         vx_display_copy_to_image(cmd, r ? 0 : bytes, dd->width, dd->height, im.image, im.width, im.height, im.layout);
     }
@@ -2192,9 +2195,10 @@ static void choose_present(app* a) {
         return;
     }
     snprintf(a->present_note, sizeof a->present_note,
-             "GPU: colour passes -> display conversion + overlay -> swapchain copy in one submission, %d frames "
-             "in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
-             VX_DISPLAY_FRAMES, strcmp(want, "gpu") ? "auto" : "--present gpu");
+             "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %d "
+             "frames in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
+             vp_storage(a->p) ? "written into" : "-> a copy to", VX_DISPLAY_FRAMES,
+             strcmp(want, "gpu") ? "auto" : "--present gpu");
 }
 
 int main(int argc, char** argv) {

@@ -47,6 +47,7 @@ void vp_external(vp* p, vx_gpu_desc* gd);
 /* Current swapchain size (the framebuffer size in pixels: HiDPI aware). */
 void vp_frame_size(vp* p, uint32_t* w, uint32_t* h);
 bool vp_frame_bgra(const vp* p); /* the swapchain wants B,G,R,A bytes */
+bool vp_storage(const vp* p);    /* the swapchain images are storage images (vp_image.view) */
 /* Changes vsync; takes effect by recreating the swapchain. */
 void vp_set_vsync(vp* p, bool vsync);
 bool vp_vsync(const vp* p);
@@ -75,6 +76,7 @@ typedef struct vp_image {
     uint32_t width, height;
     uint64_t acquired, rendered; /* VkSemaphore */
     int layout;                  /* VkImageLayout the image is presented in */
+    uint64_t view; /* VkImageView, a storage view (vx_display_record_image writes the image), 0: copy into it */
 } vp_image;
 vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err);
 vx_result vp_present_acquired(vp* p, vx_error* err);
