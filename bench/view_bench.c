@@ -4,7 +4,10 @@
  * the viewer did before), and the instance update it does now (instance
  * tables and BVH, vx_render_scene_set_frame); and a frame of that scene for
  * comparison.
- * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)]
+ * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] [FRAMES (default 0)]:
+ *        the instance edit (in place since frames in flight: the CPU BVH
+ *        build and no wait) and, with FRAMES, FRAMES frames in flight at
+ *        1920x1080 without and with an instance moved before every frame
  *        view_bench --animate IN.svo OUT.svo FRAMES: OUT is IN as an animation
  *        of FRAMES frames, every instance one cell further along x each frame
  *        (models shared: playback in svo_view --bench switches frames with no
@@ -25,13 +28,26 @@
  *        the size of svo_view's panel columns laid over it, a submission
  *        waited for: what svo_view records before its swapchain copy). The
  *        panels' CPU drawing is svo_view's, not here (svo_view --bench -v
- *        prints it). Needs only libvulkan and libc (runs on the GPU machine). */
+ *        prints it).
+ *        view_bench --loop IN.svo [W H (default 1920 1080)] [FRAMES (default 300)] [PASSES]:
+ *        frames in flight as svo_view's GPU path records them (render/display.h:
+ *        passes, conversion with the overlay, copy into an image, one submission
+ *        per frame, VX_DISPLAY_FRAMES in flight), into off-screen images that
+ *        stand in for the swapchain's (no display here): the interval between
+ *        frames on the CPU (what a user sees) and on the GPU (start timestamps),
+ *        each frame's GPU time, against the passes' GPU time of frames submitted
+ *        and waited for (svo_render's trace time); with no overlay, the overlay
+ *        kept, and redrawn each frame; the last frame's bytes against the waited
+ *        path's. Says whether the instance offers VK_EXT_headless_surface.
+ *        Needs only libvulkan and libc (runs on the GPU machine). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <vulkan/vulkan.h> /* --loop: the headless surface query, image layouts */
 
 #include "render/display.h"
+#include "render/gpu.h" /* --loop: timestamps between a frame's stages */
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "bench/bench_terrain.h"
@@ -281,7 +297,292 @@ static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const
     return bad ? 1 : 0;
 }
 
+/* ---- --loop: frames in flight ------------------------------------------------------------ */
+
+/* Whether the instance offers VK_EXT_headless_surface (a swapchain without a
+ * window system), which a GPU machine without a display would need for a
+ * real swapchain. */
+static bool headless_offered(void) {
+    uint32_t n = 0;
+    if (vkEnumerateInstanceExtensionProperties(NULL, &n, NULL) != VK_SUCCESS || !n) return false;
+    VkExtensionProperties* e = calloc(n, sizeof *e);
+    bool found = false;
+    if (e && vkEnumerateInstanceExtensionProperties(NULL, &n, e) == VK_SUCCESS)
+        for (uint32_t i = 0; i < n; i++) found |= !strcmp(e[i].extensionName, "VK_EXT_headless_surface");
+    free(e);
+    return found;
+}
+
+/* The panel columns svo_view lays out: 3/8 of the width left and right, translucent. */
+static void draw_columns(uint8_t* ov, uint32_t w, uint32_t h) {
+    uint32_t lw = w * 3 / 8, rw = w * 3 / 8;
+    for (uint32_t y = 0; y < h; y++) {
+        uint32_t* row = (uint32_t*)(ov + (size_t)y * w * 4);
+        for (uint32_t x = 0; x < lw; x++) row[x] = 0xF0141414u;
+        for (uint32_t x = w - rw; x < w; x++) row[x] = 0xF0141414u;
+    }
+}
+
+typedef struct loop_stats {
+    double interval_med, interval_mean; /* CPU: between the returns of vx_display_frame_begin */
+    double gpu_med, gpu_gap_med;        /* a frame's command buffer on the GPU; start to start */
+    double passes_med;                  /* the passes' GPU time (vx_frame_record_result) */
+    double cpu_record_med;              /* CPU: recording and submitting one frame */
+    /* GPU: a frame's command buffer by stages (timestamps): from its start
+     * to the passes' end (the scene tables' update included), the
+     * conversion, the copy into the image, the rest to its end */
+    double stage_med[4];
+} loop_stats;
+
+/* n frames in flight (after warm-up), each: the passes, the conversion with
+ * the overlay (mode 0: none, 1: kept from before the loop, 2: redrawn every
+ * frame), the copy into the slot's image, one submission; mode 3: the
+ * passes alone (the floor: what the trace costs in flight); modes 4 and 5:
+ * the conversion writes the image itself (no copy), without and with the
+ * overlay kept. */
+typedef bool (*before_fn)(void* user, uint32_t k);
+
+static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+    vx_error err = {0};
+    uint32_t warm = 20, total = n + warm;
+    double *t = calloc(total + 1, sizeof(double)), *gpu = calloc(total, sizeof(double)), *gap = calloc(total, sizeof(double)),
+           *pass = calloc(total, sizeof(double)), *rec = calloc(total, sizeof(double));
+    double* stage[4];
+    for (int i = 0; i < 4; i++) stage[i] = calloc(total, sizeof(double));
+    uint32_t ng = 0, np = 0, ns = 0;
+    /* three timestamps per slot: after the passes, the conversion, the copy */
+    VkQueryPool qp = VK_NULL_HANDLE;
+    VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                                .queryCount = 3 * VX_DISPLAY_FRAMES};
+    if (g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
+    double per = g->props.limits.timestampPeriod * 1e-6;
+    double last_start = -1;
+    uint64_t last_done = 0;
+    bool ok = t && gpu && gap && pass && rec;
+    bool recorded[VX_DISPLAY_FRAMES] = {0};
+    for (uint32_t k = 0; ok && k < total; k++) {
+        uint32_t slot;
+        void* cmd;
+        if (vx_display_frame_begin(disp, &slot, &cmd, &err)) break;
+        t[k] = vx_time_now();
+        vx_display_times dt;
+        vx_display_frame_times(disp, &dt);
+        if (k > warm + VX_DISPLAY_FRAMES && dt.frames_done != last_done) {
+            gpu[ng] = dt.gpu_ms;
+            gap[ng++] = last_start >= 0 ? dt.gpu_start_ms - last_start : 0;
+        }
+        last_start = dt.gpu_start_ms, last_done = dt.frames_done;
+        vx_frame_result res;
+        if (recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err)) pass[np++] = res.frame_ms;
+        uint64_t ts[3];
+        if (qp && recorded[slot] && k > warm &&
+            vkGetQueryPoolResults(g->device, qp, 3 * slot, 3, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
+            double at[5] = {dt.gpu_start_ms, ts[0] * per, ts[1] * per, ts[2] * per, dt.gpu_start_ms + dt.gpu_ms};
+            for (int i = 0; i < 4; i++) stage[i][ns] = at[i + 1] - at[i];
+            ns++;
+        }
+        if (qp) vkCmdResetQueryPool(cmd, qp, 3 * slot, 3);
+        if (before && !before(user, k)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (mode == 2) {
+            uint8_t* ov = vx_display_overlay(disp, w, h, &err);
+            if (!ov) break;
+            draw_columns(ov, w, h);
+        }
+        uint64_t buf = 0;
+        vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true,
+                              .overlay = mode == 1 || mode == 2 || mode == 5};
+        bool to_image = mode == 4 || mode == 5;
+        if (vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
+        if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
+                     : mode != 3 && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 1);
+        if (mode != 3 && !to_image)
+            vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 2);
+        if (vx_display_frame_submit(disp, 0, 0, &err)) break;
+        recorded[slot] = true;
+        rec[k] = (vx_time_now() - t[k]) * 1e3;
+    }
+    if (vx_display_wait(disp, &err) || err.msg[0]) {
+        fprintf(stderr, "loop: %s\n", err.msg[0] ? err.msg : "failed");
+        ok = false;
+    }
+    if (ok) {
+        double* iv = calloc(n, sizeof(double));
+        for (uint32_t k = 0; iv && k + 1 < n; k++) iv[k] = (t[warm + k + 1] - t[warm + k]) * 1e3;
+        st->interval_med = iv ? median(iv, n - 1) : 0;
+        st->interval_mean = (t[total - 1] - t[warm]) * 1e3 / (n - 1);
+        free(iv);
+        st->gpu_med = median(gpu, ng);
+        st->gpu_gap_med = ng > 1 ? median(gap + 1, ng - 1) : 0;
+        st->passes_med = median(pass, np);
+        st->cpu_record_med = median(rec + warm, n);
+        for (int i = 0; i < 4; i++) st->stage_med[i] = median(stage[i], ns);
+    }
+    if (qp) vkDestroyQueryPool(g->device, qp, NULL);
+    free(t), free(gpu), free(gap), free(pass), free(rec);
+    for (int i = 0; i < 4; i++) free(stage[i]);
+    return ok;
+}
+
+static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
+    vx_svo_scene s;
+    vx_error err = {0};
+    if (!w || !h || n < 3 || n > 100000) return 2;
+    printf("view_bench --loop: the Vulkan instance %s VK_EXT_headless_surface\n",
+           headless_offered() ? "offers" : "does not offer");
+    if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
+    vx_gpu* g;
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    if (vx_gpu_create(NULL, &g, &err) || vx_render_scene_create(g, &s, &rs, &err) ||
+        vx_frame_renderer_create(rs, &s, &fr, &err) || vx_display_create(g, &disp, &err))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_pass_list pl;
+    if (vx_pass_list_parse(passes, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
+    fd.passes = &pl;
+    fd.lights = s.lights, fd.light_count = s.light_count;
+    fd.sky_dir = &s.sky;
+    fd.no_readback = true;
+    /* the swapchain's stand-in: an image per frame slot, as a swapchain has one per frame in flight */
+    uint64_t img[VX_DISPLAY_FRAMES];
+    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        if (vx_display_image_create(disp, w, h, &img[i], &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    /* the baseline: each frame submitted and waited for (vx_frame_render), its passes' GPU time */
+    double *base = calloc(n, sizeof(double)), *base_wall = calloc(n, sizeof(double));
+    uint8_t *want = malloc((size_t)w * h * 4), *got = malloc((size_t)w * h * 4);
+    if (!base || !base_wall || !want || !got) return 1;
+    for (uint32_t k = 0; k < n + 2; k++) {
+        vx_frame_result res;
+        double t0 = vx_time_now();
+        if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        if (k >= 2) base[k - 2] = res.frame_ms, base_wall[k - 2] = (vx_time_now() - t0) * 1e3;
+    }
+    double mb = median(base, n), mbw = median(base_wall, n);
+    /* the panels' overlay, drawn once and kept (svo_view redraws it on input or every 250 ms) */
+    uint8_t* ov = vx_display_overlay(disp, w, h, &err);
+    if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
+    draw_columns(ov, w, h);
+    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0};
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) ||
+        !run_loop(g, fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
+        return 1;
+    /* the last frame in flight (slot of frame n + warm - 1) against the same frame through the waited path */
+    uint32_t last = (n + 20 - 1) % VX_DISPLAY_FRAMES;
+    bool read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+    vx_frame_result res;
+    vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true, .overlay = true};
+    if (vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &dd, want, NULL, &err))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    size_t bad = 0;
+    for (size_t q = 0; read && q < (size_t)w * h * 4; q++) bad += want[q] != got[q];
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 2, NULL, NULL, &redrawn) ||
+        !run_loop(g, fr, disp, img, &fd, w, h, n, 3, NULL, NULL, &bare))
+        return 1;
+    /* the conversion into the image itself, where the device can; the bytes checked as above */
+    bool store_ok = vx_display_image_storage(disp);
+    size_t store_bad = 0;
+    bool store_read = false;
+    if (store_ok) {
+        /* the overlay drawn again (the redrawn loop left it another), then kept */
+        uint8_t* ov2 = vx_display_overlay(disp, w, h, &err);
+        if (!ov2) return fprintf(stderr, "%s\n", err.msg), 1;
+        draw_columns(ov2, w, h);
+        if (!run_loop(g, fr, disp, img, &fd, w, h, n, 4, NULL, NULL, &store) ||
+            !run_loop(g, fr, disp, img, &fd, w, h, n, 5, NULL, NULL, &store_kept))
+            return 1;
+        store_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+        for (size_t q = 0; store_read && q < (size_t)w * h * 4; q++) store_bad += want[q] != got[q];
+    }
+    printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
+           w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
+    printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
+    const char* names[6] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+                            "passes alone (no conversion, no copy)", "written into the image, no overlay",
+                            "written into the image, overlay kept"};
+    loop_stats* all[6] = {&none, &kept, &redrawn, &bare, &store, &store_kept};
+    int modes = store_ok ? 6 : 4;
+    for (int m = 0; m < modes; m++)
+        printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes), GPU per frame %.4f ms, GPU "
+               "start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
+               names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb, all[m]->gpu_med,
+               all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb, all[m]->passes_med, all[m]->cpu_record_med);
+    for (int m = 0; m < modes; m++)
+        printf("  GPU stages, %-41s start to passes' end %.4f, conversion %.4f, copy %.4f, to the end %.4f ms\n", names[m],
+               all[m]->stage_med[0], all[m]->stage_med[1], all[m]->stage_med[2], all[m]->stage_med[3]);
+    printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
+           read ? "read" : "NOT READ", bad);
+    if (store_ok)
+        printf("  the same, written into the image: %s, %zu bytes differ\n", store_read ? "read" : "NOT READ", store_bad);
+    else
+        printf("  the device cannot write B,G,R,A storage images: no conversion into the image\n");
+    free(base), free(base_wall), free(want), free(got);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(g);
+    vx_svo_scene_free(&s);
+    return read && !bad && (!store_ok || (store_read && !store_bad)) ? 0 : 1;
+}
+
+/* Instance edits with frames in flight: an instance moved (an undo step, the
+ * move, vx_render_scene_set_frame: in place) before every frame. */
+typedef struct mover {
+    vx_svo_scene* s;
+    vx_render_scene* rs;
+    ved* e;
+} mover;
+
+static bool move_one(void* user, uint32_t k) {
+    mover* m = user;
+    vx_error err = {0};
+    if (ved_begin(m->e, &err)) return false;
+    ved_move(m->s, k % m->s->instance_count, (int32_t[3]){(k / m->s->instance_count) % 2 ? -1 : 1, 0, 0});
+    if (vx_render_scene_set_frame(m->rs, m->s, 0, &err)) return fprintf(stderr, "%s\n", err.msg), false;
+    return true;
+}
+
+static bool inst_loop(vx_gpu* g, vx_render_scene* rs, vx_svo_scene* s, ved* e, uint32_t n, loop_stats* still,
+                      loop_stats* moving) {
+    vx_error err = {0};
+    uint32_t w = 1920, h = 1080;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    if (vx_frame_renderer_create(rs, s, &fr, &err) || vx_display_create(g, &disp, &err))
+        return fprintf(stderr, "%s\n", err.msg), false;
+    uint64_t img[VX_DISPLAY_FRAMES];
+    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        if (vx_display_image_create(disp, w, h, &img[i], &err)) return fprintf(stderr, "%s\n", err.msg), false;
+    vx_frame_desc fd = vx_frame_desc_defaults();
+    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
+    fd.no_readback = true;
+    mover m = {s, rs, e};
+    bool ok = run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, still) &&
+              run_loop(g, fr, disp, img, &fd, w, h, n, 0, move_one, &m, moving);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    return ok;
+}
+
 int main(int argc, char** argv) {
+    if (argc >= 3 && !strcmp(argv[1], "--loop"))
+        return loop_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
+                          argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
+                          argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
                             argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);
@@ -291,6 +592,7 @@ int main(int argc, char** argv) {
                            argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 30, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
     if (argc == 5 && !strcmp(argv[1], "--animate")) return animate(argv[2], argv[3], (uint32_t)strtoul(argv[4], NULL, 10));
     uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000, rep = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 9;
+    uint32_t flight = argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 0;
     if (!n || !rep || rep > 1000) return 2;
     /* one 8^3 model with a sphere of cells, on a square grid of instances */
     uint64_t keys[512];
@@ -348,13 +650,21 @@ int main(int argc, char** argv) {
      * tables and BVH only (vx_render_scene_set_frame), no node upload */
     double* inst = calloc(rep, sizeof *inst);
     if (!inst) return 1;
+    double* inst_bvh = calloc(rep, sizeof *inst_bvh);
+    if (!inst_bvh) return 1;
+    vx_render_scene_stats st0, st1;
+    vx_render_scene_get_stats(rs, &st0);
     for (uint32_t k = 0; k < rep; k++) {
         double t0 = vx_time_now();
         if (ved_begin(&e, &err)) return 1;
         ved_move(&s, k % n, (int32_t[3]){1, 0, 0});
         if (vx_render_scene_set_frame(rs, &s, 0, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
         inst[k] = (vx_time_now() - t0) * 1e3;
+        inst_bvh[k] = vx_render_scene_bvh_seconds(rs) * 1e3;
     }
+    vx_render_scene_get_stats(rs, &st1);
+    loop_stats still = {0}, moving = {0};
+    if (flight && !inst_loop(gpu, rs, &s, &e, flight, &still, &moving)) return 1;
     qsort(inst, rep, sizeof *inst, cmp);
     qsort(edit, rep, sizeof *edit, cmp);
     qsort(bvh, rep, sizeof *bvh, cmp);
@@ -362,9 +672,17 @@ int main(int argc, char** argv) {
     printf("view_bench: %u instances on %s: edit + scene update median %.3f ms (BVH build %.3f ms); "
            "640x480 frame (vx_render_frame wall) median %.3f ms\n",
            n, vx_gpu_device_name(gpu), edit[rep / 2], bvh[rep / 2], frame[rep / 2]);
-    printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms\n",
-           inst[rep / 2]);
-    free(edit), free(bvh), free(frame), free(inst);
+    qsort(inst_bvh, rep, sizeof *inst_bvh, cmp);
+    printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms "
+           "(BVH build on the CPU %.3f ms; %u of %u in place)\n",
+           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep);
+    if (flight)
+        printf("view_bench: frames in flight at 1920x1080, %u frames: interval median %.4f ms (GPU start-to-start %.4f ms, "
+               "passes %.4f ms); with an instance moved before every frame (undo step + move + in-place update) %.4f ms "
+               "(GPU %.4f ms, passes %.4f ms, CPU record+submit incl. the edit %.4f ms)\n",
+               flight, still.interval_med, still.gpu_gap_med, still.passes_med, moving.interval_med, moving.gpu_gap_med,
+               moving.passes_med, moving.cpu_record_med);
+    free(edit), free(bvh), free(frame), free(inst), free(inst_bvh);
     ved_free(&e);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);

@@ -90,6 +90,7 @@ struct vx_gpu {
     VkQueryPool timestamps;
     bool has_timestamps;
     bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
+    bool has_storage_write; /* shaderStorageImageWriteWithoutFormat enabled: vx_display writes images itself */
     uint32_t validation_errors;
     uint32_t pipeline_count;
     vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];
@@ -168,6 +169,15 @@ vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
  * variant only: VX_ERR_UNSUPPORTED for scenes that need float64. */
 vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
                                 uint32_t spec[VX__SPEC_COUNT], vx_error* err);
+/* The same for a frame recorded into `cmd` (a VkCommandBuffer in the
+ * recording state on the scene's queue) that other frames may precede on the
+ * queue, still running: the tables and the frame block are written by
+ * commands in cmd (vkCmdUpdateBuffer, between barriers), not by the host, so
+ * each frame reads its own. Until the device has done these frames, the
+ * host-side writers (vx__render_scene_bind, a frame of vx_render_frame, model
+ * updates) wait for the queue to go idle first. */
+vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
+                                    uint32_t spec[VX__SPEC_COUNT], vx_error* err);
 /* Palette index (0: none) of every entry of the colors buffer, in its order
  * (the models' attribute records one model after another); *out freed with
  * vx_free(alloc, ...). */

@@ -207,6 +207,8 @@ vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const
     VkPhysicalDeviceFeatures have, want = {0};
     vkGetPhysicalDeviceFeatures(pd, &have);
     want.shaderFloat64 = have.shaderFloat64;
+    /* vx_display's conversion into a B,G,R,A image (render/display.h): a storage image without a format */
+    want.shaderStorageImageWriteWithoutFormat = have.shaderStorageImageWriteWithoutFormat;
     float prio = 1.0f;
     VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
                                    .queueFamilyIndex = family,
@@ -263,6 +265,11 @@ static vx_result create_device(vx_gpu* g, vx_error* err) {
     bool stats = vx__gpu_shader_stats_wanted(g->phys);
     vx_result r = vx_gpu_make_device((const void*)g->phys, g->queue_family, stats ? &stats_ext : NULL, stats ? 1u : 0u,
                                      &dev, &g->has_float64, err);
+    if (!r) {
+        VkPhysicalDeviceFeatures have;
+        vkGetPhysicalDeviceFeatures(g->phys, &have); /* vx_gpu_make_device enables it where offered */
+        g->has_storage_write = have.shaderStorageImageWriteWithoutFormat == VK_TRUE;
+    }
     if (r) return r;
     g->device = (VkDevice)dev;
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);
@@ -321,6 +328,7 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
         if (!g->instance || !g->phys || !g->queue)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "external device given without instance/queue");
         g->has_float64 = desc->external.float64;
+        g->has_storage_write = desc->external.storage_write;
     } else {
         if ((r = create_instance(g, g->validate, err))) return r;
         if ((r = select_device(g, desc->device, err))) return r;

@@ -311,6 +311,21 @@ _Static_assert(sizeof(push_block) <= 128, "Vulkan guarantees 128 bytes of push c
 
 typedef enum shader_id { SH_GBUFFER, SH_DIRECT, SH_AO, SH_RESOLVE, SH_POST, SH_FRAME, SH_CULL, SH_COUNT } shader_id;
 
+#define MAX_TIMED 8192 /* dispatches with timestamps in one submission */
+
+/* A recorded frame (vx_frame_record) of one slot: its descriptor set's pool
+ * and timestamps, kept until the slot is recorded again, and what
+ * vx_frame_record_result makes of them once the device has run it. */
+typedef struct frame_slot {
+    VkDescriptorPool pool;
+    VkQueryPool qp;
+    uint32_t qcap;
+    bool recorded;
+    uint32_t nq, nd;
+    vx_frame_result res; /* rows and counts; the times come from the queries */
+    int row_of[MAX_TIMED];
+} frame_slot;
+
 struct vx_frame_renderer {
     vx_render_scene* rs;
     vx_gpu* g;
@@ -330,6 +345,8 @@ struct vx_frame_renderer {
     uint32_t lidx_cap; /* light list entries b[B_LIDX] holds */
     int last_out;          /* the buffer holding the last frame's image (-1: none yet) */
     uint32_t last_w, last_h;
+    frame_slot* slots[VX_FRAME_SLOTS]; /* vx_frame_record's, made on first use */
+    bool recorded; /* frames were recorded: wait for the queue before changing what they read */
 };
 
 vx__buffer* vx__frame_renderer_image(const vx_frame_renderer* fr, uint32_t* w, uint32_t* h) {
@@ -346,16 +363,6 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     if (!fr) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     fr->rs = rs, fr->g = g;
     fr->last_out = -1;
-    vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
-    for (uint32_t i = 0; i < scene->instance_count; i++) {
-        if (!vx_svo_instance_drawn(scene, i)) continue;
-        double w[12];
-        vx_svo_instance_world(scene, &scene->instances[i], w);
-        for (int c = 0; c < 3; c++) {
-            double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
-            if (n > fr->max_cell) fr->max_cell = n;
-        }
-    }
     vx_result r = vx_frame_renderer_update_scene(fr, scene, err);
     if (r) {
         vx_frame_renderer_destroy(fr);
@@ -365,12 +372,27 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     return VX_OK;
 }
 
-/* The emission of each attribute record (the order of the scene's colour
- * buffer), as the gi methods give it: the radiometric model without a gi
- * pass shows it, and the direct pass knows emissive surfaces by it. */
+/* The scene facts: the bounds (the default framing, dof's aperture, the
+ * light grid's depths), the largest cell (ao's radius), and the emission of
+ * each attribute record (the order of the scene's colour buffer), as the gi
+ * methods give it: the radiometric model without a gi pass shows it, and
+ * the direct pass knows emissive surfaces by it. Host-side only: the
+ * emission goes to the GPU with the next frame that uses it, and only when
+ * it changed (a frame in flight may still read the old). */
 vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_scene* scene, vx_error* err) {
     if (!fr || !scene) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_gpu* g = fr->g;
+    vx_svo_scene_world_bounds(scene, fr->lo, fr->hi);
+    fr->max_cell = 0;
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        if (!vx_svo_instance_drawn(scene, i)) continue;
+        double w[12];
+        vx_svo_instance_world(scene, &scene->instances[i], w);
+        for (int c = 0; c < 3; c++) {
+            double n = sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]);
+            if (n > fr->max_cell) fr->max_cell = n;
+        }
+    }
     uint8_t* pal = NULL;
     size_t n = 0;
     float* e = NULL;
@@ -384,9 +406,14 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
         }
         for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
-        vx_free(&g->alloc, fr->scene_emit);
-        fr->scene_emit = e, fr->scene_emit_count = n;
-        fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
+        bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, n * sizeof *e);
+        if (same) {
+            vx_free(&g->alloc, e); /* what the GPU holds stays */
+        } else {
+            vx_free(&g->alloc, fr->scene_emit);
+            fr->scene_emit = e, fr->scene_emit_count = n;
+            fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
+        }
     }
     vx_free(&g->alloc, pal);
     return r;
@@ -394,6 +421,14 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
 
 void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
     if (!fr) return;
+    if (fr->recorded) vkQueueWaitIdle(fr->g->queue);
+    for (int i = 0; i < VX_FRAME_SLOTS; i++) {
+        frame_slot* sl = fr->slots[i];
+        if (!sl) continue;
+        if (sl->pool) vkDestroyDescriptorPool(fr->g->device, sl->pool, NULL);
+        if (sl->qp) vkDestroyQueryPool(fr->g->device, sl->qp, NULL);
+        vx_free(&fr->g->alloc, sl);
+    }
     vx_free(&fr->g->alloc, fr->scene_emit);
     for (int i = 0; i < B_COUNT; i++) vx__buffer_destroy(fr->g, &fr->b[i]);
     if (fr->qp) vkDestroyQueryPool(fr->g->device, fr->qp, NULL);
@@ -401,7 +436,16 @@ void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
     vx_free(&a, fr);
 }
 
+/* Before the host replaces or rewrites a buffer that recorded frames may
+ * still read (a new size, the emission or sky tables changed). */
+static void settle(vx_frame_renderer* fr) {
+    if (!fr->recorded) return;
+    vkQueueWaitIdle(fr->g->queue);
+    fr->recorded = false;
+}
+
 static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, const char* label, vx_error* err) {
+    if (!(fr->b[which].buf && fr->b[which].size >= size)) settle(fr);
     return vx__buffer_ensure(fr->g, &fr->b[which], size, label, err);
 }
 
@@ -431,8 +475,12 @@ typedef struct rec {
     vx_frame_renderer* fr;
     VkDescriptorSet set;
     uint32_t groups[2];
+    VkCommandBuffer cb; /* the gpu's own, or the caller's (slot) */
+    frame_slot* slot;   /* vx_frame_record: recorded into the caller's command buffer, not submitted */
+    VkQueryPool qp;
+    uint32_t qcap;
     uint32_t nq;       /* timestamps written in this submission */
-    int row_of[8192];  /* timing row of dispatch k of this submission */
+    int row_of[MAX_TIMED];  /* timing row of dispatch k of this submission */
     uint32_t nd;
     bool recording;
     vx_frame_result* res;
@@ -447,25 +495,28 @@ static int timing_row(vx_frame_result* res, const char* name) {
 }
 
 static vx_result rec_begin(rec* R, vx_error* err) {
-    vx_result r = vx__cmd_begin(R->fr->g, err);
-    if (r) return r;
+    if (!R->slot) {
+        vx_result r = vx__cmd_begin(R->fr->g, err);
+        if (r) return r;
+        R->cb = R->fr->g->cmd;
+    }
     R->nq = 0, R->nd = 0, R->recording = true;
-    if (R->fr->g->has_timestamps) vkCmdResetQueryPool(R->fr->g->cmd, R->fr->qp, 0, R->fr->qcap);
+    if (R->fr->g->has_timestamps) vkCmdResetQueryPool(R->cb, R->qp, 0, R->qcap);
     return VX_OK;
 }
 
 /* Records one dispatch of groups[0] x groups[1] workgroups (NULL: the image's 8 x 8 tiles). */
 static void rec_dispatch_n(rec* R, vx__pipeline* p, const push_block* pc, const char* row, const uint32_t* groups) {
     vx_gpu* g = R->fr->g;
-    VkCommandBuffer cb = g->cmd;
+    VkCommandBuffer cb = R->cb;
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &R->set, 0, NULL);
     vkCmdPushConstants(cb, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
-    bool ts = g->has_timestamps && R->nq + 2 <= R->fr->qcap && R->nd < 8192;
-    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->fr->qp, R->nq);
+    bool ts = g->has_timestamps && R->nq + 2 <= R->qcap && R->nd < MAX_TIMED;
+    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->qp, R->nq);
     if (!groups) groups = R->groups;
     vkCmdDispatch(cb, groups[0], groups[1], 1);
-    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->fr->qp, R->nq + 1);
+    if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->qp, R->nq + 1);
     VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
                           .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
@@ -486,11 +537,39 @@ static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const ch
     rec_dispatch_n(R, p, pc, row, NULL);
 }
 
-/* Submits, waits and adds the timestamps to the rows and the frame time. */
+/* Adds nq timestamps of qp (dispatch k timed by 2k, 2k + 1 for row
+ * row_of[k]) to the rows and the frame time of res. */
+static vx_result add_times(vx_gpu* g, VkQueryPool qp, uint32_t nq, uint32_t nd, const int* row_of, bool wait,
+                           vx_frame_result* res, vx_error* err) {
+    uint64_t* ts = vx_alloc(&g->alloc, (size_t)nq * 8);
+    if (!ts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for timestamps");
+    VkResult vr = vkGetQueryPoolResults(g->device, qp, 0, nq, (size_t)nq * 8, ts, 8,
+                                        VK_QUERY_RESULT_64_BIT | (wait ? VK_QUERY_RESULT_WAIT_BIT : 0));
+    if (vr != VK_SUCCESS) {
+        vx_free(&g->alloc, ts);
+        if (vr == VK_NOT_READY)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the recorded frame has not run yet (wait for its submission)");
+        return vx__vk_fail(err, vr, "vkGetQueryPoolResults");
+    }
+    double per = g->props.limits.timestampPeriod * 1e-6; /* ms per tick */
+    for (uint32_t k = 0; k < nd; k++) res->timings[row_of[k]].ms += (double)(ts[2 * k + 1] - ts[2 * k]) * per;
+    res->frame_ms += (double)(ts[nq - 1] - ts[0]) * per;
+    vx_free(&g->alloc, ts);
+    return VX_OK;
+}
+
+/* Submits, waits and adds the timestamps to the rows and the frame time.
+ * A recorded frame (R->slot) is the caller's to submit: the slot keeps what
+ * vx_frame_record_result needs. */
 static vx_result rec_submit(rec* R, vx_error* err) {
     if (!R->recording) return VX_OK;
     R->recording = false;
     vx_gpu* g = R->fr->g;
+    if (R->slot) {
+        R->slot->nq = g->has_timestamps ? R->nq : 0, R->slot->nd = R->nd;
+        memcpy(R->slot->row_of, R->row_of, (size_t)R->nd * sizeof R->row_of[0]);
+        return VX_OK;
+    }
     double t0 = vx_time_now();
     vx_result r = vx__cmd_submit_wait(g, err);
     if (r) return r;
@@ -499,20 +578,7 @@ static vx_result rec_submit(rec* R, vx_error* err) {
         R->res->frame_ms += wall * 1e3;
         return VX_OK;
     }
-    uint64_t* ts = vx_alloc(&g->alloc, (size_t)R->nq * 8);
-    if (!ts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for timestamps");
-    VkResult vr = vkGetQueryPoolResults(g->device, R->fr->qp, 0, R->nq, (size_t)R->nq * 8, ts, 8,
-                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-    if (vr != VK_SUCCESS) {
-        vx_free(&g->alloc, ts);
-        return vx__vk_fail(err, vr, "vkGetQueryPoolResults");
-    }
-    double per = g->props.limits.timestampPeriod * 1e-6; /* ms per tick */
-    for (uint32_t k = 0; k < R->nd; k++)
-        R->res->timings[R->row_of[k]].ms += (double)(ts[2 * k + 1] - ts[2 * k]) * per;
-    R->res->frame_ms += (double)(ts[R->nq - 1] - ts[0]) * per;
-    vx_free(&g->alloc, ts);
-    return VX_OK;
+    return add_times(g, R->qp, R->nq, R->nd, R->row_of, true, R->res, err);
 }
 
 /* The culling dispatches (shaders/cull.comp): clear, (tiled) tile depths,
@@ -536,10 +602,13 @@ static bool any_emission(const float* e, size_t n) {
     return false;
 }
 
-vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err) {
-    if (!fr || !desc || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+/* A frame: submitted and waited for (slot NULL), or recorded into the
+ * caller's command buffer cb for slot (vx_frame_record). */
+static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, frame_slot* slot,
+                           VkCommandBuffer cb, vx_error* err) {
     memset(out, 0, sizeof *out);
     vx_gpu* g = fr->g;
+    if (!slot) settle(fr); /* recorded frames read the buffers this frame writes from the host */
     vx_pass_list deflist;
     vx_result r = VX_OK;
     const vx_pass_list* L = desc->passes;
@@ -575,6 +644,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if ((r = vx__frame_setup(fr->lo, fr->hi, &base, &f, err))) return r;
     bool ids = desc->want_ids;
     uint32_t nl = desc->light_count;
+    if (slot && (ids || !desc->no_readback || has_gi))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "a recorded frame is not read back (no_readback, no want_ids) and has no gi pass (gi=%s submits "
+                       "its own work)",
+                       has_gi ? L->gi : "none");
     if (nl && !desc->lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u lights but no array", nl);
     if (nl && has_gi && (gm->light_count != nl || gm->lights != desc->lights))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
@@ -603,6 +677,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
             cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
     }
     bool tiled = cull == VX_LIGHT_CULLING_TILED, culled = cull != VX_LIGHT_CULLING_BRUTE;
+    if (slot && culled)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "a recorded frame has no light culling (%u lights with a reach: the grid's size is read back); "
+                       "light_culling brute",
+                       nl - ndir);
     uint32_t shadows = desc->shadow_lights < 0 ? 0
                        : desc->shadow_lights == 0 ? VX_SHADOW_LIGHTS_DEFAULT
                                                   : (uint32_t)desc->shadow_lights;
@@ -641,6 +720,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         (!culled && (r = ensure(fr, B_LIDX, 16, "light lists", err))))
         return r;
     if (emit && (fr->emit_src != emit_tab || fr->emit_count != emit_n)) {
+        settle(fr);
         vx__buffer_destroy(g, &fr->b[B_EMIT]);
         fr->emit_src = NULL, fr->emit_count = 0;
         if ((r = vx__buffer_create(g, emit_n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
@@ -666,6 +746,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     if (sky_dir) {
         vx_sky_texels mk = sk->type == VX_SKY_ENVMAP ? *sm : (vx_sky_texels){0};
         if (!fr->sky_valid || memcmp(&fr->sky_key, sk, sizeof *sk) || memcmp(&fr->sky_map_key, &mk, sizeof mk)) {
+            settle(fr);
             fr->sky_valid = false;
             if ((r = vx__sky_buffer(g, sk, &mk, sky_uniform, &fr->b[B_SKY], err))) return r;
             fr->sky_key = *sk, fr->sky_map_key = mk, fr->sky_valid = true;
@@ -675,7 +756,9 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     }
     vx__buffer* scene_bufs[7];
     uint32_t tspec[VX__SPEC_COUNT];
-    if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) return r;
+    r = slot ? vx__render_scene_bind_cmd(fr->rs, &f, cb, scene_bufs, tspec, err)
+             : vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err);
+    if (r) return r;
     tspec[VX__SPEC_HITS] = ids;
     if (nl) {
         gpu_light* gl = vx_alloc(&g->alloc, (size_t)nl * sizeof *gl);
@@ -686,7 +769,22 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
             bool dir = desc->lights[i].type == VX_LIGHT_DIRECTIONAL;
             pack_light(&desc->lights[i], f.ref, cutoff, &gl[dir ? at_dir++ : at_pos++]);
         }
-        r = vx__buffer_upload(g, &fr->b[B_LIGHTS], gl, (VkDeviceSize)nl * sizeof *gl, err);
+        if (slot) {
+            /* in the command buffer, as the scene's tables: frames before this one may still read the lights */
+            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
+                                 0, NULL);
+            VkDeviceSize size = (VkDeviceSize)nl * sizeof *gl;
+            for (VkDeviceSize at = 0; at < size; at += 65536)
+                vkCmdUpdateBuffer(cb, fr->b[B_LIGHTS].buf, at, size - at < 65536 ? size - at : 65536, (uint8_t*)gl + at);
+            mb = (VkMemoryBarrier){.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                   .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                   .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL,
+                                 0, NULL);
+        } else {
+            r = vx__buffer_upload(g, &fr->b[B_LIGHTS], gl, (VkDeviceSize)nl * sizeof *gl, err);
+        }
         vx_free(&g->alloc, gl);
         if (r) return r;
     }
@@ -695,14 +793,16 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     uint32_t per_sample = 1 + has_direct + (has_ao ? (vx_gpu_is_cpu(g) ? (ao_rays + 15) / 16 : 1) : 0) + 1 + 5 * tiled;
     uint64_t want_q = 2ull * ((uint64_t)f.spp * per_sample + 2 + 4 * culled);
     if (want_q > 16384) want_q = 16384; /* later dispatches run untimed: rows and frame then cover the first 8192 */
-    if (g->has_timestamps && fr->qcap < want_q) {
-        if (fr->qp) vkDestroyQueryPool(g->device, fr->qp, NULL);
-        fr->qp = VK_NULL_HANDLE, fr->qcap = 0;
+    VkQueryPool* qp = slot ? &slot->qp : &fr->qp;
+    uint32_t* qcap = slot ? &slot->qcap : &fr->qcap;
+    if (g->has_timestamps && *qcap < want_q) {
+        if (*qp) vkDestroyQueryPool(g->device, *qp, NULL);
+        *qp = VK_NULL_HANDLE, *qcap = 0;
         VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
                                     .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                     .queryCount = (uint32_t)want_q};
-        VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &fr->qp), "vkCreateQueryPool");
-        fr->qcap = (uint32_t)want_q;
+        VX__VK(vkCreateQueryPool(g->device, &qi, NULL, qp), "vkCreateQueryPool");
+        *qcap = (uint32_t)want_q;
     }
     /* pipelines */
     uint32_t spec[8] = {0};
@@ -806,14 +906,17 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
     VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NBIND}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = sizes};
-    VkDescriptorPool pool;
-    VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
+    /* a recorded frame's set lives in its slot's pool until the slot is recorded again */
+    VkDescriptorPool pool = slot ? slot->pool : VK_NULL_HANDLE;
+    if (!pool) VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
+    if (slot) slot->pool = pool, vkResetDescriptorPool(g->device, pool, 0);
     rec* R = vx_calloc(&g->alloc, 1, sizeof *R);
     if (!R) {
-        vkDestroyDescriptorPool(g->device, pool, NULL);
+        if (!slot) vkDestroyDescriptorPool(g->device, pool, NULL);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }
     R->fr = fr, R->res = out;
+    R->slot = slot, R->cb = cb, R->qp = *qp, R->qcap = *qcap;
     R->groups[0] = (f.width + 7) / 8, R->groups[1] = (f.height + 7) / 8;
     VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                       .descriptorPool = pool, .descriptorSetCount = 1, .pSetLayouts = &p_gb->dsl};
@@ -860,11 +963,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
                 rec_dispatch(R, p_gb, &pc, "gbuffer");
             } else {
                 /* no gbuffer: every pixel is a miss (the background) */
-                vkCmdFillBuffer(g->cmd, fr->b[B_GB1].buf, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+                vkCmdFillBuffer(R->cb, fr->b[B_GB1].buf, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
                 VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                                       .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
                                       .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
-                vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb,
+                vkCmdPipelineBarrier(R->cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb,
                                      0, NULL, 0, NULL);
             }
             if (tiled) rec_cull(R, p_cull, &pc, cells, nl - ndir, tile_groups); /* this sample's depths */
@@ -925,12 +1028,42 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
         break;
     }
     if (nl) out->light_culling = cull;
-done:
-    if (R->recording) {
-        vkEndCommandBuffer(g->cmd);
-        R->recording = false;
+    if (slot) {
+        slot->res = *out, slot->recorded = true;
+        fr->recorded = true;
     }
+done:
+    if (R->recording && !slot) vkEndCommandBuffer(g->cmd);
+    R->recording = false;
     vx_free(&g->alloc, R);
-    vkDestroyDescriptorPool(g->device, pool, NULL);
+    if (!slot) vkDestroyDescriptorPool(g->device, pool, NULL);
+    return r;
+}
+
+vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err) {
+    if (!fr || !desc || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return frame_run(fr, desc, out, NULL, VK_NULL_HANDLE, err);
+}
+
+vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
+                          vx_frame_result* out, vx_error* err) {
+    if (!fr || !desc || !cmd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (slot >= VX_FRAME_SLOTS)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u: a renderer has %d", slot, VX_FRAME_SLOTS);
+    if (!fr->slots[slot] && !(fr->slots[slot] = vx_calloc(&fr->g->alloc, 1, sizeof(frame_slot))))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    frame_slot* sl = fr->slots[slot];
+    sl->recorded = false;
+    return frame_run(fr, desc, out, sl, (VkCommandBuffer)cmd, err);
+}
+
+vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_result* out, vx_error* err) {
+    if (!fr || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    frame_slot* sl = slot < VX_FRAME_SLOTS ? fr->slots[slot] : NULL;
+    if (!sl || !sl->recorded) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u holds no recorded frame", slot);
+    *out = sl->res;
+    if (!sl->nq) return VX_OK; /* no timestamps on this queue */
+    vx_result r = add_times(fr->g, sl->qp, sl->nq, sl->nd, sl->row_of, false, out, err);
+    if (!r) out->image.gpu_seconds = out->frame_ms * 1e-3;
     return r;
 }

@@ -19,10 +19,11 @@ if(VX_WITH_VULKAN)
   # beam is the primary rays' beam pass (before trace).
   # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
   # are the pass pipeline's shaders (pipeline.c); cull builds its light grid;
-  # display turns an image into display bytes on the GPU (display.c).
+  # display turns an image into display bytes on the GPU (display.c); display_image
+  # writes them into the image shown (a storage image) instead of a buffer.
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
-               display:display)
+               display:display display_image:display:TO_IMAGE)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)

@@ -124,6 +124,8 @@ typedef struct vx_gpu_desc {
         const void* queue;
         uint32_t queue_family;
         bool float64; /* the host enabled shaderFloat64 (needed for models deeper than VX_RENDER_PRECISE_DEPTH) */
+        bool storage_write; /* the host enabled shaderStorageImageWriteWithoutFormat (render/display.h writes
+                               B,G,R,A images itself; vx_gpu_make_device enables it where offered) */
     } external;
 } vx_gpu_desc;
 
@@ -298,12 +300,16 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
 typedef struct vx_render_scene_stats {
     uint64_t node_words_uploaded, records_uploaded;
     uint32_t model_updates, instance_rebuilds;
+    /* of the rebuilds, those in place: the same number of instances drawn,
+     * the BVH rebuilt on the CPU into the buffers it had, no buffer made and
+     * no wait for the device (frames in flight keep running) */
+    uint32_t instance_updates_in_place;
 } vx_render_scene_stats;
 void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than
  * VX_RENDER_PRECISE_DEPTH). */
 bool vx_render_scene_precise(const vx_render_scene* rs);
-/* Seconds spent building the BVH at creation. */
+/* Seconds spent building the BVH at creation (or at the last instance update). */
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);

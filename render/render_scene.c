@@ -62,6 +62,14 @@ struct vx_render_scene {
     vx__gpu_model* gm;  /* host copy of the models buffer */
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
     vx__buffer stage;   /* staging for updates where the buffers are not mapped */
+    /* frames in flight (vx__render_scene_bind_cmd): their per-frame tables
+     * were written by commands in their own command buffers; until settle()
+     * the host neither writes the mapped tables nor changes what they read */
+    bool recorded;
+    bool items_dirty; /* the BVH's item order changed in place: bvh_items is written with the next frame's tables */
+    uint32_t bvh_node_cap; /* nodes the bvh_nodes buffer holds (2n - 1 for n instances: any build fits) */
+    void* scratch; /* host copy of the per-frame tables for those commands */
+    size_t scratch_size;
     uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
     vx_render_scene_stats stats;
     uint32_t dense_n[3];
@@ -176,9 +184,16 @@ done:
     return r;
 }
 
-static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+static uint32_t drawn_count(const vx_svo_scene* s) {
     uint32_t n = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) n += vx_svo_instance_drawn(s, i);
+    return n;
+}
+
+/* The host side of the instances: rs->inst (n drawn instances) and the BVH
+ * over their world boxes (rs->bvh), built on the CPU. */
+static vx_result instance_tables(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    uint32_t n = drawn_count(s);
     rs->inst_count = n;
     rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
     double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
@@ -206,10 +221,22 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
     double t0 = vx_time_now();
     if (n > 1 && (r = vx_bvh_build(lo, hi, n, &rs->alloc, &rs->bvh, err))) goto done;
     rs->bvh_seconds = vx_time_now() - t0;
+done:
+    vx_free(&rs->alloc, lo);
+    vx_free(&rs->alloc, hi);
+    return r;
+}
+
+static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
+    vx_result r = instance_tables(rs, s, err);
+    if (r) return r;
+    uint32_t n = rs->inst_count;
     vx_gpu* g = rs->gpu;
+    /* room for any BVH over n instances (a binary tree with non-empty leaves), so that an edit rebuilds it in place */
+    rs->bvh_node_cap = n > 1 ? 2 * n - 1 : 1;
     if ((r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                true, "instances", &rs->insts, err)) ||
-        (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.node_count ? rs->bvh.node_count : 1) * sizeof(vx_bvh_node),
+        (r = vx__buffer_create(g, (VkDeviceSize)rs->bvh_node_cap * sizeof(vx_bvh_node),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bvh nodes", &rs->bvh_nodes, err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.item_count ? rs->bvh.item_count : 1) * 4,
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bvh items", &rs->bvh_items, err)) ||
@@ -218,12 +245,10 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "instances (double)", &rs->pinsts, err)) ||
         (r = vx__buffer_create(g, sizeof(vx__gpu_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "frame", &rs->frame,
                                err)))
-        goto done;
+        return r;
+    rs->items_dirty = false;
     if (!rs->insts.map || !rs->pinsts.map || !rs->bvh_nodes.map || !rs->frame.map)
         r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "per-frame buffers are not host visible");
-done:
-    vx_free(&rs->alloc, lo);
-    vx_free(&rs->alloc, hi);
     return r;
 }
 
@@ -281,7 +306,25 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->wreg);
     vx_free(&a, rs->creg);
     vx_free(&a, rs->msize);
+    vx_free(&a, rs->scratch);
     vx_free(&a, rs);
+}
+
+/* Waits for recorded frames (vx__render_scene_bind_cmd) before the host
+ * writes what they read: the mapped per-frame tables, the model records,
+ * the buffers an update replaces. One queue does all of the scene's work. */
+static void settle(vx_render_scene* rs) {
+    if (!rs->recorded) return;
+    vkQueueWaitIdle(rs->gpu->queue);
+    rs->recorded = false;
+}
+
+/* The BVH's item order, when an in-place rebuild changed it (host writes:
+ * no frame in flight reads it). */
+static vx_result upload_items(vx_render_scene* rs, vx_error* err) {
+    if (!rs->items_dirty) return VX_OK;
+    rs->items_dirty = false;
+    return vx__buffer_upload(rs->gpu, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err);
 }
 
 /* The models stay on the GPU; the instance tables and the BVH over them are
@@ -298,7 +341,41 @@ vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, 
     vx_result r = vx__check_scene(&v, err);
     if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
     vx_gpu* g = rs->gpu;
+    if (drawn_count(&v) == rs->inst_count && rs->inst_count > 0 && rs->insts.buf) {
+        /* the same number of instances drawn (moves, turns, a frame of an
+         * animation): the tables and the BVH are made again on the host in
+         * place of the old ones, no buffer changes and nothing waits for the
+         * device. The instance tables and BVH nodes go to the GPU with every
+         * frame's tables (relative to its camera) anyway; the BVH's item
+         * order (n words) goes with the next frame's, or now when no frame
+         * is in flight. A build over a few hundred instances takes well under
+         * a millisecond (docs/PERFORMANCE.md, "Frames in flight"). */
+        inst_host* old_inst = rs->inst;
+        vx_bvh old_bvh = rs->bvh;
+        memset(&rs->bvh, 0, sizeof rs->bvh);
+        rs->bvh.alloc = &rs->alloc;
+        rs->inst = NULL;
+        if ((r = instance_tables(rs, &v, err)) || rs->bvh.node_count > rs->bvh_node_cap) {
+            vx_free(&rs->alloc, rs->inst);
+            vx_bvh_free(&rs->bvh);
+            rs->inst = old_inst, rs->bvh = old_bvh, rs->inst_count = drawn_count(&v);
+            if (r) return r;
+        } else {
+            vx_free(&rs->alloc, old_inst);
+            vx_bvh_free(&old_bvh);
+            if (max_depth > rs->max_depth) rs->max_depth = max_depth;
+            rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
+            rs->shown = frame;
+            rs->stats.instance_rebuilds++;
+            rs->stats.instance_updates_in_place++;
+            vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
+            rs->items_dirty = true;
+            if (!rs->recorded) return upload_items(rs, err);
+            return VX_OK;
+        }
+    }
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
+    rs->recorded = false;
     vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
@@ -395,6 +472,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
                        m->node_count);
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
+    settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
     uint32_t depth = 0;
@@ -514,18 +592,20 @@ void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
 
-/* Per-frame tables relative to the reference point R, computed in double. */
-static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
-    vx__gpu_inst* gi = rs->insts.map;
-    vx__gpu_inst_precise* pi = rs->pinsts.map;
+/* Per-frame tables relative to the reference point R, computed in double,
+ * into gi, pi (NULL: not written) and bn. */
+static void frame_tables(const vx_render_scene* rs, const vx__frame* f, vx__gpu_inst* gi, vx__gpu_inst_precise* pi,
+                         vx_bvh_node* bn) {
     for (uint32_t i = 0; i < rs->inst_count; i++) {
         const inst_host* h = &rs->inst[i];
         for (int r = 0; r < 3; r++) {
             const double* row = &h->inv[4 * r];
             double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
-            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c], pi[i].r[r][c] = row[c];
+            for (int c = 0; c < 3; c++) gi[i].r[r][c] = (float)row[c];
             gi[i].r[r][3] = (float)w;
             gi[i].lo[r] = (float)(w - (double)(float)w);
+            if (!pi) continue;
+            for (int c = 0; c < 3; c++) pi[i].r[r][c] = row[c];
             pi[i].r[r][3] = w;
         }
         gi[i].model = h->model;
@@ -534,7 +614,6 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
         gi[i].pad = 0;
         gi[i].lo[3] = 0;
     }
-    vx_bvh_node* bn = rs->bvh_nodes.map;
     for (uint32_t i = 0; i < rs->bvh.node_count; i++) {
         const vx_bvh_node* s = &rs->bvh.nodes[i];
         bn[i] = *s;
@@ -546,6 +625,12 @@ static void write_frame_tables(vx_render_scene* rs, const vx__frame* f) {
             bn[i].lo[k] = fa, bn[i].hi[k] = fb;
         }
     }
+}
+
+static vx_result write_frame_tables(vx_render_scene* rs, const vx__frame* f, vx_error* err) {
+    settle(rs);
+    frame_tables(rs, f, rs->insts.map, rs->pinsts.map, rs->bvh_nodes.map);
+    return upload_items(rs, err);
 }
 
 static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
@@ -584,7 +669,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     if (want_hits && (r = vx__buffer_ensure(g, &rs->hits, npx * 32, "hits", err))) return r;
     if (!want_hits && (r = vx__buffer_ensure(g, &rs->hits, 16, "hits", err))) return r;
-    write_frame_tables(rs, f);
+    if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
     bool precise = use_precise(rs);
     if (precise && !g->has_float64)
@@ -642,8 +727,66 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
                        VX_RENDER_PRECISE_DEPTH);
-    write_frame_tables(rs, f);
+    vx_result r = write_frame_tables(rs, f, err);
+    if (r) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
+    vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
+    memcpy(bufs, b, sizeof b);
+    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
+    memcpy(spec, sp, sizeof sp);
+    return VX_OK;
+}
+
+/* vkCmdUpdateBuffer in its largest pieces (64 KiB). */
+static void update_buffer(VkCommandBuffer cb, const vx__buffer* b, const void* data, VkDeviceSize size) {
+    for (VkDeviceSize at = 0; at < size; at += 65536) {
+        VkDeviceSize n = size - at < 65536 ? size - at : 65536;
+        vkCmdUpdateBuffer(cb, b->buf, at, n, (const uint8_t*)data + at);
+    }
+}
+
+vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
+                                    uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
+    if (use_precise(rs))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
+                       VX_RENDER_PRECISE_DEPTH);
+    VkCommandBuffer cb = (VkCommandBuffer)cmd;
+    size_t ni = (size_t)rs->inst_count * sizeof(vx__gpu_inst), nb = (size_t)rs->bvh.node_count * sizeof(vx_bvh_node);
+    size_t need = sizeof(vx__gpu_frame) + ni + nb;
+    if (need > rs->scratch_size) {
+        void* p = vx_alloc(&rs->alloc, need);
+        if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu bytes of frame tables", need);
+        vx_free(&rs->alloc, rs->scratch);
+        rs->scratch = p, rs->scratch_size = need;
+    }
+    uint8_t* at = rs->scratch;
+    vx__gpu_frame* gf = (vx__gpu_frame*)at;
+    vx__gpu_inst* gi = (vx__gpu_inst*)(at + sizeof *gf);
+    vx_bvh_node* bn = (vx_bvh_node*)(at + sizeof *gf + ni);
+    frame_tables(rs, f, gi, NULL, bn);
+    fill_gpu_frame(rs, f, gf);
+    /* after the shader reads of frames before this one on the queue (an
+     * execution dependency is enough for a write after reads), before this
+     * frame's reads */
+    VkMemoryBarrier before = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, NULL, 0, NULL);
+    update_buffer(cb, &rs->frame, gf, sizeof *gf);
+    update_buffer(cb, &rs->insts, gi, ni);
+    update_buffer(cb, &rs->bvh_nodes, bn, nb);
+    if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
+        update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
+        rs->items_dirty = false;
+    }
+    /* also orders the earlier frames' shader writes (the shared images) before this frame's */
+    VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                             .dstAccessMask =
+                                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &after, 0, NULL, 0, NULL);
+    rs->recorded = true;
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
     uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};

@@ -145,11 +145,12 @@ typedef struct app {
      * picks and screenshots, the host readback path (vp_present) */
     vx_display* disp;
     bool frame_on_gpu; /* the last frame took the GPU path */
+    bool frame_in_flight; /* ... and was not waited for (frames in flight, render/display.h) */
     /* the GPU path's overlay is kept between frames while nothing it shows changed */
     bool ui_dirty, ov_valid, ov_cam_default;
     double ov_time, ov_cam[5];
     uint32_t ov_w, ov_h;
-    char present_note[160];
+    char present_note[256];
     /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
      * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
     uint32_t scenes_made;

@@ -490,8 +490,10 @@ void sv_uploads(const app* a, uint64_t* words, uint64_t* records) {
  * tables and the BVH are made again from the frame shown
  * (vx_render_scene_set_frame, which takes any instance count); the models'
  * node words stay on the GPU. The pass pipeline's and the probes' objects
- * hold scene facts (bounds, cell sizes, lights): they are made again, which
- * costs no GPU work until the next frame. */
+ * hold scene facts (bounds, cell sizes, lights): the probes' and the gi
+ * methods' are made again, which costs no GPU work until the next frame;
+ * the frame renderer takes its facts again and keeps its buffers and frames
+ * in flight. */
 static void update_instances(app* a) {
     sv_probe_bake_cancel(a, "the scene changed");
     if (!a->rs || a->scene.model_count != a->rs_models) {
@@ -502,7 +504,12 @@ static void update_instances(app* a) {
     a->name_for = NO_SEL;
     vx_probe_gpu_destroy(a->probes_gpu);
     a->probes_gpu = NULL;
+    /* the gi methods are made again; the frame renderer keeps its buffers (and
+     * its frames in flight): only its scene facts change */
+    vx_frame_renderer* fr = a->fr;
+    a->fr = NULL;
     drop_passes(a);
+    a->fr = fr;
     uint32_t nf = vx_svo_scene_frames(&a->scene);
     if (a->anim_frame >= nf) a->anim_frame = nf - 1;
     vx_error err = {0};
@@ -511,7 +518,12 @@ static void update_instances(app* a) {
         sv_rebuild(a);
         return;
     }
-    if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+    if (a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err)) {
+        vx_frame_renderer_destroy(a->fr);
+        a->fr = NULL;
+    }
+    if (!a->fr && vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err))
+        sv_message(a, true, "pass pipeline: %s", err.msg);
     a->update_ms = (vx_time_now() - t0) * 1e3;
 }
 
@@ -828,8 +840,17 @@ static void update_model(app* a, uint32_t model, uint32_t words_from, uint32_t r
     a->probes_gpu = NULL;
     const uint32_t* ns = a->scene.models[model].size;
     if (ns[0] != size[0] || ns[1] != size[1] || ns[2] != size[2]) {
+        /* a new size moves the bounds: the gi methods made again, the frame renderer's facts taken again */
+        vx_frame_renderer* fr = a->fr;
+        a->fr = NULL;
         drop_passes(a);
-        if (vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err)) sv_message(a, true, "pass pipeline: %s", err.msg);
+        a->fr = fr;
+        if (a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err)) {
+            vx_frame_renderer_destroy(a->fr);
+            a->fr = NULL;
+        }
+        if (!a->fr && vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err))
+            sv_message(a, true, "pass pipeline: %s", err.msg);
     } else {
         vx_probe_gi_destroy(a->pgi);
         a->pgi = NULL;
@@ -1181,7 +1202,27 @@ static void file_sky(app* a, const vx_sky** sky, const vx_sky_texels** map) {
     if (a->sky_rgb) *sky = k, *map = &a->sky_map;
 }
 
-static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_error* err) {
+/* A frame's pass times: the overlay's and the statistics panel's numbers
+ * and history. */
+static void take_timings(app* a, const vx_frame_result* res) {
+    memcpy(a->timings, res->timings, sizeof a->timings);
+    a->timing_count = res->timing_count;
+    a->passes_ms = res->frame_ms;
+    /* the statistics panel's history; a different pass list starts it again */
+    bool same = a->hist_layers == res->timing_count;
+    for (uint32_t t = 0; same && t < res->timing_count; t++) same = a->hist_names[t] == res->timings[t].name ||
+                                                                    !strcmp(a->hist_names[t], res->timings[t].name);
+    if (!same) a->hist_n = 0, a->hist_layers = res->timing_count;
+    for (uint32_t t = 0; t < res->timing_count; t++) a->hist_names[t] = res->timings[t].name;
+    if (a->hist_n == SV_HISTORY) memmove(a->hist[0], a->hist[1], (SV_HISTORY - 1) * sizeof a->hist[0]);
+    else a->hist_n++;
+    for (uint32_t t = 0; t < res->timing_count; t++) a->hist[a->hist_n - 1][t] = (float)res->timings[t].ms;
+}
+
+/* The colour passes: rendered and waited for (cmd NULL), or recorded into
+ * cmd for frame slot `slot` (frames in flight: the times come with the
+ * slot's next frame, take_timings). */
+static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, void* cmd, uint32_t slot, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
@@ -1230,22 +1271,48 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_
     fd.light_count = a->scene.light_count;
     fd.sky_dir = sky, fd.sky_map = sky_map; /* and its sky */
     vx_frame_result res;
-    vx_result r = vx_frame_render(a->fr, &fd, &res, err);
+    vx_result r = cmd ? vx_frame_record(a->fr, &fd, cmd, slot, &res, err) : vx_frame_render(a->fr, &fd, &res, err);
     if (r) return r;
     a->img = res.image;
-    memcpy(a->timings, res.timings, sizeof a->timings);
-    a->timing_count = res.timing_count;
-    a->passes_ms = res.frame_ms;
-    /* the statistics panel's history; a different pass list starts it again */
-    bool same = a->hist_layers == res.timing_count;
-    for (uint32_t t = 0; same && t < res.timing_count; t++) same = a->hist_names[t] == res.timings[t].name ||
-                                                                   !strcmp(a->hist_names[t], res.timings[t].name);
-    if (!same) a->hist_n = 0, a->hist_layers = res.timing_count;
-    for (uint32_t t = 0; t < res.timing_count; t++) a->hist_names[t] = res.timings[t].name;
-    if (a->hist_n == SV_HISTORY) memmove(a->hist[0], a->hist[1], (SV_HISTORY - 1) * sizeof a->hist[0]);
-    else a->hist_n++;
-    for (uint32_t t = 0; t < res.timing_count; t++) a->hist[a->hist_n - 1][t] = (float)res.timings[t].ms;
+    if (!cmd) take_timings(a, &res);
     return VX_OK;
+}
+
+/* Frames in flight (render/display.h): the passes, the conversion with the
+ * overlay and the copy into the swapchain image in one command buffer,
+ * submitted and presented without waiting for it; vx_display_frame_begin
+ * waits only for the frame VX_DISPLAY_FRAMES before, whose pass times the
+ * statistics then show. VX_ERR_UNSUPPORTED, nothing submitted: a frame the
+ * recorder refuses (lights that need a culling grid), which takes the
+ * waited path. */
+static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_display_desc* dd, vx_error* err) {
+    uint32_t slot;
+    void* cmd;
+    vx_result r = vx_display_frame_begin(a->disp, &slot, &cmd, err);
+    if (r) return r;
+    vx_frame_result done;
+    if (!vx_frame_record_result(a->fr, slot, &done, NULL)) {
+        take_timings(a, &done);
+        a->trace_ms = done.image.gpu_seconds * 1e3;
+        a->rays_per_s = done.image.gpu_seconds > 0 ? done.image.rays / done.image.gpu_seconds : 0;
+    }
+    vp_image im;
+    if ((r = render_passes(a, d, true, cmd, slot, err)) || (r = vp_acquire(a->p, slot, &im, err))) {
+        vx_display_frame_cancel(a->disp);
+        return r;
+    }
+    /* without an image (minimised, a new swapchain next frame) the passes still run, unseen */
+    uint64_t bytes = 0;
+    if (im.image && im.view) { /* the conversion writes the swapchain image itself */
+        r = vx_display_record_image(a->disp, cmd, dd, im.image, im.view, im.width, im.height, im.layout, err);
+        if (r) vx_display_copy_to_image(cmd, 0, dd->width, dd->height, im.image, im.width, im.height, im.layout);
+    } else if (im.image) {
+        r = vx_display_record(a->disp, cmd, dd, &bytes, err);
+        vx_display_copy_to_image(cmd, r ? 0 : bytes, dd->width, dd->height, im.image, im.width, im.height, im.layout);
+    }
+    vx_result sr = vx_display_frame_submit(a->disp, im.acquired, im.rendered, err);
+    if (!sr && im.image) sr = vp_present_acquired(a->p, err);
+    return sr ? sr : r;
 }
 
 /* Sets the pass list (script command `passes LIST`, key 9 cycles presets). */
@@ -1343,14 +1410,16 @@ static vx_result frame(app* a, vx_error* err) {
     bool passes = a->rs && !a->gi && a->mode == VX_RENDER_COLOR && a->fr && !vx_render_scene_precise(a->rs);
     /* the GPU path: the colour passes' image, unless this frame's pixels are wanted on the host */
     bool on_gpu = a->disp && passes && !a->pick_pending && !a->shot && !a->o.screenshot;
-    if (passes) {
-        vx_result r = render_passes(a, &d, on_gpu, err);
+    /* frames in flight: all GPU-path frames but grabs (read back after a wait) */
+    bool fly = on_gpu && !a->grab;
+    if (passes && !fly) {
+        vx_result r = render_passes(a, &d, on_gpu, NULL, 0, err);
         if (r) return r;
-    } else if (a->rs && !a->gi) {
+    } else if (a->rs && !a->gi && !passes) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
         if (r) return r;
     }
-    if (a->rs && (a->img.pixels || on_gpu)) {
+    if (a->rs && (a->img.pixels || (on_gpu && !fly))) {
         a->trace_ms = a->img.gpu_seconds * 1e3;
         a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
     }
@@ -1426,8 +1495,18 @@ static vx_result frame(app* a, vx_error* err) {
             a->panels_ms = a->ui && a->panels ? (thread_seconds() - tp) * 1e3 : 0;
         }
         vx_display_desc dd = {.fr = a->fr, .width = w, .height = h, .bgra = cv.bgra, .overlay = draws};
-        vx_result r = vp_present_display(a->p, a->disp, &dd, a->grab ? a->px8 : NULL, err);
-        if (r) return r;
+        vx_result r = VX_ERR_UNSUPPORTED;
+        a->frame_in_flight = fly && (r = present_in_flight(a, &d, &dd, err)) != VX_ERR_UNSUPPORTED;
+        if (a->frame_in_flight && r) return r;
+        if (!a->frame_in_flight) {
+            /* the waited path: a grab (read back after the wait), or a frame the recorder refused */
+            if (fly) {
+                if ((r = render_passes(a, &d, true, NULL, 0, err))) return r;
+                a->trace_ms = a->img.gpu_seconds * 1e3;
+                a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
+            }
+            if ((r = vp_present_display(a->p, a->disp, &dd, a->grab ? a->px8 : NULL, err))) return r;
+        }
     } else {
         a->ov_valid = false;
         if (a->img.pixels) convert(a, &a->img, &cv);
@@ -1953,9 +2032,10 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         uint64_t w, rec;
         sv_uploads(a, &w, &rec);
         printf("%s: stats: render scenes made %u, node words uploaded %llu, records uploaded %llu; this scene: "
-               "%llu words, %u model updates, %u instance table rebuilds\n",
+               "%llu words, %u model updates, %u instance table rebuilds (%u in place)\n",
                vx_tool_name, a->scenes_made, (unsigned long long)w, (unsigned long long)rec,
-               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds);
+               (unsigned long long)st.node_words_uploaded, st.model_updates, st.instance_rebuilds,
+               st.instance_updates_in_place);
     } else if (!strcmp(c, "echo")) {
         for (int i = 1; i < nt; i++) printf("%s%s", tok[i], i + 1 < nt ? " " : "\n");
     } else BAD();
@@ -2115,8 +2195,10 @@ static void choose_present(app* a) {
         return;
     }
     snprintf(a->present_note, sizeof a->present_note,
-             "GPU: colour passes -> display conversion + overlay -> swapchain copy in one submission (%s); "
-             "other modes, picks, screenshots: host readback", strcmp(want, "gpu") ? "auto" : "--present gpu");
+             "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %d "
+             "frames in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
+             vp_storage(a->p) ? "written into" : "-> a copy to", VX_DISPLAY_FRAMES,
+             strcmp(want, "gpu") ? "auto" : "--present gpu");
 }
 
 int main(int argc, char** argv) {

@@ -249,7 +249,8 @@ static void stats_panel(app* a) {
     ui_text("%s%s", vx_gpu_device_name(a->gpu), vx_gpu_is_cpu(a->gpu) ? " (software)" : "");
     ui_text("frame %.2f ms (%.1f FPS), trace %.2f ms GPU", med, med > 0 ? 1000 / med : 0.0, a->trace_ms);
     ui_text("%.2f Mrays/s, last scene update %.2f ms", a->rays_per_s * 1e-6, a->update_ms);
-    ui_text("present: %s", a->frame_on_gpu ? "GPU (display conversion + copy to the swapchain)" : a->disp ?
+    ui_text("present: %s", a->frame_in_flight ? "GPU, frames in flight (passes, conversion, copy: one submission)"
+                           : a->frame_on_gpu ? "GPU (display conversion + copy to the swapchain)" : a->disp ?
             "host readback (this frame: not the colour passes, or a pick or screenshot)" : a->present_note);
     uint64_t bytes = 0, voxels = 0;
     for (uint32_t m = 0; m < a->scene.model_count; m++) {

@@ -24,8 +24,16 @@ struct vp {
     VkExtent2D extent;
     uint32_t image_count;
     VkImage images[VP_MAX_IMAGES];
+    VkImageView views[VP_MAX_IMAGES]; /* storage views when the swapchain takes the conversion's writes */
     VkSemaphore done[VP_MAX_IMAGES];
+    bool storage_write; /* the device has shaderStorageImageWriteWithoutFormat (vx_gpu_make_device) */
+    bool storage;       /* the swapchain images are storage images (frames in flight write them directly) */
     VkSemaphore acquired;
+    /* frames in flight (vp_acquire): an acquire semaphore per frame slot, the
+     * image the frame being recorded took */
+    VkSemaphore slot_acquired[VX_DISPLAY_FRAMES];
+    uint32_t frame_image;
+    bool frame_acquired;
     VkFence fence;
     VkCommandPool pool;
     VkCommandBuffer cmd;
@@ -98,6 +106,9 @@ static vx_result create_device(vp* p, vx_error* err) {
     if (r) return r;
     p->dev = (VkDevice)dev;
     vkGetDeviceQueue(p->dev, p->family, 0, &p->queue);
+    VkPhysicalDeviceFeatures have;
+    vkGetPhysicalDeviceFeatures(p->phys, &have); /* vx_gpu_make_device enabled it where offered */
+    p->storage_write = have.shaderStorageImageWriteWithoutFormat == VK_TRUE;
     VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
                                    .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
                                    .queueFamilyIndex = p->family};
@@ -111,12 +122,16 @@ static vx_result create_device(vp* p, vx_error* err) {
     VP_VK(vkCreateFence(p->dev, &fci, NULL, &p->fence), "vkCreateFence");
     VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->acquired), "vkCreateSemaphore");
+    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->slot_acquired[i]), "vkCreateSemaphore");
     return VX_OK;
 }
 
 static void destroy_swapchain_parts(vp* p) {
-    for (uint32_t i = 0; i < VP_MAX_IMAGES; i++)
+    for (uint32_t i = 0; i < VP_MAX_IMAGES; i++) {
         if (p->done[i]) vkDestroySemaphore(p->dev, p->done[i], NULL), p->done[i] = VK_NULL_HANDLE;
+        if (p->views[i]) vkDestroyImageView(p->dev, p->views[i], NULL), p->views[i] = VK_NULL_HANDLE;
+    }
 }
 
 static vx_result create_swapchain(vp* p, vx_error* err) {
@@ -179,6 +194,11 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
                                             VK_COMPOSITE_ALPHA_POST_MULTIPLIED_BIT_KHR};
     for (int k = 3; k >= 0; k--)
         if (caps.supportedCompositeAlpha & alphas[k]) alpha = alphas[k];
+    /* storage usage where the surface and the format allow it: frames in flight write the image itself */
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(p->phys, fmt.format, &fp);
+    p->storage = p->storage_write && (caps.supportedUsageFlags & VK_IMAGE_USAGE_STORAGE_BIT) &&
+                 (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
     VkSwapchainKHR old = p->sc;
     VkSwapchainCreateInfoKHR ci = {.sType = VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR,
                                    .surface = p->surface,
@@ -187,7 +207,7 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
                                    .imageColorSpace = fmt.colorSpace,
                                    .imageExtent = ext,
                                    .imageArrayLayers = 1,
-                                   .imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                   .imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | (p->storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
                                    .imageSharingMode = VK_SHARING_MODE_EXCLUSIVE,
                                    .preTransform = caps.currentTransform,
                                    .compositeAlpha = alpha,
@@ -206,6 +226,14 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
     VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     /* one per image: a present may still wait on its semaphore when the next frame signals */
     for (uint32_t i = 0; i < ni; i++) VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->done[i]), "vkCreateSemaphore");
+    for (uint32_t i = 0; p->storage && i < ni; i++) {
+        VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+                                    .image = p->images[i],
+                                    .viewType = VK_IMAGE_VIEW_TYPE_2D,
+                                    .format = fmt.format,
+                                    .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+        VP_VK(vkCreateImageView(p->dev, &vi, NULL, &p->views[i]), "vkCreateImageView");
+    }
     return VX_OK;
 }
 
@@ -306,6 +334,8 @@ void vp_destroy(vp* p) {
         if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL);
         if (p->sc) vkDestroySwapchainKHR(p->dev, p->sc, NULL);
         if (p->acquired) vkDestroySemaphore(p->dev, p->acquired, NULL);
+        for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+            if (p->slot_acquired[i]) vkDestroySemaphore(p->dev, p->slot_acquired[i], NULL);
         if (p->fence) vkDestroyFence(p->dev, p->fence, NULL);
         if (p->pool) vkDestroyCommandPool(p->dev, p->pool, NULL);
         vkDestroyDevice(p->dev, NULL);
@@ -331,6 +361,7 @@ void vp_external(vp* p, vx_gpu_desc* gd) {
     gd->external.queue = p->queue;
     gd->external.queue_family = p->family;
     gd->external.float64 = p->float64;
+    gd->external.storage_write = p->storage_write;
 }
 
 void vp_frame_size(vp* p, uint32_t* w, uint32_t* h) {
@@ -342,6 +373,8 @@ void vp_frame_size(vp* p, uint32_t* w, uint32_t* h) {
     *w = p->extent.width;
     *h = p->extent.height;
 }
+
+bool vp_storage(const vp* p) { return p->storage; }
 
 bool vp_frame_bgra(const vp* p) { return p->format == VK_FORMAT_B8G8R8A8_UNORM || p->format == VK_FORMAT_B8G8R8A8_SRGB; }
 
@@ -552,4 +585,47 @@ submit:
     if (failed) return failed;
     if (grab) memcpy(grab, p->staging_map, (size_t)w * h * 4);
     return present_status(p, vr, err);
+}
+
+/* ---- frames in flight ----------------------------------------------------------------- */
+
+vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err) {
+    memset(out, 0, sizeof *out);
+    p->frame_acquired = false;
+    if (slot >= VX_DISPLAY_FRAMES) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u", slot);
+    check_resize(p);
+    if (p->dirty) {
+        vx_result r = create_swapchain(p, err); /* waits for the device: no frame is in flight after it */
+        if (r) return r;
+    }
+    if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
+    uint32_t idx;
+    /* the slot's semaphore: the submission that waited on it last (this
+     * slot's previous frame) has finished, vx_display_frame_begin saw to it */
+    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->slot_acquired[slot], VK_NULL_HANDLE, &idx);
+    if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
+        p->dirty = true;
+        return VX_OK;
+    }
+    if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
+    if (vr == VK_SUBOPTIMAL_KHR) p->dirty = true;
+    p->frame_image = idx, p->frame_acquired = true;
+    *out = (vp_image){.image = (uint64_t)(uintptr_t)p->images[idx], .width = p->extent.width, .height = p->extent.height,
+                      .acquired = (uint64_t)(uintptr_t)p->slot_acquired[slot],
+                      .rendered = (uint64_t)(uintptr_t)p->done[idx], .layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                      .view = (uint64_t)(uintptr_t)p->views[idx]};
+    return VX_OK;
+}
+
+vx_result vp_present_acquired(vp* p, vx_error* err) {
+    if (!p->frame_acquired) return VX_OK;
+    p->frame_acquired = false;
+    uint32_t idx = p->frame_image;
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    return present_status(p, vkQueuePresentKHR(p->queue, &pi), err);
 }

@@ -1,14 +1,16 @@
 /* tools/svo_view/present.h - a GLFW window with a Vulkan swapchain that
  * shows 8-bit frames, on a device the tracer adopts (vx_gpu_desc.external).
  *
- * Two paths. Host: the tracer writes float pixels to a buffer of its own and
- * reads them back (vx_render_frame); the viewer converts them to 8 bits on
- * the CPU (the same conversion svo_render uses for PNG, so a screenshot
+ * Three paths. Host: the tracer writes float pixels to a buffer of its own
+ * and reads them back (vx_render_frame); the viewer converts them to 8 bits
+ * on the CPU (the same conversion svo_render uses for PNG, so a screenshot
  * equals svo_render's image), draws the overlay there, and vp_present copies
  * the bytes into the swapchain image with one vkCmdCopyBufferToImage. GPU
  * (vp_present_display): the pass pipeline's image stays on the GPU and is
  * converted, overlaid and copied to the swapchain image in the present's
- * submission. One queue does compute, transfer and present.
+ * submission, waited for. Frames in flight (vp_acquire, below): the passes
+ * too go into that submission, and the viewer does not wait for it. One
+ * queue does compute, transfer and present.
  *
  * Usage: vp_create -> vx_gpu_create(&(vx_gpu_desc){.external = ...vp_external}) ->
  *        loop { vp_frame_size; render; vp_present } -> vx_gpu_destroy -> vp_destroy.
@@ -45,6 +47,7 @@ void vp_external(vp* p, vx_gpu_desc* gd);
 /* Current swapchain size (the framebuffer size in pixels: HiDPI aware). */
 void vp_frame_size(vp* p, uint32_t* w, uint32_t* h);
 bool vp_frame_bgra(const vp* p); /* the swapchain wants B,G,R,A bytes */
+bool vp_storage(const vp* p);    /* the swapchain images are storage images (vp_image.view) */
 /* Changes vsync; takes effect by recreating the swapchain. */
 void vp_set_vsync(vp* p, bool vsync);
 bool vp_vsync(const vp* p);
@@ -58,5 +61,24 @@ vx_result vp_present(vp* p, const uint8_t* pixels, uint32_t w, uint32_t h, vx_er
  * present. No pixel passes through host memory, except with `grab` (w * h *
  * 4 bytes): the displayed bytes are also copied back there. */
 vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* desc, uint8_t* grab, vx_error* err);
+
+/* Frames in flight (render/display.h): the viewer records the passes, the
+ * conversion and the copy into one command buffer per frame and does not
+ * wait for it. vp_acquire takes the next swapchain image for the frame
+ * recorded in `slot` (vx_display_frame_begin's), signalling the slot's
+ * semaphore (out->acquired, for vx_display_frame_submit to wait on; the
+ * submission signals out->rendered); out->image is 0 when there is no image
+ * (minimised, or the swapchain is made again next frame): the frame is then
+ * cancelled. vp_present_acquired queues the present of that image after the
+ * submission. */
+typedef struct vp_image {
+    uint64_t image; /* VkImage, 0: none */
+    uint32_t width, height;
+    uint64_t acquired, rendered; /* VkSemaphore */
+    int layout;                  /* VkImageLayout the image is presented in */
+    uint64_t view; /* VkImageView, a storage view (vx_display_record_image writes the image), 0: copy into it */
+} vp_image;
+vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err);
+vx_result vp_present_acquired(vp* p, vx_error* err);
 
 #endif

@@ -1,0 +1,231 @@
+/* tests/render/test_display.c - frames in flight (render/display.h,
+ * vx_frame_record): frames recorded one command buffer each and submitted
+ * without a wait, VX_DISPLAY_FRAMES in flight, into off-screen images, equal
+ * byte for byte to the same frames rendered and converted one at a time with
+ * a wait (vx_frame_render + vx_display_run), while the camera and the lights
+ * change every frame (each frame must read its own tables), an instance
+ * moves between two frames (the scene update waits for the frames in
+ * flight), and the overlay is redrawn twice (the two overlays: one drawn
+ * while frames in flight read the other). Also: the pass times of a slot's
+ * frame once it ran, and the refusals. On lavapipe; skips without a device. */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <vulkan/vulkan.h> /* image layouts for vx_display_copy_to_image */
+
+#include "render/display.h"
+#include "render/pipeline.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+enum { K = 10, W = 64, H = 48 };
+
+/* Frame k's camera (an orbit), lights (intensities change) and overlay pattern. */
+static vx_frame_desc frame_k(const vx_svo_scene* s, uint32_t k, vx_light lights[2]) {
+    double lo[3], hi[3], c[3], r = 0;
+    vx_svo_scene_world_bounds(s, lo, hi);
+    for (int i = 0; i < 3; i++) c[i] = 0.5 * (lo[i] + hi[i]), r = fmax(r, hi[i] - lo[i]);
+    double a = 0.35 * k;
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base.width = W, d.base.height = H, d.base.mode = VX_RENDER_COLOR;
+    d.base.camera = (vx_render_camera){.set = true,
+                                       .eye = {c[0] + 1.6 * r * cos(a), c[1] + 1.6 * r * sin(a), c[2] + 0.7 * r},
+                                       .target = {c[0], c[1], c[2]},
+                                       .up = {0, 0, 1}};
+    lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {c[0], c[1], hi[2] + 4}, .color = {1, 0.9, 0.8},
+                           .intensity = 400 + 60 * k};
+    lights[1] = (vx_light){.type = VX_LIGHT_DIRECTIONAL, .direction = {0.3, -0.4, -0.85}, .color = {0.5, 0.6, 1},
+                           .intensity = 1 + 0.2 * k};
+    d.lights = lights, d.light_count = 2;
+    d.no_readback = true;
+    return d;
+}
+
+static int pattern_of(uint32_t k) { return k < 3 ? 0 : k < 7 ? 1 : 2; }
+
+/* Pattern p: a translucent box (premultiplied), placed by p. */
+static bool draw_pattern(vx_display* disp, int p) {
+    uint8_t* ov = vx_display_overlay(disp, W, H, NULL);
+    if (!ov) return false;
+    for (uint32_t y = 4 + 6 * (uint32_t)p; y < 20 + 6 * (uint32_t)p; y++)
+        for (uint32_t x = 8 * (uint32_t)p; x < 24 + 8 * (uint32_t)p; x++) {
+            uint32_t v = 0xC0000000u | (uint32_t)(0x20 + 0x30 * p) << 16 | 0x1000u | 0x30u;
+            memcpy(ov + 4 * ((size_t)y * W + x), &v, 4);
+        }
+    return true;
+}
+
+/* An instance edit: the BVH rebuilt in place (the same instances drawn), with no wait for the frames in flight. */
+static void move_instance(vx_svo_scene* s, vx_render_scene* rs, double dx) {
+    vx_render_scene_stats a, b;
+    vx_render_scene_get_stats(rs, &a);
+    s->instances[1].xform[3] += dx;
+    vx_svo_scene_update_bounds(s);
+    CHECK(vx_render_scene_set_frame(rs, s, 0, NULL) == VX_OK);
+    vx_render_scene_get_stats(rs, &b);
+    CHECK(b.instance_updates_in_place == a.instance_updates_in_place + 1);
+}
+
+/* to_image: the conversion writes the off-screen image itself (a storage
+ * image) instead of a buffer copied to it. */
+static void in_flight_equals_waited(bool to_image) {
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    REQUIRE(ts_random_model(&m[0], 24, 20, 16, 30, 7) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 9, 9, 9, 60, 8) == VX_OK);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 30, 4, 2), ts_inst(1, NULL, -12, 10, 5)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 3);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
+    REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    if (to_image && !vx_display_image_storage(disp)) {
+        vx_display_destroy(disp);
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+        SKIP("the device cannot write B,G,R,A storage images");
+    }
+    uint64_t img[K];
+    for (int k = 0; k < K; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
+    /* the frames in flight */
+    REQUIRE(draw_pattern(disp, 0));
+    uint32_t slot_of[K];
+    for (uint32_t k = 0; k < K; k++) {
+        if (k == 5) move_instance(&s, rs, 7); /* an edit between frames: waits for those in flight */
+        if (k == 3 || k == 7) REQUIRE(draw_pattern(disp, pattern_of(k)));
+        vx_light lights[2];
+        vx_frame_desc d = frame_k(&s, k, lights);
+        uint32_t slot;
+        void* cmd;
+        REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
+        vx_frame_result res;
+        uint64_t buf = 0;
+        vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
+        vx_result r = vx_frame_record(fr, &d, cmd, slot, &res, &err);
+        if (!r && to_image)
+            r = vx_display_record_image(disp, cmd, &dd, img[k], 0, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err);
+        else if (!r)
+            r = vx_display_record(disp, cmd, &dd, &buf, &err);
+        if (r) {
+            vx_display_frame_cancel(disp);
+            CHECKF(false, "frame %u: %s", k, err.msg);
+            break;
+        }
+        CHECK(res.image.pixels == NULL && res.frame_ms == 0);
+        if (!to_image) vx_display_copy_to_image(cmd, buf, W, H, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        REQUIRE(vx_display_frame_submit(disp, 0, 0, &err) == VX_OK);
+        slot_of[k] = slot;
+    }
+    /* the last frame's pass times: the rows of the waited frame, times present */
+    REQUIRE(vx_display_wait(disp, &err) == VX_OK);
+    vx_display_times dt;
+    vx_display_frame_times(disp, &dt);
+    CHECKF(dt.frames_done == K, "%llu frames done", (unsigned long long)dt.frames_done);
+    vx_frame_result rec_res, ref_res;
+    CHECK(vx_frame_record_result(fr, slot_of[K - 1], &rec_res, &err) == VX_OK);
+    /* bytes of every frame against the waited path with the same state (moved instance for k >= 5) */
+    uint8_t* got = malloc(W * H * 4);
+    uint8_t* want = malloc(W * H * 4);
+    REQUIRE(got && want);
+    size_t bad_total = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1) move_instance(&s, rs, -7);
+        for (uint32_t k = 0; k < K; k++) {
+            if ((k >= 5) != (pass == 0)) continue;
+            vx_light lights[2];
+            vx_frame_desc d = frame_k(&s, k, lights);
+            REQUIRE(draw_pattern(disp, pattern_of(k)));
+            vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
+            REQUIRE(vx_frame_render(fr, &d, &ref_res, &err) == VX_OK);
+            REQUIRE(vx_display_run(disp, &dd, want, NULL, &err) == VX_OK);
+            REQUIRE(vx_display_image_read(disp, img[k], W, H, got, &err) == VX_OK);
+            size_t bad = 0, lit = 0;
+            for (size_t q = 0; q < (size_t)W * H * 4; q++) bad += got[q] != want[q];
+            for (size_t q = 0; q < (size_t)W * H; q++) lit += want[4 * q] != want[4 * q + 1];
+            printf("  frame %u in flight (slot %u, overlay %d%s): %zu of %d bytes differ from the waited path\n", k,
+                   slot_of[k], pattern_of(k), k >= 5 ? ", instance moved" : "", bad, W * H * 4);
+            CHECKF(bad == 0, "frame %u: %zu bytes differ", k, bad);
+            CHECKF(lit > 0, "frame %u: a flat image", k);
+            bad_total += bad;
+        }
+    }
+    /* the frames differ from one another (the test would not see a frame reading another's tables otherwise) */
+    uint8_t* other = malloc(W * H * 4);
+    REQUIRE(other);
+    REQUIRE(vx_display_image_read(disp, img[0], W, H, got, &err) == VX_OK);
+    REQUIRE(vx_display_image_read(disp, img[1], W, H, other, &err) == VX_OK);
+    CHECK(memcmp(got, other, W * H * 4) != 0);
+    /* the recorded frame's rows are the waited frame's (last reference: frame 4, same pass list) */
+    CHECKF(rec_res.timing_count == ref_res.timing_count && rec_res.timing_count > 0, "rows %u vs %u",
+           rec_res.timing_count, ref_res.timing_count);
+    for (uint32_t t = 0; t < rec_res.timing_count && t < ref_res.timing_count; t++)
+        CHECK(!strcmp(rec_res.timings[t].name, ref_res.timings[t].name));
+    CHECK(rec_res.frame_ms >= 0 && rec_res.image.rays == (uint64_t)W * H);
+    printf("  %d frames in flight (%d slots, %s): %zu bytes differ in all; last frame's passes %.3f ms (waited: %.3f ms), "
+           "its command buffer %.3f ms on the device\n",
+           K, VX_DISPLAY_FRAMES, to_image ? "written into the image" : "copied to the image", bad_total, rec_res.frame_ms,
+           ref_res.frame_ms, dt.gpu_ms);
+    free(got), free(want), free(other);
+    /* refusals: nothing is recorded, the frame is dropped */
+    {
+        uint32_t slot;
+        void* cmd;
+        REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
+        vx_light lights[2];
+        vx_frame_desc d = frame_k(&s, 0, lights);
+        vx_frame_result res;
+        d.want_ids = true;
+        CHECK(vx_frame_record(fr, &d, cmd, slot, &res, &err) == VX_ERR_UNSUPPORTED);
+        d.want_ids = false, d.no_readback = false;
+        CHECK(vx_frame_record(fr, &d, cmd, slot, &res, &err) == VX_ERR_UNSUPPORTED);
+        d.no_readback = true;
+        CHECK(vx_frame_record(fr, &d, cmd, VX_FRAME_SLOTS, &res, &err) == VX_ERR_INVALID_ARG);
+        CHECK(vx_frame_record_result(fr, slot, &res, &err) == VX_ERR_INVALID_ARG); /* the refused frame left nothing */
+        CHECK(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_ERR_INVALID_ARG); /* one frame at a time */
+        vx_display_frame_cancel(disp);
+        CHECK(vx_display_frame_submit(disp, 0, 0, &err) == VX_ERR_INVALID_ARG);
+    }
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+    /* with VX_GPU_VALIDATION=1 (and the layer's synchronization validation enabled) nothing was reported */
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+}
+
+static void test_in_flight_equals_waited(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    in_flight_equals_waited(false);
+}
+
+static void test_in_flight_into_image(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    in_flight_equals_waited(true);
+}
+
+int main(void) {
+    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
+    vx_error err = {0};
+    static char why[256];
+    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
+        gpu_skip = why;
+    } else {
+        printf("device: %s\n", vx_gpu_device_name(gpu));
+    }
+    RUN(test_in_flight_equals_waited);
+    RUN(test_in_flight_into_image);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
