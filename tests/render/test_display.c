@@ -17,6 +17,7 @@
 #include "render/display.h"
 #include "render/pipeline.h"
 #include "tests/render/scenes.h"
+#include "tests/gpu_test.h"
 #include "tests/test.h"
 
 static vx_gpu* gpu;
@@ -214,16 +215,7 @@ static void test_in_flight_into_image(void) {
 }
 
 int main(void) {
-    static const char* pin[] = {"libvulkan.so.1", "libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
-    for (size_t i = 0; i < sizeof pin / sizeof pin[0]; i++) dlopen(pin[i], RTLD_NOW | RTLD_NODELETE);
-    vx_error err = {0};
-    static char why[256];
-    if (vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
-        snprintf(why, sizeof why, "no Vulkan device: %s", err.msg);
-        gpu_skip = why;
-    } else {
-        printf("device: %s\n", vx_gpu_device_name(gpu));
-    }
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_in_flight_equals_waited);
     RUN(test_in_flight_into_image);
     vx_gpu_destroy(gpu);
