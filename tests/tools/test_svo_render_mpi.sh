@@ -28,6 +28,17 @@ for n in 2 3; do
   run $n "$BIN/svo_render" "$T/demo.svo" "$T/c$n.png" $O --cpu --threads 1 >/dev/null 2>&1 || fail "mpirun -n $n --cpu (PNG)"
   cmp -s "$T/cpu.png" "$T/c$n.png" || fail "mpirun -n $n (CPU, PNG) differs from one process"
 done
+# the GPU's sample blocks (probe_gpu.c: 64 samples, at most 16 a round): 1,100
+# spp is 18 blocks in 2 rounds, the last block partial; each rank traces only
+# its own rows (compacted), so the ranks' rounds differ from one process's
+if [ $gpu = 1 ]; then
+  B="--mode pathtrace --size 24x20 --spp 1100 --seed 4"
+  "$BIN/svo_render" "$T/demo.svo" "$T/b1.pfm" $B >/dev/null 2>&1 || fail "single render, 1,100 spp"
+  for n in 2 3; do
+    run $n "$BIN/svo_render" "$T/demo.svo" "$T/b$n.pfm" $B >"$T/b$n.out" 2>&1 || { cat "$T/b$n.out"; fail "mpirun -n $n, 1,100 spp"; }
+    cmp -s "$T/b1.pfm" "$T/b$n.pfm" || fail "mpirun -n $n, 1,100 spp (GPU) differs from one process"
+  done
+fi
 # not every pixel is black or equal: the comparison compares something
 [ "$(od -An -v -tu1 "$T/cpu.png" | tr -s ' ' '\n' | sort -u | wc -l)" -gt 20 ] || fail "the reference image is flat"
 # the colour mode is not spread: one usage error, exit 2
