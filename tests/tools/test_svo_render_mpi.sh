@@ -10,7 +10,7 @@ MPIRUN=${2:-mpirun}
 . "$(dirname "$0")/../common/mpi.sh"
 "$BIN/vox2svo" --write-demo "$T/demo.vox" >/dev/null || fail "write demo"
 "$BIN/vox2svo" "$T/demo.vox" "$T/demo.svo" >/dev/null || fail "vox2svo"
-# 27 rows: bands of 8 end in a partial band; 3 ranks get 1, 1 and 2 bands
+# 27 rows: 2 ranks get 14 and 13 rows, every other one; 3 ranks 9 each
 O="--mode pathtrace --size 40x27 --spp 3 --seed 9"
 gpu=1
 "$BIN/svo_render" "$T/demo.svo" "$T/one.exr" $O >"$T/one.out" 2>&1 || { cat "$T/one.out"; echo "no Vulkan device: GPU cases skipped"; gpu=0; }
