@@ -979,43 +979,37 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     float* acc = NULL;
     if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &P.L, err))) goto done;
     c.maps_in = &pg->maps, c.lf_in = &pg->lf;
-    /* the rows traced: every row, or those d.rows lists, or those next_rows
-     * hands out, chunk by chunk; a subset is compacted (a row table in the
-     * buffer), so a rank of mpirun svo_render dispatches only its own pixels */
-    uint32_t H = f.height, W = f.width, nrows = vx__prender_rows(&d, H);
-    bool table = d.next_rows || (d.rows && nrows < H);
+    /* the rows traced: every row, or those d.rows lists, compacted (a row
+     * table in the buffer), so a rank of mpirun svo_render dispatches only
+     * its own pixels */
+    uint32_t nrows = vx__prender_rows(&d, f.height), table = d.rows && nrows < f.height ? nrows : 0;
     if (table && dst) {
         r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a row subset cannot be rendered into a GPU buffer");
         goto done;
     }
-    size_t maxpx = (size_t)W * H, head = 1 + (table ? (H + 3) / 4 : 0);
+    size_t npx = (size_t)f.width * nrows, head = 1 + (table + 3) / 4;
     uint32_t nblk = (spp + RENDER_BLOCK - 1) / RENDER_BLOCK;
-    size_t per_round = maxpx ? RENDER_ROUND_BYTES / (maxpx * 32) : 1;
-    if (per_round < 1) per_round = 1;
-    if (per_round > RENDER_ROUND_BLOCKS) per_round = RENDER_ROUND_BLOCKS;
-    if (per_round > nblk) per_round = nblk;
-    size_t items = maxpx * per_round; /* the blocks' state the buffer holds */
-    if (items >= (size_t)1 << 30) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a %ux%u image is too large for the GPU renderer", W, H);
+    size_t round = npx ? RENDER_ROUND_BYTES / (npx * 32) : 1;
+    if (round < 1) round = 1;
+    if (round > RENDER_ROUND_BLOCKS) round = RENDER_ROUND_BLOCKS;
+    if (round > nblk) round = nblk;
+    if (npx * round >= (size_t)1 << 30) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a %ux%u image is too large for the GPU renderer", f.width,
+                    f.height);
         goto done;
     }
     /* flags, row table, per pixel the running sum and the samples done, the round's blocks (probe.comp) */
-    size_t nout = (head + 2 * maxpx + 2 * items) * 16;
-    acc = vx_calloc(NULL, head + 2 * maxpx, 16);
-    uint32_t* list = vx_calloc(NULL, H ? H : 1, sizeof *list);
-    vx_render_image img = {.width = W, .height = H, .mode = VX_RENDER_COLOR};
-    img.pixels = dst ? NULL : vx_calloc(NULL, maxpx ? maxpx : 1, 16);
-    if (!acc || !list || (!dst && !img.pixels)) {
-        vx_free(NULL, list);
-        vx_free(NULL, img.pixels);
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", W, H);
+    size_t nout = (head + 2 * npx + 2 * npx * round) * 16, nres = (head + 2 * npx) * 16;
+    acc = vx_calloc(NULL, head + 2 * npx, 16);
+    if (!acc) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
         goto done;
     }
-    if ((r = vx__buffer_create(c.g, nout, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err))) {
-        vx_free(NULL, list);
-        vx_free(NULL, img.pixels);
+    for (uint32_t y = 0, k = 0; table && y < f.height; y++)
+        if (d.rows[y]) acc[4 + k++] = (float)y; /* exact: rows < 2^24 */
+    if ((r = vx__buffer_create(c.g, nout, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)) ||
+        (r = vx__buffer_upload(c.g, &c.out, acc, head * 16, err)))
         goto done;
-    }
     gpu_params* p = c.params.map;
     params_common(p, &P.L, d.seed);
     params_path(p, &c);
@@ -1025,84 +1019,61 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
         for (int k = 0; k < 3; k++) p->lf_lo[k] = (float)(lo[k] - f.ref[k]), p->lf_hi[k] = (float)(hi[k] - f.ref[k]);
         p->lf_lo[3] = (float)ps->dist_step;
     }
-    p->a[0] = W, p->a[1] = spp, p->a[2] = bounces, p->a[3] = H;
+    p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
     p->cnt[2] = d.pixel_centre;
-    p->rw[1] = RENDER_BLOCK;
+    p->rw[0] = table, p->rw[1] = RENDER_BLOCK, p->rw[3] = (uint32_t)round;
     double sec = 0;
     uint32_t chunk = 0;
-    uint64_t rows_done = 0;
-    for (bool first = true;; first = false) {
-        /* the chunk's rows: one chunk of d.rows (or all), else what next_rows hands out */
-        uint32_t n = 0;
-        if (d.next_rows) {
-            n = d.next_rows(d.next_rows_user, list, H);
-            if (n > H) n = H;
-            for (uint32_t i = 0; i < n && !r; i++)
-                if (list[i] >= H) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "row %u handed out of %u", list[i], H);
-        } else if (first) {
-            for (uint32_t y = 0; y < H; y++)
-                if (!d.rows || d.rows[y]) list[n++] = y;
+    /* each round: its blocks of every pixel traced, then added in block order */
+    for (uint32_t b = 0; npx && b < nblk; b += (uint32_t)round) {
+        uint32_t nb = nblk - b < round ? nblk - b : (uint32_t)round;
+        uint64_t groups = (npx * nb + 63) / 64;
+        uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+        double t = 0;
+        p->rw[2] = b, p->rk[0] = 0;
+        if ((r = run_samples_ex(&c, (uint32_t)d.mode + 1, gx, gy, spp, &chunk, false, &t, err))) goto done;
+        sec += t;
+        groups = (npx + 63) / 64;
+        gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+        p->rk[0] = 1;
+        float flags[4] = {0};
+        if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &t, err)) ||
+            (r = vx__buffer_download(c.g, &c.out, flags, sizeof flags, err)))
+            goto done;
+        sec += t;
+        if (flags[0] != 0) { /* the loop guard fired while adding a few blocks: not seen on any device */
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "adding the sample blocks exceeds the loop limit of %s",
+                        vx_gpu_device_name(c.g));
+            goto done;
         }
-        if (r || !n) break;
-        size_t npx = (size_t)W * n;
-        size_t rnd = items / npx < nblk ? items / npx : nblk;
-        if (rnd > RENDER_ROUND_BLOCKS) rnd = RENDER_ROUND_BLOCKS;
-        size_t chead = 1 + (table ? (n + 3) / 4 : 0);
-        memset(acc, 0, chead * 16);
-        for (uint32_t i = 0; table && i < n; i++) acc[4 + i] = (float)list[i]; /* exact: rows < 2^24 */
-        if ((r = vx__buffer_upload(c.g, &c.out, acc, chead * 16, err))) break;
-        p->rw[0] = table ? n : 0, p->rw[3] = (uint32_t)rnd;
-        /* each round: its blocks of every pixel traced, then added in block order */
-        for (uint32_t b = 0; b < nblk && !r; b += (uint32_t)rnd) {
-            uint32_t nb = nblk - b < rnd ? nblk - b : (uint32_t)rnd;
-            uint64_t groups = (npx * nb + 63) / 64;
-            uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
-            double t = 0;
-            p->rw[2] = b, p->rk[0] = 0;
-            if ((r = run_samples_ex(&c, (uint32_t)d.mode + 1, gx, gy, spp, &chunk, false, &t, err))) break;
-            sec += t;
-            groups = (npx + 63) / 64;
-            gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
-            p->rk[0] = 1;
-            float flags[4] = {0};
-            if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &t, err)) ||
-                (r = vx__buffer_download(c.g, &c.out, flags, sizeof flags, err)))
-                break;
-            sec += t;
-            if (flags[0] != 0) /* the loop guard fired while adding a few blocks: not seen on any device */
-                r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "adding the sample blocks exceeds the loop limit of %s",
-                            vx_gpu_device_name(c.g));
-        }
-        if (r) break;
-        rows_done += n;
-        if (dst) break; /* every row, one chunk: resolved on the GPU below */
-        if ((r = vx__buffer_download(c.g, &c.out, acc, (chead + 2 * npx) * 16, err))) break;
-        const float* px = acc + 4 * chead;
-        for (size_t i = 0; i < npx; i++) {
-            size_t o = (size_t)list[i / W] * W + i % W;
-            for (int k = 0; k < 4; k++) img.pixels[4 * o + k] = px[4 * (2 * i) + k] / (float)spp;
-        }
-        if (!d.next_rows) break;
-    }
-    vx_free(NULL, list);
-    if (r) {
-        vx_free(NULL, img.pixels);
-        goto done;
     }
     if (dst) {
         /* stays on the GPU: the pixels divided into the caller's buffer */
         double t = 0;
-        if (dst->size < maxpx * 16) {
+        if (dst->size < npx * 16) {
             r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
-                        (unsigned long long)dst->size, W, H);
+                        (unsigned long long)dst->size, f.width, f.height);
             goto done;
         }
-        if ((r = resolve_into(c.g, &c.out, dst, maxpx, spp, &t, err))) goto done;
+        if ((r = resolve_into(c.g, &c.out, dst, npx, spp, &t, err))) goto done;
         *dst_seconds = sec + t;
         goto done;
     }
+    if (npx && (r = vx__buffer_download(c.g, &c.out, acc, nres, err))) goto done;
+    size_t full = (size_t)f.width * f.height;
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
+    img.pixels = vx_calloc(NULL, full ? full : 1, 16);
+    if (!img.pixels) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+        goto done;
+    }
+    const float* px = acc + 4 * head;
+    for (size_t i = 0; i < npx; i++) {
+        size_t row = table ? (size_t)acc[4 + i / f.width] : i / f.width, o = row * f.width + i % f.width;
+        for (int k = 0; k < 4; k++) img.pixels[4 * o + k] = px[4 * (2 * i) + k] / (float)spp;
+    }
     img.gpu_seconds = sec;
-    img.rays = (uint64_t)W * rows_done * spp;
+    img.rays = (uint64_t)f.width * nrows * spp;
     *out = img;
 done:
     vx_free(NULL, acc);

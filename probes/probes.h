@@ -321,14 +321,6 @@ typedef struct vx_probe_render_desc {
      * never on which other pixels are rendered, so rows rendered apart
      * (mpirun svo_render) and put together equal one render bit for bit. */
     const uint8_t* rows;
-    /* GPU only, optional: rows handed out while the render runs (mpirun
-     * svo_render's load balance). The renderer calls next_rows until it
-     * returns 0; each call writes up to max row indices (each < height, no row
-     * twice in one render) to rows_out and returns how many, and the renderer
-     * traces every sample of those rows before it calls again. Rows never
-     * handed out stay 0. Replaces `rows`. */
-    uint32_t (*next_rows)(void* user, uint32_t* rows_out, uint32_t max);
-    void* next_rows_user;
     const vx_light* lights; /* the path tracer's lights (borrowed); any replace the sun */
     uint32_t light_count;
     bool pixel_centre; /* every sample through the pixel centre (no jitter): the gi pass's G-buffer rays */

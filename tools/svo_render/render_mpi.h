@@ -17,15 +17,14 @@ typedef struct render_mpi_job {
     bool validate, verbose;
 } render_mpi_job;
 
-/* Every rank calls it. On the GPU each rank renders a static chunk of rows
- * (spread over the image) and then takes further chunks from a counter on
- * rank 0 as it finishes them (tools/svo_render/mpi.c), dispatching only its
- * own rows (probes.h's `next_rows`); with --cpu rows go round-robin (rank r
- * renders rows r, r + N, ...). Rank 0 gathers the rows. Since a pixel's value
- * depends only on the seed, the pixel and the sample, the image equals a
- * single-process render bit for bit, whoever rendered a row. On rank 0 *out
- * is the image and *root is true; elsewhere *out is empty. A failure on any
- * rank ends the job (MPI_Abort) with a line naming the rank. */
+/* Every rank calls it. Rows go to the ranks round-robin (rank r renders rows
+ * r, r + N, ...: every rank gets an even share of costly rows, and the split
+ * is a function of N alone); each rank renders its rows in one call (on the GPU a dispatch of
+ * only its own pixels, probes.h's `rows`) and rank 0 gathers them.
+ * Since a pixel's value depends only on the seed, the pixel and the sample,
+ * the image equals a single-process render bit for bit. On rank 0 *out is the
+ * image and *root is true; elsewhere *out is empty. A failure on any rank
+ * ends the job (MPI_Abort) with a line naming the rank. */
 void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root);
 /* Every rank, after rank 0 has written the output. */
 void render_mpi_finalize(void);
