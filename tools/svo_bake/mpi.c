@@ -85,6 +85,9 @@ static void remember(const char* path) {
 
 /* ---- the output file (MPI-IO) ------------------------------------------------------ */
 
+/* the output's temporary file, in the checkpoint folder */
+#define OUTPUT_TMP "output.tmp"
+
 typedef struct outfile {
     MPI_File fh;
     int fd;         /* the same file for sync_file_range, -1 where there is none */
@@ -120,7 +123,7 @@ static void write_at(outfile* of, uint64_t at, const uint8_t* p, uint64_t n) {
  * final size. */
 static void outfile_open(const bake_job* j, const vx_probe_set* ps, outfile* of) {
     outfile_layout(ps, of);
-    if (snprintf(of->tmp, sizeof of->tmp, "%s/output.tmp", j->ckdir) >= (int)sizeof of->tmp) die("%s: name too long", j->ckdir);
+    if (snprintf(of->tmp, sizeof of->tmp, "%s/" OUTPUT_TMP, j->ckdir) >= (int)sizeof of->tmp) die("%s: name too long", j->ckdir);
     if (MPI_File_open(MPI_COMM_WORLD, of->tmp, MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &of->fh) != MPI_SUCCESS)
         die("%s: cannot create the output's temporary file", of->tmp);
     if (MPI_File_set_size(of->fh, (MPI_Offset)of->size) != MPI_SUCCESS)
@@ -268,6 +271,17 @@ static uint32_t resume_batches(const bake_job* j, vx_probe_set* ps, uint32_t end
     free(one);
     if (files) printf("resuming from %s: %u probes from %u batch checkpoints\n", j->ckdir, taken, files);
     return taken;
+}
+
+/* Whether the checkpoint folder holds anything but the output's temporary
+ * file: batch files to resume, or files resume_batches removes. */
+static bool ckdir_has_files(const bake_job* j) {
+    DIR* d = opendir(j->ckdir);
+    bool any = false;
+    for (struct dirent* e; d && !any && (e = readdir(d));)
+        any = strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, OUTPUT_TMP);
+    if (d) closedir(d);
+    return any;
 }
 
 /* After the output is written: every rank removes its batch files, then
@@ -662,18 +676,20 @@ int bake_mpi(options* o, const char* in, const char* out) {
                ps.grid[0], ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0],
                ps.spacing[1], ps.spacing[2], nranks);
         uint32_t end = ps.probe_count;
-        resume_checkpoint(&j, &ps, end);
+        bool prefix = resume_checkpoint(&j, &ps, end);
         if (ps.first != 0) die("%s: a checkpoint from probe %u", j.ckpath, ps.first);
         c.j = &j, c.ps = &ps, c.of = &of, c.first = ps.first, c.end = end, c.nranks = nranks;
         c.next = ps.first + ps.count;
         size_t pb = maps_probe_bytes(&ps);
         c.done = calloc(end - c.first + 1, 1);
         c.ended = calloc((size_t)nranks, sizeof *c.ended);
-        /* maps for the probes resumed from checkpoints (pages of the others never touched) */
-        if (!c.done || !c.ended || !maps_reserve(&ps, end - c.first))
+        /* maps for the probes resumed from checkpoints, only where there may be
+         * some (they are zeroed: 845 MB took rank 0 about 0.4 s at each start) */
+        bool any = prefix || ckdir_has_files(&j);
+        if (!c.done || !c.ended || (any && !maps_reserve(&ps, end - c.first)))
             die("out of memory for %u probes at res %u", end - c.first, ps.res);
         memset(c.done, 1, ps.count);
-        c.received = ps.count + resume_batches(&j, &ps, end, c.done, pb);
+        c.received = ps.count + (any ? resume_batches(&j, &ps, end, c.done, pb) : 0);
         fflush(stdout);
         /* a GPU batch costs about 45 ms besides its probes (H200, R=128: 1.2 ms a
          * probe), so batches of fewer than 64 probes are left to small jobs */
