@@ -989,17 +989,17 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     }
     size_t npx = (size_t)f.width * nrows, head = 1 + (table + 3) / 4;
     uint32_t nblk = (spp + RENDER_BLOCK - 1) / RENDER_BLOCK;
-    size_t round = npx ? RENDER_ROUND_BYTES / (npx * 32) : 1;
-    if (round < 1) round = 1;
-    if (round > RENDER_ROUND_BLOCKS) round = RENDER_ROUND_BLOCKS;
-    if (round > nblk) round = nblk;
-    if (npx * round >= (size_t)1 << 30) {
+    size_t per_round = npx ? RENDER_ROUND_BYTES / (npx * 32) : 1;
+    if (per_round < 1) per_round = 1;
+    if (per_round > RENDER_ROUND_BLOCKS) per_round = RENDER_ROUND_BLOCKS;
+    if (per_round > nblk) per_round = nblk;
+    if (npx * per_round >= (size_t)1 << 30) {
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a %ux%u image is too large for the GPU renderer", f.width,
                     f.height);
         goto done;
     }
-    /* flags, row table, per pixel the running sum and the samples done, the round's blocks (probe.comp) */
-    size_t nout = (head + 2 * npx + 2 * npx * round) * 16, nres = (head + 2 * npx) * 16;
+    /* flags, row table, per pixel the running sum and the samples done, the per_round's blocks (probe.comp) */
+    size_t nout = (head + 2 * npx + 2 * npx * per_round) * 16, nres = (head + 2 * npx) * 16;
     acc = vx_calloc(NULL, head + 2 * npx, 16);
     if (!acc) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
@@ -1021,12 +1021,12 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
     p->cnt[2] = d.pixel_centre;
-    p->rw[0] = table, p->rw[1] = RENDER_BLOCK, p->rw[3] = (uint32_t)round;
+    p->rw[0] = table, p->rw[1] = RENDER_BLOCK, p->rw[3] = (uint32_t)per_round;
     double sec = 0;
     uint32_t chunk = 0;
-    /* each round: its blocks of every pixel traced, then added in block order */
-    for (uint32_t b = 0; npx && b < nblk; b += (uint32_t)round) {
-        uint32_t nb = nblk - b < round ? nblk - b : (uint32_t)round;
+    /* each per_round: its blocks of every pixel traced, then added in block order */
+    for (uint32_t b = 0; npx && b < nblk; b += (uint32_t)per_round) {
+        uint32_t nb = nblk - b < per_round ? nblk - b : (uint32_t)per_round;
         uint64_t groups = (npx * nb + 63) / 64;
         uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
         double t = 0;

@@ -4,7 +4,7 @@
  * its host, or --device, or --cpu) and places the same probe grid. Rank 0
  * hands out batches of consecutive probes (guided sizes: a share of what is
  * left, so probes that cost more, near geometry, even out) and bakes a full
- * share itself; each worker holds three assignments, so the next is there
+ * share itself; each worker holds two assignments, so the next is there
  * when it reports a batch. Rank 0 answers between and during its own batches
  * (from the bake's progress callback).
  *
