@@ -33,8 +33,10 @@ typedef struct gpu_params {
     float skyh[4];   /* sky by direction: horizon rgb, w: 0 uniform (sky), 1 gradient (sky: zenith), 2 map */
     float skyg[4];   /* ground rgb, w: map intensity */
     float skym[4];   /* map: rotation, width, height */
+    uint32_t rw[4];  /* render: rows in the row table (0: all), samples per block, first block, blocks per round */
+    uint32_t rk[4];  /* render: 0 trace / 1 add the blocks, 1 in a round's first dispatch */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 256, "gpu_params vs probe.comp");
+_Static_assert(sizeof(gpu_params) == 288, "gpu_params vs probe.comp");
 
 enum { NBIND = 17 };
 
@@ -43,6 +45,17 @@ enum { PMODE_BAKE = 0 };
 /* Samples per pixel in one dispatch on a CPU device (llvmpipe's loop limit,
  * probe.comp): fewer than 256 fit on the Cornell box with 2 bounces. */
 enum { CPU_DEVICE_CHUNK = 32 };
+
+/* The render's samples per block (probe.comp's render()): part of the
+ * estimator, so the same for every device and split; up to one block a
+ * pixel's value is its plain running sum. A round traces at most
+ * RENDER_ROUND_BLOCKS blocks of every pixel, with at most RENDER_ROUND_BYTES
+ * of their state: short invocations, enough of them to fill a GPU many times
+ * over at any share of a 1080p image (16,384 spp at 1080p: 32 rounds of 8
+ * blocks on one GPU, 16 of 16 on half the rows); the rounds never change the
+ * result. */
+enum { RENDER_BLOCK = 64, RENDER_ROUND_BLOCKS = 16 };
+#define RENDER_ROUND_BYTES ((size_t)512 << 20)
 
 typedef struct gctx {
     vx_gpu* g;
@@ -255,7 +268,7 @@ static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* 
  * dispatch checks that, and one the limit cut is repeated with half the
  * samples. The result does not depend on the split: every texel or pixel adds
  * its samples to its running sum in sample order, whatever the dispatches.
- * c->out starts with the flags; the render's state must be zero. */
+ * c->out starts with the flags. */
 /* chunk_io: the samples per dispatch to start with (0: the device's), and
  * on return the chunk that worked; resume: a bake whose state is written
  * already (the GPU-filtered bake's batch after its own dispatches). */
@@ -270,7 +283,9 @@ static vx_result run_samples_ex(gctx* c, uint32_t pmode, uint32_t gx, uint32_t g
         /* each dispatch either advances every unfinished texel or pixel or halves the chunk */
         if (runs > spp + 32)
             return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "probe pass: samples still missing after %u dispatches", runs);
-        if (pmode == PMODE_BAKE) p->lf[0] = runs == 0 && !resume; /* the bake's first dispatch writes its state */
+        /* the first dispatch writes the texels' or the blocks' state */
+        if (pmode == PMODE_BAKE) p->lf[0] = runs == 0 && !resume;
+        else p->rk[1] = runs == 0;
         p->seed[3] = chunk < spp ? chunk : spp;
         float flags[4] = {0};
         double t = 0;
@@ -964,20 +979,36 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     float* acc = NULL;
     if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &P.L, err))) goto done;
     c.maps_in = &pg->maps, c.lf_in = &pg->lf;
-    size_t npx = (size_t)f.width * f.height;
-    /* flags, then per pixel the running sum and the samples done (probe.comp) */
-    size_t nout = (2 * npx + 1) * 16;
-    acc = vx_calloc(NULL, 2 * npx + 1, 16);
+    /* the rows traced: every row, or those d.rows lists, compacted (a row
+     * table in the buffer), so a rank of mpirun svo_render dispatches only
+     * its own pixels */
+    uint32_t nrows = vx__prender_rows(&d, f.height), table = d.rows && nrows < f.height ? nrows : 0;
+    if (table && dst) {
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a row subset cannot be rendered into a GPU buffer");
+        goto done;
+    }
+    size_t npx = (size_t)f.width * nrows, head = 1 + (table + 3) / 4;
+    uint32_t nblk = (spp + RENDER_BLOCK - 1) / RENDER_BLOCK;
+    size_t per_round = npx ? RENDER_ROUND_BYTES / (npx * 32) : 1;
+    if (per_round < 1) per_round = 1;
+    if (per_round > RENDER_ROUND_BLOCKS) per_round = RENDER_ROUND_BLOCKS;
+    if (per_round > nblk) per_round = nblk;
+    if (npx * per_round >= (size_t)1 << 30) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a %ux%u image is too large for the GPU renderer", f.width,
+                    f.height);
+        goto done;
+    }
+    /* flags, row table, per pixel the running sum and the samples done, the per_round's blocks (probe.comp) */
+    size_t nout = (head + 2 * npx + 2 * npx * per_round) * 16, nres = (head + 2 * npx) * 16;
+    acc = vx_calloc(NULL, head + 2 * npx, 16);
     if (!acc) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
         goto done;
     }
-    /* rows left out start finished (spp samples done), so probe.comp skips them */
-    for (uint32_t y = 0; d.rows && y < f.height; y++)
-        if (!d.rows[y])
-            for (size_t i = (size_t)y * f.width; i < (size_t)(y + 1) * f.width; i++) acc[4 * (2 * i + 2)] = (float)spp;
+    for (uint32_t y = 0, k = 0; table && y < f.height; y++)
+        if (d.rows[y]) acc[4 + k++] = (float)y; /* exact: rows < 2^24 */
     if ((r = vx__buffer_create(c.g, nout, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe pixels", &c.out, err)) ||
-        (r = vx__buffer_upload(c.g, &c.out, acc, nout, err)))
+        (r = vx__buffer_upload(c.g, &c.out, acc, head * 16, err)))
         goto done;
     gpu_params* p = c.params.map;
     params_common(p, &P.L, d.seed);
@@ -990,10 +1021,32 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     }
     p->a[0] = f.width, p->a[1] = spp, p->a[2] = bounces, p->a[3] = f.height;
     p->cnt[2] = d.pixel_centre;
-    uint64_t groups = (npx + 63) / 64;
-    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    p->rw[0] = table, p->rw[1] = RENDER_BLOCK, p->rw[3] = (uint32_t)per_round;
     double sec = 0;
-    if ((r = run_samples(&c, (uint32_t)d.mode + 1, gx, gy, spp, &sec, err))) goto done;
+    uint32_t chunk = 0;
+    /* each per_round: its blocks of every pixel traced, then added in block order */
+    for (uint32_t b = 0; npx && b < nblk; b += (uint32_t)per_round) {
+        uint32_t nb = nblk - b < per_round ? nblk - b : (uint32_t)per_round;
+        uint64_t groups = (npx * nb + 63) / 64;
+        uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+        double t = 0;
+        p->rw[2] = b, p->rk[0] = 0;
+        if ((r = run_samples_ex(&c, (uint32_t)d.mode + 1, gx, gy, spp, &chunk, false, &t, err))) goto done;
+        sec += t;
+        groups = (npx + 63) / 64;
+        gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+        p->rk[0] = 1;
+        float flags[4] = {0};
+        if ((r = run(&c, (uint32_t)d.mode + 1, gx, gy, &t, err)) ||
+            (r = vx__buffer_download(c.g, &c.out, flags, sizeof flags, err)))
+            goto done;
+        sec += t;
+        if (flags[0] != 0) { /* the loop guard fired while adding a few blocks: not seen on any device */
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "adding the sample blocks exceeds the loop limit of %s",
+                        vx_gpu_device_name(c.g));
+            goto done;
+        }
+    }
     if (dst) {
         /* stays on the GPU: the pixels divided into the caller's buffer */
         double t = 0;
@@ -1006,17 +1059,21 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
         *dst_seconds = sec + t;
         goto done;
     }
-    if ((r = vx__buffer_download(c.g, &c.out, acc, nout, err))) goto done;
+    if (npx && (r = vx__buffer_download(c.g, &c.out, acc, nres, err))) goto done;
+    size_t full = (size_t)f.width * f.height;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR};
-    img.pixels = vx_alloc(NULL, npx * 16);
+    img.pixels = vx_calloc(NULL, full ? full : 1, 16);
     if (!img.pixels) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
         goto done;
     }
-    for (size_t i = 0; i < npx; i++)
-        for (int k = 0; k < 4; k++) img.pixels[4 * i + k] = acc[4 * (2 * i + 1) + k] / (float)spp;
+    const float* px = acc + 4 * head;
+    for (size_t i = 0; i < npx; i++) {
+        size_t row = table ? (size_t)acc[4 + i / f.width] : i / f.width, o = row * f.width + i % f.width;
+        for (int k = 0; k < 4; k++) img.pixels[4 * o + k] = px[4 * (2 * i) + k] / (float)spp;
+    }
     img.gpu_seconds = sec;
-    img.rays = (uint64_t)f.width * vx__prender_rows(&d, f.height) * spp;
+    img.rays = (uint64_t)f.width * nrows * spp;
     *out = img;
 done:
     vx_free(NULL, acc);

@@ -316,10 +316,10 @@ typedef struct vx_probe_render_desc {
     uint32_t threads; /* 0 == 1 */
     vx_probe_render_stats* stats; /* optional out: light field counts */
     /* NULL: every row. Else `height` flags: only rows y with rows[y] != 0 are
-     * rendered, the others stay 0. A pixel's value depends only on the seed,
-     * the pixel and the sample, never on which other pixels are rendered, so
-     * rows rendered apart (mpirun svo_render) and put together equal one
-     * render bit for bit. */
+     * rendered, the others stay 0 (the GPU dispatches only the rows listed).
+     * A pixel's value depends only on the seed, the pixel and the sample,
+     * never on which other pixels are rendered, so rows rendered apart
+     * (mpirun svo_render) and put together equal one render bit for bit. */
     const uint8_t* rows;
     const vx_light* lights; /* the path tracer's lights (borrowed); any replace the sun */
     uint32_t light_count;

@@ -22,8 +22,8 @@
 // the limit was reached, and the 8 pixels of its group (a run along a row)
 // divide a partial sum by spp (issue 10: on the Cornell box at 160x120 the
 // busiest groups fit fewer than 256 samples). So bake() and render() trace at
-// most P.seed.w samples per dispatch and keep each texel's or pixel's running
-// sum and sample count in the output buffer (the same float additions in the
+// most P.seed.w samples per dispatch and keep each texel's or sample block's
+// running sum and sample count in the output buffer (the same float additions in the
 // same order however the samples are split, so the result does not depend on
 // the split a device needs); before they store, they check that the guard
 // never fired (loops_intact). Where it fired, they store nothing and raise a
@@ -58,13 +58,18 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 skyh;     // the path tracer's sky: horizon rgb, w: 0 uniform (sky), 1 gradient (sky: zenith), 2 map
     vec4 skyg;     // ground rgb, w: map intensity
     vec4 skym;     // map: rotation (radians about +z), width, height
+    uvec4 rw;      // render: x: rows in the row table (0: every row, no table), y: samples per block,
+                   // z: first block of this round, w: blocks in a round
+    uvec4 rk;      // render: x: 0 trace the round's blocks, 1 add them to the pixels; y: 1 in a round's
+                   // first dispatch (the blocks' state is not written yet)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
 // [0] flags (x: the loop guard fired, y: samples left), then per texel of
 // each probe (bake): the running sum (rgb, w: distance or -1), the normal
-// (xyz, w: 1 on a hit) and (samples done, 0, 0, 0); per pixel (render): the
-// running sum (rgb, w: samples that hit) and (samples done, 0, 0, 0)
+// (xyz, w: 1 on a hit) and (samples done, 0, 0, 0); render: the row table,
+// then per pixel the running sum (rgb, w: samples that hit) and (samples
+// done, 0, 0, 0), then the round's blocks (see render())
 layout(std430, binding = 10) buffer Out { vec4 outv[]; };
 // per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
@@ -690,17 +695,52 @@ void bake() {
     if (s1 < spp) outv[0].y = 1.0;
 }
 
+// The render's samples come in blocks of P.rw.y (a constant of the
+// estimator, never of the device or the split): a pixel's value is the sum,
+// in block order, of its blocks' sums, each block summed from zero in sample
+// order. Blocks are independent, so one dispatch traces up to P.rw.w blocks of
+// every pixel at once (many short invocations instead of one long one per
+// pixel: the GPU's last wave no longer waits on the busiest pixels' whole
+// sample count), and a second dispatch (P.rk.x == 1) adds them to the pixels
+// in block order. The pixels are the image's rows or, with a row table
+// (P.rw.x rows), only the rows it lists, compacted. Layout of Out: flags, the
+// row table (4 rows per vec4, as floats), per pixel the running sum and the
+// samples done, then per block of the round and pixel its sum and samples.
+uint render_row(uint l) {
+    return P.rw.x == 0u ? l : uint(outv[1u + l / 4u][l % 4u]);
+}
+
 void render() {
     uint W = P.a.x, H = P.a.w;
+    uint nrows = P.rw.x == 0u ? H : P.rw.x;
+    uint A = 1u + (P.rw.x + 3u) / 4u, npx = W * nrows; // the pixels' base, their count
+    uint spp = max(P.a.y, 1u), B = max(P.rw.y, 1u);
+    uint nblk = (spp + B - 1u) / B, R = min(P.rw.w, nblk - P.rw.z);
     uint idx = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
-    if (idx >= W * H) return;
-    uint x = idx % W, y = idx / W;
-    uint spp = max(P.a.y, 1u);
-    uint s0 = uint(outv[2u * idx + 2u].x), s1 = min(s0 + P.seed.w, spp);
-    if (s0 >= spp) return;
+    uint S = A + 2u * npx; // the blocks' base
+    if (P.rk.x == 1u) {
+        if (idx >= npx) return;
+        vec4 sum = P.rw.z == 0u ? vec4(0.0) : outv[A + 2u * idx];
+        uint j = 0u;
+        for (; j < R; j++) sum += outv[S + 2u * (j * npx + idx)];
+        if (j != R || !loops_intact()) {
+            outv[0].x = 1.0;
+            return;
+        }
+        outv[A + 2u * idx] = sum;
+        outv[A + 2u * idx + 1u] = vec4(float(min((P.rw.z + R) * B, spp)), 0.0, 0.0, 0.0);
+        return;
+    }
+    if (idx >= npx * R) return;
+    uint j = idx / npx, l = idx - j * npx, at = S + 2u * idx;
+    uint b0 = (P.rw.z + j) * B, b1 = min(b0 + B, spp);
+    bool fresh = P.rk.y != 0u;
+    uint s0 = b0 + (fresh ? 0u : uint(outv[at + 1u].x)), s1 = min(s0 + P.seed.w, b1);
+    if (s0 >= b1) return;
+    uint x = l % W, y = render_row(l / W);
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
-    vec4 acc = outv[2u * idx + 1u];
+    vec4 acc = s0 == b0 ? vec4(0.0) : outv[at];
     uint s = s0;
     for (; s < s1; s++) {
         rng_init(0x90000000u + y, x, s);
@@ -741,13 +781,14 @@ void render() {
     }
     // identical values from every invocation that writes them
     if (s != s1 || !loops_intact()) {
+        if (fresh) outv[at + 1u] = vec4(0.0); // a valid state: no samples yet
         outv[0].x = 1.0;
         outv[0].y = 1.0;
         return;
     }
-    outv[2u * idx + 1u] = acc;
-    outv[2u * idx + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
-    if (s1 < spp) outv[0].y = 1.0;
+    outv[at] = acc;
+    outv[at + 1u] = vec4(float(s1 - b0), 0.0, 0.0, 0.0);
+    if (s1 < b1) outv[0].y = 1.0;
 }
 
 void main() {

@@ -39,8 +39,8 @@ ls "$T" | grep -q "^k.probes.tmp" && fail "killed job left a temporary file"
 had_checkpoint=0
 [ -e "$T/k.probes.partial" ] && had_checkpoint=1
 run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/k.probes" $O >"$T/k2.out" 2>&1 || { cat "$T/k2.out"; fail "rerun after the kill"; }
-# rank 0 checkpoints the baked prefix (every batch here); whether it had one
-# before the kill depends on timing, but one that exists must be resumed
+# the MPI bake writes no prefix checkpoint (the ranks' batch files are its
+# checkpoints); one that exists must be resumed
 [ $had_checkpoint = 0 ] || grep -q "resuming from" "$T/k2.out" || fail "rerun did not resume the killed job's checkpoint"
 cmp -s "$T/full.probes" "$T/k.probes" || fail "rerun after the kill differs"
 [ ! -e "$T/k.probes.partial" ] || fail "checkpoint left behind"

@@ -27,7 +27,8 @@ cd "$T" || exit 1
 
 "$BIN/vox2svo" --write-demo demo.vox >/dev/null || exit 1
 "$BIN/vox2svo" -q demo.vox demo.svo || exit 1
-# a prefix checkpoint after every batch (as well as the ranks' batch files)
+# (the MPI bake's checkpoints are the ranks' batch files; the single
+# process's prefix checkpoint after every batch)
 export VX_BAKE_CHECKPOINT_S=0
 # calibrate: the most samples (up to 64) whose job stays near 4 s, so the
 # baking, not mpirun's start, is most of the run

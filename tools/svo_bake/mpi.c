@@ -3,31 +3,42 @@
  * Every rank reads the scene, opens its device (GPU `local rank mod GPUs` of
  * its host, or --device, or --cpu) and places the same probe grid. Rank 0
  * hands out batches of consecutive probes (guided sizes: a share of what is
- * left, so probes that cost more, near geometry, even out) and bakes
- * batches itself; each worker holds three assignments, so the next is there
- * when it sends a batch's maps back. Rank 0 answers between and during its
- * own batches (from the bake's progress callback), copies each batch into
- * the output set, checkpoints the baked prefix to OUT.probes.partial (the
- * single-process checkpoint: either kind of run resumes the other's) and
- * finally writes OUT.probes atomically.
+ * left, so probes that cost more, near geometry, even out) and bakes a full
+ * share itself; each worker holds two assignments, so the next is there
+ * when it reports a batch. Rank 0 answers between and during its own batches
+ * (from the bake's progress callback).
  *
- * Per-rank checkpoints: every rank also saves each batch it bakes, before
- * sending it, as OUT.probes.ckpt/bFIRST-END.rRANK.probes (a .probes file of
- * that range, written atomically), so a job that dies loses only the batches
- * in flight, not every batch past the first gap of the prefix. A rerun's rank 0
- * takes every batch file of the same job it finds there (and the prefix
- * checkpoint) and hands out only the probes still missing; the files go once
- * the output is written. Across hosts the folder must be shared for the
- * batches of other hosts to count; the bytes are the same either way. A probe's maps depend only on the
- * seed and its index, so the bytes equal a single-process bake whatever N.
- * A rank that fails calls MPI_Abort, which ends every rank before rank 0
- * writes anything under the output name. Ranks must share one byte order.
+ * The output: a .probes file's blocks have one size and a probe's place is a
+ * function of its index (docs/FORMAT.md), so every rank writes the blocks of
+ * the batches it bakes straight into the output's temporary file
+ * (OUT.probes.ckpt/output.tmp) through MPI-IO, at memory speed and in
+ * parallel, and reports only the batch's range and the CRC-32 of its blocks
+ * (a few bytes). At the end rank 0 combines the batches' CRCs in probe order
+ * into the DATA section's (zlib's crc32_combine), writes the header and the
+ * GRID section, every rank syncs, and rank 0 renames the file over OUT.probes:
+ * nothing under the output name before the whole file is there. Since the
+ * output folder is the file's, the ranks' hosts must share it (as they must
+ * for MPI-IO). (Before, rank 0 received every map and wrote the file alone:
+ * 845 MB moved at 32 MB/s, and rank 0 baked almost nothing.)
+ *
+ * Checkpoints: every rank saves each batch it bakes, before reporting it, as
+ * OUT.probes.ckpt/bFIRST-END.rRANK.probes (a .probes file of that range,
+ * renamed into place; not synced: a checkpoint is checked by its CRCs when
+ * it is read, and one fsync per batch made the host's disk the limit of N
+ * GPUs), so a job that dies loses only the batches in flight. A rerun's rank
+ * 0 takes every batch file of the same job it finds there, and a
+ * single-process checkpoint (OUT.probes.partial), writes their blocks itself
+ * and hands out only the probes still missing; the files go once the output
+ * is written. A probe's maps depend only on the seed and its index, so the
+ * bytes equal a single-process bake whatever N. A rank that fails calls
+ * MPI_Abort, which ends every rank before rank 0 renames anything to the
+ * output name. Ranks must share one byte order.
  *
  * Test hooks (environment): VX_BAKE_MPI_FAIL=R:K[:error] makes rank R die
- * of SIGKILL (or fail with an error) after sending its K-th batch (its
- * batch files for those K batches are on disk by then);
- * VX_BAKE_CHECKPOINT_S sets the seconds between checkpoints (default 20). */
-#define _POSIX_C_SOURCE 200809L /* kill() */
+ * of SIGKILL (or fail with an error) after reporting its K-th batch (its
+ * batch files for those K batches are on disk by then). */
+#define _GNU_SOURCE /* kill(), sync_file_range() */
+#include <fcntl.h>
 #include <dirent.h>
 #include <errno.h>
 #include <mpi.h>
@@ -38,20 +49,25 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <zlib.h>
+
 #include "tools/common/mpi.h"
 #include "tools/common/tool.h"
 #include "tools/svo_bake/svo_bake.h"
 
 enum { TAG_ASSIGN = 1, TAG_RESULT = 2 };
-enum { DEPTH = 3 }; /* assignments a worker holds */
-enum { HEAD = 16 }; /* a result: first probe (u32), count (u32), bake seconds (f64), then the maps */
+/* assignments a worker holds: the one it bakes and the next (rank 0 answers
+ * from its bake's progress callback, well within a batch) */
+enum { DEPTH = 2 };
+/* a result: first probe (u32), count (u32), bake seconds (f64), CRC-32 of the blocks (u32), 0 (u32) */
+enum { HEAD = 24 };
 
 /* this rank's place (set once by bake_mpi) */
 static vx_tool_mpi g_mpi;
 #define die vx_tool_mpi_die
 
 /* per-rank timings, gathered to rank 0 */
-enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_CKPT, ST_N };
+enum { ST_WALL, ST_BAKE, ST_WAIT, ST_COMM, ST_PROBES, ST_BATCHES, ST_CKPT, ST_IO, ST_N };
 
 /* ---- per-rank batch checkpoints (OUT.probes.ckpt/) ------------------------------------ */
 
@@ -67,17 +83,110 @@ static void remember(const char* path) {
     g_saved[g_saved_n++] = p;
 }
 
-/* Saves the baked batch v (probes [v->first, v->first + v->count)). */
-static void save_batch(const bake_job* j, const vx_probe_set* v, double* seconds) {
-    double t = vx_time_now();
-    char path[4200];
-    if (snprintf(path, sizeof path, "%s/b%u-%u.r%d.probes", j->ckdir, v->first, v->first + v->count, g_mpi.rank) >=
-        (int)sizeof path)
-        die("%s: name too long", j->ckdir);
-    vx_error err = {0};
-    if (vx_probe_write_file(NULL, v, path, &err)) die("batch checkpoint %s", err.msg);
+/* ---- the output file (MPI-IO) ------------------------------------------------------ */
+
+/* the output's temporary file, in the checkpoint folder */
+#define OUTPUT_TMP "output.tmp"
+
+typedef struct outfile {
+    MPI_File fh;
+    int fd;         /* the same file for sync_file_range, -1 where there is none */
+    char tmp[4200];
+    uint64_t base;  /* offset of probe 0's block: header, GRID, DATA's head */
+    uint64_t block; /* bytes per probe block */
+    uint64_t size;
+} outfile;
+
+/* Where the blocks go (docs/FORMAT.md, .probes): a header of 16 bytes, GRID
+ * (a 16-byte section head, 192 bytes, 28 per probe), DATA's section head and
+ * its first and count; each block the six maps with borders. */
+static void outfile_layout(const vx_probe_set* ps, outfile* of) {
+    uint64_t r = (uint64_t)(ps->res + 2) * (ps->res + 2), l = (uint64_t)(ps->low_res + 2) * (ps->low_res + 2);
+    uint64_t i = (VX_PROBE_IRR_RES + 2) * (VX_PROBE_IRR_RES + 2), m = (VX_PROBE_DIST_RES + 2) * (VX_PROBE_DIST_RES + 2);
+    of->block = r * (6 + 4 + 2) + l * 2 + i * 6 + m * 8;
+    of->base = 16 + 16 + 192 + 28 * (uint64_t)ps->probe_count + 16 + 8;
+    of->size = of->base + of->block * ps->probe_count;
+}
+
+static void write_at(outfile* of, uint64_t at, const uint8_t* p, uint64_t n) {
+    while (n) {
+        int k = n > (1u << 30) ? 1 << 30 : (int)n, got = 0;
+        MPI_Status st;
+        if (MPI_File_write_at(of->fh, (MPI_Offset)at, p, k, MPI_BYTE, &st) != MPI_SUCCESS ||
+            MPI_Get_count(&st, MPI_BYTE, &got) != MPI_SUCCESS || got != k)
+            die("%s: cannot write %d bytes at %llu", of->tmp, k, (unsigned long long)at);
+        at += (uint64_t)k, p += k, n -= (uint64_t)k;
+    }
+}
+
+/* Every rank: creates (or reuses, a killed job's) the temporary file at its
+ * final size. */
+static void outfile_open(const bake_job* j, const vx_probe_set* ps, outfile* of) {
+    outfile_layout(ps, of);
+    if (snprintf(of->tmp, sizeof of->tmp, "%s/" OUTPUT_TMP, j->ckdir) >= (int)sizeof of->tmp) die("%s: name too long", j->ckdir);
+    if (MPI_File_open(MPI_COMM_WORLD, of->tmp, MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &of->fh) != MPI_SUCCESS)
+        die("%s: cannot create the output's temporary file", of->tmp);
+    if (MPI_File_set_size(of->fh, (MPI_Offset)of->size) != MPI_SUCCESS)
+        die("%s: cannot make it %llu bytes", of->tmp, (unsigned long long)of->size);
+    of->fd = open(of->tmp, O_WRONLY);
+}
+
+/* Starts the disk writes of blocks just written, so that the final sync
+ * does not write the whole file while the job waits (a local file system;
+ * elsewhere a no-op or an error, both ignored). */
+static void start_writeback(const outfile* of, uint64_t at, uint64_t n) {
+#ifdef SYNC_FILE_RANGE_WRITE
+    if (of->fd >= 0) (void)sync_file_range(of->fd, (off_t)at, (off_t)n, SYNC_FILE_RANGE_WRITE);
+#else
+    (void)of, (void)at, (void)n;
+#endif
+}
+
+/* A batch checkpoint: written to a temporary name and renamed, not synced
+ * (see the top of the file). */
+static void write_ckpt(const char* path, const uint8_t* data, size_t size) {
+    char tmp[4300];
+    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    FILE* f = fopen(tmp, "wb");
+    if (!f) die("batch checkpoint %s: %s", tmp, strerror(errno));
+    bool ok = fwrite(data, 1, size, f) == size;
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        die("batch checkpoint %s: %s", path, strerror(e));
+    }
     remember(path);
-    *seconds += vx_time_now() - t;
+}
+
+/* The baked batch v (probes [v->first, v->first + v->count)): with ckpt its
+ * batch checkpoint file, then its blocks into the output at their place.
+ * Returns the CRC-32 of the blocks. */
+static uint32_t put_batch(const bake_job* j, outfile* of, const vx_probe_set* v, bool ckpt, double* ck_s, double* io_s) {
+    double t = vx_time_now();
+    uint8_t* data = NULL;
+    size_t size = 0;
+    vx_error err = {0};
+    if (vx_probe_write(v, NULL, &data, &size, &err)) die("probes %u..%u: %s", v->first, v->first + v->count, err.msg);
+    uint64_t nb = (uint64_t)v->count * of->block;
+    /* a .probes file of the range has the output's header and GRID, so its blocks start at base too */
+    if (size != of->base + nb) die("a batch of %u probes took %zu bytes, not %llu", v->count, size, (unsigned long long)(of->base + nb));
+    if (ckpt) {
+        char path[4200];
+        if (snprintf(path, sizeof path, "%s/b%u-%u.r%d.probes", j->ckdir, v->first, v->first + v->count, g_mpi.rank) >=
+            (int)sizeof path)
+            die("%s: name too long", j->ckdir);
+        write_ckpt(path, data, size);
+        double t2 = vx_time_now();
+        *ck_s += t2 - t;
+        t = t2;
+    }
+    uint32_t crc = vx_crc32(0, data + of->base, (size_t)nb);
+    write_at(of, of->base + (uint64_t)v->first * of->block, data + of->base, nb);
+    start_writeback(of, of->base + (uint64_t)v->first * of->block, nb);
+    free(data);
+    *io_s += vx_time_now() - t;
+    return crc;
 }
 
 /* Whether name is a batch file's, bFIRST-END.rRANK.probes. */
@@ -164,6 +273,17 @@ static uint32_t resume_batches(const bake_job* j, vx_probe_set* ps, uint32_t end
     return taken;
 }
 
+/* Whether the checkpoint folder holds anything but the output's temporary
+ * file: batch files to resume, or files resume_batches removes. */
+static bool ckdir_has_files(const bake_job* j) {
+    DIR* d = opendir(j->ckdir);
+    bool any = false;
+    for (struct dirent* e; d && !any && (e = readdir(d));)
+        any = strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, OUTPUT_TMP);
+    if (d) closedir(d);
+    return any;
+}
+
 /* After the output is written: every rank removes its batch files, then
  * rank 0 the folder (when no other files are in it). */
 static void remove_batches(const bake_job* j) {
@@ -189,21 +309,25 @@ static vx_probe_set view_at(const vx_probe_set* placed, uint32_t first) {
 
 /* ---- rank 0: the coordinator ------------------------------------------------------ */
 
+typedef struct batch_rec {
+    uint32_t first, count, crc;
+} batch_rec;
+
 typedef struct coord {
     bake_job* j;
-    vx_probe_set* ps;       /* output: maps for [first, end), count = baked prefix */
+    vx_probe_set* ps;       /* placed; maps only of the probes resumed from checkpoints */
+    outfile* of;
     uint32_t first, end;
     uint32_t next;          /* next probe to hand out */
-    uint32_t received;      /* probes stored (own and workers') */
+    uint32_t received;      /* probes in the output (own, workers', resumed) */
     uint32_t outstanding;   /* probes handed to workers, not yet back */
     uint8_t* done;          /* per probe from first */
     int nranks;
     bool* ended;            /* per rank: sent the empty assignment */
     uint32_t min_batch, cap, byte_cap;
     double per_probe;       /* seconds a probe takes to bake (running estimate), 0 before any */
-    size_t pb;              /* bytes per probe */
-    uint8_t* buf;           /* receive buffer */
-    size_t buf_size;
+    batch_rec* recs;        /* every batch in the output: its range and its blocks' CRC */
+    size_t nrec, rec_cap;
     bool serve_in_bake;     /* the progress callback may call MPI */
     double st[ST_N];
     /* progress line */
@@ -261,50 +385,41 @@ static void hand_out(coord* c, int to) {
     MPI_Send(a, 2, MPI_UINT32_T, to, TAG_ASSIGN, MPI_COMM_WORLD);
 }
 
-static void advance_prefix(coord* c) {
-    uint32_t p = c->ps->first + c->ps->count;
-    while (p < c->end && c->done[p - c->first]) p++;
-    c->ps->count = p - c->ps->first;
-}
-
-static void store(coord* c, uint32_t from, uint32_t n, const uint8_t* maps, int source) {
-    if (from < c->first || n > c->end - from) die("rank %d sent probes %u..%u outside %u..%u", source, from, from + n, c->first, c->end);
+/* Probes [from, from + n) are in the output, their blocks' CRC crc. */
+static void store(coord* c, uint32_t from, uint32_t n, uint32_t crc, int source) {
+    if (from < c->first || n > c->end - from || !n)
+        die("rank %d reported probes %u..%u outside %u..%u", source, from, from + n, c->first, c->end);
     for (uint32_t i = from; i < from + n; i++) {
-        if (c->done[i - c->first]) die("rank %d sent probe %u twice", source, i);
-        c->done[i - c->first] = 1;
+        if (c->done[i - c->first] == 2) die("rank %d reported probe %u twice", source, i);
+        c->done[i - c->first] = 2;
     }
-    maps_unpack(c->ps, from, n, maps);
+    if (!vx_grow(NULL, (void**)&c->recs, &c->rec_cap, c->nrec + 1, sizeof *c->recs)) die("out of memory");
+    c->recs[c->nrec++] = (batch_rec){from, n, crc};
     c->received += n;
-    advance_prefix(c);
 }
 
-/* Receives one result (probed: status) and answers with the next assignment. */
+/* Receives one report (probed: status) and answers with the next assignment. */
 static void take_result(coord* c, MPI_Status* status) {
     double t = vx_time_now();
     int count = 0;
     MPI_Get_count(status, MPI_BYTE, &count);
-    if ((size_t)count > c->buf_size) {
-        free(c->buf);
-        c->buf_size = (size_t)count;
-        if (!(c->buf = malloc(c->buf_size))) die("out of memory for a batch of %d bytes", count);
-    }
-    MPI_Recv(c->buf, count, MPI_BYTE, status->MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    uint32_t h[2];
+    uint8_t m[HEAD];
+    if (count != HEAD) die("rank %d sent a %d-byte report", status->MPI_SOURCE, count);
+    MPI_Recv(m, HEAD, MPI_BYTE, status->MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    uint32_t h[2], crc;
     double sec = 0;
-    if (count < HEAD) die("rank %d sent a %d-byte result", status->MPI_SOURCE, count);
-    memcpy(h, c->buf, 8);
-    memcpy(&sec, c->buf + 8, 8);
-    if ((size_t)count != HEAD + (size_t)h[1] * c->pb)
-        die("rank %d sent %d bytes for %u probes (%zu each)", status->MPI_SOURCE, count, h[1], c->pb);
+    memcpy(h, m, 8);
+    memcpy(&sec, m + 8, 8);
+    memcpy(&crc, m + 16, 4);
     if (h[1] > c->outstanding) die("rank %d sent probes nobody asked for", status->MPI_SOURCE);
     c->outstanding -= h[1];
     learn(c, h[1], sec);
     hand_out(c, status->MPI_SOURCE);
-    store(c, h[0], h[1], c->buf + HEAD, status->MPI_SOURCE);
+    store(c, h[0], h[1], crc, status->MPI_SOURCE);
     c->st[ST_COMM] += vx_time_now() - t;
 }
 
-/* Answers every result that has arrived; with block, waits for one first. */
+/* Answers every report that has arrived; with block, waits for one first. */
 static void serve(coord* c, bool block) {
     for (;;) {
         MPI_Status s;
@@ -347,26 +462,40 @@ static bool coord_progress(void* user, const char* stage, uint64_t done, uint64_
     return true;
 }
 
-static void checkpoint(coord* c, double interval, double* last, uint32_t* last_count) {
-    if (c->ps->count == *last_count || c->ps->first + c->ps->count >= c->end) return;
-    double now = vx_time_now();
-    if (now - *last < interval) return;
-    vx_error err = {0};
-    if (vx_probe_write_file(NULL, c->ps, c->j->ckpath, &err)) die("%s: %s", c->j->ckpath, err.msg);
-    *last = vx_time_now();
-    *last_count = c->ps->count;
-    c->st[ST_COMM] += *last - now;
+/* The probes resumed from checkpoints (done[] == 1, their maps in c->ps):
+ * their blocks into the output, run by run. */
+static void put_resumed(coord* c) {
+    size_t pb = maps_probe_bytes(c->ps);
+    for (uint32_t a = c->first; a < c->end;) {
+        if (c->done[a - c->first] != 1) {
+            a++;
+            continue;
+        }
+        uint32_t b = a;
+        while (b < c->end && c->done[b - c->first] == 1 && b - a < c->byte_cap) b++;
+        uint32_t n = b - a;
+        vx_probe_set v = view_at(c->ps, a);
+        uint8_t* buf = malloc(n * pb);
+        if (!buf || !maps_reserve(&v, n)) die("out of memory for %u probes", n);
+        maps_pack(c->ps, a, n, buf);
+        maps_unpack(&v, a, n, buf);
+        free(buf);
+        v.count = n;
+        uint32_t crc = put_batch(c->j, c->of, &v, false, &c->st[ST_CKPT], &c->st[ST_IO]);
+        maps_free(&v);
+        for (uint32_t i = a; i < b; i++) c->done[i - c->first] = 0; /* store marks them */
+        c->received -= n;
+        store(c, a, n, crc, 0);
+        a = b;
+    }
 }
 
 static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
-    double interval = checkpoint_interval(), last_ck = vx_time_now();
-    uint32_t last_count = c->ps->count;
     for (int r = 1; r < c->nranks; r++)
         for (int k = 0; k < DEPTH; k++) hand_out(c, r);
+    put_resumed(c);
     vx_probe_bake_desc bd = *b;
     bd.progress = (vx_progress){coord_progress, c};
-    uint8_t* own = NULL;
-    size_t own_size = 0;
     for (uint32_t a, n; take_run(c, &a, &n);) {
         vx_probe_set v = view_at(c->ps, a);
         double t = vx_time_now();
@@ -376,27 +505,16 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
         double dt = vx_time_now() - t;
         c->st[ST_BAKE] += dt - c->serving;
         c->st[ST_PROBES] += n, c->st[ST_BATCHES] += 1;
-        save_batch(c->j, &v, &c->st[ST_CKPT]);
-        t = vx_time_now();
-        if (n * c->pb > own_size) {
-            free(own);
-            own_size = n * c->pb;
-            if (!(own = malloc(own_size))) die("out of memory for a batch of %u probes", n);
-        }
-        maps_pack(&v, a, n, own);
+        uint32_t crc = put_batch(c->j, c->of, &v, true, &c->st[ST_CKPT], &c->st[ST_IO]);
         maps_free(&v);
         c->own_done = 0;
-        store(c, a, n, own, 0);
-        c->st[ST_COMM] += vx_time_now() - t;
+        store(c, a, n, crc, 0);
         learn(c, n, dt - c->serving);
         serve(c, false);
-        checkpoint(c, interval, &last_ck, &last_count);
         show(c, false);
     }
-    free(own);
     while (c->outstanding) {
         serve(c, true);
-        checkpoint(c, interval, &last_ck, &last_count);
         show(c, false);
     }
     /* every worker has had its empty assignment by now (each result is
@@ -406,16 +524,49 @@ static void run_coordinator(coord* c, const vx_probe_bake_desc* b) {
     if (c->show) fputc('\n', stderr);
 }
 
-/* ---- ranks > 0: workers ---------------------------------------------------------- */
-
-static bool worker_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
-    (void)stage, (void)done, (void)total;
-    int flag;
-    MPI_Testall(DEPTH, user, &flag, MPI_STATUSES_IGNORE);
-    return true;
+static int rec_cmp(const void* x, const void* y) {
+    const batch_rec *a = x, *b = y;
+    return a->first < b->first ? -1 : a->first > b->first;
 }
 
-static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_bake_desc* bd, double st[ST_N]) {
+/* Rank 0 once every block is written: the header, GRID and DATA's head, with
+ * DATA's CRC combined from the batches' in probe order. */
+static void put_head(coord* c) {
+    outfile* of = c->of;
+    qsort(c->recs, c->nrec, sizeof *c->recs, rec_cmp);
+    uint8_t fc[8];
+    uint32_t count = c->end - c->first;
+    for (int k = 0; k < 4; k++) fc[k] = (uint8_t)(c->first >> 8 * k), fc[4 + k] = (uint8_t)(count >> 8 * k);
+    uint32_t crc = vx_crc32(0, fc, 8), at = c->first;
+    for (size_t i = 0; i < c->nrec; i++) {
+        if (c->recs[i].first != at) die("internal: the output misses probes %u..%u", at, c->recs[i].first);
+        crc = (uint32_t)crc32_combine(crc, c->recs[i].crc, (z_off_t)((uint64_t)c->recs[i].count * of->block));
+        at += c->recs[i].count;
+    }
+    if (at != c->end) die("internal: the output misses probes %u..%u", at, c->end);
+    /* the header and GRID as the library writes them (a set with no maps), then DATA's head */
+    vx_probe_set g = *c->ps;
+    g.first = 0, g.count = 0;
+    uint8_t* data = NULL;
+    size_t size = 0;
+    vx_error err = {0};
+    if (vx_probe_write(&g, NULL, &data, &size, &err)) die("%s: %s", c->j->out, err.msg);
+    if (size + 24 != of->base) die("internal: a header of %zu bytes", size);
+    uint8_t* h = realloc(data, of->base);
+    if (!h) die("out of memory");
+    uint64_t dsize = 8 + (uint64_t)count * of->block;
+    h[12] = 2, h[13] = h[14] = h[15] = 0; /* sections: GRID, DATA */
+    memcpy(h + size, "DATA", 4);
+    for (int k = 0; k < 4; k++) h[size + 4 + k] = (uint8_t)(crc >> 8 * k);
+    for (int k = 0; k < 8; k++) h[size + 8 + k] = (uint8_t)(dsize >> 8 * k);
+    memcpy(h + size + 16, fc, 8);
+    write_at(of, 0, h, of->base);
+    free(h);
+}
+
+/* ---- ranks > 0: workers ---------------------------------------------------------- */
+
+static void run_worker(bake_job* j, outfile* of, const vx_probe_set* placed, const vx_probe_bake_desc* bd, double st[ST_N]) {
     int fail_rank = -1, fail_after = 0;
     bool fail_error = false;
     const char* f = getenv("VX_BAKE_MPI_FAIL");
@@ -424,24 +575,10 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         if (sscanf(f, "%d:%d:%15s", &fail_rank, &fail_after, kind) < 2) fail_rank = -1;
         fail_error = !strcmp(kind, "error");
     }
-    size_t pb = maps_probe_bytes(placed);
-    /* a ring of DEPTH slots: slot k % DEPTH receives assignment k and sends
-     * result k, so a result waits for rank 0 only when DEPTH - 1 newer
-     * batches are baked (rank 0 answers between its own GPU batches) */
+    /* a ring of DEPTH assignments: slot k % DEPTH receives assignment k */
     uint32_t q[DEPTH][2];
-    MPI_Request recv[DEPTH], send[DEPTH];
-    uint8_t* buf[DEPTH] = {NULL};
-    size_t buf_size[DEPTH] = {0};
-    /* MPI moves a large message only while the sender calls into it (without
-     * single-copy shared memory, e.g. in containers): the bake's progress
-     * callback lets the sends of earlier batches proceed during the next */
-    vx_probe_bake_desc wbd = *bd;
-    if (g_mpi.thread_level >= MPI_THREAD_SERIALIZED || !j->o.cpu || j->o.threads == 1) /* CPU bakes report from their threads */
-        wbd.progress = (vx_progress){worker_progress, send};
-    for (int k = 0; k < DEPTH; k++) {
-        send[k] = MPI_REQUEST_NULL;
-        MPI_Irecv(q[k], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[k]);
-    }
+    MPI_Request recv[DEPTH];
+    for (int k = 0; k < DEPTH; k++) MPI_Irecv(q[k], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[k]);
     for (uint32_t k = 0;; k++) {
         uint32_t s = k % DEPTH;
         double t = vx_time_now();
@@ -453,55 +590,46 @@ static void run_worker(bake_job* j, const vx_probe_set* placed, const vx_probe_b
         t = vx_time_now();
         double t0 = t;
         vx_error err = {0};
-        if (bake_range(j, &wbd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
+        if (bake_range(j, bd, &v, a + n, &err)) die("%s: %s", j->in, err.msg);
         st[ST_BAKE] += vx_time_now() - t;
-        st[ST_PROBES] += n, st[ST_BATCHES] += 1;
-        save_batch(j, &v, &st[ST_CKPT]); /* on disk before rank 0 counts on it */
-        t = vx_time_now();
-        MPI_Wait(&send[s], MPI_STATUS_IGNORE);
-        size_t need = HEAD + n * pb;
-        if (need > (size_t)INT32_MAX) die("a batch of %u probes is too large for one message", n);
-        if (need > buf_size[s]) {
-            free(buf[s]);
-            buf_size[s] = need;
-            if (!(buf[s] = malloc(need))) die("out of memory for a batch of %u probes", n);
-        }
         double sec = vx_time_now() - t0;
-        memcpy(buf[s], &a, 4);
-        memcpy(buf[s] + 4, &n, 4);
-        memcpy(buf[s] + 8, &sec, 8);
-        maps_pack(&v, a, n, buf[s] + HEAD);
+        st[ST_PROBES] += n, st[ST_BATCHES] += 1;
+        /* the batch file on disk and the blocks in the output before rank 0 counts on them */
+        uint32_t crc = put_batch(j, of, &v, true, &st[ST_CKPT], &st[ST_IO]);
         maps_free(&v);
-        MPI_Isend(buf[s], (int)need, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD, &send[s]);
+        t = vx_time_now();
+        uint8_t m[HEAD] = {0};
+        memcpy(m, &a, 4);
+        memcpy(m + 4, &n, 4);
+        memcpy(m + 8, &sec, 8);
+        memcpy(m + 16, &crc, 4);
+        MPI_Send(m, HEAD, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD);
         MPI_Irecv(q[s], 2, MPI_UINT32_T, 0, TAG_ASSIGN, MPI_COMM_WORLD, &recv[s]);
         st[ST_COMM] += vx_time_now() - t;
         if (g_mpi.rank == fail_rank && (int)st[ST_BATCHES] >= fail_after) {
             if (fail_error) die("failing after %d batches (VX_BAKE_MPI_FAIL)", fail_after);
-            MPI_Wait(&send[s], MPI_STATUS_IGNORE);
             fprintf(stderr, "%s: rank %d: killing itself after %d batches (VX_BAKE_MPI_FAIL)\n", vx_tool_name, g_mpi.rank,
                     fail_after);
             fflush(stderr);
             raise(SIGKILL);
         }
     }
-    /* rank 0 sends nothing after the empty assignment: drop the receives
-     * still posted, finish the sends */
-    double t = vx_time_now();
+    /* rank 0 sends nothing after the empty assignment: drop the receives still posted */
     for (int k = 0; k < DEPTH; k++) {
         if (recv[k] != MPI_REQUEST_NULL) {
             MPI_Cancel(&recv[k]);
             MPI_Wait(&recv[k], MPI_STATUS_IGNORE);
         }
-        MPI_Wait(&send[k], MPI_STATUS_IGNORE);
-        free(buf[k]);
     }
-    st[ST_COMM] += vx_time_now() - t;
 }
 
 /* ---- the job ------------------------------------------------------------------------- */
 
 int bake_mpi(options* o, const char* in, const char* out) {
+    /* rank 0's start-up and end, for -v: where the time outside the bake goes */
+    double t_in = vx_time_now(), tl[5];
     vx_tool_mpi_init(&g_mpi);
+    tl[0] = vx_time_now();
     int provided = g_mpi.thread_level, nranks = g_mpi.nranks;
     if (!o->threads_set) o->threads = vx_tool_mpi_threads(&g_mpi);
     o->b.threads = o->threads;
@@ -515,10 +643,15 @@ int bake_mpi(options* o, const char* in, const char* out) {
         fflush(stderr);
         MPI_Abort(MPI_COMM_WORLD, 1);
     }
+    tl[1] = vx_time_now();
     vx_error err = {0};
     vx_probe_set ps;
     if (vx_probe_place(&j.scene, &o->b, &ps, &err)) die("%s: %s", in, err.msg);
     make_ckdir(&j);
+    tl[2] = vx_time_now();
+    outfile of = {0};
+    outfile_open(&j, &ps, &of);
+    tl[3] = vx_time_now();
     /* one line per rank, in rank order */
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
@@ -532,7 +665,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
         MPI_Barrier(MPI_COMM_WORLD);
     }
     double st[ST_N] = {0};
-    double t_write = 0, t_start = 0;
+    double t_write = 0, t_sync = 0, t_start = 0;
     int rc = 0;
     coord c = {0};
     if (g_mpi.rank == 0) {
@@ -543,21 +676,26 @@ int bake_mpi(options* o, const char* in, const char* out) {
                ps.grid[0], ps.grid[1], ps.grid[2], vx_tool_num(ps.probe_count), moved, disabled, ps.spacing[0],
                ps.spacing[1], ps.spacing[2], nranks);
         uint32_t end = ps.probe_count;
-        resume_checkpoint(&j, &ps, end);
-        c.j = &j, c.ps = &ps, c.first = ps.first, c.end = end, c.nranks = nranks;
+        bool prefix = resume_checkpoint(&j, &ps, end);
+        if (ps.first != 0) die("%s: a checkpoint from probe %u", j.ckpath, ps.first);
+        c.j = &j, c.ps = &ps, c.of = &of, c.first = ps.first, c.end = end, c.nranks = nranks;
         c.next = ps.first + ps.count;
-        c.received = ps.count;
-        c.pb = maps_probe_bytes(&ps);
+        size_t pb = maps_probe_bytes(&ps);
         c.done = calloc(end - c.first + 1, 1);
         c.ended = calloc((size_t)nranks, sizeof *c.ended);
-        if (!c.done || !c.ended || !maps_reserve(&ps, end - c.first))
+        /* maps for the probes resumed from checkpoints, only where there may be
+         * some (they are zeroed: 845 MB took rank 0 about 0.4 s at each start) */
+        bool any = prefix || ckdir_has_files(&j);
+        if (!c.done || !c.ended || (any && !maps_reserve(&ps, end - c.first)))
             die("out of memory for %u probes at res %u", end - c.first, ps.res);
         memset(c.done, 1, ps.count);
-        c.received = ps.count + resume_batches(&j, &ps, end, c.done, c.pb);
-        advance_prefix(&c);
+        c.received = ps.count + (any ? resume_batches(&j, &ps, end, c.done, pb) : 0);
         fflush(stdout);
-        c.min_batch = o->cpu ? o->threads : 1;
-        uint64_t bc = (UINT64_C(1) << 28) / c.pb; /* 256 MiB a message */
+        /* a GPU batch costs about 45 ms besides its probes (H200, R=128: 1.2 ms a
+         * probe), so batches of fewer than 64 probes are left to small jobs */
+        uint32_t small = ps.probe_count / (8u * (uint32_t)nranks);
+        c.min_batch = o->cpu ? o->threads : (small < 1 ? 1 : (small > 64 ? 64 : small));
+        uint64_t bc = (UINT64_C(1) << 28) / of.block; /* 256 MiB a write */
         c.byte_cap = (uint32_t)(bc < 1 ? 1 : (bc > (1u << 20) ? (1u << 20) : bc));
         if (c.min_batch > c.byte_cap) c.min_batch = c.byte_cap;
         c.cap = 2 * c.min_batch;
@@ -571,21 +709,34 @@ int bake_mpi(options* o, const char* in, const char* out) {
         run_coordinator(&c, &o->b);
         memcpy(st, c.st, sizeof st);
     } else {
-        run_worker(&j, &ps, &o->b, st);
+        run_worker(&j, &of, &ps, &o->b, st);
     }
-    /* workers idle here until rank 0 holds every probe: load imbalance */
+    /* ranks idle here until every block is written: load imbalance */
     double t = vx_time_now();
     MPI_Barrier(MPI_COMM_WORLD);
     st[ST_WAIT] += vx_time_now() - t;
     st[ST_WALL] = vx_time_now() - t_start;
+    /* the head, every rank's data on disk, then the name */
+    t = vx_time_now();
+    if (g_mpi.rank == 0) put_head(&c);
+    double ts = vx_time_now();
+    if (MPI_File_sync(of.fh) != MPI_SUCCESS) die("%s: cannot sync", of.tmp);
+    t_sync = vx_time_now() - ts;
+    if (MPI_File_close(&of.fh) != MPI_SUCCESS) die("%s: cannot close", of.tmp);
+    if (of.fd >= 0) close(of.fd);
     if (g_mpi.rank == 0) {
-        t = vx_time_now();
-        if (vx_probe_write_file(NULL, &ps, out, &err)) rc = vx_tool_error(out, &err);
+        if (rename(of.tmp, out) != 0) {
+            fprintf(stderr, "%s: %s: cannot write: %s\n", vx_tool_name, out, strerror(errno));
+            remove(of.tmp);
+            rc = 1;
+        }
         t_write = vx_time_now() - t;
         if (!rc) remove(j.ckpath);
     }
     MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    tl[4] = vx_time_now();
     if (!rc) remove_batches(&j);
+    double t_rm = vx_time_now() - tl[4];
     free_saved();
     double* all = g_mpi.rank == 0 ? calloc((size_t)nranks * ST_N, sizeof(double)) : NULL;
     MPI_Gather(st, ST_N, MPI_DOUBLE, all, ST_N, MPI_DOUBLE, 0, MPI_COMM_WORLD);
@@ -597,20 +748,35 @@ int bake_mpi(options* o, const char* in, const char* out) {
             if (share > wmax) wmax = share;
             if (o->verbose)
                 printf("rank %d: %.0f probes in %.0f batches, bake %.3f s, wait %.3f s (%.1f%%), messages %.3f s, "
-                       "batch checkpoints %.3f s\n",
-                       r, s[ST_PROBES], s[ST_BATCHES], s[ST_BAKE], s[ST_WAIT], 100 * share, s[ST_COMM], s[ST_CKPT]);
+                       "batch checkpoints %.3f s, output writes %.3f s\n",
+                       r, s[ST_PROBES], s[ST_BATCHES], s[ST_BAKE], s[ST_WAIT], 100 * share, s[ST_COMM], s[ST_CKPT],
+                       s[ST_IO]);
+        }
+        if (o->verbose) {
+            printf("output: %llu bytes through MPI-IO; head + sync + rename %.3f s (sync %.3f s)\n",
+                   (unsigned long long)of.size, t_write, t_sync);
+            printf("rank 0 outside the bake: MPI_Init %.3f s, scene and device %.3f s, placement %.3f s, output file "
+                   "%.3f s, to the start %.3f s; after it: writing %.3f s, batch files removed %.3f s; %.3f s from "
+                   "start to MPI_Finalize\n",
+                   tl[0] - t_in, tl[1] - tl[0], tl[2] - tl[1], tl[3] - tl[2], t_start - tl[3], t_write, t_rm,
+                   vx_time_now() - t_in);
         }
         printf("baked %u probes at %ux%u, %u spp, %u bounces on %d ranks in %.2f s (most waiting: %.1f%%; rank 0 "
-               "storing results %.3f s, writing %.3f s); distance step %.4g (max error %.4g)\n",
-               ps.count, ps.res, ps.res, ps.spp, ps.bounces, nranks, st[ST_WALL], 100 * wmax, st[ST_COMM], t_write,
+               "reports %.3f s, writing %.3f s); distance step %.4g (max error %.4g)\n",
+               c.received, ps.res, ps.res, ps.spp, ps.bounces, nranks, st[ST_WALL], 100 * wmax, st[ST_COMM], t_write,
                ps.dist_step, ps.dist_max_error);
         printf("wrote %s\n", out);
-        if (o->exr_dir) rc = write_exr(o->exr_dir, &ps);
+        if (o->exr_dir) {
+            /* the maps are in the file, not in rank 0's memory */
+            vx_probe_set_free(&ps);
+            if (vx_probe_read_file(NULL, out, &ps, &err)) rc = vx_tool_error(out, &err);
+            else rc = write_exr(o->exr_dir, &ps);
+        }
     }
     free(all);
     free(c.done);
     free(c.ended);
-    free(c.buf);
+    free(c.recs);
     vx_probe_set_free(&ps);
     bake_job_close(&j);
     MPI_Finalize();

@@ -17,10 +17,10 @@ typedef struct render_mpi_job {
     bool validate, verbose;
 } render_mpi_job;
 
-/* Every rank calls it. Rows go to the ranks in bands of 8, round-robin (rank
- * r renders bands r, r + N, ...: images are smooth at that scale, so every
- * rank gets an even share of costly rows, and the split is a function of N
- * alone); each rank renders its rows in one call and rank 0 gathers them.
+/* Every rank calls it. Rows go to the ranks round-robin (rank r renders rows
+ * r, r + N, ...: every rank gets an even share of costly rows, and the split
+ * is a function of N alone); each rank renders its rows in one call (on the GPU a dispatch of
+ * only its own pixels, probes.h's `rows`) and rank 0 gathers them.
  * Since a pixel's value depends only on the seed, the pixel and the sample,
  * the image equals a single-process render bit for bit. On rank 0 *out is the
  * image and *root is true; elsewhere *out is empty. A failure on any rank
