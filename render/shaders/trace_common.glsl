@@ -377,18 +377,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
                     }
                     if (stop) {
+                        // the attribute record is found after the loop
                         hit = true;
-                        if (HAS_COLOR && (m.flags & 1u) != 0u) {
-#ifndef PRECISE
-                            uint valid = (desc >> 8) & 0xFFu;
-                            uint leaf = desc & 0xFFu;
-#endif
-                            uint blk = parent - (desc >> 17);
-                            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                            uint a = nodes[blk + bitCount(valid & ~leaf)];
-                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
-                            have_attr = true;
-                        }
                         break;
                     }
 #ifndef PRECISE
@@ -561,6 +551,18 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+        if (hit && HAS_COLOR && (m.flags & 1u) != 0u) {
+            // the hit child's attribute record (after the loop: code in the
+            // loop runs masked on every step on SIMD CPUs such as lavapipe)
+            int cs = idx ^ oct7;
+            uint valid = (desc >> 8) & 0xFFu;
+            uint leaf = desc & 0xFFu;
+            uint blk = parent - (desc >> 17);
+            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+            uint a = nodes[blk + bitCount(valid & ~leaf)];
+            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
+            have_attr = true;
+        }
     }
     if (!hit) return false;
 #ifdef PRECISE
