@@ -520,8 +520,8 @@ int main(int argc, char** argv) {
         }
         uint64_t voxels = 0;
         for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
-        fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s)\n", name, (unsigned long long)voxels,
-                t_load, esp ? es.build_seconds : 0.0);
+        fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s, far pointer test %s)\n", name,
+                (unsigned long long)voxels, t_load, esp ? es.build_seconds : 0.0, vx__render_scene_far(rs) ? "on" : "off");
         if (t6p)
             fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
                     (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);

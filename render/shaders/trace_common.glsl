@@ -25,6 +25,9 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // scenes keep the plain loop and those of 9-10 level models pay only at hits.
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
+// Some model may hold a far pointer (render_scene.c sets it off where none
+// can: the far bit's test on every push cost 2-5% on the H200, issue 21).
+layout(constant_id = 9) const bool FAR = true;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -117,7 +120,7 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
 // (valid, not leaf) below cbit.
 uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     uint blk = parent - (desc >> 17);
-    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
     return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
@@ -397,7 +400,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     hh = tc_max;
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
-                    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
 #else
                     parent = child_node(parent, desc, cbit, nbase);
@@ -558,7 +561,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             uint valid = (desc >> 8) & 0xFFu;
             uint leaf = desc & 0xFFu;
             uint blk = parent - (desc >> 17);
-            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+            if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
             uint a = nodes[blk + bitCount(valid & ~leaf)];
             attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
             have_attr = true;
