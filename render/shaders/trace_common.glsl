@@ -711,18 +711,30 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     uint node = 0u;
     RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    // The walk to the next leaf is a loop of its own, and the leaf's
+    // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
+    // every branch masked, so the octree walk runs once per leaf visit
+    // rather than once per BVH step.
+    bool pop_next = false;
     while (true) {
-        BNode n = bvh[node];
-        uint count = floatBitsToUint(n.hi.w);
-        uint first = floatBitsToUint(n.lo.w);
-        if (count > 0u) {
-            for (uint k = 0u; k < count; k++) {
-                if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
-                    found = true;
-                    if (any_hit) return true;
+        uint first = 0u, count = 0u;
+        bool done = false;
+        while (true) {
+            if (pop_next) {
+                // pop, skipping nodes now beyond the nearest hit
+                pop_next = false;
+                bool next = false;
+                while (sp > 0) {
+                    uint c = stack[--sp];
+                    RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
+                    if (tc.x <= h.t) { node = c; next = true; break; }
                 }
+                if (!next) { done = true; break; }
             }
-        } else {
+            BNode n = bvh[node];
+            count = floatBitsToUint(n.hi.w);
+            first = floatBitsToUint(n.lo.w);
+            if (count > 0u) { pop_next = true; break; }
             BNode a = bvh[first], b = bvh[first + 1u];
             RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
             RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
@@ -734,19 +746,21 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
                 uint farc = ta.x <= tb.x ? first + 1u : first;
                 if (sp < 64) stack[sp++] = farc;
                 node = nearc;
-                continue;
+            } else if (ha) {
+                node = first;
+            } else if (hb) {
+                node = first + 1u;
+            } else {
+                pop_next = true;
             }
-            if (ha) { node = first; continue; }
-            if (hb) { node = first + 1u; continue; }
         }
-        // pop, skipping nodes now beyond the nearest hit
-        bool next = false;
-        while (sp > 0) {
-            uint c = stack[--sp];
-            RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
-            if (tc.x <= h.t) { node = c; next = true; break; }
+        if (done) break;
+        for (uint k = 0u; k < count; k++) {
+            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+                found = true;
+                if (any_hit) return true;
+            }
         }
-        if (!next) break;
     }
     return found;
 }
