@@ -8,6 +8,7 @@
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
@@ -40,6 +41,11 @@
  * of a shaders/trace.comp variant with the same bindings, e.g. from
  * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
  * view, the baselines timed once: per-step experiments measured side by side.
+ * --cpu-time: also the process's CPU time per frame of voxkit's primary rays
+ * and ESVO's (mean over the timed runs; columns McpuVX, McpuES: rays per CPU
+ * second, and their ratio cVX/ES): on lavapipe, whose worker threads run the
+ * kernels, a comparison that other jobs on the machine disturb less than the
+ * dispatch timestamps do.
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
  * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -48,6 +54,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
@@ -60,13 +67,20 @@ typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
+    double cpu_vx, cpu_es; /* process CPU seconds per frame (--cpu-time) */
 } view_result;
+
+static double cpu_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -203,7 +217,7 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     if (!time_base)
         out->sec_es = prev.sec_es, out->sec_dense = prev.sec_dense,
         memcpy(out->sec_t, prev.sec_t, sizeof out->sec_t), memcpy(out->steps_t, prev.steps_t, sizeof out->steps_t),
-        memcpy(out->agree_t, prev.agree_t, sizeof out->agree_t);
+        memcpy(out->agree_t, prev.agree_t, sizeof out->agree_t), out->cpu_es = prev.cpu_es;
     size_t npx = (size_t)d.width * d.height;
     /* one frame of each with per-pixel results */
     d.mode = VX_RENDER_DEPTH;
@@ -261,12 +275,17 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     d.want_hits = false;
     vx__frame f;
     /* voxkit primary rays (depth mode), then primary + shadow (colour mode) */
-    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, NULL, 0, s, &d, warmup, err) ||
-        vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err))
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, NULL, 0, s, &d, warmup, err))
         return 1;
-    if (es && time_base &&
-        (warm(NULL, es, NULL, 0, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
-        return 1;
+    double c0 = cpu_now();
+    if (vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err)) return 1;
+    out->cpu_vx = (cpu_now() - c0) / runs;
+    if (es && time_base) {
+        if (warm(NULL, es, NULL, 0, s, &d, warmup, err)) return 1;
+        c0 = cpu_now();
+        if (bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)) return 1;
+        out->cpu_es = (cpu_now() - c0) / runs;
+    }
     for (uint32_t tv = 0; es && t6 && time_base && tv < t6_variants; tv++)
         if (warm(NULL, NULL, t6, tv, s, &d, warmup, err) ||
             bench_tree64_frame(t6, tv, s, &d, runs, &out->sec_t[tv], NULL, NULL, err))
@@ -294,7 +313,7 @@ int main(int argc, char** argv) {
     int nkern = 1; /* 0: the built-in kernel */
     uint32_t runs = 15;
     double warmup = 0.5;
-    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false;
+    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
     int variant = -1;
@@ -352,6 +371,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--deep")) deep = true;
         else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
         else if (!strcmp(argv[i], "--mrays")) mrays = true;
+        else if (!strcmp(argv[i], "--cpu-time")) cpu = true;
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
         else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
@@ -387,6 +407,7 @@ int main(int argc, char** argv) {
     for (uint32_t tv = 0; use_tree64 && tv < t6_variants; tv++)
         printf("  stT64.%u %s %sstT64 T64/ES T64dep=", tv, hd[6], u);
     if (use_tree64) printf(" %9s", "MiB T64");
+    if (cpu) printf(" %5scpuVX %5scpuES cVX/ES", u, u);
     printf("\n");
     fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
@@ -498,12 +519,16 @@ int main(int argc, char** argv) {
                         size_t at = strlen(t64);
                         snprintf(t64 + at, sizeof t64 - at, " %9.2f", bench_tree64_bytes(&t6) / 1048576.0);
                     }
+                    char cp[64] = "";
+                    if (cpu)
+                        snprintf(cp, sizeof cp, " %10.2f %10.2f %6.2f", px / r.cpu_vx * U, esp ? px / r.cpu_es * U : 0.0,
+                                 esp ? r.cpu_es / r.cpu_vx : 0.0);
                     char kl[280] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
-                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s\n",
+                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
                            px / r.sec_vx * U, ges, px * r.steps_vx / r.sec_vx * U, gstes, ratio, agree,
-                           px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64,
+                           px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64, cp,
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
                 }

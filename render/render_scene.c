@@ -523,11 +523,11 @@ static bool use_precise(const vx_render_scene* rs) { return rs->force_precise < 
 
 bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_precise(rs); }
 
+bool vx__render_scene_far(const vx_render_scene* rs) { return rs && rs->far; }
+
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag) {
     if (rs) rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
 }
-
-bool vx__render_scene_far(const vx_render_scene* rs) { return rs && rs->far; }
 
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
