@@ -554,9 +554,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-        if (hit && HAS_COLOR && (m.flags & 1u) != 0u) {
+        if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
-            // loop runs masked on every step on SIMD CPUs such as lavapipe)
+            // loop runs masked on every step on SIMD CPUs such as lavapipe;
+            // shadow rays, any_hit, need none)
             int cs = idx ^ oct7;
             uint valid = (desc >> 8) & 0xFFu;
             uint leaf = desc & 0xFFu;
