@@ -7,7 +7,8 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...]
+ *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
@@ -39,13 +40,21 @@
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
  * of a shaders/trace.comp variant with the same bindings, e.g. from
  * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
- * view, the baselines timed once: per-step experiments measured side by side. */
+ * view, the baselines timed once: per-step experiments measured side by side.
+ * --cpu-time: also the process's CPU time per frame of voxkit's primary rays
+ * and ESVO's (mean over the timed runs; columns McpuVX, McpuES: rays per CPU
+ * second, and their ratio cVX/ES): on lavapipe, whose worker threads run the
+ * kernels, a comparison that other jobs on the machine disturb less than the
+ * dispatch timestamps do.
+ * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
+ * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
@@ -58,13 +67,20 @@ typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
+    double cpu_vx, cpu_es; /* process CPU seconds per frame (--cpu-time) */
 } view_result;
+
+static double cpu_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -201,7 +217,7 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     if (!time_base)
         out->sec_es = prev.sec_es, out->sec_dense = prev.sec_dense,
         memcpy(out->sec_t, prev.sec_t, sizeof out->sec_t), memcpy(out->steps_t, prev.steps_t, sizeof out->steps_t),
-        memcpy(out->agree_t, prev.agree_t, sizeof out->agree_t);
+        memcpy(out->agree_t, prev.agree_t, sizeof out->agree_t), out->cpu_es = prev.cpu_es;
     size_t npx = (size_t)d.width * d.height;
     /* one frame of each with per-pixel results */
     d.mode = VX_RENDER_DEPTH;
@@ -259,12 +275,17 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     d.want_hits = false;
     vx__frame f;
     /* voxkit primary rays (depth mode), then primary + shadow (colour mode) */
-    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, NULL, 0, s, &d, warmup, err) ||
-        vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err))
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) || warm(rs, NULL, NULL, 0, s, &d, warmup, err))
         return 1;
-    if (es && time_base &&
-        (warm(NULL, es, NULL, 0, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)))
-        return 1;
+    double c0 = cpu_now();
+    if (vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_vx, err)) return 1;
+    out->cpu_vx = (cpu_now() - c0) / runs;
+    if (es && time_base) {
+        if (warm(NULL, es, NULL, 0, s, &d, warmup, err)) return 1;
+        c0 = cpu_now();
+        if (bench_esvo_frame(es, s, &d, runs, &out->sec_es, NULL, NULL, err)) return 1;
+        out->cpu_es = (cpu_now() - c0) / runs;
+    }
     for (uint32_t tv = 0; es && t6 && time_base && tv < t6_variants; tv++)
         if (warm(NULL, NULL, t6, tv, s, &d, warmup, err) ||
             bench_tree64_frame(t6, tv, s, &d, runs, &out->sec_t[tv], NULL, NULL, err))
@@ -292,7 +313,7 @@ int main(int argc, char** argv) {
     int nkern = 1; /* 0: the built-in kernel */
     uint32_t runs = 15;
     double warmup = 0.5;
-    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false;
+    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
     int variant = -1;
@@ -349,6 +370,8 @@ int main(int argc, char** argv) {
         } else if (!strcmp(argv[i], "--generate")) gen = true;
         else if (!strcmp(argv[i], "--deep")) deep = true;
         else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
+        else if (!strcmp(argv[i], "--mrays")) mrays = true;
+        else if (!strcmp(argv[i], "--cpu-time")) cpu = true;
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
         else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
@@ -372,12 +395,19 @@ int main(int argc, char** argv) {
     }
     printf("device: %s; median of %u timestamped dispatches after %.2f s warm-up per kernel and view\n",
            vx_gpu_device_name(gpu), runs, warmup);
+    /* rates in G (M with --mrays) per second */
+    const double U = mrays ? 1e-6 : 1e-9;
+    const char* u = mrays ? "M" : "G";
+    char hd[7][16];
+    static const char* const hn[7] = {"rayVX", "rayES", "stVX", "stES", "pixSh", "rayDn", "rayT64"};
+    for (int k = 0; k < 7; k++) snprintf(hd[k], sizeof hd[k], "%s%s", u, hn[k]);
     printf("%-20s %-8s %-9s %4s %5s %5s %5s %6s %6s %7s %7s %7s %7s %6s %7s %7s %7s %9s %9s", "scene", "view", "size",
-           "beam", "hit", "entVX", "entES", "stVX", "stES", "GrayVX", "GrayES", "GstVX", "GstES", "VX/ES", "depth=",
-           "GpixSh", "GrayDn", "MiB VX", "MiB ES");
+           "beam", "hit", "entVX", "entES", "stVX", "stES", hd[0], hd[1], hd[2], hd[3], "VX/ES", "depth=", hd[4],
+           hd[5], "MiB VX", "MiB ES");
     for (uint32_t tv = 0; use_tree64 && tv < t6_variants; tv++)
-        printf("  stT64.%u GrayT64 GstT64 T64/ES T64dep=", tv);
+        printf("  stT64.%u %s %sstT64 T64/ES T64dep=", tv, hd[6], u);
     if (use_tree64) printf(" %9s", "MiB T64");
+    if (cpu) printf(" %5scpuVX %5scpuES cVX/ES", u, u);
     printf("\n");
     fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
@@ -472,29 +502,33 @@ int main(int argc, char** argv) {
                     snprintf(sz, sizeof sz, "%ux%u", w, h);
                     snprintf(enes, sizeof enes, esp ? "%.0f%%" : "-", 100 * r.enter_es);
                     snprintf(stes, sizeof stes, esp ? "%.1f" : "-", r.steps_es);
-                    snprintf(ges, sizeof ges, esp ? "%.2f" : "-", px / r.sec_es * 1e-9);
-                    snprintf(gstes, sizeof gstes, esp ? "%.0f" : "-", px * r.steps_es / r.sec_es * 1e-9);
+                    snprintf(ges, sizeof ges, esp ? "%.2f" : "-", px / r.sec_es * U);
+                    snprintf(gstes, sizeof gstes, esp ? "%.0f" : "-", px * r.steps_es / r.sec_es * U);
                     snprintf(ratio, sizeof ratio, esp ? "%.2f" : "-", r.sec_es / r.sec_vx);
                     snprintf(agree, sizeof agree, esp ? "%.3f%%" : "-", 100 * r.agree);
-                    snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * 1e-9);
+                    snprintf(dn, sizeof dn, dense ? "%.2f" : "-", px / r.sec_dense * U);
                     snprintf(mes, sizeof mes, esp ? "%.2f" : "-", bench_esvo_bytes(&es) / 1048576.0);
                     char t64[192] = "";
                     for (uint32_t tv = 0; t6p && tv < t6_variants; tv++) {
                         size_t at = strlen(t64);
                         snprintf(t64 + at, sizeof t64 - at, " %8.1f %7.2f %6.0f %6.2f %6.3f%%", r.steps_t[tv],
-                                 px / r.sec_t[tv] * 1e-9, px * r.steps_t[tv] / r.sec_t[tv] * 1e-9,
+                                 px / r.sec_t[tv] * U, px * r.steps_t[tv] / r.sec_t[tv] * U,
                                  r.sec_es / r.sec_t[tv], 100 * r.agree_t[tv]);
                     }
                     if (t6p) {
                         size_t at = strlen(t64);
                         snprintf(t64 + at, sizeof t64 - at, " %9.2f", bench_tree64_bytes(&t6) / 1048576.0);
                     }
+                    char cp[64] = "";
+                    if (cpu)
+                        snprintf(cp, sizeof cp, " %10.2f %10.2f %6.2f", px / r.cpu_vx * U, esp ? px / r.cpu_es * U : 0.0,
+                                 esp ? r.cpu_es / r.cpu_vx : 0.0);
                     char kl[280] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
-                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s\n",
+                    printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
-                           px / r.sec_vx * 1e-9, ges, px * r.steps_vx / r.sec_vx * 1e-9, gstes, ratio, agree,
-                           px / r.sec_shadow * 1e-9, dn, vx_bytes / 1048576.0, mes, t64,
+                           px / r.sec_vx * U, ges, px * r.steps_vx / r.sec_vx * U, gstes, ratio, agree,
+                           px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64, cp,
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
                 }
@@ -511,8 +545,8 @@ int main(int argc, char** argv) {
         }
         uint64_t voxels = 0;
         for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
-        fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s)\n", name, (unsigned long long)voxels,
-                t_load, esp ? es.build_seconds : 0.0);
+        fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s, far pointer test %s)\n", name,
+                (unsigned long long)voxels, t_load, esp ? es.build_seconds : 0.0, vx__render_scene_far(rs) ? "on" : "off");
         if (t6p)
             fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
                     (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);

@@ -20,7 +20,10 @@ typedef struct vx__gpu_model {
 } vx__gpu_model;
 /* EXACT: the trace kernel keeps the ray origin as hi/lo and computes a hit's
  * t from its cube's entry planes (models deeper than VX_RENDER_EXACT_DEPTH) */
-enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u };
+enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
+/* FAR (host side; the shaders ignore the bit): the model's node words may
+ * hold a far pointer. The trace kernel's FAR constant (id 9) is the OR over
+ * the scene's models. */
 
 typedef struct vx__gpu_inst {
     float r[3][4];  /* model-from-world rows (world relative to the frame reference) */
@@ -68,6 +71,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
+/* Tests and benchmarks: the trace kernel's FAR constant (some model of the
+ * scene may hold a far pointer, so the kernel tests the far bit per push). */
+bool vx__render_scene_far(const vx_render_scene* rs);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one); tag (nonzero) tells their pipelines apart.

@@ -45,6 +45,7 @@ struct vx_render_scene {
     double bvh_seconds;
     bool has_color;
     uint32_t deep; /* the trace kernel's DEEP constant: 1 some model is exact, 2 some model is rebased */
+    bool far;      /* the trace kernel's FAR constant: some model may hold a far pointer */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
     /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
@@ -106,6 +107,18 @@ static uint32_t model_box(const vx_svo_model* m) {
     return b;
 }
 
+/* Far pointers (issue 21): the test of a descriptor's far bit on every push
+ * cost 2-5% of the primary rays/s on the H200, so the trace kernel has it
+ * only where some model may hold one (constant FAR). A model may when any of
+ * its node words n[from, count) has bit 16 set: a descriptor's far bit, or a
+ * far slot or attribute index of 2^16 or more (false positives, which only
+ * keep the test). Models under 2^16 node words and records never have one. */
+static bool words_may_far(const vx_svo_model* m, uint32_t from) {
+    uint32_t acc = 0;
+    for (uint32_t i = from; i < m->node_count; i++) acc |= m->nodes[i];
+    return (acc >> 16) & 1u;
+}
+
 static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->root >= VX_SVO_ROOT_LEAF) return;
     if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
@@ -148,6 +161,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         gm[i].box = model_box(m);
         deep_model(m, &gm[i]);
         rs->deep = deep_level(rs->deep, &gm[i]);
+        if (words_may_far(m, 0)) gm[i].flags |= VX__MODEL_FAR, rs->far = true;
         rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
         rs->creg[i] = (region){.off = co};
         if (m->attrs) {
@@ -516,7 +530,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     }
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
-    gm.flags &= VX__MODEL_HAS_COLOR, gm.rebase = 0, gm.box = model_box(m);
+    /* the words below wvalid stay: the FAR bit is kept and ORed with the new ones' */
+    gm.flags &= VX__MODEL_HAS_COLOR | VX__MODEL_FAR, gm.rebase = 0, gm.box = model_box(m);
+    if (words_may_far(m, wvalid)) gm.flags |= VX__MODEL_FAR;
     deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {
@@ -555,8 +571,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
-    rs->deep = 0;
-    for (uint32_t i = 0; i < rs->model_count; i++) rs->deep = deep_level(rs->deep, &rs->gm[i]);
+    rs->deep = 0, rs->far = false;
+    for (uint32_t i = 0; i < rs->model_count; i++)
+        rs->deep = deep_level(rs->deep, &rs->gm[i]), rs->far |= (rs->gm[i].flags & VX__MODEL_FAR) != 0;
     if (depth > rs->max_depth) rs->max_depth = depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     /* a new size or an emptied (or no longer empty) model changes instance
@@ -583,6 +600,8 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs) { return rs ? rs->
 static bool use_precise(const vx_render_scene* rs) { return rs->force_precise < 0 ? rs->precise : rs->force_precise > 0; }
 
 bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_precise(rs); }
+
+bool vx__render_scene_far(const vx_render_scene* rs) { return rs && rs->far; }
 
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag) {
     if (rs) rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
@@ -680,18 +699,18 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP */
-    uint32_t spec[9] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
-                        precise ? 0 : rs->deep};
+    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
+    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+                         precise ? 0 : rs->deep, rs->far};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < 9; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam */
     uint32_t nb = precise ? 10 : 11;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = 9, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 10, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);

@@ -25,6 +25,9 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // scenes keep the plain loop and those of 9-10 level models pay only at hits.
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
+// Some model may hold a far pointer (render_scene.c sets it off where none
+// can: the far bit's test on every push cost 2-5% on the H200, issue 21).
+layout(constant_id = 9) const bool FAR = true;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -117,7 +120,7 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
 // (valid, not leaf) below cbit.
 uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     uint blk = parent - (desc >> 17);
-    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
     return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
@@ -377,18 +380,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
                     }
                     if (stop) {
+                        // the attribute record is found after the loop
                         hit = true;
-                        if (HAS_COLOR && (m.flags & 1u) != 0u) {
-#ifndef PRECISE
-                            uint valid = (desc >> 8) & 0xFFu;
-                            uint leaf = desc & 0xFFu;
-#endif
-                            uint blk = parent - (desc >> 17);
-                            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                            uint a = nodes[blk + bitCount(valid & ~leaf)];
-                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
-                            have_attr = true;
-                        }
                         break;
                     }
 #ifndef PRECISE
@@ -407,7 +400,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     hh = tc_max;
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
-                    if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
 #else
                     parent = child_node(parent, desc, cbit, nbase);
@@ -561,6 +554,19 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+        if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
+            // the hit child's attribute record (after the loop: code in the
+            // loop runs masked on every step on SIMD CPUs such as lavapipe;
+            // shadow rays, any_hit, need none)
+            int cs = idx ^ oct7;
+            uint valid = (desc >> 8) & 0xFFu;
+            uint leaf = desc & 0xFFu;
+            uint blk = parent - (desc >> 17);
+            if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+            uint a = nodes[blk + bitCount(valid & ~leaf)];
+            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
+            have_attr = true;
+        }
     }
     if (!hit) return false;
 #ifdef PRECISE
@@ -706,18 +712,30 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     uint node = 0u;
     RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    // The walk to the next leaf is a loop of its own, and the leaf's
+    // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
+    // every branch masked, so the octree walk runs once per leaf visit
+    // rather than once per BVH step.
+    bool pop_next = false;
     while (true) {
-        BNode n = bvh[node];
-        uint count = floatBitsToUint(n.hi.w);
-        uint first = floatBitsToUint(n.lo.w);
-        if (count > 0u) {
-            for (uint k = 0u; k < count; k++) {
-                if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
-                    found = true;
-                    if (any_hit) return true;
+        uint first = 0u, count = 0u;
+        bool done = false;
+        while (true) {
+            if (pop_next) {
+                // pop, skipping nodes now beyond the nearest hit
+                pop_next = false;
+                bool next = false;
+                while (sp > 0) {
+                    uint c = stack[--sp];
+                    RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
+                    if (tc.x <= h.t) { node = c; next = true; break; }
                 }
+                if (!next) { done = true; break; }
             }
-        } else {
+            BNode n = bvh[node];
+            count = floatBitsToUint(n.hi.w);
+            first = floatBitsToUint(n.lo.w);
+            if (count > 0u) { pop_next = true; break; }
             BNode a = bvh[first], b = bvh[first + 1u];
             RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
             RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
@@ -729,19 +747,21 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
                 uint farc = ta.x <= tb.x ? first + 1u : first;
                 if (sp < 64) stack[sp++] = farc;
                 node = nearc;
-                continue;
+            } else if (ha) {
+                node = first;
+            } else if (hb) {
+                node = first + 1u;
+            } else {
+                pop_next = true;
             }
-            if (ha) { node = first; continue; }
-            if (hb) { node = first + 1u; continue; }
         }
-        // pop, skipping nodes now beyond the nearest hit
-        bool next = false;
-        while (sp > 0) {
-            uint c = stack[--sp];
-            RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
-            if (tc.x <= h.t) { node = c; next = true; break; }
+        if (done) break;
+        for (uint k = 0u; k < count; k++) {
+            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+                found = true;
+                if (any_hit) return true;
+            }
         }
-        if (!next) break;
     }
     return found;
 }

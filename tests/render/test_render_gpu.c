@@ -9,7 +9,9 @@
 
 #include "convert/convert.h"
 #include "formats/vox.h"
-#include "render/render_internal.h" /* vx__render_scene_force_precise */
+#include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
+#include "svo/edit.h"
+#include "svo/svo_internal.h" /* vx__svo_far_limit */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/gpu_test.h"
@@ -516,6 +518,114 @@ static void test_deep_without_float64(void) {
  * origins, edges, colour modes): deep models may share a scene with these. */
 static void test_transforms(void);
 static void test_many_instances(void);
+
+/* Far descriptors reachable from node i (the tree walked, DAG blocks once per path). */
+static uint32_t far_descs(const vx_svo_model* m, uint32_t i) {
+    uint32_t d = m->nodes[i], n = vx_svo_desc_far(d);
+    uint32_t blk = vx_svo_desc_far(d) ? m->nodes[i - vx_svo_desc_ptr(d)] : i - vx_svo_desc_ptr(d);
+    uint32_t inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
+    for (uint32_t k = 0; inner; inner &= inner - 1, k++) n += far_descs(m, blk + k);
+    return n;
+}
+
+/* The GPU frame of rs (depth with hits) against the CPU reference's: the
+ * rule of check_scene, for a render scene the caller made or updated. */
+static void check_frame(const char* name, vx_render_scene* rs, const vx_svo_scene* s, vx_render_desc d) {
+    d.want_hits = true;
+    vx_render_image gi = {0}, ci = {0};
+    vx_error err = {0};
+    vx_result r = vx_render_frame(rs, &d, &gi, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    vx_result rc = vx_render_cpu(s, &d, NULL, &ci, &err);
+    CHECKF(rc == VX_OK, "%s: %s", name, err.msg);
+    if (!r && !rc) {
+        cmp_result c = compare(name, &gi, &ci);
+        CHECKF(c.hits >= 100, "%s: %zu hits", name, c.hits);
+        CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",
+               name, c.bad, c.pixels);
+        CHECKF(c.depth_bad <= (1 - g_min_share) * c.pixels, "%s: %zu depths off by more than 1e-4", name, c.depth_bad);
+    }
+    vx_render_image_free(&gi);
+    vx_render_image_free(&ci);
+}
+
+/* Far pointers (issue 21): the trace kernel tests a descriptor's far bit
+ * only where some model may hold a far pointer (its FAR constant,
+ * render_scene.c). A model built with the far limit lowered to 3 (far
+ * pointers throughout a small tree) must turn FAR on and trace the CPU
+ * reference's cells, in colour too (the hit's attribute record goes
+ * through the far slot); the same cells built as usual (a small model has
+ * none) leave it off; and a scene made without far pointers turns it on when
+ * an edit appends some (vx_render_scene_update_model) and traces the
+ * reference's cells after. */
+static void test_far_pointers(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_render_desc views[2] = {cam(-9, -14, 30, 10, 8, 11), cam(40, 31, -6, 10, 8, 11)};
+    views[0].width = views[1].width = 64, views[0].height = views[1].height = 48;
+    for (int lim = 0; lim < 2; lim++) {
+        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
+        vx_svo_model m;
+        vx_result br = ts_random_model(&m, 20, 17, 23, 35, 777);
+        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        REQUIRE(br == VX_OK);
+        uint32_t nfar = far_descs(&m, m.root);
+        CHECKF(lim ? nfar > 20 : nfar == 0, "far limit %s: %u far descriptors", lim ? "3" : "default", nfar);
+        vx_svo_scene s;
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        ts_scene(&s, &m, 1, &in, 1);
+        vx_render_scene* rs = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+        CHECKF(vx__render_scene_far(rs) == (lim == 1), "far limit %s: FAR %d", lim ? "3" : "default",
+               vx__render_scene_far(rs));
+        for (int v = 0; v < 2; v++) {
+            char nm[64];
+            snprintf(nm, sizeof nm, "far pointers %s view %d", lim ? "throughout" : "none", v);
+            check_frame(nm, rs, &s, views[v]);
+        }
+        if (lim) {
+            /* colour: the hit's attribute record through a far block */
+            vx_render_desc d = views[0];
+            d.mode = VX_RENDER_ALBEDO;
+            vx_render_image gi = {0}, ci = {0};
+            REQUIRE(vx_render_frame(rs, &d, &gi, &err) == VX_OK);
+            REQUIRE(vx_render_cpu(&s, &d, NULL, &ci, &err) == VX_OK);
+            size_t n = (size_t)d.width * d.height, off = 0;
+            for (size_t i = 0; i < 4 * n; i++) off += fabsf(gi.pixels[i] - ci.pixels[i]) > 1e-5f;
+            CHECKF(off <= n / 1000, "far pointers: %zu albedo channels differ from the CPU reference", off);
+            vx_render_image_free(&gi);
+            vx_render_image_free(&ci);
+        } else {
+            /* an edit with the far limit at 3 appends far pointers: FAR turns on */
+            vx__svo_far_limit = 3;
+            vx_svo_editor* e = NULL;
+            vx_result er = vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e, &err);
+            vx__svo_far_limit = VX__SVO_PTR_MAX;
+            REQUIRE(er == VX_OK);
+            static vx_svo_cell_write w[7 * 7 * 7];
+            size_t nw = 0;
+            for (uint32_t z = 4; z < 11; z++)
+                for (uint32_t y = 3; y < 10; y++)
+                    for (uint32_t x = 5; x < 12; x++)
+                        w[nw++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = (x + y + z) % 3 != 0,
+                                                      .value = {.palette = (uint8_t)(1 + (x * 7 + z) % 200)}};
+            vx_svo_edit_stats st;
+            REQUIRE(vx_svo_editor_apply(e, w, nw, &st, &err) == VX_OK);
+            vx_svo_editor_destroy(e);
+            CHECKF(far_descs(&s.models[0], s.models[0].root) > 0, "the edit appended no far pointer");
+            REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
+            CHECK(vx__render_scene_far(rs));
+            for (int v = 0; v < 2; v++) {
+                char nm[64];
+                snprintf(nm, sizeof nm, "far pointers after an edit, view %d", v);
+                check_frame(nm, rs, &s, views[v]);
+            }
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+    }
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
 static void test_modes(void);
 static void test_precise_variant(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -797,6 +907,7 @@ int main(void) {
     RUN(test_deep_without_float64);
     RUN(test_precise_variant);
     RUN(test_many_instances);
+    RUN(test_far_pointers);
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
