@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
         vx_conv_mesh_desc d = {.res = res[ri]};
-        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[8][MAXRUNS];
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[9][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);
         memset(&got, 0, sizeof got);
@@ -108,16 +108,16 @@ int main(int argc, char** argv) {
             vx_conv_mesh_gpu_last_stats(mg, &gs);
             if (k < 0) continue;
             gpu_t[k] = t;
-            double v[8] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink};
-            for (int q = 0; q < 8; q++) st[q][k] = v[q];
+            double v[9] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern};
+            for (int q = 0; q < 9; q++) st[q][k] = v[q];
         }
         uint8_t *a = NULL, *b = NULL;
         bool compare = cpu_runs > 0 && !cells_only;
         size_t na = compare ? svo_bytes(&ref, &a) : 0, nb = compare ? svo_bytes(&got, &b) : 0;
         int equal = compare && na == nb && na && !memcmp(a, b, na);
         if (compare && !equal) fail = 1;
-        double med[8];
-        for (int q = 0; q < 8; q++) med[q] = bench_median(st[q], runs);
+        double med[9];
+        for (int q = 0; q < 9; q++) med[q] = bench_median(st[q], runs);
         double gpu_vox = med[1] + med[2] + med[3] + med[4] + med[5] + med[6];
         double cpu_med = cpu_runs > 0 ? bench_median(cpu, cpu_runs) : 0, gpu_med = bench_median(gpu_t, runs);
         printf("res %u: %llu pairs, %llu pieces, %llu cells, %u sort passes\n", res[ri], (unsigned long long)gs.pairs,
@@ -125,11 +125,14 @@ int main(int argc, char** argv) {
         printf("  CPU path (vx_conv_mesh, all cores): median %.1f ms of %d (voxelize %.1f + build %.1f ms, last run)\n",
                cpu_med * 1e3, cpu_runs, cs.seconds_voxelize * 1e3, cs.seconds_build * 1e3);
         printf("  GPU path: median %.1f ms of %d = bin (CPU) %.1f + upload %.1f + count %.1f + emit %.1f + sort %.1f + "
-               "reduce %.1f + download %.1f + %s %.1f ms\n",
+               "reduce %.1f + tuples interned %.1f + download %.1f + %s %.1f ms\n",
                gpu_med * 1e3, runs, med[0] * 1e3, med[1] * 1e3, med[2] * 1e3, med[3] * 1e3, med[4] * 1e3,
-               med[5] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)", med[7] * 1e3);
-        printf("  GPU voxelization alone (upload .. download): %.1f ms; with the CPU binning %.1f ms\n", gpu_vox * 1e3,
-               (gpu_vox + med[0]) * 1e3);
+               med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)",
+               med[7] * 1e3);
+        printf("  tuples interned for the builders: %llu distinct (per region) of %llu cells, %u sort passes\n",
+               (unsigned long long)gs.tuples, (unsigned long long)gs.cells, gs.intern_passes);
+        printf("  GPU voxelization alone (upload .. download, without the interning): %.1f ms; with the CPU binning "
+               "%.1f ms\n", gpu_vox * 1e3, (gpu_vox + med[0]) * 1e3);
         if (compare)
             printf("  .svo CPU %zu bytes, GPU %zu bytes: %s; speed-up of the whole conversion %.2fx\n", na, nb,
                    equal ? "EQUAL" : "DIFFERENT", cpu_med / gpu_med);

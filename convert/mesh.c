@@ -43,7 +43,14 @@ static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
     p.index = r->index;
     memcpy(p.origin, r->origin, sizeof p.origin);
     double t0 = vx_time_now();
-    vx_result res = vx_svo_build_model(&bd, &in, &p.model, &p.build, err);
+    vx_result res;
+    if (r->interned.rec) { /* the tuples come interned: the arrays stay out */
+        in.rgba = in.normal = NULL;
+        in.material = NULL;
+        res = vx__svo_build_interned(&bd, &in, &r->interned, &p.model, &p.build, err);
+    } else {
+        res = vx_svo_build_model(&bd, &in, &p.model, &p.build, err);
+    }
     p.seconds_build = vx_time_now() - t0;
     if (res) {
         char where[64];

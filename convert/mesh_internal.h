@@ -3,6 +3,7 @@
 #define VX_CONVERT_MESH_INTERNAL_H
 
 #include "convert/mesh.h"
+#include "svo/svo_internal.h"
 
 #define VX__MESH_BRICK_BITS 6u /* bricks of 64^3 cells */
 
@@ -18,6 +19,10 @@ typedef struct vx__mesh_region {
     const uint32_t* normal;
     const uint16_t* material; /* VX_ATTR_MATERIAL: vx__mesh_material_id of the cell's material */
     uint32_t attrs;
+    /* The same tuples interned (interned.rec non-NULL; the GPU voxelizer):
+     * the builder takes these (vx__svo_build_interned) instead of hashing
+     * the arrays above, which stay for other sinks. */
+    vx__svo_interned interned;
 } vx__mesh_region;
 
 /* A region handed to the sink, placed: zeroed, then its origin and size in

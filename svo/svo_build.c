@@ -766,8 +766,25 @@ static unsigned bits_for(uint64_t maxval) {
     return k;
 }
 
+static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                       vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err);
+
 vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
                              vx_svo_build_stats* stats, vx_error* err) {
+    return build(desc, in, NULL, out, stats, err);
+}
+
+vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                                 vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
+    if (!in || !pre) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
+    if (!in->attrs || in->level || (in->count && (!pre->rec || (pre->count && !pre->tab))))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned entries need attrs, ids and no tiles");
+    return build(desc, in, pre, out, stats, err);
+}
+
+/* pre: the tuples interned by the caller (vx__svo_build_interned), else NULL. */
+static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                       vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     vx_svo_build_desc d;
     if (desc) d = *desc;
     else memset(&d, 0, sizeof d);
@@ -790,7 +807,7 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: unknown attribute bits 0x%x", in->attrs);
     const void* chans[5] = {in->palette, in->rgba, in->normal, in->material, in->density};
     for (unsigned c = 0; c < 5; c++) {
-        bool want = in->attrs >> c & 1u;
+        bool want = in->attrs >> c & 1u && !pre; /* interned: the tuples come in pre */
         if (want && !chans[c] && in->count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: attrs names %s but the array is NULL",
                            attr_name(1u << c));
@@ -850,6 +867,22 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
             rec_intern(&b, &z);
             if (b.fail) { res = b.fail; goto done; }
         }
+        /* interned by the caller: tuple j gets id j, once */
+        for (size_t j = 0; pre && j < pre->count; j++) {
+            rec r = pre->tab[j];
+            r.pad = 0;
+            if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
+            if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+            if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
+            if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
+            if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
+            uint32_t id = rec_intern(&b, &r);
+            if (id == UINT32_MAX) { res = b.fail; goto done; }
+            if (id != j) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned tuples %u and %zu are equal", id, j);
+                goto done;
+            }
+        }
         bool full[3];
         for (int a = 0; a < 3; a++) full[a] = in->size[a] == (1u << depth);
         unsigned kb0 = 3 * depth < 63 ? 3 * depth : 63;
@@ -884,7 +917,14 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
             sorted = sorted && k >= prev;
             prev = k;
             uint32_t id = 0;
-            if (b.attrs) {
+            if (pre) {
+                id = pre->rec[i];
+                if (id >= pre->count) {
+                    res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: entry %zu: tuple %u of %zu", i, id,
+                                  pre->count);
+                    goto done;
+                }
+            } else if (b.attrs) {
                 rec r;
                 memset(&r, 0, sizeof r);
                 if (in->palette) r.palette = in->palette[i];

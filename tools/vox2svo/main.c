@@ -309,10 +309,12 @@ int main(int argc, char** argv) {
         vx_conv_mesh_gpu_last_stats(mg, &gs);
         fprintf(stderr,
                 "%s: GPU voxelizer: bin %.1f ms (CPU), upload %.1f, count %.1f, emit %.1f, sort %.1f (%u passes), "
-                "reduce %.1f, download %.1f, regions to the octree builder %.1f ms; %llu pairs, %llu pieces, %llu cells\n",
+                "reduce %.1f, tuples interned %.1f (%u passes), download %.1f, regions to the octree builder %.1f ms; "
+                "%llu pairs, %llu pieces, %llu cells, %llu distinct tuples\n",
                 vx_tool_name, gs.bin * 1e3, gs.upload * 1e3, gs.count * 1e3, gs.emit * 1e3, gs.sort * 1e3,
-                gs.sort_passes, gs.reduce * 1e3, gs.download * 1e3, gs.sink * 1e3, (unsigned long long)gs.pairs,
-                (unsigned long long)gs.records, (unsigned long long)gs.cells);
+                gs.sort_passes, gs.reduce * 1e3, gs.intern * 1e3, gs.intern_passes, gs.download * 1e3, gs.sink * 1e3,
+                (unsigned long long)gs.pairs, (unsigned long long)gs.records, (unsigned long long)gs.cells,
+                (unsigned long long)gs.tuples);
     }
     vx_conv_mesh_gpu_destroy(mg);
     if (gpu) vx_gpu_destroy(gpu);
