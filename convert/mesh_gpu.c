@@ -206,9 +206,10 @@ typedef struct region_job {
     const uint32_t* okeys;        /* 2 per cell: (local | brick << 18, brick >> 14) */
     const uint32_t *rgba, *nrm, *mat;
     const size_t* cstart;         /* first cell of each region; [region_count] = cells */
-    const uint32_t* ids;          /* interned tuples (meshintern.comp), or NULL: per cell a global id */
+    const uint32_t* ids;          /* per cell its tuple's global id (meshintern.comp), or NULL: not interned */
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
+    bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     uint32_t attrs;
     vx__mesh_sink sink;
     void* user;
@@ -263,7 +264,7 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
-    reg.interned = (vx__svo_interned){rec, tab, nu};
+    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread};
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -617,15 +618,19 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             }
             ustart[bins.region_count] = u;
         }
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, attrs, sink, user, a,
-                        PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, attrs, sink, user,
+                        a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
             long nc = sysconf(_SC_NPROCESSORS_ONLN);
             threads = nc > 0 ? (unsigned)nc : 1;
         }
+        unsigned cores = threads;
         if (threads > 64) threads = 64;
         if (threads > bins.region_count) threads = (unsigned)(bins.region_count ? bins.region_count : 1);
+        /* fewer regions than cores (8 regions at 1024^3 and beyond): each
+         * builder lays its blocks out on a second thread as it builds */
+        j.layout_thread = 2 * threads <= cores;
         pthread_t th[64];
         unsigned started = 0;
         for (unsigned i = 1; i < threads; i++) {

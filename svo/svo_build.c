@@ -9,8 +9,12 @@
  * changes: collapse check, representative attribute, hash-consing (DAG);
  * (4) node blocks are laid out in creation order, which is a post-order
  * (children first), so every child pointer points backwards. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 
 #include "svo/svo_internal.h"
 
@@ -53,6 +57,11 @@ typedef struct bld {
     uint64_t ncollapsed;
     pending lv[VX_SVO_MAX_DEPTH + 2];
     uint32_t depth;
+    /* With the layout on a second thread (build_layout_thread): the pool is
+     * allocated once at a bound (never moved), each appended node published
+     * here; NULL when the layout runs after the build. */
+    _Atomic size_t* pub;
+    size_t laid; /* pool words already laid out */
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -312,8 +321,9 @@ static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
 /* Appends a node to the pool without looking for an equal one. */
 static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep) {
     size_t need = b->npool + N_KIDS + nk;
-    if (need >= 0xFFFFFFF0u) {
-        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
+    if (need >= 0xFFFFFFF0u || (b->pub && need > b->cappool)) { /* the second: the bound was wrong; never move the pool */
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds %s words",
+                          b->pub ? "its bound" : "2^32");
         return UINT32_MAX;
     }
     if (!vx_grow(b->a, (void**)&b->pool, &b->cappool, need, sizeof(uint32_t))) {
@@ -328,6 +338,7 @@ static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
     memcpy(n + N_KIDS, kids, nk * sizeof *kids);
     b->npool = need;
     b->nnodes++;
+    if (b->pub) atomic_store_explicit(b->pub, need, memory_order_release);
     return id;
 }
 
@@ -575,10 +586,10 @@ static inline bool node_has_block(const bld* b, const uint32_t* n) {
 
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
-static bool layout(bld* b, outw* o) {
+static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
     uint32_t limit = b->limit;
-    size_t off = 0;
-    while (off < b->npool) {
+    size_t off = *off_io;
+    while (off < end) {
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -675,6 +686,102 @@ static bool layout(bld* b, outw* o) {
         n[N_BLOCK] = (uint32_t)bstart;
         off = next;
     }
+    *off_io = off;
+    return true;
+}
+
+/* ---- the layout on a second thread -------------------------------------------------------- */
+
+/* Blocks are written in pool order and a node's block needs only its
+ * children's, which come earlier in the pool: so the layout can follow the
+ * build on another thread, node by node as they are appended, and the
+ * result is the sequential one. The producer never moves the pool (it is
+ * allocated at a bound), reads no N_BLOCK word and writes nodes only before
+ * publishing them; the layout writes only N_BLOCK words and its own outw. */
+typedef struct lay_job {
+    bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
+    outw* o;
+    _Atomic size_t pub;
+    atomic_bool stop;
+    vx_error err;
+    pthread_t th;
+    bool started;
+} lay_job;
+
+static void* lay_main(void* arg) {
+    lay_job* j = (lay_job*)arg;
+    size_t off = 0;
+    for (;;) {
+        bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
+        size_t end = atomic_load_explicit(&j->pub, memory_order_acquire);
+        if (off < end) {
+            if (!layout_nodes(&j->lb, j->o, &off, end)) break;
+            continue;
+        }
+        if (stop) break;
+        nanosleep(&(struct timespec){0, 20000}, NULL); /* the build appends about a node per microsecond */
+    }
+    j->lb.laid = off;
+    return NULL;
+}
+
+/* Words of pool the build of n entries (no tiles) can need: at most
+ * min(n, 8^(depth-l)) nodes at level l, each N_KIDS words plus its children,
+ * a child being a node or an entry. */
+static size_t pool_bound(size_t n, uint32_t depth) {
+    double nodes = 0;
+    for (uint32_t l = 1; l <= depth; l++) {
+        double cubes = pow(8.0, (double)(depth - l));
+        nodes += cubes < (double)n ? cubes : (double)n;
+    }
+    double words = (N_KIDS + 1) * nodes + (double)n + 16;
+    return words < 4.0e9 ? (size_t)words : 0;
+}
+
+/* Starts the layout thread over b's pool, allocated at the bound; false
+ * (and nothing started) when either cannot be had: the layout then runs
+ * after the build as usual. */
+static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
+    size_t words = pool_bound(n, b->depth);
+    if (!words || b->pool) return false;
+    b->pool = (uint32_t*)vx_alloc(b->a, words * sizeof *b->pool);
+    if (!b->pool) return false;
+    b->cappool = words;
+    j->o = o;
+    atomic_init(&j->pub, 0);
+    atomic_init(&j->stop, false);
+    memset(&j->err, 0, sizeof j->err);
+    j->lb = *b;
+    j->lb.err = &j->err;
+    j->lb.fail = VX_OK;
+    b->pub = &j->pub;
+    if (pthread_create(&j->th, NULL, lay_main, j) != 0) {
+        b->pub = NULL; /* the pool stays, growable as usual */
+        return false;
+    }
+    j->started = true;
+    return true;
+}
+
+/* Lets the layout thread finish what was published and joins it; with
+ * propagate, its failure becomes b's. */
+static void lay_join(lay_job* j, bld* b, bool propagate) {
+    if (!j->started) return;
+    atomic_store_explicit(&j->stop, true, memory_order_release);
+    pthread_join(j->th, NULL);
+    j->started = false;
+    b->pub = NULL;
+    b->laid = j->lb.laid;
+    if (propagate && j->lb.fail != VX_OK && b->fail == VX_OK) {
+        b->fail = j->lb.fail;
+        if (b->err) *b->err = j->err;
+    }
+}
+
+/* The blocks of the nodes not laid out yet, then the root descriptor. */
+static bool layout(bld* b, outw* o) {
+    uint32_t limit = b->limit;
+    if (!layout_nodes(b, o, &b->laid, b->npool)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -846,6 +953,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     size_t* cnt = NULL;
     outw o;
     memset(&o, 0, sizeof o);
+    lay_job lj;
+    lj.started = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
@@ -1002,7 +1111,9 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 etmp = NULL;
             }
         }
-        /* pass 3: stream bottom-up */
+        /* pass 3: stream bottom-up (the layout following on a second thread
+         * where the caller has a core to spare; else it runs afterwards) */
+        if (pre && pre->layout_thread && n >= ((size_t)1 << 16)) lay_start(&lj, &b, &o, n);
         unsigned s = ab + lb;
         uint64_t amask = ((uint64_t)1 << ab) - 1;
         uint64_t lastkey = 0, covered_end = 0;
@@ -1065,6 +1176,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
         }
         for (unsigned l = 1; l <= depth; l++)
             if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
+        lay_join(&lj, &b, true);
+        if (b.fail) { res = b.fail; goto done; }
     }
     vx_free(b.a, packed);
     packed = NULL;
@@ -1114,6 +1227,7 @@ finish:
     if (stats) *stats = st;
     res = VX_OK;
 done:
+    lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);

@@ -84,6 +84,9 @@ typedef struct vx__svo_interned {
     const uint32_t* rec;
     const vx__svo_rec* tab;
     size_t count;
+    /* Lay the node blocks out on a second thread while the tree is built
+     * (for callers with a core to spare; the model is the same). */
+    bool layout_thread;
 } vx__svo_interned;
 /* vx_svo_build_model over such entries: in's channel arrays are NULL (the
  * tuples are pre), in->attrs != 0, no tiles (in->level NULL). The builder

@@ -685,7 +685,19 @@ static void test_other_channels(void) {
  * channel: the builder's direct values), shared tuples, uniform blocks that
  * collapse, shared subtrees, duplicates (the later wins), unsorted input,
  * forced far pointers; and it rejects equal tuples and ids out of range. */
-static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle) {
+typedef struct ient {
+    uint64_t key;
+    size_t order;
+    uint32_t v;
+} ient;
+static int ient_cmp(const void* pa, const void* pb) {
+    const ient *a = (const ient*)pa, *b = (const ient*)pb;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->order < b->order ? -1 : a->order > b->order;
+}
+
+static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle,
+                          bool thread) {
     size_t cap = nblocks * 64 + nrand;
     uint64_t* keys = (uint64_t*)calloc(cap, 8);
     vx__svo_rec* full = (vx__svo_rec*)calloc(cap, sizeof *full);
@@ -704,37 +716,44 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
         if (attrs & VX_ATTR_MATERIAL) vals[v].material = (uint16_t)(rnd() % 4);
         if (attrs & VX_ATTR_DENSITY) vals[v].density = (float)(rnd() % 64) * 0.5f;
     }
+    /* entries as (key, input order, value index), sorted by key then order
+     * unless shuffle (duplicates keep their order: the later wins) */
+    ient* ent = (ient*)calloc(cap, sizeof *ent);
+    uint32_t* canon = (uint32_t*)calloc(nvals, 4);
+    uint32_t* tid = (uint32_t*)calloc(nvals, 4);
+    REQUIRE(ent && canon && tid);
     size_t n = 0;
     for (size_t b = 0; b < nblocks; b++) { /* uniform 4^3 blocks: collapse, and shared subtrees */
         uint32_t x0 = (uint32_t)(rnd() % (S / 4)) * 4, y0 = (uint32_t)(rnd() % (S / 4)) * 4, z0 = (uint32_t)(rnd() % (S / 4)) * 4;
         unsigned v = (unsigned)(rnd() % nvals);
-        for (uint32_t q = 0; q < 64; q++) {
-            keys[n] = vx_svo_morton(x0 + (q & 3), y0 + (q >> 2 & 3), z0 + (q >> 4));
-            full[n++] = vals[v];
-        }
+        for (uint32_t q = 0; q < 64; q++, n++)
+            ent[n] = (ient){vx_svo_morton(x0 + (q & 3), y0 + (q >> 2 & 3), z0 + (q >> 4)), n, v};
     }
-    for (size_t i = 0; i < nrand; i++) {
-        keys[n] = vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S));
-        full[n++] = vals[rnd() % nvals];
-    }
-    if (!shuffle) { /* sorted (stable: duplicates keep their order, the later wins) */
-        for (size_t i = 1; i < n; i++)
-            for (size_t j = i; j > 0 && keys[j - 1] > keys[j]; j--) {
-                uint64_t t = keys[j];
-                keys[j] = keys[j - 1], keys[j - 1] = t;
-                vx__svo_rec r = full[j];
-                full[j] = full[j - 1], full[j - 1] = r;
+    for (size_t i = 0; i < nrand; i++, n++)
+        ent[n] = (ient){vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S)), n,
+                        (uint32_t)(rnd() % nvals)};
+    if (!shuffle) qsort(ent, n, sizeof *ent, ient_cmp);
+    /* equal values (random ones may repeat) share one tuple id, numbered by first use */
+    for (unsigned v = 0; v < nvals; v++) {
+        canon[v] = v;
+        for (unsigned w = 0; w < v; w++)
+            if (!memcmp(&vals[w], &vals[v], sizeof *vals)) {
+                canon[v] = w;
+                break;
             }
+        tid[v] = UINT32_MAX;
     }
     size_t ntab = 0;
     for (size_t i = 0; i < n; i++) {
+        uint32_t v = canon[ent[i].v];
+        keys[i] = ent[i].key;
+        full[i] = vals[v];
         pal[i] = full[i].palette, rgba[i] = full[i].rgba, nrm[i] = full[i].normal, mat[i] = full[i].material;
         den[i] = full[i].density;
-        size_t t = 0;
-        while (t < ntab && memcmp(&tab[t], &full[i], sizeof *tab) != 0) t++;
-        if (t == ntab) tab[ntab++] = full[i];
-        ids[i] = (uint32_t)t;
+        if (tid[v] == UINT32_MAX) tab[ntab] = vals[v], tid[v] = (uint32_t)ntab++;
+        ids[i] = tid[v];
     }
+    free(ent), free(canon), free(tid);
     vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = attrs};
     in.palette = (attrs & VX_ATTR_PALETTE) ? pal : NULL;
     in.rgba = (attrs & VX_ATTR_RGBA8) ? rgba : NULL;
@@ -747,7 +766,7 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
     REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
     vx_svo_voxels bare = in;
     bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
-    vx__svo_interned pre = {ids, tab, ntab};
+    vx__svo_interned pre = {ids, tab, ntab, thread};
     vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
@@ -781,16 +800,22 @@ static void test_interned(void) {
     const uint32_t mixes[] = {VX_ATTR_RGBA8, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL,
                               VX_ATTR_PALETTE, VX_ATTR_MATERIAL, VX_ATTR_NORMAL | VX_ATTR_DENSITY};
     for (size_t i = 0; i < sizeof mixes / sizeof *mixes; i++) {
-        interned_case(mixes[i], 32, 12, 900, 3, false);   /* few tuples: much sharing */
-        interned_case(mixes[i], 64, 6, 2500, 400, false); /* many tuples */
-        interned_case(mixes[i], 16, 4, 300, 2, true);     /* unsorted, duplicates */
+        interned_case(mixes[i], 32, 12, 900, 3, false, false);   /* few tuples: much sharing */
+        interned_case(mixes[i], 64, 6, 2500, 400, false, false); /* many tuples */
+        interned_case(mixes[i], 16, 4, 300, 2, true, false);     /* unsorted, duplicates */
     }
     vx__svo_far_limit = 40;
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false);
+    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    /* the layout on a second thread (from 2^16 entries): the same words */
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true);
+    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true);
+    vx__svo_far_limit = 200;
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true);
     vx__svo_far_limit = VX__SVO_PTR_MAX;
     uint64_t k = 0;
     vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
-    vx__svo_interned pre = {NULL, NULL, 0};
+    vx__svo_interned pre = {NULL, NULL, 0, false};
     vx_svo_model m;
     vx_error e;
     CHECK(vx__svo_build_interned(NULL, &in, &pre, &m, NULL, &e) == VX_ERR_INVALID_ARG);
