@@ -976,6 +976,21 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             rec_intern(&b, &z);
             if (b.fail) { res = b.fail; goto done; }
         }
+        /* interned by the caller: tuple j gets id j, once; the tables sized
+         * for them and the nodes to come (a surface has about n / 4 nodes, as
+         * many new representatives at most), not grown and rehashed step by
+         * step (at 4096^3 a region holds 19 M tuples) */
+        if (pre) {
+            size_t want = pre->count + n / 4, cap = 1024, ncap = 4096;
+            while (cap < 2 * want + 2 && cap < ((size_t)1 << 40)) cap *= 2;
+            while (ncap < 2 * (n / 4) + 2 && ncap < ((size_t)1 << 40)) ncap *= 2;
+            b.rhash = (uint32_t*)vx_calloc(b.a, cap, sizeof *b.rhash);
+            b.nhash = b.dag ? (uint32_t*)vx_calloc(b.a, ncap, sizeof *b.nhash) : NULL;
+            if (b.rhash && b.nrec == 0) b.rhcap = cap; /* else (cannot happen: attrs != 0) it grows as usual */
+            else vx_free(b.a, b.rhash), b.rhash = NULL;
+            if (b.nhash) b.nhcap = ncap;
+            vx_grow(b.a, (void**)&b.recs, &b.caprec, want, sizeof(rec)); /* a hint: on failure it grows later */
+        }
         /* interned by the caller: tuple j gets id j, once */
         for (size_t j = 0; pre && j < pre->count; j++) {
             rec r = pre->tab[j];
