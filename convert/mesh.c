@@ -111,11 +111,9 @@ vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc_in, const vx_gltf_mes
     memset(&k, 0, sizeof k);
     k.desc = &desc;
     pthread_mutex_init(&k.lock, NULL);
-    if (desc.backend && (share != 0 || shares > 1))
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "mesh backend: shares (share %u of %u)", share, shares);
-    else if (desc.backend)
-        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), part_add, &k,
-                                   err);
+    if (desc.backend)
+        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares,
+                                   part_add, &k, err);
     else
         r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);
     pthread_mutex_destroy(&k.lock);

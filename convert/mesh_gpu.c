@@ -210,6 +210,8 @@ typedef struct region_job {
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
+    const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
+    size_t mine_count;
     uint32_t attrs;
     vx__mesh_sink sink;
     void* user;
@@ -277,10 +279,11 @@ static void* region_thread(void* arg) {
     region_job* j = (region_job*)arg;
     for (;;) {
         pthread_mutex_lock(&j->lock);
-        size_t ri = j->next++;
-        bool stop = j->failed != VX_OK || ri >= j->bins->region_count;
+        size_t k = j->next++;
+        bool stop = j->failed != VX_OK || k >= j->mine_count;
         pthread_mutex_unlock(&j->lock);
         if (stop) return NULL;
+        size_t ri = j->mine[k];
         vx_error e = {0};
         vx_result r = region_emit(j, ri, &e);
         if (r) {
@@ -301,13 +304,14 @@ static unsigned bits_for(uint64_t v) {
 }
 
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                              const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
-                              vx_error* err) {
+                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                              vx__mesh_sink sink, void* user, vx_error* err) {
     vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)self;
     vx_gpu* g = m->g;
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
     if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
+    if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
     double t0 = vx_time_now();
     vx__mesh_bins bins;
     memset(&bins, 0, sizeof bins);
@@ -323,6 +327,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t* ustart = NULL;
     const uint32_t *oids = NULL, *outab = NULL; /* interned tuples, in the download buffer */
     uint32_t* breg = NULL;
+    size_t* mine = NULL;
+    size_t mine_count = 0;
     float* mats = NULL;
     uint32_t* images = NULL;
     uint32_t* texels = NULL;
@@ -618,8 +624,14 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             }
             ustart[bins.region_count] = u;
         }
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, attrs, sink, user,
-                        a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        /* under MPI each process builds its share's regions; the GPU voxelized
+         * them all (a few percent of the conversion; the builds are the cost) */
+        size_t mine_bricks;
+        if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
+                                        err)))
+            goto done;
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, mine, mine_count,
+                        attrs, sink, user, a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
             long nc = sysconf(_SC_NPROCESSORS_ONLN);
@@ -627,7 +639,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         }
         unsigned cores = threads;
         if (threads > 64) threads = 64;
-        if (threads > bins.region_count) threads = (unsigned)(bins.region_count ? bins.region_count : 1);
+        if (threads > mine_count) threads = (unsigned)(mine_count ? mine_count : 1);
         /* fewer regions than cores (8 regions at 1024^3 and beyond): each
          * builder lays its blocks out on a second thread as it builds */
         j.layout_thread = 2 * threads <= cores;
@@ -658,6 +670,7 @@ done:
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);
+    vx_free(a, mine);
     vx__mesh_bins_free(a, &bins);
     return r;
 }

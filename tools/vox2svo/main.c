@@ -78,7 +78,8 @@ _Noreturn static void usage(int status) {
 #ifdef VX_HAVE_MESH_GPU
             "    --gpu            meshes: voxelize on the GPU (Vulkan, needs float64 shaders; the same\n"
             "                     cells, colours and file as the CPU path; not with --solid); -v prints\n"
-            "                     the GPU stages' times\n"
+            "                     the GPU stages' times; under mpirun every rank voxelizes on the device\n"
+            "                     and builds its share of the regions\n"
             "    --device D       with --gpu: the Vulkan device, an index or part of its name\n"
 #endif
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
@@ -163,9 +164,6 @@ static options parse(int argc, char** argv) {
         const char* k = vx_conv_file_kind(o.in);
         if (!k || (strcmp(k, ".gltf") && strcmp(k, ".glb"))) usage_error("--gpu: meshes only (.gltf, .glb), not %s", o.in);
         if (o.conv.solid) usage_error("%s", "--gpu does not fill (--solid): convert on the CPU");
-#ifdef VX_HAVE_MPI
-        if (vx_tool_mpi_launched()) usage_error("%s", "--gpu under mpirun: the ranks voxelize on their CPUs");
-#endif
     }
 #ifdef VX_HAVE_MPI
     const char* kind = vx_conv_file_kind(o.in);
@@ -247,10 +245,29 @@ static int write_demo(const options* o) {
 #ifdef VX_HAVE_MPI
 /* mpirun: rank 0 writes and prints what one process would; the other ranks
  * only convert their share (vox2svo_mpi) */
-static int main_mpi(const options* o) {
+static int main_mpi(const options* opt) {
+    options oc = *opt;
+    const options* o = &oc;
     vx_svo_scene scene;
     vx_tool_loaded li;
-    if (!vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li)) return 0;
+#ifdef VX_HAVE_MESH_GPU
+    /* --gpu: every rank voxelizes on its device (the one --device names, else
+     * the first), then builds its share of the regions */
+    vx_gpu* gpu = NULL;
+    vx_conv_mesh_gpu* mg = NULL;
+    if (oc.gpu) {
+        vx_error e = {0};
+        if (vx_gpu_create(&(vx_gpu_desc){.device = oc.device}, &gpu, &e) || vx_conv_mesh_gpu_create(gpu, NULL, &mg, &e))
+            vx_tool_mpi_die("--gpu: %s", e.msg);
+        oc.conv.mesh_backend = vx_conv_mesh_gpu_backend(mg);
+    }
+#endif
+    bool ok = vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li);
+#ifdef VX_HAVE_MESH_GPU
+    vx_conv_mesh_gpu_destroy(mg);
+    vx_gpu_destroy(gpu);
+#endif
+    if (!ok) return 0;
     vx_error err = {0};
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o->verbose);
     double t2 = vx_time_now();
