@@ -210,6 +210,7 @@ typedef struct region_job {
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
+    unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
     const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
     size_t mine_count;
     uint32_t attrs;
@@ -266,7 +267,7 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
-    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread};
+    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads};
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -630,7 +631,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
                                         err)))
             goto done;
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, mine, mine_count,
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, 1, mine, mine_count,
                         attrs, sink, user, a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
@@ -643,6 +644,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         /* fewer regions than cores (8 regions at 1024^3 and beyond): each
          * builder lays its blocks out on a second thread as it builds */
         j.layout_thread = 2 * threads <= cores;
+        /* and interns its tuples (a 4096^3 region can hold 14 M) on its share of the cores */
+        j.intern_threads = cores / threads;
         pthread_t th[64];
         unsigned started = 0;
         for (unsigned i = 1; i < threads; i++) {

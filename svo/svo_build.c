@@ -280,6 +280,73 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
 }
 
+/* ---- tuples interned by the caller, on several threads ------------------------------------- */
+
+/* Tuple j has id j: each chunk of ids copies its tuples (channels outside
+ * attrs zeroed) into recs, then claims a slot of the presized table for each
+ * with a compare-and-swap; a slot's tuple is copied before its id is
+ * published there, and a tuple equal to one already placed is reported. */
+typedef struct pre_job {
+    bld* b;
+    const vx__svo_interned* pre;
+    size_t chunk;
+    uint32_t dup_a, dup_b; /* ids of two equal tuples (dup_b 0: none) */
+    pthread_mutex_t lock;
+} pre_job;
+
+static void pre_chunk(void* ctx, uint32_t c) {
+    pre_job* j = (pre_job*)ctx;
+    bld* b = j->b;
+    size_t lo = (size_t)c * j->chunk, hi = lo + j->chunk < j->pre->count ? lo + j->chunk : j->pre->count;
+    for (size_t i = lo; i < hi; i++) {
+        rec r = j->pre->tab[i];
+        r.pad = 0;
+        if (!(b->attrs & VX_ATTR_PALETTE)) r.palette = 0;
+        if (!(b->attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+        if (!(b->attrs & VX_ATTR_NORMAL)) r.normal = 0;
+        if (!(b->attrs & VX_ATTR_MATERIAL)) r.material = 0;
+        if (!(b->attrs & VX_ATTR_DENSITY)) r.density = 0;
+        b->recs[i] = r;
+    }
+    size_t mask = b->rhcap - 1;
+    for (size_t i = lo; i < hi; i++) {
+        size_t h = (size_t)hash_words((const uint32_t*)&b->recs[i], 4, 7) & mask;
+        for (;;) {
+            uint32_t cur = __atomic_load_n(&b->rhash[h], __ATOMIC_ACQUIRE);
+            if (cur == 0 && __atomic_compare_exchange_n(&b->rhash[h], &cur, (uint32_t)i + 1, false, __ATOMIC_ACQ_REL,
+                                                        __ATOMIC_ACQUIRE))
+                break;
+            if (memcmp(&b->recs[cur - 1], &b->recs[i], sizeof(rec)) == 0) {
+                pthread_mutex_lock(&j->lock);
+                if (!j->dup_b) j->dup_a = cur - 1 < i ? cur - 1 : (uint32_t)i, j->dup_b = cur - 1 < i ? (uint32_t)i : cur - 1;
+                pthread_mutex_unlock(&j->lock);
+                break;
+            }
+            h = (h + 1) & mask;
+        }
+    }
+}
+
+/* Interns pre's tuples (ids 0..count-1) into b's empty, presized tables on
+ * up to `threads` threads; false when they do not fit (the caller then
+ * interns them one by one) or two are equal (b->fail set). */
+static bool intern_pre(bld* b, const vx__svo_interned* pre, unsigned threads) {
+    if (b->nrec || !b->rhash || b->rhcap < 2 * pre->count + 2 || pre->count > 0xFFFFFFF0u ||
+        !vx_grow(b->a, (void**)&b->recs, &b->caprec, pre->count, sizeof(rec)))
+        return false;
+    pre_job j = {b, pre, 1u << 16, 0, 0, PTHREAD_MUTEX_INITIALIZER};
+    size_t chunks = (pre->count + j.chunk - 1) / j.chunk;
+    vx__svo_run_jobs(threads, (uint32_t)chunks, pre_chunk, &j);
+    pthread_mutex_destroy(&j.lock);
+    b->nrec = pre->count;
+    if (j.dup_b) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned tuples %u and %u are equal", j.dup_a,
+                          j.dup_b);
+        return false;
+    }
+    return true;
+}
+
 /* ---- nodes ----------------------------------------------------------------------------- */
 
 static bool nhash_grow(bld* b) {
@@ -991,8 +1058,10 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             if (b.nhash) b.nhcap = ncap;
             vx_grow(b.a, (void**)&b.recs, &b.caprec, want, sizeof(rec)); /* a hint: on failure it grows later */
         }
-        /* interned by the caller: tuple j gets id j, once */
-        for (size_t j = 0; pre && j < pre->count; j++) {
+        /* interned by the caller: tuple j gets id j, once (many on several threads) */
+        unsigned ith = pre && pre->threads > 1 && pre->count >= ((size_t)1 << 18) ? pre->threads : 1;
+        if (ith > 1 && !intern_pre(&b, pre, ith) && b.fail) { res = b.fail; goto done; }
+        for (size_t j = b.nrec; pre && j < pre->count; j++) {
             rec r = pre->tab[j];
             r.pad = 0;
             if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;

@@ -87,6 +87,8 @@ typedef struct vx__svo_interned {
     /* Lay the node blocks out on a second thread while the tree is built
      * (for callers with a core to spare; the model is the same). */
     bool layout_thread;
+    /* Threads that may intern tab (from 2^18 tuples; 0 or 1: the caller's). */
+    unsigned threads;
 } vx__svo_interned;
 /* vx_svo_build_model over such entries: in's channel arrays are NULL (the
  * tuples are pre), in->attrs != 0, no tiles (in->level NULL). The builder

@@ -696,8 +696,15 @@ static int ient_cmp(const void* pa, const void* pb) {
     return a->order < b->order ? -1 : a->order > b->order;
 }
 
+static const vx__svo_rec* g_vals; /* for val_cmp */
+static int val_cmp(const void* pa, const void* pb) {
+    uint32_t a = *(const uint32_t*)pa, b = *(const uint32_t*)pb;
+    int c = memcmp(&g_vals[a], &g_vals[b], sizeof *g_vals);
+    return c ? c : (a < b ? -1 : a > b);
+}
+
 static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle,
-                          bool thread) {
+                          bool thread, unsigned threads) {
     size_t cap = nblocks * 64 + nrand;
     uint64_t* keys = (uint64_t*)calloc(cap, 8);
     vx__svo_rec* full = (vx__svo_rec*)calloc(cap, sizeof *full);
@@ -734,15 +741,14 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
                         (uint32_t)(rnd() % nvals)};
     if (!shuffle) qsort(ent, n, sizeof *ent, ient_cmp);
     /* equal values (random ones may repeat) share one tuple id, numbered by first use */
-    for (unsigned v = 0; v < nvals; v++) {
-        canon[v] = v;
-        for (unsigned w = 0; w < v; w++)
-            if (!memcmp(&vals[w], &vals[v], sizeof *vals)) {
-                canon[v] = w;
-                break;
-            }
-        tid[v] = UINT32_MAX;
-    }
+    uint32_t* ord = (uint32_t*)calloc(nvals, 4);
+    REQUIRE(ord);
+    for (unsigned v = 0; v < nvals; v++) ord[v] = v, tid[v] = UINT32_MAX;
+    g_vals = vals;
+    qsort(ord, nvals, 4, val_cmp);
+    for (unsigned q = 0; q < nvals; q++)
+        canon[ord[q]] = q && !memcmp(&vals[ord[q]], &vals[ord[q - 1]], sizeof *vals) ? canon[ord[q - 1]] : ord[q];
+    free(ord);
     size_t ntab = 0;
     for (size_t i = 0; i < n; i++) {
         uint32_t v = canon[ent[i].v];
@@ -766,7 +772,7 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
     REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
     vx_svo_voxels bare = in;
     bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
-    vx__svo_interned pre = {ids, tab, ntab, thread};
+    vx__svo_interned pre = {ids, tab, ntab, thread, threads};
     vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
@@ -800,22 +806,25 @@ static void test_interned(void) {
     const uint32_t mixes[] = {VX_ATTR_RGBA8, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL,
                               VX_ATTR_PALETTE, VX_ATTR_MATERIAL, VX_ATTR_NORMAL | VX_ATTR_DENSITY};
     for (size_t i = 0; i < sizeof mixes / sizeof *mixes; i++) {
-        interned_case(mixes[i], 32, 12, 900, 3, false, false);   /* few tuples: much sharing */
-        interned_case(mixes[i], 64, 6, 2500, 400, false, false); /* many tuples */
-        interned_case(mixes[i], 16, 4, 300, 2, true, false);     /* unsorted, duplicates */
+        interned_case(mixes[i], 32, 12, 900, 3, false, false, 0);   /* few tuples: much sharing */
+        interned_case(mixes[i], 64, 6, 2500, 400, false, false, 0); /* many tuples */
+        interned_case(mixes[i], 16, 4, 300, 2, true, false, 0);     /* unsorted, duplicates */
     }
     vx__svo_far_limit = 40;
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false, 0);
     vx__svo_far_limit = VX__SVO_PTR_MAX;
     /* the layout on a second thread (from 2^16 entries): the same words */
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true);
-    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true, 0);
+    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true, 0);
     vx__svo_far_limit = 200;
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true, 0);
     vx__svo_far_limit = VX__SVO_PTR_MAX;
+    /* many tuples (from 2^18) interned on 4 threads, with and without the layout thread */
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 256, 200, 600000, 1000000, false, true, 4);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3);
     uint64_t k = 0;
     vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
-    vx__svo_interned pre = {NULL, NULL, 0, false};
+    vx__svo_interned pre = {NULL, NULL, 0, false, 0};
     vx_svo_model m;
     vx_error e;
     CHECK(vx__svo_build_interned(NULL, &in, &pre, &m, NULL, &e) == VX_ERR_INVALID_ARG);
