@@ -6,8 +6,13 @@
  * files are equal byte for byte (the check of mesh_gpu_test, here on the
  * bench's device and resolutions).
  *
- *   mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--device D] [--cells]
+ *   mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] [--cells] [--digest]
  *
+ * --digest: prints a 64-bit FNV-1a digest of the GPU path's scene (each
+ * model's size, root, node words and attribute arrays, each instance's
+ * transform): two builds of the same bytes print the same digest, without
+ * writing a file (at 4096^3 the CPU path and the writer take minutes).
+ * --warmups N: untimed runs first (default 1).
  * --cells: the GPU runs voxelize into a flat cell list (vx_conv_mesh_cells,
  * colours only) instead of building the octrees: the voxelizer's own time
  * at resolutions where the CPU builds would take most of a run. */
@@ -20,6 +25,31 @@
 #include "render/render.h"
 
 #define MAXRUNS 32
+
+static uint64_t fnv(uint64_t h, const void* p, size_t n) {
+    const unsigned char* c = (const unsigned char*)p;
+    for (size_t i = 0; i < n; i++) h = (h ^ c[i]) * 0x100000001B3ull;
+    return h;
+}
+static uint64_t scene_digest(const vx_svo_scene* s) {
+    uint64_t h = 0xCBF29CE484222325ull;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        size_t na = m->attr_count;
+        h = fnv(h, m->size, sizeof m->size);
+        h = fnv(h, &m->root, sizeof m->root);
+        h = fnv(h, &m->root_attr, sizeof m->root_attr);
+        h = fnv(h, &m->attrs, sizeof m->attrs);
+        h = fnv(h, m->nodes, (size_t)m->node_count * 4);
+        if (m->palette) h = fnv(h, m->palette, na);
+        if (m->rgba) h = fnv(h, m->rgba, na * 4);
+        if (m->normal) h = fnv(h, m->normal, na * 4);
+        if (m->material) h = fnv(h, m->material, na * 2);
+        if (m->density) h = fnv(h, m->density, na * 4);
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) h = fnv(h, s->instances[i].xform, sizeof s->instances[i].xform);
+    return h;
+}
 
 static size_t svo_bytes(const vx_svo_scene* s, uint8_t** out) {
     size_t n = 0;
@@ -36,18 +66,21 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* device = NULL;
     uint32_t res[8], nres = 0;
-    int runs = 5, cpu_runs = 3;
-    bool cells_only = false;
+    int runs = 5, cpu_runs = 3, warmups = 1;
+    bool cells_only = false, digest = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--res") && i + 1 < argc && nres < 8) res[nres++] = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--cpu-runs") && i + 1 < argc) cpu_runs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
         else if (!strcmp(argv[i], "--cells")) cells_only = true;
+        else if (!strcmp(argv[i], "--digest")) digest = true;
+        else if (!strcmp(argv[i], "--warmups") && i + 1 < argc) warmups = atoi(argv[++i]);
         else path = argv[i];
     }
     if (!path) {
-        fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--device D]\n");
+        fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] "
+                        "[--cells] [--digest]\n");
         return 2;
     }
     if (!nres) res[nres++] = 1024;
@@ -72,7 +105,7 @@ int main(int argc, char** argv) {
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
         vx_conv_mesh_desc d = {.res = res[ri]};
-        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[8][MAXRUNS];
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[9][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);
         memset(&got, 0, sizeof got);
@@ -88,7 +121,7 @@ int main(int argc, char** argv) {
         }
         d.backend = vx_conv_mesh_gpu_backend(mg);
         vx_conv_mesh_gpu_stats gs;
-        for (int k = -1; k < runs; k++) { /* run -1: warm-up (buffers grown, pipelines made) */
+        for (int k = -warmups; k < runs; k++) { /* runs < 0: warm-up (buffers grown, pipelines made) */
             if (k >= 0 || got.model_count) vx_svo_scene_free(&got);
             t0 = vx_time_now();
             if (cells_only) {
@@ -108,16 +141,16 @@ int main(int argc, char** argv) {
             vx_conv_mesh_gpu_last_stats(mg, &gs);
             if (k < 0) continue;
             gpu_t[k] = t;
-            double v[8] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink};
-            for (int q = 0; q < 8; q++) st[q][k] = v[q];
+            double v[9] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern};
+            for (int q = 0; q < 9; q++) st[q][k] = v[q];
         }
         uint8_t *a = NULL, *b = NULL;
         bool compare = cpu_runs > 0 && !cells_only;
         size_t na = compare ? svo_bytes(&ref, &a) : 0, nb = compare ? svo_bytes(&got, &b) : 0;
         int equal = compare && na == nb && na && !memcmp(a, b, na);
         if (compare && !equal) fail = 1;
-        double med[8];
-        for (int q = 0; q < 8; q++) med[q] = bench_median(st[q], runs);
+        double med[9];
+        for (int q = 0; q < 9; q++) med[q] = bench_median(st[q], runs);
         double gpu_vox = med[1] + med[2] + med[3] + med[4] + med[5] + med[6];
         double cpu_med = cpu_runs > 0 ? bench_median(cpu, cpu_runs) : 0, gpu_med = bench_median(gpu_t, runs);
         printf("res %u: %llu pairs, %llu pieces, %llu cells, %u sort passes\n", res[ri], (unsigned long long)gs.pairs,
@@ -125,11 +158,17 @@ int main(int argc, char** argv) {
         printf("  CPU path (vx_conv_mesh, all cores): median %.1f ms of %d (voxelize %.1f + build %.1f ms, last run)\n",
                cpu_med * 1e3, cpu_runs, cs.seconds_voxelize * 1e3, cs.seconds_build * 1e3);
         printf("  GPU path: median %.1f ms of %d = bin (CPU) %.1f + upload %.1f + count %.1f + emit %.1f + sort %.1f + "
-               "reduce %.1f + download %.1f + %s %.1f ms\n",
+               "reduce %.1f + tuples interned %.1f + download %.1f + %s %.1f ms\n",
                gpu_med * 1e3, runs, med[0] * 1e3, med[1] * 1e3, med[2] * 1e3, med[3] * 1e3, med[4] * 1e3,
-               med[5] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)", med[7] * 1e3);
-        printf("  GPU voxelization alone (upload .. download): %.1f ms; with the CPU binning %.1f ms\n", gpu_vox * 1e3,
-               (gpu_vox + med[0]) * 1e3);
+               med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)",
+               med[7] * 1e3);
+        printf("  tuples interned for the builders: %llu distinct (per region) of %llu cells, %u sort passes\n",
+               (unsigned long long)gs.tuples, (unsigned long long)gs.cells, gs.intern_passes);
+        printf("  GPU voxelization alone (upload .. download, without the interning): %.1f ms; with the CPU binning "
+               "%.1f ms\n", gpu_vox * 1e3, (gpu_vox + med[0]) * 1e3);
+        if (digest && !cells_only)
+            printf("  digest of the GPU path's scene: %016llx (%u models)\n", (unsigned long long)scene_digest(&got),
+                   got.model_count);
         if (compare)
             printf("  .svo CPU %zu bytes, GPU %zu bytes: %s; speed-up of the whole conversion %.2fx\n", na, nb,
                    equal ? "EQUAL" : "DIFFERENT", cpu_med / gpu_med);

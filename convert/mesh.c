@@ -43,7 +43,14 @@ static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
     p.index = r->index;
     memcpy(p.origin, r->origin, sizeof p.origin);
     double t0 = vx_time_now();
-    vx_result res = vx_svo_build_model(&bd, &in, &p.model, &p.build, err);
+    vx_result res;
+    if (r->interned.rec) { /* the tuples come interned: the arrays stay out */
+        in.rgba = in.normal = NULL;
+        in.material = NULL;
+        res = vx__svo_build_interned(&bd, &in, &r->interned, &p.model, &p.build, err);
+    } else {
+        res = vx_svo_build_model(&bd, &in, &p.model, &p.build, err);
+    }
     p.seconds_build = vx_time_now() - t0;
     if (res) {
         char where[64];
@@ -104,11 +111,9 @@ vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc_in, const vx_gltf_mes
     memset(&k, 0, sizeof k);
     k.desc = &desc;
     pthread_mutex_init(&k.lock, NULL);
-    if (desc.backend && (share != 0 || shares > 1))
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "mesh backend: shares (share %u of %u)", share, shares);
-    else if (desc.backend)
-        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), part_add, &k,
-                                   err);
+    if (desc.backend)
+        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares,
+                                   part_add, &k, err);
     else
         r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);
     pthread_mutex_destroy(&k.lock);

@@ -12,16 +12,17 @@
 #include "gpuscan.comp.h"
 #include "gpusort.comp.h"
 #include "meshreduce.comp.h"
+#include "meshintern.comp.h"
 #include "meshvox.comp.h"
 
 #define BRICK 64u
 
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
-       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_COUNT };
+       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_COUNT };
 #define SCAN_LEVELS 4
 
-enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_NUM };
+enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_NUM };
 
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
@@ -40,6 +41,9 @@ typedef struct meshvox_push {
 typedef struct sort_push {
     uint32_t n, shift, ntiles;
 } sort_push;
+typedef struct intern_push {
+    uint32_t n, attrs, perm;
+} intern_push;
 
 /* ---- recording ----------------------------------------------------------------------- */
 
@@ -126,6 +130,20 @@ static vx_result scan_prepare(vx_conv_mesh_gpu* m, uint64_t n, vx_error* err) {
     return VX_OK;
 }
 
+/* Records one pass of the stable radix sort (gpusort.comp) of n pairs by the
+ * 4-bit digit at shift, from KEYS/VALS (*src 0) or KEYS2/VALS2 (1) into the
+ * other pair; B_HIST and the scan buffers must hold ntiles * 16. */
+static vx_result sort_pass(vx_conv_mesh_gpu* m, uint32_t n, uint32_t shift, uint64_t ntiles, int* src, vx_error* err) {
+    sort_push sp = {n, shift, (uint32_t)ntiles};
+    int ids[5] = {*src ? B_KEYS2 : B_KEYS, *src ? B_VALS2 : B_VALS, *src ? B_KEYS : B_KEYS2, *src ? B_VALS : B_VALS2, B_HIST};
+    vx_result r;
+    if ((r = stage(m, P_HIST, ids, 5, ntiles, &sp, sizeof sp, err))) return r;
+    if ((r = scan(m, B_HIST, ntiles * 16, 0, err))) return r;
+    if ((r = stage(m, P_SCATTER, ids, 5, ntiles, &sp, sizeof sp, err))) return r;
+    *src ^= 1;
+    return VX_OK;
+}
+
 /* Records a copy of the uint at index i of buffer id into the read buffer's slot. */
 static void read_u32(vx_conv_mesh_gpu* m, int id, uint64_t i, uint32_t slot) {
     VkBufferCopy c = {.srcOffset = i * 4, .dstOffset = slot * 4, .size = 4};
@@ -188,6 +206,13 @@ typedef struct region_job {
     const uint32_t* okeys;        /* 2 per cell: (local | brick << 18, brick >> 14) */
     const uint32_t *rgba, *nrm, *mat;
     const size_t* cstart;         /* first cell of each region; [region_count] = cells */
+    const uint32_t* ids;          /* per cell its tuple's global id (meshintern.comp), or NULL: not interned */
+    const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
+    const size_t* ustart;         /* first id of each region; [region_count] = ids */
+    bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
+    unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
+    const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
+    size_t mine_count;
     uint32_t attrs;
     vx__mesh_sink sink;
     void* user;
@@ -216,6 +241,23 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
         keys[i] = (j->brick_morton[brick] & mask) << 18 | (k[0] & 0x3FFFFu);
         if (mat) mat[i] = (uint16_t)j->mat[c0 + i];
     }
+    /* the region's tuples and the cells' ids into them, for the builder */
+    uint32_t* rec = NULL;
+    vx__svo_rec* tab = NULL;
+    size_t u0 = j->ids ? j->ustart[ri] : 0, nu = j->ids ? j->ustart[ri + 1] - u0 : 0;
+    if (j->ids) {
+        rec = (uint32_t*)vx_alloc(j->alloc, n * 4);
+        tab = (vx__svo_rec*)vx_calloc(j->alloc, nu ? nu : 1, sizeof *tab);
+        if (!rec || !tab) {
+            vx_free(j->alloc, keys), vx_free(j->alloc, mat), vx_free(j->alloc, rec), vx_free(j->alloc, tab);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
+        }
+        for (size_t u = 0; u < nu; u++) {
+            const uint32_t* t = j->utab + 4 * (u0 + u);
+            tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
+        }
+        for (size_t i = 0; i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
+    }
     vx__mesh_region reg;
     vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri,
                           b->region_count);
@@ -225,9 +267,12 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
+    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads};
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
+    vx_free(j->alloc, rec);
+    vx_free(j->alloc, tab);
     return r;
 }
 
@@ -235,10 +280,11 @@ static void* region_thread(void* arg) {
     region_job* j = (region_job*)arg;
     for (;;) {
         pthread_mutex_lock(&j->lock);
-        size_t ri = j->next++;
-        bool stop = j->failed != VX_OK || ri >= j->bins->region_count;
+        size_t k = j->next++;
+        bool stop = j->failed != VX_OK || k >= j->mine_count;
         pthread_mutex_unlock(&j->lock);
         if (stop) return NULL;
+        size_t ri = j->mine[k];
         vx_error e = {0};
         vx_result r = region_emit(j, ri, &e);
         if (r) {
@@ -259,13 +305,14 @@ static unsigned bits_for(uint64_t v) {
 }
 
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                              const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
-                              vx_error* err) {
+                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                              vx__mesh_sink sink, void* user, vx_error* err) {
     vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)self;
     vx_gpu* g = m->g;
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
     if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
+    if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
     double t0 = vx_time_now();
     vx__mesh_bins bins;
     memset(&bins, 0, sizeof bins);
@@ -278,6 +325,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint32_t* trimat = NULL;
     const uint32_t *okeys = NULL, *orgba = NULL, *onrm = NULL, *omat = NULL; /* in the download buffer */
     size_t* cstart = NULL;
+    size_t* ustart = NULL;
+    const uint32_t *oids = NULL, *outab = NULL; /* interned tuples, in the download buffer */
+    uint32_t* breg = NULL;
+    size_t* mine = NULL;
+    size_t mine_count = 0;
     float* mats = NULL;
     uint32_t* images = NULL;
     uint32_t* texels = NULL;
@@ -428,14 +480,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err))) goto done;
     if ((r = rec_begin(m, err))) goto done;
     int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
-    for (uint32_t pass = 0; pass < passes && N > 1; pass++) {
-        sort_push sp = {N, 4 * pass, (uint32_t)ntiles};
-        int ids[5] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, src ? B_KEYS : B_KEYS2, src ? B_VALS : B_VALS2, B_HIST};
-        if ((r = stage(m, P_HIST, ids, 5, ntiles, &sp, sizeof sp, err))) goto done;
-        if ((r = scan(m, B_HIST, ntiles * 16, 0, err))) goto done;
-        if ((r = stage(m, P_SCATTER, ids, 5, ntiles, &sp, sizeof sp, err))) goto done;
-        src ^= 1;
-    }
+    for (uint32_t pass = 0; pass < passes && N > 1; pass++)
+        if ((r = sort_pass(m, N, 4 * pass, ntiles, &src, err))) goto done;
     if ((r = vx__cmd_submit_wait(g, err))) goto done;
     m->stats.sort = vx_time_now() - t0;
 
@@ -463,16 +509,75 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.reduce = vx_time_now() - t0;
     m->stats.cells = C;
 
+    /* the cells' tuples interned per region (meshintern.comp), so that the
+     * builders hash each distinct tuple once instead of every cell's */
+    t0 = vx_time_now();
+    uint32_t U = 0;
+    bool intern = attrs && C > 0 && bins.region_count <= 65536;
+    if (intern) {
+        breg = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 4);
+        if (!breg) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu bricks", NB);
+            goto done;
+        }
+        for (size_t ri = 0; ri < bins.region_count; ri++)
+            for (size_t b = bins.rstart[ri]; b < bins.rstart[ri + 1]; b++) breg[b] = (uint32_t)ri;
+        upload ur = {B_REGION, breg, (uint64_t)NB * 4, 0};
+        uint64_t ntiles = ((uint64_t)C + 1023) / 1024;
+        if ((r = put_all(m, &ur, 1, err)) || (r = ensure(m, B_IDS, (uint64_t)C * 4, err)) ||
+            (r = ensure(m, B_UTAB, (uint64_t)C * 16, err)) || (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) ||
+            (r = scan_prepare(m, ntiles * 16, err)) || (r = scan_prepare(m, (uint64_t)C + 1, err)) || (r = rec_begin(m, err)))
+            goto done;
+        put_record(m, &ur, 1);
+        intern_push ip = {C, ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
+                                 ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u), 0};
+        uint64_t groups = ((uint64_t)C + 255) / 256;
+        int src = 0;
+        int ids[10] = {B_KEYS, B_VALS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_REGION, B_POS, B_IDS, B_UTAB};
+        uint32_t shifts[16], ns = 0;
+        if (attrs & VX_ATTR_NORMAL) { /* LSD: by normal first, the rest stably after */
+            if ((r = stage(m, P_INKEY, ids, 10, groups, &ip, sizeof ip, err))) goto done;
+            for (uint32_t q = 0; q < 8; q++)
+                if ((r = sort_pass(m, C, 4 * q, ntiles, &src, err))) goto done;
+            ip.perm = 1;
+        }
+        ids[0] = src ? B_KEYS2 : B_KEYS, ids[1] = src ? B_VALS2 : B_VALS;
+        if ((r = stage(m, P_IKEY, ids, 10, groups, &ip, sizeof ip, err))) goto done;
+        for (uint32_t q = 0; (attrs & VX_ATTR_RGBA8) && q < 8; q++) shifts[ns++] = 4 * q;
+        for (uint32_t q = 0; (attrs & VX_ATTR_MATERIAL) && q < 4; q++) shifts[ns++] = 32 + 4 * q;
+        for (uint32_t q = 0; 4 * q < bits_for(bins.region_count - 1); q++) shifts[ns++] = 48 + 4 * q;
+        for (uint32_t q = 0; q < ns; q++)
+            if ((r = sort_pass(m, C, shifts[q], ntiles, &src, err))) goto done;
+        m->stats.intern_passes = ns + ((attrs & VX_ATTR_NORMAL) ? 8 : 0);
+        ids[0] = src ? B_KEYS2 : B_KEYS, ids[1] = src ? B_VALS2 : B_VALS;
+        vkCmdFillBuffer(g->cmd, m->buf[B_POS].buf, 0, ((VkDeviceSize)C + 1) * 4, 0);
+        barrier(g);
+        if ((r = stage(m, P_IFLAG, ids, 10, groups, &ip, sizeof ip, err))) goto done;
+        if ((r = scan(m, B_POS, (uint64_t)C + 1, 0, err))) goto done;
+        if ((r = stage(m, P_IOUT, ids, 10, groups, &ip, sizeof ip, err))) goto done;
+        read_u32(m, B_POS, C, 0);
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], &U, 4, err))) goto done;
+        if (U == 0 || U > C) {
+            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU voxelizer: %u distinct tuples of %u cells", U, C);
+            goto done;
+        }
+    }
+    m->stats.intern = vx_time_now() - t0;
+    m->stats.tuples = U;
+
     t0 = vx_time_now();
     cstart = (size_t*)vx_alloc(a, (bins.region_count + 1) * sizeof *cstart);
-    if (!cstart) {
+    ustart = (size_t*)vx_alloc(a, (bins.region_count + 1) * sizeof *ustart);
+    if (!cstart || !ustart) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu regions", bins.region_count);
         goto done;
     }
     {
         /* one copy of each result into the download buffer, read where it lies */
         uint64_t c8 = (uint64_t)C * 8, c4 = (uint64_t)C * 4;
-        if ((r = ensure_host(m, B_DOWN, c8 + 3 * c4 + 16, err)) || (r = rec_begin(m, err))) goto done;
+        uint64_t at_ids = c8 + 3 * c4, at_utab = at_ids + (intern ? c4 : 0), total = at_utab + (uint64_t)U * 16;
+        if ((r = ensure_host(m, B_DOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
         VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
         vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
         int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
@@ -482,6 +587,12 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                 VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
                 vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
             }
+        if (intern) {
+            VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_ids, .size = c4};
+            VkBufferCopy cu = {.srcOffset = 0, .dstOffset = at_utab, .size = (uint64_t)U * 16};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_IDS].buf, m->buf[B_DOWN].buf, 1, &ci);
+            vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
+        }
         barrier(g);
         if ((r = vx__cmd_submit_wait(g, err))) goto done;
         uint8_t* base = (uint8_t*)m->buf[B_DOWN].map;
@@ -489,6 +600,10 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         orgba = (const uint32_t*)(base + c8);
         onrm = (const uint32_t*)(base + c8 + c4);
         omat = (const uint32_t*)(base + c8 + 2 * c4);
+        if (intern) {
+            oids = (const uint32_t*)(base + at_ids);
+            outab = (const uint32_t*)(base + at_utab);
+        }
     }
     m->stats.download = vx_time_now() - t0;
 
@@ -502,15 +617,35 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             while (c < C && ((uint64_t)(okeys[2 * c] >> 18) | (uint64_t)okeys[2 * c + 1] << 14) < end_brick) c++;
         }
         cstart[bins.region_count] = c;
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, attrs, sink, user, a,
-                        PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        if (oids) { /* ids come in region order: each region's are a range */
+            size_t u = 0;
+            for (size_t ri = 0; ri < bins.region_count; ri++) {
+                ustart[ri] = u;
+                while (u < U && outab[4 * u + 3] <= ri) u++;
+            }
+            ustart[bins.region_count] = u;
+        }
+        /* under MPI each process builds its share's regions; the GPU voxelized
+         * them all (a few percent of the conversion; the builds are the cost) */
+        size_t mine_bricks;
+        if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
+                                        err)))
+            goto done;
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, 1, mine, mine_count,
+                        attrs, sink, user, a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
             long nc = sysconf(_SC_NPROCESSORS_ONLN);
             threads = nc > 0 ? (unsigned)nc : 1;
         }
+        unsigned cores = threads;
         if (threads > 64) threads = 64;
-        if (threads > bins.region_count) threads = (unsigned)(bins.region_count ? bins.region_count : 1);
+        if (threads > mine_count) threads = (unsigned)(mine_count ? mine_count : 1);
+        /* fewer regions than cores (8 regions at 1024^3 and beyond): each
+         * builder lays its blocks out on a second thread as it builds */
+        j.layout_thread = 2 * threads <= cores;
+        /* and interns its tuples (a 4096^3 region can hold 14 M) on its share of the cores */
+        j.intern_threads = cores / threads;
         pthread_t th[64];
         unsigned started = 0;
         for (unsigned i = 1; i < threads; i++) {
@@ -536,6 +671,9 @@ done:
     vx_free(a, images);
     vx_free(a, texels);
     vx_free(a, cstart);
+    vx_free(a, ustart);
+    vx_free(a, breg);
+    vx_free(a, mine);
     vx__mesh_bins_free(a, &bins);
     return r;
 }
@@ -583,6 +721,14 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         (r = make_pipe(m, P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 9, 4, "meshgpu.flag", err)) ||
         (r = make_pipe(m, P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 9, 4, "meshgpu.reduce",
                        err)) ||
+        (r = make_pipe(m, P_IKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 0, 10, sizeof(intern_push),
+                       "meshgpu.ikey", err)) ||
+        (r = make_pipe(m, P_INKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 3, 10, sizeof(intern_push),
+                       "meshgpu.inkey", err)) ||
+        (r = make_pipe(m, P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push),
+                       "meshgpu.iflag", err)) ||
+        (r = make_pipe(m, P_IOUT, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 2, 10, sizeof(intern_push),
+                       "meshgpu.iout", err)) ||
         (r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err))) {
         vx_conv_mesh_gpu_destroy(m);
         return r;

@@ -14,8 +14,12 @@
  * arithmetic (shaders/meshvox.comp: counts, a prefix sum, records of each
  * (cell, triangle) piece), a stable radix sort of the records by cell
  * (shaders/gpusort.comp), and one thread per cell summing its pieces in
- * triangle order with the CPU's float additions (shaders/meshreduce.comp).
- * The cells come back in Morton order, region by region, to the sink.
+ * triangle order with the CPU's float additions (shaders/meshreduce.comp),
+ * then the cells' attribute tuples interned per region (shaders/meshintern.comp:
+ * a radix sort by (region, tuple), one id per run), so that each region's
+ * octree builder hashes its distinct tuples once (vx__svo_build_interned)
+ * instead of every cell's. The cells come back in Morton order, region by
+ * region, with their tuple ids, to the sink.
  *
  * Needs shaderFloat64 (NVIDIA, lavapipe); without it, or with desc.solid,
  * the voxelizer fails with VX_ERR_UNSUPPORTED (the CPU one does both).
@@ -45,10 +49,11 @@ typedef struct vx_conv_mesh_gpu_stats {
     double emit;     /* the records */
     double sort;     /* radix sort by cell */
     double reduce;   /* per-cell sums and the finished attributes */
+    double intern;   /* the cells' attribute tuples interned per region for the builders */
     double download; /* the cells */
     double sink;     /* CPU: regions handed to the sink (the octree builds) */
-    uint64_t pairs, records, cells;
-    uint32_t sort_passes;
+    uint64_t pairs, records, cells, tuples; /* tuples: distinct per region, summed (0: not interned) */
+    uint32_t sort_passes, intern_passes;
 } vx_conv_mesh_gpu_stats;
 
 /* gpu is borrowed: it must outlive the object. alloc may be NULL (malloc). */

@@ -3,6 +3,7 @@
 #define VX_CONVERT_MESH_INTERNAL_H
 
 #include "convert/mesh.h"
+#include "svo/svo_internal.h"
 
 #define VX__MESH_BRICK_BITS 6u /* bricks of 64^3 cells */
 
@@ -18,6 +19,10 @@ typedef struct vx__mesh_region {
     const uint32_t* normal;
     const uint16_t* material; /* VX_ATTR_MATERIAL: vx__mesh_material_id of the cell's material */
     uint32_t attrs;
+    /* The same tuples interned (interned.rec non-NULL; the GPU voxelizer):
+     * the builder takes these (vx__svo_build_interned) instead of hashing
+     * the arrays above, which stay for other sinks. */
+    vx__svo_interned interned;
 } vx__mesh_region;
 
 /* A region handed to the sink, placed: zeroed, then its origin and size in
@@ -78,12 +83,20 @@ void vx__mesh_bins_free(const vx_allocator* a, vx__mesh_bins* b);
  * guess[4097], lin[256] (sRGB code to linear), a255[256] (k / 255.0f). */
 void vx__mesh_color_tables(float thr[256], uint32_t guess[4097], float lin[256], float a255[256]);
 
+/* The regions of share `share` of `shares` (vx_conv_mesh_share's
+ * partition, a function of the binning alone: rstart as in vx__mesh_bins):
+ * *out (allocated, ascending region indices; every region for one share),
+ * their count and their bricks. */
+vx_result vx__mesh_share_regions(const size_t* rstart, size_t region_count, uint32_t share, uint32_t shares,
+                                 const vx_allocator* a, size_t** out, size_t* count, size_t* bricks, vx_error* err);
+
 /* A voxelizer other than vx__mesh_voxelize (convert/mesh_gpu.h), with its
- * contract (every region once; share 0 of 1 only). */
+ * contract (the regions of share `share` of `shares`, each once, as
+ * vx__mesh_share_regions assigns them). */
 struct vx_conv_mesh_backend {
     vx_result (*voxelize)(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                          const vx_conv_mesh_grid* grid, uint32_t attrs, vx__mesh_sink sink, void* user,
-                          vx_error* err);
+                          const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                          vx__mesh_sink sink, void* user, vx_error* err);
     void* self;
 };
 

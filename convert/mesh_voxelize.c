@@ -934,43 +934,50 @@ static void heap_down(uint64_t* load, uint32_t* sh, size_t n, size_t i) {
     }
 }
 
-/* The regions of share `share` of `shares`: longest processing time first
+/* The regions of share `share` of `shares` (convert/mesh_internal.h): longest processing time first
  * (regions by their number of surface bricks, the most first, each to the
  * share with the least bricks so far), a function of the binning alone, so
  * every process computes the same partition without talking to the others.
  * Bricks are a fair measure of a region's cost: voxelizing and building
  * both follow the surface it holds. One share keeps every region. */
-static vx_result assign_regions(job* j, uint32_t share, uint32_t shares, vx_error* err) {
-    size_t n = j->region_count;
-    j->mine = (size_t*)vx_alloc(j->alloc, (n ? n : 1) * sizeof *j->mine);
-    if (!j->mine) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu regions", n);
+vx_result vx__mesh_share_regions(const size_t* rstart, size_t n, uint32_t share, uint32_t shares, const vx_allocator* a,
+                                 size_t** out, size_t* count, size_t* bricks, vx_error* err) {
+    size_t* mine = (size_t*)vx_alloc(a, (n ? n : 1) * sizeof *mine);
+    *out = mine;
+    *count = *bricks = 0;
+    if (!mine) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu regions", n);
     if (shares <= 1) {
-        for (size_t i = 0; i < n; i++) j->mine[i] = i;
-        j->mine_count = n;
-        j->mine_bricks = j->total_bricks;
+        for (size_t i = 0; i < n; i++) mine[i] = i;
+        *count = n;
+        *bricks = rstart[n] - rstart[0];
         return VX_OK;
     }
-    region_cost* c = (region_cost*)vx_alloc(j->alloc, (n ? n : 1) * sizeof *c);
-    uint64_t* load = (uint64_t*)vx_calloc(j->alloc, shares, sizeof *load);
-    uint32_t* sh = (uint32_t*)vx_alloc(j->alloc, (size_t)shares * sizeof *sh);
+    region_cost* c = (region_cost*)vx_alloc(a, (n ? n : 1) * sizeof *c);
+    uint64_t* load = (uint64_t*)vx_calloc(a, shares, sizeof *load);
+    uint32_t* sh = (uint32_t*)vx_alloc(a, (size_t)shares * sizeof *sh);
     if (!c || !load || !sh) {
-        vx_free(j->alloc, c), vx_free(j->alloc, load), vx_free(j->alloc, sh);
+        vx_free(a, c), vx_free(a, load), vx_free(a, sh);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu regions over %u shares", n, shares);
     }
-    for (size_t i = 0; i < n; i++) c[i] = (region_cost){j->rstart[i + 1] - j->rstart[i], i};
+    for (size_t i = 0; i < n; i++) c[i] = (region_cost){rstart[i + 1] - rstart[i], i};
     qsort(c, n, sizeof *c, cost_cmp);
     for (uint32_t s = 0; s < shares; s++) sh[s] = s; /* all loads 0: already a heap */
     for (size_t i = 0; i < n; i++) {
         if (sh[0] == share) {
-            j->mine[j->mine_count++] = c[i].index;
-            j->mine_bricks += c[i].bricks;
+            mine[(*count)++] = c[i].index;
+            *bricks += c[i].bricks;
         }
         load[0] += c[i].bricks;
         heap_down(load, sh, shares, 0);
     }
-    qsort(j->mine, j->mine_count, sizeof *j->mine, index_cmp); /* Morton order, as one process goes */
-    vx_free(j->alloc, c), vx_free(j->alloc, load), vx_free(j->alloc, sh);
+    qsort(mine, *count, sizeof *mine, index_cmp); /* Morton order, as one process goes */
+    vx_free(a, c), vx_free(a, load), vx_free(a, sh);
     return VX_OK;
+}
+
+static vx_result assign_regions(job* j, uint32_t share, uint32_t shares, vx_error* err) {
+    return vx__mesh_share_regions(j->rstart, j->region_count, share, shares, j->alloc, &j->mine, &j->mine_count,
+                                  &j->mine_bricks, err);
 }
 
 static void job_free(job* j) {

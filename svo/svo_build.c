@@ -9,8 +9,12 @@
  * changes: collapse check, representative attribute, hash-consing (DAG);
  * (4) node blocks are laid out in creation order, which is a post-order
  * (children first), so every child pointer points backwards. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 
 #include "svo/svo_internal.h"
 
@@ -53,6 +57,11 @@ typedef struct bld {
     uint64_t ncollapsed;
     pending lv[VX_SVO_MAX_DEPTH + 2];
     uint32_t depth;
+    /* With the layout on a second thread (build_layout_thread): the pool is
+     * allocated once at a bound (never moved), each appended node published
+     * here; NULL when the layout runs after the build. */
+    _Atomic size_t* pub;
+    size_t laid; /* pool words already laid out */
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -271,6 +280,73 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
 }
 
+/* ---- tuples interned by the caller, on several threads ------------------------------------- */
+
+/* Tuple j has id j: each chunk of ids copies its tuples (channels outside
+ * attrs zeroed) into recs, then claims a slot of the presized table for each
+ * with a compare-and-swap; a slot's tuple is copied before its id is
+ * published there, and a tuple equal to one already placed is reported. */
+typedef struct pre_job {
+    bld* b;
+    const vx__svo_interned* pre;
+    size_t chunk;
+    uint32_t dup_a, dup_b; /* ids of two equal tuples (dup_b 0: none) */
+    pthread_mutex_t lock;
+} pre_job;
+
+static void pre_chunk(void* ctx, uint32_t c) {
+    pre_job* j = (pre_job*)ctx;
+    bld* b = j->b;
+    size_t lo = (size_t)c * j->chunk, hi = lo + j->chunk < j->pre->count ? lo + j->chunk : j->pre->count;
+    for (size_t i = lo; i < hi; i++) {
+        rec r = j->pre->tab[i];
+        r.pad = 0;
+        if (!(b->attrs & VX_ATTR_PALETTE)) r.palette = 0;
+        if (!(b->attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+        if (!(b->attrs & VX_ATTR_NORMAL)) r.normal = 0;
+        if (!(b->attrs & VX_ATTR_MATERIAL)) r.material = 0;
+        if (!(b->attrs & VX_ATTR_DENSITY)) r.density = 0;
+        b->recs[i] = r;
+    }
+    size_t mask = b->rhcap - 1;
+    for (size_t i = lo; i < hi; i++) {
+        size_t h = (size_t)hash_words((const uint32_t*)&b->recs[i], 4, 7) & mask;
+        for (;;) {
+            uint32_t cur = __atomic_load_n(&b->rhash[h], __ATOMIC_ACQUIRE);
+            if (cur == 0 && __atomic_compare_exchange_n(&b->rhash[h], &cur, (uint32_t)i + 1, false, __ATOMIC_ACQ_REL,
+                                                        __ATOMIC_ACQUIRE))
+                break;
+            if (memcmp(&b->recs[cur - 1], &b->recs[i], sizeof(rec)) == 0) {
+                pthread_mutex_lock(&j->lock);
+                if (!j->dup_b) j->dup_a = cur - 1 < i ? cur - 1 : (uint32_t)i, j->dup_b = cur - 1 < i ? (uint32_t)i : cur - 1;
+                pthread_mutex_unlock(&j->lock);
+                break;
+            }
+            h = (h + 1) & mask;
+        }
+    }
+}
+
+/* Interns pre's tuples (ids 0..count-1) into b's empty, presized tables on
+ * up to `threads` threads; false when they do not fit (the caller then
+ * interns them one by one) or two are equal (b->fail set). */
+static bool intern_pre(bld* b, const vx__svo_interned* pre, unsigned threads) {
+    if (b->nrec || !b->rhash || b->rhcap < 2 * pre->count + 2 || pre->count > 0xFFFFFFF0u ||
+        !vx_grow(b->a, (void**)&b->recs, &b->caprec, pre->count, sizeof(rec)))
+        return false;
+    pre_job j = {b, pre, 1u << 16, 0, 0, PTHREAD_MUTEX_INITIALIZER};
+    size_t chunks = (pre->count + j.chunk - 1) / j.chunk;
+    vx__svo_run_jobs(threads, (uint32_t)chunks, pre_chunk, &j);
+    pthread_mutex_destroy(&j.lock);
+    b->nrec = pre->count;
+    if (j.dup_b) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned tuples %u and %u are equal", j.dup_a,
+                          j.dup_b);
+        return false;
+    }
+    return true;
+}
+
 /* ---- nodes ----------------------------------------------------------------------------- */
 
 static bool nhash_grow(bld* b) {
@@ -312,8 +388,9 @@ static uint32_t node_intern(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
 /* Appends a node to the pool without looking for an equal one. */
 static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned nk, uint32_t rep) {
     size_t need = b->npool + N_KIDS + nk;
-    if (need >= 0xFFFFFFF0u) {
-        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
+    if (need >= 0xFFFFFFF0u || (b->pub && need > b->cappool)) { /* the second: the bound was wrong; never move the pool */
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds %s words",
+                          b->pub ? "its bound" : "2^32");
         return UINT32_MAX;
     }
     if (!vx_grow(b->a, (void**)&b->pool, &b->cappool, need, sizeof(uint32_t))) {
@@ -328,6 +405,7 @@ static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
     memcpy(n + N_KIDS, kids, nk * sizeof *kids);
     b->npool = need;
     b->nnodes++;
+    if (b->pub) atomic_store_explicit(b->pub, need, memory_order_release);
     return id;
 }
 
@@ -580,10 +658,10 @@ static inline bool node_has_block(const bld* b, const uint32_t* n) {
 
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
-static bool layout(bld* b, outw* o) {
+static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
     uint32_t limit = b->limit;
-    size_t off = 0;
-    while (off < b->npool) {
+    size_t off = *off_io;
+    while (off < end) {
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -680,6 +758,102 @@ static bool layout(bld* b, outw* o) {
         n[N_BLOCK] = (uint32_t)bstart;
         off = next;
     }
+    *off_io = off;
+    return true;
+}
+
+/* ---- the layout on a second thread -------------------------------------------------------- */
+
+/* Blocks are written in pool order and a node's block needs only its
+ * children's, which come earlier in the pool: so the layout can follow the
+ * build on another thread, node by node as they are appended, and the
+ * result is the sequential one. The producer never moves the pool (it is
+ * allocated at a bound), reads no N_BLOCK word and writes nodes only before
+ * publishing them; the layout writes only N_BLOCK words and its own outw. */
+typedef struct lay_job {
+    bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
+    outw* o;
+    _Atomic size_t pub;
+    atomic_bool stop;
+    vx_error err;
+    pthread_t th;
+    bool started;
+} lay_job;
+
+static void* lay_main(void* arg) {
+    lay_job* j = (lay_job*)arg;
+    size_t off = 0;
+    for (;;) {
+        bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
+        size_t end = atomic_load_explicit(&j->pub, memory_order_acquire);
+        if (off < end) {
+            if (!layout_nodes(&j->lb, j->o, &off, end)) break;
+            continue;
+        }
+        if (stop) break;
+        nanosleep(&(struct timespec){0, 20000}, NULL); /* the build appends about a node per microsecond */
+    }
+    j->lb.laid = off;
+    return NULL;
+}
+
+/* Words of pool the build of n entries (no tiles) can need: at most
+ * min(n, 8^(depth-l)) nodes at level l, each N_KIDS words plus its children,
+ * a child being a node or an entry. */
+static size_t pool_bound(size_t n, uint32_t depth) {
+    double nodes = 0;
+    for (uint32_t l = 1; l <= depth; l++) {
+        double cubes = pow(8.0, (double)(depth - l));
+        nodes += cubes < (double)n ? cubes : (double)n;
+    }
+    double words = (N_KIDS + 1) * nodes + (double)n + 16;
+    return words < 4.0e9 ? (size_t)words : 0;
+}
+
+/* Starts the layout thread over b's pool, allocated at the bound; false
+ * (and nothing started) when either cannot be had: the layout then runs
+ * after the build as usual. */
+static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
+    size_t words = pool_bound(n, b->depth);
+    if (!words || b->pool) return false;
+    b->pool = (uint32_t*)vx_alloc(b->a, words * sizeof *b->pool);
+    if (!b->pool) return false;
+    b->cappool = words;
+    j->o = o;
+    atomic_init(&j->pub, 0);
+    atomic_init(&j->stop, false);
+    memset(&j->err, 0, sizeof j->err);
+    j->lb = *b;
+    j->lb.err = &j->err;
+    j->lb.fail = VX_OK;
+    b->pub = &j->pub;
+    if (pthread_create(&j->th, NULL, lay_main, j) != 0) {
+        b->pub = NULL; /* the pool stays, growable as usual */
+        return false;
+    }
+    j->started = true;
+    return true;
+}
+
+/* Lets the layout thread finish what was published and joins it; with
+ * propagate, its failure becomes b's. */
+static void lay_join(lay_job* j, bld* b, bool propagate) {
+    if (!j->started) return;
+    atomic_store_explicit(&j->stop, true, memory_order_release);
+    pthread_join(j->th, NULL);
+    j->started = false;
+    b->pub = NULL;
+    b->laid = j->lb.laid;
+    if (propagate && j->lb.fail != VX_OK && b->fail == VX_OK) {
+        b->fail = j->lb.fail;
+        if (b->err) *b->err = j->err;
+    }
+}
+
+/* The blocks of the nodes not laid out yet, then the root descriptor. */
+static bool layout(bld* b, outw* o) {
+    uint32_t limit = b->limit;
+    if (!layout_nodes(b, o, &b->laid, b->npool)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -771,8 +945,25 @@ static unsigned bits_for(uint64_t maxval) {
     return k;
 }
 
+static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                       vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err);
+
 vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
                              vx_svo_build_stats* stats, vx_error* err) {
+    return build(desc, in, NULL, out, stats, err);
+}
+
+vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                                 vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
+    if (!in || !pre) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
+    if (!in->attrs || in->level || (in->count && (!pre->rec || (pre->count && !pre->tab))))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned entries need attrs, ids and no tiles");
+    return build(desc, in, pre, out, stats, err);
+}
+
+/* pre: the tuples interned by the caller (vx__svo_build_interned), else NULL. */
+static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
+                       vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     vx_svo_build_desc d;
     if (desc) d = *desc;
     else memset(&d, 0, sizeof d);
@@ -795,7 +986,7 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: unknown attribute bits 0x%x", in->attrs);
     const void* chans[5] = {in->palette, in->rgba, in->normal, in->material, in->density};
     for (unsigned c = 0; c < 5; c++) {
-        bool want = in->attrs >> c & 1u;
+        bool want = in->attrs >> c & 1u && !pre; /* interned: the tuples come in pre */
         if (want && !chans[c] && in->count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: attrs names %s but the array is NULL",
                            attr_name(1u << c));
@@ -834,6 +1025,8 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
     size_t* cnt = NULL;
     outw o;
     memset(&o, 0, sizeof o);
+    lay_job lj;
+    lj.started = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
@@ -854,6 +1047,39 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
             memset(&z, 0, sizeof z);
             rec_intern(&b, &z);
             if (b.fail) { res = b.fail; goto done; }
+        }
+        /* interned by the caller: tuple j gets id j, once; the tables sized
+         * for them and the nodes to come (a surface has about n / 4 nodes, as
+         * many new representatives at most), not grown and rehashed step by
+         * step (at 4096^3 a region holds 19 M tuples) */
+        if (pre) {
+            size_t want = pre->count + n / 4, cap = 1024, ncap = 4096;
+            while (cap < 2 * want + 2 && cap < ((size_t)1 << 40)) cap *= 2;
+            while (ncap < 2 * (n / 4) + 2 && ncap < ((size_t)1 << 40)) ncap *= 2;
+            b.rhash = (uint32_t*)vx_calloc(b.a, cap, sizeof *b.rhash);
+            b.nhash = b.dag ? (uint32_t*)vx_calloc(b.a, ncap, sizeof *b.nhash) : NULL;
+            if (b.rhash && b.nrec == 0) b.rhcap = cap; /* else (cannot happen: attrs != 0) it grows as usual */
+            else vx_free(b.a, b.rhash), b.rhash = NULL;
+            if (b.nhash) b.nhcap = ncap;
+            vx_grow(b.a, (void**)&b.recs, &b.caprec, want, sizeof(rec)); /* a hint: on failure it grows later */
+        }
+        /* interned by the caller: tuple j gets id j, once (many on several threads) */
+        unsigned ith = pre && pre->threads > 1 && pre->count >= ((size_t)1 << 18) ? pre->threads : 1;
+        if (ith > 1 && !intern_pre(&b, pre, ith) && b.fail) { res = b.fail; goto done; }
+        for (size_t j = b.nrec; pre && j < pre->count; j++) {
+            rec r = pre->tab[j];
+            r.pad = 0;
+            if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
+            if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+            if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
+            if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
+            if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
+            uint32_t id = rec_intern(&b, &r);
+            if (id == UINT32_MAX) { res = b.fail; goto done; }
+            if (id != j) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned tuples %u and %zu are equal", id, j);
+                goto done;
+            }
         }
         bool full[3];
         for (int a = 0; a < 3; a++) full[a] = in->size[a] == (1u << depth);
@@ -889,7 +1115,14 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
             sorted = sorted && k >= prev;
             prev = k;
             uint32_t id = 0;
-            if (b.attrs) {
+            if (pre) {
+                id = pre->rec[i];
+                if (id >= pre->count) {
+                    res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: entry %zu: tuple %u of %zu", i, id,
+                                  pre->count);
+                    goto done;
+                }
+            } else if (b.attrs) {
                 rec r;
                 memset(&r, 0, sizeof r);
                 if (in->palette) r.palette = in->palette[i];
@@ -967,7 +1200,9 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
                 etmp = NULL;
             }
         }
-        /* pass 3: stream bottom-up */
+        /* pass 3: stream bottom-up (the layout following on a second thread
+         * where the caller has a core to spare; else it runs afterwards) */
+        if (pre && pre->layout_thread && n >= ((size_t)1 << 16)) lay_start(&lj, &b, &o, n);
         unsigned s = ab + lb;
         uint64_t amask = ((uint64_t)1 << ab) - 1;
         uint64_t lastkey = 0, covered_end = 0;
@@ -1030,6 +1265,8 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
         }
         for (unsigned l = 1; l <= depth; l++)
             if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
+        lay_join(&lj, &b, true);
+        if (b.fail) { res = b.fail; goto done; }
     }
     vx_free(b.a, packed);
     packed = NULL;
@@ -1079,6 +1316,7 @@ finish:
     if (stats) *stats = st;
     res = VX_OK;
 done:
+    lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);

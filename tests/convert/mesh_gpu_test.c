@@ -5,7 +5,9 @@
  * meshes made to hit the hard cases: degenerate triangles (points,
  * segments, slivers), vertices and faces exactly on cell boundaries,
  * axis-aligned faces on the grid's bounds, textures with every wrap mode
- * and uv far outside [0, 1], vertex colours, special materials.
+ * and uv far outside [0, 1], vertex colours, special materials. The GPU
+ * path's octree builders take the tuples interned on the GPU. Split into
+ * shares (vox2svo --gpu under mpirun), the GPU path gives the same file.
  * Runs on whatever device vx_gpu_create picks (lavapipe here); skipped
  * without a device or without shaderFloat64. */
 #include <dlfcn.h>
@@ -46,13 +48,77 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
              na == nb && memcmp(da, db, na) == 0;
     vx_conv_mesh_gpu_stats st;
     vx_conv_mesh_gpu_last_stats(mg, &st);
+    /* the builders got the tuples interned on the GPU (vx__svo_build_interned,
+     * which rejects equal tuples under two ids; one id for two tuples would
+     * change the bytes): at least one per region, at most one per cell */
+    bool attrs = a.model_count && a.models[0].attrs;
+    if (ok && attrs && !(st.tuples >= a.model_count && st.tuples <= st.cells)) {
+        fprintf(stderr, "  %s res %u region %u: %llu tuples interned for %u models, %llu cells\n", what, res, region,
+                (unsigned long long)st.tuples, a.model_count, (unsigned long long)st.cells);
+        ok = 0;
+    }
     if (!ok) fprintf(stderr, "  %s res %u region %u: .svo differs (%zu vs %zu bytes)\n", what, res, region, na, nb);
-    else fprintf(stderr, "  %s res %u region %u: %llu cells from %llu pieces, equal\n", what, res, region,
-                 (unsigned long long)st.cells, (unsigned long long)st.records);
+    else fprintf(stderr, "  %s res %u region %u: %llu cells from %llu pieces, %llu tuples, equal\n", what, res, region,
+                 (unsigned long long)st.cells, (unsigned long long)st.records, (unsigned long long)st.tuples);
     free(da);
     free(db);
     vx_svo_scene_free(&a);
     vx_svo_scene_free(&b);
+    return ok;
+}
+
+/* The GPU path split into `shares` shares (vx_conv_mesh_share, as vox2svo
+ * under mpirun): each share's regions are the CPU share's, and the parts of
+ * all shares assembled give the one-process CPU file; 1 when so. */
+static int same_shares(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, uint32_t shares, const char* what) {
+    vx_conv_mesh_desc d = {.res = res, .region = region}, dg = d;
+    dg.backend = vx_conv_mesh_gpu_backend(mg);
+    vx_error err = {0};
+    vx_svo_scene a, b;
+    if (vx_conv_mesh(&d, mesh, &a, NULL, &err)) return fprintf(stderr, "  %s: CPU: %s\n", what, err.msg), 0;
+    vx_conv_mesh_part* all = NULL;
+    size_t total = 0;
+    int ok = 1;
+    for (uint32_t sh = 0; sh < shares && ok; sh++) {
+        vx_conv_mesh_part *gp = NULL, *cp = NULL;
+        size_t gn = 0, cn = 0;
+        if (vx_conv_mesh_share(&dg, mesh, sh, shares, &gp, &gn, NULL, &err) ||
+            vx_conv_mesh_share(&d, mesh, sh, shares, &cp, &cn, NULL, &err)) {
+            fprintf(stderr, "  %s share %u of %u: %s\n", what, sh, shares, err.msg);
+            ok = 0;
+        }
+        ok = ok && gn == cn;
+        for (size_t i = 0; ok && i < gn; i++) ok = gp[i].index == cp[i].index;
+        if (!ok) fprintf(stderr, "  %s share %u of %u: %zu regions, the CPU's %zu\n", what, sh, shares, gn, cn);
+        vx_conv_mesh_part* t = ok ? (vx_conv_mesh_part*)realloc(all, (total + gn + 1) * sizeof *all) : NULL;
+        if (t) {
+            all = t;
+            memcpy(all + total, gp, gn * sizeof *gp);
+            total += gn;
+            free(gp); /* the models moved into all */
+        } else {
+            ok = 0;
+            vx_conv_mesh_parts_free(NULL, gp, gn);
+        }
+        vx_conv_mesh_parts_free(NULL, cp, cn);
+    }
+    if (ok && vx_conv_mesh_assemble(&dg, mesh, all, total, &b, NULL, &err)) {
+        fprintf(stderr, "  %s: assemble: %s\n", what, err.msg);
+        ok = 0;
+    }
+    vx_conv_mesh_parts_free(NULL, all, total);
+    uint8_t *da = NULL, *db = NULL;
+    size_t na = 0, nb = 0;
+    if (ok) {
+        ok = vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK && na == nb &&
+             memcmp(da, db, na) == 0;
+        fprintf(stderr, "  %s res %u region %u over %u shares (%u models): %s\n", what, res, region, shares, b.model_count,
+                ok ? "equal" : "DIFFERENT");
+        vx_svo_scene_free(&b);
+    }
+    free(da);
+    free(db);
+    vx_svo_scene_free(&a);
     return ok;
 }
 
@@ -134,6 +200,7 @@ static void test_corpus(void) {
             if (res[k] == 64) CHECKF(cell_diffs(&m, res[k], corpus_meshes[i]) == 0, "%s at %u", corpus_meshes[i], res[k]);
         }
         CHECKF(same_svo(&m, 128, 64, false, corpus_meshes[i]), "%s at 128 in regions of 64", corpus_meshes[i]);
+        CHECKF(same_shares(&m, 128, 64, 3, corpus_meshes[i]), "%s at 128 in regions of 64, 3 shares", corpus_meshes[i]);
         vx_gltf_mesh_free(&m);
     }
     if (!found) SKIP("no corpus meshes (../shared/corpus or VX_CORPUS_DIR)");
@@ -278,7 +345,7 @@ static void test_refusals(void) {
     vx_conv_mesh_part* parts = NULL;
     size_t n = 0;
     d.solid = false;
-    CHECK(vx_conv_mesh_share(&d, &m, 1, 2, &parts, &n, NULL, &err) == VX_ERR_UNSUPPORTED);
+    CHECK(vx_conv_mesh_share(&d, &m, 2, 2, &parts, &n, NULL, &err) == VX_ERR_INVALID_ARG && parts == NULL);
     v[4] = NAN;
     CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_BAD_FORMAT);
 }

@@ -679,6 +679,157 @@ static void test_other_channels(void) {
     vx_svo_model_free(NULL, &m);
 }
 
+/* vx__svo_build_interned (the tuples interned by the caller, as the GPU
+ * voxelizer hands them) builds the same model, word for word, as
+ * vx_svo_build_model over the expanded tuples: every channel mix (one
+ * channel: the builder's direct values), shared tuples, uniform blocks that
+ * collapse, shared subtrees, duplicates (the later wins), unsorted input,
+ * forced far pointers; and it rejects equal tuples and ids out of range. */
+typedef struct ient {
+    uint64_t key;
+    size_t order;
+    uint32_t v;
+} ient;
+static int ient_cmp(const void* pa, const void* pb) {
+    const ient *a = (const ient*)pa, *b = (const ient*)pb;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->order < b->order ? -1 : a->order > b->order;
+}
+
+static const vx__svo_rec* g_vals; /* for val_cmp */
+static int val_cmp(const void* pa, const void* pb) {
+    uint32_t a = *(const uint32_t*)pa, b = *(const uint32_t*)pb;
+    int c = memcmp(&g_vals[a], &g_vals[b], sizeof *g_vals);
+    return c ? c : (a < b ? -1 : a > b);
+}
+
+static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle,
+                          bool thread, unsigned threads) {
+    size_t cap = nblocks * 64 + nrand;
+    uint64_t* keys = (uint64_t*)calloc(cap, 8);
+    vx__svo_rec* full = (vx__svo_rec*)calloc(cap, sizeof *full);
+    vx__svo_rec* vals = (vx__svo_rec*)calloc(nvals, sizeof *vals);
+    uint8_t* pal = (uint8_t*)calloc(cap, 1);
+    uint32_t *rgba = (uint32_t*)calloc(cap, 4), *nrm = (uint32_t*)calloc(cap, 4), *ids = (uint32_t*)calloc(cap, 4);
+    uint16_t* mat = (uint16_t*)calloc(cap, 2);
+    float* den = (float*)calloc(cap, 4);
+    vx__svo_rec* tab = (vx__svo_rec*)calloc(cap, sizeof *tab);
+    REQUIRE(keys && full && vals && pal && rgba && nrm && ids && mat && den && tab);
+    for (unsigned v = 0; v < nvals; v++) {
+        float f[3] = {(float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 100.0f, (float)(rnd() % 200) - 99.5f};
+        if (attrs & VX_ATTR_PALETTE) vals[v].palette = (uint8_t)(1 + rnd() % 255);
+        if (attrs & VX_ATTR_RGBA8) vals[v].rgba = (uint32_t)rnd();
+        if (attrs & VX_ATTR_NORMAL) vals[v].normal = vx__oct_encode(f);
+        if (attrs & VX_ATTR_MATERIAL) vals[v].material = (uint16_t)(rnd() % 4);
+        if (attrs & VX_ATTR_DENSITY) vals[v].density = (float)(rnd() % 64) * 0.5f;
+    }
+    /* entries as (key, input order, value index), sorted by key then order
+     * unless shuffle (duplicates keep their order: the later wins) */
+    ient* ent = (ient*)calloc(cap, sizeof *ent);
+    uint32_t* canon = (uint32_t*)calloc(nvals, 4);
+    uint32_t* tid = (uint32_t*)calloc(nvals, 4);
+    REQUIRE(ent && canon && tid);
+    size_t n = 0;
+    for (size_t b = 0; b < nblocks; b++) { /* uniform 4^3 blocks: collapse, and shared subtrees */
+        uint32_t x0 = (uint32_t)(rnd() % (S / 4)) * 4, y0 = (uint32_t)(rnd() % (S / 4)) * 4, z0 = (uint32_t)(rnd() % (S / 4)) * 4;
+        unsigned v = (unsigned)(rnd() % nvals);
+        for (uint32_t q = 0; q < 64; q++, n++)
+            ent[n] = (ient){vx_svo_morton(x0 + (q & 3), y0 + (q >> 2 & 3), z0 + (q >> 4)), n, v};
+    }
+    for (size_t i = 0; i < nrand; i++, n++)
+        ent[n] = (ient){vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S)), n,
+                        (uint32_t)(rnd() % nvals)};
+    if (!shuffle) qsort(ent, n, sizeof *ent, ient_cmp);
+    /* equal values (random ones may repeat) share one tuple id, numbered by first use */
+    uint32_t* ord = (uint32_t*)calloc(nvals, 4);
+    REQUIRE(ord);
+    for (unsigned v = 0; v < nvals; v++) ord[v] = v, tid[v] = UINT32_MAX;
+    g_vals = vals;
+    qsort(ord, nvals, 4, val_cmp);
+    for (unsigned q = 0; q < nvals; q++)
+        canon[ord[q]] = q && !memcmp(&vals[ord[q]], &vals[ord[q - 1]], sizeof *vals) ? canon[ord[q - 1]] : ord[q];
+    free(ord);
+    size_t ntab = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t v = canon[ent[i].v];
+        keys[i] = ent[i].key;
+        full[i] = vals[v];
+        pal[i] = full[i].palette, rgba[i] = full[i].rgba, nrm[i] = full[i].normal, mat[i] = full[i].material;
+        den[i] = full[i].density;
+        if (tid[v] == UINT32_MAX) tab[ntab] = vals[v], tid[v] = (uint32_t)ntab++;
+        ids[i] = tid[v];
+    }
+    free(ent), free(canon), free(tid);
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = keys, .attrs = attrs};
+    in.palette = (attrs & VX_ATTR_PALETTE) ? pal : NULL;
+    in.rgba = (attrs & VX_ATTR_RGBA8) ? rgba : NULL;
+    in.normal = (attrs & VX_ATTR_NORMAL) ? nrm : NULL;
+    in.material = (attrs & VX_ATTR_MATERIAL) ? mat : NULL;
+    in.density = (attrs & VX_ATTR_DENSITY) ? den : NULL;
+    vx_svo_model a, b;
+    vx_svo_build_stats sa, sb;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
+    vx_svo_voxels bare = in;
+    bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
+    vx__svo_interned pre = {ids, tab, ntab, thread, threads};
+    vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
+    CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
+    if (r == VX_OK) {
+        CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && a.attr_count == b.attr_count &&
+                   !memcmp(a.nodes, b.nodes, (size_t)a.node_count * 4) && sa.desc_dag == sb.desc_dag && sa.voxels == sb.voxels,
+               "attrs 0x%x: %u/%u words, %u/%u records", attrs, a.node_count, b.node_count, a.attr_count, b.attr_count);
+        size_t na = a.attr_count;
+        CHECK(!a.palette == !b.palette && (!a.palette || !memcmp(a.palette, b.palette, na)));
+        CHECK(!a.rgba == !b.rgba && (!a.rgba || !memcmp(a.rgba, b.rgba, na * 4)));
+        CHECK(!a.normal == !b.normal && (!a.normal || !memcmp(a.normal, b.normal, na * 4)));
+        CHECK(!a.material == !b.material && (!a.material || !memcmp(a.material, b.material, na * 2)));
+        CHECK(!a.density == !b.density && (!a.density || !memcmp(a.density, b.density, na * 4)));
+        CHECK(sa.desc_collapsed < sa.desc_plain || nblocks == 0); /* the blocks did collapse */
+        vx_svo_model_free(NULL, &b);
+    }
+    /* rejected: an id out of range, two equal tuples */
+    if (n && ntab) {
+        uint32_t keep = ids[n / 2];
+        ids[n / 2] = (uint32_t)ntab;
+        CHECK(vx__svo_build_interned(NULL, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "tuple"));
+        ids[n / 2] = keep;
+        tab[ntab] = tab[0];
+        pre.count = ntab + 1;
+        CHECK(vx__svo_build_interned(NULL, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "equal"));
+    }
+    vx_svo_model_free(NULL, &a);
+    free(keys), free(full), free(vals), free(pal), free(rgba), free(nrm), free(ids), free(mat), free(den), free(tab);
+}
+
+static void test_interned(void) {
+    const uint32_t mixes[] = {VX_ATTR_RGBA8, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL,
+                              VX_ATTR_PALETTE, VX_ATTR_MATERIAL, VX_ATTR_NORMAL | VX_ATTR_DENSITY};
+    for (size_t i = 0; i < sizeof mixes / sizeof *mixes; i++) {
+        interned_case(mixes[i], 32, 12, 900, 3, false, false, 0);   /* few tuples: much sharing */
+        interned_case(mixes[i], 64, 6, 2500, 400, false, false, 0); /* many tuples */
+        interned_case(mixes[i], 16, 4, 300, 2, true, false, 0);     /* unsorted, duplicates */
+    }
+    vx__svo_far_limit = 40;
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false, 0);
+    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    /* the layout on a second thread (from 2^16 entries): the same words */
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true, 0);
+    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true, 0);
+    vx__svo_far_limit = 200;
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true, 0);
+    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    /* many tuples (from 2^18) interned on 4 threads, with and without the layout thread */
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 256, 200, 600000, 1000000, false, true, 4);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3);
+    uint64_t k = 0;
+    vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
+    vx__svo_interned pre = {NULL, NULL, 0, false, 0};
+    vx_svo_model m;
+    vx_error e;
+    CHECK(vx__svo_build_interned(NULL, &in, &pre, &m, NULL, &e) == VX_ERR_INVALID_ARG);
+}
+
 /* Hand-made broken models: each must be rejected with a specific message. */
 static void test_validate_rejects(void) {
     /* a valid base: depth 2, root with one non-leaf child (all-leaf, level 1) */
@@ -838,6 +989,7 @@ int main(void) {
     RUN(test_lod);
     RUN(test_decode_stop);
     RUN(test_other_channels);
+    RUN(test_interned);
     RUN(test_validate_rejects);
     RUN(test_bounds_and_materials);
     return vx_test_finish();

@@ -5,7 +5,8 @@
 # exported from the demo scene (svo_info --to-glb). --res 640 makes 8 regions
 # (models), so every rank converts some; -v prints one line per rank. A
 # non-mesh input is one usage error; a failing rank 0 (an output folder that
-# does not exist) ends the job nonzero with no output.
+# does not exist) ends the job nonzero with no output. With a GPU voxelizer
+# (lavapipe will do), mpirun -n 2 vox2svo --gpu gives the same file.
 # Usage: test_vox2svo_mpi.sh BIN_DIR [MPIEXEC]; exits 77 (skipped) without mpirun.
 set -u
 BIN=$1
@@ -37,6 +38,18 @@ for m in $meshes; do
   done
   echo "ok: $(basename "$m") ($models models) on 2 and 3 ranks"
 done
+# --gpu under mpirun: each rank voxelizes on the device (here whatever vx_gpu_create
+# finds, lavapipe) and builds its share; the file is the one-process CPU file
+# (skipped without a device with float64 shaders)
+set -- $meshes
+if "$BIN/vox2svo" "$1" "$T/probe.svo" --res 16 --gpu -q 2>"$T/probe.err"; then
+  run 2 "$BIN/vox2svo" "$1" "$T/g2.svo" $O --gpu -v >"$T/g2.out" 2>&1 || { cat "$T/g2.out"; fail "mpirun -n 2 --gpu $1"; }
+  cmp -s "$T/one1.svo" "$T/g2.svo" || fail "mpirun -n 2 --gpu: $1 differs from one process"
+  grep -q "^rank [0-9]*: 0 regions" "$T/g2.out" && { cat "$T/g2.out"; fail "--gpu: a rank got no region"; }
+  echo "ok: $(basename "$1") on 2 ranks with --gpu"
+else
+  echo "no GPU voxelizer here ($(head -c 200 "$T/probe.err")): --gpu under mpirun not tested"
+fi
 # a .vox is not split: one usage error, exit 2, no output
 run 2 "$BIN/vox2svo" "$T/demo.vox" "$T/x.svo" >"$T/u.out" 2>&1; st=$?
 [ $st -ne 0 ] || fail "a .vox under mpirun must fail"

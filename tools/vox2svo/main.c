@@ -80,7 +80,8 @@ _Noreturn static void usage(int status) {
 #ifdef VX_HAVE_MESH_GPU
             "    --gpu            meshes: voxelize on the GPU (Vulkan, needs float64 shaders; the same\n"
             "                     cells, colours and file as the CPU path; not with --solid); -v prints\n"
-            "                     the GPU stages' times\n"
+            "                     the GPU stages' times; under mpirun every rank voxelizes on the device\n"
+            "                     and builds its share of the regions\n"
             "    --device D       with --gpu: the Vulkan device, an index or part of its name\n"
 #endif
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
@@ -165,9 +166,6 @@ static options parse(int argc, char** argv) {
         const char* k = vx_conv_file_kind(o.in);
         if (!k || (strcmp(k, ".gltf") && strcmp(k, ".glb"))) usage_error("--gpu: meshes only (.gltf, .glb), not %s", o.in);
         if (o.conv.solid) usage_error("%s", "--gpu does not fill (--solid): convert on the CPU");
-#ifdef VX_HAVE_MPI
-        if (vx_tool_mpi_launched()) usage_error("%s", "--gpu under mpirun: the ranks voxelize on their CPUs");
-#endif
     }
 #ifdef VX_HAVE_MPI
     const char* kind = vx_conv_file_kind(o.in);
@@ -251,10 +249,29 @@ static int write_demo(const options* o) {
 #ifdef VX_HAVE_MPI
 /* mpirun: rank 0 writes and prints what one process would; the other ranks
  * only convert their share (vox2svo_mpi) */
-static int main_mpi(const options* o) {
+static int main_mpi(const options* opt) {
+    options oc = *opt;
+    const options* o = &oc;
     vx_svo_scene scene;
     vx_tool_loaded li;
-    if (!vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li)) return 0;
+#ifdef VX_HAVE_MESH_GPU
+    /* --gpu: every rank voxelizes on its device (the one --device names, else
+     * the first), then builds its share of the regions */
+    vx_gpu* gpu = NULL;
+    vx_conv_mesh_gpu* mg = NULL;
+    if (oc.gpu) {
+        vx_error e = {0};
+        if (vx_gpu_create(&(vx_gpu_desc){.device = oc.device}, &gpu, &e) || vx_conv_mesh_gpu_create(gpu, NULL, &mg, &e))
+            vx_tool_mpi_die("--gpu: %s", e.msg);
+        oc.conv.mesh_backend = vx_conv_mesh_gpu_backend(mg);
+    }
+#endif
+    bool ok = vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li);
+#ifdef VX_HAVE_MESH_GPU
+    vx_conv_mesh_gpu_destroy(mg);
+    vx_gpu_destroy(gpu);
+#endif
+    if (!ok) return 0;
     vx_error err = {0};
     /* the trees stay on their ranks: emissive voxels are not clustered here */
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, false);
@@ -315,10 +332,12 @@ int main(int argc, char** argv) {
         vx_conv_mesh_gpu_last_stats(mg, &gs);
         fprintf(stderr,
                 "%s: GPU voxelizer: bin %.1f ms (CPU), upload %.1f, count %.1f, emit %.1f, sort %.1f (%u passes), "
-                "reduce %.1f, download %.1f, regions to the octree builder %.1f ms; %llu pairs, %llu pieces, %llu cells\n",
+                "reduce %.1f, tuples interned %.1f (%u passes), download %.1f, regions to the octree builder %.1f ms; "
+                "%llu pairs, %llu pieces, %llu cells, %llu distinct tuples\n",
                 vx_tool_name, gs.bin * 1e3, gs.upload * 1e3, gs.count * 1e3, gs.emit * 1e3, gs.sort * 1e3,
-                gs.sort_passes, gs.reduce * 1e3, gs.download * 1e3, gs.sink * 1e3, (unsigned long long)gs.pairs,
-                (unsigned long long)gs.records, (unsigned long long)gs.cells);
+                gs.sort_passes, gs.reduce * 1e3, gs.intern * 1e3, gs.intern_passes, gs.download * 1e3, gs.sink * 1e3,
+                (unsigned long long)gs.pairs, (unsigned long long)gs.records, (unsigned long long)gs.cells,
+                (unsigned long long)gs.tuples);
     }
     vx_conv_mesh_gpu_destroy(mg);
     if (gpu) vx_gpu_destroy(gpu);
