@@ -3,7 +3,7 @@
 #define VX_CONVERT_MESH_INTERNAL_H
 
 #include "convert/mesh.h"
-#include "svo/svo_internal.h"
+#include "svo/svo_interned.h"
 
 #define VX__MESH_BRICK_BITS 6u /* bricks of 64^3 cells */
 

@@ -3,6 +3,7 @@
 #define VX_SVO_INTERNAL_H
 
 #include "svo/svo.h"
+#include "svo/svo_interned.h"
 
 /* Largest relative child pointer the builder writes before it switches to a
  * far slot. The encoding allows 32767 (15 bits); tests lower it so that far
@@ -64,41 +65,6 @@ void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known
 /* The bounds vx_svo_scene_update_bounds would store, without modifying s
  * (the file writer omits bounds that equal them; the reader recomputes). */
 void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]);
-
-/* An attribute tuple, every channel (those a model lacks are zero); pad is
- * always zero so tuples compare with memcmp (the builder's records and the
- * incremental editor's, svo_edit.c). */
-typedef struct vx__svo_rec {
-    uint32_t rgba, normal;
-    float density;
-    uint16_t material;
-    uint8_t palette, pad;
-} vx__svo_rec;
-_Static_assert(sizeof(vx__svo_rec) == 16, "vx__svo_rec layout");
-/* The coarse-level rule of svo.h (vx_svo_build_model's representative) over
- * n (1..8) children's tuples; n equal tuples give that tuple exactly. */
-void vx__svo_rec_mean(uint32_t attrs, const vx__svo_rec* const* c, unsigned n, vx__svo_rec* out);
-
-/* Entries whose tuples the caller has already interned (the GPU voxelizer,
- * convert/mesh_gpu.c, dedups them on the device): entry i carries
- * tab[rec[i]]; tab holds count distinct tuples (channels outside attrs and
- * pad zero). */
-typedef struct vx__svo_interned {
-    const uint32_t* rec;
-    const vx__svo_rec* tab;
-    size_t count;
-    /* Lay the node blocks out on a second thread while the tree is built
-     * (for callers with a core to spare; the model is the same). */
-    bool layout_thread;
-    /* Threads that may intern tab (from 2^18 tuples; 0 or 1: the caller's). */
-    unsigned threads;
-} vx__svo_interned;
-/* vx_svo_build_model over such entries: in's channel arrays are NULL (the
- * tuples are pre), in->attrs != 0, no tiles (in->level NULL). The builder
- * interns tab once instead of hashing every entry's tuple; the model is the
- * one vx_svo_build_model builds from the expanded tuples, word for word. */
-vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
-                                 vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err);
 
 /* Octahedral normal helpers (2 x snorm16, x in the low half). */
 void vx__oct_decode(uint32_t v, float n[3]);
