@@ -93,7 +93,7 @@ static int same_shares(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, 
         vx_conv_mesh_part* t = ok ? (vx_conv_mesh_part*)realloc(all, (total + gn + 1) * sizeof *all) : NULL;
         if (t) {
             all = t;
-            memcpy(all + total, gp, gn * sizeof *gp);
+            if (gn) memcpy(all + total, gp, gn * sizeof *gp); /* a share may have no region (gp NULL) */
             total += gn;
             free(gp); /* the models moved into all */
         } else {
