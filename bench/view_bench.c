@@ -194,25 +194,38 @@ static uint8_t to8(float v) {
     return (uint8_t)lrintf(v * 255.0f);
 }
 
+/* The set-up both frame benches share: device, scene, frame renderer,
+ * display, the pass list and a colour frame of w x h with the scene's lights
+ * and sky. Prints the error and returns false on failure. */
+static bool open_view(const vx_svo_scene* s, uint32_t w, uint32_t h, const char* passes, vx_gpu** g,
+                      vx_render_scene** rs, vx_frame_renderer** fr, vx_display** disp, vx_pass_list* pl,
+                      vx_frame_desc* fd) {
+    vx_error err = {0};
+    *rs = NULL, *fr = NULL, *disp = NULL;
+    if (vx_gpu_create(NULL, g, &err) || vx_render_scene_create(*g, s, rs, &err) ||
+        vx_frame_renderer_create(*rs, s, fr, &err) || vx_display_create(*g, disp, &err) ||
+        vx_pass_list_parse(passes, pl, &err))
+        return fprintf(stderr, "%s\n", err.msg), false;
+    *fd = vx_frame_desc_defaults();
+    fd->base.width = w, fd->base.height = h, fd->base.mode = VX_RENDER_COLOR;
+    fd->passes = pl;
+    fd->lights = s->lights, fd->light_count = s->light_count;
+    fd->sky_dir = &s->sky;
+    return true;
+}
+
 static int frame_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
     vx_svo_scene s;
     vx_error err = {0};
     if (!w || !h || !n || n > 10000) return 2;
     if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
     vx_gpu* gpu;
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_display* disp = NULL;
-    if (vx_gpu_create(NULL, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err) ||
-        vx_frame_renderer_create(rs, &s, &fr, &err) || vx_display_create(gpu, &disp, &err))
-        return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
     vx_pass_list pl;
-    if (vx_pass_list_parse(passes, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-    vx_frame_desc fd = vx_frame_desc_defaults();
-    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
-    fd.passes = &pl;
-    fd.lights = s.lights, fd.light_count = s.light_count;
-    fd.sky_dir = &s.sky;
+    vx_frame_desc fd;
+    if (!open_view(&s, w, h, passes, &gpu, &rs, &fr, &disp, &pl, &fd)) return 1;
     double *gpu_ms = calloc(n, sizeof(double)), *host = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)),
            *gp_bare = calloc(n, sizeof(double)), *disp_ms = calloc(n, sizeof(double)), *trace_wall = calloc(n, sizeof(double)),
            *kept = calloc(n, sizeof(double));
@@ -444,19 +457,12 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
            headless_offered() ? "offers" : "does not offer");
     if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
     vx_gpu* g;
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_display* disp = NULL;
-    if (vx_gpu_create(NULL, &g, &err) || vx_render_scene_create(g, &s, &rs, &err) ||
-        vx_frame_renderer_create(rs, &s, &fr, &err) || vx_display_create(g, &disp, &err))
-        return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
     vx_pass_list pl;
-    if (vx_pass_list_parse(passes, &pl, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-    vx_frame_desc fd = vx_frame_desc_defaults();
-    fd.base.width = w, fd.base.height = h, fd.base.mode = VX_RENDER_COLOR;
-    fd.passes = &pl;
-    fd.lights = s.lights, fd.light_count = s.light_count;
-    fd.sky_dir = &s.sky;
+    vx_frame_desc fd;
+    if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
     fd.no_readback = true;
     /* the swapchain's stand-in: an image per frame slot, as a swapchain has one per frame in flight */
     uint64_t img[VX_DISPLAY_FRAMES];
