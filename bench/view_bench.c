@@ -352,7 +352,8 @@ typedef struct loop_stats {
  * frame), the copy into the slot's image, one submission; mode 3: the
  * passes alone (the floor: what the trace costs in flight); modes 4 and 5:
  * the conversion writes the image itself (no copy), without and with the
- * overlay kept. */
+ * overlay kept; modes 6 and 7: the conversion fused into the last pass
+ * (vx_display_record_frame), without and with the overlay kept. */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
 static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
@@ -407,20 +408,23 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         uint64_t buf = 0;
         vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true,
-                              .overlay = mode == 1 || mode == 2 || mode == 5};
-        bool to_image = mode == 4 || mode == 5;
-        if (vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+                              .overlay = mode == 1 || mode == 2 || mode == 5 || mode == 7};
+        bool to_image = mode == 4 || mode == 5, fused = mode == 6 || mode == 7;
+        if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                            &res, &err)
+                  : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
             vx_display_frame_cancel(disp);
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
         if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
-                     : mode != 3 && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+                     : mode != 3 && !fused && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+            vx_frame_record_cancel(fr);
             vx_display_frame_cancel(disp);
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 1);
-        if (mode != 3 && !to_image)
+        if (mode != 3 && !to_image && !fused)
             vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 2);
         if (vx_display_frame_submit(disp, 0, 0, &err)) break;
@@ -483,7 +487,8 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     uint8_t* ov = vx_display_overlay(disp, w, h, &err);
     if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
     draw_columns(ov, w, h);
-    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0};
+    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0}, fused = {0},
+               fused_kept = {0};
     if (!run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) ||
         !run_loop(g, fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
         return 1;
@@ -501,8 +506,8 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         return 1;
     /* the conversion into the image itself, where the device can; the bytes checked as above */
     bool store_ok = vx_display_image_storage(disp);
-    size_t store_bad = 0;
-    bool store_read = false;
+    size_t store_bad = 0, fused_bad = 0;
+    bool store_read = false, fused_read = false;
     if (store_ok) {
         /* the overlay drawn again (the redrawn loop left it another), then kept */
         uint8_t* ov2 = vx_display_overlay(disp, w, h, &err);
@@ -513,27 +518,38 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
             return 1;
         store_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
         for (size_t q = 0; store_read && q < (size_t)w * h * 4; q++) store_bad += want[q] != got[q];
+        /* the conversion fused into the last pass; the bytes checked as above */
+        memset(got, 0, (size_t)w * h * 4);
+        if (!run_loop(g, fr, disp, img, &fd, w, h, n, 6, NULL, NULL, &fused) ||
+            !run_loop(g, fr, disp, img, &fd, w, h, n, 7, NULL, NULL, &fused_kept))
+            return 1;
+        fused_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+        for (size_t q = 0; fused_read && q < (size_t)w * h * 4; q++) fused_bad += want[q] != got[q];
     }
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[6] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[8] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                             "passes alone (no conversion, no copy)", "written into the image, no overlay",
-                            "written into the image, overlay kept"};
-    loop_stats* all[6] = {&none, &kept, &redrawn, &bare, &store, &store_kept};
-    int modes = store_ok ? 6 : 4;
+                            "written into the image, overlay kept", "fused into the last pass, no overlay",
+                            "fused into the last pass, overlay kept"};
+    loop_stats* all[8] = {&none, &kept, &redrawn, &bare, &store, &store_kept, &fused, &fused_kept};
+    int modes = store_ok ? 8 : 4;
     for (int m = 0; m < modes; m++)
-        printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes), GPU per frame %.4f ms, GPU "
-               "start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
-               names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb, all[m]->gpu_med,
-               all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb, all[m]->passes_med, all[m]->cpu_record_med);
+        printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
+               "%.4f ms, GPU start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
+               names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb,
+               1e3 / all[m]->interval_mean, all[m]->gpu_med, all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb,
+               all[m]->passes_med, all[m]->cpu_record_med);
     for (int m = 0; m < modes; m++)
         printf("  GPU stages, %-41s start to passes' end %.4f, conversion %.4f, copy %.4f, to the end %.4f ms\n", names[m],
                all[m]->stage_med[0], all[m]->stage_med[1], all[m]->stage_med[2], all[m]->stage_med[3]);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
-    if (store_ok)
+    if (store_ok) {
         printf("  the same, written into the image: %s, %zu bytes differ\n", store_read ? "read" : "NOT READ", store_bad);
+        printf("  the same, fused into the last pass: %s, %zu bytes differ\n", fused_read ? "read" : "NOT READ", fused_bad);
+    }
     else
         printf("  the device cannot write B,G,R,A storage images: no conversion into the image\n");
     free(base), free(base_wall), free(want), free(got);
@@ -542,7 +558,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(g);
     vx_svo_scene_free(&s);
-    return read && !bad && (!store_ok || (store_read && !store_bad)) ? 0 : 1;
+    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) ? 0 : 1;
 }
 
 /* Instance edits with frames in flight: an instance moved (an undo step, the

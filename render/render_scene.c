@@ -71,6 +71,12 @@ struct vx_render_scene {
     uint32_t bvh_node_cap; /* nodes the bvh_nodes buffer holds (2n - 1 for n instances: any build fits) */
     void* scratch; /* host copy of the per-frame tables for those commands */
     size_t scratch_size;
+    /* the tables the last recorded frame wrote (tables_size bytes, valid
+     * while tables_known): a frame with the same (a still camera and scene)
+     * records no update, the buffers hold them already */
+    void* tables;
+    size_t tables_size, tables_cap;
+    bool tables_known;
     uint32_t shown;     /* the frame shown (vx_render_scene_set_frame) */
     vx_render_scene_stats stats;
     uint32_t dense_n[3];
@@ -261,6 +267,7 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
                                err)))
         return r;
     rs->items_dirty = false;
+    rs->tables_known = false; /* new buffers */
     if (!rs->insts.map || !rs->pinsts.map || !rs->bvh_nodes.map || !rs->frame.map)
         r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "per-frame buffers are not host visible");
     return r;
@@ -321,6 +328,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->creg);
     vx_free(&a, rs->msize);
     vx_free(&a, rs->scratch);
+    vx_free(&a, rs->tables);
     vx_free(&a, rs);
 }
 
@@ -646,8 +654,13 @@ static void frame_tables(const vx_render_scene* rs, const vx__frame* f, vx__gpu_
     }
 }
 
+void vx__render_scene_forget_tables(vx_render_scene* rs) {
+    if (rs) rs->tables_known = false;
+}
+
 static vx_result write_frame_tables(vx_render_scene* rs, const vx__frame* f, vx_error* err) {
     settle(rs);
+    rs->tables_known = false; /* the host writes them (and the frame block after this) */
     frame_tables(rs, f, rs->insts.map, rs->pinsts.map, rs->bvh_nodes.map);
     return upload_items(rs, err);
 }
@@ -785,18 +798,32 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     vx_bvh_node* bn = (vx_bvh_node*)(at + sizeof *gf + ni);
     frame_tables(rs, f, gi, NULL, bn);
     fill_gpu_frame(rs, f, gf);
-    /* after the shader reads of frames before this one on the queue (an
-     * execution dependency is enough for a write after reads), before this
-     * frame's reads */
-    VkMemoryBarrier before = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, NULL, 0, NULL);
-    update_buffer(cb, &rs->frame, gf, sizeof *gf);
-    update_buffer(cb, &rs->insts, gi, ni);
-    update_buffer(cb, &rs->bvh_nodes, bn, nb);
-    if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
-        update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
-        rs->items_dirty = false;
+    /* the same tables as the last recorded frame's: the buffers hold them (that frame's updates run before this
+     * frame on the queue), so no update and no barrier before one */
+    bool same = rs->tables_known && !rs->items_dirty && rs->tables_size == need && !memcmp(rs->tables, rs->scratch, need);
+    if (!same) {
+        /* after the shader reads of frames before this one on the queue (an
+         * execution dependency is enough for a write after reads), before this
+         * frame's reads */
+        VkMemoryBarrier before = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, NULL, 0, NULL);
+        update_buffer(cb, &rs->frame, gf, sizeof *gf);
+        update_buffer(cb, &rs->insts, gi, ni);
+        update_buffer(cb, &rs->bvh_nodes, bn, nb);
+        if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
+            update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
+            rs->items_dirty = false;
+        }
+        rs->tables_known = false;
+        if (need > rs->tables_cap) {
+            void* p = vx_alloc(&rs->alloc, need);
+            if (p) vx_free(&rs->alloc, rs->tables), rs->tables = p, rs->tables_cap = need;
+        }
+        if (need <= rs->tables_cap) {
+            memcpy(rs->tables, rs->scratch, need);
+            rs->tables_size = need, rs->tables_known = true;
+        }
     }
     /* also orders the earlier frames' shader writes (the shared images) before this frame's */
     VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
@@ -932,6 +959,7 @@ vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, ui
     VkDeviceSize npx = (VkDeviceSize)f.width * f.height;
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     vx__gpu_frame* gf = rs->frame.map;
+    rs->tables_known = false; /* the host writes the frame block */
     fill_gpu_frame(rs, &f, gf);
     for (int k = 0; k < 3; k++) {
         gf->dims2[k] = rs->dense_n[k];

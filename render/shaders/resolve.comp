@@ -17,6 +17,7 @@ layout(constant_id = 6) const uint SHOW = 0u;  // vx_show
 const bool PHYS = (FLAGS & 16u) != 0u;
 const bool DOF = false;
 #include "pass_bodies.glsl"
+#include "display_out.glsl"
 
 void main() {
     uvec2 px;
@@ -26,4 +27,7 @@ void main() {
     float ao = HAS_AO ? ao_img[i] : 1.0;
     vec4 gi = HAS_GI ? gi_img[i] : vec4(0.0);
     accumulate(i, resolve_pixel(gb0[i], gb1[i], dir, ao, gi));
+#ifdef DISPLAY_OUT
+    if (PC.u0.x + 1u == max(PC.u0.y, 1u)) display_store(px, i, acc_img[i]); // the last sample: the frame's colour
+#endif
 }
