@@ -516,7 +516,7 @@ void vx_display_copy_to_image(void* cmd_handle, uint64_t buffer, uint32_t w, uin
     image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     uint32_t cw = w < iw ? w : iw, ch = h < ih ? h : ih;
-    if (cw != iw || ch != ih) {
+    if (!buffer || cw != iw || ch != ih) {
         VkClearColorValue black = {{0, 0, 0, 1}};
         VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
         vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);

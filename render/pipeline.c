@@ -634,6 +634,16 @@ static bool any_emission(const float* e, size_t n) {
     return false;
 }
 
+/* The culling of a frame with nl lights, ndir of them directional: only for
+ * lights with a reach. */
+static vx_light_culling pick_culling(const vx_frame_desc* desc, bool has_direct, uint32_t nl, uint32_t ndir) {
+    if (nl <= ndir || !has_direct) return VX_LIGHT_CULLING_BRUTE;
+    vx_light_culling cull = desc->light_culling;
+    if (cull == VX_LIGHT_CULLING_AUTO)
+        cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
+    return cull;
+}
+
 /* A frame: submitted and waited for (slot NULL), or recorded into the
  * caller's command buffer cb for slot (vx_frame_record); with dt (recorded
  * frames only) its last pass also writes the display image. */
@@ -702,13 +712,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     double cutoff = desc->light_cutoff > 0 ? desc->light_cutoff : 3.141592653589793 / 1024 * exp2(-desc->exposure);
     if (!(cutoff > 0) || !isfinite(cutoff))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "exposure %g leaves no light cut-off", desc->exposure);
-    /* the culling: only for lights with a reach (not directional) */
-    vx_light_culling cull = VX_LIGHT_CULLING_BRUTE;
-    if (nl > ndir && has_direct) {
-        cull = desc->light_culling;
-        if (cull == VX_LIGHT_CULLING_AUTO)
-            cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
-    }
+    vx_light_culling cull = pick_culling(desc, has_direct, nl, ndir);
     bool tiled = cull == VX_LIGHT_CULLING_TILED, culled = cull != VX_LIGHT_CULLING_BRUTE;
     if (slot && culled)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
@@ -1083,6 +1087,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
             img.rays = (uint64_t)npx * f.spp;
             out->image = img;
             fr->last_out = run_aa ? B_OUT2 : B_ACC;
+            if (d_last && f.spp == 1) fr->last_out = -1; /* the last pass wrote the display bytes only */
             fr->last_w = f.width, fr->last_h = f.height;
         }
         break;
@@ -1129,6 +1134,24 @@ vx_result vx__frame_record_display(vx_frame_renderer* fr, const vx_frame_desc* d
                                    const vx__display_target* t, vx_frame_result* out, vx_error* err) {
     if (!t || !t->view) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no display image");
     return record(fr, desc, cmd, slot, t, out, err);
+}
+
+vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err) {
+    if (!desc) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_pass_list deflist;
+    const vx_pass_list* L = desc->passes;
+    if (!L) {
+        vx_result r = vx_pass_list_parse(VX_PASS_LIST_DEFAULT, &deflist, err);
+        if (r) return r;
+        L = &deflist;
+    }
+    if (desc->want_ids || !desc->no_readback || vx_pass_list_has(L, VX_PASS_GI))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "a recorded frame is not read back and has no gi pass");
+    uint32_t ndir = 0;
+    for (uint32_t i = 0; desc->lights && i < desc->light_count; i++) ndir += desc->lights[i].type == VX_LIGHT_DIRECTIONAL;
+    if (pick_culling(desc, vx_pass_list_has(L, VX_PASS_DIRECT), desc->light_count, ndir) != VX_LIGHT_CULLING_BRUTE)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "a recorded frame has no light culling");
+    return VX_OK;
 }
 
 void vx_frame_record_cancel(vx_frame_renderer* fr) {

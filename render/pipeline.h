@@ -345,6 +345,10 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
 vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
                           vx_frame_result* out, vx_error* err);
 vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_result* out, vx_error* err);
+/* VX_ERR_UNSUPPORTED where vx_frame_record refuses desc for the reasons
+ * above (other errors it finds when recording); VX_OK otherwise: for
+ * presenters that acquire the image a frame writes before recording it. */
+vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err);
 /* The frame last recorded will not be submitted (its command buffer was
  * dropped): the next frame writes the scene's tables whatever they are. */
 void vx_frame_record_cancel(vx_frame_renderer* fr);

@@ -26,8 +26,16 @@ void main() {
     vec4 dir = HAS_DIRECT ? direct_img[i] : vec4(0.0);
     float ao = HAS_AO ? ao_img[i] : 1.0;
     vec4 gi = HAS_GI ? gi_img[i] : vec4(0.0);
-    accumulate(i, resolve_pixel(gb0[i], gb1[i], dir, ao, gi));
+    vec4 c = resolve_pixel(gb0[i], gb1[i], dir, ao, gi);
 #ifdef DISPLAY_OUT
-    if (PC.u0.x + 1u == max(PC.u0.y, 1u)) display_store(px, i, acc_img[i]); // the last sample: the frame's colour
+    // one sample: its colour is the frame's (accumulate's c / 1), and the float image is not kept
+    if (PC.u0.y <= 1u) {
+        display_store(px, i, c);
+        return;
+    }
+#endif
+    accumulate(i, c);
+#ifdef DISPLAY_OUT
+    if (PC.u0.x + 1u == PC.u0.y) display_store(px, i, acc_img[i]); // the last sample: the frame's colour
 #endif
 }
