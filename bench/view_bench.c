@@ -353,7 +353,11 @@ typedef struct loop_stats {
  * passes alone (the floor: what the trace costs in flight); modes 4 and 5:
  * the conversion writes the image itself (no copy), without and with the
  * overlay kept; modes 6 and 7: the conversion fused into the last pass
- * (vx_display_record_frame), without and with the overlay kept. */
+ * (vx_display_record_frame), without and with the overlay kept; mode 8: an
+ * empty frame (its command buffer holds only the timestamps: the floor of a
+ * submission per frame); mode 9: mode 7 without this loop's own stage
+ * timestamps (their query reset and three writes a frame), the frame
+ * svo_view records. */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
 static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
@@ -367,9 +371,11 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     uint32_t ng = 0, np = 0, ns = 0;
     /* three timestamps per slot: after the passes, the conversion, the copy */
     VkQueryPool qp = VK_NULL_HANDLE;
+    bool stages = mode != 9;
+    if (mode == 9) mode = 7;
     VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                 .queryCount = 3 * VX_DISPLAY_FRAMES};
-    if (g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
+    if (stages && g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
     double per = g->props.limits.timestampPeriod * 1e-6;
     double last_start = -1;
     uint64_t last_done = 0;
@@ -388,7 +394,8 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
-        if (recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err)) pass[np++] = res.frame_ms;
+        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err))
+            pass[np++] = res.frame_ms;
         uint64_t ts[3];
         if (qp && recorded[slot] && k > warm &&
             vkGetQueryPoolResults(g->device, qp, 3 * slot, 3, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
@@ -410,7 +417,9 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true,
                               .overlay = mode == 1 || mode == 2 || mode == 5 || mode == 7};
         bool to_image = mode == 4 || mode == 5, fused = mode == 6 || mode == 7;
-        if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        if (mode == 8) {
+            /* nothing recorded */
+        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                                             &res, &err)
                   : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
             vx_display_frame_cancel(disp);
@@ -418,13 +427,13 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
         if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
-                     : mode != 3 && !fused && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+                     : mode != 3 && mode != 8 && !fused && vx_display_record(disp, cmd, &dd, &buf, &err)) {
             vx_frame_record_cancel(fr);
             vx_display_frame_cancel(disp);
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 1);
-        if (mode != 3 && !to_image && !fused)
+        if (mode != 3 && mode != 8 && !to_image && !fused)
             vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 2);
         if (vx_display_frame_submit(disp, 0, 0, &err)) break;
@@ -488,7 +497,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
     draw_columns(ov, w, h);
     loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0}, fused = {0},
-               fused_kept = {0};
+               fused_kept = {0}, empty = {0}, bare_fused = {0};
     if (!run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) ||
         !run_loop(g, fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
         return 1;
@@ -526,15 +535,20 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         fused_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
         for (size_t q = 0; fused_read && q < (size_t)w * h * 4; q++) fused_bad += want[q] != got[q];
     }
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 8, NULL, NULL, &empty) ||
+        (store_ok && !run_loop(g, fr, disp, img, &fd, w, h, n, 9, NULL, NULL, &bare_fused)))
+        return 1;
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[8] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
-                            "passes alone (no conversion, no copy)", "written into the image, no overlay",
-                            "written into the image, overlay kept", "fused into the last pass, no overlay",
-                            "fused into the last pass, overlay kept"};
-    loop_stats* all[8] = {&none, &kept, &redrawn, &bare, &store, &store_kept, &fused, &fused_kept};
-    int modes = store_ok ? 8 : 4;
+    const char* names[10] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+                             "passes alone (no conversion, no copy)", "written into the image, no overlay",
+                             "written into the image, overlay kept", "fused into the last pass, no overlay",
+                             "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
+                             "fused, overlay kept, no stage timestamps"};
+    loop_stats* all[10] = {&none, &kept, &redrawn, &bare, &store, &store_kept, &fused, &fused_kept, &empty, &bare_fused};
+    int modes = 10;
+    if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
                "%.4f ms, GPU start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
@@ -696,8 +710,10 @@ int main(int argc, char** argv) {
            n, vx_gpu_device_name(gpu), edit[rep / 2], bvh[rep / 2], frame[rep / 2]);
     qsort(inst_bvh, rep, sizeof *inst_bvh, cmp);
     printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms "
-           "(BVH build on the CPU %.3f ms; %u of %u in place)\n",
-           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep);
+           "(BVH build or refit on the CPU %.3f ms; %u of %u in place, %u of them refit: the GPU refits with each "
+           "recorded frame)\n",
+           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep,
+           st1.instance_refits - st0.instance_refits);
     if (flight)
         printf("view_bench: frames in flight at 1920x1080, %u frames: interval median %.4f ms (GPU start-to-start %.4f ms, "
                "passes %.4f ms); with an instance moved before every frame (undo step + move + in-place update) %.4f ms "

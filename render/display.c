@@ -70,12 +70,6 @@ static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, 
     vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
 }
 
-void vx_display_image_barrier(void* cmd, uint64_t image, int from, int to, uint32_t src_access, uint32_t dst_access,
-                              uint32_t src_stages, uint32_t dst_stages) {
-    image_barrier((VkCommandBuffer)cmd, (VkImage)(uintptr_t)image, (VkImageLayout)from, (VkImageLayout)to, src_access,
-                  dst_access, src_stages, dst_stages);
-}
-
 vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     if (!g || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_display* d = vx_calloc(&g->alloc, 1, sizeof *d);

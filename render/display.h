@@ -157,11 +157,6 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
                                   const vx_display_desc* desc, uint64_t image,
                                   uint64_t view, uint32_t iw, uint32_t ih, int final_layout, vx_frame_result* out,
                                   vx_error* err);
-/* One image memory barrier on the whole colour image (mip 0, layer 0), for
- * presenters that record around the display's commands: layouts as
- * VkImageLayout, access masks and stages as Vk*FlagBits. */
-void vx_display_image_barrier(void* cmd, uint64_t image, int from, int to, uint32_t src_access, uint32_t dst_access,
-                              uint32_t src_stages, uint32_t dst_stages);
 
 #ifdef __cplusplus
 }

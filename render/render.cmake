@@ -22,11 +22,13 @@ if(VX_WITH_VULKAN)
   # display turns an image into display bytes on the GPU (display.c); display_image
   # writes them into the image shown (a storage image) instead of a buffer;
   # frame_display, resolve_display and post_display are those passes when they
-  # are the frame's last and write the image shown themselves (display_out.glsl).
+  # are the frame's last and write the image shown themselves (display_out.glsl);
+  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
                display:display display_image:display:TO_IMAGE
-               frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT)
+               frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
+               refit:refit)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
