@@ -2221,7 +2221,7 @@ static void choose_present(app* a) {
     snprintf(a->present_note, sizeof a->present_note,
              "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %d "
              "frames in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
-             vp_storage(a->p) ? "written into" : "-> a copy to", VX_DISPLAY_FRAMES,
+             vp_storage(a->p) ? "fused into the last pass, written into" : "-> a copy to", VX_DISPLAY_FRAMES,
              strcmp(want, "gpu") ? "auto" : "--present gpu");
 }
 
