@@ -462,6 +462,24 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     return ok;
 }
 
+/* A camera flying round the scene (a user moving it): frame k's camera, so
+ * that every frame's tables differ from the last. */
+typedef struct orbit {
+    vx_frame_desc* fd;
+    double c[3], r;
+} orbit;
+
+static bool orbit_step(void* user, uint32_t k) {
+    orbit* o = user;
+    double a = 0.01 * k;
+    o->fd->base.camera = (vx_render_camera){.set = true,
+                                            .eye = {o->c[0] + 1.5 * o->r * cos(a), o->c[1] + 1.5 * o->r * sin(a),
+                                                    o->c[2] + 0.6 * o->r},
+                                            .target = {o->c[0], o->c[1], o->c[2]},
+                                            .up = {0, 0, 1}};
+    return true;
+}
+
 static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
     vx_svo_scene s;
     vx_error err = {0};
@@ -538,16 +556,40 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (!run_loop(g, fr, disp, img, &fd, w, h, n, 8, NULL, NULL, &empty) ||
         (store_ok && !run_loop(g, fr, disp, img, &fd, w, h, n, 9, NULL, NULL, &bare_fused)))
         return 1;
+    /* the camera moving every frame (the tables written every frame), fused as svo_view records it, and the
+     * trace time of such frames waited for */
+    loop_stats flying = {0};
+    double fly_trace = 0;
+    if (store_ok) {
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        orbit o = {.fd = &fd};
+        for (int k = 0; k < 3; k++) o.c[k] = 0.5 * (lo[k] + hi[k]), o.r = fmax(o.r, hi[k] - lo[k]);
+        vx_render_camera keep = fd.base.camera;
+        if (!run_loop(g, fr, disp, img, &fd, w, h, n, 9, orbit_step, &o, &flying)) return 1;
+        double* ft = calloc(n, sizeof(double));
+        if (!ft) return 1;
+        for (uint32_t k = 0; k < n; k++) {
+            vx_frame_result res;
+            orbit_step(&o, k + 20);
+            if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+            ft[k] = res.frame_ms;
+        }
+        fly_trace = median(ft, n);
+        free(ft);
+        fd.base.camera = keep;
+    }
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[10] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[11] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                              "passes alone (no conversion, no copy)", "written into the image, no overlay",
                              "written into the image, overlay kept", "fused into the last pass, no overlay",
                              "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
-                             "fused, overlay kept, no stage timestamps"};
-    loop_stats* all[10] = {&none, &kept, &redrawn, &bare, &store, &store_kept, &fused, &fused_kept, &empty, &bare_fused};
-    int modes = 10;
+                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame"};
+    loop_stats* all[11] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
+                           &fused,     &fused_kept, &empty,   &bare_fused, &flying};
+    int modes = 11;
     if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
@@ -558,6 +600,9 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     for (int m = 0; m < modes; m++)
         printf("  GPU stages, %-41s start to passes' end %.4f, conversion %.4f, copy %.4f, to the end %.4f ms\n", names[m],
                all[m]->stage_med[0], all[m]->stage_med[1], all[m]->stage_med[2], all[m]->stage_med[3]);
+    if (store_ok)
+        printf("  the moving camera's frames submitted + waited: passes GPU %.4f ms (the trace of those views)\n",
+               fly_trace);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
     if (store_ok) {
