@@ -352,7 +352,12 @@ typedef struct loop_stats {
  * frame), the copy into the slot's image, one submission; mode 3: the
  * passes alone (the floor: what the trace costs in flight); modes 4 and 5:
  * the conversion writes the image itself (no copy), without and with the
- * overlay kept. */
+ * overlay kept; modes 6 and 7: the conversion fused into the last pass
+ * (vx_display_record_frame), without and with the overlay kept; mode 8: an
+ * empty frame (its command buffer holds only the timestamps: the floor of a
+ * submission per frame); mode 9: mode 7 without this loop's own stage
+ * timestamps (their query reset and three writes a frame), the frame
+ * svo_view records. */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
 static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
@@ -366,9 +371,11 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     uint32_t ng = 0, np = 0, ns = 0;
     /* three timestamps per slot: after the passes, the conversion, the copy */
     VkQueryPool qp = VK_NULL_HANDLE;
+    bool stages = mode != 9;
+    if (mode == 9) mode = 7;
     VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                 .queryCount = 3 * VX_DISPLAY_FRAMES};
-    if (g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
+    if (stages && g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
     double per = g->props.limits.timestampPeriod * 1e-6;
     double last_start = -1;
     uint64_t last_done = 0;
@@ -387,7 +394,8 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
-        if (recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err)) pass[np++] = res.frame_ms;
+        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err))
+            pass[np++] = res.frame_ms;
         uint64_t ts[3];
         if (qp && recorded[slot] && k > warm &&
             vkGetQueryPoolResults(g->device, qp, 3 * slot, 3, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
@@ -407,20 +415,25 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         uint64_t buf = 0;
         vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true,
-                              .overlay = mode == 1 || mode == 2 || mode == 5};
-        bool to_image = mode == 4 || mode == 5;
-        if (vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+                              .overlay = mode == 1 || mode == 2 || mode == 5 || mode == 7};
+        bool to_image = mode == 4 || mode == 5, fused = mode == 6 || mode == 7;
+        if (mode == 8) {
+            /* nothing recorded */
+        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                            &res, &err)
+                  : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
             vx_display_frame_cancel(disp);
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot);
         if (to_image ? vx_display_record_image(disp, cmd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err)
-                     : mode != 3 && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+                     : mode != 3 && mode != 8 && !fused && vx_display_record(disp, cmd, &dd, &buf, &err)) {
+            vx_frame_record_cancel(fr);
             vx_display_frame_cancel(disp);
             break;
         }
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 1);
-        if (mode != 3 && !to_image)
+        if (mode != 3 && mode != 8 && !to_image && !fused)
             vx_display_copy_to_image(cmd, buf, w, h, img[slot], w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         if (qp) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, qp, 3 * slot + 2);
         if (vx_display_frame_submit(disp, 0, 0, &err)) break;
@@ -447,6 +460,24 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     free(t), free(gpu), free(gap), free(pass), free(rec);
     for (int i = 0; i < 4; i++) free(stage[i]);
     return ok;
+}
+
+/* A camera flying round the scene (a user moving it): frame k's camera, so
+ * that every frame's tables differ from the last. */
+typedef struct orbit {
+    vx_frame_desc* fd;
+    double c[3], r;
+} orbit;
+
+static bool orbit_step(void* user, uint32_t k) {
+    orbit* o = user;
+    double a = 0.01 * k;
+    o->fd->base.camera = (vx_render_camera){.set = true,
+                                            .eye = {o->c[0] + 1.5 * o->r * cos(a), o->c[1] + 1.5 * o->r * sin(a),
+                                                    o->c[2] + 0.6 * o->r},
+                                            .target = {o->c[0], o->c[1], o->c[2]},
+                                            .up = {0, 0, 1}};
+    return true;
 }
 
 static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
@@ -483,7 +514,8 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     uint8_t* ov = vx_display_overlay(disp, w, h, &err);
     if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
     draw_columns(ov, w, h);
-    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0};
+    loop_stats none = {0}, kept = {0}, redrawn = {0}, bare = {0}, store = {0}, store_kept = {0}, fused = {0},
+               fused_kept = {0}, empty = {0}, bare_fused = {0};
     if (!run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, &none) ||
         !run_loop(g, fr, disp, img, &fd, w, h, n, 1, NULL, NULL, &kept))
         return 1;
@@ -501,8 +533,8 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         return 1;
     /* the conversion into the image itself, where the device can; the bytes checked as above */
     bool store_ok = vx_display_image_storage(disp);
-    size_t store_bad = 0;
-    bool store_read = false;
+    size_t store_bad = 0, fused_bad = 0;
+    bool store_read = false, fused_read = false;
     if (store_ok) {
         /* the overlay drawn again (the redrawn loop left it another), then kept */
         uint8_t* ov2 = vx_display_overlay(disp, w, h, &err);
@@ -513,27 +545,70 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
             return 1;
         store_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
         for (size_t q = 0; store_read && q < (size_t)w * h * 4; q++) store_bad += want[q] != got[q];
+        /* the conversion fused into the last pass; the bytes checked as above */
+        memset(got, 0, (size_t)w * h * 4);
+        if (!run_loop(g, fr, disp, img, &fd, w, h, n, 6, NULL, NULL, &fused) ||
+            !run_loop(g, fr, disp, img, &fd, w, h, n, 7, NULL, NULL, &fused_kept))
+            return 1;
+        fused_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+        for (size_t q = 0; fused_read && q < (size_t)w * h * 4; q++) fused_bad += want[q] != got[q];
+    }
+    if (!run_loop(g, fr, disp, img, &fd, w, h, n, 8, NULL, NULL, &empty) ||
+        (store_ok && !run_loop(g, fr, disp, img, &fd, w, h, n, 9, NULL, NULL, &bare_fused)))
+        return 1;
+    /* the camera moving every frame (the tables written every frame), fused as svo_view records it, and the
+     * trace time of such frames waited for */
+    loop_stats flying = {0};
+    double fly_trace = 0;
+    if (store_ok) {
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        orbit o = {.fd = &fd};
+        for (int k = 0; k < 3; k++) o.c[k] = 0.5 * (lo[k] + hi[k]), o.r = fmax(o.r, hi[k] - lo[k]);
+        vx_render_camera keep = fd.base.camera;
+        if (!run_loop(g, fr, disp, img, &fd, w, h, n, 9, orbit_step, &o, &flying)) return 1;
+        double* ft = calloc(n, sizeof(double));
+        if (!ft) return 1;
+        for (uint32_t k = 0; k < n; k++) {
+            vx_frame_result res;
+            orbit_step(&o, k + 20);
+            if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+            ft[k] = res.frame_ms;
+        }
+        fly_trace = median(ft, n);
+        free(ft);
+        fd.base.camera = keep;
     }
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[6] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
-                            "passes alone (no conversion, no copy)", "written into the image, no overlay",
-                            "written into the image, overlay kept"};
-    loop_stats* all[6] = {&none, &kept, &redrawn, &bare, &store, &store_kept};
-    int modes = store_ok ? 6 : 4;
+    const char* names[11] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+                             "passes alone (no conversion, no copy)", "written into the image, no overlay",
+                             "written into the image, overlay kept", "fused into the last pass, no overlay",
+                             "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
+                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame"};
+    loop_stats* all[11] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
+                           &fused,     &fused_kept, &empty,   &bare_fused, &flying};
+    int modes = 11;
+    if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
-        printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes), GPU per frame %.4f ms, GPU "
-               "start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
-               names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb, all[m]->gpu_med,
-               all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb, all[m]->passes_med, all[m]->cpu_record_med);
+        printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
+               "%.4f ms, GPU start-to-start %.4f ms (%.3fx), passes %.4f ms, CPU record+submit %.4f ms\n",
+               names[m], all[m]->interval_med, all[m]->interval_mean, all[m]->interval_mean / mb,
+               1e3 / all[m]->interval_mean, all[m]->gpu_med, all[m]->gpu_gap_med, all[m]->gpu_gap_med / mb,
+               all[m]->passes_med, all[m]->cpu_record_med);
     for (int m = 0; m < modes; m++)
         printf("  GPU stages, %-41s start to passes' end %.4f, conversion %.4f, copy %.4f, to the end %.4f ms\n", names[m],
                all[m]->stage_med[0], all[m]->stage_med[1], all[m]->stage_med[2], all[m]->stage_med[3]);
+    if (store_ok)
+        printf("  the moving camera's frames submitted + waited: passes GPU %.4f ms (the trace of those views)\n",
+               fly_trace);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
-    if (store_ok)
+    if (store_ok) {
         printf("  the same, written into the image: %s, %zu bytes differ\n", store_read ? "read" : "NOT READ", store_bad);
+        printf("  the same, fused into the last pass: %s, %zu bytes differ\n", fused_read ? "read" : "NOT READ", fused_bad);
+    }
     else
         printf("  the device cannot write B,G,R,A storage images: no conversion into the image\n");
     free(base), free(base_wall), free(want), free(got);
@@ -542,7 +617,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(g);
     vx_svo_scene_free(&s);
-    return read && !bad && (!store_ok || (store_read && !store_bad)) ? 0 : 1;
+    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) ? 0 : 1;
 }
 
 /* Instance edits with frames in flight: an instance moved (an undo step, the
@@ -680,8 +755,10 @@ int main(int argc, char** argv) {
            n, vx_gpu_device_name(gpu), edit[rep / 2], bvh[rep / 2], frame[rep / 2]);
     qsort(inst_bvh, rep, sizeof *inst_bvh, cmp);
     printf("view_bench: edit + instance update (instance tables and BVH, models stay on the GPU) median %.3f ms "
-           "(BVH build on the CPU %.3f ms; %u of %u in place)\n",
-           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep);
+           "(BVH build or refit on the CPU %.3f ms; %u of %u in place, %u of them refit: the GPU refits with each "
+           "recorded frame)\n",
+           inst[rep / 2], inst_bvh[rep / 2], st1.instance_updates_in_place - st0.instance_updates_in_place, rep,
+           st1.instance_refits - st0.instance_refits);
     if (flight)
         printf("view_bench: frames in flight at 1920x1080, %u frames: interval median %.4f ms (GPU start-to-start %.4f ms, "
                "passes %.4f ms); with an instance moved before every frame (undo step + move + in-place update) %.4f ms "

@@ -169,6 +169,66 @@ vx_result vx_bvh_build(const double* lo, const double* hi, uint32_t n, const vx_
     return VX_OK;
 }
 
+static double node_area(const vx_bvh_node* nd) {
+    double d[3];
+    for (int k = 0; k < 3; k++) d[k] = nd->hi[k] > nd->lo[k] ? (double)nd->hi[k] - nd->lo[k] : 0;
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+double vx_bvh_cost(const vx_bvh* b) {
+    if (!b || !b->node_count) return 0;
+    double root = node_area(&b->nodes[0]), c = 0;
+    if (!(root > 0)) return 0;
+    for (uint32_t i = 0; i < b->node_count; i++) {
+        const vx_bvh_node* nd = &b->nodes[i];
+        c += node_area(nd) / root * (nd->count ? (double)nd->count : 0.125);
+    }
+    return c;
+}
+
+double vx_bvh_refit(vx_bvh* b, const double* lo, const double* hi, uint32_t n) {
+    if (!b || n != b->item_count) return -1;
+    for (size_t i = 0; i < 3 * (size_t)n; i++)
+        if (!isfinite(lo[i]) || !isfinite(hi[i]) || lo[i] > hi[i]) return -1;
+    /* children follow their parent (the build hands out indices in order), so the last node first */
+    for (uint32_t i = b->node_count; i-- > 0;) {
+        vx_bvh_node* nd = &b->nodes[i];
+        if (nd->count) {
+            box bx;
+            box_empty(&bx);
+            for (uint32_t k = nd->first; k < nd->first + nd->count; k++)
+                box_grow(&bx, &lo[3 * b->items[k]], &hi[3 * b->items[k]]);
+            for (int k = 0; k < 3; k++) nd->lo[k] = down_f(bx.lo[k]), nd->hi[k] = up_f(bx.hi[k]);
+        } else {
+            const vx_bvh_node *l = &b->nodes[nd->first], *r = &b->nodes[nd->first + 1];
+            for (int k = 0; k < 3; k++) nd->lo[k] = fminf(l->lo[k], r->lo[k]), nd->hi[k] = fmaxf(l->hi[k], r->hi[k]);
+        }
+    }
+    return vx_bvh_cost(b);
+}
+
+void vx_bvh_levels(const vx_bvh* b, uint32_t* order, uint32_t* level_start, uint32_t* levels) {
+    *levels = 0;
+    if (!b || !b->node_count) {
+        level_start[0] = 0;
+        return;
+    }
+    /* breadth first: a level's children are appended after it */
+    uint32_t at = 0, end = 1, nl = 0;
+    order[0] = 0;
+    level_start[0] = 0;
+    while (at < end) {
+        uint32_t next = end;
+        for (uint32_t i = at; i < end; i++) {
+            const vx_bvh_node* nd = &b->nodes[order[i]];
+            if (!nd->count) order[next++] = nd->first, order[next++] = nd->first + 1;
+        }
+        level_start[++nl] = end;
+        at = end, end = next;
+    }
+    *levels = nl;
+}
+
 void vx_bvh_free(vx_bvh* b) {
     if (!b) return;
     vx_free(b->alloc, b->nodes);

@@ -16,6 +16,7 @@ typedef struct dslot {
     VkFence fence;
     bool pending; /* submitted, not yet waited for */
     int overlay;  /* the host overlay its frame copies from (-1: none) */
+    vx_frame_renderer* fr; /* the renderer whose passes vx_display_record_frame recorded (a cancel tells it) */
 } dslot;
 
 struct vx_display {
@@ -196,6 +197,33 @@ uint8_t* vx_display_overlay(vx_display* d, uint32_t w, uint32_t h, vx_error* err
     return o->map;
 }
 
+/* The device copy of the overlay for a frame of n pixels recorded into cmd
+ * (slot si; VX_DISPLAY_FRAMES: a submission outside frames): made or grown,
+ * and the overlay drawn since the last frame copied into it (after the
+ * frames before read it; the host's writes before the submission are
+ * visible to the copy without a barrier: vkQueueSubmit's guarantee). The
+ * readers' barrier after the copy is the caller's. */
+static vx_result overlay_prepare(vx_display* d, VkCommandBuffer cmd, const vx_display_desc* desc, uint64_t n, int si,
+                                 vx_error* err) {
+    vx_gpu* g = d->g;
+    if (desc->overlay && d->overlay_dev.size < n * 4) {
+        vkDeviceWaitIdle(g->device); /* frames in flight read the old one */
+        vx_result r = vx__buffer_ensure(g, &d->overlay_dev, n * 4, "display overlay (device)", err);
+        if (r) return r;
+        d->ov_dirty = true;
+    }
+    bool copy = desc->overlay && d->ov_dirty;
+    if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = copy ? d->ov : -1;
+    if (!copy) return VX_OK;
+    VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0,
+                         NULL);
+    VkBufferCopy c = {.size = n * 4};
+    vkCmdCopyBuffer(cmd, d->overlay[d->ov].buf, d->overlay_dev.buf, 1, &c);
+    d->ov_dirty = false;
+    return VX_OK;
+}
+
 /* The conversion into d->out (view NULL), or into image `img` through its
  * storage view (iw x ih, left in final_layout). */
 static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* desc, VkImage img, VkImageView view,
@@ -246,14 +274,8 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
         VX__VK(vkAllocateDescriptorSets(g->device, &ai, set), "vkAllocateDescriptorSets");
         d->set_layout[to_image][si] = p->dsl;
     }
-    if (desc->overlay && d->overlay_dev.size < n * 4) {
-        vkDeviceWaitIdle(g->device); /* frames in flight read the old one */
-        if ((r = vx__buffer_ensure(g, &d->overlay_dev, n * 4, "display overlay (device)", err))) return r;
-        d->ov_dirty = true;
-    }
-    bool copy = desc->overlay && d->ov_dirty;
+    if ((r = overlay_prepare(d, cmd, desc, n, si, err))) return r;
     const vx__buffer* ovb = desc->overlay ? &d->overlay_dev : &d->dummy;
-    if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = copy ? ov : -1;
     VkDescriptorBufferInfo bi[3] = {{src->buf, 0, n * 16}, {ovb->buf, 0, desc->overlay ? n * 4 : VK_WHOLE_SIZE},
                                     {d->out.buf, 0, n * 4}};
     VkDescriptorImageInfo ii = {.imageView = view, .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
@@ -267,17 +289,6 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
                                       .pBufferInfo = i == 2 && to_image ? NULL : &bi[i],
                                       .pImageInfo = i == 2 && to_image ? &ii : NULL};
     vkUpdateDescriptorSets(g->device, 3, w, 0, NULL);
-    if (copy) {
-        /* the overlay drawn since the last frame, into the device's copy (after the frames before read it; the
-         * host's writes before the submission are visible to it without a barrier: vkQueueSubmit's guarantee) */
-        VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0,
-                             NULL);
-        VkBufferCopy c = {.size = n * 4};
-        vkCmdCopyBuffer(cmd, d->overlay[ov].buf, d->overlay_dev.buf, 1, &c);
-        d->ov_dirty = false;
-    }
     /* the frame's passes ran earlier on this queue (this or earlier submissions); the overlay's copy just before */
     VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -348,6 +359,60 @@ vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_des
                    "not an off-screen image of this display with storage (vx_display_image_storage)");
 }
 
+vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx_frame_desc* fd,
+                                  const vx_display_desc* desc, uint64_t image, uint64_t view, uint32_t iw, uint32_t ih,
+                                  int final_layout, vx_frame_result* out, vx_error* err) {
+    if (!d || !fr || !fd || !desc || !out || !image || !iw || !ih)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument or an empty image");
+    if (desc->fr != fr) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the display desc names another renderer");
+    if (d->cur < 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no frame is being recorded");
+    vx_gpu* g = d->g;
+    if (!g->has_storage_write)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s cannot write images without a format (storage)",
+                       g->props.deviceName);
+    VkImage img = (VkImage)(uintptr_t)image;
+    VkImageView iv = (VkImageView)(uintptr_t)view;
+    for (int k = 0; !iv && k < VX_DISPLAY_IMAGES; k++)
+        if (d->images[k] == img) iv = d->image_view[k];
+    if (!iv)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "no storage view: not an off-screen image of this display with storage (vx_display_image_storage)");
+    uint32_t fw = desc->width, fh = desc->height;
+    if (fd->base.width != fw || fd->base.height != fh)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "display of %ux%u, the frame is %ux%u", fw, fh,
+                       fd->base.width, fd->base.height);
+    int ov = d->ov;
+    if (desc->overlay && (d->ow[ov] != fw || d->oh[ov] != fh))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the overlay is %ux%u, the frame %ux%u", d->ow[ov], d->oh[ov],
+                       fw, fh);
+    int si = d->cur;
+    VkCommandBuffer cmd = d->slot[si].cmd;
+    /* before the passes: the overlay's copy (the frame's table barrier orders it before the passes' reads) and
+     * the image in the layout the last pass writes it in (a swapchain's acquire, waited for at the transfer
+     * stage, comes first through this barrier); its contents are not kept, black where the frame does not cover it */
+    vx_result r = overlay_prepare(d, cmd, desc, (uint64_t)fw * fh, si, err);
+    if (r) return r;
+    image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
+    if (fw < iw || fh < ih) {
+        VkClearColorValue black = {{0, 0, 0, 1}};
+        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &black, 1, &range);
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    }
+    vx__display_target t = {.view = iv, .iw = iw, .ih = ih, .overlay = desc->overlay ? &d->overlay_dev : NULL,
+                            .bgra = desc->bgra};
+    d->slot[si].fr = fr;
+    if ((r = vx__frame_record_display(fr, fd, cmd, (uint32_t)si, &t, out, err))) return r;
+    /* a later reader (presentation, a readback) brings its own wait: its semaphore or barrier */
+    image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, (VkImageLayout)final_layout, VK_ACCESS_SHADER_WRITE_BIT, 0,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    return VX_OK;
+}
+
 vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* bytes, double* seconds, vx_error* err) {
     if (!d || !desc) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_gpu* g = d->g;
@@ -388,6 +453,7 @@ vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_e
         vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i);
     }
     s->overlay = -1;
+    s->fr = NULL;
     d->cur = i;
     *slot = (uint32_t)i;
     *cmd = s->cmd;
@@ -422,6 +488,7 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
 void vx_display_frame_cancel(vx_display* d) {
     if (!d || d->cur < 0) return;
     dslot* s = &d->slot[d->cur];
+    if (s->fr) vx_frame_record_cancel(s->fr); /* the scene's tables recorded there are not written */
     vkEndCommandBuffer(s->cmd);
     vkResetCommandBuffer(s->cmd, 0);
     d->cur = -1;
@@ -443,7 +510,7 @@ void vx_display_copy_to_image(void* cmd_handle, uint64_t buffer, uint32_t w, uin
     image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     uint32_t cw = w < iw ? w : iw, ch = h < ih ? h : ih;
-    if (cw != iw || ch != ih) {
+    if (!buffer || cw != iw || ch != ih) {
         VkClearColorValue black = {{0, 0, 0, 1}};
         VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
         vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);

@@ -78,7 +78,9 @@ vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* by
  *       the slot's fence, waiting at the copy (transfer stage) for
  *       `wait_semaphore` (a swapchain's acquire; 0: none) and signalling
  *       `signal_semaphore` (for vkQueuePresentKHR; 0: none)
- * A frame whose recording failed is dropped with vx_display_frame_cancel.
+ * A frame whose recording failed is dropped with vx_display_frame_cancel
+ * (which also tells a renderer whose passes vx_display_record_frame recorded
+ * there; after vx_frame_record call vx_frame_record_cancel too).
  * The slot (0 .. VX_DISPLAY_FRAMES - 1) is also vx_frame_record's: after
  * vx_display_frame_begin returns it, its last frame has run, and
  * vx_frame_record_result(fr, slot) gives that frame's pass times.
@@ -132,6 +134,29 @@ bool vx_display_can_store(const vx_display* d, int format /* VkFormat */);
 bool vx_display_image_storage(const vx_display* d);
 vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_desc* desc, uint64_t image, uint64_t view,
                                   uint32_t iw, uint32_t ih, int final_layout, vx_error* err);
+/* The conversion fused into the frame: records the passes of `fd` (as
+ * vx_frame_record, in the frame being recorded: vx_display_frame_begin's
+ * command buffer and slot, renderer fr = desc->fr) with the frame's last pass
+ * (tonemap, else aa, else the merged kernel or resolve: still its own timing
+ * row) also writing the display bytes and the overlay into `image` as
+ * vx_display_record_image would (same bytes; view, iw, ih, final_layout as
+ * there), in place of vx_frame_record + vx_display_record_image: no pass
+ * reads the frame again (the conversion read the 33 MB float image of a
+ * 1920x1080 frame: 0.018 ms of a 0.12 ms frame on an H200). A frame of one
+ * sample whose last pass is the merged kernel or resolve does not write its
+ * float image either (nothing reads it: vx_display_record then has no frame
+ * to convert); with more samples, aa or tonemap it is written as by
+ * vx_frame_record. The image is written by the passes' compute stage: a
+ * swapchain acquire the submission waits for (at the transfer stage, as
+ * vx_display_frame_submit does) is ordered before the passes by an image
+ * barrier at the start. desc: width and height the frame's (fd->base), the
+ * byte order and the overlay. VX_ERR_UNSUPPORTED where the device cannot
+ * store images without a format (then vx_frame_record and the copy). On
+ * failure the frame is the caller's to cancel (vx_display_frame_cancel). */
+vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx_frame_desc* fd,
+                                  const vx_display_desc* desc, uint64_t image,
+                                  uint64_t view, uint32_t iw, uint32_t ih, int final_layout, vx_frame_result* out,
+                                  vx_error* err);
 
 #ifdef __cplusplus
 }

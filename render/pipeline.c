@@ -13,9 +13,12 @@
 #include "cull.comp.h"
 #include "direct.comp.h"
 #include "frame.comp.h"
+#include "frame_display.comp.h"
 #include "gbuffer.comp.h"
 #include "post.comp.h"
+#include "post_display.comp.h"
 #include "resolve.comp.h"
+#include "resolve_display.comp.h"
 
 /* ---- pass lists ---------------------------------------------------------------------- */
 
@@ -306,6 +309,7 @@ typedef struct push_block {
     uint32_t u1[4]; /* first ao ray of the dispatch, ao rays in it, lights, directional lights */
     float f3[4];    /* light grid: depth origin, near, (slices - 1) / ln(far / near), list capacity (bits) */
     uint32_t u2[4]; /* light grid: tiles across, down, slices, tile pixels */
+    uint32_t u3[4]; /* the display image of the last pass (display_out.glsl): B,G,R,A, overlay, width, height */
 } push_block;
 _Static_assert(sizeof(push_block) <= 128, "Vulkan guarantees 128 bytes of push constants");
 
@@ -449,23 +453,42 @@ static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, con
     return vx__buffer_ensure(fr->g, &fr->b[which], size, label, err);
 }
 
-static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], vx__pipeline** out, vx_error* err) {
+/* display: the variant that also writes the display image (frame, resolve,
+ * post: DISPLAY_OUT), with the overlay and the image as bindings 20 and 21. */
+static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], bool display, vx__pipeline** out,
+                              vx_error* err) {
     static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame", "cull"};
     vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 8, .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
+    display = display && (sh == SH_RESOLVE || sh == SH_FRAME || sh == SH_POST);
     switch (sh) {
     case SH_GBUFFER: pd.spirv = vx__gbuffer_spv_arr, pd.spirv_size = sizeof vx__gbuffer_spv_arr; break;
     case SH_DIRECT: pd.spirv = vx__direct_spv_arr, pd.spirv_size = sizeof vx__direct_spv_arr; break;
     case SH_AO: pd.spirv = vx__ao_spv_arr, pd.spirv_size = sizeof vx__ao_spv_arr; break;
-    case SH_RESOLVE: pd.spirv = vx__resolve_spv_arr, pd.spirv_size = sizeof vx__resolve_spv_arr; break;
-    case SH_FRAME: pd.spirv = vx__frame_spv_arr, pd.spirv_size = sizeof vx__frame_spv_arr; break;
+    case SH_RESOLVE:
+        pd.spirv = display ? vx__resolve_display_spv_arr : vx__resolve_spv_arr;
+        pd.spirv_size = display ? sizeof vx__resolve_display_spv_arr : sizeof vx__resolve_spv_arr;
+        break;
+    case SH_FRAME:
+        pd.spirv = display ? vx__frame_display_spv_arr : vx__frame_spv_arr;
+        pd.spirv_size = display ? sizeof vx__frame_display_spv_arr : sizeof vx__frame_spv_arr;
+        break;
     case SH_CULL: pd.spirv = vx__cull_spv_arr, pd.spirv_size = sizeof vx__cull_spv_arr; break;
-    default: pd.spirv = vx__post_spv_arr, pd.spirv_size = sizeof vx__post_spv_arr; break;
+    default:
+        pd.spirv = display ? vx__post_display_spv_arr : vx__post_spv_arr;
+        pd.spirv_size = display ? sizeof vx__post_display_spv_arr : sizeof vx__post_spv_arr;
+        break;
     }
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    if (display) {
+        pd.binding_count = NBIND + 2;
+        pd.bindings[NBIND] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        pd.bindings[NBIND + 1] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        pd.label = sh == SH_POST ? "post (display)" : sh == SH_FRAME ? "frame (display)" : "resolve (display)";
+    }
     memcpy(pd.spec, spec, 8 * sizeof spec[0]);
-    uint64_t key = 0x9A55000ull + (uint64_t)sh;
+    uint64_t key = 0x9A55000ull + (uint64_t)sh + (display ? 0x100u : 0u);
     for (int i = 0; i < 8; i++) key = key * 131 + spec[i];
     return vx__pipeline_get(g, key, &pd, out, err);
 }
@@ -474,6 +497,7 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], v
 typedef struct rec {
     vx_frame_renderer* fr;
     VkDescriptorSet set;
+    VkDescriptorSet dset; /* the last pass's when it writes the display image (its variant's bindings) */
     uint32_t groups[2];
     VkCommandBuffer cb; /* the gpu's own, or the caller's (slot) */
     frame_slot* slot;   /* vx_frame_record: recorded into the caller's command buffer, not submitted */
@@ -535,6 +559,14 @@ static void rec_dispatch_n(rec* R, vx__pipeline* p, const push_block* pc, const 
 
 static void rec_dispatch(rec* R, vx__pipeline* p, const push_block* pc, const char* row) {
     rec_dispatch_n(R, p, pc, row, NULL);
+}
+
+/* The same with the last pass's set when `display` (its display variant). */
+static void rec_dispatch_d(rec* R, vx__pipeline* p, const push_block* pc, const char* row, bool display) {
+    VkDescriptorSet keep = R->set;
+    if (display) R->set = R->dset;
+    rec_dispatch_n(R, p, pc, row, NULL);
+    R->set = keep;
 }
 
 /* Adds nq timestamps of qp (dispatch k timed by 2k, 2k + 1 for row
@@ -602,10 +634,21 @@ static bool any_emission(const float* e, size_t n) {
     return false;
 }
 
+/* The culling of a frame with nl lights, ndir of them directional: only for
+ * lights with a reach. */
+static vx_light_culling pick_culling(const vx_frame_desc* desc, bool has_direct, uint32_t nl, uint32_t ndir) {
+    if (nl <= ndir || !has_direct) return VX_LIGHT_CULLING_BRUTE;
+    vx_light_culling cull = desc->light_culling;
+    if (cull == VX_LIGHT_CULLING_AUTO)
+        cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
+    return cull;
+}
+
 /* A frame: submitted and waited for (slot NULL), or recorded into the
- * caller's command buffer cb for slot (vx_frame_record). */
+ * caller's command buffer cb for slot (vx_frame_record); with dt (recorded
+ * frames only) its last pass also writes the display image. */
 static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, frame_slot* slot,
-                           VkCommandBuffer cb, vx_error* err) {
+                           VkCommandBuffer cb, const vx__display_target* dt, vx_error* err) {
     memset(out, 0, sizeof *out);
     vx_gpu* g = fr->g;
     if (!slot) settle(fr); /* recorded frames read the buffers this frame writes from the host */
@@ -669,13 +712,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     double cutoff = desc->light_cutoff > 0 ? desc->light_cutoff : 3.141592653589793 / 1024 * exp2(-desc->exposure);
     if (!(cutoff > 0) || !isfinite(cutoff))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "exposure %g leaves no light cut-off", desc->exposure);
-    /* the culling: only for lights with a reach (not directional) */
-    vx_light_culling cull = VX_LIGHT_CULLING_BRUTE;
-    if (nl > ndir && has_direct) {
-        cull = desc->light_culling;
-        if (cull == VX_LIGHT_CULLING_AUTO)
-            cull = nl - ndir <= VX_LIGHT_CULLING_AUTO_MAX ? VX_LIGHT_CULLING_BRUTE : VX_LIGHT_CULLING_TILED;
-    }
+    vx_light_culling cull = pick_culling(desc, has_direct, nl, ndir);
     bool tiled = cull == VX_LIGHT_CULLING_TILED, culled = cull != VX_LIGHT_CULLING_BRUTE;
     if (slot && culled)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
@@ -818,6 +855,8 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     bool final = desc->show == VX_SHOW_FINAL;
     bool run_aa = has_aa && final, run_tm = has_tm && final;
     merge = merge && !tiled; /* tiled culling reads the G-buffer's depths before the direct pass */
+    /* the last pass, which writes the display image with dt: tonemap, else aa, else the merged kernel or resolve */
+    bool d_tm = dt && run_tm, d_aa = dt && run_aa && !run_tm, d_last = dt && !run_aa && !run_tm;
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
                           shadows << 2 | (emit ? 1u << 8 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
@@ -826,31 +865,31 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     for (int round = 0; round < 2; round++) {
         spec[7] = 0;
         spec[5] = has_dof && !f.ortho, spec[6] = 0;
-        if ((r = get_pipeline(g, SH_GBUFFER, spec, &p_gb, err))) return r;
+        if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
         spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
-        if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, &p_direct, err))) return r;
+        if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
         spec[6] = 0, spec[7] = 0;
-        if (has_ao && (r = get_pipeline(g, SH_AO, spec, &p_ao, err))) return r;
+        if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
         spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
                   (phys ? 16u : 0u) | (sky ? 32u : 0u);
         spec[6] = (uint32_t)desc->show;
-        if ((r = get_pipeline(g, SH_RESOLVE, spec, &p_resolve, err))) return r;
+        if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
         if (merge) {
             uint32_t ms[8];
             memcpy(ms, spec, sizeof ms);
             ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
             ms[6] = has_dof && !f.ortho;
             ms[7] = light_spec;
-            if ((r = get_pipeline(g, SH_FRAME, ms, &p_merged, err))) return r;
+            if ((r = get_pipeline(g, SH_FRAME, ms, d_last, &p_merged, err))) return r;
         }
         spec[5] = 0, spec[6] = 0;
-        if (run_aa && (r = get_pipeline(g, SH_POST, spec, &p_aa, err))) return r;
+        if (run_aa && (r = get_pipeline(g, SH_POST, spec, d_aa, &p_aa, err))) return r;
         spec[5] = 1, spec[6] = run_aa;
-        if (run_tm && (r = get_pipeline(g, SH_POST, spec, &p_tm, err))) return r;
+        if (run_tm && (r = get_pipeline(g, SH_POST, spec, d_tm, &p_tm, err))) return r;
         for (uint32_t step = 0; culled && step < 5; step++) {
             if (step == 1 && !tiled) continue;
             spec[5] = step, spec[6] = tiled;
-            if ((r = get_pipeline(g, SH_CULL, spec, &p_cull[step], err))) return r;
+            if ((r = get_pipeline(g, SH_CULL, spec, false, &p_cull[step], err))) return r;
         }
     }
     /* push constants */
@@ -899,13 +938,17 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     pc.u0[1] = f.spp;
     pc.u0[2] = desc->ao_rays ? desc->ao_rays : 4;
     pc.u0[3] = (uint32_t)(desc->seed ^ (desc->seed >> 32));
+    if (dt) pc.u3[0] = dt->bgra, pc.u3[1] = dt->overlay != NULL, pc.u3[2] = dt->iw, pc.u3[3] = dt->ih;
     /* AO rays per dispatch: all of them on a GPU; on a CPU device few enough
      * that llvmpipe's 65535-iteration loop guard cannot cut a short-ray walk */
     uint32_t ao_chunk = vx_gpu_is_cpu(g) ? 16 : pc.u0[2];
     /* descriptor set */
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NBIND}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}};
+    /* a recorded frame's pool also holds the set of a last pass that writes the display image */
+    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot ? 2 * NBIND : NBIND},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot ? 2 : 1},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                      .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = sizes};
+                                      .maxSets = slot ? 2 : 1, .poolSizeCount = slot ? 3 : 2, .pPoolSizes = sizes};
     /* a recorded frame's set lives in its slot's pool until the slot is recorded again */
     VkDescriptorPool pool = slot ? slot->pool : VK_NULL_HANDLE;
     if (!pool) VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &pool), "vkCreateDescriptorPool");
@@ -921,6 +964,11 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                       .descriptorPool = pool, .descriptorSetCount = 1, .pSetLayouts = &p_gb->dsl};
     VkResult vr = vkAllocateDescriptorSets(g->device, &ai, &R->set);
+    vx__pipeline* p_disp = d_tm ? p_tm : d_aa ? p_aa : d_last ? (merge ? p_merged : p_resolve) : NULL;
+    if (vr == VK_SUCCESS && p_disp) {
+        ai.pSetLayouts = &p_disp->dsl;
+        vr = vkAllocateDescriptorSets(g->device, &ai, &R->dset);
+    }
     if (vr != VK_SUCCESS) {
         r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
         goto done;
@@ -947,6 +995,22 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                                               .pBufferInfo = &infos[i]};
             }
             vkUpdateDescriptorSets(g->device, NBIND, w, 0, NULL);
+            if (p_disp) {
+                /* the same buffers, then the overlay (a placeholder without one) and the display image */
+                VkWriteDescriptorSet wd[NBIND + 2];
+                VkDescriptorBufferInfo ob = {.buffer = dt->overlay ? dt->overlay->buf : fr->b[B_OUT2].buf,
+                                             .range = VK_WHOLE_SIZE};
+                VkDescriptorImageInfo ii = {.imageView = dt->view, .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
+                for (uint32_t i = 0; i < NBIND; i++) wd[i] = w[i], wd[i].dstSet = R->dset;
+                wd[NBIND] = w[1], wd[NBIND].dstSet = R->dset, wd[NBIND].dstBinding = NBIND, wd[NBIND].pBufferInfo = &ob;
+                wd[NBIND + 1] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                                       .dstSet = R->dset,
+                                                       .dstBinding = NBIND + 1,
+                                                       .descriptorCount = 1,
+                                                       .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                                       .pImageInfo = &ii};
+                vkUpdateDescriptorSets(g->device, NBIND + 2, wd, 0, NULL);
+            }
         }
         if ((r = rec_begin(R, err))) goto done;
         pc.u0[0] = 0;
@@ -956,7 +1020,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         for (uint32_t s = 0; s < f.spp; s++) {
             pc.u0[0] = s;
             if (merge) {
-                rec_dispatch(R, p_merged, &pc, merged_name);
+                rec_dispatch_d(R, p_merged, &pc, merged_name, d_last);
                 continue;
             }
             if (has_gb) {
@@ -990,10 +1054,10 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                 if ((r = vx__render_scene_bind(fr->rs, &f, scene_bufs, tspec, err))) goto done;
                 if ((r = rec_begin(R, err))) goto done;
             }
-            rec_dispatch(R, p_resolve, &pc, "resolve");
+            rec_dispatch_d(R, p_resolve, &pc, "resolve", d_last);
         }
-        if (run_aa) rec_dispatch(R, p_aa, &pc, "aa");
-        if (run_tm) rec_dispatch(R, p_tm, &pc, "tonemap");
+        if (run_aa) rec_dispatch_d(R, p_aa, &pc, "aa", d_aa);
+        if (run_tm) rec_dispatch_d(R, p_tm, &pc, "tonemap", d_tm);
         if ((r = rec_submit(R, err))) goto done;
         if (culled) {
             uint32_t head[4];
@@ -1023,6 +1087,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
             img.rays = (uint64_t)npx * f.spp;
             out->image = img;
             fr->last_out = run_aa ? B_OUT2 : B_ACC;
+            if (d_last && f.spp == 1) fr->last_out = -1; /* the last pass wrote the display bytes only */
             fr->last_w = f.width, fr->last_h = f.height;
         }
         break;
@@ -1042,11 +1107,11 @@ done:
 
 vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_frame_result* out, vx_error* err) {
     if (!fr || !desc || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    return frame_run(fr, desc, out, NULL, VK_NULL_HANDLE, err);
+    return frame_run(fr, desc, out, NULL, VK_NULL_HANDLE, NULL, err);
 }
 
-vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
-                          vx_frame_result* out, vx_error* err) {
+static vx_result record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
+                        const vx__display_target* dt, vx_frame_result* out, vx_error* err) {
     if (!fr || !desc || !cmd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (slot >= VX_FRAME_SLOTS)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u: a renderer has %d", slot, VX_FRAME_SLOTS);
@@ -1054,7 +1119,43 @@ vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     frame_slot* sl = fr->slots[slot];
     sl->recorded = false;
-    return frame_run(fr, desc, out, sl, (VkCommandBuffer)cmd, err);
+    vx_result r = frame_run(fr, desc, out, sl, (VkCommandBuffer)cmd, dt, err);
+    /* the caller drops the command buffer: the scene's tables recorded there are not written */
+    if (r) vx__render_scene_forget_tables(fr->rs);
+    return r;
+}
+
+vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
+                          vx_frame_result* out, vx_error* err) {
+    return record(fr, desc, cmd, slot, NULL, out, err);
+}
+
+vx_result vx__frame_record_display(vx_frame_renderer* fr, const vx_frame_desc* desc, VkCommandBuffer cmd, uint32_t slot,
+                                   const vx__display_target* t, vx_frame_result* out, vx_error* err) {
+    if (!t || !t->view) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no display image");
+    return record(fr, desc, cmd, slot, t, out, err);
+}
+
+vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err) {
+    if (!desc) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_pass_list deflist;
+    const vx_pass_list* L = desc->passes;
+    if (!L) {
+        vx_result r = vx_pass_list_parse(VX_PASS_LIST_DEFAULT, &deflist, err);
+        if (r) return r;
+        L = &deflist;
+    }
+    if (desc->want_ids || !desc->no_readback || vx_pass_list_has(L, VX_PASS_GI))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "a recorded frame is not read back and has no gi pass");
+    uint32_t ndir = 0;
+    for (uint32_t i = 0; desc->lights && i < desc->light_count; i++) ndir += desc->lights[i].type == VX_LIGHT_DIRECTIONAL;
+    if (pick_culling(desc, vx_pass_list_has(L, VX_PASS_DIRECT), desc->light_count, ndir) != VX_LIGHT_CULLING_BRUTE)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "a recorded frame has no light culling");
+    return VX_OK;
+}
+
+void vx_frame_record_cancel(vx_frame_renderer* fr) {
+    if (fr) vx__render_scene_forget_tables(fr->rs);
 }
 
 vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_result* out, vx_error* err) {

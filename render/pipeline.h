@@ -330,6 +330,11 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
  * and frame_ms as vx_frame_render's; VX_ERR_INVALID_ARG when it has not
  * run). The image stays on the GPU (no pixels, no hits).
  *
+ * The scene's tables are written only when they differ from the last
+ * recorded frame's (a still camera and scene: none), so a frame recorded and
+ * then not submitted must be reported with vx_frame_record_cancel before the
+ * next is recorded (a failed vx_frame_record reports itself).
+ *
  * Refused (VX_ERR_UNSUPPORTED; use vx_frame_render): want_ids, a readback
  * (no_readback false), a gi pass (the method submits its own work), light
  * culling other than brute force (the grid's size is read back).
@@ -340,6 +345,13 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
 vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
                           vx_frame_result* out, vx_error* err);
 vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_result* out, vx_error* err);
+/* VX_ERR_UNSUPPORTED where vx_frame_record refuses desc for the reasons
+ * above (other errors it finds when recording); VX_OK otherwise: for
+ * presenters that acquire the image a frame writes before recording it. */
+vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err);
+/* The frame last recorded will not be submitted (its command buffer was
+ * dropped): the next frame writes the scene's tables whatever they are. */
+void vx_frame_record_cancel(vx_frame_renderer* fr);
 
 #ifdef __cplusplus
 }

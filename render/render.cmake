@@ -20,10 +20,15 @@ if(VX_WITH_VULKAN)
   # gbuffer, direct, ao, resolve, post and frame (the merged gbuffer+direct+resolve)
   # are the pass pipeline's shaders (pipeline.c); cull builds its light grid;
   # display turns an image into display bytes on the GPU (display.c); display_image
-  # writes them into the image shown (a storage image) instead of a buffer.
+  # writes them into the image shown (a storage image) instead of a buffer;
+  # frame_display, resolve_display and post_display are those passes when they
+  # are the frame's last and write the image shown themselves (display_out.glsl);
+  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
-               display:display display_image:display:TO_IMAGE)
+               display:display display_image:display:TO_IMAGE
+               frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
+               refit:refit)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -40,7 +45,8 @@ if(VX_WITH_VULKAN)
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/display_out.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})

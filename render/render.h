@@ -261,7 +261,15 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_rend
  * upload). Also takes instance edits (the records of any frame changed,
  * instances added or removed, the same models): the default camera's bounds
  * are taken again from every frame of `scene` (for an animation that was not
- * edited, the bounds it had). Waits for the device to be idle first. */
+ * edited, the bounds it had). Waits for the device to be idle first, except
+ * when the same number of instances is drawn (moves, turns, a frame of an
+ * animation): then the tables are made again in place and the BVH keeps its
+ * shape, its bounds refit bottom-up (vx_bvh_refit; built again when the refit
+ * tree would cost twice the built one), on the host for frames the host
+ * writes and on the GPU with each recorded frame (pipeline.h
+ * vx_frame_record). The nearest hit does not depend on the tree, except
+ * where two instances' surfaces coincide (equal depth): such ties may then
+ * fall to the other instance than in a scene built from scratch. */
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t frame, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
 /* Model `model` of `scene` (the scene rs was made from, the same model
@@ -304,6 +312,10 @@ typedef struct vx_render_scene_stats {
      * the BVH rebuilt on the CPU into the buffers it had, no buffer made and
      * no wait for the device (frames in flight keep running) */
     uint32_t instance_updates_in_place;
+    /* of those, the ones that kept the BVH's shape: its bounds refit on the
+     * host (vx_bvh_refit, for frames the host writes) and on the GPU with
+     * each recorded frame's tables (vx_frame_record) instead of a build */
+    uint32_t instance_refits;
 } vx_render_scene_stats;
 void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than
@@ -373,6 +385,22 @@ typedef struct vx_bvh {
  * leaves hold at most 4 items. */
 vx_result vx_bvh_build(const double* lo, const double* hi, uint32_t count, const vx_allocator* alloc, vx_bvh* out,
                        vx_error* err);
+/* Refit: the same tree (nodes, items) over moved boxes of the same count,
+ * each node's bounds recomputed bottom-up (children come after their parent,
+ * so one pass from the last node), rounded outward to float as the build's.
+ * Returns the tree's cost as the build measures it (the sum of the interior
+ * nodes' surface areas over the root's, plus the leaves' item counts times
+ * their areas over the root's), for callers that rebuild when a refit tree
+ * has grown too costly; -1 on invalid boxes (nothing changed then). */
+double vx_bvh_refit(vx_bvh* bvh, const double* lo, const double* hi, uint32_t count);
+/* The same cost of a tree as it stands. */
+double vx_bvh_cost(const vx_bvh* bvh);
+/* The nodes in breadth-first order, level by level from the root: order[]
+ * (node_count entries) and level_start[] (levels + 1 entries: level l is
+ * order[level_start[l] .. level_start[l + 1])), for a refit on the GPU one
+ * level at a time from the deepest; *levels receives the count. The arrays
+ * are the caller's, level_start node_count + 1 entries at most. */
+void vx_bvh_levels(const vx_bvh* bvh, uint32_t* order, uint32_t* level_start, uint32_t* levels);
 void vx_bvh_free(vx_bvh* bvh);
 
 #ifdef __cplusplus

@@ -5,6 +5,7 @@
 // premultiplied 8-bit colour and coverage laid over it:
 // out = P + F * (255 - A) / 255, rounded.
 #version 450
+#extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 256) in;
 layout(std430, set = 0, binding = 0) readonly buffer Src { vec4 src[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Ovl { uint ovl[]; };
@@ -24,28 +25,19 @@ layout(push_constant) uniform Push {
     uint iw, ih;  // TO_IMAGE: the image's size (pixels outside it are not stored)
 } pc;
 
-uint to8(float v) { return uint(roundEven(clamp(v, 0.0, 1.0) * 255.0)); }
+#include "display_out.glsl"
 
 void main() {
     uint i = (gl_WorkGroupID.y * pc.row + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
     if (i >= pc.n) return;
-    vec4 s = src[i];
-    uint r = to8(s.r), g = to8(s.g), b = to8(s.b);
-    uvec3 c = pc.bgra != 0u ? uvec3(b, g, r) : uvec3(r, g, b);
-    if (pc.overlay != 0u) {
-        uint o = ovl[i], a = o >> 24;
-        if (a != 0u) {
-            uvec3 p = uvec3(o & 255u, (o >> 8) & 255u, (o >> 16) & 255u);
-            c = min(p + (c * (255u - a) + 127u) / 255u, uvec3(255u));
-        }
-    }
+    uvec3 rgb = display_rgb(src[i], pc.overlay != 0u ? ovl[i] : 0u, pc.bgra != 0u, pc.overlay != 0u);
 #ifdef TO_IMAGE
     // the image's format puts the channels in its byte order: store R, G, B;
     // k / 255 converts back to exactly k (round to nearest of k +- 1 ulp)
-    uvec3 rgb = pc.bgra != 0u ? c.zyx : c;
     uint x = i % pc.width, y = i / pc.width;
     if (x < pc.iw && y < pc.ih) imageStore(dsti, ivec2(x, y), vec4(vec3(rgb) / 255.0, 1.0));
 #else
+    uvec3 c = pc.bgra != 0u ? rgb.zyx : rgb; // the buffer's bytes in the display's order
     dst[i] = c.x | (c.y << 8) | (c.z << 16) | (255u << 24);
 #endif
 }

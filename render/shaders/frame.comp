@@ -17,6 +17,7 @@ layout(constant_id = 6) const bool DOF = false;
 const uint SHOW = 0u;
 const bool PHYS = (FLAGS & 16u) != 0u;
 #include "pass_bodies.glsl"
+#include "display_out.glsl"
 
 void main() {
     uvec2 px;
@@ -34,5 +35,16 @@ void main() {
         uint n = max(PC.u0.z, 1u);
         ao = 1.0 - ao_blocked(px, g0, g1, 0u, n) / float(n);
     }
-    accumulate(i, resolve_pixel(g0, g1, dir, ao, vec4(0.0)));
+    vec4 c = resolve_pixel(g0, g1, dir, ao, vec4(0.0));
+#ifdef DISPLAY_OUT
+    // one sample: its colour is the frame's (accumulate's c / 1), and the float image is not kept
+    if (PC.u0.y <= 1u) {
+        display_store(px, i, c);
+        return;
+    }
+#endif
+    accumulate(i, c);
+#ifdef DISPLAY_OUT
+    if (PC.u0.x + 1u == PC.u0.y) display_store(px, i, acc_img[i]); // the last sample: the frame's colour
+#endif
 }

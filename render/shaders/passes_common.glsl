@@ -57,6 +57,9 @@ layout(push_constant) uniform Push {
     uvec4 u1; // x: first ao ray of this dispatch, y: ao rays in this dispatch, z: lights, w: directional lights
     vec4 f3;  // light grid: x depth origin zb, y near, z (slices - 1) / ln(far / near), w list capacity (uint bits)
     uvec4 u2; // light grid: x tiles across, y tiles down, z depth slices, w tile size in pixels
+#ifdef DISPLAY_OUT
+    uvec4 u3; // the display image the last pass writes (display_out.glsl)
+#endif
 } PC;
 
 const float PI = 3.14159265358979;

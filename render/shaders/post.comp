@@ -13,6 +13,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #include "trace_common.glsl"
 #include "passes_common.glsl"
+#include "display_out.glsl"
 
 layout(constant_id = 5) const uint OP = 0u;
 layout(constant_id = 6) const bool SRC2 = false;
@@ -49,10 +50,16 @@ void main() {
         float mn = min(min(min(luma(l), luma(r)), min(luma(u), luma(d))), lc);
         if (mx - mn > PC.f1.w * max(mx, 1e-4)) c.xyz = 0.5 * c.xyz + 0.125 * (l + r + u + d);
         out2_img[i] = c;
+#ifdef DISPLAY_OUT
+        display_store(px, i, c); // aa is the last pass (no tonemap)
+#endif
     } else {
         vec4 c = SRC2 ? out2_img[i] : acc_img[i];
         c.xyz = srgb(aces(max(c.xyz, vec3(0.0)) * PC.f0.w));
         if (SRC2) out2_img[i] = c;
         else acc_img[i] = c;
+#ifdef DISPLAY_OUT
+        display_store(px, i, c);
+#endif
     }
 }

@@ -17,6 +17,7 @@ layout(constant_id = 6) const uint SHOW = 0u;  // vx_show
 const bool PHYS = (FLAGS & 16u) != 0u;
 const bool DOF = false;
 #include "pass_bodies.glsl"
+#include "display_out.glsl"
 
 void main() {
     uvec2 px;
@@ -25,5 +26,16 @@ void main() {
     vec4 dir = HAS_DIRECT ? direct_img[i] : vec4(0.0);
     float ao = HAS_AO ? ao_img[i] : 1.0;
     vec4 gi = HAS_GI ? gi_img[i] : vec4(0.0);
-    accumulate(i, resolve_pixel(gb0[i], gb1[i], dir, ao, gi));
+    vec4 c = resolve_pixel(gb0[i], gb1[i], dir, ao, gi);
+#ifdef DISPLAY_OUT
+    // one sample: its colour is the frame's (accumulate's c / 1), and the float image is not kept
+    if (PC.u0.y <= 1u) {
+        display_store(px, i, c);
+        return;
+    }
+#endif
+    accumulate(i, c);
+#ifdef DISPLAY_OUT
+    if (PC.u0.x + 1u == PC.u0.y) display_store(px, i, acc_img[i]); // the last sample: the frame's colour
+#endif
 }

@@ -6,8 +6,14 @@
  * change every frame (each frame must read its own tables), an instance
  * moves between two frames (the scene update waits for the frames in
  * flight), and the overlay is redrawn twice (the two overlays: one drawn
- * while frames in flight read the other). Also: the pass times of a slot's
- * frame once it ran, and the refusals. On lavapipe; skips without a device. */
+ * while frames in flight read the other). Frame 2 repeats frame 1's camera
+ * (the scene's tables are not written again: the frame must still read
+ * them), and before frame 8 a frame with frame 8's camera is recorded and
+ * cancelled (its tables never written: frame 8 must write them). Three ways
+ * to the image: the conversion into a buffer copied to it, the conversion
+ * writing it, and the conversion fused into the frame's last pass
+ * (vx_display_record_frame). Also: the pass times of a slot's frame once it
+ * ran, and the refusals. On lavapipe; skips without a device. */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
@@ -30,7 +36,7 @@ static vx_frame_desc frame_k(const vx_svo_scene* s, uint32_t k, vx_light lights[
     double lo[3], hi[3], c[3], r = 0;
     vx_svo_scene_world_bounds(s, lo, hi);
     for (int i = 0; i < 3; i++) c[i] = 0.5 * (lo[i] + hi[i]), r = fmax(r, hi[i] - lo[i]);
-    double a = 0.35 * k;
+    double a = 0.35 * (k == 2 ? 1 : k); /* frame 2: frame 1's camera */
     vx_frame_desc d = vx_frame_desc_defaults();
     d.base.width = W, d.base.height = H, d.base.mode = VX_RENDER_COLOR;
     d.base.camera = (vx_render_camera){.set = true,
@@ -71,9 +77,30 @@ static void move_instance(vx_svo_scene* s, vx_render_scene* rs, double dx) {
     CHECK(b.instance_updates_in_place == a.instance_updates_in_place + 1);
 }
 
-/* to_image: the conversion writes the off-screen image itself (a storage
- * image) instead of a buffer copied to it. */
-static void in_flight_equals_waited(bool to_image) {
+/* How the frame gets into the off-screen image: the conversion into a buffer
+ * copied to it, the conversion writing the image itself (a storage image),
+ * or the frame's last pass writing it (the conversion fused). */
+typedef enum way { WAY_COPY, WAY_IMAGE, WAY_FUSED } way;
+
+/* Records frame k (desc d) into the frame begun in cmd, slot. */
+static vx_result record_k(way w, vx_display* disp, vx_frame_renderer* fr, const vx_frame_desc* d, void* cmd, uint32_t slot,
+                          uint64_t img, vx_frame_result* res, vx_error* err) {
+    vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
+    if (w == WAY_FUSED)
+        return vx_display_record_frame(disp, fr, d, &dd, img, 0, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, res, err);
+    uint64_t buf = 0;
+    vx_result r = vx_frame_record(fr, d, cmd, slot, res, err);
+    if (!r && w == WAY_IMAGE)
+        r = vx_display_record_image(disp, cmd, &dd, img, 0, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, err);
+    else if (!r)
+        r = vx_display_record(disp, cmd, &dd, &buf, err);
+    if (r) vx_frame_record_cancel(fr); /* the passes were recorded */
+    if (!r && w == WAY_COPY) vx_display_copy_to_image(cmd, buf, W, H, img, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    return r;
+}
+
+static void in_flight_equals_waited(way wy) {
+    bool to_image = wy != WAY_COPY;
     vx_svo_model m[2];
     memset(m, 0, sizeof m);
     REQUIRE(ts_random_model(&m[0], 24, 20, 16, 30, 7) == VX_OK);
@@ -108,22 +135,22 @@ static void in_flight_equals_waited(bool to_image) {
         vx_frame_desc d = frame_k(&s, k, lights);
         uint32_t slot;
         void* cmd;
-        REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
         vx_frame_result res;
-        uint64_t buf = 0;
-        vx_display_desc dd = {.fr = fr, .width = W, .height = H, .bgra = true, .overlay = true};
-        vx_result r = vx_frame_record(fr, &d, cmd, slot, &res, &err);
-        if (!r && to_image)
-            r = vx_display_record_image(disp, cmd, &dd, img[k], 0, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, &err);
-        else if (!r)
-            r = vx_display_record(disp, cmd, &dd, &buf, &err);
+        if (k == 8) {
+            /* frame 8 recorded and dropped: its tables were never written */
+            REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
+            CHECK(record_k(wy, disp, fr, &d, cmd, slot, img[k], &res, &err) == VX_OK);
+            if (wy != WAY_FUSED) vx_frame_record_cancel(fr);
+            vx_display_frame_cancel(disp);
+        }
+        REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
+        vx_result r = record_k(wy, disp, fr, &d, cmd, slot, img[k], &res, &err);
         if (r) {
             vx_display_frame_cancel(disp);
             CHECKF(false, "frame %u: %s", k, err.msg);
             break;
         }
         CHECK(res.image.pixels == NULL && res.frame_ms == 0);
-        if (!to_image) vx_display_copy_to_image(cmd, buf, W, H, img[k], W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         REQUIRE(vx_display_frame_submit(disp, 0, 0, &err) == VX_OK);
         slot_of[k] = slot;
     }
@@ -174,7 +201,9 @@ static void in_flight_equals_waited(bool to_image) {
     CHECK(rec_res.frame_ms >= 0 && rec_res.image.rays == (uint64_t)W * H);
     printf("  %d frames in flight (%d slots, %s): %zu bytes differ in all; last frame's passes %.3f ms (waited: %.3f ms), "
            "its command buffer %.3f ms on the device\n",
-           K, VX_DISPLAY_FRAMES, to_image ? "written into the image" : "copied to the image", bad_total, rec_res.frame_ms,
+           K, VX_DISPLAY_FRAMES,
+           wy == WAY_FUSED ? "fused into the last pass" : to_image ? "written into the image" : "copied to the image",
+           bad_total, rec_res.frame_ms,
            ref_res.frame_ms, dt.gpu_ms);
     free(got), free(want), free(other);
     /* refusals: nothing is recorded, the frame is dropped */
@@ -204,20 +233,144 @@ static void in_flight_equals_waited(bool to_image) {
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
 }
 
+/* Instance moves with frames in flight: the BVH keeps its shape and is refit
+ * (on the host for waited frames, on the GPU level by level for recorded
+ * ones); every recorded frame equals the same frame of a render scene built
+ * from scratch (an SAH build over the moved instances: another tree, the
+ * same nearest hits), and so does the waited frame after the moves. Six
+ * steps over 48 instances in a grid, a few moved each step (one of them far,
+ * so the refit boxes grow and overlap), the camera orbiting. */
+enum { RN = 48, STEPS = 6 };
+
+static void refit_equals_scratch(void) {
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    REQUIRE(ts_random_model(&m[0], 8, 7, 6, 40, 11) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 5, 5, 9, 55, 12) == VX_OK);
+    vx_svo_instance in[RN];
+    /* 30 cells apart, moves of at most 2 cells a step (and one of 60 up, out of the grid): no two instances meet,
+     * so the nearest hit never ties between instances (which a different tree could then break otherwise) */
+    for (uint32_t i = 0; i < RN; i++) in[i] = ts_inst(i % 2, NULL, 30.0 * (i % 8), 30.0 * (i / 8 % 3), 30.0 * (i / 24));
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, RN);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
+    REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    uint64_t img[STEPS];
+    for (int k = 0; k < STEPS; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
+    double xf[STEPS][RN][3]; /* the translations at each step */
+    uint32_t seed = 5;
+    vx_render_scene_stats st0, st1;
+    vx_render_scene_get_stats(rs, &st0);
+    REQUIRE(draw_pattern(disp, 0)); /* record_k lays the overlay over the frames */
+    for (uint32_t k = 0; k < STEPS; k++) {
+        if (k) {
+            for (int j = 0; j < 4; j++) {
+                seed = seed * 1664525u + 1013904223u;
+                uint32_t i = (seed >> 8) % RN;
+                bool far = j == 0 && k == 3;
+                double d = far ? 60 : (double)((seed >> 20) % 5) - 2;
+                s.instances[i].xform[3 + 4 * (far ? 2 : (int)((seed >> 4) % 3))] += d;
+            }
+            vx_svo_scene_update_bounds(&s);
+            REQUIRE(vx_render_scene_set_frame(rs, &s, 0, &err) == VX_OK);
+        }
+        for (uint32_t i = 0; i < RN; i++)
+            for (int c = 0; c < 3; c++) xf[k][i][c] = s.instances[i].xform[3 + 4 * c];
+        vx_light lights[2];
+        vx_frame_desc d = frame_k(&s, k, lights);
+        uint32_t slot;
+        void* cmd;
+        vx_frame_result res;
+        REQUIRE(vx_display_frame_begin(disp, &slot, &cmd, &err) == VX_OK);
+        if (record_k(WAY_COPY, disp, fr, &d, cmd, slot, img[k], &res, &err)) {
+            vx_display_frame_cancel(disp);
+            CHECKF(false, "step %u: %s", k, err.msg);
+            break;
+        }
+        REQUIRE(vx_display_frame_submit(disp, 0, 0, &err) == VX_OK);
+    }
+    REQUIRE(vx_display_wait(disp, &err) == VX_OK);
+    vx_render_scene_get_stats(rs, &st1);
+    uint32_t refits = st1.instance_refits - st0.instance_refits;
+    CHECKF(refits >= STEPS - 2, "%u of %d moves refit the BVH", refits, STEPS - 1);
+    /* each step against a scene built from scratch with that step's instances */
+    uint8_t *got = malloc(W * H * 4), *want = malloc(W * H * 4);
+    REQUIRE(got && want);
+    size_t bad_total = 0;
+    for (uint32_t k = 0; k < STEPS; k++) {
+        for (uint32_t i = 0; i < RN; i++)
+            for (int c = 0; c < 3; c++) s.instances[i].xform[3 + 4 * c] = xf[k][i][c];
+        vx_svo_scene_update_bounds(&s);
+        vx_render_scene* rs2 = NULL;
+        vx_frame_renderer* fr2 = NULL;
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs2, &err) == VX_OK);
+        REQUIRE(vx_frame_renderer_create(rs2, &s, &fr2, &err) == VX_OK);
+        vx_light lights[2];
+        vx_frame_desc d = frame_k(&s, k, lights);
+        vx_frame_result res;
+        vx_display_desc dd = {.fr = fr2, .width = W, .height = H, .bgra = true, .overlay = true};
+        REQUIRE(vx_frame_render(fr2, &d, &res, &err) == VX_OK);
+        REQUIRE(vx_display_run(disp, &dd, want, NULL, &err) == VX_OK);
+        REQUIRE(vx_display_image_read(disp, img[k], W, H, got, &err) == VX_OK);
+        size_t bad = 0, hit = 0;
+        for (size_t q = 0; q < (size_t)W * H * 4; q++) bad += got[q] != want[q];
+        for (size_t q = 0; q < (size_t)W * H; q++) hit += memcmp(want + 4 * q, want, 4) != 0; /* not the corner's sky */
+        if (k == STEPS - 1) {
+            /* the waited frame of the moved scene (the host's refit tree) too */
+            vx_display_desc d1 = dd;
+            d1.fr = fr;
+            REQUIRE(vx_frame_render(fr, &d, &res, &err) == VX_OK);
+            REQUIRE(vx_display_run(disp, &d1, got, NULL, &err) == VX_OK);
+            for (size_t q = 0; q < (size_t)W * H * 4; q++) bad += got[q] != want[q];
+        }
+        printf("  step %u: refit frame against a scene built from scratch: %zu bytes differ (%zu pixels not the sky's)\n",
+               k, bad, hit);
+        CHECKF(bad == 0, "step %u: %zu bytes differ", k, bad);
+        CHECKF(hit > 0, "step %u: a flat image", k);
+        bad_total += bad;
+        vx_frame_renderer_destroy(fr2);
+        vx_render_scene_destroy(rs2);
+    }
+    printf("  %d steps, %u refits: %zu bytes differ in all\n", STEPS, refits, bad_total);
+    free(got), free(want);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+}
+
+static void test_refit_equals_scratch(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    refit_equals_scratch();
+}
+
 static void test_in_flight_equals_waited(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(false);
+    in_flight_equals_waited(WAY_COPY);
 }
 
 static void test_in_flight_into_image(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(true);
+    in_flight_equals_waited(WAY_IMAGE);
+}
+
+static void test_in_flight_fused(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    in_flight_equals_waited(WAY_FUSED);
 }
 
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_in_flight_equals_waited);
     RUN(test_in_flight_into_image);
+    RUN(test_in_flight_fused);
+    RUN(test_refit_equals_scratch);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

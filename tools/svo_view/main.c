@@ -1222,7 +1222,8 @@ static void take_timings(app* a, const vx_frame_result* res) {
 /* The colour passes: rendered and waited for (cmd NULL), or recorded into
  * cmd for frame slot `slot` (frames in flight: the times come with the
  * slot's next frame, take_timings). */
-static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, void* cmd, uint32_t slot, vx_error* err) {
+/* The frame's description (the state the pass pipeline renders). */
+static vx_result frame_desc(app* a, const vx_render_desc* d, bool on_gpu, vx_frame_desc* out, vx_error* err) {
     const vx_sky* sky;
     const vx_sky_texels* sky_map;
     file_sky(a, &sky, &sky_map);
@@ -1270,11 +1271,18 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, voi
     fd.lights = a->scene.lights;
     fd.light_count = a->scene.light_count;
     fd.sky_dir = sky, fd.sky_map = sky_map; /* and its sky */
+    *out = fd;
+    return VX_OK;
+}
+
+/* A frame submitted and waited for (frames in flight: present_in_flight). */
+static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_error* err) {
+    vx_frame_desc fd;
     vx_frame_result res;
-    vx_result r = cmd ? vx_frame_record(a->fr, &fd, cmd, slot, &res, err) : vx_frame_render(a->fr, &fd, &res, err);
-    if (r) return r;
+    vx_result r = frame_desc(a, d, on_gpu, &fd, err);
+    if (r || (r = vx_frame_render(a->fr, &fd, &res, err))) return r;
     a->img = res.image;
-    if (!cmd) take_timings(a, &res);
+    take_timings(a, &res);
     return VX_OK;
 }
 
@@ -1282,9 +1290,11 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, voi
  * overlay and the copy into the swapchain image in one command buffer,
  * submitted and presented without waiting for it; vx_display_frame_begin
  * waits only for the frame VX_DISPLAY_FRAMES before, whose pass times the
- * statistics then show. VX_ERR_UNSUPPORTED, nothing submitted: a frame the
- * recorder refuses (lights that need a culling grid), which takes the
- * waited path. */
+ * statistics then show. Where the swapchain images are storage images the
+ * frame's last pass writes the image itself (vx_display_record_frame: no
+ * conversion pass), so the image is acquired before the passes are
+ * recorded. VX_ERR_UNSUPPORTED, nothing submitted: a frame the recorder
+ * refuses (lights that need a culling grid), which takes the waited path. */
 static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_display_desc* dd, vx_error* err) {
     uint32_t slot;
     void* cmd;
@@ -1296,19 +1306,33 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
         a->trace_ms = done.image.gpu_seconds * 1e3;
         a->rays_per_s = done.image.gpu_seconds > 0 ? done.image.rays / done.image.gpu_seconds : 0;
     }
+    vx_frame_desc fd;
     vp_image im;
-    if ((r = render_passes(a, d, true, cmd, slot, err)) || (r = vp_acquire(a->p, slot, &im, err))) {
+    if ((r = frame_desc(a, d, true, &fd, err)) || (r = vx_frame_recordable(&fd, err)) ||
+        (r = vp_acquire(a->p, slot, &im, err))) {
         vx_display_frame_cancel(a->disp);
         return r;
     }
     /* without an image (minimised, a new swapchain next frame) the passes still run, unseen */
-    uint64_t bytes = 0;
-    if (im.image && im.view) { /* the conversion writes the swapchain image itself */
-        r = vx_display_record_image(a->disp, cmd, dd, im.image, im.view, im.width, im.height, im.layout, err);
-        if (r) vx_display_copy_to_image(cmd, 0, dd->width, dd->height, im.image, im.width, im.height, im.layout);
-    } else if (im.image) {
+    vx_frame_result res;
+    bool fused = im.image && im.view;
+    r = fused ? vx_display_record_frame(a->disp, a->fr, &fd, dd, im.image, im.view, im.width, im.height, im.layout,
+                                        &res, err)
+              : vx_frame_record(a->fr, &fd, cmd, slot, &res, err);
+    if (r) {
+        /* the acquired image is still presented (its semaphore waited for): cleared, in the slot's frame again */
+        vx_frame_record_cancel(a->fr);
+        vx_display_frame_cancel(a->disp);
+        vx_error again;
+        if (!im.image || vx_display_frame_begin(a->disp, &slot, &cmd, &again)) return r;
+        vx_display_copy_to_image(cmd, 0, dd->width, dd->height, im.image, im.width, im.height, im.layout);
+    } else if (im.image && !fused) {
+        a->img = res.image;
+        uint64_t bytes = 0;
         r = vx_display_record(a->disp, cmd, dd, &bytes, err);
         vx_display_copy_to_image(cmd, r ? 0 : bytes, dd->width, dd->height, im.image, im.width, im.height, im.layout);
+    } else {
+        a->img = res.image;
     }
     vx_result sr = vx_display_frame_submit(a->disp, im.acquired, im.rendered, err);
     if (!sr && im.image) sr = vp_present_acquired(a->p, err);
@@ -1413,7 +1437,7 @@ static vx_result frame(app* a, vx_error* err) {
     /* frames in flight: all GPU-path frames but grabs (read back after a wait) */
     bool fly = on_gpu && !a->grab;
     if (passes && !fly) {
-        vx_result r = render_passes(a, &d, on_gpu, NULL, 0, err);
+        vx_result r = render_passes(a, &d, on_gpu, err);
         if (r) return r;
     } else if (a->rs && !a->gi && !passes) {
         vx_result r = vx_render_frame(a->rs, &d, &a->img, err);
@@ -1501,7 +1525,7 @@ static vx_result frame(app* a, vx_error* err) {
         if (!a->frame_in_flight) {
             /* the waited path: a grab (read back after the wait), or a frame the recorder refused */
             if (fly) {
-                if ((r = render_passes(a, &d, true, NULL, 0, err))) return r;
+                if ((r = render_passes(a, &d, true, err))) return r;
                 a->trace_ms = a->img.gpu_seconds * 1e3;
                 a->rays_per_s = a->img.gpu_seconds > 0 ? a->img.rays / a->img.gpu_seconds : 0;
             }
@@ -2197,7 +2221,7 @@ static void choose_present(app* a) {
     snprintf(a->present_note, sizeof a->present_note,
              "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %d "
              "frames in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
-             vp_storage(a->p) ? "written into" : "-> a copy to", VX_DISPLAY_FRAMES,
+             vp_storage(a->p) ? "fused into the last pass, written into" : "-> a copy to", VX_DISPLAY_FRAMES,
              strcmp(want, "gpu") ? "auto" : "--present gpu");
 }
 

@@ -411,20 +411,6 @@ static vx_result ensure_staging(vp* p, VkDeviceSize size, vx_error* err) {
     return VX_OK;
 }
 
-static void barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
-                    VkAccessFlags dst, VkPipelineStageFlags s0, VkPipelineStageFlags s1) {
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .srcAccessMask = src,
-                              .dstAccessMask = dst,
-                              .oldLayout = from,
-                              .newLayout = to,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .image = img,
-                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
-    vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
-}
-
 /* Ends the frame's command buffer, submits it (waiting on the acquire
  * semaphore, signalling done[idx]), queues the present of image idx and waits
  * for the submission: the staging buffer, command buffer and acquire
@@ -464,52 +450,43 @@ static vx_result present_status(vp* p, VkResult vr, vx_error* err) {
     return VX_OK;
 }
 
-vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error* err) {
+/* The start of a waited frame: the swapchain made again when the window
+ * changed, the next image acquired (signalling p->acquired) and the command
+ * buffer begun. *idx UINT32_MAX: no image this time (minimised, or out of
+ * date: the next frame renders at the new size), nothing begun. */
+static vx_result begin_present(vp* p, uint32_t* idx, vx_error* err) {
+    *idx = UINT32_MAX;
     check_resize(p);
     if (p->dirty) {
         vx_result r = create_swapchain(p, err);
         if (r) return r;
     }
     if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
-    vx_result r = ensure_staging(p, (VkDeviceSize)w * h * 4, err);
-    if (r) return r;
-    memcpy(p->staging_map, px, (size_t)w * h * 4);
-    uint32_t idx;
-    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->acquired, VK_NULL_HANDLE, &idx);
+    uint32_t i;
+    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->acquired, VK_NULL_HANDLE, &i);
     if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
         p->dirty = true;
-        return VX_OK; /* the next frame renders at the new size */
+        return VX_OK;
     }
     if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
-    VkImage img = p->images[idx];
     VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
-    barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    uint32_t cw = w < p->extent.width ? w : p->extent.width, ch = h < p->extent.height ? h : p->extent.height;
-    if (cw != p->extent.width || ch != p->extent.height) {
-        VkClearColorValue black = {{0, 0, 0, 1}};
-        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
-        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
-        vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
-                             0, NULL);
-    }
-    VkBufferImageCopy region = {.bufferOffset = 0,
-                                .bufferRowLength = w,
-                                .bufferImageHeight = h,
-                                .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
-                                .imageOffset = {0, 0, 0},
-                                .imageExtent = {cw, ch, 1}};
-    vkCmdCopyBufferToImage(p->cmd, p->staging, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-            VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-    vx_result sr = submit_present(p, idx, &vr, err);
-    if (sr) return sr;
+    *idx = i;
+    return VX_OK;
+}
+
+vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error* err) {
+    vx_result r = ensure_staging(p, (VkDeviceSize)w * h * 4, err);
+    if (r) return r;
+    memcpy(p->staging_map, px, (size_t)w * h * 4);
+    uint32_t idx;
+    if ((r = begin_present(p, &idx, err)) || idx == UINT32_MAX) return r;
+    vx_display_copy_to_image(p->cmd, (uint64_t)(uintptr_t)p->staging, w, h, (uint64_t)(uintptr_t)p->images[idx],
+                             p->extent.width, p->extent.height, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
+    VkResult vr;
+    if ((r = submit_present(p, idx, &vr, err))) return r;
     return present_status(p, vr, err);
 }
 
@@ -517,69 +494,32 @@ vx_result vp_present(vp* p, const uint8_t* px, uint32_t w, uint32_t h, vx_error*
  * vx_display in this submission, copied to the acquired swapchain image
  * (and, for a grab, to the staging buffer, read back after the wait). */
 vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* desc, uint8_t* grab, vx_error* err) {
-    check_resize(p);
-    if (p->dirty) {
-        vx_result r = create_swapchain(p, err);
-        if (r) return r;
-    }
-    if (!p->sc || !p->extent.width || !p->extent.height) return VX_OK; /* minimised */
     uint32_t w = desc->width, h = desc->height;
     vx_result r = grab ? ensure_staging(p, (VkDeviceSize)w * h * 4, err) : VX_OK;
-    if (r) return r;
     uint32_t idx;
-    VkResult vr = vkAcquireNextImageKHR(p->dev, p->sc, UINT64_MAX, p->acquired, VK_NULL_HANDLE, &idx);
-    if (vr == VK_ERROR_OUT_OF_DATE_KHR) {
-        p->dirty = true;
-        return VX_OK;
-    }
-    if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR) return vk_fail(err, vr, "vkAcquireNextImageKHR");
-    VkImage img = p->images[idx];
-    VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
-    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-    VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
+    if (r || (r = begin_present(p, &idx, err)) || idx == UINT32_MAX) return r;
     uint64_t bytes = 0;
+    /* a failed conversion still presents the acquired image (its semaphore is waited for): cleared */
     vx_result failed = vx_display_record(disp, p->cmd, desc, &bytes, err);
     if (failed) {
-        /* the acquired image is still presented (its semaphore waited for): as it was, in the present layout */
         VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
         VP_VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
+        VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                       .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
         VP_VK(vkBeginCommandBuffer(p->cmd, &bi), "vkBeginCommandBuffer");
-        barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, 0, 0,
-                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-        grab = NULL;
-        goto submit;
+        bytes = 0, grab = NULL;
     }
-    VkBuffer src = (VkBuffer)(uintptr_t)bytes;
-    barrier(p->cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    uint32_t cw = w < p->extent.width ? w : p->extent.width, ch = h < p->extent.height ? h : p->extent.height;
-    if (cw != p->extent.width || ch != p->extent.height) {
-        VkClearColorValue black = {{0, 0, 0, 1}};
-        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
-        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
-        vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
-                             0, NULL);
-    }
-    VkBufferImageCopy region = {.bufferRowLength = w,
-                                .bufferImageHeight = h,
-                                .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
-                                .imageExtent = {cw, ch, 1}};
-    vkCmdCopyBufferToImage(p->cmd, src, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
     if (grab) {
         VkBufferCopy c = {.size = (VkDeviceSize)w * h * 4};
-        vkCmdCopyBuffer(p->cmd, src, p->staging, 1, &c);
+        vkCmdCopyBuffer(p->cmd, (VkBuffer)(uintptr_t)bytes, p->staging, 1, &c);
         VkMemoryBarrier hb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                               .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
                               .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
         vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, NULL, 0, NULL);
     }
-    barrier(p->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-            VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-submit:
+    vx_display_copy_to_image(p->cmd, bytes, w, h, (uint64_t)(uintptr_t)p->images[idx], p->extent.width, p->extent.height,
+                             VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
+    VkResult vr;
     vx_result sr = submit_present(p, idx, &vr, err);
     if (sr) return sr;
     if (failed) return failed;
