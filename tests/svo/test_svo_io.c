@@ -2136,6 +2136,16 @@ static int write_seeds(const char* dir) {
         fprintf(stderr, "%s: %s\n", path, e.msg);
         return 1;
     }
+    /* seed6: version 3, every model in the chunked form (FORMAT.md 3.6) */
+    make_scene(&s, 12);
+    snprintf(path, sizeof path, "%s/seed6.svo", dir);
+    vx_write_desc chunked = {.svo_chunk_words = 1};
+    wr = vx_svo_write_file(&chunked, &s, path, &e);
+    vx_svo_scene_free(&s);
+    if (wr != VX_OK) {
+        fprintf(stderr, "%s: %s\n", path, e.msg);
+        return 1;
+    }
     return 0;
 }
 
