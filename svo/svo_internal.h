@@ -41,6 +41,10 @@ vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* 
  * allowed (an edited model's superseded copies, svo/edit.h); everything
  * reachable is checked as strictly. Files never hold such words. */
 vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err);
+/* The same on up to `threads` threads within the model (models of 2^20
+ * words or more: the ascending pass level by level); the result and the
+ * error are the one-thread ones. */
+vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, vx_error* err);
 
 /* Node words from which a scene's models are handled in parallel (2^20);
  * tests lower it to exercise the threaded paths on small scenes. */

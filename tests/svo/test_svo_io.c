@@ -1685,6 +1685,24 @@ static void test_chunked_large(void) {
         CHECK(model_equal(&r.models[0], m));
         vx_svo_scene_free(&r);
     }
+    /* the validation of a model of 2^20 words or more splits its ascending
+     * pass over threads: the same extent as on one thread, and for a model
+     * that declares one voxel more than its tree holds the same error */
+    CHECKF(m->node_count >= (1u << 20), "%u words: the threaded validation is not reached", m->node_count);
+    vx__svo_extent x1, x4;
+    REQUIRE(vx__svo_analyze_mt(m, &x1, false, 1, &e) == VX_OK);
+    REQUIRE(vx__svo_analyze_mt(m, &x4, false, 4, &e) == VX_OK);
+    CHECK(!memcmp(&x1, &x4, sizeof x1) && x1.cells == m->voxel_count);
+    {
+        vx_svo_model dm = *m;
+        dm.nodes = (uint32_t*)malloc((size_t)m->node_count * 4);
+        memcpy(dm.nodes, m->nodes, (size_t)m->node_count * 4);
+        dm.voxel_count++; /* found by the ascending pass */
+        vx_error e1, e4;
+        vx_result r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1), r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
+        CHECK(r1 == VX_ERR_BAD_FORMAT && r4 == r1 && !strcmp(e1.msg, e4.msg) && strstr(e1.msg, "voxel_count"));
+        free(dm.nodes);
+    }
     /* default: chunked exactly when the model has 2^20 words or more */
     uint8_t* d = NULL;
     size_t n = 0;
