@@ -1329,6 +1329,28 @@ static void test_coded_models(void) {
     FILE* f = fopen(path2, "rb");
     CHECK(f == NULL);
     if (f) fclose(f);
+    /* the chunked form (version 3) from models coded apart: the same file */
+    {
+        vx_write_desc cw = {.svo_chunk_words = 1};
+        REQUIRE(vx_svo_write_file(&cw, &s, path, &e) == VX_OK);
+        size_t nw = 0;
+        uint8_t* want = slurp_file(path, &nw);
+        vx_svo_model_coded* ci = (vx_svo_model_coded*)calloc(n, sizeof *ci);
+        uint8_t** cs = (uint8_t**)calloc(n, sizeof *cs);
+        for (uint32_t i = 0; i < n; i++) {
+            REQUIRE(vx_svo_model_encode(&cw, &s.models[i], &ci[i], &cs[i], &e) == VX_OK);
+            CHECK(ci[i].chunked);
+        }
+        stream_set cset = {cs, 0, 0, UINT32_MAX, true};
+        vx_svo_stream_source csrc = {stream_read, &cset};
+        REQUIRE(vx_svo_write_file_coded(&cw, &h, ci, &csrc, path2, &e) == VX_OK);
+        size_t ng = 0;
+        uint8_t* got = slurp_file(path2, &ng);
+        CHECKF(want && got && ng == nw && !memcmp(got, want, nw) && (got[8] | got[9] << 8) == 3, "chunked coded: %zu vs %zu bytes", ng, nw);
+        for (uint32_t i = 0; i < n; i++) vx_free(NULL, cs[i]);
+        free(cs), free(ci), free(got), free(want);
+        remove(path2);
+    }
     /* an invalid model is not coded */
     vx_svo_model bad = s.models[2];
     bad.root = bad.node_count + 5;
