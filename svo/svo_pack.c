@@ -824,7 +824,11 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
             if (!(c & 0x80u)) break;
         }
     }
-    uint64_t side_max = 4u * vx__popc8(m->attrs & (VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_DENSITY)) * (uint64_t)m->attr_count;
+    /* one 4-byte value per record and channel (raw form) or per leaf child of
+     * each node (structural form: at most 8 per declared word; with the DAG's
+     * shared record runs these can outnumber the records) */
+    uint64_t side_max = 4u * vx__popc8(m->attrs & (VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_DENSITY)) *
+                        ((uint64_t)m->attr_count + 8u * (uint64_t)m->node_count);
     if (side_n > side_max || z_n > n - hdr)
         return vx_fail(err, side_n > side_max ? VX_ERR_BAD_FORMAT : VX_ERR_TRUNCATED, base,
                        "svo: section NODE at byte %llu: model %u: %llu side bytes (%llu deflated) for %u records, %zu bytes left",

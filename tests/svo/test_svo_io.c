@@ -1740,6 +1740,66 @@ static void test_chunked_large(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A model whose records repeat in runs (few distinct runs on many distinct
+ * nodes): the DAG shares the runs, so the structural form's values,
+ * one per leaf child of every distinct node, outnumber the model's records.
+ * The reader once bounded the side bytes by the records and refused such
+ * files (Cube.gltf at --res 256 from vox2svo); they must read back. */
+static void test_side_bytes_bound(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 1;
+    s.models = (vx_svo_model*)calloc(1, sizeof *s.models);
+    /* 300 colour pairs (A, B), each on the 28 two-cell masks of a 2^3 block
+     * (A on the lower octant): 8,400 distinct level-1 nodes whose 300 runs
+     * [A B] are shared, blocks 4 cells apart so that the levels above stay
+     * sparse too */
+    const uint32_t pairs = 300, masks = 28;
+    size_t n = (size_t)pairs * masks * 2, w = 0;
+    uint64_t* k = (uint64_t*)malloc(n * 8);
+    uint32_t* c = (uint32_t*)malloc(n * 4);
+    uint32_t o1s[28], o2s[28], nm = 0;
+    for (uint32_t a = 0; a < 8; a++)
+        for (uint32_t b = a + 1; b < 8; b++) o1s[nm] = a, o2s[nm++] = b;
+    for (uint32_t j = 0; j < pairs * masks; j++) {
+        uint32_t p = j % pairs, mk = j / pairs, bx = 4 * (j % 64), by = 4 * (j / 64 % 64), bz = 4 * (j / 4096);
+        uint32_t os[2] = {o1s[mk], o2s[mk]};
+        for (int q = 0; q < 2; q++) {
+            k[w] = vx_svo_morton(bx + (os[q] & 1u), by + (os[q] >> 1 & 1u), bz + (os[q] >> 2 & 1u));
+            c[w++] = 0xFF000000u | (q ? 0x00FF0000u - p * 0x100u : 0x000000FFu + p * 0x10000u);
+        }
+    }
+    vx_svo_voxels in = {.size = {256, 256, 256}, .count = n, .keys = k, .attrs = VX_ATTR_RGBA8, .rgba = c};
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &s.models[0], NULL, &e) == VX_OK);
+    free(k), free(c);
+    s.instance_count = 1;
+    s.instances = (vx_svo_instance*)calloc(1, sizeof *s.instances);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(&s);
+    uint8_t* d = NULL;
+    size_t nd = 0;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &nd, &e) == VX_OK);
+    /* the side length (first varint of the only stream) exceeds 4 bytes per record */
+    size_t nn = 0, at = 0;
+    const uint8_t* node = section(d, nd, "NODE", &nn);
+    REQUIRE(node);
+    (void)t_var(node, &at);
+    uint64_t side = t_var(node, &at);
+    CHECKF(side > 4ull * s.models[0].attr_count, "side %llu bytes, %u records: the case is not reached", (unsigned long long)side,
+           s.models[0].attr_count);
+    vx_svo_scene r;
+    vx_result rr = vx_svo_read(NULL, d, nd, &r, &e);
+    CHECKF(rr == VX_OK, "read: %s", e.msg);
+    if (rr == VX_OK) {
+        CHECK(model_equal(&r.models[0], &s.models[0]));
+        vx_svo_scene_free(&r);
+    }
+    vx_free(NULL, d);
+    vx_svo_scene_free(&s);
+}
+
 static void test_lights_round_trip(void) {
     vx_svo_scene s, r;
     make_scene(&s, 60);
@@ -2277,6 +2337,7 @@ int main(int argc, char** argv) {
     RUN(test_coded_models);
     RUN(test_chunked_form);
     RUN(test_chunked_large);
+    RUN(test_side_bytes_bound);
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);
     RUN(test_oom);
