@@ -281,7 +281,19 @@ typedef struct vx_write_desc {
     unsigned threads;          /* writers that code in parallel (.svo): 0 = one per
                                   CPU (at most 16), 1 = the caller's thread only.
                                   The bytes never depend on it. */
+    uint32_t svo_chunk_words;  /* .svo: models with at least this many node words
+                                  are stored in the chunked form (docs/FORMAT.md
+                                  3.6, format version 3: the words and records
+                                  themselves in deflated chunks that code and
+                                  decode on every thread, 2-3x the bytes of the
+                                  structural form); 0 = VX_SVO_CHUNK_WORDS (2^20),
+                                  UINT32_MAX = never (the compact form of
+                                  versions 1 and 2 for every model). */
 } vx_write_desc;
+
+/* Default of vx_write_desc.svo_chunk_words: a model of 2^20 words (4 MB)
+ * takes a second or more to rebuild from the structural form. */
+#define VX_SVO_CHUNK_WORDS (1u << 20)
 
 /* Writes data to path through a temporary file in the same folder that is
  * renamed over path only after everything was written and flushed, so a

@@ -43,7 +43,90 @@ static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* 
     return true;
 }
 
+/* The occupied extent of descriptor w at level l from its children's pairs
+ * at level l - 1 (complete before: lower words, or the level below). */
+static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, pair_ext* pe, uint32_t w, uint32_t l) {
+    uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    uint32_t slot = 0, b = 0;
+    if (valid & ~leaf) block_of(m, w, d, &slot, &b);
+    pair_ext* P = &pe[pidx[w] + vx__popc32(lv[w] & ((1u << l) - 1))];
+    uint32_t half = 1u << (l - 1);
+    P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
+    uint32_t k = 0;
+    for (uint32_t o = 0; o < 8; o++) {
+        if (!(valid >> o & 1u)) continue;
+        uint32_t off[3] = {(o & 1u) * half, (o >> 1 & 1u) * half, (o >> 2 & 1u) * half};
+        uint64_t cells;
+        uint32_t cmn[3], cmx[3];
+        if (leaf >> o & 1u) {
+            cells = (uint64_t)1 << (3 * (l - 1));
+            for (int i = 0; i < 3; i++) cmn[i] = off[i], cmx[i] = off[i] + half;
+        } else {
+            uint32_t c = b + k++;
+            /* the child's pair for level l-1: rank of that bit in its mask */
+            const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
+            cells = C->cells;
+            for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
+        }
+        P->cells += cells;
+        for (int i = 0; i < 3; i++) {
+            if (cmn[i] < P->mn[i]) P->mn[i] = cmn[i];
+            if (cmx[i] > P->mx[i]) P->mx[i] = cmx[i];
+        }
+    }
+}
+
+/* The ascending pass of one large model on several threads. A pair at level
+ * l reads only pairs at level l - 1, so the pairs of one level are
+ * independent: listed per level (in word order, which keeps the lookups
+ * near each other), each level is split over the threads, the levels one
+ * after the other. The result is the sequential pass's, pair for pair. The
+ * lookups of children are cache misses (a shared DAG's children lie anywhere
+ * below), so on a single large model this pass was most of a chunked read. */
+#define LEVEL_PARALLEL_WORDS (1u << 20)
+#define LEVEL_BLOCK 16384u
+typedef struct level_job {
+    const vx_svo_model* m;
+    const uint32_t *lv, *pidx, *list;
+    pair_ext* pe;
+    size_t n;
+    uint32_t l;
+} level_job;
+static void level_run(void* ctx, uint32_t i) {
+    level_job* j = (level_job*)ctx;
+    size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
+    for (size_t k = a; k < e; k++) pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
+}
+/* false: no memory for the lists (the caller runs the sequential pass) */
+static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint8_t* role, const uint32_t* pidx, pair_ext* pe,
+                           size_t npairs, unsigned threads) {
+    size_t start[VX_SVO_MAX_DEPTH + 2] = {0};
+    uint32_t* list = (uint32_t*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *list);
+    if (!list) return false;
+    for (uint32_t w = 0; w < m->node_count; w++)
+        if (role[w] == ROLE_DESC)
+            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) start[__builtin_ctz(lm) + 1]++;
+    for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
+    size_t fill[VX_SVO_MAX_DEPTH + 1];
+    memcpy(fill, start, sizeof fill);
+    for (uint32_t w = 0; w < m->node_count; w++)
+        if (role[w] == ROLE_DESC)
+            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
+    for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++) {
+        size_t n = start[l + 1] - start[l];
+        if (!n) continue;
+        level_job j = {m, lv, pidx, list + start[l], pe, n, l};
+        vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), level_run, &j);
+    }
+    vx_free(NULL, list);
+    return true;
+}
+
 vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err) {
+    return vx__svo_analyze_mt(m, ext, unreferenced_ok, 1, err);
+}
+
+vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, vx_error* err) {
     if (!m) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: null");
     if (m->depth > VX_SVO_MAX_DEPTH)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
@@ -198,39 +281,11 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
-    for (uint32_t w = 0; w < nw; w++) {
-        if (role[w] != ROLE_DESC) continue;
-        uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
-        uint32_t slot = 0, b = 0;
-        if (valid & ~leaf) block_of(m, w, d, &slot, &b);
-        uint32_t pi = pidx[w];
-        for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++) {
-            if (!(lv[w] >> l & 1u)) continue;
-            pair_ext* P = &pe[pi++];
-            uint32_t half = 1u << (l - 1);
-            P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
-            uint32_t k = 0;
-            for (uint32_t o = 0; o < 8; o++) {
-                if (!(valid >> o & 1u)) continue;
-                uint32_t off[3] = {(o & 1u) * half, (o >> 1 & 1u) * half, (o >> 2 & 1u) * half};
-                uint64_t cells;
-                uint32_t cmn[3], cmx[3];
-                if (leaf >> o & 1u) {
-                    cells = (uint64_t)1 << (3 * (l - 1));
-                    for (int i = 0; i < 3; i++) cmn[i] = off[i], cmx[i] = off[i] + half;
-                } else {
-                    uint32_t c = b + k++;
-                    /* the child's pair for level l-1: rank of that bit in its mask */
-                    const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
-                    cells = C->cells;
-                    for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
-                }
-                P->cells += cells;
-                for (int i = 0; i < 3; i++) {
-                    if (cmn[i] < P->mn[i]) P->mn[i] = cmn[i];
-                    if (cmx[i] > P->mx[i]) P->mx[i] = cmx[i];
-                }
-            }
+    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, threads)) {
+        for (uint32_t w = 0; w < nw; w++) {
+            if (role[w] != ROLE_DESC) continue;
+            for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++)
+                if (lv[w] >> l & 1u) pair_compute(m, lv, pidx, pe, w, l);
         }
     }
     {
@@ -320,9 +375,10 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsi
                 *bad = i;
                 if (err) *err = errs[i];
             }
-    } else {
+    } else { /* one model at a time: a large one uses the threads within itself */
+        unsigned cpus = vx__svo_cpus(want);
         for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
-            if ((r = vx__svo_analyze(&s->models[i], ext ? &ext[i] : NULL, err)) != VX_OK) *bad = i;
+            if ((r = vx__svo_analyze_mt(&s->models[i], ext ? &ext[i] : NULL, false, cpus, err)) != VX_OK) *bad = i;
     }
     vx_free(s->alloc, res);
     vx_free(s->alloc, errs);

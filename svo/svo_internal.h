@@ -41,6 +41,10 @@ vx_result vx__svo_analyze(const vx_svo_model* m, vx__svo_extent* ext, vx_error* 
  * allowed (an edited model's superseded copies, svo/edit.h); everything
  * reachable is checked as strictly. Files never hold such words. */
 vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err);
+/* The same on up to `threads` threads within the model (models of 2^20
+ * words or more: the ascending pass level by level); the result and the
+ * error are the one-thread ones. */
+vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, vx_error* err);
 
 /* Node words from which a scene's models are handled in parallel (2^20);
  * tests lower it to exercise the threaded paths on small scenes. */
@@ -114,10 +118,16 @@ typedef struct vx__svo_sink {
 extern size_t vx__svo_flush_bytes;
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out);
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, const vx__svo_sink* sink);
-vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, unsigned threads,
-                            vx_error* err);
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, vx_buf* out);
+/* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
+ * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
+ * least min_words words (0: VX_SVO_CHUNK_WORDS). */
+bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
+                        const vx__svo_sink* sink);
+/* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
+                            unsigned threads, vx_error* err);
 
 /* Test-only (like vx__svo_far_limit): the writer skips validation and the
  * structural form, storing words and records as they are, so that tests can

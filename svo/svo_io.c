@@ -36,6 +36,8 @@ enum {
     ROOT_CODE_LEAF = 1,
     ROOT_CODE_BACK = 2, /* + (node_count - 1 - root) */
     MODEL_SAME_SIZE = 1u << 5, /* model head: size as the previous model's */
+    MODEL_CHUNKED = 1u << 6,   /* model head: its NODE stream is in the chunked form (version 3) */
+    VERSION_CHUNKED = 3,       /* the format version that introduced MODEL_CHUNKED */
     INST_NAMED = 1u << 2,      /* instance head: a name follows */
     FRMS_CHANGE_MIN = 7        /* smallest change record: gap, head, model, rotation byte, 3 translations */
 };
@@ -413,8 +415,10 @@ static const double IDENTITY12[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 /* SCNE into s (the models' words and records are decoded from NODE later,
  * against the counts declared here); *bounds_form says whether bounds are
  * still to be computed. */
-static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_allocator* A, vx_svo_scene* s, int* bounds_form,
-                           vx_error* err) {
+/* chunked: receives, for a version-3 file, one byte per model (nonzero:
+ * MODEL_CHUNKED), freed by the caller. */
+static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t version, const vx_allocator* A, vx_svo_scene* s,
+                           int* bounds_form, uint8_t** chunked, vx_error* err) {
     const char* S = "SCNE";
     const sec* sc = known[S_SCNE];
     vx_rd rd = vx_rd_make(d + sc->offset, (size_t)sc->size);
@@ -457,6 +461,8 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
     s->models = (vx_svo_model*)vx_calloc(A, mc ? mc : 1, sizeof *s->models);
     s->instances = (vx_svo_instance*)vx_calloc(A, ic ? ic : 1, sizeof *s->instances);
     s->layers = (vx_svo_layer*)vx_calloc(A, lc ? lc : 1, sizeof *s->layers);
+    if (version >= VERSION_CHUNKED && !(*chunked = (uint8_t*)vx_calloc(A, mc ? mc : 1, 1)))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     if (!s->models || !s->instances || !s->layers) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
 
     for (uint32_t i = 0; i < mc; i++) {
@@ -466,10 +472,13 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
         uint64_t root_code;
         uint32_t mhead;
         if ((r = rd_var32(&rd, &mhead, S, "model head", err)) != VX_OK) return r;
-        if (mhead & ~(uint32_t)(VX_ATTR_ALL | MODEL_SAME_SIZE))
-            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: unknown attribute bits 0x%x in the head",
-                           (unsigned long long)at, i, mhead & ~(uint32_t)(VX_ATTR_ALL | MODEL_SAME_SIZE));
+        uint32_t known_bits = VX_ATTR_ALL | MODEL_SAME_SIZE | (version >= VERSION_CHUNKED ? MODEL_CHUNKED : 0u);
+        if (mhead & ~known_bits)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: unknown attribute bits 0x%x in the head%s",
+                           (unsigned long long)at, i, mhead & ~known_bits,
+                           (mhead & ~known_bits) == MODEL_CHUNKED ? " (the chunked form needs format version 3)" : "");
         m->attrs = mhead & VX_ATTR_ALL;
+        if (mhead & MODEL_CHUNKED) (*chunked)[i] = 1;
         if (mhead & MODEL_SAME_SIZE) {
             if (i == 0)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",
@@ -498,6 +507,9 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, const vx_a
                            (unsigned long long)at, i, (unsigned long long)root_code, m->node_count);
         if ((m->attrs & VX_ATTR_PALETTE) && !known[S_PALT])
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses palette indices but PALT is missing",
+                           (unsigned long long)at, i);
+        if ((mhead & MODEL_CHUNKED) && m->root >= m->node_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u is marked chunked but has no root descriptor",
                            (unsigned long long)at, i);
     }
     int32_t prev[3] = {0, 0, 0};
@@ -784,6 +796,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     uint32_t version, count;
     sec* secs = NULL;
     vx__svo_extent* ext = NULL;
+    uint8_t* chunked = NULL;
     vx_svo_scene s;
     vx_svo_scene_init(&s, A);
     vx_result r = load_table(d, size, A, &version, &count, &secs, err);
@@ -826,8 +839,8 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     }
     int bounds_form = BOUNDS_COMPUTED;
-    if ((r = read_scne(d, known, A, &s, &bounds_form, err)) != VX_OK) goto fail;
-    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, A, rdd.threads,
+    if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
+    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
                                err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
@@ -850,11 +863,13 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
     vx_free(A, ext);
     vx_free(A, secs);
+    vx_free(A, chunked);
     *out = s;
     return VX_OK;
 fail:
     vx_free(A, ext);
     vx_free(A, secs);
+    vx_free(A, chunked);
     vx_svo_scene_free(&s);
     return r;
 }
@@ -894,7 +909,8 @@ static void buf_xform(vx_buf* b, const double* x, int kind, const uint8_t* pay, 
     }
 }
 
-static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext) {
+/* chunked: per model, whether its NODE stream is in the chunked form (NULL: none). */
+static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext, const uint8_t* chunked) {
     double bmin[3], bmax[3];
     vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
     int32_t bi[6];
@@ -919,7 +935,7 @@ static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* e
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         bool same = i > 0 && memcmp(m->size, m[-1].size, sizeof m->size) == 0;
-        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u));
+        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u) | (chunked && chunked[i] ? MODEL_CHUNKED : 0u));
         if (!same)
             for (int k = 0; k < 3; k++) buf_var(b, m->size[k]);
         buf_var(b, m->node_count);
@@ -1112,22 +1128,33 @@ static void write_frms(vx_buf* b, const vx_svo_scene* s) {
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
     vx__svo_extent* ext;
-    unsigned threads; /* the caller's limit (vx_write_desc.threads) */
+    uint8_t* chunked; /* per model: stored in the chunked form (NULL: none is) */
+    uint16_t version;
+    unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
+    uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
     int order[S_COUNT], ns;
     uint64_t sizes[S_COUNT];
     uint32_t flags[S_COUNT], crcs[S_COUNT];
 } wplan;
 
-static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, unsigned threads, const coded_src* cs, wplan* w,
-                            vx_error* err) {
+static void plan_free(const vx_allocator* alloc, wplan* w) {
+    vx_free(alloc, w->ext);
+    vx_free(alloc, w->chunked);
+    w->ext = NULL;
+    w->chunked = NULL;
+}
+
+static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, const coded_src* cs, wplan* w, vx_error* err) {
+    const vx_allocator* alloc = desc ? desc->alloc : NULL;
     memset(w, 0, sizeof *w);
-    w->threads = threads;
+    w->threads = desc ? desc->threads : 0;
+    w->chunk_min = desc ? desc->svo_chunk_words : 0;
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees (models coded
      * elsewhere bring theirs) */
     w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
     if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, threads, !cs, err);
+    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, err);
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
         if (c->cells != s->models[i].voxel_count || c->stream_size == 0)
@@ -1156,6 +1183,19 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_allocator* alloc, un
     if (s->light_count || s->sky.type != VX_SKY_DEFAULT) w->order[w->ns++] = S_LGHT;
     if (vx_svo_scene_frames(s) > 1) w->order[w->ns++] = S_FRMS;
     for (int si = 0; si < w->ns; si++) w->flags[si] = SEC_REQUIRED;
+    /* the chunked form of a large model needs version 3; files without one
+     * keep the bytes of versions 1 and 2 */
+    w->version = file_version(w->order, w->ns);
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        bool ch = cs ? cs->info[i].chunked : vx__svo_model_chunked(&s->models[i], w->chunk_min);
+        if (!ch) continue;
+        if (!w->chunked && !(w->chunked = (uint8_t*)vx_calloc(alloc, s->model_count, 1))) {
+            plan_free(alloc, w);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
+        }
+        w->chunked[i] = 1;
+        w->version = VERSION_CHUNKED;
+    }
     return VX_OK;
 }
 
@@ -1184,9 +1224,9 @@ static bool write_node_coded(vx_buf* b, const vx_svo_scene* s, coded_src* cs, co
 static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene* s, const vx_allocator* alloc,
                           const vx__svo_sink* sink, coded_src* cs) {
     int t = w->order[si];
-    if (t == S_SCNE) write_scne(b, s, w->ext);
+    if (t == S_SCNE) write_scne(b, s, w->ext, w->chunked);
     else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1197,7 +1237,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
 /* The header and section table; fin[] receives each section's file offset. */
 static bool write_head(vx_buf* head, const wplan* w, uint64_t fin[S_COUNT]) {
     vx_buf_append(head, MAGIC, 8);
-    vx_buf_u16le(head, file_version(w->order, w->ns));
+    vx_buf_u16le(head, w->version);
     vx_buf_u16le(head, (uint16_t)w->ns);
     for (int si = 0; si < w->ns; si++) {
         vx_buf_append(head, TAGS[w->order[si]], 4);
@@ -1226,7 +1266,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
     if (!s || !out_data || !out_size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* alloc = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, alloc, desc ? desc->threads : 0, NULL, &w, err);
+    vx_result r = plan_write(s, desc, NULL, &w, err);
     if (r != VX_OK) return r;
     /* sections first (their sizes and CRCs go into the table), then the
      * header and table in front of them */
@@ -1240,7 +1280,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
         w.sizes[si] = body.size - offs[si];
         w.crcs[si] = body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
     }
-    vx_free(alloc, w.ext);
+    plan_free(alloc, &w);
     ok = write_head(&head, &w, fin) && ok;
     /* The body was laid out from 0 without gaps; shift it behind the head in
      * place (last section first, so no source is overwritten before it has
@@ -1297,12 +1337,12 @@ static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* a = desc ? desc->alloc : NULL;
     wplan w;
-    vx_result r = plan_write(s, a, desc ? desc->threads : 0, cs, &w, err);
+    vx_result r = plan_write(s, desc, cs, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
     size_t slen = strlen(path) + 48;
     char* scratch = (char*)vx_alloc(a, slen);
     if (!scratch) {
-        vx_free(a, w.ext);
+        plan_free(a, &w);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
     }
     snprintf(scratch, slen, "%s.tmp%ld.sections", path, (long)getpid());
@@ -1324,7 +1364,7 @@ static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
         w.crcs[si] = sp.crc;
         vx_buf_free(&b);
     }
-    vx_free(a, w.ext);
+    plan_free(a, &w);
     vx_buf head = {.alloc = a};
     uint64_t fin[S_COUNT];
     if (!io && !nomem) {
@@ -1391,7 +1431,8 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     vx_result r = vx__svo_analyze(m, &ext, err);
     if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
     vx_buf b = {.alloc = a};
-    if (!vx__svo_pack_model(m, a, &b)) {
+    info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
+    if (!vx__svo_pack_model(m, a, info->chunked, info->chunked ? vx__svo_cpus(desc ? desc->threads : 0) : 1, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

@@ -404,8 +404,155 @@ static bool put_var(vx_buf* b, uint64_t v) {
     return true;
 }
 
-/* Codes one model into its own stream. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, vx_buf* out) {
+/* ---- the chunked form (format version 3, docs/FORMAT.md 3.6) --------------------------------------
+ * A large model's words and records as they are in memory, in chunks of
+ * about CHUNK_RAW bytes, each raw DEFLATE on its own. The structural form is
+ * several times smaller, but its reader re-runs the builder's layout (run
+ * table, record interning, far slots) in one sequential pass and its writer
+ * proves the form by rebuilding the model: 15-25 CPU seconds for the 4096^3
+ * helmet. Chunks need neither, map straight onto the arrays and code and
+ * decode on every core, even within one model. */
+#define CHUNK_RAW ((uint64_t)4 << 20)
+/* Inflated bytes per deflated byte that a chunk may declare: deflate never
+ * exceeds 1032:1, so this bounds what a reader allocates by the file's size. */
+#define CHUNK_RATIO_MAX 2048u
+
+static uint32_t rec_bytes(uint32_t attrs) {
+    uint32_t n = 0;
+    for (unsigned c = 0; c < 5; c++)
+        if (attrs >> c & 1u) n += CH_BYTES[c];
+    return n;
+}
+
+bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words) {
+    if (min_words == 0) min_words = VX_SVO_CHUNK_WORDS;
+    return m->root < m->node_count && m->node_count >= min_words;
+}
+
+/* The pieces of a chunk's inflated bytes: its words, then each channel's
+ * records (FORMAT.md 3.6); n[k] = 0 for a channel the model does not have. */
+static void chunk_pieces(const vx_svo_model* m, uint32_t w0, uint32_t nw, uint32_t r0, uint32_t nr, uint8_t* p[6], size_t n[6]) {
+    void* arrs[5] = {m->palette, m->rgba, m->normal, m->material, m->density};
+    p[0] = (uint8_t*)(m->nodes + w0);
+    n[0] = (size_t)nw * 4;
+    for (unsigned c = 0; c < 5; c++) {
+        bool has = m->attrs >> c & 1u;
+        p[1 + c] = has && nr ? (uint8_t*)arrs[c] + (size_t)r0 * CH_BYTES[c] : NULL;
+        n[1 + c] = has ? (size_t)nr * CH_BYTES[c] : 0;
+    }
+}
+
+/* Byte order of the pieces in memory: the file is little-endian. */
+static void swap_piece(uint8_t* p, size_t n, unsigned width) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+    for (size_t i = 0; i + width <= n; i += width)
+        for (unsigned a = 0, b = width - 1; a < b; a++, b--) {
+            uint8_t t = p[i + a];
+            p[i + a] = p[i + b];
+            p[i + b] = t;
+        }
+#else
+    (void)p, (void)n, (void)width;
+#endif
+}
+static const unsigned PIECE_WIDTH[6] = {4, 1, 4, 4, 2, 4};
+
+typedef struct chunk_job {
+    const vx_svo_model* m;
+    const vx_allocator* A;
+    uint32_t count;
+    uint8_t** out; /* writer: each chunk's deflated bytes */
+    size_t* out_n;
+    bool* ok;
+} chunk_job;
+
+static uint32_t chunk_at(uint32_t total, uint32_t i, uint32_t count) { return (uint32_t)((uint64_t)total * i / count); }
+
+static void deflate_chunk(void* ctx, uint32_t i) {
+    chunk_job* j = (chunk_job*)ctx;
+    const vx_svo_model* m = j->m;
+    uint32_t w0 = chunk_at(m->node_count, i, j->count), w1 = chunk_at(m->node_count, i + 1, j->count);
+    uint32_t r0 = chunk_at(m->attr_count, i, j->count), r1 = chunk_at(m->attr_count, i + 1, j->count);
+    uint8_t* p[6];
+    size_t n[6], raw = 0;
+    chunk_pieces(m, w0, w1 - w0, r0, r1 - r0, p, n);
+    for (int k = 0; k < 6; k++) raw += n[k];
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    j->ok[i] = false;
+    if (deflateInit2(&z, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
+    size_t cap = (size_t)deflateBound(&z, (uLong)raw);
+    uint8_t* out = (uint8_t*)vx_alloc(j->A, cap);
+    uint8_t* tmp = NULL;
+    bool ok = out != NULL;
+    z.next_out = out;
+    z.avail_out = (uInt)cap;
+    int last = 5;
+    while (last > 0 && n[last] == 0) last--;
+    for (int k = 0; ok && k <= last; k++) {
+        const uint8_t* src = p[k];
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+        vx_free(j->A, tmp);
+        tmp = n[k] ? (uint8_t*)vx_alloc(j->A, n[k]) : NULL;
+        if (n[k] && !tmp) {
+            ok = false;
+            break;
+        }
+        if (n[k]) memcpy(tmp, p[k], n[k]), swap_piece(tmp, n[k], PIECE_WIDTH[k]), src = tmp;
+#endif
+        z.next_in = (Bytef*)(uintptr_t)src;
+        z.avail_in = (uInt)n[k];
+        int zr = deflate(&z, k == last ? Z_FINISH : Z_NO_FLUSH);
+        ok = k == last ? zr == Z_STREAM_END : zr == Z_OK || zr == Z_BUF_ERROR;
+        ok = ok && z.avail_in == 0;
+    }
+    deflateEnd(&z);
+    vx_free(j->A, tmp);
+    if (!ok) {
+        vx_free(j->A, out);
+        return;
+    }
+    j->out[i] = out;
+    j->out_n[i] = (size_t)(cap - z.avail_out);
+    j->ok[i] = true;
+}
+
+/* A chunked model's stream: the chunk count, per chunk its words, records
+ * and deflated bytes, then the chunks. threads: coders within the model. */
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, unsigned threads, vx_buf* out) {
+    uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rec_bytes(m->attrs);
+    uint64_t count = (raw + CHUNK_RAW - 1) / CHUNK_RAW;
+    if (count < 1) count = 1;
+    if (count > m->node_count) count = m->node_count; /* at least one word per chunk */
+    chunk_job j = {m, A, (uint32_t)count, NULL, NULL, NULL};
+    j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
+    j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
+    j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
+    bool ok = j.out && j.out_n && j.ok;
+    if (ok) {
+        if (threads > count) threads = (unsigned)count;
+        if (threads <= 1)
+            for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, i);
+        else
+            run_jobs(threads, (uint32_t)count, deflate_chunk, &j);
+        ok = put_var(out, count);
+        for (uint32_t i = 0; ok && i < count; i++) {
+            ok = j.ok[i] && put_var(out, chunk_at(m->node_count, i + 1, j.count) - chunk_at(m->node_count, i, j.count)) &&
+                 put_var(out, chunk_at(m->attr_count, i + 1, j.count) - chunk_at(m->attr_count, i, j.count)) && put_var(out, j.out_n[i]);
+        }
+        for (uint32_t i = 0; ok && i < count; i++) ok = vx_buf_append(out, j.out[i], j.out_n[i]);
+    }
+    for (uint32_t i = 0; j.out && i < count; i++) vx_free(A, j.out[i]);
+    vx_free(A, j.out);
+    vx_free(A, j.out_n);
+    vx_free(A, j.ok);
+    return ok && !out->failed;
+}
+
+/* Codes one model into its own stream: the chunked form when `chunked`
+ * (on up to `threads` threads), else the structural or raw form. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, vx_buf* out) {
+    if (chunked) return pack_chunked(m, A, threads, out);
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -501,7 +648,7 @@ typedef struct pack_jobs {
 
 static void pack_job(void* ctx, uint32_t i) {
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, &j->bufs[i]);
+    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, false, 1, &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -513,28 +660,41 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
     return !out->failed && sink->flush(sink->user, out);
 }
 
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, const vx__svo_sink* sink) {
+/* One model's stream with its length, straight into the output. */
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, const vx__svo_sink* sink) {
+    vx_buf one = {0};
+    one.alloc = A;
+    bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    vx_buf_free(&one);
+    return ok && maybe_flush(out, sink);
+}
+
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
+                        const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
-    unsigned threads = pack_threads(s, want);
+    unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
-            vx_buf one = {0};
-            one.alloc = A;
-            bool ok = vx__svo_pack_model(&s->models[mi], A, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
-            vx_buf_free(&one);
-            if (!ok || !maybe_flush(out, sink)) return false;
+            bool ch = vx__svo_model_chunked(&s->models[mi], chunk_min);
+            if (!pack_one(out, &s->models[mi], A, ch, ch ? cpus : 1, sink)) return false;
         }
         return !out->failed;
     }
     /* models in batches of a few per thread: each batch's streams are appended
      * in order and freed before the next, so the extra memory is a batch's
-     * output, not the whole file's */
+     * output, not the whole file's. A chunked model is a batch of its own,
+     * its chunks coded on every thread. */
     uint32_t batch = threads * 2;
     vx_buf* bufs = (vx_buf*)vx_calloc(A, batch, sizeof *bufs);
     bool* oks = (bool*)vx_calloc(A, batch, sizeof *oks);
     bool ok = bufs && oks;
-    for (uint32_t first = 0; ok && first < s->model_count; first += batch) {
-        uint32_t n = s->model_count - first < batch ? s->model_count - first : batch;
+    for (uint32_t first = 0, n = 0; ok && first < s->model_count; first += n) {
+        if (vx__svo_model_chunked(&s->models[first], chunk_min)) {
+            n = 1;
+            ok = pack_one(out, &s->models[first], A, true, cpus, sink);
+            continue;
+        }
+        for (n = 1; n < batch && first + n < s->model_count && !vx__svo_model_chunked(&s->models[first + n], chunk_min);) n++;
         vx_svo_scene part = *s; /* the batch's models, as a scene of their own */
         part.models = s->models + first;
         part.model_count = n;
@@ -664,7 +824,11 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
             if (!(c & 0x80u)) break;
         }
     }
-    uint64_t side_max = 4u * vx__popc8(m->attrs & (VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_DENSITY)) * (uint64_t)m->attr_count;
+    /* one 4-byte value per record and channel (raw form) or per leaf child of
+     * each node (structural form: at most 8 per declared word; with the DAG's
+     * shared record runs these can outnumber the records) */
+    uint64_t side_max = 4u * vx__popc8(m->attrs & (VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_DENSITY)) *
+                        ((uint64_t)m->attr_count + 8u * (uint64_t)m->node_count);
     if (side_n > side_max || z_n > n - hdr)
         return vx_fail(err, side_n > side_max ? VX_ERR_BAD_FORMAT : VX_ERR_TRUNCATED, base,
                        "svo: section NODE at byte %llu: model %u: %llu side bytes (%llu deflated) for %u records, %zu bytes left",
@@ -752,6 +916,168 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
     return r;
 }
 
+/* ---- reader of the chunked form (FORMAT.md 3.6) ---------------------------------------------------- */
+
+typedef struct chunk_ent {
+    uint32_t w0, nw, r0, nr;
+    size_t off, zn; /* the chunk's deflated bytes: p[off, off + zn) */
+} chunk_ent;
+
+typedef struct inflate_job {
+    vx_svo_model* m;
+    const uint8_t* p;
+    uint64_t base;
+    uint32_t mi;
+    const chunk_ent* ch;
+    vx_result* res;
+    vx_error* errs;
+} inflate_job;
+
+static void inflate_chunk(void* ctx, uint32_t i) {
+    inflate_job* j = (inflate_job*)ctx;
+    const chunk_ent* c = &j->ch[i];
+    uint8_t* p[6];
+    size_t n[6];
+    chunk_pieces(j->m, c->w0, c->nw, c->r0, c->nr, p, n);
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    uint64_t at = j->base + c->off;
+    if (inflateInit2(&z, -15) != Z_OK) {
+        j->res[i] = vx_fail(&j->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        return;
+    }
+    z.next_in = (Bytef*)(uintptr_t)(j->p + c->off);
+    z.avail_in = (uInt)c->zn;
+    int zr = Z_OK;
+    size_t got = 0, want = 0;
+    for (int k = 0; k < 6; k++) want += n[k];
+    for (int k = 0; k < 6 && zr == Z_OK; k++) {
+        if (!n[k]) continue;
+        z.next_out = p[k];
+        z.avail_out = (uInt)n[k];
+        while (zr == Z_OK && z.avail_out) zr = inflate(&z, Z_NO_FLUSH);
+        got += n[k] - z.avail_out;
+        swap_piece(p[k], n[k], PIECE_WIDTH[k]);
+    }
+    if (zr == Z_OK) { /* everything filled: the stream must end here, with no byte left */
+        uint8_t extra;
+        z.next_out = &extra;
+        z.avail_out = 1;
+        zr = inflate(&z, Z_NO_FLUSH);
+        if (z.avail_out == 0) zr = Z_DATA_ERROR;
+    }
+    bool ok = zr == Z_STREAM_END && got == want && z.avail_in == 0;
+    inflateEnd(&z);
+    j->res[i] = ok ? VX_OK
+                   : vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
+                             "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes) does not inflate to exactly %zu bytes (%s)",
+                             (unsigned long long)at, j->mi, i, c->zn, want,
+                             zr == Z_MEM_ERROR ? "out of memory" : zr == Z_STREAM_END && got < want ? "too short" : zr == Z_STREAM_END ? "bytes left over" : "corrupt");
+    if (zr == Z_MEM_ERROR) j->res[i] = VX_ERR_NOMEM, j->errs[i].code = VX_ERR_NOMEM;
+}
+
+static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64_t* out) {
+    uint64_t v = 0;
+    for (unsigned shift = 0; shift < 64; shift += 7) {
+        if (*pos >= n) return false;
+        uint8_t c = p[(*pos)++];
+        if (shift == 63 && (c & 0x7Eu)) return false;
+        v |= (uint64_t)(c & 0x7Fu) << shift;
+        if (!(c & 0x80u)) {
+            *out = v;
+            return v <= max;
+        }
+    }
+    return false;
+}
+
+/* Decodes chunked model mi from its stream p[0..n) into arrays of the
+ * declared size: the table is checked first (counts summing to the declared
+ * words and records, each chunk's inflated size at most CHUNK_RATIO_MAX per
+ * deflated byte, the deflated bytes exactly the rest of the stream), so
+ * every allocation is bounded by the stream's length. */
+static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
+                                unsigned threads, vx_error* err) {
+    size_t pos = 0;
+    uint64_t count = 0;
+    /* an entry is at least 3 bytes and a chunk at least 1 */
+    if (!rd_leb(p, n, &pos, n / 4, &count) || count == 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: chunk count %s", (unsigned long long)base,
+                       mi, count == 0 && pos <= n ? "is 0 or cut off" : "exceeds the stream's bytes");
+    chunk_ent* ch = (chunk_ent*)vx_calloc(A, (size_t)count, sizeof *ch);
+    if (!ch) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    vx_result r = VX_OK;
+    uint64_t sw = 0, sr = 0, sz = 0, rb = rec_bytes(m->attrs);
+    for (uint64_t i = 0; r == VX_OK && i < count; i++) {
+        size_t at = pos;
+        uint64_t nw, nr, zn;
+        if (!rd_leb(p, n, &pos, UINT32_MAX, &nw) || !rd_leb(p, n, &pos, UINT32_MAX, &nr) || !rd_leb(p, n, &pos, n, &zn)) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at, "svo: section NODE at byte %llu: model %u: chunk %llu's entry is cut off or out of range",
+                        (unsigned long long)(base + at), mi, (unsigned long long)i);
+            break;
+        }
+        if (nw > (uint64_t)m->node_count - sw || nr > (uint64_t)m->attr_count - sr) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at,
+                        "svo: section NODE at byte %llu: model %u: chunk %llu goes past the declared %u words or %u records",
+                        (unsigned long long)(base + at), mi, (unsigned long long)i, m->node_count, m->attr_count);
+            break;
+        }
+        uint64_t raw = nw * 4 + nr * rb;
+        if (zn == 0 || raw > (uint64_t)CHUNK_RATIO_MAX * zn) {
+            r = vx_fail(err, zn == 0 ? VX_ERR_BAD_FORMAT : VX_ERR_LIMIT, base + at,
+                        "svo: section NODE at byte %llu: model %u: chunk %llu declares %llu bytes from %llu deflated (at most %u per byte)",
+                        (unsigned long long)(base + at), mi, (unsigned long long)i, (unsigned long long)raw, (unsigned long long)zn,
+                        CHUNK_RATIO_MAX);
+            break;
+        }
+        ch[i] = (chunk_ent){(uint32_t)sw, (uint32_t)nw, (uint32_t)sr, (uint32_t)nr, (size_t)sz, (size_t)zn};
+        sw += nw;
+        sr += nr;
+        sz += zn;
+        if (sz > n) {
+            r = vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: chunks of %llu bytes, the stream has %zu",
+                        (unsigned long long)(base + at), mi, (unsigned long long)sz, n);
+            break;
+        }
+    }
+    if (r == VX_OK && (sw != m->node_count || sr != m->attr_count || sz != n - pos))
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, base,
+                    "svo: section NODE at byte %llu: model %u: chunks hold %llu words, %llu records and %llu bytes; SCNE declares %u words and %u records, the stream has %zu bytes after the table",
+                    (unsigned long long)base, mi, (unsigned long long)sw, (unsigned long long)sr, (unsigned long long)sz, m->node_count,
+                    m->attr_count, n - pos);
+    if (r == VX_OK) { /* every size is bounded by the stream now */
+        m->nodes = (uint32_t*)vx_alloc(A, (size_t)m->node_count * 4);
+        void** arrs[5] = {(void**)&m->palette, (void**)&m->rgba, (void**)&m->normal, (void**)&m->material, (void**)&m->density};
+        bool ok = m->nodes != NULL;
+        for (unsigned c = 0; ok && c < 5; c++)
+            if (m->attrs >> c & 1u) ok = (*arrs[c] = vx_alloc(A, (size_t)(m->attr_count ? m->attr_count : 1) * CH_BYTES[c])) != NULL;
+        if (!ok) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    }
+    if (r == VX_OK) {
+        for (uint64_t i = 0; i < count; i++) ch[i].off += pos;
+        vx_result* res = (vx_result*)vx_calloc(A, (size_t)count, sizeof *res);
+        vx_error* errs = (vx_error*)vx_calloc(A, (size_t)count, sizeof *errs);
+        if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        else {
+            inflate_job j = {m, p, base, mi, ch, res, errs};
+            if (threads > count) threads = (unsigned)count;
+            if (threads <= 1)
+                for (uint32_t i = 0; i < count && res[i ? i - 1 : 0] == VX_OK; i++) inflate_chunk(&j, i);
+            else
+                run_jobs(threads, (uint32_t)count, inflate_chunk, &j);
+            for (uint32_t i = 0; r == VX_OK && i < count; i++)
+                if (res[i] != VX_OK) {
+                    r = res[i];
+                    if (err) *err = errs[i];
+                }
+        }
+        vx_free(A, res);
+        vx_free(A, errs);
+    }
+    vx_free(A, ch);
+    return r;
+}
+
 typedef struct unpack_jobs {
     vx_svo_scene* s;
     const uint8_t* p;
@@ -761,15 +1087,17 @@ typedef struct unpack_jobs {
     const vx_allocator* A;
     vx_result* res;
     vx_error* errs;
+    const uint8_t* chunked; /* per model, or NULL */
 } unpack_jobs;
 
 static void unpack_job(void* ctx, uint32_t i) {
     unpack_jobs* j = (unpack_jobs*)ctx;
+    if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
     j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);
 }
 
-vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const vx_allocator* A, unsigned want,
-                            vx_error* err) {
+vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
+                            unsigned want, vx_error* err) {
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -822,17 +1150,20 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     if (r == VX_OK && pos != n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
     if (r == VX_OK) {
-        unsigned threads = pack_threads(s, want);
+        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
+                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, err)
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked};
                 run_jobs(threads, s->model_count, unpack_job, &j);
+                for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
+                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                     if (res[mi] != VX_OK) {
                         r = res[mi];

@@ -1,7 +1,8 @@
 /* tests/fuzz/svo_fuzz.c - libFuzzer target for the .svo reader:
- * probe -> read (checksums on, then off so mutations reach the structure
- * checks) -> validate -> decode with a work cap -> the last animation frame's
- * bounds -> free. */
+ * probe -> read (checksums on, on the caller's thread; then off so mutations
+ * reach the structure checks, on two threads so a chunked model's chunks
+ * (FORMAT.md 3.6) inflate in parallel) -> validate -> decode with a work cap
+ * -> the last animation frame's bounds -> free. */
 #include <stddef.h>
 #include <stdint.h>
 
@@ -18,7 +19,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)vx_svo_probe(data, size, &info, &err);
     for (int skip = 0; skip < 2; skip++) {
         vx_svo_scene s;
-        vx_svo_read_desc d = {.skip_checksums = skip != 0};
+        vx_svo_read_desc d = {.skip_checksums = skip != 0, .threads = skip ? 2u : 1u};
         if (vx_svo_read(&d, data, size, &s, &err) != VX_OK) continue;
         for (uint32_t i = 0; i < s.model_count; i++) {
             long budget = 1 << 16; /* a valid DAG may stand for 2^63 cells */

@@ -9,6 +9,7 @@
 #include <pthread.h>
 #include <stdint.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "svo/svo.h"
 #include "svo/svo_internal.h"
@@ -1328,6 +1329,28 @@ static void test_coded_models(void) {
     FILE* f = fopen(path2, "rb");
     CHECK(f == NULL);
     if (f) fclose(f);
+    /* the chunked form (version 3) from models coded apart: the same file */
+    {
+        vx_write_desc cw = {.svo_chunk_words = 1};
+        REQUIRE(vx_svo_write_file(&cw, &s, path, &e) == VX_OK);
+        size_t nw = 0;
+        uint8_t* want = slurp_file(path, &nw);
+        vx_svo_model_coded* ci = (vx_svo_model_coded*)calloc(n, sizeof *ci);
+        uint8_t** cs = (uint8_t**)calloc(n, sizeof *cs);
+        for (uint32_t i = 0; i < n; i++) {
+            REQUIRE(vx_svo_model_encode(&cw, &s.models[i], &ci[i], &cs[i], &e) == VX_OK);
+            CHECK(ci[i].chunked);
+        }
+        stream_set cset = {cs, 0, 0, UINT32_MAX, true};
+        vx_svo_stream_source csrc = {stream_read, &cset};
+        REQUIRE(vx_svo_write_file_coded(&cw, &h, ci, &csrc, path2, &e) == VX_OK);
+        size_t ng = 0;
+        uint8_t* got = slurp_file(path2, &ng);
+        CHECKF(want && got && ng == nw && !memcmp(got, want, nw) && (got[8] | got[9] << 8) == 3, "chunked coded: %zu vs %zu bytes", ng, nw);
+        for (uint32_t i = 0; i < n; i++) vx_free(NULL, cs[i]);
+        free(cs), free(ci), free(got), free(want);
+        remove(path2);
+    }
     /* an invalid model is not coded */
     vx_svo_model bad = s.models[2];
     bad.root = bad.node_count + 5;
@@ -1341,6 +1364,439 @@ static void test_coded_models(void) {
     free(base);
     remove(path);
     rmdir(dir);
+    vx_svo_scene_free(&s);
+}
+
+/* ---- the chunked form (docs/FORMAT.md 3.6, format version 3) ------------------------------ */
+
+/* Raw DEFLATE of the pieces as one stream (zlib; an independent writer). */
+static uint8_t* t_deflate(const void* const* parts, const size_t* sizes, int np, size_t* out_n) {
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    if (deflateInit2(&z, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return NULL;
+    size_t total = 0;
+    for (int i = 0; i < np; i++) total += sizes[i];
+    size_t cap = deflateBound(&z, (uLong)total) + 64;
+    uint8_t* out = (uint8_t*)malloc(cap);
+    z.next_out = out;
+    z.avail_out = (uInt)cap;
+    for (int i = 0; i < np; i++) {
+        z.next_in = (Bytef*)(uintptr_t)parts[i];
+        z.avail_in = (uInt)sizes[i];
+        deflate(&z, i == np - 1 ? Z_FINISH : Z_NO_FLUSH);
+    }
+    *out_n = cap - z.avail_out;
+    deflateEnd(&z);
+    return out;
+}
+
+/* The pieces of records r0..r0+nr of m in channel order (FORMAT.md 3.6). */
+static int t_rec_pieces(const vx_svo_model* m, uint32_t r0, uint32_t nr, const void** parts, size_t* sizes) {
+    const void* arrs[5] = {m->palette, m->rgba, m->normal, m->material, m->density};
+    static const size_t w[5] = {1, 4, 4, 2, 4};
+    int np = 0;
+    for (int c = 0; c < 5; c++)
+        if (m->attrs >> c & 1u) {
+            parts[np] = (const uint8_t*)arrs[c] + (size_t)r0 * w[c];
+            sizes[np++] = (size_t)nr * w[c];
+        }
+    return np;
+}
+
+/* A chunked stream of m written from the specification: chunk i holds words
+ * [wcut[i], wcut[i+1]) and records [rcut[i], rcut[i+1]). */
+static void t_chunked_stream(tbuf* b, const vx_svo_model* m, int count, const uint32_t* wcut, const uint32_t* rcut) {
+    uint8_t* z[8];
+    size_t zn[8];
+    for (int i = 0; i < count; i++) {
+        const void* parts[6];
+        size_t sizes[6];
+        parts[0] = m->nodes + wcut[i];
+        sizes[0] = (size_t)(wcut[i + 1] - wcut[i]) * 4;
+        int np = 1 + t_rec_pieces(m, rcut[i], rcut[i + 1] - rcut[i], parts + 1, sizes + 1);
+        z[i] = t_deflate(parts, sizes, np, &zn[i]);
+    }
+    tb_var(b, (uint64_t)count);
+    for (int i = 0; i < count; i++) {
+        tb_var(b, wcut[i + 1] - wcut[i]);
+        tb_var(b, rcut[i + 1] - rcut[i]);
+        tb_var(b, zn[i]);
+    }
+    for (int i = 0; i < count; i++) tb_put(b, z[i], zn[i]), free(z[i]);
+}
+
+/* An independent reading of a chunked stream (the table, then zlib's raw
+ * inflate of each chunk): true when it holds exactly m's words and records;
+ * *chunks gets the chunk count. */
+static bool t_stream_holds(const uint8_t* p, size_t n, const vx_svo_model* m, uint32_t* chunks) {
+    size_t at = 0;
+    uint64_t count = t_var(p, &at), w0 = 0, r0 = 0;
+    if (count == 0 || count > 4096) return false;
+    uint64_t nw[4096], nr[4096], zn[4096];
+    for (uint64_t i = 0; i < count; i++) nw[i] = t_var(p, &at), nr[i] = t_var(p, &at), zn[i] = t_var(p, &at);
+    *chunks = (uint32_t)count;
+    for (uint64_t i = 0; i < count; i++) {
+        const void* parts[6];
+        size_t sizes[6], want = 0;
+        parts[0] = m->nodes + w0;
+        sizes[0] = (size_t)nw[i] * 4;
+        int np = 1 + t_rec_pieces(m, (uint32_t)r0, (uint32_t)nr[i], parts + 1, sizes + 1);
+        for (int k = 0; k < np; k++) want += sizes[k];
+        uint8_t* got = (uint8_t*)malloc(want + 1);
+        z_stream z;
+        memset(&z, 0, sizeof z);
+        inflateInit2(&z, -15);
+        z.next_in = (Bytef*)(uintptr_t)(p + at);
+        z.avail_in = (uInt)zn[i];
+        z.next_out = got;
+        z.avail_out = (uInt)want + 1;
+        int zr = inflate(&z, Z_FINISH);
+        bool ok = zr == Z_STREAM_END && z.total_out == want && z.avail_in == 0;
+        inflateEnd(&z);
+        size_t off = 0;
+        for (int k = 0; ok && k < np; k++) ok = memcmp(got + off, parts[k], sizes[k]) == 0, off += sizes[k];
+        free(got);
+        if (!ok) return false;
+        at += (size_t)zn[i];
+        w0 += nw[i];
+        r0 += nr[i];
+    }
+    return at == n && w0 == m->node_count && r0 == m->attr_count;
+}
+
+/* The streams of NODE (one per model): offsets and lengths into node. */
+static uint32_t t_node_streams(const uint8_t* node, size_t n, size_t* off, size_t* len, uint32_t max) {
+    size_t at = 0;
+    uint32_t k = 0;
+    while (at < n && k < max) {
+        len[k] = (size_t)t_var(node, &at);
+        off[k] = at;
+        at += len[k++];
+    }
+    return at == n ? k : 0;
+}
+
+static uint8_t* t_with_stream(const uint8_t* d, size_t n, uint32_t model, const tbuf* stream, size_t* out_n) {
+    size_t nn = 0, off[8], len[8];
+    const uint8_t* node = section(d, n, "NODE", &nn);
+    uint32_t count = t_node_streams(node, nn, off, len, 8);
+    tbuf b = {0};
+    for (uint32_t i = 0; i < count; i++) {
+        if (i == model) tb_var(&b, stream->n), tb_put(&b, stream->d, stream->n);
+        else tb_var(&b, len[i]), tb_put(&b, node + off[i], len[i]);
+    }
+    uint8_t* out = replace_section(d, n, "NODE", b.d, b.n, out_n);
+    free(b.d);
+    return out;
+}
+
+static void test_chunked_form(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    /* every model with a root descriptor chunked: version 3, and each stream
+     * holds the model's words and records as the specification says */
+    vx_write_desc all = {.svo_chunk_words = 1};
+    uint8_t *d = NULL, *dflt = NULL;
+    size_t n = 0, nd = 0;
+    REQUIRE(vx_svo_write_ex(&all, &s, &d, &n, &e) == VX_OK);
+    CHECK((d[8] | d[9] << 8) == 3);
+    size_t nn = 0, off[8], len[8];
+    const uint8_t* node = section(d, n, "NODE", &nn);
+    REQUIRE(node && t_node_streams(node, nn, off, len, 8) == s.model_count);
+    for (uint32_t i = 0; i < s.model_count; i++) {
+        uint32_t chunks = 0;
+        CHECKF(t_stream_holds(node + off[i], len[i], &s.models[i], &chunks) && chunks == 1, "model %u: %u chunks", i, chunks);
+    }
+    /* read back at every thread count: the same models, the same bytes again */
+    const unsigned counts[3] = {1, 2, 0};
+    for (int t = 0; t < 3; t++) {
+        vx_svo_read_desc rd = {.threads = counts[t]};
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&rd, d, n, &r, &e) == VX_OK);
+        CHECK(r.model_count == s.model_count);
+        for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "model %u", i);
+        CHECK(!memcmp(r.bounds_min, s.bounds_min, sizeof r.bounds_min) && !memcmp(r.bounds_max, s.bounds_max, sizeof r.bounds_max));
+        uint8_t* again = NULL;
+        size_t na = 0;
+        REQUIRE(vx_svo_write_ex(&all, &r, &again, &na, &e) == VX_OK);
+        CHECK(na == n && !memcmp(again, d, n));
+        vx_free(NULL, again);
+        vx_svo_scene_free(&r);
+    }
+    /* the default keeps small models in the structural form: version 1, and
+     * the same scene read from either file */
+    REQUIRE(vx_svo_write_ex(NULL, &s, &dflt, &nd, &e) == VX_OK);
+    CHECK((dflt[8] | dflt[9] << 8) == 1 && nd < n);
+    /* a version-2 file may not mark a model chunked */
+    uint8_t* v2 = (uint8_t*)malloc(n);
+    memcpy(v2, d, n);
+    v2[8] = 2;
+    fix_crcs(v2, n);
+    vx_svo_scene r;
+    CHECK(vx_svo_read(NULL, v2, n, &r, &e) == VX_ERR_BAD_FORMAT);
+    CHECKF(strstr(e.msg, "version 3") != NULL, "message: %s", e.msg);
+    free(v2);
+
+    /* a stream from the specification with another split (uneven, all
+     * records in the last chunk) reads as the model */
+    const vx_svo_model* m1 = &s.models[1];
+    uint32_t wc[4] = {0, m1->node_count / 3, m1->node_count / 3 + 1, m1->node_count};
+    uint32_t rc[4] = {0, 0, 0, m1->attr_count};
+    tbuf st = {0};
+    t_chunked_stream(&st, m1, 3, wc, rc);
+    size_t n2;
+    uint8_t* d2 = t_with_stream(d, n, 1, &st, &n2);
+    REQUIRE(vx_svo_read(NULL, d2, n2, &r, &e) == VX_OK);
+    CHECK(model_equal(&r.models[1], m1) && model_equal(&r.models[0], &s.models[0]));
+    vx_svo_scene_free(&r);
+    free(d2);
+
+    /* damaged tables: each refused with the model named */
+    struct {
+        const char* what;
+        int kind;
+    } bad[] = {{"count 0", 0}, {"a word short", 1}, {"records past the declared", 2}, {"a byte left over", 3}, {"chunk cut", 4}, {"corrupt chunk", 5}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        tbuf b = {0};
+        if (bad[k].kind == 0) {
+            tb_var(&b, 0);
+        } else if (bad[k].kind == 1 || bad[k].kind == 2) {
+            uint32_t w2[3] = {0, m1->node_count / 2, m1->node_count - (bad[k].kind == 1)};
+            uint32_t r2[3] = {0, m1->attr_count / 2, m1->attr_count + (bad[k].kind == 2)};
+            if (bad[k].kind == 2) { /* declares one record more than SCNE */
+                tbuf t = {0};
+                t_chunked_stream(&t, m1, 2, w2, (uint32_t[3]){0, m1->attr_count / 2, m1->attr_count});
+                size_t at = 0;
+                uint64_t c = t_var(t.d, &at);
+                tb_var(&b, c);
+                for (int i = 0; i < 2; i++) {
+                    tb_var(&b, t_var(t.d, &at));
+                    tb_var(&b, t_var(t.d, &at) + (i == 1));
+                    tb_var(&b, t_var(t.d, &at));
+                }
+                tb_put(&b, t.d + at, t.n - at);
+                free(t.d);
+            } else {
+                t_chunked_stream(&b, m1, 2, w2, r2);
+            }
+        } else {
+            tb_put(&b, st.d, st.n);
+            if (bad[k].kind == 3) tb_u8(&b, 0);
+            if (bad[k].kind == 4) b.n--;
+            if (bad[k].kind == 5) b.d[b.n - 3] ^= 0xFF;
+        }
+        uint8_t* db = t_with_stream(d, n, 1, &b, &n2);
+        vx_result res = vx_svo_read(NULL, db, n2, &r, &e);
+        if (res == VX_OK) vx_svo_scene_free(&r);
+        CHECKF(res == VX_ERR_BAD_FORMAT || res == VX_ERR_TRUNCATED, "%s: result %d", bad[k].what, (int)res);
+        CHECKF(res == VX_OK || strstr(e.msg, "model 1") != NULL, "%s: %s", bad[k].what, e.msg);
+        free(db);
+        free(b.d);
+    }
+
+    /* a huge declaration from a few bytes is refused before anything the
+     * size of it is allocated: 10^9 words from 16 deflated bytes */
+    {
+        tbuf sc = {0}, nd2 = {0}, ms = {0};
+        tb_u8(&sc, 0);     /* form: identity, bounds computed */
+        tb_var(&sc, 1);    /* one model */
+        tb_var(&sc, 0);    /* no instances */
+        tb_var(&sc, 0);    /* no layers */
+        tb_var(&sc, 0x40); /* geometry only, chunked */
+        for (int i = 0; i < 3; i++) tb_var(&sc, 1u << 20);
+        tb_var(&sc, 1000000000u); /* node_count */
+        tb_var(&sc, 2);           /* root: the last word */
+        tb_var(&sc, 1);           /* voxel_count */
+        tb_var(&ms, 1);
+        tb_var(&ms, 1000000000u);
+        tb_var(&ms, 0);
+        tb_var(&ms, 16);
+        for (int i = 0; i < 16; i++) tb_u8(&ms, 0);
+        tb_var(&nd2, ms.n);
+        tb_put(&nd2, ms.d, ms.n);
+        tpart p[2] = {{"SCNE", 1, sc.d, sc.n}, {"NODE", 1, nd2.d, nd2.n}};
+        size_t nh;
+        uint8_t* h = assemble_v(p, 2, 3, &nh);
+        CHECK(vx_svo_read(NULL, h, nh, &r, &e) == VX_ERR_LIMIT);
+        CHECKF(strstr(e.msg, "model 0") && strstr(e.msg, "chunk 0"), "message: %s", e.msg);
+        free(h);
+        /* the same bytes as version 2: the head bit is unknown there */
+        h = assemble_v(p, 2, 2, &nh);
+        CHECK(vx_svo_read(NULL, h, nh, &r, &e) == VX_ERR_BAD_FORMAT);
+        free(h);
+        free(sc.d), free(nd2.d), free(ms.d);
+    }
+
+    /* every byte of NODE flipped (checksums skipped so the structure is what
+     * is tested): never a crash, and what reads is a valid scene (a flipped
+     * colour inside a chunk is still a colour); a flip in a stream length or
+     * a chunk table is always refused */
+    {
+        size_t at = (size_t)(node - d);
+        vx_svo_read_desc skip = {.skip_checksums = true};
+        uint8_t* f = (uint8_t*)malloc(n);
+        int read_ok = 0;
+        bool table[1 << 16] = {false};
+        REQUIRE(nn <= sizeof table);
+        for (uint32_t i = 0; i < s.model_count; i++) {
+            size_t p = off[i];
+            uint64_t c = t_var(node, &p);
+            for (uint64_t k = 0; k < 3 * c; k++) (void)t_var(node, &p);
+            for (size_t q = off[i] - 1; q < p; q++) table[q] = true; /* with the stream length's last byte */
+        }
+        for (size_t i = 0; i < nn; i++) {
+            memcpy(f, d, n);
+            f[at + i] ^= (uint8_t)(0x01u << (i % 8));
+            if (vx_svo_read(&skip, f, n, &r, &e) == VX_OK) {
+                read_ok++;
+                CHECKF(!table[i], "NODE byte %zu (a table) damaged and read", i);
+                CHECK(vx_svo_validate_scene(&r, &e) == VX_OK);
+                vx_svo_scene_free(&r);
+            }
+        }
+        CHECKF(read_ok < (int)nn, "%d of %zu damaged NODE bytes still read", read_ok, nn);
+        free(f);
+    }
+    free(st.d);
+    vx_free(NULL, dflt);
+    vx_free(NULL, d);
+    vx_svo_scene_free(&s);
+}
+
+/* A model of more than one chunk: the same bytes for every writer thread
+ * count (chunks coded in parallel within the model), the model back for
+ * every reader thread count, and the default choice of the form by size. */
+static void test_chunked_large(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 1;
+    s.models = (vx_svo_model*)calloc(1, sizeof *s.models);
+    REQUIRE(build(&s.models[0], 1024, 300000, VX_ATTR_RGBA8 | VX_ATTR_NORMAL));
+    s.instance_count = 1;
+    s.instances = (vx_svo_instance*)calloc(1, sizeof *s.instances);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(&s);
+    const vx_svo_model* m = &s.models[0];
+    uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * 8;
+    REQUIRE(raw > ((uint64_t)8 << 20)); /* at least 3 chunks of 4 MB */
+    vx_error e;
+    uint8_t* base = NULL;
+    size_t nb = 0;
+    const unsigned counts[4] = {1, 2, 4, 0};
+    for (int t = 0; t < 4; t++) {
+        vx_write_desc wd = {.threads = counts[t], .svo_chunk_words = 1};
+        uint8_t* d = NULL;
+        size_t n = 0;
+        REQUIRE(vx_svo_write_ex(&wd, &s, &d, &n, &e) == VX_OK);
+        if (t == 0) {
+            base = d, nb = n;
+            size_t nn = 0, off[2], len[2];
+            const uint8_t* node = section(d, n, "NODE", &nn);
+            uint32_t chunks = 0;
+            REQUIRE(node && t_node_streams(node, nn, off, len, 2) == 1);
+            CHECKF(t_stream_holds(node + off[0], len[0], m, &chunks) && chunks >= 3, "%u chunks", chunks);
+        } else {
+            CHECKF(n == nb && !memcmp(d, base, nb), "%u threads: other bytes", counts[t]);
+            vx_free(NULL, d);
+        }
+        vx_svo_read_desc rd = {.threads = counts[t]};
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&rd, base, nb, &r, &e) == VX_OK);
+        CHECK(model_equal(&r.models[0], m));
+        vx_svo_scene_free(&r);
+    }
+    /* the validation of a model of 2^20 words or more splits its ascending
+     * pass over threads: the same extent as on one thread, and for a model
+     * that declares one voxel more than its tree holds the same error */
+    CHECKF(m->node_count >= (1u << 20), "%u words: the threaded validation is not reached", m->node_count);
+    vx__svo_extent x1, x4;
+    REQUIRE(vx__svo_analyze_mt(m, &x1, false, 1, &e) == VX_OK);
+    REQUIRE(vx__svo_analyze_mt(m, &x4, false, 4, &e) == VX_OK);
+    CHECK(!memcmp(&x1, &x4, sizeof x1) && x1.cells == m->voxel_count);
+    {
+        vx_svo_model dm = *m;
+        dm.nodes = (uint32_t*)malloc((size_t)m->node_count * 4);
+        memcpy(dm.nodes, m->nodes, (size_t)m->node_count * 4);
+        dm.voxel_count++; /* found by the ascending pass */
+        vx_error e1, e4;
+        vx_result r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1), r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
+        CHECK(r1 == VX_ERR_BAD_FORMAT && r4 == r1 && !strcmp(e1.msg, e4.msg) && strstr(e1.msg, "voxel_count"));
+        free(dm.nodes);
+    }
+    /* default: chunked exactly when the model has 2^20 words or more */
+    uint8_t* d = NULL;
+    size_t n = 0;
+    REQUIRE(vx_svo_write_ex(NULL, &s, &d, &n, &e) == VX_OK);
+    CHECKF((d[8] | d[9] << 8) == (m->node_count >= VX_SVO_CHUNK_WORDS ? 3 : 1), "%u words: version %d", m->node_count, d[8] | d[9] << 8);
+    vx_free(NULL, d);
+    /* and never: the structural form, version 1 */
+    vx_write_desc never = {.svo_chunk_words = UINT32_MAX};
+    REQUIRE(vx_svo_write_ex(&never, &s, &d, &n, &e) == VX_OK);
+    CHECK((d[8] | d[9] << 8) == 1 && n < nb);
+    vx_free(NULL, d);
+    vx_free(NULL, base);
+    vx_svo_scene_free(&s);
+}
+
+/* A model whose records repeat in runs (few distinct runs on many distinct
+ * nodes): the DAG shares the runs, so the structural form's values,
+ * one per leaf child of every distinct node, outnumber the model's records.
+ * The reader once bounded the side bytes by the records and refused such
+ * files (Cube.gltf at --res 256 from vox2svo); they must read back. */
+static void test_side_bytes_bound(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 1;
+    s.models = (vx_svo_model*)calloc(1, sizeof *s.models);
+    /* 300 colour pairs (A, B), each on the 28 two-cell masks of a 2^3 block
+     * (A on the lower octant): 8,400 distinct level-1 nodes whose 300 runs
+     * [A B] are shared, blocks 4 cells apart so that the levels above stay
+     * sparse too */
+    const uint32_t pairs = 300, masks = 28;
+    size_t n = (size_t)pairs * masks * 2, w = 0;
+    uint64_t* k = (uint64_t*)malloc(n * 8);
+    uint32_t* c = (uint32_t*)malloc(n * 4);
+    uint32_t o1s[28], o2s[28], nm = 0;
+    for (uint32_t a = 0; a < 8; a++)
+        for (uint32_t b = a + 1; b < 8; b++) o1s[nm] = a, o2s[nm++] = b;
+    for (uint32_t j = 0; j < pairs * masks; j++) {
+        uint32_t p = j % pairs, mk = j / pairs, bx = 4 * (j % 64), by = 4 * (j / 64 % 64), bz = 4 * (j / 4096);
+        uint32_t os[2] = {o1s[mk], o2s[mk]};
+        for (int q = 0; q < 2; q++) {
+            k[w] = vx_svo_morton(bx + (os[q] & 1u), by + (os[q] >> 1 & 1u), bz + (os[q] >> 2 & 1u));
+            c[w++] = 0xFF000000u | (q ? 0x00FF0000u - p * 0x100u : 0x000000FFu + p * 0x10000u);
+        }
+    }
+    vx_svo_voxels in = {.size = {256, 256, 256}, .count = n, .keys = k, .attrs = VX_ATTR_RGBA8, .rgba = c};
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &s.models[0], NULL, &e) == VX_OK);
+    free(k), free(c);
+    s.instance_count = 1;
+    s.instances = (vx_svo_instance*)calloc(1, sizeof *s.instances);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(&s);
+    uint8_t* d = NULL;
+    size_t nd = 0;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &nd, &e) == VX_OK);
+    /* the side length (first varint of the only stream) exceeds 4 bytes per record */
+    size_t nn = 0, at = 0;
+    const uint8_t* node = section(d, nd, "NODE", &nn);
+    REQUIRE(node);
+    (void)t_var(node, &at);
+    uint64_t side = t_var(node, &at);
+    CHECKF(side > 4ull * s.models[0].attr_count, "side %llu bytes, %u records: the case is not reached", (unsigned long long)side,
+           s.models[0].attr_count);
+    vx_svo_scene r;
+    vx_result rr = vx_svo_read(NULL, d, nd, &r, &e);
+    CHECKF(rr == VX_OK, "read: %s", e.msg);
+    if (rr == VX_OK) {
+        CHECK(model_equal(&r.models[0], &s.models[0]));
+        vx_svo_scene_free(&r);
+    }
+    vx_free(NULL, d);
     vx_svo_scene_free(&s);
 }
 
@@ -1494,21 +1950,21 @@ static void* oom_alloc(void* u, size_t n) {
 }
 static void oom_free(void* u, void* p) { (void)u, free(p); }
 
-static void test_oom(void) {
-    vx_svo_scene s;
-    make_scene(&s, 40);
-    add_lights(&s);
+/* Writes and reads s with allocation k failing, k = 0, 1, ... until both
+ * succeed: every failure is VX_ERR_NOMEM with nothing returned. */
+static void oom_loop(const vx_svo_scene* s, uint32_t chunk_words) {
     vx_error e;
     uint8_t* d;
     size_t n;
-    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.svo_chunk_words = chunk_words}, s, &d, &n, &e) == VX_OK);
     vx_allocator A = {oom_alloc, oom_free, NULL};
+    vx_write_desc wd = {.alloc = &A, .svo_chunk_words = chunk_words};
     int done_w = 0, done_r = 0;
     for (int k = 0; k < 200 && !(done_w && done_r); k++) {
         uint8_t* o = NULL;
         size_t on;
         oom_left = k;
-        vx_result res = vx_svo_write(&s, &A, &o, &on, &e);
+        vx_result res = vx_svo_write_ex(&wd, s, &o, &on, &e);
         if (res == VX_OK) {
             CHECK(on == n && memcmp(o, d, n) == 0);
             oom_free(NULL, o);
@@ -1526,8 +1982,16 @@ static void test_oom(void) {
             CHECK(res == VX_ERR_NOMEM);
         }
     }
-    CHECK(done_w && done_r);
+    CHECKF(done_w && done_r, "chunk_words %u", chunk_words);
     free(d);
+}
+
+static void test_oom(void) {
+    vx_svo_scene s;
+    make_scene(&s, 40);
+    add_lights(&s);
+    oom_loop(&s, 0); /* the structural form */
+    oom_loop(&s, 1); /* every model chunked (FORMAT.md 3.6) */
     vx_svo_scene_free(&s);
 }
 
@@ -1722,9 +2186,9 @@ static void test_frames_bad(void) {
     vx_svo_scene r;
     CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "FRMS needs format version 2"));
     /* and a version this reader does not know */
-    d2[8] = 3;
+    d2[8] = (uint8_t)(VX_SVO_FORMAT_VERSION + 1);
     fix_crcs(d2, n2);
-    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, "version 3"));
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, "version 4"));
 #undef FRMS_HEAD
     free(d2), free(good.d), free(f.d), free(d);
     vx_svo_scene_free(&s);
@@ -1775,6 +2239,16 @@ static int write_seeds(const char* dir) {
     make_animated(&s);
     snprintf(path, sizeof path, "%s/seed5.svo", dir);
     vx_result wr = vx_svo_write_file(NULL, &s, path, &e);
+    vx_svo_scene_free(&s);
+    if (wr != VX_OK) {
+        fprintf(stderr, "%s: %s\n", path, e.msg);
+        return 1;
+    }
+    /* seed6: version 3, every model in the chunked form (FORMAT.md 3.6) */
+    make_scene(&s, 12);
+    snprintf(path, sizeof path, "%s/seed6.svo", dir);
+    vx_write_desc chunked = {.svo_chunk_words = 1};
+    wr = vx_svo_write_file(&chunked, &s, path, &e);
     vx_svo_scene_free(&s);
     if (wr != VX_OK) {
         fprintf(stderr, "%s: %s\n", path, e.msg);
@@ -1869,6 +2343,9 @@ int main(int argc, char** argv) {
     RUN(test_streamed_file);
     RUN(test_thread_counts);
     RUN(test_coded_models);
+    RUN(test_chunked_form);
+    RUN(test_chunked_large);
+    RUN(test_side_bytes_bound);
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);
     RUN(test_oom);
