@@ -286,13 +286,17 @@ typedef struct vx_write_desc {
                                   3.6, format version 3: the words and records
                                   themselves in deflated chunks that code and
                                   decode on every thread, 2-3x the bytes of the
-                                  structural form); 0 = VX_SVO_CHUNK_WORDS (2^20),
-                                  UINT32_MAX = never (the compact form of
-                                  versions 1 and 2 for every model). */
+                                  structural form); 0 = never (the default:
+                                  the compact form of versions 1 and 2 for
+                                  every model, readable by older readers);
+                                  VX_SVO_CHUNK_WORDS is the suggested value
+                                  (`vox2svo --chunked`). */
 } vx_write_desc;
 
-/* Default of vx_write_desc.svo_chunk_words: a model of 2^20 words (4 MB)
- * takes a second or more to rebuild from the structural form. */
+/* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of
+ * 2^20 words (4 MB) takes a second or more to rebuild from the structural
+ * form. Not the default: the chunked form costs 2-3x the bytes, and files
+ * that do not ask for it keep the compact form older readers know. */
 #define VX_SVO_CHUNK_WORDS (1u << 20)
 
 /* Writes data to path through a temporary file in the same folder that is

@@ -121,7 +121,7 @@ extern size_t vx__svo_flush_bytes;
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
- * least min_words words (0: VX_SVO_CHUNK_WORDS). */
+ * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
                         const vx__svo_sink* sink);

@@ -425,7 +425,7 @@ static uint32_t rec_bytes(uint32_t attrs) {
 }
 
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words) {
-    if (min_words == 0) min_words = VX_SVO_CHUNK_WORDS;
+    if (min_words == 0) return false; /* the default: the compact form */
     return m->root < m->node_count && m->node_count >= min_words;
 }
 

@@ -1725,16 +1725,22 @@ static void test_chunked_large(void) {
         CHECK(r1 == VX_ERR_BAD_FORMAT && r4 == r1 && !strcmp(e1.msg, e4.msg) && strstr(e1.msg, "voxel_count"));
         free(dm.nodes);
     }
-    /* default: chunked exactly when the model has 2^20 words or more */
+    /* the suggested threshold: chunked exactly when the model has 2^20 words or more */
     uint8_t* d = NULL;
     size_t n = 0;
-    REQUIRE(vx_svo_write_ex(NULL, &s, &d, &n, &e) == VX_OK);
+    vx_write_desc sug = {.svo_chunk_words = VX_SVO_CHUNK_WORDS};
+    REQUIRE(vx_svo_write_ex(&sug, &s, &d, &n, &e) == VX_OK);
     CHECKF((d[8] | d[9] << 8) == (m->node_count >= VX_SVO_CHUNK_WORDS ? 3 : 1), "%u words: version %d", m->node_count, d[8] | d[9] << 8);
     vx_free(NULL, d);
-    /* and never: the structural form, version 1 */
+    /* never (UINT32_MAX) and the default (0, NULL): the structural form, version 1, the same bytes */
     vx_write_desc never = {.svo_chunk_words = UINT32_MAX};
     REQUIRE(vx_svo_write_ex(&never, &s, &d, &n, &e) == VX_OK);
     CHECK((d[8] | d[9] << 8) == 1 && n < nb);
+    uint8_t* d0 = NULL;
+    size_t n0 = 0;
+    REQUIRE(vx_svo_write_ex(NULL, &s, &d0, &n0, &e) == VX_OK);
+    CHECK(n0 == n && !memcmp(d0, d, n));
+    vx_free(NULL, d0);
     vx_free(NULL, d);
     vx_free(NULL, base);
     vx_svo_scene_free(&s);

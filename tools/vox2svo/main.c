@@ -25,6 +25,7 @@ typedef struct options {
     uint32_t demo_frames; /* --demo-frames: an animated demo */
     bool quiet, verbose;
     bool gpu;          /* --gpu: meshes voxelized on the GPU */
+    bool chunked;      /* --chunked: large models in the chunked form (format version 3) */
     const char* device; /* --device */
     vx_tool_conv conv; /* reader and builder options */
 } options;
@@ -91,6 +92,9 @@ _Noreturn static void usage(int status) {
             "                     (default: any active value > 0)\n"
             "    --density        OpenVDB fog volumes: keep the values as a density attribute\n"
             "    --color NAME     OpenVDB: vec3 grid giving colours\n"
+            "    --chunked        store models of 2^20 node words or more in the chunked form\n"
+            "                     (format version 3, docs/FORMAT.md 3.6): read and written on every\n"
+            "                     core, 2-3x the bytes; default: the compact form older readers know\n"
             "    --max-memory SIZE  refuse an input that needs more memory than SIZE to read and\n"
             "                     convert (e.g. 512M, 4G; default: no limit; OpenVDB's and tinygltf's\n"
             "                     own memory is not counted)\n"
@@ -137,6 +141,7 @@ static options parse(int argc, char** argv) {
             exit(0);
         } else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
+        else if (!strcmp(a, "--chunked")) o.chunked = true;
 #ifdef VX_HAVE_MESH_GPU
         else if (!strcmp(a, "--gpu")) o.gpu = true;
         else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
@@ -266,7 +271,7 @@ static int main_mpi(const options* opt) {
         oc.conv.mesh_backend = vx_conv_mesh_gpu_backend(mg);
     }
 #endif
-    bool ok = vox2svo_mpi(o->in, &o->conv, o->quiet, o->verbose, &scene, &li);
+    bool ok = vox2svo_mpi(o->in, &o->conv, o->chunked ? VX_SVO_CHUNK_WORDS : 0, o->quiet, o->verbose, &scene, &li);
 #ifdef VX_HAVE_MESH_GPU
     vx_conv_mesh_gpu_destroy(mg);
     vx_gpu_destroy(gpu);
@@ -351,7 +356,8 @@ int main(int argc, char** argv) {
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o.verbose);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
-    r = vx_svo_write_file(NULL, &scene, o.out, &err);
+    vx_write_desc wd = {.svo_chunk_words = o.chunked ? VX_SVO_CHUNK_WORDS : 0};
+    r = vx_svo_write_file(&wd, &scene, o.out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
     if (r != VX_OK) return vx_tool_errorf("%s", err.msg); /* the message names the file */

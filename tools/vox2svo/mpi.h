@@ -8,6 +8,7 @@
 #define VX_VOX2SVO_MPI_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "tools/common/conv.h"
 
@@ -19,7 +20,7 @@
  * themselves and return false: the caller exits 0.
  * A failure on any rank ends the whole job (MPI_Abort, one line naming the
  * rank), so no rank returns an error. */
-bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, bool quiet, bool verbose, vx_svo_scene* scene,
+bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, uint32_t chunk_words, bool quiet, bool verbose, vx_svo_scene* scene,
                  vx_tool_loaded* info);
 
 /* Rank 0: writes the file (vx_svo_write_file_coded) from every rank's
