@@ -127,7 +127,9 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
 void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);
-/* The primary rays' beam pass (run before trace.comp, same bindings). */
+/* The primary rays' beam pass (run before trace.comp, same bindings); it
+ * writes VX__BEAM_REC words per pixel block (BEAM_REC in trace_common.glsl). */
+enum { VX__BEAM_REC = 16 };
 const uint32_t* vx__spirv_beam(size_t* bytes);
 const uint32_t* vx__spirv_dense(size_t* bytes);
 /* trace.comp built with -DPRECISE (float64 traversal; needs has_float64). */

@@ -90,6 +90,18 @@ uint g_iter = 0u;
 // so the cells and depths are those of the walk from the ray's start.
 layout(constant_id = 5) const uint BEAM = 0u; // block side in pixels; 0: off
 float g_tskip = 0.0;
+// The block's path (beam.comp): the nodes from model g_bmodel's root to the
+// deepest inner node holding the block's centre ray at its start, g_bn of
+// them, their octants 3 bits each in g_boct (real octants, x in bit 0), the
+// node indices in beam_rec[g_bbase ...]. A ray of the block whose own walk
+// would push into the same children (the same comparisons, see trace_model)
+// takes them without fetching the descriptors on the way.
+const int BEAM_PATH = 10;  // path levels at most (3 bits each in one word)
+const uint BEAM_REC = 16u; // words per block: s, model, n, octants, nodes
+uint g_bmodel = 0xFFFFFFFFu, g_bn = 0u, g_boct = 0u, g_bbase = 0u;
+#ifndef BEAM_PASS
+layout(std430, binding = 10) readonly buffer BeamRec { uint beam_rec[]; };
+#endif
 #endif
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
@@ -304,6 +316,45 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
+        if (BEAM > 1u && mi == g_bmodel) {
+            // The block's path: while this ray's walk would push into the
+            // path's next child, push without fetching the descriptor (the
+            // path's children are valid inner nodes, and the walk pushes
+            // into an inner child it spans: the loop's expressions below, so
+            // the state after them is the loop's, bit for bit). The first
+            // level where the ray leaves the path is the loop's.
+            uint octs = g_boct, k = 0u;
+            for (; k < g_bn; k++) {
+                if (uint(idx ^ oct7) != (octs & 7u) || !(tmin <= tmax)) break;
+#ifndef PRECISE
+                if (REBASE && scale == rb_scale) break;
+#endif
+                RVEC3 tc = pos * coef - bias;
+                REAL tc_max = min(min(tc.x, tc.y), tc.z);
+                REAL tv_max = min(tmax, tc_max);
+                if (!(DEEP >= 1 || tmin <= tv_max)) break;
+                REAL half_ = scale_exp2 * 0.5;
+                RVEC3 tcen = half_ * coef + tc;
+                hh = tc_max;
+                octs >>= 3;
+                idx = 0;
+                scale--;
+                scale_exp2 = half_;
+                if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
+                if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
+                if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+            }
+            if (k > 0u) {
+                // every level's parent on the stack (the loop writes a
+                // subset; the rest are what a pop there would find), read
+                // from the record after the loop: independent loads
+                stk_node[S_MAX - 1] = int(parent);
+                for (uint l = 1u; l < k; l++) stk_node[S_MAX - 1 - int(l)] = int(beam_rec[g_bbase + l - 1u]);
+                parent = beam_rec[g_bbase + k - 1u];
+            }
+        }
+#endif
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
