@@ -20,6 +20,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #ifndef PRECISE
 #define TRACE_BEAM
+#define SHADOW_PATH
 #endif
 #include "trace_common.glsl"
 
@@ -71,6 +72,9 @@ void main() {
         }
 #endif
         g_iter = 0u;
+#ifdef SHADOW_PATH
+        g_hmodel = 0xFFFFFFFFu; // set by the primary hit
+#endif
 #ifdef TRACE_BEAM
         if (BEAM > 1u) {
             // slightly before the block's bound: the two passes round differently

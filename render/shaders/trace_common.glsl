@@ -104,6 +104,25 @@ layout(std430, binding = 10) readonly buffer BeamRec { uint beam_rec[]; };
 #endif
 #endif
 
+#ifdef SHADOW_PATH
+// trace.comp, float variant: a colour frame's shadow ray starts from its
+// primary hit, so its walk from the root descends towards that hit's leaf
+// again. The primary walk leaves the leaf's ancestors on the stack (every
+// push writes it where SPATH holds), a global here so that it outlives the
+// call, and the hit's model, parent node, scale and leaf cube; the shadow
+// ray's walk (trace_model with mi == g_hmodel) then takes the levels of
+// that path that it would push into itself without fetching them, as the
+// beam's path (one instance: no other walk in between; not with LOD or the
+// two-frame walk, whose stacks differ).
+const bool SPATH = MODE == MODE_COLOR && !USE_BVH && !LOD && DEEP < 2;
+uint g_hmodel = 0xFFFFFFFFu, g_hparent = 0u;
+int g_hscale = 0;
+uvec3 g_hlo = uvec3(0u);
+int stk_node[S_MAX + (DEEP >= 2 ? 28 : 0)];
+#else
+const bool SPATH = false;
+#endif
+
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 #ifdef PRECISE
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
@@ -293,7 +312,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     uint attr_rec = 0u;
     bool have_attr = false;
 
+#ifndef SHADOW_PATH
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+#endif
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -353,6 +374,32 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 for (uint l = 1u; l < k; l++) stk_node[S_MAX - 1 - int(l)] = int(beam_rec[g_bbase + l - 1u]);
                 parent = beam_rec[g_bbase + k - 1u];
             }
+        }
+#endif
+#ifdef SHADOW_PATH
+        if (SPATH && mi == g_hmodel) {
+            // the primary hit's path (see SHADOW_PATH), checked level by
+            // level as the beam's; its ancestors are on the stack already
+            int n = S_MAX - 1 - g_hscale, k = 0;
+            for (; k < n; k++) {
+                uint sh = m.depth - 1u - uint(k);
+                uvec3 b = (g_hlo >> sh) & 1u;
+                if (uint(idx ^ oct7) != (b.x | (b.y << 1) | (b.z << 2)) || !(tmin <= tmax)) break;
+                vec3 tc = pos * coef - bias;
+                float tc_max = min(min(tc.x, tc.y), tc.z);
+                float tv_max = min(tmax, tc_max);
+                if (!(DEEP >= 1 || tmin <= tv_max)) break;
+                float half_ = scale_exp2 * 0.5;
+                vec3 tcen = half_ * coef + tc;
+                hh = tc_max;
+                idx = 0;
+                scale--;
+                scale_exp2 = half_;
+                if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
+                if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
+                if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+            }
+            if (k > 0) parent = k == n ? g_hparent : uint(stk_node[S_MAX - 1 - k]);
         }
 #endif
 #ifndef PRECISE
@@ -446,7 +493,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh || SPATH) stk_node[scale - koff] = int(parent);
 #endif
                     hh = tc_max;
 #ifdef PRECISE
@@ -605,6 +652,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+#ifdef SHADOW_PATH
+        g_hparent = parent; // the leaf's parent (g_hmodel says whether it was a hit)
+#endif
         if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
@@ -675,6 +725,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
         lo = (pos - 1.0) * side;
         sz = scale_exp2 * side;
+#ifdef SHADOW_PATH
+        if (SPATH && !any_hit && m.root != ROOT_LEAF) g_hmodel = mi, g_hscale = scale, g_hlo = uvec3(lo);
+#endif
         REAL tau = troot / L;
 #ifndef PRECISE
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
