@@ -43,7 +43,9 @@
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
  * of a shaders/trace.comp variant with the same bindings, e.g. from
  * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
- * view, the baselines timed once: per-step experiments measured side by side.
+ * view, the baselines timed once: per-step experiments measured side by side;
+ * an entry T.spv:B.spv also replaces the beam pass (shaders/beam.comp) by B,
+ * :B.spv the beam pass only.
  * --cpu-time: also the process's CPU time per frame of voxkit's primary rays
  * and ESVO's (mean over the timed runs; columns McpuVX, McpuES: rays per CPU
  * second, and their ratio cVX/ES): on lavapipe, whose worker threads run the
@@ -329,6 +331,8 @@ int main(int argc, char** argv) {
     const char* kname[9] = {NULL};
     uint32_t* kspv[9] = {NULL};
     size_t kbytes[9] = {0};
+    uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
+    size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
     uint32_t runs = 15;
     double warmup = 0.5;
@@ -362,6 +366,19 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
+                /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
+                char* colon = strchr(t, ':');
+                if (colon && nkern < 9) {
+                    *colon = 0;
+                    if (!(bspv[nkern] = read_spirv(colon + 1, &bbytes[nkern]))) {
+                        fprintf(stderr, "render_bench: --kernels: %s: cannot read a SPIR-V file\n", colon + 1);
+                        return 2;
+                    }
+                    if (!*t) {
+                        kname[nkern++] = colon + 1;
+                        continue;
+                    }
+                }
                 if (nkern == 9 || !(kspv[nkern] = read_spirv(t, &kbytes[nkern]))) {
                     fprintf(stderr, "render_bench: --kernels: %s: %s\n", t,
                             nkern == 9 ? "more than 8 kernels" : "cannot read a SPIR-V file");
@@ -507,7 +524,7 @@ int main(int argc, char** argv) {
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
                     vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
-                    vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], (uint32_t)ki);
+                    vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */
@@ -558,7 +575,7 @@ int main(int argc, char** argv) {
                 }
                 free(ref);
                 first_view = false;
-                vx__render_scene_trace_kernel(rs, NULL, 0, 0);
+                vx__render_scene_trace_kernel(rs, NULL, 0, NULL, 0, 0);
                 p = strchr(p, ',');
                 if (!p) break;
                 p++;
@@ -581,6 +598,6 @@ int main(int argc, char** argv) {
         vx_svo_scene_free(&s);
     }
     vx_gpu_destroy(gpu);
-    for (int ki = 1; ki < nkern; ki++) free(kspv[ki]);
+    for (int ki = 1; ki < nkern; ki++) free(kspv[ki]), free(bspv[ki]);
     return failed;
 }
