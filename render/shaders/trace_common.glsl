@@ -331,6 +331,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         uint nbase = m.node_off; // node indices below are absolute (far pointers are model-relative)
         uint parent = nbase + m.root;
         int oct7 = oct ^ 7;
+#if defined(SKIP_EMPTY) && !defined(PRECISE)
+        // per axis, the real children on the low (mirrored) side: the ones a
+        // ray still reaches when its idx bit on that axis is 0
+        uvec3 se_m = uvec3((oct7 & 1) != 0 ? 0xAAu : 0x55u, (oct7 & 2) != 0 ? 0xCCu : 0x33u, (oct7 & 4) != 0 ? 0xF0u : 0x0Fu);
+#endif
         uint desc = 0u;
         bool loaded = false;
         int idx = 0;
@@ -522,6 +527,29 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
             tmin = tc_max;
             idx ^= step;
+#if defined(SKIP_EMPTY) && !defined(PRECISE)
+            if (!REBASE && (idx & step) == 0 && ((desc >> 8) & (((idx & 1) != 0 ? 0xFFu : se_m.x) & ((idx & 2) != 0 ? 0xFFu : se_m.y) & ((idx & 4) != 0 ? 0xFFu : se_m.z))) == 0u) {
+                // No valid child left on the ray's way through this node
+                // (mirrored, a ray only clears idx bits: the children still
+                // ahead are the subsets of idx): leave the node now, as the
+                // advances through its empty children would. The last of
+                // them exits through the node's own exit planes (the same
+                // floats), and the pop below finds the same level, cell and
+                // tmin from the node's corner stepped by its size.
+                int s1 = scale + 1;
+                vec3 pc = intBitsToFloat((floatBitsToInt(pos) >> s1) << s1);
+                vec3 tcp = pc * coef - bias;
+                float tcm = min(min(tcp.x, tcp.y), tcp.z);
+                scale_exp2 *= 2.0;
+                pos = pc;
+                step = 0;
+                if (tcp.x <= tcm) { step ^= 1; pos.x -= scale_exp2; }
+                if (tcp.y <= tcm) { step ^= 2; pos.y -= scale_exp2; }
+                if (tcp.z <= tcm) { step ^= 4; pos.z -= scale_exp2; }
+                tmin = tcm;
+                idx = step;
+            }
+#endif
             if ((idx & step) != 0) {
                 // pop: the highest differing position bit is the common ancestor's level
 #ifdef PRECISE
