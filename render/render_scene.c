@@ -699,8 +699,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (precise && !g->has_float64)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
                        g->props.deviceName);
-    /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
-    uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
+    /* the beam pass: float variant, without LOD (see shaders/beam.comp), nor
+     * with the two-frame walk (DEEP 2: its start moved by the beam changed
+     * 0.3% of the terrain4096 overview's pixels on the H200) */
+    uint32_t beam = !precise && !f->lod && f->beam > 1 && rs->deep < 2 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * VX__BEAM_REC * 4 : 16, "beam", err))) return r;

@@ -42,6 +42,11 @@ float g_ra, g_rb;
 #ifndef BEAM_STOP
 #define BEAM_STOP 4.0
 #endif
+// Nodes at most BEAM_MIN cells wide also stop the walk (a coarser level:
+// a shorter walk, a start up to that far before the cells; 0: off).
+#ifndef BEAM_MIN
+#define BEAM_MIN 0.0
+#endif
 int g_budget = BEAM_ITER;
 
 // The tube (radius ra + rb t around o + t d) against boxes: per axis,
@@ -127,7 +132,7 @@ bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
             vec2 tc = tube_box(T, clo, clo + hs);
             float te = max(tc.x, tlo);
             if (!(te <= tc.y && te < best)) continue;
-            if ((desc & cbit) != 0u || hs <= BEAM_STOP * (ra + rb * te)) {
+            if ((desc & cbit) != 0u || hs <= max(BEAM_STOP * (ra + rb * te), BEAM_MIN)) {
                 best = te;
                 found = true;
                 continue;

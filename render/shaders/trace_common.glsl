@@ -107,18 +107,19 @@ layout(std430, binding = 10) readonly buffer BeamRec { uint beam_rec[]; };
 #ifdef SHADOW_PATH
 // trace.comp, float variant: a colour frame's shadow ray starts from its
 // primary hit, so its walk from the root descends towards that hit's leaf
-// again. The primary walk leaves the leaf's ancestors on the stack (every
-// push writes it where SPATH holds), a global here so that it outlives the
-// call, and the hit's model, parent node, scale and leaf cube; the shadow
-// ray's walk (trace_model with mi == g_hmodel) then takes the levels of
-// that path that it would push into itself without fetching them, as the
-// beam's path (one instance: no other walk in between; not with LOD or the
-// two-frame walk, whose stacks differ).
+// again. The primary walk writes its stack on every push where SPATH holds
+// and copies the hit leaf's ancestors from it to g_anc (a global array
+// written and read only where SPATH holds: a global stack made the BVH
+// kernels keep it in 164 registers), with the hit's model, parent node,
+// scale and leaf cube; the shadow ray's walk (trace_model with mi ==
+// g_hmodel) then takes the levels of that path that it would push into
+// itself without fetching them, as the beam's path (one instance: no other
+// walk in between; not with LOD or the two-frame walk, whose stacks differ).
 const bool SPATH = MODE == MODE_COLOR && !USE_BVH && !LOD && DEEP < 2;
 uint g_hmodel = 0xFFFFFFFFu, g_hparent = 0u;
 int g_hscale = 0;
 uvec3 g_hlo = uvec3(0u);
-int stk_node[S_MAX + (DEEP >= 2 ? 28 : 0)];
+int g_anc[S_MAX];
 #else
 const bool SPATH = false;
 #endif
@@ -312,9 +313,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     uint attr_rec = 0u;
     bool have_attr = false;
 
-#ifndef SHADOW_PATH
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
-#endif
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -356,12 +355,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifndef PRECISE
                 if (REBASE && scale == rb_scale) break;
 #endif
-                RVEC3 tc = pos * coef - bias;
+                RVEC3 tc = fma(pos, coef, -bias);
                 REAL tc_max = min(min(tc.x, tc.y), tc.z);
                 REAL tv_max = min(tmax, tc_max);
                 if (!(DEEP >= 1 || tmin <= tv_max)) break;
                 REAL half_ = scale_exp2 * 0.5;
-                RVEC3 tcen = half_ * coef + tc;
+                RVEC3 tcen = fma(RVEC3(half_), coef, tc);
                 hh = tc_max;
                 octs >>= 3;
                 idx = 0;
@@ -384,18 +383,18 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef SHADOW_PATH
         if (SPATH && mi == g_hmodel) {
             // the primary hit's path (see SHADOW_PATH), checked level by
-            // level as the beam's; its ancestors are on the stack already
+            // level as the beam's; its ancestors from g_anc
             int n = S_MAX - 1 - g_hscale, k = 0;
             for (; k < n; k++) {
                 uint sh = m.depth - 1u - uint(k);
                 uvec3 b = (g_hlo >> sh) & 1u;
                 if (uint(idx ^ oct7) != (b.x | (b.y << 1) | (b.z << 2)) || !(tmin <= tmax)) break;
-                vec3 tc = pos * coef - bias;
+                vec3 tc = fma(pos, coef, -bias);
                 float tc_max = min(min(tc.x, tc.y), tc.z);
                 float tv_max = min(tmax, tc_max);
                 if (!(DEEP >= 1 || tmin <= tv_max)) break;
                 float half_ = scale_exp2 * 0.5;
-                vec3 tcen = half_ * coef + tc;
+                vec3 tcen = fma(vec3(half_), coef, tc);
                 hh = tc_max;
                 idx = 0;
                 scale--;
@@ -404,7 +403,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                 if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
             }
-            if (k > 0) parent = k == n ? g_hparent : uint(stk_node[S_MAX - 1 - k]);
+            for (int l = 0; l < k; l++) stk_node[S_MAX - 1 - l] = g_anc[S_MAX - 1 - l];
+            if (k > 0) parent = k == n ? g_hparent : uint(g_anc[S_MAX - 1 - k]);
         }
 #endif
 #ifndef PRECISE
@@ -443,7 +443,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         while (scale < S_MAX) {
             g_iter++;
             if (!loaded) { desc = nodes[parent]; loaded = true; }
-            RVEC3 tc = pos * coef - bias;
+            // explicit fmas: the beam's and the shadow ray's path checks
+            // (before the loop) repeat these expressions and must round
+            // them the same (a compiler may contract a*b+c in one place and
+            // not in the other: pixels differed on the H200)
+            RVEC3 tc = fma(pos, coef, -bias);
             REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
 #ifdef PRECISE
@@ -458,7 +462,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
                 REAL tv_max = min(tmax, tc_max);
                 REAL half_ = scale_exp2 * 0.5;
-                RVEC3 tcen = half_ * coef + tc;
+                RVEC3 tcen = fma(RVEC3(half_), coef, tc);
                 // The DEEP kernels skip the test against the child's exit
                 // (tmin lies in the child by construction, as in the ESVO
                 // loop; tmin <= tmax is tested): 2-5% faster there on the
@@ -538,7 +542,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 // tmin from the node's corner stepped by its size.
                 int s1 = scale + 1;
                 vec3 pc = intBitsToFloat((floatBitsToInt(pos) >> s1) << s1);
-                vec3 tcp = pc * coef - bias;
+                vec3 tcp = fma(pc, coef, -bias);
                 float tcm = min(min(tcp.x, tcp.y), tcp.z);
                 scale_exp2 *= 2.0;
                 pos = pc;
@@ -754,7 +758,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         lo = (pos - 1.0) * side;
         sz = scale_exp2 * side;
 #ifdef SHADOW_PATH
-        if (SPATH && !any_hit && m.root != ROOT_LEAF) g_hmodel = mi, g_hscale = scale, g_hlo = uvec3(lo);
+        if (SPATH && !any_hit && m.root != ROOT_LEAF) {
+            g_hmodel = mi, g_hscale = scale, g_hlo = uvec3(lo);
+            for (int l = S_MAX - 1; l > scale; l--) g_anc[l] = stk_node[l];
+        }
 #endif
         REAL tau = troot / L;
 #ifndef PRECISE

@@ -18,7 +18,8 @@
  *  - close-ups and oblique views of a terrain (blocks straddling the
  *    octree's mid-planes: rays leave the path at every level), the eye
  *    inside the terrain, a scene of several instances of one model and of
- *    other models under the BVH (the path's model is one of them).
+ *    other models under the BVH (the path's model is one of them); the
+ *    terrain 1024 cells wide too (an exact model: the DEEP 1 walk).
  * And it must pay: on a side view of the terrain and with the eye inside
  * it the frames with the beam take at least 15% fewer loop iterations per
  * ray. Runs on any Vulkan device (lavapipe in CI). */
@@ -108,11 +109,14 @@ static vx_render_desc ortho_axis(uint32_t w, uint32_t h, int axis, double centre
     return d;
 }
 
-static void test_terrain(void) {
+/* The terrain 256 cells wide (8 levels, the plain walk), or 1024 (10
+ * levels: an exact model, the DEEP 1 kernel, which pushes without the exit
+ * test; the path checks follow it). */
+static void terrain_views(uint32_t extent) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
     vx_error err = {0};
-    CHECK(bench_terrain(&s, 256, 0, &err) == 0);
+    CHECK(bench_terrain(&s, extent, 0, &err) == 0);
     vx_render_scene* rs = NULL;
     vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
     CHECKF(r == VX_OK, "terrain: %s", err.msg);
@@ -120,10 +124,16 @@ static void test_terrain(void) {
         vx_svo_scene_free(&s);
         return;
     }
-    check_view("terrain oblique", rs, persp(101, 67, -60, -90, 330, 128, 128, 120), 8);
-    check_view("terrain close-up", rs, persp(96, 64, 100, 90, 230, 128, 128, 150), 8);
+    double k = extent / 256.0;
+    check_view("terrain oblique", rs, persp(101, 67, -60 * k, -90 * k, 330 * k, 128 * k, 128 * k, 120 * k), 8);
+    check_view("terrain close-up", rs, persp(96, 64, 100 * k, 90 * k, 230 * k, 128 * k, 128 * k, 150 * k), 8);
     /* straight down, perspective: block corners on the image centre */
-    check_view("terrain down (perspective)", rs, persp(64, 48, 128, 128, 300, 128, 128, 0), 8);
+    check_view("terrain down (perspective)", rs, persp(64, 48, 128 * k, 128 * k, 300 * k, 128 * k, 128 * k, 0), 8);
+    if (extent != 256) {
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+        return;
+    }
     for (int axis = 0; axis < 3; axis++) {
         char name[64];
         snprintf(name, sizeof name, "terrain ortho along axis %d", axis);
@@ -143,6 +153,9 @@ static void test_terrain(void) {
 
 /* A floor 64 x 64 x 4 cells with random pillars on it, seen along its top
  * face (z = 4) from its height and just above and below it. */
+static void test_terrain(void) { terrain_views(256); }
+static void test_terrain_exact(void) { terrain_views(1024); }
+
 static void test_grazing(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     const uint32_t S = 64, F = 4;
@@ -214,6 +227,7 @@ static void test_instances(void) {
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_terrain);
+    RUN(test_terrain_exact);
     RUN(test_grazing);
     RUN(test_instances);
     if (gpu) vx_gpu_destroy(gpu);
