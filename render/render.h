@@ -225,7 +225,7 @@ typedef struct vx_render_hit {
     uint32_t instance;
     uint32_t cell[3];
     float t;
-    uint32_t iterations;
+    uint32_t iterations; /* traversal steps (with the beam pass: those that fetch a node) */
     uint32_t flags; /* VX_RENDER_HIT_* */
 } vx_render_hit;
 

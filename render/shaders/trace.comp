@@ -20,7 +20,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #ifndef PRECISE
 #define TRACE_BEAM
-#define SHADOW_PATH
 #endif
 #include "trace_common.glsl"
 
@@ -72,12 +71,11 @@ void main() {
         }
 #endif
         g_iter = 0u;
-#ifdef SHADOW_PATH
-        g_hmodel = 0xFFFFFFFFu; // set by the primary hit
-#endif
 #ifdef TRACE_BEAM
         if (BEAM > 1u) {
-            // slightly before the block's bound: the two passes round differently
+            // slightly before the block's bound: the two passes round
+            // differently (binding 10, trace_common.glsl: the beam.comp's
+            // record; binding 9 is the float64 variant's)
             uint rb = ((px.y / BEAM) * ((W + BEAM - 1u) / BEAM) + px.x / BEAM) * BEAM_REC;
             g_tskip = (uintBitsToFloat(beam_rec[rb]) - t_off) * 0.9999;
             g_bmodel = beam_rec[rb + 1u];

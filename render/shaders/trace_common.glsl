@@ -94,34 +94,14 @@ float g_tskip = 0.0;
 // deepest inner node holding the block's centre ray at its start, g_bn of
 // them, their octants 3 bits each in g_boct (real octants, x in bit 0), the
 // node indices in beam_rec[g_bbase ...]. A ray of the block whose own walk
-// would push into the same children (the same comparisons, see trace_model)
-// takes them without fetching the descriptors on the way.
+// pushes into the path's children takes them without fetching the
+// descriptors on the way (trace_model).
 const int BEAM_PATH = 10;  // path levels at most (3 bits each in one word)
 const uint BEAM_REC = 16u; // words per block: s, model, n, octants, nodes
 uint g_bmodel = 0xFFFFFFFFu, g_bn = 0u, g_boct = 0u, g_bbase = 0u;
 #ifndef BEAM_PASS
 layout(std430, binding = 10) readonly buffer BeamRec { uint beam_rec[]; };
 #endif
-#endif
-
-#ifdef SHADOW_PATH
-// trace.comp, float variant: a colour frame's shadow ray starts from its
-// primary hit, so its walk from the root descends towards that hit's leaf
-// again. The primary walk writes its stack on every push where SPATH holds
-// and copies the hit leaf's ancestors from it to g_anc (a global array
-// written and read only where SPATH holds: a global stack made the BVH
-// kernels keep it in 164 registers), with the hit's model, parent node,
-// scale and leaf cube; the shadow ray's walk (trace_model with mi ==
-// g_hmodel) then takes the levels of that path that it would push into
-// itself without fetching them, as the beam's path (one instance: no other
-// walk in between; not with LOD or the two-frame walk, whose stacks differ).
-const bool SPATH = MODE == MODE_COLOR && !USE_BVH && !LOD && DEEP < 2;
-uint g_hmodel = 0xFFFFFFFFu, g_hparent = 0u;
-int g_hscale = 0;
-uvec3 g_hlo = uvec3(0u);
-int g_anc[S_MAX];
-#else
-const bool SPATH = false;
 #endif
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
@@ -330,11 +310,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         uint nbase = m.node_off; // node indices below are absolute (far pointers are model-relative)
         uint parent = nbase + m.root;
         int oct7 = oct ^ 7;
-#if defined(SKIP_EMPTY) && !defined(PRECISE)
-        // per axis, the real children on the low (mirrored) side: the ones a
-        // ray still reaches when its idx bit on that axis is 0
-        uvec3 se_m = uvec3((oct7 & 1) != 0 ? 0xAAu : 0x55u, (oct7 & 2) != 0 ? 0xCCu : 0x33u, (oct7 & 4) != 0 ? 0xF0u : 0x0Fu);
-#endif
         uint desc = 0u;
         bool loaded = false;
         int idx = 0;
@@ -342,70 +317,17 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
 #if defined(TRACE_BEAM) && !defined(BEAM_PASS)
-        if (BEAM > 1u && mi == g_bmodel) {
-            // The block's path: while this ray's walk would push into the
-            // path's next child, push without fetching the descriptor (the
-            // path's children are valid inner nodes, and the walk pushes
-            // into an inner child it spans: the loop's expressions below, so
-            // the state after them is the loop's, bit for bit). The first
-            // level where the ray leaves the path is the loop's.
-            uint octs = g_boct, k = 0u;
-            for (; k < g_bn; k++) {
-                if (uint(idx ^ oct7) != (octs & 7u) || !(tmin <= tmax)) break;
-#ifndef PRECISE
-                if (REBASE && scale == rb_scale) break;
-#endif
-                RVEC3 tc = fma(pos, coef, -bias);
-                REAL tc_max = min(min(tc.x, tc.y), tc.z);
-                REAL tv_max = min(tmax, tc_max);
-                if (!(DEEP >= 1 || tmin <= tv_max)) break;
-                REAL half_ = scale_exp2 * 0.5;
-                RVEC3 tcen = fma(RVEC3(half_), coef, tc);
-                hh = tc_max;
-                octs >>= 3;
-                idx = 0;
-                scale--;
-                scale_exp2 = half_;
-                if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
-                if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
-                if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-            }
-            if (k > 0u) {
-                // every level's parent on the stack (the loop writes a
-                // subset; the rest are what a pop there would find), read
-                // from the record after the loop: independent loads
-                stk_node[S_MAX - 1] = int(parent);
-                for (uint l = 1u; l < k; l++) stk_node[S_MAX - 1 - int(l)] = int(beam_rec[g_bbase + l - 1u]);
-                parent = beam_rec[g_bbase + k - 1u];
-            }
-        }
-#endif
-#ifdef SHADOW_PATH
-        if (SPATH && mi == g_hmodel) {
-            // the primary hit's path (see SHADOW_PATH), checked level by
-            // level as the beam's; its ancestors from g_anc
-            int n = S_MAX - 1 - g_hscale, k = 0;
-            for (; k < n; k++) {
-                uint sh = m.depth - 1u - uint(k);
-                uvec3 b = (g_hlo >> sh) & 1u;
-                if (uint(idx ^ oct7) != (b.x | (b.y << 1) | (b.z << 2)) || !(tmin <= tmax)) break;
-                vec3 tc = fma(pos, coef, -bias);
-                float tc_max = min(min(tc.x, tc.y), tc.z);
-                float tv_max = min(tmax, tc_max);
-                if (!(DEEP >= 1 || tmin <= tv_max)) break;
-                float half_ = scale_exp2 * 0.5;
-                vec3 tcen = fma(vec3(half_), coef, tc);
-                hh = tc_max;
-                idx = 0;
-                scale--;
-                scale_exp2 = half_;
-                if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
-                if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
-                if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-            }
-            for (int l = 0; l < k; l++) stk_node[S_MAX - 1 - l] = g_anc[S_MAX - 1 - l];
-            if (k > 0) parent = k == n ? g_hparent : uint(g_anc[S_MAX - 1 - k]);
-        }
+        // The block's path (beam kernels only): p_n levels left, their
+        // octants in p_oct, the next level's node at beam_rec[p_at]. While
+        // the walk's child is the path's, the node's descriptor is not
+        // fetched: the loop runs on a stand-in with only that child, valid
+        // and inner (what the real one says of it), and takes the child's
+        // index from the path. The loop's own tests decide every step, so
+        // the walk is the same bit for bit; at its first advance or at a
+        // level where its child is not the path's it leaves the path (an
+        // advance reloads the real descriptor for the siblings).
+        uint p_n = 0u, p_oct = 0u, p_at = 0u;
+        if (BEAM > 1u && mi == g_bmodel) p_n = g_bn, p_oct = g_boct, p_at = g_bbase;
 #endif
 #ifndef PRECISE
         if (exact) {
@@ -442,14 +364,19 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         while (scale < S_MAX) {
             g_iter++;
-            if (!loaded) { desc = nodes[parent]; loaded = true; }
-            // explicit fmas: the beam's and the shadow ray's path checks
-            // (before the loop) repeat these expressions and must round
-            // them the same (a compiler may contract a*b+c in one place and
-            // not in the other: pixels differed on the H200)
-            RVEC3 tc = fma(pos, coef, -bias);
-            REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
+#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
+            if (!loaded) {
+                // (a path level is not counted as a step: no node is fetched)
+                if (BEAM > 1u && p_n > 0u && uint(cs) == (p_oct & 7u)) desc = 0x100u << cs, g_iter--;
+                else { p_n = 0u; desc = nodes[parent]; }
+                loaded = true;
+            }
+#else
+            if (!loaded) { desc = nodes[parent]; loaded = true; }
+#endif
+            RVEC3 tc = pos * coef - bias;
+            REAL tc_max = min(min(tc.x, tc.y), tc.z);
 #ifdef PRECISE
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
@@ -462,7 +389,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
                 REAL tv_max = min(tmax, tc_max);
                 REAL half_ = scale_exp2 * 0.5;
-                RVEC3 tcen = fma(RVEC3(half_), coef, tc);
+                RVEC3 tcen = half_ * coef + tc;
                 // The DEEP kernels skip the test against the child's exit
                 // (tmin lies in the child by construction, as in the ESVO
                 // loop; tmin <= tmax is tested): 2-5% faster there on the
@@ -502,13 +429,19 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-                    if (tc_max < hh || SPATH) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
 #endif
                     hh = tc_max;
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
                     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+#elif defined(TRACE_BEAM) && !defined(BEAM_PASS)
+                    if (BEAM > 1u && p_n > 0u) {
+                        parent = beam_rec[p_at++];
+                        p_n--;
+                        p_oct >>= 3;
+                    } else parent = child_node(parent, desc, cbit, nbase);
 #else
                     parent = child_node(parent, desc, cbit, nbase);
 #endif
@@ -525,35 +458,19 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // advance; the iteration guard is checked here only: pushes are
             // bounded by the depth, and a ray past the guard is a miss below
             if (g_iter > MAX_ITER) break;
+#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
+            if (BEAM > 1u && p_n > 0u) {
+                // off the path: the siblings need the real descriptor
+                p_n = 0u;
+                loaded = false;
+            }
+#endif
             int step = 0;
             if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
             if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
             if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
             tmin = tc_max;
             idx ^= step;
-#if defined(SKIP_EMPTY) && !defined(PRECISE)
-            if (!REBASE && (idx & step) == 0 && ((desc >> 8) & (((idx & 1) != 0 ? 0xFFu : se_m.x) & ((idx & 2) != 0 ? 0xFFu : se_m.y) & ((idx & 4) != 0 ? 0xFFu : se_m.z))) == 0u) {
-                // No valid child left on the ray's way through this node
-                // (mirrored, a ray only clears idx bits: the children still
-                // ahead are the subsets of idx): leave the node now, as the
-                // advances through its empty children would. The last of
-                // them exits through the node's own exit planes (the same
-                // floats), and the pop below finds the same level, cell and
-                // tmin from the node's corner stepped by its size.
-                int s1 = scale + 1;
-                vec3 pc = intBitsToFloat((floatBitsToInt(pos) >> s1) << s1);
-                vec3 tcp = fma(pc, coef, -bias);
-                float tcm = min(min(tcp.x, tcp.y), tcp.z);
-                scale_exp2 *= 2.0;
-                pos = pc;
-                step = 0;
-                if (tcp.x <= tcm) { step ^= 1; pos.x -= scale_exp2; }
-                if (tcp.y <= tcm) { step ^= 2; pos.y -= scale_exp2; }
-                if (tcp.z <= tcm) { step ^= 4; pos.z -= scale_exp2; }
-                tmin = tcm;
-                idx = step;
-            }
-#endif
             if ((idx & step) != 0) {
                 // pop: the highest differing position bit is the common ancestor's level
 #ifdef PRECISE
@@ -684,9 +601,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-#ifdef SHADOW_PATH
-        g_hparent = parent; // the leaf's parent (g_hmodel says whether it was a hit)
-#endif
         if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
@@ -757,12 +671,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
         lo = (pos - 1.0) * side;
         sz = scale_exp2 * side;
-#ifdef SHADOW_PATH
-        if (SPATH && !any_hit && m.root != ROOT_LEAF) {
-            g_hmodel = mi, g_hscale = scale, g_hlo = uvec3(lo);
-            for (int l = S_MAX - 1; l > scale; l--) g_anc[l] = stk_node[l];
-        }
-#endif
         REAL tau = troot / L;
 #ifndef PRECISE
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
