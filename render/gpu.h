@@ -127,9 +127,7 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
 void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);
-/* The primary rays' beam pass (run before trace.comp, same bindings); it
- * writes VX__BEAM_REC words per pixel block (BEAM_REC in trace_common.glsl). */
-enum { VX__BEAM_REC = 16 };
+/* The primary rays' beam pass (run before trace.comp, same bindings). */
 const uint32_t* vx__spirv_beam(size_t* bytes);
 const uint32_t* vx__spirv_dense(size_t* bytes);
 /* trace.comp built with -DPRECISE (float64 traversal; needs has_float64). */
@@ -189,6 +187,25 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
  * rows top first, *w x *h), NULL before the first frame (render/display.c). */
 struct vx_frame_renderer;
 vx__buffer* vx__frame_renderer_image(const struct vx_frame_renderer* fr, uint32_t* w, uint32_t* h);
+/* pipeline.c: vx_frame_record whose last pass also writes the display bytes
+ * (shaders/display_out.glsl) into `view` (a storage view of an iw x ih image
+ * in the GENERAL layout, which the caller transitions before and after),
+ * with the device overlay laid over (NULL: none): the conversion fused into
+ * the frame (render/display.c, vx_display_record_frame). */
+typedef struct vx__display_target {
+    VkImageView view;
+    uint32_t iw, ih;
+    const vx__buffer* overlay;
+    bool bgra;
+} vx__display_target;
+struct vx_frame_desc;
+struct vx_frame_result;
+vx_result vx__frame_record_display(struct vx_frame_renderer* fr, const struct vx_frame_desc* desc, VkCommandBuffer cmd,
+                                   uint32_t slot, const vx__display_target* t, struct vx_frame_result* out, vx_error* err);
+/* A frame recorded with vx__render_scene_bind_cmd that will not be submitted:
+ * the scene forgets the tables it recorded there (the next frame writes its
+ * own whatever they are). */
+void vx__render_scene_forget_tables(vx_render_scene* rs);
 /* pipeline.c: light l in the std430 layout of passes_common.glsl's Light (24
  * floats), position relative to ref; cutoff: the irradiance where a light
  * without a range ends (vx_frame_desc.light_cutoff, resolved). For passes

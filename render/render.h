@@ -193,14 +193,13 @@ typedef struct vx_render_camera {
  *  want_hits:     also return per-pixel hit records (sample 0)
  *  beam:          vx_render_frame on a GPU: 0 or 1 == off (the default); N (2..64):
  *                 a first pass finds per block of N x N pixels where its rays
- *                 can first meet a non-empty node and the octree path there;
- *                 they start at that distance and descend the path without
- *                 fetching it (the same cells and depths, fewer steps). It
- *                 pays on sparse scenes whose rays cross much empty space
- *                 inside the octree (8 is a good N there); elsewhere the pass
- *                 costs more than it saves (docs/PERFORMANCE.md, issue 21).
- *                 Not used with lod, by the float64 variant, or for models
- *                 deep enough for the two-frame walk (VX_RENDER_REBASE_DEPTH) */
+ *                 can first meet a non-empty node, and they start there (the
+ *                 same cells and depths, fewer steps). It pays on sparse
+ *                 scenes whose rays cross much empty space inside the octree
+ *                 (8 is a good N there); elsewhere it costs more than it
+ *                 saves (docs/PERFORMANCE.md, issue 21). Not used with lod,
+ *                 by the float64 variant, or for models deep enough for the
+ *                 two-frame walk (VX_RENDER_REBASE_DEPTH) */
 typedef struct vx_render_desc {
     uint32_t width, height;
     vx_render_mode mode;
@@ -227,7 +226,7 @@ typedef struct vx_render_hit {
     uint32_t instance;
     uint32_t cell[3];
     float t;
-    uint32_t iterations; /* traversal steps (with the beam pass: those that fetch a node) */
+    uint32_t iterations;
     uint32_t flags; /* VX_RENDER_HIT_* */
 } vx_render_hit;
 

@@ -705,7 +705,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t beam = !precise && !f->lod && f->beam > 1 && rs->deep < 2 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
-    if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * VX__BEAM_REC * 4 : 16, "beam", err))) return r;
+    if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
     /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
     uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
                          precise ? 0 : rs->deep, rs->far};

@@ -24,10 +24,8 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #define BEAM_PASS
 #include "trace_common.glsl"
 
-// binding 7-9: trace.comp's pixels, hits and (float64 variant) instances;
-// 10: BEAM_REC words per block (trace_common.glsl): the eye distance S, the
-// path's model, its length, octants and nodes
-layout(std430, binding = 10) writeonly buffer BeamOut { uint beam_out[]; };
+// binding 7-9: trace.comp's pixels, hits and (float64 variant) instances
+layout(std430, binding = 10) writeonly buffer BeamOut { float beam_s[]; };
 
 // the tube, world units: radius g_ra + g_rb t along o + t g_dir
 vec3 g_dir;
@@ -41,11 +39,6 @@ float g_ra, g_rb;
 #endif
 #ifndef BEAM_STOP
 #define BEAM_STOP 4.0
-#endif
-// Nodes at most BEAM_MIN cells wide also stop the walk (a coarser level:
-// a shorter walk, a start up to that far before the cells; 0: off).
-#ifndef BEAM_MIN
-#define BEAM_MIN 0.0
 #endif
 int g_budget = BEAM_ITER;
 
@@ -132,7 +125,7 @@ bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
             vec2 tc = tube_box(T, clo, clo + hs);
             float te = max(tc.x, tlo);
             if (!(te <= tc.y && te < best)) continue;
-            if ((desc & cbit) != 0u || hs <= max(BEAM_STOP * (ra + rb * te), BEAM_MIN)) {
+            if ((desc & cbit) != 0u || hs <= BEAM_STOP * (ra + rb * te)) {
                 best = te;
                 found = true;
                 continue;
@@ -201,40 +194,6 @@ void main() {
     h.t = 3.0e38;
     h.inst = NO_HIT;
     trace_scene(o, g_dir, t0, false, h);
-    uint rb = (b.y * bw + b.x) * BEAM_REC;
     // eye distance (orthographic: t from the image plane plus t_start)
-    beam_out[rb] = floatBitsToUint(h.t < 3.0e38 ? h.t + t_off : 3.0e38);
-    // The path: from the root of the model met first down through the
-    // inner children holding the centre ray's point at S, so that the
-    // block's rays, which start near it, skip the descent (trace_model).
-    // Only a hint: each ray checks every level with its own walk's tests.
-    uint mi = 0xFFFFFFFFu, n = 0u, octs = 0u;
-    if (h.t < 3.0e38 && h.inst != NO_HIT) {
-        Inst I = insts[h.inst];
-        Model m = models[I.model];
-        if (m.root != ROOT_EMPTY && m.root != ROOT_LEAF) {
-            mi = I.model;
-            vec3 p = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
-            p += vec3(dot(I.r0.xyz, g_dir), dot(I.r1.xyz, g_dir), dot(I.r2.xyz, g_dir)) * h.t;
-            uint nbase = m.node_off, node = nbase + m.root, desc = nodes[node];
-            vec3 lo = vec3(0.0);
-            float size = exp2(float(m.depth));
-            for (; n < uint(BEAM_PATH); n++) {
-                float hs = 0.5 * size;
-                vec3 mid = lo + hs;
-                uint c = (p.x >= mid.x ? 1u : 0u) | (p.y >= mid.y ? 2u : 0u) | (p.z >= mid.z ? 4u : 0u);
-                uint cbit = 1u << c;
-                if ((desc & (cbit << 8)) == 0u || (desc & cbit) != 0u) break; // empty or a leaf
-                node = child_node(node, desc, cbit, nbase);
-                beam_out[rb + 4u + n] = node;
-                octs |= c << (3u * n);
-                desc = nodes[node];
-                lo = mix(lo, mid, bvec3((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-                size = hs;
-            }
-        }
-    }
-    beam_out[rb + 1u] = mi;
-    beam_out[rb + 2u] = n;
-    beam_out[rb + 3u] = octs;
+    beam_s[b.y * bw + b.x] = h.t < 3.0e38 ? h.t + t_off : 3.0e38;
 }

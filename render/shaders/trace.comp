@@ -25,6 +25,10 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
+#ifdef TRACE_BEAM
+// beam.comp's eye distance per block (binding 9 is the float64 variant's)
+layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
+#endif
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
@@ -73,15 +77,9 @@ void main() {
         g_iter = 0u;
 #ifdef TRACE_BEAM
         if (BEAM > 1u) {
-            // slightly before the block's bound: the two passes round
-            // differently (binding 10, trace_common.glsl: the beam.comp's
-            // record; binding 9 is the float64 variant's)
-            uint rb = ((px.y / BEAM) * ((W + BEAM - 1u) / BEAM) + px.x / BEAM) * BEAM_REC;
-            g_tskip = (uintBitsToFloat(beam_rec[rb]) - t_off) * 0.9999;
-            g_bmodel = beam_rec[rb + 1u];
-            g_bn = beam_rec[rb + 2u];
-            g_boct = beam_rec[rb + 3u];
-            g_bbase = rb + 4u;
+            // slightly before the block's bound: the two passes round differently
+            float s_blk = beam_s[(px.y / BEAM) * ((W + BEAM - 1u) / BEAM) + px.x / BEAM];
+            g_tskip = (s_blk - t_off) * 0.9999;
         }
 #endif
         Hit h;
@@ -113,7 +111,6 @@ void main() {
                         RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
 #ifdef TRACE_BEAM
                         g_tskip = 0.0; // the beam bounds the primary rays only
-                        g_bmodel = 0xFFFFFFFFu;
 #endif
                         Hit sh;
                         sh.t = 3.0e38;

@@ -90,18 +90,6 @@ uint g_iter = 0u;
 // so the cells and depths are those of the walk from the ray's start.
 layout(constant_id = 5) const uint BEAM = 0u; // block side in pixels; 0: off
 float g_tskip = 0.0;
-// The block's path (beam.comp): the nodes from model g_bmodel's root to the
-// deepest inner node holding the block's centre ray at its start, g_bn of
-// them, their octants 3 bits each in g_boct (real octants, x in bit 0), the
-// node indices in beam_rec[g_bbase ...]. A ray of the block whose own walk
-// pushes into the path's children takes them without fetching the
-// descriptors on the way (trace_model).
-const int BEAM_PATH = 10;  // path levels at most (3 bits each in one word)
-const uint BEAM_REC = 16u; // words per block: s, model, n, octants, nodes
-uint g_bmodel = 0xFFFFFFFFu, g_bn = 0u, g_boct = 0u, g_bbase = 0u;
-#ifndef BEAM_PASS
-layout(std430, binding = 10) readonly buffer BeamRec { uint beam_rec[]; };
-#endif
 #endif
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
@@ -316,25 +304,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
-        // The block's path (beam kernels only): p_n levels left, their
-        // octants in p_oct, the next level's node at beam_rec[p_at]. While
-        // the walk's child is the path's, the node's descriptor is not
-        // fetched: the loop runs on a stand-in with only that child, valid
-        // and inner (what the real one says of it), and takes the child's
-        // index from the path. The loop's own tests decide every step, so
-        // the walk is the same bit for bit; at its first advance or at a
-        // level where its child is not the path's it leaves the path (an
-        // advance reloads the real descriptor for the siblings). The checks
-        // sit at the root and in the push and advance branches, not at the
-        // loop's top (that form ran 15-25% slower on the H200).
-        uint p_n = 0u, p_oct = 0u, p_at = 0u;
-        if (BEAM > 1u && mi == g_bmodel) p_n = g_bn, p_oct = g_boct, p_at = g_bbase;
-        // at the root and after each push: is the ray's child the path's?
-        // then the stand-in (no fetch, not counted as a step), else off the path
-#define BEAM_PATH_STEP { if (uint(idx ^ oct7) == (p_oct & 7u)) desc = 0x100u << (idx ^ oct7), loaded = true, g_iter--; else p_n = 0u; }
-        if (BEAM > 1u && p_n > 0u) BEAM_PATH_STEP
-#endif
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
@@ -433,10 +402,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     uint blk = parent - (desc >> 17);
                     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
-#elif defined(TRACE_BEAM) && !defined(BEAM_PASS)
-                    // on the path (desc is the stand-in): the path's child
-                    if (BEAM > 1u && p_n > 0u) parent = beam_rec[p_at++], p_oct >>= 3, p_n--;
-                    else parent = child_node(parent, desc, cbit, nbase);
 #else
                     parent = child_node(parent, desc, cbit, nbase);
 #endif
@@ -447,22 +412,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
                     loaded = false;
-#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
-                    if (BEAM > 1u && p_n > 0u) BEAM_PATH_STEP
-#endif
                     continue;
                 }
             }
             // advance; the iteration guard is checked here only: pushes are
             // bounded by the depth, and a ray past the guard is a miss below
             if (g_iter > MAX_ITER) break;
-#if defined(TRACE_BEAM) && !defined(BEAM_PASS)
-            if (BEAM > 1u && p_n > 0u) {
-                // off the path: the siblings need the real descriptor
-                p_n = 0u;
-                loaded = false;
-            }
-#endif
             int step = 0;
             if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
             if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
