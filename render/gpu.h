@@ -187,25 +187,6 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
  * rows top first, *w x *h), NULL before the first frame (render/display.c). */
 struct vx_frame_renderer;
 vx__buffer* vx__frame_renderer_image(const struct vx_frame_renderer* fr, uint32_t* w, uint32_t* h);
-/* pipeline.c: vx_frame_record whose last pass also writes the display bytes
- * (shaders/display_out.glsl) into `view` (a storage view of an iw x ih image
- * in the GENERAL layout, which the caller transitions before and after),
- * with the device overlay laid over (NULL: none): the conversion fused into
- * the frame (render/display.c, vx_display_record_frame). */
-typedef struct vx__display_target {
-    VkImageView view;
-    uint32_t iw, ih;
-    const vx__buffer* overlay;
-    bool bgra;
-} vx__display_target;
-struct vx_frame_desc;
-struct vx_frame_result;
-vx_result vx__frame_record_display(struct vx_frame_renderer* fr, const struct vx_frame_desc* desc, VkCommandBuffer cmd,
-                                   uint32_t slot, const vx__display_target* t, struct vx_frame_result* out, vx_error* err);
-/* A frame recorded with vx__render_scene_bind_cmd that will not be submitted:
- * the scene forgets the tables it recorded there (the next frame writes its
- * own whatever they are). */
-void vx__render_scene_forget_tables(vx_render_scene* rs);
 /* pipeline.c: light l in the std430 layout of passes_common.glsl's Light (24
  * floats), position relative to ref; cutoff: the irradiance where a light
  * without a range ends (vx_frame_desc.light_cutoff, resolved). For passes
