@@ -30,7 +30,10 @@
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
- * the depth agreement checks every beam size against ESVO.
+ * the depth agreement checks every beam size against ESVO; rows after a
+ * view's first end "[N px differ from the first row]": pixels whose
+ * instance, cell or depth bits differ from the first beam size's (list 0
+ * first: the beam pass must change no hit).
  * --tree64: also the 64-tree prototype (bench/tree64.h; with ESVO only), its
  * kernel variants 0 and 1 (tree64.comp's SKIP): steps per ray, rays/s,
  * steps/s, rays/s over ESVO's, depth agreement with ESVO, and its GPU MiB,
@@ -40,7 +43,9 @@
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
  * of a shaders/trace.comp variant with the same bindings, e.g. from
  * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
- * view, the baselines timed once: per-step experiments measured side by side.
+ * view, the baselines timed once: per-step experiments measured side by side;
+ * an entry T.spv:B.spv also replaces the beam pass (shaders/beam.comp) by B,
+ * :B.spv the beam pass only.
  * --cpu-time: also the process's CPU time per frame of voxkit's primary rays
  * and ESVO's (mean over the timed runs; columns McpuVX, McpuES: rays per CPU
  * second, and their ratio cVX/ES): on lavapipe, whose worker threads run the
@@ -68,6 +73,9 @@ typedef struct view_result {
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
     double cpu_vx, cpu_es; /* process CPU seconds per frame (--cpu-time) */
+    /* pixels whose instance, cell or depth bits differ from the first row
+     * of the view (beam 0 first: the beam pass must change none); -1: none */
+    long beam_diff;
 } view_result;
 
 static double cpu_now(void) {
@@ -211,7 +219,7 @@ static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_cam
  * time_base (ESVO's depth frame is compared whenever es is set). */
 static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint32_t t6_variants,
                     const vx_svo_scene* s, vx_render_desc d, bool dense, bool time_base, uint32_t runs, double warmup,
-                    view_result* out, vx_error* err) {
+                    vx_render_hit** ref, view_result* out, vx_error* err) {
     view_result prev = *out;
     memset(out, 0, sizeof *out);
     if (!time_base)
@@ -266,7 +274,20 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         bool he = isfinite(edepth[i]);
         if (hv == he && (!hv || fabs((double)h->t - edepth[i]) <= 1e-4 * fmax(fabs((double)h->t), 1.0))) agree++;
     }
-    vx_render_image_free(&img);
+    out->beam_diff = -1;
+    if (*ref) {
+        out->beam_diff = 0;
+        for (size_t i = 0; i < npx; i++) {
+            const vx_render_hit *a = &img.hits[i], *b = &(*ref)[i];
+            out->beam_diff += a->instance != b->instance || memcmp(a->cell, b->cell, sizeof a->cell) ||
+                              memcmp(&a->t, &b->t, sizeof a->t);
+        }
+        vx_render_image_free(&img);
+    } else {
+        *ref = malloc(npx * sizeof **ref); /* the caller frees it */
+        if (*ref) memcpy(*ref, img.hits, npx * sizeof **ref);
+        vx_render_image_free(&img);
+    }
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
     out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx;
@@ -310,6 +331,8 @@ int main(int argc, char** argv) {
     const char* kname[9] = {NULL};
     uint32_t* kspv[9] = {NULL};
     size_t kbytes[9] = {0};
+    uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
+    size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
     uint32_t runs = 15;
     double warmup = 0.5;
@@ -343,6 +366,19 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
+                /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
+                char* colon = strchr(t, ':');
+                if (colon && nkern < 9) {
+                    *colon = 0;
+                    if (!(bspv[nkern] = read_spirv(colon + 1, &bbytes[nkern]))) {
+                        fprintf(stderr, "render_bench: --kernels: %s: cannot read a SPIR-V file\n", colon + 1);
+                        return 2;
+                    }
+                    if (!*t) {
+                        kname[nkern++] = colon + 1;
+                        continue;
+                    }
+                }
                 if (nkern == 9 || !(kspv[nkern] = read_spirv(t, &kbytes[nkern]))) {
                     fprintf(stderr, "render_bench: --kernels: %s: %s\n", t,
                             nkern == 9 ? "more than 8 kernels" : "cannot read a SPIR-V file");
@@ -483,16 +519,17 @@ int main(int argc, char** argv) {
                 unsigned w, h;
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
                 view_result r = {0};
+                vx_render_hit* ref = NULL;
                 for (int ki = 0; ki < nkern; ki++)
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
                     vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
-                    vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], (uint32_t)ki);
+                    vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */
                     double wu = first_view && ki == 0 && bi == 0 ? fmax(warmup, 1.0) : warmup;
-                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0, runs, wu, &r, &err)) {
+                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0, runs, wu, &ref, &r, &err)) {
                         fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
                         failed = 1;
                         break;
@@ -523,8 +560,12 @@ int main(int argc, char** argv) {
                     if (cpu)
                         snprintf(cp, sizeof cp, " %10.2f %10.2f %6.2f", px / r.cpu_vx * U, esp ? px / r.cpu_es * U : 0.0,
                                  esp ? r.cpu_es / r.cpu_vx : 0.0);
-                    char kl[280] = "";
+                    char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
+                    if (r.beam_diff >= 0) {
+                        size_t at = strlen(kl);
+                        snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row]", r.beam_diff);
+                    }
                     printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
                            px / r.sec_vx * U, ges, px * r.steps_vx / r.sec_vx * U, gstes, ratio, agree,
@@ -532,8 +573,9 @@ int main(int argc, char** argv) {
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
                 }
+                free(ref);
                 first_view = false;
-                vx__render_scene_trace_kernel(rs, NULL, 0, 0);
+                vx__render_scene_trace_kernel(rs, NULL, 0, NULL, 0, 0);
                 p = strchr(p, ',');
                 if (!p) break;
                 p++;
@@ -556,6 +598,6 @@ int main(int argc, char** argv) {
         vx_svo_scene_free(&s);
     }
     vx_gpu_destroy(gpu);
-    for (int ki = 1; ki < nkern; ki++) free(kspv[ki]);
+    for (int ki = 1; ki < nkern; ki++) free(kspv[ki]), free(bspv[ki]);
     return failed;
 }

@@ -76,9 +76,10 @@ void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
 bool vx__render_scene_far(const vx_render_scene* rs);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
- * restores the built-in one); tag (nonzero) tells their pipelines apart.
- * The words must outlive their use. */
-void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag);
+ * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);
+ * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
+void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
+                                   size_t beam_bytes, uint32_t tag);
 /* Dense occupancy grid of the scene (identity world_from_grid) for the baseline. */
 vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err);
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,

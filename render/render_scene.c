@@ -54,6 +54,8 @@ struct vx_render_scene {
     const uint32_t* alt_spv;
     size_t alt_size;
     uint32_t alt_tag;
+    const uint32_t* alt_beam; /* the beam pass's, likewise */
+    size_t alt_beam_size;
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -730,8 +732,11 @@ bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_preci
 
 bool vx__render_scene_far(const vx_render_scene* rs) { return rs && rs->far; }
 
-void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, uint32_t tag) {
-    if (rs) rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
+void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
+                                   size_t beam_bytes, uint32_t tag) {
+    if (!rs) return;
+    rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
+    rs->alt_beam = beam_spirv && beam_bytes ? beam_spirv : NULL, rs->alt_beam_size = beam_bytes;
 }
 
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
@@ -830,8 +835,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (precise && !g->has_float64)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
                        g->props.deviceName);
-    /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
-    uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
+    /* the beam pass: float variant, without LOD (see shaders/beam.comp), nor
+     * with the two-frame walk (DEEP 2: its start moved by the beam changed
+     * 0.3% of the terrain4096 overview's pixels on the H200) */
+    uint32_t beam = !precise && !f->lod && f->beam > 1 && rs->deep < 2 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
@@ -852,16 +859,18 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline *p, *pre = NULL;
     vx_gpu_compute_pipeline_desc bd = pd;
+    /* the beam pass reads only the scene and the camera: one pipeline per BVH use and block size */
+    uint64_t bkey = 0xBEA4000u + 2 * beam + (rs->inst_count > 1);
     if (beam) {
         bd.spirv = vx__spirv_beam(&bd.spirv_size);
+        if (rs->alt_beam) bd.spirv = rs->alt_beam, bd.spirv_size = rs->alt_beam_size, bkey += 0x100000u * (rs->alt_tag + 1);
         bd.label = "beam";
-        /* the beam pass reads only the scene and the camera: one pipeline per BVH use and block size */
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
-        if ((r = vx__pipeline_get(g, 0xBEA4000u + 2 * beam + (rs->inst_count > 1), &bd, &pre, err))) return r;
+        if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
     /* getting p may have moved the cache's entries: look pre up again (a hit) */
-    if (beam && (r = vx__pipeline_get(g, 0xBEA4000u + 2 * beam + (rs->inst_count > 1), &bd, &pre, err))) return r;
+    if (beam && (r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,

@@ -16,6 +16,12 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_hits.c)
               LIBS vx_render vx_svo)
   set_tests_properties(test_render_hits PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
 endif()
+# The beam pass against the frame without it (issue 21): same hits, fewer steps.
+if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_beam.c)
+  vx_add_test(test_render_beam SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_beam.c
+              LIBS vx_render vx_svo)
+  set_tests_properties(test_render_beam PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
+endif()
 # vx_render_scene_update_model: edited models' appends against scenes made from scratch.
 if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c)
   vx_add_test(test_render_edit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c LIBS vx_render vx_svo)
