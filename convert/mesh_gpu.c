@@ -12,6 +12,7 @@
 #include "gpuscan.comp.h"
 #include "gpusort.comp.h"
 #include "meshreduce.comp.h"
+#include "meshbuild.comp.h"
 #include "meshintern.comp.h"
 #include "meshvox.comp.h"
 
@@ -19,10 +20,12 @@
 
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
-       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_COUNT };
+       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
+       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_COUNT };
 #define SCAN_LEVELS 4
 
-enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_NUM };
+enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
+       P_NUM = P_BUILD + 13 };
 
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
@@ -32,6 +35,7 @@ struct vx_conv_mesh_gpu {
     vx__buffer buf[B_COUNT];
     VkDescriptorPool pool;
     vx_conv_mesh_gpu_stats stats;
+    vx_conv_mesh_gpu_build build;
 };
 
 typedef struct meshvox_push {
@@ -44,6 +48,9 @@ typedef struct sort_push {
 typedef struct intern_push {
     uint32_t n, attrs, perm;
 } intern_push;
+typedef struct build_push {
+    uint32_t n, level, base, mask;
+} build_push;
 
 /* ---- recording ----------------------------------------------------------------------- */
 
@@ -209,6 +216,8 @@ typedef struct region_job {
     const uint32_t* ids;          /* per cell its tuple's global id (meshintern.comp), or NULL: not interned */
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
+    const vx__svo_pool* pools;    /* per region its node pool built on the GPU, or NULL */
+    bool check_pools;             /* the builders check the pools against their own */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
     const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
@@ -267,7 +276,8 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
-    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads};
+    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads, j->pools ? &j->pools[ri] : NULL,
+                                      j->check_pools};
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -304,6 +314,210 @@ static unsigned bits_for(uint64_t v) {
     return b;
 }
 
+/* ---- the octrees on the GPU (meshbuild.comp) -------------------------------------------------- */
+
+/* Binds the build's buffers; items: level l's children in ITA (src 0) or ITB. */
+static void build_ids(int* ids, int src, int sorted) {
+    static const int base[16] = {B_OKEYS, B_IDS, B_BINFO, B_RINFO, B_ROUT, B_ITA, B_ITB, B_POS,
+                                 B_START, B_NODES, B_TAB, B_MISC, B_KEYS, B_VALS, B_POOL, B_RBASE};
+    memcpy(ids, base, sizeof base);
+    if (src) ids[5] = B_ITB, ids[6] = B_ITA;
+    if (sorted) ids[12] = B_KEYS2, ids[13] = B_VALS2;
+}
+
+static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint64_t n, uint32_t level, uint32_t base,
+                        uint32_t mask, vx_error* err) {
+    int ids[16];
+    build_ids(ids, src, sorted);
+    build_push bp = {(uint32_t)n, level, base, mask};
+    return stage(m, P_BUILD + mode, ids, 16, (n + 255) / 256, &bp, sizeof bp, err);
+}
+
+static void fill(vx_conv_mesh_gpu* m, int id, uint64_t bytes, uint32_t v) {
+    vkCmdFillBuffer(m->g->cmd, m->buf[id].buf, 0, (bytes + 3) & ~3ull, v);
+    barrier(m->g);
+}
+
+/* Builds every region's octree on the GPU from the C interned cells still
+ * on the device (B_OKEYS, B_IDS) and downloads the node pools: *out gets
+ * one vx__svo_pool per region (words in the pool download buffer), or
+ * stays NULL when the CPU builders must build (a hash collision found by
+ * the check, buffers beyond what one binding addresses, depths beyond
+ * max_depth: the CPU builder reports those). */
+static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const vx_conv_mesh_grid* grid, const uint64_t* bm,
+                           const uint32_t* breg, uint32_t C, const size_t* ustart, uint32_t max_depth,
+                           const vx_allocator* a, vx__svo_pool** out, vx_error* err) {
+    vx_gpu* g = m->g;
+    size_t NB = bins->total_bricks, R = bins->region_count;
+    *out = NULL;
+    if (C == 0 || C >= (1u << 27)) return VX_OK; /* order = last cell << 5 | level in 32 bits */
+    const uint64_t max_binding = 0xFFFFFFF0ull;     /* bytes one storage binding addresses */
+    uint64_t cap = (uint64_t)C + 1024;             /* node slots: about C / 2 for a surface */
+    if (cap * 64 > max_binding) cap = max_binding / 64;
+    if ((uint64_t)C * 32 > max_binding) return VX_OK;
+    uint32_t* binfo = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 16);
+    uint32_t* rinfo = (uint32_t*)vx_alloc(a, (R ? R : 1) * 16);
+    uint32_t* rdown = NULL;
+    vx__svo_pool* pools = NULL;
+    vx_result r = VX_OK;
+    if (!binfo || !rinfo) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu bricks", NB);
+        goto done;
+    }
+    uint32_t maxd = 0;
+    uint64_t mask = (1ull << (3 * bins->rb)) - 1;
+    for (size_t b = 0; b < NB; b++) {
+        uint64_t k = bm[b] & mask;
+        binfo[4 * b] = (uint32_t)k, binfo[4 * b + 1] = (uint32_t)(k >> 32), binfo[4 * b + 2] = breg[b], binfo[4 * b + 3] = 0;
+    }
+    for (size_t ri = 0; ri < R; ri++) {
+        vx__mesh_region reg;
+        vx__mesh_region_place(&reg, bm[bins->rstart[ri]] >> (3 * bins->rb), bins->R, grid->size, ri, R);
+        uint32_t mx = reg.size[0] > reg.size[1] ? reg.size[0] : reg.size[1], d = 0;
+        if (reg.size[2] > mx) mx = reg.size[2];
+        while ((1u << d) < mx) d++;
+        if (d > (max_depth ? max_depth : VX_SVO_MAX_DEPTH) || 3 * d > 63) goto done; /* the CPU builder says why */
+        if (d > maxd) maxd = d;
+        rinfo[4 * ri] = d, rinfo[4 * ri + 1] = (uint32_t)ustart[ri], rinfo[4 * ri + 2] = rinfo[4 * ri + 3] = 0;
+    }
+    upload ups[2] = {{B_BINFO, binfo, (uint64_t)NB * 16, 0}, {B_RINFO, rinfo, (uint64_t)R * 16, 0}};
+    if ((r = put_all(m, ups, 2, err)) || (r = ensure(m, B_ROUT, (uint64_t)R * 16, err)) ||
+        (r = ensure(m, B_RBASE, (uint64_t)R * 4, err)) || (r = ensure(m, B_ITA, (uint64_t)C * 32, err)) ||
+        (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
+        (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
+        (r = ensure(m, B_MISC, 16, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
+        (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)))
+        goto done;
+
+    /* level by level: the children of level l are the items, their parents the next items */
+    uint64_t n = C, base = 0;
+    uint32_t level = 0;
+    int src = 0;
+    if ((r = rec_begin(m, err))) goto done;
+    put_record(m, ups, 2);
+    fill(m, B_ROUT, (uint64_t)R * 16, 0);
+    fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
+    if ((r = bstage(m, 0, 1, 0, C, 0, 0, 0, err))) goto done; /* src 1: writes ITA */
+    for (;;) {
+        fill(m, B_POS, (n + 1) * 4, 0);
+        if ((r = bstage(m, 1, src, 0, n, level, 0, 0, err)) || (r = scan(m, B_POS, n + 1, 0, err)) ||
+            (r = bstage(m, 2, src, 0, n, level, 0, 0, err)))
+            goto done;
+        read_u32(m, B_POS, n, 0);
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        uint32_t P;
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], &P, 4, err))) goto done;
+        if (P == 0) break;
+        if (P > n || base + P > cap || level >= maxd) goto done; /* beyond the node buffer: the CPU builds */
+        if ((r = rec_begin(m, err))) goto done;
+        if ((r = bstage(m, 3, src, 0, P, level + 1, (uint32_t)base, (uint32_t)n, err))) goto done;
+        base += P;
+        n = P;
+        src ^= 1;
+        level++;
+    }
+    m->stats.levels = level;
+    m->stats.node_slots = base;
+
+    /* shared subtrees: one slot per (hash, region), the least order there
+     * canonical, every node checked against its canonical node */
+    uint64_t N = base, T = 1024;
+    while (T < 2 * N) T *= 2;
+    if (T * 8 > max_binding) goto done;
+    if ((r = ensure(m, B_TAB, T * 8, err)) || (r = rec_begin(m, err))) goto done;
+    fill(m, B_TAB, T * 8, 0xFFFFFFFFu);
+    fill(m, B_MISC, 16, 0);
+    fill(m, B_POS, (N + 1) * 4, 0);
+    if ((r = bstage(m, 4, 0, 0, N, 0, 0, (uint32_t)(T - 1), err)) || (r = bstage(m, 5, 0, 0, N, 0, 0, 0, err)) ||
+        (r = bstage(m, 6, 0, 0, N, 0, 0, 0, err)) || (r = bstage(m, 7, 0, 0, N, 0, 0, 0, err)) ||
+        (r = scan(m, B_POS, N + 1, 0, err)))
+        goto done;
+    read_u32(m, B_POS, N, 0);
+    read_u32(m, B_MISC, 0, 1);
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    uint32_t KM[2];
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], KM, 8, err))) goto done;
+    uint32_t K = KM[0];
+    if (KM[1] || K > N) goto done; /* two different subtrees hashed alike: the CPU builds */
+    m->stats.nodes = K;
+
+    /* canonical nodes in the builder's order (radix sort by order), pool positions, words */
+    uint64_t W = 0;
+    if (K) {
+        uint64_t ntiles = ((uint64_t)K + 1023) / 1024;
+        if ((uint64_t)K * 11 * 4 > max_binding) goto done;
+        if ((r = ensure(m, B_KEYS, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)K * 4, err)) ||
+            (r = ensure(m, B_KEYS2, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS2, (uint64_t)K * 4, err)) ||
+            (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err)) ||
+            (r = ensure(m, B_POOL, (uint64_t)K * 11 * 4, err)) || (r = rec_begin(m, err)))
+            goto done;
+        if ((r = bstage(m, 8, 0, 0, N, 0, 0, 0, err))) goto done;
+        unsigned obits = bits_for(((uint64_t)C << 5) | 31);
+        int sorted = 0;
+        for (uint32_t pass = 0; 4 * pass < obits && K > 1; pass++)
+            if ((r = sort_pass(m, K, 4 * pass, ntiles, &sorted, err))) goto done;
+        fill(m, B_POS, ((uint64_t)K + 1) * 4, 0);
+        if ((r = bstage(m, 9, 0, sorted, K, 0, 0, 0, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
+            (r = bstage(m, 10, 0, sorted, K, 0, 0, 0, err)) || (r = bstage(m, 11, 0, sorted, K, 0, 0, 0, err)))
+            goto done;
+        read_u32(m, B_POS, K, 0);
+    } else if ((r = rec_begin(m, err))) {
+        goto done;
+    }
+    if ((r = bstage(m, 12, 0, 0, R, 0, 0, 0, err))) goto done;
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    if (K) {
+        uint32_t w32;
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], &w32, 4, err))) goto done;
+        W = w32;
+    }
+    m->stats.pool_words = W;
+    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, total = at_rbase + (uint64_t)R * 4;
+    if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
+    {
+        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
+        VkBufferCopy co = {.srcOffset = 0, .dstOffset = at_rout, .size = (uint64_t)R * 16};
+        VkBufferCopy cb = {.srcOffset = 0, .dstOffset = at_rbase, .size = (uint64_t)R * 4};
+        if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
+        barrier(g);
+    }
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    {
+        const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
+        const uint32_t* words = (const uint32_t*)hb;
+        rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
+        pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
+        if (!rdown || !pools) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
+            goto done;
+        }
+        memcpy(rdown, hb + at_rout, (size_t)R * 16);
+        memcpy(rdown + 4 * R, hb + at_rbase, (size_t)R * 4);
+        const uint32_t* rb = rdown + 4 * R;
+        uint64_t end = W;
+        for (size_t ri = R; ri-- > 0;) { /* a region's words run to the next region's first */
+            vx__svo_pool* p = &pools[ri];
+            const uint32_t* ro = rdown + 4 * ri;
+            p->root = ro[0], p->root_leaf = ro[1] != 0, p->plain = ro[2], p->collapsed = ro[3];
+            if (rb[ri] == 0xFFFFFFFFu) continue; /* no node: the root is a leaf (or the region is empty) */
+            if (rb[ri] > end) goto done;
+            p->words = words + rb[ri];
+            p->count = (size_t)(end - rb[ri]);
+            end = rb[ri];
+        }
+        *out = pools;
+        pools = NULL;
+    }
+done:
+    vx_free(a, binfo);
+    vx_free(a, rinfo);
+    vx_free(a, rdown);
+    vx_free(a, pools);
+    return r;
+}
+
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
                               const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
                               vx__mesh_sink sink, void* user, vx_error* err) {
@@ -327,6 +541,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t* cstart = NULL;
     size_t* ustart = NULL;
     const uint32_t *oids = NULL, *outab = NULL; /* interned tuples, in the download buffer */
+    vx__svo_pool* pools = NULL; /* per region, built on the GPU (words in the pool download buffer) */
     uint32_t* breg = NULL;
     size_t* mine = NULL;
     size_t mine_count = 0;
@@ -608,7 +823,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.download = vx_time_now() - t0;
 
     /* regions: cells are sorted by brick index, regions are runs of bricks */
-    t0 = vx_time_now();
     {
         size_t c = 0;
         for (size_t ri = 0; ri < bins.region_count; ri++) {
@@ -625,14 +839,25 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             }
             ustart[bins.region_count] = u;
         }
+    }
+    /* the octrees on the GPU, down to their node pools */
+    t0 = vx_time_now();
+    if (intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag) {
+        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, desc->build.max_depth, a, &pools, err))) goto done;
+        if (!pools) m->stats.build_fallback = 1;
+    }
+    m->stats.build = vx_time_now() - t0;
+    t0 = vx_time_now();
+    {
         /* under MPI each process builds its share's regions; the GPU voxelized
          * them all (a few percent of the conversion; the builds are the cost) */
         size_t mine_bricks;
         if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
                                         err)))
             goto done;
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, 1, mine, mine_count,
-                        attrs, sink, user, a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools,
+                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, false, 1, mine, mine_count, attrs, sink, user, a,
+                        PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
             long nc = sysconf(_SC_NPROCESSORS_ONLN);
@@ -673,6 +898,7 @@ done:
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);
+    vx_free(a, pools);
     vx_free(a, mine);
     vx__mesh_bins_free(a, &bins);
     return r;
@@ -733,6 +959,12 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         vx_conv_mesh_gpu_destroy(m);
         return r;
     }
+    for (uint32_t mode = 0; mode < 13; mode++)
+        if ((r = make_pipe(m, P_BUILD + (int)mode, vx__meshbuild_spv_arr, sizeof vx__meshbuild_spv_arr, mode, 16,
+                           sizeof(build_push), "meshgpu.build", err))) {
+            vx_conv_mesh_gpu_destroy(m);
+            return r;
+        }
     VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * 16};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 512,
@@ -751,6 +983,10 @@ const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg
 
 void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out) {
     if (mg && out) *out = mg->stats;
+}
+
+void vx_conv_mesh_gpu_set_build(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_build mode) {
+    if (mg) mg->build = mode;
 }
 
 void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* m) {

@@ -810,6 +810,7 @@ static size_t pool_bound(size_t n, uint32_t depth) {
     return words < 4.0e9 ? (size_t)words : 0;
 }
 
+static bool lay_run(lay_job* j, bld* b, outw* o);
 /* Starts the layout thread over b's pool, allocated at the bound; false
  * (and nothing started) when either cannot be had: the layout then runs
  * after the build as usual. */
@@ -819,6 +820,12 @@ static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
     b->pool = (uint32_t*)vx_alloc(b->a, words * sizeof *b->pool);
     if (!b->pool) return false;
     b->cappool = words;
+    return lay_run(j, b, o);
+}
+
+/* Starts the layout thread over b's pool as it is (allocated at its final
+ * size: it never moves); false when no thread could be started. */
+static bool lay_run(lay_job* j, bld* b, outw* o) {
     j->o = o;
     atomic_init(&j->pub, 0);
     atomic_init(&j->stop, false);
@@ -916,6 +923,157 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
         if (m->normal) m->normal[i] = r->normal;
         if (m->material) m->material[i] = r->material;
         if (m->density) m->density[i] = r->density;
+    }
+    return true;
+}
+
+/* ---- a tree built by the caller (vx__svo_interned.pool) ------------------------------------- */
+
+/* Takes the caller's pool (the streaming pass's nodes, in its order): each
+ * node checked (masks, children in range, node children earlier nodes), its
+ * representative computed and interned as finalize() does, and published
+ * to the layout thread when one runs. b's tuples are interned (ids =
+ * tuple ids); in the direct case leaf children become their values. */
+static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, outw* o) {
+    size_t cnt = p->count;
+    if (cnt >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
+        return false;
+    }
+    uint8_t* isnode = (uint8_t*)vx_calloc(b->a, cnt / 8 + 1, 1);
+    b->pool = (uint32_t*)vx_alloc(b->a, (cnt ? cnt : 1) * sizeof *b->pool);
+    if (!isnode || !b->pool) {
+        vx_free(b->a, isnode);
+        return oom(b, "node pool");
+    }
+    b->cappool = cnt;
+    if (thread && cnt) {
+        b->pub = NULL;
+        lay_run(lj, b, o); /* no thread: the layout runs afterwards */
+    }
+    const uint32_t* w = p->words;
+    size_t off = 0;
+    bool ok = true;
+    while (off < cnt) {
+        uint32_t hdr = w[off], valid = hdr & 0xFFu, leaf = (hdr >> 8) & 0xFFu;
+        unsigned nk = vx__popc8(valid);
+        if (valid == 0 || (hdr >> 16) || (leaf & ~valid) || off + N_KIDS + nk > cnt) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: header 0x%x", off, hdr);
+            ok = false;
+            break;
+        }
+        uint32_t ids[8], kids[8];
+        unsigned j = 0;
+        for (unsigned oc = 0; oc < 8 && ok; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            uint32_t ref = w[off + N_KIDS + j];
+            if (leaf >> oc & 1u) {
+                if (ref >= b->nrec) {
+                    b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: tuple %u of %zu", off,
+                                      ref, b->nrec);
+                    ok = false;
+                    break;
+                }
+                kids[j] = ids[j] = b->direct ? rec_value(b->attrs, &b->recs[ref]) : ref;
+            } else {
+                if (ref >= off || !(isnode[ref >> 3] >> (ref & 7u) & 1u)) {
+                    b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                      "svo build: pool node at word %zu: child %u is not an earlier node", off, ref);
+                    ok = false;
+                    break;
+                }
+                kids[j] = ref;
+                ids[j] = b->pool[ref + N_REP];
+            }
+            j++;
+        }
+        if (!ok) break;
+        uint32_t rep = b->attrs ? representative(b, ids, nk) : 0;
+        if (rep == UINT32_MAX && !b->direct) {
+            ok = false;
+            break;
+        }
+        uint32_t* n = b->pool + off;
+        n[N_HDR] = hdr;
+        n[N_REP] = rep;
+        n[N_BLOCK] = NO_BLOCK;
+        memcpy(n + N_KIDS, kids, nk * sizeof *kids);
+        isnode[off >> 3] |= (uint8_t)(1u << (off & 7u));
+        off += N_KIDS + nk;
+        b->npool = off;
+        b->nnodes++;
+        if (b->pub) atomic_store_explicit(b->pub, off, memory_order_release);
+    }
+    if (ok) {
+        b->have_root = true;
+        b->root_is_leaf = p->root_leaf;
+        b->root_plain = p->plain;
+        b->ncollapsed = p->collapsed;
+        if (p->root_leaf) {
+            if (p->root >= b->nrec || cnt) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool of %zu words with a leaf root %u", cnt,
+                                  p->root);
+                ok = false;
+            } else {
+                b->root = b->direct ? rec_value(b->attrs, &b->recs[p->root]) : p->root;
+            }
+        } else if (p->root >= cnt || !(isnode[p->root >> 3] >> (p->root & 7u) & 1u)) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool root %u is not a node", p->root);
+            ok = false;
+        } else {
+            b->root = p->root;
+        }
+    }
+    vx_free(b->a, isnode);
+    return ok;
+}
+
+/* The builder's own pool against the caller's: header and children of each
+ * node, the root and the counts; the first difference fails, named with the
+ * node's height (1: every child a leaf). */
+static bool pool_check(bld* b, const vx__svo_pool* p) {
+    uint8_t* ht = (uint8_t*)vx_calloc(b->a, b->npool ? b->npool : 1, 1);
+    if (!ht) return oom(b, "pool check");
+    size_t off = 0;
+    const char* what = NULL;
+    while (off < b->npool) {
+        const uint32_t* n = b->pool + off;
+        uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+        unsigned nk = vx__popc8(valid), h = 1;
+        for (unsigned j = 0, oc = 0; oc < 8; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            if (!(leaf >> oc & 1u) && ht[n[N_KIDS + j]] + 1u > h) h = ht[n[N_KIDS + j]] + 1u;
+            j++;
+        }
+        ht[off] = (uint8_t)h;
+        if (off + N_KIDS + nk > p->count) what = "missing";
+        else if (p->words[off] != n[N_HDR]) what = "header";
+        else {
+            for (unsigned j = 0, oc = 0; oc < 8 && !what; oc++) {
+                if (!(valid >> oc & 1u)) continue;
+                uint32_t mine = n[N_KIDS + j], theirs = p->words[off + N_KIDS + j];
+                if ((leaf >> oc & 1u) && b->direct) theirs = theirs < b->nrec ? rec_value(b->attrs, &b->recs[theirs]) : ~mine;
+                if (mine != theirs) what = (leaf >> oc & 1u) ? "leaf child's tuple" : "child node id";
+                j++;
+            }
+        }
+        if (what) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                              "svo build: the given pool differs from the builder's at node %zu (height %u): %s", off, h, what);
+            vx_free(b->a, ht);
+            return false;
+        }
+        off += N_KIDS + nk;
+    }
+    vx_free(b->a, ht);
+    uint32_t theirs = p->root; /* a leaf root: a tuple id, the builder's a value when direct */
+    if (p->root_leaf && b->direct) theirs = p->root < b->nrec ? rec_value(b->attrs, &b->recs[p->root]) : ~b->root;
+    if (p->count != b->npool) what = "pool size";
+    else if (p->root_leaf != b->root_is_leaf || theirs != b->root) what = "root";
+    else if (p->plain != b->root_plain || p->collapsed != b->ncollapsed) what = "node counts";
+    if (what) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given pool differs from the builder's: %s", what);
+        return false;
     }
     return true;
 }
@@ -1037,7 +1195,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     }
     /* pass 1: check entries, intern records (into packed[i] for now) */
     {
-        bool sorted = true;
+        bool sorted = true, strict = true;
         uint64_t prev = 0;
         rec last;
         uint32_t last_id = UINT32_MAX;
@@ -1113,6 +1271,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 goto done;
             }
             sorted = sorted && k >= prev;
+            strict = strict && (i == 0 || k > prev);
             prev = k;
             uint32_t id = 0;
             if (pre) {
@@ -1143,6 +1302,18 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
                 goto done;
             }
+        }
+        /* the tree built by the caller: representatives and layout only */
+        if (pre && pre->pool && !pre->check_pool) {
+            if (!strict) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: a given pool needs strictly increasing keys");
+                goto done;
+            }
+            st.voxels = n;
+            if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &o)) { res = b.fail; goto done; }
+            lay_join(&lj, &b, true);
+            if (b.fail) { res = b.fail; goto done; }
+            goto built;
         }
         /* pass 2: pack (key, level, record) and sort by the key bits only */
         unsigned ab = bits_for(b.nrec ? b.nrec - 1 : 0), lb = in->level ? 5 : 0, kb = 3 * depth;
@@ -1267,7 +1438,9 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
         lay_join(&lj, &b, true);
         if (b.fail) { res = b.fail; goto done; }
+        if (pre && pre->pool && !pool_check(&b, pre->pool)) { res = b.fail; goto done; }
     }
+built:
     vx_free(b.a, packed);
     packed = NULL;
     vx_free(b.a, ents);
