@@ -567,7 +567,18 @@ typedef struct outw {
     uint32_t* lb_key;
     uint32_t* lb_pos;
     size_t lbcap, nlb;
+    /* the uniform runs in runh (len copies of one record), by record: which
+     * lengths are stored and where, so that a short uniform run finds a
+     * longer one with one probe instead of one per length (run_intern) */
+    struct uni_run* uni;
+    size_t unicap, nuni;
 } outw;
+
+typedef struct uni_run {
+    uint32_t key;  /* the record (a value when direct: any 32 bits) */
+    uint32_t lens; /* bit len - 1: a run of len copies is stored; bit 31: the entry is used */
+    uint32_t start[8];
+} uni_run;
 
 static bool out_push(bld* b, outw* o, uint32_t v) {
     if (o->n >= 0xFFFFFFF0u) {
@@ -582,21 +593,47 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
 static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add);
 
+/* The uniform-run entry of record v (claimed when absent); NULL when the
+ * table cannot grow (b->fail set). */
+static uni_run* uni_find(bld* b, outw* o, uint32_t v) {
+    if ((o->nuni + 1) * 2 > o->unicap) {
+        size_t ncap = o->unicap ? o->unicap * 2 : 1024;
+        uni_run* t = (uni_run*)vx_calloc(b->a, ncap, sizeof *t);
+        if (!t) return oom(b, "uniform runs"), NULL;
+        for (size_t i = 0; i < o->unicap; i++)
+            if (o->uni[i].lens) {
+                size_t q = (size_t)mix64(o->uni[i].key) & (ncap - 1);
+                while (t[q].lens) q = (q + 1) & (ncap - 1);
+                t[q] = o->uni[i];
+            }
+        vx_free(b->a, o->uni);
+        o->uni = t;
+        o->unicap = ncap;
+    }
+    size_t q = (size_t)mix64(v) & (o->unicap - 1);
+    while (o->uni[q].lens && o->uni[q].key != v) q = (q + 1) & (o->unicap - 1);
+    if (!o->uni[q].lens) {
+        o->uni[q].key = v;
+        o->uni[q].lens = 1u << 31;
+        o->nuni++;
+    }
+    return &o->uni[q];
+}
+
 /* A run of one repeated value is also found inside any longer run of that
  * value (records are indexed from the run start), which is common with
- * palette colours: try the longer uniform runs first. */
+ * palette colours: try the longer uniform runs first, longest first (the
+ * uniform-run table says which are stored: the probes of runh for each
+ * length, which that table replaces, found the same runs). */
 static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
     if (b->dag && n < 8) {
         bool uni = true;
         for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
         if (uni) {
-            uint32_t u[8];
-            for (unsigned i = 0; i < 8; i++) u[i] = ids[0];
-            for (unsigned len = 8; len > n; len--) {
-                uint32_t st = run_intern_exact(b, o, u, len, false);
-                if (st != UINT32_MAX) return st;
-                if (b->fail) return UINT32_MAX; /* the run table could not grow: not "absent" */
-            }
+            uni_run* e = uni_find(b, o, ids[0]);
+            if (!e) return UINT32_MAX;
+            uint32_t longer = (e->lens & 0xFFu) >> n; /* bit k: length n + 1 + k */
+            if (longer) return e->start[n + (31u - (unsigned)__builtin_clz(longer))];
         }
     }
     return run_intern_exact(b, o, ids, n, true);
@@ -643,6 +680,14 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
     } else if (b->dag) {
         o->runh[j] = (h & 0xFFFFFFFF00000000ull) | ((uint64_t)n << 28) | ((uint32_t)o->nid + 1);
         o->nrun++;
+        bool uni = true;
+        for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
+        if (uni) { /* the first stored run of these n copies: the one runh finds from now on */
+            uni_run* e = uni_find(b, o, ids[0]);
+            if (!e) return UINT32_MAX;
+            e->lens |= 1u << (n - 1);
+            e->start[n - 1] = (uint32_t)o->nid;
+        }
     }
     if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
     uint32_t st = (uint32_t)o->nid;
@@ -1500,6 +1545,7 @@ done:
     vx_free(b.a, o.runh);
     vx_free(b.a, o.lb_key);
     vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
 }
@@ -1636,6 +1682,7 @@ done:
     vx_free(b.a, o.runh);
     vx_free(b.a, o.lb_key);
     vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
 }

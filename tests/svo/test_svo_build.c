@@ -772,7 +772,7 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
     REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
     vx_svo_voxels bare = in;
     bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
-    vx__svo_interned pre = {ids, tab, ntab, thread, threads};
+    vx__svo_interned pre = {ids, tab, ntab, thread, threads, NULL, false};
     vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
@@ -824,7 +824,7 @@ static void test_interned(void) {
     interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3);
     uint64_t k = 0;
     vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
-    vx__svo_interned pre = {NULL, NULL, 0, false, 0};
+    vx__svo_interned pre = {NULL, NULL, 0, false, 0, NULL, false};
     vx_svo_model m;
     vx_error e;
     CHECK(vx__svo_build_interned(NULL, &in, &pre, &m, NULL, &e) == VX_ERR_INVALID_ARG);
