@@ -992,6 +992,23 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, o
         return oom(b, "node pool");
     }
     b->cappool = cnt;
+    /* the layout's tables and outputs sized for the nodes to come (at most
+     * one run and one block per node, at most the pool's words), not grown
+     * and rehashed step by step; where an allocation fails they grow as usual */
+    if (b->dag && cnt && !o->runh && !o->lb_key) {
+        size_t nodes = cnt / (N_KIDS + 1) + 2, cap = 4096;
+        while (cap < 2 * nodes + 2) cap *= 2;
+        o->runh = (uint64_t*)vx_calloc(b->a, cap, sizeof *o->runh);
+        if (o->runh) o->runcap = cap;
+        o->lb_key = (uint32_t*)vx_calloc(b->a, cap, sizeof *o->lb_key);
+        o->lb_pos = o->lb_key ? (uint32_t*)vx_alloc(b->a, cap * sizeof *o->lb_pos) : NULL;
+        if (o->lb_pos) o->lbcap = cap;
+        else vx_free(b->a, o->lb_key), o->lb_key = NULL;
+    }
+    if (cnt) {
+        vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
+        vx_grow(b->a, (void**)&o->ids, &o->capid, cnt, sizeof *o->ids);
+    }
     if (thread && cnt) {
         b->pub = NULL;
         lay_run(lj, b, o); /* no thread: the layout runs afterwards */
