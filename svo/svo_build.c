@@ -701,9 +701,17 @@ static inline bool node_has_block(const bld* b, const uint32_t* n) {
     return (valid & ~leaf) != 0 || b->attrs != 0;
 }
 
+/* What a layout pass does to each node: all of it (LAY_ALL), or one of its
+ * two halves on two threads (the pool path, pool_take): LAY_RUNS interns the
+ * node's attribute run and leaves its index in the node's N_BLOCK word,
+ * LAY_BLOCKS then writes the block from it. The runs depend only on the
+ * representatives, the blocks only on the runs and the children's blocks,
+ * and each half keeps the pool order: the words are the one pass's. */
+enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
+
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
-static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
+static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
     uint32_t limit = b->limit;
     size_t off = *off_io;
     while (off < end) {
@@ -727,15 +735,22 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
             } else {
                 const uint32_t* c = b->pool + ref;
                 runids[j - 1] = c[N_REP];
-                cb[nn] = c[N_BLOCK];
+                if (mode != LAY_RUNS) cb[nn] = c[N_BLOCK]; /* the other thread writes it meanwhile */
                 cd[nn] = c[N_HDR];
                 nn++;
             }
         }
         uint32_t a = 0;
-        if (b->attrs) {
+        if (b->attrs && mode == LAY_BLOCKS) {
+            a = n[N_BLOCK];
+        } else if (b->attrs) {
             a = run_intern(b, o, runids, nk);
             if (a == UINT32_MAX) return false;
+        }
+        if (mode == LAY_RUNS) {
+            n[N_BLOCK] = a;
+            off = next;
+            continue;
         }
         if (nn == 0 && b->dag) {
             /* the block is the word `a` alone, position-independent: reuse a
@@ -818,7 +833,10 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
 typedef struct lay_job {
     bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
     outw* o;
-    _Atomic size_t pub;
+    _Atomic size_t pub;   /* pool words the builder has appended (the first stage follows these) */
+    _Atomic size_t* src;  /* what this thread follows: &pub, or the runs stage's done */
+    _Atomic size_t done;  /* pool words this thread is through */
+    int mode;             /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
     atomic_bool stop;
     vx_error err;
     pthread_t th;
@@ -830,9 +848,10 @@ static void* lay_main(void* arg) {
     size_t off = 0;
     for (;;) {
         bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
-        size_t end = atomic_load_explicit(&j->pub, memory_order_acquire);
+        size_t end = atomic_load_explicit(j->src, memory_order_acquire);
         if (off < end) {
-            if (!layout_nodes(&j->lb, j->o, &off, end)) break;
+            if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
+            atomic_store_explicit(&j->done, off, memory_order_release);
             continue;
         }
         if (stop) break;
@@ -868,22 +887,42 @@ static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
     return lay_run(j, b, o);
 }
 
-/* Starts the layout thread over b's pool as it is (allocated at its final
- * size: it never moves); false when no thread could be started. */
-static bool lay_run(lay_job* j, bld* b, outw* o) {
+/* Prepares j to follow src in mode; starts its thread (false: none started). */
+static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mode) {
     j->o = o;
-    atomic_init(&j->pub, 0);
+    atomic_init(&j->pub, 0); /* j->done: initialised by the caller (another thread may read it first) */
     atomic_init(&j->stop, false);
+    j->src = src ? src : &j->pub;
+    j->mode = mode;
     memset(&j->err, 0, sizeof j->err);
     j->lb = *b;
     j->lb.err = &j->err;
     j->lb.fail = VX_OK;
+    j->started = pthread_create(&j->th, NULL, lay_main, j) == 0;
+    return j->started;
+}
+
+/* Starts the layout thread over b's pool as it is (allocated at its final
+ * size: it never moves); false when no thread could be started. */
+static bool lay_run(lay_job* j, bld* b, outw* o) {
+    atomic_init(&j->done, 0);
+    if (!lay_thread(j, b, o, NULL, LAY_ALL)) return false; /* the pool stays, growable as usual */
     b->pub = &j->pub;
-    if (pthread_create(&j->th, NULL, lay_main, j) != 0) {
-        b->pub = NULL; /* the pool stays, growable as usual */
+    return true;
+}
+
+static void lay_join(lay_job* j, bld* b, bool propagate);
+/* The layout in two stages on two threads, runs (ja) then blocks (jb),
+ * both following the builder; one thread (lay_run) when the second cannot
+ * be started. The pool must not move. */
+static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
+    atomic_init(&ja->done, 0);
+    if (!lay_thread(jb, b, o, &ja->done, LAY_BLOCKS)) return lay_run(ja, b, o);
+    if (!lay_thread(ja, b, o, NULL, LAY_RUNS)) {
+        lay_join(jb, b, false); /* it has laid nothing out: b->laid stays 0 */
         return false;
     }
-    j->started = true;
+    b->pub = &ja->pub;
     return true;
 }
 
@@ -905,7 +944,7 @@ static void lay_join(lay_job* j, bld* b, bool propagate) {
 /* The blocks of the nodes not laid out yet, then the root descriptor. */
 static bool layout(bld* b, outw* o) {
     uint32_t limit = b->limit;
-    if (!layout_nodes(b, o, &b->laid, b->npool)) return false;
+    if (!layout_nodes(b, o, &b->laid, b->npool, LAY_ALL)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -979,7 +1018,7 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
  * representative computed and interned as finalize() does, and published
  * to the layout thread when one runs. b's tuples are interned (ids =
  * tuple ids); in the direct case leaf children become their values. */
-static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, outw* o) {
+static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, lay_job* lj2, outw* o) {
     size_t cnt = p->count;
     if (cnt >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
@@ -1011,7 +1050,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, o
     }
     if (thread && cnt) {
         b->pub = NULL;
-        lay_run(lj, b, o); /* no thread: the layout runs afterwards */
+        lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
     }
     const uint32_t* w = p->words;
     size_t off = 0;
@@ -1245,8 +1284,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     size_t* cnt = NULL;
     outw o;
     memset(&o, 0, sizeof o);
-    lay_job lj;
-    lj.started = false;
+    lay_job lj, lj2; /* the layout thread, or the layout's runs and blocks stages (pool_take) */
+    lj.started = lj2.started = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
@@ -1372,8 +1411,9 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 goto done;
             }
             st.voxels = n;
-            if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &o)) { res = b.fail; goto done; }
-            lay_join(&lj, &b, true);
+            if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &lj2, &o)) { res = b.fail; goto done; }
+            lay_join(&lj, &b, true); /* the runs stage first: the blocks stage follows it */
+            lay_join(&lj2, &b, true);
             if (b.fail) { res = b.fail; goto done; }
             goto built;
         }
@@ -1552,6 +1592,7 @@ finish:
     res = VX_OK;
 done:
     lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
+    lay_join(&lj2, &b, false);
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);
