@@ -175,9 +175,10 @@ int main(int argc, char** argv) {
                cells_only ? "cell list (CPU)" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "octree builds (CPU)" : "representatives and layout (CPU)",
                med[7] * 1e3);
         printf("  octree build (--build %s): %llu parents made on the GPU over %u levels, %llu distinct nodes, %llu pool "
-               "words downloaded%s\n",
+               "words downloaded, %llu new representative tuples%s\n",
                build == VX_CONV_MESH_GPU_BUILD_GPU ? "gpu" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "cpu" : "check",
                (unsigned long long)gs.node_slots, gs.levels, (unsigned long long)gs.nodes, (unsigned long long)gs.pool_words,
+               (unsigned long long)gs.rep_tuples,
                gs.build_fallback ? "; FELL BACK to the CPU builders" : "");
         printf("  tuples interned for the builders: %llu distinct (per region) of %llu cells, %u sort passes\n",
                (unsigned long long)gs.tuples, (unsigned long long)gs.cells, gs.intern_passes);

@@ -21,11 +21,11 @@
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
-       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_COUNT };
+       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_COUNT };
 #define SCAN_LEVELS 4
 
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
-       P_NUM = P_BUILD + 13 };
+       P_NUM = P_BUILD + 18 };
 
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
@@ -36,6 +36,7 @@ struct vx_conv_mesh_gpu {
     VkDescriptorPool pool;
     vx_conv_mesh_gpu_stats stats;
     vx_conv_mesh_gpu_build build;
+    uint32_t build_attrs; /* meshbuild.comp's channels (1 rgba, 2 normal, 4 material; 0: no representatives) */
 };
 
 typedef struct meshvox_push {
@@ -49,7 +50,7 @@ typedef struct intern_push {
     uint32_t n, attrs, perm;
 } intern_push;
 typedef struct build_push {
-    uint32_t n, level, base, mask;
+    uint32_t n, level, base, mask, attrs;
 } build_push;
 
 /* ---- recording ----------------------------------------------------------------------- */
@@ -217,6 +218,8 @@ typedef struct region_job {
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
     const vx__svo_pool* pools;    /* per region its node pool built on the GPU, or NULL */
+    const uint32_t* ext;          /* with pools: per region its representatives' new tuples, then [R + r] the first */
+    const uint32_t* ext_tuples;   /* those tuples, 4 words each (rgba, normal, material, region) */
     bool check_pools;             /* the builders check the pools against their own */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
@@ -253,7 +256,8 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     /* the region's tuples and the cells' ids into them, for the builder */
     uint32_t* rec = NULL;
     vx__svo_rec* tab = NULL;
-    size_t u0 = j->ids ? j->ustart[ri] : 0, nu = j->ids ? j->ustart[ri + 1] - u0 : 0;
+    size_t u0 = j->ids ? j->ustart[ri] : 0, nc = j->ids ? j->ustart[ri + 1] - u0 : 0;
+    size_t ne = j->pools && j->ext ? j->ext[ri] : 0, nu = nc + ne; /* the cells' tuples, then the representatives' new ones */
     if (j->ids) {
         rec = (uint32_t*)vx_alloc(j->alloc, n * 4);
         tab = (vx__svo_rec*)vx_calloc(j->alloc, nu ? nu : 1, sizeof *tab);
@@ -262,7 +266,7 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
         }
         for (size_t u = 0; u < nu; u++) {
-            const uint32_t* t = j->utab + 4 * (u0 + u);
+            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u) : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
             tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
         }
         for (size_t i = 0; i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
@@ -317,9 +321,11 @@ static unsigned bits_for(uint64_t v) {
 /* ---- the octrees on the GPU (meshbuild.comp) -------------------------------------------------- */
 
 /* Binds the build's buffers; items: level l's children in ITA (src 0) or ITB. */
+#define BUILD_BINDINGS 21
 static void build_ids(int* ids, int src, int sorted) {
-    static const int base[16] = {B_OKEYS, B_IDS, B_BINFO, B_RINFO, B_ROUT, B_ITA, B_ITB, B_POS,
-                                 B_START, B_NODES, B_TAB, B_MISC, B_KEYS, B_VALS, B_POOL, B_RBASE};
+    static const int base[BUILD_BINDINGS] = {B_OKEYS, B_IDS,  B_BINFO, B_RINFO, B_ROUT, B_ITA,  B_ITB,
+                                             B_POS,   B_START, B_NODES, B_TAB,  B_MISC, B_KEYS, B_VALS,
+                                             B_POOL,  B_RBASE, B_NREP,  B_UTAB, B_TTAB, B_RNEW, B_EXT};
     memcpy(ids, base, sizeof base);
     if (src) ids[5] = B_ITB, ids[6] = B_ITA;
     if (sorted) ids[12] = B_KEYS2, ids[13] = B_VALS2;
@@ -327,10 +333,10 @@ static void build_ids(int* ids, int src, int sorted) {
 
 static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint64_t n, uint32_t level, uint32_t base,
                         uint32_t mask, vx_error* err) {
-    int ids[16];
+    int ids[BUILD_BINDINGS];
     build_ids(ids, src, sorted);
-    build_push bp = {(uint32_t)n, level, base, mask};
-    return stage(m, P_BUILD + mode, ids, 16, (n + 255) / 256, &bp, sizeof bp, err);
+    build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs};
+    return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
 }
 
 static void fill(vx_conv_mesh_gpu* m, int id, uint64_t bytes, uint32_t v) {
@@ -345,11 +351,18 @@ static void fill(vx_conv_mesh_gpu* m, int id, uint64_t bytes, uint32_t v) {
  * the check, buffers beyond what one binding addresses, depths beyond
  * max_depth: the CPU builder reports those). */
 static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const vx_conv_mesh_grid* grid, const uint64_t* bm,
-                           const uint32_t* breg, uint32_t C, const size_t* ustart, uint32_t max_depth,
-                           const vx_allocator* a, vx__svo_pool** out, vx_error* err) {
+                           const uint32_t* breg, uint32_t C, const size_t* ustart, uint32_t U, uint32_t attrs,
+                           uint32_t max_depth, const vx_allocator* a, vx__svo_pool** out, uint32_t** out_ext,
+                           const uint32_t** out_tuples, vx_error* err) {
     vx_gpu* g = m->g;
     size_t NB = bins->total_bricks, R = bins->region_count;
     *out = NULL;
+    *out_ext = NULL;
+    /* the representatives too, for the mesh's channels (the tuples are interned: U of them) */
+    m->build_attrs = U ? ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
+                             ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u)
+                       : 0u;
+    if (attrs & ~(uint32_t)(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL)) m->build_attrs = 0;
     if (C == 0 || C >= (1u << 27)) return VX_OK; /* order = last cell << 5 | level in 32 bits */
     const uint64_t max_binding = 0xFFFFFFF0ull;     /* bytes one storage binding addresses */
     uint64_t cap = (uint64_t)C + 1024;             /* node slots: about C / 2 for a surface */
@@ -378,7 +391,8 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         while ((1u << d) < mx) d++;
         if (d > (max_depth ? max_depth : VX_SVO_MAX_DEPTH) || 3 * d > 63) goto done; /* the CPU builder says why */
         if (d > maxd) maxd = d;
-        rinfo[4 * ri] = d, rinfo[4 * ri + 1] = (uint32_t)ustart[ri], rinfo[4 * ri + 2] = rinfo[4 * ri + 3] = 0;
+        rinfo[4 * ri] = d, rinfo[4 * ri + 1] = (uint32_t)ustart[ri], rinfo[4 * ri + 3] = 0;
+        rinfo[4 * ri + 2] = (uint32_t)(ustart[ri + 1] - ustart[ri]); /* the region's tuples: its new ones follow */
     }
     upload ups[2] = {{B_BINFO, binfo, (uint64_t)NB * 16, 0}, {B_RINFO, rinfo, (uint64_t)R * 16, 0}};
     if ((r = put_all(m, ups, 2, err)) || (r = ensure(m, B_ROUT, (uint64_t)R * 16, err)) ||
@@ -386,7 +400,10 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
         (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
         (r = ensure(m, B_MISC, 16, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
-        (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)))
+        (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)) ||
+        (r = ensure(m, B_NREP, m->build_attrs ? cap * 16 : 16, err)) || (r = ensure(m, B_UTAB, 16, err)) ||
+        (r = ensure(m, B_TTAB, 16, err)) || (r = ensure(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, err)) ||
+        (r = ensure(m, B_EXT, 16, err)))
         goto done;
 
     /* level by level: the children of level l are the items, their parents the next items */
@@ -442,15 +459,30 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     m->stats.nodes = K;
 
     /* canonical nodes in the builder's order (radix sort by order), pool positions, words */
-    uint64_t W = 0;
+    uint64_t W = 0, E = 0;
+    uint64_t T2 = 1024; /* the tuple table: the cells' tuples and the representatives */
+    while (T2 < 2 * ((uint64_t)U + K)) T2 *= 2;
+    if (m->build_attrs && (T2 * 8 > max_binding || (uint64_t)U + N >= 0xFFFFFFF0u)) goto done;
     if (K) {
         uint64_t ntiles = ((uint64_t)K + 1023) / 1024;
         if ((uint64_t)K * 11 * 4 > max_binding) goto done;
         if ((r = ensure(m, B_KEYS, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)K * 4, err)) ||
             (r = ensure(m, B_KEYS2, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS2, (uint64_t)K * 4, err)) ||
             (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err)) ||
-            (r = ensure(m, B_POOL, (uint64_t)K * 11 * 4, err)) || (r = rec_begin(m, err)))
+            (r = ensure(m, B_POOL, (uint64_t)K * 11 * 4, err)) ||
+            (m->build_attrs && ((r = ensure(m, B_TTAB, T2 * 8, err)) || (r = ensure(m, B_EXT, (uint64_t)K * 16, err)))) ||
+            (r = rec_begin(m, err)))
             goto done;
+        if (m->build_attrs) { /* the representatives' ids: the region's tuple where equal, else a new one */
+            fill(m, B_TTAB, T2 * 8, 0xFFFFFFFFu);
+            fill(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, 0);
+            uint32_t tm = (uint32_t)(T2 - 1);
+            if ((r = bstage(m, 13, 0, 0, U, 0, U, tm, err)) || (r = bstage(m, 14, 0, 0, N, 0, U, tm, err)) ||
+                (r = bstage(m, 15, 0, 0, N, 0, U, tm, err)) || (r = bstage(m, 16, 0, 0, 1, (uint32_t)R, U, tm, err)) ||
+                (r = bstage(m, 17, 0, 0, N, (uint32_t)R, U, tm, err)))
+                goto done;
+            read_u32(m, B_RNEW, (uint64_t)R * 2, 1);
+        }
         if ((r = bstage(m, 8, 0, 0, N, 0, 0, 0, err))) goto done;
         unsigned obits = bits_for(((uint64_t)C << 5) | 31);
         int sorted = 0;
@@ -467,12 +499,16 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     if ((r = bstage(m, 12, 0, 0, R, 0, 0, 0, err))) goto done;
     if ((r = vx__cmd_submit_wait(g, err))) goto done;
     if (K) {
-        uint32_t w32;
-        if ((r = vx__buffer_download(g, &m->buf[B_READ], &w32, 4, err))) goto done;
-        W = w32;
+        uint32_t we[2];
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], we, 8, err))) goto done;
+        W = we[0];
+        E = m->build_attrs ? we[1] : 0;
+        if (E > K) goto done;
     }
     m->stats.pool_words = W;
-    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, total = at_rbase + (uint64_t)R * 4;
+    m->stats.rep_tuples = E;
+    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
+             at_ext = at_rnew + (uint64_t)R * 8, total = at_ext + E * 16;
     if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
     {
         VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
@@ -481,6 +517,12 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
         vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
         vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
+        if (m->build_attrs && K) {
+            VkBufferCopy cn = {.srcOffset = 0, .dstOffset = at_rnew, .size = (uint64_t)R * 8};
+            VkBufferCopy ce = {.srcOffset = 0, .dstOffset = at_ext, .size = E * 16};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_RNEW].buf, m->buf[B_PDOWN].buf, 1, &cn);
+            if (E) vkCmdCopyBuffer(g->cmd, m->buf[B_EXT].buf, m->buf[B_PDOWN].buf, 1, &ce);
+        }
         barrier(g);
     }
     if ((r = vx__cmd_submit_wait(g, err))) goto done;
@@ -488,6 +530,14 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
         const uint32_t* words = (const uint32_t*)hb;
         rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
+        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 2 + 1, 4); /* per region: new tuples, first one */
+        if (!rext) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
+            goto done;
+        }
+        if (m->build_attrs && K) memcpy(rext, hb + at_rnew, (size_t)R * 8);
+        *out_ext = rext;
+        *out_tuples = (const uint32_t*)(hb + at_ext);
         pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
         if (!rdown || !pools) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
@@ -501,6 +551,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             vx__svo_pool* p = &pools[ri];
             const uint32_t* ro = rdown + 4 * ri;
             p->root = ro[0], p->root_leaf = ro[1] != 0, p->plain = ro[2], p->collapsed = ro[3];
+            p->reps = m->build_attrs != 0;
             if (rb[ri] == 0xFFFFFFFFu) continue; /* no node: the root is a leaf (or the region is empty) */
             if (rb[ri] > end) goto done;
             p->words = words + rb[ri];
@@ -542,6 +593,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t* ustart = NULL;
     const uint32_t *oids = NULL, *outab = NULL; /* interned tuples, in the download buffer */
     vx__svo_pool* pools = NULL; /* per region, built on the GPU (words in the pool download buffer) */
+    uint32_t* ext = NULL;       /* per region the representatives' new tuples (gpu_build) */
+    const uint32_t* ext_tuples = NULL;
     uint32_t* breg = NULL;
     size_t* mine = NULL;
     size_t mine_count = 0;
@@ -843,7 +896,9 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     /* the octrees on the GPU, down to their node pools */
     t0 = vx_time_now();
     if (intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag) {
-        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, desc->build.max_depth, a, &pools, err))) goto done;
+        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, U, attrs, desc->build.max_depth, a, &pools, &ext, &ext_tuples,
+                           err)))
+            goto done;
         if (!pools) m->stats.build_fallback = 1;
     }
     m->stats.build = vx_time_now() - t0;
@@ -855,7 +910,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
                                         err)))
             goto done;
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools,
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools, ext, ext_tuples,
                         m->build == VX_CONV_MESH_GPU_BUILD_CHECK, false, 1, mine, mine_count, attrs, sink, user, a,
                         PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
@@ -899,6 +954,7 @@ done:
     vx_free(a, ustart);
     vx_free(a, breg);
     vx_free(a, pools);
+    vx_free(a, ext);
     vx_free(a, mine);
     vx__mesh_bins_free(a, &bins);
     return r;
@@ -959,13 +1015,13 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         vx_conv_mesh_gpu_destroy(m);
         return r;
     }
-    for (uint32_t mode = 0; mode < 13; mode++)
-        if ((r = make_pipe(m, P_BUILD + (int)mode, vx__meshbuild_spv_arr, sizeof vx__meshbuild_spv_arr, mode, 16,
+    for (uint32_t mode = 0; mode < 18; mode++)
+        if ((r = make_pipe(m, P_BUILD + (int)mode, vx__meshbuild_spv_arr, sizeof vx__meshbuild_spv_arr, mode, BUILD_BINDINGS,
                            sizeof(build_push), "meshgpu.build", err))) {
             vx_conv_mesh_gpu_destroy(m);
             return r;
         }
-    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * 16};
+    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * BUILD_BINDINGS};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 512,
                                       .poolSizeCount = 1,

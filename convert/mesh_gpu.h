@@ -61,6 +61,7 @@ typedef struct vx_conv_mesh_gpu_stats {
     uint64_t pairs, records, cells, tuples; /* tuples: distinct per region, summed (0: not interned) */
     uint32_t sort_passes, intern_passes;
     uint64_t node_slots, nodes, pool_words; /* the GPU build: parents made, distinct nodes, words downloaded */
+    uint64_t rep_tuples; /* representatives' tuples that no cell has (interned on the GPU) */
     uint32_t levels;
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */

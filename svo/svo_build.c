@@ -1089,10 +1089,22 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
             j++;
         }
         if (!ok) break;
-        uint32_t rep = b->attrs ? representative(b, ids, nk) : 0;
-        if (rep == UINT32_MAX && !b->direct) {
-            ok = false;
-            break;
+        uint32_t rep = 0;
+        if (b->attrs && p->reps) { /* computed by the caller */
+            rep = w[off + N_REP];
+            if (rep >= b->nrec) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: representative %u of %zu",
+                                  off, rep, b->nrec);
+                ok = false;
+                break;
+            }
+            if (b->direct) rep = rec_value(b->attrs, &b->recs[rep]);
+        } else if (b->attrs) {
+            rep = representative(b, ids, nk);
+            if (rep == UINT32_MAX && !b->direct) {
+                ok = false;
+                break;
+            }
         }
         uint32_t* n = b->pool + off;
         n[N_HDR] = hdr;
@@ -1149,6 +1161,10 @@ static bool pool_check(bld* b, const vx__svo_pool* p) {
         ht[off] = (uint8_t)h;
         if (off + N_KIDS + nk > p->count) what = "missing";
         else if (p->words[off] != n[N_HDR]) what = "header";
+        else if (p->reps && b->attrs &&
+                 (p->words[off + N_REP] >= b->nrec ||
+                  (b->direct ? rec_value(b->attrs, &b->recs[p->words[off + N_REP]]) : p->words[off + N_REP]) != n[N_REP]))
+            what = "representative";
         else {
             for (unsigned j = 0, oc = 0; oc < 8 && !what; oc++) {
                 if (!(valid >> oc & 1u)) continue;
@@ -1307,11 +1323,32 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             rec_intern(&b, &z);
             if (b.fail) { res = b.fail; goto done; }
         }
+        /* with the tree and its representatives given (a GPU build), the
+         * tuples are distinct and every id is given: tuple j is record j, no
+         * table needed */
+        bool given = pre && pre->pool && pre->pool->reps && !pre->check_pool;
+        if (given) {
+            if (!vx_grow(b.a, (void**)&b.recs, &b.caprec, pre->count ? pre->count : 1, sizeof(rec))) {
+                res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu records", pre->count);
+                goto done;
+            }
+            for (size_t j = 0; j < pre->count; j++) {
+                rec r = pre->tab[j];
+                r.pad = 0;
+                if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
+                if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+                if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
+                if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
+                if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
+                b.recs[j] = r;
+            }
+            b.nrec = pre->count;
+        }
         /* interned by the caller: tuple j gets id j, once; the tables sized
          * for them and the nodes to come (a surface has about n / 4 nodes, as
          * many new representatives at most), not grown and rehashed step by
          * step (at 4096^3 a region holds 19 M tuples) */
-        if (pre) {
+        if (pre && !given) {
             size_t want = pre->count + n / 4, cap = 1024, ncap = 4096;
             while (cap < 2 * want + 2 && cap < ((size_t)1 << 40)) cap *= 2;
             while (ncap < 2 * (n / 4) + 2 && ncap < ((size_t)1 << 40)) ncap *= 2;

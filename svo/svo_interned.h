@@ -33,7 +33,7 @@ void vx__svo_rec_mean(uint32_t attrs, const vx__svo_rec* const* c, unsigned n, v
  * convert/shaders/meshbuild.comp): the nodes the builder's streaming pass
  * appends, in its order, with its ids. A node at word offset off:
  * [0] valid | leaf << 8, [1] and [2] anything (the builder writes its
- * representative and block position there), [3 + j] child j over valid in
+ * representative and block position there; see reps), [3 + j] child j over valid in
  * octant order: the tuple id of a leaf child, the offset of a node child
  * (an earlier node). Nodes follow each other without gaps. */
 typedef struct vx__svo_pool {
@@ -42,6 +42,10 @@ typedef struct vx__svo_pool {
     uint32_t root;   /* the root's offset, or its tuple id with root_leaf */
     bool root_leaf;
     uint64_t plain, collapsed; /* vx_svo_build_stats.desc_plain, desc_collapsed */
+    /* Word [1] of each node is its representative's tuple id (the rule of
+     * vx__svo_rec_mean, computed by the caller) and the tuples are all in
+     * vx__svo_interned.tab, distinct: the builder then hashes nothing. */
+    bool reps;
 } vx__svo_pool;
 
 /* Entries whose tuples the caller has already interned (the GPU voxelizer,

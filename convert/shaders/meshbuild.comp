@@ -38,10 +38,19 @@
  *           canonical nodes, for the radix sort by order.
  *   MODE 9 (sizes, per sorted node): pos[s] = its pool words.
  *   MODE 10 (place, after the scan): pool positions; each region's first.
- *   MODE 11 (emit): the pool words; MODE 12 (roots, per region). */
+ *   MODE 11 (emit): the pool words; MODE 12 (roots, per region).
+ * With attributes (pc.attrs) each node's representative is computed with
+ * its parent (MODE 3, vx__svo_rec_mean in the same float arithmetic:
+ * divisions and the square root in double, rounded once) and interned per
+ * region with the cells' tuples (a table of (tuple, region)):
+ *   MODE 13 (per cell tuple): its slot and id; MODE 14 (per canonical node):
+ *   its representative's slot, found or claimed; MODE 15: claimed slots get
+ *   new ids (counted per region); MODE 16 (one invocation): each region's
+ *   first new tuple; MODE 17: the representative ids (into the region's
+ *   tuples, then its new ones), the new tuples written to ext. */
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0;
-layout(push_constant) uniform Push { uint n, level, base, mask; } pc;
+layout(push_constant) uniform Push { uint n, level, base, mask, attrs; } pc; /* attrs: 1 rgba, 2 normal, 4 material */
 
 layout(std430, binding = 0) readonly buffer OKeys { uvec2 okeys[]; }; /* (local | brick << 18, brick >> 14) */
 layout(std430, binding = 1) readonly buffer Ids { uint ids[]; };      /* global tuple id per cell */
@@ -59,6 +68,11 @@ layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 13) buffer Vals { uint vals[]; };
 layout(std430, binding = 14) writeonly buffer Pool { uint pool[]; };
 layout(std430, binding = 15) buffer RBase { uint rbase[]; }; /* per region: its first pool word (0xFFFFFFFF: no node) */
+layout(std430, binding = 16) buffer NRep { uvec4 nrep[]; };   /* per node slot: its representative (rgba, normal, material), id */
+layout(std430, binding = 17) readonly buffer UTab { uvec4 utab[]; }; /* per tuple id: rgba, normal, material, region */
+layout(std430, binding = 18) buffer TTab { uvec2 ttab[]; };   /* tuple table: (code, id); code < pc.base: a cell tuple, else a node */
+layout(std430, binding = 19) buffer RNew { uint rnew[]; };    /* per region: new tuples; [R + r]: their first index in ext */
+layout(std430, binding = 20) writeonly buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region */
 
 uint fmix(uint h) {
     h ^= h >> 16;
@@ -79,6 +93,103 @@ uvec2 leaf_label(uint rid) { return hmix(uvec2(0x5BD1E995u, 0x1B873593u), uvec2(
 uvec2 key_up(uvec2 k) { return uvec2((k.x >> 3) | (k.y << 29), k.y >> 3); }
 
 uint node_at(uint q, uint o) { return o < 4u ? nodes[4u * q + 2u][o] : nodes[4u * q + 3u][o - 4u]; }
+
+/* ---- the representative: vx__svo_rec_mean (svo/svo_build.c) in the same arithmetic ---- */
+
+/* float division correctly rounded (double, then rounded: exact for floats) */
+float fdiv(float a, float b) { return float(double(a) / double(b)); }
+
+vec3 oct_decode(uint v) {
+    precise float u = fdiv(float(int(v << 16) >> 16), 32767.0); /* the int16 halves */
+    precise float w = fdiv(float(int(v) >> 16), 32767.0);
+    if (u < -1.0) u = -1.0;
+    if (w < -1.0) w = -1.0;
+    precise float z = (1.0 - abs(u)) - abs(w);
+    if (z < 0.0) {
+        precise float ou = u;
+        u = (1.0 - abs(w)) * (ou >= 0.0 ? 1.0 : -1.0);
+        w = (1.0 - abs(ou)) * (w >= 0.0 ? 1.0 : -1.0);
+    }
+    precise float l2 = (u * u + w * w) + z * z;
+    float len = float(sqrt(double(l2)));
+    if (len > 0.0) {
+        u = fdiv(u, len);
+        w = fdiv(w, len);
+        z = fdiv(z, len);
+    }
+    return vec3(u, w, z);
+}
+
+uint snorm16(float f) {
+    if (!(f >= -1.0)) f = -1.0;
+    if (f > 1.0) f = 1.0;
+    precise float x = f * 32767.0;
+    double a = floor(abs(double(x)) + 0.5lf); /* lroundf: half away from zero */
+    int q = x < 0.0 ? -int(a) : int(a);
+    return uint(q) & 0xFFFFu;
+}
+
+uint oct_encode(vec3 n) {
+    precise float s = (abs(n.x) + abs(n.y)) + abs(n.z);
+    if (!(s > 0.0)) return 0u;
+    precise float u = fdiv(n.x, s), w = fdiv(n.y, s);
+    if (n.z < 0.0) {
+        precise float ou = u;
+        u = (1.0 - abs(w)) * (ou >= 0.0 ? 1.0 : -1.0);
+        w = (1.0 - abs(ou)) * (w >= 0.0 ? 1.0 : -1.0);
+    }
+    return snorm16(u) | (snorm16(w) << 16);
+}
+
+uint most_frequent(uint v[8], uint n) {
+    uint best = 0u, bestn = 0u;
+    for (uint i = 0u; i < n; i++) {
+        uint k = 0u;
+        for (uint j = 0u; j < n; j++) k += v[j] == v[i] ? 1u : 0u;
+        if (k > bestn || (k == bestn && v[i] < best)) best = v[i], bestn = k;
+    }
+    return best;
+}
+
+/* n (1..8) children's tuples (rgba, normal, material) */
+uvec3 rec_mean(uvec3 c[8], uint n) {
+    bool same = true;
+    for (uint i = 1u; i < n; i++) same = same && c[i] == c[0];
+    if (same) return c[0];
+    uvec3 r = uvec3(0u);
+    if ((pc.attrs & 4u) != 0u) {
+        uint v[8];
+        for (uint i = 0u; i < 8u; i++) v[i] = i < n ? c[i].z : 0u;
+        r.z = most_frequent(v, n);
+    }
+    if ((pc.attrs & 1u) != 0u) {
+        uint o = 0u;
+        for (uint ch = 0u; ch < 4u; ch++) {
+            uint sum = 0u;
+            for (uint i = 0u; i < n; i++) sum += (c[i].x >> (8u * ch)) & 0xFFu;
+            o |= ((sum + n / 2u) / n) << (8u * ch);
+        }
+        r.x = o;
+    }
+    if ((pc.attrs & 2u) != 0u) {
+        precise vec3 m = vec3(0.0);
+        for (uint i = 0u; i < n; i++) {
+            vec3 d = oct_decode(c[i].y);
+            m.x = m.x + d.x;
+            m.y = m.y + d.y;
+            m.z = m.z + d.z;
+        }
+        r.y = oct_encode(m);
+    }
+    return r;
+}
+
+uint thash(uvec3 t, uint r) { return fmix(fmix(fmix(t.x ^ 0x9E3779B1u) ^ t.y) ^ (t.z + r * 0x85EBCA77u)); }
+uvec4 tuple_of(uint code) { /* (tuple, region) of a table code */
+    if (code < pc.base) return utab[code];
+    uint q = code - pc.base;
+    return uvec4(nrep[q].xyz, nodes[4u * q].y);
+}
 
 void main() {
     uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
@@ -126,7 +237,9 @@ void main() {
         bool same = true;
         uint kid[8];
         uvec2 lab[8];
-        for (uint o = 0u; o < 8u; o++) kid[o] = 0u, lab[o] = uvec2(0u);
+        uvec3 tup[8];
+        uint nt = 0u;
+        for (uint o = 0u; o < 8u; o++) kid[o] = 0u, lab[o] = uvec2(0u), tup[o] = uvec3(0u);
         for (uint j = s; j < pc.mask && j < s + 8u; j++) {
             uvec4 a = itin[2u * j];
             if ((a.z & 0x7FFFFFFFu) != r || key_up(a.xy) != pk) break;
@@ -141,6 +254,7 @@ void main() {
             kid[o] = a.w;
             lab[o] = b.yz;
             last = b.x;
+            if (pc.attrs != 0u) tup[nt++] = (a.z >> 31) != 0u ? utab[rinfo[r].y + a.w].xyz : nrep[a.w].xyz;
         }
         atomicAdd(rout[r].z, 1u);
         if (valid == 0xFFu && leaf == 0xFFu && same) { /* uniform: the parent is a leaf of that tuple */
@@ -167,6 +281,7 @@ void main() {
         nodes[4u * q + 3u] = uvec4(c[4], c[5], c[6], c[7]);
         itout[2u * i] = uvec4(pk, r, q);
         itout[2u * i + 1u] = uvec4(last, h, 0u);
+        if (pc.attrs != 0u) nrep[q] = uvec4(rec_mean(tup, nt), 0u);
     } else if (MODE == 4u) {
         uvec4 n0 = nodes[4u * i];
         if ((n0.x & 0xFFu) == 0u) return;
@@ -226,7 +341,7 @@ void main() {
         uint at = pos[i], b = rbase[n0.y];
         uint valid = n0.x & 0xFFu, leaf = n0.x >> 8, k = 0u;
         pool[at] = n0.x;
-        pool[at + 1u] = 0u;
+        pool[at + 1u] = nrep[q].w;
         pool[at + 2u] = 0xFFFFFFFFu;
         for (uint o = 0u; o < 8u; o++) {
             if ((valid >> o & 1u) == 0u) continue;
@@ -234,6 +349,50 @@ void main() {
             pool[at + 3u + k] = (leaf >> o & 1u) != 0u ? a : nodes[4u * nodes[4u * a].w + 1u].z - b;
             k++;
         }
+    } else if (MODE == 13u) { /* per cell tuple (pc.base of them): its slot, its id */
+        uvec4 t = utab[i];
+        uint j = thash(t.xyz, t.w) & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, i);
+            if (cur == 0xFFFFFFFFu) break;
+            j = (j + 1u) & pc.mask;
+        }
+        ttab[j].y = i - rinfo[t.w].y;
+    } else if (MODE == 14u) { /* per canonical node: its representative's slot, found or claimed */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uvec3 t = nrep[i].xyz;
+        uint code = pc.base + i, j = thash(t, n0.y) & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, code);
+            if (cur == 0xFFFFFFFFu) break;
+            uvec4 o = tuple_of(cur);
+            if (o.xyz == t && o.w == n0.y) break;
+            j = (j + 1u) & pc.mask;
+        }
+        nrep[i].w = j;
+    } else if (MODE == 15u) { /* the slots that nodes claimed: new ids, counted per region */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uint j = nrep[i].w;
+        if (ttab[j].x == pc.base + i) ttab[j].y = atomicAdd(rnew[n0.y], 1u) | 0x80000000u;
+    } else if (MODE == 16u) { /* one invocation: each region's first new tuple in ext */
+        uint sum = 0u;
+        for (uint r = 0u; r < pc.level; r++) {
+            rnew[pc.level + r] = sum;
+            sum += rnew[r];
+        }
+        rnew[2u * pc.level] = sum;
+    } else if (MODE == 17u) { /* representative ids; the new tuples written once */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uint j = nrep[i].w, t = ttab[j].y, id = t;
+        if ((t & 0x80000000u) != 0u) {
+            uint k = t & 0x7FFFFFFFu;
+            id = rinfo[n0.y].z + k;
+            if (ttab[j].x == pc.base + i) ext[rnew[pc.level + n0.y] + k] = uvec4(nrep[i].xyz, n0.y);
+        }
+        nrep[i].w = id;
     } else if (MODE == 12u) {
         uvec4 ro = rout[i];
         if (ro.y == 0u && rbase[i] != 0xFFFFFFFFu) rout[i].x = nodes[4u * nodes[4u * ro.x].w + 1u].z - rbase[i];

@@ -797,7 +797,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
     bool rl;
     uint32_t rr;
     tp_node(&p, uk, ui, 0, m, depth, &rl, &rr);
-    vx__svo_pool pool = {p.w, p.n, rr, rl, p.plain, p.coll};
+    vx__svo_pool pool = {p.w, p.n, rr, rl, p.plain, p.coll, false};
     vx_svo_voxels in = {.size = {S, S, S}, .count = m, .keys = uk, .attrs = attrs};
     vx__svo_interned pre = {ui, tab, ntab, thread, 1, NULL, false};
     vx_svo_model a, b;
