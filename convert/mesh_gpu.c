@@ -239,15 +239,17 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
     if (n == 0) return VX_OK;
-    uint64_t* keys = (uint64_t*)vx_alloc(j->alloc, n * 8);
-    uint16_t* mat = (j->attrs & VX_ATTR_MATERIAL) ? (uint16_t*)vx_alloc(j->alloc, n * 2) : NULL;
-    if (!keys || ((j->attrs & VX_ATTR_MATERIAL) && !mat)) {
+    /* the cells (not downloaded when the GPU built the tree: the pool stands for them) */
+    bool cells = j->okeys != NULL;
+    uint64_t* keys = cells ? (uint64_t*)vx_alloc(j->alloc, n * 8) : NULL;
+    uint16_t* mat = cells && (j->attrs & VX_ATTR_MATERIAL) ? (uint16_t*)vx_alloc(j->alloc, n * 2) : NULL;
+    if ((cells && !keys) || (cells && (j->attrs & VX_ATTR_MATERIAL) && !mat)) {
         vx_free(j->alloc, keys);
         vx_free(j->alloc, mat);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
     }
     uint64_t mask = (1ull << (3 * b->rb)) - 1;
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; cells && i < n; i++) {
         const uint32_t* k = j->okeys + 2 * (c0 + i);
         uint64_t brick = (uint64_t)(k[0] >> 18) | (uint64_t)k[1] << 14;
         keys[i] = (j->brick_morton[brick] & mask) << 18 | (k[0] & 0x3FFFFu);
@@ -256,28 +258,30 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     /* the region's tuples and the cells' ids into them, for the builder */
     uint32_t* rec = NULL;
     vx__svo_rec* tab = NULL;
-    size_t u0 = j->ids ? j->ustart[ri] : 0, nc = j->ids ? j->ustart[ri + 1] - u0 : 0;
+    bool interned = j->utab != NULL;
+    size_t u0 = interned ? j->ustart[ri] : 0, nc = interned ? j->ustart[ri + 1] - u0 : 0;
     size_t ne = j->pools && j->ext ? j->ext[ri] : 0, nu = nc + ne; /* the cells' tuples, then the representatives' new ones */
-    if (j->ids) {
-        rec = (uint32_t*)vx_alloc(j->alloc, n * 4);
+    if (interned) {
+        rec = j->ids ? (uint32_t*)vx_alloc(j->alloc, n * 4) : NULL;
         tab = (vx__svo_rec*)vx_calloc(j->alloc, nu ? nu : 1, sizeof *tab);
-        if (!rec || !tab) {
+        if ((j->ids && !rec) || !tab) {
             vx_free(j->alloc, keys), vx_free(j->alloc, mat), vx_free(j->alloc, rec), vx_free(j->alloc, tab);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
         }
         for (size_t u = 0; u < nu; u++) {
-            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u) : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
+            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u)
+                                       : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
             tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
         }
-        for (size_t i = 0; i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
+        for (size_t i = 0; rec && i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
     }
     vx__mesh_region reg;
     vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri,
                           b->region_count);
     reg.count = n;
     reg.keys = keys;
-    reg.rgba = (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;
-    reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
+    reg.rgba = cells && (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;
+    reg.normal = cells && (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
     reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads, j->pools ? &j->pools[ri] : NULL,
@@ -399,7 +403,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_RBASE, (uint64_t)R * 4, err)) || (r = ensure(m, B_ITA, (uint64_t)C * 32, err)) ||
         (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
         (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
-        (r = ensure(m, B_MISC, 16, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
+        (r = ensure(m, B_MISC, ((uint64_t)R + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
         (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)) ||
         (r = ensure(m, B_NREP, m->build_attrs ? cap * 16 : 16, err)) || (r = ensure(m, B_UTAB, 16, err)) ||
         (r = ensure(m, B_TTAB, 16, err)) || (r = ensure(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, err)) ||
@@ -414,6 +418,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     put_record(m, ups, 2);
     fill(m, B_ROUT, (uint64_t)R * 16, 0);
     fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
+    fill(m, B_MISC, ((uint64_t)R + 4) * 4, 0);
     if ((r = bstage(m, 0, 1, 0, C, 0, 0, 0, err))) goto done; /* src 1: writes ITA */
     for (;;) {
         fill(m, B_POS, (n + 1) * 4, 0);
@@ -508,7 +513,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     m->stats.pool_words = W;
     m->stats.rep_tuples = E;
     uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
-             at_ext = at_rnew + (uint64_t)R * 8, total = at_ext + E * 16;
+             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, total = at_cells + (uint64_t)R * 4;
     if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
     {
         VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
@@ -517,6 +522,8 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
         vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
         vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
+        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 4};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_MISC].buf, m->buf[B_PDOWN].buf, 1, &cc);
         if (m->build_attrs && K) {
             VkBufferCopy cn = {.srcOffset = 0, .dstOffset = at_rnew, .size = (uint64_t)R * 8};
             VkBufferCopy ce = {.srcOffset = 0, .dstOffset = at_ext, .size = E * 16};
@@ -530,12 +537,13 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
         const uint32_t* words = (const uint32_t*)hb;
         rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
-        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 2 + 1, 4); /* per region: new tuples, first one */
+        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 3 + 1, 4); /* per region: new tuples, first one, cells */
         if (!rext) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
             goto done;
         }
         if (m->build_attrs && K) memcpy(rext, hb + at_rnew, (size_t)R * 8);
+        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 4);
         *out_ext = rext;
         *out_tuples = (const uint32_t*)(hb + at_ext);
         pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
@@ -569,8 +577,51 @@ done:
     return r;
 }
 
+/* Copies the voxelizer's results into the download buffer and points at
+ * them there: the tuples (interned: each cell's id and each id's tuple),
+ * and with cells the cells' keys and attributes (else those stay NULL). */
+static vx_result download(vx_conv_mesh_gpu* m, uint32_t C, uint32_t U, uint32_t attrs, bool intern, bool cells,
+                          const uint32_t** okeys, const uint32_t** orgba, const uint32_t** onrm, const uint32_t** omat,
+                          const uint32_t** oids, const uint32_t** outab, vx_error* err) {
+    vx_gpu* g = m->g;
+    uint64_t c8 = cells ? (uint64_t)C * 8 : 0, c4 = cells ? (uint64_t)C * 4 : 0;
+    uint64_t at_ids = c8 + 3 * c4, at_utab = at_ids + (intern ? c4 : 0), total = at_utab + (uint64_t)U * 16;
+    vx_result r;
+    if ((r = ensure_host(m, B_DOWN, total + 16, err)) || (r = rec_begin(m, err))) return r;
+    if (cells) {
+        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
+        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
+        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
+        for (int q = 0; q < 3; q++)
+            if ((attrs & bits[q]) && c4) {
+                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
+                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
+            }
+    }
+    if (intern) {
+        VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_ids, .size = c4};
+        VkBufferCopy cu = {.srcOffset = 0, .dstOffset = at_utab, .size = (uint64_t)U * 16};
+        if (c4) vkCmdCopyBuffer(g->cmd, m->buf[B_IDS].buf, m->buf[B_DOWN].buf, 1, &ci);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
+    }
+    barrier(g);
+    if ((r = vx__cmd_submit_wait(g, err))) return r;
+    const uint8_t* base = (const uint8_t*)m->buf[B_DOWN].map;
+    *okeys = *orgba = *onrm = *omat = *oids = *outab = NULL;
+    if (cells) {
+        *okeys = (const uint32_t*)base;
+        *orgba = (const uint32_t*)(base + c8);
+        *onrm = (const uint32_t*)(base + c8 + c4);
+        *omat = (const uint32_t*)(base + c8 + 2 * c4);
+        if (intern) *oids = (const uint32_t*)(base + at_ids);
+    }
+    if (intern) *outab = (const uint32_t*)(base + at_utab);
+    return VX_OK;
+}
+
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares, bool builds,
                               vx__mesh_sink sink, void* user, vx_error* err) {
     vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)self;
     vx_gpu* g = m->g;
@@ -841,42 +892,36 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu regions", bins.region_count);
         goto done;
     }
-    {
-        /* one copy of each result into the download buffer, read where it lies */
-        uint64_t c8 = (uint64_t)C * 8, c4 = (uint64_t)C * 4;
-        uint64_t at_ids = c8 + 3 * c4, at_utab = at_ids + (intern ? c4 : 0), total = at_utab + (uint64_t)U * 16;
-        if ((r = ensure_host(m, B_DOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
-        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
-        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
-        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
-        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
-        for (int q = 0; q < 3; q++)
-            if ((attrs & bits[q]) && c4) {
-                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
-                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
-            }
-        if (intern) {
-            VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_ids, .size = c4};
-            VkBufferCopy cu = {.srcOffset = 0, .dstOffset = at_utab, .size = (uint64_t)U * 16};
-            vkCmdCopyBuffer(g->cmd, m->buf[B_IDS].buf, m->buf[B_DOWN].buf, 1, &ci);
-            vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
-        }
-        barrier(g);
-        if ((r = vx__cmd_submit_wait(g, err))) goto done;
-        uint8_t* base = (uint8_t*)m->buf[B_DOWN].map;
-        okeys = (const uint32_t*)base;
-        orgba = (const uint32_t*)(base + c8);
-        onrm = (const uint32_t*)(base + c8 + c4);
-        omat = (const uint32_t*)(base + c8 + 2 * c4);
-        if (intern) {
-            oids = (const uint32_t*)(base + at_ids);
-            outab = (const uint32_t*)(base + at_utab);
-        }
-    }
+    /* the octrees on the GPU (below) when the sink builds them: then only
+     * the tuples come back, not the cells (unless the builders check) */
+    bool want_build = intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag;
+    bool lean = want_build && builds && m->build == VX_CONV_MESH_GPU_BUILD_GPU;
+    if ((r = download(m, C, U, attrs, intern, !lean, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
     m->stats.download = vx_time_now() - t0;
 
+    if (outab) { /* ids come in region order: each region's are a range */
+        size_t u = 0;
+        for (size_t ri = 0; ri < bins.region_count; ri++) {
+            ustart[ri] = u;
+            while (u < U && outab[4 * u + 3] <= ri) u++;
+        }
+        ustart[bins.region_count] = u;
+    }
+    /* the octrees on the GPU, down to their node pools */
+    t0 = vx_time_now();
+    if (want_build) {
+        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, U, attrs, desc->build.max_depth, a, &pools, &ext, &ext_tuples,
+                           err)))
+            goto done;
+        if (!pools) m->stats.build_fallback = 1;
+    }
+    if (lean && !pools) { /* the CPU builders build after all: they need the cells */
+        double t1 = vx_time_now();
+        if ((r = download(m, C, U, attrs, intern, true, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
+        m->stats.download += vx_time_now() - t1;
+    }
     /* regions: cells are sorted by brick index, regions are runs of bricks */
-    {
+    if (okeys) {
         size_t c = 0;
         for (size_t ri = 0; ri < bins.region_count; ri++) {
             cstart[ri] = c;
@@ -884,22 +929,14 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             while (c < C && ((uint64_t)(okeys[2 * c] >> 18) | (uint64_t)okeys[2 * c + 1] << 14) < end_brick) c++;
         }
         cstart[bins.region_count] = c;
-        if (oids) { /* ids come in region order: each region's are a range */
-            size_t u = 0;
-            for (size_t ri = 0; ri < bins.region_count; ri++) {
-                ustart[ri] = u;
-                while (u < U && outab[4 * u + 3] <= ri) u++;
-            }
-            ustart[bins.region_count] = u;
-        }
-    }
-    /* the octrees on the GPU, down to their node pools */
-    t0 = vx_time_now();
-    if (intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag) {
-        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, U, attrs, desc->build.max_depth, a, &pools, &ext, &ext_tuples,
-                           err)))
+    } else { /* counted on the GPU */
+        size_t c = 0;
+        for (size_t ri = 0; ri < bins.region_count; ri++) cstart[ri] = c, c += ext[2 * bins.region_count + ri];
+        cstart[bins.region_count] = c;
+        if (c != C) {
+            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU octree build: %zu cells counted in regions of %u", c, C);
             goto done;
-        if (!pools) m->stats.build_fallback = 1;
+        }
     }
     m->stats.build = vx_time_now() - t0;
     t0 = vx_time_now();

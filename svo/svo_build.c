@@ -1231,7 +1231,8 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
 vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                                  vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     if (!in || !pre) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
-    if (!in->attrs || in->level || (in->count && (!pre->rec || (pre->count && !pre->tab))))
+    bool given = pre->pool && pre->pool->reps && !pre->check_pool; /* the tree given: entries optional */
+    if (!in->attrs || in->level || (in->count && ((!pre->rec && !given) || (pre->count && !pre->tab))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned entries need attrs, ids and no tiles");
     return build(desc, in, pre, out, stats, err);
 }
@@ -1269,7 +1270,10 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: %s array given but not named in attrs",
                            attr_name(1u << c));
     }
-    if (in->count && !in->keys) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: keys is NULL");
+    /* a tree given with its representatives (a GPU build) stands for its
+     * entries: they may be left out (count only; keys and ids NULL) */
+    bool bare = pre && pre->pool && pre->pool->reps && !pre->check_pool && !in->keys;
+    if (in->count && !in->keys && !bare) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: keys is NULL");
 
     bld b;
     memset(&b, 0, sizeof b);
@@ -1305,8 +1309,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
-    packed = vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
-    if (!packed) {
+    packed = bare ? NULL : vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
+    if (!packed && !bare) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu entries", n);
         goto done;
     }
@@ -1380,7 +1384,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
         bool full[3];
         for (int a = 0; a < 3; a++) full[a] = in->size[a] == (1u << depth);
         unsigned kb0 = 3 * depth < 63 ? 3 * depth : 63;
-        for (size_t i = 0; i < n; i++) {
+        for (size_t i = 0; i < n && !bare; i++) {
             uint64_t k = in->keys[i];
             uint32_t L = in->level ? in->level[i] : 0;
             if (L > depth) {

@@ -63,7 +63,7 @@ layout(std430, binding = 7) buffer Pos { uint pos[]; };
 layout(std430, binding = 8) buffer Start { uint start[]; };
 layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
 layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
-layout(std430, binding = 11) buffer Misc { uint misc[]; };
+layout(std430, binding = 11) buffer Misc { uint misc[]; }; /* [0]: a node differs from its canonical one; [4 + r]: region r's cells */
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 13) buffer Vals { uint vals[]; };
 layout(std430, binding = 14) writeonly buffer Pool { uint pool[]; };
@@ -203,6 +203,7 @@ void main() {
         uvec2 lab = leaf_label(rid);
         itout[2u * i] = uvec4(key, bi.z | 0x80000000u, rid);
         itout[2u * i + 1u] = uvec4(i, lab, 0u);
+        atomicAdd(misc[4u + bi.z], 1u); /* the region's cells (the host may not download them) */
     } else if (MODE == 1u) {
         uvec4 a = itin[2u * i];
         uint r = a.z & 0x7FFFFFFFu;
