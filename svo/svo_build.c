@@ -711,10 +711,40 @@ enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
 
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
+/* Touches the run-table slots that node `at`'s run will probe (run_intern:
+ * the uniform-run entry, the run table), so that the misses of the nodes
+ * ahead overlap the work on the current one: with large tables each probe
+ * is a miss to memory. A hint only: nothing is written. */
+static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
+    const uint32_t* n = b->pool + at;
+    uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+    unsigned nk = vx__popc8(valid);
+    if (o->runcap) {
+        uint32_t ids[8];
+        bool uni = true;
+        for (unsigned oc = 0, j = 0; oc < 8; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            uint32_t ref = n[N_KIDS + j];
+            ids[j] = (leaf >> oc & 1u) ? ref : b->pool[ref + N_REP];
+            uni = uni && ids[j] == ids[0];
+            j++;
+        }
+        if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
+        __builtin_prefetch(&o->runh[(size_t)hash_words(ids, nk, 3) & (o->runcap - 1)]);
+    }
+    return at + N_KIDS + nk;
+}
+
 static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
     uint32_t limit = b->limit;
     size_t off = *off_io;
+    /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
+    enum { PF_AHEAD = 12 };
+    bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
+    size_t pf = off;
+    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf);
     while (off < end) {
+        if (pf_on && pf < end) pf = run_prefetch(b, o, pf);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
