@@ -62,8 +62,10 @@ typedef struct vx__svo_interned {
     /* Threads that may intern tab (from 2^18 tuples; 0 or 1: the caller's). */
     unsigned threads;
     /* The tree already built (NULL: the builder builds it). The builder
-     * then computes the representatives and lays the blocks out; the
-     * entries are still checked (Morton keys strictly increasing). With
+     * then computes the representatives (unless pool->reps) and lays the
+     * blocks out; entries given are still checked (Morton keys strictly
+     * increasing); with pool->reps they may be left out (keys and rec
+     * NULL, count only). With
      * check_pool it builds the tree itself as well and fails (naming the
      * first node that differs, and its height) unless pool is its own pool
      * word for word: the test of the caller's build. */
