@@ -15,7 +15,9 @@
  * --warmups N: untimed runs first (default 1).
  * --cells: the GPU runs voxelize into a flat cell list (vx_conv_mesh_cells,
  * colours only) instead of building the octrees: the voxelizer's own time
- * at resolutions where the CPU builds would take most of a run. */
+ * at resolutions where the CPU builds would take most of a run.
+ * --build gpu|cpu|check: who builds the octrees (vx_conv_mesh_gpu_set_build;
+ * default gpu: node pools on the GPU, representatives and layout on the CPU). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +70,7 @@ int main(int argc, char** argv) {
     uint32_t res[8], nres = 0;
     int runs = 5, cpu_runs = 3, warmups = 1;
     bool cells_only = false, digest = false;
+    vx_conv_mesh_gpu_build build = VX_CONV_MESH_GPU_BUILD_GPU;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--res") && i + 1 < argc && nres < 8) res[nres++] = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
@@ -76,11 +79,18 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--cells")) cells_only = true;
         else if (!strcmp(argv[i], "--digest")) digest = true;
         else if (!strcmp(argv[i], "--warmups") && i + 1 < argc) warmups = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--build") && i + 1 < argc) {
+            const char* b = argv[++i];
+            if (!strcmp(b, "gpu")) build = VX_CONV_MESH_GPU_BUILD_GPU;
+            else if (!strcmp(b, "cpu")) build = VX_CONV_MESH_GPU_BUILD_CPU;
+            else if (!strcmp(b, "check")) build = VX_CONV_MESH_GPU_BUILD_CHECK;
+            else path = NULL, argc = 0; /* usage */
+        }
         else path = argv[i];
     }
     if (!path) {
         fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] "
-                        "[--cells] [--digest]\n");
+                        "[--cells] [--digest] [--build gpu|cpu|check]\n");
         return 2;
     }
     if (!nres) res[nres++] = 1024;
@@ -95,6 +105,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     printf("device: %s\n", vx_gpu_device_name(gpu));
+    vx_conv_mesh_gpu_set_build(mg, build);
     vx_gltf_mesh mesh;
     double t0 = vx_time_now();
     if (vx_conv_mesh_read(NULL, path, &mesh, &err)) {
@@ -105,7 +116,7 @@ int main(int argc, char** argv) {
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
         vx_conv_mesh_desc d = {.res = res[ri]};
-        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[9][MAXRUNS];
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);
         memset(&got, 0, sizeof got);
@@ -141,16 +152,16 @@ int main(int argc, char** argv) {
             vx_conv_mesh_gpu_last_stats(mg, &gs);
             if (k < 0) continue;
             gpu_t[k] = t;
-            double v[9] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern};
-            for (int q = 0; q < 9; q++) st[q][k] = v[q];
+            double v[10] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern, gs.build};
+            for (int q = 0; q < 10; q++) st[q][k] = v[q];
         }
         uint8_t *a = NULL, *b = NULL;
         bool compare = cpu_runs > 0 && !cells_only;
         size_t na = compare ? svo_bytes(&ref, &a) : 0, nb = compare ? svo_bytes(&got, &b) : 0;
         int equal = compare && na == nb && na && !memcmp(a, b, na);
         if (compare && !equal) fail = 1;
-        double med[9];
-        for (int q = 0; q < 9; q++) med[q] = bench_median(st[q], runs);
+        double med[10];
+        for (int q = 0; q < 10; q++) med[q] = bench_median(st[q], runs);
         double gpu_vox = med[1] + med[2] + med[3] + med[4] + med[5] + med[6];
         double cpu_med = cpu_runs > 0 ? bench_median(cpu, cpu_runs) : 0, gpu_med = bench_median(gpu_t, runs);
         printf("res %u: %llu pairs, %llu pieces, %llu cells, %u sort passes\n", res[ri], (unsigned long long)gs.pairs,
@@ -158,10 +169,17 @@ int main(int argc, char** argv) {
         printf("  CPU path (vx_conv_mesh, all cores): median %.1f ms of %d (voxelize %.1f + build %.1f ms, last run)\n",
                cpu_med * 1e3, cpu_runs, cs.seconds_voxelize * 1e3, cs.seconds_build * 1e3);
         printf("  GPU path: median %.1f ms of %d = bin (CPU) %.1f + upload %.1f + count %.1f + emit %.1f + sort %.1f + "
-               "reduce %.1f + tuples interned %.1f + download %.1f + %s %.1f ms\n",
+               "reduce %.1f + tuples interned %.1f + download %.1f + octree pools (GPU) %.1f + %s %.1f ms\n",
                gpu_med * 1e3, runs, med[0] * 1e3, med[1] * 1e3, med[2] * 1e3, med[3] * 1e3, med[4] * 1e3,
-               med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, cells_only ? "cell list (CPU)" : "octree builds (CPU)",
+               med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, med[9] * 1e3,
+               cells_only ? "cell list (CPU)" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "octree builds (CPU)" : "representatives and layout (CPU)",
                med[7] * 1e3);
+        printf("  octree build (--build %s): %llu parents made on the GPU over %u levels, %llu distinct nodes, %llu pool "
+               "words downloaded, %llu new representative tuples%s\n",
+               build == VX_CONV_MESH_GPU_BUILD_GPU ? "gpu" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "cpu" : "check",
+               (unsigned long long)gs.node_slots, gs.levels, (unsigned long long)gs.nodes, (unsigned long long)gs.pool_words,
+               (unsigned long long)gs.rep_tuples,
+               gs.build_fallback ? "; FELL BACK to the CPU builders" : "");
         printf("  tuples interned for the builders: %llu distinct (per region) of %llu cells, %u sort passes\n",
                (unsigned long long)gs.tuples, (unsigned long long)gs.cells, gs.intern_passes);
         printf("  GPU voxelization alone (upload .. download, without the interning): %.1f ms; with the CPU binning "

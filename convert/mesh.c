@@ -44,7 +44,7 @@ static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
     memcpy(p.origin, r->origin, sizeof p.origin);
     double t0 = vx_time_now();
     vx_result res;
-    if (r->interned.rec) { /* the tuples come interned: the arrays stay out */
+    if (r->interned.rec || r->interned.pool) { /* the tuples come interned (or the tree built): the arrays stay out */
         in.rgba = in.normal = NULL;
         in.material = NULL;
         res = vx__svo_build_interned(&bd, &in, &r->interned, &p.model, &p.build, err);
@@ -112,7 +112,7 @@ vx_result vx_conv_mesh_share(const vx_conv_mesh_desc* desc_in, const vx_gltf_mes
     k.desc = &desc;
     pthread_mutex_init(&k.lock, NULL);
     if (desc.backend)
-        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares,
+        r = desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, true,
                                    part_add, &k, err);
     else
         r = vx__mesh_voxelize(&desc, mesh, &grid, vx__mesh_attrs(&desc, mesh), share, shares, part_add, &k, err);

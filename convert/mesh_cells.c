@@ -52,7 +52,7 @@ vx_result vx_conv_mesh_cells(const vx_conv_mesh_desc* desc_in, const vx_gltf_mes
     if (r) return r;
     uint32_t attrs = vx__mesh_attrs(&desc, mesh) & (out_rgba ? VX_ATTR_RGBA8 : 0u);
     cells_sink s = {desc.alloc, NULL, NULL, 0, 0, 0, out_rgba != NULL, PTHREAD_MUTEX_INITIALIZER};
-    r = desc.backend ? desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, attrs, 0, 1, cells_add, &s, err)
+    r = desc.backend ? desc.backend->voxelize(desc.backend->self, &desc, mesh, &grid, attrs, 0, 1, false, cells_add, &s, err)
                      : vx__mesh_voxelize(&desc, mesh, &grid, attrs, 0, 1, cells_add, &s, err);
     pthread_mutex_destroy(&s.lock);
     if (r) {

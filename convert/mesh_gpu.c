@@ -12,6 +12,7 @@
 #include "gpuscan.comp.h"
 #include "gpusort.comp.h"
 #include "meshreduce.comp.h"
+#include "meshbuild.comp.h"
 #include "meshintern.comp.h"
 #include "meshvox.comp.h"
 
@@ -19,10 +20,12 @@
 
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
-       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_COUNT };
+       B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
+       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_COUNT };
 #define SCAN_LEVELS 4
 
-enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_NUM };
+enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
+       P_NUM = P_BUILD + 18 };
 
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
@@ -32,6 +35,8 @@ struct vx_conv_mesh_gpu {
     vx__buffer buf[B_COUNT];
     VkDescriptorPool pool;
     vx_conv_mesh_gpu_stats stats;
+    vx_conv_mesh_gpu_build build;
+    uint32_t build_attrs; /* meshbuild.comp's channels (1 rgba, 2 normal, 4 material; 0: no representatives) */
 };
 
 typedef struct meshvox_push {
@@ -44,6 +49,9 @@ typedef struct sort_push {
 typedef struct intern_push {
     uint32_t n, attrs, perm;
 } intern_push;
+typedef struct build_push {
+    uint32_t n, level, base, mask, attrs;
+} build_push;
 
 /* ---- recording ----------------------------------------------------------------------- */
 
@@ -209,6 +217,10 @@ typedef struct region_job {
     const uint32_t* ids;          /* per cell its tuple's global id (meshintern.comp), or NULL: not interned */
     const uint32_t* utab;         /* 4 per id: rgba, normal, material, region (ids in region order) */
     const size_t* ustart;         /* first id of each region; [region_count] = ids */
+    const vx__svo_pool* pools;    /* per region its node pool built on the GPU, or NULL */
+    const uint32_t* ext;          /* with pools: per region its representatives' new tuples, then [R + r] the first */
+    const uint32_t* ext_tuples;   /* those tuples, 4 words each (rgba, normal, material, region) */
+    bool check_pools;             /* the builders check the pools against their own */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
     const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
@@ -227,15 +239,17 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
     if (n == 0) return VX_OK;
-    uint64_t* keys = (uint64_t*)vx_alloc(j->alloc, n * 8);
-    uint16_t* mat = (j->attrs & VX_ATTR_MATERIAL) ? (uint16_t*)vx_alloc(j->alloc, n * 2) : NULL;
-    if (!keys || ((j->attrs & VX_ATTR_MATERIAL) && !mat)) {
+    /* the cells (not downloaded when the GPU built the tree: the pool stands for them) */
+    bool cells = j->okeys != NULL;
+    uint64_t* keys = cells ? (uint64_t*)vx_alloc(j->alloc, n * 8) : NULL;
+    uint16_t* mat = cells && (j->attrs & VX_ATTR_MATERIAL) ? (uint16_t*)vx_alloc(j->alloc, n * 2) : NULL;
+    if ((cells && !keys) || (cells && (j->attrs & VX_ATTR_MATERIAL) && !mat)) {
         vx_free(j->alloc, keys);
         vx_free(j->alloc, mat);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
     }
     uint64_t mask = (1ull << (3 * b->rb)) - 1;
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; cells && i < n; i++) {
         const uint32_t* k = j->okeys + 2 * (c0 + i);
         uint64_t brick = (uint64_t)(k[0] >> 18) | (uint64_t)k[1] << 14;
         keys[i] = (j->brick_morton[brick] & mask) << 18 | (k[0] & 0x3FFFFu);
@@ -244,30 +258,34 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     /* the region's tuples and the cells' ids into them, for the builder */
     uint32_t* rec = NULL;
     vx__svo_rec* tab = NULL;
-    size_t u0 = j->ids ? j->ustart[ri] : 0, nu = j->ids ? j->ustart[ri + 1] - u0 : 0;
-    if (j->ids) {
-        rec = (uint32_t*)vx_alloc(j->alloc, n * 4);
+    bool interned = j->utab != NULL;
+    size_t u0 = interned ? j->ustart[ri] : 0, nc = interned ? j->ustart[ri + 1] - u0 : 0;
+    size_t ne = j->pools && j->ext ? j->ext[ri] : 0, nu = nc + ne; /* the cells' tuples, then the representatives' new ones */
+    if (interned) {
+        rec = j->ids ? (uint32_t*)vx_alloc(j->alloc, n * 4) : NULL;
         tab = (vx__svo_rec*)vx_calloc(j->alloc, nu ? nu : 1, sizeof *tab);
-        if (!rec || !tab) {
+        if ((j->ids && !rec) || !tab) {
             vx_free(j->alloc, keys), vx_free(j->alloc, mat), vx_free(j->alloc, rec), vx_free(j->alloc, tab);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
         }
         for (size_t u = 0; u < nu; u++) {
-            const uint32_t* t = j->utab + 4 * (u0 + u);
+            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u)
+                                       : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
             tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
         }
-        for (size_t i = 0; i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
+        for (size_t i = 0; rec && i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
     }
     vx__mesh_region reg;
     vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri,
                           b->region_count);
     reg.count = n;
     reg.keys = keys;
-    reg.rgba = (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;
-    reg.normal = (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
+    reg.rgba = cells && (j->attrs & VX_ATTR_RGBA8) ? j->rgba + c0 : NULL;
+    reg.normal = cells && (j->attrs & VX_ATTR_NORMAL) ? j->nrm + c0 : NULL;
     reg.material = mat;
     reg.attrs = j->attrs;
-    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads};
+    reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads, j->pools ? &j->pools[ri] : NULL,
+                                      j->check_pools};
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -304,8 +322,306 @@ static unsigned bits_for(uint64_t v) {
     return b;
 }
 
+/* ---- the octrees on the GPU (meshbuild.comp) -------------------------------------------------- */
+
+/* Binds the build's buffers; items: level l's children in ITA (src 0) or ITB. */
+#define BUILD_BINDINGS 21
+static void build_ids(int* ids, int src, int sorted) {
+    static const int base[BUILD_BINDINGS] = {B_OKEYS, B_IDS,  B_BINFO, B_RINFO, B_ROUT, B_ITA,  B_ITB,
+                                             B_POS,   B_START, B_NODES, B_TAB,  B_MISC, B_KEYS, B_VALS,
+                                             B_POOL,  B_RBASE, B_NREP,  B_UTAB, B_TTAB, B_RNEW, B_EXT};
+    memcpy(ids, base, sizeof base);
+    if (src) ids[5] = B_ITB, ids[6] = B_ITA;
+    if (sorted) ids[12] = B_KEYS2, ids[13] = B_VALS2;
+}
+
+static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint64_t n, uint32_t level, uint32_t base,
+                        uint32_t mask, vx_error* err) {
+    int ids[BUILD_BINDINGS];
+    build_ids(ids, src, sorted);
+    build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs};
+    return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
+}
+
+static void fill(vx_conv_mesh_gpu* m, int id, uint64_t bytes, uint32_t v) {
+    vkCmdFillBuffer(m->g->cmd, m->buf[id].buf, 0, (bytes + 3) & ~3ull, v);
+    barrier(m->g);
+}
+
+/* Builds every region's octree on the GPU from the C interned cells still
+ * on the device (B_OKEYS, B_IDS) and downloads the node pools: *out gets
+ * one vx__svo_pool per region (words in the pool download buffer), or
+ * stays NULL when the CPU builders must build (a hash collision found by
+ * the check, buffers beyond what one binding addresses, depths beyond
+ * max_depth: the CPU builder reports those). */
+static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const vx_conv_mesh_grid* grid, const uint64_t* bm,
+                           const uint32_t* breg, uint32_t C, const size_t* ustart, uint32_t U, uint32_t attrs,
+                           uint32_t max_depth, const vx_allocator* a, vx__svo_pool** out, uint32_t** out_ext,
+                           const uint32_t** out_tuples, vx_error* err) {
+    vx_gpu* g = m->g;
+    size_t NB = bins->total_bricks, R = bins->region_count;
+    *out = NULL;
+    *out_ext = NULL;
+    /* the representatives too, for the mesh's channels (the tuples are interned: U of them) */
+    m->build_attrs = U ? ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
+                             ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u)
+                       : 0u;
+    if (attrs & ~(uint32_t)(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL)) m->build_attrs = 0;
+    if (C == 0 || C >= (1u << 27)) return VX_OK; /* order = last cell << 5 | level in 32 bits */
+    const uint64_t max_binding = 0xFFFFFFF0ull;     /* bytes one storage binding addresses */
+    uint64_t cap = (uint64_t)C + 1024;             /* node slots: about C / 2 for a surface */
+    if (cap * 64 > max_binding) cap = max_binding / 64;
+    if ((uint64_t)C * 32 > max_binding) return VX_OK;
+    uint32_t* binfo = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 16);
+    uint32_t* rinfo = (uint32_t*)vx_alloc(a, (R ? R : 1) * 16);
+    uint32_t* rdown = NULL;
+    vx__svo_pool* pools = NULL;
+    vx_result r = VX_OK;
+    if (!binfo || !rinfo) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu bricks", NB);
+        goto done;
+    }
+    uint32_t maxd = 0;
+    uint64_t mask = (1ull << (3 * bins->rb)) - 1;
+    for (size_t b = 0; b < NB; b++) {
+        uint64_t k = bm[b] & mask;
+        binfo[4 * b] = (uint32_t)k, binfo[4 * b + 1] = (uint32_t)(k >> 32), binfo[4 * b + 2] = breg[b], binfo[4 * b + 3] = 0;
+    }
+    for (size_t ri = 0; ri < R; ri++) {
+        vx__mesh_region reg;
+        vx__mesh_region_place(&reg, bm[bins->rstart[ri]] >> (3 * bins->rb), bins->R, grid->size, ri, R);
+        uint32_t mx = reg.size[0] > reg.size[1] ? reg.size[0] : reg.size[1], d = 0;
+        if (reg.size[2] > mx) mx = reg.size[2];
+        while ((1u << d) < mx) d++;
+        if (d > (max_depth ? max_depth : VX_SVO_MAX_DEPTH) || 3 * d > 63) goto done; /* the CPU builder says why */
+        if (d > maxd) maxd = d;
+        rinfo[4 * ri] = d, rinfo[4 * ri + 1] = (uint32_t)ustart[ri], rinfo[4 * ri + 3] = 0;
+        rinfo[4 * ri + 2] = (uint32_t)(ustart[ri + 1] - ustart[ri]); /* the region's tuples: its new ones follow */
+    }
+    upload ups[2] = {{B_BINFO, binfo, (uint64_t)NB * 16, 0}, {B_RINFO, rinfo, (uint64_t)R * 16, 0}};
+    if ((r = put_all(m, ups, 2, err)) || (r = ensure(m, B_ROUT, (uint64_t)R * 16, err)) ||
+        (r = ensure(m, B_RBASE, (uint64_t)R * 4, err)) || (r = ensure(m, B_ITA, (uint64_t)C * 32, err)) ||
+        (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
+        (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
+        (r = ensure(m, B_MISC, ((uint64_t)R + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
+        (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)) ||
+        (r = ensure(m, B_NREP, m->build_attrs ? cap * 16 : 16, err)) || (r = ensure(m, B_UTAB, 16, err)) ||
+        (r = ensure(m, B_TTAB, 16, err)) || (r = ensure(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, err)) ||
+        (r = ensure(m, B_EXT, 16, err)))
+        goto done;
+
+    /* level by level: the children of level l are the items, their parents the next items */
+    uint64_t n = C, base = 0;
+    uint32_t level = 0;
+    int src = 0;
+    if ((r = rec_begin(m, err))) goto done;
+    put_record(m, ups, 2);
+    fill(m, B_ROUT, (uint64_t)R * 16, 0);
+    fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
+    fill(m, B_MISC, ((uint64_t)R + 4) * 4, 0);
+    if ((r = bstage(m, 0, 1, 0, C, 0, 0, 0, err))) goto done; /* src 1: writes ITA */
+    for (;;) {
+        fill(m, B_POS, (n + 1) * 4, 0);
+        if ((r = bstage(m, 1, src, 0, n, level, 0, 0, err)) || (r = scan(m, B_POS, n + 1, 0, err)) ||
+            (r = bstage(m, 2, src, 0, n, level, 0, 0, err)))
+            goto done;
+        read_u32(m, B_POS, n, 0);
+        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        uint32_t P;
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], &P, 4, err))) goto done;
+        if (P == 0) break;
+        if (P > n || base + P > cap || level >= maxd) goto done; /* beyond the node buffer: the CPU builds */
+        if ((r = rec_begin(m, err))) goto done;
+        if ((r = bstage(m, 3, src, 0, P, level + 1, (uint32_t)base, (uint32_t)n, err))) goto done;
+        base += P;
+        n = P;
+        src ^= 1;
+        level++;
+    }
+    m->stats.levels = level;
+    m->stats.node_slots = base;
+
+    /* shared subtrees: one slot per (hash, region), the least order there
+     * canonical, every node checked against its canonical node */
+    uint64_t N = base, T = 1024;
+    while (T < 2 * N) T *= 2;
+    if (T * 8 > max_binding) goto done;
+    if ((r = ensure(m, B_TAB, T * 8, err)) || (r = rec_begin(m, err))) goto done;
+    fill(m, B_TAB, T * 8, 0xFFFFFFFFu);
+    fill(m, B_MISC, 16, 0);
+    fill(m, B_POS, (N + 1) * 4, 0);
+    if ((r = bstage(m, 4, 0, 0, N, 0, 0, (uint32_t)(T - 1), err)) || (r = bstage(m, 5, 0, 0, N, 0, 0, 0, err)) ||
+        (r = bstage(m, 6, 0, 0, N, 0, 0, 0, err)) || (r = bstage(m, 7, 0, 0, N, 0, 0, 0, err)) ||
+        (r = scan(m, B_POS, N + 1, 0, err)))
+        goto done;
+    read_u32(m, B_POS, N, 0);
+    read_u32(m, B_MISC, 0, 1);
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    uint32_t KM[2];
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], KM, 8, err))) goto done;
+    uint32_t K = KM[0];
+    if (KM[1] || K > N) goto done; /* two different subtrees hashed alike: the CPU builds */
+    m->stats.nodes = K;
+
+    /* canonical nodes in the builder's order (radix sort by order), pool positions, words */
+    uint64_t W = 0, E = 0;
+    uint64_t T2 = 1024; /* the tuple table: the cells' tuples and the representatives */
+    while (T2 < 2 * ((uint64_t)U + K)) T2 *= 2;
+    if (m->build_attrs && (T2 * 8 > max_binding || (uint64_t)U + N >= 0xFFFFFFF0u)) goto done;
+    if (K) {
+        uint64_t ntiles = ((uint64_t)K + 1023) / 1024;
+        if ((uint64_t)K * 11 * 4 > max_binding) goto done;
+        if ((r = ensure(m, B_KEYS, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)K * 4, err)) ||
+            (r = ensure(m, B_KEYS2, (uint64_t)K * 8, err)) || (r = ensure(m, B_VALS2, (uint64_t)K * 4, err)) ||
+            (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err)) ||
+            (r = ensure(m, B_POOL, (uint64_t)K * 11 * 4, err)) ||
+            (m->build_attrs && ((r = ensure(m, B_TTAB, T2 * 8, err)) || (r = ensure(m, B_EXT, (uint64_t)K * 16, err)))) ||
+            (r = rec_begin(m, err)))
+            goto done;
+        if (m->build_attrs) { /* the representatives' ids: the region's tuple where equal, else a new one */
+            fill(m, B_TTAB, T2 * 8, 0xFFFFFFFFu);
+            fill(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, 0);
+            uint32_t tm = (uint32_t)(T2 - 1);
+            if ((r = bstage(m, 13, 0, 0, U, 0, U, tm, err)) || (r = bstage(m, 14, 0, 0, N, 0, U, tm, err)) ||
+                (r = bstage(m, 15, 0, 0, N, 0, U, tm, err)) || (r = bstage(m, 16, 0, 0, 1, (uint32_t)R, U, tm, err)) ||
+                (r = bstage(m, 17, 0, 0, N, (uint32_t)R, U, tm, err)))
+                goto done;
+            read_u32(m, B_RNEW, (uint64_t)R * 2, 1);
+        }
+        if ((r = bstage(m, 8, 0, 0, N, 0, 0, 0, err))) goto done;
+        unsigned obits = bits_for(((uint64_t)C << 5) | 31);
+        int sorted = 0;
+        for (uint32_t pass = 0; 4 * pass < obits && K > 1; pass++)
+            if ((r = sort_pass(m, K, 4 * pass, ntiles, &sorted, err))) goto done;
+        fill(m, B_POS, ((uint64_t)K + 1) * 4, 0);
+        if ((r = bstage(m, 9, 0, sorted, K, 0, 0, 0, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
+            (r = bstage(m, 10, 0, sorted, K, 0, 0, 0, err)) || (r = bstage(m, 11, 0, sorted, K, 0, 0, 0, err)))
+            goto done;
+        read_u32(m, B_POS, K, 0);
+    } else if ((r = rec_begin(m, err))) {
+        goto done;
+    }
+    if ((r = bstage(m, 12, 0, 0, R, 0, 0, 0, err))) goto done;
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    if (K) {
+        uint32_t we[2];
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], we, 8, err))) goto done;
+        W = we[0];
+        E = m->build_attrs ? we[1] : 0;
+        if (E > K) goto done;
+    }
+    m->stats.pool_words = W;
+    m->stats.rep_tuples = E;
+    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
+             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, total = at_cells + (uint64_t)R * 4;
+    if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
+    {
+        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
+        VkBufferCopy co = {.srcOffset = 0, .dstOffset = at_rout, .size = (uint64_t)R * 16};
+        VkBufferCopy cb = {.srcOffset = 0, .dstOffset = at_rbase, .size = (uint64_t)R * 4};
+        if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
+        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 4};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_MISC].buf, m->buf[B_PDOWN].buf, 1, &cc);
+        if (m->build_attrs && K) {
+            VkBufferCopy cn = {.srcOffset = 0, .dstOffset = at_rnew, .size = (uint64_t)R * 8};
+            VkBufferCopy ce = {.srcOffset = 0, .dstOffset = at_ext, .size = E * 16};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_RNEW].buf, m->buf[B_PDOWN].buf, 1, &cn);
+            if (E) vkCmdCopyBuffer(g->cmd, m->buf[B_EXT].buf, m->buf[B_PDOWN].buf, 1, &ce);
+        }
+        barrier(g);
+    }
+    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    {
+        const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
+        const uint32_t* words = (const uint32_t*)hb;
+        rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
+        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 3 + 1, 4); /* per region: new tuples, first one, cells */
+        if (!rext) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
+            goto done;
+        }
+        if (m->build_attrs && K) memcpy(rext, hb + at_rnew, (size_t)R * 8);
+        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 4);
+        *out_ext = rext;
+        *out_tuples = (const uint32_t*)(hb + at_ext);
+        pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
+        if (!rdown || !pools) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
+            goto done;
+        }
+        memcpy(rdown, hb + at_rout, (size_t)R * 16);
+        memcpy(rdown + 4 * R, hb + at_rbase, (size_t)R * 4);
+        const uint32_t* rb = rdown + 4 * R;
+        uint64_t end = W;
+        for (size_t ri = R; ri-- > 0;) { /* a region's words run to the next region's first */
+            vx__svo_pool* p = &pools[ri];
+            const uint32_t* ro = rdown + 4 * ri;
+            p->root = ro[0], p->root_leaf = ro[1] != 0, p->plain = ro[2], p->collapsed = ro[3];
+            p->reps = m->build_attrs != 0;
+            if (rb[ri] == 0xFFFFFFFFu) continue; /* no node: the root is a leaf (or the region is empty) */
+            if (rb[ri] > end) goto done;
+            p->words = words + rb[ri];
+            p->count = (size_t)(end - rb[ri]);
+            end = rb[ri];
+        }
+        *out = pools;
+        pools = NULL;
+    }
+done:
+    vx_free(a, binfo);
+    vx_free(a, rinfo);
+    vx_free(a, rdown);
+    vx_free(a, pools);
+    return r;
+}
+
+/* Copies the voxelizer's results into the download buffer and points at
+ * them there: the tuples (interned: each cell's id and each id's tuple),
+ * and with cells the cells' keys and attributes (else those stay NULL). */
+static vx_result download(vx_conv_mesh_gpu* m, uint32_t C, uint32_t U, uint32_t attrs, bool intern, bool cells,
+                          const uint32_t** okeys, const uint32_t** orgba, const uint32_t** onrm, const uint32_t** omat,
+                          const uint32_t** oids, const uint32_t** outab, vx_error* err) {
+    vx_gpu* g = m->g;
+    uint64_t c8 = cells ? (uint64_t)C * 8 : 0, c4 = cells ? (uint64_t)C * 4 : 0;
+    uint64_t at_ids = c8 + 3 * c4, at_utab = at_ids + (intern ? c4 : 0), total = at_utab + (uint64_t)U * 16;
+    vx_result r;
+    if ((r = ensure_host(m, B_DOWN, total + 16, err)) || (r = rec_begin(m, err))) return r;
+    if (cells) {
+        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
+        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
+        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
+        for (int q = 0; q < 3; q++)
+            if ((attrs & bits[q]) && c4) {
+                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
+                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
+            }
+    }
+    if (intern) {
+        VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_ids, .size = c4};
+        VkBufferCopy cu = {.srcOffset = 0, .dstOffset = at_utab, .size = (uint64_t)U * 16};
+        if (c4) vkCmdCopyBuffer(g->cmd, m->buf[B_IDS].buf, m->buf[B_DOWN].buf, 1, &ci);
+        vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
+    }
+    barrier(g);
+    if ((r = vx__cmd_submit_wait(g, err))) return r;
+    const uint8_t* base = (const uint8_t*)m->buf[B_DOWN].map;
+    *okeys = *orgba = *onrm = *omat = *oids = *outab = NULL;
+    if (cells) {
+        *okeys = (const uint32_t*)base;
+        *orgba = (const uint32_t*)(base + c8);
+        *onrm = (const uint32_t*)(base + c8 + c4);
+        *omat = (const uint32_t*)(base + c8 + 2 * c4);
+        if (intern) *oids = (const uint32_t*)(base + at_ids);
+    }
+    if (intern) *outab = (const uint32_t*)(base + at_utab);
+    return VX_OK;
+}
+
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                              const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares, bool builds,
                               vx__mesh_sink sink, void* user, vx_error* err) {
     vx_conv_mesh_gpu* m = (vx_conv_mesh_gpu*)self;
     vx_gpu* g = m->g;
@@ -327,6 +643,9 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t* cstart = NULL;
     size_t* ustart = NULL;
     const uint32_t *oids = NULL, *outab = NULL; /* interned tuples, in the download buffer */
+    vx__svo_pool* pools = NULL; /* per region, built on the GPU (words in the pool download buffer) */
+    uint32_t* ext = NULL;       /* per region the representatives' new tuples (gpu_build) */
+    const uint32_t* ext_tuples = NULL;
     uint32_t* breg = NULL;
     size_t* mine = NULL;
     size_t mine_count = 0;
@@ -573,43 +892,36 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu regions", bins.region_count);
         goto done;
     }
-    {
-        /* one copy of each result into the download buffer, read where it lies */
-        uint64_t c8 = (uint64_t)C * 8, c4 = (uint64_t)C * 4;
-        uint64_t at_ids = c8 + 3 * c4, at_utab = at_ids + (intern ? c4 : 0), total = at_utab + (uint64_t)U * 16;
-        if ((r = ensure_host(m, B_DOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
-        VkBufferCopy ck = {.srcOffset = 0, .dstOffset = 0, .size = c8 ? c8 : 8};
-        vkCmdCopyBuffer(g->cmd, m->buf[B_OKEYS].buf, m->buf[B_DOWN].buf, 1, &ck);
-        int src_ids[3] = {B_ORGBA, B_ONRM, B_OMAT};
-        uint32_t bits[3] = {VX_ATTR_RGBA8, VX_ATTR_NORMAL, VX_ATTR_MATERIAL};
-        for (int q = 0; q < 3; q++)
-            if ((attrs & bits[q]) && c4) {
-                VkBufferCopy c = {.srcOffset = 0, .dstOffset = c8 + (uint64_t)q * c4, .size = c4};
-                vkCmdCopyBuffer(g->cmd, m->buf[src_ids[q]].buf, m->buf[B_DOWN].buf, 1, &c);
-            }
-        if (intern) {
-            VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_ids, .size = c4};
-            VkBufferCopy cu = {.srcOffset = 0, .dstOffset = at_utab, .size = (uint64_t)U * 16};
-            vkCmdCopyBuffer(g->cmd, m->buf[B_IDS].buf, m->buf[B_DOWN].buf, 1, &ci);
-            vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
-        }
-        barrier(g);
-        if ((r = vx__cmd_submit_wait(g, err))) goto done;
-        uint8_t* base = (uint8_t*)m->buf[B_DOWN].map;
-        okeys = (const uint32_t*)base;
-        orgba = (const uint32_t*)(base + c8);
-        onrm = (const uint32_t*)(base + c8 + c4);
-        omat = (const uint32_t*)(base + c8 + 2 * c4);
-        if (intern) {
-            oids = (const uint32_t*)(base + at_ids);
-            outab = (const uint32_t*)(base + at_utab);
-        }
-    }
+    /* the octrees on the GPU (below) when the sink builds them: then only
+     * the tuples come back, not the cells (unless the builders check) */
+    bool want_build = intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag;
+    bool lean = want_build && builds && m->build == VX_CONV_MESH_GPU_BUILD_GPU;
+    if ((r = download(m, C, U, attrs, intern, !lean, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
     m->stats.download = vx_time_now() - t0;
 
-    /* regions: cells are sorted by brick index, regions are runs of bricks */
+    if (outab) { /* ids come in region order: each region's are a range */
+        size_t u = 0;
+        for (size_t ri = 0; ri < bins.region_count; ri++) {
+            ustart[ri] = u;
+            while (u < U && outab[4 * u + 3] <= ri) u++;
+        }
+        ustart[bins.region_count] = u;
+    }
+    /* the octrees on the GPU, down to their node pools */
     t0 = vx_time_now();
-    {
+    if (want_build) {
+        if ((r = gpu_build(m, &bins, grid, bm, breg, C, ustart, U, attrs, desc->build.max_depth, a, &pools, &ext, &ext_tuples,
+                           err)))
+            goto done;
+        if (!pools) m->stats.build_fallback = 1;
+    }
+    if (lean && !pools) { /* the CPU builders build after all: they need the cells */
+        double t1 = vx_time_now();
+        if ((r = download(m, C, U, attrs, intern, true, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
+        m->stats.download += vx_time_now() - t1;
+    }
+    /* regions: cells are sorted by brick index, regions are runs of bricks */
+    if (okeys) {
         size_t c = 0;
         for (size_t ri = 0; ri < bins.region_count; ri++) {
             cstart[ri] = c;
@@ -617,22 +929,27 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             while (c < C && ((uint64_t)(okeys[2 * c] >> 18) | (uint64_t)okeys[2 * c + 1] << 14) < end_brick) c++;
         }
         cstart[bins.region_count] = c;
-        if (oids) { /* ids come in region order: each region's are a range */
-            size_t u = 0;
-            for (size_t ri = 0; ri < bins.region_count; ri++) {
-                ustart[ri] = u;
-                while (u < U && outab[4 * u + 3] <= ri) u++;
-            }
-            ustart[bins.region_count] = u;
+    } else { /* counted on the GPU */
+        size_t c = 0;
+        for (size_t ri = 0; ri < bins.region_count; ri++) cstart[ri] = c, c += ext[2 * bins.region_count + ri];
+        cstart[bins.region_count] = c;
+        if (c != C) {
+            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU octree build: %zu cells counted in regions of %u", c, C);
+            goto done;
         }
+    }
+    m->stats.build = vx_time_now() - t0;
+    t0 = vx_time_now();
+    {
         /* under MPI each process builds its share's regions; the GPU voxelized
          * them all (a few percent of the conversion; the builds are the cost) */
         size_t mine_bricks;
         if ((r = vx__mesh_share_regions(bins.rstart, bins.region_count, share, shares, a, &mine, &mine_count, &mine_bricks,
                                         err)))
             goto done;
-        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, false, 1, mine, mine_count,
-                        attrs, sink, user, a, PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
+        region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools, ext, ext_tuples,
+                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, false, 1, mine, mine_count, attrs, sink, user, a,
+                        PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
             long nc = sysconf(_SC_NPROCESSORS_ONLN);
@@ -673,6 +990,8 @@ done:
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);
+    vx_free(a, pools);
+    vx_free(a, ext);
     vx_free(a, mine);
     vx__mesh_bins_free(a, &bins);
     return r;
@@ -733,7 +1052,13 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         vx_conv_mesh_gpu_destroy(m);
         return r;
     }
-    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * 16};
+    for (uint32_t mode = 0; mode < 18; mode++)
+        if ((r = make_pipe(m, P_BUILD + (int)mode, vx__meshbuild_spv_arr, sizeof vx__meshbuild_spv_arr, mode, BUILD_BINDINGS,
+                           sizeof(build_push), "meshgpu.build", err))) {
+            vx_conv_mesh_gpu_destroy(m);
+            return r;
+        }
+    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * BUILD_BINDINGS};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 512,
                                       .poolSizeCount = 1,
@@ -751,6 +1076,10 @@ const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg
 
 void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out) {
     if (mg && out) *out = mg->stats;
+}
+
+void vx_conv_mesh_gpu_set_build(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_build mode) {
+    if (mg) mg->build = mode;
 }
 
 void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* m) {

@@ -6,7 +6,7 @@ if(TARGET vx_conv_mesh AND VX_WITH_VULKAN)
   set(VX_MESHGPU_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_MESHGPU_SPV_DIR})
   set(VX_MESHGPU_SPV)
-  foreach(name meshvox meshreduce gpusort gpuscan meshintern)
+  foreach(name meshvox meshreduce gpusort gpuscan meshintern meshbuild)
     add_custom_command(
       OUTPUT ${VX_MESHGPU_SPV_DIR}/${name}.comp.h
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${name}_spv_arr

@@ -18,8 +18,13 @@
  * then the cells' attribute tuples interned per region (shaders/meshintern.comp:
  * a radix sort by (region, tuple), one id per run), so that each region's
  * octree builder hashes its distinct tuples once (vx__svo_build_interned)
- * instead of every cell's. The cells come back in Morton order, region by
- * region, with their tuple ids, to the sink.
+ * instead of every cell's; then each region's octree built level by level
+ * (shaders/meshbuild.comp: uniform collapse, subtrees shared through a hash
+ * table of their contents, checked against the canonical copy, pool
+ * positions in the CPU builder's order) and only its node pool downloaded:
+ * the CPU builder then computes the representatives and lays the blocks
+ * out (vx__svo_build_interned with a pool). The cells come back in Morton
+ * order, region by region, with their tuple ids, to the sink.
  *
  * Needs shaderFloat64 (NVIDIA, lavapipe); without it, or with desc.solid,
  * the voxelizer fails with VX_ERR_UNSUPPORTED (the CPU one does both).
@@ -51,10 +56,24 @@ typedef struct vx_conv_mesh_gpu_stats {
     double reduce;   /* per-cell sums and the finished attributes */
     double intern;   /* the cells' attribute tuples interned per region for the builders */
     double download; /* the cells */
+    double build;    /* the octrees' node pools built on the GPU (meshbuild.comp), downloaded */
     double sink;     /* CPU: regions handed to the sink (the octree builds) */
     uint64_t pairs, records, cells, tuples; /* tuples: distinct per region, summed (0: not interned) */
     uint32_t sort_passes, intern_passes;
+    uint64_t node_slots, nodes, pool_words; /* the GPU build: parents made, distinct nodes, words downloaded */
+    uint64_t rep_tuples; /* representatives' tuples that no cell has (interned on the GPU) */
+    uint32_t levels;
+    /* The GPU build was asked for but the CPU builders built the trees
+     * (a hash collision found, or the node buffers too small); 0: not. */
+    uint32_t build_fallback;
 } vx_conv_mesh_gpu_stats;
+
+/* Who builds the octrees from the cells. */
+typedef enum vx_conv_mesh_gpu_build {
+    VX_CONV_MESH_GPU_BUILD_GPU = 0, /* the GPU (node pools, meshbuild.comp); the CPU lays them out */
+    VX_CONV_MESH_GPU_BUILD_CPU,     /* the CPU builders from the interned tuples */
+    VX_CONV_MESH_GPU_BUILD_CHECK    /* both: each region's CPU builder fails unless the GPU's pool is its own */
+} vx_conv_mesh_gpu_build;
 
 /* gpu is borrowed: it must outlive the object. alloc may be NULL (malloc). */
 vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc, vx_conv_mesh_gpu** out,
@@ -62,6 +81,8 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
 /* For vx_conv_mesh_desc.backend (valid while mg lives). */
 const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg);
 void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out);
+/* Default VX_CONV_MESH_GPU_BUILD_GPU; the file is the same either way. */
+void vx_conv_mesh_gpu_set_build(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_build mode);
 void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* mg);
 
 #ifdef __cplusplus

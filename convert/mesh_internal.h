@@ -94,8 +94,11 @@ vx_result vx__mesh_share_regions(const size_t* rstart, size_t region_count, uint
  * contract (the regions of share `share` of `shares`, each once, as
  * vx__mesh_share_regions assigns them). */
 struct vx_conv_mesh_backend {
+    /* builds: the sink builds octrees (vx__svo_build_interned): a region
+     * may come as its node pool and tuples (interned.pool) without its
+     * cells (count set, keys NULL); else every region comes with its cells. */
     vx_result (*voxelize)(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
-                          const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares,
+                          const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares, bool builds,
                           vx__mesh_sink sink, void* user, vx_error* err);
     void* self;
 };

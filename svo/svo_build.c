@@ -567,7 +567,18 @@ typedef struct outw {
     uint32_t* lb_key;
     uint32_t* lb_pos;
     size_t lbcap, nlb;
+    /* the uniform runs in runh (len copies of one record), by record: which
+     * lengths are stored and where, so that a short uniform run finds a
+     * longer one with one probe instead of one per length (run_intern) */
+    struct uni_run* uni;
+    size_t unicap, nuni;
 } outw;
+
+typedef struct uni_run {
+    uint32_t key;  /* the record (a value when direct: any 32 bits) */
+    uint32_t lens; /* bit len - 1: a run of len copies is stored; bit 31: the entry is used */
+    uint32_t start[8];
+} uni_run;
 
 static bool out_push(bld* b, outw* o, uint32_t v) {
     if (o->n >= 0xFFFFFFF0u) {
@@ -582,21 +593,47 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
 static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add);
 
+/* The uniform-run entry of record v (claimed when absent); NULL when the
+ * table cannot grow (b->fail set). */
+static uni_run* uni_find(bld* b, outw* o, uint32_t v) {
+    if ((o->nuni + 1) * 2 > o->unicap) {
+        size_t ncap = o->unicap ? o->unicap * 2 : 1024;
+        uni_run* t = (uni_run*)vx_calloc(b->a, ncap, sizeof *t);
+        if (!t) return oom(b, "uniform runs"), NULL;
+        for (size_t i = 0; i < o->unicap; i++)
+            if (o->uni[i].lens) {
+                size_t q = (size_t)mix64(o->uni[i].key) & (ncap - 1);
+                while (t[q].lens) q = (q + 1) & (ncap - 1);
+                t[q] = o->uni[i];
+            }
+        vx_free(b->a, o->uni);
+        o->uni = t;
+        o->unicap = ncap;
+    }
+    size_t q = (size_t)mix64(v) & (o->unicap - 1);
+    while (o->uni[q].lens && o->uni[q].key != v) q = (q + 1) & (o->unicap - 1);
+    if (!o->uni[q].lens) {
+        o->uni[q].key = v;
+        o->uni[q].lens = 1u << 31;
+        o->nuni++;
+    }
+    return &o->uni[q];
+}
+
 /* A run of one repeated value is also found inside any longer run of that
  * value (records are indexed from the run start), which is common with
- * palette colours: try the longer uniform runs first. */
+ * palette colours: try the longer uniform runs first, longest first (the
+ * uniform-run table says which are stored: the probes of runh for each
+ * length, which that table replaces, found the same runs). */
 static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
     if (b->dag && n < 8) {
         bool uni = true;
         for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
         if (uni) {
-            uint32_t u[8];
-            for (unsigned i = 0; i < 8; i++) u[i] = ids[0];
-            for (unsigned len = 8; len > n; len--) {
-                uint32_t st = run_intern_exact(b, o, u, len, false);
-                if (st != UINT32_MAX) return st;
-                if (b->fail) return UINT32_MAX; /* the run table could not grow: not "absent" */
-            }
+            uni_run* e = uni_find(b, o, ids[0]);
+            if (!e) return UINT32_MAX;
+            uint32_t longer = (e->lens & 0xFFu) >> n; /* bit k: length n + 1 + k */
+            if (longer) return e->start[n + (31u - (unsigned)__builtin_clz(longer))];
         }
     }
     return run_intern_exact(b, o, ids, n, true);
@@ -643,6 +680,14 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
     } else if (b->dag) {
         o->runh[j] = (h & 0xFFFFFFFF00000000ull) | ((uint64_t)n << 28) | ((uint32_t)o->nid + 1);
         o->nrun++;
+        bool uni = true;
+        for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
+        if (uni) { /* the first stored run of these n copies: the one runh finds from now on */
+            uni_run* e = uni_find(b, o, ids[0]);
+            if (!e) return UINT32_MAX;
+            e->lens |= 1u << (n - 1);
+            e->start[n - 1] = (uint32_t)o->nid;
+        }
     }
     if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
     uint32_t st = (uint32_t)o->nid;
@@ -656,12 +701,50 @@ static inline bool node_has_block(const bld* b, const uint32_t* n) {
     return (valid & ~leaf) != 0 || b->attrs != 0;
 }
 
+/* What a layout pass does to each node: all of it (LAY_ALL), or one of its
+ * two halves on two threads (the pool path, pool_take): LAY_RUNS interns the
+ * node's attribute run and leaves its index in the node's N_BLOCK word,
+ * LAY_BLOCKS then writes the block from it. The runs depend only on the
+ * representatives, the blocks only on the runs and the children's blocks,
+ * and each half keeps the pool order: the words are the one pass's. */
+enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
+
 /* Writes the block of every node in creation order (children first), far
  * slots right before the block whose descriptors need them. */
-static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
+/* Touches the run-table slots that node `at`'s run will probe (run_intern:
+ * the uniform-run entry, the run table), so that the misses of the nodes
+ * ahead overlap the work on the current one: with large tables each probe
+ * is a miss to memory. A hint only: nothing is written. */
+static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
+    const uint32_t* n = b->pool + at;
+    uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+    unsigned nk = vx__popc8(valid);
+    if (o->runcap) {
+        uint32_t ids[8];
+        bool uni = true;
+        for (unsigned oc = 0, j = 0; oc < 8; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            uint32_t ref = n[N_KIDS + j];
+            ids[j] = (leaf >> oc & 1u) ? ref : b->pool[ref + N_REP];
+            uni = uni && ids[j] == ids[0];
+            j++;
+        }
+        if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
+        __builtin_prefetch(&o->runh[(size_t)hash_words(ids, nk, 3) & (o->runcap - 1)]);
+    }
+    return at + N_KIDS + nk;
+}
+
+static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
     uint32_t limit = b->limit;
     size_t off = *off_io;
+    /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
+    enum { PF_AHEAD = 12 };
+    bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
+    size_t pf = off;
+    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf);
     while (off < end) {
+        if (pf_on && pf < end) pf = run_prefetch(b, o, pf);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -682,15 +765,22 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
             } else {
                 const uint32_t* c = b->pool + ref;
                 runids[j - 1] = c[N_REP];
-                cb[nn] = c[N_BLOCK];
+                if (mode != LAY_RUNS) cb[nn] = c[N_BLOCK]; /* the other thread writes it meanwhile */
                 cd[nn] = c[N_HDR];
                 nn++;
             }
         }
         uint32_t a = 0;
-        if (b->attrs) {
+        if (b->attrs && mode == LAY_BLOCKS) {
+            a = n[N_BLOCK];
+        } else if (b->attrs) {
             a = run_intern(b, o, runids, nk);
             if (a == UINT32_MAX) return false;
+        }
+        if (mode == LAY_RUNS) {
+            n[N_BLOCK] = a;
+            off = next;
+            continue;
         }
         if (nn == 0 && b->dag) {
             /* the block is the word `a` alone, position-independent: reuse a
@@ -773,7 +863,10 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end) {
 typedef struct lay_job {
     bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
     outw* o;
-    _Atomic size_t pub;
+    _Atomic size_t pub;   /* pool words the builder has appended (the first stage follows these) */
+    _Atomic size_t* src;  /* what this thread follows: &pub, or the runs stage's done */
+    _Atomic size_t done;  /* pool words this thread is through */
+    int mode;             /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
     atomic_bool stop;
     vx_error err;
     pthread_t th;
@@ -785,9 +878,10 @@ static void* lay_main(void* arg) {
     size_t off = 0;
     for (;;) {
         bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
-        size_t end = atomic_load_explicit(&j->pub, memory_order_acquire);
+        size_t end = atomic_load_explicit(j->src, memory_order_acquire);
         if (off < end) {
-            if (!layout_nodes(&j->lb, j->o, &off, end)) break;
+            if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
+            atomic_store_explicit(&j->done, off, memory_order_release);
             continue;
         }
         if (stop) break;
@@ -810,6 +904,7 @@ static size_t pool_bound(size_t n, uint32_t depth) {
     return words < 4.0e9 ? (size_t)words : 0;
 }
 
+static bool lay_run(lay_job* j, bld* b, outw* o);
 /* Starts the layout thread over b's pool, allocated at the bound; false
  * (and nothing started) when either cannot be had: the layout then runs
  * after the build as usual. */
@@ -819,19 +914,45 @@ static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
     b->pool = (uint32_t*)vx_alloc(b->a, words * sizeof *b->pool);
     if (!b->pool) return false;
     b->cappool = words;
+    return lay_run(j, b, o);
+}
+
+/* Prepares j to follow src in mode; starts its thread (false: none started). */
+static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mode) {
     j->o = o;
-    atomic_init(&j->pub, 0);
+    atomic_init(&j->pub, 0); /* j->done: initialised by the caller (another thread may read it first) */
     atomic_init(&j->stop, false);
+    j->src = src ? src : &j->pub;
+    j->mode = mode;
     memset(&j->err, 0, sizeof j->err);
     j->lb = *b;
     j->lb.err = &j->err;
     j->lb.fail = VX_OK;
+    j->started = pthread_create(&j->th, NULL, lay_main, j) == 0;
+    return j->started;
+}
+
+/* Starts the layout thread over b's pool as it is (allocated at its final
+ * size: it never moves); false when no thread could be started. */
+static bool lay_run(lay_job* j, bld* b, outw* o) {
+    atomic_init(&j->done, 0);
+    if (!lay_thread(j, b, o, NULL, LAY_ALL)) return false; /* the pool stays, growable as usual */
     b->pub = &j->pub;
-    if (pthread_create(&j->th, NULL, lay_main, j) != 0) {
-        b->pub = NULL; /* the pool stays, growable as usual */
+    return true;
+}
+
+static void lay_join(lay_job* j, bld* b, bool propagate);
+/* The layout in two stages on two threads, runs (ja) then blocks (jb),
+ * both following the builder; one thread (lay_run) when the second cannot
+ * be started. The pool must not move. */
+static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
+    atomic_init(&ja->done, 0);
+    if (!lay_thread(jb, b, o, &ja->done, LAY_BLOCKS)) return lay_run(ja, b, o);
+    if (!lay_thread(ja, b, o, NULL, LAY_RUNS)) {
+        lay_join(jb, b, false); /* it has laid nothing out: b->laid stays 0 */
         return false;
     }
-    j->started = true;
+    b->pub = &ja->pub;
     return true;
 }
 
@@ -853,7 +974,7 @@ static void lay_join(lay_job* j, bld* b, bool propagate) {
 /* The blocks of the nodes not laid out yet, then the root descriptor. */
 static bool layout(bld* b, outw* o) {
     uint32_t limit = b->limit;
-    if (!layout_nodes(b, o, &b->laid, b->npool)) return false;
+    if (!layout_nodes(b, o, &b->laid, b->npool, LAY_ALL)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -920,6 +1041,190 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
     return true;
 }
 
+/* ---- a tree built by the caller (vx__svo_interned.pool) ------------------------------------- */
+
+/* Takes the caller's pool (the streaming pass's nodes, in its order): each
+ * node checked (masks, children in range, node children earlier nodes), its
+ * representative computed and interned as finalize() does, and published
+ * to the layout thread when one runs. b's tuples are interned (ids =
+ * tuple ids); in the direct case leaf children become their values. */
+static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, lay_job* lj2, outw* o) {
+    size_t cnt = p->count;
+    if (cnt >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: node pool exceeds 2^32 words");
+        return false;
+    }
+    uint8_t* isnode = (uint8_t*)vx_calloc(b->a, cnt / 8 + 1, 1);
+    b->pool = (uint32_t*)vx_alloc(b->a, (cnt ? cnt : 1) * sizeof *b->pool);
+    if (!isnode || !b->pool) {
+        vx_free(b->a, isnode);
+        return oom(b, "node pool");
+    }
+    b->cappool = cnt;
+    /* the layout's tables and outputs sized for the nodes to come (at most
+     * one run and one block per node, at most the pool's words), not grown
+     * and rehashed step by step; where an allocation fails they grow as usual */
+    if (b->dag && cnt && !o->runh && !o->lb_key) {
+        size_t nodes = cnt / (N_KIDS + 1) + 2, cap = 4096;
+        while (cap < 2 * nodes + 2) cap *= 2;
+        o->runh = (uint64_t*)vx_calloc(b->a, cap, sizeof *o->runh);
+        if (o->runh) o->runcap = cap;
+        o->lb_key = (uint32_t*)vx_calloc(b->a, cap, sizeof *o->lb_key);
+        o->lb_pos = o->lb_key ? (uint32_t*)vx_alloc(b->a, cap * sizeof *o->lb_pos) : NULL;
+        if (o->lb_pos) o->lbcap = cap;
+        else vx_free(b->a, o->lb_key), o->lb_key = NULL;
+    }
+    if (cnt) {
+        vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
+        vx_grow(b->a, (void**)&o->ids, &o->capid, cnt, sizeof *o->ids);
+    }
+    if (thread && cnt) {
+        b->pub = NULL;
+        lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
+    }
+    const uint32_t* w = p->words;
+    size_t off = 0;
+    bool ok = true;
+    while (off < cnt) {
+        uint32_t hdr = w[off], valid = hdr & 0xFFu, leaf = (hdr >> 8) & 0xFFu;
+        unsigned nk = vx__popc8(valid);
+        if (valid == 0 || (hdr >> 16) || (leaf & ~valid) || off + N_KIDS + nk > cnt) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: header 0x%x", off, hdr);
+            ok = false;
+            break;
+        }
+        uint32_t ids[8], kids[8];
+        unsigned j = 0;
+        for (unsigned oc = 0; oc < 8 && ok; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            uint32_t ref = w[off + N_KIDS + j];
+            if (leaf >> oc & 1u) {
+                if (ref >= b->nrec) {
+                    b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: tuple %u of %zu", off,
+                                      ref, b->nrec);
+                    ok = false;
+                    break;
+                }
+                kids[j] = ids[j] = b->direct ? rec_value(b->attrs, &b->recs[ref]) : ref;
+            } else {
+                if (ref >= off || !(isnode[ref >> 3] >> (ref & 7u) & 1u)) {
+                    b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                      "svo build: pool node at word %zu: child %u is not an earlier node", off, ref);
+                    ok = false;
+                    break;
+                }
+                kids[j] = ref;
+                ids[j] = b->pool[ref + N_REP];
+            }
+            j++;
+        }
+        if (!ok) break;
+        uint32_t rep = 0;
+        if (b->attrs && p->reps) { /* computed by the caller */
+            rep = w[off + N_REP];
+            if (rep >= b->nrec) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool node at word %zu: representative %u of %zu",
+                                  off, rep, b->nrec);
+                ok = false;
+                break;
+            }
+            if (b->direct) rep = rec_value(b->attrs, &b->recs[rep]);
+        } else if (b->attrs) {
+            rep = representative(b, ids, nk);
+            if (rep == UINT32_MAX && !b->direct) {
+                ok = false;
+                break;
+            }
+        }
+        uint32_t* n = b->pool + off;
+        n[N_HDR] = hdr;
+        n[N_REP] = rep;
+        n[N_BLOCK] = NO_BLOCK;
+        memcpy(n + N_KIDS, kids, nk * sizeof *kids);
+        isnode[off >> 3] |= (uint8_t)(1u << (off & 7u));
+        off += N_KIDS + nk;
+        b->npool = off;
+        b->nnodes++;
+        if (b->pub) atomic_store_explicit(b->pub, off, memory_order_release);
+    }
+    if (ok) {
+        b->have_root = true;
+        b->root_is_leaf = p->root_leaf;
+        b->root_plain = p->plain;
+        b->ncollapsed = p->collapsed;
+        if (p->root_leaf) {
+            if (p->root >= b->nrec || cnt) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool of %zu words with a leaf root %u", cnt,
+                                  p->root);
+                ok = false;
+            } else {
+                b->root = b->direct ? rec_value(b->attrs, &b->recs[p->root]) : p->root;
+            }
+        } else if (p->root >= cnt || !(isnode[p->root >> 3] >> (p->root & 7u) & 1u)) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool root %u is not a node", p->root);
+            ok = false;
+        } else {
+            b->root = p->root;
+        }
+    }
+    vx_free(b->a, isnode);
+    return ok;
+}
+
+/* The builder's own pool against the caller's: header and children of each
+ * node, the root and the counts; the first difference fails, named with the
+ * node's height (1: every child a leaf). */
+static bool pool_check(bld* b, const vx__svo_pool* p) {
+    uint8_t* ht = (uint8_t*)vx_calloc(b->a, b->npool ? b->npool : 1, 1);
+    if (!ht) return oom(b, "pool check");
+    size_t off = 0;
+    const char* what = NULL;
+    while (off < b->npool) {
+        const uint32_t* n = b->pool + off;
+        uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+        unsigned nk = vx__popc8(valid), h = 1;
+        for (unsigned j = 0, oc = 0; oc < 8; oc++) {
+            if (!(valid >> oc & 1u)) continue;
+            if (!(leaf >> oc & 1u) && ht[n[N_KIDS + j]] + 1u > h) h = ht[n[N_KIDS + j]] + 1u;
+            j++;
+        }
+        ht[off] = (uint8_t)h;
+        if (off + N_KIDS + nk > p->count) what = "missing";
+        else if (p->words[off] != n[N_HDR]) what = "header";
+        else if (p->reps && b->attrs &&
+                 (p->words[off + N_REP] >= b->nrec ||
+                  (b->direct ? rec_value(b->attrs, &b->recs[p->words[off + N_REP]]) : p->words[off + N_REP]) != n[N_REP]))
+            what = "representative";
+        else {
+            for (unsigned j = 0, oc = 0; oc < 8 && !what; oc++) {
+                if (!(valid >> oc & 1u)) continue;
+                uint32_t mine = n[N_KIDS + j], theirs = p->words[off + N_KIDS + j];
+                if ((leaf >> oc & 1u) && b->direct) theirs = theirs < b->nrec ? rec_value(b->attrs, &b->recs[theirs]) : ~mine;
+                if (mine != theirs) what = (leaf >> oc & 1u) ? "leaf child's tuple" : "child node id";
+                j++;
+            }
+        }
+        if (what) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                              "svo build: the given pool differs from the builder's at node %zu (height %u): %s", off, h, what);
+            vx_free(b->a, ht);
+            return false;
+        }
+        off += N_KIDS + nk;
+    }
+    vx_free(b->a, ht);
+    uint32_t theirs = p->root; /* a leaf root: a tuple id, the builder's a value when direct */
+    if (p->root_leaf && b->direct) theirs = p->root < b->nrec ? rec_value(b->attrs, &b->recs[p->root]) : ~b->root;
+    if (p->count != b->npool) what = "pool size";
+    else if (p->root_leaf != b->root_is_leaf || theirs != b->root) what = "root";
+    else if (p->plain != b->root_plain || p->collapsed != b->ncollapsed) what = "node counts";
+    if (what) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given pool differs from the builder's: %s", what);
+        return false;
+    }
+    return true;
+}
+
 /* ---- entry point ---------------------------------------------------------------------------- */
 
 static const char* attr_name(uint32_t bit) {
@@ -956,7 +1261,8 @@ vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels*
 vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                                  vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     if (!in || !pre) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
-    if (!in->attrs || in->level || (in->count && (!pre->rec || (pre->count && !pre->tab))))
+    bool given = pre->pool && pre->pool->reps && !pre->check_pool; /* the tree given: entries optional */
+    if (!in->attrs || in->level || (in->count && ((!pre->rec && !given) || (pre->count && !pre->tab))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned entries need attrs, ids and no tiles");
     return build(desc, in, pre, out, stats, err);
 }
@@ -994,7 +1300,10 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: %s array given but not named in attrs",
                            attr_name(1u << c));
     }
-    if (in->count && !in->keys) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: keys is NULL");
+    /* a tree given with its representatives (a GPU build) stands for its
+     * entries: they may be left out (count only; keys and ids NULL) */
+    bool bare = pre && pre->pool && pre->pool->reps && !pre->check_pool && !in->keys;
+    if (in->count && !in->keys && !bare) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: keys is NULL");
 
     bld b;
     memset(&b, 0, sizeof b);
@@ -1025,19 +1334,19 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     size_t* cnt = NULL;
     outw o;
     memset(&o, 0, sizeof o);
-    lay_job lj;
-    lj.started = false;
+    lay_job lj, lj2; /* the layout thread, or the layout's runs and blocks stages (pool_take) */
+    lj.started = lj2.started = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
-    packed = vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
-    if (!packed) {
+    packed = bare ? NULL : vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
+    if (!packed && !bare) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu entries", n);
         goto done;
     }
     /* pass 1: check entries, intern records (into packed[i] for now) */
     {
-        bool sorted = true;
+        bool sorted = true, strict = true;
         uint64_t prev = 0;
         rec last;
         uint32_t last_id = UINT32_MAX;
@@ -1048,11 +1357,32 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             rec_intern(&b, &z);
             if (b.fail) { res = b.fail; goto done; }
         }
+        /* with the tree and its representatives given (a GPU build), the
+         * tuples are distinct and every id is given: tuple j is record j, no
+         * table needed */
+        bool given = pre && pre->pool && pre->pool->reps && !pre->check_pool;
+        if (given) {
+            if (!vx_grow(b.a, (void**)&b.recs, &b.caprec, pre->count ? pre->count : 1, sizeof(rec))) {
+                res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu records", pre->count);
+                goto done;
+            }
+            for (size_t j = 0; j < pre->count; j++) {
+                rec r = pre->tab[j];
+                r.pad = 0;
+                if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
+                if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+                if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
+                if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
+                if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
+                b.recs[j] = r;
+            }
+            b.nrec = pre->count;
+        }
         /* interned by the caller: tuple j gets id j, once; the tables sized
          * for them and the nodes to come (a surface has about n / 4 nodes, as
          * many new representatives at most), not grown and rehashed step by
          * step (at 4096^3 a region holds 19 M tuples) */
-        if (pre) {
+        if (pre && !given) {
             size_t want = pre->count + n / 4, cap = 1024, ncap = 4096;
             while (cap < 2 * want + 2 && cap < ((size_t)1 << 40)) cap *= 2;
             while (ncap < 2 * (n / 4) + 2 && ncap < ((size_t)1 << 40)) ncap *= 2;
@@ -1084,7 +1414,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
         bool full[3];
         for (int a = 0; a < 3; a++) full[a] = in->size[a] == (1u << depth);
         unsigned kb0 = 3 * depth < 63 ? 3 * depth : 63;
-        for (size_t i = 0; i < n; i++) {
+        for (size_t i = 0; i < n && !bare; i++) {
             uint64_t k = in->keys[i];
             uint32_t L = in->level ? in->level[i] : 0;
             if (L > depth) {
@@ -1113,6 +1443,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 goto done;
             }
             sorted = sorted && k >= prev;
+            strict = strict && (i == 0 || k > prev);
             prev = k;
             uint32_t id = 0;
             if (pre) {
@@ -1143,6 +1474,19 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
                 goto done;
             }
+        }
+        /* the tree built by the caller: representatives and layout only */
+        if (pre && pre->pool && !pre->check_pool) {
+            if (!strict) {
+                res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: a given pool needs strictly increasing keys");
+                goto done;
+            }
+            st.voxels = n;
+            if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &lj2, &o)) { res = b.fail; goto done; }
+            lay_join(&lj, &b, true); /* the runs stage first: the blocks stage follows it */
+            lay_join(&lj2, &b, true);
+            if (b.fail) { res = b.fail; goto done; }
+            goto built;
         }
         /* pass 2: pack (key, level, record) and sort by the key bits only */
         unsigned ab = bits_for(b.nrec ? b.nrec - 1 : 0), lb = in->level ? 5 : 0, kb = 3 * depth;
@@ -1267,7 +1611,9 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
             if (b.lv[l].active && !finalize(&b, l)) { res = b.fail; goto done; }
         lay_join(&lj, &b, true);
         if (b.fail) { res = b.fail; goto done; }
+        if (pre && pre->pool && !pool_check(&b, pre->pool)) { res = b.fail; goto done; }
     }
+built:
     vx_free(b.a, packed);
     packed = NULL;
     vx_free(b.a, ents);
@@ -1317,6 +1663,7 @@ finish:
     res = VX_OK;
 done:
     lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
+    lay_join(&lj2, &b, false);
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);
@@ -1327,6 +1674,7 @@ done:
     vx_free(b.a, o.runh);
     vx_free(b.a, o.lb_key);
     vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
 }
@@ -1463,6 +1811,7 @@ done:
     vx_free(b.a, o.runh);
     vx_free(b.a, o.lb_key);
     vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
 }

@@ -29,6 +29,25 @@ _Static_assert(sizeof(vx__svo_rec) == 16, "vx__svo_rec layout");
  * n (1..8) children's tuples; n equal tuples give that tuple exactly. */
 void vx__svo_rec_mean(uint32_t attrs, const vx__svo_rec* const* c, unsigned n, vx__svo_rec* out);
 
+/* The node pool of a tree built by the caller (the GPU,
+ * convert/shaders/meshbuild.comp): the nodes the builder's streaming pass
+ * appends, in its order, with its ids. A node at word offset off:
+ * [0] valid | leaf << 8, [1] and [2] anything (the builder writes its
+ * representative and block position there; see reps), [3 + j] child j over valid in
+ * octant order: the tuple id of a leaf child, the offset of a node child
+ * (an earlier node). Nodes follow each other without gaps. */
+typedef struct vx__svo_pool {
+    const uint32_t* words; /* read only (the builder copies the nodes) */
+    size_t count;
+    uint32_t root;   /* the root's offset, or its tuple id with root_leaf */
+    bool root_leaf;
+    uint64_t plain, collapsed; /* vx_svo_build_stats.desc_plain, desc_collapsed */
+    /* Word [1] of each node is its representative's tuple id (the rule of
+     * vx__svo_rec_mean, computed by the caller) and the tuples are all in
+     * vx__svo_interned.tab, distinct: the builder then hashes nothing. */
+    bool reps;
+} vx__svo_pool;
+
 /* Entries whose tuples the caller has already interned (the GPU voxelizer,
  * convert/mesh_gpu.c, dedups them on the device): entry i carries
  * tab[rec[i]]; tab holds count distinct tuples (channels outside attrs and
@@ -42,6 +61,16 @@ typedef struct vx__svo_interned {
     bool layout_thread;
     /* Threads that may intern tab (from 2^18 tuples; 0 or 1: the caller's). */
     unsigned threads;
+    /* The tree already built (NULL: the builder builds it). The builder
+     * then computes the representatives (unless pool->reps) and lays the
+     * blocks out; entries given are still checked (Morton keys strictly
+     * increasing); with pool->reps they may be left out (keys and rec
+     * NULL, count only). With
+     * check_pool it builds the tree itself as well and fails (naming the
+     * first node that differs, and its height) unless pool is its own pool
+     * word for word: the test of the caller's build. */
+    const vx__svo_pool* pool;
+    bool check_pool;
 } vx__svo_interned;
 /* vx_svo_build_model over such entries: in's channel arrays are NULL (the
  * tuples are pre), in->attrs != 0, no tiles (in->level NULL). The builder

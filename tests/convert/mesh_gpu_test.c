@@ -58,8 +58,28 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
         ok = 0;
     }
     if (!ok) fprintf(stderr, "  %s res %u region %u: .svo differs (%zu vs %zu bytes)\n", what, res, region, na, nb);
-    else fprintf(stderr, "  %s res %u region %u: %llu cells from %llu pieces, %llu tuples, equal\n", what, res, region,
-                 (unsigned long long)st.cells, (unsigned long long)st.records, (unsigned long long)st.tuples);
+    else fprintf(stderr, "  %s res %u region %u: %llu cells from %llu pieces, %llu tuples, %llu nodes built on the GPU, equal\n",
+                 what, res, region, (unsigned long long)st.cells, (unsigned long long)st.records, (unsigned long long)st.tuples,
+                 (unsigned long long)st.nodes);
+    /* the trees were built on the GPU (no fallback to the CPU builders) */
+    if (ok && attrs && st.build_fallback) {
+        fprintf(stderr, "  %s res %u region %u: the GPU build fell back to the CPU builders\n", what, res, region);
+        ok = 0;
+    }
+    /* and each region's node pool is the CPU builder's, node for node: the
+     * builders build their own too and fail at the first node that differs */
+    if (ok && attrs) {
+        vx_svo_scene c;
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_CHECK);
+        r = vx_conv_mesh(&d, mesh, &c, NULL, &err);
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_GPU);
+        if (r) {
+            fprintf(stderr, "  %s res %u region %u: GPU pools against the CPU builders': %s\n", what, res, region, err.msg);
+            ok = 0;
+        } else {
+            vx_svo_scene_free(&c);
+        }
+    }
     free(da);
     free(db);
     vx_svo_scene_free(&a);

@@ -703,6 +703,160 @@ static int val_cmp(const void* pa, const void* pb) {
     return c ? c : (a < b ? -1 : a > b);
 }
 
+/* ---- a node pool made by brute force (the caller's build, vx__svo_interned.pool) ---------- */
+
+/* Post-order recursion over the sorted unique cells, children in octant
+ * order, equal nodes found through a table of their contents: the order
+ * and ids the builder's streaming pass gives, made another way. */
+typedef struct tpool {
+    uint32_t* w;
+    size_t n, cap;
+    uint32_t* tab; /* node offset + 1 */
+    size_t tcap;
+    uint64_t plain, coll;
+} tpool;
+
+static size_t tp_slot(const tpool* p, const uint32_t* node, unsigned len) {
+    uint64_t h = 0xCBF29CE484222325ull;
+    for (unsigned i = 0; i < len; i++) h = (h ^ node[i]) * 0x100000001B3ull;
+    size_t j = (size_t)(h ^ h >> 29) & (p->tcap - 1);
+    while (p->tab[j]) {
+        const uint32_t* q = p->w + p->tab[j] - 1;
+        if (q[0] == node[0] && !memcmp(q + 3, node + 3, (len - 3) * 4)) break;
+        j = (j + 1) & (p->tcap - 1);
+    }
+    return j;
+}
+
+static void tp_node(tpool* p, const uint64_t* k, const uint32_t* id, size_t lo, size_t hi, unsigned level, bool* leaf,
+                    uint32_t* ref) {
+    if (level == 0) {
+        *leaf = true, *ref = id[lo];
+        return;
+    }
+    uint32_t node[11], valid = 0, lmask = 0, kid[8];
+    unsigned nk = 0;
+    bool same = true;
+    for (size_t a = lo; a < hi;) {
+        unsigned o = (unsigned)(k[a] >> (3 * (level - 1)) & 7u);
+        size_t b = a;
+        while (b < hi && (unsigned)(k[b] >> (3 * (level - 1)) & 7u) == o) b++;
+        bool cl;
+        uint32_t cr;
+        tp_node(p, k, id, a, b, level - 1, &cl, &cr);
+        valid |= 1u << o;
+        if (cl) lmask |= 1u << o;
+        kid[nk] = cr;
+        same = same && cl && cr == kid[0];
+        nk++;
+        a = b;
+    }
+    p->plain++;
+    if (valid == 0xFFu && lmask == 0xFFu && same) {
+        *leaf = true, *ref = kid[0];
+        return;
+    }
+    p->coll++;
+    node[0] = valid | lmask << 8, node[1] = 0, node[2] = 0;
+    memcpy(node + 3, kid, nk * 4);
+    size_t j = tp_slot(p, node, 3 + nk);
+    *leaf = false;
+    if (p->tab[j]) {
+        *ref = p->tab[j] - 1;
+        return;
+    }
+    REQUIRE(p->n + 3 + nk <= p->cap);
+    memcpy(p->w + p->n, node, (3 + nk) * 4);
+    *ref = (uint32_t)p->n;
+    p->tab[j] = (uint32_t)p->n + 1;
+    p->n += 3 + nk;
+}
+
+/* The pool path on the sorted, unique entries (the last of equal keys):
+ * the model equals the builder's own, check_pool accepts the pool, and
+ * broken pools are refused. */
+static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const uint32_t* ids, size_t n, const vx__svo_rec* tab,
+                      size_t ntab, bool thread) {
+    uint64_t* uk = (uint64_t*)calloc(n + 1, 8);
+    uint32_t* ui = (uint32_t*)calloc(n + 1, 4);
+    REQUIRE(uk && ui);
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (m && uk[m - 1] == keys[i]) m--;
+        uk[m] = keys[i], ui[m] = ids[i], m++;
+    }
+    unsigned depth = 0;
+    while ((1u << depth) < S) depth++;
+    tpool p = {0};
+    p.cap = 11 * m + 16;
+    p.tcap = 1024;
+    while (p.tcap < 4 * m) p.tcap *= 2;
+    p.w = (uint32_t*)calloc(p.cap, 4);
+    p.tab = (uint32_t*)calloc(p.tcap, 4);
+    REQUIRE(p.w && p.tab && m);
+    bool rl;
+    uint32_t rr;
+    tp_node(&p, uk, ui, 0, m, depth, &rl, &rr);
+    vx__svo_pool pool = {p.w, p.n, rr, rl, p.plain, p.coll, false};
+    vx_svo_voxels in = {.size = {S, S, S}, .count = m, .keys = uk, .attrs = attrs};
+    vx__svo_interned pre = {ui, tab, ntab, thread, 1, NULL, false};
+    vx_svo_model a, b;
+    vx_svo_build_stats sa, sb;
+    vx_error e;
+    REQUIRE(vx__svo_build_interned(NULL, &in, &pre, &a, &sa, &e) == VX_OK);
+    pre.pool = &pool;
+    vx_result r = vx__svo_build_interned(NULL, &in, &pre, &b, &sb, &e);
+    CHECKF(r == VX_OK, "pool, attrs 0x%x: %s", attrs, e.msg);
+    if (r == VX_OK) {
+        size_t na = a.attr_count;
+        CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && na == b.attr_count &&
+                   !memcmp(a.nodes, b.nodes, (size_t)a.node_count * 4) && (!a.rgba || !memcmp(a.rgba, b.rgba, na * 4)) &&
+                   (!a.palette || !memcmp(a.palette, b.palette, na)) && (!a.normal || !memcmp(a.normal, b.normal, na * 4)) &&
+                   (!a.material || !memcmp(a.material, b.material, na * 2)) &&
+                   (!a.density || !memcmp(a.density, b.density, na * 4)) && sa.desc_dag == sb.desc_dag &&
+                   sa.desc_plain == sb.desc_plain && sa.desc_collapsed == sb.desc_collapsed && sa.voxels == sb.voxels,
+               "pool, attrs 0x%x: %u/%u words, %u/%u records", attrs, a.node_count, b.node_count, a.attr_count, b.attr_count);
+        vx_svo_model_free(NULL, &b);
+    }
+    pre.check_pool = true; /* the builder's own pool is the brute-force one */
+    r = vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e);
+    CHECKF(r == VX_OK, "check_pool, attrs 0x%x: %s", attrs, e.msg);
+    if (r == VX_OK) vx_svo_model_free(NULL, &b);
+    if (p.n >= 4 && !rl) {
+        /* a leaf child's tuple changed: check_pool names it; taken, the model differs or it is refused */
+        size_t off = 0;
+        while (off < p.n && !((p.w[off] >> 8) & 0xFFu)) off += 3 + (size_t)__builtin_popcount(p.w[off] & 0xFFu);
+        if (off < p.n && ntab > 1) {
+            unsigned j = 0; /* the first leaf child's index among the valid children */
+            uint32_t valid = p.w[off] & 0xFFu, leaf = p.w[off] >> 8;
+            for (unsigned o = 0; o < 8 && !((leaf >> o) & 1u); o++) j += (valid >> o) & 1u;
+            uint32_t keep = p.w[off + 3 + j];
+            p.w[off + 3 + j] = (keep + 1) % (uint32_t)ntab;
+            CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "differs"));
+            p.w[off + 3 + j] = keep;
+        }
+        pre.check_pool = false;
+        uint32_t h0 = p.w[0];
+        p.w[0] = 0;
+        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "header"));
+        p.w[0] = h0;
+        /* the last node's first node child pointing at itself, or its leaf at a tuple beyond the table */
+        size_t last = 0;
+        for (size_t off2 = 0; off2 < p.n; off2 += 3 + (size_t)__builtin_popcount(p.w[off2] & 0xFFu)) last = off2;
+        uint32_t keep = p.w[last + 3];
+        uint32_t lv = p.w[last] & 0xFFu, first = lv & (~lv + 1u); /* its first valid child */
+        bool leaf0 = ((p.w[last] >> 8) & first) != 0;
+        p.w[last + 3] = leaf0 ? (uint32_t)ntab : (uint32_t)last;
+        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG &&
+              strstr(e.msg, leaf0 ? "tuple" : "earlier node"));
+        p.w[last + 3] = keep;
+        pool.root = (uint32_t)p.n + 5;
+        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "root"));
+    }
+    vx_svo_model_free(NULL, &a);
+    free(uk), free(ui), free(p.w), free(p.tab);
+}
+
 static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle,
                           bool thread, unsigned threads) {
     size_t cap = nblocks * 64 + nrand;
@@ -772,7 +926,7 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
     REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
     vx_svo_voxels bare = in;
     bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
-    vx__svo_interned pre = {ids, tab, ntab, thread, threads};
+    vx__svo_interned pre = {ids, tab, ntab, thread, threads, NULL, false};
     vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
@@ -788,6 +942,7 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
         CHECK(sa.desc_collapsed < sa.desc_plain || nblocks == 0); /* the blocks did collapse */
         vx_svo_model_free(NULL, &b);
     }
+    if (!shuffle && n) pool_case(attrs, S, keys, ids, n, tab, ntab, thread);
     /* rejected: an id out of range, two equal tuples */
     if (n && ntab) {
         uint32_t keep = ids[n / 2];
@@ -824,7 +979,7 @@ static void test_interned(void) {
     interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3);
     uint64_t k = 0;
     vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
-    vx__svo_interned pre = {NULL, NULL, 0, false, 0};
+    vx__svo_interned pre = {NULL, NULL, 0, false, 0, NULL, false};
     vx_svo_model m;
     vx_error e;
     CHECK(vx__svo_build_interned(NULL, &in, &pre, &m, NULL, &e) == VX_ERR_INVALID_ARG);

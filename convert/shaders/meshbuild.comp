@@ -1,0 +1,401 @@
+#version 450
+/* convert/shaders/meshbuild.comp - each region's octree built on the GPU
+ * from its sorted cells (Morton order, tuples interned by meshintern.comp):
+ * the node pool that the CPU builder's streaming pass (svo/svo_build.c,
+ * pass 3) makes, word for word, so that the CPU keeps only the
+ * representatives and the block layout (vx__svo_build_pool).
+ *
+ * Items are the children of the level being built: cells at level 0, then
+ * each level's parents. Item: i0 = (key lo, key hi, region | leaf << 31,
+ * ref), i1 = (last cell, label lo, label hi, 0); ref is the tuple id of a
+ * leaf, the node slot of a node; the label is a leaf's hash of its tuple
+ * id or a node's hash of its content over its children's labels (equal
+ * subtrees, equal labels: the structural hash).
+ * Node slot: n0 = (valid | leaf << 8, region, order, canonical slot),
+ * n1 = (hash lo, hash hi, pool position, table slot), n2/n3 = the children
+ * in octant order over valid (tuple id of a leaf child, node slot of a
+ * node child); a parent that collapsed keeps valid 0 in its slot.
+ * order = last cell << 5 | level: the CPU builder appends nodes in that
+ * order (post-order; a node is finalized when the cell after its last one
+ * arrives, lower levels first) and keeps the first of equal nodes, so the
+ * canonical node of a class is the one of least order, and pool positions
+ * are the prefix sums of the canonical nodes' sizes in order.
+ *   MODE 0 (init, per cell): the level-0 items.
+ *   MODE 1 (flag, per item of level pc.level): a region's only item at its
+ *           depth is its root (rout); else pos[i] = 1 where i starts a group
+ *           of siblings.
+ *   MODE 2 (start, after pos's exclusive scan): start[parent] = first child.
+ *   MODE 3 (parent, per parent): the uniform collapse, or node slot
+ *           pc.base + parent with its content and hash; the parent item.
+ *   MODE 4 (insert, per node slot): the hash table (first slot claimed per
+ *           (hash, region); the least order there).
+ *   MODE 5 (owner): the slot's node of least order writes itself there.
+ *   MODE 6 (canon): canonical slot; pos[q] = 1 for canonical nodes.
+ *   MODE 7 (verify): each node against its canonical one, children through
+ *           their canonical slots; any difference (a hash collision) sets
+ *           misc[0] and the host builds on the CPU instead.
+ *   MODE 8 (compact, after pos's scan): keys/vals = (order, slot) of the
+ *           canonical nodes, for the radix sort by order.
+ *   MODE 9 (sizes, per sorted node): pos[s] = its pool words.
+ *   MODE 10 (place, after the scan): pool positions; each region's first.
+ *   MODE 11 (emit): the pool words; MODE 12 (roots, per region).
+ * With attributes (pc.attrs) each node's representative is computed with
+ * its parent (MODE 3, vx__svo_rec_mean in the same float arithmetic:
+ * divisions and the square root in double, rounded once) and interned per
+ * region with the cells' tuples (a table of (tuple, region)):
+ *   MODE 13 (per cell tuple): its slot and id; MODE 14 (per canonical node):
+ *   its representative's slot, found or claimed; MODE 15: claimed slots get
+ *   new ids (counted per region); MODE 16 (one invocation): each region's
+ *   first new tuple; MODE 17: the representative ids (into the region's
+ *   tuples, then its new ones), the new tuples written to ext. */
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint MODE = 0;
+layout(push_constant) uniform Push { uint n, level, base, mask, attrs; } pc; /* attrs: 1 rgba, 2 normal, 4 material */
+
+layout(std430, binding = 0) readonly buffer OKeys { uvec2 okeys[]; }; /* (local | brick << 18, brick >> 14) */
+layout(std430, binding = 1) readonly buffer Ids { uint ids[]; };      /* global tuple id per cell */
+layout(std430, binding = 2) readonly buffer BInfo { uvec4 binfo[]; }; /* per brick: region-local Morton lo, hi, region */
+layout(std430, binding = 3) readonly buffer RInfo { uvec4 rinfo[]; }; /* per region: depth, first tuple id */
+layout(std430, binding = 4) buffer ROut { uvec4 rout[]; };             /* per region: root ref, root leaf, plain, collapsed */
+layout(std430, binding = 5) buffer ItemsIn { uvec4 itin[]; };
+layout(std430, binding = 6) buffer ItemsOut { uvec4 itout[]; };
+layout(std430, binding = 7) buffer Pos { uint pos[]; };
+layout(std430, binding = 8) buffer Start { uint start[]; };
+layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
+layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
+layout(std430, binding = 11) buffer Misc { uint misc[]; }; /* [0]: a node differs from its canonical one; [4 + r]: region r's cells */
+layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
+layout(std430, binding = 13) buffer Vals { uint vals[]; };
+layout(std430, binding = 14) writeonly buffer Pool { uint pool[]; };
+layout(std430, binding = 15) buffer RBase { uint rbase[]; }; /* per region: its first pool word (0xFFFFFFFF: no node) */
+layout(std430, binding = 16) buffer NRep { uvec4 nrep[]; };   /* per node slot: its representative (rgba, normal, material), id */
+layout(std430, binding = 17) readonly buffer UTab { uvec4 utab[]; }; /* per tuple id: rgba, normal, material, region */
+layout(std430, binding = 18) buffer TTab { uvec2 ttab[]; };   /* tuple table: (code, id); code < pc.base: a cell tuple, else a node */
+layout(std430, binding = 19) buffer RNew { uint rnew[]; };    /* per region: new tuples; [R + r]: their first index in ext */
+layout(std430, binding = 20) writeonly buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region */
+
+uint fmix(uint h) {
+    h ^= h >> 16;
+    h *= 0x85EBCA6Bu;
+    h ^= h >> 13;
+    h *= 0xC2B2AE35u;
+    h ^= h >> 16;
+    return h;
+}
+/* A 64-bit hash as two 32-bit lanes, each mixed with the other. */
+uvec2 hmix(uvec2 h, uvec2 w) {
+    uint a = fmix(h.x ^ (w.x * 0x9E3779B1u) ^ ((h.y << 7) | (h.y >> 25)));
+    uint b = fmix(h.y ^ (w.y * 0x27D4EB2Fu) ^ (a + 0x165667B1u) ^ (w.x >> 3));
+    return uvec2(a, b);
+}
+uvec2 leaf_label(uint rid) { return hmix(uvec2(0x5BD1E995u, 0x1B873593u), uvec2(rid, rid ^ 0xA5A5A5A5u)); }
+
+uvec2 key_up(uvec2 k) { return uvec2((k.x >> 3) | (k.y << 29), k.y >> 3); }
+
+uint node_at(uint q, uint o) { return o < 4u ? nodes[4u * q + 2u][o] : nodes[4u * q + 3u][o - 4u]; }
+
+/* ---- the representative: vx__svo_rec_mean (svo/svo_build.c) in the same arithmetic ---- */
+
+/* float division correctly rounded (double, then rounded: exact for floats) */
+float fdiv(float a, float b) { return float(double(a) / double(b)); }
+
+vec3 oct_decode(uint v) {
+    precise float u = fdiv(float(int(v << 16) >> 16), 32767.0); /* the int16 halves */
+    precise float w = fdiv(float(int(v) >> 16), 32767.0);
+    if (u < -1.0) u = -1.0;
+    if (w < -1.0) w = -1.0;
+    precise float z = (1.0 - abs(u)) - abs(w);
+    if (z < 0.0) {
+        precise float ou = u;
+        u = (1.0 - abs(w)) * (ou >= 0.0 ? 1.0 : -1.0);
+        w = (1.0 - abs(ou)) * (w >= 0.0 ? 1.0 : -1.0);
+    }
+    precise float l2 = (u * u + w * w) + z * z;
+    float len = float(sqrt(double(l2)));
+    if (len > 0.0) {
+        u = fdiv(u, len);
+        w = fdiv(w, len);
+        z = fdiv(z, len);
+    }
+    return vec3(u, w, z);
+}
+
+uint snorm16(float f) {
+    if (!(f >= -1.0)) f = -1.0;
+    if (f > 1.0) f = 1.0;
+    precise float x = f * 32767.0;
+    double a = floor(abs(double(x)) + 0.5lf); /* lroundf: half away from zero */
+    int q = x < 0.0 ? -int(a) : int(a);
+    return uint(q) & 0xFFFFu;
+}
+
+uint oct_encode(vec3 n) {
+    precise float s = (abs(n.x) + abs(n.y)) + abs(n.z);
+    if (!(s > 0.0)) return 0u;
+    precise float u = fdiv(n.x, s), w = fdiv(n.y, s);
+    if (n.z < 0.0) {
+        precise float ou = u;
+        u = (1.0 - abs(w)) * (ou >= 0.0 ? 1.0 : -1.0);
+        w = (1.0 - abs(ou)) * (w >= 0.0 ? 1.0 : -1.0);
+    }
+    return snorm16(u) | (snorm16(w) << 16);
+}
+
+uint most_frequent(uint v[8], uint n) {
+    uint best = 0u, bestn = 0u;
+    for (uint i = 0u; i < n; i++) {
+        uint k = 0u;
+        for (uint j = 0u; j < n; j++) k += v[j] == v[i] ? 1u : 0u;
+        if (k > bestn || (k == bestn && v[i] < best)) best = v[i], bestn = k;
+    }
+    return best;
+}
+
+/* n (1..8) children's tuples (rgba, normal, material) */
+uvec3 rec_mean(uvec3 c[8], uint n) {
+    bool same = true;
+    for (uint i = 1u; i < n; i++) same = same && c[i] == c[0];
+    if (same) return c[0];
+    uvec3 r = uvec3(0u);
+    if ((pc.attrs & 4u) != 0u) {
+        uint v[8];
+        for (uint i = 0u; i < 8u; i++) v[i] = i < n ? c[i].z : 0u;
+        r.z = most_frequent(v, n);
+    }
+    if ((pc.attrs & 1u) != 0u) {
+        uint o = 0u;
+        for (uint ch = 0u; ch < 4u; ch++) {
+            uint sum = 0u;
+            for (uint i = 0u; i < n; i++) sum += (c[i].x >> (8u * ch)) & 0xFFu;
+            o |= ((sum + n / 2u) / n) << (8u * ch);
+        }
+        r.x = o;
+    }
+    if ((pc.attrs & 2u) != 0u) {
+        precise vec3 m = vec3(0.0);
+        for (uint i = 0u; i < n; i++) {
+            vec3 d = oct_decode(c[i].y);
+            m.x = m.x + d.x;
+            m.y = m.y + d.y;
+            m.z = m.z + d.z;
+        }
+        r.y = oct_encode(m);
+    }
+    return r;
+}
+
+uint thash(uvec3 t, uint r) { return fmix(fmix(fmix(t.x ^ 0x9E3779B1u) ^ t.y) ^ (t.z + r * 0x85EBCA77u)); }
+uvec4 tuple_of(uint code) { /* (tuple, region) of a table code */
+    if (code < pc.base) return utab[code];
+    uint q = code - pc.base;
+    return uvec4(nrep[q].xyz, nodes[4u * q].y);
+}
+
+void main() {
+    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
+    if (i >= pc.n) return;
+    if (MODE == 0u) {
+        uvec2 ok = okeys[i];
+        uint brick = (ok.x >> 18) | (ok.y << 14);
+        uvec4 bi = binfo[brick];
+        uint rid = ids[i] - rinfo[bi.z].y;
+        uvec2 key = uvec2((bi.x << 18) | (ok.x & 0x3FFFFu), (bi.y << 18) | (bi.x >> 14));
+        uvec2 lab = leaf_label(rid);
+        itout[2u * i] = uvec4(key, bi.z | 0x80000000u, rid);
+        itout[2u * i + 1u] = uvec4(i, lab, 0u);
+        atomicAdd(misc[4u + bi.z], 1u); /* the region's cells (the host may not download them) */
+    } else if (MODE == 1u) {
+        uvec4 a = itin[2u * i];
+        uint r = a.z & 0x7FFFFFFFu;
+        if (rinfo[r].x <= pc.level) { /* the region's root */
+            rout[r].xy = uvec2(a.w, a.z >> 31);
+            pos[i] = 0u;
+            return;
+        }
+        bool head = i == 0u;
+        if (!head) {
+            uvec4 p = itin[2u * i - 2u];
+            head = (p.z & 0x7FFFFFFFu) != r || key_up(p.xy) != key_up(a.xy);
+        }
+        pos[i] = head ? 1u : 0u;
+    } else if (MODE == 2u) {
+        uvec4 a = itin[2u * i];
+        uint r = a.z & 0x7FFFFFFFu;
+        if (rinfo[r].x <= pc.level) return;
+        bool head = i == 0u;
+        if (!head) {
+            uvec4 p = itin[2u * i - 2u];
+            head = (p.z & 0x7FFFFFFFu) != r || key_up(p.xy) != key_up(a.xy);
+        }
+        if (head) start[pos[i]] = i;
+    } else if (MODE == 3u) {
+        /* pc.n parents; pc.mask: the items' count; pc.level: the parents' level */
+        uint s = start[i];
+        uvec4 a0 = itin[2u * s];
+        uint r = a0.z & 0x7FFFFFFFu;
+        uvec2 pk = key_up(a0.xy);
+        uint valid = 0u, leaf = 0u, last = 0u, first_rid = 0u;
+        bool same = true;
+        uint kid[8];
+        uvec2 lab[8];
+        uvec3 tup[8];
+        uint nt = 0u;
+        for (uint o = 0u; o < 8u; o++) kid[o] = 0u, lab[o] = uvec2(0u), tup[o] = uvec3(0u);
+        for (uint j = s; j < pc.mask && j < s + 8u; j++) {
+            uvec4 a = itin[2u * j];
+            if ((a.z & 0x7FFFFFFFu) != r || key_up(a.xy) != pk) break;
+            uvec4 b = itin[2u * j + 1u];
+            uint o = a.x & 7u;
+            valid |= 1u << o;
+            if ((a.z >> 31) != 0u) {
+                leaf |= 1u << o;
+                if (j == s) first_rid = a.w;
+                same = same && a.w == first_rid;
+            }
+            kid[o] = a.w;
+            lab[o] = b.yz;
+            last = b.x;
+            if (pc.attrs != 0u) tup[nt++] = (a.z >> 31) != 0u ? utab[rinfo[r].y + a.w].xyz : nrep[a.w].xyz;
+        }
+        atomicAdd(rout[r].z, 1u);
+        if (valid == 0xFFu && leaf == 0xFFu && same) { /* uniform: the parent is a leaf of that tuple */
+            itout[2u * i] = uvec4(pk, r | 0x80000000u, first_rid);
+            itout[2u * i + 1u] = uvec4(last, leaf_label(first_rid), 0u);
+            nodes[4u * (pc.base + i)] = uvec4(0u);
+            return;
+        }
+        atomicAdd(rout[r].w, 1u);
+        uint hdr = valid | leaf << 8;
+        uvec2 h = hmix(uvec2(hdr * 0x9E3779B1u, r * 0x85EBCA77u + 1u), uvec2(hdr, r));
+        uint c[8];
+        uint n = 0u;
+        for (uint o = 0u; o < 8u; o++) c[o] = 0u;
+        for (uint o = 0u; o < 8u; o++)
+            if ((valid >> o & 1u) != 0u) {
+                h = hmix(h, lab[o] ^ uvec2(o, o << 16));
+                c[n++] = kid[o];
+            }
+        uint q = pc.base + i;
+        nodes[4u * q] = uvec4(hdr, r, last << 5 | pc.level, 0u);
+        nodes[4u * q + 1u] = uvec4(h, 0u, 0u);
+        nodes[4u * q + 2u] = uvec4(c[0], c[1], c[2], c[3]);
+        nodes[4u * q + 3u] = uvec4(c[4], c[5], c[6], c[7]);
+        itout[2u * i] = uvec4(pk, r, q);
+        itout[2u * i + 1u] = uvec4(last, h, 0u);
+        if (pc.attrs != 0u) nrep[q] = uvec4(rec_mean(tup, nt), 0u);
+    } else if (MODE == 4u) {
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u) return;
+        uvec2 h = nodes[4u * i + 1u].xy;
+        uint j = fmix(h.x ^ n0.y) & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(tab[j].x, 0xFFFFFFFFu, i);
+            if (cur == 0xFFFFFFFFu || (nodes[4u * cur + 1u].xy == h && nodes[4u * cur].y == n0.y)) break;
+            j = (j + 1u) & pc.mask;
+        }
+        nodes[4u * i + 1u].w = j;
+        atomicMin(tab[j].y, n0.z);
+    } else if (MODE == 5u) {
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u) return;
+        uint j = nodes[4u * i + 1u].w;
+        if (tab[j].y == n0.z) tab[j].x = i;
+    } else if (MODE == 6u) {
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u) {
+            pos[i] = 0u;
+            return;
+        }
+        uint c = tab[nodes[4u * i + 1u].w].x;
+        nodes[4u * i].w = c;
+        pos[i] = c == i ? 1u : 0u;
+    } else if (MODE == 7u) {
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u) return;
+        uint c = n0.w;
+        uvec4 c0 = nodes[4u * c];
+        bool ok = c0.x == n0.x && c0.y == n0.y && c0.w == c;
+        uint valid = n0.x & 0xFFu, leaf = n0.x >> 8, k = 0u;
+        for (uint o = 0u; o < 8u && ok; o++) {
+            if ((valid >> o & 1u) == 0u) continue;
+            uint a = node_at(i, k), b = node_at(c, k);
+            if ((leaf >> o & 1u) != 0u) ok = a == b;
+            else ok = nodes[4u * a].w == nodes[4u * b].w && (nodes[4u * a].x & 0xFFu) != 0u;
+            k++;
+        }
+        if (!ok) atomicOr(misc[0], 1u);
+    } else if (MODE == 8u) {
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        keys[pos[i]] = uvec2(n0.z, 0u);
+        vals[pos[i]] = i;
+    } else if (MODE == 9u) {
+        pos[i] = 3u + bitCount(nodes[4u * vals[i]].x & 0xFFu);
+    } else if (MODE == 10u) {
+        uint q = vals[i];
+        nodes[4u * q + 1u].z = pos[i];
+        uint r = nodes[4u * q].y;
+        if (i == 0u || nodes[4u * vals[i - 1u]].y != r) rbase[r] = pos[i];
+    } else if (MODE == 11u) {
+        uint q = vals[i];
+        uvec4 n0 = nodes[4u * q];
+        uint at = pos[i], b = rbase[n0.y];
+        uint valid = n0.x & 0xFFu, leaf = n0.x >> 8, k = 0u;
+        pool[at] = n0.x;
+        pool[at + 1u] = nrep[q].w;
+        pool[at + 2u] = 0xFFFFFFFFu;
+        for (uint o = 0u; o < 8u; o++) {
+            if ((valid >> o & 1u) == 0u) continue;
+            uint a = node_at(q, k);
+            pool[at + 3u + k] = (leaf >> o & 1u) != 0u ? a : nodes[4u * nodes[4u * a].w + 1u].z - b;
+            k++;
+        }
+    } else if (MODE == 13u) { /* per cell tuple (pc.base of them): its slot, its id */
+        uvec4 t = utab[i];
+        uint j = thash(t.xyz, t.w) & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, i);
+            if (cur == 0xFFFFFFFFu) break;
+            j = (j + 1u) & pc.mask;
+        }
+        ttab[j].y = i - rinfo[t.w].y;
+    } else if (MODE == 14u) { /* per canonical node: its representative's slot, found or claimed */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uvec3 t = nrep[i].xyz;
+        uint code = pc.base + i, j = thash(t, n0.y) & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, code);
+            if (cur == 0xFFFFFFFFu) break;
+            uvec4 o = tuple_of(cur);
+            if (o.xyz == t && o.w == n0.y) break;
+            j = (j + 1u) & pc.mask;
+        }
+        nrep[i].w = j;
+    } else if (MODE == 15u) { /* the slots that nodes claimed: new ids, counted per region */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uint j = nrep[i].w;
+        if (ttab[j].x == pc.base + i) ttab[j].y = atomicAdd(rnew[n0.y], 1u) | 0x80000000u;
+    } else if (MODE == 16u) { /* one invocation: each region's first new tuple in ext */
+        uint sum = 0u;
+        for (uint r = 0u; r < pc.level; r++) {
+            rnew[pc.level + r] = sum;
+            sum += rnew[r];
+        }
+        rnew[2u * pc.level] = sum;
+    } else if (MODE == 17u) { /* representative ids; the new tuples written once */
+        uvec4 n0 = nodes[4u * i];
+        if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
+        uint j = nrep[i].w, t = ttab[j].y, id = t;
+        if ((t & 0x80000000u) != 0u) {
+            uint k = t & 0x7FFFFFFFu;
+            id = rinfo[n0.y].z + k;
+            if (ttab[j].x == pc.base + i) ext[rnew[pc.level + n0.y] + k] = uvec4(nrep[i].xyz, n0.y);
+        }
+        nrep[i].w = id;
+    } else if (MODE == 12u) {
+        uvec4 ro = rout[i];
+        if (ro.y == 0u && rbase[i] != 0xFFFFFFFFu) rout[i].x = nodes[4u * nodes[4u * ro.x].w + 1u].z - rbase[i];
+    }
+}
