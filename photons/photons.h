@@ -86,8 +86,8 @@
  *
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
  * bytes per bucket; the stored photons' buffer holds 48 bytes a pixel for
- * the estimate's second step once they are sorted (at least that much). Photons beyond the capacity are dropped (counted in the
- * stats; the estimate then falls short). */
+ * the estimate's second step once they are sorted (at least that much). A pass over the capacity keeps the
+ * first photons by index (vx_photon_desc.capacity). */
 #ifndef VX_PHOTONS_H
 #define VX_PHOTONS_H
 
@@ -112,12 +112,21 @@ extern "C" {
  *  final_gather:   rays per pixel and pass of a final gather (0: none, the
  *                  global map's estimate at the first surface; at most 1024)
  *  bounces:        photons stored per path at most; 0: 8
- *  capacity:       stored photons per pass at most; 0: 4 x photons
+ *  capacity:       stored photons per pass at most; 0: 4 x photons; at
+ *                  least bounces + 1 (a photon's stores at most). A pass
+ *                  whose photons would store more is traced twice again:
+ *                  once counting each photon's stores, then with photons
+ *                  0..C-1 alone, C the most whose stores fit, each carrying
+ *                  1/C of the sources' power (stats.emitted C,
+ *                  stats.dropped the others): the same photons whatever
+ *                  order the GPU stores them in, and the estimate keeps its
+ *                  expected value (the photons are independent draws);
+ *                  such a pass costs three traces
  *  seed:           random streams (each pass its own); the same seed and
  *                  settings give the same image bitwise on a device (the
  *                  gather's sums are exact fixed-point, so the order the GPU
- *                  stores the photons in does not matter) unless photons
- *                  were dropped (stats.dropped: which ones is a race)
+ *                  stores the photons in does not matter; over the
+ *                  capacity, the photons kept go by index, above)
  *  workgroup:      invocations per workgroup of the trace, a power of two
  *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
  *  batch:          photons each invocation of the trace traces in turn,
@@ -160,11 +169,13 @@ vx_photon_desc vx_photon_desc_defaults(void);
 /* What the last pass did. */
 typedef struct vx_photon_stats {
     uint32_t pass;
-    uint64_t emitted;         /* photons emitted */
+    uint64_t emitted;         /* photons traced (fewer than desc.photons when the stores passed the capacity) */
     uint64_t stored;          /* photons stored (both maps) */
-    uint64_t dropped;         /* stored photons over the capacity, lost */
+    uint64_t dropped;         /* photons left out: their stores would have passed the capacity (see capacity) */
     double radius, caustic_radius; /* this pass's radii */
     double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
+    double paths_ms, density_ms; /* gather_ms's two steps: the camera's paths, the Lambert sums */
+    double wall_ms;              /* host time of the whole pass: the GPU's, submissions, waits, downloads */
 } vx_photon_stats;
 
 typedef struct vx_photon_gi vx_photon_gi;

@@ -46,7 +46,8 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 skyg;    // ground rgb, w: map intensity
     vec4 skym;    // map: rotation, width, height
     vec4 fx;      // the gather's fixed-point units (fx_add): x per unit of BSDF times power, y per unit of power
-    uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...)
+    uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...), y: 1: count only (a photon's
+                  // stores into Cells, none stored: photons.c's pass over the capacity)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -66,10 +67,10 @@ layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
 // the stored photons by bucket, split: [0, capacity) their first vec4 (position, normal, flags: all a
 // gather reads of a photon that does not count), [capacity, 2 capacity) their second
 layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
-// per bucket: count, then (after alloc) start
+// per bucket: count, then (after alloc) start; while counting (Params tr.y), the photons' stores, two a uvec2
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 15) buffer Out { vec4 outv[]; };
-// x: photons stored (may pass the capacity: the rest were dropped), y: sorted so far, z: the loop guard fired
+// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard fired
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
 // the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
 layout(std430, binding = 17) readonly buffer Env { float env[]; };
@@ -191,10 +192,11 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
 }
 
 void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
+    if (P.tr.y != 0u) return; // counting: trace_photons writes the photon's count
     // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
     // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
     uint k = atomicAdd(ctr[0], 1u);
-    if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
+    if (k >= P.a.y) return; // over the capacity: photons.c traces the pass again with the photons that fit
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: three bits of its u code change nothing), F_FIRST (the
     // photon's first surface, for vx_photon_power) in the direction's lowest bit (1/32767 of u)
@@ -220,6 +222,8 @@ void trace_photons() {
     for (uint guard = 0u; guard < 65536u; guard++) {
         if (!alive) {
             if (guard > 0u) {
+                // counting (a pass whose stores passed the capacity): photon id's stores, two per uvec2 of Cells
+                if (P.tr.y != 0u) cells[id >> 1u][id & 1u] = stored;
                 id += T;
                 if (id >= P.a.x) {
                     done = true;
