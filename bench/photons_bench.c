@@ -32,7 +32,9 @@
  * crossing of relMSE E, interpolated log-log between its rows, with and
  * without the reference's own noise, and the ratio of the times),
  * --final-gather N (also rows "photons+fg N": a final gather of N rays per
- * pixel and pass, up to 16 passes), --write DIR.
+ * pixel and pass, up to 16 passes), --write DIR, --view EX,EY,EZ,TX,TY,TZ,FOV
+ * (the generated scenes' camera: eye, target, vertical field of view in
+ * degrees; world units, the scene's 64^3 centred on the origin).
  *
  * The reference's noise: its two halves (seeds apart) differ by a relMSE
  * of 2 v (v: one half's), their mean's own is v / 2 = apart / 4; an
@@ -205,6 +207,7 @@ static int usage(void) {
     fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R[,R..]] [--runs N]\n"
                     "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B],..]\n"
                     "                     [--alpha A] [--target E] [--final-gather N] [--write DIR]\n"
+                    "                     [--view EX,EY,EZ,TX,TY,TZ,FOV]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
 }
@@ -213,7 +216,7 @@ int main(int argc, char** argv) {
     const char *device = NULL, *counts = "1000000", *write_dir = NULL, *groups = "0";
     vx_render_desc base = {.width = 320, .height = 240};
     const char* radii = "0";
-    double alpha = 0, target = 0.01;
+    double alpha = 0, target = 0.01, view[7] = {0};
     unsigned step = 4, runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
     int i = 1;
     for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
@@ -234,6 +237,11 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--final-gather")) fg = (unsigned)atoi(v);
         else if (!strcmp(o, "--step")) step = (unsigned)atoi(v);
         else if (!strcmp(o, "--workgroup")) groups = v;
+        else if (!strcmp(o, "--view")) {
+            if (sscanf(v, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &view[0], &view[1], &view[2], &view[3], &view[4], &view[5],
+                       &view[6]) != 7)
+                return usage();
+        }
         else if (!strcmp(o, "--target")) target = atof(v);
         else return usage();
     }
@@ -257,6 +265,7 @@ int main(int argc, char** argv) {
         double cornell[6] = {0, -88, 0, 0, 0, -2}, caustic[6] = {0, -62, 58, 0, 0, -28};
         const double* c = !strcmp(name, "cornell") ? cornell : caustic;
         memcpy(base.camera.eye, c, 24), memcpy(base.camera.target, c + 3, 24);
+        if (view[6] > 0) memcpy(base.camera.eye, view, 24), memcpy(base.camera.target, view + 3, 24), base.camera.fov = view[6];
     } else if (bench_load(name, &scene, &err)) {
         return fprintf(stderr, "%s: %s\n", name, err.msg), 1;
     }

@@ -29,6 +29,8 @@ _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
+/* lanes per pixel of the density step (photon.comp DPARTS): its workgroups take 64 x this */
+enum { DENSITY_PARTS = 4 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -46,6 +48,8 @@ struct vx_photon_gi {
     double total_power;  /* the sources' luminance power (the photons' fixed-point unit follows it) */
     double centre[3], sphere_r;
     uint32_t buckets, sources;
+    uint32_t kinds; /* photons a pass can store: 1 caustic ones from a light camera rays cannot meet (F_LIGHT),
+                     * 2 ones a direct-pass light brought (F_DIRECT); photon.comp skips the sums of those it cannot */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
@@ -330,6 +334,12 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
         goto done;
     pg->sources = total > 0 ? n : 0;
     pg->total_power = total;
+    pg->kinds = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(pw[4 * i + 3] > 0)) continue; /* never picked */
+        if (s[SRC_FLOATS * i + 3] < SRC_SKY) pg->kinds |= 1;
+        if (s[SRC_FLOATS * i + 21] != 0) pg->kinds |= 2;
+    }
 done:
     vx_free(pg->alloc, s);
     vx_free(pg->alloc, pw);
@@ -339,8 +349,9 @@ done:
 
 static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
     if (!items) return VX_OK;
-    /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the other steps' 64 */
-    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : 64;
+    /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
+     * tile times DENSITY_PARTS; the other steps' 64 */
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * DENSITY_PARTS : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -434,6 +445,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     p->r[0] = (float)st.radius, p->r[1] = (float)st.caustic_radius;
     p->r[2] = (float)(1 / (pi * st.radius * st.radius)), p->r[3] = (float)(1 / (pi * st.caustic_radius * st.caustic_radius));
     p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
+    p->tr[2] = pg->kinds;
     float sk[16];
     vx__sky_pack(&pg->P.L.sky_dir, &pg->P.L.sky_map, pg->P.L.sky, sk);
     for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = sk[k];
@@ -488,7 +500,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
      * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
-    if (!r) r = step(pg, STEP_DENSITY, tiles, out, &st.density_ms, err);
+    if (!r) r = step(pg, STEP_DENSITY, tiles * DENSITY_PARTS, out, &st.density_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])

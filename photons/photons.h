@@ -49,7 +49,7 @@
  * to test on a surface (16 r^2 against about 8 r^2). The estimate runs in
  * two steps: the camera's paths, then the Lambert sums of each tile of
  * 8 x 8 pixels over the photons of the buckets the tile needs, read once
- * into shared memory (photon.comp tile_sum).
+ * into shared memory, 4 lanes a pixel (photon.comp tile_sum).
  *
  * Estimate: at the camera's first surface that is neither glass nor glossy
  * (glass on the way is followed by Fresnel choice, as the path tracer does;
@@ -57,10 +57,15 @@
  * and follows its specular lobe by one sampled ray per pass, Jensen's rule,
  * taking from photons there only the light such a ray cannot meet: the
  * direct pass's lights' photons, caustic photons of sun and frame lights),
- * the radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
+ * the radiance towards the camera is sum f(wo, wi_p) Phi_p / A over the
  * photons of each map within its radius and of the surface's orientation
  * (normals within 25 degrees; on a Lambert surface f is one factor after
- * the sum); caustics from the caustic map with its own,
+ * the sum), A the area of the faces of that orientation within r of the
+ * point (pi r^2 on an unbroken plane; less where the surface ends within
+ * r, a floor's edge or a wall's foot, whose photons were missing from the
+ * disk: photon.comp kernel_factors; the plain disk where the radius passes
+ * 6 cells or the model has no attributes, and cells of other models count
+ * as empty); caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next

@@ -47,7 +47,8 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 skym;    // map: rotation, width, height
     vec4 fx;      // the gather's fixed-point units (fx_add): x per unit of BSDF times power, y per unit of power
     uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...), y: 1: count only (a photon's
-                  // stores into Cells, none stored: photons.c's pass over the capacity)
+                  // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
+                  // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -336,9 +337,11 @@ vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0
 // are skipped (on a surface about a tenth of the photons), and a bucket that two cells share is read
 // once: every photon within r lies in one of the cells left, so each counts once (before, a photon
 // counted only in its own cell: a floor per axis for every photon within r).
-vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
+// (photon_sum_fx: photons part, part + parts, ... of each bucket alone, into the fixed-point words shi, slo:
+// the density step's lanes share a pixel's photons that way)
+void photon_sum_fx(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel, uint part,
+                   uint parts, inout uvec3 shi, inout uvec3 slo) {
     float scale = lambert ? P.fx.y : P.fx.x;
-    uvec3 shi = uvec3(0u), slo = uvec3(0u);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
     // a cell's box is [c r, (c + 1) r] up to the rounding of floor(p / r): grown by a margin for that
@@ -358,7 +361,7 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
                 if (dup || nseen >= 27) continue;
                 seen[nseen++] = bk;
                 uvec2 cl = cells[bk];
-                for (uint k = cl.y; k < cl.y + cl.x; k++) {
+                for (uint k = cl.y + part; k < cl.y + cl.x; k += parts) {
                     vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
@@ -384,7 +387,89 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
             }
         }
     }
-    return fx_value(shi, slo, scale);
+}
+vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
+    uvec3 shi = uvec3(0u), slo = uvec3(0u);
+    photon_sum_fx(x, n, ncode, lambert, B, wo, map, r, sel, 0u, 1u, shi, slo);
+    return fx_value(shi, slo, lambert ? P.fx.y : P.fx.x);
+}
+
+// ---- the kernel's area: the surface within r that can hold the photons a gather counts ----
+// Area of {0 <= X <= x, 0 <= Y <= y} inside the disk of radius r about the origin (x, y >= 0).
+float disk_quad(float x, float y, float r) {
+    x = min(x, r), y = min(y, r);
+    if (x * x + y * y <= r * r) return x * y;
+    float x1 = sqrt(max(r * r - y * y, 0.0)); // where the circle crosses height y (x1 < x)
+    return y * x1 + 0.5 * (x * sqrt(max(r * r - x * x, 0.0)) - x1 * sqrt(max(r * r - x1 * x1, 0.0)) +
+                           r * r * (asin(min(x / r, 1.0)) - asin(min(x1 / r, 1.0))));
+}
+float disk_corner(float x, float y, float r) { return sign(x) * sign(y) * disk_quad(abs(x), abs(y), r); }
+// Area of the unit square [q, q + 1] inside the disk of radius r about c.
+float disk_square(vec2 c, vec2 q, float r) {
+    vec2 lo = q - c, hi = q + 1.0 - c;
+    return disk_corner(hi.x, hi.y, r) - disk_corner(lo.x, hi.y, r) - disk_corner(hi.x, lo.y, r) + disk_corner(lo.x, lo.y, r);
+}
+bool cell_solid(uint mi, ivec3 q, float side) {
+    return all(greaterThanEqual(q, ivec3(0))) && all(lessThan(vec3(q), vec3(side))) && model_cell_attr(mi, uvec3(q)) != NO_HIT;
+}
+
+// The photons a gather at g_s counts lie within r of it on faces of its orientation, and the estimate
+// divides their power by the area they can lie on. Dividing by the disk pi r^2 assumed an unbroken
+// plane: where the surface ends within r (a floor's edge, a wall's foot, a strip one voxel high) the
+// disk's part beyond it holds no photons, and that light was lost (the caustic scene's floor kept 0.978
+// of its photons' power at radius 1.1, 0.989 at 0.55: its 1.1% deficit against the path tracer). This
+// is the area of the faces of g_s's orientation within r (the model's cells around the hit: per column
+// of cells whose unit square meets the disk, the nearest face of that orientation within r above or
+// below the hit's plane, its square's part of the disk at that height), over pi r^2: a factor 1 (exactly)
+// on an unbroken plane, above 1 near an edge. For the global (x) and caustic (y) radii. Cells outside the
+// hit's model count as empty (a neighbouring model's faces there hold photons the area misses). Left at 1
+// (the plain disk) where the model has no attributes (no cell lookups) or the radius passes KERNEL_CELLS
+// cells (the columns grow as its square: 13^2 at 6).
+const float KERNEL_CELLS = 6.0;
+vec2 kernel_factors(Hit h) {
+    Inst I = insts[h.inst];
+    uint mi = I.model;
+    if (!HAS_COLOR || (models[mi].flags & 1u) == 0u || max(P.r.x, P.r.y) > KERNEL_CELLS * I.cell) return vec2(1.0);
+    float side = exp2(float(models[mi].depth));
+    vec3 p = g_s.p;
+    vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+    int ax = h.axis, u = (ax + 1) % 3, v = (ax + 2) % 3;
+    ivec3 e = ivec3(0);
+    e[ax] = h.nsign > 0.0 ? 1 : -1;
+    vec2 rm = vec2(P.r.x, P.r.y) / I.cell, rm2 = rm * rm;
+    float R = max(rm.x, rm.y);
+    vec2 c = vec2(om[u], om[v]), missing = vec2(0.0), extra = vec2(0.0);
+    ivec3 base = ivec3(h.cell);
+    for (int iu = int(floor(c.x - R)); iu <= int(floor(c.x + R)); iu++) {
+        float du = max(max(float(iu) - c.x, c.x - float(iu + 1)), 0.0);
+        for (int iv = int(floor(c.y - R)); iv <= int(floor(c.y + R)); iv++) {
+            float dv = max(max(float(iv) - c.y, c.y - float(iv + 1)), 0.0);
+            float d2 = du * du + dv * dv;
+            if (d2 >= R * R) continue; // the square lies outside both disks
+            ivec3 q = base;
+            q[u] = iu, q[v] = iv;
+            bool s0 = cell_solid(mi, q, side), s1 = cell_solid(mi, q + e, side);
+            if (s0 && !s1) continue; // a face in the hit's plane: part of pi r^2
+            vec2 sq = vec2(float(iu), float(iv));
+            for (int k = 0; k < 2; k++)
+                if (d2 < rm2[k]) missing[k] += disk_square(c, sq, rm[k]);
+            // the nearest face of this orientation above (the plane's cell solid, the face buried) or below
+            int dz = 0;
+            for (int step = 1; float(step) < R; step++) {
+                if (s0 ? !cell_solid(mi, q + (step + 1) * e, side) : cell_solid(mi, q - step * e, side)) {
+                    dz = step;
+                    break;
+                }
+            }
+            for (int k = 0; k < 2 && dz > 0; k++) {
+                float rz2 = rm2[k] - float(dz * dz);
+                if (rz2 > d2) extra[k] += disk_square(c, sq, sqrt(rz2));
+            }
+        }
+    }
+    vec2 full = PI * rm2, area = full - missing + extra;
+    return vec2(missing.x == 0.0 && extra.x == 0.0 ? 1.0 : full.x / max(area.x, 1e-3 * full.x),
+                missing.y == 0.0 && extra.y == 0.0 ? 1.0 : full.y / max(area.y, 1e-3 * full.y));
 }
 
 // Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r (norm:
@@ -420,7 +505,9 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
             g_s = surface(o, d, h);
             Bsdf B2 = bsdf_of(g_s);
             if (B2.kind != B_GLASS) {
-                sum += thr * (gather(B2, -d, 0u, P.r.x, P.r.z, G_ALL) + gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w, G_ALL));
+                vec2 kf = kernel_factors(h);
+                sum += thr * (gather(B2, -d, 0u, P.r.x, P.r.z * kf.x, G_ALL) +
+                              gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w * kf.y, G_ALL));
                 break;
             }
             vec3 wi;
@@ -483,6 +570,7 @@ void gather_pixel() {
     // the density step's record: the point, its normal's code with (deferred, sel) in its low bits, the
     // factor of the sums (throughput times albedo / pi), the light found here
     vec4 rec0 = vec4(0.0), rec1 = vec4(0.0);
+    float rec2w = 0.0; // the caustic radius' kernel factor (rec1.w the global one's)
     for (int events = 0; events < 64; events++) {
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
@@ -517,6 +605,7 @@ void gather_pixel() {
             continue;
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;
+        vec2 kf = kernel_factors(h);
         if (B.kind == B_GLOSSY) {
             // A glossy surface (as Jensen's photon mapping treats it): the diffuse lobe from the photons,
             // the specular lobe by a ray. The photon estimate divides by the disk pi r^2 but finds only
@@ -530,9 +619,12 @@ void gather_pixel() {
             D.alb = B.kd;
             S.kd = vec3(0.0);
             if (B.kd != vec3(0.0))
-                L += thr * (gather(D, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(D, wo, 0u, P.r.x, P.r.z, sel));
-            L += thr * gather(S, wo, F_CAUSTIC, P.r.y, P.r.w, G_LIGHTS);
-            if (!first || full) L += thr * gather(S, wo, 0u, P.r.x, P.r.z, G_LIGHTS);
+                L += thr * (gather(D, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(D, wo, 0u, P.r.x, P.r.z * kf.x, sel));
+            // (each only where the sources can bring such photons: a sum over none is 0; at the seed's
+            // Cornell setting, lit by voxels alone, these loops went over the caustic on the metal sphere,
+            // every photon rejected: docs/PERFORMANCE.md)
+            if ((P.tr.z & 1u) != 0u) L += thr * gather(S, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, G_LIGHTS);
+            if ((!first || full) && (P.tr.z & 2u) != 0u) L += thr * gather(S, wo, 0u, P.r.x, P.r.z * kf.x, G_LIGHTS);
             vec3 w;
             if (!specular_sample(S, wo, d, w)) break;
             thr *= w;
@@ -543,17 +635,18 @@ void gather_pixel() {
         // the final gather at the camera's first surface; in a full image the light that came straight
         // from a source (the direct pass's too) is that surface's first-surface photons
         if (first && P.cnt.z > 0u) {
-            L += gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, full ? G_FIRST_ANY : G_FIRST) +
+            L += gather(B, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(B, wo, 0u, P.r.x, P.r.z * kf.x, full ? G_FIRST_ANY : G_FIRST) +
                  final_gather(B, wo, P.cnt.z);
         } else if (B.kind == B_LAMBERT) {
             // both maps' sums in the density step
             if (dot(wo, B.n) > 0.0) {
                 uint ncode = packSnorm2x16(oct_encode(g_s.n)) & ~F_BITS;
                 rec0 = vec4(g_s.p, uintBitsToFloat(ncode | 1u | (sel == G_INDIRECT ? 2u : 0u)));
-                rec1 = vec4(thr * (B.alb / PI), 0.0);
+                rec1 = vec4(thr * (B.alb / PI), kf.x);
+                rec2w = kf.y;
             }
         } else {
-            L += thr * (gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, sel));
+            L += thr * (gather(B, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(B, wo, 0u, P.r.x, P.r.z * kf.x, sel));
         }
         break;
     }
@@ -563,38 +656,48 @@ void gather_pixel() {
     }
     ph[3u * idx] = rec0;
     ph[3u * idx + 1u] = rec1;
-    ph[3u * idx + 2u] = vec4(L, 0.0);
+    ph[3u * idx + 2u] = vec4(L, rec2w);
 }
 
-// ---- the density step: a workgroup takes a tile of 8 x 8 pixels ----
-shared vec4 t_a[64], t_b[64]; // a chunk of photons, both halves
+// ---- the density step: a workgroup takes a tile of 8 x 8 pixels, DPARTS lanes a pixel ----
+// A pixel's sums are shared by DPARTS lanes, each testing its part of the photons, their fixed-point sums
+// added at the end (exact: the same value in any split). At the seed's Cornell setting the step was one
+// wave of 4096 tiles of 64 lanes whose time the tiles on the densest photons set (the ceiling by the
+// light, the caustic): 4 lanes a pixel give each such tile 4 times the lanes (docs/PERFORMANCE.md).
+const uint DPARTS = 4u, DLANES = 64u * DPARTS; // photons.c DENSITY_PARTS
+shared vec4 t_a[DLANES], t_b[DLANES]; // a chunk of photons, both halves
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2];
 shared int t_lo[3], t_hi[3];
+shared uvec3 t_shi[DLANES], t_slo[DLANES]; // the parts' sums
 
-// The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r: the cells the
-// pixels need (each pixel's own cells that pass photon_sum's box test, at most 4 x 4 x 4 around the
-// tile) are gathered into one list of buckets (a bucket two cells share once), its photons read into
-// shared memory in chunks of 64, and every pixel tests every photon of a chunk. A pixel's own loop
-// read its cells' photons from memory, each pixel again: at the seed's Cornell setting some 2700 tests
-// for the 1000 photons that count. A tile whose cells pass 4 a side falls back to the own loops.
-vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel) {
-    uint lid = gl_LocalInvocationIndex;
+// The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
+// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
+// at most 4 x 4 x 4 around the tile) are gathered into one list of buckets (a bucket two cells share
+// once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
+// chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
+// again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
+// pass 4 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel, inout uvec3 shi, inout uvec3 slo) {
+    uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF;
         t_need[0] = 0u, t_need[1] = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    if (valid)
+    if (valid && part == 0u)
         for (int k = 0; k < 3; k++) atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
     barrier();
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
     barrier(); // all have read the bounds: the next call's first lane may set them again
-    if (ext.x <= 0) return vec3(0.0); // no pixel of the tile needs a sum
-    Bsdf B;                           // unused by the Lambert sums
-    if (ext.x > 4 || ext.y > 4 || ext.z > 4) return valid ? photon_sum(x, n, ncode, true, B, vec3(0.0), map, r, sel) : vec3(0.0);
+    if (ext.x <= 0) return; // no pixel of the tile needs a sum
+    Bsdf B;                 // unused by the Lambert sums
+    if (ext.x > 4 || ext.y > 4 || ext.z > 4) {
+        if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+        return;
+    }
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
-    if (valid)
+    if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
             for (int cy = lo.y; cy <= hi.y; cy++)
                 for (int cx = lo.x; cx <= hi.x; cx++) {
@@ -606,12 +709,14 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
     barrier();
-    // slot lid: cell lid of the tile's box, its bucket once
+    // slot lid (< 64): cell lid of the tile's box, its bucket once
     uint bk = 0xFFFFFFFFu, cnt = 0u, st = 0u;
     int nc = ext.x * ext.y * ext.z, il = int(lid);
-    if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
-        bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
-    t_bk[lid] = bk;
+    if (lid < 64u) {
+        if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
+            bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
+        t_bk[lid] = bk;
+    }
     barrier();
     if (bk != 0xFFFFFFFFu) {
         bool dup = false;
@@ -621,8 +726,10 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             cnt = cl.x, st = cl.y;
         }
     }
-    t_start[lid] = st;
-    t_pre[lid + 1u] = cnt;
+    if (lid < 64u) {
+        t_start[lid] = st;
+        t_pre[lid + 1u] = cnt;
+    }
     barrier();
     if (lid == 0u) {
         t_pre[0] = 0u;
@@ -630,8 +737,7 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     }
     barrier();
     uint total = t_pre[64];
-    uvec3 shi = uvec3(0u), slo = uvec3(0u);
-    for (uint off = 0u; off < total; off += 64u) {
+    for (uint off = 0u; off < total; off += DLANES) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = 64u;
@@ -645,9 +751,9 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             t_b[lid] = sorted[P.a.y + k];
         }
         barrier();
-        if (valid) {
-            uint cm = min(64u, total - off);
-            for (uint j = 0u; j < cm; j++) {
+        if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
+            uint j1 = min(off + (part + 1u) * 64u, total) - off;
+            for (uint j = part * 64u; j < j1; j++) {
                 vec4 pa = t_a[j];
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) > r2) continue;
@@ -660,13 +766,26 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
     }
-    return fx_value(shi, slo, P.fx.y);
+}
+
+// The parts' sums of a pixel, added exactly into part 0's lanes (every lane takes part: barriers).
+void parts_add(inout uvec3 shi, inout uvec3 slo) {
+    uint lid = gl_LocalInvocationIndex;
+    t_shi[lid] = shi, t_slo[lid] = slo;
+    barrier();
+    if (lid < 64u)
+        for (uint q = 1u; q < DPARTS; q++) {
+            uvec3 carry;
+            slo = uaddCarry(slo, t_slo[lid + 64u * q], carry);
+            shi += t_shi[lid + 64u * q] + carry;
+        }
+    barrier();
 }
 
 // The density step: a record's sums over both maps (the same tiles of 8 x 8 pixels as gather_pixel), the
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
-    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
@@ -675,12 +794,17 @@ void density_pixel() {
     bool valid = inside && (bits & 1u) != 0u;
     int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
     vec3 n = oct_decode(unpackSnorm2x16(ncode));
-    vec3 c = tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel);
-    vec3 g = tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel);
+    uvec3 chi = uvec3(0u), clo = uvec3(0u), ghi = uvec3(0u), glo = uvec3(0u);
+    tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
+    tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel, ghi, glo);
+    parts_add(chi, clo);
+    parts_add(ghi, glo);
     if (!loops_intact()) ctr[2] = 1u;
-    if (!inside) return;
-    vec3 L = ph[3u * idx + 2u].xyz;
-    if (valid) L += ph[3u * idx + 1u].xyz * (c * P.r.w + g * P.r.z);
+    if (!inside || gl_LocalInvocationIndex >= 64u) return;
+    vec3 c = fx_value(chi, clo, P.fx.y), g = fx_value(ghi, glo, P.fx.y);
+    vec4 rec1 = ph[3u * idx + 1u], rec2 = ph[3u * idx + 2u];
+    vec3 L = rec2.xyz;
+    if (valid) L += rec1.xyz * (c * (P.r.w * rec2.w) + g * (P.r.z * rec1.w));
     if (P.img.z == 0u || P.seed.z == 0u) { // the first pass overwrites (the buffer holds anything)
         outv[idx] = vec4(L, 1.0);
     } else { // a running mean over the passes: pass k weighs 1 / (k + 1)
