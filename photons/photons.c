@@ -445,7 +445,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     p->r[0] = (float)st.radius, p->r[1] = (float)st.caustic_radius;
     p->r[2] = (float)(1 / (pi * st.radius * st.radius)), p->r[3] = (float)(1 / (pi * st.caustic_radius * st.caustic_radius));
     p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
-    p->tr[2] = pg->kinds;
+    p->tr[2] = pg->kinds, p->tr[3] = pg->scene->instance_count > 1;
     float sk[16];
     vx__sky_pack(&pg->P.L.sky_dir, &pg->P.L.sky_map, pg->P.L.sky, sk);
     for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = sk[k];

@@ -64,8 +64,8 @@
  * point (pi r^2 on an unbroken plane; less where the surface ends within
  * r, a floor's edge or a wall's foot, whose photons were missing from the
  * disk: photon.comp kernel_factors; the plain disk where the radius passes
- * 6 cells or the model has no attributes, and cells of other models count
- * as empty); caustics from the caustic map with its own,
+ * 6 cells or the model has no attributes; other models' faces in the
+ * plane found by a short ray); caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next

@@ -48,7 +48,8 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 fx;      // the gather's fixed-point units (fx_add): x per unit of BSDF times power, y per unit of power
     uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...), y: 1: count only (a photon's
                   // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
-                  // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0)
+                  // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
+                  // w: 1: more than one instance (kernel_factors looks for other models' faces)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -422,10 +423,25 @@ bool cell_solid(uint mi, ivec3 q, float side) {
 // of cells whose unit square meets the disk, the nearest face of that orientation within r above or
 // below the hit's plane, its square's part of the disk at that height), over pi r^2: a factor 1 (exactly)
 // on an unbroken plane, above 1 near an edge. For the global (x) and caustic (y) radii. Cells outside the
-// hit's model count as empty (a neighbouring model's faces there hold photons the area misses). Left at 1
+// hit's model are looked for in the others by a short ray (face_elsewhere) where the scene has more than one
+// instance, and count as empty otherwise. Left at 1
 // (the plain disk) where the model has no attributes (no cell lookups) or the radius passes KERNEL_CELLS
 // cells (the columns grow as its square: 13^2 at 6).
 const float KERNEL_CELLS = 6.0;
+// With more than one instance (P.tr.w), a column whose cells are empty in the hit's model may hold another
+// model's face in the hit's plane (two models side by side make one floor): a short ray down the normal
+// onto the column's square finds it (a face of this orientation half a cell below the ray's start).
+bool face_elsewhere(Inst I, Hit h, ivec3 q, int ax, int e) {
+    vec3 m = vec3(q) + 0.5;
+    m[ax] = float(q[ax]) + (e > 0 ? 1.0 : 0.0) + 0.5 * float(e); // half a cell off the plane, on its open side
+    m -= vec3(I.r0.w, I.r1.w, I.r2.w);
+    vec3 w = I.cell * I.cell * (m.x * I.r0.xyz + m.y * I.r1.xyz + m.z * I.r2.xyz); // model to world (rows: R / cell)
+    Hit g;
+    if (!cast_ray(w, -g_s.n, I.cell, g)) return false;
+    Inst J = insts[g.inst];
+    vec4 row = g.axis == 0 ? J.r0 : (g.axis == 1 ? J.r1 : J.r2);
+    return abs(float(g.t) - 0.5 * I.cell) < 0.25 * I.cell && dot(normalize(row.xyz * g.nsign), g_s.n) > 0.9;
+}
 vec2 kernel_factors(Hit h) {
     Inst I = insts[h.inst];
     uint mi = I.model;
@@ -450,6 +466,7 @@ vec2 kernel_factors(Hit h) {
             q[u] = iu, q[v] = iv;
             bool s0 = cell_solid(mi, q, side), s1 = cell_solid(mi, q + e, side);
             if (s0 && !s1) continue; // a face in the hit's plane: part of pi r^2
+            if (P.tr.w != 0u && !s0 && !s1 && face_elsewhere(I, h, q, ax, e[ax])) continue; // another model's
             vec2 sq = vec2(float(iu), float(iv));
             for (int k = 0; k < 2; k++)
                 if (d2 < rm2[k]) missing[k] += disk_square(c, sq, rm[k]);
@@ -665,10 +682,13 @@ void gather_pixel() {
 // wave of 4096 tiles of 64 lanes whose time the tiles on the densest photons set (the ceiling by the
 // light, the caustic): 4 lanes a pixel give each such tile 4 times the lanes (docs/PERFORMANCE.md).
 const uint DPARTS = 4u, DLANES = 64u * DPARTS; // photons.c DENSITY_PARTS
-shared vec4 t_a[DLANES], t_b[DLANES]; // a chunk of photons, both halves
+// Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
+// DLANES in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
+// setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
+shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2];
 shared int t_lo[3], t_hi[3];
-shared uvec3 t_shi[DLANES], t_slo[DLANES]; // the parts' sums
+shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,

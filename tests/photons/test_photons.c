@@ -665,6 +665,61 @@ static void test_kernel_edge(void) {
     vx_render_image_free(&im);
 }
 
+/* Two models side by side make one floor (two instances of an 8 x 16 slab): at their seam each model's
+ * cells beyond it are empty, yet the other model's top continues the plane and holds photons; the area
+ * counts it (photon.comp face_elsewhere: a short ray), so the seam is neither dark nor bright. Under a
+ * sun straight down: the pixels within r of the seam within 3% of the radiance, as those farther off. */
+static void test_kernel_seam(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    uint32_t size[3] = {8, 16, 1}, *xyz = malloc(8 * 16 * 12);
+    uint8_t* pal = malloc(8 * 16);
+    size_t k = 0;
+    for (uint32_t y = 0; y < 16; y++)
+        for (uint32_t x = 0; x < 8; x++) xyz[3 * k] = x, xyz[3 * k + 1] = y, xyz[3 * k + 2] = 0, pal[k++] = 1;
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, size, xyz, pal, k) == VX_OK);
+    free(xyz);
+    free(pal);
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, NULL, 8, 0, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, in, 2);
+    s.palette[1] = GRAY;
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(2, black, 1);
+    const double r = 1;
+    vx_photon_desc d = {.photons = 300000, .radius = r, .caustic_radius = r, .seed = 4};
+    run R;
+    REQUIRE(run_make(&R, &s, &light, &d));
+    enum { W = 32, H = 32 };
+    const double cx = 8, cy = 8, hh = 3;
+    vx_render_desc view = {.width = W, .height = H};
+    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 2 * hh;
+    view.camera.eye[0] = cx, view.camera.eye[1] = cy, view.camera.eye[2] = 40;
+    view.camera.target[0] = cx, view.camera.target[1] = cy, view.camera.target[2] = 1;
+    view.camera.up[1] = 1;
+    vx_render_image im = {0};
+    vx_error err = {0};
+    vx_result res = vx_photon_render(R.pg, &view, 4, true, &im, &err);
+    if (res) fprintf(stderr, "  photons: %s\n", err.msg);
+    run_free(&R);
+    vx_svo_scene_free(&s);
+    REQUIRE(res == VX_OK);
+    double expect = ALB / PI * 2, sum[2] = {0, 0};
+    size_t n[2] = {0, 0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double u = ((x + 0.5) / W) * 2 - 1, px = cx + u * hh;
+            int band = fabs(px - 8) < r;
+            const float* g = im.pixels + 4 * ((size_t)y * W + x);
+            sum[band] += (g[0] + g[1] + g[2]) / 3, n[band]++;
+        }
+    double off = sum[0] / n[0] / expect, seam = sum[1] / n[1] / expect;
+    fprintf(stderr, "  two slabs under the sun: radiance within r of the seam %.4f of the analytic (%zu pixels), farther "
+            "off %.4f (%zu)\n", seam, n[1], off, n[0]);
+    CHECK(fabs(off - 1) < 0.03 && fabs(seam - 1) < 0.03);
+    vx_render_image_free(&im);
+}
+
 /* The same at a concave edge: the furnace's box (walls of albedo a emitting Le: gi a Le / (1 - a) on
  * every wall), its floor's corner seen straight down. Within r of a wall the disk's part under the wall
  * holds none of the floor's photons (the wall's have another normal): 0.77 of the gi there before, 0.62
@@ -892,6 +947,7 @@ int main(void) {
     RUN(test_gather_cpu);
     RUN(test_kernel_edge);
     RUN(test_kernel_corner);
+    RUN(test_kernel_seam);
     vx_render_image_free(&caustic_ref);
     vx_render_image_free(&caustic_ref2);
     if (caustic.models) vx_svo_scene_free(&caustic);
