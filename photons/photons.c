@@ -29,8 +29,11 @@ _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
-/* lanes per pixel of the density step (photon.comp DPARTS): its workgroups take 64 x this */
-enum { DENSITY_PARTS = 4 };
+/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 4 where the
+ * image has fewer tiles of 8 x 8 pixels than DENSITY_FEW_TILES (about two waves of 64-lane workgroups on a
+ * large GPU: the H200 holds 132 x 32), whose time the densest tiles set; 1 where they fill many waves
+ * (H200: 512x512 density 3.33 -> 1.91 ms with 4; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
+enum { DENSITY_PARTS = 4, DENSITY_FEW_TILES = 8192 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -48,6 +51,7 @@ struct vx_photon_gi {
     double total_power;  /* the sources' luminance power (the photons' fixed-point unit follows it) */
     double centre[3], sphere_r;
     uint32_t buckets, sources;
+    uint32_t density_parts; /* lanes per pixel of this pass's density step (DENSITY_PARTS or 1) */
     uint32_t kinds; /* photons a pass can store: 1 caustic ones from a light camera rays cannot meet (F_LIGHT),
                      * 2 ones a direct-pass light brought (F_DIRECT); photon.comp skips the sums of those it cannot */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
@@ -350,8 +354,8 @@ done:
 static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
     if (!items) return VX_OK;
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
-     * tile times DENSITY_PARTS; the other steps' 64 */
-    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * DENSITY_PARTS : 64);
+     * tile times its parts; the other steps' 64 */
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -500,7 +504,8 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
      * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
-    if (!r) r = step(pg, STEP_DENSITY, tiles * DENSITY_PARTS, out, &st.density_ms, err);
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
+    if (!r) r = step(pg, STEP_DENSITY, tiles * pg->density_parts, out, &st.density_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])

@@ -49,7 +49,8 @@
  * to test on a surface (16 r^2 against about 8 r^2). The estimate runs in
  * two steps: the camera's paths, then the Lambert sums of each tile of
  * 8 x 8 pixels over the photons of the buckets the tile needs, read once
- * into shared memory, 4 lanes a pixel (photon.comp tile_sum).
+ * into shared memory, 4 lanes a pixel in images of few tiles (photon.comp
+ * tile_sum).
  *
  * Estimate: at the camera's first surface that is neither glass nor glossy
  * (glass on the way is followed by Fresnel choice, as the path tracer does;

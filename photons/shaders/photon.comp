@@ -677,13 +677,15 @@ void gather_pixel() {
 }
 
 // ---- the density step: a workgroup takes a tile of 8 x 8 pixels, DPARTS lanes a pixel ----
-// A pixel's sums are shared by DPARTS lanes, each testing its part of the photons, their fixed-point sums
-// added at the end (exact: the same value in any split). At the seed's Cornell setting the step was one
-// wave of 4096 tiles of 64 lanes whose time the tiles on the densest photons set (the ceiling by the
-// light, the caustic): 4 lanes a pixel give each such tile 4 times the lanes (docs/PERFORMANCE.md).
-const uint DPARTS = 4u, DLANES = 64u * DPARTS; // photons.c DENSITY_PARTS
+// A pixel's sums may be shared by DPARTS lanes (the workgroup's size over 64: photons.c density_parts),
+// each testing its part of the photons, their fixed-point sums added at the end (exact: the same value in
+// any split). At the seed's Cornell setting the step is one wave of 4096 tiles whose time the tiles on the
+// densest photons set (the ceiling by the light, the caustic): 4 lanes a pixel give each such tile 4
+// times the lanes (H200: 3.33 -> 1.91 ms); where the tiles fill several waves they cost more than they
+// give (1920x1080: 1.39 -> 2.78 ms on the caustic scene), and photons.c takes 1 (docs/PERFORMANCE.md).
+const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
 // Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
-// DLANES in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
+// 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
 // setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
 shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2];
