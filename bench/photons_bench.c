@@ -32,7 +32,9 @@
  * crossing of relMSE E, interpolated log-log between its rows, with and
  * without the reference's own noise, and the ratio of the times),
  * --final-gather N (also rows "photons+fg N": a final gather of N rays per
- * pixel and pass, up to 16 passes), --write DIR.
+ * pixel and pass, up to 16 passes), --write DIR, --view EX,EY,EZ,TX,TY,TZ,FOV
+ * (the generated scenes' camera: eye, target, vertical field of view in
+ * degrees; world units, the scene's 64^3 centred on the origin).
  *
  * The reference's noise: its two halves (seeds apart) differ by a relMSE
  * of 2 v (v: one half's), their mean's own is v / 2 = apart / 4; an
@@ -205,6 +207,7 @@ static int usage(void) {
     fprintf(stderr, "usage: photons_bench [--device N|NAME] [--size WxH] [--photons N[,N..]] [--radius R[,R..]] [--runs N]\n"
                     "                     [--max-passes N] [--max-spp N] [--ref-spp N] [--step F] [--workgroup N[:B],..]\n"
                     "                     [--alpha A] [--target E] [--final-gather N] [--write DIR]\n"
+                    "                     [--view EX,EY,EZ,TX,TY,TZ,FOV]\n"
                     "                     cornell|caustic|FILE.{vox,svo}\n");
     return 2;
 }
@@ -213,7 +216,7 @@ int main(int argc, char** argv) {
     const char *device = NULL, *counts = "1000000", *write_dir = NULL, *groups = "0";
     vx_render_desc base = {.width = 320, .height = 240};
     const char* radii = "0";
-    double alpha = 0, target = 0.01;
+    double alpha = 0, target = 0.01, view[7] = {0};
     unsigned step = 4, runs = 3, max_passes = 16, max_spp = 256, ref_spp = 1024, fg = 0;
     int i = 1;
     for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
@@ -234,6 +237,11 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--final-gather")) fg = (unsigned)atoi(v);
         else if (!strcmp(o, "--step")) step = (unsigned)atoi(v);
         else if (!strcmp(o, "--workgroup")) groups = v;
+        else if (!strcmp(o, "--view")) {
+            if (sscanf(v, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &view[0], &view[1], &view[2], &view[3], &view[4], &view[5],
+                       &view[6]) != 7)
+                return usage();
+        }
         else if (!strcmp(o, "--target")) target = atof(v);
         else return usage();
     }
@@ -257,6 +265,7 @@ int main(int argc, char** argv) {
         double cornell[6] = {0, -88, 0, 0, 0, -2}, caustic[6] = {0, -62, 58, 0, 0, -28};
         const double* c = !strcmp(name, "cornell") ? cornell : caustic;
         memcpy(base.camera.eye, c, 24), memcpy(base.camera.target, c + 3, 24);
+        if (view[6] > 0) memcpy(base.camera.eye, view, 24), memcpy(base.camera.target, view + 3, 24), base.camera.fov = view[6];
     } else if (bench_load(name, &scene, &err)) {
         return fprintf(stderr, "%s: %s\n", name, err.msg), 1;
     }
@@ -328,7 +337,7 @@ int main(int argc, char** argv) {
                 if (ph) vx_photon_gi_destroy(ph);
                 if (vx_photon_gi_create(rs, &scene, light, &pd, &gm, &ph, &err))
                     return fprintf(stderr, "photons: %s\n", err.msg), 1;
-                double t[3][64];
+                double t[7][64];
                 unsigned n = runs < 64 ? runs : 64;
                 for (unsigned k = 0; k < n; k++) {
                     vx_render_image im = {0};
@@ -336,6 +345,8 @@ int main(int argc, char** argv) {
                     vx_render_image_free(&im);
                     vx_photon_last_stats(ph, &st);
                     t[0][k] = st.trace_ms, t[1][k] = st.build_ms, t[2][k] = st.gather_ms;
+                    t[3][k] = st.paths_ms, t[4][k] = st.density_ms, t[5][k] = st.wall_ms;
+                    t[6][k] = st.trace_ms + st.build_ms + st.gather_ms;
                 }
                 double tr = bench_median(t[0], n), bu = bench_median(t[1], n), ga = bench_median(t[2], n);
                 vx_photon_desc D = vx_photon_desc_defaults();
@@ -344,6 +355,12 @@ int main(int argc, char** argv) {
                 printf("| %s | pass wg %u batch %s | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
                        name, pd.workgroup ? pd.workgroup : D.workgroup, bt, photons, (unsigned long long)st.stored, tr, bu,
                        st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
+                double lo = t[6][0];
+                for (unsigned k = 1; k < n; k++) lo = fmin(lo, t[6][k]);
+                printf("%s: the gather's steps: camera paths %.3f ms, density %.3f ms; the pass on the host (submissions, "
+                       "waits, downloads) %.3f ms (medians); GPU ms per pass (the steps' sum in each run): median %.3f, "
+                       "least %.3f\n",
+                       name, bench_median(t[3], n), bench_median(t[4], n), bench_median(t[5], n), bench_median(t[6], n), lo);
                 fflush(stdout);
                 if (w && *w) continue;
                 /* the curves with the first size */

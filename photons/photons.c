@@ -29,6 +29,11 @@ _Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
 enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
+/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 4 where the
+ * image has fewer tiles of 8 x 8 pixels than DENSITY_FEW_TILES (about two waves of 64-lane workgroups on a
+ * large GPU: the H200 holds 132 x 32), whose time the densest tiles set; 1 where they fill many waves
+ * (H200: 512x512 density 3.33 -> 1.91 ms with 4; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
+enum { DENSITY_PARTS = 4, DENSITY_FEW_TILES = 8192 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -46,6 +51,9 @@ struct vx_photon_gi {
     double total_power;  /* the sources' luminance power (the photons' fixed-point unit follows it) */
     double centre[3], sphere_r;
     uint32_t buckets, sources;
+    uint32_t density_parts; /* lanes per pixel of this pass's density step (DENSITY_PARTS or 1) */
+    uint32_t kinds; /* photons a pass can store: 1 caustic ones from a light camera rays cannot meet (F_LIGHT),
+                     * 2 ones a direct-pass light brought (F_DIRECT); photon.comp skips the sums of those it cannot */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
@@ -330,6 +338,12 @@ static vx_result upload_sources(vx_photon_gi* pg, const double ref[3], vx_error*
         goto done;
     pg->sources = total > 0 ? n : 0;
     pg->total_power = total;
+    pg->kinds = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(pw[4 * i + 3] > 0)) continue; /* never picked */
+        if (s[SRC_FLOATS * i + 3] < SRC_SKY) pg->kinds |= 1;
+        if (s[SRC_FLOATS * i + 21] != 0) pg->kinds |= 2;
+    }
 done:
     vx_free(pg->alloc, s);
     vx_free(pg->alloc, pw);
@@ -339,8 +353,9 @@ done:
 
 static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
     if (!items) return VX_OK;
-    /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the other steps' 64 */
-    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : 64;
+    /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
+     * tile times its parts; the other steps' 64 */
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -378,10 +393,31 @@ static double pass_radius(double r0, double alpha, uint32_t k) {
     return r0 * sqrt(f);
 }
 
+/* Photons 0..n-1 of the pass to trace (each carries 1/n of the sources' power): the trace's
+ * invocations and the gather's fixed-point units. */
+static void set_emitted(const vx_photon_gi* pg, gpu_params* p, uint32_t n) {
+    p->a[0] = n;
+    /* batch 0: 4 photons an invocation, fewer while that leaves under 2^17 invocations (H200: 500k
+     * photons traced in 3.25 ms at 2 and 1, 3.38 ms at 4; 1M and 10M fastest at 4) */
+    uint32_t batch = pg->d.batch;
+    if (!batch)
+        for (batch = 4; batch > 1 && n / batch < (1u << 17);) batch /= 2;
+    p->tr[0] = (uint32_t)(((uint64_t)n + batch - 1) / batch);
+    /* the gather's fixed-point unit: 2^-32 of an emitted photon's (luminance) power */
+    double unit = pg->total_power > 0 && n ? pg->total_power / n : 1;
+    p->fx[0] = (float)(4294967296.0 / unit);
+    /* a Lambert surface's sums of powers: 2^-27 of it (a photon of up to 32 emitted photons' power, as
+     * a saturated colour's channel has, adds in one word) */
+    p->fx[1] = (float)(134217728.0 / unit);
+    for (int k = 0; k < 2; k++)
+        if (!(p->fx[k] > 0) || !isfinite(p->fx[k])) p->fx[k] = 1;
+}
+
 /* One pass: photons traced, both grids built, the estimate written into out
  * (running mean over the passes when mean). */
 static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_t pass, vx__buffer* out, bool mean,
                           bool full, double* seconds, vx_error* err) {
+    double t0 = vx_time_now();
     vx_render_desc base = frame ? *frame : (vx_render_desc){0};
     base.mode = VX_RENDER_COLOR, base.spp = 1, base.lod = false;
     vx__frame f;
@@ -413,34 +449,48 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     p->r[0] = (float)st.radius, p->r[1] = (float)st.caustic_radius;
     p->r[2] = (float)(1 / (pi * st.radius * st.radius)), p->r[3] = (float)(1 / (pi * st.caustic_radius * st.caustic_radius));
     p->img[0] = f.width, p->img[1] = f.height, p->img[2] = mean, p->img[3] = full;
+    p->tr[2] = pg->kinds, p->tr[3] = pg->scene->instance_count > 1;
     float sk[16];
     vx__sky_pack(&pg->P.L.sky_dir, &pg->P.L.sky_map, pg->P.L.sky, sk);
     for (int k = 0; k < 3; k++) p->sphere[k] = (float)(pg->centre[k] - f.ref[k]), p->sky[k] = sk[k];
     memcpy(p->skyh, sk + 4, sizeof p->skyh), memcpy(p->skyg, sk + 8, sizeof p->skyg), memcpy(p->skym, sk + 12, sizeof p->skym);
     p->sphere[3] = (float)pg->sphere_r, p->sky[3] = (float)pg->face_power;
     p->cnt[0] = pg->face_count, p->cnt[1] = 2, p->cnt[2] = d->final_gather, p->cnt[3] = pg->P.L.voxel_lights;
-    /* the gather's fixed-point unit: 2^-32 of an emitted photon's (luminance) power */
-    double unit = pg->total_power > 0 && d->photons ? pg->total_power / d->photons : 1;
-    p->fx[0] = (float)(4294967296.0 / unit);
-    /* a Lambert surface's sums of powers: 2^-27 of it (a photon of up to 32 emitted photons' power, as
-     * a saturated colour's channel has, adds in one word) */
-    p->fx[1] = (float)(134217728.0 / unit);
-    for (int k = 0; k < 2; k++)
-        if (!(p->fx[k] > 0) || !isfinite(p->fx[k])) p->fx[k] = 1;
     uint32_t ctr[4] = {0};
     double build = 0;
-    /* batch 0: 4 photons an invocation, fewer while that leaves under 2^17 invocations (H200: 500k
-     * photons traced in 3.25 ms at 2 and 1, 3.38 ms at 4; 1M and 10M fastest at 4) */
-    uint32_t batch = d->batch;
-    if (!batch)
-        for (batch = 4; batch > 1 && p->a[0] / batch < (1u << 17);) batch /= 2;
-    p->tr[0] = (uint32_t)(((uint64_t)p->a[0] + batch - 1) / batch);
+    set_emitted(pg, p, p->a[0]);
     if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
         (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
         return r;
     st.emitted = p->a[0];
-    st.stored = ctr[0] < d->capacity ? ctr[0] : d->capacity;
-    st.dropped = ctr[0] - st.stored;
+    if (ctr[0] > d->capacity) {
+        /* Over the capacity: which photons the atomic counter had left out depended on the GPU's order. The
+         * pass is traced again to count each photon's stores (nothing stored), and then a third time with
+         * photons 0..C-1 alone, C the most whose stores fit, each carrying 1/C of the sources' power (the
+         * photons are independent draws: the estimate keeps its expected value, and the same seed gives
+         * the same photons and image). A photon stores at most bounces + 1 times: C >= 1. */
+        uint32_t n = p->a[0], c = 0;
+        uint32_t* counts = vx_alloc(pg->alloc, (size_t)n * sizeof *counts);
+        if (!counts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u photon counts", n);
+        p->tr[1] = 1;
+        r = step(pg, STEP_RESET, 4, out, &build, err);
+        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
+        if (!r) r = vx__buffer_download(pg->g, &pg->cells, counts, (size_t)n * sizeof *counts, err);
+        for (uint64_t sum = 0; !r && c < n && sum + counts[c] <= d->capacity; c++) sum += counts[c];
+        vx_free(pg->alloc, counts);
+        p->tr[1] = 0;
+        set_emitted(pg, p, c);
+        if (!r) r = step(pg, STEP_RESET, 4, out, &build, err);
+        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
+        if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
+        if (r) return r;
+        if (ctr[0] > d->capacity) /* the counts and the trace disagree: a device fault, not a state to go on from */
+            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon pass %u: %u photons stored again, capacity %u", pass,
+                           ctr[0], d->capacity);
+        st.emitted = c;
+        st.dropped = n - c;
+    }
+    st.stored = ctr[0];
     /* the buckets this pass uses follow the photons stored (at least twice as many, a power of two):
      * clearing and claiming ranges over buckets sized for the capacity cost 2.4 ms a pass at 10M
      * photons where 5% were stored */
@@ -453,8 +503,9 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     /* tiles of 8 x 8 pixels, 64 invocations each: the camera's paths, then the Lambert sums (photon.comp
      * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
-    if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.gather_ms, err);
-    if (!r) r = step(pg, STEP_DENSITY, tiles, out, &st.gather_ms, err);
+    if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
+    if (!r) r = step(pg, STEP_DENSITY, tiles * pg->density_parts, out, &st.density_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
     if (r) return r;
     if (ctr[2])
@@ -462,6 +513,8 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
                        vx_gpu_device_name(pg->g));
     st.build_ms = build;
+    st.gather_ms = st.paths_ms + st.density_ms;
+    st.wall_ms = (vx_time_now() - t0) * 1e3;
     pg->last = st;
     *seconds = (st.trace_ms + st.build_ms + st.gather_ms) * 1e-3;
     return VX_OK;
@@ -498,6 +551,9 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (d.photons > (1u << 26))
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u photons per pass: at most 2^26", d.photons);
     if (!d.capacity) d.capacity = 4 * d.photons;
+    if (d.capacity <= d.bounces) /* one photon's stores must fit (a pass over the capacity keeps whole photons) */
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: a capacity of %u under bounces + 1 = %u",
+                       d.capacity, d.bounces + 1);
     if (d.capacity > (1u << 28))
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "a capacity of %u photons: at most 2^28", d.capacity);
     const vx_allocator* a = scene->alloc;
@@ -525,7 +581,9 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!(d.caustic_radius > 0)) d.caustic_radius = d.radius / 4;
     if (!(d.radius > 0) || !(d.caustic_radius > 0)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: an empty scene");
     pg->d = d;
+    /* the buckets hold the photons' store counts too (two a bucket) in a pass over the capacity */
     pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
+    if (pg->buckets < pow2_at_least(d.photons / 2 + 1)) pg->buckets = pow2_at_least(d.photons / 2 + 1);
     if (!r) r = make_faces(pg, err);
     uint8_t* pal = NULL;
     size_t n = 0;

@@ -49,7 +49,8 @@
  * to test on a surface (16 r^2 against about 8 r^2). The estimate runs in
  * two steps: the camera's paths, then the Lambert sums of each tile of
  * 8 x 8 pixels over the photons of the buckets the tile needs, read once
- * into shared memory (photon.comp tile_sum).
+ * into shared memory, 4 lanes a pixel in images of few tiles (photon.comp
+ * tile_sum).
  *
  * Estimate: at the camera's first surface that is neither glass nor glossy
  * (glass on the way is followed by Fresnel choice, as the path tracer does;
@@ -57,10 +58,15 @@
  * and follows its specular lobe by one sampled ray per pass, Jensen's rule,
  * taking from photons there only the light such a ray cannot meet: the
  * direct pass's lights' photons, caustic photons of sun and frame lights),
- * the radiance towards the camera is sum f(wo, wi_p) Phi_p / (pi r^2) over the
+ * the radiance towards the camera is sum f(wo, wi_p) Phi_p / A over the
  * photons of each map within its radius and of the surface's orientation
  * (normals within 25 degrees; on a Lambert surface f is one factor after
- * the sum); caustics from the caustic map with its own,
+ * the sum), A the area of the faces of that orientation within r of the
+ * point (pi r^2 on an unbroken plane; less where the surface ends within
+ * r, a floor's edge or a wall's foot, whose photons were missing from the
+ * disk: photon.comp kernel_factors; the plain disk where the radius passes
+ * 6 cells or the model has no attributes; other models' faces in the
+ * plane found by a short ray); caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next
@@ -86,8 +92,8 @@
  *
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
  * bytes per bucket; the stored photons' buffer holds 48 bytes a pixel for
- * the estimate's second step once they are sorted (at least that much). Photons beyond the capacity are dropped (counted in the
- * stats; the estimate then falls short). */
+ * the estimate's second step once they are sorted (at least that much). A pass over the capacity keeps the
+ * first photons by index (vx_photon_desc.capacity). */
 #ifndef VX_PHOTONS_H
 #define VX_PHOTONS_H
 
@@ -112,12 +118,21 @@ extern "C" {
  *  final_gather:   rays per pixel and pass of a final gather (0: none, the
  *                  global map's estimate at the first surface; at most 1024)
  *  bounces:        photons stored per path at most; 0: 8
- *  capacity:       stored photons per pass at most; 0: 4 x photons
+ *  capacity:       stored photons per pass at most; 0: 4 x photons; at
+ *                  least bounces + 1 (a photon's stores at most). A pass
+ *                  whose photons would store more is traced twice again:
+ *                  once counting each photon's stores, then with photons
+ *                  0..C-1 alone, C the most whose stores fit, each carrying
+ *                  1/C of the sources' power (stats.emitted C,
+ *                  stats.dropped the others): the same photons whatever
+ *                  order the GPU stores them in, and the estimate keeps its
+ *                  expected value (the photons are independent draws);
+ *                  such a pass costs three traces
  *  seed:           random streams (each pass its own); the same seed and
  *                  settings give the same image bitwise on a device (the
  *                  gather's sums are exact fixed-point, so the order the GPU
- *                  stores the photons in does not matter) unless photons
- *                  were dropped (stats.dropped: which ones is a race)
+ *                  stores the photons in does not matter; over the
+ *                  capacity, the photons kept go by index, above)
  *  workgroup:      invocations per workgroup of the trace, a power of two
  *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
  *  batch:          photons each invocation of the trace traces in turn,
@@ -160,11 +175,13 @@ vx_photon_desc vx_photon_desc_defaults(void);
 /* What the last pass did. */
 typedef struct vx_photon_stats {
     uint32_t pass;
-    uint64_t emitted;         /* photons emitted */
+    uint64_t emitted;         /* photons traced (fewer than desc.photons when the stores passed the capacity) */
     uint64_t stored;          /* photons stored (both maps) */
-    uint64_t dropped;         /* stored photons over the capacity, lost */
+    uint64_t dropped;         /* photons left out: their stores would have passed the capacity (see capacity) */
     double radius, caustic_radius; /* this pass's radii */
     double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
+    double paths_ms, density_ms; /* gather_ms's two steps: the camera's paths, the Lambert sums */
+    double wall_ms;              /* host time of the whole pass: the GPU's, submissions, waits, downloads */
 } vx_photon_stats;
 
 typedef struct vx_photon_gi vx_photon_gi;

@@ -46,7 +46,10 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 skyg;    // ground rgb, w: map intensity
     vec4 skym;    // map: rotation, width, height
     vec4 fx;      // the gather's fixed-point units (fx_add): x per unit of BSDF times power, y per unit of power
-    uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...)
+    uvec4 tr;     // x: invocations of the trace (each traces photons i, i + x, ...), y: 1: count only (a photon's
+                  // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
+                  // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
+                  // w: 1: more than one instance (kernel_factors looks for other models' faces)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -66,10 +69,10 @@ layout(std430, binding = 12) buffer Photons { vec4 ph[]; };
 // the stored photons by bucket, split: [0, capacity) their first vec4 (position, normal, flags: all a
 // gather reads of a photon that does not count), [capacity, 2 capacity) their second
 layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
-// per bucket: count, then (after alloc) start
+// per bucket: count, then (after alloc) start; while counting (Params tr.y), the photons' stores, two a uvec2
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 15) buffer Out { vec4 outv[]; };
-// x: photons stored (may pass the capacity: the rest were dropped), y: sorted so far, z: the loop guard fired
+// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard fired
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
 // the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
 layout(std430, binding = 17) readonly buffer Env { float env[]; };
@@ -191,10 +194,11 @@ bool emit(out vec3 o, out vec3 d, out vec3 phi, out uint flags, out uint type, o
 }
 
 void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
+    if (P.tr.y != 0u) return; // counting: trace_photons writes the photon's count
     // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
     // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
     uint k = atomicAdd(ctr[0], 1u);
-    if (k >= P.a.y) return; // over the capacity: dropped (counted: ctr[0] passes it)
+    if (k >= P.a.y) return; // over the capacity: photons.c traces the pass again with the photons that fit
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: three bits of its u code change nothing), F_FIRST (the
     // photon's first surface, for vx_photon_power) in the direction's lowest bit (1/32767 of u)
@@ -220,6 +224,8 @@ void trace_photons() {
     for (uint guard = 0u; guard < 65536u; guard++) {
         if (!alive) {
             if (guard > 0u) {
+                // counting (a pass whose stores passed the capacity): photon id's stores, two per uvec2 of Cells
+                if (P.tr.y != 0u) cells[id >> 1u][id & 1u] = stored;
                 id += T;
                 if (id >= P.a.x) {
                     done = true;
@@ -332,9 +338,11 @@ vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0
 // are skipped (on a surface about a tenth of the photons), and a bucket that two cells share is read
 // once: every photon within r lies in one of the cells left, so each counts once (before, a photon
 // counted only in its own cell: a floor per axis for every photon within r).
-vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
+// (photon_sum_fx: photons part, part + parts, ... of each bucket alone, into the fixed-point words shi, slo:
+// the density step's lanes share a pixel's photons that way)
+void photon_sum_fx(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel, uint part,
+                   uint parts, inout uvec3 shi, inout uvec3 slo) {
     float scale = lambert ? P.fx.y : P.fx.x;
-    uvec3 shi = uvec3(0u), slo = uvec3(0u);
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     float r2 = r * r;
     // a cell's box is [c r, (c + 1) r] up to the rounding of floor(p / r): grown by a margin for that
@@ -354,7 +362,7 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
                 if (dup || nseen >= 27) continue;
                 seen[nseen++] = bk;
                 uvec2 cl = cells[bk];
-                for (uint k = cl.y; k < cl.y + cl.x; k++) {
+                for (uint k = cl.y + part; k < cl.y + cl.x; k += parts) {
                     vec4 a = sorted[k];
                     vec3 v = a.xyz - x;
                     if (dot(v, v) > r2) continue;
@@ -380,7 +388,105 @@ vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint 
             }
         }
     }
-    return fx_value(shi, slo, scale);
+}
+vec3 photon_sum(vec3 x, vec3 n, uint ncode, bool lambert, Bsdf B, vec3 wo, uint map, float r, int sel) {
+    uvec3 shi = uvec3(0u), slo = uvec3(0u);
+    photon_sum_fx(x, n, ncode, lambert, B, wo, map, r, sel, 0u, 1u, shi, slo);
+    return fx_value(shi, slo, lambert ? P.fx.y : P.fx.x);
+}
+
+// ---- the kernel's area: the surface within r that can hold the photons a gather counts ----
+// Area of {0 <= X <= x, 0 <= Y <= y} inside the disk of radius r about the origin (x, y >= 0).
+float disk_quad(float x, float y, float r) {
+    x = min(x, r), y = min(y, r);
+    if (x * x + y * y <= r * r) return x * y;
+    float x1 = sqrt(max(r * r - y * y, 0.0)); // where the circle crosses height y (x1 < x)
+    return y * x1 + 0.5 * (x * sqrt(max(r * r - x * x, 0.0)) - x1 * sqrt(max(r * r - x1 * x1, 0.0)) +
+                           r * r * (asin(min(x / r, 1.0)) - asin(min(x1 / r, 1.0))));
+}
+float disk_corner(float x, float y, float r) { return sign(x) * sign(y) * disk_quad(abs(x), abs(y), r); }
+// Area of the unit square [q, q + 1] inside the disk of radius r about c.
+float disk_square(vec2 c, vec2 q, float r) {
+    vec2 lo = q - c, hi = q + 1.0 - c;
+    return disk_corner(hi.x, hi.y, r) - disk_corner(lo.x, hi.y, r) - disk_corner(hi.x, lo.y, r) + disk_corner(lo.x, lo.y, r);
+}
+bool cell_solid(uint mi, ivec3 q, float side) {
+    return all(greaterThanEqual(q, ivec3(0))) && all(lessThan(vec3(q), vec3(side))) && model_cell_attr(mi, uvec3(q)) != NO_HIT;
+}
+
+// The photons a gather at g_s counts lie within r of it on faces of its orientation, and the estimate
+// divides their power by the area they can lie on. Dividing by the disk pi r^2 assumed an unbroken
+// plane: where the surface ends within r (a floor's edge, a wall's foot, a strip one voxel high) the
+// disk's part beyond it holds no photons, and that light was lost (the caustic scene's floor kept 0.978
+// of its photons' power at radius 1.1, 0.989 at 0.55: its 1.1% deficit against the path tracer). This
+// is the area of the faces of g_s's orientation within r (the model's cells around the hit: per column
+// of cells whose unit square meets the disk, the nearest face of that orientation within r above or
+// below the hit's plane, its square's part of the disk at that height), over pi r^2: a factor 1 (exactly)
+// on an unbroken plane, above 1 near an edge. For the global (x) and caustic (y) radii. Cells outside the
+// hit's model are looked for in the others by a short ray (face_elsewhere) where the scene has more than one
+// instance, and count as empty otherwise. Left at 1
+// (the plain disk) where the model has no attributes (no cell lookups) or the radius passes KERNEL_CELLS
+// cells (the columns grow as its square: 13^2 at 6).
+const float KERNEL_CELLS = 6.0;
+// With more than one instance (P.tr.w), a column whose cells are empty in the hit's model may hold another
+// model's face in the hit's plane (two models side by side make one floor): a short ray down the normal
+// onto the column's square finds it (a face of this orientation half a cell below the ray's start).
+bool face_elsewhere(Inst I, Hit h, ivec3 q, int ax, int e) {
+    vec3 m = vec3(q) + 0.5;
+    m[ax] = float(q[ax]) + (e > 0 ? 1.0 : 0.0) + 0.5 * float(e); // half a cell off the plane, on its open side
+    m -= vec3(I.r0.w, I.r1.w, I.r2.w);
+    vec3 w = I.cell * I.cell * (m.x * I.r0.xyz + m.y * I.r1.xyz + m.z * I.r2.xyz); // model to world (rows: R / cell)
+    Hit g;
+    if (!cast_ray(w, -g_s.n, I.cell, g)) return false;
+    Inst J = insts[g.inst];
+    vec4 row = g.axis == 0 ? J.r0 : (g.axis == 1 ? J.r1 : J.r2);
+    return abs(float(g.t) - 0.5 * I.cell) < 0.25 * I.cell && dot(normalize(row.xyz * g.nsign), g_s.n) > 0.9;
+}
+vec2 kernel_factors(Hit h) {
+    Inst I = insts[h.inst];
+    uint mi = I.model;
+    if (!HAS_COLOR || (models[mi].flags & 1u) == 0u || max(P.r.x, P.r.y) > KERNEL_CELLS * I.cell) return vec2(1.0);
+    float side = exp2(float(models[mi].depth));
+    vec3 p = g_s.p;
+    vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+    int ax = h.axis, u = (ax + 1) % 3, v = (ax + 2) % 3;
+    ivec3 e = ivec3(0);
+    e[ax] = h.nsign > 0.0 ? 1 : -1;
+    vec2 rm = vec2(P.r.x, P.r.y) / I.cell, rm2 = rm * rm;
+    float R = max(rm.x, rm.y);
+    vec2 c = vec2(om[u], om[v]), missing = vec2(0.0), extra = vec2(0.0);
+    ivec3 base = ivec3(h.cell);
+    for (int iu = int(floor(c.x - R)); iu <= int(floor(c.x + R)); iu++) {
+        float du = max(max(float(iu) - c.x, c.x - float(iu + 1)), 0.0);
+        for (int iv = int(floor(c.y - R)); iv <= int(floor(c.y + R)); iv++) {
+            float dv = max(max(float(iv) - c.y, c.y - float(iv + 1)), 0.0);
+            float d2 = du * du + dv * dv;
+            if (d2 >= R * R) continue; // the square lies outside both disks
+            ivec3 q = base;
+            q[u] = iu, q[v] = iv;
+            bool s0 = cell_solid(mi, q, side), s1 = cell_solid(mi, q + e, side);
+            if (s0 && !s1) continue; // a face in the hit's plane: part of pi r^2
+            if (P.tr.w != 0u && !s0 && !s1 && face_elsewhere(I, h, q, ax, e[ax])) continue; // another model's
+            vec2 sq = vec2(float(iu), float(iv));
+            for (int k = 0; k < 2; k++)
+                if (d2 < rm2[k]) missing[k] += disk_square(c, sq, rm[k]);
+            // the nearest face of this orientation above (the plane's cell solid, the face buried) or below
+            int dz = 0;
+            for (int step = 1; float(step) < R; step++) {
+                if (s0 ? !cell_solid(mi, q + (step + 1) * e, side) : cell_solid(mi, q - step * e, side)) {
+                    dz = step;
+                    break;
+                }
+            }
+            for (int k = 0; k < 2 && dz > 0; k++) {
+                float rz2 = rm2[k] - float(dz * dz);
+                if (rz2 > d2) extra[k] += disk_square(c, sq, sqrt(rz2));
+            }
+        }
+    }
+    vec2 full = PI * rm2, area = full - missing + extra;
+    return vec2(missing.x == 0.0 && extra.x == 0.0 ? 1.0 : full.x / max(area.x, 1e-3 * full.x),
+                missing.y == 0.0 && extra.y == 0.0 ? 1.0 : full.y / max(area.y, 1e-3 * full.y));
 }
 
 // Radiance leaving the surface g_s towards wo from the photons of map `map` within radius r (norm:
@@ -416,7 +522,9 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
             g_s = surface(o, d, h);
             Bsdf B2 = bsdf_of(g_s);
             if (B2.kind != B_GLASS) {
-                sum += thr * (gather(B2, -d, 0u, P.r.x, P.r.z, G_ALL) + gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w, G_ALL));
+                vec2 kf = kernel_factors(h);
+                sum += thr * (gather(B2, -d, 0u, P.r.x, P.r.z * kf.x, G_ALL) +
+                              gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w * kf.y, G_ALL));
                 break;
             }
             vec3 wi;
@@ -479,6 +587,7 @@ void gather_pixel() {
     // the density step's record: the point, its normal's code with (deferred, sel) in its low bits, the
     // factor of the sums (throughput times albedo / pi), the light found here
     vec4 rec0 = vec4(0.0), rec1 = vec4(0.0);
+    float rec2w = 0.0; // the caustic radius' kernel factor (rec1.w the global one's)
     for (int events = 0; events < 64; events++) {
         Hit h;
         if (!cast_ray(o, d, BIG, h)) {
@@ -513,6 +622,7 @@ void gather_pixel() {
             continue;
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;
+        vec2 kf = kernel_factors(h);
         if (B.kind == B_GLOSSY) {
             // A glossy surface (as Jensen's photon mapping treats it): the diffuse lobe from the photons,
             // the specular lobe by a ray. The photon estimate divides by the disk pi r^2 but finds only
@@ -526,9 +636,12 @@ void gather_pixel() {
             D.alb = B.kd;
             S.kd = vec3(0.0);
             if (B.kd != vec3(0.0))
-                L += thr * (gather(D, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(D, wo, 0u, P.r.x, P.r.z, sel));
-            L += thr * gather(S, wo, F_CAUSTIC, P.r.y, P.r.w, G_LIGHTS);
-            if (!first || full) L += thr * gather(S, wo, 0u, P.r.x, P.r.z, G_LIGHTS);
+                L += thr * (gather(D, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(D, wo, 0u, P.r.x, P.r.z * kf.x, sel));
+            // (each only where the sources can bring such photons: a sum over none is 0; at the seed's
+            // Cornell setting, lit by voxels alone, these loops went over the caustic on the metal sphere,
+            // every photon rejected: docs/PERFORMANCE.md)
+            if ((P.tr.z & 1u) != 0u) L += thr * gather(S, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, G_LIGHTS);
+            if ((!first || full) && (P.tr.z & 2u) != 0u) L += thr * gather(S, wo, 0u, P.r.x, P.r.z * kf.x, G_LIGHTS);
             vec3 w;
             if (!specular_sample(S, wo, d, w)) break;
             thr *= w;
@@ -539,17 +652,18 @@ void gather_pixel() {
         // the final gather at the camera's first surface; in a full image the light that came straight
         // from a source (the direct pass's too) is that surface's first-surface photons
         if (first && P.cnt.z > 0u) {
-            L += gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, full ? G_FIRST_ANY : G_FIRST) +
+            L += gather(B, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(B, wo, 0u, P.r.x, P.r.z * kf.x, full ? G_FIRST_ANY : G_FIRST) +
                  final_gather(B, wo, P.cnt.z);
         } else if (B.kind == B_LAMBERT) {
             // both maps' sums in the density step
             if (dot(wo, B.n) > 0.0) {
                 uint ncode = packSnorm2x16(oct_encode(g_s.n)) & ~F_BITS;
                 rec0 = vec4(g_s.p, uintBitsToFloat(ncode | 1u | (sel == G_INDIRECT ? 2u : 0u)));
-                rec1 = vec4(thr * (B.alb / PI), 0.0);
+                rec1 = vec4(thr * (B.alb / PI), kf.x);
+                rec2w = kf.y;
             }
         } else {
-            L += thr * (gather(B, wo, F_CAUSTIC, P.r.y, P.r.w, sel) + gather(B, wo, 0u, P.r.x, P.r.z, sel));
+            L += thr * (gather(B, wo, F_CAUSTIC, P.r.y, P.r.w * kf.y, sel) + gather(B, wo, 0u, P.r.x, P.r.z * kf.x, sel));
         }
         break;
     }
@@ -559,38 +673,53 @@ void gather_pixel() {
     }
     ph[3u * idx] = rec0;
     ph[3u * idx + 1u] = rec1;
-    ph[3u * idx + 2u] = vec4(L, 0.0);
+    ph[3u * idx + 2u] = vec4(L, rec2w);
 }
 
-// ---- the density step: a workgroup takes a tile of 8 x 8 pixels ----
-shared vec4 t_a[64], t_b[64]; // a chunk of photons, both halves
+// ---- the density step: a workgroup takes a tile of 8 x 8 pixels, DPARTS lanes a pixel ----
+// A pixel's sums may be shared by DPARTS lanes (the workgroup's size over 64: photons.c density_parts),
+// each testing its part of the photons, their fixed-point sums added at the end (exact: the same value in
+// any split). At the seed's Cornell setting the step is one wave of 4096 tiles whose time the tiles on the
+// densest photons set (the ceiling by the light, the caustic): 4 lanes a pixel give each such tile 4
+// times the lanes (H200: 3.33 -> 1.91 ms); where the tiles fill several waves they cost more than they
+// give (1920x1080: 1.39 -> 2.78 ms on the caustic scene), and photons.c takes 1 (docs/PERFORMANCE.md).
+const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
+// Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
+// 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
+// setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
+shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2];
 shared int t_lo[3], t_hi[3];
+shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums
 
-// The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r: the cells the
-// pixels need (each pixel's own cells that pass photon_sum's box test, at most 4 x 4 x 4 around the
-// tile) are gathered into one list of buckets (a bucket two cells share once), its photons read into
-// shared memory in chunks of 64, and every pixel tests every photon of a chunk. A pixel's own loop
-// read its cells' photons from memory, each pixel again: at the seed's Cornell setting some 2700 tests
-// for the 1000 photons that count. A tile whose cells pass 4 a side falls back to the own loops.
-vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel) {
-    uint lid = gl_LocalInvocationIndex;
+// The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
+// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
+// at most 4 x 4 x 4 around the tile) are gathered into one list of buckets (a bucket two cells share
+// once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
+// chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
+// again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
+// pass 4 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel, inout uvec3 shi, inout uvec3 slo) {
+    uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF;
         t_need[0] = 0u, t_need[1] = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    if (valid)
+    if (valid && part == 0u)
         for (int k = 0; k < 3; k++) atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
     barrier();
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
     barrier(); // all have read the bounds: the next call's first lane may set them again
-    if (ext.x <= 0) return vec3(0.0); // no pixel of the tile needs a sum
-    Bsdf B;                           // unused by the Lambert sums
-    if (ext.x > 4 || ext.y > 4 || ext.z > 4) return valid ? photon_sum(x, n, ncode, true, B, vec3(0.0), map, r, sel) : vec3(0.0);
+    if (ext.x <= 0) return; // no pixel of the tile needs a sum
+    Bsdf B;                 // unused by the Lambert sums
+    if (ext.x > 4 || ext.y > 4 || ext.z > 4) {
+        if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+        return;
+    }
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
-    if (valid)
+    if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
             for (int cy = lo.y; cy <= hi.y; cy++)
                 for (int cx = lo.x; cx <= hi.x; cx++) {
@@ -602,12 +731,14 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
     barrier();
-    // slot lid: cell lid of the tile's box, its bucket once
+    // slot lid (< 64): cell lid of the tile's box, its bucket once
     uint bk = 0xFFFFFFFFu, cnt = 0u, st = 0u;
     int nc = ext.x * ext.y * ext.z, il = int(lid);
-    if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
-        bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
-    t_bk[lid] = bk;
+    if (lid < 64u) {
+        if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
+            bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
+        t_bk[lid] = bk;
+    }
     barrier();
     if (bk != 0xFFFFFFFFu) {
         bool dup = false;
@@ -617,8 +748,10 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             cnt = cl.x, st = cl.y;
         }
     }
-    t_start[lid] = st;
-    t_pre[lid + 1u] = cnt;
+    if (lid < 64u) {
+        t_start[lid] = st;
+        t_pre[lid + 1u] = cnt;
+    }
     barrier();
     if (lid == 0u) {
         t_pre[0] = 0u;
@@ -626,8 +759,7 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     }
     barrier();
     uint total = t_pre[64];
-    uvec3 shi = uvec3(0u), slo = uvec3(0u);
-    for (uint off = 0u; off < total; off += 64u) {
+    for (uint off = 0u; off < total; off += DLANES) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = 64u;
@@ -641,9 +773,9 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             t_b[lid] = sorted[P.a.y + k];
         }
         barrier();
-        if (valid) {
-            uint cm = min(64u, total - off);
-            for (uint j = 0u; j < cm; j++) {
+        if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
+            uint j1 = min(off + (part + 1u) * 64u, total) - off;
+            for (uint j = part * 64u; j < j1; j++) {
                 vec4 pa = t_a[j];
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) > r2) continue;
@@ -656,13 +788,26 @@ vec3 tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
     }
-    return fx_value(shi, slo, P.fx.y);
+}
+
+// The parts' sums of a pixel, added exactly into part 0's lanes (every lane takes part: barriers).
+void parts_add(inout uvec3 shi, inout uvec3 slo) {
+    uint lid = gl_LocalInvocationIndex;
+    t_shi[lid] = shi, t_slo[lid] = slo;
+    barrier();
+    if (lid < 64u)
+        for (uint q = 1u; q < DPARTS; q++) {
+            uvec3 carry;
+            slo = uaddCarry(slo, t_slo[lid + 64u * q], carry);
+            shi += t_shi[lid + 64u * q] + carry;
+        }
+    barrier();
 }
 
 // The density step: a record's sums over both maps (the same tiles of 8 x 8 pixels as gather_pixel), the
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
-    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
@@ -671,12 +816,17 @@ void density_pixel() {
     bool valid = inside && (bits & 1u) != 0u;
     int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
     vec3 n = oct_decode(unpackSnorm2x16(ncode));
-    vec3 c = tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel);
-    vec3 g = tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel);
+    uvec3 chi = uvec3(0u), clo = uvec3(0u), ghi = uvec3(0u), glo = uvec3(0u);
+    tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
+    tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel, ghi, glo);
+    parts_add(chi, clo);
+    parts_add(ghi, glo);
     if (!loops_intact()) ctr[2] = 1u;
-    if (!inside) return;
-    vec3 L = ph[3u * idx + 2u].xyz;
-    if (valid) L += ph[3u * idx + 1u].xyz * (c * P.r.w + g * P.r.z);
+    if (!inside || gl_LocalInvocationIndex >= 64u) return;
+    vec3 c = fx_value(chi, clo, P.fx.y), g = fx_value(ghi, glo, P.fx.y);
+    vec4 rec1 = ph[3u * idx + 1u], rec2 = ph[3u * idx + 2u];
+    vec3 L = rec2.xyz;
+    if (valid) L += rec1.xyz * (c * (P.r.w * rec2.w) + g * (P.r.z * rec1.w));
     if (P.img.z == 0u || P.seed.z == 0u) { // the first pass overwrites (the buffer holds anything)
         outv[idx] = vec4(L, 1.0);
     } else { // a running mean over the passes: pass k weighs 1 / (k + 1)
