@@ -178,7 +178,8 @@ typedef struct vx_probe_bake_stats {
  *  first, count: bake only probes first .. first+count-1 (count 0 == all
  *              from first); the set still describes the whole grid
  *  threads:    0 == 1
- *  progress:   called per finished probe
+ *  progress:   called per finished probe (the GPU bake: after each batch, when
+ *              the maps of the call's first `done` probes are in the set)
  *  batch:      GPU bake only: probes per batch, 0 == about 2^28 path
  *              segments (2^26 with host_filter); the bytes do not depend on it
  *  host_filter: GPU bake only: filter each batch's radiance and distances
@@ -238,6 +239,24 @@ vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, cons
                             vx_probe_set* out, vx_error* err);
 vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                                  vx_probe_set* ps, uint32_t end, vx_error* err);
+
+/* A GPU bake kept across calls (the GPU filtering; not host_filter): the
+ * context, the filter tables, the pipelines and the batch buffers are made
+ * once, so a caller that bakes a grid in many ranges (svo_bake's MPI batches,
+ * checkpoint steps) pays that set-up (about 45 ms on an H200 at R=128) once.
+ * vx_probe_baker_create takes the bake's settings from desc and ps (a set
+ * from vx_probe_place: its grid, light and the batch size for its whole
+ * range); vx_probe_baker_run bakes [ps->first + ps->count, end) of ps as
+ * vx_probe_bake_more_gpu does, for any ps of the same placement (the same
+ * probes array, e.g. views of one placed set over other ranges), using only
+ * desc's progress and stats (the first run's stats carry the create's time as
+ * setup). The bytes are vx_probe_bake_more_gpu's. One thread at a time. */
+typedef struct vx_probe_baker vx_probe_baker;
+vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                const vx_probe_set* ps, vx_probe_baker** out, vx_error* err);
+vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, vx_probe_set* ps, uint32_t end,
+                             vx_error* err);
+void vx_probe_baker_destroy(vx_probe_baker* b);
 
 /* Joins parts with identical grids and parameters whose ranges tile
  * [0, probe_count) (in any order) into one full set. */

@@ -263,16 +263,20 @@ void bake_job_close(bake_job* j) {
         if (!vx_tool_gpu_open_wait(&j->go, &g, &rs, NULL, NULL)) j->gpu = g, j->rs = rs;
         j->opening = false;
     }
+    vx_probe_baker_destroy(j->baker);
     vx_render_scene_destroy(j->rs);
     vx_gpu_destroy(j->gpu);
     vx_svo_scene_free(&j->file);
     memset(&j->scene, 0, sizeof j->scene);
-    j->rs = NULL, j->gpu = NULL;
+    j->rs = NULL, j->gpu = NULL, j->baker = NULL;
 }
 
 vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err) {
-    return j->o.cpu ? vx_probe_bake_more(&j->scene, bd, ps, end, err)
-                    : vx_probe_bake_more_gpu(j->rs, &j->scene, bd, ps, end, err);
+    if (j->o.cpu) return vx_probe_bake_more(&j->scene, bd, ps, end, err);
+    if (bd->host_filter) return vx_probe_bake_more_gpu(j->rs, &j->scene, bd, ps, end, err);
+    /* one set-up for every range: MPI batches took about 45 ms each besides their probes */
+    vx_result r = j->baker ? VX_OK : vx_probe_baker_create(j->rs, &j->scene, bd, ps, &j->baker, err);
+    return r ? r : vx_probe_baker_run(j->baker, bd, ps, end, err);
 }
 
 /* ---- probe maps as bytes --------------------------------------------------------------- */

@@ -35,6 +35,7 @@ typedef struct bake_job {
     vx_svo_scene scene;   /* the view of o.frame: what is baked */
     vx_gpu* gpu;          /* NULL with --cpu */
     vx_render_scene* rs;  /* NULL with --cpu */
+    vx_probe_baker* baker; /* the GPU bake kept across bake_range calls (made at the first) */
     vx_tool_gpu_open go;  /* the device opening on its own thread */
     bool opening;         /* go started, not waited for */
     double t_device;      /* seconds the device took on its thread */
@@ -52,7 +53,8 @@ int bake_job_open(bake_job* j, const char* device, const char* who);
 int bake_job_device(bake_job* j, const char* who);
 void bake_job_close(bake_job* j);
 
-/* Bakes probes [ps->first + ps->count, end) of ps on the job's device. */
+/* Bakes probes [ps->first + ps->count, end) of ps on the job's device; every
+ * ps of one job shares its placement's probes (views of the placed set). */
 vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err);
 
 /* Whether the probe set ck (a checkpoint, a batch, a shard) belongs to the
