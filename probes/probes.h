@@ -278,6 +278,31 @@ vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint
  * (svo/core.h). */
 vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps, const char* path, vx_error* err);
 /* Bounded reader: every length and CRC checked; errors name the byte offset. */
+/* A .probes file written while a bake fills the set (svo_bake: the file
+ * goes to disk batch by batch while the GPU traces the next, instead of all
+ * at the end): the same bytes as vx_probe_write_file of the set once probes
+ * ps->first .. end - 1 are baked. vx_probe_stream_open writes the header and
+ * GRID of the placed set ps (its first; its maps are not read) for the range
+ * [ps->first, end) into a temporary file beside path; vx_probe_stream_put
+ * appends the maps of the probes up to `upto` (exclusive; they must be in
+ * the set passed, which holds the range from the same first) and starts their
+ * disk writes; vx_probe_stream_commit patches DATA's CRC, syncs and renames
+ * the file over path once every probe is in (or removes it and fails);
+ * vx_probe_stream_abort removes it. Either of the last two ends the stream. */
+typedef struct vx_probe_stream {
+    vx_atomic_file file;
+    const vx_allocator* alloc;
+    uint32_t first, end, next; /* the range; the next probe to append */
+    uint32_t crc;              /* DATA's CRC so far */
+    uint64_t crc_at;           /* where it goes in the file */
+    bool open;
+} vx_probe_stream;
+vx_result vx_probe_stream_open(vx_probe_stream* st, const vx_probe_set* ps, uint32_t end, const char* path,
+                               const vx_allocator* alloc, vx_error* err);
+vx_result vx_probe_stream_put(vx_probe_stream* st, const vx_probe_set* ps, uint32_t upto, vx_error* err);
+vx_result vx_probe_stream_commit(vx_probe_stream* st, vx_error* err);
+void vx_probe_stream_abort(vx_probe_stream* st);
+
 vx_result vx_probe_read(const vx_probe_read_desc* desc, const void* data, size_t size, vx_probe_set* out,
                         vx_error* err);
 vx_result vx_probe_read_file(const vx_probe_read_desc* desc, const char* path, vx_probe_set* out, vx_error* err);

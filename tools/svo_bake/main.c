@@ -397,20 +397,36 @@ bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
 typedef struct ck_state {
     eta* e;           /* NULL: no progress line */
     vx_probe_set* ps; /* the set being baked (its count is updated at the end) */
+    vx_probe_stream* out; /* the output, written as the batches come (NULL: at the end) */
+    double t_out;         /* seconds spent writing it here */
     const char* path;
     uint32_t base, total; /* baked before the call; the range's probes */
     double interval, t_ck;
-    vx_error err; /* a failed checkpoint write (ends the bake) */
+    vx_error err;            /* a failed write (ends the bake) */
+    const char* failed_path; /* of which file */
 } ck_state;
 
 static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
     ck_state* c = user;
     if (c->e) eta_func(c->e, stage, done, total);
     double now = vx_time_now();
+    if (c->out) {
+        /* the batch's maps into the output while the GPU traces the next batch */
+        vx_probe_set v = *c->ps;
+        v.count = c->base + (uint32_t)done;
+        if (vx_probe_stream_put(c->out, &v, v.first + v.count, &c->err)) {
+            c->failed_path = c->out->file.path;
+            return false;
+        }
+        c->t_out += vx_time_now() - now;
+    }
     if (now - c->t_ck < c->interval || c->base + done >= c->total) return true;
     vx_probe_set v = *c->ps;
     v.count = c->base + (uint32_t)done;
-    if (vx_probe_write_file(NULL, &v, c->path, &c->err)) return false;
+    if (vx_probe_write_file(NULL, &v, c->path, &c->err)) {
+        c->failed_path = c->path;
+        return false;
+    }
     c->t_ck = vx_time_now();
     return true;
 }
@@ -464,16 +480,26 @@ static int bake_single(bake_job* j) {
     if (o->verbose && j->gpu) bd.stats = &st;
     if (show) bd.progress = (vx_progress){eta_func, &e};
     double interval = checkpoint_interval(), t_ck = vx_time_now();
+    /* the output is written as the probes are baked (an empty shard's at the end) */
+    vx_probe_stream out;
+    bool streamed = end > first;
+    if (streamed && vx_probe_stream_open(&out, &ps, end, j->out, NULL, &err)) {
+        vx_probe_set_free(&ps);
+        bake_job_close(j);
+        return vx_tool_error(j->out, &err);
+    }
+    double t_out = 0;
     if (j->gpu) {
         /* the GPU bakes the whole range in one call (one set-up, its batches
          * overlapped), checkpointing the baked prefix between batches; steps of
          * 16 probes and more, each a call of its own, took 2.4 s for 512
          * probes at R=128 on an H200 where one call takes 0.9 s */
-        ck_state c = {.e = show ? &e : NULL, .ps = &ps, .path = j->ckpath, .base = ps.count, .total = end - first,
-                      .interval = interval, .t_ck = t_ck};
+        ck_state c = {.e = show ? &e : NULL, .ps = &ps, .out = streamed ? &out : NULL, .path = j->ckpath,
+                      .base = ps.count, .total = end - first, .interval = interval, .t_ck = t_ck};
         bd.progress = (vx_progress){ck_progress, &c};
         if (ps.first + ps.count < end && bake_range(j, &bd, &ps, end, &err))
-            rc = c.err.code ? vx_tool_error(j->ckpath, &c.err) : vx_tool_error(j->in, &err);
+            rc = c.failed_path ? vx_tool_error(c.failed_path, &c.err) : vx_tool_error(j->in, &err);
+        t_out = c.t_out;
     }
     /* the CPU bakes in steps of about 5-40 s of work (at least one probe),
      * writing the baked prefix as a checkpoint when checkpoint_interval() has
@@ -502,10 +528,17 @@ static int bake_single(bake_job* j) {
             }
             step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
         }
+        double tw = vx_time_now();
+        if (streamed && vx_probe_stream_put(&out, &ps, ps.first + ps.count, &err)) rc = vx_tool_error(j->out, &err);
+        t_out += vx_time_now() - tw;
     }
     if (show) fprintf(stderr, "\n");
     double t1 = vx_time_now(), t_bake = t1 - t0;
-    if (!rc && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    /* what is left of the output (probes resumed and not passed yet, the last batch), its CRC, sync and name */
+    if (!rc && streamed && (vx_probe_stream_put(&out, &ps, end, &err) || vx_probe_stream_commit(&out, &err)))
+        rc = vx_tool_error(j->out, &err);
+    if (!rc && !streamed && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (rc && streamed) vx_probe_stream_abort(&out);
     double t_write = vx_time_now() - t1;
     if (!rc) {
         remove(j->ckpath);
@@ -514,9 +547,9 @@ static int bake_single(bake_job* j) {
                ps.dist_max_error);
         printf("wrote %s\n", j->out);
         if (o->verbose) {
-            printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (waited %.3f s), bake %.3f s, "
-                   "write %.3f s; %.3f s from the scene to the file\n",
-                   t0 - t_in, t_place, j->t_device, j->t_wait, t1 - t_bake0, t_write, vx_time_now() - t_in);
+            printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (waited %.3f s), bake %.3f s "
+                   "(of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the file\n",
+                   t0 - t_in, t_place, j->t_device, j->t_wait, t1 - t_bake0, t_out, t_write, vx_time_now() - t_in);
             if (j->gpu)
                 printf("bake: setup %.3f s, loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, "
                        "busy %.0f%% of the loop, waits %.3f s, stores %.3f s\n",
