@@ -362,6 +362,43 @@ static void test_gpu_baker_ranges(void) {
     vx_svo_scene_free(&s);
 }
 
+/* "gpu:K" (render.h; what svo_bake and svo_render under mpirun pass for
+ * local rank K): the (K mod G)-th GPU as vx_gpu_list_devices lists them, the
+ * default pick where there is no GPU (lavapipe only); bad forms refused. */
+typedef struct dev_list {
+    char gpus[8][256];
+    unsigned n;
+} dev_list;
+static void dev_fn(void* user, uint32_t index, const char* name, const char* type) {
+    (void)index;
+    dev_list* l = user;
+    if (strcmp(type, "cpu") && strcmp(type, "other") && l->n < 8) snprintf(l->gpus[l->n++], 256, "%s", name);
+}
+static void test_gpu_device_choice(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_error err = {0};
+    dev_list l = {.n = 0};
+    REQUIRE(vx_gpu_list_devices(dev_fn, &l, &err) == VX_OK);
+    vx_gpu* def = NULL;
+    REQUIRE(vx_gpu_create(NULL, &def, &err) == VX_OK);
+    for (unsigned k = 0; k < 5; k++) {
+        char want[16];
+        snprintf(want, sizeof want, "gpu:%u", k);
+        vx_gpu* g = NULL;
+        REQUIRE(vx_gpu_create(&(vx_gpu_desc){.device = want}, &g, &err) == VX_OK);
+        const char* expect = l.n ? l.gpus[k % l.n] : vx_gpu_device_name(def);
+        CHECKF(!strcmp(vx_gpu_device_name(g), expect), "%s opened %s, not %s", want, vx_gpu_device_name(g), expect);
+        vx_gpu_destroy(g);
+    }
+    const char* bad[] = {"gpu:", "gpu:x", "gpu:-1", "gpu:1x"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        vx_gpu* g = NULL;
+        CHECKF(vx_gpu_create(&(vx_gpu_desc){.device = bad[i]}, &g, &err) == VX_ERR_INVALID_ARG && !g, "'%s' accepted",
+               bad[i]);
+    }
+    vx_gpu_destroy(def);
+}
+
 /* GPU gi vs CPU gi per pixel (same probes); GPU vs CPU path tracer by image statistics. */
 /* A GPU (g) and a CPU (c) Monte Carlo image with different random streams
  * estimate the same image: equal means, and a difference no larger than
@@ -694,6 +731,7 @@ int main(void) {
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_baker_ranges);
+    RUN(test_gpu_device_choice);
     RUN(test_gpu_render);
     RUN(test_gpu_pathtrace_high_spp);
     RUN(test_gpu_bake_high_spp);
