@@ -8,6 +8,7 @@ static void* open_thread(void* arg) {
     vx_tool_gpu_open* o = arg;
     double t = vx_time_now();
     o->r = vx_gpu_create(&o->desc, &o->gpu, &o->err);
+    o->device_s = vx_time_now() - t;
     if (o->r) o->failed = "device";
     else if (o->scene && (o->r = vx_render_scene_create(o->gpu, o->scene, &o->rs, &o->err))) o->failed = "scene";
     o->seconds = vx_time_now() - t;

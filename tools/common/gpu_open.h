@@ -24,6 +24,7 @@ typedef struct vx_tool_gpu_open {
     vx_error err;
     const char* failed; /* "device" or "scene": which step failed */
     double seconds;     /* the thread's time */
+    double device_s;    /* of it vx_gpu_create's (instance, device); the rest binds the scene */
 } vx_tool_gpu_open;
 
 /* Starts opening the device of desc (desc->device is copied; the logger and

@@ -248,7 +248,7 @@ int bake_job_device(bake_job* j, const char* who) {
     const char* failed = NULL;
     vx_error err = {0};
     vx_result r = vx_tool_gpu_open_wait(&j->go, &j->gpu, &j->rs, &failed, &err);
-    j->t_wait = vx_time_now() - t, j->t_device = j->go.seconds;
+    j->t_wait = vx_time_now() - t, j->t_device = j->go.seconds, j->t_vk = j->go.device_s;
     if (!r) return 0;
     if (failed && !strcmp(failed, "scene"))
         fprintf(stderr, "%s: %s%s: %s (--cpu bakes on the CPU)\n", vx_tool_name, who, j->in, err.msg);
@@ -548,9 +548,11 @@ static int bake_single(bake_job* j) {
                ps.dist_max_error);
         printf("wrote %s\n", j->out);
         if (o->verbose) {
-            printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (waited %.3f s), bake %.3f s "
-                   "(of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the file\n",
-                   t0 - t_in, t_place, j->t_device, j->t_wait, t1 - t_bake0, t_out, t_write, vx_time_now() - t_in);
+            printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (Vulkan %.3f s; waited %.3f s), "
+                   "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the "
+                   "file\n",
+                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write,
+                   vx_time_now() - t_in);
             if (j->gpu)
                 printf("bake: setup %.3f s, loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, "
                        "busy %.0f%% of the loop, waits %.3f s, stores %.3f s\n",

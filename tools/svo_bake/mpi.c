@@ -965,10 +965,10 @@ int bake_mpi(options* o, const char* in, const char* out) {
             printf("output: %llu bytes through MPI-IO; head + sync + rename %.3f s (sync %.3f s)\n",
                    (unsigned long long)of.size, t_write, t_sync);
             printf("rank 0 outside the bake: scene %.3f s, MPI_Init %.3f s, placement %.3f s (%s; waited %.3f s), "
-                   "device %.3f s on its thread (%s; waited %.3f s), output file %.3f s, to the start %.3f s; after "
+                   "device %.3f s on its thread (Vulkan %.3f s; %s; waited %.3f s), output file %.3f s, to the start %.3f s; after "
                    "it: writing %.3f s, batch files removed %.3f s; %.3f s from start to MPI_Finalize\n",
                    tl[0] - t_in, tl[1] - tl[0], pj.seconds, pj.started ? "on a thread while MPI starts" : "after it",
-                   tl[2] - tl[1], j.t_device, early ? "from the start" : "after MPI_Init", j.t_wait, tl[4] - tl[3],
+                   tl[2] - tl[1], j.t_device, j.t_vk, early ? "from the start" : "after MPI_Init", j.t_wait, tl[4] - tl[3],
                    t_start - tl[4], t_write, t_rm, vx_time_now() - t_in);
         }
         printf("baked %u probes at %ux%u, %u spp, %u bounces on %d ranks in %.2f s (most waiting: %.1f%%; rank 0 "

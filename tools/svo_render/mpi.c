@@ -141,9 +141,10 @@ void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root) {
         printf("rendered %ux%u on %d ranks in %.2f s (slowest render %.3f s, most waiting %.1f%%, gather %.3f s)\n", W,
                H, m.nranks, wall, rmax, 100 * wmax, st[ST_GATHER]);
         if (job->verbose)
-            printf("rank 0: MPI_Init %.3f s, device and scene %.3f s (on a thread %s), %.3f s from the start to the "
-                   "gathered image\n",
-                   t_init, job->cpu ? 0.0 : go.seconds, early ? "from the start" : "after MPI_Init", vx_time_now() - t_in);
+            printf("rank 0: MPI_Init %.3f s, device and scene %.3f s (the device %.3f s; on a thread %s), %.3f s "
+                   "from the start to the gathered image\n",
+                   t_init, job->cpu ? 0.0 : go.seconds, job->cpu ? 0.0 : go.device_s,
+                   early ? "from the start" : "after MPI_Init", vx_time_now() - t_in);
         img.gpu_seconds = rmax;
         *out = img;
     }
