@@ -1,7 +1,12 @@
 /* probes/file.c - the .probes file (docs/FORMAT.md, "## .probes"): a
  * header, a GRID section and an optional DATA section, each with a CRC-32. */
+#define _GNU_SOURCE /* sync_file_range */
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "probes/probes_internal.h"
 
@@ -45,6 +50,18 @@ static void put_f32s(vx_buf* b, const float* v, size_t n) {
 
 static void put_vec(vx_buf* b, const double v[3]) {
     for (int k = 0; k < 3; k++) vx_buf_f64le(b, v[k]);
+}
+
+/* Probe p's block (p counted from ps->first): its six maps in the file's order. */
+static void put_block(vx_buf* b, const vx_probe_set* ps, size_t p) {
+    size_t nr = vx__bsq(ps->res), nl = vx__bsq(ps->low_res), ni = vx__bsq(VX_PROBE_IRR_RES),
+           nm = vx__bsq(VX_PROBE_DIST_RES);
+    put_u16s(b, ps->radiance + p * nr * 3, nr * 3);
+    put_u32s(b, ps->normal + p * nr, nr);
+    put_u16s(b, ps->distance + p * nr, nr);
+    put_u16s(b, ps->low + p * nl, nl);
+    put_u16s(b, ps->irradiance + p * ni * 3, ni * 3);
+    put_f32s(b, ps->moments + p * nm * 2, nm * 2);
 }
 
 static void section_begin(vx_buf* b, const char tag[4], size_t* at) {
@@ -100,16 +117,7 @@ vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint
         section_begin(&b, "DATA", &at);
         vx_buf_u32le(&b, ps->first);
         vx_buf_u32le(&b, ps->count);
-        size_t nr = vx__bsq(ps->res), nl = vx__bsq(ps->low_res), ni = vx__bsq(VX_PROBE_IRR_RES),
-               nm = vx__bsq(VX_PROBE_DIST_RES);
-        for (size_t p = 0; p < ps->count && !b.failed; p++) {
-            put_u16s(&b, ps->radiance + p * nr * 3, nr * 3);
-            put_u32s(&b, ps->normal + p * nr, nr);
-            put_u16s(&b, ps->distance + p * nr, nr);
-            put_u16s(&b, ps->low + p * nl, nl);
-            put_u16s(&b, ps->irradiance + p * ni * 3, ni * 3);
-            put_f32s(&b, ps->moments + p * nm * 2, nm * 2);
-        }
+        for (size_t p = 0; p < ps->count && !b.failed; p++) put_block(&b, ps, p);
         section_end(&b, at);
     }
     if (b.failed) {
@@ -130,6 +138,106 @@ vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps,
     r = vx_file_write_atomic(path, a, data, size, err);
     vx_free(a, data);
     return r;
+}
+
+/* ---- writing while a bake runs --------------------------------------------------------- */
+
+/* What a vx_atomic_file (svo/core.h: a FILE*) needs besides appending: the
+ * disk writes of what was appended started at once (so that the commit's
+ * fsync finds little left), and a few bytes patched at an offset. */
+static void stream_flush(vx_atomic_file* af) {
+    FILE* f = (FILE*)af->f;
+    if (af->failed_errno) return;
+    if (fflush(f) != 0) {
+        af->failed_errno = errno ? errno : EIO;
+        return;
+    }
+#ifdef SYNC_FILE_RANGE_WRITE
+    (void)sync_file_range(fileno(f), 0, 0, SYNC_FILE_RANGE_WRITE); /* a hint: errors are the commit's */
+#endif
+}
+
+static void stream_patch(vx_atomic_file* af, uint64_t at, const void* data, size_t n) {
+    FILE* f = (FILE*)af->f;
+    if (af->failed_errno) return;
+    if (fflush(f) != 0 || pwrite(fileno(f), data, n, (off_t)at) != (ssize_t)n) af->failed_errno = errno ? errno : EIO;
+}
+
+vx_result vx_probe_stream_open(vx_probe_stream* st, const vx_probe_set* ps, uint32_t end, const char* path,
+                               const vx_allocator* alloc, vx_error* err) {
+    memset(st, 0, sizeof *st);
+    if (!ps || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (end > ps->probe_count || end <= ps->first)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "stream end %u outside %u..%u", end, ps->first + 1,
+                       ps->probe_count);
+    /* the header and GRID of the set without maps, then DATA's head with its CRC to come */
+    vx_probe_set g = *ps;
+    g.count = 0;
+    uint8_t* head = NULL;
+    size_t hn = 0;
+    vx_result r = vx_probe_write(&g, alloc, &head, &hn, err);
+    if (r) return r;
+    head[12] = 2; /* sections: GRID and DATA */
+    uint32_t count = end - ps->first;
+    uint8_t d[24];
+    memcpy(d, "DATA", 4);
+    vx_buf_put_u32le(d + 4, 0);
+    uint64_t size = 8 + (uint64_t)count * block_bytes(ps->res, ps->low_res);
+    vx_buf_put_u32le(d + 8, (uint32_t)size);
+    vx_buf_put_u32le(d + 12, (uint32_t)(size >> 32));
+    vx_buf_put_u32le(d + 16, ps->first);
+    vx_buf_put_u32le(d + 20, count);
+    st->crc_at = hn + 4;
+    st->crc = vx_crc32(0, d + 16, 8);
+    st->first = ps->first, st->end = end, st->next = ps->first;
+    st->alloc = alloc;
+    if (!(r = vx_atomic_open(&st->file, path, alloc, err))) {
+        vx_atomic_write(&st->file, head, hn);
+        vx_atomic_write(&st->file, d, sizeof d);
+        st->open = true;
+    }
+    vx_free(alloc, head);
+    return r;
+}
+
+vx_result vx_probe_stream_put(vx_probe_stream* st, const vx_probe_set* ps, uint32_t upto, vx_error* err) {
+    if (!st->open) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "stream not open");
+    if (upto > st->end || upto > ps->first + ps->count || ps->first > st->next)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "stream: probes up to %u not in the set (%u..%u)", upto,
+                       ps->first, ps->first + ps->count);
+    vx_buf b = {.alloc = st->alloc};
+    for (; st->next < upto; st->next++) {
+        b.size = 0;
+        put_block(&b, ps, st->next - ps->first);
+        if (b.failed) {
+            vx_buf_free(&b);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory writing probe %u", st->next);
+        }
+        st->crc = vx_crc32(st->crc, b.data, b.size);
+        vx_atomic_write(&st->file, b.data, b.size);
+    }
+    vx_buf_free(&b);
+    stream_flush(&st->file); /* the disk writes start now, while the bake goes on */
+    if (st->file.failed_errno) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "cannot write: %s", strerror(st->file.failed_errno));
+    return VX_OK;
+}
+
+vx_result vx_probe_stream_commit(vx_probe_stream* st, vx_error* err) {
+    if (!st->open) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "stream not open");
+    st->open = false;
+    if (st->next != st->end) {
+        vx_atomic_abort(&st->file);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "stream: probes %u..%u never written", st->next, st->end);
+    }
+    uint8_t c[4];
+    vx_buf_put_u32le(c, st->crc);
+    stream_patch(&st->file, st->crc_at, c, 4);
+    return vx_atomic_commit(&st->file, err);
+}
+
+void vx_probe_stream_abort(vx_probe_stream* st) {
+    if (st->open) vx_atomic_abort(&st->file);
+    st->open = false;
 }
 
 /* ---- reading ------------------------------------------------------------------------- */

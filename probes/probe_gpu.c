@@ -452,9 +452,9 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx_
     vkUpdateDescriptorSets(g->device, n, w, 0, NULL);
 }
 
-static vx_result gbake_init(gbake* B, gctx* c, vx_probe_set* ps, uint32_t batch, vx_error* err) {
+static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, vx_error* err) {
     vx_gpu* g = c->g;
-    B->c = c, B->ps = ps, B->batch = batch, B->lay = layout_of(ps);
+    B->c = c, B->ps = NULL /* the run's */, B->batch = batch, B->lay = layout_of(ps);
     B->nt = ps->res * ps->res;
     const flayout* L = &B->lay;
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
@@ -648,20 +648,20 @@ static void gbake_store(gbake* B, const bslot* s) {
     }
 }
 
-/* Batches of `batch` probes through two slots: while the host stores batch
+/* Batches of B->batch probes through two slots: while the host stores batch
  * i - 1, the GPU traces and filters batch i. */
-static vx_result bake_gpu_filtered(gctx* c, vx_probe_set* ps, const vx__light* L, const vx__frame* f,
-                                   uint32_t begin, uint32_t end, uint32_t batch, const vx_progress* progress,
-                                   vx_probe_bake_stats* st, vx_error* err) {
-    double t0 = vx_time_now();
-    gbake B = {0};
-    vx_result r = gbake_init(&B, c, ps, batch, err);
+static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light* L, const vx__frame* f,
+                                   uint32_t begin, uint32_t end, const vx_progress* progress, vx_probe_bake_stats* st,
+                                   vx_error* err) {
+    gbake B = *Bp; /* copied back at the end: the chunk a CPU device needs */
+    gctx* c = B.c;
+    B.ps = ps;
+    uint32_t batch = B.batch;
+    vx_result r = VX_OK;
     uint32_t spp = ps->spp ? ps->spp : 1, nbatch = (end - begin + batch - 1) / batch;
-    B.chunk = vx_gpu_is_cpu(c->g) ? CPU_DEVICE_CHUNK : spp;
     uint64_t (*ts)[4] = vx_calloc(ps->alloc, nbatch, sizeof *ts);
-    if (!r && !ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double t1 = vx_time_now();
-    st->setup += t1 - t0;
     uint32_t submitted = 0;
     for (uint32_t i = 0; !r && i <= nbatch; i++) {
         if (i < nbatch) {
@@ -722,7 +722,7 @@ static vx_result bake_gpu_filtered(gctx* c, vx_probe_set* ps, const vx__light* L
         st->busy = busy / st->loop;
     }
     vx_free(ps->alloc, ts);
-    gbake_free(&B);
+    Bp->chunk = B.chunk;
     return r;
 }
 
@@ -738,6 +738,96 @@ static uint32_t batch_of(const vx_probe_set* ps, uint32_t seg_log2, uint64_t cap
     return (uint32_t)batch;
 }
 
+/* A GPU bake kept across calls (probes.h): the context, the filter tables,
+ * the pipelines and the two batch slots are made once. */
+struct vx_probe_baker {
+    vx__light L;
+    vx__frame f;
+    gctx c;
+    gbake B;
+    bool light, ctx, slots;
+    const vx_allocator* alloc;
+    /* what a run's set must share with the set the baker was made for */
+    uint32_t res, spp, bounces, probe_count;
+    uint64_t seed;
+    const vx_probe* probes;
+    double setup; /* seconds vx_probe_baker_create took (reported by the first run's stats) */
+    bool setup_reported;
+};
+
+void vx_probe_baker_destroy(vx_probe_baker* b) {
+    if (!b) return;
+    if (b->slots) gbake_free(&b->B);
+    if (b->ctx) ctx_free(&b->c);
+    if (b->light) vx__light_free(&b->L);
+    vx_free(b->alloc, b);
+}
+
+vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                const vx_probe_set* ps, vx_probe_baker** out, vx_error* err) {
+    if (!rs || !scene || !ps || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    double t0 = vx_time_now();
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    vx_probe_baker* b = vx_calloc(ps->alloc, 1, sizeof *b);
+    if (!b) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    b->alloc = ps->alloc;
+    b->res = ps->res, b->spp = ps->spp, b->bounces = ps->bounces, b->probe_count = ps->probe_count;
+    b->seed = ps->seed, b->probes = ps->probes;
+    vx_result r = vx__light_init(&b->L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false, err);
+    b->light = !r;
+    for (int k = 0; k < 3; k++) b->L.sun[k] = ps->sun[k], b->L.sky[k] = ps->sky[k];
+    /* float coordinates relative to the scene's centre */
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(scene, lo, hi);
+    if (!r) r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &b->f, err);
+    for (int k = 0; k < 3; k++) b->f.ref[k] = 0.5 * (lo[k] + hi[k]);
+    vx__pipeline* pipe;
+    if (!r) {
+        r = ctx_init(&b->c, rs, scene, &b->f, ps, &b->L, err);
+        b->ctx = true; /* ctx_free is safe on a partly made context */
+    }
+    if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
+    if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
+    if (!r) {
+        /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
+         * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
+         * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
+        b->slots = true; /* gbake_free is safe on partly made slots */
+        r = gbake_init(&b->B, &b->c, ps, batch, err);
+        b->B.chunk = vx_gpu_is_cpu(b->c.g) ? CPU_DEVICE_CHUNK : (ps->spp ? ps->spp : 1);
+    }
+    if (r) {
+        vx_probe_baker_destroy(b);
+        return r;
+    }
+    b->setup = vx_time_now() - t0;
+    *out = b;
+    return VX_OK;
+}
+
+vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, vx_probe_set* ps, uint32_t end,
+                             vx_error* err) {
+    if (!b || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (ps->res != b->res || ps->spp != b->spp || ps->bounces != b->bounces || ps->probe_count != b->probe_count ||
+        ps->seed != b->seed || ps->probes != b->probes)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe set of another bake than the baker's");
+    uint32_t begin = ps->first + ps->count;
+    if (end > ps->probe_count || end < begin)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
+    if (end == begin) return VX_OK;
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    vx_probe_bake_stats st = {0};
+    if (!b->setup_reported) st.setup = b->setup, b->setup_reported = true;
+    if (!vx__probe_grow(ps, end - ps->first))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+    vx_result r = bake_gpu_filtered(&b->B, ps, &b->L, &b->f, begin, end, &d.progress, &st, err);
+    if (r) return r;
+    ps->count = end - ps->first;
+    if (d.stats) *d.stats = st;
+    return VX_OK;
+}
+
 vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                                  vx_probe_set* ps, uint32_t end, vx_error* err) {
     if (!rs || !scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -746,6 +836,13 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     if (end > ps->probe_count || end < begin)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
     if (end == begin) return VX_OK;
+    if (!d.host_filter) {
+        vx_probe_baker* b;
+        vx_result r = vx_probe_baker_create(rs, scene, &d, ps, &b, err);
+        if (!r) r = vx_probe_baker_run(b, &d, ps, end, err);
+        vx_probe_baker_destroy(b);
+        return r;
+    }
     vx_probe_bake_stats st = {0};
     double t0 = vx_time_now();
     vx__light L;
@@ -773,17 +870,6 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     if ((r = vx__buffer_create(c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &c.maps, err)))
         goto done;
     uint64_t nt = (uint64_t)ps->res * ps->res;
-    if (!d.host_filter) {
-        /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
-         * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
-         * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
-        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, end - begin);
-        st.setup = vx_time_now() - t0;
-        if ((r = bake_gpu_filtered(&c, ps, &L, &f, begin, end, batch, &d.progress, &st, err))) goto done;
-        ps->count = end - ps->first;
-        if (d.stats) *d.stats = st;
-        goto done;
-    }
     /* a batch: about 2^26 path segments and at most 384 MiB of output (48 bytes a texel) */
     uint32_t batch = batch_of(ps, 26, UINT64_C(3) << 27, d.batch, end - begin);
     if (!vx__tables_make(&T, ps->res, ps->alloc) || !(raw = vx_alloc(ps->alloc, (size_t)(16 + batch * nt * 48)))) {

@@ -178,7 +178,8 @@ typedef struct vx_probe_bake_stats {
  *  first, count: bake only probes first .. first+count-1 (count 0 == all
  *              from first); the set still describes the whole grid
  *  threads:    0 == 1
- *  progress:   called per finished probe
+ *  progress:   called per finished probe (the GPU bake: after each batch, when
+ *              the maps of the call's first `done` probes are in the set)
  *  batch:      GPU bake only: probes per batch, 0 == about 2^28 path
  *              segments (2^26 with host_filter); the bytes do not depend on it
  *  host_filter: GPU bake only: filter each batch's radiance and distances
@@ -239,6 +240,24 @@ vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, cons
 vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                                  vx_probe_set* ps, uint32_t end, vx_error* err);
 
+/* A GPU bake kept across calls (the GPU filtering; not host_filter): the
+ * context, the filter tables, the pipelines and the batch buffers are made
+ * once, so a caller that bakes a grid in many ranges (svo_bake's MPI batches,
+ * checkpoint steps) pays that set-up (about 45 ms on an H200 at R=128) once.
+ * vx_probe_baker_create takes the bake's settings from desc and ps (a set
+ * from vx_probe_place: its grid, light and the batch size for its whole
+ * range); vx_probe_baker_run bakes [ps->first + ps->count, end) of ps as
+ * vx_probe_bake_more_gpu does, for any ps of the same placement (the same
+ * probes array, e.g. views of one placed set over other ranges), using only
+ * desc's progress and stats (the first run's stats carry the create's time as
+ * setup). The bytes are vx_probe_bake_more_gpu's. One thread at a time. */
+typedef struct vx_probe_baker vx_probe_baker;
+vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                const vx_probe_set* ps, vx_probe_baker** out, vx_error* err);
+vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, vx_probe_set* ps, uint32_t end,
+                             vx_error* err);
+void vx_probe_baker_destroy(vx_probe_baker* b);
+
 /* Joins parts with identical grids and parameters whose ranges tile
  * [0, probe_count) (in any order) into one full set. */
 vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_allocator* alloc, vx_probe_set* out,
@@ -259,6 +278,31 @@ vx_result vx_probe_write(const vx_probe_set* ps, const vx_allocator* alloc, uint
  * (svo/core.h). */
 vx_result vx_probe_write_file(const vx_write_desc* desc, const vx_probe_set* ps, const char* path, vx_error* err);
 /* Bounded reader: every length and CRC checked; errors name the byte offset. */
+/* A .probes file written while a bake fills the set (svo_bake: the file
+ * goes to disk batch by batch while the GPU traces the next, instead of all
+ * at the end): the same bytes as vx_probe_write_file of the set once probes
+ * ps->first .. end - 1 are baked. vx_probe_stream_open writes the header and
+ * GRID of the placed set ps (its first; its maps are not read) for the range
+ * [ps->first, end) into a temporary file beside path; vx_probe_stream_put
+ * appends the maps of the probes up to `upto` (exclusive; they must be in
+ * the set passed, which holds the range from the same first) and starts their
+ * disk writes; vx_probe_stream_commit patches DATA's CRC, syncs and renames
+ * the file over path once every probe is in (or removes it and fails);
+ * vx_probe_stream_abort removes it. Either of the last two ends the stream. */
+typedef struct vx_probe_stream {
+    vx_atomic_file file;
+    const vx_allocator* alloc;
+    uint32_t first, end, next; /* the range; the next probe to append */
+    uint32_t crc;              /* DATA's CRC so far */
+    uint64_t crc_at;           /* where it goes in the file */
+    bool open;
+} vx_probe_stream;
+vx_result vx_probe_stream_open(vx_probe_stream* st, const vx_probe_set* ps, uint32_t end, const char* path,
+                               const vx_allocator* alloc, vx_error* err);
+vx_result vx_probe_stream_put(vx_probe_stream* st, const vx_probe_set* ps, uint32_t upto, vx_error* err);
+vx_result vx_probe_stream_commit(vx_probe_stream* st, vx_error* err);
+void vx_probe_stream_abort(vx_probe_stream* st);
+
 vx_result vx_probe_read(const vx_probe_read_desc* desc, const void* data, size_t size, vx_probe_set* out,
                         vx_error* err);
 vx_result vx_probe_read_file(const vx_probe_read_desc* desc, const char* path, vx_probe_set* out, vx_error* err);

@@ -119,6 +119,21 @@ vx_result vx_gpu_pick_device(const void* instance, const char* want,
     char* end = NULL;
     long idx = named ? strtol(want, &end, 10) : -1;
     bool by_index = named && end && *end == 0;
+    if (named && !strncmp(want, "gpu:", 4)) {
+        /* "gpu:K": the (K mod G)-th GPU, counted as vx_gpu_list_devices's callers count them */
+        long k = strtol(want + 4, &end, 10);
+        if (end == want + 4 || *end || k < 0)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bad device '%s' (gpu:K, K >= 0)", want);
+        uint32_t gpus[32], ng = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(pds[i], &p);
+            if (type_rank(p.deviceType) <= 2) gpus[ng++] = i;
+        }
+        named = ng > 0; /* no GPU: the default pick */
+        by_index = named;
+        if (named) idx = (long)gpus[(unsigned long)k % ng];
+    }
     if (by_index && (idx < 0 || (uint32_t)idx >= n))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "device %ld does not exist (%u devices)", idx, n);
     int pick = -1, best_rank = 99;

@@ -104,8 +104,12 @@ typedef struct vx_gpu vx_gpu;
 
 /* Device options; zero-initialised means the defaults.
  *  device:   NULL or "" picks a discrete GPU, then integrated, then any
- *            (lavapipe); "N" picks the N-th physical device; anything else
- *            picks the first device whose name contains it.
+ *            (lavapipe); "N" picks the N-th physical device; "gpu:K" the
+ *            (K mod G)-th of the G devices that are GPUs (not CPU or other
+ *            devices), in the order Vulkan lists them (the default pick where
+ *            there is none): an MPI rank's GPU by its local rank without a
+ *            second instance to count them; anything
+ *            else picks the first device whose name contains it.
  *  validate: enables VK_LAYER_KHRONOS_validation (an error if it is not
  *            installed) and records every validation error; the environment
  *            variable VX_GPU_VALIDATION=1 does the same.

@@ -13,6 +13,13 @@ if(TARGET vx_conv_vdb) # VDB sequences (smoke_####.vdb, a .txt list) are the too
   target_compile_definitions(vx_tool_conv PRIVATE VX_HAVE_VDB=1)
 endif()
 
+# A device opened on a thread of its own (svo_bake, svo_render under mpirun):
+# the driver's start-up overlaps the tool's other start-up work.
+if(TARGET vx_render)
+  add_library(vx_tool_gpu STATIC ${CMAKE_CURRENT_LIST_DIR}/common/gpu_open.c)
+  target_link_libraries(vx_tool_gpu PUBLIC vx_render vx_core)
+endif()
+
 # The MPI paths of svo_bake, svo_render and vox2svo (mpirun): launcher
 # detection, ranks per host, ending the job (VX_WITH_MPI, where MPI is
 # found); the device choice apart, for the Vulkan tools only.

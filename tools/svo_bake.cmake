@@ -3,7 +3,7 @@
 # OpenImageIO only for --exr: a GPU machine without it still bakes.
 if(VX_WITH_VULKAN)
   add_executable(svo_bake ${CMAKE_CURRENT_LIST_DIR}/svo_bake/main.c)
-  target_link_libraries(svo_bake PRIVATE vx_probes vx_tool vx_svo)
+  target_link_libraries(svo_bake PRIVATE vx_probes vx_tool vx_tool_gpu vx_svo)
   if(VX_WITH_OIIO)
     target_link_libraries(svo_bake PRIVATE vx_image)
     target_compile_definitions(svo_bake PRIVATE VX_HAVE_IMAGE=1)

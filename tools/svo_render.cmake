@@ -6,7 +6,7 @@ if(VX_WITH_VULKAN AND TARGET vx_image)
   if(TARGET vx_tool_mpi_device)
     # mpirun -n N svo_render --mode pathtrace: rows over the ranks
     target_sources(svo_render PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/svo_render/mpi.c)
-    target_link_libraries(svo_render PRIVATE vx_tool_mpi_device MPI::MPI_C)
+    target_link_libraries(svo_render PRIVATE vx_tool_mpi_device vx_tool_gpu MPI::MPI_C)
     target_compile_definitions(svo_render PRIVATE VX_HAVE_MPI=1)
   endif()
 endif()

@@ -1,8 +1,12 @@
 /* tests/probes/test_probes.c - octahedral mapping, baking, the .probes file
  * and probe GI, each against an independent path (analytic values, a
  * brute-force reference, or a second bake). */
+#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "probes/probes.h"
 #include "tests/probes/probe_scenes.h"
@@ -270,6 +274,63 @@ static void test_determinism_shards(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A file written while the bake runs (vx_probe_stream): the same bytes as
+ * vx_probe_write_file of the finished set, whatever pieces it came in (a
+ * resumed prefix, batches); a stream that misses probes leaves no file. */
+static void test_stream(void) {
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_probe_bake_desc d = {.grid = {3, 2, 2}, .res = 16, .spp = 2, .seed = 7, .first = 2, .count = 9};
+    vx_probe_set full, ps;
+    vx_error err = {0};
+    REQUIRE(vx_probe_bake(&s, &d, &full, &err) == VX_OK);
+    uint8_t* want;
+    size_t nwant;
+    REQUIRE(bytes_of(&full, &want, &nwant));
+    char dir[] = "/tmp/vx_streamXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/s.probes", dir);
+    /* baked in three steps, streamed after each: 3, then 1 more, then the rest */
+    REQUIRE(vx_probe_place(&s, &d, &ps, &err) == VX_OK);
+    vx_probe_stream st;
+    REQUIRE(vx_probe_stream_open(&st, &ps, 11, path, NULL, &err) == VX_OK);
+    uint32_t steps[3] = {5, 6, 11};
+    for (int i = 0; i < 3; i++) {
+        REQUIRE(vx_probe_bake_more(&s, &d, &ps, steps[i], &err) == VX_OK);
+        REQUIRE(vx_probe_stream_put(&st, &ps, steps[i], &err) == VX_OK);
+        CHECK(access(path, F_OK) != 0); /* nothing under the name before the commit */
+    }
+    /* probes not baked yet are refused */
+    CHECK(vx_probe_stream_put(&st, &ps, 12, &err) == VX_ERR_INVALID_ARG);
+    REQUIRE(vx_probe_stream_commit(&st, &err) == VX_OK);
+    uint8_t* got;
+    size_t ngot;
+    REQUIRE(vx_file_read(path, NULL, 0, &got, &ngot, &err) == VX_OK);
+    CHECKF(ngot == nwant && !memcmp(got, want, nwant), "streamed %zu bytes, the set writes %zu (or others)", ngot, nwant);
+    vx_probe_set back;
+    CHECK(vx_probe_read_file(NULL, path, &back, &err) == VX_OK && back.first == 2 && back.count == 9);
+    if (!err.code) vx_probe_set_free(&back);
+    free(got);
+    remove(path);
+    /* a stream of 9 probes committed with 4: an error, no file, no temporary file left */
+    REQUIRE(vx_probe_stream_open(&st, &ps, 11, path, NULL, &err) == VX_OK);
+    REQUIRE(vx_probe_stream_put(&st, &ps, 6, &err) == VX_OK);
+    CHECK(vx_probe_stream_commit(&st, &err) == VX_ERR_INVALID_ARG);
+    CHECK(access(path, F_OK) != 0);
+    /* an aborted one leaves nothing either */
+    REQUIRE(vx_probe_stream_open(&st, &ps, 11, path, NULL, &err) == VX_OK);
+    vx_probe_stream_abort(&st);
+    CHECK(access(path, F_OK) != 0);
+    CHECK(rmdir(dir) == 0); /* empty: no temporary file left behind */
+    /* a range outside the set is refused */
+    CHECK(vx_probe_stream_open(&st, &ps, 2, path, NULL, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_probe_stream_open(&st, &ps, ps.probe_count + 1, path, NULL, &err) == VX_ERR_INVALID_ARG);
+    free(want);
+    vx_probe_set_free(&full), vx_probe_set_free(&ps);
+    vx_svo_scene_free(&s);
+}
+
 static void test_reader(void) {
     vx_svo_scene s;
     box_scene(&s, 8, 2);
@@ -442,6 +503,7 @@ int main(void) {
     RUN(test_box_distances);
     RUN(test_furnace);
     RUN(test_determinism_shards);
+    RUN(test_stream);
     RUN(test_reader);
     RUN(test_reader_oom);
     RUN(test_gi_vs_pathtrace);

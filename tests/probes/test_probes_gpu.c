@@ -296,6 +296,109 @@ static void test_gpu_filter_vs_host(void) {
     vx_svo_scene_free(&s);
 }
 
+/* One baker for many ranges (svo_bake's MPI batches, its single process):
+ * ranges of views on one placement, baked out of order through one
+ * vx_probe_baker, give the bytes of one vx_probe_bake_gpu call; a set of
+ * another placement is refused. */
+static void test_gpu_baker_ranges(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_error err = {0};
+    vx_probe_bake_desc d = {.grid = {3, 3, 2}, .res = 16, .spp = 4, .seed = 5, .batch = 3};
+    vx_probe_set one, placed;
+    REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &one, &err) == VX_OK);
+    REQUIRE(vx_probe_place(&s, &d, &placed, &err) == VX_OK);
+    vx_probe_baker* b = NULL;
+    REQUIRE(vx_probe_baker_create(rs, &s, &d, &placed, &b, &err) == VX_OK);
+    /* ranges [11, 18), [0, 4), [4, 11), the last in two runs (a resumed view) */
+    uint32_t from[3] = {11, 0, 4}, to[3] = {18, 4, 11};
+    vx_probe_set v[3];
+    vx_probe_bake_stats st = {0};
+    for (int i = 0; i < 3; i++) {
+        v[i] = placed;
+        v[i].first = from[i], v[i].count = 0;
+        v[i].radiance = NULL, v[i].normal = NULL, v[i].distance = NULL, v[i].low = NULL, v[i].irradiance = NULL,
+        v[i].moments = NULL;
+        if (i == 2) {
+            vx_probe_bake_desc d1 = d;
+            d1.stats = &st;
+            REQUIRE(vx_probe_baker_run(b, &d1, &v[i], from[i] + 2, &err) == VX_OK);
+            CHECK(v[i].count == 2 && st.batches == 1 && st.setup == 0); /* the set-up was the first run's */
+        }
+        REQUIRE(vx_probe_baker_run(b, &d, &v[i], to[i], &err) == VX_OK);
+        CHECK(v[i].count == to[i] - from[i]);
+    }
+    /* another placement's set (its own probes array) is refused */
+    vx_probe_set other;
+    REQUIRE(vx_probe_place(&s, &d, &other, &err) == VX_OK);
+    CHECK(vx_probe_baker_run(b, &d, &other, 2, &err) == VX_ERR_INVALID_ARG);
+    vx_probe_baker_destroy(b);
+    /* the views share placed's probes: merge copies of them */
+    vx_probe_set parts[3];
+    const vx_probe_set* pp[3];
+    uint8_t *want, *got, *pd;
+    size_t nwant, ngot, pn;
+    for (int i = 0; i < 3; i++) {
+        REQUIRE(bytes_of(&v[i], &pd, &pn));
+        REQUIRE(vx_probe_read(NULL, pd, pn, &parts[i], &err) == VX_OK);
+        free(pd);
+        pp[i] = &parts[i];
+    }
+    vx_probe_set m;
+    REQUIRE(vx_probe_merge(pp, 3, NULL, &m, &err) == VX_OK);
+    REQUIRE(bytes_of(&one, &want, &nwant) && bytes_of(&m, &got, &ngot));
+    CHECKF(ngot == nwant && !memcmp(got, want, nwant), "ranges through one baker: other bytes than one bake");
+    free(want), free(got);
+    for (int i = 0; i < 3; i++) {
+        vx_probe_set_free(&parts[i]);
+        vx_free(NULL, v[i].radiance), vx_free(NULL, v[i].normal), vx_free(NULL, v[i].distance);
+        vx_free(NULL, v[i].low), vx_free(NULL, v[i].irradiance), vx_free(NULL, v[i].moments);
+    }
+    vx_probe_set_free(&m), vx_probe_set_free(&one), vx_probe_set_free(&placed), vx_probe_set_free(&other);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+/* "gpu:K" (render.h; what svo_bake and svo_render under mpirun pass for
+ * local rank K): the (K mod G)-th GPU as vx_gpu_list_devices lists them, the
+ * default pick where there is no GPU (lavapipe only); bad forms refused. */
+typedef struct dev_list {
+    char gpus[8][256];
+    unsigned n;
+} dev_list;
+static void dev_fn(void* user, uint32_t index, const char* name, const char* type) {
+    (void)index;
+    dev_list* l = user;
+    if (strcmp(type, "cpu") && strcmp(type, "other") && l->n < 8) snprintf(l->gpus[l->n++], 256, "%s", name);
+}
+static void test_gpu_device_choice(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_error err = {0};
+    dev_list l = {.n = 0};
+    REQUIRE(vx_gpu_list_devices(dev_fn, &l, &err) == VX_OK);
+    vx_gpu* def = NULL;
+    REQUIRE(vx_gpu_create(NULL, &def, &err) == VX_OK);
+    for (unsigned k = 0; k < 5; k++) {
+        char want[16];
+        snprintf(want, sizeof want, "gpu:%u", k);
+        vx_gpu* g = NULL;
+        REQUIRE(vx_gpu_create(&(vx_gpu_desc){.device = want}, &g, &err) == VX_OK);
+        const char* expect = l.n ? l.gpus[k % l.n] : vx_gpu_device_name(def);
+        CHECKF(!strcmp(vx_gpu_device_name(g), expect), "%s opened %s, not %s", want, vx_gpu_device_name(g), expect);
+        vx_gpu_destroy(g);
+    }
+    const char* bad[] = {"gpu:", "gpu:x", "gpu:-1", "gpu:1x"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        vx_gpu* g = NULL;
+        CHECKF(vx_gpu_create(&(vx_gpu_desc){.device = bad[i]}, &g, &err) == VX_ERR_INVALID_ARG && !g, "'%s' accepted",
+               bad[i]);
+    }
+    vx_gpu_destroy(def);
+}
+
 /* GPU gi vs CPU gi per pixel (same probes); GPU vs CPU path tracer by image statistics. */
 /* A GPU (g) and a CPU (c) Monte Carlo image with different random streams
  * estimate the same image: equal means, and a difference no larger than
@@ -627,6 +730,8 @@ int main(void) {
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_filter_vs_host);
+    RUN(test_gpu_baker_ranges);
+    RUN(test_gpu_device_choice);
     RUN(test_gpu_render);
     RUN(test_gpu_pathtrace_high_spp);
     RUN(test_gpu_bake_high_spp);

@@ -28,6 +28,17 @@ int vx_tool_mpi_env_rank(void) {
     return v ? atoi(v) : 0;
 }
 
+int vx_tool_mpi_env_local_rank(void) {
+    const char* names[] = {"OMPI_COMM_WORLD_LOCAL_RANK", "MPI_LOCALRANKID", "PMI_LOCAL_RANK", "SLURM_LOCALID"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        const char* v = getenv(names[i]);
+        char* end;
+        long r = v && *v ? strtol(v, &end, 10) : -1;
+        if (v && *v && !*end && r >= 0 && r < 1 << 20) return (int)r;
+    }
+    return -1;
+}
+
 void vx_tool_mpi_linger(void) { sleep(2); }
 
 void vx_tool_mpi_mute(int saved[2]) {

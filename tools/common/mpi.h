@@ -42,10 +42,16 @@ void vx_tool_mpi_init(vx_tool_mpi* m);
  * (1..64), and no more than the CPUs the launcher bound it to. */
 unsigned vx_tool_mpi_threads(const vx_tool_mpi* m);
 
+/* This process's rank among the ranks of its host from the launcher's
+ * environment (OpenMPI, MPICH/Hydra, Slurm), -1 when unknown: callable before
+ * MPI_Init, so that a rank can start opening its GPU while MPI starts. */
+int vx_tool_mpi_env_local_rank(void);
+
 /* The device a rank opens: `device` when given, none with cpu, else the GPU
- * `local rank mod GPUs` of its host (buf holds its index), else NULL (the
- * default pick). In vx_tool_mpi_device (mpi_device.c: Vulkan's tools only). */
-const char* vx_tool_mpi_device(const vx_tool_mpi* m, const char* device, bool cpu, char buf[16]);
+ * `local_rank mod GPUs` of its host ("gpu:K", render.h: counted by the
+ * instance that opens it, no second one; the default pick where there is no
+ * GPU). In vx_tool_mpi_device (mpi_device.c: Vulkan's tools only). */
+const char* vx_tool_mpi_device(int local_rank, const char* device, bool cpu, char buf[16]);
 
 /* "tool: rank R (host): message; ending the job" on stderr, then MPI_Abort. */
 _Noreturn void vx_tool_mpi_die(const char* fmt, ...)

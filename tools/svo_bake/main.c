@@ -68,8 +68,9 @@ _Noreturn static void usage(int status) {
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
-            "  --device N|NAME    Vulkan device (default: a discrete GPU, else any; under MPI rank r takes\n"
-            "                     GPU r mod GPUs of its host)\n"
+            "  --device N|NAME|gpu:K  Vulkan device: the N-th, the first named like NAME, or the (K mod GPUs)-th\n"
+            "                     GPU (default: a discrete GPU, else any; under MPI gpu:L, L the rank's place on\n"
+            "                     its host)\n"
             "  -q                 no progress bar;  -v: timings and the effective options\n"
             "  -h, --help         this help;  -version: versions\n"
             "\n"
@@ -235,28 +236,48 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     }
     if (j->o.frame) vx_svo_scene_update_bounds(&j->scene); /* the frame's own bounds (the view has frame 0's) */
     if (j->o.cpu) return 0;
-    if (vx_gpu_create(&(vx_gpu_desc){.device = device}, &j->gpu, &err)) {
-        fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
-        return 1;
-    }
-    if (vx_render_scene_create(j->gpu, &j->scene, &j->rs, &err)) {
-        fprintf(stderr, "%s: %s%s: %s (--cpu bakes on the CPU)\n", vx_tool_name, who, j->in, err.msg);
-        return 1;
-    }
+    vx_tool_gpu_open_start(&j->go, &(vx_gpu_desc){.device = device}, &j->scene);
+    j->opening = true;
     return 0;
 }
 
+int bake_job_device(bake_job* j, const char* who) {
+    if (!j->opening) return 0;
+    j->opening = false;
+    double t = vx_time_now();
+    const char* failed = NULL;
+    vx_error err = {0};
+    vx_result r = vx_tool_gpu_open_wait(&j->go, &j->gpu, &j->rs, &failed, &err);
+    j->t_wait = vx_time_now() - t, j->t_device = j->go.seconds, j->t_vk = j->go.device_s;
+    if (!r) return 0;
+    if (failed && !strcmp(failed, "scene"))
+        fprintf(stderr, "%s: %s%s: %s (--cpu bakes on the CPU)\n", vx_tool_name, who, j->in, err.msg);
+    else
+        fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
+    return 1;
+}
+
 void bake_job_close(bake_job* j) {
+    if (j->opening) { /* a failure before the wait: the thread uses the scene */
+        vx_gpu* g = NULL;
+        vx_render_scene* rs = NULL;
+        if (!vx_tool_gpu_open_wait(&j->go, &g, &rs, NULL, NULL)) j->gpu = g, j->rs = rs;
+        j->opening = false;
+    }
+    vx_probe_baker_destroy(j->baker);
     vx_render_scene_destroy(j->rs);
     vx_gpu_destroy(j->gpu);
     vx_svo_scene_free(&j->file);
     memset(&j->scene, 0, sizeof j->scene);
-    j->rs = NULL, j->gpu = NULL;
+    j->rs = NULL, j->gpu = NULL, j->baker = NULL;
 }
 
 vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err) {
-    return j->o.cpu ? vx_probe_bake_more(&j->scene, bd, ps, end, err)
-                    : vx_probe_bake_more_gpu(j->rs, &j->scene, bd, ps, end, err);
+    if (j->o.cpu) return vx_probe_bake_more(&j->scene, bd, ps, end, err);
+    if (bd->host_filter) return vx_probe_bake_more_gpu(j->rs, &j->scene, bd, ps, end, err);
+    /* one set-up for every range: MPI batches took about 45 ms each besides their probes */
+    vx_result r = j->baker ? VX_OK : vx_probe_baker_create(j->rs, &j->scene, bd, ps, &j->baker, err);
+    return r ? r : vx_probe_baker_run(j->baker, bd, ps, end, err);
 }
 
 /* ---- probe maps as bytes --------------------------------------------------------------- */
@@ -371,17 +392,58 @@ bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
 
 /* ---- one process ---------------------------------------------------------------------- */
 
+/* The GPU bake's progress (after each batch, the maps of a prefix of the
+ * range in the set): the progress line, and the baked prefix written as a
+ * checkpoint when checkpoint_interval() has passed since the last one. */
+typedef struct ck_state {
+    eta* e;           /* NULL: no progress line */
+    vx_probe_set* ps; /* the set being baked (its count is updated at the end) */
+    vx_probe_stream* out; /* the output, written as the batches come (NULL: at the end) */
+    double t_out;         /* seconds spent writing it here */
+    const char* path;
+    uint32_t base, total; /* baked before the call; the range's probes */
+    double interval, t_ck;
+    vx_error err;            /* a failed write (ends the bake) */
+    const char* failed_path; /* of which file */
+} ck_state;
+
+static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
+    ck_state* c = user;
+    if (c->e) eta_func(c->e, stage, done, total);
+    double now = vx_time_now();
+    if (c->out) {
+        /* the batch's maps into the output while the GPU traces the next batch */
+        vx_probe_set v = *c->ps;
+        v.count = c->base + (uint32_t)done;
+        if (vx_probe_stream_put(c->out, &v, v.first + v.count, &c->err)) {
+            c->failed_path = c->out->file.path;
+            return false;
+        }
+        c->t_out += vx_time_now() - now;
+    }
+    if (now - c->t_ck < c->interval || c->base + done >= c->total) return true;
+    vx_probe_set v = *c->ps;
+    v.count = c->base + (uint32_t)done;
+    if (vx_probe_write_file(NULL, &v, c->path, &c->err)) {
+        c->failed_path = c->path;
+        return false;
+    }
+    c->t_ck = vx_time_now();
+    return true;
+}
+
 static int bake_single(bake_job* j) {
     options* o = &j->o;
     vx_error err = {0};
+    double t_in = vx_time_now();
+    /* the device opens on its own thread while the probes are placed */
     if (bake_job_open(j, o->device, "")) {
         bake_job_close(j);
         return 1;
     }
-    if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
-    else printf("device: CPU (%u threads, double precision)\n", o->threads);
     double t0 = vx_time_now();
     vx_probe_set ps;
+    o->b.first = o->b.count = 0;
     if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
         bake_job_close(j);
         return vx_tool_error(j->in, &err);
@@ -389,15 +451,20 @@ static int bake_single(bake_job* j) {
     uint32_t total = ps.probe_count;
     uint32_t first = (uint32_t)((uint64_t)total * o->shard / o->shards),
              end = (uint32_t)((uint64_t)total * (o->shard + 1) / o->shards);
-    vx_probe_set_free(&ps);
+    /* the shard's range (what vx_probe_place gives for it; an empty shard,
+     * more shards than probes, still gets a valid file) */
     o->b.first = first;
     o->b.count = end - first;
-    /* an empty shard (more shards than probes) still gets a valid file */
-    int rc = 0;
-    if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
+    ps.first = first, ps.count = 0;
+    double t_place = vx_time_now() - t0;
+    if (bake_job_device(j, "")) {
+        vx_probe_set_free(&ps);
         bake_job_close(j);
-        return vx_tool_error(j->in, &err);
+        return 1;
     }
+    if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
+    else printf("device: CPU (%u threads, double precision)\n", o->threads);
+    int rc = 0;
     uint32_t moved = 0, disabled = 0;
     for (uint32_t i = 0; i < ps.probe_count; i++)
         moved += ps.probes[i].state == VX_PROBE_MOVED, disabled += ps.probes[i].state == VX_PROBE_DISABLED;
@@ -406,19 +473,44 @@ static int bake_single(bake_job* j) {
            ps.spacing[1], ps.spacing[2], first, end);
     /* resume from a checkpoint of the same job */
     resume_checkpoint(j, &ps, end);
+    double t_bake0 = vx_time_now();
     eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
+    bool show = !o->quiet && isatty(2);
     vx_probe_bake_desc bd = o->b;
-    if (!o->quiet && isatty(2)) bd.progress = (vx_progress){eta_func, &e};
-    /* bake in steps of about 5-40 s of work (at least one probe), and write
-     * the baked prefix as a checkpoint when checkpoint_interval() has passed
-     * since the last one. The step is sized by the bake's own time: when it
-     * also counted the checkpoint writes, a prefix that took over 5 s to write
-     * stopped the steps from growing, and every small step then rewrote the
-     * whole growing prefix (4,096 probes at R=128 on an H200: 170 s, the bake
-     * itself 15 s) */
-    uint32_t step = o->cpu ? 2 * o->threads : 16;
+    vx_probe_bake_stats st = {0};
+    if (o->verbose && j->gpu) bd.stats = &st;
+    if (show) bd.progress = (vx_progress){eta_func, &e};
     double interval = checkpoint_interval(), t_ck = vx_time_now();
-    while (!rc && ps.first + ps.count < end) {
+    /* the output is written as the probes are baked (an empty shard's at the end) */
+    vx_probe_stream out;
+    bool streamed = end > first;
+    if (streamed && vx_probe_stream_open(&out, &ps, end, j->out, NULL, &err)) {
+        vx_probe_set_free(&ps);
+        bake_job_close(j);
+        return vx_tool_error(j->out, &err);
+    }
+    double t_out = 0;
+    if (j->gpu) {
+        /* the GPU bakes the whole range in one call (one set-up, its batches
+         * overlapped), checkpointing the baked prefix between batches; steps of
+         * 16 probes and more, each a call of its own, took 2.4 s for 512
+         * probes at R=128 on an H200 where one call takes 0.9 s */
+        ck_state c = {.e = show ? &e : NULL, .ps = &ps, .out = streamed ? &out : NULL, .path = j->ckpath,
+                      .base = ps.count, .total = end - first, .interval = interval, .t_ck = t_ck};
+        bd.progress = (vx_progress){ck_progress, &c};
+        if (ps.first + ps.count < end && bake_range(j, &bd, &ps, end, &err))
+            rc = c.failed_path ? vx_tool_error(c.failed_path, &c.err) : vx_tool_error(j->in, &err);
+        t_out = c.t_out;
+    }
+    /* the CPU bakes in steps of about 5-40 s of work (at least one probe),
+     * writing the baked prefix as a checkpoint when checkpoint_interval() has
+     * passed since the last one. The step is sized by the bake's own time:
+     * when it also counted the checkpoint writes, a prefix that took over 5 s
+     * to write stopped the steps from growing, and every small step then
+     * rewrote the whole growing prefix (4,096 probes at R=128 on an H200:
+     * 170 s, the bake itself 15 s) */
+    uint32_t step = 2 * o->threads;
+    while (!rc && !j->gpu && ps.first + ps.count < end) {
         uint32_t at = ps.first + ps.count, to = at + step > end ? end : at + step;
         e.base = ps.count;
         double t_step = vx_time_now();
@@ -437,16 +529,36 @@ static int bake_single(bake_job* j) {
             }
             step = dt < 5 ? step * 2 : (dt > 40 ? (step > 1 ? step / 2 : 1) : step);
         }
+        double tw = vx_time_now();
+        if (streamed && vx_probe_stream_put(&out, &ps, ps.first + ps.count, &err)) rc = vx_tool_error(j->out, &err);
+        t_out += vx_time_now() - tw;
     }
-    if (!o->quiet && isatty(2)) fprintf(stderr, "\n");
-    double t_bake = vx_time_now() - t0;
-    if (!rc && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (show) fprintf(stderr, "\n");
+    double t1 = vx_time_now(), t_bake = t1 - t0;
+    /* what is left of the output (probes resumed and not passed yet, the last batch), its CRC, sync and name */
+    if (!rc && streamed && (vx_probe_stream_put(&out, &ps, end, &err) || vx_probe_stream_commit(&out, &err)))
+        rc = vx_tool_error(j->out, &err);
+    if (!rc && !streamed && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
+    if (rc && streamed) vx_probe_stream_abort(&out);
+    double t_write = vx_time_now() - t1;
     if (!rc) {
         remove(j->ckpath);
         printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",
                ps.count, ps.res, ps.res, ps.spp, ps.bounces, t_bake, ps.count ? t_bake / ps.count : 0.0, ps.dist_step,
                ps.dist_max_error);
         printf("wrote %s\n", j->out);
+        if (o->verbose) {
+            printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (Vulkan %.3f s; waited %.3f s), "
+                   "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the "
+                   "file\n",
+                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write,
+                   vx_time_now() - t_in);
+            if (j->gpu)
+                printf("bake: setup %.3f s, loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, "
+                       "busy %.0f%% of the loop, waits %.3f s, stores %.3f s\n",
+                       st.setup, st.loop, st.batches, st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait,
+                       st.download);
+        }
     }
     if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
     vx_probe_set_free(&ps);

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "probes/probes.h"
+#include "tools/common/gpu_open.h"
 
 typedef struct options {
     vx_probe_bake_desc b;
@@ -34,15 +35,27 @@ typedef struct bake_job {
     vx_svo_scene scene;   /* the view of o.frame: what is baked */
     vx_gpu* gpu;          /* NULL with --cpu */
     vx_render_scene* rs;  /* NULL with --cpu */
+    vx_probe_baker* baker; /* the GPU bake kept across bake_range calls (made at the first) */
+    vx_tool_gpu_open go;  /* the device opening on its own thread */
+    bool opening;         /* go started, not waited for */
+    double t_device;      /* seconds the device and the scene's upload took on its thread */
+    double t_vk;          /* of it the device's (vx_gpu_create) */
+    double t_wait;        /* seconds bake_job_device waited for it */
 } bake_job;
 
-/* Reads the scene and opens the device (o.device; NULL: the default pick).
- * On failure prints one line (prefixed with `who`, e.g. "rank 1: ", may be
- * "") and returns 1; bake_job_close is safe either way. */
+/* Reads the scene and starts opening the device (o.device; NULL: the default
+ * pick) on a thread of its own, so that the driver's start-up overlaps the
+ * placement (and MPI_Init); bake_job_device waits for it. On failure prints
+ * one line (prefixed with `who`, e.g. "rank 1: ", may be "") and returns 1;
+ * bake_job_close is safe either way. */
 int bake_job_open(bake_job* j, const char* device, const char* who);
+/* Waits for the device (nothing to wait for with --cpu); on failure prints
+ * one line as bake_job_open and returns 1. */
+int bake_job_device(bake_job* j, const char* who);
 void bake_job_close(bake_job* j);
 
-/* Bakes probes [ps->first + ps->count, end) of ps on the job's device. */
+/* Bakes probes [ps->first + ps->count, end) of ps on the job's device; every
+ * ps of one job shares its placement's probes (views of the placed set). */
 vx_result bake_range(bake_job* j, const vx_probe_bake_desc* bd, vx_probe_set* ps, uint32_t end, vx_error* err);
 
 /* Whether the probe set ck (a checkpoint, a batch, a shard) belongs to the
