@@ -70,6 +70,23 @@ static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, 
     vkCmdPipelineBarrier(cmd, s0, s1, 0, 0, NULL, 0, NULL, 1, &b);
 }
 
+/* The shown image before a frame's last pass writes it: its contents are
+ * not kept (UNDEFINED to GENERAL, after any acquire or copy at the transfer
+ * stage), black where the fw x fh frame does not cover the iw x ih image. */
+static void target_begin(VkCommandBuffer cmd, VkImage img, uint32_t fw, uint32_t fh, uint32_t iw, uint32_t ih) {
+    image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
+    if (fw < iw || fh < ih) {
+        VkClearColorValue black = {{0, 0, 0, 1}};
+        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &black, 1, &range);
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    }
+}
+
 vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     if (!g || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_display* d = vx_calloc(&g->alloc, 1, sizeof *d);
@@ -297,17 +314,7 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL, 0, NULL);
     if (to_image) {
         /* its contents are not kept; black where the frame does not cover it */
-        image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
-        if (fw < iw || fh < ih) {
-            VkClearColorValue black = {{0, 0, 0, 1}};
-            VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-            vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &black, 1, &range);
-            image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-        }
+        target_begin(cmd, img, fw, fh, iw, ih);
     }
     uint64_t groups = (n + 255) / 256;
     uint32_t row = groups < 65535 ? (uint32_t)groups : 65535u;
@@ -392,17 +399,7 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
      * stage, comes first through this barrier); its contents are not kept, black where the frame does not cover it */
     vx_result r = overlay_prepare(d, cmd, desc, (uint64_t)fw * fh, si, err);
     if (r) return r;
-    image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
-    if (fw < iw || fh < ih) {
-        VkClearColorValue black = {{0, 0, 0, 1}};
-        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &black, 1, &range);
-        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    }
+    target_begin(cmd, img, fw, fh, iw, ih);
     vx__display_target t = {.view = iv, .iw = iw, .ih = ih, .overlay = desc->overlay ? &d->overlay_dev : NULL,
                             .bgra = desc->bgra};
     d->slot[si].fr = fr;

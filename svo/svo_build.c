@@ -109,6 +109,19 @@ static bool rhash_grow(bld* b) {
 }
 
 /* Returns the id of r, adding it when new; UINT32_MAX on failure. */
+/* A caller's tuple as the builder stores it: the channels the model lacks
+ * (and the padding) zero, so equal records compare and hash equal. */
+static rec rec_masked(const rec* in, uint32_t attrs) {
+    rec r = *in;
+    r.pad = 0;
+    if (!(attrs & VX_ATTR_PALETTE)) r.palette = 0;
+    if (!(attrs & VX_ATTR_RGBA8)) r.rgba = 0;
+    if (!(attrs & VX_ATTR_NORMAL)) r.normal = 0;
+    if (!(attrs & VX_ATTR_MATERIAL)) r.material = 0;
+    if (!(attrs & VX_ATTR_DENSITY)) r.density = 0;
+    return r;
+}
+
 static uint32_t rec_intern(bld* b, const rec* r) {
     if ((b->nrec + 1) * 2 > b->rhcap && !rhash_grow(b)) return UINT32_MAX;
     size_t j = (size_t)hash_words((const uint32_t*)r, 4, 7) & (b->rhcap - 1);
@@ -1366,16 +1379,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu records", pre->count);
                 goto done;
             }
-            for (size_t j = 0; j < pre->count; j++) {
-                rec r = pre->tab[j];
-                r.pad = 0;
-                if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
-                if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
-                if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
-                if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
-                if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
-                b.recs[j] = r;
-            }
+            for (size_t j = 0; j < pre->count; j++) b.recs[j] = rec_masked(&pre->tab[j], b.attrs);
             b.nrec = pre->count;
         }
         /* interned by the caller: tuple j gets id j, once; the tables sized
@@ -1397,13 +1401,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
         unsigned ith = pre && pre->threads > 1 && pre->count >= ((size_t)1 << 18) ? pre->threads : 1;
         if (ith > 1 && !intern_pre(&b, pre, ith) && b.fail) { res = b.fail; goto done; }
         for (size_t j = b.nrec; pre && j < pre->count; j++) {
-            rec r = pre->tab[j];
-            r.pad = 0;
-            if (!(b.attrs & VX_ATTR_PALETTE)) r.palette = 0;
-            if (!(b.attrs & VX_ATTR_RGBA8)) r.rgba = 0;
-            if (!(b.attrs & VX_ATTR_NORMAL)) r.normal = 0;
-            if (!(b.attrs & VX_ATTR_MATERIAL)) r.material = 0;
-            if (!(b.attrs & VX_ATTR_DENSITY)) r.density = 0;
+            rec r = rec_masked(&pre->tab[j], b.attrs);
             uint32_t id = rec_intern(&b, &r);
             if (id == UINT32_MAX) { res = b.fail; goto done; }
             if (id != j) {
