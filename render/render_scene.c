@@ -515,7 +515,9 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     }
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
     rs->recorded = false;
-    vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts};
+    /* every buffer prepare_instances makes (the refit's two as well: leaked before, named by the validation
+     * layer at vkDestroyDevice in the ASan suite) */
+    vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts, &rs->inst_boxes, &rs->order_buf};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     vx_bvh_free(&rs->bvh);
     memset(&rs->bvh, 0, sizeof rs->bvh);
