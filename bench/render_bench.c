@@ -31,9 +31,10 @@
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
  * the depth agreement checks every beam size against ESVO; rows after a
- * view's first end "[N px differ from the first row]": pixels whose
- * instance, cell or depth bits differ from the first beam size's (list 0
- * first: the beam pass must change no hit).
+ * view's first end "[N px differ from the first row, M in colour]": pixels
+ * whose instance, cell or depth bits differ from the first row's (list 0
+ * first: the beam pass must change no hit), and pixels of the colour frame
+ * (primary and shadow rays) whose values differ (kernel variants too).
  * --tree64: also the 64-tree prototype (bench/tree64.h; with ESVO only), its
  * kernel variants 0 and 1 (tree64.comp's SKIP): steps per ray, rays/s,
  * steps/s, rays/s over ESVO's, depth agreement with ESVO, and its GPU MiB,
@@ -76,7 +77,15 @@ typedef struct view_result {
     /* pixels whose instance, cell or depth bits differ from the first row
      * of the view (beam 0 first: the beam pass must change none); -1: none */
     long beam_diff;
+    long color_diff; /* likewise, pixels of the colour frame (primary + shadow) whose values differ */
 } view_result;
+
+/* A view's first row: its hits and its colour frame, which every later
+ * row (beam size, kernel variant) must reproduce bit for bit. */
+typedef struct row_ref {
+    vx_render_hit* hits;
+    float* color;
+} row_ref;
 
 static double cpu_now(void) {
     struct timespec t;
@@ -219,7 +228,7 @@ static bool make_views(vx_render_scene* rs, const vx_svo_scene* s, vx_render_cam
  * time_base (ESVO's depth frame is compared whenever es is set). */
 static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint32_t t6_variants,
                     const vx_svo_scene* s, vx_render_desc d, bool dense, bool time_base, uint32_t runs, double warmup,
-                    vx_render_hit** ref, view_result* out, vx_error* err) {
+                    row_ref* ref, view_result* out, vx_error* err) {
     view_result prev = *out;
     memset(out, 0, sizeof *out);
     if (!time_base)
@@ -275,19 +284,36 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         if (hv == he && (!hv || fabs((double)h->t - edepth[i]) <= 1e-4 * fmax(fabs((double)h->t), 1.0))) agree++;
     }
     out->beam_diff = -1;
-    if (*ref) {
+    if (ref->hits) {
         out->beam_diff = 0;
         for (size_t i = 0; i < npx; i++) {
-            const vx_render_hit *a = &img.hits[i], *b = &(*ref)[i];
+            const vx_render_hit *a = &img.hits[i], *b = &ref->hits[i];
             out->beam_diff += a->instance != b->instance || memcmp(a->cell, b->cell, sizeof a->cell) ||
                               memcmp(&a->t, &b->t, sizeof a->t);
         }
         vx_render_image_free(&img);
     } else {
-        *ref = malloc(npx * sizeof **ref); /* the caller frees it */
-        if (*ref) memcpy(*ref, img.hits, npx * sizeof **ref);
+        ref->hits = malloc(npx * sizeof *ref->hits); /* the caller frees it */
+        if (ref->hits) memcpy(ref->hits, img.hits, npx * sizeof *ref->hits);
         vx_render_image_free(&img);
     }
+    /* the colour frame (primary and shadow rays) against the first row's */
+    d.mode = VX_RENDER_COLOR;
+    d.want_hits = false;
+    if (vx_render_frame(rs, &d, &img, err)) {
+        free(edepth), free(esteps);
+        return 1;
+    }
+    out->color_diff = -1;
+    if (ref->color) {
+        out->color_diff = 0;
+        for (size_t i = 0; i < npx; i++) out->color_diff += memcmp(&img.pixels[4 * i], &ref->color[4 * i], 16) != 0;
+    } else {
+        ref->color = malloc(npx * 16); /* the caller frees it */
+        if (ref->color) memcpy(ref->color, img.pixels, npx * 16);
+    }
+    vx_render_image_free(&img);
+    d.mode = VX_RENDER_DEPTH;
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
     out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx;
@@ -519,7 +545,7 @@ int main(int argc, char** argv) {
                 unsigned w, h;
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
                 view_result r = {0};
-                vx_render_hit* ref = NULL;
+                row_ref ref = {0};
                 for (int ki = 0; ki < nkern; ki++)
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
@@ -564,7 +590,8 @@ int main(int argc, char** argv) {
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
                     if (r.beam_diff >= 0) {
                         size_t at = strlen(kl);
-                        snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row]", r.beam_diff);
+                        snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row, %ld in colour]", r.beam_diff,
+                                 r.color_diff);
                     }
                     printf("%-20.20s %-8s %-9s %4u %4.0f%% %4.0f%% %5s %6.1f %6s %7.2f %7s %7.0f %7s %6s %7s %7.2f %7s %9.2f %9s%s%s%s%s\n",
                            name, vnames[v], sz, beam, 100 * r.hit, 100 * r.enter_vx, enes, r.steps_vx, stes,
@@ -573,7 +600,7 @@ int main(int argc, char** argv) {
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
                 }
-                free(ref);
+                free(ref.hits), free(ref.color);
                 first_view = false;
                 vx__render_scene_trace_kernel(rs, NULL, 0, NULL, 0, 0);
                 p = strchr(p, ',');

@@ -201,9 +201,8 @@ typedef struct vx_render_camera {
  *                 same cells and depths, fewer steps). It pays on sparse
  *                 scenes whose rays cross much empty space inside the octree
  *                 (8 is a good N there); elsewhere it costs more than it
- *                 saves (docs/PERFORMANCE.md, issue 21). Not used with lod,
- *                 by the float64 variant, or for models deep enough for the
- *                 two-frame walk (VX_RENDER_REBASE_DEPTH) */
+ *                 saves (docs/PERFORMANCE.md, issue 21). Not used with lod
+ *                 or by the float64 variant */
 typedef struct vx_render_desc {
     uint32_t width, height;
     vx_render_mode mode;

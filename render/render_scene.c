@@ -837,10 +837,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (precise && !g->has_float64)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
                        g->props.deviceName);
-    /* the beam pass: float variant, without LOD (see shaders/beam.comp), nor
-     * with the two-frame walk (DEEP 2: its start moved by the beam changed
-     * 0.3% of the terrain4096 overview's pixels on the H200) */
-    uint32_t beam = !precise && !f->lod && f->beam > 1 && rs->deep < 2 ? f->beam : 0;
+    /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
+    uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
@@ -861,13 +859,18 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline *p, *pre = NULL;
     vx_gpu_compute_pipeline_desc bd = pd;
-    /* the beam pass reads only the scene and the camera: one pipeline per BVH use and block size */
-    uint64_t bkey = 0xBEA4000u + 2 * beam + (rs->inst_count > 1);
+    /* the beam pass reads only the scene and the camera: one pipeline per
+     * BVH use, block size and far-pointer test. Its key hashes every constant
+     * it is built with: a key without FAR (issue 21) let a scene with far
+     * pointers (terrain4096) reuse the pass built for one without, whose walk
+     * then took wrong children (6,415 pixels of the overview changed). */
+    uint64_t bkey = 0xBEA4000u;
     if (beam) {
         bd.spirv = vx__spirv_beam(&bd.spirv_size);
         if (rs->alt_beam) bd.spirv = rs->alt_beam, bd.spirv_size = rs->alt_beam_size, bkey += 0x100000u * (rs->alt_tag + 1);
         bd.label = "beam";
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
+        for (int i = 0; i < 10; i++) bkey = bkey * 131 + bd.spec[i];
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;

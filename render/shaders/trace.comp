@@ -21,6 +21,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifndef PRECISE
 #define TRACE_BEAM
 #endif
+#define TRACE_SENTINEL
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };

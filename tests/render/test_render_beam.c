@@ -17,6 +17,11 @@
  *    octree's mid-planes), the eye inside the terrain, a scene of several
  *    instances of one model and of other models under the BVH; the terrain
  *    1024 cells wide too (an exact model: the DEEP 1 walk).
+ *  - far pointers: a model whose descriptors point to their children
+ *    through far slots, traced after a scene without any on the same device
+ *    (the beam pass's pipeline must be the one built with the far-pointer
+ *    test: issue 21's terrain4096 overview took the other, 6,415 pixels
+ *    changed).
  * And it must pay: with the eye inside the terrain the frame with the beam
  * takes at least 15% fewer loop iterations per ray. Runs on any Vulkan
  * device (lavapipe in CI). */
@@ -28,6 +33,8 @@
 #include "render/render.h"
 #include "svo/svo.h"
 #include "tests/render/scenes.h"
+#include "render/render_internal.h" /* vx__render_scene_far */
+#include "svo/svo_internal.h"     /* vx__svo_far_limit */
 #include "tests/test.h"
 #include "tests/gpu_test.h"
 
@@ -217,12 +224,44 @@ static void test_instances(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The terrain 256 cells wide built twice on one device: first as usual (no
+ * far pointers, FAR off), then with the far limit lowered to 3 (far pointers
+ * throughout, FAR on). The second scene's beam pass must follow the far
+ * slots: with the pass built for the first scene (FAR off) its walk takes
+ * wrong children and the rays of some blocks start past their hits. */
+static void test_far_pointers(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    for (int lim = 0; lim < 2; lim++) {
+        vx_svo_scene s;
+        vx_error err = {0};
+        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
+        int br = bench_terrain(&s, 256, 0, &err);
+        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        REQUIRE(br == 0);
+        vx_render_scene* rs = NULL;
+        vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+        CHECKF(r == VX_OK, "far pointers: %s", err.msg);
+        CHECKF(r || vx__render_scene_far(rs) == (lim == 1), "far limit %s: FAR %d", lim ? "3" : "default",
+               r ? -1 : (int)vx__render_scene_far(rs));
+        if (!r) {
+            const char* nm[2] = {"terrain, no far pointers", "terrain, far pointers throughout"};
+            beam_stats in = check_view(nm[lim], rs, persp(48, 40, 40, 40, 20, 200, 200, 60), 8);
+            CHECKF(in.iter_on < 0.85 * in.iter_off, "%s: %.2f iterations per ray with the beam, %.2f without", nm[lim],
+                   in.iter_on, in.iter_off);
+            check_view(nm[lim], rs, persp(96, 64, 100, 90, 230, 128, 128, 150), 8);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+    }
+}
+
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_terrain);
     RUN(test_terrain_exact);
     RUN(test_grazing);
     RUN(test_instances);
+    RUN(test_far_pointers);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

@@ -3,9 +3,8 @@
  * 4096^3 terrain, 12 levels) from oblique and grazing views: it returns in
  * under a second on a real GPU, and its hits agree with the depth frame
  * (same instance or miss, same t) and with the colour frame's hits, and the
- * beam pass (vx_render_desc.beam 8; the library turns it off for this
- * scene's two-frame walk, DEEP 2, since it changed pixels there on the
- * H200: the frame must then be the plain one) changes no hit: the depth+hits frame
+ * beam pass (vx_render_desc.beam 8, over this scene's two-frame walk,
+ * DEEP 2, and its far pointers) changes no hit: the depth+hits frame
  * with it holds the same instance, cell and t bits as without.
  * Issue 21: this frame hung on an NVIDIA H100 (it took 0.6 s on lavapipe).
  *
