@@ -5,7 +5,8 @@ add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
   ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
-  ${CMAKE_CURRENT_SOURCE_DIR}/compact.c)
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact_trace.c)
 target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)
   find_package(Vulkan REQUIRED)
