@@ -11,7 +11,9 @@
  * vx_write_desc.svo_chunk_words = VX_SVO_CHUNK_WORDS), and the reads time
  * that form too: a file older than version 3 is first written chunked (to
  * DIR) and the reads time those bytes, so it needs no separate conversion.
- * --convert OUT.svo only writes that chunked copy of FILE and exits.
+ * --stored: the same with the chunks stored, not deflated
+ * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
+ * --convert OUT.svo only writes the chunked copy of FILE and exits.
  *
  * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] */
 #define _POSIX_C_SOURCE 200809L
@@ -39,7 +41,7 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
-    bool chunked = false;
+    bool chunked = false, stored = false;
     const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
@@ -49,6 +51,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!strcmp(argv[i], "--chunked")) chunked = true;
+        else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
@@ -58,12 +61,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -95,11 +98,11 @@ int main(int argc, char** argv) {
     snprintf(in_path, sizeof in_path, "%s/svo_io_bench.%ld.in.svo", out_dir, (long)getpid());
     const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
     /* a file of version 3 (byte 8, u16) has its large models chunked already */
-    bool recode = chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3);
+    bool recode = stored || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
     if (recode) {
         /* the reads time the chunked form: write it once (all threads) and read those bytes */
         double t0 = vx_time_now();
-        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words}, &sc, in_path, &err) != VX_OK)
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored}, &sc, in_path, &err) != VX_OK)
             die(in_path, &err);
         vx_free(NULL, data);
         data = NULL;
@@ -129,7 +132,7 @@ int main(int argc, char** argv) {
                 vx_svo_scene_free(&b);
             }
             if (strcmp(only, "read")) {
-                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words};
+                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
                 uint8_t* o = NULL;
                 size_t on = 0;
                 t0 = vx_time_now(), c0 = cpu_now();
