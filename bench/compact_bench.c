@@ -13,6 +13,7 @@
  *
  * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--gpu WxH] [--reps N]
  *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,16 +63,20 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         vx_render_image a = {0}, b = {0};
-        uint64_t hits = 0, differ = 0;
+        /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
+        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0;
         if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
             fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         } else {
             for (size_t i = 0; i < (size_t)W * H; i++) {
                 const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
-                bool same = x->instance == y->instance && !memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16);
-                if (x->instance != VX_RENDER_NO_HIT)
-                    hits++, same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, 4);
-                differ += !same;
+                bool cell = x->instance == y->instance &&
+                            (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
+                hits += x->instance != VX_RENDER_NO_HIT;
+                differ += !cell;
+                dcol += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+                dt += cell && memcmp(&x->t, &y->t, 4) != 0;
+                dtbig += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
             }
         }
         vx_render_image_free(&a);
@@ -87,9 +92,18 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         double ma = bench_median(ta, 3), mb = bench_median(tb, 3), rays = (double)W * H;
-        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %llu | %llu | %.1f MB | %.1f MB |\n",
+        /* the depth mode: the walk alone (no colour decode in either) */
+        d.mode = VX_RENDER_DEPTH;
+        for (int round = 0; round < 3; round++)
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
+                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err))
+                ta[round] = tb[round] = 0;
+        double da = bench_median(ta, 3), db = bench_median(tb, 3);
+        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %llu | %llu / %llu / %llu / %llu "
+               "| %.1f MB | %.1f MB |\n",
                name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb, rays / mb / 1e9, ma / mb,
-               (unsigned long long)hits, (unsigned long long)differ, 4.0 * (double)(words + colors) / 1e6,
+               db > 0 ? da / db : 0.0, (unsigned long long)hits, (unsigned long long)differ, (unsigned long long)dcol,
+               (unsigned long long)dt, (unsigned long long)dtbig, 4.0 * (double)(words + colors) / 1e6,
                (double)vx_compact_gpu_bytes(cg) / 1e6);
         fflush(stdout);
     }
@@ -170,8 +184,9 @@ int main(int argc, char** argv) {
                 fprintf(stderr, "compact_bench: %s\n", err.msg);
                 return 1;
             }
-            printf("device: %s\n\n| scene | view | trace.comp | trace_compact.comp | compact / today | pixels hit | "
-                   "pixels differing | today's buffers | compact buffers |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+            printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
+                   "the same, depth mode | pixels hit | differing: instance or cell / colour / t bits / t > 1e-5 | "
+                   "today's buffers | compact buffers |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else
             fprintf(stderr, "compact_bench: built without Vulkan\n");
