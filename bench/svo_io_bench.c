@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
     }
     printf("file %s: %zu bytes, %u models, %llu voxels, %llu node words, %llu records\n", path, size, sc.model_count,
            (unsigned long long)vox, (unsigned long long)words, (unsigned long long)recs);
+    fflush(stdout);
     if (convert) {
         /* --convert: only write the chunked copy (every thread), for later --chunked runs */
         double t0 = vx_time_now();
@@ -111,6 +112,7 @@ int main(int argc, char** argv) {
         if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(in_path, &err);
         path = in_path;
         printf("chunked copy %s: %zu bytes (written in %.2f s)\n", in_path, size, vx_time_now() - t0);
+        fflush(stdout);
     }
     uint8_t* first = NULL;
     size_t first_n = 0;
@@ -130,6 +132,10 @@ int main(int argc, char** argv) {
                 if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
                 w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
                 vx_svo_scene_free(&b);
+                /* each run as it ends too (a run cut short by a timeout still reports) */
+                printf("  run %d, %u threads: read (memory) %.3f s wall %.3f s CPU, read file %.3f s wall %.3f s CPU\n", k,
+                       threads[ti], w[0][k], c[0][k], w[1][k], c[1][k]);
+                fflush(stdout);
             }
             if (strcmp(only, "read")) {
                 vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
@@ -149,6 +155,9 @@ int main(int argc, char** argv) {
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
                 w[3][k] = vx_time_now() - t0, c[3][k] = cpu_now() - c0;
+                printf("  run %d, %u threads: write (memory) %.3f s wall %.3f s CPU, write file %.3f s wall %.3f s CPU\n", k,
+                       threads[ti], w[2][k], c[2][k], w[3][k], c[3][k]);
+                fflush(stdout);
             }
         }
         static const char* names[4] = {"read (memory)", "read file", "write (memory)", "write file (with fsync)"};
