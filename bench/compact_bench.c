@@ -4,7 +4,16 @@
  * attribute record), for .vox / .svo scenes and the tracer benchmarks'
  * terrain. One markdown row per scene and attribute block size.
  *
- * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+ * With --gpu WxH (a build with Vulkan) it also traces each scene with both
+ * kernels on the same render scene (trace.comp over the .svo words,
+ * trace_compact.comp over the compact layout), albedo, the default framing
+ * and a close-up from inside the bounds: rays/s from the median of --reps
+ * timed dispatches per round, median of 3 alternating rounds, and the pixels
+ * whose instance, cell, t or colour differ.
+ *
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--gpu WxH] [--reps N]
+ *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +21,96 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "render/compact.h"
+#ifdef VX_BENCH_HAVE_VULKAN
+#include "bench/bench_stats.h"
+#include "render/render_internal.h"
+
+/* Both kernels on s: one markdown row per view. */
+static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_compact_scene c;
+    vx_compact_gpu* cg = NULL;
+    if (vx_render_scene_create(g, s, &rs, &err)) {
+        fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+        return;
+    }
+    if (vx_compact_build(NULL, s, &c, &err) == VX_OK) {
+        if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
+        vx_compact_free(&c);
+    }
+    if (!cg) {
+        fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+        vx_render_scene_destroy(rs);
+        return;
+    }
+    uint64_t words = 0, colors = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        words += s->models[i].node_count;
+        if (s->models[i].attrs) colors += s->models[i].attr_count;
+    }
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    for (int view = 0; view < 2; view++) {
+        vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+        if (view == 1) {
+            d.camera.set = true;
+            d.camera.fov = 70;
+            for (int k = 0; k < 3; k++) {
+                double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+                d.camera.target[k] = mid - 0.05 * ext;
+                d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
+            }
+        }
+        vx_render_image a = {0}, b = {0};
+        /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
+        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0;
+        if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
+            fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+        } else {
+            for (size_t i = 0; i < (size_t)W * H; i++) {
+                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
+                bool cell = x->instance == y->instance &&
+                            (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
+                hits += x->instance != VX_RENDER_NO_HIT;
+                differ += !cell;
+                dcol += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+                dt += cell && memcmp(&x->t, &y->t, 4) != 0;
+                dtbig += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
+            }
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+        d.want_hits = false;
+        double ta[3], tb[3];
+        vx__frame f;
+        for (int round = 0; round < 3; round++) {
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
+                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err)) {
+                fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+                ta[round] = tb[round] = 0;
+            }
+        }
+        double ma = bench_median(ta, 3), mb = bench_median(tb, 3), rays = (double)W * H;
+        /* the depth mode: the walk alone (no colour decode in either) */
+        d.mode = VX_RENDER_DEPTH;
+        for (int round = 0; round < 3; round++)
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
+                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err))
+                ta[round] = tb[round] = 0;
+        double da = bench_median(ta, 3), db = bench_median(tb, 3);
+        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %llu | %llu / %llu / %llu / %llu "
+               "| %.1f MB | %.1f MB |\n",
+               name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb, rays / mb / 1e9, ma / mb,
+               db > 0 ? da / db : 0.0, (unsigned long long)hits, (unsigned long long)differ, (unsigned long long)dcol,
+               (unsigned long long)dt, (unsigned long long)dtbig, 4.0 * (double)(words + colors) / 1e6,
+               (double)vx_compact_gpu_bytes(cg) / 1e6);
+        fflush(stdout);
+    }
+    vx_compact_gpu_destroy(cg);
+    vx_render_scene_destroy(rs);
+}
+#endif
 
 static void row(const char* name, const vx_svo_scene* s, uint32_t block, double load_s) {
     uint64_t voxels = 0, words = 0, colors = 0;
@@ -54,6 +153,10 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
+    uint32_t gw = 0, gh = 0, reps = 20;
+#ifdef VX_BENCH_HAVE_VULKAN
+    vx_gpu* gpu = NULL;
+#endif
     printf("| scene | voxels | today: MB = bytes/voxel (nodes + colours) | block | compact: MB = bytes/voxel | "
            "geometry | attributes | blocks uniform / delta / raw / shared | distinct per block | build |\n");
     printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
@@ -69,6 +172,31 @@ int main(int argc, char** argv) {
                 if (*p == ',') p++;
                 else if (*p) break;
             }
+            continue;
+        }
+        if (!strcmp(argv[i], "--gpu") && i + 1 < argc) {
+            if (sscanf(argv[++i], "%ux%u", &gw, &gh) != 2 || !gw || !gh || gw > 16384 || gh > 16384) {
+                fprintf(stderr, "compact_bench: --gpu WxH\n");
+                return 2;
+            }
+#ifdef VX_BENCH_HAVE_VULKAN
+            if (!gpu && vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+                fprintf(stderr, "compact_bench: %s\n", err.msg);
+                return 1;
+            }
+            printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
+                   "the same, depth mode | pixels hit | differing: instance or cell / colour / t bits / t > 1e-5 | "
+                   "today's buffers | compact buffers |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+                   vx_gpu_device_name(gpu));
+#else
+            fprintf(stderr, "compact_bench: built without Vulkan\n");
+            return 2;
+#endif
+            continue;
+        }
+        if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
+            reps = (uint32_t)strtoul(argv[++i], NULL, 10);
+            if (!reps || reps > 1000) reps = 20;
             continue;
         }
         if (!strcmp(argv[i], "--terrain") && i + 1 < argc) {
@@ -94,8 +222,15 @@ int main(int argc, char** argv) {
             snprintf(name, sizeof name, "%s", b ? b + 1 : argv[i]);
         }
         double load = vx_time_now() - t0;
-        for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
+        if (!gw)
+            for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
+#ifdef VX_BENCH_HAVE_VULKAN
+        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps);
+#endif
         vx_svo_scene_free(&s);
     }
+#ifdef VX_BENCH_HAVE_VULKAN
+    vx_gpu_destroy(gpu);
+#endif
     return 0;
 }

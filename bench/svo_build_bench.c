@@ -2,7 +2,8 @@
  * surface with height-banded colours) and prints input voxels/s, peak RSS
  * per input voxel, descriptors per minimization stage and bytes per voxel.
  *
- * Usage: svo_build_bench [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag]
+ * Usage: svo_build_bench [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag] [-o FILE.svo [-chunked]]
+ *   -chunked: the file in the chunked NODE form (vx_write_desc.svo_chunk_words, FORMAT.md 3.6)
  *   default: -e 4096 -t 6 (about 100M voxels; -e 256 -t 3 is about 200k). */
 #include <math.h>
 #include <stdio.h>
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     uint32_t E = 4096, T = 6;
     bool geom = false;
     const char* out_path = NULL; /* -o FILE: also time writing and reading the .svo file */
+    bool chunked = false;
     vx_svo_build_desc desc = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-e") && i + 1 < argc) E = (uint32_t)atoi(argv[++i]);
@@ -43,8 +45,9 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "-no-collapse")) desc.no_collapse = true;
         else if (!strcmp(argv[i], "-no-dag")) desc.no_dag = true;
         else if (!strcmp(argv[i], "-o") && i + 1 < argc) out_path = argv[++i];
+        else if (!strcmp(argv[i], "-chunked")) chunked = true;
         else {
-            fprintf(stderr, "usage: %s [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag] [-o FILE.svo]\n", argv[0]);
+            fprintf(stderr, "usage: %s [-e EXTENT] [-t THICKNESS] [-geom] [-no-collapse] [-no-dag] [-o FILE.svo [-chunked]]\n", argv[0]);
             return 2;
         }
     }
@@ -115,7 +118,7 @@ int main(int argc, char** argv) {
         sc.instances = &inst;
         vx_svo_scene_update_bounds(&sc);
         double w0 = vx_time_now();
-        r = vx_svo_write_file(NULL, &sc, out_path, &err);
+        r = vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0}, &sc, out_path, &err);
         double tw = vx_time_now() - w0;
         if (r != VX_OK) {
             fprintf(stderr, "svo_build_bench: %s: %s\n", out_path, err.msg);

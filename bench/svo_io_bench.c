@@ -7,7 +7,15 @@
  * every write is compared with the first (the bytes may not depend on the
  * thread count).
  *
- * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] */
+ * With --chunked the writes use the chunked NODE form (FORMAT.md 3.6,
+ * vx_write_desc.svo_chunk_words = VX_SVO_CHUNK_WORDS), and the reads time
+ * that form too: a file older than version 3 is first written chunked (to
+ * DIR) and the reads time those bytes, so it needs no separate conversion.
+ * --stored: the same with the chunks stored, not deflated
+ * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
+ * --convert OUT.svo only writes the chunked copy of FILE and exits.
+ *
+ * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +41,8 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
+    bool chunked = false, stored = false;
+    const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
     int nt = 2;
@@ -40,6 +50,9 @@ int main(int argc, char** argv) {
         if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+        else if (!strcmp(argv[i], "--chunked")) chunked = true;
+        else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
+        else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
             for (char* s = argv[++i]; *s && nt < 8;) {
@@ -48,12 +61,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -70,8 +83,37 @@ int main(int argc, char** argv) {
     }
     printf("file %s: %zu bytes, %u models, %llu voxels, %llu node words, %llu records\n", path, size, sc.model_count,
            (unsigned long long)vox, (unsigned long long)words, (unsigned long long)recs);
-    char out_path[4096];
+    fflush(stdout);
+    if (convert) {
+        /* --convert: only write the chunked copy (every thread), for later --chunked runs */
+        double t0 = vx_time_now();
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = VX_SVO_CHUNK_WORDS}, &sc, convert, &err) != VX_OK)
+            die(convert, &err);
+        printf("wrote %s in the chunked form in %.2f s\n", convert, vx_time_now() - t0);
+        vx_svo_scene_free(&sc);
+        vx_free(NULL, data);
+        return 0;
+    }
+    char out_path[4096], in_path[4096];
     snprintf(out_path, sizeof out_path, "%s/svo_io_bench.%ld.svo", out_dir, (long)getpid());
+    snprintf(in_path, sizeof in_path, "%s/svo_io_bench.%ld.in.svo", out_dir, (long)getpid());
+    const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
+    /* a file of version 3 (byte 8, u16) has its large models chunked already */
+    bool recode = stored || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
+    if (recode) {
+        /* the reads time the chunked form: write it once (all threads) and read those bytes */
+        double t0 = vx_time_now();
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored}, &sc, in_path, &err) != VX_OK)
+            die(in_path, &err);
+        vx_free(NULL, data);
+        data = NULL;
+        if (vx_file_read(in_path, NULL, 0, &data, &size, &err) != VX_OK) die(in_path, &err);
+        vx_svo_scene_free(&sc);
+        if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(in_path, &err);
+        path = in_path;
+        printf("chunked copy %s: %zu bytes (written in %.2f s)\n", in_path, size, vx_time_now() - t0);
+        fflush(stdout);
+    }
     uint8_t* first = NULL;
     size_t first_n = 0;
     printf("%-8s %-28s %10s %10s %10s\n", "threads", "step", "wall s", "cpu s", "MB/s");
@@ -90,9 +132,13 @@ int main(int argc, char** argv) {
                 if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
                 w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
                 vx_svo_scene_free(&b);
+                /* each run as it ends too (a run cut short by a timeout still reports) */
+                printf("  run %d, %u threads: read (memory) %.3f s wall %.3f s CPU, read file %.3f s wall %.3f s CPU\n", k,
+                       threads[ti], w[0][k], c[0][k], w[1][k], c[1][k]);
+                fflush(stdout);
             }
             if (strcmp(only, "read")) {
-                vx_write_desc wd = {.threads = threads[ti]};
+                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
                 uint8_t* o = NULL;
                 size_t on = 0;
                 t0 = vx_time_now(), c0 = cpu_now();
@@ -109,6 +155,9 @@ int main(int argc, char** argv) {
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
                 w[3][k] = vx_time_now() - t0, c[3][k] = cpu_now() - c0;
+                printf("  run %d, %u threads: write (memory) %.3f s wall %.3f s CPU, write file %.3f s wall %.3f s CPU\n", k,
+                       threads[ti], w[2][k], c[2][k], w[3][k], c[3][k]);
+                fflush(stdout);
             }
         }
         static const char* names[4] = {"read (memory)", "read file", "write (memory)", "write file (with fsync)"};
@@ -122,6 +171,7 @@ int main(int argc, char** argv) {
     if (first) printf("written: %zu bytes%s\n", first_n, first_n == size ? ", the input's size" : "");
     if (first && first_n == size) printf("written bytes %s the input file\n", memcmp(first, data, size) ? "differ from" : "equal");
     remove(out_path);
+    if (recode) remove(in_path);
     vx_free(NULL, first);
     vx_svo_scene_free(&sc);
     vx_free(NULL, data);

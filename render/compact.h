@@ -66,6 +66,7 @@
 #ifndef VX_COMPACT_H
 #define VX_COMPACT_H
 
+#include "render/render.h"
 #include "svo/svo.h"
 
 #ifdef __cplusplus
@@ -135,6 +136,37 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t m, uint32_t x, uint32
 /* Decodes attribute index i of model m (its block's payload); opaque white
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
+
+/* The CPU traversal of the layout: the centre ray of every pixel of the
+ * frame desc gives (the CPU reference's camera, rays and rules, double
+ * precision, a brute-force loop over the drawn instances of s), walked
+ * through c's geometry DAG alone; the colour is decoded from the attribute
+ * index the walk sums. c must be vx_compact_build(s). Only
+ * VX_RENDER_ALBEDO (no shading) is supported; out->hits is always filled
+ * (instance, cell, t, steps, the ambiguity flag): vx_render_cpu's for the
+ * same desc, pixel for pixel, is what tests/render/test_compact.c asserts. */
+vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s, const vx_render_desc* desc,
+                                const vx_allocator* alloc, vx_render_image* out, vx_error* err);
+
+/* ---- on the GPU (library vx_render, built with Vulkan) ------------------------------
+ * The layout uploaded beside a render scene made from the same scene s
+ * (vx_render_scene_create), traced by shaders/trace_compact.comp with the
+ * render scene's instances, BVH and camera: the float walk of trace.comp
+ * over the geometry DAG, the colour decoded at the hit. Models deeper than
+ * VX_RENDER_REBASE_DEPTH are refused (VX_ERR_UNSUPPORTED: no two-frame walk
+ * yet); lod and beam are ignored. rs and c are borrowed for the object's
+ * lifetime (c only during create). */
+typedef struct vx_compact_gpu vx_compact_gpu;
+vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
+                                vx_compact_gpu** out, vx_error* err);
+void vx_compact_gpu_destroy(vx_compact_gpu* cg);
+/* A frame, as vx_render_frame. */
+vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
+/* Benchmarks: repeat timed dispatches in one submission, *seconds the median. */
+vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, uint32_t repeat, double* seconds,
+                              vx_error* err);
+/* Bytes of the GPU buffers of the layout (geometry, attributes, models, palette). */
+uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 
 #ifdef __cplusplus
 }

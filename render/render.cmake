@@ -5,7 +5,8 @@ add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
   ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
-  ${CMAKE_CURRENT_SOURCE_DIR}/compact.c)
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact_trace.c)
 target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)
   find_package(Vulkan REQUIRED)
@@ -23,12 +24,13 @@ if(VX_WITH_VULKAN)
   # writes them into the image shown (a storage image) instead of a buffer;
   # frame_display, resolve_display and post_display are those passes when they
   # are the frame's last and write the image shown themselves (display_out.glsl);
-  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c).
+  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c);
+  # trace_compact traces the compact layout (render/compact.h, compact_gpu.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
-               refit:refit)
+               refit:refit trace_compact:trace_compact)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -60,6 +62,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_SOURCE_DIR}/render_scene.c
     ${CMAKE_CURRENT_SOURCE_DIR}/pipeline.c
     ${CMAKE_CURRENT_SOURCE_DIR}/display.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/compact_gpu.c
     ${VX_RENDER_SPV_HEADERS})
   target_include_directories(vx_render PRIVATE ${VX_RENDER_SPV_DIR})
   target_link_libraries(vx_render PUBLIC vx_trace vx_svo Vulkan::Vulkan m)

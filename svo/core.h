@@ -291,6 +291,13 @@ typedef struct vx_write_desc {
                                   every model, readable by older readers);
                                   VX_SVO_CHUNK_WORDS is the suggested value
                                   (`vox2svo --chunked`). */
+    bool svo_chunk_stored;     /* .svo, chunked models: the chunks as DEFLATE's
+                                  stored blocks (level 0) instead of level 1:
+                                  the same format, every reader reads them;
+                                  coding is a copy (deflate at level 1 is
+                                  about 100 MB/s per core), at about twice
+                                  the chunked form's bytes (docs/PERFORMANCE.md,
+                                  issue 18). false: level 1 (the default). */
 } vx_write_desc;
 
 /* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of

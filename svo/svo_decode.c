@@ -76,6 +76,25 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
     }
 }
 
+/* How far ahead the validation's loops fetch the children they will read
+ * (words of the descending pass, pairs of the ascending one). */
+#define PREFETCH_AHEAD 16u
+
+/* The children of descriptor w (near pointers only; a guess that is never
+ * wrong to make): stage 0 their level and pair-index words, stage 1 (those
+ * fetched by now) the first child's pairs. */
+static void pair_prefetch(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, const pair_ext* pe, uint32_t w,
+                          int stage) {
+    uint32_t d = m->nodes[w], p = vx_svo_desc_ptr(d);
+    if (p < 1 || p > w || vx_svo_desc_far(d) || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
+    if (stage == 0) {
+        __builtin_prefetch(&lv[w - p]);
+        __builtin_prefetch(&pidx[w - p]);
+    } else {
+        __builtin_prefetch(&pe[pidx[w - p]]);
+    }
+}
+
 /* The ascending pass of one large model on several threads. A pair at level
  * l reads only pairs at level l - 1, so the pairs of one level are
  * independent: listed per level (in word order, which keeps the lookups
@@ -95,7 +114,11 @@ typedef struct level_job {
 static void level_run(void* ctx, uint32_t i) {
     level_job* j = (level_job*)ctx;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
-    for (size_t k = a; k < e; k++) pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
+    for (size_t k = a; k < e; k++) {
+        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], 0);
+        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], 1);
+        pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
+    }
 }
 /* false: no memory for the lists (the caller runs the sequential pass) */
 static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint8_t* role, const uint32_t* pidx, pair_ext* pe,
@@ -196,6 +219,17 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
      * a word before the word itself: each word is checked once, for every
      * level it is reached at, and shared blocks are never expanded. */
     for (uint32_t w = m->root + 1; w-- > 0;) {
+        /* the children blocks of a shared DAG lie anywhere below: their role
+         * and level words are cache misses, which this loop waited on one by
+         * one (most of its time on the terrain); fetch a block some words
+         * ahead (a guess: the word may be no descriptor, or a far one) */
+        if (w >= PREFETCH_AHEAD) {
+            uint32_t ahead = w - PREFETCH_AHEAD, pd = m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
+            if (pp >= 1 && pp <= ahead) {
+                __builtin_prefetch(&role[ahead - pp], 1);
+                __builtin_prefetch(&lv[ahead - pp], 1);
+            }
+        }
         if (role[w] != ROLE_DESC) continue;
         uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
         if (valid == 0) {

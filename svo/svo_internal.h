@@ -118,13 +118,15 @@ typedef struct vx__svo_sink {
 extern size_t vx__svo_flush_bytes;
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, vx_buf* out);
+/* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE or VX__CHUNK_STORED the chunked form */
+enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2 };
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        const vx__svo_sink* sink);
+                        bool chunk_stored, const vx__svo_sink* sink);
 /* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_error* err);

@@ -461,6 +461,7 @@ typedef struct chunk_job {
     const vx_svo_model* m;
     const vx_allocator* A;
     uint32_t count;
+    int level;     /* deflate level: 1, or 0 (stored blocks) */
     uint8_t** out; /* writer: each chunk's deflated bytes */
     size_t* out_n;
     bool* ok;
@@ -480,7 +481,7 @@ static void deflate_chunk(void* ctx, uint32_t i) {
     z_stream z;
     memset(&z, 0, sizeof z);
     j->ok[i] = false;
-    if (deflateInit2(&z, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
+    if (deflateInit2(&z, j->level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
     size_t cap = (size_t)deflateBound(&z, (uLong)raw);
     uint8_t* out = (uint8_t*)vx_alloc(j->A, cap);
     uint8_t* tmp = NULL;
@@ -519,12 +520,12 @@ static void deflate_chunk(void* ctx, uint32_t i) {
 
 /* A chunked model's stream: the chunk count, per chunk its words, records
  * and deflated bytes, then the chunks. threads: coders within the model. */
-static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, unsigned threads, vx_buf* out) {
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, vx_buf* out) {
     uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rec_bytes(m->attrs);
     uint64_t count = (raw + CHUNK_RAW - 1) / CHUNK_RAW;
     if (count < 1) count = 1;
     if (count > m->node_count) count = m->node_count; /* at least one word per chunk */
-    chunk_job j = {m, A, (uint32_t)count, NULL, NULL, NULL};
+    chunk_job j = {m, A, (uint32_t)count, level, NULL, NULL, NULL};
     j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
     j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
     j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
@@ -550,9 +551,10 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, unsigned 
 }
 
 /* Codes one model into its own stream: the chunked form when `chunked`
- * (on up to `threads` threads), else the structural or raw form. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, threads, out);
+ * (VX__CHUNK_DEFLATE: level 1, VX__CHUNK_STORED: stored blocks; on up to
+ * `threads` threads), else the structural or raw form. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
+    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, out);
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -648,7 +650,7 @@ typedef struct pack_jobs {
 
 static void pack_job(void* ctx, uint32_t i) {
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, false, 1, &j->bufs[i]);
+    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, VX__CHUNK_NONE, 1, &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -661,7 +663,7 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 }
 
 /* One model's stream with its length, straight into the output. */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, bool chunked, unsigned threads, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
     bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
@@ -670,13 +672,14 @@ static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, 
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        const vx__svo_sink* sink) {
+                        bool chunk_stored, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
+    const int mode = chunk_stored ? VX__CHUNK_STORED : VX__CHUNK_DEFLATE;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
             bool ch = vx__svo_model_chunked(&s->models[mi], chunk_min);
-            if (!pack_one(out, &s->models[mi], A, ch, ch ? cpus : 1, sink)) return false;
+            if (!pack_one(out, &s->models[mi], A, ch ? mode : VX__CHUNK_NONE, ch ? cpus : 1, sink)) return false;
         }
         return !out->failed;
     }
@@ -691,7 +694,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     for (uint32_t first = 0, n = 0; ok && first < s->model_count; first += n) {
         if (vx__svo_model_chunked(&s->models[first], chunk_min)) {
             n = 1;
-            ok = pack_one(out, &s->models[first], A, true, cpus, sink);
+            ok = pack_one(out, &s->models[first], A, mode, cpus, sink);
             continue;
         }
         for (n = 1; n < batch && first + n < s->model_count && !vx__svo_model_chunked(&s->models[first + n], chunk_min);) n++;

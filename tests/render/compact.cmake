@@ -6,3 +6,15 @@ if(TARGET vx_conv_mesh)
   target_link_libraries(test_compact PRIVATE vx_conv_mesh)
   target_compile_definitions(test_compact PRIVATE VX_TEST_HAVE_MESH)
 endif()
+# The compact layout's trace kernel against trace.comp on the same scenes,
+# pixel by pixel (lavapipe in CI).
+if(VX_WITH_VULKAN)
+  vx_add_test(test_compact_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_gpu.c
+              LIBS vx_render vx_trace vx_convert vx_formats vx_svo)
+  set_tests_properties(test_compact_gpu PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+  if(TARGET vx_conv_mesh)
+    target_link_libraries(test_compact_gpu PRIVATE vx_conv_mesh)
+    target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)
+  endif()
+endif()

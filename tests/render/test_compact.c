@@ -2,7 +2,10 @@
  * against the model's own voxel list: vx_svo_decode_model walks the .svo tree
  * (an independent path) and gives every cell in Morton order with its
  * attribute record; the compact walk must find each cell at its rank with
- * the same colour, and find no cell the list lacks. */
+ * the same colour, and find no cell the list lacks. The CPU traversal of
+ * the layout (vx_compact_render_cpu) must give vx_render_cpu's instance,
+ * cell, depth and colour for every pixel of several views of each scene:
+ * the reference reads the decoded voxels, never the compact arrays. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -96,6 +99,63 @@ static void check_scene(const vx_svo_scene* s, const char* name, uint32_t block,
     else vx_compact_free(&c);
 }
 
+/* Every pixel of three views (the default framing, orthographic, a close-up
+ * from inside the bounds): the CPU reference against the walk of the
+ * compact layout. Returns the pixels that hit. */
+static uint64_t check_trace(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h) {
+    vx_compact_scene c;
+    vx_error err = {0};
+    if (vx_compact_build(NULL, s, &c, &err) != VX_OK) {
+        CHECKF(0, "%s: %s", name, err.msg);
+        return 0;
+    }
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    uint64_t hits_total = 0;
+    for (int view = 0; view < 3; view++) {
+        vx_render_desc d = {.width = w, .height = h, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+        if (view == 1) d.camera.ortho = true;
+        if (view == 2) {
+            d.camera.set = true;
+            d.camera.fov = 70;
+            for (int k = 0; k < 3; k++) {
+                double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+                d.camera.target[k] = mid - 0.05 * ext;
+                d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
+            }
+        }
+        vx_render_image ref = {0}, got = {0};
+        vx_result r1 = vx_render_cpu(s, &d, NULL, &ref, &err);
+        CHECKF(r1 == VX_OK, "%s view %d: reference: %s", name, view, err.msg);
+        vx_result r2 = r1 ? r1 : vx_compact_render_cpu(&c, s, &d, NULL, &got, &err);
+        CHECKF(r2 == VX_OK, "%s view %d: compact: %s", name, view, err.msg);
+        if (!r1 && !r2) {
+            uint32_t wrong = 0, hits = 0;
+            for (size_t i = 0; i < (size_t)w * h; i++) {
+                const vx_render_hit *a = &ref.hits[i], *b = &got.hits[i];
+                bool same = a->instance == b->instance && !memcmp(&ref.pixels[4 * i], &got.pixels[4 * i], 16);
+                if (a->instance != VX_RENDER_NO_HIT) {
+                    hits++;
+                    same = same && !memcmp(a->cell, b->cell, sizeof a->cell) && a->t == b->t && a->flags == b->flags;
+                }
+                if (!same && wrong++ < 3)
+                    fprintf(stderr, "  %s view %d pixel %zu: reference instance %u cell (%u %u %u) t %.9g colour %.4f %.4f %.4f;"
+                            " compact %u (%u %u %u) t %.9g colour %.4f %.4f %.4f\n", name, view, i, a->instance,
+                            a->cell[0], a->cell[1], a->cell[2], a->t, ref.pixels[4 * i], ref.pixels[4 * i + 1],
+                            ref.pixels[4 * i + 2], b->instance, b->cell[0], b->cell[1], b->cell[2], b->t,
+                            got.pixels[4 * i], got.pixels[4 * i + 1], got.pixels[4 * i + 2]);
+            }
+            CHECKF(wrong == 0, "%s view %d: %u of %u pixels differ", name, view, wrong, w * h);
+            hits_total += hits;
+            printf("  %-32s view %d: %ux%u, %u pixels hit, %u differ\n", name, view, w, h, hits, wrong);
+        }
+        vx_render_image_free(&ref);
+        vx_render_image_free(&got);
+    }
+    vx_compact_free(&c);
+    return hits_total;
+}
+
 /* A model from cells and per-cell RGBA (level tiles optional). */
 static vx_result rgba_model(vx_svo_model* m, uint32_t side, const uint64_t* keys, const uint8_t* level,
                             const uint32_t* rgba, size_t n) {
@@ -151,6 +211,7 @@ static void test_generated(void) {
     ts_scene(&s, all, 6, in, 6);
     static const uint32_t blocks[] = {8, 64, 1024, 0};
     for (int b = 0; b < 4; b++) check_scene(&s, "generated", blocks[b], NULL);
+    CHECK(check_trace(&s, "generated", 160, 90) > 160 * 90 / 4);
     /* every block code appears: raw (noise), uniform (tiles), deltas (gradients), palettes */
     vx_compact_scene c;
     check_scene(&s, "generated", 64, &c);
@@ -276,6 +337,33 @@ static void test_edges(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A model of more than 2^22 cells in large full cubes (the reference then
+ * walks the collapsed leaves instead of decoding every cell) beside a
+ * rotated instance and a shifted one of a palette model. */
+static void test_trace_large(void) {
+    uint64_t keys[16];
+    uint8_t level[16];
+    uint32_t rgba[16], n = 0, seed = 11;
+    for (uint32_t i = 0; i < 8; i++) {
+        uint32_t x, y, z;
+        vx_svo_demorton(i, &x, &y, &z);
+        if (i == 3 || i == 6) continue;
+        keys[n] = vx_svo_morton(128 * x, 128 * y, 128 * z), level[n] = 7, rgba[n++] = 0xFF000000u | ts_rng(&seed);
+    }
+    keys[n] = vx_svo_morton(300, 40, 260), level[n] = 0, rgba[n++] = 0xFF0000FFu;
+    keys[n] = vx_svo_morton(264, 8, 16), level[n] = 3, rgba[n++] = 0xFF00FF00u;
+    vx_svo_model m[2];
+    REQUIRE(rgba_model(&m[0], 512, keys, level, rgba, n) == VX_OK);
+    REQUIRE(m[0].voxel_count > (1u << 22));
+    REQUIRE(ts_random_model(&m[1], 40, 33, 21, 35, 9) == VX_OK);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 100, 300, 310), ts_inst(1, NULL, -60, 20, 50)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 3);
+    CHECK(check_trace(&s, "large cubes, rotated instance", 120, 90) > 120 * 90 / 4);
+    vx_svo_scene_free(&s);
+}
+
 static void test_corpus(void) {
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
                                   "eph_monu1.vox", "eph_teapot.vox", "ogt_chr_knight.vox",
@@ -295,6 +383,7 @@ static void test_corpus(void) {
         CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
         if (r) continue;
         check_scene(&s, files[i], 0, NULL);
+        CHECKF(check_trace(&s, files[i], 96, 72) > 96 * 72 / 20, "%s: too few pixels hit", files[i]);
         vx_svo_scene_free(&s);
         done++;
     }
@@ -311,6 +400,7 @@ static void test_corpus_mesh(void) {
     vx_conv_mesh_desc d = {.res = 128};
     REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
     check_scene(&s, "DamagedHelmet at 128", 0, NULL);
+    CHECK(check_trace(&s, "DamagedHelmet at 128", 128, 96) > 128 * 96 / 10);
     vx_svo_scene_free(&s);
 #else
     SKIP("built without the mesh converter");
@@ -322,6 +412,7 @@ int main(void) {
     RUN(test_colour_sharing);
     RUN(test_auto_block);
     RUN(test_edges);
+    RUN(test_trace_large);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     return vx_test_finish();

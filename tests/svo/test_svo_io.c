@@ -1707,6 +1707,30 @@ static void test_chunked_large(void) {
         CHECK(model_equal(&r.models[0], m));
         vx_svo_scene_free(&r);
     }
+    /* stored chunks (vx_write_desc.svo_chunk_stored): DEFLATE's stored blocks,
+     * which the independent inflate above reads; larger than level 1, the
+     * same bytes on 1 and 4 threads, and the same model back */
+    {
+        uint8_t *d1 = NULL, *d4 = NULL;
+        size_t n1 = 0, n4 = 0, nn = 0, off[2], len[2];
+        uint32_t chunks = 0;
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1, .svo_chunk_words = 1, .svo_chunk_stored = true}, &s, &d1,
+                                &n1, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 4, .svo_chunk_words = 1, .svo_chunk_stored = true}, &s, &d4,
+                                &n4, &e) == VX_OK);
+        CHECK(n1 == n4 && !memcmp(d1, d4, n1));
+        CHECKF(n1 > nb && n1 >= raw, "stored: %zu bytes, level 1: %zu, raw words and records %llu", n1, nb,
+               (unsigned long long)raw);
+        const uint8_t* node = section(d1, n1, "NODE", &nn);
+        REQUIRE(node && t_node_streams(node, nn, off, len, 2) == 1);
+        CHECKF(t_stream_holds(node + off[0], len[0], m, &chunks) && chunks >= 3, "stored: %u chunks", chunks);
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = 2}, d1, n1, &r, &e) == VX_OK);
+        CHECK(model_equal(&r.models[0], m));
+        vx_svo_scene_free(&r);
+        vx_free(NULL, d1);
+        vx_free(NULL, d4);
+    }
     /* the validation of a model of 2^20 words or more splits its ascending
      * pass over threads: the same extent as on one thread, and for a model
      * that declares one voxel more than its tree holds the same error */

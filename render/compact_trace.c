@@ -1,0 +1,245 @@
+/* render/compact_trace.c - a CPU traversal of the compact layout
+ * (render/compact.h): the CPU reference's rays and rules (render/cpu_trace.c,
+ * double precision, a DDA that steps over the largest empty block holding
+ * the current cell), with every question about a cell answered by a descent
+ * of the compact geometry DAG instead of the reference's occupancy table of
+ * the decoded voxels, and the colour decoded from the attribute index the
+ * descent sums (vx_compact_rgba). So the (instance, cell, colour) it returns
+ * checks the layout, not a second copy of the reference: the reference never
+ * reads the compact arrays. */
+#include <math.h>
+#include <string.h>
+
+#include "render/compact.h"
+#include "render/trace.h"
+
+static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
+
+static uint32_t bits_at(const uint32_t* w, uint64_t pos, uint32_t n) {
+    uint64_t v = w[pos >> 5] >> (pos & 31);
+    if ((pos & 31) + n > 32) v |= (uint64_t)w[(pos >> 5) + 1] << (32 - (pos & 31));
+    return (uint32_t)(v & ((n == 32) ? 0xFFFFFFFFull : ((1ull << n) - 1)));
+}
+
+/* Cell (x, y, z) of model m, inside its cube. Returns the level k of the
+ * smallest block holding the cell that has set cells (the reference's
+ * table: the block of level k - 1 around the cell is empty), or, when the
+ * cell is set, true in *full with its attribute index in *index and k the
+ * level of the full cube it lies in (0 inside bricks). */
+static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint32_t x, uint32_t y, uint32_t z,
+                      bool* full, uint32_t* index) {
+    *full = false;
+    uint32_t L = m->depth;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        *full = true;
+        *index = (uint32_t)vx_svo_morton(x, y, z);
+        return L;
+    }
+    uint32_t n = m->root;
+    uint64_t base = 0;
+    for (; L >= 3; L--) {
+        uint32_t h = c->geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
+        if (!((valid >> o) & 1u)) return L;
+        uint32_t below = valid & ((1u << o) - 1u), f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
+        if (o <= f) {
+            base += (uint64_t)popc(below) << (3 * s);
+        } else {
+            uint32_t wb = 8u << ((h >> 16) & 3u), rank = popc(below & ~((2u << f) - 1u));
+            base += bits_at(c->geom + n + 1 + popc(inner), (uint64_t)rank * wb, wb);
+        }
+        if ((leaf >> o) & 1u) {
+            uint32_t mask = (1u << s) - 1u;
+            *full = true;
+            *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
+            return s;
+        }
+        n = c->geom[n + 1 + popc(inner & ((1u << o) - 1u))];
+    }
+    /* a brick: 4^3 cells (level 2) or 2^3 (a model of depth 1) */
+    uint64_t mask = c->geom[n] | (uint64_t)c->geom[n + 1] << 32;
+    uint32_t r = (1u << L) - 1u, bit = (uint32_t)vx_svo_morton(x & r, y & r, z & r);
+    if (L == 2 && !((mask >> (bit & ~7u)) & 0xFFu)) return 2;
+    if (!((mask >> bit) & 1u)) return 1;
+    *full = true;
+    *index = (uint32_t)(base + (uint64_t)__builtin_popcountll(mask & ((1ull << bit) - 1u)));
+    return 0;
+}
+
+static bool neg(double v) { return signbit(v) != 0; }
+
+static int64_t cell_of(double p, double d) {
+    double f = floor(p);
+    if (p == f && neg(d)) f -= 1;
+    return (int64_t)f;
+}
+
+static double inv_safe(double d) { return fabs(d) < 1e-300 ? (neg(d) ? -1e300 : 1e300) : 1.0 / d; }
+
+typedef struct khit {
+    double t;
+    int64_t cell[3];
+    uint32_t index;
+    uint32_t steps;
+    bool amb;
+} khit;
+
+/* The reference's walk (cpu_trace.c cm_trace), with probe() for its table. */
+static bool trace_model(const vx_compact_scene* c, const vx_compact_model* m, const uint32_t size[3],
+                        const double o[3], const double d[3], double t1, khit* h) {
+    if (m->root == VX_SVO_ROOT_EMPTY) return false;
+    double te = 0, tx = t1;
+    for (int k = 0; k < 3; k++) {
+        double inv = inv_safe(d[k]);
+        double a = (0 - o[k]) * inv, b = ((double)size[k] - o[k]) * inv;
+        te = fmax(te, fmin(a, b));
+        tx = fmin(tx, fmax(a, b));
+    }
+    if (!(te < tx)) return false;
+    int64_t cell[3];
+    int entry_ties = 0;
+    bool amb = false;
+    for (int k = 0; k < 3; k++) {
+        double pk = o[k] + d[k] * te;
+        if (te <= 0 && fabs(pk - nearbyint(pk)) <= 1e-9 * fmax(1, fabs(pk))) amb = true;
+        cell[k] = cell_of(pk, d[k]);
+        if (te > 0) {
+            double inv = inv_safe(d[k]);
+            double a = (0 - o[k]) * inv, b = ((double)size[k] - o[k]) * inv;
+            if (fmin(a, b) == te) cell[k] = neg(d[k]) ? (int64_t)size[k] - 1 : 0, entry_ties++;
+        }
+        if (cell[k] < 0) cell[k] = 0;
+        if (cell[k] >= (int64_t)size[k]) cell[k] = (int64_t)size[k] - 1;
+    }
+    if (entry_ties > 1) amb = true;
+    double t = te;
+    for (uint32_t steps = 0; steps < 100000000u; steps++) {
+        bool full;
+        uint32_t index = 0;
+        uint32_t k = probe(c, m, (uint32_t)cell[0], (uint32_t)cell[1], (uint32_t)cell[2], &full, &index);
+        h->steps = steps + 1;
+        if (full) {
+            if (!(t <= h->t)) return false;
+            h->t = t;
+            memcpy(h->cell, cell, sizeof cell);
+            h->index = index;
+            h->amb = amb;
+            return true;
+        }
+        int64_t B = (int64_t)1 << (k - 1);
+        int64_t lo[3];
+        double ta[3], texit = INFINITY;
+        for (int a = 0; a < 3; a++) {
+            lo[a] = cell[a] & ~(B - 1);
+            ta[a] = d[a] == 0 ? INFINITY : ((double)(d[a] > 0 ? lo[a] + B : lo[a]) - o[a]) / d[a];
+            texit = fmin(texit, ta[a]);
+        }
+        if (!(texit < tx)) return false;
+        double near = 1e-9 * fmax(1, fabs(texit));
+        if ((fabs(ta[0] - texit) <= near) + (fabs(ta[1] - texit) <= near) + (fabs(ta[2] - texit) <= near) > 1) amb = true;
+        for (int a = 0; a < 3; a++) {
+            if (ta[a] == texit) {
+                cell[a] = d[a] > 0 ? lo[a] + B : lo[a] - 1;
+            } else {
+                int64_t q = cell_of(o[a] + d[a] * texit, d[a]);
+                if (q < lo[a]) q = lo[a];
+                if (q > lo[a] + B - 1) q = lo[a] + B - 1;
+                cell[a] = q;
+            }
+            if (cell[a] < 0 || cell[a] >= (int64_t)size[a]) return false;
+        }
+        t = texit;
+    }
+    return false;
+}
+
+vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s, const vx_render_desc* desc,
+                                const vx_allocator* alloc, vx_render_image* out, vx_error* err) {
+    if (!c || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (c->model_count != s->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact scene has %u models, the scene %u",
+                       c->model_count, s->model_count);
+    if (desc && desc->mode != VX_RENDER_ALBEDO)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "mode %s: only albedo", vx_render_mode_name(desc->mode));
+    double t_begin = vx_time_now();
+    vx_result r = vx__check_scene(s, err);
+    if (r) return r;
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    vx__frame f;
+    if ((r = vx__frame_setup(lo, hi, desc, &f, err))) return r;
+    uint32_t ni = 0;
+    double* inv = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, 12 * sizeof(double));
+    uint32_t* ids = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof(uint32_t));
+    size_t npx = (size_t)f.width * f.height;
+    vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = alloc};
+    img.pixels = vx_calloc(alloc, npx, 16);
+    img.hits = vx_calloc(alloc, npx, sizeof *img.hits);
+    if (!inv || !ids || !img.pixels || !img.hits) {
+        vx_free(alloc, inv);
+        vx_free(alloc, ids);
+        vx_render_image_free(&img);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        double w[12];
+        vx_svo_instance_world(s, &s->instances[i], w);
+        vx__affine_inverse(w, &inv[12 * ni]);
+        ids[ni++] = i;
+    }
+    for (uint32_t y = 0; y < f.height; y++)
+        for (uint32_t x = 0; x < f.width; x++) {
+            /* the centre ray of the pixel, as vx_render_cpu makes it */
+            double u = ((x + 0.5) / f.width) * 2 - 1, v = 1 - ((y + 0.5) / f.height) * 2;
+            double P[3], d[3], t_off;
+            if (f.ortho) {
+                for (int k = 0; k < 3; k++) P[k] = u * f.rx[k] + v * f.uy[k], d[k] = f.fwd[k];
+                t_off = f.t_start;
+            } else {
+                double du[3], len = 0;
+                for (int k = 0; k < 3; k++) du[k] = f.fwd[k] + u * f.rx[k] + v * f.uy[k], len += du[k] * du[k];
+                len = sqrt(len);
+                for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f.t_start * (u * f.rx[k] + v * f.uy[k]);
+                t_off = f.t_start * len;
+            }
+            double o[3] = {f.ref[0] + P[0], f.ref[1] + P[1], f.ref[2] + P[2]};
+            khit best = {.t = INFINITY};
+            uint32_t which = UINT32_MAX, steps = 0;
+            for (uint32_t i = 0; i < ni; i++) {
+                const double* m = &inv[12 * i];
+                double om[3], dm[3];
+                for (int q = 0; q < 3; q++) {
+                    om[q] = m[4 * q] * o[0] + m[4 * q + 1] * o[1] + m[4 * q + 2] * o[2] + m[4 * q + 3];
+                    dm[q] = m[4 * q] * d[0] + m[4 * q + 1] * d[1] + m[4 * q + 2] * d[2];
+                }
+                uint32_t mi = s->instances[ids[i]].model;
+                khit h = best;
+                h.steps = 0;
+                bool hit = trace_model(c, &c->models[mi], s->models[mi].size, om, dm, best.t, &h);
+                steps += h.steps;
+                if (hit) best = h, which = i;
+            }
+            float* px = &img.pixels[4 * ((size_t)y * f.width + x)];
+            vx_render_hit* hh = &img.hits[(size_t)y * f.width + x];
+            hh->iterations = steps;
+            if (which == UINT32_MAX) {
+                px[0] = VX__SKY_R, px[1] = VX__SKY_G, px[2] = VX__SKY_B, px[3] = 0;
+                hh->instance = VX_RENDER_NO_HIT;
+                continue;
+            }
+            uint32_t col = vx_compact_rgba(c, s->instances[ids[which]].model, best.index);
+            px[0] = (float)((col & 0xFF) / 255.0), px[1] = (float)(((col >> 8) & 0xFF) / 255.0);
+            px[2] = (float)(((col >> 16) & 0xFF) / 255.0), px[3] = 1;
+            hh->instance = ids[which];
+            for (int k = 0; k < 3; k++) hh->cell[k] = (uint32_t)best.cell[k];
+            hh->t = (float)(t_off + best.t);
+            hh->flags = best.amb ? VX_RENDER_HIT_AMBIGUOUS : 0;
+        }
+    vx_free(alloc, inv);
+    vx_free(alloc, ids);
+    img.gpu_seconds = vx_time_now() - t_begin;
+    img.rays = npx;
+    *out = img;
+    return VX_OK;
+}

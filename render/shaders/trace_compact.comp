@@ -1,0 +1,531 @@
+#version 450
+// render/shaders/trace_compact.comp - primary (+ shadow) rays through the
+// compact layout (render/compact.h, issue 18): the same BVH over instances
+// and the same Laine-Karras walk as trace.comp (float variant, without the
+// beam, LOD or the two-frame walk: models at most VX_RENDER_REBASE_DEPTH
+// deep), reading the geometry DAG instead of the .svo node words. The walk's
+// decisions depend only on geometry, so its cells and depths are
+// trace.comp's; the colour comes after the hit, from the cell's attribute
+// index (a second descent from the root summing the child offsets) and the
+// attribute block that holds it. Layouts: render/compact.h (geometry,
+// attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
+// Inst, BVH: bindings 0, 4-6 are the render scene's).
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
+layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
+layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
+layout(constant_id = 4) const bool WRITE_HITS = false;
+// 1: some model is exact (CModel flag 2: a hit's t from its cube's entry
+// planes, as trace.comp's DEEP 1 kernel), else 0
+layout(constant_id = 8) const int DEEP = 0;
+
+const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
+const int S_MAX = 23;
+const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
+const uint MAX_ITER = 100000u;
+
+// flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
+// trace.comp's Model.box
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, voxels; };
+struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
+struct BNode { vec4 lo; vec4 hi; };
+
+layout(std140, binding = 0) uniform Frame {
+    vec4 fwd;   // w: t_start
+    vec4 rx;    // w: ortho
+    vec4 uy;
+    vec4 light; // w: ambient
+    vec4 misc;
+    uvec4 dims; // width, height, spp, instance count
+    uvec4 dims2;
+    vec4 grid_lo;
+} F;
+layout(std430, binding = 1) readonly buffer Geom { uint geom[]; };
+layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
+layout(std430, binding = 3) readonly buffer CModels { CModel models[]; };
+layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
+layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
+layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
+layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
+layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
+layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
+
+struct Hit {
+    float t;
+    uint inst;
+    uvec3 cell;
+    int axis;
+    float nsign;
+    uint color;
+};
+
+uint g_iter = 0u;
+
+bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+
+vec3 safe_inv(vec3 d) {
+    vec3 r;
+    for (int i = 0; i < 3; i++) r[i] = abs(d[i]) < 1e-30 ? (sign_neg(d[i]) ? -1e30 : 1e30) : 1.0 / d[i];
+    return r;
+}
+
+vec2 box_t(vec3 o, vec3 rd_inv, vec3 lo, vec3 hi) {
+    vec3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
+    vec3 tn = min(a, b), tf = max(a, b);
+    return vec2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
+}
+
+float entry_tau(vec3 oa, vec3 d, vec3 lo, float sz) {
+    vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
+    vec3 tau = (pl - oa) / d;
+    float r = 0.0;
+    if (d.x != 0.0) r = max(r, tau.x);
+    if (d.y != 0.0) r = max(r, tau.y);
+    if (d.z != 0.0) r = max(r, tau.z);
+    return r;
+}
+
+#define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
+
+// bit 0 of each byte of w: the byte is not zero; packed into 4 bits
+uint bytes_set(uint w) {
+    uint t = w | (w >> 4);
+    t |= t >> 2;
+    t |= t >> 1;
+    t &= 0x01010101u;
+    return (t | (t >> 7) | (t >> 14) | (t >> 21)) & 0xFu;
+}
+
+// The node at `parent` of level L as a trace.comp descriptor (valid << 8 |
+// leaf). Level >= 3: the header; level 2: a brick (its level-1 octants,
+// none a leaf); level 1: byte o2 of a brick, parent = brick << 3 | o2 (its
+// children are cells).
+uint node_desc(uint parent, int L) {
+    if (L >= 3) {
+        uint h = geom[parent];
+        return ((h & 0xFFu) << 8) | ((h >> 8) & 0xFFu);
+    }
+    if (L == 2) return (bytes_set(geom[parent]) | (bytes_set(geom[parent + 1u]) << 4)) << 8;
+    uint o2 = parent & 7u;
+    uint b = (geom[(parent >> 3) + (o2 >> 2)] >> (8u * (o2 & 3u))) & 0xFFu;
+    return (b << 8) | b;
+}
+
+uint geom_bits(uint word, uint pos, uint n) {
+    uint w = word + (pos >> 5), sh = pos & 31u;
+    uint v = geom[w] >> sh;
+    if (sh + n > 32u) v |= geom[w + 1u] << (32u - sh);
+    return n == 32u ? v : v & ((1u << n) - 1u);
+}
+
+uint attr_bits(uint word, uint pos, uint n) {
+    uint w = word + (pos >> 5), sh = pos & 31u;
+    uint v = attr[w] >> sh;
+    if (sh + n > 32u) v |= attr[w + 1u] << (32u - sh);
+    return n == 32u ? v : v & ((1u << n) - 1u);
+}
+
+uint part1by2(uint x) {
+    x &= 0x3FFu;
+    x = (x | (x << 16)) & 0x030000FFu;
+    x = (x | (x << 8)) & 0x0300F00Fu;
+    x = (x | (x << 4)) & 0x030C30C3u;
+    x = (x | (x << 2)) & 0x09249249u;
+    return x;
+}
+uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
+
+// The attribute index of set cell c (vx_compact_lookup).
+uint cell_index(CModel m, uvec3 c) {
+    if (m.root == ROOT_LEAF) return morton(c);
+    uint n = m.root, base = 0u;
+    int L = int(m.depth);
+    for (; L >= 3; L--) {
+        uint h = geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uint s = uint(L - 1);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint below = valid & ((1u << o) - 1u);
+        uint f = inner != 0u ? uint(findLSB(inner)) : 8u;
+        if (o <= f) {
+            base += uint(bitCount(below)) << (3u * s);
+        } else {
+            uint wb = 8u << ((h >> 16) & 3u), rank = uint(bitCount(below & ~((2u << f) - 1u)));
+            base += geom_bits(n + 1u + uint(bitCount(inner)), rank * wb, wb);
+        }
+        if (((leaf >> o) & 1u) != 0u) return base + morton(c & ((1u << s) - 1u));
+        n = geom[n + 1u + uint(bitCount(inner & ((1u << o) - 1u)))];
+    }
+    uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
+    uint lo = geom[n], hi = geom[n + 1u];
+    uint below = bit < 32u ? uint(bitCount(lo & ((1u << bit) - 1u)))
+                           : uint(bitCount(lo)) + uint(bitCount(hi & ((1u << (bit - 32u)) - 1u)));
+    return base + below;
+}
+
+uint recorrelate(uint v) {
+    uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
+    return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);
+}
+
+// The colour of attribute index i (vx_compact_rgba).
+uint decode_color(CModel m, uint i) {
+    uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
+    uint blk = i >> m.block_log2, j = i & (B - 1u);
+    uint g = attr[m.attr_base + (blk >> 6)];
+    uint h = attr[m.attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u))];
+    uint code = h & 31u, p = m.attr_base + (h >> 5);
+    uint v;
+    if (code == 31u) {
+        v = attr_bits(p, j * width, width);
+    } else if (code == 30u) {
+        uint mn = attr[p], wc = attr[p + 1u];
+        uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
+        uint pos = j * (wr + wg + wb + wa);
+        uint r = wr != 0u ? attr_bits(p + 2u, pos, wr) : 0u;
+        uint gg = wg != 0u ? attr_bits(p + 2u, pos + wr, wg) : 0u;
+        uint b = wb != 0u ? attr_bits(p + 2u, pos + wr + wg, wb) : 0u;
+        uint a = wa != 0u ? attr_bits(p + 2u, pos + wr + wg + wb, wa) : 0u;
+        v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
+            (((mn >> 24) + a) & 0xFFu) << 24;
+        if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
+    } else {
+        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
+        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
+    }
+    return m.kind == 1u ? palette[v & 0xFFu] : v;
+}
+
+// trace.comp's trace_model (float, DEEP 0 or 1) over the compact geometry.
+bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
+    CModel m = models[mi];
+    if (m.root == ROOT_EMPTY) return false;
+    float side = exp2(float(m.depth));
+    uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
+    uvec3 bq = (uvec3(m.box, m.box >> 10, m.box >> 20) & 1023u) + 1u;
+    vec2 tb = box_t(o, safe_inv(d), vec3(0.0), vec3(bq << bsh));
+    float te = max(tb.x, t0);
+    float tx = min(tb.y, t1);
+    if (!(te < tx)) return false;
+    float sc = 1.0 / side;
+    bool exact = DEEP >= 1 && (m.flags & 2u) != 0u;
+    vec3 oa = o + d * te;
+    vec3 ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+    vec3 dl = d * sc;
+    float L = length(dl);
+    dl /= L;
+    float tl1 = (tx - te) * L;
+    const float eps = exp2(-float(S_MAX));
+    if (abs(dl.x) < eps) dl.x = sign_neg(dl.x) ? -eps : eps;
+    if (abs(dl.y) < eps) dl.y = sign_neg(dl.y) ? -eps : eps;
+    if (abs(dl.z) < eps) dl.z = sign_neg(dl.z) ? -eps : eps;
+    vec3 coef = 1.0 / -abs(dl);
+    vec3 bias = coef * ol;
+    int oct = 7;
+    if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
+    if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
+    if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
+    float tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+    float tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+    float hh = tmax;
+    tmin = max(tmin, 0.0);
+    tmax = min(tmax, tl1);
+    // exact models: oa and d in stack slots 0-5 (models at most 10 deep push
+    // no deeper than stk_node[S_MAX - 10]), as in trace.comp
+    const int OA = 0, DM = 3;
+
+    vec3 pos = vec3(1.0);
+    int scale = S_MAX - 1;
+    float scale_exp2 = 0.5;
+    bool hit = false;
+    int stk_node[S_MAX];
+    // the level of the node at scale s is s + lvl_off
+    int lvl_off = int(m.depth) - (S_MAX - 1);
+    if (m.root == ROOT_LEAF) {
+        if (tmin <= tmax) {
+            hit = true;
+            scale = S_MAX;
+            scale_exp2 = 1.0;
+        }
+    } else {
+        uint parent = m.root;
+        int oct7 = oct ^ 7;
+        uint desc = 0u;
+        bool loaded = false;
+        int idx = 0;
+        if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+        if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+        if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+        if (exact) {
+            stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
+            stk_node[OA + 2] = floatBitsToInt(oa.z);
+            stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
+            stk_node[DM + 2] = floatBitsToInt(d.z);
+        }
+        while (scale < S_MAX) {
+            g_iter++;
+            if (!loaded) { desc = node_desc(parent, scale + lvl_off); loaded = true; }
+            vec3 tc = pos * coef - bias;
+            float tc_max = min(min(tc.x, tc.y), tc.z);
+            int cs = idx ^ oct7;
+            uint cbit = 1u << cs;
+            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+                float tv_max = min(tmax, tc_max);
+                float half_ = scale_exp2 * 0.5;
+                vec3 tcen = half_ * coef + tc;
+                if (DEEP >= 1 || tmin <= tv_max) {
+                    if ((desc & cbit) != 0u) {
+                        hit = true;
+                        break;
+                    }
+                    // push
+                    if (tc_max < hh) stk_node[scale] = int(parent);
+                    hh = tc_max;
+                    int lvl = scale + lvl_off;
+                    parent = lvl >= 3 ? geom[parent + 1u + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))]
+                                      : (parent << 3) | uint(cs);
+                    idx = 0;
+                    scale--;
+                    scale_exp2 = half_;
+                    if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
+                    if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
+                    if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+                    loaded = false;
+                    continue;
+                }
+            }
+            if (g_iter > MAX_ITER) break;
+            int step = 0;
+            if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
+            if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
+            if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
+            tmin = tc_max;
+            idx ^= step;
+            if ((idx & step) != 0) {
+                uint diff = 0u;
+                if ((step & 1) != 0) diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x + scale_exp2);
+                if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
+                if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
+                scale = findMSB(diff);
+                if (scale >= S_MAX) break;
+                scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+                parent = uint(stk_node[scale]);
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                pos = intBitsToFloat(sh << scale);
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                hh = 0.0;
+                loaded = false;
+            }
+        }
+        if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+    }
+    if (!hit) return false;
+    float troot = tmin;
+    float t = te + troot / L;
+    if (!exact || any_hit) {
+        if (!(t <= h.t)) return false;
+        if (any_hit) { h.t = t; return true; }
+    }
+    vec3 tent = (pos + scale_exp2) * coef - bias;
+    int axis = 0;
+    float ta = tent.x;
+    if (tent.y > ta) { axis = 1; ta = tent.y; }
+    if (tent.z > ta) axis = 2;
+    if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
+    if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
+    if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
+    vec3 lo = (pos - 1.0) * side;
+    float sz = scale_exp2 * side;
+    float tau = troot / L;
+    if (exact) tau = entry_tau(SLOTS3(OA), SLOTS3(DM), lo, sz), t = te + tau;
+    vec3 p = oa + d * tau;
+    vec3 c = clamp(floor(p), lo, lo + sz - 1.0);
+    if (exact && !(t <= h.t)) return false;
+    float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+    float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
+    float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
+    if (!(troot <= 0.0 && te <= t0)) {
+        if (axis == 0) c.x = ca;
+        else if (axis == 1) c.y = ca;
+        else c.z = ca;
+    }
+    h.t = t;
+    h.cell = uvec3(c);
+    h.axis = axis;
+    h.nsign = sign_neg(da) ? 1.0 : -1.0;
+    h.color = 0xFFFFFFFFu;
+    if (HAS_COLOR && (m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+    return true;
+}
+
+bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+    Inst I = insts[i];
+    vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
+    vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+    if (trace_model(I.model, om, dm, t0, h.t, any_hit, h)) {
+        h.inst = i;
+        return true;
+    }
+    return false;
+}
+
+// trace.comp's BVH walk (trace_common.glsl trace_scene)
+bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
+    bool found = false;
+    if (!USE_BVH) {
+        if (F.dims.w > 0u) found = trace_instance(0u, o, d, t0, any_hit, h);
+        return found;
+    }
+    if (F.dims.w == 0u) return false;
+    vec3 dinv = safe_inv(d);
+    uint stack[64];
+    int sp = 0;
+    uint node = 0u;
+    vec2 rt = box_t(o, dinv, bvh[0].lo.xyz, bvh[0].hi.xyz);
+    if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    bool pop_next = false;
+    while (true) {
+        uint first = 0u, count = 0u;
+        bool done = false;
+        while (true) {
+            if (pop_next) {
+                pop_next = false;
+                bool next = false;
+                while (sp > 0) {
+                    uint c = stack[--sp];
+                    vec2 tc = box_t(o, dinv, bvh[c].lo.xyz, bvh[c].hi.xyz);
+                    if (tc.x <= h.t) { node = c; next = true; break; }
+                }
+                if (!next) { done = true; break; }
+            }
+            BNode n = bvh[node];
+            count = floatBitsToUint(n.hi.w);
+            first = floatBitsToUint(n.lo.w);
+            if (count > 0u) { pop_next = true; break; }
+            BNode a = bvh[first], b = bvh[first + 1u];
+            vec2 ta = box_t(o, dinv, a.lo.xyz, a.hi.xyz);
+            vec2 tb = box_t(o, dinv, b.lo.xyz, b.hi.xyz);
+            bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
+            bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
+            if (ha && hb) {
+                uint nearc = ta.x <= tb.x ? first : first + 1u;
+                uint farc = ta.x <= tb.x ? first + 1u : first;
+                if (sp < 64) stack[sp++] = farc;
+                node = nearc;
+            } else if (ha) {
+                node = first;
+            } else if (hb) {
+                node = first + 1u;
+            } else {
+                pop_next = true;
+            }
+        }
+        if (done) break;
+        for (uint k = 0u; k < count; k++) {
+            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+                found = true;
+                if (any_hit) return true;
+            }
+        }
+    }
+    return found;
+}
+
+vec3 unpack_rgb(uint c) {
+    return vec3(float(c & 0xFFu), float((c >> 8) & 0xFFu), float((c >> 16) & 0xFFu)) / 255.0;
+}
+
+vec3 inst_color(uint id) {
+    uint h = id * 2654435761u + 0x9E3779B9u;
+    h ^= h >> 15; h *= 0x85EBCA6Bu; h ^= h >> 13;
+    return vec3(float(h & 0xFFu), float((h >> 8) & 0xFFu), float((h >> 16) & 0xFFu)) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 heat(uint it) {
+    float x = clamp(float(it) / 256.0, 0.0, 1.0);
+    return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
+}
+
+void main() {
+    uvec2 px = gl_GlobalInvocationID.xy;
+    uint W = F.dims.x, H = F.dims.y;
+    if (px.x >= W || px.y >= H) return;
+    uint spp = max(F.dims.z, 1u);
+    vec4 acc = vec4(0.0);
+    bool ortho = F.rx.w != 0.0;
+    float t_start = F.fwd.w;
+    for (uint s = 0u; s < spp; s++) {
+        vec2 off = vec2(0.0);
+        if (s > 0u) off = fract(vec2(0.5) + float(s) * vec2(0.7548776662466927, 0.5698402909980532)) - 0.5;
+        float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
+        float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
+        vec3 o, d;
+        float t_off;
+        if (ortho) {
+            o = u * F.rx.xyz + v * F.uy.xyz;
+            d = F.fwd.xyz;
+            t_off = t_start;
+        } else {
+            vec3 du = F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz;
+            float len = length(du);
+            d = du / len;
+            o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
+            t_off = t_start * len;
+        }
+        g_iter = 0u;
+        Hit h;
+        h.t = 3.0e38;
+        h.inst = NO_HIT;
+        h.color = 0xFFFFFFFFu;
+        h.cell = uvec3(0u);
+        bool hit = trace_scene(o, d, 0.0, false, h);
+        uint prim_iter = g_iter;
+        vec4 c = vec4(0.0);
+        vec3 nw = vec3(0.0);
+        if (hit) {
+            Inst I = insts[h.inst];
+            vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+            nw = normalize(row.xyz * h.nsign);
+        }
+        if (MODE == MODE_COLOR || MODE == MODE_ALBEDO) {
+            if (!hit) c = vec4(0.62, 0.75, 0.92, 0.0);
+            else {
+                vec3 alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
+                if (MODE == MODE_ALBEDO) c = vec4(alb, 1.0);
+                else {
+                    float amb = F.light.w;
+                    float ndl = max(dot(nw, F.light.xyz), 0.0);
+                    float vis = 0.0;
+                    if (ndl > 0.0) {
+                        vec3 p = o + d * h.t;
+                        float cell = insts[h.inst].cell;
+                        vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+                        Hit sh;
+                        sh.t = 3.0e38;
+                        sh.inst = NO_HIT;
+                        vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
+                    }
+                    c = vec4(alb * (amb + (1.0 - amb) * ndl * vis), 1.0);
+                }
+            }
+        } else if (MODE == MODE_NORMAL) {
+            c = vec4(nw, hit ? 1.0 : 0.0);
+        } else if (MODE == MODE_DEPTH) {
+            float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
+            c = vec4(t, t, t, hit ? 1.0 : 0.0);
+        } else if (MODE == MODE_INSTANCE) {
+            c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
+        } else {
+            c = vec4(heat(g_iter), 1.0);
+        }
+        acc += c;
+        if (WRITE_HITS && s == 0u) {
+            uint base = 2u * (px.y * W + px.x);
+            hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, 0u);
+        }
+    }
+    pixels[px.y * W + px.x] = acc / float(spp);
+}

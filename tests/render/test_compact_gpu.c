@@ -1,0 +1,198 @@
+/* tests/render/test_compact_gpu.c - the compact layout's trace kernel
+ * (shaders/trace_compact.comp, render/compact_gpu.c) against today's kernel
+ * (trace.comp over the .svo node words, vx_render_frame) on the same render
+ * scene: every pixel of several views must hold the same instance, cell, t
+ * (its bits) and colour, in the albedo mode (the colour decoded from the
+ * attribute blocks) and the shaded one (shadow rays through the DAG).
+ * Scenes: generated palette and RGBA models (rotated and shifted instances,
+ * a model 10 levels deep: the exact-t rule of trace.comp's DEEP 1 kernel),
+ * the corpus .vox scenes and, with the mesh converter, DamagedHelmet at 128. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "convert/convert.h"
+#include "render/compact.h"
+#include "tests/gpu_test.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+#ifdef VX_TEST_HAVE_MESH
+#include "convert/mesh.h"
+#endif
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+/* Compares both kernels on views of s; returns the pixels hit. */
+static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h) {
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_compact_scene c;
+    vx_compact_gpu* cg = NULL;
+    vx_result r = vx_render_scene_create(gpu, s, &rs, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    if (r) return 0;
+    r = vx_compact_build(NULL, s, &c, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    if (!r) {
+        r = vx_compact_gpu_create(rs, s, &c, &cg, &err);
+        CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+        vx_compact_free(&c);
+    }
+    uint64_t hits_total = 0;
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    for (int view = 0; !r && view < 4; view++) {
+        vx_render_desc d = {.width = w, .height = h, .mode = view == 3 ? VX_RENDER_COLOR : VX_RENDER_ALBEDO,
+                            .want_hits = true};
+        if (view == 1) d.camera.ortho = true;
+        if (view >= 2) {
+            d.camera.set = true;
+            d.camera.fov = 70;
+            for (int k = 0; k < 3; k++) {
+                double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+                d.camera.target[k] = mid - 0.05 * ext;
+                d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext * (view == 3 ? 3 : 1);
+            }
+        }
+        vx_render_image a = {0}, b = {0};
+        vx_result r1 = vx_render_frame(rs, &d, &a, &err);
+        CHECKF(r1 == VX_OK, "%s view %d: trace.comp: %s", name, view, err.msg);
+        vx_result r2 = r1 ? r1 : vx_compact_gpu_frame(cg, &d, &b, &err);
+        CHECKF(r2 == VX_OK, "%s view %d: trace_compact.comp: %s", name, view, err.msg);
+        if (!r1 && !r2) {
+            uint32_t wrong = 0, hits = 0;
+            for (size_t i = 0; i < (size_t)w * h; i++) {
+                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
+                bool same = x->instance == y->instance && !memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16);
+                if (x->instance != VX_RENDER_NO_HIT) {
+                    hits++;
+                    same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
+                }
+                if (!same && wrong++ < 3)
+                    fprintf(stderr,
+                            "  %s view %d pixel %zu: trace.comp instance %u cell (%u %u %u) t %.9g rgb %.4f %.4f %.4f;"
+                            " compact %u (%u %u %u) t %.9g rgb %.4f %.4f %.4f\n",
+                            name, view, i, x->instance, x->cell[0], x->cell[1], x->cell[2], x->t, a.pixels[4 * i],
+                            a.pixels[4 * i + 1], a.pixels[4 * i + 2], y->instance, y->cell[0], y->cell[1], y->cell[2],
+                            y->t, b.pixels[4 * i], b.pixels[4 * i + 1], b.pixels[4 * i + 2]);
+            }
+            CHECKF(wrong == 0, "%s view %d: %u of %u pixels differ", name, view, wrong, w * h);
+            printf("  %-34s view %d: %ux%u, %u pixels hit, %u differ\n", name, view, w, h, hits, wrong);
+            hits_total += hits;
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
+    vx_compact_gpu_destroy(cg);
+    vx_render_scene_destroy(rs);
+    return hits_total;
+}
+
+static void test_generated(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    /* palette: sparse, dense, nearly full; RGBA: gradients, noise, 8^3 tiles; one 10 levels deep */
+    vx_svo_model m[6];
+    REQUIRE(ts_random_model(&m[0], 37, 20, 9, 5, 1) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 24, 24, 24, 50, 2) == VX_OK);
+    REQUIRE(ts_random_model(&m[2], 16, 16, 16, 99, 3) == VX_OK);
+    size_t n = 0, cap = 64 * 64 * 64;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    uint8_t* level = calloc(cap, 1);
+    REQUIRE(keys && rgba && level);
+    uint32_t seed = 7;
+    for (uint32_t z = 0; z < 64; z++)
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++)
+                if ((x - 32) * (x - 32) + (y - 32) * (y - 32) + (z - 32) * (z - 32) < 900 && ts_rng(&seed) % 4) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    rgba[n++] = x < 40 ? 0xFF000000u | (x * 3) | ((y * 3) << 8) | ((z * 3) << 16) : ts_rng(&seed);
+                }
+    vx_error err = {0};
+    vx_svo_voxels v = {.size = {64, 64, 64}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[3], NULL, &err) == VX_OK);
+    n = 0;
+    for (uint32_t z = 0; z < 64; z += 8)
+        for (uint32_t y = 0; y < 64; y += 8)
+            for (uint32_t x = 0; x < 64; x += 8)
+                if (ts_rng(&seed) % 3 == 0) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    level[n] = ts_rng(&seed) % 2 ? 3 : 2;
+                    rgba[n++] = 0xFF000000u | (ts_rng(&seed) % 3);
+                }
+    v = (vx_svo_voxels){.size = {64, 64, 64}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[4], NULL, &err) == VX_OK);
+    free(keys), free(rgba), free(level);
+    REQUIRE(ts_random_model(&m[5], 600, 6, 530, 3, 4) == VX_OK);
+    REQUIRE(m[5].depth == 10);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[8];
+    for (uint32_t i = 0; i < 5; i++) in[i] = ts_inst(i, i % 2 ? rot : NULL, 80.0 * i, 10.0 * i, 0);
+    in[5] = ts_inst(3, NULL, 100, 90, 40);
+    in[6] = ts_inst(5, NULL, -100, -20, -300);
+    in[7] = ts_inst(4, rot, 200, -60, 80);
+    vx_svo_scene s;
+    ts_scene(&s, m, 6, in, 8);
+    CHECK(compare(&s, "generated (8 instances)", 160, 96) > 160 * 96 / 2);
+    /* one instance (no BVH): the deep model alone */
+    vx_svo_scene s1;
+    vx_svo_model only = s.models[5];
+    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&s1, &only, 1, &i1, 1);
+    CHECK(compare(&s1, "10 levels deep, one instance", 160, 96) > 160 * 96 / 4);
+    s1.models[0] = (vx_svo_model){0}; /* owned by s */
+    vx_svo_scene_free(&s1);
+    vx_svo_scene_free(&s);
+}
+
+static void test_corpus(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
+                                  "eph_monu1.vox", "eph_teapot.vox", "ogt_chr_knight.vox",
+                                  "ogt_doom.vox", "ogt_test_groups.vox", "ogt_test_multiple_model_scene.vox"};
+    int done = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char rel[128];
+        snprintf(rel, sizeof rel, "vox/%s", files[i]);
+        const char* path = vx_test_corpus(rel);
+        if (!path) continue;
+        vx_vox_scene vs;
+        vx_svo_scene s;
+        vx_error err = {0};
+        REQUIRE(vx_vox_read_file(NULL, path, &vs, &err) == VX_OK);
+        vx_result r = vx_conv_vox(NULL, &vs, &s, NULL, &err);
+        vx_vox_scene_free(&vs);
+        CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
+        if (r) continue;
+        CHECKF(compare(&s, files[i], 96, 72) > 96 * 72 / 10, "%s: too few pixels hit", files[i]);
+        vx_svo_scene_free(&s);
+        done++;
+    }
+    if (!done) SKIP("no corpus .vox files");
+}
+
+static void test_corpus_mesh(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+#ifdef VX_TEST_HAVE_MESH
+    const char* path = vx_test_corpus("gltf/khronos_DamagedHelmet.glb");
+    if (!path) SKIP("no DamagedHelmet.glb");
+    vx_svo_scene s;
+    vx_error err = {0};
+    REQUIRE(vx_conv_mesh_file(&(vx_conv_mesh_desc){.res = 128}, path, &s, NULL, &err) == VX_OK);
+    CHECK(compare(&s, "DamagedHelmet at 128", 128, 96) > 128 * 96 / 4);
+    vx_svo_scene_free(&s);
+#else
+    SKIP("built without the mesh converter");
+#endif
+}
+
+int main(void) {
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
+    RUN(test_generated);
+    RUN(test_corpus);
+    RUN(test_corpus_mesh);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
