@@ -12,6 +12,7 @@
 
 #include "probes/probes_internal.h"
 #include "render/gpu.h"
+#include "render/render_internal.h" /* vx__render_scene_far */
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
@@ -42,6 +43,11 @@ enum { NBIND = 17 };
 
 enum { PMODE_BAKE = 0 };
 
+/* probe.comp's constants after the tracer's (constant_id VX__SPEC_COUNT + i): PMODE, MATS, LIGHTS, and
+ * trace_common.glsl's DEEP (0: the plain loop, as before) and FAR (off where no model can hold a far
+ * pointer: the far bit's test on every push costs, issue 21) */
+enum { SPEC_PMODE, SPEC_MATS, SPEC_LIGHTS, SPEC_DEEP, SPEC_FAR, SPEC_EXTRA };
+
 /* Samples per pixel in one dispatch on a CPU device (llvmpipe's loop limit,
  * probe.comp): fewer than 256 fit on the Cornell box with 2 bounces. */
 enum { CPU_DEVICE_CHUNK = 32 };
@@ -62,7 +68,7 @@ typedef struct gctx {
     const vx_allocator* alloc;
     vx__frame f;
     vx__buffer* scene[7];
-    uint32_t spec[VX__SPEC_COUNT + 2]; /* the tracer's, then PMODE and MATS */
+    uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's PMODE, MATS, LIGHTS, DEEP, FAR */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
@@ -174,11 +180,14 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     uint8_t* pal = NULL;
     size_t na = 0;
     if ((r = vx__scene_attr_palette(s, c->alloc, &pal, &na, err))) return r;
-    c->spec[VX__SPEC_COUNT + 1] = L->materials;
+    c->spec[VX__SPEC_COUNT + SPEC_MATS] = L->materials;
     if ((r = upload_path_tracer(c, L, pal, na, err))) {
         vx_free(c->alloc, pal);
         return r;
     }
+    c->spec[VX__SPEC_COUNT + SPEC_LIGHTS] = c->light_count > 0 || c->em_count > 0;
+    c->spec[VX__SPEC_COUNT + SPEC_DEEP] = 0;
+    c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
     size_t np = ps ? ps->probe_count : 1;
     float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));
@@ -238,14 +247,14 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
-    c->spec[VX__SPEC_COUNT] = pmode;
+    c->spec[VX__SPEC_COUNT + SPEC_PMODE] = pmode;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_spv_arr, .spirv_size = sizeof vx__probe_spv_arr,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 2, .label = "probe"};
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, c->spec, sizeof c->spec);
     uint64_t key = 0x9B0BE2ull;
-    for (int i = 0; i < VX__SPEC_COUNT + 2; i++) key = key * 131 + c->spec[i];
+    for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
     return vx__pipeline_get(c->g, key, &pd, out, err);
 }
 

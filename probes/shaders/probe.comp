@@ -37,6 +37,9 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(constant_id = 5) const int PMODE = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 13)
+// the scene has lights of binding 14 or emissive voxels of binding 15 (P.cnt.x or P.cnt.y > 0): without,
+// their loops and the emitter sampling leave the kernel (fewer registers; the sun and sky stay)
+layout(constant_id = 7) const bool LIGHTS = true;
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -108,7 +111,7 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
     bool found = false;
     le = vec3(0.0);
     pdf = 0.0;
-    for (uint i = 0u; i < P.cnt.x; i++) {
+    for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u];
         uint type = uint(a.w);
         float t = BIG, p = 0.0;
@@ -154,7 +157,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         vec3 f = bsdf_eval(B, wo, P.light.xyz, bp);
         out_l += f * P.sun.xyz * dot(s.n, P.light.xyz);
     }
-    for (uint i = 0u; i < P.cnt.x; i++) {
+    for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
         uint type = uint(a.w);
         vec3 e = c.xyz, l;
@@ -213,7 +216,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
         out_l += f * e * (g * cs * w);
     }
-    if (P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
+    if (LIGHTS && P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
         vec3 y, n, rad;
         float edge;
         emitter_point(P.cnt.y, y, n, rad, edge);
@@ -251,13 +254,13 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         bool skip = indirect && vertex == 0, skip_lights = indirect && vertex <= 1;
         vec3 le;
         float lp;
-        if (P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
+        if (LIGHTS && P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
             if (!skip_lights) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
             break;
         }
         if (!hit) {
             if (!skip) acc += thr * sky_radiance(d);
-            for (uint i = 0u; i < P.cnt.x && !(indirect && vertex <= 1); i++) {
+            for (uint i = 0u; LIGHTS && i < P.cnt.x && !(indirect && vertex <= 1); i++) {
                 vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
                 if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;
                 float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
@@ -271,7 +274,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         g_s = surface(o, d, h);
         if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
             float w = 1.0;
-            if (prev_pdf > 0.0 && P.cnt.y > 0u) {
+            if (LIGHTS && prev_pdf > 0.0 && P.cnt.y > 0u) {
                 float cy = abs(dot(d, g_s.n));
                 w = cy > 0.0 ? mis(prev_pdf, lum(g_s.emit) / P.pt.x * h.t * h.t / cy) : 0.0;
             }
