@@ -795,6 +795,7 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
         r = ctx_init(&b->c, rs, scene, &b->f, ps, &b->L, err);
         b->ctx = true; /* ctx_free is safe on a partly made context */
     }
+    if (!r) b->c.spec[VX__SPEC_COUNT + SPEC_LIGHTS] |= d.general_paths; /* path(), the reference */
     if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
     if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
     if (!r) {
@@ -871,7 +872,9 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     vx__tables T = {0};
     float* raw = NULL;
     vx__pipeline* pipe;
-    if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err)) || (r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
+    if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
+    c.spec[VX__SPEC_COUNT + SPEC_LIGHTS] |= d.general_paths; /* path(), the reference */
+    if ((r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
     if (!vx__probe_grow(ps, end - ps->first)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;

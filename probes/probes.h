@@ -185,7 +185,12 @@ typedef struct vx_probe_bake_stats {
  *  host_filter: GPU bake only: filter each batch's radiance and distances
  *              on `threads` host threads (vx__probe_finish, the CPU bake's
  *              code: the reference) instead of on the GPU
- *  stats:      GPU bake only: optional out, where the time went */
+ *  stats:      GPU bake only: optional out, where the time went
+ *  general_paths: GPU bake only: trace with the general path kernel (probe.comp's
+ *              path(), what renders use) where the scene would let the bake
+ *              run its own ray loop (no lights besides the sun and sky, no
+ *              emissive voxels, metal or glass): the reference that loop is
+ *              tested against (the same bytes); slower */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -207,6 +212,7 @@ typedef struct vx_probe_bake_desc {
     uint32_t batch;
     bool host_filter;
     vx_probe_bake_stats* stats;
+    bool general_paths;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;
