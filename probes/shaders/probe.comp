@@ -33,13 +33,18 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
+// BEAM (constant 5, trace_common.glsl): the bake's camera rays start their walk at their texel
+// block's distance from probe_beam.comp (binding 11), where BEAM > 1 (the block side in texels)
+#define TRACE_BEAM
 #include "trace_common.glsl"
 
-layout(constant_id = 5) const int PMODE = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 13)
-// the scene has lights of binding 14 or emissive voxels of binding 15 (P.cnt.x or P.cnt.y > 0): without,
-// their loops and the emitter sampling leave the kernel (fewer registers; the sun and sky stay)
-layout(constant_id = 7) const bool LIGHTS = true;
+// bits 0-7: the pass (PMODE); bit 8 (LIGHTS): the scene has lights of binding 14 or emissive voxels of
+// binding 15 (P.cnt.x or P.cnt.y > 0): without, their loops and the emitter sampling leave the kernel
+// (fewer registers; the sun and sky stay)
+layout(constant_id = 7) const uint PCONST = 0x100u;
+const int PMODE = int(PCONST & 0xFFu);
+const bool LIGHTS = (PCONST & 0x100u) != 0u;
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -74,7 +79,8 @@ layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz
 // then per pixel the running sum (rgb, w: samples that hit) and (samples
 // done, 0, 0, 0), then the round's blocks (see render())
 layout(std430, binding = 10) buffer Out { vec4 outv[]; };
-// per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
+// per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2); the bake with BEAM > 1: per
+// probe of the dispatch and block of BEAM x BEAM texels, the block's start distance (probe_beam.comp)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
 // light field modes, per probe: distance u16 ((res+2)^2, padded to a word),
 // min-distance u16 ((low+2)^2, padded), normal oct16 ((res+2)^2), radiance
@@ -674,6 +680,12 @@ void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout 
     vec3 o = po, d = vec3(0.0, 0.0, 1.0), thr = vec3(1.0), pacc = vec3(0.0), pend = vec3(0.0);
     vec3 sp = vec3(0.0), sn = vec3(0.0, 0.0, 1.0), salb = vec3(0.0), swo = vec3(0.0, 0.0, 1.0); // the vertex
     bool sun = P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0;
+    // the texel block's start distance for rays from the probe (probe_beam.comp), slightly early as trace.comp's
+    float beam_t = 0.0;
+    if (BEAM > 1u) {
+        uint nb = res / BEAM;
+        beam_t = maps[(probe - P.a.w) * nb * nb + (j / BEAM) * nb + i / BEAM] * 0.9999;
+    }
     if (kind == R_CENTRE) {
         d = centre_dir(i, j, res);
     } else if (s < s1) {
@@ -687,6 +699,7 @@ void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout 
         h.color = 0xFFFFFFFFu;
         h.attr = NO_HIT;
         g_iter = 0u;
+        g_tskip = kind == R_CENTRE || (kind == R_CAST && depth == 0u) ? beam_t : 0.0; // from the probe
         bool hit = trace_scene(o, d, 0.0, kind == R_SHADOW, h);
         bool next = false; // the sample's path ended
         bool bounce = false; // on to the bounce from the vertex (sp, sn, salb)

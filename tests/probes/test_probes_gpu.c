@@ -179,10 +179,12 @@ static void test_gpu_vs_cpu_bake(void) {
 /* The bake's own ray loop (probe.comp's FLAT: a scene without lights besides
  * the sun and sky, without emissive voxels, metal or glass) against the general
  * path kernel (vx_probe_bake_desc.general_paths, what renders use): the same
- * rays, random numbers and additions, so the same bytes, over one and several
- * dispatches (spp 40: llvmpipe traces 32 samples a dispatch), Russian roulette
- * (4 bounces), no bounce and no sun; and the loop's estimate against the CPU
- * bake (statistically: other random streams). */
+ * rays, random numbers and additions, and the camera rays' walks started at
+ * their texel block's beam distance (probe_beam.comp) meet the same cells, so
+ * the same bytes, over one and several dispatches (spp 40: llvmpipe traces 32
+ * samples a dispatch), Russian roulette (4 bounces), no bounce, no sun, and
+ * narrow beams (R=64); and the loop's estimate against the CPU bake
+ * (statistically: other random streams). */
 static void test_gpu_bake_loop_vs_path(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -192,11 +194,11 @@ static void test_gpu_bake_loop_vs_path(void) {
     s.materials = NULL, s.material_count = 0; /* the block is plain white: no emitter, so the loop applies */
     vx_render_scene* rs = scene_on_gpu(&s);
     REQUIRE(rs);
-    struct { uint32_t spp; int32_t bounces; bool no_sun; } cfg[] = {{40, 0, false}, {6, 4, false}, {8, -1, false},
-                                                                   {8, 2, true}};
+    struct { uint32_t spp; int32_t bounces; bool no_sun; uint32_t res; } cfg[] = {
+        {40, 0, false, 16}, {6, 4, false, 16}, {8, -1, false, 16}, {8, 2, true, 16}, {2, 0, false, 64}};
     vx_error err = {0};
     for (size_t k = 0; k < sizeof cfg / sizeof cfg[0]; k++) {
-        vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = cfg[k].spp, .bounces = cfg[k].bounces,
+        vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = cfg[k].res, .spp = cfg[k].spp, .bounces = cfg[k].bounces,
                                 .no_sun = cfg[k].no_sun, .seed = 7 + k, .threads = 2};
         vx_probe_set a, b;
         REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &a, &err) == VX_OK);
@@ -208,8 +210,8 @@ static void test_gpu_bake_loop_vs_path(void) {
         size_t nt = vx__bsq_test(a.res) * a.count, hits = 0, lit = 0;
         for (size_t t = 0; t < nt; t++)
             hits += a.distance[t] != VX_PROBE_DIST_MISS, lit += vx_probe_half_to_float(a.radiance[3 * t]) > 0;
-        fprintf(stderr, "  loop vs path(): spp %u, bounces %d%s: %zu of %zu texels hit, %zu lit, %s\n", cfg[k].spp,
-                cfg[k].bounces, cfg[k].no_sun ? ", no sun" : "", hits, nt, lit,
+        fprintf(stderr, "  loop vs path(): R=%u, spp %u, bounces %d%s: %zu of %zu texels hit, %zu lit, %s\n",
+                cfg[k].res, cfg[k].spp, cfg[k].bounces, cfg[k].no_sun ? ", no sun" : "", hits, nt, lit,
                 nx == ny && !memcmp(x, y, nx) ? "same bytes" : "BYTES DIFFER");
         CHECK(hits > nt / 4 && hits < nt); /* walls and floor, and the open sides' sky */
         CHECK(lit > nt / 2);
