@@ -706,7 +706,10 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     B.ps = ps;
     uint32_t batch = B.batch;
     vx_result r = VX_OK;
-    uint32_t spp = ps->spp ? ps->spp : 1, nbatch = (end - begin + batch - 1) / batch;
+    /* full batches, then the last quarter batch on its own: what is left after the GPU's last batch (the
+     * host storing its maps, the caller writing them) is short */
+    uint32_t n = end - begin, tail = batch >= 8 && n > batch ? batch / 4 : 0, body = n - tail;
+    uint32_t spp = ps->spp ? ps->spp : 1, nbody = (body + batch - 1) / batch, nbatch = nbody + (tail ? 1 : 0);
     uint64_t (*ts)[4] = vx_calloc(ps->alloc, nbatch, sizeof *ts);
     if (!ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double t1 = vx_time_now();
@@ -714,8 +717,8 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     for (uint32_t i = 0; !r && i <= nbatch; i++) {
         if (i < nbatch) {
             bslot* s = &B.slot[i % 2];
-            s->at = begin + i * batch;
-            s->cnt = end - s->at < batch ? end - s->at : batch;
+            s->at = begin + (i < nbody ? i * batch : body);
+            s->cnt = i < nbody ? (body - i * batch < batch ? body - i * batch : batch) : tail;
             gpu_params* p = s->params.map;
             params_common(p, L, ps->seed);
             params_path(p, c);

@@ -343,8 +343,8 @@ static void test_gpu_filter_vs_host(void) {
         uint8_t *a, *b;
         size_t na, nbytes;
         REQUIRE(bytes_of(&g, &a, &na));
-        uint32_t batches[3] = {1, 4, 27};
-        for (int k = 0; k < 3; k++) {
+        uint32_t batches[5] = {1, 4, 8, 12, 27}; /* 8, 12: full batches, a short one, the last quarter batch */
+        for (int k = 0; k < 5; k++) {
             vx_probe_set x;
             d.batch = batches[k];
             REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &x, &err) == VX_OK);
