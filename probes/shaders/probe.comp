@@ -771,8 +771,12 @@ void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout 
 }
 
 void bake() {
-    uint res = P.a.x, texel = gl_GlobalInvocationID.x, slot = gl_GlobalInvocationID.y;
-    if (texel >= res * res || slot >= P.seed.z) return;
+    uint res = P.a.x, slot = gl_GlobalInvocationID.y, n = gl_GlobalInvocationID.x;
+    if (n >= res * res || slot >= P.seed.z) return;
+    // each 32 invocations (a SIMD group on NVIDIA) take a tile of 8 x 4 texels rather than a 32-texel run of
+    // a row: their rays from the probe leave in nearby directions and meet nearby cells (res: a multiple of 16)
+    uint tile = n / 32u, lane = n % 32u, tiles_x = res / 8u;
+    uint texel = ((tile / tiles_x) * 4u + lane / 8u) * res + (tile % tiles_x) * 8u + lane % 8u;
     uint probe = P.a.w + slot;
     vec4 pr = probes[probe];
     uint spp = max(P.a.y, 1u);
