@@ -674,8 +674,10 @@ void centre_ray(vec3 o, uint i, uint j, uint res, inout vec4 acc, inout vec4 geo
 // here each lane traces its own next ray in every round, and the next sample's rays follow without a wait.
 const bool FLAT = PMODE == P_BAKE && !LIGHTS && !MATS;
 const uint R_CENTRE = 0u, R_CAST = 1u, R_SHADOW = 2u;
-void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout uint s, uint s1, inout vec4 acc,
-               inout vec4 geo) {
+// The centre ray's normal goes to Out (at + 1) at once: one vec4 less to keep across the loop.
+void bake_flat(uint probe, uint texel, uint at, uint i, uint j, uint res, vec3 po, inout uint s, uint s1,
+               inout vec4 acc) {
+    vec4 geo = vec4(0.0);
     uint kind = s == 0u ? R_CENTRE : R_CAST, depth = 0u, bounces = P.a.z;
     vec3 o = po, d = vec3(0.0, 0.0, 1.0), thr = vec3(1.0), pacc = vec3(0.0), pend = vec3(0.0);
     vec3 sp = vec3(0.0), sn = vec3(0.0, 0.0, 1.0), salb = vec3(0.0), swo = vec3(0.0, 0.0, 1.0); // the vertex
@@ -705,6 +707,7 @@ void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout 
         bool bounce = false; // on to the bounce from the vertex (sp, sn, salb)
         if (kind == R_CENTRE) {
             if (hit) centre_hit(h, acc, geo);
+            outv[at + 1u] = geo;
             next = true;
         } else if (kind == R_SHADOW) {
             if (!hit) pacc += thr * pend; // nee(): the sun's term; occluded adds thr * 0
@@ -763,7 +766,7 @@ void bake_flat(uint probe, uint texel, uint i, uint j, uint res, vec3 po, inout 
             }
             if (s >= s1) break;
             rng_init(probe, texel, s);
-            o = po;
+            o = probes[probe].xyz; // po, read again rather than kept
             d = oct_decode((2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0);
             thr = vec3(1.0), pacc = vec3(0.0), depth = 0u, kind = R_CAST;
         }
@@ -795,11 +798,11 @@ void bake() {
     vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0); // acc.w: distance (-1: none)
     if (s0 != 0u) {
         acc = outv[at];
-        geo = outv[at + 1u];
+        if (!FLAT) geo = outv[at + 1u];
     }
     uint s = s0;
     if (FLAT) {
-        bake_flat(probe, texel, i, j, res, o, s, s1, acc, geo);
+        bake_flat(probe, texel, at, i, j, res, o, s, s1, acc);
     } else {
         if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
         for (; s < s1; s++) {
@@ -817,7 +820,7 @@ void bake() {
         return;
     }
     outv[at] = acc;
-    outv[at + 1u] = geo;
+    if (!FLAT) outv[at + 1u] = geo; // FLAT wrote it after the centre ray
     outv[at + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
     if (s1 < spp) outv[0].y = 1.0;
 }
