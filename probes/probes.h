@@ -186,10 +186,9 @@ typedef struct vx_probe_bake_stats {
  *              on `threads` host threads (vx__probe_finish, the CPU bake's
  *              code: the reference) instead of on the GPU
  *  stats:      GPU bake only: optional out, where the time went
- *  general_paths: GPU bake only: trace with the general path kernel (probe.comp's
- *              path(), what renders use) where the scene would let the bake
- *              run its own ray loop (no lights besides the sun and sky, no
- *              emissive voxels, metal or glass): the reference that loop is
+ *  no_beam:    GPU bake only: the camera rays walk the octree from their probe
+ *              rather than from their texel block's beam distance
+ *              (probes/shaders/probe_beam.comp): the reference the beam is
  *              tested against (the same bytes); slower */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
@@ -212,7 +211,7 @@ typedef struct vx_probe_bake_desc {
     uint32_t batch;
     bool host_filter;
     vx_probe_bake_stats* stats;
-    bool general_paths;
+    bool no_beam;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;

@@ -247,6 +247,10 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
 #include "sky.glsl"
 vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
 
+// The bake's camera ray (path()'s first) starts its walk here: its texel block's beam distance
+// (probe_beam.comp); 0 for every other ray and pass.
+float g_path_tskip = 0.0;
+
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     vec3 thr = vec3(1.0), acc = vec3(0.0);
@@ -256,7 +260,9 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     int vertex = 0;
     for (int events = 0; events < 1024; events++) {
         Hit h;
+        g_tskip = events == 0 ? g_path_tskip : 0.0;
         bool hit = cast_ray(o, d, BIG, h);
+        g_tskip = 0.0;
         bool skip = indirect && vertex == 0, skip_lights = indirect && vertex <= 1;
         vec3 le;
         float lp;
@@ -652,124 +658,21 @@ bool loops_intact() {
     return n == P.lf.w;
 }
 
-// The texel centre ray's distance (acc.w; -1: none within dist_max) and normal (geo; w: 1 on a hit).
-void centre_hit(Hit h, inout vec4 acc, inout vec4 geo) {
-    Inst I = insts[h.inst];
-    vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
-    geo = vec4(normalize(row.xyz * h.nsign), 1.0);
-    acc.w = h.t;
-}
-vec3 centre_dir(uint i, uint j, uint res) { return oct_decode((2.0 * vec2(i, j) + 1.0) / float(res) - 1.0); }
-void centre_ray(vec3 o, uint i, uint j, uint res, inout vec4 acc, inout vec4 geo) {
-    Hit h;
-    if (cast_ray(o, centre_dir(i, j, res), P.origin.w, h)) centre_hit(h, acc, geo);
+// The texel block's start distance for rays from the probe (probe_beam.comp), slightly early as trace.comp's.
+float beam_start(uint probe, uint i, uint j, uint res) {
+    if (BEAM <= 1u) return 0.0;
+    uint nb = res / BEAM;
+    return maps[(probe - P.a.w) * nb * nb + (j / BEAM) * nb + i / BEAM] * 0.9999;
 }
 
-// The bake's paths where the scene has no lights of bindings 14/15, no emissive-voxel sampling and no metal
-// or glass (FLAT): path()'s estimate, the same rays, random numbers and additions in the same order, but
-// as one loop over all the invocation's rays (the centre ray, then per sample the camera ray and per
-// vertex the sun's shadow ray and the bounce), each traced at one call of trace_scene. path() traces the
-// four kinds at four places, and a SIMD group runs them one after another: a lane whose vertex faces away
-// from the sun, whose ray left the scene or whose sample ended waited for the others' rays of the kind;
-// here each lane traces its own next ray in every round, and the next sample's rays follow without a wait.
-const bool FLAT = PMODE == P_BAKE && !LIGHTS && !MATS;
-const uint R_CENTRE = 0u, R_CAST = 1u, R_SHADOW = 2u;
-// The centre ray's normal goes to Out (at + 1) at once: one vec4 less to keep across the loop.
-void bake_flat(uint probe, uint texel, uint at, uint i, uint j, uint res, vec3 po, inout uint s, uint s1,
-               inout vec4 acc) {
-    vec4 geo = vec4(0.0);
-    uint kind = s == 0u ? R_CENTRE : R_CAST, depth = 0u, bounces = P.a.z;
-    vec3 o = po, d = vec3(0.0, 0.0, 1.0), thr = vec3(1.0), pacc = vec3(0.0), pend = vec3(0.0);
-    vec3 sp = vec3(0.0), sn = vec3(0.0, 0.0, 1.0), salb = vec3(0.0), swo = vec3(0.0, 0.0, 1.0); // the vertex
-    bool sun = P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0;
-    // the texel block's start distance for rays from the probe (probe_beam.comp), slightly early as trace.comp's
-    float beam_t = 0.0;
-    if (BEAM > 1u) {
-        uint nb = res / BEAM;
-        beam_t = maps[(probe - P.a.w) * nb * nb + (j / BEAM) * nb + i / BEAM] * 0.9999;
-    }
-    if (kind == R_CENTRE) {
-        d = centre_dir(i, j, res);
-    } else if (s < s1) {
-        rng_init(probe, texel, s);
-        d = oct_decode((2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0);
-    }
-    while (s < s1) {
-        Hit h;
-        h.t = kind == R_CENTRE ? P.origin.w : BIG;
-        h.inst = NO_HIT;
-        h.color = 0xFFFFFFFFu;
-        h.attr = NO_HIT;
-        g_iter = 0u;
-        g_tskip = kind == R_CENTRE || (kind == R_CAST && depth == 0u) ? beam_t : 0.0; // from the probe
-        bool hit = trace_scene(o, d, 0.0, kind == R_SHADOW, h);
-        bool next = false; // the sample's path ended
-        bool bounce = false; // on to the bounce from the vertex (sp, sn, salb)
-        if (kind == R_CENTRE) {
-            if (hit) centre_hit(h, acc, geo);
-            outv[at + 1u] = geo;
-            next = true;
-        } else if (kind == R_SHADOW) {
-            if (!hit) pacc += thr * pend; // nee(): the sun's term; occluded adds thr * 0
-            bounce = true;
-        } else if (!hit) {
-            pacc += thr * sky_radiance(d);
-            next = true;
-        } else {
-            Surf sf = surface(o, d, h);
-            if (sf.emit.x > 0.0 || sf.emit.y > 0.0 || sf.emit.z > 0.0) pacc += thr * sf.emit * 1.0;
-            sp = sf.p, sn = sf.n, salb = sf.alb, swo = -d;
-            float ndl = dot(sn, P.light.xyz);
-            if (sun && ndl > 0.0) {
-                // bsdf_eval (Lambert) of the light's direction: zero where wo is below the surface
-                float bp;
-                Bsdf B = bsdf_of(sf);
-                pend = bsdf_eval(B, swo, P.light.xyz, bp) * P.sun.xyz * ndl;
-                kind = R_SHADOW;
-                o = sp;
-                d = P.light.xyz;
-                continue;
-            }
-            bounce = true;
-        }
-        if (bounce) {
-            // path(): after nee(), the bounce (bsdf_sample, Russian roulette)
-            next = true;
-            if (depth < bounces) {
-                Surf sf;
-                sf.p = sp, sf.n = sn, sf.alb = salb, sf.emit = vec3(0.0), sf.cell = 0.0, sf.attr = NO_HIT;
-                Bsdf B = bsdf_of(sf);
-                vec3 w, nd;
-                float pdf;
-                if (bsdf_sample(B, swo, nd, w, pdf)) {
-                    thr *= w;
-                    depth++;
-                    bool live = true;
-                    if (depth >= 3u) { // VX__RR_DEPTH
-                        float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
-                        if (!(rnd() < q)) live = false;
-                        else thr /= q;
-                    }
-                    if (live && thr != vec3(0.0)) {
-                        next = false;
-                        kind = R_CAST;
-                        o = sp;
-                        d = nd;
-                    }
-                }
-            }
-        }
-        if (next) {
-            if (kind != R_CENTRE) { // else the first sample starts
-                acc.xyz += pacc;
-                s++;
-            }
-            if (s >= s1) break;
-            rng_init(probe, texel, s);
-            o = probes[probe].xyz; // po, read again rather than kept
-            d = oct_decode((2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0);
-            thr = vec3(1.0), pacc = vec3(0.0), depth = 0u, kind = R_CAST;
-        }
+// The texel centre ray's distance (acc.w; -1: none within dist_max) and normal (geo; w: 1 on a hit).
+void centre_ray(vec3 o, uint i, uint j, uint res, inout vec4 acc, inout vec4 geo) {
+    Hit h;
+    if (cast_ray(o, oct_decode((2.0 * vec2(i, j) + 1.0) / float(res) - 1.0), P.origin.w, h)) {
+        Inst I = insts[h.inst];
+        vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+        geo = vec4(normalize(row.xyz * h.nsign), 1.0);
+        acc.w = h.t;
     }
 }
 
@@ -798,19 +701,19 @@ void bake() {
     vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0); // acc.w: distance (-1: none)
     if (s0 != 0u) {
         acc = outv[at];
-        if (!FLAT) geo = outv[at + 1u];
+        geo = outv[at + 1u];
     }
     uint s = s0;
-    if (FLAT) {
-        bake_flat(probe, texel, at, i, j, res, o, s, s1, acc);
-    } else {
-        if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
-        for (; s < s1; s++) {
-            rng_init(probe, texel, s);
-            vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
-            bool hit;
-            acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
-        }
+    // the camera and centre rays start at their texel block's beam distance (path(): the first ray only)
+    g_tskip = beam_start(probe, i, j, res);
+    if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
+    g_path_tskip = g_tskip;
+    g_tskip = 0.0;
+    for (; s < s1; s++) {
+        rng_init(probe, texel, s);
+        vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
+        bool hit;
+        acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
     }
     // identical values from every invocation that writes them
     if (s != s1 || !loops_intact()) {
@@ -820,7 +723,7 @@ void bake() {
         return;
     }
     outv[at] = acc;
-    if (!FLAT) outv[at + 1u] = geo; // FLAT wrote it after the centre ray
+    outv[at + 1u] = geo;
     outv[at + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
     if (s1 < spp) outv[0].y = 1.0;
 }
