@@ -12,7 +12,6 @@
 
 #include "probes/probes_internal.h"
 #include "render/gpu.h"
-#include "render/render_internal.h" /* vx__render_scene_far */
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
