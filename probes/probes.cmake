@@ -24,6 +24,22 @@ if(VX_WITH_VULKAN)
             ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
     COMMENT "glslangValidator probe.comp"
     VERBATIM)
+  # shaders/probe_beam.comp includes render/shaders/beam.comp's walk, made an include by beam_body.cmake
+  add_custom_command(
+    OUTPUT ${VX_PROBES_SPV_DIR}/beam_body.glsl
+    COMMAND ${CMAKE_COMMAND} -DIN=${CMAKE_SOURCE_DIR}/render/shaders/beam.comp -DOUT=${VX_PROBES_SPV_DIR}/beam_body.glsl
+            -P ${CMAKE_CURRENT_LIST_DIR}/shaders/beam_body.cmake
+    DEPENDS ${CMAKE_SOURCE_DIR}/render/shaders/beam.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/beam_body.cmake
+    COMMENT "beam_body.glsl from beam.comp"
+    VERBATIM)
+  add_custom_command(
+    OUTPUT ${VX_PROBES_SPV_DIR}/probe_beam.comp.h
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
+            --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
+    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
+    COMMENT "glslangValidator probe_beam.comp"
+    VERBATIM)
   add_library(vx_probes STATIC
     ${CMAKE_CURRENT_LIST_DIR}/oct.c
     ${CMAKE_CURRENT_LIST_DIR}/light.c
@@ -36,7 +52,8 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c
     ${VX_PROBES_SPV_DIR}/probe.comp.h
     ${VX_PROBES_SPV_DIR}/probe_out.comp.h
-    ${VX_PROBES_SPV_DIR}/probe_filter.comp.h)
+    ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_beam.comp.h)
   target_include_directories(vx_probes PRIVATE ${VX_PROBES_SPV_DIR})
   target_link_libraries(vx_probes PUBLIC vx_render vx_svo Threads::Threads m)
 endif()

@@ -185,7 +185,11 @@ typedef struct vx_probe_bake_stats {
  *  host_filter: GPU bake only: filter each batch's radiance and distances
  *              on `threads` host threads (vx__probe_finish, the CPU bake's
  *              code: the reference) instead of on the GPU
- *  stats:      GPU bake only: optional out, where the time went */
+ *  stats:      GPU bake only: optional out, where the time went
+ *  no_beam:    GPU bake only: the camera rays walk the octree from their probe
+ *              rather than from their texel block's beam distance
+ *              (probes/shaders/probe_beam.comp): the reference the beam is
+ *              tested against (the same bytes); slower */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -207,6 +211,7 @@ typedef struct vx_probe_bake_desc {
     uint32_t batch;
     bool host_filter;
     vx_probe_bake_stats* stats;
+    bool no_beam;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;

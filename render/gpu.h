@@ -162,6 +162,10 @@ enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX
 /* ---- other GPU passes over a scene (probes/probe_gpu.c) ------------------------------ */
 
 vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
+/* The trace kernel's FAR constant (some model of the scene may hold a far
+ * pointer, so the kernel tests the far bit per push): for other passes' kernels
+ * (probes/probe_gpu.c), tests and benchmarks. */
+bool vx__render_scene_far(const vx_render_scene* rs);
 /* Writes the per-frame tables and the frame block for f (f->ref is the origin
  * of the shader's float coordinates; the camera matters only to camera rays)
  * and returns the scene's bindings 0-6 (frame, nodes, colors, models,

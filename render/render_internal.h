@@ -71,9 +71,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
-/* Tests and benchmarks: the trace kernel's FAR constant (some model of the
- * scene may hold a far pointer, so the kernel tests the far bit per push). */
-bool vx__render_scene_far(const vx_render_scene* rs);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);

@@ -33,10 +33,18 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
+// BEAM (constant 5, trace_common.glsl): the bake's camera rays start their walk at their texel
+// block's distance from probe_beam.comp (binding 11), where BEAM > 1 (the block side in texels)
+#define TRACE_BEAM
 #include "trace_common.glsl"
 
-layout(constant_id = 5) const int PMODE = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 13)
+// bits 0-7: the pass (PMODE); bit 8 (LIGHTS): the scene has lights of binding 14 or emissive voxels of
+// binding 15 (P.cnt.x or P.cnt.y > 0): without, their loops and the emitter sampling leave the kernel
+// (fewer registers; the sun and sky stay)
+layout(constant_id = 7) const uint PCONST = 0x100u;
+const int PMODE = int(PCONST & 0xFFu);
+const bool LIGHTS = (PCONST & 0x100u) != 0u;
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -71,7 +79,8 @@ layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz
 // then per pixel the running sum (rgb, w: samples that hit) and (samples
 // done, 0, 0, 0), then the round's blocks (see render())
 layout(std430, binding = 10) buffer Out { vec4 outv[]; };
-// per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2)
+// per probe: irradiance (10x10x3) then, after all probes, moments (18x18x2); the bake with BEAM > 1: per
+// probe of the dispatch and block of BEAM x BEAM texels, the block's start distance (probe_beam.comp)
 layout(std430, binding = 11) readonly buffer Maps { float maps[]; };
 // light field modes, per probe: distance u16 ((res+2)^2, padded to a word),
 // min-distance u16 ((low+2)^2, padded), normal oct16 ((res+2)^2), radiance
@@ -108,7 +117,7 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
     bool found = false;
     le = vec3(0.0);
     pdf = 0.0;
-    for (uint i = 0u; i < P.cnt.x; i++) {
+    for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u];
         uint type = uint(a.w);
         float t = BIG, p = 0.0;
@@ -154,7 +163,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         vec3 f = bsdf_eval(B, wo, P.light.xyz, bp);
         out_l += f * P.sun.xyz * dot(s.n, P.light.xyz);
     }
-    for (uint i = 0u; i < P.cnt.x; i++) {
+    for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
         uint type = uint(a.w);
         vec3 e = c.xyz, l;
@@ -213,7 +222,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
         out_l += f * e * (g * cs * w);
     }
-    if (P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
+    if (LIGHTS && P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
         vec3 y, n, rad;
         float edge;
         emitter_point(P.cnt.y, y, n, rad, edge);
@@ -238,6 +247,10 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
 #include "sky.glsl"
 vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
 
+// The bake's camera ray (path()'s first) starts its walk here: its texel block's beam distance
+// (probe_beam.comp); 0 for every other ray and pass.
+float g_path_tskip = 0.0;
+
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     vec3 thr = vec3(1.0), acc = vec3(0.0);
@@ -247,17 +260,19 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     int vertex = 0;
     for (int events = 0; events < 1024; events++) {
         Hit h;
+        g_tskip = events == 0 ? g_path_tskip : 0.0;
         bool hit = cast_ray(o, d, BIG, h);
+        g_tskip = 0.0;
         bool skip = indirect && vertex == 0, skip_lights = indirect && vertex <= 1;
         vec3 le;
         float lp;
-        if (P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
+        if (LIGHTS && P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
             if (!skip_lights) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
             break;
         }
         if (!hit) {
             if (!skip) acc += thr * sky_radiance(d);
-            for (uint i = 0u; i < P.cnt.x && !(indirect && vertex <= 1); i++) {
+            for (uint i = 0u; LIGHTS && i < P.cnt.x && !(indirect && vertex <= 1); i++) {
                 vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
                 if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;
                 float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
@@ -271,7 +286,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         g_s = surface(o, d, h);
         if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
             float w = 1.0;
-            if (prev_pdf > 0.0 && P.cnt.y > 0u) {
+            if (LIGHTS && prev_pdf > 0.0 && P.cnt.y > 0u) {
                 float cy = abs(dot(d, g_s.n));
                 w = cy > 0.0 ? mis(prev_pdf, lum(g_s.emit) / P.pt.x * h.t * h.t / cy) : 0.0;
             }
@@ -643,9 +658,31 @@ bool loops_intact() {
     return n == P.lf.w;
 }
 
+// The texel block's start distance for rays from the probe (probe_beam.comp), slightly early as trace.comp's.
+float beam_start(uint probe, uint i, uint j, uint res) {
+    if (BEAM <= 1u) return 0.0;
+    uint nb = res / BEAM;
+    return maps[(probe - P.a.w) * nb * nb + (j / BEAM) * nb + i / BEAM] * 0.9999;
+}
+
+// The texel centre ray's distance (acc.w; -1: none within dist_max) and normal (geo; w: 1 on a hit).
+void centre_ray(vec3 o, uint i, uint j, uint res, inout vec4 acc, inout vec4 geo) {
+    Hit h;
+    if (cast_ray(o, oct_decode((2.0 * vec2(i, j) + 1.0) / float(res) - 1.0), P.origin.w, h)) {
+        Inst I = insts[h.inst];
+        vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+        geo = vec4(normalize(row.xyz * h.nsign), 1.0);
+        acc.w = h.t;
+    }
+}
+
 void bake() {
-    uint res = P.a.x, texel = gl_GlobalInvocationID.x, slot = gl_GlobalInvocationID.y;
-    if (texel >= res * res || slot >= P.seed.z) return;
+    uint res = P.a.x, slot = gl_GlobalInvocationID.y, n = gl_GlobalInvocationID.x;
+    if (n >= res * res || slot >= P.seed.z) return;
+    // each 32 invocations (a SIMD group on NVIDIA) take a tile of 8 x 4 texels rather than a 32-texel run of
+    // a row: their rays from the probe leave in nearby directions and meet nearby cells (res: a multiple of 16)
+    uint tile = n / 32u, lane = n % 32u, tiles_x = res / 8u;
+    uint texel = ((tile / tiles_x) * 4u + lane / 8u) * res + (tile % tiles_x) * 8u + lane % 8u;
     uint probe = P.a.w + slot;
     vec4 pr = probes[probe];
     uint spp = max(P.a.y, 1u);
@@ -662,20 +699,16 @@ void bake() {
     uint i = texel % res, j = texel / res;
     vec3 o = pr.xyz;
     vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0); // acc.w: distance (-1: none)
-    if (s0 == 0u) {
-        vec2 uvc = (2.0 * vec2(i, j) + 1.0) / float(res) - 1.0;
-        Hit h;
-        if (cast_ray(o, oct_decode(uvc), P.origin.w, h)) {
-            Inst I = insts[h.inst];
-            vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
-            geo = vec4(normalize(row.xyz * h.nsign), 1.0);
-            acc.w = h.t;
-        }
-    } else {
+    if (s0 != 0u) {
         acc = outv[at];
         geo = outv[at + 1u];
     }
     uint s = s0;
+    // the camera and centre rays start at their texel block's beam distance (path(): the first ray only)
+    g_tskip = beam_start(probe, i, j, res);
+    if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
+    g_path_tskip = g_tskip;
+    g_tskip = 0.0;
     for (; s < s1; s++) {
         rng_init(probe, texel, s);
         vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;

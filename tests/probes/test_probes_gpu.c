@@ -176,6 +176,74 @@ static void test_gpu_vs_cpu_bake(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The bake's beam (probe_beam.comp: per probe and block of 4x4 texels a
+ * distance before which no ray from the probe through the block meets a
+ * non-empty node; the camera and centre rays start their walk there) against
+ * the walk from the probe (vx_probe_bake_desc.no_beam): the same cells, so the
+ * same bytes, over one and several dispatches (spp 40: llvmpipe traces 32
+ * samples a dispatch), with Russian roulette (4 bounces), no bounce, no sun, a
+ * room with emitters (the lights' code) and without, and narrow beams (R=64);
+ * and the estimate against the CPU bake (statistically: other random streams). */
+static void test_gpu_bake_beam(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    struct { uint32_t spp; int32_t bounces; bool no_sun; uint32_t res; } cfg[] = {
+        {40, 0, false, 16}, {6, 4, false, 16}, {8, -1, false, 16}, {8, 2, true, 16}, {2, 0, false, 64}, {6, 0, false, 32}};
+    vx_error err = {0};
+    for (size_t k = 0; k < sizeof cfg / sizeof cfg[0]; k++) {
+        if (k == 5) {
+            /* the block plain white: no emitter, no lights' code in the kernel */
+            vx_render_scene_destroy(rs);
+            for (uint32_t i = 0; i < s.material_count; i++) free(s.materials[i].dict);
+            free(s.materials);
+            s.materials = NULL, s.material_count = 0;
+            REQUIRE(rs = scene_on_gpu(&s));
+        }
+        vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = cfg[k].res, .spp = cfg[k].spp, .bounces = cfg[k].bounces,
+                                .no_sun = cfg[k].no_sun, .seed = 7 + k, .threads = 2};
+        vx_probe_set a, b;
+        REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &a, &err) == VX_OK);
+        d.no_beam = true;
+        REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &b, &err) == VX_OK);
+        uint8_t *x, *y;
+        size_t nx, ny;
+        REQUIRE(bytes_of(&a, &x, &nx) && bytes_of(&b, &y, &ny));
+        size_t nt = vx__bsq_test(a.res) * a.count, hits = 0, lit = 0;
+        for (size_t t = 0; t < nt; t++)
+            hits += a.distance[t] != VX_PROBE_DIST_MISS, lit += vx_probe_half_to_float(a.radiance[3 * t]) > 0;
+        fprintf(stderr, "  beam vs none: R=%u, spp %u, bounces %d%s: %zu of %zu texels hit, %zu lit, %s\n",
+                cfg[k].res, cfg[k].spp, cfg[k].bounces, cfg[k].no_sun ? ", no sun" : "", hits, nt, lit,
+                nx == ny && !memcmp(x, y, nx) ? "same bytes" : "BYTES DIFFER");
+        CHECK(hits > nt / 4 && hits < nt); /* walls and floor, and the open sides' sky */
+        CHECK(lit > nt / 2);
+        CHECK(nx == ny && !memcmp(x, y, nx));
+        if (k == 0) {
+            /* the loop's estimate against the CPU bake's (double precision, own random streams) */
+            vx_probe_set c;
+            d.no_beam = false;
+            REQUIRE(vx_probe_bake(&s, &d, &c, &err) == VX_OK);
+            double sum_c[3] = {0}, sum_g[3] = {0};
+            for (size_t t = 0; t < nt; t++)
+                for (int q = 0; q < 3; q++) {
+                    sum_c[q] += vx_probe_half_to_float(c.radiance[3 * t + q]);
+                    sum_g[q] += vx_probe_half_to_float(a.radiance[3 * t + q]);
+                }
+            double worst = 0;
+            for (int q = 0; q < 3; q++) worst = fmax(worst, fabs(sum_g[q] / sum_c[q] - 1));
+            fprintf(stderr, "  beam vs CPU bake: radiance mean rel. diff %.4f\n", worst);
+            CHECK(worst < 0.03);
+            vx_probe_set_free(&c);
+        }
+        free(x), free(y);
+        vx_probe_set_free(&a), vx_probe_set_free(&b);
+    }
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 /* Half a and b as integers on one line (sign-magnitude to ordered). */
 static int half_ord(uint16_t h) { return (h & 0x8000u) ? -(int)(h & 0x7FFFu) : (int)h; }
 
@@ -279,8 +347,8 @@ static void test_gpu_filter_vs_host(void) {
         uint8_t *a, *b;
         size_t na, nbytes;
         REQUIRE(bytes_of(&g, &a, &na));
-        uint32_t batches[3] = {1, 4, 27};
-        for (int k = 0; k < 3; k++) {
+        uint32_t batches[5] = {1, 4, 8, 12, 27}; /* 8, 12: full batches, a short one, the last quarter batch */
+        for (int k = 0; k < 5; k++) {
             vx_probe_set x;
             d.batch = batches[k];
             REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &x, &err) == VX_OK);
@@ -729,6 +797,7 @@ int main(void) {
     RUN(test_gpu_box_distances);
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
+    RUN(test_gpu_bake_beam);
     RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_baker_ranges);
     RUN(test_gpu_device_choice);
