@@ -29,7 +29,7 @@
  *        waited for: what svo_view records before its swapchain copy). The
  *        panels' CPU drawing is svo_view's, not here (svo_view --bench -v
  *        prints it).
- *        view_bench --loop IN.svo [W H (default 1920 1080)] [FRAMES (default 300)] [PASSES]:
+ *        view_bench --loop IN.svo [W H (default 1920 1080)] [FRAMES (default 300)] [PASSES] [EX,EY,EZ,TX,TY,TZ]:
  *        frames in flight as svo_view's GPU path records them (render/display.h:
  *        passes, conversion with the overlay, copy into an image, one submission
  *        per frame, VX_DISPLAY_FRAMES in flight), into off-screen images that
@@ -321,7 +321,11 @@ static bool headless_offered(void) {
     VkExtensionProperties* e = calloc(n, sizeof *e);
     bool found = false;
     if (e && vkEnumerateInstanceExtensionProperties(NULL, &n, e) == VK_SUCCESS)
-        for (uint32_t i = 0; i < n; i++) found |= !strcmp(e[i].extensionName, "VK_EXT_headless_surface");
+        for (uint32_t i = 0; i < n; i++) {
+            found |= !strcmp(e[i].extensionName, "VK_EXT_headless_surface");
+            printf("%s%s", i ? " " : "view_bench --loop: instance extensions: ", e[i].extensionName);
+        }
+    printf("\n");
     free(e);
     return found;
 }
@@ -480,10 +484,13 @@ static bool orbit_step(void* user, uint32_t k) {
     return true;
 }
 
-static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
+static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
+    double cam[6];
     if (!w || !h || n < 3 || n > 100000) return 2;
+    if (camera && sscanf(camera, "%lf,%lf,%lf,%lf,%lf,%lf", &cam[0], &cam[1], &cam[2], &cam[3], &cam[4], &cam[5]) != 6)
+        return fprintf(stderr, "view_bench --loop: bad camera '%s' (EX,EY,EZ,TX,TY,TZ)\n", camera), 2;
     printf("view_bench --loop: the Vulkan instance %s VK_EXT_headless_surface\n",
            headless_offered() ? "offers" : "does not offer");
     if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
@@ -495,6 +502,9 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_frame_desc fd;
     if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
     fd.no_readback = true;
+    if (camera) /* svo_render --camera's view (its up: z, its field of view: the default) */
+        fd.base.camera = (vx_render_camera){.set = true, .eye = {cam[0], cam[1], cam[2]}, .target = {cam[3], cam[4], cam[5]},
+                                            .up = {0, 0, 1}};
     /* the swapchain's stand-in: an image per frame slot, as a swapchain has one per frame in flight */
     uint64_t img[VX_DISPLAY_FRAMES];
     for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
@@ -663,7 +673,8 @@ int main(int argc, char** argv) {
     if (argc >= 3 && !strcmp(argv[1], "--loop"))
         return loop_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
                           argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
-                          argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
+                          argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT,
+                          argc > 7 ? argv[7] : NULL);
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
                             argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);
