@@ -54,6 +54,63 @@
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/voxels.h"
 
+#if VX_BENCH_GPU_PANELS
+#include "tools/svo_view/ui.h"
+
+/* Panels as svo_view lays them out (columns of 3/8 of the width left and
+ * right) filled with text lines and a bar graph, drawn by Dear ImGui's
+ * Vulkan backend over the frame (ui_gpu_record); the draw lists made once
+ * and kept, as svo_view keeps them between redraws. NULL: no panels. */
+static struct ui* panels_make(vx_gpu* g, uint32_t w, uint32_t h) {
+    ui* u = ui_create();
+    char why[256];
+    ui_gpu_desc gd = {.instance = g->instance, .phys = g->phys, .device = g->device, .queue = g->queue,
+                      .queue_family = g->queue_family, .final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      .frames = VX_DISPLAY_FRAMES};
+    if (!u || !ui_gpu_init(u, &gd, why, sizeof why)) {
+        fprintf(stderr, "view_bench: %s\n", u ? why : "out of memory");
+        ui_destroy(u);
+        return NULL;
+    }
+    float cw = (float)(w * 3 / 8);
+    static const float bars[64] = {1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1,
+                                   2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2};
+    static const uint32_t colours[2] = {0x3080F0u, 0x40C040u};
+    for (int f = 0; f < 2; f++) { /* the second frame: windows placed and sized as on every later one */
+        ui_frame_begin(u, w, h, 1.0 / 60);
+        for (int c = 0; c < 2; c++) {
+            if (ui_window_begin(c ? "Properties" : "Outliner", c ? (float)w - cw : 0, 0, cw, (float)h)) {
+                for (int i = 0; i < 40; i++) ui_text("instance %d  model %d  layer %d  (%d, %d, %d)", i, i % 7, i % 3, i, -i, 2 * i);
+                ui_stacked_bars(bars, 32, 2, 2, colours, 2, 5, 60);
+                ui_progress(0.4f, "bake");
+            }
+            ui_window_end();
+        }
+        ui_frame_end(u, NULL);
+    }
+    return u;
+}
+
+static bool panels_record(struct ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h) {
+    char why[256];
+    if (ui_gpu_record(u, cmd, slot, view, w, h, why, sizeof why)) return true;
+    fprintf(stderr, "view_bench: %s\n", why);
+    return false;
+}
+#else
+struct ui;
+static struct ui* panels_make(vx_gpu* g, uint32_t w, uint32_t h) {
+    (void)g, (void)w, (void)h;
+    return NULL;
+}
+static bool panels_record(struct ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h) {
+    (void)u, (void)cmd, (void)slot, (void)view, (void)w, (void)h;
+    return false;
+}
+static void ui_destroy(struct ui* u) { (void)u; }
+static void ui_gpu_shutdown(struct ui* u) { (void)u; }
+#endif
+
 static int cmp(const void* a, const void* b) {
     double x = *(const double*)a, y = *(const double*)b;
     return (x > y) - (x < y);
@@ -364,8 +421,12 @@ typedef struct loop_stats {
  * svo_view records. */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
-static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
-                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+/* mode 10: mode 9 without the overlay, the panels drawn on the GPU over the
+ * image instead (ui_gpu_record, tools/svo_view/ui.h; `panels` its ui). */
+
+static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                            uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, struct ui* panels,
+                            loop_stats* st) {
     vx_error err = {0};
     uint32_t warm = 20, total = n + warm;
     double *t = calloc(total + 1, sizeof(double)), *gpu = calloc(total, sizeof(double)), *gap = calloc(total, sizeof(double)),
@@ -375,8 +436,10 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     uint32_t ng = 0, np = 0, ns = 0;
     /* three timestamps per slot: after the passes, the conversion, the copy */
     VkQueryPool qp = VK_NULL_HANDLE;
-    bool stages = mode != 9;
+    bool stages = mode != 9 && mode != 10;
+    bool gpu_panels = mode == 10;
     if (mode == 9) mode = 7;
+    if (mode == 10) mode = 6;
     VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                 .queryCount = 3 * VX_DISPLAY_FRAMES};
     if (stages && g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
@@ -423,9 +486,15 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         bool to_image = mode == 4 || mode == 5, fused = mode == 6 || mode == 7;
         if (mode == 8) {
             /* nothing recorded */
-        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                            &res, &err)
-                  : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h,
+                                                   gpu_panels ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
+                                                              : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                                   &res, &err)
+                         : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (gpu_panels && !panels_record(panels, cmd, slot, vx_display_image_view(disp, img[slot]), w, h)) {
             vx_display_frame_cancel(disp);
             break;
         }
@@ -464,6 +533,11 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     free(t), free(gpu), free(gap), free(pass), free(rec);
     for (int i = 0; i < 4; i++) free(stage[i]);
     return ok;
+}
+
+static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+    return run_loop_panels(g, fr, disp, img, fd, w, h, n, mode, before, user, NULL, st);
 }
 
 /* A camera flying round the scene (a user moving it): frame k's camera, so
@@ -589,17 +663,43 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         free(ft);
         fd.base.camera = keep;
     }
+    /* the panels drawn on the GPU (Dear ImGui's Vulkan backend) over the fused frame, no overlay: svo_view's frame
+     * with panels where they are drawn on the GPU; the scene's bytes outside the panel columns checked */
+    loop_stats gpu_panels = {0};
+    struct ui* pu = store_ok ? panels_make(g, w, h) : NULL;
+    size_t panels_bad = 0, panels_shown = 0, panels_in = 0;
+    bool panels_read = false;
+    uint8_t* plain = pu ? malloc((size_t)w * h * 4) : NULL; /* the waited path's frame without any overlay */
+    vx_display_desc plain_dd = {.fr = fr, .width = w, .height = h, .bgra = true};
+    if (pu && (!plain || vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &plain_dd, plain, NULL, &err)))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    if (pu) {
+        if (!run_loop_panels(g, fr, disp, img, &fd, w, h, n, 10, NULL, NULL, pu, &gpu_panels)) return 1;
+        panels_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+        uint32_t lw = w * 3 / 8, rw = w * 3 / 8;
+        for (uint32_t y = 0; panels_read && y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                size_t q = 4 * ((size_t)y * w + x);
+                if (x >= lw + 2 && x + 2 < w - rw) panels_bad += memcmp(plain + q, got + q, 4) != 0;
+                else if (x + 2 < lw || x >= w - rw + 2) panels_in++, panels_shown += memcmp(plain + q, got + q, 3) != 0;
+            }
+        vx_display_wait(disp, &err);
+        ui_gpu_shutdown(pu);
+        ui_destroy(pu);
+    }
+    free(plain);
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[11] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[12] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                              "passes alone (no conversion, no copy)", "written into the image, no overlay",
                              "written into the image, overlay kept", "fused into the last pass, no overlay",
                              "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
-                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame"};
-    loop_stats* all[11] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
-                           &fused,     &fused_kept, &empty,   &bare_fused, &flying};
-    int modes = 11;
+                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame",
+                             "fused, panels drawn on the GPU (ImGui Vulkan)"};
+    loop_stats* all[12] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
+                           &fused,     &fused_kept, &empty,   &bare_fused, &flying, &gpu_panels};
+    int modes = pu ? 12 : 11;
     if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
@@ -613,6 +713,10 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (store_ok)
         printf("  the moving camera's frames submitted + waited: passes GPU %.4f ms (the trace of those views)\n",
                fly_trace);
+    if (pu)
+        printf("  panels drawn on the GPU, last frame: %s, %zu bytes between the columns differ from the waited path, "
+               "%zu of %zu pixels in the columns show the panels\n",
+               panels_read ? "read" : "NOT READ", panels_bad, panels_shown, panels_in);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
     if (store_ok) {
@@ -627,7 +731,10 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(g);
     vx_svo_scene_free(&s);
-    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) ? 0 : 1;
+    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) &&
+                   (!pu || (panels_read && !panels_bad && panels_shown > panels_in / 2))
+               ? 0
+               : 1;
 }
 
 /* Instance edits with frames in flight: an instance moved (an undo step, the
