@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <vulkan/vulkan.h> /* the shown image's layout before the panels' render pass */
 
 #include "convert/convert.h"
 #include "formats/image.h"
@@ -1316,9 +1317,14 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
     /* without an image (minimised, a new swapchain next frame) the passes still run, unseen */
     vx_frame_result res;
     bool fused = im.image && im.view;
-    r = fused ? vx_display_record_frame(a->disp, a->fr, &fd, dd, im.image, im.view, im.width, im.height, im.layout,
-                                        &res, err)
+    /* the panels drawn over the image after the last pass wrote it, in the same command buffer */
+    bool panels = fused && a->panels_gpu_now;
+    r = fused ? vx_display_record_frame(a->disp, a->fr, &fd, dd, im.image, im.view, im.width, im.height,
+                                        panels ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : im.layout, &res, err)
               : vx_frame_record(a->fr, &fd, cmd, slot, &res, err);
+    char why[256];
+    if (!r && panels && !sv_panels_gpu_record(a, cmd, slot, im.view, im.width, im.height, why, sizeof why))
+        r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "%s", why);
     if (r) {
         /* the acquired image is still presented (its semaphore waited for): cleared, in the slot's frame again */
         vx_frame_record_cancel(a->fr);
@@ -1491,8 +1497,15 @@ static vx_result frame(app* a, vx_error* err) {
         if (!a->px8) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u frame", w, h);
     }
     vf_canvas cv = {.pixels = a->px8, .width = w, .height = h, .bgra = vp_frame_bgra(a->p)};
+    /* the panels on the GPU (frames in flight into storage and colour-attachment swapchain images): the overlay
+     * then holds only what the CPU still draws (selection, probe grid), and none when nothing */
+    bool panels_gpu_was = a->panels_gpu_now;
+    a->panels_gpu_now = fly && a->panels_gpu && a->ui && a->panels && vp_colour(a->p);
+    if (a->panels_gpu_now != panels_gpu_was) a->ui_dirty = true; /* the other way's panels to draw */
     bool draws = !a->o.screenshot &&
-                 ((a->ui && a->panels) || (!a->o.bench && (a->overlay || a->sel != NO_SEL || a->probe_grid)));
+                 ((a->ui && a->panels && !a->panels_gpu_now) ||
+                  (!a->o.bench && ((a->overlay && !(a->ui && a->panels)) || a->sel != NO_SEL || a->probe_grid)));
+    bool panels_draw = a->ui && a->panels && !a->o.screenshot;
     a->frame_on_gpu = on_gpu;
     if (on_gpu) {
         /* the overlay (selection, panels, text) is drawn on the CPU into the
@@ -1501,20 +1514,23 @@ static vx_result frame(app* a, vx_error* err) {
          * message, a grab, or 250 ms passed (the statistics' numbers) */
         vf_canvas ov = cv;
         double now = vx_time_now(), cam[5] = {a->eye[0], a->eye[1], a->eye[2], a->yaw, a->pitch};
-        bool redraw = draws && (a->ui_dirty || !a->ov_valid || a->ov_w != w || a->ov_h != h || a->grab || a->playing ||
-                                a->bake.active || a->op || now - a->ov_time > 0.25 || now < a->msg_until + 0.1 ||
-                                memcmp(cam, a->ov_cam, sizeof cam) || a->cam_default != a->ov_cam_default);
-        if (redraw && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
-        a->ov_valid = draws && (a->ov_valid || redraw);
+        bool redraw = (draws || panels_draw) &&
+                      (a->ui_dirty || !a->ov_valid || a->ov_w != w || a->ov_h != h || a->grab || a->playing ||
+                       a->bake.active || a->op || now - a->ov_time > 0.25 || now < a->msg_until + 0.1 ||
+                       memcmp(cam, a->ov_cam, sizeof cam) || a->cam_default != a->ov_cam_default);
+        if (redraw && draws && !(ov.pixels = vx_display_overlay(a->disp, w, h, err))) return VX_ERR_GPU;
+        a->ov_valid = (draws || panels_draw) && (a->ov_valid || redraw);
         a->panels_ms = 0;
         if (redraw) {
             a->ui_dirty = false;
             a->ov_time = now, a->ov_w = w, a->ov_h = h, a->ov_cam_default = a->cam_default;
             memcpy(a->ov_cam, cam, sizeof cam);
-            draw_probe_grid(a, &ov);
-            draw_selection(a, &ov);
+            if (draws) {
+                draw_probe_grid(a, &ov);
+                draw_selection(a, &ov);
+            }
             double tp = thread_seconds();
-            if (a->ui && a->panels) sv_panels_draw(a, &ov);
+            if (a->ui && a->panels) sv_panels_draw(a, &ov); /* on the GPU: only the draw lists (ov unused) */
             else if (a->overlay) draw_overlay(a, &ov);
             a->panels_ms = a->ui && a->panels ? (thread_seconds() - tp) * 1e3 : 0;
         }
@@ -1522,6 +1538,11 @@ static vx_result frame(app* a, vx_error* err) {
         vx_result r = VX_ERR_UNSUPPORTED;
         a->frame_in_flight = fly && (r = present_in_flight(a, &d, &dd, err)) != VX_ERR_UNSUPPORTED;
         if (a->frame_in_flight && r) return r;
+        if (!a->frame_in_flight && a->panels_gpu_now) {
+            /* a frame the recorder refused takes the waited path: the panels drawn on the CPU from now on */
+            a->panels_gpu = a->panels_gpu_now = false;
+            a->ui_dirty = true;
+        }
         if (!a->frame_in_flight) {
             /* the waited path: a grab (read back after the wait), or a frame the recorder refused */
             if (fly) {
@@ -2218,11 +2239,17 @@ static void choose_present(app* a) {
         a->disp = NULL;
         return;
     }
+    /* the panels drawn on the GPU where the swapchain images take the last pass's writes and a render pass */
+    char why[256] = "";
+    if (a->ui && vp_colour(a->p)) a->panels_gpu = sv_panels_gpu_init(a, why, sizeof why);
     snprintf(a->present_note, sizeof a->present_note,
              "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %d "
-             "frames in flight (%s); grabs wait for theirs; other modes, picks, screenshots: host readback",
+             "frames in flight (%s); panels %s; grabs wait for theirs; other modes, picks, screenshots: host readback",
              vp_storage(a->p) ? "fused into the last pass, written into" : "-> a copy to", VX_DISPLAY_FRAMES,
-             strcmp(want, "gpu") ? "auto" : "--present gpu");
+             strcmp(want, "gpu") ? "auto" : "--present gpu",
+             a->panels_gpu ? "drawn on the GPU (ImGui's Vulkan backend) in that submission"
+             : why[0]      ? why
+                           : "drawn on the CPU into the overlay (the swapchain images are not storage and colour images)");
 }
 
 int main(int argc, char** argv) {

@@ -306,6 +306,7 @@ extern "C" void ui_gpu_shutdown(ui* u) {
     if (!u || !u->gpu.device) return;
     ImGui::SetCurrentContext(u->ctx);
     ui_gpu& g = u->gpu;
+    vkDeviceWaitIdle(g.device); // frames in flight may still draw with these objects
     if (g.ready) ImGui_ImplVulkan_Shutdown();
     for (VkFramebuffer& f : g.fb)
         if (f) vkDestroyFramebuffer(g.device, f, nullptr), f = VK_NULL_HANDLE;

@@ -86,7 +86,7 @@ bool ui_gpu_init(ui* u, const ui_gpu_desc* desc, char* why, size_t why_size);
 bool ui_gpu_record(ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why, size_t why_size);
 /* Whether ui_gpu_init succeeded (and ui_gpu_shutdown was not called). */
 bool ui_gpu_ready(const ui* u);
-/* Frees the GPU objects (the device must be idle); ui_destroy does it too,
+/* Frees the GPU objects (after waiting for the device); ui_destroy does it too,
  * but the device may be gone by then: call this before destroying it. */
 void ui_gpu_shutdown(ui* u);
 
