@@ -437,9 +437,13 @@ static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, 
     /* three timestamps per slot: after the passes, the conversion, the copy */
     VkQueryPool qp = VK_NULL_HANDLE;
     bool stages = mode != 9 && mode != 10;
-    bool gpu_panels = mode == 10;
+    bool gpu_panels = mode == 10 || mode == 11;
+    /* mode 11: also no timestamps of the passes' and the display's own (svo_view's frame but one in 8) */
+    bool untimed = mode == 11;
     if (mode == 9) mode = 7;
-    if (mode == 10) mode = 6;
+    if (mode == 10 || mode == 11) mode = 6, stages = false;
+    fd->no_timestamps = untimed;
+    vx_display_set_timestamps(disp, !untimed);
     VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                 .queryCount = 3 * VX_DISPLAY_FRAMES};
     if (stages && g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
@@ -461,7 +465,7 @@ static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, 
         }
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
-        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err))
+        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err) && res.frame_ms > 0)
             pass[np++] = res.frame_ms;
         uint64_t ts[3];
         if (qp && recorded[slot] && k > warm &&
@@ -530,6 +534,8 @@ static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, 
         for (int i = 0; i < 4; i++) st->stage_med[i] = median(stage[i], ns);
     }
     if (qp) vkDestroyQueryPool(g->device, qp, NULL);
+    fd->no_timestamps = false;
+    vx_display_set_timestamps(disp, true);
     free(t), free(gpu), free(gap), free(pass), free(rec);
     for (int i = 0; i < 4; i++) free(stage[i]);
     return ok;
@@ -665,7 +671,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     }
     /* the panels drawn on the GPU (Dear ImGui's Vulkan backend) over the fused frame, no overlay: svo_view's frame
      * with panels where they are drawn on the GPU; the scene's bytes outside the panel columns checked */
-    loop_stats gpu_panels = {0};
+    loop_stats gpu_panels = {0}, gpu_panels_untimed = {0};
     struct ui* pu = store_ok ? panels_make(g, w, h) : NULL;
     size_t panels_bad = 0, panels_shown = 0, panels_in = 0;
     bool panels_read = false;
@@ -674,7 +680,9 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (pu && (!plain || vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &plain_dd, plain, NULL, &err)))
         return fprintf(stderr, "%s\n", err.msg), 1;
     if (pu) {
-        if (!run_loop_panels(g, fr, disp, img, &fd, w, h, n, 10, NULL, NULL, pu, &gpu_panels)) return 1;
+        if (!run_loop_panels(g, fr, disp, img, &fd, w, h, n, 11, NULL, NULL, pu, &gpu_panels_untimed) ||
+            !run_loop_panels(g, fr, disp, img, &fd, w, h, n, 10, NULL, NULL, pu, &gpu_panels))
+            return 1;
         panels_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
         uint32_t lw = w * 3 / 8, rw = w * 3 / 8;
         for (uint32_t y = 0; panels_read && y < h; y++)
@@ -691,15 +699,16 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[12] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[13] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                              "passes alone (no conversion, no copy)", "written into the image, no overlay",
                              "written into the image, overlay kept", "fused into the last pass, no overlay",
                              "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
                              "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame",
-                             "fused, panels drawn on the GPU (ImGui Vulkan)"};
-    loop_stats* all[12] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
-                           &fused,     &fused_kept, &empty,   &bare_fused, &flying, &gpu_panels};
-    int modes = pu ? 12 : 11;
+                             "fused, panels drawn on the GPU (ImGui Vulkan)",
+                             "the same, no timestamps (svo_view's frame)"};
+    loop_stats* all[13] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept, &fused,
+                           &fused_kept, &empty,     &bare_fused, &flying, &gpu_panels, &gpu_panels_untimed};
+    int modes = pu ? 13 : 11;
     if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "

@@ -43,6 +43,8 @@ struct vx_display {
     uint32_t next; /* the slot the next frame takes */
     int cur;       /* the slot being recorded, -1: none */
     VkQueryPool qp; /* two timestamps per slot: the command buffer's start and end */
+    bool untimed;   /* vx_display_set_timestamps(false): frames begun from now on write none */
+    bool timed[VX_DISPLAY_FRAMES]; /* the slot's frame wrote its two */
     double last_gpu_ms, last_start_ms;
     uint64_t frames_done;
     /* off-screen images (vx_display_image_create) and their memory */
@@ -169,7 +171,7 @@ static vx_result slot_wait(vx_display* d, int i, vx_error* err) {
     VX__VK(vkWaitForFences(g->device, 1, &s->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
     s->pending = false;
     uint64_t ts[2];
-    if (d->qp && vkGetQueryPoolResults(g->device, d->qp, 2 * (uint32_t)i, 2, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) ==
+    if (d->qp && d->timed[i] && vkGetQueryPoolResults(g->device, d->qp, 2 * (uint32_t)i, 2, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) ==
                      VK_SUCCESS) {
         double per = g->props.limits.timestampPeriod * 1e-6;
         d->last_gpu_ms = (double)(ts[1] - ts[0]) * per;
@@ -451,7 +453,8 @@ vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_e
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VX__VK(vkBeginCommandBuffer(s->cmd, &bi), "vkBeginCommandBuffer");
-    if (d->qp) {
+    d->timed[i] = d->qp && !d->untimed;
+    if (d->timed[i]) {
         vkCmdResetQueryPool(s->cmd, d->qp, 2 * (uint32_t)i, 2);
         vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i);
     }
@@ -469,7 +472,7 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
     int i = d->cur;
     dslot* s = &d->slot[i];
     d->cur = -1;
-    if (d->qp) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
+    if (d->timed[i]) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
     VX__VK(vkEndCommandBuffer(s->cmd), "vkEndCommandBuffer");
     VkSemaphore ws = (VkSemaphore)(uintptr_t)wait_semaphore, ss = (VkSemaphore)(uintptr_t)signal_semaphore;
     /* only the copy into the image waits (a swapchain's acquire): the passes start before it */
@@ -495,6 +498,10 @@ void vx_display_frame_cancel(vx_display* d) {
     vkEndCommandBuffer(s->cmd);
     vkResetCommandBuffer(s->cmd, 0);
     d->cur = -1;
+}
+
+void vx_display_set_timestamps(vx_display* d, bool on) {
+    if (d) d->untimed = !on;
 }
 
 void vx_display_frame_times(const vx_display* d, vx_display_times* out) {

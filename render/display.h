@@ -108,6 +108,11 @@ typedef struct vx_display_times {
     double gpu_start_ms;
 } vx_display_times;
 void vx_display_frame_times(const vx_display* d, vx_display_times* out);
+/* Whether frames begun from now on write those two timestamps (default on;
+ * a viewer that does not read them turns them off: with their query reset
+ * they cost a frame in flight a few microseconds on an H200). Frames without
+ * them leave vx_display_frame_times as it was. */
+void vx_display_set_timestamps(vx_display* d, bool on);
 
 /* Off-screen images that stand in for a swapchain's where there is no
  * display (benchmarks, tests, a GPU machine without a window system):

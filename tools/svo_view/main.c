@@ -1302,15 +1302,18 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
     vx_result r = vx_display_frame_begin(a->disp, &slot, &cmd, err);
     if (r) return r;
     vx_frame_result done;
-    if (!vx_frame_record_result(a->fr, slot, &done, NULL)) {
+    if (!vx_frame_record_result(a->fr, slot, &done, NULL) && done.frame_ms > 0) { /* a frame that was timed */
         take_timings(a, &done);
         a->trace_ms = done.image.gpu_seconds * 1e3;
         a->rays_per_s = done.image.gpu_seconds > 0 ? done.image.rays / done.image.gpu_seconds : 0;
     }
     vx_frame_desc fd;
     vp_image im;
-    if ((r = frame_desc(a, d, true, &fd, err)) || (r = vx_frame_recordable(&fd, err)) ||
-        (r = vp_acquire(a->p, slot, &im, err))) {
+    r = frame_desc(a, d, true, &fd, err);
+    /* the passes' timestamps in one frame of 8 (the statistics' times; each timed frame costs an H200 a few
+     * microseconds more) */
+    fd.no_timestamps = a->frame_n % 8 != 0;
+    if (r || (r = vx_frame_recordable(&fd, err)) || (r = vp_acquire(a->p, slot, &im, err))) {
         vx_display_frame_cancel(a->disp);
         return r;
     }
@@ -2239,6 +2242,7 @@ static void choose_present(app* a) {
         a->disp = NULL;
         return;
     }
+    vx_display_set_timestamps(a->disp, false); /* the viewer reads the passes' times, not the display's */
     /* the panels drawn on the GPU where the swapchain images take the last pass's writes and a render pass */
     char why[256] = "";
     if (a->ui && vp_colour(a->p)) a->panels_gpu = sv_panels_gpu_init(a, why, sizeof why);
