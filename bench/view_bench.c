@@ -73,13 +73,16 @@ static struct ui* panels_make(vx_gpu* g, uint32_t w, uint32_t h) {
         return NULL;
     }
     float cw = (float)(w * 3 / 8);
+    /* VX_BENCH_PANEL_SMALL: one 240 x 200 window instead (how the panels' cost grows with their pixels) */
+    bool small = getenv("VX_BENCH_PANEL_SMALL") != NULL;
     static const float bars[64] = {1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1,
                                    2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2};
     static const uint32_t colours[2] = {0x3080F0u, 0x40C040u};
     for (int f = 0; f < 2; f++) { /* the second frame: windows placed and sized as on every later one */
         ui_frame_begin(u, w, h, 1.0 / 60);
-        for (int c = 0; c < 2; c++) {
-            if (ui_window_begin(c ? "Properties" : "Outliner", c ? (float)w - cw : 0, 0, cw, (float)h)) {
+        for (int c = 0; c < (small ? 1 : 2); c++) {
+            if (ui_window_begin(c ? "Properties" : "Outliner", c ? (float)w - cw : 0, 0, small ? 240 : cw,
+                                small ? 200 : (float)h)) {
                 for (int i = 0; i < 40; i++) ui_text("instance %d  model %d  layer %d  (%d, %d, %d)", i, i % 7, i % 3, i, -i, 2 * i);
                 ui_stacked_bars(bars, 32, 2, 2, colours, 2, 5, 60);
                 ui_progress(0.4f, "bake");
@@ -438,8 +441,10 @@ static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, 
     VkQueryPool qp = VK_NULL_HANDLE;
     bool stages = mode != 9 && mode != 10;
     bool gpu_panels = mode == 10 || mode == 11;
-    /* mode 11: also no timestamps of the passes' and the display's own (svo_view's frame but one in 8) */
-    bool untimed = mode == 11;
+    /* mode 11: also no timestamps of the passes' and the display's own (svo_view's frame but one in 8); mode 12:
+     * mode 9 (the CPU-drawn overlay kept) without them (svo_view's frame without --gpu-panels) */
+    bool untimed = mode == 11 || mode == 12;
+    if (mode == 12) mode = 7, stages = false;
     if (mode == 9) mode = 7;
     if (mode == 10 || mode == 11) mode = 6, stages = false;
     fd->no_timestamps = untimed;
@@ -671,7 +676,8 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     }
     /* the panels drawn on the GPU (Dear ImGui's Vulkan backend) over the fused frame, no overlay: svo_view's frame
      * with panels where they are drawn on the GPU; the scene's bytes outside the panel columns checked */
-    loop_stats gpu_panels = {0}, gpu_panels_untimed = {0};
+    loop_stats gpu_panels = {0}, gpu_panels_untimed = {0}, kept_untimed = {0};
+    if (store_ok && !run_loop(g, fr, disp, img, &fd, w, h, n, 12, NULL, NULL, &kept_untimed)) return 1;
     struct ui* pu = store_ok ? panels_make(g, w, h) : NULL;
     size_t panels_bad = 0, panels_shown = 0, panels_in = 0;
     bool panels_read = false;
@@ -688,7 +694,11 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         for (uint32_t y = 0; panels_read && y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
                 size_t q = 4 * ((size_t)y * w + x);
-                if (x >= lw + 2 && x + 2 < w - rw) panels_bad += memcmp(plain + q, got + q, 4) != 0;
+                if (getenv("VX_BENCH_PANEL_SMALL")) { /* one window at the top left */
+                    bool in = x < 242 && y < 202;
+                    if (!in) panels_bad += memcmp(plain + q, got + q, 4) != 0;
+                    else if (x < 238 && y < 198) panels_in++, panels_shown += memcmp(plain + q, got + q, 3) != 0;
+                } else if (x >= lw + 2 && x + 2 < w - rw) panels_bad += memcmp(plain + q, got + q, 4) != 0;
                 else if (x + 2 < lw || x >= w - rw + 2) panels_in++, panels_shown += memcmp(plain + q, got + q, 3) != 0;
             }
         vx_display_wait(disp, &err);
@@ -699,16 +709,17 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[13] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[14] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                              "passes alone (no conversion, no copy)", "written into the image, no overlay",
                              "written into the image, overlay kept", "fused into the last pass, no overlay",
                              "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
                              "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame",
                              "fused, panels drawn on the GPU (ImGui Vulkan)",
-                             "the same, no timestamps (svo_view's frame)"};
-    loop_stats* all[13] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept, &fused,
-                           &fused_kept, &empty,     &bare_fused, &flying, &gpu_panels, &gpu_panels_untimed};
-    int modes = pu ? 13 : 11;
+                             "the same, no timestamps (svo_view --gpu-panels)",
+                             "fused, overlay kept, no timestamps (svo_view)"};
+    loop_stats* all[14] = {&none,       &kept,  &redrawn,    &bare,   &store,      &store_kept,         &fused,
+                           &fused_kept, &empty, &bare_fused, &flying, &gpu_panels, &gpu_panels_untimed, &kept_untimed};
+    int modes = pu ? 14 : 11;
     if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "

@@ -39,6 +39,7 @@ typedef struct options {
     uint32_t bench;
     double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
     bool no_panels; /* the text overlay instead of the panels */
+    bool gpu_panels; /* the panels drawn on the GPU (ImGui's Vulkan backend) where the swapchain allows */
     const char* present;  /* --present auto|gpu|host */
     uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
     uint64_t undo_bytes;
