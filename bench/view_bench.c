@@ -29,7 +29,7 @@
  *        waited for: what svo_view records before its swapchain copy). The
  *        panels' CPU drawing is svo_view's, not here (svo_view --bench -v
  *        prints it).
- *        view_bench --loop IN.svo [W H (default 1920 1080)] [FRAMES (default 300)] [PASSES]:
+ *        view_bench --loop IN.svo [W H (default 1920 1080)] [FRAMES (default 300)] [PASSES] [EX,EY,EZ,TX,TY,TZ]:
  *        frames in flight as svo_view's GPU path records them (render/display.h:
  *        passes, conversion with the overlay, copy into an image, one submission
  *        per frame, VX_DISPLAY_FRAMES in flight), into off-screen images that
@@ -53,6 +53,66 @@
 #include "bench/bench_terrain.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/voxels.h"
+
+#if VX_BENCH_GPU_PANELS
+#include "tools/svo_view/ui.h"
+
+/* Panels as svo_view lays them out (columns of 3/8 of the width left and
+ * right) filled with text lines and a bar graph, drawn by Dear ImGui's
+ * Vulkan backend over the frame (ui_gpu_record); the draw lists made once
+ * and kept, as svo_view keeps them between redraws. NULL: no panels. */
+static struct ui* panels_make(vx_gpu* g, uint32_t w, uint32_t h) {
+    ui* u = ui_create();
+    char why[256];
+    ui_gpu_desc gd = {.instance = g->instance, .phys = g->phys, .device = g->device, .queue = g->queue,
+                      .queue_family = g->queue_family, .final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      .frames = VX_DISPLAY_FRAMES};
+    if (!u || !ui_gpu_init(u, &gd, why, sizeof why)) {
+        fprintf(stderr, "view_bench: %s\n", u ? why : "out of memory");
+        ui_destroy(u);
+        return NULL;
+    }
+    float cw = (float)(w * 3 / 8);
+    /* VX_BENCH_PANEL_SMALL: one 240 x 200 window instead (how the panels' cost grows with their pixels) */
+    bool small = getenv("VX_BENCH_PANEL_SMALL") != NULL;
+    static const float bars[64] = {1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1,
+                                   2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2, 1, 3, 1, 2, 2, 1, 2, 2};
+    static const uint32_t colours[2] = {0x3080F0u, 0x40C040u};
+    for (int f = 0; f < 2; f++) { /* the second frame: windows placed and sized as on every later one */
+        ui_frame_begin(u, w, h, 1.0 / 60);
+        for (int c = 0; c < (small ? 1 : 2); c++) {
+            if (ui_window_begin(c ? "Properties" : "Outliner", c ? (float)w - cw : 0, 0, small ? 240 : cw,
+                                small ? 200 : (float)h)) {
+                for (int i = 0; i < 40; i++) ui_text("instance %d  model %d  layer %d  (%d, %d, %d)", i, i % 7, i % 3, i, -i, 2 * i);
+                ui_stacked_bars(bars, 32, 2, 2, colours, 2, 5, 60);
+                ui_progress(0.4f, "bake");
+            }
+            ui_window_end();
+        }
+        ui_frame_end(u, NULL);
+    }
+    return u;
+}
+
+static bool panels_record(struct ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h) {
+    char why[256];
+    if (ui_gpu_record(u, cmd, slot, view, w, h, why, sizeof why)) return true;
+    fprintf(stderr, "view_bench: %s\n", why);
+    return false;
+}
+#else
+struct ui;
+static struct ui* panels_make(vx_gpu* g, uint32_t w, uint32_t h) {
+    (void)g, (void)w, (void)h;
+    return NULL;
+}
+static bool panels_record(struct ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h) {
+    (void)u, (void)cmd, (void)slot, (void)view, (void)w, (void)h;
+    return false;
+}
+static void ui_destroy(struct ui* u) { (void)u; }
+static void ui_gpu_shutdown(struct ui* u) { (void)u; }
+#endif
 
 static int cmp(const void* a, const void* b) {
     double x = *(const double*)a, y = *(const double*)b;
@@ -321,7 +381,11 @@ static bool headless_offered(void) {
     VkExtensionProperties* e = calloc(n, sizeof *e);
     bool found = false;
     if (e && vkEnumerateInstanceExtensionProperties(NULL, &n, e) == VK_SUCCESS)
-        for (uint32_t i = 0; i < n; i++) found |= !strcmp(e[i].extensionName, "VK_EXT_headless_surface");
+        for (uint32_t i = 0; i < n; i++) {
+            found |= !strcmp(e[i].extensionName, "VK_EXT_headless_surface");
+            printf("%s%s", i ? " " : "view_bench --loop: instance extensions: ", e[i].extensionName);
+        }
+    printf("\n");
     free(e);
     return found;
 }
@@ -360,8 +424,12 @@ typedef struct loop_stats {
  * svo_view records. */
 typedef bool (*before_fn)(void* user, uint32_t k);
 
-static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
-                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+/* mode 10: mode 9 without the overlay, the panels drawn on the GPU over the
+ * image instead (ui_gpu_record, tools/svo_view/ui.h; `panels` its ui). */
+
+static bool run_loop_panels(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                            uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, struct ui* panels,
+                            loop_stats* st) {
     vx_error err = {0};
     uint32_t warm = 20, total = n + warm;
     double *t = calloc(total + 1, sizeof(double)), *gpu = calloc(total, sizeof(double)), *gap = calloc(total, sizeof(double)),
@@ -371,8 +439,16 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
     uint32_t ng = 0, np = 0, ns = 0;
     /* three timestamps per slot: after the passes, the conversion, the copy */
     VkQueryPool qp = VK_NULL_HANDLE;
-    bool stages = mode != 9;
+    bool stages = mode != 9 && mode != 10;
+    bool gpu_panels = mode == 10 || mode == 11;
+    /* mode 11: also no timestamps of the passes' and the display's own (svo_view's frame but one in 8); mode 12:
+     * mode 9 (the CPU-drawn overlay kept) without them (svo_view's frame without --gpu-panels) */
+    bool untimed = mode == 11 || mode == 12;
+    if (mode == 12) mode = 7, stages = false;
     if (mode == 9) mode = 7;
+    if (mode == 10 || mode == 11) mode = 6, stages = false;
+    fd->no_timestamps = untimed;
+    vx_display_set_timestamps(disp, !untimed);
     VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO, .queryType = VK_QUERY_TYPE_TIMESTAMP,
                                 .queryCount = 3 * VX_DISPLAY_FRAMES};
     if (stages && g->has_timestamps && vkCreateQueryPool(g->device, &qi, NULL, &qp) != VK_SUCCESS) qp = VK_NULL_HANDLE;
@@ -394,7 +470,7 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         }
         last_start = dt.gpu_start_ms, last_done = dt.frames_done;
         vx_frame_result res;
-        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err))
+        if (mode != 8 && recorded[slot] && k > warm && !vx_frame_record_result(fr, slot, &res, &err) && res.frame_ms > 0)
             pass[np++] = res.frame_ms;
         uint64_t ts[3];
         if (qp && recorded[slot] && k > warm &&
@@ -419,9 +495,15 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         bool to_image = mode == 4 || mode == 5, fused = mode == 6 || mode == 7;
         if (mode == 8) {
             /* nothing recorded */
-        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                            &res, &err)
-                  : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+        } else if (fused ? vx_display_record_frame(disp, fr, fd, &dd, img[slot], 0, w, h,
+                                                   gpu_panels ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
+                                                              : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                                   &res, &err)
+                         : vx_frame_record(fr, fd, cmd, slot, &res, &err)) {
+            vx_display_frame_cancel(disp);
+            break;
+        }
+        if (gpu_panels && !panels_record(panels, cmd, slot, vx_display_image_view(disp, img[slot]), w, h)) {
             vx_display_frame_cancel(disp);
             break;
         }
@@ -457,9 +539,16 @@ static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const u
         for (int i = 0; i < 4; i++) st->stage_med[i] = median(stage[i], ns);
     }
     if (qp) vkDestroyQueryPool(g->device, qp, NULL);
+    fd->no_timestamps = false;
+    vx_display_set_timestamps(disp, true);
     free(t), free(gpu), free(gap), free(pass), free(rec);
     for (int i = 0; i < 4; i++) free(stage[i]);
     return ok;
+}
+
+static bool run_loop(vx_gpu* g, vx_frame_renderer* fr, vx_display* disp, const uint64_t* img, vx_frame_desc* fd,
+                     uint32_t w, uint32_t h, uint32_t n, int mode, before_fn before, void* user, loop_stats* st) {
+    return run_loop_panels(g, fr, disp, img, fd, w, h, n, mode, before, user, NULL, st);
 }
 
 /* A camera flying round the scene (a user moving it): frame k's camera, so
@@ -480,10 +569,13 @@ static bool orbit_step(void* user, uint32_t k) {
     return true;
 }
 
-static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes) {
+static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
+    double cam[6];
     if (!w || !h || n < 3 || n > 100000) return 2;
+    if (camera && sscanf(camera, "%lf,%lf,%lf,%lf,%lf,%lf", &cam[0], &cam[1], &cam[2], &cam[3], &cam[4], &cam[5]) != 6)
+        return fprintf(stderr, "view_bench --loop: bad camera '%s' (EX,EY,EZ,TX,TY,TZ)\n", camera), 2;
     printf("view_bench --loop: the Vulkan instance %s VK_EXT_headless_surface\n",
            headless_offered() ? "offers" : "does not offer");
     if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
@@ -495,6 +587,9 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_frame_desc fd;
     if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
     fd.no_readback = true;
+    if (camera) /* svo_render --camera's view (its up: z, its field of view: the default) */
+        fd.base.camera = (vx_render_camera){.set = true, .eye = {cam[0], cam[1], cam[2]}, .target = {cam[3], cam[4], cam[5]},
+                                            .up = {0, 0, 1}};
     /* the swapchain's stand-in: an image per frame slot, as a swapchain has one per frame in flight */
     uint64_t img[VX_DISPLAY_FRAMES];
     for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
@@ -579,17 +674,52 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
         free(ft);
         fd.base.camera = keep;
     }
+    /* the panels drawn on the GPU (Dear ImGui's Vulkan backend) over the fused frame, no overlay: svo_view's frame
+     * with panels where they are drawn on the GPU; the scene's bytes outside the panel columns checked */
+    loop_stats gpu_panels = {0}, gpu_panels_untimed = {0}, kept_untimed = {0};
+    if (store_ok && !run_loop(g, fr, disp, img, &fd, w, h, n, 12, NULL, NULL, &kept_untimed)) return 1;
+    struct ui* pu = store_ok ? panels_make(g, w, h) : NULL;
+    size_t panels_bad = 0, panels_shown = 0, panels_in = 0;
+    bool panels_read = false;
+    uint8_t* plain = pu ? malloc((size_t)w * h * 4) : NULL; /* the waited path's frame without any overlay */
+    vx_display_desc plain_dd = {.fr = fr, .width = w, .height = h, .bgra = true};
+    if (pu && (!plain || vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &plain_dd, plain, NULL, &err)))
+        return fprintf(stderr, "%s\n", err.msg), 1;
+    if (pu) {
+        if (!run_loop_panels(g, fr, disp, img, &fd, w, h, n, 11, NULL, NULL, pu, &gpu_panels_untimed) ||
+            !run_loop_panels(g, fr, disp, img, &fd, w, h, n, 10, NULL, NULL, pu, &gpu_panels))
+            return 1;
+        panels_read = !vx_display_image_read(disp, img[last], w, h, got, &err);
+        uint32_t lw = w * 3 / 8, rw = w * 3 / 8;
+        for (uint32_t y = 0; panels_read && y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                size_t q = 4 * ((size_t)y * w + x);
+                if (getenv("VX_BENCH_PANEL_SMALL")) { /* one window at the top left */
+                    bool in = x < 242 && y < 202;
+                    if (!in) panels_bad += memcmp(plain + q, got + q, 4) != 0;
+                    else if (x < 238 && y < 198) panels_in++, panels_shown += memcmp(plain + q, got + q, 3) != 0;
+                } else if (x >= lw + 2 && x + 2 < w - rw) panels_bad += memcmp(plain + q, got + q, 4) != 0;
+                else if (x + 2 < lw || x >= w - rw + 2) panels_in++, panels_shown += memcmp(plain + q, got + q, 3) != 0;
+            }
+        vx_display_wait(disp, &err);
+        ui_gpu_shutdown(pu);
+        ui_destroy(pu);
+    }
+    free(plain);
     printf("view_bench --loop %s %ux%u on %s, %u frames (after 20), passes %s, %d frames in flight, off-screen images:\n", in,
            w, h, vx_gpu_device_name(g), n, passes, VX_DISPLAY_FRAMES);
     printf("  baseline, vx_frame_render submitted + waited: passes GPU %.4f ms, wall %.4f ms\n", mb, mbw);
-    const char* names[11] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
+    const char* names[14] = {"no overlay", "overlay kept", "overlay redrawn (CPU columns) each frame",
                              "passes alone (no conversion, no copy)", "written into the image, no overlay",
                              "written into the image, overlay kept", "fused into the last pass, no overlay",
                              "fused into the last pass, overlay kept", "empty (timestamps only: the floor)",
-                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame"};
-    loop_stats* all[11] = {&none,      &kept,       &redrawn, &bare,       &store,  &store_kept,
-                           &fused,     &fused_kept, &empty,   &bare_fused, &flying};
-    int modes = 11;
+                             "fused, overlay kept, no stage timestamps", "the same, the camera moving every frame",
+                             "fused, panels drawn on the GPU (ImGui Vulkan)",
+                             "the same, no timestamps (svo_view --gpu-panels)",
+                             "fused, overlay kept, no timestamps (svo_view)"};
+    loop_stats* all[14] = {&none,       &kept,  &redrawn,    &bare,   &store,      &store_kept,         &fused,
+                           &fused_kept, &empty, &bare_fused, &flying, &gpu_panels, &gpu_panels_untimed, &kept_untimed};
+    int modes = pu ? 14 : 11;
     if (!store_ok) all[4] = all[8], names[4] = names[8], modes = 5;
     for (int m = 0; m < modes; m++)
         printf("  in flight, %-41s interval median %.4f mean %.4f ms (%.3fx the passes; %.0f frames/s), GPU per frame "
@@ -603,6 +733,10 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     if (store_ok)
         printf("  the moving camera's frames submitted + waited: passes GPU %.4f ms (the trace of those views)\n",
                fly_trace);
+    if (pu)
+        printf("  panels drawn on the GPU, last frame: %s, %zu bytes between the columns differ from the waited path, "
+               "%zu of %zu pixels in the columns show the panels\n",
+               panels_read ? "read" : "NOT READ", panels_bad, panels_shown, panels_in);
     printf("  last frame in flight against the waited path (vx_frame_render + vx_display_run): %s, %zu bytes differ\n",
            read ? "read" : "NOT READ", bad);
     if (store_ok) {
@@ -617,7 +751,10 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(g);
     vx_svo_scene_free(&s);
-    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) ? 0 : 1;
+    return read && !bad && (!store_ok || (store_read && !store_bad && fused_read && !fused_bad)) &&
+                   (!pu || (panels_read && !panels_bad && panels_shown > panels_in / 2))
+               ? 0
+               : 1;
 }
 
 /* Instance edits with frames in flight: an instance moved (an undo step, the
@@ -663,7 +800,8 @@ int main(int argc, char** argv) {
     if (argc >= 3 && !strcmp(argv[1], "--loop"))
         return loop_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
                           argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
-                          argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT);
+                          argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT,
+                          argc > 7 ? argv[7] : NULL);
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
                             argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);

@@ -43,6 +43,8 @@ struct vx_display {
     uint32_t next; /* the slot the next frame takes */
     int cur;       /* the slot being recorded, -1: none */
     VkQueryPool qp; /* two timestamps per slot: the command buffer's start and end */
+    bool untimed;   /* vx_display_set_timestamps(false): frames begun from now on write none */
+    bool timed[VX_DISPLAY_FRAMES]; /* the slot's frame wrote its two */
     double last_gpu_ms, last_start_ms;
     uint64_t frames_done;
     /* off-screen images (vx_display_image_create) and their memory */
@@ -169,7 +171,7 @@ static vx_result slot_wait(vx_display* d, int i, vx_error* err) {
     VX__VK(vkWaitForFences(g->device, 1, &s->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
     s->pending = false;
     uint64_t ts[2];
-    if (d->qp && vkGetQueryPoolResults(g->device, d->qp, 2 * (uint32_t)i, 2, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) ==
+    if (d->qp && d->timed[i] && vkGetQueryPoolResults(g->device, d->qp, 2 * (uint32_t)i, 2, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) ==
                      VK_SUCCESS) {
         double per = g->props.limits.timestampPeriod * 1e-6;
         d->last_gpu_ms = (double)(ts[1] - ts[0]) * per;
@@ -360,7 +362,7 @@ vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_des
         return record(d, cmd, desc, (VkImage)(uintptr_t)image, (VkImageView)(uintptr_t)view, iw, ih,
                       (VkImageLayout)final_layout, NULL, err);
     for (int k = 0; k < VX_DISPLAY_IMAGES; k++)
-        if (d->images[k] && (uint64_t)(uintptr_t)d->images[k] == image && d->image_view[k])
+        if (d->images[k] && (uint64_t)(uintptr_t)d->images[k] == image && d->image_view[k] && d->image_storage)
             return record(d, cmd, desc, d->images[k], d->image_view[k], iw, ih, (VkImageLayout)final_layout, NULL, err);
     return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
                    "not an off-screen image of this display with storage (vx_display_image_storage)");
@@ -379,7 +381,7 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
                        g->props.deviceName);
     VkImage img = (VkImage)(uintptr_t)image;
     VkImageView iv = (VkImageView)(uintptr_t)view;
-    for (int k = 0; !iv && k < VX_DISPLAY_IMAGES; k++)
+    for (int k = 0; !iv && d->image_storage && k < VX_DISPLAY_IMAGES; k++)
         if (d->images[k] == img) iv = d->image_view[k];
     if (!iv)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
@@ -404,9 +406,15 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
                             .bgra = desc->bgra};
     d->slot[si].fr = fr;
     if ((r = vx__frame_record_display(fr, fd, cmd, (uint32_t)si, &t, out, err))) return r;
-    /* a later reader (presentation, a readback) brings its own wait: its semaphore or barrier */
-    image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, (VkImageLayout)final_layout, VK_ACCESS_SHADER_WRITE_BIT, 0,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    /* a later reader (presentation, a readback) brings its own wait: its semaphore or barrier; a render pass
+     * drawing over the image (the panels: COLOR_ATTACHMENT_OPTIMAL) gets the scene's writes here */
+    if (final_layout == VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL)
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+    else
+        image_barrier(cmd, img, VK_IMAGE_LAYOUT_GENERAL, (VkImageLayout)final_layout, VK_ACCESS_SHADER_WRITE_BIT, 0,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
     return VX_OK;
 }
 
@@ -445,7 +453,8 @@ vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_e
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VX__VK(vkBeginCommandBuffer(s->cmd, &bi), "vkBeginCommandBuffer");
-    if (d->qp) {
+    d->timed[i] = d->qp && !d->untimed;
+    if (d->timed[i]) {
         vkCmdResetQueryPool(s->cmd, d->qp, 2 * (uint32_t)i, 2);
         vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i);
     }
@@ -463,7 +472,7 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
     int i = d->cur;
     dslot* s = &d->slot[i];
     d->cur = -1;
-    if (d->qp) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
+    if (d->timed[i]) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
     VX__VK(vkEndCommandBuffer(s->cmd), "vkEndCommandBuffer");
     VkSemaphore ws = (VkSemaphore)(uintptr_t)wait_semaphore, ss = (VkSemaphore)(uintptr_t)signal_semaphore;
     /* only the copy into the image waits (a swapchain's acquire): the passes start before it */
@@ -489,6 +498,10 @@ void vx_display_frame_cancel(vx_display* d) {
     vkEndCommandBuffer(s->cmd);
     vkResetCommandBuffer(s->cmd, 0);
     d->cur = -1;
+}
+
+void vx_display_set_timestamps(vx_display* d, bool on) {
+    if (d) d->untimed = !on;
 }
 
 void vx_display_frame_times(const vx_display* d, vx_display_times* out) {
@@ -545,6 +558,7 @@ vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_
                             .samples = VK_SAMPLE_COUNT_1_BIT,
                             .tiling = VK_IMAGE_TILING_OPTIMAL,
                             .usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
                                      (d->image_storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
                             .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
     VX__VK(vkCreateImage(g->device, &ii, NULL, &d->images[k]), "vkCreateImage");
@@ -560,7 +574,7 @@ vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_
                                .memoryTypeIndex = type};
     VkResult vr = type == UINT32_MAX ? VK_ERROR_OUT_OF_DEVICE_MEMORY : vkAllocateMemory(g->device, &ai, NULL, &d->image_mem[k]);
     if (vr == VK_SUCCESS) vr = vkBindImageMemory(g->device, d->images[k], d->image_mem[k], 0);
-    if (vr == VK_SUCCESS && d->image_storage) {
+    if (vr == VK_SUCCESS) { /* the storage view where the device can, a colour attachment's always */
         VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
                                     .image = d->images[k],
                                     .viewType = VK_IMAGE_VIEW_TYPE_2D,
@@ -586,6 +600,12 @@ void vx_display_image_destroy(vx_display* d, uint64_t image) {
         if (d->image_mem[k]) vkFreeMemory(d->g->device, d->image_mem[k], NULL);
         d->images[k] = VK_NULL_HANDLE, d->image_mem[k] = VK_NULL_HANDLE, d->image_view[k] = VK_NULL_HANDLE;
     }
+}
+
+uint64_t vx_display_image_view(const vx_display* d, uint64_t image) {
+    for (int k = 0; d && image && k < VX_DISPLAY_IMAGES; k++)
+        if ((uint64_t)(uintptr_t)d->images[k] == image) return (uint64_t)(uintptr_t)d->image_view[k];
+    return 0;
 }
 
 vx_result vx_display_image_read(vx_display* d, uint64_t image, uint32_t w, uint32_t h, uint8_t* bytes, vx_error* err) {

@@ -108,17 +108,25 @@ typedef struct vx_display_times {
     double gpu_start_ms;
 } vx_display_times;
 void vx_display_frame_times(const vx_display* d, vx_display_times* out);
+/* Whether frames begun from now on write those two timestamps (default on;
+ * a viewer that does not read them turns them off: with their query reset
+ * they cost a frame in flight a few microseconds on an H200). Frames without
+ * them leave vx_display_frame_times as it was. */
+void vx_display_set_timestamps(vx_display* d, bool on);
 
 /* Off-screen images that stand in for a swapchain's where there is no
  * display (benchmarks, tests, a GPU machine without a window system):
- * w x h, B,G,R,A bytes, device-local, transfer destination and source;
- * destroyed with the display. vx_display_image_read waits for the frames in
+ * w x h, B,G,R,A bytes, device-local, transfer destination and source and
+ * colour attachment (a render pass may draw over the frame, as svo_view's
+ * panels do); destroyed with the display. vx_display_image_view gives an
+ * image's view (a VkImageView, 0: not one of these images). vx_display_image_read waits for the frames in
  * flight and reads one back (rows top first); the image must have been
  * copied to with final layout TRANSFER_SRC_OPTIMAL. */
 #define VX_DISPLAY_IMAGES 16
 vx_result vx_display_image_create(vx_display* d, uint32_t w, uint32_t h, uint64_t* image, vx_error* err);
 vx_result vx_display_image_read(vx_display* d, uint64_t image, uint32_t w, uint32_t h, uint8_t* bytes, vx_error* err);
 void vx_display_image_destroy(vx_display* d, uint64_t image);
+uint64_t vx_display_image_view(const vx_display* d, uint64_t image);
 /* Where the device can (shaderStorageImageWriteWithoutFormat, which
  * vx_gpu_create and vx_gpu_make_device enable where offered, and storage
  * images of the format: vx_display_can_store; vx_display_image_storage for
@@ -149,7 +157,10 @@ vx_result vx_display_record_image(vx_display* d, void* cmd, const vx_display_des
  * vx_frame_record. The image is written by the passes' compute stage: a
  * swapchain acquire the submission waits for (at the transfer stage, as
  * vx_display_frame_submit does) is ordered before the passes by an image
- * barrier at the start. desc: width and height the frame's (fd->base), the
+ * barrier at the start; final_layout COLOR_ATTACHMENT_OPTIMAL makes the
+ * frame's writes visible to a render pass that loads the image next (the
+ * panels drawn over it: tools/svo_view/ui.h ui_gpu_record). desc: width and
+ * height the frame's (fd->base), the
  * byte order and the overlay. VX_ERR_UNSUPPORTED where the device cannot
  * store images without a format (then vx_frame_record and the copy). On
  * failure the frame is the caller's to cancel (vx_display_frame_cancel). */

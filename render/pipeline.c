@@ -507,6 +507,7 @@ typedef struct rec {
     int row_of[MAX_TIMED];  /* timing row of dispatch k of this submission */
     uint32_t nd;
     bool recording;
+    bool untimed; /* a recorded frame without timestamps (vx_frame_desc.no_timestamps) */
     vx_frame_result* res;
     double first_ts_ms; /* unused when no timestamps */
 } rec;
@@ -525,7 +526,7 @@ static vx_result rec_begin(rec* R, vx_error* err) {
         R->cb = R->fr->g->cmd;
     }
     R->nq = 0, R->nd = 0, R->recording = true;
-    if (R->fr->g->has_timestamps) vkCmdResetQueryPool(R->cb, R->qp, 0, R->qcap);
+    if (R->fr->g->has_timestamps && !R->untimed) vkCmdResetQueryPool(R->cb, R->qp, 0, R->qcap);
     return VX_OK;
 }
 
@@ -536,7 +537,7 @@ static void rec_dispatch_n(rec* R, vx__pipeline* p, const push_block* pc, const 
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &R->set, 0, NULL);
     vkCmdPushConstants(cb, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
-    bool ts = g->has_timestamps && R->nq + 2 <= R->qcap && R->nd < MAX_TIMED;
+    bool ts = g->has_timestamps && !R->untimed && R->nq + 2 <= R->qcap && R->nd < MAX_TIMED;
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, R->qp, R->nq);
     if (!groups) groups = R->groups;
     vkCmdDispatch(cb, groups[0], groups[1], 1);
@@ -960,6 +961,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     }
     R->fr = fr, R->res = out;
     R->slot = slot, R->cb = cb, R->qp = *qp, R->qcap = *qcap;
+    R->untimed = slot && desc->no_timestamps; /* a waited frame is always timed (its result says how long) */
     R->groups[0] = (f.width + 7) / 8, R->groups[1] = (f.height + 7) / 8;
     VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                       .descriptorPool = pool, .descriptorSetCount = 1, .pSetLayouts = &p_gb->dsl};

@@ -250,7 +250,13 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out);
  *  separate_passes: never merge passes (each pass its own dispatch and
  *               timing row); by default gbuffer, direct and resolve run as
  *               one dispatch ("gbuffer+direct+resolve") when no ao, gi or
- *               intermediate image needs their results in between */
+ *               intermediate image needs their results in between
+ *  no_timestamps: a recorded frame (vx_frame_record) without its passes'
+ *               timestamps and their query reset (its result then has no
+ *               times: frame_ms 0, timing rows with 0 ms); on an H200 they
+ *               cost a 0.08 ms frame in flight a few microseconds, so a
+ *               viewer times one frame in several. Frames rendered and
+ *               waited for are always timed. */
 typedef struct vx_frame_desc {
     vx_render_desc base;
     const vx_pass_list* passes;
@@ -273,6 +279,7 @@ typedef struct vx_frame_desc {
     bool want_ids;
     bool no_readback;
     bool separate_passes;
+    bool no_timestamps;
 } vx_frame_desc;
 
 /* The resolved defaults of a desc, for --help and for callers who want to

@@ -320,6 +320,12 @@ typedef struct vx_render_scene_stats {
      * host (vx_bvh_refit, for frames the host writes) and on the GPU with
      * each recorded frame's tables (vx_frame_record) instead of a build */
     uint32_t instance_refits;
+    /* rows of the instance table and of the BVH's (its nodes, or the
+     * refit's instance boxes) that recorded frames wrote to the GPU: only
+     * those that changed since the last recorded frame (an instance moved
+     * under a still camera: its row and box), all of them when the camera
+     * moved (the rows are relative to it) */
+    uint64_t table_rows_uploaded;
 } vx_render_scene_stats;
 void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than

@@ -914,6 +914,38 @@ static void update_buffer(VkCommandBuffer cb, const vx__buffer* b, const void* d
     }
 }
 
+/* The rows of `data` (count rows of `row` bytes) that differ from `last`
+ * (the buffer's contents once the frames before run), in runs: rows a few
+ * apart go in one update (a command each costs more than a few rows). More
+ * than a quarter changed: the whole table in one go. Returns the rows sent. */
+static uint64_t update_rows(VkCommandBuffer cb, const vx__buffer* b, const uint8_t* data, const uint8_t* last, size_t row,
+                            size_t count) {
+    size_t changed = 0;
+    for (size_t i = 0; i < count; i++) changed += memcmp(data + i * row, last + i * row, row) != 0;
+    if (changed * 4 > count) {
+        update_buffer(cb, b, data, (VkDeviceSize)(row * count));
+        return count;
+    }
+    uint64_t sent = 0;
+    for (size_t i = 0; i < count;) {
+        if (!memcmp(data + i * row, last + i * row, row)) {
+            i++;
+            continue;
+        }
+        size_t e = i + 1, gap = 0; /* the run ends after 4 equal rows in a row */
+        for (size_t j = i + 1; j < count && gap < 4; j++) {
+            if (memcmp(data + j * row, last + j * row, row)) e = j + 1, gap = 0;
+            else gap++;
+        }
+        VkDeviceSize at = (VkDeviceSize)(i * row), n = (VkDeviceSize)((e - i) * row);
+        for (VkDeviceSize k = 0; k < n; k += 65536)
+            vkCmdUpdateBuffer(cb, b->buf, at + k, n - k < 65536 ? n - k : 65536, data + at + k);
+        sent += e - i;
+        i = e;
+    }
+    return sent;
+}
+
 /* The refit's pipeline and its set (bvh nodes, items, instance boxes,
  * order), made again when the pipeline cache made the pipeline again. */
 static vx_result refit_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
@@ -1016,9 +1048,22 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_PIPELINE_STAGE_TRANSFER_BIT | (refit ? VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT : 0), 0, 1,
                              &before, 0, NULL, 0, NULL);
-        update_buffer(cb, &rs->frame, gf, sizeof *gf);
-        update_buffer(cb, &rs->insts, gi, ni);
-        update_buffer(cb, refit ? &rs->inst_boxes : &rs->bvh_nodes, at + sizeof *gf + ni, nb);
+        /* with the last recorded frame's tables known and of the same kind, only the rows that changed (an
+         * instance moved, the camera still: one row and its box, not all); else all */
+        bool rows = rs->tables_known && rs->tables_refit == refit && rs->tables_size == need;
+        const uint8_t* last = rs->tables;
+        size_t nrow = refit ? 32 : sizeof(vx_bvh_node);
+        if (!rows || memcmp(last, gf, sizeof *gf)) update_buffer(cb, &rs->frame, gf, sizeof *gf);
+        if (rows) {
+            rs->stats.table_rows_uploaded +=
+                update_rows(cb, &rs->insts, (const uint8_t*)gi, last + sizeof *gf, sizeof(vx__gpu_inst), rs->inst_count);
+            rs->stats.table_rows_uploaded += update_rows(cb, refit ? &rs->inst_boxes : &rs->bvh_nodes,
+                                                         at + sizeof *gf + ni, last + sizeof *gf + ni, nrow, nb / nrow);
+        } else {
+            update_buffer(cb, &rs->insts, gi, ni);
+            update_buffer(cb, refit ? &rs->inst_boxes : &rs->bvh_nodes, at + sizeof *gf + ni, nb);
+            rs->stats.table_rows_uploaded += rs->inst_count + nb / nrow;
+        }
         if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
             update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
             rs->items_dirty = false;

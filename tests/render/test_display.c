@@ -237,10 +237,16 @@ static void in_flight_equals_waited(way wy) {
  * (on the host for waited frames, on the GPU level by level for recorded
  * ones); every recorded frame equals the same frame of a render scene built
  * from scratch (an SAH build over the moved instances: another tree, the
- * same nearest hits), and so does the waited frame after the moves. Six
+ * same nearest hits), and so does the waited frame after the moves. Eight
  * steps over 48 instances in a grid, a few moved each step (one of them far,
- * so the refit boxes grow and overlap), the camera orbiting. */
-enum { RN = 48, STEPS = 6 };
+ * so the refit boxes grow and overlap), the camera orbiting and then, from
+ * step STILL on, still: those frames write only the rows of the instance
+ * table and of the boxes that changed (vx_render_scene_stats
+ * table_rows_uploaded), and must still equal the scenes built from scratch. */
+enum { RN = 48, STEPS = 8, STILL = 5 };
+
+/* Step k's camera: the orbit's, held from step STILL on. */
+static uint32_t cam_of(uint32_t k) { return k < STILL ? k : STILL; }
 
 static void refit_equals_scratch(void) {
     vx_svo_model m[2];
@@ -264,7 +270,7 @@ static void refit_equals_scratch(void) {
     for (int k = 0; k < STEPS; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
     double xf[STEPS][RN][3]; /* the translations at each step */
     uint32_t seed = 5;
-    vx_render_scene_stats st0, st1;
+    vx_render_scene_stats st0, st1, still0 = {0};
     vx_render_scene_get_stats(rs, &st0);
     REQUIRE(draw_pattern(disp, 0)); /* record_k lays the overlay over the frames */
     for (uint32_t k = 0; k < STEPS; k++) {
@@ -282,7 +288,8 @@ static void refit_equals_scratch(void) {
         for (uint32_t i = 0; i < RN; i++)
             for (int c = 0; c < 3; c++) xf[k][i][c] = s.instances[i].xform[3 + 4 * c];
         vx_light lights[2];
-        vx_frame_desc d = frame_k(&s, k, lights);
+        vx_frame_desc d = frame_k(&s, cam_of(k), lights);
+        if (k == STILL + 1) vx_render_scene_get_stats(rs, &still0); /* the frames after the camera stopped */
         uint32_t slot;
         void* cmd;
         vx_frame_result res;
@@ -298,6 +305,14 @@ static void refit_equals_scratch(void) {
     vx_render_scene_get_stats(rs, &st1);
     uint32_t refits = st1.instance_refits - st0.instance_refits;
     CHECKF(refits >= STEPS - 2, "%u of %d moves refit the BVH", refits, STEPS - 1);
+    /* the still camera's frames: a few moved instances' rows and boxes (4 moves a step, runs merged across at
+     * most 3 unchanged rows: at most 13 rows of each table), not the 2 x 48 of a whole upload */
+    uint64_t rows = st1.table_rows_uploaded - still0.table_rows_uploaded, steps = STEPS - STILL - 1;
+    printf("  %llu table rows written by the %llu frames with a still camera (%llu for whole tables)\n",
+           (unsigned long long)rows, (unsigned long long)steps, (unsigned long long)(steps * 2 * RN));
+    CHECKF(rows > 0 && rows <= steps * 2 * 13, "%llu rows written", (unsigned long long)rows);
+    CHECKF(st1.table_rows_uploaded - st0.table_rows_uploaded >= (uint64_t)(STILL) * 2 * RN,
+           "the orbiting camera's frames wrote %llu rows", (unsigned long long)(st1.table_rows_uploaded - st0.table_rows_uploaded));
     /* each step against a scene built from scratch with that step's instances */
     uint8_t *got = malloc(W * H * 4), *want = malloc(W * H * 4);
     REQUIRE(got && want);
@@ -311,7 +326,7 @@ static void refit_equals_scratch(void) {
         REQUIRE(vx_render_scene_create(gpu, &s, &rs2, &err) == VX_OK);
         REQUIRE(vx_frame_renderer_create(rs2, &s, &fr2, &err) == VX_OK);
         vx_light lights[2];
-        vx_frame_desc d = frame_k(&s, k, lights);
+        vx_frame_desc d = frame_k(&s, cam_of(k), lights);
         vx_frame_result res;
         vx_display_desc dd = {.fr = fr2, .width = W, .height = H, .bgra = true, .overlay = true};
         REQUIRE(vx_frame_render(fr2, &d, &res, &err) == VX_OK);

@@ -39,6 +39,7 @@ typedef struct options {
     uint32_t bench;
     double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
     bool no_panels; /* the text overlay instead of the panels */
+    bool gpu_panels; /* the panels drawn on the GPU (ImGui's Vulkan backend) where the swapchain allows */
     const char* present;  /* --present auto|gpu|host */
     uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
     uint64_t undo_bytes;
@@ -123,6 +124,9 @@ typedef struct app {
     struct ui* ui;
     bool panels;
     double ui_time; /* glfwGetTime() of the last panel frame */
+    /* the panels drawn on the GPU over the shown image (ui.h ui_gpu_init made: frames in flight into a swapchain
+     * of storage and colour-attachment images); panels_gpu_now: this frame's are (the CPU draws none) */
+    bool panels_gpu, panels_gpu_now;
     uint32_t sel_light;
     uint32_t light_step_for; /* the light whose panel edit made the undo step of ed.serial light_step */
     uint64_t light_step;
@@ -150,7 +154,7 @@ typedef struct app {
     bool ui_dirty, ov_valid, ov_cam_default;
     double ov_time, ov_cam[5];
     uint32_t ov_w, ov_h;
-    char present_note[256];
+    char present_note[512];
     /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
      * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
     uint32_t scenes_made;

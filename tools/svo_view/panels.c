@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <vulkan/vulkan.h> /* the swapchain's layout for the panels drawn on the GPU */
 
 #include "tools/svo_view/ui.h"
 
@@ -25,6 +26,22 @@ bool sv_panels_create(app* a) {
 void sv_panels_destroy(app* a) {
     ui_destroy(a->ui);
     a->ui = NULL;
+}
+
+bool sv_panels_gpu_init(app* a, char* why, size_t why_size) {
+    if (!a->ui || !a->p) return false;
+    vx_gpu_desc gd = {0};
+    vp_external(a->p, &gd);
+    ui_gpu_desc ud = {.instance = (void*)gd.external.instance, .phys = (void*)gd.external.physical_device,
+                      .device = (void*)gd.external.device, .queue = (void*)gd.external.queue,
+                      .queue_family = gd.external.queue_family, .format = vp_format(a->p),
+                      .final_layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, .frames = VX_DISPLAY_FRAMES};
+    return ui_gpu_init(a->ui, &ud, why, why_size);
+}
+
+bool sv_panels_gpu_record(app* a, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why,
+                          size_t why_size) {
+    return ui_gpu_record(a->ui, cmd, slot, view, w, h, why, why_size);
 }
 
 void sv_panels_mouse(app* a, double x, double y) {
@@ -437,5 +454,5 @@ void sv_panels_draw(app* a, vf_canvas* cv) {
     }
     if (ui_window_begin("Probes", W - rw, H * (anim ? 0.75f : 0.6f), rw, H * (anim ? 0.25f : 0.4f))) probe_panel(a);
     ui_window_end();
-    ui_frame_end(a->ui, cv);
+    ui_frame_end(a->ui, a->panels_gpu_now ? NULL : cv); /* on the GPU: the draw lists kept for ui_gpu_record */
 }

@@ -22,8 +22,17 @@ bool sv_panels_built(void);
 /* Sets a->ui; false (with a message) when not built or out of memory. */
 bool sv_panels_create(app* a);
 void sv_panels_destroy(app* a);
-/* Builds this frame's panels (their actions run now) and draws them over cv. */
+/* Builds this frame's panels (their actions run now) and draws them over cv
+ * (with a->panels_gpu_now: only builds them, for sv_panels_gpu_record). */
 void sv_panels_draw(app* a, vf_canvas* cv);
+/* The panels drawn on the GPU (ui.h ui_gpu_init) on the window's device,
+ * into images of the swapchain's format left for presentation; false with
+ * the reason in why (not built: none). */
+bool sv_panels_gpu_init(app* a, char* why, size_t why_size);
+/* Records the last built panels over a frame in flight's image (ui.h
+ * ui_gpu_record: view, w x h, in COLOR_ATTACHMENT_OPTIMAL layout). */
+bool sv_panels_gpu_record(app* a, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why,
+                          size_t why_size);
 
 /* Input from the window, in frame pixels; the *_wants functions say whether
  * the panels took it (the viewer then ignores it). */

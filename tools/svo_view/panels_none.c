@@ -9,6 +9,15 @@ bool sv_panels_create(app* a) {
 }
 void sv_panels_destroy(app* a) { (void)a; }
 void sv_panels_draw(app* a, vf_canvas* cv) { (void)a, (void)cv; }
+bool sv_panels_gpu_init(app* a, char* why, size_t why_size) {
+    (void)a, (void)why, (void)why_size;
+    return false;
+}
+bool sv_panels_gpu_record(app* a, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why,
+                          size_t why_size) {
+    (void)a, (void)cmd, (void)slot, (void)view, (void)w, (void)h, (void)why, (void)why_size;
+    return false;
+}
 void sv_panels_mouse(app* a, double x, double y) { (void)a, (void)x, (void)y; }
 void sv_panels_button(app* a, int button, bool down) { (void)a, (void)button, (void)down; }
 void sv_panels_wheel(app* a, double dy) { (void)a, (void)dy; }

@@ -28,6 +28,7 @@ struct vp {
     VkSemaphore done[VP_MAX_IMAGES];
     bool storage_write; /* the device has shaderStorageImageWriteWithoutFormat (vx_gpu_make_device) */
     bool storage;       /* the swapchain images are storage images (frames in flight write them directly) */
+    bool colour;        /* ... and colour attachments (the panels drawn over them on the GPU) */
     VkSemaphore acquired;
     /* frames in flight (vp_acquire): an acquire semaphore per frame slot, the
      * image the frame being recorded took */
@@ -199,6 +200,8 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
     vkGetPhysicalDeviceFormatProperties(p->phys, fmt.format, &fp);
     p->storage = p->storage_write && (caps.supportedUsageFlags & VK_IMAGE_USAGE_STORAGE_BIT) &&
                  (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
+    p->colour = p->storage && (caps.supportedUsageFlags & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT) &&
+                (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT);
     VkSwapchainKHR old = p->sc;
     VkSwapchainCreateInfoKHR ci = {.sType = VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR,
                                    .surface = p->surface,
@@ -207,7 +210,8 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
                                    .imageColorSpace = fmt.colorSpace,
                                    .imageExtent = ext,
                                    .imageArrayLayers = 1,
-                                   .imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | (p->storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
+                                   .imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | (p->storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0) |
+                                                 (p->colour ? VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT : 0),
                                    .imageSharingMode = VK_SHARING_MODE_EXCLUSIVE,
                                    .preTransform = caps.currentTransform,
                                    .compositeAlpha = alpha,
@@ -375,6 +379,8 @@ void vp_frame_size(vp* p, uint32_t* w, uint32_t* h) {
 }
 
 bool vp_storage(const vp* p) { return p->storage; }
+bool vp_colour(const vp* p) { return p->colour; }
+int vp_format(const vp* p) { return (int)p->format; }
 
 bool vp_frame_bgra(const vp* p) { return p->format == VK_FORMAT_B8G8R8A8_UNORM || p->format == VK_FORMAT_B8G8R8A8_SRGB; }
 

@@ -48,6 +48,8 @@ void vp_external(vp* p, vx_gpu_desc* gd);
 void vp_frame_size(vp* p, uint32_t* w, uint32_t* h);
 bool vp_frame_bgra(const vp* p); /* the swapchain wants B,G,R,A bytes */
 bool vp_storage(const vp* p);    /* the swapchain images are storage images (vp_image.view) */
+bool vp_colour(const vp* p);     /* ... and colour attachments (vp_image.view; the panels drawn on the GPU) */
+int vp_format(const vp* p);      /* the swapchain images' VkFormat */
 /* Changes vsync; takes effect by recreating the swapchain. */
 void vp_set_vsync(vp* p, bool vsync);
 bool vp_vsync(const vp* p);

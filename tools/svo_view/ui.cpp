@@ -4,9 +4,11 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <backends/imgui_impl_vulkan.h>
 
 #include <cstdarg>
 #include <cstddef>
+#include <cstdio>
 #include <new>
 
 static_assert(sizeof(ImDrawVert) == sizeof(vf_vertex) && offsetof(ImDrawVert, pos) == offsetof(vf_vertex, x) &&
@@ -14,9 +16,21 @@ static_assert(sizeof(ImDrawVert) == sizeof(vf_vertex) && offsetof(ImDrawVert, po
               "ImDrawVert and vf_vertex differ");
 static_assert(sizeof(ImDrawIdx) == sizeof(uint16_t), "ImDrawIdx must be 16 bits");
 
+// the GPU panels' objects (ui_gpu_init); Vulkan's own types here, void* in ui.h
+enum { UI_GPU_MAX_FRAMES = 8 };
+struct ui_gpu {
+    bool ready;
+    VkDevice device;
+    VkRenderPass pass;
+    VkDescriptorPool pool;
+    uint32_t frames;
+    VkFramebuffer fb[UI_GPU_MAX_FRAMES]; // the last framebuffer made for each frame slot
+};
+
 struct ui {
     ImGuiContext* ctx;
     vf_texture font;
+    ui_gpu gpu;
 };
 
 extern "C" ui* ui_create(void) {
@@ -52,6 +66,7 @@ extern "C" ui* ui_create(void) {
 
 extern "C" void ui_destroy(ui* u) {
     if (!u) return;
+    ui_gpu_shutdown(u);
     ImGui::DestroyContext(u->ctx);
     delete u;
 }
@@ -104,6 +119,12 @@ extern "C" void ui_frame_begin(ui* u, uint32_t width, uint32_t height, double dt
 extern "C" void ui_frame_end(ui* u, vf_canvas* cv) {
     ImGui::SetCurrentContext(u->ctx);
     ImGui::Render();
+    if (cv) ui_draw_cpu(u, cv);
+    ImGui::GetIO().MouseWheel = 0;
+}
+
+extern "C" void ui_draw_cpu(ui* u, vf_canvas* cv) {
+    ImGui::SetCurrentContext(u->ctx);
     const ImDrawData* dd = ImGui::GetDrawData();
     for (int l = 0; dd && l < dd->CmdListsCount; l++) {
         const ImDrawList* dl = dd->CmdLists[l];
@@ -115,7 +136,183 @@ extern "C" void ui_frame_end(ui* u, vf_canvas* cv) {
                          dl->IdxBuffer.Data + c.IdxOffset, c.ElemCount, clip, &u->font);
         }
     }
-    ImGui::GetIO().MouseWheel = 0;
+}
+
+// ---- the panels drawn on the GPU -------------------------------------------------------
+
+static void gpu_fail(char* why, size_t n, const char* what, VkResult r) {
+    if (why && n) std::snprintf(why, n, "panels on the GPU: %s failed (VkResult %d)", what, static_cast<int>(r));
+}
+
+extern "C" bool ui_gpu_init(ui* u, const ui_gpu_desc* d, char* why, size_t why_size) {
+    if (!u || !d || !d->device || !d->queue || u->gpu.ready) {
+        if (why && why_size) std::snprintf(why, why_size, "panels on the GPU: no device, or made already");
+        return false;
+    }
+    ImGui::SetCurrentContext(u->ctx);
+    ui_gpu& g = u->gpu;
+    g.device = static_cast<VkDevice>(d->device);
+    g.frames = d->frames ? d->frames : 3;
+    if (g.frames < 2 || g.frames > UI_GPU_MAX_FRAMES) {
+        if (why && why_size) std::snprintf(why, why_size, "panels on the GPU: %u frames in flight (2..%d)", g.frames,
+                                           static_cast<int>(UI_GPU_MAX_FRAMES));
+        return false;
+    }
+    VkFormat format = d->format ? static_cast<VkFormat>(d->format) : VK_FORMAT_B8G8R8A8_UNORM;
+    VkImageLayout final_layout = d->final_layout ? static_cast<VkImageLayout>(d->final_layout) : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    // the scene is in the image already: load it, draw over it, store; the caller's barrier orders the tracer's
+    // writes before the load (ui.h), the external dependency below the blend after it
+    VkAttachmentDescription att = {};
+    att.format = format;
+    att.samples = VK_SAMPLE_COUNT_1_BIT;
+    att.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att.initialLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    att.finalLayout = final_layout;
+    VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub = {};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 1;
+    sub.pColorAttachments = &ref;
+    VkSubpassDependency dep = {};
+    dep.srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep.dstSubpass = 0;
+    dep.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dep.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dep.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    dep.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    VkRenderPassCreateInfo rp = {};
+    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    rp.attachmentCount = 1;
+    rp.pAttachments = &att;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &sub;
+    rp.dependencyCount = 1;
+    rp.pDependencies = &dep;
+    VkResult r = vkCreateRenderPass(g.device, &rp, nullptr, &g.pass);
+    if (r != VK_SUCCESS) return gpu_fail(why, why_size, "vkCreateRenderPass", r), ui_gpu_shutdown(u), false;
+    VkDescriptorPoolSize ps = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}; // the font's
+    VkDescriptorPoolCreateInfo pi = {};
+    pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    pi.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pi.maxSets = 1;
+    pi.poolSizeCount = 1;
+    pi.pPoolSizes = &ps;
+    if ((r = vkCreateDescriptorPool(g.device, &pi, nullptr, &g.pool)) != VK_SUCCESS)
+        return gpu_fail(why, why_size, "vkCreateDescriptorPool", r), ui_gpu_shutdown(u), false;
+    ImGui_ImplVulkan_InitInfo ii = {};
+    ii.Instance = static_cast<VkInstance>(d->instance);
+    ii.PhysicalDevice = static_cast<VkPhysicalDevice>(d->phys);
+    ii.Device = g.device;
+    ii.QueueFamily = d->queue_family;
+    ii.Queue = static_cast<VkQueue>(d->queue);
+    ii.DescriptorPool = g.pool;
+    // the backend's vertex and index buffers rotate per recorded frame: one per frame in flight, plus one
+    ii.MinImageCount = g.frames;
+    ii.ImageCount = g.frames + 1;
+    ii.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    if (!ImGui_ImplVulkan_Init(&ii, g.pass)) {
+        if (why && why_size) std::snprintf(why, why_size, "panels on the GPU: ImGui_ImplVulkan_Init failed");
+        ui_gpu_shutdown(u);
+        return false;
+    }
+    g.ready = true; // from here ui_gpu_shutdown also shuts the backend down
+    // the font atlas, uploaded once in a submission of its own
+    VkCommandPool cp = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkCommandPoolCreateInfo ci = {};
+    ci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    ci.queueFamilyIndex = d->queue_family;
+    const char* what = "vkCreateCommandPool";
+    r = vkCreateCommandPool(g.device, &ci, nullptr, &cp);
+    if (r == VK_SUCCESS) {
+        VkCommandBufferAllocateInfo ai = {};
+        ai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+        ai.commandPool = cp;
+        ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        ai.commandBufferCount = 1;
+        what = "vkAllocateCommandBuffers";
+        r = vkAllocateCommandBuffers(g.device, &ai, &cmd);
+    }
+    if (r == VK_SUCCESS) {
+        VkCommandBufferBeginInfo bi = {};
+        bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        what = "vkBeginCommandBuffer";
+        r = vkBeginCommandBuffer(cmd, &bi);
+    }
+    if (r == VK_SUCCESS) {
+        bool fonts = ImGui_ImplVulkan_CreateFontsTexture(cmd);
+        what = "vkEndCommandBuffer";
+        r = vkEndCommandBuffer(cmd);
+        if (r == VK_SUCCESS && !fonts) what = "ImGui_ImplVulkan_CreateFontsTexture", r = VK_ERROR_UNKNOWN;
+    }
+    if (r == VK_SUCCESS) {
+        VkSubmitInfo si = {};
+        si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cmd;
+        what = "vkQueueSubmit (the font upload)";
+        r = vkQueueSubmit(static_cast<VkQueue>(d->queue), 1, &si, VK_NULL_HANDLE);
+        if (r == VK_SUCCESS) what = "vkQueueWaitIdle", r = vkQueueWaitIdle(static_cast<VkQueue>(d->queue));
+    }
+    if (cp) vkDestroyCommandPool(g.device, cp, nullptr);
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+    if (r != VK_SUCCESS) return gpu_fail(why, why_size, what, r), ui_gpu_shutdown(u), false;
+    return true;
+}
+
+extern "C" bool ui_gpu_ready(const ui* u) { return u && u->gpu.ready; }
+
+extern "C" bool ui_gpu_record(ui* u, void* cmd_handle, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why,
+                              size_t why_size) {
+    if (!u || !u->gpu.ready || !cmd_handle || !view || !w || !h || slot >= u->gpu.frames) {
+        if (why && why_size) std::snprintf(why, why_size, "panels on the GPU: not made, or no image or slot");
+        return false;
+    }
+    ImGui::SetCurrentContext(u->ctx);
+    ui_gpu& g = u->gpu;
+    // the slot's frame ended (ui.h): its framebuffer can go; the view may be another image's now
+    if (g.fb[slot]) vkDestroyFramebuffer(g.device, g.fb[slot], nullptr), g.fb[slot] = VK_NULL_HANDLE;
+    VkImageView iv = reinterpret_cast<VkImageView>(static_cast<uintptr_t>(view));
+    VkFramebufferCreateInfo fi = {};
+    fi.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    fi.renderPass = g.pass;
+    fi.attachmentCount = 1;
+    fi.pAttachments = &iv;
+    fi.width = w;
+    fi.height = h;
+    fi.layers = 1;
+    VkResult r = vkCreateFramebuffer(g.device, &fi, nullptr, &g.fb[slot]);
+    if (r != VK_SUCCESS) return gpu_fail(why, why_size, "vkCreateFramebuffer", r), false;
+    VkCommandBuffer cmd = static_cast<VkCommandBuffer>(cmd_handle);
+    VkRenderPassBeginInfo bi = {};
+    bi.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+    bi.renderPass = g.pass;
+    bi.framebuffer = g.fb[slot];
+    bi.renderArea.extent = {w, h};
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    ImDrawData* dd = ImGui::GetDrawData();
+    // draw lists made for another size are not drawn (a resize: the next frame's panels are)
+    if (dd && dd->Valid && dd->DisplaySize.x == static_cast<float>(w) && dd->DisplaySize.y == static_cast<float>(h))
+        ImGui_ImplVulkan_RenderDrawData(dd, cmd);
+    vkCmdEndRenderPass(cmd);
+    return true;
+}
+
+extern "C" void ui_gpu_shutdown(ui* u) {
+    if (!u || !u->gpu.device) return;
+    ImGui::SetCurrentContext(u->ctx);
+    ui_gpu& g = u->gpu;
+    vkDeviceWaitIdle(g.device); // frames in flight may still draw with these objects
+    if (g.ready) ImGui_ImplVulkan_Shutdown();
+    for (VkFramebuffer& f : g.fb)
+        if (f) vkDestroyFramebuffer(g.device, f, nullptr), f = VK_NULL_HANDLE;
+    if (g.pool) vkDestroyDescriptorPool(g.device, g.pool, nullptr);
+    if (g.pass) vkDestroyRenderPass(g.device, g.pass, nullptr);
+    g = ui_gpu{};
 }
 
 extern "C" bool ui_window_begin(const char* title, float x, float y, float w, float h) {

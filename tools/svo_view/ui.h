@@ -6,10 +6,10 @@
  * 8-bit frame (font.h vf_triangles) before it goes to the swapchain. The
  * CPU path keeps the viewer's one presentation path (the tracer's image is
  * read back on every device, lavapipe under Xvfb included), and a grab of
- * the displayed frame holds the panels. Debian's libimgui.a also carries the
- * GLFW and Vulkan backends; they are not used: the Vulkan one wants a render
- * pass over the swapchain image, which the copy-based presenter does not
- * have, and the GLFW one reads the cursor itself where scripts inject it.
+ * the displayed frame holds the panels. Where the frame goes to the
+ * swapchain image on the GPU, Debian's libimgui.a's Vulkan backend draws the
+ * same draw lists there instead (ui_gpu_init below). Its GLFW backend is not
+ * used: it reads the cursor itself where scripts inject it.
  *
  * Widgets work between ui_frame_begin and ui_frame_end as ImGui's do (ids
  * from labels, "##" hides the rest of a label); they return true when the
@@ -48,8 +48,47 @@ bool ui_wants_mouse(const ui* u);
 bool ui_wants_keyboard(const ui* u);
 
 void ui_frame_begin(ui* u, uint32_t width, uint32_t height, double dt_seconds);
-/* Ends the frame and draws it over cv. */
+/* Ends the frame and draws it over cv (NULL: not on the CPU; the frame's
+ * draw lists are kept for ui_gpu_record until the next ui_frame_begin). */
 void ui_frame_end(ui* u, vf_canvas* cv);
+/* Draws the kept draw lists over cv on the CPU (what ui_frame_end does). */
+void ui_draw_cpu(ui* u, vf_canvas* cv);
+
+/* ---- the panels drawn on the GPU ----
+ * Dear ImGui's own Vulkan backend (imgui_impl_vulkan, in Debian's
+ * libimgui.a) draws the kept draw lists into the shown image in the frame's
+ * command buffer, after the tracer's last pass wrote the scene there
+ * (render/display.h vx_display_record_frame with final layout
+ * COLOR_ATTACHMENT_OPTIMAL): a render pass that loads the image, the
+ * panels' triangles blended over it, the image left in final_layout. No
+ * panel pixel passes through host memory and the scene pixels outside the
+ * panels stay the tracer's bytes. Vulkan handles go as void* / uint64_t so
+ * this header needs no vulkan.h. */
+typedef struct ui_gpu_desc {
+    void* instance; /* VkInstance */
+    void* phys;     /* VkPhysicalDevice */
+    void* device;   /* VkDevice */
+    void* queue;    /* VkQueue, of queue_family (the font upload's submission) */
+    uint32_t queue_family;
+    int format;       /* VkFormat of the images drawn into (0: B8G8R8A8_UNORM) */
+    int final_layout; /* VkImageLayout the images are left in (0: PRESENT_SRC_KHR) */
+    uint32_t frames;  /* frames in flight that record panels (>= 2; 0: 3) */
+} ui_gpu_desc;
+/* Makes the backend's pipeline, font texture (uploaded in a submission of
+ * its own, waited for) and render pass; false with the reason in why. */
+bool ui_gpu_init(ui* u, const ui_gpu_desc* desc, char* why, size_t why_size);
+/* Records the kept draw lists into cmd (a VkCommandBuffer being recorded)
+ * over `view` (a VkImageView of a w x h image in COLOR_ATTACHMENT_OPTIMAL
+ * layout, its writes before this made visible to colour attachment reads).
+ * `slot` (< desc.frames) names the frame in flight: its framebuffer from
+ * the last call with that slot is destroyed here (that frame has ended: the
+ * caller waited for it). False when nothing could be recorded (why). */
+bool ui_gpu_record(ui* u, void* cmd, uint32_t slot, uint64_t view, uint32_t w, uint32_t h, char* why, size_t why_size);
+/* Whether ui_gpu_init succeeded (and ui_gpu_shutdown was not called). */
+bool ui_gpu_ready(const ui* u);
+/* Frees the GPU objects (after waiting for the device); ui_destroy does it too,
+ * but the device may be gone by then: call this before destroying it. */
+void ui_gpu_shutdown(ui* u);
 
 /* ---- widgets ---- */
 /* A window placed at (x, y) with size (w, h) the first time it appears;
