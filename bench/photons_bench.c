@@ -357,10 +357,11 @@ int main(int argc, char** argv) {
                        st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
                 double lo = t[6][0];
                 for (unsigned k = 1; k < n; k++) lo = fmin(lo, t[6][k]);
-                printf("%s: the gather's steps: camera paths %.3f ms, density %.3f ms; the pass on the host (submissions, "
+                printf("%s: the gather's steps: camera paths %.3f ms%s, density %.3f ms; the pass on the host (submissions, "
                        "waits, downloads) %.3f ms (medians); GPU ms per pass (the steps' sum in each run): median %.3f, "
                        "least %.3f\n",
-                       name, bench_median(t[3], n), bench_median(t[4], n), bench_median(t[5], n), bench_median(t[6], n), lo);
+                       name, bench_median(t[3], n), st.fused ? " (run in the trace's dispatch: in its ms)" : "",
+                       bench_median(t[4], n), bench_median(t[5], n), bench_median(t[6], n), lo);
                 fflush(stdout);
                 if (w && *w) continue;
                 /* the curves with the first size */

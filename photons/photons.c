@@ -24,11 +24,20 @@ typedef struct gpu_params {
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
     float fx[4];      /* the gather's fixed-point units (photon.comp fx_add): x per unit of BSDF times power, y of power */
     uint32_t tr[4];   /* x: invocations of the trace */
+    uint32_t fu[4];   /* x: the density step's records' first vec4 in Photons, y: the trace's workgroups before the
+                         camera's paths' in a fused dispatch (0: not fused) */
 } gpu_params;
-_Static_assert(sizeof(gpu_params) == 192, "gpu_params vs photon.comp");
+_Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY };
-enum { NBIND = 18, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY, STEP_TRACE_PATHS };
+enum { NBIND = 19, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
+/* The kernel's area (photon.comp kernel_factors) looks up some 2 x 33 cells a pixel at the seed's Cornell
+ * setting (radius 2.56 cells), each a walk down the octree: about 1 ms of a 7.2-ms pass on the H200. Models
+ * of at most 2^OCC_DEPTH cells a side get one bit a cell instead (photon.comp cell_solid), OCC_BITS bits in
+ * all at most; the others keep the walk. Beyond about 350 cells a side the default radius (the diagonal /
+ * 100) passes KERNEL_CELLS cells and no lookup is made. */
+enum { OCC_DEPTH = 9 };
+#define OCC_BITS (UINT64_C(1) << 28)
 /* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 4 where the
  * image has fewer tiles of 8 x 8 pixels than DENSITY_FEW_TILES (about two waves of 64-lane workgroups on a
  * large GPU: the H200 holds 132 x 32), whose time the densest tiles set; 1 where they fill many waves
@@ -54,11 +63,13 @@ struct vx_photon_gi {
     uint32_t density_parts; /* lanes per pixel of this pass's density step (DENSITY_PARTS or 1) */
     uint32_t kinds; /* photons a pass can store: 1 caustic ones from a light camera rays cannot meet (F_LIGHT),
                      * 2 ones a direct-pass light brought (F_DIRECT); photon.comp skips the sums of those it cannot */
+    bool glossy_diffuse; /* some material is glossy with a diffuse lobe (its photon sums run in the camera's paths) */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
+    vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
     vx_photon_stats last;
     const vx_allocator* alloc;
 };
@@ -174,6 +185,67 @@ static vx_result upload_new(vx_gpu* g, vx__buffer* b, const void* data, size_t s
                             vx_error* err) {
     vx_result r = vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
     if (!r && data) r = vx__buffer_upload(g, b, data, size, err);
+    return r;
+}
+
+/* The cell bits of the models (OCC_DEPTH above): from word occ[i] of model i on, bit x + side (y + side z)
+ * says whether its cell (x, y, z) is set, as model_cell_attr finds it (vx_svo_decode_model visits exactly
+ * the set cells, collapsed leaves expanded); where the scene has glass, as many words after them say
+ * whether the cell is glass (photon.comp is_glass of its record: the glass walk's next cell, one load
+ * where model_cell_attr walks the octree; cornell's glass sphere took two thirds of the trace). */
+typedef struct occ_ctx {
+    uint32_t *bits, *glass;
+    uint32_t side;
+    const uint8_t* is_glass; /* per attribute record of the model, or NULL */
+} occ_ctx;
+
+static bool occ_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    occ_ctx* O = user;
+    uint64_t i = x + (uint64_t)O->side * (y + (uint64_t)O->side * z);
+    O->bits[i >> 5] |= 1u << (i & 31);
+    if (O->is_glass && O->is_glass[attr]) O->glass[i >> 5] |= 1u << (i & 31);
+    return true;
+}
+
+/* mats: the packed materials of the attribute records (vx__pack_materials, the models' records one model
+ * after another, as vx__scene_attr_palette counts them), nm records, 0: none */
+static vx_result make_occ(vx_photon_gi* pg, const float* mats, size_t nm, vx_error* err) {
+    const vx_svo_scene* s = pg->scene;
+    uint8_t* glass = vx_calloc(pg->alloc, nm ? nm : 1, 1);
+    if (!glass) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu glass flags", nm);
+    bool any_glass = false;
+    for (size_t i = 0; i < nm; i++) /* photon.comp / path_common.glsl is_glass */
+        any_glass |= glass[i] = mats[8 * i] == 2.0f && mats[8 * i + 5] > 0.0f;
+    uint64_t words = s->model_count ? s->model_count : 1, bits = 0;
+    uint32_t* w = NULL;
+    vx_result r = VX_OK;
+    for (int fill = 0; fill < 2 && !r; fill++) {
+        uint64_t at = s->model_count, rec = 0;
+        bits = 0;
+        for (uint32_t i = 0; i < s->model_count && !r; i++) {
+            const vx_svo_model* m = &s->models[i];
+            uint64_t side = UINT64_C(1) << (m->depth <= OCC_DEPTH ? m->depth : 0), n = side * side * side;
+            uint64_t nw = (n + 31) / 32 * (any_glass ? 2 : 1);
+            bool used = m->attrs && m->depth <= OCC_DEPTH && m->root != VX_SVO_ROOT_EMPTY && bits + n <= OCC_BITS;
+            if (used) bits += n;
+            if (fill) {
+                w[i] = used ? (uint32_t)at : UINT32_MAX;
+                occ_ctx O = {.bits = w + at, .glass = w + at + (n + 31) / 32, .side = (uint32_t)side,
+                             .is_glass = any_glass && rec + m->attr_count <= nm ? glass + rec : NULL};
+                if (used) r = vx_svo_decode_model(m, occ_voxel, &O, err);
+            }
+            if (used) at += nw;
+            if (m->attrs) rec += m->attr_count;
+        }
+        if (!fill) {
+            words = at;
+            if (!(w = vx_calloc(pg->alloc, words, sizeof *w)))
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu cell words", (unsigned long long)words);
+        }
+    }
+    if (!r) r = upload_new(pg->g, &pg->occ, w, words * sizeof *w, "photon cells", err);
+    vx_free(pg->alloc, w);
+    vx_free(pg->alloc, glass);
     return r;
 }
 
@@ -356,6 +428,7 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
      * tile times its parts; the other steps' 64 */
     uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
+    /* (STEP_TRACE_PATHS: 64, both halves' size; run_pass fuses only with the trace's workgroup at 64) */
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -372,8 +445,8 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
     vx__buffer* own[] = {&pg->params, &pg->emit, &pg->mats, &pg->src, &pg->ems, &pg->photons,
-                         &pg->sorted, &pg->cells, out,        &pg->counters, &pg->env};
-    for (int i = 0; i < 11; i++) dd.buffers[7 + i] = own[i];
+                         &pg->sorted, &pg->cells, out,        &pg->counters, &pg->env, &pg->occ};
+    for (int i = 0; i < 12; i++) dd.buffers[7 + i] = own[i];
     double s = 0;
     r = vx__dispatch(pg->g, &dd, &s, err);
     *ms += s * 1e3;
@@ -428,16 +501,23 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a buffer of %llu bytes holds less than a %ux%u image",
                        (unsigned long long)out->size, f.width, f.height);
     if ((r = vx__render_scene_bind(pg->rs, &f, pg->scene_bufs, pg->spec, err))) return r;
-    /* the photons' buffer holds the density step's records (48 bytes a pixel) once the photons are sorted */
-    uint64_t ph_bytes = (uint64_t)pg->d.capacity * PHOTON_BYTES;
-    if ((r = vx__buffer_ensure(pg->g, &pg->photons, npx * 48 > ph_bytes ? npx * 48 : ph_bytes, "photons", err))) return r;
     if (!pg->tables_for_ref || memcmp(pg->ref, f.ref, sizeof pg->ref)) {
         if ((r = upload_sources(pg, f.ref, err))) return r;
         memcpy(pg->ref, f.ref, sizeof pg->ref);
         pg->tables_for_ref = true;
     }
-    pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
+    /* The camera's paths need no photon where every sum they make is a Lambert surface's, deferred to the
+     * density step (no final gather, no G_LIGHTS sums, no glossy surface with a diffuse lobe): then they run
+     * in the trace's dispatch, on workgroups of their own after the trace's, and fill the GPU while the
+     * trace's last photons bounce on (the seed's Cornell setting: 0.8 ms of paths beside a 3.3-ms trace).
+     * Their records then lie after the photons (48 bytes a pixel more), which the trace is still writing;
+     * otherwise in the photons' buffer once the photons are sorted. */
     const vx_photon_desc* d = &pg->d;
+    bool fused = d->workgroup == 64 && !d->final_gather && !pg->kinds && !pg->glossy_diffuse;
+    uint64_t ph_bytes = (uint64_t)d->capacity * PHOTON_BYTES, rec_bytes = (uint64_t)npx * 48;
+    ph_bytes = fused ? ph_bytes + rec_bytes : (rec_bytes > ph_bytes ? rec_bytes : ph_bytes);
+    if ((r = vx__buffer_ensure(pg->g, &pg->photons, ph_bytes, "photons", err))) return r;
+    pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
     vx_photon_stats st = {.pass = pass};
     st.radius = pass_radius(d->radius, d->alpha, pass);
     st.caustic_radius = pass_radius(d->caustic_radius, d->alpha, pass);
@@ -459,9 +539,18 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint32_t ctr[4] = {0};
     double build = 0;
     set_emitted(pg, p, p->a[0]);
-    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) || (r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
+    /* tiles of 8 x 8 pixels, 64 invocations each: the camera's paths, then the Lambert sums (photon.comp
+     * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
+    uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
+    p->fu[0] = fused ? 2 * d->capacity : 0;
+    p->fu[1] = fused ? (p->tr[0] + 63) / 64 : 0;
+    st.fused = fused;
+    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) ||
+        (r = fused ? step(pg, STEP_TRACE_PATHS, (uint64_t)p->fu[1] * 64 + tiles, out, &st.trace_ms, err)
+                   : step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
         (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
         return r;
+    p->fu[1] = 0;
     st.emitted = p->a[0];
     if (ctr[0] > d->capacity) {
         /* Over the capacity: which photons the atomic counter had left out depended on the GPU's order. The
@@ -500,10 +589,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
     if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
     if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    /* tiles of 8 x 8 pixels, 64 invocations each: the camera's paths, then the Lambert sums (photon.comp
-     * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
-    uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
-    if (!r) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
+    if (!r && !fused) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
     pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
     if (!r) r = step(pg, STEP_DENSITY, tiles * pg->density_parts, out, &st.density_ms, err);
     if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
@@ -596,8 +682,11 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         pg->emit_count = n;
         vx__pack_materials(&pg->P.L, pal, pg->P.L.materials ? n : 0, m);
         size_t nm = pg->P.L.materials ? n : 0;
+        for (size_t i = 0; i < nm; i++) /* photon.comp bsdf_of: kd = (1 - metalness) (1 - 0.08 specular) albedo */
+            pg->glossy_diffuse |= m[8 * i] == 1.0f && m[8 * i + 2] < 1.0f;
+        r = make_occ(pg, m, nm, err);
         uint64_t ph = (uint64_t)d.capacity * PHOTON_BYTES;
-        r = upload_new(pg->g, &pg->emit, pg->emit_attr, (n ? n : 1) * sizeof(float), "photon emission", err);
+        if (!r) r = upload_new(pg->g, &pg->emit, pg->emit_attr, (n ? n : 1) * sizeof(float), "photon emission", err);
         if (!r) r = upload_new(pg->g, &pg->mats, m, nm ? 32 * nm : 16, "photon materials", err);
         if (!r) r = upload_new(pg->g, &pg->photons, NULL, ph, "photons", err);
         if (!r) r = upload_new(pg->g, &pg->sorted, NULL, ph, "photons sorted", err);
@@ -636,7 +725,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_photon_gi_destroy(vx_photon_gi* pg) {
     if (!pg) return;
     vx__buffer* b[] = {&pg->params, &pg->emit, &pg->mats, &pg->src,      &pg->ems,
-                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env};
+                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env, &pg->occ};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
     vx__prender_free(&pg->P);
     vx_free(pg->alloc, pg->emit_attr);

@@ -66,7 +66,9 @@
  * r, a floor's edge or a wall's foot, whose photons were missing from the
  * disk: photon.comp kernel_factors; the plain disk where the radius passes
  * 6 cells or the model has no attributes; other models' faces in the
- * plane found by a short ray); caustics from the caustic map with its own,
+ * plane found by a short ray; the cells looked up as bits, one per cell, in
+ * models of at most 512 cells a side, which the glass walk reads too);
+ * caustics from the caustic map with its own,
  * smaller radius; indirect diffuse directly from the global map, or with
  * final_gather rays by a final gather for the light that bounced at least
  * once: BSDF-sampled rays from the first surface, each ending at the next
@@ -91,9 +93,14 @@
  * falls (alpha in (0, 1)).
  *
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
- * bytes per bucket; the stored photons' buffer holds 48 bytes a pixel for
- * the estimate's second step once they are sorted (at least that much). A pass over the capacity keeps the
- * first photons by index (vx_photon_desc.capacity). */
+ * bytes per bucket; 48 bytes a pixel for the estimate's second step, in
+ * the stored photons' buffer once they are sorted, or after the photons
+ * where the camera's paths run in the trace's dispatch (stats.fused: the
+ * paths need no photon there, no final gather, no glossy surface with a
+ * diffuse lobe, no light whose photons a glossy surface gathers; the
+ * trace's workgroup 64); one bit per cell (two with glass) of the models
+ * of at most 512 cells a side, 2^28 cells in all. A pass over the capacity
+ * keeps the first photons by index (vx_photon_desc.capacity). */
 #ifndef VX_PHOTONS_H
 #define VX_PHOTONS_H
 
@@ -182,6 +189,7 @@ typedef struct vx_photon_stats {
     double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
     double paths_ms, density_ms; /* gather_ms's two steps: the camera's paths, the Lambert sums */
     double wall_ms;              /* host time of the whole pass: the GPU's, submissions, waits, downloads */
+    bool fused;                  /* the camera's paths ran in the trace's dispatch (in trace_ms; paths_ms 0) */
 } vx_photon_stats;
 
 typedef struct vx_photon_gi vx_photon_gi;

@@ -30,7 +30,8 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
-const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7;
+const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
+          S_TRACE_PATHS = 8;
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -50,6 +51,8 @@ layout(std430, binding = 7) readonly buffer Params {
                   // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
                   // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
                   // w: 1: more than one instance (kernel_factors looks for other models' faces)
+    uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: in S_TRACE_PATHS, the trace's
+                  // workgroups (the camera's paths take the workgroups after them; photons.c run_pass)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -76,6 +79,13 @@ layout(std430, binding = 15) buffer Out { vec4 outv[]; };
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
 // the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
 layout(std430, binding = 17) readonly buffer Env { float env[]; };
+// The models' cells, a bit each (photons.c make_occ): occ[model] its first word (0xFFFFFFFF: none; the
+// octree walk then), bit x + side (y + side z) from there whether the cell is set, and where the scene
+// has glass, as many words after them whether it is glass
+layout(std430, binding = 18) readonly buffer Occ { uint occ[]; };
+// The glass walk's next cell (path_common.glsl glass_walk): a bit where the model has them
+bool photon_glass_cell(uint mi, uvec3 c);
+#define GLASS_CELL(mi, c) photon_glass_cell(mi, c)
 
 #include "path_common.glsl"
 #define SKY_TEXEL(i) env[i]
@@ -410,8 +420,21 @@ float disk_square(vec2 c, vec2 q, float r) {
     vec2 lo = q - c, hi = q + 1.0 - c;
     return disk_corner(hi.x, hi.y, r) - disk_corner(lo.x, hi.y, r) - disk_corner(hi.x, lo.y, r) + disk_corner(lo.x, lo.y, r);
 }
+// Whether cell q of model mi is set: a bit where the model has its occupancy bits (one load), else a walk
+// down its octree (model_cell_attr: some 6 dependent loads at 64^3; kernel_factors makes about 66 lookups
+// a pixel at the seed's Cornell setting, which cost 1 of its 7.2 ms as walks)
+bool photon_glass_cell(uint mi, uvec3 c) {
+    uint base = occ[mi];
+    if (base == 0xFFFFFFFFu) return is_glass(model_cell_attr(mi, c));
+    uint s = 1u << models[mi].depth, i = c.x + s * (c.y + s * c.z);
+    return ((occ[base + (s * s * s + 31u) / 32u + (i >> 5u)] >> (i & 31u)) & 1u) != 0u;
+}
 bool cell_solid(uint mi, ivec3 q, float side) {
-    return all(greaterThanEqual(q, ivec3(0))) && all(lessThan(vec3(q), vec3(side))) && model_cell_attr(mi, uvec3(q)) != NO_HIT;
+    if (!all(greaterThanEqual(q, ivec3(0))) || !all(lessThan(vec3(q), vec3(side)))) return false;
+    uint base = occ[mi];
+    if (base == 0xFFFFFFFFu) return model_cell_attr(mi, uvec3(q)) != NO_HIT;
+    uint s = uint(side), i = uint(q.x) + s * (uint(q.y) + s * uint(q.z));
+    return ((occ[base + (i >> 5u)] >> (i & 31u)) & 1u) != 0u;
 }
 
 // The photons a gather at g_s counts lie within r of it on faces of its orientation, and the estimate
@@ -566,7 +589,7 @@ bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
 
 void gather_pixel() {
     // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
-    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item() - P.fu.y * 64u, W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     if (x >= W || y >= H) return;
     uint idx = x + y * W;
@@ -671,9 +694,10 @@ void gather_pixel() {
         ctr[2] = 1u;
         return;
     }
-    ph[3u * idx] = rec0;
-    ph[3u * idx + 1u] = rec1;
-    ph[3u * idx + 2u] = vec4(L, rec2w);
+    uint ri = P.fu.x + 3u * idx;
+    ph[ri] = rec0;
+    ph[ri + 1u] = rec1;
+    ph[ri + 2u] = vec4(L, rec2w);
 }
 
 // ---- the density step: a workgroup takes a tile of 8 x 8 pixels, DPARTS lanes a pixel ----
@@ -688,8 +712,9 @@ const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
 // 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
 // setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
 shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
-shared uint t_bk[64], t_start[64], t_pre[65], t_need[2];
+shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
 shared int t_lo[3], t_hi[3];
+shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
@@ -699,16 +724,24 @@ shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts'
 // chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
 // again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
 // pass 4 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+uint fkey(float f) { // ordered as the floats are
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+float fkey_inv(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u); }
 void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel, inout uvec3 shi, inout uvec3 slo) {
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
-        for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF;
-        t_need[0] = 0u, t_need[1] = 0u;
+        for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
+        t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
     if (valid && part == 0u)
-        for (int k = 0; k < 3; k++) atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
+        for (int k = 0; k < 3; k++) {
+            atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
+            atomicMin(t_blo[k], fkey(x[k])), atomicMax(t_bhi[k], fkey(x[k]));
+        }
     barrier();
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
     barrier(); // all have read the bounds: the next call's first lane may set them again
@@ -759,7 +792,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     }
     barrier();
     uint total = t_pre[64];
-    for (uint off = 0u; off < total; off += DLANES) {
+    // The chunk keeps only the photons within r of the tile's points' box (grown by m: every photon the
+    // test below takes lies in it), compacted in any order (the sums are exact: the same in any order):
+    // the cells the tile reads span some 3 radii a side on a plane, the box about 2 plus the tile's width
+    // (one box for all lanes: its margin from the box, as m is from the point)
+    vec3 blo = vec3(fkey_inv(t_blo[0]), fkey_inv(t_blo[1]), fkey_inv(t_blo[2]));
+    vec3 bhi = vec3(fkey_inv(t_bhi[0]), fkey_inv(t_bhi[1]), fkey_inv(t_bhi[2]));
+    vec3 bm = max(abs(blo), abs(bhi));
+    float mb = r * 1e-3 + 1e-6 * max(max(bm.x, bm.y), bm.z);
+    blo -= r + mb, bhi += r + mb;
+    uint chunk = 0u;
+    for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = 64u;
@@ -769,13 +812,18 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 else b = h;
             }
             uint k = t_start[a] + (g - t_pre[a]);
-            t_a[lid] = sorted[k];
-            t_b[lid] = sorted[P.a.y + k];
+            vec4 pa = sorted[k];
+            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi))) {
+                uint slot = atomicAdd(t_n[chunk], 1u);
+                t_a[slot] = pa;
+                t_b[slot] = sorted[P.a.y + k];
+            }
         }
         barrier();
+        uint cn = t_n[chunk];
         if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
-            uint j1 = min(off + (part + 1u) * 64u, total) - off;
-            for (uint j = part * 64u; j < j1; j++) {
+            uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
+            for (uint j = part * q; j < j1; j++) {
                 vec4 pa = t_a[j];
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) > r2) continue;
@@ -787,6 +835,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             }
         }
         barrier();
+        if (lid == 0u) t_n[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
     }
 }
 
@@ -811,7 +860,8 @@ void density_pixel() {
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
-    vec4 rec0 = inside ? ph[3u * idx] : vec4(0.0);
+    uint ri = P.fu.x + 3u * idx;
+    vec4 rec0 = inside ? ph[ri] : vec4(0.0);
     uint bits = floatBitsToUint(rec0.w), ncode = bits & ~F_BITS;
     bool valid = inside && (bits & 1u) != 0u;
     int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
@@ -824,7 +874,7 @@ void density_pixel() {
     if (!loops_intact()) ctr[2] = 1u;
     if (!inside || gl_LocalInvocationIndex >= 64u) return;
     vec3 c = fx_value(chi, clo, P.fx.y), g = fx_value(ghi, glo, P.fx.y);
-    vec4 rec1 = ph[3u * idx + 1u], rec2 = ph[3u * idx + 2u];
+    vec4 rec1 = ph[ri + 1u], rec2 = ph[ri + 2u];
     vec3 L = rec2.xyz;
     if (valid) L += rec1.xyz * (c * (P.r.w * rec2.w) + g * (P.r.z * rec1.w));
     if (P.img.z == 0u || P.seed.z == 0u) { // the first pass overwrites (the buffer holds anything)
@@ -862,6 +912,9 @@ void main() {
         sorted[P.a.y + k] = b;
     } else if (STEP == S_DENSITY) {
         density_pixel();
+    } else if (STEP == S_TRACE_PATHS) { // the trace's workgroups, then the camera's paths' (uniform per workgroup)
+        if (i < P.fu.y * 64u) trace_photons();
+        else gather_pixel();
     } else {
         gather_pixel();
     }

@@ -254,6 +254,10 @@ uint model_cell_attr(uint mi, uvec3 c) {
 // is looked up in the instance's own model first: a glass cell there is what the short ray below
 // would meet, at a fraction of its cost (no BVH, no ray set-up; a photon crosses some 20 cells of a
 // sphere); the ray decides the rest (empty cells, other instances, the model's edge).
+// (GLASS_CELL: whether cell c of model mi is glass; a shader that keeps the cells as bits defines its own)
+#ifndef GLASS_CELL
+#define GLASS_CELL(mi, c) is_glass(model_cell_attr(mi, c))
+#endif
 bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec3 d, inout vec3 thr, out vec3 o) {
     uvec3 c = cell;
     o = p;
@@ -278,7 +282,7 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec
         vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
         float side = exp2(float(models[I.model].depth));
         if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(side))) && uvec3(mq) != c &&
-            is_glass(model_cell_attr(I.model, uvec3(mq)))) {
+            GLASS_CELL(I.model, uvec3(mq))) {
             c = uvec3(mq);
             p = qi;
             continue;

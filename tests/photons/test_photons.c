@@ -52,6 +52,31 @@ static bool pass_power(run* R, double first[3], double all[3], vx_photon_stats* 
     return r == VX_OK;
 }
 
+/* The photons' image of scene s under light and d through view, the mean of `passes` passes (full: the
+ * whole radiance, else the indirect light), the method made and freed here; st (may be NULL) gets the
+ * last pass's stats. */
+static bool photon_image(const vx_svo_scene* s, const vx_probe_set* light, const vx_photon_desc* d,
+                         const vx_render_desc* view, uint32_t passes, bool full, vx_render_image* out, vx_photon_stats* st) {
+    run R;
+    if (!run_make(&R, s, light, d)) return false;
+    vx_error err = {0};
+    vx_result r = vx_photon_render(R.pg, view, passes, full, out, &err);
+    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
+    if (st) vx_photon_last_stats(R.pg, st);
+    run_free(&R);
+    return r == VX_OK;
+}
+
+/* A w x h view straight down (ortho, 2 hh high) onto (cx, cy, 1) from height ez; +x right, +y up. */
+static vx_render_desc view_down(uint32_t w, uint32_t h, double cx, double cy, double hh, double ez) {
+    vx_render_desc v = {.width = w, .height = h};
+    v.camera.set = true, v.camera.ortho = true, v.camera.ortho_height = 2 * hh;
+    v.camera.eye[0] = cx, v.camera.eye[1] = cy, v.camera.eye[2] = ez;
+    v.camera.target[0] = cx, v.camera.target[1] = cy, v.camera.target[2] = 1;
+    v.camera.up[1] = 1;
+    return v;
+}
+
 /* A spot light's power over colour * intensity: 2 pi times the integral of
  * the glTF falloff squared over cos theta, by Simpson's rule in theta. */
 static double spot_power(double inner, double outer) {
@@ -367,11 +392,7 @@ static bool caustic_setup(void) {
     const char* kv[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
     add_material(&caustic, 2, kv, 3);
     /* straight down on the slab: every pixel sees the floor through the glass */
-    caustic_view = (vx_render_desc){.width = 24, .height = 24};
-    caustic_view.camera.set = true, caustic_view.camera.ortho = true, caustic_view.camera.ortho_height = 7;
-    caustic_view.camera.eye[0] = 8, caustic_view.camera.eye[1] = 8, caustic_view.camera.eye[2] = 40;
-    caustic_view.camera.target[0] = 8, caustic_view.camera.target[1] = 8, caustic_view.camera.target[2] = 1;
-    caustic_view.camera.up[1] = 1;
+    caustic_view = view_down(24, 24, 8, 8, 3.5, 40);
     double black[3] = {0, 0, 0};
     vx_probe_set light = light_only(0, black, 6);
     vx_render_scene* rs = NULL;
@@ -394,13 +415,7 @@ static bool caustic_photons(uint32_t photons, uint32_t passes, double radius, vx
     vx_probe_set light = light_only(0, black, 6);
     vx_photon_desc d = {.photons = photons, .radius = radius, .caustic_radius = radius, .lights = &caustic_light,
                         .light_count = 1};
-    run R;
-    if (!run_make(&R, &caustic, &light, &d)) return false;
-    vx_error err = {0};
-    vx_result r = vx_photon_render(R.pg, &caustic_view, passes, false, out, &err);
-    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
-    run_free(&R);
-    return r == VX_OK;
+    return photon_image(&caustic, &light, &d, &caustic_view, passes, false, out, NULL);
 }
 
 /* Through the slab the floor gets the light only by refraction: the path
@@ -454,15 +469,8 @@ static void test_reproducible(void) {
             vx_photon_desc d = {.photons = 30000, .radius = 0.6, .seed = k == 3 ? 8 : 7, .final_gather = fg ? 4 : 0,
                                 .lights = L, .light_count = 2};
             if (k == 2) d.workgroup = 128, d.batch = 4; /* the default at 30k photons: 64 and 1 */
-            run R;
-            REQUIRE(run_make(&R, &caustic, &light, &d));
-            vx_error err = {0};
-            vx_result r = vx_photon_render(R.pg, &caustic_view, 3, false, &im[k], &err);
-            if (r) fprintf(stderr, "  photons: %s\n", err.msg);
             vx_photon_stats st;
-            vx_photon_last_stats(R.pg, &st);
-            run_free(&R);
-            REQUIRE(r == VX_OK);
+            REQUIRE(photon_image(&caustic, &light, &d, &caustic_view, 3, false, &im[k], &st));
             CHECK(st.dropped == 0 && st.stored > 1000);
         }
         size_t bytes = (size_t)im[0].width * im[0].height * 16;
@@ -529,6 +537,85 @@ static void test_overflow_reproducible(void) {
     for (int k = 0; k < 4; k++) vx_render_image_free(&im[k]);
 }
 
+/* a closed gray box lit by an emissive 2 x 2 panel in its ceiling (palette 9), a glass slab (2) over the
+ * floor and a metal block (3) in a corner */
+static uint8_t fused_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    if (!x || !y || !z || x == n - 1 || y == n - 1 || z == n - 1)
+        return z == n - 1 && x >= 7 && x <= 8 && y >= 7 && y <= 8 ? 9 : 1;
+    if (z >= 5 && z <= 6 && x >= 4 && x < 12 && y >= 4 && y < 12) return 2;
+    return x >= 2 && x <= 3 && y >= 2 && y <= 3 && z <= 3 ? 3 : 0;
+}
+
+/* the same with the metal block in palette 4 */
+static uint8_t fused_half_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    uint8_t c = fused_cell(x, y, z, n);
+    return c == 3 ? 4 : c;
+}
+
+/* Where the camera's paths need no photon (every sum a Lambert surface's, deferred to the density step),
+ * they run in the trace's dispatch, their records after the photons (photons.c run_pass): the image is
+ * the one the separate steps give, to the bit. A box lit by emissive voxels with glass and a metal block
+ * (metalness 1: no diffuse lobe), the default layout (fused) against workgroups of 128 (which are not),
+ * in a plain pass and in passes over the capacity (traced three times: the records must outlive the
+ * photons stored after them). A metal of metalness 0.5 has a diffuse lobe whose sums run in the paths:
+ * not fused. */
+static void test_fused_paths(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, fused_cell);
+    s.palette[1] = GRAY, s.palette[2] = 0xFFFFFFFFu, s.palette[3] = 0xFFE0E0E0u, s.palette[9] = GRAY;
+    const char* kg[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    const char* km[] = {"_type", "_metal", "_metal", "1", "_rough", "0.2"};
+    const char* ke[] = {"_type", "_emit", "_emit", "4"};
+    add_material(&s, 2, kg, 3);
+    add_material(&s, 3, km, 3);
+    add_material(&s, 9, ke, 2);
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_render_desc view = {.width = 24, .height = 24};
+    view.camera.set = true, view.camera.fov = 70;
+    view.camera.eye[0] = 8, view.camera.eye[1] = 1.5, view.camera.eye[2] = 11;
+    view.camera.target[0] = 8, view.camera.target[1] = 9, view.camera.target[2] = 2;
+    view.camera.up[2] = 1;
+    size_t bytes = (size_t)view.width * view.height * 16;
+    uint32_t capacity = 0;
+    for (int over = 0; over < 2; over++) {
+        vx_render_image im[2] = {{0}};
+        vx_photon_stats st[2];
+        for (int k = 0; k < 2; k++) {
+            vx_photon_desc d = {.photons = 30000, .radius = 0.6, .seed = 9, .capacity = capacity};
+            if (k) d.workgroup = 128, d.batch = 4;
+            REQUIRE(photon_image(&s, &light, &d, &view, 2, false, &im[k], &st[k]));
+        }
+        size_t differ = 0;
+        for (size_t i = 0; i < bytes / 4; i++) differ += memcmp(&im[0].pixels[i], &im[1].pixels[i], 4) != 0;
+        fprintf(stderr, "  %s: fused %d and %d, %llu stored, %llu dropped; %zu of %zu floats differ; mean %.4f\n",
+                over ? "over the capacity" : "plain", st[0].fused, st[1].fused, (unsigned long long)st[0].stored,
+                (unsigned long long)st[0].dropped, differ, bytes / 4, mean_rgb(&im[0]));
+        CHECK(st[0].fused && !st[1].fused);
+        CHECK(over ? st[0].dropped > 0 && st[1].dropped == st[0].dropped : st[0].dropped == 0);
+        CHECK(differ == 0 && memcmp(im[0].pixels, im[1].pixels, bytes) == 0);
+        CHECK(mean_rgb(&im[0]) > 1e-3 && st[0].stored > 10000);
+        capacity = (uint32_t)(st[0].stored / 2);
+        for (int k = 0; k < 2; k++) vx_render_image_free(&im[k]);
+    }
+    vx_svo_scene_free(&s);
+    cells_scene(&s, 16, fused_half_cell);
+    s.palette[1] = GRAY, s.palette[2] = 0xFFFFFFFFu, s.palette[4] = 0xFFE0E0E0u, s.palette[9] = GRAY;
+    const char* kh[] = {"_type", "_metal", "_metal", "0.5", "_rough", "0.2"};
+    add_material(&s, 2, kg, 3);
+    add_material(&s, 4, kh, 3);
+    add_material(&s, 9, ke, 2);
+    vx_render_image im = {0};
+    vx_photon_stats st;
+    vx_photon_desc d = {.photons = 30000, .radius = 0.6, .seed = 9};
+    REQUIRE(photon_image(&s, &light, &d, &view, 1, false, &im, &st));
+    fprintf(stderr, "  metalness 0.5: fused %d\n", st.fused);
+    CHECK(!st.fused);
+    vx_render_image_free(&im);
+    vx_svo_scene_free(&s);
+}
+
 /* The GPU's gather against a brute-force estimate on the CPU over the same
  * photons (read back with vx_photon_stored): a gray slab lit by a point
  * light, seen straight down (ortho) in a full image, where each pixel's
@@ -561,11 +648,7 @@ static void test_gather_cpu(void) {
     size_t n = 0;
     vx_result res = VX_OK;
     for (int v = 0; v < 2 && !res; v++) {
-        vx_render_desc view = {.width = W, .height = H};
-        view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = heights[v];
-        view.camera.eye[0] = 8, view.camera.eye[1] = 8, view.camera.eye[2] = 40;
-        view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 1;
-        view.camera.up[1] = 1;
+        vx_render_desc view = view_down(W, H, 8, 8, heights[v] / 2, 40);
         res = vx_photon_render(R.pg, &view, 1, true, &ims[v], &err);
     }
     if (!res) res = vx_photon_stored(R.pg, &ph, &n, &err);
@@ -631,22 +714,13 @@ static void test_kernel_edge(void) {
     vx_probe_set light = light_only(2, black, 1);
     const double r = 1;
     vx_photon_desc d = {.photons = 300000, .radius = r, .caustic_radius = r, .seed = 3};
-    run R;
-    REQUIRE(run_make(&R, &s, &light, &d));
     enum { W = 32, H = 32 };
     const double cx = 2, cy = 2, hh = 3;
-    vx_render_desc view = {.width = W, .height = H};
-    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 2 * hh;
-    view.camera.eye[0] = cx, view.camera.eye[1] = cy, view.camera.eye[2] = 40;
-    view.camera.target[0] = cx, view.camera.target[1] = cy, view.camera.target[2] = 1;
-    view.camera.up[1] = 1;
+    vx_render_desc view = view_down(W, H, cx, cy, hh, 40);
     vx_render_image im = {0};
-    vx_error err = {0};
-    vx_result res = vx_photon_render(R.pg, &view, 4, true, &im, &err);
-    if (res) fprintf(stderr, "  photons: %s\n", err.msg);
-    run_free(&R);
+    bool ok = photon_image(&s, &light, &d, &view, 4, true, &im, NULL);
     vx_svo_scene_free(&s);
-    REQUIRE(res == VX_OK);
+    REQUIRE(ok);
     double expect = ALB / PI * 2, sum[2] = {0, 0};
     size_t n[2] = {0, 0};
     for (int y = 0; y < H; y++)
@@ -688,22 +762,13 @@ static void test_kernel_seam(void) {
     vx_probe_set light = light_only(2, black, 1);
     const double r = 1;
     vx_photon_desc d = {.photons = 300000, .radius = r, .caustic_radius = r, .seed = 4};
-    run R;
-    REQUIRE(run_make(&R, &s, &light, &d));
     enum { W = 32, H = 32 };
     const double cx = 8, cy = 8, hh = 3;
-    vx_render_desc view = {.width = W, .height = H};
-    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 2 * hh;
-    view.camera.eye[0] = cx, view.camera.eye[1] = cy, view.camera.eye[2] = 40;
-    view.camera.target[0] = cx, view.camera.target[1] = cy, view.camera.target[2] = 1;
-    view.camera.up[1] = 1;
+    vx_render_desc view = view_down(W, H, cx, cy, hh, 40);
     vx_render_image im = {0};
-    vx_error err = {0};
-    vx_result res = vx_photon_render(R.pg, &view, 4, true, &im, &err);
-    if (res) fprintf(stderr, "  photons: %s\n", err.msg);
-    run_free(&R);
+    bool ok = photon_image(&s, &light, &d, &view, 4, true, &im, NULL);
     vx_svo_scene_free(&s);
-    REQUIRE(res == VX_OK);
+    REQUIRE(ok);
     double expect = ALB / PI * 2, sum[2] = {0, 0};
     size_t n[2] = {0, 0};
     for (int y = 0; y < H; y++)
@@ -735,21 +800,13 @@ static void test_kernel_corner(void) {
     double black[3] = {0, 0, 0};
     vx_probe_set light = light_only(0, black, 1);
     vx_photon_desc d = {.photons = 400000, .radius = 1, .alpha = 1, .bounces = 64, .capacity = 4000000};
-    run R;
-    REQUIRE(run_make(&R, &s, &light, &d));
     enum { W = 32, H = 32 };
     const double cx = 4, cy = 4, hh = 3;
-    vx_render_desc view = {.width = W, .height = H};
-    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 2 * hh;
-    view.camera.eye[0] = cx, view.camera.eye[1] = cy, view.camera.eye[2] = 8;
-    view.camera.target[0] = cx, view.camera.target[1] = cy, view.camera.target[2] = 1;
-    view.camera.up[1] = 1;
+    vx_render_desc view = view_down(W, H, cx, cy, hh, 8);
     vx_render_image im = {0};
-    vx_error err = {0};
-    vx_result res = vx_photon_render(R.pg, &view, 4, false, &im, &err);
-    run_free(&R);
+    bool ok = photon_image(&s, &light, &d, &view, 4, false, &im, NULL);
     vx_svo_scene_free(&s);
-    REQUIRE(res == VX_OK);
+    REQUIRE(ok);
     double Le = ALB * 1, expect = ALB * Le / (1 - ALB), sum[3] = {0, 0, 0};
     size_t n[3] = {0, 0, 0};
     for (int y = 0; y < H; y++)
@@ -821,13 +878,9 @@ static void test_glossy(void) {
     if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
     REQUIRE(r == VX_OK);
     vx_photon_desc d = {.photons = 200000, .radius = 0.5, .lights = &L, .light_count = 1};
-    run R;
-    REQUIRE(run_make(&R, &s, &light, &d));
-    r = vx_photon_render(R.pg, &view, 8, false, &im, &err);
-    if (r) fprintf(stderr, "  photons: %s\n", err.msg);
-    run_free(&R);
+    bool ok = photon_image(&s, &light, &d, &view, 8, false, &im, NULL);
     vx_svo_scene_free(&s);
-    REQUIRE(r == VX_OK);
+    REQUIRE(ok);
     double noise = rel_mse(&ref[1], &ref[0]);
     size_t n = (size_t)view.width * view.height, on = 0;
     for (size_t i = 0; i < 4 * n; i++) ref[0].pixels[i] = 0.5f * (ref[0].pixels[i] + ref[1].pixels[i]);
@@ -885,14 +938,8 @@ static void test_ggx_finite(void) {
     if (!r) r = vx_probe_render_gpu(rs, &s, &light, &d, &im[0], &err);
     vx_render_scene_destroy(rs);
     if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
-    run R;
     vx_photon_desc pd = {.photons = 100000, .radius = 0.5, .lights = &L, .light_count = 1};
-    if (!r && !run_make(&R, &s, &light, &pd)) r = VX_ERR_GPU;
-    else if (!r) {
-        r = vx_photon_render(R.pg, &view, 2, false, &im[1], &err);
-        if (r) fprintf(stderr, "  photons: %s\n", err.msg);
-        run_free(&R);
-    }
+    if (!r && !photon_image(&s, &light, &pd, &view, 2, false, &im[1], NULL)) r = VX_ERR_GPU;
     vx_svo_scene_free(&s);
     REQUIRE(r == VX_OK);
     size_t bad[2] = {0, 0};
@@ -944,6 +991,7 @@ int main(void) {
     RUN(test_progressive);
     RUN(test_reproducible);
     RUN(test_overflow_reproducible);
+    RUN(test_fused_paths);
     RUN(test_gather_cpu);
     RUN(test_kernel_edge);
     RUN(test_kernel_corner);
