@@ -25,6 +25,10 @@ typedef struct vx_tool_gpu_open {
     const char* failed; /* "device" or "scene": which step failed */
     double seconds;     /* the thread's time */
     double device_s;    /* of it vx_gpu_create's (instance, device); the rest binds the scene */
+    double at[3];       /* wall clock (CLOCK_REALTIME s): the thread's start, the device made, the scene bound */
+    char fallback[64];  /* the device to try after widen() where the first failed ("" none) */
+    void (*widen)(void);
+    bool fell_back;     /* the fallback was tried */
 } vx_tool_gpu_open;
 
 /* Starts opening the device of desc (desc->device is copied; the logger and
@@ -32,6 +36,13 @@ typedef struct vx_tool_gpu_open {
  * The scene must stay unchanged until the wait. Without a thread (none could
  * be started) the open happens in the wait. */
 void vx_tool_gpu_open_start(vx_tool_gpu_open* o, const vx_gpu_desc* desc, const vx_svo_scene* scene);
+
+/* The same for a process whose driver was narrowed to one GPU
+ * (vx_tool_mpi_gpu_only): where making the device fails, widen() undoes that
+ * and the device `fallback` is opened instead (a driver that refuses to
+ * start without every GPU costs a second start, not the job). */
+void vx_tool_gpu_open_start_narrowed(vx_tool_gpu_open* o, const vx_gpu_desc* desc, const vx_svo_scene* scene,
+                                     const char* fallback, void (*widen)(void));
 
 /* Waits for the open; on success hands over the device and the scene (the
  * caller destroys them), else returns the error in *err with *failed naming

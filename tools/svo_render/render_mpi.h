@@ -7,6 +7,7 @@
 #include <stdbool.h>
 
 #include "probes/probes.h"
+#include "tools/common/mpi.h"
 
 typedef struct render_mpi_job {
     const vx_svo_scene* scene;
@@ -15,6 +16,7 @@ typedef struct render_mpi_job {
     bool cpu;                   /* the double-precision CPU renderer (desc.threads per rank) */
     const char* device;         /* NULL: GPU `local rank mod GPUs` of the host */
     bool validate, verbose;
+    vx_tool_timeline* tl;       /* stamps of this rank's start-up and work (the caller's, started in main) */
 } render_mpi_job;
 
 /* Every rank calls it. Rows go to the ranks round-robin (rank r renders rows
@@ -26,7 +28,8 @@ typedef struct render_mpi_job {
  * image and *root is true; elsewhere *out is empty. A failure on any rank
  * ends the job (MPI_Abort) with a line naming the rank. */
 void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root);
-/* Every rank, after rank 0 has written the output. */
-void render_mpi_finalize(void);
+/* Every rank, after rank 0 has written the output: MPI_Finalize, then with
+ * print the rank's timeline line (tl may be NULL). */
+void render_mpi_finalize(vx_tool_timeline* tl, bool print);
 
 #endif
