@@ -30,22 +30,26 @@
 #                a GPU machine without OpenMPI: see docs/PERFORMANCE.md section 9
 #
 # One host's settings (ONE_HOST=1, the default), each measured on the
-# 4-H200 host (docs/PERFORMANCE.md section 10):
-#   --bind-to none         the tools start threads (the device's, the bake's
-#                          writer); mpirun's default binding would put them on
-#                          one core per rank
+# 4-H200 host (docs/PERFORMANCE.md section 10, bench/startup/mpit.c):
+#   HWLOC_COMPONENTS=-opencl,-gl
+#                          mpirun discovers the host's topology before it
+#                          starts a rank; hwloc's OpenCL plugin opens every
+#                          OpenCL platform installed (that host has pocl's),
+#                          which took 1.1 s of every mpirun's launch (from
+#                          mpirun's start to a rank's exec: 1.14-1.20 s, with
+#                          it left out 0.09 s); a GPU's place in the topology
+#                          comes from its PCI device, which hwloc's pci
+#                          component still reports
 #   --mca pml ob1 --mca btl self,vader
 #                          the ranks of one host talk through shared memory;
 #                          OpenMPI's default selection first probes UCX (its
 #                          CUDA, InfiniBand and TCP transports), openib and
-#                          ofi in every MPI_Init
+#                          ofi in every MPI_Init (0.28-0.33 s, with these
+#                          0.08-0.14 s)
 #   --mca osc ^ucx         no UCX one-sided component (the tools use none)
-#   HWLOC_COMPONENTS=-opencl,-gl
-#                          mpirun and every rank discover the host's topology;
-#                          hwloc's OpenCL plugin opens the OpenCL platforms,
-#                          which on an NVIDIA host start the driver on every
-#                          GPU: a GPU's place in the topology comes from its PCI
-#                          device, which the pci component still reports
+#   --bind-to none         the tools start threads (the device's, the bake's
+#                          writer); mpirun's default binding would put them on
+#                          one core per rank
 # and inside the tools (not a setting): each rank's Vulkan driver sees only
 # the rank's GPU (tools/common/gpu_only.c; VX_MPI_ALL_GPUS=1 in the
 # environment, passed with mpirun -x, turns that off).

@@ -73,3 +73,20 @@ vx_result vx_tool_gpu_open_wait(vx_tool_gpu_open* o, vx_gpu** gpu, vx_render_sce
     else vx_render_scene_destroy(o->rs);
     return VX_OK;
 }
+
+static void* bg_main(void* arg) {
+    vx_tool_bg* b = arg;
+    b->fn(b->arg);
+    return NULL;
+}
+
+void vx_tool_bg_start(vx_tool_bg* b, void (*fn)(void* arg), void* arg) {
+    b->fn = fn, b->arg = arg;
+    b->started = pthread_create(&b->thread, NULL, bg_main, b) == 0;
+    if (!b->started) fn(arg);
+}
+
+void vx_tool_bg_wait(vx_tool_bg* b) {
+    if (b->started) pthread_join(b->thread, NULL);
+    b->started = false;
+}

@@ -50,4 +50,18 @@ void vx_tool_gpu_open_start_narrowed(vx_tool_gpu_open* o, const vx_gpu_desc* des
 vx_result vx_tool_gpu_open_wait(vx_tool_gpu_open* o, vx_gpu** gpu, vx_render_scene** rs, const char** failed,
                                 vx_error* err);
 
+/* Something slow at the end (closing a device: vkDestroyDevice and the
+ * instance's end took 0.15-0.3 s a rank with four ranks starting together on
+ * the 4-H200 host) run on a thread of its own while the tool gathers and
+ * writes its output; vx_tool_bg_wait joins it (a no-op when none started).
+ * Without a thread fn runs in the start. */
+typedef struct vx_tool_bg {
+    pthread_t thread;
+    bool started;
+    void (*fn)(void* arg);
+    void* arg;
+} vx_tool_bg;
+void vx_tool_bg_start(vx_tool_bg* b, void (*fn)(void* arg), void* arg);
+void vx_tool_bg_wait(vx_tool_bg* b);
+
 #endif

@@ -791,6 +791,16 @@ static void no_more(void* user, const wdone* d) {
     die("internal: probes %u..%u written after the last report", d->first, d->first + d->count);
 }
 
+/* A rank's device once its batches are baked (bake_job_close then has only
+ * the scene to free). */
+static void close_device(void* arg) {
+    bake_job* j = arg;
+    vx_probe_baker_destroy(j->baker);
+    vx_render_scene_destroy(j->rs);
+    vx_gpu_destroy(j->gpu);
+    j->baker = NULL, j->rs = NULL, j->gpu = NULL;
+}
+
 /* The placement on a thread of its own while MPI starts (it needs only the scene). */
 typedef struct place_job {
     const vx_svo_scene* scene;
@@ -935,6 +945,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
     }
     writer_stop(&w, no_more, NULL); /* every block of this rank written and reported */
     vx_tool_timeline_mark(&line, VX_TL_DONE);
+    /* the device closes beside the wait for the others, the head and the rename */
+    vx_tool_bg closing = {0};
+    vx_tool_bg_start(&closing, close_device, &j);
     st[ST_CKPT] = w.ser_s, st[ST_IO] = w.io_s;
     /* ranks idle here until every block is written: load imbalance */
     double t = vx_time_now();
@@ -1006,6 +1019,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     free(c.ended);
     free(c.recs);
     vx_probe_set_free(&ps);
+    vx_tool_bg_wait(&closing);
     bake_job_close(&j);
     int rank = g_mpi.rank;
     MPI_Finalize();

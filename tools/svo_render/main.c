@@ -382,6 +382,7 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     vx_tool_timeline tl; /* under mpirun: this rank's start-up and end, printed with -v */
     vx_tool_timeline_start(&tl);
+    render_mpi_end mpi_end = {0};
 #endif
     vx_tool_init(argc, argv);
     prog = vx_tool_name;
@@ -804,14 +805,14 @@ int main(int argc, char** argv) {
         if (!o.p.threads) o.p.threads = o.cpu ? 2 : 1;
         if (o.r.spp > 1) o.p.spp = o.r.spp;
         render_mpi_job job = {.scene = &scene, .probes = o.probes ? &probes : NULL, .desc = o.p, .cpu = o.cpu,
-                              .device = o.device, .validate = o.validate, .verbose = o.verbose, .tl = &tl};
+                              .device = o.device, .validate = o.validate, .verbose = o.verbose, .tl = &tl, .end = &mpi_end};
         render_mpi(&job, &img, &root); /* a failure ends the job */
         r = VX_OK;
         if (!root) {
             vx_probe_set_free(&probes);
             free(frame_lights), vx_free(NULL, sky_rgb);
             vx_svo_scene_free(&owned);
-            render_mpi_finalize(&tl, tl_print);
+            render_mpi_finalize(&mpi_end, &tl, tl_print);
             return 0;
         }
 #endif
@@ -913,7 +914,7 @@ int main(int argc, char** argv) {
     vx_svo_scene_free(&owned);
     free(frame_lights), vx_free(NULL, sky_rgb);
 #ifdef VX_HAVE_MPI
-    if (mpi) render_mpi_finalize(&tl, tl_print);
+    if (mpi) render_mpi_finalize(&mpi_end, &tl, tl_print);
 #endif
     return r ? 1 : 0;
 }

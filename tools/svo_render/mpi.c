@@ -28,6 +28,13 @@ static uint8_t* rows_of(int rank, int nranks, uint32_t height) {
  * (the rest of the call is the pass's own set-up: buffers, pipelines, copies) */
 enum { ST_SETUP, ST_RENDER, ST_WAIT, ST_GATHER, ST_ROWS, ST_GPU, ST_N };
 
+static void close_device(void* arg) {
+    render_mpi_end* e = arg;
+    vx_render_scene_destroy(e->rs);
+    vx_gpu_destroy(e->gpu);
+    e->rs = NULL, e->gpu = NULL;
+}
+
 void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root) {
     vx_tool_mpi m;
     double t_in = vx_time_now();
@@ -104,8 +111,14 @@ void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root) {
     st[ST_RENDER] = vx_time_now() - t;
     vx_tool_timeline_mark(tl, VX_TL_DONE);
     st[ST_GPU] = img.gpu_seconds;
-    vx_render_scene_destroy(rs);
-    vx_gpu_destroy(gpu);
+    /* the device closes beside the gather and the image's write */
+    if (job->end) {
+        job->end->gpu = gpu, job->end->rs = rs;
+        vx_tool_bg_start(&job->end->close, close_device, job->end);
+    } else {
+        vx_render_scene_destroy(rs);
+        vx_gpu_destroy(gpu);
+    }
     /* ranks that finished early wait here: the load imbalance */
     t = vx_time_now();
     MPI_Barrier(MPI_COMM_WORLD);
@@ -169,7 +182,8 @@ void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root) {
     free(rows);
 }
 
-void render_mpi_finalize(vx_tool_timeline* tl, bool print) {
+void render_mpi_finalize(render_mpi_end* end, vx_tool_timeline* tl, bool print) {
+    if (end) vx_tool_bg_wait(&end->close);
     int rank = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Finalize();
