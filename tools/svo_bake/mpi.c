@@ -945,14 +945,16 @@ int bake_mpi(options* o, const char* in, const char* out) {
     }
     writer_stop(&w, no_more, NULL); /* every block of this rank written and reported */
     vx_tool_timeline_mark(&line, VX_TL_DONE);
-    /* the device closes beside the wait for the others, the head and the rename */
-    vx_tool_bg closing = {0};
-    vx_tool_bg_start(&closing, close_device, &j);
     st[ST_CKPT] = w.ser_s, st[ST_IO] = w.io_s;
     /* ranks idle here until every block is written: load imbalance */
     double t = vx_time_now();
     MPI_Barrier(MPI_COMM_WORLD);
     st[ST_WAIT] += vx_time_now() - t;
+    /* the device closes beside the head and the rename; not before every
+     * rank has baked: the driver serialises across processes, and a close
+     * slowed the ranks still at work (svo_render/mpi.c) */
+    vx_tool_bg closing = {0};
+    vx_tool_bg_start(&closing, close_device, &j);
     st[ST_WALL] = vx_time_now() - t_start;
     /* the head, every rank's data on disk, then the name */
     t = vx_time_now();
