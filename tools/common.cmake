@@ -27,7 +27,15 @@ if(VX_WITH_MPI AND MPI_C_FOUND)
   add_library(vx_tool_mpi STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi.c)
   target_link_libraries(vx_tool_mpi PUBLIC vx_tool MPI::MPI_C)
   if(TARGET vx_render)
-    add_library(vx_tool_mpi_device STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi_device.c)
+    add_library(vx_tool_mpi_device STATIC ${CMAKE_CURRENT_LIST_DIR}/common/mpi_device.c
+                                          ${CMAKE_CURRENT_LIST_DIR}/common/gpu_only.c)
     target_link_libraries(vx_tool_mpi_device PUBLIC vx_tool_mpi vx_render)
+    # gpu_only.c's open family must be what the Vulkan driver, loaded later
+    # by dlopen, binds to: the executable exports them
+    if(CMAKE_SYSTEM_NAME STREQUAL "Linux")
+      foreach(f open open64 openat openat64 __open_2 __open64_2)
+        target_link_options(vx_tool_mpi_device INTERFACE "LINKER:--export-dynamic-symbol=${f}")
+      endforeach()
+    endif()
   endif()
 endif()

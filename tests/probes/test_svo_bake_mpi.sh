@@ -16,9 +16,12 @@ MPIRUN=${2:-mpirun}
 O="--grid 4,3,3 --res 16 --spp 2 --seed 5 -q --cpu"
 "$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >/dev/null || fail "single bake"
 for n in 1 2 3; do
-  run $n "$BIN/svo_bake" "$T/demo.svo" "$T/m$n.probes" $O >"$T/m$n.out" 2>&1 || { cat "$T/m$n.out"; fail "mpirun -n $n"; }
+  t0=$(date +%s.%N)
+  run $n "$BIN/svo_bake" "$T/demo.svo" "$T/m$n.probes" $O -v >"$T/m$n.out" 2>&1 || { cat "$T/m$n.out"; fail "mpirun -n $n"; }
+  t1=$(date +%s.%N)
   cmp -s "$T/full.probes" "$T/m$n.probes" || fail "mpirun -n $n differs from the single bake"
   grep -q "on $n ranks" "$T/m$n.out" || fail "mpirun -n $n: no summary line"
+  check_timeline "$T/m$n.out" $n "$t0" "$t1" || { cat "$T/m$n.out"; fail "mpirun -n $n: the ranks' timelines"; }
 done
 # more ranks than probes: idle ranks, the same single probe
 "$BIN/svo_bake" "$T/demo.svo" "$T/one.probes" --grid 1,1,1 --res 16 --spp 1 --cpu -q >/dev/null || fail "1-probe bake"

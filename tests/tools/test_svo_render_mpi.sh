@@ -18,7 +18,10 @@ gpu=1
 "$BIN/svo_render" "$T/demo.svo" "$T/cpu.png" $O --cpu --threads 1 >/dev/null || fail "single CPU render (PNG)"
 for n in 2 3; do
   if [ $gpu = 1 ]; then
+    t0=$(date +%s.%N)
     run $n "$BIN/svo_render" "$T/demo.svo" "$T/g$n.exr" $O -v >"$T/g$n.out" 2>&1 || { cat "$T/g$n.out"; fail "mpirun -n $n"; }
+    t1=$(date +%s.%N)
+    check_timeline "$T/g$n.out" $n "$t0" "$t1" || { cat "$T/g$n.out"; fail "mpirun -n $n: the ranks' timelines"; }
     cmp -s "$T/one.exr" "$T/g$n.exr" || fail "mpirun -n $n (GPU) differs from one process"
     grep -q "on $n ranks" "$T/g$n.out" || { cat "$T/g$n.out"; fail "mpirun -n $n: no summary line"; }
     [ "$(grep -c "^rank [0-9]*: .* rows, set-up" "$T/g$n.out")" = $n ] || { cat "$T/g$n.out"; fail "-v: not one line per rank"; }

@@ -25,6 +25,10 @@ typedef struct vx_tool_gpu_open {
     const char* failed; /* "device" or "scene": which step failed */
     double seconds;     /* the thread's time */
     double device_s;    /* of it vx_gpu_create's (instance, device); the rest binds the scene */
+    double at[3];       /* wall clock (CLOCK_REALTIME s): the thread's start, the device made, the scene bound */
+    char fallback[64];  /* the device to try after widen() where the first failed ("" none) */
+    void (*widen)(void);
+    bool fell_back;     /* the fallback was tried */
 } vx_tool_gpu_open;
 
 /* Starts opening the device of desc (desc->device is copied; the logger and
@@ -33,10 +37,31 @@ typedef struct vx_tool_gpu_open {
  * be started) the open happens in the wait. */
 void vx_tool_gpu_open_start(vx_tool_gpu_open* o, const vx_gpu_desc* desc, const vx_svo_scene* scene);
 
+/* The same for a process whose driver was narrowed to one GPU
+ * (vx_tool_mpi_gpu_only): where making the device fails, widen() undoes that
+ * and the device `fallback` is opened instead (a driver that refuses to
+ * start without every GPU costs a second start, not the job). */
+void vx_tool_gpu_open_start_narrowed(vx_tool_gpu_open* o, const vx_gpu_desc* desc, const vx_svo_scene* scene,
+                                     const char* fallback, void (*widen)(void));
+
 /* Waits for the open; on success hands over the device and the scene (the
  * caller destroys them), else returns the error in *err with *failed naming
  * the step ("device" or "scene") and has destroyed what was made. */
 vx_result vx_tool_gpu_open_wait(vx_tool_gpu_open* o, vx_gpu** gpu, vx_render_scene** rs, const char** failed,
                                 vx_error* err);
+
+/* Something slow at the end (closing a device: vkDestroyDevice and the
+ * instance's end took 0.15-0.3 s a rank with four ranks starting together on
+ * the 4-H200 host) run on a thread of its own while the tool gathers and
+ * writes its output; vx_tool_bg_wait joins it (a no-op when none started).
+ * Without a thread fn runs in the start. */
+typedef struct vx_tool_bg {
+    pthread_t thread;
+    bool started;
+    void (*fn)(void* arg);
+    void* arg;
+} vx_tool_bg;
+void vx_tool_bg_start(vx_tool_bg* b, void (*fn)(void* arg), void* arg);
+void vx_tool_bg_wait(vx_tool_bg* b);
 
 #endif

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "tools/common/tool.h"
@@ -104,4 +105,52 @@ _Noreturn void vx_tool_mpi_die(const char* fmt, ...) {
     }
     MPI_Abort(MPI_COMM_WORLD, 1);
     exit(1); /* not reached */
+}
+
+double vx_tool_wall_clock(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_REALTIME, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+/* The process's start on the wall clock: /proc/self/stat's starttime (clock
+ * ticks after boot, field 22) against CLOCK_BOOTTIME now; 0 where unknown. */
+static double exec_stamp(void) {
+    char buf[1024];
+    FILE* f = fopen("/proc/self/stat", "r");
+    if (!f) return 0;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    const char* p = strrchr(buf, ')'); /* the command's name may hold spaces */
+    if (!p) return 0;
+    unsigned long long start = 0;
+    /* after ')': state (3), then fields 4..21, then starttime (22) */
+    if (sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d %*d %*d %llu", &start) != 1)
+        return 0;
+    long hz = sysconf(_SC_CLK_TCK);
+    struct timespec b;
+    if (hz <= 0 || clock_gettime(CLOCK_BOOTTIME, &b) != 0) return 0;
+    double age = (double)b.tv_sec + (double)b.tv_nsec * 1e-9 - (double)start / (double)hz;
+    return age >= 0 ? vx_tool_wall_clock() - age : 0;
+}
+
+void vx_tool_timeline_start(vx_tool_timeline* tl) {
+    memset(tl, 0, sizeof *tl);
+    tl->t[VX_TL_MAIN] = vx_tool_wall_clock();
+    tl->t[VX_TL_EXEC] = exec_stamp();
+}
+
+void vx_tool_timeline_print(const vx_tool_timeline* tl, int rank) {
+    static const char* const names[VX_TL_N] = {"exec",   "main", "mpi_init", "mpi_ready", "vk_start", "vk_device",
+                                               "vk_ready", "work", "done",     "reduced",   "output",   "end"};
+    char line[1024];
+    int n = snprintf(line, sizeof line, "timeline rank %d:", rank);
+    for (int i = 0; i < VX_TL_N && n > 0 && n < (int)sizeof line; i++)
+        if (tl->t[i] > 0) n += snprintf(line + n, sizeof line - (size_t)n, " %s %.4f", names[i], tl->t[i]);
+    if (n <= 0 || n >= (int)sizeof line - 1) return;
+    line[n++] = '\n';
+    fflush(stdout);
+    if (write(1, line, (size_t)n) < 0) { /* stdout gone: nothing to tell */
+    }
 }

@@ -4,6 +4,8 @@
  * that opens it ("gpu:K"): listing the GPUs first took a second Vulkan
  * instance per rank. */
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "tools/common/mpi.h"
 
@@ -11,4 +13,15 @@ const char* vx_tool_mpi_device(int local_rank, const char* device, bool cpu, cha
     if (device || cpu) return device;
     snprintf(buf, 16, "gpu:%d", local_rank > 0 ? local_rank : 0);
     return buf;
+}
+
+const char* vx_tool_mpi_device_narrowed(int local_rank, const char* device, bool cpu, char buf[16], int* node) {
+    *node = -1;
+    const char* all = getenv("VX_MPI_ALL_GPUS");
+    if (!device && !cpu && local_rank >= 0 && !(all && !strcmp(all, "1")) &&
+        (*node = vx_tool_mpi_gpu_only(local_rank)) >= 0) {
+        snprintf(buf, 16, "gpu:0");
+        return buf;
+    }
+    return vx_tool_mpi_device(local_rank, device, cpu, buf);
 }

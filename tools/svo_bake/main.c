@@ -236,7 +236,7 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     }
     if (j->o.frame) vx_svo_scene_update_bounds(&j->scene); /* the frame's own bounds (the view has frame 0's) */
     if (j->o.cpu) return 0;
-    vx_tool_gpu_open_start(&j->go, &(vx_gpu_desc){.device = device}, &j->scene);
+    vx_tool_gpu_open_start_narrowed(&j->go, &(vx_gpu_desc){.device = device}, &j->scene, j->fallback, j->widen);
     j->opening = true;
     return 0;
 }

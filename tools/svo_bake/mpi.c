@@ -791,6 +791,16 @@ static void no_more(void* user, const wdone* d) {
     die("internal: probes %u..%u written after the last report", d->first, d->first + d->count);
 }
 
+/* A rank's device once its batches are baked (bake_job_close then has only
+ * the scene to free). */
+static void close_device(void* arg) {
+    bake_job* j = arg;
+    vx_probe_baker_destroy(j->baker);
+    vx_render_scene_destroy(j->rs);
+    vx_gpu_destroy(j->gpu);
+    j->baker = NULL, j->rs = NULL, j->gpu = NULL;
+}
+
 /* The placement on a thread of its own while MPI starts (it needs only the scene). */
 typedef struct place_job {
     const vx_svo_scene* scene;
@@ -814,6 +824,8 @@ static void* place_main(void* arg) {
 int bake_mpi(options* o, const char* in, const char* out) {
     /* rank 0's start-up and end, for -v: where the time outside the bake goes */
     double t_in = vx_time_now(), tl[6];
+    vx_tool_timeline line; /* the same on the wall clock, every rank's (-v) */
+    vx_tool_timeline_start(&line);
     o->b.first = o->b.count = 0;
     bake_job j = {.o = *o, .in = in, .out = out};
     char device[16], who[300], host[256] = "";
@@ -826,11 +838,19 @@ int bake_mpi(options* o, const char* in, const char* out) {
      * of 0.26 s (H200 x2) */
     int lr = vx_tool_mpi_env_local_rank();
     bool early = o->cpu || o->device || lr >= 0;
-    int open_rc = early ? bake_job_open(&j, vx_tool_mpi_device(lr, o->device, o->cpu, device), who) : 0;
+    /* the rank's driver sees only the rank's GPU (vx_tool_mpi_gpu_only: every
+     * rank attaching every GPU made the ranks' Vulkan starts wait for each other) */
+    int node = -1;
+    char wide[16];
+    const char* dev = early ? vx_tool_mpi_device_narrowed(lr, o->device, o->cpu, device, &node) : NULL;
+    if (node >= 0) j.fallback = vx_tool_mpi_device(lr, o->device, o->cpu, wide), j.widen = vx_tool_mpi_gpu_all;
+    int open_rc = early ? bake_job_open(&j, dev, who) : 0;
     place_job pj = {.scene = &j.scene, .d = o->b};
     if (early && !open_rc) pj.started = pthread_create(&pj.thread, NULL, place_main, &pj) == 0;
     tl[0] = vx_time_now();
+    vx_tool_timeline_mark(&line, VX_TL_MPI_INIT);
     vx_tool_mpi_init(&g_mpi);
+    vx_tool_timeline_mark(&line, VX_TL_MPI_READY);
     tl[1] = vx_time_now();
     int provided = g_mpi.thread_level, nranks = g_mpi.nranks;
     if (!o->threads_set) o->threads = vx_tool_mpi_threads(&g_mpi);
@@ -853,6 +873,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
         MPI_Abort(MPI_COMM_WORLD, 1);
     }
     tl[3] = vx_time_now();
+    if (j.gpu) memcpy(&line.t[VX_TL_VK_START], j.go.at, sizeof j.go.at);
     make_ckdir(&j);
     outfile of = {0};
     outfile_open(&j, &ps, &of);
@@ -862,9 +883,12 @@ int bake_mpi(options* o, const char* in, const char* out) {
     /* one line per rank, in rank order */
     for (int r = 0; r < nranks; r++) {
         if (r == g_mpi.rank) {
+            char seen[64] = "";
+            if (node >= 0)
+                snprintf(seen, sizeof seen, j.go.fell_back ? " (every GPU: /dev/nvidia%d alone failed)" : " (sees /dev/nvidia%d alone)", node);
             if (j.gpu)
-                printf("rank %d (%s): device: %s%s\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
-                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "");
+                printf("rank %d (%s): device: %s%s%s\n", g_mpi.rank, g_mpi.host, vx_gpu_device_name(j.gpu),
+                       vx_gpu_is_cpu(j.gpu) ? " (software)" : "", seen);
             else
                 printf("rank %d (%s): device: CPU (%u threads, double precision)\n", g_mpi.rank, g_mpi.host, o->threads);
             fflush(stdout);
@@ -911,6 +935,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
     }
     MPI_Barrier(MPI_COMM_WORLD);
     t_start = vx_time_now();
+    vx_tool_timeline_mark(&line, VX_TL_WORK);
     c.t0 = t_start;
     if (g_mpi.rank == 0) {
         run_coordinator(&c, &o->b);
@@ -919,15 +944,22 @@ int bake_mpi(options* o, const char* in, const char* out) {
         run_worker(&j, &w, &ps, &o->b, st);
     }
     writer_stop(&w, no_more, NULL); /* every block of this rank written and reported */
+    vx_tool_timeline_mark(&line, VX_TL_DONE);
     st[ST_CKPT] = w.ser_s, st[ST_IO] = w.io_s;
     /* ranks idle here until every block is written: load imbalance */
     double t = vx_time_now();
     MPI_Barrier(MPI_COMM_WORLD);
     st[ST_WAIT] += vx_time_now() - t;
+    /* the device closes beside the head and the rename; not before every
+     * rank has baked: the driver serialises across processes, and a close
+     * slowed the ranks still at work (svo_render/mpi.c) */
+    vx_tool_bg closing = {0};
+    vx_tool_bg_start(&closing, close_device, &j);
     st[ST_WALL] = vx_time_now() - t_start;
     /* the head, every rank's data on disk, then the name */
     t = vx_time_now();
     if (g_mpi.rank == 0) put_head(&c);
+    if (g_mpi.rank == 0) vx_tool_timeline_mark(&line, VX_TL_REDUCED);
     double ts = vx_time_now();
     if (MPI_File_sync(of.fh) != MPI_SUCCESS) die("%s: cannot sync", of.tmp);
     t_sync = vx_time_now() - ts;
@@ -940,6 +972,7 @@ int bake_mpi(options* o, const char* in, const char* out) {
             rc = 1;
         }
         t_write = vx_time_now() - t;
+        vx_tool_timeline_mark(&line, VX_TL_OUTPUT);
         if (!rc) remove(j.ckpath);
     }
     MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -988,7 +1021,11 @@ int bake_mpi(options* o, const char* in, const char* out) {
     free(c.ended);
     free(c.recs);
     vx_probe_set_free(&ps);
+    vx_tool_bg_wait(&closing);
     bake_job_close(&j);
+    int rank = g_mpi.rank;
     MPI_Finalize();
+    vx_tool_timeline_mark(&line, VX_TL_END);
+    if (o->verbose) vx_tool_timeline_print(&line, rank);
     return rc;
 }

@@ -38,6 +38,8 @@ typedef struct bake_job {
     vx_probe_baker* baker; /* the GPU bake kept across bake_range calls (made at the first) */
     vx_tool_gpu_open go;  /* the device opening on its own thread */
     bool opening;         /* go started, not waited for */
+    const char* fallback; /* a rank whose driver sees only its GPU: the device where that fails, */
+    void (*widen)(void);  /* after widen() (vx_tool_gpu_open_start_narrowed); NULL elsewhere */
     double t_device;      /* seconds the device and the scene's upload took on its thread */
     double t_vk;          /* of it the device's (vx_gpu_create) */
     double t_wait;        /* seconds bake_job_device waited for it */

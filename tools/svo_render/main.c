@@ -379,6 +379,11 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
 }
 
 int main(int argc, char** argv) {
+#ifdef VX_HAVE_MPI
+    vx_tool_timeline tl; /* under mpirun: this rank's start-up and end, printed with -v */
+    vx_tool_timeline_start(&tl);
+    render_mpi_end mpi_end = {0};
+#endif
     vx_tool_init(argc, argv);
     prog = vx_tool_name;
     options o = default_options();
@@ -674,6 +679,7 @@ int main(int argc, char** argv) {
         }
         usage_error("%s", "under mpirun, svo_render renders the probe modes (--mode pathtrace, gi, ...)");
     }
+    bool tl_print = o.verbose; /* every rank's timeline */
     if (mpi && vx_tool_mpi_env_rank() > 0) o.verbose = false; /* one header */
 #endif
     if (o.cpu && (o.device || o.validate)) usage_error("%s", "--cpu conflicts with --device/--validate");
@@ -799,14 +805,14 @@ int main(int argc, char** argv) {
         if (!o.p.threads) o.p.threads = o.cpu ? 2 : 1;
         if (o.r.spp > 1) o.p.spp = o.r.spp;
         render_mpi_job job = {.scene = &scene, .probes = o.probes ? &probes : NULL, .desc = o.p, .cpu = o.cpu,
-                              .device = o.device, .validate = o.validate, .verbose = o.verbose};
+                              .device = o.device, .validate = o.validate, .verbose = o.verbose, .tl = &tl, .end = &mpi_end};
         render_mpi(&job, &img, &root); /* a failure ends the job */
         r = VX_OK;
         if (!root) {
             vx_probe_set_free(&probes);
             free(frame_lights), vx_free(NULL, sky_rgb);
             vx_svo_scene_free(&owned);
-            render_mpi_finalize();
+            render_mpi_finalize(&mpi_end, &tl, tl_print);
             return 0;
         }
 #endif
@@ -879,6 +885,9 @@ int main(int argc, char** argv) {
     }
     size_t npx = (size_t)img.width * img.height;
     r = write_image(&o, o.out, &img, &err);
+#ifdef VX_HAVE_MPI
+    if (mpi) vx_tool_timeline_mark(&tl, VX_TL_OUTPUT);
+#endif
     if (!r) {
         printf("scene: %u models, %u instances (load %.3f s%s)\n", scene.model_count, scene.instance_count, t_load,
                "");
@@ -905,7 +914,7 @@ int main(int argc, char** argv) {
     vx_svo_scene_free(&owned);
     free(frame_lights), vx_free(NULL, sky_rgb);
 #ifdef VX_HAVE_MPI
-    if (mpi) render_mpi_finalize();
+    if (mpi) render_mpi_finalize(&mpi_end, &tl, tl_print);
 #endif
     return r ? 1 : 0;
 }

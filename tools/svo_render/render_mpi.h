@@ -7,6 +7,8 @@
 #include <stdbool.h>
 
 #include "probes/probes.h"
+#include "tools/common/gpu_open.h"
+#include "tools/common/mpi.h"
 
 typedef struct render_mpi_job {
     const vx_svo_scene* scene;
@@ -15,7 +17,17 @@ typedef struct render_mpi_job {
     bool cpu;                   /* the double-precision CPU renderer (desc.threads per rank) */
     const char* device;         /* NULL: GPU `local rank mod GPUs` of the host */
     bool validate, verbose;
+    vx_tool_timeline* tl;       /* stamps of this rank's start-up and work (the caller's, started in main) */
+    struct render_mpi_end* end; /* the caller's, zeroed: what render_mpi_finalize finishes */
 } render_mpi_job;
+
+/* The device closing on a thread of its own from the end of the rank's
+ * render (while rank 0 gathers and writes the image) to render_mpi_finalize. */
+typedef struct render_mpi_end {
+    vx_tool_bg close;
+    vx_gpu* gpu;
+    vx_render_scene* rs;
+} render_mpi_end;
 
 /* Every rank calls it. Rows go to the ranks round-robin (rank r renders rows
  * r, r + N, ...: every rank gets an even share of costly rows, and the split
@@ -26,7 +38,9 @@ typedef struct render_mpi_job {
  * image and *root is true; elsewhere *out is empty. A failure on any rank
  * ends the job (MPI_Abort) with a line naming the rank. */
 void render_mpi(const render_mpi_job* job, vx_render_image* out, bool* root);
-/* Every rank, after rank 0 has written the output. */
-void render_mpi_finalize(void);
+/* Every rank, after rank 0 has written the output: waits for the device's
+ * close (end may be NULL), MPI_Finalize, then with print the rank's timeline
+ * line (tl may be NULL). */
+void render_mpi_finalize(render_mpi_end* end, vx_tool_timeline* tl, bool print);
 
 #endif
