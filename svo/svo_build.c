@@ -62,6 +62,10 @@ typedef struct bld {
      * here; NULL when the layout runs after the build. */
     _Atomic size_t* pub;
     size_t laid; /* pool words already laid out */
+    /* The caller laid the attribute runs out (vx__svo_pool.runs): each
+     * node's N_BLOCK holds its run's first record until its block is laid
+     * out, the records are in place, the layout writes only blocks. */
+    bool runs_given;
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -987,7 +991,7 @@ static void lay_join(lay_job* j, bld* b, bool propagate) {
 /* The blocks of the nodes not laid out yet, then the root descriptor. */
 static bool layout(bld* b, outw* o) {
     uint32_t limit = b->limit;
-    if (!layout_nodes(b, o, &b->laid, b->npool, LAY_ALL)) return false;
+    if (!layout_nodes(b, o, &b->laid, b->npool, b->runs_given ? LAY_BLOCKS : LAY_ALL)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -1091,9 +1095,35 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
         vx_grow(b->a, (void**)&o->ids, &o->capid, cnt, sizeof *o->ids);
     }
+    /* the attribute runs laid out by the caller: the records as given (in
+     * range; each node's run checked against its children below) */
+    bool runs = p->runs && p->reps && b->attrs && b->dag && p->nrecs < 0x0FFFFFF0u && cnt;
+    if (runs) {
+        if (!vx_grow(b->a, (void**)&o->ids, &o->capid, p->nrecs ? p->nrecs : 1, sizeof *o->ids)) {
+            vx_free(b->a, isnode);
+            return oom(b, "records");
+        }
+        for (size_t k = 0; k < p->nrecs; k++) {
+            uint32_t id = p->recs[k];
+            if (id >= b->nrec) {
+                vx_free(b->a, isnode);
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, id,
+                                  b->nrec);
+                return false;
+            }
+            o->ids[k] = b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
+        }
+        o->nid = p->nrecs;
+        b->runs_given = true;
+    }
     if (thread && cnt) {
         b->pub = NULL;
-        lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
+        if (!runs) {
+            lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
+        } else {
+            atomic_init(&lj->done, 0);
+            if (lay_thread(lj, b, o, NULL, LAY_BLOCKS)) b->pub = &lj->pub;
+        }
     }
     const uint32_t* w = p->words;
     size_t off = 0;
@@ -1149,10 +1179,22 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
                 break;
             }
         }
+        uint32_t blk = NO_BLOCK;
+        if (runs) { /* the node's run: its records are its children's tuples */
+            blk = w[off + N_BLOCK];
+            bool same = blk <= p->nrecs && p->nrecs - blk >= nk;
+            for (unsigned k = 0; same && k < nk; k++) same = o->ids[blk + k] == ids[k];
+            if (!same) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                  "svo build: pool node at word %zu: run at record %u is not its children's", off, blk);
+                ok = false;
+                break;
+            }
+        }
         uint32_t* n = b->pool + off;
         n[N_HDR] = hdr;
         n[N_REP] = rep;
-        n[N_BLOCK] = NO_BLOCK;
+        n[N_BLOCK] = blk;
         memcpy(n + N_KIDS, kids, nk * sizeof *kids);
         isnode[off >> 3] |= (uint8_t)(1u << (off & 7u));
         off += N_KIDS + nk;
@@ -1233,6 +1275,34 @@ static bool pool_check(bld* b, const vx__svo_pool* p) {
     else if (p->plain != b->root_plain || p->collapsed != b->ncollapsed) what = "node counts";
     if (what) {
         b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given pool differs from the builder's: %s", what);
+        return false;
+    }
+    return true;
+}
+
+/* The caller's attribute runs (vx__svo_pool.runs) against the builder's
+ * own layout: the same records, and each node's run at the same first
+ * record (the last word of the node's block, m's words). */
+static bool runs_check(bld* b, const outw* o, const vx_svo_model* m, const vx__svo_pool* p) {
+    if (!b->attrs || !b->dag || !p->reps) return true;
+    const char* what = NULL;
+    size_t at = 0;
+    if (o->nid < p->nrecs || o->nid > p->nrecs + 1) what = "record count";
+    for (size_t k = 0; !what && k < p->nrecs; k++) {
+        uint32_t id = p->recs[k], mine = o->ids[k];
+        if (id >= b->nrec || (b->direct ? rec_value(b->attrs, &b->recs[id]) : id) != mine) what = "record", at = k;
+    }
+    for (size_t off = 0; !what && off < b->npool && off < p->count;) {
+        const uint32_t* n = b->pool + off;
+        uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+        uint32_t blk = n[N_BLOCK], nn = vx__popc8(valid & ~leaf);
+        if (blk == NO_BLOCK || (size_t)blk + nn >= m->node_count || m->nodes[blk + nn] != p->words[off + N_BLOCK])
+            what = "node's run", at = off;
+        off += N_KIDS + vx__popc8(valid);
+    }
+    if (what) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given attribute runs differ from the builder's: %s at %zu",
+                          what, at);
         return false;
     }
     return true;
@@ -1625,6 +1695,11 @@ built:
     st.desc_plain = b.root_plain;
     st.desc_collapsed = b.ncollapsed;
     if (!finish_model(&b, &o, &m, false)) { res = b.fail; goto done; }
+    if (pre && pre->pool && pre->check_pool && pre->pool->runs && !runs_check(&b, &o, &m, pre->pool)) {
+        vx_svo_model_free(b.a, &m);
+        res = b.fail;
+        goto done;
+    }
     st.far_pointers = o.far;
     m.voxel_count = st.voxels;
     goto finish;

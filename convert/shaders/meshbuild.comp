@@ -47,10 +47,28 @@
  *   its representative's slot, found or claimed; MODE 15: claimed slots get
  *   new ids (counted per region); MODE 16 (one invocation): each region's
  *   first new tuple; MODE 17: the representative ids (into the region's
- *   tuples, then its new ones), the new tuples written to ext. */
+ *   tuples, then its new ones), the new tuples written to ext.
+ * The attribute runs of the block layout (svo_build.c, run_intern), per
+ * node in pool order (sorted index i): its run is its children's tuple ids
+ * over valid (a node child's representative). The CPU layout stores a run
+ * at its first occurrence and points later equal runs there; a uniform run
+ * (n copies of v, n < 8) instead takes the longest uniform run of v stored
+ * before it. Stored uniform lengths of v only grow, so that is the first
+ * occurrence of (v, M), M the longest uniform run of v at or before i: with
+ * first(run) = its least node, target = first of the exact run, or for a
+ * uniform run first(v, M) over M = the largest L with first(v, L) <= i.
+ * Node i stores its run iff target == i; run starts are the prefix sums of
+ * the stored lengths.
+ *   MODE 18 (per node): the run table (first slot claimed per run and
+ *           region; the least node there). MODE 19: target, pos[i] = the
+ *           records stored, each region's first node. MODE 20 (after the
+ *           scan): pool word 2 = the target's first record (region-relative),
+ *           the stored runs' ids written to rids; each region's first record. */
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0;
-layout(push_constant) uniform Push { uint n, level, base, mask, attrs; } pc; /* attrs: 1 rgba, 2 normal, 4 material */
+/* attrs: 1 rgba, 2 normal, 4 material; smask, lmask: the bits kept of every table's first slot and of the
+ * structural hash (all but in tests, vx_conv_mesh_gpu_set_hash: forced collisions) */
+layout(push_constant) uniform Push { uint n, level, base, mask, attrs, smask, lmask; } pc;
 
 layout(std430, binding = 0) readonly buffer OKeys { uvec2 okeys[]; }; /* (local | brick << 18, brick >> 14) */
 layout(std430, binding = 1) readonly buffer Ids { uint ids[]; };      /* global tuple id per cell */
@@ -66,13 +84,17 @@ layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by 
 layout(std430, binding = 11) buffer Misc { uint misc[]; }; /* [0]: a node differs from its canonical one; [4 + r]: region r's cells */
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 13) buffer Vals { uint vals[]; };
-layout(std430, binding = 14) writeonly buffer Pool { uint pool[]; };
+layout(std430, binding = 14) buffer Pool { uint pool[]; };
 layout(std430, binding = 15) buffer RBase { uint rbase[]; }; /* per region: its first pool word (0xFFFFFFFF: no node) */
 layout(std430, binding = 16) buffer NRep { uvec4 nrep[]; };   /* per node slot: its representative (rgba, normal, material), id */
 layout(std430, binding = 17) readonly buffer UTab { uvec4 utab[]; }; /* per tuple id: rgba, normal, material, region */
 layout(std430, binding = 18) buffer TTab { uvec2 ttab[]; };   /* tuple table: (code, id); code < pc.base: a cell tuple, else a node */
 layout(std430, binding = 19) buffer RNew { uint rnew[]; };    /* per region: new tuples; [R + r]: their first index in ext */
 layout(std430, binding = 20) writeonly buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region */
+layout(std430, binding = 21) buffer RTab { uvec2 rtab[]; };    /* attribute runs: (claimed by node, least node) */
+layout(std430, binding = 22) buffer RNode { uvec2 rnode[]; };  /* per node in pool order: its run's slot, target node */
+layout(std430, binding = 23) writeonly buffer RIds { uint rids[]; }; /* the stored runs' tuple ids, region by region */
+layout(std430, binding = 24) buffer RFirst { uvec2 rfirst[]; }; /* per region: first node in pool order, first record */
 
 uint fmix(uint h) {
     h ^= h >> 16;
@@ -191,6 +213,49 @@ uvec4 tuple_of(uint code) { /* (tuple, region) of a table code */
     return uvec4(nrep[q].xyz, nodes[4u * q].y);
 }
 
+/* ---- the attribute runs ---- */
+
+/* Node i's (pool order) run: its children's tuple ids over valid; its region. */
+uint run_of(uint i, out uint v[8], out uint r) {
+    uint q = vals[i];
+    uvec4 n0 = nodes[4u * q];
+    r = n0.y;
+    uint at = nodes[4u * q + 1u].z, b = rbase[r];
+    uint valid = n0.x & 0xFFu, leaf = n0.x >> 8, k = 0u;
+    for (uint o = 0u; o < 8u; o++) v[o] = 0u;
+    for (uint o = 0u; o < 8u; o++) {
+        if ((valid >> o & 1u) == 0u) continue;
+        uint ref = pool[at + 3u + k];
+        v[k] = (leaf >> o & 1u) != 0u ? ref : pool[b + ref + 1u];
+        k++;
+    }
+    return k;
+}
+uint run_hash(uint v[8], uint n, uint r) {
+    uint h = fmix(n * 0x9E3779B1u ^ r * 0x85EBCA77u);
+    for (uint k = 0u; k < n; k++) h = fmix(h ^ (v[k] * 0x27D4EB2Fu + k));
+    return h;
+}
+bool run_is(uint c, uint v[8], uint n, uint r) {
+    uint w[8], rc;
+    if (run_of(c, w, rc) != n || rc != r) return false;
+    for (uint k = 0u; k < n; k++)
+        if (w[k] != v[k]) return false;
+    return true;
+}
+/* The least node whose run is L copies of v in region r (0xFFFFFFFF: none). */
+uint uniform_first(uint v, uint L, uint r) {
+    uint w[8];
+    for (uint k = 0u; k < 8u; k++) w[k] = v;
+    uint j = run_hash(w, L, r) & pc.smask & pc.mask;
+    for (;;) {
+        uint cur = rtab[j].x;
+        if (cur == 0xFFFFFFFFu) return 0xFFFFFFFFu;
+        if (run_is(cur, w, L, r)) return rtab[j].y;
+        j = (j + 1u) & pc.mask;
+    }
+}
+
 void main() {
     uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
     if (i >= pc.n) return;
@@ -275,6 +340,7 @@ void main() {
                 h = hmix(h, lab[o] ^ uvec2(o, o << 16));
                 c[n++] = kid[o];
             }
+        h &= uvec2(pc.lmask);
         uint q = pc.base + i;
         nodes[4u * q] = uvec4(hdr, r, last << 5 | pc.level, 0u);
         nodes[4u * q + 1u] = uvec4(h, 0u, 0u);
@@ -287,7 +353,7 @@ void main() {
         uvec4 n0 = nodes[4u * i];
         if ((n0.x & 0xFFu) == 0u) return;
         uvec2 h = nodes[4u * i + 1u].xy;
-        uint j = fmix(h.x ^ n0.y) & pc.mask;
+        uint j = fmix(h.x ^ n0.y) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(tab[j].x, 0xFFFFFFFFu, i);
             if (cur == 0xFFFFFFFFu || (nodes[4u * cur + 1u].xy == h && nodes[4u * cur].y == n0.y)) break;
@@ -352,7 +418,7 @@ void main() {
         }
     } else if (MODE == 13u) { /* per cell tuple (pc.base of them): its slot, its id */
         uvec4 t = utab[i];
-        uint j = thash(t.xyz, t.w) & pc.mask;
+        uint j = thash(t.xyz, t.w) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, i);
             if (cur == 0xFFFFFFFFu) break;
@@ -363,7 +429,7 @@ void main() {
         uvec4 n0 = nodes[4u * i];
         if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
         uvec3 t = nrep[i].xyz;
-        uint code = pc.base + i, j = thash(t, n0.y) & pc.mask;
+        uint code = pc.base + i, j = thash(t, n0.y) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, code);
             if (cur == 0xFFFFFFFFu) break;
@@ -394,6 +460,37 @@ void main() {
             if (ttab[j].x == pc.base + i) ext[rnew[pc.level + n0.y] + k] = uvec4(nrep[i].xyz, n0.y);
         }
         nrep[i].w = id;
+    } else if (MODE == 18u) { /* per node in pool order: its run in the table */
+        uint v[8], r;
+        uint n = run_of(i, v, r), j = run_hash(v, n, r) & pc.smask & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(rtab[j].x, 0xFFFFFFFFu, i);
+            if (cur == 0xFFFFFFFFu || run_is(cur, v, n, r)) break;
+            j = (j + 1u) & pc.mask;
+        }
+        rnode[i].x = j;
+        atomicMin(rtab[j].y, i);
+    } else if (MODE == 19u) { /* the run's target; the records node i stores */
+        uint v[8], r;
+        uint n = run_of(i, v, r), t = rtab[rnode[i].x].y;
+        bool uni = true;
+        for (uint k = 1u; k < n; k++) uni = uni && v[k] == v[0];
+        for (uint L = n + 1u; uni && L <= 8u; L++) { /* the longest uniform run of v so far */
+            uint f = uniform_first(v[0], L, r);
+            if (f < i) t = f;
+        }
+        rnode[i].y = t;
+        pos[i] = t == i ? n : 0u;
+        if (i == 0u || nodes[4u * vals[i - 1u]].y != r) rfirst[r].x = i;
+    } else if (MODE == 20u) { /* after pos's scan: the node's first record into pool word 2, the stored ids */
+        uint q = vals[i], r = nodes[4u * q].y, f = rfirst[r].x, t = rnode[i].y, base = pos[f];
+        pool[nodes[4u * q + 1u].z + 2u] = pos[t] - base;
+        if (i == f) rfirst[r].y = base;
+        if (t == i) {
+            uint v[8], rr;
+            uint n = run_of(i, v, rr);
+            for (uint k = 0u; k < n; k++) rids[pos[i] + k] = v[k];
+        }
     } else if (MODE == 12u) {
         uvec4 ro = rout[i];
         if (ro.y == 0u && rbase[i] != 0xFFFFFFFFu) rout[i].x = nodes[4u * nodes[4u * ro.x].w + 1u].z - rbase[i];

@@ -66,7 +66,13 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
         fprintf(stderr, "  %s res %u region %u: the GPU build fell back to the CPU builders\n", what, res, region);
         ok = 0;
     }
-    /* and each region's node pool is the CPU builder's, node for node: the
+    /* and the block layout's attribute runs were laid out on the GPU too */
+    if (ok && attrs && !st.build_fallback && st.nodes && !st.run_records) {
+        fprintf(stderr, "  %s res %u region %u: the attribute runs were not laid out on the GPU\n", what, res, region);
+        ok = 0;
+    }
+    /* and each region's node pool is the CPU builder's, node for node (and
+     * with them the GPU's attribute runs the builder's layout's): the
      * builders build their own too and fail at the first node that differs */
     if (ok && attrs) {
         vx_svo_scene c;
@@ -370,6 +376,61 @@ static void test_refusals(void) {
     CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_BAD_FORMAT);
 }
 
+/* The GPU build's hash tables with collisions forced (vx_conv_mesh_gpu_set_hash):
+ * every probe starting in one of 8 slots, the result stays on the GPU (long
+ * probe chains, the node pools and runs checked against the CPU builders');
+ * the structural hash cut to 4 bits, the GPU's check finds the distinct
+ * subtrees that hash alike and the CPU builders build. The file is the CPU
+ * path's either way. */
+static void test_collisions(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    gen g = {0};
+    gen_materials(&g);
+    for (int i = 0; i < 60; i++) {
+        float v[9];
+        for (int k = 0; k < 9; k++) v[k] = (float)(frand() * 2.0 - 1.0);
+        tri(&g, v, (uint32_t)i % 3u);
+    }
+    static const struct {
+        vx_conv_mesh_gpu_hash hash;
+        const char* what;
+        uint32_t fallback;
+    } cases[] = {{VX_CONV_MESH_GPU_HASH_FEW_SLOTS, "random, probes from 8 slots", 0},
+                 {VX_CONV_MESH_GPU_HASH_FEW_LABELS, "random, structural hash of 4 bits", 1}};
+    for (size_t c = 0; c < 2; c++) {
+        vx_conv_mesh_gpu_set_hash(mg, cases[c].hash);
+        vx_conv_mesh_gpu_stats st;
+        if (cases[c].fallback) {
+            /* same_svo asserts the GPU built: here the file alone, and the fallback */
+            vx_conv_mesh_desc d = {.res = 48};
+            vx_svo_scene a, b;
+            vx_error err = {0};
+            CHECK(vx_conv_mesh(&d, &g.m, &a, NULL, &err) == VX_OK);
+            d.backend = vx_conv_mesh_gpu_backend(mg);
+            CHECKF(vx_conv_mesh(&d, &g.m, &b, NULL, &err) == VX_OK, "%s: %s", cases[c].what, err.msg);
+            vx_conv_mesh_gpu_last_stats(mg, &st);
+            uint8_t *da = NULL, *db = NULL;
+            size_t na = 0, nb = 0;
+            CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
+            CHECKF(na == nb && na && memcmp(da, db, na) == 0, "%s: the file differs from the CPU path's", cases[c].what);
+            CHECKF(st.build_fallback == 1, "%s: no fallback to the CPU builders (%llu nodes)", cases[c].what,
+                   (unsigned long long)st.nodes);
+            fprintf(stderr, "  %s: the GPU's check found the collisions, the CPU built: equal\n", cases[c].what);
+            free(da);
+            free(db);
+            vx_svo_scene_free(&a);
+            vx_svo_scene_free(&b);
+        } else {
+            CHECKF(same_svo(&g.m, 48, 0, true, cases[c].what), "%s", cases[c].what);
+            vx_conv_mesh_gpu_last_stats(mg, &st);
+            CHECKF(st.nodes > 100 && st.run_records > 0, "%s: %llu nodes, %llu run records", cases[c].what,
+                   (unsigned long long)st.nodes, (unsigned long long)st.run_records);
+        }
+    }
+    vx_conv_mesh_gpu_set_hash(mg, VX_CONV_MESH_GPU_HASH_FULL);
+    gen_free(&g);
+}
+
 int main(void) {
     vx_error err = {0};
     static char why[256];
@@ -386,6 +447,7 @@ int main(void) {
     RUN(test_refusals);
     RUN(test_lattice);
     RUN(test_random);
+    RUN(test_collisions);
     RUN(test_corpus);
     vx_conv_mesh_gpu_destroy(mg);
     if (gpu) vx_gpu_destroy(gpu);
