@@ -22,14 +22,15 @@ enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMA
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
        B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_RTAB,
-       B_RNODE, B_RIDS, B_RFIRST, B_COUNT };
+       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_COUNT };
 #define SCAN_LEVELS 4
 
-#define BUILD_MODES 21 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
+#define BUILD_MODES 27 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
        P_NUM = P_BUILD + BUILD_MODES };
 
 #define TS_PAIRS 32
+#define VX_CONV_MESH_GPU_NEAR_MAX 0x7FFFu /* the largest near pointer (svo/svo.h's descriptor: 15 bits) */
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
     const vx_allocator* alloc;
@@ -219,9 +220,10 @@ static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_err
 
 typedef struct upload {
     int id;
-    const void* data;
+    const void* data; /* upload_in_place: the caller writes the bytes into the upload buffer itself */
     uint64_t bytes, offset;
 } upload;
+static const char upload_in_place[1];
 
 /* Makes each upload's device buffer, copies the data into the upload
  * buffer and records the copies into the open command buffer. */
@@ -235,7 +237,8 @@ static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
     }
     if ((r = ensure_host(m, B_UP, total, err))) return r;
     for (int i = 0; i < n; i++)
-        if (u[i].data && u[i].bytes) memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
+        if (u[i].data && u[i].data != upload_in_place && u[i].bytes)
+            memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
     return VX_OK;
 }
 static void put_record(vx_conv_mesh_gpu* m, const upload* u, int n) {
@@ -328,6 +331,11 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.attrs = j->attrs;
     reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads, j->pools ? &j->pools[ri] : NULL,
                                       j->check_pools};
+    if (j->pools && j->ext) { /* the cells' box, from the GPU build */
+        const uint32_t* e = j->ext + 3 * j->bins->region_count + 6 * ri;
+        reg.has_box = e[3] != 0;
+        for (int k = 0; k < 3; k++) reg.box_min[k] = ~e[k], reg.box_max[k] = e[3 + k];
+    }
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -367,11 +375,11 @@ static unsigned bits_for(uint64_t v) {
 /* ---- the octrees on the GPU (meshbuild.comp) -------------------------------------------------- */
 
 /* Binds the build's buffers; items: level l's children in ITA (src 0) or ITB. */
-#define BUILD_BINDINGS 25
+#define BUILD_BINDINGS 26
 static void build_ids(int* ids, int src, int sorted) {
     static const int base[BUILD_BINDINGS] = {B_OKEYS, B_IDS,  B_BINFO, B_RINFO, B_ROUT, B_ITA,   B_ITB,   B_POS,  B_START,
                                              B_NODES, B_TAB,  B_MISC,  B_KEYS,  B_VALS, B_POOL,  B_RBASE, B_NREP, B_UTAB,
-                                             B_TTAB,  B_RNEW, B_EXT,   B_RTAB,  B_RNODE, B_RIDS, B_RFIRST};
+                                             B_TTAB,  B_RNEW, B_EXT,   B_RTAB,  B_RNODE, B_RIDS, B_RFIRST, B_LAY};
     memcpy(ids, base, sizeof base);
     if (src) ids[5] = B_ITB, ids[6] = B_ITA;
     if (sorted) ids[12] = B_KEYS2, ids[13] = B_VALS2;
@@ -384,6 +392,21 @@ static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint
     build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs, UINT32_MAX, UINT32_MAX};
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_SLOTS) bp.smask = 7; /* every probe starts in one of 8 slots */
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_LABELS) bp.lmask = 15; /* 16 structural hashes: distinct subtrees alike */
+    return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
+}
+
+/* The block layout's stages (modes 21-26): nodes in pool order from B_ORD,
+ * the lone records' sort in KEYS/VALS (lsorted 0) or KEYS2/VALS2 (bound
+ * as keys and start), the words into B_WORDS (bound as rids); limit: the
+ * largest near pointer. */
+static vx_result lstage(vx_conv_mesh_gpu* m, int mode, int lsorted, uint64_t n, uint32_t level, uint32_t limit, vx_error* err) {
+    int ids[BUILD_BINDINGS];
+    build_ids(ids, 0, 0);
+    ids[8] = lsorted ? B_VALS2 : B_VALS;
+    ids[12] = lsorted ? B_KEYS2 : B_KEYS;
+    ids[13] = B_ORD;
+    ids[23] = B_WORDS;
+    build_push bp = {(uint32_t)n, level, 0, limit, m->build_attrs, UINT32_MAX, UINT32_MAX};
     return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
 }
 
@@ -447,12 +470,13 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_RBASE, (uint64_t)R * 4, err)) || (r = ensure(m, B_ITA, (uint64_t)C * 32, err)) ||
         (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
         (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
-        (r = ensure(m, B_MISC, ((uint64_t)R + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
+        (r = ensure(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
         (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)) ||
         (r = ensure(m, B_NREP, m->build_attrs ? cap * 16 : 16, err)) || (r = ensure(m, B_UTAB, 16, err)) ||
         (r = ensure(m, B_TTAB, 16, err)) || (r = ensure(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, err)) ||
         (r = ensure(m, B_EXT, 16, err)) || (r = ensure(m, B_RTAB, 16, err)) || (r = ensure(m, B_RNODE, 16, err)) ||
-        (r = ensure(m, B_RIDS, 16, err)) || (r = ensure(m, B_RFIRST, (uint64_t)R * 8, err)))
+        (r = ensure(m, B_RIDS, 16, err)) || (r = ensure(m, B_RFIRST, (uint64_t)R * 32, err)) || (r = ensure(m, B_LAY, 16, err)) ||
+        (r = ensure(m, B_ORD, 16, err)) || (r = ensure(m, B_WORDS, 16, err)))
         goto done;
 
     /* level by level: the children of level l are the items, their parents the next items */
@@ -463,9 +487,9 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     put_record(m, ups, 2);
     fill(m, B_ROUT, (uint64_t)R * 16, 0);
     fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
-    fill(m, B_MISC, ((uint64_t)R + 4) * 4, 0);
+    fill(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, 0);
     ts_begin(m, 0);
-    if ((r = bstage(m, 0, 1, 0, C, 0, 0, 0, err))) goto done; /* src 1: writes ITA */
+    if ((r = bstage(m, 0, 1, 0, C, 0, (uint32_t)R, 0, err))) goto done; /* src 1: writes ITA */
     for (;;) {
         ts_begin(m, 0);
         fill(m, B_POS, (n + 1) * 4, 0);
@@ -525,6 +549,9 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     uint64_t T3 = 1024;
     while (T3 < 2 * (uint64_t)K) T3 *= 2;
     bool runs = m->build_attrs && K && T3 * 8 <= max_binding && (uint64_t)K * 32 <= max_binding;
+    /* and the blocks (the final node words), unless only the pools are asked for */
+    bool blocks = runs && m->build != VX_CONV_MESH_GPU_BUILD_GPU_POOLS;
+    int lsorted = 0;
     if (K) {
         uint64_t ntiles = ((uint64_t)K + 1023) / 1024;
         if ((uint64_t)K * 11 * 4 > max_binding) goto done;
@@ -535,6 +562,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             (m->build_attrs && ((r = ensure(m, B_TTAB, T2 * 8, err)) || (r = ensure(m, B_EXT, (uint64_t)K * 16, err)))) ||
             (runs && ((r = ensure(m, B_RTAB, T3 * 8, err)) || (r = ensure(m, B_RNODE, (uint64_t)K * 8, err)) ||
                       (r = ensure(m, B_RIDS, (uint64_t)K * 32, err)))) ||
+            (blocks && ((r = ensure(m, B_LAY, (uint64_t)K * 8, err)) || (r = ensure(m, B_ORD, (uint64_t)K * 4, err)))) ||
             (r = rec_begin(m, err)))
             goto done;
         if (m->build_attrs) { /* the representatives' ids: the region's tuple where equal, else a new one */
@@ -567,11 +595,21 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             ts_begin(m, 5);
             uint32_t rm = (uint32_t)(T3 - 1);
             fill(m, B_RTAB, T3 * 8, 0xFFFFFFFFu);
-            fill(m, B_RFIRST, (uint64_t)R * 8, 0xFFFFFFFFu);
+            fill(m, B_RFIRST, (uint64_t)R * 32, 0xFFFFFFFFu);
             if ((r = bstage(m, 18, 0, sorted, K, 0, 0, rm, err)) || (r = bstage(m, 19, 0, sorted, K, 0, 0, rm, err)) ||
                 (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) || (r = bstage(m, 20, 0, sorted, K, 0, 0, rm, err)))
                 goto done;
             read_u32(m, B_POS, K, 2);
+            ts_end(m);
+        }
+        if (blocks) { /* the blocks' first guess; the lone records sorted by their run (stable: pool order kept) */
+            ts_begin(m, 7);
+            VkBufferCopy co = {.srcOffset = 0, .dstOffset = 0, .size = (uint64_t)K * 4};
+            vkCmdCopyBuffer(g->cmd, m->buf[sorted ? B_VALS2 : B_VALS].buf, m->buf[B_ORD].buf, 1, &co);
+            barrier(g);
+            if ((r = lstage(m, 21, 0, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err))) goto done;
+            for (uint32_t pass = 0; pass < 8 && K > 1; pass++)
+                if ((r = sort_pass(m, K, 4 * pass, ntiles, &lsorted, err))) goto done;
             ts_end(m);
         }
     } else if ((r = rec_begin(m, err))) {
@@ -590,19 +628,63 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     }
     m->stats.pool_words = W;
     m->stats.rep_tuples = E;
-    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
-             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, at_rfirst = at_cells + (uint64_t)R * 4,
-             at_rids = at_rfirst + (uint64_t)R * 8, total = at_rids + NR * 4;
+    /* the blocks: iterated until an iteration changes nothing (the
+     * sequential layout's solution, meshbuild.comp); else the CPU lays
+     * them out */
+    uint64_t LW = 0; /* the laid-out blocks' words, all regions */
+    if (blocks) {
+        blocks = false;
+        for (uint32_t it = 0; it < 64 && !blocks; it += 4) {
+            if ((r = rec_begin(m, err))) goto done;
+            ts_begin(m, 7);
+            for (int k = 0; k < 4; k++) {
+                vkCmdFillBuffer(g->cmd, m->buf[B_MISC].buf, 4, 4, 0);
+                barrier(g);
+                if ((r = lstage(m, 23, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
+                    (r = lstage(m, 24, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+                    (r = lstage(m, 25, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)))
+                    goto done;
+            }
+            read_u32(m, B_MISC, 1, 0);
+            read_u32(m, B_POS, K, 1);
+            ts_end(m);
+            if ((r = submit(m, err))) goto done;
+            uint32_t cw[2];
+            if ((r = vx__buffer_download(g, &m->buf[B_READ], cw, 8, err))) goto done;
+            m->stats.layout_iterations = it + 4;
+            if (!cw[0]) blocks = true, LW = cw[1] + 2 * (uint64_t)R;
+        }
+        if (blocks && (LW * 4 > max_binding || (r = ensure(m, B_WORDS, LW * 4 + 16, err)))) {
+            if (r) goto done;
+            blocks = false;
+        }
+    }
+    bool pool_down = !blocks || m->build == VX_CONV_MESH_GPU_BUILD_CHECK; /* the check compares the pools too */
+    uint64_t WD = pool_down ? W : 0;
+    uint64_t at_rout = WD * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
+             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, at_rfirst = at_cells + (uint64_t)R * 28,
+             at_rids = at_rfirst + (uint64_t)R * 32, at_laid = at_rids + NR * 4, total = at_laid + LW * 4;
     if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
+    if (blocks) { /* the blocks' words, each region's root descriptor last */
+        ts_begin(m, 7);
+        if ((r = lstage(m, 22, lsorted, R, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+            (r = lstage(m, 26, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+            (r = lstage(m, 22, lsorted, R, 1, VX_CONV_MESH_GPU_NEAR_MAX, err)))
+            goto done;
+    }
     ts_begin(m, 6);
     {
-        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
+        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = WD * 4};
         VkBufferCopy co = {.srcOffset = 0, .dstOffset = at_rout, .size = (uint64_t)R * 16};
         VkBufferCopy cb = {.srcOffset = 0, .dstOffset = at_rbase, .size = (uint64_t)R * 4};
-        if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        if (WD) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        if (blocks) {
+            VkBufferCopy cl = {.srcOffset = 0, .dstOffset = at_laid, .size = LW * 4};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_WORDS].buf, m->buf[B_PDOWN].buf, 1, &cl);
+        }
         vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
         vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
-        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 4};
+        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 28}; /* cells, boxes */
         vkCmdCopyBuffer(g->cmd, m->buf[B_MISC].buf, m->buf[B_PDOWN].buf, 1, &cc);
         if (m->build_attrs && K) {
             VkBufferCopy cn = {.srcOffset = 0, .dstOffset = at_rnew, .size = (uint64_t)R * 8};
@@ -611,7 +693,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             if (E) vkCmdCopyBuffer(g->cmd, m->buf[B_EXT].buf, m->buf[B_PDOWN].buf, 1, &ce);
         }
         if (runs) {
-            VkBufferCopy cf = {.srcOffset = 0, .dstOffset = at_rfirst, .size = (uint64_t)R * 8};
+            VkBufferCopy cf = {.srcOffset = 0, .dstOffset = at_rfirst, .size = (uint64_t)R * 32};
             VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_rids, .size = NR * 4};
             vkCmdCopyBuffer(g->cmd, m->buf[B_RFIRST].buf, m->buf[B_PDOWN].buf, 1, &cf);
             if (NR) vkCmdCopyBuffer(g->cmd, m->buf[B_RIDS].buf, m->buf[B_PDOWN].buf, 1, &ci);
@@ -624,13 +706,14 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
         const uint32_t* words = (const uint32_t*)hb;
         rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
-        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 3 + 1, 4); /* per region: new tuples, first one, cells */
+        /* per region: new tuples, first one, cells, then 6 per region: the cells' box (meshbuild.comp) */
+        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 9 + 1, 4);
         if (!rext) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
             goto done;
         }
         if (m->build_attrs && K) memcpy(rext, hb + at_rnew, (size_t)R * 8);
-        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 4);
+        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 28);
         *out_ext = rext;
         *out_tuples = (const uint32_t*)(hb + at_ext);
         pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
@@ -641,7 +724,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         memcpy(rdown, hb + at_rout, (size_t)R * 16);
         memcpy(rdown + 4 * R, hb + at_rbase, (size_t)R * 4);
         const uint32_t* rb = rdown + 4 * R;
-        const uint32_t* rf = (const uint32_t*)(hb + at_rfirst); /* per region: first node, first record */
+        const uint32_t* rf = (const uint32_t*)(hb + at_rfirst); /* per region: 8 words (meshbuild.comp's rfirst) */
         uint64_t end = W, rend = NR;
         for (size_t ri = R; ri-- > 0;) { /* a region's words (and records) run to the next region's first */
             vx__svo_pool* p = &pools[ri];
@@ -650,11 +733,19 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             p->reps = m->build_attrs != 0;
             if (rb[ri] == 0xFFFFFFFFu) continue; /* no node: the root is a leaf (or the region is empty) */
             if (rb[ri] > end) goto done;
-            p->words = words + rb[ri];
-            p->count = (size_t)(end - rb[ri]);
+            if (pool_down) p->words = words + rb[ri], p->count = (size_t)(end - rb[ri]);
             end = rb[ri];
+            if (blocks) {
+                const uint32_t* l = rf + 8 * ri + 4; /* first word, words, far pointers, descriptor words */
+                if (l[1] == 0 || (uint64_t)l[0] + l[1] > LW) goto done;
+                p->laid = (const uint32_t*)(hb + at_laid) + l[0];
+                p->laid_count = l[1];
+                p->laid_far = l[2];
+                p->laid_desc = l[3];
+                p->root_rep = rf[8 * ri + 3];
+            }
             if (runs) {
-                uint32_t r0 = rf[2 * ri + 1];
+                uint32_t r0 = rf[8 * ri + 1];
                 if (r0 > rend) goto done;
                 p->runs = true;
                 p->recs = (const uint32_t*)(hb + at_rids) + r0;
@@ -663,6 +754,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             }
         }
         m->stats.run_records = NR;
+        m->stats.laid_words = LW;
         *out = pools;
         pools = NULL;
     }
@@ -748,7 +840,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t mine_count = 0;
     float* mats = NULL;
     uint32_t* images = NULL;
-    uint32_t* texels = NULL;
     if (P > UINT32_MAX / 64 - 1 || NB > (1ull << 40)) {
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu brick pairs", P);
         goto done;
@@ -784,8 +875,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
         goto done;
     }
-    texels = (uint32_t*)vx_alloc(a, (texel_count ? texel_count : 1) * 4);
-    if (!mats || !images || !texels) {
+    if (!mats || !images) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
         goto done;
     }
@@ -795,7 +885,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             const vx_gltf_image* im = &mesh->images[i];
             images[4 * i] = (uint32_t)off, images[4 * i + 1] = im->width, images[4 * i + 2] = im->height;
             if (!im->rgba) continue;
-            memcpy(texels + off, im->rgba, (size_t)im->width * im->height * 4);
             off += (size_t)im->width * im->height;
         }
     }
@@ -836,13 +925,25 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
-                    {B_TEXELS, tex ? texels : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_TEXELS, tex ? upload_in_place : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
                     {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
                     {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
                     {B_TABLES, &tables, sizeof tables, 0},
                     {B_RTABLES, &rtables, sizeof rtables, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);
     if ((r = put_all(m, ups, nups, err))) goto done;
+    if (tex && texel_count) { /* the images straight into the upload buffer, one after the other */
+        int k = 0;
+        while (ups[k].id != B_TEXELS) k++;
+        uint8_t* at = (uint8_t*)m->buf[B_UP].map + ups[k].offset;
+        for (uint32_t i = 0; i < mesh->image_count; i++) {
+            const vx_gltf_image* im = &mesh->images[i];
+            if (!im->rgba) continue;
+            size_t bytes = (size_t)im->width * im->height * 4;
+            memcpy(at, im->rgba, bytes);
+            at += bytes;
+        }
+    }
     m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
 
     /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
@@ -1083,7 +1184,6 @@ done:
     vx_free(a, trimat);
     vx_free(a, mats);
     vx_free(a, images);
-    vx_free(a, texels);
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);

@@ -63,12 +63,14 @@ typedef struct vx_conv_mesh_gpu_stats {
     uint64_t node_slots, nodes, pool_words; /* the GPU build: parents made, distinct nodes, words downloaded */
     uint64_t rep_tuples; /* representatives' tuples that no cell has (interned on the GPU) */
     uint64_t run_records; /* the block layout's attribute records, laid out on the GPU (0: by the CPU) */
+    uint64_t laid_words;  /* the models' node words laid out on the GPU (0: the CPU laid the blocks out) */
+    uint32_t layout_iterations; /* the GPU's block layout iterations (until one changed nothing) */
     /* GPU seconds of the build's steps (timestamps; 0 without them), within
      * build's wall time: [0] the levels (parents, collapse, hashes), [1]
      * sharing (hash table, the check), [2] representatives interned, [3]
      * the sort into pool order, [4] pool positions and words, [5] attribute
-     * runs, [6] the copy for the download. */
-    double build_gpu[7];
+     * runs, [6] the copy for the download, [7] the blocks. */
+    double build_gpu[8];
     uint32_t levels;
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */
@@ -79,7 +81,8 @@ typedef struct vx_conv_mesh_gpu_stats {
 typedef enum vx_conv_mesh_gpu_build {
     VX_CONV_MESH_GPU_BUILD_GPU = 0, /* the GPU (node pools, meshbuild.comp); the CPU lays them out */
     VX_CONV_MESH_GPU_BUILD_CPU,     /* the CPU builders from the interned tuples */
-    VX_CONV_MESH_GPU_BUILD_CHECK    /* both: each region's CPU builder fails unless the GPU's pool is its own */
+    VX_CONV_MESH_GPU_BUILD_CHECK,   /* both: each region's CPU builder fails unless the GPU's pool is its own */
+    VX_CONV_MESH_GPU_BUILD_GPU_POOLS /* the GPU without the blocks: the CPU lays them out (for comparisons) */
 } vx_conv_mesh_gpu_build;
 
 /* gpu is borrowed: it must outlive the object. alloc may be NULL (malloc). */

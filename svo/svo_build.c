@@ -66,6 +66,11 @@ typedef struct bld {
      * node's N_BLOCK holds its run's first record until its block is laid
      * out, the records are in place, the layout writes only blocks. */
     bool runs_given;
+    /* The caller laid the blocks out too (vx__svo_pool.laid): the words are
+     * in place, root is the root's representative, laid_desc the
+     * descriptor words (vx_svo_build_stats.desc_dag). */
+    bool laid_given;
+    uint64_t laid_desc;
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -1014,6 +1019,9 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
         if (b->root_is_leaf) {
             m->root = VX_SVO_ROOT_LEAF;
             root_rec = b->root;
+        } else if (b->laid_given) {
+            m->root = (uint32_t)(o->n - 1);
+            root_rec = b->root;
         } else {
             if (!layout(b, o)) return false;
             m->root = (uint32_t)(o->n - 1);
@@ -1060,6 +1068,53 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
 
 /* ---- a tree built by the caller (vx__svo_interned.pool) ------------------------------------- */
 
+/* The records of the caller's attribute runs (vx__svo_pool.runs): tuple
+ * ids in range, as values when direct. */
+static bool records_take(bld* b, const vx__svo_pool* p, outw* o) {
+    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, p->nrecs ? p->nrecs : 1, sizeof *o->ids)) return oom(b, "records");
+    for (size_t k = 0; k < p->nrecs; k++) {
+        uint32_t id = p->recs[k];
+        if (id >= b->nrec) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, id, b->nrec);
+            return false;
+        }
+        o->ids[k] = b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
+    }
+    o->nid = p->nrecs;
+    b->runs_given = true;
+    return true;
+}
+
+/* The caller's laid-out blocks (vx__svo_pool.laid): the model's words and
+ * records as given; the builder keeps only the root's record. */
+static bool laid_take(bld* b, const vx__svo_pool* p, outw* o) {
+    if (!b->attrs || !b->dag || !p->reps || !p->runs || !p->laid_count || p->laid_count >= 0xFFFFFFF0u || b->limit != VX__SVO_PTR_MAX ||
+        p->nrecs >= 0x0FFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                          "svo build: blocks laid out by the caller need attributes, the DAG, given runs and near pointers up to %u",
+                          VX__SVO_PTR_MAX);
+        return false;
+    }
+    if (p->root_rep >= b->nrec || p->root_leaf) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: laid-out blocks with root tuple %u of %zu", p->root_rep,
+                          b->nrec);
+        return false;
+    }
+    if (!records_take(b, p, o)) return false;
+    if (!vx_grow(b->a, (void**)&o->w, &o->cap, p->laid_count + 2, sizeof *o->w)) return oom(b, "node words");
+    memcpy(o->w, p->laid, p->laid_count * sizeof *o->w);
+    o->n = p->laid_count;
+    o->far = p->laid_far;
+    b->laid_given = true;
+    b->laid_desc = p->laid_desc;
+    b->have_root = true;
+    b->root_is_leaf = false;
+    b->root = b->direct ? rec_value(b->attrs, &b->recs[p->root_rep]) : p->root_rep;
+    b->root_plain = p->plain;
+    b->ncollapsed = p->collapsed;
+    return true;
+}
+
 /* Takes the caller's pool (the streaming pass's nodes, in its order): each
  * node checked (masks, children in range, node children earlier nodes), its
  * representative computed and interned as finalize() does, and published
@@ -1098,23 +1153,9 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
     /* the attribute runs laid out by the caller: the records as given (in
      * range; each node's run checked against its children below) */
     bool runs = p->runs && p->reps && b->attrs && b->dag && p->nrecs < 0x0FFFFFF0u && cnt;
-    if (runs) {
-        if (!vx_grow(b->a, (void**)&o->ids, &o->capid, p->nrecs ? p->nrecs : 1, sizeof *o->ids)) {
-            vx_free(b->a, isnode);
-            return oom(b, "records");
-        }
-        for (size_t k = 0; k < p->nrecs; k++) {
-            uint32_t id = p->recs[k];
-            if (id >= b->nrec) {
-                vx_free(b->a, isnode);
-                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, id,
-                                  b->nrec);
-                return false;
-            }
-            o->ids[k] = b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
-        }
-        o->nid = p->nrecs;
-        b->runs_given = true;
+    if (runs && !records_take(b, p, o)) {
+        vx_free(b->a, isnode);
+        return false;
     }
     if (thread && cnt) {
         b->pub = NULL;
@@ -1550,6 +1591,10 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 goto done;
             }
             st.voxels = n;
+            if (pre->pool->laid) {
+                if (!laid_take(&b, pre->pool, &o)) { res = b.fail; goto done; }
+                goto built;
+            }
             if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &lj2, &o)) { res = b.fail; goto done; }
             lay_join(&lj, &b, true); /* the runs stage first: the blocks stage follows it */
             lay_join(&lj2, &b, true);
@@ -1695,6 +1740,18 @@ built:
     st.desc_plain = b.root_plain;
     st.desc_collapsed = b.ncollapsed;
     if (!finish_model(&b, &o, &m, false)) { res = b.fail; goto done; }
+    if (pre && pre->pool && pre->check_pool && pre->pool->laid &&
+        (m.node_count != pre->pool->laid_count || memcmp(m.nodes, pre->pool->laid, (size_t)m.node_count * 4) ||
+         o.far != pre->pool->laid_far)) {
+        size_t at = 0;
+        while (at < m.node_count && at < pre->pool->laid_count && m.nodes[at] == pre->pool->laid[at]) at++;
+        res = b.fail = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                               "svo build: the given blocks differ from the builder's at word %zu (%u words against %zu, far %llu against %llu)",
+                               at, m.node_count, pre->pool->laid_count, (unsigned long long)o.far,
+                               (unsigned long long)pre->pool->laid_far);
+        vx_svo_model_free(b.a, &m);
+        goto done;
+    }
     if (pre && pre->pool && pre->check_pool && pre->pool->runs && !runs_check(&b, &o, &m, pre->pool)) {
         vx_svo_model_free(b.a, &m);
         res = b.fail;
@@ -1711,7 +1768,9 @@ finish:
     {
         /* descriptor words written: one per non-leaf child of a stored node, plus the root */
         uint64_t ndesc = 0;
-        if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
+        if (b.laid_given) {
+            ndesc = b.laid_desc;
+        } else if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
             size_t off = 0;
             ndesc = 1;
             while (off < b.npool) {
@@ -1722,6 +1781,12 @@ finish:
         }
         /* with the DAG off this equals desc_collapsed: each node has one parent */
         st.desc_dag = ndesc;
+        if (pre && pre->pool && pre->check_pool && pre->pool->laid && ndesc != pre->pool->laid_desc) {
+            res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given blocks' descriptors: %llu against %llu",
+                          (unsigned long long)pre->pool->laid_desc, (unsigned long long)ndesc);
+            vx_svo_model_free(b.a, &m);
+            goto done;
+        }
         st.attr_records = m.attr_count;
         unsigned rb = 0;
         if (b.attrs & VX_ATTR_PALETTE) rb += 1;

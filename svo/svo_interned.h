@@ -54,6 +54,18 @@ typedef struct vx__svo_pool {
     bool runs;
     const uint32_t* recs;
     size_t nrecs;
+    /* With runs: the blocks laid out by the caller too, as the layout lays
+     * them out (near pointers up to VX__SVO_PTR_MAX, far words, the reuse
+     * window of lone records): laid holds the model's node words (root
+     * descriptor last; laid_count of them, laid_far far pointers among them,
+     * laid_desc descriptor words as vx_svo_build_stats.desc_dag counts
+     * them), root_rep the root's representative (a tuple id). The builder
+     * then only fills the records; words and count may be left out (NULL,
+     * 0) unless check_pool, which also compares laid with its own words. */
+    const uint32_t* laid;
+    size_t laid_count;
+    uint64_t laid_far, laid_desc;
+    uint32_t root_rep;
 } vx__svo_pool;
 
 /* Entries whose tuples the caller has already interned (the GPU voxelizer,

@@ -46,6 +46,13 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
     size_t na = 0, nb = 0;
     int ok = vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK &&
              na == nb && memcmp(da, db, na) == 0;
+    /* the scene's bounds (the GPU path's from the cells' boxes, the CPU path's from a pass over each model) */
+    if (ok && (memcmp(a.bounds_min, b.bounds_min, sizeof a.bounds_min) || memcmp(a.bounds_max, b.bounds_max, sizeof a.bounds_max))) {
+        fprintf(stderr, "  %s res %u region %u: bounds (%g %g %g)-(%g %g %g), the CPU path's (%g %g %g)-(%g %g %g)\n", what, res,
+                region, b.bounds_min[0], b.bounds_min[1], b.bounds_min[2], b.bounds_max[0], b.bounds_max[1], b.bounds_max[2],
+                a.bounds_min[0], a.bounds_min[1], a.bounds_min[2], a.bounds_max[0], a.bounds_max[1], a.bounds_max[2]);
+        ok = 0;
+    }
     vx_conv_mesh_gpu_stats st;
     vx_conv_mesh_gpu_last_stats(mg, &st);
     /* the builders got the tuples interned on the GPU (vx__svo_build_interned,
@@ -66,13 +73,14 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
         fprintf(stderr, "  %s res %u region %u: the GPU build fell back to the CPU builders\n", what, res, region);
         ok = 0;
     }
-    /* and the block layout's attribute runs were laid out on the GPU too */
-    if (ok && attrs && !st.build_fallback && st.nodes && !st.run_records) {
-        fprintf(stderr, "  %s res %u region %u: the attribute runs were not laid out on the GPU\n", what, res, region);
+    /* and the block layout (attribute runs, blocks) was done on the GPU too */
+    if (ok && attrs && !st.build_fallback && st.nodes && (!st.run_records || !st.laid_words)) {
+        fprintf(stderr, "  %s res %u region %u: the attribute runs or blocks were not laid out on the GPU\n", what, res, region);
         ok = 0;
     }
     /* and each region's node pool is the CPU builder's, node for node (and
-     * with them the GPU's attribute runs the builder's layout's): the
+     * with them the GPU's attribute runs and node words the builder's
+     * layout's): the
      * builders build their own too and fail at the first node that differs */
     if (ok && attrs) {
         vx_svo_scene c;
@@ -115,6 +123,27 @@ static int same_shares(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, 
         }
         ok = ok && gn == cn;
         for (size_t i = 0; ok && i < gn; i++) ok = gp[i].index == cp[i].index;
+        /* each GPU part's box (from the cells on the GPU) is its model's, as a pass over the model finds it */
+        for (size_t i = 0; ok && i < gn; i++) {
+            vx_svo_instance inst;
+            memset(&inst, 0, sizeof inst);
+            inst.xform[0] = inst.xform[5] = inst.xform[10] = 1.0;
+            inst.layer = UINT32_MAX;
+            vx_svo_scene one;
+            vx_svo_scene_init(&one, NULL);
+            one.models = &gp[i].model, one.model_count = 1, one.instances = &inst, one.instance_count = 1;
+            vx_svo_scene_update_bounds(&one);
+            bool same = gp[i].has_box;
+            for (int k = 0; k < 3; k++)
+                same = same && one.bounds_min[k] == gp[i].box_min[k] && one.bounds_max[k] == gp[i].box_max[k];
+            if (!same) {
+                fprintf(stderr, "  %s share %u part %zu: box %u %u %u - %u %u %u (known %d), the model's %g %g %g - %g %g %g\n", what,
+                        sh, i, gp[i].box_min[0], gp[i].box_min[1], gp[i].box_min[2], gp[i].box_max[0], gp[i].box_max[1],
+                        gp[i].box_max[2], gp[i].has_box, one.bounds_min[0], one.bounds_min[1], one.bounds_min[2], one.bounds_max[0],
+                        one.bounds_max[1], one.bounds_max[2]);
+                ok = 0;
+            }
+        }
         if (!ok) fprintf(stderr, "  %s share %u of %u: %zu regions, the CPU's %zu\n", what, sh, shares, gn, cn);
         vx_conv_mesh_part* t = ok ? (vx_conv_mesh_part*)realloc(all, (total + gn + 1) * sizeof *all) : NULL;
         if (t) {

@@ -977,6 +977,38 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
                    b.attr_count);
             vx_svo_model_free(NULL, &b);
         }
+        /* and the blocks laid out (here the builder's own words): the records
+         * filled, the same model and counts; with check_pool a changed word is named */
+        vx_svo_build_stats sl;
+        pr.laid = a.nodes, pr.laid_count = a.node_count, pr.laid_far = sa.far_pointers, pr.laid_desc = sa.desc_dag;
+        pr.root_rep = p.w[rr + 1];
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, &sl, &e);
+        if (vx__svo_far_limit != VX__SVO_PTR_MAX) { /* forced far pointers: the caller's layout cannot have them */
+            CHECK(r == VX_ERR_INVALID_ARG && strstr(e.msg, "near pointers"));
+            r = VX_ERR_INVALID_ARG;
+        } else {
+            CHECKF(r == VX_OK, "laid out, attrs 0x%x: %s", attrs, e.msg);
+        }
+        if (r == VX_OK) {
+            size_t na = a.attr_count;
+            CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && na == b.attr_count &&
+                       !memcmp(a.nodes, b.nodes, (size_t)a.node_count * 4) && (!a.rgba || !memcmp(a.rgba, b.rgba, na * 4)) &&
+                       (!a.palette || !memcmp(a.palette, b.palette, na)) && (!a.normal || !memcmp(a.normal, b.normal, na * 4)) &&
+                       (!a.material || !memcmp(a.material, b.material, na * 2)) &&
+                       (!a.density || !memcmp(a.density, b.density, na * 4)) && sl.desc_dag == sa.desc_dag &&
+                       sl.far_pointers == sa.far_pointers && sl.bytes == sa.bytes,
+                   "laid out, attrs 0x%x: %u/%u records", attrs, a.attr_count, b.attr_count);
+            vx_svo_model_free(NULL, &b);
+        }
+        pi.check_pool = true;
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        CHECKF(r == VX_OK, "laid out, checked, attrs 0x%x: %s", attrs, e.msg);
+        if (r == VX_OK) vx_svo_model_free(NULL, &b);
+        a.nodes[a.node_count / 2] ^= 1u << 17; /* a pointer one off */
+        CHECK(vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "blocks differ"));
+        a.nodes[a.node_count / 2] ^= 1u << 17;
+        pi.check_pool = false;
+        pr.laid = NULL;
         pi.check_pool = true; /* the builder's own layout's runs are these */
         r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
         CHECKF(r == VX_OK, "runs checked, attrs 0x%x: %s", attrs, e.msg);
