@@ -457,6 +457,29 @@ static void test_collisions(void) {
         }
     }
     vx_conv_mesh_gpu_set_hash(mg, VX_CONV_MESH_GPU_HASH_FULL);
+    /* the blocks left to the CPU (the path taken when the GPU's layout does not settle): the same file */
+    {
+        vx_conv_mesh_desc d = {.res = 48};
+        vx_svo_scene a, b;
+        vx_error err = {0};
+        vx_conv_mesh_gpu_stats st;
+        CHECK(vx_conv_mesh(&d, &g.m, &a, NULL, &err) == VX_OK);
+        d.backend = vx_conv_mesh_gpu_backend(mg);
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_GPU_POOLS);
+        CHECKF(vx_conv_mesh(&d, &g.m, &b, NULL, &err) == VX_OK, "gpu pools: %s", err.msg);
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_GPU);
+        vx_conv_mesh_gpu_last_stats(mg, &st);
+        uint8_t *da = NULL, *db = NULL;
+        size_t na = 0, nb = 0;
+        CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
+        CHECKF(na == nb && na && memcmp(da, db, na) == 0, "gpu pools: the file differs from the CPU path's");
+        CHECKF(st.run_records > 0 && st.laid_words == 0 && !st.build_fallback, "gpu pools: %llu records, %llu words laid out",
+               (unsigned long long)st.run_records, (unsigned long long)st.laid_words);
+        free(da);
+        free(db);
+        vx_svo_scene_free(&a);
+        vx_svo_scene_free(&b);
+    }
     gen_free(&g);
 }
 
