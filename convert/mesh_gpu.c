@@ -1093,7 +1093,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     /* the octrees on the GPU (below) when the sink builds them: then only
      * the tuples come back, not the cells (unless the builders check) */
     bool want_build = intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag;
-    bool lean = want_build && builds && m->build == VX_CONV_MESH_GPU_BUILD_GPU;
+    bool lean = want_build && builds && (m->build == VX_CONV_MESH_GPU_BUILD_GPU || m->build == VX_CONV_MESH_GPU_BUILD_GPU_POOLS);
     if ((r = download(m, C, U, attrs, intern, !lean, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
     m->stats.download = vx_time_now() - t0;
 
