@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
         vx_conv_mesh_desc d = {.res = res[ri]};
-        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS], asm_t[MAXRUNS], bg[8][MAXRUNS];
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS], asm_t[MAXRUNS], bg[8][MAXRUNS], vg[5][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);
         memset(&got, 0, sizeof got);
@@ -167,6 +167,7 @@ int main(int argc, char** argv) {
             double v[10] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern, gs.build};
             for (int q = 0; q < 10; q++) st[q][k] = v[q];
             for (int q = 0; q < 8; q++) bg[q][k] = gs.build_gpu[q];
+            for (int q = 0; q < 5; q++) vg[q][k] = gs.vox_gpu[q];
         }
         uint8_t *a = NULL, *b = NULL;
         bool compare = cpu_runs > 0 && !cells_only;
@@ -187,6 +188,13 @@ int main(int argc, char** argv) {
                med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, med[9] * 1e3,
                cells_only ? "cell list (CPU)" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "octree builds (CPU)" : "records and layout left (CPU)",
                med[7] * 1e3);
+        {
+            double v[5];
+            for (int q = 0; q < 5; q++) v[q] = bench_median(vg[q], runs);
+            printf("  voxelizer, GPU timestamps (medians): count (with the uploads' copies) %.2f, emit %.2f, sort %.2f, reduce "
+                   "%.2f, tuples interned %.2f ms\n",
+                   v[0] * 1e3, v[1] * 1e3, v[2] * 1e3, v[3] * 1e3, v[4] * 1e3);
+        }
         if (!cells_only && build != VX_CONV_MESH_GPU_BUILD_CPU) {
             double b[8], sum = 0;
             for (int q = 0; q < 8; q++) sum += b[q] = bench_median(bg[q], runs);

@@ -99,7 +99,12 @@ static vx_result submit(vx_conv_mesh_gpu* m, vx_error* err) {
                   VK_SUCCESS)
         return VX_OK; /* timings only */
     double period = (double)m->g->props.limits.timestampPeriod * 1e-9;
-    for (uint32_t i = 0; i < n; i += 2) m->stats.build_gpu[m->qstep[i / 2]] += (double)(t[i + 1] - t[i]) * period;
+    for (uint32_t i = 0; i < n; i += 2) {
+        int st = m->qstep[i / 2];
+        double dt = (double)(t[i + 1] - t[i]) * period;
+        if (st < 8) m->stats.build_gpu[st] += dt;
+        else m->stats.vox_gpu[st - 8] += dt;
+    }
     return VX_OK;
 }
 
@@ -957,6 +962,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
+    ts_begin(m, 8);
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
@@ -964,6 +970,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
     read_u32(m, B_COUNTS, slots, 0);
     read_u32(m, B_COUNTS, slots + 1, 1);
+    ts_end(m);
     if ((r = submit(m, err))) goto done;
     uint32_t NN[2];
     if ((r = vx__buffer_download(g, &m->buf[B_READ], NN, 8, err))) goto done;
@@ -984,7 +991,9 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     if ((r = rec_begin(m, err))) goto done;
     mp.mode = 1;
+    ts_begin(m, 9);
     if ((r = stage(m, P_EMIT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
+    ts_end(m);
     if ((r = submit(m, err))) goto done;
     m->stats.emit = vx_time_now() - t0;
 
@@ -997,8 +1006,10 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err))) goto done;
     if ((r = rec_begin(m, err))) goto done;
     int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
+    ts_begin(m, 10);
     for (uint32_t pass = 0; pass < passes && N > 1; pass++)
         if ((r = sort_pass(m, N, 4 * pass, ntiles, &src, err))) goto done;
+    ts_end(m);
     if ((r = submit(m, err))) goto done;
     m->stats.sort = vx_time_now() - t0;
 
@@ -1013,12 +1024,14 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         int ids[9] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT,
                       B_RTABLES};
         uint32_t n = N;
+        ts_begin(m, 11);
         vkCmdFillBuffer(g->cmd, m->buf[B_POS].buf, 0, ((VkDeviceSize)N + 1) * 4, 0);
         barrier(g);
         if ((r = stage(m, P_FLAG, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         if ((r = scan(m, B_POS, (uint64_t)N + 1, 0, err))) goto done;
         if ((r = stage(m, P_REDUCE, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         read_u32(m, B_POS, N, 0);
+        ts_end(m);
     }
     if ((r = submit(m, err))) goto done;
     uint32_t C;
@@ -1045,6 +1058,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             (r = ensure(m, B_UTAB, (uint64_t)C * 16, err)) || (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) ||
             (r = scan_prepare(m, ntiles * 16, err)) || (r = scan_prepare(m, (uint64_t)C + 1, err)) || (r = rec_begin(m, err)))
             goto done;
+        ts_begin(m, 12);
         put_record(m, &ur, 1);
         intern_push ip = {C, ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
                                  ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u), 0};
@@ -1073,6 +1087,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         if ((r = scan(m, B_POS, (uint64_t)C + 1, 0, err))) goto done;
         if ((r = stage(m, P_IOUT, ids, 10, groups, &ip, sizeof ip, err))) goto done;
         read_u32(m, B_POS, C, 0);
+        ts_end(m);
         if ((r = submit(m, err))) goto done;
         if ((r = vx__buffer_download(g, &m->buf[B_READ], &U, 4, err))) goto done;
         if (U == 0 || U > C) {

@@ -71,6 +71,9 @@ typedef struct vx_conv_mesh_gpu_stats {
      * the sort into pool order, [4] pool positions and words, [5] attribute
      * runs, [6] the copy for the download, [7] the blocks. */
     double build_gpu[8];
+    /* and of the voxelizer's: [0] count (with the uploads' copies), [1]
+     * emit, [2] sort, [3] reduce, [4] the tuples interned */
+    double vox_gpu[5];
     uint32_t levels;
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */
