@@ -71,6 +71,7 @@ typedef struct bld {
      * descriptor words (vx_svo_build_stats.desc_dag). */
     bool laid_given;
     uint64_t laid_desc;
+    unsigned threads; /* threads the record arrays may be filled on (vx__svo_interned.threads; 0, 1: this one) */
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -1009,6 +1010,31 @@ static bool layout(bld* b, outw* o) {
     return out_push(b, o, vx_svo_desc_make((uint32_t)(o->n - blk), false, hdr & 0xFFu, hdr >> 8));
 }
 
+/* The record arrays of the model from o's record ids, REC_CHUNK records a job. */
+enum { REC_CHUNK = 1 << 15 };
+typedef struct rec_fill {
+    const bld* b;
+    const outw* o;
+    vx_svo_model* m;
+} rec_fill;
+static void rec_fill_chunk(void* ctx, uint32_t c) {
+    const rec_fill* f = (const rec_fill*)ctx;
+    const bld* b = f->b;
+    vx_svo_model* m = f->m;
+    size_t end = ((size_t)c + 1) * REC_CHUNK < m->attr_count ? ((size_t)c + 1) * REC_CHUNK : m->attr_count;
+    for (size_t i = (size_t)c * REC_CHUNK; i < end; i++) {
+        rec dv;
+        const rec* r = &dv;
+        if (b->direct) rec_from_value(b->attrs, f->o->ids[i], &dv);
+        else r = &b->recs[f->o->ids[i]];
+        if (m->palette) m->palette[i] = r->palette;
+        if (m->rgba) m->rgba[i] = r->rgba;
+        if (m->normal) m->normal[i] = r->normal;
+        if (m->material) m->material[i] = r->material;
+        if (m->density) m->density[i] = r->density;
+    }
+}
+
 /* The output side shared by the builder and the .svo reader (vx__svo_unpack):
  * lays out the pool (unless the root is a leaf or the model is empty), picks
  * root_attr and fills m's words and record arrays. On failure m owns nothing
@@ -1052,17 +1078,11 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
         return false;
     }
-    for (size_t i = 0; i < na; i++) {
-        rec dv;
-        const rec* r = &dv;
-        if (b->direct) rec_from_value(b->attrs, o->ids[i], &dv);
-        else r = &b->recs[o->ids[i]];
-        if (m->palette) m->palette[i] = r->palette;
-        if (m->rgba) m->rgba[i] = r->rgba;
-        if (m->normal) m->normal[i] = r->normal;
-        if (m->material) m->material[i] = r->material;
-        if (m->density) m->density[i] = r->density;
-    }
+    rec_fill f = {b, o, m};
+    if (b->threads > 1 && na >= ((size_t)1 << 17)) /* many records (a large region from the GPU): on the builder's threads */
+        vx__svo_run_jobs(b->threads, (uint32_t)((na + REC_CHUNK - 1) / REC_CHUNK), rec_fill_chunk, &f);
+    else
+        for (size_t c = 0; c * REC_CHUNK < na; c++) rec_fill_chunk(&f, (uint32_t)c);
     return true;
 }
 
@@ -1439,6 +1459,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
+    b.threads = pre ? pre->threads : 0;
     vx_svo_build_stats st;
     memset(&st, 0, sizeof st);
     st.input_voxels = in->count;
