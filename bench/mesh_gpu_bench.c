@@ -1,8 +1,9 @@
 /* bench/mesh_gpu_bench.c - the mesh voxelizer on the GPU against the CPU
  * path, in one run: MESH.glb at each resolution, the CPU conversion
  * (vx_conv_mesh, every core) and the GPU one (vx_conv_mesh with the GPU
- * backend: voxelization on the GPU, the octree builds on the CPU), medians
- * of timed runs after a warm-up, the GPU stages, and whether the two .svo
+ * backend: voxelization and octree build on the GPU, --build below), medians
+ * of timed runs after a warm-up, the stages (wall and GPU timestamps), the
+ * scene's assembly, and whether the two .svo
  * files are equal byte for byte (the check of mesh_gpu_test, here on the
  * bench's device and resolutions).
  *

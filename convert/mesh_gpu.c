@@ -2,6 +2,7 @@
 #include "convert/mesh_gpu.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -285,6 +286,31 @@ typedef struct region_job {
     vx_error first_err;
 } region_job;
 
+/* A region's tuples for its builder: the cells' (4 words each in the
+ * download), then its representatives' new ones; in chunks, on several
+ * threads for the large regions. */
+typedef struct tab_fill {
+    vx__svo_rec* tab;
+    const uint32_t* cells; /* nc tuples */
+    size_t nc;
+    const uint32_t* news; /* nu - nc tuples */
+    size_t nu;
+    _Atomic size_t next;
+} tab_fill;
+static void* tab_fill_worker(void* arg) {
+    tab_fill* f = (tab_fill*)arg;
+    enum { CHUNK = 1 << 15 };
+    for (;;) {
+        size_t lo = atomic_fetch_add(&f->next, CHUNK);
+        if (lo >= f->nu) return NULL;
+        size_t hi = lo + CHUNK < f->nu ? lo + CHUNK : f->nu;
+        for (size_t u = lo; u < hi; u++) {
+            const uint32_t* t = u < f->nc ? f->cells + 4 * u : f->news + 4 * (u - f->nc);
+            f->tab[u].rgba = t[0], f->tab[u].normal = t[1], f->tab[u].material = (uint16_t)t[2];
+        }
+    }
+}
+
 static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
@@ -318,11 +344,9 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
             vx_free(j->alloc, keys), vx_free(j->alloc, mat), vx_free(j->alloc, rec), vx_free(j->alloc, tab);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
         }
-        for (size_t u = 0; u < nu; u++) {
-            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u)
-                                       : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
-            tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
-        }
+        const uint32_t* news = ne ? j->ext_tuples + 4 * (size_t)j->ext[j->bins->region_count + ri] : NULL;
+        tab_fill tf = {tab, j->utab + 4 * u0, nc, news, nu, 0};
+        vx_run_threads(nu >= ((size_t)1 << 17) ? j->intern_threads : 1, tab_fill_worker, &tf);
         for (size_t i = 0; rec && i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
     }
     vx__mesh_region reg;

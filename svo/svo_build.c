@@ -1010,19 +1010,39 @@ static bool layout(bld* b, outw* o) {
     return out_push(b, o, vx_svo_desc_make((uint32_t)(o->n - blk), false, hdr & 0xFFu, hdr >> 8));
 }
 
-/* The record arrays of the model from o's record ids, REC_CHUNK records a job. */
 enum { REC_CHUNK = 1 << 15 };
+
+/* body(ctx, lo, hi) over [0, n) in chunks of REC_CHUNK, on b's threads
+ * when n is large (the GPU path's big regions), else on this one. */
+typedef struct par_job {
+    void (*body)(void* ctx, size_t lo, size_t hi);
+    void* ctx;
+    size_t n;
+} par_job;
+static void par_chunk(void* arg, uint32_t c) {
+    par_job* j = (par_job*)arg;
+    size_t lo = (size_t)c * REC_CHUNK, hi = lo + REC_CHUNK < j->n ? lo + REC_CHUNK : j->n;
+    j->body(j->ctx, lo, hi);
+}
+static void par_for(const bld* b, size_t n, void (*body)(void* ctx, size_t lo, size_t hi), void* ctx) {
+    if (b->threads > 1 && n >= ((size_t)1 << 17) && (n + REC_CHUNK - 1) / REC_CHUNK <= UINT32_MAX) {
+        par_job j = {body, ctx, n};
+        vx__svo_run_jobs(b->threads, (uint32_t)((n + REC_CHUNK - 1) / REC_CHUNK), par_chunk, &j);
+    } else if (n) {
+        body(ctx, 0, n);
+    }
+}
+/* The record arrays of the model from o's record ids. */
 typedef struct rec_fill {
     const bld* b;
     const outw* o;
     vx_svo_model* m;
 } rec_fill;
-static void rec_fill_chunk(void* ctx, uint32_t c) {
+static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     const rec_fill* f = (const rec_fill*)ctx;
     const bld* b = f->b;
     vx_svo_model* m = f->m;
-    size_t end = ((size_t)c + 1) * REC_CHUNK < m->attr_count ? ((size_t)c + 1) * REC_CHUNK : m->attr_count;
-    for (size_t i = (size_t)c * REC_CHUNK; i < end; i++) {
+    for (size_t i = lo; i < hi; i++) {
         rec dv;
         const rec* r = &dv;
         if (b->direct) rec_from_value(b->attrs, f->o->ids[i], &dv);
@@ -1079,10 +1099,7 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
         return false;
     }
     rec_fill f = {b, o, m};
-    if (b->threads > 1 && na >= ((size_t)1 << 17)) /* many records (a large region from the GPU): on the builder's threads */
-        vx__svo_run_jobs(b->threads, (uint32_t)((na + REC_CHUNK - 1) / REC_CHUNK), rec_fill_chunk, &f);
-    else
-        for (size_t c = 0; c * REC_CHUNK < na; c++) rec_fill_chunk(&f, (uint32_t)c);
+    par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
     return true;
 }
 
@@ -1090,15 +1107,33 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
 
 /* The records of the caller's attribute runs (vx__svo_pool.runs): tuple
  * ids in range, as values when direct. */
+typedef struct rec_take {
+    const bld* b;
+    const uint32_t* in;
+    uint32_t* out;
+    atomic_bool bad;
+} rec_take;
+static void rec_take_range(void* ctx, size_t lo, size_t hi) {
+    rec_take* t = (rec_take*)ctx;
+    const bld* b = t->b;
+    bool bad = false;
+    for (size_t k = lo; k < hi; k++) {
+        uint32_t id = t->in[k];
+        bad = bad || id >= b->nrec;
+        t->out[k] = id >= b->nrec ? 0 : b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
+    }
+    if (bad) atomic_store(&t->bad, true);
+}
 static bool records_take(bld* b, const vx__svo_pool* p, outw* o) {
     if (!vx_grow(b->a, (void**)&o->ids, &o->capid, p->nrecs ? p->nrecs : 1, sizeof *o->ids)) return oom(b, "records");
-    for (size_t k = 0; k < p->nrecs; k++) {
-        uint32_t id = p->recs[k];
-        if (id >= b->nrec) {
-            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, id, b->nrec);
-            return false;
-        }
-        o->ids[k] = b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
+    rec_take t = {b, p->recs, o->ids, false};
+    par_for(b, p->nrecs, rec_take_range, &t);
+    if (atomic_load(&t.bad)) {
+        size_t k = 0;
+        while (p->recs[k] < b->nrec) k++;
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, p->recs[k],
+                          b->nrec);
+        return false;
     }
     o->nid = p->nrecs;
     b->runs_given = true;
@@ -1412,6 +1447,16 @@ vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_vox
 }
 
 /* pre: the tuples interned by the caller (vx__svo_build_interned), else NULL. */
+/* The caller's distinct tuples as b's records (masked to its channels). */
+typedef struct tab_copy {
+    bld* b;
+    const vx__svo_rec* tab;
+} tab_copy;
+static void tab_copy_range(void* ctx, size_t lo, size_t hi) {
+    tab_copy* t = (tab_copy*)ctx;
+    for (size_t j = lo; j < hi; j++) t->b->recs[j] = rec_masked(&t->tab[j], t->b->attrs);
+}
+
 static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                        vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     vx_svo_build_desc d;
@@ -1511,7 +1556,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu records", pre->count);
                 goto done;
             }
-            for (size_t j = 0; j < pre->count; j++) b.recs[j] = rec_masked(&pre->tab[j], b.attrs);
+            tab_copy tc = {&b, pre->tab};
+            par_for(&b, pre->count, tab_copy_range, &tc);
             b.nrec = pre->count;
         }
         /* interned by the caller: tuple j gets id j, once; the tables sized

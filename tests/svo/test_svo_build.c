@@ -963,7 +963,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         vx__svo_pool pr = pool;
         pr.reps = pr.runs = true;
         pr.recs = t.recs, pr.nrecs = t.nrecs;
-        vx__svo_interned pi = {ui, t.tab, t.ntab, thread, 1, &pr, false};
+        vx__svo_interned pi = {ui, t.tab, t.ntab, thread, 3, &pr, false}; /* 3 threads: the large cases copy and convert in parallel */
         r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
         CHECKF(r == VX_OK, "runs given, attrs 0x%x: %s", attrs, e.msg);
         if (r == VX_OK) {
