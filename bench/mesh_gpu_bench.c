@@ -1,8 +1,9 @@
 /* bench/mesh_gpu_bench.c - the mesh voxelizer on the GPU against the CPU
  * path, in one run: MESH.glb at each resolution, the CPU conversion
  * (vx_conv_mesh, every core) and the GPU one (vx_conv_mesh with the GPU
- * backend: voxelization on the GPU, the octree builds on the CPU), medians
- * of timed runs after a warm-up, the GPU stages, and whether the two .svo
+ * backend: voxelization and octree build on the GPU, --build below), medians
+ * of timed runs after a warm-up, the stages (wall and GPU timestamps), the
+ * scene's assembly, and whether the two .svo
  * files are equal byte for byte (the check of mesh_gpu_test, here on the
  * bench's device and resolutions).
  *
@@ -17,7 +18,9 @@
  * colours only) instead of building the octrees: the voxelizer's own time
  * at resolutions where the CPU builds would take most of a run.
  * --build gpu|cpu|check: who builds the octrees (vx_conv_mesh_gpu_set_build;
- * default gpu: node pools on the GPU, representatives and layout on the CPU). */
+ * default gpu: the node words on the GPU (pools, representatives, attribute
+ * runs, blocks), the CPU fills the records; gpu-pools: the CPU lays the
+ * blocks out). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,13 +87,14 @@ int main(int argc, char** argv) {
             if (!strcmp(b, "gpu")) build = VX_CONV_MESH_GPU_BUILD_GPU;
             else if (!strcmp(b, "cpu")) build = VX_CONV_MESH_GPU_BUILD_CPU;
             else if (!strcmp(b, "check")) build = VX_CONV_MESH_GPU_BUILD_CHECK;
+            else if (!strcmp(b, "gpu-pools")) build = VX_CONV_MESH_GPU_BUILD_GPU_POOLS;
             else path = NULL, argc = 0; /* usage */
         }
         else path = argv[i];
     }
     if (!path) {
         fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] "
-                        "[--cells] [--digest] [--build gpu|cpu|check]\n");
+                        "[--cells] [--digest] [--build gpu|gpu-pools|cpu|check]\n");
         return 2;
     }
     if (!nres) res[nres++] = 1024;
@@ -116,7 +120,7 @@ int main(int argc, char** argv) {
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
         vx_conv_mesh_desc d = {.res = res[ri]};
-        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS];
+        double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS], asm_t[MAXRUNS], bg[8][MAXRUNS], vg[5][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);
         memset(&got, 0, sizeof got);
@@ -144,9 +148,18 @@ int main(int argc, char** argv) {
                 }
                 free(xyz);
                 free(rgba);
-            } else if (vx_conv_mesh(&d, &mesh, &got, NULL, &err)) {
-                fprintf(stderr, "GPU at %u: %s\n", res[ri], err.msg);
-                return 1;
+            } else { /* vx_conv_mesh's two steps, the assembly (scene, bounds) timed apart */
+                vx_conv_mesh_part* parts = NULL;
+                size_t np = 0;
+                vx_result rr = vx_conv_mesh_share(&d, &mesh, 0, 1, &parts, &np, NULL, &err);
+                double ta = vx_time_now();
+                if (!rr) rr = vx_conv_mesh_assemble(&d, &mesh, parts, np, &got, NULL, &err);
+                vx_conv_mesh_parts_free(NULL, parts, np);
+                if (k >= 0) asm_t[k] = vx_time_now() - ta;
+                if (rr) {
+                    fprintf(stderr, "GPU at %u: %s\n", res[ri], err.msg);
+                    return 1;
+                }
             }
             double t = vx_time_now() - t0;
             vx_conv_mesh_gpu_last_stats(mg, &gs);
@@ -154,6 +167,8 @@ int main(int argc, char** argv) {
             gpu_t[k] = t;
             double v[10] = {gs.bin, gs.upload, gs.count, gs.emit, gs.sort, gs.reduce, gs.download, gs.sink, gs.intern, gs.build};
             for (int q = 0; q < 10; q++) st[q][k] = v[q];
+            for (int q = 0; q < 8; q++) bg[q][k] = gs.build_gpu[q];
+            for (int q = 0; q < 5; q++) vg[q][k] = gs.vox_gpu[q];
         }
         uint8_t *a = NULL, *b = NULL;
         bool compare = cpu_runs > 0 && !cells_only;
@@ -172,13 +187,34 @@ int main(int argc, char** argv) {
                "reduce %.1f + tuples interned %.1f + download %.1f + octree pools (GPU) %.1f + %s %.1f ms\n",
                gpu_med * 1e3, runs, med[0] * 1e3, med[1] * 1e3, med[2] * 1e3, med[3] * 1e3, med[4] * 1e3,
                med[5] * 1e3, med[8] * 1e3, med[6] * 1e3, med[9] * 1e3,
-               cells_only ? "cell list (CPU)" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "octree builds (CPU)" : "representatives and layout (CPU)",
+               cells_only ? "cell list (CPU)" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "octree builds (CPU)" : "records and layout left (CPU)",
                med[7] * 1e3);
+        {
+            double v[5];
+            for (int q = 0; q < 5; q++) v[q] = bench_median(vg[q], runs);
+            printf("  voxelizer, GPU timestamps (medians): count (with the uploads' copies) %.2f, emit %.2f, sort %.2f, reduce "
+                   "%.2f, tuples interned %.2f ms\n",
+                   v[0] * 1e3, v[1] * 1e3, v[2] * 1e3, v[3] * 1e3, v[4] * 1e3);
+        }
+        if (!cells_only && build != VX_CONV_MESH_GPU_BUILD_CPU) {
+            double b[8], sum = 0;
+            for (int q = 0; q < 8; q++) sum += b[q] = bench_median(bg[q], runs);
+            printf("  octree build, GPU timestamps (medians): levels %.2f + sharing %.2f + representatives %.2f + order sort %.2f "
+                   "+ pool words %.2f + attribute runs %.2f + blocks %.2f (%u iterations) + copy down %.2f = %.2f ms of %.2f ms wall\n",
+                   b[0] * 1e3, b[1] * 1e3, b[2] * 1e3, b[3] * 1e3, b[4] * 1e3, b[5] * 1e3, b[7] * 1e3, gs.layout_iterations,
+                   b[6] * 1e3, sum * 1e3, med[9] * 1e3);
+        }
+        if (!cells_only)
+            printf("  outside the stages: %.1f ms, of which the scene's assembly (models' bounds) %.1f ms\n",
+                   (gpu_med - med[0] - gpu_vox - med[7] - med[8] - med[9]) * 1e3, bench_median(asm_t, runs) * 1e3);
         printf("  octree build (--build %s): %llu parents made on the GPU over %u levels, %llu distinct nodes, %llu pool "
-               "words downloaded, %llu new representative tuples%s\n",
-               build == VX_CONV_MESH_GPU_BUILD_GPU ? "gpu" : build == VX_CONV_MESH_GPU_BUILD_CPU ? "cpu" : "check",
+               "words, %llu new representative tuples, %llu attribute records and %llu node words laid out%s\n",
+               build == VX_CONV_MESH_GPU_BUILD_GPU         ? "gpu"
+               : build == VX_CONV_MESH_GPU_BUILD_GPU_POOLS ? "gpu-pools"
+               : build == VX_CONV_MESH_GPU_BUILD_CPU       ? "cpu"
+                                                           : "check",
                (unsigned long long)gs.node_slots, gs.levels, (unsigned long long)gs.nodes, (unsigned long long)gs.pool_words,
-               (unsigned long long)gs.rep_tuples,
+               (unsigned long long)gs.rep_tuples, (unsigned long long)gs.run_records, (unsigned long long)gs.laid_words,
                gs.build_fallback ? "; FELL BACK to the CPU builders" : "");
         printf("  tuples interned for the builders: %llu distinct (per region) of %llu cells, %u sort passes\n",
                (unsigned long long)gs.tuples, (unsigned long long)gs.cells, gs.intern_passes);

@@ -42,6 +42,9 @@ static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
     memset(&p, 0, sizeof p);
     p.index = r->index;
     memcpy(p.origin, r->origin, sizeof p.origin);
+    p.has_box = r->has_box;
+    memcpy(p.box_min, r->box_min, sizeof p.box_min);
+    memcpy(p.box_max, r->box_max, sizeof p.box_max);
     double t0 = vx_time_now();
     vx_result res;
     if (r->interned.rec || r->interned.pool) { /* the tuples come interned (or the tree built): the arrays stay out */
@@ -280,7 +283,21 @@ vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc_in, const vx_gltf_
         s.world_from_grid[a * 4 + a] = grid.h;
         s.world_from_grid[a * 4 + 3] = grid.min[a];
     }
-    vx_svo_scene_update_bounds(&s);
+    /* every model's box known (the GPU build): no pass over the models */
+    bool boxes = count > 0;
+    for (size_t i = 0; i < count; i++) boxes = boxes && parts[i].has_box;
+    vx_svo_model_coded* info = boxes ? (vx_svo_model_coded*)vx_calloc(desc.alloc, count, sizeof *info) : NULL;
+    if (info) {
+        for (size_t i = 0; i < count; i++) {
+            info[i].cells = s.models[i].voxel_count ? s.models[i].voxel_count : 1;
+            memcpy(info[i].min, parts[i].box_min, sizeof info[i].min);
+            memcpy(info[i].max, parts[i].box_max, sizeof info[i].max);
+        }
+        vx_svo_scene_update_bounds_coded(&s, info);
+        vx_free(desc.alloc, info);
+    } else {
+        vx_svo_scene_update_bounds(&s);
+    }
     st.models = s.model_count;
     st.instances = s.instance_count;
     st.peak_bytes = vx_peak_rss();

@@ -170,6 +170,12 @@ typedef struct vx_conv_mesh_part {
     vx_svo_model model;        /* owned by the part until vx_conv_mesh_assemble takes it */
     vx_svo_build_stats build;  /* of this model */
     double seconds_build;
+    /* The model's occupied box (min inclusive, max exclusive) when the
+     * voxelizer knew it (has_box; the GPU build): vx_conv_mesh_assemble then
+     * takes the scene's bounds from the boxes instead of a pass over every
+     * model. false (zero): unknown. */
+    bool has_box;
+    uint32_t box_min[3], box_max[3];
 } vx_conv_mesh_part;
 
 /* The non-empty regions of share `share` (< shares) as parts, in region

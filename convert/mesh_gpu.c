@@ -2,6 +2,7 @@
 #include "convert/mesh_gpu.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -21,12 +22,16 @@
 enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL,
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
-       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_COUNT };
+       B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_RTAB,
+       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_COUNT };
 #define SCAN_LEVELS 4
 
+#define BUILD_MODES 27 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
-       P_NUM = P_BUILD + 18 };
+       P_NUM = P_BUILD + BUILD_MODES };
 
+#define TS_PAIRS 32
+#define VX_CONV_MESH_GPU_NEAR_MAX 0x7FFFu /* the largest near pointer (svo/svo.h's descriptor: 15 bits) */
 struct vx_conv_mesh_gpu {
     vx_gpu* g;
     const vx_allocator* alloc;
@@ -36,6 +41,12 @@ struct vx_conv_mesh_gpu {
     VkDescriptorPool pool;
     vx_conv_mesh_gpu_stats stats;
     vx_conv_mesh_gpu_build build;
+    vx_conv_mesh_gpu_hash hash;
+    /* GPU timestamps around the build's steps (stats.build_gpu): pairs
+     * written in the open recording, read after its wait */
+    VkQueryPool qp; /* VK_NULL_HANDLE: the queue has no timestamps */
+    uint32_t nq;
+    int qstep[TS_PAIRS];
     uint32_t build_attrs; /* meshbuild.comp's channels (1 rgba, 2 normal, 4 material; 0: no representatives) */
 };
 
@@ -50,14 +61,52 @@ typedef struct intern_push {
     uint32_t n, attrs, perm;
 } intern_push;
 typedef struct build_push {
-    uint32_t n, level, base, mask, attrs;
+    uint32_t n, level, base, mask, attrs, smask, lmask;
 } build_push;
 
 /* ---- recording ----------------------------------------------------------------------- */
 
 static vx_result rec_begin(vx_conv_mesh_gpu* m, vx_error* err) {
     VX__VK(vkResetDescriptorPool(m->g->device, m->pool, 0), "vkResetDescriptorPool");
-    return vx__cmd_begin(m->g, err);
+    vx_result r = vx__cmd_begin(m->g, err);
+    m->nq = 0;
+    if (!r && m->qp) vkCmdResetQueryPool(m->g->cmd, m->qp, 0, 2 * TS_PAIRS);
+    return r;
+}
+
+/* A timestamp before (ts_begin) and after (ts_end) the commands of build
+ * step `step` recorded between them; steps beyond TS_PAIRS pairs a
+ * recording go untimed. */
+static void ts_end(vx_conv_mesh_gpu* m);
+static void ts_begin(vx_conv_mesh_gpu* m, int step) {
+    ts_end(m); /* a step still open ends here */
+    if (!m->qp || m->nq >= 2 * TS_PAIRS) return;
+    m->qstep[m->nq / 2] = step;
+    vkCmdWriteTimestamp(m->g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m->qp, m->nq++);
+}
+static void ts_end(vx_conv_mesh_gpu* m) {
+    if (!m->qp || m->nq % 2 == 0) return;
+    vkCmdWriteTimestamp(m->g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m->qp, m->nq++);
+}
+
+/* Submits the recording, waits, and adds its timed steps to stats.build_gpu. */
+static vx_result submit(vx_conv_mesh_gpu* m, vx_error* err) {
+    vx_result r = vx__cmd_submit_wait(m->g, err);
+    if (r || !m->nq) return r;
+    uint64_t t[2 * TS_PAIRS];
+    uint32_t n = m->nq & ~1u;
+    m->nq = 0;
+    if (!n || vkGetQueryPoolResults(m->g->device, m->qp, 0, n, sizeof t, t, 8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) !=
+                  VK_SUCCESS)
+        return VX_OK; /* timings only */
+    double period = (double)m->g->props.limits.timestampPeriod * 1e-9;
+    for (uint32_t i = 0; i < n; i += 2) {
+        int st = m->qstep[i / 2];
+        double dt = (double)(t[i + 1] - t[i]) * period;
+        if (st < 8) m->stats.build_gpu[st] += dt;
+        else m->stats.vox_gpu[st - 8] += dt;
+    }
+    return VX_OK;
 }
 
 static void barrier(vx_gpu* g) {
@@ -177,9 +226,10 @@ static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_err
 
 typedef struct upload {
     int id;
-    const void* data;
+    const void* data; /* upload_in_place: the caller writes the bytes into the upload buffer itself */
     uint64_t bytes, offset;
 } upload;
+static const char upload_in_place[1];
 
 /* Makes each upload's device buffer, copies the data into the upload
  * buffer and records the copies into the open command buffer. */
@@ -193,7 +243,8 @@ static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
     }
     if ((r = ensure_host(m, B_UP, total, err))) return r;
     for (int i = 0; i < n; i++)
-        if (u[i].data && u[i].bytes) memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
+        if (u[i].data && u[i].data != upload_in_place && u[i].bytes)
+            memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
     return VX_OK;
 }
 static void put_record(vx_conv_mesh_gpu* m, const upload* u, int n) {
@@ -235,6 +286,31 @@ typedef struct region_job {
     vx_error first_err;
 } region_job;
 
+/* A region's tuples for its builder: the cells' (4 words each in the
+ * download), then its representatives' new ones; in chunks, on several
+ * threads for the large regions. */
+typedef struct tab_fill {
+    vx__svo_rec* tab;
+    const uint32_t* cells; /* nc tuples */
+    size_t nc;
+    const uint32_t* news; /* nu - nc tuples */
+    size_t nu;
+    _Atomic size_t next;
+} tab_fill;
+static void* tab_fill_worker(void* arg) {
+    tab_fill* f = (tab_fill*)arg;
+    enum { CHUNK = 1 << 15 };
+    for (;;) {
+        size_t lo = atomic_fetch_add(&f->next, CHUNK);
+        if (lo >= f->nu) return NULL;
+        size_t hi = lo + CHUNK < f->nu ? lo + CHUNK : f->nu;
+        for (size_t u = lo; u < hi; u++) {
+            const uint32_t* t = u < f->nc ? f->cells + 4 * u : f->news + 4 * (u - f->nc);
+            f->tab[u].rgba = t[0], f->tab[u].normal = t[1], f->tab[u].material = (uint16_t)t[2];
+        }
+    }
+}
+
 static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
@@ -268,11 +344,9 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
             vx_free(j->alloc, keys), vx_free(j->alloc, mat), vx_free(j->alloc, rec), vx_free(j->alloc, tab);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region of %zu voxels", n);
         }
-        for (size_t u = 0; u < nu; u++) {
-            const uint32_t* t = u < nc ? j->utab + 4 * (u0 + u)
-                                       : j->ext_tuples + 4 * ((size_t)j->ext[j->bins->region_count + ri] + u - nc);
-            tab[u].rgba = t[0], tab[u].normal = t[1], tab[u].material = (uint16_t)t[2];
-        }
+        const uint32_t* news = ne ? j->ext_tuples + 4 * (size_t)j->ext[j->bins->region_count + ri] : NULL;
+        tab_fill tf = {tab, j->utab + 4 * u0, nc, news, nu, 0};
+        vx_run_threads(nu >= ((size_t)1 << 17) ? j->intern_threads : 1, tab_fill_worker, &tf);
         for (size_t i = 0; rec && i < n; i++) rec[i] = j->ids[c0 + i] - (uint32_t)u0;
     }
     vx__mesh_region reg;
@@ -286,6 +360,11 @@ static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
     reg.attrs = j->attrs;
     reg.interned = (vx__svo_interned){rec, tab, nu, j->layout_thread, j->intern_threads, j->pools ? &j->pools[ri] : NULL,
                                       j->check_pools};
+    if (j->pools && j->ext) { /* the cells' box, from the GPU build */
+        const uint32_t* e = j->ext + 3 * j->bins->region_count + 6 * ri;
+        reg.has_box = e[3] != 0;
+        for (int k = 0; k < 3; k++) reg.box_min[k] = ~e[k], reg.box_max[k] = e[3 + k];
+    }
     vx_result r = j->sink(j->user, &reg, err);
     vx_free(j->alloc, keys);
     vx_free(j->alloc, mat);
@@ -325,11 +404,11 @@ static unsigned bits_for(uint64_t v) {
 /* ---- the octrees on the GPU (meshbuild.comp) -------------------------------------------------- */
 
 /* Binds the build's buffers; items: level l's children in ITA (src 0) or ITB. */
-#define BUILD_BINDINGS 21
+#define BUILD_BINDINGS 26
 static void build_ids(int* ids, int src, int sorted) {
-    static const int base[BUILD_BINDINGS] = {B_OKEYS, B_IDS,  B_BINFO, B_RINFO, B_ROUT, B_ITA,  B_ITB,
-                                             B_POS,   B_START, B_NODES, B_TAB,  B_MISC, B_KEYS, B_VALS,
-                                             B_POOL,  B_RBASE, B_NREP,  B_UTAB, B_TTAB, B_RNEW, B_EXT};
+    static const int base[BUILD_BINDINGS] = {B_OKEYS, B_IDS,  B_BINFO, B_RINFO, B_ROUT, B_ITA,   B_ITB,   B_POS,  B_START,
+                                             B_NODES, B_TAB,  B_MISC,  B_KEYS,  B_VALS, B_POOL,  B_RBASE, B_NREP, B_UTAB,
+                                             B_TTAB,  B_RNEW, B_EXT,   B_RTAB,  B_RNODE, B_RIDS, B_RFIRST, B_LAY};
     memcpy(ids, base, sizeof base);
     if (src) ids[5] = B_ITB, ids[6] = B_ITA;
     if (sorted) ids[12] = B_KEYS2, ids[13] = B_VALS2;
@@ -339,7 +418,24 @@ static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint
                         uint32_t mask, vx_error* err) {
     int ids[BUILD_BINDINGS];
     build_ids(ids, src, sorted);
-    build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs};
+    build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs, UINT32_MAX, UINT32_MAX};
+    if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_SLOTS) bp.smask = 7; /* every probe starts in one of 8 slots */
+    if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_LABELS) bp.lmask = 15; /* 16 structural hashes: distinct subtrees alike */
+    return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
+}
+
+/* The block layout's stages (modes 21-26): nodes in pool order from B_ORD,
+ * the lone records' sort in KEYS/VALS (lsorted 0) or KEYS2/VALS2 (bound
+ * as keys and start), the words into B_WORDS (bound as rids); limit: the
+ * largest near pointer. */
+static vx_result lstage(vx_conv_mesh_gpu* m, int mode, int lsorted, uint64_t n, uint32_t level, uint32_t limit, vx_error* err) {
+    int ids[BUILD_BINDINGS];
+    build_ids(ids, 0, 0);
+    ids[8] = lsorted ? B_VALS2 : B_VALS;
+    ids[12] = lsorted ? B_KEYS2 : B_KEYS;
+    ids[13] = B_ORD;
+    ids[23] = B_WORDS;
+    build_push bp = {(uint32_t)n, level, 0, limit, m->build_attrs, UINT32_MAX, UINT32_MAX};
     return stage(m, P_BUILD + mode, ids, BUILD_BINDINGS, (n + 255) / 256, &bp, sizeof bp, err);
 }
 
@@ -403,11 +499,13 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_RBASE, (uint64_t)R * 4, err)) || (r = ensure(m, B_ITA, (uint64_t)C * 32, err)) ||
         (r = ensure(m, B_ITB, (uint64_t)C * 32, err)) || (r = ensure(m, B_POS, (cap + 1) * 4, err)) ||
         (r = ensure(m, B_START, (uint64_t)C * 4, err)) || (r = ensure(m, B_NODES, cap * 64, err)) ||
-        (r = ensure(m, B_MISC, ((uint64_t)R + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
+        (r = ensure(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, err)) || (r = ensure(m, B_TAB, 16, err)) || (r = ensure(m, B_POOL, 16, err)) ||
         (r = ensure(m, B_KEYS2, 16, err)) || (r = ensure(m, B_VALS2, 16, err)) || (r = scan_prepare(m, cap + 1, err)) ||
         (r = ensure(m, B_NREP, m->build_attrs ? cap * 16 : 16, err)) || (r = ensure(m, B_UTAB, 16, err)) ||
         (r = ensure(m, B_TTAB, 16, err)) || (r = ensure(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, err)) ||
-        (r = ensure(m, B_EXT, 16, err)))
+        (r = ensure(m, B_EXT, 16, err)) || (r = ensure(m, B_RTAB, 16, err)) || (r = ensure(m, B_RNODE, 16, err)) ||
+        (r = ensure(m, B_RIDS, 16, err)) || (r = ensure(m, B_RFIRST, (uint64_t)R * 32, err)) || (r = ensure(m, B_LAY, 16, err)) ||
+        (r = ensure(m, B_ORD, 16, err)) || (r = ensure(m, B_WORDS, 16, err)))
         goto done;
 
     /* level by level: the children of level l are the items, their parents the next items */
@@ -418,21 +516,26 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     put_record(m, ups, 2);
     fill(m, B_ROUT, (uint64_t)R * 16, 0);
     fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
-    fill(m, B_MISC, ((uint64_t)R + 4) * 4, 0);
-    if ((r = bstage(m, 0, 1, 0, C, 0, 0, 0, err))) goto done; /* src 1: writes ITA */
+    fill(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, 0);
+    ts_begin(m, 0);
+    if ((r = bstage(m, 0, 1, 0, C, 0, (uint32_t)R, 0, err))) goto done; /* src 1: writes ITA */
     for (;;) {
+        ts_begin(m, 0);
         fill(m, B_POS, (n + 1) * 4, 0);
         if ((r = bstage(m, 1, src, 0, n, level, 0, 0, err)) || (r = scan(m, B_POS, n + 1, 0, err)) ||
             (r = bstage(m, 2, src, 0, n, level, 0, 0, err)))
             goto done;
         read_u32(m, B_POS, n, 0);
-        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        ts_end(m);
+        if ((r = submit(m, err))) goto done;
         uint32_t P;
         if ((r = vx__buffer_download(g, &m->buf[B_READ], &P, 4, err))) goto done;
         if (P == 0) break;
         if (P > n || base + P > cap || level >= maxd) goto done; /* beyond the node buffer: the CPU builds */
         if ((r = rec_begin(m, err))) goto done;
+        ts_begin(m, 0);
         if ((r = bstage(m, 3, src, 0, P, level + 1, (uint32_t)base, (uint32_t)n, err))) goto done;
+        ts_end(m);
         base += P;
         n = P;
         src ^= 1;
@@ -447,6 +550,7 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     while (T < 2 * N) T *= 2;
     if (T * 8 > max_binding) goto done;
     if ((r = ensure(m, B_TAB, T * 8, err)) || (r = rec_begin(m, err))) goto done;
+    ts_begin(m, 1);
     fill(m, B_TAB, T * 8, 0xFFFFFFFFu);
     fill(m, B_MISC, 16, 0);
     fill(m, B_POS, (N + 1) * 4, 0);
@@ -456,7 +560,8 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         goto done;
     read_u32(m, B_POS, N, 0);
     read_u32(m, B_MISC, 0, 1);
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
     uint32_t KM[2];
     if ((r = vx__buffer_download(g, &m->buf[B_READ], KM, 8, err))) goto done;
     uint32_t K = KM[0];
@@ -468,6 +573,14 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     uint64_t T2 = 1024; /* the tuple table: the cells' tuples and the representatives */
     while (T2 < 2 * ((uint64_t)U + K)) T2 *= 2;
     if (m->build_attrs && (T2 * 8 > max_binding || (uint64_t)U + N >= 0xFFFFFFF0u)) goto done;
+    /* the attribute runs too (with the representatives): a table of the
+     * nodes' runs, at most 8 records a node */
+    uint64_t T3 = 1024;
+    while (T3 < 2 * (uint64_t)K) T3 *= 2;
+    bool runs = m->build_attrs && K && T3 * 8 <= max_binding && (uint64_t)K * 32 <= max_binding;
+    /* and the blocks (the final node words), unless only the pools are asked for */
+    bool blocks = runs && m->build != VX_CONV_MESH_GPU_BUILD_GPU_POOLS;
+    int lsorted = 0;
     if (K) {
         uint64_t ntiles = ((uint64_t)K + 1023) / 1024;
         if ((uint64_t)K * 11 * 4 > max_binding) goto done;
@@ -476,9 +589,13 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err)) ||
             (r = ensure(m, B_POOL, (uint64_t)K * 11 * 4, err)) ||
             (m->build_attrs && ((r = ensure(m, B_TTAB, T2 * 8, err)) || (r = ensure(m, B_EXT, (uint64_t)K * 16, err)))) ||
+            (runs && ((r = ensure(m, B_RTAB, T3 * 8, err)) || (r = ensure(m, B_RNODE, (uint64_t)K * 8, err)) ||
+                      (r = ensure(m, B_RIDS, (uint64_t)K * 32, err)))) ||
+            (blocks && ((r = ensure(m, B_LAY, (uint64_t)K * 8, err)) || (r = ensure(m, B_ORD, (uint64_t)K * 4, err)))) ||
             (r = rec_begin(m, err)))
             goto done;
         if (m->build_attrs) { /* the representatives' ids: the region's tuple where equal, else a new one */
+            ts_begin(m, 2);
             fill(m, B_TTAB, T2 * 8, 0xFFFFFFFFu);
             fill(m, B_RNEW, ((uint64_t)R * 2 + 1) * 4, 0);
             uint32_t tm = (uint32_t)(T2 - 1);
@@ -487,42 +604,116 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
                 (r = bstage(m, 17, 0, 0, N, (uint32_t)R, U, tm, err)))
                 goto done;
             read_u32(m, B_RNEW, (uint64_t)R * 2, 1);
+            ts_end(m);
         }
+        ts_begin(m, 3);
         if ((r = bstage(m, 8, 0, 0, N, 0, 0, 0, err))) goto done;
         unsigned obits = bits_for(((uint64_t)C << 5) | 31);
         int sorted = 0;
         for (uint32_t pass = 0; 4 * pass < obits && K > 1; pass++)
             if ((r = sort_pass(m, K, 4 * pass, ntiles, &sorted, err))) goto done;
+        ts_end(m);
+        ts_begin(m, 4);
         fill(m, B_POS, ((uint64_t)K + 1) * 4, 0);
         if ((r = bstage(m, 9, 0, sorted, K, 0, 0, 0, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
             (r = bstage(m, 10, 0, sorted, K, 0, 0, 0, err)) || (r = bstage(m, 11, 0, sorted, K, 0, 0, 0, err)))
             goto done;
         read_u32(m, B_POS, K, 0);
+        ts_end(m);
+        if (runs) { /* the attribute runs: pool word 2 of each node its run's first record */
+            ts_begin(m, 5);
+            uint32_t rm = (uint32_t)(T3 - 1);
+            fill(m, B_RTAB, T3 * 8, 0xFFFFFFFFu);
+            fill(m, B_RFIRST, (uint64_t)R * 32, 0xFFFFFFFFu);
+            if ((r = bstage(m, 18, 0, sorted, K, 0, 0, rm, err)) || (r = bstage(m, 19, 0, sorted, K, 0, 0, rm, err)) ||
+                (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) || (r = bstage(m, 20, 0, sorted, K, 0, 0, rm, err)))
+                goto done;
+            read_u32(m, B_POS, K, 2);
+            ts_end(m);
+        }
+        if (blocks) { /* the blocks' first guess; the lone records sorted by their run (stable: pool order kept) */
+            ts_begin(m, 7);
+            VkBufferCopy co = {.srcOffset = 0, .dstOffset = 0, .size = (uint64_t)K * 4};
+            vkCmdCopyBuffer(g->cmd, m->buf[sorted ? B_VALS2 : B_VALS].buf, m->buf[B_ORD].buf, 1, &co);
+            barrier(g);
+            if ((r = lstage(m, 21, 0, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err))) goto done;
+            for (uint32_t pass = 0; pass < 8 && K > 1; pass++)
+                if ((r = sort_pass(m, K, 4 * pass, ntiles, &lsorted, err))) goto done;
+            ts_end(m);
+        }
     } else if ((r = rec_begin(m, err))) {
         goto done;
     }
     if ((r = bstage(m, 12, 0, 0, R, 0, 0, 0, err))) goto done;
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    if ((r = submit(m, err))) goto done;
+    uint64_t NR = 0; /* records of the stored runs */
     if (K) {
-        uint32_t we[2];
-        if ((r = vx__buffer_download(g, &m->buf[B_READ], we, 8, err))) goto done;
+        uint32_t we[3];
+        if ((r = vx__buffer_download(g, &m->buf[B_READ], we, 12, err))) goto done;
         W = we[0];
         E = m->build_attrs ? we[1] : 0;
-        if (E > K) goto done;
+        NR = runs ? we[2] : 0;
+        if (E > K || NR > (uint64_t)K * 8) goto done;
     }
     m->stats.pool_words = W;
     m->stats.rep_tuples = E;
-    uint64_t at_rout = W * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
-             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, total = at_cells + (uint64_t)R * 4;
+    /* the blocks: iterated until an iteration changes nothing (the
+     * sequential layout's solution, meshbuild.comp); else the CPU lays
+     * them out */
+    uint64_t LW = 0; /* the laid-out blocks' words, all regions */
+    if (blocks) {
+        blocks = false;
+        for (uint32_t it = 0; it < 64 && !blocks; it += 4) {
+            if ((r = rec_begin(m, err))) goto done;
+            ts_begin(m, 7);
+            for (int k = 0; k < 4; k++) {
+                vkCmdFillBuffer(g->cmd, m->buf[B_MISC].buf, 4, 4, 0);
+                barrier(g);
+                if ((r = lstage(m, 23, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
+                    (r = lstage(m, 24, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+                    (r = lstage(m, 25, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)))
+                    goto done;
+            }
+            read_u32(m, B_MISC, 1, 0);
+            read_u32(m, B_POS, K, 1);
+            ts_end(m);
+            if ((r = submit(m, err))) goto done;
+            uint32_t cw[2];
+            if ((r = vx__buffer_download(g, &m->buf[B_READ], cw, 8, err))) goto done;
+            m->stats.layout_iterations = it + 4;
+            if (!cw[0]) blocks = true, LW = cw[1] + 2 * (uint64_t)R;
+        }
+        if (blocks && (LW * 4 > max_binding || (r = ensure(m, B_WORDS, LW * 4 + 16, err)))) {
+            if (r) goto done;
+            blocks = false;
+        }
+    }
+    bool pool_down = !blocks || m->build == VX_CONV_MESH_GPU_BUILD_CHECK; /* the check compares the pools too */
+    uint64_t WD = pool_down ? W : 0;
+    uint64_t at_rout = WD * 4, at_rbase = at_rout + (uint64_t)R * 16, at_rnew = at_rbase + (uint64_t)R * 4,
+             at_ext = at_rnew + (uint64_t)R * 8, at_cells = at_ext + E * 16, at_rfirst = at_cells + (uint64_t)R * 28,
+             at_rids = at_rfirst + (uint64_t)R * 32, at_laid = at_rids + NR * 4, total = at_laid + LW * 4;
     if ((r = ensure_host(m, B_PDOWN, total + 16, err)) || (r = rec_begin(m, err))) goto done;
+    if (blocks) { /* the blocks' words, each region's root descriptor last */
+        ts_begin(m, 7);
+        if ((r = lstage(m, 22, lsorted, R, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+            (r = lstage(m, 26, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+            (r = lstage(m, 22, lsorted, R, 1, VX_CONV_MESH_GPU_NEAR_MAX, err)))
+            goto done;
+    }
+    ts_begin(m, 6);
     {
-        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = W * 4};
+        VkBufferCopy cp = {.srcOffset = 0, .dstOffset = 0, .size = WD * 4};
         VkBufferCopy co = {.srcOffset = 0, .dstOffset = at_rout, .size = (uint64_t)R * 16};
         VkBufferCopy cb = {.srcOffset = 0, .dstOffset = at_rbase, .size = (uint64_t)R * 4};
-        if (W) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        if (WD) vkCmdCopyBuffer(g->cmd, m->buf[B_POOL].buf, m->buf[B_PDOWN].buf, 1, &cp);
+        if (blocks) {
+            VkBufferCopy cl = {.srcOffset = 0, .dstOffset = at_laid, .size = LW * 4};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_WORDS].buf, m->buf[B_PDOWN].buf, 1, &cl);
+        }
         vkCmdCopyBuffer(g->cmd, m->buf[B_ROUT].buf, m->buf[B_PDOWN].buf, 1, &co);
         vkCmdCopyBuffer(g->cmd, m->buf[B_RBASE].buf, m->buf[B_PDOWN].buf, 1, &cb);
-        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 4};
+        VkBufferCopy cc = {.srcOffset = 16, .dstOffset = at_cells, .size = (uint64_t)R * 28}; /* cells, boxes */
         vkCmdCopyBuffer(g->cmd, m->buf[B_MISC].buf, m->buf[B_PDOWN].buf, 1, &cc);
         if (m->build_attrs && K) {
             VkBufferCopy cn = {.srcOffset = 0, .dstOffset = at_rnew, .size = (uint64_t)R * 8};
@@ -530,20 +721,28 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
             vkCmdCopyBuffer(g->cmd, m->buf[B_RNEW].buf, m->buf[B_PDOWN].buf, 1, &cn);
             if (E) vkCmdCopyBuffer(g->cmd, m->buf[B_EXT].buf, m->buf[B_PDOWN].buf, 1, &ce);
         }
+        if (runs) {
+            VkBufferCopy cf = {.srcOffset = 0, .dstOffset = at_rfirst, .size = (uint64_t)R * 32};
+            VkBufferCopy ci = {.srcOffset = 0, .dstOffset = at_rids, .size = NR * 4};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_RFIRST].buf, m->buf[B_PDOWN].buf, 1, &cf);
+            if (NR) vkCmdCopyBuffer(g->cmd, m->buf[B_RIDS].buf, m->buf[B_PDOWN].buf, 1, &ci);
+        }
         barrier(g);
     }
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
     {
         const uint8_t* hb = (const uint8_t*)m->buf[B_PDOWN].map;
         const uint32_t* words = (const uint32_t*)hb;
         rdown = (uint32_t*)vx_alloc(a, ((size_t)R * 5 + 1) * 4);
-        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 3 + 1, 4); /* per region: new tuples, first one, cells */
+        /* per region: new tuples, first one, cells, then 6 per region: the cells' box (meshbuild.comp) */
+        uint32_t* rext = (uint32_t*)vx_calloc(a, (size_t)R * 9 + 1, 4);
         if (!rext) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU octree build: %zu regions", R);
             goto done;
         }
         if (m->build_attrs && K) memcpy(rext, hb + at_rnew, (size_t)R * 8);
-        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 4);
+        memcpy(rext + 2 * R, hb + at_cells, (size_t)R * 28);
         *out_ext = rext;
         *out_tuples = (const uint32_t*)(hb + at_ext);
         pools = (vx__svo_pool*)vx_calloc(a, R ? R : 1, sizeof *pools);
@@ -554,18 +753,37 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         memcpy(rdown, hb + at_rout, (size_t)R * 16);
         memcpy(rdown + 4 * R, hb + at_rbase, (size_t)R * 4);
         const uint32_t* rb = rdown + 4 * R;
-        uint64_t end = W;
-        for (size_t ri = R; ri-- > 0;) { /* a region's words run to the next region's first */
+        const uint32_t* rf = (const uint32_t*)(hb + at_rfirst); /* per region: 8 words (meshbuild.comp's rfirst) */
+        uint64_t end = W, rend = NR;
+        for (size_t ri = R; ri-- > 0;) { /* a region's words (and records) run to the next region's first */
             vx__svo_pool* p = &pools[ri];
             const uint32_t* ro = rdown + 4 * ri;
             p->root = ro[0], p->root_leaf = ro[1] != 0, p->plain = ro[2], p->collapsed = ro[3];
             p->reps = m->build_attrs != 0;
             if (rb[ri] == 0xFFFFFFFFu) continue; /* no node: the root is a leaf (or the region is empty) */
             if (rb[ri] > end) goto done;
-            p->words = words + rb[ri];
-            p->count = (size_t)(end - rb[ri]);
+            if (pool_down) p->words = words + rb[ri], p->count = (size_t)(end - rb[ri]);
             end = rb[ri];
+            if (blocks) {
+                const uint32_t* l = rf + 8 * ri + 4; /* first word, words, far pointers, descriptor words */
+                if (l[1] == 0 || (uint64_t)l[0] + l[1] > LW) goto done;
+                p->laid = (const uint32_t*)(hb + at_laid) + l[0];
+                p->laid_count = l[1];
+                p->laid_far = l[2];
+                p->laid_desc = l[3];
+                p->root_rep = rf[8 * ri + 3];
+            }
+            if (runs) {
+                uint32_t r0 = rf[8 * ri + 1];
+                if (r0 > rend) goto done;
+                p->runs = true;
+                p->recs = (const uint32_t*)(hb + at_rids) + r0;
+                p->nrecs = (size_t)(rend - r0);
+                rend = r0;
+            }
         }
+        m->stats.run_records = NR;
+        m->stats.laid_words = LW;
         *out = pools;
         pools = NULL;
     }
@@ -606,7 +824,7 @@ static vx_result download(vx_conv_mesh_gpu* m, uint32_t C, uint32_t U, uint32_t 
         vkCmdCopyBuffer(g->cmd, m->buf[B_UTAB].buf, m->buf[B_DOWN].buf, 1, &cu);
     }
     barrier(g);
-    if ((r = vx__cmd_submit_wait(g, err))) return r;
+    if ((r = submit(m, err))) return r;
     const uint8_t* base = (const uint8_t*)m->buf[B_DOWN].map;
     *okeys = *orgba = *onrm = *omat = *oids = *outab = NULL;
     if (cells) {
@@ -651,7 +869,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t mine_count = 0;
     float* mats = NULL;
     uint32_t* images = NULL;
-    uint32_t* texels = NULL;
     if (P > UINT32_MAX / 64 - 1 || NB > (1ull << 40)) {
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu brick pairs", P);
         goto done;
@@ -687,8 +904,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
         goto done;
     }
-    texels = (uint32_t*)vx_alloc(a, (texel_count ? texel_count : 1) * 4);
-    if (!mats || !images || !texels) {
+    if (!mats || !images) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
         goto done;
     }
@@ -698,7 +914,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             const vx_gltf_image* im = &mesh->images[i];
             images[4 * i] = (uint32_t)off, images[4 * i + 1] = im->width, images[4 * i + 2] = im->height;
             if (!im->rgba) continue;
-            memcpy(texels + off, im->rgba, (size_t)im->width * im->height * 4);
             off += (size_t)im->width * im->height;
         }
     }
@@ -739,13 +954,25 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
-                    {B_TEXELS, tex ? texels : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_TEXELS, tex ? upload_in_place : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
                     {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
                     {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
                     {B_TABLES, &tables, sizeof tables, 0},
                     {B_RTABLES, &rtables, sizeof rtables, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);
     if ((r = put_all(m, ups, nups, err))) goto done;
+    if (tex && texel_count) { /* the images straight into the upload buffer, one after the other */
+        int k = 0;
+        while (ups[k].id != B_TEXELS) k++;
+        uint8_t* at = (uint8_t*)m->buf[B_UP].map + ups[k].offset;
+        for (uint32_t i = 0; i < mesh->image_count; i++) {
+            const vx_gltf_image* im = &mesh->images[i];
+            if (!im->rgba) continue;
+            size_t bytes = (size_t)im->width * im->height * 4;
+            memcpy(at, im->rgba, bytes);
+            at += bytes;
+        }
+    }
     m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
 
     /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
@@ -759,6 +986,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
+    ts_begin(m, 8);
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
@@ -766,7 +994,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
     read_u32(m, B_COUNTS, slots, 0);
     read_u32(m, B_COUNTS, slots + 1, 1);
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
     uint32_t NN[2];
     if ((r = vx__buffer_download(g, &m->buf[B_READ], NN, 8, err))) goto done;
     uint32_t N = NN[0];
@@ -786,8 +1015,10 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     if ((r = rec_begin(m, err))) goto done;
     mp.mode = 1;
+    ts_begin(m, 9);
     if ((r = stage(m, P_EMIT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
     m->stats.emit = vx_time_now() - t0;
 
     /* stable radix sort by (brick index, local Morton key) */
@@ -799,9 +1030,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err))) goto done;
     if ((r = rec_begin(m, err))) goto done;
     int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
+    ts_begin(m, 10);
     for (uint32_t pass = 0; pass < passes && N > 1; pass++)
         if ((r = sort_pass(m, N, 4 * pass, ntiles, &src, err))) goto done;
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
     m->stats.sort = vx_time_now() - t0;
 
     /* one cell per run of keys */
@@ -815,14 +1048,16 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         int ids[9] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT,
                       B_RTABLES};
         uint32_t n = N;
+        ts_begin(m, 11);
         vkCmdFillBuffer(g->cmd, m->buf[B_POS].buf, 0, ((VkDeviceSize)N + 1) * 4, 0);
         barrier(g);
         if ((r = stage(m, P_FLAG, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         if ((r = scan(m, B_POS, (uint64_t)N + 1, 0, err))) goto done;
         if ((r = stage(m, P_REDUCE, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         read_u32(m, B_POS, N, 0);
+        ts_end(m);
     }
-    if ((r = vx__cmd_submit_wait(g, err))) goto done;
+    if ((r = submit(m, err))) goto done;
     uint32_t C;
     if ((r = vx__buffer_download(g, &m->buf[B_READ], &C, 4, err))) goto done;
     m->stats.reduce = vx_time_now() - t0;
@@ -847,6 +1082,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             (r = ensure(m, B_UTAB, (uint64_t)C * 16, err)) || (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) ||
             (r = scan_prepare(m, ntiles * 16, err)) || (r = scan_prepare(m, (uint64_t)C + 1, err)) || (r = rec_begin(m, err)))
             goto done;
+        ts_begin(m, 12);
         put_record(m, &ur, 1);
         intern_push ip = {C, ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
                                  ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u), 0};
@@ -875,7 +1111,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         if ((r = scan(m, B_POS, (uint64_t)C + 1, 0, err))) goto done;
         if ((r = stage(m, P_IOUT, ids, 10, groups, &ip, sizeof ip, err))) goto done;
         read_u32(m, B_POS, C, 0);
-        if ((r = vx__cmd_submit_wait(g, err))) goto done;
+        ts_end(m);
+        if ((r = submit(m, err))) goto done;
         if ((r = vx__buffer_download(g, &m->buf[B_READ], &U, 4, err))) goto done;
         if (U == 0 || U > C) {
             r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "GPU voxelizer: %u distinct tuples of %u cells", U, C);
@@ -895,7 +1132,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     /* the octrees on the GPU (below) when the sink builds them: then only
      * the tuples come back, not the cells (unless the builders check) */
     bool want_build = intern && m->build != VX_CONV_MESH_GPU_BUILD_CPU && !desc->build.no_collapse && !desc->build.no_dag;
-    bool lean = want_build && builds && m->build == VX_CONV_MESH_GPU_BUILD_GPU;
+    bool lean = want_build && builds && (m->build == VX_CONV_MESH_GPU_BUILD_GPU || m->build == VX_CONV_MESH_GPU_BUILD_GPU_POOLS);
     if ((r = download(m, C, U, attrs, intern, !lean, &okeys, &orgba, &onrm, &omat, &oids, &outab, err))) goto done;
     m->stats.download = vx_time_now() - t0;
 
@@ -986,7 +1223,6 @@ done:
     vx_free(a, trimat);
     vx_free(a, mats);
     vx_free(a, images);
-    vx_free(a, texels);
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);
@@ -1026,38 +1262,47 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
     m->alloc = alloc;
     m->backend.voxelize = gpu_voxelize;
     m->backend.self = m;
-    vx_result r;
-    if ((r = make_pipe(m, P_COUNT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 0, 14, sizeof(meshvox_push),
-                       "meshgpu.count", err)) ||
-        (r = make_pipe(m, P_EMIT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 1, 14, sizeof(meshvox_push),
-                       "meshgpu.emit", err)) ||
-        (r = make_pipe(m, P_HIST, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 0, 5, sizeof(sort_push),
-                       "meshgpu.hist", err)) ||
-        (r = make_pipe(m, P_SCATTER, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 1, 5, sizeof(sort_push),
-                       "meshgpu.scatter", err)) ||
-        (r = make_pipe(m, P_SCAN, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 0, 2, 4, "meshgpu.scan", err)) ||
-        (r = make_pipe(m, P_ADD, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 1, 2, 4, "meshgpu.add", err)) ||
-        (r = make_pipe(m, P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 9, 4, "meshgpu.flag", err)) ||
-        (r = make_pipe(m, P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 9, 4, "meshgpu.reduce",
-                       err)) ||
-        (r = make_pipe(m, P_IKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 0, 10, sizeof(intern_push),
-                       "meshgpu.ikey", err)) ||
-        (r = make_pipe(m, P_INKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 3, 10, sizeof(intern_push),
-                       "meshgpu.inkey", err)) ||
-        (r = make_pipe(m, P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push),
-                       "meshgpu.iflag", err)) ||
-        (r = make_pipe(m, P_IOUT, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 2, 10, sizeof(intern_push),
-                       "meshgpu.iout", err)) ||
-        (r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err))) {
+    /* the voxelizer's and the interning's pipelines: one shader each, the mode a specialization constant */
+    static const struct {
+        int pipe;
+        const uint32_t* spv;
+        size_t bytes;
+        uint32_t mode, bindings, push;
+        const char* label;
+    } pipes[] = {
+        {P_COUNT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 0, 14, sizeof(meshvox_push), "meshgpu.count"},
+        {P_EMIT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 1, 14, sizeof(meshvox_push), "meshgpu.emit"},
+        {P_HIST, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 0, 5, sizeof(sort_push), "meshgpu.hist"},
+        {P_SCATTER, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 1, 5, sizeof(sort_push), "meshgpu.scatter"},
+        {P_SCAN, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 0, 2, 4, "meshgpu.scan"},
+        {P_ADD, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 1, 2, 4, "meshgpu.add"},
+        {P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 9, 4, "meshgpu.flag"},
+        {P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 9, 4, "meshgpu.reduce"},
+        {P_IKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 0, 10, sizeof(intern_push), "meshgpu.ikey"},
+        {P_INKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 3, 10, sizeof(intern_push), "meshgpu.inkey"},
+        {P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push), "meshgpu.iflag"},
+        {P_IOUT, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 2, 10, sizeof(intern_push), "meshgpu.iout"},
+    };
+    vx_result r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err);
+    for (size_t i = 0; !r && i < sizeof pipes / sizeof pipes[0]; i++)
+        r = make_pipe(m, pipes[i].pipe, pipes[i].spv, pipes[i].bytes, pipes[i].mode, pipes[i].bindings, pipes[i].push,
+                      pipes[i].label, err);
+    if (r) {
         vx_conv_mesh_gpu_destroy(m);
         return r;
     }
-    for (uint32_t mode = 0; mode < 18; mode++)
+    for (uint32_t mode = 0; mode < BUILD_MODES; mode++)
         if ((r = make_pipe(m, P_BUILD + (int)mode, vx__meshbuild_spv_arr, sizeof vx__meshbuild_spv_arr, mode, BUILD_BINDINGS,
                            sizeof(build_push), "meshgpu.build", err))) {
             vx_conv_mesh_gpu_destroy(m);
             return r;
         }
+    if (gpu->has_timestamps) { /* the build's steps timed (stats.build_gpu); none: wall times only */
+        VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+                                    .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                                    .queryCount = 2 * TS_PAIRS};
+        if (vkCreateQueryPool(gpu->device, &qi, NULL, &m->qp) != VK_SUCCESS) m->qp = VK_NULL_HANDLE;
+    }
     VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 512 * BUILD_BINDINGS};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
                                       .maxSets = 512,
@@ -1082,11 +1327,16 @@ void vx_conv_mesh_gpu_set_build(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_build mod
     if (mg) mg->build = mode;
 }
 
+void vx_conv_mesh_gpu_set_hash(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_hash hash) {
+    if (mg) mg->hash = hash;
+}
+
 void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* m) {
     if (!m) return;
     vkDeviceWaitIdle(m->g->device);
     for (int i = 0; i < B_COUNT; i++)
         if (m->buf[i].buf) vx__buffer_destroy(m->g, &m->buf[i]);
     if (m->pool) vkDestroyDescriptorPool(m->g->device, m->pool, NULL);
+    if (m->qp) vkDestroyQueryPool(m->g->device, m->qp, NULL);
     vx_free(m->alloc, m);
 }

@@ -62,6 +62,18 @@ typedef struct vx_conv_mesh_gpu_stats {
     uint32_t sort_passes, intern_passes;
     uint64_t node_slots, nodes, pool_words; /* the GPU build: parents made, distinct nodes, words downloaded */
     uint64_t rep_tuples; /* representatives' tuples that no cell has (interned on the GPU) */
+    uint64_t run_records; /* the block layout's attribute records, laid out on the GPU (0: by the CPU) */
+    uint64_t laid_words;  /* the models' node words laid out on the GPU (0: the CPU laid the blocks out) */
+    uint32_t layout_iterations; /* the GPU's block layout iterations (until one changed nothing) */
+    /* GPU seconds of the build's steps (timestamps; 0 without them), within
+     * build's wall time: [0] the levels (parents, collapse, hashes), [1]
+     * sharing (hash table, the check), [2] representatives interned, [3]
+     * the sort into pool order, [4] pool positions and words, [5] attribute
+     * runs, [6] the copy for the download, [7] the blocks. */
+    double build_gpu[8];
+    /* and of the voxelizer's: [0] count (with the uploads' copies), [1]
+     * emit, [2] sort, [3] reduce, [4] the tuples interned */
+    double vox_gpu[5];
     uint32_t levels;
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */
@@ -72,7 +84,8 @@ typedef struct vx_conv_mesh_gpu_stats {
 typedef enum vx_conv_mesh_gpu_build {
     VX_CONV_MESH_GPU_BUILD_GPU = 0, /* the GPU (node pools, meshbuild.comp); the CPU lays them out */
     VX_CONV_MESH_GPU_BUILD_CPU,     /* the CPU builders from the interned tuples */
-    VX_CONV_MESH_GPU_BUILD_CHECK    /* both: each region's CPU builder fails unless the GPU's pool is its own */
+    VX_CONV_MESH_GPU_BUILD_CHECK,   /* both: each region's CPU builder fails unless the GPU's pool is its own */
+    VX_CONV_MESH_GPU_BUILD_GPU_POOLS /* the GPU without the blocks: the CPU lays them out (for comparisons) */
 } vx_conv_mesh_gpu_build;
 
 /* gpu is borrowed: it must outlive the object. alloc may be NULL (malloc). */
@@ -83,6 +96,18 @@ const struct vx_conv_mesh_backend* vx_conv_mesh_gpu_backend(vx_conv_mesh_gpu* mg
 void vx_conv_mesh_gpu_last_stats(const vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_stats* out);
 /* Default VX_CONV_MESH_GPU_BUILD_GPU; the file is the same either way. */
 void vx_conv_mesh_gpu_set_build(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_build mode);
+/* For tests of the GPU build's hash tables: collisions forced. FEW_SLOTS
+ * starts every table probe in one of 8 slots (long probe chains; the
+ * result is exact and stays on the GPU); FEW_LABELS keeps 4 bits of the
+ * structural hash, so different subtrees hash alike: the GPU's check finds
+ * them and the CPU builders build (vx_conv_mesh_gpu_stats.build_fallback).
+ * The file is the same either way. */
+typedef enum vx_conv_mesh_gpu_hash {
+    VX_CONV_MESH_GPU_HASH_FULL = 0, /* the default */
+    VX_CONV_MESH_GPU_HASH_FEW_SLOTS,
+    VX_CONV_MESH_GPU_HASH_FEW_LABELS
+} vx_conv_mesh_gpu_hash;
+void vx_conv_mesh_gpu_set_hash(vx_conv_mesh_gpu* mg, vx_conv_mesh_gpu_hash hash);
 void vx_conv_mesh_gpu_destroy(vx_conv_mesh_gpu* mg);
 
 #ifdef __cplusplus

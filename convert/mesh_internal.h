@@ -23,6 +23,11 @@ typedef struct vx__mesh_region {
      * the builder takes these (vx__svo_build_interned) instead of hashing
      * the arrays above, which stay for other sinks. */
     vx__svo_interned interned;
+    /* The cells' box in the region (min inclusive, max exclusive) when the
+     * voxelizer knows it (the GPU build): the scene's bounds then need no
+     * pass over the model. */
+    bool has_box;
+    uint32_t box_min[3], box_max[3];
 } vx__mesh_region;
 
 /* A region handed to the sink, placed: zeroed, then its origin and size in

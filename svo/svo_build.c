@@ -62,6 +62,16 @@ typedef struct bld {
      * here; NULL when the layout runs after the build. */
     _Atomic size_t* pub;
     size_t laid; /* pool words already laid out */
+    /* The caller laid the attribute runs out (vx__svo_pool.runs): each
+     * node's N_BLOCK holds its run's first record until its block is laid
+     * out, the records are in place, the layout writes only blocks. */
+    bool runs_given;
+    /* The caller laid the blocks out too (vx__svo_pool.laid): the words are
+     * in place, root is the root's representative, laid_desc the
+     * descriptor words (vx_svo_build_stats.desc_dag). */
+    bool laid_given;
+    uint64_t laid_desc;
+    unsigned threads; /* threads the record arrays may be filled on (vx__svo_interned.threads; 0, 1: this one) */
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -987,7 +997,7 @@ static void lay_join(lay_job* j, bld* b, bool propagate) {
 /* The blocks of the nodes not laid out yet, then the root descriptor. */
 static bool layout(bld* b, outw* o) {
     uint32_t limit = b->limit;
-    if (!layout_nodes(b, o, &b->laid, b->npool, LAY_ALL)) return false;
+    if (!layout_nodes(b, o, &b->laid, b->npool, b->runs_given ? LAY_BLOCKS : LAY_ALL)) return false;
     /* the root descriptor goes last */
     const uint32_t* r = b->pool + b->root;
     uint32_t blk = r[N_BLOCK], hdr = r[N_HDR];
@@ -1000,6 +1010,51 @@ static bool layout(bld* b, outw* o) {
     return out_push(b, o, vx_svo_desc_make((uint32_t)(o->n - blk), false, hdr & 0xFFu, hdr >> 8));
 }
 
+enum { REC_CHUNK = 1 << 15 };
+
+/* body(ctx, lo, hi) over [0, n) in chunks of REC_CHUNK, on b's threads
+ * when n is large (the GPU path's big regions), else on this one. */
+typedef struct par_job {
+    void (*body)(void* ctx, size_t lo, size_t hi);
+    void* ctx;
+    size_t n;
+} par_job;
+static void par_chunk(void* arg, uint32_t c) {
+    par_job* j = (par_job*)arg;
+    size_t lo = (size_t)c * REC_CHUNK, hi = lo + REC_CHUNK < j->n ? lo + REC_CHUNK : j->n;
+    j->body(j->ctx, lo, hi);
+}
+static void par_for(const bld* b, size_t n, void (*body)(void* ctx, size_t lo, size_t hi), void* ctx) {
+    if (b->threads > 1 && n >= ((size_t)1 << 17) && (n + REC_CHUNK - 1) / REC_CHUNK <= UINT32_MAX) {
+        par_job j = {body, ctx, n};
+        vx__svo_run_jobs(b->threads, (uint32_t)((n + REC_CHUNK - 1) / REC_CHUNK), par_chunk, &j);
+    } else if (n) {
+        body(ctx, 0, n);
+    }
+}
+/* The record arrays of the model from o's record ids. */
+typedef struct rec_fill {
+    const bld* b;
+    const outw* o;
+    vx_svo_model* m;
+} rec_fill;
+static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
+    const rec_fill* f = (const rec_fill*)ctx;
+    const bld* b = f->b;
+    vx_svo_model* m = f->m;
+    for (size_t i = lo; i < hi; i++) {
+        rec dv;
+        const rec* r = &dv;
+        if (b->direct) rec_from_value(b->attrs, f->o->ids[i], &dv);
+        else r = &b->recs[f->o->ids[i]];
+        if (m->palette) m->palette[i] = r->palette;
+        if (m->rgba) m->rgba[i] = r->rgba;
+        if (m->normal) m->normal[i] = r->normal;
+        if (m->material) m->material[i] = r->material;
+        if (m->density) m->density[i] = r->density;
+    }
+}
+
 /* The output side shared by the builder and the .svo reader (vx__svo_unpack):
  * lays out the pool (unless the root is a leaf or the model is empty), picks
  * root_attr and fills m's words and record arrays. On failure m owns nothing
@@ -1009,6 +1064,9 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
         uint32_t root_rec;
         if (b->root_is_leaf) {
             m->root = VX_SVO_ROOT_LEAF;
+            root_rec = b->root;
+        } else if (b->laid_given) {
+            m->root = (uint32_t)(o->n - 1);
             root_rec = b->root;
         } else {
             if (!layout(b, o)) return false;
@@ -1040,21 +1098,77 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
         return false;
     }
-    for (size_t i = 0; i < na; i++) {
-        rec dv;
-        const rec* r = &dv;
-        if (b->direct) rec_from_value(b->attrs, o->ids[i], &dv);
-        else r = &b->recs[o->ids[i]];
-        if (m->palette) m->palette[i] = r->palette;
-        if (m->rgba) m->rgba[i] = r->rgba;
-        if (m->normal) m->normal[i] = r->normal;
-        if (m->material) m->material[i] = r->material;
-        if (m->density) m->density[i] = r->density;
-    }
+    rec_fill f = {b, o, m};
+    par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
     return true;
 }
 
 /* ---- a tree built by the caller (vx__svo_interned.pool) ------------------------------------- */
+
+/* The records of the caller's attribute runs (vx__svo_pool.runs): tuple
+ * ids in range, as values when direct. */
+typedef struct rec_take {
+    const bld* b;
+    const uint32_t* in;
+    uint32_t* out;
+    atomic_bool bad;
+} rec_take;
+static void rec_take_range(void* ctx, size_t lo, size_t hi) {
+    rec_take* t = (rec_take*)ctx;
+    const bld* b = t->b;
+    bool bad = false;
+    for (size_t k = lo; k < hi; k++) {
+        uint32_t id = t->in[k];
+        bad = bad || id >= b->nrec;
+        t->out[k] = id >= b->nrec ? 0 : b->direct ? rec_value(b->attrs, &b->recs[id]) : id;
+    }
+    if (bad) atomic_store(&t->bad, true);
+}
+static bool records_take(bld* b, const vx__svo_pool* p, outw* o) {
+    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, p->nrecs ? p->nrecs : 1, sizeof *o->ids)) return oom(b, "records");
+    rec_take t = {b, p->recs, o->ids, false};
+    par_for(b, p->nrecs, rec_take_range, &t);
+    if (atomic_load(&t.bad)) {
+        size_t k = 0;
+        while (p->recs[k] < b->nrec) k++;
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: pool record %zu: tuple %u of %zu", k, p->recs[k],
+                          b->nrec);
+        return false;
+    }
+    o->nid = p->nrecs;
+    b->runs_given = true;
+    return true;
+}
+
+/* The caller's laid-out blocks (vx__svo_pool.laid): the model's words and
+ * records as given; the builder keeps only the root's record. */
+static bool laid_take(bld* b, const vx__svo_pool* p, outw* o) {
+    if (!b->attrs || !b->dag || !p->reps || !p->runs || !p->laid_count || p->laid_count >= 0xFFFFFFF0u || b->limit != VX__SVO_PTR_MAX ||
+        p->nrecs >= 0x0FFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                          "svo build: blocks laid out by the caller need attributes, the DAG, given runs and near pointers up to %u",
+                          VX__SVO_PTR_MAX);
+        return false;
+    }
+    if (p->root_rep >= b->nrec || p->root_leaf) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: laid-out blocks with root tuple %u of %zu", p->root_rep,
+                          b->nrec);
+        return false;
+    }
+    if (!records_take(b, p, o)) return false;
+    if (!vx_grow(b->a, (void**)&o->w, &o->cap, p->laid_count + 2, sizeof *o->w)) return oom(b, "node words");
+    memcpy(o->w, p->laid, p->laid_count * sizeof *o->w);
+    o->n = p->laid_count;
+    o->far = p->laid_far;
+    b->laid_given = true;
+    b->laid_desc = p->laid_desc;
+    b->have_root = true;
+    b->root_is_leaf = false;
+    b->root = b->direct ? rec_value(b->attrs, &b->recs[p->root_rep]) : p->root_rep;
+    b->root_plain = p->plain;
+    b->ncollapsed = p->collapsed;
+    return true;
+}
 
 /* Takes the caller's pool (the streaming pass's nodes, in its order): each
  * node checked (masks, children in range, node children earlier nodes), its
@@ -1091,9 +1205,21 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
         vx_grow(b->a, (void**)&o->ids, &o->capid, cnt, sizeof *o->ids);
     }
+    /* the attribute runs laid out by the caller: the records as given (in
+     * range; each node's run checked against its children below) */
+    bool runs = p->runs && p->reps && b->attrs && b->dag && p->nrecs < 0x0FFFFFF0u && cnt;
+    if (runs && !records_take(b, p, o)) {
+        vx_free(b->a, isnode);
+        return false;
+    }
     if (thread && cnt) {
         b->pub = NULL;
-        lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
+        if (!runs) {
+            lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
+        } else {
+            atomic_init(&lj->done, 0);
+            if (lay_thread(lj, b, o, NULL, LAY_BLOCKS)) b->pub = &lj->pub;
+        }
     }
     const uint32_t* w = p->words;
     size_t off = 0;
@@ -1149,10 +1275,22 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
                 break;
             }
         }
+        uint32_t blk = NO_BLOCK;
+        if (runs) { /* the node's run: its records are its children's tuples */
+            blk = w[off + N_BLOCK];
+            bool same = blk <= p->nrecs && p->nrecs - blk >= nk;
+            for (unsigned k = 0; same && k < nk; k++) same = o->ids[blk + k] == ids[k];
+            if (!same) {
+                b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                  "svo build: pool node at word %zu: run at record %u is not its children's", off, blk);
+                ok = false;
+                break;
+            }
+        }
         uint32_t* n = b->pool + off;
         n[N_HDR] = hdr;
         n[N_REP] = rep;
-        n[N_BLOCK] = NO_BLOCK;
+        n[N_BLOCK] = blk;
         memcpy(n + N_KIDS, kids, nk * sizeof *kids);
         isnode[off >> 3] |= (uint8_t)(1u << (off & 7u));
         off += N_KIDS + nk;
@@ -1238,6 +1376,34 @@ static bool pool_check(bld* b, const vx__svo_pool* p) {
     return true;
 }
 
+/* The caller's attribute runs (vx__svo_pool.runs) against the builder's
+ * own layout: the same records, and each node's run at the same first
+ * record (the last word of the node's block, m's words). */
+static bool runs_check(bld* b, const outw* o, const vx_svo_model* m, const vx__svo_pool* p) {
+    if (!b->attrs || !b->dag || !p->reps) return true;
+    const char* what = NULL;
+    size_t at = 0;
+    if (o->nid < p->nrecs || o->nid > p->nrecs + 1) what = "record count";
+    for (size_t k = 0; !what && k < p->nrecs; k++) {
+        uint32_t id = p->recs[k], mine = o->ids[k];
+        if (id >= b->nrec || (b->direct ? rec_value(b->attrs, &b->recs[id]) : id) != mine) what = "record", at = k;
+    }
+    for (size_t off = 0; !what && off < b->npool && off < p->count;) {
+        const uint32_t* n = b->pool + off;
+        uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
+        uint32_t blk = n[N_BLOCK], nn = vx__popc8(valid & ~leaf);
+        if (blk == NO_BLOCK || (size_t)blk + nn >= m->node_count || m->nodes[blk + nn] != p->words[off + N_BLOCK])
+            what = "node's run", at = off;
+        off += N_KIDS + vx__popc8(valid);
+    }
+    if (what) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given attribute runs differ from the builder's: %s at %zu",
+                          what, at);
+        return false;
+    }
+    return true;
+}
+
 /* ---- entry point ---------------------------------------------------------------------------- */
 
 static const char* attr_name(uint32_t bit) {
@@ -1281,6 +1447,16 @@ vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_vox
 }
 
 /* pre: the tuples interned by the caller (vx__svo_build_interned), else NULL. */
+/* The caller's distinct tuples as b's records (masked to its channels). */
+typedef struct tab_copy {
+    bld* b;
+    const vx__svo_rec* tab;
+} tab_copy;
+static void tab_copy_range(void* ctx, size_t lo, size_t hi) {
+    tab_copy* t = (tab_copy*)ctx;
+    for (size_t j = lo; j < hi; j++) t->b->recs[j] = rec_masked(&t->tab[j], t->b->attrs);
+}
+
 static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                        vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     vx_svo_build_desc d;
@@ -1328,6 +1504,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
+    b.threads = pre ? pre->threads : 0;
     vx_svo_build_stats st;
     memset(&st, 0, sizeof st);
     st.input_voxels = in->count;
@@ -1379,7 +1556,8 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu records", pre->count);
                 goto done;
             }
-            for (size_t j = 0; j < pre->count; j++) b.recs[j] = rec_masked(&pre->tab[j], b.attrs);
+            tab_copy tc = {&b, pre->tab};
+            par_for(&b, pre->count, tab_copy_range, &tc);
             b.nrec = pre->count;
         }
         /* interned by the caller: tuple j gets id j, once; the tables sized
@@ -1480,6 +1658,10 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
                 goto done;
             }
             st.voxels = n;
+            if (pre->pool->laid) {
+                if (!laid_take(&b, pre->pool, &o)) { res = b.fail; goto done; }
+                goto built;
+            }
             if (!pool_take(&b, pre->pool, pre->layout_thread, &lj, &lj2, &o)) { res = b.fail; goto done; }
             lay_join(&lj, &b, true); /* the runs stage first: the blocks stage follows it */
             lay_join(&lj2, &b, true);
@@ -1625,6 +1807,23 @@ built:
     st.desc_plain = b.root_plain;
     st.desc_collapsed = b.ncollapsed;
     if (!finish_model(&b, &o, &m, false)) { res = b.fail; goto done; }
+    if (pre && pre->pool && pre->check_pool && pre->pool->laid &&
+        (m.node_count != pre->pool->laid_count || memcmp(m.nodes, pre->pool->laid, (size_t)m.node_count * 4) ||
+         o.far != pre->pool->laid_far)) {
+        size_t at = 0;
+        while (at < m.node_count && at < pre->pool->laid_count && m.nodes[at] == pre->pool->laid[at]) at++;
+        res = b.fail = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                               "svo build: the given blocks differ from the builder's at word %zu (%u words against %zu, far %llu against %llu)",
+                               at, m.node_count, pre->pool->laid_count, (unsigned long long)o.far,
+                               (unsigned long long)pre->pool->laid_far);
+        vx_svo_model_free(b.a, &m);
+        goto done;
+    }
+    if (pre && pre->pool && pre->check_pool && pre->pool->runs && !runs_check(&b, &o, &m, pre->pool)) {
+        vx_svo_model_free(b.a, &m);
+        res = b.fail;
+        goto done;
+    }
     st.far_pointers = o.far;
     m.voxel_count = st.voxels;
     goto finish;
@@ -1636,7 +1835,9 @@ finish:
     {
         /* descriptor words written: one per non-leaf child of a stored node, plus the root */
         uint64_t ndesc = 0;
-        if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
+        if (b.laid_given) {
+            ndesc = b.laid_desc;
+        } else if (m.root != VX_SVO_ROOT_EMPTY && m.root != VX_SVO_ROOT_LEAF) {
             size_t off = 0;
             ndesc = 1;
             while (off < b.npool) {
@@ -1647,6 +1848,12 @@ finish:
         }
         /* with the DAG off this equals desc_collapsed: each node has one parent */
         st.desc_dag = ndesc;
+        if (pre && pre->pool && pre->check_pool && pre->pool->laid && ndesc != pre->pool->laid_desc) {
+            res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: the given blocks' descriptors: %llu against %llu",
+                          (unsigned long long)pre->pool->laid_desc, (unsigned long long)ndesc);
+            vx_svo_model_free(b.a, &m);
+            goto done;
+        }
         st.attr_records = m.attr_count;
         unsigned rb = 0;
         if (b.attrs & VX_ATTR_PALETTE) rb += 1;

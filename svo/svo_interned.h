@@ -46,6 +46,26 @@ typedef struct vx__svo_pool {
      * vx__svo_rec_mean, computed by the caller) and the tuples are all in
      * vx__svo_interned.tab, distinct: the builder then hashes nothing. */
     bool reps;
+    /* With reps: the block layout's attribute runs laid out by the caller
+     * as the layout does (each node's run of its children's tuple ids over
+     * valid, shared as run_intern shares it, svo/svo_build.c): word [2] of
+     * each node is its run's first record, recs the records (tuple ids,
+     * nrecs of them). The builder then lays out only the blocks. */
+    bool runs;
+    const uint32_t* recs;
+    size_t nrecs;
+    /* With runs: the blocks laid out by the caller too, as the layout lays
+     * them out (near pointers up to VX__SVO_PTR_MAX, far words, the reuse
+     * window of lone records): laid holds the model's node words (root
+     * descriptor last; laid_count of them, laid_far far pointers among them,
+     * laid_desc descriptor words as vx_svo_build_stats.desc_dag counts
+     * them), root_rep the root's representative (a tuple id). The builder
+     * then only fills the records; words and count may be left out (NULL,
+     * 0) unless check_pool, which also compares laid with its own words. */
+    const uint32_t* laid;
+    size_t laid_count;
+    uint64_t laid_far, laid_desc;
+    uint32_t root_rep;
 } vx__svo_pool;
 
 /* Entries whose tuples the caller has already interned (the GPU voxelizer,
@@ -68,7 +88,8 @@ typedef struct vx__svo_interned {
      * NULL, count only). With
      * check_pool it builds the tree itself as well and fails (naming the
      * first node that differs, and its height) unless pool is its own pool
-     * word for word: the test of the caller's build. */
+     * word for word, and with pool->runs unless the runs are its layout's:
+     * the test of the caller's build. */
     const vx__svo_pool* pool;
     bool check_pool;
 } vx__svo_interned;

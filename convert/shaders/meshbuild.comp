@@ -1,4 +1,7 @@
 #version 450
+#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 /* convert/shaders/meshbuild.comp - each region's octree built on the GPU
  * from its sorted cells (Morton order, tuples interned by meshintern.comp):
  * the node pool that the CPU builder's streaming pass (svo/svo_build.c,
@@ -47,10 +50,47 @@
  *   its representative's slot, found or claimed; MODE 15: claimed slots get
  *   new ids (counted per region); MODE 16 (one invocation): each region's
  *   first new tuple; MODE 17: the representative ids (into the region's
- *   tuples, then its new ones), the new tuples written to ext. */
+ *   tuples, then its new ones), the new tuples written to ext.
+ * The attribute runs of the block layout (svo_build.c, run_intern), per
+ * node in pool order (sorted index i): its run is its children's tuple ids
+ * over valid (a node child's representative). The CPU layout stores a run
+ * at its first occurrence and points later equal runs there; a uniform run
+ * (n copies of v, n < 8) instead takes the longest uniform run of v stored
+ * before it. Stored uniform lengths of v only grow, so that is the first
+ * occurrence of (v, M), M the longest uniform run of v at or before i: with
+ * first(run) = its least node, target = first of the exact run, or for a
+ * uniform run first(v, M) over M = the largest L with first(v, L) <= i.
+ * Node i stores its run iff target == i; run starts are the prefix sums of
+ * the stored lengths.
+ *   MODE 18 (per node): the run table (first slot claimed per run and
+ *           region; the least node there). MODE 19: target, pos[i] = the
+ *           records stored, each region's first node. MODE 20 (after the
+ *           scan): pool word 2 = the target's first record (region-relative),
+ *           the stored runs' ids written to rids; each region's first record.
+ * The blocks (svo_build.c, layout_nodes): in pool order each node's block
+ * is [far words][a descriptor per node child][its run's first record]; a
+ * node without node children (a lone record) reuses the last copy of its
+ * block while it is less than limit - 64 words back; a child beyond the
+ * near-pointer limit gets a far word (a fixpoint: each far word moves the
+ * descriptors). Each node's block depends only on earlier nodes (its
+ * position, its children's blocks, earlier copies), so the decisions form
+ * a triangular system with one solution, the sequential layout's; the GPU
+ * iterates it (Jacobi: positions as prefix sums of the sizes, then every
+ * node's decision from them) until an iteration changes nothing, which is
+ * then that solution (else the CPU lays the blocks out).
+ *   MODE 21 (per node): block size guessed (no far word, no reuse); a lone
+ *           record's sort key (its run's global first record), else none.
+ *   MODE 23: pos[i] = size (for the scan). MODE 24 (per node with node
+ *           children): its far words and block from the positions.
+ *   MODE 25 (per group of lone records with one key, sorted): reuse or a
+ *           new copy, in pool order. misc[1]: something changed.
+ *   MODE 26 (per node with a block): its words. MODE 22 (per region):
+ *           pc.level 0 clears its counts, 1 writes the root descriptor. */
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0;
-layout(push_constant) uniform Push { uint n, level, base, mask, attrs; } pc; /* attrs: 1 rgba, 2 normal, 4 material */
+/* attrs: 1 rgba, 2 normal, 4 material; smask, lmask: the bits kept of every table's first slot and of the
+ * structural hash (all but in tests, vx_conv_mesh_gpu_set_hash: forced collisions) */
+layout(push_constant) uniform Push { uint n, level, base, mask, attrs, smask, lmask; } pc;
 
 layout(std430, binding = 0) readonly buffer OKeys { uvec2 okeys[]; }; /* (local | brick << 18, brick >> 14) */
 layout(std430, binding = 1) readonly buffer Ids { uint ids[]; };      /* global tuple id per cell */
@@ -63,16 +103,27 @@ layout(std430, binding = 7) buffer Pos { uint pos[]; };
 layout(std430, binding = 8) buffer Start { uint start[]; };
 layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
 layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
-layout(std430, binding = 11) buffer Misc { uint misc[]; }; /* [0]: a node differs from its canonical one; [4 + r]: region r's cells */
+/* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something;
+ * [4 + r]: region r's cells; [4 + R + 6 r]: their box (MODE 0) */
+layout(std430, binding = 11) buffer Misc { uint misc[]; };
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 13) buffer Vals { uint vals[]; };
-layout(std430, binding = 14) writeonly buffer Pool { uint pool[]; };
+layout(std430, binding = 14) buffer Pool { uint pool[]; };
 layout(std430, binding = 15) buffer RBase { uint rbase[]; }; /* per region: its first pool word (0xFFFFFFFF: no node) */
 layout(std430, binding = 16) buffer NRep { uvec4 nrep[]; };   /* per node slot: its representative (rgba, normal, material), id */
 layout(std430, binding = 17) readonly buffer UTab { uvec4 utab[]; }; /* per tuple id: rgba, normal, material, region */
 layout(std430, binding = 18) buffer TTab { uvec2 ttab[]; };   /* tuple table: (code, id); code < pc.base: a cell tuple, else a node */
 layout(std430, binding = 19) buffer RNew { uint rnew[]; };    /* per region: new tuples; [R + r]: their first index in ext */
 layout(std430, binding = 20) writeonly buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region */
+layout(std430, binding = 21) buffer RTab { uvec2 rtab[]; };    /* attribute runs: (claimed by node, least node) */
+layout(std430, binding = 22) buffer RNode { uvec2 rnode[]; };  /* per node in pool order: its run's slot, target node */
+layout(std430, binding = 23) writeonly buffer RIds { uint rids[]; }; /* the stored runs' tuple ids, region by region */
+/* per region r: [2r] (first node in pool order, first record, last node, the root's representative),
+ * [2r + 1] (its laid-out words' first index, their count, far pointers, descriptor words) */
+layout(std430, binding = 24) buffer RFirst { uvec4 rfirst[]; };
+/* per node in pool order: its block's words, and for a lone record the node whose copy it reuses (itself
+ * when it writes one): the decisions; positions always follow from them (block_at) */
+layout(std430, binding = 25) buffer Lay { uvec2 lay[]; };
 
 uint fmix(uint h) {
     h ^= h >> 16;
@@ -191,6 +242,93 @@ uvec4 tuple_of(uint code) { /* (tuple, region) of a table code */
     return uvec4(nrep[q].xyz, nodes[4u * q].y);
 }
 
+/* ---- the attribute runs ---- */
+
+/* Node i's (pool order) run: its children's tuple ids over valid; its region. */
+uint run_of(uint i, out uint v[8], out uint r) {
+    uint q = vals[i];
+    uvec4 n0 = nodes[4u * q];
+    r = n0.y;
+    uint at = nodes[4u * q + 1u].z, b = rbase[r];
+    uint valid = n0.x & 0xFFu, leaf = n0.x >> 8, k = 0u;
+    for (uint o = 0u; o < 8u; o++) v[o] = 0u;
+    for (uint o = 0u; o < 8u; o++) {
+        if ((valid >> o & 1u) == 0u) continue;
+        uint ref = pool[at + 3u + k];
+        v[k] = (leaf >> o & 1u) != 0u ? ref : pool[b + ref + 1u];
+        k++;
+    }
+    return k;
+}
+uint run_hash(uint v[8], uint n, uint r) {
+    uint h = fmix(n * 0x9E3779B1u ^ r * 0x85EBCA77u);
+    for (uint k = 0u; k < n; k++) h = fmix(h ^ (v[k] * 0x27D4EB2Fu + k));
+    return h;
+}
+bool run_is(uint c, uint v[8], uint n, uint r) {
+    uint w[8], rc;
+    if (run_of(c, w, rc) != n || rc != r) return false;
+    for (uint k = 0u; k < n; k++)
+        if (w[k] != v[k]) return false;
+    return true;
+}
+/* The least node whose run is L copies of v in region r (0xFFFFFFFF: none). */
+uint uniform_first(uint v, uint L, uint r) {
+    uint w[8];
+    for (uint k = 0u; k < 8u; k++) w[k] = v;
+    uint j = run_hash(w, L, r) & pc.smask & pc.mask;
+    for (;;) {
+        uint cur = rtab[j].x;
+        if (cur == 0xFFFFFFFFu) return 0xFFFFFFFFu;
+        if (run_is(cur, w, L, r)) return rtab[j].y;
+        j = (j + 1u) & pc.mask;
+    }
+}
+
+/* ---- the blocks ---- */
+
+uint desc_make(uint ptr, bool far, uint hdr) { return (ptr << 17) | (far ? 0x10000u : 0u) | ((hdr & 0xFFu) << 8) | (hdr >> 8); }
+/* Node k's block position (region-relative) under the current decisions
+ * and the positions scanned from them: after its far words, or a lone
+ * record's copy. */
+uint block_at(uint k) {
+    uvec2 l = lay[k];
+    uint q = vals[k], hdr = nodes[4u * q].x, nn = bitCount((hdr & 0xFFu) & ~(hdr >> 8));
+    uint base = pos[rfirst[2u * nodes[4u * q].y].x];
+    if (nn == 0u) return pos[l.x != 0u ? k : l.y] - base;
+    return pos[k] - base + (l.x - nn - 1u);
+}
+/* The node children of node slot q: their blocks' positions cb and headers cd, in octant order. */
+uint node_kids(uint q, out uint cb[8], out uint cd[8]) {
+    uint hdr = nodes[4u * q].x, valid = hdr & 0xFFu, leaf = hdr >> 8, j = 0u, nn = 0u;
+    for (uint o = 0u; o < 8u; o++) cb[o] = 0u, cd[o] = 0u;
+    for (uint o = 0u; o < 8u; o++) {
+        if ((valid >> o & 1u) == 0u) continue;
+        if ((leaf >> o & 1u) == 0u) {
+            uint c = nodes[4u * node_at(q, j)].w; /* the canonical slot */
+            cb[nn] = block_at(nodes[4u * c + 1u].w);
+            cd[nn] = nodes[4u * c].x;
+            nn++;
+        }
+        j++;
+    }
+    return nn;
+}
+/* layout_nodes' far-slot fixpoint for a block at cur: far[k] as bits. */
+uint far_slots(uint cur, uint cb[8], uint nn, out uint nfar) {
+    uint fb = 0u;
+    nfar = 0u;
+    for (int it = 0; it < 10; it++) {
+        uint cnt = 0u;
+        fb = 0u;
+        for (uint k = 0u; k < nn; k++)
+            if ((cur + nfar + k) - cb[k] > pc.mask) fb |= 1u << k, cnt++;
+        if (cnt == nfar) break;
+        nfar = cnt;
+    }
+    return fb;
+}
+
 void main() {
     uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
     if (i >= pc.n) return;
@@ -204,6 +342,24 @@ void main() {
         itout[2u * i] = uvec4(key, bi.z | 0x80000000u, rid);
         itout[2u * i + 1u] = uvec4(i, lab, 0u);
         atomicAdd(misc[4u + bi.z], 1u); /* the region's cells (the host may not download them) */
+        /* and their box (the scene's bounds then need no pass over the models): per region at
+         * misc[4 + R + 6 r] the largest ~x, ~y, ~z and x + 1, y + 1, z + 1 (R = pc.base), one
+         * atomic per subgroup where its cells are of one region */
+        uint c[3] = {0u, 0u, 0u};
+        for (uint b = 0u; b < 21u; b++)
+            for (uint a = 0u; a < 3u; a++) {
+                uint p = 3u * b + a;
+                c[a] |= (p < 32u ? (key.x >> p) & 1u : (key.y >> (p - 32u)) & 1u) << b;
+            }
+        uint e = 4u + pc.base + 6u * bi.z;
+        if (subgroupAllEqual(bi.z)) {
+            uint v[6] = {subgroupMax(~c[0]), subgroupMax(~c[1]), subgroupMax(~c[2]), subgroupMax(c[0] + 1u), subgroupMax(c[1] + 1u),
+                         subgroupMax(c[2] + 1u)};
+            if (subgroupElect())
+                for (uint a = 0u; a < 6u; a++) atomicMax(misc[e + a], v[a]);
+        } else {
+            for (uint a = 0u; a < 3u; a++) atomicMax(misc[e + a], ~c[a]), atomicMax(misc[e + 3u + a], c[a] + 1u);
+        }
     } else if (MODE == 1u) {
         uvec4 a = itin[2u * i];
         uint r = a.z & 0x7FFFFFFFu;
@@ -275,6 +431,7 @@ void main() {
                 h = hmix(h, lab[o] ^ uvec2(o, o << 16));
                 c[n++] = kid[o];
             }
+        h &= uvec2(pc.lmask);
         uint q = pc.base + i;
         nodes[4u * q] = uvec4(hdr, r, last << 5 | pc.level, 0u);
         nodes[4u * q + 1u] = uvec4(h, 0u, 0u);
@@ -287,7 +444,7 @@ void main() {
         uvec4 n0 = nodes[4u * i];
         if ((n0.x & 0xFFu) == 0u) return;
         uvec2 h = nodes[4u * i + 1u].xy;
-        uint j = fmix(h.x ^ n0.y) & pc.mask;
+        uint j = fmix(h.x ^ n0.y) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(tab[j].x, 0xFFFFFFFFu, i);
             if (cur == 0xFFFFFFFFu || (nodes[4u * cur + 1u].xy == h && nodes[4u * cur].y == n0.y)) break;
@@ -334,6 +491,7 @@ void main() {
     } else if (MODE == 10u) {
         uint q = vals[i];
         nodes[4u * q + 1u].z = pos[i];
+        nodes[4u * q + 1u].w = i; /* its index in pool order (the table slot is no longer needed) */
         uint r = nodes[4u * q].y;
         if (i == 0u || nodes[4u * vals[i - 1u]].y != r) rbase[r] = pos[i];
     } else if (MODE == 11u) {
@@ -352,7 +510,7 @@ void main() {
         }
     } else if (MODE == 13u) { /* per cell tuple (pc.base of them): its slot, its id */
         uvec4 t = utab[i];
-        uint j = thash(t.xyz, t.w) & pc.mask;
+        uint j = thash(t.xyz, t.w) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, i);
             if (cur == 0xFFFFFFFFu) break;
@@ -363,7 +521,7 @@ void main() {
         uvec4 n0 = nodes[4u * i];
         if ((n0.x & 0xFFu) == 0u || n0.w != i) return;
         uvec3 t = nrep[i].xyz;
-        uint code = pc.base + i, j = thash(t, n0.y) & pc.mask;
+        uint code = pc.base + i, j = thash(t, n0.y) & pc.smask & pc.mask;
         for (;;) {
             uint cur = atomicCompSwap(ttab[j].x, 0xFFFFFFFFu, code);
             if (cur == 0xFFFFFFFFu) break;
@@ -394,6 +552,109 @@ void main() {
             if (ttab[j].x == pc.base + i) ext[rnew[pc.level + n0.y] + k] = uvec4(nrep[i].xyz, n0.y);
         }
         nrep[i].w = id;
+    } else if (MODE == 18u) { /* per node in pool order: its run in the table */
+        uint v[8], r;
+        uint n = run_of(i, v, r), j = run_hash(v, n, r) & pc.smask & pc.mask;
+        for (;;) {
+            uint cur = atomicCompSwap(rtab[j].x, 0xFFFFFFFFu, i);
+            if (cur == 0xFFFFFFFFu || run_is(cur, v, n, r)) break;
+            j = (j + 1u) & pc.mask;
+        }
+        rnode[i].x = j;
+        atomicMin(rtab[j].y, i);
+    } else if (MODE == 19u) { /* the run's target; the records node i stores */
+        uint v[8], r;
+        uint n = run_of(i, v, r), t = rtab[rnode[i].x].y;
+        bool uni = true;
+        for (uint k = 1u; k < n; k++) uni = uni && v[k] == v[0];
+        for (uint L = n + 1u; uni && L <= 8u; L++) { /* the longest uniform run of v so far */
+            uint f = uniform_first(v[0], L, r);
+            if (f < i) t = f;
+        }
+        rnode[i].y = t;
+        pos[i] = t == i ? n : 0u;
+        if (i == 0u || nodes[4u * vals[i - 1u]].y != r) rfirst[2u * r].x = i;
+        if (i + 1u == pc.n || nodes[4u * vals[i + 1u]].y != r) rfirst[2u * r].z = i;
+    } else if (MODE == 20u) { /* after pos's scan: the node's first record into pool word 2, the stored ids */
+        uint q = vals[i], r = nodes[4u * q].y, f = rfirst[2u * r].x, t = rnode[i].y, base = pos[f];
+        pool[nodes[4u * q + 1u].z + 2u] = pos[t] - base;
+        if (i == f) rfirst[2u * r].y = base;
+        if (t == i) {
+            uint v[8], rr;
+            uint n = run_of(i, v, rr);
+            for (uint k = 0u; k < n; k++) rids[pos[i] + k] = v[k];
+        }
+    } else if (MODE == 21u) { /* the blocks' first guess; lone records keyed for the sort */
+        uint q = vals[i], r = nodes[4u * q].y, hdr = nodes[4u * q].x;
+        uint nn = bitCount((hdr & 0xFFu) & ~(hdr >> 8));
+        lay[i] = uvec2(nn + 1u, nn == 0u ? i : 0u);
+        keys[i] = uvec2(nn == 0u ? rfirst[2u * r].y + pool[nodes[4u * q + 1u].z + 2u] : 0xFFFFFFFFu, 0u);
+        start[i] = i;
+    } else if (MODE == 23u) {
+        pos[i] = lay[i].x;
+    } else if (MODE == 24u) { /* a node with node children: its far words from the positions */
+        uint q = vals[i], r = nodes[4u * q].y, cb[8], cd[8];
+        uint nn = node_kids(q, cb, cd);
+        if (nn == 0u) return;
+        uint cur = pos[i] - pos[rfirst[2u * r].x], nfar;
+        far_slots(cur, cb, nn, nfar);
+        uvec2 nw = uvec2(nfar + nn + 1u, 0u);
+        if (lay[i] != nw) {
+            lay[i] = nw;
+            misc[1] = 1u;
+        }
+    } else if (MODE == 25u) { /* a group of lone records with one run, in pool order: reuse or a new copy */
+        uint key = keys[i].x;
+        if (key == 0xFFFFFFFFu || (i > 0u && keys[i - 1u].x == key)) return;
+        uint last = 0u, lk = 0u;
+        bool any = false;
+        for (uint t = i; t < pc.n && keys[t].x == key; t++) {
+            uint k = start[t], p = pos[k];
+            uvec2 nw;
+            if (any && p - last + 64u < pc.mask) {
+                nw = uvec2(0u, lk);
+            } else {
+                last = p, lk = k, any = true;
+                nw = uvec2(1u, k);
+            }
+            if (lay[k] != nw) {
+                lay[k] = nw;
+                misc[1] = 1u;
+            }
+        }
+    } else if (MODE == 26u) { /* the block's words: far words, descriptors, the run's first record */
+        uvec2 l = lay[i];
+        if (l.x == 0u) return;
+        uint q = vals[i], r = nodes[4u * q].y, cb[8], cd[8];
+        uint nn = node_kids(q, cb, cd), base = pos[rfirst[2u * r].x], cur = pos[i] - base, ob = base + 2u * r, nfar;
+        uint fb = far_slots(cur, cb, nn, nfar), w = ob + cur, fi = 0u, bstart = cur + nfar;
+        for (uint k = 0u; k < nn; k++)
+            if ((fb >> k & 1u) != 0u) rids[w++] = cb[k];
+        for (uint k = 0u; k < nn; k++) {
+            uint at = bstart + k;
+            rids[ob + at] = (fb >> k & 1u) != 0u ? desc_make(at - (cur + fi++), true, cd[k]) : desc_make(at - cb[k], false, cd[k]);
+        }
+        rids[ob + bstart + nn] = pool[nodes[4u * q + 1u].z + 2u];
+        if (nfar != 0u) atomicAdd(rfirst[2u * r + 1u].z, nfar);
+        if (nn != 0u) atomicAdd(rfirst[2u * r + 1u].w, nn); /* descriptor words */
+    } else if (MODE == 22u) { /* per region: counts cleared (level 0), the root descriptor (level 1) */
+        uint f = rfirst[2u * i].x;
+        if (f == 0xFFFFFFFFu) return;
+        if (pc.level == 0u) {
+            rfirst[2u * i + 1u] = uvec4(0u);
+            return;
+        }
+        uint last = rfirst[2u * i].z, base = pos[f], ob = base + 2u * i, W = pos[last] + lay[last].x - base, blk = block_at(last);
+        uint q = vals[last], hdr = nodes[4u * q].x, far = rfirst[2u * i + 1u].z, nd = rfirst[2u * i + 1u].w + 1u;
+        rfirst[2u * i].w = pool[nodes[4u * q + 1u].z + 1u]; /* the root's representative */
+        if (W - blk > pc.mask) {
+            rids[ob + W] = blk;
+            rids[ob + W + 1u] = desc_make(1u, true, hdr);
+            rfirst[2u * i + 1u] = uvec4(ob, W + 2u, far + 1u, nd);
+        } else {
+            rids[ob + W] = desc_make(W - blk, false, hdr);
+            rfirst[2u * i + 1u] = uvec4(ob, W + 1u, far, nd);
+        }
     } else if (MODE == 12u) {
         uvec4 ro = rout[i];
         if (ro.y == 0u && rbase[i] != 0xFFFFFFFFu) rout[i].x = nodes[4u * nodes[4u * ro.x].w + 1u].z - rbase[i];

@@ -46,6 +46,13 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
     size_t na = 0, nb = 0;
     int ok = vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK &&
              na == nb && memcmp(da, db, na) == 0;
+    /* the scene's bounds (the GPU path's from the cells' boxes, the CPU path's from a pass over each model) */
+    if (ok && (memcmp(a.bounds_min, b.bounds_min, sizeof a.bounds_min) || memcmp(a.bounds_max, b.bounds_max, sizeof a.bounds_max))) {
+        fprintf(stderr, "  %s res %u region %u: bounds (%g %g %g)-(%g %g %g), the CPU path's (%g %g %g)-(%g %g %g)\n", what, res,
+                region, b.bounds_min[0], b.bounds_min[1], b.bounds_min[2], b.bounds_max[0], b.bounds_max[1], b.bounds_max[2],
+                a.bounds_min[0], a.bounds_min[1], a.bounds_min[2], a.bounds_max[0], a.bounds_max[1], a.bounds_max[2]);
+        ok = 0;
+    }
     vx_conv_mesh_gpu_stats st;
     vx_conv_mesh_gpu_last_stats(mg, &st);
     /* the builders got the tuples interned on the GPU (vx__svo_build_interned,
@@ -66,7 +73,14 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
         fprintf(stderr, "  %s res %u region %u: the GPU build fell back to the CPU builders\n", what, res, region);
         ok = 0;
     }
-    /* and each region's node pool is the CPU builder's, node for node: the
+    /* and the block layout (attribute runs, blocks) was done on the GPU too */
+    if (ok && attrs && !st.build_fallback && st.nodes && (!st.run_records || !st.laid_words)) {
+        fprintf(stderr, "  %s res %u region %u: the attribute runs or blocks were not laid out on the GPU\n", what, res, region);
+        ok = 0;
+    }
+    /* and each region's node pool is the CPU builder's, node for node (and
+     * with them the GPU's attribute runs and node words the builder's
+     * layout's): the
      * builders build their own too and fail at the first node that differs */
     if (ok && attrs) {
         vx_svo_scene c;
@@ -109,6 +123,27 @@ static int same_shares(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, 
         }
         ok = ok && gn == cn;
         for (size_t i = 0; ok && i < gn; i++) ok = gp[i].index == cp[i].index;
+        /* each GPU part's box (from the cells on the GPU) is its model's, as a pass over the model finds it */
+        for (size_t i = 0; ok && i < gn; i++) {
+            vx_svo_instance inst;
+            memset(&inst, 0, sizeof inst);
+            inst.xform[0] = inst.xform[5] = inst.xform[10] = 1.0;
+            inst.layer = UINT32_MAX;
+            vx_svo_scene one;
+            vx_svo_scene_init(&one, NULL);
+            one.models = &gp[i].model, one.model_count = 1, one.instances = &inst, one.instance_count = 1;
+            vx_svo_scene_update_bounds(&one);
+            bool same = gp[i].has_box;
+            for (int k = 0; k < 3; k++)
+                same = same && one.bounds_min[k] == gp[i].box_min[k] && one.bounds_max[k] == gp[i].box_max[k];
+            if (!same) {
+                fprintf(stderr, "  %s share %u part %zu: box %u %u %u - %u %u %u (known %d), the model's %g %g %g - %g %g %g\n", what,
+                        sh, i, gp[i].box_min[0], gp[i].box_min[1], gp[i].box_min[2], gp[i].box_max[0], gp[i].box_max[1],
+                        gp[i].box_max[2], gp[i].has_box, one.bounds_min[0], one.bounds_min[1], one.bounds_min[2], one.bounds_max[0],
+                        one.bounds_max[1], one.bounds_max[2]);
+                ok = 0;
+            }
+        }
         if (!ok) fprintf(stderr, "  %s share %u of %u: %zu regions, the CPU's %zu\n", what, sh, shares, gn, cn);
         vx_conv_mesh_part* t = ok ? (vx_conv_mesh_part*)realloc(all, (total + gn + 1) * sizeof *all) : NULL;
         if (t) {
@@ -370,6 +405,84 @@ static void test_refusals(void) {
     CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_BAD_FORMAT);
 }
 
+/* The GPU build's hash tables with collisions forced (vx_conv_mesh_gpu_set_hash):
+ * every probe starting in one of 8 slots, the result stays on the GPU (long
+ * probe chains, the node pools and runs checked against the CPU builders');
+ * the structural hash cut to 4 bits, the GPU's check finds the distinct
+ * subtrees that hash alike and the CPU builders build. The file is the CPU
+ * path's either way. */
+static void test_collisions(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    gen g = {0};
+    gen_materials(&g);
+    for (int i = 0; i < 60; i++) {
+        float v[9];
+        for (int k = 0; k < 9; k++) v[k] = (float)(frand() * 2.0 - 1.0);
+        tri(&g, v, (uint32_t)i % 3u);
+    }
+    static const struct {
+        vx_conv_mesh_gpu_hash hash;
+        const char* what;
+        uint32_t fallback;
+    } cases[] = {{VX_CONV_MESH_GPU_HASH_FEW_SLOTS, "random, probes from 8 slots", 0},
+                 {VX_CONV_MESH_GPU_HASH_FEW_LABELS, "random, structural hash of 4 bits", 1}};
+    for (size_t c = 0; c < 2; c++) {
+        vx_conv_mesh_gpu_set_hash(mg, cases[c].hash);
+        vx_conv_mesh_gpu_stats st;
+        if (cases[c].fallback) {
+            /* same_svo asserts the GPU built: here the file alone, and the fallback */
+            vx_conv_mesh_desc d = {.res = 48};
+            vx_svo_scene a, b;
+            vx_error err = {0};
+            CHECK(vx_conv_mesh(&d, &g.m, &a, NULL, &err) == VX_OK);
+            d.backend = vx_conv_mesh_gpu_backend(mg);
+            CHECKF(vx_conv_mesh(&d, &g.m, &b, NULL, &err) == VX_OK, "%s: %s", cases[c].what, err.msg);
+            vx_conv_mesh_gpu_last_stats(mg, &st);
+            uint8_t *da = NULL, *db = NULL;
+            size_t na = 0, nb = 0;
+            CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
+            CHECKF(na == nb && na && memcmp(da, db, na) == 0, "%s: the file differs from the CPU path's", cases[c].what);
+            CHECKF(st.build_fallback == 1, "%s: no fallback to the CPU builders (%llu nodes)", cases[c].what,
+                   (unsigned long long)st.nodes);
+            fprintf(stderr, "  %s: the GPU's check found the collisions, the CPU built: equal\n", cases[c].what);
+            free(da);
+            free(db);
+            vx_svo_scene_free(&a);
+            vx_svo_scene_free(&b);
+        } else {
+            CHECKF(same_svo(&g.m, 48, 0, true, cases[c].what), "%s", cases[c].what);
+            vx_conv_mesh_gpu_last_stats(mg, &st);
+            CHECKF(st.nodes > 100 && st.run_records > 0, "%s: %llu nodes, %llu run records", cases[c].what,
+                   (unsigned long long)st.nodes, (unsigned long long)st.run_records);
+        }
+    }
+    vx_conv_mesh_gpu_set_hash(mg, VX_CONV_MESH_GPU_HASH_FULL);
+    /* the blocks left to the CPU (the path taken when the GPU's layout does not settle): the same file */
+    {
+        vx_conv_mesh_desc d = {.res = 48};
+        vx_svo_scene a, b;
+        vx_error err = {0};
+        vx_conv_mesh_gpu_stats st;
+        CHECK(vx_conv_mesh(&d, &g.m, &a, NULL, &err) == VX_OK);
+        d.backend = vx_conv_mesh_gpu_backend(mg);
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_GPU_POOLS);
+        CHECKF(vx_conv_mesh(&d, &g.m, &b, NULL, &err) == VX_OK, "gpu pools: %s", err.msg);
+        vx_conv_mesh_gpu_set_build(mg, VX_CONV_MESH_GPU_BUILD_GPU);
+        vx_conv_mesh_gpu_last_stats(mg, &st);
+        uint8_t *da = NULL, *db = NULL;
+        size_t na = 0, nb = 0;
+        CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
+        CHECKF(na == nb && na && memcmp(da, db, na) == 0, "gpu pools: the file differs from the CPU path's");
+        CHECKF(st.run_records > 0 && st.laid_words == 0 && !st.build_fallback, "gpu pools: %llu records, %llu words laid out",
+               (unsigned long long)st.run_records, (unsigned long long)st.laid_words);
+        free(da);
+        free(db);
+        vx_svo_scene_free(&a);
+        vx_svo_scene_free(&b);
+    }
+    gen_free(&g);
+}
+
 int main(void) {
     vx_error err = {0};
     static char why[256];
@@ -386,6 +499,7 @@ int main(void) {
     RUN(test_refusals);
     RUN(test_lattice);
     RUN(test_random);
+    RUN(test_collisions);
     RUN(test_corpus);
     vx_conv_mesh_gpu_destroy(mg);
     if (gpu) vx_gpu_destroy(gpu);

@@ -772,6 +772,107 @@ static void tp_node(tpool* p, const uint64_t* k, const uint32_t* id, size_t lo, 
     p->n += 3 + nk;
 }
 
+/* The caller's representatives and attribute runs (vx__svo_pool.reps,
+ * .runs) made another way, in pool order: each node's representative by
+ * vx__svo_rec_mean over its children's tuples, looked up in (or appended
+ * to) a copy of the tuple table; its run (children's tuple ids) as the
+ * layout's definition says, sequentially: a uniform run of n < 8 copies of
+ * v takes the longest stored run of v with more copies (tried from 8 down),
+ * else a stored equal run, else it is stored. Runs are found through a
+ * table of (contents -> first record) over the stored runs only. */
+typedef struct truns {
+    vx__svo_rec* tab; /* the tuples, then the representatives' new ones */
+    size_t ntab, captab;
+    uint32_t* recs;
+    size_t nrecs;
+    uint64_t* key; /* run table: hash | 1, 0 empty */
+    uint32_t *start, *len;
+    size_t cap;
+} truns;
+
+static uint64_t tr_hash(const uint32_t* v, unsigned n) {
+    uint64_t h = 0xCBF29CE484222325ull ^ n;
+    for (unsigned i = 0; i < n; i++) h = (h ^ v[i]) * 0x100000001B3ull;
+    return h | 1u;
+}
+/* The first record of a stored run equal to v[0..n), or UINT32_MAX. */
+static uint32_t tr_find(const truns* t, const uint32_t* v, unsigned n) {
+    uint64_t h = tr_hash(v, n);
+    for (size_t j = (size_t)(h >> 7) & (t->cap - 1); t->key[j]; j = (j + 1) & (t->cap - 1))
+        if (t->key[j] == h && t->len[j] == n && !memcmp(t->recs + t->start[j], v, n * 4)) return t->start[j];
+    return UINT32_MAX;
+}
+static uint32_t tr_run(truns* t, const uint32_t* v, unsigned n) {
+    bool uni = true;
+    for (unsigned i = 1; i < n; i++) uni = uni && v[i] == v[0];
+    if (uni && n < 8) {
+        uint32_t w[8];
+        for (unsigned i = 0; i < 8; i++) w[i] = v[0];
+        for (unsigned L = 8; L > n; L--) {
+            uint32_t st = tr_find(t, w, L);
+            if (st != UINT32_MAX) return st;
+        }
+    }
+    uint32_t st = tr_find(t, v, n);
+    if (st != UINT32_MAX) return st;
+    uint64_t h = tr_hash(v, n);
+    size_t j = (size_t)(h >> 7) & (t->cap - 1);
+    while (t->key[j]) j = (j + 1) & (t->cap - 1);
+    t->key[j] = h, t->start[j] = (uint32_t)t->nrecs, t->len[j] = n;
+    memcpy(t->recs + t->nrecs, v, n * 4);
+    t->nrecs += n;
+    return t->start[j];
+}
+
+/* Fills pool words [1] (representative ids) and [2] (run starts) of the
+ * pool w[0..n) over tuples tab[0..ntab); t gets the extended table and the
+ * records. */
+static void tr_make(truns* t, uint32_t attrs, uint32_t* w, size_t n, const vx__svo_rec* tab, size_t ntab) {
+    size_t nodes = n / 4 + 1;
+    t->captab = ntab + nodes;
+    t->tab = (vx__svo_rec*)calloc(t->captab, sizeof *t->tab);
+    t->recs = (uint32_t*)calloc(8 * nodes, 4);
+    t->cap = 1024;
+    while (t->cap < 4 * nodes) t->cap *= 2;
+    t->key = (uint64_t*)calloc(t->cap, 8);
+    t->start = (uint32_t*)calloc(t->cap, 4);
+    t->len = (uint32_t*)calloc(t->cap, 4);
+    size_t tcap = 1024;
+    while (tcap < 2 * t->captab) tcap *= 2;
+    uint32_t* tt = (uint32_t*)calloc(tcap, 4); /* tuple table: id + 1 */
+    REQUIRE(t->tab && t->recs && t->key && t->start && t->len && tt);
+    memcpy(t->tab, tab, ntab * sizeof *tab);
+    t->ntab = ntab;
+    for (size_t i = 0; i < ntab; i++) {
+        size_t j = (size_t)(tr_hash((const uint32_t*)&tab[i], 4) >> 7) & (tcap - 1);
+        while (tt[j]) j = (j + 1) & (tcap - 1);
+        tt[j] = (uint32_t)i + 1;
+    }
+    for (size_t off = 0; off < n;) {
+        uint32_t valid = w[off] & 0xFFu, leaf = (w[off] >> 8) & 0xFFu, v[8];
+        unsigned nk = 0;
+        const vx__svo_rec* c[8];
+        for (unsigned o = 0; o < 8; o++) {
+            if (!(valid >> o & 1u)) continue;
+            uint32_t ref = w[off + 3 + nk];
+            v[nk] = (leaf >> o & 1u) ? ref : w[ref + 1];
+            c[nk] = &t->tab[v[nk]];
+            nk++;
+        }
+        vx__svo_rec r;
+        vx__svo_rec_mean(attrs, c, nk, &r);
+        size_t j = (size_t)(tr_hash((const uint32_t*)&r, 4) >> 7) & (tcap - 1);
+        while (tt[j] && memcmp(&t->tab[tt[j] - 1], &r, sizeof r)) j = (j + 1) & (tcap - 1);
+        if (!tt[j]) t->tab[t->ntab] = r, tt[j] = (uint32_t)++t->ntab;
+        w[off + 1] = tt[j] - 1;
+        w[off + 2] = tr_run(t, v, nk);
+        off += 3 + nk;
+    }
+    free(tt);
+}
+
+static void tr_free(truns* t) { free(t->tab), free(t->recs), free(t->key), free(t->start), free(t->len); }
+
 /* The pool path on the sorted, unique entries (the last of equal keys):
  * the model equals the builder's own, check_pool accepts the pool, and
  * broken pools are refused. */
@@ -797,7 +898,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
     bool rl;
     uint32_t rr;
     tp_node(&p, uk, ui, 0, m, depth, &rl, &rr);
-    vx__svo_pool pool = {p.w, p.n, rr, rl, p.plain, p.coll, false};
+    vx__svo_pool pool = {.words = p.w, .count = p.n, .root = rr, .root_leaf = rl, .plain = p.plain, .collapsed = p.coll};
     vx_svo_voxels in = {.size = {S, S, S}, .count = m, .keys = uk, .attrs = attrs};
     vx__svo_interned pre = {ui, tab, ntab, thread, 1, NULL, false};
     vx_svo_model a, b;
@@ -852,6 +953,80 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         p.w[last + 3] = keep;
         pool.root = (uint32_t)p.n + 5;
         CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "root"));
+    }
+    /* the representatives and attribute runs given too (as the GPU gives
+     * them): the same model; a run that is not the node's children's refused */
+    if (attrs && !rl && p.n) {
+        pool.root = rr;
+        truns t = {0};
+        tr_make(&t, attrs, p.w, p.n, tab, ntab);
+        vx__svo_pool pr = pool;
+        pr.reps = pr.runs = true;
+        pr.recs = t.recs, pr.nrecs = t.nrecs;
+        vx__svo_interned pi = {ui, t.tab, t.ntab, thread, 3, &pr, false}; /* 3 threads: the large cases copy and convert in parallel */
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        CHECKF(r == VX_OK, "runs given, attrs 0x%x: %s", attrs, e.msg);
+        if (r == VX_OK) {
+            size_t na = a.attr_count;
+            CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && na == b.attr_count &&
+                       !memcmp(a.nodes, b.nodes, (size_t)a.node_count * 4) && (!a.rgba || !memcmp(a.rgba, b.rgba, na * 4)) &&
+                       (!a.palette || !memcmp(a.palette, b.palette, na)) && (!a.normal || !memcmp(a.normal, b.normal, na * 4)) &&
+                       (!a.material || !memcmp(a.material, b.material, na * 2)) &&
+                       (!a.density || !memcmp(a.density, b.density, na * 4)),
+                   "runs given, attrs 0x%x: %u/%u words, %u/%u records", attrs, a.node_count, b.node_count, a.attr_count,
+                   b.attr_count);
+            vx_svo_model_free(NULL, &b);
+        }
+        /* and the blocks laid out (here the builder's own words): the records
+         * filled, the same model and counts; with check_pool a changed word is named */
+        vx_svo_build_stats sl;
+        pr.laid = a.nodes, pr.laid_count = a.node_count, pr.laid_far = sa.far_pointers, pr.laid_desc = sa.desc_dag;
+        pr.root_rep = p.w[rr + 1];
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, &sl, &e);
+        if (vx__svo_far_limit != VX__SVO_PTR_MAX) { /* forced far pointers: the caller's layout cannot have them */
+            CHECK(r == VX_ERR_INVALID_ARG && strstr(e.msg, "near pointers"));
+            r = VX_ERR_INVALID_ARG;
+        } else {
+            CHECKF(r == VX_OK, "laid out, attrs 0x%x: %s", attrs, e.msg);
+        }
+        if (r == VX_OK) {
+            size_t na = a.attr_count;
+            CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && na == b.attr_count &&
+                       !memcmp(a.nodes, b.nodes, (size_t)a.node_count * 4) && (!a.rgba || !memcmp(a.rgba, b.rgba, na * 4)) &&
+                       (!a.palette || !memcmp(a.palette, b.palette, na)) && (!a.normal || !memcmp(a.normal, b.normal, na * 4)) &&
+                       (!a.material || !memcmp(a.material, b.material, na * 2)) &&
+                       (!a.density || !memcmp(a.density, b.density, na * 4)) && sl.desc_dag == sa.desc_dag &&
+                       sl.far_pointers == sa.far_pointers && sl.bytes == sa.bytes,
+                   "laid out, attrs 0x%x: %u/%u records", attrs, a.attr_count, b.attr_count);
+            vx_svo_model_free(NULL, &b);
+        }
+        pi.check_pool = true;
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        CHECKF(r == VX_OK, "laid out, checked, attrs 0x%x: %s", attrs, e.msg);
+        if (r == VX_OK) vx_svo_model_free(NULL, &b);
+        a.nodes[a.node_count / 2] ^= 1u << 17; /* a pointer one off */
+        CHECK(vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "blocks differ"));
+        a.nodes[a.node_count / 2] ^= 1u << 17;
+        pi.check_pool = false;
+        pr.laid = NULL;
+        pi.check_pool = true; /* the builder's own layout's runs are these */
+        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        CHECKF(r == VX_OK, "runs checked, attrs 0x%x: %s", attrs, e.msg);
+        if (r == VX_OK) vx_svo_model_free(NULL, &b);
+        pi.check_pool = false;
+        /* the last node's run moved one record on: refused (its records are not its children's) */
+        size_t last = 0;
+        for (size_t off2 = 0; off2 < p.n; off2 += 3 + (size_t)__builtin_popcount(p.w[off2] & 0xFFu)) last = off2;
+        uint32_t keep = p.w[last + 2];
+        p.w[last + 2] = keep + 1 < t.nrecs ? keep + 1 : 0;
+        bool moved_same = true; /* unless the records there happen to be the same ones */
+        unsigned nk = (unsigned)__builtin_popcount(p.w[last] & 0xFFu);
+        for (unsigned k = 0; k < nk; k++)
+            moved_same = moved_same && p.w[last + 2] + k < t.nrecs && t.recs[p.w[last + 2] + k] == t.recs[keep + k];
+        if (!moved_same)
+            CHECK(vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "run at record"));
+        p.w[last + 2] = keep;
+        tr_free(&t);
     }
     vx_svo_model_free(NULL, &a);
     free(uk), free(ui), free(p.w), free(p.tab);
