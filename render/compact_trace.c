@@ -127,28 +127,7 @@ static bool trace_model(const vx_compact_scene* c, const vx_compact_model* m, co
             return true;
         }
         int64_t B = (int64_t)1 << (k - 1);
-        int64_t lo[3];
-        double ta[3], texit = INFINITY;
-        for (int a = 0; a < 3; a++) {
-            lo[a] = cell[a] & ~(B - 1);
-            ta[a] = d[a] == 0 ? INFINITY : ((double)(d[a] > 0 ? lo[a] + B : lo[a]) - o[a]) / d[a];
-            texit = fmin(texit, ta[a]);
-        }
-        if (!(texit < tx)) return false;
-        double near = 1e-9 * fmax(1, fabs(texit));
-        if ((fabs(ta[0] - texit) <= near) + (fabs(ta[1] - texit) <= near) + (fabs(ta[2] - texit) <= near) > 1) amb = true;
-        for (int a = 0; a < 3; a++) {
-            if (ta[a] == texit) {
-                cell[a] = d[a] > 0 ? lo[a] + B : lo[a] - 1;
-            } else {
-                int64_t q = cell_of(o[a] + d[a] * texit, d[a]);
-                if (q < lo[a]) q = lo[a];
-                if (q > lo[a] + B - 1) q = lo[a] + B - 1;
-                cell[a] = q;
-            }
-            if (cell[a] < 0 || cell[a] >= (int64_t)size[a]) return false;
-        }
-        t = texit;
+        if (!vx__grid_step_out(cell, B, o, d, tx, size, &t, &amb)) return false;
     }
     return false;
 }

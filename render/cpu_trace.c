@@ -145,6 +145,37 @@ static int64_t cell_of(double p, double d) {
     return (int64_t)f;
 }
 
+bool vx__grid_step_out(int64_t cell[3], int64_t B, const double o[3], const double d[3], double tx,
+                       const uint32_t size[3], double* t, bool* amb) {
+    int64_t lo[3];
+    double ta[3], texit = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        lo[a] = cell[a] & ~(B - 1);
+        if (d[a] == 0)
+            ta[a] = INFINITY;
+        else
+            ta[a] = ((double)(d[a] > 0 ? lo[a] + B : lo[a]) - o[a]) / d[a];
+        texit = fmin(texit, ta[a]);
+    }
+    if (!(texit < tx)) return false;
+    /* near ties count too: the double ray itself is rounded */
+    double near = 1e-9 * fmax(1, fabs(texit));
+    if ((fabs(ta[0] - texit) <= near) + (fabs(ta[1] - texit) <= near) + (fabs(ta[2] - texit) <= near) > 1) *amb = true;
+    for (int a = 0; a < 3; a++) {
+        if (ta[a] == texit) {
+            cell[a] = d[a] > 0 ? lo[a] + B : lo[a] - 1;
+        } else {
+            int64_t q = cell_of(o[a] + d[a] * texit, d[a]);
+            if (q < lo[a]) q = lo[a];
+            if (q > lo[a] + B - 1) q = lo[a] + B - 1;
+            cell[a] = q;
+        }
+        if (cell[a] < 0 || cell[a] >= (int64_t)size[a]) return false;
+    }
+    *t = texit;
+    return true;
+}
+
 typedef struct chit {
     double t;
     int64_t cell[3];
@@ -217,32 +248,7 @@ static bool cm_trace(const cmodel* c, const double o[3], const double d[3], doub
         }
         /* step over the largest empty block containing the cell (level k-1) */
         int64_t B = (int64_t)1 << (k - 1);
-        int64_t lo[3];
-        double ta[3], texit = INFINITY;
-        for (int a = 0; a < 3; a++) {
-            lo[a] = cell[a] & ~(B - 1);
-            if (d[a] == 0)
-                ta[a] = INFINITY;
-            else
-                ta[a] = ((double)(d[a] > 0 ? lo[a] + B : lo[a]) - o[a]) / d[a];
-            texit = fmin(texit, ta[a]);
-        }
-        if (!(texit < tx)) return false;
-        /* near ties count too: the double ray itself is rounded */
-        double near = 1e-9 * fmax(1, fabs(texit));
-        if ((fabs(ta[0] - texit) <= near) + (fabs(ta[1] - texit) <= near) + (fabs(ta[2] - texit) <= near) > 1) amb = true;
-        for (int a = 0; a < 3; a++) {
-            if (ta[a] == texit) {
-                cell[a] = d[a] > 0 ? lo[a] + B : lo[a] - 1;
-            } else {
-                int64_t q = cell_of(o[a] + d[a] * texit, d[a]);
-                if (q < lo[a]) q = lo[a];
-                if (q > lo[a] + B - 1) q = lo[a] + B - 1;
-                cell[a] = q;
-            }
-            if (cell[a] < 0 || cell[a] >= (int64_t)m->size[a]) return false;
-        }
-        t = texit;
+        if (!vx__grid_step_out(cell, B, o, d, tx, m->size, &t, &amb)) return false;
     }
     return false;
 }

@@ -59,6 +59,15 @@ vx_result vx__check_scene(const vx_svo_scene* s, vx_error* err);
 
 /* Calls fn for every filled model cell (via vx_svo_decode_model) placed in
  * grid space with floor(M (v + 1/2) + t). */
+/* One step of the CPU reference's double-precision walk: from `cell`, inside an
+ * empty block of side B (a power of two), to the first cell past that block along
+ * o + t d. Ties between axes within 1e-9 (relative) set *amb (the pixel is then
+ * ambiguous to the GPU's float walk); a step that leaves the model (`size`) or
+ * reaches tx returns false. The reference and the compact layout's CPU walk share
+ * it, so both step by the same rules. */
+bool vx__grid_step_out(int64_t cell[3], int64_t B, const double o[3], const double d[3], double tx,
+                       const uint32_t size[3], double* t, bool* amb);
+
 typedef void (*vx__grid_cell_fn)(void* user, int64_t x, int64_t y, int64_t z);
 vx_result vx__scene_grid_cells(const vx_svo_scene* s, vx__grid_cell_fn fn, void* user, vx_error* err);
 
