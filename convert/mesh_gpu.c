@@ -984,13 +984,13 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                                     B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL, B_TABLES, B_VALS};
     if ((r = ensure(m, B_KEYS, 16, err)) || (r = ensure(m, B_RECS, 16, err)) || (r = ensure(m, B_VALS, 16, err)))
         goto done;
-    uint64_t slots = (uint64_t)P * 64; /* (pair, strip) */
+    uint64_t slots = (uint64_t)P * 64; /* (pair, strip); two pairs a workgroup (meshvox.comp) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
     ts_begin(m, 8);
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
-    if ((r = stage(m, P_COUNT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
+    if ((r = stage(m, P_COUNT, vox_ids, 14, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
     if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
     read_u32(m, B_COUNTS, slots, 0);
     read_u32(m, B_COUNTS, slots + 1, 1);
@@ -1016,7 +1016,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = rec_begin(m, err))) goto done;
     mp.mode = 1;
     ts_begin(m, 9);
-    if ((r = stage(m, P_EMIT, vox_ids, 14, P, &mp, sizeof mp, err))) goto done;
+    if ((r = stage(m, P_EMIT, vox_ids, 14, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
     ts_end(m);
     if ((r = submit(m, err))) goto done;
     m->stats.emit = vx_time_now() - t0;
