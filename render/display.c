@@ -65,6 +65,8 @@ struct vx_display {
     bool image_storage;
 };
 
+static vx_result flush(vx_display* d, vx_error* err);
+
 typedef struct push_block {
     uint32_t n, bgra, overlay, row, width, iw, ih;
 } push_block;
@@ -84,12 +86,13 @@ static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, 
 }
 
 /* The shown image before a frame's last pass writes it: its contents are
- * not kept (UNDEFINED to GENERAL, after any acquire or copy at the transfer
- * stage), black where the fw x fh frame does not cover the iw x ih image. */
-static void target_begin(VkCommandBuffer cmd, VkImage img, uint32_t fw, uint32_t fh, uint32_t iw, uint32_t ih) {
+ * not kept (UNDEFINED to GENERAL, after the work of stages `after` before
+ * it: a swapchain's acquire is waited for at the transfer stage), black
+ * where the fw x fh frame does not cover the iw x ih image. */
+static void target_begin(VkCommandBuffer cmd, VkImage img, uint32_t fw, uint32_t fh, uint32_t iw, uint32_t ih,
+                         VkPipelineStageFlags after) {
     image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, after,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
     if (fw < iw || fh < ih) {
         VkClearColorValue black = {{0, 0, 0, 1}};
@@ -155,6 +158,8 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
 void vx_display_destroy(vx_display* d) {
     if (!d) return;
     vx_gpu* g = d->g;
+    flush(d, &(vx_error){0}); /* held frames: their command buffers go with the pool */
+    if (g->held_user == d) g->held_submit = NULL, g->held_user = NULL;
     vkDeviceWaitIdle(g->device);
     if (d->pool) vkDestroyDescriptorPool(g->device, d->pool, NULL);
     for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
@@ -174,8 +179,6 @@ void vx_display_destroy(vx_display* d) {
     vx_allocator a = g->alloc;
     vx_free(&a, d);
 }
-
-static vx_result flush(vx_display* d, vx_error* err);
 
 /* Waits for slot i's frame and takes its timestamps (a held frame is
  * submitted first, with the rest of its batch). */
@@ -339,7 +342,7 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL, 0, NULL);
     if (to_image) {
         /* its contents are not kept; black where the frame does not cover it */
-        target_begin(cmd, img, fw, fh, iw, ih);
+        target_begin(cmd, img, fw, fh, iw, ih, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
     }
     uint64_t groups = (n + 255) / 256;
     uint32_t row = groups < 65535 ? (uint32_t)groups : 65535u;
@@ -424,7 +427,9 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
      * stage, comes first through this barrier); its contents are not kept, black where the frame does not cover it */
     vx_result r = overlay_prepare(d, cmd, desc, (uint64_t)fw * fh, si, err);
     if (r) return r;
-    target_begin(cmd, img, fw, fh, iw, ih);
+    /* after the acquire (transfer stage) only, not the frames before: their image is another, and waiting for
+     * their compute work would keep this frame's passes from starting while the last one's tail runs */
+    target_begin(cmd, img, fw, fh, iw, ih, VK_PIPELINE_STAGE_TRANSFER_BIT);
     vx__display_target t = {.view = iv, .iw = iw, .ih = ih, .overlay = desc->overlay ? &d->overlay_dev : NULL,
                             .bgra = desc->bgra};
     d->slot[si].fr = fr;
@@ -541,6 +546,15 @@ static vx_result flush(vx_display* d, vx_error* err) {
     return VX_OK;
 }
 
+/* vx_gpu.held_submit: work recorded after the held frames is about to be
+ * submitted, or the queue waited for (a failure shows at the display's next
+ * call: its frames' fences never signal, so the device is lost anyway) */
+static void held_submit(void* user) {
+    vx_display* d = user;
+    vx_error err = {0};
+    (void)flush(d, &err);
+}
+
 vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, bool one_submit_info, vx_error* err) {
     if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (!frames) frames = VX_DISPLAY_FRAMES;
@@ -552,6 +566,9 @@ vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, b
     vx_result r = vx_display_wait(d, err);
     if (r) return r;
     d->depth = frames, d->batch = batch, d->one_info = one_submit_info, d->next = 0;
+    vx_gpu* g = d->g;
+    if (batch > 1) g->held_submit = held_submit, g->held_user = d; /* other work on the queue submits ours first */
+    else if (g->held_user == d) g->held_submit = NULL, g->held_user = NULL;
     return VX_OK;
 }
 

@@ -408,6 +408,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
 void vx_render_scene_destroy(vx_render_scene* rs) {
     if (!rs) return;
     vx_gpu* g = rs->gpu;
+    vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device);
     vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
                           &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
@@ -433,6 +434,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
  * the buffers an update replaces. One queue does all of the scene's work. */
 static void settle(vx_render_scene* rs) {
     if (!rs->recorded) return;
+    vx__gpu_submit_held(rs->gpu); /* frames a display holds read these buffers too */
     vkQueueWaitIdle(rs->gpu->queue);
     rs->recorded = false;
 }
@@ -513,6 +515,7 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
             return VX_OK;
         }
     }
+    vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
     rs->recorded = false;
     /* every buffer prepare_instances makes (the refit's two as well: leaked before, named by the validation
