@@ -94,9 +94,12 @@ vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* by
  * last one's fence standing for all; vx_display_wait and a wait for a held
  * frame submit what is held), with one_submit_info the batch's command
  * buffers in one VkSubmitInfo where no frame has semaphores. Waits for the
- * frames in flight. A presenter needs each frame shown as it ends, so it
- * keeps batch 1; batches measure what a submission costs the queue
- * (view_bench --submit). */
+ * frames in flight. Frames held for a batch are submitted before any other
+ * work reaches the queue or waits for it (vx_gpu.held_submit), so an edit
+ * after them does not show in them. With batches a presenter presents a
+ * frame once its batch was submitted (vx_display_times.frames_submitted;
+ * svo_view --batch): a queue submission costs an H200 about 0.01 ms
+ * between frames (view_bench --submit). */
 #define VX_DISPLAY_SLOTS 8
 vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, bool one_submit_info, vx_error* err);
 vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_error* err);
