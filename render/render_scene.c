@@ -1109,12 +1109,15 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
             rs->tables_size = need, rs->tables_known = true, rs->tables_refit = refit;
         }
     }
-    /* also orders the earlier frames' shader writes (the shared images; the refit's nodes) before this frame's */
+    /* the transfers before this frame's passes (table rows, an overlay copy recorded before this) and this
+     * frame's refit dispatches before its reads. Earlier frames' shader writes need no wait here: a frame that
+     * writes the shared images ends with a barrier after its last dispatch (render/pipeline.c), and one that
+     * does not (its last pass writes only its own display image) may still run while this frame starts */
     VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | (same ? 0 : VK_ACCESS_SHADER_WRITE_BIT),
                              .dstAccessMask =
                                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT};
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | (same ? 0 : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT),
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &after, 0, NULL, 0, NULL);
     rs->recorded = true;
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
