@@ -39,6 +39,12 @@
  *        and waited for (svo_render's trace time); with no overlay, the overlay
  *        kept, and redrawn each frame; the last frame's bytes against the waited
  *        path's. Says whether the instance offers VK_EXT_headless_surface.
+ *        view_bench --submit IN.svo [W H] [FRAMES] [PASSES] [EX,EY,EZ,TX,TY,TZ]:
+ *        svo_view's frame (fused, overlay kept, no timestamps) with the queue
+ *        set up in other ways (vx_display_set_queue: frames in flight, frames
+ *        per vkQueueSubmit, one VkSubmitInfo): where the time between frames
+ *        goes beyond the passes (a submission's fixed cost, or the CPU); also
+ *        the waits that found the GPU behind, and an empty frame's floor.
  *        Needs only libvulkan and libc (runs on the GPU machine). */
 #include <math.h>
 #include <stdio.h>
@@ -757,6 +763,150 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
                : 1;
 }
 
+/* ---- --submit ------------------------------------------------------------------------------ */
+
+typedef struct submit_cfg {
+    uint32_t frames, batch;
+    bool one, timed, empty;
+    const char* name;
+} submit_cfg;
+
+static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
+    vx_svo_scene s;
+    vx_error err = {0};
+    double cam[6];
+    if (!w || !h || n < 10 || n > 100000) return 2;
+    if (camera && sscanf(camera, "%lf,%lf,%lf,%lf,%lf,%lf", &cam[0], &cam[1], &cam[2], &cam[3], &cam[4], &cam[5]) != 6)
+        return fprintf(stderr, "view_bench --submit: bad camera '%s' (EX,EY,EZ,TX,TY,TZ)\n", camera), 2;
+    if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
+    vx_gpu* g;
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
+    vx_pass_list pl;
+    vx_frame_desc fd;
+    if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
+    fd.no_readback = true;
+    if (camera)
+        fd.base.camera = (vx_render_camera){.set = true, .eye = {cam[0], cam[1], cam[2]}, .target = {cam[3], cam[4], cam[5]},
+                                            .up = {0, 0, 1}};
+    if (!vx_display_image_storage(disp)) return fprintf(stderr, "view_bench --submit: no storage images\n"), 1;
+    uint64_t img[VX_DISPLAY_SLOTS];
+    for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
+        if (vx_display_image_create(disp, w, h, &img[i], &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+    /* the baseline: frames submitted and waited for, their passes' GPU time; the bytes every config must give */
+    double* base = calloc(n, sizeof(double));
+    uint8_t *want = malloc((size_t)w * h * 4), *got = malloc((size_t)w * h * 4);
+    if (!base || !want || !got) return 1;
+    for (uint32_t k = 0; k < n + 2; k++) {
+        vx_frame_result res;
+        if (vx_frame_render(fr, &fd, &res, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        if (k >= 2) base[k - 2] = res.frame_ms;
+    }
+    double mb = median(base, n);
+    uint8_t* ov = vx_display_overlay(disp, w, h, &err);
+    if (!ov) return fprintf(stderr, "%s\n", err.msg), 1;
+    draw_columns(ov, w, h);
+    vx_display_desc dd = {.fr = fr, .width = w, .height = h, .bgra = true, .overlay = true};
+    {
+        vx_frame_result res;
+        if (vx_frame_render(fr, &fd, &res, &err) || vx_display_run(disp, &dd, want, NULL, &err))
+            return fprintf(stderr, "%s\n", err.msg), 1;
+    }
+    static const submit_cfg cfgs[] = {
+        {3, 1, false, false, false, "svo_view's frame: 3 in flight, one submission a frame"},
+        {3, 1, false, true, false, "the same with the display's 2 timestamps (GPU times)"},
+        {6, 1, false, false, false, "6 in flight, one submission a frame"},
+        {8, 1, false, true, false, "8 in flight, one submission a frame, timed"},
+        {4, 2, false, false, false, "4 in flight, 2 frames a vkQueueSubmit (2 VkSubmitInfo)"},
+        {4, 2, true, false, false, "4 in flight, 2 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {8, 4, false, false, false, "8 in flight, 4 frames a vkQueueSubmit (4 VkSubmitInfo)"},
+        {8, 4, true, false, false, "8 in flight, 4 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {8, 4, true, true, false, "the same, timed"},
+        {8, 8, true, false, false, "8 in flight, 8 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {3, 1, false, false, true, "empty frame, 3 in flight, untimed"},
+        {3, 1, false, true, true, "empty frame, 3 in flight, timed"},
+        {8, 1, false, false, true, "empty frame, 8 in flight, untimed"},
+        {8, 8, true, false, true, "empty frame, 8 a submission, untimed"},
+        {3, 1, false, false, false, "svo_view's frame again"},
+    };
+    int nc = (int)(sizeof cfgs / sizeof cfgs[0]);
+    printf("view_bench --submit %s %ux%u on %s, %u frames (after 20), passes %s%s%s: waited frames' passes %.4f ms\n", in, w, h,
+           vx_gpu_device_name(g), n, passes, camera ? ", camera " : "", camera ? camera : "", mb);
+    uint32_t warm = 20, total = n + warm;
+    double *t = calloc(total + 1, sizeof(double)), *wb = calloc(total, sizeof(double)), *gpu = calloc(total, sizeof(double)),
+           *gap = calloc(total, sizeof(double));
+    if (!t || !wb || !gpu || !gap) return 1;
+    int fail = 0;
+    fd.no_timestamps = true;
+    for (int c = 0; c < nc; c++) {
+        const submit_cfg* q = &cfgs[c];
+        if (vx_display_set_queue(disp, q->frames, q->batch, q->one, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        vx_display_set_timestamps(disp, q->timed);
+        vx_display_times d0;
+        vx_display_frame_times(disp, &d0);
+        uint32_t ng = 0, last_slot = 0;
+        double last_start = -1;
+        uint64_t last_done = d0.frames_done, waited0 = d0.begins_waited;
+        for (uint32_t k = 0; k < total; k++) {
+            uint32_t slot;
+            void* cmd;
+            double t0 = vx_time_now();
+            if (k == warm + 1) vx_display_frame_times(disp, &d0), waited0 = d0.begins_waited;
+            if (vx_display_frame_begin(disp, &slot, &cmd, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+            t[k] = vx_time_now();
+            wb[k] = (t[k] - t0) * 1e3;
+            vx_display_times dt;
+            vx_display_frame_times(disp, &dt);
+            if (q->timed && k > warm + q->frames && dt.frames_done != last_done) {
+                gpu[ng] = dt.gpu_ms;
+                gap[ng++] = last_start >= 0 ? dt.gpu_start_ms - last_start : 0;
+            }
+            last_start = dt.gpu_start_ms, last_done = dt.frames_done;
+            vx_frame_result res;
+            if (!q->empty && vx_display_record_frame(disp, fr, &fd, &dd, img[slot], 0, w, h, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                                     &res, &err)) {
+                vx_display_frame_cancel(disp);
+                return fprintf(stderr, "%s\n", err.msg), 1;
+            }
+            if (vx_display_frame_submit(disp, 0, 0, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+            last_slot = slot;
+        }
+        double t_end = vx_time_now();
+        vx_display_times d1;
+        vx_display_frame_times(disp, &d1);
+        if (vx_display_wait(disp, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        double* iv = calloc(n, sizeof(double));
+        if (!iv) return 1;
+        for (uint32_t k = 0; k + 1 < n; k++) iv[k] = (t[warm + k + 1] - t[warm + k]) * 1e3;
+        double mean = (t_end - t[warm]) * 1e3 / n;
+        double ivm = median(iv, n - 1), wbm = median(wb + warm, n);
+        free(iv);
+        size_t bad = 0;
+        bool read = false;
+        if (!q->empty) {
+            read = !vx_display_image_read(disp, img[last_slot], w, h, got, &err);
+            for (size_t i = 0; read && i < (size_t)w * h * 4; i++) bad += want[i] != got[i];
+            fail |= !read || bad;
+        }
+        printf("  %-58s interval mean %.4f median %.4f ms (%.3fx the passes), begin (wait) %.4f ms, "
+               "waits finding the GPU busy %.0f%%",
+               q->name, mean, ivm, mean / mb, wbm, 100.0 * (double)(d1.begins_waited - waited0) / (n - 1));
+        if (q->timed) printf(", GPU a frame %.4f ms, start-to-start %.4f ms", median(gpu, ng), ng > 1 ? median(gap + 1, ng - 1) : 0);
+        if (!q->empty) printf(", last frame %s, %zu bytes differ", read ? "read" : "NOT READ", bad);
+        printf("\n");
+        fflush(stdout);
+    }
+    vx_display_set_queue(disp, 0, 0, false, &err);
+    free(t), free(wb), free(gpu), free(gap), free(base), free(want), free(got);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(g);
+    vx_svo_scene_free(&s);
+    return fail;
+}
+
 /* Instance edits with frames in flight: an instance moved (an undo step, the
  * move, vx_render_scene_set_frame: in place) before every frame. */
 typedef struct mover {
@@ -802,6 +952,11 @@ int main(int argc, char** argv) {
                           argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
                           argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 300, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT,
                           argc > 7 ? argv[7] : NULL);
+    if (argc >= 3 && !strcmp(argv[1], "--submit"))
+        return submit_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
+                            argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
+                            argc > 5 ? (uint32_t)strtoul(argv[5], NULL, 10) : 2000, argc > 6 ? argv[6] : VX_PASS_LIST_DEFAULT,
+                            argc > 7 ? argv[7] : NULL);
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
                             argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);

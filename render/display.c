@@ -9,7 +9,9 @@
 
 /* Descriptor sets: one per frame slot (a slot's is written again only after
  * its last frame ran), one for the calls outside frames. */
-#define SETS (VX_DISPLAY_FRAMES + 1)
+#define SETS (VX_DISPLAY_SLOTS + 1)
+_Static_assert(VX_FRAME_SLOTS >= VX_DISPLAY_SLOTS, "a display slot is a frame renderer's slot");
+#define OUTSIDE VX_DISPLAY_SLOTS /* the set and slot index of calls outside frames */
 
 typedef struct dslot {
     VkCommandBuffer cmd;
@@ -17,6 +19,9 @@ typedef struct dslot {
     bool pending; /* submitted, not yet waited for */
     int overlay;  /* the host overlay its frame copies from (-1: none) */
     vx_frame_renderer* fr; /* the renderer whose passes vx_display_record_frame recorded (a cancel tells it) */
+    int fence_of; /* the slot whose fence signals this frame's end (a batch: its last frame's) */
+    bool held;    /* recorded and ended, not yet submitted (a batch being gathered) */
+    VkSemaphore wait_sem, signal_sem; /* a held frame's */
 } dslot;
 
 struct vx_display {
@@ -39,12 +44,19 @@ struct vx_display {
     vx__buffer dummy; /* bound as the overlay when there is none */
     /* frames in flight */
     VkCommandPool cmd_pool;
-    dslot slot[VX_DISPLAY_FRAMES];
+    dslot slot[VX_DISPLAY_SLOTS];
+    uint32_t depth;   /* frames in flight (vx_display_set_queue; default VX_DISPLAY_FRAMES) */
+    uint32_t batch;   /* frames per vkQueueSubmit */
+    bool one_info;    /* a batch's command buffers in one VkSubmitInfo */
+    int held[VX_DISPLAY_SLOTS]; /* the held frames' slots, oldest first */
+    uint32_t nheld;
+    uint64_t begins_waited; /* frame_begin found its slot's frame not yet done */
+    uint64_t frames_submitted;
     uint32_t next; /* the slot the next frame takes */
     int cur;       /* the slot being recorded, -1: none */
     VkQueryPool qp; /* two timestamps per slot: the command buffer's start and end */
     bool untimed;   /* vx_display_set_timestamps(false): frames begun from now on write none */
-    bool timed[VX_DISPLAY_FRAMES]; /* the slot's frame wrote its two */
+    bool timed[VX_DISPLAY_SLOTS]; /* the slot's frame wrote its two */
     double last_gpu_ms, last_start_ms;
     uint64_t frames_done;
     /* off-screen images (vx_display_image_create) and their memory */
@@ -53,6 +65,8 @@ struct vx_display {
     VkImageView image_view[VX_DISPLAY_IMAGES]; /* with storage usage (vx_display_image_storage) */
     bool image_storage;
 };
+
+static vx_result flush(vx_display* d, vx_error* err);
 
 typedef struct push_block {
     uint32_t n, bgra, overlay, row, width, iw, ih;
@@ -73,12 +87,13 @@ static void image_barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, 
 }
 
 /* The shown image before a frame's last pass writes it: its contents are
- * not kept (UNDEFINED to GENERAL, after any acquire or copy at the transfer
- * stage), black where the fw x fh frame does not cover the iw x ih image. */
-static void target_begin(VkCommandBuffer cmd, VkImage img, uint32_t fw, uint32_t fh, uint32_t iw, uint32_t ih) {
+ * not kept (UNDEFINED to GENERAL, after the work of stages `after` before
+ * it: a swapchain's acquire is waited for at the transfer stage), black
+ * where the fw x fh frame does not cover the iw x ih image. */
+static void target_begin(VkCommandBuffer cmd, VkImage img, uint32_t fw, uint32_t fh, uint32_t iw, uint32_t ih,
+                         VkPipelineStageFlags after) {
     image_barrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
-                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, after,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
     if (fw < iw || fh < ih) {
         VkClearColorValue black = {{0, 0, 0, 1}};
@@ -95,7 +110,8 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     if (!d) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     d->g = g;
     d->cur = -1;
-    for (int i = 0; i < VX_DISPLAY_FRAMES; i++) d->slot[i].overlay = -1;
+    d->depth = VX_DISPLAY_FRAMES, d->batch = 1;
+    for (int i = 0; i < VX_DISPLAY_SLOTS; i++) d->slot[i].overlay = -1, d->slot[i].fence_of = i;
     VkDescriptorPoolSize size[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * 2 * SETS},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, SETS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
@@ -111,7 +127,7 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
                                    .queueFamilyIndex = g->queue_family};
     if (!r && (vr = vkCreateCommandPool(g->device, &cpi, NULL, &d->cmd_pool)) != VK_SUCCESS)
         r = vx__vk_fail(err, vr, "vkCreateCommandPool");
-    for (int i = 0; !r && i < VX_DISPLAY_FRAMES; i++) {
+    for (int i = 0; !r && i < VX_DISPLAY_SLOTS; i++) {
         VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
                                           .commandPool = d->cmd_pool,
                                           .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
@@ -129,7 +145,7 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
     if (!r && g->has_timestamps) {
         VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
                                     .queryType = VK_QUERY_TYPE_TIMESTAMP,
-                                    .queryCount = 2 * VX_DISPLAY_FRAMES};
+                                    .queryCount = 2 * VX_DISPLAY_SLOTS};
         if ((vr = vkCreateQueryPool(g->device, &qi, NULL, &d->qp)) != VK_SUCCESS) r = vx__vk_fail(err, vr, "vkCreateQueryPool");
     }
     if (r) {
@@ -143,9 +159,11 @@ vx_result vx_display_create(vx_gpu* g, vx_display** out, vx_error* err) {
 void vx_display_destroy(vx_display* d) {
     if (!d) return;
     vx_gpu* g = d->g;
+    flush(d, &(vx_error){0}); /* held frames: their command buffers go with the pool */
+    if (g->held_user == d) g->held_submit = NULL, g->held_user = NULL;
     vkDeviceWaitIdle(g->device);
     if (d->pool) vkDestroyDescriptorPool(g->device, d->pool, NULL);
-    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+    for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
         if (d->slot[i].fence) vkDestroyFence(g->device, d->slot[i].fence, NULL);
     if (d->cmd_pool) vkDestroyCommandPool(g->device, d->cmd_pool, NULL);
     if (d->qp) vkDestroyQueryPool(g->device, d->qp, NULL);
@@ -163,12 +181,19 @@ void vx_display_destroy(vx_display* d) {
     vx_free(&a, d);
 }
 
-/* Waits for slot i's frame and takes its timestamps. */
+/* Waits for slot i's frame and takes its timestamps (a held frame is
+ * submitted first, with the rest of its batch). */
 static vx_result slot_wait(vx_display* d, int i, vx_error* err) {
     dslot* s = &d->slot[i];
+    if (s->held) {
+        vx_result r = flush(d, err);
+        if (r) return r;
+    }
     if (!s->pending) return VX_OK;
     vx_gpu* g = d->g;
-    VX__VK(vkWaitForFences(g->device, 1, &s->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
+    VkFence f = d->slot[s->fence_of].fence;
+    if (vkGetFenceStatus(g->device, f) == VK_NOT_READY) d->begins_waited++;
+    VX__VK(vkWaitForFences(g->device, 1, &f, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
     s->pending = false;
     uint64_t ts[2];
     if (d->qp && d->timed[i] && vkGetQueryPoolResults(g->device, d->qp, 2 * (uint32_t)i, 2, sizeof ts, ts, 8, VK_QUERY_RESULT_64_BIT) ==
@@ -183,9 +208,11 @@ static vx_result slot_wait(vx_display* d, int i, vx_error* err) {
 
 vx_result vx_display_wait(vx_display* d, vx_error* err) {
     if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_result r0 = flush(d, err);
+    if (r0) return r0;
     /* oldest first, so that the last frame's times are the ones kept */
-    for (int k = 0; k < VX_DISPLAY_FRAMES; k++) {
-        vx_result r = slot_wait(d, (int)((d->next + (uint32_t)k) % VX_DISPLAY_FRAMES), err);
+    for (int k = 0; k < (int)d->depth; k++) {
+        vx_result r = slot_wait(d, (int)((d->next + (uint32_t)k) % d->depth), err);
         if (r) return r;
     }
     return VX_OK;
@@ -197,8 +224,8 @@ uint8_t* vx_display_overlay(vx_display* d, uint32_t w, uint32_t h, vx_error* err
         return NULL;
     }
     int t = d->ov ^ 1; /* the overlay the next frames do not read */
-    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
-        if (d->slot[i].pending && d->slot[i].overlay == t && slot_wait(d, i, err)) return NULL;
+    for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
+        if ((d->slot[i].pending || d->slot[i].held) && d->slot[i].overlay == t && slot_wait(d, i, err)) return NULL;
     VkDeviceSize bytes = (VkDeviceSize)w * h * 4;
     vx__buffer* o = &d->overlay[t];
     if (o->size < bytes) {
@@ -217,7 +244,7 @@ uint8_t* vx_display_overlay(vx_display* d, uint32_t w, uint32_t h, vx_error* err
 }
 
 /* The device copy of the overlay for a frame of n pixels recorded into cmd
- * (slot si; VX_DISPLAY_FRAMES: a submission outside frames): made or grown,
+ * (slot si; OUTSIDE: a submission outside frames): made or grown,
  * and the overlay drawn since the last frame copied into it (after the
  * frames before read it; the host's writes before the submission are
  * visible to the copy without a barrier: vkQueueSubmit's guarantee). The
@@ -232,7 +259,7 @@ static vx_result overlay_prepare(vx_display* d, VkCommandBuffer cmd, const vx_di
         d->ov_dirty = true;
     }
     bool copy = desc->overlay && d->ov_dirty;
-    if (si < VX_DISPLAY_FRAMES) d->slot[si].overlay = copy ? d->ov : -1;
+    if (si < OUTSIDE) d->slot[si].overlay = copy ? d->ov : -1;
     if (!copy) return VX_OK;
     VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &cb, 0, NULL, 0,
@@ -263,7 +290,7 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the overlay is %ux%u, the frame %ux%u", d->ow[ov], d->oh[ov],
                        fw, fh);
     /* a frame in flight records with its slot's set; other calls wait for their submission */
-    int si = d->cur >= 0 && cmd == d->slot[d->cur].cmd ? d->cur : VX_DISPLAY_FRAMES;
+    int si = d->cur >= 0 && cmd == d->slot[d->cur].cmd ? d->cur : OUTSIDE;
     uint64_t n = (uint64_t)fw * fh;
     vx_result r = VX_OK;
     if (!to_image && d->out.size < n * 4) {
@@ -316,7 +343,7 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, NULL, 0, NULL);
     if (to_image) {
         /* its contents are not kept; black where the frame does not cover it */
-        target_begin(cmd, img, fw, fh, iw, ih);
+        target_begin(cmd, img, fw, fh, iw, ih, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
     }
     uint64_t groups = (n + 255) / 256;
     uint32_t row = groups < 65535 ? (uint32_t)groups : 65535u;
@@ -401,7 +428,9 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
      * stage, comes first through this barrier); its contents are not kept, black where the frame does not cover it */
     vx_result r = overlay_prepare(d, cmd, desc, (uint64_t)fw * fh, si, err);
     if (r) return r;
-    target_begin(cmd, img, fw, fh, iw, ih);
+    /* after the acquire (transfer stage) only, not the frames before: their image is another, and waiting for
+     * their compute work would keep this frame's passes from starting while the last one's tail runs */
+    target_begin(cmd, img, fw, fh, iw, ih, VK_PIPELINE_STAGE_TRANSFER_BIT);
     vx__display_target t = {.view = iv, .iw = iw, .ih = ih, .overlay = desc->overlay ? &d->overlay_dev : NULL,
                             .bgra = desc->bgra};
     d->slot[si].fr = fr;
@@ -444,7 +473,7 @@ vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_e
     if (!d || !slot || !cmd) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (d->cur >= 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %d is still being recorded", d->cur);
     int i = (int)d->next;
-    vx_result r = slot_wait(d, i, err); /* the frame VX_DISPLAY_FRAMES before this one */
+    vx_result r = slot_wait(d, i, err); /* the frame d->depth before this one */
     if (r) return r;
     dslot* s = &d->slot[i];
     vx_gpu* g = d->g;
@@ -474,20 +503,74 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
     d->cur = -1;
     if (d->timed[i]) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
     VX__VK(vkEndCommandBuffer(s->cmd), "vkEndCommandBuffer");
-    VkSemaphore ws = (VkSemaphore)(uintptr_t)wait_semaphore, ss = (VkSemaphore)(uintptr_t)signal_semaphore;
-    /* only the copy into the image waits (a swapchain's acquire): the passes start before it */
-    VkPipelineStageFlags stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-                       .waitSemaphoreCount = ws ? 1 : 0,
-                       .pWaitSemaphores = &ws,
-                       .pWaitDstStageMask = &stage,
-                       .commandBufferCount = 1,
-                       .pCommandBuffers = &s->cmd,
-                       .signalSemaphoreCount = ss ? 1 : 0,
-                       .pSignalSemaphores = &ss};
-    VX__VK(vkQueueSubmit(d->g->queue, 1, &si, s->fence), "vkQueueSubmit");
-    s->pending = true;
-    d->next = (d->next + 1) % VX_DISPLAY_FRAMES;
+    s->wait_sem = (VkSemaphore)(uintptr_t)wait_semaphore, s->signal_sem = (VkSemaphore)(uintptr_t)signal_semaphore;
+    s->held = true;
+    d->held[d->nheld++] = i;
+    d->next = (d->next + 1) % d->depth;
+    return d->nheld >= d->batch ? flush(d, err) : VX_OK;
+}
+
+/* Submits the held frames in one vkQueueSubmit, the last one's fence
+ * signalling the end of all of them. */
+static vx_result flush(vx_display* d, vx_error* err) {
+    if (!d->nheld) return VX_OK;
+    VkSubmitInfo si[VX_DISPLAY_SLOTS];
+    VkCommandBuffer cbs[VX_DISPLAY_SLOTS];
+    /* only the write into the image waits (a swapchain's acquire): the passes start before it */
+    static const VkPipelineStageFlags stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    uint32_t n = d->nheld, ns = 0;
+    int last = d->held[n - 1];
+    bool one = d->one_info;
+    for (uint32_t k = 0; k < n; k++) {
+        dslot* s = &d->slot[d->held[k]];
+        one = one && !s->wait_sem && !s->signal_sem;
+        cbs[k] = s->cmd;
+    }
+    for (uint32_t k = 0; k < n; k++) {
+        dslot* s = &d->slot[d->held[k]];
+        if (one && k) continue;
+        si[ns++] = (VkSubmitInfo){.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                                  .waitSemaphoreCount = s->wait_sem ? 1 : 0,
+                                  .pWaitSemaphores = &s->wait_sem,
+                                  .pWaitDstStageMask = &stage,
+                                  .commandBufferCount = one ? n : 1,
+                                  .pCommandBuffers = one ? cbs : &s->cmd,
+                                  .signalSemaphoreCount = s->signal_sem ? 1 : 0,
+                                  .pSignalSemaphores = &s->signal_sem};
+    }
+    d->nheld = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        dslot* s = &d->slot[d->held[k]];
+        s->held = false, s->pending = true, s->fence_of = last;
+    }
+    VX__VK(vkQueueSubmit(d->g->queue, ns, si, d->slot[last].fence), "vkQueueSubmit");
+    d->frames_submitted += n;
+    return VX_OK;
+}
+
+/* vx_gpu.held_submit: work recorded after the held frames is about to be
+ * submitted, or the queue waited for (a failure shows at the display's next
+ * call: its frames' fences never signal, so the device is lost anyway) */
+static void held_submit(void* user) {
+    vx_display* d = user;
+    vx_error err = {0};
+    (void)flush(d, &err);
+}
+
+vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, bool one_submit_info, vx_error* err) {
+    if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!frames) frames = VX_DISPLAY_FRAMES;
+    if (!batch) batch = 1;
+    if (frames > VX_DISPLAY_SLOTS || batch > frames)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u frames in flight in batches of %u: at most %d, batch <= frames",
+                       frames, batch, VX_DISPLAY_SLOTS);
+    if (d->cur >= 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a frame is being recorded");
+    vx_result r = vx_display_wait(d, err);
+    if (r) return r;
+    d->depth = frames, d->batch = batch, d->one_info = one_submit_info, d->next = 0;
+    vx_gpu* g = d->g;
+    if (batch > 1) g->held_submit = held_submit, g->held_user = d; /* other work on the queue submits ours first */
+    else if (g->held_user == d) g->held_submit = NULL, g->held_user = NULL;
     return VX_OK;
 }
 
@@ -508,6 +591,8 @@ void vx_display_frame_times(const vx_display* d, vx_display_times* out) {
     memset(out, 0, sizeof *out);
     if (!d) return;
     out->frames_done = d->frames_done;
+    out->begins_waited = d->begins_waited;
+    out->frames_submitted = d->frames_submitted;
     out->gpu_ms = d->last_gpu_ms;
     out->gpu_start_ms = d->last_start_ms;
 }

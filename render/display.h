@@ -87,6 +87,21 @@ vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* by
  * vx_display_wait waits for every frame in flight (before reading a result
  * back, or changing what the frames read from the host). */
 #define VX_DISPLAY_FRAMES 3
+/* How frames reach the queue: `frames` in flight (0: VX_DISPLAY_FRAMES; at
+ * most VX_DISPLAY_SLOTS; slots are then 0 .. frames - 1), submitted `batch`
+ * at a time (0 or 1: each frame at its own vkQueueSubmit; more: the frames
+ * are held until that many are recorded and go in one vkQueueSubmit, the
+ * last one's fence standing for all; vx_display_wait and a wait for a held
+ * frame submit what is held), with one_submit_info the batch's command
+ * buffers in one VkSubmitInfo where no frame has semaphores. Waits for the
+ * frames in flight. Frames held for a batch are submitted before any other
+ * work reaches the queue or waits for it (vx_gpu.held_submit), so an edit
+ * after them does not show in them. With batches a presenter presents a
+ * frame once its batch was submitted (vx_display_times.frames_submitted;
+ * svo_view --batch): a queue submission costs an H200 about 0.01 ms
+ * between frames (view_bench --submit). */
+#define VX_DISPLAY_SLOTS 8
+vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, bool one_submit_info, vx_error* err);
 vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_error* err);
 vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64_t signal_semaphore, vx_error* err);
 void vx_display_frame_cancel(vx_display* d);
@@ -104,6 +119,8 @@ void vx_display_copy_to_image(void* cmd, uint64_t buffer, uint32_t w, uint32_t h
  * frames' starts is their interval on the GPU). All 0 without timestamps. */
 typedef struct vx_display_times {
     uint64_t frames_done;
+    uint64_t frames_submitted; /* frames given to vkQueueSubmit (with batches: held ones not yet) */
+    uint64_t begins_waited; /* waits for a slot's frame that found it not yet done (the CPU ahead of the GPU) */
     double gpu_ms;
     double gpu_start_ms;
 } vx_display_times;

@@ -92,6 +92,12 @@ struct vx_gpu {
     bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
     bool has_storage_write; /* shaderStorageImageWriteWithoutFormat enabled: vx_display writes images itself */
     uint32_t validation_errors;
+    /* a display that holds recorded frames to submit several at once
+     * (vx_display_set_queue): submits them; called before any other
+     * submission or wait for the queue (vx__gpu_submit_held), so that work
+     * recorded after them runs after them and a wait covers them */
+    void (*held_submit)(void* user);
+    void* held_user;
     uint32_t pipeline_count;
     vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];
 };
@@ -105,6 +111,8 @@ vx_result vx__vk_fail(vx_error* err, VkResult r, const char* what);
     } while (0)
 
 void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* label);
+/* Submits the frames a display holds (above); before vkQueueWaitIdle and other submissions. */
+void vx__gpu_submit_held(vx_gpu* g);
 
 /* gpu_memory.c: device-local when possible; host-visible ones stay mapped. */
 vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,

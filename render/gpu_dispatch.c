@@ -12,8 +12,13 @@ vx_result vx__cmd_begin(vx_gpu* g, vx_error* err) {
     return VX_OK;
 }
 
+void vx__gpu_submit_held(vx_gpu* g) {
+    if (g->held_submit) g->held_submit(g->held_user);
+}
+
 vx_result vx__cmd_submit_wait(vx_gpu* g, vx_error* err) {
     VX__VK(vkEndCommandBuffer(g->cmd), "vkEndCommandBuffer");
+    vx__gpu_submit_held(g); /* frames recorded before this work run before it */
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &g->cmd};
     VX__VK(vkResetFences(g->device, 1, &g->fence), "vkResetFences");
     VX__VK(vkQueueSubmit(g->queue, 1, &si, g->fence), "vkQueueSubmit");

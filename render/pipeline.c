@@ -444,6 +444,7 @@ void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
  * still read (a new size, the emission or sky tables changed). */
 static void settle(vx_frame_renderer* fr) {
     if (!fr->recorded) return;
+    vx__gpu_submit_held(fr->g); /* frames a display holds read these buffers too */
     vkQueueWaitIdle(fr->g->queue);
     fr->recorded = false;
 }
@@ -508,6 +509,7 @@ typedef struct rec {
     uint32_t nd;
     bool recording;
     bool untimed; /* a recorded frame without timestamps (vx_frame_desc.no_timestamps) */
+    bool open_end; /* no barrier after the next dispatch (the frame's last, writing only its display image) */
     vx_frame_result* res;
     double first_ts_ms; /* unused when no timestamps */
 } rec;
@@ -542,14 +544,15 @@ static void rec_dispatch_n(rec* R, vx__pipeline* p, const push_block* pc, const 
     if (!groups) groups = R->groups;
     vkCmdDispatch(cb, groups[0], groups[1], 1);
     if (ts) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, R->qp, R->nq + 1);
-    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-                          .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                                           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT};
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                             VK_PIPELINE_STAGE_HOST_BIT,
-                         0, 1, &mb, 0, NULL, 0, NULL);
+    if (!R->open_end) {
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                               VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                             0, 1, &mb, 0, NULL, 0, NULL);
+    }
     int rowi = timing_row(R->res, row);
     R->res->timings[rowi].dispatches++;
     if (ts) {
@@ -1022,7 +1025,14 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         for (uint32_t s = 0; s < f.spp; s++) {
             pc.u0[0] = s;
             if (merge) {
+                /* A recorded frame of one sample whose merged kernel writes only the display image (no buffer)
+                 * ends without a barrier after it: the next frame's dispatch may start while this one's last
+                 * tiles run (on an H200 the drain and launch between frames was a tenth of a 0.08 ms frame).
+                 * What reads or overwrites its results brings its own barrier: the display's image barrier,
+                 * a table or light update (compute -> transfer), the overlay copy, the host's fence wait. */
+                R->open_end = slot && d_last && f.spp == 1 && !ids;
                 rec_dispatch_d(R, p_merged, &pc, merged_name, d_last);
+                R->open_end = false;
                 continue;
             }
             if (has_gb) {

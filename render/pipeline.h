@@ -348,7 +348,7 @@ vx_result vx_frame_render(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_f
  * Every other call on the renderer or its scene that writes what the frames
  * read from the host (vx_frame_render, vx_render_frame, model and instance
  * updates, a new frame size) waits for the queue to go idle first. */
-#define VX_FRAME_SLOTS 4
+#define VX_FRAME_SLOTS 8
 vx_result vx_frame_record(vx_frame_renderer* fr, const vx_frame_desc* desc, void* cmd, uint32_t slot,
                           vx_frame_result* out, vx_error* err);
 vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_result* out, vx_error* err);

@@ -408,6 +408,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
 void vx_render_scene_destroy(vx_render_scene* rs) {
     if (!rs) return;
     vx_gpu* g = rs->gpu;
+    vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device);
     vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
                           &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
@@ -433,6 +434,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
  * the buffers an update replaces. One queue does all of the scene's work. */
 static void settle(vx_render_scene* rs) {
     if (!rs->recorded) return;
+    vx__gpu_submit_held(rs->gpu); /* frames a display holds read these buffers too */
     vkQueueWaitIdle(rs->gpu->queue);
     rs->recorded = false;
 }
@@ -513,6 +515,7 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
             return VX_OK;
         }
     }
+    vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
     rs->recorded = false;
     /* every buffer prepare_instances makes (the refit's two as well: leaked before, named by the validation
@@ -1106,12 +1109,15 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
             rs->tables_size = need, rs->tables_known = true, rs->tables_refit = refit;
         }
     }
-    /* also orders the earlier frames' shader writes (the shared images; the refit's nodes) before this frame's */
+    /* the transfers before this frame's passes (table rows, an overlay copy recorded before this) and this
+     * frame's refit dispatches before its reads. Earlier frames' shader writes need no wait here: a frame that
+     * writes the shared images ends with a barrier after its last dispatch (render/pipeline.c), and one that
+     * does not (its last pass writes only its own display image) may still run while this frame starts */
     VkMemoryBarrier after = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                             .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | (same ? 0 : VK_ACCESS_SHADER_WRITE_BIT),
                              .dstAccessMask =
                                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT};
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | (same ? 0 : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT),
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &after, 0, NULL, 0, NULL);
     rs->recorded = true;
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};

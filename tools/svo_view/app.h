@@ -41,6 +41,7 @@ typedef struct options {
     bool no_panels; /* the text overlay instead of the panels */
     bool gpu_panels; /* the panels drawn on the GPU (ImGui's Vulkan backend) where the swapchain allows */
     const char* present;  /* --present auto|gpu|host */
+    uint32_t batch;      /* --batch K: frames in flight submitted K at a time (0, 1: each alone) */
     uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
     uint64_t undo_bytes;
     vx_tool_conv conv; /* converter options, as vox2svo has them */
@@ -142,6 +143,7 @@ typedef struct app {
     const char* grab; /* save the displayed frame (panels included) */
     char grab_buf[1024];
     uint32_t frame_n;
+    uint64_t frames_recorded; /* frames given to vx_display_frame_submit (numbers the presents of batches) */
     double trace_ms, rays_per_s, update_ms;
     double panels_ms; /* drawing the panels into the frame or overlay (CPU), the last frame */
     /* presentation: vx_display set: the colour passes' frames go to the

@@ -35,7 +35,7 @@ bool sv_panels_gpu_init(app* a, char* why, size_t why_size) {
     ui_gpu_desc ud = {.instance = (void*)gd.external.instance, .phys = (void*)gd.external.physical_device,
                       .device = (void*)gd.external.device, .queue = (void*)gd.external.queue,
                       .queue_family = gd.external.queue_family, .format = vp_format(a->p),
-                      .final_layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, .frames = VX_DISPLAY_FRAMES};
+                      .final_layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, .frames = VX_DISPLAY_SLOTS};
     return ui_gpu_init(a->ui, &ud, why, why_size);
 }
 

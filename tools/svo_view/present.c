@@ -32,9 +32,15 @@ struct vp {
     VkSemaphore acquired;
     /* frames in flight (vp_acquire): an acquire semaphore per frame slot, the
      * image the frame being recorded took */
-    VkSemaphore slot_acquired[VX_DISPLAY_FRAMES];
+    VkSemaphore slot_acquired[VX_DISPLAY_SLOTS];
     uint32_t frame_image;
     bool frame_acquired;
+    /* batches (vp_desc.batch): presents queued until their frame is submitted */
+    uint32_t batch;
+    uint64_t frame_number; /* of the frame being recorded */
+    uint32_t npend;
+    uint32_t pend_image[VP_MAX_IMAGES];
+    uint64_t pend_frame[VP_MAX_IMAGES];
     VkFence fence;
     VkCommandPool pool;
     VkCommandBuffer cmd;
@@ -123,7 +129,7 @@ static vx_result create_device(vp* p, vx_error* err) {
     VP_VK(vkCreateFence(p->dev, &fci, NULL, &p->fence), "vkCreateFence");
     VkSemaphoreCreateInfo sci = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->acquired), "vkCreateSemaphore");
-    for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+    for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
         VP_VK(vkCreateSemaphore(p->dev, &sci, NULL, &p->slot_acquired[i]), "vkCreateSemaphore");
     return VX_OK;
 }
@@ -137,6 +143,7 @@ static void destroy_swapchain_parts(vp* p) {
 
 static vx_result create_swapchain(vp* p, vx_error* err) {
     vkDeviceWaitIdle(p->dev);
+    p->npend = 0; /* the old swapchain's images (the caller presented them first: vp_stale) */
     destroy_swapchain_parts(p);
     VkSurfaceCapabilitiesKHR caps;
     VP_VK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(p->phys, p->surface, &caps), "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
@@ -186,7 +193,8 @@ static vx_result create_swapchain(vp* p, vx_error* err) {
         for (uint32_t i = 0; i < npm; i++)
             if (modes[i] == VK_PRESENT_MODE_MAILBOX_KHR) mode = modes[i];
     }
-    uint32_t count = caps.minImageCount + 1;
+    /* a batch's images are acquired before the first of them is presented */
+    uint32_t count = caps.minImageCount + (p->batch > 1 ? p->batch : 1);
     if (caps.maxImageCount && count > caps.maxImageCount) count = caps.maxImageCount;
     if (count > VP_MAX_IMAGES) count = VP_MAX_IMAGES;
     VkCompositeAlphaFlagBitsKHR alpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -248,6 +256,7 @@ vx_result vp_create(const vp_desc* desc_in, vp** out, vx_error* err) {
     vp* p = calloc(1, sizeof *p);
     if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     p->vsync = d.vsync;
+    p->batch = d.batch;
     vx_result r = VX_OK;
     if (!glfwInit()) {
         const char* why = NULL;
@@ -338,7 +347,7 @@ void vp_destroy(vp* p) {
         if (p->staging_mem) vkFreeMemory(p->dev, p->staging_mem, NULL);
         if (p->sc) vkDestroySwapchainKHR(p->dev, p->sc, NULL);
         if (p->acquired) vkDestroySemaphore(p->dev, p->acquired, NULL);
-        for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
+        for (int i = 0; i < VX_DISPLAY_SLOTS; i++)
             if (p->slot_acquired[i]) vkDestroySemaphore(p->dev, p->slot_acquired[i], NULL);
         if (p->fence) vkDestroyFence(p->dev, p->fence, NULL);
         if (p->pool) vkDestroyCommandPool(p->dev, p->pool, NULL);
@@ -538,7 +547,7 @@ vx_result vp_present_display(vp* p, vx_display* disp, const vx_display_desc* des
 vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err) {
     memset(out, 0, sizeof *out);
     p->frame_acquired = false;
-    if (slot >= VX_DISPLAY_FRAMES) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u", slot);
+    if (slot >= VX_DISPLAY_SLOTS) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "slot %u", slot);
     check_resize(p);
     if (p->dirty) {
         vx_result r = create_swapchain(p, err); /* waits for the device: no frame is in flight after it */
@@ -563,10 +572,7 @@ vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err) {
     return VX_OK;
 }
 
-vx_result vp_present_acquired(vp* p, vx_error* err) {
-    if (!p->frame_acquired) return VX_OK;
-    p->frame_acquired = false;
-    uint32_t idx = p->frame_image;
+static vx_result present_one(vp* p, uint32_t idx, vx_error* err) {
     VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
                            .waitSemaphoreCount = 1,
                            .pWaitSemaphores = &p->done[idx],
@@ -574,4 +580,34 @@ vx_result vp_present_acquired(vp* p, vx_error* err) {
                            .pSwapchains = &p->sc,
                            .pImageIndices = &idx};
     return present_status(p, vkQueuePresentKHR(p->queue, &pi), err);
+}
+
+vx_result vp_present_acquired(vp* p, vx_error* err) {
+    if (!p->frame_acquired) return VX_OK;
+    p->frame_acquired = false;
+    if (p->batch <= 1) return present_one(p, p->frame_image, err);
+    if (p->npend == VP_MAX_IMAGES) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%d presents queued", VP_MAX_IMAGES);
+    p->pend_image[p->npend] = p->frame_image, p->pend_frame[p->npend] = p->frame_number;
+    p->npend++;
+    return VX_OK;
+}
+
+void vp_set_frame_number(vp* p, uint64_t frame) { p->frame_number = frame; }
+
+vx_result vp_present_submitted(vp* p, uint64_t submitted, vx_error* err) {
+    uint32_t k = 0;
+    vx_result r = VX_OK;
+    for (; k < p->npend && p->pend_frame[k] < submitted; k++) {
+        vx_result rk = present_one(p, p->pend_image[k], err);
+        if (!r) r = rk;
+    }
+    memmove(p->pend_image, p->pend_image + k, (p->npend - k) * sizeof p->pend_image[0]);
+    memmove(p->pend_frame, p->pend_frame + k, (p->npend - k) * sizeof p->pend_frame[0]);
+    p->npend -= k;
+    return r;
+}
+
+bool vp_stale(vp* p) {
+    check_resize(p);
+    return p->dirty;
 }

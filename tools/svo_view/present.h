@@ -37,6 +37,8 @@ typedef struct vp_desc {
     const vx_logger* logger;     /* with validate: the messages ("gpu.validation") */
     bool vsync;             /* FIFO presentation (default off: mailbox/immediate when available) */
     bool hidden;            /* do not show the window (still presents) */
+    uint32_t batch;         /* frames in flight submitted this many at a time (svo_view --batch; 0, 1: each alone):
+                               the swapchain gets that many more images, acquired ahead of their present */
 } vp_desc;
 
 vx_result vp_create(const vp_desc* desc, vp** out, vx_error* err);
@@ -82,5 +84,16 @@ typedef struct vp_image {
 } vp_image;
 vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err);
 vx_result vp_present_acquired(vp* p, vx_error* err);
+/* With batches (vp_desc.batch > 1, render/display.h vx_display_set_queue)
+ * a frame's submission may come after its vp_present_acquired: that call
+ * then queues the present of frame number `frame` (the count of frames
+ * submitted before it, vx_display_times.frames_submitted's numbering), and
+ * vp_present_submitted presents the queued frames numbered below
+ * `submitted` (the display's frames_submitted), in order. vp_stale says
+ * the next vp_acquire makes the swapchain again: the caller then has the
+ * display submit what it holds (vx_display_wait) and presents it first. */
+void vp_set_frame_number(vp* p, uint64_t frame);
+vx_result vp_present_submitted(vp* p, uint64_t submitted, vx_error* err);
+bool vp_stale(vp* p);
 
 #endif
