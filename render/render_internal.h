@@ -71,10 +71,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
-/* Tests: true gives trace.comp's shadow rays the walk from the octree's root
- * instead of the one that starts down the primary ray's path (the same
- * cells; the two frames are compared bit for bit). */
-void vx__render_scene_plain_shadow(vx_render_scene* rs, bool plain);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);

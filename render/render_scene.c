@@ -50,7 +50,6 @@ struct vx_render_scene {
     bool far;      /* the trace kernel's FAR constant: some model may hold a far pointer */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
-    bool plain_shadow; /* tests: shadow rays walk from the root (trace.comp's PLAIN_SHADOW) */
     /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
     const uint32_t* alt_spv;
     size_t alt_size;
@@ -746,10 +745,6 @@ void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
 
-void vx__render_scene_plain_shadow(vx_render_scene* rs, bool plain) {
-    if (rs) rs->plain_shadow = plain;
-}
-
 /* Per-frame tables relative to the reference point R, computed in double,
  * into gi, pi (NULL: not written) and bn. */
 static void frame_tables(const vx_render_scene* rs, const vx__frame* f, vx__gpu_inst* gi, vx__gpu_inst_precise* pi,
@@ -847,9 +842,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    /* 6 the shadow rays' plain walk (tests), 7 unused here (the passes' and
-     * probes' kernels use 6 and 7 for their own); 8 the float walk's DEEP, 9 FAR */
-    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, rs->plain_shadow, 0,
+    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
+    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
                          precise ? 0 : rs->deep, rs->far};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];

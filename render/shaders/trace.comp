@@ -20,11 +20,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #ifndef PRECISE
 #define TRACE_BEAM
-// the shadow ray's walk starts down the primary ray's path (trace_common.glsl)
-#define TRACE_PATH
-// 1: the shadow rays' walk from the root as in the other kernels (tests
-// compare the two; render_scene.c, vx__render_scene_plain_shadow)
-layout(constant_id = 6) const bool PLAIN_SHADOW = false;
 #endif
 #define TRACE_SENTINEL
 #include "trace_common.glsl"

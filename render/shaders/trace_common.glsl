@@ -180,28 +180,7 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // VX_RENDER_EXACT_DEPTH, rebased or not) also take a hit's t from its cube's
 // entry planes against the frame's origin, not from the walk's crossing
 // times (after the loop).
-#if defined(TRACE_PATH) && !defined(PRECISE)
-// The shadow ray's walk from the primary ray's path (trace.comp's colour
-// kernel with one instance and the plain float walk, issue 21). The primary
-// walk leaves its path: g_stk[s] the node at scale s from S_MAX - 1 (the
-// root) down to g_path (the node whose child is the hit leaf; S_MAX: no
-// path), g_pcell the hit cell. The shadow ray starts next to that cell, so
-// its walk's first pushes go down the same nodes: as long as the octant it
-// takes is the path's, the push is made without the node's load and child
-// arithmetic (the same tests and float operations as the walk's own push,
-// so the same cells). The walk's stack is g_stk in this kernel, whose path
-// entries are then the shadow walk's stack above its starting node.
-int g_stk[S_MAX + (REBASE ? 28 : 0)]; // trace_model's RB_SLOTS past S_MAX
-int g_path = S_MAX;
-uvec3 g_pcell;
-#endif
-
 bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
-#if defined(TRACE_PATH) && !defined(PRECISE)
-    bool with_path = !USE_BVH && MODE == MODE_COLOR && DEEP == 0 && !LOD && !PLAIN_SHADOW;
-    bool keep_path = with_path && !any_hit, use_path = with_path && any_hit;
-    if (keep_path) g_path = S_MAX;
-#endif
     Model m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     REAL side = REAL(exp2(float(m.depth)));
@@ -311,11 +290,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     uint attr_rec = 0u;
     bool have_attr = false;
 
-#if defined(TRACE_PATH) && !defined(PRECISE)
-#define stk_node g_stk // (the kernel's one array: the primary walk leaves its path in it)
-#else
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
-#endif
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -369,32 +344,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // rb_cbit of parent, 2 out of N through the faces rb_step
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
-#ifdef TRACE_PATH
-        if (use_path) {
-            // the walk's pushes down the primary ray's path (see g_stk):
-            // valid inner children there, so no load and no child index
-            int dsh = int(m.depth) - S_MAX; // scale + dsh: log2 of the children's side in cells
-            while (scale > g_path && scale + dsh >= 0) {
-                uvec3 pb = (g_pcell >> uint(scale + dsh)) & 1u;
-                if ((idx ^ oct7) != int(pb.x | (pb.y << 1) | (pb.z << 2))) break;
-                vec3 tc = pos * coef - bias;
-                float tc_max = min(min(tc.x, tc.y), tc.z);
-                float tv_max = min(tmax, tc_max);
-                if (!(tmin <= tmax && tmin <= tv_max)) break; // the walk would not push here
-                g_iter++;
-                float half_ = scale_exp2 * 0.5;
-                vec3 tcen = half_ * coef + tc;
-                hh = tc_max;
-                parent = uint(g_stk[scale - 1]);
-                idx = 0;
-                scale--;
-                scale_exp2 = half_;
-                if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
-                if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
-                if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-            }
-        }
-#endif
         while (true) {
 #endif
         while (scale < S_MAX) {
@@ -455,11 +404,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-#ifdef TRACE_PATH
-                    if (keep_path || tc_max < hh) stk_node[scale - koff] = int(parent); // the whole path
-#else
                     if (tc_max < hh) stk_node[scale - koff] = int(parent);
-#endif
 #endif
                     hh = tc_max;
 #ifdef PRECISE
@@ -618,9 +563,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-#ifdef TRACE_PATH
-        if (keep_path && hit) stk_node[scale] = int(parent);
-#endif
         if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
@@ -709,9 +651,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         else if (axis == 1) c.y = ca;
         else c.z = ca;
     }
-#ifdef TRACE_PATH
-    if (keep_path && scale < S_MAX) g_path = scale, g_pcell = uvec3(c);
-#endif
     h.t = t;
     h.cell = uvec3(c);
     h.axis = axis;
@@ -724,8 +663,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     }
     return true;
 }
-
-#undef stk_node
 
 #ifdef BEAM_PASS
 // beam.comp: the tube's box test and model walk replace the ray's

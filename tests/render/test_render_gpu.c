@@ -626,94 +626,6 @@ static void test_far_pointers(void) {
     }
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
-/* trace.comp's shadow rays start their walk down the primary ray's path
- * (issue 21): the colour frames must equal those of the walk from the root
- * (vx__render_scene_plain_shadow) bit for bit, and the CPU reference within
- * test_modes' tolerance. Returns the number of pixels in shadow (the
- * callers check that the shadow rays decide something). */
-static size_t shadow_frames(const char* name, vx_svo_scene* s, vx_render_desc d) {
-    vx_render_scene* rs = NULL;
-    vx_error err = {0};
-    if (vx_render_scene_create(gpu, s, &rs, &err)) {
-        CHECKF(false, "%s: %s", name, err.msg);
-        return 0;
-    }
-    d.mode = VX_RENDER_COLOR;
-    vx_render_image a = {0}, b = {0}, c = {0}, u = {0};
-    CHECK(vx_render_frame(rs, &d, &a, &err) == VX_OK);
-    vx__render_scene_plain_shadow(rs, true);
-    CHECK(vx_render_frame(rs, &d, &b, &err) == VX_OK);
-    vx__render_scene_plain_shadow(rs, false);
-    CHECK(vx_render_cpu(s, &d, NULL, &c, &err) == VX_OK);
-    /* the albedo: a pixel in shadow (or facing away) gets its ambient share, 0.3 */
-    vx_render_desc du = d;
-    du.mode = VX_RENDER_ALBEDO;
-    CHECK(vx_render_frame(rs, &du, &u, &err) == VX_OK);
-    size_t n = (size_t)d.width * d.height, diff = 0, off = 0, dark = 0, lit = 0;
-    for (size_t i = 0; a.pixels && b.pixels && c.pixels && u.pixels && i < n; i++) {
-        diff += memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
-        for (int k = 0; k < 4; k++) {
-            float x = a.pixels[4 * i + k], y = c.pixels[4 * i + k];
-            off += !((isinf(x) && isinf(y)) || fabsf(x - y) <= 2e-3f * fmaxf(1, fabsf(y)));
-        }
-        if (a.pixels[4 * i + 3] <= 0) continue;
-        /* ambient share of the albedo: shadowed (or facing away); more: lit */
-        float al = u.pixels[4 * i] + u.pixels[4 * i + 1] + u.pixels[4 * i + 2];
-        float co = a.pixels[4 * i] + a.pixels[4 * i + 1] + a.pixels[4 * i + 2];
-        if (al > 0.05f) co <= 0.3001f * al ? dark++ : lit++;
-    }
-    printf("%s: %zu px differ from the plain walk's, %zu of %zu values from the CPU's; %zu dark, %zu lit\n", name, diff,
-           off, 4 * n, dark, lit);
-    CHECKF(diff == 0, "%s: %zu pixels differ between the shadow walks", name, diff);
-    CHECKF(off <= 4 * n / 200, "%s: %zu values differ from the CPU reference", name, off);
-    CHECKF(lit > 0, "%s: no lit pixel", name);
-    vx_render_image_free(&a);
-    vx_render_image_free(&b);
-    vx_render_image_free(&c);
-    vx_render_image_free(&u);
-    vx_render_scene_destroy(rs);
-    return dark;
-}
-
-static void test_shadow_path(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    /* random models (deep enough for several pushes on the path), with far pointers throughout too */
-    for (int lim = 0; lim < 2; lim++) {
-        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
-        vx_svo_model m;
-        vx_result br = ts_random_model(&m, 40, 33, 37, 30, 991);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
-        REQUIRE(br == VX_OK);
-        vx_svo_scene s;
-        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-        ts_scene(&s, &m, 1, &in, 1);
-        vx_render_desc views[3] = {{.width = 96, .height = 64}, cam(-20, -30, 70, 20, 16, 18), cam(52, 40, 30, 20, 16, 18)};
-        for (int v = 0; v < 3; v++) {
-            char nm[64];
-            snprintf(nm, sizeof nm, "random 40x33x37%s, view %d", lim ? " (far pointers)" : "", v);
-            views[v].width = 96, views[v].height = 64;
-            size_t dark = shadow_frames(nm, &s, views[v]);
-            CHECKF(dark >= 96 * 64 / 50, "%s: %zu pixels in shadow", nm, dark);
-        }
-        vx_svo_scene_free(&s);
-    }
-    static const char* files[] = {"eph_monu1.vox", "eph_dragon.vox", "ogt_doom.vox", "ogt_test_multiple_model_scene.vox"};
-    size_t dark = 0, done = 0;
-    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char rel[128];
-        snprintf(rel, sizeof rel, "vox/%s", files[i]);
-        vx_svo_scene s;
-        if (!load_vox(rel, &s)) {
-            fprintf(stderr, "  %s: not available\n", rel);
-            continue;
-        }
-        dark += shadow_frames(files[i], &s, (vx_render_desc){.width = 128, .height = 96});
-        vx_svo_scene_free(&s);
-        done++;
-    }
-    CHECKF(!done || dark >= 100, "corpus: %zu pixels in shadow", dark);
-    CHECK(vx_gpu_validation_errors(gpu) == 0);
-}
 static void test_modes(void);
 static void test_precise_variant(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -999,7 +911,6 @@ int main(void) {
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
-    RUN(test_shadow_path);
     RUN(test_corpus);
     if (gpu) {
         CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
