@@ -49,7 +49,8 @@
  * :B.spv the beam pass only.
  * --cpu-time: also the process's CPU time per frame of voxkit's primary rays
  * and ESVO's (mean over the timed runs; columns McpuVX, McpuES: rays per CPU
- * second, and their ratio cVX/ES): on lavapipe, whose worker threads run the
+ * second, and their ratio cVX/ES; McpuSh: pixels of primary + shadow rays per
+ * CPU second): on lavapipe, whose worker threads run the
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
@@ -73,7 +74,7 @@ typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
-    double cpu_vx, cpu_es; /* process CPU seconds per frame (--cpu-time) */
+    double cpu_vx, cpu_es, cpu_sh; /* process CPU seconds per frame (--cpu-time); sh: primary + shadow */
     /* pixels whose instance, cell or depth bits differ from the first row
      * of the view (beam 0 first: the beam pass must change none); -1: none */
     long beam_diff;
@@ -338,9 +339,10 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
             bench_tree64_frame(t6, tv, s, &d, runs, &out->sec_t[tv], NULL, NULL, err))
             return 1;
     d.mode = VX_RENDER_COLOR;
-    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err) ||
-        vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_shadow, err))
-        return 1;
+    if (vx__render_dispatch(rs, &d, false, 1, &f, &sec, err)) return 1;
+    c0 = cpu_now();
+    if (vx__render_dispatch(rs, &d, false, runs, &f, &out->sec_shadow, err)) return 1;
+    out->cpu_sh = (cpu_now() - c0) / runs;
     d.mode = VX_RENDER_DEPTH;
     if (dense && time_base && (vx__dense_dispatch(rs, &d, 1, &sec, NULL, err) ||
                   vx__dense_dispatch(rs, &d, runs, &out->sec_dense, NULL, err)))
@@ -469,7 +471,7 @@ int main(int argc, char** argv) {
     for (uint32_t tv = 0; use_tree64 && tv < t6_variants; tv++)
         printf("  stT64.%u %s %sstT64 T64/ES T64dep=", tv, hd[6], u);
     if (use_tree64) printf(" %9s", "MiB T64");
-    if (cpu) printf(" %5scpuVX %5scpuES cVX/ES", u, u);
+    if (cpu) printf(" %5scpuVX %5scpuES cVX/ES %5scpuSh", u, u, u);
     printf("\n");
     fflush(stdout);
     int total = nf + (gen ? 2 : 0) + (deep ? 1 : 0);
@@ -582,10 +584,10 @@ int main(int argc, char** argv) {
                         size_t at = strlen(t64);
                         snprintf(t64 + at, sizeof t64 - at, " %9.2f", bench_tree64_bytes(&t6) / 1048576.0);
                     }
-                    char cp[64] = "";
+                    char cp[80] = "";
                     if (cpu)
-                        snprintf(cp, sizeof cp, " %10.2f %10.2f %6.2f", px / r.cpu_vx * U, esp ? px / r.cpu_es * U : 0.0,
-                                 esp ? r.cpu_es / r.cpu_vx : 0.0);
+                        snprintf(cp, sizeof cp, " %10.2f %10.2f %6.2f %10.2f", px / r.cpu_vx * U, esp ? px / r.cpu_es * U : 0.0,
+                                 esp ? r.cpu_es / r.cpu_vx : 0.0, px / r.cpu_sh * U);
                     char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
                     if (r.beam_diff >= 0) {
