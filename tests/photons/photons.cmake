@@ -6,6 +6,11 @@ if(VX_WITH_VULKAN)
   set_tests_properties(test_photons PROPERTIES TIMEOUT 600 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
 endif()
+if(VX_WITH_VULKAN)
+  # issue 13's spelling (--radius, --passes-count) against the old one, .pfm: no OpenImageIO
+  add_test(NAME test_photons_cli COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/test_photons_cli.sh ${CMAKE_BINARY_DIR}/bin)
+  set_tests_properties(test_photons_cli PROPERTIES TIMEOUT 900 LABELS photons)
+endif()
 if(VX_WITH_VULKAN AND VX_WITH_OIIO)
   add_test(NAME test_photons_tool COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/test_photons_tool.sh ${CMAKE_BINARY_DIR}/bin
            ${VX_CORPUS_DIR})

@@ -28,7 +28,7 @@ typedef struct options {
     bool probe_mode;
     vx_probe_render_desc p;
     const char* probes;
-    vx_photon_desc photons; /* gi=photons: --photons, --photon-radius, --final-gather */
+    vx_photon_desc photons; /* gi=photons: --photons, --radius (--photon-radius), --final-gather */
     /* the pass pipeline (colour mode on the GPU) */
     const char* passes;
     bool passes_given, show_given, spp_given;
@@ -116,12 +116,13 @@ _Noreturn static void usage(int status) {
             "  --passes LIST        the frame's passes in order (default: %s):\n"
             "                       gbuffer,dof,direct,gi=METHOD,ao,aa,tonemap (direct, gi, ao in any order);\n"
             "                       colour mode on the GPU; gi=probes|lightfield (need --probes), gi=pathtrace,\n"
-            "                       gi=photons (progressive photon mapping: each sample, --spp, is a pass)\n"
+            "                       gi=photons (progressive photon mapping: each sample, --spp or --passes-count, is a pass)\n"
             "                       or gi=cones (voxel cone tracing, --cone-* below)\n"
             "  --photons N          gi=photons: photons per pass (default: %u)\n"
             "  --final-gather N     gi=photons: final gather rays per pixel and sample (default: 0, none)\n"
-            "  --photon-radius R    gi=photons: first gather radius, world units (default: scene diagonal / 100;\n"
-            "                       caustics a quarter; shrinking by alpha %.3g per pass)\n"
+            "  --radius R           gi=photons: first gather radius, world units (default: scene diagonal / 100;\n"
+            "                       caustics a quarter; shrinking by alpha %.3g per pass); also --photon-radius\n"
+            "  --passes-count K     gi=photons: progressive passes, the same as --spp K (each sample is a pass)\n"
             "  --show IMAGE         write an intermediate: final|albedo|normal|depth|direct|gi|ao|instance|material\n"
             "                       (default: final; normal, depth and material need .exr)\n"
             "  --ao-radius R        ambient occlusion ray length in world units (default: 4 cells)\n"
@@ -419,12 +420,12 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.photons.final_gather) || o.photons.final_gather > 1024)
                 usage_error("bad final gather rays '%s' (0..1024)", argv[i]);
-        } else if (!strcmp(a, "--photon-radius")) {
+        } else if (!strcmp(a, "--radius") || !strcmp(a, "--photon-radius")) { /* the name, the old one */
             NEED();
             char* end;
             o.photons.radius = strtod(argv[++i], &end);
             if (*end || !(o.photons.radius > 0) || !isfinite(o.photons.radius))
-                usage_error("bad photon radius '%s'", argv[i]);
+                usage_error("bad %s '%s'", a, argv[i]);
         } else if (!strcmp(a, "--bounces")) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
@@ -480,9 +481,9 @@ int main(int argc, char** argv) {
             if (sscanf(argv[++i], "%ux%u%c", &w, &h, &c) != 2 || !w || !h || w > 16384 || h > 16384)
                 usage_error("bad size '%s' (WxH, at most 16384 each)", argv[i]);
             o.r.width = w, o.r.height = h;
-        } else if (!strcmp(a, "--spp")) {
+        } else if (!strcmp(a, "--spp") || !strcmp(a, "--passes-count")) { /* gi=photons: one pass a sample */
             NEED();
-            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > (1u << 24)) usage_error("bad spp '%s'", argv[i]);
+            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > (1u << 24)) usage_error("bad %s '%s'", a, argv[i]);
             o.spp_given = true;
         } else if (!strcmp(a, "--camera")) {
             NEED();
