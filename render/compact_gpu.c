@@ -11,7 +11,7 @@
 
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
-    uint32_t root, depth, flags, box, attr_base, block_log2, kind, voxels;
+    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base;
 } cmodel_gpu;
 
 struct vx_compact_gpu {
@@ -52,10 +52,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (c->model_count != s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact scene has %u models, the scene %u",
                        c->model_count, s->model_count);
-    /* a level-1 node is named brick << 3 | octant in the walk's stack */
-    if (c->geom_words >= (1u << 29))
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact geometry of %u words (the kernel takes < 2^29)",
-                       c->geom_words);
     uint32_t deep = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
@@ -84,7 +80,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         if (sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
-                             .kind = m->attr_kind, .voxels = m->voxels};
+                             .kind = m->attr_kind, .rank_base = c->slot_count};
     }
     vx_result r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
     if (!r) r = upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, "compact attributes", err);

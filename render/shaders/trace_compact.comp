@@ -3,11 +3,13 @@
 // compact layout (render/compact.h, issue 18): the same BVH over instances
 // and the same Laine-Karras walk as trace.comp (float variant, without the
 // beam, LOD or the two-frame walk: models at most VX_RENDER_REBASE_DEPTH
-// deep), reading the geometry DAG instead of the .svo node words. The walk's
-// decisions depend only on geometry, so its cells and depths are
+// deep), reading the geometry DAG instead of the .svo node words: one 64-bit
+// slot load per node (its descriptor and its children's block together, as
+// trace.comp's descriptor word), none for a brick's level-1 octants. The
+// walk's decisions depend only on geometry, so its cells and depths are
 // trace.comp's; the colour comes after the hit, from the cell's attribute
-// index (a second descent from the root summing the child offsets) and the
-// attribute block that holds it. Layouts: render/compact.h (geometry,
+// index (a second descent from the root summing leaf cubes and ranks: no
+// rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
@@ -28,8 +30,9 @@ const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFF
 const uint MAX_ITER = 100000u;
 
 // flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
-// trace.comp's Model.box
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, voxels; };
+// trace.comp's Model.box; rank_base: the slot pair that holds slot 0's rank
+// (the ranks follow the slots: rank of slot s = slots[rank_base + s / 2][s & 1])
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base; };
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
@@ -43,7 +46,7 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims2;
     vec4 grid_lo;
 } F;
-layout(std430, binding = 1) readonly buffer Geom { uint geom[]; };
+layout(std430, binding = 1) readonly buffer Geom { uvec2 slots[]; };
 layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
 layout(std430, binding = 3) readonly buffer CModels { CModel models[]; };
 layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
@@ -99,26 +102,13 @@ uint bytes_set(uint w) {
     return (t | (t >> 7) | (t >> 14) | (t >> 21)) & 0xFu;
 }
 
-// The node at `parent` of level L as a trace.comp descriptor (valid << 8 |
-// leaf). Level >= 3: the header; level 2: a brick (its level-1 octants,
-// none a leaf); level 1: byte o2 of a brick, parent = brick << 3 | o2 (its
-// children are cells).
-uint node_desc(uint parent, int L) {
-    if (L >= 3) {
-        uint h = geom[parent];
-        return ((h & 0xFFu) << 8) | ((h >> 8) & 0xFFu);
-    }
-    if (L == 2) return (bytes_set(geom[parent]) | (bytes_set(geom[parent + 1u]) << 4)) << 8;
-    uint o2 = parent & 7u;
-    uint b = (geom[(parent >> 3) + (o2 >> 2)] >> (8u * (o2 & 3u))) & 0xFFu;
-    return (b << 8) | b;
-}
-
-uint geom_bits(uint word, uint pos, uint n) {
-    uint w = word + (pos >> 5), sh = pos & 31u;
-    uint v = geom[w] >> sh;
-    if (sh + n > 32u) v |= geom[w + 1u] << (32u - sh);
-    return n == 32u ? v : v & ((1u << n) - 1u);
+// A brick's level-2 descriptor (trace.comp form, valid << 8): its level-1
+// octants that hold cells, none a leaf.
+uint brick_desc(uvec2 b) { return (bytes_set(b.x) | (bytes_set(b.y) << 4)) << 8; }
+// Octant o of a brick as a level-1 descriptor: its cells, all leaves.
+uint brick_octant(uvec2 b, uint o) {
+    uint v = ((o < 4u ? b.x : b.y) >> (8u * (o & 3u))) & 0xFFu;
+    return (v << 8) | v;
 }
 
 uint attr_bits(uint word, uint pos, uint n) {
@@ -144,24 +134,20 @@ uint cell_index(CModel m, uvec3 c) {
     uint n = m.root, base = 0u;
     int L = int(m.depth);
     for (; L >= 3; L--) {
-        uint h = geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uvec2 nd = slots[n];
         uint s = uint(L - 1);
         uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
-        uint below = valid & ((1u << o) - 1u);
-        uint f = inner != 0u ? uint(findLSB(inner)) : 8u;
-        if (o <= f) {
-            base += uint(bitCount(below)) << (3u * s);
-        } else {
-            uint wb = 8u << ((h >> 16) & 3u), rank = uint(bitCount(below & ~((2u << f) - 1u)));
-            base += geom_bits(n + 1u + uint(bitCount(inner)), rank * wb, wb);
-        }
+        uint leaf = nd.x & 0xFFu, below = (1u << o) - 1u, k = uint(bitCount((nd.x >> 8) & ~leaf & below));
+        base += uint(bitCount(leaf & below)) << (3u * s);
+        // the cells of the non-leaf children before o: the rank of the one before
+        n = nd.y + k;
+        if (k != 0u) base += slots[m.rank_base + ((n - 1u) >> 1)][(n - 1u) & 1u];
         if (((leaf >> o) & 1u) != 0u) return base + morton(c & ((1u << s) - 1u));
-        n = geom[n + 1u + uint(bitCount(inner & ((1u << o) - 1u)))];
     }
     uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
-    uint lo = geom[n], hi = geom[n + 1u];
-    uint below = bit < 32u ? uint(bitCount(lo & ((1u << bit) - 1u)))
-                           : uint(bitCount(lo)) + uint(bitCount(hi & ((1u << (bit - 32u)) - 1u)));
+    uvec2 b = slots[n];
+    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
 }
 
@@ -253,6 +239,7 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
         uint parent = m.root;
         int oct7 = oct ^ 7;
         uint desc = 0u;
+        uvec2 nd = uvec2(0u); // the slot of the node at parent (level >= 2)
         bool loaded = false;
         int idx = 0;
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
@@ -266,7 +253,15 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
         }
         while (scale < S_MAX) {
             g_iter++;
-            if (!loaded) { desc = node_desc(parent, scale + lvl_off); loaded = true; }
+            int lvl = scale + lvl_off;
+            if (!loaded) {
+                // level 1 only as the root of a depth-1 model: a push into a
+                // level-1 node takes its descriptor from the brick in nd, and
+                // a pop never lands on one (its children are cells)
+                nd = slots[parent];
+                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
+                loaded = true;
+            }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
@@ -283,16 +278,18 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
                     // push
                     if (tc_max < hh) stk_node[scale] = int(parent);
                     hh = tc_max;
-                    int lvl = scale + lvl_off;
-                    parent = lvl >= 3 ? geom[parent + 1u + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))]
-                                      : (parent << 3) | uint(cs);
+                    // the child's slot is in the block nd.y (level >= 3), or,
+                    // below a brick's level 2, the child is octant cs of the
+                    // brick in nd (no load)
+                    loaded = lvl == 2;
+                    if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                    else desc = brick_octant(nd, uint(cs));
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
                     if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
                     if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-                    loaded = false;
                     continue;
                 }
             }
@@ -356,7 +353,8 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
+        h.color = decode_color(m, cell_index(m, h.cell));
     return true;
 }
 
