@@ -161,9 +161,8 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
  * The layout uploaded beside a render scene made from the same scene s
  * (vx_render_scene_create), traced by shaders/trace_compact.comp with the
  * render scene's instances, BVH and camera: the float walk of trace.comp
- * over the geometry DAG, the colour decoded at the hit. Models deeper than
- * VX_RENDER_REBASE_DEPTH are refused (VX_ERR_UNSUPPORTED: no two-frame walk
- * yet); lod and beam are ignored. rs and c are borrowed for the object's
+ * over the geometry DAG (its exact t and two-frame walk of deep models
+ * included), the colour decoded at the hit; lod and beam are ignored. rs and c are borrowed for the object's
  * lifetime (c only during create). */
 typedef struct vx_compact_gpu vx_compact_gpu;
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
