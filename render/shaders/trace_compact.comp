@@ -131,28 +131,27 @@ uint part1by2(uint x) {
 }
 uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
 
-// The attribute index of set cell c (vx_compact_lookup).
-uint cell_index(CModel m, uvec3 c) {
-    if (m.root == ROOT_LEAF) return morton(c);
-    uint n = m.root, base = 0u;
-    int L = int(m.depth);
-    for (; L >= 3; L--) {
-        uvec2 nd = slots[n];
-        uint s = uint(L - 1);
-        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
-        uint leaf = nd.x & 0xFFu, below = (1u << o) - 1u, k = uint(bitCount((nd.x >> 8) & ~leaf & below));
-        // (a leaf below level 12 would pass 2^32 cells: the builder refuses it)
-        if (s < 11u) base += uint(bitCount(leaf & below)) << (3u * s);
-        // the cells of the non-leaf children before o: the rank of the one before
-        n = nd.y + k;
-        if (k != 0u) base += slots[m.rank_base + ((n - 1u) >> 1)][(n - 1u) & 1u];
-        if (((leaf >> o) & 1u) != 0u) return base + morton(c & ((1u << s) - 1u));
+// The cells in the children before child cbit of a level-lvl node (lvl >=
+// 3) with descriptor desc and children's block blk, k of them not leaves:
+// its leaf cubes before, and the rank of slot k - 1 of the block.
+uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
+    uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
+    // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
+    uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
+    if (k != 0u) {
+        // a select, not a dynamic component index (issue 21: the NVIDIA
+        // compiler's code for those never finished on some pixels)
+        uint s = blk + k - 1u;
+        uvec2 pr = slots[rank_base + (s >> 1)];
+        r += (s & 1u) != 0u ? pr.y : pr.x;
     }
-    uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
-    uvec2 b = slots[n];
-    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
-                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
-    return base + below;
+    return r;
+}
+// The cells of brick b's level-1 octants below o.
+uint brick_before(uvec2 b, uint o) {
+    uint bit = 8u * o;
+    return o < 4u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                  : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
 }
 
 uint recorrelate(uint v) {
@@ -244,10 +243,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
     // stack slots past S_MAX as trace_common.glsl's (the rebased walk's state)
-    const int RB_SLOTS = 28;
+    const int RB_SLOTS = 29;
     const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
               RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
-              RB_OALO = S_MAX + 19;
+              RB_OALO = S_MAX + 19, RB_BASE = S_MAX + 28;
     const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
 
     vec3 pos = vec3(1.0);
@@ -255,6 +254,12 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     float scale_exp2 = 0.5;
     bool hit = false;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+    // the attribute index of the first cell of the current parent's cube
+    // (a running count: a push adds the cells before the child, a pop
+    // restores the value kept beside the node), for the hit's rank
+    uint rbase = 0u;
+    uint stk_base[S_MAX];
+    int hit_lvl = 0;
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -322,6 +327,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (DEEP >= 1 || tmin <= tv_max) {
                     if ((desc & cbit) != 0u) {
                         hit = true;
+                        hit_lvl = lvl;
                         break;
                     }
                     if (REBASE && scale == rb_scale) {
@@ -332,11 +338,17 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent), stk_base[scale - koff] = rbase;
                     hh = tc_max;
                     loaded = lvl == 2;
-                    if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
-                    else desc = brick_octant(nd, uint(cs));
+                    if (lvl >= 3) {
+                        uint k = uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                        parent = nd.y + k;
+                        rbase += cells_before(m.rank_base, lvl, desc, nd.y, k, cbit);
+                    } else {
+                        desc = brick_octant(nd, uint(cs));
+                        rbase += brick_before(nd, uint(cs));
+                    }
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
@@ -367,6 +379,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
                 parent = uint(stk_node[scale - koff]);
+                rbase = stk_base[scale - koff];
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -381,6 +394,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
                 stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
                 stk_node[RB_PARENT] = int(parent);
+                stk_node[RB_BASE] = int(rbase);
                 stk_node[RB_TMAX] = floatBitsToInt(tmax);
                 stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
                 stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
@@ -409,7 +423,9 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N is a node of level depth - k >= 3: its slot is in the block nd.y
-                parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
+                uint kc = uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
+                parent = nd.y + kc;
+                rbase += cells_before(m.rank_base, scale + lvl_off, desc, nd.y, kc, rb_cbit);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -431,6 +447,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             tmax = intBitsToFloat(stk_node[RB_TMAX]);
             pos = SLOTS3(RB_POS);
             parent = uint(stk_node[RB_PARENT]);
+            rbase = uint(stk_node[RB_BASE]);
             scale = S_MAX - koff;
             scale_exp2 = us;
             ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
@@ -450,6 +467,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             if (scale >= S_MAX) break;
             scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
             parent = uint(stk_node[scale]);
+            rbase = stk_base[scale];
             ivec3 sh = floatBitsToInt(pos) >> scale;
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -457,6 +475,17 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false;
         }
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+        if (hit && !any_hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
+            // the hit child's cells before it in its parent (after the loop:
+            // one rank read per primary hit)
+            uint cbit = 1u << (idx ^ oct7);
+            if (hit_lvl >= 3) {
+                uint k = uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                rbase += cells_before(m.rank_base, hit_lvl, desc, nd.y, k, cbit);
+            } else {
+                rbase += uint(bitCount(desc & 0xFFu & (cbit - 1u)));
+            }
+        }
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
@@ -512,8 +541,12 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
-        h.color = decode_color(m, cell_index(m, h.cell));
+    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
+        // inside a full-cube leaf the cell's Morton key in the cube
+        uint i = m.root == ROOT_LEAF ? morton(h.cell)
+                 : rbase + (hit_lvl >= 3 ? morton(h.cell & ((1u << uint(hit_lvl - 1)) - 1u)) : 0u);
+        h.color = decode_color(m, i);
+    }
     return true;
 }
 
