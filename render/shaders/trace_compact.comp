@@ -258,6 +258,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     // (a running count: a push adds the cells before the child, a pop
     // restores the value kept beside the node), for the hit's rank
     uint rbase = 0u;
+    // only primary rays of colour frames on models with colours count
+    bool count = HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && !any_hit && (m.flags & 1u) != 0u;
     uint stk_base[S_MAX];
     int hit_lvl = 0;
     if (m.root == ROOT_LEAF) {
@@ -338,16 +340,19 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent), stk_base[scale - koff] = rbase;
+                    if (tc_max < hh) {
+                        stk_node[scale - koff] = int(parent);
+                        if (count) stk_base[scale - koff] = rbase;
+                    }
                     hh = tc_max;
                     loaded = lvl == 2;
                     if (lvl >= 3) {
                         uint k = uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
                         parent = nd.y + k;
-                        rbase += cells_before(m.rank_base, lvl, desc, nd.y, k, cbit);
+                        if (count) rbase += cells_before(m.rank_base, lvl, desc, nd.y, k, cbit);
                     } else {
                         desc = brick_octant(nd, uint(cs));
-                        rbase += brick_before(nd, uint(cs));
+                        if (count) rbase += brick_before(nd, uint(cs));
                     }
                     idx = 0;
                     scale--;
@@ -379,7 +384,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
                 parent = uint(stk_node[scale - koff]);
-                rbase = stk_base[scale - koff];
+                if (count) rbase = stk_base[scale - koff];
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -425,7 +430,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // N is a node of level depth - k >= 3: its slot is in the block nd.y
                 uint kc = uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
                 parent = nd.y + kc;
-                rbase += cells_before(m.rank_base, scale + lvl_off, desc, nd.y, kc, rb_cbit);
+                if (count) rbase += cells_before(m.rank_base, scale + lvl_off, desc, nd.y, kc, rb_cbit);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -467,7 +472,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             if (scale >= S_MAX) break;
             scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
             parent = uint(stk_node[scale]);
-            rbase = stk_base[scale];
+            if (count) rbase = stk_base[scale];
             ivec3 sh = floatBitsToInt(pos) >> scale;
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -475,7 +480,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false;
         }
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-        if (hit && !any_hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
+        if (hit && count) {
             // the hit child's cells before it in its parent (after the loop:
             // one rank read per primary hit)
             uint cbit = 1u << (idx ^ oct7);
