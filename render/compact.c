@@ -515,6 +515,56 @@ void vx_compact_free(vx_compact_scene* c) {
     memset(c, 0, sizeof *c);
 }
 
+/* The geometry array of c from the builder's slots (compact.h): the blocks
+ * of levels >= 3 first, then the bricks' blocks, then the ranks of the
+ * first part (a brick's rank is the popcount of the bricks before it in its
+ * block: the walk reads that block anyway, so ranks are not stored for
+ * them). Pointers to blocks and the models' roots are renumbered. */
+static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
+    uint32_t n = b->n, n3 = 0;
+    for (uint32_t e = 0; e < n; e++)
+        if (b->meta[e] && (b->meta[e] >> 4) >= 3) n3 += b->meta[e] & 15u;
+    c->slot_count = n;
+    c->stats.offset_words = n3;
+    c->geom_words = 2 * n + n3 + ((2 * n + n3) & 1u);
+    if (!n) {
+        c->geom_words = 0;
+        return VX_OK;
+    }
+    uint32_t* map = vx_calloc(b->a, n, 4);
+    uint32_t* g = vx_calloc(b->a, c->geom_words, 4);
+    if (!map || !g) {
+        vx_free(b->a, map);
+        vx_free(b->a, g);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u geometry words", c->geom_words);
+    }
+    uint32_t at3 = 0, at2 = n3;
+    for (uint32_t e = 0; e < n;) {
+        uint32_t len = b->meta[e] & 15u, brick = (b->meta[e] >> 4) <= 2;
+        for (uint32_t k = 0; k < len; k++) map[e + k] = brick ? at2++ : at3++;
+        e += len;
+    }
+    uint32_t* rank = g + 2 * (size_t)n;
+    for (uint32_t e = 0; e < n;) {
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        for (uint32_t k = 0; k < len; k++) {
+            uint32_t s = map[e + k], x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            /* a node of level >= 3 with non-leaf children points at their block */
+            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = map[y];
+            g[2 * (size_t)s] = x, g[2 * (size_t)s + 1] = y;
+            if (level >= 3) rank[s] = b->rank[e + k];
+        }
+        e += len;
+    }
+    for (uint32_t i = 0; i < c->model_count; i++)
+        if (c->models[i].root < VX_SVO_ROOT_LEAF) c->models[i].root = map[c->models[i].root];
+    vx_free(b->a, map);
+    vx_free(b->a, b->slot);
+    b->slot = NULL;
+    c->geom = g;
+    return VX_OK;
+}
+
 vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
                            vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -578,22 +628,11 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs_auto(&d, m, cm, &c, &attr_cap, err);
     }
     vx_free(d.alloc, b.tab);
+    b.tab = NULL;
+    if (!r) r = assemble(&b, &c, err);
     vx_free(d.alloc, b.meta);
-    /* slots, then their ranks (compact.h) */
-    c.slot_count = b.n;
-    c.stats.offset_words = b.n;
-    c.geom_words = 3 * b.n + (b.n & 1u);
-    if (!r && b.n) {
-        if (!vx_grow(d.alloc, (void**)&b.slot, &b.slot_cap, c.geom_words, 4))
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u geometry words", c.geom_words);
-        else {
-            memcpy(b.slot + 2 * (size_t)b.n, b.rank, (size_t)b.n * 4);
-            if (b.n & 1u) b.slot[c.geom_words - 1] = 0;
-        }
-    }
     vx_free(d.alloc, b.rank);
-    c.geom = b.slot;
-    if (!c.geom) c.geom_words = 0;
+    vx_free(d.alloc, b.slot);
     if (r) {
         vx_compact_free(&c);
         return r;
@@ -604,6 +643,15 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
 
 /* ---- lookup (the CPU form of the shader's walk) -------------------------------------- */
 
+uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k) {
+    if (!k) return 0;
+    if (L > 3) return c->geom[2 * (size_t)c->slot_count + blk + k - 1];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < k; i++)
+        n += popc(c->geom[2 * (size_t)(blk + i)]) + popc(c->geom[2 * (size_t)(blk + i) + 1]);
+    return n;
+}
+
 bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint32_t y, uint32_t z, uint32_t* index) {
     if (!c || mi >= c->model_count) return false;
     const vx_compact_model* m = &c->models[mi];
@@ -613,7 +661,6 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint3
         *index = (uint32_t)vx_svo_morton(x, y, z);
         return true;
     }
-    const uint32_t* rank = c->geom + 2 * (size_t)c->slot_count;
     uint32_t n = m->root;
     uint64_t base = 0;
     for (; L >= 1; L--) {
@@ -629,7 +676,7 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint3
         uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
         if (!((valid >> o) & 1u)) return false;
         uint32_t below = (1u << o) - 1u, k = popc(inner & below);
-        base += ((uint64_t)popc(leaf & below) << (3 * s)) + (k ? rank[sl[1] + k - 1] : 0);
+        base += ((uint64_t)popc(leaf & below) << (3 * s)) + vx__compact_inner_before(c, L, sl[1], k);
         if ((leaf >> o) & 1u) {
             uint32_t mask = (1u << s) - 1u;
             *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));

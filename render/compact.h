@@ -29,15 +29,19 @@
  *                uses bits 0..7.
  * Blocks are hash-consed by their slots and level over the whole scene, so
  * equal subtrees are stored once whatever their colours. A model's root is
- * a block of one slot. After the slot_count slots (words 0 .. 2 slot_count)
- * come their ranks, word 2 slot_count + s for slot s: the cells of the
- * block's slots up to and including s (a block's own property, so it is
- * shared with it). The index of a cell is the sum, over the levels of its
- * path, of the cells in the children before it: popcount(leaf & below)
- * cubes of 8^(level-1) and, when k = popcount(inner & below) > 0, the rank
- * of slot k - 1 of the block; plus the Morton key of the cell inside a
- * full-cube leaf or its bit rank inside a brick. The walk reads ranks only
- * after the hit (one descent from the root).
+ * a block of one slot. The slots of levels >= 3 come first (n3 of them),
+ * then the bricks; after the slot_count slots (words 0 .. 2 slot_count)
+ * come the ranks of the first n3, word 2 slot_count + s for slot s: the
+ * cells of the block's slots up to and including s (a block's own
+ * property, so it is shared with it). Bricks have no rank: the cells before
+ * brick k of a block are the popcounts of bricks 0 .. k-1, in the cache
+ * line the walk reads for brick k anyway (4 bytes less per brick, most of
+ * the slots). The index of a cell is the sum, over the levels of its path,
+ * of the cells in the children before it: popcount(leaf & below) cubes of
+ * 8^(level-1) and, when k = popcount(inner & below) > 0, the rank of slot
+ * k - 1 of the block (level >= 4) or the bricks' popcounts (level 3); plus
+ * the Morton key of the cell inside a full-cube leaf or its bit rank inside
+ * a brick. The trace kernel keeps it as a running count on pushes.
  *
  * Attributes, per model, one value per cell in Morton order, cut into blocks
  * of the model's `block` values; each block has a header word and a payload that
@@ -85,7 +89,7 @@ extern "C" {
 #define VX_COMPACT_RAW 31u   /* block code: values stored as they are */
 #define VX_COMPACT_DELTA 30u /* block code: RGBA as per-channel minimum plus residuals */
 #define VX_COMPACT_GROUP 64u /* blocks per group word */
-#define VX_COMPACT_MAX_SLOTS 0x3FFFFFFFu /* geometry slots (3 words each with the ranks) */
+#define VX_COMPACT_MAX_SLOTS 0x3FFFFFFFu /* geometry slots (up to 3 words each with the ranks) */
 
 typedef struct vx_compact_desc {
     const vx_allocator* alloc;
@@ -110,7 +114,7 @@ typedef struct vx_compact_model {
 
 typedef struct vx_compact_stats {
     uint64_t nodes;         /* geometry nodes of the scene */
-    uint64_t offset_words;  /* geometry words spent on ranks (one per slot) */
+    uint64_t offset_words;  /* geometry words spent on ranks (one per slot of level >= 3) */
     uint64_t blocks;        /* attribute blocks */
     uint64_t uniform;       /* blocks of one value (code 0) */
     uint64_t raw;           /* blocks stored raw */
@@ -124,7 +128,7 @@ typedef struct vx_compact_scene {
     uint32_t model_count;
     vx_compact_model* models;
     uint32_t slot_count; /* geometry slots */
-    uint32_t geom_words; /* 3 slot_count, rounded up to even: slots, then ranks */
+    uint32_t geom_words; /* 2 slot_count + the ranks, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;
     uint32_t* attr;
@@ -142,6 +146,9 @@ void vx_compact_free(vx_compact_scene* c);
 /* Walks model m's geometry to cell (x, y, z): false when the cell is empty or
  * outside the model's cube, else true and *index its attribute index. */
 bool vx_compact_lookup(const vx_compact_scene* c, uint32_t m, uint32_t x, uint32_t y, uint32_t z, uint32_t* index);
+/* Internal (compact.c, compact_trace.c): the cells of the first k non-leaf
+ * children of a level-L node whose children's block is blk. */
+uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k);
 /* Decodes attribute index i of model m (its block's payload); opaque white
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);

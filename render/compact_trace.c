@@ -29,7 +29,6 @@ static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint
         *index = (uint32_t)vx_svo_morton(x, y, z);
         return L;
     }
-    const uint32_t* rank = c->geom + 2 * (size_t)c->slot_count;
     uint32_t n = m->root;
     uint64_t base = 0;
     for (; L >= 3; L--) {
@@ -38,7 +37,7 @@ static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint
         uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
         if (!((valid >> o) & 1u)) return L;
         uint32_t below = (1u << o) - 1u, k = popc(inner & below);
-        base += ((uint64_t)popc(leaf & below) << (3 * s)) + (k ? rank[sl[1] + k - 1] : 0);
+        base += ((uint64_t)popc(leaf & below) << (3 * s)) + vx__compact_inner_before(c, L, sl[1], k);
         if ((leaf >> o) & 1u) {
             uint32_t mask = (1u << s) - 1u;
             *full = true;

@@ -8,8 +8,8 @@
 // trace.comp's descriptor word), none for a brick's level-1 octants. The
 // walk's decisions depend only on geometry, so its cells and depths are
 // trace.comp's; the colour comes after the hit, from the cell's attribute
-// index (a second descent from the root summing leaf cubes and ranks: no
-// rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
+// index (a second descent from the root summing leaf cubes and ranks or
+// brick popcounts: no rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
@@ -33,7 +33,8 @@ const uint MAX_ITER = 100000u;
 
 // flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
 // trace.comp's Model.box; rank_base: the slot pair that holds slot 0's rank
-// (the ranks follow the slots: rank of slot s = slots[rank_base + s / 2][s & 1]);
+// (the ranks of the slots of levels >= 3 follow the slots: rank of slot s
+// = component s & 1 of slots[rank_base + s / 2]);
 // rebase as trace.comp's Model.rebase
 struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase; };
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
@@ -133,25 +134,49 @@ uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c
 
 // The cells in the children before child cbit of a level-lvl node (lvl >=
 // 3) with descriptor desc and children's block blk, k of them not leaves:
-// its leaf cubes before, and the rank of slot k - 1 of the block.
+// its leaf cubes before, and the rank of slot k - 1 of the block (level 3:
+// the popcounts of the bricks before, which have no rank).
 uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
     uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
     // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
     uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
-    if (k != 0u) {
+    if (k != 0u && lvl > 3) {
         // a select, not a dynamic component index (issue 21: the NVIDIA
         // compiler's code for those never finished on some pixels)
         uint s = blk + k - 1u;
         uvec2 pr = slots[rank_base + (s >> 1)];
         r += (s & 1u) != 0u ? pr.y : pr.x;
+    } else {
+        // bricks have no rank: the cells of the bricks before (the push
+        // reads brick k's cache line anyway)
+        for (uint i = 0u; i < k; i++) {
+            uvec2 b = slots[blk + i];
+            r += uint(bitCount(b.x)) + uint(bitCount(b.y));
+        }
     }
     return r;
 }
-// The cells of brick b's level-1 octants below o.
-uint brick_before(uvec2 b, uint o) {
-    uint bit = 8u * o;
-    return o < 4u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
-                  : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
+// The attribute index of set cell c (vx_compact_lookup): a descent from the
+// root after the hit (measured faster on the H200 than a running count in
+// the walk, docs/PERFORMANCE.md issue 18).
+uint cell_index(CModel m, uvec3 c) {
+    if (m.root == ROOT_LEAF) return morton(c);
+    uint n = m.root, base = 0u;
+    int L = int(m.depth);
+    for (; L >= 3; L--) {
+        uvec2 nd = slots[n];
+        uint s = uint(L - 1);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        n = nd.y + k;
+    }
+    uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
+    uvec2 b = slots[n];
+    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
+    return base + below;
 }
 
 uint recorrelate(uint v) {
@@ -243,10 +268,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
     // stack slots past S_MAX as trace_common.glsl's (the rebased walk's state)
-    const int RB_SLOTS = 29;
+    const int RB_SLOTS = 28;
     const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
               RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
-              RB_OALO = S_MAX + 19, RB_BASE = S_MAX + 28;
+              RB_OALO = S_MAX + 19;
     const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
 
     vec3 pos = vec3(1.0);
@@ -254,14 +279,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     float scale_exp2 = 0.5;
     bool hit = false;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
-    // the attribute index of the first cell of the current parent's cube
-    // (a running count: a push adds the cells before the child, a pop
-    // restores the value kept beside the node), for the hit's rank
-    uint rbase = 0u;
-    // only primary rays of colour frames on models with colours count
-    bool count = HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && !any_hit && (m.flags & 1u) != 0u;
-    uint stk_base[S_MAX];
-    int hit_lvl = 0;
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -329,7 +346,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (DEEP >= 1 || tmin <= tv_max) {
                     if ((desc & cbit) != 0u) {
                         hit = true;
-                        hit_lvl = lvl;
                         break;
                     }
                     if (REBASE && scale == rb_scale) {
@@ -340,20 +356,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh) {
-                        stk_node[scale - koff] = int(parent);
-                        if (count) stk_base[scale - koff] = rbase;
-                    }
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
                     loaded = lvl == 2;
-                    if (lvl >= 3) {
-                        uint k = uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
-                        parent = nd.y + k;
-                        if (count) rbase += cells_before(m.rank_base, lvl, desc, nd.y, k, cbit);
-                    } else {
-                        desc = brick_octant(nd, uint(cs));
-                        if (count) rbase += brick_before(nd, uint(cs));
-                    }
+                    if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                    else desc = brick_octant(nd, uint(cs));
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
@@ -384,7 +391,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
                 parent = uint(stk_node[scale - koff]);
-                if (count) rbase = stk_base[scale - koff];
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -399,7 +405,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
                 stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
                 stk_node[RB_PARENT] = int(parent);
-                stk_node[RB_BASE] = int(rbase);
                 stk_node[RB_TMAX] = floatBitsToInt(tmax);
                 stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
                 stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
@@ -428,9 +433,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N is a node of level depth - k >= 3: its slot is in the block nd.y
-                uint kc = uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
-                parent = nd.y + kc;
-                if (count) rbase += cells_before(m.rank_base, scale + lvl_off, desc, nd.y, kc, rb_cbit);
+                parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -452,7 +455,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             tmax = intBitsToFloat(stk_node[RB_TMAX]);
             pos = SLOTS3(RB_POS);
             parent = uint(stk_node[RB_PARENT]);
-            rbase = uint(stk_node[RB_BASE]);
             scale = S_MAX - koff;
             scale_exp2 = us;
             ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
@@ -472,7 +474,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             if (scale >= S_MAX) break;
             scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
             parent = uint(stk_node[scale]);
-            if (count) rbase = stk_base[scale];
             ivec3 sh = floatBitsToInt(pos) >> scale;
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -480,17 +481,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false;
         }
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-        if (hit && count) {
-            // the hit child's cells before it in its parent (after the loop:
-            // one rank read per primary hit)
-            uint cbit = 1u << (idx ^ oct7);
-            if (hit_lvl >= 3) {
-                uint k = uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
-                rbase += cells_before(m.rank_base, hit_lvl, desc, nd.y, k, cbit);
-            } else {
-                rbase += uint(bitCount(desc & 0xFFu & (cbit - 1u)));
-            }
-        }
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
@@ -546,12 +536,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
-        // inside a full-cube leaf the cell's Morton key in the cube
-        uint i = m.root == ROOT_LEAF ? morton(h.cell)
-                 : rbase + (hit_lvl >= 3 ? morton(h.cell & ((1u << uint(hit_lvl - 1)) - 1u)) : 0u);
-        h.color = decode_color(m, i);
-    }
+    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
+        h.color = decode_color(m, cell_index(m, h.cell));
     return true;
 }
 
