@@ -11,8 +11,13 @@
  * timed dispatches per round, median of 3 alternating rounds, and the pixels
  * whose instance, cell, t or colour differ.
  *
- * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--gpu WxH] [--reps N]
+ * --shader-stats (before --gpu) prints the driver's statistics of both
+ * kernels (registers, spills, instructions) as they are created; each row
+ * gives the mean traversal steps per ray of both (the hits' iterations).
+ *
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--gpu WxH] [--reps N]
  *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +29,12 @@
 #ifdef VX_BENCH_HAVE_VULKAN
 #include "bench/bench_stats.h"
 #include "render/render_internal.h"
+
+static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)user, (void)level;
+    if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
+    fflush(stdout);
+}
 
 /* Both kernels on s: one markdown row per view. */
 static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
@@ -64,7 +75,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         }
         vx_render_image a = {0}, b = {0};
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0;
+        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0, ita = 0, itb = 0;
         if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
             fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         } else {
@@ -73,6 +84,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                 bool cell = x->instance == y->instance &&
                             (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
                 hits += x->instance != VX_RENDER_NO_HIT;
+                ita += x->iterations, itb += y->iterations;
                 differ += !cell;
                 dcol += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
                 dt += cell && memcmp(&x->t, &y->t, 4) != 0;
@@ -99,10 +111,11 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                 vx_compact_gpu_time(cg, &d, reps, &tb[round], &err))
                 ta[round] = tb[round] = 0;
         double da = bench_median(ta, 3), db = bench_median(tb, 3);
-        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %llu | %llu / %llu / %llu / %llu "
+        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | %llu / %llu / %llu / %llu "
                "| %.1f MB | %.1f MB |\n",
                name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb, rays / mb / 1e9, ma / mb,
-               db > 0 ? da / db : 0.0, (unsigned long long)hits, (unsigned long long)differ, (unsigned long long)dcol,
+               db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays, (unsigned long long)hits,
+               (unsigned long long)differ, (unsigned long long)dcol,
                (unsigned long long)dt, (unsigned long long)dtbig, 4.0 * (double)(words + colors) / 1e6,
                (double)vx_compact_gpu_bytes(cg) / 1e6);
         fflush(stdout);
@@ -154,8 +167,10 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t gw = 0, gh = 0, reps = 20;
+    bool stats = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
+    vx_logger logger = {.func = print_stats};
 #endif
     printf("| scene | voxels | today: MB = bytes/voxel (nodes + colours) | block | compact: MB = bytes/voxel | "
            "geometry | attributes | blocks uniform / delta / raw / shared | distinct per block | build |\n");
@@ -180,18 +195,24 @@ int main(int argc, char** argv) {
                 return 2;
             }
 #ifdef VX_BENCH_HAVE_VULKAN
-            if (!gpu && vx_gpu_create(&(vx_gpu_desc){0}, &gpu, &err)) {
+            if (!gpu && vx_gpu_create(&(vx_gpu_desc){.logger = stats ? &logger : NULL}, &gpu, &err)) {
                 fprintf(stderr, "compact_bench: %s\n", err.msg);
                 return 1;
             }
             printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
-                   "the same, depth mode | pixels hit | differing: instance or cell / colour / t bits / t > 1e-5 | "
-                   "today's buffers | compact buffers |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+                   "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
+                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers |\n"
+                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else
             fprintf(stderr, "compact_bench: built without Vulkan\n");
             return 2;
 #endif
+            continue;
+        }
+        if (!strcmp(argv[i], "--shader-stats")) {
+            /* before --gpu: the driver's statistics of each kernel as it is created */
+            stats = !setenv("VX_GPU_SHADER_STATS", "1", 1);
             continue;
         }
         if (!strcmp(argv[i], "--reps") && i + 1 < argc) {

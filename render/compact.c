@@ -6,7 +6,6 @@
 
 #include <string.h>
 
-#define HDR_LEVEL_SHIFT 18u
 #define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
 
 static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
@@ -25,13 +24,6 @@ static void put_bits(uint32_t* w, uint64_t pos, uint32_t v, uint32_t n) {
     uint32_t s = (uint32_t)(pos & 31u);
     w[i] |= v << s;
     if (s + n > 32) w[i + 1] |= v >> (32 - s);
-}
-
-/* Words of the node whose header is h (header, pointers, offsets). */
-static uint32_t node_len(uint32_t h) {
-    uint32_t valid = h & 0xFFu, inner = valid & ~(h >> 8) & 0xFFu, s = 0;
-    if (inner) s = popc(valid & ~((2u << __builtin_ctz(inner)) - 1u));
-    return 1 + popc(inner) + (s * (8u << ((h >> 16) & 3u)) + 31) / 32;
 }
 
 static uint64_t hash_words(const uint32_t* w, uint32_t n) {
@@ -55,20 +47,6 @@ typedef struct wordset {
     const void* ctx;
 } wordset;
 
-typedef struct builder {
-    const vx_allocator* a;
-    vx_error* err;
-    uint32_t* geom;
-    size_t geom_cap;
-    uint32_t geom_n;
-    wordset nodes;
-    wordset bricks; /* nodes of levels 1 and 2: 64-bit masks */
-    /* per model: the compact node and cell count of a source descriptor */
-    uint32_t* memo_node;
-    uint32_t* memo_count;
-    uint8_t* memo_level; /* 0: not built */
-    vx_compact_stats* st;
-} builder;
 
 static vx_result set_grow(const vx_allocator* a, wordset* s, const uint32_t* data, vx_error* err) {
     size_t cap = s->cap ? s->cap * 2 : 1024;
@@ -118,52 +96,85 @@ static vx_result set_intern(const vx_allocator* a, wordset* s, uint32_t** data, 
     return VX_OK;
 }
 
-static uint32_t node_len_of(const void* ctx, const uint32_t* data, uint32_t start) {
-    (void)ctx;
-    return node_len(data[start]);
-}
-static uint32_t brick_len_of(const void* ctx, const uint32_t* data, uint32_t start) {
-    (void)ctx, (void)data, (void)start;
-    return 2;
+typedef struct builder {
+    const vx_allocator* a;
+    vx_error* err;
+    uint32_t* slot;  /* 2 words per slot */
+    uint32_t* rank;  /* one per slot */
+    uint16_t* meta;  /* at a block's first slot: its length | level << 4 */
+    size_t slot_cap, rank_cap, meta_cap;
+    uint32_t n;      /* slots used */
+    uint32_t* tab;   /* open addressing over block starts, UINT32_MAX: empty */
+    size_t tab_cap, tab_n;
+    /* per model: a source descriptor's slot words, cells and level (0: not built) */
+    uint32_t* memo;
+    uint32_t* memo_count;
+    uint8_t* memo_level;
+    vx_compact_stats* st;
+} builder;
+
+static uint64_t block_hash(const uint32_t* w, uint32_t k, uint32_t level) {
+    return hash_words(w, 2 * k) ^ ((uint64_t)level * 0xD6E8FEB86659FD93ull);
 }
 
-static void memo_set(builder* b, uint32_t w, uint32_t L, uint32_t node, uint64_t count) {
-    b->memo_node[w] = node;
-    b->memo_count[w] = (uint32_t)count;
-    b->memo_level[w] = (uint8_t)L;
-}
-
-/* A node of level 1 or 2 (the root of a model of depth <= 2 or a level-3
- * node's child) as the 64-bit mask of its cells by Morton code: one level-2
- * node and its level-1 children, 2 words where a header and eight child
- * nodes would take up to 17. */
-static vx_result build_brick(builder* b, const vx_svo_model* m, uint32_t w, uint32_t L, uint32_t valid,
-                             uint32_t leaf, uint32_t block, uint32_t* out_node, uint64_t* out_count) {
-    uint64_t mask = 0;
-    for (uint32_t o = 0, k = 0; o < 8; o++) {
-        if (!((valid >> o) & 1u)) continue;
-        uint64_t child = L == 1 || ((leaf >> o) & 1u) ? 0xFFu : vx_svo_desc_valid(m->nodes[block + k++]);
-        mask |= L == 1 ? 1ull << o : child << (8 * o);
+/* The block of k slots w (children of one node, level `level`, ranks rk)
+ * in the geometry, found or appended; *at its first slot. Blocks are keyed by
+ * level too: the same words at another level have other cell counts. */
+static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
+                              uint32_t* at) {
+    if (2 * (b->tab_n + 1) > b->tab_cap) {
+        size_t cap = b->tab_cap ? b->tab_cap * 2 : 1024;
+        uint32_t* t = vx_calloc(b->a, cap, 4);
+        if (!t) return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %zu-entry hash table", cap);
+        memset(t, 0xFF, cap * 4);
+        for (size_t i = 0; i < b->tab_cap; i++) {
+            uint32_t e = b->tab[i];
+            if (e == UINT32_MAX) continue;
+            size_t j = (size_t)block_hash(b->slot + 2 * (size_t)e, b->meta[e] & 15u, b->meta[e] >> 4) & (cap - 1);
+            while (t[j] != UINT32_MAX) j = (j + 1) & (cap - 1);
+            t[j] = e;
+        }
+        vx_free(b->a, b->tab);
+        b->tab = t;
+        b->tab_cap = cap;
     }
-    uint32_t words[2] = {(uint32_t)mask, (uint32_t)(mask >> 32)}, at = 0;
-    bool found = false;
-    vx_result r = set_intern(b->a, &b->bricks, &b->geom, &b->geom_cap, &b->geom_n, words, 2, VX_SVO_ROOT_LEAF - 1,
-                             &at, &found, b->err);
-    if (r) return r;
-    b->st->nodes += !found;
-    uint64_t count = (uint64_t)__builtin_popcountll(mask);
-    memo_set(b, w, L, at, count);
-    *out_node = at;
-    *out_count = count;
+    uint16_t key = (uint16_t)(k | level << 4);
+    size_t j = (size_t)block_hash(w, k, level) & (b->tab_cap - 1);
+    for (; b->tab[j] != UINT32_MAX; j = (j + 1) & (b->tab_cap - 1)) {
+        uint32_t e = b->tab[j];
+        if (b->meta[e] == key && !memcmp(b->slot + 2 * (size_t)e, w, (size_t)k * 8)) {
+            *at = e;
+            return VX_OK;
+        }
+    }
+    if (b->n > VX_COMPACT_MAX_SLOTS - k)
+        return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u geometry slots",
+                       VX_COMPACT_MAX_SLOTS);
+    size_t need = (size_t)b->n + k;
+    if (!vx_grow(b->a, (void**)&b->slot, &b->slot_cap, 2 * need, 4) ||
+        !vx_grow(b->a, (void**)&b->rank, &b->rank_cap, need, 4) ||
+        !vx_grow(b->a, (void**)&b->meta, &b->meta_cap, need, 2))
+        return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu geometry slots", need);
+    memcpy(b->slot + 2 * (size_t)b->n, w, (size_t)k * 8);
+    memcpy(b->rank + b->n, rk, (size_t)k * 4);
+    memset(b->meta + b->n, 0, (size_t)k * 2);
+    b->meta[b->n] = key;
+    b->tab[j] = b->n;
+    b->tab_n++;
+    *at = b->n;
+    b->n += k;
+    b->st->nodes += k;
     return VX_OK;
 }
 
-/* The compact node of source descriptor w at level L (its children are
- * cubes of 2^(L-1) cells) and the cells below it. */
-static vx_result build_node(builder* b, const vx_svo_model* m, uint32_t w, uint32_t L, uint32_t* out_node,
+/* The slot words (*x, *y) of source descriptor w at level L (its children are
+ * cubes of 2^(L-1) cells) and the cells below it. Level 1 or 2: the 64-bit
+ * mask of its cells by Morton code (a level-2 node and its level-1 children
+ * in one slot). Level >= 3: the trace descriptor and its children's block. */
+static vx_result build_node(builder* b, const vx_svo_model* m, uint32_t w, uint32_t L, uint32_t* x, uint32_t* y,
                             uint64_t* out_count) {
     if (b->memo_level[w] == L) {
-        *out_node = b->memo_node[w];
+        *x = b->memo[2 * (size_t)w], *y = b->memo[2 * (size_t)w + 1];
         *out_count = b->memo_count[w];
         return VX_OK;
     }
@@ -179,48 +190,47 @@ static vx_result build_node(builder* b, const vx_svo_model* m, uint32_t w, uint3
             return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: children at %u", w, block);
         if (L == 1) return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: children below cells", w);
     }
-    if (L <= 2) return build_brick(b, m, w, L, valid, leaf, block, out_node, out_count);
-    uint32_t words[1 + 8 + 8] = {0}, np = 0;
-    uint64_t cnt[8] = {0}, cube = 1ull << (3 * (L - 1)), total = 0;
-    for (uint32_t o = 0; o < 8; o++) {
-        if (!((valid >> o) & 1u)) continue;
-        if ((leaf >> o) & 1u) {
-            cnt[o] = cube;
-        } else {
-            vx_result r = build_node(b, m, block + np, L - 1, &words[1 + np], &cnt[o]);
+    uint64_t total = 0;
+    if (L <= 2) {
+        uint64_t mask = 0;
+        for (uint32_t o = 0, k = 0; o < 8; o++) {
+            if (!((valid >> o) & 1u)) continue;
+            uint64_t child = L == 1 || ((leaf >> o) & 1u) ? 0xFFu : vx_svo_desc_valid(m->nodes[block + k++]);
+            mask |= L == 1 ? 1ull << o : child << (8 * o);
+        }
+        *x = (uint32_t)mask, *y = (uint32_t)(mask >> 32);
+        total = (uint64_t)__builtin_popcountll(mask);
+    } else {
+        uint32_t words[16], ranks[8], np = 0;
+        uint64_t cube = 1ull << (3 * (L - 1)), inner_cells = 0;
+        for (uint32_t o = 0; o < 8; o++) {
+            if (!((valid >> o) & 1u)) continue;
+            if ((leaf >> o) & 1u) {
+                total += cube;
+                continue;
+            }
+            uint64_t cnt = 0;
+            vx_result r = build_node(b, m, block + np, L - 1, &words[2 * np], &words[2 * np + 1], &cnt);
             if (r) return r;
-            np++;
+            if (inner_cells > UINT32_MAX) break; /* reported below */
+            inner_cells += cnt;
+            total += cnt;
+            ranks[np++] = (uint32_t)inner_cells;
         }
-    }
-    /* offsets of the valid children after the first non-leaf one */
-    uint64_t offs[8], maxoff = 0;
-    uint32_t ns = 0, f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
-    for (uint32_t o = 0; o < 8; o++) {
-        if (!((valid >> o) & 1u)) continue;
-        if (o > f) {
-            offs[ns++] = total;
-            if (total > maxoff) maxoff = total;
+        if (total > UINT32_MAX)
+            return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                           "compact layout: a subtree of %llu cells (attribute indices have 32 bits)",
+                           (unsigned long long)total);
+        uint32_t at = 0;
+        if (np) {
+            vx_result r = block_intern(b, words, ranks, np, L - 1, &at);
+            if (r) return r;
         }
-        total += cnt[o];
+        *x = (valid << 8) | leaf, *y = at;
     }
-    if (total > UINT32_MAX)
-        return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                       "compact layout: a subtree of %llu cells (attribute indices have 32 bits)",
-                       (unsigned long long)total);
-    uint32_t wc = maxoff < 256 ? 0 : maxoff < 65536 ? 1 : 2, wb = 8u << wc;
-    words[0] = valid | (leaf << 8) | (wc << 16) | (L << HDR_LEVEL_SHIFT);
-    for (uint32_t i = 0; i < ns; i++) put_bits(words + 1 + np, (uint64_t)i * wb, (uint32_t)offs[i], wb);
-    uint32_t len = node_len(words[0]), at = 0;
-    bool found = false;
-    vx_result r = set_intern(b->a, &b->nodes, &b->geom, &b->geom_cap, &b->geom_n, words, len, VX_SVO_ROOT_LEAF - 1,
-                             &at, &found, b->err);
-    if (r) return r;
-    if (!found) {
-        b->st->nodes++;
-        b->st->offset_words += len - 1 - np;
-    }
-    memo_set(b, w, L, at, total);
-    *out_node = at;
+    b->memo[2 * (size_t)w] = *x, b->memo[2 * (size_t)w + 1] = *y;
+    b->memo_count[w] = (uint32_t)total;
+    b->memo_level[w] = (uint8_t)L;
     *out_count = total;
     return VX_OK;
 }
@@ -505,6 +515,56 @@ void vx_compact_free(vx_compact_scene* c) {
     memset(c, 0, sizeof *c);
 }
 
+/* The geometry array of c from the builder's slots (compact.h): the blocks
+ * of levels >= 3 first, then the bricks' blocks, then the ranks of the
+ * first part (a brick's rank is the popcount of the bricks before it in its
+ * block: the walk reads that block anyway, so ranks are not stored for
+ * them). Pointers to blocks and the models' roots are renumbered. */
+static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
+    uint32_t n = b->n, n3 = 0;
+    for (uint32_t e = 0; e < n; e++)
+        if (b->meta[e] && (b->meta[e] >> 4) >= 3) n3 += b->meta[e] & 15u;
+    c->slot_count = n;
+    c->stats.offset_words = n3;
+    c->geom_words = 2 * n + n3 + ((2 * n + n3) & 1u);
+    if (!n) {
+        c->geom_words = 0;
+        return VX_OK;
+    }
+    uint32_t* map = vx_calloc(b->a, n, 4);
+    uint32_t* g = vx_calloc(b->a, c->geom_words, 4);
+    if (!map || !g) {
+        vx_free(b->a, map);
+        vx_free(b->a, g);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u geometry words", c->geom_words);
+    }
+    uint32_t at3 = 0, at2 = n3;
+    for (uint32_t e = 0; e < n;) {
+        uint32_t len = b->meta[e] & 15u, brick = (b->meta[e] >> 4) <= 2;
+        for (uint32_t k = 0; k < len; k++) map[e + k] = brick ? at2++ : at3++;
+        e += len;
+    }
+    uint32_t* rank = g + 2 * (size_t)n;
+    for (uint32_t e = 0; e < n;) {
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        for (uint32_t k = 0; k < len; k++) {
+            uint32_t s = map[e + k], x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            /* a node of level >= 3 with non-leaf children points at their block */
+            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = map[y];
+            g[2 * (size_t)s] = x, g[2 * (size_t)s + 1] = y;
+            if (level >= 3) rank[s] = b->rank[e + k];
+        }
+        e += len;
+    }
+    for (uint32_t i = 0; i < c->model_count; i++)
+        if (c->models[i].root < VX_SVO_ROOT_LEAF) c->models[i].root = map[c->models[i].root];
+    vx_free(b->a, map);
+    vx_free(b->a, b->slot);
+    b->slot = NULL;
+    c->geom = g;
+    return VX_OK;
+}
+
 vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
                            vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -520,8 +580,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (d.alloc) c.alloc = *d.alloc;
     d.alloc = &c.alloc;
     memcpy(c.palette, s->palette, sizeof c.palette);
-    builder b = {.a = d.alloc, .err = err, .st = &c.stats, .nodes = {.len_of = node_len_of},
-                 .bricks = {.len_of = brick_len_of}};
+    builder b = {.a = d.alloc, .err = err, .st = &c.stats};
     size_t attr_cap = 0;
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
@@ -543,14 +602,17 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
                             m->node_count);
                 break;
             }
-            b.memo_node = vx_calloc(d.alloc, m->node_count, 4);
+            b.memo = vx_calloc(d.alloc, m->node_count, 8);
             b.memo_count = vx_calloc(d.alloc, m->node_count, 4);
             b.memo_level = vx_calloc(d.alloc, m->node_count, 1);
-            if (!b.memo_node || !b.memo_count || !b.memo_level)
+            uint32_t rw[2], zero = 0;
+            if (!b.memo || !b.memo_count || !b.memo_level)
                 r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
             else
-                r = build_node(&b, m, m->root, m->depth, &cm->root, &cells);
-            vx_free(d.alloc, b.memo_node);
+                r = build_node(&b, m, m->root, m->depth, &rw[0], &rw[1], &cells);
+            /* the root: a block of one slot at the model's level */
+            if (!r) r = block_intern(&b, rw, &zero, 1, m->depth, &cm->root);
+            vx_free(d.alloc, b.memo);
             vx_free(d.alloc, b.memo_count);
             vx_free(d.alloc, b.memo_level);
             if (r) {
@@ -565,10 +627,12 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         cm->voxels = (uint32_t)cells;
         if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs_auto(&d, m, cm, &c, &attr_cap, err);
     }
-    vx_free(d.alloc, b.nodes.tab);
-    vx_free(d.alloc, b.bricks.tab);
-    c.geom = b.geom;
-    c.geom_words = b.geom_n;
+    vx_free(d.alloc, b.tab);
+    b.tab = NULL;
+    if (!r) r = assemble(&b, &c, err);
+    vx_free(d.alloc, b.meta);
+    vx_free(d.alloc, b.rank);
+    vx_free(d.alloc, b.slot);
     if (r) {
         vx_compact_free(&c);
         return r;
@@ -578,6 +642,15 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
 }
 
 /* ---- lookup (the CPU form of the shader's walk) -------------------------------------- */
+
+uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k) {
+    if (!k) return 0;
+    if (L > 3) return c->geom[2 * (size_t)c->slot_count + blk + k - 1];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < k; i++)
+        n += popc(c->geom[2 * (size_t)(blk + i)]) + popc(c->geom[2 * (size_t)(blk + i) + 1]);
+    return n;
+}
 
 bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint32_t y, uint32_t z, uint32_t* index) {
     if (!c || mi >= c->model_count) return false;
@@ -591,29 +664,25 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint3
     uint32_t n = m->root;
     uint64_t base = 0;
     for (; L >= 1; L--) {
+        const uint32_t* sl = c->geom + 2 * (size_t)n;
         if (L <= 2) {
             uint32_t r = (1u << L) - 1u, bit = (uint32_t)vx_svo_morton(x & r, y & r, z & r);
-            uint64_t mask = c->geom[n] | (uint64_t)c->geom[n + 1] << 32;
+            uint64_t mask = sl[0] | (uint64_t)sl[1] << 32;
             if (!((mask >> bit) & 1u)) return false;
             *index = (uint32_t)(base + (uint64_t)__builtin_popcountll(mask & ((1ull << bit) - 1u)));
             return true;
         }
-        uint32_t h = c->geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uint32_t valid = (sl[0] >> 8) & 0xFFu, leaf = sl[0] & 0xFFu, inner = valid & ~leaf;
         uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
         if (!((valid >> o) & 1u)) return false;
-        uint32_t below = valid & ((1u << o) - 1u), f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
-        if (o <= f) {
-            base += (uint64_t)popc(below) << (3 * s);
-        } else {
-            uint32_t wb = 8u << ((h >> 16) & 3u), rank = popc(below & ~((2u << f) - 1u));
-            base += get_bits(c->geom + n + 1 + popc(inner), (uint64_t)rank * wb, wb);
-        }
+        uint32_t below = (1u << o) - 1u, k = popc(inner & below);
+        base += ((uint64_t)popc(leaf & below) << (3 * s)) + vx__compact_inner_before(c, L, sl[1], k);
         if ((leaf >> o) & 1u) {
             uint32_t mask = (1u << s) - 1u;
             *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
             return true;
         }
-        n = c->geom[n + 1 + popc(inner & ((1u << o) - 1u))];
+        n = sl[1] + k;
     }
     return false;
 }

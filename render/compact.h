@@ -11,27 +11,37 @@
  * the number of set cells before it in Morton order, which the traversal
  * sums on the way down from per-node child offsets.
  *
- * Geometry: 32-bit words, one array for the scene, children before parents.
- * A node of level 1 or 2 (a level-3 node's child, or the root of a model of
- * depth <= 2) is a brick: 2 words, the 64-bit mask of its cells by their
- * Morton code within the node (bit 8 * o2 + o1: octant o2 of the node,
- * octant o1 of that child), low word first; the index of a cell within it is
- * the number of set bits below its own. A node of level >= 3 at word n:
- *   geom[n]      header: bits 0..7 valid mask, bits 8..15 leaf mask (a leaf
- *                child is one cell at level 1, a full cube of 8^(level-1)
- *                cells above), bits 16..17 offset width w (0: 8, 1: 16, 2: 32
- *                bits), bits 18..22 the node's level (3..21; part of the
- *                identity, so nodes of different levels are never merged).
- *   geom[n + 1 + k], k < popcount(valid & ~leaf): absolute word index of the
- *                k-th non-leaf child (octant order).
- *   then packed offsets, little end first, (8 << w) bits each: for every valid
- *                child after the first non-leaf child f, the number of cells
- *                in the node's earlier children. A child o <= f has only leaf
- *                children before it: offset popcount(valid & below(o)) *
- *                8^(level-1), nothing stored (so a node whose first child
- *                is its only non-leaf one stores no offsets at all).
- * The index of a cell is the sum of its child offsets on the path, plus,
- * inside a full-cube leaf, the Morton key of the cell relative to the cube.
+ * Geometry: slots of 64 bits (2 words, low first) in one array for the
+ * scene; a node lives in its parent's block of children, so a push in the
+ * walk reads the child's slot and nothing else (the node and the pointer to
+ * its children arrive in one load, as in trace.comp's descriptors; a walk
+ * that first read a pointer word, then the child's header, ran at 0.55-0.84
+ * of trace.comp, docs/PERFORMANCE.md issue 18).
+ *   level >= 3:  word 0 trace.comp's descriptor form, bits 8..15 valid mask,
+ *                bits 0..7 leaf mask (a leaf child is one cell at level 1, a
+ *                full cube of 8^(level-1) cells above); word 1 the slot index
+ *                of its block: its non-leaf children in octant order (no
+ *                block, 0, without any)
+ *   level 1, 2:  a brick, the 64-bit mask of its cells by their Morton code
+ *                within the node (bit 8 * o2 + o1: octant o2 of the node,
+ *                octant o1 of that child); the index of a cell within it is
+ *                the number of set bits below its own. A model of depth 1
+ *                uses bits 0..7.
+ * Blocks are hash-consed by their slots and level over the whole scene, so
+ * equal subtrees are stored once whatever their colours. A model's root is
+ * a block of one slot. The slots of levels >= 3 come first (n3 of them),
+ * then the bricks; after the slot_count slots (words 0 .. 2 slot_count)
+ * come the ranks of the first n3, word 2 slot_count + s for slot s: the
+ * cells of the block's slots up to and including s (a block's own
+ * property, so it is shared with it). Bricks have no rank: the cells before
+ * brick k of a block are the popcounts of bricks 0 .. k-1, in the cache
+ * line the walk reads for brick k anyway (4 bytes less per brick, most of
+ * the slots). The index of a cell is the sum, over the levels of its path,
+ * of the cells in the children before it: popcount(leaf & below) cubes of
+ * 8^(level-1) and, when k = popcount(inner & below) > 0, the rank of slot
+ * k - 1 of the block (level >= 4) or the bricks' popcounts (level 3); plus
+ * the Morton key of the cell inside a full-cube leaf or its bit rank inside
+ * a brick. The trace kernel keeps it as a running count on pushes.
  *
  * Attributes, per model, one value per cell in Morton order, cut into blocks
  * of the model's `block` values; each block has a header word and a payload that
@@ -61,8 +71,9 @@
  * colour is palette[index]), 32 bits RGBA otherwise. Values are exact: a
  * model's colour of cell x is vx_svo_attr_rgba() of its record.
  *
- * Limits: a model of more than 2^32 - 1 cells, or whose attribute region
- * passes 2^27 words (512 MiB), is refused with VX_ERR_LIMIT. */
+ * Limits: a model of more than 2^32 - 1 cells, a scene of more than
+ * VX_COMPACT_MAX_SLOTS slots, or a model whose attribute region passes 2^27
+ * words (512 MiB), is refused with VX_ERR_LIMIT. */
 #ifndef VX_COMPACT_H
 #define VX_COMPACT_H
 
@@ -78,6 +89,7 @@ extern "C" {
 #define VX_COMPACT_RAW 31u   /* block code: values stored as they are */
 #define VX_COMPACT_DELTA 30u /* block code: RGBA as per-channel minimum plus residuals */
 #define VX_COMPACT_GROUP 64u /* blocks per group word */
+#define VX_COMPACT_MAX_SLOTS 0x3FFFFFFFu /* geometry slots (up to 3 words each with the ranks) */
 
 typedef struct vx_compact_desc {
     const vx_allocator* alloc;
@@ -91,7 +103,7 @@ vx_compact_desc vx_compact_desc_defaults(void);
 enum { VX_COMPACT_ATTR_NONE = 0, VX_COMPACT_ATTR_PALETTE = 1, VX_COMPACT_ATTR_RGBA = 2 };
 
 typedef struct vx_compact_model {
-    uint32_t root;      /* word index of the root node, or VX_SVO_ROOT_EMPTY / VX_SVO_ROOT_LEAF */
+    uint32_t root;      /* slot of the root node, or VX_SVO_ROOT_EMPTY / VX_SVO_ROOT_LEAF */
     uint32_t depth;     /* the source model's depth */
     uint32_t voxels;    /* cells set (attribute indices 0..voxels-1) */
     uint32_t attr_kind; /* VX_COMPACT_ATTR_*: NONE is opaque white */
@@ -102,7 +114,7 @@ typedef struct vx_compact_model {
 
 typedef struct vx_compact_stats {
     uint64_t nodes;         /* geometry nodes of the scene */
-    uint64_t offset_words;  /* geometry words spent on child offsets */
+    uint64_t offset_words;  /* geometry words spent on ranks (one per slot of level >= 3) */
     uint64_t blocks;        /* attribute blocks */
     uint64_t uniform;       /* blocks of one value (code 0) */
     uint64_t raw;           /* blocks stored raw */
@@ -115,7 +127,8 @@ typedef struct vx_compact_stats {
 typedef struct vx_compact_scene {
     uint32_t model_count;
     vx_compact_model* models;
-    uint32_t geom_words;
+    uint32_t slot_count; /* geometry slots */
+    uint32_t geom_words; /* 2 slot_count + the ranks, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;
     uint32_t* attr;
@@ -133,6 +146,9 @@ void vx_compact_free(vx_compact_scene* c);
 /* Walks model m's geometry to cell (x, y, z): false when the cell is empty or
  * outside the model's cube, else true and *index its attribute index. */
 bool vx_compact_lookup(const vx_compact_scene* c, uint32_t m, uint32_t x, uint32_t y, uint32_t z, uint32_t* index);
+/* Internal (compact.c, compact_trace.c): the cells of the first k non-leaf
+ * children of a level-L node whose children's block is blk. */
+uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k);
 /* Decodes attribute index i of model m (its block's payload); opaque white
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
@@ -152,9 +168,8 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
  * The layout uploaded beside a render scene made from the same scene s
  * (vx_render_scene_create), traced by shaders/trace_compact.comp with the
  * render scene's instances, BVH and camera: the float walk of trace.comp
- * over the geometry DAG, the colour decoded at the hit. Models deeper than
- * VX_RENDER_REBASE_DEPTH are refused (VX_ERR_UNSUPPORTED: no two-frame walk
- * yet); lod and beam are ignored. rs and c are borrowed for the object's
+ * over the geometry DAG (its exact t and two-frame walk of deep models
+ * included), the colour decoded at the hit; lod and beam are ignored. rs and c are borrowed for the object's
  * lifetime (c only during create). */
 typedef struct vx_compact_gpu vx_compact_gpu;
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,

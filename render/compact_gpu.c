@@ -11,7 +11,7 @@
 
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
-    uint32_t root, depth, flags, box, attr_base, block_log2, kind, voxels;
+    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase;
 } cmodel_gpu;
 
 struct vx_compact_gpu {
@@ -52,19 +52,13 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (c->model_count != s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact scene has %u models, the scene %u",
                        c->model_count, s->model_count);
-    /* a level-1 node is named brick << 3 | octant in the walk's stack */
-    if (c->geom_words >= (1u << 29))
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact geometry of %u words (the kernel takes < 2^29)",
-                       c->geom_words);
+    /* the kernel's DEEP constant, as render_scene.c's for trace.comp */
     uint32_t deep = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         if (m->root >= VX_SVO_ROOT_LEAF) continue;
-        if (m->depth > VX_RENDER_REBASE_DEPTH)
-            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                           "model %u is %u levels deep: the compact kernel has no two-frame walk (at most %u)", i,
-                           m->depth, VX_RENDER_REBASE_DEPTH);
-        if (m->depth > VX_RENDER_EXACT_DEPTH) deep = 1;
+        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
+        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
     }
     vx_gpu* g = vx__render_scene_gpu(rs);
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
@@ -81,10 +75,14 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         const vx_compact_model* m = &c->models[i];
         const vx_svo_model* sm = &s->models[i];
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
-        if (sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH) flags |= 2u;
+        bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
+        if (deep_model) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
-                             .kind = m->attr_kind, .voxels = m->voxels};
+                             .kind = m->attr_kind, .rank_base = c->slot_count,
+                             .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
+                                           ? sm->depth - VX_RENDER_FRAME_LEVELS
+                                           : 0};
     }
     vx_result r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
     if (!r) r = upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, "compact attributes", err);

@@ -15,12 +15,6 @@
 
 static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
 
-static uint32_t bits_at(const uint32_t* w, uint64_t pos, uint32_t n) {
-    uint64_t v = w[pos >> 5] >> (pos & 31);
-    if ((pos & 31) + n > 32) v |= (uint64_t)w[(pos >> 5) + 1] << (32 - (pos & 31));
-    return (uint32_t)(v & ((n == 32) ? 0xFFFFFFFFull : ((1ull << n) - 1)));
-}
-
 /* Cell (x, y, z) of model m, inside its cube. Returns the level k of the
  * smallest block holding the cell that has set cells (the reference's
  * table: the block of level k - 1 around the cell is empty), or, when the
@@ -38,26 +32,22 @@ static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint
     uint32_t n = m->root;
     uint64_t base = 0;
     for (; L >= 3; L--) {
-        uint32_t h = c->geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        const uint32_t* sl = c->geom + 2 * (size_t)n;
+        uint32_t valid = (sl[0] >> 8) & 0xFFu, leaf = sl[0] & 0xFFu, inner = valid & ~leaf;
         uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
         if (!((valid >> o) & 1u)) return L;
-        uint32_t below = valid & ((1u << o) - 1u), f = inner ? (uint32_t)__builtin_ctz(inner) : 8;
-        if (o <= f) {
-            base += (uint64_t)popc(below) << (3 * s);
-        } else {
-            uint32_t wb = 8u << ((h >> 16) & 3u), rank = popc(below & ~((2u << f) - 1u));
-            base += bits_at(c->geom + n + 1 + popc(inner), (uint64_t)rank * wb, wb);
-        }
+        uint32_t below = (1u << o) - 1u, k = popc(inner & below);
+        base += ((uint64_t)popc(leaf & below) << (3 * s)) + vx__compact_inner_before(c, L, sl[1], k);
         if ((leaf >> o) & 1u) {
             uint32_t mask = (1u << s) - 1u;
             *full = true;
             *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
             return s;
         }
-        n = c->geom[n + 1 + popc(inner & ((1u << o) - 1u))];
+        n = sl[1] + k;
     }
     /* a brick: 4^3 cells (level 2) or 2^3 (a model of depth 1) */
-    uint64_t mask = c->geom[n] | (uint64_t)c->geom[n + 1] << 32;
+    uint64_t mask = c->geom[2 * (size_t)n] | (uint64_t)c->geom[2 * (size_t)n + 1] << 32;
     uint32_t r = (1u << L) - 1u, bit = (uint32_t)vx_svo_morton(x & r, y & r, z & r);
     if (L == 2 && !((mask >> (bit & ~7u)) & 0xFFu)) return 2;
     if (!((mask >> bit) & 1u)) return 1;

@@ -1,13 +1,15 @@
 #version 450
 // render/shaders/trace_compact.comp - primary (+ shadow) rays through the
 // compact layout (render/compact.h, issue 18): the same BVH over instances
-// and the same Laine-Karras walk as trace.comp (float variant, without the
-// beam, LOD or the two-frame walk: models at most VX_RENDER_REBASE_DEPTH
-// deep), reading the geometry DAG instead of the .svo node words. The walk's
-// decisions depend only on geometry, so its cells and depths are
+// and the same Laine-Karras walk as trace.comp (float variant, with its
+// exact t and its two-frame walk of deep models, without the beam or LOD),
+// reading the geometry DAG instead of the .svo node words: one 64-bit
+// slot load per node (its descriptor and its children's block together, as
+// trace.comp's descriptor word), none for a brick's level-1 octants. The
+// walk's decisions depend only on geometry, so its cells and depths are
 // trace.comp's; the colour comes after the hit, from the cell's attribute
-// index (a second descent from the root summing the child offsets) and the
-// attribute block that holds it. Layouts: render/compact.h (geometry,
+// index (a second descent from the root summing leaf cubes and ranks or
+// brick popcounts: no rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
@@ -18,9 +20,11 @@ layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
 layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
 layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 4) const bool WRITE_HITS = false;
-// 1: some model is exact (CModel flag 2: a hit's t from its cube's entry
-// planes, as trace.comp's DEEP 1 kernel), else 0
+// as trace.comp's: 1 some model is exact (CModel flag 2: a hit's t from its
+// cube's entry planes), 2 also some model has CModel.rebase > 0 (the hi/lo
+// origin and the walk in two frames), else 0
 layout(constant_id = 8) const int DEEP = 0;
+const bool REBASE = DEEP >= 2;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -28,8 +32,11 @@ const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFF
 const uint MAX_ITER = 100000u;
 
 // flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
-// trace.comp's Model.box
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, voxels; };
+// trace.comp's Model.box; rank_base: the slot pair that holds slot 0's rank
+// (the ranks of the slots of levels >= 3 follow the slots: rank of slot s
+// = component s & 1 of slots[rank_base + s / 2]);
+// rebase as trace.comp's Model.rebase
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase; };
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
@@ -43,7 +50,7 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims2;
     vec4 grid_lo;
 } F;
-layout(std430, binding = 1) readonly buffer Geom { uint geom[]; };
+layout(std430, binding = 1) readonly buffer Geom { uvec2 slots[]; };
 layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
 layout(std430, binding = 3) readonly buffer CModels { CModel models[]; };
 layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
@@ -78,9 +85,9 @@ vec2 box_t(vec3 o, vec3 rd_inv, vec3 lo, vec3 hi) {
     return vec2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
 
-float entry_tau(vec3 oa, vec3 d, vec3 lo, float sz) {
+float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
     vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
-    vec3 tau = (pl - oa) / d;
+    vec3 tau = ((pl - oa) - oa_lo) / d;
     float r = 0.0;
     if (d.x != 0.0) r = max(r, tau.x);
     if (d.y != 0.0) r = max(r, tau.y);
@@ -99,26 +106,13 @@ uint bytes_set(uint w) {
     return (t | (t >> 7) | (t >> 14) | (t >> 21)) & 0xFu;
 }
 
-// The node at `parent` of level L as a trace.comp descriptor (valid << 8 |
-// leaf). Level >= 3: the header; level 2: a brick (its level-1 octants,
-// none a leaf); level 1: byte o2 of a brick, parent = brick << 3 | o2 (its
-// children are cells).
-uint node_desc(uint parent, int L) {
-    if (L >= 3) {
-        uint h = geom[parent];
-        return ((h & 0xFFu) << 8) | ((h >> 8) & 0xFFu);
-    }
-    if (L == 2) return (bytes_set(geom[parent]) | (bytes_set(geom[parent + 1u]) << 4)) << 8;
-    uint o2 = parent & 7u;
-    uint b = (geom[(parent >> 3) + (o2 >> 2)] >> (8u * (o2 & 3u))) & 0xFFu;
-    return (b << 8) | b;
-}
-
-uint geom_bits(uint word, uint pos, uint n) {
-    uint w = word + (pos >> 5), sh = pos & 31u;
-    uint v = geom[w] >> sh;
-    if (sh + n > 32u) v |= geom[w + 1u] << (32u - sh);
-    return n == 32u ? v : v & ((1u << n) - 1u);
+// A brick's level-2 descriptor (trace.comp form, valid << 8): its level-1
+// octants that hold cells, none a leaf.
+uint brick_desc(uvec2 b) { return (bytes_set(b.x) | (bytes_set(b.y) << 4)) << 8; }
+// Octant o of a brick as a level-1 descriptor: its cells, all leaves.
+uint brick_octant(uvec2 b, uint o) {
+    uint v = ((o < 4u ? b.x : b.y) >> (8u * (o & 3u))) & 0xFFu;
+    return (v << 8) | v;
 }
 
 uint attr_bits(uint word, uint pos, uint n) {
@@ -138,30 +132,50 @@ uint part1by2(uint x) {
 }
 uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
 
-// The attribute index of set cell c (vx_compact_lookup).
+// The cells in the children before child cbit of a level-lvl node (lvl >=
+// 3) with descriptor desc and children's block blk, k of them not leaves:
+// its leaf cubes before, and the rank of slot k - 1 of the block (level 3:
+// the popcounts of the bricks before, which have no rank).
+uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
+    uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
+    // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
+    uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
+    if (k != 0u && lvl > 3) {
+        // a select, not a dynamic component index (issue 21: the NVIDIA
+        // compiler's code for those never finished on some pixels)
+        uint s = blk + k - 1u;
+        uvec2 pr = slots[rank_base + (s >> 1)];
+        r += (s & 1u) != 0u ? pr.y : pr.x;
+    } else {
+        // bricks have no rank: the cells of the bricks before (the push
+        // reads brick k's cache line anyway)
+        for (uint i = 0u; i < k; i++) {
+            uvec2 b = slots[blk + i];
+            r += uint(bitCount(b.x)) + uint(bitCount(b.y));
+        }
+    }
+    return r;
+}
+// The attribute index of set cell c (vx_compact_lookup): a descent from the
+// root after the hit (measured faster on the H200 than a running count in
+// the walk, docs/PERFORMANCE.md issue 18).
 uint cell_index(CModel m, uvec3 c) {
     if (m.root == ROOT_LEAF) return morton(c);
     uint n = m.root, base = 0u;
     int L = int(m.depth);
     for (; L >= 3; L--) {
-        uint h = geom[n], valid = h & 0xFFu, leaf = (h >> 8) & 0xFFu, inner = valid & ~leaf;
+        uvec2 nd = slots[n];
         uint s = uint(L - 1);
         uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
-        uint below = valid & ((1u << o) - 1u);
-        uint f = inner != 0u ? uint(findLSB(inner)) : 8u;
-        if (o <= f) {
-            base += uint(bitCount(below)) << (3u * s);
-        } else {
-            uint wb = 8u << ((h >> 16) & 3u), rank = uint(bitCount(below & ~((2u << f) - 1u)));
-            base += geom_bits(n + 1u + uint(bitCount(inner)), rank * wb, wb);
-        }
-        if (((leaf >> o) & 1u) != 0u) return base + morton(c & ((1u << s) - 1u));
-        n = geom[n + 1u + uint(bitCount(inner & ((1u << o) - 1u)))];
+        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        n = nd.y + k;
     }
     uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
-    uint lo = geom[n], hi = geom[n + 1u];
-    uint below = bit < 32u ? uint(bitCount(lo & ((1u << bit) - 1u)))
-                           : uint(bitCount(lo)) + uint(bitCount(hi & ((1u << (bit - 32u)) - 1u)));
+    uvec2 b = slots[n];
+    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
 }
 
@@ -198,8 +212,12 @@ uint decode_color(CModel m, uint i) {
     return m.kind == 1u ? palette[v & 0xFFu] : v;
 }
 
-// trace.comp's trace_model (float, DEEP 0 or 1) over the compact geometry.
-bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
+// trace.comp's trace_model (trace_common.glsl, float variant, DEEP 0-2, no
+// LOD or beam) over the compact geometry: the same walk, the same two-frame
+// walk of models deeper than VX_RENDER_REBASE_DEPTH (CModel.rebase = k: in
+// the frame of a depth-k node below it), the same exact t; only the node
+// loads and pushes read slots (node_load, the pushes below).
+bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     CModel m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     float side = exp2(float(m.depth));
@@ -209,10 +227,23 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
     float te = max(tb.x, t0);
     float tx = min(tb.y, t1);
     if (!(te < tx)) return false;
+    vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
     float sc = 1.0 / side;
     bool exact = DEEP >= 1 && (m.flags & 2u) != 0u;
-    vec3 oa = o + d * te;
-    vec3 ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+    if (REBASE && exact) {
+        precise vec3 pr = d * te;
+        precise vec3 pe = fma(d, vec3(te), -pr);
+        precise vec3 oas = o + pr;
+        precise vec3 bb = oas - o;
+        precise vec3 se = (o - (oas - bb)) + (pr - bb);
+        precise vec3 oal = o_lo + (pe + se);
+        precise vec3 ols = clamp(1.0 + oas * sc, vec3(1.0), vec3(2.0));
+        precise vec3 oll = (oas * sc - (ols - 1.0)) + oal * sc;
+        oa = oas, oa_lo = oal, ol = ols, ol_lo = oll;
+    } else {
+        oa = o + d * te;
+        ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
+    }
     vec3 dl = d * sc;
     float L = length(dl);
     dl /= L;
@@ -227,22 +258,27 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
     if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
     if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
     if (dl.z > 0.0) { oct ^= 4; bias.z = 3.0 * coef.z - bias.z; }
+    // koff = k while in a depth-k node's frame, else 0; rb_scale the scale
+    // of a depth-k cube in the model frame (-100 while rebased)
+    int koff = 0;
+    int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
     float tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
     float tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
     float hh = tmax;
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
-    // exact models: oa and d in stack slots 0-5 (models at most 10 deep push
-    // no deeper than stk_node[S_MAX - 10]), as in trace.comp
-    const int OA = 0, DM = 3;
+    // stack slots past S_MAX as trace_common.glsl's (the rebased walk's state)
+    const int RB_SLOTS = 28;
+    const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
+              RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
+              RB_OALO = S_MAX + 19;
+    const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
 
     vec3 pos = vec3(1.0);
     int scale = S_MAX - 1;
     float scale_exp2 = 0.5;
     bool hit = false;
-    int stk_node[S_MAX];
-    // the level of the node at scale s is s + lvl_off
-    int lvl_off = int(m.depth) - (S_MAX - 1);
+    int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -253,7 +289,10 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
         uint parent = m.root;
         int oct7 = oct ^ 7;
         uint desc = 0u;
+        uvec2 nd = uvec2(0u); // the slot of the node at parent (level >= 2)
         bool loaded = false;
+        // the level of the node at scale s is s + lvl_off (- koff while rebased)
+        int lvl_off = int(m.depth) - (S_MAX - 1);
         int idx = 0;
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
@@ -264,9 +303,38 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
             stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
             stk_node[DM + 2] = floatBitsToInt(d.z);
         }
+        if (REBASE && exact) {
+            stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
+            stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
+        }
+        if (REBASE && rb_scale > 0) {
+            vec3 olm = ol, olm_lo = ol_lo;
+            if ((oct & 1) == 0) { olm.x = 3.0 - ol.x; olm_lo.x = -ol_lo.x; }
+            if ((oct & 2) == 0) { olm.y = 3.0 - ol.y; olm_lo.y = -ol_lo.y; }
+            if ((oct & 4) == 0) { olm.z = 3.0 - ol.z; olm_lo.z = -ol_lo.z; }
+            stk_node[RB_OHI] = floatBitsToInt(olm.x), stk_node[RB_OHI + 1] = floatBitsToInt(olm.y);
+            stk_node[RB_OHI + 2] = floatBitsToInt(olm.z);
+            stk_node[RB_OLO] = floatBitsToInt(olm_lo.x), stk_node[RB_OLO + 1] = floatBitsToInt(olm_lo.y);
+            stk_node[RB_OLO + 2] = floatBitsToInt(olm_lo.z);
+            stk_node[RB_T0] = floatBitsToInt(tmin);
+            vec3 adl = abs(dl);
+            stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
+            stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
+        }
+        int pending = 0, rb_step = 0;
+        uint rb_cbit = 0u;
+        while (true) {
         while (scale < S_MAX) {
             g_iter++;
-            if (!loaded) { desc = node_desc(parent, scale + lvl_off); loaded = true; }
+            int lvl = scale + lvl_off - koff;
+            if (!loaded) {
+                // level 1 only as the root of a depth-1 model: a push into a
+                // level-1 node takes its descriptor from the brick in nd, and
+                // a pop never lands on one (its children are cells)
+                nd = slots[parent];
+                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
+                loaded = true;
+            }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
@@ -280,19 +348,25 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
                         hit = true;
                         break;
                     }
-                    // push
-                    if (tc_max < hh) stk_node[scale] = int(parent);
+                    if (REBASE && scale == rb_scale) {
+                        // into node N at depth k: after the loop
+                        pending = 1, rb_cbit = cbit;
+                        break;
+                    }
+                    // push: the child's slot is in the block nd.y (level >=
+                    // 3), or, below a brick's level 2, the child is octant cs
+                    // of the brick in nd (no load)
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
-                    int lvl = scale + lvl_off;
-                    parent = lvl >= 3 ? geom[parent + 1u + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))]
-                                      : (parent << 3) | uint(cs);
+                    loaded = lvl == 2;
+                    if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                    else desc = brick_octant(nd, uint(cs));
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
                     if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
                     if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
-                    loaded = false;
                     continue;
                 }
             }
@@ -309,9 +383,14 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
                 if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
                 if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
                 scale = findMSB(diff);
+                if (REBASE && scale >= S_MAX && koff != 0) {
+                    // out of the rebased node N: after the loop
+                    pending = 2, rb_step = step;
+                    break;
+                }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
-                parent = uint(stk_node[scale]);
+                parent = uint(stk_node[scale - koff]);
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
@@ -319,10 +398,94 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
                 loaded = false;
             }
         }
+            if (!REBASE || pending == 0) break;
+            if (pending == 1) {
+                // into node N at depth k (the cube pos): rebase
+                vec3 tc = pos * coef - bias;
+                stk_node[RB_POS] = floatBitsToInt(pos.x), stk_node[RB_POS + 1] = floatBitsToInt(pos.y);
+                stk_node[RB_POS + 2] = floatBitsToInt(pos.z);
+                stk_node[RB_PARENT] = int(parent);
+                stk_node[RB_TMAX] = floatBitsToInt(tmax);
+                stk_node[RB_BIAS] = floatBitsToInt(bias.x), stk_node[RB_BIAS + 1] = floatBitsToInt(bias.y);
+                stk_node[RB_BIAS + 2] = floatBitsToInt(bias.z);
+                vec3 tent = scale_exp2 * coef + tc;
+                float tr = max(max(tent.x, tent.y), tent.z);
+                vec3 olm = SLOTS3(RB_OHI);
+                vec3 olm_lo = SLOTS3(RB_OLO);
+                precise vec3 adl = SLOTS3(RB_ADL);
+                precise vec3 pr = adl * tr;
+                precise vec3 pe = fma(adl, vec3(tr), -pr);
+                precise vec3 a = olm - pos;
+                precise vec3 sq = a - pr;
+                precise vec3 bb = sq - a;
+                precise vec3 se = (a - (sq - bb)) - (pr + bb);
+                precise vec3 q = sq + ((se - pe) + olm_lo);
+                int k = S_MAX - scale;
+                float sk = intBitsToFloat((127 + k) << 23); // 2^k
+                vec3 qn = 1.0 + q * sk;
+                bias = coef * qn;
+                float t0n = (intBitsToFloat(stk_node[RB_T0]) - tr) * sk;
+                float entn = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+                tmin = max(entn, t0n);
+                tmax = (tmax - tr) * sk;
+                hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+                stk_node[RB_TBASE] = floatBitsToInt(tr);
+                koff = k;
+                rb_scale = -100;
+                // N is a node of level depth - k >= 3: its slot is in the block nd.y
+                parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)));
+                idx = 0;
+                scale = S_MAX - 1;
+                scale_exp2 = 0.5;
+                pos = vec3(1.0);
+                if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
+                if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
+                if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+                loaded = false;
+                pending = 0;
+                continue;
+            }
+            // out of N through the faces step: back to the model frame at
+            // N's level, the same step there
+            int step = rb_step;
+            pending = 0;
+            uint diff;
+            float us = intBitsToFloat((127 - koff) << 23); // 2^-k
+            tmin = intBitsToFloat(stk_node[RB_TBASE]) + tmin * us;
+            tmax = intBitsToFloat(stk_node[RB_TMAX]);
+            pos = SLOTS3(RB_POS);
+            parent = uint(stk_node[RB_PARENT]);
+            scale = S_MAX - koff;
+            scale_exp2 = us;
+            ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
+            idx = nb.x | (nb.y << 1) | (nb.z << 2);
+            bias = SLOTS3(RB_BIAS);
+            rb_scale = scale;
+            koff = 0;
+            hh = 0.0;
+            loaded = false;
+            diff = 0u;
+            if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
+            if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
+            if ((step & 4) != 0) { diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z - us); pos.z -= us; }
+            idx ^= step;
+            if ((idx & step) == 0) continue; // into a sibling of N
+            scale = findMSB(diff);
+            if (scale >= S_MAX) break;
+            scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+            parent = uint(stk_node[scale]);
+            ivec3 sh = floatBitsToInt(pos) >> scale;
+            pos = intBitsToFloat(sh << scale);
+            idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            hh = 0.0;
+            loaded = false;
+        }
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
     }
     if (!hit) return false;
-    float troot = tmin;
+    float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
+    float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0; // t_r
+    float troot = tbase + tmin * us;              // model frame [1,2] units
     float t = te + troot / L;
     if (!exact || any_hit) {
         if (!(t <= h.t)) return false;
@@ -333,15 +496,32 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
     float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) axis = 2;
-    if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
-    if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
-    if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
-    vec3 lo = (pos - 1.0) * side;
-    float sz = scale_exp2 * side;
-    float tau = troot / L;
-    if (exact) tau = entry_tau(SLOTS3(OA), SLOTS3(DM), lo, sz), t = te + tau;
-    vec3 p = oa + d * tau;
-    vec3 c = clamp(floor(p), lo, lo + sz - 1.0);
+    vec3 lo, c;
+    float sz;
+    if (REBASE && koff != 0) {
+        vec3 adl = SLOTS3(RB_ADL);
+        vec3 offm = ((pos * coef - bias) - tmin) * adl;
+        vec3 pn = SLOTS3(RB_POS);
+        vec3 posr = pn + (pos - 1.0) * us;
+        float ser = scale_exp2 * us;
+        if ((oct & 1) == 0) { posr.x = 3.0 - ser - posr.x; offm.x = scale_exp2 - offm.x; }
+        if ((oct & 2) == 0) { posr.y = 3.0 - ser - posr.y; offm.y = scale_exp2 - offm.y; }
+        if ((oct & 4) == 0) { posr.z = 3.0 - ser - posr.z; offm.z = scale_exp2 - offm.z; }
+        lo = (posr - 1.0) * side;
+        sz = ser * side;
+        c = lo + clamp(floor(offm * (side * us)), vec3(0.0), vec3(sz - 1.0));
+        t = te + entry_tau(SLOTS3(OA), SLOTS3(RB_OALO), SLOTS3(DM), lo, sz);
+    } else {
+        if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
+        if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
+        if ((oct & 4) == 0) pos.z = 3.0 - scale_exp2 - pos.z;
+        lo = (pos - 1.0) * side;
+        sz = scale_exp2 * side;
+        float tau = troot / L;
+        if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
+        vec3 p = oa + d * tau;
+        c = clamp(floor(p), lo, lo + sz - 1.0);
+    }
     if (exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
@@ -356,7 +536,8 @@ bool trace_model(uint mi, vec3 o, vec3 d, float t0, float t1, bool any_hit, inou
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
+        h.color = decode_color(m, cell_index(m, h.cell));
     return true;
 }
 
@@ -364,7 +545,17 @@ bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h)
     Inst I = insts[i];
     vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
     vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
-    if (trace_model(I.model, om, dm, t0, h.t, any_hit, h)) {
+    vec3 om_lo = vec3(0.0);
+    if (REBASE) {
+        // the translation's and the sum's rounding errors (two-sum), as trace.comp
+        precise vec3 dt = vec3(dot(I.r0.xyz, o), dot(I.r1.xyz, o), dot(I.r2.xyz, o));
+        precise vec3 w = vec3(I.r0.w, I.r1.w, I.r2.w);
+        precise vec3 s = dt + w;
+        precise vec3 bb = s - dt;
+        om = s;
+        om_lo = ((dt - (s - bb)) + (w - bb)) + I.lo.xyz;
+    }
+    if (trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, h)) {
         h.inst = i;
         return true;
     }

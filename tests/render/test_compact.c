@@ -254,10 +254,11 @@ static void test_colour_sharing(void) {
     check_scene(&s, "colour sharing", 64, &c);
     REQUIRE(c.model_count == 2);
     CHECK(c.models[0].root == c.models[1].root);
-    /* the root's two children are one node */
-    uint32_t h = c.geom[c.models[1].root];
-    CHECK((h & 0xFFu) == 0x81u && ((h >> 8) & 0xFFu) == 0);
-    CHECK(c.geom[c.models[1].root + 1] == c.geom[c.models[1].root + 2]);
+    /* the root's two children are one node: equal slots, so one block below */
+    const uint32_t* root = c.geom + 2 * (size_t)c.models[1].root;
+    CHECK(root[0] == 0x8100u);
+    const uint32_t* kids = c.geom + 2 * (size_t)root[1];
+    CHECK(kids[0] == kids[2] && kids[1] == kids[3]);
     /* the second model adds no geometry to the first */
     vx_svo_model only = s.models[0];
     ts_scene(&s1, &only, 1, in, 1);

@@ -5,8 +5,10 @@
  * (its bits) and colour, in the albedo mode (the colour decoded from the
  * attribute blocks) and the shaded one (shadow rays through the DAG).
  * Scenes: generated palette and RGBA models (rotated and shifted instances,
- * a model 10 levels deep: the exact-t rule of trace.comp's DEEP 1 kernel),
+ * a model 10 levels deep: the exact-t rule of trace.comp's DEEP 1 kernel;
+ * models of 11 and 13 levels: its two-frame walk, DEEP 2),
  * the corpus .vox scenes and, with the mesh converter, DamagedHelmet at 128. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,6 +149,60 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A height field of RGBA cells (a gradient with noise: delta blocks),
+ * sx by sz cells, y = h(x, z) and the cell below it. */
+static vx_result height_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t seed) {
+    size_t n = 0, cap = (size_t)sx * sz * 2;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    vx_result r = VX_ERR_NOMEM;
+    if (keys && rgba) {
+        for (uint32_t z = 0; z < sz; z++)
+            for (uint32_t x = 0; x < sx; x++) {
+                uint32_t y = (uint32_t)((sy - 2) * (0.5 + 0.25 * sin(x * 0.013) * cos(z * 0.021))) + ts_rng(&seed) % 2;
+                for (uint32_t k = 0; k < 2; k++) {
+                    keys[n] = vx_svo_morton(x, y + k, z);
+                    rgba[n++] = 0xFF000000u | ((x >> 3) & 0xFFu) | (((z >> 3) & 0xFFu) << 8) | ((y & 0xF0u) << 16) |
+                                (ts_rng(&seed) & 0x030303u);
+                }
+            }
+        vx_error err = {0};
+        vx_svo_voxels v = {.size = {sx, sy, sz}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+        r = vx_svo_build_model(NULL, &v, m, NULL, &err);
+    }
+    free(keys);
+    free(rgba);
+    return r;
+}
+
+/* Models deeper than VX_RENDER_REBASE_DEPTH: trace.comp's DEEP 2 kernel
+ * walks them in two frames (the lower one at depth - VX_RENDER_FRAME_LEVELS)
+ * with the hi/lo origin; the compact kernel must give its cells, t bits and
+ * colours on every pixel. Height fields of 11 and 13 levels (the second a
+ * long band, so that rays cross many rebased nodes), instances rotated and
+ * shifted off the origin. */
+static void test_deep(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_model m[2];
+    REQUIRE(height_model(&m[0], 1200, 64, 1100, 11) == VX_OK);
+    REQUIRE(height_model(&m[1], 4200, 40, 160, 13) == VX_OK);
+    REQUIRE(m[0].depth == 11 && m[1].depth == 13);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, -1500, 30, 500),
+                             ts_inst(0, rot, 200, 300, 100)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 3);
+    CHECK(compare(&s, "11 and 13 levels deep", 160, 96) > 160 * 96 / 4);
+    vx_svo_scene s1;
+    vx_svo_model only = s.models[1];
+    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&s1, &only, 1, &i1, 1);
+    CHECK(compare(&s1, "13 levels deep, one instance", 160, 96) > 160 * 96 / 8);
+    s1.models[0] = (vx_svo_model){0}; /* owned by s */
+    vx_svo_scene_free(&s1);
+    vx_svo_scene_free(&s);
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP(gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
@@ -191,6 +247,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_generated);
+    RUN(test_deep);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     vx_gpu_destroy(gpu);
