@@ -99,6 +99,17 @@ static vx_result record_k(way w, vx_display* disp, vx_frame_renderer* fr, const 
     return r;
 }
 
+/* The scene, frame renderer and display every case below draws with (the
+ * caller destroys them in the reverse order). */
+static bool open_chain(const vx_svo_scene* s, vx_render_scene** rs, vx_frame_renderer** fr, vx_display** disp,
+                       vx_error* err) {
+    *rs = NULL;
+    *fr = NULL;
+    *disp = NULL;
+    return vx_render_scene_create(gpu, s, rs, err) == VX_OK && vx_frame_renderer_create(*rs, s, fr, err) == VX_OK &&
+           vx_display_create(gpu, disp, err) == VX_OK;
+}
+
 /* batch > 1: frames submitted `batch` at a time (vx_display_set_queue, `frames` in flight); the edit at frame 5
  * submits the held frames itself before it waits for the queue (vx_gpu.held_submit) */
 static void in_flight_equals_waited(way wy, uint32_t frames, uint32_t batch, bool one) {
@@ -112,12 +123,10 @@ static void in_flight_equals_waited(way wy, uint32_t frames, uint32_t batch, boo
     vx_svo_scene s;
     ts_scene(&s, m, 2, in, 3);
     vx_error err = {0};
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_display* disp = NULL;
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
-    REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
+    REQUIRE(open_chain(&s, &rs, &fr, &disp, &err));
     if (to_image && !vx_display_image_storage(disp)) {
         vx_display_destroy(disp);
         vx_frame_renderer_destroy(fr);
@@ -263,12 +272,10 @@ static void refit_equals_scratch(void) {
     vx_svo_scene s;
     ts_scene(&s, m, 2, in, RN);
     vx_error err = {0};
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_display* disp = NULL;
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
-    REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
+    REQUIRE(open_chain(&s, &rs, &fr, &disp, &err));
     uint64_t img[STEPS];
     for (int k = 0; k < STEPS; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
     double xf[STEPS][RN][3]; /* the translations at each step */
@@ -408,12 +415,10 @@ static void test_batched_model_edit(void) {
     vx_svo_scene s;
     ts_scene(&s, m, 1, in, 1);
     vx_error err = {0};
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_display* disp = NULL;
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
-    REQUIRE(vx_display_create(gpu, &disp, &err) == VX_OK);
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+    vx_display* disp;
+    REQUIRE(open_chain(&s, &rs, &fr, &disp, &err));
     uint64_t img[3];
     for (int k = 0; k < 3; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
     REQUIRE(draw_pattern(disp, 1));
