@@ -23,10 +23,10 @@ enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMA
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
        B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_RTAB,
-       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_COUNT };
+       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_TEXUP, B_LVL, B_COUNT };
 #define SCAN_LEVELS 4
 
-#define BUILD_MODES 27 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
+#define BUILD_MODES 29 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
        P_NUM = P_BUILD + BUILD_MODES };
 
@@ -226,10 +226,9 @@ static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_err
 
 typedef struct upload {
     int id;
-    const void* data; /* upload_in_place: the caller writes the bytes into the upload buffer itself */
+    const void* data; /* NULL: the device buffer only (its bytes come another way) */
     uint64_t bytes, offset;
 } upload;
-static const char upload_in_place[1];
 
 /* Makes each upload's device buffer, copies the data into the upload
  * buffer and records the copies into the open command buffer. */
@@ -243,7 +242,7 @@ static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
     }
     if ((r = ensure_host(m, B_UP, total, err))) return r;
     for (int i = 0; i < n; i++)
-        if (u[i].data && u[i].data != upload_in_place && u[i].bytes)
+        if (u[i].data && u[i].bytes)
             memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
     return VX_OK;
 }
@@ -418,6 +417,7 @@ static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint
                         uint32_t mask, vx_error* err) {
     int ids[BUILD_BINDINGS];
     build_ids(ids, src, sorted);
+    if ((mode >= 1 && mode <= 3) || mode == 27 || mode == 28) ids[25] = B_LVL; /* the level loop's counts (meshbuild.comp) */
     build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs, UINT32_MAX, UINT32_MAX};
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_SLOTS) bp.smask = 7; /* every probe starts in one of 8 slots */
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_LABELS) bp.lmask = 15; /* 16 structural hashes: distinct subtrees alike */
@@ -508,40 +508,56 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_ORD, 16, err)) || (r = ensure(m, B_WORDS, 16, err)))
         goto done;
 
-    /* level by level: the children of level l are the items, their parents the next items */
-    uint64_t n = C, base = 0;
-    uint32_t level = 0;
+    /* level by level: the children of level l are the items, their parents
+     * the next items. Every level in one submission: the counts stay on the
+     * device (meshbuild.comp's level state); each level is dispatched at a
+     * bound of its count (no more than the level below, nor than the
+     * regions' nodes at that level) and the invocations beyond it return. */
+    if ((r = ensure(m, B_LVL, 64, err))) goto done;
     int src = 0;
     if ((r = rec_begin(m, err))) goto done;
     put_record(m, ups, 2);
     fill(m, B_ROUT, (uint64_t)R * 16, 0);
     fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
     fill(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, 0);
+    {
+        uint32_t lv[8] = {C, 0, 0, 0, 0, 0, 0, 0};
+        vkCmdUpdateBuffer(g->cmd, m->buf[B_LVL].buf, 0, sizeof lv, lv);
+        barrier(g);
+    }
     ts_begin(m, 0);
     if ((r = bstage(m, 0, 1, 0, C, 0, (uint32_t)R, 0, err))) goto done; /* src 1: writes ITA */
-    for (;;) {
-        ts_begin(m, 0);
-        fill(m, B_POS, (n + 1) * 4, 0);
-        if ((r = bstage(m, 1, src, 0, n, level, 0, 0, err)) || (r = scan(m, B_POS, n + 1, 0, err)) ||
-            (r = bstage(m, 2, src, 0, n, level, 0, 0, err)))
+    uint64_t bound = C; /* the items of this level, at most */
+    for (uint32_t level = 0; level <= maxd; level++) {
+        uint64_t next = 0; /* the parents: the regions' nodes at level + 1, at most (none above the last level) */
+        for (size_t ri = 0; level < maxd && ri < R && next < bound; ri++) {
+            uint32_t d = rinfo[4 * ri], e = d > level + 1 ? d - (level + 1) : 0;
+            next += 3 * e >= 40 ? bound : 1ull << (3 * e);
+        }
+        if (next > bound) next = bound;
+        fill(m, B_POS, (bound + 1) * 4, 0);
+        if ((r = bstage(m, 1, src, 0, bound, level, 0, 0, err)) || (r = scan(m, B_POS, bound + 1, 0, err)) ||
+            (r = bstage(m, 2, src, 0, bound, level, 0, 0, err)) ||
+            (r = bstage(m, 27, src, 0, 1, (uint32_t)next, 0, (uint32_t)(cap < UINT32_MAX ? cap : UINT32_MAX), err)))
             goto done;
-        read_u32(m, B_POS, n, 0);
-        ts_end(m);
-        if ((r = submit(m, err))) goto done;
-        uint32_t P;
-        if ((r = vx__buffer_download(g, &m->buf[B_READ], &P, 4, err))) goto done;
-        if (P == 0) break;
-        if (P > n || base + P > cap || level >= maxd) goto done; /* beyond the node buffer: the CPU builds */
-        if ((r = rec_begin(m, err))) goto done;
-        ts_begin(m, 0);
-        if ((r = bstage(m, 3, src, 0, P, level + 1, (uint32_t)base, (uint32_t)n, err))) goto done;
-        ts_end(m);
-        base += P;
-        n = P;
+        if (level == maxd) break;
+        if ((r = bstage(m, 3, src, 0, next, level + 1, 0, 0, err)) || (r = bstage(m, 28, src, 0, 1, level, 0, 0, err)))
+            goto done;
+        bound = next;
         src ^= 1;
-        level++;
     }
-    m->stats.levels = level;
+    {
+        VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = 24};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_LVL].buf, m->buf[B_READ].buf, 1, &c);
+        barrier(g);
+    }
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
+    uint32_t lvd[6]; /* items, base; parents, failed; levels */
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], lvd, 24, err))) goto done;
+    if (lvd[3] || lvd[1] > cap) goto done; /* beyond the node buffer, or too deep: the CPU builds */
+    uint64_t base = lvd[1];
+    m->stats.levels = lvd[4];
     m->stats.node_slots = base;
 
     /* shared subtrees: one slot per (hash, region), the least order there
@@ -838,6 +854,26 @@ static vx_result download(vx_conv_mesh_gpu* m, uint32_t C, uint32_t U, uint32_t 
     return VX_OK;
 }
 
+/* The images' texels, one after the other, into the texel upload buffer:
+ * on a thread of their own while the CPU bins the triangles (16 MB for
+ * DamagedHelmet, 2-3 ms of copying that used to follow the binning). */
+typedef struct texel_copy {
+    const vx_gltf_mesh* mesh;
+    uint8_t* at;
+} texel_copy;
+static void* texel_copy_main(void* arg) {
+    const texel_copy* tc = (const texel_copy*)arg;
+    uint8_t* at = tc->at;
+    for (uint32_t i = 0; i < tc->mesh->image_count; i++) {
+        const vx_gltf_image* im = &tc->mesh->images[i];
+        if (!im->rgba) continue;
+        size_t bytes = (size_t)im->width * im->height * 4;
+        memcpy(at, im->rgba, bytes);
+        at += bytes;
+    }
+    return NULL;
+}
+
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
                               const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares, bool builds,
                               vx__mesh_sink sink, void* user, vx_error* err) {
@@ -848,10 +884,29 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
     if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
     double t0 = vx_time_now();
+    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
+    size_t texel_count = 0;
+    for (uint32_t i = 0; i < mesh->image_count; i++)
+        if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
+    if (texel_count > UINT32_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
+    texel_copy tc = {mesh, NULL};
+    pthread_t tc_thread;
+    bool tc_running = false;
+    if (tex && texel_count) {
+        vx_result tr = ensure_host(m, B_TEXUP, (uint64_t)texel_count * 4, err);
+        if (tr) return tr;
+        tc.at = (uint8_t*)m->buf[B_TEXUP].map;
+        tc_running = pthread_create(&tc_thread, NULL, texel_copy_main, &tc) == 0;
+        if (!tc_running) texel_copy_main(&tc);
+    }
     vx__mesh_bins bins;
     memset(&bins, 0, sizeof bins);
     vx_result r = vx__mesh_bin(desc, mesh, grid, &bins, err);
-    if (r) return r;
+    if (r) {
+        if (tc_running) pthread_join(tc_thread, NULL);
+        return r;
+    }
     size_t P = bins.pair_count, NB = bins.total_bricks, T = mesh->tri_count;
     uint32_t* pairs2 = NULL;
     uint32_t* bricks = NULL;
@@ -897,13 +952,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint32_t MC = mesh->material_count;
     mats = (float*)vx_calloc(a, MC ? MC : 1, 32);
     images = (uint32_t*)vx_calloc(a, mesh->image_count ? mesh->image_count : 1, 16);
-    size_t texel_count = 0;
-    for (uint32_t i = 0; i < mesh->image_count; i++)
-        if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
-    if (texel_count > UINT32_MAX) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
-        goto done;
-    }
     if (!mats || !images) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
         goto done;
@@ -946,7 +994,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.pairs = P;
 
     t0 = vx_time_now();
-    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
     upload ups[] = {{B_G, bins.g, (uint64_t)T * 72, 0},
                     {B_PAIRS, pairs2, (uint64_t)P * 8, 0},
                     {B_BRICKS, bricks, (uint64_t)NB * 16, 0},
@@ -954,25 +1001,13 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
-                    {B_TEXELS, tex ? upload_in_place : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_TEXELS, NULL, tex ? (uint64_t)texel_count * 4 : 0, 0}, /* from B_TEXUP */
                     {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
                     {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
                     {B_TABLES, &tables, sizeof tables, 0},
                     {B_RTABLES, &rtables, sizeof rtables, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);
     if ((r = put_all(m, ups, nups, err))) goto done;
-    if (tex && texel_count) { /* the images straight into the upload buffer, one after the other */
-        int k = 0;
-        while (ups[k].id != B_TEXELS) k++;
-        uint8_t* at = (uint8_t*)m->buf[B_UP].map + ups[k].offset;
-        for (uint32_t i = 0; i < mesh->image_count; i++) {
-            const vx_gltf_image* im = &mesh->images[i];
-            if (!im->rgba) continue;
-            size_t bytes = (size_t)im->width * im->height * 4;
-            memcpy(at, im->rgba, bytes);
-            at += bytes;
-        }
-    }
     m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
 
     /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
@@ -987,6 +1022,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip); two pairs a workgroup (meshvox.comp) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
     ts_begin(m, 8);
+    if (tc_running) pthread_join(tc_thread, NULL), tc_running = false; /* the texels are in B_TEXUP */
+    if (tex && texel_count) {
+        VkBufferCopy ct = {.srcOffset = 0, .dstOffset = 0, .size = (uint64_t)texel_count * 4};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_TEXUP].buf, m->buf[B_TEXELS].buf, 1, &ct);
+    }
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
@@ -1217,6 +1257,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.sink = vx_time_now() - t0;
 
 done:
+    if (tc_running) pthread_join(tc_thread, NULL);
     vx_free(a, pairs2);
     vx_free(a, bricks);
     vx_free(a, bm);
@@ -1283,7 +1324,7 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         {P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push), "meshgpu.iflag"},
         {P_IOUT, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 2, 10, sizeof(intern_push), "meshgpu.iout"},
     };
-    vx_result r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err);
+    vx_result r = vx__buffer_create(gpu, 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err);
     for (size_t i = 0; !r && i < sizeof pipes / sizeof pipes[0]; i++)
         r = make_pipe(m, pipes[i].pipe, pipes[i].spv, pipes[i].bytes, pipes[i].mode, pipes[i].bindings, pipes[i].push,
                       pipes[i].label, err);

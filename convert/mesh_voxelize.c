@@ -750,10 +750,15 @@ static bool radix_sort(const vx_allocator* a, uint64_t* v, size_t n, unsigned lo
     return true;
 }
 
+/* One thread's share of the binning: the pairs of triangles [t0, t1) in
+ * triangle order, in its own array (concatenated in part order afterwards,
+ * so the pairs are the one-thread loop's). */
 typedef struct bin_ctx {
     job* j;
     uint32_t tri;
-    size_t cap;
+    size_t t0, t1;
+    uint64_t* pairs;
+    size_t count, cap;
     bool nomem;
 } bin_ctx;
 
@@ -762,12 +767,33 @@ static void bin_hit(void* user, const int c[3], const double (*poly)[3], int n) 
     (void)n;
     bin_ctx* b = (bin_ctx*)user;
     if (b->nomem) return;
-    if (!vx_grow(b->j->alloc, (void**)&b->j->pairs, &b->cap, b->j->pair_count + 1, sizeof(uint64_t))) {
+    if (!vx_grow(b->j->alloc, (void**)&b->pairs, &b->cap, b->count + 1, sizeof(uint64_t))) {
         b->nomem = true;
         return;
     }
-    b->j->pairs[b->j->pair_count++] =
-        vx_svo_morton((uint32_t)c[0], (uint32_t)c[1], (uint32_t)c[2]) << 32 | b->tri;
+    b->pairs[b->count++] = vx_svo_morton((uint32_t)c[0], (uint32_t)c[1], (uint32_t)c[2]) << 32 | b->tri;
+}
+
+typedef struct bin_job {
+    bin_ctx* parts;
+    unsigned count;
+    atomic_uint next;
+} bin_job;
+
+static void* bin_worker(void* arg) {
+    bin_job* bj = (bin_job*)arg;
+    for (;;) {
+        unsigned k = atomic_fetch_add(&bj->next, 1);
+        if (k >= bj->count) return NULL;
+        bin_ctx* b = &bj->parts[k];
+        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)b->j->nb[0] - 1, (int)b->j->nb[1] - 1, (int)b->j->nb[2] - 1};
+        for (size_t t = b->t0; t < b->t1 && !b->nomem; t++) {
+            double v[9];
+            for (int q = 0; q < 9; q++) v[q] = b->j->g[9 * t + q] / BRICK;
+            b->tri = (uint32_t)t;
+            tri_cells(v, cmin, cmax, NULL, false, bin_hit, b);
+        }
+    }
 }
 
 /* ---- solid: parity along each axis --------------------------------------------------- */
@@ -1144,14 +1170,44 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
     /* bin triangles into bricks */
     for (int a = 0; a < 3; a++) j->nb[a] = (grid->size[a] + BRICK - 1) / BRICK;
     {
-        bin_ctx b = {j, 0, 0, false};
-        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)j->nb[0] - 1, (int)j->nb[1] - 1, (int)j->nb[2] - 1};
-        for (size_t t = 0; t < T && !b.nomem; t++) {
-            double v[9];
-            for (int k = 0; k < 9; k++) v[k] = j->g[9 * t + k] / BRICK;
-            b.tri = (uint32_t)t;
-            tri_cells(v, cmin, cmax, NULL, false, bin_hit, &b);
+        /* triangles in contiguous parts, on the cores for large meshes (the
+         * clipping is most of the binning: 2-6 ms at 1024^3 for 15 k
+         * triangles on one core, ahead of everything the GPU path does) */
+        unsigned threads = desc->threads;
+        if (threads == 0) {
+            cpu_set_t set;
+            long nc = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : sysconf(_SC_NPROCESSORS_ONLN);
+            threads = nc > 0 ? (unsigned)nc : 1;
         }
+        if (threads > VX_MAX_THREADS) threads = VX_MAX_THREADS;
+        unsigned nparts = (unsigned)(T / 1024 < 4u * threads ? T / 1024 : 4u * threads);
+        if (threads < 2 || nparts < 2) nparts = 1;
+        bin_ctx parts1[1], *parts = nparts > 1 ? (bin_ctx*)vx_calloc(j->alloc, nparts, sizeof *parts) : parts1;
+        if (!parts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
+        for (unsigned k = 0; k < nparts; k++)
+            parts[k] = (bin_ctx){j, 0, T * k / nparts, T * (k + 1) / nparts, NULL, 0, 0, false};
+        bin_job bj = {parts, nparts, 0};
+        if (nparts > 1) vx_run_threads(threads < nparts ? threads : nparts, bin_worker, &bj);
+        else bin_worker(&bj);
+        bool nomem = false;
+        size_t total = 0;
+        for (unsigned k = 0; k < nparts; k++) nomem |= parts[k].nomem, total += parts[k].count;
+        bin_ctx b = {j, 0, 0, 0, NULL, 0, 0, nomem};
+        if (!nomem && total) { /* the parts in triangle order */
+            if (nparts == 1) {
+                b.pairs = parts[0].pairs, b.count = parts[0].count, b.cap = parts[0].cap;
+                parts[0].pairs = NULL;
+            } else if (!vx_grow(j->alloc, (void**)&b.pairs, &b.cap, total, sizeof(uint64_t))) {
+                b.nomem = true;
+            } else {
+                for (unsigned k = 0; k < nparts; k++) {
+                    if (parts[k].count) memcpy(b.pairs + b.count, parts[k].pairs, parts[k].count * sizeof(uint64_t));
+                    b.count += parts[k].count;
+                }
+            }
+        }
+        for (unsigned k = 0; k < nparts; k++) vx_free(j->alloc, parts[k].pairs);
+        if (parts != parts1) vx_free(j->alloc, parts);
         /* solid: bricks with no triangle can still be inside; one filler pair each */
         if (desc->solid)
             for (uint32_t z = 0; z < j->nb[2] && !b.nomem; z++)
@@ -1161,6 +1217,8 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
                         int c[3] = {(int)x, (int)y, (int)z};
                         bin_hit(&b, c, NULL, 0);
                     }
+        j->pairs = b.pairs;
+        j->pair_count = b.count;
         if (b.nomem || !radix_sort(j->alloc, j->pairs, j->pair_count, 32, 64)) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
             return r;
