@@ -271,6 +271,7 @@ typedef struct region_job {
     const uint32_t* ext;          /* with pools: per region its representatives' new tuples, then [R + r] the first */
     const uint32_t* ext_tuples;   /* those tuples, 4 words each (rgba, normal, material, region) */
     bool check_pools;             /* the builders check the pools against their own */
+    bool solid;                   /* desc->solid: the CPU's interior fill of each brick (vx__mesh_fill_brick) */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
     const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
@@ -310,7 +311,65 @@ static void* tab_fill_worker(void* arg) {
     }
 }
 
+/* desc->solid: region ri's bricks, each filled by the CPU voxelizer's code
+ * from the GPU's surface cells (the votes from the binning), handed to the
+ * sink as the CPU voxelizer hands them (no interned tuples: the builder
+ * hashes them). */
+static vx_result region_emit_solid(region_job* j, size_t ri, vx_error* err) {
+    const vx__mesh_bins* b = j->bins;
+    const vx_allocator* a = j->alloc;
+    enum { CELLS = BRICK * BRICK * BRICK };
+    size_t c = j->cstart[ri], cend = j->cstart[ri + 1], k = 0, kcap = 0, rcap = 0, ncap = 0, mcap = 0;
+    uint64_t mask = (1ull << (3 * b->rb)) - 1;
+    bool rgba = (j->attrs & VX_ATTR_RGBA8) != 0, nrm = (j->attrs & VX_ATTR_NORMAL) != 0, mat = (j->attrs & VX_ATTR_MATERIAL) != 0;
+    uint64_t* keys = NULL;
+    uint32_t *orgba = NULL, *onrm = NULL;
+    uint16_t* omat = NULL;
+    void* scratch = vx_alloc(a, vx__mesh_fill_scratch_size());
+    uint32_t* loc = (uint32_t*)vx_alloc(a, 2 * (size_t)CELLS * 4); /* the surface's local keys, then the brick's */
+    vx_result r = VX_OK;
+    if (!scratch || !loc) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid fill buffers");
+    for (size_t bi = b->rstart[ri]; !r && bi < b->rstart[ri + 1]; bi++) {
+        size_t s0 = c;
+        while (c < cend && ((uint64_t)(j->okeys[2 * c] >> 18) | (uint64_t)j->okeys[2 * c + 1] << 14) == bi) {
+            loc[c - s0] = j->okeys[2 * c] & 0x3FFFFu;
+            c++;
+        }
+        if (!vx_grow(a, (void**)&keys, &kcap, k + CELLS, 8) || (rgba && !vx_grow(a, (void**)&orgba, &rcap, k + CELLS, 4)) ||
+            (nrm && !vx_grow(a, (void**)&onrm, &ncap, k + CELLS, 4)) || (mat && !vx_grow(a, (void**)&omat, &mcap, k + CELLS, 2))) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid region of %zu voxels", k + CELLS);
+            break;
+        }
+        uint32_t* out = loc + CELLS;
+        size_t nb = vx__mesh_fill_brick(b, j->grid, j->brick_morton[bi], j->attrs, loc, rgba ? j->rgba + s0 : NULL,
+                                        nrm ? j->nrm + s0 : NULL, mat ? j->mat + s0 : NULL, c - s0, scratch, out,
+                                        rgba ? orgba + k : NULL, nrm ? onrm + k : NULL, mat ? omat + k : NULL);
+        uint64_t bm = (j->brick_morton[bi] & mask) << 18;
+        for (size_t i = 0; i < nb; i++) keys[k + i] = bm | out[i];
+        k += nb;
+    }
+    if (!r && k) {
+        vx__mesh_region reg;
+        vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri, b->region_count);
+        reg.count = k;
+        reg.keys = keys;
+        reg.rgba = orgba;
+        reg.normal = onrm;
+        reg.material = omat;
+        reg.attrs = j->attrs;
+        r = j->sink(j->user, &reg, err);
+    }
+    vx_free(a, scratch);
+    vx_free(a, loc);
+    vx_free(a, keys);
+    vx_free(a, orgba);
+    vx_free(a, onrm);
+    vx_free(a, omat);
+    return r;
+}
+
 static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
+    if (j->solid) return region_emit_solid(j, ri, err);
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
     if (n == 0) return VX_OK;
@@ -881,7 +940,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     vx_gpu* g = m->g;
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
-    if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
     if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
     double t0 = vx_time_now();
     bool tex = (attrs & VX_ATTR_RGBA8) != 0;
@@ -936,6 +994,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu pairs", P);
         goto done;
     }
+    P = 0; /* the GPU's pairs: solid's fillers (bricks without a triangle) left out */
     for (size_t b = 0; b < NB; b++) {
         uint64_t mort = bins.pairs[bins.bstart[b]] >> 32;
         uint32_t x, y, z;
@@ -943,8 +1002,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         bm[b] = mort;
         bricks[4 * b] = x * BRICK, bricks[4 * b + 1] = y * BRICK, bricks[4 * b + 2] = z * BRICK, bricks[4 * b + 3] = 0;
         for (size_t p = bins.bstart[b]; p < bins.bstart[b + 1]; p++) {
-            pairs2[2 * p] = (uint32_t)(bins.pairs[p] & 0xFFFFFFFFu);
-            pairs2[2 * p + 1] = (uint32_t)b;
+            uint32_t t = (uint32_t)(bins.pairs[p] & 0xFFFFFFFFu);
+            if (t == 0xFFFFFFFFu) continue;
+            pairs2[2 * P] = t;
+            pairs2[2 * P + 1] = (uint32_t)b;
+            P++;
         }
     }
     for (size_t t = 0; t < T; t++) trimat[t] = mesh->material ? mesh->material[t] : UINT32_MAX;
@@ -1107,7 +1169,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
      * builders hash each distinct tuple once instead of every cell's */
     t0 = vx_time_now();
     uint32_t U = 0;
-    bool intern = attrs && C > 0 && bins.region_count <= 65536;
+    bool intern = attrs && C > 0 && bins.region_count <= 65536 && !desc->solid; /* solid: the CPU fills, the builders hash */
     if (intern) {
         breg = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 4);
         if (!breg) {
@@ -1225,7 +1287,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                                         err)))
             goto done;
         region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools, ext, ext_tuples,
-                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, false, 1, mine, mine_count, attrs, sink, user, a,
+                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, desc->solid, false, 1, mine, mine_count, attrs, sink, user, a,
                         PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {

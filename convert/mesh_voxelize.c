@@ -553,12 +553,70 @@ static void setup_tri_attrs(worker* w, size_t t) {
     else for (int k = 0; k < 12; k++) w->col[k] = 1.f;
 }
 
-static bool majority(const job* j, uint32_t x, uint32_t y, uint32_t z) {
-    const uint32_t* n = j->grid->size;
+static bool majority(uint64_t* const vote[3], const uint32_t n[3], uint32_t x, uint32_t y, uint32_t z) {
     uint64_t i = x + (uint64_t)n[0] * (y + (uint64_t)n[1] * z);
     uint64_t m = 1ull << (i & 63);
-    int v = !!(j->vote[0][i >> 6] & m) + !!(j->vote[1][i >> 6] & m) + !!(j->vote[2][i >> 6] & m);
+    int v = !!(vote[0][i >> 6] & m) + !!(vote[1][i >> 6] & m) + !!(vote[2][i >> 6] & m);
     return v >= 2;
+}
+
+/* The solid fill of a brick at org (cells up to cmax per axis): the cells
+ * that are not surface (bits) and inside by the votes, into inner. */
+static void solid_inner(uint64_t* const vote[3], const uint32_t n[3], const uint32_t org[3], const int cmax[3],
+                        const uint64_t* bits, uint64_t* inner) {
+    memset(inner, 0, BRICK_CELLS / 8);
+    for (int z = 0; z <= cmax[2]; z++)
+        for (int y = 0; y <= cmax[1]; y++)
+            for (int x = 0; x <= cmax[0]; x++) {
+                uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
+                if (bits[m >> 6] & (1ull << (m & 63))) continue;
+                if (majority(vote, n, org[0] + x, org[1] + y, org[2] + z)) inner[m >> 6] |= 1ull << (m & 63);
+            }
+}
+
+/* The interior cells' attributes (fin_* hold the surface cells' finished
+ * ones): the nearest surface cell before them in their x row, else the
+ * brick's first surface cell (Morton order), else opaque white / +z. */
+static void solid_attrs(const int cmax[3], const uint64_t* bits, const uint64_t* inner, uint32_t* fin_rgba, uint32_t* fin_nrm,
+                        uint16_t* fin_mat) {
+    uint32_t first_rgba = 0xFFFFFFFFu, first_nrm = oct_encode(0, 0, 1);
+    uint16_t first_mat = 0;
+    for (size_t i = 0; i < BRICK_CELLS / 64; i++)
+        if (bits[i]) {
+            uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(bits[i]));
+            first_rgba = fin_rgba[m], first_nrm = fin_nrm[m], first_mat = fin_mat[m];
+            break;
+        }
+    for (int z = 0; z <= cmax[2]; z++)
+        for (int y = 0; y <= cmax[1]; y++) {
+            uint32_t cr = first_rgba, cn = first_nrm;
+            uint16_t cm = first_mat;
+            for (int x = 0; x <= cmax[0]; x++) {
+                uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
+                if (bits[m >> 6] & (1ull << (m & 63))) {
+                    cr = fin_rgba[m];
+                    cn = fin_nrm[m];
+                    cm = fin_mat[m];
+                } else if (inner[m >> 6] & (1ull << (m & 63))) {
+                    fin_rgba[m] = cr;
+                    fin_nrm[m] = cn;
+                    fin_mat[m] = cm;
+                }
+            }
+        }
+}
+
+/* A brick's origin and last cells in the grid (do_brick's; last: NO_LAST
+ * unless the grid's last cell along that axis is in the brick). */
+static void brick_extent(uint64_t bm, const uint32_t size[3], uint32_t org[3], int cmax[3], int last[3]) {
+    uint32_t bx, by, bz;
+    vx_svo_demorton(bm, &bx, &by, &bz);
+    org[0] = bx * BRICK, org[1] = by * BRICK, org[2] = bz * BRICK;
+    for (int a = 0; a < 3; a++) {
+        uint32_t left = size[a] - org[a];
+        cmax[a] = (int)(left < BRICK ? left : BRICK) - 1;
+        last[a] = left <= BRICK ? cmax[a] : NO_LAST;
+    }
 }
 
 static uint32_t finish_rgba(const acc* a) {
@@ -570,15 +628,9 @@ static uint32_t finish_rgba(const acc* a) {
 /* Voxelizes brick b of the current region into j->outs[b]. */
 static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     job* j = w->j;
-    uint32_t bx, by, bz;
-    vx_svo_demorton(j->pairs[first] >> 32, &bx, &by, &bz);
-    uint32_t org[3] = {bx * BRICK, by * BRICK, bz * BRICK};
+    uint32_t org[3];
     int cmin[3] = {0, 0, 0}, cmax[3], last[3];
-    for (int a = 0; a < 3; a++) {
-        uint32_t left = j->grid->size[a] - org[a];
-        cmax[a] = (int)(left < BRICK ? left : BRICK) - 1;
-        last[a] = left <= BRICK ? cmax[a] : NO_LAST; /* the grid's last cell is in this brick */
-    }
+    brick_extent(j->pairs[first] >> 32, j->grid->size, org, cmax, last);
     bool attrs = j->attrs != 0;
     memset(w->bits, 0, BRICK_CELLS / 8);
     for (size_t p = first; p < end; p++) {
@@ -594,16 +646,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     bool solid = j->vote[0] != NULL;
     uint64_t* inner = w->bits + BRICK_CELLS / 64;
     size_t count = 0;
-    if (solid) {
-        memset(inner, 0, BRICK_CELLS / 8);
-        for (int z = 0; z <= cmax[2]; z++)
-            for (int y = 0; y <= cmax[1]; y++)
-                for (int x = 0; x <= cmax[0]; x++) {
-                    uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
-                    if (w->bits[m >> 6] & (1ull << (m & 63))) continue;
-                    if (majority(j, org[0] + x, org[1] + y, org[2] + z)) inner[m >> 6] |= 1ull << (m & 63);
-                }
-    }
+    if (solid) solid_inner(j->vote, j->grid->size, org, cmax, w->bits, inner);
     for (size_t i = 0; i < BRICK_CELLS / 64; i++)
         count += (size_t)__builtin_popcountll(w->bits[i]) + (solid ? (size_t)__builtin_popcountll(inner[i]) : 0);
     o->count = count;
@@ -618,9 +661,6 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     if (solid && attrs) {
         /* final surface attributes, then interior cells copy the nearest
          * surface cell before them in their x row (else the brick's first) */
-        uint32_t first_rgba = 0xFFFFFFFFu, first_nrm = oct_encode(0, 0, 1);
-        uint16_t first_mat = 0;
-        bool have_first = false;
         for (size_t i = 0; i < BRICK_CELLS / 64; i++)
             for (uint64_t word = w->bits[i]; word; word &= word - 1) {
                 uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
@@ -628,30 +668,8 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 w->fin_rgba[m] = finish_rgba(a);
                 w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
                 w->fin_mat[m] = a->mat;
-                if (!have_first) {
-                    first_rgba = w->fin_rgba[m];
-                    first_nrm = w->fin_nrm[m];
-                    first_mat = w->fin_mat[m];
-                    have_first = true;
-                }
             }
-        for (int z = 0; z <= cmax[2]; z++)
-            for (int y = 0; y <= cmax[1]; y++) {
-                uint32_t cr = first_rgba, cn = first_nrm;
-                uint16_t cm = first_mat;
-                for (int x = 0; x <= cmax[0]; x++) {
-                    uint32_t m = mort6[x][0] | mort6[y][1] | mort6[z][2];
-                    if (w->bits[m >> 6] & (1ull << (m & 63))) {
-                        cr = w->fin_rgba[m];
-                        cn = w->fin_nrm[m];
-                        cm = w->fin_mat[m];
-                    } else if (inner[m >> 6] & (1ull << (m & 63))) {
-                        w->fin_rgba[m] = cr;
-                        w->fin_nrm[m] = cn;
-                        w->fin_mat[m] = cm;
-                    }
-                }
-            }
+        solid_attrs(cmax, w->bits, inner, w->fin_rgba, w->fin_nrm, w->fin_mat);
     }
     size_t k = 0;
     for (size_t i = 0; i < BRICK_CELLS / 64; i++) {
@@ -1269,6 +1287,7 @@ vx_result vx__mesh_bin(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, 
         out->region_count = j.region_count;
         out->R = j.R;
         out->rb = j.rb;
+        for (int a = 0; a < 3; a++) out->vote[a] = j.vote[a], j.vote[a] = NULL;
         j.g = NULL;
         j.pairs = NULL;
         j.bstart = NULL;
@@ -1283,7 +1302,47 @@ void vx__mesh_bins_free(const vx_allocator* a, vx__mesh_bins* b) {
     vx_free(a, b->pairs);
     vx_free(a, b->bstart);
     vx_free(a, b->rstart);
+    for (int k = 0; k < 3; k++) vx_free(a, b->vote[k]);
     memset(b, 0, sizeof *b);
+}
+
+size_t vx__mesh_fill_scratch_size(void) { return BRICK_CELLS / 4 + (size_t)BRICK_CELLS * (4 + 4 + 2); }
+
+size_t vx__mesh_fill_brick(const vx__mesh_bins* bins, const vx_conv_mesh_grid* grid, uint64_t bm, uint32_t attrs,
+                           const uint32_t* local, const uint32_t* rgba, const uint32_t* nrm, const uint32_t* mat, size_t n,
+                           void* scratch, uint32_t* out_local, uint32_t* out_rgba, uint32_t* out_nrm, uint16_t* out_mat) {
+    pthread_once(&mort_once, init_mort6);
+    uint64_t* bits = (uint64_t*)scratch; /* surface, then interior (do_brick's two halves) */
+    uint64_t* inner = bits + BRICK_CELLS / 64;
+    uint32_t* fin_rgba = (uint32_t*)(inner + BRICK_CELLS / 64);
+    uint32_t* fin_nrm = fin_rgba + BRICK_CELLS;
+    uint16_t* fin_mat = (uint16_t*)(fin_nrm + BRICK_CELLS);
+    uint32_t org[3];
+    int cmax[3], last[3];
+    brick_extent(bm, grid->size, org, cmax, last);
+    memset(bits, 0, BRICK_CELLS / 8);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t m = local[i] & (BRICK_CELLS - 1);
+        bits[m >> 6] |= 1ull << (m & 63);
+        if (attrs) { /* every channel (the unused ones are only carried along) */
+            fin_rgba[m] = rgba ? rgba[i] : 0;
+            fin_nrm[m] = nrm ? nrm[i] : 0;
+            fin_mat[m] = mat ? (uint16_t)mat[i] : 0;
+        }
+    }
+    solid_inner(bins->vote, grid->size, org, cmax, bits, inner);
+    if (attrs) solid_attrs(cmax, bits, inner, fin_rgba, fin_nrm, fin_mat);
+    size_t k = 0;
+    for (size_t i = 0; i < BRICK_CELLS / 64; i++)
+        for (uint64_t word = bits[i] | inner[i]; word; word &= word - 1) {
+            uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
+            out_local[k] = m;
+            if (out_rgba) out_rgba[k] = fin_rgba[m];
+            if (out_nrm) out_nrm[k] = fin_nrm[m];
+            if (out_mat) out_mat[k] = fin_mat[m];
+            k++;
+        }
+    return k;
 }
 
 vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
