@@ -64,9 +64,9 @@ typedef struct vx_conv_mesh_gpu_stats {
     double bin;      /* CPU: grid coordinates and brick pairs (vx__mesh_bin) */
     double upload;   /* triangles, pairs, materials, textures */
     double count;    /* cells per pair and their prefix sum */
-    double emit;     /* the records */
-    double sort;     /* radix sort by cell */
-    double reduce;   /* per-cell sums and the finished attributes */
+    double emit;     /* the records, their radix sort by cell, the per-cell sums: one submission */
+    double sort;     /* 0 (in emit; vox_gpu splits it) */
+    double reduce;   /* 0 (in emit) */
     double intern;   /* the cells' attribute tuples interned per region for the builders */
     double download; /* the cells */
     double build;    /* the octrees' node pools built on the GPU (meshbuild.comp), downloaded */
