@@ -93,6 +93,10 @@
  *           children): its far words and block from the positions.
  *   MODE 25 (per group of lone records with one key, sorted): reuse or a
  *           new copy, in pool order. misc[1]: something changed.
+ *   MODE 29 (one invocation, after each iteration): an iteration that
+ *           changed nothing sets misc[2] (settled: modes 24 and 25 then
+ *           return, and the positions scanned again are the same);
+ *           misc[3] counts the iterations computed.
  *   MODE 26 (per node with a block): its words. MODE 22 (per region):
  *           pc.level 0 clears its counts, 1 writes the root descriptor. */
 layout(local_size_x = 256) in;
@@ -112,7 +116,8 @@ layout(std430, binding = 7) buffer Pos { uint pos[]; };
 layout(std430, binding = 8) buffer Start { uint start[]; };
 layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
 layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
-/* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something;
+/* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something; [2]: the layout
+ * settled, [3]: its iterations (MODE 29);
  * [4 + r]: region r's cells; [4 + R + 6 r]: their box (MODE 0) */
 layout(std430, binding = 11) buffer Misc { uint misc[]; };
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
@@ -614,7 +619,13 @@ void main() {
         start[i] = i;
     } else if (MODE == 23u) {
         pos[i] = lay[i].x;
+    } else if (MODE == 29u) {
+        if (misc[2] == 0u) {
+            misc[3] += 1u;
+            if (misc[1] == 0u) misc[2] = 1u;
+        }
     } else if (MODE == 24u) { /* a node with node children: its far words from the positions */
+        if (misc[2] != 0u) return;
         uint q = vals[i], r = nodes[4u * q].y, cb[8], cd[8];
         uint nn = node_kids(q, cb, cd);
         if (nn == 0u) return;
@@ -626,6 +637,7 @@ void main() {
             misc[1] = 1u;
         }
     } else if (MODE == 25u) { /* a group of lone records with one run, in pool order: reuse or a new copy */
+        if (misc[2] != 0u) return;
         uint key = keys[i].x;
         if (key == 0xFFFFFFFFu || (i > 0u && keys[i - 1u].x == key)) return;
         uint last = 0u, lk = 0u;
