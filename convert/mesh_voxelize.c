@@ -770,22 +770,31 @@ static bool radix_sort(const vx_allocator* a, uint64_t* v, size_t n, unsigned lo
 
 /* One thread's share of the binning: the pairs of triangles [t0, t1) in
  * triangle order, in its own array (concatenated in part order afterwards,
- * so the pairs are the one-thread loop's). */
+ * so the pairs are the one-thread loop's). A part on a worker thread writes
+ * into a slice of an array the caller allocated (fixed: the worker never
+ * allocates, so it takes no malloc arena of its own: arenas left by short
+ * threads were handed to the octree builders' threads later, cold, and
+ * cost them more than the binning saved); a full slice stops the part
+ * (full), and the caller bins it again with a growing array. */
 typedef struct bin_ctx {
     job* j;
     uint32_t tri;
     size_t t0, t1;
     uint64_t* pairs;
     size_t count, cap;
-    bool nomem;
+    bool nomem, fixed, full;
 } bin_ctx;
 
 static void bin_hit(void* user, const int c[3], const double (*poly)[3], int n) {
     (void)poly;
     (void)n;
     bin_ctx* b = (bin_ctx*)user;
-    if (b->nomem) return;
-    if (!vx_grow(b->j->alloc, (void**)&b->pairs, &b->cap, b->count + 1, sizeof(uint64_t))) {
+    if (b->nomem || b->full) return;
+    if (b->fixed && b->count == b->cap) {
+        b->full = true;
+        return;
+    }
+    if (!b->fixed && !vx_grow(b->j->alloc, (void**)&b->pairs, &b->cap, b->count + 1, sizeof(uint64_t))) {
         b->nomem = true;
         return;
     }
@@ -805,7 +814,7 @@ static void* bin_worker(void* arg) {
         if (k >= bj->count) return NULL;
         bin_ctx* b = &bj->parts[k];
         int cmin[3] = {0, 0, 0}, cmax[3] = {(int)b->j->nb[0] - 1, (int)b->j->nb[1] - 1, (int)b->j->nb[2] - 1};
-        for (size_t t = b->t0; t < b->t1 && !b->nomem; t++) {
+        for (size_t t = b->t0; t < b->t1 && !b->nomem && !b->full; t++) {
             double v[9];
             for (int q = 0; q < 9; q++) v[q] = b->j->g[9 * t + q] / BRICK;
             b->tri = (uint32_t)t;
@@ -1201,16 +1210,32 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
         unsigned nparts = (unsigned)(T / 1024 < 4u * threads ? T / 1024 : 4u * threads);
         if (threads < 2 || nparts < 2) nparts = 1;
         bin_ctx parts1[1], *parts = nparts > 1 ? (bin_ctx*)vx_calloc(j->alloc, nparts, sizeof *parts) : parts1;
-        if (!parts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
-        for (unsigned k = 0; k < nparts; k++)
-            parts[k] = (bin_ctx){j, 0, T * k / nparts, T * (k + 1) / nparts, NULL, 0, 0, false};
+        /* the workers' slices: 8 pairs a triangle (DamagedHelmet has 2 at 1024^3, 6 at 4096^3) */
+        size_t slice_total = nparts > 1 ? 8 * T + 1024 * (size_t)nparts : 0;
+        uint64_t* slices = slice_total ? (uint64_t*)vx_alloc(j->alloc, slice_total * sizeof *slices) : NULL;
+        if (!parts || (slice_total && !slices)) {
+            if (parts != parts1) vx_free(j->alloc, parts);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "binning %zu triangles", T);
+        }
+        size_t at = 0;
+        for (unsigned k = 0; k < nparts; k++) {
+            size_t t0 = T * k / nparts, t1 = T * (k + 1) / nparts, cap = 8 * (t1 - t0) + 1024;
+            parts[k] = (bin_ctx){j, 0, t0, t1, slices ? slices + at : NULL, 0, slices ? cap : 0, false, slices != NULL, false};
+            at += cap;
+        }
         bin_job bj = {parts, nparts, 0};
         if (nparts > 1) vx_run_threads(threads < nparts ? threads : nparts, bin_worker, &bj);
         else bin_worker(&bj);
+        for (unsigned k = 0; k < nparts; k++)
+            if (parts[k].full) { /* more pairs than its slice: again, here, growing */
+                parts[k] = (bin_ctx){j, 0, parts[k].t0, parts[k].t1, NULL, 0, 0, false, false, false};
+                bin_job one = {&parts[k], 1, 0};
+                bin_worker(&one);
+            }
         bool nomem = false;
         size_t total = 0;
         for (unsigned k = 0; k < nparts; k++) nomem |= parts[k].nomem, total += parts[k].count;
-        bin_ctx b = {j, 0, 0, 0, NULL, 0, 0, nomem};
+        bin_ctx b = {j, 0, 0, 0, NULL, 0, 0, nomem, false, false};
         if (!nomem && total) { /* the parts in triangle order */
             if (nparts == 1) {
                 b.pairs = parts[0].pairs, b.count = parts[0].count, b.cap = parts[0].cap;
@@ -1224,7 +1249,9 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
                 }
             }
         }
-        for (unsigned k = 0; k < nparts; k++) vx_free(j->alloc, parts[k].pairs);
+        for (unsigned k = 0; k < nparts; k++)
+            if (!parts[k].fixed) vx_free(j->alloc, parts[k].pairs);
+        vx_free(j->alloc, slices);
         if (parts != parts1) vx_free(j->alloc, parts);
         /* solid: bricks with no triangle can still be inside; one filler pair each */
         if (desc->solid)
