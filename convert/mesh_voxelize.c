@@ -831,6 +831,112 @@ typedef struct crossing {
 
 static bool edge_top_left(double dx, double dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
+/* The parity votes along axis ax (solid_votes), into j->vote[ax]. */
+static vx_result solid_axis(job* j, int ax, vx_error* err) {
+    const uint32_t* n = j->grid->size;
+    size_t T = j->mesh->tri_count;
+    int u = (ax + 1) % 3, w = (ax + 2) % 3;
+    uint64_t* list = NULL;
+    size_t cnt = 0, cap = 0;
+    for (size_t t = 0; t < T; t++) {
+        const double* v = j->g + 9 * t;
+        double p[3][2], A[3];
+        for (int k = 0; k < 3; k++) {
+            p[k][0] = v[3 * k + u];
+            p[k][1] = v[3 * k + w];
+            A[k] = v[3 * k + ax];
+        }
+        double area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+        if (area == 0 || !isfinite(area)) continue; /* edge-on: no crossing */
+        if (area < 0) { /* make it counter-clockwise */
+            double s0 = p[1][0], s1 = p[1][1], sa = A[1];
+            p[1][0] = p[2][0]; p[1][1] = p[2][1]; A[1] = A[2];
+            p[2][0] = s0; p[2][1] = s1; A[2] = sa;
+            area = -area;
+        }
+        double ulo = fmin(fmin(p[0][0], p[1][0]), p[2][0]), uhi = fmax(fmax(p[0][0], p[1][0]), p[2][0]);
+        double wlo = fmin(fmin(p[0][1], p[1][1]), p[2][1]), whi = fmax(fmax(p[0][1], p[1][1]), p[2][1]);
+        double ja = fmax(ceil(ulo - 0.5), 0), jb = fmin(floor(uhi - 0.5), (double)n[u] - 1);
+        double ka = fmax(ceil(wlo - 0.5), 0), kb = fmin(floor(whi - 0.5), (double)n[w] - 1);
+        for (double kk = ka; kk <= kb; kk++)
+            for (double jj = ja; jj <= jb; jj++) {
+                double q0 = jj + 0.5, q1 = kk + 0.5, e[3];
+                bool in = true;
+                for (int k = 0; k < 3 && in; k++) {
+                    const double* a0 = p[(k + 1) % 3];
+                    const double* a1 = p[(k + 2) % 3];
+                    double dx = a1[0] - a0[0], dy = a1[1] - a0[1];
+                    e[k] = dx * (q1 - a0[1]) - dy * (q0 - a0[0]);
+                    in = e[k] > 0 || (e[k] == 0 && edge_top_left(dx, dy));
+                }
+                if (!in) continue;
+                double s = e[0] + e[1] + e[2];
+                double at = s > 0 ? (e[0] * A[0] + e[1] * A[1] + e[2] * A[2]) / s : A[0];
+                float af = (float)fmax(at, 0);
+                uint32_t bitsf;
+                memcpy(&bitsf, &af, 4);
+                if (!vx_grow(j->alloc, (void**)&list, &cap, cnt + 1, sizeof *list)) {
+                    vx_free(j->alloc, list);
+                    return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: ray crossings");
+                }
+                uint64_t ray = (uint64_t)jj + (uint64_t)n[u] * (uint64_t)kk;
+                list[cnt++] = ray << 32 | bitsf;
+            }
+    }
+    if (!radix_sort(j->alloc, list, cnt, 0, 64)) {
+        vx_free(j->alloc, list);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: sorting crossings");
+    }
+    /* walk each ray: a cell centre is inside when an odd number of crossings lie before it */
+    for (size_t i = 0; i < cnt;) {
+        uint64_t ray = list[i] >> 32;
+        size_t e = i;
+        while (e < cnt && (list[e] >> 32) == ray) e++;
+        uint32_t ju = (uint32_t)(ray % n[u]), kw = (uint32_t)(ray / n[u]);
+        size_t c = i;
+        bool inside = false;
+        for (uint32_t x = 0; x < n[ax]; x++) {
+            float centre = (float)x + 0.5f;
+            while (c < e) {
+                float f;
+                uint32_t fb = (uint32_t)list[c];
+                memcpy(&f, &fb, 4);
+                if (f >= centre) break;
+                inside = !inside;
+                c++;
+            }
+            if (c == e && !inside) break;
+            if (inside) {
+                uint32_t xyz[3];
+                xyz[ax] = x;
+                xyz[u] = ju;
+                xyz[w] = kw;
+                uint64_t idx = xyz[0] + (uint64_t)n[0] * (xyz[1] + (uint64_t)n[1] * xyz[2]);
+                j->vote[ax][idx >> 6] |= 1ull << (idx & 63);
+            }
+        }
+        i = e;
+    }
+    vx_free(j->alloc, list);
+    return VX_OK;
+}
+
+/* The three axes on three threads (each its own crossings and bitmap). */
+typedef struct votes_job {
+    job* j;
+    atomic_int next;
+    vx_result r[3];
+    vx_error e[3];
+} votes_job;
+static void* votes_worker(void* arg) {
+    votes_job* v = (votes_job*)arg;
+    for (;;) {
+        int ax = atomic_fetch_add(&v->next, 1);
+        if (ax >= 3) return NULL;
+        v->r[ax] = solid_axis(v->j, ax, &v->e[ax]);
+    }
+}
+
 static vx_result solid_votes(job* j, vx_error* err) {
     const uint32_t* n = j->grid->size;
     uint64_t cells = (uint64_t)n[0] * n[1] * n[2];
@@ -842,92 +948,13 @@ static vx_result solid_votes(job* j, vx_error* err) {
         j->vote[a] = (uint64_t*)vx_calloc(j->alloc, words, 8);
         if (!j->vote[a]) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: %zu bytes", words * 8);
     }
-    size_t T = j->mesh->tri_count;
-    for (int ax = 0; ax < 3; ax++) {
-        int u = (ax + 1) % 3, w = (ax + 2) % 3;
-        uint64_t* list = NULL;
-        size_t cnt = 0, cap = 0;
-        for (size_t t = 0; t < T; t++) {
-            const double* v = j->g + 9 * t;
-            double p[3][2], A[3];
-            for (int k = 0; k < 3; k++) {
-                p[k][0] = v[3 * k + u];
-                p[k][1] = v[3 * k + w];
-                A[k] = v[3 * k + ax];
-            }
-            double area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-            if (area == 0 || !isfinite(area)) continue; /* edge-on: no crossing */
-            if (area < 0) { /* make it counter-clockwise */
-                double s0 = p[1][0], s1 = p[1][1], sa = A[1];
-                p[1][0] = p[2][0]; p[1][1] = p[2][1]; A[1] = A[2];
-                p[2][0] = s0; p[2][1] = s1; A[2] = sa;
-                area = -area;
-            }
-            double ulo = fmin(fmin(p[0][0], p[1][0]), p[2][0]), uhi = fmax(fmax(p[0][0], p[1][0]), p[2][0]);
-            double wlo = fmin(fmin(p[0][1], p[1][1]), p[2][1]), whi = fmax(fmax(p[0][1], p[1][1]), p[2][1]);
-            double ja = fmax(ceil(ulo - 0.5), 0), jb = fmin(floor(uhi - 0.5), (double)n[u] - 1);
-            double ka = fmax(ceil(wlo - 0.5), 0), kb = fmin(floor(whi - 0.5), (double)n[w] - 1);
-            for (double kk = ka; kk <= kb; kk++)
-                for (double jj = ja; jj <= jb; jj++) {
-                    double q0 = jj + 0.5, q1 = kk + 0.5, e[3];
-                    bool in = true;
-                    for (int k = 0; k < 3 && in; k++) {
-                        const double* a0 = p[(k + 1) % 3];
-                        const double* a1 = p[(k + 2) % 3];
-                        double dx = a1[0] - a0[0], dy = a1[1] - a0[1];
-                        e[k] = dx * (q1 - a0[1]) - dy * (q0 - a0[0]);
-                        in = e[k] > 0 || (e[k] == 0 && edge_top_left(dx, dy));
-                    }
-                    if (!in) continue;
-                    double s = e[0] + e[1] + e[2];
-                    double at = s > 0 ? (e[0] * A[0] + e[1] * A[1] + e[2] * A[2]) / s : A[0];
-                    float af = (float)fmax(at, 0);
-                    uint32_t bitsf;
-                    memcpy(&bitsf, &af, 4);
-                    if (!vx_grow(j->alloc, (void**)&list, &cap, cnt + 1, sizeof *list)) {
-                        vx_free(j->alloc, list);
-                        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: ray crossings");
-                    }
-                    uint64_t ray = (uint64_t)jj + (uint64_t)n[u] * (uint64_t)kk;
-                    list[cnt++] = ray << 32 | bitsf;
-                }
+    votes_job v = {j, 0, {VX_OK, VX_OK, VX_OK}, {{0}}};
+    vx_run_threads(j->desc->threads == 1 ? 1 : 3, votes_worker, &v);
+    for (int ax = 0; ax < 3; ax++)
+        if (v.r[ax]) {
+            if (err) *err = v.e[ax];
+            return v.r[ax];
         }
-        if (!radix_sort(j->alloc, list, cnt, 0, 64)) {
-            vx_free(j->alloc, list);
-            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: sorting crossings");
-        }
-        /* walk each ray: a cell centre is inside when an odd number of crossings lie before it */
-        for (size_t i = 0; i < cnt;) {
-            uint64_t ray = list[i] >> 32;
-            size_t e = i;
-            while (e < cnt && (list[e] >> 32) == ray) e++;
-            uint32_t ju = (uint32_t)(ray % n[u]), kw = (uint32_t)(ray / n[u]);
-            size_t c = i;
-            bool inside = false;
-            for (uint32_t x = 0; x < n[ax]; x++) {
-                float centre = (float)x + 0.5f;
-                while (c < e) {
-                    float f;
-                    uint32_t fb = (uint32_t)list[c];
-                    memcpy(&f, &fb, 4);
-                    if (f >= centre) break;
-                    inside = !inside;
-                    c++;
-                }
-                if (c == e && !inside) break;
-                if (inside) {
-                    uint32_t xyz[3];
-                    xyz[ax] = x;
-                    xyz[u] = ju;
-                    xyz[w] = kw;
-                    uint64_t idx = xyz[0] + (uint64_t)n[0] * (xyz[1] + (uint64_t)n[1] * xyz[2]);
-                    j->vote[ax][idx >> 6] |= 1ull << (idx & 63);
-                }
-            }
-            i = e;
-        }
-        vx_free(j->alloc, list);
-    }
     return VX_OK;
 }
 
