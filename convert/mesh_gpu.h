@@ -28,8 +28,8 @@
  *
  * The binning runs on the CPU's cores (triangle ranges in parallel, the
  * pairs the one-thread loop's), the images copied for the upload meanwhile,
- * and the octree's levels go to the GPU in one submission (their counts
- * stay on the device).
+ * and the octree's levels go to the GPU in three submissions (their counts
+ * stay on the device; the first two levels' are read back).
  *
  * desc.solid is a hybrid: the GPU voxelizes the surface as above; the CPU
  * computes the parity votes (in the binning, as its own voxelizer does) and
