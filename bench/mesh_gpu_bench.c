@@ -7,7 +7,7 @@
  * files are equal byte for byte (the check of mesh_gpu_test, here on the
  * bench's device and resolutions).
  *
- *   mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] [--cells] [--digest]
+ *   mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] [--cells] [--digest] [--solid]
  *
  * --digest: prints a 64-bit FNV-1a digest of the GPU path's scene (each
  * model's size, root, node words and attribute arrays, each instance's
@@ -20,7 +20,9 @@
  * --build gpu|cpu|check: who builds the octrees (vx_conv_mesh_gpu_set_build;
  * default gpu: the node words on the GPU (pools, representatives, attribute
  * runs, blocks), the CPU fills the records; gpu-pools: the CPU lays the
- * blocks out). */
+ * blocks out).
+ * --solid: both paths fill the inside (the GPU path: the GPU voxelizes the
+ * surface, the CPU votes, fills and builds, convert/mesh_gpu.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,7 +74,7 @@ int main(int argc, char** argv) {
     const char* device = NULL;
     uint32_t res[8], nres = 0;
     int runs = 5, cpu_runs = 3, warmups = 1;
-    bool cells_only = false, digest = false;
+    bool cells_only = false, digest = false, solid = false;
     vx_conv_mesh_gpu_build build = VX_CONV_MESH_GPU_BUILD_GPU;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--res") && i + 1 < argc && nres < 8) res[nres++] = (uint32_t)atoi(argv[++i]);
@@ -81,6 +83,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--device") && i + 1 < argc) device = argv[++i];
         else if (!strcmp(argv[i], "--cells")) cells_only = true;
         else if (!strcmp(argv[i], "--digest")) digest = true;
+        else if (!strcmp(argv[i], "--solid")) solid = true;
         else if (!strcmp(argv[i], "--warmups") && i + 1 < argc) warmups = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--build") && i + 1 < argc) {
             const char* b = argv[++i];
@@ -94,7 +97,7 @@ int main(int argc, char** argv) {
     }
     if (!path) {
         fprintf(stderr, "usage: mesh_gpu_bench MESH.glb [--res N]... [--runs N] [--cpu-runs N] [--warmups N] [--device D] "
-                        "[--cells] [--digest] [--build gpu|gpu-pools|cpu|check]\n");
+                        "[--cells] [--digest] [--solid] [--build gpu|gpu-pools|cpu|check]\n");
         return 2;
     }
     if (!nres) res[nres++] = 1024;
@@ -119,7 +122,7 @@ int main(int argc, char** argv) {
     printf("%s: %zu triangles, read in %.3f s\n", path, mesh.tri_count, vx_time_now() - t0);
     int fail = 0;
     for (uint32_t ri = 0; ri < nres; ri++) {
-        vx_conv_mesh_desc d = {.res = res[ri]};
+        vx_conv_mesh_desc d = {.res = res[ri], .solid = solid};
         double cpu[MAXRUNS], gpu_t[MAXRUNS], st[10][MAXRUNS], asm_t[MAXRUNS], bg[8][MAXRUNS], vg[5][MAXRUNS];
         vx_svo_scene ref, got;
         memset(&ref, 0, sizeof ref);

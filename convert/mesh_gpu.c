@@ -23,10 +23,10 @@ enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMA
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
        B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_RTAB,
-       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_COUNT };
+       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_TEXUP, B_LVL, B_COUNT };
 #define SCAN_LEVELS 4
 
-#define BUILD_MODES 27 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
+#define BUILD_MODES 30 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
 enum { P_COUNT, P_EMIT, P_HIST, P_SCATTER, P_SCAN, P_ADD, P_FLAG, P_REDUCE, P_IKEY, P_INKEY, P_IFLAG, P_IOUT, P_BUILD,
        P_NUM = P_BUILD + BUILD_MODES };
 
@@ -226,10 +226,9 @@ static vx_result ensure_host(vx_conv_mesh_gpu* m, int id, uint64_t bytes, vx_err
 
 typedef struct upload {
     int id;
-    const void* data; /* upload_in_place: the caller writes the bytes into the upload buffer itself */
+    const void* data; /* NULL: the device buffer only (its bytes come another way) */
     uint64_t bytes, offset;
 } upload;
-static const char upload_in_place[1];
 
 /* Makes each upload's device buffer, copies the data into the upload
  * buffer and records the copies into the open command buffer. */
@@ -243,7 +242,7 @@ static vx_result put_all(vx_conv_mesh_gpu* m, upload* u, int n, vx_error* err) {
     }
     if ((r = ensure_host(m, B_UP, total, err))) return r;
     for (int i = 0; i < n; i++)
-        if (u[i].data && u[i].data != upload_in_place && u[i].bytes)
+        if (u[i].data && u[i].bytes)
             memcpy((uint8_t*)m->buf[B_UP].map + u[i].offset, u[i].data, u[i].bytes);
     return VX_OK;
 }
@@ -272,6 +271,7 @@ typedef struct region_job {
     const uint32_t* ext;          /* with pools: per region its representatives' new tuples, then [R + r] the first */
     const uint32_t* ext_tuples;   /* those tuples, 4 words each (rgba, normal, material, region) */
     bool check_pools;             /* the builders check the pools against their own */
+    bool solid;                   /* desc->solid: the CPU's interior fill of each brick (vx__mesh_fill_brick) */
     bool layout_thread;           /* a core to spare per builder: its layout on a second thread */
     unsigned intern_threads;      /* threads per builder for its tuples (cores over builders) */
     const size_t* mine;           /* the regions of this share (vx__mesh_share_regions), ascending */
@@ -311,7 +311,65 @@ static void* tab_fill_worker(void* arg) {
     }
 }
 
+/* desc->solid: region ri's bricks, each filled by the CPU voxelizer's code
+ * from the GPU's surface cells (the votes from the binning), handed to the
+ * sink as the CPU voxelizer hands them (no interned tuples: the builder
+ * hashes them). */
+static vx_result region_emit_solid(region_job* j, size_t ri, vx_error* err) {
+    const vx__mesh_bins* b = j->bins;
+    const vx_allocator* a = j->alloc;
+    enum { CELLS = BRICK * BRICK * BRICK };
+    size_t c = j->cstart[ri], cend = j->cstart[ri + 1], k = 0, kcap = 0, rcap = 0, ncap = 0, mcap = 0;
+    uint64_t mask = (1ull << (3 * b->rb)) - 1;
+    bool rgba = (j->attrs & VX_ATTR_RGBA8) != 0, nrm = (j->attrs & VX_ATTR_NORMAL) != 0, mat = (j->attrs & VX_ATTR_MATERIAL) != 0;
+    uint64_t* keys = NULL;
+    uint32_t *orgba = NULL, *onrm = NULL;
+    uint16_t* omat = NULL;
+    void* scratch = vx_alloc(a, vx__mesh_fill_scratch_size());
+    uint32_t* loc = (uint32_t*)vx_alloc(a, 2 * (size_t)CELLS * 4); /* the surface's local keys, then the brick's */
+    vx_result r = VX_OK;
+    if (!scratch || !loc) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid fill buffers");
+    for (size_t bi = b->rstart[ri]; !r && bi < b->rstart[ri + 1]; bi++) {
+        size_t s0 = c;
+        while (c < cend && ((uint64_t)(j->okeys[2 * c] >> 18) | (uint64_t)j->okeys[2 * c + 1] << 14) == bi) {
+            loc[c - s0] = j->okeys[2 * c] & 0x3FFFFu;
+            c++;
+        }
+        if (!vx_grow(a, (void**)&keys, &kcap, k + CELLS, 8) || (rgba && !vx_grow(a, (void**)&orgba, &rcap, k + CELLS, 4)) ||
+            (nrm && !vx_grow(a, (void**)&onrm, &ncap, k + CELLS, 4)) || (mat && !vx_grow(a, (void**)&omat, &mcap, k + CELLS, 2))) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid region of %zu voxels", k + CELLS);
+            break;
+        }
+        uint32_t* out = loc + CELLS;
+        size_t nb = vx__mesh_fill_brick(b, j->grid, j->brick_morton[bi], j->attrs, loc, rgba ? j->rgba + s0 : NULL,
+                                        nrm ? j->nrm + s0 : NULL, mat ? j->mat + s0 : NULL, c - s0, scratch, out,
+                                        rgba ? orgba + k : NULL, nrm ? onrm + k : NULL, mat ? omat + k : NULL);
+        uint64_t bm = (j->brick_morton[bi] & mask) << 18;
+        for (size_t i = 0; i < nb; i++) keys[k + i] = bm | out[i];
+        k += nb;
+    }
+    if (!r && k) {
+        vx__mesh_region reg;
+        vx__mesh_region_place(&reg, j->brick_morton[b->rstart[ri]] >> (3 * b->rb), b->R, j->grid->size, ri, b->region_count);
+        reg.count = k;
+        reg.keys = keys;
+        reg.rgba = orgba;
+        reg.normal = onrm;
+        reg.material = omat;
+        reg.attrs = j->attrs;
+        r = j->sink(j->user, &reg, err);
+    }
+    vx_free(a, scratch);
+    vx_free(a, loc);
+    vx_free(a, keys);
+    vx_free(a, orgba);
+    vx_free(a, onrm);
+    vx_free(a, omat);
+    return r;
+}
+
 static vx_result region_emit(region_job* j, size_t ri, vx_error* err) {
+    if (j->solid) return region_emit_solid(j, ri, err);
     const vx__mesh_bins* b = j->bins;
     size_t c0 = j->cstart[ri], n = j->cstart[ri + 1] - c0;
     if (n == 0) return VX_OK;
@@ -418,6 +476,7 @@ static vx_result bstage(vx_conv_mesh_gpu* m, int mode, int src, int sorted, uint
                         uint32_t mask, vx_error* err) {
     int ids[BUILD_BINDINGS];
     build_ids(ids, src, sorted);
+    if ((mode >= 1 && mode <= 3) || mode == 27 || mode == 28) ids[25] = B_LVL; /* the level loop's counts (meshbuild.comp) */
     build_push bp = {(uint32_t)n, level, base, mask, m->build_attrs, UINT32_MAX, UINT32_MAX};
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_SLOTS) bp.smask = 7; /* every probe starts in one of 8 slots */
     if (m->hash == VX_CONV_MESH_GPU_HASH_FEW_LABELS) bp.lmask = 15; /* 16 structural hashes: distinct subtrees alike */
@@ -508,40 +567,74 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
         (r = ensure(m, B_ORD, 16, err)) || (r = ensure(m, B_WORDS, 16, err)))
         goto done;
 
-    /* level by level: the children of level l are the items, their parents the next items */
-    uint64_t n = C, base = 0;
-    uint32_t level = 0;
+    /* level by level: the children of level l are the items, their parents
+     * the next items. The counts stay on the device (meshbuild.comp's level
+     * state) and each level is dispatched at a bound of its count (no more
+     * than the level below, nor than the regions' nodes at that level); the
+     * invocations beyond it return. The first two levels' parent counts are
+     * read back (two round trips, where the host used to wait once a level):
+     * those levels hold most of the items, and a bound of the cell count
+     * there cost 0.4 ms of GPU time at 1024^3 and 9 ms at 4096^3 (H200);
+     * every later level goes into one submission. */
+    if ((r = ensure(m, B_LVL, 64, err))) goto done;
     int src = 0;
     if ((r = rec_begin(m, err))) goto done;
     put_record(m, ups, 2);
     fill(m, B_ROUT, (uint64_t)R * 16, 0);
     fill(m, B_RBASE, (uint64_t)R * 4, 0xFFFFFFFFu);
     fill(m, B_MISC, ((uint64_t)R * 7 + 4) * 4, 0);
+    {
+        uint32_t lv[8] = {C, 0, 0, 0, 0, 0, 0, 0};
+        vkCmdUpdateBuffer(g->cmd, m->buf[B_LVL].buf, 0, sizeof lv, lv);
+        barrier(g);
+    }
     ts_begin(m, 0);
     if ((r = bstage(m, 0, 1, 0, C, 0, (uint32_t)R, 0, err))) goto done; /* src 1: writes ITA */
-    for (;;) {
-        ts_begin(m, 0);
-        fill(m, B_POS, (n + 1) * 4, 0);
-        if ((r = bstage(m, 1, src, 0, n, level, 0, 0, err)) || (r = scan(m, B_POS, n + 1, 0, err)) ||
-            (r = bstage(m, 2, src, 0, n, level, 0, 0, err)))
+    uint64_t bound = C; /* the items of this level, at most */
+    for (uint32_t level = 0; level <= maxd; level++) {
+        uint64_t next = 0; /* the parents: the regions' nodes at level + 1, at most (none above the last level) */
+        for (size_t ri = 0; level < maxd && ri < R && next < bound; ri++) {
+            uint32_t d = rinfo[4 * ri], e = d > level + 1 ? d - (level + 1) : 0;
+            next += 3 * e >= 40 ? bound : 1ull << (3 * e);
+        }
+        if (next > bound) next = bound;
+        fill(m, B_POS, (bound + 1) * 4, 0);
+        if ((r = bstage(m, 1, src, 0, bound, level, 0, 0, err)) || (r = scan(m, B_POS, bound + 1, 0, err)) ||
+            (r = bstage(m, 2, src, 0, bound, level, 0, 0, err)) ||
+            (r = bstage(m, 27, src, 0, 1, (uint32_t)next, 0, (uint32_t)(cap < UINT32_MAX ? cap : UINT32_MAX), err)))
             goto done;
-        read_u32(m, B_POS, n, 0);
-        ts_end(m);
-        if ((r = submit(m, err))) goto done;
-        uint32_t P;
-        if ((r = vx__buffer_download(g, &m->buf[B_READ], &P, 4, err))) goto done;
-        if (P == 0) break;
-        if (P > n || base + P > cap || level >= maxd) goto done; /* beyond the node buffer: the CPU builds */
-        if ((r = rec_begin(m, err))) goto done;
-        ts_begin(m, 0);
-        if ((r = bstage(m, 3, src, 0, P, level + 1, (uint32_t)base, (uint32_t)n, err))) goto done;
-        ts_end(m);
-        base += P;
-        n = P;
+        if (level == maxd) break;
+        if (level < 2) { /* the parents' count itself */
+            VkBufferCopy c = {.srcOffset = 8, .dstOffset = 0, .size = 8};
+            vkCmdCopyBuffer(g->cmd, m->buf[B_LVL].buf, m->buf[B_READ].buf, 1, &c);
+            barrier(g);
+            ts_end(m);
+            if ((r = submit(m, err))) goto done;
+            uint32_t pf[2]; /* parents, failed */
+            if ((r = vx__buffer_download(g, &m->buf[B_READ], pf, 8, err))) goto done;
+            if (pf[1]) goto done; /* beyond the node buffer: the CPU builds */
+            if ((r = rec_begin(m, err))) goto done;
+            ts_begin(m, 0);
+            next = pf[0];
+            if (next == 0) break;
+        }
+        if ((r = bstage(m, 3, src, 0, next, level + 1, 0, 0, err)) || (r = bstage(m, 28, src, 0, 1, level, 0, 0, err)))
+            goto done;
+        bound = next;
         src ^= 1;
-        level++;
     }
-    m->stats.levels = level;
+    {
+        VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = 24};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_LVL].buf, m->buf[B_READ].buf, 1, &c);
+        barrier(g);
+    }
+    ts_end(m);
+    if ((r = submit(m, err))) goto done;
+    uint32_t lvd[6]; /* items, base; parents, failed; levels */
+    if ((r = vx__buffer_download(g, &m->buf[B_READ], lvd, 24, err))) goto done;
+    if (lvd[3] || lvd[1] > cap) goto done; /* beyond the node buffer, or too deep: the CPU builds */
+    uint64_t base = lvd[1];
+    m->stats.levels = lvd[4];
     m->stats.node_slots = base;
 
     /* shared subtrees: one slot per (hash, region), the least order there
@@ -663,25 +756,31 @@ static vx_result gpu_build(vx_conv_mesh_gpu* m, const vx__mesh_bins* bins, const
     uint64_t LW = 0; /* the laid-out blocks' words, all regions */
     if (blocks) {
         blocks = false;
-        for (uint32_t it = 0; it < 64 && !blocks; it += 4) {
+        /* 8 iterations a submission (DamagedHelmet settles in 5 at 1024,
+         * the 6th confirms); once one changes nothing the rest skip their
+         * decisions (meshbuild.comp mode 29), so no round trip per few
+         * iterations and little work past the fixpoint */
+        for (uint32_t it = 0, chunk = 8; it < 64 && !blocks; it += chunk, chunk = 4) {
             if ((r = rec_begin(m, err))) goto done;
             ts_begin(m, 7);
-            for (int k = 0; k < 4; k++) {
+            for (uint32_t k = 0; k < chunk; k++) {
                 vkCmdFillBuffer(g->cmd, m->buf[B_MISC].buf, 4, 4, 0);
                 barrier(g);
                 if ((r = lstage(m, 23, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) || (r = scan(m, B_POS, (uint64_t)K + 1, 0, err)) ||
                     (r = lstage(m, 24, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
-                    (r = lstage(m, 25, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)))
+                    (r = lstage(m, 25, lsorted, K, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)) ||
+                    (r = lstage(m, 29, lsorted, 1, 0, VX_CONV_MESH_GPU_NEAR_MAX, err)))
                     goto done;
             }
-            read_u32(m, B_MISC, 1, 0);
+            read_u32(m, B_MISC, 2, 0);
             read_u32(m, B_POS, K, 1);
+            read_u32(m, B_MISC, 3, 2);
             ts_end(m);
             if ((r = submit(m, err))) goto done;
-            uint32_t cw[2];
-            if ((r = vx__buffer_download(g, &m->buf[B_READ], cw, 8, err))) goto done;
-            m->stats.layout_iterations = it + 4;
-            if (!cw[0]) blocks = true, LW = cw[1] + 2 * (uint64_t)R;
+            uint32_t cw[3];
+            if ((r = vx__buffer_download(g, &m->buf[B_READ], cw, 12, err))) goto done;
+            m->stats.layout_iterations = cw[2];
+            if (cw[0]) blocks = true, LW = cw[1] + 2 * (uint64_t)R;
         }
         if (blocks && (LW * 4 > max_binding || (r = ensure(m, B_WORDS, LW * 4 + 16, err)))) {
             if (r) goto done;
@@ -838,6 +937,26 @@ static vx_result download(vx_conv_mesh_gpu* m, uint32_t C, uint32_t U, uint32_t 
     return VX_OK;
 }
 
+/* The images' texels, one after the other, into the texel upload buffer:
+ * on a thread of their own while the CPU bins the triangles (16 MB for
+ * DamagedHelmet, 2-3 ms of copying that used to follow the binning). */
+typedef struct texel_copy {
+    const vx_gltf_mesh* mesh;
+    uint8_t* at;
+} texel_copy;
+static void* texel_copy_main(void* arg) {
+    const texel_copy* tc = (const texel_copy*)arg;
+    uint8_t* at = tc->at;
+    for (uint32_t i = 0; i < tc->mesh->image_count; i++) {
+        const vx_gltf_image* im = &tc->mesh->images[i];
+        if (!im->rgba) continue;
+        size_t bytes = (size_t)im->width * im->height * 4;
+        memcpy(at, im->rgba, bytes);
+        at += bytes;
+    }
+    return NULL;
+}
+
 static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh,
                               const vx_conv_mesh_grid* grid, uint32_t attrs, uint32_t share, uint32_t shares, bool builds,
                               vx__mesh_sink sink, void* user, vx_error* err) {
@@ -845,13 +964,31 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     vx_gpu* g = m->g;
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
-    if (desc->solid) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "GPU voxelizer: solid (the CPU voxelizer fills)");
     if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
     double t0 = vx_time_now();
+    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
+    size_t texel_count = 0;
+    for (uint32_t i = 0; i < mesh->image_count; i++)
+        if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
+    if (texel_count > UINT32_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
+    texel_copy tc = {mesh, NULL};
+    pthread_t tc_thread;
+    bool tc_running = false;
+    if (tex && texel_count) {
+        vx_result tr = ensure_host(m, B_TEXUP, (uint64_t)texel_count * 4, err);
+        if (tr) return tr;
+        tc.at = (uint8_t*)m->buf[B_TEXUP].map;
+        tc_running = pthread_create(&tc_thread, NULL, texel_copy_main, &tc) == 0;
+        if (!tc_running) texel_copy_main(&tc);
+    }
     vx__mesh_bins bins;
     memset(&bins, 0, sizeof bins);
     vx_result r = vx__mesh_bin(desc, mesh, grid, &bins, err);
-    if (r) return r;
+    if (r) {
+        if (tc_running) pthread_join(tc_thread, NULL);
+        return r;
+    }
     size_t P = bins.pair_count, NB = bins.total_bricks, T = mesh->tri_count;
     uint32_t* pairs2 = NULL;
     uint32_t* bricks = NULL;
@@ -881,6 +1018,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: %zu pairs", P);
         goto done;
     }
+    P = 0; /* the GPU's pairs: solid's fillers (bricks without a triangle) left out */
     for (size_t b = 0; b < NB; b++) {
         uint64_t mort = bins.pairs[bins.bstart[b]] >> 32;
         uint32_t x, y, z;
@@ -888,8 +1026,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         bm[b] = mort;
         bricks[4 * b] = x * BRICK, bricks[4 * b + 1] = y * BRICK, bricks[4 * b + 2] = z * BRICK, bricks[4 * b + 3] = 0;
         for (size_t p = bins.bstart[b]; p < bins.bstart[b + 1]; p++) {
-            pairs2[2 * p] = (uint32_t)(bins.pairs[p] & 0xFFFFFFFFu);
-            pairs2[2 * p + 1] = (uint32_t)b;
+            uint32_t t = (uint32_t)(bins.pairs[p] & 0xFFFFFFFFu);
+            if (t == 0xFFFFFFFFu) continue;
+            pairs2[2 * P] = t;
+            pairs2[2 * P + 1] = (uint32_t)b;
+            P++;
         }
     }
     for (size_t t = 0; t < T; t++) trimat[t] = mesh->material ? mesh->material[t] : UINT32_MAX;
@@ -897,13 +1038,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint32_t MC = mesh->material_count;
     mats = (float*)vx_calloc(a, MC ? MC : 1, 32);
     images = (uint32_t*)vx_calloc(a, mesh->image_count ? mesh->image_count : 1, 16);
-    size_t texel_count = 0;
-    for (uint32_t i = 0; i < mesh->image_count; i++)
-        if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
-    if (texel_count > UINT32_MAX) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
-        goto done;
-    }
     if (!mats || !images) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
         goto done;
@@ -946,7 +1080,6 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.pairs = P;
 
     t0 = vx_time_now();
-    bool tex = (attrs & VX_ATTR_RGBA8) != 0;
     upload ups[] = {{B_G, bins.g, (uint64_t)T * 72, 0},
                     {B_PAIRS, pairs2, (uint64_t)P * 8, 0},
                     {B_BRICKS, bricks, (uint64_t)NB * 16, 0},
@@ -954,25 +1087,13 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
-                    {B_TEXELS, tex ? upload_in_place : NULL, tex ? (uint64_t)texel_count * 4 : 0, 0},
+                    {B_TEXELS, NULL, tex ? (uint64_t)texel_count * 4 : 0, 0}, /* from B_TEXUP */
                     {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
                     {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
                     {B_TABLES, &tables, sizeof tables, 0},
                     {B_RTABLES, &rtables, sizeof rtables, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);
     if ((r = put_all(m, ups, nups, err))) goto done;
-    if (tex && texel_count) { /* the images straight into the upload buffer, one after the other */
-        int k = 0;
-        while (ups[k].id != B_TEXELS) k++;
-        uint8_t* at = (uint8_t*)m->buf[B_UP].map + ups[k].offset;
-        for (uint32_t i = 0; i < mesh->image_count; i++) {
-            const vx_gltf_image* im = &mesh->images[i];
-            if (!im->rgba) continue;
-            size_t bytes = (size_t)im->width * im->height * 4;
-            memcpy(at, im->rgba, bytes);
-            at += bytes;
-        }
-    }
     m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
 
     /* count, prefix sum: counts[p] = pair p's first record, counts[P] = all */
@@ -987,6 +1108,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip); two pairs a workgroup (meshvox.comp) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
     ts_begin(m, 8);
+    if (tc_running) pthread_join(tc_thread, NULL), tc_running = false; /* the texels are in B_TEXUP */
+    if (tex && texel_count) {
+        VkBufferCopy ct = {.srcOffset = 0, .dstOffset = 0, .size = (uint64_t)texel_count * 4};
+        vkCmdCopyBuffer(g->cmd, m->buf[B_TEXUP].buf, m->buf[B_TEXELS].buf, 1, &ct);
+    }
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
@@ -1007,43 +1133,32 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         goto done;
     }
 
-    /* records */
+    /* the records, their stable radix sort by (brick index, local Morton
+     * key), one cell per run of keys: one submission (their wall time is
+     * stats.emit's; the timestamps split it) */
     t0 = vx_time_now();
+    unsigned key_bits = 18 + bits_for(NB ? NB - 1 : 0);
+    uint32_t passes = (key_bits + 3) / 4;
+    m->stats.sort_passes = passes;
+    uint64_t ntiles = ((uint64_t)N + 1023) / 1024;
     if ((r = ensure(m, B_KEYS, (uint64_t)N * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)N * 4, err)) ||
         (r = ensure(m, B_RECS, attrs ? (uint64_t)N * 48 : 16, err)) || (r = ensure(m, B_KEYS2, (uint64_t)N * 8, err)) ||
-        (r = ensure(m, B_VALS2, (uint64_t)N * 4, err)))
+        (r = ensure(m, B_VALS2, (uint64_t)N * 4, err)) || (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) ||
+        (r = scan_prepare(m, ntiles * 16, err)) || (r = ensure(m, B_POS, ((uint64_t)N + 1) * 4, err)) ||
+        (r = ensure(m, B_OKEYS, (uint64_t)N * 8, err)) || (r = ensure(m, B_ORGBA, (uint64_t)N * 4, err)) ||
+        (r = ensure(m, B_ONRM, (uint64_t)N * 4, err)) || (r = ensure(m, B_OMAT, (uint64_t)N * 4, err)) ||
+        (r = scan_prepare(m, (uint64_t)N + 1, err)))
         goto done;
     if ((r = rec_begin(m, err))) goto done;
     mp.mode = 1;
     ts_begin(m, 9);
     if ((r = stage(m, P_EMIT, vox_ids, 14, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
     ts_end(m);
-    if ((r = submit(m, err))) goto done;
-    m->stats.emit = vx_time_now() - t0;
-
-    /* stable radix sort by (brick index, local Morton key) */
-    t0 = vx_time_now();
-    unsigned key_bits = 18 + bits_for(NB ? NB - 1 : 0);
-    uint32_t passes = (key_bits + 3) / 4;
-    m->stats.sort_passes = passes;
-    uint64_t ntiles = ((uint64_t)N + 1023) / 1024;
-    if ((r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) || (r = scan_prepare(m, ntiles * 16, err))) goto done;
-    if ((r = rec_begin(m, err))) goto done;
     int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
     ts_begin(m, 10);
     for (uint32_t pass = 0; pass < passes && N > 1; pass++)
         if ((r = sort_pass(m, N, 4 * pass, ntiles, &src, err))) goto done;
     ts_end(m);
-    if ((r = submit(m, err))) goto done;
-    m->stats.sort = vx_time_now() - t0;
-
-    /* one cell per run of keys */
-    t0 = vx_time_now();
-    if ((r = ensure(m, B_POS, ((uint64_t)N + 1) * 4, err)) || (r = ensure(m, B_OKEYS, (uint64_t)N * 8, err)) ||
-        (r = ensure(m, B_ORGBA, (uint64_t)N * 4, err)) || (r = ensure(m, B_ONRM, (uint64_t)N * 4, err)) ||
-        (r = ensure(m, B_OMAT, (uint64_t)N * 4, err)) || (r = scan_prepare(m, (uint64_t)N + 1, err)))
-        goto done;
-    if ((r = rec_begin(m, err))) goto done;
     {
         int ids[9] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT,
                       B_RTABLES};
@@ -1060,14 +1175,14 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = submit(m, err))) goto done;
     uint32_t C;
     if ((r = vx__buffer_download(g, &m->buf[B_READ], &C, 4, err))) goto done;
-    m->stats.reduce = vx_time_now() - t0;
+    m->stats.emit = vx_time_now() - t0;
     m->stats.cells = C;
 
     /* the cells' tuples interned per region (meshintern.comp), so that the
      * builders hash each distinct tuple once instead of every cell's */
     t0 = vx_time_now();
     uint32_t U = 0;
-    bool intern = attrs && C > 0 && bins.region_count <= 65536;
+    bool intern = attrs && C > 0 && bins.region_count <= 65536 && !desc->solid; /* solid: the CPU fills, the builders hash */
     if (intern) {
         breg = (uint32_t*)vx_alloc(a, (NB ? NB : 1) * 4);
         if (!breg) {
@@ -1185,7 +1300,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                                         err)))
             goto done;
         region_job j = {&bins, grid, bm, okeys, orgba, onrm, omat, cstart, oids, outab, ustart, pools, ext, ext_tuples,
-                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, false, 1, mine, mine_count, attrs, sink, user, a,
+                        m->build == VX_CONV_MESH_GPU_BUILD_CHECK, desc->solid, false, 1, mine, mine_count, attrs, sink, user, a,
                         PTHREAD_MUTEX_INITIALIZER, 0, VX_OK, {0}};
         unsigned threads = desc->threads ? desc->threads : 0;
         if (threads == 0) {
@@ -1217,6 +1332,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.sink = vx_time_now() - t0;
 
 done:
+    if (tc_running) pthread_join(tc_thread, NULL);
     vx_free(a, pairs2);
     vx_free(a, bricks);
     vx_free(a, bm);
@@ -1283,7 +1399,7 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         {P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push), "meshgpu.iflag"},
         {P_IOUT, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 2, 10, sizeof(intern_push), "meshgpu.iout"},
     };
-    vx_result r = vx__buffer_create(gpu, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err);
+    vx_result r = vx__buffer_create(gpu, 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "meshgpu.read", &m->buf[B_READ], err);
     for (size_t i = 0; !r && i < sizeof pipes / sizeof pipes[0]; i++)
         r = make_pipe(m, pipes[i].pipe, pipes[i].spv, pipes[i].bytes, pipes[i].mode, pipes[i].bindings, pipes[i].push,
                       pipes[i].label, err);

@@ -26,8 +26,21 @@
  * out (vx__svo_build_interned with a pool). The cells come back in Morton
  * order, region by region, with their tuple ids, to the sink.
  *
- * Needs shaderFloat64 (NVIDIA, lavapipe); without it, or with desc.solid,
- * the voxelizer fails with VX_ERR_UNSUPPORTED (the CPU one does both).
+ * The binning runs on the CPU's cores (triangle ranges in parallel, the
+ * pairs the one-thread loop's), the images copied for the upload meanwhile,
+ * and the octree's levels go to the GPU in three submissions (their counts
+ * stay on the device; the first two levels' are read back).
+ *
+ * desc.solid is a hybrid: the GPU voxelizes the surface as above; the CPU
+ * computes the parity votes (in the binning, as its own voxelizer does) and
+ * fills each 64^3 brick from the GPU's surface cells with the CPU
+ * voxelizer's own code (vx__mesh_fill_brick: interior cells and their
+ * attributes), and the CPU builders build the octrees from those cells
+ * (no GPU build: the interior is most of a solid's cells). The file is the
+ * CPU path's byte for byte (mesh_gpu_test, test_vox2svo_gpu).
+ *
+ * Needs shaderFloat64 (NVIDIA, lavapipe); without it the voxelizer fails
+ * with VX_ERR_UNSUPPORTED (the CPU one does both).
  * The object keeps its device buffers between calls (grown as needed); it
  * is not for several threads at once. */
 #ifndef VX_CONVERT_MESH_GPU_H
@@ -51,9 +64,9 @@ typedef struct vx_conv_mesh_gpu_stats {
     double bin;      /* CPU: grid coordinates and brick pairs (vx__mesh_bin) */
     double upload;   /* triangles, pairs, materials, textures */
     double count;    /* cells per pair and their prefix sum */
-    double emit;     /* the records */
-    double sort;     /* radix sort by cell */
-    double reduce;   /* per-cell sums and the finished attributes */
+    double emit;     /* the records, their radix sort by cell, the per-cell sums: one submission */
+    double sort;     /* 0 (in emit; vox_gpu splits it) */
+    double reduce;   /* 0 (in emit) */
     double intern;   /* the cells' attribute tuples interned per region for the builders */
     double download; /* the cells */
     double build;    /* the octrees' node pools built on the GPU (meshbuild.comp), downloaded */

@@ -68,7 +68,9 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
  * brick with triangles ascending within a brick, and the boundaries:
  * bstart[b] is brick b's first pair ([total_bricks] = pair_count), rstart[r]
  * region r's first brick ([region_count] = total_bricks); regions of R^3
- * cells, 2^rb bricks a side. desc->solid must be false (no filler pairs). */
+ * cells, 2^rb bricks a side. With desc->solid the pairs include a filler
+ * (triangle 0xFFFFFFFF) for every brick of the grid, so every brick is
+ * listed, and vote holds the parity votes (vx__mesh_fill_brick). */
 typedef struct vx__mesh_bins {
     double* g;
     uint64_t* pairs;
@@ -79,10 +81,23 @@ typedef struct vx__mesh_bins {
     size_t region_count;
     uint32_t R;
     unsigned rb;
+    uint64_t* vote[3]; /* desc->solid: parity per axis, bit x + n0 (y + n1 z); else NULL */
 } vx__mesh_bins;
 vx_result vx__mesh_bin(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh, const vx_conv_mesh_grid* grid,
                        vx__mesh_bins* out, vx_error* err);
 void vx__mesh_bins_free(const vx_allocator* a, vx__mesh_bins* b);
+/* desc->solid for a voxelizer that made the surface itself (the GPU one):
+ * the CPU voxelizer's interior fill of the brick of Morton index bm, by the
+ * same code (convert/mesh_voxelize.c). From the brick's n surface cells
+ * (local Morton keys ascending, with their finished tuples where attrs:
+ * NULL channels count as 0) and bins->vote, its cells with the interior
+ * ones, in local Morton order, into the out arrays (room for 64^3 each; a
+ * NULL channel is not written); returns their count. scratch:
+ * vx__mesh_fill_scratch_size() bytes, one per thread. */
+size_t vx__mesh_fill_scratch_size(void);
+size_t vx__mesh_fill_brick(const vx__mesh_bins* bins, const vx_conv_mesh_grid* grid, uint64_t bm, uint32_t attrs,
+                           const uint32_t* local, const uint32_t* rgba, const uint32_t* nrm, const uint32_t* mat, size_t n,
+                           void* scratch, uint32_t* out_local, uint32_t* out_rgba, uint32_t* out_nrm, uint16_t* out_mat);
 /* The colour tables of the CPU voxelizer (lin_to_srgb8, sample_texture),
  * for the GPU one: thr[256] (linear half-way points between sRGB codes),
  * guess[4097], lin[256] (sRGB code to linear), a255[256] (k / 255.0f). */

@@ -28,8 +28,17 @@
  *           depth is its root (rout); else pos[i] = 1 where i starts a group
  *           of siblings.
  *   MODE 2 (start, after pos's exclusive scan): start[parent] = first child.
+ *   MODE 27 (one invocation): the parents' count P = pos[items]; more
+ *           than the host's bound (pc.level, 0 above the last level) or
+ *           beyond the node slots (pc.mask) sets the failure flag (the CPU
+ *           builds) and P = 0.
  *   MODE 3 (parent, per parent): the uniform collapse, or node slot
- *           pc.base + parent with its content and hash; the parent item.
+ *           base + parent with its content and hash; the parent item.
+ *   MODE 28 (one invocation): the parents become the items, base += P.
+ * The counts live on the device (lay, bound to the level state: [0] =
+ * (items, base), [1] = (P, failed), [2] = (levels built, 0)), so that every
+ * level is recorded into one submission: the host dispatches each level
+ * at a bound of its count and the invocations beyond it return.
  *   MODE 4 (insert, per node slot): the hash table (first slot claimed per
  *           (hash, region); the least order there).
  *   MODE 5 (owner): the slot's node of least order writes itself there.
@@ -84,6 +93,10 @@
  *           children): its far words and block from the positions.
  *   MODE 25 (per group of lone records with one key, sorted): reuse or a
  *           new copy, in pool order. misc[1]: something changed.
+ *   MODE 29 (one invocation, after each iteration): an iteration that
+ *           changed nothing sets misc[2] (settled: modes 24 and 25 then
+ *           return, and the positions scanned again are the same);
+ *           misc[3] counts the iterations computed.
  *   MODE 26 (per node with a block): its words. MODE 22 (per region):
  *           pc.level 0 clears its counts, 1 writes the root descriptor. */
 layout(local_size_x = 256) in;
@@ -103,7 +116,8 @@ layout(std430, binding = 7) buffer Pos { uint pos[]; };
 layout(std430, binding = 8) buffer Start { uint start[]; };
 layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
 layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
-/* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something;
+/* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something; [2]: the layout
+ * settled, [3]: its iterations (MODE 29);
  * [4 + r]: region r's cells; [4 + R + 6 r]: their box (MODE 0) */
 layout(std430, binding = 11) buffer Misc { uint misc[]; };
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
@@ -360,7 +374,17 @@ void main() {
         } else {
             for (uint a = 0u; a < 3u; a++) atomicMax(misc[e + a], ~c[a]), atomicMax(misc[e + 3u + a], c[a] + 1u);
         }
+    } else if (MODE == 27u) {
+        uint P = pos[lay[0].x];
+        bool bad = P > pc.level || lay[0].y + P > pc.mask;
+        if (bad) lay[1].y = 1u, P = 0u;
+        lay[1].x = P;
+    } else if (MODE == 28u) {
+        uint P = lay[1].x;
+        lay[0] = uvec2(P, lay[0].y + P);
+        if (P != 0u) lay[2].x += 1u;
     } else if (MODE == 1u) {
+        if (i >= lay[0].x) return;
         uvec4 a = itin[2u * i];
         uint r = a.z & 0x7FFFFFFFu;
         if (rinfo[r].x <= pc.level) { /* the region's root */
@@ -375,6 +399,7 @@ void main() {
         }
         pos[i] = head ? 1u : 0u;
     } else if (MODE == 2u) {
+        if (i >= lay[0].x) return;
         uvec4 a = itin[2u * i];
         uint r = a.z & 0x7FFFFFFFu;
         if (rinfo[r].x <= pc.level) return;
@@ -385,7 +410,9 @@ void main() {
         }
         if (head) start[pos[i]] = i;
     } else if (MODE == 3u) {
-        /* pc.n parents; pc.mask: the items' count; pc.level: the parents' level */
+        /* lay[1].x parents; lay[0]: the items' count, the parents' first node slot; pc.level: the parents' level */
+        if (i >= lay[1].x) return;
+        uint nitems = lay[0].x, base = lay[0].y;
         uint s = start[i];
         uvec4 a0 = itin[2u * s];
         uint r = a0.z & 0x7FFFFFFFu;
@@ -397,7 +424,7 @@ void main() {
         uvec3 tup[8];
         uint nt = 0u;
         for (uint o = 0u; o < 8u; o++) kid[o] = 0u, lab[o] = uvec2(0u), tup[o] = uvec3(0u);
-        for (uint j = s; j < pc.mask && j < s + 8u; j++) {
+        for (uint j = s; j < nitems && j < s + 8u; j++) {
             uvec4 a = itin[2u * j];
             if ((a.z & 0x7FFFFFFFu) != r || key_up(a.xy) != pk) break;
             uvec4 b = itin[2u * j + 1u];
@@ -417,7 +444,7 @@ void main() {
         if (valid == 0xFFu && leaf == 0xFFu && same) { /* uniform: the parent is a leaf of that tuple */
             itout[2u * i] = uvec4(pk, r | 0x80000000u, first_rid);
             itout[2u * i + 1u] = uvec4(last, leaf_label(first_rid), 0u);
-            nodes[4u * (pc.base + i)] = uvec4(0u);
+            nodes[4u * (base + i)] = uvec4(0u);
             return;
         }
         atomicAdd(rout[r].w, 1u);
@@ -432,7 +459,7 @@ void main() {
                 c[n++] = kid[o];
             }
         h &= uvec2(pc.lmask);
-        uint q = pc.base + i;
+        uint q = base + i;
         nodes[4u * q] = uvec4(hdr, r, last << 5 | pc.level, 0u);
         nodes[4u * q + 1u] = uvec4(h, 0u, 0u);
         nodes[4u * q + 2u] = uvec4(c[0], c[1], c[2], c[3]);
@@ -592,7 +619,13 @@ void main() {
         start[i] = i;
     } else if (MODE == 23u) {
         pos[i] = lay[i].x;
+    } else if (MODE == 29u) {
+        if (misc[2] == 0u) {
+            misc[3] += 1u;
+            if (misc[1] == 0u) misc[2] = 1u;
+        }
     } else if (MODE == 24u) { /* a node with node children: its far words from the positions */
+        if (misc[2] != 0u) return;
         uint q = vals[i], r = nodes[4u * q].y, cb[8], cd[8];
         uint nn = node_kids(q, cb, cd);
         if (nn == 0u) return;
@@ -604,6 +637,7 @@ void main() {
             misc[1] = 1u;
         }
     } else if (MODE == 25u) { /* a group of lone records with one run, in pool order: reuse or a new copy */
+        if (misc[2] != 0u) return;
         uint key = keys[i].x;
         if (key == 0xFFFFFFFFu || (i > 0u && keys[i - 1u].x == key)) return;
         uint last = 0u, lk = 0u;

@@ -261,6 +261,76 @@ static void test_corpus(void) {
     if (!found) SKIP("no corpus meshes (../shared/corpus or VX_CORPUS_DIR)");
 }
 
+/* desc.solid on the GPU path (the GPU voxelizes the surface, the CPU
+ * voxelizer's own code votes and fills each brick from those cells): the
+ * file is the CPU path's byte for byte; *interior gets the cells the fill
+ * added (the CPU path's voxels less the GPU's surface cells). 1 when equal. */
+static int same_solid(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, bool normals, const char* what,
+                      uint64_t* interior) {
+    vx_conv_mesh_desc d = {.res = res, .region = region, .normals = normals, .solid = true};
+    vx_svo_scene a, b;
+    vx_conv_stats cs = {0};
+    vx_error err = {0};
+    if (vx_conv_mesh(&d, mesh, &a, &cs, &err)) {
+        fprintf(stderr, "  %s res %u solid: CPU: %s\n", what, res, err.msg);
+        return 0;
+    }
+    d.backend = vx_conv_mesh_gpu_backend(mg);
+    if (vx_conv_mesh(&d, mesh, &b, NULL, &err)) {
+        fprintf(stderr, "  %s res %u solid: GPU: %s\n", what, res, err.msg);
+        vx_svo_scene_free(&a);
+        return 0;
+    }
+    vx_conv_mesh_gpu_stats st;
+    vx_conv_mesh_gpu_last_stats(mg, &st);
+    uint8_t *da = NULL, *db = NULL;
+    size_t na = 0, nb = 0;
+    int ok = vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK &&
+             na == nb && memcmp(da, db, na) == 0;
+    /* the surface came from the GPU: its pieces, no more cells than the solid has */
+    if (ok && (st.records == 0 || st.cells > cs.build.voxels)) {
+        fprintf(stderr, "  %s res %u solid: %llu pieces, %llu surface cells for %llu voxels\n", what, res,
+                (unsigned long long)st.records, (unsigned long long)st.cells, (unsigned long long)cs.build.voxels);
+        ok = 0;
+    }
+    *interior = cs.build.voxels - (st.cells < cs.build.voxels ? st.cells : cs.build.voxels);
+    fprintf(stderr, "  %s res %u region %u solid: %llu surface cells from the GPU, %llu interior, %s\n", what, res, region,
+            (unsigned long long)st.cells, (unsigned long long)*interior, ok ? "equal" : "DIFFERENT");
+    free(da);
+    free(db);
+    vx_svo_scene_free(&a);
+    vx_svo_scene_free(&b);
+    return ok;
+}
+
+static void test_solid(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    int found = 0;
+    uint64_t all = 0;
+    for (size_t i = 0; i < sizeof corpus_meshes / sizeof corpus_meshes[0]; i++) {
+        const char* p = vx_test_corpus(corpus_meshes[i]);
+        if (!p) continue;
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        if (vx_conv_mesh_read(NULL, p, &m, &err)) continue;
+        found++;
+        uint64_t in32 = 0, in64 = 0;
+        CHECKF(same_solid(&m, 32, 0, false, corpus_meshes[i], &in32), "%s at 32, solid", corpus_meshes[i]);
+        CHECKF(same_solid(&m, 64, 0, true, corpus_meshes[i], &in64), "%s at 64 with normals, solid", corpus_meshes[i]);
+        all += in32 + in64;
+        /* closed meshes: the fill adds cells; regions (and bricks) with no surface cell in them (the box's inside) */
+        if (strstr(corpus_meshes[i], "aleph_Box") || strstr(corpus_meshes[i], "julian_Duck")) {
+            CHECKF(in64 > 0, "%s at 64: no interior cells", corpus_meshes[i]);
+            uint64_t in = 0;
+            CHECKF(same_solid(&m, 256, 64, false, corpus_meshes[i], &in), "%s at 256 in regions of 64, solid", corpus_meshes[i]);
+            CHECKF(in > in64, "%s at 256: %llu interior cells", corpus_meshes[i], (unsigned long long)in);
+        }
+        vx_gltf_mesh_free(&m);
+    }
+    if (!found) SKIP("no corpus meshes (../shared/corpus or VX_CORPUS_DIR)");
+    CHECK(all > 0);
+}
+
 /* ---- generated meshes -------------------------------------------------------------- */
 
 typedef struct gen {
@@ -395,11 +465,9 @@ static void test_refusals(void) {
     m.pos = v;
     vx_svo_scene s;
     vx_error err = {0};
-    vx_conv_mesh_desc d = {.res = 16, .solid = true, .backend = vx_conv_mesh_gpu_backend(mg)};
-    CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "solid"));
+    vx_conv_mesh_desc d = {.res = 16, .backend = vx_conv_mesh_gpu_backend(mg)};
     vx_conv_mesh_part* parts = NULL;
     size_t n = 0;
-    d.solid = false;
     CHECK(vx_conv_mesh_share(&d, &m, 2, 2, &parts, &n, NULL, &err) == VX_ERR_INVALID_ARG && parts == NULL);
     v[4] = NAN;
     CHECK(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_ERR_BAD_FORMAT);
@@ -500,6 +568,7 @@ int main(void) {
     RUN(test_lattice);
     RUN(test_random);
     RUN(test_collisions);
+    RUN(test_solid);
     RUN(test_corpus);
     vx_conv_mesh_gpu_destroy(mg);
     if (gpu) vx_gpu_destroy(gpu);

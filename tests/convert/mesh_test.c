@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "convert/mesh.h"
+#include "convert/mesh_internal.h"
 #include "formats/gltf.h"
 #include "tests/test.h"
 
@@ -426,6 +427,44 @@ static void test_large_and_random(void) {
                res[i]);
 }
 
+/* The binning on several threads (triangle ranges in parts, each worker
+ * into a fixed slice, a full slice binned again on the caller's thread)
+ * gives the one-thread pairs, brick and region boundaries exactly; and the
+ * cells of a soup large enough to be split agree with the brute force. */
+static void test_parallel_binning(void) {
+    enum { N = 4000 };
+    static float pos[9 * N];
+    for (int i = 0; i < 9 * N; i++) pos[i] = (float)(rnd() * 50 - 25);
+    for (int i = 0; i < N; i++) /* small triangles, and every 50th one large (many bricks: slices overflow) */
+        for (int k = 3; k < 9; k++) pos[9 * i + k] = pos[9 * i + k % 3] + (float)(rnd() * (i % 50 ? 4 : 60) - (i % 50 ? 2 : 30));
+    vx_gltf_mesh m = soup(pos, N);
+    static const uint32_t res[] = {64, 700, 4000};
+    for (int q = 0; q < 3; q++) {
+        vx_conv_mesh_grid g;
+        vx_error err = {0};
+        CHECK(vx_conv_mesh_grid_make(m.pos, m.tri_count, res[q], &g, &err) == VX_OK);
+        vx__mesh_bins a, b;
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        vx_conv_mesh_desc d1 = {.res = res[q], .threads = 1}, d8 = {.res = res[q], .threads = 8};
+        CHECK(vx__mesh_bin(&d1, &m, &g, &a, &err) == VX_OK);
+        CHECK(vx__mesh_bin(&d8, &m, &g, &b, &err) == VX_OK);
+        CHECKF(a.pair_count == b.pair_count && a.pair_count >= N && !memcmp(a.pairs, b.pairs, a.pair_count * 8), "res %u: %zu pairs against %zu",
+               res[q], b.pair_count, a.pair_count);
+        CHECKF(a.total_bricks == b.total_bricks && a.region_count == b.region_count &&
+                   !memcmp(a.bstart, b.bstart, (a.total_bricks + 1) * sizeof *a.bstart) &&
+                   !memcmp(a.rstart, b.rstart, (a.region_count + 1) * sizeof *a.rstart),
+               "res %u: bricks or regions differ", res[q]);
+        if (q == 2) CHECKF(a.pair_count > 8 * (size_t)N, "res %u: %zu pairs: no slice overflowed", res[q], a.pair_count);
+        vx__mesh_bins_free(NULL, &a);
+        vx__mesh_bins_free(NULL, &b);
+    }
+    for (int i = 0; i < N; i++) /* the large ones small again, for the brute force */
+        if (i % 50 == 0)
+            for (int k = 3; k < 9; k++) pos[9 * i + k] = pos[9 * i + k % 3] + (float)(rnd() * 4 - 2);
+    CHECK(compare(&m, (vx_conv_mesh_desc){.res = 100, .threads = 4}, NULL) == 0);
+}
+
 static void test_nan(void) {
     float pos[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, NAN, 0, 0, 1, 1};
     vx_gltf_mesh m = soup(pos, 2);
@@ -705,6 +744,7 @@ int main(void) {
     RUN(test_bottle);
     RUN(test_slivers_degenerate);
     RUN(test_large_and_random);
+    RUN(test_parallel_binning);
     RUN(test_nan);
     RUN(test_solid_hole);
     RUN(test_colors);

@@ -80,7 +80,8 @@ _Noreturn static void usage(int status) {
             "    --normals        meshes: store oct-encoded normals\n"
 #ifdef VX_HAVE_MESH_GPU
             "    --gpu            meshes: voxelize on the GPU (Vulkan, needs float64 shaders; the same\n"
-            "                     cells, colours and file as the CPU path; not with --solid); -v prints\n"
+            "                     cells, colours and file as the CPU path; with --solid the CPU fills\n"
+            "                     the inside of the GPU's surface and builds); -v prints\n"
             "                     the GPU stages' times; under mpirun every rank voxelizes on the device\n"
             "                     and builds its share of the regions\n"
             "    --device D       with --gpu: the Vulkan device, an index or part of its name\n"
@@ -170,7 +171,6 @@ static options parse(int argc, char** argv) {
     if (o.gpu) {
         const char* k = vx_conv_file_kind(o.in);
         if (!k || (strcmp(k, ".gltf") && strcmp(k, ".glb"))) usage_error("--gpu: meshes only (.gltf, .glb), not %s", o.in);
-        if (o.conv.solid) usage_error("%s", "--gpu does not fill (--solid): convert on the CPU");
     }
 #ifdef VX_HAVE_MPI
     const char* kind = vx_conv_file_kind(o.in);
