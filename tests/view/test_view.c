@@ -1997,26 +1997,36 @@ static void test_gpu_present(void) {
 }
 
 /* --batch K (frames in flight submitted K at a time, presented in order
- * after their submission): a script with instance edits and frames between
- * them runs without a validation error, the frames are presented (the
- * swapchain images come back: the script ends), and the displayed frame
- * grabbed after them equals the one without batches, byte for byte between
- * the panels. */
+ * after their submission), against --batch 1 on the same script (instance
+ * edits, an undo, frames between them, three grabs): no validation error;
+ * every frame recorded in flight is submitted and presented exactly once,
+ * in the order recorded, none left queued (svo_view -v counts them from
+ * the display's submissions and the presenter's presents); --batch 1 makes
+ * one vkQueueSubmit a frame, --batch 3 fewer, at most three frames each; and
+ * each grab (the displayed frame after the held frames went out) equals
+ * --batch 1's byte for byte between the panels: a frame shows the scene it
+ * was recorded with. */
 static void test_batch_present(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     CHECK(run_cmd("%s x.svo --batch 9 > /dev/null 2>&1", g_view) == 2);
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
     if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
-    char script[1024], g[2][1024], log[1024];
+    char script[1024], g[2][3][1024], log[1024];
     path(log, sizeof log, "batch.log");
     const int batch[2] = {1, 3};
+    unsigned long long rec[2] = {0, 0};
     for (int m = 0; m < 2; m++) {
         path(script, sizeof script, m ? "batch3.txt" : "batch1.txt");
-        path(g[m], sizeof g[m], m ? "batch3.png" : "batch1.png");
+        for (int k = 0; k < 3; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "batch%d_%d.png", batch[m], k);
+            path(g[m][k], sizeof g[m][k], name);
+            remove(g[m][k]);
+        }
         FILE* f = fopen(script, "w");
         REQUIRE(f);
-        fprintf(f, "wait 5\nselect 1\nmove 2 0 1\nwait 4\nrotate z\nwait 7\nundo\nwait 2\nselect 2\nmove 0 3 0\nwait 5\n"
-                   "grab %s\nwait 3\nquit\n", g[m]);
+        fprintf(f, "wait 5\nselect 1\nmove 2 0 1\nwait 4\ngrab %s\nrotate z\nwait 7\nundo\nwait 2\ngrab %s\nselect 2\n"
+                   "move 0 3 0\nwait 5\ngrab %s\nwait 3\nquit\n", g[m][0], g[m][1], g[m][2]);
         fclose(f);
         int rc = run_cmd("%s %s --script %s --hidden --size 800x480 --present gpu --batch %d --validate -v > %s 2>&1",
                          g_view, in, script, batch[m], log);
@@ -2025,14 +2035,35 @@ static void test_batch_present(void) {
         snprintf(want, sizeof want, "%d a submission", batch[m]);
         CHECKF(rc == 0 && text && strstr(text, want) && strstr(text, " 0 Vulkan validation errors"),
                "--batch %d: status %d: %s", batch[m], rc, text ? text : "(none)");
+        const char* at = text ? strstr(text, "frames in flight: ") : NULL;
+        unsigned long long sub = 0, calls = 0, pres = 0, ooo = 0;
+        unsigned queued = 0;
+        int got = at ? sscanf(at, "frames in flight: %llu recorded, %llu submitted in %llu vkQueueSubmit calls, %llu "
+                                  "presented (%llu out of order, %u still queued)",
+                              &rec[m], &sub, &calls, &pres, &ooo, &queued)
+                     : 0;
+        fprintf(stderr, "  --batch %d: %llu frames recorded in flight, %llu submitted in %llu calls, %llu presented, %llu "
+                        "out of order, %u queued\n", batch[m], rec[m], sub, calls, pres, ooo, queued);
+        CHECKF(got == 6, "--batch %d: no frame counts in the output", batch[m]);
+        CHECKF(rec[m] >= 20 && sub == rec[m] && pres == rec[m] && ooo == 0 && queued == 0,
+               "--batch %d: %llu recorded, %llu submitted, %llu presented, %llu out of order, %u queued", batch[m], rec[m],
+               sub, pres, ooo, queued);
+        if (batch[m] == 1) CHECKF(calls == rec[m], "--batch 1: %llu submissions for %llu frames", calls, rec[m]);
+        else CHECKF(calls < rec[m] && calls * (unsigned long long)batch[m] >= rec[m],
+                    "--batch %d: %llu submissions for %llu frames", batch[m], calls, rec[m]);
         free(text);
     }
     /* between the panels (their statistics differ from run to run), as in test_gpu_present */
+    for (int k = 0; k < 3; k++) {
+        size_t over = 0;
+        int d = image_box_diff(g[0][k], g[1][k], 310, 460, 0, 480, 0, &over);
+        fprintf(stderr, "  --batch 3 against --batch 1, grab %d: between the panels the frames differ by up to %d (%zu "
+                        "pixels)\n", k, d, over);
+        CHECKF(d == 0, "grab %d: the frames differ by up to %d in %zu pixels", k, d, over);
+    }
+    /* the grabs show the edits: the first and the last differ (two moves), the second is after an undo */
     size_t over = 0;
-    int d = image_box_diff(g[0], g[1], 310, 460, 0, 480, 0, &over);
-    fprintf(stderr, "  --batch 3 against --batch 1: grabbed frames between the panels differ by up to %d (%zu pixels)\n", d,
-            over);
-    CHECKF(d == 0, "the grabbed frames differ by up to %d in %zu pixels", d, over);
+    CHECKF(image_box_diff(g[0][0], g[0][2], 310, 460, 0, 480, 0, &over) > 0, "the move before the last grab shows no change");
 }
 
 /* The probe panel: a script bakes probes in steps between frames (probes

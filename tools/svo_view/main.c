@@ -2337,6 +2337,21 @@ static int run(app* a) {
         }
         if (a->o.screenshot) break;
     }
+    if (a->disp && a->frames_recorded) {
+        /* the frames a batch still holds go to the screen; with -v what became of the frames in flight */
+        vx_error derr = {0};
+        if (batch_drain(a, &derr)) fprintf(stderr, "%s: %s\n", vx_tool_name, derr.msg);
+        vx_display_times dt;
+        vx_display_frame_times(a->disp, &dt);
+        vp_present_counts pc;
+        vp_get_present_counts(a->p, &pc);
+        if (a->o.verbose)
+            printf("%s: frames in flight: %llu recorded, %llu submitted in %llu vkQueueSubmit calls, %llu presented "
+                   "(%llu out of order, %u still queued)\n",
+                   vx_tool_name, (unsigned long long)a->frames_recorded, (unsigned long long)dt.frames_submitted,
+                   (unsigned long long)dt.submits, (unsigned long long)pc.presented, (unsigned long long)pc.out_of_order,
+                   pc.queued);
+    }
     if (a->o.bench && frames) {
         double sum = 0; /* the mean too: with --batch the frames come in bursts, so the median is not the rate */
         for (uint32_t k = 0; k < frames; k++) sum += bench[k];
