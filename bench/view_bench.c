@@ -771,6 +771,61 @@ typedef struct submit_cfg {
     const char* name;
 } submit_cfg;
 
+/* What a command buffer boundary costs the queue: the passes of 4 frames
+ * (no display write) recorded into 4 command buffers or into one, one
+ * vkQueueSubmit of the 4, two such submissions in flight (slots 0-3, 4-7);
+ * the interval between frames (wall time over the frames). */
+static int cb_boundary(vx_gpu* g, vx_frame_renderer* fr, const vx_frame_desc* fd, uint32_t n, double mb) {
+    VkCommandPool pool;
+    VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                   .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                   .queueFamilyIndex = g->queue_family};
+    if (vkCreateCommandPool(g->device, &pci, NULL, &pool)) return 1;
+    VkCommandBuffer cb[8];
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, .commandPool = pool,
+                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = 8};
+    VkFence fence[2];
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (vkAllocateCommandBuffers(g->device, &ai, cb) || vkCreateFence(g->device, &fci, NULL, &fence[0]) ||
+        vkCreateFence(g->device, &fci, NULL, &fence[1]))
+        return 1;
+    int rc = 0;
+    for (int round = 0; round < 2 && !rc; round++)
+        for (int one = 0; one < 2 && !rc; one++) {
+            uint32_t groups = (n + 20) / 4;
+            double t0 = 0;
+            for (uint32_t k = 0; k < groups && !rc; k++) {
+                uint32_t grp = k & 1;
+                if (k == 5) t0 = vx_time_now(); /* after 20 frames */
+                if (k >= 2) {
+                    vkWaitForFences(g->device, 1, &fence[grp], VK_TRUE, UINT64_MAX);
+                    vkResetFences(g->device, 1, &fence[grp]);
+                }
+                VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                               .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+                for (uint32_t j = 0; j < 4 && !rc; j++) {
+                    VkCommandBuffer c = cb[4 * grp + (one ? 0 : j)];
+                    if (!one || !j) vkResetCommandBuffer(c, 0), vkBeginCommandBuffer(c, &bi);
+                    vx_frame_result res;
+                    vx_error err = {0};
+                    if (vx_frame_record(fr, fd, c, 4 * grp + j, &res, &err)) fprintf(stderr, "%s\n", err.msg), rc = 1;
+                    if (!one || j == 3) vkEndCommandBuffer(c);
+                }
+                VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = one ? 1 : 4,
+                                   .pCommandBuffers = &cb[4 * grp]};
+                if (!rc && vkQueueSubmit(g->queue, 1, &si, fence[grp])) rc = 1;
+            }
+            vkQueueWaitIdle(g->queue);
+            double mean = (vx_time_now() - t0) * 1e3 / (double)(4 * (groups - 5));
+            printf("  passes only, 4 frames a vkQueueSubmit in %-17s interval mean %.4f ms (%.3fx the passes)\n",
+                   one ? "ONE command buffer" : "4 command buffers", mean, mean / mb);
+        }
+    vkDestroyFence(g->device, fence[0], NULL), vkDestroyFence(g->device, fence[1], NULL);
+    vkDestroyCommandPool(g->device, pool, NULL);
+    fflush(stdout);
+    return rc;
+}
+
 static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
@@ -898,6 +953,7 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
         fflush(stdout);
     }
     vx_display_set_queue(disp, 0, 0, false, &err);
+    if (cb_boundary(g, fr, &fd, n, mb)) fail = 1;
     free(t), free(wb), free(gpu), free(gap), free(base), free(want), free(got);
     vx_display_destroy(disp);
     vx_frame_renderer_destroy(fr);
