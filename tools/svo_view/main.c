@@ -114,7 +114,7 @@ _Noreturn static void usage(int status) {
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
             "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit |\n"
             "      anim frame N|step [K]|play|pause|fps X|tick SECONDS | exposure STOPS | panels on|off |\n"
-            "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
+            "      overlay on|off (the text overlay, shown without panels) | vsync on|off | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
             "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
@@ -2134,6 +2134,9 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         else if (!vx_tool_parse_u32(tok[1], &n)) BAD();
         else if (c[3] == 'l') sv_set_layer(a, n);
         else sv_set_model(a, n);
+    } else if (!strcmp(c, "vsync")) { /* the render panel's checkbox, key V */
+        if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
+        vp_set_vsync(a->p, !strcmp(tok[1], "on"));
     } else if (!strcmp(c, "overlay")) {
         if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
         a->overlay = !strcmp(tok[1], "on");
