@@ -7,7 +7,9 @@
  * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] [FRAMES (default 0)]:
  *        the instance edit (in place since frames in flight: the CPU BVH
  *        build and no wait) and, with FRAMES, FRAMES frames in flight at
- *        1920x1080 without and with an instance moved before every frame
+ *        1920x1080 without and with an instance moved before every frame,
+ *        and with the camera orbiting, the instance rows computed on the GPU
+ *        (shaders/inst_rows.comp) and from the host (the table rows written)
  *        view_bench --animate IN.svo OUT.svo FRAMES: OUT is IN as an animation
  *        of FRAMES frames, every instance one cell further along x each frame
  *        (models shared: playback in svo_view --bench switches frames with no
@@ -44,7 +46,9 @@
  *        set up in other ways (vx_display_set_queue: frames in flight, frames
  *        per vkQueueSubmit, one VkSubmitInfo): where the time between frames
  *        goes beyond the passes (a submission's fixed cost, or the CPU); also
- *        the waits that found the GPU behind, and an empty frame's floor.
+ *        the waits that found the GPU behind, and an empty frame's floor; and
+ *        what a command buffer boundary costs (4 frames' passes in 4 command
+ *        buffers or in one, a vkQueueSubmit each 4).
  *        Needs only libvulkan and libc (runs on the GPU machine). */
 #include <math.h>
 #include <stdio.h>
