@@ -774,7 +774,6 @@ typedef struct submit_cfg {
     uint32_t frames, batch;
     bool one, timed, empty;
     const char* name;
-    bool sec; /* vx_display_set_secondary */
 } submit_cfg;
 
 /* What a command buffer boundary costs the queue: the passes of 4 frames
@@ -875,24 +874,21 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
             return fprintf(stderr, "%s\n", err.msg), 1;
     }
     static const submit_cfg cfgs[] = {
-        {3, 1, false, false, false, "svo_view's frame: 3 in flight, one submission a frame", false},
-        {3, 1, false, true, false, "the same with the display's 2 timestamps (GPU times)", false},
-        {6, 1, false, false, false, "6 in flight, one submission a frame", false},
-        {8, 1, false, true, false, "8 in flight, one submission a frame, timed", false},
-        {4, 2, false, false, false, "4 in flight, 2 frames a vkQueueSubmit (2 VkSubmitInfo)", false},
-        {4, 2, true, false, false, "4 in flight, 2 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
-        {8, 4, false, false, false, "8 in flight, 4 frames a vkQueueSubmit (4 VkSubmitInfo)", false},
-        {8, 4, true, false, false, "8 in flight, 4 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
-        {8, 4, true, true, false, "the same, timed", false},
-        {8, 8, true, false, false, "8 in flight, 8 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
-        {4, 2, false, false, false, "4 in flight, 2 a submission, secondaries in one primary", true},
-        {8, 4, false, false, false, "8 in flight, 4 a submission, secondaries in one primary", true},
-        {8, 4, false, true, false, "the same, timed", true},
-        {3, 1, false, false, true, "empty frame, 3 in flight, untimed", false},
-        {3, 1, false, true, true, "empty frame, 3 in flight, timed", false},
-        {8, 1, false, false, true, "empty frame, 8 in flight, untimed", false},
-        {8, 8, true, false, true, "empty frame, 8 a submission, untimed", false},
-        {3, 1, false, false, false, "svo_view's frame again", false},
+        {3, 1, false, false, false, "svo_view's frame: 3 in flight, one submission a frame"},
+        {3, 1, false, true, false, "the same with the display's 2 timestamps (GPU times)"},
+        {6, 1, false, false, false, "6 in flight, one submission a frame"},
+        {8, 1, false, true, false, "8 in flight, one submission a frame, timed"},
+        {4, 2, false, false, false, "4 in flight, 2 frames a vkQueueSubmit (2 VkSubmitInfo)"},
+        {4, 2, true, false, false, "4 in flight, 2 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {8, 4, false, false, false, "8 in flight, 4 frames a vkQueueSubmit (4 VkSubmitInfo)"},
+        {8, 4, true, false, false, "8 in flight, 4 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {8, 4, true, true, false, "the same, timed"},
+        {8, 8, true, false, false, "8 in flight, 8 frames a vkQueueSubmit (1 VkSubmitInfo)"},
+        {3, 1, false, false, true, "empty frame, 3 in flight, untimed"},
+        {3, 1, false, true, true, "empty frame, 3 in flight, timed"},
+        {8, 1, false, false, true, "empty frame, 8 in flight, untimed"},
+        {8, 8, true, false, true, "empty frame, 8 a submission, untimed"},
+        {3, 1, false, false, false, "svo_view's frame again"},
     };
     int nc = (int)(sizeof cfgs / sizeof cfgs[0]);
     printf("view_bench --submit %s %ux%u on %s, %u frames (after 20), passes %s%s%s: waited frames' passes %.4f ms\n", in, w, h,
@@ -905,8 +901,7 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
     fd.no_timestamps = true;
     for (int c = 0; c < nc; c++) {
         const submit_cfg* q = &cfgs[c];
-        if (vx_display_set_queue(disp, q->frames, q->batch, q->one, &err) || vx_display_set_secondary(disp, q->sec, &err))
-            return fprintf(stderr, "%s\n", err.msg), 1;
+        if (vx_display_set_queue(disp, q->frames, q->batch, q->one, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
         vx_display_set_timestamps(disp, q->timed);
         vx_display_times d0;
         vx_display_frame_times(disp, &d0);

@@ -15,9 +15,7 @@ _Static_assert(VX_FRAME_SLOTS >= VX_DISPLAY_SLOTS, "a display slot is a frame re
 
 typedef struct dslot {
     VkCommandBuffer cmd;
-    VkCommandBuffer sec; /* the frame's secondary command buffer (vx_display_set_secondary; made then) */
     VkFence fence;
-    bool fence_busy;     /* secondary mode: fence and cmd are in a submission not yet waited for here */
     bool pending; /* submitted, not yet waited for */
     int overlay;  /* the host overlay its frame copies from (-1: none) */
     vx_frame_renderer* fr; /* the renderer whose passes vx_display_record_frame recorded (a cancel tells it) */
@@ -50,7 +48,6 @@ struct vx_display {
     uint32_t depth;   /* frames in flight (vx_display_set_queue; default VX_DISPLAY_FRAMES) */
     uint32_t batch;   /* frames per vkQueueSubmit */
     bool one_info;    /* a batch's command buffers in one VkSubmitInfo */
-    bool secondary;   /* frames in secondary command buffers, a batch run from one primary (vx_display_set_secondary) */
     int held[VX_DISPLAY_SLOTS]; /* the held frames' slots, oldest first */
     uint32_t nheld;
     uint64_t begins_waited; /* frame_begin found its slot's frame not yet done */
@@ -70,9 +67,6 @@ struct vx_display {
 };
 
 static vx_result flush(vx_display* d, vx_error* err);
-
-/* The command buffer slot i's frame is recorded into. */
-static VkCommandBuffer frame_cmd(const vx_display* d, int i) { return d->secondary ? d->slot[i].sec : d->slot[i].cmd; }
 
 typedef struct push_block {
     uint32_t n, bgra, overlay, row, width, iw, ih;
@@ -296,7 +290,7 @@ static vx_result record(vx_display* d, void* cmd_handle, const vx_display_desc* 
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the overlay is %ux%u, the frame %ux%u", d->ow[ov], d->oh[ov],
                        fw, fh);
     /* a frame in flight records with its slot's set; other calls wait for their submission */
-    int si = d->cur >= 0 && (VkCommandBuffer)cmd == frame_cmd(d, d->cur) ? d->cur : OUTSIDE;
+    int si = d->cur >= 0 && cmd == d->slot[d->cur].cmd ? d->cur : OUTSIDE;
     uint64_t n = (uint64_t)fw * fh;
     vx_result r = VX_OK;
     if (!to_image && d->out.size < n * 4) {
@@ -428,7 +422,7 @@ vx_result vx_display_record_frame(vx_display* d, vx_frame_renderer* fr, const vx
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the overlay is %ux%u, the frame %ux%u", d->ow[ov], d->oh[ov],
                        fw, fh);
     int si = d->cur;
-    VkCommandBuffer cmd = frame_cmd(d, si);
+    VkCommandBuffer cmd = d->slot[si].cmd;
     /* before the passes: the overlay's copy (the frame's table barrier orders it before the passes' reads) and
      * the image in the layout the last pass writes it in (a swapchain's acquire, waited for at the transfer
      * stage, comes first through this barrier); its contents are not kept, black where the frame does not cover it */
@@ -483,25 +477,21 @@ vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_e
     if (r) return r;
     dslot* s = &d->slot[i];
     vx_gpu* g = d->g;
-    /* secondary mode: the slot's fence and primary belong to the batch that runs it (flush) */
-    if (!d->secondary) VX__VK(vkResetFences(g->device, 1, &s->fence), "vkResetFences");
-    VkCommandBuffer cb = frame_cmd(d, i);
-    VX__VK(vkResetCommandBuffer(cb, 0), "vkResetCommandBuffer");
-    VkCommandBufferInheritanceInfo ii = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_INFO};
+    VX__VK(vkResetFences(g->device, 1, &s->fence), "vkResetFences");
+    VX__VK(vkResetCommandBuffer(s->cmd, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT,
-                                   .pInheritanceInfo = d->secondary ? &ii : NULL};
-    VX__VK(vkBeginCommandBuffer(cb, &bi), "vkBeginCommandBuffer");
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VX__VK(vkBeginCommandBuffer(s->cmd, &bi), "vkBeginCommandBuffer");
     d->timed[i] = d->qp && !d->untimed;
     if (d->timed[i]) {
-        vkCmdResetQueryPool(cb, d->qp, 2 * (uint32_t)i, 2);
-        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i);
+        vkCmdResetQueryPool(s->cmd, d->qp, 2 * (uint32_t)i, 2);
+        vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i);
     }
     s->overlay = -1;
     s->fr = NULL;
     d->cur = i;
     *slot = (uint32_t)i;
-    *cmd = cb;
+    *cmd = s->cmd;
     return VX_OK;
 }
 
@@ -511,9 +501,8 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
     int i = d->cur;
     dslot* s = &d->slot[i];
     d->cur = -1;
-    VkCommandBuffer cb = frame_cmd(d, i);
-    if (d->timed[i]) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
-    VX__VK(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
+    if (d->timed[i]) vkCmdWriteTimestamp(s->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d->qp, 2 * (uint32_t)i + 1);
+    VX__VK(vkEndCommandBuffer(s->cmd), "vkEndCommandBuffer");
     s->wait_sem = (VkSemaphore)(uintptr_t)wait_semaphore, s->signal_sem = (VkSemaphore)(uintptr_t)signal_semaphore;
     s->held = true;
     d->held[d->nheld++] = i;
@@ -523,11 +512,8 @@ vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64
 
 /* Submits the held frames in one vkQueueSubmit, the last one's fence
  * signalling the end of all of them. */
-static vx_result flush_secondary(vx_display* d, vx_error* err);
-
 static vx_result flush(vx_display* d, vx_error* err) {
     if (!d->nheld) return VX_OK;
-    if (d->secondary) return flush_secondary(d, err);
     VkSubmitInfo si[VX_DISPLAY_SLOTS];
     VkCommandBuffer cbs[VX_DISPLAY_SLOTS];
     /* only the write into the image waits (a swapchain's acquire): the passes start before it */
@@ -563,77 +549,6 @@ static vx_result flush(vx_display* d, vx_error* err) {
     return VX_OK;
 }
 
-/* Secondary mode: the held frames' secondary command buffers run from the
- * first one's primary, one VkSubmitInfo with every frame's semaphores, that
- * slot's fence signalling the end of all of them. Its primary and fence are
- * taken again only after their last submission was waited for. A frame
- * being recorded meanwhile (a flush asked for by other work) is in its own
- * secondary, untouched. */
-static vx_result flush_secondary(vx_display* d, vx_error* err) {
-    vx_gpu* g = d->g;
-    uint32_t n = d->nheld;
-    int owner = d->held[0];
-    dslot* o = &d->slot[owner];
-    if (o->fence_busy) {
-        VX__VK(vkWaitForFences(g->device, 1, &o->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
-        o->fence_busy = false;
-    }
-    VX__VK(vkResetFences(g->device, 1, &o->fence), "vkResetFences");
-    VX__VK(vkResetCommandBuffer(o->cmd, 0), "vkResetCommandBuffer");
-    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-    VX__VK(vkBeginCommandBuffer(o->cmd, &bi), "vkBeginCommandBuffer");
-    VkCommandBuffer secs[VX_DISPLAY_SLOTS];
-    VkSemaphore waits[VX_DISPLAY_SLOTS], signals[VX_DISPLAY_SLOTS];
-    VkPipelineStageFlags stages[VX_DISPLAY_SLOTS];
-    uint32_t nw = 0, ns = 0;
-    for (uint32_t k = 0; k < n; k++) {
-        dslot* s = &d->slot[d->held[k]];
-        secs[k] = s->sec;
-        if (s->wait_sem) waits[nw] = s->wait_sem, stages[nw++] = VK_PIPELINE_STAGE_TRANSFER_BIT; /* as flush's */
-        if (s->signal_sem) signals[ns++] = s->signal_sem;
-    }
-    vkCmdExecuteCommands(o->cmd, n, secs);
-    VX__VK(vkEndCommandBuffer(o->cmd), "vkEndCommandBuffer");
-    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .waitSemaphoreCount = nw, .pWaitSemaphores = waits,
-                       .pWaitDstStageMask = stages, .commandBufferCount = 1, .pCommandBuffers = &o->cmd,
-                       .signalSemaphoreCount = ns, .pSignalSemaphores = signals};
-    d->nheld = 0;
-    for (uint32_t k = 0; k < n; k++) {
-        dslot* s = &d->slot[d->held[k]];
-        s->held = false, s->pending = true, s->fence_of = owner;
-    }
-    VX__VK(vkQueueSubmit(g->queue, 1, &si, o->fence), "vkQueueSubmit");
-    o->fence_busy = true;
-    d->frames_submitted += n;
-    d->submits++;
-    return VX_OK;
-}
-
-vx_result vx_display_set_secondary(vx_display* d, bool on, vx_error* err) {
-    if (!d) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    if (d->cur >= 0) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "a frame is being recorded");
-    vx_result r = vx_display_wait(d, err);
-    if (r) return r;
-    vx_gpu* g = d->g;
-    for (int i = 0; i < VX_DISPLAY_SLOTS; i++) {
-        dslot* s = &d->slot[i];
-        if (s->fence_busy) {
-            VX__VK(vkWaitForFences(g->device, 1, &s->fence, VK_TRUE, UINT64_C(600) * 1000000000u), "vkWaitForFences");
-            s->fence_busy = false;
-        }
-        if (on && !s->sec) {
-            VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-                                              .commandPool = d->cmd_pool,
-                                              .level = VK_COMMAND_BUFFER_LEVEL_SECONDARY,
-                                              .commandBufferCount = 1};
-            VX__VK(vkAllocateCommandBuffers(g->device, &ai, &s->sec), "vkAllocateCommandBuffers");
-        }
-    }
-    d->secondary = on;
-    return VX_OK;
-}
-
 /* vx_gpu.held_submit: work recorded after the held frames is about to be
  * submitted, or the queue waited for (a failure shows at the display's next
  * call: its frames' fences never signal, so the device is lost anyway) */
@@ -664,8 +579,8 @@ void vx_display_frame_cancel(vx_display* d) {
     if (!d || d->cur < 0) return;
     dslot* s = &d->slot[d->cur];
     if (s->fr) vx_frame_record_cancel(s->fr); /* the scene's tables recorded there are not written */
-    vkEndCommandBuffer(frame_cmd(d, d->cur));
-    vkResetCommandBuffer(frame_cmd(d, d->cur), 0);
+    vkEndCommandBuffer(s->cmd);
+    vkResetCommandBuffer(s->cmd, 0);
     d->cur = -1;
 }
 

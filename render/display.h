@@ -102,14 +102,6 @@ vx_result vx_display_run(vx_display* d, const vx_display_desc* desc, uint8_t* by
  * between frames (view_bench --submit). */
 #define VX_DISPLAY_SLOTS 8
 vx_result vx_display_set_queue(vx_display* d, uint32_t frames, uint32_t batch, bool one_submit_info, vx_error* err);
-/* Frames recorded into secondary command buffers (on), a batch's run from
- * one primary in its vkQueueSubmit: on an H200 a primary command buffer
- * boundary costs the queue about 0.004 ms between frames that one
- * primary does not (view_bench --submit: 4 frames' passes in 4 primaries
- * 0.083 ms a frame, in one 0.079 ms). The frames then record no render pass
- * (svo_view's panels on the GPU do: not with this). Waits for the frames in
- * flight. */
-vx_result vx_display_set_secondary(vx_display* d, bool on, vx_error* err);
 vx_result vx_display_frame_begin(vx_display* d, uint32_t* slot, void** cmd, vx_error* err);
 vx_result vx_display_frame_submit(vx_display* d, uint64_t wait_semaphore, uint64_t signal_semaphore, vx_error* err);
 void vx_display_frame_cancel(vx_display* d);

@@ -114,7 +114,7 @@ static bool open_chain(const vx_svo_scene* s, vx_render_scene** rs, vx_frame_ren
 
 /* batch > 1: frames submitted `batch` at a time (vx_display_set_queue, `frames` in flight); the edit at frame 5
  * submits the held frames itself before it waits for the queue (vx_gpu.held_submit) */
-static void in_flight_equals_waited(way wy, uint32_t frames, uint32_t batch, bool one, bool sec) {
+static void in_flight_equals_waited(way wy, uint32_t frames, uint32_t batch, bool one) {
     bool to_image = wy != WAY_COPY;
     vx_svo_model m[2];
     memset(m, 0, sizeof m);
@@ -139,7 +139,6 @@ static void in_flight_equals_waited(way wy, uint32_t frames, uint32_t batch, boo
     uint64_t img[K];
     for (int k = 0; k < K; k++) REQUIRE(vx_display_image_create(disp, W, H, &img[k], &err) == VX_OK);
     REQUIRE(vx_display_set_queue(disp, frames, batch, one, &err) == VX_OK);
-    REQUIRE(vx_display_set_secondary(disp, sec, &err) == VX_OK);
     /* the frames in flight */
     REQUIRE(draw_pattern(disp, 0));
     uint32_t slot_of[K];
@@ -397,17 +396,17 @@ static void test_refit_equals_scratch(void) {
 
 static void test_in_flight_equals_waited(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(WAY_COPY, 0, 0, false, false);
+    in_flight_equals_waited(WAY_COPY, 0, 0, false);
 }
 
 static void test_in_flight_into_image(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(WAY_IMAGE, 0, 0, false, false);
+    in_flight_equals_waited(WAY_IMAGE, 0, 0, false);
 }
 
 static void test_in_flight_fused(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(WAY_FUSED, 0, 0, false, false);
+    in_flight_equals_waited(WAY_FUSED, 0, 0, false);
 }
 
 /* Frames submitted several at a time (vx_display_set_queue): the same bytes, frame by frame. Batches of 3 of 6
@@ -415,19 +414,8 @@ static void test_in_flight_fused(void) {
  * and of 2 of 3 (a batch wrapping round the slots), each frame its own VkSubmitInfo. */
 static void test_in_flight_batched(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(WAY_FUSED, 6, 3, true, false);
-    in_flight_equals_waited(WAY_COPY, 3, 2, false, false);
-}
-
-/* The same with every frame a secondary command buffer, a batch's run from
- * one primary (vx_display_set_secondary): batches of 3 of 6 fused, of 2 of 3
- * wrapping round the slots (a primary taken again while frames of its last
- * batch wait), of 4 of 8 copied. */
-static void test_in_flight_secondary(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    in_flight_equals_waited(WAY_FUSED, 6, 3, false, true);
-    in_flight_equals_waited(WAY_COPY, 3, 2, false, true);
-    in_flight_equals_waited(WAY_COPY, 8, 4, false, true);
+    in_flight_equals_waited(WAY_FUSED, 6, 3, true);
+    in_flight_equals_waited(WAY_COPY, 3, 2, false);
 }
 
 /* Frames held for a batch (vx_display_set_queue) when a model is edited: the
@@ -436,7 +424,8 @@ static void test_in_flight_secondary(void) {
  * edit shows the new one. Without that the held frames would run after the
  * edit's writes (lavapipe writes the mapped buffers in place) and show the
  * new model. */
-static void batched_model_edit(bool sec) {
+static void test_batched_model_edit(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_model m[2];
     memset(m, 0, sizeof m);
     REQUIRE(ts_random_model(&m[0], 16, 16, 12, 35, 21) == VX_OK);
@@ -461,7 +450,6 @@ static void batched_model_edit(bool sec) {
     REQUIRE(vx_frame_render(fr, &d, &res, &err) == VX_OK);
     REQUIRE(vx_display_run(disp, &dd, before, NULL, &err) == VX_OK);
     REQUIRE(vx_display_set_queue(disp, 6, 3, false, &err) == VX_OK);
-    REQUIRE(vx_display_set_secondary(disp, sec, &err) == VX_OK);
     way wy = vx_display_image_storage(disp) ? WAY_FUSED : WAY_COPY;
     for (int k = 0; k < 3; k++) {
         if (k == 2) { /* the edit: model 0's octree replaced by another's, every word uploaded again */
@@ -499,19 +487,12 @@ static void batched_model_edit(bool sec) {
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
 }
 
-static void test_batched_model_edit(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    batched_model_edit(false);
-    batched_model_edit(true); /* secondary command buffers */
-}
-
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_in_flight_equals_waited);
     RUN(test_in_flight_into_image);
     RUN(test_in_flight_fused);
     RUN(test_in_flight_batched);
-    RUN(test_in_flight_secondary);
     RUN(test_batched_model_edit);
     RUN(test_refit_equals_scratch);
     vx_gpu_destroy(gpu);

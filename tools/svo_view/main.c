@@ -2405,10 +2405,7 @@ static void choose_present(app* a) {
     }
     vx_display_set_timestamps(a->disp, false); /* the viewer reads the passes' times, not the display's */
     /* batches: twice their frames in flight, so that one batch runs while the next is recorded */
-    /* and, unless the panels are drawn on the GPU (a render pass, which a secondary command buffer cannot
-     * begin), each frame a secondary command buffer, the batch's run from one primary (render/display.h) */
-    if (a->o.batch > 1 && (vx_display_set_queue(a->disp, 2 * a->o.batch, a->o.batch, false, &err) ||
-                           (!a->o.gpu_panels && vx_display_set_secondary(a->disp, true, &err)))) {
+    if (a->o.batch > 1 && vx_display_set_queue(a->disp, 2 * a->o.batch, a->o.batch, false, &err)) {
         snprintf(a->present_note, sizeof a->present_note, "host readback (the GPU path failed: %.100s)", err.msg);
         vx_display_destroy(a->disp);
         a->disp = NULL;
