@@ -7,7 +7,9 @@
  * Usage: view_bench [INSTANCES (default 10000)] [REPEAT (default 9)] [FRAMES (default 0)]:
  *        the instance edit (in place since frames in flight: the CPU BVH
  *        build and no wait) and, with FRAMES, FRAMES frames in flight at
- *        1920x1080 without and with an instance moved before every frame
+ *        1920x1080 without and with an instance moved before every frame,
+ *        and with the camera orbiting, the instance rows computed on the GPU
+ *        (shaders/inst_rows.comp) and from the host (the table rows written)
  *        view_bench --animate IN.svo OUT.svo FRAMES: OUT is IN as an animation
  *        of FRAMES frames, every instance one cell further along x each frame
  *        (models shared: playback in svo_view --bench switches frames with no
@@ -44,7 +46,9 @@
  *        set up in other ways (vx_display_set_queue: frames in flight, frames
  *        per vkQueueSubmit, one VkSubmitInfo): where the time between frames
  *        goes beyond the passes (a submission's fixed cost, or the CPU); also
- *        the waits that found the GPU behind, and an empty frame's floor.
+ *        the waits that found the GPU behind, and an empty frame's floor; and
+ *        what a command buffer boundary costs (4 frames' passes in 4 command
+ *        buffers or in one, a vkQueueSubmit each 4).
  *        Needs only libvulkan and libc (runs on the GPU machine). */
 #include <math.h>
 #include <stdio.h>
@@ -56,6 +60,7 @@
 #include "render/gpu.h" /* --loop: timestamps between a frame's stages */
 #include "render/pipeline.h"
 #include "render/render.h"
+#include "render/render_internal.h" /* vx__render_scene_rows_on_gpu */
 #include "bench/bench_terrain.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/voxels.h"
@@ -771,6 +776,61 @@ typedef struct submit_cfg {
     const char* name;
 } submit_cfg;
 
+/* What a command buffer boundary costs the queue: the passes of 4 frames
+ * (no display write) recorded into 4 command buffers or into one, one
+ * vkQueueSubmit of the 4, two such submissions in flight (slots 0-3, 4-7);
+ * the interval between frames (wall time over the frames). */
+static int cb_boundary(vx_gpu* g, vx_frame_renderer* fr, const vx_frame_desc* fd, uint32_t n, double mb) {
+    VkCommandPool pool;
+    VkCommandPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                   .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                   .queueFamilyIndex = g->queue_family};
+    if (vkCreateCommandPool(g->device, &pci, NULL, &pool)) return 1;
+    VkCommandBuffer cb[8];
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, .commandPool = pool,
+                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = 8};
+    VkFence fence[2];
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (vkAllocateCommandBuffers(g->device, &ai, cb) || vkCreateFence(g->device, &fci, NULL, &fence[0]) ||
+        vkCreateFence(g->device, &fci, NULL, &fence[1]))
+        return 1;
+    int rc = 0;
+    for (int round = 0; round < 2 && !rc; round++)
+        for (int one = 0; one < 2 && !rc; one++) {
+            uint32_t groups = (n + 20) / 4;
+            double t0 = 0;
+            for (uint32_t k = 0; k < groups && !rc; k++) {
+                uint32_t grp = k & 1;
+                if (k == 5) t0 = vx_time_now(); /* after 20 frames */
+                if (k >= 2) {
+                    vkWaitForFences(g->device, 1, &fence[grp], VK_TRUE, UINT64_MAX);
+                    vkResetFences(g->device, 1, &fence[grp]);
+                }
+                VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                               .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+                for (uint32_t j = 0; j < 4 && !rc; j++) {
+                    VkCommandBuffer c = cb[4 * grp + (one ? 0 : j)];
+                    if (!one || !j) vkResetCommandBuffer(c, 0), vkBeginCommandBuffer(c, &bi);
+                    vx_frame_result res;
+                    vx_error err = {0};
+                    if (vx_frame_record(fr, fd, c, 4 * grp + j, &res, &err)) fprintf(stderr, "%s\n", err.msg), rc = 1;
+                    if (!one || j == 3) vkEndCommandBuffer(c);
+                }
+                VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = one ? 1 : 4,
+                                   .pCommandBuffers = &cb[4 * grp]};
+                if (!rc && vkQueueSubmit(g->queue, 1, &si, fence[grp])) rc = 1;
+            }
+            vkQueueWaitIdle(g->queue);
+            double mean = (vx_time_now() - t0) * 1e3 / (double)(4 * (groups - 5));
+            printf("  passes only, 4 frames a vkQueueSubmit in %-17s interval mean %.4f ms (%.3fx the passes)\n",
+                   one ? "ONE command buffer" : "4 command buffers", mean, mean / mb);
+        }
+    vkDestroyFence(g->device, fence[0], NULL), vkDestroyFence(g->device, fence[1], NULL);
+    vkDestroyCommandPool(g->device, pool, NULL);
+    fflush(stdout);
+    return rc;
+}
+
 static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
@@ -898,6 +958,7 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
         fflush(stdout);
     }
     vx_display_set_queue(disp, 0, 0, false, &err);
+    if (cb_boundary(g, fr, &fd, n, mb)) fail = 1;
     free(t), free(wb), free(gpu), free(gap), free(base), free(want), free(got);
     vx_display_destroy(disp);
     vx_frame_renderer_destroy(fr);
@@ -925,7 +986,7 @@ static bool move_one(void* user, uint32_t k) {
 }
 
 static bool inst_loop(vx_gpu* g, vx_render_scene* rs, vx_svo_scene* s, ved* e, uint32_t n, loop_stats* still,
-                      loop_stats* moving) {
+                      loop_stats* moving, loop_stats orbiting[2]) {
     vx_error err = {0};
     uint32_t w = 1920, h = 1080;
     vx_frame_renderer* fr = NULL;
@@ -941,6 +1002,16 @@ static bool inst_loop(vx_gpu* g, vx_render_scene* rs, vx_svo_scene* s, ved* e, u
     mover m = {s, rs, e};
     bool ok = run_loop(g, fr, disp, img, &fd, w, h, n, 0, NULL, NULL, still) &&
               run_loop(g, fr, disp, img, &fd, w, h, n, 0, move_one, &m, moving);
+    /* the camera orbiting (every row relative to it changes each frame): the rows computed on the GPU from the
+     * instances' rows relative to the world (the default where the device has float64), then from the host */
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    orbit o = {&fd, {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])}, 0.5 * (hi[0] - lo[0])};
+    for (int k = 0; k < 2 && ok; k++) {
+        vx__render_scene_rows_on_gpu(rs, k == 0 ? 1 : 0);
+        ok = run_loop(g, fr, disp, img, &fd, w, h, n, 0, orbit_step, &o, &orbiting[k]);
+    }
+    vx__render_scene_rows_on_gpu(rs, -1);
     vx_display_destroy(disp);
     vx_frame_renderer_destroy(fr);
     return ok;
@@ -1037,8 +1108,11 @@ int main(int argc, char** argv) {
         inst_bvh[k] = vx_render_scene_bvh_seconds(rs) * 1e3;
     }
     vx_render_scene_get_stats(rs, &st1);
-    loop_stats still = {0}, moving = {0};
-    if (flight && !inst_loop(gpu, rs, &s, &e, flight, &still, &moving)) return 1;
+    loop_stats still = {0}, moving = {0}, orbiting[2] = {{0}};
+    vx_render_scene_stats so0, so1;
+    vx_render_scene_get_stats(rs, &so0);
+    if (flight && !inst_loop(gpu, rs, &s, &e, flight, &still, &moving, orbiting)) return 1;
+    vx_render_scene_get_stats(rs, &so1);
     qsort(inst, rep, sizeof *inst, cmp);
     qsort(edit, rep, sizeof *edit, cmp);
     qsort(bvh, rep, sizeof *bvh, cmp);
@@ -1058,6 +1132,13 @@ int main(int argc, char** argv) {
                "(GPU %.4f ms, passes %.4f ms, CPU record+submit incl. the edit %.4f ms)\n",
                flight, still.interval_med, still.gpu_gap_med, still.passes_med, moving.interval_med, moving.gpu_gap_med,
                moving.passes_med, moving.cpu_record_med);
+    if (flight)
+        printf("view_bench: the camera orbiting, frames in flight: instance rows computed on the GPU interval median %.4f ms "
+               "(GPU %.4f ms, CPU record+submit %.4f ms), from the host %.4f ms (GPU %.4f ms, CPU %.4f ms); table rows "
+               "written by the frames in flight %llu\n",
+               orbiting[0].interval_med, orbiting[0].gpu_gap_med, orbiting[0].cpu_record_med, orbiting[1].interval_med,
+               orbiting[1].gpu_gap_med, orbiting[1].cpu_record_med,
+               (unsigned long long)(so1.table_rows_uploaded - so0.table_rows_uploaded));
     free(edit), free(bvh), free(frame), free(inst), free(inst_bvh);
     ved_free(&e);
     vx_render_scene_destroy(rs);

@@ -51,7 +51,7 @@ struct vx_display {
     int held[VX_DISPLAY_SLOTS]; /* the held frames' slots, oldest first */
     uint32_t nheld;
     uint64_t begins_waited; /* frame_begin found its slot's frame not yet done */
-    uint64_t frames_submitted;
+    uint64_t frames_submitted, submits;
     uint32_t next; /* the slot the next frame takes */
     int cur;       /* the slot being recorded, -1: none */
     VkQueryPool qp; /* two timestamps per slot: the command buffer's start and end */
@@ -545,6 +545,7 @@ static vx_result flush(vx_display* d, vx_error* err) {
     }
     VX__VK(vkQueueSubmit(d->g->queue, ns, si, d->slot[last].fence), "vkQueueSubmit");
     d->frames_submitted += n;
+    d->submits++;
     return VX_OK;
 }
 
@@ -593,6 +594,7 @@ void vx_display_frame_times(const vx_display* d, vx_display_times* out) {
     out->frames_done = d->frames_done;
     out->begins_waited = d->begins_waited;
     out->frames_submitted = d->frames_submitted;
+    out->submits = d->submits;
     out->gpu_ms = d->last_gpu_ms;
     out->gpu_start_ms = d->last_start_ms;
 }

@@ -120,6 +120,7 @@ void vx_display_copy_to_image(void* cmd, uint64_t buffer, uint32_t w, uint32_t h
 typedef struct vx_display_times {
     uint64_t frames_done;
     uint64_t frames_submitted; /* frames given to vkQueueSubmit (with batches: held ones not yet) */
+    uint64_t submits;          /* the vkQueueSubmit calls that carried them (a batch of K frames: one) */
     uint64_t begins_waited; /* waits for a slot's frame that found it not yet done (the CPU ahead of the GPU) */
     double gpu_ms;
     double gpu_start_ms;

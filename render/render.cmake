@@ -24,13 +24,13 @@ if(VX_WITH_VULKAN)
   # writes them into the image shown (a storage image) instead of a buffer;
   # frame_display, resolve_display and post_display are those passes when they
   # are the frame's last and write the image shown themselves (display_out.glsl);
-  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c);
+  # refit recomputes the instance BVH's bounds on the GPU (render_scene.c), inst_rows the instances' rows;
   # trace_compact traces the compact layout (render/compact.h, compact_gpu.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
-               refit:refit trace_compact:trace_compact)
+               refit:refit inst_rows:inst_rows trace_compact:trace_compact)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)

@@ -71,6 +71,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
+/* Tests and benchmarks: 0 makes recorded frames write the instance rows
+ * from the host (render_scene.c frame_tables), 1 has the GPU compute them
+ * (shaders/inst_rows.comp; needs float64 shaders, else the host's), -1
+ * restores the default (the GPU's where the device has float64). */
+void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);

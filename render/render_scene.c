@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "render/render_internal.h"
+#include "inst_rows.comp.h"
 #include "refit.comp.h"
 
 #include <stddef.h>
@@ -36,6 +37,23 @@ typedef struct inst_host {
     uint32_t id;
     float cell;
 } inst_host;
+
+/* An instance's rows relative to the world, as shaders/inst_rows.comp reads
+ * them (the GPU computes the rows relative to the frame's reference point) */
+typedef struct inst_src {
+    double inv[12];
+    double lo[3], hi[3];
+    uint32_t model, id;
+    float cell;
+    uint32_t pad;
+} inst_src;
+_Static_assert(sizeof(inst_src) == 160, "inst_src vs inst_rows.comp");
+
+/* The reference point block before the instance sources in a frame's tables (GPU rows). */
+typedef struct rows_ref {
+    double ref[3];
+    double pad;
+} rows_ref;
 
 struct vx_render_scene {
     vx_gpu* gpu;
@@ -87,7 +105,16 @@ struct vx_render_scene {
     VkDescriptorPool refit_pool;
     VkDescriptorSet refit_set;
     VkDescriptorSetLayout refit_dsl; /* the layout refit_set was made with */
-    bool tables_refit;     /* the last recorded tables were of the refit kind */
+    int tables_kind;       /* the last recorded tables' kind: 0 whole nodes, 1 refit, 2 refit with the rows on the GPU */
+    /* the instances' rows on the GPU (shaders/inst_rows.comp): recorded frames
+     * with the refit write the instances' rows relative to the world
+     * (inst_src: only those that changed) and the frame's reference point;
+     * the GPU computes the rows and boxes relative to it, so a camera move
+     * writes no row. Where the device has float64 shaders. */
+    vx__buffer inst_src;
+    VkDescriptorSet rows_set;
+    VkDescriptorSetLayout rows_dsl;
+    int rows_gpu; /* -1: where the device has float64; 0/1 forced (vx__render_scene_rows_on_gpu) */
     uint32_t bvh_node_cap; /* nodes the bvh_nodes buffer holds (2n - 1 for n instances: any build fits) */
     void* scratch; /* host copy of the per-frame tables for those commands */
     size_t scratch_size;
@@ -350,6 +377,8 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
                                err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                                "instance boxes", &rs->inst_boxes, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(inst_src), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                               "instance sources", &rs->inst_src, err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)rs->bvh_node_cap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                                "bvh order", &rs->order_buf, err)) ||
         (rs->bvh_levels && (r = vx__buffer_upload(g, &rs->order_buf, rs->bvh_order, (VkDeviceSize)rs->bvh.node_count * 4,
@@ -357,6 +386,7 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
         return r;
     /* the refit's set names the old buffers (no frame is in flight: the caller waited) */
     if (rs->refit_set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, &rs->refit_set), rs->refit_set = VK_NULL_HANDLE;
+    if (rs->rows_set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, &rs->rows_set), rs->rows_set = VK_NULL_HANDLE;
     rs->order_dirty = false;
     rs->items_dirty = false;
     rs->tables_known = false; /* new buffers */
@@ -395,6 +425,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
+    rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
@@ -412,7 +443,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vkDeviceWaitIdle(g->device);
     vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
                           &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
-                          &rs->inst_boxes, &rs->order_buf};
+                          &rs->inst_boxes, &rs->order_buf, &rs->inst_src};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     if (rs->refit_pool) vkDestroyDescriptorPool(g->device, rs->refit_pool, NULL);
     vx_bvh_free(&rs->bvh);
@@ -949,6 +980,67 @@ static uint64_t update_rows(VkCommandBuffer cb, const vx__buffer* b, const uint8
     return sent;
 }
 
+/* The pool of the refit's set and the instance rows' set. */
+static vx_result sets_pool(vx_render_scene* rs, vx_error* err) {
+    if (rs->refit_pool) return VX_OK;
+    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 7};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+                                      .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
+                                      .maxSets = 2, .poolSizeCount = 1, .pPoolSizes = &size};
+    VX__VK(vkCreateDescriptorPool(rs->gpu->device, &pci, NULL, &rs->refit_pool), "vkCreateDescriptorPool");
+    return VX_OK;
+}
+
+/* The instance rows' pipeline and its set (sources, instance rows, boxes),
+ * made again when the pipeline cache made the pipeline again. */
+static vx_result rows_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
+    vx_gpu* g = rs->gpu;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__inst_rows_spv_arr, .spirv_size = sizeof vx__inst_rows_spv_arr,
+                                       .binding_count = 3, .push_constant_size = 32, .label = "instance rows"};
+    for (int i = 0; i < 3; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    vx__pipeline* p;
+    vx_result r = vx__pipeline_get(g, 0x1057u, &pd, &p, err);
+    if (r || (r = sets_pool(rs, err))) return r;
+    if (!rs->rows_set || rs->rows_dsl != p->dsl) {
+        settle(rs); /* as refit_pipeline's */
+        if (rs->rows_set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, &rs->rows_set), rs->rows_set = VK_NULL_HANDLE;
+        VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                          .descriptorPool = rs->refit_pool, .descriptorSetCount = 1,
+                                          .pSetLayouts = &p->dsl};
+        VX__VK(vkAllocateDescriptorSets(g->device, &ai, &rs->rows_set), "vkAllocateDescriptorSets");
+        rs->rows_dsl = p->dsl;
+        const vx__buffer* b[3] = {&rs->inst_src, &rs->insts, &rs->inst_boxes};
+        VkDescriptorBufferInfo bi[3];
+        VkWriteDescriptorSet w[3];
+        for (int i = 0; i < 3; i++) {
+            bi[i] = (VkDescriptorBufferInfo){.buffer = b[i]->buf, .range = VK_WHOLE_SIZE};
+            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rs->rows_set,
+                                          .dstBinding = (uint32_t)i, .descriptorCount = 1,
+                                          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &bi[i]};
+        }
+        vkUpdateDescriptorSets(g->device, 3, w, 0, NULL);
+    }
+    *out = p;
+    return VX_OK;
+}
+
+/* The instances' rows relative to the world (inst_rows.comp's input). */
+static void instance_sources(const vx_render_scene* rs, inst_src* out) {
+    for (uint32_t i = 0; i < rs->inst_count; i++) {
+        const inst_host* h = &rs->inst[i];
+        inst_src* o = &out[i];
+        memset(o, 0, sizeof *o);
+        memcpy(o->inv, h->inv, sizeof o->inv);
+        memcpy(o->lo, h->lo, sizeof o->lo);
+        memcpy(o->hi, h->hi, sizeof o->hi);
+        o->model = h->model, o->id = h->id, o->cell = h->cell;
+    }
+}
+
+void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on) {
+    if (rs) rs->rows_gpu = on < 0 ? -1 : on > 0;
+}
+
 /* The refit's pipeline and its set (bvh nodes, items, instance boxes,
  * order), made again when the pipeline cache made the pipeline again. */
 static vx_result refit_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
@@ -959,13 +1051,8 @@ static vx_result refit_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_erro
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(g, 0x4EF17u, &pd, &p, err);
     if (r) return r;
-    if (!rs->refit_pool) {
-        VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4};
-        VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                          .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
-                                          .maxSets = 1, .poolSizeCount = 1, .pPoolSizes = &size};
-        VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &rs->refit_pool), "vkCreateDescriptorPool");
-    }
+    vx_result pr = sets_pool(rs, err);
+    if (pr) return pr;
     if (!rs->refit_set || rs->refit_dsl != p->dsl) {
         /* a set made for an earlier pipeline object may be in frames in flight: made again only after them */
         settle(rs);
@@ -1014,14 +1101,21 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
                        VX_RENDER_PRECISE_DEPTH);
     VkCommandBuffer cb = (VkCommandBuffer)cmd;
     /* the BVH's bounds: refit on the GPU from the instances' boxes once its shape is there; whole nodes else */
-    vx__pipeline* rp = NULL;
+    vx__pipeline *rp = NULL, *wp = NULL;
     bool refit = rs->bvh.node_count && rs->bvh_levels && !rs->shape_dirty;
+    /* the rows on the GPU: with the refit (the boxes come from them), where the device has float64 */
+    bool gpu_rows = refit && rs->gpu->has_float64 && (rs->rows_gpu < 0 || rs->rows_gpu > 0);
     if (refit) {
         vx_result r = refit_pipeline(rs, &rp, err);
+        if (!r && gpu_rows) r = rows_pipeline(rs, &wp, err);
         if (r) return r;
     }
-    size_t ni = (size_t)rs->inst_count * sizeof(vx__gpu_inst);
-    size_t nb = refit ? (size_t)rs->inst_count * 32 : (size_t)rs->bvh.node_count * sizeof(vx_bvh_node);
+    int kind = gpu_rows ? 2 : refit ? 1 : 0;
+    /* the tables after the frame block: the instance rows (GPU rows: the reference point and the sources),
+     * then the boxes (refit on the host's rows) or the BVH's nodes (none with GPU rows) */
+    size_t ni = gpu_rows ? sizeof(rows_ref) + (size_t)rs->inst_count * sizeof(inst_src)
+                         : (size_t)rs->inst_count * sizeof(vx__gpu_inst);
+    size_t nb = gpu_rows ? 0 : refit ? (size_t)rs->inst_count * 32 : (size_t)rs->bvh.node_count * sizeof(vx_bvh_node);
     size_t need = sizeof(vx__gpu_frame) + ni + nb;
     if (need > rs->scratch_size) {
         void* p = vx_alloc(&rs->alloc, need);
@@ -1032,7 +1126,11 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     uint8_t* at = rs->scratch;
     vx__gpu_frame* gf = (vx__gpu_frame*)at;
     vx__gpu_inst* gi = (vx__gpu_inst*)(at + sizeof *gf);
-    if (refit) {
+    if (gpu_rows) {
+        rows_ref rr = {.ref = {f->ref[0], f->ref[1], f->ref[2]}};
+        memcpy(gi, &rr, sizeof rr);
+        instance_sources(rs, (inst_src*)(at + sizeof *gf + sizeof rr));
+    } else if (refit) {
         frame_tables(rs, f, gi, NULL, NULL);
         instance_boxes(rs, f, (float*)(at + sizeof *gf + ni));
     } else {
@@ -1041,7 +1139,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     fill_gpu_frame(rs, f, gf);
     /* the same tables as the last recorded frame's: the buffers hold them (that frame's updates run before this
      * frame on the queue), so no update and no barrier before one */
-    bool same = rs->tables_known && !rs->items_dirty && !rs->order_dirty && rs->tables_refit == refit &&
+    bool same = rs->tables_known && !rs->items_dirty && !rs->order_dirty && rs->tables_kind == kind &&
                 rs->tables_size == need && !memcmp(rs->tables, rs->scratch, need);
     if (!same) {
         /* after the shader reads of frames before this one on the queue (an
@@ -1053,11 +1151,20 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
                              &before, 0, NULL, 0, NULL);
         /* with the last recorded frame's tables known and of the same kind, only the rows that changed (an
          * instance moved, the camera still: one row and its box, not all); else all */
-        bool rows = rs->tables_known && rs->tables_refit == refit && rs->tables_size == need;
+        bool rows = rs->tables_known && rs->tables_kind == kind && rs->tables_size == need;
         const uint8_t* last = rs->tables;
         size_t nrow = refit ? 32 : sizeof(vx_bvh_node);
+        bool run_rows = false; /* the GPU computes the rows (their sources or the reference point changed) */
         if (!rows || memcmp(last, gf, sizeof *gf)) update_buffer(cb, &rs->frame, gf, sizeof *gf);
-        if (rows) {
+        if (gpu_rows) {
+            const uint8_t* src = at + sizeof *gf + sizeof(rows_ref);
+            uint64_t sent = rows ? update_rows(cb, &rs->inst_src, src, last + sizeof *gf + sizeof(rows_ref),
+                                               sizeof(inst_src), rs->inst_count)
+                                 : (update_buffer(cb, &rs->inst_src, src, (VkDeviceSize)rs->inst_count * sizeof(inst_src)),
+                                    rs->inst_count);
+            rs->stats.table_rows_uploaded += sent;
+            run_rows = !rows || sent || memcmp(last + sizeof *gf, at + sizeof *gf, sizeof(rows_ref));
+        } else if (rows) {
             rs->stats.table_rows_uploaded +=
                 update_rows(cb, &rs->insts, (const uint8_t*)gi, last + sizeof *gf, sizeof(vx__gpu_inst), rs->inst_count);
             rs->stats.table_rows_uploaded += update_rows(cb, refit ? &rs->inst_boxes : &rs->bvh_nodes,
@@ -1082,6 +1189,23 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
                                   .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
             vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
                                  NULL, 0, NULL);
+            if (run_rows) {
+                /* the rows and boxes relative to this frame's reference point, before the refit reads the boxes */
+                struct {
+                    uint32_t count, pad;
+                    double ref[3];
+                } pc = {rs->inst_count, 0, {f->ref[0], f->ref[1], f->ref[2]}};
+                _Static_assert(sizeof pc == 32, "inst_rows.comp's push constants");
+                vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, wp->pipe);
+                vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, wp->layout, 0, 1, &rs->rows_set, 0, NULL);
+                vkCmdPushConstants(cb, wp->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+                vkCmdDispatch(cb, (rs->inst_count + 63) / 64, 1, 1);
+                mb = (VkMemoryBarrier){.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                       .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                       .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
+                vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
+                                     &mb, 0, NULL, 0, NULL);
+            }
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, rp->pipe);
             vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, rp->layout, 0, 1, &rs->refit_set, 0, NULL);
             for (uint32_t l = rs->bvh_levels; l-- > 0;) {
@@ -1106,7 +1230,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
         }
         if (need <= rs->tables_cap) {
             memcpy(rs->tables, rs->scratch, need);
-            rs->tables_size = need, rs->tables_known = true, rs->tables_refit = refit;
+            rs->tables_size = need, rs->tables_known = true, rs->tables_kind = kind;
         }
     }
     /* the transfers before this frame's passes (table rows, an overlay copy recorded before this) and this

@@ -15,6 +15,7 @@
 #include "tools/common/conv.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/present.h"
+#include "tools/svo_view/settings.h"
 #include "tools/svo_view/voxels.h"
 
 #define NO_SEL UINT32_MAX
@@ -75,6 +76,8 @@ typedef struct app {
     vx_cone_gi* cgi; /* gi=cones: its volume, built at the first frame after a change */
     vx_photon_gi* phgi; /* gi=photons: made at the first frame after a change (its photons every frame) */
     vx_gi_method gm;
+    sv_gi_settings gis;     /* the gi methods' settings (render panel, script `gi OPTION VALUE`: svo_render's options) */
+    vx_pass_list passes_run; /* the list a frame runs when it differs from `passes` (cone shadows: no direct pass) */
     vx_pass_timing timings[VX_PASS_KIND_COUNT + 1];
     uint32_t timing_count;
     double passes_ms;
@@ -136,6 +139,9 @@ typedef struct app {
     char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
     float* sky_rgb;
     vx_sky_texels sky_map;
+    uint32_t mat_sel;                /* the material the properties panel edits (palette index or material id) */
+    uint32_t mat_step_for;           /* as light_step_for, for a material's panel edits */
+    uint64_t mat_step;
     char name_buf[64]; /* the properties panel's name field, for instance name_for */
     uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */
@@ -221,6 +227,13 @@ void sv_undo(app* a, bool redo);
  * the step of the previous edit when that was also a merged edit of light l
  * and nothing was edited or undone since (a drag in the panel is one step). */
 bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge);
+/* Material id's field (settings.h sv_material_field: type, rough, metal,
+ * spec, trans, ior, emit, flux) set from value text: an undo step, merged
+ * as sv_set_light's; the gi methods are made again. False with a message. */
+bool sv_set_material(app* a, uint32_t id, const char* field, const char* value, bool merge);
+/* A gi setting (settings.h sv_gi_option, svo_render's option names); the gi
+ * method is made again at the next frame. False with a message. */
+bool sv_set_gi_option(app* a, const char* name, const char* value);
 bool sv_set_passes(app* a, const char* list);
 void sv_set_probe_mode(app* a, vx_probe_render_mode m);
 /* Animation: shows frame f (no model upload), play/pause, frames per second. */

@@ -4,7 +4,13 @@
 #include <math.h>
 #include <string.h>
 
+static void materials_free(const vx_allocator* a, vx_svo_material* m, uint32_t n) {
+    for (uint32_t i = 0; m && i < n; i++) vx_free(a, m[i].dict);
+    vx_free(a, m);
+}
+
 static void snap_free(const vx_allocator* a, ved_snapshot* sn) {
+    if (sn->has_materials) materials_free(a, sn->materials, sn->material_count);
     vx_free(a, sn->inst);
     vx_free(a, sn->frame_inst);
     vx_free(a, sn->layer_flags);
@@ -63,6 +69,14 @@ static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
     vx_sky sky = s->sky;
     s->sky = sn->sky;
     sn->sky = sky;
+    if (sn->has_materials) {
+        vx_svo_material* m = s->materials;
+        uint32_t nm = s->material_count;
+        s->materials = sn->materials;
+        s->material_count = sn->material_count;
+        sn->materials = m;
+        sn->material_count = nm;
+    }
     /* layers are never added or removed, only flagged */
     for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
         uint32_t f = s->layers[l].flags;
@@ -118,6 +132,8 @@ void ved_free(ved* e) {
 uint64_t ved_snapshot_bytes(const ved_snapshot* sn) {
     uint64_t n = sizeof *sn + (uint64_t)sn->inst_count * sizeof(vx_svo_instance) +
                  (uint64_t)sn->layer_count * sizeof(uint32_t) + (uint64_t)sn->light_count * sizeof(vx_light);
+    for (uint32_t i = 0; sn->has_materials && i < sn->material_count; i++)
+        n += sizeof(vx_svo_material) + sn->materials[i].dict_size;
     if (sn->frame_inst && sn->frame_count >= 2) n += (uint64_t)(sn->frame_count - 1) * sn->inst_count * sizeof(vx_svo_instance);
     if (sn->has_model) {
         const vx_svo_model* m = &sn->model;
@@ -169,6 +185,96 @@ vx_result ved_begin(ved* e, vx_error* err) {
         total -= ved_snapshot_bytes(&e->undo[0]);
         drop_oldest(e);
     }
+    return VX_OK;
+}
+
+/* A deep copy of the scene's materials (NULL, 0 when it has none). */
+static vx_result materials_copy(const vx_svo_scene* s, vx_svo_material** out, vx_error* err) {
+    *out = NULL;
+    if (!s->material_count) return VX_OK;
+    vx_svo_material* m = vx_calloc(s->alloc, s->material_count, sizeof *m);
+    for (uint32_t i = 0; m && i < s->material_count; i++) {
+        m[i] = (vx_svo_material){.id = s->materials[i].id, .dict_size = s->materials[i].dict_size};
+        if (!m[i].dict_size) continue;
+        if (!(m[i].dict = vx_alloc(s->alloc, m[i].dict_size))) {
+            materials_free(s->alloc, m, i);
+            m = NULL;
+            break;
+        }
+        memcpy(m[i].dict, s->materials[i].dict, m[i].dict_size);
+    }
+    if (!m) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for an undo step of %u materials",
+                           s->material_count);
+    *out = m;
+    return VX_OK;
+}
+
+vx_result ved_begin_materials(ved* e, vx_error* err) {
+    vx_svo_material* m;
+    vx_result r = materials_copy(e->s, &m, err);
+    if (r || (r = ved_begin(e, err))) {
+        materials_free(e->s->alloc, m, e->s->material_count);
+        return r;
+    }
+    ved_snapshot* sn = &e->undo[e->undo_count - 1];
+    sn->has_materials = true, sn->materials = m, sn->material_count = e->s->material_count;
+    return VX_OK;
+}
+
+vx_result ved_material_set(vx_svo_scene* s, uint32_t id, const char* key, const char* value, vx_error* err) {
+    size_t kl = key ? strlen(key) : 0, vl = value ? strlen(value) : 0;
+    if (!kl || kl > 63 || (value && (!vl || vl > 63)))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "material %u: a key and value of 1 to 63 bytes", id);
+    uint32_t at = s->material_count;
+    for (uint32_t i = 0; i < s->material_count && at == s->material_count; i++)
+        if (s->materials[i].id == id) at = i;
+    if (at == s->material_count && !value) return VX_OK; /* nothing to remove */
+    const vx_svo_material* old = at < s->material_count ? &s->materials[at] : NULL;
+    /* the new dictionary: the old pairs but key's, then key's (kept in its place when it was there) */
+    size_t cap = (old ? old->dict_size : 0) + kl + vl + 2;
+    char* d = vx_alloc(s->alloc, cap);
+    if (!d) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for material %u", id);
+    size_t n = 0;
+    bool put = false;
+    const char* p = old ? old->dict : NULL;
+    const char* end = old && old->dict ? old->dict + old->dict_size : NULL;
+    while (p && p < end) {
+        const char* k = p;
+        const char* z = memchr(k, 0, (size_t)(end - k));
+        if (!z || z + 1 >= end) break;
+        const char* v = z + 1;
+        const char* z2 = memchr(v, 0, (size_t)(end - v));
+        if (!z2) break;
+        p = z2 + 1;
+        bool mine = !strcmp(k, key);
+        if (mine && (put || !value)) continue;
+        const char* nv = mine ? value : v;
+        size_t a = (size_t)(z - k) + 1, b = strlen(nv) + 1;
+        if (n + a + b > cap) break; /* cannot happen: the old pairs plus key's fit */
+        memcpy(d + n, k, a), n += a;
+        memcpy(d + n, nv, b), n += b;
+        put |= mine;
+    }
+    if (value && !put) {
+        memcpy(d + n, key, kl + 1), n += kl + 1;
+        memcpy(d + n, value, vl + 1), n += vl + 1;
+    }
+    if (!old) {
+        vx_svo_material* m = vx_calloc(s->alloc, (size_t)s->material_count + 1, sizeof *m);
+        if (!m) {
+            vx_free(s->alloc, d);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for material %u", id);
+        }
+        if (s->material_count) memcpy(m, s->materials, (size_t)s->material_count * sizeof *m);
+        vx_free(s->alloc, s->materials);
+        s->materials = m;
+        s->material_count++;
+        s->materials[at] = (vx_svo_material){.id = id};
+    }
+    vx_free(s->alloc, s->materials[at].dict);
+    s->materials[at].dict = n ? d : NULL;
+    s->materials[at].dict_size = (uint32_t)n;
+    if (!n) vx_free(s->alloc, d);
     return VX_OK;
 }
 

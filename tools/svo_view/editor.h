@@ -26,7 +26,8 @@
  *
  * Undo: ved_begin() snapshots the instances (every frame), the layer
  * flags, the lights and the sky before an edit; ved_undo()/ved_redo() swap
- * snapshots. A voxel edit
+ * snapshots. A material edit (ved_begin_materials) also copies the
+ * materials (their dictionaries are small, but other steps need none). A voxel edit
  * (voxels.h) also keeps the model's previous header (svo/edit.h: the
  * editor only appends, so restoring the header is the undo), or, for an
  * edit that rebuilt the model, parks its previous octree. Models
@@ -63,6 +64,10 @@ typedef struct ved_snapshot {
     vx_light* lights; /* the scene's lights (few: copied whole at every step) */
     uint32_t light_count;
     vx_sky sky;
+    /* a material edit (ved_begin_materials): the scene's materials as they were, dictionaries copied */
+    bool has_materials;
+    vx_svo_material* materials;
+    uint32_t material_count;
     bool has_model;        /* a voxel edit: `model` is models[model_index] as it was */
     uint32_t model_index;
     vx_svo_model model;
@@ -119,6 +124,8 @@ uint64_t ved_snapshot_bytes(const ved_snapshot* sn);
 /* Snapshot before an edit (drops the redo list, then the oldest steps past
  * the bounds above). */
 vx_result ved_begin(ved* e, vx_error* err);
+/* ved_begin, and the step also holds the materials (before a material edit). */
+vx_result ved_begin_materials(ved* e, vx_error* err);
 /* false when there is nothing to undo / redo. */
 bool ved_undo(ved* e, vx_error* err);
 bool ved_redo(ved* e, vx_error* err);
@@ -150,6 +157,15 @@ void ved_delete(vx_svo_scene* s, uint32_t i);
  * differs from s's are rebuilt with RGBA8 attributes. *first = index of the
  * first added instance. Both scenes must use the default allocator. */
 vx_result ved_add_scene(vx_svo_scene* s, vx_svo_scene* other, const int32_t d[3], uint32_t* first, vx_error* err);
+
+/* Material `id`'s dictionary (docs/FORMAT.md 2.3, 4.1: MagicaVoxel keys such
+ * as "_type" "_rough" "_ri" "_emit") gets key = value (value NULL: the key
+ * removed); the first material of that id is edited, a new one (an empty
+ * dictionary) appended when the scene has none. The other pairs keep their
+ * order; a new key goes last. Keys and values are non-empty (values may be
+ * empty only by removal) and at most 63 bytes. VX_ERR_INVALID_ARG, VX_ERR_NOMEM;
+ * the scene is unchanged on failure. */
+vx_result ved_material_set(vx_svo_scene* s, uint32_t id, const char* key, const char* value, vx_error* err);
 
 /* The 3x3 rotation of a quarter turn about an axis, row-major integers. */
 void ved_quarter_turn(int axis, int quarter_turns, int32_t r[9]);

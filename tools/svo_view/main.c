@@ -105,7 +105,7 @@ _Noreturn static void usage(int status) {
             "      B voxel mode: click adds, Shift+click removes, Alt+click paints with the brush;\n"
             "      G/R/M then X/Y/Z move (arrows/mouse, Enter, Esc)/rotate (Shift: back)/mirror;\n"
             "      Shift+D duplicate, Delete, H hide/Alt+H show all, L then 0-9 toggles a layer,\n"
-            "      Ctrl+Z/Ctrl+Y undo/redo (instance, voxel and light edits), Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
+            "      Ctrl+Z/Ctrl+Y undo/redo (instance, voxel, light and material edits), Ctrl+S save, Ctrl+E export .vox, drop a file to add it.\n"
             "Script commands (one a line, # comments): camera EX EY EZ TX TY TZ | camera default |\n"
             "      fly DX DY DZ | look DYAW DPITCH | orbit on|off | mode M | passes LIST | probes FILE |\n"
             "      select N|none |"
@@ -114,7 +114,7 @@ _Noreturn static void usage(int status) {
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
             "      save FILE.svo | export FILE.vox | screenshot FILE | wait N | echo TEXT | quit |\n"
             "      anim frame N|step [K]|play|pause|fps X|tick SECONDS | exposure STOPS | panels on|off |\n"
-            "      overlay on|off (the text overlay, shown without panels) | rename NAME |\n"
+            "      overlay on|off (the text overlay, shown without panels) | vsync on|off | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
             "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
@@ -122,6 +122,11 @@ _Noreturn static void usage(int status) {
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
             "      vclick add|remove|paint X Y (as a click in voxel mode) |\n"
             "      light N color R G B|position X Y Z|intensity X|range X (each an undo step) |\n"
+            "      material ID type diffuse|metal|glass|emit, material ID rough|metal|spec|trans|ior|emit|flux X\n"
+            "      (palette index or material id; each an undo step) |\n"
+            "      gi OPTION VALUE (svo_render's gi options without --: bounces, seed, spp, ao-rays, ao-radius,\n"
+            "      photons, final-gather, radius, cone-res, cones, cone-aperture, cone-bounces, cone-sun-angle;\n"
+            "      on|off: cone-isotropic, cone-ao, cone-half, cone-shadows, cone-no-specular) |\n"
             "      stats (prints the render scenes made and the node words and records uploaded) |\n"
             "      probes bake RES SPP [GX GY GZ] (on the GPU, in steps between frames; the script waits) |\n"
             "      probes grid on|off | probes show N (the panel's maps) | probes save FILE.probes | probes cancel\n"
@@ -570,6 +575,7 @@ static void set_scene(app* a, vx_svo_scene* s) {
     a->sel = NO_SEL;
     a->sel_light = NO_SEL;
     a->light_step_for = NO_SEL;
+    a->mat_step_for = NO_SEL;
     a->light_serial++;
     a->op = 0;
     a->anim_frame = 0;
@@ -927,7 +933,7 @@ void sv_undo(app* a, bool redo) {
     }
     if (a->sel != NO_SEL && a->sel >= a->scene.instance_count) a->sel = NO_SEL;
     if (a->sel_light != NO_SEL && a->sel_light >= a->scene.light_count) a->sel_light = NO_SEL;
-    a->light_step_for = NO_SEL; /* the next light edit is a step of its own */
+    a->light_step_for = a->mat_step_for = NO_SEL; /* the next light or material edit is a step of its own */
     a->light_serial++;          /* the step may hold other lights */
     /* the step just swapped went to the other list: did it hold a model? */
     const ved_snapshot* sn = redo ? &a->ed.undo[a->ed.undo_count - 1] : &a->ed.redo[a->ed.redo_count - 1];
@@ -955,6 +961,77 @@ bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
     a->scene.lights[l] = *t;
     a->light_serial++;
     a->light_step_for = merge ? l : NO_SEL, a->light_step = a->ed.serial;
+    return true;
+}
+
+/* After the materials changed (an edit; undo and redo go through
+ * update_instances, which does the same): the gi methods read them when made
+ * (metal and glass, emission) and the frame renderer's emission table. */
+static void materials_changed(app* a) {
+    sv_probe_bake_cancel(a, "the materials changed");
+    vx_frame_renderer* fr = a->fr;
+    a->fr = NULL;
+    drop_passes(a); /* the gi methods; the frame renderer keeps its buffers and frames in flight */
+    a->fr = fr;
+    vx_error err = {0};
+    if (a->fr && vx_frame_renderer_update_scene(a->fr, &a->scene, &err)) {
+        vx_frame_renderer_destroy(a->fr);
+        a->fr = NULL;
+    }
+    if (!a->fr && a->rs && vx_frame_renderer_create(a->rs, &a->scene, &a->fr, &err))
+        sv_message(a, true, "pass pipeline: %s", err.msg);
+}
+
+bool sv_set_material(app* a, uint32_t id, const char* field, const char* value, bool merge) {
+    const char* keys[2];
+    char values[2][32], why[256];
+    uint32_t n;
+    if (!sv_material_field(field, value, keys, values, &n, why, sizeof why)) {
+        sv_message(a, true, "material %u: %s", id, why);
+        return false;
+    }
+    /* nothing to do when every pair is there already */
+    const vx_svo_material* m = NULL;
+    for (uint32_t i = 0; i < a->scene.material_count && !m; i++)
+        if (a->scene.materials[i].id == id) m = &a->scene.materials[i];
+    bool same = true;
+    for (uint32_t k = 0; k < n; k++) {
+        const char* v = vx_svo_material_get(m, keys[k]);
+        same = same && v && !strcmp(v, values[k]);
+    }
+    if (same) return true;
+    bool merged = merge && a->mat_step_for == id && a->mat_step == a->ed.serial && a->ed.undo_count > 0 &&
+                  a->ed.redo_count == 0;
+    vx_error err = {0};
+    if (!merged) {
+        if (ved_begin_materials(&a->ed, &err)) {
+            sv_message(a, true, "%s", err.msg);
+            return false;
+        }
+    }
+    for (uint32_t k = 0; k < n; k++)
+        if (ved_material_set(&a->scene, id, keys[k], values[k], &err)) {
+            sv_message(a, true, "%s", err.msg); /* out of memory: the pairs set so far stay (an undo step) */
+            break;
+        }
+    a->mat_step_for = merge ? id : NO_SEL, a->mat_step = a->ed.serial;
+    materials_changed(a);
+    if (a->o.verbose) printf("%s: material %u %s %s\n", vx_tool_name, id, field, value);
+    return true;
+}
+
+bool sv_set_gi_option(app* a, const char* name, const char* value) {
+    char why[320];
+    if (!sv_gi_option(&a->gis, name, value, why, sizeof why)) {
+        sv_message(a, true, "gi: %s", why);
+        return false;
+    }
+    /* the gi methods are made with these at the next frame */
+    vx_frame_renderer* fr = a->fr;
+    a->fr = NULL;
+    drop_passes(a);
+    a->fr = fr;
+    a->timing_count = 0;
     return true;
 }
 
@@ -1254,18 +1331,21 @@ static vx_result frame_desc(app* a, const vx_render_desc* d, bool on_gpu, vx_fra
     a->gi_light_serial = a->light_serial;
     bool made = a->pgi || a->cgi || a->phgi;
     if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made && !strcmp(a->passes.gi, "cones")) {
-        vx_cone_desc cd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
-                           .light_count = a->scene.light_count};
+        /* the render panel's settings (svo_render's --cone-*), the file's lights and sky */
+        vx_cone_desc cd = a->gis.cone;
+        cd.sky_dir = sky, cd.sky_map = sky_map, cd.lights = a->scene.lights, cd.light_count = a->scene.light_count;
         vx_result r = vx_cone_gi_create(a->rs, &a->scene, &cd, &a->gm, &a->cgi, err);
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made && !strcmp(a->passes.gi, "photons")) {
-        /* svo_render's gi=photons with its defaults (photons.h), the file's lights and sky */
-        vx_photon_desc pd = {.sky_dir = sky, .sky_map = sky_map, .lights = a->scene.lights,
-                             .light_count = a->scene.light_count};
+        /* svo_render's gi=photons with the render panel's settings (--photons, --radius, --final-gather, --seed;
+         * zero: photons.h's defaults), the file's lights and sky */
+        vx_photon_desc pd = a->gis.photon;
+        pd.seed = a->gis.seed;
+        pd.sky_dir = sky, pd.sky_map = sky_map, pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_photon_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, &pd, &a->gm, &a->phgi, err);
         if (r) return r;
     } else if (vx_pass_list_has(&a->passes, VX_PASS_GI) && !made) {
-        vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map};
+        vx_probe_render_desc pd = {.sky = sky, .sky_map = sky_map, .bounces = a->gis.bounces, .seed = a->gis.seed};
         pd.lights = a->scene.lights, pd.light_count = a->scene.light_count;
         vx_result r = vx_probe_gi_create(a->rs, &a->scene, a->have_probes ? &a->probes : NULL, a->passes.gi, &pd,
                                          &a->gm, &a->pgi, err);
@@ -1274,8 +1354,19 @@ static vx_result frame_desc(app* a, const vx_render_desc* d, bool on_gpu, vx_fra
     vx_frame_desc fd = vx_frame_desc_defaults();
     fd.base = *d;
     fd.base.mode = VX_RENDER_COLOR;
-    fd.base.spp = 0;
+    fd.base.spp = a->gis.spp; /* 0: the pipeline's default (1, or 8 with aa or dof) */
+    fd.seed = a->gis.seed;
+    fd.ao_rays = a->gis.ao_rays, fd.ao_radius = a->gis.ao_radius;
     fd.passes = &a->passes;
+    if (a->gis.cone.shadows && vx_pass_list_has(&a->passes, VX_PASS_GI) && !strcmp(a->passes.gi, "cones")) {
+        /* cone shadows: the gi pass brings the direct light, so no direct pass (as svo_render drops it) */
+        a->passes_run = a->passes;
+        uint32_t k = 0;
+        for (uint32_t j = 0; j < a->passes.count; j++)
+            if (a->passes.kinds[j] != VX_PASS_DIRECT) a->passes_run.kinds[k++] = a->passes.kinds[j];
+        a->passes_run.count = k;
+        fd.passes = &a->passes_run;
+    }
     fd.gi = a->pgi || a->cgi || a->phgi ? &a->gm : NULL;
     fd.want_ids = d->want_hits;
     fd.no_readback = on_gpu; /* the image stays on the GPU for vx_display */
@@ -2043,6 +2134,9 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
         else if (!vx_tool_parse_u32(tok[1], &n)) BAD();
         else if (c[3] == 'l') sv_set_layer(a, n);
         else sv_set_model(a, n);
+    } else if (!strcmp(c, "vsync")) { /* the render panel's checkbox, key V */
+        if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
+        vp_set_vsync(a->p, !strcmp(tok[1], "on"));
     } else if (!strcmp(c, "overlay")) {
         if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
         a->overlay = !strcmp(tok[1], "on");
@@ -2116,6 +2210,13 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
             return false;
         }
         if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
+    } else if (!strcmp(c, "material")) {
+        uint32_t id;
+        if (nt != 4 || !vx_tool_parse_u32(tok[1], &id) || id > 65535) BAD();
+        if (!sv_set_material(a, id, tok[2], tok[3], false)) return false; /* an undo step of its own */
+    } else if (!strcmp(c, "gi")) {
+        if (nt != 3) BAD();
+        if (!sv_set_gi_option(a, tok[1], tok[2])) return false;
     } else if (!strcmp(c, "stats") && nt == 1) {
         vx_render_scene_stats st;
         vx_render_scene_get_stats(a->rs, &st);
@@ -2239,6 +2340,21 @@ static int run(app* a) {
         }
         if (a->o.screenshot) break;
     }
+    if (a->disp && a->frames_recorded) {
+        /* the frames a batch still holds go to the screen; with -v what became of the frames in flight */
+        vx_error derr = {0};
+        if (batch_drain(a, &derr)) fprintf(stderr, "%s: %s\n", vx_tool_name, derr.msg);
+        vx_display_times dt;
+        vx_display_frame_times(a->disp, &dt);
+        vp_present_counts pc;
+        vp_get_present_counts(a->p, &pc);
+        if (a->o.verbose)
+            printf("%s: frames in flight: %llu recorded, %llu submitted in %llu vkQueueSubmit calls, %llu presented "
+                   "(%llu out of order, %u still queued)\n",
+                   vx_tool_name, (unsigned long long)a->frames_recorded, (unsigned long long)dt.frames_submitted,
+                   (unsigned long long)dt.submits, (unsigned long long)pc.presented, (unsigned long long)pc.out_of_order,
+                   pc.queued);
+    }
     if (a->o.bench && frames) {
         double sum = 0; /* the mean too: with --batch the frames come in bursts, so the median is not the rate */
         for (uint32_t k = 0; k < frames; k++) sum += bench[k];
@@ -2319,7 +2435,8 @@ int main(int argc, char** argv) {
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
     a.sel_light = NO_SEL;
-    a.light_step_for = NO_SEL;
+    a.light_step_for = a.mat_step_for = NO_SEL;
+    a.mat_sel = 1; /* the properties panel's material: palette entry 1 */
     a.name_for = NO_SEL;
     a.pick_op = -1;
     a.bake_res_i = 1, a.bake_spp = 8, a.bake_grid = 4; /* the probe panel's bake: res 32, 8 spp, 4^3 probes */

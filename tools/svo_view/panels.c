@@ -4,6 +4,7 @@
 #include <GLFW/glfw3.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <vulkan/vulkan.h> /* the swapchain's layout for the panels drawn on the GPU */
 
@@ -222,7 +223,118 @@ static void light_props(app* a) {
     }
 }
 
+/* The material of a palette index or material id (docs/FORMAT.md 4.1): its
+ * type and parameters as the scene's dictionary has them, each edit through
+ * sv_set_material (the script command `material ID FIELD VALUE`). */
+static void material_props(app* a) {
+    int id = (int)(a->mat_sel < 256 ? a->mat_sel : 255);
+    if (ui_slider_int("id (palette index / material)", &id, 0, 255)) a->mat_sel = (uint32_t)id;
+    if (a->scene.has_palette && ui_button("the brush's palette entry")) a->mat_sel = a->brush.palette ? a->brush.palette : 1;
+    const vx_svo_material* m = NULL;
+    for (uint32_t i = 0; i < a->scene.material_count && !m; i++)
+        if (a->scene.materials[i].id == a->mat_sel) m = &a->scene.materials[i];
+    vx_material r = vx_svo_material_resolve(m); /* defaults where the dictionary has no key */
+    static const char* const types[4] = {"diffuse", "metal", "glass", "emit"};
+    const char* t = vx_svo_material_get(m, "_type");
+    int type = 0;
+    for (int k = 1; k < 4; k++)
+        if (t && t[0] == '_' && !strcmp(t + 1, types[k])) type = k;
+    ui_text("material %u: %s%s", a->mat_sel, m ? "" : "(none in the file: diffuse) ", r.emission > 0 ? "emissive" : "");
+    char v[32];
+    if (ui_combo("type", &type, types, 4)) sv_set_material(a, a->mat_sel, "type", types[type], false);
+    /* each drag is one undo step (merged) */
+    static const struct {
+        const char* label;
+        const char* field;
+        double speed, lo, hi;
+    } f[] = {{"roughness", "rough", 0.01, 0, 1}, {"metalness", "metal", 0.01, 0, 1}, {"specular", "spec", 0.01, 0, 1},
+             {"IOR", "ior", 0.01, 1, 4},          {"transmission", "trans", 0.01, 0, 1},
+             {"emission (_emit)", "emit", 0.01, 0, 1e6}, {"flux (2^flux)", "flux", 0.05, 0, 16}};
+    double emit = 0, flux = 0;
+    const char* e = vx_svo_material_get(m, "_emit");
+    const char* x = vx_svo_material_get(m, "_flux");
+    if (e) emit = strtod(e, NULL);
+    if (x) flux = strtod(x, NULL);
+    double val[7] = {r.roughness, r.metalness, r.specular, r.ior, r.transmission, emit, flux};
+    for (int k = 0; k < 7; k++) {
+        if (k == 1 && type != 1) continue; /* metalness: metal */
+        if ((k == 3 || k == 4) && type != 2) continue; /* IOR, transmission: glass */
+        double d = val[k];
+        if (ui_drag_double(f[k].label, &d, f[k].speed, f[k].lo, f[k].hi) && d != val[k]) {
+            snprintf(v, sizeof v, "%.4g", d);
+            sv_set_material(a, a->mat_sel, f[k].field, v, true);
+        }
+    }
+    ui_text("emission: colour x %g", r.emission);
+}
+
 /* ---- render and statistics -------------------------------------------------------------- */
+
+/* The gi method's settings as svo_render has them (settings.h; the script
+ * command `gi OPTION VALUE`); shown for the method in the pass list. */
+static void gi_settings(app* a) {
+    const sv_gi_settings* g = &a->gis;
+    bool has = vx_pass_list_has(&a->passes, VX_PASS_GI);
+    const char* m = has ? a->passes.gi : "none";
+    char v[32];
+    int i;
+    double d;
+    bool b;
+#define SET(name, ...) (snprintf(v, sizeof v, __VA_ARGS__), sv_set_gi_option(a, name, v))
+    ui_text("method: %s", m);
+    i = (int)(g->spp ? g->spp : 0);
+    if (ui_slider_int("samples (0: default)", &i, 0, 64) && i > 0) SET("spp", "%d", i);
+    i = (int)g->seed;
+    if (ui_slider_int("seed", &i, 0, 1000)) SET("seed", "%d", i);
+    if (vx_pass_list_has(&a->passes, VX_PASS_AO)) {
+        i = (int)(g->ao_rays ? g->ao_rays : 4);
+        if (ui_slider_int("ao rays", &i, 1, 64)) SET("ao-rays", "%d", i);
+    }
+    if (!strcmp(m, "pathtrace")) {
+        i = (int)(g->bounces ? g->bounces : 2);
+        if (ui_slider_int("bounces", &i, 1, 16)) SET("bounces", "%d", i);
+    } else if (!strcmp(m, "photons")) {
+        vx_photon_desc D = vx_photon_desc_defaults();
+        i = (int)(g->photon.photons ? g->photon.photons : D.photons);
+        if (ui_slider_int("photons a pass", &i, 1000, 4000000)) SET("photons", "%d", i);
+        i = (int)g->photon.final_gather;
+        if (ui_slider_int("final gather rays", &i, 0, 64)) SET("final-gather", "%d", i);
+        d = g->photon.radius;
+        ui_text("radius: %s", d > 0 ? "" : "0 = scene diagonal / 100");
+        if (ui_drag_double("radius (world)", &d, 0.01, 0, 1e6) && d > 0) SET("radius", "%.6g", d);
+    } else if (!strcmp(m, "cones")) {
+        vx_cone_desc D = vx_cone_desc_defaults();
+        i = (int)(g->cone.res ? g->cone.res : D.res);
+        if (ui_slider_int("volume res", &i, 2, VX_CONE_RES_MAX)) SET("cone-res", "%d", i);
+        i = (int)(g->cone.cones ? g->cone.cones : D.cones);
+        if (ui_slider_int("cones", &i, 1, VX_CONE_CONES_MAX)) SET("cones", "%d", i);
+        d = g->cone.aperture > 0 ? g->cone.aperture : 0;
+        if (ui_drag_double("aperture (deg, 0: auto)", &d, 0.1, 0, 88.9) && d > 0) SET("cone-aperture", "%.6g", d);
+        i = (int)(g->cone.bounces ? g->cone.bounces : D.bounces);
+        if (ui_slider_int("volume bounces", &i, 1, 4)) SET("cone-bounces", "%d", i);
+        b = g->cone.isotropic;
+        if (ui_checkbox("isotropic", &b)) SET("cone-isotropic", "%s", b ? "on" : "off");
+        b = g->cone.half_res;
+        if (ui_checkbox("half resolution", &b)) SET("cone-half", "%s", b ? "on" : "off");
+        b = g->cone.shadows;
+        if (ui_checkbox("cone shadows (no direct pass)", &b)) SET("cone-shadows", "%s", b ? "on" : "off");
+        if (g->cone.shadows) {
+            d = g->cone.sun_angle > 0 ? g->cone.sun_angle : D.sun_angle;
+            if (ui_drag_double("sun angle (deg)", &d, 0.05, 0.01, 29.9)) SET("cone-sun-angle", "%.6g", d);
+        }
+        b = g->cone.no_specular;
+        if (ui_checkbox("no specular cones", &b)) SET("cone-no-specular", "%s", b ? "on" : "off");
+        b = g->cone.output == VX_CONE_OUTPUT_AO;
+        if (ui_checkbox("AO as the gi image", &b)) SET("cone-ao", "%s", b ? "on" : "off");
+    } else if (has) {
+        ui_text("(the probes' own settings: svo_bake's; see the Probes panel)");
+    }
+#undef SET
+    char line[320];
+    sv_gi_options_format(g, line, sizeof line);
+    ui_text("svo_render:%s", line[0] ? line : " (defaults)");
+}
+
 
 static void render_panel(app* a) {
     static const char* const modes[VX_RENDER_MODE_NUM] = {"color", "albedo", "normal", "depth", "instance", "iterations"};
@@ -256,6 +368,7 @@ static void render_panel(app* a) {
     ui_drag_double("exposure (stops, tonemap)", &a->exposure, 0.05, -16, 16);
     bool vs = vp_vsync(a->p);
     if (ui_checkbox("vsync", &vs)) vp_set_vsync(a->p, vs);
+    if (ui_collapsing("GI settings", false)) gi_settings(a);
 }
 
 static void stats_panel(app* a) {
@@ -441,6 +554,7 @@ void sv_panels_draw(app* a, vf_canvas* cv) {
         }
         ui_separator();
         if (ui_collapsing("Voxel editing", a->voxel_mode)) brush_panel(a);
+        if (ui_collapsing("Material", false)) material_props(a);
     }
     ui_window_end();
     if (ui_window_begin("Render", W - rw, 0, rw, H * 0.3f)) render_panel(a);

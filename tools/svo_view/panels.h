@@ -2,8 +2,8 @@
  * ui.h shim): an outliner (layers, models, instances, lights: visibility,
  * select), properties (an instance's cell position, quarter turns, mirrors,
  * duplicate/delete/hide, voxel brush and palette; a light's type, colour,
- * intensity, range, position), a render panel (mode, passes, GI method,
- * exposure, vsync), statistics (per-pass GPU times of the last frames as
+ * intensity, range, position; a material's type and parameters), a render
+ * panel (mode, passes, GI method and its settings, exposure, vsync), statistics (per-pass GPU times of the last frames as
  * stacked bars, rays per second, memory) and, for an animation, playback
  * (play, pause, step, scrub, frames per second). Every action goes through
  * the same sv_* function as the key or script command that does it.

@@ -41,6 +41,7 @@ struct vp {
     uint32_t npend;
     uint32_t pend_image[VP_MAX_IMAGES];
     uint64_t pend_frame[VP_MAX_IMAGES];
+    uint64_t presented, out_of_order, last_presented; /* vp_get_present_counts */
     VkFence fence;
     VkCommandPool pool;
     VkCommandBuffer cmd;
@@ -582,10 +583,21 @@ static vx_result present_one(vp* p, uint32_t idx, vx_error* err) {
     return present_status(p, vkQueuePresentKHR(p->queue, &pi), err);
 }
 
+/* A frame in flight's present: counted, and its order checked. */
+static vx_result present_frame(vp* p, uint32_t idx, uint64_t frame, vx_error* err) {
+    if (p->presented && frame <= p->last_presented) p->out_of_order++;
+    p->presented++, p->last_presented = frame;
+    return present_one(p, idx, err);
+}
+
+void vp_get_present_counts(const vp* p, vp_present_counts* out) {
+    *out = (vp_present_counts){.presented = p->presented, .out_of_order = p->out_of_order, .queued = p->npend};
+}
+
 vx_result vp_present_acquired(vp* p, vx_error* err) {
     if (!p->frame_acquired) return VX_OK;
     p->frame_acquired = false;
-    if (p->batch <= 1) return present_one(p, p->frame_image, err);
+    if (p->batch <= 1) return present_frame(p, p->frame_image, p->frame_number, err);
     if (p->npend == VP_MAX_IMAGES) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%d presents queued", VP_MAX_IMAGES);
     p->pend_image[p->npend] = p->frame_image, p->pend_frame[p->npend] = p->frame_number;
     p->npend++;
@@ -598,7 +610,7 @@ vx_result vp_present_submitted(vp* p, uint64_t submitted, vx_error* err) {
     uint32_t k = 0;
     vx_result r = VX_OK;
     for (; k < p->npend && p->pend_frame[k] < submitted; k++) {
-        vx_result rk = present_one(p, p->pend_image[k], err);
+        vx_result rk = present_frame(p, p->pend_image[k], p->pend_frame[k], err);
         if (!r) r = rk;
     }
     memmove(p->pend_image, p->pend_image + k, (p->npend - k) * sizeof p->pend_image[0]);

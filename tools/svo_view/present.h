@@ -94,6 +94,15 @@ vx_result vp_present_acquired(vp* p, vx_error* err);
  * display submit what it holds (vx_display_wait) and presents it first. */
 void vp_set_frame_number(vp* p, uint64_t frame);
 vx_result vp_present_submitted(vp* p, uint64_t submitted, vx_error* err);
+/* What became of the frames in flight's presents (vp_present_acquired and
+ * vp_present_submitted): presents made, those whose frame number was not
+ * above the one before (0 when every frame went to the screen in the order
+ * it was recorded), and presents still queued. */
+typedef struct vp_present_counts {
+    uint64_t presented, out_of_order;
+    uint32_t queued;
+} vp_present_counts;
+void vp_get_present_counts(const vp* p, vp_present_counts* out);
 bool vp_stale(vp* p);
 
 #endif
