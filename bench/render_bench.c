@@ -72,6 +72,7 @@
 
 typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
+    double cells_vx; /* brick DDA cells per ray (not in steps_vx) */
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
     double cpu_vx, cpu_es, cpu_sh; /* process CPU seconds per frame (--cpu-time); sh: primary + shadow */
@@ -271,13 +272,14 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         free(tdepth), free(tsteps);
     }
     size_t hits = 0, ent_vx = 0, ent_es = 0, agree = 0;
-    double st_vx = 0, st_es = 0;
+    double st_vx = 0, st_es = 0, cl_vx = 0;
     for (size_t i = 0; i < npx; i++) {
         const vx_render_hit* h = &img.hits[i];
         bool hv = h->instance != VX_RENDER_NO_HIT;
         hits += hv;
         ent_vx += h->iterations > 0;
         st_vx += h->iterations;
+        cl_vx += h->brick_cells;
         if (!es) continue;
         ent_es += esteps[i] >> 31;
         st_es += esteps[i] & 0x7FFFFFFFu;
@@ -317,7 +319,7 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     d.mode = VX_RENDER_DEPTH;
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
-    out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx;
+    out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx, out->cells_vx = cl_vx / npx;
     out->enter_es = (double)ent_es / npx, out->steps_es = st_es / npx;
     out->agree = (double)agree / npx;
     d.want_hits = false;
@@ -515,6 +517,9 @@ int main(int argc, char** argv) {
         uint64_t vx_bytes = 0;
         for (uint32_t i = 0; i < s.model_count; i++)
             vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
+        vx_render_scene_stats rst;
+        vx_render_scene_get_stats(rs, &rst);
+        vx_bytes += rst.brick_bytes; /* the brick table (level-2 nodes' masks) */
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
@@ -590,6 +595,10 @@ int main(int argc, char** argv) {
                                  esp ? r.cpu_es / r.cpu_vx : 0.0, px / r.cpu_sh * U);
                     char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
+                    if (r.cells_vx > 0) {
+                        size_t at = strlen(kl);
+                        snprintf(kl + at, sizeof kl - at, "  [brick cells/ray %.1f]", r.cells_vx);
+                    }
                     if (r.beam_diff >= 0) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row, %ld in colour]", r.beam_diff,

@@ -20,7 +20,10 @@ typedef struct vx__gpu_model {
 } vx__gpu_model;
 /* EXACT: the trace kernel keeps the ray origin as hi/lo and computes a hit's
  * t from its cube's entry planes (models deeper than VX_RENDER_EXACT_DEPTH) */
-enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
+enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u, VX__MODEL_BRICK = 8u };
+/* BRICK: the model's level-2 descriptors have occupancy masks in the brick
+ * table (trace.comp's binding 11; render_scene.c, brick_table), which the
+ * float trace kernel crosses by a DDA instead of two octree levels. */
 /* FAR (host side; the shaders ignore the bit): the model's node words may
  * hold a far pointer. The trace kernel's FAR constant (id 9) is the OR over
  * the scene's models. */

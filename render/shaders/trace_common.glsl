@@ -101,6 +101,21 @@ layout(constant_id = 5) const uint BEAM = 0u; // block side in pixels; 0: off
 float g_tskip = 0.0;
 #endif
 
+#ifdef TRACE_BRICK
+// Bricks (trace.comp, float variant; issue 21): the walk does not descend
+// into a node of level 2 (4^3 cells) whose 64-bit occupancy the host derived
+// at upload (render_scene.c, brick_table): it crosses the node's cells by a
+// short DDA in registers instead of two octree levels of pushes, loads and
+// pops, and a miss there advances past the node as past an empty child.
+// Model flag 8 marks models with such a table (not after an edit). bricks[]:
+// per 32 node words {bit k: word 32 i + k is a level-2 descriptor with a mask,
+// the index in bricks[] of the first such word's mask}, then the masks (bit
+// x + 4 y + 16 z: cell (x, y, z) of the node, low word first).
+layout(constant_id = 6) const bool BRICK = false;
+layout(std430, binding = 11) readonly buffer Bricks { uvec2 bricks[]; };
+uint g_cells = 0u; // the bricks' DDA steps (hits record)
+#endif
+
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 #ifdef PRECISE
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
@@ -251,6 +266,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     int koff = 0;
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
 #endif
+#ifdef TRACE_BRICK
+    // the scale of the model's level-2 nodes in the model frame (their
+    // cells' scale + 2); in a rebased frame koff more. -100: no bricks (LOD
+    // stops above the cells, so its kernels walk every level)
+    int bscale = (BRICK && !LOD && (m.flags & 8u) != 0u) ? S_MAX - int(m.depth) + 2 : -100;
+    uint brick_node = 0u, brick_bit = 0u;
+    bool brick_hit = false;
+#endif
 
     REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
     REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
@@ -400,6 +423,62 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         break;
                     }
 #endif
+#ifdef TRACE_BRICK
+                    bool brick_miss = false;
+                    if (scale == bscale + koff) {
+                        uint nn = child_node(parent, desc, cbit, nbase);
+                        uvec2 e = bricks[nn >> 5];
+                        uint below = e.x & ((1u << (nn & 31u)) - 1u);
+                        if (((e.x >> (nn & 31u)) & 1u) != 0u) {
+                            uvec2 mk = bricks[e.y + uint(bitCount(below))];
+                            // the first cell as the two pushes would choose
+                            // it (the same expressions), then cell by cell
+                            float c1 = half_ * 0.5;
+                            vec3 p = pos;
+                            int ix = 0, iy = 0, iz = 0;
+                            if (tcen.x > tmin) { ix = 2; p.x += half_; }
+                            if (tcen.y > tmin) { iy = 2; p.y += half_; }
+                            if (tcen.z > tmin) { iz = 2; p.z += half_; }
+                            vec3 tq = p * coef - bias;
+                            vec3 tce = c1 * coef + tq;
+                            if (tce.x > tmin) { ix++; p.x += c1; }
+                            if (tce.y > tmin) { iy++; p.y += c1; }
+                            if (tce.z > tmin) { iz++; p.z += c1; }
+                            // mirrored axes count cells from the far side
+                            uint flip = ((oct & 1) == 0 ? 3u : 0u) | ((oct & 2) == 0 ? 12u : 0u) | ((oct & 4) == 0 ? 48u : 0u);
+                            float tt = tmin;
+                            while (true) {
+                                g_cells++;
+                                tq = p * coef - bias;
+                                float tqm = min(min(tq.x, tq.y), tq.z);
+                                uint b = uint(ix + 4 * iy + 16 * iz) ^ flip;
+                                uint w = b < 32u ? mk.x : mk.y;
+                                if (((w >> (b & 31u)) & 1u) != 0u && tt <= tmax && (DEEP >= 1 || tt <= min(tmax, tqm))) {
+                                    brick_hit = true;
+                                    break;
+                                }
+                                if (tq.x <= tqm) { ix--; p.x -= c1; }
+                                if (tq.y <= tqm) { iy--; p.y -= c1; }
+                                if (tq.z <= tqm) { iz--; p.z -= c1; }
+                                tt = tqm;
+                                if ((ix | iy | iz) < 0) break;
+                            }
+                            if (brick_hit) {
+                                // the cell is the hit leaf; its record after the loop
+                                brick_node = nn;
+                                brick_bit = uint(ix + 4 * iy + 16 * iz) ^ flip;
+                                pos = p;
+                                scale -= 2;
+                                scale_exp2 = c1;
+                                tmin = tt;
+                                hit = true;
+                                break;
+                            }
+                            brick_miss = true; // past the node as past an empty child
+                        }
+                    }
+                    if (!brick_miss) {
+#endif
                     // push
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
@@ -422,6 +501,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
                     loaded = false; if (SENT) desc = 0u;
                     continue;
+#ifdef TRACE_BRICK
+                    }
+#endif
                 }
             }
             // advance; the iteration guard is checked here only: pushes are
@@ -563,6 +645,30 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+#ifdef TRACE_BRICK
+        if (brick_hit && hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
+            // a brick's cell: its record through the level-2 node's
+            // descriptor and, unless the cell's 2^3 child is a leaf, the
+            // level-1 child's
+            uint o = ((brick_bit >> 1) & 1u) | ((brick_bit >> 2) & 2u) | ((brick_bit >> 3) & 4u);
+            uint cc = (brick_bit & 1u) | ((brick_bit >> 1) & 2u) | ((brick_bit >> 2) & 4u);
+            uint dn = nodes[brick_node];
+            uint vn = (dn >> 8) & 0xFFu, ln = dn & 0xFFu;
+            uint blk = brick_node - (dn >> 17);
+            if (FAR && (dn & 0x10000u) != 0u) blk = nbase + nodes[blk];
+            if (((ln >> o) & 1u) != 0u) {
+                attr_rec = nodes[blk + uint(bitCount(vn & ~ln))] + uint(bitCount(vn & ((1u << o) - 1u)));
+            } else {
+                uint n1 = blk + uint(bitCount(vn & ~ln & ((1u << o) - 1u)));
+                uint d1 = nodes[n1];
+                uint b1 = n1 - (d1 >> 17);
+                if (FAR && (d1 & 0x10000u) != 0u) b1 = nbase + nodes[b1];
+                uint v1 = (d1 >> 8) & 0xFFu;
+                attr_rec = nodes[b1 + uint(bitCount(v1 & ~d1 & 0xFFu))] + uint(bitCount(v1 & ((1u << cc) - 1u)));
+            }
+            have_attr = true;
+        } else
+#endif
         if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
