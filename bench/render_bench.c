@@ -8,6 +8,7 @@
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--bricks auto|on|off]
  *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
@@ -53,6 +54,9 @@
  * CPU second): on lavapipe, whose worker threads run the
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
+ * --bricks: the trace kernel's brick walk (level-2 nodes by a walk over
+ * their cell masks; auto: off on CPU devices), rows end "[brick cells/ray N]"
+ * where it ran: the cells and 2^3 children it visited per ray (not in stVX).
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
  * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -98,7 +102,7 @@ static double cpu_now(void) {
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
-            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
+            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--bricks auto|on|off] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -369,7 +373,7 @@ int main(int argc, char** argv) {
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
-    int variant = -1;
+    int variant = -1, bricks = -1;
     const char* files[64];
     int nf = 0;
     for (int i = 1; i < argc; i++) {
@@ -444,6 +448,15 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
             i++;
             variant = !strcmp(argv[i], "float") ? 0 : !strcmp(argv[i], "precise") ? 1 : -1;
+        } else if (!strcmp(argv[i], "--bricks") && i + 1 < argc) {
+            i++;
+            if (!strcmp(argv[i], "auto")) bricks = -1;
+            else if (!strcmp(argv[i], "on")) bricks = 1;
+            else if (!strcmp(argv[i], "off")) bricks = 0;
+            else {
+                fprintf(stderr, "render_bench: --bricks takes auto, on or off, not %s\n", argv[i]);
+                return 2;
+            }
         } else if (argv[i][0] == '-') {
             fprintf(stderr, "render_bench: unknown option %s\n", argv[i]);
             usage(stderr, argv[0]);
@@ -514,6 +527,7 @@ int main(int argc, char** argv) {
             continue;
         }
         vx__render_scene_force_precise(rs, variant);
+        vx__render_scene_force_bricks(rs, bricks);
         uint64_t vx_bytes = 0;
         for (uint32_t i = 0; i < s.model_count; i++)
             vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);

@@ -74,6 +74,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
+/* The brick walk (issue 21): -1 by device (off on CPU devices), 0 off, 1 on
+ * where the scene has bricks (tests, benchmarks). */
+void vx__render_scene_force_bricks(vx_render_scene* rs, int bricks);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);

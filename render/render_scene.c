@@ -50,6 +50,7 @@ struct vx_render_scene {
     bool far;      /* the trace kernel's FAR constant: some model may hold a far pointer */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
+    int force_bricks;  /* -1: by device (off on CPU devices); 0/1 forced (tests, benchmarks) */
     /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
     const uint32_t* alt_spv;
     size_t alt_size;
@@ -156,7 +157,8 @@ static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
 /* Bricks (issue 21): most of a ray's octree steps are pushes, advances and
  * pops in the last two levels. For every descriptor that some path from the
  * root reaches at level 2 (a node of 4^3 cells), the table holds the node's
- * 64 cells as a mask (bit x + 4 y + 16 z), derived from its descriptor and
+ * 64 cells as a mask (byte o: child o's cells, bit c cell c of it, in the
+ * octant order of FORMAT.md), derived from its descriptor and
  * its level-1 children's (lossless: a leaf child is 8 set cells, a level-1
  * descriptor's valid mask its cells); trace.comp crosses such a node by a
  * DDA over the mask. A word reached at level 2 and elsewhere at another level
@@ -205,12 +207,7 @@ static uint64_t brick_mask(const vx_svo_model* m, uint32_t i) {
             uint32_t c = blk + k++;
             cells = c < i ? (m->nodes[c] >> 8) & 0xFFu : 0xFFu; /* inconsistent: conservative */
         }
-        for (uint32_t cc = 0; cc < 8; cc++) {
-            if (!((cells >> cc) & 1u)) continue;
-            uint32_t x = (o & 1u) * 2 + (cc & 1u), y = ((o >> 1) & 1u) * 2 + ((cc >> 1) & 1u);
-            uint32_t z = ((o >> 2) & 1u) * 2 + ((cc >> 2) & 1u);
-            mask |= 1ull << (x + 4 * y + 16 * z);
-        }
+        mask |= (uint64_t)cells << (8 * o);
     }
     return mask;
 }
@@ -515,6 +512,7 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
+    rs->force_bricks = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
@@ -866,6 +864,18 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
     rs->alt_beam = beam_spirv && beam_bytes ? beam_spirv : NULL, rs->alt_beam_size = beam_bytes;
 }
 
+/* The trace kernel's BRICK constant. Off by default on CPU devices
+ * (lavapipe): their SIMD lanes run the brick walk masked whenever one lane
+ * needs it (issue 21: 0.6-0.85 of the rays per CPU second without). */
+static bool use_bricks(const vx_render_scene* rs) {
+    if (!rs->brick || rs->force_bricks == 0) return false;
+    return rs->force_bricks > 0 || !vx_gpu_is_cpu(rs->gpu);
+}
+
+void vx__render_scene_force_bricks(vx_render_scene* rs, int bricks) {
+    if (rs) rs->force_bricks = bricks < 0 ? -1 : bricks > 0;
+}
+
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
@@ -969,7 +979,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
     /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
     uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam,
-                         !precise && rs->brick, 0, precise ? 0 : rs->deep, rs->far};
+                         !precise && use_bricks(rs), 0, precise ? 0 : rs->deep, rs->far};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     size_t spv_size;

@@ -684,6 +684,7 @@ static void test_bricks(void) {
         vx_error err = {0};
         REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
         vx__render_scene_force_precise(rs, 0);
+        vx__render_scene_force_bricks(rs, 1); /* on CPU devices too (off there by default) */
         vx_render_scene_stats st;
         vx_render_scene_get_stats(rs, &st);
         CHECKF(st.brick_bytes > 0, "no brick table for a %u-level model", s.models[0].depth);
