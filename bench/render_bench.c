@@ -8,7 +8,6 @@
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
- *                [--bricks auto|on|off]
  *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
@@ -54,9 +53,6 @@
  * CPU second): on lavapipe, whose worker threads run the
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
- * --bricks: the trace kernel's brick walk (level-2 nodes by a walk over
- * their cell masks; auto: off on CPU devices), rows end "[brick cells/ray N]"
- * where it ran: the cells and 2^3 children it visited per ray (not in stVX).
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
  * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -76,7 +72,6 @@
 
 typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;
-    double cells_vx; /* brick DDA cells per ray (not in steps_vx) */
     /* the 64-tree prototype per kernel variant: steps, time, depth agreement with ESVO */
     double steps_t[2], sec_t[2], agree_t[2];
     double cpu_vx, cpu_es, cpu_sh; /* process CPU seconds per frame (--cpu-time); sh: primary + shadow */
@@ -102,7 +97,7 @@ static double cpu_now(void) {
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
-            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--bricks auto|on|off] [--no-esvo]\n"
+            "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -276,14 +271,13 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         free(tdepth), free(tsteps);
     }
     size_t hits = 0, ent_vx = 0, ent_es = 0, agree = 0;
-    double st_vx = 0, st_es = 0, cl_vx = 0;
+    double st_vx = 0, st_es = 0;
     for (size_t i = 0; i < npx; i++) {
         const vx_render_hit* h = &img.hits[i];
         bool hv = h->instance != VX_RENDER_NO_HIT;
         hits += hv;
         ent_vx += h->iterations > 0;
         st_vx += h->iterations;
-        cl_vx += h->brick_cells;
         if (!es) continue;
         ent_es += esteps[i] >> 31;
         st_es += esteps[i] & 0x7FFFFFFFu;
@@ -323,7 +317,7 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     d.mode = VX_RENDER_DEPTH;
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
-    out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx, out->cells_vx = cl_vx / npx;
+    out->enter_vx = (double)ent_vx / npx, out->steps_vx = st_vx / npx;
     out->enter_es = (double)ent_es / npx, out->steps_es = st_es / npx;
     out->agree = (double)agree / npx;
     d.want_hits = false;
@@ -373,7 +367,7 @@ int main(int argc, char** argv) {
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
-    int variant = -1, bricks = -1;
+    int variant = -1;
     const char* files[64];
     int nf = 0;
     for (int i = 1; i < argc; i++) {
@@ -448,15 +442,6 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
             i++;
             variant = !strcmp(argv[i], "float") ? 0 : !strcmp(argv[i], "precise") ? 1 : -1;
-        } else if (!strcmp(argv[i], "--bricks") && i + 1 < argc) {
-            i++;
-            if (!strcmp(argv[i], "auto")) bricks = -1;
-            else if (!strcmp(argv[i], "on")) bricks = 1;
-            else if (!strcmp(argv[i], "off")) bricks = 0;
-            else {
-                fprintf(stderr, "render_bench: --bricks takes auto, on or off, not %s\n", argv[i]);
-                return 2;
-            }
         } else if (argv[i][0] == '-') {
             fprintf(stderr, "render_bench: unknown option %s\n", argv[i]);
             usage(stderr, argv[0]);
@@ -527,13 +512,9 @@ int main(int argc, char** argv) {
             continue;
         }
         vx__render_scene_force_precise(rs, variant);
-        vx__render_scene_force_bricks(rs, bricks);
         uint64_t vx_bytes = 0;
         for (uint32_t i = 0; i < s.model_count; i++)
             vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
-        vx_render_scene_stats rst;
-        vx_render_scene_get_stats(rs, &rst);
-        vx_bytes += rst.brick_bytes; /* the brick table (level-2 nodes' masks) */
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
@@ -609,10 +590,6 @@ int main(int argc, char** argv) {
                                  esp ? r.cpu_es / r.cpu_vx : 0.0, px / r.cpu_sh * U);
                     char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
-                    if (r.cells_vx > 0) {
-                        size_t at = strlen(kl);
-                        snprintf(kl + at, sizeof kl - at, "  [brick cells/ray %.1f]", r.cells_vx);
-                    }
                     if (r.beam_diff >= 0) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row, %ld in colour]", r.beam_diff,

@@ -231,9 +231,6 @@ typedef struct vx_render_hit {
     float t;
     uint32_t iterations;
     uint32_t flags; /* VX_RENDER_HIT_* */
-    /* GPU float kernel: cells its brick DDA crossed (not counted in
-     * iterations, the octree walk's steps; issue 21) */
-    uint32_t brick_cells;
 } vx_render_hit;
 
 /* CPU reference only: the ray started exactly on a cell boundary or crossed
@@ -329,9 +326,6 @@ typedef struct vx_render_scene_stats {
      * under a still camera: its row and box), all of them when the camera
      * moved (the rows are relative to it) */
     uint64_t table_rows_uploaded;
-    /* GPU bytes of the brick table (level-2 nodes' cell masks, made at
-     * creation; 0 where no model has level-2 nodes) */
-    uint64_t brick_bytes;
 } vx_render_scene_stats;
 void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than

@@ -20,10 +20,7 @@ typedef struct vx__gpu_model {
 } vx__gpu_model;
 /* EXACT: the trace kernel keeps the ray origin as hi/lo and computes a hit's
  * t from its cube's entry planes (models deeper than VX_RENDER_EXACT_DEPTH) */
-enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u, VX__MODEL_BRICK = 8u };
-/* BRICK: the model's level-2 descriptors have occupancy masks in the brick
- * table (trace.comp's binding 11; render_scene.c, brick_table), which the
- * float trace kernel crosses by a DDA instead of two octree levels. */
+enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
 /* FAR (host side; the shaders ignore the bit): the model's node words may
  * hold a far pointer. The trace kernel's FAR constant (id 9) is the OR over
  * the scene's models. */
@@ -74,9 +71,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
  * without shaderFloat64), 0 forces the float one, -1 restores the choice by
  * model depth (VX_RENDER_PRECISE_DEPTH). */
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
-/* The brick walk (issue 21): -1 by device (off on CPU devices), 0 off, 1 on
- * where the scene has bricks (tests, benchmarks). */
-void vx__render_scene_force_bricks(vx_render_scene* rs, int bricks);
 /* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
  * variant of shaders/trace.comp with the same bindings and constants; NULL
  * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);

@@ -50,7 +50,6 @@ struct vx_render_scene {
     bool far;      /* the trace kernel's FAR constant: some model may hold a far pointer */
     bool precise;  /* float64 variant: a model deeper than VX_RENDER_PRECISE_DEPTH */
     int force_precise; /* -1: by depth; 0/1 forced (tests, benchmarks) */
-    int force_bricks;  /* -1: by device (off on CPU devices); 0/1 forced (tests, benchmarks) */
     /* benchmarks: the float trace kernel from other SPIR-V (NULL: the built-in one) */
     const uint32_t* alt_spv;
     size_t alt_size;
@@ -61,8 +60,6 @@ struct vx_render_scene {
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
     vx__buffer beam; /* the beam pass's eye distance per pixel block */
-    vx__buffer bricks; /* level-2 nodes' occupancy masks (brick_table) */
-    bool brick;        /* the trace kernel's BRICK constant: some model has VX__MODEL_BRICK */
     /* the models' regions and table (vx_render_scene_update_model) */
     region* wreg; /* node words, per model */
     region* creg; /* colour records, per model */
@@ -154,111 +151,6 @@ static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
-/* Bricks (issue 21): most of a ray's octree steps are pushes, advances and
- * pops in the last two levels. For every descriptor that some path from the
- * root reaches at level 2 (a node of 4^3 cells), the table holds the node's
- * 64 cells as a mask (byte o: child o's cells, bit c cell c of it, in the
- * octant order of FORMAT.md), derived from its descriptor and
- * its level-1 children's (lossless: a leaf child is 8 set cells, a level-1
- * descriptor's valid mask its cells); trace.comp crosses such a node by a
- * DDA over the mask. A word reached at level 2 and elsewhere at another level
- * (a DAG block shared across levels) gets the mask of its level-2 meaning,
- * which only the level-2 walk reads. Layout, in uvec2 units: one entry per
- * 32 node words of the scene's buffer {bit k: word 32 i + k has a mask, the
- * unit of the first such word's mask}, then the masks. Masks cost 8 bytes per
- * level-2 node, the directory 1/16 of the node words.
- *
- * mark: per model word, the levels it is reached at (bit l), for levels
- * 2..depth (the walk never reads a mask elsewhere). Words out of range or
- * inconsistent descriptors (a block past the descriptor) end that branch:
- * the table is an accelerator, the walk still checks nothing else. */
-static bool brick_levels(const vx_svo_model* m, uint32_t* mark) {
-    if (m->depth < 3 || m->root >= m->node_count) return false;
-    mark[m->root] = 1u << m->depth;
-    bool any = false;
-    for (uint32_t l = m->depth; l >= 3; l--) {
-        for (uint32_t i = 0; i < m->node_count; i++) {
-            if (!((mark[i] >> l) & 1u)) continue;
-            uint32_t d = m->nodes[i], p = d >> 17;
-            uint32_t inner = ((d >> 8) & 0xFFu) & ~d & 0xFFu;
-            if (!inner || p == 0 || p > i) continue;
-            uint32_t blk = i - p;
-            if (d & 0x10000u) blk = m->nodes[blk];
-            uint32_t nn = (uint32_t)__builtin_popcount(inner);
-            if (blk >= i || nn > i - blk) continue;
-            for (uint32_t k = 0; k < nn; k++) mark[blk + k] |= 1u << (l - 1);
-            if (l == 3) any = true;
-        }
-    }
-    return any;
-}
-
-/* The 64-cell mask of the level-2 descriptor at word i (see brick_levels). */
-static uint64_t brick_mask(const vx_svo_model* m, uint32_t i) {
-    uint32_t d = m->nodes[i], valid = (d >> 8) & 0xFFu, leaf = d & 0xFFu, p = d >> 17;
-    uint32_t blk = p && p <= i ? i - p : i;
-    if (p && p <= i && (d & 0x10000u)) blk = m->nodes[blk];
-    uint64_t mask = 0;
-    uint32_t k = 0;
-    for (uint32_t o = 0; o < 8; o++) {
-        if (!((valid >> o) & 1u)) continue;
-        uint32_t cells = 0xFFu;
-        if (!((leaf >> o) & 1u)) {
-            uint32_t c = blk + k++;
-            cells = c < i ? (m->nodes[c] >> 8) & 0xFFu : 0xFFu; /* inconsistent: conservative */
-        }
-        mask |= (uint64_t)cells << (8 * o);
-    }
-    return mask;
-}
-
-/* The brick table of the scene's models at their offsets gm[i].node_off
- * (words of them in all) into *out (uvec2 units as uint32 pairs, *units of
- * them); sets VX__MODEL_BRICK on the models it covers. */
-static vx_result brick_table(vx_render_scene* rs, const vx_svo_scene* s, vx__gpu_model* gm, uint64_t words,
-                             uint32_t** out, uint64_t* units, vx_error* err) {
-    uint64_t ndir = (words + 31) / 32, nmask = 0;
-    uint32_t* mark = vx_calloc(&rs->alloc, words ? words : 1, 4); /* at the models' offsets */
-    uint32_t* t = NULL;
-    if (!mark) goto nomem;
-    for (uint32_t mi = 0; mi < s->model_count; mi++) {
-        const vx_svo_model* m = &s->models[mi];
-        if (!m->node_count || !m->nodes || !brick_levels(m, mark + gm[mi].node_off)) continue;
-        gm[mi].flags |= VX__MODEL_BRICK;
-        for (uint32_t i = 0; i < m->node_count; i++) nmask += (mark[gm[mi].node_off + i] >> 2) & 1u;
-    }
-    *units = nmask ? ndir + nmask : 1;
-    t = vx_calloc(&rs->alloc, 2 * *units, 4);
-    if (!t) goto nomem;
-    uint64_t at = ndir;
-    for (uint32_t mi = 0; nmask && mi < s->model_count; mi++) {
-        const vx_svo_model* m = &s->models[mi];
-        if (!(gm[mi].flags & VX__MODEL_BRICK)) continue;
-        for (uint32_t i = 0; i < m->node_count; i++) {
-            uint64_t w = (uint64_t)gm[mi].node_off + i;
-            if (!((mark[w] >> 2) & 1u)) continue;
-            uint64_t mk = brick_mask(m, i);
-            t[2 * (w >> 5)] |= 1u << (w & 31);
-            t[2 * at] = (uint32_t)mk, t[2 * at + 1] = (uint32_t)(mk >> 32);
-            at++;
-        }
-    }
-    /* each entry: the unit of its group's first mask (models in order of
-     * their offsets, words in order: the masks are in word order) */
-    at = ndir;
-    for (uint64_t e = 0; nmask && e < ndir; e++) {
-        t[2 * e + 1] = (uint32_t)at;
-        at += (uint64_t)__builtin_popcount(t[2 * e]);
-    }
-    vx_free(&rs->alloc, mark);
-    *out = t;
-    return VX_OK;
-nomem:
-    vx_free(&rs->alloc, mark);
-    return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the brick table of %llu node words",
-                   (unsigned long long)words);
-}
-
 static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     vx_gpu* g = rs->gpu;
     uint64_t words = 0, colors = 0;
@@ -316,15 +208,6 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
         lw->cap = (uint32_t)wcap - lw->off;
         lc->cap = (uint32_t)ccap - lc->off;
     }
-    uint32_t* bt = NULL;
-    uint64_t bunits = 0;
-    if ((r = brick_table(rs, s, gm, words, &bt, &bunits, err))) goto done;
-    for (uint32_t i = 0; i < s->model_count; i++) rs->brick |= (gm[i].flags & VX__MODEL_BRICK) != 0;
-    r = vx__buffer_create(g, bunits * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bricks", &rs->bricks, err);
-    if (!r) r = vx__buffer_upload(g, &rs->bricks, bt, bunits * 8, err);
-    vx_free(&rs->alloc, bt);
-    if (r) goto done;
-    rs->stats.brick_bytes = rs->brick ? bunits * 8 : 0;
     if ((r = vx__buffer_create(g, wcap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "nodes", &rs->nodes, err)) ||
         (r = vx__buffer_upload(g, &rs->nodes, nw, words * 4, err)) ||
         (r = vx__buffer_create(g, ccap * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "colors", &rs->colors, err)) ||
@@ -512,7 +395,6 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
-    rs->force_bricks = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
@@ -530,7 +412,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vkDeviceWaitIdle(g->device);
     vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
                           &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
-                          &rs->inst_boxes, &rs->order_buf, &rs->bricks};
+                          &rs->inst_boxes, &rs->order_buf};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     if (rs->refit_pool) vkDestroyDescriptorPool(g->device, rs->refit_pool, NULL);
     vx_bvh_free(&rs->bvh);
@@ -823,11 +705,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
-    /* the edited model's brick masks are gone (gm.flags above): it is walked level by level */
-    rs->deep = 0, rs->far = false, rs->brick = false;
+    rs->deep = 0, rs->far = false;
     for (uint32_t i = 0; i < rs->model_count; i++)
-        rs->deep = deep_level(rs->deep, &rs->gm[i]), rs->far |= (rs->gm[i].flags & VX__MODEL_FAR) != 0,
-        rs->brick |= (rs->gm[i].flags & VX__MODEL_BRICK) != 0;
+        rs->deep = deep_level(rs->deep, &rs->gm[i]), rs->far |= (rs->gm[i].flags & VX__MODEL_FAR) != 0;
     if (depth > rs->max_depth) rs->max_depth = depth;
     rs->precise = rs->max_depth > VX_RENDER_PRECISE_DEPTH;
     /* a new size or an emptied (or no longer empty) model changes instance
@@ -862,18 +742,6 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
     if (!rs) return;
     rs->alt_spv = spirv && bytes ? spirv : NULL, rs->alt_size = bytes, rs->alt_tag = tag;
     rs->alt_beam = beam_spirv && beam_bytes ? beam_spirv : NULL, rs->alt_beam_size = beam_bytes;
-}
-
-/* The trace kernel's BRICK constant. Off by default on CPU devices
- * (lavapipe): their SIMD lanes run the brick walk masked whenever one lane
- * needs it (issue 21: 0.6-0.85 of the rays per CPU second without). */
-static bool use_bricks(const vx_render_scene* rs) {
-    if (!rs->brick || rs->force_bricks == 0) return false;
-    return rs->force_bricks > 0 || !vx_gpu_is_cpu(rs->gpu);
-}
-
-void vx__render_scene_force_bricks(vx_render_scene* rs, int bricks) {
-    if (rs) rs->force_bricks = bricks < 0 ? -1 : bricks > 0;
 }
 
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
@@ -978,15 +846,15 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
     /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
-    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam,
-                         !precise && use_bricks(rs), 0, precise ? 0 : rs->deep, rs->far};
+    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+                         precise ? 0 : rs->deep, rs->far};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
-    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11 the bricks */
-    uint32_t nb = precise ? 10 : 12;
+    /* bindings 0-8, 9 the float64 instances, 10 the beam */
+    uint32_t nb = precise ? 10 : 11;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
                                        .spec_count = 10, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -1014,7 +882,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
-                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam, &rs->bricks},
+                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace",
@@ -1282,8 +1150,7 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
 static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t* w = raw + 8 * i;
-        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5],
-                                  .brick_cells = w[6]};
+        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5]};
         memcpy(&hits[i].t, &w[4], 4);
     }
 }

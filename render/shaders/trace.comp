@@ -20,7 +20,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #ifndef PRECISE
 #define TRACE_BEAM
-#define TRACE_BRICK
 #endif
 #define TRACE_SENTINEL
 #include "trace_common.glsl"
@@ -77,9 +76,6 @@ void main() {
         }
 #endif
         g_iter = 0u;
-#ifdef TRACE_BRICK
-        g_cells = 0u;
-#endif
 #ifdef TRACE_BEAM
         if (BEAM > 1u) {
             // slightly before the block's bound: the two passes round differently
@@ -93,10 +89,7 @@ void main() {
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u); // a miss's hits record is written too
         bool hit = trace_scene(o, d, 0.0, false, h);
-        uint prim_iter = g_iter, prim_cells = 0u;
-#ifdef TRACE_BRICK
-        prim_cells = g_cells;
-#endif
+        uint prim_iter = g_iter;
         vec4 c = vec4(0.0);
         vec3 nw = vec3(0.0);
         if (hit) {
@@ -142,7 +135,7 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, prim_cells, 0u);
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, 0u);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);

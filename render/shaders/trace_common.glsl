@@ -101,21 +101,6 @@ layout(constant_id = 5) const uint BEAM = 0u; // block side in pixels; 0: off
 float g_tskip = 0.0;
 #endif
 
-#ifdef TRACE_BRICK
-// Bricks (trace.comp, float variant; issue 21): the walk does not descend
-// into a node of level 2 (4^3 cells) whose 64-bit occupancy the host derived
-// at upload (render_scene.c, brick_table): it walks the node's two levels
-// in registers instead of by pushes, loads and pops through the node words,
-// and a miss there advances past the node as past an empty child.
-// Model flag 8 marks models with such a table (not after an edit). bricks[]:
-// per 32 node words {bit k: word 32 i + k is a level-2 descriptor with a mask,
-// the index in bricks[] of the first such word's mask}, then the masks (byte
-// o: the cells of the node's child o, bit c cell c of it; low word first).
-layout(constant_id = 6) const bool BRICK = false;
-layout(std430, binding = 11) readonly buffer Bricks { uvec2 bricks[]; };
-uint g_cells = 0u; // the bricks' DDA steps (hits record)
-#endif
-
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 #ifdef PRECISE
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
@@ -266,15 +251,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     int koff = 0;
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
 #endif
-#ifdef TRACE_BRICK
-    // the scale of the model's level-2 nodes in the model frame (their
-    // cells' scale + 2); in a rebased frame koff more. -100: no bricks (LOD
-    // stops above the cells, so its kernels walk every level)
-    int bscale = (BRICK && !LOD && (m.flags & 8u) != 0u) ? S_MAX - int(m.depth) + 2 : -100;
-    uint brick_node = 0u, brick_bit = 0u;
-    bool brick_hit = false;
-    uvec2 bk_mask = uvec2(0u);
-#endif
 
     REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
     REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
@@ -424,20 +400,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         break;
                     }
 #endif
-#ifdef TRACE_BRICK
-                    if (scale == bscale + koff) {
-                        uint nn = child_node(parent, desc, cbit, nbase);
-                        uvec2 e = bricks[nn >> 5];
-                        if (((e.x >> (nn & 31u)) & 1u) != 0u) {
-                            // into a brick: after the loop, where the
-                            // warp's lanes walk their bricks together
-                            brick_node = nn;
-                            bk_mask = bricks[e.y + uint(bitCount(e.x & ((1u << (nn & 31u)) - 1u)))];
-                            pending = 3;
-                            break;
-                        }
-                    }
-#endif
                     // push
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
@@ -515,131 +477,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             }
         }
 #ifndef PRECISE
-#ifdef TRACE_BRICK
-            if (pending == 3) {
-                // the brick at pos (scale; entered at tmin): its two levels
-                // walked in registers, by the same expressions and decisions
-                // as the octree loop's (so the same cells), without loads,
-                // stack or child indices
-                pending = 0;
-                vec3 tc = pos * coef - bias;
-                float half_ = scale_exp2 * 0.5;
-                vec3 tcen = half_ * coef + tc;
-                // so: the 2^3 child (mirrored octant, as idx), ci: the
-                // cell in it (-1 at the child level); real octant ^ oct7
-                float c1 = half_ * 0.5;
-                int so = 0, ci = -1;
-                vec3 p = pos;
-                if (tcen.x > tmin) { so ^= 1; p.x += half_; }
-                if (tcen.y > tmin) { so ^= 2; p.y += half_; }
-                if (tcen.z > tmin) { so ^= 4; p.z += half_; }
-                float tt = tmin;
-                uint byt = 0u;
-                while (true) {
-                    g_cells++;
-                    vec3 tq = p * coef - bias;
-                    float tqm = min(min(tq.x, tq.y), tq.z);
-                    uint ro = uint(so ^ oct7);
-                    byt = (((ro & 4u) != 0u ? bk_mask.y : bk_mask.x) >> (8u * (ro & 3u))) & 0xFFu;
-                    bool in_ray = tt <= tmax && (DEEP >= 1 || tt <= min(tmax, tqm));
-#ifdef BRICK_FLAT
-                    if (ci < 0) {
-                        // flat: straight to the cell
-                        vec3 tce = c1 * coef + tq;
-                        ci = 0;
-                        if (tce.x > tt) { ci ^= 1; p.x += c1; }
-                        if (tce.y > tt) { ci ^= 2; p.y += c1; }
-                        if (tce.z > tt) { ci ^= 4; p.z += c1; }
-                        continue;
-                    }
-                    if (((byt >> uint(ci ^ oct7)) & 1u) != 0u && in_ray) {
-                        brick_hit = true;
-                        break;
-                    }
-                    int step = 0;
-                    if (tq.x <= tqm) { step ^= 1; p.x -= c1; }
-                    if (tq.y <= tqm) { step ^= 2; p.y -= c1; }
-                    if (tq.z <= tqm) { step ^= 4; p.z -= c1; }
-                    tt = tqm;
-                    ci ^= step;
-                    int cross = ci & step;
-                    so ^= cross;
-                    if ((so & cross) != 0) break;
-#else
-                    if (ci < 0) {
-                        if (byt != 0u && in_ray) {
-                            // push into the 2^3 child
-                            vec3 tce = c1 * coef + tq;
-                            ci = 0;
-                            if (tce.x > tt) { ci ^= 1; p.x += c1; }
-                            if (tce.y > tt) { ci ^= 2; p.y += c1; }
-                            if (tce.z > tt) { ci ^= 4; p.z += c1; }
-                            continue;
-                        }
-                    } else if (((byt >> uint(ci ^ oct7)) & 1u) != 0u && in_ray) {
-                        brick_hit = true;
-                        break;
-                    }
-                    // advance; out of the 2^3 child: to the child
-                    // level (its corner from the octants, exact)
-                    float sz = ci < 0 ? half_ : c1;
-                    int step = 0;
-                    if (tq.x <= tqm) { step ^= 1; p.x -= sz; }
-                    if (tq.y <= tqm) { step ^= 2; p.y -= sz; }
-                    if (tq.z <= tqm) { step ^= 4; p.z -= sz; }
-                    tt = tqm;
-                    if (ci >= 0) {
-                        ci ^= step;
-                        step &= ci;
-                        if (step == 0) continue;
-                        ci = -1;
-                    }
-                    so ^= step;
-                    if ((so & step) != 0) break; // out of the node
-                    p = pos + vec3((so & 1) != 0 ? half_ : 0.0, (so & 2) != 0 ? half_ : 0.0, (so & 4) != 0 ? half_ : 0.0);
-#endif
-                }
-                if (brick_hit) {
-                    // the cell is the hit leaf; its record after the loop
-                    brick_bit = (uint(so ^ oct7) << 3) | uint(ci ^ oct7);
-                    pos = p;
-                    scale -= 2;
-                    scale_exp2 = c1;
-                    tmin = tt;
-                    hit = true;
-                    break;
-                }
-                // a miss: the loop's advance past the node, as past an
-                // empty child
-                float tc_max = min(min(tc.x, tc.y), tc.z);
-                int step = 0;
-                if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
-                if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
-                if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
-                tmin = tc_max;
-                idx ^= step;
-                if ((idx & step) != 0) {
-                    uint diff = 0u;
-                    if ((step & 1) != 0) diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x + scale_exp2);
-                    if ((step & 2) != 0) diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y + scale_exp2);
-                    if ((step & 4) != 0) diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z + scale_exp2);
-                    scale = findMSB(diff);
-                    if (REBASE && scale >= S_MAX && koff != 0) {
-                        pending = 2, rb_step = step;
-                    } else {
-                        if (scale >= S_MAX) break;
-                        scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
-                        parent = uint(stk_node[scale - koff]);
-                        ivec3 sh = floatBitsToInt(pos) >> scale;
-                        pos = intBitsToFloat(sh << scale);
-                        idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
-                        hh = 0.0;
-                        loaded = false; if (SENT) desc = 0u;
-                    }
-                }
-                if (pending == 0) continue;
-            }
-#endif
             if (!REBASE || pending == 0) break;
             if (pending == 1) {
                 // into node N at depth k (the cube pos): rebase
@@ -726,29 +563,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-#ifdef TRACE_BRICK
-        if (brick_hit && hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
-            // a brick's cell: its record through the level-2 node's
-            // descriptor and, unless the cell's 2^3 child is a leaf, the
-            // level-1 child's
-            uint o = brick_bit >> 3, cc = brick_bit & 7u;
-            uint dn = nodes[brick_node];
-            uint vn = (dn >> 8) & 0xFFu, ln = dn & 0xFFu;
-            uint blk = brick_node - (dn >> 17);
-            if (FAR && (dn & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            if (((ln >> o) & 1u) != 0u) {
-                attr_rec = nodes[blk + uint(bitCount(vn & ~ln))] + uint(bitCount(vn & ((1u << o) - 1u)));
-            } else {
-                uint n1 = blk + uint(bitCount(vn & ~ln & ((1u << o) - 1u)));
-                uint d1 = nodes[n1];
-                uint b1 = n1 - (d1 >> 17);
-                if (FAR && (d1 & 0x10000u) != 0u) b1 = nbase + nodes[b1];
-                uint v1 = (d1 >> 8) & 0xFFu;
-                attr_rec = nodes[b1 + uint(bitCount(v1 & ~d1 & 0xFFu))] + uint(bitCount(v1 & ((1u << cc) - 1u)));
-            }
-            have_attr = true;
-        } else
-#endif
         if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;

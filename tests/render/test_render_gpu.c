@@ -626,126 +626,6 @@ static void test_far_pointers(void) {
     }
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
-/* A model of sx x sy x sz cells mixing the brick walk's cases (issue 21): per
- * aligned 4^3 block one of: empty, uniform (a level-2 leaf), random cells
- * with uniform 2^3 children among them (level-1 leaves: the mask's full
- * bytes, their record from the level-2 descriptor's block), or sparse cells. */
-static vx_result brick_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t seed) {
-    size_t cap = (size_t)sx * sy * sz, n = 0;
-    uint32_t* xyz = malloc(cap * 12);
-    uint8_t* pal = malloc(cap);
-    if (!xyz || !pal) return VX_ERR_NOMEM;
-    for (uint32_t z = 0; z < sz; z++)
-        for (uint32_t y = 0; y < sy; y++)
-            for (uint32_t x = 0; x < sx; x++) {
-                uint32_t b4 = (x >> 2) * 73856093u ^ (y >> 2) * 19349663u ^ (z >> 2) * 83492791u ^ seed;
-                uint32_t b2 = (x >> 1) * 2654435761u ^ (y >> 1) * 40503u ^ (z >> 1) * 97u ^ seed;
-                b4 ^= b4 >> 13, b4 *= 0x5bd1e995u, b4 ^= b4 >> 15;
-                b2 ^= b2 >> 13, b2 *= 0x5bd1e995u, b2 ^= b2 >> 15;
-                uint32_t kind = b4 % 8, r = ts_rng(&seed);
-                bool set;
-                uint8_t c = (uint8_t)(1 + r % 255);
-                if (kind == 0) set = false;
-                else if (kind == 1) set = true, c = (uint8_t)(1 + b4 % 251);
-                else if (kind < 5 && b2 % 3 == 0) set = true, c = (uint8_t)(1 + b2 % 253);
-                else set = r % 100 < (kind < 5 ? 40u : 12u);
-                if (!set) continue;
-                xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
-                pal[n++] = c;
-            }
-    uint32_t size[3] = {sx, sy, sz};
-    vx_result r = ts_model(m, size, xyz, pal, n);
-    free(xyz);
-    free(pal);
-    return r;
-}
-
-/* Bricks (issue 21): the float kernel crosses level-2 nodes by a DDA over a
- * 64-cell mask the host derives at upload. Against the CPU reference (cells,
- * depths; albedo through the brick's attribute path, level-1 leaves
- * included; colour with shadow rays) from eight directions (every mirroring
- * of the walk), with far pointers throughout too; the brick path must be
- * taken (cells counted in the hits, a table uploaded); and after an update
- * of the model (bricks off for it: the level-by-level walk, a second path on
- * the same device) the hits must stay those of the brick walk. */
-static void test_bricks(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    for (int lim = 0; lim < 2; lim++) {
-        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
-        vx_svo_model m;
-        vx_result br = brick_model(&m, 30, 27, 33, 1234u + (uint32_t)lim);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
-        REQUIRE(br == VX_OK);
-        CHECK(lim ? far_descs(&m, m.root) > 20 : far_descs(&m, m.root) == 0);
-        vx_svo_scene s;
-        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-        ts_scene(&s, &m, 1, &in, 1);
-        vx_render_scene* rs = NULL;
-        vx_error err = {0};
-        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-        vx__render_scene_force_precise(rs, 0);
-        vx__render_scene_force_bricks(rs, 1); /* on CPU devices too (off there by default) */
-        vx_render_scene_stats st;
-        vx_render_scene_get_stats(rs, &st);
-        CHECKF(st.brick_bytes > 0, "no brick table for a %u-level model", s.models[0].depth);
-        vx_render_image keep[8] = {{0}};
-        for (int v = 0; v < 8; v++) {
-            double ex = v & 1 ? 47 : -17, ey = v & 2 ? 44 : -16, ez = v & 4 ? 51 : -19;
-            vx_render_desc d = cam(ex, ey, ez, 15 + v % 3, 13, 16 - v % 2);
-            d.width = 56, d.height = 44, d.want_hits = true;
-            char nm[64];
-            snprintf(nm, sizeof nm, "bricks%s view %d", lim ? " (far)" : "", v);
-            check_frame(nm, rs, &s, d);
-            REQUIRE(vx_render_frame(rs, &d, &keep[v], &err) == VX_OK);
-            uint64_t cells = 0;
-            for (size_t i = 0; i < (size_t)d.width * d.height; i++) cells += keep[v].hits[i].brick_cells;
-            CHECKF(cells > 0, "%s: no ray crossed a brick", nm);
-            for (int mode = 0; mode < 2; mode++) {
-                d.mode = mode ? VX_RENDER_COLOR : VX_RENDER_ALBEDO;
-                d.want_hits = false;
-                vx_render_image gi = {0}, ci = {0};
-                REQUIRE(vx_render_frame(rs, &d, &gi, &err) == VX_OK);
-                REQUIRE(vx_render_cpu(&s, &d, NULL, &ci, &err) == VX_OK);
-                size_t n = (size_t)d.width * d.height, off = 0;
-                for (size_t i = 0; i < 4 * n; i++) off += fabsf(gi.pixels[i] - ci.pixels[i]) > (mode ? 2e-3f : 1e-5f);
-                /* colour: shadow acne at edges may differ in a few (test_modes) */
-                CHECKF(off <= (mode ? 4 * n / 200 : n / 1000), "%s: %zu %s channels differ from the CPU reference", nm,
-                       off, mode ? "colour" : "albedo");
-                vx_render_image_free(&gi);
-                vx_render_image_free(&ci);
-            }
-        }
-        /* the same words again: the model's masks are dropped, the walk goes level by level */
-        REQUIRE(vx_render_scene_update_model(rs, &s, 0, s.models[0].node_count, s.models[0].attr_count, &err) == VX_OK);
-        for (int v = 0; v < 8; v++) {
-            double ex = v & 1 ? 47 : -17, ey = v & 2 ? 44 : -16, ez = v & 4 ? 51 : -19;
-            vx_render_desc d = cam(ex, ey, ez, 15 + v % 3, 13, 16 - v % 2);
-            d.width = 56, d.height = 44, d.want_hits = true;
-            vx_render_image gi = {0};
-            REQUIRE(vx_render_frame(rs, &d, &gi, &err) == VX_OK);
-            size_t n = (size_t)d.width * d.height, diff = 0, hits = 0;
-            uint64_t cells = 0;
-            for (size_t i = 0; i < n; i++) {
-                const vx_render_hit *a = &keep[v].hits[i], *b = &gi.hits[i];
-                cells += b->brick_cells;
-                hits += a->instance != VX_RENDER_NO_HIT;
-                diff += a->instance != b->instance || memcmp(a->cell, b->cell, sizeof a->cell) || memcmp(&a->t, &b->t, 4);
-            }
-            CHECKF(cells == 0, "view %d: %llu brick cells after the update", v, (unsigned long long)cells);
-            CHECKF(hits > n / 4, "view %d: %zu hits", v, hits);
-            /* the two walks decide each cell boundary by the same float
-             * expressions but in another order: a tie within an ulp may go
-             * either way (none in these views on lavapipe) */
-            CHECKF(diff <= n / 500, "view %d: %zu pixels differ between the brick walk and the level-by-level walk", v, diff);
-            vx_render_image_free(&gi);
-            vx_render_image_free(&keep[v]);
-        }
-        vx_render_scene_destroy(rs);
-        vx_svo_scene_free(&s);
-    }
-    CHECK(vx_gpu_validation_errors(gpu) == 0);
-}
-
 static void test_modes(void);
 static void test_precise_variant(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -1028,7 +908,6 @@ int main(void) {
     RUN(test_precise_variant);
     RUN(test_many_instances);
     RUN(test_far_pointers);
-    RUN(test_bricks);
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
