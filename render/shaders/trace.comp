@@ -22,6 +22,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #define TRACE_BEAM
 #endif
 #define TRACE_SENTINEL
+#define TRACE_NOGUARD
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
