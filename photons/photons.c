@@ -2,6 +2,7 @@
  * sources table, the buffers, the passes (trace, grid build, gather) and the
  * pipeline's gi method. The GPU side is photons/shaders/photon.comp. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "photons/photons.h"
@@ -29,7 +30,11 @@ typedef struct gpu_params {
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY, STEP_TRACE_PATHS };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY, STEP_TRACE_PATHS,
+       STEP_SIZE };
+/* Counters (photon.comp binding 16), in bytes: the counters, then STEP_SIZE's group counts of the indirect
+ * dispatches (the buckets' steps and at 28 the buckets, the stored photons' steps, the pixels' steps) */
+enum { CTR_BUCKETS = 16, CTR_BUCKET_COUNT = 28, CTR_STORED = 32, CTR_PIXELS = 48, CTR_BYTES = 64 };
 enum { NBIND = 19, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* The kernel's area (photon.comp kernel_factors) looks up some 2 x 33 cells a pixel at the seed's Cornell
  * setting (radius 2.56 cells), each a walk down the octree: about 1 ms of a 7.2-ms pass on the H200. Models
@@ -70,6 +75,7 @@ struct vx_photon_gi {
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
+    vx__buffer readback; /* host visible: the counters at the end of a pass's submission */
     vx_photon_stats last;
     const vx_allocator* alloc;
 };
@@ -423,8 +429,25 @@ done:
     return r;
 }
 
-static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
-    if (!items) return VX_OK;
+/* A pass's steps recorded into one submission (vx__seq), each step's GPU ms added into its stats field after
+ * the wait. */
+typedef struct pass_rec {
+    vx__seq seq;
+    double* into[VX__SEQ_MAX];
+    bool open;
+} pass_rec;
+
+static vx_result rec_begin(vx_photon_gi* pg, pass_rec* q, vx_error* err) {
+    vx_result r = vx__seq_begin(pg->g, &q->seq, err);
+    q->open = !r;
+    return r;
+}
+
+/* Records step st over items invocations, or with ind >= 0 over the group counts STEP_SIZE wrote at byte ind of
+ * the counters (items then unused). */
+static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int ind, vx__buffer* out, double* ms,
+                      vx_error* err) {
+    if (!items && ind < 0) return VX_OK;
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
      * tile times its parts; the other steps' 64 */
     uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
@@ -440,16 +463,48 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
     if (r) return r;
+    /* photon.comp S_SIZE splits its group counts the same way */
     uint64_t groups = (items + wg - 1) / wg;
-    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = gx ? (uint32_t)((groups + gx - 1) / gx) : 0;
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
     vx__buffer* own[] = {&pg->params, &pg->emit, &pg->mats, &pg->src, &pg->ems, &pg->photons,
                          &pg->sorted, &pg->cells, out,        &pg->counters, &pg->env, &pg->occ};
     for (int i = 0; i < 12; i++) dd.buffers[7 + i] = own[i];
-    double s = 0;
-    r = vx__dispatch(pg->g, &dd, &s, err);
-    *ms += s * 1e3;
+    q->into[q->seq.count] = ms;
+    return vx__seq_dispatch(pg->g, &q->seq, &dd, ind >= 0 ? &pg->counters : NULL, ind >= 0 ? (VkDeviceSize)ind : 0,
+                            err);
+}
+
+/* Submits the recorded steps with a copy of the counters into pg->readback last, waits, adds the steps' GPU ms. */
+static vx_result rec_submit(vx_photon_gi* pg, pass_rec* q, vx_error* err) {
+    vx__seq_copy(pg->g, &q->seq, &pg->counters, 0, &pg->readback, 0, 16);
+    q->open = false;
+    vx_result r = vx__seq_submit(pg->g, &q->seq, err);
+    for (uint32_t k = 0; !r && k < q->seq.count; k++) *q->into[k] += q->seq.seconds[k] * 1e3;
+    return r;
+}
+
+static void rec_abandon(vx_photon_gi* pg, pass_rec* q) {
+    if (q->open) vx__seq_abandon(pg->g, &q->seq);
+    q->open = false;
+}
+
+/* The steps after the trace, sized on the GPU from the photons stored (STEP_SIZE): the buckets this pass uses
+ * follow the photons stored (at least twice as many, a power of two; clearing and claiming ranges over buckets
+ * sized for the capacity cost 2.4 ms a pass at 10M photons where 5% were stored), copied into Params for the
+ * steps after; a pass whose stores passed the capacity gets no group at all (run_pass traces it again). */
+static vx_result record_rest(vx_photon_gi* pg, pass_rec* q, bool fused, vx__buffer* out, vx_photon_stats* st,
+                             double* build, vx_error* err) {
+    vx_result r = step(pg, q, STEP_SIZE, 1, -1, out, build, err);
+    if (r) return r;
+    vx__seq_copy(pg->g, &q->seq, &pg->counters, CTR_BUCKET_COUNT, &pg->params, offsetof(gpu_params, a) + 12, 4);
+    if (!r) r = step(pg, q, STEP_CLEAR, 0, CTR_BUCKETS, out, build, err);
+    if (!r) r = step(pg, q, STEP_COUNT, 0, CTR_STORED, out, build, err);
+    if (!r) r = step(pg, q, STEP_ALLOC, 0, CTR_BUCKETS, out, build, err);
+    if (!r) r = step(pg, q, STEP_SCATTER, 0, CTR_STORED, out, build, err);
+    if (!r && !fused) r = step(pg, q, STEP_GATHER, 0, CTR_PIXELS, out, &st->paths_ms, err);
+    if (!r) r = step(pg, q, STEP_DENSITY, 0, CTR_PIXELS, out, &st->density_ms, err);
     return r;
 }
 
@@ -544,35 +599,54 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
     p->fu[1] = fused ? (p->tr[0] + 63) / 64 : 0;
+    p->fu[2] = (uint32_t)(tiles / 64);
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
     st.fused = fused;
-    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) ||
-        (r = fused ? step(pg, STEP_TRACE_PATHS, (uint64_t)p->fu[1] * 64 + tiles, out, &st.trace_ms, err)
-                   : step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
-        (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
-        return r;
+    /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
+     * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */
+    pass_rec q = {0};
+    const uint32_t* rb = pg->readback.map;
+    if ((r = rec_begin(pg, &q, err))) return r;
+    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err)))
+        r = fused ? step(pg, &q, STEP_TRACE_PATHS, (uint64_t)p->fu[1] * 64 + tiles, -1, out, &st.trace_ms, err)
+                  : step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+    if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
+    if (!r) r = rec_submit(pg, &q, err);
+    rec_abandon(pg, &q);
+    if (r) return r;
+    memcpy(ctr, rb, sizeof ctr);
     p->fu[1] = 0;
     st.emitted = p->a[0];
     if (ctr[0] > d->capacity) {
-        /* Over the capacity: which photons the atomic counter had left out depended on the GPU's order. The
-         * pass is traced again to count each photon's stores (nothing stored), and then a third time with
-         * photons 0..C-1 alone, C the most whose stores fit, each carrying 1/C of the sources' power (the
-         * photons are independent draws: the estimate keeps its expected value, and the same seed gives
-         * the same photons and image). A photon stores at most bounces + 1 times: C >= 1. */
+        /* Over the capacity (the steps after the trace had no groups): which photons the atomic counter had
+         * left out depended on the GPU's order. The pass is traced again to count each photon's stores
+         * (nothing stored), and then a third time with photons 0..C-1 alone, C the most whose stores fit,
+         * each carrying 1/C of the sources' power (the photons are independent draws: the estimate keeps its
+         * expected value, and the same seed gives the same photons and image). A photon stores at most
+         * bounces + 1 times: C >= 1. */
         uint32_t n = p->a[0], c = 0;
         uint32_t* counts = vx_alloc(pg->alloc, (size_t)n * sizeof *counts);
         if (!counts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u photon counts", n);
         p->tr[1] = 1;
-        r = step(pg, STEP_RESET, 4, out, &build, err);
-        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
+        p->a[3] = pg->buckets; /* (STEP_SIZE's copy had set this pass's) */
+        r = rec_begin(pg, &q, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r) r = rec_submit(pg, &q, err);
+        rec_abandon(pg, &q);
         if (!r) r = vx__buffer_download(pg->g, &pg->cells, counts, (size_t)n * sizeof *counts, err);
         for (uint64_t sum = 0; !r && c < n && sum + counts[c] <= d->capacity; c++) sum += counts[c];
         vx_free(pg->alloc, counts);
         p->tr[1] = 0;
         set_emitted(pg, p, c);
-        if (!r) r = step(pg, STEP_RESET, 4, out, &build, err);
-        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
-        if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
+        if (!r) r = rec_begin(pg, &q, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
+        if (!r) r = rec_submit(pg, &q, err);
+        rec_abandon(pg, &q);
         if (r) return r;
+        memcpy(ctr, rb, sizeof ctr);
         if (ctr[0] > d->capacity) /* the counts and the trace disagree: a device fault, not a state to go on from */
             return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon pass %u: %u photons stored again, capacity %u", pass,
                            ctr[0], d->capacity);
@@ -580,20 +654,6 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
-    /* the buckets this pass uses follow the photons stored (at least twice as many, a power of two):
-     * clearing and claiming ranges over buckets sized for the capacity cost 2.4 ms a pass at 10M
-     * photons where 5% were stored */
-    uint32_t used = pow2_at_least(2 * st.stored);
-    p->a[3] = used < 64 ? 64 : (used > pg->buckets ? pg->buckets : used);
-    if (!r) r = step(pg, STEP_CLEAR, p->a[3], out, &build, err);
-    if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
-    if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
-    if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    if (!r && !fused) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
-    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
-    if (!r) r = step(pg, STEP_DENSITY, tiles * pg->density_parts, out, &st.density_ms, err);
-    if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
-    if (r) return r;
     if (ctr[2])
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
@@ -697,8 +757,12 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         bool map = pg->P.L.sky_dir.type == VX_SKY_ENVMAP && t->rgb;
         if (!r) r = upload_new(pg->g, &pg->env, map ? t->rgb : NULL, map ? (size_t)t->width * t->height * 12 : 16, "photon sky map", err);
         if (!r)
-            r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "photon counters", &pg->counters,
-                                  err);
+            r = vx__buffer_create(pg->g, CTR_BYTES, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                  false, "photon counters", &pg->counters, err);
+        if (!r)
+            r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "photon counters readback",
+                                  &pg->readback, err);
+        if (!r && !pg->readback.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon readback is not host visible");
         if (!r)
             r = vx__buffer_create(pg->g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "photon params",
                                   &pg->params, err);
@@ -725,7 +789,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_photon_gi_destroy(vx_photon_gi* pg) {
     if (!pg) return;
     vx__buffer* b[] = {&pg->params, &pg->emit, &pg->mats, &pg->src,      &pg->ems,
-                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env, &pg->occ};
+                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env, &pg->occ, &pg->readback};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
     vx__prender_free(&pg->P);
     vx_free(pg->alloc, pg->emit_attr);

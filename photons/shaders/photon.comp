@@ -17,6 +17,9 @@
 //   STEP 7 density: per pixel, the record's Lambert sums over both maps, added
 //                   into Out (a small kernel: the gather loop runs at the
 //                   occupancy of its own registers, not the tracer's)
+//   STEP 9 size:    one invocation, after the trace: the buckets this pass
+//                   uses and the group counts of the steps after it, from the
+//                   photons stored (the pass is one submission: photons.c)
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
@@ -31,7 +34,7 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
-          S_TRACE_PATHS = 8;
+          S_TRACE_PATHS = 8, S_SIZE = 9;
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -52,7 +55,8 @@ layout(std430, binding = 7) readonly buffer Params {
                   // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
                   // w: 1: more than one instance (kernel_factors looks for other models' faces)
     uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: in S_TRACE_PATHS, the trace's
-                  // workgroups (the camera's paths take the workgroups after them; photons.c run_pass)
+                  // workgroups (the camera's paths take the workgroups after them; photons.c run_pass),
+                  // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -75,7 +79,10 @@ layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
 // per bucket: count, then (after alloc) start; while counting (Params tr.y), the photons' stores, two a uvec2
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 15) buffer Out { vec4 outv[]; };
-// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard fired
+// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard
+// fired; from ctr[4] on, S_SIZE's output, group counts (x, y, z) of indirect dispatches: [4..6] the buckets' steps
+// (clear, alloc) and [7] the buckets (copied into Params a.w), [8..10] the stored photons' steps (count, scatter),
+// [12..14] the pixels' steps (gather, density); all 0 when the stores passed the capacity
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
 // the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
 layout(std430, binding = 17) readonly buffer Env { float env[]; };
@@ -912,6 +919,21 @@ void main() {
         sorted[P.a.y + k] = b;
     } else if (STEP == S_DENSITY) {
         density_pixel();
+    } else if (STEP == S_SIZE) {
+        if (i != 0u) return;
+        // photons.c step(): items over 64-lane workgroups, x at most 4096 and y the rest
+        uint stored = ctr[0], over = stored > P.a.y ? 0u : 1u;
+        // the buckets: the least power of two at least twice the stored photons, within [64, P.a.w]
+        uint n = 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
+        used = clamp(used, 64u, P.a.w);
+        uvec3 items = uvec3(used, stored, P.fu.z * 64u) * over;
+        for (int k = 0; k < 3; k++) {
+            uint groups = (items[k] + 63u) / 64u, gx = min(groups, 4096u), gy = gx > 0u ? (groups + gx - 1u) / gx : 0u;
+            ctr[4 + 4 * k] = gx;
+            ctr[5 + 4 * k] = gy;
+            ctr[6 + 4 * k] = gx > 0u ? 1u : 0u;
+        }
+        ctr[7] = used;
     } else if (STEP == S_TRACE_PATHS) { // the trace's workgroups, then the camera's paths' (uniform per workgroup)
         if (i < P.fu.y * 64u) trace_photons();
         else gather_pixel();
