@@ -98,7 +98,7 @@
  * where the camera's paths run in the trace's dispatch (stats.fused: the
  * paths need no photon there, no final gather, no glossy surface with a
  * diffuse lobe, no light whose photons a glossy surface gathers; the
- * trace's workgroup 64); one bit per cell (two with glass) of the models
+ * trace's workgroup 32 or 64); one bit per cell (two with glass) of the models
  * of at most 512 cells a side, 2^28 cells in all. A pass over the capacity
  * keeps the first photons by index (vx_photon_desc.capacity). */
 #ifndef VX_PHOTONS_H
@@ -141,7 +141,10 @@ extern "C" {
  *                  stores the photons in does not matter; over the
  *                  capacity, the photons kept go by index, above)
  *  workgroup:      invocations per workgroup of the trace, a power of two
- *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
+ *                  32..1024; 0: 32 (a tuning knob: bench/photons_bench; on
+ *                  the H200 the trace of the seed's Cornell setting took
+ *                  2.6 ms at 32, 3.4 at 64: a workgroup of one SIMD group
+ *                  frees its slot as soon as its photons end)
  *  batch:          photons each invocation of the trace traces in turn,
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the

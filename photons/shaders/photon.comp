@@ -55,7 +55,7 @@ layout(std430, binding = 7) readonly buffer Params {
                   // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
                   // w: 1: more than one instance (kernel_factors looks for other models' faces)
     uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: in S_TRACE_PATHS, the trace's
-                  // workgroups (the camera's paths take the workgroups after them; photons.c run_pass),
+                  // invocations, whole workgroups (the camera's paths take the ones after; photons.c run_pass),
                   // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
@@ -348,6 +348,16 @@ void fx_add(inout uvec3 hi, inout uvec3 lo, vec3 t, float scale) {
     fx_add1(hi.z, lo.z, t.z, scale);
 }
 vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0 + vec3(lo)) / scale; }
+// The words fx_add adds for t: fx_add(hi, lo, t, scale) is lo += w.lo (its carry into hi), hi += w.hi.
+void fx_words(vec3 t, float scale, out uvec3 whi, out uvec3 wlo) {
+    whi = uvec3(0u), wlo = uvec3(0u);
+    fx_add(whi, wlo, t, scale); // from zero: no carry, the same words
+}
+void fx_add_words(inout uvec3 hi, inout uvec3 lo, uvec3 whi, uvec3 wlo) {
+    uvec3 carry;
+    lo = uaddCarry(lo, wlo, carry);
+    hi += whi + carry;
+}
 
 // The sum over the photons of map `map` within radius r of x whose normal lies within 25 degrees of n
 // (ncode: n's packed code) of power (lambert) or BSDF B towards wo times power, exact (fixed point: units
@@ -596,7 +606,7 @@ bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
 
 void gather_pixel() {
     // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
-    uint it = item() - P.fu.y * 64u, W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item() - P.fu.y, W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     if (x >= W || y >= H) return;
     uint idx = x + y * W;
@@ -718,11 +728,14 @@ const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
 // Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
 // 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
 // setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
-shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
+// a chunk of photons: the first halves, and the power as the words fx_add1 adds (the low words in t_b,
+// the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
+shared vec4 t_a[gl_WorkGroupSize.x];
+shared uvec4 t_b[gl_WorkGroupSize.x];
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
-shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums
+shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
@@ -820,10 +833,15 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             }
             uint k = t_start[a] + (g - t_pre[a]);
             vec4 pa = sorted[k];
-            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi))) {
+            // (another map's photon in these buckets counts for no pixel: left out here)
+            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) &&
+                (floatBitsToUint(pa.w) & F_CAUSTIC) == map) {
                 uint slot = atomicAdd(t_n[chunk], 1u);
+                uvec3 whi, wlo;
+                fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
                 t_a[slot] = pa;
-                t_b[slot] = sorted[P.a.y + k];
+                t_b[slot] = uvec4(wlo, 0u);
+                t_shi[slot] = whi;
             }
         }
         barrier();
@@ -835,10 +853,9 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) > r2) continue;
                 uint nb = floatBitsToUint(pa.w);
-                if ((nb & F_CAUSTIC) != map) continue;
                 if (sel == G_INDIRECT && (nb & F_DIRECT) != 0u) continue;
                 if ((nb & ~F_BITS) != ncode && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), n) < 0.9) continue;
-                fx_add(shi, slo, t_b[j].xyz, P.fx.y);
+                fx_add_words(shi, slo, t_shi[j], t_b[j].xyz);
             }
         }
         barrier();
@@ -935,7 +952,7 @@ void main() {
         }
         ctr[7] = used;
     } else if (STEP == S_TRACE_PATHS) { // the trace's workgroups, then the camera's paths' (uniform per workgroup)
-        if (i < P.fu.y * 64u) trace_photons();
+        if (i < P.fu.y) trace_photons();
         else gather_pixel();
     } else {
         gather_pixel();
