@@ -25,14 +25,13 @@ typedef struct gpu_params {
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
     float fx[4];      /* the gather's fixed-point units (photon.comp fx_add): x per unit of BSDF times power, y of power */
     uint32_t tr[4];   /* x: invocations of the trace */
-    uint32_t fu[4];   /* x: the density step's records' first vec4 in Photons, y: the trace's invocations (whole
-                         workgroups) before the camera's paths' in a fused dispatch (0: not fused), z: the pixels'
-                         steps' workgroups (STEP_SIZE) */
+    uint32_t fu[4];   /* x: the density step's records' first vec4 in Photons, y: 0, z: the pixels' steps'
+                         workgroups (STEP_SIZE) */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY, STEP_TRACE_PATHS,
-       STEP_SIZE };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY,
+       STEP_SIZE = 9 };
 /* Counters (photon.comp binding 16), in bytes: the counters, then STEP_SIZE's group counts of the indirect
  * dispatches (the buckets' steps and at 28 the buckets, the stored photons' steps, the pixels' steps) */
 enum { CTR_BUCKETS = 16, CTR_BUCKET_COUNT = 28, CTR_STORED = 32, CTR_PIXELS = 48, CTR_BYTES = 64 };
@@ -451,8 +450,7 @@ static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int
     if (!items && ind < 0) return VX_OK;
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
      * tile times its parts; the other steps' 64 */
-    uint32_t wg = st == STEP_TRACE || st == STEP_TRACE_PATHS ? pg->d.workgroup
-                                                             : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
+    uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -563,12 +561,13 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         pg->tables_for_ref = true;
     }
     /* The camera's paths need no photon where every sum they make is a Lambert surface's, deferred to the
-     * density step (no final gather, no G_LIGHTS sums, no glossy surface with a diffuse lobe): then they run
-     * in the trace's dispatch, on workgroups of their own after the trace's, and fill the GPU while the
-     * trace's last photons bounce on (the seed's Cornell setting: 0.8 ms of paths beside a 3.3-ms trace).
-     * Their records then lie after the photons (48 bytes a pixel more), which the trace is still writing;
-     * otherwise in the photons' buffer once the photons are sorted. Only with the trace's workgroups of 32
-     * and 64, the ones measured (H200, docs/PERFORMANCE.md); test_fused_paths runs 128 to compare. */
+     * density step (no final gather, no G_LIGHTS sums, no glossy surface with a diffuse lobe): then their
+     * dispatch follows the trace's with no barrier between them (vx__seq.beside) and fills the GPU while the
+     * trace's last photons bounce on. Their records then lie after the photons (48 bytes a pixel more), which
+     * the trace is still writing; otherwise in the photons' buffer once the photons are sorted. (Before, both
+     * ran in one pipeline: at the trace's workgroup 32 it took the trace's registers, 4.1 ms against 2.6 + 1.0
+     * apart on the H200.) Only with the trace's workgroups of 32 and 64, the ones measured; test_fused_paths
+     * runs 128 to compare. */
     const vx_photon_desc* d = &pg->d;
     bool fused = d->workgroup <= 64 && !d->final_gather && !pg->kinds && !pg->glossy_diffuse;
     uint64_t ph_bytes = (uint64_t)d->capacity * PHOTON_BYTES, rec_bytes = (uint64_t)npx * 48;
@@ -600,7 +599,6 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
      * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
-    p->fu[1] = fused ? (p->tr[0] + d->workgroup - 1) / d->workgroup * d->workgroup : 0;
     p->fu[2] = (uint32_t)(tiles / 64);
     pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
     st.fused = fused;
@@ -609,15 +607,16 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     pass_rec q = {0};
     const uint32_t* rb = pg->readback.map;
     if ((r = rec_begin(pg, &q, err))) return r;
-    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err)))
-        r = fused ? step(pg, &q, STEP_TRACE_PATHS, (uint64_t)p->fu[1] + tiles, -1, out, &st.trace_ms, err)
-                  : step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err))) {
+        q.seq.beside = fused;
+        r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r && fused) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
+    }
     if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
     if (!r) r = rec_submit(pg, &q, err);
     rec_abandon(pg, &q);
     if (r) return r;
     memcpy(ctr, rb, sizeof ctr);
-    p->fu[1] = 0;
     st.emitted = p->a[0];
     if (ctr[0] > d->capacity) {
         /* Over the capacity (the steps after the trace had no groups): which photons the atomic counter had

@@ -95,7 +95,7 @@
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
  * bytes per bucket; 48 bytes a pixel for the estimate's second step, in
  * the stored photons' buffer once they are sorted, or after the photons
- * where the camera's paths run in the trace's dispatch (stats.fused: the
+ * where the camera's paths run beside the trace (stats.fused: the
  * paths need no photon there, no final gather, no glossy surface with a
  * diffuse lobe, no light whose photons a glossy surface gathers; the
  * trace's workgroup 32 or 64); one bit per cell (two with glass) of the models
@@ -192,7 +192,7 @@ typedef struct vx_photon_stats {
     double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
     double paths_ms, density_ms; /* gather_ms's two steps: the camera's paths, the Lambert sums */
     double wall_ms;              /* host time of the whole pass: the GPU's, submissions, waits, downloads */
-    bool fused;                  /* the camera's paths ran in the trace's dispatch (in trace_ms; paths_ms 0) */
+    bool fused;                  /* the camera's paths ran beside the trace, no barrier between (in trace_ms; paths_ms 0) */
 } vx_photon_stats;
 
 typedef struct vx_photon_gi vx_photon_gi;

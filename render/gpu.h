@@ -183,6 +183,13 @@ typedef struct vx__seq {
     uint32_t count;               /* dispatches recorded */
     uint32_t commands;            /* dispatches and copies recorded */
     double seconds[VX__SEQ_MAX];  /* after vx__seq_submit: GPU seconds of dispatch k */
+    /* Set before recording a dispatch that the next one may run beside (it
+     * does not read what this one writes): no barrier and no timestamp
+     * after it, so the GPU fills the end of one with the other; its time
+     * counts in the next one's (its seconds 0). Cleared by the dispatch. */
+    bool beside;
+    uint32_t query[VX__SEQ_MAX];  /* the timestamp after dispatch k (0: none) */
+    uint32_t queries;
 } vx__seq;
 /* Begins the command buffer (g->cmd: nothing else may record until the
  * sequence is submitted or abandoned). */

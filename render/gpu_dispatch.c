@@ -242,10 +242,15 @@ vx_result vx__seq_dispatch(vx_gpu* g, vx__seq* s, const vx__dispatch_desc* d, co
         vkCmdPushConstants(g->cmd, d->pipeline->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, d->push_size, d->push);
     if (indirect) vkCmdDispatchIndirect(g->cmd, indirect->buf, offset);
     else vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
-    if (g->has_timestamps)
-        vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, s->count + 1);
+    bool beside = s->beside;
+    s->beside = false;
+    s->query[s->count] = 0;
+    if (g->has_timestamps && !beside) {
+        s->query[s->count] = ++s->queries;
+        vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, s->queries);
+    }
     if (g->end_label && d->label) g->end_label(g->cmd);
-    seq_barrier(g);
+    if (!beside) seq_barrier(g);
     s->count++, s->commands++;
     return VX_OK;
 }
@@ -273,13 +278,17 @@ vx_result vx__seq_submit(vx_gpu* g, vx__seq* s, vx_error* err) {
     s->pool = VK_NULL_HANDLE;
     if (r) return r;
     for (uint32_t k = 0; k < s->count; k++) s->seconds[k] = wall / s->count;
-    if (g->has_timestamps && s->count) {
+    if (g->has_timestamps && s->queries) {
         uint64_t ts[VX__SEQ_MAX + 1];
-        VkResult vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, s->count + 1, sizeof ts, ts, sizeof ts[0],
+        VkResult vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, s->queries + 1, sizeof ts, ts, sizeof ts[0],
                                             VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
         if (vr != VK_SUCCESS) return vx__vk_fail(err, vr, "vkGetQueryPoolResults");
-        for (uint32_t k = 0; k < s->count; k++)
-            s->seconds[k] = (double)(ts[k + 1] - ts[k]) * g->props.limits.timestampPeriod * 1e-9;
+        uint64_t prev = ts[0];
+        for (uint32_t k = 0; k < s->count; k++) {
+            uint32_t q = s->query[k];
+            s->seconds[k] = q ? (double)(ts[q] - prev) * g->props.limits.timestampPeriod * 1e-9 : 0.0;
+            if (q) prev = ts[q];
+        }
     }
     return VX_OK;
 }

@@ -34,7 +34,7 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
-          S_TRACE_PATHS = 8, S_SIZE = 9;
+          S_SIZE = 9; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -54,8 +54,7 @@ layout(std430, binding = 7) readonly buffer Params {
                   // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
                   // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
                   // w: 1: more than one instance (kernel_factors looks for other models' faces)
-    uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: in S_TRACE_PATHS, the trace's
-                  // invocations, whole workgroups (the camera's paths take the ones after; photons.c run_pass),
+    uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: 0,
                   // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
@@ -606,7 +605,7 @@ bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
 
 void gather_pixel() {
     // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
-    uint it = item() - P.fu.y, W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     if (x >= W || y >= H) return;
     uint idx = x + y * W;
@@ -951,9 +950,6 @@ void main() {
             ctr[6 + 4 * k] = gx > 0u ? 1u : 0u;
         }
         ctr[7] = used;
-    } else if (STEP == S_TRACE_PATHS) { // the trace's workgroups, then the camera's paths' (uniform per workgroup)
-        if (i < P.fu.y) trace_photons();
-        else gather_pixel();
     } else {
         gather_pixel();
     }
