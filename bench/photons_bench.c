@@ -360,7 +360,7 @@ int main(int argc, char** argv) {
                 printf("%s: the gather's steps: camera paths %.3f ms%s, density %.3f ms; the pass on the host (submissions, "
                        "waits, downloads) %.3f ms (medians); GPU ms per pass (the steps' sum in each run): median %.3f, "
                        "least %.3f\n",
-                       name, bench_median(t[3], n), st.fused ? " (run in the trace's dispatch: in its ms)" : "",
+                       name, bench_median(t[3], n), st.fused ? " (run beside the trace: in its ms)" : "",
                        bench_median(t[4], n), bench_median(t[5], n), bench_median(t[6], n), lo);
                 fflush(stdout);
                 if (w && *w) continue;

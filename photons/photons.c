@@ -2,6 +2,7 @@
  * sources table, the buffers, the passes (trace, grid build, gather) and the
  * pipeline's gi method. The GPU side is photons/shaders/photon.comp. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "photons/photons.h"
@@ -24,12 +25,16 @@ typedef struct gpu_params {
     float skyh[4], skyg[4], skym[4]; /* the sky by direction: sky.glsl's hor, gnd, map (vx__sky_pack) */
     float fx[4];      /* the gather's fixed-point units (photon.comp fx_add): x per unit of BSDF times power, y of power */
     uint32_t tr[4];   /* x: invocations of the trace */
-    uint32_t fu[4];   /* x: the density step's records' first vec4 in Photons, y: the trace's workgroups before the
-                         camera's paths' in a fused dispatch (0: not fused) */
+    uint32_t fu[4];   /* x: the density step's records' first vec4 in Photons, y: 0, z: the pixels' steps'
+                         workgroups (STEP_SIZE) */
 } gpu_params;
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
-enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY, STEP_TRACE_PATHS };
+enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY,
+       STEP_SIZE = 9 };
+/* Counters (photon.comp binding 16), in bytes: the counters, then STEP_SIZE's group counts of the indirect
+ * dispatches (the buckets' steps and at 28 the buckets, the stored photons' steps, the pixels' steps) */
+enum { CTR_BUCKETS = 16, CTR_BUCKET_COUNT = 28, CTR_STORED = 32, CTR_PIXELS = 48, CTR_BYTES = 64 };
 enum { NBIND = 19, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
 /* The kernel's area (photon.comp kernel_factors) looks up some 2 x 33 cells a pixel at the seed's Cornell
  * setting (radius 2.56 cells), each a walk down the octree: about 1 ms of a 7.2-ms pass on the H200. Models
@@ -70,12 +75,13 @@ struct vx_photon_gi {
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
+    vx__buffer readback; /* host visible: the counters at the end of a pass's submission */
     vx_photon_stats last;
     const vx_allocator* alloc;
 };
 
 vx_photon_desc vx_photon_desc_defaults(void) {
-    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0, .workgroup = 64, .batch = 0};
+    return (vx_photon_desc){.photons = 1u << 20, .alpha = 2.0 / 3.0, .bounces = 8, .capacity = 0, .workgroup = 32, .batch = 0};
 }
 
 /* The sky's mean radiance over the sphere of directions (a grid of 256 x 128
@@ -423,12 +429,28 @@ done:
     return r;
 }
 
-static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out, double* ms, vx_error* err) {
-    if (!items) return VX_OK;
+/* A pass's steps recorded into one submission (vx__seq), each step's GPU ms added into its stats field after
+ * the wait. */
+typedef struct pass_rec {
+    vx__seq seq;
+    double* into[VX__SEQ_MAX];
+    bool open;
+} pass_rec;
+
+static vx_result rec_begin(vx_photon_gi* pg, pass_rec* q, vx_error* err) {
+    vx_result r = vx__seq_begin(pg->g, &q->seq, err);
+    q->open = !r;
+    return r;
+}
+
+/* Records step st over items invocations, or with ind >= 0 over the group counts STEP_SIZE wrote at byte ind of
+ * the counters (items then unused). */
+static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int ind, vx__buffer* out, double* ms,
+                      vx_error* err) {
+    if (!items && ind < 0) return VX_OK;
     /* the trace's workgroup is the desc's (a tuning knob photons_bench measures); the density step's 64 lanes a
      * tile times its parts; the other steps' 64 */
     uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
-    /* (STEP_TRACE_PATHS: 64, both halves' size; run_pass fuses only with the trace's workgroup at 64) */
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
@@ -440,16 +462,48 @@ static vx_result step(vx_photon_gi* pg, int st, uint64_t items, vx__buffer* out,
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
     if (r) return r;
+    /* photon.comp S_SIZE splits its group counts the same way */
     uint64_t groups = (items + wg - 1) / wg;
-    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = (uint32_t)((groups + gx - 1) / gx);
+    uint32_t gx = groups < 4096 ? (uint32_t)groups : 4096, gy = gx ? (uint32_t)((groups + gx - 1) / gx) : 0;
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .label = "photon"};
     for (int i = 0; i < 7; i++) dd.buffers[i] = pg->scene_bufs[i];
     vx__buffer* own[] = {&pg->params, &pg->emit, &pg->mats, &pg->src, &pg->ems, &pg->photons,
                          &pg->sorted, &pg->cells, out,        &pg->counters, &pg->env, &pg->occ};
     for (int i = 0; i < 12; i++) dd.buffers[7 + i] = own[i];
-    double s = 0;
-    r = vx__dispatch(pg->g, &dd, &s, err);
-    *ms += s * 1e3;
+    q->into[q->seq.count] = ms;
+    return vx__seq_dispatch(pg->g, &q->seq, &dd, ind >= 0 ? &pg->counters : NULL, ind >= 0 ? (VkDeviceSize)ind : 0,
+                            err);
+}
+
+/* Submits the recorded steps with a copy of the counters into pg->readback last, waits, adds the steps' GPU ms. */
+static vx_result rec_submit(vx_photon_gi* pg, pass_rec* q, vx_error* err) {
+    vx__seq_copy(pg->g, &q->seq, &pg->counters, 0, &pg->readback, 0, 16);
+    q->open = false;
+    vx_result r = vx__seq_submit(pg->g, &q->seq, err);
+    for (uint32_t k = 0; !r && k < q->seq.count; k++) *q->into[k] += q->seq.seconds[k] * 1e3;
+    return r;
+}
+
+static void rec_abandon(vx_photon_gi* pg, pass_rec* q) {
+    if (q->open) vx__seq_abandon(pg->g, &q->seq);
+    q->open = false;
+}
+
+/* The steps after the trace, sized on the GPU from the photons stored (STEP_SIZE): the buckets this pass uses
+ * follow the photons stored (at least twice as many, a power of two; clearing and claiming ranges over buckets
+ * sized for the capacity cost 2.4 ms a pass at 10M photons where 5% were stored), copied into Params for the
+ * steps after; a pass whose stores passed the capacity gets no group at all (run_pass traces it again). */
+static vx_result record_rest(vx_photon_gi* pg, pass_rec* q, bool fused, vx__buffer* out, vx_photon_stats* st,
+                             double* build, vx_error* err) {
+    vx_result r = step(pg, q, STEP_SIZE, 1, -1, out, build, err);
+    if (r) return r;
+    vx__seq_copy(pg->g, &q->seq, &pg->counters, CTR_BUCKET_COUNT, &pg->params, offsetof(gpu_params, a) + 12, 4);
+    if (!r) r = step(pg, q, STEP_CLEAR, 0, CTR_BUCKETS, out, build, err);
+    if (!r) r = step(pg, q, STEP_COUNT, 0, CTR_STORED, out, build, err);
+    if (!r) r = step(pg, q, STEP_ALLOC, 0, CTR_BUCKETS, out, build, err);
+    if (!r) r = step(pg, q, STEP_SCATTER, 0, CTR_STORED, out, build, err);
+    if (!r && !fused) r = step(pg, q, STEP_GATHER, 0, CTR_PIXELS, out, &st->paths_ms, err);
+    if (!r) r = step(pg, q, STEP_DENSITY, 0, CTR_PIXELS, out, &st->density_ms, err);
     return r;
 }
 
@@ -507,13 +561,15 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         pg->tables_for_ref = true;
     }
     /* The camera's paths need no photon where every sum they make is a Lambert surface's, deferred to the
-     * density step (no final gather, no G_LIGHTS sums, no glossy surface with a diffuse lobe): then they run
-     * in the trace's dispatch, on workgroups of their own after the trace's, and fill the GPU while the
-     * trace's last photons bounce on (the seed's Cornell setting: 0.8 ms of paths beside a 3.3-ms trace).
-     * Their records then lie after the photons (48 bytes a pixel more), which the trace is still writing;
-     * otherwise in the photons' buffer once the photons are sorted. */
+     * density step (no final gather, no G_LIGHTS sums, no glossy surface with a diffuse lobe): then their
+     * dispatch follows the trace's with no barrier between them (vx__seq.beside) and fills the GPU while the
+     * trace's last photons bounce on. Their records then lie after the photons (48 bytes a pixel more), which
+     * the trace is still writing; otherwise in the photons' buffer once the photons are sorted. (Before, both
+     * ran in one pipeline: at the trace's workgroup 32 it took the trace's registers, 4.1 ms against 2.6 + 1.0
+     * apart on the H200.) Only with the trace's workgroups of 32 and 64, the ones measured; test_fused_paths
+     * runs 128 to compare. */
     const vx_photon_desc* d = &pg->d;
-    bool fused = d->workgroup == 64 && !d->final_gather && !pg->kinds && !pg->glossy_diffuse;
+    bool fused = d->workgroup <= 64 && !d->final_gather && !pg->kinds && !pg->glossy_diffuse;
     uint64_t ph_bytes = (uint64_t)d->capacity * PHOTON_BYTES, rec_bytes = (uint64_t)npx * 48;
     ph_bytes = fused ? ph_bytes + rec_bytes : (rec_bytes > ph_bytes ? rec_bytes : ph_bytes);
     if ((r = vx__buffer_ensure(pg->g, &pg->photons, ph_bytes, "photons", err))) return r;
@@ -543,36 +599,55 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
      * density_pixel: that loop in a kernel of its own registers, not the tracer's) */
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
-    p->fu[1] = fused ? (p->tr[0] + 63) / 64 : 0;
+    p->fu[2] = (uint32_t)(tiles / 64);
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
     st.fused = fused;
-    if ((r = step(pg, STEP_RESET, 4, out, &build, err)) ||
-        (r = fused ? step(pg, STEP_TRACE_PATHS, (uint64_t)p->fu[1] * 64 + tiles, out, &st.trace_ms, err)
-                   : step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err)) ||
-        (r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err)))
-        return r;
-    p->fu[1] = 0;
+    /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
+     * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */
+    pass_rec q = {0};
+    const uint32_t* rb = pg->readback.map;
+    if ((r = rec_begin(pg, &q, err))) return r;
+    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err))) {
+        q.seq.beside = fused;
+        r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r && fused) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
+    }
+    if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
+    if (!r) r = rec_submit(pg, &q, err);
+    rec_abandon(pg, &q);
+    if (r) return r;
+    memcpy(ctr, rb, sizeof ctr);
     st.emitted = p->a[0];
     if (ctr[0] > d->capacity) {
-        /* Over the capacity: which photons the atomic counter had left out depended on the GPU's order. The
-         * pass is traced again to count each photon's stores (nothing stored), and then a third time with
-         * photons 0..C-1 alone, C the most whose stores fit, each carrying 1/C of the sources' power (the
-         * photons are independent draws: the estimate keeps its expected value, and the same seed gives
-         * the same photons and image). A photon stores at most bounces + 1 times: C >= 1. */
+        /* Over the capacity (the steps after the trace had no groups): which photons the atomic counter had
+         * left out depended on the GPU's order. The pass is traced again to count each photon's stores
+         * (nothing stored), and then a third time with photons 0..C-1 alone, C the most whose stores fit,
+         * each carrying 1/C of the sources' power (the photons are independent draws: the estimate keeps its
+         * expected value, and the same seed gives the same photons and image). A photon stores at most
+         * bounces + 1 times: C >= 1. */
         uint32_t n = p->a[0], c = 0;
         uint32_t* counts = vx_alloc(pg->alloc, (size_t)n * sizeof *counts);
         if (!counts) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u photon counts", n);
         p->tr[1] = 1;
-        r = step(pg, STEP_RESET, 4, out, &build, err);
-        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
+        p->a[3] = pg->buckets; /* (STEP_SIZE's copy had set this pass's) */
+        r = rec_begin(pg, &q, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r) r = rec_submit(pg, &q, err);
+        rec_abandon(pg, &q);
         if (!r) r = vx__buffer_download(pg->g, &pg->cells, counts, (size_t)n * sizeof *counts, err);
         for (uint64_t sum = 0; !r && c < n && sum + counts[c] <= d->capacity; c++) sum += counts[c];
         vx_free(pg->alloc, counts);
         p->tr[1] = 0;
         set_emitted(pg, p, c);
-        if (!r) r = step(pg, STEP_RESET, 4, out, &build, err);
-        if (!r) r = step(pg, STEP_TRACE, p->tr[0], out, &st.trace_ms, err);
-        if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
+        if (!r) r = rec_begin(pg, &q, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
+        if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
+        if (!r) r = rec_submit(pg, &q, err);
+        rec_abandon(pg, &q);
         if (r) return r;
+        memcpy(ctr, rb, sizeof ctr);
         if (ctr[0] > d->capacity) /* the counts and the trace disagree: a device fault, not a state to go on from */
             return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon pass %u: %u photons stored again, capacity %u", pass,
                            ctr[0], d->capacity);
@@ -580,20 +655,6 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
-    /* the buckets this pass uses follow the photons stored (at least twice as many, a power of two):
-     * clearing and claiming ranges over buckets sized for the capacity cost 2.4 ms a pass at 10M
-     * photons where 5% were stored */
-    uint32_t used = pow2_at_least(2 * st.stored);
-    p->a[3] = used < 64 ? 64 : (used > pg->buckets ? pg->buckets : used);
-    if (!r) r = step(pg, STEP_CLEAR, p->a[3], out, &build, err);
-    if (!r) r = step(pg, STEP_COUNT, st.stored, out, &build, err);
-    if (!r) r = step(pg, STEP_ALLOC, p->a[3], out, &build, err);
-    if (!r) r = step(pg, STEP_SCATTER, st.stored, out, &build, err);
-    if (!r && !fused) r = step(pg, STEP_GATHER, tiles, out, &st.paths_ms, err);
-    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
-    if (!r) r = step(pg, STEP_DENSITY, tiles * pg->density_parts, out, &st.density_ms, err);
-    if (!r) r = vx__buffer_download(pg->g, &pg->counters, ctr, sizeof ctr, err);
-    if (r) return r;
     if (ctr[2])
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
@@ -697,8 +758,12 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
         bool map = pg->P.L.sky_dir.type == VX_SKY_ENVMAP && t->rgb;
         if (!r) r = upload_new(pg->g, &pg->env, map ? t->rgb : NULL, map ? (size_t)t->width * t->height * 12 : 16, "photon sky map", err);
         if (!r)
-            r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "photon counters", &pg->counters,
-                                  err);
+            r = vx__buffer_create(pg->g, CTR_BYTES, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                  false, "photon counters", &pg->counters, err);
+        if (!r)
+            r = vx__buffer_create(pg->g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "photon counters readback",
+                                  &pg->readback, err);
+        if (!r && !pg->readback.map) r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "photon readback is not host visible");
         if (!r)
             r = vx__buffer_create(pg->g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "photon params",
                                   &pg->params, err);
@@ -725,7 +790,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
 void vx_photon_gi_destroy(vx_photon_gi* pg) {
     if (!pg) return;
     vx__buffer* b[] = {&pg->params, &pg->emit, &pg->mats, &pg->src,      &pg->ems,
-                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env, &pg->occ};
+                       &pg->photons, &pg->sorted, &pg->cells, &pg->counters, &pg->img, &pg->env, &pg->occ, &pg->readback};
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++) vx__buffer_destroy(pg->g, b[i]);
     vx__prender_free(&pg->P);
     vx_free(pg->alloc, pg->emit_attr);

@@ -95,10 +95,10 @@
  * Storage per pass: 32 bytes per stored photon twice (stored, sorted), 8
  * bytes per bucket; 48 bytes a pixel for the estimate's second step, in
  * the stored photons' buffer once they are sorted, or after the photons
- * where the camera's paths run in the trace's dispatch (stats.fused: the
+ * where the camera's paths run beside the trace (stats.fused: the
  * paths need no photon there, no final gather, no glossy surface with a
  * diffuse lobe, no light whose photons a glossy surface gathers; the
- * trace's workgroup 64); one bit per cell (two with glass) of the models
+ * trace's workgroup 32 or 64); one bit per cell (two with glass) of the models
  * of at most 512 cells a side, 2^28 cells in all. A pass over the capacity
  * keeps the first photons by index (vx_photon_desc.capacity). */
 #ifndef VX_PHOTONS_H
@@ -141,7 +141,10 @@ extern "C" {
  *                  stores the photons in does not matter; over the
  *                  capacity, the photons kept go by index, above)
  *  workgroup:      invocations per workgroup of the trace, a power of two
- *                  32..1024; 0: 64 (a tuning knob: bench/photons_bench)
+ *                  32..1024; 0: 32 (a tuning knob: bench/photons_bench; on
+ *                  the H200 the trace of the seed's Cornell setting took
+ *                  2.6 ms at 32, 3.4 at 64: a workgroup of one SIMD group
+ *                  frees its slot as soon as its photons end)
  *  batch:          photons each invocation of the trace traces in turn,
  *                  starting the next as soon as one ends (path regeneration:
  *                  a SIMD group's lanes stay busy while one photon of the
@@ -189,7 +192,7 @@ typedef struct vx_photon_stats {
     double trace_ms, build_ms, gather_ms; /* GPU time: tracing, the grids' build (clear, count, alloc, scatter), the estimate */
     double paths_ms, density_ms; /* gather_ms's two steps: the camera's paths, the Lambert sums */
     double wall_ms;              /* host time of the whole pass: the GPU's, submissions, waits, downloads */
-    bool fused;                  /* the camera's paths ran in the trace's dispatch (in trace_ms; paths_ms 0) */
+    bool fused;                  /* the camera's paths ran beside the trace, no barrier between (in trace_ms; paths_ms 0) */
 } vx_photon_stats;
 
 typedef struct vx_photon_gi vx_photon_gi;

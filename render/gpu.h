@@ -164,6 +164,53 @@ typedef struct vx__dispatch_desc {
  * from timestamps (wall time if the queue has no timestamps). */
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err);
 
+/* A sequence of dispatches in one command buffer, submitted and waited on
+ * once (a pass of several steps pays one submission and one wait, where
+ * vx__dispatch pays one each: photons/photons.c's pass had 2.4 ms of them on
+ * the H200). Every recorded command is followed by a barrier that makes its
+ * writes (shader or copy) visible to the later dispatches, copies, indirect
+ * group counts and host reads. Timestamps: one before the first command and
+ * one after each dispatch, so seconds[k] is the GPU time from the end of the
+ * command before dispatch k (barrier included) to its end; they add up to the
+ * sequence's GPU time. Without timestamps each is the wall time of the whole
+ * submission over the count. Dispatches use d->pipeline, buffers, groups,
+ * push and label (not repeat nor pre_pipeline). Pipelines recorded must stay
+ * in the cache until the submission (VX_GPU_MAX_PIPELINES: none is evicted
+ * in a process's lifetime in practice). */
+enum { VX__SEQ_MAX = 24 };
+typedef struct vx__seq {
+    VkDescriptorPool pool;
+    uint32_t count;               /* dispatches recorded */
+    uint32_t commands;            /* dispatches and copies recorded */
+    double seconds[VX__SEQ_MAX];  /* after vx__seq_submit: GPU seconds of dispatch k */
+    /* Set before recording a dispatch that the next one may run beside (it
+     * does not read what this one writes): no barrier and no timestamp
+     * after it, so the GPU fills the end of one with the other; its time
+     * counts in the next one's (its seconds 0). Cleared by the dispatch. */
+    bool beside;
+    uint32_t query[VX__SEQ_MAX];  /* the timestamp after dispatch k (0: none) */
+    uint32_t queries;
+} vx__seq;
+/* Begins the command buffer (g->cmd: nothing else may record until the
+ * sequence is submitted or abandoned). */
+vx_result vx__seq_begin(vx_gpu* g, vx__seq* s, vx_error* err);
+/* Records a dispatch; with indirect (created with
+ * VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT), its VkDispatchIndirectCommand at
+ * offset gives the group counts (written by an earlier dispatch of the
+ * sequence; zero groups: the dispatch does nothing) and d->groups is unused. */
+vx_result vx__seq_dispatch(vx_gpu* g, vx__seq* s, const vx__dispatch_desc* d, const vx__buffer* indirect,
+                           VkDeviceSize offset, vx_error* err);
+/* Records a copy of size bytes between buffers (e.g. a count a dispatch
+ * wrote, into a parameter block later dispatches read). */
+void vx__seq_copy(vx_gpu* g, vx__seq* s, const vx__buffer* src, VkDeviceSize src_offset, const vx__buffer* dst,
+                  VkDeviceSize dst_offset, VkDeviceSize size);
+/* Ends, submits, waits, reads the timestamps and frees the sequence's
+ * descriptor pool (also on failure). */
+vx_result vx__seq_submit(vx_gpu* g, vx__seq* s, vx_error* err);
+/* After a failure between begin and submit: ends the command buffer
+ * unsubmitted and frees the pool. */
+void vx__seq_abandon(vx_gpu* g, vx__seq* s);
+
 /* Specialisation constants of trace_common.glsl (ids 0-4); a pass's own start at 5. */
 enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX__SPEC_HITS, VX__SPEC_COUNT };
 

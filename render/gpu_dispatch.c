@@ -162,3 +162,133 @@ done:
     vx_free(&g->alloc, runs);
     return r;
 }
+
+/* ---- vx__seq: several dispatches, one submission (gpu.h) ---- */
+
+/* After every command of a sequence: its writes before every later read or write (shaders, indirect group
+ * counts, copies, the host after the wait). */
+static void seq_barrier(vx_gpu* g) {
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                          .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                           VK_ACCESS_UNIFORM_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
+                                           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                                           VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                             VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+vx_result vx__seq_begin(vx_gpu* g, vx__seq* s, vx_error* err) {
+    *s = (vx__seq){0};
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VX__SEQ_MAX * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VX__SEQ_MAX * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VX__SEQ_MAX * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VX__SEQ_MAX * VX_GPU_MAX_BINDINGS}};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+                                      .maxSets = VX__SEQ_MAX,
+                                      .poolSizeCount = 4,
+                                      .pPoolSizes = sizes};
+    VX__VK(vkCreateDescriptorPool(g->device, &pci, NULL, &s->pool), "vkCreateDescriptorPool");
+    vx_result r = vx__cmd_begin(g, err);
+    if (r) {
+        vkDestroyDescriptorPool(g->device, s->pool, NULL);
+        s->pool = VK_NULL_HANDLE;
+        return r;
+    }
+    if (g->has_timestamps) {
+        vkCmdResetQueryPool(g->cmd, g->timestamps, 0, VX__SEQ_MAX + 1);
+        vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->timestamps, 0);
+    }
+    return VX_OK;
+}
+
+vx_result vx__seq_dispatch(vx_gpu* g, vx__seq* s, const vx__dispatch_desc* d, const vx__buffer* indirect,
+                           VkDeviceSize offset, vx_error* err) {
+    if (s->count >= VX__SEQ_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "more than %d dispatches in one submission", VX__SEQ_MAX);
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = s->pool,
+                                      .descriptorSetCount = 1,
+                                      .pSetLayouts = &d->pipeline->dsl};
+    VkDescriptorSet set;
+    VX__VK(vkAllocateDescriptorSets(g->device, &ai, &set), "vkAllocateDescriptorSets");
+    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+    VkDescriptorImageInfo images[VX_GPU_MAX_BINDINGS];
+    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+    for (uint32_t i = 0; i < d->buffer_count; i++) { /* as vx__dispatch writes them */
+        VkDescriptorType t = d->pipeline->bindings[i];
+        bool image = t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
+        images[i] = (VkDescriptorImageInfo){.sampler = d->buffers[i]->sampler, .imageView = d->buffers[i]->view,
+                                            .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                      .dstSet = set,
+                                      .dstBinding = i,
+                                      .descriptorCount = 1,
+                                      .descriptorType = t,
+                                      .pBufferInfo = image ? NULL : &infos[i],
+                                      .pImageInfo = image ? &images[i] : NULL};
+    }
+    vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+    if (g->begin_label && d->label) {
+        VkDebugUtilsLabelEXT l = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = d->label};
+        g->begin_label(g->cmd, &l);
+    }
+    vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
+    vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
+    if (d->push && d->push_size)
+        vkCmdPushConstants(g->cmd, d->pipeline->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, d->push_size, d->push);
+    if (indirect) vkCmdDispatchIndirect(g->cmd, indirect->buf, offset);
+    else vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
+    bool beside = s->beside;
+    s->beside = false;
+    s->query[s->count] = 0;
+    if (g->has_timestamps && !beside) {
+        s->query[s->count] = ++s->queries;
+        vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, s->queries);
+    }
+    if (g->end_label && d->label) g->end_label(g->cmd);
+    if (!beside) seq_barrier(g);
+    s->count++, s->commands++;
+    return VX_OK;
+}
+
+void vx__seq_copy(vx_gpu* g, vx__seq* s, const vx__buffer* src, VkDeviceSize src_offset, const vx__buffer* dst,
+                  VkDeviceSize dst_offset, VkDeviceSize size) {
+    VkBufferCopy c = {.srcOffset = src_offset, .dstOffset = dst_offset, .size = size};
+    vkCmdCopyBuffer(g->cmd, src->buf, dst->buf, 1, &c);
+    seq_barrier(g);
+    s->commands++;
+}
+
+void vx__seq_abandon(vx_gpu* g, vx__seq* s) {
+    if (!s->pool) return;
+    vkEndCommandBuffer(g->cmd);
+    vkDestroyDescriptorPool(g->device, s->pool, NULL);
+    s->pool = VK_NULL_HANDLE;
+}
+
+vx_result vx__seq_submit(vx_gpu* g, vx__seq* s, vx_error* err) {
+    double t0 = vx_time_now();
+    vx_result r = vx__cmd_submit_wait(g, err);
+    double wall = vx_time_now() - t0;
+    vkDestroyDescriptorPool(g->device, s->pool, NULL);
+    s->pool = VK_NULL_HANDLE;
+    if (r) return r;
+    for (uint32_t k = 0; k < s->count; k++) s->seconds[k] = wall / s->count;
+    if (g->has_timestamps && s->queries) {
+        uint64_t ts[VX__SEQ_MAX + 1];
+        VkResult vr = vkGetQueryPoolResults(g->device, g->timestamps, 0, s->queries + 1, sizeof ts, ts, sizeof ts[0],
+                                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+        if (vr != VK_SUCCESS) return vx__vk_fail(err, vr, "vkGetQueryPoolResults");
+        uint64_t prev = ts[0];
+        for (uint32_t k = 0; k < s->count; k++) {
+            uint32_t q = s->query[k];
+            s->seconds[k] = q ? (double)(ts[q] - prev) * g->props.limits.timestampPeriod * 1e-9 : 0.0;
+            if (q) prev = ts[q];
+        }
+    }
+    return VX_OK;
+}

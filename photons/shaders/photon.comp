@@ -17,6 +17,9 @@
 //   STEP 7 density: per pixel, the record's Lambert sums over both maps, added
 //                   into Out (a small kernel: the gather loop runs at the
 //                   occupancy of its own registers, not the tracer's)
+//   STEP 9 size:    one invocation, after the trace: the buckets this pass
+//                   uses and the group counts of the steps after it, from the
+//                   photons stored (the pass is one submission: photons.c)
 // Coordinates are world minus the frame's reference point (as the tracer's).
 // Layouts: photons/photons.c.
 #extension GL_GOOGLE_include_directive : require
@@ -31,7 +34,7 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
-          S_TRACE_PATHS = 8;
+          S_SIZE = 9; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -51,8 +54,8 @@ layout(std430, binding = 7) readonly buffer Params {
                   // stores into Cells, none stored: photons.c's pass over the capacity), z: the photons the
                   // sources can bring: 1 F_LIGHT ones, 2 F_DIRECT ones (G_LIGHTS sums of neither are 0),
                   // w: 1: more than one instance (kernel_factors looks for other models' faces)
-    uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: in S_TRACE_PATHS, the trace's
-                  // workgroups (the camera's paths take the workgroups after them; photons.c run_pass)
+    uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: 0,
+                  // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
@@ -75,7 +78,10 @@ layout(std430, binding = 13) buffer Sorted { vec4 sorted[]; };
 // per bucket: count, then (after alloc) start; while counting (Params tr.y), the photons' stores, two a uvec2
 layout(std430, binding = 14) buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 15) buffer Out { vec4 outv[]; };
-// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard fired
+// x: photons stored (may pass the capacity: photons.c then traces the pass again), y: sorted so far, z: the loop guard
+// fired; from ctr[4] on, S_SIZE's output, group counts (x, y, z) of indirect dispatches: [4..6] the buckets' steps
+// (clear, alloc) and [7] the buckets (copied into Params a.w), [8..10] the stored photons' steps (count, scatter),
+// [12..14] the pixels' steps (gather, density); all 0 when the stores passed the capacity
 layout(std430, binding = 16) buffer Counters { uint ctr[]; };
 // the sky's environment map, RGB per texel, row 0 at +z (a placeholder unless the sky is a map)
 layout(std430, binding = 17) readonly buffer Env { float env[]; };
@@ -341,6 +347,16 @@ void fx_add(inout uvec3 hi, inout uvec3 lo, vec3 t, float scale) {
     fx_add1(hi.z, lo.z, t.z, scale);
 }
 vec3 fx_value(uvec3 hi, uvec3 lo, float scale) { return (vec3(hi) * 4294967296.0 + vec3(lo)) / scale; }
+// The words fx_add adds for t: fx_add(hi, lo, t, scale) is lo += w.lo (its carry into hi), hi += w.hi.
+void fx_words(vec3 t, float scale, out uvec3 whi, out uvec3 wlo) {
+    whi = uvec3(0u), wlo = uvec3(0u);
+    fx_add(whi, wlo, t, scale); // from zero: no carry, the same words
+}
+void fx_add_words(inout uvec3 hi, inout uvec3 lo, uvec3 whi, uvec3 wlo) {
+    uvec3 carry;
+    lo = uaddCarry(lo, wlo, carry);
+    hi += whi + carry;
+}
 
 // The sum over the photons of map `map` within radius r of x whose normal lies within 25 degrees of n
 // (ncode: n's packed code) of power (lambert) or BSDF B towards wo times power, exact (fixed point: units
@@ -589,7 +605,7 @@ bool specular_sample(Bsdf S, vec3 wo_w, out vec3 wi_w, out vec3 w) {
 
 void gather_pixel() {
     // a workgroup of 64 takes a tile of 8 x 8 pixels: their gathers read the same cells
-    uint it = item() - P.fu.y * 64u, W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
+    uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / 64u, l = it % 64u;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     if (x >= W || y >= H) return;
     uint idx = x + y * W;
@@ -711,11 +727,14 @@ const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
 // Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
 // 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
 // setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
-shared vec4 t_a[gl_WorkGroupSize.x], t_b[gl_WorkGroupSize.x]; // a chunk of photons, both halves
+// a chunk of photons: the first halves, and the power as the words fx_add1 adds (the low words in t_b,
+// the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
+shared vec4 t_a[gl_WorkGroupSize.x];
+shared uvec4 t_b[gl_WorkGroupSize.x];
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
-shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums
+shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
@@ -813,10 +832,15 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             }
             uint k = t_start[a] + (g - t_pre[a]);
             vec4 pa = sorted[k];
-            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi))) {
+            // (another map's photon in these buckets counts for no pixel: left out here)
+            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) &&
+                (floatBitsToUint(pa.w) & F_CAUSTIC) == map) {
                 uint slot = atomicAdd(t_n[chunk], 1u);
+                uvec3 whi, wlo;
+                fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
                 t_a[slot] = pa;
-                t_b[slot] = sorted[P.a.y + k];
+                t_b[slot] = uvec4(wlo, 0u);
+                t_shi[slot] = whi;
             }
         }
         barrier();
@@ -828,10 +852,9 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) > r2) continue;
                 uint nb = floatBitsToUint(pa.w);
-                if ((nb & F_CAUSTIC) != map) continue;
                 if (sel == G_INDIRECT && (nb & F_DIRECT) != 0u) continue;
                 if ((nb & ~F_BITS) != ncode && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), n) < 0.9) continue;
-                fx_add(shi, slo, t_b[j].xyz, P.fx.y);
+                fx_add_words(shi, slo, t_shi[j], t_b[j].xyz);
             }
         }
         barrier();
@@ -912,9 +935,21 @@ void main() {
         sorted[P.a.y + k] = b;
     } else if (STEP == S_DENSITY) {
         density_pixel();
-    } else if (STEP == S_TRACE_PATHS) { // the trace's workgroups, then the camera's paths' (uniform per workgroup)
-        if (i < P.fu.y * 64u) trace_photons();
-        else gather_pixel();
+    } else if (STEP == S_SIZE) {
+        if (i != 0u) return;
+        // photons.c step(): items over 64-lane workgroups, x at most 4096 and y the rest
+        uint stored = ctr[0], over = stored > P.a.y ? 0u : 1u;
+        // the buckets: the least power of two at least twice the stored photons, within [64, P.a.w]
+        uint n = 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
+        used = clamp(used, 64u, P.a.w);
+        uvec3 items = uvec3(used, stored, P.fu.z * 64u) * over;
+        for (int k = 0; k < 3; k++) {
+            uint groups = (items[k] + 63u) / 64u, gx = min(groups, 4096u), gy = gx > 0u ? (groups + gx - 1u) / gx : 0u;
+            ctr[4 + 4 * k] = gx;
+            ctr[5 + 4 * k] = gy;
+            ctr[6 + 4 * k] = gx > 0u ? 1u : 0u;
+        }
+        ctr[7] = used;
     } else {
         gather_pixel();
     }

@@ -3,7 +3,7 @@
 if(VX_WITH_VULKAN)
   vx_add_test(test_photons SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_photons.c LIBS vx_photons vx_probes vx_render vx_svo
               ${CMAKE_DL_LIBS} LABELS photons)
-  set_tests_properties(test_photons PROPERTIES TIMEOUT 600 ENVIRONMENT
+  set_tests_properties(test_photons PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
 endif()
 if(VX_WITH_VULKAN)

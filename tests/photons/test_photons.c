@@ -907,7 +907,18 @@ static void test_glossy(void) {
  * term took pow(1 - dot(wi, h), 5), and where a reflection leaves a face
  * along its normal rounding puts the dot above 1: pow of a negative, NaN
  * (3 pixels of this image at 1024 spp on lavapipe before the clamp in
- * probes/shaders/path_common.glsl). */
+ * probes/shaders/path_common.glsl).
+ * Then the light a glossy surface of voxel steps reflects from photons (the
+ * G_LIGHTS sums, GGX per photon, over the faces of the point's orientation
+ * within r): in the full image, on the sphere's pixels whose ray misses the
+ * sphere light (the path tracer's camera rays end at it, the photons' pass
+ * through it), the photons' mean is the path tracer's. The indirect image's
+ * light here (two reflections on the steps) was noted dark: it is the same
+ * sums at the second surface, a heavy-tailed estimate at these counts (four
+ * seeds of 200k photons x 8 passes gave 0.34, 0.41, 0.94 and 2.73 of the
+ * path tracer's, mean 1.10): most runs read dark, their mean does not
+ * (docs/PERFORMANCE.md "Issue 13, seventh sitting"); the first surface's
+ * sums, checked here, are less so. */
 static uint8_t metal_floor_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
     (void)n;
     if (z == 0) return 1;
@@ -922,35 +933,64 @@ static void test_ggx_finite(void) {
     const char* kv[] = {"_type", "_metal", "_metal", "1", "_rough", "0.2"};
     add_material(&s, 2, kv, 3);
     vx_light L = {.type = VX_LIGHT_SPHERE, .position = {3, 2, 9}, .color = {1, 1, 1}, .intensity = 6, .radius = 1.5};
-    vx_render_desc view = {.width = 24, .height = 24};
-    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 11;
+    enum { W = 24, H = 24 };
+    const double half = 5.5; /* the view's half height and width */
+    vx_render_desc view = {.width = W, .height = H};
+    view.camera.set = true, view.camera.ortho = true, view.camera.ortho_height = 2 * half;
     view.camera.eye[0] = 8, view.camera.eye[1] = -30, view.camera.eye[2] = 6.5;
     view.camera.target[0] = 8, view.camera.target[1] = 8, view.camera.target[2] = 6.5;
     view.camera.up[2] = 1;
     double black[3] = {0, 0, 0};
     vx_probe_set light = light_only(0, black, 6);
-    vx_render_image im[2] = {{0}};
+    vx_render_image im[2] = {{0}}, full[2] = {{0}}, alb = {0};
     vx_render_scene* rs = NULL;
     vx_error err = {0};
     vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
     vx_probe_render_desc d = {.base = &view, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 1024, .seed = 21,
                               .lights = &L, .light_count = 1, .pixel_centre = true};
     if (!r) r = vx_probe_render_gpu(rs, &s, &light, &d, &im[0], &err);
+    d.mode = VX_PROBE_RENDER_PATHTRACE;
+    if (!r) r = vx_probe_render_gpu(rs, &s, &light, &d, &full[0], &err);
+    vx_render_desc pv = view; /* which pixels see the sphere: its palette entry's albedo */
+    pv.mode = VX_RENDER_ALBEDO;
+    if (!r) r = vx_render_frame(rs, &pv, &alb, &err);
     vx_render_scene_destroy(rs);
     if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
     vx_photon_desc pd = {.photons = 100000, .radius = 0.5, .lights = &L, .light_count = 1};
     if (!r && !photon_image(&s, &light, &pd, &view, 2, false, &im[1], NULL)) r = VX_ERR_GPU;
+    vx_photon_desc pf = {.photons = 1600000, .radius = 0.25, .lights = &L, .light_count = 1, .seed = 77};
+    if (!r && !photon_image(&s, &light, &pf, &view, 8, true, &full[1], NULL)) r = VX_ERR_GPU;
     vx_svo_scene_free(&s);
     REQUIRE(r == VX_OK);
     size_t bad[2] = {0, 0};
     for (int k = 0; k < 2; k++)
-        for (size_t i = 0; i < 4 * (size_t)view.width * view.height; i++) bad[k] += !isfinite(im[k].pixels[i]);
-    fprintf(stderr, "  GGX straight from the side: %zu and %zu non-finite values (path tracer, photons); means %.4f %.4f\n",
-            bad[0], bad[1], mean_rgb(&im[0]), mean_rgb(&im[1]));
+        for (size_t i = 0; i < 4 * (size_t)view.width * view.height; i++)
+            bad[k] += !isfinite(im[k].pixels[i]) + !isfinite(full[k].pixels[i]);
+    /* the sphere's pixels (ortho: the ray through the pixel's centre at x, z) that miss the light */
+    double sum[2] = {0, 0};
+    size_t on = 0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            double x = 8 + half * (((i + 0.5) / W) * 2 - 1), z = 6.5 + half * (1 - ((j + 0.5) / H) * 2);
+            size_t p = (size_t)j * W + i;
+            bool behind = (x - L.position[0]) * (x - L.position[0]) + (z - L.position[2]) * (z - L.position[2]) <
+                          (L.radius + 0.3) * (L.radius + 0.3);
+            if (!(alb.pixels[4 * p] > 0.8f) || behind) continue; /* the sphere's 0xE0 against the floor's 0x80 */
+            for (int k = 0; k < 2; k++)
+                for (int c = 0; c < 3; c++) sum[k] += full[k].pixels[4 * p + c];
+            on++;
+        }
+    fprintf(stderr, "  GGX straight from the side: %zu and %zu non-finite values (path tracer, photons); indirect means %.4f %.4f;"
+            " full, the steps' %zu pixels that miss the light: photons / path tracer %.3f\n",
+            bad[0], bad[1], mean_rgb(&im[0]), mean_rgb(&im[1]), on, sum[1] / sum[0]);
     CHECK(bad[0] == 0 && bad[1] == 0);
-    CHECK(mean_rgb(&im[0]) > 1e-4 && mean_rgb(&im[1]) > 1e-4); /* lit (the means differ: test_glossy's comment) */
-    vx_render_image_free(&im[0]);
-    vx_render_image_free(&im[1]);
+    CHECK(mean_rgb(&im[0]) > 1e-4 && mean_rgb(&im[1]) > 1e-4); /* lit */
+    CHECK(on > 250 && sum[0] > 1e-3 * on);
+    /* seeds 77-80: 1.21, 0.96, 0.95, 0.99 (a few pixels by the light carry most of the spread; the pixels'
+     * median ratio is 0.86-0.92: per photon, GGX makes a heavy-tailed sum, most pixels read dark) */
+    CHECK(sum[1] / sum[0] > 0.8 && sum[1] / sum[0] < 1.3);
+    for (int k = 0; k < 2; k++) vx_render_image_free(&im[k]), vx_render_image_free(&full[k]);
+    vx_render_image_free(&alb);
 }
 
 /* The progressive estimate: passes of few photons with a large first radius
