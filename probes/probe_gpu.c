@@ -8,6 +8,7 @@
  * reference the GPU filtering is tested against. */
 #include <math.h>
 #include <pthread.h>
+#include <stdlib.h> /* EXPERIMENT */
 #include <string.h>
 
 #include "probes/probes_internal.h"
@@ -75,6 +76,7 @@ typedef struct gctx {
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's (SPEC_*) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
+    bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
@@ -237,6 +239,7 @@ static void params_common(gpu_params* p, const vx__light* L, uint64_t seed) {
 static void params_path(gpu_params* p, const gctx* c) {
     p->cnt[0] = c->light_count, p->cnt[1] = c->em_count, p->cnt[3] = c->voxel_lights;
     p->pt[0] = c->em_power;
+    p->pt[1] = getenv("VXB_JIT") ? (float)atof(getenv("VXB_JIT")) : 1.0f; /* EXPERIMENT */
 }
 
 static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[3]) {
@@ -253,7 +256,9 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
-    c->spec[VX__SPEC_COUNT + SPEC_PCONST] = pmode | (c->lights_code ? 0x100u : 0u);
+    c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
+        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
+        (getenv("VXB_NOJIT") ? 0x400u : 0u) /* EXPERIMENT */;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_spv_arr, .spirv_size = sizeof vx__probe_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -440,6 +445,8 @@ typedef struct gbake {
     bslot slot[2];
     flayout lay;
     uint32_t batch, chunk, nt;
+    double pipes;   /* seconds gbake_init spent making the filter and beam pipelines */
+    double slots_s; /* seconds gbake_init spent making the two slots' buffers and sets */
 } gbake;
 
 static void gbake_free(gbake* B) {
@@ -474,6 +481,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
     const flayout* L = &B->lay;
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
     if (r) return r;
+    double tp = vx_time_now();
     vx_gpu_compute_pipeline_desc fd = {.spirv = vx__probe_filter_spv_arr,
                                        .spirv_size = sizeof vx__probe_filter_spv_arr, .binding_count = 6,
                                        .push_constant_size = sizeof(fpush), .label = "probe filter"};
@@ -492,6 +500,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
         for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
         if ((r = vx__pipeline_get(g, key, &bd, &B->beam, err))) return r;
     }
+    B->pipes = vx_time_now() - tp;
     /* texel directions and solid angles, then the irradiance and moment texel directions (double -> float) */
     vx__tables T;
     size_t nrow = B->nt + VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + VX_PROBE_DIST_RES * VX_PROBE_DIST_RES;
@@ -531,6 +540,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
         VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &B->queries), "vkCreateQueryPool");
     }
     uint64_t nt = B->nt;
+    double ts = vx_time_now();
     for (int i = 0; i < 2; i++) {
         bslot* s = &B->slot[i];
         if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
@@ -576,6 +586,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
             write_set(g, s->beam_set, B->beam, bb, 11);
         }
     }
+    B->slots_s = vx_time_now() - ts;
     return VX_OK;
 }
 
@@ -802,7 +813,7 @@ struct vx_probe_baker {
     uint32_t res, spp, bounces, probe_count;
     uint64_t seed;
     const vx_probe* probes;
-    double setup; /* seconds vx_probe_baker_create took (reported by the first run's stats) */
+    double setup, setup_ctx, setup_pipes; /* seconds vx_probe_baker_create took (the first run's stats) */
     bool setup_reported;
 };
 
@@ -819,6 +830,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!rs || !scene || !ps || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     double t0 = vx_time_now();
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    if (d.beam_block && (d.beam_block < 2 || d.beam_block > 16 || (d.beam_block & (d.beam_block - 1))))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "beam block %u: 2, 4, 8 or 16 texels", d.beam_block);
     vx_probe_baker* b = vx_calloc(ps->alloc, 1, sizeof *b);
     if (!b) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     b->alloc = ps->alloc;
@@ -839,8 +852,12 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     }
     /* the beam pass for the rays from the probes (H200, Cornell box, 512 probes at R=128, 64 spp, with
      * probe.comp's 8x4 texel tiles: GPU trace 0.544 -> 0.493 s; the camera rays alone 0.136 -> 0.091 s) */
-    if (!r && !d.no_beam) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
+    if (!r && !d.no_beam) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = d.beam_block ? d.beam_block : BAKE_BEAM;
+    if (!r) b->c.strat = !d.independent_bounce;
+    b->setup_ctx = vx_time_now() - t0;
+    double tp = vx_time_now();
     if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
+    b->setup_pipes = vx_time_now() - tp;
     if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
     if (!r) {
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
@@ -872,9 +889,15 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
     if (end == begin) return VX_OK;
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
     vx_probe_bake_stats st = {0};
-    if (!b->setup_reported) st.setup = b->setup, b->setup_reported = true;
+    if (!b->setup_reported) {
+        st.setup = b->setup, st.setup_ctx = b->setup_ctx, st.setup_pipes = b->setup_pipes + b->B.pipes;
+        st.setup_slots = b->B.slots_s;
+        b->setup_reported = true;
+    }
+    double tg = vx_time_now();
     if (!vx__probe_grow(ps, end - ps->first))
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+    st.grow = vx_time_now() - tg;
     vx_result r = bake_gpu_filtered(&b->B, ps, &b->L, &b->f, begin, end, &d.progress, &st, err);
     if (r) return r;
     ps->count = end - ps->first;
@@ -917,6 +940,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     float* raw = NULL;
     vx__pipeline* pipe;
     if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
+    c.strat = !d.independent_bounce; /* the same estimator as the GPU filtering's */
     if ((r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
     if (!vx__probe_grow(ps, end - ps->first)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);

@@ -45,6 +45,13 @@ layout(constant_id = 6) const bool MATS = false; // some attribute record is met
 layout(constant_id = 7) const uint PCONST = 0x100u;
 const int PMODE = int(PCONST & 0xFFu);
 const bool LIGHTS = (PCONST & 0x100u) != 0u;
+// bit 9 (STRAT, the bake only): a texel's first-bounce directions are stratified over its samples, sample s
+// in the s-th point of a shifted Hammersley set whose shift the 32 texels of a tile share up to a jitter
+// within one stratum: each sample's direction stays cosine-distributed (the shift is uniform), a texel's
+// samples cover the hemisphere evenly, and the bounce rays of a SIMD group leave in nearby directions
+// (bake())
+const bool STRAT = (PCONST & 0x200u) != 0u;
+const bool STRAT_NOJIT = (PCONST & 0x400u) != 0u; // EXPERIMENT: the tile's texels share the shift exactly
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -250,6 +257,8 @@ vec3 sky_radiance(vec3 d) { return sky_eval(P.sky, P.skyh, P.skyg, P.skym, d); }
 // The bake's camera ray (path()'s first) starts its walk here: its texel block's beam distance
 // (probe_beam.comp); 0 for every other ray and pass.
 float g_path_tskip = 0.0;
+// STRAT: the first bounce's two direction numbers (u1, u2 of bsdf_sample), set per sample by bake()
+vec2 g_bounce_u = vec2(0.0);
 
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
@@ -316,7 +325,18 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
         if (depth >= bounces) break;
         vec3 w;
-        if (!bsdf_sample(B, wo, d, w, prev_pdf)) break;
+        bool sampled;
+        if (STRAT && PMODE == P_BAKE && depth == 0u) {
+            // the stratified pair replaces u1 and u2; all three numbers are still drawn, so that the
+            // later ones (Russian roulette, deeper bounces) are the independent path's
+            float u0 = rnd();
+            rnd();
+            rnd();
+            sampled = bsdf_sample_u(B, wo, u0, g_bounce_u.x, g_bounce_u.y, d, w, prev_pdf);
+        } else {
+            sampled = bsdf_sample(B, wo, d, w, prev_pdf);
+        }
+        if (!sampled) break;
         thr *= w;
         depth++;
         if (depth >= 3u) { // VX__RR_DEPTH
@@ -709,8 +729,20 @@ void bake() {
     if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
     g_path_tskip = g_tskip;
     g_tskip = 0.0;
+    // STRAT: the tile's shift (shared by its 32 texels) plus the texel's jitter within one stratum of a
+    // sqrt(spp) x sqrt(spp) grid; the sum is uniform on the unit square for every texel
+    vec2 shift = vec2(0.0), step = vec2(0.0);
+    if (STRAT) {
+        uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        float side = 1.0 / ceil(sqrt(float(spp)));
+        shift = fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + (STRAT_NOJIT ? 0.0 : P.pt.y) * vec2(kl.xy >> 8) * (side / 16777216.0));
+        step = vec2(1.0 / float(spp), 0.0);
+    }
     for (; s < s1; s++) {
         rng_init(probe, texel, s);
+        // the s-th Hammersley point (s / spp, the radical inverse of s), shifted on the torus
+        if (STRAT) g_bounce_u = fract(vec2(float(s) * step.x, float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
         vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
         bool hit;
         acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
