@@ -195,8 +195,6 @@ typedef struct vx_probe_bake_stats {
  *              rather than from their texel block's beam distance
  *              (probes/shaders/probe_beam.comp): the reference the beam is
  *              tested against (the same bytes); slower
- *  beam_block: GPU bake only: the beam pass's texel blocks' side, 0 == 4;
- *              2, 4, 8 or 16 (the same bytes for every side)
  *  independent_bounce: GPU bake only: every sample's first-bounce direction
  *              from its own random numbers (the CPU bake's estimator) rather
  *              than stratified over the texel's samples (probe.comp STRAT:
@@ -225,7 +223,6 @@ typedef struct vx_probe_bake_desc {
     bool host_filter;
     vx_probe_bake_stats* stats;
     bool no_beam;
-    uint32_t beam_block;
     bool independent_bounce;
 } vx_probe_bake_desc;
 

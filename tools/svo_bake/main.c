@@ -508,9 +508,6 @@ static int bake_single(bake_job* j) {
     eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
     bool show = !o->quiet && isatty(2);
     vx_probe_bake_desc bd = o->b;
-    if (getenv("VXB_INDEP")) bd.independent_bounce = true; /* EXPERIMENT */
-    if (getenv("VXB_BEAM")) bd.beam_block = (uint32_t)atoi(getenv("VXB_BEAM")); /* EXPERIMENT */
-    if (getenv("VXB_BATCH")) bd.batch = (uint32_t)atoi(getenv("VXB_BATCH")); /* EXPERIMENT */
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
     if (show) bd.progress = (vx_progress){eta_func, &e};
