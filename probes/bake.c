@@ -213,8 +213,8 @@ static sizes sizes_of(const vx_probe_set* ps) {
     return z;
 }
 
-/* Grows the data arrays to hold n probes (zeroed). */
-bool vx__probe_grow(vx_probe_set* ps, uint32_t n) {
+/* Grows the data arrays to hold n probes (the new ones zeroed where zero is set; probes_internal.h). */
+bool vx__probe_grow(vx_probe_set* ps, uint32_t n, bool zero) {
     sizes z = sizes_of(ps);
     void** arr[6] = {(void**)&ps->radiance, (void**)&ps->normal, (void**)&ps->distance,
                      (void**)&ps->low, (void**)&ps->irradiance, (void**)&ps->moments};
@@ -222,7 +222,7 @@ bool vx__probe_grow(vx_probe_set* ps, uint32_t n) {
     for (int i = 0; i < 6; i++) {
         size_t old, want;
         if (!vx_mul_size(el[i], ps->count, &old) || !vx_mul_size(el[i], n, &want)) return false;
-        uint8_t* p = vx_calloc(ps->alloc, want ? want : 1, 1);
+        uint8_t* p = zero ? vx_calloc(ps->alloc, want ? want : 1, 1) : vx_alloc(ps->alloc, want ? want : 1);
         if (!p) return false;
         if (*arr[i] && old) memcpy(p, *arr[i], old < want ? old : want);
         vx_free(ps->alloc, *arr[i]);
@@ -429,7 +429,7 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
     vx__tables T = {0};
     if ((r = vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false, err))) goto done;
     for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first)) {
+    if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first, true)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
     }
@@ -507,7 +507,7 @@ vx_result vx_probe_merge(const vx_probe_set* const* parts, uint32_t n, const vx_
     ps.first = ps.count = 0;
     ps.radiance = NULL, ps.normal = NULL, ps.distance = NULL, ps.low = NULL, ps.irradiance = NULL, ps.moments = NULL;
     ps.probes = vx_calloc(alloc, a->probe_count, sizeof *ps.probes);
-    if (!ps.probes || !vx__probe_grow(&ps, a->probe_count)) {
+    if (!ps.probes || !vx__probe_grow(&ps, a->probe_count, true)) {
         vx_probe_set_free(&ps);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }

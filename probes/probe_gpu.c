@@ -75,6 +75,7 @@ typedef struct gctx {
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's (SPEC_*) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
+    bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
@@ -253,7 +254,8 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
-    c->spec[VX__SPEC_COUNT + SPEC_PCONST] = pmode | (c->lights_code ? 0x100u : 0u);
+    c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
+        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u);
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_spv_arr, .spirv_size = sizeof vx__probe_spv_arr,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -427,6 +429,7 @@ typedef struct bslot {
     VkFence fence;
     VkDescriptorSet trace_set, filter_set, beam_set;
     uint32_t at, cnt;
+    bool made; /* slot_init done */
 } bslot;
 
 typedef struct gbake {
@@ -439,7 +442,9 @@ typedef struct gbake {
     VkQueryPool queries; /* 4 per slot: start, traced, filtered, copied */
     bslot slot[2];
     flayout lay;
-    uint32_t batch, chunk, nt;
+    uint32_t batch, chunk, nt, res;
+    double pipes;   /* seconds gbake_init spent making the filter and beam pipelines */
+    double slots_s; /* seconds gbake_init spent making the two slots' buffers and sets */
 } gbake;
 
 static void gbake_free(gbake* B) {
@@ -467,19 +472,78 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx_
     vkUpdateDescriptorSets(g->device, n, w, 0, NULL);
 }
 
+/* Slot i's buffers, command buffer, fence and descriptor sets. The second slot is made after the first
+ * batch is submitted (bake_gpu_filtered), while the GPU traces: 0.01 s of the 0.023 s the two took on an H200
+ * (Cornell box, batches of 128 probes at R=128) off the time before the first batch. */
+static vx_result slot_init(gbake* B, int i, vx_error* err) {
+    gctx* c = B->c;
+    vx_gpu* g = c->g;
+    const flayout* L = &B->lay;
+    uint64_t nt = B->nt, batch = B->batch;
+    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM], nblk = beam ? (B->res / beam) * (B->res / beam) : 1;
+    vx_result r;
+    double ts = vx_time_now();
+    bslot* s = &B->slot[i];
+    if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
+                               &s->params, err)) ||
+        (r = vx__buffer_create(g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
+                               &s->out, err)) ||
+        (r = vx__buffer_create(g, batch * nt * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bake filter texels",
+                               &s->texl, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)batch * L->small * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                               "bake filter sums", &s->small, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)batch * L->per * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                               "bake maps", &s->packed, err)) ||
+        (r = vx__buffer_create(g, 16 + (VkDeviceSize)batch * L->per * 4, 0, true, "bake readback", &s->back, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)batch * nblk * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                               "bake beam", &s->beam, err)))
+        return r;
+    if (!s->params.map || !s->back.map)
+        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible memory for the bake's parameters and results");
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                      .commandPool = B->pool, .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                      .commandBufferCount = 1};
+    VX__VK(vkAllocateCommandBuffers(g->device, &ai, &s->cmd), "vkAllocateCommandBuffers");
+    VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VX__VK(vkCreateFence(g->device, &fi, NULL, &s->fence), "vkCreateFence");
+    VkDescriptorSetLayout dsl[3] = {B->trace->dsl, B->filter->dsl, B->beam ? B->beam->dsl : VK_NULL_HANDLE};
+    VkDescriptorSet sets[3];
+    VkDescriptorSetAllocateInfo si = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = B->dpool, .descriptorSetCount = B->beam ? 3 : 2,
+                                      .pSetLayouts = dsl};
+    VX__VK(vkAllocateDescriptorSets(g->device, &si, sets), "vkAllocateDescriptorSets");
+    s->trace_set = sets[0], s->filter_set = sets[1], s->beam_set = B->beam ? sets[2] : VK_NULL_HANDLE;
+    vx__buffer* tb[NBIND];
+    for (int k = 0; k < 7; k++) tb[k] = c->scene[k];
+    tb[7] = &s->params, tb[8] = &c->emit, tb[9] = &c->probes, tb[10] = &s->out, tb[11] = B->beam ? &s->beam : &c->maps;
+    tb[12] = &c->lf, tb[13] = &c->mats, tb[14] = &c->lights, tb[15] = &c->ems, tb[16] = &c->env;
+    write_set(g, s->trace_set, B->trace, tb, NBIND);
+    vx__buffer* fb[6] = {&c->probes, &s->out, &B->tables, &s->texl, &s->small, &s->packed};
+    write_set(g, s->filter_set, B->filter, fb, 6);
+    if (B->beam) {
+        vx__buffer* bb[11];
+        for (int k = 0; k < 7; k++) bb[k] = c->scene[k];
+        bb[7] = bb[8] = bb[9] = &c->probes, bb[10] = &s->beam; /* 7, 8: unused */
+        write_set(g, s->beam_set, B->beam, bb, 11);
+    }
+    s->made = true;
+    B->slots_s += vx_time_now() - ts;
+    return VX_OK;
+}
+
 static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, vx_error* err) {
     vx_gpu* g = c->g;
     B->c = c, B->ps = NULL /* the run's */, B->batch = batch, B->lay = layout_of(ps);
-    B->nt = ps->res * ps->res;
-    const flayout* L = &B->lay;
+    B->nt = ps->res * ps->res, B->res = ps->res;
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
     if (r) return r;
+    double tp = vx_time_now();
     vx_gpu_compute_pipeline_desc fd = {.spirv = vx__probe_filter_spv_arr,
                                        .spirv_size = sizeof vx__probe_filter_spv_arr, .binding_count = 6,
                                        .push_constant_size = sizeof(fpush), .label = "probe filter"};
     for (int i = 0; i < 6; i++) fd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     if ((r = vx__pipeline_get(g, 0x9B0BF1u, &fd, &B->filter, err))) return r;
-    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM], nblk = beam ? (ps->res / beam) * (ps->res / beam) : 1;
+    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM];
     if (beam) {
         /* probe_beam.comp: the scene (0-6; 7 and 8 unused), the probes (9), the start distances (10) */
         vx_gpu_compute_pipeline_desc bd = {.spirv = vx__probe_beam_spv_arr, .spirv_size = sizeof vx__probe_beam_spv_arr,
@@ -492,6 +556,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
         for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
         if ((r = vx__pipeline_get(g, key, &bd, &B->beam, err))) return r;
     }
+    B->pipes = vx_time_now() - tp;
     /* texel directions and solid angles, then the irradiance and moment texel directions (double -> float) */
     vx__tables T;
     size_t nrow = B->nt + VX_PROBE_IRR_RES * VX_PROBE_IRR_RES + VX_PROBE_DIST_RES * VX_PROBE_DIST_RES;
@@ -530,53 +595,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
                                     .queryType = VK_QUERY_TYPE_TIMESTAMP, .queryCount = 8};
         VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &B->queries), "vkCreateQueryPool");
     }
-    uint64_t nt = B->nt;
-    for (int i = 0; i < 2; i++) {
-        bslot* s = &B->slot[i];
-        if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
-                                   &s->params, err)) ||
-            (r = vx__buffer_create(g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
-                                   &s->out, err)) ||
-            (r = vx__buffer_create(g, batch * nt * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bake filter texels",
-                                   &s->texl, err)) ||
-            (r = vx__buffer_create(g, (VkDeviceSize)batch * L->small * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                                   "bake filter sums", &s->small, err)) ||
-            (r = vx__buffer_create(g, (VkDeviceSize)batch * L->per * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                                   "bake maps", &s->packed, err)) ||
-            (r = vx__buffer_create(g, 16 + (VkDeviceSize)batch * L->per * 4, 0, true, "bake readback", &s->back, err)) ||
-            (r = vx__buffer_create(g, (VkDeviceSize)batch * nblk * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                                   "bake beam", &s->beam, err)))
-            return r;
-        if (!s->params.map || !s->back.map)
-            return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible memory for the bake's parameters and results");
-        VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-                                          .commandPool = B->pool, .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
-                                          .commandBufferCount = 1};
-        VX__VK(vkAllocateCommandBuffers(g->device, &ai, &s->cmd), "vkAllocateCommandBuffers");
-        VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        VX__VK(vkCreateFence(g->device, &fi, NULL, &s->fence), "vkCreateFence");
-        VkDescriptorSetLayout dsl[3] = {B->trace->dsl, B->filter->dsl, B->beam ? B->beam->dsl : VK_NULL_HANDLE};
-        VkDescriptorSet sets[3];
-        VkDescriptorSetAllocateInfo si = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-                                          .descriptorPool = B->dpool, .descriptorSetCount = B->beam ? 3 : 2,
-                                          .pSetLayouts = dsl};
-        VX__VK(vkAllocateDescriptorSets(g->device, &si, sets), "vkAllocateDescriptorSets");
-        s->trace_set = sets[0], s->filter_set = sets[1], s->beam_set = B->beam ? sets[2] : VK_NULL_HANDLE;
-        vx__buffer* tb[NBIND];
-        for (int k = 0; k < 7; k++) tb[k] = c->scene[k];
-        tb[7] = &s->params, tb[8] = &c->emit, tb[9] = &c->probes, tb[10] = &s->out, tb[11] = B->beam ? &s->beam : &c->maps;
-        tb[12] = &c->lf, tb[13] = &c->mats, tb[14] = &c->lights, tb[15] = &c->ems, tb[16] = &c->env;
-        write_set(g, s->trace_set, B->trace, tb, NBIND);
-        vx__buffer* fb[6] = {&c->probes, &s->out, &B->tables, &s->texl, &s->small, &s->packed};
-        write_set(g, s->filter_set, B->filter, fb, 6);
-        if (B->beam) {
-            vx__buffer* bb[11];
-            for (int k = 0; k < 7; k++) bb[k] = c->scene[k];
-            bb[7] = bb[8] = bb[9] = &c->probes, bb[10] = &s->beam; /* 7, 8: unused */
-            write_set(g, s->beam_set, B->beam, bb, 11);
-        }
-    }
-    return VX_OK;
+    return slot_init(B, 0, err);
 }
 
 static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags sa, VkPipelineStageFlags dst,
@@ -727,6 +746,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
             p->lf[0] = 0, p->lf[3] = 2; /* the state zeroed by a fill; loops_intact() */
             if ((r = gbake_submit(&B, s, (spp + B.chunk - 1) / B.chunk, err))) break;
             submitted = i + 1;
+            if (i == 0 && nbatch > 1 && !B.slot[1].made && (r = slot_init(&B, 1, err))) break;
         }
         if (i == 0) continue;
         bslot* s = &B.slot[(i - 1) % 2];
@@ -773,7 +793,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         st->busy = busy / st->loop;
     }
     vx_free(ps->alloc, ts);
-    Bp->chunk = B.chunk;
+    Bp->chunk = B.chunk, Bp->slot[1] = B.slot[1], Bp->slots_s = B.slots_s; /* the second slot, made here */
     return r;
 }
 
@@ -802,7 +822,7 @@ struct vx_probe_baker {
     uint32_t res, spp, bounces, probe_count;
     uint64_t seed;
     const vx_probe* probes;
-    double setup; /* seconds vx_probe_baker_create took (reported by the first run's stats) */
+    double setup, setup_ctx, setup_pipes; /* seconds vx_probe_baker_create took (the first run's stats) */
     bool setup_reported;
 };
 
@@ -840,7 +860,11 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     /* the beam pass for the rays from the probes (H200, Cornell box, 512 probes at R=128, 64 spp, with
      * probe.comp's 8x4 texel tiles: GPU trace 0.544 -> 0.493 s; the camera rays alone 0.136 -> 0.091 s) */
     if (!r && !d.no_beam) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
+    if (!r) b->c.strat = !d.independent_bounce;
+    b->setup_ctx = vx_time_now() - t0;
+    double tp = vx_time_now();
     if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
+    b->setup_pipes = vx_time_now() - tp;
     if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
     if (!r) {
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
@@ -872,9 +896,16 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
     if (end == begin) return VX_OK;
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
     vx_probe_bake_stats st = {0};
-    if (!b->setup_reported) st.setup = b->setup, b->setup_reported = true;
-    if (!vx__probe_grow(ps, end - ps->first))
+    if (!b->setup_reported) {
+        st.setup = b->setup, st.setup_ctx = b->setup_ctx, st.setup_pipes = b->setup_pipes + b->B.pipes;
+        st.setup_slots = b->B.slots_s;
+        b->setup_reported = true;
+    }
+    double tg = vx_time_now();
+    /* every byte of the range's maps comes from gbake_store before ps->count covers it */
+    if (!vx__probe_grow(ps, end - ps->first, false))
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
+    st.grow = vx_time_now() - tg;
     vx_result r = bake_gpu_filtered(&b->B, ps, &b->L, &b->f, begin, end, &d.progress, &st, err);
     if (r) return r;
     ps->count = end - ps->first;
@@ -917,8 +948,9 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     float* raw = NULL;
     vx__pipeline* pipe;
     if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
+    c.strat = !d.independent_bounce; /* the same estimator as the GPU filtering's */
     if ((r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
-    if (!vx__probe_grow(ps, end - ps->first)) {
+    if (!vx__probe_grow(ps, end - ps->first, true)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
     }

@@ -148,6 +148,11 @@ void vx_probe_set_free(vx_probe_set* ps);
 typedef struct vx_probe_bake_stats {
     double place;       /* placing the probes (vx_probe_bake_gpu only; wall) */
     double setup;       /* tables, buffers, uploads and pipelines before the first batch (wall) */
+    double setup_ctx;   /* of setup: the lighting, the scene's bindings and the small uploads (wall) */
+    double setup_pipes; /* of setup: the trace, beam and filter pipelines (wall; the driver's cache) */
+    double setup_slots; /* of setup: the buffers of the two batch slots (trace output, filter scratch, maps,
+                         * host-visible copies) and their descriptor sets (wall) */
+    double grow;        /* growing the set's arrays for the range before the loop (wall) */
     double loop;        /* the batch loop, first submission to the last probe stored (wall) */
     double gpu_trace;   /* path tracing, all batches (GPU) */
     double gpu_filter;  /* filtering, quantisation and packing on the GPU (GPU) */
@@ -189,7 +194,13 @@ typedef struct vx_probe_bake_stats {
  *  no_beam:    GPU bake only: the camera rays walk the octree from their probe
  *              rather than from their texel block's beam distance
  *              (probes/shaders/probe_beam.comp): the reference the beam is
- *              tested against (the same bytes); slower */
+ *              tested against (the same bytes); slower
+ *  independent_bounce: GPU bake only: every sample's first-bounce direction
+ *              from its own random numbers (the CPU bake's estimator) rather
+ *              than stratified over the texel's samples (probe.comp STRAT:
+ *              each direction still cosine-distributed, so the same mean, with
+ *              less noise; a SIMD group's bounce rays leave in nearby
+ *              directions, which the GPU traces faster) */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -212,6 +223,7 @@ typedef struct vx_probe_bake_desc {
     bool host_filter;
     vx_probe_bake_stats* stats;
     bool no_beam;
+    bool independent_bounce;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;

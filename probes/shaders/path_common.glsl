@@ -167,9 +167,9 @@ vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
     return B.kd / PI + (B.f0 + (1.0 - B.f0) * s5) * (d * g2 / (4.0 * wo.z * wi.z));
 }
 
-bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
+// bsdf_sample with its three numbers given (u0 picks the lobe, u1 and u2 the direction in it)
+bool bsdf_sample_u(Bsdf B, vec3 wo_w, float u0, float u1, float u2, out vec3 wi_w, out vec3 w, out float pdf) {
     vec3 wo = to_local(B, wo_w);
-    float u0 = rnd(), u1 = rnd(), u2 = rnd();
     w = vec3(0.0);
     pdf = 0.0;
     if (B.kind == B_LAMBERT || u0 >= B.ps) {
@@ -185,6 +185,11 @@ bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
     if (!(pdf > 0.0) || cs <= 0.0) return false;
     w = f * cs / pdf;
     return true;
+}
+
+bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
+    float u0 = rnd(), u1 = rnd(), u2 = rnd();
+    return bsdf_sample_u(B, wo_w, u0, u1, u2, wi_w, w, pdf);
 }
 
 // one event at a dielectric interface (n faces the incident side, eta = n_other / n_this)

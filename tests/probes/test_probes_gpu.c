@@ -244,6 +244,78 @@ static void test_gpu_bake_beam(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The bake's stratified first bounce (probe.comp STRAT, the default) against the independent one
+ * (vx_probe_bake_desc.independent_bounce, main's estimator) and the CPU bake: each sample's
+ * direction is still cosine-distributed, so the mean is the CPU's; a texel's samples cover the
+ * hemisphere evenly, so its noise is lower. Noise: half the squared difference of two seeds' radiance,
+ * summed over the texels; the independent GPU estimator's is the CPU's (other random streams). */
+static double bake_noise(vx_render_scene* rs, const vx_svo_scene* s, vx_probe_bake_desc d, bool cpu, double* mean,
+                         double* irr_noise) {
+    vx_probe_set a, b;
+    vx_error err = {0};
+    d.seed = 11;
+    bool ok = (cpu ? vx_probe_bake(s, &d, &a, &err) : vx_probe_bake_gpu(rs, s, &d, &a, &err)) == VX_OK;
+    d.seed = 12;
+    ok = ok && (cpu ? vx_probe_bake(s, &d, &b, &err) : vx_probe_bake_gpu(rs, s, &d, &b, &err)) == VX_OK;
+    if (!ok) {
+        fprintf(stderr, "  %s\n", err.msg);
+        return -1;
+    }
+    double noise = 0, sum = 0;
+    size_t n = vx__bsq_test(a.res) * a.count * 3;
+    for (size_t i = 0; i < n; i++) {
+        double x = vx_probe_half_to_float(a.radiance[i]), y = vx_probe_half_to_float(b.radiance[i]);
+        noise += 0.5 * (x - y) * (x - y), sum += x + y;
+    }
+    *mean = sum / (2.0 * (double)n);
+    /* the irradiance maps integrate every texel: there the texels' correlations count too */
+    size_t ni = vx__bsq_test(VX_PROBE_IRR_RES) * 3 * a.count;
+    *irr_noise = 0;
+    for (size_t i = 0; i < ni; i++) {
+        double x = vx_probe_half_to_float(a.irradiance[i]), y = vx_probe_half_to_float(b.irradiance[i]);
+        *irr_noise += 0.5 * (x - y) * (x - y);
+    }
+    vx_probe_set_free(&a), vx_probe_set_free(&b);
+    return noise;
+}
+
+static void test_gpu_bake_strata(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_probe_bake_desc d = {.grid = {2, 1, 1}, .res = 32, .spp = 64, .threads = 2};
+    double m_st, m_in, m_cpu, i_st, i_in, i_cpu;
+    double n_st = bake_noise(rs, &s, d, false, &m_st, &i_st);
+    d.independent_bounce = true;
+    double n_in = bake_noise(rs, &s, d, false, &m_in, &i_in);
+    double n_cpu = bake_noise(rs, &s, d, true, &m_cpu, &i_cpu);
+    REQUIRE(n_st >= 0 && n_in >= 0 && n_cpu > 0);
+    fprintf(stderr,
+            "  stratified / independent / CPU bake: mean %.5f / %.5f / %.5f, noise %.4g / %.4g / %.4g, "
+            "irradiance noise %.4g / %.4g / %.4g\n",
+            m_st, m_in, m_cpu, n_st, n_in, n_cpu, i_st, i_in, i_cpu);
+    CHECK(fabs(m_st / m_cpu - 1) < 0.02);
+    CHECK(fabs(m_in / m_cpu - 1) < 0.02);
+    CHECK(n_in > 0.8 * n_cpu && n_in < 1.25 * n_cpu); /* the same estimator as the CPU's */
+    CHECK(n_st < 0.9 * n_in);                         /* stratified: less noise */
+    /* neighbouring texels share their strata's order: their noise is correlated, yet the irradiance maps that
+     * sum them must not get noisier than the independent estimator's (the GPU's or the CPU's) */
+    CHECK(i_st < 1.25 * fmin(i_in, i_cpu));
+    /* the two estimators differ, and each is deterministic */
+    vx_probe_set a, b;
+    vx_error err = {0};
+    d.seed = 11;
+    REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &a, &err) == VX_OK);
+    d.independent_bounce = false;
+    REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &b, &err) == VX_OK);
+    CHECK(memcmp(a.radiance, b.radiance, vx__bsq_test(a.res) * a.count * 6) != 0);
+    vx_probe_set_free(&a), vx_probe_set_free(&b);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 /* Half a and b as integers on one line (sign-magnitude to ordered). */
 static int half_ord(uint16_t h) { return (h & 0x8000u) ? -(int)(h & 0x7FFFu) : (int)h; }
 
@@ -798,6 +870,7 @@ int main(void) {
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_bake_beam);
+    RUN(test_gpu_bake_strata);
     RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_baker_ranges);
     RUN(test_gpu_device_choice);

@@ -43,6 +43,7 @@ typedef struct bake_job {
     double t_device;      /* seconds the device and the scene's upload took on its thread */
     double t_vk;          /* of it the device's (vx_gpu_create) */
     double t_wait;        /* seconds bake_job_device waited for it */
+    double t_close[3];    /* seconds bake_job_close took for the baker, the scene and the device */
 } bake_job;
 
 /* Reads the scene and starts opening the device (o.device; NULL: the default
