@@ -145,6 +145,116 @@ static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint
     return true;
 }
 
+/* The descending pass of one large model on several threads, level by
+ * level: the words reached at level l (the frontier) mark their children
+ * at level l - 1, each (word, level) pair once (an atomic OR of the level
+ * bit says who reached it first; that one lists it), roles by compare and
+ * swap. The roles and levels it leaves are the sequential pass's (set-once
+ * roles and ORed levels do not depend on the order), and it checks every
+ * (word, level) pair the sequential pass checks; the first error found only
+ * sets a flag, and the caller runs the sequential pass again, which finds
+ * the same error as a one-thread read and reports it in its words. On the
+ * terrain of docs/PERFORMANCE.md (one model of 33 M words) the sequential
+ * pass was a fifth of a chunked read, and the only part left on one thread. */
+#define DESCEND_FLUSH 1024u
+typedef struct descend_job {
+    const vx_svo_model* m;
+    uint32_t* lv;
+    uint8_t* role;
+    const uint32_t* cur;
+    uint32_t* next;
+    size_t n;
+    size_t next_n; /* atomic */
+    uint32_t l;
+    int failed; /* atomic */
+} descend_job;
+
+static bool mark_atomic(uint8_t* role, uint32_t w, uint8_t r) {
+    uint8_t cur = __atomic_load_n(&role[w], __ATOMIC_RELAXED);
+    if (cur == ROLE_NONE &&
+        __atomic_compare_exchange_n(&role[w], &cur, r, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        return true;
+    return cur == r;
+}
+
+static void descend_flush(descend_job* j, const uint32_t* buf, uint32_t n) {
+    size_t at = __atomic_fetch_add(&j->next_n, (size_t)n, __ATOMIC_RELAXED);
+    memcpy(j->next + at, buf, n * sizeof *buf);
+}
+
+/* false: an error (any the sequential pass reports for this pair) */
+static bool descend_word(descend_job* j, uint32_t w, uint32_t* buf, uint32_t* nb) {
+    const vx_svo_model* m = j->m;
+    uint32_t l = j->l, d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    if (valid == 0 || (leaf & ~valid)) return false;
+    uint32_t nn = vx__popc8(valid & ~leaf);
+    if ((l == 1 && nn) || l == 0) return false;
+    uint32_t blen = nn + (m->attrs ? 1u : 0u);
+    if (blen == 0) return (d >> 16) == 0;
+    uint32_t slot, b;
+    if (!block_of(m, w, d, &slot, &b)) return false;
+    if (slot != UINT32_MAX && !mark_atomic(j->role, slot, ROLE_FAR)) return false;
+    if ((uint64_t)b + blen > w) return false;
+    uint32_t bit = 1u << (l - 1);
+    for (uint32_t k = 0; k < nn; k++) {
+        if (!mark_atomic(j->role, b + k, ROLE_DESC)) return false;
+        if (!(__atomic_fetch_or(&j->lv[b + k], bit, __ATOMIC_RELAXED) & bit)) {
+            buf[(*nb)++] = b + k;
+            if (*nb == DESCEND_FLUSH) descend_flush(j, buf, *nb), *nb = 0;
+        }
+    }
+    if (m->attrs) {
+        if (!mark_atomic(j->role, b + nn, ROLE_ATTR)) return false;
+        if ((uint64_t)m->nodes[b + nn] + vx__popc8(valid) > m->attr_count) return false;
+    }
+    return true;
+}
+
+static void descend_run(void* ctx, uint32_t i) {
+    descend_job* j = (descend_job*)ctx;
+    if (__atomic_load_n(&j->failed, __ATOMIC_RELAXED)) return;
+    size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
+    uint32_t buf[DESCEND_FLUSH], nb = 0;
+    for (size_t k = a; k < e; k++) {
+        if (k + PREFETCH_AHEAD < e) {
+            /* the children's role and level words (a guess, as the sequential pass's) */
+            uint32_t ahead = j->cur[k + PREFETCH_AHEAD], pd = j->m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
+            if (pp >= 1 && pp <= ahead) {
+                __builtin_prefetch(&j->role[ahead - pp], 1);
+                __builtin_prefetch(&j->lv[ahead - pp], 1);
+            }
+        }
+        if (!descend_word(j, j->cur[k], buf, &nb)) {
+            __atomic_store_n(&j->failed, 1, __ATOMIC_RELAXED);
+            return;
+        }
+    }
+    if (nb) descend_flush(j, buf, nb);
+}
+
+/* 1: done, 0: an error was found (the caller runs the sequential pass for
+ * its message), -1: no memory for the frontiers (the same). lv and role
+ * hold the root's marks. */
+static int descend_by_level(const vx_svo_model* m, uint32_t* lv, uint8_t* role, unsigned threads) {
+    size_t nw = m->node_count;
+    uint32_t* cur = (uint32_t*)vx_alloc(NULL, nw * sizeof *cur);
+    uint32_t* next = (uint32_t*)vx_alloc(NULL, nw * sizeof *next);
+    int res = 1;
+    if (!cur || !next) res = -1;
+    size_t n = 1;
+    if (cur) cur[0] = m->root;
+    for (uint32_t l = m->depth; res == 1 && n && l >= 1; l--) {
+        descend_job j = {m, lv, role, cur, next, n, 0, l, 0};
+        vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), descend_run, &j);
+        if (j.failed) res = 0;
+        uint32_t* t = cur;
+        cur = next, next = t, n = j.next_n;
+    }
+    vx_free(NULL, cur);
+    vx_free(NULL, next);
+    return res;
+}
+
 vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err) {
     return vx__svo_analyze_mt(m, ext, unreferenced_ok, 1, err);
 }
@@ -215,6 +325,15 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
     }
     lv[m->root] = 1u << m->depth;
     role[m->root] = ROLE_DESC;
+    if (threads >= 2 && nw >= LEVEL_PARALLEL_WORDS) {
+        int pr = descend_by_level(m, lv, role, threads);
+        if (pr == 1) goto descended;
+        /* an error (the sequential pass below reports it) or no memory: from the root's marks again */
+        memset(lv, 0, nw * sizeof *lv);
+        memset(role, 0, nw);
+        lv[m->root] = 1u << m->depth;
+        role[m->root] = ROLE_DESC;
+    }
     /* Pointers only go backwards, so a descending scan sees every parent of
      * a word before the word itself: each word is checked once, for every
      * level it is reached at, and shared blocks are never expanded. */
@@ -289,6 +408,7 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             }
         }
     }
+descended:
     for (size_t w = 0; w < nw && !unreferenced_ok; w++)
         if (role[w] == ROLE_NONE) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);

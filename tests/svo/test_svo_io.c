@@ -1731,8 +1731,8 @@ static void test_chunked_large(void) {
         vx_free(NULL, d1);
         vx_free(NULL, d4);
     }
-    /* the validation of a model of 2^20 words or more splits its ascending
-     * pass over threads: the same extent as on one thread, and for a model
+    /* the validation of a model of 2^20 words or more splits its descending
+     * and ascending passes over threads: the same extent as on one thread, and for a model
      * that declares one voxel more than its tree holds the same error */
     CHECKF(m->node_count >= (1u << 20), "%u words: the threaded validation is not reached", m->node_count);
     vx__svo_extent x1, x4;
@@ -1747,6 +1747,36 @@ static void test_chunked_large(void) {
         vx_error e1, e4;
         vx_result r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1), r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
         CHECK(r1 == VX_ERR_BAD_FORMAT && r4 == r1 && !strcmp(e1.msg, e4.msg) && strstr(e1.msg, "voxel_count"));
+        /* errors of the descending pass, which runs level by level on 2 or
+         * more threads: a descriptor two levels above the cells (found by
+         * following the first inner child from the root) without children,
+         * and the same one with its children's block one word later (its
+         * attribute word then lands on a word of another role, or its
+         * records past the end): 1, 2 and 4 threads give the same error */
+        dm.voxel_count--;
+        uint32_t w = m->root;
+        for (uint32_t l = m->depth; l > 2; l--) {
+            uint32_t dw = m->nodes[w], p = vx_svo_desc_ptr(dw);
+            uint32_t inner = vx_svo_desc_valid(dw) & ~vx_svo_desc_leaf(dw);
+            REQUIRE(inner && p >= 1 && p <= w);
+            w = vx_svo_desc_far(dw) ? m->nodes[w - p] : w - p;
+        }
+        uint32_t d2 = m->nodes[w];
+        for (int damage = 0; damage < 2; damage++) {
+            if (damage == 0) dm.nodes[w] = d2 & ~0xFFFFu;
+            else if (!vx_svo_desc_far(d2) && vx_svo_desc_ptr(d2) > 1) dm.nodes[w] = d2 - (1u << 17);
+            else continue;
+            vx_error e2;
+            r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1);
+            vx_result r2 = vx__svo_analyze_mt(&dm, NULL, false, 2, &e2);
+            r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
+            CHECKF(r1 == VX_ERR_BAD_FORMAT && r2 == r1 && r4 == r1 && !strcmp(e1.msg, e2.msg) && !strcmp(e1.msg, e4.msg),
+                   "damage %d: %d %d %d: '%s' / '%s' / '%s'", damage, r1, r2, r4, e1.msg, e2.msg, e4.msg);
+            if (damage == 0) CHECKF(strstr(e1.msg, "no children") != NULL, "%s", e1.msg);
+        }
+        dm.nodes[w] = d2;
+        REQUIRE(vx__svo_analyze_mt(&dm, &x4, false, 2, &e) == VX_OK);
+        CHECK(!memcmp(&x1, &x4, sizeof x1));
         free(dm.nodes);
     }
     /* the suggested threshold: chunked exactly when the model has 2^20 words or more */
