@@ -15,7 +15,11 @@
  * kernels (registers, spills, instructions) as they are created; each row
  * gives the mean traversal steps per ray of both (the hits' iterations).
  *
- * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--gpu WxH] [--reps N]
+ * --variants 0,1,.. (before --gpu) times each of trace_compact.comp's
+ * VARIANT values against the same trace.comp timings, one row each.
+ *
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--variants 0,1,..]
+ *                      [--gpu WxH] [--reps N]
  *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
@@ -36,8 +40,11 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
     fflush(stdout);
 }
 
-/* Both kernels on s: one markdown row per view. */
-static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
+/* Both kernels on s: one markdown row per view and compact kernel variant
+ * (--variants: trace_compact.comp's VARIANT, all timed in the same rounds
+ * against the same trace.comp timings). */
+static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps,
+                     const uint32_t* variants, uint32_t nv) {
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
@@ -73,51 +80,63 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                 d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
             }
         }
-        vx_render_image a = {0}, b = {0};
-        /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0, ita = 0, itb = 0;
-        if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
-            fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
-        } else {
-            for (size_t i = 0; i < (size_t)W * H; i++) {
-                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
-                bool cell = x->instance == y->instance &&
-                            (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
-                hits += x->instance != VX_RENDER_NO_HIT;
-                ita += x->iterations, itb += y->iterations;
-                differ += !cell;
-                dcol += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
-                dt += cell && memcmp(&x->t, &y->t, 4) != 0;
-                dtbig += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
+        /* per variant: pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
+        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
+        for (uint32_t v = 0; v < nv; v++) {
+            vx_render_image a = {0}, b = {0};
+            vx__compact_gpu_set_variant(cg, variants[v]);
+            if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
+                fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+            } else {
+                hits = ita = itb = 0;
+                for (size_t i = 0; i < (size_t)W * H; i++) {
+                    const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
+                    bool cell = x->instance == y->instance &&
+                                (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
+                    hits += x->instance != VX_RENDER_NO_HIT;
+                    ita += x->iterations, itb += y->iterations;
+                    differ[v] += !cell;
+                    dcol[v] += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+                    dt[v] += cell && memcmp(&x->t, &y->t, 4) != 0;
+                    dtbig[v] += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
+                }
             }
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
         }
-        vx_render_image_free(&a);
-        vx_render_image_free(&b);
         d.want_hits = false;
-        double ta[3], tb[3];
+        double ta[3], tb[8][3];
         vx__frame f;
         for (int round = 0; round < 3; round++) {
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
-                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err)) {
-                fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
-                ta[round] = tb[round] = 0;
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
+            for (uint32_t v = 0; v < nv; v++) {
+                vx__compact_gpu_set_variant(cg, variants[v]);
+                if (vx_compact_gpu_time(cg, &d, reps, &tb[v][round], &err)) {
+                    fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+                    tb[v][round] = 0;
+                }
             }
         }
-        double ma = bench_median(ta, 3), mb = bench_median(tb, 3), rays = (double)W * H;
-        /* the depth mode: the walk alone (no colour decode in either) */
+        double ma = bench_median(ta, 3), rays = (double)W * H;
+        /* the depth mode: the walk alone (no colour decode in either; the first variant) */
         d.mode = VX_RENDER_DEPTH;
+        double da3[3], db3[3];
+        vx__compact_gpu_set_variant(cg, variants[0]);
         for (int round = 0; round < 3; round++)
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
-                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err))
-                ta[round] = tb[round] = 0;
-        double da = bench_median(ta, 3), db = bench_median(tb, 3);
-        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | %llu / %llu / %llu / %llu "
-               "| %.1f MB | %.1f MB |\n",
-               name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb, rays / mb / 1e9, ma / mb,
-               db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays, (unsigned long long)hits,
-               (unsigned long long)differ, (unsigned long long)dcol,
-               (unsigned long long)dt, (unsigned long long)dtbig, 4.0 * (double)(words + colors) / 1e6,
-               (double)vx_compact_gpu_bytes(cg) / 1e6);
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err) ||
+                vx_compact_gpu_time(cg, &d, reps, &db3[round], &err))
+                da3[round] = db3[round] = 0;
+        double da = bench_median(da3, 3), db = bench_median(db3, 3);
+        for (uint32_t v = 0; v < nv; v++) {
+            double mb = bench_median(tb[v], 3);
+            printf("| %s | %s | %u | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
+                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
+                   name, view ? "close-up" : "overview", variants[v], 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
+                   (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
+                   (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
+                   (double)vx_compact_gpu_bytes(cg) / 1e6);
+        }
         fflush(stdout);
     }
     vx_compact_gpu_destroy(cg);
@@ -167,6 +186,7 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t gw = 0, gh = 0, reps = 20;
+    uint32_t variants[8] = {0}, nv = 1; /* trace_compact.comp's VARIANT values to time */
     bool stats = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -189,6 +209,16 @@ int main(int argc, char** argv) {
             }
             continue;
         }
+        if (!strcmp(argv[i], "--variants") && i + 1 < argc) {
+            nv = 0;
+            for (char* p = argv[++i]; *p && nv < 8;) {
+                variants[nv++] = (uint32_t)strtoul(p, &p, 10);
+                if (*p == ',') p++;
+                else if (*p) break;
+            }
+            if (!nv) variants[nv++] = 0;
+            continue;
+        }
         if (!strcmp(argv[i], "--gpu") && i + 1 < argc) {
             if (sscanf(argv[++i], "%ux%u", &gw, &gh) != 2 || !gw || !gh || gw > 16384 || gh > 16384) {
                 fprintf(stderr, "compact_bench: --gpu WxH\n");
@@ -199,10 +229,10 @@ int main(int argc, char** argv) {
                 fprintf(stderr, "compact_bench: %s\n", err.msg);
                 return 1;
             }
-            printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
+            printf("device: %s\n\n| scene | view | variant | trace.comp (albedo) | trace_compact.comp | compact / today | "
                    "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
                    "colour / t bits / t > 1e-5 | today's buffers | compact buffers |\n"
-                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else
             fprintf(stderr, "compact_bench: built without Vulkan\n");
@@ -246,7 +276,7 @@ int main(int argc, char** argv) {
         if (!gw)
             for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
 #ifdef VX_BENCH_HAVE_VULKAN
-        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps);
+        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps, variants, nv);
 #endif
         vx_svo_scene_free(&s);
     }

@@ -25,6 +25,10 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // origin and the walk in two frames), else 0
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
+// experiment (compact_bench --variants): 0 the colour at each model hit,
+// 1 the colour once after the scene walk, 2 also one bit extraction per delta
+// value, 3 also a brick's level-2 descriptor by a carry trick
+layout(constant_id = 9) const int VARIANT = 0;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -99,6 +103,12 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
+    if (VARIANT >= 3) {
+        // bit 7 of each byte: the byte is not zero; the product moves bits
+        // 7, 15, 23, 31 to 28..31 without carries
+        uint x = (((w & 0x7F7F7F7Fu) + 0x7F7F7F7Fu) | w) & 0x80808080u;
+        return (x * 0x00204081u) >> 28;
+    }
     uint t = w | (w >> 4);
     t |= t >> 2;
     t |= t >> 1;
@@ -198,10 +208,23 @@ uint decode_color(CModel m, uint i) {
         uint mn = attr[p], wc = attr[p + 1u];
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
-        uint r = wr != 0u ? attr_bits(p + 2u, pos, wr) : 0u;
-        uint gg = wg != 0u ? attr_bits(p + 2u, pos + wr, wg) : 0u;
-        uint b = wb != 0u ? attr_bits(p + 2u, pos + wr + wg, wb) : 0u;
-        uint a = wa != 0u ? attr_bits(p + 2u, pos + wr + wg + wb, wa) : 0u;
+        uint r, gg, b, a;
+        if (VARIANT >= 2) {
+            // the value's residuals are adjacent (at most 32 bits): one extraction
+            uint n = wr + wg + wb + wa;
+            uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
+            r = bits & ((1u << wr) - 1u);
+            bits >>= wr;
+            gg = bits & ((1u << wg) - 1u);
+            bits >>= wg;
+            b = bits & ((1u << wb) - 1u);
+            a = (bits >> wb) & ((1u << wa) - 1u);
+        } else {
+            r = wr != 0u ? attr_bits(p + 2u, pos, wr) : 0u;
+            gg = wg != 0u ? attr_bits(p + 2u, pos + wr, wg) : 0u;
+            b = wb != 0u ? attr_bits(p + 2u, pos + wr + wg, wb) : 0u;
+            a = wa != 0u ? attr_bits(p + 2u, pos + wr + wg + wb, wa) : 0u;
+        }
         v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
             (((mn >> 24) + a) & 0xFFu) << 24;
         if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
@@ -536,7 +559,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
+    if (VARIANT == 0 && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
         h.color = decode_color(m, cell_index(m, h.cell));
     return true;
 }
@@ -673,6 +696,10 @@ void main() {
         h.cell = uvec3(0u);
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
+        if (VARIANT >= 1 && hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+            CModel m = models[insts[h.inst].model];
+            if ((m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+        }
         vec4 c = vec4(0.0);
         vec3 nw = vec3(0.0);
         if (hit) {
