@@ -43,13 +43,35 @@ static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* 
     return true;
 }
 
-/* The occupied extent of descriptor w at level l from its children's pairs
- * at level l - 1 (complete before: lower words, or the level below). */
+/* Pairs are kept for levels 2 and up only: a descriptor at level 1 has only
+ * cells below it (the descending pass refuses others), so its extent is
+ * its valid mask, which its level-2 parent reads from the children's block
+ * it visits anyway. That saves the level-1 pairs (most of a model's
+ * descriptors) and, for each level-2 pair, the lookups of its children's
+ * level and pair words and pairs (cache misses in a shared DAG). */
+#define PAIR_LEVELS (~3u) /* lv bits that have a pair */
+static uint32_t pair_of(const uint32_t* lv, const uint32_t* pidx, uint32_t w, uint32_t l) {
+    return pidx[w] + vx__popc32(lv[w] & PAIR_LEVELS & ((1u << l) - 1));
+}
+/* The extent of a level-1 descriptor d: its valid octants, one cell each. */
+static void level1_ext(uint32_t d, pair_ext* e) {
+    uint32_t v = vx_svo_desc_valid(d);
+    static const uint8_t lo[3] = {0x55, 0x33, 0x0F}; /* octants with bit k clear */
+    e->cells = vx__popc8(v);
+    for (int k = 0; k < 3; k++) {
+        e->mn[k] = (v & lo[k]) ? 0 : 1;
+        e->mx[k] = (v & ~lo[k] & 0xFFu) ? 2 : 1;
+    }
+}
+
+/* The occupied extent of descriptor w at level l >= 2 from its children's
+ * pairs at level l - 1 (complete before: lower words, or the level below),
+ * or their masks at level 1. */
 static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, pair_ext* pe, uint32_t w, uint32_t l) {
     uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
     uint32_t slot = 0, b = 0;
     if (valid & ~leaf) block_of(m, w, d, &slot, &b);
-    pair_ext* P = &pe[pidx[w] + vx__popc32(lv[w] & ((1u << l) - 1))];
+    pair_ext* P = &pe[pair_of(lv, pidx, w, l)];
     uint32_t half = 1u << (l - 1);
     P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
     uint32_t k = 0;
@@ -63,8 +85,10 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
             for (int i = 0; i < 3; i++) cmn[i] = off[i], cmx[i] = off[i] + half;
         } else {
             uint32_t c = b + k++;
-            /* the child's pair for level l-1: rank of that bit in its mask */
-            const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
+            pair_ext c1;
+            const pair_ext* C = &c1;
+            if (l == 2) level1_ext(m->nodes[c], &c1);
+            else C = &pe[pair_of(lv, pidx, c, l - 1)]; /* the child's pair for level l-1 */
             cells = C->cells;
             for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
         }
@@ -82,12 +106,14 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
 
 /* The children of descriptor w (near pointers only; a guess that is never
  * wrong to make): stage 0 their level and pair-index words, stage 1 (those
- * fetched by now) the first child's pairs. */
+ * fetched by now) the first child's pairs; for a level-2 pair their words. */
 static void pair_prefetch(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, const pair_ext* pe, uint32_t w,
-                          int stage) {
+                          uint32_t l, int stage) {
     uint32_t d = m->nodes[w], p = vx_svo_desc_ptr(d);
     if (p < 1 || p > w || vx_svo_desc_far(d) || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
-    if (stage == 0) {
+    if (l == 2) {
+        if (stage == 0) __builtin_prefetch(&m->nodes[w - p]); /* the children's masks */
+    } else if (stage == 0) {
         __builtin_prefetch(&lv[w - p]);
         __builtin_prefetch(&pidx[w - p]);
     } else {
@@ -115,8 +141,8 @@ static void level_run(void* ctx, uint32_t i) {
     level_job* j = (level_job*)ctx;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     for (size_t k = a; k < e; k++) {
-        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], 0);
-        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], 1);
+        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], j->l, 0);
+        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], j->l, 1);
         pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
     }
 }
@@ -128,14 +154,14 @@ static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint
     if (!list) return false;
     for (uint32_t w = 0; w < m->node_count; w++)
         if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) start[__builtin_ctz(lm) + 1]++;
+            for (uint32_t lm = lv[w] & PAIR_LEVELS; lm; lm &= lm - 1) start[__builtin_ctz(lm) + 1]++;
     for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
     size_t fill[VX_SVO_MAX_DEPTH + 1];
     memcpy(fill, start, sizeof fill);
     for (uint32_t w = 0; w < m->node_count; w++)
         if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
-    for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++) {
+            for (uint32_t lm = lv[w] & PAIR_LEVELS; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
+    for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++) {
         size_t n = start[l + 1] - start[l];
         if (!n) continue;
         level_job j = {m, lv, pidx, list + start[l], pe, n, l};
@@ -424,7 +450,7 @@ descended:
     }
     for (size_t w = 0; w < nw; w++) {
         pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w]);
+        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w] & PAIR_LEVELS);
         if (npairs > 0xFFFFFFF0u) {
             res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
             goto out;
@@ -438,12 +464,14 @@ descended:
     if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, threads)) {
         for (uint32_t w = 0; w < nw; w++) {
             if (role[w] != ROLE_DESC) continue;
-            for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++)
+            for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++)
                 if (lv[w] >> l & 1u) pair_compute(m, lv, pidx, pe, w, l);
         }
     }
     {
+        pair_ext r1;
         const pair_ext* R = &pe[pidx[m->root]];
+        if (m->depth == 1) level1_ext(m->nodes[m->root], &r1), R = &r1;
         if (R->mx[0] > m->size[0] || R->mx[1] > m->size[1] || R->mx[2] > m->size[2]) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                           "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", R->mx[0] - 1, R->mx[1] - 1,
