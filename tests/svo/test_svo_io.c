@@ -1664,6 +1664,22 @@ static void test_chunked_form(void) {
     vx_svo_scene_free(&s);
 }
 
+typedef struct ext_box {
+    uint32_t mn[3], mx[3];
+    uint64_t cells;
+} ext_box;
+static bool ext_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    ext_box* b = (ext_box*)user;
+    const uint32_t c[3] = {x, y, z};
+    (void)attr;
+    for (int k = 0; k < 3; k++) {
+        if (c[k] < b->mn[k]) b->mn[k] = c[k];
+        if (c[k] + 1 > b->mx[k]) b->mx[k] = c[k] + 1;
+    }
+    b->cells++;
+    return true;
+}
+
 /* A model of more than one chunk: the same bytes for every writer thread
  * count (chunks coded in parallel within the model), the model back for
  * every reader thread count, and the default choice of the form by size. */
@@ -1739,6 +1755,15 @@ static void test_chunked_large(void) {
     REQUIRE(vx__svo_analyze_mt(m, &x1, false, 1, &e) == VX_OK);
     REQUIRE(vx__svo_analyze_mt(m, &x4, false, 4, &e) == VX_OK);
     CHECK(!memcmp(&x1, &x4, sizeof x1) && x1.cells == m->voxel_count);
+    {
+        /* the extent against the decoded cells (independent of the pairs) */
+        ext_box bx = {{UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}, 0};
+        REQUIRE(vx_svo_decode_model(m, ext_visit, &bx, &e) == VX_OK);
+        CHECKF(bx.cells == x1.cells && !memcmp(bx.mn, x1.min, sizeof bx.mn) && !memcmp(bx.mx, x1.max, sizeof bx.mx),
+               "extent (%u %u %u)-(%u %u %u) %llu cells, decoded (%u %u %u)-(%u %u %u) %llu", x1.min[0], x1.min[1],
+               x1.min[2], x1.max[0], x1.max[1], x1.max[2], (unsigned long long)x1.cells, bx.mn[0], bx.mn[1], bx.mn[2],
+               bx.mx[0], bx.mx[1], bx.mx[2], (unsigned long long)bx.cells);
+    }
     {
         vx_svo_model dm = *m;
         dm.nodes = (uint32_t*)malloc((size_t)m->node_count * 4);
