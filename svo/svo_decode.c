@@ -224,7 +224,9 @@ static bool descend_word(descend_job* j, uint32_t w, uint32_t* buf, uint32_t* nb
     uint32_t bit = 1u << (l - 1);
     for (uint32_t k = 0; k < nn; k++) {
         if (!mark_atomic(j->role, b + k, ROLE_DESC)) return false;
-        if (!(__atomic_fetch_or(&j->lv[b + k], bit, __ATOMIC_RELAXED) & bit)) {
+        /* a load first: a shared child's word is then only read by the threads that find it marked */
+        if (!(__atomic_load_n(&j->lv[b + k], __ATOMIC_RELAXED) & bit) &&
+            !(__atomic_fetch_or(&j->lv[b + k], bit, __ATOMIC_RELAXED) & bit)) {
             buf[(*nb)++] = b + k;
             if (*nb == DESCEND_FLUSH) descend_flush(j, buf, *nb), *nb = 0;
         }
