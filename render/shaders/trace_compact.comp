@@ -27,7 +27,8 @@ layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
 // experiment (compact_bench --variants): 0 the colour at each model hit,
 // 1 the colour once after the scene walk, 2 also one bit extraction per delta
-// value, 3 also a brick's level-2 descriptor by a carry trick
+// value, 3 also a brick's level-2 descriptor by a carry trick, 4 also the
+// attribute index's octants from the cell's Morton code (models of <= 10 levels)
 layout(constant_id = 9) const int VARIANT = 0;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
@@ -173,16 +174,19 @@ uint cell_index(CModel m, uvec3 c) {
     if (m.root == ROOT_LEAF) return morton(c);
     uint n = m.root, base = 0u;
     int L = int(m.depth);
+    // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
+    bool mort = VARIANT >= 4 && L <= 10;
+    uint mc = mort ? morton(c) : 0u;
     for (; L >= 3; L--) {
         uvec2 nd = slots[n];
         uint s = uint(L - 1);
-        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
         base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
-        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = nd.y + k;
     }
-    uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
+    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
     uvec2 b = slots[n];
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
