@@ -8,7 +8,8 @@
  * kernels on the same render scene (trace.comp over the .svo words,
  * trace_compact.comp over the compact layout), albedo, the default framing
  * and a close-up from inside the bounds: rays/s from the median of --reps
- * timed dispatches per round, median of 3 alternating rounds, and the pixels
+ * timed dispatches per round, median of 5 rounds (the kernels' order rotated
+ * each round, after 0.5 s of warm-up dispatches), and the pixels
  * whose instance, cell, t or colour differ.
  *
  * --shader-stats (before --gpu) prints the driver's statistics of both
@@ -39,6 +40,8 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
     if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
     fflush(stdout);
 }
+
+#define ROUNDS 5 /* timing rounds per view; medians */
 
 /* Both kernels on s: one markdown row per view and compact kernel variant
  * (--variants: trace_compact.comp's VARIANT, all timed in the same rounds
@@ -105,30 +108,44 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             vx_render_image_free(&b);
         }
         d.want_hits = false;
-        double ta[3], tb[8][3];
+        /* The GPU's clocks: a first batch of dispatches measured 1.3-1.5x
+         * differences between kernels timed one after the other that the
+         * order explained (H200, docs/PERFORMANCE.md), so the device is kept
+         * busy for a while first and each round times the kernels in another
+         * order (rotated). */
         vx__frame f;
-        for (int round = 0; round < 3; round++) {
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
-            for (uint32_t v = 0; v < nv; v++) {
-                vx__compact_gpu_set_variant(cg, variants[v]);
-                if (vx_compact_gpu_time(cg, &d, reps, &tb[v][round], &err)) {
+        double warm = 0, t_w = vx_time_now();
+        while (vx_time_now() - t_w < 0.5)
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &warm, &err)) break;
+        double ta[ROUNDS], tb[8][ROUNDS];
+        for (int round = 0; round < ROUNDS; round++) {
+            for (uint32_t q = 0; q <= nv; q++) {
+                uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: variant v */
+                if (k == 0) {
+                    if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
+                    continue;
+                }
+                vx__compact_gpu_set_variant(cg, variants[k - 1]);
+                if (vx_compact_gpu_time(cg, &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
-                    tb[v][round] = 0;
+                    tb[k - 1][round] = 0;
                 }
             }
         }
-        double ma = bench_median(ta, 3), rays = (double)W * H;
+        double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either; the first variant) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[3], db3[3];
+        double da3[ROUNDS], db3[ROUNDS];
         vx__compact_gpu_set_variant(cg, variants[0]);
-        for (int round = 0; round < 3; round++)
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err) ||
-                vx_compact_gpu_time(cg, &d, reps, &db3[round], &err))
-                da3[round] = db3[round] = 0;
-        double da = bench_median(da3, 3), db = bench_median(db3, 3);
+        for (int round = 0; round < ROUNDS; round++) {
+            bool first = round % 2 == 0;
+            if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
+            if (vx_compact_gpu_time(cg, &d, reps, &db3[round], &err)) db3[round] = 0;
+            if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
+        }
+        double da = bench_median(da3, ROUNDS), db = bench_median(db3, ROUNDS);
         for (uint32_t v = 0; v < nv; v++) {
-            double mb = bench_median(tb[v], 3);
+            double mb = bench_median(tb[v], ROUNDS);
             printf("| %s | %s | %u | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
                    name, view ? "close-up" : "overview", variants[v], 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
