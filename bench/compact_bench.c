@@ -16,11 +16,7 @@
  * kernels (registers, spills, instructions) as they are created; each row
  * gives the mean traversal steps per ray of both (the hits' iterations).
  *
- * --variants 0,1,.. (before --gpu) times each of trace_compact.comp's
- * VARIANT values against the same trace.comp timings, one row each.
- *
- * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--variants 0,1,..]
- *                      [--gpu WxH] [--reps N]
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--gpu WxH] [--reps N]
  *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
@@ -43,11 +39,9 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
 
 #define ROUNDS 5 /* timing rounds per view; medians */
 
-/* Both kernels on s: one markdown row per view and compact kernel variant
- * (--variants: trace_compact.comp's VARIANT, all timed in the same rounds
- * against the same trace.comp timings). */
-static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps,
-                     const uint32_t* variants, uint32_t nv) {
+/* Both kernels on s: one markdown row per view. */
+static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
+    const uint32_t nv = 1; /* compact kernels timed (kernel variants were timed this way, issue 18) */
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
@@ -83,11 +77,10 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                 d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
             }
         }
-        /* per variant: pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
+        /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
         uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
-            vx__compact_gpu_set_variant(cg, variants[v]);
             if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
                 fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
             } else {
@@ -120,12 +113,11 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ta[ROUNDS], tb[8][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             for (uint32_t q = 0; q <= nv; q++) {
-                uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: variant v */
+                uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: compact kernel v */
                 if (k == 0) {
                     if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
                     continue;
                 }
-                vx__compact_gpu_set_variant(cg, variants[k - 1]);
                 if (vx_compact_gpu_time(cg, &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
                     tb[k - 1][round] = 0;
@@ -133,10 +125,9 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
-        /* the depth mode: the walk alone (no colour decode in either; the first variant) */
+        /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
         double da3[ROUNDS], db3[ROUNDS];
-        vx__compact_gpu_set_variant(cg, variants[0]);
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
@@ -146,9 +137,9 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double da = bench_median(da3, ROUNDS), db = bench_median(db3, ROUNDS);
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS);
-            printf("| %s | %s | %u | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
+            printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
-                   name, view ? "close-up" : "overview", variants[v], 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
@@ -203,7 +194,6 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t gw = 0, gh = 0, reps = 20;
-    uint32_t variants[8] = {0}, nv = 1; /* trace_compact.comp's VARIANT values to time */
     bool stats = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -226,16 +216,6 @@ int main(int argc, char** argv) {
             }
             continue;
         }
-        if (!strcmp(argv[i], "--variants") && i + 1 < argc) {
-            nv = 0;
-            for (char* p = argv[++i]; *p && nv < 8;) {
-                variants[nv++] = (uint32_t)strtoul(p, &p, 10);
-                if (*p == ',') p++;
-                else if (*p) break;
-            }
-            if (!nv) variants[nv++] = 0;
-            continue;
-        }
         if (!strcmp(argv[i], "--gpu") && i + 1 < argc) {
             if (sscanf(argv[++i], "%ux%u", &gw, &gh) != 2 || !gw || !gh || gw > 16384 || gh > 16384) {
                 fprintf(stderr, "compact_bench: --gpu WxH\n");
@@ -246,10 +226,10 @@ int main(int argc, char** argv) {
                 fprintf(stderr, "compact_bench: %s\n", err.msg);
                 return 1;
             }
-            printf("device: %s\n\n| scene | view | variant | trace.comp (albedo) | trace_compact.comp | compact / today | "
+            printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
                    "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
                    "colour / t bits / t > 1e-5 | today's buffers | compact buffers |\n"
-                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else
             fprintf(stderr, "compact_bench: built without Vulkan\n");
@@ -293,7 +273,7 @@ int main(int argc, char** argv) {
         if (!gw)
             for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
 #ifdef VX_BENCH_HAVE_VULKAN
-        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps, variants, nv);
+        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps);
 #endif
         vx_svo_scene_free(&s);
     }

@@ -182,8 +182,6 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
                               vx_error* err);
 /* Bytes of the GPU buffers of the layout (geometry, attributes, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
-/* Internal (compact_bench --variants): the kernel variant, trace_compact.comp's VARIANT. */
-void vx__compact_gpu_set_variant(vx_compact_gpu* cg, uint32_t variant);
 
 #ifdef __cplusplus
 }

@@ -20,13 +20,8 @@ struct vx_compact_gpu {
     vx__buffer geom, attr, models, palette, pixels, hits;
     double lo[3], hi[3];
     uint32_t deep;
-    uint32_t variant; /* trace_compact.comp's VARIANT (compact_bench --variants) */
     uint64_t bytes;
 };
-
-void vx__compact_gpu_set_variant(vx_compact_gpu* cg, uint32_t variant) {
-    if (cg) cg->variant = variant;
-}
 
 /* trace.comp's Model.box (render_scene.c model_box) */
 static uint32_t model_box(const vx_svo_model* m) {
@@ -117,7 +112,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
-                         cg->deep, cg->variant};
+                         cg->deep, 0};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,

@@ -7,9 +7,10 @@
 // slot load per node (its descriptor and its children's block together, as
 // trace.comp's descriptor word), none for a brick's level-1 octants. The
 // walk's decisions depend only on geometry, so its cells and depths are
-// trace.comp's; the colour comes after the hit, from the cell's attribute
-// index (a second descent from the root summing leaf cubes and ranks or
-// brick popcounts: no rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
+// trace.comp's; the colour comes after the scene's walk, once for the
+// nearest hit, from the cell's attribute index (a second descent from the
+// root summing leaf cubes and ranks or brick popcounts: no rank work in the
+// walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
@@ -25,11 +26,6 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // origin and the walk in two frames), else 0
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
-// experiment (compact_bench --variants): 0 the colour at each model hit,
-// 1 the colour once after the scene walk, 2 also one bit extraction per delta
-// value, 3 also a brick's level-2 descriptor by a carry trick, 4 also the
-// attribute index's octants from the cell's Morton code (models of <= 10 levels)
-layout(constant_id = 9) const int VARIANT = 0;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -104,17 +100,11 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
-    if (VARIANT >= 3) {
-        // bit 7 of each byte: the byte is not zero; the product moves bits
-        // 7, 15, 23, 31 to 28..31 without carries
-        uint x = (((w & 0x7F7F7F7Fu) + 0x7F7F7F7Fu) | w) & 0x80808080u;
-        return (x * 0x00204081u) >> 28;
-    }
-    uint t = w | (w >> 4);
-    t |= t >> 2;
-    t |= t >> 1;
-    t &= 0x01010101u;
-    return (t | (t >> 7) | (t >> 14) | (t >> 21)) & 0xFu;
+    // bit 7 of each byte: the byte is not zero; the product moves bits 7, 15,
+    // 23, 31 to 28..31 without carries (fewer operations than or-folding
+    // the bytes: 1-3% of the H200's rays/s, docs/PERFORMANCE.md issue 18)
+    uint x = (((w & 0x7F7F7F7Fu) + 0x7F7F7F7Fu) | w) & 0x80808080u;
+    return (x * 0x00204081u) >> 28;
 }
 
 // A brick's level-2 descriptor (trace.comp form, valid << 8): its level-1
@@ -175,7 +165,7 @@ uint cell_index(CModel m, uvec3 c) {
     uint n = m.root, base = 0u;
     int L = int(m.depth);
     // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
-    bool mort = VARIANT >= 4 && L <= 10;
+    bool mort = L <= 10;
     uint mc = mort ? morton(c) : 0u;
     for (; L >= 3; L--) {
         uvec2 nd = slots[n];
@@ -212,23 +202,15 @@ uint decode_color(CModel m, uint i) {
         uint mn = attr[p], wc = attr[p + 1u];
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
-        uint r, gg, b, a;
-        if (VARIANT >= 2) {
-            // the value's residuals are adjacent (at most 32 bits): one extraction
-            uint n = wr + wg + wb + wa;
-            uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
-            r = bits & ((1u << wr) - 1u);
-            bits >>= wr;
-            gg = bits & ((1u << wg) - 1u);
-            bits >>= wg;
-            b = bits & ((1u << wb) - 1u);
-            a = (bits >> wb) & ((1u << wa) - 1u);
-        } else {
-            r = wr != 0u ? attr_bits(p + 2u, pos, wr) : 0u;
-            gg = wg != 0u ? attr_bits(p + 2u, pos + wr, wg) : 0u;
-            b = wb != 0u ? attr_bits(p + 2u, pos + wr + wg, wb) : 0u;
-            a = wa != 0u ? attr_bits(p + 2u, pos + wr + wg + wb, wa) : 0u;
-        }
+        // the value's residuals are adjacent (at most 32 bits): one extraction
+        uint n = wr + wg + wb + wa;
+        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
+        uint r = bits & ((1u << wr) - 1u);
+        bits >>= wr;
+        uint gg = bits & ((1u << wg) - 1u);
+        bits >>= wg;
+        uint b = bits & ((1u << wb) - 1u);
+        uint a = (bits >> wb) & ((1u << wa) - 1u);
         v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
             (((mn >> 24) + a) & 0xFFu) << 24;
         if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
@@ -563,9 +545,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (VARIANT == 0 && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
-        h.color = decode_color(m, cell_index(m, h.cell));
-    return true;
+    return true; // the colour: once for the scene's nearest hit (main)
 }
 
 bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
@@ -700,7 +680,8 @@ void main() {
         h.cell = uvec3(0u);
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
-        if (VARIANT >= 1 && hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+        if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+            // after the scene's walk, not at each model's hit: once a pixel
             CModel m = models[insts[h.inst].model];
             if ((m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
         }
