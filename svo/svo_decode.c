@@ -147,14 +147,13 @@ static void level_run(void* ctx, uint32_t i) {
     }
 }
 /* false: no memory for the lists (the caller runs the sequential pass) */
+/* per_level[l + 1]: the pairs at level l (the caller counted them) */
 static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint8_t* role, const uint32_t* pidx, pair_ext* pe,
-                           size_t npairs, unsigned threads) {
-    size_t start[VX_SVO_MAX_DEPTH + 2] = {0};
+                           size_t npairs, const size_t* per_level, unsigned threads) {
+    size_t start[VX_SVO_MAX_DEPTH + 2];
     uint32_t* list = (uint32_t*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *list);
     if (!list) return false;
-    for (uint32_t w = 0; w < m->node_count; w++)
-        if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & PAIR_LEVELS; lm; lm &= lm - 1) start[__builtin_ctz(lm) + 1]++;
+    memcpy(start, per_level, sizeof start);
     for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
     size_t fill[VX_SVO_MAX_DEPTH + 1];
     memcpy(fill, start, sizeof fill);
@@ -437,22 +436,26 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
         }
     }
 descended:
-    for (size_t w = 0; w < nw && !unreferenced_ok; w++)
-        if (role[w] == ROLE_NONE) {
-            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
-            goto out;
-        }
-
-    /* ascending: occupied extent of every (descriptor, level) pair */
-    pidx = (uint32_t*)vx_calloc(NULL, nw, sizeof *pidx);
-    size_t npairs = 0;
+    /* ascending: occupied extent of every (descriptor, level) pair; one pass
+     * over the words checks that each was reached, numbers the pairs and
+     * counts them per level (single passes over 33 M words matter on one
+     * large model, docs/PERFORMANCE.md issue 18) */
+    pidx = (uint32_t*)vx_alloc(NULL, (nw ? nw : 1) * sizeof *pidx);
+    size_t npairs = 0, per_level[VX_SVO_MAX_DEPTH + 2] = {0};
     if (!pidx) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
     for (size_t w = 0; w < nw; w++) {
         pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w] & PAIR_LEVELS);
+        if (role[w] == ROLE_DESC) {
+            uint32_t lm = lv[w] & PAIR_LEVELS;
+            npairs += (size_t)vx__popc32(lm);
+            for (; lm; lm &= lm - 1) per_level[__builtin_ctz(lm) + 1]++;
+        } else if (role[w] == ROLE_NONE && !unreferenced_ok) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
+            goto out;
+        }
         if (npairs > 0xFFFFFFF0u) {
             res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
             goto out;
@@ -463,7 +466,7 @@ descended:
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
-    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, threads)) {
+    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, per_level, threads)) {
         for (uint32_t w = 0; w < nw; w++) {
             if (role[w] != ROLE_DESC) continue;
             for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++)
