@@ -8,7 +8,8 @@
  * kernels on the same render scene (trace.comp over the .svo words,
  * trace_compact.comp over the compact layout), albedo, the default framing
  * and a close-up from inside the bounds: rays/s from the median of --reps
- * timed dispatches per round, median of 3 alternating rounds, and the pixels
+ * timed dispatches per round, median of 5 rounds (the kernels' order rotated
+ * each round, after 0.5 s of warm-up dispatches), and the pixels
  * whose instance, cell, t or colour differ.
  *
  * --shader-stats (before --gpu) prints the driver's statistics of both
@@ -36,8 +37,11 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
     fflush(stdout);
 }
 
+#define ROUNDS 5 /* timing rounds per view; medians */
+
 /* Both kernels on s: one markdown row per view. */
 static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
+    const uint32_t nv = 1; /* compact kernels timed (kernel variants were timed this way, issue 18) */
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
@@ -73,51 +77,74 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                 d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
             }
         }
-        vx_render_image a = {0}, b = {0};
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ = 0, dcol = 0, dt = 0, dtbig = 0, ita = 0, itb = 0;
-        if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
-            fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
-        } else {
-            for (size_t i = 0; i < (size_t)W * H; i++) {
-                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
-                bool cell = x->instance == y->instance &&
-                            (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
-                hits += x->instance != VX_RENDER_NO_HIT;
-                ita += x->iterations, itb += y->iterations;
-                differ += !cell;
-                dcol += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
-                dt += cell && memcmp(&x->t, &y->t, 4) != 0;
-                dtbig += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
-            }
-        }
-        vx_render_image_free(&a);
-        vx_render_image_free(&b);
-        d.want_hits = false;
-        double ta[3], tb[3];
-        vx__frame f;
-        for (int round = 0; round < 3; round++) {
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
-                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err)) {
+        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
+        for (uint32_t v = 0; v < nv; v++) {
+            vx_render_image a = {0}, b = {0};
+            if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
                 fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
-                ta[round] = tb[round] = 0;
+            } else {
+                hits = ita = itb = 0;
+                for (size_t i = 0; i < (size_t)W * H; i++) {
+                    const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
+                    bool cell = x->instance == y->instance &&
+                                (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
+                    hits += x->instance != VX_RENDER_NO_HIT;
+                    ita += x->iterations, itb += y->iterations;
+                    differ[v] += !cell;
+                    dcol[v] += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+                    dt[v] += cell && memcmp(&x->t, &y->t, 4) != 0;
+                    dtbig[v] += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
+                }
+            }
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+        }
+        d.want_hits = false;
+        /* The GPU's clocks: a first batch of dispatches measured 1.3-1.5x
+         * differences between kernels timed one after the other that the
+         * order explained (H200, docs/PERFORMANCE.md), so the device is kept
+         * busy for a while first and each round times the kernels in another
+         * order (rotated). */
+        vx__frame f;
+        double warm = 0, t_w = vx_time_now();
+        while (vx_time_now() - t_w < 0.5)
+            if (vx__render_dispatch(rs, &d, false, reps, &f, &warm, &err)) break;
+        double ta[ROUNDS], tb[8][ROUNDS];
+        for (int round = 0; round < ROUNDS; round++) {
+            for (uint32_t q = 0; q <= nv; q++) {
+                uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: compact kernel v */
+                if (k == 0) {
+                    if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
+                    continue;
+                }
+                if (vx_compact_gpu_time(cg, &d, reps, &tb[k - 1][round], &err)) {
+                    fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+                    tb[k - 1][round] = 0;
+                }
             }
         }
-        double ma = bench_median(ta, 3), mb = bench_median(tb, 3), rays = (double)W * H;
+        double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        for (int round = 0; round < 3; round++)
-            if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err) ||
-                vx_compact_gpu_time(cg, &d, reps, &tb[round], &err))
-                ta[round] = tb[round] = 0;
-        double da = bench_median(ta, 3), db = bench_median(tb, 3);
-        printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | %llu / %llu / %llu / %llu "
-               "| %.1f MB | %.1f MB |\n",
-               name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb, rays / mb / 1e9, ma / mb,
-               db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays, (unsigned long long)hits,
-               (unsigned long long)differ, (unsigned long long)dcol,
-               (unsigned long long)dt, (unsigned long long)dtbig, 4.0 * (double)(words + colors) / 1e6,
-               (double)vx_compact_gpu_bytes(cg) / 1e6);
+        double da3[ROUNDS], db3[ROUNDS];
+        for (int round = 0; round < ROUNDS; round++) {
+            bool first = round % 2 == 0;
+            if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
+            if (vx_compact_gpu_time(cg, &d, reps, &db3[round], &err)) db3[round] = 0;
+            if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
+        }
+        double da = bench_median(da3, ROUNDS), db = bench_median(db3, ROUNDS);
+        for (uint32_t v = 0; v < nv; v++) {
+            double mb = bench_median(tb[v], ROUNDS);
+            printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
+                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
+                   name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
+                   (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
+                   (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
+                   (double)vx_compact_gpu_bytes(cg) / 1e6);
+        }
         fflush(stdout);
     }
     vx_compact_gpu_destroy(cg);

@@ -2,7 +2,7 @@
  * issue 18): its geometry DAG, attribute blocks and model table uploaded
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
- * vx__render_scene_bind), so both kernels see the same instances and rays. */
+ * vx__render_scene_tables), so both kernels see the same instances and rays. */
 #include <string.h>
 
 #include "render/compact.h"
@@ -107,7 +107,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if (r) return r;
     vx__buffer* scene[7];
     uint32_t sp[VX__SPEC_COUNT];
-    if ((r = vx__render_scene_bind(cg->rs, f, scene, sp, err))) return r;
+    if ((r = vx__render_scene_tables(cg->rs, f, scene, sp, err))) return r;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;

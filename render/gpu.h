@@ -228,6 +228,11 @@ bool vx__render_scene_far(const vx_render_scene* rs);
  * variant only: VX_ERR_UNSUPPORTED for scenes that need float64. */
 vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
                                 uint32_t spec[VX__SPEC_COUNT], vx_error* err);
+/* The same without the layout check (bindings 1-3 are then the plain
+ * layout's, empty in a compact scene): for render/compact_gpu.c, which binds
+ * only the frame, instances and BVH. */
+vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
+                                  uint32_t spec[VX__SPEC_COUNT], vx_error* err);
 /* The same for a frame recorded into `cmd` (a VkCommandBuffer in the
  * recording state on the scene's queue) that other frames may precede on the
  * queue, still running: the tables and the frame block are written by

@@ -276,6 +276,43 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* scene, vx_rend
  * fall to the other instance than in a scene built from scratch. */
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* scene, uint32_t frame, vx_error* err);
 void vx_render_scene_destroy(vx_render_scene* rs);
+
+/* The layout a render scene keeps on the device (issue 18). The plain one is
+ * the .svo node words plus a 4-byte colour record per leaf record: every
+ * pass, the probes, GI, edits and the float64 variant read it. The compact
+ * one (render/compact.h: a geometry DAG shared regardless of colour, exact
+ * colours in coded blocks; DamagedHelmet at 4096^3 1.40 bytes per voxel
+ * against 5.07) is traced by vx_render_frame alone (its modes, spp, shadow
+ * rays; no LOD, and the beam pass is not used), at 0.62-0.94 of the plain
+ * kernel's rays/s on the H200 (docs/PERFORMANCE.md), so it is chosen only
+ * where the plain layout does not fit. */
+typedef enum vx_render_layout {
+    VX_RENDER_LAYOUT_AUTO = 0, /* plain where its node words and records fit memory_budget, else compact */
+    VX_RENDER_LAYOUT_PLAIN,
+    VX_RENDER_LAYOUT_COMPACT,
+} vx_render_layout;
+typedef struct vx_render_scene_desc {
+    vx_render_layout layout;
+    /* bytes the plain layout's node words and records may take (AUTO);
+     * 0: three quarters of the device's largest device-local heap */
+    uint64_t memory_budget;
+} vx_render_scene_desc;
+/* vx_render_scene_create with a layout choice (desc NULL: all defaults).
+ * A compact scene refuses what only the plain layout serves (passes that
+ * bind the scene, vx_render_scene_update_model, models past
+ * VX_RENDER_PRECISE_DEPTH) with VX_ERR_UNSUPPORTED; AUTO falls back to the
+ * plain layout where the compact one cannot render the scene. */
+vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, const vx_render_scene_desc* desc,
+                                    vx_render_scene** out, vx_error* err);
+typedef struct vx_render_layout_info {
+    vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
+    uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */
+    uint64_t plain_bytes;    /* the plain layout's node words and records (4 bytes each), whichever is in use */
+    uint64_t budget;         /* the budget AUTO compared plain_bytes with */
+    uint64_t voxels;         /* cells set, summed over the models */
+} vx_render_layout_info;
+void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out);
+const char* vx_render_layout_name(vx_render_layout layout);
 /* Model `model` of `scene` (the scene rs was made from, the same model
  * count) changed in place by a vx_svo_editor (svo/edit.h), or an older or
  * newer header of such a model was restored (undo, redo): only what changed

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/compact.h"
 #include "render/render_internal.h"
 #include "inst_rows.comp.h"
 #include "refit.comp.h"
@@ -128,6 +129,10 @@ struct vx_render_scene {
     vx_render_scene_stats stats;
     uint32_t dense_n[3];
     double dense_lo[3], dense_cell;
+    /* the layout (vx_render_scene_create_ex): with COMPACT the nodes and
+     * colors buffers are empty and compact traces the frames */
+    vx_render_layout_info layout;
+    vx_compact_gpu* compact;
 };
 
 /* Headroom after the models in the shared buffers, so that an edited
@@ -178,13 +183,23 @@ static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
-static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
-    vx_gpu* g = rs->gpu;
-    uint64_t words = 0, colors = 0;
+/* The plain layout's node words and colour records of s. */
+static void plain_size(const vx_svo_scene* s, uint64_t* words, uint64_t* colors) {
+    *words = *colors = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
-        words += s->models[i].node_count;
-        if (s->models[i].attrs) colors += s->models[i].attr_count;
+        *words += s->models[i].node_count;
+        if (s->models[i].attrs) *colors += s->models[i].attr_count;
     }
+}
+
+/* The model table and, in the plain layout, the node words and colour
+ * records (a compact scene's buffers stay empty: the compact layout holds
+ * the scene, render/compact_gpu.c). */
+static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool plain, vx_error* err) {
+    vx_gpu* g = rs->gpu;
+    uint64_t words, colors;
+    plain_size(s, &words, &colors);
+    if (!plain) words = colors = 0;
     uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
     if (words > limit || colors > limit)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
@@ -208,6 +223,14 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, vx_e
     uint32_t wo = 0, co = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
+        if (!plain) {
+            /* what the instance tables and checks read of a model; no words */
+            gm[i] = (vx__gpu_model){.depth = m->depth, .root = m->root, .root_attr = m->root_attr};
+            if (m->attrs) rs->has_color = true;
+            memcpy(&rs->msize[4 * i], m->size, 3 * sizeof m->size[0]);
+            rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
+            continue;
+        }
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
@@ -412,11 +435,47 @@ static vx_result drawn_depth(vx_gpu* gpu, const vx_svo_scene* s, uint32_t* out, 
     return VX_OK;
 }
 
+const char* vx_render_layout_name(vx_render_layout layout) {
+    return layout == VX_RENDER_LAYOUT_PLAIN ? "plain" : layout == VX_RENDER_LAYOUT_COMPACT ? "compact" : "auto";
+}
+
+/* AUTO's default budget: three quarters of the largest device-local heap
+ * (the rest for frame buffers, pipelines and other work). */
+static uint64_t default_budget(const vx_gpu* g) {
+    uint64_t best = 0;
+    for (uint32_t i = 0; i < g->memprops.memoryHeapCount; i++)
+        if ((g->memprops.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) && g->memprops.memoryHeaps[i].size > best)
+            best = g->memprops.memoryHeaps[i].size;
+    return best / 4 * 3;
+}
+
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
+    return vx_render_scene_create_ex(gpu, s, NULL, out, err);
+}
+
+vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                    vx_render_scene** out, vx_error* err) {
     if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_result r = vx__check_scene(s, err);
     uint32_t max_depth = 0;
     if (r || (r = drawn_depth(gpu, s, &max_depth, err))) return r;
+    vx_render_layout_info li = {.layout = desc ? desc->layout : VX_RENDER_LAYOUT_AUTO,
+                                .budget = desc && desc->memory_budget ? desc->memory_budget : default_budget(gpu)};
+    if (li.layout > VX_RENDER_LAYOUT_COMPACT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown render layout %d", (int)li.layout);
+    uint64_t words, colors;
+    plain_size(s, &words, &colors);
+    li.plain_bytes = 4 * (words + colors);
+    for (uint32_t i = 0; i < s->model_count; i++) li.voxels += s->models[i].voxel_count;
+    /* the compact kernel is the float walk only */
+    bool compact_ok = max_depth <= VX_RENDER_PRECISE_DEPTH;
+    if (li.layout == VX_RENDER_LAYOUT_COMPACT && !compact_ok)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the compact layout traces models of at most %u levels; the scene has %u",
+                       VX_RENDER_PRECISE_DEPTH, max_depth);
+    if (li.layout == VX_RENDER_LAYOUT_AUTO)
+        li.layout = li.plain_bytes > li.budget && compact_ok ? VX_RENDER_LAYOUT_COMPACT : VX_RENDER_LAYOUT_PLAIN;
+    bool plain = li.layout == VX_RENDER_LAYOUT_PLAIN;
     vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
     if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     rs->gpu = gpu;
@@ -428,12 +487,43 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
-    if ((r = prepare_models(rs, s, err)) || (r = prepare_instances(rs, s, err))) {
+    rs->layout = li;
+    if ((r = prepare_models(rs, s, plain, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
         return r;
     }
+    if (plain) {
+        rs->layout.bytes = li.plain_bytes;
+    } else {
+        vx_compact_scene c;
+        r = vx_compact_build(&(vx_compact_desc){.alloc = &rs->alloc}, s, &c, err);
+        if (!r) {
+            r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            vx_compact_free(&c);
+        }
+        if (r) {
+            vx_render_scene_destroy(rs);
+            return r;
+        }
+        rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
+    }
     *out = rs;
     return VX_OK;
+}
+
+void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out) {
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (rs) *out = rs->layout;
+}
+
+/* Passes that bind the scene's node words cannot trace a compact scene. */
+static vx_result need_plain(const vx_render_scene* rs, vx_error* err) {
+    if (!rs->compact) return VX_OK;
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                   "the scene is in the compact layout (its plain node words and records, %.1f MB, exceed the budget "
+                   "of %.1f MB, or it was asked for); only the single-shader frame (vx_render_frame) traces it",
+                   rs->layout.plain_bytes / 1e6, rs->layout.budget / 1e6);
 }
 
 void vx_render_scene_destroy(vx_render_scene* rs) {
@@ -441,6 +531,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_gpu* g = rs->gpu;
     vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device);
+    vx_compact_gpu_destroy(rs->compact);
     vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
                           &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
                           &rs->inst_boxes, &rs->order_buf, &rs->inst_src};
@@ -641,6 +732,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     if (s->model_count != rs->model_count || mi >= s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: the scene has %u models, the GPU scene was made with %u",
                        mi, s->model_count, rs->model_count);
+    vx_result lr = need_plain(rs, err);
+    if (lr) return lr;
     const vx_svo_model* m = &s->models[mi];
     vx_gpu* g = rs->gpu;
     if (m->depth > VX_RENDER_MAX_DEPTH)
@@ -859,7 +952,9 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err) {
     vx_gpu* g = rs->gpu;
-    vx_result r = vx__frame_setup(rs->lo, rs->hi, desc, f, err);
+    vx_result r = need_plain(rs, err);
+    if (r) return r;
+    r = vx__frame_setup(rs->lo, rs->hi, desc, f, err);
     if (r) return r;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
@@ -926,6 +1021,12 @@ vx_gpu* vx__render_scene_gpu(vx_render_scene* rs) { return rs ? rs->gpu : NULL; 
 
 vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
                                 uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
+    vx_result r = need_plain(rs, err);
+    return r ? r : vx__render_scene_tables(rs, f, bufs, spec, err);
+}
+
+vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
+                                  uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
     if (use_precise(rs))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
@@ -1095,6 +1196,8 @@ static void instance_boxes(const vx_render_scene* rs, const vx__frame* f, float*
 
 vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
                                     uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
+    vx_result lr = need_plain(rs, err);
+    if (lr) return lr;
     if (use_precise(rs))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the scene has models deeper than %u levels, which this GPU pass cannot trace (float only)",
@@ -1297,6 +1400,11 @@ vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_ren
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err) {
     if (!rs || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (rs->compact) {
+        if (desc && desc->lod)
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the compact layout has no LOD (render without lod)");
+        return vx_compact_gpu_frame(rs->compact, desc, out, err);
+    }
     bool want_hits = desc && desc->want_hits;
     vx__frame f;
     double sec = 0;

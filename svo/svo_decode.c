@@ -43,13 +43,35 @@ static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* 
     return true;
 }
 
-/* The occupied extent of descriptor w at level l from its children's pairs
- * at level l - 1 (complete before: lower words, or the level below). */
+/* Pairs are kept for levels 2 and up only: a descriptor at level 1 has only
+ * cells below it (the descending pass refuses others), so its extent is
+ * its valid mask, which its level-2 parent reads from the children's block
+ * it visits anyway. That saves the level-1 pairs (most of a model's
+ * descriptors) and, for each level-2 pair, the lookups of its children's
+ * level and pair words and pairs (cache misses in a shared DAG). */
+#define PAIR_LEVELS (~3u) /* lv bits that have a pair */
+static uint32_t pair_of(const uint32_t* lv, const uint32_t* pidx, uint32_t w, uint32_t l) {
+    return pidx[w] + vx__popc32(lv[w] & PAIR_LEVELS & ((1u << l) - 1));
+}
+/* The extent of a level-1 descriptor d: its valid octants, one cell each. */
+static void level1_ext(uint32_t d, pair_ext* e) {
+    uint32_t v = vx_svo_desc_valid(d);
+    static const uint8_t lo[3] = {0x55, 0x33, 0x0F}; /* octants with bit k clear */
+    e->cells = vx__popc8(v);
+    for (int k = 0; k < 3; k++) {
+        e->mn[k] = (v & lo[k]) ? 0 : 1;
+        e->mx[k] = (v & ~lo[k] & 0xFFu) ? 2 : 1;
+    }
+}
+
+/* The occupied extent of descriptor w at level l >= 2 from its children's
+ * pairs at level l - 1 (complete before: lower words, or the level below),
+ * or their masks at level 1. */
 static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, pair_ext* pe, uint32_t w, uint32_t l) {
     uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
     uint32_t slot = 0, b = 0;
     if (valid & ~leaf) block_of(m, w, d, &slot, &b);
-    pair_ext* P = &pe[pidx[w] + vx__popc32(lv[w] & ((1u << l) - 1))];
+    pair_ext* P = &pe[pair_of(lv, pidx, w, l)];
     uint32_t half = 1u << (l - 1);
     P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
     uint32_t k = 0;
@@ -63,8 +85,10 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
             for (int i = 0; i < 3; i++) cmn[i] = off[i], cmx[i] = off[i] + half;
         } else {
             uint32_t c = b + k++;
-            /* the child's pair for level l-1: rank of that bit in its mask */
-            const pair_ext* C = &pe[pidx[c] + vx__popc32(lv[c] & ((1u << (l - 1)) - 1))];
+            pair_ext c1;
+            const pair_ext* C = &c1;
+            if (l == 2) level1_ext(m->nodes[c], &c1);
+            else C = &pe[pair_of(lv, pidx, c, l - 1)]; /* the child's pair for level l-1 */
             cells = C->cells;
             for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
         }
@@ -82,12 +106,14 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
 
 /* The children of descriptor w (near pointers only; a guess that is never
  * wrong to make): stage 0 their level and pair-index words, stage 1 (those
- * fetched by now) the first child's pairs. */
+ * fetched by now) the first child's pairs; for a level-2 pair their words. */
 static void pair_prefetch(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, const pair_ext* pe, uint32_t w,
-                          int stage) {
+                          uint32_t l, int stage) {
     uint32_t d = m->nodes[w], p = vx_svo_desc_ptr(d);
     if (p < 1 || p > w || vx_svo_desc_far(d) || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
-    if (stage == 0) {
+    if (l == 2) {
+        if (stage == 0) __builtin_prefetch(&m->nodes[w - p]); /* the children's masks */
+    } else if (stage == 0) {
         __builtin_prefetch(&lv[w - p]);
         __builtin_prefetch(&pidx[w - p]);
     } else {
@@ -115,27 +141,26 @@ static void level_run(void* ctx, uint32_t i) {
     level_job* j = (level_job*)ctx;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     for (size_t k = a; k < e; k++) {
-        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], 0);
-        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], 1);
+        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], j->l, 0);
+        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], j->l, 1);
         pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
     }
 }
 /* false: no memory for the lists (the caller runs the sequential pass) */
+/* per_level[l + 1]: the pairs at level l (the caller counted them) */
 static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint8_t* role, const uint32_t* pidx, pair_ext* pe,
-                           size_t npairs, unsigned threads) {
-    size_t start[VX_SVO_MAX_DEPTH + 2] = {0};
+                           size_t npairs, const size_t* per_level, unsigned threads) {
+    size_t start[VX_SVO_MAX_DEPTH + 2];
     uint32_t* list = (uint32_t*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *list);
     if (!list) return false;
-    for (uint32_t w = 0; w < m->node_count; w++)
-        if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) start[__builtin_ctz(lm) + 1]++;
+    memcpy(start, per_level, sizeof start);
     for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
     size_t fill[VX_SVO_MAX_DEPTH + 1];
     memcpy(fill, start, sizeof fill);
     for (uint32_t w = 0; w < m->node_count; w++)
         if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & ~1u; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
-    for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++) {
+            for (uint32_t lm = lv[w] & PAIR_LEVELS; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
+    for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++) {
         size_t n = start[l + 1] - start[l];
         if (!n) continue;
         level_job j = {m, lv, pidx, list + start[l], pe, n, l};
@@ -143,6 +168,118 @@ static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint
     }
     vx_free(NULL, list);
     return true;
+}
+
+/* The descending pass of one large model on several threads, level by
+ * level: the words reached at level l (the frontier) mark their children
+ * at level l - 1, each (word, level) pair once (an atomic OR of the level
+ * bit says who reached it first; that one lists it), roles by compare and
+ * swap. The roles and levels it leaves are the sequential pass's (set-once
+ * roles and ORed levels do not depend on the order), and it checks every
+ * (word, level) pair the sequential pass checks; the first error found only
+ * sets a flag, and the caller runs the sequential pass again, which finds
+ * the same error as a one-thread read and reports it in its words. On the
+ * terrain of docs/PERFORMANCE.md (one model of 33 M words) the sequential
+ * pass was a fifth of a chunked read, and the only part left on one thread. */
+#define DESCEND_FLUSH 1024u
+typedef struct descend_job {
+    const vx_svo_model* m;
+    uint32_t* lv;
+    uint8_t* role;
+    const uint32_t* cur;
+    uint32_t* next;
+    size_t n;
+    size_t next_n; /* atomic */
+    uint32_t l;
+    int failed; /* atomic */
+} descend_job;
+
+static bool mark_atomic(uint8_t* role, uint32_t w, uint8_t r) {
+    uint8_t cur = __atomic_load_n(&role[w], __ATOMIC_RELAXED);
+    if (cur == ROLE_NONE &&
+        __atomic_compare_exchange_n(&role[w], &cur, r, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        return true;
+    return cur == r;
+}
+
+static void descend_flush(descend_job* j, const uint32_t* buf, uint32_t n) {
+    size_t at = __atomic_fetch_add(&j->next_n, (size_t)n, __ATOMIC_RELAXED);
+    memcpy(j->next + at, buf, n * sizeof *buf);
+}
+
+/* false: an error (any the sequential pass reports for this pair) */
+static bool descend_word(descend_job* j, uint32_t w, uint32_t* buf, uint32_t* nb) {
+    const vx_svo_model* m = j->m;
+    uint32_t l = j->l, d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    if (valid == 0 || (leaf & ~valid)) return false;
+    uint32_t nn = vx__popc8(valid & ~leaf);
+    if ((l == 1 && nn) || l == 0) return false;
+    uint32_t blen = nn + (m->attrs ? 1u : 0u);
+    if (blen == 0) return (d >> 16) == 0;
+    uint32_t slot, b;
+    if (!block_of(m, w, d, &slot, &b)) return false;
+    if (slot != UINT32_MAX && !mark_atomic(j->role, slot, ROLE_FAR)) return false;
+    if ((uint64_t)b + blen > w) return false;
+    uint32_t bit = 1u << (l - 1);
+    for (uint32_t k = 0; k < nn; k++) {
+        if (!mark_atomic(j->role, b + k, ROLE_DESC)) return false;
+        /* a load first: a shared child's word is then only read by the threads that find it marked */
+        if (!(__atomic_load_n(&j->lv[b + k], __ATOMIC_RELAXED) & bit) &&
+            !(__atomic_fetch_or(&j->lv[b + k], bit, __ATOMIC_RELAXED) & bit)) {
+            buf[(*nb)++] = b + k;
+            if (*nb == DESCEND_FLUSH) descend_flush(j, buf, *nb), *nb = 0;
+        }
+    }
+    if (m->attrs) {
+        if (!mark_atomic(j->role, b + nn, ROLE_ATTR)) return false;
+        if ((uint64_t)m->nodes[b + nn] + vx__popc8(valid) > m->attr_count) return false;
+    }
+    return true;
+}
+
+static void descend_run(void* ctx, uint32_t i) {
+    descend_job* j = (descend_job*)ctx;
+    if (__atomic_load_n(&j->failed, __ATOMIC_RELAXED)) return;
+    size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
+    uint32_t buf[DESCEND_FLUSH], nb = 0;
+    for (size_t k = a; k < e; k++) {
+        if (k + PREFETCH_AHEAD < e) {
+            /* the children's role and level words (a guess, as the sequential pass's) */
+            uint32_t ahead = j->cur[k + PREFETCH_AHEAD], pd = j->m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
+            if (pp >= 1 && pp <= ahead) {
+                __builtin_prefetch(&j->role[ahead - pp], 1);
+                __builtin_prefetch(&j->lv[ahead - pp], 1);
+            }
+        }
+        if (!descend_word(j, j->cur[k], buf, &nb)) {
+            __atomic_store_n(&j->failed, 1, __ATOMIC_RELAXED);
+            return;
+        }
+    }
+    if (nb) descend_flush(j, buf, nb);
+}
+
+/* 1: done, 0: an error was found (the caller runs the sequential pass for
+ * its message), -1: no memory for the frontiers (the same). lv and role
+ * hold the root's marks. */
+static int descend_by_level(const vx_svo_model* m, uint32_t* lv, uint8_t* role, unsigned threads) {
+    size_t nw = m->node_count;
+    uint32_t* cur = (uint32_t*)vx_alloc(NULL, nw * sizeof *cur);
+    uint32_t* next = (uint32_t*)vx_alloc(NULL, nw * sizeof *next);
+    int res = 1;
+    if (!cur || !next) res = -1;
+    size_t n = 1;
+    if (cur) cur[0] = m->root;
+    for (uint32_t l = m->depth; res == 1 && n && l >= 1; l--) {
+        descend_job j = {m, lv, role, cur, next, n, 0, l, 0};
+        vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), descend_run, &j);
+        if (j.failed) res = 0;
+        uint32_t* t = cur;
+        cur = next, next = t, n = j.next_n;
+    }
+    vx_free(NULL, cur);
+    vx_free(NULL, next);
+    return res;
 }
 
 vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, vx_error* err) {
@@ -215,6 +352,15 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
     }
     lv[m->root] = 1u << m->depth;
     role[m->root] = ROLE_DESC;
+    if (threads >= 2 && nw >= LEVEL_PARALLEL_WORDS) {
+        int pr = descend_by_level(m, lv, role, threads);
+        if (pr == 1) goto descended;
+        /* an error (the sequential pass below reports it) or no memory: from the root's marks again */
+        memset(lv, 0, nw * sizeof *lv);
+        memset(role, 0, nw);
+        lv[m->root] = 1u << m->depth;
+        role[m->root] = ROLE_DESC;
+    }
     /* Pointers only go backwards, so a descending scan sees every parent of
      * a word before the word itself: each word is checked once, for every
      * level it is reached at, and shared blocks are never expanded. */
@@ -289,22 +435,27 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             }
         }
     }
-    for (size_t w = 0; w < nw && !unreferenced_ok; w++)
-        if (role[w] == ROLE_NONE) {
-            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
-            goto out;
-        }
-
-    /* ascending: occupied extent of every (descriptor, level) pair */
-    pidx = (uint32_t*)vx_calloc(NULL, nw, sizeof *pidx);
-    size_t npairs = 0;
+descended:
+    /* ascending: occupied extent of every (descriptor, level) pair; one pass
+     * over the words checks that each was reached, numbers the pairs and
+     * counts them per level (single passes over 33 M words matter on one
+     * large model, docs/PERFORMANCE.md issue 18) */
+    pidx = (uint32_t*)vx_alloc(NULL, (nw ? nw : 1) * sizeof *pidx);
+    size_t npairs = 0, per_level[VX_SVO_MAX_DEPTH + 2] = {0};
     if (!pidx) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
     for (size_t w = 0; w < nw; w++) {
         pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) npairs += (size_t)vx__popc32(lv[w]);
+        if (role[w] == ROLE_DESC) {
+            uint32_t lm = lv[w] & PAIR_LEVELS;
+            npairs += (size_t)vx__popc32(lm);
+            for (; lm; lm &= lm - 1) per_level[__builtin_ctz(lm) + 1]++;
+        } else if (role[w] == ROLE_NONE && !unreferenced_ok) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
+            goto out;
+        }
         if (npairs > 0xFFFFFFF0u) {
             res = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo model: too many shared levels to validate");
             goto out;
@@ -315,15 +466,17 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
-    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, threads)) {
+    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, per_level, threads)) {
         for (uint32_t w = 0; w < nw; w++) {
             if (role[w] != ROLE_DESC) continue;
-            for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH; l++)
+            for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++)
                 if (lv[w] >> l & 1u) pair_compute(m, lv, pidx, pe, w, l);
         }
     }
     {
+        pair_ext r1;
         const pair_ext* R = &pe[pidx[m->root]];
+        if (m->depth == 1) level1_ext(m->nodes[m->root], &r1), R = &r1;
         if (R->mx[0] > m->size[0] || R->mx[1] > m->size[1] || R->mx[2] > m->size[2]) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                           "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", R->mx[0] - 1, R->mx[1] - 1,

@@ -7,9 +7,10 @@
 // slot load per node (its descriptor and its children's block together, as
 // trace.comp's descriptor word), none for a brick's level-1 octants. The
 // walk's decisions depend only on geometry, so its cells and depths are
-// trace.comp's; the colour comes after the hit, from the cell's attribute
-// index (a second descent from the root summing leaf cubes and ranks or
-// brick popcounts: no rank work in the walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
+// trace.comp's; the colour comes after the scene's walk, once for the
+// nearest hit, from the cell's attribute index (a second descent from the
+// root summing leaf cubes and ranks or brick popcounts: no rank work in the
+// walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
@@ -99,11 +100,11 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
-    uint t = w | (w >> 4);
-    t |= t >> 2;
-    t |= t >> 1;
-    t &= 0x01010101u;
-    return (t | (t >> 7) | (t >> 14) | (t >> 21)) & 0xFu;
+    // bit 7 of each byte: the byte is not zero; the product moves bits 7, 15,
+    // 23, 31 to 28..31 without carries (fewer operations than or-folding
+    // the bytes: 1-3% of the H200's rays/s, docs/PERFORMANCE.md issue 18)
+    uint x = (((w & 0x7F7F7F7Fu) + 0x7F7F7F7Fu) | w) & 0x80808080u;
+    return (x * 0x00204081u) >> 28;
 }
 
 // A brick's level-2 descriptor (trace.comp form, valid << 8): its level-1
@@ -163,16 +164,19 @@ uint cell_index(CModel m, uvec3 c) {
     if (m.root == ROOT_LEAF) return morton(c);
     uint n = m.root, base = 0u;
     int L = int(m.depth);
+    // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
+    bool mort = L <= 10;
+    uint mc = mort ? morton(c) : 0u;
     for (; L >= 3; L--) {
         uvec2 nd = slots[n];
         uint s = uint(L - 1);
-        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
         base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
-        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = nd.y + k;
     }
-    uint r = (1u << uint(L)) - 1u, bit = morton(c & r);
+    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
     uvec2 b = slots[n];
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
@@ -198,10 +202,15 @@ uint decode_color(CModel m, uint i) {
         uint mn = attr[p], wc = attr[p + 1u];
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
-        uint r = wr != 0u ? attr_bits(p + 2u, pos, wr) : 0u;
-        uint gg = wg != 0u ? attr_bits(p + 2u, pos + wr, wg) : 0u;
-        uint b = wb != 0u ? attr_bits(p + 2u, pos + wr + wg, wb) : 0u;
-        uint a = wa != 0u ? attr_bits(p + 2u, pos + wr + wg + wb, wa) : 0u;
+        // the value's residuals are adjacent (at most 32 bits): one extraction
+        uint n = wr + wg + wb + wa;
+        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
+        uint r = bits & ((1u << wr) - 1u);
+        bits >>= wr;
+        uint gg = bits & ((1u << wg) - 1u);
+        bits >>= wg;
+        uint b = bits & ((1u << wb) - 1u);
+        uint a = (bits >> wb) & ((1u << wa) - 1u);
         v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
             (((mn >> 24) + a) & 0xFFu) << 24;
         if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
@@ -536,9 +545,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
-    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u)
-        h.color = decode_color(m, cell_index(m, h.cell));
-    return true;
+    return true; // the colour: once for the scene's nearest hit (main)
 }
 
 bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
@@ -673,6 +680,11 @@ void main() {
         h.cell = uvec3(0u);
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
+        if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+            // after the scene's walk, not at each model's hit: once a pixel
+            CModel m = models[insts[h.inst].model];
+            if ((m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+        }
         vec4 c = vec4(0.0);
         vec3 nw = vec3(0.0);
         if (hit) {

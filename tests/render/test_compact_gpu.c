@@ -4,6 +4,9 @@
  * scene: every pixel of several views must hold the same instance, cell, t
  * (its bits) and colour, in the albedo mode (the colour decoded from the
  * attribute blocks) and the shaded one (shadow rays through the DAG).
+ * The same views from a render scene that chose the compact layout itself
+ * (vx_render_scene_create_ex, AUTO under a budget below the plain layout's
+ * bytes; also the depth mode at 2 spp) must equal trace.comp's too.
  * Scenes: generated palette and RGBA models (rotated and shifted instances,
  * a model 10 levels deep: the exact-t rule of trace.comp's DEEP 1 kernel;
  * models of 11 and 13 levels: its two-frame walk, DEEP 2),
@@ -15,6 +18,7 @@
 
 #include "convert/convert.h"
 #include "render/compact.h"
+#include "render/render_internal.h"
 #include "tests/gpu_test.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
@@ -25,15 +29,45 @@
 static vx_gpu* gpu;
 static const char* gpu_skip;
 
-/* Compares both kernels on views of s; returns the pixels hit. */
+/* The pixels of b that differ from a (instance, colour; cell and t bits where hit). */
+static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const char* name, const char* what, int view,
+                       uint32_t* hits_out) {
+    uint32_t wrong = 0, hits = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
+        const vx_render_hit *x = &a->hits[i], *y = &b->hits[i];
+        bool same = x->instance == y->instance && !memcmp(&a->pixels[4 * i], &b->pixels[4 * i], 16);
+        if (x->instance != VX_RENDER_NO_HIT) {
+            hits++;
+            same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
+        }
+        if (!same && wrong++ < 3)
+            fprintf(stderr,
+                    "  %s view %d pixel %zu: trace.comp instance %u cell (%u %u %u) t %.9g rgb %.4f %.4f %.4f;"
+                    " %s %u (%u %u %u) t %.9g rgb %.4f %.4f %.4f\n",
+                    name, view, i, x->instance, x->cell[0], x->cell[1], x->cell[2], x->t, a->pixels[4 * i],
+                    a->pixels[4 * i + 1], a->pixels[4 * i + 2], what, y->instance, y->cell[0], y->cell[1], y->cell[2],
+                    y->t, b->pixels[4 * i], b->pixels[4 * i + 1], b->pixels[4 * i + 2]);
+    }
+    if (hits_out) *hits_out = hits;
+    return wrong;
+}
+
+/* Compares both kernels on views of s: trace.comp on a render scene forced
+ * to the plain layout against trace_compact.comp beside it
+ * (vx_compact_gpu_frame) and against the render scene that AUTO puts in the
+ * compact layout under a budget below the plain layout's bytes (the
+ * renderer's own choice, vx_render_frame); returns the pixels hit. */
 static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h) {
     vx_error err = {0};
-    vx_render_scene* rs = NULL;
+    vx_render_scene *rs = NULL, *rsc = NULL;
     vx_compact_scene c;
     vx_compact_gpu* cg = NULL;
-    vx_result r = vx_render_scene_create(gpu, s, &rs, &err);
+    vx_result r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return 0;
+    vx_render_layout_info lp, lc;
+    vx_render_scene_layout(rs, &lp);
+    CHECK(lp.layout == VX_RENDER_LAYOUT_PLAIN && lp.bytes == lp.plain_bytes && lp.plain_bytes > 0);
     r = vx_compact_build(NULL, s, &c, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (!r) {
@@ -41,12 +75,25 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
         CHECKF(r == VX_OK, "%s: %s", name, err.msg);
         vx_compact_free(&c);
     }
+    if (!r) {
+        r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.memory_budget = lp.plain_bytes - 1}, &rsc, &err);
+        CHECKF(r == VX_OK, "%s: compact render scene: %s", name, err.msg);
+    }
+    if (!r) {
+        vx_render_scene_layout(rsc, &lc);
+        CHECKF(lc.layout == VX_RENDER_LAYOUT_COMPACT && lc.bytes == vx_compact_gpu_bytes(cg) &&
+                   lc.plain_bytes == lp.plain_bytes && lc.budget == lp.plain_bytes - 1 && lc.voxels == lp.voxels,
+               "%s: layout %s, %llu bytes (compact %llu), plain %llu", name, vx_render_layout_name(lc.layout),
+               (unsigned long long)lc.bytes, (unsigned long long)vx_compact_gpu_bytes(cg),
+               (unsigned long long)lc.plain_bytes);
+    }
     uint64_t hits_total = 0;
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(s, lo, hi);
-    for (int view = 0; !r && view < 4; view++) {
+    for (int view = 0; !r && view < 5; view++) {
         vx_render_desc d = {.width = w, .height = h, .mode = view == 3 ? VX_RENDER_COLOR : VX_RENDER_ALBEDO,
                             .want_hits = true};
+        if (view == 4) d.mode = VX_RENDER_DEPTH, d.spp = 2;
         if (view == 1) d.camera.ortho = true;
         if (view >= 2) {
             d.camera.set = true;
@@ -57,37 +104,39 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
                 d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext * (view == 3 ? 3 : 1);
             }
         }
-        vx_render_image a = {0}, b = {0};
+        vx_render_image a = {0}, b = {0}, b2 = {0};
         vx_result r1 = vx_render_frame(rs, &d, &a, &err);
         CHECKF(r1 == VX_OK, "%s view %d: trace.comp: %s", name, view, err.msg);
         vx_result r2 = r1 ? r1 : vx_compact_gpu_frame(cg, &d, &b, &err);
         CHECKF(r2 == VX_OK, "%s view %d: trace_compact.comp: %s", name, view, err.msg);
-        if (!r1 && !r2) {
-            uint32_t wrong = 0, hits = 0;
-            for (size_t i = 0; i < (size_t)w * h; i++) {
-                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
-                bool same = x->instance == y->instance && !memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16);
-                if (x->instance != VX_RENDER_NO_HIT) {
-                    hits++;
-                    same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
-                }
-                if (!same && wrong++ < 3)
-                    fprintf(stderr,
-                            "  %s view %d pixel %zu: trace.comp instance %u cell (%u %u %u) t %.9g rgb %.4f %.4f %.4f;"
-                            " compact %u (%u %u %u) t %.9g rgb %.4f %.4f %.4f\n",
-                            name, view, i, x->instance, x->cell[0], x->cell[1], x->cell[2], x->t, a.pixels[4 * i],
-                            a.pixels[4 * i + 1], a.pixels[4 * i + 2], y->instance, y->cell[0], y->cell[1], y->cell[2],
-                            y->t, b.pixels[4 * i], b.pixels[4 * i + 1], b.pixels[4 * i + 2]);
-            }
-            CHECKF(wrong == 0, "%s view %d: %u of %u pixels differ", name, view, wrong, w * h);
-            printf("  %-34s view %d: %ux%u, %u pixels hit, %u differ\n", name, view, w, h, hits, wrong);
+        vx_result r3 = r2 ? r2 : vx_render_frame(rsc, &d, &b2, &err);
+        CHECKF(r3 == VX_OK, "%s view %d: the compact render scene: %s", name, view, err.msg);
+        if (!r3) {
+            uint32_t hits = 0, wrong = differ(&a, &b, name, "compact", view, &hits);
+            uint32_t wrong2 = differ(&a, &b2, name, "compact scene", view, NULL);
+            CHECKF(wrong == 0 && wrong2 == 0, "%s view %d: %u and %u of %u pixels differ", name, view, wrong, wrong2,
+                   w * h);
+            printf("  %-34s view %d: %ux%u, %u pixels hit, %u / %u differ\n", name, view, w, h, hits, wrong, wrong2);
             hits_total += hits;
         }
         vx_render_image_free(&a);
         vx_render_image_free(&b);
+        vx_render_image_free(&b2);
+    }
+    if (rsc) {
+        /* what only the plain layout serves is refused, with the reason */
+        vx__frame f;
+        double sec;
+        vx_render_desc d = {.width = 8, .height = 8};
+        CHECK(vx__render_dispatch(rsc, &d, false, 1, &f, &sec, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "compact"));
+        CHECK(vx_render_scene_update_model(rsc, s, 0, 0, 0, &err) == VX_ERR_UNSUPPORTED);
+        d.lod = true;
+        vx_render_image img = {0};
+        CHECK(vx_render_frame(rsc, &d, &img, &err) == VX_ERR_UNSUPPORTED);
     }
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     vx_compact_gpu_destroy(cg);
+    vx_render_scene_destroy(rsc);
     vx_render_scene_destroy(rs);
     return hits_total;
 }
@@ -138,6 +187,17 @@ static void test_generated(void) {
     vx_svo_scene s;
     ts_scene(&s, m, 6, in, 8);
     CHECK(compare(&s, "generated (8 instances)", 160, 96) > 160 * 96 / 2);
+    {
+        /* the default (AUTO, three quarters of the device-local heap): plain for a scene this small */
+        vx_render_scene* rs = NULL;
+        vx_render_layout_info li;
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+        vx_render_scene_layout(rs, &li);
+        CHECKF(li.layout == VX_RENDER_LAYOUT_PLAIN && li.budget > li.plain_bytes && li.bytes == li.plain_bytes,
+               "layout %s, budget %llu, plain %llu", vx_render_layout_name(li.layout), (unsigned long long)li.budget,
+               (unsigned long long)li.plain_bytes);
+        vx_render_scene_destroy(rs);
+    }
     /* one instance (no BVH): the deep model alone */
     vx_svo_scene s1;
     vx_svo_model only = s.models[5];

@@ -1664,6 +1664,22 @@ static void test_chunked_form(void) {
     vx_svo_scene_free(&s);
 }
 
+typedef struct ext_box {
+    uint32_t mn[3], mx[3];
+    uint64_t cells;
+} ext_box;
+static bool ext_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    ext_box* b = (ext_box*)user;
+    const uint32_t c[3] = {x, y, z};
+    (void)attr;
+    for (int k = 0; k < 3; k++) {
+        if (c[k] < b->mn[k]) b->mn[k] = c[k];
+        if (c[k] + 1 > b->mx[k]) b->mx[k] = c[k] + 1;
+    }
+    b->cells++;
+    return true;
+}
+
 /* A model of more than one chunk: the same bytes for every writer thread
  * count (chunks coded in parallel within the model), the model back for
  * every reader thread count, and the default choice of the form by size. */
@@ -1731,14 +1747,23 @@ static void test_chunked_large(void) {
         vx_free(NULL, d1);
         vx_free(NULL, d4);
     }
-    /* the validation of a model of 2^20 words or more splits its ascending
-     * pass over threads: the same extent as on one thread, and for a model
+    /* the validation of a model of 2^20 words or more splits its descending
+     * and ascending passes over threads: the same extent as on one thread, and for a model
      * that declares one voxel more than its tree holds the same error */
     CHECKF(m->node_count >= (1u << 20), "%u words: the threaded validation is not reached", m->node_count);
     vx__svo_extent x1, x4;
     REQUIRE(vx__svo_analyze_mt(m, &x1, false, 1, &e) == VX_OK);
     REQUIRE(vx__svo_analyze_mt(m, &x4, false, 4, &e) == VX_OK);
     CHECK(!memcmp(&x1, &x4, sizeof x1) && x1.cells == m->voxel_count);
+    {
+        /* the extent against the decoded cells (independent of the pairs) */
+        ext_box bx = {{UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}, 0};
+        REQUIRE(vx_svo_decode_model(m, ext_visit, &bx, &e) == VX_OK);
+        CHECKF(bx.cells == x1.cells && !memcmp(bx.mn, x1.min, sizeof bx.mn) && !memcmp(bx.mx, x1.max, sizeof bx.mx),
+               "extent (%u %u %u)-(%u %u %u) %llu cells, decoded (%u %u %u)-(%u %u %u) %llu", x1.min[0], x1.min[1],
+               x1.min[2], x1.max[0], x1.max[1], x1.max[2], (unsigned long long)x1.cells, bx.mn[0], bx.mn[1], bx.mn[2],
+               bx.mx[0], bx.mx[1], bx.mx[2], (unsigned long long)bx.cells);
+    }
     {
         vx_svo_model dm = *m;
         dm.nodes = (uint32_t*)malloc((size_t)m->node_count * 4);
@@ -1747,6 +1772,36 @@ static void test_chunked_large(void) {
         vx_error e1, e4;
         vx_result r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1), r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
         CHECK(r1 == VX_ERR_BAD_FORMAT && r4 == r1 && !strcmp(e1.msg, e4.msg) && strstr(e1.msg, "voxel_count"));
+        /* errors of the descending pass, which runs level by level on 2 or
+         * more threads: a descriptor two levels above the cells (found by
+         * following the first inner child from the root) without children,
+         * and the same one with its children's block one word later (its
+         * attribute word then lands on a word of another role, or its
+         * records past the end): 1, 2 and 4 threads give the same error */
+        dm.voxel_count--;
+        uint32_t w = m->root;
+        for (uint32_t l = m->depth; l > 2; l--) {
+            uint32_t dw = m->nodes[w], p = vx_svo_desc_ptr(dw);
+            uint32_t inner = vx_svo_desc_valid(dw) & ~vx_svo_desc_leaf(dw);
+            REQUIRE(inner && p >= 1 && p <= w);
+            w = vx_svo_desc_far(dw) ? m->nodes[w - p] : w - p;
+        }
+        uint32_t d2 = m->nodes[w];
+        for (int damage = 0; damage < 2; damage++) {
+            if (damage == 0) dm.nodes[w] = d2 & ~0xFFFFu;
+            else if (!vx_svo_desc_far(d2) && vx_svo_desc_ptr(d2) > 1) dm.nodes[w] = d2 - (1u << 17);
+            else continue;
+            vx_error e2;
+            r1 = vx__svo_analyze_mt(&dm, NULL, false, 1, &e1);
+            vx_result r2 = vx__svo_analyze_mt(&dm, NULL, false, 2, &e2);
+            r4 = vx__svo_analyze_mt(&dm, NULL, false, 4, &e4);
+            CHECKF(r1 == VX_ERR_BAD_FORMAT && r2 == r1 && r4 == r1 && !strcmp(e1.msg, e2.msg) && !strcmp(e1.msg, e4.msg),
+                   "damage %d: %d %d %d: '%s' / '%s' / '%s'", damage, r1, r2, r4, e1.msg, e2.msg, e4.msg);
+            if (damage == 0) CHECKF(strstr(e1.msg, "no children") != NULL, "%s", e1.msg);
+        }
+        dm.nodes[w] = d2;
+        REQUIRE(vx__svo_analyze_mt(&dm, &x4, false, 2, &e) == VX_OK);
+        CHECK(!memcmp(&x1, &x4, sizeof x1));
         free(dm.nodes);
     }
     /* the suggested threshold: chunked exactly when the model has 2^20 words or more */

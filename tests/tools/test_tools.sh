@@ -118,6 +118,22 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 2 "--frames without #" svo_render "$T/anim.svo" "$T/seq.png" --frames 0..3
     expect_status 1 "--frames past the end" svo_render "$T/anim.svo" "$T/s_#.png" --frames 20..24 --size 8x8
     grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "svo_render names the frame count" || bad "svo_render names the frame count"
+    # the scene's GPU layout (issue 18): -v states it; auto under a budget
+    # below the plain layout's bytes takes the compact one, which gives the
+    # plain layout's image; passes need the plain one
+    expect_status 0 "svo_render --layout plain" svo_render "$T/demo.svo" "$T/lay_p.pfm" --layout plain --mode albedo --size 48x32 -v
+    grep -q "^layout: plain, .* asked for" "$T/out" && ok "-v states the plain layout" || bad "-v states the plain layout"
+    expect_status 0 "svo_render --gpu-budget 1K" svo_render "$T/demo.svo" "$T/lay_c.pfm" --gpu-budget 1K --mode albedo --size 48x32 -v
+    grep -q "^layout: compact, .* auto: budget" "$T/out" && ok "auto takes the compact layout under a small budget" ||
+        bad "auto takes the compact layout under a small budget"
+    cmp -s "$T/lay_p.pfm" "$T/lay_c.pfm" && ok "compact and plain layouts give the same image" ||
+        bad "compact and plain layouts give the same image"
+    expect_status 0 "svo_render default layout" svo_render "$T/demo.svo" "$T/lay_a.pfm" --mode albedo --size 48x32 -v
+    grep -q "^layout: plain, .* auto: budget" "$T/out" && ok "auto keeps the plain layout where it fits" ||
+        bad "auto keeps the plain layout where it fits"
+    expect_status 1 "svo_render --layout compact --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --passes gbuffer,direct --size 8x8
+    grep -q "compact layout" "$T/err" && ok "passes on a compact scene: the reason" || bad "passes on a compact scene: the reason"
+    expect_status 2 "svo_render bad --layout" svo_render "$T/demo.svo" "$T/lay_x.png" --layout dense
 fi
 
 # a VDB sequence named by a pattern or a list (the corpus sphere as 3 frames):

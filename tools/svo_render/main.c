@@ -24,6 +24,7 @@ typedef struct options {
     const char* device;
     bool cpu, validate, verbose, list;
     uint64_t max_memory; /* --max-memory, 0: no limit */
+    vx_render_scene_desc scene_desc; /* --layout, --gpu-budget (issue 18) */
     /* probe modes (CPU): gi, pathtrace, gi-indirect, pathtrace-indirect */
     bool probe_mode;
     vx_probe_render_desc p;
@@ -155,6 +156,13 @@ _Noreturn static void usage(int status) {
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
+            "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
+            "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
+            "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
+            "                       one (a colour-free geometry DAG, coded exact colours: 3-4x smaller,\n"
+            "                       slower; the single-shader modes only, no --lod); -v says which\n"
+            "  --gpu-budget SIZE    GPU memory the plain layout may take for auto (default: 3/4 of the\n"
+            "                       device's largest device-local heap)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -470,6 +478,17 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--layout")) {
+            NEED();
+            const char* l = argv[++i];
+            if (!strcmp(l, "auto")) o.scene_desc.layout = VX_RENDER_LAYOUT_AUTO;
+            else if (!strcmp(l, "plain")) o.scene_desc.layout = VX_RENDER_LAYOUT_PLAIN;
+            else if (!strcmp(l, "compact")) o.scene_desc.layout = VX_RENDER_LAYOUT_COMPACT;
+            else usage_error("bad --layout '%s' (auto, plain or compact)", l);
+        } else if (!strcmp(a, "--gpu-budget")) {
+            NEED();
+            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
+                usage_error("bad --gpu-budget value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--max-memory")) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
@@ -845,8 +864,24 @@ int main(int argc, char** argv) {
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
-            r = vx_render_scene_create(gpu, &owned, &rs, &err);
+            r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
             if (!r && o.frame_first) r = vx_render_scene_set_frame(rs, &owned, o.frame_first, &err);
+        }
+        vx_render_layout_info li;
+        vx_render_scene_layout(rs, &li);
+        if (!r && o.verbose)
+            printf("layout: %s, %.3f MB on the GPU, %.3f bytes per voxel (plain: %.3f MB; %s budget %.1f MB)\n",
+                   vx_render_layout_name(li.layout), li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
+                   li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
+                   li.budget / 1e6);
+        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT) {
+            /* the pass shaders read the plain layout; the single shader traces the compact one */
+            if (o.passes_given || o.show_given || o.timings)
+                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                            "the scene is in the compact layout: --passes/--show/--timings need the plain one "
+                            "(--layout plain, or a larger --gpu-budget)");
+            pipeline = false;
+            if (o.verbose) printf("note: compact layout: the single-shader colour mode renders this scene\n");
         }
         if (!r && pipeline && vx_render_scene_precise(rs)) {
             /* the pass shaders trace in float; deep models need the float64 single shader */
