@@ -37,6 +37,30 @@ static int cmp_double(const void* a, const void* b) {
  * *seconds is the median run (wall time per run without timestamps). */
 #define VX__RUNS_PER_SUBMIT 32u
 
+/* Points set's bindings at d's buffers, each binding with the descriptor type
+ * pipeline p declared it with (the trace shaders: binding 0 the uniform frame
+ * block; images where p has a sampler or storage image). */
+static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, const vx__dispatch_desc* d) {
+    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
+    VkDescriptorImageInfo images[VX_GPU_MAX_BINDINGS];
+    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
+    for (uint32_t i = 0; i < d->buffer_count; i++) {
+        VkDescriptorType t = p->bindings[i];
+        bool image = t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
+        images[i] = (VkDescriptorImageInfo){.sampler = d->buffers[i]->sampler, .imageView = d->buffers[i]->view,
+                                            .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                      .dstSet = set,
+                                      .dstBinding = i,
+                                      .descriptorCount = 1,
+                                      .descriptorType = t,
+                                      .pBufferInfo = image ? NULL : &infos[i],
+                                      .pImageInfo = image ? &images[i] : NULL};
+    }
+    vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+}
+
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
     uint32_t repeat = d->repeat ? d->repeat : 1;
     /* one set per stage: the main pipeline's and the optional first stage's */
@@ -74,25 +98,7 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
             r = vx__vk_fail(err, vr, "vkAllocateDescriptorSets");
             goto done;
         }
-        VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
-        VkDescriptorImageInfo images[VX_GPU_MAX_BINDINGS];
-        VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
-        for (uint32_t i = 0; i < d->buffer_count; i++) {
-            VkDescriptorType t = stage[s]->bindings[i];
-            bool image = t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-            infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
-            images[i] = (VkDescriptorImageInfo){.sampler = d->buffers[i]->sampler, .imageView = d->buffers[i]->view,
-                                                .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
-            /* each binding as the pipeline declared it (the trace shaders: binding 0 the uniform frame block) */
-            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                                          .dstSet = sets[s],
-                                          .dstBinding = i,
-                                          .descriptorCount = 1,
-                                          .descriptorType = t,
-                                          .pBufferInfo = image ? NULL : &infos[i],
-                                          .pImageInfo = image ? &images[i] : NULL};
-        }
-        vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+        write_set(g, sets[s], stage[s], d);
     }
     VkDescriptorSet set = sets[0];
     double wall = 0;
@@ -214,24 +220,7 @@ vx_result vx__seq_dispatch(vx_gpu* g, vx__seq* s, const vx__dispatch_desc* d, co
                                       .pSetLayouts = &d->pipeline->dsl};
     VkDescriptorSet set;
     VX__VK(vkAllocateDescriptorSets(g->device, &ai, &set), "vkAllocateDescriptorSets");
-    VkDescriptorBufferInfo infos[VX_GPU_MAX_BINDINGS];
-    VkDescriptorImageInfo images[VX_GPU_MAX_BINDINGS];
-    VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
-    for (uint32_t i = 0; i < d->buffer_count; i++) { /* as vx__dispatch writes them */
-        VkDescriptorType t = d->pipeline->bindings[i];
-        bool image = t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        infos[i] = (VkDescriptorBufferInfo){.buffer = d->buffers[i]->buf, .offset = 0, .range = VK_WHOLE_SIZE};
-        images[i] = (VkDescriptorImageInfo){.sampler = d->buffers[i]->sampler, .imageView = d->buffers[i]->view,
-                                            .imageLayout = VK_IMAGE_LAYOUT_GENERAL};
-        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                                      .dstSet = set,
-                                      .dstBinding = i,
-                                      .descriptorCount = 1,
-                                      .descriptorType = t,
-                                      .pBufferInfo = image ? NULL : &infos[i],
-                                      .pImageInfo = image ? &images[i] : NULL};
-    }
-    vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
+    write_set(g, set, d->pipeline, d);
     if (g->begin_label && d->label) {
         VkDebugUtilsLabelEXT l = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = d->label};
         g->begin_label(g->cmd, &l);
