@@ -1092,6 +1092,33 @@ static vx_result sets_pool(vx_render_scene* rs, vx_error* err) {
     return VX_OK;
 }
 
+/* *set, p's set of n storage buffers b (from the scene's small pool), made
+ * again when the pipeline cache made p again (its layout *dsl differs). A set
+ * made for an earlier pipeline object may be in frames in flight: it is freed
+ * only after them. */
+static vx_result storage_set(vx_render_scene* rs, const vx__pipeline* p, VkDescriptorSet* set,
+                             VkDescriptorSetLayout* dsl, const vx__buffer* const* b, uint32_t n, vx_error* err) {
+    if (*set && *dsl == p->dsl) return VX_OK;
+    vx_gpu* g = rs->gpu;
+    settle(rs);
+    if (*set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, set), *set = VK_NULL_HANDLE;
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = rs->refit_pool, .descriptorSetCount = 1,
+                                      .pSetLayouts = &p->dsl};
+    VX__VK(vkAllocateDescriptorSets(g->device, &ai, set), "vkAllocateDescriptorSets");
+    *dsl = p->dsl;
+    VkDescriptorBufferInfo bi[4];
+    VkWriteDescriptorSet w[4];
+    for (uint32_t i = 0; i < n; i++) {
+        bi[i] = (VkDescriptorBufferInfo){.buffer = b[i]->buf, .range = VK_WHOLE_SIZE};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = *set,
+                                      .dstBinding = i, .descriptorCount = 1,
+                                      .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &bi[i]};
+    }
+    vkUpdateDescriptorSets(g->device, n, w, 0, NULL);
+    return VX_OK;
+}
+
 /* The instance rows' pipeline and its set (sources, instance rows, boxes),
  * made again when the pipeline cache made the pipeline again. */
 static vx_result rows_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
@@ -1102,25 +1129,8 @@ static vx_result rows_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(g, 0x1057u, &pd, &p, err);
     if (r || (r = sets_pool(rs, err))) return r;
-    if (!rs->rows_set || rs->rows_dsl != p->dsl) {
-        settle(rs); /* as refit_pipeline's */
-        if (rs->rows_set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, &rs->rows_set), rs->rows_set = VK_NULL_HANDLE;
-        VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-                                          .descriptorPool = rs->refit_pool, .descriptorSetCount = 1,
-                                          .pSetLayouts = &p->dsl};
-        VX__VK(vkAllocateDescriptorSets(g->device, &ai, &rs->rows_set), "vkAllocateDescriptorSets");
-        rs->rows_dsl = p->dsl;
-        const vx__buffer* b[3] = {&rs->inst_src, &rs->insts, &rs->inst_boxes};
-        VkDescriptorBufferInfo bi[3];
-        VkWriteDescriptorSet w[3];
-        for (int i = 0; i < 3; i++) {
-            bi[i] = (VkDescriptorBufferInfo){.buffer = b[i]->buf, .range = VK_WHOLE_SIZE};
-            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rs->rows_set,
-                                          .dstBinding = (uint32_t)i, .descriptorCount = 1,
-                                          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &bi[i]};
-        }
-        vkUpdateDescriptorSets(g->device, 3, w, 0, NULL);
-    }
+    const vx__buffer* b[3] = {&rs->inst_src, &rs->insts, &rs->inst_boxes};
+    if ((r = storage_set(rs, p, &rs->rows_set, &rs->rows_dsl, b, 3, err))) return r;
     *out = p;
     return VX_OK;
 }
@@ -1152,28 +1162,8 @@ static vx_result refit_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_erro
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(g, 0x4EF17u, &pd, &p, err);
     if (r) return r;
-    vx_result pr = sets_pool(rs, err);
-    if (pr) return pr;
-    if (!rs->refit_set || rs->refit_dsl != p->dsl) {
-        /* a set made for an earlier pipeline object may be in frames in flight: made again only after them */
-        settle(rs);
-        if (rs->refit_set) vkFreeDescriptorSets(g->device, rs->refit_pool, 1, &rs->refit_set), rs->refit_set = VK_NULL_HANDLE;
-        VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-                                          .descriptorPool = rs->refit_pool, .descriptorSetCount = 1,
-                                          .pSetLayouts = &p->dsl};
-        VX__VK(vkAllocateDescriptorSets(g->device, &ai, &rs->refit_set), "vkAllocateDescriptorSets");
-        rs->refit_dsl = p->dsl;
-        const vx__buffer* b[4] = {&rs->bvh_nodes, &rs->bvh_items, &rs->inst_boxes, &rs->order_buf};
-        VkDescriptorBufferInfo bi[4];
-        VkWriteDescriptorSet w[4];
-        for (int i = 0; i < 4; i++) {
-            bi[i] = (VkDescriptorBufferInfo){.buffer = b[i]->buf, .range = VK_WHOLE_SIZE};
-            w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rs->refit_set,
-                                          .dstBinding = (uint32_t)i, .descriptorCount = 1,
-                                          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &bi[i]};
-        }
-        vkUpdateDescriptorSets(g->device, 4, w, 0, NULL);
-    }
+    const vx__buffer* b[4] = {&rs->bvh_nodes, &rs->bvh_items, &rs->inst_boxes, &rs->order_buf};
+    if ((r = sets_pool(rs, err)) || (r = storage_set(rs, p, &rs->refit_set, &rs->refit_dsl, b, 4, err))) return r;
     *out = p;
     return VX_OK;
 }
