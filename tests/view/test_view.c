@@ -1843,6 +1843,88 @@ static void test_scripted_materials_gi(void) {
     }
 }
 
+/* The new panel sections driven as a user drives them: clicks on the
+ * widgets (`ui click LABEL`: at the widget as the panels laid it out; the
+ * script fails when a widget is missing), Ctrl+click and typing into
+ * fields, the combo lists opened and an item clicked. The material section
+ * (id slider, type combo, roughness field) and the render panel (GI method
+ * combo, GI settings: a checkbox and a slider) change the scene as the
+ * script commands `material` and `gi` do: the saved file has the same
+ * bytes as the one saved after those commands, and the frame equals
+ * svo_render of the saved scene with the same options. */
+static void test_ui_panels(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+#if !VX_VIEW_PANELS
+    SKIP("svo_view was built without panels (no Dear ImGui)");
+#endif
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    uint32_t p = top_palette(&s, 0);
+    REQUIRE(p);
+    char in[1024], script[1024], log[1024], saved_ui[1024], saved_cmd[1024], shot0[1024], shot[1024], rr[1024];
+    path(in, sizeof in, "ui_in.svo");
+    path(script, sizeof script, "ui.txt");
+    path(log, sizeof log, "ui.log");
+    path(saved_ui, sizeof saved_ui, "ui_saved.svo");
+    path(saved_cmd, sizeof saved_cmd, "ui_saved_cmd.svo");
+    path(shot0, sizeof shot0, "ui_shot0.png");
+    path(shot, sizeof shot, "ui_shot.png");
+    path(rr, sizeof rr, "ui_render.png");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(saved_ui), remove(saved_cmd), remove(shot0), remove(shot), remove(rr);
+    const char* render_opts = "--passes gbuffer,direct,gi=cones --cone-res 24 --cone-shadows";
+    for (int m = 0; m < 2; m++) {
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        if (m == 0) { /* through the widgets */
+            fprintf(f, "screenshot %s\nui click Material\nui ctrl-click id (palette index / material)\nui type %u\nui key enter\n"
+                       "ui click type\nui click metal\nui ctrl-click roughness\nui type 0.2\nui key enter\n"
+                       "ui click GI method\nui click cones\nui click GI settings\nui click cone shadows (no direct pass)\n"
+                       "ui ctrl-click volume res\nui type 24\nui key enter\nsave %s\nscreenshot %s\nquit\n",
+                    shot0, p, saved_ui, shot);
+        } else { /* the same edits as script commands */
+            fprintf(f, "material %u type metal\nmaterial %u rough 0.2\npasses gbuffer,direct,gi=cones\ngi cone-shadows on\n"
+                       "gi cone-res 24\nsave %s\nquit\n", p, p, saved_cmd);
+        }
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 640x640 -v > %s 2>&1", g_view, in, script, log);
+        char* t = slurp(log);
+        CHECKF(rc == 0, "%s: svo_view status %d: %s", m ? "commands" : "clicks", rc, t ? t : "(none)");
+        free(t);
+    }
+    /* the clicks made the commands' edits: the same file, byte for byte, and the material is in it */
+    char* a = slurp(saved_ui);
+    char* b = slurp(saved_cmd);
+    struct stat sa, sb;
+    bool same = a && b && !stat(saved_ui, &sa) && !stat(saved_cmd, &sb) && sa.st_size == sb.st_size &&
+                !memcmp(a, b, (size_t)sa.st_size);
+    fprintf(stderr, "  the file saved after the clicks %s the file saved after the commands\n", same ? "equals" : "DIFFERS from");
+    CHECK(same);
+    free(a), free(b);
+    vx_svo_scene got;
+    if (vx_svo_read_file(NULL, saved_ui, &got, &err) == VX_OK) {
+        vx_material mp = vx_svo_scene_material(&got, p);
+        CHECKF(mp.type == VX_MATERIAL_METAL && fabs(mp.roughness - 0.2) < 1e-12, "material %u: type %d roughness %g", p,
+               (int)mp.type, mp.roughness);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", saved_ui, err.msg);
+    }
+    /* the frame after the clicks: svo_render's with the GI settings the clicks chose */
+    int rc = run_cmd("%s %s %s --size 640x640 %s > %s 2>&1", g_render, saved_ui, rr, render_opts, log);
+    char* t = slurp(log);
+    CHECKF(rc == 0, "svo_render status %d: %s", rc, t ? t : "(none)");
+    free(t);
+    double d = image_diff(shot, rr), ch = image_diff(shot0, shot);
+    fprintf(stderr, "  after the clicks the frame differs from svo_render %s in %.3f%% of pixels, from the frame before "
+                    "in %.1f%%\n", render_opts, d * 100, ch * 100);
+    CHECKF(d == 0, "%.4f of the pixels differ from svo_render %s", d, render_opts);
+    CHECKF(ch > 0.01, "the clicks changed %.4f of the pixels", ch);
+}
+
 static void test_screenshot_matches_svo_render(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -2599,6 +2681,7 @@ int main(int argc, char** argv) {
     RUN(test_scripted_lights_gi);
     RUN(test_photons_view);
     RUN(test_scripted_materials_gi);
+    RUN(test_ui_panels);
     RUN(test_scripted_voxels);
     RUN(test_scripted_face);
     RUN(test_vclick);

@@ -148,6 +148,10 @@ typedef struct app {
     uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */
     double click_x, click_y;
+    int ui_finding;     /* `ui click LABEL`: frames left for the panels to draw the widget */
+    bool ui_ctrl;       /* ... with Ctrl held (ctrl-click) */
+    int ui_key_up;      /* `ui key K`: the key to release next frame */
+    char ui_label[128];
     const char* grab; /* save the displayed frame (panels included) */
     char grab_buf[1024];
     uint32_t frame_n;

@@ -120,6 +120,8 @@ _Noreturn static void usage(int status) {
             "      overlay on|off (the text overlay, shown without panels) | vsync on|off | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
+            "      ui click|ctrl-click LABEL (the panels' widget with that label, as a mouse click; ctrl-click\n"
+            "      on a slider or drag field edits it as text) | ui type TEXT | ui key enter|escape|tab|backspace |\n"
             "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
             "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
@@ -2177,6 +2179,26 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
     } else if (!strcmp(c, "click")) {
         if (nt != 3 || !parse_doubles(tok + 1, 2, v)) BAD();
         a->click_x = v[0], a->click_y = v[1], a->click_state = 2;
+    } else if (!strcmp(c, "ui")) { /* input through the panels' widgets, as a user's mouse and keys give it */
+        if (nt < 3 || !a->ui) BAD();
+        char text[128] = "";
+        for (int k = 2; k < nt; k++) /* the rest of the line, single-spaced: a widget's label or the text to type */
+            snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", k > 2 ? " " : "", tok[k]);
+        if (!strcmp(tok[1], "click") || !strcmp(tok[1], "ctrl-click")) {
+            snprintf(a->ui_label, sizeof a->ui_label, "%s", text);
+            sv_panels_find(a, a->ui_label);
+            a->ui_finding = 4; /* frames to wait for the panels to draw it */
+            a->ui_ctrl = !strcmp(tok[1], "ctrl-click");
+        } else if (!strcmp(tok[1], "type")) {
+            for (const char* t = text; *t; t++) sv_panels_char(a, (unsigned char)*t);
+        } else if (!strcmp(tok[1], "key") && nt == 3) {
+            static const struct { const char* name; int key; } keys[] = {
+                {"enter", GLFW_KEY_ENTER}, {"escape", GLFW_KEY_ESCAPE}, {"tab", GLFW_KEY_TAB}, {"backspace", GLFW_KEY_BACKSPACE}};
+            for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+                if (!strcmp(tok[2], keys[k].name)) a->ui_key_up = keys[k].key;
+            if (!a->ui_key_up) BAD();
+            sv_panels_key(a, a->ui_key_up, true, 0); /* released after a frame */
+        } else BAD();
     } else if (!strcmp(c, "voxel") || !strcmp(c, "vclick")) {
         vvx_op op = VVX_OP_COUNT;
         for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
@@ -2319,24 +2341,44 @@ static int run(app* a) {
         double now = glfwGetTime();
         fly(a, fmin(now - last, 0.25));
         last = now;
+        if (a->ui_key_up) { /* `ui key K`: released a frame after the press */
+            sv_panels_key(a, a->ui_key_up, false, 0);
+            a->ui_key_up = 0;
+            a->ui_dirty = true;
+        }
+        if (a->ui_finding) { /* `ui click LABEL`: at the widget's centre once the panels drew it */
+            float r[4];
+            a->ui_dirty = true;
+            if (sv_panels_found(a, r)) {
+                a->click_x = 0.5 * (r[0] + r[2]), a->click_y = 0.5 * (r[1] + r[3]);
+                a->click_state = 2, a->ui_finding = 0;
+            } else if (!--a->ui_finding) {
+                fprintf(stderr, "%s: %s: ui click: no widget '%s' on the panels\n", vx_tool_name, a->o.script, a->ui_label);
+                a->status = 1, a->quit = true;
+            }
+        }
         if (a->click_state == 1) { /* a scripted panel click: released one frame after the press */
             sv_panels_button(a, 0, false);
+            if (a->ui_ctrl) sv_panels_key(a, GLFW_KEY_LEFT_CONTROL, false, 0), a->ui_ctrl = false;
             a->click_state = 0;
+            a->ui_dirty = true;
         } else if (a->click_state == 2) {
             sv_panels_mouse(a, a->click_x, a->click_y);
+            if (a->ui_ctrl) sv_panels_key(a, GLFW_KEY_LEFT_CONTROL, true, GLFW_MOD_CONTROL);
             sv_panels_button(a, 0, true);
             a->click_state = 1;
+            a->ui_dirty = true;
         }
         play(a, fmin(now - last_play, 0.25));
         last_play = now;
         probe_bake_step(a); /* a step of a running bake, between frames */
         double t_edit = vx_time_now();
-        if (a->lines && !a->pick_pending && !a->click_state && !a->bake.active) {
+        if (a->lines && !a->pick_pending && !a->click_state && !a->ui_finding && !a->ui_key_up && !a->bake.active) {
             if (a->wait) a->wait--;
             else {
                 /* commands up to the next one that needs a frame (pick, screenshot, wait) */
                 while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait &&
-                       !a->grab && !a->click_state && !a->bake.active) {
+                       !a->grab && !a->click_state && !a->ui_finding && !a->ui_key_up && !a->bake.active) {
                     uint32_t ln = a->line_pos++;
                     if (!run_command(a, a->lines[ln], ln + 1)) {
                         a->status = 1;
@@ -2344,7 +2386,8 @@ static int run(app* a) {
                     }
                 }
             }
-            if (a->quit && !a->shot && !a->pick_pending && !a->grab && !a->click_state) break;
+            if (a->quit && !a->shot && !a->pick_pending && !a->grab && !a->click_state && !a->ui_finding && !a->ui_key_up)
+                break;
         }
         double t0 = vx_time_now();
         if (a->o.bench && vx_svo_scene_frames(&a->scene) > 1) {
