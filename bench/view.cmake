@@ -3,7 +3,7 @@
 # (libimgui-dev, static) --loop also times the panels drawn on the GPU.
 if(VX_WITH_VULKAN)
   add_executable(view_bench ${CMAKE_CURRENT_LIST_DIR}/view_bench.c ${CMAKE_SOURCE_DIR}/tools/svo_view/editor.c
-                            ${CMAKE_SOURCE_DIR}/tools/svo_view/voxels.c)
+                            ${CMAKE_SOURCE_DIR}/tools/svo_view/voxels.c ${CMAKE_SOURCE_DIR}/tools/svo_view/batch.c)
   target_link_libraries(view_bench PRIVATE vx_render vx_svo m)
   if(VX_WITH_IMGUI)
     find_package(PkgConfig QUIET)

@@ -62,6 +62,7 @@
 #include "render/render.h"
 #include "render/render_internal.h" /* vx__render_scene_rows_on_gpu */
 #include "bench/bench_terrain.h"
+#include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/voxels.h"
 
@@ -774,6 +775,7 @@ typedef struct submit_cfg {
     uint32_t frames, batch;
     bool one, timed, empty;
     const char* name;
+    bool automatic; /* svo_view's default, --batch auto (tools/svo_view/batch.h): the batch from the timed frames */
 } submit_cfg;
 
 /* What a command buffer boundary costs the queue: the passes of 4 frames
@@ -874,21 +876,22 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
             return fprintf(stderr, "%s\n", err.msg), 1;
     }
     static const submit_cfg cfgs[] = {
-        {3, 1, false, false, false, "svo_view's frame: 3 in flight, one submission a frame"},
-        {3, 1, false, true, false, "the same with the display's 2 timestamps (GPU times)"},
-        {6, 1, false, false, false, "6 in flight, one submission a frame"},
-        {8, 1, false, true, false, "8 in flight, one submission a frame, timed"},
-        {4, 2, false, false, false, "4 in flight, 2 frames a vkQueueSubmit (2 VkSubmitInfo)"},
-        {4, 2, true, false, false, "4 in flight, 2 frames a vkQueueSubmit (1 VkSubmitInfo)"},
-        {8, 4, false, false, false, "8 in flight, 4 frames a vkQueueSubmit (4 VkSubmitInfo)"},
-        {8, 4, true, false, false, "8 in flight, 4 frames a vkQueueSubmit (1 VkSubmitInfo)"},
-        {8, 4, true, true, false, "the same, timed"},
-        {8, 8, true, false, false, "8 in flight, 8 frames a vkQueueSubmit (1 VkSubmitInfo)"},
-        {3, 1, false, false, true, "empty frame, 3 in flight, untimed"},
-        {3, 1, false, true, true, "empty frame, 3 in flight, timed"},
-        {8, 1, false, false, true, "empty frame, 8 in flight, untimed"},
-        {8, 8, true, false, true, "empty frame, 8 a submission, untimed"},
-        {3, 1, false, false, false, "svo_view's frame again"},
+        {3, 1, false, false, false, "svo_view's frame: 3 in flight, one submission a frame", false},
+        {3, 1, false, true, false, "the same with the display's 2 timestamps (GPU times)", false},
+        {6, 1, false, false, false, "6 in flight, one submission a frame", false},
+        {8, 1, false, true, false, "8 in flight, one submission a frame, timed", false},
+        {4, 2, false, false, false, "4 in flight, 2 frames a vkQueueSubmit (2 VkSubmitInfo)", false},
+        {4, 2, true, false, false, "4 in flight, 2 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
+        {8, 4, false, false, false, "8 in flight, 4 frames a vkQueueSubmit (4 VkSubmitInfo)", false},
+        {8, 4, true, false, false, "8 in flight, 4 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
+        {8, 4, true, true, false, "the same, timed", false},
+        {8, 8, true, false, false, "8 in flight, 8 frames a vkQueueSubmit (1 VkSubmitInfo)", false},
+        {3, 1, false, false, true, "empty frame, 3 in flight, untimed", false},
+        {3, 1, false, true, true, "empty frame, 3 in flight, timed", false},
+        {8, 1, false, false, true, "empty frame, 8 in flight, untimed", false},
+        {8, 8, true, false, true, "empty frame, 8 a submission, untimed", false},
+        {3, 1, false, false, false, "svo_view's frame again", false},
+        {3, 1, false, false, false, "svo_view's default: --batch auto, its frames timed", true},
     };
     int nc = (int)(sizeof cfgs / sizeof cfgs[0]);
     printf("view_bench --submit %s %ux%u on %s, %u frames (after 20), passes %s%s%s: waited frames' passes %.4f ms\n", in, w, h,
@@ -902,6 +905,8 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
     for (int c = 0; c < nc; c++) {
         const submit_cfg* q = &cfgs[c];
         if (vx_display_set_queue(disp, q->frames, q->batch, q->one, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        sv_batch pol = sv_batch_make(VX_DISPLAY_SLOTS / 2, 0);
+        uint64_t switched_at = 0;
         vx_display_set_timestamps(disp, q->timed);
         vx_display_times d0;
         vx_display_frame_times(disp, &d0);
@@ -913,7 +918,22 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
             void* cmd;
             double t0 = vx_time_now();
             if (k == warm + 1) vx_display_frame_times(disp, &d0), waited0 = d0.begins_waited;
+            if (q->automatic) { /* as svo_view's present_in_flight: the batch changed between frames */
+                uint32_t want = sv_batch_want(&pol, false);
+                if (want != pol.cur) {
+                    if (vx_display_set_queue(disp, want > 1 ? 2 * want : 0, want, false, &err))
+                        return fprintf(stderr, "%s\n", err.msg), 1;
+                    sv_batch_set(&pol, want);
+                    switched_at = k;
+                }
+            }
             if (vx_display_frame_begin(disp, &slot, &cmd, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+            if (q->automatic) {
+                vx_frame_result done;
+                bool timed = !vx_frame_record_result(fr, slot, &done, NULL) && done.frame_ms > 0;
+                sv_batch_frame(&pol, timed ? done.frame_ms : 0);
+                fd.no_timestamps = !sv_batch_timed(&pol); /* as svo_view: its statistics' pass times */
+            }
             t[k] = vx_time_now();
             wb[k] = (t[k] - t0) * 1e3;
             vx_display_times dt;
@@ -954,10 +974,12 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
                q->name, mean, ivm, mean / mb, wbm, 100.0 * (double)(d1.begins_waited - waited0) / (n - 1));
         if (q->timed) printf(", GPU a frame %.4f ms, start-to-start %.4f ms", median(gpu, ng), ng > 1 ? median(gap + 1, ng - 1) : 0);
         if (!q->empty) printf(", last frame %s, %zu bytes differ", read ? "read" : "NOT READ", bad);
+        if (q->automatic) printf(", batch %u from frame %llu", pol.cur, (unsigned long long)switched_at);
         printf("\n");
         fflush(stdout);
     }
     vx_display_set_queue(disp, 0, 0, false, &err);
+    fd.no_timestamps = true;
     if (cb_boundary(g, fr, &fd, n, mb)) fail = 1;
     free(t), free(wb), free(gpu), free(gap), free(base), free(want), free(got);
     vx_display_destroy(disp);

@@ -26,6 +26,7 @@
 #include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
+#include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/settings.h"
 #include "tools/svo_view/voxels.h"
@@ -167,6 +168,70 @@ static void turn_z(int64_t w[3], const double p[3]) {
 }
 
 /* ---- in-process editor checks (leak-checked) ------------------------------------------- */
+
+/* --batch auto's policy (tools/svo_view/batch.h): the batch keeps the added
+ * latency (K - 1 frames) under the bound, vsync and unmeasured frames get
+ * 1, and the answer changes at most once every SV_BATCH_HOLD frames, from
+ * the median of the timed frames (one slow frame does not move it). */
+static void test_batch_policy(void) {
+    const double L = SV_BATCH_LATENCY_MS;
+    CHECK(sv_batch_for(0.08, 0, false, 4) == 4);     /* an H200's monu1 frame */
+    CHECK(sv_batch_for(L / 3.0, 0, false, 4) == 4);  /* 3 frames of delay fit exactly */
+    CHECK(sv_batch_for(L / 2.5, 0, false, 4) == 3);
+    CHECK(sv_batch_for(L / 1.5, 0, false, 4) == 2);
+    CHECK(sv_batch_for(L * 1.01, 0, false, 4) == 1); /* a frame longer than the bound: alone */
+    CHECK(sv_batch_for(40.0, 0, false, 4) == 1);     /* lavapipe */
+    CHECK(sv_batch_for(40.0, 1000.0, false, 4) == 4);
+    CHECK(sv_batch_for(0.08, 0, false, 2) == 2);
+    CHECK(sv_batch_for(0.08, 0, true, 4) == 1);      /* vsync */
+    CHECK(sv_batch_for(0.0, 0, false, 4) == 1 && sv_batch_for(-1.0, 0, false, 4) == 1 && sv_batch_for(NAN, 0, false, 4) == 1);
+    /* the delay a chosen batch adds stays within the bound for every frame time */
+    for (double ms = 0.01; ms < 5.0; ms *= 1.1) {
+        uint32_t k = sv_batch_for(ms, 0, false, 4);
+        CHECKF(k >= 1 && k <= 4 && (k - 1) * ms <= L + 1e-12 && (k == 4 || k * ms > L),
+               "frame %.4f ms: batch %u", ms, k);
+    }
+    sv_batch b = sv_batch_make(4, 0);
+    CHECK(b.cur == 1 && b.max == 4 && b.latency_ms == L);
+    uint32_t changed_at = 0;
+    for (uint32_t f = 1; f <= 3 * SV_BATCH_HOLD; f++) {
+        sv_batch_frame(&b, f % 8 ? 0 : (f == 48 ? 50.0 : 0.08)); /* one timed frame in 8, one of them slow */
+        uint32_t want = sv_batch_want(&b, false);
+        if (want != b.cur && !changed_at) changed_at = f;
+        sv_batch_set(&b, want);
+    }
+    CHECKF(changed_at == SV_BATCH_HOLD && b.cur == 4, "changed at frame %u to %u", changed_at, b.cur);
+    CHECK(sv_batch_want(&b, true) == 1); /* vsync on: at once */
+    sv_batch_set(&b, 1);
+    uint64_t at = b.frames;
+    for (uint32_t f = 0; f < SV_BATCH_HOLD - 1; f++) {
+        sv_batch_frame(&b, 2.0 * L);
+        CHECK(sv_batch_want(&b, false) == 1);
+    }
+    /* frames now slower than the bound: the median says 1 after the hold too */
+    sv_batch_frame(&b, 2.0 * L);
+    CHECK(b.frames - at == SV_BATCH_HOLD && sv_batch_want(&b, false) == 1);
+    /* timed frames: the first, then one in SV_BATCH_TIMED_EVERY, one per SV_BATCH_TIMED_MS of short frames */
+    sv_batch t = sv_batch_make(4, 0);
+    uint32_t timed = 0, first = 0;
+    for (uint32_t f = 0; f < 64; f++) {
+        sv_batch_frame(&t, 0);
+        if (sv_batch_timed(&t)) timed++, first += f == 0;
+    }
+    CHECKF(first == 1 && timed == 64 / SV_BATCH_TIMED_EVERY, "%u frames of 64 timed", timed);
+    sv_batch_frame(&t, 0.08); /* a measured 0.08 ms frame: one timed per 4 ms = 50 frames */
+    timed = 0;
+    for (uint32_t f = 0; f < 1000; f++) {
+        if (f) sv_batch_frame(&t, 0);
+        timed += sv_batch_timed(&t);
+    }
+    CHECKF(timed >= 1000 / (uint32_t)(SV_BATCH_TIMED_MS / 0.08) && timed <= 1000 / (uint32_t)(SV_BATCH_TIMED_MS / 0.08) + 1,
+           "%u frames of 1000 timed at 0.08 ms", timed);
+    sv_batch fixed = sv_batch_make(1, 0);
+    for (int f = 0; f < 200; f++) sv_batch_frame(&fixed, 0.01);
+    CHECK(sv_batch_want(&fixed, false) == 1); /* max 1: never batched */
+}
+
 
 static void test_editor_ops(void) {
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -1778,6 +1843,88 @@ static void test_scripted_materials_gi(void) {
     }
 }
 
+/* The new panel sections driven as a user drives them: clicks on the
+ * widgets (`ui click LABEL`: at the widget as the panels laid it out; the
+ * script fails when a widget is missing), Ctrl+click and typing into
+ * fields, the combo lists opened and an item clicked. The material section
+ * (id slider, type combo, roughness field) and the render panel (GI method
+ * combo, GI settings: a checkbox and a slider) change the scene as the
+ * script commands `material` and `gi` do: the saved file has the same
+ * bytes as the one saved after those commands, and the frame equals
+ * svo_render of the saved scene with the same options. */
+static void test_ui_panels(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+#if !VX_VIEW_PANELS
+    SKIP("svo_view was built without panels (no Dear ImGui)");
+#endif
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    uint32_t p = top_palette(&s, 0);
+    REQUIRE(p);
+    char in[1024], script[1024], log[1024], saved_ui[1024], saved_cmd[1024], shot0[1024], shot[1024], rr[1024];
+    path(in, sizeof in, "ui_in.svo");
+    path(script, sizeof script, "ui.txt");
+    path(log, sizeof log, "ui.log");
+    path(saved_ui, sizeof saved_ui, "ui_saved.svo");
+    path(saved_cmd, sizeof saved_cmd, "ui_saved_cmd.svo");
+    path(shot0, sizeof shot0, "ui_shot0.png");
+    path(shot, sizeof shot, "ui_shot.png");
+    path(rr, sizeof rr, "ui_render.png");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(saved_ui), remove(saved_cmd), remove(shot0), remove(shot), remove(rr);
+    const char* render_opts = "--passes gbuffer,direct,gi=cones --cone-res 24 --cone-shadows";
+    for (int m = 0; m < 2; m++) {
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        if (m == 0) { /* through the widgets */
+            fprintf(f, "screenshot %s\nui click Material\nui ctrl-click id (palette index / material)\nui type %u\nui key enter\n"
+                       "ui click type\nui click metal\nui ctrl-click roughness\nui type 0.2\nui key enter\n"
+                       "ui click GI method\nui click cones\nui click GI settings\nui click cone shadows (no direct pass)\n"
+                       "ui ctrl-click volume res\nui type 24\nui key enter\nsave %s\nscreenshot %s\nquit\n",
+                    shot0, p, saved_ui, shot);
+        } else { /* the same edits as script commands */
+            fprintf(f, "material %u type metal\nmaterial %u rough 0.2\npasses gbuffer,direct,gi=cones\ngi cone-shadows on\n"
+                       "gi cone-res 24\nsave %s\nquit\n", p, p, saved_cmd);
+        }
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 640x640 -v > %s 2>&1", g_view, in, script, log);
+        char* t = slurp(log);
+        CHECKF(rc == 0, "%s: svo_view status %d: %s", m ? "commands" : "clicks", rc, t ? t : "(none)");
+        free(t);
+    }
+    /* the clicks made the commands' edits: the same file, byte for byte, and the material is in it */
+    char* a = slurp(saved_ui);
+    char* b = slurp(saved_cmd);
+    struct stat sa, sb;
+    bool same = a && b && !stat(saved_ui, &sa) && !stat(saved_cmd, &sb) && sa.st_size == sb.st_size &&
+                !memcmp(a, b, (size_t)sa.st_size);
+    fprintf(stderr, "  the file saved after the clicks %s the file saved after the commands\n", same ? "equals" : "DIFFERS from");
+    CHECK(same);
+    free(a), free(b);
+    vx_svo_scene got;
+    if (vx_svo_read_file(NULL, saved_ui, &got, &err) == VX_OK) {
+        vx_material mp = vx_svo_scene_material(&got, p);
+        CHECKF(mp.type == VX_MATERIAL_METAL && fabs(mp.roughness - 0.2) < 1e-12, "material %u: type %d roughness %g", p,
+               (int)mp.type, mp.roughness);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", saved_ui, err.msg);
+    }
+    /* the frame after the clicks: svo_render's with the GI settings the clicks chose */
+    int rc = run_cmd("%s %s %s --size 640x640 %s > %s 2>&1", g_render, saved_ui, rr, render_opts, log);
+    char* t = slurp(log);
+    CHECKF(rc == 0, "svo_render status %d: %s", rc, t ? t : "(none)");
+    free(t);
+    double d = image_diff(shot, rr), ch = image_diff(shot0, shot);
+    fprintf(stderr, "  after the clicks the frame differs from svo_render %s in %.3f%% of pixels, from the frame before "
+                    "in %.1f%%\n", render_opts, d * 100, ch * 100);
+    CHECKF(d == 0, "%.4f of the pixels differ from svo_render %s", d, render_opts);
+    CHECKF(ch > 0.01, "the clicks changed %.4f of the pixels", ch);
+}
+
 static void test_screenshot_matches_svo_render(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
@@ -2011,28 +2158,37 @@ static void test_batch_present(void) {
     CHECK(run_cmd("%s x.svo --batch 9 > /dev/null 2>&1", g_view) == 2);
     const char* in = vx_test_corpus("vox/ogt_test_groups.vox");
     if (!in) SKIP("corpus file vox/ogt_test_groups.vox not found");
-    char script[1024], g[2][3][1024], log[1024];
+    CHECK(run_cmd("%s x.svo --batch-latency 0 > /dev/null 2>&1", g_view) == 2);
+    char script[1024], g[3][3][1024], log[1024];
     path(log, sizeof log, "batch.log");
-    const int batch[2] = {1, 3};
-    unsigned long long rec[2] = {0, 0};
-    for (int m = 0; m < 2; m++) {
-        path(script, sizeof script, m ? "batch3.txt" : "batch1.txt");
+    /* 0: --batch auto, which on lavapipe's long frames batches only with a loose latency bound: 1000 ms here, so
+     * that it goes from 1 to 4 a submission once enough frames were timed (tools/svo_view/batch.h) */
+    const int batch[3] = {1, 3, 0};
+    unsigned long long rec[3] = {0, 0, 0};
+    for (int m = 0; m < 3; m++) {
+        char name[64];
+        snprintf(name, sizeof name, "batch%d.txt", batch[m]);
+        path(script, sizeof script, name);
         for (int k = 0; k < 3; k++) {
-            char name[64];
             snprintf(name, sizeof name, "batch%d_%d.png", batch[m], k);
             path(g[m][k], sizeof g[m][k], name);
             remove(g[m][k]);
         }
         FILE* f = fopen(script, "w");
         REQUIRE(f);
-        fprintf(f, "wait 5\nselect 1\nmove 2 0 1\nwait 4\ngrab %s\nrotate z\nwait 7\nundo\nwait 2\ngrab %s\nselect 2\n"
-                   "move 0 3 0\nwait 5\ngrab %s\nwait 3\nquit\n", g[m][0], g[m][1], g[m][2]);
+        /* auto: SV_BATCH_HOLD frames and more before the edits, so that the batch has changed by then */
+        fprintf(f, "wait %d\nselect 1\nmove 2 0 1\nwait 4\ngrab %s\nrotate z\nwait 7\nundo\nwait 2\ngrab %s\nselect 2\n"
+                   "move 0 3 0\nwait 5\ngrab %s\nwait 3\nquit\n", batch[m] ? 5 : SV_BATCH_HOLD + 16, g[m][0], g[m][1], g[m][2]);
         fclose(f);
-        int rc = run_cmd("%s %s --script %s --hidden --size 800x480 --present gpu --batch %d --validate -v > %s 2>&1",
-                         g_view, in, script, batch[m], log);
+        char opt[64];
+        if (batch[m]) snprintf(opt, sizeof opt, "--batch %d", batch[m]);
+        else snprintf(opt, sizeof opt, "--batch-latency 1000");
+        int rc = run_cmd("%s %s --script %s --hidden --size 800x480 --present gpu %s --validate -v > %s 2>&1",
+                         g_view, in, script, opt, log);
         char* text = slurp(log);
         char want[64];
-        snprintf(want, sizeof want, "%d a submission", batch[m]);
+        if (batch[m]) snprintf(want, sizeof want, "%d a submission", batch[m]);
+        else snprintf(want, sizeof want, "4 frames a submission from frame "); /* the switch, printed with -v */
         CHECKF(rc == 0 && text && strstr(text, want) && strstr(text, " 0 Vulkan validation errors"),
                "--batch %d: status %d: %s", batch[m], rc, text ? text : "(none)");
         const char* at = text ? strstr(text, "frames in flight: ") : NULL;
@@ -2042,25 +2198,35 @@ static void test_batch_present(void) {
                                   "presented (%llu out of order, %u still queued)",
                               &rec[m], &sub, &calls, &pres, &ooo, &queued)
                      : 0;
-        fprintf(stderr, "  --batch %d: %llu frames recorded in flight, %llu submitted in %llu calls, %llu presented, %llu "
-                        "out of order, %u queued\n", batch[m], rec[m], sub, calls, pres, ooo, queued);
+        fprintf(stderr, "  --batch %s: %llu frames recorded in flight, %llu submitted in %llu calls, %llu presented, %llu "
+                        "out of order, %u queued\n", batch[m] ? (batch[m] == 1 ? "1" : "3") : "auto", rec[m], sub, calls, pres,
+                ooo, queued);
         CHECKF(got == 6, "--batch %d: no frame counts in the output", batch[m]);
         CHECKF(rec[m] >= 20 && sub == rec[m] && pres == rec[m] && ooo == 0 && queued == 0,
                "--batch %d: %llu recorded, %llu submitted, %llu presented, %llu out of order, %u queued", batch[m], rec[m],
                sub, pres, ooo, queued);
         if (batch[m] == 1) CHECKF(calls == rec[m], "--batch 1: %llu submissions for %llu frames", calls, rec[m]);
-        else CHECKF(calls < rec[m] && calls * (unsigned long long)batch[m] >= rec[m],
-                    "--batch %d: %llu submissions for %llu frames", batch[m], calls, rec[m]);
+        else if (batch[m]) CHECKF(calls < rec[m] && calls * (unsigned long long)batch[m] >= rec[m],
+                                  "--batch %d: %llu submissions for %llu frames", batch[m], calls, rec[m]);
+        else { /* auto: one a submission up to the switch, then 4 */
+            const char* sw = text ? strstr(text, want) : NULL;
+            unsigned long long from = 0;
+            CHECKF(sw && sscanf(sw + strlen(want), "%llu", &from) == 1 && from >= SV_BATCH_HOLD / 2 && from < rec[m],
+                   "--batch auto: no switch to 4 a submission, or at frame %llu of %llu", from, rec[m]);
+            CHECKF(calls < rec[m] && calls >= from + (rec[m] - from) / 4, "--batch auto: %llu submissions for %llu frames "
+                   "(4 a submission from frame %llu)", calls, rec[m], from);
+        }
         free(text);
     }
     /* between the panels (their statistics differ from run to run), as in test_gpu_present */
-    for (int k = 0; k < 3; k++) {
-        size_t over = 0;
-        int d = image_box_diff(g[0][k], g[1][k], 310, 460, 0, 480, 0, &over);
-        fprintf(stderr, "  --batch 3 against --batch 1, grab %d: between the panels the frames differ by up to %d (%zu "
-                        "pixels)\n", k, d, over);
-        CHECKF(d == 0, "grab %d: the frames differ by up to %d in %zu pixels", k, d, over);
-    }
+    for (int m = 1; m < 3; m++)
+        for (int k = 0; k < 3; k++) {
+            size_t over = 0;
+            int d = image_box_diff(g[0][k], g[m][k], 310, 460, 0, 480, 0, &over);
+            fprintf(stderr, "  --batch %s against --batch 1, grab %d: between the panels the frames differ by up to %d (%zu "
+                            "pixels)\n", batch[m] ? "3" : "auto", k, d, over);
+            CHECKF(d == 0, "grab %d: the frames differ by up to %d in %zu pixels", k, d, over);
+        }
     /* the grabs show the edits: the first and the last differ (two moves), the second is after an undo */
     size_t over = 0;
     CHECKF(image_box_diff(g[0][0], g[0][2], 310, 460, 0, 480, 0, &over) > 0, "the move before the last grab shows no change");
@@ -2484,6 +2650,7 @@ int main(int argc, char** argv) {
         RUN(test_editor_incremental);
         RUN(test_editor_face);
         RUN(test_editor_undo_bounds);
+        RUN(test_batch_policy);
         return vx_test_finish();
     }
     if (argc < 4) {
@@ -2514,6 +2681,7 @@ int main(int argc, char** argv) {
     RUN(test_scripted_lights_gi);
     RUN(test_photons_view);
     RUN(test_scripted_materials_gi);
+    RUN(test_ui_panels);
     RUN(test_scripted_voxels);
     RUN(test_scripted_face);
     RUN(test_vclick);

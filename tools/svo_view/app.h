@@ -13,6 +13,7 @@
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "tools/common/conv.h"
+#include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/present.h"
 #include "tools/svo_view/settings.h"
@@ -42,7 +43,8 @@ typedef struct options {
     bool no_panels; /* the text overlay instead of the panels */
     bool gpu_panels; /* the panels drawn on the GPU (ImGui's Vulkan backend) where the swapchain allows */
     const char* present;  /* --present auto|gpu|host */
-    uint32_t batch;      /* --batch K: frames in flight submitted K at a time (0, 1: each alone) */
+    uint32_t batch;      /* --batch K: frames in flight submitted K at a time (1: each alone; 0: auto, batch.h) */
+    double batch_latency; /* --batch-latency MS (0: SV_BATCH_LATENCY_MS) */
     uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
     uint64_t undo_bytes;
     vx_tool_conv conv; /* converter options, as vox2svo has them */
@@ -146,10 +148,15 @@ typedef struct app {
     uint32_t name_for;
     int click_state; /* a scripted click: 2 press, 1 release */
     double click_x, click_y;
+    int ui_finding;     /* `ui click LABEL`: frames left for the panels to draw the widget */
+    bool ui_ctrl;       /* ... with Ctrl held (ctrl-click) */
+    int ui_key_up;      /* `ui key K`: the key to release next frame */
+    char ui_label[128];
     const char* grab; /* save the displayed frame (panels included) */
     char grab_buf[1024];
     uint32_t frame_n;
     uint64_t frames_recorded; /* frames given to vx_display_frame_submit (numbers the presents of batches) */
+    sv_batch batch;           /* frames a submission: --batch K (max = cur = K) or auto (batch.h; max 4) */
     double trace_ms, rays_per_s, update_ms;
     double panels_ms; /* drawing the panels into the frame or overlay (CPU), the last frame */
     /* presentation: vx_display set: the colour passes' frames go to the

@@ -16,6 +16,7 @@
 #include "render/trace.h"
 #include "tools/common/tool.h"
 #include "tools/svo_view/app.h"
+#include "tools/svo_view/batch.h"
 #include "tools/svo_view/font.h"
 #include "tools/svo_view/panels.h"
 
@@ -84,10 +85,12 @@ _Noreturn static void usage(int status) {
             "                          (where the swapchain images allow; default: drawn on the CPU into an\n"
             "                          overlay kept between redraws: on an H200 the render pass cost a\n"
             "                          frame 0.16 ms, the kept overlay 0.002 ms)\n"
-            "    --batch K             frames in flight submitted K at a time (2 to 4; default 1): each\n"
-            "                          frame still takes its own input and image and is presented in\n"
-            "                          order, up to K - 1 frames later (on an H200 a submission costs\n"
-            "                          about 0.01 ms of a 0.08 ms frame); without vsync\n"
+            "    --batch auto|K        frames in flight submitted K at a time (1 to 4): each frame still\n"
+            "                          takes its own input and image and is presented in order, up to\n"
+            "                          K - 1 frames later (on an H200 a submission costs about 0.01 ms of\n"
+            "                          a 0.08 ms frame). auto (default): K from the measured frame time,\n"
+            "                          so that a frame waits at most --batch-latency more; 1 with vsync\n"
+            "    --batch-latency MS    the most --batch auto may delay a frame (default: %g ms)\n"
             "    --vsync               start with vsync on (V toggles)\n"
             "    --hidden              do not show the window (scripts, benchmarks)\n"
             "    --device N|NAME       Vulkan device (default: a discrete GPU, else any)\n"
@@ -117,6 +120,8 @@ _Noreturn static void usage(int status) {
             "      overlay on|off (the text overlay, shown without panels) | vsync on|off | rename NAME |\n"
             "      setlayer N|none | setmodel N (the selection) |\n"
             "      grab FILE.png (the displayed frame, panels included) | click X Y (on the panels) |\n"
+            "      ui click|ctrl-click LABEL (the panels' widget with that label, as a mouse click; ctrl-click\n"
+            "      on a slider or drag field edits it as text) | ui type TEXT | ui key enter|escape|tab|backspace |\n"
             "      brush voxel|box|sphere|face [R] | color INDEX|#RRGGBB | voxel add|remove|paint X Y Z [FACE]\n"
             "      (model cells of the selection's model; FACE +x|-x|+y|-y|+z|-z for the face brush: add\n"
             "      extrudes the exposed face region, remove pushes it in, paint recolours it) |\n"
@@ -137,7 +142,7 @@ _Noreturn static void usage(int status) {
             "    xvfb-run -a %s scene.svo --script edit.txt --hidden\n",
             vx_tool_name, d.win_w, d.win_h, vx_render_mode_name(d.mode), d.passes, d.fov, SV_FPS_DEFAULT,
             VED_UNDO_STEPS_DEFAULT, (unsigned long long)(VED_UNDO_BYTES_DEFAULT >> 20),
-            sv_panels_built() ? "" : " (this build has no panels: no Dear ImGui)", d.conv.res, vx_tool_name, vx_tool_name,
+            sv_panels_built() ? "" : " (this build has no panels: no Dear ImGui)", SV_BATCH_LATENCY_MS, d.conv.res, vx_tool_name, vx_tool_name,
             vx_tool_name, vx_tool_name);
     exit(status);
 }
@@ -211,8 +216,16 @@ static options parse(int argc, char** argv) {
             if (!vx_tool_parse_bytes(need_arg(argc, argv, &i), &o.undo_bytes) || !o.undo_bytes)
                 usage_error("bad --undo-memory '%s' (bytes, e.g. 512M, 4G)", argv[i]);
         } else if (!strcmp(a, "--batch")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.batch) || o.batch < 1 || 2 * o.batch > VX_DISPLAY_SLOTS)
-                usage_error("bad --batch '%s' (1 to %d frames a submission)", argv[i], VX_DISPLAY_SLOTS / 2);
+            const char* v = need_arg(argc, argv, &i);
+            if (!strcmp(v, "auto")) o.batch = 0;
+            else if (!vx_tool_parse_u32(v, &o.batch) || o.batch < 1 || 2 * o.batch > VX_DISPLAY_SLOTS)
+                usage_error("bad --batch '%s' (auto, or 1 to %d frames a submission)", v, VX_DISPLAY_SLOTS / 2);
+        } else if (!strcmp(a, "--batch-latency")) {
+            const char* v = need_arg(argc, argv, &i);
+            char* end;
+            o.batch_latency = strtod(v, &end);
+            if (end == v || *end || !(o.batch_latency > 0) || o.batch_latency > 1e6)
+                usage_error("bad --batch-latency '%s' (milliseconds, above 0)", v);
         } else if (!strcmp(a, "--no-panels")) o.no_panels = true;
         else if (!strcmp(a, "--gpu-panels")) o.gpu_panels = true;
         else if (!strcmp(a, "--vsync")) o.vsync = true;
@@ -1399,13 +1412,29 @@ static vx_result render_passes(app* a, const vx_render_desc* d, bool on_gpu, vx_
  * conversion pass), so the image is acquired before the passes are
  * recorded. VX_ERR_UNSUPPORTED, nothing submitted: a frame the recorder
  * refuses (lights that need a culling grid), which takes the waited path. */
+static vx_result batch_drain(app* a, vx_error* err);
+
 static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_display_desc* dd, vx_error* err) {
     uint32_t slot;
     void* cmd;
+    if (!a->o.batch) { /* --batch auto: the batch the measured frames ask for, the held frames presented first */
+        uint32_t want = sv_batch_want(&a->batch, vp_vsync(a->p));
+        if (want != a->batch.cur) {
+            vx_result br = batch_drain(a, err);
+            if (!br) br = vx_display_set_queue(a->disp, want > 1 ? 2 * want : 0, want, false, err);
+            if (br) return br;
+            if (a->o.verbose)
+                printf("%s: %u frames a submission from frame %llu (--batch auto)\n", vx_tool_name, want,
+                       (unsigned long long)a->frames_recorded);
+            sv_batch_set(&a->batch, want);
+        }
+    }
     vx_result r = vx_display_frame_begin(a->disp, &slot, &cmd, err);
     if (r) return r;
     vx_frame_result done;
-    if (!vx_frame_record_result(a->fr, slot, &done, NULL) && done.frame_ms > 0) { /* a frame that was timed */
+    bool timed = !vx_frame_record_result(a->fr, slot, &done, NULL) && done.frame_ms > 0;
+    sv_batch_frame(&a->batch, timed ? done.frame_ms : 0);
+    if (timed) { /* a frame that was timed */
         take_timings(a, &done);
         a->trace_ms = done.image.gpu_seconds * 1e3;
         a->rays_per_s = done.image.gpu_seconds > 0 ? done.image.rays / done.image.gpu_seconds : 0;
@@ -1413,11 +1442,11 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
     vx_frame_desc fd;
     vp_image im;
     r = frame_desc(a, d, true, &fd, err);
-    /* the passes' timestamps in one frame of 8 (the statistics' times; each timed frame costs an H200 a few
-     * microseconds more) */
-    fd.no_timestamps = a->frame_n % 8 != 0;
+    /* the passes' timestamps in one frame of 8, fewer for short frames (the statistics' times; each timed frame
+     * costs an H200 a few microseconds more: batch.h) */
+    fd.no_timestamps = !sv_batch_timed(&a->batch);
     vx_display_times dt;
-    if (a->o.batch > 1 && vp_stale(a->p)) {
+    if (a->batch.max > 1 && vp_stale(a->p)) {
         /* a new swapchain next: the held frames submitted and their images presented before the old one goes */
         vx_result wr = vx_display_wait(a->disp, err);
         vx_display_frame_times(a->disp, &dt);
@@ -1459,7 +1488,7 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
     vx_result sr = vx_display_frame_submit(a->disp, im.acquired, im.rendered, err);
     if (!sr) a->frames_recorded++;
     if (!sr && im.image) sr = vp_present_acquired(a->p, err);
-    if (!sr && a->o.batch > 1) { /* the frames submitted by now (this batch, or held ones an edit submitted) */
+    if (!sr && a->batch.max > 1) { /* the frames submitted by now (this batch, or held ones an edit submitted) */
         vx_display_frame_times(a->disp, &dt);
         sr = vp_present_submitted(a->p, dt.frames_submitted, err);
     }
@@ -1470,7 +1499,7 @@ static vx_result present_in_flight(app* a, const vx_render_desc* d, const vx_dis
  * host path): the frames a batch holds submitted and presented, so that the
  * images go to the screen in the order they were made. */
 static vx_result batch_drain(app* a, vx_error* err) {
-    if (a->o.batch <= 1 || !a->disp) return VX_OK;
+    if (a->batch.max <= 1 || !a->disp) return VX_OK;
     vx_result r = vx_display_wait(a->disp, err);
     vx_display_times dt;
     vx_display_frame_times(a->disp, &dt);
@@ -2150,6 +2179,26 @@ static bool run_command(app* a, char* line, uint32_t lineno) {
     } else if (!strcmp(c, "click")) {
         if (nt != 3 || !parse_doubles(tok + 1, 2, v)) BAD();
         a->click_x = v[0], a->click_y = v[1], a->click_state = 2;
+    } else if (!strcmp(c, "ui")) { /* input through the panels' widgets, as a user's mouse and keys give it */
+        if (nt < 3 || !a->ui) BAD();
+        char text[128] = "";
+        for (int k = 2; k < nt; k++) /* the rest of the line, single-spaced: a widget's label or the text to type */
+            snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", k > 2 ? " " : "", tok[k]);
+        if (!strcmp(tok[1], "click") || !strcmp(tok[1], "ctrl-click")) {
+            snprintf(a->ui_label, sizeof a->ui_label, "%s", text);
+            sv_panels_find(a, a->ui_label);
+            a->ui_finding = 4; /* frames to wait for the panels to draw it */
+            a->ui_ctrl = !strcmp(tok[1], "ctrl-click");
+        } else if (!strcmp(tok[1], "type")) {
+            for (const char* t = text; *t; t++) sv_panels_char(a, (unsigned char)*t);
+        } else if (!strcmp(tok[1], "key") && nt == 3) {
+            static const struct { const char* name; int key; } keys[] = {
+                {"enter", GLFW_KEY_ENTER}, {"escape", GLFW_KEY_ESCAPE}, {"tab", GLFW_KEY_TAB}, {"backspace", GLFW_KEY_BACKSPACE}};
+            for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+                if (!strcmp(tok[2], keys[k].name)) a->ui_key_up = keys[k].key;
+            if (!a->ui_key_up) BAD();
+            sv_panels_key(a, a->ui_key_up, true, 0); /* released after a frame */
+        } else BAD();
     } else if (!strcmp(c, "voxel") || !strcmp(c, "vclick")) {
         vvx_op op = VVX_OP_COUNT;
         for (int k = 0; k < VVX_OP_COUNT && nt >= 2; k++)
@@ -2292,24 +2341,44 @@ static int run(app* a) {
         double now = glfwGetTime();
         fly(a, fmin(now - last, 0.25));
         last = now;
+        if (a->ui_key_up) { /* `ui key K`: released a frame after the press */
+            sv_panels_key(a, a->ui_key_up, false, 0);
+            a->ui_key_up = 0;
+            a->ui_dirty = true;
+        }
+        if (a->ui_finding) { /* `ui click LABEL`: at the widget's centre once the panels drew it */
+            float r[4];
+            a->ui_dirty = true;
+            if (sv_panels_found(a, r)) {
+                a->click_x = 0.5 * (r[0] + r[2]), a->click_y = 0.5 * (r[1] + r[3]);
+                a->click_state = 2, a->ui_finding = 0;
+            } else if (!--a->ui_finding) {
+                fprintf(stderr, "%s: %s: ui click: no widget '%s' on the panels\n", vx_tool_name, a->o.script, a->ui_label);
+                a->status = 1, a->quit = true;
+            }
+        }
         if (a->click_state == 1) { /* a scripted panel click: released one frame after the press */
             sv_panels_button(a, 0, false);
+            if (a->ui_ctrl) sv_panels_key(a, GLFW_KEY_LEFT_CONTROL, false, 0), a->ui_ctrl = false;
             a->click_state = 0;
+            a->ui_dirty = true;
         } else if (a->click_state == 2) {
             sv_panels_mouse(a, a->click_x, a->click_y);
+            if (a->ui_ctrl) sv_panels_key(a, GLFW_KEY_LEFT_CONTROL, true, GLFW_MOD_CONTROL);
             sv_panels_button(a, 0, true);
             a->click_state = 1;
+            a->ui_dirty = true;
         }
         play(a, fmin(now - last_play, 0.25));
         last_play = now;
         probe_bake_step(a); /* a step of a running bake, between frames */
         double t_edit = vx_time_now();
-        if (a->lines && !a->pick_pending && !a->click_state && !a->bake.active) {
+        if (a->lines && !a->pick_pending && !a->click_state && !a->ui_finding && !a->ui_key_up && !a->bake.active) {
             if (a->wait) a->wait--;
             else {
                 /* commands up to the next one that needs a frame (pick, screenshot, wait) */
                 while (a->line_pos < a->line_count && !a->quit && !a->pick_pending && !a->shot && !a->wait &&
-                       !a->grab && !a->click_state && !a->bake.active) {
+                       !a->grab && !a->click_state && !a->ui_finding && !a->ui_key_up && !a->bake.active) {
                     uint32_t ln = a->line_pos++;
                     if (!run_command(a, a->lines[ln], ln + 1)) {
                         a->status = 1;
@@ -2317,7 +2386,8 @@ static int run(app* a) {
                     }
                 }
             }
-            if (a->quit && !a->shot && !a->pick_pending && !a->grab && !a->click_state) break;
+            if (a->quit && !a->shot && !a->pick_pending && !a->grab && !a->click_state && !a->ui_finding && !a->ui_key_up)
+                break;
         }
         double t0 = vx_time_now();
         if (a->o.bench && vx_svo_scene_frames(&a->scene) > 1) {
@@ -2405,21 +2475,24 @@ static void choose_present(app* a) {
     }
     vx_display_set_timestamps(a->disp, false); /* the viewer reads the passes' times, not the display's */
     /* batches: twice their frames in flight, so that one batch runs while the next is recorded */
-    if (a->o.batch > 1 && vx_display_set_queue(a->disp, 2 * a->o.batch, a->o.batch, false, &err)) {
+    if (a->batch.cur > 1 && vx_display_set_queue(a->disp, 2 * a->batch.cur, a->batch.cur, false, &err)) {
         snprintf(a->present_note, sizeof a->present_note, "host readback (the GPU path failed: %.100s)", err.msg);
         vx_display_destroy(a->disp);
         a->disp = NULL;
         return;
     }
     /* the panels drawn on the GPU where the swapchain images take the last pass's writes and a render pass */
-    char why[256] = "";
+    char why[256] = "", batch_text[96];
+    if (a->o.batch) snprintf(batch_text, sizeof batch_text, "%u", a->batch.cur);
+    else snprintf(batch_text, sizeof batch_text, "1 to %u (--batch auto: from the frame time, at most %g ms later; 1 with vsync)",
+                  a->batch.max, a->batch.latency_ms);
     if (a->o.gpu_panels && a->ui && vp_colour(a->p)) a->panels_gpu = sv_panels_gpu_init(a, why, sizeof why);
     snprintf(a->present_note, sizeof a->present_note,
              "GPU: colour passes -> display conversion + overlay %s the swapchain image in one submission, %u "
-             "frames in flight, %u a submission (%s); panels %s; grabs wait for theirs; other modes, picks, screenshots: "
+             "frames in flight, %s a submission (%s); panels %s; grabs wait for theirs; other modes, picks, screenshots: "
              "host readback",
              vp_storage(a->p) ? "fused into the last pass, written into" : "-> a copy to",
-             a->o.batch > 1 ? 2 * a->o.batch : VX_DISPLAY_FRAMES, a->o.batch > 1 ? a->o.batch : 1,
+             a->batch.cur > 1 ? 2 * a->batch.cur : VX_DISPLAY_FRAMES, batch_text,
              strcmp(want, "gpu") ? "auto" : "--present gpu",
              a->panels_gpu        ? "drawn on the GPU (ImGui's Vulkan backend) in that submission"
              : why[0]             ? why
@@ -2431,6 +2504,8 @@ int main(int argc, char** argv) {
     vx_tool_init(argc, argv);
     app a = {0};
     a.o = parse(argc, argv);
+    a.batch = sv_batch_make(a.o.batch ? a.o.batch : VX_DISPLAY_SLOTS / 2, a.o.batch_latency);
+    if (a.o.batch) a.batch.cur = a.o.batch; /* fixed: never changed */
     vx_budget_init(&a.budget, a.o.conv.max_memory, NULL);
     if (a.o.conv.max_memory) a.o.conv.alloc = &a.budget.allocator;
     a.sel = NO_SEL;
@@ -2474,7 +2549,7 @@ int main(int argc, char** argv) {
     if (vp_create(&(vp_desc){.width = a.o.win_w, .height = a.o.win_h, .title = title, .device = a.o.device,
                              .validate = a.o.validate, .validation_errors = &a.validation_errors,
                              .logger = &logger, .vsync = a.o.vsync, .hidden = a.o.hidden,
-                             .batch = a.o.batch},
+                             .batch = a.batch.max},
                   &a.p, &err)) {
         vx_tool_error(a.o.in, &err);
         goto done;

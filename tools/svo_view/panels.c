@@ -51,6 +51,10 @@ void sv_panels_mouse(app* a, double x, double y) {
 void sv_panels_button(app* a, int button, bool down) {
     if (a->ui) ui_mouse_button(a->ui, button, down);
 }
+void sv_panels_find(app* a, const char* label) {
+    if (a->ui) ui_find(a->ui, label);
+}
+bool sv_panels_found(const app* a, float rect[4]) { return a->ui && ui_found(a->ui, rect); }
 void sv_panels_wheel(app* a, double dy) {
     if (a->ui) ui_wheel(a->ui, dy);
 }

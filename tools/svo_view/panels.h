@@ -41,6 +41,11 @@ void sv_panels_button(app* a, int button, bool down);
 void sv_panels_wheel(app* a, double dy);
 void sv_panels_key(app* a, int key, bool down, int mods);
 void sv_panels_char(app* a, unsigned int c);
+/* The scripted click's target (ui.h ui_find): the next drawn panels note
+ * where the widget labelled `label` is; false from sv_panels_found until
+ * they did (or when this build has no panels). */
+void sv_panels_find(app* a, const char* label);
+bool sv_panels_found(const app* a, float rect[4]);
 bool sv_panels_wants_mouse(const app* a);
 bool sv_panels_wants_keyboard(const app* a);
 

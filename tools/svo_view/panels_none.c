@@ -23,6 +23,8 @@ void sv_panels_button(app* a, int button, bool down) { (void)a, (void)button, (v
 void sv_panels_wheel(app* a, double dy) { (void)a, (void)dy; }
 void sv_panels_key(app* a, int key, bool down, int mods) { (void)a, (void)key, (void)down, (void)mods; }
 void sv_panels_char(app* a, unsigned int c) { (void)a, (void)c; }
+void sv_panels_find(app* a, const char* label) { (void)a, (void)label; }
+bool sv_panels_found(const app* a, float rect[4]) { return (void)a, (void)rect, false; }
 bool sv_panels_wants_mouse(const app* a) {
     (void)a;
     return false;

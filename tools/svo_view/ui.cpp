@@ -4,11 +4,13 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h> // a window's visible rows (ImGuiWindow::InnerClipRect), for ui_find
 #include <backends/imgui_impl_vulkan.h>
 
 #include <cstdarg>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <new>
 
 static_assert(sizeof(ImDrawVert) == sizeof(vf_vertex) && offsetof(ImDrawVert, pos) == offsetof(vf_vertex, x) &&
@@ -31,6 +33,10 @@ struct ui {
     ImGuiContext* ctx;
     vf_texture font;
     ui_gpu gpu;
+    // ui_find: the widget whose rectangle the next frame notes (scripted clicks)
+    char find[128];
+    float found[4];
+    bool found_ok;
 };
 
 extern "C" ui* ui_create(void) {
@@ -40,6 +46,7 @@ extern "C" ui* ui_create(void) {
     ImGui::SetCurrentContext(u->ctx);
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr; // no imgui.ini next to the user's files
+    io.UserData = u;          // the widgets find their ui (ui_find) through their context
     io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
     // the navigation keys ImGui reads from KeysDown[], indexed by GLFW key codes
     const int keys[][2] = {{ImGuiKey_Tab, GLFW_KEY_TAB},         {ImGuiKey_LeftArrow, GLFW_KEY_LEFT},
@@ -320,9 +327,29 @@ extern "C" bool ui_window_begin(const char* title, float x, float y, float w, fl
     ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_FirstUseEver);
     return ImGui::Begin(title);
 }
+// After a widget: its rectangle noted when it is the one ui_find asked for (the first drawn with that label).
+// framed: a widget whose label is beside its frame (sliders, drags, combos, text fields), where a click on the label
+// does nothing: the rectangle is the frame's (the item's width), not the label's.
+static bool note(const char* label, bool result, bool framed = false) {
+    ui* u = static_cast<ui*>(ImGui::GetIO().UserData);
+    if (u && u->find[0] && !u->found_ok && !std::strcmp(label, u->find)) {
+        ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+        // not wholly inside its window's visible rows (scrolled out, or cut by the window's edge, where a click
+        // would land on what lies beyond): scrolled into view, found next frame
+        const ImRect& clip = ImGui::GetCurrentWindowRead()->InnerClipRect;
+        if (a.y < clip.Min.y || b.y > clip.Max.y) {
+            ImGui::SetScrollHereY(0.5f);
+            return result;
+        }
+        if (framed && a.x + ImGui::CalcItemWidth() < b.x) b.x = a.x + ImGui::CalcItemWidth();
+        u->found[0] = a.x, u->found[1] = a.y, u->found[2] = b.x, u->found[3] = b.y;
+        u->found_ok = true;
+    }
+    return result;
+}
 extern "C" void ui_window_end(void) { ImGui::End(); }
 extern "C" bool ui_collapsing(const char* label, bool open) {
-    return ImGui::CollapsingHeader(label, open ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+    return note(label, ImGui::CollapsingHeader(label, open ? ImGuiTreeNodeFlags_DefaultOpen : 0));
 }
 extern "C" bool ui_tree_begin(const char* label, bool open) {
     return ImGui::TreeNodeEx(label, open ? ImGuiTreeNodeFlags_DefaultOpen : 0);
@@ -338,14 +365,33 @@ extern "C" void ui_separator(void) { ImGui::Separator(); }
 extern "C" void ui_same_line(void) { ImGui::SameLine(); }
 extern "C" void ui_push_id(int id) { ImGui::PushID(id); }
 extern "C" void ui_pop_id(void) { ImGui::PopID(); }
-extern "C" bool ui_button(const char* label) { return ImGui::Button(label); }
-extern "C" bool ui_checkbox(const char* label, bool* v) { return ImGui::Checkbox(label, v); }
-extern "C" bool ui_selectable(const char* label, bool selected) { return ImGui::Selectable(label, selected); }
+extern "C" void ui_find(ui* u, const char* label) {
+    std::snprintf(u->find, sizeof u->find, "%s", label);
+    u->found_ok = false;
+}
+extern "C" bool ui_found(const ui* u, float rect[4]) {
+    if (!u->found_ok) return false;
+    for (int k = 0; k < 4; k++) rect[k] = u->found[k];
+    return true;
+}
+extern "C" bool ui_button(const char* label) { return note(label, ImGui::Button(label)); }
+extern "C" bool ui_checkbox(const char* label, bool* v) { return note(label, ImGui::Checkbox(label, v)); }
+extern "C" bool ui_selectable(const char* label, bool selected) { return note(label, ImGui::Selectable(label, selected)); }
+// ImGui::Combo's own loop, so that the open list's items can be found by ui_find too
 extern "C" bool ui_combo(const char* label, int* current, const char* const* items, int count) {
-    return ImGui::Combo(label, current, items, count);
+    bool open = ImGui::BeginCombo(label, *current >= 0 && *current < count ? items[*current] : "");
+    if (!open) return note(label, false, true); // (open, the last item is the list's window, not the combo)
+    bool changed = false;
+    for (int i = 0; i < count; i++) {
+        bool sel = i == *current;
+        if (note(items[i], ImGui::Selectable(items[i], sel)) && !sel) *current = i, changed = true;
+        if (sel) ImGui::SetItemDefaultFocus();
+    }
+    ImGui::EndCombo();
+    return changed;
 }
 extern "C" bool ui_input_text(const char* label, char* buf, size_t size) {
-    return ImGui::InputText(label, buf, size, ImGuiInputTextFlags_EnterReturnsTrue);
+    return note(label, ImGui::InputText(label, buf, size, ImGuiInputTextFlags_EnterReturnsTrue), true);
 }
 extern "C" bool ui_input_int3(const char* label, int32_t v[3]) {
     int t[3] = {v[0], v[1], v[2]};
@@ -354,12 +400,15 @@ extern "C" bool ui_input_int3(const char* label, int32_t v[3]) {
     return true;
 }
 extern "C" bool ui_drag_double(const char* label, double* v, double speed, double min, double max) {
-    return ImGui::DragScalar(label, ImGuiDataType_Double, v, static_cast<float>(speed), &min, &max, "%.3f");
+    return note(label, ImGui::DragScalar(label, ImGuiDataType_Double, v, static_cast<float>(speed), &min, &max, "%.3f"),
+                true);
 }
 extern "C" bool ui_drag_double3(const char* label, double v[3], double speed) {
     return ImGui::DragScalarN(label, ImGuiDataType_Double, v, 3, static_cast<float>(speed), nullptr, nullptr, "%.2f");
 }
-extern "C" bool ui_slider_int(const char* label, int* v, int min, int max) { return ImGui::SliderInt(label, v, min, max); }
+extern "C" bool ui_slider_int(const char* label, int* v, int min, int max) {
+    return note(label, ImGui::SliderInt(label, v, min, max), true);
+}
 extern "C" bool ui_color3(const char* label, double rgb[3]) {
     float c[3] = {static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2])};
     if (!ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float)) return false;

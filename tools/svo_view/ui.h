@@ -42,6 +42,12 @@ void ui_mouse_button(ui* u, int button, bool down); /* 0 left, 1 right, 2 middle
 void ui_wheel(ui* u, double dy);
 void ui_key(ui* u, int glfw_key, bool down, bool ctrl, bool shift, bool alt);
 void ui_char(ui* u, unsigned int codepoint);
+/* Scripted input (svo_view's `ui click LABEL`): the next frame notes the
+ * rectangle (x0, y0, x1, y1, frame pixels) of the first widget drawn with
+ * this label (as passed to the widget, "##" suffixes included; the items of
+ * an open combo by their text); ui_found gives it once drawn. */
+void ui_find(ui* u, const char* label);
+bool ui_found(const ui* u, float rect[4]);
 /* Whether the panels took the mouse / keyboard in the last frame (the
  * viewer then neither picks nor handles its keys). */
 bool ui_wants_mouse(const ui* u);
