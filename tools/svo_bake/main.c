@@ -598,13 +598,14 @@ static int bake_single(bake_job* j) {
     double t1 = vx_time_now(), t_bake = t1 - t0;
     /* the GPU's teardown beside the output's end (a bake that failed tears down after its message) */
     gpu_closer closer = {.j = j};
+    bool on_gpu = j->gpu != NULL;
     if (!rc && j->gpu) closer.started = !pthread_create(&closer.thread, NULL, close_gpu_main, &closer);
     /* what is left of the output (probes resumed and not passed yet, the last batch), its CRC, sync and name */
     if (!rc && streamed && (vx_probe_stream_put(&out, &ps, end, &err) || vx_probe_stream_commit(&out, &err)))
         rc = vx_tool_error(j->out, &err);
     if (!rc && !streamed && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
     if (rc && streamed) vx_probe_stream_abort(&out);
-    double t_write = vx_time_now() - t1;
+    double t_write = vx_time_now() - t1, t_file = vx_time_now() - t_in;
     double t_join = vx_time_now();
     if (closer.started) pthread_join(closer.thread, NULL);
     t_join = vx_time_now() - t_join;
@@ -618,9 +619,8 @@ static int bake_single(bake_job* j) {
             printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (Vulkan %.3f s; waited %.3f s), "
                    "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the "
                    "file\n",
-                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write,
-                   vx_time_now() - t_in);
-            if (j->gpu)
+                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write, t_file);
+            if (on_gpu)
                 printf("bake: output opened %.3f s, setup %.3f s (context %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
                        "waits %.3f s, stores %.3f s\n",
