@@ -395,7 +395,7 @@ static int usage(void) {
             "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
             "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
             "                [--photons N] [--photon-radius R]\n"
-            "                SCENE.{svo,vox} WxH [spacing:res:spp ...]\n"
+            "                SCENE.{svo,vox} WxH [spacing:res:spp[:i] ...]  (:i: independent first bounce)\n"
             "methods:");
     for (size_t k = 0; k < METHOD_COUNT; k++) fprintf(stderr, " %s (max spp %u)", methods[k].name, methods[k].max_spp);
     fprintf(stderr, "\n");
@@ -555,12 +555,17 @@ int main(int argc, char** argv) {
         if (!needed) break;
         double sp;
         unsigned res, spp;
-        if (sscanf(argv[s], "%lf:%u:%u", &sp, &res, &spp) != 3) {
+        char tail = 0;
+        /* a setting ending in ":i" bakes with the independent first bounce (the estimator before the
+         * stratified one, vx_probe_bake_desc.independent_bounce), to compare both against one reference */
+        int nf = sscanf(argv[s], "%lf:%u:%u:%c", &sp, &res, &spp, &tail);
+        if (nf < 3 || (nf == 4 && tail != 'i')) {
             rc = usage();
             break;
         }
         built b = {.setting = argv[s], .has_ps = true};
-        vx_probe_bake_desc bd = {.spacing = sp, .res = res, .spp = spp, .threads = threads, .bounds_set = bounds_set};
+        vx_probe_bake_desc bd = {.spacing = sp, .res = res, .spp = spp, .threads = threads, .bounds_set = bounds_set,
+                                 .independent_bounce = nf == 4};
         memcpy(bd.bounds_lo, bounds, 24), memcpy(bd.bounds_hi, bounds + 3, 24);
         memcpy(bd.light_dir, base.light_dir, 24);
         double t0 = vx_time_now();

@@ -43,7 +43,9 @@ G="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q"
 "$BIN/svo_bake" "$T/demo.svo" "$T/g.probes" $G >"$T/g.out" 2>&1
 rc=$?
 if [ $rc -eq 0 ]; then
-  "$BIN/svo_bake" "$T/demo.svo" "$T/g2.probes" $G >/dev/null || fail "GPU bake 2"
+  # -v: the GPU torn down on its own thread beside the output's end; VX_BAKE_TEARDOWN=1 frees the rest too
+  VX_BAKE_TEARDOWN=1 "$BIN/svo_bake" "$T/demo.svo" "$T/g2.probes" $G -v >"$T/g2.out" || fail "GPU bake 2"
+  grep -q "torn down beside the output's end" "$T/g2.out" || fail "GPU bake 2: no teardown beside the output's end"
   cmp -s "$T/g.probes" "$T/g2.probes" || fail "GPU: same seed, different bytes"
   "$BIN/svo_bake" "$T/demo.svo" "$T/q0.probes" $G --shard 0/2 >/dev/null || fail "GPU shard 0"
   "$BIN/svo_bake" "$T/demo.svo" "$T/q1.probes" $G --shard 1/2 >/dev/null || fail "GPU shard 1"
