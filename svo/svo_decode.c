@@ -153,6 +153,7 @@ static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint
     size_t start[VX_SVO_MAX_DEPTH + 2];
     uint32_t* list = (uint32_t*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *list);
     if (!list) return false;
+    vx__svo_advise_huge(list, npairs * sizeof *list);
     memcpy(start, per_level, sizeof start);
     for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
     size_t fill[VX_SVO_MAX_DEPTH + 1];
@@ -266,6 +267,8 @@ static int descend_by_level(const vx_svo_model* m, uint32_t* lv, uint8_t* role, 
     size_t nw = m->node_count;
     uint32_t* cur = (uint32_t*)vx_alloc(NULL, nw * sizeof *cur);
     uint32_t* next = (uint32_t*)vx_alloc(NULL, nw * sizeof *next);
+    vx__svo_advise_huge(cur, nw * sizeof *cur);
+    vx__svo_advise_huge(next, nw * sizeof *next);
     int res = 1;
     if (!cur || !next) res = -1;
     size_t n = 1;
@@ -343,6 +346,8 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
     size_t nw = m->node_count;
     uint32_t* lv = (uint32_t*)vx_calloc(NULL, nw, sizeof *lv);
     uint8_t* role = (uint8_t*)vx_calloc(NULL, nw, 1);
+    vx__svo_advise_huge(lv, nw * sizeof *lv);
+    vx__svo_advise_huge(role, nw);
     uint32_t* pidx = NULL;
     pair_ext* pe = NULL;
     vx_result res = VX_OK;
@@ -441,6 +446,7 @@ descended:
      * counts them per level (single passes over 33 M words matter on one
      * large model, docs/PERFORMANCE.md issue 18) */
     pidx = (uint32_t*)vx_alloc(NULL, (nw ? nw : 1) * sizeof *pidx);
+    vx__svo_advise_huge(pidx, nw * sizeof *pidx);
     size_t npairs = 0, per_level[VX_SVO_MAX_DEPTH + 2] = {0};
     if (!pidx) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
@@ -462,6 +468,7 @@ descended:
         }
     }
     pe = (pair_ext*)vx_calloc(NULL, npairs ? npairs : 1, sizeof *pe);
+    vx__svo_advise_huge(pe, npairs * sizeof *pe);
     if (!pe) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;

@@ -54,6 +54,14 @@ extern uint64_t vx__svo_parallel_words;
 unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want);
 /* The CPUs to use for want (0: one per online CPU, capped at 16). */
 unsigned vx__svo_cpus(unsigned want);
+/* Asks the kernel for 2 MB pages behind the whole 2 MB units of p[0, n)
+ * (Linux, transparent huge pages in "madvise" mode; nothing elsewhere), for
+ * arrays of tens of MB or more that are filled once and then read at random:
+ * the validation's per-word arrays and a read model's words. With 4 KB pages
+ * their first touch (a fault per page) and the TLB misses of the random
+ * lookups were a large part of a chunked read (docs/PERFORMANCE.md, issue
+ * 18). Call it before the memory is first touched. */
+void vx__svo_advise_huge(void* p, size_t n);
 /* Runs run(ctx, 0..count-1) on up to `threads` threads, the caller's included. */
 void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx);
 
