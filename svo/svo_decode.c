@@ -155,19 +155,50 @@ static void pair_compute(const vx_svo_model* m, const wstate* ws, pslot* pe, uin
  * (words of the descending pass, pairs of the ascending one). */
 #define PREFETCH_AHEAD 16u
 
-/* The children of descriptor w (near pointers only; a guess that is never
- * wrong to make): stage 0 their level and pair-index words, stage 1 (those
- * fetched by now) the first child's pairs; for a level-2 pair their words. */
+/* The children of descriptor w (a guess that is never wrong to make):
+ * stage 0 their states, or a far pointer's slot; stage 1 (those fetched by
+ * now) the first child's pairs, or a far block's states; for a level-2
+ * pair the children's words. */
 static void pair_prefetch(const vx_svo_model* m, const wstate* ws, const pslot* pe, uint32_t w, uint32_t l, int stage) {
     uint32_t d = m->nodes[w], p = vx_svo_desc_ptr(d);
-    if (p < 1 || p > w || vx_svo_desc_far(d) || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
-    if (l == 2) {
-        if (stage == 0) __builtin_prefetch(&m->nodes[w - p]); /* the children's masks */
-    } else if (stage == 0) {
-        __builtin_prefetch(&ws[w - p]);
-    } else {
-        __builtin_prefetch(&pe[ws[w - p].pidx]);
+    if (p < 1 || p > w || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
+    uint32_t b = w - p;
+    if (vx_svo_desc_far(d)) {
+        if (stage == 0) {
+            __builtin_prefetch(&m->nodes[b]);
+            return;
+        }
+        if ((b = m->nodes[b]) >= w) return;
+        stage = 0; /* the block's states now, its pairs too late to fetch */
     }
+    if (l == 2) {
+        if (stage == 0) __builtin_prefetch(&m->nodes[b]); /* the children's masks */
+    } else if (stage == 0) {
+        __builtin_prefetch(&ws[b]);
+    } else {
+        __builtin_prefetch(&pe[ws[b].pidx]);
+    }
+}
+
+/* The block of the descriptor at word a, fetched ahead for the descending
+ * passes (a guess: a may be no descriptor): stage 0 a near block's states
+ * and words (the attribute word is read with the marks), or a far
+ * pointer's slot; stage 1 (the slot fetched by then) a far block's. */
+static void block_prefetch(const vx_svo_model* m, const wstate* ws, uint32_t a, int stage) {
+    uint32_t d = m->nodes[a], p = vx_svo_desc_ptr(d);
+    if (p < 1 || p > a) return;
+    uint32_t b = a - p;
+    if (vx_svo_desc_far(d)) {
+        if (stage == 0) {
+            __builtin_prefetch(&m->nodes[b]);
+            return;
+        }
+        if ((b = m->nodes[b]) >= a) return;
+    } else if (stage == 1) {
+        return;
+    }
+    __builtin_prefetch(&ws[b], 1);
+    __builtin_prefetch(&m->nodes[b]);
 }
 
 /* The ascending pass of one large model on several threads. A pair at level
@@ -298,11 +329,10 @@ static void descend_run(void* ctx, uint32_t i) {
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     uint32_t buf[DESCEND_FLUSH], nb = 0;
     for (size_t k = a; k < e; k++) {
-        if (k + PREFETCH_AHEAD < e) {
-            /* the children's role and level words (a guess, as the sequential pass's) */
-            uint32_t ahead = j->cur[k + PREFETCH_AHEAD], pd = j->m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
-            if (pp >= 1 && pp <= ahead) __builtin_prefetch(&j->ws[ahead - pp], 1);
-        }
+        /* the frontier's words lie anywhere: the word itself, then its block */
+        if (k + 2 * PREFETCH_AHEAD < e) __builtin_prefetch(&j->m->nodes[j->cur[k + 2 * PREFETCH_AHEAD]]);
+        if (k + PREFETCH_AHEAD < e) block_prefetch(j->m, j->ws, j->cur[k + PREFETCH_AHEAD], 0);
+        if (k + PREFETCH_AHEAD / 2 < e) block_prefetch(j->m, j->ws, j->cur[k + PREFETCH_AHEAD / 2], 1);
         if (!descend_word(j, j->cur[k], buf, &nb)) {
             __atomic_store_n(&j->failed, 1, __ATOMIC_RELAXED);
             return;
@@ -420,10 +450,10 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
          * and level words are cache misses, which this loop waited on one by
          * one (most of its time on the terrain); fetch a block some words
          * ahead (a guess: the word may be no descriptor, or a far one) */
-        if (w >= PREFETCH_AHEAD) {
-            uint32_t ahead = w - PREFETCH_AHEAD, pd = m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
-            if (pp >= 1 && pp <= ahead) __builtin_prefetch(&ws[ahead - pp], 1);
-        }
+        if (w >= PREFETCH_AHEAD && st_role(ws[w - PREFETCH_AHEAD].st) == ROLE_DESC)
+            block_prefetch(m, ws, w - PREFETCH_AHEAD, 0);
+        if (w >= PREFETCH_AHEAD / 2 && st_role(ws[w - PREFETCH_AHEAD / 2].st) == ROLE_DESC)
+            block_prefetch(m, ws, w - PREFETCH_AHEAD / 2, 1);
         const uint32_t st = ws[w].st;
         if (st_role(st) != ROLE_DESC) continue;
         uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
@@ -514,6 +544,12 @@ descended:
     }
     if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, ws, pe, npairs, per_level, threads)) {
         for (uint32_t w = 0; w < nw; w++) {
+            /* the children of words some way ahead (their lowest level's) */
+            for (int stage = 0; stage < 2; stage++) {
+                uint32_t a = w + (stage ? PREFETCH_AHEAD / 2 : PREFETCH_AHEAD);
+                uint32_t lm = a < nw && st_role(ws[a].st) == ROLE_DESC ? ws[a].st & PAIR_LEVELS : 0;
+                if (lm) pair_prefetch(m, ws, pe, a, (uint32_t)__builtin_ctz(lm), stage);
+            }
             if (st_role(ws[w].st) != ROLE_DESC) continue;
             for (uint32_t lm = ws[w].st & PAIR_LEVELS; lm; lm &= lm - 1) pair_compute(m, ws, pe, w, (uint32_t)__builtin_ctz(lm));
         }

@@ -400,7 +400,7 @@ vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_
         s->offset = secs[i].offset;
         s->size = secs[i].size;
         s->crc = secs[i].crc;
-        s->crc_ok = vx_crc32(0, d + s->offset, (size_t)s->size) == s->crc;
+        s->crc_ok = vx__svo_crc32(0, d + s->offset, (size_t)s->size) == s->crc;
         s->known = tag_index(secs[i].tag) >= 0;
     }
     vx_free(NULL, secs);
@@ -825,7 +825,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
             goto fail;
         }
         if (!rdd.skip_checksums) {
-            uint32_t c = vx_crc32(0, d + e->offset, (size_t)e->size);
+            uint32_t c = vx__svo_crc32(0, d + e->offset, (size_t)e->size);
             if (c != e->crc) {
                 r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
                             tg, (unsigned long long)e->offset, c, e->crc);
@@ -1280,7 +1280,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
         offs[si] = body.size;
         ok = write_section(&body, &w, si, s, alloc, NULL, NULL) && ok;
         w.sizes[si] = body.size - offs[si];
-        w.crcs[si] = body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
+        w.crcs[si] = body.failed ? 0 : vx__svo_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
     }
     plan_free(alloc, &w);
     ok = write_head(&head, &w, fin) && ok;
@@ -1329,7 +1329,7 @@ static bool spill_flush(void* user, vx_buf* out) {
         sp->failed = true;
         return false;
     }
-    sp->crc = vx_crc32(sp->crc, out->data, out->size);
+    sp->crc = vx__svo_crc32(sp->crc, out->data, out->size);
     sp->size += out->size;
     out->size = 0;
     return true;
