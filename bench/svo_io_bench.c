@@ -15,7 +15,8 @@
  * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
  * --convert OUT.svo only writes the chunked copy of FILE and exits.
  *
- * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] */
+ * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked]
+ * (readfile / writefile: only vx_svo_read_file / vx_svo_write_file) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -73,12 +74,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -91,7 +92,10 @@ int main(int argc, char** argv) {
     /* the scene in memory is only needed to write: with --only read the
      * first timed read gives the counts (on two cores an untimed read of the
      * 4096^3 helmet took as long as the timed ones) */
-    bool lazy = !strcmp(only, "read") && !recode && !convert;
+    /* --only readfile / writefile: only the whole-file step of the two */
+    const bool file_only = !strcmp(only, "readfile") || !strcmp(only, "writefile");
+    const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
+    bool lazy = !do_write && !recode && !convert;
     vx_svo_scene sc;
     memset(&sc, 0, sizeof sc);
     if (!lazy) {
@@ -132,37 +136,43 @@ int main(int argc, char** argv) {
         double w[4][99], c[4][99];
         for (int k = 0; k < runs; k++) {
             double t0, c0;
-            if (strcmp(only, "write")) {
+            if (do_read) {
                 vx_svo_read_desc rd = {.threads = threads[ti]};
                 vx_svo_scene b;
-                t0 = vx_time_now(), c0 = cpu_now();
-                if (vx_svo_read(&rd, data, size, &b, &err) != VX_OK) die("read", &err);
-                w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
-                if (lazy && ti == 0 && k == 0) print_counts(path, size, &b);
-                vx_svo_scene_free(&b);
+                w[0][k] = c[0][k] = 0;
+                if (!file_only) {
+                    t0 = vx_time_now(), c0 = cpu_now();
+                    if (vx_svo_read(&rd, data, size, &b, &err) != VX_OK) die("read", &err);
+                    w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
+                    vx_svo_scene_free(&b);
+                }
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
                 w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
+                if (lazy && ti == 0 && k == 0) print_counts(path, size, &b);
                 vx_svo_scene_free(&b);
                 /* each run as it ends too (a run cut short by a timeout still reports) */
                 printf("  run %d, %u threads: read (memory) %.3f s wall %.3f s CPU, read file %.3f s wall %.3f s CPU\n", k,
                        threads[ti], w[0][k], c[0][k], w[1][k], c[1][k]);
                 fflush(stdout);
             }
-            if (strcmp(only, "read")) {
+            if (do_write) {
                 vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
-                uint8_t* o = NULL;
-                size_t on = 0;
-                t0 = vx_time_now(), c0 = cpu_now();
-                if (vx_svo_write_ex(&wd, &sc, &o, &on, &err) != VX_OK) die("write", &err);
-                w[2][k] = vx_time_now() - t0, c[2][k] = cpu_now() - c0;
-                if (!first) first = o, first_n = on;
-                else {
-                    if (on != first_n || memcmp(o, first, on)) {
-                        fprintf(stderr, "svo_io_bench: the bytes differ with %u threads\n", threads[ti]);
-                        return 1;
+                w[2][k] = c[2][k] = 0;
+                if (!file_only) {
+                    uint8_t* o = NULL;
+                    size_t on = 0;
+                    t0 = vx_time_now(), c0 = cpu_now();
+                    if (vx_svo_write_ex(&wd, &sc, &o, &on, &err) != VX_OK) die("write", &err);
+                    w[2][k] = vx_time_now() - t0, c[2][k] = cpu_now() - c0;
+                    if (!first) first = o, first_n = on;
+                    else {
+                        if (on != first_n || memcmp(o, first, on)) {
+                            fprintf(stderr, "svo_io_bench: the bytes differ with %u threads\n", threads[ti]);
+                            return 1;
+                        }
+                        vx_free(NULL, o);
                     }
-                    vx_free(NULL, o);
                 }
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
@@ -174,7 +184,7 @@ int main(int argc, char** argv) {
         }
         static const char* names[4] = {"read (memory)", "read file", "write (memory)", "write file (with fsync)"};
         for (int st = 0; st < 4; st++) {
-            if ((st < 2 && !strcmp(only, "write")) || (st >= 2 && !strcmp(only, "read"))) continue;
+            if ((st < 2 && !do_read) || (st >= 2 && !do_write) || (file_only && st % 2 == 0)) continue;
             double wm = bench_median(w[st], runs), cm = bench_median(c[st], runs);
             printf("%-8u %-28s %10.3f %10.3f %10.1f\n", threads[ti], names[st], wm, cm, (double)size / wm / 1e6);
         }

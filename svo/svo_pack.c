@@ -558,9 +558,15 @@ static void deflate_chunk(void* ctx, uint32_t i) {
     j->ok[i] = true;
 }
 
+static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
 /* A chunked model's stream: the chunk count, per chunk its words, records
- * and deflated bytes, then the chunks. threads: coders within the model. */
-static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, vx_buf* out) {
+ * and deflated bytes, then the chunks. threads: coders within the model.
+ * with_len: the stream's length (varint) first, as the NODE section has it.
+ * The chunks go straight into out and, with a sink, out is flushed between
+ * them: the stream is never copied whole (three copies of the helmet's
+ * 322 MB and their fresh memory were a tenth of its write). */
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, bool with_len, vx_buf* out,
+                         const vx__svo_sink* sink) {
     uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rec_bytes(m->attrs);
     uint64_t count = (raw + CHUNK_RAW - 1) / CHUNK_RAW;
     if (count < 1) count = 1;
@@ -576,12 +582,22 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
             for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, i);
         else
             run_jobs(threads, (uint32_t)count, deflate_chunk, &j);
-        ok = put_var(out, count);
+        vx_buf tab = {.alloc = A};
+        ok = put_var(&tab, count);
+        uint64_t total = 0;
         for (uint32_t i = 0; ok && i < count; i++) {
-            ok = j.ok[i] && put_var(out, chunk_at(m->node_count, i + 1, j.count) - chunk_at(m->node_count, i, j.count)) &&
-                 put_var(out, chunk_at(m->attr_count, i + 1, j.count) - chunk_at(m->attr_count, i, j.count)) && put_var(out, j.out_n[i]);
+            ok = j.ok[i] && put_var(&tab, chunk_at(m->node_count, i + 1, j.count) - chunk_at(m->node_count, i, j.count)) &&
+                 put_var(&tab, chunk_at(m->attr_count, i + 1, j.count) - chunk_at(m->attr_count, i, j.count)) && put_var(&tab, j.out_n[i]);
+            total += j.out_n[i];
         }
-        for (uint32_t i = 0; ok && i < count; i++) ok = vx_buf_append(out, j.out[i], j.out_n[i]);
+        ok = ok && !tab.failed && (!with_len || put_var(out, tab.size + total)) && vx_buf_append(out, tab.data, tab.size);
+        vx_buf_free(&tab);
+        for (uint32_t i = 0; ok && i < count; i++) {
+            ok = vx_buf_append(out, j.out[i], j.out_n[i]);
+            vx_free(A, j.out[i]);
+            j.out[i] = NULL;
+            ok = ok && maybe_flush(out, sink);
+        }
     }
     for (uint32_t i = 0; j.out && i < count; i++) vx_free(A, j.out[i]);
     vx_free(A, j.out);
@@ -594,7 +610,7 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
  * (VX__CHUNK_DEFLATE: level 1, VX__CHUNK_STORED: stored blocks; on up to
  * `threads` threads), else the structural or raw form. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, out);
+    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, false, out, NULL);
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -704,6 +720,7 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream with its length, straight into the output. */
 static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx__svo_sink* sink) {
+    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, true, out, sink) && maybe_flush(out, sink);
     vx_buf one = {0};
     one.alloc = A;
     bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
