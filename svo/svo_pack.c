@@ -471,7 +471,7 @@ static const unsigned PIECE_WIDTH[6] = {4, 1, 4, 4, 2, 4};
 typedef struct chunk_job {
     const vx_svo_model* m;
     const vx_allocator* A;
-    uint32_t count;
+    uint32_t count, wcount; /* chunks; the first wcount hold words only, the others records only */
     int level;     /* deflate level: 1, or 0 (stored blocks) */
     uint8_t** out; /* writer: each chunk's deflated bytes */
     size_t* out_n;
@@ -479,12 +479,27 @@ typedef struct chunk_job {
 } chunk_job;
 
 static uint32_t chunk_at(uint32_t total, uint32_t i, uint32_t count) { return (uint32_t)((uint64_t)total * i / count); }
+/* The words [w0, w1) and records [r0, r1) of the writer's chunk i: the
+ * words in wcount chunks, then the records in the rest, so that a chunk is
+ * one piece (or one per channel) that codes and inflates in place, without
+ * gathering the pieces into a buffer (FORMAT.md 3.6 leaves the split free). */
+static void chunk_range(const chunk_job* j, uint32_t i, uint32_t* w0, uint32_t* w1, uint32_t* r0, uint32_t* r1) {
+    const vx_svo_model* m = j->m;
+    if (i < j->wcount) {
+        *w0 = chunk_at(m->node_count, i, j->wcount), *w1 = chunk_at(m->node_count, i + 1, j->wcount);
+        *r0 = *r1 = 0;
+    } else {
+        uint32_t rc = j->count - j->wcount, k = i - j->wcount;
+        *w0 = *w1 = m->node_count;
+        *r0 = chunk_at(m->attr_count, k, rc), *r1 = chunk_at(m->attr_count, k + 1, rc);
+    }
+}
 
 static void deflate_chunk(void* ctx, uint32_t i) {
     chunk_job* j = (chunk_job*)ctx;
     const vx_svo_model* m = j->m;
-    uint32_t w0 = chunk_at(m->node_count, i, j->count), w1 = chunk_at(m->node_count, i + 1, j->count);
-    uint32_t r0 = chunk_at(m->attr_count, i, j->count), r1 = chunk_at(m->attr_count, i + 1, j->count);
+    uint32_t w0, w1, r0, r1;
+    chunk_range(j, i, &w0, &w1, &r0, &r1);
     uint8_t* p[6];
     size_t n[6], raw = 0;
     chunk_pieces(m, w0, w1 - w0, r0, r1 - r0, p, n);
@@ -567,11 +582,13 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
  * 322 MB and their fresh memory were a tenth of its write). */
 static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, bool with_len, vx_buf* out,
                          const vx__svo_sink* sink) {
-    uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rec_bytes(m->attrs);
-    uint64_t count = (raw + CHUNK_RAW - 1) / CHUNK_RAW;
-    if (count < 1) count = 1;
-    if (count > m->node_count) count = m->node_count; /* at least one word per chunk */
-    chunk_job j = {m, A, (uint32_t)count, level, NULL, NULL, NULL};
+    uint64_t wraw = (uint64_t)m->node_count * 4, rraw = (uint64_t)m->attr_count * rec_bytes(m->attrs);
+    uint64_t wc = (wraw + CHUNK_RAW - 1) / CHUNK_RAW, rc = (rraw + CHUNK_RAW - 1) / CHUNK_RAW;
+    if (wc < 1) wc = 1;
+    if (wc > m->node_count) wc = m->node_count; /* at least one word per word chunk */
+    if (rc > m->attr_count) rc = m->attr_count;
+    uint64_t count = wc + rc;
+    chunk_job j = {m, A, (uint32_t)count, (uint32_t)wc, level, NULL, NULL, NULL};
     j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
     j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
     j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
@@ -586,8 +603,9 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
         ok = put_var(&tab, count);
         uint64_t total = 0;
         for (uint32_t i = 0; ok && i < count; i++) {
-            ok = j.ok[i] && put_var(&tab, chunk_at(m->node_count, i + 1, j.count) - chunk_at(m->node_count, i, j.count)) &&
-                 put_var(&tab, chunk_at(m->attr_count, i + 1, j.count) - chunk_at(m->attr_count, i, j.count)) && put_var(&tab, j.out_n[i]);
+            uint32_t w0, w1, r0, r1;
+            chunk_range(&j, i, &w0, &w1, &r0, &r1);
+            ok = j.ok[i] && put_var(&tab, w1 - w0) && put_var(&tab, r1 - r0) && put_var(&tab, j.out_n[i]);
             total += j.out_n[i];
         }
         ok = ok && !tab.failed && (!with_len || put_var(out, tab.size + total)) && vx_buf_append(out, tab.data, tab.size);
