@@ -13,6 +13,8 @@
  * DIR) and the reads time those bytes, so it needs no separate conversion.
  * --stored: the same with the chunks stored, not deflated
  * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
+ * --fast: the same with the word chunks stored, the record chunks deflated
+ * (vx_write_desc.svo_chunk_fast).
  * --convert OUT.svo only writes the chunked copy of FILE and exits.
  *
  * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked]
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
-    bool chunked = false, stored = false;
+    bool chunked = false, stored = false, fast = false;
     const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!strcmp(argv[i], "--chunked")) chunked = true;
         else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
+        else if (!strcmp(argv[i], "--fast")) chunked = fast = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
@@ -74,12 +77,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -88,7 +91,7 @@ int main(int argc, char** argv) {
     if (vx_file_read(path, NULL, 0, &data, &size, &err) != VX_OK) die(path, &err);
     const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
     /* a file of version 3 (byte 8, u16) has its large models chunked already */
-    bool recode = stored || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
+    bool recode = stored || fast || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
     /* the scene in memory is only needed to write: with --only read the
      * first timed read gives the counts (on two cores an untimed read of the
      * 4096^3 helmet took as long as the timed ones) */
@@ -118,7 +121,8 @@ int main(int argc, char** argv) {
     if (recode) {
         /* the reads time the chunked form: write it once (all threads) and read those bytes */
         double t0 = vx_time_now();
-        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored}, &sc, in_path, &err) != VX_OK)
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast}, &sc,
+                              in_path, &err) != VX_OK)
             die(in_path, &err);
         vx_free(NULL, data);
         data = NULL;
@@ -157,7 +161,7 @@ int main(int argc, char** argv) {
                 fflush(stdout);
             }
             if (do_write) {
-                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
+                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast};
                 w[2][k] = c[2][k] = 0;
                 if (!file_only) {
                     uint8_t* o = NULL;

@@ -126,15 +126,18 @@ typedef struct vx__svo_sink {
 extern size_t vx__svo_flush_bytes;
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
-/* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE or VX__CHUNK_STORED the chunked form */
-enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2 };
+/* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE, VX__CHUNK_STORED or
+ * VX__CHUNK_FAST (words stored, records deflated) the chunked form */
+enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3 };
+/* The chunked mode a write desc asks for (VX__CHUNK_DEFLATE for NULL). */
+int vx__svo_chunk_mode(const vx_write_desc* desc);
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        bool chunk_stored, const vx__svo_sink* sink);
+                        int chunk_mode, const vx__svo_sink* sink);
 /* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_error* err);

@@ -407,6 +407,10 @@ static bool put_var(vx_buf* b, uint64_t v) {
     return true;
 }
 
+int vx__svo_chunk_mode(const vx_write_desc* desc) {
+    return desc && desc->svo_chunk_stored ? VX__CHUNK_STORED : desc && desc->svo_chunk_fast ? VX__CHUNK_FAST : VX__CHUNK_DEFLATE;
+}
+
 uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n) {
 #ifdef VX_HAVE_LIBDEFLATE
     return libdeflate_crc32(crc, data, n); /* carry-less multiply where the CPU has it: several GB/s */
@@ -472,7 +476,7 @@ typedef struct chunk_job {
     const vx_svo_model* m;
     const vx_allocator* A;
     uint32_t count, wcount; /* chunks; the first wcount hold words only, the others records only */
-    int level;     /* deflate level: 1, or 0 (stored blocks) */
+    int level, wlevel; /* deflate level of record chunks and of word chunks: 1, or 0 (stored blocks) */
     uint8_t** out; /* writer: each chunk's deflated bytes */
     size_t* out_n;
     bool* ok;
@@ -500,13 +504,14 @@ static void deflate_chunk(void* ctx, uint32_t i) {
     const vx_svo_model* m = j->m;
     uint32_t w0, w1, r0, r1;
     chunk_range(j, i, &w0, &w1, &r0, &r1);
+    const int level = i < j->wcount ? j->wlevel : j->level;
     uint8_t* p[6];
     size_t n[6], raw = 0;
     chunk_pieces(m, w0, w1 - w0, r0, r1 - r0, p, n);
     for (int k = 0; k < 6; k++) raw += n[k];
     j->ok[i] = false;
 #if defined(VX_HAVE_LIBDEFLATE) && !(defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
-    if (j->level > 0) {
+    if (level > 0) {
         /* libdeflate codes one contiguous buffer: a chunk of several pieces
          * (words, then each channel's records) is gathered first (a copy of
          * 4 MB, against some 20 ms of coding) */
@@ -518,7 +523,7 @@ static void deflate_chunk(void* ctx, uint32_t i) {
         if (np > 1 && buf)
             for (size_t k = 0, at = 0; k < 6; at += n[k], k++)
                 if (n[k]) memcpy(buf + at, p[k], n[k]);
-        struct libdeflate_compressor* c = (np < 2 || buf) ? libdeflate_alloc_compressor(j->level) : NULL;
+        struct libdeflate_compressor* c = (np < 2 || buf) ? libdeflate_alloc_compressor(level) : NULL;
         size_t cap = c ? libdeflate_deflate_compress_bound(c, raw) : 0;
         uint8_t* out = c ? (uint8_t*)vx_alloc(j->A, cap) : NULL;
         size_t got = out ? libdeflate_deflate_compress(c, src, raw, out, cap) : 0;
@@ -536,7 +541,7 @@ static void deflate_chunk(void* ctx, uint32_t i) {
 #endif
     z_stream z;
     memset(&z, 0, sizeof z);
-    if (deflateInit2(&z, j->level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
+    if (deflateInit2(&z, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
     size_t cap = (size_t)deflateBound(&z, (uLong)raw);
     uint8_t* out = (uint8_t*)vx_alloc(j->A, cap);
     uint8_t* tmp = NULL;
@@ -580,15 +585,16 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
  * The chunks go straight into out and, with a sink, out is flushed between
  * them: the stream is never copied whole (three copies of the helmet's
  * 322 MB and their fresh memory were a tenth of its write). */
-static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, bool with_len, vx_buf* out,
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode, unsigned threads, bool with_len, vx_buf* out,
                          const vx__svo_sink* sink) {
+    const int level = mode == VX__CHUNK_STORED ? 0 : 1, wlevel = mode == VX__CHUNK_DEFLATE ? 1 : 0;
     uint64_t wraw = (uint64_t)m->node_count * 4, rraw = (uint64_t)m->attr_count * rec_bytes(m->attrs);
     uint64_t wc = (wraw + CHUNK_RAW - 1) / CHUNK_RAW, rc = (rraw + CHUNK_RAW - 1) / CHUNK_RAW;
     if (wc < 1) wc = 1;
     if (wc > m->node_count) wc = m->node_count; /* at least one word per word chunk */
     if (rc > m->attr_count) rc = m->attr_count;
     uint64_t count = wc + rc;
-    chunk_job j = {m, A, (uint32_t)count, (uint32_t)wc, level, NULL, NULL, NULL};
+    chunk_job j = {m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, NULL, NULL, NULL};
     j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
     j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
     j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
@@ -628,7 +634,7 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
  * (VX__CHUNK_DEFLATE: level 1, VX__CHUNK_STORED: stored blocks; on up to
  * `threads` threads), else the structural or raw form. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, false, out, NULL);
+    if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -738,7 +744,7 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream with its length, straight into the output. */
 static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx__svo_sink* sink) {
-    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, true, out, sink) && maybe_flush(out, sink);
+    if (chunked) return pack_chunked(m, A, chunked, threads, true, out, sink) && maybe_flush(out, sink);
     vx_buf one = {0};
     one.alloc = A;
     bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
@@ -747,9 +753,9 @@ static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, 
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        bool chunk_stored, const vx__svo_sink* sink) {
+                        int chunk_mode, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
-    const int mode = chunk_stored ? VX__CHUNK_STORED : VX__CHUNK_DEFLATE;
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
