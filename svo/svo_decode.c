@@ -514,7 +514,7 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             }
         }
     }
-descended:
+descended:; /* (a declaration follows: C17 needs a statement after a label) */
     /* ascending: occupied extent of every (descriptor, level) pair; one pass
      * over the words checks that each was reached, numbers the pairs and
      * counts them per level (single passes over 33 M words matter on one
