@@ -91,13 +91,14 @@ int main(int argc, char** argv) {
     if (vx_file_read(path, NULL, 0, &data, &size, &err) != VX_OK) die(path, &err);
     const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
     /* a file of version 3 (byte 8, u16) has its large models chunked already */
-    bool recode = stored || fast || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
+    const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
+    /* only timed reads need the input in the form written (writes code the scene in memory) */
+    bool recode = do_read && (stored || fast || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3)));
     /* the scene in memory is only needed to write: with --only read the
      * first timed read gives the counts (on two cores an untimed read of the
      * 4096^3 helmet took as long as the timed ones) */
     /* --only readfile / writefile: only the whole-file step of the two */
     const bool file_only = !strcmp(only, "readfile") || !strcmp(only, "writefile");
-    const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
     bool lazy = !do_write && !recode && !convert;
     vx_svo_scene sc;
     memset(&sc, 0, sizeof sc);
