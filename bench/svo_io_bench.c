@@ -13,9 +13,12 @@
  * DIR) and the reads time those bytes, so it needs no separate conversion.
  * --stored: the same with the chunks stored, not deflated
  * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
+ * --fast: the same with the word chunks stored, the record chunks deflated
+ * (vx_write_desc.svo_chunk_fast).
  * --convert OUT.svo only writes the chunked copy of FILE and exits.
  *
- * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked] */
+ * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked]
+ * (readfile / writefile: only vx_svo_read_file / vx_svo_write_file) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,11 +40,23 @@ static void die(const char* what, const vx_error* e) {
     exit(1);
 }
 
+static void print_counts(const char* path, size_t size, const vx_svo_scene* sc) {
+    uint64_t words = 0, recs = 0, vox = 0;
+    for (uint32_t i = 0; i < sc->model_count; i++) {
+        words += sc->models[i].node_count;
+        recs += sc->models[i].attr_count;
+        vox += sc->models[i].voxel_count;
+    }
+    printf("file %s: %zu bytes, %u models, %llu voxels, %llu node words, %llu records\n", path, size, sc->model_count,
+           (unsigned long long)vox, (unsigned long long)words, (unsigned long long)recs);
+    fflush(stdout);
+}
+
 int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
-    bool chunked = false, stored = false;
+    bool chunked = false, stored = false, fast = false;
     const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
@@ -52,6 +67,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!strcmp(argv[i], "--chunked")) chunked = true;
         else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
+        else if (!strcmp(argv[i], "--fast")) chunked = fast = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
@@ -61,29 +77,35 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write] [--chunked | --stored] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
     uint8_t* data = NULL;
     size_t size = 0;
     if (vx_file_read(path, NULL, 0, &data, &size, &err) != VX_OK) die(path, &err);
+    const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
+    /* a file of version 3 (byte 8, u16) has its large models chunked already */
+    const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
+    /* only timed reads need the input in the form written (writes code the scene in memory) */
+    bool recode = do_read && (stored || fast || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3)));
+    /* the scene in memory is only needed to write: with --only read the
+     * first timed read gives the counts (on two cores an untimed read of the
+     * 4096^3 helmet took as long as the timed ones) */
+    /* --only readfile / writefile: only the whole-file step of the two */
+    const bool file_only = !strcmp(only, "readfile") || !strcmp(only, "writefile");
+    bool lazy = !do_write && !recode && !convert;
     vx_svo_scene sc;
-    if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(path, &err);
-    uint64_t words = 0, recs = 0, vox = 0;
-    for (uint32_t i = 0; i < sc.model_count; i++) {
-        words += sc.models[i].node_count;
-        recs += sc.models[i].attr_count;
-        vox += sc.models[i].voxel_count;
+    memset(&sc, 0, sizeof sc);
+    if (!lazy) {
+        if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(path, &err);
+        print_counts(path, size, &sc);
     }
-    printf("file %s: %zu bytes, %u models, %llu voxels, %llu node words, %llu records\n", path, size, sc.model_count,
-           (unsigned long long)vox, (unsigned long long)words, (unsigned long long)recs);
-    fflush(stdout);
     if (convert) {
         /* --convert: only write the chunked copy (every thread), for later --chunked runs */
         double t0 = vx_time_now();
@@ -97,13 +119,11 @@ int main(int argc, char** argv) {
     char out_path[4096], in_path[4096];
     snprintf(out_path, sizeof out_path, "%s/svo_io_bench.%ld.svo", out_dir, (long)getpid());
     snprintf(in_path, sizeof in_path, "%s/svo_io_bench.%ld.in.svo", out_dir, (long)getpid());
-    const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
-    /* a file of version 3 (byte 8, u16) has its large models chunked already */
-    bool recode = stored || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3));
     if (recode) {
         /* the reads time the chunked form: write it once (all threads) and read those bytes */
         double t0 = vx_time_now();
-        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored}, &sc, in_path, &err) != VX_OK)
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast}, &sc,
+                              in_path, &err) != VX_OK)
             die(in_path, &err);
         vx_free(NULL, data);
         data = NULL;
@@ -121,36 +141,43 @@ int main(int argc, char** argv) {
         double w[4][99], c[4][99];
         for (int k = 0; k < runs; k++) {
             double t0, c0;
-            if (strcmp(only, "write")) {
+            if (do_read) {
                 vx_svo_read_desc rd = {.threads = threads[ti]};
                 vx_svo_scene b;
-                t0 = vx_time_now(), c0 = cpu_now();
-                if (vx_svo_read(&rd, data, size, &b, &err) != VX_OK) die("read", &err);
-                w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
-                vx_svo_scene_free(&b);
+                w[0][k] = c[0][k] = 0;
+                if (!file_only) {
+                    t0 = vx_time_now(), c0 = cpu_now();
+                    if (vx_svo_read(&rd, data, size, &b, &err) != VX_OK) die("read", &err);
+                    w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
+                    vx_svo_scene_free(&b);
+                }
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
                 w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
+                if (lazy && ti == 0 && k == 0) print_counts(path, size, &b);
                 vx_svo_scene_free(&b);
                 /* each run as it ends too (a run cut short by a timeout still reports) */
                 printf("  run %d, %u threads: read (memory) %.3f s wall %.3f s CPU, read file %.3f s wall %.3f s CPU\n", k,
                        threads[ti], w[0][k], c[0][k], w[1][k], c[1][k]);
                 fflush(stdout);
             }
-            if (strcmp(only, "read")) {
-                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored};
-                uint8_t* o = NULL;
-                size_t on = 0;
-                t0 = vx_time_now(), c0 = cpu_now();
-                if (vx_svo_write_ex(&wd, &sc, &o, &on, &err) != VX_OK) die("write", &err);
-                w[2][k] = vx_time_now() - t0, c[2][k] = cpu_now() - c0;
-                if (!first) first = o, first_n = on;
-                else {
-                    if (on != first_n || memcmp(o, first, on)) {
-                        fprintf(stderr, "svo_io_bench: the bytes differ with %u threads\n", threads[ti]);
-                        return 1;
+            if (do_write) {
+                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast};
+                w[2][k] = c[2][k] = 0;
+                if (!file_only) {
+                    uint8_t* o = NULL;
+                    size_t on = 0;
+                    t0 = vx_time_now(), c0 = cpu_now();
+                    if (vx_svo_write_ex(&wd, &sc, &o, &on, &err) != VX_OK) die("write", &err);
+                    w[2][k] = vx_time_now() - t0, c[2][k] = cpu_now() - c0;
+                    if (!first) first = o, first_n = on;
+                    else {
+                        if (on != first_n || memcmp(o, first, on)) {
+                            fprintf(stderr, "svo_io_bench: the bytes differ with %u threads\n", threads[ti]);
+                            return 1;
+                        }
+                        vx_free(NULL, o);
                     }
-                    vx_free(NULL, o);
                 }
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
@@ -162,7 +189,7 @@ int main(int argc, char** argv) {
         }
         static const char* names[4] = {"read (memory)", "read file", "write (memory)", "write file (with fsync)"};
         for (int st = 0; st < 4; st++) {
-            if ((st < 2 && !strcmp(only, "write")) || (st >= 2 && !strcmp(only, "read"))) continue;
+            if ((st < 2 && !do_read) || (st >= 2 && !do_write) || (file_only && st % 2 == 0)) continue;
             double wm = bench_median(w[st], runs), cm = bench_median(c[st], runs);
             printf("%-8u %-28s %10.3f %10.3f %10.1f\n", threads[ti], names[st], wm, cm, (double)size / wm / 1e6);
         }

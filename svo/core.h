@@ -298,6 +298,14 @@ typedef struct vx_write_desc {
                                   about 100 MB/s per core), at about twice
                                   the chunked form's bytes (docs/PERFORMANCE.md,
                                   issue 18). false: level 1 (the default). */
+    bool svo_chunk_fast;       /* .svo, chunked models: the chunks of node words
+                                  stored, those of records at level 1 (the
+                                  same format, every reader reads them): the
+                                  words deflate slowest (to about 55%), so
+                                  this about halves the coding time for about
+                                  a third more bytes than level 1 everywhere
+                                  (docs/PERFORMANCE.md, issue 18).
+                                  svo_chunk_stored wins if both are set. */
 } vx_write_desc;
 
 /* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of

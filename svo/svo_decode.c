@@ -32,14 +32,29 @@ typedef struct pair_ext {
     uint32_t mn[3], mx[3];
 } pair_ext;
 
-static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* err, vx_result* res) {
-    if (role[w] != ROLE_NONE && role[w] != r) {
+/* The validation's state of one word: the levels it is reached at as a
+ * descriptor (bit l; l <= 21) and its role (bits 28-29) in one word, so
+ * that marking a child is one cache miss (one atomic) and not two, and the
+ * number of its first pair beside them for the ascending pass's lookups of
+ * children (they were separate arrays, each lookup a miss of its own in a
+ * shared DAG: docs/PERFORMANCE.md, issue 18). */
+typedef struct wstate {
+    uint32_t st, pidx;
+} wstate;
+#define ST_ROLE_SHIFT 28u
+#define ST_ROLE_MASK (3u << ST_ROLE_SHIFT)
+#define ST_LEVELS 0x003FFFFFu
+static inline uint8_t st_role(uint32_t st) { return (uint8_t)(st >> ST_ROLE_SHIFT); }
+
+static bool mark(wstate* ws, uint32_t w, uint8_t r, uint32_t from, vx_error* err, vx_result* res) {
+    uint8_t cur = st_role(ws[w].st);
+    if (cur != ROLE_NONE && cur != r) {
         *res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
-                       "svo model: word %u is used as %s and, from the descriptor at word %u, as %s", w, role_name(role[w]),
+                       "svo model: word %u is used as %s and, from the descriptor at word %u, as %s", w, role_name(cur),
                        from, role_name(r));
         return false;
     }
-    role[w] = r;
+    ws[w].st |= (uint32_t)r << ST_ROLE_SHIFT;
     return true;
 }
 
@@ -49,9 +64,42 @@ static bool mark(uint8_t* role, uint32_t w, uint8_t r, uint32_t from, vx_error* 
  * it visits anyway. That saves the level-1 pairs (most of a model's
  * descriptors) and, for each level-2 pair, the lookups of its children's
  * level and pair words and pairs (cache misses in a shared DAG). */
-#define PAIR_LEVELS (~3u) /* lv bits that have a pair */
-static uint32_t pair_of(const uint32_t* lv, const uint32_t* pidx, uint32_t w, uint32_t l) {
-    return pidx[w] + vx__popc32(lv[w] & PAIR_LEVELS & ((1u << l) - 1));
+#define PAIR_LEVELS (ST_LEVELS & ~3u) /* level bits that have a pair */
+/* A pair is kept in one 16-byte slot up to level PAIR_SMALL_MAX (its cells
+ * below 2^22, its corners 0..128 in bytes) and in two above (the full
+ * pair_ext). Most pairs lie at levels 2-4, so the pairs take half the
+ * memory of 32 bytes each (fresh memory the kernel zeroes), and the pairs
+ * of a block's children, numbered next to each other, share cache lines. */
+#define PAIR_SMALL_MAX 7u
+#define PAIR_WIDE_LEVELS (ST_LEVELS & ~((2u << PAIR_SMALL_MAX) - 1u)) /* two slots each */
+typedef struct pslot {
+    uint32_t cells;
+    uint8_t mn[3], mx[3], pad[6];
+} pslot;
+_Static_assert(sizeof(pslot) == 16 && sizeof(pair_ext) == 2 * sizeof(pslot), "a wide pair is two slots");
+/* The first slot of w's pair at level l (a bit of PAIR_LEVELS in its state). */
+static uint32_t pair_of(const wstate* ws, uint32_t w, uint32_t l) {
+    uint32_t below = ws[w].st & ((1u << l) - 1u);
+    return ws[w].pidx + vx__popc32(below & PAIR_LEVELS) + vx__popc32(below & PAIR_WIDE_LEVELS);
+}
+static void pair_load(const pslot* pe, uint32_t at, uint32_t l, pair_ext* e) {
+    if (l > PAIR_SMALL_MAX) {
+        memcpy(e, &pe[at], sizeof *e);
+        return;
+    }
+    e->cells = pe[at].cells;
+    for (int i = 0; i < 3; i++) e->mn[i] = pe[at].mn[i], e->mx[i] = pe[at].mx[i];
+}
+static void pair_store(pslot* pe, uint32_t at, uint32_t l, const pair_ext* e) {
+    if (l > PAIR_SMALL_MAX) {
+        memcpy(&pe[at], e, sizeof *e);
+        return;
+    }
+    pslot v;
+    memset(&v, 0, sizeof v);
+    v.cells = (uint32_t)e->cells;
+    for (int i = 0; i < 3; i++) v.mn[i] = (uint8_t)e->mn[i], v.mx[i] = (uint8_t)e->mx[i];
+    pe[at] = v;
 }
 /* The extent of a level-1 descriptor d: its valid octants, one cell each. */
 static void level1_ext(uint32_t d, pair_ext* e) {
@@ -67,13 +115,15 @@ static void level1_ext(uint32_t d, pair_ext* e) {
 /* The occupied extent of descriptor w at level l >= 2 from its children's
  * pairs at level l - 1 (complete before: lower words, or the level below),
  * or their masks at level 1. */
-static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, pair_ext* pe, uint32_t w, uint32_t l) {
+static void pair_compute(const vx_svo_model* m, const wstate* ws, pslot* pe, uint32_t w, uint32_t l) {
     uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
     uint32_t slot = 0, b = 0;
     if (valid & ~leaf) block_of(m, w, d, &slot, &b);
-    pair_ext* P = &pe[pair_of(lv, pidx, w, l)];
+    pair_ext acc, *P = &acc;
     uint32_t half = 1u << (l - 1);
+    P->cells = 0;
     P->mn[0] = P->mn[1] = P->mn[2] = UINT32_MAX;
+    P->mx[0] = P->mx[1] = P->mx[2] = 0;
     uint32_t k = 0;
     for (uint32_t o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
@@ -88,7 +138,7 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
             pair_ext c1;
             const pair_ext* C = &c1;
             if (l == 2) level1_ext(m->nodes[c], &c1);
-            else C = &pe[pair_of(lv, pidx, c, l - 1)]; /* the child's pair for level l-1 */
+            else pair_load(pe, pair_of(ws, c, l - 1), l - 1, &c1); /* the child's pair for level l-1 */
             cells = C->cells;
             for (int i = 0; i < 3; i++) cmn[i] = off[i] + C->mn[i], cmx[i] = off[i] + C->mx[i];
         }
@@ -98,27 +148,57 @@ static void pair_compute(const vx_svo_model* m, const uint32_t* lv, const uint32
             if (cmx[i] > P->mx[i]) P->mx[i] = cmx[i];
         }
     }
+    pair_store(pe, pair_of(ws, w, l), l, P);
 }
 
 /* How far ahead the validation's loops fetch the children they will read
  * (words of the descending pass, pairs of the ascending one). */
 #define PREFETCH_AHEAD 16u
 
-/* The children of descriptor w (near pointers only; a guess that is never
- * wrong to make): stage 0 their level and pair-index words, stage 1 (those
- * fetched by now) the first child's pairs; for a level-2 pair their words. */
-static void pair_prefetch(const vx_svo_model* m, const uint32_t* lv, const uint32_t* pidx, const pair_ext* pe, uint32_t w,
-                          uint32_t l, int stage) {
+/* The children of descriptor w (a guess that is never wrong to make):
+ * stage 0 their states, or a far pointer's slot; stage 1 (those fetched by
+ * now) the first child's pairs, or a far block's states; for a level-2
+ * pair the children's words. */
+static void pair_prefetch(const vx_svo_model* m, const wstate* ws, const pslot* pe, uint32_t w, uint32_t l, int stage) {
     uint32_t d = m->nodes[w], p = vx_svo_desc_ptr(d);
-    if (p < 1 || p > w || vx_svo_desc_far(d) || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
-    if (l == 2) {
-        if (stage == 0) __builtin_prefetch(&m->nodes[w - p]); /* the children's masks */
-    } else if (stage == 0) {
-        __builtin_prefetch(&lv[w - p]);
-        __builtin_prefetch(&pidx[w - p]);
-    } else {
-        __builtin_prefetch(&pe[pidx[w - p]]);
+    if (p < 1 || p > w || !(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d))) return;
+    uint32_t b = w - p;
+    if (vx_svo_desc_far(d)) {
+        if (stage == 0) {
+            __builtin_prefetch(&m->nodes[b]);
+            return;
+        }
+        if ((b = m->nodes[b]) >= w) return;
+        stage = 0; /* the block's states now, its pairs too late to fetch */
     }
+    if (l == 2) {
+        if (stage == 0) __builtin_prefetch(&m->nodes[b]); /* the children's masks */
+    } else if (stage == 0) {
+        __builtin_prefetch(&ws[b]);
+    } else {
+        __builtin_prefetch(&pe[ws[b].pidx]);
+    }
+}
+
+/* The block of the descriptor at word a, fetched ahead for the descending
+ * passes (a guess: a may be no descriptor): stage 0 a near block's states
+ * and words (the attribute word is read with the marks), or a far
+ * pointer's slot; stage 1 (the slot fetched by then) a far block's. */
+static void block_prefetch(const vx_svo_model* m, const wstate* ws, uint32_t a, int stage) {
+    uint32_t d = m->nodes[a], p = vx_svo_desc_ptr(d);
+    if (p < 1 || p > a) return;
+    uint32_t b = a - p;
+    if (vx_svo_desc_far(d)) {
+        if (stage == 0) {
+            __builtin_prefetch(&m->nodes[b]);
+            return;
+        }
+        if ((b = m->nodes[b]) >= a) return;
+    } else if (stage == 1) {
+        return;
+    }
+    __builtin_prefetch(&ws[b], 1);
+    __builtin_prefetch(&m->nodes[b]);
 }
 
 /* The ascending pass of one large model on several threads. A pair at level
@@ -132,8 +212,9 @@ static void pair_prefetch(const vx_svo_model* m, const uint32_t* lv, const uint3
 #define LEVEL_BLOCK 16384u
 typedef struct level_job {
     const vx_svo_model* m;
-    const uint32_t *lv, *pidx, *list;
-    pair_ext* pe;
+    const wstate* ws;
+    const uint32_t* list;
+    pslot* pe;
     size_t n;
     uint32_t l;
 } level_job;
@@ -141,29 +222,30 @@ static void level_run(void* ctx, uint32_t i) {
     level_job* j = (level_job*)ctx;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     for (size_t k = a; k < e; k++) {
-        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD], j->l, 0);
-        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->lv, j->pidx, j->pe, j->list[k + PREFETCH_AHEAD / 2], j->l, 1);
-        pair_compute(j->m, j->lv, j->pidx, j->pe, j->list[k], j->l);
+        if (k + PREFETCH_AHEAD < e) pair_prefetch(j->m, j->ws, j->pe, j->list[k + PREFETCH_AHEAD], j->l, 0);
+        if (k + PREFETCH_AHEAD / 2 < e) pair_prefetch(j->m, j->ws, j->pe, j->list[k + PREFETCH_AHEAD / 2], j->l, 1);
+        pair_compute(j->m, j->ws, j->pe, j->list[k], j->l);
     }
 }
 /* false: no memory for the lists (the caller runs the sequential pass) */
 /* per_level[l + 1]: the pairs at level l (the caller counted them) */
-static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint8_t* role, const uint32_t* pidx, pair_ext* pe,
-                           size_t npairs, const size_t* per_level, unsigned threads) {
+static bool pairs_by_level(const vx_svo_model* m, const wstate* ws, pslot* pe, size_t npairs, const size_t* per_level,
+                           unsigned threads) {
     size_t start[VX_SVO_MAX_DEPTH + 2];
     uint32_t* list = (uint32_t*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *list);
     if (!list) return false;
+    vx__svo_advise_huge(list, npairs * sizeof *list);
     memcpy(start, per_level, sizeof start);
     for (uint32_t l = 1; l <= VX_SVO_MAX_DEPTH + 1; l++) start[l] += start[l - 1];
     size_t fill[VX_SVO_MAX_DEPTH + 1];
     memcpy(fill, start, sizeof fill);
     for (uint32_t w = 0; w < m->node_count; w++)
-        if (role[w] == ROLE_DESC)
-            for (uint32_t lm = lv[w] & PAIR_LEVELS; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
+        if (st_role(ws[w].st) == ROLE_DESC)
+            for (uint32_t lm = ws[w].st & PAIR_LEVELS; lm; lm &= lm - 1) list[fill[__builtin_ctz(lm)]++] = w;
     for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++) {
         size_t n = start[l + 1] - start[l];
         if (!n) continue;
-        level_job j = {m, lv, pidx, list + start[l], pe, n, l};
+        level_job j = {m, ws, list + start[l], pe, n, l};
         vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), level_run, &j);
     }
     vx_free(NULL, list);
@@ -184,8 +266,7 @@ static bool pairs_by_level(const vx_svo_model* m, const uint32_t* lv, const uint
 #define DESCEND_FLUSH 1024u
 typedef struct descend_job {
     const vx_svo_model* m;
-    uint32_t* lv;
-    uint8_t* role;
+    wstate* ws;
     const uint32_t* cur;
     uint32_t* next;
     size_t n;
@@ -194,12 +275,14 @@ typedef struct descend_job {
     int failed; /* atomic */
 } descend_job;
 
-static bool mark_atomic(uint8_t* role, uint32_t w, uint8_t r) {
-    uint8_t cur = __atomic_load_n(&role[w], __ATOMIC_RELAXED);
-    if (cur == ROLE_NONE &&
-        __atomic_compare_exchange_n(&role[w], &cur, r, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-        return true;
-    return cur == r;
+/* Sets w's role to r; false if it has another (of two threads setting
+ * different roles at once the later one sees the earlier's bits) */
+static bool mark_atomic(wstate* ws, uint32_t w, uint8_t r) {
+    uint32_t cur = __atomic_load_n(&ws[w].st, __ATOMIC_RELAXED);
+    if (st_role(cur) == r) return true;
+    if (st_role(cur) != ROLE_NONE) return false;
+    cur = __atomic_fetch_or(&ws[w].st, (uint32_t)r << ST_ROLE_SHIFT, __ATOMIC_RELAXED);
+    return st_role(cur) == ROLE_NONE || st_role(cur) == r;
 }
 
 static void descend_flush(descend_job* j, const uint32_t* buf, uint32_t n) {
@@ -218,20 +301,23 @@ static bool descend_word(descend_job* j, uint32_t w, uint32_t* buf, uint32_t* nb
     if (blen == 0) return (d >> 16) == 0;
     uint32_t slot, b;
     if (!block_of(m, w, d, &slot, &b)) return false;
-    if (slot != UINT32_MAX && !mark_atomic(j->role, slot, ROLE_FAR)) return false;
+    if (slot != UINT32_MAX && !mark_atomic(j->ws, slot, ROLE_FAR)) return false;
     if ((uint64_t)b + blen > w) return false;
-    uint32_t bit = 1u << (l - 1);
+    const uint32_t want = (uint32_t)ROLE_DESC << ST_ROLE_SHIFT | 1u << (l - 1);
     for (uint32_t k = 0; k < nn; k++) {
-        if (!mark_atomic(j->role, b + k, ROLE_DESC)) return false;
-        /* a load first: a shared child's word is then only read by the threads that find it marked */
-        if (!(__atomic_load_n(&j->lv[b + k], __ATOMIC_RELAXED) & bit) &&
-            !(__atomic_fetch_or(&j->lv[b + k], bit, __ATOMIC_RELAXED) & bit)) {
+        /* role and level in one atomic OR, after a load: a shared child
+         * already marked at this level is only read */
+        uint32_t cur = __atomic_load_n(&j->ws[b + k].st, __ATOMIC_RELAXED);
+        if ((cur & (want | ST_ROLE_MASK)) == want) continue;
+        cur = __atomic_fetch_or(&j->ws[b + k].st, want, __ATOMIC_RELAXED);
+        if (st_role(cur) != ROLE_NONE && st_role(cur) != ROLE_DESC) return false;
+        if (!(cur & want & ST_LEVELS)) {
             buf[(*nb)++] = b + k;
             if (*nb == DESCEND_FLUSH) descend_flush(j, buf, *nb), *nb = 0;
         }
     }
     if (m->attrs) {
-        if (!mark_atomic(j->role, b + nn, ROLE_ATTR)) return false;
+        if (!mark_atomic(j->ws, b + nn, ROLE_ATTR)) return false;
         if ((uint64_t)m->nodes[b + nn] + vx__popc8(valid) > m->attr_count) return false;
     }
     return true;
@@ -243,14 +329,10 @@ static void descend_run(void* ctx, uint32_t i) {
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     uint32_t buf[DESCEND_FLUSH], nb = 0;
     for (size_t k = a; k < e; k++) {
-        if (k + PREFETCH_AHEAD < e) {
-            /* the children's role and level words (a guess, as the sequential pass's) */
-            uint32_t ahead = j->cur[k + PREFETCH_AHEAD], pd = j->m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
-            if (pp >= 1 && pp <= ahead) {
-                __builtin_prefetch(&j->role[ahead - pp], 1);
-                __builtin_prefetch(&j->lv[ahead - pp], 1);
-            }
-        }
+        /* the frontier's words lie anywhere: the word itself, then its block */
+        if (k + 2 * PREFETCH_AHEAD < e) __builtin_prefetch(&j->m->nodes[j->cur[k + 2 * PREFETCH_AHEAD]]);
+        if (k + PREFETCH_AHEAD < e) block_prefetch(j->m, j->ws, j->cur[k + PREFETCH_AHEAD], 0);
+        if (k + PREFETCH_AHEAD / 2 < e) block_prefetch(j->m, j->ws, j->cur[k + PREFETCH_AHEAD / 2], 1);
         if (!descend_word(j, j->cur[k], buf, &nb)) {
             __atomic_store_n(&j->failed, 1, __ATOMIC_RELAXED);
             return;
@@ -260,18 +342,20 @@ static void descend_run(void* ctx, uint32_t i) {
 }
 
 /* 1: done, 0: an error was found (the caller runs the sequential pass for
- * its message), -1: no memory for the frontiers (the same). lv and role
- * hold the root's marks. */
-static int descend_by_level(const vx_svo_model* m, uint32_t* lv, uint8_t* role, unsigned threads) {
+ * its message), -1: no memory for the frontiers (the same). ws holds the
+ * root's marks. */
+static int descend_by_level(const vx_svo_model* m, wstate* ws, unsigned threads) {
     size_t nw = m->node_count;
     uint32_t* cur = (uint32_t*)vx_alloc(NULL, nw * sizeof *cur);
     uint32_t* next = (uint32_t*)vx_alloc(NULL, nw * sizeof *next);
+    vx__svo_advise_huge(cur, nw * sizeof *cur);
+    vx__svo_advise_huge(next, nw * sizeof *next);
     int res = 1;
     if (!cur || !next) res = -1;
     size_t n = 1;
     if (cur) cur[0] = m->root;
     for (uint32_t l = m->depth; res == 1 && n && l >= 1; l--) {
-        descend_job j = {m, lv, role, cur, next, n, 0, l, 0};
+        descend_job j = {m, ws, cur, next, n, 0, l, 0};
         vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), descend_run, &j);
         if (j.failed) res = 0;
         uint32_t* t = cur;
@@ -341,25 +425,22 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
                        m->attr_count);
 
     size_t nw = m->node_count;
-    uint32_t* lv = (uint32_t*)vx_calloc(NULL, nw, sizeof *lv);
-    uint8_t* role = (uint8_t*)vx_calloc(NULL, nw, 1);
-    uint32_t* pidx = NULL;
-    pair_ext* pe = NULL;
+    wstate* ws = (wstate*)vx_calloc(NULL, nw, sizeof *ws);
+    vx__svo_advise_huge(ws, nw * sizeof *ws);
+    pslot* pe = NULL;
     vx_result res = VX_OK;
-    if (!lv || !role) {
+    if (!ws) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state for %zu words", nw);
         goto out;
     }
-    lv[m->root] = 1u << m->depth;
-    role[m->root] = ROLE_DESC;
+    const uint32_t root_st = 1u << m->depth | (uint32_t)ROLE_DESC << ST_ROLE_SHIFT;
+    ws[m->root].st = root_st;
     if (threads >= 2 && nw >= LEVEL_PARALLEL_WORDS) {
-        int pr = descend_by_level(m, lv, role, threads);
+        int pr = descend_by_level(m, ws, threads);
         if (pr == 1) goto descended;
         /* an error (the sequential pass below reports it) or no memory: from the root's marks again */
-        memset(lv, 0, nw * sizeof *lv);
-        memset(role, 0, nw);
-        lv[m->root] = 1u << m->depth;
-        role[m->root] = ROLE_DESC;
+        memset(ws, 0, nw * sizeof *ws);
+        ws[m->root].st = root_st;
     }
     /* Pointers only go backwards, so a descending scan sees every parent of
      * a word before the word itself: each word is checked once, for every
@@ -369,14 +450,12 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
          * and level words are cache misses, which this loop waited on one by
          * one (most of its time on the terrain); fetch a block some words
          * ahead (a guess: the word may be no descriptor, or a far one) */
-        if (w >= PREFETCH_AHEAD) {
-            uint32_t ahead = w - PREFETCH_AHEAD, pd = m->nodes[ahead], pp = vx_svo_desc_ptr(pd);
-            if (pp >= 1 && pp <= ahead) {
-                __builtin_prefetch(&role[ahead - pp], 1);
-                __builtin_prefetch(&lv[ahead - pp], 1);
-            }
-        }
-        if (role[w] != ROLE_DESC) continue;
+        if (w >= PREFETCH_AHEAD && st_role(ws[w - PREFETCH_AHEAD].st) == ROLE_DESC)
+            block_prefetch(m, ws, w - PREFETCH_AHEAD, 0);
+        if (w >= PREFETCH_AHEAD / 2 && st_role(ws[w - PREFETCH_AHEAD / 2].st) == ROLE_DESC)
+            block_prefetch(m, ws, w - PREFETCH_AHEAD / 2, 1);
+        const uint32_t st = ws[w].st;
+        if (st_role(st) != ROLE_DESC) continue;
         uint32_t d = m->nodes[w], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
         if (valid == 0) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: descriptor at word %u has no children", w);
@@ -388,12 +467,12 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             goto out;
         }
         uint32_t nn = vx__popc8(valid & ~leaf);
-        if ((lv[w] & 2u) && nn) {
+        if ((st & 2u) && nn) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                           "svo model: descriptor at word %u is at level 1 but has non-leaf children (mask 0x%02x)", w, valid & ~leaf);
             goto out;
         }
-        if (lv[w] & 1u) {
+        if (st & 1u) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: descriptor at word %u is below the finest level", w);
             goto out;
         }
@@ -413,7 +492,7 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
                           vx_svo_desc_ptr(d));
             goto out;
         }
-        if (slot != UINT32_MAX && !mark(role, slot, ROLE_FAR, w, err, &res)) goto out;
+        if (slot != UINT32_MAX && !mark(ws, slot, ROLE_FAR, w, err, &res)) goto out;
         if ((uint64_t)b + blen > w) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                           "svo model: descriptor at word %u: children block at word %u (%u words) does not lie before it", w, b,
@@ -421,11 +500,11 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             goto out;
         }
         for (uint32_t k = 0; k < nn; k++) {
-            if (!mark(role, b + k, ROLE_DESC, w, err, &res)) goto out;
-            lv[b + k] |= lv[w] >> 1;
+            if (!mark(ws, b + k, ROLE_DESC, w, err, &res)) goto out;
+            ws[b + k].st |= (st & ST_LEVELS) >> 1;
         }
         if (m->attrs) {
-            if (!mark(role, b + nn, ROLE_ATTR, w, err, &res)) goto out;
+            if (!mark(ws, b + nn, ROLE_ATTR, w, err, &res)) goto out;
             uint32_t a = m->nodes[b + nn];
             if ((uint64_t)a + vx__popc8(valid) > m->attr_count) {
                 res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
@@ -435,24 +514,20 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
             }
         }
     }
-descended:
+descended:; /* (a declaration follows: C17 needs a statement after a label) */
     /* ascending: occupied extent of every (descriptor, level) pair; one pass
      * over the words checks that each was reached, numbers the pairs and
      * counts them per level (single passes over 33 M words matter on one
      * large model, docs/PERFORMANCE.md issue 18) */
-    pidx = (uint32_t*)vx_alloc(NULL, (nw ? nw : 1) * sizeof *pidx);
     size_t npairs = 0, per_level[VX_SVO_MAX_DEPTH + 2] = {0};
-    if (!pidx) {
-        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
-        goto out;
-    }
     for (size_t w = 0; w < nw; w++) {
-        pidx[w] = (uint32_t)npairs;
-        if (role[w] == ROLE_DESC) {
-            uint32_t lm = lv[w] & PAIR_LEVELS;
-            npairs += (size_t)vx__popc32(lm);
+        ws[w].pidx = (uint32_t)npairs;
+        uint8_t role = st_role(ws[w].st);
+        if (role == ROLE_DESC) {
+            uint32_t lm = ws[w].st & PAIR_LEVELS;
+            npairs += (size_t)vx__popc32(lm) + vx__popc32(lm & PAIR_WIDE_LEVELS); /* slots */
             for (; lm; lm &= lm - 1) per_level[__builtin_ctz(lm) + 1]++;
-        } else if (role[w] == ROLE_NONE && !unreferenced_ok) {
+        } else if (role == ROLE_NONE && !unreferenced_ok) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: word %zu of %zu is not reachable from the root", w, nw);
             goto out;
         }
@@ -461,22 +536,29 @@ descended:
             goto out;
         }
     }
-    pe = (pair_ext*)vx_calloc(NULL, npairs ? npairs : 1, sizeof *pe);
+    pe = (pslot*)vx_alloc(NULL, (npairs ? npairs : 1) * sizeof *pe);
+    vx__svo_advise_huge(pe, npairs * sizeof *pe);
     if (!pe) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo model: cannot allocate validation state");
         goto out;
     }
-    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, lv, role, pidx, pe, npairs, per_level, threads)) {
+    if (threads < 2 || nw < LEVEL_PARALLEL_WORDS || !pairs_by_level(m, ws, pe, npairs, per_level, threads)) {
         for (uint32_t w = 0; w < nw; w++) {
-            if (role[w] != ROLE_DESC) continue;
-            for (uint32_t l = 2; l <= VX_SVO_MAX_DEPTH; l++)
-                if (lv[w] >> l & 1u) pair_compute(m, lv, pidx, pe, w, l);
+            /* the children of words some way ahead (their lowest level's) */
+            for (int stage = 0; stage < 2; stage++) {
+                uint32_t a = w + (stage ? PREFETCH_AHEAD / 2 : PREFETCH_AHEAD);
+                uint32_t lm = a < nw && st_role(ws[a].st) == ROLE_DESC ? ws[a].st & PAIR_LEVELS : 0;
+                if (lm) pair_prefetch(m, ws, pe, a, (uint32_t)__builtin_ctz(lm), stage);
+            }
+            if (st_role(ws[w].st) != ROLE_DESC) continue;
+            for (uint32_t lm = ws[w].st & PAIR_LEVELS; lm; lm &= lm - 1) pair_compute(m, ws, pe, w, (uint32_t)__builtin_ctz(lm));
         }
     }
     {
         pair_ext r1;
-        const pair_ext* R = &pe[pidx[m->root]];
-        if (m->depth == 1) level1_ext(m->nodes[m->root], &r1), R = &r1;
+        const pair_ext* R = &r1;
+        if (m->depth == 1) level1_ext(m->nodes[m->root], &r1);
+        else pair_load(pe, ws[m->root].pidx, m->depth, &r1);
         if (R->mx[0] > m->size[0] || R->mx[1] > m->size[1] || R->mx[2] > m->size[2]) {
             res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                           "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", R->mx[0] - 1, R->mx[1] - 1,
@@ -495,9 +577,7 @@ descended:
         }
     }
 out:
-    vx_free(NULL, lv);
-    vx_free(NULL, role);
-    vx_free(NULL, pidx);
+    vx_free(NULL, ws);
     vx_free(NULL, pe);
     return res;
 }

@@ -54,6 +54,14 @@ extern uint64_t vx__svo_parallel_words;
 unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want);
 /* The CPUs to use for want (0: one per online CPU, capped at 16). */
 unsigned vx__svo_cpus(unsigned want);
+/* Asks the kernel for 2 MB pages behind the whole 2 MB units of p[0, n)
+ * (Linux, transparent huge pages in "madvise" mode; nothing elsewhere), for
+ * arrays of tens of MB or more that are filled once and then read at random:
+ * the validation's per-word arrays and a read model's words. With 4 KB pages
+ * their first touch (a fault per page) and the TLB misses of the random
+ * lookups were a large part of a chunked read (docs/PERFORMANCE.md, issue
+ * 18). Call it before the memory is first touched. */
+void vx__svo_advise_huge(void* p, size_t n);
 /* Runs run(ctx, 0..count-1) on up to `threads` threads, the caller's included. */
 void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx);
 
@@ -118,18 +126,26 @@ typedef struct vx__svo_sink {
 extern size_t vx__svo_flush_bytes;
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
-/* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE or VX__CHUNK_STORED the chunked form */
-enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2 };
+/* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE, VX__CHUNK_STORED or
+ * VX__CHUNK_FAST (words stored, records deflated) the chunked form */
+enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3 };
+/* The chunked mode a write desc asks for (VX__CHUNK_DEFLATE for NULL). */
+int vx__svo_chunk_mode(const vx_write_desc* desc);
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        bool chunk_stored, const vx__svo_sink* sink);
+                        int chunk_mode, const vx__svo_sink* sink);
 /* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_error* err);
+
+/* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
+ * sections' checksums are one thread's pass over the whole file, about
+ * 0.2 s for the 311 MB helmet with slicing-by-8. */
+uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n);
 
 /* Test-only (like vx__svo_far_limit): the writer skips validation and the
  * structural form, storing words and records as they are, so that tests can

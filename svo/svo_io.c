@@ -400,7 +400,7 @@ vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_
         s->offset = secs[i].offset;
         s->size = secs[i].size;
         s->crc = secs[i].crc;
-        s->crc_ok = vx_crc32(0, d + s->offset, (size_t)s->size) == s->crc;
+        s->crc_ok = vx__svo_crc32(0, d + s->offset, (size_t)s->size) == s->crc;
         s->known = tag_index(secs[i].tag) >= 0;
     }
     vx_free(NULL, secs);
@@ -825,7 +825,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
             goto fail;
         }
         if (!rdd.skip_checksums) {
-            uint32_t c = vx_crc32(0, d + e->offset, (size_t)e->size);
+            uint32_t c = vx__svo_crc32(0, d + e->offset, (size_t)e->size);
             if (c != e->crc) {
                 r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
                             tg, (unsigned long long)e->offset, c, e->crc);
@@ -1132,7 +1132,7 @@ typedef struct wplan {
     uint16_t version;
     unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
     uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
-    bool chunk_stored;  /* vx_write_desc.svo_chunk_stored */
+    int chunk_mode;     /* vx_write_desc.svo_chunk_stored / svo_chunk_fast: VX__CHUNK_* */
     int order[S_COUNT], ns;
     uint64_t sizes[S_COUNT];
     uint32_t flags[S_COUNT], crcs[S_COUNT];
@@ -1150,7 +1150,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     memset(w, 0, sizeof *w);
     w->threads = desc ? desc->threads : 0;
     w->chunk_min = desc ? desc->svo_chunk_words : 0;
-    w->chunk_stored = desc && desc->svo_chunk_stored;
+    w->chunk_mode = vx__svo_chunk_mode(desc);
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees (models coded
      * elsewhere bring theirs) */
@@ -1228,7 +1228,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext, w->chunked);
     else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_stored, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1280,7 +1280,7 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
         offs[si] = body.size;
         ok = write_section(&body, &w, si, s, alloc, NULL, NULL) && ok;
         w.sizes[si] = body.size - offs[si];
-        w.crcs[si] = body.failed ? 0 : vx_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
+        w.crcs[si] = body.failed ? 0 : vx__svo_crc32(0, body.data + offs[si], (size_t)w.sizes[si]);
     }
     plan_free(alloc, &w);
     ok = write_head(&head, &w, fin) && ok;
@@ -1329,7 +1329,7 @@ static bool spill_flush(void* user, vx_buf* out) {
         sp->failed = true;
         return false;
     }
-    sp->crc = vx_crc32(sp->crc, out->data, out->size);
+    sp->crc = vx__svo_crc32(sp->crc, out->data, out->size);
     sp->size += out->size;
     out->size = 0;
     return true;
@@ -1434,7 +1434,7 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
     vx_buf b = {.alloc = a};
     info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
-    int mode = !info->chunked ? VX__CHUNK_NONE : desc && desc->svo_chunk_stored ? VX__CHUNK_STORED : VX__CHUNK_DEFLATE;
+    int mode = !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     if (!vx__svo_pack_model(m, a, mode, info->chunked ? vx__svo_cpus(desc ? desc->threads : 0) : 1, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");

@@ -6,7 +6,10 @@
  * thread, which keeps allocation order (and the OOM tests) exact. Results
  * never depend on the thread count. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
 #include <pthread.h>
+#include <stdint.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "svo/svo_internal.h"
@@ -52,4 +55,15 @@ void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, u
     job_set j = {count, run, ctx, PTHREAD_MUTEX_INITIALIZER, 0};
     vx_run_threads(threads, job_worker, &j);
     pthread_mutex_destroy(&j.lock);
+}
+
+void vx__svo_advise_huge(void* p, size_t n) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const uintptr_t huge = (uintptr_t)2 << 20;
+    if (!p || n < 2 * huge) return;
+    uintptr_t a = ((uintptr_t)p + huge - 1) & ~(huge - 1), e = ((uintptr_t)p + n) & ~(huge - 1);
+    if (e > a) (void)madvise((void*)a, e - a, MADV_HUGEPAGE); /* advice only: a failure changes nothing */
+#else
+    (void)p, (void)n;
+#endif
 }

@@ -14,6 +14,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <zlib.h>
+#ifdef VX_HAVE_LIBDEFLATE
+#include <libdeflate.h>
+#endif
 
 #include "svo/svo_internal.h"
 
@@ -404,6 +407,18 @@ static bool put_var(vx_buf* b, uint64_t v) {
     return true;
 }
 
+int vx__svo_chunk_mode(const vx_write_desc* desc) {
+    return desc && desc->svo_chunk_stored ? VX__CHUNK_STORED : desc && desc->svo_chunk_fast ? VX__CHUNK_FAST : VX__CHUNK_DEFLATE;
+}
+
+uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n) {
+#ifdef VX_HAVE_LIBDEFLATE
+    return libdeflate_crc32(crc, data, n); /* carry-less multiply where the CPU has it: several GB/s */
+#else
+    return vx_crc32(crc, data, n);
+#endif
+}
+
 /* ---- the chunked form (format version 3, docs/FORMAT.md 3.6) --------------------------------------
  * A large model's words and records as they are in memory, in chunks of
  * about CHUNK_RAW bytes, each raw DEFLATE on its own. The structural form is
@@ -460,28 +475,73 @@ static const unsigned PIECE_WIDTH[6] = {4, 1, 4, 4, 2, 4};
 typedef struct chunk_job {
     const vx_svo_model* m;
     const vx_allocator* A;
-    uint32_t count;
-    int level;     /* deflate level: 1, or 0 (stored blocks) */
+    uint32_t count, wcount; /* chunks; the first wcount hold words only, the others records only */
+    int level, wlevel; /* deflate level of record chunks and of word chunks: 1, or 0 (stored blocks) */
     uint8_t** out; /* writer: each chunk's deflated bytes */
     size_t* out_n;
     bool* ok;
 } chunk_job;
 
 static uint32_t chunk_at(uint32_t total, uint32_t i, uint32_t count) { return (uint32_t)((uint64_t)total * i / count); }
+/* The words [w0, w1) and records [r0, r1) of the writer's chunk i: the
+ * words in wcount chunks, then the records in the rest, so that a chunk is
+ * one piece (or one per channel) that codes and inflates in place, without
+ * gathering the pieces into a buffer (FORMAT.md 3.6 leaves the split free). */
+static void chunk_range(const chunk_job* j, uint32_t i, uint32_t* w0, uint32_t* w1, uint32_t* r0, uint32_t* r1) {
+    const vx_svo_model* m = j->m;
+    if (i < j->wcount) {
+        *w0 = chunk_at(m->node_count, i, j->wcount), *w1 = chunk_at(m->node_count, i + 1, j->wcount);
+        *r0 = *r1 = 0;
+    } else {
+        uint32_t rc = j->count - j->wcount, k = i - j->wcount;
+        *w0 = *w1 = m->node_count;
+        *r0 = chunk_at(m->attr_count, k, rc), *r1 = chunk_at(m->attr_count, k + 1, rc);
+    }
+}
 
 static void deflate_chunk(void* ctx, uint32_t i) {
     chunk_job* j = (chunk_job*)ctx;
     const vx_svo_model* m = j->m;
-    uint32_t w0 = chunk_at(m->node_count, i, j->count), w1 = chunk_at(m->node_count, i + 1, j->count);
-    uint32_t r0 = chunk_at(m->attr_count, i, j->count), r1 = chunk_at(m->attr_count, i + 1, j->count);
+    uint32_t w0, w1, r0, r1;
+    chunk_range(j, i, &w0, &w1, &r0, &r1);
+    const int level = i < j->wcount ? j->wlevel : j->level;
     uint8_t* p[6];
     size_t n[6], raw = 0;
     chunk_pieces(m, w0, w1 - w0, r0, r1 - r0, p, n);
     for (int k = 0; k < 6; k++) raw += n[k];
+    j->ok[i] = false;
+#if defined(VX_HAVE_LIBDEFLATE) && !(defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
+    if (level > 0) {
+        /* libdeflate codes one contiguous buffer: a chunk of several pieces
+         * (words, then each channel's records) is gathered first (a copy of
+         * 4 MB, against some 20 ms of coding) */
+        int np = 0, one = 0;
+        for (int k = 0; k < 6; k++)
+            if (n[k]) np++, one = k;
+        uint8_t* buf = np > 1 ? (uint8_t*)vx_alloc(j->A, raw) : NULL;
+        const uint8_t* src = np > 1 ? buf : p[one];
+        if (np > 1 && buf)
+            for (size_t k = 0, at = 0; k < 6; at += n[k], k++)
+                if (n[k]) memcpy(buf + at, p[k], n[k]);
+        struct libdeflate_compressor* c = (np < 2 || buf) ? libdeflate_alloc_compressor(level) : NULL;
+        size_t cap = c ? libdeflate_deflate_compress_bound(c, raw) : 0;
+        uint8_t* out = c ? (uint8_t*)vx_alloc(j->A, cap) : NULL;
+        size_t got = out ? libdeflate_deflate_compress(c, src, raw, out, cap) : 0;
+        if (c) libdeflate_free_compressor(c);
+        vx_free(j->A, buf);
+        if (!got) {
+            vx_free(j->A, out);
+            return;
+        }
+        j->out[i] = out;
+        j->out_n[i] = got;
+        j->ok[i] = true;
+        return;
+    }
+#endif
     z_stream z;
     memset(&z, 0, sizeof z);
-    j->ok[i] = false;
-    if (deflateInit2(&z, j->level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
+    if (deflateInit2(&z, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
     size_t cap = (size_t)deflateBound(&z, (uLong)raw);
     uint8_t* out = (uint8_t*)vx_alloc(j->A, cap);
     uint8_t* tmp = NULL;
@@ -518,14 +578,23 @@ static void deflate_chunk(void* ctx, uint32_t i) {
     j->ok[i] = true;
 }
 
+static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
 /* A chunked model's stream: the chunk count, per chunk its words, records
- * and deflated bytes, then the chunks. threads: coders within the model. */
-static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level, unsigned threads, vx_buf* out) {
-    uint64_t raw = (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rec_bytes(m->attrs);
-    uint64_t count = (raw + CHUNK_RAW - 1) / CHUNK_RAW;
-    if (count < 1) count = 1;
-    if (count > m->node_count) count = m->node_count; /* at least one word per chunk */
-    chunk_job j = {m, A, (uint32_t)count, level, NULL, NULL, NULL};
+ * and deflated bytes, then the chunks. threads: coders within the model.
+ * with_len: the stream's length (varint) first, as the NODE section has it.
+ * The chunks go straight into out and, with a sink, out is flushed between
+ * them: the stream is never copied whole (three copies of the helmet's
+ * 322 MB and their fresh memory were a tenth of its write). */
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode, unsigned threads, bool with_len, vx_buf* out,
+                         const vx__svo_sink* sink) {
+    const int level = mode == VX__CHUNK_STORED ? 0 : 1, wlevel = mode == VX__CHUNK_DEFLATE ? 1 : 0;
+    uint64_t wraw = (uint64_t)m->node_count * 4, rraw = (uint64_t)m->attr_count * rec_bytes(m->attrs);
+    uint64_t wc = (wraw + CHUNK_RAW - 1) / CHUNK_RAW, rc = (rraw + CHUNK_RAW - 1) / CHUNK_RAW;
+    if (wc < 1) wc = 1;
+    if (wc > m->node_count) wc = m->node_count; /* at least one word per word chunk */
+    if (rc > m->attr_count) rc = m->attr_count;
+    uint64_t count = wc + rc;
+    chunk_job j = {m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, NULL, NULL, NULL};
     j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
     j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
     j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
@@ -536,12 +605,23 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
             for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, i);
         else
             run_jobs(threads, (uint32_t)count, deflate_chunk, &j);
-        ok = put_var(out, count);
+        vx_buf tab = {.alloc = A};
+        ok = put_var(&tab, count);
+        uint64_t total = 0;
         for (uint32_t i = 0; ok && i < count; i++) {
-            ok = j.ok[i] && put_var(out, chunk_at(m->node_count, i + 1, j.count) - chunk_at(m->node_count, i, j.count)) &&
-                 put_var(out, chunk_at(m->attr_count, i + 1, j.count) - chunk_at(m->attr_count, i, j.count)) && put_var(out, j.out_n[i]);
+            uint32_t w0, w1, r0, r1;
+            chunk_range(&j, i, &w0, &w1, &r0, &r1);
+            ok = j.ok[i] && put_var(&tab, w1 - w0) && put_var(&tab, r1 - r0) && put_var(&tab, j.out_n[i]);
+            total += j.out_n[i];
         }
-        for (uint32_t i = 0; ok && i < count; i++) ok = vx_buf_append(out, j.out[i], j.out_n[i]);
+        ok = ok && !tab.failed && (!with_len || put_var(out, tab.size + total)) && vx_buf_append(out, tab.data, tab.size);
+        vx_buf_free(&tab);
+        for (uint32_t i = 0; ok && i < count; i++) {
+            ok = vx_buf_append(out, j.out[i], j.out_n[i]);
+            vx_free(A, j.out[i]);
+            j.out[i] = NULL;
+            ok = ok && maybe_flush(out, sink);
+        }
     }
     for (uint32_t i = 0; j.out && i < count; i++) vx_free(A, j.out[i]);
     vx_free(A, j.out);
@@ -554,7 +634,7 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int level
  * (VX__CHUNK_DEFLATE: level 1, VX__CHUNK_STORED: stored blocks; on up to
  * `threads` threads), else the structural or raw form. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, chunked == VX__CHUNK_STORED ? 0 : 1, threads, out);
+    if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
     if (!k) return false;
     vx_buf coded = {0}, side = {0};
@@ -664,6 +744,7 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream with its length, straight into the output. */
 static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx__svo_sink* sink) {
+    if (chunked) return pack_chunked(m, A, chunked, threads, true, out, sink) && maybe_flush(out, sink);
     vx_buf one = {0};
     one.alloc = A;
     bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
@@ -672,9 +753,9 @@ static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, 
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        bool chunk_stored, const vx__svo_sink* sink) {
+                        int chunk_mode, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
-    const int mode = chunk_stored ? VX__CHUNK_STORED : VX__CHUNK_DEFLATE;
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0; mi < s->model_count; mi++) {
@@ -934,6 +1015,7 @@ typedef struct inflate_job {
     const chunk_ent* ch;
     vx_result* res;
     vx_error* errs;
+    const vx_allocator* A;
 } inflate_job;
 
 static void inflate_chunk(void* ctx, uint32_t i) {
@@ -942,9 +1024,43 @@ static void inflate_chunk(void* ctx, uint32_t i) {
     uint8_t* p[6];
     size_t n[6];
     chunk_pieces(j->m, c->w0, c->nw, c->r0, c->nr, p, n);
+    uint64_t at = j->base + c->off;
+#if defined(VX_HAVE_LIBDEFLATE) && !(defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
+    {
+        /* libdeflate inflates into one buffer: a chunk of one piece in
+         * place, one of several into a scratch buffer (bounded by the table's
+         * check, at most CHUNK_RATIO_MAX per deflated byte) copied out */
+        size_t want = 0;
+        int np = 0, one = 0;
+        for (int k = 0; k < 6; k++)
+            if (n[k]) want += n[k], np++, one = k;
+        uint8_t* buf = np > 1 ? (uint8_t*)vx_alloc(j->A, want) : p[one];
+        struct libdeflate_decompressor* d = buf ? libdeflate_alloc_decompressor() : NULL;
+        if (!d) {
+            if (np > 1) vx_free(j->A, buf);
+            j->res[i] = vx_fail(&j->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+            return;
+        }
+        size_t in_n = 0, out_n = 0;
+        enum libdeflate_result lr = libdeflate_deflate_decompress_ex(d, j->p + c->off, c->zn, buf, want, &in_n, &out_n);
+        libdeflate_free_decompressor(d);
+        const char* why = lr == LIBDEFLATE_SUCCESS && out_n < want ? "too short"
+                          : lr == LIBDEFLATE_SUCCESS && in_n != c->zn ? "bytes left over"
+                          : lr != LIBDEFLATE_SUCCESS                  ? "corrupt"
+                                                                      : NULL;
+        if (!why && np > 1)
+            for (size_t k = 0, o = 0; k < 6; o += n[k], k++)
+                if (n[k]) memcpy(p[k], buf + o, n[k]);
+        if (np > 1) vx_free(j->A, buf);
+        j->res[i] = !why ? VX_OK
+                         : vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
+                                   "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes) does not inflate to exactly %zu bytes (%s)",
+                                   (unsigned long long)at, j->mi, i, c->zn, want, why);
+        return;
+    }
+#endif
     z_stream z;
     memset(&z, 0, sizeof z);
-    uint64_t at = j->base + c->off;
     if (inflateInit2(&z, -15) != Z_OK) {
         j->res[i] = vx_fail(&j->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         return;
@@ -1052,8 +1168,12 @@ static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_sv
         m->nodes = (uint32_t*)vx_alloc(A, (size_t)m->node_count * 4);
         void** arrs[5] = {(void**)&m->palette, (void**)&m->rgba, (void**)&m->normal, (void**)&m->material, (void**)&m->density};
         bool ok = m->nodes != NULL;
+        vx__svo_advise_huge(m->nodes, (size_t)m->node_count * 4);
         for (unsigned c = 0; ok && c < 5; c++)
-            if (m->attrs >> c & 1u) ok = (*arrs[c] = vx_alloc(A, (size_t)(m->attr_count ? m->attr_count : 1) * CH_BYTES[c])) != NULL;
+            if (m->attrs >> c & 1u) {
+                ok = (*arrs[c] = vx_alloc(A, (size_t)(m->attr_count ? m->attr_count : 1) * CH_BYTES[c])) != NULL;
+                vx__svo_advise_huge(*arrs[c], (size_t)m->attr_count * CH_BYTES[c]);
+            }
         if (!ok) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     }
     if (r == VX_OK) {
@@ -1062,7 +1182,7 @@ static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_sv
         vx_error* errs = (vx_error*)vx_calloc(A, (size_t)count, sizeof *errs);
         if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         else {
-            inflate_job j = {m, p, base, mi, ch, res, errs};
+            inflate_job j = {m, p, base, mi, ch, res, errs, A};
             if (threads > count) threads = (unsigned)count;
             if (threads <= 1)
                 for (uint32_t i = 0; i < count && res[i ? i - 1 : 0] == VX_OK; i++) inflate_chunk(&j, i);
