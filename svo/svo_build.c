@@ -317,7 +317,8 @@ typedef struct pre_job {
     pthread_mutex_t lock;
 } pre_job;
 
-static void pre_chunk(void* ctx, uint32_t c) {
+static void pre_chunk(void* ctx, unsigned thread, uint32_t c) {
+    (void)thread;
     pre_job* j = (pre_job*)ctx;
     bld* b = j->b;
     size_t lo = (size_t)c * j->chunk, hi = lo + j->chunk < j->pre->count ? lo + j->chunk : j->pre->count;
@@ -359,7 +360,7 @@ static bool intern_pre(bld* b, const vx__svo_interned* pre, unsigned threads) {
         return false;
     pre_job j = {b, pre, 1u << 16, 0, 0, PTHREAD_MUTEX_INITIALIZER};
     size_t chunks = (pre->count + j.chunk - 1) / j.chunk;
-    vx__svo_run_jobs(threads, (uint32_t)chunks, pre_chunk, &j);
+    vx_run_jobs(threads, (uint32_t)chunks, pre_chunk, &j);
     pthread_mutex_destroy(&j.lock);
     b->nrec = pre->count;
     if (j.dup_b) {
@@ -1019,7 +1020,8 @@ typedef struct par_job {
     void* ctx;
     size_t n;
 } par_job;
-static void par_chunk(void* arg, uint32_t c) {
+static void par_chunk(void* arg, unsigned thread, uint32_t c) {
+    (void)thread;
     par_job* j = (par_job*)arg;
     size_t lo = (size_t)c * REC_CHUNK, hi = lo + REC_CHUNK < j->n ? lo + REC_CHUNK : j->n;
     j->body(j->ctx, lo, hi);
@@ -1027,7 +1029,7 @@ static void par_chunk(void* arg, uint32_t c) {
 static void par_for(const bld* b, size_t n, void (*body)(void* ctx, size_t lo, size_t hi), void* ctx) {
     if (b->threads > 1 && n >= ((size_t)1 << 17) && (n + REC_CHUNK - 1) / REC_CHUNK <= UINT32_MAX) {
         par_job j = {body, ctx, n};
-        vx__svo_run_jobs(b->threads, (uint32_t)((n + REC_CHUNK - 1) / REC_CHUNK), par_chunk, &j);
+        vx_run_jobs(b->threads, (uint32_t)((n + REC_CHUNK - 1) / REC_CHUNK), par_chunk, &j);
     } else if (n) {
         body(ctx, 0, n);
     }

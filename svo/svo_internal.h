@@ -54,8 +54,6 @@ extern uint64_t vx__svo_parallel_words;
 unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want);
 /* The CPUs to use for want (0: one per online CPU, capped at 16). */
 unsigned vx__svo_cpus(unsigned want);
-/* Runs run(ctx, 0..count-1) on up to `threads` threads, the caller's included. */
-void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx);
 
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */

@@ -4,9 +4,9 @@
  * streams), so validation, bounds and the NODE coder run one model per job.
  * Threads are only used for large scenes: small ones stay on the caller's
  * thread, which keeps allocation order (and the OOM tests) exact. Results
- * never depend on the thread count. */
+ * never depend on the thread count. The jobs themselves run on vx_run_jobs
+ * (svo/core.h). */
 #define _POSIX_C_SOURCE 200809L
-#include <pthread.h>
 #include <unistd.h>
 
 #include "svo/svo_internal.h"
@@ -27,29 +27,4 @@ unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want) {
     if (s->model_count < 2 || words < vx__svo_parallel_words) return 1;
     unsigned t = vx__svo_cpus(want);
     return t < s->model_count ? t : s->model_count;
-}
-
-typedef struct job_set {
-    uint32_t count;
-    void (*run)(void* ctx, uint32_t i);
-    void* ctx;
-    pthread_mutex_t lock;
-    uint32_t next;
-} job_set;
-
-static void* job_worker(void* user) {
-    job_set* j = (job_set*)user;
-    for (;;) {
-        pthread_mutex_lock(&j->lock);
-        uint32_t i = j->next < j->count ? j->next++ : UINT32_MAX;
-        pthread_mutex_unlock(&j->lock);
-        if (i == UINT32_MAX) return NULL;
-        j->run(j->ctx, i);
-    }
-}
-
-void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx) {
-    job_set j = {count, run, ctx, PTHREAD_MUTEX_INITIALIZER, 0};
-    vx_run_threads(threads, job_worker, &j);
-    pthread_mutex_destroy(&j.lock);
 }
