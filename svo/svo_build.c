@@ -1172,6 +1172,87 @@ static bool laid_take(bld* b, const vx__svo_pool* p, outw* o) {
     return true;
 }
 
+/* The caller's model whole (vx__svo_pool.filled): its words and its
+ * records copied (on b's threads: at 4096^3 a region holds 19 M records),
+ * the root's record appended when no run holds it, as finish_model does. */
+typedef struct span_copy {
+    uint8_t* dst;
+    const uint8_t* src;
+    size_t unit;
+} span_copy;
+static void span_copy_range(void* ctx, size_t lo, size_t hi) {
+    const span_copy* c = (const span_copy*)ctx;
+    memcpy(c->dst + lo * c->unit, c->src + lo * c->unit, (hi - lo) * c->unit);
+}
+static bool filled_ok(const bld* b, const vx__svo_pool* p) {
+    uint32_t at = b->attrs;
+    return at && !(at & ~(uint32_t)(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL)) && b->dag && p->reps && p->runs &&
+           p->laid && p->laid_count && p->laid_count < 0xFFFFFFF0u && b->limit == VX__SVO_PTR_MAX && p->nrecs < 0x0FFFFFF0u &&
+           p->root_attr <= p->nrecs && (!(at & VX_ATTR_RGBA8) || p->attr_rgba) && (!(at & VX_ATTR_NORMAL) || p->attr_normal) &&
+           (!(at & VX_ATTR_MATERIAL) || p->attr_material);
+}
+static bool filled_bad(bld* b) {
+    b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                      "svo build: filled records need laid-out blocks, rgba/normal/material channels, the DAG, runs, "
+                      "near pointers up to %u and the root's record among them or next",
+                      VX__SVO_PTR_MAX);
+    return false;
+}
+static bool filled_take(bld* b, const vx__svo_pool* p, vx_svo_model* m) {
+    if (!filled_ok(b, p)) return filled_bad(b);
+    size_t nr = p->nrecs, na = nr + (p->root_attr == nr);
+    bool ok = (m->nodes = (uint32_t*)vx_alloc(b->a, p->laid_count * sizeof *m->nodes)) != NULL;
+    if (b->attrs & VX_ATTR_RGBA8) ok = ok && (m->rgba = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    if (b->attrs & VX_ATTR_NORMAL) ok = ok && (m->normal = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    if (b->attrs & VX_ATTR_MATERIAL) ok = ok && (m->material = (uint16_t*)vx_alloc(b->a, na * 2)) != NULL;
+    if (!ok) {
+        vx_free(b->a, m->nodes), vx_free(b->a, m->rgba), vx_free(b->a, m->normal), vx_free(b->a, m->material);
+        m->nodes = NULL, m->rgba = m->normal = NULL, m->material = NULL;
+        return oom(b, "the model's words and records");
+    }
+    span_copy c[4] = {{(uint8_t*)m->nodes, (const uint8_t*)p->laid, 4}, {(uint8_t*)m->rgba, (const uint8_t*)p->attr_rgba, 4},
+                      {(uint8_t*)m->normal, (const uint8_t*)p->attr_normal, 4},
+                      {(uint8_t*)m->material, (const uint8_t*)p->attr_material, 2}};
+    size_t cn[4] = {p->laid_count, nr, nr, nr};
+    for (int k = 0; k < 4; k++)
+        if (c[k].dst) par_for(b, cn[k], span_copy_range, &c[k]);
+    if (na > nr) { /* the root's representative, appended */
+        if (m->rgba) m->rgba[nr] = p->root_tuple.rgba;
+        if (m->normal) m->normal[nr] = p->root_tuple.normal;
+        if (m->material) m->material[nr] = p->root_tuple.material;
+    }
+    m->node_count = (uint32_t)p->laid_count;
+    m->root = (uint32_t)(p->laid_count - 1);
+    m->root_attr = p->root_attr;
+    m->attr_count = (uint32_t)na;
+    return true;
+}
+/* With check_pool: the caller's filled records against the model built
+ * here (the same records in the same order, the same root record). */
+static bool filled_check(bld* b, const vx_svo_model* m, const vx__svo_pool* p) {
+    if (!filled_ok(b, p)) return filled_bad(b);
+    size_t nr = p->nrecs, na = nr + (p->root_attr == nr);
+    if (m->attr_count != na || m->root_attr != p->root_attr) {
+        b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                          "svo build: filled records: %zu records, root record %u against the builder's %u and %u", na,
+                          p->root_attr, m->attr_count, m->root_attr);
+        return false;
+    }
+    for (size_t k = 0; k < na; k++) {
+        bool last = k == nr;
+        uint32_t rgba = last ? p->root_tuple.rgba : p->attr_rgba ? p->attr_rgba[k] : 0;
+        uint32_t nrm = last ? p->root_tuple.normal : p->attr_normal ? p->attr_normal[k] : 0;
+        uint16_t mat = last ? p->root_tuple.material : p->attr_material ? p->attr_material[k] : 0;
+        if ((m->rgba && m->rgba[k] != rgba) || (m->normal && m->normal[k] != nrm) || (m->material && m->material[k] != mat)) {
+            b->fail = vx_fail(b->err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                              "svo build: filled record %zu of %zu differs from the builder's (rgba %08x, normal %08x, material %u)",
+                              k, na, rgba, nrm, mat);
+            return false;
+        }
+    }
+    return true;
+}
+
 /* Takes the caller's pool (the streaming pass's nodes, in its order): each
  * node checked (masks, children in range, node children earlier nodes), its
  * representative computed and interned as finalize() does, and published
@@ -1443,7 +1524,8 @@ vx_result vx__svo_build_interned(const vx_svo_build_desc* desc, const vx_svo_vox
                                  vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err) {
     if (!in || !pre) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: null argument");
     bool given = pre->pool && pre->pool->reps && !pre->check_pool; /* the tree given: entries optional */
-    if (!in->attrs || in->level || (in->count && ((!pre->rec && !given) || (pre->count && !pre->tab))))
+    bool filled = given && pre->pool->filled; /* and its records: no tuple read */
+    if (!in->attrs || in->level || (in->count && ((!pre->rec && !given) || (pre->count && !pre->tab && !filled))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo build: interned entries need attrs, ids and no tiles");
     return build(desc, in, pre, out, stats, err);
 }
@@ -1531,6 +1613,19 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
+    /* the whole model given (a GPU build with its records filled): copied
+     * as it is; the entries are not read */
+    if (pre && pre->pool && pre->pool->filled && !pre->check_pool) {
+        if (!filled_take(&b, pre->pool, &m)) { res = b.fail; goto done; }
+        st.voxels = n;
+        st.desc_plain = pre->pool->plain;
+        st.desc_collapsed = pre->pool->collapsed;
+        st.far_pointers = pre->pool->laid_far;
+        m.voxel_count = n;
+        b.laid_given = true;
+        b.laid_desc = pre->pool->laid_desc;
+        goto finish;
+    }
     packed = bare ? NULL : vx_mul_size(n, sizeof *packed, &(size_t){0}) ? (uint64_t*)vx_alloc(b.a, n * sizeof *packed) : NULL;
     if (!packed && !bare) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu entries", n);
@@ -1819,6 +1914,11 @@ built:
                                at, m.node_count, pre->pool->laid_count, (unsigned long long)o.far,
                                (unsigned long long)pre->pool->laid_far);
         vx_svo_model_free(b.a, &m);
+        goto done;
+    }
+    if (pre && pre->pool && pre->check_pool && pre->pool->filled && !filled_check(&b, &m, pre->pool)) {
+        vx_svo_model_free(b.a, &m);
+        res = b.fail;
         goto done;
     }
     if (pre && pre->pool && pre->check_pool && pre->pool->runs && !runs_check(&b, &o, &m, pre->pool)) {
