@@ -10,10 +10,12 @@
  * (4) node blocks are laid out in creation order, which is a post-order
  * (children first), so every child pointer points backwards. */
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
+#define _DEFAULT_SOURCE           /* madvise's MADV_HUGEPAGE */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <time.h>
 
 #include "svo/svo_internal.h"
@@ -1176,13 +1178,31 @@ static bool laid_take(bld* b, const vx__svo_pool* p, outw* o) {
  * records copied (on b's threads: at 4096^3 a region holds 19 M records),
  * the root's record appended when no run holds it, as finish_model does. */
 typedef struct span_copy {
-    uint8_t* dst;
-    const uint8_t* src;
-    size_t unit;
+    uint8_t* dst[4];
+    const uint8_t* src[4];
+    size_t unit[4], n[4], first[5]; /* first: each array's first chunk */
 } span_copy;
-static void span_copy_range(void* ctx, size_t lo, size_t hi) {
-    const span_copy* c = (const span_copy*)ctx;
-    memcpy(c->dst + lo * c->unit, c->src + lo * c->unit, (hi - lo) * c->unit);
+static void span_copy_chunk(void* ctx, unsigned thread, uint32_t c) {
+    (void)thread;
+    const span_copy* s = (const span_copy*)ctx;
+    int k = 0;
+    while (c >= s->first[k + 1]) k++;
+    size_t lo = (size_t)(c - s->first[k]) * REC_CHUNK, hi = lo + REC_CHUNK < s->n[k] ? lo + REC_CHUNK : s->n[k];
+    memcpy(s->dst[k] + lo * s->unit[k], s->src[k] + lo * s->unit[k], (hi - lo) * s->unit[k]);
+}
+/* Large fresh arrays in 2 MB pages where the system gives them on request
+ * (Linux's transparent huge pages set to madvise): a 4096^3 region's copies
+ * then fault 2 MB at a time instead of 4 KB (measured 59 -> 48 ms for the
+ * copies at 4096^3 on the H200 host); advice only, any failure ignored. */
+static void advise_huge(void* p, size_t bytes) {
+#ifdef MADV_HUGEPAGE
+    const uintptr_t huge = (uintptr_t)1 << 21;
+    if (!p || bytes < 2 * huge) return;
+    uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1), hi = ((uintptr_t)p + bytes) & ~(huge - 1);
+    if (hi > lo) (void)madvise((void*)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)p, (void)bytes;
+#endif
 }
 static bool filled_ok(const bld* b, const vx__svo_pool* p) {
     uint32_t at = b->attrs;
@@ -1210,12 +1230,23 @@ static bool filled_take(bld* b, const vx__svo_pool* p, vx_svo_model* m) {
         m->nodes = NULL, m->rgba = m->normal = NULL, m->material = NULL;
         return oom(b, "the model's words and records");
     }
-    span_copy c[4] = {{(uint8_t*)m->nodes, (const uint8_t*)p->laid, 4}, {(uint8_t*)m->rgba, (const uint8_t*)p->attr_rgba, 4},
-                      {(uint8_t*)m->normal, (const uint8_t*)p->attr_normal, 4},
-                      {(uint8_t*)m->material, (const uint8_t*)p->attr_material, 2}};
-    size_t cn[4] = {p->laid_count, nr, nr, nr};
-    for (int k = 0; k < 4; k++)
-        if (c[k].dst) par_for(b, cn[k], span_copy_range, &c[k]);
+    /* the four arrays in chunks, one set of jobs (one team of threads) */
+    span_copy c = {{(uint8_t*)m->nodes, (uint8_t*)m->rgba, (uint8_t*)m->normal, (uint8_t*)m->material},
+                   {(const uint8_t*)p->laid, (const uint8_t*)p->attr_rgba, (const uint8_t*)p->attr_normal,
+                    (const uint8_t*)p->attr_material},
+                   {4, 4, 4, 2},
+                   {p->laid_count, nr, nr, nr},
+                   {0}};
+    size_t total = 0;
+    for (int k = 0; k < 4; k++) {
+        if (!c.dst[k]) c.n[k] = 0;
+        advise_huge(c.dst[k], c.n[k] * c.unit[k]);
+        c.first[k] = total;
+        total += (c.n[k] + REC_CHUNK - 1) / REC_CHUNK;
+    }
+    c.first[4] = total;
+    size_t all = p->laid_count + 3 * nr;
+    vx_run_jobs(b->threads > 1 && all >= ((size_t)1 << 17) ? b->threads : 1, (uint32_t)total, span_copy_chunk, &c);
     if (na > nr) { /* the root's representative, appended */
         if (m->rgba) m->rgba[nr] = p->root_tuple.rgba;
         if (m->normal) m->normal[nr] = p->root_tuple.normal;
