@@ -77,6 +77,9 @@ typedef struct vx_conv_mesh_gpu_stats {
     uint64_t rep_tuples; /* representatives' tuples that no cell has (interned on the GPU) */
     uint64_t run_records; /* the block layout's attribute records, laid out on the GPU (0: by the CPU) */
     uint64_t laid_words;  /* the models' node words laid out on the GPU (0: the CPU laid the blocks out) */
+    /* the models' attribute records filled on the GPU and copied by the
+     * builders (0: the builders looked each record's tuple up) */
+    uint64_t filled_records;
     uint32_t layout_iterations; /* the GPU's block layout iterations (until one changed nothing) */
     /* GPU seconds of the build's steps (timestamps; 0 without them), within
      * build's wall time: [0] the levels (parents, collapse, hashes), [1]

@@ -389,8 +389,9 @@ typedef struct job {
     const size_t* brick_first; /* pair index of each brick of the region; [brick_count] = end */
     size_t brick_count;
     brick_out* outs;
-    atomic_size_t next;
-    atomic_size_t done;
+    atomic_size_t done;       /* its bricks voxelized */
+    size_t done_before;       /* bricks of this share's regions before it, for the progress */
+    struct worker* workers;         /* one per thread (vx_run_jobs' thread index) */
     atomic_int failed; /* vx_result */
     atomic_bool cancel;
     /* all regions */
@@ -403,7 +404,6 @@ typedef struct job {
     size_t mine_bricks;    /* their bricks: the progress total */
     unsigned rb;           /* region = 2^rb bricks per side */
     uint32_t R;
-    atomic_size_t next_region;
     atomic_size_t bricks_done;
     pthread_mutex_t lock;
     vx_error first_err;    /* the first failure of a region worker */
@@ -723,22 +723,21 @@ static bool worker_init(worker* w, job* j) {
     return true;
 }
 
-static void* worker_main(void* arg) {
-    worker* w = (worker*)arg;
-    job* j = w->j;
-    for (;;) {
-        if (atomic_load(&j->failed) || atomic_load(&j->cancel)) break;
-        size_t b = atomic_fetch_add(&j->next, 1);
-        if (b >= j->brick_count) break;
-        vx_result r = do_brick(w, j->brick_first[b], j->brick_first[b + 1], &j->outs[b]);
-        if (r) {
-            int z = 0;
-            atomic_compare_exchange_strong(&j->failed, &z, (int)r);
-            break;
-        }
-        atomic_fetch_add(&j->done, 1);
+/* Brick b of the current region (vx_run_jobs); the caller's thread (0)
+ * reports the progress. */
+static void brick_job(void* ctx, unsigned thread, uint32_t b) {
+    job* j = (job*)ctx;
+    if (atomic_load(&j->failed) || atomic_load(&j->cancel)) return;
+    vx_result r = do_brick(&j->workers[thread], j->brick_first[b], j->brick_first[b + 1], &j->outs[b]);
+    if (r) {
+        int z = 0;
+        atomic_compare_exchange_strong(&j->failed, &z, (int)r);
+        return;
     }
-    return NULL;
+    size_t done = atomic_fetch_add(&j->done, 1) + 1;
+    atomic_fetch_add(&j->bricks_done, 1);
+    if (thread == 0 && !vx_progress_report(&j->desc->build.progress, "voxelize", j->done_before + done, j->mine_bricks))
+        atomic_store(&j->cancel, true);
 }
 
 /* ---- sorting and binning ----------------------------------------------------------------- */
@@ -801,25 +800,16 @@ static void bin_hit(void* user, const int c[3], const double (*poly)[3], int n) 
     b->pairs[b->count++] = vx_svo_morton((uint32_t)c[0], (uint32_t)c[1], (uint32_t)c[2]) << 32 | b->tri;
 }
 
-typedef struct bin_job {
-    bin_ctx* parts;
-    unsigned count;
-    atomic_uint next;
-} bin_job;
-
-static void* bin_worker(void* arg) {
-    bin_job* bj = (bin_job*)arg;
-    for (;;) {
-        unsigned k = atomic_fetch_add(&bj->next, 1);
-        if (k >= bj->count) return NULL;
-        bin_ctx* b = &bj->parts[k];
-        int cmin[3] = {0, 0, 0}, cmax[3] = {(int)b->j->nb[0] - 1, (int)b->j->nb[1] - 1, (int)b->j->nb[2] - 1};
-        for (size_t t = b->t0; t < b->t1 && !b->nomem && !b->full; t++) {
-            double v[9];
-            for (int q = 0; q < 9; q++) v[q] = b->j->g[9 * t + q] / BRICK;
-            b->tri = (uint32_t)t;
-            tri_cells(v, cmin, cmax, NULL, false, bin_hit, b);
-        }
+/* Part k of the binning (ctx: the parts; vx_run_jobs). */
+static void bin_part(void* ctx, unsigned thread, uint32_t k) {
+    (void)thread;
+    bin_ctx* b = (bin_ctx*)ctx + k;
+    int cmin[3] = {0, 0, 0}, cmax[3] = {(int)b->j->nb[0] - 1, (int)b->j->nb[1] - 1, (int)b->j->nb[2] - 1};
+    for (size_t t = b->t0; t < b->t1 && !b->nomem && !b->full; t++) {
+        double v[9];
+        for (int q = 0; q < 9; q++) v[q] = b->j->g[9 * t + q] / BRICK;
+        b->tri = (uint32_t)t;
+        tri_cells(v, cmin, cmax, NULL, false, bin_hit, b);
     }
 }
 
@@ -924,17 +914,13 @@ static vx_result solid_axis(job* j, int ax, vx_error* err) {
 /* The three axes on three threads (each its own crossings and bitmap). */
 typedef struct votes_job {
     job* j;
-    atomic_int next;
     vx_result r[3];
     vx_error e[3];
 } votes_job;
-static void* votes_worker(void* arg) {
-    votes_job* v = (votes_job*)arg;
-    for (;;) {
-        int ax = atomic_fetch_add(&v->next, 1);
-        if (ax >= 3) return NULL;
-        v->r[ax] = solid_axis(v->j, ax, &v->e[ax]);
-    }
+static void votes_axis(void* ctx, unsigned thread, uint32_t ax) {
+    (void)thread;
+    votes_job* v = (votes_job*)ctx;
+    v->r[ax] = solid_axis(v->j, (int)ax, &v->e[ax]);
 }
 
 static vx_result solid_votes(job* j, vx_error* err) {
@@ -948,8 +934,8 @@ static vx_result solid_votes(job* j, vx_error* err) {
         j->vote[a] = (uint64_t*)vx_calloc(j->alloc, words, 8);
         if (!j->vote[a]) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: %zu bytes", words * 8);
     }
-    votes_job v = {j, 0, {VX_OK, VX_OK, VX_OK}, {{0}}};
-    vx_run_threads(j->desc->threads == 1 ? 1 : 3, votes_worker, &v);
+    votes_job v = {j, {VX_OK, VX_OK, VX_OK}, {{0}}};
+    vx_run_jobs(j->desc->threads == 1 ? 1 : 3, 3, votes_axis, &v);
     for (int ax = 0; ax < 3; ax++)
         if (v.r[ax]) {
             if (err) *err = v.e[ax];
@@ -1116,14 +1102,15 @@ static void record_failure(job* j, vx_result r, const vx_error* e) {
 }
 
 /* Whole regions per thread (voxelize, then the sink builds the model), so
- * the octree builds of different regions run in parallel too. The calling
- * thread (is_main) alone reports progress. */
-static void region_loop(worker* w, bool is_main) {
-    job* j = w->j;
-    for (;;) {
+ * the octree builds of different regions run in parallel too: region
+ * mine[k] on a vx_run_jobs thread. The calling thread (0) alone reports
+ * progress. */
+static void region_job(void* ctx, unsigned thread, uint32_t k) {
+    job* j = (job*)ctx;
+    worker* w = &j->workers[thread];
+    bool is_main = thread == 0;
+    {
         if (atomic_load(&j->failed) || atomic_load(&j->cancel)) return;
-        size_t k = atomic_fetch_add(&j->next_region, 1);
-        if (k >= j->mine_count) return;
         size_t ri = j->mine[k];
         size_t b0 = j->rstart[ri], nbk = j->rstart[ri + 1] - b0;
         vx_error e = {0};
@@ -1148,16 +1135,8 @@ static void region_loop(worker* w, bool is_main) {
                 }
             vx_free(j->alloc, outs);
         }
-        if (r) {
-            record_failure(j, r, &e);
-            return;
-        }
+        if (r) record_failure(j, r, &e);
     }
-}
-
-static void* region_thread(void* arg) {
-    region_loop((worker*)arg, false);
-    return NULL;
 }
 
 /* Everything before the bricks are voxelized: the region size, grid
@@ -1199,11 +1178,9 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
     j->user = user;
     j->R = R;
     while (((uint32_t)BRICK << j->rb) < R) j->rb++;
-    atomic_init(&j->next, 0);
     atomic_init(&j->done, 0);
     atomic_init(&j->failed, 0);
     atomic_init(&j->cancel, false);
-    atomic_init(&j->next_region, 0);
     atomic_init(&j->bricks_done, 0);
     size_t T = mesh->tri_count, n9;
     vx_result r = VX_OK;
@@ -1251,14 +1228,11 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
             parts[k] = (bin_ctx){j, 0, t0, t1, slices ? slices + at : NULL, 0, slices ? cap : 0, false, slices != NULL, false};
             at += cap;
         }
-        bin_job bj = {parts, nparts, 0};
-        if (nparts > 1) vx_run_threads(threads < nparts ? threads : nparts, bin_worker, &bj);
-        else bin_worker(&bj);
+        vx_run_jobs(nparts > 1 ? threads : 1, nparts, bin_part, parts);
         for (unsigned k = 0; k < nparts; k++)
             if (parts[k].full) { /* more pairs than its slice: again, here, growing */
                 parts[k] = (bin_ctx){j, 0, parts[k].t0, parts[k].t1, NULL, 0, 0, false, false, false};
-                bin_job one = {&parts[k], 1, 0};
-                bin_worker(&one);
+                bin_part(parts, 0, k);
             }
         bool nomem = false;
         size_t total = 0;
@@ -1422,15 +1396,9 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
     memset(ws, 0, sizeof ws);
     for (unsigned i = 0; i < threads && !r; i++)
         if (!worker_init(&ws[i], &j)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "voxelizer buffers");
+    j.workers = ws;
     if (!r && j.mine_count >= 2 * threads) {
-        pthread_t th[64];
-        unsigned started = 0;
-        for (unsigned i = 1; i < threads; i++) {
-            if (pthread_create(&th[i], NULL, region_thread, &ws[i]) != 0) break;
-            started = i;
-        }
-        region_loop(&ws[0], true);
-        for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
+        vx_run_jobs(threads, (uint32_t)j.mine_count, region_job, &j);
     } else {
         /* few regions: one at a time, its bricks spread over the threads */
         size_t base = 0; /* bricks of this share's regions before this one, for the progress */
@@ -1444,31 +1412,9 @@ vx_result vx__mesh_voxelize(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* m
                 r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "region bricks");
                 break;
             }
-            atomic_store(&j.next, 0);
             atomic_store(&j.done, 0);
-            pthread_t th[64];
-            unsigned started = 0;
-            for (unsigned i = 1; i < threads; i++) {
-                if (pthread_create(&th[i], NULL, worker_main, &ws[i]) != 0) break;
-                started = i;
-            }
-            for (;;) {
-                if (atomic_load(&j.failed) || atomic_load(&j.cancel)) break;
-                size_t b = atomic_fetch_add(&j.next, 1);
-                if (b >= j.brick_count) break;
-                vx_result br = do_brick(&ws[0], j.brick_first[b], j.brick_first[b + 1], &j.outs[b]);
-                if (br) {
-                    int z = 0;
-                    atomic_compare_exchange_strong(&j.failed, &z, (int)br);
-                    break;
-                }
-                size_t done = atomic_fetch_add(&j.bricks_done, 1) + 1;
-                (void)done;
-                if (!vx_progress_report(&desc->build.progress, "voxelize", base + atomic_load(&j.done) + 1,
-                                        j.mine_bricks))
-                    atomic_store(&j.cancel, true);
-            }
-            for (unsigned i = 1; i <= started; i++) pthread_join(th[i], NULL);
+            j.done_before = base;
+            vx_run_jobs(threads, (uint32_t)nbk, brick_job, &j);
             if (!atomic_load(&j.failed) && !atomic_load(&j.cancel)) {
                 r = region_emit(&j, ri, j.outs, &ws[0].buf, err);
             } else {

@@ -7,6 +7,7 @@
 #include <pthread.h>
 #include <signal.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -387,6 +388,45 @@ void vx_run_threads(unsigned threads, void* (*worker)(void* arg), void* arg) {
         if (pthread_create(&tid[started], NULL, worker, arg) == 0) started++;
     worker(arg);
     for (unsigned t = 0; t < started; t++) pthread_join(tid[t], NULL);
+}
+
+typedef struct job_set {
+    void (*run)(void* ctx, unsigned thread, uint32_t i);
+    void* ctx;
+    uint32_t count;
+    _Atomic uint32_t next; /* the next job */
+} job_set;
+typedef struct job_thread {
+    job_set* set;
+    unsigned thread;
+} job_thread;
+
+static void* job_worker(void* arg) {
+    const job_thread* t = (const job_thread*)arg;
+    job_set* j = t->set;
+    for (;;) {
+        uint32_t i = atomic_fetch_add(&j->next, 1);
+        if (i >= j->count) return NULL;
+        j->run(j->ctx, t->thread, i);
+    }
+}
+
+void vx_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, unsigned thread, uint32_t i), void* ctx) {
+    if (count == 0) return;
+    if (threads > VX_MAX_THREADS) threads = VX_MAX_THREADS;
+    if (threads > count) threads = count;
+    if (threads == 0) threads = 1;
+    job_set j = {run, ctx, count, 0};
+    /* as vx_run_threads, but each thread knows its index (the caller's 0;
+     * one that cannot be started leaves its index unused) */
+    job_thread t[VX_MAX_THREADS];
+    pthread_t tid[VX_MAX_THREADS];
+    unsigned started = 0;
+    for (unsigned k = 0; k < threads; k++) t[k] = (job_thread){&j, k};
+    for (unsigned k = 1; k < threads; k++)
+        if (pthread_create(&tid[started], NULL, job_worker, &t[k]) == 0) started++;
+    job_worker(&t[0]);
+    for (unsigned k = 0; k < started; k++) pthread_join(tid[k], NULL);
 }
 
 double vx_time_now(void) {

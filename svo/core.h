@@ -346,6 +346,17 @@ void vx_atomic_abort(vx_atomic_file* af);
  * do its share); 0 means 1; more than VX_MAX_THREADS are capped. */
 void vx_run_threads(unsigned threads, void* (*worker)(void* arg), void* arg);
 
+/* Runs run(ctx, thread, i) once for every job i in [0, count) on up to
+ * `threads` threads (vx_run_threads: the caller's thread included, 0 means
+ * 1) and returns when every job has run. Jobs are handed out in increasing
+ * order from one shared counter, so a thread that finishes early takes the
+ * next; which thread runs which job depends on timing, so results must not.
+ * thread (in [0, threads)) names the running thread for per-thread scratch
+ * state; the caller's thread is 0 (the one to report progress from). To
+ * stop early (a failure, a cancel), run checks a flag of its own in ctx and
+ * returns at once: the jobs left are then handed out and skipped. */
+void vx_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, unsigned thread, uint32_t i), void* ctx);
+
 /* ---- misc ---------------------------------------------------------------------------- */
 
 /* Monotonic seconds, for statistics. */

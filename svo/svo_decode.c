@@ -218,7 +218,8 @@ typedef struct level_job {
     size_t n;
     uint32_t l;
 } level_job;
-static void level_run(void* ctx, uint32_t i) {
+static void level_run(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     level_job* j = (level_job*)ctx;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
     for (size_t k = a; k < e; k++) {
@@ -246,7 +247,7 @@ static bool pairs_by_level(const vx_svo_model* m, const wstate* ws, pslot* pe, s
         size_t n = start[l + 1] - start[l];
         if (!n) continue;
         level_job j = {m, ws, list + start[l], pe, n, l};
-        vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), level_run, &j);
+        vx_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), level_run, &j);
     }
     vx_free(NULL, list);
     return true;
@@ -323,7 +324,8 @@ static bool descend_word(descend_job* j, uint32_t w, uint32_t* buf, uint32_t* nb
     return true;
 }
 
-static void descend_run(void* ctx, uint32_t i) {
+static void descend_run(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     descend_job* j = (descend_job*)ctx;
     if (__atomic_load_n(&j->failed, __ATOMIC_RELAXED)) return;
     size_t a = (size_t)i * LEVEL_BLOCK, e = a + LEVEL_BLOCK < j->n ? a + LEVEL_BLOCK : j->n;
@@ -356,7 +358,7 @@ static int descend_by_level(const vx_svo_model* m, wstate* ws, unsigned threads)
     if (cur) cur[0] = m->root;
     for (uint32_t l = m->depth; res == 1 && n && l >= 1; l--) {
         descend_job j = {m, ws, cur, next, n, 0, l, 0};
-        vx__svo_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), descend_run, &j);
+        vx_run_jobs(threads, (uint32_t)((n + LEVEL_BLOCK - 1) / LEVEL_BLOCK), descend_run, &j);
         if (j.failed) res = 0;
         uint32_t* t = cur;
         cur = next, next = t, n = j.next_n;
@@ -621,7 +623,8 @@ typedef struct analyze_jobs {
     vx_error* errs;
 } analyze_jobs;
 
-static void analyze_job(void* ctx, uint32_t i) {
+static void analyze_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     analyze_jobs* j = (analyze_jobs*)ctx;
     j->res[i] = vx__svo_analyze(&j->s->models[i], j->ext ? &j->ext[i] : NULL, &j->errs[i]);
 }
@@ -635,7 +638,7 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsi
     vx_result r = VX_OK;
     if (res && errs) {
         analyze_jobs j = {s, ext, res, errs};
-        vx__svo_run_jobs(threads, s->model_count, analyze_job, &j);
+        vx_run_jobs(threads, s->model_count, analyze_job, &j);
         for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
             if (res[i] != VX_OK) {
                 r = res[i];

@@ -62,8 +62,6 @@ unsigned vx__svo_cpus(unsigned want);
  * lookups were a large part of a chunked read (docs/PERFORMANCE.md, issue
  * 18). Call it before the memory is first touched. */
 void vx__svo_advise_huge(void* p, size_t n);
-/* Runs run(ctx, 0..count-1) on up to `threads` threads, the caller's included. */
-void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx);
 
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */

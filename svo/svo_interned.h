@@ -66,6 +66,22 @@ typedef struct vx__svo_pool {
     size_t laid_count;
     uint64_t laid_far, laid_desc;
     uint32_t root_rep;
+    /* With laid: the model's attribute records filled by the caller too
+     * (the GPU looks each record's tuple up, meshbuild.comp MODE 30): record
+     * k of the runs as its tuple's channels, nrecs of each channel in the
+     * model's attrs (attr_rgba, attr_normal, attr_material; read only: the
+     * builder copies them, on vx__svo_interned.threads threads), root_attr
+     * the first record equal to the root's representative, or nrecs when
+     * none is (the builder then appends root_tuple, as its layout does).
+     * The builder reads no tuple then (vx__svo_interned.rec, tab and recs
+     * may be NULL, count anything); with check_pool it fails unless these
+     * are its own model's records and root_attr. */
+    bool filled;
+    const uint32_t* attr_rgba;
+    const uint32_t* attr_normal;
+    const uint16_t* attr_material;
+    uint32_t root_attr;
+    vx__svo_rec root_tuple;
 } vx__svo_pool;
 
 /* Entries whose tuples the caller has already interned (the GPU voxelizer,
@@ -79,7 +95,8 @@ typedef struct vx__svo_interned {
     /* Lay the node blocks out on a second thread while the tree is built
      * (for callers with a core to spare; the model is the same). */
     bool layout_thread;
-    /* Threads that may intern tab (from 2^18 tuples; 0 or 1: the caller's). */
+    /* Threads that may intern tab (from 2^18 tuples) and copy the records
+     * of a filled pool (from 2^17; 0 or 1: the caller's). */
     unsigned threads;
     /* The tree already built (NULL: the builder builds it). The builder
      * then computes the representatives (unless pool->reps) and lays the

@@ -4,10 +4,10 @@
  * streams), so validation, bounds and the NODE coder run one model per job.
  * Threads are only used for large scenes: small ones stay on the caller's
  * thread, which keeps allocation order (and the OOM tests) exact. Results
- * never depend on the thread count. */
+ * never depend on the thread count. The jobs themselves run on vx_run_jobs
+ * (svo/core.h). */
 #define _POSIX_C_SOURCE 200809L
 #define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
-#include <pthread.h>
 #include <stdint.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -32,31 +32,6 @@ unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want) {
     return t < s->model_count ? t : s->model_count;
 }
 
-typedef struct job_set {
-    uint32_t count;
-    void (*run)(void* ctx, uint32_t i);
-    void* ctx;
-    pthread_mutex_t lock;
-    uint32_t next;
-} job_set;
-
-static void* job_worker(void* user) {
-    job_set* j = (job_set*)user;
-    for (;;) {
-        pthread_mutex_lock(&j->lock);
-        uint32_t i = j->next < j->count ? j->next++ : UINT32_MAX;
-        pthread_mutex_unlock(&j->lock);
-        if (i == UINT32_MAX) return NULL;
-        j->run(j->ctx, i);
-    }
-}
-
-void vx__svo_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, uint32_t i), void* ctx) {
-    job_set j = {count, run, ctx, PTHREAD_MUTEX_INITIALIZER, 0};
-    vx_run_threads(threads, job_worker, &j);
-    pthread_mutex_destroy(&j.lock);
-}
-
 void vx__svo_advise_huge(void* p, size_t n) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     const uintptr_t huge = (uintptr_t)2 << 20;
@@ -67,3 +42,4 @@ void vx__svo_advise_huge(void* p, size_t n) {
     (void)p, (void)n;
 #endif
 }
+

@@ -396,7 +396,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
  * caller's thread, which keeps allocation order (and the OOM tests) exact.
  * The bytes never depend on the thread count. */
 static unsigned pack_threads(const vx_svo_scene* s, unsigned want) { return vx__svo_threads(s, want); }
-#define run_jobs vx__svo_run_jobs
+#define run_jobs vx_run_jobs
 
 static bool put_var(vx_buf* b, uint64_t v) {
     do {
@@ -499,7 +499,8 @@ static void chunk_range(const chunk_job* j, uint32_t i, uint32_t* w0, uint32_t* 
     }
 }
 
-static void deflate_chunk(void* ctx, uint32_t i) {
+static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     chunk_job* j = (chunk_job*)ctx;
     const vx_svo_model* m = j->m;
     uint32_t w0, w1, r0, r1;
@@ -602,7 +603,7 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode,
     if (ok) {
         if (threads > count) threads = (unsigned)count;
         if (threads <= 1)
-            for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, i);
+            for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, 0, i);
         else
             run_jobs(threads, (uint32_t)count, deflate_chunk, &j);
         vx_buf tab = {.alloc = A};
@@ -728,7 +729,8 @@ typedef struct pack_jobs {
     bool* ok;
 } pack_jobs;
 
-static void pack_job(void* ctx, uint32_t i) {
+static void pack_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
     j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, VX__CHUNK_NONE, 1, &j->bufs[i]);
 }
@@ -1018,7 +1020,8 @@ typedef struct inflate_job {
     const vx_allocator* A;
 } inflate_job;
 
-static void inflate_chunk(void* ctx, uint32_t i) {
+static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     inflate_job* j = (inflate_job*)ctx;
     const chunk_ent* c = &j->ch[i];
     uint8_t* p[6];
@@ -1185,7 +1188,7 @@ static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_sv
             inflate_job j = {m, p, base, mi, ch, res, errs, A};
             if (threads > count) threads = (unsigned)count;
             if (threads <= 1)
-                for (uint32_t i = 0; i < count && res[i ? i - 1 : 0] == VX_OK; i++) inflate_chunk(&j, i);
+                for (uint32_t i = 0; i < count && res[i ? i - 1 : 0] == VX_OK; i++) inflate_chunk(&j, 0, i);
             else
                 run_jobs(threads, (uint32_t)count, inflate_chunk, &j);
             for (uint32_t i = 0; r == VX_OK && i < count; i++)
@@ -1213,7 +1216,8 @@ typedef struct unpack_jobs {
     const uint8_t* chunked; /* per model, or NULL */
 } unpack_jobs;
 
-static void unpack_job(void* ctx, uint32_t i) {
+static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
     j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);

@@ -141,7 +141,8 @@ typedef struct extent_jobs {
     vx__svo_extent* ext;
 } extent_jobs;
 
-static void extent_job(void* ctx, uint32_t i) {
+static void extent_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
     extent_jobs* j = (extent_jobs*)ctx;
     if (!model_extent(&j->s->models[i], &j->ext[i])) memset(&j->ext[i], 0, sizeof j->ext[i]);
 }
@@ -153,7 +154,7 @@ void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3])
     vx__svo_extent* ext = threads > 1 ? (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *ext) : NULL;
     if (ext) {
         extent_jobs j = {s, ext};
-        vx__svo_run_jobs(threads, s->model_count, extent_job, &j);
+        vx_run_jobs(threads, s->model_count, extent_job, &j);
     }
     vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
     vx_free(s->alloc, ext);

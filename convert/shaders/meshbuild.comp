@@ -76,6 +76,17 @@
  *           records stored, each region's first node. MODE 20 (after the
  *           scan): pool word 2 = the target's first record (region-relative),
  *           the stored runs' ids written to rids; each region's first record.
+ *   MODE 30 (per node, after MODE 20, pos still its scan; pc.level = R): the
+ *           model's attribute records themselves, so that the host copies
+ *           them instead of looking every record's tuple up (a random read
+ *           a record: at 4096^3 85 M of them took the CPU most of a second):
+ *           each stored run's tuples by channel into itin (rgba) and itout
+ *           (normal) as plain words and start (material, two 16-bit halves a
+ *           word, or-ed into a zeroed buffer), at the records' global
+ *           indices; per region r, misc[4 + 7R + 4r] = ~(the least global
+ *           record holding the root's representative, as the CPU's search
+ *           finds it) by atomicMax (0: none, the host appends it) and
+ *           [+1..+3] that representative's rgba, normal, material.
  * The blocks (svo_build.c, layout_nodes): in pool order each node's block
  * is [far words][a descriptor per node child][its run's first record]; a
  * node without node children (a lone record) reuses the last copy of its
@@ -118,7 +129,7 @@ layout(std430, binding = 9) buffer Nodes { uvec4 nodes[]; };
 layout(std430, binding = 10) buffer Table { uvec2 tab[]; }; /* (slot claimed by / canonical slot, least order) */
 /* [0]: a node differs from its canonical one; [1]: a block layout iteration changed something; [2]: the layout
  * settled, [3]: its iterations (MODE 29);
- * [4 + r]: region r's cells; [4 + R + 6 r]: their box (MODE 0) */
+ * [4 + r]: region r's cells; [4 + R + 6 r]: their box (MODE 0); [4 + 7 R + 4 r]: its root record (MODE 30) */
 layout(std430, binding = 11) buffer Misc { uint misc[]; };
 layout(std430, binding = 12) buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 13) buffer Vals { uint vals[]; };
@@ -128,7 +139,7 @@ layout(std430, binding = 16) buffer NRep { uvec4 nrep[]; };   /* per node slot: 
 layout(std430, binding = 17) readonly buffer UTab { uvec4 utab[]; }; /* per tuple id: rgba, normal, material, region */
 layout(std430, binding = 18) buffer TTab { uvec2 ttab[]; };   /* tuple table: (code, id); code < pc.base: a cell tuple, else a node */
 layout(std430, binding = 19) buffer RNew { uint rnew[]; };    /* per region: new tuples; [R + r]: their first index in ext */
-layout(std430, binding = 20) writeonly buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region */
+layout(std430, binding = 20) buffer Ext { uvec4 ext[]; }; /* the new tuples, region by region (MODE 30 reads them) */
 layout(std430, binding = 21) buffer RTab { uvec2 rtab[]; };    /* attribute runs: (claimed by node, least node) */
 layout(std430, binding = 22) buffer RNode { uvec2 rnode[]; };  /* per node in pool order: its run's slot, target node */
 layout(std430, binding = 23) writeonly buffer RIds { uint rids[]; }; /* the stored runs' tuple ids, region by region */
@@ -273,6 +284,12 @@ uint run_of(uint i, out uint v[8], out uint r) {
         k++;
     }
     return k;
+}
+/* Tuple id (region-relative) t of region r: the region's cell tuples, then
+ * its new representatives (MODE 17's numbering); R regions. */
+uvec4 tuple_of(uint r, uint t, uint R) {
+    uint nc = rinfo[r].z;
+    return t < nc ? utab[rinfo[r].y + t] : ext[rnew[R + r] + (t - nc)];
 }
 uint run_hash(uint v[8], uint n, uint r) {
     uint h = fmix(n * 0x9E3779B1u ^ r * 0x85EBCA77u);
@@ -610,6 +627,27 @@ void main() {
             uint v[8], rr;
             uint n = run_of(i, v, rr);
             for (uint k = 0u; k < n; k++) rids[pos[i] + k] = v[k];
+        }
+    } else if (MODE == 30u) { /* the records' attributes (itin: rgba, itout: normal, start: material) */
+        uint q = vals[i], r = nodes[4u * q].y, R = pc.level;
+        uint q_root = vals[rfirst[2u * r].z], root = pool[nodes[4u * q_root + 1u].z + 1u];
+        uint slot = 4u + 7u * R + 4u * r;
+        if (i == rfirst[2u * r].x) { /* once a region: the root's representative */
+            uvec4 tr = tuple_of(r, root, R);
+            misc[slot + 1u] = tr.x;
+            misc[slot + 2u] = tr.y;
+            misc[slot + 3u] = tr.z & 0xFFFFu;
+        }
+        if (rnode[i].y != i) return; /* its run is stored elsewhere */
+        uint v[8], rr;
+        uint n = run_of(i, v, rr), at = pos[i];
+        for (uint k = 0u; k < n; k++) {
+            uvec4 t = tuple_of(r, v[k], R);
+            uint g = at + k;
+            if ((pc.attrs & 1u) != 0u) itin[g >> 2u][g & 3u] = t.x;
+            if ((pc.attrs & 2u) != 0u) itout[g >> 2u][g & 3u] = t.y;
+            if ((pc.attrs & 4u) != 0u) atomicOr(start[g >> 1u], (t.z & 0xFFFFu) << (16u * (g & 1u)));
+            if (v[k] == root) atomicMax(misc[slot], ~g);
         }
     } else if (MODE == 21u) { /* the blocks' first guess; lone records keyed for the sort */
         uint q = vals[i], r = nodes[4u * q].y, hdr = nodes[4u * q].x;

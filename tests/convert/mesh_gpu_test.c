@@ -78,6 +78,14 @@ static int same_svo(const vx_gltf_mesh* mesh, uint32_t res, uint32_t region, boo
         fprintf(stderr, "  %s res %u region %u: the attribute runs or blocks were not laid out on the GPU\n", what, res, region);
         ok = 0;
     }
+    /* and the records' attributes filled there (a little-endian host: the
+     * material halves are the model's array) */
+    const uint16_t one = 1;
+    if (ok && attrs && st.laid_words && *(const uint8_t*)&one == 1 && st.filled_records != st.run_records) {
+        fprintf(stderr, "  %s res %u region %u: %llu of %llu records filled on the GPU\n", what, res, region,
+                (unsigned long long)st.filled_records, (unsigned long long)st.run_records);
+        ok = 0;
+    }
     /* and each region's node pool is the CPU builder's, node for node (and
      * with them the GPU's attribute runs and node words the builder's
      * layout's): the
@@ -448,6 +456,15 @@ static void test_random(void) {
         tri(&g, v, (uint32_t)(i % 4));
     }
     check_gen(&g, "random");
+    /* one colour (no vertex colours, one untextured material): every record
+     * and every representative is the same tuple, so the root's
+     * representative is among the records (its first record found there,
+     * not appended after them as above) */
+    float* col = g.m.color;
+    g.m.color = NULL;
+    for (size_t t = 0; t < g.m.tri_count; t++) g.m.material[t] = 3;
+    CHECK(same_svo(&g.m, 48, 0, false, "random, one colour"));
+    g.m.color = col;
     /* no colour source at all: a geometry-only model */
     free(g.m.color), g.m.color = NULL;
     free(g.m.material), g.m.material = NULL;
