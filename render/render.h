@@ -237,6 +237,9 @@ typedef struct vx_render_hit {
  * an edge or corner exactly before the hit; float tracing may break such a
  * tie differently (tests report these pixels separately). */
 #define VX_RENDER_HIT_AMBIGUOUS 1u
+/* Compact layout with pages (render/compact.h): the ray entered a page that
+ * was not resident; the hit is that page's cube, drawn in its mean colour. */
+#define VX_RENDER_HIT_COARSE 2u
 
 /* Output of a frame. pixels: width*height*4 floats, RGBA, row 0 at the top
  * (colour modes in [0,1]; normal: xyz; depth: t in every channel); hits is
