@@ -264,19 +264,7 @@ uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
  * image of the whole layout when the pages it sees fit in the pool. */
 vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
                                       uint64_t pool_bytes, vx_compact_gpu** out, vx_error* err);
-typedef struct vx_compact_page_stats {
-    uint32_t pages;        /* pages of the scene */
-    uint32_t resident;     /* resident now */
-    uint32_t coarse;       /* pages the last frame drew coarse (and requested) */
-    uint32_t loaded;       /* loaded before the last frame */
-    uint32_t evicted;      /* evicted before the last frame */
-    uint32_t refused;      /* requested pages the pool could not take before the last frame */
-    uint64_t refused_bytes; /* their bytes (over the budget) */
-    uint64_t top_bytes;    /* the resident top (slots, ranks, attributes, models, palette, page table) */
-    uint64_t pool_bytes;   /* the pool */
-    uint64_t used_bytes;   /* the pool's bytes held by resident pages */
-    uint64_t frames;       /* frames traced */
-} vx_compact_page_stats;
+typedef vx_render_page_stats vx_compact_page_stats; /* render/render.h */
 /* Zeroes for an unpaged object. */
 void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* out);
 /* Where page k is resident: its pool slot P (its blocks from P + 2), or -1. */

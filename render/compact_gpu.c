@@ -192,7 +192,7 @@ static void page_drop(paging* pg, uint32_t page) {
     pg->free_units += n;
     pg->slot[page] = -1;
     pg->st.resident--;
-    pg->st.used_bytes -= 4ull * pg->p.pages[page].words;
+    pg->st.used_bytes -= 8ull * n * pg->unit;
     pg->evict_patch[pg->nevict++] = page;
 }
 
@@ -261,7 +261,7 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
         pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)u * pg->unit;
         pg->last_used[page] = frame;
         pg->st.resident++;
-        pg->st.used_bytes += 4ull * pg->p.pages[page].words;
+        pg->st.used_bytes += 8ull * n * pg->unit;
         load[nload++] = page;
     }
     pg->st.loaded = nload;
@@ -365,10 +365,11 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     pg->p = *p;
     memset(p, 0, sizeof *p);
     uint32_t P = pg->p.page_count, W = (P + 31) / 32;
-    /* units: about a sixteenth of the largest page, at least 32 slots */
-    uint32_t maxslots = (pg->p.max_page_words + 1) / 2;
-    pg->unit = 32;
-    while (pg->unit * 16ull < maxslots) pg->unit *= 2;
+    /* units: small against pages (the waste at a page's end is half a unit
+     * on average), at most 2^20 of them (a request's search is linear) */
+    uint64_t maxslots = (pg->p.max_page_words + 1) / 2, pool_slots = pool_bytes / 8;
+    pg->unit = 2;
+    while (pg->unit < (pool_slots >> 20) || pg->unit * 1024ull < maxslots) pg->unit *= 2;
     pg->units = (uint32_t)(pool_bytes / 8 / pg->unit);
     pg->free_units = pg->units;
     pg->words_base = pg->p.top_words;

@@ -15,8 +15,8 @@
  * again. A view that needs more pages than the pool holds says so (pages
  * refused, bytes over) and draws the rest coarse. Scenes: generated palette
  * and RGBA models with rotated instances at page levels 3 and 4, and a
- * height field of 11 levels (the two-frame walk) at page level 10 (the
- * default: the rebase level) and 6. */
+ * height field of 11 levels (the two-frame walk) at page level 6, 9 (the
+ * default: the rebase level, VX_RENDER_FRAME_LEVELS) and 10. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -253,6 +253,71 @@ static vx_result shell_model(vx_svo_model* m, uint32_t n3, uint32_t seed) {
     return r;
 }
 
+/* The renderer's own choice: AUTO under a budget below the compact layout's
+ * bytes pages it (vx_render_layout_info says so); vx_render_frame's frames
+ * converge to the plain layout's image where the view's pages fit. */
+static void test_render_scene(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_model m;
+    REQUIRE(shell_model(&m, 64, 3) == VX_OK);
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, NULL, 70, 0, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, in, 2);
+    vx_error err = {0};
+    vx_render_scene *rp = NULL, *rc = NULL, *rg = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rp, &err) ==
+            VX_OK);
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc, &err) ==
+            VX_OK);
+    vx_render_layout_info lc, lg;
+    vx_render_scene_layout(rc, &lc);
+    CHECK(lc.layout == VX_RENDER_LAYOUT_COMPACT && lc.pages == 0 && lc.compact_bytes > 0);
+    uint64_t budget = lc.compact_bytes * 3 / 4;
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = budget, .page_level = 4},
+                                            &rg, &err);
+    CHECKF(r == VX_OK, "paged: %s", err.msg);
+    if (!r) {
+        vx_render_scene_layout(rg, &lg);
+        CHECKF(lg.layout == VX_RENDER_LAYOUT_COMPACT && lg.pages > 8 && lg.page_level == 4 && lg.bytes <= budget,
+               "layout %s, %u pages at level %u, %llu bytes of a budget of %llu", vx_render_layout_name(lg.layout),
+               lg.pages, lg.page_level, (unsigned long long)lg.bytes, (unsigned long long)budget);
+        /* a view of part of one shell */
+        vx_render_desc d = {.width = 64, .height = 48, .mode = VX_RENDER_ALBEDO, .want_hits = true,
+                            .camera = {.set = true, .fov = 30, .eye = {20, 28, -30}, .target = {32, 32, 32}}};
+        vx_render_image a = {0}, b = {0};
+        REQUIRE(vx_render_frame(rp, &d, &a, &err) == VX_OK);
+        vx_render_page_stats st = {0};
+        int f = 0;
+        for (; f < 16; f++) {
+            vx_render_image_free(&b);
+            REQUIRE(vx_render_frame(rg, &d, &b, &err) == VX_OK);
+            vx_render_scene_page_stats(rg, &st);
+            if (f == 0) CHECKF(st.coarse > 0 && st.resident == 0, "first frame: %u coarse, %u resident", st.coarse,
+                               st.resident);
+            if (!st.coarse) break;
+        }
+        CHECKF(st.coarse == 0 && st.frames == (uint64_t)f + 1 && st.pages == lg.pages, "after %d frames %u pages coarse",
+               f + 1, st.coarse);
+        CHECK(differ(&a, &b, "plain layout") == 0);
+        printf("  render scene, budget %llu of the compact layout's %llu bytes: %u pages, converged in %d frames\n",
+               (unsigned long long)budget, (unsigned long long)lc.compact_bytes, lg.pages, f + 1);
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+        /* a budget below the top and the largest page: the whole compact layout, over it */
+        vx_render_scene* rt = NULL;
+        vx_render_layout_info lt;
+        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = 64, .page_level = 4}, &rt,
+                                          &err) == VX_OK);
+        vx_render_scene_layout(rt, &lt);
+        CHECK(lt.layout == VX_RENDER_LAYOUT_COMPACT && lt.pages == 0 && lt.bytes > lt.budget);
+        vx_render_scene_destroy(rt);
+    }
+    vx_render_scene_destroy(rg);
+    vx_render_scene_destroy(rc);
+    vx_render_scene_destroy(rp);
+    vx_svo_scene_free(&s);
+}
+
 static void test_generated(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_model m[3];
@@ -296,7 +361,8 @@ static void test_deep(void) {
     vx_svo_scene s;
     ts_scene(&s, &m, 1, in, 2);
     run(&s, 6, 4, "height field of 11 levels");
-    /* pages at the rebase level (the default page level): a pool for all of them */
+    /* pages at the rebase level (the default page level, VX_RENDER_FRAME_LEVELS) and above it: a pool for all of them */
+    run(&s, VX_RENDER_FRAME_LEVELS, 1, "height field of 11 levels");
     run(&s, 10, 1, "height field of 11 levels");
     vx_svo_scene_free(&s);
 }
@@ -305,6 +371,7 @@ int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_generated);
     RUN(test_deep);
+    RUN(test_render_scene);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
