@@ -458,7 +458,7 @@ static vx_result create_paged(vx_render_scene* rs, const vx_svo_scene* s, const 
     vx_compact_paged p;
     vx_result r = vx_compact_page_build(c, lp, &rs->alloc, &p, err);
     if (r) return r;
-    uint64_t top = 4ull * p.top_words + 64ull * s->model_count + 1024 + 16ull * p.page_count;
+    uint64_t top = 4ull * p.top_words + 64ull * s->model_count + 1024 + 64 + 16ull * p.page_count;
     *whole = top >= budget || budget - top < 4ull * p.max_page_words;
     if (*whole) {
         vx_compact_paged_free(&p);
