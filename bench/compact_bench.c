@@ -132,15 +132,12 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
     vx_compact_scene c;
     vx_compact_gpu* cg = NULL;
     vx_compact_gpu* cgp = NULL; /* the paged layout, every page it needs resident */
-    vx_compact_gpu* cg1 = NULL; /* the colour in the walk's kernel (cg: in a dispatch of its own) */
     if (vx_render_scene_create(g, s, &rs, &err)) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         return;
     }
     if (vx_compact_build(NULL, s, &c, &err) == VX_OK) {
         if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
-        if (cg && vx_compact_gpu_create(rs, s, &c, &cg1, &err)) cg1 = NULL;
-        vx_compact_gpu_set_stages(cg1, 1);
         vx_compact_paged p;
         if (cg && lp && vx_compact_page_build(&c, lp, NULL, &p, &err) == VX_OK) {
             if (vx_compact_gpu_create_paged(rs, s, &p, 8 * p.data_words + (64u << 20), &cgp, &err)) {
@@ -151,9 +148,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         }
         vx_compact_free(&c);
     }
-    /* compact kernels timed: the whole layout (colour after the walk, in the walk), paged */
-    vx_compact_gpu* kern[3] = {cg, cg1, cgp};
-    const uint32_t nv = cgp ? 3 : cg1 ? 2 : 1;
+    const uint32_t nv = cgp ? 2 : 1; /* compact kernels timed: the whole layout, and paged */
     if (!cg) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         vx_render_scene_destroy(rs);
@@ -181,8 +176,8 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
-            vx_compact_gpu* k = kern[v];
-            if (k == cgp) {
+            vx_compact_gpu* k = v ? cgp : cg;
+            if (v) {
                 /* frames until the view's pages are resident */
                 for (int f = 0; f < 16; f++) {
                     vx_compact_page_stats st;
@@ -229,7 +224,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
                     continue;
                 }
-                if (vx_compact_gpu_time(kern[k - 1], &d, reps, &tb[k - 1][round], &err)) {
+                if (vx_compact_gpu_time(k == 1 ? cg : cgp, &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
                     tb[k - 1][round] = 0;
                 }
@@ -238,30 +233,29 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[ROUNDS], db3[3][ROUNDS];
+        double da3[ROUNDS], db3[2][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
             for (uint32_t v = 0; v < nv; v++)
-                if (vx_compact_gpu_time(kern[v], &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
+                if (vx_compact_gpu_time(v ? cgp : cg, &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
             if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
         }
         double da = bench_median(da3, ROUNDS);
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
-            printf("| %s | %s%s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
+            printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
-                   name, view ? "close-up" : "overview", v == 0 ? "" : v == 1 ? ", one kernel" : ", paged", 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
-                   (double)vx_compact_gpu_bytes(kern[v]) / 1e6);
+                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6);
         }
         fflush(stdout);
     }
     vx_compact_gpu_destroy(cg);
     vx_compact_gpu_destroy(cgp);
-    vx_compact_gpu_destroy(cg1);
     vx_render_scene_destroy(rs);
 }
 #endif

@@ -251,10 +251,6 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
                               vx_error* err);
 /* Bytes of the GPU buffers of the layout (geometry, attributes, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
-/* The colour modes at 1 spp run as two dispatches by default (the walk,
- * then the attribute decode of the pixels hit); stages 1: one kernel, as
- * other modes (benchmarks and tests compare both). */
-void vx_compact_gpu_set_stages(vx_compact_gpu* cg, uint32_t stages);
 
 /* The paged layout on the GPU: the top of *p and a pool of pool_bytes for
  * its pages (one buffer; at least the largest page). It takes *p (zeroed).

@@ -39,8 +39,7 @@ typedef struct paging {
 struct vx_compact_gpu {
     vx_render_scene* rs;
     vx_gpu* gpu;
-    vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage, mid;
-    bool one_kernel; /* vx_compact_gpu_set_stages(cg, 1): the colour in the walk's kernel */
+    vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
     double lo[3], hi[3];
     uint32_t deep;
     uint64_t bytes;
@@ -72,9 +71,8 @@ static void paging_free(vx_gpu* g, paging* pg) {
 
 void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     if (!cg) return;
-    vx__buffer* b[9] = {&cg->geom, &cg->attr,   &cg->models, &cg->palette, &cg->pixels,
-                        &cg->hits, &cg->pstate, &cg->stage,  &cg->mid};
-    for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    vx__buffer* b[8] = {&cg->geom, &cg->attr, &cg->models, &cg->palette, &cg->pixels, &cg->hits, &cg->pstate, &cg->stage};
+    for (int i = 0; i < 8; i++) vx__buffer_destroy(cg->gpu, b[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
 }
@@ -138,10 +136,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
-
-void vx_compact_gpu_set_stages(vx_compact_gpu* cg, uint32_t stages) {
-    if (cg) cg->one_kernel = stages == 1;
-}
 
 /* ---- pages ------------------------------------------------------------------------- */
 
@@ -465,37 +459,24 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    /* the colour modes at 1 spp: the walk, then the colour in a kernel of its own */
-    bool two = !cg->one_kernel && f->spp == 1 && sp[VX__SPEC_HAS_COLOR] &&
-               (f->mode == VX_RENDER_COLOR || f->mode == VX_RENDER_ALBEDO);
-    if ((r = vx__buffer_ensure(g, &cg->mid, two ? npx * 16 : 16, "compact hits to colour", err))) return r;
-    vx__pipeline* pipe[2] = {NULL, NULL}; /* the main stage, the walk before it */
-    for (int k = 0; k < (two ? 2 : 1); k++) {
-        uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], two ? 2u - k : 0u,
-                             want_hits, 0, 0, 0, cg->deep, pages};
-        uint64_t key = 0xC0AC7000u;
-        for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
-        vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr,
-                                           .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                           .binding_count = 12,
-                                           .spec_count = 10,
-                                           .label = two && k == 0 ? "compact colour" : "trace compact"};
-        pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        for (uint32_t i = 1; i < 12; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        memcpy(pd.spec, spec, sizeof spec);
-        if ((r = vx__pipeline_get(g, key, &pd, &pipe[k], err))) return r;
-    }
-    vx__pipeline* p = pipe[0];
+    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
+                         cg->deep, pages};
+    uint64_t key = 0xC0AC7000u;
+    for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
+    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
+                                       .binding_count = 11, .spec_count = 10, .label = "trace compact"};
+    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < 11; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd.spec, spec, sizeof spec);
+    vx__pipeline* p;
+    if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",
                                                   &cg->pstate, err)))
         return r;
     vx__dispatch_desc dd = {.pipeline = p,
-                            .pre_pipeline = pipe[1],
-                            .pre_groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
-                            .buffer_count = 12,
+                            .buffer_count = 11,
                             .buffers = {scene[0], &cg->geom, cg->pg ? &cg->geom : &cg->attr, &cg->models, scene[4],
-                                        scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate,
-                                        &cg->mid},
+                                        scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace compact"};

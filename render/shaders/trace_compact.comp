@@ -21,13 +21,6 @@ layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
 layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
 layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 4) const bool WRITE_HITS = false;
-// 0: one kernel; 1 and 2: the colour modes at 1 spp in two dispatches, the
-// walk (1: writes the hit and the shading factor) then the colour (2: the
-// attribute index and the block decode for the pixels hit). The walk's warps
-// otherwise end in the decode's chain of dependent loads, which their own
-// rays wait for; a kernel of its own runs it at the occupancy of a small
-// kernel (docs/PERFORMANCE.md issue 18).
-layout(constant_id = 3) const int STAGE = 0;
 // as trace.comp's: 1 some model is exact (CModel flag 2: a hit's t from its
 // cube's entry planes), 2 also some model has CModel.rebase > 0 (the hi/lo
 // origin and the walk in two frames), else 0
@@ -73,13 +66,10 @@ layout(std430, binding = 3) readonly buffer CModels { CModel models[]; };
 layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
 layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
 layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
-layout(std430, binding = 7) buffer Pixels { vec4 pixels[]; }; // read by STAGE 2
+layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
 layout(std430, binding = 10) buffer PageState { uint pstate[]; };
-// STAGE 1 -> 2: per pixel the hit instance (NO_HIT: none; bit 31: a coarse
-// page, its number in .y) and cell
-layout(std430, binding = 11) buffer Mid { uvec4 mid[]; };
 
 struct Hit {
     float t;
@@ -707,32 +697,10 @@ vec3 heat(uint it) {
     return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
 }
 
-// STAGE 2: the colour of the pixels the walk hit, times the shading factor
-// it left in the pixel.
-void colour_stage(uint i) {
-    uvec4 mh = mid[i];
-    if (mh.x == NO_HIT) return;
-    uint color;
-    if (PAGES > 0u && (mh.x & 0x80000000u) != 0u) {
-        color = pstate[P_REP + mh.y];
-    } else {
-        CModel m = models[insts[mh.x].model];
-        uint ab;
-        uint idx = cell_index(m, mh.yzw, ab);
-        color = decode_color(m, ab, idx);
-    }
-    vec4 f = pixels[i];
-    pixels[i] = vec4(unpack_rgb(color) * f.rgb, f.a);
-}
-
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
-    if (STAGE == 2) {
-        colour_stage(px.y * W + px.x);
-        return;
-    }
     uint spp = max(F.dims.z, 1u);
     vec4 acc = vec4(0.0);
     bool ortho = F.rx.w != 0.0;
@@ -764,14 +732,7 @@ void main() {
         h.page = NO_HIT;
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
-        if (STAGE == 1) {
-            // the colour is the next dispatch's; the pixel gets the shading factor
-            uint mi = !hit ? NO_HIT : (PAGES > 0u && h.page != NO_HIT) ? 0x80000000u : h.inst;
-            bool colours = hit && (models[insts[h.inst].model].flags & 1u) != 0u;
-            mid[px.y * W + px.x] = colours ? uvec4(mi, mi == 0x80000000u ? uvec3(h.page, 0u, 0u) : h.cell)
-                                           : uvec4(NO_HIT, 0u, 0u, 0u);
-            h.color = 0xFFFFFFFFu;
-        } else if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+        if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel
             CModel m = models[insts[h.inst].model];
             if (PAGES > 0u && h.page != NO_HIT) {

@@ -128,16 +128,6 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
         vx_result r3 = r2 ? r2 : vx_render_frame(rsc, &d, &b2, &err);
         CHECKF(r3 == VX_OK, "%s view %d: the compact render scene: %s", name, view, err.msg);
         if (!r3) {
-            /* the colour modes at 1 spp in one kernel too (two dispatches by default) */
-            vx_render_image b3 = {0};
-            vx_compact_gpu_set_stages(cg, 1);
-            vx_result r4 = vx_compact_gpu_frame(cg, &d, &b3, &err);
-            vx_compact_gpu_set_stages(cg, 2);
-            CHECKF(r4 == VX_OK, "%s view %d: one kernel: %s", name, view, err.msg);
-            if (!r4) CHECKF(differ(&a, &b3, name, "one kernel", view, NULL) == 0, "%s view %d: one kernel differs", name, view);
-            vx_render_image_free(&b3);
-        }
-        if (!r3) {
             uint32_t hits = 0, wrong = differ(&a, &b, name, "compact", view, &hits);
             uint32_t wrong2 = differ(&a, &b2, name, "compact scene", view, NULL);
             CHECKF(wrong == 0 && wrong2 == 0, "%s view %d: %u and %u of %u pixels differ", name, view, wrong, wrong2,
