@@ -11,7 +11,7 @@
 
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
-    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up;
+    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
 } cmodel_gpu;
 
 /* The paged layout's state on the host (vx_compact_gpu_create_paged). */
@@ -27,7 +27,7 @@ typedef struct paging {
     uint32_t* pending;    /* pages the last frame requested */
     uint32_t npending;
     uint32_t* state;      /* the state buffer's words as uploaded before a frame */
-    uint32_t state_words, list_off, req_off, use_off, rep_off, bitmap_words;
+    uint32_t state_words, list_off, req_off, rep_off, use_off, bitmap_words, use_words;
     uint32_t* evict_patch; /* pages whose top slot must say "not resident" at the next service */
     uint32_t nevict;
     uint32_t* moved;       /* resident pages the service moved (loaded again from the host elsewhere) */
@@ -326,10 +326,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     return vx__seq_submit(g, &s, err);
 }
 
-/* After a frame: the pages it requested (drawn coarse) and those it entered. */
+/* After a frame: the pages it requested (drawn coarse) and those it entered
+ * (by their first pool unit). */
 static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
     paging* pg = cg->pg;
-    uint32_t n = pg->rep_off; /* count, list, request and use bitmaps */
+    uint32_t n = pg->state_words;
     uint32_t* w = vx_alloc(&cg->gpu->alloc, (size_t)n * 4);
     if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     vx_result r = vx__buffer_download(cg->gpu, &cg->pstate, w, (VkDeviceSize)n * 4, err);
@@ -339,8 +340,8 @@ static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
         memcpy(pg->pending, w + pg->list_off, (size_t)count * 4);
         pg->npending = count;
         pg->st.coarse = count;
-        for (uint32_t k = 0; k < pg->p.page_count; k++)
-            if ((w[pg->use_off + k / 32] >> (k % 32)) & 1u) pg->last_used[k] = frame;
+        for (uint32_t u = 0; u < pg->units; u++)
+            if (((w[pg->use_off + u / 32] >> (u % 32)) & 1u) && pg->owner[u]) pg->last_used[pg->owner[u] - 1] = frame;
     }
     vx_free(&cg->gpu->alloc, w);
     return r;
@@ -373,9 +374,10 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     pg->units = (uint32_t)(pool_bytes / 8 / pg->unit);
     pg->free_units = pg->units;
     pg->words_base = pg->p.top_words;
-    pg->list_off = 1, pg->req_off = 1 + P, pg->use_off = 1 + P + W, pg->rep_off = 1 + P + 2 * W;
+    pg->list_off = 1, pg->req_off = 1 + P, pg->rep_off = 1 + P + W, pg->use_off = 1 + 2 * P + W;
     pg->bitmap_words = W;
-    pg->state_words = pg->rep_off + (P ? P : 1);
+    pg->use_words = (pg->units + 31) / 32;
+    pg->state_words = pg->use_off + (pg->use_words ? pg->use_words : 1);
     pg->owner = vx_calloc(&g->alloc, pg->units ? pg->units : 1, 4);
     pg->slot = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 8);
     pg->last_used = vx_calloc(&g->alloc, P ? P : 1, 8);
@@ -421,7 +423,9 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
                              .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS
                                            : 0,
-                             .page_up = paged ? pg->p.page_level + 1 : 0};
+                             .page_up = paged ? pg->p.page_level + 1 : 0,
+                             .pool_base = pg->words_base / 2,
+                             .unit_log2 = (uint32_t)__builtin_ctz(pg->unit)};
     }
     uint64_t pool_words = (uint64_t)pg->units * pg->unit * 2;
     uint64_t total = 4 * ((uint64_t)pg->p.top_words + pool_words);

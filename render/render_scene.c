@@ -466,7 +466,9 @@ static vx_result create_paged(vx_render_scene* rs, const vx_svo_scene* s, const 
     }
     rs->layout.pages = p.page_count;
     rs->layout.page_level = lp;
-    r = vx_compact_gpu_create_paged(rs, s, &p, budget - top, &rs->compact, err);
+    /* (the pool's use bits, a bit per unit of at least 16 bytes, count in the top) */
+    uint64_t pool = budget - top;
+    r = vx_compact_gpu_create_paged(rs, s, &p, pool - pool / 128 - 8, &rs->compact, err);
     vx_compact_paged_free(&p); /* emptied when taken */
     return r;
 }

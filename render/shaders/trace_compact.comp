@@ -30,8 +30,9 @@ const bool REBASE = DEEP >= 2;
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
 const uint PW = (PAGES + 31u) / 32u;
-// the state buffer's words: request count, request list, request and use bitmaps, mean colours
-const uint P_LIST = 1u, P_REQ = 1u + PAGES, P_USE = 1u + PAGES + PW, P_REP = 1u + PAGES + 2u * PW;
+// the state buffer's words: request count, request list, request bitmap,
+// mean colours, then a use bit per pool unit (the host knows each unit's page)
+const uint P_LIST = 1u, P_REQ = 1u + PAGES, P_REP = 1u + PAGES + PW, P_USE = 1u + 2u * PAGES + PW;
 const uint NOT_RESIDENT = 0x80000000u;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
@@ -46,7 +47,9 @@ const uint MAX_ITER = 100000u;
 // rebase as trace.comp's Model.rebase; page_up: the page level + 1 for a
 // paged model (its nodes of that level have their children's slots in the
 // top, pages below), else 0
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up; };
+// pool_base, unit_log2: the pool's first slot and its unit (a page at slot P
+// is in unit (P - pool_base) >> unit_log2)
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2; };
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
@@ -91,9 +94,10 @@ void page_request(uint p) {
         if (i < PAGES) pstate[P_LIST + i] = p;
     }
 }
-// The ray entered resident page p (the host's LRU): a read first, the common case.
-void page_use(uint p) {
-    uint w = P_USE + (p >> 5), b = 1u << (p & 31u);
+// The ray entered the resident page in pool unit u (the host's LRU): a read
+// first, the common case.
+void page_use(uint u) {
+    uint w = P_USE + (u >> 5), b = 1u << (u & 31u);
     if ((pstate[w] & b) == 0u) atomicOr(pstate[w], b);
 }
 
@@ -395,17 +399,19 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                         hit = true;
                         break;
                     }
+                    uvec2 ch = uvec2(0u);
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         // the child is of the page level: a page root when it
-                        // has children; not resident, its cube is the hit
-                        uvec2 ch = slots[nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))];
+                        // has children; not resident, its cube is the hit.
+                        // (The push below keeps this slot: no second load.)
+                        ch = slots[nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))];
                         if ((ch.y & NOT_RESIDENT) != 0u) {
                             coarse = ch.y & ~NOT_RESIDENT;
                             page_request(coarse);
                             hit = true;
                             break;
                         }
-                        if (((ch.x >> 8) & ~ch.x & 0xFFu) != 0u) page_use(slots[ch.y - 1u].x);
+                        if (((ch.x >> 8) & ~ch.x & 0xFFu) != 0u) page_use((ch.y - 2u - m.pool_base) >> m.unit_log2);
                     }
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
@@ -420,6 +426,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     loaded = lvl == 2;
                     if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
                     else desc = brick_octant(nd, uint(cs));
+                    if (PAGES > 0u && uint(lvl) == m.page_up) {
+                        nd = ch;
+                        desc = ch.x;
+                        loaded = true;
+                    }
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
