@@ -288,7 +288,9 @@ void vx_render_scene_destroy(vx_render_scene* rs);
  * against 5.07) is traced by vx_render_frame alone (its modes, spp, shadow
  * rays; no LOD, and the beam pass is not used), at 0.62-0.94 of the plain
  * kernel's rays/s on the H200 (docs/PERFORMANCE.md), so it is chosen only
- * where the plain layout does not fit. */
+ * where the plain layout does not fit. Where the compact layout does not
+ * fit either, it is paged (vx_render_page_stats below): the levels above the
+ * page level resident, the pages below loaded as rays ask for them. */
 typedef enum vx_render_layout {
     VX_RENDER_LAYOUT_AUTO = 0, /* plain where its node words and records fit memory_budget, else compact */
     VX_RENDER_LAYOUT_PLAIN,
