@@ -12,6 +12,14 @@
  * each round, after 0.5 s of warm-up dispatches), and the pixels
  * whose instance, cell, t or colour differ.
  *
+ * --paged LP (before the files) also times the paged layout cut at page level LP
+ * (render/compact.h "pages") with a pool for all its pages, after frames
+ * until every page the view needs is resident: the cost of the paging
+ * hooks in the kernel. --fly N with --budget MB (and --paged LP) instead flies
+ * N frames around each scene with a pool of MB: per frame the wall time
+ * (the service between frames, the trace, the read-back), the GPU time of the
+ * trace, the pages drawn coarse, loaded, evicted and refused, the pool's use.
+ *
  * --shader-stats (before --gpu) prints the driver's statistics of both
  * kernels (registers, spills, instructions) as they are created; each row
  * gives the mean traversal steps per ray of both (the hits' iterations).
@@ -40,20 +48,107 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
 #define ROUNDS 5 /* timing rounds per view; medians */
 
 /* Both kernels on s: one markdown row per view. */
-static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps) {
-    const uint32_t nv = 1; /* compact kernels timed (kernel variants were timed this way, issue 18) */
+/* The camera of frame f of n of a fly-through: around the scene's centre at
+ * three distances, looking at points near it. */
+static vx_render_desc fly_view(const double lo[3], const double hi[3], uint32_t W, uint32_t H, uint32_t f, uint32_t n) {
+    vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_ALBEDO};
+    double u = (double)f / n, a = 6.2831853 * u, dist = 0.35 + 0.5 * (0.5 + 0.5 * cos(3 * a));
+    d.camera.set = true;
+    d.camera.fov = 60;
+    for (int k = 0; k < 3; k++) {
+        double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+        d.camera.target[k] = mid + 0.1 * ext * sin(a + k);
+        d.camera.eye[k] = mid + dist * ext * (k == 1 ? 0.4 : (k == 0 ? cos(a) : sin(a)));
+    }
+    return d;
+}
+
+static void fly_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t lp,
+                     uint64_t budget, uint32_t frames) {
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_compact_scene c;
+    vx_compact_paged p;
+    vx_compact_gpu* cg = NULL;
+    double t0 = vx_time_now();
+    if (vx_render_scene_create_ex(g, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ||
+        vx_compact_build(NULL, s, &c, &err)) {
+        fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+        vx_render_scene_destroy(rs);
+        return;
+    }
+    double t1 = vx_time_now();
+    uint64_t whole = 4ull * c.geom_words + 4ull * c.attr_words;
+    vx_result r = vx_compact_page_build(&c, lp, NULL, &p, &err);
+    double t2 = vx_time_now();
+    uint32_t npages = r ? 0 : p.page_count;
+    uint64_t page_bytes = r ? 0 : 4 * p.data_words, top = r ? 0 : 4ull * p.top_words;
+    if (!r) r = vx_compact_gpu_create_paged(rs, s, &p, budget, &cg, &err);
+    vx_compact_paged_free(&p);
+    if (r) {
+        fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+        vx_compact_free(&c);
+        vx_render_scene_destroy(rs);
+        return;
+    }
+    printf("\n%s: page level %u, %u pages, %.1f MB of pages, top %.2f MB, pool %.1f MB (whole compact layout %.1f MB); "
+           "compact build %.2f s, pages cut %.2f s\n\n",
+           name, lp, npages, page_bytes / 1e6, top / 1e6, budget / 1e6, whole / 1e6, t1 - t0, t2 - t1);
+    printf("| frame | wall ms | trace GPU ms | pages coarse | loaded | evicted | refused (MB over) | resident | pool used MB |\n"
+           "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    double* wall = calloc(frames ? frames : 1, sizeof *wall);
+    double* gpu_t = calloc(frames ? frames : 1, sizeof *gpu_t);
+    for (uint32_t f = 0; wall && gpu_t && f < frames; f++) {
+        vx_render_desc d = fly_view(lo, hi, W, H, f, frames);
+        vx_render_image img = {0};
+        double tf = vx_time_now();
+        if (vx_compact_gpu_frame(cg, &d, &img, &err)) {
+            fprintf(stderr, "compact_bench: %s frame %u: %s\n", name, f, err.msg);
+            break;
+        }
+        wall[f] = vx_time_now() - tf, gpu_t[f] = img.gpu_seconds;
+        vx_render_image_free(&img);
+        vx_compact_page_stats st;
+        vx_compact_gpu_page_stats(cg, &st);
+        printf("| %u | %.2f | %.3f | %u | %u | %u | %u (%.1f) | %u | %.1f |\n", f, 1e3 * wall[f], 1e3 * gpu_t[f],
+               st.coarse, st.loaded, st.evicted, st.refused, st.refused_bytes / 1e6, st.resident, st.used_bytes / 1e6);
+    }
+    if (wall && gpu_t && frames) printf("\nmedian wall %.2f ms, trace %.3f ms a frame\n", 1e3 * bench_median(wall, frames),
+                                       1e3 * bench_median(gpu_t, frames));
+    fflush(stdout);
+    free(wall);
+    free(gpu_t);
+    vx_compact_free(&c);
+    vx_compact_gpu_destroy(cg);
+    vx_render_scene_destroy(rs);
+}
+
+static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps,
+                     uint32_t lp) {
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
     vx_compact_gpu* cg = NULL;
+    vx_compact_gpu* cgp = NULL; /* the paged layout, every page it needs resident */
     if (vx_render_scene_create(g, s, &rs, &err)) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         return;
     }
     if (vx_compact_build(NULL, s, &c, &err) == VX_OK) {
         if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
+        vx_compact_paged p;
+        if (cg && lp && vx_compact_page_build(&c, lp, NULL, &p, &err) == VX_OK) {
+            if (vx_compact_gpu_create_paged(rs, s, &p, 8 * p.data_words + (64u << 20), &cgp, &err)) {
+                fprintf(stderr, "compact_bench: %s: paged: %s\n", name, err.msg);
+                cgp = NULL;
+            }
+            vx_compact_paged_free(&p);
+        }
         vx_compact_free(&c);
     }
+    const uint32_t nv = cgp ? 2 : 1; /* compact kernels timed: the whole layout, and paged */
     if (!cg) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         vx_render_scene_destroy(rs);
@@ -81,7 +176,18 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
-            if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(cg, &d, &b, &err)) {
+            vx_compact_gpu* k = v ? cgp : cg;
+            if (v) {
+                /* frames until the view's pages are resident */
+                for (int f = 0; f < 16; f++) {
+                    vx_compact_page_stats st;
+                    if (vx_compact_gpu_frame(k, &d, &b, &err)) break;
+                    vx_render_image_free(&b);
+                    vx_compact_gpu_page_stats(k, &st);
+                    if (!st.coarse && !st.loaded) break;
+                }
+            }
+            if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(k, &d, &b, &err)) {
                 fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
             } else {
                 hits = ita = itb = 0;
@@ -118,7 +224,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
                     continue;
                 }
-                if (vx_compact_gpu_time(cg, &d, reps, &tb[k - 1][round], &err)) {
+                if (vx_compact_gpu_time(k == 1 ? cg : cgp, &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
                     tb[k - 1][round] = 0;
                 }
@@ -127,27 +233,29 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[ROUNDS], db3[ROUNDS];
+        double da3[ROUNDS], db3[2][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
-            if (vx_compact_gpu_time(cg, &d, reps, &db3[round], &err)) db3[round] = 0;
+            for (uint32_t v = 0; v < nv; v++)
+                if (vx_compact_gpu_time(v ? cgp : cg, &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
             if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
         }
-        double da = bench_median(da3, ROUNDS), db = bench_median(db3, ROUNDS);
+        double da = bench_median(da3, ROUNDS);
         for (uint32_t v = 0; v < nv; v++) {
-            double mb = bench_median(tb[v], ROUNDS);
+            double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB |\n",
-                   name, view ? "close-up" : "overview", 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
-                   (double)vx_compact_gpu_bytes(cg) / 1e6);
+                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6);
         }
         fflush(stdout);
     }
     vx_compact_gpu_destroy(cg);
+    vx_compact_gpu_destroy(cgp);
     vx_render_scene_destroy(rs);
 }
 #endif
@@ -193,7 +301,8 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
-    uint32_t gw = 0, gh = 0, reps = 20;
+    uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
+    uint64_t budget = 0;
     bool stats = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -242,6 +351,18 @@ int main(int argc, char** argv) {
             stats = !setenv("VX_GPU_SHADER_STATS", "1", 1);
             continue;
         }
+        if (!strcmp(argv[i], "--paged") && i + 1 < argc) {
+            lp = (uint32_t)strtoul(argv[++i], NULL, 10);
+            continue;
+        }
+        if (!strcmp(argv[i], "--fly") && i + 1 < argc) {
+            fly = (uint32_t)strtoul(argv[++i], NULL, 10);
+            continue;
+        }
+        if (!strcmp(argv[i], "--budget") && i + 1 < argc) {
+            budget = (uint64_t)(strtod(argv[++i], NULL) * 1e6);
+            continue;
+        }
         if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = (uint32_t)strtoul(argv[++i], NULL, 10);
             if (!reps || reps > 1000) reps = 20;
@@ -273,7 +394,8 @@ int main(int argc, char** argv) {
         if (!gw)
             for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
 #ifdef VX_BENCH_HAVE_VULKAN
-        if (gw) gpu_rows(gpu, name, &s, gw, gh, reps);
+        if (gw && fly && lp && budget) fly_rows(gpu, name, &s, gw, gh, lp, budget, fly);
+        else if (gw) gpu_rows(gpu, name, &s, gw, gh, reps, lp);
 #endif
         vx_svo_scene_free(&s);
     }

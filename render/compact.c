@@ -375,6 +375,13 @@ static vx_result flush_block(attr_enc* e) {
     return VX_OK;
 }
 
+static bool enc_value(attr_enc* e, uint32_t v) {
+    e->vals[e->n++] = v;
+    e->cells++;
+    if (e->n == e->B && (e->fail = flush_block(e))) return false;
+    return true;
+}
+
 static bool enc_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     (void)x, (void)y, (void)z;
     attr_enc* e = user;
@@ -383,10 +390,7 @@ static bool enc_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
                           e->m->attr_count);
         return false;
     }
-    e->vals[e->n++] = e->kind == VX_COMPACT_ATTR_RGBA ? e->m->rgba[attr] : e->m->palette[attr];
-    e->cells++;
-    if (e->n == e->B && (e->fail = flush_block(e))) return false;
-    return true;
+    return enc_value(e, e->kind == VX_COMPACT_ATTR_RGBA ? e->m->rgba[attr] : e->m->palette[attr]);
 }
 
 /* Blocks [first, end) of group g, and whether they all have one header. */
@@ -398,9 +402,11 @@ static bool group_same(const uint32_t* hdr, uint32_t nblocks, uint32_t g, uint32
     return true;
 }
 
-/* Appends model m's attribute region to the scene's array. */
-static vx_result build_attrs(const vx_compact_desc* d, uint32_t B, const vx_svo_model* m, vx_compact_model* cm,
-                             vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
+/* Appends model m's attribute region to the scene's array: its cells'
+ * values in Morton order, or, with vals, cm->voxels values given (a page's,
+ * render/compact_page.c; m is then unused). */
+static vx_result build_attrs(const vx_compact_desc* d, uint32_t B, const vx_svo_model* m, const uint32_t* vals,
+                             vx_compact_model* cm, vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
     cm->block = B;
     attr_enc e = {.a = d->alloc, .err = err, .st = &c->stats, .m = m, .kind = cm->attr_kind, .B = B,
                   .width = cm->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32};
@@ -423,7 +429,11 @@ static vx_result build_attrs(const vx_compact_desc* d, uint32_t B, const vx_svo_
                     ATTR_OFF_MAX - 1);
         goto done;
     }
-    r = vx_svo_decode_model(m, enc_cell, &e, err);
+    if (vals) {
+        for (uint32_t i = 0; i < cm->voxels && enc_value(&e, vals[i]); i++) {}
+    } else {
+        r = vx_svo_decode_model(m, enc_cell, &e, err);
+    }
     if (!r) r = e.fail;
     if (!r && e.n) r = flush_block(&e);
     if (r) goto done;
@@ -491,19 +501,19 @@ vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block
  * a header per 64 cells otherwise). */
 static vx_result build_attrs_auto(const vx_compact_desc* d, const vx_svo_model* m, vx_compact_model* cm,
                                   vx_compact_scene* c, size_t* attr_cap, vx_error* err) {
-    if (d->block) return build_attrs(d, d->block, m, cm, c, attr_cap, err);
+    if (d->block) return build_attrs(d, d->block, m, NULL, cm, c, attr_cap, err);
     vx_compact_stats st0 = c->stats;
     uint32_t w0 = c->attr_words;
-    vx_result r = build_attrs(d, VX_COMPACT_BLOCK, m, cm, c, attr_cap, err);
+    vx_result r = build_attrs(d, VX_COMPACT_BLOCK, m, NULL, cm, c, attr_cap, err);
     if (r || 2 * (c->stats.uniform - st0.uniform) < c->stats.blocks - st0.blocks) return r;
     uint32_t w64 = c->attr_words - w0;
     c->stats = st0;
     c->attr_words = w0;
-    if ((r = build_attrs(d, VX_COMPACT_BLOCK_UNIFORM, m, cm, c, attr_cap, err))) return r;
+    if ((r = build_attrs(d, VX_COMPACT_BLOCK_UNIFORM, m, NULL, cm, c, attr_cap, err))) return r;
     if (c->attr_words - w0 < w64) return VX_OK;
     c->stats = st0;
     c->attr_words = w0;
-    return build_attrs(d, VX_COMPACT_BLOCK, m, cm, c, attr_cap, err);
+    return build_attrs(d, VX_COMPACT_BLOCK, m, NULL, cm, c, attr_cap, err);
 }
 
 void vx_compact_free(vx_compact_scene* c) {
@@ -691,8 +701,37 @@ static uint32_t wcode_sum(uint32_t wcode) {
     return (wcode & 15u) + ((wcode >> 4) & 15u) + ((wcode >> 8) & 15u) + ((wcode >> 12) & 15u);
 }
 
+vx_result vx__compact_encode(const vx_allocator* alloc, uint32_t block, uint32_t kind, const uint32_t* vals, uint32_t n,
+                             vx_compact_stats* st, uint32_t** words, uint32_t* nwords, vx_error* err) {
+    vx_compact_scene c = {0};
+    vx_compact_model cm = {.voxels = n, .attr_kind = kind};
+    vx_compact_desc d = {.alloc = alloc};
+    size_t cap = 0;
+    *words = NULL, *nwords = 0;
+    if (!n) return VX_OK;
+    vx_result r = build_attrs(&d, block, NULL, vals, &cm, &c, &cap, err);
+    if (st) {
+        st->blocks += c.stats.blocks, st->uniform += c.stats.uniform, st->raw += c.stats.raw;
+        st->delta += c.stats.delta, st->uniform_groups += c.stats.uniform_groups, st->shared += c.stats.shared;
+        st->distinct_sum += c.stats.distinct_sum;
+    }
+    if (r) {
+        vx_free(alloc, c.attr);
+        return r;
+    }
+    *words = c.attr, *nwords = c.attr_words;
+    return VX_OK;
+}
+
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t mi, uint32_t i) {
     if (!c || mi >= c->model_count) return 0xFFFFFFFFu;
+    const vx_compact_model* m = &c->models[mi];
+    if (m->attr_kind == VX_COMPACT_ATTR_NONE || i >= m->voxels) return 0xFFFFFFFFu;
+    uint32_t v = vx__compact_value(c, mi, i);
+    return m->attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v & 0xFFu] : v;
+}
+
+uint32_t vx__compact_value(const vx_compact_scene* c, uint32_t mi, uint32_t i) {
     const vx_compact_model* m = &c->models[mi];
     if (m->attr_kind == VX_COMPACT_ATTR_NONE || i >= m->voxels) return 0xFFFFFFFFu;
     uint32_t B = m->block, width = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? 8 : 32;
@@ -717,5 +756,5 @@ uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t mi, uint32_t i) {
         uint32_t k = code ? get_bits(p, (uint64_t)j * code, code) : 0;
         v = get_bits(p + ((uint64_t)B * code + 31) / 32, (uint64_t)k * width, width);
     }
-    return m->attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v & 0xFFu] : v;
+    return v;
 }

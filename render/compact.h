@@ -153,6 +153,75 @@ uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
 
+/* Internal (compact.c): the stored value of attribute index i of model m
+ * (the palette index for palette models, RGBA otherwise); and n values
+ * coded as one model's attribute region (compact.h's groups, headers and
+ * payloads, offsets from its first word) in *words (freed with alloc). */
+uint32_t vx__compact_value(const vx_compact_scene* c, uint32_t m, uint32_t i);
+vx_result vx__compact_encode(const vx_allocator* alloc, uint32_t block, uint32_t kind, const uint32_t* vals, uint32_t n,
+                             vx_compact_stats* st, uint32_t** words, uint32_t* nwords, vx_error* err);
+
+/* ---- pages: scenes bigger than GPU memory (render/compact_page.c) -------------------
+ * The layout cut at page level Lp (>= 3): the subtree below each node of
+ * level Lp that has children of its own is a page, loaded into a pool on
+ * the GPU when a ray needs it; the levels above Lp (the top) stay resident.
+ * The top is a tree down to level Lp (each occurrence of a level-Lp node its
+ * own slot, so a page is one place of one model and has one index range of
+ * attributes; blocks shared between pages are stored in each, sharing inside
+ * a page stays). A page root's slot keeps its descriptor; its word 1 is the
+ * pool slot of the page's first block when resident, else bit 31 | page.
+ *
+ * Top words: the top's slots (2 words each), then a rank word per slot
+ * (word 2 top_slots + s, 0 for bricks), then each model's attribute region:
+ * its values in Morton order with the cells of its pages replaced by 0 (a
+ * page's range of indices codes as uniform blocks, a word per group).
+ * A page image (words, position independent; loaded at an even word 2P):
+ *   0: attribute region (word offset; + 2P when loaded)
+ *   1: rank word base - 2 (+ P when loaded: the rank of slot s, s >= P + 2,
+ *      of levels >= 3 is at word that + s)
+ *   2: the page number, 3: 0
+ *   4 ..: its slots (slot P + 2 + j: local slot j), those of levels >= 3
+ *      first (n3 of them: their word 1 a local block index, + P + 2 when
+ *      loaded), the page root's children's block at local slot 0
+ *   then the n3 ranks, then the attribute region of the page's cells
+ *   (indices from its first cell), rounded up to an even count of words. */
+typedef struct vx_compact_page {
+    uint32_t model;      /* the model */
+    uint32_t top_slot;   /* its root's slot in the top */
+    uint32_t cube[3];    /* its cube's first cell in the model (side 2^page_level) */
+    uint32_t first;      /* the model's attribute index of its first cell */
+    uint32_t cells;      /* its cells */
+    uint32_t rgba;       /* the mean colour of its cells: what a frame draws while it is not resident */
+    uint32_t slots, n3;  /* geometry slots of its image, of levels >= 3 */
+    uint32_t words;      /* words of its image */
+    uint64_t offset;     /* word offset of its image in data */
+} vx_compact_page;
+
+typedef struct vx_compact_paged {
+    uint32_t page_level;
+    uint32_t model_count;
+    vx_compact_model* models; /* root: a top slot; attr_base: a top word */
+    uint32_t top_slots;
+    uint32_t top_words;
+    uint32_t* top;
+    uint32_t page_count;
+    vx_compact_page* pages;
+    uint64_t data_words;
+    uint32_t* data; /* the page images */
+    uint32_t max_page_words;
+    uint32_t palette[256];
+    vx_allocator alloc;
+} vx_compact_paged;
+
+/* Cuts c (vx_compact_build of a scene) at page_level (3..31; models of at
+ * most page_level levels are all top). *out owns its arrays. */
+vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, const vx_allocator* alloc,
+                                vx_compact_paged* out, vx_error* err);
+void vx_compact_paged_free(vx_compact_paged* p);
+/* The page whose cube holds cell (x, y, z) of model m, or UINT32_MAX (a cell
+ * of the top: no page there). */
+uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t m, uint32_t x, uint32_t y, uint32_t z);
+
 /* The CPU traversal of the layout: the centre ray of every pixel of the
  * frame desc gives (the CPU reference's camera, rays and rules, double
  * precision, a brute-force loop over the drawn instances of s), walked
@@ -182,6 +251,28 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
                               vx_error* err);
 /* Bytes of the GPU buffers of the layout (geometry, attributes, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
+
+/* The paged layout on the GPU: the top of *p and a pool of pool_bytes for
+ * its pages (one buffer; at least the largest page). It takes *p (zeroed).
+ * No page is resident at first. Each frame (vx_compact_gpu_frame) first
+ * loads the pages the previous frame requested, as many as the pool holds
+ * (evicting pages no ray entered in the previous frame, the least recently
+ * entered first; never one the previous frame entered), then traces: a ray
+ * that enters a page not resident hits its cube (coarse: the page's mean
+ * colour, VX_RENDER_HIT_COARSE in the hit) and requests it; then it reads
+ * the requests back. A still camera thus converges in a few frames to the
+ * image of the whole layout when the pages it sees fit in the pool. */
+vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
+                                      uint64_t pool_bytes, vx_compact_gpu** out, vx_error* err);
+typedef vx_render_page_stats vx_compact_page_stats; /* render/render.h */
+/* Zeroes for an unpaged object. */
+void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* out);
+/* Where page k is resident: its pool slot P (its blocks from P + 2), or -1. */
+int64_t vx_compact_gpu_page_slot(const vx_compact_gpu* cg, uint32_t page);
+/* Evicts page k now (tests: a page loaded again lands elsewhere). */
+vx_result vx_compact_gpu_page_evict(vx_compact_gpu* cg, uint32_t page, vx_error* err);
+/* The paged layout the object holds (NULL unpaged). */
+const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg);
 
 #ifdef __cplusplus
 }

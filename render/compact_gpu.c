@@ -11,16 +11,39 @@
 
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
-    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase;
+    uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
 } cmodel_gpu;
+
+/* The paged layout's state on the host (vx_compact_gpu_create_paged). */
+typedef struct paging {
+    vx_compact_paged p;
+    uint32_t words_base;  /* the pool's first word in the buffer (the top's words before it) */
+    uint32_t unit;        /* slots per pool unit */
+    uint32_t units;       /* pool units */
+    uint32_t cursor;      /* next-fit start */
+    uint32_t* owner;      /* per unit: page + 1, 0 free */
+    int64_t* slot;        /* per page: its pool slot P, -1 not resident */
+    uint64_t* last_used;  /* per page: the last frame a ray entered it */
+    uint32_t* pending;    /* pages the last frame requested */
+    uint32_t npending;
+    uint32_t* state;      /* the state buffer's words as uploaded before a frame */
+    uint32_t state_words, list_off, req_off, rep_off, use_off, bitmap_words, use_words;
+    uint32_t* evict_patch; /* pages whose top slot must say "not resident" at the next service */
+    uint32_t nevict;
+    uint32_t* moved;       /* resident pages the service moved (loaded again from the host elsewhere) */
+    uint32_t nmoved;
+    uint32_t free_units;
+    vx_compact_page_stats st;
+} paging;
 
 struct vx_compact_gpu {
     vx_render_scene* rs;
     vx_gpu* gpu;
-    vx__buffer geom, attr, models, palette, pixels, hits;
+    vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
     double lo[3], hi[3];
     uint32_t deep;
     uint64_t bytes;
+    paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
 
 /* trace.comp's Model.box (render_scene.c model_box) */
@@ -33,10 +56,24 @@ static uint32_t model_box(const vx_svo_model* m) {
     return b;
 }
 
+static void paging_free(vx_gpu* g, paging* pg) {
+    if (!pg) return;
+    vx_compact_paged_free(&pg->p);
+    vx_free(&g->alloc, pg->owner);
+    vx_free(&g->alloc, pg->slot);
+    vx_free(&g->alloc, pg->last_used);
+    vx_free(&g->alloc, pg->pending);
+    vx_free(&g->alloc, pg->state);
+    vx_free(&g->alloc, pg->evict_patch);
+    vx_free(&g->alloc, pg->moved);
+    vx_free(&g->alloc, pg);
+}
+
 void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     if (!cg) return;
-    vx__buffer* b[6] = {&cg->geom, &cg->attr, &cg->models, &cg->palette, &cg->pixels, &cg->hits};
-    for (int i = 0; i < 6; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    vx__buffer* b[8] = {&cg->geom, &cg->attr, &cg->models, &cg->palette, &cg->pixels, &cg->hits, &cg->pstate, &cg->stage};
+    for (int i = 0; i < 8; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
 }
 
@@ -79,7 +116,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         if (deep_model) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
-                             .kind = m->attr_kind, .rank_base = c->slot_count,
+                             .kind = m->attr_kind, .rank_base = 2 * c->slot_count,
                              .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS
                                            : 0};
@@ -100,6 +137,319 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
 
+/* ---- pages ------------------------------------------------------------------------- */
+
+static uint32_t page_units(const paging* pg, uint32_t page) {
+    uint64_t slots = (pg->p.pages[page].words + 1) / 2;
+    return (uint32_t)((slots + pg->unit - 1) / pg->unit);
+}
+
+/* Next-fit over the pool's units: the first run of n free units from the
+ * cursor on (so a page loaded again after its eviction lands elsewhere while
+ * there is room); UINT32_MAX when none. */
+static uint32_t pool_find(const paging* pg, uint32_t n) {
+    for (uint32_t pass = 0; pass < 2; pass++) {
+        uint32_t lo = pass ? 0 : pg->cursor, hi = pass ? pg->cursor : pg->units;
+        uint32_t run = 0;
+        for (uint32_t u = lo; u < hi; u++) {
+            run = pg->owner[u] ? 0 : run + 1;
+            if (run == n) return u + 1 - n;
+        }
+        if (pass == 0 && pg->cursor == 0) break;
+    }
+    return UINT32_MAX;
+}
+
+/* Slides the resident pages to the pool's start, in their order (free space
+ * in holes smaller than a request is otherwise lost: pages differ in size).
+ * A moved page is loaded again from the host copy at its new place; pages
+ * loaded in this service (last_used == frame) are uploaded after it anyway. */
+static void pool_compact(paging* pg, uint64_t frame) {
+    uint32_t at = 0;
+    for (uint32_t u = 0; u < pg->units;) {
+        if (!pg->owner[u]) {
+            u++;
+            continue;
+        }
+        uint32_t page = pg->owner[u] - 1, n = page_units(pg, page);
+        if (u != at) {
+            for (uint32_t k = 0; k < n; k++) pg->owner[at + k] = page + 1;
+            for (uint32_t k = at + n > u ? at + n : u; k < u + n; k++) pg->owner[k] = 0;
+            pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)at * pg->unit;
+            bool listed = pg->last_used[page] == frame;
+            for (uint32_t i = 0; !listed && i < pg->nmoved; i++) listed = pg->moved[i] == page;
+            if (!listed) pg->moved[pg->nmoved++] = page;
+        }
+        at += n;
+        u += n;
+    }
+    pg->cursor = at < pg->units ? at : 0;
+}
+
+static void page_drop(paging* pg, uint32_t page) {
+    uint32_t u0 = (uint32_t)((pg->slot[page] - pg->words_base / 2) / pg->unit), n = page_units(pg, page);
+    for (uint32_t u = u0; u < u0 + n; u++) pg->owner[u] = 0;
+    pg->free_units += n;
+    pg->slot[page] = -1;
+    pg->st.resident--;
+    pg->st.used_bytes -= 8ull * n * pg->unit;
+    pg->evict_patch[pg->nevict++] = page;
+}
+
+int64_t vx_compact_gpu_page_slot(const vx_compact_gpu* cg, uint32_t page) {
+    if (!cg || !cg->pg || page >= cg->pg->p.page_count) return -1;
+    return cg->pg->slot[page];
+}
+
+vx_result vx_compact_gpu_page_evict(vx_compact_gpu* cg, uint32_t page, vx_error* err) {
+    if (!cg || !cg->pg || page >= cg->pg->p.page_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no page %u", page);
+    if (cg->pg->slot[page] >= 0) page_drop(cg->pg, page);
+    return VX_OK;
+}
+
+void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* out) {
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (cg && cg->pg) *out = cg->pg->st;
+}
+
+const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg) { return cg && cg->pg ? &cg->pg->p : NULL; }
+
+/* Between frames: loads the pages the last frame requested (evicting pages
+ * the last frame did not enter, least recently entered first), marks the
+ * evicted ones not resident in the top, and clears the frame's request and
+ * use words: one staging buffer, one submission. */
+static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
+    paging* pg = cg->pg;
+    vx_gpu* g = cg->gpu;
+    uint64_t frame = pg->st.frames + 1; /* the frame about to be traced */
+    pg->st.loaded = pg->st.evicted = pg->st.refused = 0;
+    pg->st.refused_bytes = 0;
+    uint32_t nload = 0;
+    uint32_t* load = pg->pending; /* loaded pages are compacted to the front */
+    for (uint32_t i = 0; i < pg->npending; i++) {
+        uint32_t page = pg->pending[i];
+        if (page >= pg->p.page_count || pg->slot[page] >= 0) continue;
+        uint32_t n = page_units(pg, page), u = pool_find(pg, n);
+        while (u == UINT32_MAX) {
+            if (pg->free_units >= n) {
+                /* room enough, in holes: slide the pages together */
+                pool_compact(pg, frame);
+                u = pool_find(pg, n);
+                break;
+            }
+            /* the least recently entered page that the last frame did not enter */
+            uint32_t best = UINT32_MAX;
+            for (uint32_t k = 0; k < pg->p.page_count; k++)
+                if (pg->slot[k] >= 0 && pg->last_used[k] + 1 < frame &&
+                    (best == UINT32_MAX || pg->last_used[k] < pg->last_used[best]))
+                    best = k;
+            if (best == UINT32_MAX) break;
+            page_drop(pg, best);
+            pg->st.evicted++;
+            u = pool_find(pg, n);
+        }
+        if (u == UINT32_MAX) {
+            pg->st.refused++;
+            pg->st.refused_bytes += 4ull * pg->p.pages[page].words;
+            continue;
+        }
+        for (uint32_t k = u; k < u + n; k++) pg->owner[k] = page + 1;
+        pg->free_units -= n;
+        pg->cursor = u + n < pg->units ? u + n : 0;
+        pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)u * pg->unit;
+        pg->last_used[page] = frame;
+        pg->st.resident++;
+        pg->st.used_bytes += 8ull * n * pg->unit;
+        load[nload++] = page;
+    }
+    pg->st.loaded = nload;
+    pg->npending = 0;
+    /* staging: the state words, the loaded images (relocated), the top's patched words */
+    /* the moved pages go up as loads too (after this service's, so that
+     * they are found in one list) */
+    for (uint32_t i = 0; i < pg->nmoved; i++)
+        if (pg->slot[pg->moved[i]] >= 0) load[nload++] = pg->moved[i];
+    pg->nmoved = 0;
+    uint64_t words = pg->state_words;
+    for (uint32_t i = 0; i < nload; i++) words += pg->p.pages[load[i]].words;
+    words += (uint64_t)nload + pg->nevict;
+    vx_result r = VX_OK;
+    if (!cg->stage.buf || cg->stage.size < words * 4) {
+        vx__buffer_destroy(g, &cg->stage);
+        r = vx__buffer_create(g, words * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, "compact pages staging",
+                              &cg->stage, err);
+    }
+    if (r) return r;
+    uint32_t* st = cg->stage.map;
+    uint32_t ncopy = 2 + nload + nload + pg->nevict, nc = 0;
+    VkBufferCopy* cp = vx_alloc(&g->alloc, (size_t)ncopy * sizeof *cp);
+    if (!cp) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u copies", ncopy);
+    uint64_t at = 0;
+    memcpy(st, pg->state, (size_t)pg->state_words * 4);
+    cp[nc++] = (VkBufferCopy){.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)pg->state_words * 4};
+    at += pg->state_words;
+    for (uint32_t i = 0; i < nload; i++) {
+        const vx_compact_page* p = &pg->p.pages[load[i]];
+        uint32_t* w = st + at;
+        uint32_t P = (uint32_t)pg->slot[load[i]];
+        memcpy(w, pg->p.data + p->offset, (size_t)p->words * 4);
+        w[0] += 2 * P, w[1] += P;
+        for (uint32_t j = 0; j < p->n3; j++) {
+            uint32_t d = w[4 + 2 * j];
+            if (((d >> 8) & ~d) & 0xFFu) w[4 + 2 * j + 1] += P + 2;
+        }
+        cp[nc++] = (VkBufferCopy){.srcOffset = at * 4, .dstOffset = (VkDeviceSize)P * 8, .size = (VkDeviceSize)p->words * 4};
+        at += p->words;
+    }
+    for (uint32_t i = 0; i < nload + pg->nevict; i++) {
+        uint32_t page = i < nload ? load[i] : pg->evict_patch[i - nload];
+        /* an evicted page loaded again in this service: its load's word alone */
+        if (i >= nload && pg->slot[page] >= 0) continue;
+        st[at] = pg->slot[page] >= 0 ? (uint32_t)pg->slot[page] + 2 : 0x80000000u | page;
+        cp[nc++] = (VkBufferCopy){.srcOffset = at * 4,
+                                  .dstOffset = (2 * (VkDeviceSize)pg->p.pages[page].top_slot + 1) * 4, .size = 4};
+        at++;
+    }
+    pg->nevict = 0;
+    vx__seq s;
+    if ((r = vx__seq_begin(g, &s, err))) {
+        vx_free(&g->alloc, cp);
+        return r;
+    }
+    /* the pool's and the top's words (no two regions overlap), then the
+     * state words, whose copy's barrier orders all of them before the trace */
+    if (nc > 1) vkCmdCopyBuffer(g->cmd, cg->stage.buf, cg->geom.buf, nc - 1, cp + 1);
+    vx__seq_copy(g, &s, &cg->stage, 0, &cg->pstate, 0, cp[0].size);
+    vx_free(&g->alloc, cp);
+    return vx__seq_submit(g, &s, err);
+}
+
+/* After a frame: the pages it requested (drawn coarse) and those it entered
+ * (by their first pool unit). */
+static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
+    paging* pg = cg->pg;
+    uint32_t n = pg->state_words;
+    uint32_t* w = vx_alloc(&cg->gpu->alloc, (size_t)n * 4);
+    if (!w) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    vx_result r = vx__buffer_download(cg->gpu, &cg->pstate, w, (VkDeviceSize)n * 4, err);
+    if (!r) {
+        uint64_t frame = ++pg->st.frames;
+        uint32_t count = w[0] < pg->p.page_count ? w[0] : pg->p.page_count;
+        memcpy(pg->pending, w + pg->list_off, (size_t)count * 4);
+        pg->npending = count;
+        pg->st.coarse = count;
+        for (uint32_t u = 0; u < pg->units; u++)
+            if (((w[pg->use_off + u / 32] >> (u % 32)) & 1u) && pg->owner[u]) pg->last_used[pg->owner[u] - 1] = frame;
+    }
+    vx_free(&cg->gpu->alloc, w);
+    return r;
+}
+
+vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
+                                      uint64_t pool_bytes, vx_compact_gpu** out, vx_error* err) {
+    if (!rs || !s || !p || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (p->model_count != s->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the paged layout has %u models, the scene %u",
+                       p->model_count, s->model_count);
+    vx_gpu* g = vx__render_scene_gpu(rs);
+    if (pool_bytes < 4ull * p->max_page_words)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "a page pool of %llu bytes cannot hold the largest page (%llu bytes): a larger budget or a "
+                       "lower page level",
+                       (unsigned long long)pool_bytes, 4ull * p->max_page_words);
+    uint64_t max_words = (uint64_t)1 << 32; /* slots indexed by 31 bits, words by 32 */
+    if (pool_bytes / 4 + p->top_words >= max_words) pool_bytes = (max_words - 16 - p->top_words) * 4;
+    paging* pg = vx_calloc(&g->alloc, 1, sizeof *pg);
+    if (!pg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    pg->p = *p;
+    memset(p, 0, sizeof *p);
+    uint32_t P = pg->p.page_count, W = (P + 31) / 32;
+    /* units: small against pages (the waste at a page's end is half a unit
+     * on average), at most 2^20 of them (a request's search is linear) */
+    uint64_t maxslots = (pg->p.max_page_words + 1) / 2, pool_slots = pool_bytes / 8;
+    pg->unit = 2;
+    while (pg->unit < (pool_slots >> 20) || pg->unit * 1024ull < maxslots) pg->unit *= 2;
+    pg->units = (uint32_t)(pool_bytes / 8 / pg->unit);
+    pg->free_units = pg->units;
+    pg->words_base = pg->p.top_words;
+    pg->list_off = 1, pg->req_off = 1 + P, pg->rep_off = 1 + P + W, pg->use_off = 1 + 2 * P + W;
+    pg->bitmap_words = W;
+    pg->use_words = (pg->units + 31) / 32;
+    pg->state_words = pg->use_off + (pg->use_words ? pg->use_words : 1);
+    pg->owner = vx_calloc(&g->alloc, pg->units ? pg->units : 1, 4);
+    pg->slot = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 8);
+    pg->last_used = vx_calloc(&g->alloc, P ? P : 1, 8);
+    pg->pending = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->evict_patch = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->moved = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->state = vx_calloc(&g->alloc, pg->state_words, 4);
+    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state) {
+        paging_free(g, pg);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", P);
+    }
+    for (uint32_t k = 0; k < P; k++) {
+        pg->slot[k] = -1;
+        pg->state[pg->rep_off + k] = pg->p.pages[k].rgba;
+    }
+    uint32_t deep = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->root >= VX_SVO_ROOT_LEAF) continue;
+        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
+        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
+    }
+    vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
+    cmodel_gpu* cm = vx_calloc(&g->alloc, s->model_count ? s->model_count : 1, sizeof *cm);
+    if (!cg || !cm) {
+        vx_free(&g->alloc, cg);
+        vx_free(&g->alloc, cm);
+        paging_free(g, pg);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    cg->rs = rs, cg->gpu = g, cg->deep = deep, cg->pg = pg;
+    vx_svo_scene_world_bounds(s, cg->lo, cg->hi);
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_compact_model* m = &pg->p.models[i];
+        const vx_svo_model* sm = &s->models[i];
+        uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
+        bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
+        if (deep_model) flags |= 2u;
+        bool paged = m->root < VX_SVO_ROOT_LEAF && m->depth > pg->p.page_level;
+        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
+                             .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
+                             .kind = m->attr_kind, .rank_base = 2 * pg->p.top_slots,
+                             .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
+                                           ? sm->depth - VX_RENDER_FRAME_LEVELS
+                                           : 0,
+                             .page_up = paged ? pg->p.page_level + 1 : 0,
+                             .pool_base = pg->words_base / 2,
+                             .unit_log2 = (uint32_t)__builtin_ctz(pg->unit)};
+    }
+    uint64_t pool_words = (uint64_t)pg->units * pg->unit * 2;
+    uint64_t total = 4 * ((uint64_t)pg->p.top_words + pool_words);
+    vx_result r = vx__buffer_create(g, total, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact top and pages",
+                                    &cg->geom, err);
+    /* the top, its pages' words "not resident" as built */
+    if (!r && pg->p.top_words) r = vx__buffer_upload(g, &cg->geom, pg->p.top, 4ull * pg->p.top_words, err);
+    if (!r) r = upload(g, &cg->models, cm, (s->model_count ? s->model_count : 1) * sizeof *cm, "compact models", err);
+    if (!r) r = upload(g, &cg->palette, pg->p.palette, sizeof pg->p.palette, "compact palette", err);
+    if (!r) r = upload(g, &cg->pstate, pg->state, 4ull * pg->state_words, "compact pages", err);
+    vx_free(&g->alloc, cm);
+    if (r) {
+        vx_compact_gpu_destroy(cg);
+        return r;
+    }
+    pg->st.pages = P;
+    pg->st.pool_bytes = pool_words * 4;
+    pg->st.top_bytes = 4ull * pg->p.top_words + s->model_count * sizeof(cmodel_gpu) + sizeof pg->p.palette +
+                       4ull * pg->state_words;
+    cg->bytes = pg->st.top_bytes + pg->st.pool_bytes;
+    *out = cg;
+    return VX_OK;
+}
+
 static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool want_hits, uint32_t repeat, vx__frame* f,
                           double* seconds, vx_error* err) {
     vx_gpu* g = cg->gpu;
@@ -111,21 +461,26 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
+    /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
+    uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
     uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
-                         cg->deep, 0};
+                         cg->deep, pages};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = 10, .spec_count = 10, .label = "trace compact"};
+                                       .binding_count = 11, .spec_count = 10, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < 10; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < 11; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",
+                                                  &cg->pstate, err)))
+        return r;
     vx__dispatch_desc dd = {.pipeline = p,
-                            .buffer_count = 10,
-                            .buffers = {scene[0], &cg->geom, &cg->attr, &cg->models, scene[4], scene[5], scene[6],
-                                        &cg->pixels, &cg->hits, &cg->palette},
+                            .buffer_count = 11,
+                            .buffers = {scene[0], &cg->geom, cg->pg ? &cg->geom : &cg->attr, &cg->models, scene[4],
+                                        scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace compact"};
@@ -137,7 +492,9 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
     bool want_hits = desc && desc->want_hits;
     vx__frame f;
     double sec = 0;
-    vx_result r = dispatch(cg, desc, want_hits, 1, &f, &sec, err);
+    vx_result r = cg->pg ? page_service(cg, err) : VX_OK;
+    if (!r) r = dispatch(cg, desc, want_hits, 1, &f, &sec, err);
+    if (!r && cg->pg) r = page_readback(cg, err);
     if (r) return r;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &cg->gpu->alloc};
     if ((r = vx__image_read(cg->gpu, &cg->pixels, want_hits ? &cg->hits : NULL, &img, err))) return r;

@@ -6,6 +6,7 @@ add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
   ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
   ${CMAKE_CURRENT_SOURCE_DIR}/compact.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/compact_page.c
   ${CMAKE_CURRENT_SOURCE_DIR}/compact_trace.c)
 target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)

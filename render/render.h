@@ -237,6 +237,9 @@ typedef struct vx_render_hit {
  * an edge or corner exactly before the hit; float tracing may break such a
  * tie differently (tests report these pixels separately). */
 #define VX_RENDER_HIT_AMBIGUOUS 1u
+/* Compact layout with pages (render/compact.h): the ray entered a page that
+ * was not resident; the hit is that page's cube, drawn in its mean colour. */
+#define VX_RENDER_HIT_COARSE 2u
 
 /* Output of a frame. pixels: width*height*4 floats, RGBA, row 0 at the top
  * (colour modes in [0,1]; normal: xyz; depth: t in every channel); hits is
@@ -285,7 +288,9 @@ void vx_render_scene_destroy(vx_render_scene* rs);
  * against 5.07) is traced by vx_render_frame alone (its modes, spp, shadow
  * rays; no LOD, and the beam pass is not used), at 0.62-0.94 of the plain
  * kernel's rays/s on the H200 (docs/PERFORMANCE.md), so it is chosen only
- * where the plain layout does not fit. */
+ * where the plain layout does not fit. Where the compact layout does not
+ * fit either, it is paged (vx_render_page_stats below): the levels above the
+ * page level resident, the pages below loaded as rays ask for them. */
 typedef enum vx_render_layout {
     VX_RENDER_LAYOUT_AUTO = 0, /* plain where its node words and records fit memory_budget, else compact */
     VX_RENDER_LAYOUT_PLAIN,
@@ -294,8 +299,14 @@ typedef enum vx_render_layout {
 typedef struct vx_render_scene_desc {
     vx_render_layout layout;
     /* bytes the plain layout's node words and records may take (AUTO);
-     * 0: three quarters of the device's largest device-local heap */
+     * 0: three quarters of the device's largest device-local heap. Where
+     * the compact layout exceeds it too, the compact layout is paged and
+     * this bounds the top and the page pool together */
     uint64_t memory_budget;
+    /* the paged layout's page level (3..31; 0: VX_RENDER_FRAME_LEVELS, the
+     * two-frame walk's lower frame: pages of 512^3 cells; lowered to three
+     * below the deepest model's depth where that is shallower) */
+    uint32_t page_level;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves (passes that
@@ -310,7 +321,30 @@ typedef struct vx_render_layout_info {
     uint64_t plain_bytes;    /* the plain layout's node words and records (4 bytes each), whichever is in use */
     uint64_t budget;         /* the budget AUTO compared plain_bytes with */
     uint64_t voxels;         /* cells set, summed over the models */
+    uint32_t pages;          /* the compact layout paged: its pages (0: all of it resident) */
+    uint32_t page_level;
+    uint64_t compact_bytes;  /* the compact layout unpaged (0: not built) */
 } vx_render_layout_info;
+/* Paging (render/compact.h "pages"): each frame first loads the pages the
+ * previous frame's rays requested, as many as the pool holds; rays that
+ * enter a page not resident draw its cube in its mean colour
+ * (VX_RENDER_HIT_COARSE) and request it, so a still camera converges in a
+ * few frames where its pages fit. The state after the last frame: */
+typedef struct vx_render_page_stats {
+    uint32_t pages;        /* pages of the scene */
+    uint32_t resident;     /* resident now */
+    uint32_t coarse;       /* pages the last frame drew coarse (and requested) */
+    uint32_t loaded;       /* loaded before the last frame */
+    uint32_t evicted;      /* evicted before the last frame */
+    uint32_t refused;      /* requested pages the pool could not take before the last frame */
+    uint64_t refused_bytes; /* their bytes (over the budget) */
+    uint64_t top_bytes;    /* the resident top (slots, ranks, attributes, models, palette, page table) */
+    uint64_t pool_bytes;   /* the pool */
+    uint64_t used_bytes;   /* the pool's bytes held by resident pages */
+    uint64_t frames;       /* frames traced */
+} vx_render_page_stats;
+/* Zeroes unless the scene is paged. */
+void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats* out);
 void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out);
 const char* vx_render_layout_name(vx_render_layout layout);
 /* Model `model` of `scene` (the scene rs was made from, the same model

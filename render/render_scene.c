@@ -449,6 +449,34 @@ static uint64_t default_budget(const vx_gpu* g) {
     return best / 4 * 3;
 }
 
+/* The compact layout over the budget: paged at level lp, the pool the
+ * budget less the top. Where the top and the largest page exceed the
+ * budget too, *whole: the whole layout (over the budget, as the layout info
+ * says; the device may still hold it). */
+static vx_result create_paged(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c, uint32_t lp,
+                              uint64_t budget, bool* whole, vx_error* err) {
+    vx_compact_paged p;
+    vx_result r = vx_compact_page_build(c, lp, &rs->alloc, &p, err);
+    if (r) return r;
+    uint64_t top = 4ull * p.top_words + 64ull * s->model_count + 1024 + 64 + 16ull * p.page_count;
+    *whole = top >= budget || budget - top < 4ull * p.max_page_words;
+    if (*whole) {
+        vx_compact_paged_free(&p);
+        return VX_OK;
+    }
+    rs->layout.pages = p.page_count;
+    rs->layout.page_level = lp;
+    /* (the pool's use bits, a bit per unit of at least 16 bytes, count in the top) */
+    uint64_t pool = budget - top;
+    r = vx_compact_gpu_create_paged(rs, s, &p, pool - pool / 128 - 8, &rs->compact, err);
+    vx_compact_paged_free(&p); /* emptied when taken */
+    return r;
+}
+
+void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats* out) {
+    vx_compact_gpu_page_stats(rs ? rs->compact : NULL, out);
+}
+
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
     return vx_render_scene_create_ex(gpu, s, NULL, out, err);
 }
@@ -498,7 +526,13 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         vx_compact_scene c;
         r = vx_compact_build(&(vx_compact_desc){.alloc = &rs->alloc}, s, &c, err);
         if (!r) {
-            r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
+            uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
+            if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
+            bool whole = true;
+            if (rs->layout.compact_bytes > li.budget && lp < max_depth)
+                r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
+            if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
             vx_compact_free(&c);
         }
         if (r) {
@@ -1367,7 +1401,7 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
 static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t* w = raw + 8 * i;
-        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5]};
+        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5], .flags = w[6]};
         memcpy(&hits[i].t, &w[4], 4);
     }
 }

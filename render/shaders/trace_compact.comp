@@ -26,6 +26,14 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // origin and the walk in two frames), else 0
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
+// pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
+// layout is resident and none of the paging code is compiled in
+layout(constant_id = 9) const uint PAGES = 0u;
+const uint PW = (PAGES + 31u) / 32u;
+// the state buffer's words: request count, request list, request bitmap,
+// mean colours, then a use bit per pool unit (the host knows each unit's page)
+const uint P_LIST = 1u, P_REQ = 1u + PAGES, P_REP = 1u + PAGES + PW, P_USE = 1u + 2u * PAGES + PW;
+const uint NOT_RESIDENT = 0x80000000u;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -33,11 +41,15 @@ const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFF
 const uint MAX_ITER = 100000u;
 
 // flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
-// trace.comp's Model.box; rank_base: the slot pair that holds slot 0's rank
-// (the ranks of the slots of levels >= 3 follow the slots: rank of slot s
-// = component s & 1 of slots[rank_base + s / 2]);
-// rebase as trace.comp's Model.rebase
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase; };
+// trace.comp's Model.box; rank_base: the word of slot 0's rank (the rank of
+// slot s of level >= 3 is word rank_base + s of the geometry; a page has
+// its own, in its header);
+// rebase as trace.comp's Model.rebase; page_up: the page level + 1 for a
+// paged model (its nodes of that level have their children's slots in the
+// top, pages below), else 0
+// pool_base, unit_log2: the pool's first slot and its unit (a page at slot P
+// is in unit (P - pool_base) >> unit_log2)
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2; };
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
@@ -60,6 +72,7 @@ layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
+layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 
 struct Hit {
     float t;
@@ -68,7 +81,25 @@ struct Hit {
     int axis;
     float nsign;
     uint color;
+    uint page; // a page not resident whose cube was hit (coarse), else NO_HIT
 };
+
+// The ray needs page p (not resident): its bit in the frame's requests, and
+// the page in the list once (the first ray to set the bit appends it).
+void page_request(uint p) {
+    uint w = P_REQ + (p >> 5), b = 1u << (p & 31u);
+    if ((pstate[w] & b) != 0u) return;
+    if ((atomicOr(pstate[w], b) & b) == 0u) {
+        uint i = atomicAdd(pstate[0], 1u);
+        if (i < PAGES) pstate[P_LIST + i] = p;
+    }
+}
+// The ray entered the resident page in pool unit u (the host's LRU): a read
+// first, the common case.
+void page_use(uint u) {
+    uint w = P_USE + (u >> 5), b = 1u << (u & 31u);
+    if ((pstate[w] & b) == 0u) atomicOr(pstate[w], b);
+}
 
 uint g_iter = 0u;
 
@@ -138,15 +169,16 @@ uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c
 // its leaf cubes before, and the rank of slot k - 1 of the block (level 3:
 // the popcounts of the bricks before, which have no rank).
 uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
+    // rank_base: the word of slot 0's rank
     uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
     // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
     uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
     if (k != 0u && lvl > 3) {
         // a select, not a dynamic component index (issue 21: the NVIDIA
         // compiler's code for those never finished on some pixels)
-        uint s = blk + k - 1u;
-        uvec2 pr = slots[rank_base + (s >> 1)];
-        r += (s & 1u) != 0u ? pr.y : pr.x;
+        uint w = rank_base + blk + k - 1u;
+        uvec2 pr = slots[w >> 1];
+        r += (w & 1u) != 0u ? pr.y : pr.x;
     } else {
         // bricks have no rank: the cells of the bricks before (the push
         // reads brick k's cache line anyway)
@@ -160,19 +192,28 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
 // root after the hit (measured faster on the H200 than a running count in
 // the walk, docs/PERFORMANCE.md issue 18).
-uint cell_index(CModel m, uvec3 c) {
+// In a resident page the index is from the page's first cell, and
+// attr_base becomes the page's attribute region.
+uint cell_index(CModel m, uvec3 c, out uint attr_base) {
+    attr_base = m.attr_base;
     if (m.root == ROOT_LEAF) return morton(c);
-    uint n = m.root, base = 0u;
+    uint n = m.root, base = 0u, rank_base = m.rank_base;
     int L = int(m.depth);
     // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
     bool mort = L <= 10;
     uint mc = mort ? morton(c) : 0u;
     for (; L >= 3; L--) {
         uvec2 nd = slots[n];
+        if (PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
+            // a page root (resident: the ray hit a cell inside): its header
+            // precedes its first block
+            uvec2 hd = slots[nd.y - 2u];
+            attr_base = hd.x, rank_base = hd.y, base = 0u;
+        }
         uint s = uint(L - 1);
         uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = nd.y + k;
     }
@@ -189,12 +230,12 @@ uint recorrelate(uint v) {
 }
 
 // The colour of attribute index i (vx_compact_rgba).
-uint decode_color(CModel m, uint i) {
+uint decode_color(CModel m, uint attr_base, uint i) {
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
-    uint g = attr[m.attr_base + (blk >> 6)];
-    uint h = attr[m.attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u))];
-    uint code = h & 31u, p = m.attr_base + (h >> 5);
+    uint g = attr[attr_base + (blk >> 6)];
+    uint h = attr[attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u))];
+    uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
         v = attr_bits(p, j * width, width);
@@ -287,6 +328,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     int scale = S_MAX - 1;
     float scale_exp2 = 0.5;
     bool hit = false;
+    uint coarse = NO_HIT;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
@@ -357,6 +399,20 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                         hit = true;
                         break;
                     }
+                    uvec2 ch = uvec2(0u);
+                    if (PAGES > 0u && uint(lvl) == m.page_up) {
+                        // the child is of the page level: a page root when it
+                        // has children; not resident, its cube is the hit.
+                        // (The push below keeps this slot: no second load.)
+                        ch = slots[nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)))];
+                        if ((ch.y & NOT_RESIDENT) != 0u) {
+                            coarse = ch.y & ~NOT_RESIDENT;
+                            page_request(coarse);
+                            hit = true;
+                            break;
+                        }
+                        if (((ch.x >> 8) & ~ch.x & 0xFFu) != 0u) page_use((ch.y - 2u - m.pool_base) >> m.unit_log2);
+                    }
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
                         pending = 1, rb_cbit = cbit;
@@ -370,6 +426,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     loaded = lvl == 2;
                     if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
                     else desc = brick_octant(nd, uint(cs));
+                    if (PAGES > 0u && uint(lvl) == m.page_up) {
+                        nd = ch;
+                        desc = ch.x;
+                        loaded = true;
+                    }
                     idx = 0;
                     scale--;
                     scale_exp2 = half_;
@@ -545,6 +606,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.axis = axis;
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
+    h.page = coarse;
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -678,12 +740,19 @@ void main() {
         h.inst = NO_HIT;
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u);
+        h.page = NO_HIT;
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel
             CModel m = models[insts[h.inst].model];
-            if ((m.flags & 1u) != 0u) h.color = decode_color(m, cell_index(m, h.cell));
+            if (PAGES > 0u && h.page != NO_HIT) {
+                if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
+            } else if ((m.flags & 1u) != 0u) {
+                uint ab;
+                uint i = cell_index(m, h.cell, ab);
+                h.color = decode_color(m, ab, i);
+            }
         }
         vec4 c = vec4(0.0);
         vec3 nw = vec3(0.0);
@@ -727,7 +796,8 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, 0u);
+            uint hflags = PAGES > 0u && hit && h.page != NO_HIT ? 2u : 0u; // VX_RENDER_HIT_COARSE
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, hflags, 0u);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);

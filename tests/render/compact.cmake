@@ -18,3 +18,12 @@ if(VX_WITH_VULKAN)
     target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)
   endif()
 endif()
+# The paged compact layout (scenes bigger than GPU memory): fly-throughs
+# under a pool of a quarter of the pages, convergence to the whole layout's
+# image, pages evicted and loaded elsewhere (lavapipe in CI).
+if(VX_WITH_VULKAN)
+  vx_add_test(test_compact_page SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_page.c
+              LIBS vx_render vx_trace vx_svo)
+  set_tests_properties(test_compact_page PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+endif()

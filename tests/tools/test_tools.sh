@@ -134,6 +134,13 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 1 "svo_render --layout compact --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --passes gbuffer,direct --size 8x8
     grep -q "compact layout" "$T/err" && ok "passes on a compact scene: the reason" || bad "passes on a compact scene: the reason"
     expect_status 2 "svo_render bad --layout" svo_render "$T/demo.svo" "$T/lay_x.png" --layout dense
+    # the compact layout over the budget too: paged, the pages that do not fit drawn coarse, and said
+    expect_status 0 "svo_render paged" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 -v
+    grep -q "^paging: level 3, [0-9]* pages; after [0-9]* frames [0-9]* resident .* [1-9][0-9]* drawn coarse ([0-9]* refused, .* over the budget)" "$T/out" &&
+        ok "-v states the paging and the coarse pages" || bad "-v states the paging and the coarse pages"
+    expect_status 0 "svo_render paged, not verbose" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32
+    grep -q "^note: [1-9][0-9]* pages drawn coarse" "$T/out" && ok "coarse pages noted" || bad "coarse pages noted"
+    expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
 fi
 
 # a VDB sequence named by a pattern or a list (the corpus sphere as 3 frames):

@@ -162,7 +162,11 @@ _Noreturn static void usage(int status) {
             "                       one (a colour-free geometry DAG, coded exact colours: 3-4x smaller,\n"
             "                       slower; the single-shader modes only, no --lod); -v says which\n"
             "  --gpu-budget SIZE    GPU memory the plain layout may take for auto (default: 3/4 of the\n"
-            "                       device's largest device-local heap)\n"
+            "                       device's largest device-local heap); where the compact layout exceeds it\n"
+            "                       too, it is paged: pages below --page-level loaded as the rays ask for\n"
+            "                       them into a pool that the budget bounds, frames repeated until the view's\n"
+            "                       pages are resident; pages that do not fit are drawn coarse (-v says so)\n"
+            "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -209,7 +213,8 @@ _Noreturn static void usage(int status) {
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
-            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, d.r.width, d.r.height, d.r.spp,
+            cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, VX_RENDER_FRAME_LEVELS, d.r.width,
+            d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
@@ -485,6 +490,11 @@ int main(int argc, char** argv) {
             else if (!strcmp(l, "plain")) o.scene_desc.layout = VX_RENDER_LAYOUT_PLAIN;
             else if (!strcmp(l, "compact")) o.scene_desc.layout = VX_RENDER_LAYOUT_COMPACT;
             else usage_error("bad --layout '%s' (auto, plain or compact)", l);
+        } else if (!strcmp(a, "--page-level")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.scene_desc.page_level) || o.scene_desc.page_level < 3 ||
+                o.scene_desc.page_level > 31)
+                usage_error("bad --page-level '%s' (3..31)", argv[i]);
         } else if (!strcmp(a, "--gpu-budget")) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
@@ -906,6 +916,25 @@ int main(int argc, char** argv) {
             r = render_passes(&o, rs, &owned, &passes, o.probes ? &probes : NULL, &img, &err);
         } else if (!r) {
             r = vx_render_frame(rs, &o.r, &img, &err);
+            /* paged (the compact layout over --gpu-budget): frames until the
+             * pages the view needs are resident, or the pool takes no more */
+            vx_render_page_stats ps = {0};
+            for (uint32_t f = 1; !r && li.pages && f < 64; f++) {
+                vx_render_scene_page_stats(rs, &ps);
+                if (!ps.coarse || (f > 1 && !ps.loaded)) break;
+                vx_render_image_free(&img);
+                r = vx_render_frame(rs, &o.r, &img, &err);
+            }
+            if (!r && li.pages) {
+                vx_render_scene_page_stats(rs, &ps);
+                if (o.verbose)
+                    printf("paging: level %u, %u pages; after %llu frames %u resident (%.3f MB of the pool's %.3f MB; "
+                           "top %.3f MB), %u drawn coarse (%u refused, %.3f MB over the budget)\n",
+                           li.page_level, li.pages, (unsigned long long)ps.frames, ps.resident, ps.used_bytes / 1e6,
+                           ps.pool_bytes / 1e6, ps.top_bytes / 1e6, ps.coarse, ps.refused, ps.refused_bytes / 1e6);
+                else if (ps.coarse)
+                    printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
+            }
         }
         if (!r && vx_gpu_validation_errors(gpu))
             r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
