@@ -212,6 +212,15 @@ static int usage(void) {
     return 2;
 }
 
+/* FNV-1a over the image's bytes: two builds' images compared bit for bit in a log (the photon sums are
+ * exact, so a change to how they are made must leave this unchanged) */
+static uint64_t image_bits(const vx_render_image* im) {
+    const unsigned char* b = (const unsigned char*)im->pixels;
+    uint64_t h = UINT64_C(14695981039346656037);
+    for (size_t i = 0; i < (size_t)im->width * im->height * 16; i++) h = (h ^ b[i]) * UINT64_C(1099511628211);
+    return h;
+}
+
 int main(int argc, char** argv) {
     const char *device = NULL, *counts = "1000000", *write_dir = NULL, *groups = "0";
     vx_render_desc base = {.width = 320, .height = 240};
@@ -383,8 +392,10 @@ int main(int argc, char** argv) {
                 ct[rows] = im.gpu_seconds * 1e3, ce[rows] = rel_mse(&im, &ref[0]), cc[rows] = ce[rows] - mean_noise;
                 double fe, ratio;
                 error_parts(&im, &ref[0], &fe, &ratio);
-                printf("| %s | photons r %.4g | %u | %u | %llu | - | - | - | - | %.4g | %.4g (corrected %.4g; 8x8 %.4g; mean %.4f) |\n",
-                       name, st.radius, photons, passes, (unsigned long long)st.stored, ct[rows], ce[rows], cc[rows], fe, ratio);
+                printf("| %s | photons r %.4g | %u | %u | %llu | - | - | - | - | %.4g | %.4g (corrected %.4g; 8x8 %.4g; mean %.4f; "
+                       "bits %016llx) |\n",
+                       name, st.radius, photons, passes, (unsigned long long)st.stored, ct[rows], ce[rows], cc[rows], fe, ratio,
+                       (unsigned long long)image_bits(&im));
                 if (passes * step > max_passes) error_tiles("photons", &im, &ref[0]);
                 fflush(stdout);
                 rows++;

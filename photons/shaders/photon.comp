@@ -724,17 +724,23 @@ void gather_pixel() {
 // times the lanes (H200: 3.33 -> 1.91 ms); where the tiles fill several waves they cost more than they
 // give (1920x1080: 1.39 -> 2.78 ms on the caustic scene), and photons.c takes 1 (docs/PERFORMANCE.md).
 const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
-// Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
-// 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
-// setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
+// Sized by TLANES: the density step's workgroup there, 1 in the other steps. The whole
+// shader declares these arrays: at 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's
+// occupancy (H200, the seed's setting: 8.8 against 3.3 ms); sized by each step's workgroup (56 bytes a lane)
+// they still took shared memory, and with it L1 cache, from the trace's octree walks.
+const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // a chunk of photons: the first halves, and the power as the words fx_add1 adds (the low words in t_b,
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
-shared vec4 t_a[gl_WorkGroupSize.x];
-shared uvec4 t_b[gl_WorkGroupSize.x];
+shared vec4 t_a[2u * TLANES];
+shared uvec4 t_b[2u * TLANES];
 shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
-shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums (t_shi: also the chunk's)
+// the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
+// the normal of the least code as its pixels decoded it
+shared uint t_cmin, t_cmax, t_sel;
+shared vec3 t_nrm;
+shared uvec3 t_shi[2u * TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
@@ -753,16 +759,26 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
         t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    if (valid && part == 0u)
+    if (valid && part == 0u) {
         for (int k = 0; k < 3; k++) {
             atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
             atomicMin(t_blo[k], fkey(x[k])), atomicMax(t_bhi[k], fkey(x[k]));
         }
+        atomicMin(t_cmin, ncode), atomicMax(t_cmax, ncode), atomicOr(t_sel, sel == G_INDIRECT ? 1u : 2u);
+    }
     barrier();
+    if (valid && part == 0u && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
+    // Where every pixel of the tile has one normal code and one selection (a wall's tile: most), the tests
+    // that depend on the photon alone, the normal's and the direct photons', are made once a photon when
+    // the chunk is loaded (the same comparisons as each pixel's, on the same values), and the pixels' loop
+    // tests the distance alone
+    uint code = t_cmin, tsel = t_sel;
+    bool uni = code == t_cmax && tsel != 3u;
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
@@ -820,8 +836,10 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     vec3 bm = max(abs(blo), abs(bhi));
     float mb = r * 1e-3 + 1e-6 * max(max(bm.x, bm.y), bm.z);
     blo -= r + mb, bhi += r + mb;
+    // A chunk's photons are tested once it holds DLANES or more (from two reads of the list at most: room for
+    // 2 DLANES), or the list ends
     uint chunk = 0u;
-    for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
+    for (uint off = 0u; off < total; off += DLANES) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = 64u;
@@ -833,8 +851,13 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             uint k = t_start[a] + (g - t_pre[a]);
             vec4 pa = sorted[k];
             // (another map's photon in these buckets counts for no pixel: left out here)
-            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) &&
-                (floatBitsToUint(pa.w) & F_CAUSTIC) == map) {
+            uint nb = floatBitsToUint(pa.w);
+            bool keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
+            if (keep && uni) {
+                if (tsel == 1u && (nb & F_DIRECT) != 0u) keep = false;
+                if ((nb & ~F_BITS) != code && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), t_nrm) < 0.9) keep = false;
+            }
+            if (keep) {
                 uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
                 fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
@@ -845,7 +868,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
         uint cn = t_n[chunk];
-        if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
+        if (cn < DLANES && off + DLANES < total) {
+            barrier(); // all have read the count before the next read adds to it
+            continue;
+        }
+        if (valid && uni) {
+            uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
+            for (uint j = part * q; j < j1; j++) {
+                vec3 v = t_a[j].xyz - x;
+                if (dot(v, v) <= r2) fx_add_words(shi, slo, t_shi[j], t_b[j].xyz);
+            }
+        } else if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
             for (uint j = part * q; j < j1; j++) {
                 vec4 pa = t_a[j];
@@ -859,6 +892,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
         if (lid == 0u) t_n[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
+        chunk ^= 1u;
     }
 }
 
