@@ -733,7 +733,7 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
 shared vec4 t_a[2u * TLANES];
 shared uvec4 t_b[2u * TLANES];
-shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
+shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
@@ -758,7 +758,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
-        t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u;
+        t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
         t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
     barrier();
@@ -861,9 +861,13 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
                 fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
-                t_a[slot] = pa;
-                t_b[slot] = uvec4(wlo, 0u);
+                // (where the tests are the distance's alone, the low words ride in the position's fourth:
+                // two reads a photon; the high words, 0 but for a photon of over 32 emitted photons' power,
+                // are read only in a chunk that has some)
+                t_a[slot] = uni ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
+                t_b[slot] = uni ? uvec4(wlo.yz, 0u, 0u) : uvec4(wlo, 0u);
                 t_shi[slot] = whi;
+                if (whi != uvec3(0u)) atomicOr(t_big[chunk], 1u);
             }
         }
         barrier();
@@ -874,9 +878,11 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         if (valid && uni) {
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
+            bool big = t_big[chunk] != 0u;
             for (uint j = part * q; j < j1; j++) {
-                vec3 v = t_a[j].xyz - x;
-                if (dot(v, v) <= r2) fx_add_words(shi, slo, t_shi[j], t_b[j].xyz);
+                vec4 pa = t_a[j];
+                vec3 v = pa.xyz - x;
+                if (dot(v, v) <= r2) fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), t_b[j].xy));
             }
         } else if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
@@ -891,7 +897,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             }
         }
         barrier();
-        if (lid == 0u) t_n[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
+        if (lid == 0u) t_n[chunk] = 0u, t_big[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
         chunk ^= 1u;
     }
 }
