@@ -364,13 +364,21 @@ int main(int argc, char** argv) {
                 printf("| %s | pass wg %u batch %s | %u | 1 | %llu | %.3f | %.3f | %.3f | %.3f | %.3f (trace + build %.3f) | - |\n",
                        name, pd.workgroup ? pd.workgroup : D.workgroup, bt, photons, (unsigned long long)st.stored, tr, bu,
                        st.stored ? bu / (st.stored * 1e-6) : 0.0, ga, tr + bu + ga, tr + bu);
-                double lo = t[6][0];
+                double lo = t[6][0], least[5];
                 for (unsigned k = 1; k < n; k++) lo = fmin(lo, t[6][k]);
+                /* each step's least over the runs: what a shared GPU (other work in some runs) leaves readable */
+                for (int j = 0; j < 5; j++) {
+                    least[j] = t[j][0];
+                    for (unsigned k = 1; k < n; k++) least[j] = fmin(least[j], t[j][k]);
+                }
                 printf("%s: the gather's steps: camera paths %.3f ms%s, density %.3f ms; the pass on the host (submissions, "
                        "waits, downloads) %.3f ms (medians); GPU ms per pass (the steps' sum in each run): median %.3f, "
                        "least %.3f\n",
                        name, bench_median(t[3], n), st.fused ? " (run beside the trace: in its ms)" : "",
                        bench_median(t[4], n), bench_median(t[5], n), bench_median(t[6], n), lo);
+                printf("%s: each step's least over the %u runs: trace %.3f, grid %.3f, gather %.3f (camera paths %.3f, "
+                       "density %.3f) ms\n",
+                       name, n, least[0], least[1], least[2], least[3], least[4]);
                 fflush(stdout);
                 if (w && *w) continue;
                 /* the curves with the first size */
