@@ -733,12 +733,12 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
 shared vec4 t_a[2u * TLANES];
 shared uvec4 t_b[2u * TLANES];
-shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2], t_big[2];
+shared uint t_bk[64], t_start[64], t_cnt[64], t_pre[65], t_need[2], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
 // the normal of the least code as its pixels decoded it
-shared uint t_cmin, t_cmax, t_sel;
+shared uint t_cmin, t_cmax, t_sel, t_any;
 shared vec3 t_nrm;
 shared uvec3 t_shi[2u * TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
@@ -759,7 +759,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
         t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
-        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u, t_any = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
@@ -783,7 +783,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
     if (ext.x > 4 || ext.y > 4 || ext.z > 4) {
-        if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+        // Where the buckets of every cell of the tile's box are empty (the caustic map away from its caustics:
+        // at the seed's Cornell setting its radius is a quarter of the global one, and most tiles land here)
+        // every pixel's sum is 0: the pixels' own loops, each of some 18 cells looked up and compared, are
+        // left out
+        int nb = ext.x * ext.y * ext.z;
+        for (int c = int(lid); c < nb; c += int(DLANES))
+            if (cells[bucket(ulo + ivec3(c % ext.x, (c / ext.x) % ext.y, c / (ext.x * ext.y)), map)].x != 0u) t_any = 1u;
+        barrier();
+        bool any = t_any != 0u;
+        barrier(); // all have read it: the next call's first lane may clear it
+        if (valid && any) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
@@ -818,12 +828,15 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     }
     if (lid < 64u) {
         t_start[lid] = st;
-        t_pre[lid + 1u] = cnt;
+        t_cnt[lid] = cnt;
     }
     barrier();
-    if (lid == 0u) {
-        t_pre[0] = 0u;
-        for (uint j = 1u; j <= 64u; j++) t_pre[j] += t_pre[j - 1u];
+    // the slots' starts in the list: each of 65 lanes sums the counts before its slot (the lanes read the
+    // same count at once; one lane's chain of 64 dependent adds held the workgroup twice a tile)
+    if (lid <= 64u) {
+        uint sum = 0u;
+        for (uint j = 0u; j < lid; j++) sum += t_cnt[j];
+        t_pre[lid] = sum;
     }
     barrier();
     uint total = t_pre[64];
