@@ -731,24 +731,26 @@ const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
 const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // a chunk of photons: the first halves, and the power as the words fx_add1 adds (the low words in t_b,
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
-shared vec4 t_a[2u * TLANES];
-shared uvec4 t_b[2u * TLANES];
-shared uint t_bk[64], t_start[64], t_cnt[64], t_pre[65], t_need[2], t_n[2], t_big[2];
+shared vec4 t_a[TLANES];
+shared uvec4 t_b[TLANES];
+// the tile's box of cells, at most 5 a side: a slot each
+const uint SLOTS = 128u;
+shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[SLOTS / 32u], t_g8[SLOTS / 8u], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
 // the normal of the least code as its pixels decoded it
-shared uint t_cmin, t_cmax, t_sel, t_any;
+shared uint t_cmin, t_cmax, t_sel;
 shared vec3 t_nrm;
-shared uvec3 t_shi[2u * TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
+shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
-// at most 4 x 4 x 4 around the tile) are gathered into one list of buckets (a bucket two cells share
+// at most 5 x 5 x 5 around the tile) are gathered into one list of buckets (a bucket two cells share
 // once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
 // chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
 // again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
-// pass 4 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+// pass 5 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
 uint fkey(float f) { // ordered as the floats are
     uint u = floatBitsToUint(f);
     return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
@@ -758,8 +760,9 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
-        t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
-        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u, t_any = 0u;
+        for (uint k = 0u; k < SLOTS / 32u; k++) t_need[k] = 0u;
+        t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
@@ -782,18 +785,8 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
-    if (ext.x > 4 || ext.y > 4 || ext.z > 4) {
-        // Where the buckets of every cell of the tile's box are empty (the caustic map away from its caustics:
-        // at the seed's Cornell setting its radius is a quarter of the global one, and most tiles land here)
-        // every pixel's sum is 0: the pixels' own loops, each of some 18 cells looked up and compared, are
-        // left out
-        int nb = ext.x * ext.y * ext.z;
-        for (int c = int(lid); c < nb; c += int(DLANES))
-            if (cells[bucket(ulo + ivec3(c % ext.x, (c / ext.x) % ext.y, c / (ext.x * ext.y)), map)].x != 0u) t_any = 1u;
-        barrier();
-        bool any = t_any != 0u;
-        barrier(); // all have read it: the next call's first lane may clear it
-        if (valid && any) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+    if (ext.x > 5 || ext.y > 5 || ext.z > 5) {
+        if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
@@ -809,37 +802,47 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
     barrier();
-    // slot lid (< 64): cell lid of the tile's box, its bucket once
-    uint bk = 0xFFFFFFFFu, cnt = 0u, st = 0u;
-    int nc = ext.x * ext.y * ext.z, il = int(lid);
-    if (lid < 64u) {
-        if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
+    // slot sl: cell sl of the tile's box, its bucket once
+    int nc = ext.x * ext.y * ext.z;
+    for (uint sl = lid; sl < SLOTS; sl += DLANES) {
+        uint bk = 0xFFFFFFFFu;
+        int il = int(sl);
+        if (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u)
             bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
-        t_bk[lid] = bk;
+        t_bk[sl] = bk;
     }
     barrier();
-    if (bk != 0xFFFFFFFFu) {
-        bool dup = false;
-        for (uint j = 0u; j < lid; j++) dup = dup || t_bk[j] == bk;
-        if (!dup) {
-            uvec2 cl = cells[bk];
-            cnt = cl.x, st = cl.y;
+    for (uint sl = lid; sl < SLOTS; sl += DLANES) {
+        uint bk = t_bk[sl], cnt = 0u, st = 0u;
+        if (bk != 0xFFFFFFFFu) {
+            bool dup = false;
+            for (uint j = 0u; j < sl && !dup; j++) dup = t_bk[j] == bk;
+            if (!dup) {
+                uvec2 cl = cells[bk];
+                cnt = cl.x, st = cl.y;
+            }
         }
-    }
-    if (lid < 64u) {
-        t_start[lid] = st;
-        t_cnt[lid] = cnt;
+        t_start[sl] = st;
+        t_cnt[sl] = cnt;
     }
     barrier();
-    // the slots' starts in the list: each of 65 lanes sums the counts before its slot (the lanes read the
-    // same count at once; one lane's chain of 64 dependent adds held the workgroup twice a tile)
-    if (lid <= 64u) {
-        uint sum = 0u;
-        for (uint j = 0u; j < lid; j++) sum += t_cnt[j];
-        t_pre[lid] = sum;
+    // the slots' starts in the list, in two steps (one lane's chain of 64 dependent adds held the workgroup
+    // twice a tile): 16 lanes sum 8 slots' counts each, then a slot's start is the sums of the groups before
+    // it and the counts before it in its own (at most 15 + 7 adds)
+    if (lid < SLOTS / 8u) {
+        uint s8 = 0u;
+        for (uint j = 0u; j < 8u; j++) s8 += t_cnt[8u * lid + j];
+        t_g8[lid] = s8;
     }
     barrier();
-    uint total = t_pre[64];
+    for (uint sl = lid; sl <= SLOTS; sl += DLANES) {
+        uint sum = 0u, g = sl / 8u;
+        for (uint j = 0u; j < g; j++) sum += t_g8[j];
+        for (uint j = 8u * g; j < sl; j++) sum += t_cnt[j];
+        t_pre[sl] = sum;
+    }
+    barrier();
+    uint total = t_pre[SLOTS];
     // The chunk keeps only the photons within r of the tile's points' box (grown by m: every photon the
     // test below takes lies in it), compacted in any order (the sums are exact: the same in any order):
     // the cells the tile reads span some 3 radii a side on a plane, the box about 2 plus the tile's width
@@ -849,13 +852,11 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     vec3 bm = max(abs(blo), abs(bhi));
     float mb = r * 1e-3 + 1e-6 * max(max(bm.x, bm.y), bm.z);
     blo -= r + mb, bhi += r + mb;
-    // A chunk's photons are tested once it holds DLANES or more (from two reads of the list at most: room for
-    // 2 DLANES), or the list ends
     uint chunk = 0u;
-    for (uint off = 0u; off < total; off += DLANES) {
+    for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
-            uint a = 0u, b = 64u;
+            uint a = 0u, b = SLOTS;
             while (b - a > 1u) {
                 uint h = (a + b) / 2u;
                 if (t_pre[h] <= g) a = h;
@@ -885,10 +886,6 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
         uint cn = t_n[chunk];
-        if (cn < DLANES && off + DLANES < total) {
-            barrier(); // all have read the count before the next read adds to it
-            continue;
-        }
         if (valid && uni) {
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
             bool big = t_big[chunk] != 0u;
@@ -911,7 +908,6 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
         if (lid == 0u) t_n[chunk] = 0u, t_big[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
-        chunk ^= 1u;
     }
 }
 
