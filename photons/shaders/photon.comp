@@ -724,25 +724,33 @@ void gather_pixel() {
 // times the lanes (H200: 3.33 -> 1.91 ms); where the tiles fill several waves they cost more than they
 // give (1920x1080: 1.39 -> 2.78 ms on the caustic scene), and photons.c takes 1 (docs/PERFORMANCE.md).
 const uint DLANES = gl_WorkGroupSize.x, DPARTS = DLANES / 64u;
-// Sized by the workgroup (DLANES in the density step): the whole shader declares these arrays, and at
-// 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's occupancy (H200, the seed's
-// setting: 8.8 against 3.3 ms); at 56 bytes a lane they fit any workgroup at full occupancy.
+// Sized by TLANES: the density step's workgroup there, 1 in the other steps. The whole
+// shader declares these arrays: at 256 lanes in every step (14 KB a workgroup of 64) they halved the trace's
+// occupancy (H200, the seed's setting: 8.8 against 3.3 ms); sized by each step's workgroup (56 bytes a lane)
+// they still took shared memory, and with it L1 cache, from the trace's octree walks.
+const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // a chunk of photons: the first halves, and the power as the words fx_add1 adds (the low words in t_b,
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
-shared vec4 t_a[gl_WorkGroupSize.x];
-shared uvec4 t_b[gl_WorkGroupSize.x];
-shared uint t_bk[64], t_start[64], t_pre[65], t_need[2], t_n[2];
+shared vec4 t_a[TLANES];
+shared uvec4 t_b[TLANES];
+// the tile's box of cells, at most 5 a side: a slot each
+const uint SLOTS = 128u;
+shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[SLOTS / 32u], t_g8[SLOTS / 8u], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
-shared uvec3 t_shi[gl_WorkGroupSize.x], t_slo[gl_WorkGroupSize.x]; // the parts' sums (t_shi: also the chunk's)
+// the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
+// the normal of the least code as its pixels decoded it
+shared uint t_cmin, t_cmax, t_sel;
+shared vec3 t_nrm;
+shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
 // added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
-// at most 4 x 4 x 4 around the tile) are gathered into one list of buckets (a bucket two cells share
+// at most 5 x 5 x 5 around the tile) are gathered into one list of buckets (a bucket two cells share
 // once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
 // chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
 // again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
-// pass 4 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+// pass 5 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
 uint fkey(float f) { // ordered as the floats are
     uint u = floatBitsToUint(f);
     return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
@@ -752,21 +760,32 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
-        t_need[0] = 0u, t_need[1] = 0u, t_n[0] = 0u, t_n[1] = 0u;
+        for (uint k = 0u; k < SLOTS / 32u; k++) t_need[k] = 0u;
+        t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    if (valid && part == 0u)
+    if (valid && part == 0u) {
         for (int k = 0; k < 3; k++) {
             atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
             atomicMin(t_blo[k], fkey(x[k])), atomicMax(t_bhi[k], fkey(x[k]));
         }
+        atomicMin(t_cmin, ncode), atomicMax(t_cmax, ncode), atomicOr(t_sel, sel == G_INDIRECT ? 1u : 2u);
+    }
     barrier();
+    if (valid && part == 0u && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
+    // Where every pixel of the tile has one normal code and one selection (a wall's tile: most), the tests
+    // that depend on the photon alone, the normal's and the direct photons', are made once a photon when
+    // the chunk is loaded (the same comparisons as each pixel's, on the same values), and the pixels' loop
+    // tests the distance alone
+    uint code = t_cmin, tsel = t_sel;
+    bool uni = code == t_cmax && tsel != 3u;
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
-    if (ext.x > 4 || ext.y > 4 || ext.z > 4) {
+    if (ext.x > 5 || ext.y > 5 || ext.z > 5) {
         if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
@@ -783,34 +802,47 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
     barrier();
-    // slot lid (< 64): cell lid of the tile's box, its bucket once
-    uint bk = 0xFFFFFFFFu, cnt = 0u, st = 0u;
-    int nc = ext.x * ext.y * ext.z, il = int(lid);
-    if (lid < 64u) {
-        if (il < nc && (t_need[lid >> 5] & (1u << (lid & 31u))) != 0u)
+    // slot sl: cell sl of the tile's box, its bucket once
+    int nc = ext.x * ext.y * ext.z;
+    for (uint sl = lid; sl < SLOTS; sl += DLANES) {
+        uint bk = 0xFFFFFFFFu;
+        int il = int(sl);
+        if (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u)
             bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
-        t_bk[lid] = bk;
+        t_bk[sl] = bk;
     }
     barrier();
-    if (bk != 0xFFFFFFFFu) {
-        bool dup = false;
-        for (uint j = 0u; j < lid; j++) dup = dup || t_bk[j] == bk;
-        if (!dup) {
-            uvec2 cl = cells[bk];
-            cnt = cl.x, st = cl.y;
+    for (uint sl = lid; sl < SLOTS; sl += DLANES) {
+        uint bk = t_bk[sl], cnt = 0u, st = 0u;
+        if (bk != 0xFFFFFFFFu) {
+            bool dup = false;
+            for (uint j = 0u; j < sl && !dup; j++) dup = t_bk[j] == bk;
+            if (!dup) {
+                uvec2 cl = cells[bk];
+                cnt = cl.x, st = cl.y;
+            }
         }
-    }
-    if (lid < 64u) {
-        t_start[lid] = st;
-        t_pre[lid + 1u] = cnt;
+        t_start[sl] = st;
+        t_cnt[sl] = cnt;
     }
     barrier();
-    if (lid == 0u) {
-        t_pre[0] = 0u;
-        for (uint j = 1u; j <= 64u; j++) t_pre[j] += t_pre[j - 1u];
+    // the slots' starts in the list, in two steps (one lane's chain of 64 dependent adds held the workgroup
+    // twice a tile): 16 lanes sum 8 slots' counts each, then a slot's start is the sums of the groups before
+    // it and the counts before it in its own (at most 15 + 7 adds)
+    if (lid < SLOTS / 8u) {
+        uint s8 = 0u;
+        for (uint j = 0u; j < 8u; j++) s8 += t_cnt[8u * lid + j];
+        t_g8[lid] = s8;
     }
     barrier();
-    uint total = t_pre[64];
+    for (uint sl = lid; sl <= SLOTS; sl += DLANES) {
+        uint sum = 0u, g = sl / 8u;
+        for (uint j = 0u; j < g; j++) sum += t_g8[j];
+        for (uint j = 8u * g; j < sl; j++) sum += t_cnt[j];
+        t_pre[sl] = sum;
+    }
+    barrier();
+    uint total = t_pre[SLOTS];
     // The chunk keeps only the photons within r of the tile's points' box (grown by m: every photon the
     // test below takes lies in it), compacted in any order (the sums are exact: the same in any order):
     // the cells the tile reads span some 3 radii a side on a plane, the box about 2 plus the tile's width
@@ -824,7 +856,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
         uint g = off + lid;
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
-            uint a = 0u, b = 64u;
+            uint a = 0u, b = SLOTS;
             while (b - a > 1u) {
                 uint h = (a + b) / 2u;
                 if (t_pre[h] <= g) a = h;
@@ -833,19 +865,36 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             uint k = t_start[a] + (g - t_pre[a]);
             vec4 pa = sorted[k];
             // (another map's photon in these buckets counts for no pixel: left out here)
-            if (all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) &&
-                (floatBitsToUint(pa.w) & F_CAUSTIC) == map) {
+            uint nb = floatBitsToUint(pa.w);
+            bool keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
+            if (keep && uni) {
+                if (tsel == 1u && (nb & F_DIRECT) != 0u) keep = false;
+                if ((nb & ~F_BITS) != code && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), t_nrm) < 0.9) keep = false;
+            }
+            if (keep) {
                 uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
                 fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
-                t_a[slot] = pa;
-                t_b[slot] = uvec4(wlo, 0u);
+                // (where the tests are the distance's alone, the low words ride in the position's fourth:
+                // two reads a photon; the high words, 0 but for a photon of over 32 emitted photons' power,
+                // are read only in a chunk that has some)
+                t_a[slot] = uni ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
+                t_b[slot] = uni ? uvec4(wlo.yz, 0u, 0u) : uvec4(wlo, 0u);
                 t_shi[slot] = whi;
+                if (whi != uvec3(0u)) atomicOr(t_big[chunk], 1u);
             }
         }
         barrier();
         uint cn = t_n[chunk];
-        if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
+        if (valid && uni) {
+            uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
+            bool big = t_big[chunk] != 0u;
+            for (uint j = part * q; j < j1; j++) {
+                vec4 pa = t_a[j];
+                vec3 v = pa.xyz - x;
+                if (dot(v, v) <= r2) fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), t_b[j].xy));
+            }
+        } else if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
             for (uint j = part * q; j < j1; j++) {
                 vec4 pa = t_a[j];
@@ -858,7 +907,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
             }
         }
         barrier();
-        if (lid == 0u) t_n[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
+        if (lid == 0u) t_n[chunk] = 0u, t_big[chunk] = 0u; // read by all before the barrier above; next filled two chunks on
     }
 }
 
