@@ -56,6 +56,20 @@ static uint32_t model_box(const vx_svo_model* m) {
     return b;
 }
 
+/* The kernel's DEEP constant, as render_scene.c's for trace.comp: 2 when a
+ * model is deeper than the rebase depth, 1 when one is deeper than the
+ * exact float depth, else 0. */
+static uint32_t deep_constant(const vx_svo_scene* s) {
+    uint32_t deep = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->root >= VX_SVO_ROOT_LEAF) continue;
+        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
+        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
+    }
+    return deep;
+}
+
 static void paging_free(vx_gpu* g, paging* pg) {
     if (!pg) return;
     vx_compact_paged_free(&pg->p);
@@ -89,14 +103,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (c->model_count != s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact scene has %u models, the scene %u",
                        c->model_count, s->model_count);
-    /* the kernel's DEEP constant, as render_scene.c's for trace.comp */
-    uint32_t deep = 0;
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (m->root >= VX_SVO_ROOT_LEAF) continue;
-        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
-        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
-    }
+    uint32_t deep = deep_constant(s);
     vx_gpu* g = vx__render_scene_gpu(rs);
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
     if (!cg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
@@ -393,13 +400,7 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
         pg->slot[k] = -1;
         pg->state[pg->rep_off + k] = pg->p.pages[k].rgba;
     }
-    uint32_t deep = 0;
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (m->root >= VX_SVO_ROOT_LEAF) continue;
-        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
-        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
-    }
+    uint32_t deep = deep_constant(s);
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
     cmodel_gpu* cm = vx_calloc(&g->alloc, s->model_count ? s->model_count : 1, sizeof *cm);
     if (!cg || !cm) {
