@@ -169,7 +169,7 @@ typedef struct app {
     bool ui_dirty, ov_valid, ov_cam_default;
     double ov_time, ov_cam[5];
     uint32_t ov_w, ov_h;
-    char present_note[512];
+    char present_note[1024];
     /* GPU scene uploads: render scenes made (sv_rebuild), and the node words
      * and records of the scenes before the current one (its own: vx_render_scene_get_stats) */
     uint32_t scenes_made;
