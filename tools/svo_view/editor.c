@@ -47,49 +47,29 @@ static vx_result snap_take(const vx_svo_scene* s, ved_snapshot* out, vx_error* e
 }
 
 /* Makes sn the scene's state; the scene's previous arrays go into sn. */
+#define SWAP(T, a, b)                                                                                  \
+    do {                                                                                               \
+        T swap_ = (a);                                                                                 \
+        (a) = (b), (b) = swap_;                                                                        \
+    } while (0)
 static void snap_swap(vx_svo_scene* s, ved_snapshot* sn) {
-    vx_svo_instance* inst = s->instances;
-    uint32_t n = s->instance_count;
-    s->instances = sn->inst;
-    s->instance_count = sn->inst_count;
-    sn->inst = inst;
-    sn->inst_count = n;
-    vx_svo_instance* fi = s->frame_instances;
-    uint32_t fc = s->frame_count;
-    s->frame_instances = sn->frame_inst;
-    s->frame_count = sn->frame_count;
-    sn->frame_inst = fi;
-    sn->frame_count = fc;
-    vx_light* lights = s->lights;
-    uint32_t nl = s->light_count;
-    s->lights = sn->lights;
-    s->light_count = sn->light_count;
-    sn->lights = lights;
-    sn->light_count = nl;
-    vx_sky sky = s->sky;
-    s->sky = sn->sky;
-    sn->sky = sky;
+    SWAP(vx_svo_instance*, s->instances, sn->inst);
+    SWAP(uint32_t, s->instance_count, sn->inst_count);
+    SWAP(vx_svo_instance*, s->frame_instances, sn->frame_inst);
+    SWAP(uint32_t, s->frame_count, sn->frame_count);
+    SWAP(vx_light*, s->lights, sn->lights);
+    SWAP(uint32_t, s->light_count, sn->light_count);
+    SWAP(vx_sky, s->sky, sn->sky);
     if (sn->has_materials) {
-        vx_svo_material* m = s->materials;
-        uint32_t nm = s->material_count;
-        s->materials = sn->materials;
-        s->material_count = sn->material_count;
-        sn->materials = m;
-        sn->material_count = nm;
+        SWAP(vx_svo_material*, s->materials, sn->materials);
+        SWAP(uint32_t, s->material_count, sn->material_count);
     }
     /* layers are never added or removed, only flagged */
-    for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) {
-        uint32_t f = s->layers[l].flags;
-        s->layers[l].flags = sn->layer_flags[l];
-        sn->layer_flags[l] = f;
-    }
+    for (uint32_t l = 0; l < s->layer_count && l < sn->layer_count; l++) SWAP(uint32_t, s->layers[l].flags, sn->layer_flags[l]);
     /* models are never removed: the index stays valid */
-    if (sn->has_model && sn->model_index < s->model_count) {
-        vx_svo_model m = s->models[sn->model_index];
-        s->models[sn->model_index] = sn->model;
-        sn->model = m;
-    }
+    if (sn->has_model && sn->model_index < s->model_count) SWAP(vx_svo_model, s->models[sn->model_index], sn->model);
 }
+#undef SWAP
 
 /* After snap_swap: a voxel step's header, or the editor of a model whose
  * arrays were swapped (made again at the next voxel edit). */
