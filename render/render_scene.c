@@ -1153,20 +1153,27 @@ static vx_result storage_set(vx_render_scene* rs, const vx__pipeline* p, VkDescr
     return VX_OK;
 }
 
-/* The instance rows' pipeline and its set (sources, instance rows, boxes),
- * made again when the pipeline cache made the pipeline again. */
-static vx_result rows_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
-    vx_gpu* g = rs->gpu;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__inst_rows_spv_arr, .spirv_size = sizeof vx__inst_rows_spv_arr,
-                                       .binding_count = 3, .push_constant_size = 32, .label = "instance rows"};
-    for (int i = 0; i < 3; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+/* A compute pipeline over n storage buffers and its descriptor set (set,
+ * dsl: the scene's fields that keep them), the set made again when the
+ * pipeline cache made the pipeline again. */
+static vx_result storage_pipeline(vx_render_scene* rs, const uint32_t* spirv, size_t spirv_size, uint32_t push, uint32_t key,
+                                  const char* label, const vx__buffer* const* b, uint32_t n, VkDescriptorSet* set,
+                                  VkDescriptorSetLayout* dsl, vx__pipeline** out, vx_error* err) {
+    vx_gpu_compute_pipeline_desc pd = {
+        .spirv = spirv, .spirv_size = spirv_size, .binding_count = n, .push_constant_size = push, .label = label};
+    for (uint32_t i = 0; i < n; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     vx__pipeline* p;
-    vx_result r = vx__pipeline_get(g, 0x1057u, &pd, &p, err);
-    if (r || (r = sets_pool(rs, err))) return r;
-    const vx__buffer* b[3] = {&rs->inst_src, &rs->insts, &rs->inst_boxes};
-    if ((r = storage_set(rs, p, &rs->rows_set, &rs->rows_dsl, b, 3, err))) return r;
+    vx_result r = vx__pipeline_get(rs->gpu, key, &pd, &p, err);
+    if (r || (r = sets_pool(rs, err)) || (r = storage_set(rs, p, set, dsl, b, n, err))) return r;
     *out = p;
     return VX_OK;
+}
+
+/* The instance rows' pipeline and its set (sources, instance rows, boxes). */
+static vx_result rows_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
+    const vx__buffer* b[3] = {&rs->inst_src, &rs->insts, &rs->inst_boxes};
+    return storage_pipeline(rs, vx__inst_rows_spv_arr, sizeof vx__inst_rows_spv_arr, 32, 0x1057u, "instance rows", b, 3,
+                            &rs->rows_set, &rs->rows_dsl, out, err);
 }
 
 /* The instances' rows relative to the world (inst_rows.comp's input). */
@@ -1186,20 +1193,11 @@ void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on) {
     if (rs) rs->rows_gpu = on < 0 ? -1 : on > 0;
 }
 
-/* The refit's pipeline and its set (bvh nodes, items, instance boxes,
- * order), made again when the pipeline cache made the pipeline again. */
+/* The refit's pipeline and its set (bvh nodes, items, instance boxes, order). */
 static vx_result refit_pipeline(vx_render_scene* rs, vx__pipeline** out, vx_error* err) {
-    vx_gpu* g = rs->gpu;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__refit_spv_arr, .spirv_size = sizeof vx__refit_spv_arr,
-                                       .binding_count = 4, .push_constant_size = 8, .label = "bvh refit"};
-    for (int i = 0; i < 4; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    vx__pipeline* p;
-    vx_result r = vx__pipeline_get(g, 0x4EF17u, &pd, &p, err);
-    if (r) return r;
     const vx__buffer* b[4] = {&rs->bvh_nodes, &rs->bvh_items, &rs->inst_boxes, &rs->order_buf};
-    if ((r = sets_pool(rs, err)) || (r = storage_set(rs, p, &rs->refit_set, &rs->refit_dsl, b, 4, err))) return r;
-    *out = p;
-    return VX_OK;
+    return storage_pipeline(rs, vx__refit_spv_arr, sizeof vx__refit_spv_arr, 8, 0x4EF17u, "bvh refit", b, 4,
+                            &rs->refit_set, &rs->refit_dsl, out, err);
 }
 
 /* Each instance's world box relative to f's reference point, rounded outward
