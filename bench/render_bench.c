@@ -8,7 +8,7 @@
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
- *                [--cpu-time] [--node-orders auto|file|treelet[:WORDS],...]
+ *                [--cpu-time] [--node-orders auto|file|treelet[:WORDS[a]],...]
  *                FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
@@ -54,7 +54,8 @@
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
  * --node-orders: voxkit's rows for each order of the node words on the GPU
- * (vx_render_scene_desc.node_order; treelet:WORDS its treelet size; up to
+ * (vx_render_scene_desc.node_order; treelet:WORDS its treelet size, WORDSa
+ * also aligned to WORDS; up to
  * 4), one render scene each in the same process, the baselines timed once
  * per view (with the first); rows after the first end "[order ...]" and
  * the first-row comparison (the same octree: no pixel may differ); each
@@ -105,7 +106,7 @@ static void usage(FILE* out, const char* prog) {
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
-            "          [--node-orders auto|file|treelet[:WORDS],...] FILE...\n"
+            "          [--node-orders auto|file|treelet[:WORDS[a]],...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -414,12 +415,13 @@ int main(int argc, char** argv) {
                     if (t[7]) {
                         errno = 0;
                         unsigned long n = strtoul(t + 8, &end, 10);
-                        if (errno || *end || end == t + 8 || n < 1 || n > 4096) end = NULL, od.node_order = -1;
-                        else od.node_order_words = (uint32_t)n;
+                        bool al = *end == 'a'; /* treelet:WORDSa: treelets aligned to WORDS */
+                        if (errno || end[al] || end == t + 8 || n < 1 || n > 4096) end = NULL, od.node_order = -1;
+                        else od.node_order_words = (uint32_t)n, od.node_order_align = al ? (uint32_t)n : 0;
                     }
                 } else od.node_order = -1;
                 if ((int)od.node_order < 0 || norder == 4) {
-                    fprintf(stderr, "render_bench: --node-orders wants up to 4 of auto, file, treelet[:1..4096], not '%s'\n", t);
+                    fprintf(stderr, "render_bench: --node-orders wants up to 4 of auto, file, treelet[:1..4096[a]], not '%s'\n", t);
                     return 2;
                 }
                 oname[norder] = t;

@@ -78,9 +78,9 @@ bool vx__node_order(const vx_svo_model* m, const vx__node_order_desc* desc, cons
     if (!m->nodes || m->root >= m->node_count || m->node_count >= UINT32_MAX) return false;
     uint32_t budget = desc && desc->words ? desc->words : 32;
     if (budget > 4096) budget = 4096;
-    /* at least 16: a far slot sits within 16 words of its descriptor */
     uint32_t align = desc && desc->align ? desc->align : 0;
     if (align > 4096) align = 4096;
+    /* at least 16: a far slot sits within 16 words of its descriptor */
     uint32_t limit = desc && desc->limit && desc->limit < VX__SVO_PTR_MAX ? desc->limit : VX__SVO_PTR_MAX;
     if (limit < 16) limit = 16;
     ord o = {.w = m->nodes, .n = m->node_count, .root = m->root, .attrs = m->attrs != 0, .budget = budget};
