@@ -8,7 +8,7 @@
  *                [--views overview,oblique,closeup] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
- *                [--cpu-time] [--node-orders auto|file|treelet[:WORDS[a]],...]
+ *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
  * Each scene is seen from three views: the default overview, an oblique view
@@ -53,13 +53,6 @@
  * CPU second): on lavapipe, whose worker threads run the
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
- * --node-orders: voxkit's rows for each order of the node words on the GPU
- * (vx_render_scene_desc.node_order; treelet:WORDS its treelet size, WORDSa
- * also aligned to WORDS; up to
- * 4), one render scene each in the same process, the baselines timed once
- * per view (with the first); rows after the first end "[order ...]" and
- * the first-row comparison (the same octree: no pixel may differ); each
- * order's node words on the GPU follow the table (stderr).
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
  * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -105,8 +98,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
-            "          [--node-orders auto|file|treelet[:WORDS[a]],...] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -370,9 +362,6 @@ int main(int argc, char** argv) {
     uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
     size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
-    vx_render_scene_desc orders[4] = {{0}};
-    const char* oname[4] = {"auto"};
-    int norder = 1;
     uint32_t runs = 15;
     double warmup = 0.5;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
@@ -402,36 +391,7 @@ int main(int argc, char** argv) {
                 bp = end + 1;
             }
         }
-        else if (!strcmp(argv[i], "--node-orders") && i + 1 < argc) {
-            char* list = argv[++i];
-            norder = 0;
-            for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
-                vx_render_scene_desc od = {0};
-                char* end = NULL;
-                if (!strcmp(t, "auto")) od.node_order = VX_RENDER_ORDER_AUTO;
-                else if (!strcmp(t, "file")) od.node_order = VX_RENDER_ORDER_FILE;
-                else if (!strncmp(t, "treelet", 7) && (!t[7] || t[7] == ':')) {
-                    od.node_order = VX_RENDER_ORDER_TREELET;
-                    if (t[7]) {
-                        errno = 0;
-                        unsigned long n = strtoul(t + 8, &end, 10);
-                        bool al = *end == 'a'; /* treelet:WORDSa: treelets aligned to WORDS */
-                        if (errno || end[al] || end == t + 8 || n < 1 || n > 4096) end = NULL, od.node_order = -1;
-                        else od.node_order_words = (uint32_t)n, od.node_order_align = al ? (uint32_t)n : 0;
-                    }
-                } else od.node_order = -1;
-                if ((int)od.node_order < 0 || norder == 4) {
-                    fprintf(stderr, "render_bench: --node-orders wants up to 4 of auto, file, treelet[:1..4096[a]], not '%s'\n", t);
-                    return 2;
-                }
-                oname[norder] = t;
-                orders[norder++] = od;
-            }
-            if (!norder) {
-                fprintf(stderr, "render_bench: --node-orders wants at least one order\n");
-                return 2;
-            }
-        } else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
+        else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
                 /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
@@ -544,28 +504,17 @@ int main(int argc, char** argv) {
             }
         }
         double t_load = vx_time_now() - t0;
-        vx_render_scene* rso[4] = {NULL};
-        int made = 0;
-        double t_order[4] = {0};
-        for (; made < norder; made++) {
-            double tc = vx_time_now();
-            if (vx_render_scene_create_ex(gpu, &s, &orders[made], &rso[made], &err)) {
-                fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
-                break;
-            }
-            t_order[made] = vx_time_now() - tc;
-            vx__render_scene_force_precise(rso[made], variant);
-        }
-        if (made < norder) {
-            for (int oi = 0; oi < made; oi++) vx_render_scene_destroy(rso[oi]);
+        vx_render_scene* rs;
+        if (vx_render_scene_create(gpu, &s, &rs, &err)) {
+            fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
             vx_svo_scene_free(&s);
             failed = 1;
             continue;
         }
-        vx_render_scene* rs = rso[0];
-        vx_render_layout_info li;
-        vx_render_scene_layout(rs, &li);
-        uint64_t vx_bytes = li.bytes;
+        vx__render_scene_force_precise(rs, variant);
+        uint64_t vx_bytes = 0;
+        for (uint32_t i = 0; i < s.model_count; i++)
+            vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
@@ -599,19 +548,16 @@ int main(int argc, char** argv) {
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
                 view_result r = {0};
                 row_ref ref = {0};
-                for (int oi = 0; oi < norder; oi++)
                 for (int ki = 0; ki < nkern; ki++)
                 for (int bi = 0; bi < nbeam; bi++) {
-                    rs = rso[oi];
                     uint32_t beam = beam_list[bi];
                     vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */
-                    bool first_row = bi == 0 && ki == 0 && oi == 0;
-                    double wu = first_view && first_row ? fmax(warmup, 1.0) : warmup;
-                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, first_row, runs, wu, &ref, &r, &err)) {
+                    double wu = first_view && ki == 0 && bi == 0 ? fmax(warmup, 1.0) : warmup;
+                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0, runs, wu, &ref, &r, &err)) {
                         fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
                         failed = 1;
                         break;
@@ -644,10 +590,6 @@ int main(int argc, char** argv) {
                                  esp ? r.cpu_es / r.cpu_vx : 0.0, px / r.cpu_sh * U);
                     char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
-                    if (norder > 1) {
-                        size_t at = strlen(kl);
-                        snprintf(kl + at, sizeof kl - at, "  [order %s]", oname[oi]);
-                    }
                     if (r.beam_diff >= 0) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row, %ld in colour]", r.beam_diff,
@@ -662,8 +604,7 @@ int main(int argc, char** argv) {
                 }
                 free(ref.hits), free(ref.color);
                 first_view = false;
-                for (int oi = 0; oi < norder; oi++) vx__render_scene_trace_kernel(rso[oi], NULL, 0, NULL, 0, 0);
-                rs = rso[0];
+                vx__render_scene_trace_kernel(rs, NULL, 0, NULL, 0, 0);
                 p = strchr(p, ',');
                 if (!p) break;
                 p++;
@@ -681,14 +622,8 @@ int main(int argc, char** argv) {
             fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
                     (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);
         bench_tree64_destroy(&t6);
-        for (int oi = 0; oi < norder; oi++) {
-            vx_render_scene_stats st;
-            vx_render_scene_get_stats(rso[oi], &st);
-            fprintf(stderr, "  (%s: order %s: %.3f MiB of node words uploaded, made in %.3f s, far pointer test %s)\n", name,
-                    oname[oi], st.node_words_uploaded * 4 / 1048576.0, t_order[oi], vx__render_scene_far(rso[oi]) ? "on" : "off");
-        }
         bench_esvo_destroy(&es);
-        for (int oi = 0; oi < norder; oi++) vx_render_scene_destroy(rso[oi]);
+        vx_render_scene_destroy(rs);
         vx_svo_scene_free(&s);
     }
     vx_gpu_destroy(gpu);

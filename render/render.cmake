@@ -3,7 +3,6 @@
 # Vulkan compute tracer (library vx_render).
 add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
-  ${CMAKE_CURRENT_SOURCE_DIR}/node_order.c
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
   ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
   ${CMAKE_CURRENT_SOURCE_DIR}/compact.c

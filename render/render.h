@@ -296,17 +296,6 @@ typedef enum vx_render_layout {
     VX_RENDER_LAYOUT_PLAIN,
     VX_RENDER_LAYOUT_COMPACT,
 } vx_render_layout;
-/* The plain layout keeps the same octree as the .svo file, in the order the
- * trace kernels read best (render/node_order.h): the file's blocks are in
- * the builder's post-order, where a node's first child's block lies behind
- * all its siblings' subtrees. A model edited through
- * vx_render_scene_update_model goes back to the file's order (its appended
- * words are uploaded as they are). */
-typedef enum vx_render_node_order {
-    VX_RENDER_ORDER_AUTO = 0, /* TREELET */
-    VX_RENDER_ORDER_FILE,     /* the file's words as they are */
-    VX_RENDER_ORDER_TREELET,  /* blocks breadth-first in treelets of node_order_words words, treelets depth-first */
-} vx_render_node_order;
 typedef struct vx_render_scene_desc {
     vx_render_layout layout;
     /* bytes the plain layout's node words and records may take (AUTO);
@@ -318,14 +307,6 @@ typedef struct vx_render_scene_desc {
      * two-frame walk's lower frame: pages of 512^3 cells; lowered to three
      * below the deepest model's depth where that is shallower) */
     uint32_t page_level;
-    /* the plain layout's order of each model's node words (issue 21) */
-    vx_render_node_order node_order;
-    /* TREELET: a treelet's words (0: 32, one 128-byte cache line; 1: a
-     * plain depth-first order) */
-    uint32_t node_order_words;
-    /* TREELET: 0 none; else a treelet of at most this many words that would
-     * cross a multiple of it starts at the next (zero words between) */
-    uint32_t node_order_align;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves (passes that

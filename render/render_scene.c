@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "render/compact.h"
-#include "render/node_order.h"
 #include "render/render_internal.h"
 #include "inst_rows.comp.h"
 #include "refit.comp.h"
@@ -134,9 +133,6 @@ struct vx_render_scene {
      * colors buffers are empty and compact traces the frames */
     vx_render_layout_info layout;
     vx_compact_gpu* compact;
-    /* per model: its words on the GPU are in node order (render/node_order.h),
-     * so an update uploads the whole model in the file's order */
-    bool* relaid;
 };
 
 /* Headroom after the models in the shared buffers, so that an edited
@@ -175,9 +171,9 @@ static uint32_t model_box(const vx_svo_model* m) {
  * its node words n[from, count) has bit 16 set: a descriptor's far bit, or a
  * far slot or attribute index of 2^16 or more (false positives, which only
  * keep the test). Models under 2^16 node words and records never have one. */
-static bool words_may_far(const uint32_t* w, uint32_t count, uint32_t from) {
+static bool words_may_far(const vx_svo_model* m, uint32_t from) {
     uint32_t acc = 0;
-    for (uint32_t i = from; i < count; i++) acc |= w[i];
+    for (uint32_t i = from; i < m->node_count; i++) acc |= m->nodes[i];
     return (acc >> 16) & 1u;
 }
 
@@ -196,50 +192,29 @@ static void plain_size(const vx_svo_scene* s, uint64_t* words, uint64_t* colors)
     }
 }
 
-/* The model table and, in the plain layout, the node words (in node order
- * where od is not NULL) and colour records (a compact scene's buffers stay
- * empty: the compact layout holds the scene, render/compact_gpu.c). */
-static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool plain, const vx__node_order_desc* od,
-                                vx_error* err) {
+/* The model table and, in the plain layout, the node words and colour
+ * records (a compact scene's buffers stay empty: the compact layout holds
+ * the scene, render/compact_gpu.c). */
+static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool plain, vx_error* err) {
     vx_gpu* g = rs->gpu;
     uint64_t words, colors;
     plain_size(s, &words, &colors);
     if (!plain) words = colors = 0;
-    size_t mcount = s->model_count ? s->model_count : 1;
-    /* per model: its words in node order (NULL: the file's, where it has no
-     * descriptor or its words are not the format's tree), their count and root */
-    uint32_t** ow = vx_calloc(&rs->alloc, mcount, sizeof *ow);
-    uint32_t* oc = vx_calloc(&rs->alloc, mcount, 2 * sizeof *oc);
-    rs->relaid = vx_calloc(&rs->alloc, mcount, sizeof *rs->relaid);
-    if (!ow || !oc || !rs->relaid) {
-        vx_free(&rs->alloc, ow);
-        vx_free(&rs->alloc, oc);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    }
-    for (uint32_t i = 0; plain && od && i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (!vx__node_order(m, od, &rs->alloc, &ow[i], &oc[2 * i], &oc[2 * i + 1])) continue;
-        /* and room to start it at a multiple of the alignment */
-        words = words - m->node_count + oc[2 * i] + (od->align ? od->align - 1 : 0);
-        rs->relaid[i] = true;
-    }
-    vx_result r = VX_OK;
-    uint32_t *nw = NULL, *cw = NULL;
     uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
-    if (words > limit || colors > limit) {
-        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                    "scene needs %llu node words and %llu colours; the device allows %llu per buffer",
-                    (unsigned long long)words, (unsigned long long)colors, (unsigned long long)limit);
-        goto done;
-    }
+    if (words > limit || colors > limit)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "scene needs %llu node words and %llu colours; the device allows %llu per buffer",
+                       (unsigned long long)words, (unsigned long long)colors, (unsigned long long)limit);
+    size_t mcount = s->model_count ? s->model_count : 1;
     uint64_t wcap = with_headroom(words, limit), ccap = with_headroom(colors, limit);
-    nw = vx_calloc(&rs->alloc, words ? words : 1, 4);
-    cw = vx_calloc(&rs->alloc, colors ? colors : 1, 4);
+    uint32_t* nw = vx_calloc(&rs->alloc, words ? words : 1, 4);
+    uint32_t* cw = vx_calloc(&rs->alloc, colors ? colors : 1, 4);
     rs->gm = vx_calloc(&rs->alloc, mcount, sizeof *rs->gm);
     rs->wreg = vx_calloc(&rs->alloc, mcount, sizeof *rs->wreg);
     rs->creg = vx_calloc(&rs->alloc, mcount, sizeof *rs->creg);
     rs->msize = vx_calloc(&rs->alloc, mcount, 4 * sizeof *rs->msize);
     vx__gpu_model* gm = rs->gm;
+    vx_result r = VX_OK;
     if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory staging %llu node words",
                     (unsigned long long)words);
@@ -256,22 +231,14 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
             continue;
         }
-        if (ow[i] && od->align && wo % od->align) {
-            /* the previous model's region keeps the gap (its appends may use it) */
-            uint32_t gap = od->align - wo % od->align;
-            if (i) rs->wreg[i - 1].cap += gap;
-            wo += gap;
-        }
-        const uint32_t* src = ow[i] ? ow[i] : m->nodes;
-        uint32_t count = ow[i] ? oc[2 * i] : m->node_count;
-        if (count) memcpy(nw + wo, src, (size_t)count * 4);
-        gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = ow[i] ? oc[2 * i + 1] : m->root,
+        if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
+        gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
         gm[i].box = model_box(m);
         deep_model(m, &gm[i]);
         rs->deep = deep_level(rs->deep, &gm[i]);
-        if (words_may_far(src, count, 0)) gm[i].flags |= VX__MODEL_FAR, rs->far = true;
-        rs->wreg[i] = (region){.off = wo, .cap = count, .have = count};
+        if (words_may_far(m, 0)) gm[i].flags |= VX__MODEL_FAR, rs->far = true;
+        rs->wreg[i] = (region){.off = wo, .cap = m->node_count, .have = m->node_count};
         rs->creg[i] = (region){.off = co};
         if (m->attrs) {
             for (uint32_t a = 0; a < m->attr_count; a++) cw[co + a] = vx_svo_attr_rgba(s, m, a);
@@ -281,7 +248,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
         }
         memcpy(&rs->msize[4 * i], m->size, 3 * sizeof m->size[0]);
         rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
-        wo += count;
+        wo += m->node_count;
     }
     rs->wa = (arena){.cap = (uint32_t)wcap, .tail = s->model_count ? s->model_count - 1 : UINT32_MAX};
     rs->ca = rs->wa;
@@ -302,9 +269,6 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     rs->stats.node_words_uploaded += words;
     rs->stats.records_uploaded += colors;
 done:
-    for (uint32_t i = 0; i < s->model_count; i++) vx_free(&rs->alloc, ow[i]);
-    vx_free(&rs->alloc, ow);
-    vx_free(&rs->alloc, oc);
     vx_free(&rs->alloc, nw);
     vx_free(&rs->alloc, cw);
     return r;
@@ -552,14 +516,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     rs->layout = li;
-    vx_render_node_order order = desc ? desc->node_order : VX_RENDER_ORDER_AUTO;
-    if (order > VX_RENDER_ORDER_TREELET) {
-        vx_render_scene_destroy(rs);
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown node order %d", (int)order);
-    }
-    vx__node_order_desc od = {.words = desc ? desc->node_order_words : 0, .align = desc ? desc->node_order_align : 0};
-    if ((r = prepare_models(rs, s, plain, order == VX_RENDER_ORDER_FILE ? NULL : &od, err)) ||
-        (r = prepare_instances(rs, s, err))) {
+    if ((r = prepare_models(rs, s, plain, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
         return r;
     }
@@ -621,7 +578,6 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->wreg);
     vx_free(&a, rs->creg);
     vx_free(&a, rs->msize);
-    vx_free(&a, rs->relaid);
     vx_free(&a, rs->scratch);
     vx_free(&a, rs->tables);
     vx_free(&a, rs->bvh_order);
@@ -831,8 +787,6 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
     region *wr = &rs->wreg[mi], *cr = &rs->creg[mi];
     uint32_t nc = m->node_count, ac = m->attrs ? m->attr_count : 0;
-    /* a model in node order has no words in the file's places: all of it goes up */
-    if (rs->relaid[mi]) words_from = 0;
     /* valid: units the GPU holds that stay; [valid, count) is uploaded */
     uint32_t wvalid = words_from < wr->have ? words_from : wr->have, cvalid = records_from < cr->have ? records_from : cr->have;
     uint32_t whave = nc > wvalid ? nc : wvalid, chave = ac > cvalid ? ac : cvalid;
@@ -869,8 +823,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
     /* the words below wvalid stay: the FAR bit is kept and ORed with the new ones' */
-    gm.flags &= VX__MODEL_HAS_COLOR | (wvalid ? VX__MODEL_FAR : 0u), gm.rebase = 0, gm.box = model_box(m);
-    if (words_may_far(m->nodes, m->node_count, wvalid)) gm.flags |= VX__MODEL_FAR;
+    gm.flags &= VX__MODEL_HAS_COLOR | VX__MODEL_FAR, gm.rebase = 0, gm.box = model_box(m);
+    if (words_may_far(m, wvalid)) gm.flags |= VX__MODEL_FAR;
     deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {
@@ -907,7 +861,6 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     rs->stats.records_uploaded += cn;
     rs->stats.model_updates++;
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
-    rs->relaid[mi] = false;
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
     rs->deep = 0, rs->far = false;

@@ -2,8 +2,6 @@
 # lavapipe (skipped when no Vulkan device exists).
 # the CPU reference needs only the plain-C trace layer (no Vulkan)
 vx_add_test(test_render_cpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_cpu.c LIBS vx_trace vx_svo)
-# the node words' order on the GPU (issue 21): the same octree, cache-friendlier
-vx_add_test(test_node_order SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_node_order.c LIBS vx_trace vx_svo)
 if(VX_WITH_VULKAN)
   set(VX_RENDER_LSAN "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
   if(EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_gpu.c)

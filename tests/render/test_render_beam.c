@@ -239,9 +239,7 @@ static void test_far_pointers(void) {
         vx__svo_far_limit = VX__SVO_PTR_MAX;
         REQUIRE(br == 0);
         vx_render_scene* rs = NULL;
-        /* the file's words (its far slots; a node order needs none here) */
-        vx_result r = vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.node_order = VX_RENDER_ORDER_FILE},
-                                                &rs, &err);
+        vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
         CHECKF(r == VX_OK, "far pointers: %s", err.msg);
         CHECKF(r || vx__render_scene_far(rs) == (lim == 1), "far limit %s: FAR %d", lim ? "3" : "default",
                r ? -1 : (int)vx__render_scene_far(rs));

@@ -9,7 +9,6 @@
 
 #include "convert/convert.h"
 #include "formats/vox.h"
-#include "render/node_order.h"
 #include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
 #include "svo/edit.h"
 #include "svo/svo_internal.h" /* vx__svo_far_limit */
@@ -550,121 +549,6 @@ static void check_frame(const char* name, vx_render_scene* rs, const vx_svo_scen
     vx_render_image_free(&ci);
 }
 
-/* Node orders (issue 21, render/node_order.h): the same scene uploaded in
- * the file's order and in treelet orders traces the same frames bit for bit
- * in every mode (colour: primary and shadow rays; hits: instance, cell, t,
- * steps), the float64 variant too (deep model), and a model whose file
- * words are themselves a treelet order with far slots throughout (a near
- * limit of 16) traces them through the far slots. The CPU reference is
- * compared by the other tests, which run in the default order. */
-static size_t frames_differ(vx_render_scene* a, vx_render_scene* b, vx_render_desc d, const char* name) {
-    static const vx_render_mode modes[] = {VX_RENDER_COLOR, VX_RENDER_ALBEDO, VX_RENDER_NORMAL, VX_RENDER_DEPTH,
-                                           VX_RENDER_INSTANCE, VX_RENDER_ITERATIONS};
-    size_t bad = 0, n = (size_t)d.width * d.height;
-    for (size_t k = 0; k < sizeof modes / sizeof modes[0]; k++) {
-        d.mode = modes[k];
-        d.want_hits = true;
-        vx_render_image ia = {0}, ib = {0};
-        vx_error err = {0};
-        if (vx_render_frame(a, &d, &ia, &err) || vx_render_frame(b, &d, &ib, &err)) {
-            CHECKF(0, "%s: %s", name, err.msg);
-            vx_render_image_free(&ia);
-            return n;
-        }
-        size_t m = 0;
-        for (size_t i = 0; i < n; i++)
-            m += memcmp(&ia.pixels[4 * i], &ib.pixels[4 * i], 16) != 0 || ia.hits[i].instance != ib.hits[i].instance ||
-                 memcmp(ia.hits[i].cell, ib.hits[i].cell, sizeof ia.hits[i].cell) ||
-                 memcmp(&ia.hits[i].t, &ib.hits[i].t, sizeof ia.hits[i].t) ||
-                 ia.hits[i].iterations != ib.hits[i].iterations;
-        CHECKF(m == 0, "%s, mode %d: %zu of %zu pixels differ", name, (int)modes[k], m, n);
-        bad += m;
-        vx_render_image_free(&ia);
-        vx_render_image_free(&ib);
-    }
-    return bad;
-}
-
-static void orders_agree(const char* name, const vx_svo_scene* s, const vx_render_desc* views, int nv) {
-    static const vx_render_scene_desc orders[] = {
-        {.node_order = VX_RENDER_ORDER_AUTO},
-        {.node_order = VX_RENDER_ORDER_TREELET, .node_order_words = 1},
-        {.node_order = VX_RENDER_ORDER_TREELET, .node_order_words = 32, .node_order_align = 32},
-        {.node_order = VX_RENDER_ORDER_TREELET, .node_order_words = 4096},
-    };
-    vx_error err = {0};
-    vx_render_scene* base = NULL;
-    REQUIRE(vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.node_order = VX_RENDER_ORDER_FILE}, &base,
-                                      &err) == VX_OK);
-    size_t bad = 0;
-    for (size_t o = 0; o < sizeof orders / sizeof orders[0]; o++) {
-        vx_render_scene* rs = NULL;
-        REQUIRE(vx_render_scene_create_ex(gpu, s, &orders[o], &rs, &err) == VX_OK);
-        CHECKF(vx_render_scene_precise(rs) == vx_render_scene_precise(base), "%s: variant", name);
-        for (int v = 0; v < nv; v++) {
-            char nm[128];
-            snprintf(nm, sizeof nm, "%s, order %zu, view %d", name, o, v);
-            bad += frames_differ(base, rs, views[v], nm);
-        }
-        vx_render_scene_destroy(rs);
-    }
-    printf("node orders, %s: %zu pixels differ\n", name, bad);
-    vx_render_scene_destroy(base);
-}
-
-static void test_node_orders(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    vx_render_desc dv[2] = {{.width = 48, .height = 36}, {.width = 40, .height = 30}};
-    dv[1].camera.ortho = true, dv[1].camera.fov = 30;
-    static const char* files[] = {"eph_dragon.vox", "eph_menger.vox", "ogt_test_multiple_model_scene.vox"};
-    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char rel[128];
-        snprintf(rel, sizeof rel, "vox/%s", files[i]);
-        vx_svo_scene s;
-        if (!load_vox(rel, &s)) continue;
-        orders_agree(files[i], &s, dv, 2);
-        vx_svo_scene_free(&s);
-    }
-    /* far pointers in the file (built with the near limit at 3) */
-    vx_svo_model m;
-    vx__svo_far_limit = 3;
-    vx_result br = ts_random_model(&m, 20, 17, 23, 35, 777);
-    vx__svo_far_limit = VX__SVO_PTR_MAX;
-    REQUIRE(br == VX_OK);
-    vx_svo_scene s;
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(&s, &m, 1, &in, 1);
-    vx_render_desc fv[2] = {cam(-9, -14, 30, 10, 8, 11), cam(40, 31, -6, 10, 8, 11)};
-    fv[0].width = fv[1].width = 48, fv[0].height = fv[1].height = 36;
-    orders_agree("far pointers", &s, fv, 2);
-    /* a treelet order with far slots throughout as the file's words: traced
-     * in the file's order, through its far slots */
-    uint32_t *w = NULL, count = 0, root = 0;
-    REQUIRE(vx__node_order(&s.models[0], &(vx__node_order_desc){.words = 32, .limit = 16}, NULL, &w, &count, &root));
-    vx_svo_model tm = s.models[0];
-    tm.nodes = w, tm.node_count = count, tm.root = root;
-    vx_svo_scene t = s; /* a view of s with those words (not freed) */
-    t.models = &tm;
-    vx_render_scene *ra = NULL, *rb = NULL;
-    vx_error err = {0};
-    vx_render_scene_desc file = {.node_order = VX_RENDER_ORDER_FILE};
-    REQUIRE(vx_render_scene_create_ex(gpu, &s, &file, &ra, &err) == VX_OK);
-    REQUIRE(vx_render_scene_create_ex(gpu, &t, &file, &rb, &err) == VX_OK);
-    CHECK(vx__render_scene_far(rb));
-    for (int v = 0; v < 2; v++) frames_differ(ra, rb, fv[v], "treelet words with far slots");
-    vx_render_scene_destroy(ra);
-    vx_render_scene_destroy(rb);
-    free(w);
-    vx_svo_scene_free(&s);
-    /* a deep model (the float64 variant) */
-    uint32_t base[3][3];
-    deep_scene(17, &s, base);
-    vx_render_desc views[4];
-    deep_views(base[0], 1u << 17, 40, 30, views);
-    orders_agree("deep (17 levels)", &s, views, 4);
-    vx_svo_scene_free(&s);
-}
-
 /* Far pointers (issue 21): the trace kernel tests a descriptor's far bit
  * only where some model may hold a far pointer (its FAR constant,
  * render_scene.c). A model built with the far limit lowered to 3 (far
@@ -673,8 +557,7 @@ static void test_node_orders(void) {
  * through the far slot); the same cells built as usual (a small model has
  * none) leave it off; and a scene made without far pointers turns it on when
  * an edit appends some (vx_render_scene_update_model) and traces the
- * reference's cells after. The scenes keep the file's order (a small
- * model in node order has no far pointer; test_node_orders). */
+ * reference's cells after. */
 static void test_far_pointers(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_render_desc views[2] = {cam(-9, -14, 30, 10, 8, 11), cam(40, 31, -6, 10, 8, 11)};
@@ -692,9 +575,7 @@ static void test_far_pointers(void) {
         ts_scene(&s, &m, 1, &in, 1);
         vx_render_scene* rs = NULL;
         vx_error err = {0};
-        /* the file's words as they are (a node order needs no far slot in so small a model) */
-        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.node_order = VX_RENDER_ORDER_FILE}, &rs,
-                                          &err) == VX_OK);
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
         CHECKF(vx__render_scene_far(rs) == (lim == 1), "far limit %s: FAR %d", lim ? "3" : "default",
                vx__render_scene_far(rs));
         for (int v = 0; v < 2; v++) {
@@ -1027,7 +908,6 @@ int main(void) {
     RUN(test_precise_variant);
     RUN(test_many_instances);
     RUN(test_far_pointers);
-    RUN(test_node_orders);
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
