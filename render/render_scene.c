@@ -380,6 +380,15 @@ static vx_result instance_refit(vx_render_scene* rs, const vx_svo_scene* s, vx_e
     return r;
 }
 
+/* Every buffer prepare_instances makes, in one list so that a rebuild and the scene's destruction free the
+ * same set (the refit's two and later the instance sources were leaked by a rebuild while the lists were
+ * written twice; the validation layer names them at vkDestroyDevice). */
+static void destroy_instance_buffers(vx_render_scene* rs) {
+    vx__buffer* bufs[] = {&rs->frame,      &rs->bvh_items, &rs->bvh_nodes, &rs->insts,
+                          &rs->pinsts,     &rs->inst_boxes, &rs->order_buf, &rs->inst_src};
+    for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(rs->gpu, bufs[i]);
+}
+
 static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     vx_result r = instance_tables(rs, s, err);
     if (r) return r;
@@ -566,9 +575,9 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device);
     vx_compact_gpu_destroy(rs->compact);
-    vx__buffer* bufs[] = {&rs->beam,  &rs->dense_bits, &rs->hits,   &rs->pixels, &rs->frame,  &rs->bvh_items, &rs->bvh_nodes,
-                          &rs->insts, &rs->pinsts,     &rs->models, &rs->colors, &rs->nodes, &rs->stage,
-                          &rs->inst_boxes, &rs->order_buf, &rs->inst_src};
+    destroy_instance_buffers(rs);
+    vx__buffer* bufs[] = {&rs->beam,   &rs->dense_bits, &rs->hits,  &rs->pixels, &rs->models,
+                          &rs->colors, &rs->nodes,      &rs->stage};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     if (rs->refit_pool) vkDestroyDescriptorPool(g->device, rs->refit_pool, NULL);
     vx_bvh_free(&rs->bvh);
@@ -674,10 +683,7 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device); /* the old tables may still be read */
     rs->recorded = false;
-    /* every buffer prepare_instances makes (the refit's two as well: leaked before, named by the validation
-     * layer at vkDestroyDevice in the ASan suite) */
-    vx__buffer* bufs[] = {&rs->frame, &rs->bvh_items, &rs->bvh_nodes, &rs->insts, &rs->pinsts, &rs->inst_boxes, &rs->order_buf};
-    for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
+    destroy_instance_buffers(rs);
     vx_bvh_free(&rs->bvh);
     memset(&rs->bvh, 0, sizeof rs->bvh);
     rs->bvh.alloc = &rs->alloc;
