@@ -136,6 +136,11 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
                         int chunk_mode, const vx__svo_sink* sink);
+/* A guess of the bytes vx__svo_pack_write appends for s (without coding
+ * anything): the file writer places NODE behind a header that holds its
+ * size as a varint, and only that varint's length must come out right for
+ * NODE to stay where it was written (svo_io.c write_file). */
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode);
 /* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_error* err);

@@ -801,6 +801,30 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     return ok && !out->failed;
 }
 
+static unsigned var_len(uint64_t v) {
+    unsigned n = 1;
+    while (v >>= 7) n++;
+    return n;
+}
+
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode) {
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        uint64_t words = (uint64_t)m->node_count * 4, recs = (uint64_t)m->attr_count * rec_bytes(m->attrs), est;
+        /* typical ratios (docs/PERFORMANCE.md, issue 18): deflate level 1
+         * about halves words and records, the structural form keeps about a
+         * quarter; stored chunks are the raw bytes plus their tables */
+        if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
+        else if (mode == VX__CHUNK_STORED) est = words + recs + (words + recs) / 8192 + 16;
+        else if (mode == VX__CHUNK_FAST) est = words + recs / 2 + 16;
+        else est = (words + recs) / 2 + 16;
+        total += var_len(est) + est;
+    }
+    return total;
+}
+
 /* ---- reader ---------------------------------------------------------------------------------- */
 
 typedef struct rc_src {
