@@ -67,8 +67,20 @@ void vx__svo_advise_huge(void* p, size_t n);
  * model_count entries, or is NULL), so a writer analyses every model once. */
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err);
 /* The same without the models' trees (models false): only the scene's own
- * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded). */
-vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, vx_error* err);
+ * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded);
+ * or without those marked in skip (may be NULL; their ext entries untouched):
+ * models whose vx_svo_model.check the writer found current. */
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
+                                     vx_error* err);
+/* Sets each model's vx_svo_model.check from its extent (the reader, after
+ * validating the scene): the digests on up to `threads` threads. */
+void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads);
+/* The models the writer need not validate (skip[i] = 1, ext[i] from the
+ * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) and
+ * their check's digest current. alloc: the writer's (a failed allocation
+ * leaves every model to the validation). */
+void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
+                            vx__svo_extent* ext);
 /* Scene bounds from extents already known (known may be NULL: analyse). */
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]);
 

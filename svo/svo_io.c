@@ -861,6 +861,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     }
     if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
+    vx__svo_set_checks(&s, ext, rdd.threads);
     vx_free(A, ext);
     vx_free(A, secs);
     vx_free(A, chunked);
@@ -1156,7 +1157,12 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
      * elsewhere bring theirs) */
     w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
     if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, err);
+    /* chunked models that the reader validated and nobody changed since (their
+     * check's digest current) are not validated again (svo.h vx_svo_model.check) */
+    uint8_t* skip = !cs && s->model_count ? (uint8_t*)vx_calloc(alloc, s->model_count, 1) : NULL;
+    if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, skip, w->ext);
+    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, skip, err);
+    vx_free(alloc, skip);
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
         if (c->cells != s->models[i].voxel_count || c->stream_size == 0)

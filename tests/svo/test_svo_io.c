@@ -1930,6 +1930,64 @@ static void test_chunked_large(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_read leaves each model's check (digest and cell box as validated);
+ * a writer skips validating chunked models whose digest is current. The
+ * checks agree with an independent digest and the validation's extent, the
+ * bytes written do not depend on them, and a model changed after the read
+ * (its digest stale) is validated again: a broken one is refused as if it
+ * had no check. */
+static void test_model_checks(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    vx_write_desc ch = {.svo_chunk_words = 1};
+    uint8_t *d = NULL, *d2 = NULL;
+    size_t n = 0, n2 = 0;
+    REQUIRE(vx_svo_write_ex(&ch, &s, &d, &n, &e) == VX_OK);
+    vx_svo_scene r;
+    REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
+    for (uint32_t i = 0; i < r.model_count; i++) {
+        const vx_svo_model* m = &r.models[i];
+        CHECK(s.models[i].check.digest == 0); /* built, never read */
+        CHECK(m->check.digest != 0 && m->check.digest == vx_svo_model_digest(m));
+        CHECK(vx_svo_model_digest(&s.models[i]) == m->check.digest); /* the same model */
+        /* the box: the cells' own, from a decode independent of the validation */
+        ext_box bx = {{UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}, 0};
+        REQUIRE(vx_svo_decode_model(m, ext_visit, &bx, &e) == VX_OK);
+        const uint32_t *mn = m->check.min, *mx = m->check.max;
+        CHECKF(!memcmp(mn, bx.mn, sizeof bx.mn) && !memcmp(mx, bx.mx, sizeof bx.mx),
+               "model %u: check box (%u %u %u)-(%u %u %u), cells (%u %u %u)-(%u %u %u)", i, mn[0], mn[1], mn[2], mx[0], mx[1],
+               mx[2], bx.mn[0], bx.mn[1], bx.mn[2], bx.mx[0], bx.mx[1], bx.mx[2]);
+    }
+    /* the same bytes with the checks (validation skipped) as without */
+    REQUIRE(vx_svo_write_ex(&ch, &r, &d2, &n2, &e) == VX_OK);
+    CHECK(n2 == n && !memcmp(d, d2, n));
+    free(d2);
+    /* a model changed after the read: its digest is stale, the writer validates
+     * it and refuses it with the validation's own message */
+    vx_svo_model* m = &r.models[2]; /* geometry only */
+    uint32_t w = m->root, keep = m->nodes[w];
+    m->nodes[w] &= ~0xFF00u; /* the root descriptor without children */
+    CHECK(vx_svo_model_digest(m) != m->check.digest);
+    vx_error e1, e2;
+    vx_result r1 = vx_svo_write_ex(&ch, &r, &d2, &n2, &e1);
+    uint32_t saved = m->check.digest;
+    m->check.digest = 0;
+    vx_result r2 = vx_svo_write_ex(&ch, &r, &d2, &n2, &e2);
+    CHECKF(r1 != VX_OK && r1 == r2 && !strcmp(e1.msg, e2.msg), "stale check: %d %s; none: %d %s", r1, e1.msg, r2, e2.msg);
+    m->check.digest = saved;
+    m->nodes[w] = keep;
+    CHECK(vx_svo_model_digest(m) == m->check.digest);
+    /* the compact form validates every model, checked or not */
+    m->nodes[w] &= ~0xFF00u;
+    m->check.digest = vx_svo_model_digest(m); /* a check that lies */
+    CHECK(vx_svo_write_ex(NULL, &r, &d2, &n2, &e1) != VX_OK);
+    m->nodes[w] = keep;
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
 /* A model whose records repeat in runs (few distinct runs on many distinct
  * nodes): the DAG shares the runs, so the structural form's values,
  * one per leaf child of every distinct node, outnumber the model's records.
@@ -2532,6 +2590,7 @@ int main(int argc, char** argv) {
     RUN(test_same_size_models);
     RUN(test_streamed_file);
     RUN(test_node_in_place);
+    RUN(test_model_checks);
     RUN(test_thread_counts);
     RUN(test_coded_models);
     RUN(test_chunked_form);
