@@ -717,8 +717,9 @@ static void pipe_job(void* ctx, unsigned thread, uint32_t i) {
         }
         pthread_cond_wait(&p->moved, &p->lock); /* the writer broadcasts each model written */
     }
+    const bool failed = p->failed;
     pthread_mutex_unlock(&p->lock);
-    if (!p->failed) deflate_chunk(&p->jobs[k], thread, i - p->first[k]);
+    if (!failed) deflate_chunk(&p->jobs[k], thread, i - p->first[k]);
     atomic_fetch_add(&p->done[k], 1);
     pipe_write(p);
 }
