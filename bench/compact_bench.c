@@ -24,8 +24,21 @@
  * kernels (registers, spills, instructions) as they are created; each row
  * gives the mean traversal steps per ray of both (the hits' iterations).
  *
+ * --geometry (before the files): the layout of the scenes with their
+ * attributes left out, so that only the geometry DAG is built (it never
+ * sees a colour, so its words are those of the full layout): the geometry
+ * bytes of scenes whose attribute blocks would take too long to code
+ * (the issue's 16384^3 goal).
+ *
+ * --res N (before the files; a build with the glTF reader): meshes (.glb,
+ * .gltf) are voxelized in the process at N along their longest side, with
+ * no colours under --geometry (vx_conv_mesh_desc.no_color: the same cells),
+ * on every core, or on the GPU with --mesh-gpu (a build with Vulkan): no
+ * .svo file of a scene too large to write and read back within a run. The
+ * conversion's time is printed before the row.
+ *
  * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--gpu WxH] [--reps N]
- *                      [--terrain EXTENT] [FILE.vox|FILE.svo ...] */
+ *                      [--geometry] [--res N [--mesh-gpu]] [--terrain EXTENT] [FILE.vox|FILE.svo|FILE.glb ...] */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
 #include <stdio.h>
@@ -35,6 +48,12 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "render/compact.h"
+#ifdef VX_BENCH_HAVE_MESH
+#include "convert/mesh.h"
+#endif
+#ifdef VX_BENCH_HAVE_MESH_GPU
+#include "convert/mesh_gpu.h"
+#endif
 #ifdef VX_BENCH_HAVE_VULKAN
 #include "bench/bench_stats.h"
 #include "render/render_internal.h"
@@ -299,11 +318,53 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
     vx_compact_free(&c);
 }
 
+/* A mesh voxelized at res in the process (see --res above). */
+static int mesh_scene(const char* path, uint32_t res, bool no_color, bool on_gpu, vx_svo_scene* s, vx_error* err) {
+#ifdef VX_BENCH_HAVE_MESH
+    vx_conv_mesh_desc d = {.res = res, .no_color = no_color};
+    vx_gltf_mesh mesh;
+    if (vx_conv_mesh_read(&d, path, &mesh, err)) return 1;
+#ifdef VX_BENCH_HAVE_MESH_GPU
+    vx_gpu* g = NULL;
+    vx_conv_mesh_gpu* mg = NULL;
+    if (on_gpu && (vx_gpu_create(&(vx_gpu_desc){0}, &g, err) || vx_conv_mesh_gpu_create(g, NULL, &mg, err))) {
+        vx_gltf_mesh_free(&mesh);
+        return 1;
+    }
+    if (mg) d.backend = vx_conv_mesh_gpu_backend(mg);
+#else
+    if (on_gpu) {
+        vx_gltf_mesh_free(&mesh);
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "--mesh-gpu: built without the GPU voxelizer"), 1;
+    }
+#endif
+    double t0 = vx_time_now();
+    vx_result r = vx_conv_mesh(&d, &mesh, s, NULL, err);
+    double t = vx_time_now() - t0;
+    vx_gltf_mesh_free(&mesh);
+#ifdef VX_BENCH_HAVE_MESH_GPU
+    vx_conv_mesh_gpu_destroy(mg);
+    vx_gpu_destroy(g);
+#endif
+    if (r) return 1;
+    uint64_t vox = 0, words = 0;
+    for (uint32_t m = 0; m < s->model_count; m++) vox += s->models[m].voxel_count, words += s->models[m].node_count;
+    printf("%s at %u: %llu voxels, %u models, %llu node words, converted in %.1f s (%s%s)\n", path, res, (unsigned long long)vox,
+           s->model_count, (unsigned long long)words, t, on_gpu ? "GPU" : "CPU", no_color ? ", no colours" : "");
+    fflush(stdout);
+    return 0;
+#else
+    (void)path, (void)res, (void)no_color, (void)on_gpu, (void)s;
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "meshes: built without the glTF reader"), 1;
+#endif
+}
+
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
     uint64_t budget = 0;
-    bool stats = false;
+    bool stats = false, geometry_only = false, mesh_gpu = false;
+    uint32_t mesh_res = 0;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
     vx_logger logger = {.func = print_stats};
@@ -346,6 +407,18 @@ int main(int argc, char** argv) {
 #endif
             continue;
         }
+        if (!strcmp(argv[i], "--res") && i + 1 < argc) {
+            mesh_res = (uint32_t)strtoul(argv[++i], NULL, 10);
+            continue;
+        }
+        if (!strcmp(argv[i], "--mesh-gpu")) {
+            mesh_gpu = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--geometry")) {
+            geometry_only = true;
+            continue;
+        }
         if (!strcmp(argv[i], "--shader-stats")) {
             /* before --gpu: the driver's statistics of each kernel as it is created */
             stats = !setenv("VX_GPU_SHADER_STATS", "1", 1);
@@ -380,8 +453,15 @@ int main(int argc, char** argv) {
             }
             snprintf(name, sizeof name, "terrain %u", e);
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: %s [--blocks 0,16,64,...] [--terrain EXTENT] [FILE.vox|FILE.svo ...]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--blocks 0,16,64,...] [--geometry] [--terrain EXTENT] [FILE.vox|FILE.svo ...]\n", argv[0]);
             return 2;
+        } else if (mesh_res && (strstr(argv[i], ".glb") || strstr(argv[i], ".gltf"))) {
+            if (mesh_scene(argv[i], mesh_res, geometry_only, mesh_gpu, &s, &err)) {
+                fprintf(stderr, "compact_bench: %s: %s\n", argv[i], err.msg);
+                return 1;
+            }
+            const char* b = strrchr(argv[i], '/');
+            snprintf(name, sizeof name, "%s at %u", b ? b + 1 : argv[i], mesh_res);
         } else {
             if (bench_load(argv[i], &s, &err)) {
                 fprintf(stderr, "compact_bench: %s: %s\n", argv[i], err.msg);
@@ -391,6 +471,8 @@ int main(int argc, char** argv) {
             snprintf(name, sizeof name, "%s", b ? b + 1 : argv[i]);
         }
         double load = vx_time_now() - t0;
+        if (geometry_only)
+            for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
         if (!gw)
             for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
 #ifdef VX_BENCH_HAVE_VULKAN

@@ -16,8 +16,11 @@
  * --fast: the same with the word chunks stored, the record chunks deflated
  * (vx_write_desc.svo_chunk_fast).
  * --convert OUT.svo only writes the chunked copy of FILE and exits.
+ * --no-checks: the writes get the scene without the reader's checks
+ * (vx_svo_model.check cleared), so they validate every model as the write of
+ * a scene just built does (vox2svo).
  *
- * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked]
+ * Usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked] [--no-checks]
  * (readfile / writefile: only vx_svo_read_file / vx_svo_write_file) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -56,7 +59,7 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
-    bool chunked = false, stored = false, fast = false;
+    bool chunked = false, stored = false, fast = false, no_checks = false;
     const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
@@ -68,6 +71,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--chunked")) chunked = true;
         else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
         else if (!strcmp(argv[i], "--fast")) chunked = fast = true;
+        else if (!strcmp(argv[i], "--no-checks")) no_checks = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
@@ -77,12 +81,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--no-checks] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--no-checks] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -134,6 +138,7 @@ int main(int argc, char** argv) {
         printf("chunked copy %s: %zu bytes (written in %.2f s)\n", in_path, size, vx_time_now() - t0);
         fflush(stdout);
     }
+    for (uint32_t i = 0; no_checks && i < sc.model_count; i++) memset(&sc.models[i].check, 0, sizeof sc.models[i].check);
     uint8_t* first = NULL;
     size_t first_n = 0;
     printf("%-8s %-28s %10s %10s %10s\n", "threads", "step", "wall s", "cpu s", "MB/s");

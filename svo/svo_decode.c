@@ -619,6 +619,7 @@ static vx_result check_instance(const vx_svo_scene* s, const vx_svo_instance* in
 typedef struct analyze_jobs {
     const vx_svo_scene* s;
     vx__svo_extent* ext;
+    const uint8_t* skip;
     vx_result* res;
     vx_error* errs;
 } analyze_jobs;
@@ -626,18 +627,20 @@ typedef struct analyze_jobs {
 static void analyze_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     analyze_jobs* j = (analyze_jobs*)ctx;
+    if (j->skip && j->skip[i]) return; /* res[i] stays VX_OK (0) */
     j->res[i] = vx__svo_analyze(&j->s->models[i], j->ext ? &j->ext[i] : NULL, &j->errs[i]);
 }
 
-/* Analyses every model (in parallel for large scenes); the first failing
- * model in index order gives the error. */
-static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsigned want, uint32_t* bad, vx_error* err) {
+/* Analyses every model but those marked in skip (may be NULL), in parallel
+ * for large scenes; the first failing model in index order gives the error. */
+static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, const uint8_t* skip, unsigned want, uint32_t* bad,
+                                vx_error* err) {
     unsigned threads = vx__svo_threads(s, want);
     vx_result* res = threads > 1 ? (vx_result*)vx_calloc(s->alloc, s->model_count, sizeof *res) : NULL;
     vx_error* errs = threads > 1 ? (vx_error*)vx_calloc(s->alloc, s->model_count, sizeof *errs) : NULL;
     vx_result r = VX_OK;
     if (res && errs) {
-        analyze_jobs j = {s, ext, res, errs};
+        analyze_jobs j = {s, ext, skip, res, errs};
         vx_run_jobs(threads, s->model_count, analyze_job, &j);
         for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
             if (res[i] != VX_OK) {
@@ -648,25 +651,80 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, unsi
     } else { /* one model at a time: a large one uses the threads within itself */
         unsigned cpus = vx__svo_cpus(want);
         for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
-            if ((r = vx__svo_analyze_mt(&s->models[i], ext ? &ext[i] : NULL, false, cpus, err)) != VX_OK) *bad = i;
+            if ((!skip || !skip[i]) && (r = vx__svo_analyze_mt(&s->models[i], ext ? &ext[i] : NULL, false, cpus, err)) != VX_OK) *bad = i;
     }
     vx_free(s->alloc, res);
     vx_free(s->alloc, errs);
     return r;
 }
 
-vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err) {
-    return vx__svo_validate_scene_opt(s, ext, threads, true, err);
+/* Digests of a scene's models on the threads: the reader's checks, and the
+ * writer's test of them. */
+typedef struct digest_jobs {
+    const vx_svo_scene* s;
+    uint32_t* digest;
+    const uint8_t* only; /* NULL: every model */
+} digest_jobs;
+
+static void digest_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    digest_jobs* j = (digest_jobs*)ctx;
+    j->digest[i] = !j->only || j->only[i] ? vx_svo_model_digest(&j->s->models[i]) : 0;
 }
 
-vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, vx_error* err) {
+static void digests(const vx_svo_scene* s, const uint8_t* only, unsigned threads, uint32_t* out) {
+    digest_jobs j = {s, out, only};
+    vx_run_jobs(vx__svo_threads(s, threads), s->model_count, digest_job, &j);
+}
+
+void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads) {
+    uint32_t* d = s->model_count ? (uint32_t*)vx_calloc(s->alloc, s->model_count, sizeof *d) : NULL;
+    if (!d) return; /* no checks: a later write validates */
+    digests(s, NULL, threads, d);
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        vx_svo_model_check* c = &s->models[i].check;
+        c->digest = d[i];
+        memcpy(c->min, ext[i].min, sizeof c->min);
+        memcpy(c->max, ext[i].max, sizeof c->max);
+    }
+    vx_free(s->alloc, d);
+}
+
+void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
+                            vx__svo_extent* ext) {
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        /* the structural coder relies on a valid model: only chunked ones */
+        skip[i] = m->check.digest && vx__svo_model_chunked(m, chunk_min);
+        n += skip[i];
+    }
+    uint32_t* d = n ? (uint32_t*)vx_calloc(alloc, s->model_count, sizeof *d) : NULL;
+    if (d) digests(s, skip, threads, d);
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        skip[i] = skip[i] && d && d[i] == m->check.digest;
+        if (!skip[i]) continue;
+        ext[i].cells = m->voxel_count;
+        memcpy(ext[i].min, m->check.min, sizeof ext[i].min);
+        memcpy(ext[i].max, m->check.max, sizeof ext[i].max);
+    }
+    vx_free(alloc, d);
+}
+
+vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err) {
+    return vx__svo_validate_scene_opt(s, ext, threads, true, NULL, err);
+}
+
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
+                                     vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
         (s->material_count && !s->materials) || (s->light_count && !s->lights))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
     uint32_t bad = 0;
     if (models) {
-        vx_result r = analyze_models(s, ext, threads, &bad, err);
+        vx_result r = analyze_models(s, ext, skip, threads, &bad, err);
         if (r != VX_OK) {
             char p[32];
             snprintf(p, sizeof p, "model %u", bad);

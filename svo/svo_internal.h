@@ -67,8 +67,20 @@ void vx__svo_advise_huge(void* p, size_t n);
  * model_count entries, or is NULL), so a writer analyses every model once. */
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err);
 /* The same without the models' trees (models false): only the scene's own
- * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded). */
-vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, vx_error* err);
+ * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded);
+ * or without those marked in skip (may be NULL; their ext entries untouched):
+ * models whose vx_svo_model.check the writer found current. */
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
+                                     vx_error* err);
+/* Sets each model's vx_svo_model.check from its extent (the reader, after
+ * validating the scene): the digests on up to `threads` threads. */
+void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads);
+/* The models the writer need not validate (skip[i] = 1, ext[i] from the
+ * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) and
+ * their check's digest current. alloc: the writer's (a failed allocation
+ * leaves every model to the validation). */
+void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
+                            vx__svo_extent* ext);
 /* Scene bounds from extents already known (known may be NULL: analyse). */
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]);
 
@@ -136,6 +148,11 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
                         int chunk_mode, const vx__svo_sink* sink);
+/* A guess of the bytes vx__svo_pack_write appends for s (without coding
+ * anything): the file writer places NODE behind a header that holds its
+ * size as a varint, and only that varint's length must come out right for
+ * NODE to stay where it was written (svo_io.c write_file). */
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode);
 /* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_error* err);

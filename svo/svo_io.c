@@ -861,6 +861,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     }
     if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
+    vx__svo_set_checks(&s, ext, rdd.threads);
     vx_free(A, ext);
     vx_free(A, secs);
     vx_free(A, chunked);
@@ -1156,7 +1157,12 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
      * elsewhere bring theirs) */
     w->ext = s->model_count ? (vx__svo_extent*)vx_calloc(alloc, s->model_count, sizeof *w->ext) : NULL;
     if (s->model_count && !w->ext) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
-    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, err);
+    /* chunked models that the reader validated and nobody changed since (their
+     * check's digest current) are not validated again (svo.h vx_svo_model.check) */
+    uint8_t* skip = !cs && s->model_count ? (uint8_t*)vx_calloc(alloc, s->model_count, 1) : NULL;
+    if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, skip, w->ext);
+    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, skip, err);
+    vx_free(alloc, skip);
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
         if (c->cells != s->models[i].voxel_count || c->stream_size == 0)
@@ -1310,11 +1316,16 @@ vx_result vx_svo_write_ex(const vx_write_desc* desc, const vx_svo_scene* s, uint
 
 /* ---- writing a file: sections streamed to disk --------------------------------------------- */
 
-/* The sections go to a scratch file beside the output as they are made (the
- * NODE section in pieces of 16 MB), their sizes and CRCs counted on the way;
- * then the output's temporary file gets the header and table and the
- * sections copied behind them, and is renamed into place. Peak memory is the
- * scene plus a few pieces, not the scene plus the whole file. */
+/* The small sections are made in memory first; the NODE section goes
+ * straight into the output's temporary file as it is coded (in pieces of
+ * 16 MB or one chunk), its size and CRC counted on the way, behind a
+ * placeholder for the header and table. Only the length of NODE's size
+ * varint in the table is not known before NODE is written: it is guessed
+ * (vx__svo_pack_estimate; exact for streams coded elsewhere) and, when the
+ * guess was wrong, the sections behind the header are moved once (the copy
+ * every write made when NODE went to a scratch file first: about a tenth of
+ * the 4096^3 helmet's chunked write, docs/PERFORMANCE.md issue 18). Peak
+ * memory is the scene plus a few pieces, not the scene plus the file. */
 typedef struct spill {
     FILE* f;
     uint32_t crc;
@@ -1335,79 +1346,120 @@ static bool spill_flush(void* user, vx_buf* out) {
     return true;
 }
 
+/* Moves the n bytes at offset from of the temporary file af to offset to
+ * (the header came out shorter or longer than guessed), through buf of cap
+ * bytes, and cuts what is left behind a shorter body. The file is written
+ * through af's stream and read through a second one without a buffer, so
+ * no stale bytes are read; the order of the pieces never reads a byte
+ * already overwritten. */
+static bool move_body(vx_atomic_file* af, uint64_t from, uint64_t to, uint64_t n, uint8_t* buf, size_t cap) {
+    FILE* f = (FILE*)af->f;
+    if (fflush(f) != 0) return false;
+    FILE* r = fopen(af->tmp, "rb");
+    if (!r) return false;
+    setvbuf(r, NULL, _IONBF, 0);
+    bool ok = true;
+    for (uint64_t done = 0; ok && done < n;) {
+        size_t k = n - done < cap ? (size_t)(n - done) : cap;
+        /* left: the first piece first; right: the last first */
+        uint64_t off = to < from ? done : n - done - k;
+        ok = fseeko(r, (off_t)(from + off), SEEK_SET) == 0 && fread(buf, 1, k, r) == k &&
+             fseeko(f, (off_t)(to + off), SEEK_SET) == 0 && fwrite(buf, 1, k, f) == k && fflush(f) == 0;
+        done += k;
+    }
+    fclose(r);
+    return ok && (to > from || ftruncate(fileno(f), (off_t)(to + n)) == 0);
+}
+
 static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, coded_src* cs, const char* path, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo write: null argument");
     const vx_allocator* a = desc ? desc->alloc : NULL;
     wplan w;
     vx_result r = plan_write(s, desc, cs, &w, err);
     if (r != VX_OK) return vx_error_prefix(err, path), r;
-    size_t slen = strlen(path) + 48;
-    char* scratch = (char*)vx_alloc(a, slen);
-    if (!scratch) {
-        plan_free(a, &w);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
+    vx_buf secs[S_COUNT], head = {.alloc = a};
+    int node = -1;
+    bool nomem = false, io = false;
+    int e = 0;
+    for (int si = 0; si < w.ns; si++) {
+        secs[si] = (vx_buf){.alloc = a};
+        if (w.order[si] == S_NODE) {
+            node = si;
+            continue;
+        }
+        nomem = nomem || !write_section(&secs[si], &w, si, s, a, NULL, cs);
+        w.sizes[si] = secs[si].size;
+        w.crcs[si] = secs[si].failed ? 0 : vx__svo_crc32(0, secs[si].data, secs[si].size);
     }
-    snprintf(scratch, slen, "%s.tmp%ld.sections", path, (long)getpid());
-    FILE* sf = fopen(scratch, "w+b");
-    /* only ever used through sf: unnamed from the start, so a killed writer
-     * leaves no scratch file (the remove below is then a no-op) */
-    if (sf) remove(scratch);
-    uint8_t* chunk = NULL;
-    const size_t chunk_size = (size_t)4 << 20;
-    bool nomem = false, io = !sf;
-    int e = errno;
-    for (int si = 0; !io && !nomem && si < w.ns; si++) {
-        vx_buf b = {.alloc = a};
-        spill sp = {.f = sf};
-        vx__svo_sink sink = {spill_flush, &sp};
-        bool ok = write_section(&b, &w, si, s, a, &sink, cs) && spill_flush(&sp, &b);
-        if (!ok) io = sp.failed || (cs && cs->read_failed), nomem = !io, e = sp.failed ? errno : EIO;
-        w.sizes[si] = sp.size;
-        w.crcs[si] = sp.crc;
-        vx_buf_free(&b);
+    /* NODE's guessed size: streams coded elsewhere are known exactly */
+    uint64_t guess = 0;
+    for (uint32_t mi = 0; cs && mi < s->model_count; mi++) {
+        uint64_t n = cs->info[mi].stream_size, v = n;
+        guess += n + 1;
+        while (v >>= 7) guess++;
+    }
+    if (!cs) guess = vx__svo_pack_estimate(s, w.chunk_min, w.chunk_mode);
+    if (node >= 0) w.sizes[node] = guess;
+    uint64_t fin[S_COUNT];
+    nomem = nomem || !write_head(&head, &w, fin);
+    const size_t guessed = head.size;
+    vx_atomic_file af;
+    memset(&af, 0, sizeof af);
+    bool opened = false;
+    if (!nomem) {
+        r = vx_atomic_open(&af, path, a, err);
+        opened = r == VX_OK;
+    }
+    if (opened) {
+        /* the header's place (its bytes are rewritten at the end), then the
+         * sections one behind the other: the writer sets no ALIGN4 flag */
+        vx_atomic_write(&af, head.data, head.size);
+        for (int si = 0; !io && !nomem && si < w.ns; si++) {
+            if (si != node) {
+                io = !vx_atomic_write(&af, secs[si].data, secs[si].size);
+                continue;
+            }
+            vx_buf b = {.alloc = a};
+            spill sp = {.f = (FILE*)af.f};
+            vx__svo_sink sink = {spill_flush, &sp};
+            bool ok = write_section(&b, &w, si, s, a, &sink, cs) && spill_flush(&sp, &b);
+            if (!ok) io = sp.failed || (cs && cs->read_failed), nomem = !io, e = sp.failed ? errno : EIO;
+            w.sizes[si] = sp.size;
+            w.crcs[si] = sp.crc;
+            vx_buf_free(&b);
+        }
+        if (io && !e) e = af.failed_errno ? af.failed_errno : EIO;
+        head.size = 0;
+        nomem = nomem || !write_head(&head, &w, fin);
+        if (!io && !nomem && head.size != guessed) {
+            uint64_t body = 0;
+            for (int si = 0; si < w.ns; si++) body += w.sizes[si];
+            const size_t cap = (size_t)4 << 20;
+            uint8_t* buf = (uint8_t*)vx_alloc(a, cap);
+            nomem = !buf;
+            io = buf && !move_body(&af, guessed, head.size, body, buf, cap);
+            if (io) e = errno ? errno : EIO;
+            vx_free(a, buf);
+        }
+        if (!io && !nomem) {
+            io = fflush((FILE*)af.f) != 0 || fseeko((FILE*)af.f, 0, SEEK_SET) != 0;
+            if (io) e = errno;
+            else vx_atomic_write(&af, head.data, head.size);
+        }
+        if (io || nomem) vx_atomic_abort(&af);
+        else {
+            r = vx_atomic_commit(&af, err);
+            if (r) vx_error_prefix(err, path);
+        }
     }
     plan_free(a, &w);
-    vx_buf head = {.alloc = a};
-    uint64_t fin[S_COUNT];
-    if (!io && !nomem) {
-        nomem = !write_head(&head, &w, fin) || !(chunk = (uint8_t*)vx_alloc(a, chunk_size));
-        io = !nomem && (fflush(sf) != 0 || fseek(sf, 0, SEEK_SET) != 0);
-        e = errno;
-    }
-    if (!io && !nomem) {
-        /* the output: header and table, then each section copied behind them */
-        vx_atomic_file af;
-        r = vx_atomic_open(&af, path, a, err);
-        if (r == VX_OK) {
-            vx_atomic_write(&af, head.data, head.size);
-            uint64_t end = head.size;
-            static const uint8_t zeros[4] = {0};
-            for (int si = 0; si < w.ns; si++) {
-                vx_atomic_write(&af, zeros, (size_t)(fin[si] - end));
-                for (uint64_t left = w.sizes[si]; left;) {
-                    size_t k = left < chunk_size ? (size_t)left : chunk_size;
-                    if (fread(chunk, 1, k, sf) != k) {
-                        af.failed_errno = EIO; /* the scratch file came back short */
-                        break;
-                    }
-                    vx_atomic_write(&af, chunk, k);
-                    left -= k;
-                }
-                end = fin[si] + w.sizes[si];
-            }
-            r = vx_atomic_commit(&af, err);
-        }
-        if (r) vx_error_prefix(err, path);
-    }
-    if (sf) fclose(sf);
-    remove(scratch);
-    vx_free(a, scratch);
-    vx_free(a, chunk);
+    for (int si = 0; si < w.ns; si++) vx_buf_free(&secs[si]);
     vx_buf_free(&head);
     if (nomem) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: svo write: out of memory", path);
     if (io && cs && cs->read_failed)
         return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: svo write: a model's coded stream could not be read", path);
     if (io) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot write: %s", path, strerror(e));
+    if (!opened) vx_error_prefix(err, path);
     return r;
 }
 

@@ -11,6 +11,8 @@
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. */
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
 #include <zlib.h>
@@ -580,14 +582,10 @@ static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
 }
 
 static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
-/* A chunked model's stream: the chunk count, per chunk its words, records
- * and deflated bytes, then the chunks. threads: coders within the model.
- * with_len: the stream's length (varint) first, as the NODE section has it.
- * The chunks go straight into out and, with a sink, out is flushed between
- * them: the stream is never copied whole (three copies of the helmet's
- * 322 MB and their fresh memory were a tenth of its write). */
-static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode, unsigned threads, bool with_len, vx_buf* out,
-                         const vx__svo_sink* sink) {
+
+/* The chunks of model m in mode (VX__CHUNK_*): counts and levels, and the
+ * arrays for their coded bytes; false when out of memory. */
+static bool chunk_setup(chunk_job* j, const vx_svo_model* m, const vx_allocator* A, int mode) {
     const int level = mode == VX__CHUNK_STORED ? 0 : 1, wlevel = mode == VX__CHUNK_DEFLATE ? 1 : 0;
     uint64_t wraw = (uint64_t)m->node_count * 4, rraw = (uint64_t)m->attr_count * rec_bytes(m->attrs);
     uint64_t wc = (wraw + CHUNK_RAW - 1) / CHUNK_RAW, rc = (rraw + CHUNK_RAW - 1) / CHUNK_RAW;
@@ -595,39 +593,169 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode,
     if (wc > m->node_count) wc = m->node_count; /* at least one word per word chunk */
     if (rc > m->attr_count) rc = m->attr_count;
     uint64_t count = wc + rc;
-    chunk_job j = {m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, NULL, NULL, NULL};
-    j.out = (uint8_t**)vx_calloc(A, count, sizeof *j.out);
-    j.out_n = (size_t*)vx_calloc(A, count, sizeof *j.out_n);
-    j.ok = (bool*)vx_calloc(A, count, sizeof *j.ok);
-    bool ok = j.out && j.out_n && j.ok;
-    if (ok) {
-        if (threads > count) threads = (unsigned)count;
-        if (threads <= 1)
-            for (uint32_t i = 0; i < count; i++) deflate_chunk(&j, 0, i);
-        else
-            run_jobs(threads, (uint32_t)count, deflate_chunk, &j);
-        vx_buf tab = {.alloc = A};
-        ok = put_var(&tab, count);
-        uint64_t total = 0;
-        for (uint32_t i = 0; ok && i < count; i++) {
-            uint32_t w0, w1, r0, r1;
-            chunk_range(&j, i, &w0, &w1, &r0, &r1);
-            ok = j.ok[i] && put_var(&tab, w1 - w0) && put_var(&tab, r1 - r0) && put_var(&tab, j.out_n[i]);
-            total += j.out_n[i];
-        }
-        ok = ok && !tab.failed && (!with_len || put_var(out, tab.size + total)) && vx_buf_append(out, tab.data, tab.size);
-        vx_buf_free(&tab);
-        for (uint32_t i = 0; ok && i < count; i++) {
-            ok = vx_buf_append(out, j.out[i], j.out_n[i]);
-            vx_free(A, j.out[i]);
-            j.out[i] = NULL;
-            ok = ok && maybe_flush(out, sink);
-        }
+    *j = (chunk_job){m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, NULL, NULL, NULL};
+    j->out = (uint8_t**)vx_calloc(A, count, sizeof *j->out);
+    j->out_n = (size_t*)vx_calloc(A, count, sizeof *j->out_n);
+    j->ok = (bool*)vx_calloc(A, count, sizeof *j->ok);
+    return j->out && j->out_n && j->ok;
+}
+
+static void chunk_free(chunk_job* j) {
+    for (uint32_t i = 0; j->out && i < j->count; i++) vx_free(j->A, j->out[i]);
+    vx_free(j->A, j->out);
+    vx_free(j->A, j->out_n);
+    vx_free(j->A, j->ok);
+    j->out = NULL, j->out_n = NULL, j->ok = NULL;
+}
+
+/* A coded model's stream: the chunk count, per chunk its words, records
+ * and deflated bytes, then the chunks, each freed once written. with_len:
+ * the stream's length (varint) first, as the NODE section has it. With a
+ * sink, each chunk goes to it as it is (out flushed first, to keep the
+ * order): the stream is never gathered or copied whole (three copies of
+ * the helmet's 322 MB and their fresh memory were a tenth of its write). */
+static bool chunk_emit(chunk_job* j, bool with_len, vx_buf* out, const vx__svo_sink* sink) {
+    vx_buf tab = {.alloc = j->A};
+    bool ok = put_var(&tab, j->count);
+    uint64_t total = 0;
+    for (uint32_t i = 0; ok && i < j->count; i++) {
+        uint32_t w0, w1, r0, r1;
+        chunk_range(j, i, &w0, &w1, &r0, &r1);
+        ok = j->ok[i] && put_var(&tab, w1 - w0) && put_var(&tab, r1 - r0) && put_var(&tab, j->out_n[i]);
+        total += j->out_n[i];
     }
-    for (uint32_t i = 0; j.out && i < count; i++) vx_free(A, j.out[i]);
-    vx_free(A, j.out);
-    vx_free(A, j.out_n);
-    vx_free(A, j.ok);
+    ok = ok && !tab.failed && (!with_len || put_var(out, tab.size + total)) && vx_buf_append(out, tab.data, tab.size);
+    vx_buf_free(&tab);
+    for (uint32_t i = 0; ok && i < j->count; i++) {
+        if (sink) {
+            /* the chunk as a buffer of its own: flush() only reads and empties it */
+            vx_buf piece = {.data = j->out[i], .size = j->out_n[i], .cap = j->out_n[i], .alloc = j->A};
+            ok = (out->size == 0 || sink->flush(sink->user, out)) && sink->flush(sink->user, &piece);
+        } else {
+            ok = vx_buf_append(out, j->out[i], j->out_n[i]);
+        }
+        vx_free(j->A, j->out[i]);
+        j->out[i] = NULL;
+    }
+    return ok && !out->failed;
+}
+
+/* A chunked model's stream (chunk_emit) coded on up to `threads` threads. */
+static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode, unsigned threads, bool with_len, vx_buf* out,
+                         const vx__svo_sink* sink) {
+    chunk_job j;
+    bool ok = chunk_setup(&j, m, A, mode);
+    if (ok) {
+        if (threads > j.count) threads = j.count;
+        if (threads <= 1)
+            for (uint32_t i = 0; i < j.count; i++) deflate_chunk(&j, 0, i);
+        else
+            run_jobs(threads, j.count, deflate_chunk, &j);
+        ok = chunk_emit(&j, with_len, out, sink);
+    }
+    chunk_free(&j);
+    return ok && !out->failed;
+}
+
+/* Consecutive chunked models coded as one list of chunks on every thread,
+ * each model written (chunk_emit) as soon as all its chunks are coded, by
+ * whichever thread finishes its last one, while the others code on: no
+ * thread waits for a model's slowest chunk or for its write, and the
+ * write (the page-cache copy, a tenth of the helmet's CPU time) runs beside
+ * the coding. A chunk of model k is not started before model k - WINDOW is
+ * written, so at most WINDOW + 1 models' coded chunks are held. */
+#define PIPE_WINDOW 2u
+typedef struct chunk_pipe {
+    chunk_job* jobs;  /* per model */
+    uint32_t* first;  /* per model: its first chunk's index in the list; [n] the total */
+    _Atomic uint32_t* done; /* per model: chunks coded */
+    uint32_t n;
+    vx_buf* out;
+    const vx__svo_sink* sink;
+    pthread_mutex_t lock;
+    pthread_cond_t moved; /* `next` advanced, or the write failed */
+    uint32_t next;        /* the model to write next */
+    bool writing, failed;
+} chunk_pipe;
+
+/* Writes the models whose chunks are all coded, in order, unless another
+ * thread is at it (it then writes them: it checks again after each). */
+static void pipe_write(chunk_pipe* p) {
+    pthread_mutex_lock(&p->lock);
+    if (p->writing) {
+        pthread_mutex_unlock(&p->lock);
+        return;
+    }
+    p->writing = true;
+    while (!p->failed && p->next < p->n && atomic_load(&p->done[p->next]) == p->jobs[p->next].count) {
+        uint32_t k = p->next;
+        pthread_mutex_unlock(&p->lock);
+        bool ok = chunk_emit(&p->jobs[k], true, p->out, p->sink) && maybe_flush(p->out, p->sink);
+        chunk_free(&p->jobs[k]);
+        pthread_mutex_lock(&p->lock);
+        p->failed = p->failed || !ok;
+        p->next = k + 1;
+        pthread_cond_broadcast(&p->moved);
+    }
+    p->writing = false;
+    pthread_mutex_unlock(&p->lock);
+}
+
+static void pipe_job(void* ctx, unsigned thread, uint32_t i) {
+    chunk_pipe* p = (chunk_pipe*)ctx;
+    uint32_t k = 0;
+    while (p->first[k + 1] <= i) k++;
+    /* the window: wait for model k - WINDOW to be written, writing it here
+     * when its chunks are done and no other thread is writing */
+    pthread_mutex_lock(&p->lock);
+    while (!p->failed && k >= p->next + PIPE_WINDOW) {
+        if (!p->writing && atomic_load(&p->done[p->next]) == p->jobs[p->next].count) {
+            pthread_mutex_unlock(&p->lock);
+            pipe_write(p);
+            pthread_mutex_lock(&p->lock);
+            continue;
+        }
+        pthread_cond_wait(&p->moved, &p->lock); /* the writer broadcasts each model written */
+    }
+    const bool failed = p->failed;
+    pthread_mutex_unlock(&p->lock);
+    if (!failed) deflate_chunk(&p->jobs[k], thread, i - p->first[k]);
+    atomic_fetch_add(&p->done[k], 1);
+    pipe_write(p);
+}
+
+static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n, const vx_allocator* A, int mode, unsigned threads,
+                             const vx__svo_sink* sink) {
+    chunk_pipe p = {.n = n, .out = out, .sink = sink};
+    p.jobs = (chunk_job*)vx_calloc(A, n, sizeof *p.jobs);
+    p.first = (uint32_t*)vx_calloc(A, (size_t)n + 1, sizeof *p.first);
+    p.done = (_Atomic uint32_t*)vx_calloc(A, n, sizeof *p.done);
+    bool ok = p.jobs && p.first && p.done;
+    uint64_t total = 0;
+    for (uint32_t k = 0; ok && k < n; k++) {
+        ok = chunk_setup(&p.jobs[k], &models[k], A, mode);
+        p.first[k] = (uint32_t)total;
+        total += p.jobs[k].count;
+        ok = ok && total <= UINT32_MAX;
+        atomic_init(&p.done[k], 0);
+    }
+    if (ok) {
+        p.first[n] = (uint32_t)total;
+        pthread_mutex_init(&p.lock, NULL);
+        pthread_cond_init(&p.moved, NULL);
+        if (threads <= 1) /* in order: each model is written as its last chunk is done */
+            for (uint32_t i = 0; i < total; i++) pipe_job(&p, 0, i);
+        else
+            run_jobs(threads, (uint32_t)total, pipe_job, &p);
+        pipe_write(&p); /* nothing is left unless a write failed */
+        ok = !p.failed && p.next == n;
+        pthread_cond_destroy(&p.moved);
+        pthread_mutex_destroy(&p.lock);
+    }
+    for (uint32_t k = 0; p.jobs && k < n; k++) chunk_free(&p.jobs[k]);
+    vx_free(A, p.jobs);
+    vx_free(A, p.first);
+    vx_free(A, (void*)p.done);
     return ok && !out->failed;
 }
 
@@ -744,14 +872,21 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
     return !out->failed && sink->flush(sink->user, out);
 }
 
-/* One model's stream with its length, straight into the output. */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx__svo_sink* sink) {
-    if (chunked) return pack_chunked(m, A, chunked, threads, true, out, sink) && maybe_flush(out, sink);
+/* One model's stream in the structural or raw form with its length,
+ * straight into the output (chunked models: pack_chunked_run). */
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, chunked, threads, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, 1, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
+}
+
+/* The number of consecutive chunked models from model `first` on. */
+static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chunk_min) {
+    uint32_t n = 0;
+    while (first + n < s->model_count && vx__svo_model_chunked(&s->models[first + n], chunk_min)) n++;
+    return n;
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
@@ -760,9 +895,12 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
-        for (uint32_t mi = 0; mi < s->model_count; mi++) {
-            bool ch = vx__svo_model_chunked(&s->models[mi], chunk_min);
-            if (!pack_one(out, &s->models[mi], A, ch ? mode : VX__CHUNK_NONE, ch ? cpus : 1, sink)) return false;
+        for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
+            n = chunked_run(s, mi, chunk_min);
+            if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
+                  : !pack_one(out, &s->models[mi], A, sink))
+                return false;
+            if (!n) n = 1;
         }
         return !out->failed;
     }
@@ -775,9 +913,8 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     bool* oks = (bool*)vx_calloc(A, batch, sizeof *oks);
     bool ok = bufs && oks;
     for (uint32_t first = 0, n = 0; ok && first < s->model_count; first += n) {
-        if (vx__svo_model_chunked(&s->models[first], chunk_min)) {
-            n = 1;
-            ok = pack_one(out, &s->models[first], A, mode, cpus, sink);
+        if ((n = chunked_run(s, first, chunk_min)) > 0) {
+            ok = pack_chunked_run(out, s->models + first, n, A, mode, cpus, sink);
             continue;
         }
         for (n = 1; n < batch && first + n < s->model_count && !vx__svo_model_chunked(&s->models[first + n], chunk_min);) n++;
@@ -799,6 +936,30 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     vx_free(A, bufs);
     vx_free(A, oks);
     return ok && !out->failed;
+}
+
+static unsigned var_len(uint64_t v) {
+    unsigned n = 1;
+    while (v >>= 7) n++;
+    return n;
+}
+
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode) {
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        uint64_t words = (uint64_t)m->node_count * 4, recs = (uint64_t)m->attr_count * rec_bytes(m->attrs), est;
+        /* typical ratios (docs/PERFORMANCE.md, issue 18): deflate level 1
+         * about halves words and records, the structural form keeps about a
+         * quarter; stored chunks are the raw bytes plus their tables */
+        if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
+        else if (mode == VX__CHUNK_STORED) est = words + recs + (words + recs) / 8192 + 16;
+        else if (mode == VX__CHUNK_FAST) est = words + recs / 2 + 16;
+        else est = (words + recs) / 2 + 16;
+        total += var_len(est) + est;
+    }
+    return total;
 }
 
 /* ---- reader ---------------------------------------------------------------------------------- */

@@ -46,6 +46,24 @@ uint64_t vx_svo_model_hash(const vx_svo_model* m) {
     return h;
 }
 
+uint32_t vx_svo_model_digest(const vx_svo_model* m) {
+    if (!m || (m->node_count && !m->nodes)) return 0;
+    uint32_t f[12] = {m->size[0], m->size[1], m->size[2], m->depth, m->root, m->root_attr, m->attrs, (uint32_t)m->voxel_count,
+                      (uint32_t)(m->voxel_count >> 32), m->node_count, m->attr_count, 0x53564F44u};
+    /* in the host's byte order: a digest is only compared within a process */
+    uint32_t crc = vx__svo_crc32(0, f, sizeof f);
+    if (m->node_count) crc = vx__svo_crc32(crc, m->nodes, (size_t)m->node_count * 4);
+    const void* ch[5];
+    size_t el[5];
+    channels(m, ch, el);
+    for (int k = 0; k < 5; k++) {
+        if (!(m->attrs >> k & 1u) || !m->attr_count) continue;
+        if (!ch[k]) return 0;
+        crc = vx__svo_crc32(crc, ch[k], el[k] * m->attr_count);
+    }
+    return crc ? crc : 1u;
+}
+
 bool vx_svo_model_equal(const vx_svo_model* a, const vx_svo_model* b) {
     if (memcmp(a->size, b->size, sizeof a->size) || a->depth != b->depth || a->root != b->root || a->root_attr != b->root_attr ||
         a->attrs != b->attrs || a->voxel_count != b->voxel_count || a->node_count != b->node_count || a->attr_count != b->attr_count)

@@ -1142,6 +1142,88 @@ static void test_streamed_file(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_write_file writes NODE in place behind a header whose NODE size
+ * varint has a guessed length (vx__svo_pack_estimate); where the guess is
+ * shorter or longer than the real one, the sections behind the header move.
+ * Scenes of many sizes, forms and chunk codings: the file always holds
+ * vx_svo_write's bytes, and the sweep has met all three cases. */
+static unsigned t_var_len(uint64_t v) {
+    unsigned n = 1;
+    while (v >>= 7) n++;
+    return n;
+}
+
+/* One geometry-only model: the faces of a box of side S (a regular DAG). */
+static void make_shell(vx_svo_scene* s, uint32_t S) {
+    vx_svo_scene_init(s, NULL);
+    s->model_count = 1;
+    s->models = (vx_svo_model*)calloc(1, sizeof *s->models);
+    uint64_t* k = (uint64_t*)malloc((size_t)S * S * 6 * 8);
+    size_t n = 0;
+    for (uint32_t a = 0; a < S; a++)
+        for (uint32_t b = 0; b < S; b++) /* each face's cells (edges twice: the builder takes a cell once) */
+            for (int f = 0; f < 6; f++) {
+                uint32_t c = f & 1 ? S - 1 : 0;
+                k[n++] = f < 2 ? vx_svo_morton(c, a, b) : f < 4 ? vx_svo_morton(a, c, b) : vx_svo_morton(a, b, c);
+            }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = k};
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &in, &s->models[0], NULL, &e) == VX_OK);
+    free(k);
+    s->instance_count = 1;
+    s->instances = (vx_svo_instance*)calloc(1, sizeof *s->instances);
+    double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    memcpy(s->instances[0].xform, id, sizeof id);
+    s->instances[0].layer = UINT32_MAX; /* no layer */
+    vx_svo_scene_update_bounds(s);
+}
+
+static void test_node_in_place(void) {
+    char dir[] = "/tmp/vx_svo_placeXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/out.svo", dir);
+    /* shells of side 4..15 (structure that codes far below its words), then
+     * make_scene's random cells (codes above the guess) */
+    static const size_t sizes[] = {3, 8, 20, 120, 700, 4000};
+    const size_t shells = 12, cases = shells + sizeof sizes / sizeof *sizes;
+    int seen[3] = {0, 0, 0}; /* guess shorter, equal, longer */
+    for (size_t si = 0; si < cases; si++)
+        for (int form = 0; form < 3; form++) {
+            vx_svo_scene s;
+            if (si < shells) make_shell(&s, (uint32_t)(4 + si));
+            else make_scene(&s, sizes[si - shells]);
+            vx_write_desc wd = {.svo_chunk_words = form ? 1 : 0, .svo_chunk_stored = form == 2};
+            vx_error e;
+            uint8_t* mem = NULL;
+            size_t nm = 0;
+            vx_result wr = vx_svo_write_ex(&wd, &s, &mem, &nm, &e);
+            CHECKF(wr == VX_OK, "case %zu, form %d: %s", si, form, e.msg);
+            REQUIRE(wr == VX_OK);
+            tsec t[8];
+            size_t tcrc;
+            int ns = t_table(mem, nm, t, 8, &tcrc);
+            REQUIRE(ns >= 2 && !strcmp(t[1].tag, "NODE"));
+            unsigned real = t_var_len(t[1].size);
+            unsigned guess = t_var_len(vx__svo_pack_estimate(&s, wd.svo_chunk_words, vx__svo_chunk_mode(&wd)));
+            seen[guess < real ? 0 : guess == real ? 1 : 2]++;
+            REQUIRE(vx_svo_write_file(&wd, &s, path, &e) == VX_OK);
+            size_t nf = 0;
+            uint8_t* file = slurp_file(path, &nf);
+            CHECKF(file && nf == nm && !memcmp(file, mem, nm), "case %zu, form %d: %zu vs %zu bytes (NODE varint %u, guessed %u)",
+                   si, form, nf, nm, real, guess);
+            free(file);
+            free(mem);
+            vx_svo_scene_free(&s);
+        }
+    CHECKF(seen[0] && seen[1] && seen[2], "guesses shorter / equal / longer: %d / %d / %d", seen[0], seen[1], seen[2]);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "test \"$(ls -A %s)\" = out.svo", dir);
+    CHECK(system(cmd) == 0);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
+
 /* ---- lights and sky (FORMAT.md 2.4) ------------------------------------------------------ */
 
 /* One light of every type, with a -0.0 (stored: not +0.0 by bit pattern). */
@@ -1848,6 +1930,64 @@ static void test_chunked_large(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_read leaves each model's check (digest and cell box as validated);
+ * a writer skips validating chunked models whose digest is current. The
+ * checks agree with an independent digest and the validation's extent, the
+ * bytes written do not depend on them, and a model changed after the read
+ * (its digest stale) is validated again: a broken one is refused as if it
+ * had no check. */
+static void test_model_checks(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    vx_write_desc ch = {.svo_chunk_words = 1};
+    uint8_t *d = NULL, *d2 = NULL;
+    size_t n = 0, n2 = 0;
+    REQUIRE(vx_svo_write_ex(&ch, &s, &d, &n, &e) == VX_OK);
+    vx_svo_scene r;
+    REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
+    for (uint32_t i = 0; i < r.model_count; i++) {
+        const vx_svo_model* m = &r.models[i];
+        CHECK(s.models[i].check.digest == 0); /* built, never read */
+        CHECK(m->check.digest != 0 && m->check.digest == vx_svo_model_digest(m));
+        CHECK(vx_svo_model_digest(&s.models[i]) == m->check.digest); /* the same model */
+        /* the box: the cells' own, from a decode independent of the validation */
+        ext_box bx = {{UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}, 0};
+        REQUIRE(vx_svo_decode_model(m, ext_visit, &bx, &e) == VX_OK);
+        const uint32_t *mn = m->check.min, *mx = m->check.max;
+        CHECKF(!memcmp(mn, bx.mn, sizeof bx.mn) && !memcmp(mx, bx.mx, sizeof bx.mx),
+               "model %u: check box (%u %u %u)-(%u %u %u), cells (%u %u %u)-(%u %u %u)", i, mn[0], mn[1], mn[2], mx[0], mx[1],
+               mx[2], bx.mn[0], bx.mn[1], bx.mn[2], bx.mx[0], bx.mx[1], bx.mx[2]);
+    }
+    /* the same bytes with the checks (validation skipped) as without */
+    REQUIRE(vx_svo_write_ex(&ch, &r, &d2, &n2, &e) == VX_OK);
+    CHECK(n2 == n && !memcmp(d, d2, n));
+    free(d2);
+    /* a model changed after the read: its digest is stale, the writer validates
+     * it and refuses it with the validation's own message */
+    vx_svo_model* m = &r.models[2]; /* geometry only */
+    uint32_t w = m->root, keep = m->nodes[w];
+    m->nodes[w] &= ~0xFF00u; /* the root descriptor without children */
+    CHECK(vx_svo_model_digest(m) != m->check.digest);
+    vx_error e1, e2;
+    vx_result r1 = vx_svo_write_ex(&ch, &r, &d2, &n2, &e1);
+    uint32_t saved = m->check.digest;
+    m->check.digest = 0;
+    vx_result r2 = vx_svo_write_ex(&ch, &r, &d2, &n2, &e2);
+    CHECKF(r1 != VX_OK && r1 == r2 && !strcmp(e1.msg, e2.msg), "stale check: %d %s; none: %d %s", r1, e1.msg, r2, e2.msg);
+    m->check.digest = saved;
+    m->nodes[w] = keep;
+    CHECK(vx_svo_model_digest(m) == m->check.digest);
+    /* the compact form validates every model, checked or not */
+    m->nodes[w] &= ~0xFF00u;
+    m->check.digest = vx_svo_model_digest(m); /* a check that lies */
+    CHECK(vx_svo_write_ex(NULL, &r, &d2, &n2, &e1) != VX_OK);
+    m->nodes[w] = keep;
+    vx_svo_scene_free(&r);
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
 /* A model whose records repeat in runs (few distinct runs on many distinct
  * nodes): the DAG shares the runs, so the structural form's values,
  * one per leaf child of every distinct node, outnumber the model's records.
@@ -2449,6 +2589,8 @@ int main(int argc, char** argv) {
     RUN(test_far_file);
     RUN(test_same_size_models);
     RUN(test_streamed_file);
+    RUN(test_node_in_place);
+    RUN(test_model_checks);
     RUN(test_thread_counts);
     RUN(test_coded_models);
     RUN(test_chunked_form);

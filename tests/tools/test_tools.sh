@@ -43,6 +43,13 @@ grep -q -- "needs more than --max-memory 64.0 KiB" "$T/err" && ok "vox2svo names
 [ ! -e "$T/small.svo" ] && ok "no output over the cap" || bad "no output over the cap"
 expect_status 0 "vox2svo --max-memory 1G" "$BIN/vox2svo" "$T/demo.vox" "$T/big.svo" --max-memory 1G
 cmp -s "$T/demo.svo" "$T/big.svo" && ok "a budget does not change the file" || bad "a budget does not change the file"
+# --chunked and --chunked-fast are accepted; the demo's models lie far below the
+# chunked form's 2^20 words, so both keep the compact form's bytes (the chunks
+# themselves, deflated and fast: test_svo_io's test_chunked_large)
+expect_status 0 "vox2svo --chunked" "$BIN/vox2svo" "$T/demo.vox" "$T/ch.svo" --chunked -q
+expect_status 0 "vox2svo --chunked-fast" "$BIN/vox2svo" "$T/demo.vox" "$T/chf.svo" --chunked-fast -q
+cmp -s "$T/demo.svo" "$T/ch.svo" && cmp -s "$T/demo.svo" "$T/chf.svo" && ok "small models stay in the compact form" ||
+  bad "small models stay in the compact form"
 expect_status 1 "svo_info --max-memory 4K" "$BIN/svo_info" "$T/demo.svo" --max-memory 4K
 grep -q -- "needs more than --max-memory 4.0 KiB" "$T/err" && grep -q "demo.svo" "$T/err" && ok "svo_info names the cap and file" || bad "svo_info names the cap and file"
 expect_status 0 "svo_info --max-memory 1G" "$BIN/svo_info" "$T/demo.svo" --max-memory 1G --verify

@@ -91,7 +91,7 @@ typedef struct encode_jobs {
     size_t n, next;
     pthread_mutex_t lock;
     const vx_allocator* alloc;
-    uint32_t chunk_words; /* vx_write_desc.svo_chunk_words (--chunked) */
+    vx_write_desc chunking; /* svo_chunk_words, svo_chunk_fast (--chunked, --chunked-fast) */
     int failed; /* first failing part + 1 */
     vx_error err;
 } encode_jobs;
@@ -105,7 +105,8 @@ static void* encode_worker(void* arg) {
         pthread_mutex_unlock(&j->lock);
         if (stop || i >= j->n) return NULL;
         vx_svo_model* m = &j->parts[i].model;
-        vx_write_desc wd = {.alloc = j->alloc, .threads = 1, .svo_chunk_words = j->chunk_words};
+        vx_write_desc wd = j->chunking;
+        wd.alloc = j->alloc, wd.threads = 1;
         vx_error e = {0};
         if (vx_svo_model_encode(&wd, m, &j->coded[i], &j->streams[i], &e) != VX_OK) {
             pthread_mutex_lock(&j->lock);
@@ -122,8 +123,8 @@ static void* encode_worker(void* arg) {
 }
 
 static void encode_parts(vx_conv_mesh_part* parts, size_t n, unsigned threads, const vx_allocator* alloc,
-                         uint32_t chunk_words, vx_svo_model_coded* coded, uint8_t** streams) {
-    encode_jobs j = {.parts = parts, .coded = coded, .streams = streams, .n = n, .alloc = alloc, .chunk_words = chunk_words};
+                         const vx_write_desc* chunking, vx_svo_model_coded* coded, uint8_t** streams) {
+    encode_jobs j = {.parts = parts, .coded = coded, .streams = streams, .n = n, .alloc = alloc, .chunking = *chunking};
     pthread_mutex_init(&j.lock, NULL);
     unsigned nt = threads < 1 ? 1 : threads > 64 ? 64 : threads;
     if (nt > n) nt = n ? (unsigned)n : 1;
@@ -223,7 +224,7 @@ vx_result vox2svo_mpi_write(const vx_svo_scene* scene, const char* path, vx_erro
     return r;
 }
 
-bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, uint32_t chunk_words, bool quiet, bool verbose, vx_svo_scene* scene,
+bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, const vx_write_desc* chunking, bool quiet, bool verbose, vx_svo_scene* scene,
                  vx_tool_loaded* info) {
     vx_tool_mpi_init(&g_mpi);
     g_t0 = vx_time_now();
@@ -251,7 +252,7 @@ bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, uint32_t chunk_words,
     vx_svo_model_coded* coded = (vx_svo_model_coded*)vx_calloc(md.alloc, n ? n : 1, sizeof *coded);
     uint8_t** streams = (uint8_t**)vx_calloc(md.alloc, n ? n : 1, sizeof *streams);
     if (!coded || !streams) die("out of memory for %zu regions", n);
-    encode_parts(parts, n, md.threads, md.alloc, chunk_words, coded, streams);
+    encode_parts(parts, n, md.threads, md.alloc, chunking, coded, streams);
     double t3 = vx_time_now();
     g_fig[F_ENCODE] = t3 - t2;
     if (!root) {

@@ -19,8 +19,9 @@
  * their coded models to rank 0 as it writes, take part in vox2svo_mpi_end
  * themselves and return false: the caller exits 0.
  * A failure on any rank ends the whole job (MPI_Abort, one line naming the
- * rank), so no rank returns an error. */
-bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, uint32_t chunk_words, bool quiet, bool verbose, vx_svo_scene* scene,
+ * rank), so no rank returns an error. chunking: the models' form
+ * (vx_write_desc.svo_chunk_words, svo_chunk_fast; its other fields unused). */
+bool vox2svo_mpi(const char* in, const vx_tool_conv* conv, const vx_write_desc* chunking, bool quiet, bool verbose, vx_svo_scene* scene,
                  vx_tool_loaded* info);
 
 /* Rank 0: writes the file (vx_svo_write_file_coded) from every rank's
