@@ -2,6 +2,8 @@
  * sources table, the buffers, the passes (trace, grid build, gather) and the
  * pipeline's gi method. The GPU side is photons/shaders/photon.comp. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -72,6 +74,7 @@ struct vx_photon_gi {
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
+    uint32_t variant, parts; /* EXPLORATION: VX_PHOTON_VARIANT, VX_PHOTON_PARTS */
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
@@ -600,7 +603,8 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
     p->fu[2] = (uint32_t)(tiles / 64);
-    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
+    p->fu[1] = pg->variant; /* EXPLORATION */
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? (pg->parts ? pg->parts : DENSITY_PARTS) : 1;
     st.fused = fused;
     /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
      * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */
@@ -608,9 +612,9 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     const uint32_t* rb = pg->readback.map;
     if ((r = rec_begin(pg, &q, err))) return r;
     if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err))) {
-        q.seq.beside = fused;
+        q.seq.beside = fused && !(pg->variant & 32);
         r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
-        if (!r && fused) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
+        if (!r && fused && !(pg->variant & 32)) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
     }
     if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
     if (!r) r = rec_submit(pg, &q, err);
@@ -655,6 +659,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
+    if (getenv("VX_PHOTON_DEBUG")) fprintf(stderr, "DEBUG multi %u over %u big %u\n", ctr[3] & 1023, (ctr[3] >> 10) & 1023, ctr[3] >> 20);
     if (ctr[2])
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
@@ -728,6 +733,12 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!(d.caustic_radius > 0)) d.caustic_radius = d.radius / 4;
     if (!(d.radius > 0) || !(d.caustic_radius > 0)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: an empty scene");
     pg->d = d;
+    { /* EXPLORATION ONLY */
+        const char* e = getenv("VX_PHOTON_VARIANT");
+        pg->variant = e ? (uint32_t)strtoul(e, NULL, 0) : 0;
+        e = getenv("VX_PHOTON_PARTS");
+        pg->parts = e ? (uint32_t)strtoul(e, NULL, 0) : 0;
+    }
     /* the buckets hold the photons' store counts too (two a bucket) in a pass over the capacity */
     pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
     if (pg->buckets < pow2_at_least(d.photons / 2 + 1)) pg->buckets = pow2_at_least(d.photons / 2 + 1);

@@ -33,6 +33,8 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
+// EXPLORATION: 1 reversed tiles, 2 subgroup-reduced setup atomics, 4 (diag) no caustic sums, 8 tiles of
+// several normal codes, 16 ballot stores, 32 (diag, photons.c) no camera paths
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
           S_SIZE = 9; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
 
@@ -57,6 +59,7 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: 0,
                   // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
+#define VARIANT (P.fu.y)
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // per source six vec4: (position, type), (unit direction, range), (power / probability rgb, cdf),
@@ -213,7 +216,14 @@ void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
     if (P.tr.y != 0u) return; // counting: trace_photons writes the photon's count
     // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
     // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
-    uint k = atomicAdd(ctr[0], 1u);
+    uint k;
+    if ((VARIANT & 16u) != 0u) {
+        uvec4 bal = subgroupBallot(true);
+        uint base = 0u;
+        if (subgroupElect()) base = atomicAdd(ctr[0], subgroupBallotBitCount(bal));
+        k = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(bal);
+    } else
+        k = atomicAdd(ctr[0], 1u);
     if (k >= P.a.y) return; // over the capacity: photons.c traces the pass again with the photons that fit
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: three bits of its u code change nothing), F_FIRST (the
@@ -734,14 +744,25 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 shared vec4 t_a[TLANES];
 shared uvec4 t_b[TLANES];
 // the tile's box of cells, at most 5 a side: a slot each
-const uint SLOTS = 128u;
-shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[SLOTS / 32u], t_g8[SLOTS / 8u], t_n[2], t_big[2];
+const uint SMAX = 256u;
+#define SLOTS ((VARIANT & 256u) != 0u ? 256u : 128u)
+// VARIANT 64: boxes of up to NEEDW * 32 cells, the cells the pixels need (at most SLOTS) listed in t_cell
+const uint NEEDW = 32u;
+shared uint t_cell[SMAX], t_wpre[NEEDW];
+// VARIANT 128: boxes past that, up to 1024 cells a side: the needed cells through a hash table
+const uint HTAB = 512u;
+shared uint t_tab[HTAB], t_nl;
+shared uint t_bk[SMAX], t_start[SMAX], t_cnt[SMAX], t_pre[SMAX + 1u], t_need[NEEDW], t_g8[SMAX / 8u], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
 // the normal of the least code as its pixels decoded it
 shared uint t_cmin, t_cmax, t_sel;
 shared vec3 t_nrm;
+// VARIANT 8: the tile's distinct (normal code, selection) keys, each with its normal as its pixels decoded it
+const uint KMAX = 16u;
+shared uint t_codes[KMAX], t_ncodes;
+shared vec3 t_nrmk[KMAX];
 shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
@@ -758,23 +779,52 @@ uint fkey(float f) { // ordered as the floats are
 float fkey_inv(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u); }
 void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel, inout uvec3 shi, inout uvec3 slo) {
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
+    if (lid < NEEDW) t_need[lid] = 0u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
-        for (uint k = 0u; k < SLOTS / 32u; k++) t_need[k] = 0u;
         t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
-        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u, t_ncodes = 0u, t_nl = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    if (valid && part == 0u) {
+    bool act = valid && part == 0u;
+    if ((VARIANT & 2u) != 0u) {
+        // one shared atomic a subgroup (64 lanes' atomics on one address queue one after another)
+        ivec3 mlo = subgroupMin(act ? lo : ivec3(0x7FFFFFFF)), mhi = subgroupMax(act ? hi : ivec3(-0x7FFFFFFF));
+        uvec3 fk = uvec3(fkey(x.x), fkey(x.y), fkey(x.z));
+        uvec3 flo = subgroupMin(act ? fk : uvec3(0xFFFFFFFFu)), fhi = subgroupMax(act ? fk : uvec3(0u));
+        uint cmin = subgroupMin(act ? ncode : 0xFFFFFFFFu), cmax = subgroupMax(act ? ncode : 0u);
+        uint so = subgroupOr(act ? (sel == G_INDIRECT ? 1u : 2u) : 0u);
+        if (subgroupElect() && part == 0u) {
+            for (int k = 0; k < 3; k++) {
+                atomicMin(t_lo[k], mlo[k]), atomicMax(t_hi[k], mhi[k]);
+                atomicMin(t_blo[k], flo[k]), atomicMax(t_bhi[k], fhi[k]);
+            }
+            atomicMin(t_cmin, cmin), atomicMax(t_cmax, cmax), atomicOr(t_sel, so);
+        }
+    } else if (act) {
         for (int k = 0; k < 3; k++) {
             atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
             atomicMin(t_blo[k], fkey(x[k])), atomicMax(t_bhi[k], fkey(x[k]));
         }
         atomicMin(t_cmin, ncode), atomicMax(t_cmax, ncode), atomicOr(t_sel, sel == G_INDIRECT ? 1u : 2u);
     }
+    uint key = ncode | (sel == G_INDIRECT ? 1u : 0u);
+    if ((VARIANT & 8u) != 0u) {
+        // the distinct keys, a subgroup's at a time (a key two subgroups hold is listed twice: harmless)
+        bool pending = act;
+        for (uint g = 0u; g < 128u && subgroupBallot(pending) != uvec4(0u); g++) {
+            uint lk = subgroupMin(pending ? key : 0xFFFFFFFFu), slot = 0u;
+            if (subgroupElect()) slot = atomicAdd(t_ncodes, 1u);
+            slot = subgroupBroadcastFirst(slot);
+            if (pending && key == lk) {
+                if (slot < KMAX) t_codes[slot] = lk, t_nrmk[slot] = n; // the same value from each such lane
+                pending = false;
+            }
+        }
+    }
     barrier();
-    if (valid && part == 0u && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
+    if (act && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
     // Where every pixel of the tile has one normal code and one selection (a wall's tile: most), the tests
     // that depend on the photon alone, the normal's and the direct photons', are made once a photon when
@@ -782,14 +832,43 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     // tests the distance alone
     uint code = t_cmin, tsel = t_sel;
     bool uni = code == t_cmax && tsel != 3u;
+    // VARIANT 8: a tile of up to KMAX keys: each photon's tests against each key made once at its load, a
+    // bit a key; a pixel tests its key's bit
+    uint nk = t_ncodes, mybit = 0u;
+    bool multi = (VARIANT & 8u) != 0u && nk <= KMAX;
+    if (multi) {
+        uni = false;
+        for (uint k = 0u; k < nk; k++)
+            if (t_codes[k] == key) {
+                mybit = 1u << k;
+                break;
+            }
+    }
+    if (lid == 0u && map == 0u) { // DEBUG
+        bool diff = false;
+        for (uint k = 1u; k < min(nk, KMAX); k++) diff = diff || t_codes[k] != t_codes[0];
+        uint e = (ext.x > 5 || ext.y > 5 || ext.z > 5) ? 1u : 0u;
+        atomicAdd(ctr[3], (diff && nk <= KMAX ? 1u : 0u) + 0u);
+    }
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
-    if (ext.x > 5 || ext.y > 5 || ext.z > 5) {
+    bool bigbox = (VARIANT & 64u) != 0u;
+    bool inrange = ext.x <= 1024 && ext.y <= 1024 && ext.z <= 1024;
+    bool hashed = bigbox && (VARIANT & 128u) != 0u && inrange && ext.x * ext.y * ext.z > int(NEEDW * 32u);
+    if (hashed) {
+        for (uint e = lid; e < HTAB; e += DLANES) t_tab[e] = 0u;
+        barrier();
+    } else if (bigbox ? (!inrange || ext.x * ext.y * ext.z > int(NEEDW * 32u))
+               : (ext.x > 5 || ext.y > 5 || ext.z > 5)) {
+        if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
         if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
+    int nc = ext.x * ext.y * ext.z;
+    bool listed = !hashed && nc > int(SLOTS); // (bigbox) the needed cells compacted into a list
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
+    uvec4 need = uvec4(0u);
     if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
             for (int cy = lo.y; cy <= hi.y; cy++)
@@ -798,17 +877,80 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     float dy = max(max(float(cy) * r - x.y, x.y - float(cy + 1) * r), 0.0);
                     float dx = max(max(float(cx) * r - x.x, x.x - float(cx + 1) * r), 0.0);
                     if (dx * dx + dy * dy + dz * dz > rm2) continue;
+                    if (hashed) {
+                        // the cell into the tile's table (open addressing); a new one takes the next slot
+                        if (t_nl >= SLOTS) { // too many: the own loops follow (t_nl past SLOTS says so)
+                            atomicAdd(t_nl, 1u);
+                            continue;
+                        }
+                        uint key = uint(cx - ulo.x) | uint(cy - ulo.y) << 10 | uint(cz - ulo.z) << 20, h = ((key + 1u) * 2654435761u) >> 23;
+                        for (uint pr = 0u; pr < HTAB; pr++, h = (h + 1u) & (HTAB - 1u)) {
+                            uint prev = atomicCompSwap(t_tab[h], 0u, key + 1u);
+                            if (prev == 0u) {
+                                uint sl = atomicAdd(t_nl, 1u);
+                                if (sl < SLOTS) t_cell[sl] = key;
+                            }
+                            if (prev == 0u || prev == key + 1u) break;
+                        }
+                        continue;
+                    }
                     uint ci = uint((cx - ulo.x) + ext.x * ((cy - ulo.y) + ext.y * (cz - ulo.z)));
-                    atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
+                    if ((VARIANT & 2u) != 0u && !hashed && nc <= 128) {
+                        uint w = ci >> 5, b = 1u << (ci & 31u);
+                        need |= uvec4(w == 0u ? b : 0u, w == 1u ? b : 0u, w == 2u ? b : 0u, w == 3u ? b : 0u);
+                    } else
+                        atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
+    if ((VARIANT & 2u) != 0u && !hashed && nc <= 128) {
+        need = subgroupOr(need);
+        if (subgroupElect() && part == 0u)
+            for (uint k = 0u; k < 4u; k++)
+                if (need[k] != 0u) atomicOr(t_need[k], need[k]);
+    }
     barrier();
-    // slot sl: cell sl of the tile's box, its bucket once
-    int nc = ext.x * ext.y * ext.z;
+    uint nlist = 0u;
+    if (hashed) {
+        nlist = t_nl;
+        if (nlist > SLOTS) {
+            barrier();
+            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1024u); // DEBUG
+            if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+            return;
+        }
+    }
+    if (listed) {
+        // the needed cells in box order: a word's start from the words before it, a cell's from the bits
+        // before it in its word
+        if (lid < NEEDW) {
+            uint c = 0u;
+            for (uint j = 0u; j < lid; j++) c += uint(bitCount(t_need[j]));
+            t_wpre[lid] = c;
+        }
+        barrier();
+        nlist = t_wpre[NEEDW - 1u] + uint(bitCount(t_need[NEEDW - 1u]));
+        if (nlist > SLOTS) { // more cells than slots: the pixels' own loops (every lane: no barrier follows)
+            barrier();
+            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1024u); // DEBUG
+            if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+            return;
+        }
+        for (uint i = lid; i < uint(nc); i += DLANES) {
+            uint w = t_need[i >> 5], b = 1u << (i & 31u);
+            if ((w & b) != 0u) t_cell[t_wpre[i >> 5] + uint(bitCount(w & (b - 1u)))] = i;
+        }
+        barrier();
+    }
+    // slot sl: cell sl of the tile's box (or of the list), its bucket once
     for (uint sl = lid; sl < SLOTS; sl += DLANES) {
         uint bk = 0xFFFFFFFFu;
-        int il = int(sl);
-        if (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u)
-            bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
+        if (hashed) {
+            uint pc = t_cell[sl];
+            if (sl < nlist) bk = bucket(ulo + ivec3(pc & 1023u, (pc >> 10) & 1023u, pc >> 20), map);
+        } else {
+            int il = listed ? (sl < nlist ? int(t_cell[sl]) : -1) : int(sl);
+            if (listed ? il >= 0 : (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u))
+                bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
+        }
         t_bk[sl] = bk;
     }
     barrier();
@@ -871,6 +1013,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 if (tsel == 1u && (nb & F_DIRECT) != 0u) keep = false;
                 if ((nb & ~F_BITS) != code && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), t_nrm) < 0.9) keep = false;
             }
+            uint mask = 0u;
+            if (keep && multi) {
+                vec3 pn = oct_decode(unpackSnorm2x16(nb & ~F_BITS));
+                for (uint q = 0u; q < nk; q++) {
+                    uint kq = t_codes[q];
+                    bool ok = !((kq & 1u) != 0u && (nb & F_DIRECT) != 0u) &&
+                              !((nb & ~F_BITS) != (kq & ~F_BITS) && dot(pn, t_nrmk[q]) < 0.9);
+                    if (ok) mask |= 1u << q;
+                }
+                keep = mask != 0u;
+            }
             if (keep) {
                 uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
@@ -878,8 +1031,8 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 // (where the tests are the distance's alone, the low words ride in the position's fourth:
                 // two reads a photon; the high words, 0 but for a photon of over 32 emitted photons' power,
                 // are read only in a chunk that has some)
-                t_a[slot] = uni ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
-                t_b[slot] = uni ? uvec4(wlo.yz, 0u, 0u) : uvec4(wlo, 0u);
+                t_a[slot] = uni || multi ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
+                t_b[slot] = uni || multi ? uvec4(wlo.yz, mask, 0u) : uvec4(wlo, 0u);
                 t_shi[slot] = whi;
                 if (whi != uvec3(0u)) atomicOr(t_big[chunk], 1u);
             }
@@ -893,6 +1046,16 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 vec4 pa = t_a[j];
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) <= r2) fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), t_b[j].xy));
+            }
+        } else if (valid && multi) {
+            uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
+            bool big = t_big[chunk] != 0u;
+            for (uint j = part * q; j < j1; j++) {
+                vec4 pa = t_a[j];
+                uvec4 b = t_b[j];
+                vec3 v = pa.xyz - x;
+                if (dot(v, v) <= r2 && (b.z & mybit) != 0u)
+                    fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), b.xy));
             }
         } else if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
@@ -929,6 +1092,7 @@ void parts_add(inout uvec3 shi, inout uvec3 slo) {
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
+    if ((VARIANT & 1u) != 0u && t < P.fu.z) t = P.fu.z - 1u - t;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
@@ -939,7 +1103,7 @@ void density_pixel() {
     int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
     vec3 n = oct_decode(unpackSnorm2x16(ncode));
     uvec3 chi = uvec3(0u), clo = uvec3(0u), ghi = uvec3(0u), glo = uvec3(0u);
-    tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
+    if ((VARIANT & 4u) == 0u) tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
     tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel, ghi, glo);
     parts_add(chi, clo);
     parts_add(ghi, glo);
@@ -989,7 +1153,7 @@ void main() {
         // photons.c step(): items over 64-lane workgroups, x at most 4096 and y the rest
         uint stored = ctr[0], over = stored > P.a.y ? 0u : 1u;
         // the buckets: the least power of two at least twice the stored photons, within [64, P.a.w]
-        uint n = 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
+        uint n = (VARIANT & 1024u) != 0u ? stored : 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
         used = clamp(used, 64u, P.a.w);
         uvec3 items = uvec3(used, stored, P.fu.z * 64u) * over;
         for (int k = 0; k < 3; k++) {
