@@ -33,7 +33,7 @@ typedef struct gpu_params {
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY,
-       STEP_SIZE = 9 };
+       STEP_SIZE = 9, STEP_COST, STEP_ORDER };
 /* Counters (photon.comp binding 16), in bytes: the counters, then STEP_SIZE's group counts of the indirect
  * dispatches (the buckets' steps and at 28 the buckets, the stored photons' steps, the pixels' steps) */
 enum { CTR_BUCKETS = 16, CTR_BUCKET_COUNT = 28, CTR_STORED = 32, CTR_PIXELS = 48, CTR_BYTES = 64 };
@@ -505,6 +505,11 @@ static vx_result record_rest(vx_photon_gi* pg, pass_rec* q, bool fused, vx__buff
     if (!r) r = step(pg, q, STEP_COUNT, 0, CTR_STORED, out, build, err);
     if (!r) r = step(pg, q, STEP_ALLOC, 0, CTR_BUCKETS, out, build, err);
     if (!r) r = step(pg, q, STEP_SCATTER, 0, CTR_STORED, out, build, err);
+    if (!r && fused && (pg->variant & 8192)) { /* EXPLORATION: the tiles heaviest first */
+        uint32_t tiles = ((gpu_params*)pg->params.map)->fu[2];
+        r = step(pg, q, STEP_COST, tiles, -1, out, &st->density_ms, err);
+        if (!r) r = step(pg, q, STEP_ORDER, tiles, -1, out, &st->density_ms, err);
+    }
     if (!r && !fused) r = step(pg, q, STEP_GATHER, 0, CTR_PIXELS, out, &st->paths_ms, err);
     if (!r) r = step(pg, q, STEP_DENSITY, 0, CTR_PIXELS, out, &st->density_ms, err);
     return r;
@@ -608,10 +613,17 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     st.fused = fused;
     /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
      * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */
+    if ((pg->variant & 8192) && pg->counters.size < (80 + 2 * (tiles / 64)) * 4) { /* EXPLORATION */
+        vx__buffer_destroy(pg->g, &pg->counters);
+        r = vx__buffer_create(pg->g, (80 + 2 * (tiles / 64)) * 4,
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false,
+                              "photon counters", &pg->counters, err);
+        if (r) return r;
+    }
     pass_rec q = {0};
     const uint32_t* rb = pg->readback.map;
     if ((r = rec_begin(pg, &q, err))) return r;
-    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err))) {
+    if (!(r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err))) {
         q.seq.beside = fused && !(pg->variant & 32);
         r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
         if (!r && fused && !(pg->variant & 32)) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
@@ -635,7 +647,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         p->tr[1] = 1;
         p->a[3] = pg->buckets; /* (STEP_SIZE's copy had set this pass's) */
         r = rec_begin(pg, &q, err);
-        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err);
         if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
         if (!r) r = rec_submit(pg, &q, err);
         rec_abandon(pg, &q);
@@ -645,7 +657,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         p->tr[1] = 0;
         set_emitted(pg, p, c);
         if (!r) r = rec_begin(pg, &q, err);
-        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err);
         if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
         if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
         if (!r) r = rec_submit(pg, &q, err);
@@ -659,7 +671,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
-    if (getenv("VX_PHOTON_DEBUG")) fprintf(stderr, "DEBUG multi %u over %u big %u\n", ctr[3] & 1023, (ctr[3] >> 10) & 1023, ctr[3] >> 20);
+    if (getenv("VX_PHOTON_DEBUG")) fprintf(stderr, "DEBUG listed %u hashed %u fallback %u\n", ctr[3] & 1023, (ctr[3] >> 10) & 1023, ctr[3] >> 20);
     if (ctr[2])
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,

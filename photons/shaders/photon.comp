@@ -36,7 +36,11 @@ layout(constant_id = 6) const bool MATS = false; // some attribute record is met
 // EXPLORATION: 1 reversed tiles, 2 subgroup-reduced setup atomics, 4 (diag) no caustic sums, 8 tiles of
 // several normal codes, 16 ballot stores, 32 (diag, photons.c) no camera paths
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
-          S_SIZE = 9; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
+          S_SIZE = 9, S_COST = 10, S_ORDER = 11;
+// VARIANT 8192: the density step's tiles taken heaviest first (S_COST, S_ORDER: a cost a tile from its
+// pixels' cells' photon counts, binned by log2; Counters from uint 16: the bins' counts, their fill, each
+// tile's bin, the order)
+const uint CT_HIST = 16u, CT_FILL = 48u, CT_BIN = 80u; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -216,14 +220,7 @@ void store(vec3 p, vec3 wi, vec3 n, vec3 phi, uint flags, bool first) {
     if (P.tr.y != 0u) return; // counting: trace_photons writes the photon's count
     // one atomic per stored photon on one counter: the H200 takes them faster than one per subgroup
     // by ballot in this loop (22.6 against 30.6 ms for 10M photons: docs/PERFORMANCE.md)
-    uint k;
-    if ((VARIANT & 16u) != 0u) {
-        uvec4 bal = subgroupBallot(true);
-        uint base = 0u;
-        if (subgroupElect()) base = atomicAdd(ctr[0], subgroupBallotBitCount(bal));
-        k = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(bal);
-    } else
-        k = atomicAdd(ctr[0], 1u);
+    uint k = atomicAdd(ctr[0], 1u);
     if (k >= P.a.y) return; // over the capacity: photons.c traces the pass again with the photons that fit
     // incoming direction and normal as 2 x snorm16 octahedral codes; the flags in the normal's low
     // bits (voxel normals are axis-aligned: three bits of its u code change nothing), F_FIRST (the
@@ -744,15 +741,17 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 shared vec4 t_a[TLANES];
 shared uvec4 t_b[TLANES];
 // the tile's box of cells, at most 5 a side: a slot each
-const uint SMAX = 256u;
-#define SLOTS ((VARIANT & 256u) != 0u ? 256u : 128u)
+const uint SLOTS = 128u;
+// the other arrays' sizes: the density step's, 1 in the other steps (whose occupancy and L1 they took)
+const uint TS = STEP == S_DENSITY ? 1u : 0u;
 // VARIANT 64: boxes of up to NEEDW * 32 cells, the cells the pixels need (at most SLOTS) listed in t_cell
 const uint NEEDW = 32u;
-shared uint t_cell[SMAX], t_wpre[NEEDW];
+shared uint t_cell[SLOTS * TS + 1u], t_wpre[NEEDW * TS + 1u];
 // VARIANT 128: boxes past that, up to 1024 cells a side: the needed cells through a hash table
 const uint HTAB = 512u;
-shared uint t_tab[HTAB], t_nl;
-shared uint t_bk[SMAX], t_start[SMAX], t_cnt[SMAX], t_pre[SMAX + 1u], t_need[NEEDW], t_g8[SMAX / 8u], t_n[2], t_big[2];
+shared uint t_tab[HTAB * TS + 1u], t_nl;
+shared uint t_bk[SLOTS * TS + 1u], t_start[SLOTS * TS + 1u], t_cnt[SLOTS * TS + 1u], t_pre[SLOTS * TS + 1u],
+    t_need[NEEDW * TS + 1u], t_g8[SLOTS / 8u * TS + 1u], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
@@ -761,8 +760,8 @@ shared uint t_cmin, t_cmax, t_sel;
 shared vec3 t_nrm;
 // VARIANT 8: the tile's distinct (normal code, selection) keys, each with its normal as its pixels decoded it
 const uint KMAX = 16u;
-shared uint t_codes[KMAX], t_ncodes;
-shared vec3 t_nrmk[KMAX];
+shared uint t_codes[KMAX * TS + 1u], t_ncodes;
+shared vec3 t_nrmk[KMAX * TS + 1u];
 shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
@@ -844,12 +843,6 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 break;
             }
     }
-    if (lid == 0u && map == 0u) { // DEBUG
-        bool diff = false;
-        for (uint k = 1u; k < min(nk, KMAX); k++) diff = diff || t_codes[k] != t_codes[0];
-        uint e = (ext.x > 5 || ext.y > 5 || ext.z > 5) ? 1u : 0u;
-        atomicAdd(ctr[3], (diff && nk <= KMAX ? 1u : 0u) + 0u);
-    }
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
@@ -867,6 +860,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     }
     int nc = ext.x * ext.y * ext.z;
     bool listed = !hashed && nc > int(SLOTS); // (bigbox) the needed cells compacted into a list
+    if (lid == 0u && map == 0u) atomicAdd(ctr[3], (listed ? 1u : 0u) + (hashed ? 1024u : 0u)); // DEBUG
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
     uvec4 need = uvec4(0u);
     if (valid && part == 0u)
@@ -913,7 +907,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         nlist = t_nl;
         if (nlist > SLOTS) {
             barrier();
-            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1024u); // DEBUG
+            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
             if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
             return;
         }
@@ -930,7 +924,7 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         nlist = t_wpre[NEEDW - 1u] + uint(bitCount(t_need[NEEDW - 1u]));
         if (nlist > SLOTS) { // more cells than slots: the pixels' own loops (every lane: no barrier follows)
             barrier();
-            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1024u); // DEBUG
+            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
             if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
             return;
         }
@@ -997,6 +991,9 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     uint chunk = 0u;
     for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
         uint g = off + lid;
+        bool keep = false;
+        uint k = 0u, mask = 0u;
+        vec4 pa = vec4(0.0);
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = SLOTS;
             while (b - a > 1u) {
@@ -1004,16 +1001,15 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 if (t_pre[h] <= g) a = h;
                 else b = h;
             }
-            uint k = t_start[a] + (g - t_pre[a]);
-            vec4 pa = sorted[k];
+            k = t_start[a] + (g - t_pre[a]);
+            pa = sorted[k];
             // (another map's photon in these buckets counts for no pixel: left out here)
             uint nb = floatBitsToUint(pa.w);
-            bool keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
+            keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
             if (keep && uni) {
                 if (tsel == 1u && (nb & F_DIRECT) != 0u) keep = false;
                 if ((nb & ~F_BITS) != code && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), t_nrm) < 0.9) keep = false;
             }
-            uint mask = 0u;
             if (keep && multi) {
                 vec3 pn = oct_decode(unpackSnorm2x16(nb & ~F_BITS));
                 for (uint q = 0u; q < nk; q++) {
@@ -1024,8 +1020,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 }
                 keep = mask != 0u;
             }
+        }
+        uint slot = 0u;
+        if ((VARIANT & 4096u) != 0u) { // one shared atomic a subgroup
+            uvec4 bl = subgroupBallot(keep);
+            uint cnt = subgroupBallotBitCount(bl);
+            if (subgroupElect() && cnt > 0u) slot = atomicAdd(t_n[chunk], cnt);
+            slot = subgroupBroadcastFirst(slot) + subgroupBallotExclusiveBitCount(bl);
+        } else if (keep)
+            slot = atomicAdd(t_n[chunk], 1u);
+        {
             if (keep) {
-                uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
                 fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
                 // (where the tests are the distance's alone, the low words ride in the position's fourth:
@@ -1092,7 +1097,8 @@ void parts_add(inout uvec3 shi, inout uvec3 slo) {
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
-    if ((VARIANT & 1u) != 0u && t < P.fu.z) t = P.fu.z - 1u - t;
+    if ((VARIANT & 8192u) != 0u && t < P.fu.z) t = ctr[CT_BIN + P.fu.z + t];
+    else if ((VARIANT & 1u) != 0u && t < P.fu.z) t = P.fu.z - 1u - t;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
@@ -1126,7 +1132,27 @@ void main() {
     if (STEP == S_CLEAR) {
         if (i < P.a.w) cells[i] = uvec2(0u);
     } else if (STEP == S_RESET) {
-        if (i < 4u) ctr[i] = 0u;
+        if (i < 4u || ((VARIANT & 8192u) != 0u && i >= CT_HIST && i < CT_BIN)) ctr[i] = 0u;
+    } else if (STEP == S_COST) {
+        if (i >= P.fu.z) return;
+        uint W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, tx = i % tiles_x, ty = i / tiles_x, cost = 0u;
+        for (uint s = 0u; s < 4u; s++) {
+            uint x = min(tx * 8u + 2u + 4u * (s & 1u), W - 1u), y = min(ty * 8u + 2u + 4u * (s >> 1u), H - 1u);
+            vec4 rec0 = ph[P.fu.x + 3u * (x + y * W)];
+            if ((floatBitsToUint(rec0.w) & 1u) == 0u) continue;
+            ivec3 c = cell_of(rec0.xyz, P.r.x);
+            for (int dz = -1; dz <= 1; dz++)
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) cost += cells[bucket(c + ivec3(dx, dy, dz), 0u)].x;
+        }
+        uint bin = cost == 0u ? 0u : min(uint(findMSB(cost)) + 1u, 31u);
+        ctr[CT_BIN + i] = bin;
+        atomicAdd(ctr[CT_HIST + bin], 1u);
+    } else if (STEP == S_ORDER) {
+        if (i >= P.fu.z) return;
+        uint bin = ctr[CT_BIN + i], start = 0u;
+        for (uint b = bin + 1u; b < 32u; b++) start += ctr[CT_HIST + b];
+        ctr[CT_BIN + P.fu.z + start + atomicAdd(ctr[CT_FILL + bin], 1u)] = i;
     } else if (STEP == S_TRACE) {
         trace_photons();
     } else if (STEP == S_COUNT) {
