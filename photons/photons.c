@@ -2,8 +2,6 @@
  * sources table, the buffers, the passes (trace, grid build, gather) and the
  * pipeline's gi method. The GPU side is photons/shaders/photon.comp. */
 #include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -33,7 +31,7 @@ typedef struct gpu_params {
 _Static_assert(sizeof(gpu_params) == 208, "gpu_params vs photon.comp");
 
 enum { STEP_CLEAR = 0, STEP_TRACE, STEP_COUNT, STEP_ALLOC, STEP_SCATTER, STEP_GATHER, STEP_RESET, STEP_DENSITY,
-       STEP_SIZE = 9, STEP_COST, STEP_ORDER };
+       STEP_SIZE = 9 };
 /* Counters (photon.comp binding 16), in bytes: the counters, then STEP_SIZE's group counts of the indirect
  * dispatches (the buckets' steps and at 28 the buckets, the stored photons' steps, the pixels' steps) */
 enum { CTR_BUCKETS = 16, CTR_BUCKET_COUNT = 28, CTR_STORED = 32, CTR_PIXELS = 48, CTR_BYTES = 64 };
@@ -45,11 +43,12 @@ enum { NBIND = 19, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
  * 100) passes KERNEL_CELLS cells and no lookup is made. */
 enum { OCC_DEPTH = 9 };
 #define OCC_BITS (UINT64_C(1) << 28)
-/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 4 where the
+/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 8 where the
  * image has fewer tiles of 8 x 8 pixels than DENSITY_FEW_TILES (about two waves of 64-lane workgroups on a
- * large GPU: the H200 holds 132 x 32), whose time the densest tiles set; 1 where they fill many waves
- * (H200: 512x512 density 3.33 -> 1.91 ms with 4; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
-enum { DENSITY_PARTS = 4, DENSITY_FEW_TILES = 8192 };
+ * large GPU: the H200 holds 132 x 32), whose time the densest tiles set, 4 on a device whose workgroups
+ * cannot take 512 lanes and their 64 bytes of shared memory each; 1 where they fill many waves (H200:
+ * 512x512 density 3.33 -> 1.91 ms with 4, 1.25 -> 1.16 with 8; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
+enum { DENSITY_PARTS = 8, DENSITY_FEW_TILES = 8192 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -74,7 +73,6 @@ struct vx_photon_gi {
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
     uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
-    uint32_t variant, parts; /* EXPLORATION: VX_PHOTON_VARIANT, VX_PHOTON_PARTS */
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
@@ -505,11 +503,6 @@ static vx_result record_rest(vx_photon_gi* pg, pass_rec* q, bool fused, vx__buff
     if (!r) r = step(pg, q, STEP_COUNT, 0, CTR_STORED, out, build, err);
     if (!r) r = step(pg, q, STEP_ALLOC, 0, CTR_BUCKETS, out, build, err);
     if (!r) r = step(pg, q, STEP_SCATTER, 0, CTR_STORED, out, build, err);
-    if (!r && fused && (pg->variant & 8192)) { /* EXPLORATION: the tiles heaviest first */
-        uint32_t tiles = ((gpu_params*)pg->params.map)->fu[2];
-        r = step(pg, q, STEP_COST, tiles, -1, out, &st->density_ms, err);
-        if (!r) r = step(pg, q, STEP_ORDER, tiles, -1, out, &st->density_ms, err);
-    }
     if (!r && !fused) r = step(pg, q, STEP_GATHER, 0, CTR_PIXELS, out, &st->paths_ms, err);
     if (!r) r = step(pg, q, STEP_DENSITY, 0, CTR_PIXELS, out, &st->density_ms, err);
     return r;
@@ -608,25 +601,22 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
     p->fu[2] = (uint32_t)(tiles / 64);
-    p->fu[1] = pg->variant; /* EXPLORATION */
-    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? (pg->parts ? pg->parts : DENSITY_PARTS) : 1;
+    const VkPhysicalDeviceLimits* lim = &pg->g->props.limits;
+    uint32_t parts = DENSITY_PARTS;
+    while (parts > 4 && (lim->maxComputeWorkGroupInvocations < 64 * parts || lim->maxComputeWorkGroupSize[0] < 64 * parts ||
+                         lim->maxComputeSharedMemorySize < 64 * 64 * parts + 4096))
+        parts /= 2;
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? parts : 1;
     st.fused = fused;
     /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
      * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */
-    if ((pg->variant & 8192) && pg->counters.size < (80 + 2 * (tiles / 64)) * 4) { /* EXPLORATION */
-        vx__buffer_destroy(pg->g, &pg->counters);
-        r = vx__buffer_create(pg->g, (80 + 2 * (tiles / 64)) * 4,
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false,
-                              "photon counters", &pg->counters, err);
-        if (r) return r;
-    }
     pass_rec q = {0};
     const uint32_t* rb = pg->readback.map;
     if ((r = rec_begin(pg, &q, err))) return r;
-    if (!(r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err))) {
-        q.seq.beside = fused && !(pg->variant & 32);
+    if (!(r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err))) {
+        q.seq.beside = fused;
         r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
-        if (!r && fused && !(pg->variant & 32)) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
+        if (!r && fused) r = step(pg, &q, STEP_GATHER, tiles, -1, out, &st.trace_ms, err);
     }
     if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
     if (!r) r = rec_submit(pg, &q, err);
@@ -647,7 +637,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         p->tr[1] = 1;
         p->a[3] = pg->buckets; /* (STEP_SIZE's copy had set this pass's) */
         r = rec_begin(pg, &q, err);
-        if (!r) r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
         if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
         if (!r) r = rec_submit(pg, &q, err);
         rec_abandon(pg, &q);
@@ -657,7 +647,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         p->tr[1] = 0;
         set_emitted(pg, p, c);
         if (!r) r = rec_begin(pg, &q, err);
-        if (!r) r = step(pg, &q, STEP_RESET, 80, -1, out, &build, err);
+        if (!r) r = step(pg, &q, STEP_RESET, 4, -1, out, &build, err);
         if (!r) r = step(pg, &q, STEP_TRACE, p->tr[0], -1, out, &st.trace_ms, err);
         if (!r) r = record_rest(pg, &q, fused, out, &st, &build, err);
         if (!r) r = rec_submit(pg, &q, err);
@@ -671,7 +661,6 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
-    if (getenv("VX_PHOTON_DEBUG")) fprintf(stderr, "DEBUG listed %u hashed %u fallback %u\n", ctr[3] & 1023, (ctr[3] >> 10) & 1023, ctr[3] >> 20);
     if (ctr[2])
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
@@ -745,12 +734,6 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     if (!(d.caustic_radius > 0)) d.caustic_radius = d.radius / 4;
     if (!(d.radius > 0) || !(d.caustic_radius > 0)) r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "photons: an empty scene");
     pg->d = d;
-    { /* EXPLORATION ONLY */
-        const char* e = getenv("VX_PHOTON_VARIANT");
-        pg->variant = e ? (uint32_t)strtoul(e, NULL, 0) : 0;
-        e = getenv("VX_PHOTON_PARTS");
-        pg->parts = e ? (uint32_t)strtoul(e, NULL, 0) : 0;
-    }
     /* the buckets hold the photons' store counts too (two a bucket) in a pass over the capacity */
     pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
     if (pg->buckets < pow2_at_least(d.photons / 2 + 1)) pg->buckets = pow2_at_least(d.photons / 2 + 1);

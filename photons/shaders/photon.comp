@@ -33,14 +33,8 @@ layout(local_size_x_id = 7, local_size_y = 1, local_size_z = 1) in;
 
 layout(constant_id = 5) const int STEP = 0;
 layout(constant_id = 6) const bool MATS = false; // some attribute record is metal or glass (binding 9)
-// EXPLORATION: 1 reversed tiles, 2 subgroup-reduced setup atomics, 4 (diag) no caustic sums, 8 tiles of
-// several normal codes, 16 ballot stores, 32 (diag, photons.c) no camera paths
 const int S_CLEAR = 0, S_TRACE = 1, S_COUNT = 2, S_ALLOC = 3, S_SCATTER = 4, S_GATHER = 5, S_RESET = 6, S_DENSITY = 7,
-          S_SIZE = 9, S_COST = 10, S_ORDER = 11;
-// VARIANT 8192: the density step's tiles taken heaviest first (S_COST, S_ORDER: a cost a tile from its
-// pixels' cells' photon counts, binned by log2; Counters from uint 16: the bins' counts, their fill, each
-// tile's bin, the order)
-const uint CT_HIST = 16u, CT_FILL = 48u, CT_BIN = 80u; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
+          S_SIZE = 9; // (8: the trace and the camera's paths in one pipeline, before they ran side by side)
 
 layout(std430, binding = 7) readonly buffer Params {
     uvec4 a;      // x: photons emitted this pass, y: capacity (stored photons), z: stored bounces,
@@ -63,7 +57,6 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: 0,
                   // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
-#define VARIANT (P.fu.y)
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // per source six vec4: (position, type), (unit direction, range), (power / probability rgb, cdf),
@@ -740,37 +733,30 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
 shared vec4 t_a[TLANES];
 shared uvec4 t_b[TLANES];
-// the tile's box of cells, at most 5 a side: a slot each
-const uint SLOTS = 128u;
-// the other arrays' sizes: the density step's, 1 in the other steps (whose occupancy and L1 they took)
-const uint TS = STEP == S_DENSITY ? 1u : 0u;
-// VARIANT 64: boxes of up to NEEDW * 32 cells, the cells the pixels need (at most SLOTS) listed in t_cell
-const uint NEEDW = 32u;
-shared uint t_cell[SLOTS * TS + 1u], t_wpre[NEEDW * TS + 1u];
-// VARIANT 128: boxes past that, up to 1024 cells a side: the needed cells through a hash table
-const uint HTAB = 512u;
-shared uint t_tab[HTAB * TS + 1u], t_nl;
+// the tile's box of cells: a bit each (at most NEEDW * 32 cells), a slot each where they are at most SLOTS,
+// else a slot each of the cells the pixels need (at most SLOTS, listed in t_cell by the bits). Sized by TS:
+// the density step's, 1 in the other steps (the trace's workgroups of 32 took 2.7 KB each for nothing)
+const uint SLOTS = 128u, NEEDW = 32u, TS = STEP == S_DENSITY ? 1u : 0u;
 shared uint t_bk[SLOTS * TS + 1u], t_start[SLOTS * TS + 1u], t_cnt[SLOTS * TS + 1u], t_pre[SLOTS * TS + 1u],
-    t_need[NEEDW * TS + 1u], t_g8[SLOTS / 8u * TS + 1u], t_n[2], t_big[2];
+    t_need[NEEDW * TS + 1u], t_g8[SLOTS / 8u * TS + 1u], t_cell[SLOTS * TS + 1u], t_wpre[NEEDW * TS + 1u], t_n[2], t_big[2];
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
 // the normal of the least code as its pixels decoded it
 shared uint t_cmin, t_cmax, t_sel;
 shared vec3 t_nrm;
-// VARIANT 8: the tile's distinct (normal code, selection) keys, each with its normal as its pixels decoded it
-const uint KMAX = 16u;
-shared uint t_codes[KMAX * TS + 1u], t_ncodes;
-shared vec3 t_nrmk[KMAX * TS + 1u];
 shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
-// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
-// at most 5 x 5 x 5 around the tile) are gathered into one list of buckets (a bucket two cells share
-// once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
-// chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
-// again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
-// pass 5 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test)
+// are gathered into one list of buckets (a bucket two cells share once), its photons read into shared
+// memory in chunks of DLANES, and every pixel tests every photon of a chunk, each of its lanes a part. A
+// pixel's own loop read its cells' photons from memory, each pixel again: at the seed's Cornell setting
+// some 2700 tests for the 1000 photons that count. The tile's box of cells takes up to NEEDW * 32 cells
+// (a tile across a depth step or seen at a grazing angle: the seed's floor and the spheres' edges, 7% of
+// its tiles past the 5 a side the box had before, and 15% of the caustic map's, whose cells are a quarter
+// as wide), of which the pixels may need at most SLOTS; a tile past either falls back to the own loops
+// (the pixel's lanes taking every DPARTS-th photon).
 uint fkey(float f) { // ordered as the floats are
     uint u = floatBitsToUint(f);
     return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
@@ -782,48 +768,19 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
         t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
-        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u, t_ncodes = 0u, t_nl = 0u;
+        t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
     barrier();
     ivec3 lo = cell_of(x - r, r), hi = cell_of(x + r, r);
-    bool act = valid && part == 0u;
-    if ((VARIANT & 2u) != 0u) {
-        // one shared atomic a subgroup (64 lanes' atomics on one address queue one after another)
-        ivec3 mlo = subgroupMin(act ? lo : ivec3(0x7FFFFFFF)), mhi = subgroupMax(act ? hi : ivec3(-0x7FFFFFFF));
-        uvec3 fk = uvec3(fkey(x.x), fkey(x.y), fkey(x.z));
-        uvec3 flo = subgroupMin(act ? fk : uvec3(0xFFFFFFFFu)), fhi = subgroupMax(act ? fk : uvec3(0u));
-        uint cmin = subgroupMin(act ? ncode : 0xFFFFFFFFu), cmax = subgroupMax(act ? ncode : 0u);
-        uint so = subgroupOr(act ? (sel == G_INDIRECT ? 1u : 2u) : 0u);
-        if (subgroupElect() && part == 0u) {
-            for (int k = 0; k < 3; k++) {
-                atomicMin(t_lo[k], mlo[k]), atomicMax(t_hi[k], mhi[k]);
-                atomicMin(t_blo[k], flo[k]), atomicMax(t_bhi[k], fhi[k]);
-            }
-            atomicMin(t_cmin, cmin), atomicMax(t_cmax, cmax), atomicOr(t_sel, so);
-        }
-    } else if (act) {
+    if (valid && part == 0u) {
         for (int k = 0; k < 3; k++) {
             atomicMin(t_lo[k], lo[k]), atomicMax(t_hi[k], hi[k]);
             atomicMin(t_blo[k], fkey(x[k])), atomicMax(t_bhi[k], fkey(x[k]));
         }
         atomicMin(t_cmin, ncode), atomicMax(t_cmax, ncode), atomicOr(t_sel, sel == G_INDIRECT ? 1u : 2u);
     }
-    uint key = ncode | (sel == G_INDIRECT ? 1u : 0u);
-    if ((VARIANT & 8u) != 0u) {
-        // the distinct keys, a subgroup's at a time (a key two subgroups hold is listed twice: harmless)
-        bool pending = act;
-        for (uint g = 0u; g < 128u && subgroupBallot(pending) != uvec4(0u); g++) {
-            uint lk = subgroupMin(pending ? key : 0xFFFFFFFFu), slot = 0u;
-            if (subgroupElect()) slot = atomicAdd(t_ncodes, 1u);
-            slot = subgroupBroadcastFirst(slot);
-            if (pending && key == lk) {
-                if (slot < KMAX) t_codes[slot] = lk, t_nrmk[slot] = n; // the same value from each such lane
-                pending = false;
-            }
-        }
-    }
     barrier();
-    if (act && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
+    if (valid && part == 0u && ncode == t_cmin) t_nrm = n; // every such pixel decoded the same code the same way
     ivec3 ulo = ivec3(t_lo[0], t_lo[1], t_lo[2]), ext = ivec3(t_hi[0], t_hi[1], t_hi[2]) - ulo + 1;
     // Where every pixel of the tile has one normal code and one selection (a wall's tile: most), the tests
     // that depend on the photon alone, the normal's and the direct photons', are made once a photon when
@@ -831,38 +788,17 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     // tests the distance alone
     uint code = t_cmin, tsel = t_sel;
     bool uni = code == t_cmax && tsel != 3u;
-    // VARIANT 8: a tile of up to KMAX keys: each photon's tests against each key made once at its load, a
-    // bit a key; a pixel tests its key's bit
-    uint nk = t_ncodes, mybit = 0u;
-    bool multi = (VARIANT & 8u) != 0u && nk <= KMAX;
-    if (multi) {
-        uni = false;
-        for (uint k = 0u; k < nk; k++)
-            if (t_codes[k] == key) {
-                mybit = 1u << k;
-                break;
-            }
-    }
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
-    bool bigbox = (VARIANT & 64u) != 0u;
-    bool inrange = ext.x <= 1024 && ext.y <= 1024 && ext.z <= 1024;
-    bool hashed = bigbox && (VARIANT & 128u) != 0u && inrange && ext.x * ext.y * ext.z > int(NEEDW * 32u);
-    if (hashed) {
-        for (uint e = lid; e < HTAB; e += DLANES) t_tab[e] = 0u;
-        barrier();
-    } else if (bigbox ? (!inrange || ext.x * ext.y * ext.z > int(NEEDW * 32u))
-               : (ext.x > 5 || ext.y > 5 || ext.z > 5)) {
-        if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
+    const int NBOX = int(NEEDW * 32u);
+    if (ext.x > NBOX || ext.y > NBOX || ext.z > NBOX || ext.x * ext.y * ext.z > NBOX) { // (no overflow: the first three)
         if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
     int nc = ext.x * ext.y * ext.z;
-    bool listed = !hashed && nc > int(SLOTS); // (bigbox) the needed cells compacted into a list
-    if (lid == 0u && map == 0u) atomicAdd(ctr[3], (listed ? 1u : 0u) + (hashed ? 1024u : 0u)); // DEBUG
+    bool listed = nc > int(SLOTS); // a slot each of the needed cells (else of every cell of the box)
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
-    uvec4 need = uvec4(0u);
     if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
             for (int cy = lo.y; cy <= hi.y; cy++)
@@ -871,50 +807,14 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     float dy = max(max(float(cy) * r - x.y, x.y - float(cy + 1) * r), 0.0);
                     float dx = max(max(float(cx) * r - x.x, x.x - float(cx + 1) * r), 0.0);
                     if (dx * dx + dy * dy + dz * dz > rm2) continue;
-                    if (hashed) {
-                        // the cell into the tile's table (open addressing); a new one takes the next slot
-                        if (t_nl >= SLOTS) { // too many: the own loops follow (t_nl past SLOTS says so)
-                            atomicAdd(t_nl, 1u);
-                            continue;
-                        }
-                        uint key = uint(cx - ulo.x) | uint(cy - ulo.y) << 10 | uint(cz - ulo.z) << 20, h = ((key + 1u) * 2654435761u) >> 23;
-                        for (uint pr = 0u; pr < HTAB; pr++, h = (h + 1u) & (HTAB - 1u)) {
-                            uint prev = atomicCompSwap(t_tab[h], 0u, key + 1u);
-                            if (prev == 0u) {
-                                uint sl = atomicAdd(t_nl, 1u);
-                                if (sl < SLOTS) t_cell[sl] = key;
-                            }
-                            if (prev == 0u || prev == key + 1u) break;
-                        }
-                        continue;
-                    }
                     uint ci = uint((cx - ulo.x) + ext.x * ((cy - ulo.y) + ext.y * (cz - ulo.z)));
-                    if ((VARIANT & 2u) != 0u && !hashed && nc <= 128) {
-                        uint w = ci >> 5, b = 1u << (ci & 31u);
-                        need |= uvec4(w == 0u ? b : 0u, w == 1u ? b : 0u, w == 2u ? b : 0u, w == 3u ? b : 0u);
-                    } else
-                        atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
+                    atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
-    if ((VARIANT & 2u) != 0u && !hashed && nc <= 128) {
-        need = subgroupOr(need);
-        if (subgroupElect() && part == 0u)
-            for (uint k = 0u; k < 4u; k++)
-                if (need[k] != 0u) atomicOr(t_need[k], need[k]);
-    }
     barrier();
     uint nlist = 0u;
-    if (hashed) {
-        nlist = t_nl;
-        if (nlist > SLOTS) {
-            barrier();
-            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
-            if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
-            return;
-        }
-    }
     if (listed) {
-        // the needed cells in box order: a word's start from the words before it, a cell's from the bits
-        // before it in its word
+        // the needed cells in the box's order: a word's first slot from the bits of the words before it, a
+        // cell's from the bits before it in its word
         if (lid < NEEDW) {
             uint c = 0u;
             for (uint j = 0u; j < lid; j++) c += uint(bitCount(t_need[j]));
@@ -922,9 +822,8 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
         nlist = t_wpre[NEEDW - 1u] + uint(bitCount(t_need[NEEDW - 1u]));
-        if (nlist > SLOTS) { // more cells than slots: the pixels' own loops (every lane: no barrier follows)
+        if (nlist > SLOTS) { // (uniform: every lane read the same words; the barrier: all have read them)
             barrier();
-            if (lid == 0u && map == 0u) atomicAdd(ctr[3], 1048576u); // DEBUG
             if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
             return;
         }
@@ -934,17 +833,12 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
         }
         barrier();
     }
-    // slot sl: cell sl of the tile's box (or of the list), its bucket once
+    // slot sl: cell sl of the tile's box (or the list's sl-th), its bucket once
     for (uint sl = lid; sl < SLOTS; sl += DLANES) {
         uint bk = 0xFFFFFFFFu;
-        if (hashed) {
-            uint pc = t_cell[sl];
-            if (sl < nlist) bk = bucket(ulo + ivec3(pc & 1023u, (pc >> 10) & 1023u, pc >> 20), map);
-        } else {
-            int il = listed ? (sl < nlist ? int(t_cell[sl]) : -1) : int(sl);
-            if (listed ? il >= 0 : (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u))
-                bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
-        }
+        int il = listed ? (sl < nlist ? int(t_cell[sl]) : -1) : int(sl);
+        if (listed ? il >= 0 : (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u))
+            bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
         t_bk[sl] = bk;
     }
     barrier();
@@ -991,9 +885,6 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     uint chunk = 0u;
     for (uint off = 0u; off < total; off += DLANES, chunk ^= 1u) {
         uint g = off + lid;
-        bool keep = false;
-        uint k = 0u, mask = 0u;
-        vec4 pa = vec4(0.0);
         if (g < total) { // photon g of the list: in the slot a with t_pre[a] <= g < t_pre[a + 1]
             uint a = 0u, b = SLOTS;
             while (b - a > 1u) {
@@ -1001,43 +892,24 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 if (t_pre[h] <= g) a = h;
                 else b = h;
             }
-            k = t_start[a] + (g - t_pre[a]);
-            pa = sorted[k];
+            uint k = t_start[a] + (g - t_pre[a]);
+            vec4 pa = sorted[k];
             // (another map's photon in these buckets counts for no pixel: left out here)
             uint nb = floatBitsToUint(pa.w);
-            keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
+            bool keep = all(greaterThanEqual(pa.xyz, blo)) && all(lessThanEqual(pa.xyz, bhi)) && (nb & F_CAUSTIC) == map;
             if (keep && uni) {
                 if (tsel == 1u && (nb & F_DIRECT) != 0u) keep = false;
                 if ((nb & ~F_BITS) != code && dot(oct_decode(unpackSnorm2x16(nb & ~F_BITS)), t_nrm) < 0.9) keep = false;
             }
-            if (keep && multi) {
-                vec3 pn = oct_decode(unpackSnorm2x16(nb & ~F_BITS));
-                for (uint q = 0u; q < nk; q++) {
-                    uint kq = t_codes[q];
-                    bool ok = !((kq & 1u) != 0u && (nb & F_DIRECT) != 0u) &&
-                              !((nb & ~F_BITS) != (kq & ~F_BITS) && dot(pn, t_nrmk[q]) < 0.9);
-                    if (ok) mask |= 1u << q;
-                }
-                keep = mask != 0u;
-            }
-        }
-        uint slot = 0u;
-        if ((VARIANT & 4096u) != 0u) { // one shared atomic a subgroup
-            uvec4 bl = subgroupBallot(keep);
-            uint cnt = subgroupBallotBitCount(bl);
-            if (subgroupElect() && cnt > 0u) slot = atomicAdd(t_n[chunk], cnt);
-            slot = subgroupBroadcastFirst(slot) + subgroupBallotExclusiveBitCount(bl);
-        } else if (keep)
-            slot = atomicAdd(t_n[chunk], 1u);
-        {
             if (keep) {
+                uint slot = atomicAdd(t_n[chunk], 1u);
                 uvec3 whi, wlo;
                 fx_words(sorted[P.a.y + k].xyz, P.fx.y, whi, wlo);
                 // (where the tests are the distance's alone, the low words ride in the position's fourth:
                 // two reads a photon; the high words, 0 but for a photon of over 32 emitted photons' power,
                 // are read only in a chunk that has some)
-                t_a[slot] = uni || multi ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
-                t_b[slot] = uni || multi ? uvec4(wlo.yz, mask, 0u) : uvec4(wlo, 0u);
+                t_a[slot] = uni ? vec4(pa.xyz, uintBitsToFloat(wlo.x)) : pa;
+                t_b[slot] = uni ? uvec4(wlo.yz, 0u, 0u) : uvec4(wlo, 0u);
                 t_shi[slot] = whi;
                 if (whi != uvec3(0u)) atomicOr(t_big[chunk], 1u);
             }
@@ -1051,16 +923,6 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                 vec4 pa = t_a[j];
                 vec3 v = pa.xyz - x;
                 if (dot(v, v) <= r2) fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), t_b[j].xy));
-            }
-        } else if (valid && multi) {
-            uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
-            bool big = t_big[chunk] != 0u;
-            for (uint j = part * q; j < j1; j++) {
-                vec4 pa = t_a[j];
-                uvec4 b = t_b[j];
-                vec3 v = pa.xyz - x;
-                if (dot(v, v) <= r2 && (b.z & mybit) != 0u)
-                    fx_add_words(shi, slo, big ? t_shi[j] : uvec3(0u), uvec3(floatBitsToUint(pa.w), b.xy));
             }
         } else if (valid) { // this lane's part of the chunk (a SIMD group's lanes share a part: one read for all)
             uint q = (cn + DPARTS - 1u) / DPARTS, j1 = min((part + 1u) * q, cn);
@@ -1097,8 +959,11 @@ void parts_add(inout uvec3 shi, inout uvec3 slo) {
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
-    if ((VARIANT & 8192u) != 0u && t < P.fu.z) t = ctr[CT_BIN + P.fu.z + t];
-    else if ((VARIANT & 1u) != 0u && t < P.fu.z) t = P.fu.z - 1u - t;
+    // the tiles from the image's last row up: the GPU starts workgroups about in their order, and the step's
+    // time is its last tiles'; at the seed's Cornell setting the heavy ones (the floor under the light, its
+    // edges and the caustic: big boxes, dense photons) lie low in the image (H200: 1.47 -> 1.25 ms; in the
+    // order of an estimate of each tile's photons, S_COST-like, 1.40: docs/PERFORMANCE.md)
+    if (t < P.fu.z) t = P.fu.z - 1u - t;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
@@ -1109,7 +974,7 @@ void density_pixel() {
     int sel = (bits & 2u) != 0u ? G_INDIRECT : G_ALL;
     vec3 n = oct_decode(unpackSnorm2x16(ncode));
     uvec3 chi = uvec3(0u), clo = uvec3(0u), ghi = uvec3(0u), glo = uvec3(0u);
-    if ((VARIANT & 4u) == 0u) tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
+    tile_sum(valid, rec0.xyz, n, ncode, F_CAUSTIC, P.r.y, sel, chi, clo);
     tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel, ghi, glo);
     parts_add(chi, clo);
     parts_add(ghi, glo);
@@ -1132,27 +997,7 @@ void main() {
     if (STEP == S_CLEAR) {
         if (i < P.a.w) cells[i] = uvec2(0u);
     } else if (STEP == S_RESET) {
-        if (i < 4u || ((VARIANT & 8192u) != 0u && i >= CT_HIST && i < CT_BIN)) ctr[i] = 0u;
-    } else if (STEP == S_COST) {
-        if (i >= P.fu.z) return;
-        uint W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, tx = i % tiles_x, ty = i / tiles_x, cost = 0u;
-        for (uint s = 0u; s < 4u; s++) {
-            uint x = min(tx * 8u + 2u + 4u * (s & 1u), W - 1u), y = min(ty * 8u + 2u + 4u * (s >> 1u), H - 1u);
-            vec4 rec0 = ph[P.fu.x + 3u * (x + y * W)];
-            if ((floatBitsToUint(rec0.w) & 1u) == 0u) continue;
-            ivec3 c = cell_of(rec0.xyz, P.r.x);
-            for (int dz = -1; dz <= 1; dz++)
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) cost += cells[bucket(c + ivec3(dx, dy, dz), 0u)].x;
-        }
-        uint bin = cost == 0u ? 0u : min(uint(findMSB(cost)) + 1u, 31u);
-        ctr[CT_BIN + i] = bin;
-        atomicAdd(ctr[CT_HIST + bin], 1u);
-    } else if (STEP == S_ORDER) {
-        if (i >= P.fu.z) return;
-        uint bin = ctr[CT_BIN + i], start = 0u;
-        for (uint b = bin + 1u; b < 32u; b++) start += ctr[CT_HIST + b];
-        ctr[CT_BIN + P.fu.z + start + atomicAdd(ctr[CT_FILL + bin], 1u)] = i;
+        if (i < 4u) ctr[i] = 0u;
     } else if (STEP == S_TRACE) {
         trace_photons();
     } else if (STEP == S_COUNT) {
@@ -1179,7 +1024,7 @@ void main() {
         // photons.c step(): items over 64-lane workgroups, x at most 4096 and y the rest
         uint stored = ctr[0], over = stored > P.a.y ? 0u : 1u;
         // the buckets: the least power of two at least twice the stored photons, within [64, P.a.w]
-        uint n = (VARIANT & 1024u) != 0u ? stored : 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
+        uint n = 2u * stored, used = n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
         used = clamp(used, 64u, P.a.w);
         uvec3 items = uvec3(used, stored, P.fu.z * 64u) * over;
         for (int k = 0; k < 3; k++) {
