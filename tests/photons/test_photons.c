@@ -641,9 +641,18 @@ static uint8_t slab_wall_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
  * (where the kernel's area is not the disk); and the wall's face seen
  * head-on in a full image (its normal along x: the tile's box of cells
  * is 3 deep and 5 x 5 across, and its cells on the face take the box's
- * last slots, past the 64 the shared loop had before). */
+ * last slots, past the 64 the shared loop had before). Two more in full
+ * images of the slab and the wall lit from above: straight down across
+ * the wall's top (tiles whose points lie 8 apart in depth: boxes of more
+ * than 128 cells, a slot each of the cells the pixels need) and along
+ * (1, 0, -1) at the wall's foot (tiles with pixels of two normals: the
+ * shared loop with each pixel's own tests), each pixel's sum over the
+ * photons of its own face; pixels within r of an edge of their face are
+ * not checked (so the other face's photons, which the normal test keeps
+ * out, lie beyond r of every checked pixel: that test is not what this
+ * case checks). */
 enum { GATHER_FULL, GATHER_INDIRECT, GATHER_WALL, GATHER_STEP, GATHER_CORNER };
-/* The point a pixel (x, y) of view v sees in gather_cpu_case and the face it lies on (0: a top, +z; 1: the
+/* The point a pixel (x, y) of a view sees in gather_cpu_case and the face it lies on (0: a top, +z; 1: the
  * wall's face at x = 12, -x); false where the point is within r of its face's edge (the kernel's area is not
  * the disk there) or off the scene: such a pixel is not checked. */
 static bool gather_point(int kind, double hh, double cx, int x, int y, int W, int H, double r, double p[3], int* face) {
@@ -697,8 +706,9 @@ static void gather_cpu_case(int kind) {
     enum { VIEWS = 3 };
     double heights[VIEWS] = {wall ? 6 : (indirect ? 6.75 : 9), 1, 2.4}, cxs[VIEWS] = {8, 8, 8};
     if (indirect) cxs[0] = cxs[1] = cxs[2] = 6;
-    /* across the wall's top (a tile's points 8 apart in depth): boxes of 5 x 5 x 19 cells and more, the
-     * needed cells listed from a bitmap or a table (tile_sum); at the wall's foot: tiles of two normals */
+    /* across the wall's top (a tile's points 8 apart in depth): boxes of 3 x 5 x 19 cells and more, a slot
+     * each of the needed cells only (photon.comp tile_sum), or past 1024 cells the own loops; at the wall's
+     * foot: tiles of two normals (the pixels' own normal tests in the shared loop) */
     if (kind == GATHER_STEP) heights[0] = 3, heights[1] = 8, heights[2] = 5, cxs[0] = 13, cxs[1] = 10, cxs[2] = 11;
     if (kind == GATHER_CORNER) heights[0] = 2, heights[1] = 6, heights[2] = 3;
     vx_render_image ims[VIEWS] = {{0}};
