@@ -734,11 +734,20 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 shared vec4 t_a[TLANES];
 shared uvec4 t_b[TLANES];
 // the tile's box of cells: a bit each (at most NEEDW * 32 cells), a slot each where they are at most SLOTS,
-// else a slot each of the cells the pixels need (at most SLOTS, listed in t_cell by the bits). Sized by TS:
-// the density step's, 1 in the other steps (the trace's workgroups of 32 took 2.7 KB each for nothing)
-const uint SLOTS = 128u, NEEDW = 32u, TS = STEP == S_DENSITY ? 1u : 0u;
-shared uint t_bk[SLOTS * TS + 1u], t_start[SLOTS * TS + 1u], t_cnt[SLOTS * TS + 1u], t_pre[SLOTS * TS + 1u],
-    t_need[NEEDW * TS + 1u], t_g8[SLOTS / 8u * TS + 1u], t_cell[SLOTS * TS + 1u], t_wpre[NEEDW * TS + 1u], t_n[2], t_big[2];
+// else a slot each of the cells the pixels need (at most SLOTS, listed in t_cell by the bits). BIGBOX: only
+// where a pixel has several lanes (few tiles: the step's time is its slowest tiles'); with one lane a pixel
+// (1920x1080, many waves of tiles) the boxes of 5 a side and the arrays as before (the caustic scene's 10M
+// pass, H200: density 1.36 ms with the big boxes and the order below, 1.33 without them, main's 1.17).
+// The slot arrays are declared at full size in every step, as they always were: sized to the density step
+// alone (1 element elsewhere) the trace with the camera's paths beside it took 3.32 ms against 3.20 (seed's
+// setting, H200), and with 2.5 KB more in every step 3.90: the trace's speed follows its pipelines' shared
+// memory (the driver's split of it against L1), not in one direction (docs/PERFORMANCE.md, ninth sitting).
+const uint SLOTS = 128u;
+const uint BIGW = STEP == S_DENSITY ? gl_WorkGroupSize.x : 0u; // (glslang 11 emits `&&` of spec constants out of order)
+const bool BIGBOX = BIGW > 64u;
+const uint NEEDW = BIGW > 64u ? 32u : SLOTS / 32u, LISTS = BIGW > 64u ? SLOTS : 1u;
+shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[NEEDW], t_g8[SLOTS / 8u], t_n[2], t_big[2];
+shared uint t_cell[LISTS], t_wpre[LISTS / 4u]; // (NEEDW where BIGBOX)
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
@@ -792,12 +801,13 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
     const int NBOX = int(NEEDW * 32u);
-    if (ext.x > NBOX || ext.y > NBOX || ext.z > NBOX || ext.x * ext.y * ext.z > NBOX) { // (no overflow: the first three)
+    if (BIGBOX ? (ext.x > NBOX || ext.y > NBOX || ext.z > NBOX || ext.x * ext.y * ext.z > NBOX) // (no overflow: the first three)
+               : (ext.x > 5 || ext.y > 5 || ext.z > 5)) {
         if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
     int nc = ext.x * ext.y * ext.z;
-    bool listed = nc > int(SLOTS); // a slot each of the needed cells (else of every cell of the box)
+    bool listed = BIGBOX && nc > int(SLOTS); // a slot each of the needed cells (else of every cell of the box)
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
     if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
@@ -959,11 +969,12 @@ void parts_add(inout uvec3 shi, inout uvec3 slo) {
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
-    // the tiles from the image's last row up: the GPU starts workgroups about in their order, and the step's
-    // time is its last tiles'; at the seed's Cornell setting the heavy ones (the floor under the light, its
-    // edges and the caustic: big boxes, dense photons) lie low in the image (H200: 1.47 -> 1.25 ms; in the
-    // order of an estimate of each tile's photons, S_COST-like, 1.40: docs/PERFORMANCE.md)
-    if (t < P.fu.z) t = P.fu.z - 1u - t;
+    // several lanes a pixel (few tiles): the tiles from the last row up. The GPU starts workgroups about in
+    // their order, and a step of one or two waves ends with its slowest tiles; at the seed's Cornell setting
+    // the heavy ones (the floor under the light, its far edge, the caustic: big boxes, dense photons) lie low
+    // in the image (H200: density 1.47 -> 1.25 ms; in the order of an estimate of each tile's photons, heaviest
+    // first, 1.40: docs/PERFORMANCE.md)
+    if (DPARTS > 1u && t < P.fu.z) t = P.fu.z - 1u - t;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;
