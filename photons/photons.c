@@ -43,11 +43,12 @@ enum { NBIND = 19, SRC_FLOATS = 24, PHOTON_BYTES = 32, FACE_FLOATS = 20 };
  * 100) passes KERNEL_CELLS cells and no lookup is made. */
 enum { OCC_DEPTH = 9 };
 #define OCC_BITS (UINT64_C(1) << 28)
-/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 4 where the
+/* Lanes per pixel of the density step (photon.comp DPARTS; its workgroups take 64 x this): 8 where the
  * image has fewer tiles of 8 x 8 pixels than DENSITY_FEW_TILES (about two waves of 64-lane workgroups on a
- * large GPU: the H200 holds 132 x 32), whose time the densest tiles set; 1 where they fill many waves
- * (H200: 512x512 density 3.33 -> 1.91 ms with 4; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
-enum { DENSITY_PARTS = 4, DENSITY_FEW_TILES = 8192 };
+ * large GPU: the H200 holds 132 x 32), whose time the densest tiles set, 4 on a device whose workgroups
+ * cannot take 512 lanes and their 64 bytes of shared memory each; 1 where they fill many waves (H200:
+ * 512x512 density 3.33 -> 1.91 ms with 4, 1.25 -> 1.16 with 8; 1920x1080 caustic 1.39 -> 2.78 ms with 4) */
+enum { DENSITY_PARTS = 8, DENSITY_FEW_TILES = 8192 };
 /* source types of photon.comp (0-4 are vx_light_type) */
 enum { SRC_SKY = 5, SRC_VOXELS = 6 };
 
@@ -600,7 +601,12 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     uint64_t tiles = (uint64_t)((f.width + 7) / 8) * ((f.height + 7) / 8) * 64;
     p->fu[0] = fused ? 2 * d->capacity : 0;
     p->fu[2] = (uint32_t)(tiles / 64);
-    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? DENSITY_PARTS : 1;
+    const VkPhysicalDeviceLimits* lim = &pg->g->props.limits;
+    uint32_t parts = DENSITY_PARTS;
+    while (parts > 4 && (lim->maxComputeWorkGroupInvocations < 64 * parts || lim->maxComputeWorkGroupSize[0] < 64 * parts ||
+                         lim->maxComputeSharedMemorySize < 64 * 64 * parts + 4096))
+        parts /= 2;
+    pg->density_parts = tiles / 64 < DENSITY_FEW_TILES ? parts : 1;
     st.fused = fused;
     /* One submission: the trace, then the steps after it sized on the GPU (record_rest), one wait; the host
      * paid 2.4-2.8 ms a pass on the H200 for a submission and wait per step and the counters' downloads. */

@@ -733,9 +733,21 @@ const uint TLANES = STEP == S_DENSITY ? gl_WorkGroupSize.x : 1u;
 // the high ones in t_shi, free until parts_add), made once a photon where every pixel made them again
 shared vec4 t_a[TLANES];
 shared uvec4 t_b[TLANES];
-// the tile's box of cells, at most 5 a side: a slot each
+// the tile's box of cells: a bit each (at most NEEDW * 32 cells), a slot each where they are at most SLOTS,
+// else a slot each of the cells the pixels need (at most SLOTS, listed in t_cell by the bits). BIGBOX: only
+// where a pixel has several lanes (few tiles: the step's time is its slowest tiles'); with one lane a pixel
+// (1920x1080, many waves of tiles) the boxes of 5 a side and the arrays as before (the caustic scene's 10M
+// pass, H200: density 1.36 ms with the big boxes and the order below, 1.33 without them, main's 1.17).
+// The slot arrays are declared at full size in every step, as they always were: sized to the density step
+// alone (1 element elsewhere) the trace with the camera's paths beside it took 3.32 ms against 3.20 (seed's
+// setting, H200), and with 2.5 KB more in every step 3.90: the trace's speed follows its pipelines' shared
+// memory (the driver's split of it against L1), not in one direction (docs/PERFORMANCE.md, ninth sitting).
 const uint SLOTS = 128u;
-shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[SLOTS / 32u], t_g8[SLOTS / 8u], t_n[2], t_big[2];
+const uint BIGW = STEP == S_DENSITY ? gl_WorkGroupSize.x : 0u; // (glslang 11 emits `&&` of spec constants out of order)
+const bool BIGBOX = BIGW > 64u;
+const uint NEEDW = BIGW > 64u ? 32u : SLOTS / 32u, LISTS = BIGW > 64u ? SLOTS : 1u;
+shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[NEEDW], t_g8[SLOTS / 8u], t_n[2], t_big[2];
+shared uint t_cell[LISTS], t_wpre[LISTS / 4u]; // (NEEDW where BIGBOX)
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
@@ -745,12 +757,15 @@ shared vec3 t_nrm;
 shared uvec3 t_shi[TLANES], t_slo[TLANES]; // the parts' sums (t_shi: also the chunk's)
 
 // The Lambert sums (photon_sum's, exact) of the tile's pixels over map `map` within r, this lane's part
-// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test,
-// at most 5 x 5 x 5 around the tile) are gathered into one list of buckets (a bucket two cells share
-// once), its photons read into shared memory in chunks of DLANES, and every pixel tests every photon of a
-// chunk, each of its lanes a quarter. A pixel's own loop read its cells' photons from memory, each pixel
-// again: at the seed's Cornell setting some 2700 tests for the 1000 photons that count. A tile whose cells
-// pass 5 a side falls back to the own loops (the pixel's lanes taking every DPARTS-th photon).
+// added into shi, slo: the cells the pixels need (each pixel's own cells that pass photon_sum's box test)
+// are gathered into one list of buckets (a bucket two cells share once), its photons read into shared
+// memory in chunks of DLANES, and every pixel tests every photon of a chunk, each of its lanes a part. A
+// pixel's own loop read its cells' photons from memory, each pixel again: at the seed's Cornell setting
+// some 2700 tests for the 1000 photons that count. The tile's box of cells takes up to NEEDW * 32 cells
+// (a tile across a depth step or seen at a grazing angle: the seed's floor and the spheres' edges, 7% of
+// its tiles past the 5 a side the box had before, and 15% of the caustic map's, whose cells are a quarter
+// as wide), of which the pixels may need at most SLOTS; a tile past either falls back to the own loops
+// (the pixel's lanes taking every DPARTS-th photon).
 uint fkey(float f) { // ordered as the floats are
     uint u = floatBitsToUint(f);
     return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
@@ -758,9 +773,9 @@ uint fkey(float f) { // ordered as the floats are
 float fkey_inv(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u); }
 void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel, inout uvec3 shi, inout uvec3 slo) {
     uint lid = gl_LocalInvocationIndex, part = lid / 64u;
+    if (lid < NEEDW) t_need[lid] = 0u;
     if (lid == 0u) {
         for (int k = 0; k < 3; k++) t_lo[k] = 0x7FFFFFFF, t_hi[k] = -0x7FFFFFFF, t_blo[k] = 0xFFFFFFFFu, t_bhi[k] = 0u;
-        for (uint k = 0u; k < SLOTS / 32u; k++) t_need[k] = 0u;
         t_n[0] = 0u, t_n[1] = 0u, t_big[0] = 0u, t_big[1] = 0u;
         t_cmin = 0xFFFFFFFFu, t_cmax = 0u, t_sel = 0u;
     }
@@ -785,10 +800,14 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
     barrier(); // all have read the bounds: the next call's first lane may set them again
     if (ext.x <= 0) return; // no pixel of the tile needs a sum
     Bsdf B;                 // unused by the Lambert sums
-    if (ext.x > 5 || ext.y > 5 || ext.z > 5) {
+    const int NBOX = int(NEEDW * 32u);
+    if (BIGBOX ? (ext.x > NBOX || ext.y > NBOX || ext.z > NBOX || ext.x * ext.y * ext.z > NBOX) // (no overflow: the first three)
+               : (ext.x > 5 || ext.y > 5 || ext.z > 5)) {
         if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
         return;
     }
+    int nc = ext.x * ext.y * ext.z;
+    bool listed = BIGBOX && nc > int(SLOTS); // a slot each of the needed cells (else of every cell of the box)
     float m = r * 1e-3 + 1e-6 * max(max(abs(x.x), abs(x.y)), abs(x.z)), rm2 = (r + m) * (r + m), r2 = r * r;
     if (valid && part == 0u)
         for (int cz = lo.z; cz <= hi.z; cz++)
@@ -802,12 +821,33 @@ void tile_sum(bool valid, vec3 x, vec3 n, uint ncode, uint map, float r, int sel
                     atomicOr(t_need[ci >> 5], 1u << (ci & 31u));
                 }
     barrier();
-    // slot sl: cell sl of the tile's box, its bucket once
-    int nc = ext.x * ext.y * ext.z;
+    uint nlist = 0u;
+    if (listed) {
+        // the needed cells in the box's order: a word's first slot from the bits of the words before it, a
+        // cell's from the bits before it in its word
+        if (lid < NEEDW) {
+            uint c = 0u;
+            for (uint j = 0u; j < lid; j++) c += uint(bitCount(t_need[j]));
+            t_wpre[lid] = c;
+        }
+        barrier();
+        nlist = t_wpre[NEEDW - 1u] + uint(bitCount(t_need[NEEDW - 1u]));
+        if (nlist > SLOTS) { // (uniform: every lane read the same words; the barrier: all have read them)
+            barrier();
+            if (valid) photon_sum_fx(x, n, ncode, true, B, vec3(0.0), map, r, sel, part, DPARTS, shi, slo);
+            return;
+        }
+        for (uint i = lid; i < uint(nc); i += DLANES) {
+            uint w = t_need[i >> 5], b = 1u << (i & 31u);
+            if ((w & b) != 0u) t_cell[t_wpre[i >> 5] + uint(bitCount(w & (b - 1u)))] = i;
+        }
+        barrier();
+    }
+    // slot sl: cell sl of the tile's box (or the list's sl-th), its bucket once
     for (uint sl = lid; sl < SLOTS; sl += DLANES) {
         uint bk = 0xFFFFFFFFu;
-        int il = int(sl);
-        if (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u)
+        int il = listed ? (sl < nlist ? int(t_cell[sl]) : -1) : int(sl);
+        if (listed ? il >= 0 : (il < nc && (t_need[sl >> 5] & (1u << (sl & 31u))) != 0u))
             bk = bucket(ulo + ivec3(il % ext.x, (il / ext.x) % ext.y, il / (ext.x * ext.y)), map);
         t_bk[sl] = bk;
     }
@@ -929,6 +969,12 @@ void parts_add(inout uvec3 shi, inout uvec3 slo) {
 // pixel's light written into Out. Every invocation of the workgroup runs tile_sum (its barriers).
 void density_pixel() {
     uint it = item(), W = P.img.x, H = P.img.y, tiles_x = (W + 7u) / 8u, t = it / DLANES, l = (it % DLANES) % 64u;
+    // several lanes a pixel (few tiles): the tiles from the last row up. The GPU starts workgroups about in
+    // their order, and a step of one or two waves ends with its slowest tiles; at the seed's Cornell setting
+    // the heavy ones (the floor under the light, its far edge, the caustic: big boxes, dense photons) lie low
+    // in the image (H200: density 1.47 -> 1.25 ms; in the order of an estimate of each tile's photons, heaviest
+    // first, 1.40: docs/PERFORMANCE.md)
+    if (DPARTS > 1u && t < P.fu.z) t = P.fu.z - 1u - t;
     uint x = (t % tiles_x) * 8u + l % 8u, y = (t / tiles_x) * 8u + l / 8u;
     bool inside = x < W && y < H;
     uint idx = inside ? x + y * W : 0u;

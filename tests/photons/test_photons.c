@@ -641,18 +641,61 @@ static uint8_t slab_wall_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
  * (where the kernel's area is not the disk); and the wall's face seen
  * head-on in a full image (its normal along x: the tile's box of cells
  * is 3 deep and 5 x 5 across, and its cells on the face take the box's
- * last slots, past the 64 the shared loop had before). */
-enum { GATHER_FULL, GATHER_INDIRECT, GATHER_WALL };
+ * last slots, past the 64 the shared loop had before). Two more in full
+ * images of the slab and the wall lit from above: straight down across
+ * the wall's top (tiles whose points lie 8 apart in depth: boxes of more
+ * than 128 cells, a slot each of the cells the pixels need) and along
+ * (1, 0, -1) at the wall's foot (tiles with pixels of two normals: the
+ * shared loop with each pixel's own tests), each pixel's sum over the
+ * photons of its own face; pixels within r of an edge of their face are
+ * not checked (so the other face's photons, which the normal test keeps
+ * out, lie beyond r of every checked pixel: that test is not what this
+ * case checks). */
+enum { GATHER_FULL, GATHER_INDIRECT, GATHER_WALL, GATHER_STEP, GATHER_CORNER };
+/* The point a pixel (x, y) of a view sees in gather_cpu_case and the face it lies on (0: a top, +z; 1: the
+ * wall's face at x = 12, -x); false where the point is within r of its face's edge (the kernel's area is not
+ * the disk there) or off the scene: such a pixel is not checked. */
+static bool gather_point(int kind, double hh, double cx, int x, int y, int W, int H, double r, double p[3], int* face) {
+    double hw = hh * W / H, u = ((x + 0.5) / W) * 2 - 1, vv = 1 - ((y + 0.5) / H) * 2, m = r * (1 + 1e-3);
+    *face = 0;
+    if (kind == GATHER_WALL) {
+        p[0] = 12, p[1] = 8 - u * hw, p[2] = 5 + vv * hh, *face = 1;
+        return true;
+    }
+    if (kind == GATHER_CORNER) {
+        /* ortho along (1, 0, -1) / sqrt 2 from (2, 8, 11): right -y, up (1, 0, 1) / sqrt 2; the top z = 1
+         * where the ray meets it at x < 12, the wall's face x = 12 above */
+        double o[3] = {2 + vv * hh / sqrt(2), 8 - u * hw, 11 + vv * hh / sqrt(2)};
+        double xt = o[0] + (o[2] - 1);
+        if (xt < 12) {
+            p[0] = xt, p[1] = o[1], p[2] = 1;
+            return xt < 12 - m && xt > m && o[1] > m && o[1] < 16 - m;
+        }
+        p[0] = 12, p[1] = o[1], p[2] = o[2] - (12 - o[0]), *face = 1;
+        return p[2] > 1 + m && p[2] < 9 - m && o[1] > m && o[1] < 16 - m;
+    }
+    p[0] = cx + u * hw, p[1] = 8 + vv * hh, p[2] = 1;
+    if (kind == GATHER_STEP) { /* straight down across the wall's top (z = 9, x = 12..14) */
+        if (p[0] >= 12 && p[0] < 14) p[2] = 9;
+        bool edge = p[2] > 1 ? (p[0] < 12 + m || p[0] > 14 - m) : (p[0] > 12 - m && p[0] < 14 + m);
+        return !edge && p[0] > m && p[0] < 16 - m && p[1] > m && p[1] < 16 - m;
+    }
+    return true;
+}
+
 static void gather_cpu_case(int kind) {
     bool indirect = kind == GATHER_INDIRECT, wall = kind == GATHER_WALL;
+    bool general = kind == GATHER_STEP || kind == GATHER_CORNER;
     vx_svo_scene s;
     cells_scene(&s, 16, kind != GATHER_FULL ? slab_wall_cell : slab_cell);
     s.palette[1] = GRAY;
     double black[3] = {0, 0, 0};
     vx_probe_set light = light_only(0, black, 1);
     vx_light pl = {.type = VX_LIGHT_POINT, .position = {8, 8, 6}, .color = {1, 0.8, 0.6}, .intensity = 20};
+    if (kind >= GATHER_STEP) pl.position[2] = 14; /* the wall's top lit too */
     const double r = 0.5;
-    vx_photon_desc d = {.photons = 200000, .radius = r, .caustic_radius = r, .lights = &pl, .light_count = 1};
+    vx_photon_desc d = {.photons = kind >= GATHER_STEP ? 400000 : 200000, .radius = r, .caustic_radius = r, .lights = &pl,
+                        .light_count = 1};
     run R;
     REQUIRE(run_make(&R, &s, &light, &d));
     enum { W = 24, H = 18 };
@@ -661,17 +704,28 @@ static void gather_cpu_case(int kind) {
      * side) and 3.2 wide (2.1 radii: a box of 5 cells a side, the most the shared loop takes); the slab's
      * middle, or its part from x = 1.5 to 10.5 by the wall; the wall's face from z = 2 to 8 */
     enum { VIEWS = 3 };
-    const double heights[VIEWS] = {wall ? 6 : (indirect ? 6.75 : 9), 1, 2.4}, cx = indirect ? 6 : 8;
+    double heights[VIEWS] = {wall ? 6 : (indirect ? 6.75 : 9), 1, 2.4}, cxs[VIEWS] = {8, 8, 8};
+    if (indirect) cxs[0] = cxs[1] = cxs[2] = 6;
+    /* across the wall's top (a tile's points 8 apart in depth): boxes of 3 x 5 x 19 cells and more, a slot
+     * each of the needed cells only (photon.comp tile_sum), or past 1024 cells the own loops; at the wall's
+     * foot: tiles of two normals (the pixels' own normal tests in the shared loop) */
+    if (kind == GATHER_STEP) heights[0] = 3, heights[1] = 8, heights[2] = 5, cxs[0] = 13, cxs[1] = 10, cxs[2] = 11;
+    if (kind == GATHER_CORNER) heights[0] = 2, heights[1] = 6, heights[2] = 3;
     vx_render_image ims[VIEWS] = {{0}};
     vx_error err = {0};
     vx_photon_record* ph = NULL;
     size_t n = 0, direct = 0;
     vx_result res = VX_OK;
     for (int v = 0; v < VIEWS && !res; v++) {
-        vx_render_desc view = view_down(W, H, cx, 8, heights[v] / 2, 40);
+        vx_render_desc view = view_down(W, H, cxs[v], 8, heights[v] / 2, 40);
         if (wall) { /* from -x towards the face at x = 12, up +z: right is -y */
             view.camera.eye[0] = -20, view.camera.eye[1] = 8, view.camera.eye[2] = 5;
             view.camera.target[0] = 12, view.camera.target[1] = 8, view.camera.target[2] = 5;
+            view.camera.up[1] = 0, view.camera.up[2] = 1;
+        }
+        if (kind == GATHER_CORNER) { /* along (1, 0, -1): the corner line through (12, 8, 1) in the middle */
+            view.camera.eye[0] = 2, view.camera.eye[1] = 8, view.camera.eye[2] = 11;
+            view.camera.target[0] = 12, view.camera.target[1] = 8, view.camera.target[2] = 1;
             view.camera.up[1] = 0, view.camera.up[2] = 1;
         }
         res = vx_photon_render(R.pg, &view, 1, !indirect, &ims[v], &err);
@@ -685,16 +739,19 @@ static void gather_cpu_case(int kind) {
     for (int v = 0; v < VIEWS; v++) {
         /* pixel centres on the top face (z = 1): right is +x, up +y; on the wall's face (x = 12): right -y, up +z */
         double hh = heights[v] / 2, hw = hh * W / H, f = ALB / PI / (PI * r * r);
-        size_t outside = 0, agree = 0, hits = 0;
+        size_t outside = 0, agree = 0, hits = 0, checked = 0, faces[2] = {0};
         double worst = 0;
+        (void)hw;
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {
-                double u = ((x + 0.5) / W) * 2 - 1, vv = 1 - ((y + 0.5) / H) * 2, p[3] = {cx + u * hw, 8 + vv * hh, 1};
-                if (wall) p[0] = 12, p[1] = 8 - u * hw, p[2] = 5 + vv * hh;
+                double p[3];
+                int face;
+                if (!gather_point(kind, hh, cxs[v], x, y, W, H, r, p, &face)) continue;
+                checked++, faces[face]++;
                 double lo[3] = {0}, hi[3] = {0};
                 size_t nlo = 0, nhi = 0;
                 for (size_t i = 0; i < n; i++) {
-                    if ((wall ? -ph[i].normal[0] : ph[i].normal[2]) < 0.9) continue; /* not the face (GPU: within 25 degrees) */
+                    if ((face ? -ph[i].normal[0] : ph[i].normal[2]) < 0.9) continue; /* not the face (GPU: within 25 degrees) */
                     if (indirect && (ph[i].flags & VX_PHOTON_DIRECT)) continue;
                     double d2 = 0;
                     for (int k = 0; k < 3; k++) d2 += (ph[i].position[k] - p[k]) * (ph[i].position[k] - p[k]);
@@ -714,14 +771,19 @@ static void gather_cpu_case(int kind) {
                 }
                 agree += nlo == nhi;
             }
-        fprintf(stderr, "  gather vs CPU, %s, view %.2f high: %zu photons (%zu direct), %.0f per pixel; %zu of %d values "
-                "outside the CPU's bracket; %zu of %d pixels without a photon on the circle's edge, there within %.2g\n",
-                wall ? "the wall's face" : (indirect ? "indirect light by a wall" : "full image"), heights[v], n, direct, (double)hits / (W * H),
-                outside, 3 * W * H, agree, W * H, worst);
-        CHECK(n > 30000 && hits > (size_t)(indirect ? 10 : 50) * W * H);
+        const char* what[] = {"full image", "indirect light by a wall", "the wall's face", "across the wall's top",
+                              "the wall's foot"};
+        fprintf(stderr, "  gather vs CPU, %s, view %.2f high: %zu photons (%zu direct), %.0f per pixel; %zu of %zu values "
+                "outside the CPU's bracket; %zu of %zu pixels (%zu on a top, %zu on the face) without a photon on the "
+                "circle's edge, there within %.2g\n",
+                what[kind], heights[v], n, direct, (double)hits / (double)(checked ? checked : 1), outside, 3 * checked,
+                agree, checked, faces[0], faces[1], worst);
+        CHECK(n > 30000 && hits > (size_t)(indirect ? 10 : 50) * checked);
         CHECK(!indirect || (direct > n / 10 && direct < n)); /* both kinds on the slab: the test can tell them apart */
         CHECK(outside == 0);
-        CHECK(agree > (v ? 0.7 : 0.8) * W * H && worst < 1e-5); /* (more photons a pixel: more on the edge) */
+        CHECK(agree > (v ? 0.7 : 0.8) * checked && worst < 1e-5); /* (more photons a pixel: more on the edge) */
+        /* the views the cases are for: most pixels checked, both faces (or both depths) in the image */
+        if (general) CHECK(checked > W * H / 3 && (kind == GATHER_STEP ? faces[0] > 0 : faces[0] > 20 && faces[1] > 20));
         vx_render_image_free(&ims[v]);
     }
     vx_free(NULL, ph);
@@ -732,6 +794,8 @@ static void test_gather_cpu(void) {
     gather_cpu_case(GATHER_FULL);
     gather_cpu_case(GATHER_INDIRECT);
     gather_cpu_case(GATHER_WALL);
+    gather_cpu_case(GATHER_STEP);
+    gather_cpu_case(GATHER_CORNER);
 }
 
 /* The estimate near a surface's edge: a slab's corner under a sun straight down (irradiance 2 on its
