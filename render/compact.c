@@ -561,10 +561,6 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
             uint32_t s = map[e + k], x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
             /* a node of level >= 3 with non-leaf children points at their block */
             if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = map[y];
-            /* bits 16..31 of a level >= 3 slot: the cells of the slots before it in its block (0xFFFF: 65535
-             * or more, see the rank), so that a descent reads them with the slot it enters */
-            uint32_t before = k ? b->rank[e + k - 1] : 0;
-            if (level >= 3) x = (x & 0xFFFFu) | (before < 0xFFFFu ? before : 0xFFFFu) << 16;
             g[2 * (size_t)s] = x, g[2 * (size_t)s + 1] = y;
             if (level >= 3) rank[s] = b->rank[e + k];
         }

@@ -19,10 +19,7 @@
  * of trace.comp, docs/PERFORMANCE.md issue 18).
  *   level >= 3:  word 0 trace.comp's descriptor form, bits 8..15 valid mask,
  *                bits 0..7 leaf mask (a leaf child is one cell at level 1, a
- *                full cube of 8^(level-1) cells above), bits 16..31 the cells
- *                of the slots before it in its block (the rank of the slot
- *                before; 0xFFFF: 65535 or more, read the rank), so that a
- *                descent has them with the slot it enters; word 1 the slot index
+ *                full cube of 8^(level-1) cells above); word 1 the slot index
  *                of its block: its non-leaf children in octant order (no
  *                block, 0, without any)
  *   level 1, 2:  a brick, the 64-bit mask of its cells by their Morton code

@@ -3,7 +3,6 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
-#include <stdlib.h> /* getenv (exploration) */
 #include <string.h>
 
 #include "render/compact.h"
@@ -484,14 +483,12 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    /* exploration (bench only, removed before the merge): trace_compact.comp's VARIANT */
-    const char* ev = getenv("VX_COMPACT_VARIANT");
-    uint32_t spec[11] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
-                         cg->deep, pages, ev ? (uint32_t)atoi(ev) : 0u};
+    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
+                         cg->deep, pages};
     uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 11; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = 11, .spec_count = 11, .label = "trace compact"};
+                                       .binding_count = 11, .spec_count = 10, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < 11; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);

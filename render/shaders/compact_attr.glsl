@@ -8,8 +8,6 @@
 //   CA_ATTR(i)  attribute word i
 //   CA_PAL(i)   palette entry i (RGBA)
 //   CA_PAGES    the paged layout's page count (0: the whole layout)
-//   CA_EXCL     the descent takes the cells before an entered slot from its
-//               bits 16..31 (render/compact.h) instead of a rank load
 // render/compact_gpu.c writes CModel (cmodel_gpu). Included twice: first
 // without CA_SLOT (the record, before the buffers that hold it), then with
 // the macros defined (the functions, after the buffers).
@@ -101,17 +99,6 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     uint mc = mort ? morton(c) : 0u;
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
-        if (CA_EXCL && uint(L) < m.depth) {
-            // the cells of the slots before n in its block (the parent's inner
-            // children before it): in the slot's bits 16..31, 0 for a block's first
-            uint e = nd.x >> 16;
-            if (e == 0xFFFFu) {
-                uint w = rank_base + n - 1u;
-                uvec2 pr = CA_SLOT(w >> 1);
-                e = (w & 1u) != 0u ? pr.y : pr.x;
-            }
-            base += e;
-        }
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
             // a page root (resident: the ray hit a cell inside): its header
             // precedes its first block
@@ -121,13 +108,8 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint s = uint(L - 1);
         uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        bool leaf = (nd.x & cbit) != 0u;
-        // entering an inner child of level >= 3 (CA_EXCL): its slot gives the
-        // cells of the inner children before it at the next level
-        if (CA_EXCL && !leaf && L > 3)
-            base += L <= 11 ? uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << (3u * uint(L - 1)) : 0u;
-        else base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
-        if (leaf) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
+        base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = nd.y + k;
     }
     uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);

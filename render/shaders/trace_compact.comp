@@ -34,19 +34,13 @@ const uint PW = (PAGES + 31u) / 32u;
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
 const uint P_LIST = 1u, P_REQ = 1u + PAGES, P_REP = 1u + PAGES + PW, P_USE = 1u + 2u * PAGES + PW;
 const uint NOT_RESIDENT = 0x80000000u;
-// exploration (issue 18, sixth step; bench only): bit 0 no iteration guard
-// where no hits are written (trace.comp's colour kernel's form), bit 1 the
-// brick reloaded at a push below level 2 instead of kept in registers
-layout(constant_id = 10) const uint VARIANT = 0u;
-const bool GUARD = (VARIANT & 1u) == 0u || WRITE_HITS || MODE == 5;
-const bool RELOAD = (VARIANT & 2u) != 0u;
-// bit 2: every push keeps its node in the stack, and the hit's attribute
-// index is summed from the path's nodes (independent loads) instead of a
-// descent from the root (a chain of one slot load per level)
-// (one spec constant, the rest in the code: lavapipe failed to create the
-// pipeline with the whole condition as one constant expression)
-const bool PATH_V = (VARIANT & 4u) != 0u;
-#define PATH (PATH_V && DEEP < 2 && PAGES == 0u && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO))
+// The iteration guard (MAX_ITER) and count only where hits are written (the
+// count is in them) or the iteration mode shows it; else the advance
+// compares the crossing times as !(tc > tc_max), so that a NaN time steps
+// every axis and the ray still leaves the root (trace.comp's colour
+// kernel's form): 2.5-4% more rays/s in the depth mode, 0-2% in albedo on
+// the H200 (docs/PERFORMANCE.md issue 18, sixth step).
+const bool GUARD = WRITE_HITS || MODE == 5;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -81,7 +75,6 @@ layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 #define CA_ATTR(i) attr[i]
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
-#define CA_EXCL ((VARIANT & 8u) != 0u)
 #include "compact_attr.glsl"
 
 struct Hit {
@@ -92,7 +85,6 @@ struct Hit {
     float nsign;
     uint color;
     uint page; // a page not resident whose cube was hit (coarse), else NO_HIT
-    uint index; // PATH: the hit cell's attribute index
 };
 
 // The ray needs page p (not resident): its bit in the frame's requests, and
@@ -207,7 +199,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     float scale_exp2 = 0.5;
     bool hit = false;
     uint coarse = NO_HIT;
-    uint path_node = 0u; // PATH: the hit node's slot
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
@@ -300,11 +291,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (PATH || tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
                     loaded = lvl == 2;
                     if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
-                    else desc = brick_octant(RELOAD ? slots[parent] : nd, uint(cs));
+                    else desc = brick_octant(nd, uint(cs));
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
@@ -430,7 +421,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
-        path_node = parent;
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
@@ -487,43 +477,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.page = coarse;
-    if (PATH && (m.flags & 1u) != 0u) {
-        // the attribute index from the path: the node of level L >= the hit
-        // node's is in stk_node[L - lvl_off] (every push keeps it), so the
-        // levels' slot and rank loads do not wait for each other
-        uvec3 cc = h.cell;
-        if (m.root == ROOT_LEAF) {
-            h.index = morton(cc);
-        } else {
-            int lvl_off = int(m.depth) - (S_MAX - 1);
-            int lh = scale + lvl_off, L = int(m.depth);
-            bool mort = L <= 10;
-            uint mc = mort ? morton(cc) : 0u, base = 0u, n = path_node, idx_out = NO_HIT;
-            for (; L >= 3 && L >= lh; L--) {
-                n = L == lh ? path_node : uint(stk_node[L - lvl_off]);
-                uvec2 nd = slots[n];
-                uint sh = uint(L - 1);
-                uint o = mort ? (mc >> (3u * sh)) & 7u
-                              : ((cc.x >> sh) & 1u) | (((cc.y >> sh) & 1u) << 1) | (((cc.z >> sh) & 1u) << 2);
-                uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-                base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
-                if ((nd.x & cbit) != 0u) {
-                    idx_out = base + (mort ? mc & ((1u << (3u * sh)) - 1u) : morton(cc & ((1u << sh) - 1u)));
-                    break;
-                }
-            }
-            if (idx_out == NO_HIT) {
-                // the brick (levels 2 and 1 share its slot: parent)
-                uint r = (1u << uint(min(L, 2))) - 1u;
-                uint bit = mort ? mc & ((1u << (3u * uint(min(L, 2)))) - 1u) : morton(cc & r);
-                uvec2 b = slots[path_node];
-                uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
-                                       : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
-                idx_out = base + below;
-            }
-            h.index = idx_out;
-        }
-    }
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -666,8 +619,8 @@ void main() {
             if (PAGES > 0u && h.page != NO_HIT) {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if ((m.flags & 1u) != 0u) {
-                uint ab = m.attr_base;
-                uint i = PATH ? h.index : cell_index(m, h.cell, ab);
+                uint ab;
+                uint i = cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }
