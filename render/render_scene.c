@@ -567,7 +567,8 @@ static vx_result need_plain(const vx_render_scene* rs, vx_error* err) {
     if (!rs->compact) return VX_OK;
     return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                    "the scene is in the compact layout (its plain node words and records, %.1f MB, exceed the budget "
-                   "of %.1f MB, or it was asked for); only the single-shader frame (vx_render_frame) traces it",
+                   "of %.1f MB, or it was asked for): vx_render_frame and the passes trace it, not trace.comp, LOD "
+                   "or model updates",
                    rs->layout.plain_bytes / 1e6, rs->layout.budget / 1e6);
 }
 
