@@ -6,7 +6,9 @@
  * probe set baked on the GPU, pathtrace, cones, photons), must give the
  * plain layout's image bit for bit, and the probe bake the same bytes.
  * Scenes: a generated one (palette and RGBA models, rotated instances, a
- * full-cube leaf model) and corpus .vox scenes (lavapipe in CI). */
+ * full-cube leaf model), a room with an emissive block, glass walls and a
+ * metal floor (the per-record tables, per palette index in a compact scene,
+ * and the glass walk's cell lookups), and corpus .vox scenes (lavapipe in CI). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +21,7 @@
 #include "render/pipeline.h"
 #include "render/render_internal.h"
 #include "tests/gpu_test.h"
+#include "tests/probes/probe_scenes.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 
@@ -115,7 +118,23 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h);
+/* A device of its own per scene: the two layouts' pass, GI and bake variants of several scenes pass
+ * the device's pipeline cache (VX_GPU_MAX_PIPELINES; an eviction moves the pipelines a frame holds). */
 static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+    vx_gpu* keep = gpu;
+    if (vx_test_gpu_open((vx_gpu_desc){.logger = keep->logger}, true, &gpu)) {
+        CHECKF(false, "%s: no device", name);
+        gpu = keep;
+        return;
+    }
+    check_scene_on(name, s, w, h);
+    printf("  %-28s %u pipelines\n", name, gpu->pipeline_count);
+    vx_gpu_destroy(gpu);
+    gpu = keep;
+}
+
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
     side p, c;
     if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, &p)) {
         CHECKF(false, "%s: plain scene", name);
@@ -243,6 +262,19 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+static void test_room(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    (void)box_scene; /* probe_scenes.h's other scene (static there) */
+    room_scene(&s);  /* floor 3, walls 4, an emissive block 9 */
+    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    add_material(&s, 4, glass, 3);
+    add_material(&s, 3, metal, 3);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36);
+    vx_svo_scene_free(&s);
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const char* files[] = {"eph_monu1.vox", "ogt_chr_knight.vox"};
@@ -272,6 +304,7 @@ int main(void) {
     vx_logger lg = {.func = log_msg, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
     RUN(test_generated);
+    RUN(test_room);
     RUN(test_corpus);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
