@@ -6,9 +6,9 @@
  * probe set baked on the GPU, pathtrace, cones, photons), must give the
  * plain layout's image bit for bit, and the probe bake the same bytes.
  * Scenes: a generated one (palette and RGBA models, rotated instances, a
- * full-cube leaf model), a room with an emissive block, glass walls and a
- * metal floor (the per-record tables, per palette index in a compact scene,
- * and the glass walk's cell lookups), and corpus .vox scenes (lavapipe in CI). */
+ * full-cube leaf model), a room with an emissive block, a glass block and a
+ * metal floor (the per-record tables, per palette index in a compact scene),
+ * and corpus .vox scenes (lavapipe in CI). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -262,15 +262,27 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+/* a metal floor (3), a wall (5), an emissive block (9) and a glass block of 4^3 cells (4) */
+static uint8_t glass_room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 3;
+    if (x == 0) return 5;
+    if (x >= 8 && x <= 9 && y >= 8 && y <= 9 && z <= 2) return 9;
+    return x >= 3 && x <= 6 && y >= 3 && y <= 6 && z <= 4 ? 4 : 0;
+}
+
 static void test_room(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
-    (void)box_scene; /* probe_scenes.h's other scene (static there) */
-    room_scene(&s);  /* floor 3, walls 4, an emissive block 9 */
+    (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes (static there) */
+    cells_scene(&s, 12, glass_room_cell);
+    s.palette[3] = 0xFF80A0C0u, s.palette[4] = 0xFFE0F0FFu, s.palette[5] = 0xFF4080E0u, s.palette[9] = 0xFFFFFFFFu;
     static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
     static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
     add_material(&s, 4, glass, 3);
     add_material(&s, 3, metal, 3);
+    add_material(&s, 9, emit, 2);
     check_scene("room (emissive, glass, metal)", &s, 48, 36);
     vx_svo_scene_free(&s);
 }
