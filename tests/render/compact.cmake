@@ -33,6 +33,6 @@ endif()
 if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   vx_add_test(test_compact_passes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_passes.c
               LIBS vx_photons vx_cones vx_probes vx_render vx_trace vx_convert vx_formats vx_svo)
-  set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 600 ENVIRONMENT
+  set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
 endif()
