@@ -3,7 +3,11 @@
  * pipeline's overhead over the single trace shader (trace.comp's colour
  * mode) on the same rays. Needs only libvulkan and libc.
  *
- *   passes_bench [--device N|NAME] [--runs N] [--size WxH] SCENE.{vox,svo} ...
+ *   passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] SCENE.{vox,svo} ...
+ *
+ * --layout compact keeps each scene in the compact layout (render/compact.h,
+ * issue 18: the passes' kernels then walk it, trace_common.glsl COMPACT);
+ * the single shader's row is then trace_compact.comp (vx_render_frame).
  *
  * For each scene, two views: the default framing ("overview") and a close-up
  * from a quarter of the default distance ("close-up"); hit share stated per view. Times
@@ -36,7 +40,14 @@ int main(int argc, char** argv) {
     int runs = 15;
     uint32_t W = 1920, H = 1080;
     int first = 1;
+    vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_PLAIN};
     for (; first < argc && argv[first][0] == '-'; first++) {
+        if (!strcmp(argv[first], "--layout") && first + 1 < argc) {
+            const char* l = argv[++first];
+            if (!strcmp(l, "compact")) sd = (vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = 1ull << 40};
+            else if (strcmp(l, "plain")) return 2;
+            continue;
+        }
         if (!strcmp(argv[first], "--device") && first + 1 < argc) device = argv[++first];
         else if (!strcmp(argv[first], "--runs") && first + 1 < argc) runs = atoi(argv[++first]);
         else if (!strcmp(argv[first], "--size") && first + 1 < argc) {
@@ -70,7 +81,7 @@ int main(int argc, char** argv) {
         }
         vx_render_scene* rs = NULL;
         vx_frame_renderer* fr = NULL;
-        if (vx_render_scene_create(gpu, &s, &rs, &err) || vx_frame_renderer_create(rs, &s, &fr, &err)) {
+        if (vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) || vx_frame_renderer_create(rs, &s, &fr, &err)) {
             fprintf(stderr, "passes_bench: %s: %s\n", argv[a], err.msg);
             vx_render_scene_destroy(rs);
             vx_svo_scene_free(&s);
@@ -101,8 +112,18 @@ int main(int argc, char** argv) {
             base.mode = VX_RENDER_COLOR;
             vx__frame f;
             double sec;
+            bool compact = sd.layout == VX_RENDER_LAYOUT_COMPACT;
             for (int k = 0; k < 3 + runs; k++) {
-                if (vx__render_dispatch(rs, &base, false, 1, &f, &sec, &err)) {
+                vx_result rr;
+                if (compact) {
+                    vx_render_image im = {0};
+                    rr = vx_render_frame(rs, &base, &im, &err);
+                    sec = im.gpu_seconds;
+                    vx_render_image_free(&im);
+                } else {
+                    rr = vx__render_dispatch(rs, &base, false, 1, &f, &sec, &err);
+                }
+                if (rr) {
                     fprintf(stderr, "passes_bench: %s\n", err.msg);
                     status = 1;
                     break;
@@ -111,7 +132,7 @@ int main(int argc, char** argv) {
             }
             double single = bench_median(t, runs);
             printf("| passes | frame ms | per pass ms | vs single shader |\n| --- | ---: | --- | ---: |\n");
-            printf("| single shader (trace.comp colour) | %.3f | | 1.00 |\n", single);
+            printf("| single shader (%s colour) | %.3f | | 1.00 |\n", compact ? "trace_compact.comp" : "trace.comp", single);
             for (size_t l = 0; l < NLISTS; l++) {
                 vx_pass_list L;
                 bool sep = lists[l][0] == '=';

@@ -179,7 +179,9 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     *P = cg->P;
     for (int k = 0; k < 3; k++) P->origin[k] = (float)(cg->info.origin[k] - f->ref[k]);
     static const char* const labels[] = {"cone voxelize", "cone inject", "cone filter", "cone trace"};
-    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 7, .push_constant_size = sizeof(push_block),
+    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND,
+                                       .spec_count = VX__SPEC_TRACE_IDS,
+                                       .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
     switch (sh) {
     case SH_VOXELIZE: pd.spirv = vx__cone_voxelize_spv_arr, pd.spirv_size = sizeof vx__cone_voxelize_spv_arr; break;
@@ -194,8 +196,10 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     memcpy(pd.spec, spec, sizeof spec);
     pd.spec[5] = stage;
     pd.spec[6] = cg->info.entries | (sh == SH_CONE ? cg->features : 0);
+    pd.spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
+    pd.spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact(cg->rs);
     uint64_t key = 0xC0E5000ull + (uint64_t)sh;
-    for (int i = 0; i < 7; i++) key = key * 131 + pd.spec[i];
+    for (int i = 0; i < VX__SPEC_TRACE_IDS; i++) key = key * 131 + pd.spec[i];
     vx__pipeline* p;
     if ((r = vx__pipeline_get(cg->g, key, &pd, &p, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p, .buffer_count = NBIND, .groups = {gx, gy, 1}, .push = pc,
@@ -204,7 +208,8 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     for (int i = 7; i < NBIND; i++) dd.buffers[i] = &cg->b[B_DUMMY];
     dd.buffers[BIND_GI] = out ? out : &cg->b[B_DUMMY];
     dd.buffers[BIND_EMIT] = &cg->b[B_EMIT];
-    dd.buffers[BIND_LIGHTS] = &cg->b[B_LIGHTS];
+    /* (no lights buffer before the first frame's: voxelize and filter run before it) */
+    dd.buffers[BIND_LIGHTS] = cg->b[B_LIGHTS].buf ? &cg->b[B_LIGHTS] : &cg->b[B_DUMMY];
     dd.buffers[BIND_SKY] = &cg->b[B_SKY];
     dd.buffers[BIND_VOL] = &cg->b[B_VOL];
     dd.buffers[BIND_REC] = &cg->b[B_REC];
@@ -590,7 +595,7 @@ static vx_result materials(vx_cone_gi* cg, const uint8_t* pal, size_t n, vx_erro
 static vx_result emission(vx_cone_gi* cg, vx_error* err) {
     uint8_t* pal = NULL;
     size_t n = 0;
-    vx_result r = vx__scene_attr_palette(cg->scene, cg->alloc, &pal, &n, err);
+    vx_result r = vx__render_scene_attr_palette(cg->rs, cg->scene, cg->alloc, &pal, &n, err);
     if (r) return r;
     double em[256];
     for (uint32_t i = 0; i < 256; i++) em[i] = vx_svo_scene_material(cg->scene, i).emission;

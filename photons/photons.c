@@ -72,7 +72,7 @@ struct vx_photon_gi {
     bool glossy_diffuse; /* some material is glossy with a diffuse lobe (its photon sums run in the camera's paths) */
     bool tables_for_ref; /* sources and emitters uploaded for ref */
     double ref[3];
-    uint32_t spec[VX__SPEC_COUNT + 3]; /* the tracer's, then STEP, MATS and GROUP */
+    uint32_t spec[VX__SPEC_TRACE_IDS]; /* the tracer's, then STEP, MATS and GROUP, DEEP, FAR and COMPACT (gpu.h) */
     vx__buffer* scene_bufs[7];
     vx__buffer params, emit, mats, src, ems, photons, sorted, cells, counters, img, env;
     vx__buffer occ; /* the models' cells, a bit each: per model its first word (UINT32_MAX: none), then the bits */
@@ -454,12 +454,12 @@ static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int
     uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + 3, .label = "photon"};
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_TRACE_IDS, .label = "photon"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, pg->spec, sizeof pg->spec);
     uint64_t key = 0x9407035ull;
-    for (int i = 0; i < VX__SPEC_COUNT + 3; i++) key = key * 131 + pg->spec[i];
+    for (int i = 0; i < VX__SPEC_TRACE_IDS; i++) key = key * 131 + pg->spec[i];
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
     if (r) return r;
@@ -575,6 +575,8 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     ph_bytes = fused ? ph_bytes + rec_bytes : (rec_bytes > ph_bytes ? rec_bytes : ph_bytes);
     if ((r = vx__buffer_ensure(pg->g, &pg->photons, ph_bytes, "photons", err))) return r;
     pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
+    pg->spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
+    pg->spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact(pg->rs);
     vx_photon_stats st = {.pass = pass};
     st.radius = pass_radius(d->radius, d->alpha, pass);
     st.caustic_radius = pass_radius(d->caustic_radius, d->alpha, pass);
@@ -741,7 +743,7 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     uint8_t* pal = NULL;
     size_t n = 0;
     float* m = NULL;
-    if (!r) r = vx__scene_attr_palette(scene, a, &pal, &n, err);
+    if (!r) r = vx__render_scene_attr_palette(rs, scene, a, &pal, &n, err);
     if (!r && (!(pg->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))) || !(m = vx_calloc(a, n ? 8 * n : 4, sizeof(float)))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", n);
     if (!r) {

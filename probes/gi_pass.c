@@ -70,7 +70,7 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     vx_result r = vx__prender_setup(scene, ps, ps && ps->first == 0 && ps->count == ps->probe_count, &gi->desc, &P, err);
     uint8_t* pal = NULL;
     size_t n = 0;
-    if (!r) r = vx__scene_attr_palette(scene, a, &pal, &n, err);
+    if (!r) r = vx__render_scene_attr_palette(rs, scene, a, &pal, &n, err);
     if (!r && !(gi->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {

@@ -46,8 +46,9 @@ enum { PMODE_BAKE = 0 };
 /* probe.comp's constants after the tracer's (constant_id VX__SPEC_COUNT + i): BEAM (trace_common.glsl: the
  * bake's texel blocks' side, 0: no beam pass), MATS, PCONST (the pass, and LIGHTS << 8), and
  * trace_common.glsl's DEEP (0: the plain loop, as before) and FAR (off where no model can hold a far
- * pointer: the far bit's test on every push costs, issue 21) */
-enum { SPEC_BEAM, SPEC_MATS, SPEC_PCONST, SPEC_DEEP, SPEC_FAR, SPEC_EXTRA };
+ * pointer: the far bit's test on every push costs, issue 21) and COMPACT (the scene in the compact layout:
+ * vx__render_scene_compact) */
+enum { SPEC_BEAM, SPEC_MATS, SPEC_PCONST, SPEC_DEEP, SPEC_FAR, SPEC_COMPACT, SPEC_EXTRA };
 
 /* The bake's beam blocks (probe_beam.comp): BAKE_BEAM x BAKE_BEAM texels share a start distance for the
  * rays from their probe (res is a multiple of 16, so blocks never cross the map's axes). */
@@ -186,7 +187,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     if (r) return r;
     uint8_t* pal = NULL;
     size_t na = 0;
-    if ((r = vx__scene_attr_palette(s, c->alloc, &pal, &na, err))) return r;
+    if ((r = vx__render_scene_attr_palette(rs, s, c->alloc, &pal, &na, err))) return r;
     c->spec[VX__SPEC_COUNT + SPEC_MATS] = L->materials;
     if ((r = upload_path_tracer(c, L, pal, na, err))) {
         vx_free(c->alloc, pal);
@@ -195,6 +196,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     c->lights_code = c->light_count > 0 || c->em_count > 0;
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = 0;
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
+    c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact(rs);
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
     size_t np = ps ? ps->probe_count : 1;
     float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));
@@ -859,7 +861,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     }
     /* the beam pass for the rays from the probes (H200, Cornell box, 512 probes at R=128, 64 spp, with
      * probe.comp's 8x4 texel tiles: GPU trace 0.544 -> 0.493 s; the camera rays alone 0.136 -> 0.091 s) */
-    if (!r && !d.no_beam) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
+    /* (not in the compact layout: probe_beam.comp reads the plain node words) */
+    if (!r && !d.no_beam && !vx__render_scene_compact(rs)) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
     if (!r) b->c.strat = !d.independent_bounce;
     b->setup_ctx = vx_time_now() - t0;
     double tp = vx_time_now();

@@ -21,7 +21,7 @@ if(VX_WITH_VULKAN)
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
             --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
     COMMENT "glslangValidator probe.comp"
     VERBATIM)
   # shaders/probe_beam.comp includes render/shaders/beam.comp's walk, made an include by beam_body.cmake
@@ -37,7 +37,7 @@ if(VX_WITH_VULKAN)
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
             --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
     COMMENT "glslangValidator probe_beam.comp"
     VERBATIM)
   add_library(vx_probes STATIC

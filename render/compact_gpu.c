@@ -40,6 +40,7 @@ struct vx_compact_gpu {
     vx_render_scene* rs;
     vx_gpu* gpu;
     vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
+    vx__buffer pass_models; /* the palette, then the CModels: trace_common.glsl's binding 3 (COMPACT) */
     double lo[3], hi[3];
     uint32_t deep;
     uint64_t bytes;
@@ -85,8 +86,9 @@ static void paging_free(vx_gpu* g, paging* pg) {
 
 void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     if (!cg) return;
-    vx__buffer* b[8] = {&cg->geom, &cg->attr, &cg->models, &cg->palette, &cg->pixels, &cg->hits, &cg->pstate, &cg->stage};
-    for (int i = 0; i < 8; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    vx__buffer* b[9] = {&cg->geom,   &cg->attr, &cg->models, &cg->palette,    &cg->pixels,
+                        &cg->hits,   &cg->pstate, &cg->stage, &cg->pass_models};
+    for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
 }
@@ -132,17 +134,34 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (!r) r = upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, "compact attributes", err);
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
+    /* the passes' binding 3 (trace_common.glsl CModels): the palette first, so that
+     * the shader finds it without the model count */
+    uint8_t* pm = r ? NULL : vx_alloc(&g->alloc, sizeof c->palette + mcount * sizeof *cm);
+    if (!r && !pm) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r) {
+        memcpy(pm, c->palette, sizeof c->palette);
+        memcpy(pm + sizeof c->palette, cm, mcount * sizeof *cm);
+        r = upload(g, &cg->pass_models, pm, sizeof c->palette + mcount * sizeof *cm, "compact pass models", err);
+    }
+    vx_free(&g->alloc, pm);
     vx_free(&g->alloc, cm);
     if (r) {
         vx_compact_gpu_destroy(cg);
         return r;
     }
-    cg->bytes = (uint64_t)c->geom_words * 4 + (uint64_t)c->attr_words * 4 + mcount * sizeof(cmodel_gpu) + sizeof c->palette;
+    cg->bytes = (uint64_t)c->geom_words * 4 + (uint64_t)c->attr_words * 4 + mcount * sizeof(cmodel_gpu) +
+                2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
     *out = cg;
     return VX_OK;
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
+
+bool vx__compact_gpu_bind(vx_compact_gpu* cg, vx__buffer* bufs[7]) {
+    if (!cg || cg->pg) return false;
+    bufs[1] = &cg->geom, bufs[2] = &cg->attr, bufs[3] = &cg->pass_models;
+    return true;
+}
 
 /* ---- pages ------------------------------------------------------------------------- */
 

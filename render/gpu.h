@@ -55,7 +55,7 @@ typedef struct vx_gpu_compute_pipeline_desc {
     uint32_t binding_count;
     VkDescriptorType bindings[VX_GPU_MAX_BINDINGS];
     uint32_t spec_count;
-    uint32_t spec[10];           /* 32-bit specialisation constants, ids 0.. */
+    uint32_t spec[12];           /* 32-bit specialisation constants, ids 0.. */
     const char* label;
 } vx_gpu_compute_pipeline_desc;
 
@@ -213,6 +213,10 @@ void vx__seq_abandon(vx_gpu* g, vx__seq* s);
 
 /* Specialisation constants of trace_common.glsl (ids 0-4); a pass's own start at 5. */
 enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX__SPEC_HITS, VX__SPEC_COUNT };
+/* trace_common.glsl's DEEP (id 8, 0 in passes), FAR (id 9, default true) and
+ * COMPACT (id 10): a pass whose scene is in the compact layout sets COMPACT
+ * to vx__render_scene_compact(rs) (its spec_count then covers ids 8 and 9 too). */
+enum { VX__SPEC_DEEP_ID = 8, VX__SPEC_FAR_ID = 9, VX__SPEC_COMPACT_ID = 10, VX__SPEC_TRACE_IDS = 11 };
 
 /* ---- other GPU passes over a scene (probes/probe_gpu.c) ------------------------------ */
 
@@ -221,6 +225,11 @@ vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
  * pointer, so the kernel tests the far bit per push): for other passes' kernels
  * (probes/probe_gpu.c), tests and benchmarks. */
 bool vx__render_scene_far(const vx_render_scene* rs);
+/* Whether the scene's bindings 1-3 (vx__render_scene_bind) are the compact
+ * layout's (render/compact.h): kernels that trace it set trace_common.glsl's
+ * COMPACT constant (VX__SPEC_COMPACT_ID). A paged compact scene is refused
+ * by the bind (only vx_render_frame follows its pages). */
+bool vx__render_scene_compact(const vx_render_scene* rs);
 /* Writes the per-frame tables and the frame block for f (f->ref is the origin
  * of the shader's float coordinates; the camera matters only to camera rays)
  * and returns the scene's bindings 0-6 (frame, nodes, colors, models,
@@ -247,6 +256,13 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
  * vx_free(alloc, ...). */
 vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
                                  vx_error* err);
+/* The same for the tables a pass indexes by the hit's Hit.attr: a compact
+ * scene's kernels give the palette index there (0 for RGBA records, as
+ * vx__scene_attr_palette's entries of them), so its tables are per palette
+ * index: *out 256 entries, entry i = i where some record has palette index
+ * i, else 0; *n 256. Else vx__scene_attr_palette(s). */
+vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
+                                        uint8_t** out, size_t* n, vx_error* err);
 /* pipeline.c: the buffer holding the last frame's image (RGBA32F,
  * rows top first, *w x *h), NULL before the first frame (render/display.c). */
 struct vx_frame_renderer;

@@ -38,7 +38,7 @@ static vx_result validate_desc(const vx_gpu_compute_pipeline_desc* d, vx_error* 
     if (d->spirv[0] != 0x07230203u)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pipeline '%s': not SPIR-V (magic %08x)", d->label,
                        d->spirv[0]);
-    if (d->binding_count > VX_GPU_MAX_BINDINGS || d->spec_count > 10)
+    if (d->binding_count > VX_GPU_MAX_BINDINGS || d->spec_count > sizeof d->spec / sizeof d->spec[0])
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "pipeline '%s': too many bindings or constants",
                        d->label);
     return VX_OK;
@@ -124,7 +124,7 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                    .pCode = d->spirv};
     VkShaderModule mod;
     VX__VK(vkCreateShaderModule(g->device, &sm, NULL, &mod), "vkCreateShaderModule");
-    VkSpecializationMapEntry me[10];
+    VkSpecializationMapEntry me[sizeof d->spec / sizeof d->spec[0]];
     for (uint32_t i = 0; i < d->spec_count; i++)
         me[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
     VkSpecializationInfo si = {.mapEntryCount = d->spec_count,

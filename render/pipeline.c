@@ -400,7 +400,7 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
     uint8_t* pal = NULL;
     size_t n = 0;
     float* e = NULL;
-    vx_result r = vx__scene_attr_palette(scene, &g->alloc, &pal, &n, err);
+    vx_result r = vx__render_scene_attr_palette(fr->rs, scene, &g->alloc, &pal, &n, err);
     if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
@@ -456,10 +456,12 @@ static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, con
 
 /* display: the variant that also writes the display image (frame, resolve,
  * post: DISPLAY_OUT), with the overlay and the image as bindings 20 and 21. */
-static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], bool display, vx__pipeline** out,
-                              vx_error* err) {
+static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[VX__SPEC_TRACE_IDS], bool display,
+                              vx__pipeline** out, vx_error* err) {
     static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame", "cull"};
-    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND, .spec_count = 8, .push_constant_size = sizeof(push_block),
+    vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND,
+                                       .spec_count = VX__SPEC_TRACE_IDS,
+                                       .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
     display = display && (sh == SH_RESOLVE || sh == SH_FRAME || sh == SH_POST);
     switch (sh) {
@@ -488,9 +490,9 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[8], b
         pd.bindings[NBIND + 1] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         pd.label = sh == SH_POST ? "post (display)" : sh == SH_FRAME ? "frame (display)" : "resolve (display)";
     }
-    memcpy(pd.spec, spec, 8 * sizeof spec[0]);
+    memcpy(pd.spec, spec, VX__SPEC_TRACE_IDS * sizeof spec[0]);
     uint64_t key = 0x9A55000ull + (uint64_t)sh + (display ? 0x100u : 0u);
-    for (int i = 0; i < 8; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < VX__SPEC_TRACE_IDS; i++) key = key * 131 + spec[i];
     return vx__pipeline_get(g, key, &pd, out, err);
 }
 
@@ -846,8 +848,10 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         *qcap = (uint32_t)want_q;
     }
     /* pipelines */
-    uint32_t spec[8] = {0};
+    uint32_t spec[VX__SPEC_TRACE_IDS] = {0};
     memcpy(spec, tspec, sizeof tspec);
+    spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
+    spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact(fr->rs);
     vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
     /* gbuffer, direct and resolve merge into one dispatch when nothing needs
      * their images in between (no ao, no gi, no intermediate shown) */
@@ -879,7 +883,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         spec[6] = (uint32_t)desc->show;
         if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
         if (merge) {
-            uint32_t ms[8];
+            uint32_t ms[VX__SPEC_TRACE_IDS];
             memcpy(ms, spec, sizeof ms);
             ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
             ms[6] = has_dof && !f.ortho;

@@ -285,12 +285,15 @@ void vx_render_scene_destroy(vx_render_scene* rs);
  * pass, the probes, GI, edits and the float64 variant read it. The compact
  * one (render/compact.h: a geometry DAG shared regardless of colour, exact
  * colours in coded blocks; DamagedHelmet at 4096^3 1.40 bytes per voxel
- * against 5.07) is traced by vx_render_frame alone (its modes, spp, shadow
- * rays; no LOD, and the beam pass is not used), at 0.62-0.94 of the plain
- * kernel's rays/s on the H200 (docs/PERFORMANCE.md), so it is chosen only
- * where the plain layout does not fit. Where the compact layout does not
- * fit either, it is paged (vx_render_page_stats below): the levels above the
- * page level resident, the pages below loaded as rays ask for them. */
+ * against 5.07) is traced by vx_render_frame (its modes, spp, shadow rays;
+ * no LOD, and the beam pass is not used), at 0.62-0.94 of the plain kernel's
+ * rays/s on the H200 (docs/PERFORMANCE.md), and by the passes, the probe
+ * bake and the GI methods (trace_common.glsl's COMPACT kernels: the plain
+ * layout's images), so it is chosen only where the plain layout does not
+ * fit. Where the compact layout does not fit either, it is paged
+ * (vx_render_page_stats below): the levels above the page level resident,
+ * the pages below loaded as rays ask for them; only vx_render_frame traces
+ * a paged scene. */
 typedef enum vx_render_layout {
     VX_RENDER_LAYOUT_AUTO = 0, /* plain where its node words and records fit memory_budget, else compact */
     VX_RENDER_LAYOUT_PLAIN,
@@ -309,10 +312,11 @@ typedef struct vx_render_scene_desc {
     uint32_t page_level;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
- * A compact scene refuses what only the plain layout serves (passes that
- * bind the scene, vx_render_scene_update_model, models past
- * VX_RENDER_PRECISE_DEPTH) with VX_ERR_UNSUPPORTED; AUTO falls back to the
- * plain layout where the compact one cannot render the scene. */
+ * A compact scene refuses what only the plain layout serves
+ * (vx_render_scene_update_model, LOD, models past VX_RENDER_PRECISE_DEPTH;
+ * a paged one also the passes that bind the scene) with VX_ERR_UNSUPPORTED;
+ * AUTO falls back to the plain layout where the compact one cannot render
+ * the scene. */
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, const vx_render_scene_desc* desc,
                                     vx_render_scene** out, vx_error* err);
 typedef struct vx_render_layout_info {

@@ -87,4 +87,11 @@ vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,
                              float* depth_out, vx_error* err);
 
+/* compact_gpu.c: the whole compact layout's buffers for the COMPACT kernels
+ * of trace_common.glsl, bindings 1-3 of bufs (geometry slots, attribute
+ * words, the palette then the CModel records); false, bufs untouched, for a
+ * paged layout (only trace_compact.comp follows its pages). */
+struct vx_compact_gpu;
+bool vx__compact_gpu_bind(struct vx_compact_gpu* cg, vx__buffer* bufs[7]);
+
 #endif

@@ -560,12 +560,24 @@ void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* ou
     if (rs) *out = rs->layout;
 }
 
-/* Passes that bind the scene's node words cannot trace a compact scene. */
+/* The passes trace the whole compact layout (vx__render_scene_bind, trace_common.glsl COMPACT), not a paged one:
+ * its pages move between frames, which only trace_compact.comp follows. */
+static vx_result need_whole(const vx_render_scene* rs, vx_error* err) {
+    if (!rs->compact || !rs->layout.pages) return VX_OK;
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                   "the scene is in the paged compact layout (%u pages: the compact layout's %.1f MB exceed the budget "
+                   "of %.1f MB); only the single-shader frame (vx_render_frame) traces it",
+                   rs->layout.pages, rs->layout.compact_bytes / 1e6, rs->layout.budget / 1e6);
+}
+
+/* Kernels that read the scene's node words or records directly (trace.comp's frames, LOD, model updates) cannot
+ * trace a compact scene. */
 static vx_result need_plain(const vx_render_scene* rs, vx_error* err) {
     if (!rs->compact) return VX_OK;
     return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                    "the scene is in the compact layout (its plain node words and records, %.1f MB, exceed the budget "
-                   "of %.1f MB, or it was asked for); only the single-shader frame (vx_render_frame) traces it",
+                   "of %.1f MB, or it was asked for): vx_render_frame and the passes trace it, not trace.comp, LOD "
+                   "or model updates",
                    rs->layout.plain_bytes / 1e6, rs->layout.budget / 1e6);
 }
 
@@ -1061,8 +1073,30 @@ vx_gpu* vx__render_scene_gpu(vx_render_scene* rs) { return rs ? rs->gpu : NULL; 
 
 vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
                                 uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
-    vx_result r = need_plain(rs, err);
-    return r ? r : vx__render_scene_tables(rs, f, bufs, spec, err);
+    vx_result r = need_whole(rs, err);
+    if (!r) r = vx__render_scene_tables(rs, f, bufs, spec, err);
+    if (!r && rs->compact) vx__compact_gpu_bind(rs->compact, bufs);
+    return r;
+}
+
+bool vx__render_scene_compact(const vx_render_scene* rs) { return rs && rs->compact; }
+
+vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
+                                        uint8_t** out, size_t* n, vx_error* err) {
+    vx_result r = vx__scene_attr_palette(s, alloc, out, n, err);
+    if (r || !vx__render_scene_compact(rs)) return r;
+    /* per palette index; the indices no record uses are 0 (none), so that a table's "some record is ..." (metal,
+     * emissive) is the plain layout's */
+    uint8_t* p = vx_calloc(alloc, 256, 1);
+    if (!p) {
+        vx_free(alloc, *out);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    for (size_t i = 0; i < *n; i++) p[(*out)[i]] = (*out)[i];
+    vx_free(alloc, *out);
+    *out = p;
+    *n = 256;
+    return VX_OK;
 }
 
 vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
@@ -1224,7 +1258,7 @@ static void instance_boxes(const vx_render_scene* rs, const vx__frame* f, float*
 
 vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
                                     uint32_t spec[VX__SPEC_COUNT], vx_error* err) {
-    vx_result lr = need_plain(rs, err);
+    vx_result lr = need_whole(rs, err);
     if (lr) return lr;
     if (use_precise(rs))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
@@ -1377,6 +1411,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     rs->recorded = true;
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
+    if (rs->compact) vx__compact_gpu_bind(rs->compact, bufs);
     uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
     memcpy(spec, sp, sizeof sp);
     return VX_OK;

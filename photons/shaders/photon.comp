@@ -442,7 +442,7 @@ float disk_square(vec2 c, vec2 q, float r) {
 bool photon_glass_cell(uint mi, uvec3 c) {
     uint base = occ[mi];
     if (base == 0xFFFFFFFFu) return is_glass(model_cell_attr(mi, c));
-    uint s = 1u << models[mi].depth, i = c.x + s * (c.y + s * c.z);
+    uint s = 1u << model_at(mi).depth, i = c.x + s * (c.y + s * c.z);
     return ((occ[base + (s * s * s + 31u) / 32u + (i >> 5u)] >> (i & 31u)) & 1u) != 0u;
 }
 bool cell_solid(uint mi, ivec3 q, float side) {
@@ -484,8 +484,8 @@ bool face_elsewhere(Inst I, Hit h, ivec3 q, int ax, int e) {
 vec2 kernel_factors(Hit h) {
     Inst I = insts[h.inst];
     uint mi = I.model;
-    if (!HAS_COLOR || (models[mi].flags & 1u) == 0u || max(P.r.x, P.r.y) > KERNEL_CELLS * I.cell) return vec2(1.0);
-    float side = exp2(float(models[mi].depth));
+    if (!HAS_COLOR || (model_at(mi).flags & 1u) == 0u || max(P.r.x, P.r.y) > KERNEL_CELLS * I.cell) return vec2(1.0);
+    float side = exp2(float(model_at(mi).depth));
     vec3 p = g_s.p;
     vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
     int ax = h.axis, u = (ax + 1) % 3, v = (ax + 2) % 3;

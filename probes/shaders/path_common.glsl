@@ -234,6 +234,14 @@ bool is_glass(uint attr) {
 // empty or the model has no attributes. A walk down the octree, as trace_model descends (render/shaders/
 // trace_common.glsl: a leaf child at any depth fills its cube).
 uint model_cell_attr(uint mi, uvec3 c) {
+    if (COMPACT) {
+        // the palette index (trace_common.glsl's Hit.attr of a compact scene)
+        CModel cm = cmodels[mi];
+        if (!HAS_COLOR || (cm.flags & 1u) == 0u || !cell_set(cm, c)) return NO_HIT;
+        uint ab;
+        uint i = cell_index(cm, c, ab);
+        return cm.kind == 1u ? decode_value(cm, ab, i) & 0xFFu : 0u;
+    }
     Model m = models[mi];
     if (m.root == ROOT_EMPTY || !HAS_COLOR || (m.flags & 1u) == 0u) return NO_HIT;
     if (m.root == ROOT_LEAF) return m.color_off + m.root_attr;
@@ -285,7 +293,7 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec
         float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
         vec3 qi = q + d * eps;
         vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
-        float side = exp2(float(models[I.model].depth));
+        float side = exp2(float(model_at(I.model).depth));
         if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(side))) && uvec3(mq) != c &&
             GLASS_CELL(I.model, uvec3(mq))) {
             c = uvec3(mq);

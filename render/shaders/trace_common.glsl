@@ -28,6 +28,17 @@ const bool REBASE = DEEP >= 2;
 // Some model may hold a far pointer (render_scene.c sets it off where none
 // can: the far bit's test on every push cost 2-5% on the H200, issue 21).
 layout(constant_id = 9) const bool FAR = true;
+// The scene is in the compact layout (render/compact.h, issue 18): bindings
+// 1-3 are then its geometry slots, attribute words and palette + CModel
+// records (compact_gpu.c), the walk reads slots (trace_model's node load and
+// push), and a hit's colour is decoded from its cell's attribute index;
+// Hit.attr is then the palette index (the per-record tables are per palette
+// index, vx__render_scene_attr_palette). Float variant only.
+#ifdef PRECISE
+const bool COMPACT = false;
+#else
+layout(constant_id = 10) const bool COMPACT = false;
+#endif
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -48,6 +59,8 @@ const uint MAX_ITER = 100000u;
 // box: the extent in units of 2^max(depth - 10, 0) cells, rounded up, minus
 // one, 10 bits per axis (render_internal.h)
 struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, box; };
+#include "compact_attr.glsl"
+
 // lo.xyz: the translations' rounding errors (r0.w + lo.x is the model-space
 // x of the frame reference to about 2^-48 relative)
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
@@ -74,6 +87,29 @@ layout(std430, binding = 3) readonly buffer Models { Model models[]; };
 layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
 layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
 layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
+#ifndef PRECISE
+// the compact layout's views of bindings 1-3 (COMPACT)
+layout(std430, binding = 1) readonly buffer CGeom { uvec2 cslots[]; };
+layout(std430, binding = 2) readonly buffer CAttr { uint cattr[]; };
+layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel cmodels[]; };
+#define CA_SLOT(i) cslots[i]
+#define CA_ATTR(i) cattr[i]
+#define CA_PAL(i) cpalette[i]
+#define CA_PAGES 0u
+#include "compact_attr.glsl"
+#endif
+// Model mi's record in either layout (COMPACT: from its CModel, with no
+// node or colour offsets: the kernels that read those fields read the plain
+// layout only). Kernels read models[] through this.
+Model model_at(uint mi) {
+#ifndef PRECISE
+    if (COMPACT) {
+        CModel c = cmodels[mi];
+        return Model(0u, 0u, c.depth, c.root, 0u, c.flags, c.rebase, c.box);
+    }
+#endif
+    return models[mi];
+}
 #ifdef PRECISE
 // model-from-world rows (world relative to the frame reference), 3 per instance
 layout(std430, binding = 9) readonly buffer PInsts { dvec4 pinst[]; };
@@ -191,7 +227,7 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // entry planes against the frame's origin, not from the walk's crossing
 // times (after the loop).
 bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
-    Model m = models[mi];
+    Model m = model_at(mi);
     if (m.root == ROOT_EMPTY) return false;
     REAL side = REAL(exp2(float(m.depth)));
     // Advance to the model's box first so that the [1,2] coordinates keep
@@ -319,6 +355,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         int oct7 = oct ^ 7;
         uint desc = 0u;
         bool loaded = false;
+#ifndef PRECISE
+        // COMPACT: the slot of the node at parent (level >= 2; a level-1
+        // node is an octant of its brick, parent the brick's slot), and the
+        // level of the node at scale s: s + lvl_off - koff
+        uvec2 cnd = uvec2(0u);
+        int lvl_off = int(m.depth) - (S_MAX - 1);
+#endif
         int idx = 0;
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
@@ -358,7 +401,19 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
-            if (SENT ? desc == 0u : !loaded) { desc = nodes[parent]; loaded = true; }
+            if (SENT ? desc == 0u : !loaded) {
+#ifndef PRECISE
+                if (COMPACT) {
+                    // a level-1 node is loaded only as a depth-1 model's root: a push
+                    // below a brick's level 2 takes the octant from cnd (no load)
+                    int lvl = scale + lvl_off - koff;
+                    cnd = cslots[parent];
+                    desc = lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u));
+                } else
+#endif
+                    desc = nodes[parent];
+                loaded = true;
+            }
             RVEC3 tc = pos * coef - bias;
             REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
@@ -422,7 +477,15 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
                     parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
 #else
-                    parent = child_node(parent, desc, cbit, nbase);
+                    bool keep = false; // COMPACT below level 2: the octant's descriptor, no load
+                    if (COMPACT) {
+                        // the child's slot is in the block cnd.y (level >= 3); below a
+                        // brick's level 2 the child is octant cs of the brick in cnd
+                        if (scale + lvl_off - koff >= 3) parent = cnd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                        else desc = brick_octant(cnd, uint(cs)), keep = true;
+                    } else {
+                        parent = child_node(parent, desc, cbit, nbase);
+                    }
 #endif
                     idx = 0;
                     scale--;
@@ -430,7 +493,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (tcen.x > tmin) { idx ^= 1; pos.x += scale_exp2; }
                     if (tcen.y > tmin) { idx ^= 2; pos.y += scale_exp2; }
                     if (tcen.z > tmin) { idx ^= 4; pos.z += scale_exp2; }
+#ifdef PRECISE
                     loaded = false; if (SENT) desc = 0u;
+#else
+                    loaded = keep; if (SENT && !keep) desc = 0u;
+#endif
                     continue;
                 }
             }
@@ -524,7 +591,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 stk_node[RB_TBASE] = floatBitsToInt(tr);
                 koff = k;
                 rb_scale = -100;
-                parent = child_node(parent, desc, rb_cbit, nbase);
+                // N (level >= 3 in COMPACT): its slot is in the block cnd.y
+                parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
+                                 : child_node(parent, desc, rb_cbit, nbase);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -573,7 +642,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
-        if (hit && !any_hit && HAS_COLOR && (m.flags & 1u) != 0u) {
+        if (hit && !any_hit && HAS_COLOR && !COMPACT && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
             // shadow rays, any_hit, need none)
@@ -667,10 +736,24 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
-    if (HAS_COLOR && have_attr && (m.flags & 1u) != 0u) {
+    if (HAS_COLOR && have_attr && !COMPACT && (m.flags & 1u) != 0u) {
         h.attr = m.color_off + attr_rec;
         h.color = colors[h.attr];
     }
+#ifndef PRECISE
+    if (COMPACT && HAS_COLOR && !any_hit && (m.flags & 1u) != 0u) {
+        // the cell's attribute index (a descent from the root) and its block
+        CModel cm = cmodels[mi];
+        uint ab;
+        uint v = decode_value(cm, ab, cell_index(cm, h.cell, ab));
+        // the record's index into the per-record tables (emission, materials):
+        // a compact scene's tables are per palette index (0: none, as an RGBA
+        // model's records in vx__scene_attr_palette), render_scene.c
+        // vx__render_scene_attr_palette
+        h.color = cm.kind == 1u ? cpalette[v & 0xFFu] : v;
+        h.attr = cm.kind == 1u ? v & 0xFFu : 0u;
+    }
+#endif
     return true;
 }
 

@@ -34,22 +34,20 @@ const uint PW = (PAGES + 31u) / 32u;
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
 const uint P_LIST = 1u, P_REQ = 1u + PAGES, P_REP = 1u + PAGES + PW, P_USE = 1u + 2u * PAGES + PW;
 const uint NOT_RESIDENT = 0x80000000u;
+// The iteration guard (MAX_ITER) and count only where hits are written (the
+// count is in them) or the iteration mode shows it; else the advance
+// compares the crossing times as !(tc > tc_max), so that a NaN time steps
+// every axis and the ray still leaves the root (trace.comp's colour
+// kernel's form): 2.5-4% more rays/s in the depth mode, 0-2% in albedo on
+// the H200 (docs/PERFORMANCE.md issue 18, sixth step).
+const bool GUARD = WRITE_HITS || MODE == 5;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
 const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
 const uint MAX_ITER = 100000u;
 
-// flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
-// trace.comp's Model.box; rank_base: the word of slot 0's rank (the rank of
-// slot s of level >= 3 is word rank_base + s of the geometry; a page has
-// its own, in its header);
-// rebase as trace.comp's Model.rebase; page_up: the page level + 1 for a
-// paged model (its nodes of that level have their children's slots in the
-// top, pages below), else 0
-// pool_base, unit_log2: the pool's first slot and its unit (a page at slot P
-// is in unit (P - pool_base) >> unit_log2)
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2; };
+#include "compact_attr.glsl"
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
 
@@ -73,6 +71,11 @@ layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
 layout(std430, binding = 10) buffer PageState { uint pstate[]; };
+#define CA_SLOT(i) slots[i]
+#define CA_ATTR(i) attr[i]
+#define CA_PAL(i) palette[i]
+#define CA_PAGES PAGES
+#include "compact_attr.glsl"
 
 struct Hit {
     float t;
@@ -128,139 +131,6 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 }
 
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
-
-// bit 0 of each byte of w: the byte is not zero; packed into 4 bits
-uint bytes_set(uint w) {
-    // bit 7 of each byte: the byte is not zero; the product moves bits 7, 15,
-    // 23, 31 to 28..31 without carries (fewer operations than or-folding
-    // the bytes: 1-3% of the H200's rays/s, docs/PERFORMANCE.md issue 18)
-    uint x = (((w & 0x7F7F7F7Fu) + 0x7F7F7F7Fu) | w) & 0x80808080u;
-    return (x * 0x00204081u) >> 28;
-}
-
-// A brick's level-2 descriptor (trace.comp form, valid << 8): its level-1
-// octants that hold cells, none a leaf.
-uint brick_desc(uvec2 b) { return (bytes_set(b.x) | (bytes_set(b.y) << 4)) << 8; }
-// Octant o of a brick as a level-1 descriptor: its cells, all leaves.
-uint brick_octant(uvec2 b, uint o) {
-    uint v = ((o < 4u ? b.x : b.y) >> (8u * (o & 3u))) & 0xFFu;
-    return (v << 8) | v;
-}
-
-uint attr_bits(uint word, uint pos, uint n) {
-    uint w = word + (pos >> 5), sh = pos & 31u;
-    uint v = attr[w] >> sh;
-    if (sh + n > 32u) v |= attr[w + 1u] << (32u - sh);
-    return n == 32u ? v : v & ((1u << n) - 1u);
-}
-
-uint part1by2(uint x) {
-    x &= 0x3FFu;
-    x = (x | (x << 16)) & 0x030000FFu;
-    x = (x | (x << 8)) & 0x0300F00Fu;
-    x = (x | (x << 4)) & 0x030C30C3u;
-    x = (x | (x << 2)) & 0x09249249u;
-    return x;
-}
-uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
-
-// The cells in the children before child cbit of a level-lvl node (lvl >=
-// 3) with descriptor desc and children's block blk, k of them not leaves:
-// its leaf cubes before, and the rank of slot k - 1 of the block (level 3:
-// the popcounts of the bricks before, which have no rank).
-uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
-    // rank_base: the word of slot 0's rank
-    uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
-    // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
-    uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
-    if (k != 0u && lvl > 3) {
-        // a select, not a dynamic component index (issue 21: the NVIDIA
-        // compiler's code for those never finished on some pixels)
-        uint w = rank_base + blk + k - 1u;
-        uvec2 pr = slots[w >> 1];
-        r += (w & 1u) != 0u ? pr.y : pr.x;
-    } else {
-        // bricks have no rank: the cells of the bricks before (the push
-        // reads brick k's cache line anyway)
-        for (uint i = 0u; i < k; i++) {
-            uvec2 b = slots[blk + i];
-            r += uint(bitCount(b.x)) + uint(bitCount(b.y));
-        }
-    }
-    return r;
-}
-// The attribute index of set cell c (vx_compact_lookup): a descent from the
-// root after the hit (measured faster on the H200 than a running count in
-// the walk, docs/PERFORMANCE.md issue 18).
-// In a resident page the index is from the page's first cell, and
-// attr_base becomes the page's attribute region.
-uint cell_index(CModel m, uvec3 c, out uint attr_base) {
-    attr_base = m.attr_base;
-    if (m.root == ROOT_LEAF) return morton(c);
-    uint n = m.root, base = 0u, rank_base = m.rank_base;
-    int L = int(m.depth);
-    // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
-    bool mort = L <= 10;
-    uint mc = mort ? morton(c) : 0u;
-    for (; L >= 3; L--) {
-        uvec2 nd = slots[n];
-        if (PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
-            // a page root (resident: the ray hit a cell inside): its header
-            // precedes its first block
-            uvec2 hd = slots[nd.y - 2u];
-            attr_base = hd.x, rank_base = hd.y, base = 0u;
-        }
-        uint s = uint(L - 1);
-        uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
-        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
-        if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
-        n = nd.y + k;
-    }
-    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
-    uvec2 b = slots[n];
-    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
-                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
-    return base + below;
-}
-
-uint recorrelate(uint v) {
-    uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
-    return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);
-}
-
-// The colour of attribute index i (vx_compact_rgba).
-uint decode_color(CModel m, uint attr_base, uint i) {
-    uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
-    uint blk = i >> m.block_log2, j = i & (B - 1u);
-    uint g = attr[attr_base + (blk >> 6)];
-    uint h = attr[attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u))];
-    uint code = h & 31u, p = attr_base + (h >> 5);
-    uint v;
-    if (code == 31u) {
-        v = attr_bits(p, j * width, width);
-    } else if (code == 30u) {
-        uint mn = attr[p], wc = attr[p + 1u];
-        uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
-        uint pos = j * (wr + wg + wb + wa);
-        // the value's residuals are adjacent (at most 32 bits): one extraction
-        uint n = wr + wg + wb + wa;
-        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
-        uint r = bits & ((1u << wr) - 1u);
-        bits >>= wr;
-        uint gg = bits & ((1u << wg) - 1u);
-        bits >>= wg;
-        uint b = bits & ((1u << wb) - 1u);
-        uint a = (bits >> wb) & ((1u << wa) - 1u);
-        v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
-            (((mn >> 24) + a) & 0xFFu) << 24;
-        if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
-    } else {
-        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
-        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
-    }
-    return m.kind == 1u ? palette[v & 0xFFu] : v;
-}
 
 // trace.comp's trace_model (trace_common.glsl, float variant, DEEP 0-2, no
 // LOD or beam) over the compact geometry: the same walk, the same two-frame
@@ -376,7 +246,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         uint rb_cbit = 0u;
         while (true) {
         while (scale < S_MAX) {
-            g_iter++;
+            if (GUARD) g_iter++;
             int lvl = scale + lvl_off - koff;
             if (!loaded) {
                 // level 1 only as the root of a depth-1 model: a push into a
@@ -440,11 +310,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     continue;
                 }
             }
-            if (g_iter > MAX_ITER) break;
+            if (GUARD && g_iter > MAX_ITER) break;
             int step = 0;
-            if (tc.x <= tc_max) { step ^= 1; pos.x -= scale_exp2; }
-            if (tc.y <= tc_max) { step ^= 2; pos.y -= scale_exp2; }
-            if (tc.z <= tc_max) { step ^= 4; pos.z -= scale_exp2; }
+            if (GUARD ? tc.x <= tc_max : !(tc.x > tc_max)) { step ^= 1; pos.x -= scale_exp2; }
+            if (GUARD ? tc.y <= tc_max : !(tc.y > tc_max)) { step ^= 2; pos.y -= scale_exp2; }
+            if (GUARD ? tc.z <= tc_max : !(tc.z > tc_max)) { step ^= 4; pos.z -= scale_exp2; }
             tmin = tc_max;
             idx ^= step;
             if ((idx & step) != 0) {
@@ -550,7 +420,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             hh = 0.0;
             loaded = false;
         }
-        if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+        if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1

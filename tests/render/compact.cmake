@@ -27,3 +27,12 @@ if(VX_WITH_VULKAN)
   set_tests_properties(test_compact_page PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
 endif()
+# The pass pipeline and the GI methods over a compact scene (trace_common.glsl's
+# COMPACT kernels): the plain layout's images bit for bit, the probe bake's
+# bytes (lavapipe in CI).
+if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
+  vx_add_test(test_compact_passes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_passes.c
+              LIBS vx_photons vx_cones vx_probes vx_render vx_trace vx_convert vx_formats vx_svo)
+  set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 900 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+endif()

@@ -135,6 +135,20 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
             printf("  %-34s view %d: %ux%u, %u pixels hit, %u / %u differ\n", name, view, w, h, hits, wrong, wrong2);
             hits_total += hits;
         }
+        if (!r3) {
+            /* without hits: trace_compact.comp's walk without the iteration guard (as trace.comp's colour kernel) */
+            vx_render_image c0 = {0}, c1 = {0};
+            vx_render_desc dn = d;
+            dn.want_hits = false;
+            vx_result q = vx_render_frame(rs, &dn, &c0, &err);
+            if (!q) q = vx_compact_gpu_frame(cg, &dn, &c1, &err);
+            CHECKF(q == VX_OK, "%s view %d without hits: %s", name, view, err.msg);
+            if (!q)
+                CHECKF(!memcmp(c0.pixels, c1.pixels, (size_t)w * h * 16), "%s view %d without hits: the pixels differ", name,
+                       view);
+            vx_render_image_free(&c0);
+            vx_render_image_free(&c1);
+        }
         vx_render_image_free(&a);
         vx_render_image_free(&b);
         vx_render_image_free(&b2);

@@ -138,8 +138,13 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 0 "svo_render default layout" svo_render "$T/demo.svo" "$T/lay_a.pfm" --mode albedo --size 48x32 -v
     grep -q "^layout: plain, .* auto: budget" "$T/out" && ok "auto keeps the plain layout where it fits" ||
         bad "auto keeps the plain layout where it fits"
-    expect_status 1 "svo_render --layout compact --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --passes gbuffer,direct --size 8x8
-    grep -q "compact layout" "$T/err" && ok "passes on a compact scene: the reason" || bad "passes on a compact scene: the reason"
+    # the passes read the whole compact layout (issue 18): the plain layout's image
+    expect_status 0 "svo_render --layout compact --passes" svo_render "$T/demo.svo" "$T/lay_xc.pfm" --layout compact --passes gbuffer,direct,ao --size 48x32
+    expect_status 0 "svo_render --layout plain --passes" svo_render "$T/demo.svo" "$T/lay_xp.pfm" --layout plain --passes gbuffer,direct,ao --size 48x32
+    cmp -s "$T/lay_xc.pfm" "$T/lay_xp.pfm" && ok "passes: compact and plain layouts give the same image" ||
+        bad "passes: compact and plain layouts give the same image"
+    expect_status 1 "svo_render paged --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --gpu-budget 20K --page-level 3 --passes gbuffer,direct --size 8x8
+    grep -q "paged compact layout" "$T/err" && ok "passes on a paged scene: the reason" || bad "passes on a paged scene: the reason"
     expect_status 2 "svo_render bad --layout" svo_render "$T/demo.svo" "$T/lay_x.png" --layout dense
     # the compact layout over the budget too: paged, the pages that do not fit drawn coarse, and said
     expect_status 0 "svo_render paged" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 -v

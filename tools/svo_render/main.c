@@ -160,12 +160,13 @@ _Noreturn static void usage(int status) {
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
             "                       one (a colour-free geometry DAG, coded exact colours: 3-4x smaller,\n"
-            "                       slower; the single-shader modes only, no --lod); -v says which\n"
+            "                       slower; no --lod); -v says which\n"
             "  --gpu-budget SIZE    GPU memory the plain layout may take for auto (default: 3/4 of the\n"
             "                       device's largest device-local heap); where the compact layout exceeds it\n"
             "                       too, it is paged: pages below --page-level loaded as the rays ask for\n"
             "                       them into a pool that the budget bounds, frames repeated until the view's\n"
-            "                       pages are resident; pages that do not fit are drawn coarse (-v says so)\n"
+            "                       pages are resident; pages that do not fit are drawn coarse (-v says so;\n"
+            "                       a paged scene: the single-shader modes only)\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
@@ -884,14 +885,14 @@ int main(int argc, char** argv) {
                    vx_render_layout_name(li.layout), li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
-        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT) {
-            /* the pass shaders read the plain layout; the single shader traces the compact one */
+        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages) {
+            /* the pass shaders read the whole compact layout; only the single shader follows its pages */
             if (o.passes_given || o.show_given || o.timings)
                 r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                            "the scene is in the compact layout: --passes/--show/--timings need the plain one "
-                            "(--layout plain, or a larger --gpu-budget)");
+                            "the scene is in the paged compact layout: --passes/--show/--timings need all of it on "
+                            "the GPU (a larger --gpu-budget, or --layout plain)");
             pipeline = false;
-            if (o.verbose) printf("note: compact layout: the single-shader colour mode renders this scene\n");
+            if (o.verbose) printf("note: paged compact layout: the single-shader colour mode renders this scene\n");
         }
         if (!r && pipeline && vx_render_scene_precise(rs)) {
             /* the pass shaders trace in float; deep models need the float64 single shader */

@@ -1,0 +1,323 @@
+/* tests/render/test_compact_passes.c - the pass pipeline and the GI methods
+ * over a scene in the compact layout (render/compact.h, issue 18): the
+ * kernels that include trace_common.glsl walk the compact geometry when its
+ * COMPACT constant is set (render_scene.c binds the compact buffers), so a
+ * frame of gbuffer, direct and AO, and of each GI method (probes with a
+ * probe set baked on the GPU, pathtrace, cones, photons), must give the
+ * plain layout's image bit for bit, and the probe bake the same bytes.
+ * Scenes: a generated one (palette and RGBA models, rotated instances, a
+ * full-cube leaf model), a room with an emissive block, a glass block and a
+ * metal floor (the per-record tables, per palette index in a compact scene),
+ * and corpus .vox scenes (lavapipe in CI). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cones/cones.h"
+#include "convert/convert.h"
+#include "formats/vox.h"
+#include "photons/photons.h"
+#include "probes/probes.h"
+#include "render/pipeline.h"
+#include "render/render_internal.h"
+#include "tests/gpu_test.h"
+#include "tests/probes/probe_scenes.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+/* the validation layer's first messages, so that a failure says what */
+static void log_msg(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)level;
+    int* n = user;
+    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
+}
+
+/* One render scene and its frame renderer in a given layout. */
+typedef struct side {
+    vx_render_scene* rs;
+    vx_frame_renderer* fr;
+} side;
+
+static bool side_open(const vx_svo_scene* s, vx_render_layout layout, side* o) {
+    vx_error err = {0};
+    memset(o, 0, sizeof *o);
+    /* the whole compact layout: a budget no scene here reaches, so that it is not paged */
+    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40};
+    if (vx_render_scene_create_ex(gpu, s, &d, &o->rs, &err) || vx_frame_renderer_create(o->rs, s, &o->fr, &err)) {
+        fprintf(stderr, "  create (%s): %s\n", vx_render_layout_name(layout), err.msg);
+        vx_render_scene_destroy(o->rs);
+        o->rs = NULL;
+        return false;
+    }
+    return true;
+}
+
+static void side_close(side* o) {
+    vx_frame_renderer_destroy(o->fr);
+    vx_render_scene_destroy(o->rs);
+}
+
+static bool render(side* o, const char* list, const vx_gi_method* gm, vx_render_desc base, vx_render_image* out) {
+    vx_pass_list L;
+    vx_error err = {0};
+    if (vx_pass_list_parse(list, &L, &err)) {
+        fprintf(stderr, "  parse '%s': %s\n", list, err.msg);
+        return false;
+    }
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base = base;
+    d.passes = &L;
+    d.gi = gm;
+    d.separate_passes = true; /* each pass its own dispatch: every kernel runs */
+    vx_frame_result res;
+    if (vx_frame_render(o->fr, &d, &res, &err)) {
+        fprintf(stderr, "  render '%s': %s\n", list, err.msg);
+        return false;
+    }
+    *out = res.image;
+    return true;
+}
+
+/* The floats of b that differ from a; *hits the pixels a shows geometry on (alpha > 0). */
+static size_t differ(const vx_render_image* a, const vx_render_image* b, size_t* hits) {
+    size_t n = (size_t)a->width * a->height, diff = 0;
+    *hits = 0;
+    if (b->width != a->width || b->height != a->height) return 4 * n;
+    for (size_t i = 0; i < n; i++) {
+        *hits += a->pixels[4 * i + 3] > 0;
+        for (int k = 0; k < 4; k++) diff += memcmp(&a->pixels[4 * i + k], &b->pixels[4 * i + k], 4) != 0;
+    }
+    return diff;
+}
+
+static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
+                    const vx_gi_method* gc, vx_render_desc base) {
+    vx_render_image a = {0}, b = {0};
+    bool ok = render(p, list, gp, base, &a) && render(c, list, gc, base, &b);
+    CHECKF(ok, "%s '%s': rendered", name, list);
+    if (ok) {
+        size_t hits = 0, diff = differ(&a, &b, &hits);
+        printf("  %-28s %-36s %ux%u: %zu pixels hit, %zu floats differ\n", name, list, a.width, a.height, hits, diff);
+        CHECKF(diff == 0, "%s '%s': %zu floats differ", name, list, diff);
+        CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
+    }
+    vx_render_image_free(&a);
+    vx_render_image_free(&b);
+}
+
+static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
+    if (a->res != b->res || a->low_res != b->low_res || a->count != b->count || a->probe_count != b->probe_count)
+        return false;
+    size_t n = a->count, r2 = (size_t)(a->res + 2) * (a->res + 2), l2 = (size_t)(a->low_res + 2) * (a->low_res + 2);
+    return !memcmp(a->probes, b->probes, a->probe_count * sizeof *a->probes) &&
+           !memcmp(a->radiance, b->radiance, n * r2 * 3 * 2) && !memcmp(a->normal, b->normal, n * r2 * 4) &&
+           !memcmp(a->distance, b->distance, n * r2 * 2) && !memcmp(a->low, b->low, n * l2 * 2) &&
+           !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
+}
+
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h);
+/* A device of its own per scene: the two layouts' pass, GI and bake variants of several scenes pass
+ * the device's pipeline cache (VX_GPU_MAX_PIPELINES; an eviction moves the pipelines a frame holds). */
+static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+    vx_gpu* keep = gpu;
+    if (vx_test_gpu_open((vx_gpu_desc){.logger = keep->logger}, true, &gpu)) {
+        CHECKF(false, "%s: no device", name);
+        gpu = keep;
+        return;
+    }
+    check_scene_on(name, s, w, h);
+    printf("  %-28s %u pipelines\n", name, gpu->pipeline_count);
+    vx_gpu_destroy(gpu);
+    gpu = keep;
+}
+
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+    side p, c;
+    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, &p)) {
+        CHECKF(false, "%s: plain scene", name);
+        return;
+    }
+    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, &c)) {
+        CHECKF(false, "%s: compact scene", name);
+        side_close(&p);
+        return;
+    }
+    vx_render_layout_info li;
+    vx_render_scene_layout(c.rs, &li);
+    CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages == 0 && vx__render_scene_compact(c.rs) &&
+               !vx__render_scene_compact(p.rs),
+           "%s: layout %s, %u pages", name, vx_render_layout_name(li.layout), li.pages);
+    vx_render_desc base = {.width = w, .height = h};
+    compare(name, "gbuffer,direct", &p, &c, NULL, NULL, base);
+    compare(name, "gbuffer,direct,ao", &p, &c, NULL, NULL, base);
+    vx_render_desc two = base;
+    two.spp = 2;
+    compare(name, "gbuffer,direct,ao,aa,tonemap", &p, &c, NULL, NULL, two);
+
+    /* the probe bake: the same bytes from both layouts */
+    vx_error err = {0};
+    vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 5};
+    vx_probe_set psp = {0}, psc = {0};
+    vx_result r1 = vx_probe_bake_gpu(p.rs, s, &bd, &psp, &err);
+    CHECKF(r1 == VX_OK, "%s: plain bake: %s", name, err.msg);
+    vx_result r2 = vx_probe_bake_gpu(c.rs, s, &bd, &psc, &err);
+    CHECKF(r2 == VX_OK, "%s: compact bake: %s", name, err.msg);
+    if (!r1 && !r2) {
+        bool same = probe_sets_equal(&psp, &psc);
+        printf("  %-28s probe bake (%u probes at %u): %s\n", name, psp.probe_count, psp.res, same ? "same bytes" : "DIFFER");
+        CHECKF(same, "%s: the probe sets differ", name);
+        /* gi=probes and gi=pathtrace (the probes' light) */
+        static const char* const methods[] = {"probes", "pathtrace"};
+        for (int k = 0; k < 2; k++) {
+            vx_probe_render_desc pd = {.spp = 2, .bounces = 1, .seed = 3};
+            vx_gi_method gp, gc;
+            vx_probe_gi *pgp = NULL, *pgc = NULL;
+            vx_result q = vx_probe_gi_create(p.rs, s, &psp, methods[k], &pd, &gp, &pgp, &err);
+            if (!q) q = vx_probe_gi_create(c.rs, s, &psc, methods[k], &pd, &gc, &pgc, &err);
+            CHECKF(q == VX_OK, "%s: gi=%s: %s", name, methods[k], err.msg);
+            char list[64];
+            snprintf(list, sizeof list, "gbuffer,direct,gi=%s", methods[k]);
+            if (!q) compare(name, list, &p, &c, &gp, &gc, base);
+            vx_probe_gi_destroy(pgp);
+            vx_probe_gi_destroy(pgc);
+        }
+    }
+    vx_probe_set_free(&psp);
+    vx_probe_set_free(&psc);
+
+    /* gi=cones (its voxelization traces the scene) and gi=photons */
+    {
+        vx_gi_method gp, gc;
+        vx_cone_gi *cp = NULL, *cc = NULL;
+        vx_cone_desc cd = {.res = 32};
+        vx_result q = vx_cone_gi_create(p.rs, s, &cd, &gp, &cp, &err);
+        if (!q) q = vx_cone_gi_create(c.rs, s, &cd, &gc, &cc, &err);
+        CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=cones", &p, &c, &gp, &gc, base);
+        vx_cone_gi_destroy(cp);
+        vx_cone_gi_destroy(cc);
+    }
+    {
+        vx_gi_method gp, gc;
+        vx_photon_gi *pp = NULL, *pc = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        vx_result q = vx_photon_gi_create(p.rs, s, NULL, &phd, &gp, &pp, &err);
+        if (!q) q = vx_photon_gi_create(c.rs, s, NULL, &phd, &gc, &pc, &err);
+        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=photons", &p, &c, &gp, &gc, base);
+        vx_photon_gi_destroy(pp);
+        vx_photon_gi_destroy(pc);
+    }
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
+    side_close(&c);
+    side_close(&p);
+}
+
+static void test_generated(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    /* palette models (sparse, dense), an RGBA model with noise, a model of
+     * full 8^3 leaf cubes (leaves above level 1) */
+    vx_svo_model m[4];
+    REQUIRE(ts_random_model(&m[0], 37, 20, 9, 5, 1) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 24, 24, 24, 50, 2) == VX_OK);
+    size_t n = 0, cap = 32 * 32 * 32;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    uint8_t* level = calloc(cap, 1);
+    REQUIRE(keys && rgba && level);
+    uint32_t seed = 7;
+    for (uint32_t z = 0; z < 32; z++)
+        for (uint32_t y = 0; y < 32; y++)
+            for (uint32_t x = 0; x < 32; x++)
+                if ((x - 16) * (x - 16) + (y - 16) * (y - 16) + (z - 16) * (z - 16) < 200 && ts_rng(&seed) % 3) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    rgba[n++] = 0xFF000000u | (ts_rng(&seed) & 0xFFFFFFu);
+                }
+    vx_error err = {0};
+    vx_svo_voxels v = {.size = {32, 32, 32}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[2], NULL, &err) == VX_OK);
+    n = 0;
+    for (uint32_t z = 0; z < 32; z += 8)
+        for (uint32_t y = 0; y < 32; y += 8)
+            for (uint32_t x = 0; x < 32; x += 8)
+                if (ts_rng(&seed) % 3 == 0) {
+                    keys[n] = vx_svo_morton(x, y, z);
+                    level[n] = 3;
+                    rgba[n++] = 0xFF000000u | (ts_rng(&seed) % 5) * 0x203040u;
+                }
+    v = (vx_svo_voxels){.size = {32, 32, 32}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_RGBA8,
+                        .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[3], NULL, &err) == VX_OK);
+    free(keys), free(rgba), free(level);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[5];
+    for (uint32_t i = 0; i < 4; i++) in[i] = ts_inst(i, i % 2 ? rot : NULL, 40.0 * i, 6.0 * i, 0);
+    in[4] = ts_inst(2, rot, 20, 30, 25);
+    vx_svo_scene s;
+    ts_scene(&s, m, 4, in, 5);
+    check_scene("generated (5 instances)", &s, 64, 48);
+    vx_svo_scene_free(&s);
+}
+
+/* a metal floor (3), a wall (5), an emissive block (9) and a glass block of 4^3 cells (4) */
+static uint8_t glass_room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 3;
+    if (x == 0) return 5;
+    if (x >= 8 && x <= 9 && y >= 8 && y <= 9 && z <= 2) return 9;
+    return x >= 3 && x <= 6 && y >= 3 && y <= 6 && z <= 4 ? 4 : 0;
+}
+
+static void test_room(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes (static there) */
+    cells_scene(&s, 12, glass_room_cell);
+    s.palette[3] = 0xFF80A0C0u, s.palette[4] = 0xFFE0F0FFu, s.palette[5] = 0xFF4080E0u, s.palette[9] = 0xFFFFFFFFu;
+    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
+    add_material(&s, 4, glass, 3);
+    add_material(&s, 3, metal, 3);
+    add_material(&s, 9, emit, 2);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36);
+    vx_svo_scene_free(&s);
+}
+
+static void test_corpus(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const char* files[] = {"eph_monu1.vox", "ogt_chr_knight.vox"};
+    int done = 0;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char rel[96];
+        snprintf(rel, sizeof rel, "vox/%s", files[i]);
+        const char* path = vx_test_corpus(rel);
+        if (!path) continue;
+        vx_vox_scene vs;
+        vx_svo_scene s;
+        vx_error err = {0};
+        REQUIRE(vx_vox_read_file(NULL, path, &vs, &err) == VX_OK);
+        vx_result r = vx_conv_vox(NULL, &vs, &s, NULL, &err);
+        vx_vox_scene_free(&vs);
+        CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
+        if (r) continue;
+        check_scene(files[i], &s, 64, 48);
+        vx_svo_scene_free(&s);
+        done++;
+    }
+    if (!done) SKIP("no corpus .vox files");
+}
+
+int main(void) {
+    int logged = 0;
+    vx_logger lg = {.func = log_msg, .user_data = &logged};
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
+    RUN(test_generated);
+    RUN(test_room);
+    RUN(test_corpus);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
