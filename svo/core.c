@@ -54,7 +54,7 @@ void vx_error_prefix(vx_error* err, const char* prefix) {
 
 void vx_log(const vx_logger* log, vx_log_level level, const char* id, const char* fmt, ...) {
     if (!log || !log->func) return;
-    char msg[256];
+    char msg[1024]; /* validation layer messages run to several hundred characters */
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
