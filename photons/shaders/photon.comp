@@ -747,7 +747,9 @@ const uint BIGW = STEP == S_DENSITY ? gl_WorkGroupSize.x : 0u; // (glslang 11 em
 const bool BIGBOX = BIGW > 64u;
 const uint NEEDW = BIGW > 64u ? 32u : SLOTS / 32u, LISTS = BIGW > 64u ? SLOTS : 1u;
 shared uint t_bk[SLOTS], t_start[SLOTS], t_cnt[SLOTS], t_pre[SLOTS + 1u], t_need[NEEDW], t_g8[SLOTS / 8u], t_n[2], t_big[2];
-shared uint t_cell[LISTS], t_wpre[LISTS / 4u]; // (NEEDW where BIGBOX)
+// t_wpre rounded up: LISTS / 4 is 0 outside BIGBOX, an array of length 0 (invalid SPIR-V once specialised:
+// the validation layer refused every photon pipeline, VUID-VkPipelineShaderStageCreateInfo-pSpecializationInfo-06719)
+shared uint t_cell[LISTS], t_wpre[(LISTS + 3u) / 4u]; // (NEEDW where BIGBOX)
 shared int t_lo[3], t_hi[3];
 shared uint t_blo[3], t_bhi[3]; // the tile's points' box (fkey: floats as ordered uints)
 // the tile's pixels' normal codes (least, greatest), their selections (bit 0 G_INDIRECT, bit 1 G_ALL) and
