@@ -45,11 +45,12 @@
 extern "C" {
 #endif
 
-/* The newest version this library reads (it reads 1..2). A writer stamps a
+/* The newest version this library reads (it reads 1..4). A writer stamps a
  * file with the lowest version that has all its sections: 2 only when it
- * holds a section introduced in version 2 (LGHT, FRMS), so files without one
- * keep the bytes of version 1 (docs/FORMAT.md 6). */
-#define VX_SVO_FORMAT_VERSION 3u
+ * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
+ * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
+ * without one keep the bytes of version 1 (docs/FORMAT.md 6). */
+#define VX_SVO_FORMAT_VERSION 4u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute
@@ -580,6 +581,8 @@ typedef struct vx_svo_model_coded {
     uint32_t min[3], max[3];  /* the occupied cells' box, min inclusive, max exclusive (all 0 when empty) */
     uint8_t palette_used[32]; /* bit i (byte i / 8, bit i % 8): some record has palette index i */
     bool chunked;             /* the stream is in the chunked form (FORMAT.md 3.6; by vx_write_desc.svo_chunk_words) */
+    bool chunk_tagged;        /* chunked, with codec-tagged (zstd) chunks: format version 4 (not
+                                 vx_write_desc.svo_chunk_deflate, _fast or _stored) */
 } vx_svo_model_coded;
 
 /* Validates m (as vx_svo_validate_model) and codes it: *stream (free with
