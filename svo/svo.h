@@ -541,12 +541,25 @@ vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err);
 
 /* ---- files ------------------------------------------------------------------------------ */
 
+/* How the chunked models of a file were coded (docs/FORMAT.md 3.6), as
+ * vx_svo_read found them (svo_info prints it). */
+typedef struct vx_svo_chunk_stats {
+    uint32_t models;       /* models in the chunked form */
+    uint64_t deflate;      /* DEFLATE chunks: version 3's, or version 4's codec 0 */
+    uint64_t zstd;         /* zstd chunks (version 4), records as differences */
+    uint64_t zstd_plain;   /* zstd chunks (version 4), records as they are */
+    uint64_t coded_bytes;  /* the chunks' bytes */
+    uint64_t raw_bytes;    /* the words and records they hold */
+} vx_svo_chunk_stats;
+
 typedef struct vx_svo_read_desc {
     const vx_allocator* alloc;
     bool skip_checksums; /* default: every section's CRC-32 is verified */
     unsigned threads;    /* threads that decode, check and validate: 0 = one per CPU (at
                             most 16), 1 = the caller's thread only. The scene read never
                             depends on it; small scenes always use the caller's thread. */
+    vx_svo_chunk_stats* chunk_stats; /* NULL, or zeroed and filled by a read that gets as
+                                        far as the NODE section */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out

@@ -157,7 +157,7 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
 /* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
  * DEFLATE chunks of version 3, 2 the tagged chunks of version 4 (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned threads, vx_error* err);
+                            unsigned threads, vx_svo_chunk_stats* stats, vx_error* err);
 
 /* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
  * sections' checksums are one thread's pass over the whole file, about

@@ -800,6 +800,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (desc) rdd = *desc;
     else memset(&rdd, 0, sizeof rdd);
     if ((!data && size) || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    if (rdd.chunk_stats) memset(rdd.chunk_stats, 0, sizeof *rdd.chunk_stats);
     const uint8_t* d = (const uint8_t*)data;
     const vx_allocator* A = rdd.alloc;
     uint32_t version, count;
@@ -850,7 +851,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
     if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
-                               err)) != VX_OK)
+                               rdd.chunk_stats, err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;

@@ -1500,7 +1500,7 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
  * deflated byte, the deflated bytes exactly the rest of the stream), so
  * every allocation is bounded by the stream's length. */
 static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                                unsigned threads, bool tagged, vx_error* err) {
+                                unsigned threads, bool tagged, vx_svo_chunk_stats* stats, vx_error* err) {
     size_t pos = 0;
     uint64_t count = 0;
     /* an entry is at least 3 bytes and a chunk at least 1 */
@@ -1562,6 +1562,17 @@ static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_sv
     }
     if (r == VX_OK) {
         for (uint64_t i = 0; i < count; i++) ch[i].off += pos;
+        if (stats) { /* each chunk has at least its codec byte (zn >= 1) */
+            stats->models++;
+            stats->coded_bytes += n - pos;
+            stats->raw_bytes += (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rb;
+            for (uint64_t i = 0; i < count; i++) {
+                const uint8_t codec = tagged ? p[ch[i].off] : CHUNK_CODEC_DEFLATE;
+                if (codec == CHUNK_CODEC_ZSTD) stats->zstd++;
+                else if (codec == CHUNK_CODEC_ZSTD_PLAIN) stats->zstd_plain++;
+                else if (codec == CHUNK_CODEC_DEFLATE) stats->deflate++;
+            }
+        }
         vx_result* res = (vx_result*)vx_calloc(A, (size_t)count, sizeof *res);
         vx_error* errs = (vx_error*)vx_calloc(A, (size_t)count, sizeof *errs);
         if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
@@ -1605,7 +1616,7 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned want, vx_error* err) {
+                            unsigned want, vx_svo_chunk_stats* stats, vx_error* err) {
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -1661,7 +1672,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, err)
+                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
@@ -1671,7 +1682,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
                 unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
-                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, &errs[mi]);
+                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                     if (res[mi] != VX_OK) {
                         r = res[mi];
