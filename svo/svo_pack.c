@@ -439,13 +439,17 @@ uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n) {
  * exceeds 1032:1, so this bounds what a reader allocates by the file's size. */
 #define CHUNK_RATIO_MAX 2048u
 /* Codec bytes of the tagged chunks (format version 4, FORMAT.md 3.6): each
- * chunk's first byte. zstd level 1 over the transformed bytes codes the
- * helmet's words and records 2-3x faster than DEFLATE level 1 and 4% smaller
- * (docs/PERFORMANCE.md, ".svo I/O, seventh step"); a chunk that zstd would
- * shrink past CHUNK_RATIO_MAX (long runs of one value) is DEFLATEd instead,
- * so the reader's bound on allocations holds for every codec. */
+ * chunk's first byte. zstd over the transformed bytes: on the H200 host's
+ * cores (GPU-made 4096^3 helmet, docs/PERFORMANCE.md ".svo I/O, seventh
+ * step") level 1 codes in 0.53 of DEFLATE level 1's CPU time into 0.997 of
+ * its bytes (its records come out larger), level 2 in 0.63 into 0.957,
+ * level 3 in 0.75 into 0.926; level 2 keeps the 2-core write under 3 s
+ * (2.5-2.6 s) and every measured scene at most DEFLATE's size. A chunk that
+ * zstd would shrink past CHUNK_RATIO_MAX (long runs of one value) is
+ * DEFLATEd instead, so the reader's bound on allocations holds for every
+ * codec. */
 enum { CHUNK_CODEC_DEFLATE = 0, CHUNK_CODEC_ZSTD = 1, CHUNK_CODEC_ZSTD_PLAIN = 2 };
-#define CHUNK_ZSTD_LEVEL 1
+#define CHUNK_ZSTD_LEVEL 2
 /* The writer's choice between CHUNK_CODEC_ZSTD and _PLAIN for a chunk of
  * colour or normal records: SAMPLE_WINDOWS windows of SAMPLE_RECORDS
  * records spread over the chunk, coded both ways (about 1.5% of the
@@ -455,6 +459,7 @@ enum { CHUNK_CODEC_DEFLATE = 0, CHUNK_CODEC_ZSTD = 1, CHUNK_CODEC_ZSTD_PLAIN = 2
  * the samples picked the smaller coding of each chunk of both. */
 #define SAMPLE_WINDOWS 4u
 #define SAMPLE_RECORDS 2048u
+#define SAMPLE_LEVEL 1 /* the samples' zstd level: the cheapest, the same choice in the measured scenes */
 
 static uint32_t rec_bytes(uint32_t attrs) {
     uint32_t n = 0;
@@ -686,8 +691,8 @@ static bool sample_delta(ZSTD_CCtx* cc, uint8_t* const p[6], const size_t n[6], 
             }
             prev = v;
         }
-        size_t a = ZSTD_compressCCtx(cc, tmp, tmp_n, plain, 4 * w, CHUNK_ZSTD_LEVEL);
-        size_t b = ZSTD_compressCCtx(cc, tmp, tmp_n, diff, 4 * w, CHUNK_ZSTD_LEVEL);
+        size_t a = ZSTD_compressCCtx(cc, tmp, tmp_n, plain, 4 * w, SAMPLE_LEVEL);
+        size_t b = ZSTD_compressCCtx(cc, tmp, tmp_n, diff, 4 * w, SAMPLE_LEVEL);
         if (ZSTD_isError(a) || ZSTD_isError(b)) return true;
         zp += a, zd += b;
     }
