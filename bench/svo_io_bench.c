@@ -15,7 +15,10 @@
  * (vx_write_desc.svo_chunk_stored; the input is always re-coded).
  * --fast: the same with the word chunks stored, the record chunks deflated
  * (vx_write_desc.svo_chunk_fast).
- * --convert OUT.svo only writes the chunked copy of FILE and exits.
+ * --deflate: the chunks DEFLATEd at level 1 (format version 3,
+ * vx_write_desc.svo_chunk_deflate) instead of zstd (version 4, the default).
+ * --convert OUT.svo only writes the chunked copy of FILE (in the form the
+ * flags above choose) and exits.
  * --no-checks: the writes get the scene without the reader's checks
  * (vx_svo_model.check cleared), so they validate every model as the write of
  * a scene just built does (vox2svo).
@@ -59,7 +62,7 @@ int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
-    bool chunked = false, stored = false, fast = false, no_checks = false;
+    bool chunked = false, stored = false, fast = false, deflate = false, no_checks = false;
     const char* convert = NULL;
     int runs = 3;
     unsigned threads[8] = {1, 2};
@@ -71,6 +74,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--chunked")) chunked = true;
         else if (!strcmp(argv[i], "--stored")) chunked = stored = true;
         else if (!strcmp(argv[i], "--fast")) chunked = fast = true;
+        else if (!strcmp(argv[i], "--deflate")) chunked = deflate = true;
         else if (!strcmp(argv[i], "--no-checks")) no_checks = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
@@ -81,12 +85,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--no-checks] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--no-checks] [--convert OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast] [--no-checks] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--no-checks] [--convert OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -97,7 +101,7 @@ int main(int argc, char** argv) {
     /* a file of version 3 (byte 8, u16) has its large models chunked already */
     const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
     /* only timed reads need the input in the form written (writes code the scene in memory) */
-    bool recode = do_read && (stored || fast || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3)));
+    bool recode = do_read && (stored || fast || deflate || (chunked && !(size >= 10 && (data[8] | data[9] << 8) >= 3)));
     /* the scene in memory is only needed to write: with --only read the
      * first timed read gives the counts (on two cores an untimed read of the
      * 4096^3 helmet took as long as the timed ones) */
@@ -113,8 +117,8 @@ int main(int argc, char** argv) {
     if (convert) {
         /* --convert: only write the chunked copy (every thread), for later --chunked runs */
         double t0 = vx_time_now();
-        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = VX_SVO_CHUNK_WORDS}, &sc, convert, &err) != VX_OK)
-            die(convert, &err);
+        vx_write_desc cd = {.svo_chunk_words = VX_SVO_CHUNK_WORDS, .svo_chunk_stored = stored, .svo_chunk_fast = fast, .svo_chunk_deflate = deflate};
+        if (vx_svo_write_file(&cd, &sc, convert, &err) != VX_OK) die(convert, &err);
         printf("wrote %s in the chunked form in %.2f s\n", convert, vx_time_now() - t0);
         vx_svo_scene_free(&sc);
         vx_free(NULL, data);
@@ -126,7 +130,9 @@ int main(int argc, char** argv) {
     if (recode) {
         /* the reads time the chunked form: write it once (all threads) and read those bytes */
         double t0 = vx_time_now();
-        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast}, &sc,
+        if (vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast,
+                                                 .svo_chunk_deflate = deflate},
+                              &sc,
                               in_path, &err) != VX_OK)
             die(in_path, &err);
         vx_free(NULL, data);
@@ -167,7 +173,8 @@ int main(int argc, char** argv) {
                 fflush(stdout);
             }
             if (do_write) {
-                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast};
+                vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast,
+                                    .svo_chunk_deflate = deflate};
                 w[2][k] = c[2][k] = 0;
                 if (!file_only) {
                     uint8_t* o = NULL;

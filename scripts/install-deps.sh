@@ -7,7 +7,7 @@ if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
-    build-essential cmake pkg-config clang libclang-rt-14-dev python3 zlib1g-dev libdeflate-dev \
+    build-essential cmake pkg-config clang libclang-rt-14-dev python3 zlib1g-dev libdeflate-dev libzstd-dev \
     libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools \
     libglfw3-dev xvfb xauth \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \

@@ -283,8 +283,8 @@ typedef struct vx_write_desc {
                                   The bytes never depend on it. */
     uint32_t svo_chunk_words;  /* .svo: models with at least this many node words
                                   are stored in the chunked form (docs/FORMAT.md
-                                  3.6, format version 3: the words and records
-                                  themselves in deflated chunks that code and
+                                  3.6, format version 4: the words and records
+                                  themselves in zstd-coded chunks that code and
                                   decode on every thread, 2-3x the bytes of the
                                   structural form); 0 = never (the default:
                                   the compact form of versions 1 and 2 for
@@ -297,7 +297,7 @@ typedef struct vx_write_desc {
                                   coding is a copy (deflate at level 1 is
                                   about 100 MB/s per core), at about twice
                                   the chunked form's bytes (docs/PERFORMANCE.md,
-                                  issue 18). false: level 1 (the default). */
+                                  issue 18). false: zstd chunks (the default; level 1 with svo_chunk_deflate). */
     bool svo_chunk_fast;       /* .svo, chunked models: the chunks of node words
                                   stored, those of records at level 1 (the
                                   same format, every reader reads them): the
@@ -306,6 +306,14 @@ typedef struct vx_write_desc {
                                   a third more bytes than level 1 everywhere
                                   (docs/PERFORMANCE.md, issue 18).
                                   svo_chunk_stored wins if both are set. */
+    bool svo_chunk_deflate;    /* .svo, chunked models: DEFLATE level 1 chunks
+                                  (format version 3, what readers before
+                                  version 4 read) instead of the default zstd
+                                  chunks (version 4: zstd level 2 codes the
+                                  4096^3 helmet in 0.6 of the time into 0.96
+                                  of the bytes, docs/PERFORMANCE.md issue 18).
+                                  svo_chunk_stored and svo_chunk_fast are
+                                  version-3 forms too and win over it. */
 } vx_write_desc;
 
 /* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of

@@ -45,11 +45,12 @@
 extern "C" {
 #endif
 
-/* The newest version this library reads (it reads 1..2). A writer stamps a
+/* The newest version this library reads (it reads 1..4). A writer stamps a
  * file with the lowest version that has all its sections: 2 only when it
- * holds a section introduced in version 2 (LGHT, FRMS), so files without one
- * keep the bytes of version 1 (docs/FORMAT.md 6). */
-#define VX_SVO_FORMAT_VERSION 3u
+ * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
+ * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
+ * without one keep the bytes of version 1 (docs/FORMAT.md 6). */
+#define VX_SVO_FORMAT_VERSION 4u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute
@@ -540,12 +541,25 @@ vx_result vx_svo_validate_scene(const vx_svo_scene* s, vx_error* err);
 
 /* ---- files ------------------------------------------------------------------------------ */
 
+/* How the chunked models of a file were coded (docs/FORMAT.md 3.6), as
+ * vx_svo_read found them (svo_info prints it). */
+typedef struct vx_svo_chunk_stats {
+    uint32_t models;       /* models in the chunked form */
+    uint64_t deflate;      /* DEFLATE chunks: version 3's, or version 4's codec 0 */
+    uint64_t zstd;         /* zstd chunks (version 4), records as differences */
+    uint64_t zstd_plain;   /* zstd chunks (version 4), records as they are */
+    uint64_t coded_bytes;  /* the chunks' bytes */
+    uint64_t raw_bytes;    /* the words and records they hold */
+} vx_svo_chunk_stats;
+
 typedef struct vx_svo_read_desc {
     const vx_allocator* alloc;
     bool skip_checksums; /* default: every section's CRC-32 is verified */
     unsigned threads;    /* threads that decode, check and validate: 0 = one per CPU (at
                             most 16), 1 = the caller's thread only. The scene read never
                             depends on it; small scenes always use the caller's thread. */
+    vx_svo_chunk_stats* chunk_stats; /* NULL, or zeroed and filled by a read that gets as
+                                        far as the NODE section */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out
@@ -580,6 +594,8 @@ typedef struct vx_svo_model_coded {
     uint32_t min[3], max[3];  /* the occupied cells' box, min inclusive, max exclusive (all 0 when empty) */
     uint8_t palette_used[32]; /* bit i (byte i / 8, bit i % 8): some record has palette index i */
     bool chunked;             /* the stream is in the chunked form (FORMAT.md 3.6; by vx_write_desc.svo_chunk_words) */
+    bool chunk_tagged;        /* chunked, with codec-tagged (zstd) chunks: format version 4 (not
+                                 vx_write_desc.svo_chunk_deflate, _fast or _stored) */
 } vx_svo_model_coded;
 
 /* Validates m (as vx_svo_validate_model) and codes it: *stream (free with

@@ -137,9 +137,10 @@ extern size_t vx__svo_flush_bytes;
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
 /* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE, VX__CHUNK_STORED or
- * VX__CHUNK_FAST (words stored, records deflated) the chunked form */
-enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3 };
-/* The chunked mode a write desc asks for (VX__CHUNK_DEFLATE for NULL). */
+ * VX__CHUNK_FAST (words stored, records deflated) the chunked form of
+ * version 3, VX__CHUNK_ZSTD the tagged chunks of version 4 (zstd) */
+enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3, VX__CHUNK_ZSTD = 4 };
+/* The chunked mode a write desc asks for (VX__CHUNK_ZSTD for NULL). */
 int vx__svo_chunk_mode(const vx_write_desc* desc);
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
@@ -153,9 +154,10 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
  * size as a varint, and only that varint's length must come out right for
  * NODE to stay where it was written (svo_io.c write_file). */
 uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode);
-/* chunked: per model, nonzero when SCNE marks its stream chunked (NULL: none). */
+/* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
+ * DEFLATE chunks of version 3, 2 the tagged chunks of version 4 (NULL: none). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned threads, vx_error* err);
+                            unsigned threads, vx_svo_chunk_stats* stats, vx_error* err);
 
 /* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
  * sections' checksums are one thread's pass over the whole file, about

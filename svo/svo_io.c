@@ -38,6 +38,8 @@ enum {
     MODEL_SAME_SIZE = 1u << 5, /* model head: size as the previous model's */
     MODEL_CHUNKED = 1u << 6,   /* model head: its NODE stream is in the chunked form (version 3) */
     VERSION_CHUNKED = 3,       /* the format version that introduced MODEL_CHUNKED */
+    MODEL_TAGGED = 1u << 7,    /* model head, with MODEL_CHUNKED: each chunk starts with its codec byte (version 4) */
+    VERSION_TAGGED = 4,        /* the format version that introduced MODEL_TAGGED (zstd chunks) */
     INST_NAMED = 1u << 2,      /* instance head: a name follows */
     FRMS_CHANGE_MIN = 7        /* smallest change record: gap, head, model, rotation byte, 3 translations */
 };
@@ -415,8 +417,8 @@ static const double IDENTITY12[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 /* SCNE into s (the models' words and records are decoded from NODE later,
  * against the counts declared here); *bounds_form says whether bounds are
  * still to be computed. */
-/* chunked: receives, for a version-3 file, one byte per model (nonzero:
- * MODEL_CHUNKED), freed by the caller. */
+/* chunked: receives, for a file of version 3 or later, one byte per model
+ * (1: MODEL_CHUNKED, 2: MODEL_CHUNKED and MODEL_TAGGED), freed by the caller. */
 static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t version, const vx_allocator* A, vx_svo_scene* s,
                            int* bounds_form, uint8_t** chunked, vx_error* err) {
     const char* S = "SCNE";
@@ -472,13 +474,20 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t v
         uint64_t root_code;
         uint32_t mhead;
         if ((r = rd_var32(&rd, &mhead, S, "model head", err)) != VX_OK) return r;
-        uint32_t known_bits = VX_ATTR_ALL | MODEL_SAME_SIZE | (version >= VERSION_CHUNKED ? MODEL_CHUNKED : 0u);
-        if (mhead & ~known_bits)
+        uint32_t known_bits = VX_ATTR_ALL | MODEL_SAME_SIZE | (version >= VERSION_CHUNKED ? MODEL_CHUNKED : 0u) |
+                              (version >= VERSION_TAGGED ? MODEL_TAGGED : 0u);
+        uint32_t unknown = mhead & ~known_bits;
+        if (unknown)
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: unknown attribute bits 0x%x in the head%s",
-                           (unsigned long long)at, i, mhead & ~known_bits,
-                           (mhead & ~known_bits) == MODEL_CHUNKED ? " (the chunked form needs format version 3)" : "");
+                           (unsigned long long)at, i, unknown,
+                           unknown == MODEL_CHUNKED   ? " (the chunked form needs format version 3)"
+                           : unknown == MODEL_TAGGED || unknown == (MODEL_TAGGED | MODEL_CHUNKED) ? " (zstd chunks need format version 4)"
+                                                      : "");
+        if ((mhead & MODEL_TAGGED) && !(mhead & MODEL_CHUNKED))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: codec-tagged chunks without the chunked form",
+                           (unsigned long long)at, i);
         m->attrs = mhead & VX_ATTR_ALL;
-        if (mhead & MODEL_CHUNKED) (*chunked)[i] = 1;
+        if (mhead & MODEL_CHUNKED) (*chunked)[i] = mhead & MODEL_TAGGED ? 2 : 1;
         if (mhead & MODEL_SAME_SIZE) {
             if (i == 0)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",
@@ -791,6 +800,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (desc) rdd = *desc;
     else memset(&rdd, 0, sizeof rdd);
     if ((!data && size) || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    if (rdd.chunk_stats) memset(rdd.chunk_stats, 0, sizeof *rdd.chunk_stats);
     const uint8_t* d = (const uint8_t*)data;
     const vx_allocator* A = rdd.alloc;
     uint32_t version, count;
@@ -841,7 +851,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
     if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
-                               err)) != VX_OK)
+                               rdd.chunk_stats, err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
@@ -910,7 +920,8 @@ static void buf_xform(vx_buf* b, const double* x, int kind, const uint8_t* pay, 
     }
 }
 
-/* chunked: per model, whether its NODE stream is in the chunked form (NULL: none). */
+/* chunked: per model, whether its NODE stream is in the chunked form (1:
+ * version 3's DEFLATE chunks, 2: version 4's tagged chunks; NULL: none). */
 static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext, const uint8_t* chunked) {
     double bmin[3], bmax[3];
     vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
@@ -936,7 +947,8 @@ static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* e
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         bool same = i > 0 && memcmp(m->size, m[-1].size, sizeof m->size) == 0;
-        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u) | (chunked && chunked[i] ? MODEL_CHUNKED : 0u));
+        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u) | (chunked && chunked[i] ? MODEL_CHUNKED : 0u) |
+                       (chunked && chunked[i] == 2 ? MODEL_TAGGED : 0u));
         if (!same)
             for (int k = 0; k < 3; k++) buf_var(b, m->size[k]);
         buf_var(b, m->node_count);
@@ -1129,7 +1141,7 @@ static void write_frms(vx_buf* b, const vx_svo_scene* s) {
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
     vx__svo_extent* ext;
-    uint8_t* chunked; /* per model: stored in the chunked form (NULL: none is) */
+    uint8_t* chunked; /* per model: stored in the chunked form, 1 DEFLATE, 2 tagged (NULL: none is) */
     uint16_t version;
     unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
     uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
@@ -1191,8 +1203,8 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     if (s->light_count || s->sky.type != VX_SKY_DEFAULT) w->order[w->ns++] = S_LGHT;
     if (vx_svo_scene_frames(s) > 1) w->order[w->ns++] = S_FRMS;
     for (int si = 0; si < w->ns; si++) w->flags[si] = SEC_REQUIRED;
-    /* the chunked form of a large model needs version 3; files without one
-     * keep the bytes of versions 1 and 2 */
+    /* the chunked form of a large model needs version 3, its zstd chunks
+     * version 4; files without one keep the bytes of versions 1 and 2 */
     w->version = file_version(w->order, w->ns);
     for (uint32_t i = 0; i < s->model_count; i++) {
         bool ch = cs ? cs->info[i].chunked : vx__svo_model_chunked(&s->models[i], w->chunk_min);
@@ -1201,8 +1213,9 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
             plan_free(alloc, w);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
         }
-        w->chunked[i] = 1;
-        w->version = VERSION_CHUNKED;
+        const bool tagged = cs ? cs->info[i].chunk_tagged : w->chunk_mode == VX__CHUNK_ZSTD;
+        w->chunked[i] = tagged ? 2 : 1;
+        if (w->version < (tagged ? VERSION_TAGGED : VERSION_CHUNKED)) w->version = tagged ? VERSION_TAGGED : VERSION_CHUNKED;
     }
     return VX_OK;
 }
@@ -1487,6 +1500,7 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     vx_buf b = {.alloc = a};
     info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
     int mode = !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
+    info->chunk_tagged = mode == VX__CHUNK_ZSTD;
     if (!vx__svo_pack_model(m, a, mode, info->chunked ? vx__svo_cpus(desc ? desc->threads : 0) : 1, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <zlib.h>
+#include <zstd.h>
 #ifdef VX_HAVE_LIBDEFLATE
 #include <libdeflate.h>
 #endif
@@ -410,7 +411,11 @@ static bool put_var(vx_buf* b, uint64_t v) {
 }
 
 int vx__svo_chunk_mode(const vx_write_desc* desc) {
-    return desc && desc->svo_chunk_stored ? VX__CHUNK_STORED : desc && desc->svo_chunk_fast ? VX__CHUNK_FAST : VX__CHUNK_DEFLATE;
+    if (!desc) return VX__CHUNK_ZSTD;
+    return desc->svo_chunk_stored ? VX__CHUNK_STORED
+           : desc->svo_chunk_fast ? VX__CHUNK_FAST
+           : desc->svo_chunk_deflate ? VX__CHUNK_DEFLATE
+                                     : VX__CHUNK_ZSTD;
 }
 
 uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n) {
@@ -433,6 +438,29 @@ uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n) {
 /* Inflated bytes per deflated byte that a chunk may declare: deflate never
  * exceeds 1032:1, so this bounds what a reader allocates by the file's size. */
 #define CHUNK_RATIO_MAX 2048u
+/* Codec bytes of the tagged chunks (format version 4, FORMAT.md 3.6): each
+ * chunk's first byte. zstd over the transformed bytes: on the H200 host's
+ * cores (GPU-made 4096^3 helmet, docs/PERFORMANCE.md ".svo I/O, seventh
+ * step") level 1 codes in 0.53 of DEFLATE level 1's CPU time into 0.997 of
+ * its bytes (its records come out larger), level 2 in 0.63 into 0.957,
+ * level 3 in 0.75 into 0.926; level 2 keeps the 2-core write under 3 s
+ * (2.1-2.8 s), the helmet and the benchmark terrain smaller than DEFLATE
+ * (0.957, 0.968; terrains of 25 M voxels and less 0.3-0.6% larger). A chunk that
+ * zstd would shrink past CHUNK_RATIO_MAX (long runs of one value) is
+ * DEFLATEd instead, so the reader's bound on allocations holds for every
+ * codec. */
+enum { CHUNK_CODEC_DEFLATE = 0, CHUNK_CODEC_ZSTD = 1, CHUNK_CODEC_ZSTD_PLAIN = 2 };
+#define CHUNK_ZSTD_LEVEL 2
+/* The writer's choice between CHUNK_CODEC_ZSTD and _PLAIN for a chunk of
+ * colour or normal records: SAMPLE_WINDOWS windows of SAMPLE_RECORDS
+ * records spread over the chunk, coded both ways (about 1.5% of the
+ * chunk's coding). Differences suit the helmet's shaded colours (0.36 of
+ * the bytes against 0.48), the values as they are suit the terrain's few
+ * exact colours (0.34 against 0.45): a whole scene's records go one way, and
+ * the samples picked the smaller coding of each chunk of both. */
+#define SAMPLE_WINDOWS 4u
+#define SAMPLE_RECORDS 2048u
+#define SAMPLE_LEVEL 1 /* the samples' zstd level: the cheapest, the same choice in the measured scenes */
 
 static uint32_t rec_bytes(uint32_t attrs) {
     uint32_t n = 0;
@@ -479,6 +507,7 @@ typedef struct chunk_job {
     const vx_allocator* A;
     uint32_t count, wcount; /* chunks; the first wcount hold words only, the others records only */
     int level, wlevel; /* deflate level of record chunks and of word chunks: 1, or 0 (stored blocks) */
+    bool tagged;       /* VX__CHUNK_ZSTD: each chunk a codec byte, then zstd (or DEFLATE) */
     uint8_t** out; /* writer: each chunk's deflated bytes */
     size_t* out_n;
     bool* ok;
@@ -501,9 +530,9 @@ static void chunk_range(const chunk_job* j, uint32_t i, uint32_t* w0, uint32_t* 
     }
 }
 
-static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
-    (void)thread;
-    chunk_job* j = (chunk_job*)ctx;
+/* DEFLATEs chunk i behind `pre` bytes left free (the codec byte of a
+ * tagged chunk), at the job's level. */
+static void deflate_chunk_at(chunk_job* j, uint32_t i, size_t pre) {
     const vx_svo_model* m = j->m;
     uint32_t w0, w1, r0, r1;
     chunk_range(j, i, &w0, &w1, &r0, &r1);
@@ -528,8 +557,8 @@ static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
                 if (n[k]) memcpy(buf + at, p[k], n[k]);
         struct libdeflate_compressor* c = (np < 2 || buf) ? libdeflate_alloc_compressor(level) : NULL;
         size_t cap = c ? libdeflate_deflate_compress_bound(c, raw) : 0;
-        uint8_t* out = c ? (uint8_t*)vx_alloc(j->A, cap) : NULL;
-        size_t got = out ? libdeflate_deflate_compress(c, src, raw, out, cap) : 0;
+        uint8_t* out = c ? (uint8_t*)vx_alloc(j->A, cap + pre) : NULL;
+        size_t got = out ? libdeflate_deflate_compress(c, src, raw, out + pre, cap) : 0;
         if (c) libdeflate_free_compressor(c);
         vx_free(j->A, buf);
         if (!got) {
@@ -537,7 +566,7 @@ static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
             return;
         }
         j->out[i] = out;
-        j->out_n[i] = got;
+        j->out_n[i] = got + pre;
         j->ok[i] = true;
         return;
     }
@@ -546,10 +575,10 @@ static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
     memset(&z, 0, sizeof z);
     if (deflateInit2(&z, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return;
     size_t cap = (size_t)deflateBound(&z, (uLong)raw);
-    uint8_t* out = (uint8_t*)vx_alloc(j->A, cap);
+    uint8_t* out = (uint8_t*)vx_alloc(j->A, cap + pre);
     uint8_t* tmp = NULL;
     bool ok = out != NULL;
-    z.next_out = out;
+    z.next_out = out ? out + pre : NULL;
     z.avail_out = (uInt)cap;
     int last = 5;
     while (last > 0 && n[last] == 0) last--;
@@ -577,7 +606,143 @@ static void deflate_chunk(void* ctx, unsigned thread, uint32_t i) {
         return;
     }
     j->out[i] = out;
-    j->out_n[i] = (size_t)(cap - z.avail_out);
+    j->out_n[i] = pre + (size_t)(cap - z.avail_out);
+    j->ok[i] = true;
+}
+
+/* The bytes that a tagged chunk's zstd frame holds (FORMAT.md 3.6): the
+ * words as four byte planes (byte 0 of every word, then byte 1, ...), and
+ * each 4-byte RGBA8 or normal record as the bytewise difference (mod 256)
+ * from the record before it in the chunk; the other channels as they are.
+ * The planes gather the words' masks and pointer bytes into runs that code
+ * better and faster than the interleaved words; neighbouring records (in
+ * traversal order) have similar colours. Values are taken apart
+ * arithmetically, so the bytes do not depend on the machine's byte order. */
+static void chunk_transform(uint8_t* dst, uint8_t* const p[6], const size_t n[6], bool delta) {
+    size_t nw = n[0] / 4;
+    const uint32_t* w = (const uint32_t*)(const void*)p[0];
+    for (size_t i = 0; i < nw; i++) {
+        uint32_t v = w[i];
+        dst[i] = (uint8_t)v, dst[nw + i] = (uint8_t)(v >> 8), dst[2 * nw + i] = (uint8_t)(v >> 16), dst[3 * nw + i] = (uint8_t)(v >> 24);
+    }
+    dst += n[0];
+    for (int k = 1; k < 6; k++) {
+        if (!n[k]) continue;
+        if (delta && (k == 2 || k == 3)) { /* RGBA8, normal */
+            const uint32_t* r = (const uint32_t*)(const void*)p[k];
+            uint32_t prev = 0;
+            for (size_t i = 0; i < n[k] / 4; i++) {
+                uint32_t v = r[i];
+                for (unsigned b = 0; b < 4; b++) dst[4 * i + b] = (uint8_t)((v >> 8 * b) - (prev >> 8 * b));
+                prev = v;
+            }
+        } else {
+            memcpy(dst, p[k], n[k]);
+            swap_piece(dst, n[k], PIECE_WIDTH[k]);
+        }
+        dst += n[k];
+    }
+}
+
+/* chunk_transform's inverse: src (the frame's bytes) into the arrays. */
+static void chunk_untransform(uint8_t* const p[6], const size_t n[6], const uint8_t* src, bool delta) {
+    size_t nw = n[0] / 4;
+    uint32_t* w = (uint32_t*)(void*)p[0];
+    for (size_t i = 0; i < nw; i++)
+        w[i] = src[i] | (uint32_t)src[nw + i] << 8 | (uint32_t)src[2 * nw + i] << 16 | (uint32_t)src[3 * nw + i] << 24;
+    src += n[0];
+    for (int k = 1; k < 6; k++) {
+        if (!n[k]) continue;
+        if (delta && (k == 2 || k == 3)) {
+            uint32_t* r = (uint32_t*)(void*)p[k];
+            uint8_t a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+            for (size_t i = 0; i < n[k] / 4; i++) {
+                a0 = (uint8_t)(a0 + src[4 * i]), a1 = (uint8_t)(a1 + src[4 * i + 1]);
+                a2 = (uint8_t)(a2 + src[4 * i + 2]), a3 = (uint8_t)(a3 + src[4 * i + 3]);
+                r[i] = a0 | (uint32_t)a1 << 8 | (uint32_t)a2 << 16 | (uint32_t)a3 << 24;
+            }
+        } else {
+            memcpy(p[k], src, n[k]);
+            swap_piece(p[k], n[k], PIECE_WIDTH[k]);
+        }
+        src += n[k];
+    }
+}
+
+/* Whether the chunk's colour or normal records (the first of the two it
+ * has) code smaller as differences than as they are, by samples (see
+ * SAMPLE_WINDOWS); true when it has neither. tmp: scratch of at least
+ * ZSTD_compressBound(4 SAMPLE_RECORDS) bytes (the chunk's output buffer). */
+static bool sample_delta(ZSTD_CCtx* cc, uint8_t* const p[6], const size_t n[6], uint8_t* tmp, size_t tmp_n) {
+    const int k = n[2] ? 2 : n[3] ? 3 : 0;
+    const size_t recs = k ? n[k] / 4 : 0;
+    if (!k || recs < 2 || tmp_n < ZSTD_compressBound(4 * SAMPLE_RECORDS)) return true;
+    const size_t w = recs < SAMPLE_RECORDS ? recs : SAMPLE_RECORDS;
+    const uint32_t* r = (const uint32_t*)(const void*)p[k];
+    uint8_t plain[4 * SAMPLE_RECORDS], diff[4 * SAMPLE_RECORDS];
+    size_t zp = 0, zd = 0;
+    for (unsigned s = 0; s < SAMPLE_WINDOWS; s++) {
+        size_t at = (recs - w) * s / (SAMPLE_WINDOWS - 1);
+        uint32_t prev = 0;
+        for (size_t i = 0; i < w; i++) {
+            uint32_t v = r[at + i];
+            for (unsigned b = 0; b < 4; b++) {
+                plain[4 * i + b] = (uint8_t)(v >> 8 * b);
+                diff[4 * i + b] = (uint8_t)((v >> 8 * b) - (prev >> 8 * b));
+            }
+            prev = v;
+        }
+        size_t a = ZSTD_compressCCtx(cc, tmp, tmp_n, plain, 4 * w, SAMPLE_LEVEL);
+        size_t b = ZSTD_compressCCtx(cc, tmp, tmp_n, diff, 4 * w, SAMPLE_LEVEL);
+        if (ZSTD_isError(a) || ZSTD_isError(b)) return true;
+        zp += a, zd += b;
+    }
+    return zd <= zp;
+}
+
+/* Chunk i: DEFLATE (version 3), or a tagged chunk (version 4): the codec
+ * byte, then a zstd frame of the transformed bytes with their size in its
+ * header, or DEFLATE where zstd would pass CHUNK_RATIO_MAX. */
+static void code_chunk(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    chunk_job* j = (chunk_job*)ctx;
+    if (!j->tagged) {
+        deflate_chunk_at(j, i, 0);
+        return;
+    }
+    uint32_t w0, w1, r0, r1;
+    chunk_range(j, i, &w0, &w1, &r0, &r1);
+    uint8_t* p[6];
+    size_t n[6], raw = 0;
+    chunk_pieces(j->m, w0, w1 - w0, r0, r1 - r0, p, n);
+    for (int k = 0; k < 6; k++) raw += n[k];
+    j->ok[i] = false;
+    uint8_t* buf = (uint8_t*)vx_alloc(j->A, raw ? raw : 1);
+    size_t cap = ZSTD_compressBound(raw) + 1;
+    uint8_t* out = buf ? (uint8_t*)vx_alloc(j->A, cap) : NULL;
+    ZSTD_CCtx* cc = out ? ZSTD_createCCtx() : NULL;
+    size_t got = 0;
+    bool delta = true;
+    if (cc) {
+        delta = sample_delta(cc, p, n, out + 1, cap - 1);
+        chunk_transform(buf, p, n, delta);
+        got = ZSTD_compressCCtx(cc, out + 1, cap - 1, buf, raw, CHUNK_ZSTD_LEVEL);
+    }
+    ZSTD_freeCCtx(cc);
+    vx_free(j->A, buf);
+    if (!cc || ZSTD_isError(got)) {
+        vx_free(j->A, out);
+        return;
+    }
+    if (raw > (uint64_t)CHUNK_RATIO_MAX * (got + 1)) { /* past the reader's bound: DEFLATE never is */
+        vx_free(j->A, out);
+        deflate_chunk_at(j, i, 1);
+        if (j->ok[i]) j->out[i][0] = CHUNK_CODEC_DEFLATE;
+        return;
+    }
+    out[0] = delta ? CHUNK_CODEC_ZSTD : CHUNK_CODEC_ZSTD_PLAIN;
+    j->out[i] = out;
+    j->out_n[i] = got + 1;
     j->ok[i] = true;
 }
 
@@ -586,14 +751,14 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink);
 /* The chunks of model m in mode (VX__CHUNK_*): counts and levels, and the
  * arrays for their coded bytes; false when out of memory. */
 static bool chunk_setup(chunk_job* j, const vx_svo_model* m, const vx_allocator* A, int mode) {
-    const int level = mode == VX__CHUNK_STORED ? 0 : 1, wlevel = mode == VX__CHUNK_DEFLATE ? 1 : 0;
+    const int level = mode == VX__CHUNK_STORED ? 0 : 1, wlevel = mode == VX__CHUNK_DEFLATE || mode == VX__CHUNK_ZSTD ? 1 : 0;
     uint64_t wraw = (uint64_t)m->node_count * 4, rraw = (uint64_t)m->attr_count * rec_bytes(m->attrs);
     uint64_t wc = (wraw + CHUNK_RAW - 1) / CHUNK_RAW, rc = (rraw + CHUNK_RAW - 1) / CHUNK_RAW;
     if (wc < 1) wc = 1;
     if (wc > m->node_count) wc = m->node_count; /* at least one word per word chunk */
     if (rc > m->attr_count) rc = m->attr_count;
     uint64_t count = wc + rc;
-    *j = (chunk_job){m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, NULL, NULL, NULL};
+    *j = (chunk_job){m, A, (uint32_t)count, (uint32_t)wc, level, wlevel, mode == VX__CHUNK_ZSTD, NULL, NULL, NULL};
     j->out = (uint8_t**)vx_calloc(A, count, sizeof *j->out);
     j->out_n = (size_t*)vx_calloc(A, count, sizeof *j->out_n);
     j->ok = (bool*)vx_calloc(A, count, sizeof *j->ok);
@@ -648,9 +813,9 @@ static bool pack_chunked(const vx_svo_model* m, const vx_allocator* A, int mode,
     if (ok) {
         if (threads > j.count) threads = j.count;
         if (threads <= 1)
-            for (uint32_t i = 0; i < j.count; i++) deflate_chunk(&j, 0, i);
+            for (uint32_t i = 0; i < j.count; i++) code_chunk(&j, 0, i);
         else
-            run_jobs(threads, j.count, deflate_chunk, &j);
+            run_jobs(threads, j.count, code_chunk, &j);
         ok = chunk_emit(&j, with_len, out, sink);
     }
     chunk_free(&j);
@@ -719,7 +884,7 @@ static void pipe_job(void* ctx, unsigned thread, uint32_t i) {
     }
     const bool failed = p->failed;
     pthread_mutex_unlock(&p->lock);
-    if (!failed) deflate_chunk(&p->jobs[k], thread, i - p->first[k]);
+    if (!failed) code_chunk(&p->jobs[k], thread, i - p->first[k]);
     atomic_fetch_add(&p->done[k], 1);
     pipe_write(p);
 }
@@ -760,7 +925,8 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
 }
 
 /* Codes one model into its own stream: the chunked form when `chunked`
- * (VX__CHUNK_DEFLATE: level 1, VX__CHUNK_STORED: stored blocks; on up to
+ * (VX__CHUNK_ZSTD: tagged chunks, VX__CHUNK_DEFLATE: level 1,
+ * VX__CHUNK_STORED: stored blocks; on up to
  * `threads` threads), else the structural or raw form. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
     if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
@@ -892,7 +1058,7 @@ static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chun
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
                         int chunk_mode, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
-    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
@@ -945,7 +1111,7 @@ static unsigned var_len(uint64_t v) {
 }
 
 uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode) {
-    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_DEFLATE;
+    const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     uint64_t total = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
@@ -1179,7 +1345,50 @@ typedef struct inflate_job {
     vx_result* res;
     vx_error* errs;
     const vx_allocator* A;
+    bool tagged; /* each chunk starts with its codec byte (format version 4) */
 } inflate_job;
+
+/* A tagged chunk's zstd frame: exactly one frame filling the chunk, whose
+ * header declares exactly the chunk's bytes (checked before decoding, and
+ * the decoder is bounded by them), into a scratch buffer (at most
+ * CHUNK_RATIO_MAX per coded byte, by the table's check) and back into the
+ * arrays through the transform's inverse. */
+static void unzstd_chunk(inflate_job* j, uint32_t i, const uint8_t* src, size_t zn, uint8_t* const p[6], const size_t n[6], size_t want,
+                         bool delta) {
+    const uint64_t at = j->base + j->ch[i].off;
+    unsigned long long declared = ZSTD_getFrameContentSize(src, zn);
+    size_t frame = ZSTD_findFrameCompressedSize(src, zn);
+    const char* why = declared == ZSTD_CONTENTSIZE_ERROR     ? "not a zstd frame"
+                      : declared == ZSTD_CONTENTSIZE_UNKNOWN ? "the frame does not declare its size"
+                      : declared != want                     ? "the frame declares another size"
+                      : ZSTD_isError(frame)                  ? "the frame is cut off or corrupt"
+                      : frame != zn                          ? "bytes left over after the frame"
+                                                             : NULL;
+    if (why) {
+        j->res[i] = vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
+                            "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
+                            (unsigned long long)at, j->mi, i, zn, want, why);
+        return;
+    }
+    uint8_t* buf = (uint8_t*)vx_alloc(j->A, want ? want : 1);
+    ZSTD_DCtx* d = buf ? ZSTD_createDCtx() : NULL;
+    if (!d) {
+        vx_free(j->A, buf);
+        j->res[i] = vx_fail(&j->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        return;
+    }
+    size_t got = ZSTD_decompressDCtx(d, buf, want, src, zn);
+    ZSTD_freeDCtx(d);
+    if (ZSTD_isError(got) || got != want) {
+        j->res[i] = vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
+                            "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
+                            (unsigned long long)at, j->mi, i, zn, want, ZSTD_isError(got) ? ZSTD_getErrorName(got) : "too short");
+    } else {
+        chunk_untransform(p, n, buf, delta);
+        j->res[i] = VX_OK;
+    }
+    vx_free(j->A, buf);
+}
 
 static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
@@ -1189,6 +1398,23 @@ static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
     size_t n[6];
     chunk_pieces(j->m, c->w0, c->nw, c->r0, c->nr, p, n);
     uint64_t at = j->base + c->off;
+    const uint8_t* src = j->p + c->off;
+    size_t zn = c->zn;
+    if (j->tagged) { /* zn >= 1 by the table's check */
+        const uint8_t codec = *src++;
+        zn--;
+        if (codec == CHUNK_CODEC_ZSTD || codec == CHUNK_CODEC_ZSTD_PLAIN) {
+            size_t want = 0;
+            for (int k = 0; k < 6; k++) want += n[k];
+            unzstd_chunk(j, i, src, zn, p, n, want, codec == CHUNK_CODEC_ZSTD);
+            return;
+        }
+        if (codec != CHUNK_CODEC_DEFLATE) {
+            j->res[i] = vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at, "svo: section NODE at byte %llu: model %u: chunk %u has unknown codec %u",
+                                (unsigned long long)at, j->mi, i, codec);
+            return;
+        }
+    }
 #if defined(VX_HAVE_LIBDEFLATE) && !(defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
     {
         /* libdeflate inflates into one buffer: a chunk of one piece in
@@ -1206,10 +1432,10 @@ static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
             return;
         }
         size_t in_n = 0, out_n = 0;
-        enum libdeflate_result lr = libdeflate_deflate_decompress_ex(d, j->p + c->off, c->zn, buf, want, &in_n, &out_n);
+        enum libdeflate_result lr = libdeflate_deflate_decompress_ex(d, src, zn, buf, want, &in_n, &out_n);
         libdeflate_free_decompressor(d);
         const char* why = lr == LIBDEFLATE_SUCCESS && out_n < want ? "too short"
-                          : lr == LIBDEFLATE_SUCCESS && in_n != c->zn ? "bytes left over"
+                          : lr == LIBDEFLATE_SUCCESS && in_n != zn ? "bytes left over"
                           : lr != LIBDEFLATE_SUCCESS                  ? "corrupt"
                                                                       : NULL;
         if (!why && np > 1)
@@ -1219,7 +1445,7 @@ static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
         j->res[i] = !why ? VX_OK
                          : vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
                                    "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes) does not inflate to exactly %zu bytes (%s)",
-                                   (unsigned long long)at, j->mi, i, c->zn, want, why);
+                                   (unsigned long long)at, j->mi, i, zn, want, why);
         return;
     }
 #endif
@@ -1229,8 +1455,8 @@ static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
         j->res[i] = vx_fail(&j->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         return;
     }
-    z.next_in = (Bytef*)(uintptr_t)(j->p + c->off);
-    z.avail_in = (uInt)c->zn;
+    z.next_in = (Bytef*)(uintptr_t)src;
+    z.avail_in = (uInt)zn;
     int zr = Z_OK;
     size_t got = 0, want = 0;
     for (int k = 0; k < 6; k++) want += n[k];
@@ -1254,7 +1480,7 @@ static void inflate_chunk(void* ctx, unsigned thread, uint32_t i) {
     j->res[i] = ok ? VX_OK
                    : vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
                              "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes) does not inflate to exactly %zu bytes (%s)",
-                             (unsigned long long)at, j->mi, i, c->zn, want,
+                             (unsigned long long)at, j->mi, i, zn, want,
                              zr == Z_MEM_ERROR ? "out of memory" : zr == Z_STREAM_END && got < want ? "too short" : zr == Z_STREAM_END ? "bytes left over" : "corrupt");
     if (zr == Z_MEM_ERROR) j->res[i] = VX_ERR_NOMEM, j->errs[i].code = VX_ERR_NOMEM;
 }
@@ -1280,7 +1506,7 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
  * deflated byte, the deflated bytes exactly the rest of the stream), so
  * every allocation is bounded by the stream's length. */
 static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                                unsigned threads, vx_error* err) {
+                                unsigned threads, bool tagged, vx_svo_chunk_stats* stats, vx_error* err) {
     size_t pos = 0;
     uint64_t count = 0;
     /* an entry is at least 3 bytes and a chunk at least 1 */
@@ -1342,11 +1568,22 @@ static vx_result unpack_chunked(const uint8_t* p, size_t n, uint64_t base, vx_sv
     }
     if (r == VX_OK) {
         for (uint64_t i = 0; i < count; i++) ch[i].off += pos;
+        if (stats) { /* each chunk has at least its codec byte (zn >= 1) */
+            stats->models++;
+            stats->coded_bytes += n - pos;
+            stats->raw_bytes += (uint64_t)m->node_count * 4 + (uint64_t)m->attr_count * rb;
+            for (uint64_t i = 0; i < count; i++) {
+                const uint8_t codec = tagged ? p[ch[i].off] : CHUNK_CODEC_DEFLATE;
+                if (codec == CHUNK_CODEC_ZSTD) stats->zstd++;
+                else if (codec == CHUNK_CODEC_ZSTD_PLAIN) stats->zstd_plain++;
+                else if (codec == CHUNK_CODEC_DEFLATE) stats->deflate++;
+            }
+        }
         vx_result* res = (vx_result*)vx_calloc(A, (size_t)count, sizeof *res);
         vx_error* errs = (vx_error*)vx_calloc(A, (size_t)count, sizeof *errs);
         if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         else {
-            inflate_job j = {m, p, base, mi, ch, res, errs, A};
+            inflate_job j = {m, p, base, mi, ch, res, errs, A, tagged};
             if (threads > count) threads = (unsigned)count;
             if (threads <= 1)
                 for (uint32_t i = 0; i < count && res[i ? i - 1 : 0] == VX_OK; i++) inflate_chunk(&j, 0, i);
@@ -1385,7 +1622,7 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned want, vx_error* err) {
+                            unsigned want, vx_svo_chunk_stats* stats, vx_error* err) {
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -1441,7 +1678,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, err)
+                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
@@ -1451,7 +1688,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
                 unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
-                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, &errs[mi]);
+                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                     if (res[mi] != VX_OK) {
                         r = res[mi];

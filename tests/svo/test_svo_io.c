@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include <unistd.h>
 #include <zlib.h>
+#include <zstd.h>
 
 #include "svo/svo.h"
 #include "svo/svo_internal.h"
@@ -1411,9 +1412,10 @@ static void test_coded_models(void) {
     FILE* f = fopen(path2, "rb");
     CHECK(f == NULL);
     if (f) fclose(f);
-    /* the chunked form (version 3) from models coded apart: the same file */
-    {
-        vx_write_desc cw = {.svo_chunk_words = 1};
+    /* the chunked form from models coded apart: the same file, with zstd
+     * chunks (version 4, the default) and with DEFLATE ones (version 3) */
+    for (int form = 0; form < 2; form++) {
+        vx_write_desc cw = {.svo_chunk_words = 1, .svo_chunk_deflate = form == 1};
         REQUIRE(vx_svo_write_file(&cw, &s, path, &e) == VX_OK);
         size_t nw = 0;
         uint8_t* want = slurp_file(path, &nw);
@@ -1421,14 +1423,15 @@ static void test_coded_models(void) {
         uint8_t** cs = (uint8_t**)calloc(n, sizeof *cs);
         for (uint32_t i = 0; i < n; i++) {
             REQUIRE(vx_svo_model_encode(&cw, &s.models[i], &ci[i], &cs[i], &e) == VX_OK);
-            CHECK(ci[i].chunked);
+            CHECK(ci[i].chunked && ci[i].chunk_tagged == (form == 0));
         }
         stream_set cset = {cs, 0, 0, UINT32_MAX, true};
         vx_svo_stream_source csrc = {stream_read, &cset};
         REQUIRE(vx_svo_write_file_coded(&cw, &h, ci, &csrc, path2, &e) == VX_OK);
         size_t ng = 0;
         uint8_t* got = slurp_file(path2, &ng);
-        CHECKF(want && got && ng == nw && !memcmp(got, want, nw) && (got[8] | got[9] << 8) == 3, "chunked coded: %zu vs %zu bytes", ng, nw);
+        CHECKF(want && got && ng == nw && !memcmp(got, want, nw) && (got[8] | got[9] << 8) == (form == 0 ? 4 : 3),
+               "chunked coded (form %d): %zu vs %zu bytes", form, ng, nw);
         for (uint32_t i = 0; i < n; i++) vx_free(NULL, cs[i]);
         free(cs), free(ci), free(got), free(want);
         remove(path2);
@@ -1576,9 +1579,11 @@ static void test_chunked_form(void) {
     vx_svo_scene s;
     make_scene(&s, 3000);
     vx_error e;
-    /* every model with a root descriptor chunked: version 3, and each stream
-     * holds the model's words and records as the specification says */
-    vx_write_desc all = {.svo_chunk_words = 1};
+    /* every model with a root descriptor chunked in DEFLATE chunks: version 3
+     * (what the writers before version 4 wrote, still written on request),
+     * and each stream holds the model's words and records as the
+     * specification says; the zstd chunks of version 4: test_zstd_chunks */
+    vx_write_desc all = {.svo_chunk_words = 1, .svo_chunk_deflate = true};
     uint8_t *d = NULL, *dflt = NULL;
     size_t n = 0, nd = 0;
     REQUIRE(vx_svo_write_ex(&all, &s, &d, &n, &e) == VX_OK);
@@ -1765,6 +1770,149 @@ static bool ext_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a
     return true;
 }
 
+/* ---- the zstd chunks of format version 4 (FORMAT.md 3.6), read and
+ * written here from the specification with zlib and libzstd directly ---- */
+
+/* A chunk's bytes in the zstd form: words as four byte planes, then each
+ * channel; RGBA8 and normal records as bytewise differences from the record
+ * before when delta. */
+static uint8_t* t_zstd_bytes(const vx_svo_model* m, uint32_t w0, uint32_t nw, uint32_t r0, uint32_t nr, bool delta, size_t* out_n) {
+    const void* parts[5];
+    size_t sizes[5];
+    int np = t_rec_pieces(m, r0, nr, parts, sizes);
+    size_t n = (size_t)nw * 4;
+    for (int k = 0; k < np; k++) n += sizes[k];
+    uint8_t* b = (uint8_t*)malloc(n ? n : 1);
+    for (uint32_t i = 0; i < nw; i++)
+        for (int k = 0; k < 4; k++) b[(size_t)k * nw + i] = (uint8_t)(m->nodes[w0 + i] >> (8 * k));
+    size_t at = (size_t)nw * 4;
+    int c = 0;
+    for (int k = 0; k < np; k++) {
+        while (!(m->attrs >> c & 1u)) c++;
+        const bool four = c == 1 || c == 2; /* RGBA8, normal */
+        memcpy(b + at, parts[k], sizes[k]);
+        if (delta && four)
+            for (size_t i = sizes[k]; i-- > 4;) b[at + i] = (uint8_t)(b[at + i] - b[at + i - 4]);
+        at += sizes[k];
+        c++;
+    }
+    *out_n = n;
+    return b;
+}
+
+/* A tagged stream of m (MODEL_TAGGED): chunk i holds words [wcut[i],
+ * wcut[i+1]) and records [rcut[i], rcut[i+1]), coded with codec[i] (0
+ * DEFLATE, 1 zstd with differences, 2 zstd without). */
+static void t_tagged_stream(tbuf* b, const vx_svo_model* m, int count, const uint32_t* wcut, const uint32_t* rcut, const int* codec) {
+    uint8_t* z[8];
+    size_t zn[8];
+    for (int i = 0; i < count; i++) {
+        size_t n = 0;
+        if (codec[i] == 0) {
+            const void* parts[6];
+            size_t sizes[6];
+            parts[0] = m->nodes + wcut[i];
+            sizes[0] = (size_t)(wcut[i + 1] - wcut[i]) * 4;
+            int np = 1 + t_rec_pieces(m, rcut[i], rcut[i + 1] - rcut[i], parts + 1, sizes + 1);
+            uint8_t* d = t_deflate(parts, sizes, np, &n);
+            z[i] = (uint8_t*)malloc(n + 1);
+            z[i][0] = 0;
+            memcpy(z[i] + 1, d, n);
+            free(d);
+            zn[i] = n + 1;
+        } else {
+            uint8_t* raw = t_zstd_bytes(m, wcut[i], wcut[i + 1] - wcut[i], rcut[i], rcut[i + 1] - rcut[i], codec[i] == 1, &n);
+            size_t cap = ZSTD_compressBound(n) + 1;
+            z[i] = (uint8_t*)malloc(cap);
+            z[i][0] = (uint8_t)codec[i];
+            zn[i] = 1 + ZSTD_compress(z[i] + 1, cap - 1, raw, n, 3);
+            free(raw);
+        }
+    }
+    tb_var(b, (uint64_t)count);
+    for (int i = 0; i < count; i++) {
+        tb_var(b, wcut[i + 1] - wcut[i]);
+        tb_var(b, rcut[i + 1] - rcut[i]);
+        tb_var(b, zn[i]);
+    }
+    for (int i = 0; i < count; i++) tb_put(b, z[i], zn[i]), free(z[i]);
+}
+
+/* An independent reading of a tagged stream: true when it holds exactly m's
+ * words and records. *chunks: the chunk count; codecs[c]: chunks of codec c. */
+static bool t_tagged_holds(const uint8_t* p, size_t n, const vx_svo_model* m, uint32_t* chunks, uint32_t codecs[3]) {
+    size_t at = 0;
+    uint64_t count = t_var(p, &at), w0 = 0, r0 = 0;
+    if (count == 0 || count > 4096) return false;
+    static uint64_t nw[4096], nr[4096], zn[4096];
+    for (uint64_t i = 0; i < count; i++) nw[i] = t_var(p, &at), nr[i] = t_var(p, &at), zn[i] = t_var(p, &at);
+    *chunks = (uint32_t)count;
+    codecs[0] = codecs[1] = codecs[2] = 0;
+    for (uint64_t i = 0; i < count; i++) {
+        if (zn[i] < 1 || at + zn[i] > n || p[at] > 2) return false;
+        const int codec = p[at];
+        codecs[codec]++;
+        bool ok;
+        if (codec == 0) {
+            const void* parts[6];
+            size_t sizes[6], want = 0;
+            parts[0] = m->nodes + w0;
+            sizes[0] = (size_t)nw[i] * 4;
+            int np = 1 + t_rec_pieces(m, (uint32_t)r0, (uint32_t)nr[i], parts + 1, sizes + 1);
+            for (int k = 0; k < np; k++) want += sizes[k];
+            uint8_t* got = (uint8_t*)malloc(want + 1);
+            z_stream z;
+            memset(&z, 0, sizeof z);
+            inflateInit2(&z, -15);
+            z.next_in = (Bytef*)(uintptr_t)(p + at + 1);
+            z.avail_in = (uInt)(zn[i] - 1);
+            z.next_out = got;
+            z.avail_out = (uInt)want + 1;
+            ok = inflate(&z, Z_FINISH) == Z_STREAM_END && z.total_out == want && z.avail_in == 0;
+            inflateEnd(&z);
+            size_t off = 0;
+            for (int k = 0; ok && k < np; k++) ok = memcmp(got + off, parts[k], sizes[k]) == 0, off += sizes[k];
+            free(got);
+        } else {
+            size_t want = 0;
+            uint8_t* exp = t_zstd_bytes(m, (uint32_t)w0, (uint32_t)nw[i], (uint32_t)r0, (uint32_t)nr[i], codec == 1, &want);
+            uint8_t* got = (uint8_t*)malloc(want + 1);
+            ok = ZSTD_getFrameContentSize(p + at + 1, zn[i] - 1) == want;
+            size_t g = ZSTD_decompress(got, want + 1, p + at + 1, zn[i] - 1);
+            ok = ok && !ZSTD_isError(g) && g == want && memcmp(got, exp, want) == 0;
+            free(got), free(exp);
+        }
+        if (!ok) return false;
+        at += (size_t)zn[i];
+        w0 += nw[i];
+        r0 += nr[i];
+    }
+    return at == n && w0 == m->node_count && r0 == m->attr_count;
+}
+
+/* The model heads of SCNE are hard to find in a written file: a one-model
+ * file with a hand-made SCNE (geometry and RGBA8 of m, head bits `head`) and
+ * NODE holding `stream`, stamped `version`. */
+static uint8_t* t_one_model_file(const vx_svo_model* m, uint32_t head, const tbuf* stream, int version, size_t* out_n) {
+    tbuf sc = {0}, nd = {0};
+    tb_u8(&sc, 0);  /* form: identity, bounds computed */
+    tb_var(&sc, 1); /* one model */
+    tb_var(&sc, 0); /* no instances */
+    tb_var(&sc, 0); /* no layers */
+    tb_var(&sc, m->attrs | head);
+    for (int i = 0; i < 3; i++) tb_var(&sc, m->size[i]);
+    tb_var(&sc, m->node_count);
+    tb_var(&sc, 2 + (m->node_count - 1 - m->root)); /* ROOT_CODE_BACK */
+    tb_var(&sc, m->voxel_count);
+    if (m->attrs) tb_var(&sc, m->attr_count), tb_var(&sc, m->root_attr);
+    tb_var(&nd, stream->n);
+    tb_put(&nd, stream->d, stream->n);
+    tpart p[2] = {{"SCNE", 1, sc.d, sc.n}, {"NODE", 1, nd.d, nd.n}};
+    uint8_t* f = assemble_v(p, 2, version, out_n);
+    free(sc.d), free(nd.d);
+    return f;
+}
+
 /* A model of more than one chunk: the same bytes for every writer thread
  * count (chunks coded in parallel within the model), the model back for
  * every reader thread count, and the default choice of the form by size. */
@@ -1787,7 +1935,7 @@ static void test_chunked_large(void) {
     size_t nb = 0;
     const unsigned counts[4] = {1, 2, 4, 0};
     for (int t = 0; t < 4; t++) {
-        vx_write_desc wd = {.threads = counts[t], .svo_chunk_words = 1};
+        vx_write_desc wd = {.threads = counts[t], .svo_chunk_words = 1, .svo_chunk_deflate = true};
         uint8_t* d = NULL;
         size_t n = 0;
         REQUIRE(vx_svo_write_ex(&wd, &s, &d, &n, &e) == VX_OK);
@@ -1909,12 +2057,45 @@ static void test_chunked_large(void) {
         CHECK(!memcmp(&x1, &x4, sizeof x1));
         free(dm.nodes);
     }
+    /* zstd chunks (the default): the same bytes on 1, 2 and 4 threads, the
+     * model back through the independent reader; then with every colour
+     * and normal one value, the record chunks code past the 2048:1 that a
+     * reader accepts in zstd and are DEFLATEd (codec 0): still read back */
+    {
+        uint8_t* z[3] = {NULL, NULL, NULL};
+        size_t zn[3] = {0, 0, 0}, nn = 0, off[2], len[2];
+        const unsigned tc[3] = {1, 2, 4};
+        for (int t = 0; t < 3; t++)
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = tc[t], .svo_chunk_words = 1}, &s, &z[t], &zn[t], &e) == VX_OK);
+        CHECK(zn[0] == zn[1] && zn[0] == zn[2] && !memcmp(z[0], z[1], zn[0]) && !memcmp(z[0], z[2], zn[0]));
+        CHECK((z[0][8] | z[0][9] << 8) == 4);
+        const uint8_t* node = section(z[0], zn[0], "NODE", &nn);
+        uint32_t chunks = 0, codecs[3];
+        REQUIRE(node && t_node_streams(node, nn, off, len, 2) == 1);
+        CHECKF(t_tagged_holds(node + off[0], len[0], m, &chunks, codecs) && chunks >= 3 && codecs[0] == 0, "%u chunks", chunks);
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = 2}, z[0], zn[0], &r, &e) == VX_OK);
+        CHECK(model_equal(&r.models[0], m));
+        vx_svo_scene_free(&r);
+        for (int t = 0; t < 3; t++) vx_free(NULL, z[t]);
+        vx_svo_model* mw = &s.models[0];
+        for (uint32_t i = 0; i < mw->attr_count; i++) mw->rgba[i] = 0xFF336699u, mw->normal[i] = 0x12345678u;
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 2, .svo_chunk_words = 1}, &s, &z[0], &zn[0], &e) == VX_OK);
+        node = section(z[0], zn[0], "NODE", &nn);
+        REQUIRE(node && t_node_streams(node, nn, off, len, 2) == 1);
+        CHECKF(t_tagged_holds(node + off[0], len[0], m, &chunks, codecs) && codecs[0] >= 1 && codecs[1] + codecs[2] >= 1,
+               "constant records: %u chunks, codecs %u %u %u", chunks, codecs[0], codecs[1], codecs[2]);
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = 2}, z[0], zn[0], &r, &e) == VX_OK);
+        CHECK(model_equal(&r.models[0], m));
+        vx_svo_scene_free(&r);
+        vx_free(NULL, z[0]);
+    }
     /* the suggested threshold: chunked exactly when the model has 2^20 words or more */
     uint8_t* d = NULL;
     size_t n = 0;
     vx_write_desc sug = {.svo_chunk_words = VX_SVO_CHUNK_WORDS};
     REQUIRE(vx_svo_write_ex(&sug, &s, &d, &n, &e) == VX_OK);
-    CHECKF((d[8] | d[9] << 8) == (m->node_count >= VX_SVO_CHUNK_WORDS ? 3 : 1), "%u words: version %d", m->node_count, d[8] | d[9] << 8);
+    CHECKF((d[8] | d[9] << 8) == (m->node_count >= VX_SVO_CHUNK_WORDS ? 4 : 1), "%u words: version %d", m->node_count, d[8] | d[9] << 8);
     vx_free(NULL, d);
     /* never (UINT32_MAX) and the default (0, NULL): the structural form, version 1, the same bytes */
     vx_write_desc never = {.svo_chunk_words = UINT32_MAX};
@@ -1927,6 +2108,230 @@ static void test_chunked_large(void) {
     vx_free(NULL, d0);
     vx_free(NULL, d);
     vx_free(NULL, base);
+    vx_svo_scene_free(&s);
+}
+
+static void test_zstd_chunks(void) {
+    vx_svo_scene s;
+    make_scene(&s, 3000);
+    vx_error e;
+    /* the default chunked form: version 4, every stream tagged and holding
+     * the model as the specification says */
+    vx_write_desc all = {.svo_chunk_words = 1};
+    uint8_t* d = NULL;
+    size_t n = 0;
+    REQUIRE(vx_svo_write_ex(&all, &s, &d, &n, &e) == VX_OK);
+    CHECK((d[8] | d[9] << 8) == 4);
+    size_t nn = 0, off[8], len[8];
+    const uint8_t* node = section(d, n, "NODE", &nn);
+    REQUIRE(node && t_node_streams(node, nn, off, len, 8) == s.model_count);
+    uint32_t chunked = 0, by_codec[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < s.model_count; i++) {
+        if (s.models[i].root >= s.models[i].node_count) continue;
+        uint32_t chunks = 0, codecs[3];
+        CHECKF(t_tagged_holds(node + off[i], len[i], &s.models[i], &chunks, codecs) && codecs[1] + codecs[2] == chunks,
+               "model %u: %u chunks", i, chunks);
+        for (int c = 0; c < 3; c++) by_codec[c] += codecs[c];
+        chunked++;
+    }
+    CHECK(chunked >= 2);
+    /* the reader's account of the chunks (svo_info prints it) */
+    {
+        vx_svo_chunk_stats cs;
+        memset(&cs, 0xAB, sizeof cs);
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.chunk_stats = &cs}, d, n, &r, &e) == VX_OK);
+        CHECKF(cs.models == chunked && cs.deflate == by_codec[0] && cs.zstd == by_codec[1] && cs.zstd_plain == by_codec[2],
+               "stats: %u models, %llu %llu %llu chunks", cs.models, (unsigned long long)cs.deflate, (unsigned long long)cs.zstd,
+               (unsigned long long)cs.zstd_plain);
+        uint64_t raw = 0;
+        for (uint32_t i = 0; i < s.model_count; i++)
+            if (s.models[i].root < s.models[i].node_count) {
+                const vx_svo_model* mi = &s.models[i];
+                uint64_t rb = (mi->attrs & VX_ATTR_PALETTE ? 1 : 0) + (mi->attrs & VX_ATTR_RGBA8 ? 4 : 0) + (mi->attrs & VX_ATTR_NORMAL ? 4 : 0) +
+                              (mi->attrs & VX_ATTR_MATERIAL ? 2 : 0) + (mi->attrs & VX_ATTR_DENSITY ? 4 : 0);
+                raw += (uint64_t)mi->node_count * 4 + mi->attr_count * rb;
+            }
+        CHECK(cs.raw_bytes == raw && cs.coded_bytes > 0 && cs.coded_bytes < nn);
+        vx_svo_scene_free(&r);
+    }
+    const unsigned counts[3] = {1, 2, 0};
+    for (int t = 0; t < 3; t++) {
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = counts[t]}, d, n, &r, &e) == VX_OK);
+        for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "model %u", i);
+        uint8_t* again = NULL;
+        size_t na = 0;
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = counts[t], .svo_chunk_words = 1}, &r, &again, &na, &e) == VX_OK);
+        CHECK(na == n && !memcmp(again, d, n));
+        vx_free(NULL, again);
+        vx_svo_scene_free(&r);
+    }
+    /* a version-3 file may not tag chunks: the reader names version 4 */
+    {
+        uint8_t* v3 = (uint8_t*)malloc(n);
+        memcpy(v3, d, n);
+        v3[8] = 3;
+        fix_crcs(v3, n);
+        vx_svo_scene r;
+        CHECK(vx_svo_read(NULL, v3, n, &r, &e) == VX_ERR_BAD_FORMAT);
+        CHECKF(strstr(e.msg, "version 4") != NULL, "message: %s", e.msg);
+        free(v3);
+    }
+
+    /* streams from the specification: another split, every codec (DEFLATE
+     * chunks in a tagged stream too), zstd at another level; each reads as
+     * the model in a one-model file */
+    vx_svo_model mm;
+    REQUIRE(build(&mm, 16, 3000, VX_ATTR_RGBA8 | VX_ATTR_NORMAL)); /* no palette or materials: a file of its own */
+    const vx_svo_model* m1 = &mm;
+    REQUIRE(m1->root < m1->node_count && m1->attr_count >= 8);
+    uint32_t wc[4] = {0, m1->node_count / 3, m1->node_count / 3 + 1, m1->node_count};
+    uint32_t rc[4] = {0, 0, m1->attr_count / 2, m1->attr_count};
+    const int mixes[3][3] = {{1, 2, 0}, {0, 1, 2}, {2, 0, 1}};
+    for (int mix = 0; mix < 3; mix++) {
+        tbuf st = {0};
+        t_tagged_stream(&st, m1, 3, wc, rc, mixes[mix]);
+        size_t nf;
+        uint8_t* f = t_one_model_file(m1, 0xC0, &st, 4, &nf);
+        vx_svo_scene r;
+        vx_result res = vx_svo_read(NULL, f, nf, &r, &e);
+        CHECKF(res == VX_OK, "mix %d: %s", mix, e.msg);
+        if (res == VX_OK) {
+            CHECK(model_equal(&r.models[0], m1));
+            vx_svo_scene_free(&r);
+        }
+        /* the same stream without the tag bit (version 3's DEFLATE chunks) or
+         * in a version-3 file, and the tag without the chunked bit: refused */
+        free(f);
+        f = t_one_model_file(m1, 0x40, &st, 4, &nf);
+        CHECK(vx_svo_read(NULL, f, nf, &r, &e) != VX_OK);
+        free(f);
+        f = t_one_model_file(m1, 0xC0, &st, 3, &nf);
+        CHECK(vx_svo_read(NULL, f, nf, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "version 4"));
+        free(f);
+        f = t_one_model_file(m1, 0x80, &st, 4, &nf);
+        CHECKF(vx_svo_read(NULL, f, nf, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "without the chunked form"), "%s", e.msg);
+        free(f);
+        free(st.d);
+    }
+
+    /* damaged zstd chunks, each refused with the model and the problem named:
+     * a one-chunk stream of m1 (words and records), its frame altered */
+    {
+        size_t raw_n = 0;
+        uint8_t* raw = t_zstd_bytes(m1, 0, m1->node_count, 0, m1->attr_count, true, &raw_n);
+        size_t cap = ZSTD_compressBound(raw_n) + 64;
+        uint8_t* fr = (uint8_t*)malloc(cap);
+        const size_t good = ZSTD_compress(fr, cap, raw, raw_n, 1);
+        REQUIRE(!ZSTD_isError(good));
+        struct {
+            const char* what;
+            const char* msg;
+        } bad[] = {{"unknown codec", "unknown codec"},
+                   {"size one short", "declares another size"},
+                   {"no size in the header", "does not declare its size"},
+                   {"a byte left over", "left over"},
+                   {"cut off", "cut off"},
+                   {"not a frame", "not a zstd frame"},
+                   {"two frames", "left over"},
+                   {"skippable frame", "declares another size"}};
+        for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+            uint8_t* c = (uint8_t*)malloc(2 * cap);
+            size_t cn = good;
+            memcpy(c, fr, good);
+            uint8_t codec = 1;
+            if (k == 0) codec = 7;
+            if (k == 1) cn = ZSTD_compress(c, cap, raw, raw_n - 1, 1);
+            if (k == 2) {
+                ZSTD_CCtx* cc = ZSTD_createCCtx();
+                ZSTD_CCtx_setParameter(cc, ZSTD_c_contentSizeFlag, 0);
+                cn = ZSTD_compress2(cc, c, cap, raw, raw_n);
+                ZSTD_freeCCtx(cc);
+            }
+            if (k == 3) c[cn++] = 0;
+            if (k == 4) cn -= 3;
+            if (k == 5) c[0] ^= 0x55;
+            if (k == 6) memcpy(c + cn, fr, good), cn += good;
+            if (k == 7) { /* a skippable frame (64 bytes of payload) standing for the whole chunk */
+                const uint8_t skip[8] = {0x50, 0x2A, 0x4D, 0x18, 64, 0, 0, 0};
+                memset(c, 0, 72);
+                memcpy(c, skip, 8), cn = 72;
+            }
+            REQUIRE(!ZSTD_isError(cn));
+            tbuf st = {0};
+            tb_var(&st, 1);
+            tb_var(&st, m1->node_count);
+            tb_var(&st, m1->attr_count);
+            tb_var(&st, cn + 1);
+            tb_u8(&st, codec);
+            tb_put(&st, c, cn);
+            size_t nf;
+            uint8_t* f = t_one_model_file(m1, 0xC0, &st, 4, &nf);
+            vx_svo_scene r;
+            vx_result res = vx_svo_read(NULL, f, nf, &r, &e);
+            if (res == VX_OK) vx_svo_scene_free(&r);
+            CHECKF(res == VX_ERR_BAD_FORMAT && strstr(e.msg, "model 0") && strstr(e.msg, "chunk 0") && strstr(e.msg, bad[k].msg),
+                   "%s: %d, %s", bad[k].what, (int)res, e.msg);
+            free(f), free(st.d), free(c);
+        }
+        /* every byte of the good frame flipped: never a crash, and what reads
+         * is a valid scene (zstd frames carry no checksum: a flipped colour
+         * may decode to another colour) */
+        vx_svo_read_desc skip = {.skip_checksums = true};
+        int read_ok = 0;
+        for (size_t at = 0; at < good; at += 1 + good / 512) {
+            tbuf st = {0};
+            tb_var(&st, 1);
+            tb_var(&st, m1->node_count);
+            tb_var(&st, m1->attr_count);
+            tb_var(&st, good + 1);
+            tb_u8(&st, 1);
+            tb_put(&st, fr, good);
+            st.d[st.n - good + at] ^= 0x5A;
+            size_t nf;
+            uint8_t* f = t_one_model_file(m1, 0xC0, &st, 4, &nf);
+            vx_svo_scene r;
+            if (vx_svo_read(&skip, f, nf, &r, &e) == VX_OK) {
+                CHECK(vx_svo_validate_model(&r.models[0], &e) == VX_OK);
+                read_ok++;
+                vx_svo_scene_free(&r);
+            }
+            free(f), free(st.d);
+        }
+        CHECK(read_ok < (int)(good / (1 + good / 512)) + 1);
+        free(fr), free(raw);
+    }
+
+    /* a zstd chunk that declares more than 2048 bytes per coded byte is
+     * refused before anything of that size is allocated: 2^26 words of
+     * zeros in a frame of a few bytes */
+    {
+        const size_t big = (size_t)1 << 24;
+        uint8_t* zeros = (uint8_t*)calloc(1, big);
+        size_t cap = ZSTD_compressBound(big);
+        uint8_t* fr = (uint8_t*)malloc(cap);
+        size_t fn = ZSTD_compress(fr, cap, zeros, big, 1);
+        free(zeros);
+        REQUIRE(!ZSTD_isError(fn) && fn * 2048 < big);
+        vx_svo_model g = {.size = {1u << 20, 1u << 20, 1u << 20}, .depth = 20, .root = (uint32_t)(big / 4 - 1), .voxel_count = 1,
+                          .node_count = (uint32_t)(big / 4)};
+        tbuf st = {0};
+        tb_var(&st, 1);
+        tb_var(&st, g.node_count);
+        tb_var(&st, 0);
+        tb_var(&st, fn + 1);
+        tb_u8(&st, 1);
+        tb_put(&st, fr, fn);
+        size_t nf;
+        uint8_t* f = t_one_model_file(&g, 0xC0, &st, 4, &nf);
+        vx_svo_scene r;
+        CHECK(vx_svo_read(NULL, f, nf, &r, &e) == VX_ERR_LIMIT);
+        CHECKF(strstr(e.msg, "model 0") && strstr(e.msg, "chunk 0"), "message: %s", e.msg);
+        free(f), free(st.d), free(fr);
+    }
+    vx_svo_model_free(NULL, &mm);
+    vx_free(NULL, d);
     vx_svo_scene_free(&s);
 }
 
@@ -2436,7 +2841,9 @@ static void test_frames_bad(void) {
     /* and a version this reader does not know */
     d2[8] = (uint8_t)(VX_SVO_FORMAT_VERSION + 1);
     fix_crcs(d2, n2);
-    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, "version 4"));
+    char vmsg[32];
+    snprintf(vmsg, sizeof vmsg, "version %u", VX_SVO_FORMAT_VERSION + 1);
+    CHECK(vx_svo_read(NULL, d2, n2, &r, &e) == VX_ERR_UNSUPPORTED && strstr(e.msg, vmsg));
 #undef FRMS_HEAD
     free(d2), free(good.d), free(f.d), free(d);
     vx_svo_scene_free(&s);
@@ -2492,15 +2899,18 @@ static int write_seeds(const char* dir) {
         fprintf(stderr, "%s: %s\n", path, e.msg);
         return 1;
     }
-    /* seed6: version 3, every model in the chunked form (FORMAT.md 3.6) */
-    make_scene(&s, 12);
-    snprintf(path, sizeof path, "%s/seed6.svo", dir);
-    vx_write_desc chunked = {.svo_chunk_words = 1};
-    wr = vx_svo_write_file(&chunked, &s, path, &e);
-    vx_svo_scene_free(&s);
-    if (wr != VX_OK) {
-        fprintf(stderr, "%s: %s\n", path, e.msg);
-        return 1;
+    /* seed6: version 3, every model in the chunked form with DEFLATE chunks
+     * (FORMAT.md 3.6); seed8: the same with zstd chunks (version 4) */
+    for (int v = 0; v < 2; v++) {
+        make_scene(&s, 12);
+        snprintf(path, sizeof path, "%s/seed%d.svo", dir, v ? 8 : 6);
+        vx_write_desc chunked = {.svo_chunk_words = 1, .svo_chunk_deflate = v == 0};
+        wr = vx_svo_write_file(&chunked, &s, path, &e);
+        vx_svo_scene_free(&s);
+        if (wr != VX_OK) {
+            fprintf(stderr, "%s: %s\n", path, e.msg);
+            return 1;
+        }
     }
     return 0;
 }
@@ -2595,6 +3005,7 @@ int main(int argc, char** argv) {
     RUN(test_coded_models);
     RUN(test_chunked_form);
     RUN(test_chunked_large);
+    RUN(test_zstd_chunks);
     RUN(test_side_bytes_bound);
     RUN(test_lights_round_trip);
     RUN(test_lights_hand_encoded);

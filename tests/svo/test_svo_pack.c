@@ -292,7 +292,7 @@ static void test_corrupt_stream(void) {
             *m = s.models[0];
             m->nodes = NULL, m->palette = NULL;
             memset(&e, 0, sizeof e);
-            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, &e);
+            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, NULL, &e);
             tried++;
             if (r != VX_OK) {
                 rejected++;

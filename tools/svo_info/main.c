@@ -189,7 +189,7 @@ static void print_frames(const options* o, const vx_svo_scene* s) {
     if (shown < F) printf("  ... %u more frames (--models lists all)\n", F - shown);
 }
 
-static void print_info(const options* o, const vx_svo_file_info* fi, const vx_svo_scene* s) {
+static void print_info(const options* o, const vx_svo_file_info* fi, const vx_svo_scene* s, const vx_svo_chunk_stats* cs) {
     printf("file         %s (%s bytes, .svo format version %u)\n", o->in, vx_tool_num(fi->file_size), fi->version);
     printf("sections     %u\n", fi->section_count);
     for (uint32_t i = 0; i < fi->section_count && i < 64; i++) {
@@ -212,6 +212,13 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
     }
     printf("voxels       %s in models, %.3f bytes/voxel for the whole file\n", vx_tool_num(voxels),
            voxels ? (double)fi->file_size / (double)voxels : 0.0);
+    if (cs->models) { /* which codec the chunked form uses (docs/FORMAT.md 3.6) */
+        printf("chunked      %u models, %s chunks: %s zstd, %s", cs->models, vx_tool_num(cs->deflate + cs->zstd + cs->zstd_plain),
+               vx_tool_num(cs->zstd), vx_tool_num(cs->zstd_plain));
+        printf(" zstd without differences, %s DEFLATE; %s bytes of words and records in %s (%.3f)\n", vx_tool_num(cs->deflate),
+               vx_tool_num(cs->raw_bytes), vx_tool_num(cs->coded_bytes),
+               cs->raw_bytes ? (double)cs->coded_bytes / (double)cs->raw_bytes : 0.0);
+    }
     uint32_t shown = o->models ? s->model_count : (s->model_count < 16 ? s->model_count : 16);
     for (uint32_t i = 0; i < shown; i++) {
         const vx_svo_model* m = &s->models[i];
@@ -330,7 +337,8 @@ int main(int argc, char** argv) {
         return vx_tool_error(o.in, &err);
     }
     vx_svo_scene s;
-    vx_result r = vx_svo_read(&(vx_svo_read_desc){.alloc = A}, data, size, &s, &err);
+    vx_svo_chunk_stats cs;
+    vx_result r = vx_svo_read(&(vx_svo_read_desc){.alloc = A, .chunk_stats = &cs}, data, size, &s, &err);
     vx_free(A, data);
     if (r != VX_OK) {
         if (o.verify && !o.quiet) printf("%s: INVALID\n", o.in);
@@ -343,7 +351,7 @@ int main(int argc, char** argv) {
         vx_svo_scene_free(&s);
         return vx_tool_errorf("%s: no frame %u (the scene has %u)", o.in, o.frame, frames);
     }
-    if (!o.quiet && !o.dump) print_info(&o, &fi, &s);
+    if (!o.quiet && !o.dump) print_info(&o, &fi, &s, &cs);
     if (o.verify && !o.quiet) printf("%s: valid (%u sections, checksums and structure verified)\n", o.in, fi.section_count);
     if (o.dump) status = dump(&o, &view);
     if (status == 0 && o.to_vox) {

@@ -27,6 +27,7 @@ typedef struct options {
     bool gpu;          /* --gpu: meshes voxelized on the GPU */
     bool chunked;      /* --chunked: large models in the chunked form (format version 3) */
     bool chunk_fast;   /* --chunked-fast: the same with the node words stored (vx_write_desc.svo_chunk_fast) */
+    bool chunk_deflate; /* --chunked-deflate: DEFLATE chunks, format version 3 (vx_write_desc.svo_chunk_deflate) */
     const char* device; /* --device */
     vx_tool_conv conv; /* reader and builder options */
 } options;
@@ -95,11 +96,13 @@ _Noreturn static void usage(int status) {
             "    --density        OpenVDB fog volumes: keep the values as a density attribute\n"
             "    --color NAME     OpenVDB: vec3 grid giving colours\n"
             "    --chunked        store models of 2^20 node words or more in the chunked form\n"
-            "                     (format version 3, docs/FORMAT.md 3.6): read and written on every\n"
-            "                     core, 2-3x the bytes; default: the compact form older readers know\n"
-            "    --chunked-fast   as --chunked, the node words stored instead of deflated: about\n"
-            "                     half the coding time for about 1.4x the bytes of --chunked (every\n"
-            "                     reader of --chunked files reads them)\n"
+            "                     (zstd chunks, format version 4, docs/FORMAT.md 3.6): read and\n"
+            "                     written on every core, 2-3x the bytes; default: the compact form\n"
+            "                     older readers know\n"
+            "    --chunked-deflate  as --chunked, DEFLATE chunks (format version 3, for readers\n"
+            "                     before version 4): slower to write and read, slightly larger\n"
+            "    --chunked-fast   as --chunked-deflate, the node words stored instead of deflated:\n"
+            "                     faster than it, about 1.4x the bytes (version 3)\n"
             "    --max-memory SIZE  refuse an input that needs more memory than SIZE to read and\n"
             "                     convert (e.g. 512M, 4G; default: no limit; OpenVDB's and tinygltf's\n"
             "                     own memory is not counted)\n"
@@ -148,6 +151,7 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
         else if (!strcmp(a, "--chunked")) o.chunked = true;
         else if (!strcmp(a, "--chunked-fast")) o.chunked = o.chunk_fast = true;
+        else if (!strcmp(a, "--chunked-deflate")) o.chunked = o.chunk_deflate = true;
 #ifdef VX_HAVE_MESH_GPU
         else if (!strcmp(a, "--gpu")) o.gpu = true;
         else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
@@ -276,7 +280,8 @@ static int main_mpi(const options* opt) {
         oc.conv.mesh_backend = vx_conv_mesh_gpu_backend(mg);
     }
 #endif
-    vx_write_desc chunking = {.svo_chunk_words = o->chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o->chunk_fast};
+    vx_write_desc chunking = {.svo_chunk_words = o->chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o->chunk_fast,
+                             .svo_chunk_deflate = o->chunk_deflate};
     bool ok = vox2svo_mpi(o->in, &o->conv, &chunking, o->quiet, o->verbose, &scene, &li);
 #ifdef VX_HAVE_MESH_GPU
     vx_conv_mesh_gpu_destroy(mg);
@@ -362,7 +367,7 @@ int main(int argc, char** argv) {
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o.verbose);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
-    vx_write_desc wd = {.svo_chunk_words = o.chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o.chunk_fast};
+    vx_write_desc wd = {.svo_chunk_words = o.chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o.chunk_fast, .svo_chunk_deflate = o.chunk_deflate};
     r = vx_svo_write_file(&wd, &scene, o.out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);

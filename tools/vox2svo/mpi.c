@@ -91,7 +91,7 @@ typedef struct encode_jobs {
     size_t n, next;
     pthread_mutex_t lock;
     const vx_allocator* alloc;
-    vx_write_desc chunking; /* svo_chunk_words, svo_chunk_fast (--chunked, --chunked-fast) */
+    vx_write_desc chunking; /* svo_chunk_words, svo_chunk_fast, svo_chunk_deflate (--chunked, --chunked-fast, --chunked-deflate) */
     int failed; /* first failing part + 1 */
     vx_error err;
 } encode_jobs;
