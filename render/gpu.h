@@ -25,13 +25,6 @@
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
 #define VX_GPU_MAX_BINDINGS 26
-/* Pipelines cached per vx_gpu. Eviction (the oldest, when full) moves the
- * others, so a vx__pipeline* held across another vx__pipeline_get may then
- * point to another pipeline: the pass pipeline holds its passes' while the gi
- * method creates its own, and test_cones' variants (cone stages, features,
- * entries) overflowed 32 within one frame (the frame resolved with a stale
- * pipeline). Large enough that a process's variants never evict. */
-#define VX_GPU_MAX_PIPELINES 128
 
 typedef struct vx__buffer {
     VkBuffer buf;
@@ -68,6 +61,15 @@ typedef struct vx__pipeline {
     VkPipeline pipe;
 } vx__pipeline;
 
+/* The pipeline cache's storage: blocks that are only appended, so that an
+ * entry never moves (gpu_pipeline.c). */
+enum { VX__PIPELINE_BLOCK = 32 };
+typedef struct vx__pipeline_block {
+    struct vx__pipeline_block* next;
+    uint32_t count;
+    vx__pipeline p[VX__PIPELINE_BLOCK];
+} vx__pipeline_block;
+
 struct vx_gpu {
     vx_allocator alloc;
     const vx_logger* logger;
@@ -98,8 +100,9 @@ struct vx_gpu {
      * recorded after them runs after them and a wait covers them */
     void (*held_submit)(void* user);
     void* held_user;
+    /* the pipelines made (vx__pipeline_get): kept, and in place, until vx_gpu_destroy */
     uint32_t pipeline_count;
-    vx__pipeline pipelines[VX_GPU_MAX_PIPELINES];
+    vx__pipeline_block* pipelines;
 };
 
 const char* vx__vk_str(VkResult r);
@@ -129,7 +132,15 @@ vx_result vx__image3d_create(vx_gpu* g, const uint32_t extent[3], const char* la
 vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err);
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);
 
-/* gpu_pipeline.c: created once per distinct key and cached in the vx_gpu. */
+/* gpu_pipeline.c: created once per distinct key and cached in the vx_gpu
+ * until vx_gpu_destroy, never evicted nor moved: a vx__pipeline* stays valid
+ * and the same pipeline for the device's life, so that frames, pass lists,
+ * GI methods, the probe bake and command buffers recorded and not yet
+ * submitted may hold one across other vx__pipeline_get calls. (The cache
+ * used to evict its oldest entry past 128 and move the rest: what they held
+ * was destroyed or became another pipeline, issue 18.) The keys are the
+ * callers' (a shader and its constants); a process makes a bounded set of
+ * variants (59 for a scene in both layouts with every GI method). */
 vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc, vx__pipeline** out,
                            vx_error* err);
 void vx__pipelines_destroy(vx_gpu* g);
@@ -174,9 +185,7 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
  * command before dispatch k (barrier included) to its end; they add up to the
  * sequence's GPU time. Without timestamps each is the wall time of the whole
  * submission over the count. Dispatches use d->pipeline, buffers, groups,
- * push and label (not repeat nor pre_pipeline). Pipelines recorded must stay
- * in the cache until the submission (VX_GPU_MAX_PIPELINES: none is evicted
- * in a process's lifetime in practice). */
+ * push and label (not repeat nor pre_pipeline). */
 enum { VX__SEQ_MAX = 24 };
 typedef struct vx__seq {
     VkDescriptorPool pool;

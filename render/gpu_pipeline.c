@@ -157,22 +157,27 @@ static void destroy_pipeline(vx_gpu* g, vx__pipeline* p) {
 
 vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* d, vx__pipeline** out,
                            vx_error* err) {
-    for (uint32_t i = 0; i < g->pipeline_count; i++)
-        if (g->pipelines[i].key == key) {
-            *out = &g->pipelines[i];
-            return VX_OK;
-        }
+    vx__pipeline_block* last = NULL;
+    for (vx__pipeline_block* b = g->pipelines; b; last = b, b = b->next)
+        for (uint32_t i = 0; i < b->count; i++)
+            if (b->p[i].key == key) {
+                *out = &b->p[i];
+                return VX_OK;
+            }
 #ifndef NDEBUG
     vx_result vr = validate_desc(d, err);
     if (vr) return vr;
 #endif
-    if (g->pipeline_count == VX_GPU_MAX_PIPELINES) {
-        /* evict the oldest; the device is idle between frames */
-        destroy_pipeline(g, &g->pipelines[0]);
-        memmove(&g->pipelines[0], &g->pipelines[1], sizeof g->pipelines[0] * (VX_GPU_MAX_PIPELINES - 1));
-        g->pipeline_count--;
+    /* Nothing is evicted: holders keep entries across calls (gpu.h), and
+     * the next free slot is after every entry, so none moves. */
+    if (!last || last->count == VX__PIPELINE_BLOCK) {
+        vx__pipeline_block* b = vx_calloc(&g->alloc, 1, sizeof *b);
+        if (!b) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pipeline cache");
+        if (last) last->next = b;
+        else g->pipelines = b;
+        last = b;
     }
-    vx__pipeline* p = &g->pipelines[g->pipeline_count];
+    vx__pipeline* p = &last->p[last->count];
     memset(p, 0, sizeof *p);
     vx_result r = create_pipeline(g, d, p, err);
     if (r) {
@@ -180,12 +185,19 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
         return r;
     }
     p->key = key;
+    last->count++;
     g->pipeline_count++;
     *out = p;
     return VX_OK;
 }
 
 void vx__pipelines_destroy(vx_gpu* g) {
-    for (uint32_t i = g->pipeline_count; i-- > 0;) destroy_pipeline(g, &g->pipelines[i]);
+    for (vx__pipeline_block* b = g->pipelines; b;) {
+        vx__pipeline_block* next = b->next;
+        for (uint32_t i = b->count; i-- > 0;) destroy_pipeline(g, &b->p[i]);
+        vx_free(&g->alloc, b);
+        b = next;
+    }
+    g->pipelines = NULL;
     g->pipeline_count = 0;
 }

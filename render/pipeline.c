@@ -868,37 +868,33 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
                           shadows << 2 | (emit ? 1u << 8 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
-    /* twice: the cache evicts its oldest pipeline when full, which would move
-     * one fetched earlier in the first round; the second finds all in place */
-    for (int round = 0; round < 2; round++) {
-        spec[7] = 0;
-        spec[5] = has_dof && !f.ortho, spec[6] = 0;
-        if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
-        spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
-        if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
-        spec[6] = 0, spec[7] = 0;
-        if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
-        spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
-                  (phys ? 16u : 0u) | (sky ? 32u : 0u);
-        spec[6] = (uint32_t)desc->show;
-        if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
-        if (merge) {
-            uint32_t ms[VX__SPEC_TRACE_IDS];
-            memcpy(ms, spec, sizeof ms);
-            ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
-            ms[6] = has_dof && !f.ortho;
-            ms[7] = light_spec;
-            if ((r = get_pipeline(g, SH_FRAME, ms, d_last, &p_merged, err))) return r;
-        }
-        spec[5] = 0, spec[6] = 0;
-        if (run_aa && (r = get_pipeline(g, SH_POST, spec, d_aa, &p_aa, err))) return r;
-        spec[5] = 1, spec[6] = run_aa;
-        if (run_tm && (r = get_pipeline(g, SH_POST, spec, d_tm, &p_tm, err))) return r;
-        for (uint32_t step = 0; culled && step < 5; step++) {
-            if (step == 1 && !tiled) continue;
-            spec[5] = step, spec[6] = tiled;
-            if ((r = get_pipeline(g, SH_CULL, spec, false, &p_cull[step], err))) return r;
-        }
+    spec[7] = 0;
+    spec[5] = has_dof && !f.ortho, spec[6] = 0;
+    if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
+    spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
+    if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
+    spec[6] = 0, spec[7] = 0;
+    if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
+    spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
+              (phys ? 16u : 0u) | (sky ? 32u : 0u);
+    spec[6] = (uint32_t)desc->show;
+    if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
+    if (merge) {
+        uint32_t ms[VX__SPEC_TRACE_IDS];
+        memcpy(ms, spec, sizeof ms);
+        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
+        ms[6] = has_dof && !f.ortho;
+        ms[7] = light_spec;
+        if ((r = get_pipeline(g, SH_FRAME, ms, d_last, &p_merged, err))) return r;
+    }
+    spec[5] = 0, spec[6] = 0;
+    if (run_aa && (r = get_pipeline(g, SH_POST, spec, d_aa, &p_aa, err))) return r;
+    spec[5] = 1, spec[6] = run_aa;
+    if (run_tm && (r = get_pipeline(g, SH_POST, spec, d_tm, &p_tm, err))) return r;
+    for (uint32_t step = 0; culled && step < 5; step++) {
+        if (step == 1 && !tiled) continue;
+        spec[5] = step, spec[6] = tiled;
+        if ((r = get_pipeline(g, SH_CULL, spec, false, &p_cull[step], err))) return r;
     }
     /* push constants */
     push_block pc = {0};

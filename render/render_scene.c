@@ -1055,8 +1055,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
-    /* getting p may have moved the cache's entries: look pre up again (a hit) */
-    if (beam && (r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
@@ -1167,9 +1165,9 @@ static vx_result sets_pool(vx_render_scene* rs, vx_error* err) {
 }
 
 /* *set, p's set of n storage buffers b (from the scene's small pool), made
- * again when the pipeline cache made p again (its layout *dsl differs). A set
- * made for an earlier pipeline object may be in frames in flight: it is freed
- * only after them. */
+ * on first use; again only if p's layout is not *dsl's (the device's cache
+ * keeps p as it is for its life, gpu.h). A set made for an earlier layout may
+ * be in frames in flight: it is freed only after them. */
 static vx_result storage_set(vx_render_scene* rs, const vx__pipeline* p, VkDescriptorSet* set,
                              VkDescriptorSetLayout* dsl, const vx__buffer* const* b, uint32_t n, vx_error* err) {
     if (*set && *dsl == p->dsl) return VX_OK;
@@ -1194,8 +1192,7 @@ static vx_result storage_set(vx_render_scene* rs, const vx__pipeline* p, VkDescr
 }
 
 /* A compute pipeline over n storage buffers and its descriptor set (set,
- * dsl: the scene's fields that keep them), the set made again when the
- * pipeline cache made the pipeline again. */
+ * dsl: the scene's fields that keep them; storage_set). */
 static vx_result storage_pipeline(vx_render_scene* rs, const uint32_t* spirv, size_t spirv_size, uint32_t push, uint32_t key,
                                   const char* label, const vx__buffer* const* b, uint32_t n, VkDescriptorSet* set,
                                   VkDescriptorSetLayout* dsl, vx__pipeline** out, vx_error* err) {

@@ -8,11 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "convert/convert.h"
-#include "formats/vox.h"
 #include "probes/probes.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 #include "tests/gpu_test.h"
 
 static const double PI = 3.14159265358979323846;
@@ -779,15 +778,11 @@ static void test_gpu_lightfield(void) {
  * at R=32, 16 rays per pixel: every pixel finite, in both light field modes. */
 static void test_gpu_lightfield_finite(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
-    const char* path = vx_test_corpus("vox/eph_monu1.vox");
-    if (!path) SKIP("corpus eph_monu1.vox not available");
-    vx_error err = {0};
-    vx_vox_scene vs;
-    REQUIRE(vx_vox_read_file(NULL, path, &vs, &err) == VX_OK);
     vx_svo_scene s;
-    vx_result r = vx_conv_vox(NULL, &vs, &s, NULL, &err);
-    vx_vox_scene_free(&vs);
-    REQUIRE(r == VX_OK);
+    vx_test_vox st = vx_test_vox_scene("eph_monu1.vox", &s);
+    if (st == VX_TEST_VOX_ABSENT) SKIP("corpus eph_monu1.vox not available");
+    REQUIRE(st == VX_TEST_VOX_OK);
+    vx_error err = {0};
     vx_render_scene* rs = scene_on_gpu(&s);
     REQUIRE(rs);
     vx_probe_set ps;

@@ -8,27 +8,15 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "convert/convert.h"
-#include "formats/vox.h"
 #include "render/pipeline.h"
 #include "render/render_internal.h" /* vx__buffer, for the fake gi method */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 #include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
-
-static bool load_vox(const char* rel, vx_svo_scene* s) {
-    const char* path = vx_test_corpus(rel);
-    if (!path) return false;
-    vx_vox_scene vs;
-    vx_error err = {0};
-    if (vx_vox_read_file(NULL, path, &vs, &err)) return false;
-    vx_result r = vx_conv_vox(NULL, &vs, s, NULL, &err);
-    vx_vox_scene_free(&vs);
-    return r == VX_OK;
-}
 
 /* A random scene of a few instances (rotations, a mirror) when the corpus is absent. */
 static void generated_scene(vx_svo_scene* s) {
@@ -125,16 +113,17 @@ static void test_default_equals_color(void) {
                                   "ogt_doom.vox"};
     int done = 0;
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char rel[96];
-        snprintf(rel, sizeof rel, "vox/%s", files[i]);
-        if (!load_vox(rel, &s)) {
-            fprintf(stderr, "  %s: not in the corpus, skipped\n", rel);
+        vx_test_vox st = vx_test_vox_scene(files[i], &s);
+        if (st == VX_TEST_VOX_ABSENT) {
+            fprintf(stderr, "  vox/%s: not in the corpus, skipped\n", files[i]);
             continue;
         }
+        done++; /* found: a file that fails to load fails the test, not skips it */
+        CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
+        if (st != VX_TEST_VOX_OK) continue;
         compare_default(files[i], &s, (vx_render_desc){.width = 120, .height = 90});
         compare_default(files[i], &s, (vx_render_desc){.width = 48, .height = 36, .spp = 3});
         vx_svo_scene_free(&s);
-        done++;
     }
     if (!done) fprintf(stderr, "  corpus not available: generated scene only\n");
 }

@@ -7,13 +7,12 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "convert/convert.h"
-#include "formats/vox.h"
 #include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
 #include "svo/edit.h"
 #include "svo/svo_internal.h" /* vx__svo_far_limit */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 #include "tests/gpu_test.h"
 
 static vx_gpu* gpu;
@@ -164,21 +163,6 @@ static vx_render_desc cam(double ex, double ey, double ez, double tx, double ty,
     return d;
 }
 
-static bool load_vox(const char* rel, vx_svo_scene* s) {
-    const char* path = vx_test_corpus(rel);
-    if (!path) return false;
-    vx_vox_scene vs;
-    vx_error err = {0};
-    if (vx_vox_read_file(NULL, path, &vs, &err)) {
-        fprintf(stderr, "%s: %s\n", rel, err.msg);
-        return false;
-    }
-    vx_result r = vx_conv_vox(NULL, &vs, s, NULL, &err);
-    vx_vox_scene_free(&vs);
-    if (r) fprintf(stderr, "%s: %s\n", rel, err.msg);
-    return r == VX_OK;
-}
-
 static void test_corpus(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_teapot.vox", "eph_menger.vox",
@@ -186,13 +170,15 @@ static void test_corpus(void) {
                                   "ogt_doom.vox", "ogt_chr_knight.vox"};
     int done = 0;
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char rel[128];
-        snprintf(rel, sizeof rel, "vox/%s", files[i]);
         vx_svo_scene s;
-        if (!load_vox(rel, &s)) {
-            fprintf(stderr, "  %s: not available\n", rel);
+        vx_test_vox st = vx_test_vox_scene(files[i], &s);
+        if (st == VX_TEST_VOX_ABSENT) {
+            fprintf(stderr, "  vox/%s: not available\n", files[i]);
             continue;
         }
+        done++; /* found: a file that fails to load fails the test, not skips it */
+        CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
+        if (st != VX_TEST_VOX_OK) continue;
         check_scene(files[i], &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 64, .height = 48}, 100);
         /* another view, orthographic from above */
         vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 40, .height = 40};
@@ -202,7 +188,6 @@ static void test_corpus(void) {
         snprintf(nm, sizeof nm, "%s (ortho)", files[i]);
         check_scene(nm, &s, d, 80);
         vx_svo_scene_free(&s);
-        done++;
     }
     if (!done) SKIP("corpus not available");
 }

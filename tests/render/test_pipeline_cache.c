@@ -1,0 +1,378 @@
+/* tests/render/test_pipeline_cache.c - the device's pipeline cache
+ * (render/gpu_pipeline.c, issue 18) with more variants than a scene needs:
+ * a pipeline fetched before hundreds of others are created is still itself
+ * (same handle, runs its own shader); frames of several scenes in both
+ * layouts (plain and compact) with every GI method (probes baked on the
+ * GPU, pathtrace, cones, photons), all through one device whose cache
+ * already holds many pipelines (as a long session's would), give the bits
+ * of the same frames rendered on a fresh device per scene and layout; and
+ * frames recorded and held for a batch (render/display.h) while other
+ * pipelines are created still run the pipelines they recorded. The cache
+ * used to evict its oldest entry past 128 and move the others, so that the
+ * pipelines held by a frame, a GI method or a recorded command buffer were
+ * destroyed or became other pipelines (wrong images, validation errors).
+ * On lavapipe; skips without a device. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <vulkan/vulkan.h>
+
+#include "cones/cones.h"
+#include "photons/photons.h"
+#include "probes/probes.h"
+#include "render/display.h"
+#include "render/pipeline.h"
+#include "render/render_internal.h"
+#include "tests/gpu_test.h"
+#include "tests/probes/probe_scenes.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+#include "cache_value.comp.h" /* shaders/cache_value.comp: writes its constant 0 to out[0] */
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+/* the validation layer's first messages, so that a failure says what */
+static void log_msg(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)level;
+    int* n = user;
+    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
+}
+static int logged;
+static vx_logger lg = {.func = log_msg, .user_data = &logged};
+
+/* The cheap pipeline that writes `value`, cached under `key`. */
+static vx_result value_pipeline(vx_gpu* g, uint64_t key, uint32_t value, vx__pipeline** out, vx_error* err) {
+    vx_gpu_compute_pipeline_desc d = {.spirv = vx_test_cache_value_spv,
+                                      .spirv_size = sizeof vx_test_cache_value_spv,
+                                      .binding_count = 1,
+                                      .bindings = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                      .spec_count = 1,
+                                      .spec = {value},
+                                      .label = "cache value"};
+    return vx__pipeline_get(g, key, &d, out, err);
+}
+
+enum { FILL_KEY = 0xCAC4E000u };
+
+/* n pipelines of distinct keys from `first` (values 1000 + index). */
+static bool fill_cache(vx_gpu* g, uint32_t first, uint32_t n) {
+    vx_error err = {0};
+    for (uint32_t i = first; i < first + n; i++) {
+        vx__pipeline* p;
+        if (value_pipeline(g, FILL_KEY + i, 1000 + i, &p, &err)) {
+            fprintf(stderr, "  filler %u: %s\n", i, err.msg);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* What p writes (UINT32_MAX on failure). */
+static uint32_t run_value(vx_gpu* g, vx__pipeline* p, vx__buffer* out) {
+    vx_error err = {0};
+    uint32_t v = UINT32_MAX;
+    if (vx__buffer_upload(g, out, &v, 4, &err) ||
+        vx__dispatch(g, &(vx__dispatch_desc){.pipeline = p, .buffer_count = 1, .buffers = {out}, .groups = {1, 1, 1}},
+                     NULL, &err) ||
+        vx__buffer_download(g, out, &v, 4, &err)) {
+        fprintf(stderr, "  dispatch: %s\n", err.msg);
+        return UINT32_MAX;
+    }
+    return v;
+}
+
+/* A pipeline held while 300 others are created: the same entry, handle and shader. */
+static void test_held_pipeline(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_gpu* g = NULL;
+    REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+    vx_error err = {0};
+    vx__buffer out = {0};
+    vx__pipeline *a = NULL, *b = NULL;
+    REQUIRE(vx__buffer_create(g, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "out", &out, &err) == VX_OK);
+    REQUIRE(value_pipeline(g, 0xA11CEu, 111, &a, &err) == VX_OK);
+    CHECK(run_value(g, a, &out) == 111);
+    VkPipeline handle = a->pipe;
+    uint32_t before = g->pipeline_count;
+    CHECK(fill_cache(g, 0, 300));
+    CHECKF(g->pipeline_count == before + 300, "%u pipelines cached, %u expected", g->pipeline_count, before + 300);
+    CHECKF(a->key == 0xA11CEu && a->pipe == handle, "the held entry now has key %llx", (unsigned long long)a->key);
+    uint32_t got = run_value(g, a, &out);
+    CHECKF(got == 111, "the held pipeline wrote %u, not 111", got);
+    /* a lookup finds the same entry and creates nothing */
+    REQUIRE(value_pipeline(g, 0xA11CEu, 111, &b, &err) == VX_OK);
+    CHECK(b == a && g->pipeline_count == before + 300);
+    /* and a filler made early is itself too */
+    REQUIRE(value_pipeline(g, FILL_KEY + 5, 1005, &b, &err) == VX_OK);
+    CHECK(run_value(g, b, &out) == 1005 && g->pipeline_count == before + 300);
+    CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
+    vx__buffer_destroy(g, &out);
+    vx_gpu_destroy(g);
+}
+
+/* ---- frames of many scenes, both layouts and the GI methods through one device ---- */
+
+enum { GI_NONE, GI_PROBES, GI_PATHTRACE, GI_CONES, GI_PHOTONS };
+typedef struct job {
+    const char* list;
+    int gi;
+    uint32_t spp;
+    bool merged; /* passes merged where they can be (the frame kernel) */
+} job;
+/* each method's frame comes after the others made their pipelines; probes twice */
+static const job jobs[] = {
+    {"gbuffer,direct", GI_NONE, 1, true},
+    {"gbuffer,direct,gi=probes", GI_PROBES, 1, false},
+    {"gbuffer,direct,ao,aa,tonemap", GI_NONE, 2, false},
+    {"gbuffer,direct,gi=cones", GI_CONES, 1, false},
+    {"gbuffer,direct,gi=photons", GI_PHOTONS, 1, false},
+    {"gbuffer,direct,gi=pathtrace", GI_PATHTRACE, 1, false},
+    {"gbuffer,direct,ao", GI_NONE, 1, false},
+    {"gbuffer,direct,gi=probes", GI_PROBES, 1, false},
+};
+enum { NJOBS = sizeof jobs / sizeof jobs[0], W = 32, H = 24 };
+
+/* The jobs' images of scene s in `layout` on device g (pixels NULL where a frame failed). */
+static bool frames_of(vx_gpu* g, const vx_svo_scene* s, vx_render_layout layout, vx_render_image img[NJOBS]) {
+    vx_error err = {0};
+    memset(img, 0, NJOBS * sizeof *img);
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_render_scene_desc rd = {.layout = layout, .memory_budget = 1ull << 40}; /* the whole compact layout */
+    vx_probe_set ps = {0};
+    vx_gi_method gm[5];
+    vx_probe_gi *pg = NULL, *pt = NULL;
+    vx_cone_gi* cg = NULL;
+    vx_photon_gi* ph = NULL;
+    bool ok = false;
+    if (vx_render_scene_create_ex(g, s, &rd, &rs, &err) || vx_frame_renderer_create(rs, s, &fr, &err)) goto done;
+    /* every method made before any frame: each holds its state while the others make theirs */
+    vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 1, .bounces = 1, .seed = 5};
+    vx_probe_render_desc prd = {.spp = 1, .bounces = 1, .seed = 3};
+    if (vx_probe_bake_gpu(rs, s, &bd, &ps, &err) ||
+        vx_probe_gi_create(rs, s, &ps, "probes", &prd, &gm[GI_PROBES], &pg, &err) ||
+        vx_probe_gi_create(rs, s, &ps, "pathtrace", &prd, &gm[GI_PATHTRACE], &pt, &err) ||
+        vx_cone_gi_create(rs, s, &(vx_cone_desc){.res = 16}, &gm[GI_CONES], &cg, &err) ||
+        vx_photon_gi_create(rs, s, NULL, &(vx_photon_desc){.photons = 1 << 12, .seed = 9}, &gm[GI_PHOTONS], &ph,
+                            &err))
+        goto done;
+    for (int k = 0; k < NJOBS; k++) {
+        vx_pass_list L;
+        if (vx_pass_list_parse(jobs[k].list, &L, &err)) goto done;
+        vx_frame_desc d = vx_frame_desc_defaults();
+        d.base.width = W, d.base.height = H, d.base.spp = jobs[k].spp;
+        d.passes = &L;
+        d.gi = jobs[k].gi ? &gm[jobs[k].gi] : NULL;
+        d.separate_passes = !jobs[k].merged;
+        vx_frame_result res;
+        if (vx_frame_render(fr, &d, &res, &err)) goto done;
+        img[k] = res.image;
+    }
+    ok = true;
+done:
+    if (!ok) fprintf(stderr, "  %s layout: %s\n", vx_render_layout_name(layout), err.msg);
+    vx_photon_gi_destroy(ph);
+    vx_cone_gi_destroy(cg);
+    vx_probe_gi_destroy(pt);
+    vx_probe_gi_destroy(pg);
+    vx_probe_set_free(&ps);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    return ok;
+}
+
+static void free_images(vx_render_image img[NJOBS]) {
+    for (int k = 0; k < NJOBS; k++) vx_render_image_free(&img[k]);
+}
+
+/* a metal floor (3), a wall (5), an emissive block (9) and a glass block (4) */
+static uint8_t glass_room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 3;
+    if (x == 0) return 5;
+    if (x >= 8 && x <= 9 && y >= 8 && y <= 9 && z <= 2) return 9;
+    return x >= 3 && x <= 6 && y >= 3 && y <= 6 && z <= 4 ? 4 : 0;
+}
+
+static void make_scenes(vx_svo_scene s[2]) {
+    /* palette models, one rotated instance */
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    CHECK(ts_random_model(&m[0], 20, 12, 9, 40, 1) == VX_OK);
+    CHECK(ts_random_model(&m[1], 10, 10, 10, 60, 2) == VX_OK);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 24, 3, 0), ts_inst(1, NULL, -12, 8, 4)};
+    ts_scene(&s[0], m, 2, in, 3);
+    /* a room with materials (emissive, glass, metal) */
+    (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes */
+    cells_scene(&s[1], 12, glass_room_cell);
+    s[1].palette[3] = 0xFF80A0C0u, s[1].palette[4] = 0xFFE0F0FFu, s[1].palette[5] = 0xFF4080E0u;
+    s[1].palette[9] = 0xFFFFFFFFu;
+    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
+    add_material(&s[1], 4, glass, 3);
+    add_material(&s[1], 3, metal, 3);
+    add_material(&s[1], 9, emit, 2);
+}
+
+/* The scenes and layouts drawn: each pair's variants compiled twice (on
+ * its fresh device and on the shared one), so three of the four. */
+static const struct {
+    int scene;
+    vx_render_layout layout;
+} pairs[] = {{1, VX_RENDER_LAYOUT_PLAIN}, {0, VX_RENDER_LAYOUT_COMPACT}, {1, VX_RENDER_LAYOUT_COMPACT}};
+enum { NPAIRS = sizeof pairs / sizeof pairs[0] };
+
+static void test_frames_one_device(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const char* const names[] = {"generated", "room"};
+    vx_svo_scene s[2];
+    make_scenes(s);
+    /* the references: a fresh device per scene and layout (about 30 pipelines each) */
+    /* their pixels (an image is freed before its device: its allocator is the device's) */
+    static float want[NPAIRS][NJOBS][4 * W * H];
+    static bool have[NPAIRS][NJOBS];
+    for (int i = 0; i < NPAIRS; i++) {
+        const char* name = names[pairs[i].scene];
+        const char* layout = vx_render_layout_name(pairs[i].layout);
+        vx_gpu* g = NULL;
+        REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+        vx_render_image img[NJOBS];
+        CHECKF(frames_of(g, &s[pairs[i].scene], pairs[i].layout, img), "%s %s: fresh device", name, layout);
+        for (int k = 0; k < NJOBS; k++)
+            if ((have[i][k] = img[k].pixels && img[k].width == W && img[k].height == H))
+                memcpy(want[i][k], img[k].pixels, sizeof want[i][k]);
+        free_images(img);
+        printf("  %-10s %-8s fresh device: %u pipelines\n", name, layout, g->pipeline_count);
+        CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
+        vx_gpu_destroy(g);
+    }
+    /* one device for all, its cache holding 100 pipelines already */
+    vx_gpu* g = NULL;
+    REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+    CHECK(fill_cache(g, 0, 100));
+    for (int i = 0; i < NPAIRS; i++) {
+        const char* name = names[pairs[i].scene];
+        const char* layout = vx_render_layout_name(pairs[i].layout);
+        vx_render_image got[NJOBS];
+        CHECKF(frames_of(g, &s[pairs[i].scene], pairs[i].layout, got), "%s %s: shared device", name, layout);
+        for (int k = 0; k < NJOBS; k++) {
+            const float* a = want[i][k];
+            const vx_render_image* b = &got[k];
+            if (!have[i][k] || !b->pixels) continue;
+            size_t n = (size_t)W * H, hits = 0, diff = 0;
+            bool same_size = b->width == W && b->height == H;
+            for (size_t q = 0; q < n; q++) hits += a[4 * q + 3] > 0;
+            for (size_t q = 0; q < 4 * n; q++) diff += !same_size || memcmp(&a[q], &b->pixels[q], 4) != 0;
+            printf("  %-10s %-8s %-30s %zu hit, %zu floats differ (%u pipelines)\n", name, layout, jobs[k].list, hits,
+                   diff, g->pipeline_count);
+            CHECKF(diff == 0, "%s %s '%s': %zu floats differ from a fresh device's frame", name, layout, jobs[k].list,
+                   diff);
+            CHECKF(hits > 0, "%s %s '%s': nothing hit", name, layout, jobs[k].list);
+        }
+        free_images(got);
+    }
+    CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
+    vx_gpu_destroy(g);
+    vx_svo_scene_free(&s[0]);
+    vx_svo_scene_free(&s[1]);
+}
+
+/* ---- frames recorded and held while other pipelines are created ---- */
+
+/* Records frame d into a display frame that copies it into image img, and submits it (held for the batch). */
+static bool record_frame(vx_display* disp, vx_frame_renderer* fr, const vx_frame_desc* d, uint64_t img) {
+    vx_error err = {0};
+    uint32_t slot;
+    void* cmd;
+    vx_frame_result res;
+    uint64_t buf = 0;
+    vx_display_desc dd = {.fr = fr, .width = W, .height = H};
+    if (vx_display_frame_begin(disp, &slot, &cmd, &err)) goto fail;
+    if (vx_frame_record(fr, d, cmd, slot, &res, &err)) {
+        vx_display_frame_cancel(disp);
+        goto fail;
+    }
+    if (vx_display_record(disp, cmd, &dd, &buf, &err)) {
+        vx_frame_record_cancel(fr);
+        vx_display_frame_cancel(disp);
+        goto fail;
+    }
+    vx_display_copy_to_image(cmd, buf, W, H, img, W, H, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    if (vx_display_frame_submit(disp, 0, 0, &err)) goto fail;
+    return true;
+fail:
+    fprintf(stderr, "  record: %s\n", err.msg);
+    return false;
+}
+
+static void test_held_frames(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_gpu* g = NULL;
+    REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+    vx_svo_scene s[2];
+    make_scenes(s);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_display* disp = NULL;
+    uint64_t img[2] = {0, 0};
+    bool ok = vx_render_scene_create(g, &s[0], &rs, &err) == VX_OK && vx_frame_renderer_create(rs, &s[0], &fr, &err) == VX_OK &&
+              vx_display_create(g, &disp, &err) == VX_OK && vx_display_image_create(disp, W, H, &img[0], &err) == VX_OK &&
+              vx_display_image_create(disp, W, H, &img[1], &err) == VX_OK &&
+              vx_display_set_queue(disp, 2, 2, false, &err) == VX_OK;
+    CHECKF(ok, "set-up: %s", err.msg);
+    static const char* const lists[2] = {"gbuffer,direct,ao,aa,tonemap", "gbuffer,direct"};
+    vx_pass_list L[2];
+    vx_frame_desc d[2];
+    for (int k = 0; ok && k < 2; k++) {
+        REQUIRE(vx_pass_list_parse(lists[k], &L[k], &err) == VX_OK);
+        d[k] = vx_frame_desc_defaults();
+        d[k].base.width = W, d[k].base.height = H, d[k].base.spp = 2 - (uint32_t)k;
+        d[k].passes = &L[k];
+        d[k].no_readback = true;
+    }
+    /* frame 0 recorded and held (batches of 2); 300 pipelines made; frame 1 recorded: both submitted */
+    if (ok) ok = record_frame(disp, fr, &d[0], img[0]);
+    if (ok) CHECK(fill_cache(g, 0, 300));
+    if (ok) ok = record_frame(disp, fr, &d[1], img[1]);
+    if (ok) ok = vx_display_wait(disp, &err) == VX_OK;
+    CHECKF(ok, "frames in flight: %s", err.msg);
+    /* each against the same frame rendered and converted with a wait */
+    uint8_t got[W * H * 4], want[W * H * 4];
+    for (int k = 0; ok && k < 2; k++) {
+        vx_frame_result res;
+        vx_display_desc dd = {.fr = fr, .width = W, .height = H};
+        REQUIRE(vx_frame_render(fr, &d[k], &res, &err) == VX_OK);
+        vx_render_image_free(&res.image);
+        REQUIRE(vx_display_run(disp, &dd, want, NULL, &err) == VX_OK);
+        REQUIRE(vx_display_image_read(disp, img[k], W, H, got, &err) == VX_OK);
+        size_t bad = 0, lit = 0;
+        for (size_t q = 0; q < sizeof got; q++) bad += got[q] != want[q];
+        for (size_t q = 0; q < (size_t)W * H; q++) lit += want[4 * q] != want[4 * q + 1];
+        printf("  held frame %d ('%s'): %zu of %zu bytes differ from the waited frame\n", k, lists[k], bad, sizeof got);
+        CHECKF(bad == 0, "held frame %d: %zu bytes differ", k, bad);
+        CHECKF(lit > 0, "frame %d: a flat image", k);
+    }
+    CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
+    for (int k = 0; k < 2; k++)
+        if (img[k]) vx_display_image_destroy(disp, img[k]);
+    vx_display_destroy(disp);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    vx_gpu_destroy(g);
+    vx_svo_scene_free(&s[0]);
+    vx_svo_scene_free(&s[1]);
+}
+
+int main(void) {
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
+    RUN(test_held_pipeline);
+    RUN(test_held_frames);
+    RUN(test_frames_one_device);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
