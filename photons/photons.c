@@ -755,6 +755,15 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
             pg->glossy_diffuse |= m[8 * i] == 1.0f && m[8 * i + 2] < 1.0f;
         r = make_occ(pg, m, nm, err);
         uint64_t ph = (uint64_t)d.capacity * PHOTON_BYTES;
+        /* The photon and grid buffers are bound whole: a capacity past the device's storage-buffer range
+         * would be a binding the device refuses (lavapipe: 128 MiB, 4 M photons), so say so here. */
+        uint64_t range = pg->g->props.limits.maxStorageBufferRange;
+        if (!r && (ph > range || (uint64_t)pg->buckets * 8 > range))
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                        "photons: a capacity of %u photons needs %llu-byte buffers, over the device's %llu-byte "
+                        "storage-buffer range (set a smaller capacity or fewer photons per pass)",
+                        d.capacity, (unsigned long long)(ph > (uint64_t)pg->buckets * 8 ? ph : (uint64_t)pg->buckets * 8),
+                        (unsigned long long)range);
         if (!r) r = upload_new(pg->g, &pg->emit, pg->emit_attr, (n ? n : 1) * sizeof(float), "photon emission", err);
         if (!r) r = upload_new(pg->g, &pg->mats, m, nm ? 32 * nm : 16, "photon materials", err);
         if (!r) r = upload_new(pg->g, &pg->photons, NULL, ph, "photons", err);

@@ -1126,6 +1126,41 @@ static void test_progressive(void) {
 /* Last: the validation layer (where installed) saw no error in the tests
  * above, every photon step's pipeline among them: an invalid pipeline runs
  * on lavapipe all the same (photon.comp's t_wpre of length 0, 0ad1200). */
+/* A capacity whose photon buffers pass the device's storage-buffer range (2^28 photons of 32 bytes:
+ * 8 GiB, past any device's 32-bit range) is refused at creation with VX_ERR_LIMIT and a message that
+ * names the range, not bound whole and left to the driver. */
+static void test_capacity_range(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    cells_scene(&s, 16, metal_floor_cell);
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 6);
+    vx_photon_desc d = vx_photon_desc_defaults();
+    d.photons = 1u << 16, d.capacity = 1u << 28;
+    vx_render_scene* rs = NULL;
+    vx_photon_gi* pg = NULL;
+    vx_gi_method gm;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    CHECKF(r == VX_OK, "scene: %s", err.msg);
+    if (!r) {
+        r = vx_photon_gi_create(rs, &s, &light, &d, &gm, &pg, &err);
+        CHECKF(r == VX_ERR_LIMIT && strstr(err.msg, "storage-buffer range"), "capacity 2^28: result %d, '%s'", r,
+               err.msg);
+        CHECK(pg == NULL);
+        vx_photon_gi_destroy(pg);
+        /* the largest capacity that fits the range is accepted */
+        d.capacity = (uint32_t)(gpu->props.limits.maxStorageBufferRange / 32 < (1u << 20)
+                                    ? gpu->props.limits.maxStorageBufferRange / 32
+                                    : (1u << 20));
+        r = vx_photon_gi_create(rs, &s, &light, &d, &gm, &pg, &err);
+        CHECKF(r == VX_OK, "capacity %u: %s", d.capacity, err.msg);
+        vx_photon_gi_destroy(pg);
+    }
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 static void test_no_validation_errors(void) {
     if (!gpu) SKIP("no Vulkan device");
     if (!gpu->messenger) SKIP("no validation layer");
@@ -1155,6 +1190,7 @@ int main(void) {
     RUN(test_kernel_edge);
     RUN(test_kernel_corner);
     RUN(test_kernel_seam);
+    RUN(test_capacity_range);
     RUN(test_no_validation_errors);
     vx_render_image_free(&caustic_ref);
     vx_render_image_free(&caustic_ref2);
