@@ -32,6 +32,34 @@ layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pi
 layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 #endif
 
+#ifndef PRECISE
+// The directional light's conservative depth map (render/shadow_map.c,
+// smap.comp): a header of 16 words (rows giving texel u and v from a point
+// relative to the map's origin, then the light), then per texel the largest
+// s = dot(x - origin, light) of the geometry over it as an ordered uint (0:
+// none). The frame block gives the origin relative to the frame's reference
+// (grid_lo.xyz), the margin (grid_lo.w) and the side (dims2.x).
+layout(constant_id = 11) const bool SMAP = false;
+layout(std430, binding = 11) readonly buffer SMap { uint smap[]; };
+
+// A shadow ray from ps along the light meets geometry only where s <= the
+// texel's s_max: its end (t), or -1 where it meets none; 3e38 (the whole
+// ray) where ps lies outside the map.
+float smap_tmax(vec3 ps) {
+    vec3 q = ps - F.grid_lo.xyz;
+    vec4 ru = uintBitsToFloat(uvec4(smap[0], smap[1], smap[2], smap[3]));
+    vec4 rv = uintBitsToFloat(uvec4(smap[4], smap[5], smap[6], smap[7]));
+    float u = dot(q, ru.xyz) + ru.w, v = dot(q, rv.xyz) + rv.w;
+    float side = float(F.dims2.x);
+    if (!(u >= 0.0 && v >= 0.0 && u < side && v < side)) return 3.0e38;
+    uint w = smap[16u + uint(v) * F.dims2.x + uint(u)];
+    if (w == 0u) return -1.0;
+    float smax = (w & 0x80000000u) != 0u ? uintBitsToFloat(w & 0x7FFFFFFFu) : uintBitsToFloat(~w);
+    float t = smax - dot(q, F.light.xyz) + F.grid_lo.w;
+    return t >= 0.0 ? t : -1.0;
+}
+#endif
+
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
@@ -117,6 +145,12 @@ void main() {
                         Hit sh;
                         sh.t = 3.0e38;
                         sh.inst = NO_HIT;
+#ifndef PRECISE
+                        // the loop gets only a tmax (or no ray where nothing lies towards the light)
+                        if (SMAP) sh.t = smap_tmax(ps);
+                        if (sh.t < 0.0) vis = 1.0;
+                        else
+#endif
                         vis = trace_scene(ps, RVEC3(F.light.xyz), 0.0, true, sh) ? 0.0 : 1.0;
                     }
                     c = vec4(alb * (amb + (1.0 - amb) * ndl * vis), 1.0);
