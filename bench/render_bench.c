@@ -86,6 +86,7 @@ typedef struct view_result {
      * of the view (beam 0 first: the beam pass must change none); -1: none */
     long beam_diff;
     long color_diff; /* likewise, pixels of the colour frame (primary + shadow) whose values differ */
+    double sh_share, sh_steps; /* pixels that cast a shadow ray, and its loop iterations (vx_render_hit.shadow) */
 } view_result;
 
 /* A view's first row: its hits and its colour frame, which every later
@@ -322,6 +323,19 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         if (ref->color) memcpy(ref->color, img.pixels, npx * 16);
     }
     vx_render_image_free(&img);
+    /* the shadow rays' share and steps (the colour frame with hits records) */
+    d.want_hits = true;
+    if (vx_render_frame(rs, &d, &img, err)) {
+        free(edepth), free(esteps);
+        return 1;
+    }
+    size_t ncast = 0;
+    double sst = 0;
+    for (size_t i = 0; i < npx; i++)
+        if (img.hits[i].shadow & VX_RENDER_SHADOW_CAST) ncast++, sst += img.hits[i].shadow & ~VX_RENDER_SHADOW_CAST;
+    out->sh_share = (double)ncast / npx, out->sh_steps = ncast ? sst / ncast : 0;
+    vx_render_image_free(&img);
+    d.want_hits = false;
     d.mode = VX_RENDER_DEPTH;
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
@@ -631,6 +645,10 @@ int main(int argc, char** argv) {
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
                     vx_render_shadow_map_info smi;
                     vx_render_scene_shadow_map_info(rs, &smi);
+                    {
+                        size_t at = strlen(kl);
+                        snprintf(kl + at, sizeof kl - at, "  [shadow rays %.0f%%, %.1f steps]", 100 * r.sh_share, r.sh_steps);
+                    }
                     if (nsmap > 1 || smap_list[0]) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [shadow map %s]",

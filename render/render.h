@@ -238,7 +238,12 @@ typedef struct vx_render_hit {
     float t;
     uint32_t iterations;
     uint32_t flags; /* VX_RENDER_HIT_* */
+    /* VX_RENDER_COLOR on a GPU (vx_render_frame): VX_RENDER_SHADOW_CAST when
+     * the pixel cast a shadow ray, ORed with that ray's loop iterations
+     * (0 where a shadow map showed it needs no walk); 0 elsewhere */
+    uint32_t shadow;
 } vx_render_hit;
+#define VX_RENDER_SHADOW_CAST 0x80000000u
 
 /* CPU reference only: the ray started exactly on a cell boundary or crossed
  * an edge or corner exactly before the hit; float tracing may break such a

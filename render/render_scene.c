@@ -1532,7 +1532,8 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
 static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t* w = raw + 8 * i;
-        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5], .flags = w[6]};
+        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5], .flags = w[6],
+                                  .shadow = w[7]};
         memcpy(&hits[i].t, &w[4], 4);
     }
 }

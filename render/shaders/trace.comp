@@ -66,6 +66,7 @@ void main() {
     if (px.x >= W || px.y >= H) return;
     uint spp = max(F.dims.z, 1u);
     vec4 acc = vec4(0.0);
+    uint shadow_rec = 0u; // sample 0's shadow ray: bit 31 cast, the rest its loop iterations (the hits record)
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
     for (uint s = 0u; s < spp; s++) {
@@ -152,6 +153,7 @@ void main() {
                         else
 #endif
                         vis = trace_scene(ps, RVEC3(F.light.xyz), 0.0, true, sh) ? 0.0 : 1.0;
+                        if (WRITE_HITS && s == 0u) shadow_rec = 0x80000000u | (g_iter - prim_iter);
                     }
                     c = vec4(alb * (amb + (1.0 - amb) * ndl * vis), 1.0);
                 }
@@ -170,7 +172,7 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, 0u);
+            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, shadow_rec);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);
