@@ -323,7 +323,8 @@ typedef struct vx_render_scene_desc {
      * below the deepest model's depth where that is shallower) */
     uint32_t page_level;
     /* the directional light's depth map (vx_render_scene_shadow_map_info):
-     * texels a side, 0: 2048; 1: no map (the node list is not made) */
+     * texels a side, 0: 2048; 1: no map (the node list is not made);
+     * others are clamped to 16..16384 */
     uint32_t shadow_map_side;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -443,6 +444,10 @@ typedef struct vx_render_shadow_map_info {
     double build_seconds;     /* the last build, wall time (uploads, submission) */
     double build_gpu_seconds; /* the last build's dispatches (timestamps) */
     bool used;                /* the last frame of vx_render_frame clipped its shadow rays by it */
+    /* the last build's texels: world point x falls in texel
+     * (floor((dot(x - origin, axis_u) - u0) / texel), likewise v), of side^2 */
+    double origin[3], axis_u[3], axis_v[3];
+    double u0, v0, texel;
 } vx_render_shadow_map_info;
 void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow_map_info* out);
 

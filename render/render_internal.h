@@ -81,6 +81,7 @@ typedef struct vx__smap {
     bool valid;
     float light[3];
     double origin[3];       /* O, world */
+    double axis_u[3], axis_v[3], u0, v0, texel; /* the texels (vx_render_shadow_map_info) */
     double margin;          /* world units */
     double list_seconds;    /* the node list (host, at scene creation) */
     double build_seconds, build_gpu_seconds; /* the last build, wall and GPU time */

@@ -523,6 +523,9 @@ void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow
     out->build_seconds = rs->smap.build_seconds;
     out->build_gpu_seconds = rs->smap.build_gpu_seconds;
     out->used = rs->smap_used;
+    for (int k = 0; k < 3; k++)
+        out->origin[k] = rs->smap.origin[k], out->axis_u[k] = rs->smap.axis_u[k], out->axis_v[k] = rs->smap.axis_v[k];
+    out->u0 = rs->smap.u0, out->v0 = rs->smap.v0, out->texel = rs->smap.texel;
 }
 
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {

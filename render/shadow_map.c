@@ -136,6 +136,8 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     vx__smap_free(g, sm);
     sm->alloc = alloc;
     if (side < 2 || inst_count == 0 || s->model_count == 0) return VX_OK;
+    if (side < 16) side = 16;
+    if (side > 16384) side = 16384;
     double t0 = vx_time_now();
     double diag = scene_diag(lo, hi);
     if (!(diag > 0) || !isfinite(diag)) return VX_OK;
@@ -317,7 +319,8 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     sm->build_seconds = vx_time_now() - t0;
     sm->builds++;
     memcpy(sm->light, light, sizeof sm->light);
-    for (int k = 0; k < 3; k++) sm->origin[k] = O[k];
+    for (int k = 0; k < 3; k++) sm->origin[k] = O[k], sm->axis_u[k] = U[k], sm->axis_v[k] = V[k];
+    sm->u0 = umin, sm->v0 = vmin, sm->texel = 1 / inv;
     sm->margin = margin;
     sm->valid = true;
     return VX_OK;
