@@ -88,7 +88,8 @@ static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
     item stack[3 * 64 + 8];
     int sp = 0;
     stack[sp++] = (item){m->root, 0, 0, 0, m->depth};
-    while (sp > 0) {
+    /* past the limit the caller takes a coarser level: stop at once */
+    while (sp > 0 && l->n <= l->limit) {
         item it = stack[--sp];
         if (it.word >= m->node_count) continue; /* a bad word: its subtree is not listed (conservative only for valid scenes) */
         uint32_t desc = m->nodes[it.word];
@@ -164,7 +165,7 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
         l.n = 0;
         l.limit = VX__SMAP_MAX_NODES;
         l.nomem = false;
-        for (uint32_t mi = 0; mi < mc && !l.nomem; mi++) {
+        for (uint32_t mi = 0; mi < mc && !l.nomem && l.n <= l.limit; mi++) {
             sm->model_first[mi] = (uint32_t)(l.n < l.limit ? l.n : l.limit);
             lev[mi] = 0;
             if (mcell[mi] <= 0) continue;
@@ -189,9 +190,6 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     vx_result r = vx__buffer_create(g, (l.n ? l.n : 1) * sizeof(smap_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                                     "shadow map nodes", &sm->nodes, err);
     if (!r && l.n) r = vx__buffer_upload(g, &sm->nodes, l.v, l.n * sizeof(smap_node), err);
-    if (!r)
-        r = vx__buffer_create(g, (16 + (VkDeviceSize)side * side) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                              "shadow map", &sm->map, err);
     vx_free(alloc, l.v);
     if (r) {
         vx__smap_free(g, sm);
@@ -225,7 +223,10 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
                          const uint32_t* inst_model, uint32_t inst_count, const double lo[3], const double hi[3],
                          vx_error* err) {
     sm->valid = false;
-    if (!sm->side || !sm->map.buf) return VX_OK;
+    if (!sm->side) return VX_OK;
+    /* the map's memory only where a frame uses it */
+    vx_result r = vx__buffer_ensure(g, &sm->map, (16 + (VkDeviceSize)sm->side * sm->side) * 4, "shadow map", err);
+    if (r) return r;
     if (!(fabsf(light[0]) + fabsf(light[1]) + fabsf(light[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
     double L[3], U[3], V[3], O[3];
@@ -272,7 +273,6 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
         work += cnt;
         n++;
     }
-    vx_result r = VX_OK;
     if (work > 0xFFFFFFFFull - 64) {
         vx_free(sm->alloc, si);
         return VX_OK; /* too many: no map */
