@@ -43,6 +43,7 @@ typedef struct smap_node {
 } smap_node;
 typedef struct smap_inst {
     float pu[4], pv[4], ps[4];
+    float q[3][4], qd[4];
     uint32_t range[4];
 } smap_inst;
 typedef struct smap_push {
@@ -269,7 +270,30 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
                 row[r][c] = (float)(sc[r] * (B[r][0] * w[c] + B[r][1] * w[4 + c] + B[r][2] * w[8 + c]));
             row[r][3] = (float)(sc[r] * dot3(B[r], t) + off[r]);
         }
-        si[n].range[0] = first, si[n].range[1] = cnt, si[n].range[2] = (uint32_t)work;
+        /* the inverse (model cells from texel u, v and world s) for the face planes */
+        double P[9], Q[9];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) P[3 * r + c] = sc[r] * (B[r][0] * w[c] + B[r][1] * w[4 + c] + B[r][2] * w[8 + c]);
+        double det = P[0] * (P[4] * P[8] - P[5] * P[7]) - P[1] * (P[3] * P[8] - P[5] * P[6]) + P[2] * (P[3] * P[7] - P[4] * P[6]);
+        uint32_t use = 0;
+        if (det != 0 && isfinite(det)) {
+            Q[0] = (P[4] * P[8] - P[5] * P[7]) / det, Q[1] = (P[2] * P[7] - P[1] * P[8]) / det, Q[2] = (P[1] * P[5] - P[2] * P[4]) / det;
+            Q[3] = (P[5] * P[6] - P[3] * P[8]) / det, Q[4] = (P[0] * P[8] - P[2] * P[6]) / det, Q[5] = (P[2] * P[3] - P[0] * P[5]) / det;
+            Q[6] = (P[3] * P[7] - P[4] * P[6]) / det, Q[7] = (P[1] * P[6] - P[0] * P[7]) / det, Q[8] = (P[0] * P[4] - P[1] * P[3]) / det;
+            double p0[3] = {row[0][3], row[1][3], row[2][3]};
+            for (int k = 0; k < 3; k++) {
+                for (int c = 0; c < 3; c++) si[n].q[k][c] = (float)Q[3 * k + c];
+                si[n].q[k][3] = 0;
+                si[n].qd[k] = (float)-(Q[3 * k] * p0[0] + Q[3 * k + 1] * p0[1] + Q[3 * k + 2] * p0[2]);
+                /* a face plane bounds s only where it is steep enough that the
+                 * float rounding of the bound stays far below the margin: its
+                 * s-slope at least 1/20 of its gradient (u, v per world unit) */
+                double gu = Q[3 * k] * inv, gv = Q[3 * k + 1] * inv, gs = Q[3 * k + 2];
+                if (fabs(gs) >= 0.05 * (fabs(gu) + fabs(gv) + fabs(gs))) use |= 1u << k;
+            }
+        }
+        memcpy(&si[n].qd[3], &use, 4);
+        si[n].range[0] = first, si[n].range[1] = cnt, si[n].range[2] = (uint32_t)work, si[n].range[3] = i;
         work += cnt;
         n++;
     }

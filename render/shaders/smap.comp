@@ -17,9 +17,11 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 struct Node { uint x, y, z, level; };
 // pu, pv: texel coordinates from model cells; ps: s in world units;
-// range: first node of the instance's model, its count, the instance's first
-// work item (exclusive prefix of the counts), unused
-struct SInst { vec4 pu, pv, ps; uvec4 range; };
+// q0..q2: the inverse, model cell k from (u, v, s), with a usable flag in
+// q.w's place (see face_bound); range: first node of the instance's model,
+// its count, the instance's first work item (exclusive prefix of the
+// counts), the instance's slot in the trace kernel's table
+struct SInst { vec4 pu, pv, ps; vec4 q0, q1, q2, qd; uvec4 range; };
 
 layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
@@ -58,18 +60,51 @@ void main() {
     }
     SInst I = si[lo];
     Node n = nodes[I.range.x + (id - I.range.z)];
-    float h = 0.5 * exp2(float(n.level));
-    vec3 c = vec3(n.x, n.y, n.z) + h;
+    float sz = exp2(float(n.level)), h = 0.5 * sz;
+    vec3 lo3 = vec3(n.x, n.y, n.z), c = lo3 + h;
     float u = dot(I.pu.xyz, c) + I.pu.w, v = dot(I.pv.xyz, c) + I.pv.w, s = dot(I.ps.xyz, c) + I.ps.w;
     float hu = dot(abs(I.pu.xyz), vec3(h)) + pc.margin_tex;
     float hv = dot(abs(I.pv.xyz), vec3(h)) + pc.margin_tex;
-    float smax = s + dot(abs(I.ps.xyz), vec3(h)) + pc.margin;
+    float smax = s + dot(abs(I.ps.xyz), vec3(h));
     int side = int(pc.side);
     int u0 = int(clamp(floor(u - hu), 0.0, float(side - 1)));
     int u1 = int(clamp(floor(u + hu), 0.0, float(side - 1)));
     int v0 = int(clamp(floor(v - hv), 0.0, float(side - 1)));
     int v1 = int(clamp(floor(v + hv), 0.0, float(side - 1)));
-    uint w = ordered(smax);
+    // The box projects to a hexagon, the sum of its three edges' images
+    // e_k: a texel outside it along some edge's normal is not touched
+    // (separating axes; the texel's own axes are the rectangle above).
+    vec2 e[3] = vec2[3](vec2(I.pu.x, I.pv.x) * h, vec2(I.pu.y, I.pv.y) * h, vec2(I.pu.z, I.pv.z) * h);
+    vec2 nk[3];
+    float ck[3], rk[3];
+    for (int k = 0; k < 3; k++) {
+        nk[k] = vec2(-e[k].y, e[k].x);
+        ck[k] = dot(vec2(u, v), nk[k]);
+        rk[k] = abs(dot(e[0], nk[k])) + abs(dot(e[1], nk[k])) + abs(dot(e[2], nk[k])) +
+                0.5 * (abs(nk[k].x) + abs(nk[k].y)) + pc.margin_tex * length(nk[k]);
+    }
+    // Over a texel the box's top is below each face plane that bounds s from
+    // above (the top of a convex body is the least of those planes): model
+    // cell k = q_k . (u, v, s) + qd_k, so on the face m_k = bound, s is
+    // linear in (u, v); qd.w's bit k: the face is steep enough to use.
+    float fa[3], fb[3], fc[3];
+    uint use = floatBitsToUint(I.qd.w);
+    vec4 q[3] = vec4[3](I.q0, I.q1, I.q2);
+    for (int k = 0; k < 3; k++) {
+        float g = q[k].z;
+        float mb = (g > 0.0 ? lo3[k] + sz : lo3[k]) - I.qd[k];
+        fa[k] = mb / g, fb[k] = -q[k].x / g, fc[k] = -q[k].y / g;
+    }
     for (int y = v0; y <= v1; y++)
-        for (int x = u0; x <= u1; x++) atomicMax(smap[HDR + uint(y * side + x)], w);
+        for (int x = u0; x <= u1; x++) {
+            vec2 tc = vec2(float(x) + 0.5, float(y) + 0.5);
+            bool touch = true;
+            for (int k = 0; k < 3; k++)
+                if (abs(dot(tc, nk[k]) - ck[k]) > rk[k]) touch = false;
+            if (!touch) continue;
+            float st = smax;
+            for (int k = 0; k < 3; k++)
+                if (((use >> k) & 1u) != 0u) st = min(st, fa[k] + fb[k] * tc.x + fc[k] * tc.y + 0.5 * (abs(fb[k]) + abs(fc[k])));
+            atomicMax(smap[HDR + uint(y * side + x)], ordered(st + pc.margin));
+        }
 }
