@@ -86,6 +86,7 @@ typedef struct vx__smap {
     double list_seconds;    /* the node list (host, at scene creation) */
     double build_seconds, build_gpu_seconds; /* the last build, wall and GPU time */
     uint32_t builds;
+    uint32_t insts_built;   /* entries in the insts buffer (the last build) */
 } vx__smap;
 
 const uint32_t* vx__spirv_smap(size_t* bytes);

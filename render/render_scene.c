@@ -1109,7 +1109,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
          * rounding grows with the map origin's distance from it */
         gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
         gf->dims2[0] = rs->smap.side;
-        gf->dims2[1] = 1;
+        gf->dims2[1] = rs->smap.insts_built;
     }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
@@ -1125,8 +1125,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
-    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11 the shadow map */
-    uint32_t nb = precise ? 10 : 12;
+    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
+    uint32_t nb = precise ? 10 : 14;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
                                        .spec_count = precise ? 10 : 12, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -1155,7 +1155,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
-                                        smap ? &rs->smap.map : &rs->beam},
+                                        smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
+                                        smap ? &rs->smap.insts : &rs->beam},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace",

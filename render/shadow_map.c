@@ -51,6 +51,9 @@ typedef struct smap_push {
     float margin_tex, margin;
 } smap_push;
 
+/* smap_node.level's flag: the cube is a leaf (solid) */
+#define SOLID 0x100u
+
 /* A growing node list. */
 typedef struct node_list {
     smap_node* v;
@@ -80,7 +83,7 @@ static void list_add(node_list* l, uint32_t x, uint32_t y, uint32_t z, uint32_t 
 static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
     if (m->root == VX_SVO_ROOT_EMPTY) return;
     if (m->root == VX_SVO_ROOT_LEAF || level >= m->depth) {
-        list_add(l, 0, 0, 0, m->depth);
+        list_add(l, 0, 0, 0, m->depth | (m->root == VX_SVO_ROOT_LEAF ? SOLID : 0));
         return;
     }
     typedef struct item {
@@ -107,7 +110,7 @@ static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
             if (!((valid >> o) & 1u)) continue;
             uint32_t cx = it.x + (o & 1u) * half, cy = it.y + ((o >> 1) & 1u) * half, cz = it.z + ((o >> 2) & 1u) * half;
             if ((leaf >> o) & 1u) {
-                list_add(l, cx, cy, cz, cl);
+                list_add(l, cx, cy, cz, cl | SOLID);
                 continue;
             }
             uint32_t cw = blk == UINT32_MAX ? UINT32_MAX : blk + k++;
@@ -226,7 +229,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     sm->valid = false;
     if (!sm->side) return VX_OK;
     /* the map's memory only where a frame uses it */
-    vx_result r = vx__buffer_ensure(g, &sm->map, (16 + (VkDeviceSize)sm->side * sm->side) * 4, "shadow map", err);
+    vx_result r = vx__buffer_ensure(g, &sm->map, (16 + 3 * (VkDeviceSize)sm->side * sm->side) * 4, "shadow map", err);
     if (r) return r;
     if (!(fabsf(light[0]) + fabsf(light[1]) + fabsf(light[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
@@ -297,7 +300,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
         work += cnt;
         n++;
     }
-    if (work > 0xFFFFFFFFull - 64) {
+    if (work >= 0x7FFFFFFFull) { /* top's work items + 1 below bit 31 */
         vx_free(sm->alloc, si);
         return VX_OK; /* too many: no map */
     }
@@ -318,10 +321,11 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     vx__seq seq;
     if ((r = vx__seq_begin(g, &seq, err))) return r;
     uint32_t texels = sm->side * sm->side;
-    smap_push pc[2] = {{.mode = 0, .count = texels, .insts = n, .side = sm->side},
-                       {.mode = 1, .count = (uint32_t)work, .insts = n, .side = sm->side,
-                        .margin_tex = (float)(margin * inv), .margin = (float)margin}};
-    for (int m = 0; m < 2 && !r; m++) {
+    smap_push pc[4] = {{.mode = 0, .count = 3 * texels, .insts = n, .side = sm->side}};
+    for (int m = 1; m < 4; m++)
+        pc[m] = (smap_push){.mode = (uint32_t)m, .count = (uint32_t)work, .insts = n, .side = sm->side,
+                            .margin_tex = (float)(margin * inv), .margin = (float)margin};
+    for (int m = 0; m < 4 && !r; m++) {
         uint32_t groups = (pc[m].count + 63) / 64, gx = groups < 65535 ? groups : 65535;
         vx__dispatch_desc dd = {.pipeline = p,
                                 .buffer_count = 3,
@@ -330,7 +334,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
                                 .push = &pc[m],
                                 .push_size = sizeof pc[m],
                                 .label = m ? "shadow map" : "shadow map clear"};
-        if (m == 1 && !work) break;
+        if (m >= 1 && !work) break;
         r = vx__seq_dispatch(g, &seq, &dd, NULL, 0, err);
     }
     if (r) {
@@ -342,6 +346,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     for (uint32_t k = 0; k < seq.count; k++) sm->build_gpu_seconds += seq.seconds[k];
     sm->build_seconds = vx_time_now() - t0;
     sm->builds++;
+    sm->insts_built = n;
     memcpy(sm->light, light, sizeof sm->light);
     for (int k = 0; k < 3; k++) sm->origin[k] = O[k], sm->axis_u[k] = U[k], sm->axis_v[k] = V[k];
     sm->u0 = umin, sm->v0 = vmin, sm->texel = 1 / inv;

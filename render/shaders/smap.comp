@@ -6,7 +6,12 @@
 // the texel. A shadow ray from p meets geometry only where s <= that
 // maximum, so trace.comp ends its walk there.
 //
-// Two modes (push constant): 0 clears the texels, 1 adds the nodes. Each
+// Four modes (push constant): 0 clears the texels; 1 adds the nodes to m1,
+// the texel's largest s; 2 marks in top the node that gave m1 (its work item
+// + 1, bit 31 where two or more did); 3 adds the other nodes to m2, the
+// largest s below m1. A shadow ray from the surface of the one node that
+// gave m1, a solid cube (a leaf), cannot meet that cube (it leaves the
+// cube's face plane), so trace.comp takes m2 there. Each
 // node is a cube of the model's cells [c, c + 2^level]^3; its instance's
 // row maps model cells to (u, v) in texels and s in world units, so the
 // box's projection is exactly the centre's image plus/minus |P| times the
@@ -15,6 +20,7 @@
 // walk (shadow_map.c says why it suffices).
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
+// level: bits 0-7 the cube's level, bit 8 a leaf (the cube is solid)
 struct Node { uint x, y, z, level; };
 // pu, pv: texel coordinates from model cells; ps: s in world units;
 // q0..q2: the inverse, model cell k from (u, v, s), with a usable flag in
@@ -25,7 +31,8 @@ struct SInst { vec4 pu, pv, ps; vec4 q0, q1, q2, qd; uvec4 range; };
 
 layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
-// header (16 words, shadow_map.c writes it) then side * side texels
+// header (16 words, shadow_map.c writes it) then side * side texels of
+// m1, of m2 and of top
 layout(std430, binding = 2) buffer Map { uint smap[]; };
 
 layout(push_constant) uniform P {
@@ -52,6 +59,7 @@ void main() {
         smap[HDR + id] = 0u;
         return;
     }
+    uint T = pc.side * pc.side;
     // the instance whose work items hold id (the last with range.z <= id)
     uint lo = 0u, hi = pc.insts;
     while (hi - lo > 1u) {
@@ -60,7 +68,7 @@ void main() {
     }
     SInst I = si[lo];
     Node n = nodes[I.range.x + (id - I.range.z)];
-    float sz = exp2(float(n.level)), h = 0.5 * sz;
+    float sz = exp2(float(n.level & 255u)), h = 0.5 * sz;
     vec3 lo3 = vec3(n.x, n.y, n.z), c = lo3 + h;
     float u = dot(I.pu.xyz, c) + I.pu.w, v = dot(I.pv.xyz, c) + I.pv.w, s = dot(I.ps.xyz, c) + I.ps.w;
     float hu = dot(abs(I.pu.xyz), vec3(h)) + pc.margin_tex;
@@ -102,9 +110,22 @@ void main() {
             for (int k = 0; k < 3; k++)
                 if (abs(dot(tc, nk[k]) - ck[k]) > rk[k]) touch = false;
             if (!touch) continue;
-            float st = smax;
+            // the same operations in every mode, so that modes 2 and 3 see m1's bits
+            precise float st = smax;
             for (int k = 0; k < 3; k++)
-                if (((use >> k) & 1u) != 0u) st = min(st, fa[k] + fb[k] * tc.x + fc[k] * tc.y + 0.5 * (abs(fb[k]) + abs(fc[k])));
-            atomicMax(smap[HDR + uint(y * side + x)], ordered(st + pc.margin));
+                if (((use >> k) & 1u) != 0u) {
+                    precise float fk = fa[k] + fb[k] * tc.x + fc[k] * tc.y + 0.5 * (abs(fb[k]) + abs(fc[k]));
+                    st = min(st, fk);
+                }
+            precise float sm = st + pc.margin;
+            uint w = ordered(sm), t = uint(y * side + x);
+            if (pc.mode == 1u) {
+                atomicMax(smap[HDR + t], w);
+            } else if (pc.mode == 2u) {
+                if (w == smap[HDR + t] && atomicCompSwap(smap[HDR + 2u * T + t], 0u, id + 1u) != 0u)
+                    atomicOr(smap[HDR + 2u * T + t], 0x80000000u);
+            } else if (w != smap[HDR + t]) {
+                atomicMax(smap[HDR + T + t], w);
+            }
         }
 }
