@@ -307,9 +307,16 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         if (ref->hits) memcpy(ref->hits, img.hits, npx * sizeof *ref->hits);
         vx_render_image_free(&img);
     }
-    /* the colour frame (primary and shadow rays) against the first row's */
+    /* the colour frame (primary and shadow rays) against the first row's,
+     * after one that lets the scene build the shadow map (a light the frame
+     * before had: vx_render_scene_shadow_map_info) */
     d.mode = VX_RENDER_COLOR;
     d.want_hits = false;
+    if (vx_render_frame(rs, &d, &img, err)) {
+        free(edepth), free(esteps);
+        return 1;
+    }
+    vx_render_image_free(&img);
     if (vx_render_frame(rs, &d, &img, err)) {
         free(edepth), free(esteps);
         return 1;

@@ -323,8 +323,8 @@ typedef struct vx_render_scene_desc {
      * below the deepest model's depth where that is shallower) */
     uint32_t page_level;
     /* the directional light's depth map (vx_render_scene_shadow_map_info):
-     * texels a side, 0: 2048; 1: no map (the node list is not made);
-     * others are clamped to 16..16384 */
+     * texels a side, 0: by the scene (about 8 a cell, 64..2048); 1: no map
+     * (the node list is not made); others are clamped to 16..16384 */
     uint32_t shadow_map_side;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -432,10 +432,11 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
  * that distance (or is skipped where it starts beyond it). The image is the
  * same as without (vx_render_desc.no_shadow_map). The nodes are listed when
  * the scene is made (plain layout, float variant); the map is built on the
- * GPU at the first colour frame of a light direction (again when the light
- * or an animation frame changes it: build_seconds is what a changing light
- * costs per frame). After vx_render_scene_update_model the scene has no
- * map (shadow rays unclipped). */
+ * GPU at a colour frame whose light direction and instances the colour
+ * frame before had too (a light or an animation that changes every frame
+ * would pay a build, build_seconds, for one frame's shadow rays; such
+ * frames trace them unclipped). After vx_render_scene_update_model the
+ * scene has no map (shadow rays unclipped). */
 typedef struct vx_render_shadow_map_info {
     uint32_t side;            /* texels a side; 0: the scene has no map */
     uint32_t nodes;           /* octree nodes listed */

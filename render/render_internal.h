@@ -67,7 +67,7 @@ vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_ren
 /* At most this many nodes in a scene's list (16 bytes each on the GPU):
  * past it the list takes coarser levels. */
 #define VX__SMAP_MAX_NODES (4u << 20)
-/* texels a side by default (vx_render_scene_desc.shadow_map_side 0) */
+/* the most texels a side by default (vx_render_scene_desc.shadow_map_side 0) */
 #define VX__SMAP_SIDE 2048u
 
 typedef struct vx__smap {

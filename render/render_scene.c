@@ -137,6 +137,10 @@ struct vx_render_scene {
      * frame used it */
     vx__smap smap;
     bool smap_used;
+    /* the light of the last colour frame since the instances last moved:
+     * a map is built only for a light and instances two frames have had */
+    bool smap_seen;
+    float smap_seen_light[3];
 };
 
 /* Headroom after the models in the shared buffers, so that an edited
@@ -507,7 +511,6 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
 vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
     if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx__smap_free(rs->gpu, &rs->smap);
-    if (!side) side = VX__SMAP_SIDE;
     if (rs->compact || rs->precise || side == 1) return VX_OK;
     return smap_list(rs, s, side, err);
 }
@@ -573,8 +576,8 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     }
     if (plain) {
         rs->layout.bytes = li.plain_bytes;
-        uint32_t side = desc && desc->shadow_map_side ? desc->shadow_map_side : VX__SMAP_SIDE;
-        if (!rs->precise && side > 1 && (r = smap_list(rs, s, side, err))) {
+        uint32_t side = desc ? desc->shadow_map_side : 0;
+        if (!rs->precise && side != 1 && (r = smap_list(rs, s, side, err))) {
             vx_render_scene_destroy(rs);
             return r;
         }
@@ -695,7 +698,9 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     vx_result r = vx__check_scene(&v, err);
     if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
     vx_gpu* g = rs->gpu;
-    rs->smap.valid = false; /* the instances move: the next colour frame builds the map again */
+    /* the instances move: the map is built again once a frame after this one keeps them */
+    rs->smap.valid = false;
+    rs->smap_seen = false;
     if (drawn_count(&v) == rs->inst_count && rs->inst_count > 0 && rs->insts.buf) {
         /* the same number of instances drawn (moves, turns, a frame of an
          * animation): the tables and the BVH are made again on the host in
@@ -1054,10 +1059,23 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
     gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
 }
 
-/* The shadow map for f's light, built when the light or the instances changed. */
-static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, vx_error* err) {
+/* Whether a colour frame with f's light clips its shadow rays (*use; allow:
+ * the frame asks for the map). The map is built for a light that the frame
+ * before had too (with the same instances): a light or an animation that
+ * changes every frame would pay a build per frame and gain one frame's
+ * shadow rays (docs/PERFORMANCE.md, issue 21's eighth sitting). */
+static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow, bool* use, vx_error* err) {
     float lf[3] = {(float)f->light[0], (float)f->light[1], (float)f->light[2]};
-    if (rs->smap.valid && !memcmp(lf, rs->smap.light, sizeof lf)) return VX_OK;
+    bool again = rs->smap_seen && !memcmp(lf, rs->smap_seen_light, sizeof lf);
+    rs->smap_seen = true;
+    memcpy(rs->smap_seen_light, lf, sizeof lf);
+    *use = false;
+    if (!allow) return VX_OK;
+    if (rs->smap.valid && !memcmp(lf, rs->smap.light, sizeof lf)) {
+        *use = true;
+        return VX_OK;
+    }
+    if (!again) return VX_OK;
     settle(rs);
     uint32_t n = rs->inst_count;
     double(*world)[12] = vx_calloc(&rs->alloc, n ? n : 1, sizeof *world);
@@ -1071,6 +1089,7 @@ static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, vx_error* 
     if (!r) r = vx__smap_build(rs->gpu, &rs->smap, lf, (const double(*)[12])world, model, n, rs->lo, rs->hi, err);
     vx_free(&rs->alloc, world);
     vx_free(&rs->alloc, model);
+    *use = !r && rs->smap.valid;
     return r;
 }
 
@@ -1091,9 +1110,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                        g->props.deviceName);
     /* the shadow rays' depth map: colour mode, float variant, no LOD (a LOD
      * hit is a coarse node, larger than the listed ones) */
-    bool smap = !precise && f->mode == VX_RENDER_COLOR && !f->lod && !(desc && desc->no_shadow_map) && rs->smap.side;
-    if (smap && (r = smap_ensure(rs, f, err))) return r;
-    smap = smap && rs->smap.valid;
+    bool smap = false;
+    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && rs->smap.side &&
+        (r = smap_ensure(rs, f, !(desc && desc->no_shadow_map), &smap, err)))
+        return r;
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map);

@@ -6,7 +6,7 @@
 // the texel. A shadow ray from p meets geometry only where s <= that
 // maximum, so trace.comp ends its walk there.
 //
-// Four modes (push constant): 0 clears the texels; 1 adds the nodes to m1,
+// Three modes (push constant; shadow_map.c clears the texels first): 1 adds the nodes to m1,
 // the texel's largest s; 2 marks in top the node that gave m1 (its work item
 // + 1, bit 31 where two or more did); 3 adds the other nodes to m2, the
 // largest s below m1. A shadow ray from the surface of the one node that
@@ -36,8 +36,8 @@ layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
 layout(std430, binding = 2) buffer Map { uint smap[]; };
 
 layout(push_constant) uniform P {
-    uint mode;   // 0 clear, 1 add nodes
-    uint count;  // texels (mode 0) or work items (mode 1)
+    uint mode;   // 1, 2, 3: m1, top, m2
+    uint count;  // work items
     uint insts;  // entries in si
     uint side;
     float margin_tex; // the margin in texels
@@ -55,10 +55,6 @@ uint ordered(float f) {
 void main() {
     uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
     if (id >= pc.count) return;
-    if (pc.mode == 0u) {
-        smap[HDR + id] = 0u;
-        return;
-    }
     uint T = pc.side * pc.side;
     // the instance whose work items hold id (the last with range.z <= id)
     uint lo = 0u, hi = pc.insts;
