@@ -242,7 +242,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     sm->valid = false;
     if (!sm->side) return VX_OK;
     /* the map's memory only where a frame uses it */
-    vx_result r = vx__buffer_ensure(g, &sm->map, (16 + 3 * (VkDeviceSize)sm->side * sm->side) * 4, "shadow map", err);
+    vx_result r = vx__buffer_ensure(g, &sm->map, (16 + 4 * (VkDeviceSize)sm->side * sm->side) * 4, "shadow map", err);
     if (r) return r;
     if (!(fabsf(light[0]) + fabsf(light[1]) + fabsf(light[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
@@ -337,7 +337,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     smap_push pc[4] = {{0}};
     /* the texels cleared by a fill (memset speed on a CPU device, where a
      * clearing dispatch took 0.2 s per 2048^2 map) */
-    vx__seq_fill(g, &seq, &sm->map, 64, 3 * (VkDeviceSize)texels * 4, 0);
+    vx__seq_fill(g, &seq, &sm->map, 64, 4 * (VkDeviceSize)texels * 4, 0);
     for (int m = 1; m < 4; m++)
         pc[m] = (smap_push){.mode = (uint32_t)m, .count = (uint32_t)work, .insts = n, .side = sm->side,
                             .margin_tex = (float)(margin * inv), .margin = (float)margin};

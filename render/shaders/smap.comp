@@ -11,7 +11,11 @@
 // + 1, bit 31 where two or more did); 3 adds the other nodes to m2, the
 // largest s below m1. A shadow ray from the surface of the one node that
 // gave m1, a solid cube (a leaf), cannot meet that cube (it leaves the
-// cube's face plane), so trace.comp takes m2 there. Each
+// cube's face plane), so trace.comp takes m2 there. Mode 1 also makes occl,
+// the largest, over the solid cubes whose projection holds the whole texel,
+// of the least s of the cube's top over the texel: a shadow ray of the
+// texel from below that meets that cube (trace.comp: shadowed without a
+// walk). Each
 // node is a cube of the model's cells [c, c + 2^level]^3; its instance's
 // row maps model cells to (u, v) in texels and s in world units, so the
 // box's projection is exactly the centre's image plus/minus |P| times the
@@ -32,7 +36,7 @@ struct SInst { vec4 pu, pv, ps; vec4 q0, q1, q2, qd; uvec4 range; };
 layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
 // header (16 words, shadow_map.c writes it) then side * side texels of
-// m1, of m2 and of top
+// m1, of m2, of top and of occl (all 0 first)
 layout(std430, binding = 2) buffer Map { uint smap[]; };
 
 layout(push_constant) uniform P {
@@ -80,13 +84,17 @@ void main() {
     // (separating axes; the texel's own axes are the rectangle above).
     vec2 e[3] = vec2[3](vec2(I.pu.x, I.pv.x) * h, vec2(I.pu.y, I.pv.y) * h, vec2(I.pu.z, I.pv.z) * h);
     vec2 nk[3];
-    float ck[3], rk[3];
+    float ck[3], rk[3], ik[3];
     for (int k = 0; k < 3; k++) {
         nk[k] = vec2(-e[k].y, e[k].x);
         ck[k] = dot(vec2(u, v), nk[k]);
-        rk[k] = abs(dot(e[0], nk[k])) + abs(dot(e[1], nk[k])) + abs(dot(e[2], nk[k])) +
-                0.5 * (abs(nk[k].x) + abs(nk[k].y)) + pc.margin_tex * length(nk[k]);
+        float ext = abs(dot(e[0], nk[k])) + abs(dot(e[1], nk[k])) + abs(dot(e[2], nk[k]));
+        float tex = 0.5 * (abs(nk[k].x) + abs(nk[k].y)), mg = pc.margin_tex * length(nk[k]);
+        rk[k] = ext + tex + mg; // touched: the texel's and the hexagon's extents overlap
+        ik[k] = ext - tex - mg; // inside: the texel within the hexagon shrunk by the margin
     }
+    // (the hexagon is the intersection of the three slabs |(x - c) . n_k| <= ext_k)
+    bool occluder = (n.level & 0x100u) != 0u && floatBitsToUint(I.qd.w) == 7u;
     // Over a texel the box's top is below each face plane that bounds s from
     // above (the top of a convex body is the least of those planes): model
     // cell k = q_k . (u, v, s) + qd_k, so on the face m_k = bound, s is
@@ -117,6 +125,17 @@ void main() {
             uint w = ordered(sm), t = uint(y * side + x);
             if (pc.mode == 1u) {
                 atomicMax(smap[HDR + t], w);
+                bool inside = occluder;
+                for (int k = 0; k < 3; k++)
+                    if (abs(dot(tc, nk[k]) - ck[k]) > ik[k]) inside = false;
+                if (inside) {
+                    // the least of the top over the texel: the top is the least
+                    // of the three upper face planes, each least at a corner
+                    float low = 3.0e38;
+                    for (int k = 0; k < 3; k++)
+                        low = min(low, fa[k] + fb[k] * tc.x + fc[k] * tc.y - 0.5 * (abs(fb[k]) + abs(fc[k])));
+                    atomicMax(smap[HDR + 3u * T + t], ordered(low - pc.margin));
+                }
             } else if (pc.mode == 2u) {
                 if (w == smap[HDR + t] && atomicCompSwap(smap[HDR + 2u * T + t], 0u, id + 1u) != 0u)
                     atomicOr(smap[HDR + 2u * T + t], 0x80000000u);

@@ -37,8 +37,10 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 // smap.comp): a header of 16 words (rows giving texel u and v from a point
 // relative to the map's origin, then the light), then per texel m1, the
 // largest s = dot(x - origin, light) of the geometry over it as an ordered
-// uint (0: none), m2, the largest of the others, and top, the one node
-// (smap.comp's work item + 1; 0 or bit 31: none or several) that gave m1.
+// uint (0: none), m2, the largest of the others, top, the one node
+// (smap.comp's work item + 1; 0 or bit 31: none or several) that gave m1,
+// and occl, below which a ray of the texel surely meets a solid cube (0:
+// none).
 // The frame block gives the origin relative to the frame's reference
 // (grid_lo.xyz), the margin (grid_lo.w) and the side (dims2.x).
 layout(constant_id = 11) const bool SMAP = false;
@@ -49,8 +51,8 @@ layout(std430, binding = 12) readonly buffer SNodes { SNode snodes[]; };
 layout(std430, binding = 13) readonly buffer SInsts { SInst sinsts[]; };
 
 // A shadow ray from ps along the light meets geometry only where s <= the
-// texel's bound: its end (t), or -1 where it meets none; 3e38 (the whole
-// ray) where ps lies outside the map. The bound is m1, or m2 where m1 came
+// texel's bound: its end (t), or -1 where it meets none, -2 where it surely
+// meets one; 3e38 (the whole ray) where ps lies outside the map. The bound is m1, or m2 where m1 came
 // from one solid cube alone that holds the primary hit (instance slot inst,
 // cell) entered from outside (entered): the ray, which leaves that cube's
 // face plane, cannot meet it.
@@ -64,6 +66,12 @@ float smap_tmax(vec3 ps, uint inst, uvec3 cell, bool entered) {
     uint T = F.dims2.x * F.dims2.x, t = uint(v) * F.dims2.x + uint(u);
     uint w = smap[16u + t];
     if (w == 0u) return -1.0;
+    float sp = dot(q, F.light.xyz);
+    uint oc = smap[16u + 3u * T + t];
+    if (oc != 0u) {
+        float so = (oc & 0x80000000u) != 0u ? uintBitsToFloat(oc & 0x7FFFFFFFu) : uintBitsToFloat(~oc);
+        if (sp < so - F.grid_lo.w) return -2.0;
+    }
     uint top = smap[16u + 2u * T + t];
     if (entered && top != 0u && (top & 0x80000000u) == 0u) {
         uint id = top - 1u, lo = 0u, hi = F.dims2.y;
@@ -81,7 +89,7 @@ float smap_tmax(vec3 ps, uint inst, uvec3 cell, bool entered) {
         }
     }
     float smax = (w & 0x80000000u) != 0u ? uintBitsToFloat(w & 0x7FFFFFFFu) : uintBitsToFloat(~w);
-    float tc = smax - dot(q, F.light.xyz) + F.grid_lo.w;
+    float tc = smax - sp + F.grid_lo.w;
     return tc >= 0.0 ? tc : -1.0;
 }
 #endif
@@ -175,7 +183,7 @@ void main() {
 #ifndef PRECISE
                         // the loop gets only a tmax (or no ray where nothing lies towards the light)
                         if (SMAP) sh.t = smap_tmax(ps, h.inst, h.cell, h.t > 0.0);
-                        if (sh.t < 0.0) vis = 1.0;
+                        if (sh.t < 0.0) vis = sh.t == -2.0 ? 0.0 : 1.0;
                         else
 #endif
                         vis = trace_scene(ps, RVEC3(F.light.xyz), 0.0, true, sh) ? 0.0 : 1.0;
