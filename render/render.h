@@ -323,8 +323,9 @@ typedef struct vx_render_scene_desc {
      * below the deepest model's depth where that is shallower) */
     uint32_t page_level;
     /* the directional light's depth map (vx_render_scene_shadow_map_info):
-     * texels a side, 0: by the scene (about 8 a cell, 64..2048); 1: no map
-     * (the node list is not made); others are clamped to 16..16384 */
+     * texels a side, 0: by the scene (8 a cell, 2 on a CPU device; a power
+     * of two in 64..2048); 1: no map (the node list is not made); others
+     * are clamped to 16..16384 */
     uint32_t shadow_map_side;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).

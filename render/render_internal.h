@@ -67,7 +67,12 @@ vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_ren
 /* At most this many nodes in a scene's list (16 bytes each on the GPU):
  * past it the list takes coarser levels. */
 #define VX__SMAP_MAX_NODES (4u << 20)
-/* the most texels a side by default (vx_render_scene_desc.shadow_map_side 0) */
+/* the most texels a side by default (vx_render_scene_desc.shadow_map_side 0),
+ * and the texels a side of a cell: 8 on a GPU, 2 on a CPU device (lavapipe),
+ * where a build over eph_menger's cells took 4.3 s with 8 (one 1920x1080
+ * colour frame there: about 1 s) */
+#define VX__SMAP_PER_CELL 8u
+#define VX__SMAP_PER_CELL_CPU 2u
 #define VX__SMAP_SIDE 2048u
 
 typedef struct vx__smap {
@@ -92,11 +97,12 @@ typedef struct vx__smap {
 const uint32_t* vx__spirv_smap(size_t* bytes);
 /* Lists the nodes of s's models (at about one texel of a side-texel map
  * over the box lo, hi; inst_model and inst_cell: the drawn instances' models
- * and cell sizes) and makes the GPU buffers. With no map possible
- * (side < 2, no instance, too many nodes) sm->side stays 0. */
+ * and cell sizes) and makes the GPU buffers. side 0: per_cell texels a side
+ * of the finest cell, a power of two in 64..VX__SMAP_SIDE. With no map
+ * possible (side 1, no instance, too many nodes) sm->side stays 0. */
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, vx__smap* sm, vx_error* err);
+                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err);
 /* Builds the map for the unit direction light (towards the light) and the
  * drawn instances' world-from-model maps; one submission. */
 vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const double (*world)[12],

@@ -502,7 +502,8 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     vx_result r = VX_OK;
     if (!model || !cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; !r && i < n; i++) model[i] = rs->inst[i].model, cell[i] = rs->inst[i].cell;
-    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, &rs->smap, err);
+    uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
+    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, &rs->smap, err);
     vx_free(&rs->alloc, model);
     vx_free(&rs->alloc, cell);
     return r;

@@ -137,7 +137,7 @@ static double scene_diag(const double lo[3], const double hi[3]) {
 
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, vx__smap* sm, vx_error* err) {
+                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err) {
     vx__smap_free(g, sm);
     sm->alloc = alloc;
     if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
@@ -145,15 +145,14 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     double diag = scene_diag(lo, hi);
     if (!(diag > 0) || !isfinite(diag)) return VX_OK;
     if (!side) {
-        /* texels of about an eighth of the finest cell where that takes at
-         * most 2048 a side (48 MiB): a shadow ray from a cube's face skips
-         * its walk where the texel holds no other cube above it (finer
-         * texels: more such pixels; eph_dragon's close-up took 4.1 shadow
-         * steps with 2048, 6.2 with 1024) */
+        /* per_cell texels a side of the finest cell where that takes at most
+         * 2048 a side (64 MiB): a shadow ray from a cube's face skips its
+         * walk where the texel holds no other cube above it, or is shadowed
+         * where one covers it whole (finer texels: more such pixels) */
         double cmin = INFINITY;
         for (uint32_t i = 0; i < inst_count; i++)
             if (inst_cell[i] > 0) cmin = fmin(cmin, inst_cell[i]);
-        double want = isfinite(cmin) ? 8 * diag / cmin : VX__SMAP_SIDE;
+        double want = isfinite(cmin) ? per_cell * diag / cmin : VX__SMAP_SIDE;
         side = 64;
         while (side < VX__SMAP_SIDE && side < want) side *= 2;
     }
@@ -334,14 +333,14 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     vx__seq seq;
     if ((r = vx__seq_begin(g, &seq, err))) return r;
     uint32_t texels = sm->side * sm->side;
-    smap_push pc[4] = {{0}};
+    smap_push pc[3] = {{0}};
     /* the texels cleared by a fill (memset speed on a CPU device, where a
      * clearing dispatch took 0.2 s per 2048^2 map) */
     vx__seq_fill(g, &seq, &sm->map, 64, 4 * (VkDeviceSize)texels * 4, 0);
-    for (int m = 1; m < 4; m++)
+    for (int m = 1; m < 3; m++)
         pc[m] = (smap_push){.mode = (uint32_t)m, .count = (uint32_t)work, .insts = n, .side = sm->side,
                             .margin_tex = (float)(margin * inv), .margin = (float)margin};
-    for (int m = 1; m < 4 && !r; m++) {
+    for (int m = 1; m < 3 && !r; m++) {
         uint32_t groups = (pc[m].count + 63) / 64, gx = groups < 65535 ? groups : 65535;
         vx__dispatch_desc dd = {.pipeline = p,
                                 .buffer_count = 3,

@@ -6,10 +6,10 @@
 // the texel. A shadow ray from p meets geometry only where s <= that
 // maximum, so trace.comp ends its walk there.
 //
-// Three modes (push constant; shadow_map.c clears the texels first): 1 adds the nodes to m1,
-// the texel's largest s; 2 marks in top the node that gave m1 (its work item
-// + 1, bit 31 where two or more did); 3 adds the other nodes to m2, the
-// largest s below m1. A shadow ray from the surface of the one node that
+// Two modes (push constant; shadow_map.c clears the texels first): 1 adds
+// the nodes to m1, the texel's largest s; 2 marks in top the node that gave
+// m1 (its work item + 1, bit 31 where two or more did) and adds the other
+// nodes to m2, the largest s below m1. A shadow ray from the surface of the one node that
 // gave m1, a solid cube (a leaf), cannot meet that cube (it leaves the
 // cube's face plane), so trace.comp takes m2 there. Mode 1 also makes occl,
 // the largest, over the solid cubes whose projection holds the whole texel,
@@ -40,7 +40,7 @@ layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
 layout(std430, binding = 2) buffer Map { uint smap[]; };
 
 layout(push_constant) uniform P {
-    uint mode;   // 1, 2, 3: m1, top, m2
+    uint mode;   // 1: m1 and occl, 2: top and m2
     uint count;  // work items
     uint insts;  // entries in si
     uint side;
@@ -114,7 +114,7 @@ void main() {
             for (int k = 0; k < 3; k++)
                 if (abs(dot(tc, nk[k]) - ck[k]) > rk[k]) touch = false;
             if (!touch) continue;
-            // the same operations in every mode, so that modes 2 and 3 see m1's bits
+            // the same operations in both modes, so that mode 2 sees m1's bits
             precise float st = smax;
             for (int k = 0; k < 3; k++)
                 if (((use >> k) & 1u) != 0u) {
@@ -136,10 +136,9 @@ void main() {
                         low = min(low, fa[k] + fb[k] * tc.x + fc[k] * tc.y - 0.5 * (abs(fb[k]) + abs(fc[k])));
                     atomicMax(smap[HDR + 3u * T + t], ordered(low - pc.margin));
                 }
-            } else if (pc.mode == 2u) {
-                if (w == smap[HDR + t] && atomicCompSwap(smap[HDR + 2u * T + t], 0u, id + 1u) != 0u)
-                    atomicOr(smap[HDR + 2u * T + t], 0x80000000u);
-            } else if (w != smap[HDR + t]) {
+            } else if (w == smap[HDR + t]) {
+                if (atomicCompSwap(smap[HDR + 2u * T + t], 0u, id + 1u) != 0u) atomicOr(smap[HDR + 2u * T + t], 0x80000000u);
+            } else {
                 atomicMax(smap[HDR + T + t], w);
             }
         }
