@@ -8,13 +8,17 @@
  * shadow ray from p moves towards larger s, so it can meet geometry only
  * for t <= s_max - s(p), and none at all where s_max < s(p) or the texel is
  * empty. The tracer's loop gets that as its tmax; the result is the
- * unclipped ray's (bit for bit: tests/render/test_render_smap.c).
+ * unclipped ray's (bit for bit: tests/render/test_render_smap.c). Two more
+ * layers (smap.comp says how they are made): the second largest s and the
+ * one solid cube that gave the largest, which a shadow ray from that cube's
+ * own face cannot meet; and the top of solid cubes that cover a whole
+ * texel, below which a shadow ray surely meets one.
  *
  * Nodes: per model, the octree's nodes at the level whose side is about one
  * texel in the world (and collapsed leaves above it), listed once when the
  * scene is made (the models' words are on the host only then); each build
  * projects every drawn instance's copy of its model's list. A build is one
- * submission of two dispatches, per light direction.
+ * submission (a fill, two dispatches) per light direction and instances.
  *
  * The margin: the build and the kernel compute projections in float from
  * coordinates of at most about the scene's size R (plus the frame reference's
@@ -24,7 +28,8 @@
  * the model's extent) per operation, with tiny direction components replaced
  * by 2^-23 (a drift of at most 2^-22 of the cube). 2^-13 R is 2^9 times the
  * sum of these, so a cell the walk enters is inside the widened texel
- * rectangle and below the widened s_max. */
+ * rectangle and below the widened s_max, and a cube whose shrunk projection
+ * holds a texel holds the shadow rays that start in it. */
 #include <math.h>
 #include <string.h>
 
@@ -215,7 +220,7 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     return VX_OK;
 }
 
-/* 3x3 part and translation of a row-major 3x4 affine map */
+/* The unit light L and two unit axes U, V across it (the map's texel axes). */
 static void light_basis(const float light[3], double L[3], double U[3], double V[3]) {
     double n = 0;
     for (int k = 0; k < 3; k++) L[k] = light[k], n += L[k] * L[k];

@@ -137,7 +137,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, const vx_render
 }
 
 /* Orthographic views from the light whose pixel centres fall on the map's
- * texel edges (pixels a texel apart, the view centre on a texel corner). */
+ * texel corners (so their shadow rays start on texel edges, to rounding). */
 static void check_texel_edges(const char* name, const vx_svo_scene* s, uint32_t side, smap_stats* st) {
     vx_render_scene_desc sd = {.shadow_map_side = side};
     vx_render_scene* rs = NULL;
@@ -162,8 +162,10 @@ static void check_texel_edges(const char* name, const vx_svo_scene* s, uint32_t 
         double L[3], l = 0;
         for (int k = 0; k < 3; k++) L[k] = lights[which[w]][k], l += L[k] * L[k];
         for (int k = 0; k < 3; k++) L[k] /= sqrt(l);
-        /* the texel corner nearest the scene's middle, in the map's frame */
-        double mu = floor(-mi.u0 / mi.texel), mv = floor(-mi.v0 / mi.texel);
+        /* pixels a texel apart, the view's centre half a texel past the
+         * texel corner nearest the scene's middle: pixel centres (half a
+         * pixel off the centre, the frame being even) on texel corners */
+        double mu = floor(-mi.u0 / mi.texel) + 0.5, mv = floor(-mi.v0 / mi.texel) + 0.5;
         vx_render_camera c = {.set = true, .ortho = true, .ortho_height = d.height * mi.texel};
         for (int k = 0; k < 3; k++) {
             c.target[k] = mi.origin[k] + (mi.u0 + mu * mi.texel) * mi.axis_u[k] + (mi.v0 + mv * mi.texel) * mi.axis_v[k];
