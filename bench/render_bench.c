@@ -53,6 +53,13 @@
  * CPU second): on lavapipe, whose worker threads run the
  * kernels, a comparison that other jobs on the machine disturb less than the
  * dispatch timestamps do.
+ * --shadow-map off|0|N,...: voxkit's rows again for each shadow map setting
+ * (vx_render_scene_shadow_map_info): off (vx_render_desc.no_shadow_map), 0
+ * the scene's default, N a map of N texels a side; rows end "[shadow map
+ * on|off|none]" and each row with a map is preceded by a line "shadow map:"
+ * with its side, its nodes and its build time (the timed frames trace with
+ * the map built, as with the BVH). The colour frame of every row is compared
+ * with the first row's (list off first: the map must change no pixel).
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
  * billions, for slow devices (lavapipe). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -79,6 +86,7 @@ typedef struct view_result {
      * of the view (beam 0 first: the beam pass must change none); -1: none */
     long beam_diff;
     long color_diff; /* likewise, pixels of the colour frame (primary + shadow) whose values differ */
+    double sh_share, sh_steps; /* pixels that cast a shadow ray, and its loop iterations (vx_render_hit.shadow) */
 } view_result;
 
 /* A view's first row: its hits and its colour frame, which every later
@@ -98,7 +106,8 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time] FILE...\n"
+            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
+            "          [--shadow-map off|0|N,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -298,9 +307,16 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         if (ref->hits) memcpy(ref->hits, img.hits, npx * sizeof *ref->hits);
         vx_render_image_free(&img);
     }
-    /* the colour frame (primary and shadow rays) against the first row's */
+    /* the colour frame (primary and shadow rays) against the first row's,
+     * after one that lets the scene build the shadow map (a light the frame
+     * before had: vx_render_scene_shadow_map_info) */
     d.mode = VX_RENDER_COLOR;
     d.want_hits = false;
+    if (vx_render_frame(rs, &d, &img, err)) {
+        free(edepth), free(esteps);
+        return 1;
+    }
+    vx_render_image_free(&img);
     if (vx_render_frame(rs, &d, &img, err)) {
         free(edepth), free(esteps);
         return 1;
@@ -314,6 +330,19 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         if (ref->color) memcpy(ref->color, img.pixels, npx * 16);
     }
     vx_render_image_free(&img);
+    /* the shadow rays' share and steps (the colour frame with hits records) */
+    d.want_hits = true;
+    if (vx_render_frame(rs, &d, &img, err)) {
+        free(edepth), free(esteps);
+        return 1;
+    }
+    size_t ncast = 0;
+    double sst = 0;
+    for (size_t i = 0; i < npx; i++)
+        if (img.hits[i].shadow & VX_RENDER_SHADOW_CAST) ncast++, sst += img.hits[i].shadow & ~VX_RENDER_SHADOW_CAST;
+    out->sh_share = (double)ncast / npx, out->sh_steps = ncast ? sst / ncast : 0;
+    vx_render_image_free(&img);
+    d.want_hits = false;
     d.mode = VX_RENDER_DEPTH;
     free(edepth), free(esteps);
     out->hit = (double)hits / npx;
@@ -356,6 +385,8 @@ int main(int argc, char** argv) {
     const char* views = "overview,oblique,closeup";
     uint32_t beam_list[8] = {0};
     int nbeam = 1;
+    uint32_t smap_list[8] = {0}; /* 0: the scene's default map; 1: off; N: a map of N texels a side */
+    int nsmap = 1;
     const char* kname[9] = {NULL};
     uint32_t* kspv[9] = {NULL};
     size_t kbytes[9] = {0};
@@ -387,6 +418,23 @@ int main(int argc, char** argv) {
                     return 2;
                 }
                 beam_list[nbeam++] = (uint32_t)n;
+                if (!*end) break;
+                bp = end + 1;
+            }
+        }
+        else if (!strcmp(argv[i], "--shadow-map") && i + 1 < argc) {
+            const char* bp = argv[++i];
+            for (nsmap = 0; nsmap < 8;) {
+                char* end = NULL;
+                unsigned long n = 0;
+                if (!strncmp(bp, "off", 3)) n = 1, end = (char*)bp + 3;
+                else n = strtoul(bp, &end, 10);
+                if (end == bp || (n > 1 && (n < 16 || n > 16384)) || (*end && *end != ',')) {
+                    fprintf(stderr, "render_bench: --shadow-map wants up to 8 of off, 0 (default) or 16..16384, not '%s'\n",
+                            argv[i]);
+                    return 2;
+                }
+                smap_list[nsmap++] = (uint32_t)n;
                 if (!*end) break;
                 bp = end + 1;
             }
@@ -548,16 +596,28 @@ int main(int argc, char** argv) {
                 if (sscanf(p, "%ux%u", &w, &h) != 2) break;
                 view_result r = {0};
                 row_ref ref = {0};
+                uint32_t smap_side = 0; /* the scene's list now: 0 the default */
+                for (int si = 0; si < nsmap; si++)
                 for (int ki = 0; ki < nkern; ki++)
                 for (int bi = 0; bi < nbeam; bi++) {
                     uint32_t beam = beam_list[bi];
-                    vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam};
+                    vx_render_desc d = {.width = w, .height = h, .camera = cams[v], .beam = beam,
+                                        .no_shadow_map = smap_list[si] == 1};
+                    if (smap_list[si] != 1 && smap_list[si] != smap_side) {
+                        if (vx__render_scene_smap_side(rs, &s, smap_list[si], &err)) {
+                            fprintf(stderr, "render_bench: %s: shadow map: %s\n", name, err.msg);
+                            failed = 1;
+                            break;
+                        }
+                        smap_side = smap_list[si];
+                    }
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */
                     double wu = first_view && ki == 0 && bi == 0 ? fmax(warmup, 1.0) : warmup;
-                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0, runs, wu, &ref, &r, &err)) {
+                    if (run_view(rs, esp, t6p, t6_variants, &s, d, dense, bi == 0 && ki == 0 && si == 0, runs, wu, &ref, &r,
+                                 &err)) {
                         fprintf(stderr, "render_bench: %s %s: %s\n", name, vnames[v], err.msg);
                         failed = 1;
                         break;
@@ -590,6 +650,22 @@ int main(int argc, char** argv) {
                                  esp ? r.cpu_es / r.cpu_vx : 0.0, px / r.cpu_sh * U);
                     char kl[320] = "";
                     if (ki) snprintf(kl, sizeof kl, "  [kernel %s]", kname[ki]);
+                    vx_render_shadow_map_info smi;
+                    vx_render_scene_shadow_map_info(rs, &smi);
+                    {
+                        size_t at = strlen(kl);
+                        snprintf(kl + at, sizeof kl - at, "  [shadow rays %.0f%%, %.1f steps]", 100 * r.sh_share, r.sh_steps);
+                    }
+                    if (nsmap > 1 || smap_list[0]) {
+                        size_t at = strlen(kl);
+                        snprintf(kl + at, sizeof kl - at, "  [shadow map %s]",
+                                 smi.used ? "on" : smap_list[si] == 1 ? "off" : "none");
+                    }
+                    if (smi.used)
+                        printf("shadow map: %s %s: %u texels a side, %u nodes listed in %.3f s; build %.3f ms GPU, "
+                               "%.3f ms wall (per light direction)\n",
+                               name, vnames[v], smi.side, smi.nodes, smi.list_seconds, smi.build_gpu_seconds * 1e3,
+                               smi.build_seconds * 1e3);
                     if (r.beam_diff >= 0) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [%ld px differ from the first row, %ld in colour]", r.beam_diff,
@@ -603,6 +679,7 @@ int main(int argc, char** argv) {
                     fflush(stdout);
                 }
                 free(ref.hits), free(ref.color);
+                if (smap_side && vx__render_scene_smap_side(rs, &s, 0, &err)) failed = 1;
                 first_view = false;
                 vx__render_scene_trace_kernel(rs, NULL, 0, NULL, 0, 0);
                 p = strchr(p, ',');

@@ -213,6 +213,8 @@ vx_result vx__seq_dispatch(vx_gpu* g, vx__seq* s, const vx__dispatch_desc* d, co
  * wrote, into a parameter block later dispatches read). */
 void vx__seq_copy(vx_gpu* g, vx__seq* s, const vx__buffer* src, VkDeviceSize src_offset, const vx__buffer* dst,
                   VkDeviceSize dst_offset, VkDeviceSize size);
+/* Records a fill of size bytes (a multiple of 4) of dst at offset with word. */
+void vx__seq_fill(vx_gpu* g, vx__seq* s, const vx__buffer* dst, VkDeviceSize offset, VkDeviceSize size, uint32_t word);
 /* Ends, submits, waits, reads the timestamps and frees the sequence's
  * descriptor pool (also on failure). */
 vx_result vx__seq_submit(vx_gpu* g, vx__seq* s, vx_error* err);

@@ -252,6 +252,12 @@ void vx__seq_copy(vx_gpu* g, vx__seq* s, const vx__buffer* src, VkDeviceSize src
     s->commands++;
 }
 
+void vx__seq_fill(vx_gpu* g, vx__seq* s, const vx__buffer* dst, VkDeviceSize offset, VkDeviceSize size, uint32_t word) {
+    vkCmdFillBuffer(g->cmd, dst->buf, offset, size, word);
+    seq_barrier(g);
+    s->commands++;
+}
+
 void vx__seq_abandon(vx_gpu* g, vx__seq* s) {
     if (!s->pool) return;
     vkEndCommandBuffer(g->cmd);

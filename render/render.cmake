@@ -26,12 +26,13 @@ if(VX_WITH_VULKAN)
   # frame_display, resolve_display and post_display are those passes when they
   # are the frame's last and write the image shown themselves (display_out.glsl);
   # refit recomputes the instance BVH's bounds on the GPU (render_scene.c), inst_rows the instances' rows;
-  # trace_compact traces the compact layout (render/compact.h, compact_gpu.c).
+  # trace_compact traces the compact layout (render/compact.h, compact_gpu.c);
+  # smap builds the directional light's depth map that clips shadow rays (shadow_map.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
-               refit:refit inst_rows:inst_rows trace_compact:trace_compact)
+               refit:refit inst_rows:inst_rows trace_compact:trace_compact smap:smap)
     string(REPLACE ":" ";" parts ${spec})
     list(GET parts 0 shader)
     list(GET parts 1 file)
@@ -64,6 +65,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_SOURCE_DIR}/pipeline.c
     ${CMAKE_CURRENT_SOURCE_DIR}/display.c
     ${CMAKE_CURRENT_SOURCE_DIR}/compact_gpu.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/shadow_map.c
     ${VX_RENDER_SPV_HEADERS})
   target_include_directories(vx_render PRIVATE ${VX_RENDER_SPV_DIR})
   target_link_libraries(vx_render PUBLIC vx_trace vx_svo Vulkan::Vulkan m)

@@ -202,7 +202,13 @@ typedef struct vx_render_camera {
  *                 scenes whose rays cross much empty space inside the octree
  *                 (8 is a good N there); elsewhere it costs more than it
  *                 saves (docs/PERFORMANCE.md, issue 21). Not used with lod
- *                 or by the float64 variant */
+ *                 or by the float64 variant
+ *  no_shadow_map: vx_render_frame on a GPU, VX_RENDER_COLOR: trace every
+ *                 shadow ray to the scene's end. By default (false) each
+ *                 shadow ray ends where the light's depth map says no
+ *                 geometry lies further towards the light (the same image;
+ *                 see vx_render_scene_shadow_map_info). Not used with lod,
+ *                 by the float64 variant or by the compact layout */
 typedef struct vx_render_desc {
     uint32_t width, height;
     vx_render_mode mode;
@@ -214,6 +220,7 @@ typedef struct vx_render_desc {
     double ambient;
     bool want_hits;
     uint32_t beam;
+    bool no_shadow_map;
 } vx_render_desc;
 
 /* What a zero-initialised desc means, field by field (the tools' --help
@@ -231,7 +238,12 @@ typedef struct vx_render_hit {
     float t;
     uint32_t iterations;
     uint32_t flags; /* VX_RENDER_HIT_* */
+    /* VX_RENDER_COLOR on a GPU (vx_render_frame): VX_RENDER_SHADOW_CAST when
+     * the pixel cast a shadow ray, ORed with that ray's loop iterations
+     * (0 where a shadow map showed it needs no walk); 0 elsewhere */
+    uint32_t shadow;
 } vx_render_hit;
+#define VX_RENDER_SHADOW_CAST 0x80000000u
 
 /* CPU reference only: the ray started exactly on a cell boundary or crossed
  * an edge or corner exactly before the hit; float tracing may break such a
@@ -310,6 +322,11 @@ typedef struct vx_render_scene_desc {
      * two-frame walk's lower frame: pages of 512^3 cells; lowered to three
      * below the deepest model's depth where that is shallower) */
     uint32_t page_level;
+    /* the directional light's depth map (vx_render_scene_shadow_map_info):
+     * texels a side, 0: by the scene (8 a cell, 2 on a CPU device; a power
+     * of two in 64..2048); 1: no map (the node list is not made); others
+     * are clamped to 16..16384 */
+    uint32_t shadow_map_side;
 } vx_render_scene_desc;
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves
@@ -408,6 +425,33 @@ void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats*
 bool vx_render_scene_precise(const vx_render_scene* rs);
 /* Seconds spent building the BVH at creation (or at the last instance update). */
 double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
+/* The colour mode's shadow rays (one directional light) are parallel, so
+ * each projects to one point of the light's orthographic view. The scene
+ * keeps a conservative depth map of that view: per texel the largest
+ * distance towards the light of any octree node (about a texel in size)
+ * whose projection touches it, and a shadow ray's walk ends where it passes
+ * that distance (or is skipped where it starts beyond it). The image is the
+ * same as without (vx_render_desc.no_shadow_map). The nodes are listed when
+ * the scene is made (plain layout, float variant); the map is built on the
+ * GPU at a colour frame whose light direction and instances the colour
+ * frame before had too (a light or an animation that changes every frame
+ * would pay a build, build_seconds, for one frame's shadow rays; such
+ * frames trace them unclipped). After vx_render_scene_update_model the
+ * scene has no map (shadow rays unclipped). */
+typedef struct vx_render_shadow_map_info {
+    uint32_t side;            /* texels a side; 0: the scene has no map */
+    uint32_t nodes;           /* octree nodes listed */
+    double list_seconds;      /* listing them (host, at scene creation) */
+    uint32_t builds;          /* maps built so far */
+    double build_seconds;     /* the last build, wall time (uploads, submission) */
+    double build_gpu_seconds; /* the last build's dispatches (timestamps) */
+    bool used;                /* the last frame of vx_render_frame clipped its shadow rays by it */
+    /* the last build's texels: world point x falls in texel
+     * (floor((dot(x - origin, axis_u) - u0) / texel), likewise v), of side^2 */
+    double origin[3], axis_u[3], axis_v[3];
+    double u0, v0, texel;
+} vx_render_shadow_map_info;
+void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow_map_info* out);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
 

@@ -62,6 +62,54 @@ typedef struct vx__gpu_inst_precise {
  * holds nothing. */
 vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_render_image* img, vx_error* err);
 
+/* ---- the directional light's depth map (shadow_map.c, shaders/smap.comp) ----------- */
+
+/* At most this many nodes in a scene's list (16 bytes each on the GPU):
+ * past it the list takes coarser levels. */
+#define VX__SMAP_MAX_NODES (4u << 20)
+/* the most texels a side by default (vx_render_scene_desc.shadow_map_side 0),
+ * and the texels a side of a cell: 8 on a GPU, 2 on a CPU device (lavapipe),
+ * where a build over eph_menger's cells took 4.3 s with 8 (one 1920x1080
+ * colour frame there: about 1 s) */
+#define VX__SMAP_PER_CELL 8u
+#define VX__SMAP_PER_CELL_CPU 2u
+#define VX__SMAP_SIDE 2048u
+
+typedef struct vx__smap {
+    const vx_allocator* alloc;
+    uint32_t side;          /* texels a side; 0: no map for this scene */
+    uint32_t node_count, model_count;
+    uint32_t* model_first;  /* model_count + 1 starts in the node list, then each model's level */
+    double diag;            /* the scene box's diagonal when listed (the margin's scale) */
+    vx__buffer nodes, insts, map;
+    /* the last build: valid for `light` (the frame block's floats) */
+    bool valid;
+    float light[3];
+    double origin[3];       /* O, world */
+    double axis_u[3], axis_v[3], u0, v0, texel; /* the texels (vx_render_shadow_map_info) */
+    double margin;          /* world units */
+    double list_seconds;    /* the node list (host, at scene creation) */
+    double build_seconds, build_gpu_seconds; /* the last build, wall and GPU time */
+    uint32_t builds;
+    uint32_t insts_built;   /* entries in the insts buffer (the last build) */
+} vx__smap;
+
+const uint32_t* vx__spirv_smap(size_t* bytes);
+/* Lists the nodes of s's models (at about one texel of a side-texel map
+ * over the box lo, hi; inst_model and inst_cell: the drawn instances' models
+ * and cell sizes) and makes the GPU buffers. side 0: per_cell texels a side
+ * of the finest cell, a power of two in 64..VX__SMAP_SIDE. With no map
+ * possible (side 1, no instance, too many nodes) sm->side stays 0. */
+vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+                        const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
+                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err);
+/* Builds the map for the unit direction light (towards the light) and the
+ * drawn instances' world-from-model maps; one submission. */
+vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const double (*world)[12],
+                         const uint32_t* inst_model, uint32_t inst_count, const double lo[3], const double hi[3],
+                         vx_error* err);
+void vx__smap_free(vx_gpu* g, vx__smap* sm);
+
 /* ---- benchmark entry points (render_scene.c) ---------------------------------------- */
 
 /* Runs the trace `repeat` times in one submission; *seconds is the median. */
@@ -82,6 +130,9 @@ void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
  * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
                                    size_t beam_bytes, uint32_t tag);
+/* Benchmarks and tests: lists the shadow map's nodes again for a map of
+ * side texels (1: no map); s is the scene the GPU scene was made from. */
+vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err);
 /* Dense occupancy grid of the scene (identity world_from_grid) for the baseline. */
 vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err);
 vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,

@@ -133,6 +133,14 @@ struct vx_render_scene {
      * colors buffers are empty and compact traces the frames */
     vx_render_layout_info layout;
     vx_compact_gpu* compact;
+    /* the directional light's depth map (shadow_map.c) and whether the last
+     * frame used it */
+    vx__smap smap;
+    bool smap_used;
+    /* the light of the last colour frame since the instances last moved:
+     * a map is built only for a light and instances two frames have had */
+    bool smap_seen;
+    float smap_seen_light[3];
 };
 
 /* Headroom after the models in the shared buffers, so that an edited
@@ -486,6 +494,44 @@ void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats*
     vx_compact_gpu_page_stats(rs ? rs->compact : NULL, out);
 }
 
+/* The shadow map's node list for the drawn instances (shadow_map.c). */
+static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
+    uint32_t n = rs->inst_count;
+    uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
+    float* cell = vx_calloc(&rs->alloc, n ? n : 1, sizeof *cell);
+    vx_result r = VX_OK;
+    if (!model || !cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (uint32_t i = 0; !r && i < n; i++) model[i] = rs->inst[i].model, cell[i] = rs->inst[i].cell;
+    uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
+    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, &rs->smap, err);
+    vx_free(&rs->alloc, model);
+    vx_free(&rs->alloc, cell);
+    return r;
+}
+
+vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
+    if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx__smap_free(rs->gpu, &rs->smap);
+    if (rs->compact || rs->precise || side == 1) return VX_OK;
+    return smap_list(rs, s, side, err);
+}
+
+void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow_map_info* out) {
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (!rs) return;
+    out->side = rs->smap.side;
+    out->nodes = rs->smap.node_count;
+    out->list_seconds = rs->smap.list_seconds;
+    out->builds = rs->smap.builds;
+    out->build_seconds = rs->smap.build_seconds;
+    out->build_gpu_seconds = rs->smap.build_gpu_seconds;
+    out->used = rs->smap_used;
+    for (int k = 0; k < 3; k++)
+        out->origin[k] = rs->smap.origin[k], out->axis_u[k] = rs->smap.axis_u[k], out->axis_v[k] = rs->smap.axis_v[k];
+    out->u0 = rs->smap.u0, out->v0 = rs->smap.v0, out->texel = rs->smap.texel;
+}
+
 vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_scene** out, vx_error* err) {
     return vx_render_scene_create_ex(gpu, s, NULL, out, err);
 }
@@ -531,6 +577,11 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     }
     if (plain) {
         rs->layout.bytes = li.plain_bytes;
+        uint32_t side = desc ? desc->shadow_map_side : 0;
+        if (!rs->precise && side != 1 && (r = smap_list(rs, s, side, err))) {
+            vx_render_scene_destroy(rs);
+            return r;
+        }
     } else {
         vx_compact_scene c;
         r = vx_compact_build(&(vx_compact_desc){.alloc = &rs->alloc}, s, &c, err);
@@ -587,6 +638,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx__gpu_submit_held(g);
     vkDeviceWaitIdle(g->device);
     vx_compact_gpu_destroy(rs->compact);
+    vx__smap_free(g, &rs->smap);
     destroy_instance_buffers(rs);
     vx__buffer* bufs[] = {&rs->beam,   &rs->dense_bits, &rs->hits,  &rs->pixels, &rs->models,
                           &rs->colors, &rs->nodes,      &rs->stage};
@@ -647,6 +699,9 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     vx_result r = vx__check_scene(&v, err);
     if (r || (r = drawn_depth(rs->gpu, &v, &max_depth, err))) return r;
     vx_gpu* g = rs->gpu;
+    /* the instances move: the map is built again once a frame after this one keeps them */
+    rs->smap.valid = false;
+    rs->smap_seen = false;
     if (drawn_count(&v) == rs->inst_count && rs->inst_count > 0 && rs->insts.buf) {
         /* the same number of instances drawn (moves, turns, a frame of an
          * animation): the tables and the BVH are made again on the host in
@@ -797,6 +852,10 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
     settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
+    /* the shadow map's node list is the models' as made: an edited scene has
+     * no map (listing the nodes again would cost a stroke tens of ms on a
+     * large model) */
+    vx__smap_free(g, &rs->smap);
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
     uint32_t depth = 0;
@@ -1001,6 +1060,40 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
     gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
 }
 
+/* Whether a colour frame with f's light clips its shadow rays (*use; allow:
+ * the frame asks for the map). The map is built for a light that the frame
+ * before had too (with the same instances): a light or an animation that
+ * changes every frame would pay a build per frame and gain one frame's
+ * shadow rays (docs/PERFORMANCE.md, issue 21's eighth sitting). */
+static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow, bool* use, vx_error* err) {
+    float lf[3] = {(float)f->light[0], (float)f->light[1], (float)f->light[2]};
+    bool again = rs->smap_seen && !memcmp(lf, rs->smap_seen_light, sizeof lf);
+    rs->smap_seen = true;
+    memcpy(rs->smap_seen_light, lf, sizeof lf);
+    *use = false;
+    if (!allow) return VX_OK;
+    if (rs->smap.valid && !memcmp(lf, rs->smap.light, sizeof lf)) {
+        *use = true;
+        return VX_OK;
+    }
+    if (!again) return VX_OK;
+    settle(rs);
+    uint32_t n = rs->inst_count;
+    double(*world)[12] = vx_calloc(&rs->alloc, n ? n : 1, sizeof *world);
+    uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
+    vx_result r = VX_OK;
+    if (!world || !model) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (uint32_t i = 0; !r && i < n; i++) {
+        model[i] = rs->inst[i].model;
+        vx__affine_inverse(rs->inst[i].inv, world[i]);
+    }
+    if (!r) r = vx__smap_build(rs->gpu, &rs->smap, lf, (const double(*)[12])world, model, n, rs->lo, rs->hi, err);
+    vx_free(&rs->alloc, world);
+    vx_free(&rs->alloc, model);
+    *use = !r && rs->smap.valid;
+    return r;
+}
+
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err) {
     vx_gpu* g = rs->gpu;
@@ -1012,29 +1105,51 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     if (want_hits && (r = vx__buffer_ensure(g, &rs->hits, npx * 32, "hits", err))) return r;
     if (!want_hits && (r = vx__buffer_ensure(g, &rs->hits, 16, "hits", err))) return r;
-    if ((r = write_frame_tables(rs, f, err))) return r;
-    fill_gpu_frame(rs, f, rs->frame.map);
     bool precise = use_precise(rs);
     if (precise && !g->has_float64)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the float64 trace variant needs shaderFloat64, which %s lacks",
                        g->props.deviceName);
+    /* the shadow rays' depth map: colour mode, float variant, no LOD (a LOD
+     * hit is a coarse node, larger than the listed ones) */
+    bool smap = false;
+    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && rs->smap.side &&
+        (r = smap_ensure(rs, f, !(desc && desc->no_shadow_map), &smap, err)))
+        return r;
+    rs->smap_used = smap;
+    if ((r = write_frame_tables(rs, f, err))) return r;
+    fill_gpu_frame(rs, f, rs->frame.map);
+    if (smap) {
+        vx__gpu_frame* gf = rs->frame.map;
+        double o2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = rs->smap.origin[k] - f->ref[k];
+            gf->grid_lo[k] = (float)d;
+            o2 += d * d;
+        }
+        /* the kernel's coordinates are relative to the frame's reference: its
+         * rounding grows with the map origin's distance from it */
+        gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+        gf->dims2[0] = rs->smap.side;
+        gf->dims2[1] = rs->smap.insts_built;
+    }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
     /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
-    uint32_t spec[10] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
-                         precise ? 0 : rs->deep, rs->far};
+    /* 10 COMPACT (off here), 11 the shadow map */
+    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+                         precise ? 0 : rs->deep, rs->far, 0, smap};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
-    /* bindings 0-8, 9 the float64 instances, 10 the beam */
-    uint32_t nb = precise ? 10 : 11;
+    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
+    uint32_t nb = precise ? 10 : 14;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = 10, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = precise ? 10 : 12, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -1058,7 +1173,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
-                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam},
+                                        &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
+                                        smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
+                                        smap ? &rs->smap.insts : &rs->beam},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace",
@@ -1437,7 +1554,8 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
 static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t* w = raw + 8 * i;
-        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5], .flags = w[6]};
+        hits[i] = (vx_render_hit){.instance = w[0], .cell = {w[1], w[2], w[3]}, .iterations = w[5], .flags = w[6],
+                                  .shadow = w[7]};
         memcpy(&hits[i].t, &w[4], 4);
     }
 }

@@ -22,6 +22,12 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_beam.c)
               LIBS vx_render vx_svo)
   set_tests_properties(test_render_beam PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
 endif()
+# The light's depth map that clips shadow rays (issue 21): the same pixels, fewer steps.
+if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_smap.c)
+  vx_add_test(test_render_smap SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_smap.c
+              LIBS vx_render vx_svo)
+  set_tests_properties(test_render_smap PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
+endif()
 # vx_render_scene_update_model: edited models' appends against scenes made from scratch.
 if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c)
   vx_add_test(test_render_edit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c LIBS vx_render vx_svo)

@@ -936,6 +936,12 @@ int main(int argc, char** argv) {
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
             }
+            vx_render_shadow_map_info sm;
+            vx_render_scene_shadow_map_info(rs, &sm);
+            if (!r && o.verbose && sm.used)
+                printf("shadow map: %u texels a side (texel %g), %u nodes listed in %.3f s, built in %.3f ms "
+                       "(%.3f ms GPU): shadow rays end where nothing lies further towards the light\n",
+                       sm.side, sm.texel, sm.nodes, sm.list_seconds, sm.build_seconds * 1e3, sm.build_gpu_seconds * 1e3);
         }
         if (!r && vx_gpu_validation_errors(gpu))
             r = vx_fail(&err, VX_ERR_GPU, VX_NO_OFFSET, "%u Vulkan validation errors", vx_gpu_validation_errors(gpu));
