@@ -279,7 +279,33 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
 }
 #endif
 
-static void row(const char* name, const vx_svo_scene* s, uint32_t block, double load_s) {
+/* The geometry's bytes by level and field (--levels, render/compact.h): per
+ * level its blocks and slots (64 bits each, a rank word more at levels >= 5;
+ * level 2: the bricks' index words), the brick dictionary; and what the
+ * same blocks took before the dictionary (every slot of level >= 3 with a
+ * rank word, every brick 8 bytes in its block). */
+static void level_rows(const vx_compact_scene* c, double voxels) {
+    const vx_compact_stats* st = &c->stats;
+    printf("\n| level | blocks | slots | slots per block | slot bytes | rank bytes | bytes per voxel | share |\n"
+           "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    double all = 4.0 * c->geom_words, before = 0;
+    for (int L = 32; L >= 1; L--) {
+        uint64_t n = st->level_slots[L];
+        if (!n) continue;
+        double sb = L >= 3 ? 8.0 * n : 4.0 * n, rb = L >= 5 ? 4.0 * n : 0;
+        before += L >= 3 ? 12.0 * n : 8.0 * n;
+        printf("| %d%s | %llu | %llu | %.2f | %.1f MB | %.1f MB | %.4f | %.1f%% |\n", L, L <= 2 ? " (index words)" : "",
+               (unsigned long long)st->level_blocks[L], (unsigned long long)n, (double)n / st->level_blocks[L],
+               sb / 1e6, rb / 1e6, (sb + rb) / voxels, 100.0 * (sb + rb) / all);
+    }
+    double db = 8.0 * st->bricks;
+    printf("| dictionary | | %llu bricks | | %.1f MB | | %.4f | %.1f%% |\n", (unsigned long long)st->bricks, db / 1e6,
+           db / voxels, 100.0 * db / all);
+    printf("\ngeometry %.1f MB = %.4f bytes/voxel; the same blocks before the dictionary: %.1f MB = %.4f\n\n", all / 1e6,
+           all / voxels, before / 1e6, before / voxels);
+}
+
+static void row(const char* name, const vx_svo_scene* s, uint32_t block, double load_s, bool levels) {
     uint64_t voxels = 0, words = 0, colors = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         voxels += s->models[i].voxel_count;
@@ -315,6 +341,7 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
            100.0 * st->delta / blocks, 100.0 * st->raw / blocks, 100.0 * st->shared / blocks,
            st->distinct_sum / blocks, t, load_s);
     fflush(stdout);
+    if (levels) level_rows(&c, v);
     vx_compact_free(&c);
 }
 
@@ -363,7 +390,7 @@ int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
     uint64_t budget = 0;
-    bool stats = false, geometry_only = false, mesh_gpu = false;
+    bool stats = false, geometry_only = false, mesh_gpu = false, levels = false;
     uint32_t mesh_res = 0;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -417,6 +444,10 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--geometry")) {
             geometry_only = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--levels")) {
+            levels = true;
             continue;
         }
         if (!strcmp(argv[i], "--shader-stats")) {
@@ -474,7 +505,7 @@ int main(int argc, char** argv) {
         if (geometry_only)
             for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
         if (!gw)
-            for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
+            for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load, levels);
 #ifdef VX_BENCH_HAVE_VULKAN
         if (gw && fly && lp && budget) fly_rows(gpu, name, &s, gw, gh, lp, budget, fly);
         else if (gw) gpu_rows(gpu, name, &s, gw, gh, reps, lp);

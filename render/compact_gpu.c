@@ -125,7 +125,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         if (deep_model) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
-                             .kind = m->attr_kind, .rank_base = 2 * c->slot_count,
+                             .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
                              .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS
                                            : 0};

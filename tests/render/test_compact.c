@@ -258,7 +258,9 @@ static void test_colour_sharing(void) {
     const uint32_t* root = c.geom + 2 * (size_t)c.models[1].root;
     CHECK(root[0] == 0x8100u);
     const uint32_t* kids = c.geom + 2 * (size_t)root[1];
-    CHECK(kids[0] == kids[2] && kids[1] == kids[3]);
+    CHECK((kids[0] & 0xFFFFu) == (kids[2] & 0xFFFFu) && kids[1] == kids[3]);
+    /* level-4 slots carry the cells of their block up to them: the second child has twice the first's */
+    CHECK(kids[0] >> 16 != 0 && kids[2] >> 16 == 2 * (kids[0] >> 16));
     /* the second model adds no geometry to the first */
     vx_svo_model only = s.models[0];
     ts_scene(&s1, &only, 1, in, 1);
