@@ -117,6 +117,7 @@ typedef struct builder {
     uint32_t dict_n;
     uint32_t* dtab; /* UINT32_MAX: empty */
     size_t dtab_cap;
+    uint32_t max_bricks;
 } builder;
 
 static uint64_t mask_hash(uint64_t m) {
@@ -148,9 +149,9 @@ static vx_result dict_intern(builder* b, uint64_t m, uint32_t* id) {
             *id = b->dtab[j];
             return VX_OK;
         }
-    if (b->dict_n >= VX_COMPACT_MAX_BRICKS)
+    if (b->dict_n >= b->max_bricks)
         return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u distinct bricks",
-                       VX_COMPACT_MAX_BRICKS);
+                       b->max_bricks);
     if (!vx_grow(b->a, (void**)&b->dict, &b->dict_cap, (size_t)b->dict_n + 1, 8))
         return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u bricks", b->dict_n + 1);
     b->dict[b->dict_n] = m;
@@ -555,7 +556,7 @@ done:
 
 /* ---- scene --------------------------------------------------------------------------- */
 
-vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = 0}; }
+vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = 0, .max_bricks = VX_COMPACT_MAX_BRICKS}; }
 
 /* The automatic block size: VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM
  * where at least half of the blocks of 64 hold one value and the larger
@@ -660,6 +661,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (desc_in) {
         d.alloc = desc_in->alloc;
         if (desc_in->block) d.block = desc_in->block;
+        if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
     }
     if (d.block && (d.block < 8 || d.block > 1024 || (d.block & (d.block - 1))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact block %u: not a power of two in 8..1024",
@@ -668,7 +670,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (d.alloc) c.alloc = *d.alloc;
     d.alloc = &c.alloc;
     memcpy(c.palette, s->palette, sizeof c.palette);
-    builder b = {.a = d.alloc, .err = err, .st = &c.stats};
+    builder b = {.a = d.alloc, .err = err, .st = &c.stats, .max_bricks = d.max_bricks};
     size_t attr_cap = 0;
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);

@@ -110,6 +110,10 @@ typedef struct vx_compact_desc {
      * VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM where at least half of
      * the blocks of 64 hold one value and the larger blocks take fewer words */
     uint32_t block;
+    /* distinct bricks a scene may have, 0: VX_COMPACT_MAX_BRICKS (what the
+     * index word's bits hold); fewer refuses a scene past it as the bits'
+     * limit would (tests: the refusal without 2^23 bricks) */
+    uint32_t max_bricks;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 

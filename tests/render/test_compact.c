@@ -277,6 +277,64 @@ static void test_colour_sharing(void) {
 
 /* The automatic block size: blocks of 64 for a textured model, of 512 for
  * 8^3 tiles of one colour each (a header per 64 cells would be 8 per tile). */
+/* The seams of the geometry's fields (render/compact.h), reached by
+ * construction: every 4^3 brick of a 32^3 model lacks one cell (at a place
+ * that varies), so each level-3 node has 8 bricks of 63 cells (its last
+ * index word counts 504 cells, 503 stored in 9 bits), each level-4 node 4,032
+ * cells, and the root's block of level-4 slots carries 32,256 in bits 16..31
+ * of the last one's word 0. Every cell's rank and colour, the CPU walk's
+ * pixels, and the brick limit: at the scene's distinct bricks it builds, one
+ * fewer is refused. */
+static void test_brick_seams(void) {
+    uint32_t size[3] = {32, 32, 32}, *xyz = malloc(32768 * 12);
+    uint8_t* pal = malloc(32768);
+    REQUIRE(xyz && pal);
+    size_t n = 0;
+    for (uint32_t z = 0; z < 32; z++)
+        for (uint32_t y = 0; y < 32; y++)
+            for (uint32_t x = 0; x < 32; x++) {
+                uint32_t bx = x / 4, by = y / 4, bz = z / 4, hole = (bx * 7 + by * 13 + bz * 29) % 64;
+                if ((uint32_t)vx_svo_morton(x % 4, y % 4, z % 4) == hole) continue;
+                xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
+                pal[n++] = (uint8_t)(1 + (x + 3 * y + 5 * z) % 250);
+            }
+    REQUIRE(n == 32768 - 512);
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, size, xyz, pal, n) == VX_OK);
+    free(xyz), free(pal);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_compact_scene c;
+    check_scene(&s, "brick seams", 64, &c);
+    REQUIRE(c.models[0].depth == 5);
+    /* the largest counts the fields hold: 9 bits of the index words, 16 of word 0 at level 4 */
+    uint32_t n5 = (uint32_t)c.stats.offset_words, first_index = 2 * c.slot_count + n5, most_bricks = 0, most_rank = 0;
+    for (uint32_t i = 0; i < c.stats.brick_refs; i++) {
+        uint32_t w = c.geom[first_index + i];
+        CHECK((w & (VX_COMPACT_MAX_BRICKS - 1u)) < c.brick_count);
+        if (w >> VX_COMPACT_BRICK_BITS > most_bricks) most_bricks = w >> VX_COMPACT_BRICK_BITS;
+    }
+    for (uint32_t sl = c.brick_count + n5; sl < c.slot_count; sl++)
+        if (c.geom[2 * (size_t)sl] >> 16 > most_rank) most_rank = c.geom[2 * (size_t)sl] >> 16;
+    CHECKF(most_bricks == 8 * 63 - 1, "index words: most cells %u, expected %u", most_bricks + 1, 8 * 63);
+    CHECKF(most_rank == 8 * 8 * 8 * 63, "level 3-4 ranks: most %u, expected %u", most_rank, 8 * 8 * 8 * 63);
+    CHECKF(c.brick_count <= 64 && c.stats.bricks == c.brick_count, "%u distinct bricks (at most 64 holes)",
+           c.brick_count);
+    CHECK(check_trace(&s, "brick seams", 64, 48) > 0);
+    /* the brick limit, at the scene's own count and one below it */
+    vx_compact_desc d = vx_compact_desc_defaults();
+    vx_compact_scene c2;
+    vx_error err = {0};
+    d.max_bricks = c.brick_count;
+    CHECK(vx_compact_build(&d, &s, &c2, &err) == VX_OK && c2.geom_words == c.geom_words);
+    vx_compact_free(&c2);
+    d.max_bricks = c.brick_count - 1;
+    CHECK(vx_compact_build(&d, &s, &c2, &err) == VX_ERR_LIMIT && strstr(err.msg, "distinct bricks"));
+    vx_compact_free(&c);
+    vx_svo_scene_free(&s);
+}
+
 static void test_auto_block(void) {
     uint64_t keys[512];
     uint8_t level[512];
@@ -413,6 +471,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     RUN(test_generated);
     RUN(test_colour_sharing);
+    RUN(test_brick_seams);
     RUN(test_auto_block);
     RUN(test_edges);
     RUN(test_trace_large);
