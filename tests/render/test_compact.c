@@ -278,30 +278,17 @@ static void test_colour_sharing(void) {
 /* The automatic block size: blocks of 64 for a textured model, of 512 for
  * 8^3 tiles of one colour each (a header per 64 cells would be 8 per tile). */
 /* The seams of the geometry's fields (render/compact.h), reached by
- * construction: every 4^3 brick of a 32^3 model lacks one cell (at a place
- * that varies), so each level-3 node has 8 bricks of 63 cells (its last
+ * construction (ts_seam_model): every 4^3 brick of a 32^3 model lacks one
+ * cell (at a place that varies), so each level-3 node has 8 bricks of 63 cells (its last
  * index word counts 504 cells, 503 stored in 9 bits), each level-4 node 4,032
  * cells, and the root's block of level-4 slots carries 32,256 in bits 16..31
  * of the last one's word 0. Every cell's rank and colour, the CPU walk's
  * pixels, and the brick limit: at the scene's distinct bricks it builds, one
  * fewer is refused. */
 static void test_brick_seams(void) {
-    uint32_t size[3] = {32, 32, 32}, *xyz = malloc(32768 * 12);
-    uint8_t* pal = malloc(32768);
-    REQUIRE(xyz && pal);
-    size_t n = 0;
-    for (uint32_t z = 0; z < 32; z++)
-        for (uint32_t y = 0; y < 32; y++)
-            for (uint32_t x = 0; x < 32; x++) {
-                uint32_t bx = x / 4, by = y / 4, bz = z / 4, hole = (bx * 7 + by * 13 + bz * 29) % 64;
-                if ((uint32_t)vx_svo_morton(x % 4, y % 4, z % 4) == hole) continue;
-                xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
-                pal[n++] = (uint8_t)(1 + (x + 3 * y + 5 * z) % 250);
-            }
-    REQUIRE(n == 32768 - 512);
     vx_svo_model m;
-    REQUIRE(ts_model(&m, size, xyz, pal, n) == VX_OK);
-    free(xyz), free(pal);
+    REQUIRE(ts_seam_model(&m) == VX_OK);
+    REQUIRE(m.voxel_count == 32768 - 512);
     vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
     vx_svo_scene s;
     ts_scene(&s, &m, 1, &in, 1);

@@ -239,6 +239,21 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The compact layout's field seams (ts_seam_model: the largest counts of
+ * the bricks' index words and of the level-4 ranks) in the kernel, beside
+ * a rotated copy. */
+static void test_seams(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_model m;
+    REQUIRE(ts_seam_model(&m) == VX_OK);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, rot, 40, 5, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, in, 2);
+    CHECK(compare(&s, "brick seams", 96, 64) > 96 * 64 / 8);
+    vx_svo_scene_free(&s);
+}
+
 /* A height field of RGBA cells (a gradient with noise: delta blocks),
  * sx by sz cells, y = h(x, z) and the cell below it. */
 static vx_result height_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t seed) {
@@ -337,6 +352,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_generated);
+    RUN(test_seams);
     RUN(test_deep);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
