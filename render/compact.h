@@ -12,47 +12,53 @@
  * sums on the way down from per-node child offsets.
  *
  * Geometry: slots of 64 bits (2 words, low first) in one array for the
- * scene; a node of level >= 4 lives in its parent's block of children, so a
- * push in the walk reads the child's slot and nothing else (the node and
- * the pointer to its children arrive in one load, as in trace.comp's
- * descriptors; a walk that first read a pointer word, then the child's
- * header, ran at 0.55-0.84 of trace.comp, docs/PERFORMANCE.md issue 18).
+ * scene; a node lives in its parent's block of children, so a push in the
+ * walk reads the child's slot and nothing else (the node and the pointer to
+ * its children arrive in one load, as in trace.comp's descriptors; a walk
+ * that first read a pointer word, then the child's header, ran at 0.55-0.84
+ * of trace.comp, docs/PERFORMANCE.md issue 18). With the brick dictionary
+ * (VX_COMPACT_BRICKS_DICT) a push into a brick reads its index word first.
  *   level >= 3:  word 0 trace.comp's descriptor form, bits 8..15 valid mask,
  *                bits 0..7 leaf mask (a leaf child is one cell at level 1, a
  *                full cube of 8^(level-1) cells above), at levels 3-4 bits
- *                16..31 its rank (below); word 1 its children's block: the
- *                slot index of its non-leaf children in octant order (level
- *                >= 4), the word index of their index words (level 3); 0
- *                without any
- *   bricks (level 1, 2): the 64-bit mask of their cells by Morton code
+ *                16..31 its rank (below; at most 8 * 8^4 cells, 8 * 8^3 at
+ *                level 3 in bits 16..30); bit 31 at level 3
+ *                VX_COMPACT_INDEXED (the scene has the dictionary and the
+ *                node bricks); word 1 its children's block: the slot index
+ *                of its non-leaf children in octant order, or the word index
+ *                of their index words (VX_COMPACT_INDEXED); 0 without any
+ *   level 1, 2:  a brick, the 64-bit mask of its cells by their Morton code
  *                within the node (bit 8 * o2 + o1: octant o2 of the node,
- *                octant o1 of that child), stored once each in the
- *                dictionary; the index of a cell within it is the number of
- *                set bits below its own. A model of depth 1 uses bits 0..7.
- *   brick index word (a level-3 node's block holds one per brick child):
- *                bits 0..22 the brick's slot (VX_COMPACT_BRICK_BITS; more
- *                than VX_COMPACT_MAX_BRICKS distinct bricks are refused),
- *                bits 23..31 the cells of the block's bricks up to and
- *                including it, less one.
- * A surface's 4^3 bricks repeat (DamagedHelmet at 4096: 3.37 M brick
- * children, 186 K distinct masks), so a brick costs a word where it is used
- * and 8 bytes once (docs/PERFORMANCE.md, issue 18, seventh step).
- * Order: the dictionary's brick_count slots first (a model of depth <= 2
- * has its brick there as root), then the slots of levels >= 5, those of
- * levels 3-4 (slot_count slots in all, words 0 .. 2 slot_count), the rank
- * words of the levels >= 5 slots (slot s at word 2 slot_count -
+ *                octant o1 of that child); the index of a cell within it is
+ *                the number of set bits below its own. A model of depth 1
+ *                uses bits 0..7. In its block, or once in the dictionary.
+ *   brick index word (VX_COMPACT_BRICKS_DICT: a level-3 node's block holds
+ *                one per brick child): bits 0..22 the brick's slot
+ *                (VX_COMPACT_BRICK_BITS; more than VX_COMPACT_MAX_BRICKS
+ *                distinct bricks are refused), bits 23..31 the cells of the
+ *                block's bricks up to and including it, less one.
+ * A surface's 4^3 bricks repeat (DamagedHelmet at 16384: 15.5 M brick
+ * children, 466 K distinct masks), so with the dictionary a brick costs a
+ * word where it is used and 8 bytes once: 0.64x the geometry at 16384, but
+ * a second dependent load per push into a brick (docs/PERFORMANCE.md, issue
+ * 18, seventh step); scenes whose bricks do not repeat grow.
+ * Order: the dictionary's brick_count slots (a model of depth <= 2 has its
+ * brick there as root), the slots of levels >= 5, those of levels 3-4, the
+ * bricks' blocks (slot_count slots in all, words 0 .. 2 slot_count), the
+ * rank words of the levels >= 5 slots (slot s at word 2 slot_count -
  * brick_count + s), then the blocks of index words. Blocks are hash-consed
  * by their words and level over the whole scene, so equal subtrees are
- * stored once whatever their colours. A model's root of level >= 3 is a
- * block of one slot. The rank of a slot is the cells of its block's slots
- * up to and including it (a block's own property, so it is shared with it):
- * a rank word (levels >= 5), 16 bits of word 0 (levels 3-4: at most 8 * 8^4
- * cells), the index word's count (bricks). The index of a cell is the sum,
- * over the levels of its path, of the cells in the children before it:
- * popcount(leaf & below) cubes of 8^(level-1) and, when k = popcount(inner &
- * below) > 0, the rank of child k - 1 of the block; plus the Morton key of
- * the cell inside a full-cube leaf or its bit rank inside a brick. The trace
- * kernel keeps it as a running count on pushes.
+ * stored once whatever their colours. A model's root is a block of one
+ * slot. The rank of a slot is the cells of its block's slots up to and
+ * including it (a block's own property, so it is shared with it): a rank
+ * word (levels >= 5), 16 bits of word 0 (levels 3-4), the index word's count
+ * (indexed bricks); bricks in their block have none: the cells before brick
+ * k of a block are the popcounts of bricks 0 .. k-1, in the cache line the
+ * walk reads for brick k anyway. The index of a cell is the sum, over the
+ * levels of its path, of the cells in the children before it:
+ * popcount(leaf & below) cubes of 8^(level-1) and, when k = popcount(inner
+ * & below) > 0, the rank of child k - 1 of the block; plus the Morton key of
+ * the cell inside a full-cube leaf or its bit rank inside a brick.
  *
  * Attributes, per model, one value per cell in Morton order, cut into blocks
  * of the model's `block` values; each block has a header word and a payload that
@@ -102,6 +108,8 @@ extern "C" {
 #define VX_COMPACT_GROUP 64u /* blocks per group word */
 #define VX_COMPACT_MAX_SLOTS 0x3FFFFFFFu /* geometry slots (up to 3 words each with the ranks) */
 #define VX_COMPACT_BRICK_BITS 23u        /* bits of a brick's dictionary index in its index word */
+#define VX_COMPACT_INDEXED 0x80000000u   /* word 0 of a level-3 node: its block holds index words */
+enum { VX_COMPACT_BRICKS_INLINE = 0, VX_COMPACT_BRICKS_DICT = 1 };
 #define VX_COMPACT_MAX_BRICKS (1u << VX_COMPACT_BRICK_BITS) /* distinct bricks of a scene */
 
 typedef struct vx_compact_desc {
@@ -114,6 +122,11 @@ typedef struct vx_compact_desc {
      * index word's bits hold); fewer refuses a scene past it as the bits'
      * limit would (tests: the refusal without 2^23 bricks) */
     uint32_t max_bricks;
+    /* VX_COMPACT_BRICKS_INLINE (0): bricks in their blocks, a push into one
+     * a single load; VX_COMPACT_BRICKS_DICT: the brick dictionary (about
+     * 0.65x the geometry of a large surface scene, a second dependent load
+     * per push into a brick: docs/PERFORMANCE.md issue 18, seventh step) */
+    uint32_t bricks;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -149,7 +162,8 @@ typedef struct vx_compact_scene {
     uint32_t model_count;
     vx_compact_model* models;
     uint32_t slot_count;  /* geometry slots (the bricks of the dictionary first) */
-    uint32_t brick_count; /* the dictionary's bricks: slots 0 .. brick_count - 1 */
+    uint32_t brick_count; /* the dictionary's bricks: slots 0 .. brick_count - 1 (0 without it) */
+    bool brick_dict;      /* built with VX_COMPACT_BRICKS_DICT */
     uint32_t geom_words;  /* 2 slot_count + the ranks + the brick index words, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;

@@ -39,11 +39,13 @@ static vx_result top_alloc(pbuild* b, uint32_t k, uint32_t* at) {
 
 /* The rank of slot s of c at level L >= 3 (the cells of its block up to
  * it): a rank word at levels >= 5, bits 16..31 of its word 0 below. The
- * pages and the top keep the form before the brick dictionary: a rank word
- * per slot of level >= 3, descriptors of 16 bits, bricks in their blocks
- * (a page would need the whole dictionary resident). */
+ * pages and the top keep the form before the ranks moved into word 0 and
+ * the brick dictionary: a rank word per slot of level >= 3, descriptors of
+ * 16 bits, bricks in their blocks (a page would need the whole dictionary
+ * resident). */
 static uint32_t orig_rank(const vx_compact_scene* c, uint32_t s, uint32_t L) {
-    return L >= 5 ? c->geom[2 * (size_t)c->slot_count - c->brick_count + s] : c->geom[2 * (size_t)s] >> 16;
+    if (L >= 5) return c->geom[2 * (size_t)c->slot_count - c->brick_count + s];
+    return (c->geom[2 * (size_t)s] >> 16) & (L == 3 ? 0x7FFFu : 0xFFFFu); /* level 3: bit 31 VX_COMPACT_INDEXED */
 }
 /* Word 0 of slot s of c at level L: the descriptor alone (or a brick's low word). */
 static uint32_t orig_desc(const vx_compact_scene* c, uint32_t s, uint32_t L) {

@@ -533,8 +533,24 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         rs->layout.bytes = li.plain_bytes;
     } else {
         vx_compact_scene c;
-        r = vx_compact_build(&(vx_compact_desc){.alloc = &rs->alloc}, s, &c, err);
+        uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
+        vx_compact_desc cd = {.alloc = &rs->alloc,
+                              .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+        r = vx_compact_build(&cd, s, &c, err);
+        if (!r && bricks == VX_RENDER_BRICKS_AUTO && 4ull * c.geom_words + 4ull * c.attr_words > li.budget) {
+            /* over the budget: the brick dictionary's smaller geometry, where it is smaller */
+            vx_compact_scene cdict = {0};
+            vx_error derr = {0}; /* a dictionary past its limit: the layout in blocks stays */
+            cd.bricks = VX_COMPACT_BRICKS_DICT;
+            if (!vx_compact_build(&cd, s, &cdict, &derr) && cdict.geom_words < c.geom_words) {
+                vx_compact_free(&c);
+                c = cdict;
+            } else {
+                vx_compact_free(&cdict);
+            }
+        }
         if (!r) {
+            rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;

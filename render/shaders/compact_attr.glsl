@@ -49,13 +49,15 @@ uint ca_word(uint w) {
     uvec2 p = CA_SLOT(w >> 1);
     return (w & 1u) != 0u ? p.y : p.x;
 }
-// The whole layout (no pages): a level-3 node's children's block holds its
-// bricks' index words (render/compact.h), the brick's dictionary slot in
-// the low CA_BRICK_BITS bits, the cells of the block up to it, less one,
-// above.
-const uint CA_BRICK_BITS = 23u, CA_BRICK_MASK = (1u << CA_BRICK_BITS) - 1u;
-// The slot of child k (block order) of a level-lvl node whose children's block is blk.
-uint ca_child(int lvl, uint blk, uint k) { return CA_PAGES == 0u && lvl == 3 ? ca_word(blk + k) & CA_BRICK_MASK : blk + k; }
+// A level-3 node whose word 0 has bit 31 (CA_INDEXED: a scene built with
+// the brick dictionary) has its bricks' index words in its children's
+// block (render/compact.h): the brick's dictionary slot in the low
+// CA_BRICK_BITS bits, the cells of the block up to it, less one, above.
+const uint CA_INDEXED = 0x80000000u, CA_BRICK_BITS = 23u, CA_BRICK_MASK = (1u << CA_BRICK_BITS) - 1u;
+// The slot of child k (block order) of a level-lvl node with word 0 desc whose children's block is blk.
+uint ca_child(int lvl, uint desc, uint blk, uint k) {
+    return lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
+}
 
 uint attr_bits(uint word, uint pos, uint n) {
     uint w = word + (pos >> 5), sh = pos & 31u;
@@ -77,21 +79,22 @@ uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c
 // The cells in the children before child cbit of a level-lvl node (lvl >=
 // 3) with descriptor desc and children's block blk, k of them not leaves:
 // its leaf cubes before, and the rank of slot k - 1 of the block (the
-// whole layout: a rank word at levels >= 6, word 0's bits 16..31 at 4-5,
-// the brick's index word at 3; the paged layout: a rank word, or at level
-// 3 the popcounts of the bricks before, which have no rank).
+// whole layout: a rank word at levels >= 6, word 0's bits 16..31 at 4-5;
+// the paged layout: a rank word at levels >= 4; at level 3 the brick's
+// index word, or the popcounts of the bricks before, which have no rank).
 uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
     // rank_base: the word of slot 0's rank
     uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
     // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
     uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
     if (k == 0u) return r;
-    if (CA_PAGES == 0u) {
-        if (lvl > 5) r += ca_word(rank_base + blk + k - 1u);
-        else if (lvl > 3) r += CA_SLOT(blk + k - 1u).x >> 16;
-        else r += (ca_word(blk + k - 1u) >> CA_BRICK_BITS) + 1u;
-    } else if (lvl > 3) {
+    if (lvl > (CA_PAGES == 0u ? 5 : 3)) {
         r += ca_word(rank_base + blk + k - 1u);
+    } else if (lvl > 3) {
+        // word 0's bits 16..31 (level 3: 16..30, bit 31 is CA_INDEXED)
+        r += (CA_SLOT(blk + k - 1u).x >> 16) & (lvl == 4 ? 0x7FFFu : 0xFFFFu);
+    } else if ((desc & CA_INDEXED) != 0u) {
+        r += (ca_word(blk + k - 1u) >> CA_BRICK_BITS) + 1u;
     } else {
         // bricks have no rank: the cells of the bricks before (the push
         // reads brick k's cache line anyway)
@@ -128,7 +131,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
         base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
-        n = ca_child(L, nd.y, k);
+        n = ca_child(L, nd.x, nd.y, k);
     }
     uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
     uvec2 b = CA_SLOT(n);
@@ -193,7 +196,7 @@ bool cell_set(CModel m, uvec3 c) {
         uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2), cbit = 1u << o;
         if ((nd.x & (cbit << 8)) == 0u) return false;
         if ((nd.x & cbit) != 0u) return true;
-        n = ca_child(L, nd.y, uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u))));
+        n = ca_child(L, nd.x, nd.y, uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u))));
     }
     uint bit = morton(c & ((1u << uint(L)) - 1u));
     uvec2 b = CA_SLOT(n);

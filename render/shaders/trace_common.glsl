@@ -483,7 +483,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // brick's level 2 the child is octant cs of the brick in cnd
                         // (level 3: through the brick's index word)
                         int plvl = scale + lvl_off - koff;
-                        if (plvl >= 3) parent = ca_child(plvl, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                         else desc = brick_octant(cnd, uint(cs)), keep = true;
                     } else {
                         parent = child_node(parent, desc, cbit, nbase);

@@ -295,7 +295,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     hh = tc_max;
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
-                    if (lvl >= 3) parent = ca_child(lvl, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                    if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                     else desc = brick_octant(nd, uint(cs));
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;

@@ -41,11 +41,11 @@ typedef struct side {
     vx_frame_renderer* fr;
 } side;
 
-static bool side_open(const vx_svo_scene* s, vx_render_layout layout, side* o) {
+static bool side_open(const vx_svo_scene* s, vx_render_layout layout, uint32_t bricks, side* o) {
     vx_error err = {0};
     memset(o, 0, sizeof *o);
     /* the whole compact layout: a budget no scene here reaches, so that it is not paged */
-    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40};
+    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40, .compact_bricks = bricks};
     if (vx_render_scene_create_ex(gpu, s, &d, &o->rs, &err) || vx_frame_renderer_create(o->rs, s, &o->fr, &err)) {
         fprintf(stderr, "  create (%s): %s\n", vx_render_layout_name(layout), err.msg);
         vx_render_scene_destroy(o->rs);
@@ -118,29 +118,30 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
-static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h);
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks);
 /* A device of its own per scene: the two layouts' pass, GI and bake variants of several scenes pass
  * the device's pipeline cache (VX_GPU_MAX_PIPELINES; an eviction moves the pipelines a frame holds). */
-static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+/* bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
+static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks) {
     vx_gpu* keep = gpu;
     if (vx_test_gpu_open((vx_gpu_desc){.logger = keep->logger}, true, &gpu)) {
         CHECKF(false, "%s: no device", name);
         gpu = keep;
         return;
     }
-    check_scene_on(name, s, w, h);
+    check_scene_on(name, s, w, h, bricks);
     printf("  %-28s %u pipelines\n", name, gpu->pipeline_count);
     vx_gpu_destroy(gpu);
     gpu = keep;
 }
 
-static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks) {
     side p, c;
-    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, &p)) {
+    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, 0, &p)) {
         CHECKF(false, "%s: plain scene", name);
         return;
     }
-    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, &c)) {
+    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, bricks, &c)) {
         CHECKF(false, "%s: compact scene", name);
         side_close(&p);
         return;
@@ -148,8 +149,9 @@ static void check_scene_on(const char* name, const vx_svo_scene* s, uint32_t w, 
     vx_render_layout_info li;
     vx_render_scene_layout(c.rs, &li);
     CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages == 0 && vx__render_scene_compact(c.rs) &&
-               !vx__render_scene_compact(p.rs),
-           "%s: layout %s, %u pages", name, vx_render_layout_name(li.layout), li.pages);
+               !vx__render_scene_compact(p.rs) && li.brick_dict == (bricks == VX_RENDER_BRICKS_DICT),
+           "%s: layout %s, %u pages, brick dictionary %d", name, vx_render_layout_name(li.layout), li.pages,
+           (int)li.brick_dict);
     vx_render_desc base = {.width = w, .height = h};
     compare(name, "gbuffer,direct", &p, &c, NULL, NULL, base);
     compare(name, "gbuffer,direct,ao", &p, &c, NULL, NULL, base);
@@ -258,7 +260,7 @@ static void test_generated(void) {
     in[4] = ts_inst(2, rot, 20, 30, 25);
     vx_svo_scene s;
     ts_scene(&s, m, 4, in, 5);
-    check_scene("generated (5 instances)", &s, 64, 48);
+    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT);
     vx_svo_scene_free(&s);
 }
 
@@ -283,7 +285,7 @@ static void test_room(void) {
     add_material(&s, 4, glass, 3);
     add_material(&s, 3, metal, 3);
     add_material(&s, 9, emit, 2);
-    check_scene("room (emissive, glass, metal)", &s, 48, 36);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE);
     vx_svo_scene_free(&s);
 }
 
@@ -304,7 +306,7 @@ static void test_corpus(void) {
         vx_vox_scene_free(&vs);
         CHECKF(r == VX_OK, "%s: %s", files[i], err.msg);
         if (r) continue;
-        check_scene(files[i], &s, 64, 48);
+        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT);
         vx_svo_scene_free(&s);
         done++;
     }
