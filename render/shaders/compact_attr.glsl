@@ -8,6 +8,7 @@
 //   CA_ATTR(i)  attribute word i
 //   CA_PAL(i)   palette entry i (RGBA)
 //   CA_PAGES    the paged layout's page count (0: the whole layout)
+//   CA_DICT     false: no node has VX_COMPACT_INDEXED (the index words' code is dead)
 // render/compact_gpu.c writes CModel (cmodel_gpu). Included twice: first
 // without CA_SLOT (the record, before the buffers that hold it), then with
 // the macros defined (the functions, after the buffers).
@@ -56,7 +57,7 @@ uint ca_word(uint w) {
 const uint CA_INDEXED = 0x80000000u, CA_BRICK_BITS = 23u, CA_BRICK_MASK = (1u << CA_BRICK_BITS) - 1u;
 // The slot of child k (block order) of a level-lvl node with word 0 desc whose children's block is blk.
 uint ca_child(int lvl, uint desc, uint blk, uint k) {
-    return lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
+    return CA_DICT && lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
 }
 
 uint attr_bits(uint word, uint pos, uint n) {
@@ -93,7 +94,7 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     } else if (lvl > 3) {
         // word 0's bits 16..31 (level 3: 16..30, bit 31 is CA_INDEXED)
         r += (CA_SLOT(blk + k - 1u).x >> 16) & (lvl == 4 ? 0x7FFFu : 0xFFFFu);
-    } else if ((desc & CA_INDEXED) != 0u) {
+    } else if (CA_DICT && (desc & CA_INDEXED) != 0u) {
         r += (ca_word(blk + k - 1u) >> CA_BRICK_BITS) + 1u;
     } else {
         // bricks have no rank: the cells of the bricks before (the push

@@ -96,6 +96,7 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 #define CA_ATTR(i) cattr[i]
 #define CA_PAL(i) cpalette[i]
 #define CA_PAGES 0u
+#define CA_DICT true
 #include "compact_attr.glsl"
 #endif
 // Model mi's record in either layout (COMPACT: from its CModel, with no

@@ -29,6 +29,9 @@ const bool REBASE = DEEP >= 2;
 // pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
+// the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
+// nodes); without it the index word's path is compiled out of the walk
+layout(constant_id = 5) const bool DICT = false;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -75,6 +78,7 @@ layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 #define CA_ATTR(i) attr[i]
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
+#define CA_DICT DICT
 #include "compact_attr.glsl"
 
 struct Hit {
