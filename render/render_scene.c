@@ -558,6 +558,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             if (rs->layout.compact_bytes > li.budget && lp < max_depth)
                 r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
             if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
             vx_compact_free(&c);
         }
         if (r) {
@@ -1096,6 +1097,9 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
 }
 
 bool vx__render_scene_compact(const vx_render_scene* rs) { return rs && rs->compact; }
+uint32_t vx__render_scene_compact_form(const vx_render_scene* rs) {
+    return !vx__render_scene_compact(rs) ? 0u : rs->layout.brick_dict ? 2u : 1u;
+}
 
 vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                         uint8_t** out, size_t* n, vx_error* err) {

@@ -34,11 +34,14 @@ layout(constant_id = 9) const bool FAR = true;
 // push), and a hit's colour is decoded from its cell's attribute index;
 // Hit.attr is then the palette index (the per-record tables are per palette
 // index, vx__render_scene_attr_palette). Float variant only.
+// COMPACT_FORM (vx__render_scene_compact_form): 0 plain, 1 compact, 2
+// compact with the brick dictionary (else the index words' path is dead).
 #ifdef PRECISE
-const bool COMPACT = false;
+const uint COMPACT_FORM = 0u;
 #else
-layout(constant_id = 10) const bool COMPACT = false;
+layout(constant_id = 10) const uint COMPACT_FORM = 0u;
 #endif
+const bool COMPACT = COMPACT_FORM != 0u;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -96,7 +99,7 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 #define CA_ATTR(i) cattr[i]
 #define CA_PAL(i) cpalette[i]
 #define CA_PAGES 0u
-#define CA_DICT true
+#define CA_DICT (COMPACT_FORM == 2u)
 #include "compact_attr.glsl"
 #endif
 // Model mi's record in either layout (COMPACT: from its CModel, with no
