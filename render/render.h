@@ -312,7 +312,7 @@ typedef struct vx_render_scene_desc {
     uint32_t page_level;
     /* the compact layout's 4^3 bricks (render/compact.h): VX_RENDER_BRICKS_AUTO
      * (0) in their blocks, the brick dictionary where the layout exceeds the
-     * budget and the dictionary's fits (about 0.65x the geometry of a large
+     * budget and the dictionary's geometry is smaller (about 0.65x that of a large
      * surface scene; a second load per push into a brick, docs/PERFORMANCE.md
      * issue 18, seventh step); INLINE or DICT: that one */
     uint32_t compact_bricks;
