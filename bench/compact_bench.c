@@ -37,7 +37,14 @@
  * .svo file of a scene too large to write and read back within a run. The
  * conversion's time is printed before the row.
  *
- * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--shader-stats] [--gpu WxH] [--reps N]
+ * --bricks inline|dict|both (before the files): the geometry's bricks in
+ * their blocks (the default), in the brick dictionary, or the bytes rows of
+ * both (--gpu rows: the first). --levels: after each bytes row, the
+ * geometry's bytes by level and field, and what the same blocks take in
+ * main's form before the seventh step (rank words at levels >= 3).
+ *
+ * Usage: compact_bench [--blocks 0,16,64,...] (0: automatic, the default) [--bricks inline|dict|both] [--levels]
+ *                      [--shader-stats] [--gpu WxH] [--reps N]
  *                      [--geometry] [--res N [--mesh-gpu]] [--terrain EXTENT] [FILE.vox|FILE.svo|FILE.glb ...] */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
@@ -144,7 +151,7 @@ static void fly_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
     vx_render_scene_destroy(rs);
 }
 
-static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t W, uint32_t H, uint32_t reps,
+static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t bricks, uint32_t W, uint32_t H, uint32_t reps,
                      uint32_t lp) {
     vx_error err = {0};
     vx_render_scene* rs = NULL;
@@ -155,7 +162,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         return;
     }
-    if (vx_compact_build(NULL, s, &c, &err) == VX_OK) {
+    if (vx_compact_build(&(vx_compact_desc){.bricks = bricks}, s, &c, &err) == VX_OK) {
         if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
         vx_compact_paged p;
         if (cg && lp && vx_compact_page_build(&c, lp, NULL, &p, &err) == VX_OK) {
@@ -279,7 +286,36 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
 }
 #endif
 
-static void row(const char* name, const vx_svo_scene* s, uint32_t block, double load_s) {
+/* The geometry's bytes by level and field (--levels, render/compact.h): per
+ * level its blocks and slots (64 bits each, a rank word more at levels >= 5;
+ * level 2: the bricks' index words), the brick dictionary; and what the
+ * same blocks took before the dictionary (every slot of level >= 3 with a
+ * rank word, every brick 8 bytes in its block). */
+static void level_rows(const vx_compact_scene* c, double voxels) {
+    const vx_compact_stats* st = &c->stats;
+    printf("\n| level | blocks | slots | slots per block | slot bytes | rank bytes | bytes per voxel | share |\n"
+           "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    double all = 4.0 * c->geom_words, before = 0;
+    for (int L = 32; L >= 1; L--) {
+        uint64_t n = st->level_slots[L];
+        if (!n) continue;
+        double sb = L >= 3 || !c->brick_dict ? 8.0 * n : 4.0 * n, rb = L >= 5 ? 4.0 * n : 0;
+        before += L >= 3 ? 12.0 * n : 8.0 * n;
+        printf("| %d%s | %llu | %llu | %.2f | %.1f MB | %.1f MB | %.4f | %.1f%% |\n", L,
+               L > 2 ? "" : c->brick_dict ? " (index words)" : " (bricks)",
+               (unsigned long long)st->level_blocks[L], (unsigned long long)n, (double)n / st->level_blocks[L],
+               sb / 1e6, rb / 1e6, (sb + rb) / voxels, 100.0 * (sb + rb) / all);
+    }
+    double db = 8.0 * st->bricks;
+    if (c->brick_dict)
+        printf("| dictionary | | %llu bricks | | %.1f MB | | %.4f | %.1f%% |\n", (unsigned long long)st->bricks, db / 1e6,
+               db / voxels, 100.0 * db / all);
+    printf("\ngeometry%s %.1f MB = %.4f bytes/voxel; the same blocks in main's form (ed89e10: rank words at levels >= 3, "
+           "bricks in blocks): %.1f MB = %.4f\n\n", c->brick_dict ? " (brick dictionary)" : "", all / 1e6, all / voxels,
+           before / 1e6, before / voxels);
+}
+
+static void row(const char* name, const vx_svo_scene* s, uint32_t block, uint32_t bricks, double load_s, bool levels) {
     uint64_t voxels = 0, words = 0, colors = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         voxels += s->models[i].voxel_count;
@@ -288,6 +324,7 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
     }
     vx_compact_desc d = vx_compact_desc_defaults();
     d.block = block;
+    d.bricks = bricks;
     vx_compact_scene c;
     vx_error err = {0};
     double t0 = vx_time_now();
@@ -305,8 +342,8 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
     uint32_t big = 0; /* automatic: the block of the largest model */
     for (uint32_t i = 1; i < c.model_count; i++)
         if (c.models[i].voxels > c.models[big].voxels) big = i;
-    if (block) snprintf(bs, sizeof bs, "%u", block);
-    else snprintf(bs, sizeof bs, "auto (%u)", c.model_count ? c.models[big].block : 0);
+    if (block) snprintf(bs, sizeof bs, "%u%s", block, c.brick_dict ? ", brick dictionary" : "");
+    else snprintf(bs, sizeof bs, "auto (%u)%s", c.model_count ? c.models[big].block : 0, c.brick_dict ? ", brick dictionary" : "");
     double blocks = st->blocks ? (double)st->blocks : 1;
     printf("| %s | %llu | %.1f MB = %.3f (%.3f + %.3f) | %s | %.1f MB = **%.3f** | %.3f | %.3f "
            "| %.1f%% / %.1f%% / %.1f%% / %.1f%% | %.2f | %.2f s (load %.2f s) |\n",
@@ -315,6 +352,7 @@ static void row(const char* name, const vx_svo_scene* s, uint32_t block, double 
            100.0 * st->delta / blocks, 100.0 * st->raw / blocks, 100.0 * st->shared / blocks,
            st->distinct_sum / blocks, t, load_s);
     fflush(stdout);
+    if (levels) level_rows(&c, v);
     vx_compact_free(&c);
 }
 
@@ -361,9 +399,10 @@ static int mesh_scene(const char* path, uint32_t res, bool no_color, bool on_gpu
 
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
+    uint32_t bricks[2] = {VX_COMPACT_BRICKS_INLINE, VX_COMPACT_BRICKS_DICT}, nbricks = 1;
     uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
     uint64_t budget = 0;
-    bool stats = false, geometry_only = false, mesh_gpu = false;
+    bool stats = false, geometry_only = false, mesh_gpu = false, levels = false;
     uint32_t mesh_res = 0;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -417,6 +456,21 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--geometry")) {
             geometry_only = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--bricks") && i + 1 < argc) {
+            /* inline, dict, or both (bytes rows of each; --gpu rows the first) */
+            const char* v = argv[++i];
+            nbricks = strcmp(v, "both") ? 1 : 2;
+            if (!strcmp(v, "dict")) bricks[0] = VX_COMPACT_BRICKS_DICT;
+            else if (strcmp(v, "inline") && strcmp(v, "both")) {
+                fprintf(stderr, "compact_bench: --bricks inline|dict|both\n");
+                return 2;
+            }
+            continue;
+        }
+        if (!strcmp(argv[i], "--levels")) {
+            levels = true;
             continue;
         }
         if (!strcmp(argv[i], "--shader-stats")) {
@@ -474,10 +528,11 @@ int main(int argc, char** argv) {
         if (geometry_only)
             for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
         if (!gw)
-            for (uint32_t k = 0; k < nb; k++) row(name, &s, blocks[k], load);
+            for (uint32_t k = 0; k < nb; k++)
+                for (uint32_t j = 0; j < nbricks; j++) row(name, &s, blocks[k], bricks[j], load, levels);
 #ifdef VX_BENCH_HAVE_VULKAN
         if (gw && fly && lp && budget) fly_rows(gpu, name, &s, gw, gh, lp, budget, fly);
-        else if (gw) gpu_rows(gpu, name, &s, gw, gh, reps, lp);
+        else if (gw) gpu_rows(gpu, name, &s, bricks[0], gw, gh, reps, lp);
 #endif
         vx_svo_scene_free(&s);
     }

@@ -576,7 +576,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     if ((r = vx__buffer_ensure(pg->g, &pg->photons, ph_bytes, "photons", err))) return r;
     pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
     pg->spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
-    pg->spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact(pg->rs);
+    pg->spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(pg->rs);
     vx_photon_stats st = {.pass = pass};
     st.radius = pass_radius(d->radius, d->alpha, pass);
     st.caustic_radius = pass_radius(d->caustic_radius, d->alpha, pass);

@@ -46,8 +46,8 @@ enum { PMODE_BAKE = 0 };
 /* probe.comp's constants after the tracer's (constant_id VX__SPEC_COUNT + i): BEAM (trace_common.glsl: the
  * bake's texel blocks' side, 0: no beam pass), MATS, PCONST (the pass, and LIGHTS << 8), and
  * trace_common.glsl's DEEP (0: the plain loop, as before) and FAR (off where no model can hold a far
- * pointer: the far bit's test on every push costs, issue 21) and COMPACT (the scene in the compact layout:
- * vx__render_scene_compact) */
+ * pointer: the far bit's test on every push costs, issue 21) and COMPACT_FORM (the scene in the compact layout:
+ * vx__render_scene_compact_form) */
 enum { SPEC_BEAM, SPEC_MATS, SPEC_PCONST, SPEC_DEEP, SPEC_FAR, SPEC_COMPACT, SPEC_EXTRA };
 
 /* The bake's beam blocks (probe_beam.comp): BAKE_BEAM x BAKE_BEAM texels share a start distance for the
@@ -196,7 +196,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     c->lights_code = c->light_count > 0 || c->em_count > 0;
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = 0;
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
-    c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact(rs);
+    c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
     size_t np = ps ? ps->probe_count : 1;
     float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));

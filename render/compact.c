@@ -111,7 +111,55 @@ typedef struct builder {
     uint32_t* memo_count;
     uint8_t* memo_level;
     vx_compact_stats* st;
+    /* the brick dictionary: distinct 64-bit masks, found by an open-addressing table of their ids */
+    uint64_t* dict;
+    size_t dict_cap;
+    uint32_t dict_n;
+    uint32_t* dtab; /* UINT32_MAX: empty */
+    size_t dtab_cap;
+    uint32_t max_bricks;
+    bool use_dict; /* VX_COMPACT_BRICKS_DICT */
 } builder;
+
+static uint64_t mask_hash(uint64_t m) {
+    m ^= m >> 33;
+    m *= 0xFF51AFD7ED558CCDull;
+    m ^= m >> 29;
+    return m;
+}
+
+/* The dictionary id of brick mask m, found or appended. */
+static vx_result dict_intern(builder* b, uint64_t m, uint32_t* id) {
+    if (2 * ((size_t)b->dict_n + 1) > b->dtab_cap) {
+        size_t cap = b->dtab_cap ? b->dtab_cap * 2 : 1024;
+        uint32_t* t = vx_alloc(b->a, cap * 4);
+        if (!t) return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %zu-entry hash table", cap);
+        memset(t, 0xFF, cap * 4);
+        for (uint32_t i = 0; i < b->dict_n; i++) {
+            size_t j = (size_t)mask_hash(b->dict[i]) & (cap - 1);
+            while (t[j] != UINT32_MAX) j = (j + 1) & (cap - 1);
+            t[j] = i;
+        }
+        vx_free(b->a, b->dtab);
+        b->dtab = t;
+        b->dtab_cap = cap;
+    }
+    size_t j = (size_t)mask_hash(m) & (b->dtab_cap - 1);
+    for (; b->dtab[j] != UINT32_MAX; j = (j + 1) & (b->dtab_cap - 1))
+        if (b->dict[b->dtab[j]] == m) {
+            *id = b->dtab[j];
+            return VX_OK;
+        }
+    if (b->dict_n >= b->max_bricks)
+        return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u distinct bricks",
+                       b->max_bricks);
+    if (!vx_grow(b->a, (void**)&b->dict, &b->dict_cap, (size_t)b->dict_n + 1, 8))
+        return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u bricks", b->dict_n + 1);
+    b->dict[b->dict_n] = m;
+    b->dtab[j] = b->dict_n;
+    *id = b->dict_n++;
+    return VX_OK;
+}
 
 static uint64_t block_hash(const uint32_t* w, uint32_t k, uint32_t level) {
     return hash_words(w, 2 * k) ^ ((uint64_t)level * 0xD6E8FEB86659FD93ull);
@@ -164,6 +212,8 @@ static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk,
     *at = b->n;
     b->n += k;
     b->st->nodes += k;
+    b->st->level_slots[level] += k;
+    b->st->level_blocks[level]++;
     return VX_OK;
 }
 
@@ -222,11 +272,28 @@ static vx_result build_node(builder* b, const vx_svo_model* m, uint32_t w, uint3
                            "compact layout: a subtree of %llu cells (attribute indices have 32 bits)",
                            (unsigned long long)total);
         uint32_t at = 0;
+        /* the children's block (compact.h): levels 3-4 carry the cells up to
+         * them in word 0; with the dictionary, bricks become their index
+         * words with that count */
+        bool index_words = L == 3 && b->use_dict;
+        for (uint32_t j = 0; j < np && L - 1 <= 4; j++) {
+            if (L - 1 >= 3) {
+                words[2 * j] |= ranks[j] << 16;
+                continue;
+            }
+            if (!index_words) break;
+            uint32_t before = j ? ranks[j - 1] : 0, id;
+            if (ranks[j] == before)
+                return vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "descriptor %u: an empty brick", w);
+            vx_result r = dict_intern(b, words[2 * j] | (uint64_t)words[2 * j + 1] << 32, &id);
+            if (r) return r;
+            words[2 * j] = id | (ranks[j] - 1u) << VX_COMPACT_BRICK_BITS, words[2 * j + 1] = 0;
+        }
         if (np) {
             vx_result r = block_intern(b, words, ranks, np, L - 1, &at);
             if (r) return r;
         }
-        *x = (valid << 8) | leaf, *y = at;
+        *x = (valid << 8) | leaf | (index_words && np ? VX_COMPACT_INDEXED : 0u), *y = at;
     }
     b->memo[2 * (size_t)w] = *x, b->memo[2 * (size_t)w + 1] = *y;
     b->memo_count[w] = (uint32_t)total;
@@ -493,7 +560,7 @@ done:
 
 /* ---- scene --------------------------------------------------------------------------- */
 
-vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = 0}; }
+vx_compact_desc vx_compact_desc_defaults(void) { return (vx_compact_desc){.block = 0, .max_bricks = VX_COMPACT_MAX_BRICKS}; }
 
 /* The automatic block size: VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM
  * where at least half of the blocks of 64 hold one value and the larger
@@ -525,49 +592,68 @@ void vx_compact_free(vx_compact_scene* c) {
     memset(c, 0, sizeof *c);
 }
 
-/* The geometry array of c from the builder's slots (compact.h): the blocks
- * of levels >= 3 first, then the bricks' blocks, then the ranks of the
- * first part (a brick's rank is the popcount of the bricks before it in its
- * block: the walk reads that block anyway, so ranks are not stored for
- * them). Pointers to blocks and the models' roots are renumbered. */
+/* The geometry array of c from the builder's blocks (compact.h): the brick
+ * dictionary, the slots of levels >= 5, those of levels 3-4, the bricks in
+ * their blocks, the ranks of levels >= 5, then the blocks of brick index
+ * words (two builder words each, one here). Pointers to blocks and the
+ * models' roots are renumbered. */
 static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
-    uint32_t n = b->n, n3 = 0;
-    for (uint32_t e = 0; e < n; e++)
-        if (b->meta[e] && (b->meta[e] >> 4) >= 3) n3 += b->meta[e] & 15u;
-    c->slot_count = n;
-    c->stats.offset_words = n3;
-    c->geom_words = 2 * n + n3 + ((2 * n + n3) & 1u);
-    if (!n) {
-        c->geom_words = 0;
-        return VX_OK;
+    uint32_t n = b->n, D = b->dict_n;
+    uint64_t n5 = 0, n34 = 0, n2 = 0;
+    for (uint32_t e = 0; e < n; e++) {
+        if (!b->meta[e]) continue;
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        if (level >= 5) n5 += len;
+        else if (level >= 3) n34 += len;
+        else n2 += len;
     }
-    uint32_t* map = vx_calloc(b->a, n, 4);
-    uint32_t* g = vx_calloc(b->a, c->geom_words, 4);
+    uint64_t nbr = b->use_dict ? 0 : n2, ni = b->use_dict ? n2 : 0;
+    uint64_t slots = D + n5 + n34 + nbr, words = 2 * slots + n5 + ni;
+    words += words & 1u;
+    if (slots > VX_COMPACT_MAX_SLOTS || words > UINT32_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: %llu geometry words",
+                       (unsigned long long)words);
+    c->slot_count = (uint32_t)slots;
+    c->brick_count = D;
+    c->stats.offset_words = n5;
+    c->stats.bricks = D;
+    c->stats.brick_refs = n2;
+    c->geom_words = (uint32_t)words;
+    if (!words) return VX_OK;
+    uint32_t* map = vx_calloc(b->a, n ? n : 1, 4);
+    uint32_t* g = vx_calloc(b->a, words, 4);
     if (!map || !g) {
         vx_free(b->a, map);
         vx_free(b->a, g);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u geometry words", c->geom_words);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu geometry words",
+                       (unsigned long long)words);
     }
-    uint32_t at3 = 0, at2 = n3;
+    uint32_t at5 = D, at34 = D + (uint32_t)n5, at2 = b->use_dict ? (uint32_t)(2 * slots + n5) : at34 + (uint32_t)n34;
     for (uint32_t e = 0; e < n;) {
-        uint32_t len = b->meta[e] & 15u, brick = (b->meta[e] >> 4) <= 2;
-        for (uint32_t k = 0; k < len; k++) map[e + k] = brick ? at2++ : at3++;
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        for (uint32_t k = 0; k < len; k++) map[e + k] = level >= 5 ? at5++ : level >= 3 ? at34++ : at2++;
         e += len;
     }
-    uint32_t* rank = g + 2 * (size_t)n;
+    for (uint32_t i = 0; i < D; i++) g[2 * (size_t)i] = (uint32_t)b->dict[i], g[2 * (size_t)i + 1] = (uint32_t)(b->dict[i] >> 32);
+    uint32_t* rank = g + 2 * slots - D; /* the rank of slot s (level >= 5) is word 2 slots - D + s */
     for (uint32_t e = 0; e < n;) {
         uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
         for (uint32_t k = 0; k < len; k++) {
             uint32_t s = map[e + k], x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            if (level < 3 && b->use_dict) {
+                g[s] = x; /* a brick's index word */
+                continue;
+            }
             /* a node of level >= 3 with non-leaf children points at their block */
             if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = map[y];
             g[2 * (size_t)s] = x, g[2 * (size_t)s + 1] = y;
-            if (level >= 3) rank[s] = b->rank[e + k];
+            if (level >= 5) rank[s] = b->rank[e + k];
         }
         e += len;
     }
     for (uint32_t i = 0; i < c->model_count; i++)
-        if (c->models[i].root < VX_SVO_ROOT_LEAF) c->models[i].root = map[c->models[i].root];
+        if (c->models[i].root < VX_SVO_ROOT_LEAF && (c->models[i].depth >= 3 || !b->use_dict))
+            c->models[i].root = map[c->models[i].root];
     vx_free(b->a, map);
     vx_free(b->a, b->slot);
     b->slot = NULL;
@@ -582,7 +668,12 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (desc_in) {
         d.alloc = desc_in->alloc;
         if (desc_in->block) d.block = desc_in->block;
+        if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
+        d.bricks = desc_in->bricks;
     }
+    if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact bricks %u: not a VX_COMPACT_BRICKS_* value",
+                       d.bricks);
     if (d.block && (d.block < 8 || d.block > 1024 || (d.block & (d.block - 1))))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact block %u: not a power of two in 8..1024",
                        d.block);
@@ -590,7 +681,9 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (d.alloc) c.alloc = *d.alloc;
     d.alloc = &c.alloc;
     memcpy(c.palette, s->palette, sizeof c.palette);
-    builder b = {.a = d.alloc, .err = err, .st = &c.stats};
+    builder b = {.a = d.alloc, .err = err, .st = &c.stats, .max_bricks = d.max_bricks,
+                 .use_dict = d.bricks == VX_COMPACT_BRICKS_DICT};
+    c.brick_dict = b.use_dict;
     size_t attr_cap = 0;
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
@@ -621,7 +714,8 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
             else
                 r = build_node(&b, m, m->root, m->depth, &rw[0], &rw[1], &cells);
             /* the root: a block of one slot at the model's level */
-            if (!r) r = block_intern(&b, rw, &zero, 1, m->depth, &cm->root);
+            if (!r && m->depth <= 2 && b.use_dict) r = dict_intern(&b, rw[0] | (uint64_t)rw[1] << 32, &cm->root);
+            else if (!r) r = block_intern(&b, rw, &zero, 1, m->depth, &cm->root);
             vx_free(d.alloc, b.memo);
             vx_free(d.alloc, b.memo_count);
             vx_free(d.alloc, b.memo_level);
@@ -639,7 +733,10 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     }
     vx_free(d.alloc, b.tab);
     b.tab = NULL;
+    vx_free(d.alloc, b.dtab);
+    b.dtab = NULL;
     if (!r) r = assemble(&b, &c, err);
+    vx_free(d.alloc, b.dict);
     vx_free(d.alloc, b.meta);
     vx_free(d.alloc, b.rank);
     vx_free(d.alloc, b.slot);
@@ -655,11 +752,17 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
 
 uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k) {
     if (!k) return 0;
-    if (L > 3) return c->geom[2 * (size_t)c->slot_count + blk + k - 1];
-    uint32_t n = 0;
+    if (L >= 6) return c->geom[2 * (size_t)c->slot_count - c->brick_count + blk + k - 1];
+    if (L >= 4) return (c->geom[2 * (size_t)(blk + k - 1)] >> 16) & (L == 4 ? 0x7FFFu : 0xFFFFu);
+    if (c->brick_dict) return (c->geom[blk + k - 1] >> VX_COMPACT_BRICK_BITS) + 1u;
+    uint32_t n = 0; /* bricks in their block: the popcounts of those before */
     for (uint32_t i = 0; i < k; i++)
         n += popc(c->geom[2 * (size_t)(blk + i)]) + popc(c->geom[2 * (size_t)(blk + i) + 1]);
     return n;
+}
+
+uint32_t vx__compact_child(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k) {
+    return L == 3 && c->brick_dict ? c->geom[blk + k] & (VX_COMPACT_MAX_BRICKS - 1u) : blk + k;
 }
 
 bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint32_t y, uint32_t z, uint32_t* index) {
@@ -692,7 +795,7 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t mi, uint32_t x, uint3
             *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
             return true;
         }
-        n = sl[1] + k;
+        n = vx__compact_child(c, L, sl[1], k);
     }
     return false;
 }

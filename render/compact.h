@@ -16,32 +16,49 @@
  * walk reads the child's slot and nothing else (the node and the pointer to
  * its children arrive in one load, as in trace.comp's descriptors; a walk
  * that first read a pointer word, then the child's header, ran at 0.55-0.84
- * of trace.comp, docs/PERFORMANCE.md issue 18).
+ * of trace.comp, docs/PERFORMANCE.md issue 18). With the brick dictionary
+ * (VX_COMPACT_BRICKS_DICT) a push into a brick reads its index word first.
  *   level >= 3:  word 0 trace.comp's descriptor form, bits 8..15 valid mask,
  *                bits 0..7 leaf mask (a leaf child is one cell at level 1, a
- *                full cube of 8^(level-1) cells above); word 1 the slot index
- *                of its block: its non-leaf children in octant order (no
- *                block, 0, without any)
+ *                full cube of 8^(level-1) cells above), at levels 3-4 bits
+ *                16..31 its rank (below; at most 8 * 8^4 cells, 8 * 8^3 at
+ *                level 3 in bits 16..30); bit 31 at level 3
+ *                VX_COMPACT_INDEXED (the scene has the dictionary and the
+ *                node bricks); word 1 its children's block: the slot index
+ *                of its non-leaf children in octant order, or the word index
+ *                of their index words (VX_COMPACT_INDEXED); 0 without any
  *   level 1, 2:  a brick, the 64-bit mask of its cells by their Morton code
  *                within the node (bit 8 * o2 + o1: octant o2 of the node,
  *                octant o1 of that child); the index of a cell within it is
  *                the number of set bits below its own. A model of depth 1
- *                uses bits 0..7.
- * Blocks are hash-consed by their slots and level over the whole scene, so
- * equal subtrees are stored once whatever their colours. A model's root is
- * a block of one slot. The slots of levels >= 3 come first (n3 of them),
- * then the bricks; after the slot_count slots (words 0 .. 2 slot_count)
- * come the ranks of the first n3, word 2 slot_count + s for slot s: the
- * cells of the block's slots up to and including s (a block's own
- * property, so it is shared with it). Bricks have no rank: the cells before
- * brick k of a block are the popcounts of bricks 0 .. k-1, in the cache
- * line the walk reads for brick k anyway (4 bytes less per brick, most of
- * the slots). The index of a cell is the sum, over the levels of its path,
- * of the cells in the children before it: popcount(leaf & below) cubes of
- * 8^(level-1) and, when k = popcount(inner & below) > 0, the rank of slot
- * k - 1 of the block (level >= 4) or the bricks' popcounts (level 3); plus
- * the Morton key of the cell inside a full-cube leaf or its bit rank inside
- * a brick. The trace kernel keeps it as a running count on pushes.
+ *                uses bits 0..7. In its block, or once in the dictionary.
+ *   brick index word (VX_COMPACT_BRICKS_DICT: a level-3 node's block holds
+ *                one per brick child): bits 0..22 the brick's slot
+ *                (VX_COMPACT_BRICK_BITS; more than VX_COMPACT_MAX_BRICKS
+ *                distinct bricks are refused), bits 23..31 the cells of the
+ *                block's bricks up to and including it, less one.
+ * A surface's 4^3 bricks repeat (DamagedHelmet at 16384: 15.5 M brick
+ * children, 466 K distinct masks), so with the dictionary a brick costs a
+ * word where it is used and 8 bytes once: 0.64x the geometry at 16384, but
+ * a second dependent load per push into a brick (docs/PERFORMANCE.md, issue
+ * 18, seventh step); scenes whose bricks do not repeat grow.
+ * Order: the dictionary's brick_count slots (a model of depth <= 2 has its
+ * brick there as root), the slots of levels >= 5, those of levels 3-4, the
+ * bricks' blocks (slot_count slots in all, words 0 .. 2 slot_count), the
+ * rank words of the levels >= 5 slots (slot s at word 2 slot_count -
+ * brick_count + s), then the blocks of index words. Blocks are hash-consed
+ * by their words and level over the whole scene, so equal subtrees are
+ * stored once whatever their colours. A model's root is a block of one
+ * slot. The rank of a slot is the cells of its block's slots up to and
+ * including it (a block's own property, so it is shared with it): a rank
+ * word (levels >= 5), 16 bits of word 0 (levels 3-4), the index word's count
+ * (indexed bricks); bricks in their block have none: the cells before brick
+ * k of a block are the popcounts of bricks 0 .. k-1, in the cache line the
+ * walk reads for brick k anyway. The index of a cell is the sum, over the
+ * levels of its path, of the cells in the children before it:
+ * popcount(leaf & below) cubes of 8^(level-1) and, when k = popcount(inner
+ * & below) > 0, the rank of child k - 1 of the block; plus the Morton key of
+ * the cell inside a full-cube leaf or its bit rank inside a brick.
  *
  * Attributes, per model, one value per cell in Morton order, cut into blocks
  * of the model's `block` values; each block has a header word and a payload that
@@ -90,6 +107,10 @@ extern "C" {
 #define VX_COMPACT_DELTA 30u /* block code: RGBA as per-channel minimum plus residuals */
 #define VX_COMPACT_GROUP 64u /* blocks per group word */
 #define VX_COMPACT_MAX_SLOTS 0x3FFFFFFFu /* geometry slots (up to 3 words each with the ranks) */
+#define VX_COMPACT_BRICK_BITS 23u        /* bits of a brick's dictionary index in its index word */
+#define VX_COMPACT_INDEXED 0x80000000u   /* word 0 of a level-3 node: its block holds index words */
+enum { VX_COMPACT_BRICKS_INLINE = 0, VX_COMPACT_BRICKS_DICT = 1 };
+#define VX_COMPACT_MAX_BRICKS (1u << VX_COMPACT_BRICK_BITS) /* distinct bricks of a scene */
 
 typedef struct vx_compact_desc {
     const vx_allocator* alloc;
@@ -97,6 +118,15 @@ typedef struct vx_compact_desc {
      * VX_COMPACT_BLOCK, or VX_COMPACT_BLOCK_UNIFORM where at least half of
      * the blocks of 64 hold one value and the larger blocks take fewer words */
     uint32_t block;
+    /* distinct bricks a scene may have, 0: VX_COMPACT_MAX_BRICKS (what the
+     * index word's bits hold); fewer refuses a scene past it as the bits'
+     * limit would (tests: the refusal without 2^23 bricks) */
+    uint32_t max_bricks;
+    /* VX_COMPACT_BRICKS_INLINE (0): bricks in their blocks, a push into one
+     * a single load; VX_COMPACT_BRICKS_DICT: the brick dictionary (about
+     * 0.65x the geometry of a large surface scene, a second dependent load
+     * per push into a brick: docs/PERFORMANCE.md issue 18, seventh step) */
+    uint32_t bricks;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -114,7 +144,9 @@ typedef struct vx_compact_model {
 
 typedef struct vx_compact_stats {
     uint64_t nodes;         /* geometry nodes of the scene */
-    uint64_t offset_words;  /* geometry words spent on ranks (one per slot of level >= 3) */
+    uint64_t offset_words;  /* geometry words spent on ranks (one per slot of level >= 5) */
+    uint64_t bricks;        /* distinct bricks (the dictionary) */
+    uint64_t brick_refs;    /* brick index words */
     uint64_t blocks;        /* attribute blocks */
     uint64_t uniform;       /* blocks of one value (code 0) */
     uint64_t raw;           /* blocks stored raw */
@@ -122,13 +154,17 @@ typedef struct vx_compact_stats {
     uint64_t uniform_groups; /* groups whose blocks share one header */
     uint64_t shared;        /* blocks whose payload an earlier block of the model already had */
     uint64_t distinct_sum;  /* distinct values summed over blocks */
+    uint64_t level_slots[33];  /* geometry slots by their node's level (bricks: 2, or 1 in a model of depth 1) */
+    uint64_t level_blocks[33]; /* blocks by their slots' level */
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {
     uint32_t model_count;
     vx_compact_model* models;
-    uint32_t slot_count; /* geometry slots */
-    uint32_t geom_words; /* 2 slot_count + the ranks, rounded up to even */
+    uint32_t slot_count;  /* geometry slots (the bricks of the dictionary first) */
+    uint32_t brick_count; /* the dictionary's bricks: slots 0 .. brick_count - 1 (0 without it) */
+    bool brick_dict;      /* built with VX_COMPACT_BRICKS_DICT */
+    uint32_t geom_words;  /* 2 slot_count + the ranks + the brick index words, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;
     uint32_t* attr;
@@ -149,6 +185,9 @@ bool vx_compact_lookup(const vx_compact_scene* c, uint32_t m, uint32_t x, uint32
 /* Internal (compact.c, compact_trace.c): the cells of the first k non-leaf
  * children of a level-L node whose children's block is blk. */
 uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k);
+/* Internal: the slot of child k (in block order) of a level-L node whose
+ * children's block is blk (a brick's dictionary slot at level 3). */
+uint32_t vx__compact_child(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k);
 /* Decodes attribute index i of model m (its block's payload); opaque white
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
@@ -170,6 +209,10 @@ vx_result vx__compact_encode(const vx_allocator* alloc, uint32_t block, uint32_t
  * attributes; blocks shared between pages are stored in each, sharing inside
  * a page stays). A page root's slot keeps its descriptor; its word 1 is the
  * pool slot of the page's first block when resident, else bit 31 | page.
+ * The top and the pages keep the geometry's form before the brick
+ * dictionary (a page would need the whole dictionary resident): bricks in
+ * their blocks as slots, descriptors of 16 bits, a rank word per slot of
+ * level >= 3 (a brick's rank is the popcounts of the bricks before it).
  *
  * Top words: the top's slots (2 words each), then a rank word per slot
  * (word 2 top_slots + s, 0 for bricks), then each model's attribute region:

@@ -43,6 +43,7 @@ struct vx_compact_gpu {
     vx__buffer pass_models; /* the palette, then the CModels: trace_common.glsl's binding 3 (COMPACT) */
     double lo[3], hi[3];
     uint32_t deep;
+    uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
@@ -109,7 +110,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     vx_gpu* g = vx__render_scene_gpu(rs);
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
     if (!cg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    cg->rs = rs, cg->gpu = g, cg->deep = deep;
+    cg->rs = rs, cg->gpu = g, cg->deep = deep, cg->dict = c->brick_dict;
     vx_svo_scene_world_bounds(s, cg->lo, cg->hi);
     size_t mcount = s->model_count ? s->model_count : 1;
     cmodel_gpu* cm = vx_calloc(&g->alloc, mcount, sizeof *cm);
@@ -125,7 +126,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         if (deep_model) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
-                             .kind = m->attr_kind, .rank_base = 2 * c->slot_count,
+                             .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
                              .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS
                                            : 0};
@@ -483,7 +484,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, 0, 0, 0,
+    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
                          cg->deep, pages};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];

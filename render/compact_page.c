@@ -37,8 +37,20 @@ static vx_result top_alloc(pbuild* b, uint32_t k, uint32_t* at) {
     return VX_OK;
 }
 
-/* The rank of slot s of c (levels >= 3 only). */
-static uint32_t orig_rank(const vx_compact_scene* c, uint32_t s) { return c->geom[2 * (size_t)c->slot_count + s]; }
+/* The rank of slot s of c at level L >= 3 (the cells of its block up to
+ * it): a rank word at levels >= 5, bits 16..31 of its word 0 below. The
+ * pages and the top keep the form before the ranks moved into word 0 and
+ * the brick dictionary: a rank word per slot of level >= 3, descriptors of
+ * 16 bits, bricks in their blocks (a page would need the whole dictionary
+ * resident). */
+static uint32_t orig_rank(const vx_compact_scene* c, uint32_t s, uint32_t L) {
+    if (L >= 5) return c->geom[2 * (size_t)c->slot_count - c->brick_count + s];
+    return (c->geom[2 * (size_t)s] >> 16) & (L == 3 ? 0x7FFFu : 0xFFFFu); /* level 3: bit 31 VX_COMPACT_INDEXED */
+}
+/* Word 0 of slot s of c at level L: the descriptor alone (or a brick's low word). */
+static uint32_t orig_desc(const vx_compact_scene* c, uint32_t s, uint32_t L) {
+    return L >= 3 ? c->geom[2 * (size_t)s] & 0xFFFFu : c->geom[2 * (size_t)s];
+}
 
 /* Copies the slot o of c (level L) into top slot t, and below it: a tree
  * down to the page level (paged models), pages there, shared blocks below
@@ -47,10 +59,10 @@ static uint32_t orig_rank(const vx_compact_scene* c, uint32_t s) { return c->geo
 static vx_result fill(pbuild* b, uint32_t mi, bool paged, uint32_t t, uint32_t o, uint32_t L, const uint32_t origin[3],
                       uint32_t first, uint32_t cells) {
     const vx_compact_scene* c = b->c;
-    uint32_t desc = c->geom[2 * (size_t)o], w1 = c->geom[2 * (size_t)o + 1];
+    uint32_t desc = orig_desc(c, o, L), w1 = c->geom[2 * (size_t)o + 1];
     b->slot[2 * (size_t)t] = desc, b->slot[2 * (size_t)t + 1] = w1;
     if (L <= 2) return VX_OK; /* a brick: its mask */
-    b->rank[t] = orig_rank(c, o);
+    b->rank[t] = orig_rank(c, o, L);
     uint32_t valid = (desc >> 8) & 0xFFu, leaf = desc & 0xFFu, inner = valid & ~leaf, k = popc(inner);
     if (!k) return VX_OK;
     if (paged && L == b->Lp) {
@@ -84,7 +96,7 @@ static vx_result fill(pbuild* b, uint32_t mi, bool paged, uint32_t t, uint32_t o
         uint32_t co[3] = {origin[0] + ((oc & 1u) << s), origin[1] + (((oc >> 1) & 1u) << s),
                           origin[2] + (((oc >> 2) & 1u) << s)};
         uint32_t cf = first + (s < 11 ? popc(leaf & below) << (3 * s) : 0) + before;
-        if ((r = fill(b, mi, paged, nb + j, w1 + j, L - 1, co, cf, upto - before))) return r;
+        if ((r = fill(b, mi, paged, nb + j, vx__compact_child(c, L, w1, j), L - 1, co, cf, upto - before))) return r;
         j++;
     }
     return VX_OK;
@@ -115,7 +127,7 @@ static vx_result page_image(pbuild* b, uint32_t pi, uint32_t* stamp, uint32_t* l
         blk e = (*list)[head++];
         if (e.level < 3) continue;
         for (uint32_t j = 0; j < e.k; j++) {
-            uint32_t d = c->geom[2 * (size_t)(e.start + j)], w = c->geom[2 * (size_t)(e.start + j) + 1];
+            uint32_t d = orig_desc(c, e.start + j, e.level), w = c->geom[2 * (size_t)(e.start + j) + 1];
             uint32_t kk = popc(((d >> 8) & ~d) & 0xFFu);
             if (!kk || stamp[w] == pi + 1) continue;
             stamp[w] = pi + 1;
@@ -172,10 +184,12 @@ static vx_result page_image(pbuild* b, uint32_t pi, uint32_t* stamp, uint32_t* l
         blk e = (*list)[i];
         uint32_t at = local[e.start];
         for (uint32_t j = 0; j < e.k; j++) {
-            uint32_t d = c->geom[2 * (size_t)(e.start + j)], y = c->geom[2 * (size_t)(e.start + j) + 1];
+            /* a brick from the dictionary, by its index word */
+            uint32_t o = e.level >= 3 ? e.start + j : vx__compact_child(c, 3, e.start, j);
+            uint32_t d = orig_desc(c, o, e.level), y = c->geom[2 * (size_t)o + 1];
             if (e.level >= 3) {
                 if (((d >> 8) & ~d) & 0xFFu) y = local[y];
-                w[R + at + j] = orig_rank(c, e.start + j);
+                w[R + at + j] = orig_rank(c, o, e.level);
             }
             w[4 + 2 * (size_t)(at + j)] = d, w[4 + 2 * (size_t)(at + j) + 1] = y;
         }
@@ -210,12 +224,14 @@ vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, 
     blk* list = NULL;
     size_t list_cap = 0, img_cap = 0, vals_cap = 0, data_cap = 0, top_cap = 0;
     p.models = vx_calloc(b.a, c->model_count ? c->model_count : 1, sizeof *p.models);
-    b.memo = vx_alloc(b.a, ((size_t)c->slot_count + 1) * 4);
+    /* maps by block start: a slot, or the word of a block of brick index words */
+    size_t starts = (size_t)c->geom_words + 1;
+    b.memo = vx_alloc(b.a, starts * 4);
     if (!p.models || !b.memo) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
         goto done;
     }
-    memset(b.memo, 0xFF, ((size_t)c->slot_count + 1) * 4);
+    memset(b.memo, 0xFF, starts * 4);
     for (uint32_t i = 0; !r && i < c->model_count; i++) {
         const vx_compact_model* m = &c->models[i];
         p.models[i] = *m;
@@ -227,8 +243,8 @@ vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, 
     if (r) goto done;
     p.top_slots = b.n;
     /* the page images */
-    stamp = vx_calloc(b.a, (size_t)c->slot_count + 1, 4);
-    local = vx_alloc(b.a, ((size_t)c->slot_count + 1) * 4);
+    stamp = vx_calloc(b.a, starts, 4);
+    local = vx_alloc(b.a, starts * 4);
     if (!stamp || !local) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' maps");
         goto done;

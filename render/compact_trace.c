@@ -44,7 +44,7 @@ static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint
             *index = (uint32_t)(base + vx_svo_morton(x & mask, y & mask, z & mask));
             return s;
         }
-        n = sl[1] + k;
+        n = vx__compact_child(c, L, sl[1], k);
     }
     /* a brick: 4^3 cells (level 2) or 2^3 (a model of depth 1) */
     uint64_t mask = c->geom[2 * (size_t)n] | (uint64_t)c->geom[2 * (size_t)n + 1] << 32;

@@ -241,6 +241,9 @@ bool vx__render_scene_far(const vx_render_scene* rs);
  * COMPACT constant (VX__SPEC_COMPACT_ID). A paged compact scene is refused
  * by the bind (only vx_render_frame follows its pages). */
 bool vx__render_scene_compact(const vx_render_scene* rs);
+/* trace_common.glsl's COMPACT_FORM constant (id VX__SPEC_COMPACT_ID): 0 plain, 1 compact, 2 compact with
+ * the brick dictionary (render/compact.h VX_COMPACT_BRICKS_DICT; its index words' path compiled in). */
+uint32_t vx__render_scene_compact_form(const vx_render_scene* rs);
 /* Writes the per-frame tables and the frame block for f (f->ref is the origin
  * of the shader's float coordinates; the camera matters only to camera rays)
  * and returns the scene's bindings 0-6 (frame, nodes, colors, models,

@@ -327,7 +327,14 @@ typedef struct vx_render_scene_desc {
      * of two in 64..2048); 1: no map (the node list is not made); others
      * are clamped to 16..16384 */
     uint32_t shadow_map_side;
+    /* the compact layout's 4^3 bricks (render/compact.h): VX_RENDER_BRICKS_AUTO
+     * (0) in their blocks, the brick dictionary where the layout exceeds the
+     * budget and the dictionary's geometry is smaller (about 0.65x that of a large
+     * surface scene; a second load per push into a brick, docs/PERFORMANCE.md
+     * issue 18, seventh step); INLINE or DICT: that one */
+    uint32_t compact_bricks;
 } vx_render_scene_desc;
+enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves
  * (vx_render_scene_update_model, LOD, models past VX_RENDER_PRECISE_DEPTH;
@@ -345,6 +352,7 @@ typedef struct vx_render_layout_info {
     uint32_t pages;          /* the compact layout paged: its pages (0: all of it resident) */
     uint32_t page_level;
     uint64_t compact_bytes;  /* the compact layout unpaged (0: not built) */
+    bool brick_dict;         /* the compact layout with its brick dictionary */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the
  * previous frame's rays requested, as many as the pool holds; rays that

@@ -584,8 +584,24 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         }
     } else {
         vx_compact_scene c;
-        r = vx_compact_build(&(vx_compact_desc){.alloc = &rs->alloc}, s, &c, err);
+        uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
+        vx_compact_desc cd = {.alloc = &rs->alloc,
+                              .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+        r = vx_compact_build(&cd, s, &c, err);
+        if (!r && bricks == VX_RENDER_BRICKS_AUTO && 4ull * c.geom_words + 4ull * c.attr_words > li.budget) {
+            /* over the budget: the brick dictionary's smaller geometry, where it is smaller */
+            vx_compact_scene cdict = {0};
+            vx_error derr = {0}; /* a dictionary past its limit: the layout in blocks stays */
+            cd.bricks = VX_COMPACT_BRICKS_DICT;
+            if (!vx_compact_build(&cd, s, &cdict, &derr) && cdict.geom_words < c.geom_words) {
+                vx_compact_free(&c);
+                c = cdict;
+            } else {
+                vx_compact_free(&cdict);
+            }
+        }
         if (!r) {
+            rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
@@ -593,6 +609,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             if (rs->layout.compact_bytes > li.budget && lp < max_depth)
                 r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
             if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
             vx_compact_free(&c);
         }
         if (r) {
@@ -1195,6 +1212,9 @@ vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buf
 }
 
 bool vx__render_scene_compact(const vx_render_scene* rs) { return rs && rs->compact; }
+uint32_t vx__render_scene_compact_form(const vx_render_scene* rs) {
+    return !vx__render_scene_compact(rs) ? 0u : rs->layout.brick_dict ? 2u : 1u;
+}
 
 vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                         uint8_t** out, size_t* n, vx_error* err) {

@@ -8,6 +8,7 @@
 //   CA_ATTR(i)  attribute word i
 //   CA_PAL(i)   palette entry i (RGBA)
 //   CA_PAGES    the paged layout's page count (0: the whole layout)
+//   CA_DICT     false: no node has VX_COMPACT_INDEXED (the index words' code is dead)
 // render/compact_gpu.c writes CModel (cmodel_gpu). Included twice: first
 // without CA_SLOT (the record, before the buffers that hold it), then with
 // the macros defined (the functions, after the buffers).
@@ -15,8 +16,9 @@
 
 // flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
 // trace.comp's Model.box; rank_base: the word of slot 0's rank (the rank of
-// slot s of level >= 3 is word rank_base + s of the geometry; a page has
-// its own, in its header);
+// slot s of level >= 5 is word rank_base + s of the geometry, levels 3-4
+// keep theirs in bits 16..31 of word 0; the paged layout has a rank word
+// per slot of level >= 3, a page its own base, in its header);
 // rebase as trace.comp's Model.rebase; page_up: the page level + 1 for a
 // paged model (its nodes of that level have their children's slots in the
 // top, pages below), else 0
@@ -42,6 +44,22 @@ uint brick_octant(uvec2 b, uint o) {
     return (v << 8) | v;
 }
 
+// Geometry word w (a select, not a dynamic component index: issue 21, the
+// NVIDIA compiler's code for those never finished on some pixels).
+uint ca_word(uint w) {
+    uvec2 p = CA_SLOT(w >> 1);
+    return (w & 1u) != 0u ? p.y : p.x;
+}
+// A level-3 node whose word 0 has bit 31 (CA_INDEXED: a scene built with
+// the brick dictionary) has its bricks' index words in its children's
+// block (render/compact.h): the brick's dictionary slot in the low
+// CA_BRICK_BITS bits, the cells of the block up to it, less one, above.
+const uint CA_INDEXED = 0x80000000u, CA_BRICK_BITS = 23u, CA_BRICK_MASK = (1u << CA_BRICK_BITS) - 1u;
+// The slot of child k (block order) of a level-lvl node with word 0 desc whose children's block is blk.
+uint ca_child(int lvl, uint desc, uint blk, uint k) {
+    return CA_DICT && lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
+}
+
 uint attr_bits(uint word, uint pos, uint n) {
     uint w = word + (pos >> 5), sh = pos & 31u;
     uint v = CA_ATTR(w) >> sh;
@@ -61,19 +79,23 @@ uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c
 
 // The cells in the children before child cbit of a level-lvl node (lvl >=
 // 3) with descriptor desc and children's block blk, k of them not leaves:
-// its leaf cubes before, and the rank of slot k - 1 of the block (level 3:
-// the popcounts of the bricks before, which have no rank).
+// its leaf cubes before, and the rank of slot k - 1 of the block (the
+// whole layout: a rank word at levels >= 6, word 0's bits 16..31 at 4-5;
+// the paged layout: a rank word at levels >= 4; at level 3 the brick's
+// index word, or the popcounts of the bricks before, which have no rank).
 uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbit) {
     // rank_base: the word of slot 0's rank
     uint leaves = uint(bitCount(desc & 0xFFu & (cbit - 1u)));
     // (a leaf cube of level 11 or more would pass 2^32 cells: the builder refuses it)
     uint r = lvl <= 11 ? leaves << (3u * uint(lvl - 1)) : 0u;
-    if (k != 0u && lvl > 3) {
-        // a select, not a dynamic component index (issue 21: the NVIDIA
-        // compiler's code for those never finished on some pixels)
-        uint w = rank_base + blk + k - 1u;
-        uvec2 pr = CA_SLOT(w >> 1);
-        r += (w & 1u) != 0u ? pr.y : pr.x;
+    if (k == 0u) return r;
+    if (lvl > (CA_PAGES == 0u ? 5 : 3)) {
+        r += ca_word(rank_base + blk + k - 1u);
+    } else if (lvl > 3) {
+        // word 0's bits 16..31 (level 3: 16..30, bit 31 is CA_INDEXED)
+        r += (CA_SLOT(blk + k - 1u).x >> 16) & (lvl == 4 ? 0x7FFFu : 0xFFFFu);
+    } else if (CA_DICT && (desc & CA_INDEXED) != 0u) {
+        r += (ca_word(blk + k - 1u) >> CA_BRICK_BITS) + 1u;
     } else {
         // bricks have no rank: the cells of the bricks before (the push
         // reads brick k's cache line anyway)
@@ -110,7 +132,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
         base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
-        n = nd.y + k;
+        n = ca_child(L, nd.x, nd.y, k);
     }
     uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
     uvec2 b = CA_SLOT(n);
@@ -175,7 +197,7 @@ bool cell_set(CModel m, uvec3 c) {
         uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2), cbit = 1u << o;
         if ((nd.x & (cbit << 8)) == 0u) return false;
         if ((nd.x & cbit) != 0u) return true;
-        n = nd.y + uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        n = ca_child(L, nd.x, nd.y, uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u))));
     }
     uint bit = morton(c & ((1u << uint(L)) - 1u));
     uvec2 b = CA_SLOT(n);

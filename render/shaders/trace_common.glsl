@@ -34,11 +34,14 @@ layout(constant_id = 9) const bool FAR = true;
 // push), and a hit's colour is decoded from its cell's attribute index;
 // Hit.attr is then the palette index (the per-record tables are per palette
 // index, vx__render_scene_attr_palette). Float variant only.
+// COMPACT_FORM (vx__render_scene_compact_form): 0 plain, 1 compact, 2
+// compact with the brick dictionary (else the index words' path is dead).
 #ifdef PRECISE
-const bool COMPACT = false;
+const uint COMPACT_FORM = 0u;
 #else
-layout(constant_id = 10) const bool COMPACT = false;
+layout(constant_id = 10) const uint COMPACT_FORM = 0u;
 #endif
+const bool COMPACT = COMPACT_FORM != 0u;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -96,6 +99,7 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 #define CA_ATTR(i) cattr[i]
 #define CA_PAL(i) cpalette[i]
 #define CA_PAGES 0u
+#define CA_DICT (COMPACT_FORM == 2u)
 #include "compact_attr.glsl"
 #endif
 // Model mi's record in either layout (COMPACT: from its CModel, with no
@@ -481,7 +485,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (COMPACT) {
                         // the child's slot is in the block cnd.y (level >= 3); below a
                         // brick's level 2 the child is octant cs of the brick in cnd
-                        if (scale + lvl_off - koff >= 3) parent = cnd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                        // (level 3: through the brick's index word)
+                        int plvl = scale + lvl_off - koff;
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                         else desc = brick_octant(cnd, uint(cs)), keep = true;
                     } else {
                         parent = child_node(parent, desc, cbit, nbase);

@@ -29,6 +29,9 @@ const bool REBASE = DEEP >= 2;
 // pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
+// the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
+// nodes); without it the index word's path is compiled out of the walk
+layout(constant_id = 5) const bool DICT = false;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -75,6 +78,7 @@ layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 #define CA_ATTR(i) attr[i]
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
+#define CA_DICT DICT
 #include "compact_attr.glsl"
 
 struct Hit {
@@ -294,7 +298,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     if (tc_max < hh) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
                     loaded = lvl == 2;
-                    if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                    // (level 3 of the whole layout: through the brick's index word)
+                    if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                     else desc = brick_octant(nd, uint(cs));
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;

@@ -50,6 +50,31 @@ static vx_result ts_random_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint
     return r;
 }
 
+/* The compact layout's field seams (render/compact.h): a 32^3 palette
+ * model whose every 4^3 brick lacks one cell, at a place that varies, so
+ * every level-3 node has 8 bricks of 63 cells and every level-4 node 4,032
+ * cells (the largest counts the index words and the level-4 ranks hold). */
+static inline vx_result ts_seam_model(vx_svo_model* m) {
+    uint32_t size[3] = {32, 32, 32}, *xyz = malloc(32768 * 12);
+    uint8_t* pal = malloc(32768);
+    size_t n = 0;
+    if (!xyz || !pal) {
+        free(xyz), free(pal);
+        return VX_ERR_NOMEM;
+    }
+    for (uint32_t z = 0; z < 32; z++)
+        for (uint32_t y = 0; y < 32; y++)
+            for (uint32_t x = 0; x < 32; x++) {
+                uint32_t hole = (x / 4 * 7 + y / 4 * 13 + z / 4 * 29) % 64;
+                if ((uint32_t)vx_svo_morton(x % 4, y % 4, z % 4) == hole) continue;
+                xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
+                pal[n++] = (uint8_t)(1 + (x + 3 * y + 5 * z) % 250);
+            }
+    vx_result r = ts_model(m, size, xyz, pal, n);
+    free(xyz), free(pal);
+    return r;
+}
+
 static void ts_palette(vx_svo_scene* s) {
     s->has_palette = true;
     uint32_t seed = 99;

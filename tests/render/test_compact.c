@@ -49,10 +49,19 @@ static int64_t find_key(const uint64_t* keys, uint32_t n, uint64_t k) {
     return lo < n && keys[lo] == k ? (int64_t)lo : -1;
 }
 
-/* Every cell of every model, and cells around them and at random. */
+/* Every cell of every model, and cells around them and at random, with the
+ * bricks in their blocks (kept in *keep) and in the brick dictionary. */
+static void check_scene_bricks(const vx_svo_scene* s, const char* name, uint32_t block, uint32_t bricks,
+                               vx_compact_scene* keep);
 static void check_scene(const vx_svo_scene* s, const char* name, uint32_t block, vx_compact_scene* keep) {
+    check_scene_bricks(s, name, block, VX_COMPACT_BRICKS_INLINE, keep);
+    check_scene_bricks(s, name, block, VX_COMPACT_BRICKS_DICT, NULL);
+}
+static void check_scene_bricks(const vx_svo_scene* s, const char* name, uint32_t block, uint32_t bricks,
+                               vx_compact_scene* keep) {
     vx_compact_desc d = vx_compact_desc_defaults();
     d.block = block;
+    d.bricks = bricks;
     vx_compact_scene c;
     vx_error err = {0};
     vx_result r = vx_compact_build(&d, s, &c, &err);
@@ -92,8 +101,8 @@ static void check_scene(const vx_svo_scene* s, const char* name, uint32_t block,
         CHECKF(wrong == 0, "%s model %u: %u sampled cells looked up wrong", name, mi, wrong);
         free(w.keys);
     }
-    printf("  %-32s block %4u: %10llu voxels, geometry %.3f + attributes %.3f bytes/voxel (%llu nodes)%s\n", name,
-           block, (unsigned long long)voxels, voxels ? 4.0 * c.geom_words / (double)voxels : 0.0,
+    printf("  %-32s block %4u%s: %10llu voxels, geometry %.3f + attributes %.3f bytes/voxel (%llu nodes)%s\n", name,
+           block, bricks ? ", dictionary" : "", (unsigned long long)voxels, voxels ? 4.0 * c.geom_words / (double)voxels : 0.0,
            voxels ? 4.0 * c.attr_words / (double)voxels : 0.0, (unsigned long long)c.stats.nodes,
            bad_total ? " WRONG" : "");
     if (keep) *keep = c;
@@ -103,10 +112,16 @@ static void check_scene(const vx_svo_scene* s, const char* name, uint32_t block,
 /* Every pixel of three views (the default framing, orthographic, a close-up
  * from inside the bounds): the CPU reference against the walk of the
  * compact layout. Returns the pixels that hit. */
+static uint64_t check_trace_bricks(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h, uint32_t bricks);
 static uint64_t check_trace(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h) {
+    uint64_t hits = check_trace_bricks(s, name, w, h, VX_COMPACT_BRICKS_INLINE);
+    CHECK(check_trace_bricks(s, name, w, h, VX_COMPACT_BRICKS_DICT) == hits);
+    return hits;
+}
+static uint64_t check_trace_bricks(const vx_svo_scene* s, const char* name, uint32_t w, uint32_t h, uint32_t bricks) {
     vx_compact_scene c;
     vx_error err = {0};
-    if (vx_compact_build(NULL, s, &c, &err) != VX_OK) {
+    if (vx_compact_build(&(vx_compact_desc){.bricks = bricks}, s, &c, &err) != VX_OK) {
         CHECKF(0, "%s: %s", name, err.msg);
         return 0;
     }
@@ -259,7 +274,9 @@ static void test_colour_sharing(void) {
     const uint32_t* root = c.geom + 2 * (size_t)c.models[1].root;
     CHECK(root[0] == 0x8100u);
     const uint32_t* kids = c.geom + 2 * (size_t)root[1];
-    CHECK(kids[0] == kids[2] && kids[1] == kids[3]);
+    CHECK((kids[0] & 0xFFFFu) == (kids[2] & 0xFFFFu) && kids[1] == kids[3]);
+    /* level-4 slots carry the cells of their block up to them: the second child has twice the first's */
+    CHECK(kids[0] >> 16 != 0 && kids[2] >> 16 == 2 * (kids[0] >> 16));
     /* the second model adds no geometry to the first */
     vx_svo_model only = s.models[0];
     ts_scene(&s1, &only, 1, in, 1);
@@ -276,6 +293,66 @@ static void test_colour_sharing(void) {
 
 /* The automatic block size: blocks of 64 for a textured model, of 512 for
  * 8^3 tiles of one colour each (a header per 64 cells would be 8 per tile). */
+/* The seams of the geometry's fields (render/compact.h), reached by
+ * construction (ts_seam_model): every 4^3 brick of a 32^3 model lacks one
+ * cell (at a place that varies), so each level-3 node has 8 bricks of 63 cells (its last
+ * index word counts 504 cells, 503 stored in 9 bits), each level-4 node 4,032
+ * cells, and the root's block of level-4 slots carries 32,256 in bits 16..31
+ * of the last one's word 0. Every cell's rank and colour, the CPU walk's
+ * pixels, and the brick limit: at the scene's distinct bricks it builds, one
+ * fewer is refused. */
+static void test_brick_seams(void) {
+    vx_svo_model m;
+    REQUIRE(ts_seam_model(&m) == VX_OK);
+    REQUIRE(m.voxel_count == 32768 - 512);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_compact_scene c, ci;
+    check_scene(&s, "brick seams", 64, &ci);
+    vx_error err = {0};
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.bricks = VX_COMPACT_BRICKS_DICT}, &s, &c, &err) == VX_OK);
+    REQUIRE(c.models[0].depth == 5 && c.brick_dict && !ci.brick_dict && ci.brick_count == 0);
+    /* the dictionary saves: 8 brick children a level-3 node, most of them repeated */
+    CHECKF(c.geom_words < ci.geom_words, "geometry words: %u with the dictionary, %u without", c.geom_words,
+           ci.geom_words);
+    /* the largest counts the fields hold: 9 bits of the index words, 16 of word 0 at level 4 */
+    uint32_t n5 = (uint32_t)c.stats.offset_words, first_index = 2 * c.slot_count + n5, most_bricks = 0, most_rank = 0;
+    for (uint32_t i = 0; i < c.stats.brick_refs; i++) {
+        uint32_t w = c.geom[first_index + i];
+        CHECK((w & (VX_COMPACT_MAX_BRICKS - 1u)) < c.brick_count);
+        if (w >> VX_COMPACT_BRICK_BITS > most_bricks) most_bricks = w >> VX_COMPACT_BRICK_BITS;
+    }
+    uint32_t indexed = 0;
+    for (uint32_t sl = c.brick_count + n5; sl < c.slot_count; sl++) {
+        uint32_t w0 = c.geom[2 * (size_t)sl];
+        /* the level-3 nodes carry VX_COMPACT_INDEXED above their rank (a level-4 rank here stays under 2^15) */
+        bool level3 = (w0 & 0xFFFFu) == 0xFF00u && (w0 & VX_COMPACT_INDEXED);
+        indexed += level3;
+        uint32_t rank = (w0 >> 16) & (level3 ? 0x7FFFu : 0xFFFFu);
+        if (rank > most_rank) most_rank = rank;
+    }
+    CHECKF(indexed == c.stats.level_slots[3] && indexed > 0, "%u level-3 slots flagged VX_COMPACT_INDEXED of %llu",
+           indexed, (unsigned long long)c.stats.level_slots[3]);
+    CHECKF(most_bricks == 8 * 63 - 1, "index words: most cells %u, expected %u", most_bricks + 1, 8 * 63);
+    CHECKF(most_rank == 8 * 8 * 8 * 63, "level 3-4 ranks: most %u, expected %u", most_rank, 8 * 8 * 8 * 63);
+    CHECKF(c.brick_count <= 64 && c.stats.bricks == c.brick_count, "%u distinct bricks (at most 64 holes)",
+           c.brick_count);
+    CHECK(check_trace(&s, "brick seams", 64, 48) > 0);
+    /* the brick limit, at the scene's own count and one below it */
+    vx_compact_desc d = vx_compact_desc_defaults();
+    vx_compact_scene c2;
+    d.bricks = VX_COMPACT_BRICKS_DICT;
+    d.max_bricks = c.brick_count;
+    CHECK(vx_compact_build(&d, &s, &c2, &err) == VX_OK && c2.geom_words == c.geom_words);
+    vx_compact_free(&c2);
+    d.max_bricks = c.brick_count - 1;
+    CHECK(vx_compact_build(&d, &s, &c2, &err) == VX_ERR_LIMIT && strstr(err.msg, "distinct bricks"));
+    vx_compact_free(&c);
+    vx_compact_free(&ci);
+    vx_svo_scene_free(&s);
+}
+
 static void test_auto_block(void) {
     uint64_t keys[512];
     uint8_t level[512];
@@ -405,6 +482,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     RUN(test_generated);
     RUN(test_colour_sharing);
+    RUN(test_brick_seams);
     RUN(test_auto_block);
     RUN(test_edges);
     RUN(test_trace_large);

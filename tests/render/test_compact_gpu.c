@@ -62,21 +62,14 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
     vx_error err = {0};
     vx_render_scene *rs = NULL, *rsc = NULL;
     vx_compact_scene c;
-    vx_compact_gpu* cg = NULL;
+    vx_compact_gpu *cg = NULL, *cg2 = NULL; /* the render scene's brick form, the other one */
     vx_result r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return 0;
     vx_render_layout_info lp, lc;
     vx_render_scene_layout(rs, &lp);
     CHECK(lp.layout == VX_RENDER_LAYOUT_PLAIN && lp.bytes == lp.plain_bytes && lp.plain_bytes > 0);
-    r = vx_compact_build(NULL, s, &c, &err);
-    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
-    if (!r) {
-        r = vx_compact_gpu_create(rs, s, &c, &cg, &err);
-        CHECKF(r == VX_OK, "%s: %s", name, err.msg);
-        vx_compact_free(&c);
-    }
-    if (!r) {
+    {
         r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.memory_budget = lp.plain_bytes - 1}, &rsc, &err);
         CHECKF(r == VX_OK, "%s: compact render scene: %s", name, err.msg);
     }
@@ -98,6 +91,19 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
             if (rsc) vx_render_scene_layout(rsc, &lc);
             lc.budget = lp.plain_bytes - 1; /* as asked of AUTO above */
         }
+    }
+    for (int k = 0; !r && k < 2; k++) {
+        /* both brick forms (render/compact.h), the render scene's first */
+        uint32_t bricks = (k == 0) == lc.brick_dict ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE;
+        r = vx_compact_build(&(vx_compact_desc){.bricks = bricks}, s, &c, &err);
+        CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+        if (!r) {
+            r = vx_compact_gpu_create(rs, s, &c, k ? &cg2 : &cg, &err);
+            CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+            vx_compact_free(&c);
+        }
+    }
+    if (!r) {
         CHECKF(lc.layout == VX_RENDER_LAYOUT_COMPACT && lc.pages == 0 && lc.bytes == vx_compact_gpu_bytes(cg) &&
                    lc.plain_bytes == lp.plain_bytes && lc.budget == lp.plain_bytes - 1 && lc.voxels == lp.voxels,
                "%s: layout %s, %llu bytes (compact %llu), plain %llu", name, vx_render_layout_name(lc.layout),
@@ -121,19 +127,23 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
                 d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext * (view == 3 ? 3 : 1);
             }
         }
-        vx_render_image a = {0}, b = {0}, b2 = {0};
+        vx_render_image a = {0}, b = {0}, b2 = {0}, b3 = {0};
         vx_result r1 = vx_render_frame(rs, &d, &a, &err);
         CHECKF(r1 == VX_OK, "%s view %d: trace.comp: %s", name, view, err.msg);
         vx_result r2 = r1 ? r1 : vx_compact_gpu_frame(cg, &d, &b, &err);
         CHECKF(r2 == VX_OK, "%s view %d: trace_compact.comp: %s", name, view, err.msg);
         vx_result r3 = r2 ? r2 : vx_render_frame(rsc, &d, &b2, &err);
         CHECKF(r3 == VX_OK, "%s view %d: the compact render scene: %s", name, view, err.msg);
+        if (!r3) r3 = vx_compact_gpu_frame(cg2, &d, &b3, &err);
+        CHECKF(r3 == VX_OK, "%s view %d: the other brick form: %s", name, view, err.msg);
         if (!r3) {
             uint32_t hits = 0, wrong = differ(&a, &b, name, "compact", view, &hits);
             uint32_t wrong2 = differ(&a, &b2, name, "compact scene", view, NULL);
-            CHECKF(wrong == 0 && wrong2 == 0, "%s view %d: %u and %u of %u pixels differ", name, view, wrong, wrong2,
-                   w * h);
-            printf("  %-34s view %d: %ux%u, %u pixels hit, %u / %u differ\n", name, view, w, h, hits, wrong, wrong2);
+            uint32_t wrong3 = differ(&a, &b3, name, "compact, other bricks", view, NULL);
+            CHECKF(wrong == 0 && wrong2 == 0 && wrong3 == 0, "%s view %d: %u, %u and %u of %u pixels differ", name, view,
+                   wrong, wrong2, wrong3, w * h);
+            printf("  %-34s view %d: %ux%u, %u pixels hit, %u / %u / %u differ\n", name, view, w, h, hits, wrong, wrong2,
+                   wrong3);
             hits_total += hits;
         }
         if (!r3) {
@@ -153,6 +163,7 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
         vx_render_image_free(&a);
         vx_render_image_free(&b);
         vx_render_image_free(&b2);
+        vx_render_image_free(&b3);
     }
     if (rsc) {
         /* what only the plain layout serves is refused, with the reason */
@@ -167,6 +178,7 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
     }
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     vx_compact_gpu_destroy(cg);
+    vx_compact_gpu_destroy(cg2);
     vx_render_scene_destroy(rsc);
     vx_render_scene_destroy(rs);
     return hits_total;
@@ -237,6 +249,21 @@ static void test_generated(void) {
     CHECK(compare(&s1, "10 levels deep, one instance", 160, 96) > 160 * 96 / 4);
     s1.models[0] = (vx_svo_model){0}; /* owned by s */
     vx_svo_scene_free(&s1);
+    vx_svo_scene_free(&s);
+}
+
+/* The compact layout's field seams (ts_seam_model: the largest counts of
+ * the bricks' index words and of the level-4 ranks) in the kernel, beside
+ * a rotated copy. */
+static void test_seams(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_model m;
+    REQUIRE(ts_seam_model(&m) == VX_OK);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, rot, 40, 5, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, in, 2);
+    CHECK(compare(&s, "brick seams", 96, 64) > 96 * 64 / 8);
     vx_svo_scene_free(&s);
 }
 
@@ -331,6 +358,7 @@ static void test_corpus_mesh(void) {
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_generated);
+    RUN(test_seams);
     RUN(test_deep);
     RUN(test_corpus);
     RUN(test_corpus_mesh);

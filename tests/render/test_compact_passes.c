@@ -40,11 +40,11 @@ typedef struct side {
     vx_frame_renderer* fr;
 } side;
 
-static bool side_open(const vx_svo_scene* s, vx_render_layout layout, side* o) {
+static bool side_open(const vx_svo_scene* s, vx_render_layout layout, uint32_t bricks, side* o) {
     vx_error err = {0};
     memset(o, 0, sizeof *o);
     /* the whole compact layout: a budget no scene here reaches, so that it is not paged */
-    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40};
+    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40, .compact_bricks = bricks};
     if (vx_render_scene_create_ex(gpu, s, &d, &o->rs, &err) || vx_frame_renderer_create(o->rs, s, &o->fr, &err)) {
         fprintf(stderr, "  create (%s): %s\n", vx_render_layout_name(layout), err.msg);
         vx_render_scene_destroy(o->rs);
@@ -119,14 +119,15 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
 
 /* All scenes through the one device: its pipeline cache holds the pass, GI
  * and bake variants of both layouts of every scene (147 with the corpus
- * scenes), as a session that opens several scenes does. */
-static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+ * scenes), as a session that opens several scenes does.
+ * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
+static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks) {
     side p, c;
-    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, &p)) {
+    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, 0, &p)) {
         CHECKF(false, "%s: plain scene", name);
         return;
     }
-    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, &c)) {
+    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, bricks, &c)) {
         CHECKF(false, "%s: compact scene", name);
         side_close(&p);
         return;
@@ -134,8 +135,9 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     vx_render_layout_info li;
     vx_render_scene_layout(c.rs, &li);
     CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages == 0 && vx__render_scene_compact(c.rs) &&
-               !vx__render_scene_compact(p.rs),
-           "%s: layout %s, %u pages", name, vx_render_layout_name(li.layout), li.pages);
+               !vx__render_scene_compact(p.rs) && li.brick_dict == (bricks == VX_RENDER_BRICKS_DICT),
+           "%s: layout %s, %u pages, brick dictionary %d", name, vx_render_layout_name(li.layout), li.pages,
+           (int)li.brick_dict);
     vx_render_desc base = {.width = w, .height = h};
     compare(name, "gbuffer,direct", &p, &c, NULL, NULL, base);
     compare(name, "gbuffer,direct,ao", &p, &c, NULL, NULL, base);
@@ -245,7 +247,7 @@ static void test_generated(void) {
     in[4] = ts_inst(2, rot, 20, 30, 25);
     vx_svo_scene s;
     ts_scene(&s, m, 4, in, 5);
-    check_scene("generated (5 instances)", &s, 64, 48);
+    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT);
     vx_svo_scene_free(&s);
 }
 
@@ -270,7 +272,7 @@ static void test_room(void) {
     add_material(&s, 4, glass, 3);
     add_material(&s, 3, metal, 3);
     add_material(&s, 9, emit, 2);
-    check_scene("room (emissive, glass, metal)", &s, 48, 36);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE);
     vx_svo_scene_free(&s);
 }
 
@@ -285,7 +287,7 @@ static void test_corpus(void) {
         done++; /* found: a file that fails to load fails the test, not skips it */
         CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
         if (st != VX_TEST_VOX_OK) continue;
-        check_scene(files[i], &s, 64, 48);
+        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT);
         vx_svo_scene_free(&s);
     }
     if (!done) SKIP("no corpus .vox files");

@@ -881,8 +881,8 @@ int main(int argc, char** argv) {
         vx_render_layout_info li;
         vx_render_scene_layout(rs, &li);
         if (!r && o.verbose)
-            printf("layout: %s, %.3f MB on the GPU, %.3f bytes per voxel (plain: %.3f MB; %s budget %.1f MB)\n",
-                   vx_render_layout_name(li.layout), li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
+            printf("layout: %s%s, %.3f MB on the GPU, %.3f bytes per voxel (plain: %.3f MB; %s budget %.1f MB)\n",
+                   vx_render_layout_name(li.layout), li.brick_dict ? " (brick dictionary)" : "", li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
         if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages) {
