@@ -11,6 +11,7 @@
 #include <dlfcn.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "render/render.h"
 
@@ -37,6 +38,15 @@ static inline const char* vx_test_gpu_open(vx_gpu_desc desc, bool validate, vx_g
     }
     printf("device: %s\n", vx_gpu_device_name(*out));
     return NULL;
+}
+
+/* A logger for vx_gpu_desc.logger that counts the validation layer's
+ * messages into *(int*)user and prints the first four, so that a failure
+ * says what: vx_logger lg = {.func = vx_test_validation_log, .user_data = &n}. */
+static inline void vx_test_validation_log(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)level;
+    int* n = user;
+    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
 }
 
 #endif

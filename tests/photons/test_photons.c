@@ -17,12 +17,6 @@
 static const double PI = 3.14159265358979323846;
 static vx_gpu* gpu;
 
-/* the validation layer's first messages, so that a failure says what */
-static void log_msg(void* user, vx_log_level level, const char* id, const char* msg) {
-    (void)level;
-    int* n = user;
-    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
-}
 
 /* gray 0x80: the walls' albedo */
 #define GRAY 0xFF808080u
@@ -1170,7 +1164,7 @@ static void test_no_validation_errors(void) {
 int main(void) {
     (void)ts_random_model, (void)room_scene;
     int logged = 0;
-    vx_logger lg = {.func = log_msg, .user_data = &logged};
+    vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     const char* skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu); /* pins lavapipe, see gpu_test.h */
     if (skip) fprintf(stderr, "%s\n", skip);
     RUN(test_emission_power);

@@ -27,12 +27,6 @@
 static vx_gpu* gpu;
 static const char* gpu_skip;
 
-/* the validation layer's first messages, so that a failure says what */
-static void log_msg(void* user, vx_log_level level, const char* id, const char* msg) {
-    (void)level;
-    int* n = user;
-    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
-}
 
 /* One render scene and its frame renderer in a given layout. */
 typedef struct side {
@@ -295,7 +289,7 @@ static void test_corpus(void) {
 
 int main(void) {
     int logged = 0;
-    vx_logger lg = {.func = log_msg, .user_data = &logged};
+    vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
     RUN(test_generated);
     RUN(test_room);

@@ -33,14 +33,8 @@
 static vx_gpu* gpu;
 static const char* gpu_skip;
 
-/* the validation layer's first messages, so that a failure says what */
-static void log_msg(void* user, vx_log_level level, const char* id, const char* msg) {
-    (void)level;
-    int* n = user;
-    if (!strcmp(id, "gpu.validation") && (*n)++ < 4) fprintf(stderr, "  validation: %s\n", msg);
-}
 static int logged;
-static vx_logger lg = {.func = log_msg, .user_data = &logged};
+static vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
 
 /* The cheap pipeline that writes `value`, cached under `key`. */
 static vx_result value_pipeline(vx_gpu* g, uint64_t key, uint32_t value, vx__pipeline** out, vx_error* err) {
