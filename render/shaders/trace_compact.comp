@@ -489,7 +489,11 @@ bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h)
     Inst I = insts[i];
     vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
     vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
-    vec3 om_lo = vec3(0.0);
+    // precise: its ops form the two-sum's error term, which exact algebra
+    // makes 0; not precise, the NVIDIA compiler (driver 580) folded it to 0
+    // and the origin's rounding was lost (issue 18: 380 of 110,592 depth-16
+    // close-up pixels off on the H200)
+    precise vec3 om_lo = vec3(0.0);
     if (REBASE) {
         // the translation's and the sum's rounding errors (two-sum), as trace.comp
         precise vec3 dt = vec3(dot(I.r0.xyz, o), dot(I.r1.xyz, o), dot(I.r2.xyz, o));
