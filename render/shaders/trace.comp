@@ -99,17 +99,22 @@ void main() {
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
     uint spp = max(F.dims.z, 1u);
-    vec4 acc = vec4(0.0);
+    // The camera ray, its t and the shading are precise (no contraction or
+    // reassociation): trace_compact.comp computes them with the same expressions and
+    // must give the same bits (test_compact_gpu), but the NVIDIA compiler
+    // (driver 580) contracted the two kernels' copies differently (issue 18:
+    // up to 2,917 of 15,360 pixels differed on the H200). Once per pixel.
+    precise vec4 acc = vec4(0.0);
     uint shadow_rec = 0u; // sample 0's shadow ray: bit 31 cast, the rest its loop iterations (the hits record)
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
     for (uint s = 0u; s < spp; s++) {
         vec2 off = vec2(0.0);
         if (s > 0u) off = fract(vec2(0.5) + float(s) * vec2(0.7548776662466927, 0.5698402909980532)) - 0.5;
-        float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
-        float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
-        RVEC3 o, d;
-        REAL t_off;
+        precise float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
+        precise float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
+        precise RVEC3 o, d;
+        precise REAL t_off;
 #ifdef PRECISE
         // the camera in double, as the CPU reference computes it
         dvec2 offd = dvec2(off);
@@ -133,7 +138,7 @@ void main() {
             t_off = t_start;
         } else {
             vec3 du = F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz;
-            float len = length(du);
+            precise float len = length(du);
             d = du / len;
             o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
             t_off = t_start * len;
@@ -154,8 +159,8 @@ void main() {
         h.cell = uvec3(0u); // a miss's hits record is written too
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
-        vec4 c = vec4(0.0);
-        vec3 nw = vec3(0.0);
+        precise vec4 c = vec4(0.0);
+        precise vec3 nw = vec3(0.0);
         if (hit) {
             Inst I = insts[h.inst];
             vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
@@ -168,12 +173,12 @@ void main() {
                 if (MODE == MODE_ALBEDO) c = vec4(alb, 1.0);
                 else {
                     float amb = F.light.w;
-                    float ndl = max(dot(nw, F.light.xyz), 0.0);
+                    precise float ndl = max(dot(nw, F.light.xyz), 0.0);
                     float vis = 0.0;
                     if (ndl > 0.0) {
-                        RVEC3 p = o + d * h.t;
+                        precise RVEC3 p = o + d * h.t;
                         float cell = insts[h.inst].cell;
-                        RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+                        precise RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
 #ifdef TRACE_BEAM
                         g_tskip = 0.0; // the beam bounds the primary rays only
 #endif
@@ -195,7 +200,7 @@ void main() {
         } else if (MODE == MODE_NORMAL) {
             c = vec4(nw, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_DEPTH) {
-            float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
+            precise float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
             c = vec4(t, t, t, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_INSTANCE) {
             c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
@@ -205,8 +210,9 @@ void main() {
         acc += c;
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
+            precise float t_hit = hit ? float(t_off + h.t) : 0.0;
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, 0u, shadow_rec);
+            hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, 0u, shadow_rec);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);

@@ -489,7 +489,11 @@ bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h)
     Inst I = insts[i];
     vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
     vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
-    vec3 om_lo = vec3(0.0);
+    // precise: its ops form the two-sum's error term, which exact algebra
+    // makes 0; not precise, the NVIDIA compiler (driver 580) folded it to 0
+    // and the origin's rounding was lost (issue 18: 380 of 110,592 depth-16
+    // close-up pixels off on the H200)
+    precise vec3 om_lo = vec3(0.0);
     if (REBASE) {
         // the translation's and the sum's rounding errors (two-sum), as trace.comp
         precise vec3 dt = vec3(dot(I.r0.xyz, o), dot(I.r1.xyz, o), dot(I.r2.xyz, o));
@@ -588,23 +592,28 @@ void main() {
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
     uint spp = max(F.dims.z, 1u);
-    vec4 acc = vec4(0.0);
+    // The camera ray, its t and the shading are precise (no contraction or
+    // reassociation): trace.comp computes them with the same expressions and
+    // must give the same bits (test_compact_gpu), but the NVIDIA compiler
+    // (driver 580) contracted the two kernels' copies differently (issue 18:
+    // up to 2,917 of 15,360 pixels differed on the H200). Once per pixel.
+    precise vec4 acc = vec4(0.0);
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
     for (uint s = 0u; s < spp; s++) {
         vec2 off = vec2(0.0);
         if (s > 0u) off = fract(vec2(0.5) + float(s) * vec2(0.7548776662466927, 0.5698402909980532)) - 0.5;
-        float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
-        float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
-        vec3 o, d;
-        float t_off;
+        precise float u = ((float(px.x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
+        precise float v = 1.0 - ((float(px.y) + 0.5 + off.y) / float(H)) * 2.0;
+        precise vec3 o, d;
+        precise float t_off;
         if (ortho) {
             o = u * F.rx.xyz + v * F.uy.xyz;
             d = F.fwd.xyz;
             t_off = t_start;
         } else {
             vec3 du = F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz;
-            float len = length(du);
+            precise float len = length(du);
             d = du / len;
             o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
             t_off = t_start * len;
@@ -629,8 +638,8 @@ void main() {
                 h.color = decode_color(m, ab, i);
             }
         }
-        vec4 c = vec4(0.0);
-        vec3 nw = vec3(0.0);
+        precise vec4 c = vec4(0.0);
+        precise vec3 nw = vec3(0.0);
         if (hit) {
             Inst I = insts[h.inst];
             vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
@@ -643,12 +652,12 @@ void main() {
                 if (MODE == MODE_ALBEDO) c = vec4(alb, 1.0);
                 else {
                     float amb = F.light.w;
-                    float ndl = max(dot(nw, F.light.xyz), 0.0);
+                    precise float ndl = max(dot(nw, F.light.xyz), 0.0);
                     float vis = 0.0;
                     if (ndl > 0.0) {
-                        vec3 p = o + d * h.t;
+                        precise vec3 p = o + d * h.t;
                         float cell = insts[h.inst].cell;
-                        vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+                        precise vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
                         Hit sh;
                         sh.t = 3.0e38;
                         sh.inst = NO_HIT;
@@ -660,7 +669,7 @@ void main() {
         } else if (MODE == MODE_NORMAL) {
             c = vec4(nw, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_DEPTH) {
-            float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
+            precise float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
             c = vec4(t, t, t, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_INSTANCE) {
             c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
@@ -670,9 +679,10 @@ void main() {
         acc += c;
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
+            precise float t_hit = hit ? float(t_off + h.t) : 0.0;
             hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
             uint hflags = PAGES > 0u && hit && h.page != NO_HIT ? 2u : 0u; // VX_RENDER_HIT_COARSE
-            hits[base + 1u] = uvec4(floatBitsToUint(hit ? float(t_off + h.t) : 0.0), prim_iter, hflags, 0u);
+            hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, hflags, 0u);
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);

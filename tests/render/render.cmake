@@ -33,3 +33,11 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c)
   vx_add_test(test_render_edit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_edit.c LIBS vx_render vx_svo)
   set_tests_properties(test_render_edit PROPERTIES ENVIRONMENT "${VX_RENDER_LSAN}")
 endif()
+# The float walk's error-free sums reach the driver as NoContraction
+# arithmetic (issue 18: the NVIDIA compiler folded one that was not). Reads
+# the embedded SPIR-V headers only: no GPU, no library.
+if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_spirv_precise.c)
+  vx_add_test(test_spirv_precise SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_spirv_precise.c)
+  target_include_directories(test_spirv_precise PRIVATE ${CMAKE_BINARY_DIR}/render/spv)
+  add_dependencies(test_spirv_precise vx_render)
+endif()

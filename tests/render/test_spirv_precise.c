@@ -1,0 +1,242 @@
+/* tests/render/test_spirv_precise.c - the float walk's error-free
+ * transformations (issue 18: the hi/lo origin of the DEEP kernels, the
+ * two-sums and exact products in trace_instance and trace_model) must reach
+ * the driver as arithmetic decorated NoContraction. Where an operation of
+ * such a sum is not (GLSL `precise` missing on the variable it feeds), the
+ * driver may apply exact algebra to it: the NVIDIA compiler (driver 580)
+ * folded the instance two-sum's error term (dt - (s - bb)) + (w - bb) to 0,
+ * and 380 of 110,592 depth-16 close-up pixels left the CPU reference on the
+ * H200, while lavapipe, which does not fold, passed. No lavapipe render can
+ * see that, so this test reads the embedded SPIR-V: every float operation in
+ * the expression stored into one of those variables (up to the loads of
+ * other variables, whose own stores are checked when they are in the list)
+ * carries NoContraction. With arguments, checks those .spv files instead
+ * (e.g. a kernel built from main before the fix, which must fail). */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tests/test.h"
+
+#include "trace.comp.h"
+#include "trace_compact.comp.h"
+#include "frame.comp.h"
+#include "gbuffer.comp.h"
+
+enum {
+    OP_EXT_INST = 12, OP_NAME = 5, OP_FUNCTION = 54, OP_FUNCTION_END = 56, OP_VARIABLE = 59, OP_LOAD = 61,
+    OP_STORE = 62, OP_DECORATE = 71, OP_VECTOR_SHUFFLE = 79, OP_COMPOSITE_CONSTRUCT = 80,
+    OP_COMPOSITE_EXTRACT = 81, OP_COMPOSITE_INSERT = 82, OP_FNEGATE = 127, OP_FADD = 129, OP_FSUB = 131,
+    OP_FMUL = 133, OP_FDIV = 136, OP_VECTOR_TIMES_SCALAR = 142, OP_DOT = 148, OP_SELECT = 169,
+    DEC_NO_CONTRACTION = 42
+};
+
+/* The variables of each function that hold an error-free transformation's
+ * parts (render/shaders/trace_common.glsl and trace_compact.comp: the
+ * DEEP 2 set-up's oa + oa_lo and ol + ol_lo, the rebase's q, the instance's
+ * om + om_lo). */
+static const char* const model_vars[] = {"pr", "pe", "oas", "bb", "se", "oal", "ols", "oll", "a", "sq", "q", NULL};
+static const char* const inst_vars[] = {"s", "bb", "om_lo", NULL};
+
+typedef struct spv {
+    const uint32_t* w;
+    size_t n;
+    uint32_t bound;
+    uint32_t* def;   /* id -> word index of its defining instruction (0: none) */
+    uint8_t* nocon;  /* id decorated NoContraction */
+    uint32_t* name;  /* id -> word index of its OpName string (0: none) */
+    uint32_t* func;  /* variable id -> its function's id */
+    uint8_t* seen;
+} spv;
+
+static void str_at(const spv* m, uint32_t at, char* out, size_t cap) {
+    size_t k = 0;
+    for (uint32_t i = at; i < m->n && k + 1 < cap; i++)
+        for (int b = 0; b < 4 && k + 1 < cap; b++) {
+            char c = (char)((m->w[i] >> (8 * b)) & 0xFFu);
+            if (!c) goto done;
+            out[k++] = c;
+        }
+done:
+    out[k] = 0;
+}
+
+static int name_is(const spv* m, uint32_t id, const char* s) {
+    if (id >= m->bound || !m->name[id]) return 0;
+    char buf[128];
+    str_at(m, m->name[id], buf, sizeof buf);
+    return !strcmp(buf, s);
+}
+
+/* The instructions read below (all have a result type and a result id). */
+static int has_result(uint32_t op) {
+    switch (op) {
+    case OP_EXT_INST: case OP_VARIABLE: case OP_LOAD: case OP_VECTOR_SHUFFLE: case OP_COMPOSITE_CONSTRUCT:
+    case OP_COMPOSITE_EXTRACT: case OP_COMPOSITE_INSERT: case OP_FNEGATE: case OP_FADD: case OP_FSUB: case OP_FMUL:
+    case OP_FDIV: case OP_VECTOR_TIMES_SCALAR: case OP_DOT: case OP_SELECT: return 1;
+    default: return 0;
+    }
+}
+
+/* Bad ids and lengths fail the parse instead of reading past the words. */
+static int parse(spv* m, const uint32_t* w, size_t n) {
+    memset(m, 0, sizeof *m);
+    if (n < 5 || w[0] != 0x07230203u || w[3] == 0 || w[3] > (1u << 22)) return 0;
+    m->w = w, m->n = n, m->bound = w[3];
+    m->def = calloc(m->bound, 4), m->name = calloc(m->bound, 4), m->func = calloc(m->bound, 4);
+    m->nocon = calloc(m->bound, 1), m->seen = calloc(m->bound, 1);
+    if (!m->def || !m->name || !m->func || !m->nocon || !m->seen) return 0;
+    uint32_t cur = 0;
+    for (size_t i = 5; i < n;) {
+        uint32_t wc = w[i] >> 16, op = w[i] & 0xFFFFu;
+        if (wc == 0 || i + wc > n) return 0;
+        if (op == OP_NAME && wc >= 3 && w[i + 1] < m->bound) m->name[w[i + 1]] = (uint32_t)i + 2;
+        else if (op == OP_DECORATE && wc >= 3 && w[i + 2] == DEC_NO_CONTRACTION && w[i + 1] < m->bound)
+            m->nocon[w[i + 1]] = 1;
+        else if (op == OP_FUNCTION && wc >= 3) cur = w[i + 2];
+        else if (op == OP_FUNCTION_END) cur = 0;
+        else if (wc >= 3 && has_result(op) && w[i + 2] < m->bound) {
+            m->def[w[i + 2]] = (uint32_t)i;
+            if (op == OP_VARIABLE) m->func[w[i + 2]] = cur;
+        }
+        i += wc;
+    }
+    return 1;
+}
+
+static void spv_free(spv* m) {
+    free(m->def), free(m->name), free(m->func), free(m->nocon), free(m->seen);
+}
+
+/* Float operations in the expression of value id without NoContraction;
+ * the first is described in what. */
+static int bad_ops(spv* m, uint32_t id, char* what, size_t cap) {
+    if (id >= m->bound || m->seen[id] || !m->def[id]) return 0;
+    m->seen[id] = 1;
+    uint32_t i = m->def[id], wc = m->w[i] >> 16, op = m->w[i] & 0xFFFFu;
+    uint32_t from = 3, to = wc; /* operand words [from, to) that are ids */
+    int bad = 0;
+    switch (op) {
+    case OP_FNEGATE: case OP_FADD: case OP_FSUB: case OP_FMUL: case OP_FDIV: case OP_VECTOR_TIMES_SCALAR:
+    case OP_DOT:
+        if (!m->nocon[id]) {
+            if (!*what) snprintf(what, cap, "%%%u (opcode %u)", id, op);
+            bad = 1;
+        }
+        break;
+    case OP_COMPOSITE_CONSTRUCT: break;
+    case OP_VECTOR_SHUFFLE: case OP_COMPOSITE_INSERT: to = 5; break;
+    case OP_COMPOSITE_EXTRACT: to = 4; break;
+    case OP_SELECT: from = 4; break;
+    case OP_EXT_INST: from = 5; break; /* fma, clamp, ...: their arguments */
+    default: return 0;                 /* loads, constants, parameters: another expression */
+    }
+    for (uint32_t k = from; k < to && k < wc; k++) bad += bad_ops(m, m->w[i + k], what, cap);
+    return bad;
+}
+
+typedef struct count {
+    int stores, bad;
+} count;
+
+/* Checks the stores into fn's listed variables; per-name store counts
+ * (index as in vars) go to found. */
+static count check_function(spv* m, const char* fn, const char* const* vars, int* found, const char* label) {
+    count c = {0, 0};
+    size_t fl = strlen(fn);
+    uint32_t cur = 0;
+    int in_fn = 0;
+    for (size_t i = 5; i < m->n;) {
+        uint32_t wc = m->w[i] >> 16, op = m->w[i] & 0xFFFFu;
+        if (op == OP_FUNCTION) {
+            cur = m->w[i + 2];
+            char buf[128] = "";
+            if (m->name[cur]) str_at(m, m->name[cur], buf, sizeof buf);
+            in_fn = !strncmp(buf, fn, fl) && buf[fl] == '(';
+        } else if (op == OP_FUNCTION_END) {
+            in_fn = 0;
+        } else if (in_fn && op == OP_STORE && wc >= 3) {
+            uint32_t ptr = m->w[i + 1], val = m->w[i + 2];
+            if (ptr < m->bound && m->def[ptr] && (m->w[m->def[ptr]] & 0xFFFFu) == OP_VARIABLE && m->func[ptr] == cur)
+                for (int v = 0; vars[v]; v++)
+                    if (name_is(m, ptr, vars[v])) {
+                        char what[64] = "";
+                        memset(m->seen, 0, m->bound);
+                        int b = bad_ops(m, val, what, sizeof what);
+                        c.stores++, found[v]++;
+                        if (b) {
+                            c.bad++;
+                            fprintf(stderr, "  %s: %s: a store into %s has %d operation(s) without NoContraction, first %s\n",
+                                    label, fn, vars[v], b, what);
+                        }
+                    }
+        }
+        i += wc;
+    }
+    return c;
+}
+
+/* Checks one kernel; need: the variables must be there (the float trace
+ * kernels, whose DEEP 2 code holds them), else a kernel without them passes. */
+static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int need) {
+    spv m;
+    int ok = parse(&m, w, bytes / 4);
+    CHECKF(ok, "%s: not SPIR-V", label);
+    if (ok) {
+        int fm[16] = {0}, fi[16] = {0};
+        count a = check_function(&m, "trace_model", model_vars, fm, label);
+        count b = check_function(&m, "trace_instance", inst_vars, fi, label);
+        printf("%-24s trace_model: %d stores checked, %d bad; trace_instance: %d stores, %d bad\n", label, a.stores,
+               a.bad, b.stores, b.bad);
+        CHECKF(a.bad == 0 && b.bad == 0, "%s: %d error-free sums could be folded by the driver", label, a.bad + b.bad);
+        if (need) {
+            for (int v = 0; model_vars[v]; v++) CHECKF(fm[v] > 0, "%s: trace_model stores no %s", label, model_vars[v]);
+            for (int v = 0; inst_vars[v]; v++) CHECKF(fi[v] > 0, "%s: trace_instance stores no %s", label, inst_vars[v]);
+        }
+    }
+    spv_free(&m);
+}
+
+static void test_embedded(void) {
+    check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1);
+    check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1);
+    /* the pass pipeline's kernels trace through trace_common.glsl too */
+    check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0);
+    check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0);
+}
+
+/* Truncated or garbage words are reported, never read past. */
+static void test_bad_input(void) {
+    spv m;
+    uint32_t junk[8] = {0x07230203u, 0x10000, 0, 100, 0, 0xFFFF0005u, 1, 2};
+    CHECK(!parse(&m, junk, 8));
+    spv_free(&m);
+    CHECK(!parse(&m, junk, 3));
+    spv_free(&m);
+    uint32_t cut[6] = {0x07230203u, 0x10000, 0, 100, 0, 0x00040047u}; /* OpDecorate of 4 words, 1 here */
+    CHECK(!parse(&m, cut, 6));
+    spv_free(&m);
+}
+
+static int check_files(int argc, char** argv) {
+    for (int a = 1; a < argc; a++) {
+        FILE* f = fopen(argv[a], "rb");
+        CHECKF(f != NULL, "%s: cannot open", argv[a]);
+        if (!f) continue;
+        uint32_t* buf = malloc(4u << 20);
+        size_t n = buf ? fread(buf, 1, 4u << 20, f) : 0;
+        fclose(f);
+        if (buf) check_kernel(argv[a], buf, n, 1);
+        free(buf);
+    }
+    printf("%s\n", vx_t_failed_checks ? "FAILED" : "ok");
+    return vx_t_failed_checks ? 1 : 0;
+}
+
+int main(int argc, char** argv) {
+    if (argc > 1) return check_files(argc, argv);
+    RUN(test_embedded);
+    RUN(test_bad_input);
+    return vx_test_finish();
+}
