@@ -15,8 +15,9 @@
  * texel, below which a shadow ray surely meets one.
  *
  * Nodes: per model, the octree's nodes at the level whose side is about one
- * texel in the world (and collapsed leaves above it), listed once when the
- * scene is made (the models' words are on the host only then); each build
+ * texel in the world (and collapsed leaves above it), listed once, at the
+ * scene's first build (render_scene.c reads the words back from the GPU:
+ * the scene keeps no host copy of the models); each build
  * projects every drawn instance's copy of its model's list. A build is one
  * submission (a fill, two dispatches) per light direction and instances.
  *
