@@ -154,6 +154,9 @@ typedef struct vx_probe_bake_stats {
                          * host-visible copies) and their descriptor sets (wall) */
     double sun_map;     /* of setup_ctx: the sun's depth map, its node list and build (wall; 0: none) */
     uint32_t sun_map_side; /* texels a side of the sun's depth map that clipped the sun rays (0: none) */
+    uint32_t sun_map_nodes; /* its octree nodes (vx_render_shadow_map_info) */
+    double sun_map_list;    /* of sun_map: listing them (wall) */
+    double sun_map_gpu;     /* its build's dispatches (GPU) */
     double grow;        /* growing the set's arrays for the range before the loop (wall) */
     double loop;        /* the batch loop, first submission to the last probe stored (wall) */
     double gpu_trace;   /* path tracing, all batches (GPU) */
