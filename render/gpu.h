@@ -265,6 +265,15 @@ typedef struct vx__sun_map {
  * nodes. The buffers stay valid until the next call, frame or edit. */
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], vx__sun_map* out,
                                    vx_error* err);
+/* The same for a pass of frame f (its light, f->light), before
+ * vx__render_scene_bind(_cmd) for f: vx_render_frame's rule (a map is built
+ * at a frame whose light the frame before had; allow false: none, as
+ * vx_render_desc.no_shadow_map), none with LOD (a coarse hit's cube is larger
+ * than the listed nodes). The frame block that bind writes then carries
+ * smap_tmax's org (grid_lo) and side and ninst (dims2.x, dims2.y); out gives
+ * the buffers (origin is not filled). */
+vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f, bool allow, vx__sun_map* out,
+                                         vx_error* err);
 /* Writes the per-frame tables and the frame block for f (f->ref is the origin
  * of the shader's float coordinates; the camera matters only to camera rays)
  * and returns the scene's bindings 0-6 (frame, nodes, colors, models,

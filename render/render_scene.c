@@ -1112,6 +1112,22 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
     gf->misc[1] = (float)f->lod_pixels;
     gf->light[3] = (float)f->ambient;
     gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
+    /* the sun's depth map where the scene holds one for this light: its
+     * origin relative to the reference, margin, side and instance entries
+     * (smap_lookup.glsl's smap_tmax, trace.comp and the direct pass) */
+    if (rs->smap.valid && !memcmp(gf->light, rs->smap.light, sizeof rs->smap.light)) {
+        double o2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = rs->smap.origin[k] - f->ref[k];
+            gf->grid_lo[k] = (float)d;
+            o2 += d * d;
+        }
+        /* the kernel's coordinates are relative to the frame's reference: its
+         * rounding grows with the map origin's distance from it */
+        gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+        gf->dims2[0] = rs->smap.side;
+        gf->dims2[1] = rs->smap.insts_built;
+    }
 }
 
 /* Whether a colour frame with f's light clips its shadow rays (*use; allow:
@@ -1156,6 +1172,19 @@ static vx_result smap_build(vx_render_scene* rs, const float lf[3], vx_error* er
     vx_free(&rs->alloc, world);
     vx_free(&rs->alloc, model);
     return r;
+}
+
+vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f, bool allow, vx__sun_map* out,
+                                         vx_error* err) {
+    if (!rs || !f || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    memset(out, 0, sizeof *out);
+    bool use = false;
+    vx_result r = VX_OK;
+    if (!use_precise(rs) && !f->lod && (rs->smap_state == 0 || rs->smap.side)) r = smap_ensure(rs, f, allow, &use, err);
+    if (r || !use) return r;
+    out->side = rs->smap.side, out->insts = rs->smap.insts_built;
+    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+    return VX_OK;
 }
 
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], vx__sun_map* out,
@@ -1209,21 +1238,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         return r;
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
-    fill_gpu_frame(rs, f, rs->frame.map);
-    if (smap) {
-        vx__gpu_frame* gf = rs->frame.map;
-        double o2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = rs->smap.origin[k] - f->ref[k];
-            gf->grid_lo[k] = (float)d;
-            o2 += d * d;
-        }
-        /* the kernel's coordinates are relative to the frame's reference: its
-         * rounding grows with the map origin's distance from it */
-        gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
-        gf->dims2[0] = rs->smap.side;
-        gf->dims2[1] = rs->smap.insts_built;
-    }
+    fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
