@@ -1206,6 +1206,13 @@ static vx_result render_with(vx_probe_gpu* pg, vx__prender* pr, vx_render_image*
     float* acc = NULL;
     if ((r = ctx_init(&c, pg->rs, s, &f, need_probes ? ps : NULL, &P.L, err))) goto done;
     c.maps_in = &pg->maps, c.lf_in = &pg->lf;
+    /* the path tracer's sun rays (path() in probe.comp) ended by the sun's depth map, as the bake's; not for
+     * the pass pipeline's gi (dst): its frame may hold the map of its own light already */
+    if (!dst && (d.mode == VX_PROBE_RENDER_PATHTRACE || d.mode == VX_PROBE_RENDER_PT_INDIRECT)) {
+        vx_probe_bake_stats sm = {0};
+        if ((r = ctx_sun_map(&c, pg->rs, &P.L, !(d.base && d.base->no_shadow_map), &sm, err))) goto done;
+        if (d.stats) d.stats->sun_map_side = sm.sun_map_side;
+    }
     /* the rows traced: every row, or those d.rows lists, compacted (a row
      * table in the buffer), so a rank of mpirun svo_render dispatches only
      * its own pixels */

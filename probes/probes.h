@@ -360,6 +360,9 @@ typedef struct vx_probe_render_stats {
     uint64_t coarse_skips; /* low-resolution texels skipped whole */
     uint64_t hits, misses; /* rays answered by a probe: a surface, or the sky */
     uint64_t fallbacks;    /* rays no probe could answer, traced in the octree */
+    /* the GPU path tracer (pathtrace modes): texels a side of the sun's depth map that ended its sun rays
+     * (render/gpu.h vx__render_scene_sun_map; 0: none; base->no_shadow_map: none; the same image) */
+    uint32_t sun_map_side;
 } vx_probe_render_stats;
 
 /* Renderer options (CPU, double precision). The camera comes from base:

@@ -250,7 +250,9 @@ static void test_gpu_bake_beam(void) {
  * instances turned a quarter, mirrored, turned about a skew axis and scaled,
  * on a floor, under lights along and against the axes, grazing a face and
  * diagonal; the host-filtered bake too. The sun must matter (a bake without
- * it differs) and the map must have been used (stats.sun_map_side). */
+ * it differs) and the map must have been used (stats.sun_map_side). The GPU
+ * path tracer (vx_probe_render_gpu, pathtrace and pathtrace-indirect) the
+ * same: the same pixel bits with and without (base.no_shadow_map). */
 static void test_gpu_bake_sun_map(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene scenes[2];
@@ -299,6 +301,25 @@ static void test_gpu_bake_sun_map(void) {
             CHECK(side >= 16 && side_off == 0);
             CHECK(same);
             CHECK(!(nw == nx && !memcmp(w, x, nx))); /* the sun's rays shape the bytes */
+            if (li == 0 || li == 4) {
+                /* the GPU path tracer's sun rays, under this set's light: the same pixel bits */
+                vx_render_desc base = {.width = 24, .height = 18};
+                vx_probe_render_stats rst = {0};
+                vx_probe_render_desc rd = {.base = &base, .spp = 8, .stats = &rst,
+                                           .mode = li ? VX_PROBE_RENDER_PT_INDIRECT : VX_PROBE_RENDER_PATHTRACE};
+                vx_render_image ia = {0}, ib = {0};
+                REQUIRE(vx_probe_render_gpu(rs, &scenes[sc], &a, &rd, &ia, &err) == VX_OK);
+                uint32_t rside = rst.sun_map_side;
+                base.no_shadow_map = true;
+                REQUIRE(vx_probe_render_gpu(rs, &scenes[sc], &a, &rd, &ib, &err) == VX_OK);
+                size_t np = (size_t)base.width * base.height * 4;
+                bool psame = ia.pixels && ib.pixels && !memcmp(ia.pixels, ib.pixels, np * sizeof(float));
+                fprintf(stderr, "  sun map, path tracer: scene %d, light %zu: map %u texels a side, %s\n", sc, li, rside,
+                        psame ? "same pixels" : "PIXELS DIFFER");
+                CHECK(rside >= 16 && rst.sun_map_side == 0);
+                CHECK(psame);
+                vx_render_image_free(&ia), vx_render_image_free(&ib);
+            }
             free(x), free(y), free(w);
             vx_probe_set_free(&a), vx_probe_set_free(&b), vx_probe_set_free(&z);
         }
