@@ -261,13 +261,15 @@ static void sun_bindings(gctx* c, vx__buffer** b) {
  * bytes (tests/probes: cmp), fewer steps. allow false: the whole rays. */
 static vx_result ctx_sun_map(gctx* c, vx_render_scene* rs, const vx__light* L, bool allow, vx_probe_bake_stats* st,
                              vx_error* err) {
+    /* 4096 texels a side at most (the render's frames: 2048): a finer map decides more sun rays without a walk
+     * (H200, the Cornell box's goal bake: GPU trace 0.386 s at 512, 0.336 at 1024, 0.270 at 2048) */
     memset(&c->sun, 0, sizeof c->sun);
     c->spec[VX__SPEC_COUNT + SPEC_SMAP] = 0;
     float lf[3] = {(float)L->light_dir[0], (float)L->light_dir[1], (float)L->light_dir[2]};
     bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
     if (!allow || !sun || !(fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
-    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, &c->sun, err);
+    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, 4096, &c->sun, err);
     if (st) {
         vx_render_shadow_map_info mi;
         vx_render_scene_shadow_map_info(rs, &mi);

@@ -259,12 +259,14 @@ typedef struct vx__sun_map {
 /* Fills *out for the unit direction light (towards the light, the floats the
  * kernel's dot products use) and the kernel's reference point ref: the map
  * built on first use (the scene's node list too: the plain layout's words
- * read back), kept while the light and instances stay. No map (out->map
+ * read back), kept while the light and instances stay. max_side: the most
+ * texels a side where the scene's side is its default and no list is made
+ * yet (0: 2048, vx_render_frame's; the probe bake asks 4096: 256 MiB). No map (out->map
  * NULL, VX_OK) in the compact layout, the float64 variant, a scene made with
  * shadow_map_side 1 or edited by vx_render_scene_update_model, or too many
  * nodes. The buffers stay valid until the next call, frame or edit. */
-vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], vx__sun_map* out,
-                                   vx_error* err);
+vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
+                                   vx__sun_map* out, vx_error* err);
 /* The same for a pass of frame f (its light, f->light), before
  * vx__render_scene_bind(_cmd) for f: vx_render_frame's rule (a map is built
  * at a frame whose light the frame before had; allow false: none, as

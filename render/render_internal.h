@@ -98,11 +98,11 @@ const uint32_t* vx__spirv_smap(size_t* bytes);
 /* Lists the nodes of s's models (at about one texel of a side-texel map
  * over the box lo, hi; inst_model and inst_cell: the drawn instances' models
  * and cell sizes) and makes the GPU buffers. side 0: per_cell texels a side
- * of the finest cell, a power of two in 64..VX__SMAP_SIDE. With no map
+ * of the finest cell, a power of two in 64..max_side (0: VX__SMAP_SIDE). With no map
  * possible (side 1, no instance, too many nodes) sm->side stays 0. */
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err);
+                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err);
 /* Builds the map for the unit direction light (towards the light) and the
  * drawn instances' world-from-model maps; one submission. */
 vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const double (*world)[12],

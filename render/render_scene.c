@@ -501,7 +501,7 @@ void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats*
 }
 
 /* The shadow map's node list for the drawn instances (shadow_map.c). */
-static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
+static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, uint32_t max_side, vx_error* err) {
     uint32_t n = rs->inst_count;
     uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
     float* cell = vx_calloc(&rs->alloc, n ? n : 1, sizeof *cell);
@@ -509,7 +509,7 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     if (!model || !cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; !r && i < n; i++) model[i] = rs->inst[i].model, cell[i] = rs->inst[i].cell;
     uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
-    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, &rs->smap, err);
+    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, max_side, &rs->smap, err);
     vx_free(&rs->alloc, model);
     vx_free(&rs->alloc, cell);
     return r;
@@ -520,11 +520,11 @@ vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s,
     vx__smap_free(rs->gpu, &rs->smap);
     rs->smap_state = 1;
     if (rs->compact || rs->precise || side == 1) return VX_OK;
-    return smap_list(rs, s, side, err);
+    return smap_list(rs, s, side, 0, err);
 }
 
 /* The node list from the plain layout's words on the GPU (at the first build). */
-static vx_result smap_list_gpu(vx_render_scene* rs, vx_error* err) {
+static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error* err) {
     rs->smap_state = 1;
     uint64_t words = 0;
     for (uint32_t i = 0; i < rs->model_count; i++)
@@ -543,7 +543,7 @@ static vx_result smap_list_gpu(vx_render_scene* rs, vx_error* err) {
         m[i].root = rs->gm[i].root;
     }
     vx_svo_scene v = {.model_count = rs->model_count, .models = m};
-    if (!r) r = smap_list(rs, &v, rs->smap_side_req, err);
+    if (!r) r = smap_list(rs, &v, rs->smap_side_req, max_side, err);
     if (!r && rs->smap.side) rs->smap.list_seconds = vx_time_now() - t0;
     vx_free(&rs->alloc, w);
     vx_free(&rs->alloc, m);
@@ -1135,7 +1135,7 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
  * before had too (with the same instances): a light or an animation that
  * changes every frame would pay a build per frame and gain one frame's
  * shadow rays (docs/PERFORMANCE.md, issue 21's eighth sitting). */
-static vx_result smap_build(vx_render_scene* rs, const float lf[3], vx_error* err);
+static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max_side, vx_error* err);
 static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow, bool* use, vx_error* err) {
     float lf[3] = {(float)f->light[0], (float)f->light[1], (float)f->light[2]};
     bool again = rs->smap_seen && !memcmp(lf, rs->smap_seen_light, sizeof lf);
@@ -1148,17 +1148,17 @@ static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow
         return VX_OK;
     }
     if (!again) return VX_OK;
-    vx_result r = smap_build(rs, lf, err);
+    vx_result r = smap_build(rs, lf, 0, err);
     *use = !r && rs->smap.valid;
     return r;
 }
 
 /* Builds the map for light lf and the instances as they are (the node list
  * first where none is made yet). */
-static vx_result smap_build(vx_render_scene* rs, const float lf[3], vx_error* err) {
+static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max_side, vx_error* err) {
     settle(rs);
     vx_result r = VX_OK;
-    if (rs->smap_state == 0 && (r = smap_list_gpu(rs, err))) return r;
+    if (rs->smap_state == 0 && (r = smap_list_gpu(rs, max_side, err))) return r;
     if (!rs->smap.side) return VX_OK;
     uint32_t n = rs->inst_count;
     double(*world)[12] = vx_calloc(&rs->alloc, n ? n : 1, sizeof *world);
@@ -1187,13 +1187,13 @@ vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f
     return VX_OK;
 }
 
-vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], vx__sun_map* out,
-                                   vx_error* err) {
+vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
+                                   vx__sun_map* out, vx_error* err) {
     if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     memset(out, 0, sizeof *out);
     if (rs->smap_state == 2 || (rs->smap_state == 1 && !rs->smap.side)) return VX_OK;
     if (!(rs->smap.valid && !memcmp(light, rs->smap.light, sizeof rs->smap.light))) {
-        vx_result r = smap_build(rs, light, err);
+        vx_result r = smap_build(rs, light, max_side, err);
         if (r) return r;
         /* a colour frame with this light finds the map made */
         rs->smap_seen = true;

@@ -147,7 +147,7 @@ static double scene_diag(const double lo[3], const double hi[3]) {
 
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err) {
+                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
     vx__smap_free(g, sm);
     sm->alloc = alloc;
     if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
@@ -162,9 +162,10 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
         double cmin = INFINITY;
         for (uint32_t i = 0; i < inst_count; i++)
             if (inst_cell[i] > 0) cmin = fmin(cmin, inst_cell[i]);
-        double want = isfinite(cmin) ? per_cell * diag / cmin : VX__SMAP_SIDE;
+        uint32_t most = max_side ? max_side : VX__SMAP_SIDE;
+        double want = isfinite(cmin) ? per_cell * diag / cmin : most;
         side = 64;
-        while (side < VX__SMAP_SIDE && side < want) side *= 2;
+        while (side < most && side < want) side *= 2;
     }
     if (side < 16) side = 16;
     if (side > 16384) side = 16384;
