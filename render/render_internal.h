@@ -41,8 +41,8 @@ typedef struct vx__gpu_frame {
     float light[4];  /* w: ambient */
     float misc[4];   /* x: lod footprint at distance 0, y: lod pixels */
     uint32_t dims[4];   /* width, height, spp, instance count */
-    uint32_t dims2[4];  /* x: dense grid nx, y: ny, z: nz, w: 0 */
-    float grid_lo[4];   /* dense grid lower corner relative to R, w: cell size */
+    uint32_t dims2[4];  /* x: dense grid nx, y: ny, z: nz, w: 0; else x, y: the sun map's side and instances */
+    float grid_lo[4];   /* dense grid lower corner relative to R, w: cell size; else the sun map's origin, margin */
     /* precise variant only (std140 dvec4 at offset 128): the camera in double */
     double pfwd[4];     /* w: t_start */
     double prx[4];

@@ -1087,6 +1087,19 @@ static vx_result write_frame_tables(vx_render_scene* rs, const vx__frame* f, vx_
     return upload_items(rs, err);
 }
 
+/* The sun map's origin relative to a kernel's reference point ref (xyz) and
+ * its margin (w): the kernel's coordinates are relative to ref, so its
+ * rounding grows with the origin's distance from it (smap_lookup.glsl's org). */
+static void smap_origin(const vx_render_scene* rs, const double ref[3], float org[4]) {
+    double o2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double d = rs->smap.origin[k] - ref[k];
+        org[k] = (float)d;
+        o2 += d * d;
+    }
+    org[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+}
+
 static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
     memset(gf, 0, sizeof *gf);
     for (int k = 0; k < 3; k++) {
@@ -1116,15 +1129,7 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
      * origin relative to the reference, margin, side and instance entries
      * (smap_lookup.glsl's smap_tmax, trace.comp and the direct pass) */
     if (rs->smap.valid && !memcmp(gf->light, rs->smap.light, sizeof rs->smap.light)) {
-        double o2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = rs->smap.origin[k] - f->ref[k];
-            gf->grid_lo[k] = (float)d;
-            o2 += d * d;
-        }
-        /* the kernel's coordinates are relative to the frame's reference: its
-         * rounding grows with the map origin's distance from it */
-        gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+        smap_origin(rs, f->ref, gf->grid_lo);
         gf->dims2[0] = rs->smap.side;
         gf->dims2[1] = rs->smap.insts_built;
     }
@@ -1200,15 +1205,7 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
         memcpy(rs->smap_seen_light, light, sizeof rs->smap_seen_light);
     }
     if (!rs->smap.valid) return VX_OK;
-    double o2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double d = rs->smap.origin[k] - ref[k];
-        out->origin[k] = (float)d;
-        o2 += d * d;
-    }
-    /* the kernel's coordinates are relative to ref: its rounding grows with
-     * the map origin's distance from it (as vx_render_frame's) */
-    out->origin[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+    smap_origin(rs, ref, out->origin);
     out->side = rs->smap.side;
     out->insts = rs->smap.insts_built;
     out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
