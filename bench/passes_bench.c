@@ -16,7 +16,11 @@
  * Then 1 to 512 point lights spread over the scene bounds, brute force, the
  * 16 strongest at each pixel with a shadow ray (VX_SHADOW_LIGHTS_MAX; up to
  * 16 lights that is every light: the direct pass's cost per light; many
- * lights with culling: lights_bench). */
+ * lights with culling: lights_bench). The direct pass's sun rays are ended
+ * by the scene's sun depth map (render/shadow_map.c) from the second frame
+ * on; the rows marked "no shadow map" trace them whole, and per view the
+ * merged and the separate passes' images with and without are compared bit
+ * for bit. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,10 +33,11 @@
 #include "render/render_internal.h" /* vx__render_dispatch */
 
 
-/* "=" marks a list run with separate_passes (each pass its own dispatch) */
-static const char* const lists[] = {"gbuffer",        "gbuffer,direct",           "=gbuffer,direct",
-                                    "gbuffer,direct,tonemap", "=gbuffer,direct,tonemap", "gbuffer,direct,ao,tonemap",
-                                    "gbuffer,direct,ao,aa,tonemap"};
+/* "=" marks a list run with separate_passes (each pass its own dispatch); "!" one run with
+ * vx_render_desc.no_shadow_map (the direct pass's sun rays unclipped by the sun's depth map) */
+static const char* const lists[] = {"gbuffer",        "gbuffer,direct",           "!gbuffer,direct", "=gbuffer,direct",
+                                    "!=gbuffer,direct", "gbuffer,direct,tonemap", "=gbuffer,direct,tonemap",
+                                    "gbuffer,direct,ao,tonemap", "gbuffer,direct,ao,aa,tonemap"};
 #define NLISTS (sizeof lists / sizeof lists[0])
 
 int main(int argc, char** argv) {
@@ -135,14 +140,17 @@ int main(int argc, char** argv) {
             printf("| single shader (%s colour) | %.3f | | 1.00 |\n", compact ? "trace_compact.comp" : "trace.comp", single);
             for (size_t l = 0; l < NLISTS; l++) {
                 vx_pass_list L;
-                bool sep = lists[l][0] == '=';
-                vx_pass_list_parse(lists[l] + sep, &L, &err);
+                bool nomap = lists[l][0] == '!';
+                bool sep = lists[l][nomap] == '=';
+                vx_pass_list_parse(lists[l] + nomap + sep, &L, &err);
                 fd = vx_frame_desc_defaults();
                 fd.base = base;
                 fd.base.spp = 1; /* aa: one sample, so the rows compare per-frame costs */
                 fd.passes = &L;
                 fd.no_readback = true;
                 fd.separate_passes = sep;
+                fd.base.no_shadow_map = nomap;
+                bool mapped = false;
                 const char* names[VX_PASS_KIND_COUNT + 1] = {0};
                 uint32_t nn = 0;
                 bool ok = true;
@@ -153,6 +161,7 @@ int main(int argc, char** argv) {
                         status = 1;
                         break;
                     }
+                    mapped = res.shadow_map;
                     if (k >= 3) {
                         t[k - 3] = res.frame_ms;
                         nn = res.timing_count;
@@ -169,8 +178,30 @@ int main(int argc, char** argv) {
                 for (uint32_t q = 0; q < nn; q++)
                     snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.3f", q ? ", " : "", names[q],
                              bench_median(tp + q * runs, runs));
-                printf("| %s%s | %.3f | %s | %.2f |\n", lists[l] + sep, sep ? " (separate passes)" : "", fm, per,
-                       single > 0 ? fm / single : 0);
+                printf("| %s%s%s | %.3f | %s | %.2f |\n", lists[l] + nomap + sep, sep ? " (separate passes)" : "",
+                       nomap ? " (no shadow map)" : mapped ? " (shadow map)" : "", fm, per, single > 0 ? fm / single : 0);
+            }
+            /* the sun map's exactness here: the images with and without, merged and separate */
+            for (int sep = 0; sep < 2 && !status; sep++) {
+                vx_pass_list L;
+                vx_pass_list_parse("gbuffer,direct", &L, &err);
+                vx_frame_result ra = {0}, rb = {0};
+                fd = vx_frame_desc_defaults();
+                fd.base = base;
+                fd.base.spp = 1;
+                fd.passes = &L;
+                fd.separate_passes = sep;
+                bool ok = vx_frame_render(fr, &fd, &ra, &err) == VX_OK;
+                fd.base.no_shadow_map = true;
+                ok = ok && vx_frame_render(fr, &fd, &rb, &err) == VX_OK;
+                size_t differ = 0, n = (size_t)W * H * 4;
+                for (size_t i = 0; ok && i < n; i++) differ += memcmp(&ra.image.pixels[i], &rb.image.pixels[i], sizeof(float)) != 0;
+                if (ok)
+                    printf("shadow map check (gbuffer,direct%s): the map %s; %zu of %zu values differ from the frame without\n",
+                           sep ? ", separate passes" : "", ra.shadow_map ? "used" : "NOT used", differ, n);
+                else
+                    fprintf(stderr, "passes_bench: %s\n", err.msg), status = 1;
+                vx_render_image_free(&ra.image), vx_render_image_free(&rb.image);
             }
             /* brute-force point lights with ray-traced shadows: the direct pass loops over every
              * light (the baseline for issue 11's clustered culling) */

@@ -118,28 +118,44 @@ int main(int argc, char** argv) {
             status = 1;
             break;
         }
-        vx_render_desc base = {.width = w, .height = h};
-        vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = spp, .bounces = bounces,
-                                  .seed = 1, .lights = cfg & 1 ? lights : NULL, .light_count = cfg & 1 ? 4 : 0};
-        double t[64], mean = 0;
-        for (uint32_t r = 0; r < runs && !status; r++) {
-            vx_render_image img = {0};
-            if (vx_probe_render_gpu(rs, sc, NULL, &d, &img, &err)) {
-                fprintf(stderr, "%s: %s\n", names[cfg], err.msg);
-                status = 1;
-                break;
+        /* without lights the sun's rays are ended by the sun's depth map (render/shadow_map.c): those
+         * configurations also run without it (base.no_shadow_map), their last images compared bit for bit */
+        float* keep = NULL;
+        for (int nomap = 0; nomap < (cfg & 1 ? 1 : 2) && !status; nomap++) {
+            vx_render_desc base = {.width = w, .height = h, .no_shadow_map = nomap != 0};
+            vx_probe_render_stats rst = {0};
+            vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = spp, .bounces = bounces,
+                                      .seed = 1, .lights = cfg & 1 ? lights : NULL, .light_count = cfg & 1 ? 4 : 0,
+                                      .stats = &rst};
+            double t[64], mean = 0;
+            size_t differ = 0;
+            for (uint32_t r = 0; r < runs && !status; r++) {
+                vx_render_image img = {0};
+                if (vx_probe_render_gpu(rs, sc, NULL, &d, &img, &err)) {
+                    fprintf(stderr, "%s: %s\n", names[cfg], err.msg);
+                    status = 1;
+                    break;
+                }
+                t[r] = img.gpu_seconds;
+                mean = 0;
+                for (size_t i = 0; i < (size_t)w * h; i++) mean += img.pixels[4 * i] + img.pixels[4 * i + 1] + img.pixels[4 * i + 2];
+                mean /= 3.0 * w * h;
+                if (r + 1 == runs && !nomap && (keep = malloc((size_t)w * h * 16))) memcpy(keep, img.pixels, (size_t)w * h * 16);
+                if (r + 1 == runs && nomap && keep)
+                    for (size_t i = 0; i < (size_t)w * h * 4; i++) differ += memcmp(&keep[i], &img.pixels[i], 4) != 0;
+                vx_render_image_free(&img);
             }
-            t[r] = img.gpu_seconds;
-            mean = 0;
-            for (size_t i = 0; i < (size_t)w * h; i++) mean += img.pixels[4 * i] + img.pixels[4 * i + 1] + img.pixels[4 * i + 2];
-            mean /= 3.0 * w * h;
-            vx_render_image_free(&img);
+            if (status) break;
+            qsort(t, runs, sizeof t[0], cmp_d);
+            double med = t[runs / 2];
+            printf("%-10s %12.2f %14.4g %10.4g", names[cfg], med * 1e3, (double)w * h * spp / med, mean);
+            if (nomap) printf("  (no sun map: %zu of %zu values differ from the row above)\n", differ, (size_t)w * h * 4);
+            else if (rst.sun_map_side) printf("  (sun map, %u texels a side)\n", rst.sun_map_side);
+            else printf("\n");
         }
+        free(keep);
         vx_render_scene_destroy(rs);
         if (status) break;
-        qsort(t, runs, sizeof t[0], cmp_d);
-        double med = t[runs / 2];
-        printf("%-10s %12.2f %14.4g %10.4g\n", names[cfg], med * 1e3, (double)w * h * spp / med, mean);
     }
     s.materials = own, s.material_count = own_count;
     vx_svo_scene_free(&s);

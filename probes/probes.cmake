@@ -22,6 +22,7 @@ if(VX_WITH_VULKAN)
             --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
             ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
     COMMENT "glslangValidator probe.comp"
     VERBATIM)
   # shaders/probe_beam.comp includes render/shaders/beam.comp's walk, made an include by beam_body.cmake

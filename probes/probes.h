@@ -152,6 +152,11 @@ typedef struct vx_probe_bake_stats {
     double setup_pipes; /* of setup: the trace, beam and filter pipelines (wall; the driver's cache) */
     double setup_slots; /* of setup: the buffers of the two batch slots (trace output, filter scratch, maps,
                          * host-visible copies) and their descriptor sets (wall) */
+    double sun_map;     /* of setup_ctx: the sun's depth map, its node list and build (wall; 0: none) */
+    uint32_t sun_map_side; /* texels a side of the sun's depth map that clipped the sun rays (0: none) */
+    uint32_t sun_map_nodes; /* its octree nodes (vx_render_shadow_map_info) */
+    double sun_map_list;    /* of sun_map: listing them (wall) */
+    double sun_map_gpu;     /* its build's dispatches (GPU) */
     double grow;        /* growing the set's arrays for the range before the loop (wall) */
     double loop;        /* the batch loop, first submission to the last probe stored (wall) */
     double gpu_trace;   /* path tracing, all batches (GPU) */
@@ -200,7 +205,12 @@ typedef struct vx_probe_bake_stats {
  *              than stratified over the texel's samples (probe.comp STRAT:
  *              each direction still cosine-distributed, so the same mean, with
  *              less noise; a SIMD group's bounce rays leave in nearby
- *              directions, which the GPU traces faster) */
+ *              directions, which the GPU traces faster)
+ *  no_shadow_map: GPU bake only: the sun's shadow rays walk the whole ray
+ *              rather than end where the sun's light-space depth map (render/
+ *              shadow_map.c) shows nothing further towards the sun, or skip
+ *              the walk where it decides them: the reference (the same bytes);
+ *              slower */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -224,6 +234,7 @@ typedef struct vx_probe_bake_desc {
     vx_probe_bake_stats* stats;
     bool no_beam;
     bool independent_bounce;
+    bool no_shadow_map;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;
@@ -349,6 +360,9 @@ typedef struct vx_probe_render_stats {
     uint64_t coarse_skips; /* low-resolution texels skipped whole */
     uint64_t hits, misses; /* rays answered by a probe: a surface, or the sky */
     uint64_t fallbacks;    /* rays no probe could answer, traced in the octree */
+    /* the GPU path tracer (pathtrace modes): texels a side of the sun's depth map that ended its sun rays
+     * (render/gpu.h vx__render_scene_sun_map; 0: none; base->no_shadow_map: none; the same image) */
+    uint32_t sun_map_side;
 } vx_probe_render_stats;
 
 /* Renderer options (CPU, double precision). The camera comes from base:

@@ -244,6 +244,38 @@ bool vx__render_scene_compact(const vx_render_scene* rs);
 /* trace_common.glsl's COMPACT_FORM constant (id VX__SPEC_COMPACT_ID): 0 plain, 1 compact, 2 compact with
  * the brick dictionary (render/compact.h VX_COMPACT_BRICKS_DICT; its index words' path compiled in). */
 uint32_t vx__render_scene_compact_form(const vx_render_scene* rs);
+/* The directional light's conservative depth map (render/shadow_map.c) for
+ * another pass's shadow rays towards a directional light: a kernel includes
+ * render/shaders/smap_lookup.glsl (SMAP_BINDING: its first of three
+ * bindings, constant 11 SMAP) and ends a shadow ray's walk at smap_tmax(...)
+ * (or skips it): the same hits, fewer steps. The map holds the scene's
+ * instances as drawn now (call it again after they move). */
+typedef struct vx__sun_map {
+    vx__buffer *map, *nodes, *insts_buf; /* the three bindings, in order; map NULL: no map (trace unclipped) */
+    float origin[4];  /* smap_tmax's org: xyz the map's origin relative to ref, w the margin */
+    uint32_t side;    /* smap_tmax's side */
+    uint32_t insts;   /* smap_tmax's ninst */
+} vx__sun_map;
+/* Fills *out for the unit direction light (towards the light, the floats the
+ * kernel's dot products use) and the kernel's reference point ref: the map
+ * built on first use (the scene's node list too: the plain layout's words
+ * read back), kept while the light and instances stay. max_side: the most
+ * texels a side where the scene's side is its default and no list is made
+ * yet (0: 2048, vx_render_frame's; the probe bake asks 4096: 256 MiB). No map (out->map
+ * NULL, VX_OK) in the compact layout, the float64 variant, a scene made with
+ * shadow_map_side 1 or edited by vx_render_scene_update_model, or too many
+ * nodes. The buffers stay valid until the next call, frame or edit. */
+vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
+                                   vx__sun_map* out, vx_error* err);
+/* The same for a pass of frame f (its light, f->light), before
+ * vx__render_scene_bind(_cmd) for f: vx_render_frame's rule (a map is built
+ * at a frame whose light the frame before had; allow false: none, as
+ * vx_render_desc.no_shadow_map), none with LOD (a coarse hit's cube is larger
+ * than the listed nodes). The frame block that bind writes then carries
+ * smap_tmax's org (grid_lo) and side and ninst (dims2.x, dims2.y); out gives
+ * the buffers (origin is not filled). */
+vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f, bool allow, vx__sun_map* out,
+                                         vx_error* err);
 /* Writes the per-frame tables and the frame block for f (f->ref is the origin
  * of the shader's float coordinates; the camera matters only to camera rays)
  * and returns the scene's bindings 0-6 (frame, nodes, colors, models,

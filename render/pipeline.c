@@ -137,8 +137,12 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out) {
 /* ---- the renderer -------------------------------------------------------------------- */
 
 enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_SKY, B_COUNT };
-#define NBIND 20
-_Static_assert(NBIND <= VX_GPU_MAX_BINDINGS, "pass shaders use 20 bindings");
+/* 0-19 the passes' (passes_common.glsl), 20-22 the sun's depth map (smap_lookup.glsl: the direct pass's sun
+ * rays), then a display variant's 23 and 24 (display_out.glsl) */
+#define NBIND 23
+_Static_assert(NBIND + 2 <= VX_GPU_MAX_BINDINGS, "pass shaders use 25 bindings");
+/* the specialisation constants: the tracer's ids 0-10, then 11 SMAP (smap_lookup.glsl) */
+#define PASS_SPECS (VX__SPEC_TRACE_IDS + 1)
 
 /* The light grid (render/pipeline.h, shaders/passes_common.glsl). */
 enum { CLUSTER_TILE = 32, CLUSTER_SLICES = 32, TILED_TILE = 16 /* = cull.comp's depth step: 256 pixels a tile */ };
@@ -456,11 +460,11 @@ static vx_result ensure(vx_frame_renderer* fr, int which, VkDeviceSize size, con
 
 /* display: the variant that also writes the display image (frame, resolve,
  * post: DISPLAY_OUT), with the overlay and the image as bindings 20 and 21. */
-static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[VX__SPEC_TRACE_IDS], bool display,
+static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[PASS_SPECS], bool display,
                               vx__pipeline** out, vx_error* err) {
     static const char* const labels[SH_COUNT] = {"gbuffer", "direct", "ao", "resolve", "post", "frame", "cull"};
     vx_gpu_compute_pipeline_desc pd = {.binding_count = NBIND,
-                                       .spec_count = VX__SPEC_TRACE_IDS,
+                                       .spec_count = PASS_SPECS,
                                        .push_constant_size = sizeof(push_block),
                                        .label = labels[sh]};
     display = display && (sh == SH_RESOLVE || sh == SH_FRAME || sh == SH_POST);
@@ -490,9 +494,9 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[VX__S
         pd.bindings[NBIND + 1] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         pd.label = sh == SH_POST ? "post (display)" : sh == SH_FRAME ? "frame (display)" : "resolve (display)";
     }
-    memcpy(pd.spec, spec, VX__SPEC_TRACE_IDS * sizeof spec[0]);
+    memcpy(pd.spec, spec, PASS_SPECS * sizeof spec[0]);
     uint64_t key = 0x9A55000ull + (uint64_t)sh + (display ? 0x100u : 0u);
-    for (int i = 0; i < VX__SPEC_TRACE_IDS; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < PASS_SPECS; i++) key = key * 131 + spec[i];
     return vx__pipeline_get(g, key, &pd, out, err);
 }
 
@@ -797,6 +801,14 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     } else if (!fr->b[B_SKY].buf && (r = ensure(fr, B_SKY, 16, "sky", err))) {
         return r;
     }
+    /* the sun's depth map for the direct pass's sun rays (vx_render_frame's rule: built at a frame whose light
+     * the frame before had): the colour model's sun, or gi's; the frame block written by the bind below
+     * carries its frame */
+    vx__sun_map sun_map = {0};
+    bool sun_rays = has_direct && (!phys || (has_gi && (gm->sun[0] > 0 || gm->sun[1] > 0 || gm->sun[2] > 0)));
+    if (sun_rays && (r = vx__render_scene_sun_map_frame(fr->rs, &f, !desc->base.no_shadow_map, &sun_map, err)))
+        return r;
+    out->shadow_map = sun_map.map != NULL;
     vx__buffer* scene_bufs[7];
     uint32_t tspec[VX__SPEC_COUNT];
     r = slot ? vx__render_scene_bind_cmd(fr->rs, &f, cb, scene_bufs, tspec, err)
@@ -848,7 +860,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         *qcap = (uint32_t)want_q;
     }
     /* pipelines */
-    uint32_t spec[VX__SPEC_TRACE_IDS] = {0};
+    uint32_t spec[PASS_SPECS] = {0};
     memcpy(spec, tspec, sizeof tspec);
     spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
     spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(fr->rs);
@@ -872,7 +884,9 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
     if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
     spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
+    spec[PASS_SPECS - 1] = sun_map.map != NULL; /* SMAP: the direct pass and the merged kernel only */
     if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
+    spec[PASS_SPECS - 1] = 0;
     spec[6] = 0, spec[7] = 0;
     if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
@@ -880,8 +894,9 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     spec[6] = (uint32_t)desc->show;
     if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
     if (merge) {
-        uint32_t ms[VX__SPEC_TRACE_IDS];
+        uint32_t ms[PASS_SPECS];
         memcpy(ms, spec, sizeof ms);
+        ms[PASS_SPECS - 1] = has_direct && sun_map.map != NULL;
         ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
         ms[6] = has_dof && !f.ortho;
         ms[7] = light_spec;
@@ -986,7 +1001,11 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                                       scene_bufs[5], scene_bufs[6], &fr->b[B_GB0], &fr->b[B_GB1], &fr->b[B_GB2],
                                       &fr->b[B_DIRECT], &fr->b[B_AO], &fr->b[B_GI], &fr->b[B_ACC], &fr->b[B_EMIT],
                                       &fr->b[B_OUT2], &fr->b[B_LIGHTS], &fr->b[B_CULL], &fr->b[B_LIDX],
-                                      &fr->b[B_SKY]};
+                                      &fr->b[B_SKY],
+                                      /* the sun's map, else placeholders */
+                                      sun_map.map ? sun_map.map : &fr->b[B_SKY],
+                                      sun_map.map ? sun_map.nodes : &fr->b[B_SKY],
+                                      sun_map.map ? sun_map.insts_buf : &fr->b[B_SKY]};
             VkDescriptorBufferInfo infos[NBIND];
             VkWriteDescriptorSet w[NBIND];
             for (uint32_t i = 0; i < NBIND; i++) {
@@ -1081,6 +1100,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                 if ((r = ensure(fr, B_LIDX, want * 4, "light lists", err))) goto done;
                 fr->lidx_cap = (uint32_t)want;
                 memset(out, 0, sizeof *out); /* timings of the lost frame */
+                out->shadow_map = sun_map.map != NULL;
                 continue;
             }
             if (head[1] > fr->lidx_cap) {

@@ -299,6 +299,9 @@ typedef struct vx_frame_result {
     double frame_ms; /* GPU time from the first pass's start to the last's end, summed over submissions */
     vx_light_culling light_culling; /* the method that ran (with lights) */
     uint64_t light_entries;         /* light list entries of the grid (last sample) */
+    /* the direct pass's sun rays ended by the scene's sun depth map (vx_render_shadow_map_info; built, as for
+     * vx_render_frame, at a frame whose light the frame before had; base.no_shadow_map: never; the same image) */
+    bool shadow_map;
 } vx_frame_result;
 
 /* The per-scene state of the pipeline (buffers sized to the last frame). */

@@ -439,17 +439,19 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
  * distance towards the light of any octree node (about a texel in size)
  * whose projection touches it, and a shadow ray's walk ends where it passes
  * that distance (or is skipped where it starts beyond it). The image is the
- * same as without (vx_render_desc.no_shadow_map). The nodes are listed when
- * the scene is made (plain layout, float variant); the map is built on the
+ * same as without (vx_render_desc.no_shadow_map). The nodes are listed at
+ * the first build (plain layout, float variant; from the node words on the
+ * GPU, read back: a scene that never builds a map has no list and no
+ * buffer); the map is built on the
  * GPU at a colour frame whose light direction and instances the colour
  * frame before had too (a light or an animation that changes every frame
  * would pay a build, build_seconds, for one frame's shadow rays; such
  * frames trace them unclipped). After vx_render_scene_update_model the
  * scene has no map (shadow rays unclipped). */
 typedef struct vx_render_shadow_map_info {
-    uint32_t side;            /* texels a side; 0: the scene has no map */
+    uint32_t side;            /* texels a side; 0: the scene has no map (yet: none before the first build) */
     uint32_t nodes;           /* octree nodes listed */
-    double list_seconds;      /* listing them (host, at scene creation) */
+    double list_seconds;      /* listing them (host, at the first build, with the words' read-back) */
     uint32_t builds;          /* maps built so far */
     double build_seconds;     /* the last build, wall time (uploads, submission) */
     double build_gpu_seconds; /* the last build's dispatches (timestamps) */

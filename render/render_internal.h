@@ -41,8 +41,8 @@ typedef struct vx__gpu_frame {
     float light[4];  /* w: ambient */
     float misc[4];   /* x: lod footprint at distance 0, y: lod pixels */
     uint32_t dims[4];   /* width, height, spp, instance count */
-    uint32_t dims2[4];  /* x: dense grid nx, y: ny, z: nz, w: 0 */
-    float grid_lo[4];   /* dense grid lower corner relative to R, w: cell size */
+    uint32_t dims2[4];  /* x: dense grid nx, y: ny, z: nz, w: 0; else x, y: the sun map's side and instances */
+    float grid_lo[4];   /* dense grid lower corner relative to R, w: cell size; else the sun map's origin, margin */
     /* precise variant only (std140 dvec4 at offset 128): the camera in double */
     double pfwd[4];     /* w: t_start */
     double prx[4];
@@ -98,11 +98,11 @@ const uint32_t* vx__spirv_smap(size_t* bytes);
 /* Lists the nodes of s's models (at about one texel of a side-texel map
  * over the box lo, hi; inst_model and inst_cell: the drawn instances' models
  * and cell sizes) and makes the GPU buffers. side 0: per_cell texels a side
- * of the finest cell, a power of two in 64..VX__SMAP_SIDE. With no map
+ * of the finest cell, a power of two in 64..max_side (0: VX__SMAP_SIDE). With no map
  * possible (side 1, no instance, too many nodes) sm->side stays 0. */
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err);
+                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err);
 /* Builds the map for the unit direction light (towards the light) and the
  * drawn instances' world-from-model maps; one submission. */
 vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const double (*world)[12],

@@ -137,6 +137,12 @@ struct vx_render_scene {
      * frame used it */
     vx__smap smap;
     bool smap_used;
+    /* the map's node list: 0 made at the first build (from the node words
+     * read back), 1 made (smap.side 0: no map possible), 2 never (shadow_map_side
+     * 1, the compact layout, float64, an edited model); smap_side_req: the
+     * side asked for */
+    int smap_state;
+    uint32_t smap_side_req;
     /* the light of the last colour frame since the instances last moved:
      * a map is built only for a light and instances two frames have had */
     bool smap_seen;
@@ -495,7 +501,7 @@ void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats*
 }
 
 /* The shadow map's node list for the drawn instances (shadow_map.c). */
-static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
+static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, uint32_t max_side, vx_error* err) {
     uint32_t n = rs->inst_count;
     uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
     float* cell = vx_calloc(&rs->alloc, n ? n : 1, sizeof *cell);
@@ -503,7 +509,7 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     if (!model || !cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; !r && i < n; i++) model[i] = rs->inst[i].model, cell[i] = rs->inst[i].cell;
     uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
-    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, &rs->smap, err);
+    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, max_side, &rs->smap, err);
     vx_free(&rs->alloc, model);
     vx_free(&rs->alloc, cell);
     return r;
@@ -512,8 +518,36 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
 vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
     if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx__smap_free(rs->gpu, &rs->smap);
+    rs->smap_state = 1;
     if (rs->compact || rs->precise || side == 1) return VX_OK;
-    return smap_list(rs, s, side, err);
+    return smap_list(rs, s, side, 0, err);
+}
+
+/* The node list from the plain layout's words on the GPU (at the first build). */
+static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error* err) {
+    rs->smap_state = 1;
+    uint64_t words = 0;
+    for (uint32_t i = 0; i < rs->model_count; i++)
+        if (rs->wreg[i].have && (uint64_t)rs->wreg[i].off + rs->wreg[i].have > words) words = (uint64_t)rs->wreg[i].off + rs->wreg[i].have;
+    double t0 = vx_time_now();
+    uint32_t* w = vx_alloc(&rs->alloc, (size_t)(words ? words : 1) * 4);
+    vx_svo_model* m = vx_calloc(&rs->alloc, rs->model_count ? rs->model_count : 1, sizeof *m);
+    vx_result r = VX_OK;
+    if (!w || !m) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the shadow map's nodes");
+    if (!r && words) r = vx__buffer_download(rs->gpu, &rs->nodes, w, words * 4, err);
+    for (uint32_t i = 0; !r && i < rs->model_count; i++) {
+        /* what the listing reads of a model: its words, depth and root */
+        m[i].nodes = w + rs->wreg[i].off;
+        m[i].node_count = rs->wreg[i].have;
+        m[i].depth = rs->gm[i].depth;
+        m[i].root = rs->gm[i].root;
+    }
+    vx_svo_scene v = {.model_count = rs->model_count, .models = m};
+    if (!r) r = smap_list(rs, &v, rs->smap_side_req, max_side, err);
+    if (!r && rs->smap.side) rs->smap.list_seconds = vx_time_now() - t0;
+    vx_free(&rs->alloc, w);
+    vx_free(&rs->alloc, m);
+    return r;
 }
 
 void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow_map_info* out) {
@@ -577,12 +611,14 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     }
     if (plain) {
         rs->layout.bytes = li.plain_bytes;
-        uint32_t side = desc ? desc->shadow_map_side : 0;
-        if (!rs->precise && side != 1 && (r = smap_list(rs, s, side, err))) {
-            vx_render_scene_destroy(rs);
-            return r;
-        }
+        /* the shadow map's nodes are listed where a map is first built (most
+         * scenes never build one: a pass without a directional light, depth
+         * frames), from the words on the GPU: the scene does not keep the
+         * models, and listing every scene took 1-31 ms and a buffer */
+        rs->smap_side_req = desc ? desc->shadow_map_side : 0;
+        rs->smap_state = rs->precise || rs->smap_side_req == 1 ? 2 : 0;
     } else {
+        rs->smap_state = 2;
         vx_compact_scene c;
         uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
         vx_compact_desc cd = {.alloc = &rs->alloc,
@@ -873,6 +909,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
      * no map (listing the nodes again would cost a stroke tens of ms on a
      * large model) */
     vx__smap_free(g, &rs->smap);
+    rs->smap_state = 2;
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
     uint32_t depth = 0;
@@ -1050,6 +1087,19 @@ static vx_result write_frame_tables(vx_render_scene* rs, const vx__frame* f, vx_
     return upload_items(rs, err);
 }
 
+/* The sun map's origin relative to a kernel's reference point ref (xyz) and
+ * its margin (w): the kernel's coordinates are relative to ref, so its
+ * rounding grows with the origin's distance from it (smap_lookup.glsl's org). */
+static void smap_origin(const vx_render_scene* rs, const double ref[3], float org[4]) {
+    double o2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double d = rs->smap.origin[k] - ref[k];
+        org[k] = (float)d;
+        o2 += d * d;
+    }
+    org[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
+}
+
 static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gpu_frame* gf) {
     memset(gf, 0, sizeof *gf);
     for (int k = 0; k < 3; k++) {
@@ -1075,6 +1125,14 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
     gf->misc[1] = (float)f->lod_pixels;
     gf->light[3] = (float)f->ambient;
     gf->dims[0] = f->width, gf->dims[1] = f->height, gf->dims[2] = f->spp, gf->dims[3] = rs->inst_count;
+    /* the sun's depth map where the scene holds one for this light: its
+     * origin relative to the reference, margin, side and instance entries
+     * (smap_lookup.glsl's smap_tmax, trace.comp and the direct pass) */
+    if (rs->smap.valid && !memcmp(gf->light, rs->smap.light, sizeof rs->smap.light)) {
+        smap_origin(rs, f->ref, gf->grid_lo);
+        gf->dims2[0] = rs->smap.side;
+        gf->dims2[1] = rs->smap.insts_built;
+    }
 }
 
 /* Whether a colour frame with f's light clips its shadow rays (*use; allow:
@@ -1082,6 +1140,7 @@ static void fill_gpu_frame(const vx_render_scene* rs, const vx__frame* f, vx__gp
  * before had too (with the same instances): a light or an animation that
  * changes every frame would pay a build per frame and gain one frame's
  * shadow rays (docs/PERFORMANCE.md, issue 21's eighth sitting). */
+static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max_side, vx_error* err);
 static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow, bool* use, vx_error* err) {
     float lf[3] = {(float)f->light[0], (float)f->light[1], (float)f->light[2]};
     bool again = rs->smap_seen && !memcmp(lf, rs->smap_seen_light, sizeof lf);
@@ -1094,11 +1153,21 @@ static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow
         return VX_OK;
     }
     if (!again) return VX_OK;
+    vx_result r = smap_build(rs, lf, 0, err);
+    *use = !r && rs->smap.valid;
+    return r;
+}
+
+/* Builds the map for light lf and the instances as they are (the node list
+ * first where none is made yet). */
+static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max_side, vx_error* err) {
     settle(rs);
+    vx_result r = VX_OK;
+    if (rs->smap_state == 0 && (r = smap_list_gpu(rs, max_side, err))) return r;
+    if (!rs->smap.side) return VX_OK;
     uint32_t n = rs->inst_count;
     double(*world)[12] = vx_calloc(&rs->alloc, n ? n : 1, sizeof *world);
     uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
-    vx_result r = VX_OK;
     if (!world || !model) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; !r && i < n; i++) {
         model[i] = rs->inst[i].model;
@@ -1107,8 +1176,40 @@ static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow
     if (!r) r = vx__smap_build(rs->gpu, &rs->smap, lf, (const double(*)[12])world, model, n, rs->lo, rs->hi, err);
     vx_free(&rs->alloc, world);
     vx_free(&rs->alloc, model);
-    *use = !r && rs->smap.valid;
     return r;
+}
+
+vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f, bool allow, vx__sun_map* out,
+                                         vx_error* err) {
+    if (!rs || !f || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    memset(out, 0, sizeof *out);
+    bool use = false;
+    vx_result r = VX_OK;
+    if (!use_precise(rs) && !f->lod && (rs->smap_state == 0 || rs->smap.side)) r = smap_ensure(rs, f, allow, &use, err);
+    if (r || !use) return r;
+    out->side = rs->smap.side, out->insts = rs->smap.insts_built;
+    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+    return VX_OK;
+}
+
+vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
+                                   vx__sun_map* out, vx_error* err) {
+    if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    memset(out, 0, sizeof *out);
+    if (rs->smap_state == 2 || (rs->smap_state == 1 && !rs->smap.side)) return VX_OK;
+    if (!(rs->smap.valid && !memcmp(light, rs->smap.light, sizeof rs->smap.light))) {
+        vx_result r = smap_build(rs, light, max_side, err);
+        if (r) return r;
+        /* a colour frame with this light finds the map made */
+        rs->smap_seen = true;
+        memcpy(rs->smap_seen_light, light, sizeof rs->smap_seen_light);
+    }
+    if (!rs->smap.valid) return VX_OK;
+    smap_origin(rs, ref, out->origin);
+    out->side = rs->smap.side;
+    out->insts = rs->smap.insts_built;
+    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+    return VX_OK;
 }
 
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
@@ -1129,26 +1230,12 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* the shadow rays' depth map: colour mode, float variant, no LOD (a LOD
      * hit is a coarse node, larger than the listed ones) */
     bool smap = false;
-    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && rs->smap.side &&
+    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && (rs->smap_state == 0 || rs->smap.side) &&
         (r = smap_ensure(rs, f, !(desc && desc->no_shadow_map), &smap, err)))
         return r;
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
-    fill_gpu_frame(rs, f, rs->frame.map);
-    if (smap) {
-        vx__gpu_frame* gf = rs->frame.map;
-        double o2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = rs->smap.origin[k] - f->ref[k];
-            gf->grid_lo[k] = (float)d;
-            o2 += d * d;
-        }
-        /* the kernel's coordinates are relative to the frame's reference: its
-         * rounding grows with the map origin's distance from it */
-        gf->grid_lo[3] = (float)(rs->smap.margin + ldexp(sqrt(o2), -13));
-        gf->dims2[0] = rs->smap.side;
-        gf->dims2[1] = rs->smap.insts_built;
-    }
+    fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;

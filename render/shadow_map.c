@@ -15,8 +15,9 @@
  * texel, below which a shadow ray surely meets one.
  *
  * Nodes: per model, the octree's nodes at the level whose side is about one
- * texel in the world (and collapsed leaves above it), listed once when the
- * scene is made (the models' words are on the host only then); each build
+ * texel in the world (and collapsed leaves above it), listed once, at the
+ * scene's first build (render_scene.c reads the words back from the GPU:
+ * the scene keeps no host copy of the models); each build
  * projects every drawn instance's copy of its model's list. A build is one
  * submission (a fill, two dispatches) per light direction and instances.
  *
@@ -69,6 +70,10 @@ typedef struct node_list {
 } node_list;
 
 static void list_add(node_list* l, uint32_t x, uint32_t y, uint32_t z, uint32_t level) {
+    if (l->n < l->cap && l->n < l->limit) { /* the common case without a call (a list has 10^5-10^6 nodes) */
+        l->v[l->n++] = (smap_node){x, y, z, level};
+        return;
+    }
     if (l->n < l->limit) {
         void* v = l->v;
         if (!vx_grow(l->alloc, &v, &l->cap, l->n + 1, sizeof *l->v)) {
@@ -142,7 +147,7 @@ static double scene_diag(const double lo[3], const double hi[3]) {
 
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, uint32_t per_cell, vx__smap* sm, vx_error* err) {
+                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
     vx__smap_free(g, sm);
     sm->alloc = alloc;
     if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
@@ -157,9 +162,10 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
         double cmin = INFINITY;
         for (uint32_t i = 0; i < inst_count; i++)
             if (inst_cell[i] > 0) cmin = fmin(cmin, inst_cell[i]);
-        double want = isfinite(cmin) ? per_cell * diag / cmin : VX__SMAP_SIDE;
+        uint32_t most = max_side ? max_side : VX__SMAP_SIDE;
+        double want = isfinite(cmin) ? per_cell * diag / cmin : most;
         side = 64;
-        while (side < VX__SMAP_SIDE && side < want) side *= 2;
+        while (side < most && side < want) side *= 2;
     }
     if (side < 16) side = 16;
     if (side > 16384) side = 16384;
@@ -208,7 +214,9 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     sm->model_count = mc;
     sm->side = side;
     sm->diag = diag;
-    vx_result r = vx__buffer_create(g, (l.n ? l.n : 1) * sizeof(smap_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+    /* host-visible: the list is written in place, without a staging buffer and
+     * a submission of its own; each build reads it once */
+    vx_result r = vx__buffer_create(g, (l.n ? l.n : 1) * sizeof(smap_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
                                     "shadow map nodes", &sm->nodes, err);
     if (!r && l.n) r = vx__buffer_upload(g, &sm->nodes, l.v, l.n * sizeof(smap_node), err);
     vx_free(alloc, l.v);
@@ -271,7 +279,8 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     hdr[12] = (float)sm->side;
     /* per instance: its model cells to (u, v, s) */
     uint32_t n = 0;
-    smap_inst* si = vx_calloc(sm->alloc, inst_count ? inst_count : 1, sizeof *si);
+    /* the instances, then the header (copied into the map by the build's submission) */
+    smap_inst* si = vx_calloc(sm->alloc, (inst_count ? inst_count : 1) + 1, sizeof *si);
     if (!si) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the shadow map");
     uint64_t work = 0;
     for (uint32_t i = 0; i < inst_count; i++) {
@@ -321,13 +330,16 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
         vx_free(sm->alloc, si);
         return VX_OK; /* too many: no map */
     }
-    if ((r = vx__buffer_ensure(g, &sm->insts, (n ? n : 1) * sizeof *si, "shadow map instances", err)) ||
-        (r = vx__buffer_upload(g, &sm->insts, si, (n ? n : 1) * sizeof *si, err)) ||
-        (r = vx__buffer_upload(g, &sm->map, hdr, sizeof hdr, err))) {
-        vx_free(sm->alloc, si);
-        return r;
+    /* host-visible, written in place: no staging buffer and submission per upload */
+    VkDeviceSize hdr_at = (VkDeviceSize)(n ? n : 1) * sizeof *si, isz = hdr_at + sizeof hdr;
+    memcpy((uint8_t*)si + hdr_at, hdr, sizeof hdr);
+    if (!(sm->insts.buf && sm->insts.size >= isz)) {
+        vx__buffer_destroy(g, &sm->insts);
+        r = vx__buffer_create(g, isz, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "shadow map instances", &sm->insts, err);
     }
+    if (!r) r = vx__buffer_upload(g, &sm->insts, si, isz, err);
     vx_free(sm->alloc, si);
+    if (r) return r;
     size_t spv_size;
     const uint32_t* spv = vx__spirv_smap(&spv_size);
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = 3,
@@ -341,6 +353,7 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
     smap_push pc[3] = {{0}};
     /* the texels cleared by a fill (memset speed on a CPU device, where a
      * clearing dispatch took 0.2 s per 2048^2 map) */
+    vx__seq_copy(g, &seq, &sm->insts, hdr_at, &sm->map, 0, sizeof hdr);
     vx__seq_fill(g, &seq, &sm->map, 64, 4 * (VkDeviceSize)texels * 4, 0);
     for (int m = 1; m < 3; m++)
         pc[m] = (smap_push){.mode = (uint32_t)m, .count = (uint32_t)work, .insts = n, .side = sm->side,

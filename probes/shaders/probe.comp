@@ -76,6 +76,8 @@ layout(std430, binding = 7) readonly buffer Params {
                    // z: first block of this round, w: blocks in a round
     uvec4 rk;      // render: x: 0 trace the round's blocks, 1 add them to the pixels; y: 1 in a round's
                    // first dispatch (the blocks' state is not written yet)
+    vec4 smo;      // the sun's depth map (SMAP): xyz its origin relative to the reference point, w the margin
+    uvec4 smn;     // x: its texels a side, y: entries of its instance table
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
@@ -105,6 +107,22 @@ layout(std430, binding = 15) readonly buffer Emitters { vec4 ems[]; };
 layout(std430, binding = 16) readonly buffer Env { float env[]; };
 
 #include "path_common.glsl"
+
+// The sun's depth map (render/gpu.h vx__render_scene_sun_map; the bake only, SMAP: constant 11):
+// the sun's shadow rays end where nothing lies further towards the light, or are decided without a
+// walk; the same answers as the whole ray's
+#define SMAP_BINDING 17
+#include "smap_lookup.glsl"
+uvec4 g_shit;   // the shaded vertex's hit: instance slot, cell (for smap_tmax)
+bool g_sentered; // the ray that found it started outside its cube (h.t > 0)
+bool sun_occluded(vec3 p) {
+    if (SMAP) {
+        float t = smap_tmax(p, P.light.xyz, P.smo, P.smn.x, P.smn.y, g_shit.x, g_shit.yzw, g_sentered);
+        if (t < 0.0) return t == -2.0;
+        return occluded_to(p, P.light.xyz, t);
+    }
+    return occluded(p, P.light.xyz);
+}
 
 uvec2 rng_seed() { return P.seed.xy; }
 
@@ -165,7 +183,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
     float bp;
     Surf s = g_s;
     if (!skip_direct && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) && dot(s.n, P.light.xyz) > 0.0 &&
-        !occluded(s.p, P.light.xyz)) {
+        !sun_occluded(s.p)) {
         vec3 f = bsdf_eval(B, wo, P.light.xyz, bp);
         out_l += f * P.sun.xyz * dot(s.n, P.light.xyz);
     }
@@ -292,6 +310,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         }
         if (vertex == 0) hit_out = true;
         g_s = surface(o, d, h);
+        if (SMAP) g_shit = uvec4(h.inst, h.cell), g_sentered = h.t > 0.0;
         if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
             float w = 1.0;
             if (LIGHTS && prev_pdf > 0.0 && P.cnt.y > 0u) {
@@ -335,7 +354,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             sun_ray = true;
         }
         if (depth >= bounces) {
-            if (sun_ray && !occluded(g_s.p, P.light.xyz)) acc += thr_v * sun_f;
+            if (sun_ray && !sun_occluded(g_s.p)) acc += thr_v * sun_f;
             break;
         }
         vec3 w;
@@ -351,7 +370,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             sampled = bsdf_sample(B, wo, d, w, prev_pdf);
         }
         vec3 p_v = g_s.p;
-        if (sun_ray && !occluded(p_v, P.light.xyz)) acc += thr_v * sun_f;
+        if (sun_ray && !sun_occluded(p_v)) acc += thr_v * sun_f;
         if (!sampled) break;
         thr *= w;
         depth++;

@@ -12,6 +12,8 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(constant_id = 6) const bool PHYS = false;
 const bool DOF = false;
 const uint FLAGS = 0u, SHOW = 0u;
+#define SMAP_BINDING 20 // the sun's depth map (direct_pixel; render/pipeline.c)
+#include "smap_lookup.glsl"
 #include "pass_bodies.glsl"
 
 void main() {

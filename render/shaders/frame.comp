@@ -16,6 +16,8 @@ layout(constant_id = 5) const uint FLAGS = 0u; // as resolve.comp (no gi)
 layout(constant_id = 6) const bool DOF = false;
 const uint SHOW = 0u;
 const bool PHYS = (FLAGS & 16u) != 0u;
+#define SMAP_BINDING 20 // the sun's depth map (direct_pixel; render/pipeline.c)
+#include "smap_lookup.glsl"
 #include "pass_bodies.glsl"
 #include "display_out.glsl"
 

@@ -270,6 +270,13 @@ vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
         Hit sh;
         sh.t = 3.0e38;
         sh.inst = NO_HIT;
+#ifdef SMAP_BINDING
+        // the sun's depth map (smap_lookup.glsl; the frame block carries its frame): a tmax, or no walk.
+        // The G-buffer keeps no hit cell, so the rule for a ray from the one cube that gave m1 is off
+        if (SMAP) sh.t = smap_tmax(ps, F.light.xyz, F.grid_lo, F.dims2.x, F.dims2.y, NO_HIT, uvec3(0u), false);
+        if (sh.t < 0.0) vis = sh.t == -2.0 ? 0.0 : 1.0;
+        else
+#endif
         vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
     }
     if (!PHYS) {

@@ -243,6 +243,92 @@ static void test_gpu_bake_beam(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The bake's sun rays clipped by the sun's light-space depth map (render/gpu.h
+ * vx__render_scene_sun_map, probe.comp SMAP) against the whole rays
+ * (vx_probe_bake_desc.no_shadow_map): the same bytes, for the room (its
+ * emitter: the lights' code, nee()) and for sparse random models drawn as
+ * instances turned a quarter, mirrored, turned about a skew axis and scaled,
+ * on a floor, under lights along and against the axes, grazing a face and
+ * diagonal; the host-filtered bake too. The sun must matter (a bake without
+ * it differs) and the map must have been used (stats.sun_map_side). The GPU
+ * path tracer (vx_probe_render_gpu, pathtrace and pathtrace-indirect) the
+ * same: the same pixel bits with and without (base.no_shadow_map). */
+static void test_gpu_bake_sun_map(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene scenes[2];
+    room_scene(&scenes[0]);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 12, 10, 8, 25, 5) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 40, 40, 1, 100, 1) == VX_OK);
+    const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    /* 35 degrees about (1, 2, 3) / |.|, times 0.75 */
+    double skew[9], ax[3] = {1, 2, 3}, n = sqrt(14.0), c = cos(35 * PI / 180), sn = sin(35 * PI / 180);
+    for (int k = 0; k < 3; k++) ax[k] /= n;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double v = (i == j ? c : 0) + (1 - c) * ax[i] * ax[j];
+            int e = 3 - i - j; /* the cross term's axis for i != j */
+            if (i != j) v += ((j == (i + 1) % 3) ? -1 : 1) * sn * ax[e];
+            skew[3 * i + j] = 0.75 * v;
+        }
+    vx_svo_instance in[5] = {ts_inst(0, NULL, 2, 3, 1), ts_inst(0, quarter, 30, 4, 1), ts_inst(0, mirror, 14, 26, 1),
+                             ts_inst(0, skew, 26, 24, 3), ts_inst(1, NULL, 0, 0, 0)};
+    ts_scene(&scenes[1], m, 2, in, 5);
+    static const double lights[][3] = {{0.35, -0.45, 0.82}, {0, 0, 1}, {-1, 0, 0}, {1, 0.3, 1e-4}, {-0.6, 0.5, 0.2}, {0, 0, -1}};
+    vx_error err = {0};
+    for (int sc = 0; sc < 2; sc++) {
+        vx_render_scene* rs = scene_on_gpu(&scenes[sc]);
+        REQUIRE(rs);
+        for (size_t li = 0; li < sizeof lights / sizeof lights[0]; li++) {
+            vx_probe_bake_stats st = {0};
+            vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 3 + li,
+                                    .threads = 2, .stats = &st, .host_filter = li == 2};
+            memcpy(d.light_dir, lights[li], sizeof d.light_dir);
+            vx_probe_set a, b, z;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &a, &err) == VX_OK);
+            uint32_t side = st.sun_map_side;
+            d.no_shadow_map = true;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &b, &err) == VX_OK);
+            uint32_t side_off = st.sun_map_side;
+            d.no_sun = true;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &z, &err) == VX_OK);
+            uint8_t *x, *y, *w;
+            size_t nx, ny, nw;
+            REQUIRE(bytes_of(&a, &x, &nx) && bytes_of(&b, &y, &ny) && bytes_of(&z, &w, &nw));
+            bool same = nx == ny && !memcmp(x, y, nx);
+            fprintf(stderr, "  sun map: scene %d, light %zu%s: map %u texels a side, %s\n", sc, li,
+                    d.host_filter ? " (host filter)" : "", side, same ? "same bytes" : "BYTES DIFFER");
+            CHECK(side >= 16 && side_off == 0);
+            CHECK(same);
+            CHECK(!(nw == nx && !memcmp(w, x, nx))); /* the sun's rays shape the bytes */
+            if (li == 0 || li == 4) {
+                /* the GPU path tracer's sun rays, under this set's light: the same pixel bits */
+                vx_render_desc base = {.width = 24, .height = 18};
+                vx_probe_render_stats rst = {0};
+                vx_probe_render_desc rd = {.base = &base, .spp = 8, .stats = &rst,
+                                           .mode = li ? VX_PROBE_RENDER_PT_INDIRECT : VX_PROBE_RENDER_PATHTRACE};
+                vx_render_image ia = {0}, ib = {0};
+                REQUIRE(vx_probe_render_gpu(rs, &scenes[sc], &a, &rd, &ia, &err) == VX_OK);
+                uint32_t rside = rst.sun_map_side;
+                base.no_shadow_map = true;
+                REQUIRE(vx_probe_render_gpu(rs, &scenes[sc], &a, &rd, &ib, &err) == VX_OK);
+                size_t np = (size_t)base.width * base.height * 4;
+                bool psame = ia.pixels && ib.pixels && !memcmp(ia.pixels, ib.pixels, np * sizeof(float));
+                fprintf(stderr, "  sun map, path tracer: scene %d, light %zu: map %u texels a side, %s\n", sc, li, rside,
+                        psame ? "same pixels" : "PIXELS DIFFER");
+                CHECK(rside >= 16 && rst.sun_map_side == 0);
+                CHECK(psame);
+                vx_render_image_free(&ia), vx_render_image_free(&ib);
+            }
+            free(x), free(y), free(w);
+            vx_probe_set_free(&a), vx_probe_set_free(&b), vx_probe_set_free(&z);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&scenes[sc]);
+    }
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 /* The bake's stratified first bounce (probe.comp STRAT, the default) against the independent one
  * (vx_probe_bake_desc.independent_bounce, main's estimator) and the CPU bake: each sample's
  * direction is still cosine-distributed, so the mean is the CPU's; a texel's samples cover the
@@ -865,6 +951,7 @@ int main(void) {
     RUN(test_gpu_furnace);
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_bake_beam);
+    RUN(test_gpu_bake_sun_map);
     RUN(test_gpu_bake_strata);
     RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_baker_ranges);

@@ -18,13 +18,17 @@
  * The frames with the map must have used it, agree with the CPU reference
  * as tests/render/test_render_gpu.c's colour modes do, and it must pay: on
  * the terrain's close-up the shadow rays take at most 0.6 of the loop
- * iterations they take without it (vx_render_hit.shadow). Runs on any
- * Vulkan device (lavapipe in CI). */
+ * iterations they take without it (vx_render_hit.shadow). The pass
+ * pipeline's direct pass (render/pipeline.h, merged into one kernel or
+ * separate) clips the sun's rays by the same map: the same image bits with
+ * and without (test_passes_direct). Runs on any Vulkan device (lavapipe in
+ * CI). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "bench/bench_terrain.h"
+#include "render/pipeline.h"
 #include "render/render.h"
 #include "svo/svo.h"
 #include "tests/render/scenes.h"
@@ -281,7 +285,8 @@ static void test_not_used(void) {
     CHECK(vx_render_frame(rs, &d, &img, &err) == VX_OK);
     vx_render_image_free(&img);
     vx_render_scene_shadow_map_info(rs, &mi);
-    CHECK(!mi.used && mi.builds == 0 && mi.side >= 64 && mi.side <= 2048 && !(mi.side & (mi.side - 1)) && mi.nodes > 0);
+    /* no list before the first build (a scene that never builds a map pays nothing) */
+    CHECK(!mi.used && mi.builds == 0 && mi.side == 0 && mi.nodes == 0);
     d.lod = false, d.mode = VX_RENDER_DEPTH;
     CHECK(vx_render_frame(rs, &d, &img, &err) == VX_OK);
     vx_render_image_free(&img);
@@ -297,6 +302,7 @@ static void test_not_used(void) {
         vx_render_image_free(&img);
         vx_render_scene_shadow_map_info(rs, &mi);
         CHECK(mi.used && mi.builds == 1 && mi.texel > 0);
+        CHECK(mi.side >= 64 && mi.side <= 2048 && !(mi.side & (mi.side - 1)) && mi.nodes > 0);
     }
     /* a light that changes every frame: never a map */
     for (int k = 0; k < 3; k++) {
@@ -318,12 +324,70 @@ static void test_not_used(void) {
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
+/* The pass pipeline's direct pass (the merged kernel, frame.comp, and the
+ * separate direct.comp) with the sun's rays clipped by the map, against the
+ * same frames with vx_render_desc.no_shadow_map: the same bits, for the
+ * random model and the instances, several lights and map sides; the frame
+ * after the first with a light uses the map (vx_frame_result.shadow_map). */
+static void test_passes_direct(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 12, 10, 8, 45, 11) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 40, 40, 2, 100, 3) == VX_OK);
+    const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    vx_svo_instance in[4] = {ts_inst(1, NULL, -4, -4, -2), ts_inst(0, NULL, 2, 3, 1), ts_inst(0, quarter, 30, 4, 1),
+                             ts_inst(0, mirror, 20, 20, 1)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 4);
+    static const size_t which[] = {0, 1, 3, 4, 8, 10};
+    static const uint32_t sides[] = {0, 16};
+    size_t frames = 0, used = 0;
+    for (size_t si = 0; si < 2; si++) {
+        vx_render_scene_desc sd = {.shadow_map_side = sides[si]};
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
+        REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
+        for (size_t w = 0; w < sizeof which / sizeof which[0]; w++)
+            for (int sep = 0; sep < 2; sep++) {
+                vx_frame_desc d = {.base = {.width = 48, .height = 36, .camera = persp(50, -20, 30, 16, 16, 4)},
+                                   .separate_passes = sep != 0};
+                memcpy(d.base.light_dir, lights[which[w]], sizeof d.base.light_dir);
+                vx_frame_result a = {0}, b = {0};
+                bool ok = true;
+                for (int k = 0; k < 2 && ok; k++) { /* the second frame with this light builds and uses the map */
+                    vx_render_image_free(&a.image);
+                    ok = vx_frame_render(fr, &d, &a, &err) == VX_OK;
+                }
+                d.base.no_shadow_map = true;
+                ok = ok && vx_frame_render(fr, &d, &b, &err) == VX_OK;
+                CHECKF(ok, "passes: %s", err.msg);
+                size_t n = (size_t)d.base.width * d.base.height * 4;
+                bool same = ok && a.image.pixels && b.image.pixels && !memcmp(a.image.pixels, b.image.pixels, n * sizeof(float));
+                CHECKF(same, "passes: side %u light %zu %s: the image differs with the map", sides[si], which[w],
+                       sep ? "separate" : "merged");
+                CHECK(!b.shadow_map);
+                frames++, used += a.shadow_map;
+                vx_render_image_free(&a.image);
+                vx_render_image_free(&b.image);
+            }
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+    }
+    printf("passes: %zu frame pairs, %zu with the map\n", frames, used);
+    CHECK(used == frames);
+    vx_svo_scene_free(&s);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_not_used);
     RUN(test_random_model);
     RUN(test_instances);
     RUN(test_terrain);
+    RUN(test_passes_direct);
     if (gpu) CHECK(vx_gpu_validation_errors(gpu) == 0);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();

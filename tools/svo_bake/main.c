@@ -69,6 +69,8 @@ _Noreturn static void usage(int status) {
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
+            "  --no-shadow-map    the GPU bake's sun rays walk their whole length instead of ending where the\n"
+            "                     sun's depth map shows nothing further (the same bytes; slower)\n"
             "  --device N|NAME|gpu:K  Vulkan device: the N-th, the first named like NAME, or the (K mod GPUs)-th\n"
             "                     GPU (default: a discrete GPU, else any; under MPI gpu:L, L the rank's place on\n"
             "                     its host)\n"
@@ -621,11 +623,14 @@ static int bake_single(bake_job* j) {
                    "file\n",
                    t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write, t_file);
             if (on_gpu)
-                printf("bake: output opened %.3f s, setup %.3f s (context %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
+                printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
                        "waits %.3f s, stores %.3f s\n",
-                       t_open, st.setup, st.setup_ctx, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
+                       t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
                        st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download);
+            if (on_gpu && st.sun_map_side)
+                printf("sun map: %u texels a side, %u nodes listed in %.3f s, built in %.3f ms GPU; %.3f s in all\n",
+                       st.sun_map_side, st.sun_map_nodes, st.sun_map_list, st.sun_map_gpu * 1e3, st.sun_map);
         }
     }
     if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
@@ -752,6 +757,7 @@ int main(int argc, char** argv) {
             o.device = argv[++i];
         } else if (!strcmp(a, "--cpu")) o.cpu = true;
         else if (!strcmp(a, "--fresh")) o.fresh = true;
+        else if (!strcmp(a, "--no-shadow-map")) o.b.no_shadow_map = true;
         else if (!strcmp(a, "-q")) o.quiet = true;
         else if (!strcmp(a, "-v")) o.verbose = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
