@@ -24,7 +24,12 @@
 // top, pages below), else 0
 // pool_base, unit_log2: the pool's first slot and its unit (a page at slot P
 // is in unit (P - pool_base) >> unit_log2)
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2; };
+// tab_word, tab_k: the model's start table in the attribute words (its
+// first word), and its level K (0: none; render/compact_gpu.c): entry
+// (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
+// slot and the cells before it, or CA_TAB_FULL and the index of its first
+// cell inside a full leaf cube
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
@@ -106,9 +111,12 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     }
     return r;
 }
+// a start table's entry inside a full leaf cube (CModel.tab_k)
+const uint CA_TAB_FULL = 0xFFFFFFFFu;
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
-// root after the hit (measured faster on the H200 than a running count in
-// the walk, docs/PERFORMANCE.md issue 18).
+// root, or from the node of its level-K cube in the model's start table
+// (CModel.tab_k), after the hit (measured faster on the H200 than a
+// running count in the walk, docs/PERFORMANCE.md issue 18).
 // In a resident page the index is from the page's first cell, and
 // attr_base becomes the page's attribute region.
 uint cell_index(CModel m, uvec3 c, out uint attr_base) {
@@ -119,6 +127,17 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
     bool mort = L <= 10;
     uint mc = mort ? morton(c) : 0u;
+    uint K = m.tab_k;
+    if (CA_PAGES == 0u && K != 0u) {
+        // the table's entry of the cell's level-K cube (D = depth - K bits a side)
+        uint D = m.depth - K;
+        uvec3 r = c >> K;
+        uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+        n = CA_ATTR(e);
+        base = CA_ATTR(e + 1u);
+        if (n == CA_TAB_FULL) return base + (mort ? mc & ((1u << (3u * K)) - 1u) : morton(c & ((1u << K) - 1u)));
+        L = int(K);
+    }
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
