@@ -138,6 +138,10 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         if (n == CA_TAB_FULL) return base + (mort ? mc & ((1u << (3u * K)) - 1u) : morton(c & ((1u << K) - 1u)));
         L = int(K);
     }
+    // the rank of the level-3 node's previous slot in its block (the level-4
+    // step reads it), so that its own cells are known at level 3
+    uint prev = 0u;
+    bool have_prev = false;
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
@@ -149,7 +153,27 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint s = uint(L - 1);
         uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
+        if (CA_PAGES == 0u && L == 4) {
+            // cells_before's level-4 form, the rank kept
+            prev = k > 0u ? (CA_SLOT(nd.y + k - 1u).x >> 16) & 0x7FFFu : 0u;
+            have_prev = true;
+            base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 9) + prev;
+        } else if (CA_PAGES == 0u && L == 3 && have_prev && !(CA_DICT && (nd.x & CA_INDEXED) != 0u)) {
+            // the bricks before child k, or where fewer come after it, the
+            // node's cells (its rank less the previous slot's) less its leaf
+            // cubes and the bricks from k on: one loop of at most 4
+            uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
+            bool back = 2u * k > nb;
+            uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
+            for (uint i = 0u; i < cnt; i++) {
+                uvec2 b = CA_SLOT(nd.y + a + i);
+                sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+            }
+            uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
+            base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+        } else {
+            base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
+        }
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = ca_child(L, nd.x, nd.y, k);
     }
@@ -210,6 +234,10 @@ bool cell_set(CModel m, uvec3 c) {
     if (m.root == ROOT_LEAF) return true;
     uint n = m.root;
     int L = int(m.depth);
+    // the rank of the level-3 node's previous slot in its block (the level-4
+    // step reads it), so that its own cells are known at level 3
+    uint prev = 0u;
+    bool have_prev = false;
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
         uint s = uint(L - 1);
