@@ -281,7 +281,10 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
  * (vx_render_scene_create), traced by shaders/trace_compact.comp with the
  * render scene's instances, BVH and camera: the float walk of trace.comp
  * over the geometry DAG (its exact t and two-frame walk of deep models
- * included), the colour decoded at the hit; lod and beam are ignored. rs and c are borrowed for the object's
+ * included), the colour decoded at the hit; lod and beam are ignored. A
+ * coloured model gets a start table (compact_gpu.c: its level-K cubes'
+ * nodes and cells before, so that the colour's descent starts at level K),
+ * at most an eighth of the layout's bytes beyond 32 KB. rs and c are borrowed for the object's
  * lifetime (c only during create). */
 typedef struct vx_compact_gpu vx_compact_gpu;
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
@@ -292,8 +295,10 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
 /* Benchmarks: repeat timed dispatches in one submission, *seconds the median. */
 vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, uint32_t repeat, double* seconds,
                               vx_error* err);
-/* Bytes of the GPU buffers of the layout (geometry, attributes, models, palette). */
+/* Bytes of the GPU buffers of the layout (geometry, attributes and start tables, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
+/* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
+uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
 
 /* The paged layout on the GPU: the top of *p and a pool of pool_bytes for
  * its pages (one buffer; at least the largest page). It takes *p (zeroed).

@@ -12,6 +12,7 @@
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
+    uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
 } cmodel_gpu;
 
 /* The paged layout's state on the host (vx_compact_gpu_create_paged). */
@@ -44,6 +45,7 @@ struct vx_compact_gpu {
     double lo[3], hi[3];
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
+    uint64_t table_bytes; /* the start tables' (in attr) */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
@@ -100,6 +102,63 @@ static vx_result upload(vx_gpu* g, vx__buffer* b, const void* data, uint64_t byt
     return r;
 }
 
+/* The start table of a coloured model (CModel.tab_word, tab_k): the cell's
+ * attribute index is a descent from the root summing the cells before each
+ * level's child (compact_attr.glsl cell_index); the table holds, for every
+ * cube of level K (2^K cells a side) of the model, the slot of its node and
+ * the cells before it, so that the descent starts at level K: two loads
+ * instead of depth - K levels (the descent was most of the colour's cost:
+ * docs/PERFORMANCE.md issue 18, eighth step). Dense, 2 words a cube,
+ * (2^(depth - K))^3 cubes, K the lowest level whose table stays under the
+ * scene's budget. The whole layout only (the paged one has none).
+ * Entries: (slot, cells before); (TAB_FULL, index of the cube's first
+ * cell) for a cube inside a full leaf cube; (TAB_FULL, 0) where empty
+ * (never read: a hit's cube has cells). */
+#define TAB_FULL 0xFFFFFFFFu
+
+typedef struct tab_fill {
+    const vx_compact_scene* c;
+    uint32_t* t; /* 2 words an entry */
+    uint32_t K, D; /* level, log2 of the entries a side */
+} tab_fill;
+
+static void tab_set(const tab_fill* f, uint32_t x, uint32_t y, uint32_t z, uint32_t w0, uint32_t w1) {
+    size_t e = ((size_t)(x >> f->K) | ((size_t)(y >> f->K) << f->D) | ((size_t)(z >> f->K) << (2 * f->D)));
+    f->t[2 * e] = w0, f->t[2 * e + 1] = w1;
+}
+
+/* Node n of level L > K at cell (x, y, z), base cells before it. */
+static void tab_node(const tab_fill* f, uint32_t n, uint32_t L, uint64_t base, uint32_t x, uint32_t y, uint32_t z) {
+    const uint32_t* sl = f->c->geom + 2 * (size_t)n;
+    uint32_t valid = (sl[0] >> 8) & 0xFFu, leaf = sl[0] & 0xFFu, inner = valid & ~leaf, s = L - 1;
+    for (uint32_t o = 0; o < 8; o++) {
+        if (!((valid >> o) & 1u)) continue;
+        uint32_t below = (1u << o) - 1u, k = __builtin_popcount(inner & below);
+        uint32_t cx = x + ((o & 1u) << s), cy = y + (((o >> 1) & 1u) << s), cz = z + (((o >> 2) & 1u) << s);
+        uint64_t b = base + ((uint64_t)__builtin_popcount(leaf & below) << (3 * s)) +
+                     vx__compact_inner_before(f->c, L, sl[1], k);
+        if ((leaf >> o) & 1u) {
+            /* a full cube of level s >= K: each of its level-K cubes from its first cell's index */
+            uint32_t side = 1u << s, step = 1u << f->K;
+            for (uint32_t qz = 0; qz < side; qz += step)
+                for (uint32_t qy = 0; qy < side; qy += step)
+                    for (uint32_t qx = 0; qx < side; qx += step)
+                        tab_set(f, cx + qx, cy + qy, cz + qz, TAB_FULL, (uint32_t)(b + vx_svo_morton(qx, qy, qz)));
+        } else if (s == f->K) {
+            tab_set(f, cx, cy, cz, vx__compact_child(f->c, L, sl[1], k), (uint32_t)b);
+        } else {
+            tab_node(f, vx__compact_child(f->c, L, sl[1], k), s, b, cx, cy, cz);
+        }
+    }
+}
+
+/* The table's level for a model of depth D within an entry budget (0: none). */
+static uint32_t tab_level(uint32_t depth, uint64_t budget) {
+    for (uint32_t K = 3; K < depth && K <= 10; K++)
+        if (3 * (depth - K) <= 30 && (1ull << (3 * (depth - K))) <= budget) return K;
+    return 0;
+}
+
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
                                 vx_compact_gpu** out, vx_error* err) {
     if (!rs || !s || !c || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -131,8 +190,38 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS
                                            : 0};
     }
-    vx_result r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
-    if (!r) r = upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, "compact attributes", err);
+    /* the start tables after the attribute words: a scene budget of one
+     * entry (2 words) per 16 words of the layout, at least 4096 (32 KB),
+     * shared by the coloured models (the table of the next level down is
+     * 8 times larger: at most an eighth more bytes, DamagedHelmet at 512
+     * 7.7%, at 4096 1.6%; docs/PERFORMANCE.md issue 18, eighth step) */
+    uint64_t ncol = 0, tab_words = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) ncol += (cm[i].flags & 1u) && c->models[i].root < VX_SVO_ROOT_LEAF;
+    uint64_t budget = ((uint64_t)c->geom_words + c->attr_words) / 16;
+    if (budget < 4096) budget = 4096;
+    if (ncol) budget /= ncol;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        if (!(cm[i].flags & 1u) || c->models[i].root >= VX_SVO_ROOT_LEAF) continue;
+        uint32_t K = tab_level(c->models[i].depth, budget);
+        if (!K || c->attr_words + tab_words + (2ull << (3 * (c->models[i].depth - K))) > 0xFFFFFFFFull) continue;
+        cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
+        tab_words += 2ull << (3 * (c->models[i].depth - K));
+    }
+    /* (a copy of the attribute words with the tables after them: one buffer, the passes' binding 2) */
+    uint32_t* aw = tab_words ? vx_alloc(&g->alloc, ((size_t)c->attr_words + tab_words) * 4) : NULL;
+    vx_result r = aw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r && aw) {
+        if (c->attr_words) memcpy(aw, c->attr, (size_t)c->attr_words * 4);
+        for (size_t w = 0; w < tab_words; w++) aw[c->attr_words + w] = w % 2 ? 0u : TAB_FULL;
+        for (uint32_t i = 0; i < s->model_count; i++)
+            if (cm[i].tab_k) {
+                tab_fill f = {.c = c, .t = aw + cm[i].tab_word, .K = cm[i].tab_k, .D = c->models[i].depth - cm[i].tab_k};
+                tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
+            }
+    }
+    if (!r) r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
+    if (!r) r = upload(g, &cg->attr, aw ? aw : c->attr, ((uint64_t)c->attr_words + tab_words) * 4, "compact attributes", err);
+    vx_free(&g->alloc, aw);
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
     /* the passes' binding 3 (trace_common.glsl CModels): the palette first, so that
@@ -150,13 +239,16 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         vx_compact_gpu_destroy(cg);
         return r;
     }
-    cg->bytes = (uint64_t)c->geom_words * 4 + (uint64_t)c->attr_words * 4 + mcount * sizeof(cmodel_gpu) +
+    cg->table_bytes = tab_words * 4;
+    cg->bytes = (uint64_t)c->geom_words * 4 + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
                 2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
     *out = cg;
     return VX_OK;
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
+
+uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
 
 bool vx__compact_gpu_bind(vx_compact_gpu* cg, vx__buffer* bufs[7]) {
     if (!cg || cg->pg) return false;

@@ -24,7 +24,12 @@
 // top, pages below), else 0
 // pool_base, unit_log2: the pool's first slot and its unit (a page at slot P
 // is in unit (P - pool_base) >> unit_log2)
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2; };
+// tab_word, tab_k: the model's start table in the attribute words (its
+// first word), and its level K (0: none; render/compact_gpu.c): entry
+// (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
+// slot and the cells before it, or CA_TAB_FULL and the index of its first
+// cell inside a full leaf cube
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
@@ -106,9 +111,12 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     }
     return r;
 }
+// a start table's entry inside a full leaf cube (CModel.tab_k)
+const uint CA_TAB_FULL = 0xFFFFFFFFu;
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
-// root after the hit (measured faster on the H200 than a running count in
-// the walk, docs/PERFORMANCE.md issue 18).
+// root, or from the node of its level-K cube in the model's start table
+// (CModel.tab_k), after the hit (measured faster on the H200 than a
+// running count in the walk, docs/PERFORMANCE.md issue 18).
 // In a resident page the index is from the page's first cell, and
 // attr_base becomes the page's attribute region.
 uint cell_index(CModel m, uvec3 c, out uint attr_base) {
@@ -119,6 +127,21 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
     bool mort = L <= 10;
     uint mc = mort ? morton(c) : 0u;
+    uint K = m.tab_k;
+    if (CA_PAGES == 0u && K != 0u) {
+        // the table's entry of the cell's level-K cube (D = depth - K bits a side)
+        uint D = m.depth - K;
+        uvec3 r = c >> K;
+        uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+        n = CA_ATTR(e);
+        base = CA_ATTR(e + 1u);
+        if (n == CA_TAB_FULL) return base + (mort ? mc & ((1u << (3u * K)) - 1u) : morton(c & ((1u << K) - 1u)));
+        L = int(K);
+    }
+    // the rank of the level-3 node's previous slot in its block (the level-4
+    // step reads it), so that its own cells are known at level 3
+    uint prev = 0u;
+    bool have_prev = false;
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
@@ -130,7 +153,27 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint s = uint(L - 1);
         uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
+        if (CA_PAGES == 0u && L == 4) {
+            // cells_before's level-4 form, the rank kept
+            prev = k > 0u ? (CA_SLOT(nd.y + k - 1u).x >> 16) & 0x7FFFu : 0u;
+            have_prev = true;
+            base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 9) + prev;
+        } else if (CA_PAGES == 0u && L == 3 && have_prev && !(CA_DICT && (nd.x & CA_INDEXED) != 0u)) {
+            // the bricks before child k, or where fewer come after it, the
+            // node's cells (its rank less the previous slot's) less its leaf
+            // cubes and the bricks from k on: one loop of at most 4
+            uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
+            bool back = 2u * k > nb;
+            uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
+            for (uint i = 0u; i < cnt; i++) {
+                uvec2 b = CA_SLOT(nd.y + a + i);
+                sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+            }
+            uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
+            base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+        } else {
+            base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
+        }
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = ca_child(L, nd.x, nd.y, k);
     }
@@ -191,6 +234,10 @@ bool cell_set(CModel m, uvec3 c) {
     if (m.root == ROOT_LEAF) return true;
     uint n = m.root;
     int L = int(m.depth);
+    // the rank of the level-3 node's previous slot in its block (the level-4
+    // step reads it), so that its own cells are known at level 3
+    uint prev = 0u;
+    bool have_prev = false;
     for (; L >= 3; L--) {
         uvec2 nd = CA_SLOT(n);
         uint s = uint(L - 1);

@@ -8,9 +8,10 @@
 // trace.comp's descriptor word), none for a brick's level-1 octants. The
 // walk's decisions depend only on geometry, so its cells and depths are
 // trace.comp's; the colour comes after the scene's walk, once for the
-// nearest hit, from the cell's attribute index (a second descent from the
-// root summing leaf cubes and ranks or brick popcounts: no rank work in the
-// walk's loop) and the attribute block that holds it. Layouts: render/compact.h (geometry,
+// nearest hit, from the cell's attribute index (a second descent, from the
+// model's start table's level-K cube or the root, summing leaf cubes and
+// ranks or brick popcounts: no rank work in the walk's loop) and the
+// attribute block that holds it. Layouts: render/compact.h (geometry,
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require

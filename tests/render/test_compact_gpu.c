@@ -321,6 +321,63 @@ static void test_deep(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The start table (render/compact_gpu.c: the descent to a cell's colour
+ * starts at the node of its level-K cube): a 128^3 model whose full leaf
+ * cubes of levels 3 to 6 hold many level-K cubes each (the table's entries
+ * inside a leaf: the index of their first cell), between cells of noise
+ * colours; the same cells with few colours (blocks of distinct values),
+ * one instance and a rotated one. */
+static void test_start_table(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    size_t n = 0, cap = 40000;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    uint8_t* level = calloc(cap, 1);
+    REQUIRE(keys && rgba && level);
+    uint32_t seed = 11;
+    /* a 64^3 leaf (level 6) at the origin, 32^3 and 16^3 ones beside it, 8^3 ones on a grid */
+    static const uint32_t cubes[][4] = {{0, 0, 0, 6}, {64, 0, 0, 5}, {96, 32, 0, 5}, {64, 64, 64, 4}, {112, 0, 96, 4}};
+    for (size_t i = 0; i < sizeof cubes / sizeof cubes[0]; i++) {
+        keys[n] = vx_svo_morton(cubes[i][0], cubes[i][1], cubes[i][2]);
+        level[n] = (uint8_t)cubes[i][3];
+        rgba[n++] = 0xFF000000u | ts_rng(&seed);
+    }
+    for (uint32_t z = 64; z < 128; z += 8)
+        for (uint32_t x = 0; x < 64; x += 8)
+            if (ts_rng(&seed) % 3 == 0) {
+                keys[n] = vx_svo_morton(x, 96, z);
+                level[n] = 3;
+                rgba[n++] = 0xFF000000u | ts_rng(&seed);
+            }
+    while (n < 30000) {
+        uint32_t x = ts_rng(&seed) % 128, y = 64 + ts_rng(&seed) % 64, z = ts_rng(&seed) % 64;
+        keys[n] = vx_svo_morton(x, y, z);
+        level[n] = 0;
+        rgba[n++] = 0xFF000000u | (ts_rng(&seed) & 0x3F3F3Fu);
+    }
+    vx_error err = {0};
+    vx_svo_model m[2];
+    vx_svo_voxels v = {.size = {128, 128, 128}, .count = n, .keys = keys, .level = level, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[0], NULL, &err) == VX_OK);
+    for (size_t i = 0; i < n; i++) rgba[i] = 0xFF000000u | (ts_rng(&seed) % 9) * 0x1C1C1Cu; /* blocks of few values */
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[1], NULL, &err) == VX_OK);
+    free(keys), free(rgba), free(level);
+    REQUIRE(m[0].depth == 7);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 160, 10, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 2);
+    CHECK(compare(&s, "start table, leaf cubes", 128, 96) > 128 * 96 / 4);
+    vx_svo_scene s1;
+    vx_svo_model only = s.models[0];
+    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&s1, &only, 1, &i1, 1);
+    CHECK(compare(&s1, "start table, one instance", 128, 96) > 128 * 96 / 4);
+    s1.models[0] = (vx_svo_model){0}; /* owned by s */
+    vx_svo_scene_free(&s1);
+    vx_svo_scene_free(&s);
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP(gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
@@ -360,6 +417,7 @@ int main(void) {
     RUN(test_generated);
     RUN(test_seams);
     RUN(test_deep);
+    RUN(test_start_table);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     vx_gpu_destroy(gpu);
