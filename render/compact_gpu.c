@@ -207,21 +207,25 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
         tab_words += 2ull << (3 * (c->models[i].depth - K));
     }
-    /* (a copy of the attribute words with the tables after them: one buffer, the passes' binding 2) */
-    uint32_t* aw = tab_words ? vx_alloc(&g->alloc, ((size_t)c->attr_words + tab_words) * 4) : NULL;
-    vx_result r = aw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    if (!r && aw) {
-        if (c->attr_words) memcpy(aw, c->attr, (size_t)c->attr_words * 4);
-        for (size_t w = 0; w < tab_words; w++) aw[c->attr_words + w] = w % 2 ? 0u : TAB_FULL;
+    /* the tables after the attribute words in one buffer (the passes' binding 2),
+     * uploaded apart so that the host holds no second copy of the words */
+    uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
+    vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r && tw) {
+        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_FULL;
         for (uint32_t i = 0; i < s->model_count; i++)
             if (cm[i].tab_k) {
-                tab_fill f = {.c = c, .t = aw + cm[i].tab_word, .K = cm[i].tab_k, .D = c->models[i].depth - cm[i].tab_k};
+                tab_fill f = {.c = c, .t = tw + (cm[i].tab_word - c->attr_words), .K = cm[i].tab_k,
+                              .D = c->models[i].depth - cm[i].tab_k};
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
     }
     if (!r) r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
-    if (!r) r = upload(g, &cg->attr, aw ? aw : c->attr, ((uint64_t)c->attr_words + tab_words) * 4, "compact attributes", err);
-    vx_free(&g->alloc, aw);
+    uint64_t ab = ((uint64_t)c->attr_words + tab_words) * 4;
+    if (!r) r = vx__buffer_create(g, ab ? ab : 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact attributes", &cg->attr, err);
+    if (!r) r = vx__buffer_upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, err);
+    if (!r) r = vx__buffer_upload_at(g, &cg->attr, (uint64_t)c->attr_words * 4, tw, (uint64_t)tab_words * 4, err);
+    vx_free(&g->alloc, tw);
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
     /* the passes' binding 3 (trace_common.glsl CModels): the palette first, so that

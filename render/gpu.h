@@ -130,6 +130,9 @@ vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const c
 vx_result vx__image3d_create(vx_gpu* g, const uint32_t extent[3], const char* label, vx__buffer* out, vx_error* err);
 /* Copies data into a buffer (through a staging buffer if not mapped). */
 vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err);
+/* The same at a byte offset into the buffer (offset + size within it). */
+vx_result vx__buffer_upload_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, const void* data, VkDeviceSize size,
+                               vx_error* err);
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);
 
 /* gpu_pipeline.c: created once per distinct key and cached in the vx_gpu

@@ -74,7 +74,8 @@ void vx__buffer_destroy(vx_gpu* g, vx__buffer* b) {
     memset(b, 0, sizeof *b);
 }
 
-static vx_result staged_copy(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, bool up, vx_error* err) {
+static vx_result staged_copy(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, void* data, VkDeviceSize size, bool up,
+                              vx_error* err) {
     vx__buffer st;
     vx_result r = vx__buffer_create(g, size, 0, true, "staging", &st, err);
     if (r) return r;
@@ -86,10 +87,13 @@ static vx_result staged_copy(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize 
     r = vx__cmd_begin(g, err);
     if (!r) {
         VkBufferCopy c = {.size = size};
-        if (up)
+        if (up) {
+            c.dstOffset = offset;
             vkCmdCopyBuffer(g->cmd, st.buf, b->buf, 1, &c);
-        else
+        } else {
+            c.srcOffset = offset;
             vkCmdCopyBuffer(g->cmd, b->buf, st.buf, 1, &c);
+        }
         r = vx__cmd_submit_wait(g, err);
     }
     if (!r && !up) memcpy(data, st.map, size);
@@ -98,13 +102,19 @@ static vx_result staged_copy(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize 
 }
 
 vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDeviceSize size, vx_error* err) {
+    return vx__buffer_upload_at(g, b, 0, data, size, err);
+}
+
+vx_result vx__buffer_upload_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, const void* data, VkDeviceSize size,
+                               vx_error* err) {
     if (size == 0) return VX_OK;
-    if (size > b->size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "upload larger than buffer");
+    if (offset > b->size || size > b->size - offset)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "upload past the buffer's end");
     if (b->map) {
-        memcpy(b->map, data, size);
+        memcpy((uint8_t*)b->map + offset, data, size);
         return VX_OK;
     }
-    return staged_copy(g, b, (void*)data, size, true, err);
+    return staged_copy(g, b, offset, (void*)data, size, true, err);
 }
 
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err) {
@@ -114,7 +124,7 @@ vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize
         memcpy(data, b->map, size);
         return VX_OK;
     }
-    return staged_copy(g, b, data, size, false, err);
+    return staged_copy(g, b, 0, data, size, false, err);
 }
 
 vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err) {

@@ -184,6 +184,19 @@ static uint64_t compare(const vx_svo_scene* s, const char* name, uint32_t w, uin
     return hits_total;
 }
 
+/* compare() on a scene of model `model` of s alone, one instance at the
+ * origin (no BVH); the model stays owned by s */
+static uint64_t compare_alone(const vx_svo_scene* s, uint32_t model, const char* name, uint32_t w, uint32_t h) {
+    vx_svo_scene s1;
+    vx_svo_model only = s->models[model];
+    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&s1, &only, 1, &i1, 1);
+    uint64_t hit = compare(&s1, name, w, h);
+    s1.models[0] = (vx_svo_model){0};
+    vx_svo_scene_free(&s1);
+    return hit;
+}
+
 static void test_generated(void) {
     if (gpu_skip) SKIP(gpu_skip);
     /* palette: sparse, dense, nearly full; RGBA: gradients, noise, 8^3 tiles; one 10 levels deep */
@@ -242,13 +255,7 @@ static void test_generated(void) {
         vx_render_scene_destroy(rs);
     }
     /* one instance (no BVH): the deep model alone */
-    vx_svo_scene s1;
-    vx_svo_model only = s.models[5];
-    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(&s1, &only, 1, &i1, 1);
-    CHECK(compare(&s1, "10 levels deep, one instance", 160, 96) > 160 * 96 / 4);
-    s1.models[0] = (vx_svo_model){0}; /* owned by s */
-    vx_svo_scene_free(&s1);
+    CHECK(compare_alone(&s, 5, "10 levels deep, one instance", 160, 96) > 160 * 96 / 4);
     vx_svo_scene_free(&s);
 }
 
@@ -311,13 +318,7 @@ static void test_deep(void) {
     vx_svo_scene s;
     ts_scene(&s, m, 2, in, 3);
     CHECK(compare(&s, "11 and 13 levels deep", 160, 96) > 160 * 96 / 4);
-    vx_svo_scene s1;
-    vx_svo_model only = s.models[1];
-    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(&s1, &only, 1, &i1, 1);
-    CHECK(compare(&s1, "13 levels deep, one instance", 160, 96) > 160 * 96 / 8);
-    s1.models[0] = (vx_svo_model){0}; /* owned by s */
-    vx_svo_scene_free(&s1);
+    CHECK(compare_alone(&s, 1, "13 levels deep, one instance", 160, 96) > 160 * 96 / 8);
     vx_svo_scene_free(&s);
 }
 
@@ -368,13 +369,7 @@ static void test_start_table(void) {
     vx_svo_scene s;
     ts_scene(&s, m, 2, in, 2);
     CHECK(compare(&s, "start table, leaf cubes", 128, 96) > 128 * 96 / 4);
-    vx_svo_scene s1;
-    vx_svo_model only = s.models[0];
-    vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(&s1, &only, 1, &i1, 1);
-    CHECK(compare(&s1, "start table, one instance", 128, 96) > 128 * 96 / 4);
-    s1.models[0] = (vx_svo_model){0}; /* owned by s */
-    vx_svo_scene_free(&s1);
+    CHECK(compare_alone(&s, 0, "start table, one instance", 128, 96) > 128 * 96 / 4);
     vx_svo_scene_free(&s);
 }
 
