@@ -137,11 +137,12 @@ struct vx_render_scene {
      * frame used it */
     vx__smap smap;
     bool smap_used;
-    /* the map's node list: 0 made at the first build (from the node words
-     * read back), 1 made (smap.side 0: no map possible), 2 never (shadow_map_side
-     * 1, the compact layout, float64, an edited model); smap_side_req: the
-     * side asked for */
-    int smap_state;
+    /* the map's node list (SMAP_*); smap_side_req: the side asked for */
+    enum {
+        SMAP_LATER, /* made at the first build, from the node words read back */
+        SMAP_MADE,  /* made (smap.side 0: no map possible) */
+        SMAP_NEVER  /* shadow_map_side 1, the compact layout, float64, an edited model */
+    } smap_state;
     uint32_t smap_side_req;
     /* the light of the last colour frame since the instances last moved:
      * a map is built only for a light and instances two frames have had */
@@ -518,14 +519,14 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
 vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err) {
     if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx__smap_free(rs->gpu, &rs->smap);
-    rs->smap_state = 1;
+    rs->smap_state = SMAP_MADE;
     if (rs->compact || rs->precise || side == 1) return VX_OK;
     return smap_list(rs, s, side, 0, err);
 }
 
 /* The node list from the plain layout's words on the GPU (at the first build). */
 static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error* err) {
-    rs->smap_state = 1;
+    rs->smap_state = SMAP_MADE;
     uint64_t words = 0;
     for (uint32_t i = 0; i < rs->model_count; i++)
         if (rs->wreg[i].have && (uint64_t)rs->wreg[i].off + rs->wreg[i].have > words) words = (uint64_t)rs->wreg[i].off + rs->wreg[i].have;
@@ -616,9 +617,9 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
          * frames), from the words on the GPU: the scene does not keep the
          * models, and listing every scene took 1-31 ms and a buffer */
         rs->smap_side_req = desc ? desc->shadow_map_side : 0;
-        rs->smap_state = rs->precise || rs->smap_side_req == 1 ? 2 : 0;
+        rs->smap_state = rs->precise || rs->smap_side_req == 1 ? SMAP_NEVER : SMAP_LATER;
     } else {
-        rs->smap_state = 2;
+        rs->smap_state = SMAP_NEVER;
         vx_compact_scene c;
         uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
         vx_compact_desc cd = {.alloc = &rs->alloc,
@@ -909,7 +910,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
      * no map (listing the nodes again would cost a stroke tens of ms on a
      * large model) */
     vx__smap_free(g, &rs->smap);
-    rs->smap_state = 2;
+    rs->smap_state = SMAP_NEVER;
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);
     uint32_t depth = 0;
@@ -1163,7 +1164,7 @@ static vx_result smap_ensure(vx_render_scene* rs, const vx__frame* f, bool allow
 static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max_side, vx_error* err) {
     settle(rs);
     vx_result r = VX_OK;
-    if (rs->smap_state == 0 && (r = smap_list_gpu(rs, max_side, err))) return r;
+    if (rs->smap_state == SMAP_LATER && (r = smap_list_gpu(rs, max_side, err))) return r;
     if (!rs->smap.side) return VX_OK;
     uint32_t n = rs->inst_count;
     double(*world)[12] = vx_calloc(&rs->alloc, n ? n : 1, sizeof *world);
@@ -1179,16 +1180,26 @@ static vx_result smap_build(vx_render_scene* rs, const float lf[3], uint32_t max
     return r;
 }
 
+/* Whether a map can still be built: its list is to be made, or made with a side. */
+static bool smap_possible(const vx_render_scene* rs) {
+    return rs->smap_state == SMAP_LATER || (rs->smap_state == SMAP_MADE && rs->smap.side);
+}
+
+/* The map's bindings, side and instance entries (not its origin) into *out. */
+static void sun_map_out(vx_render_scene* rs, vx__sun_map* out) {
+    out->side = rs->smap.side, out->insts = rs->smap.insts_built;
+    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+}
+
 vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f, bool allow, vx__sun_map* out,
                                          vx_error* err) {
     if (!rs || !f || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     memset(out, 0, sizeof *out);
     bool use = false;
     vx_result r = VX_OK;
-    if (!use_precise(rs) && !f->lod && (rs->smap_state == 0 || rs->smap.side)) r = smap_ensure(rs, f, allow, &use, err);
+    if (!use_precise(rs) && !f->lod && smap_possible(rs)) r = smap_ensure(rs, f, allow, &use, err);
     if (r || !use) return r;
-    out->side = rs->smap.side, out->insts = rs->smap.insts_built;
-    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+    sun_map_out(rs, out);
     return VX_OK;
 }
 
@@ -1196,7 +1207,7 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
                                    vx__sun_map* out, vx_error* err) {
     if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     memset(out, 0, sizeof *out);
-    if (rs->smap_state == 2 || (rs->smap_state == 1 && !rs->smap.side)) return VX_OK;
+    if (!smap_possible(rs)) return VX_OK;
     if (!(rs->smap.valid && !memcmp(light, rs->smap.light, sizeof rs->smap.light))) {
         vx_result r = smap_build(rs, light, max_side, err);
         if (r) return r;
@@ -1206,9 +1217,7 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
     }
     if (!rs->smap.valid) return VX_OK;
     smap_origin(rs, ref, out->origin);
-    out->side = rs->smap.side;
-    out->insts = rs->smap.insts_built;
-    out->map = &rs->smap.map, out->nodes = &rs->smap.nodes, out->insts_buf = &rs->smap.insts;
+    sun_map_out(rs, out);
     return VX_OK;
 }
 
@@ -1230,7 +1239,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* the shadow rays' depth map: colour mode, float variant, no LOD (a LOD
      * hit is a coarse node, larger than the listed ones) */
     bool smap = false;
-    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && (rs->smap_state == 0 || rs->smap.side) &&
+    if (!precise && f->mode == VX_RENDER_COLOR && !f->lod && smap_possible(rs) &&
         (r = smap_ensure(rs, f, !(desc && desc->no_shadow_map), &smap, err)))
         return r;
     rs->smap_used = smap;
