@@ -50,6 +50,17 @@ static uint8_t room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
     return (x >= 5 && x <= 6 && y >= 5 && y <= 6 && z <= 2) ? 9 : 0;
 }
 
+/* a metal floor (3), a wall (5), an emissive block (9) and a glass block of
+ * 4^3 cells (4): the glass room of the compact passes and the pipeline cache
+ * tests (inline: the other includers do not use it) */
+static inline uint8_t glass_room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (z == 0) return 3;
+    if (x == 0) return 5;
+    if (x >= 8 && x <= 9 && y >= 8 && y <= 9 && z <= 2) return 9;
+    return x >= 3 && x <= 6 && y >= 3 && y <= 6 && z <= 4 ? 4 : 0;
+}
+
 /* A small lit room: floor, two walls, an emissive block (palette 9). */
 static void room_scene(vx_svo_scene* s) {
     cells_scene(s, 12, room_cell);

@@ -245,15 +245,6 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
-/* a metal floor (3), a wall (5), an emissive block (9) and a glass block of 4^3 cells (4) */
-static uint8_t glass_room_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
-    (void)n;
-    if (z == 0) return 3;
-    if (x == 0) return 5;
-    if (x >= 8 && x <= 9 && y >= 8 && y <= 9 && z <= 2) return 9;
-    return x >= 3 && x <= 6 && y >= 3 && y <= 6 && z <= 4 ? 4 : 0;
-}
-
 static void test_room(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
