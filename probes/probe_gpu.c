@@ -14,6 +14,7 @@
 #include "render/gpu.h"
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
+#include "probe_pt.comp.h"  /* the same, -DPT_PRECISE: the render passes' kernel */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
 #include "probe_filter.comp.h" /* shaders/probe_filter.comp */
 #include "probe_beam.comp.h"   /* shaders/probe_beam.comp */
@@ -297,12 +298,17 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u);
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__probe_spv_arr, .spirv_size = sizeof vx__probe_spv_arr,
+    /* the render passes' floats precise (probe.comp's PT_PRECISE: their images the same bits whatever the
+     * kernel's variant), the bake's as they were (its .probes bytes) */
+    bool bake = pmode == PMODE_BAKE;
+    const uint32_t* code = bake ? vx__probe_spv_arr : vx__probe_pt_spv_arr;
+    size_t code_size = bake ? sizeof vx__probe_spv_arr : sizeof vx__probe_pt_spv_arr;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = code, .spirv_size = code_size,
                                        .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, c->spec, sizeof c->spec);
-    uint64_t key = 0x9B0BE2ull;
+    uint64_t key = 0x9B0BE2ull + (bake ? 0 : 1);
     for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
     return vx__pipeline_get(c->g, key, &pd, out, err);
 }

@@ -16,15 +16,25 @@ if(VX_WITH_VULKAN)
       COMMENT "glslangValidator ${name}.comp"
       VERBATIM)
   endforeach()
-  add_custom_command(
-    OUTPUT ${VX_PROBES_SPV_DIR}/probe.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
-            --vn vx__probe_spv_arr -o ${VX_PROBES_SPV_DIR}/probe.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
-    COMMENT "glslangValidator probe.comp"
-    VERBATIM)
+  # probe.comp twice: probe, the bake's kernel (as it was); probe_pt, the render passes' (GPU path tracer,
+  # GI, light field), every float operation of its path and walk precise (PT_PRECISE: the same bits with
+  # and without the sun's depth map on NVIDIA)
+  foreach(spec "probe:" "probe_pt:-DPT_PRECISE")
+    string(FIND "${spec}" ":" colon)
+    string(SUBSTRING "${spec}" 0 ${colon} name)
+    math(EXPR colon "${colon} + 1")
+    string(SUBSTRING "${spec}" ${colon} -1 defs)
+    string(REPLACE "," ";" defs "${defs}")
+    add_custom_command(
+      OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
+              --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
+      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
+              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
+              ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
+      COMMENT "glslangValidator ${name}.comp"
+      VERBATIM)
+  endforeach()
   # shaders/probe_beam.comp includes render/shaders/beam.comp's walk, made an include by beam_body.cmake
   add_custom_command(
     OUTPUT ${VX_PROBES_SPV_DIR}/beam_body.glsl
@@ -52,6 +62,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/probe_gpu.c
     ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c
     ${VX_PROBES_SPV_DIR}/probe.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_pt.comp.h
     ${VX_PROBES_SPV_DIR}/probe_out.comp.h
     ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
     ${VX_PROBES_SPV_DIR}/probe_beam.comp.h)

@@ -9,6 +9,12 @@
 //   ems[] (emissive voxels, five vec4 each, layout of probes/probe_gpu.c),
 // and define uvec2 rng_seed() (the seed's two words) somewhere in the shader.
 uvec2 rng_seed();
+// PT_PREC: `precise` where the includer defines it so (probe.comp's render kernel, PT_PRECISE: every float
+// operation of the path as written, no contraction into fused multiply-adds, so that its kernel variants
+// give the same bits on NVIDIA), else nothing
+#ifndef PT_PREC
+#define PT_PREC
+#endif
 const float PI = 3.14159265358979323846;
 const float BIG = 3.0e38;
 
@@ -66,11 +72,11 @@ bool occluded_to(vec3 o, vec3 d, float tmax) {
 bool occluded(vec3 o, vec3 d) { return occluded_to(o, d, BIG); }
 
 Surf surface(vec3 o, vec3 d, Hit h) {
-    Surf s;
+    PT_PREC Surf s;
     Inst I = insts[h.inst];
     vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
     s.n = normalize(row.xyz * h.nsign);
-    vec3 p = o + d * h.t;
+    PT_PREC vec3 p = o + d * h.t;
     // off the surface (as the tracer's shadow rays; float needs more than the CPU's 1e-6 cell)
     s.p = p + s.n * (I.cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
     s.alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
@@ -83,20 +89,20 @@ Surf surface(vec3 o, vec3 d, Hit h) {
 
 #include "sampling.glsl" // basis, cosine_dir, cone_dir (shared with the pass shaders)
 
-float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-float mis(float a, float b) { return a * a / (a * a + b * b); }
+PT_PREC float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+PT_PREC float mis(float a, float b) { return a * a / (a * a + b * b); }
 
-float ggx_d(float a2, float z) {
+PT_PREC float ggx_d(float a2, float z) {
     float c = z * z * (a2 - 1.0) + 1.0;
     return a2 / (PI * c * c);
 }
-float ggx_lambda(float a2, float z) {
-    float z2 = z * z;
+PT_PREC float ggx_lambda(float a2, float z) {
+    PT_PREC float z2 = z * z;
     if (z2 >= 1.0) return 0.0;
     if (!(z2 > 0.0)) return 1e30;
     return 0.5 * (-1.0 + sqrt(1.0 + a2 * (1.0 - z2) / z2));
 }
-vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
+PT_PREC vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
     vec3 vh = normalize(vec3(alpha * wo.xy, wo.z));
     float l2 = dot(vh.xy, vh.xy);
     vec3 t1 = l2 > 0.0 ? vec3(-vh.y, vh.x, 0.0) / sqrt(l2) : vec3(1.0, 0.0, 0.0);
@@ -107,8 +113,8 @@ vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
     vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
     return normalize(vec3(alpha * nh.xy, max(0.0, nh.z)));
 }
-float fresnel_dielectric(float cosi, float eta) {
-    float s2t = (1.0 - cosi * cosi) / (eta * eta);
+PT_PREC float fresnel_dielectric(float cosi, float eta) {
+    PT_PREC float s2t = (1.0 - cosi * cosi) / (eta * eta);
     if (s2t >= 1.0) return 1.0;
     float ct = sqrt(1.0 - s2t);
     float rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
@@ -119,7 +125,7 @@ const int B_LAMBERT = 0, B_GLOSSY = 1, B_GLASS = 2;
 struct Bsdf { int kind; vec3 alb, kd, f0; float alpha, a2, ps, eta; vec3 n, t, b; };
 
 Bsdf bsdf_of(Surf s) {
-    Bsdf B;
+    PT_PREC Bsdf B;
     B.kind = B_LAMBERT;
     B.alb = s.alb;
     B.kd = vec3(0.0);
@@ -150,9 +156,9 @@ Bsdf bsdf_of(Surf s) {
     return B;
 }
 
-vec3 to_local(Bsdf B, vec3 v) { return vec3(dot(v, B.t), dot(v, B.b), dot(v, B.n)); }
+PT_PREC vec3 to_local(Bsdf B, vec3 v) { return vec3(dot(v, B.t), dot(v, B.b), dot(v, B.n)); }
 
-vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
+PT_PREC vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, PT_PREC out float pdf) {
     vec3 wo = to_local(B, wo_w), wi = to_local(B, wi_w);
     pdf = 0.0;
     if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);
@@ -168,7 +174,8 @@ vec3 bsdf_eval(Bsdf B, vec3 wo_w, vec3 wi_w, out float pdf) {
 }
 
 // bsdf_sample with its three numbers given (u0 picks the lobe, u1 and u2 the direction in it)
-bool bsdf_sample_u(Bsdf B, vec3 wo_w, float u0, float u1, float u2, out vec3 wi_w, out vec3 w, out float pdf) {
+bool bsdf_sample_u(Bsdf B, vec3 wo_w, float u0, float u1, float u2, PT_PREC out vec3 wi_w, PT_PREC out vec3 w,
+                   PT_PREC out float pdf) {
     vec3 wo = to_local(B, wo_w);
     w = vec3(0.0);
     pdf = 0.0;
@@ -181,7 +188,7 @@ bool bsdf_sample_u(Bsdf B, vec3 wo_w, float u0, float u1, float u2, out vec3 wi_
         wi_w = normalize(wi.x * B.t + wi.y * B.b + wi.z * B.n);
     }
     vec3 f = bsdf_eval(B, wo_w, wi_w, pdf);
-    float cs = dot(wi_w, B.n);
+    PT_PREC float cs = dot(wi_w, B.n);
     if (!(pdf > 0.0) || cs <= 0.0) return false;
     w = f * cs / pdf;
     return true;
@@ -193,22 +200,28 @@ bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
 }
 
 // one event at a dielectric interface (n faces the incident side, eta = n_other / n_this)
-bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, out vec3 wi_w, out bool refracted, out float weight) {
+bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, PT_PREC out vec3 wi_w, out bool refracted,
+                PT_PREC out float weight) {
     weight = 1.0;
     refracted = true;
     wi_w = -wo_w;
+#ifdef PT_PRECISE
+    precise float em1 = eta - 1.0;
+    if (abs(em1) < 1e-6) return true; // index-matched: no interface
+#else
     if (abs(eta - 1.0) < 1e-6) return true; // index-matched: no interface
+#endif
     vec3 t, b;
     basis(n, t, b);
-    vec3 wo = vec3(dot(wo_w, t), dot(wo_w, b), dot(wo_w, n));
+    PT_PREC vec3 wo = vec3(dot(wo_w, t), dot(wo_w, b), dot(wo_w, n));
     if (wo.z <= 0.0) return false;
     bool rough = alpha >= 1e-3;
     float u1 = rnd(), u2 = rnd(), u3 = rnd();
     vec3 m = rough ? ggx_vndf(alpha, wo, u1, u2) : vec3(0.0, 0.0, 1.0);
-    float c = dot(wo, m);
+    PT_PREC float c = dot(wo, m);
     if (c <= 0.0) return false;
     float fr = fresnel_dielectric(c, eta);
-    vec3 wi;
+    PT_PREC vec3 wi;
     if (u3 < fr) {
         wi = 2.0 * c * m - wo;
         refracted = false;
@@ -271,28 +284,29 @@ uint model_cell_attr(uint mi, uvec3 c) {
 #ifndef GLASS_CELL
 #define GLASS_CELL(mi, c) is_glass(model_cell_attr(mi, c))
 #endif
-bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec3 d, inout vec3 thr, out vec3 o) {
+bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d, PT_PREC inout vec3 thr,
+                PT_PREC out vec3 o) {
     uvec3 c = cell;
     o = p;
     for (int step = 0; step < 512; step++) {
         Inst I = insts[inst];
-        vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
-        vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
-        float te = BIG;
+        PT_PREC vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+        PT_PREC vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+        PT_PREC float te = BIG;
         int ax = -1;
         for (int a = 0; a < 3; a++) {
             if (dm[a] == 0.0) continue;
-            float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            PT_PREC float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
             if (ta < te) { te = ta; ax = a; }
         }
         if (ax < 0) return false;
         te = max(te, 0.0);
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
-        vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
-        vec3 q = p + d * te;
-        float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
-        vec3 qi = q + d * eps;
-        vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
+        PT_PREC vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
+        PT_PREC vec3 q = p + d * te;
+        PT_PREC float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
+        PT_PREC vec3 qi = q + d * eps;
+        PT_PREC vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
         float side = exp2(float(model_at(I.model).depth));
         if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(side))) && uvec3(mq) != c &&
             GLASS_CELL(I.model, uvec3(mq))) {
@@ -311,7 +325,12 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec
         vec3 wi;
         bool refr;
         float w;
+#ifdef PT_PRECISE
+        precise float eta = 1.0 / ior;
+        if (!dielectric(-nf, -d, eta, alpha, wi, refr, w)) return false;
+#else
         if (!dielectric(-nf, -d, 1.0 / ior, alpha, wi, refr, w)) return false;
+#endif
         thr *= w;
         d = wi;
         if (refr) {
@@ -326,7 +345,7 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, vec3 p, inout vec
 // A point of an emissive voxel's surface, the voxel picked by power among the first `count` of ems[]
 // (their cdf), its face by area, the point uniform on the face: y, the face's outward normal n, the
 // voxel's radiance rad and the length of the face's normal edge (an offset scale).
-void emitter_point(uint count, out vec3 y, out vec3 n, out vec3 rad, out float edge) {
+void emitter_point(uint count, PT_PREC out vec3 y, out vec3 n, out vec3 rad, out float edge) {
     float u = rnd();
     uint lo = 0u, hi = count - 1u;
     while (lo < hi) {
@@ -337,9 +356,14 @@ void emitter_point(uint count, out vec3 y, out vec3 n, out vec3 rad, out float e
     vec4 c0 = ems[5u * lo];
     vec3 ax[3] = vec3[3](ems[5u * lo + 1u].xyz, ems[5u * lo + 2u].xyz, ems[5u * lo + 3u].xyz);
     rad = ems[5u * lo + 4u].xyz;
-    float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
-    float pick = rnd() * c0.w;
+    PT_PREC float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
+    PT_PREC float pick = rnd() * c0.w;
+#ifdef PT_PRECISE
+    precise float fa01 = fa0 + fa1;
+    int a = pick < fa0 ? 0 : (pick < fa01 ? 1 : 2);
+#else
     int a = pick < fa0 ? 0 : (pick < fa0 + fa1 ? 1 : 2);
+#endif
     float side = rnd() < 0.5 ? 0.0 : 1.0;
     float u1 = rnd(), u2 = rnd();
     vec3 ea = ax[a], eb = ax[(a + 1) % 3], ec = ax[(a + 2) % 3];

@@ -33,6 +33,16 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
+// PT_PRECISE (probes.cmake: the render passes' kernel, probe_pt): every float operation of the path
+// and of the octree walk is precise (PT_PREC, path_common.glsl; WPREC, trace_common.glsl): with the
+// sun's depth map (SMAP) and without it the NVIDIA compiler (driver 580) contracted them into fused
+// multiply-adds differently, and 54 of 2,073,600 values of a path-traced Cornell box image differed
+// (issue 21, H200; lavapipe gave the same bits; with the path precise and not the walk, 45). The bake
+// keeps its kernel as it was (probe: main's SPIR-V, its .probes bytes); its variants agree already.
+#ifdef PT_PRECISE
+#define PT_PREC precise
+#define WALK_PRECISE
+#endif
 // BEAM (constant 5, trace_common.glsl): the bake's camera rays start their walk at their texel
 // block's distance from probe_beam.comp (binding 11), where BEAM > 1 (the block side in texels)
 #define TRACE_BEAM
@@ -127,7 +137,7 @@ bool sun_occluded(vec3 p) {
 uvec2 rng_seed() { return P.seed.xy; }
 
 // ---- the lighting model (probes/light.c) and the path tracer (probes/pathtrace.c) ----
-vec3 direct(Surf s) {
+PT_PREC vec3 direct(Surf s) {
     float ndl = dot(s.n, P.light.xyz);
     if (ndl <= 0.0 || !(P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0)) return vec3(0.0);
     if (occluded(s.p, P.light.xyz)) return vec3(0.0);
@@ -137,14 +147,14 @@ vec3 direct(Surf s) {
 Surf g_s; // the vertex being shaded (GLSL passes structs by value; one copy)
 
 // the frame's sphere and rect lights along a ray, nearest before tmax (probes/pathtrace.c area_hit)
-bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
+bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, PT_PREC out float pdf) {
     bool found = false;
     le = vec3(0.0);
     pdf = 0.0;
     for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u];
         uint type = uint(a.w);
-        float t = BIG, p = 0.0;
+        PT_PREC float t = BIG, p = 0.0;
         if (type == 3u) {
             vec3 v = a.xyz - o;
             float d2 = dot(v, v), r2 = c.w * c.w, bb = dot(v, d);
@@ -160,9 +170,14 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
             if (dn >= 0.0) continue;
             t = dot(a.xyz - o, b.xyz) / dn;
             if (!(t > 0.0)) continue;
-            vec3 y = o + d * t - a.xyz, t2 = cross(b.xyz, e.xyz);
-            float area = dd.w * e.w;
+            PT_PREC vec3 y = o + d * t - a.xyz, t2 = cross(b.xyz, e.xyz);
+            PT_PREC float area = dd.w * e.w;
+#ifdef PT_PRECISE
+            precise float hd = 0.5 * dd.w, he = 0.5 * e.w;
+            if (!(area > 0.0) || abs(dot(y, e.xyz)) > hd || abs(dot(y, t2)) > he) continue;
+#else
             if (!(area > 0.0) || abs(dot(y, e.xyz)) > 0.5 * dd.w || abs(dot(y, t2)) > 0.5 * e.w) continue;
+#endif
             p = t * t / (area * -dn);
         } else {
             continue;
@@ -179,7 +194,7 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, out float pdf) {
 
 // light sampling at a non-delta vertex (probes/pathtrace.c nee)
 vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
-    vec3 out_l = vec3(0.0);
+    PT_PREC vec3 out_l = vec3(0.0);
     float bp;
     Surf s = g_s;
     if (!skip_direct && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) && dot(s.n, P.light.xyz) > 0.0 &&
@@ -190,8 +205,8 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
     for (uint i = 0u; LIGHTS && i < P.cnt.x; i++) {
         vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
         uint type = uint(a.w);
-        vec3 e = c.xyz, l;
-        float pdf = 0.0, tmax = BIG, g = 1.0;
+        PT_PREC vec3 e = c.xyz, l;
+        PT_PREC float pdf = 0.0, tmax = BIG, g = 1.0;
         if (skip_direct) continue; // the direct pass's (probes/pathtrace.c)
         if (type == 0u) {
             if (dd.z >= 1e-6) { // CONE_MIN of probes/pathtrace.c
@@ -219,7 +234,7 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
             tmax = dist * (1.0 - 1e-6);
         } else if (type == 3u) {
             vec3 v = a.xyz - s.p;
-            float d2 = dot(v, v), r2 = c.w * c.w;
+            PT_PREC float d2 = dot(v, v), r2 = c.w * c.w;
             if (d2 <= r2 || !(r2 > 0.0)) continue;
             float dist = sqrt(d2), s2 = r2 / d2, omc = s2 / (1.0 + sqrt(1.0 - s2));
             l = cone_dir(v / dist, omc, rnd(), rnd());
@@ -228,19 +243,19 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
             tmax = (bb - sqrt(max(0.0, disc))) * (1.0 - 1e-6);
         } else {
             vec4 ee = lights[5u * i + 4u];
-            float area = dd.w * ee.w;
+            PT_PREC float area = dd.w * ee.w;
             if (!(area > 0.0)) continue;
             float u = rnd() - 0.5, w = rnd() - 0.5;
             vec3 v = a.xyz + u * dd.w * ee.xyz + w * ee.w * cross(b.xyz, ee.xyz) - s.p;
             float d2 = dot(v, v), dist = sqrt(d2);
             if (!(dist > 0.0)) continue;
             l = v / dist;
-            float cl = -dot(l, b.xyz);
+            PT_PREC float cl = -dot(l, b.xyz);
             if (cl <= 0.0) continue;
             pdf = d2 / (area * cl);
             tmax = dist * (1.0 - 1e-6);
         }
-        float cs = dot(s.n, l);
+        PT_PREC float cs = dot(s.n, l);
         if (cs <= 0.0 || !(g > 0.0) || isinf(g) || occluded_to(s.p, l, tmax)) continue;
         vec3 f = bsdf_eval(B, wo, l, bp);
         float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
@@ -250,12 +265,17 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         vec3 y, n, rad;
         float edge;
         emitter_point(P.cnt.y, y, n, rad, edge);
-        vec3 v = y - s.p;
-        float d2 = dot(v, v), dist = sqrt(d2);
+        PT_PREC vec3 v = y - s.p;
+        PT_PREC float d2 = dot(v, v), dist = sqrt(d2);
         if (dist > 0.0) {
-            vec3 l = v / dist;
-            float cy = -dot(l, n), cs = dot(s.n, l);
+            PT_PREC vec3 l = v / dist;
+            PT_PREC float cy = -dot(l, n), cs = dot(s.n, l);
+#ifdef PT_PRECISE
+            precise float tl = dist - 1e-3 * edge;
+            if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, tl)) {
+#else
             if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, dist - 1e-3 * edge)) {
+#endif
                 float pdf = lum(rad) / P.pt.x * d2 / cy;
                 vec3 f = bsdf_eval(B, wo, l, bp);
                 float w = mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf;
@@ -279,9 +299,9 @@ vec2 g_bounce_u = vec2(0.0);
 
 // radiance along o + t d (probes/pathtrace.c vx__path); hit: the ray met a voxel
 vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
-    vec3 thr = vec3(1.0), acc = vec3(0.0);
+    PT_PREC vec3 thr = vec3(1.0), acc = vec3(0.0);
     hit_out = false;
-    float prev_pdf = 0.0;
+    PT_PREC float prev_pdf = 0.0;
     uint depth = 0u;
     int vertex = 0;
     for (int events = 0; events < 1024; events++) {
@@ -301,9 +321,14 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             for (uint i = 0u; LIGHTS && i < P.cnt.x && !(indirect && vertex <= 1); i++) {
                 vec4 a = lights[5u * i], b = lights[5u * i + 1u], c = lights[5u * i + 2u], dd = lights[5u * i + 3u];
                 if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;
-                float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
+                PT_PREC float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
                 vec3 cr = cross(b.xyz, d);
+#ifdef PT_PRECISE
+                precise float sn2 = sn * sn;
+                if (!(dot(b.xyz, d) > 0.0 && dot(cr, cr) < sn2)) continue;
+#else
                 if (!(dot(b.xyz, d) > 0.0 && dot(cr, cr) < sn * sn)) continue;
+#endif
                 acc += thr * c.xyz / (PI * sn * sn) * (prev_pdf > 0.0 ? mis(prev_pdf, 1.0 / (2.0 * PI * omc)) : 1.0);
             }
             break;
@@ -312,7 +337,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         g_s = surface(o, d, h);
         if (SMAP) g_shit = uvec4(h.inst, h.cell), g_sentered = h.t > 0.0;
         if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
-            float w = 1.0;
+            PT_PREC float w = 1.0;
             if (LIGHTS && prev_pdf > 0.0 && P.cnt.y > 0u) {
                 float cy = abs(dot(d, g_s.n));
                 w = cy > 0.0 ? mis(prev_pdf, lum(g_s.emit) / P.pt.x * h.t * h.t / cy) : 0.0;
@@ -325,7 +350,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         if (B.kind == B_GLASS) {
             vec3 wi;
             bool refr;
-            float w;
+            PT_PREC float w;
             if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
             prev_pdf = 0.0;
             thr *= w;
@@ -335,7 +360,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
                 continue;
             }
             thr *= B.alb;
-            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            PT_PREC vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
             d = wi;
             if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
             continue;
@@ -343,7 +368,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         // Without lights nee() is the sun's term alone and draws no random numbers: its shadow ray is traced
         // after the bounce is sampled, so that the surface's frame is no longer live across it (fewer
         // registers); the same numbers and sums
-        vec3 sun_f = vec3(0.0), thr_v = thr;
+        PT_PREC vec3 sun_f = vec3(0.0), thr_v = thr;
         bool sun_ray = false;
         if (LIGHTS) {
             acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
@@ -357,7 +382,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             if (sun_ray && !sun_occluded(g_s.p)) acc += thr_v * sun_f;
             break;
         }
-        vec3 w;
+        PT_PREC vec3 w;
         bool sampled;
         if (STRAT && PMODE == P_BAKE && depth == 0u) {
             // the stratified pair replaces u1 and u2; all three numbers are still drawn, so that the
@@ -375,7 +400,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         thr *= w;
         depth++;
         if (depth >= 3u) { // VX__RR_DEPTH
-            float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
+            PT_PREC float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
             if (!(rnd() < q)) break;
             thr /= q;
         }
@@ -823,7 +848,7 @@ void render() {
     uint S = A + 2u * npx; // the blocks' base
     if (P.rk.x == 1u) {
         if (idx >= npx) return;
-        vec4 sum = P.rw.z == 0u ? vec4(0.0) : outv[A + 2u * idx];
+        PT_PREC vec4 sum = P.rw.z == 0u ? vec4(0.0) : outv[A + 2u * idx];
         uint j = 0u;
         for (; j < R; j++) sum += outv[S + 2u * (j * npx + idx)];
         if (j != R || !loops_intact()) {
@@ -843,15 +868,15 @@ void render() {
     uint x = l % W, y = render_row(l / W);
     bool ortho = F.rx.w != 0.0;
     float t_start = F.fwd.w;
-    vec4 acc = s0 == b0 ? vec4(0.0) : outv[at];
+    PT_PREC vec4 acc = s0 == b0 ? vec4(0.0) : outv[at];
     uint s = s0;
     for (; s < s1; s++) {
         rng_init(0x90000000u + y, x, s);
-        vec2 off = vec2(0.0);
+        PT_PREC vec2 off = vec2(0.0);
         if (spp > 1u && P.cnt.z == 0u) off = vec2(rnd(), rnd()) - 0.5;
-        float u = ((float(x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
-        float v = 1.0 - ((float(y) + 0.5 + off.y) / float(H)) * 2.0;
-        vec3 o, d;
+        PT_PREC float u = ((float(x) + 0.5 + off.x) / float(W)) * 2.0 - 1.0;
+        PT_PREC float v = 1.0 - ((float(y) + 0.5 + off.y) / float(H)) * 2.0;
+        PT_PREC vec3 o, d;
         if (ortho) {
             o = u * F.rx.xyz + v * F.uy.xyz;
             d = F.fwd.xyz;
@@ -859,7 +884,7 @@ void render() {
             d = normalize(F.fwd.xyz + u * F.rx.xyz + v * F.uy.xyz);
             o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
         }
-        vec3 c = vec3(0.0);
+        PT_PREC vec3 c = vec3(0.0);
         if (PMODE == P_PT || PMODE == P_PT_IND) {
             bool hit;
             acc.xyz += path(o, d, P.a.z, PMODE == P_PT_IND, hit);

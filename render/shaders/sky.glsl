@@ -10,15 +10,23 @@
 // The includer defines SKY_TEXEL(i): float i of the environment map's
 // texels (RGB per texel, row-major, row 0 at +z).
 
-vec3 sky_eval(vec4 zen, vec4 hor, vec4 gnd, vec4 map, vec3 d) {
+#ifndef PT_PREC
+#define PT_PREC
+#endif
+PT_PREC vec3 sky_eval(vec4 zen, vec4 hor, vec4 gnd, vec4 map, vec3 d) {
     uint kind = uint(hor.w);
     if (kind == 1u) return d.z >= 0.0 ? mix(hor.xyz, zen.xyz, min(d.z, 1.0)) : gnd.xyz;
     if (kind != 2u) return zen.xyz;
     float phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : atan(d.y, d.x); // atan2(0, 0) = 0, as in C
-    float u = (phi - map.x) / (2.0 * 3.14159265358979), v = acos(clamp(d.z, -1.0, 1.0)) / 3.14159265358979;
+    PT_PREC float u = (phi - map.x) / (2.0 * 3.14159265358979), v = acos(clamp(d.z, -1.0, 1.0)) / 3.14159265358979;
     u -= floor(u);
     uint w = uint(map.y), h = uint(map.z);
+#ifdef PT_PRECISE
+    precise float xf = max(u, 0.0) * map.y, yf = max(v, 0.0) * map.z;
+    uint x = min(uint(xf), w - 1u), y = min(uint(yf), h - 1u);
+#else
     uint x = min(uint(max(u, 0.0) * map.y), w - 1u), y = min(uint(max(v, 0.0) * map.z), h - 1u);
+#endif
     uint i = 3u * (y * w + x);
     return vec3(SKY_TEXEL(i), SKY_TEXEL(i + 1u), SKY_TEXEL(i + 2u)) * gnd.w;
 }

@@ -156,11 +156,20 @@ bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #endif
 
+// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE): every float operation of the walk precise
+// (no contraction into fused multiply-adds: the NVIDIA compiler contracted the walk's crossing times
+// differently in two variants of that kernel, issue 21); elsewhere the walk is as it was
+#ifdef WALK_PRECISE
+#define WPREC precise
+#else
+#define WPREC
+#endif
+
 // 1/d without infinities: a zero (or denormal) component becomes +-1e30 with
 // its sign, so that (plane - o) * inv is never 0 * inf = NaN and a ray lying
 // in a slab plane counts as displaced towards the sign of its component.
 RVEC3 safe_inv(RVEC3 d) {
-    RVEC3 r;
+    WPREC RVEC3 r;
     for (int i = 0; i < 3; i++)
         r[i] = abs(d[i]) < 1e-30 ? (sign_neg(d[i]) ? -1e30 : 1e30) : 1.0 / d[i];
     return r;
@@ -168,7 +177,7 @@ RVEC3 safe_inv(RVEC3 d) {
 
 // Ray/box slab test: (t entry, t exit).
 RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
-    RVEC3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
+    WPREC RVEC3 a = (lo - o) * rd_inv, b = (hi - o) * rd_inv;
     RVEC3 tn = min(a, b), tf = max(a, b);
     return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
@@ -250,7 +259,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     REAL sc = 1.0 / side;
     RVEC3 ol = clamp(1.0 + oa * sc, RVEC3(1.0), RVEC3(2.0));
 #else
-    vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
+    WPREC vec3 oa, ol, ol_lo = vec3(0.0), oa_lo = vec3(0.0);
     float sc = 1.0 / side;
     bool exact = DEEP >= 1 && (m.flags & 2u) != 0u;
     if (REBASE && exact) {
@@ -271,10 +280,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         ol = clamp(1.0 + oa * sc, vec3(1.0), vec3(2.0));
     }
 #endif
-    RVEC3 dl = d * sc;
-    REAL L = length(dl);
+    WPREC RVEC3 dl = d * sc;
+    WPREC REAL L = length(dl);
     dl /= L;
-    REAL tl1 = (tx - te) * L;
+    WPREC REAL tl1 = (tx - te) * L;
 
     // Tiny components would make the coefficients overflow; replace them
     // with +-2^-23 keeping the sign (so -0 stays "negative"). In double,
@@ -288,8 +297,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     if (abs(dl.x) < eps) dl.x = sign_neg(dl.x) ? -eps : eps;
     if (abs(dl.y) < eps) dl.y = sign_neg(dl.y) ? -eps : eps;
     if (abs(dl.z) < eps) dl.z = sign_neg(dl.z) ? -eps : eps;
-    RVEC3 coef = 1.0 / -abs(dl);
-    RVEC3 bias = coef * ol;
+    WPREC RVEC3 coef = 1.0 / -abs(dl);
+    WPREC RVEC3 bias = coef * ol;
     int oct = 7;
     if (dl.x > 0.0) { oct ^= 1; bias.x = 3.0 * coef.x - bias.x; }
     if (dl.y > 0.0) { oct ^= 2; bias.y = 3.0 * coef.y - bias.y; }
@@ -302,9 +311,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
 #endif
 
-    REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
-    REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
-    REAL hh = tmax;
+    WPREC REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
+    WPREC REAL tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
+    WPREC REAL hh = tmax;
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
 #ifdef TRACE_BEAM
@@ -333,9 +342,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     const int OA = REBASE ? S_MAX + 22 : 0, DM = OA + 3;
 #endif
 
-    RVEC3 pos = RVEC3(1.0);
+    WPREC RVEC3 pos = RVEC3(1.0);
     int scale = S_MAX - 1;
-    REAL scale_exp2 = 0.5;
+    WPREC REAL scale_exp2 = 0.5;
     bool hit = false;
     uint attr_rec = 0u;
     bool have_attr = false;
@@ -367,9 +376,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         int lvl_off = int(m.depth) - (S_MAX - 1);
 #endif
         int idx = 0;
+#ifdef WALK_PRECISE
+        precise RVEC3 tmid = 1.5 * coef - bias;
+        if (tmid.x > tmin) { idx ^= 1; pos.x = 1.5; }
+        if (tmid.y > tmin) { idx ^= 2; pos.y = 1.5; }
+        if (tmid.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#else
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#endif
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
@@ -418,8 +434,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     desc = nodes[parent];
                 loaded = true;
             }
-            RVEC3 tc = pos * coef - bias;
-            REAL tc_max = min(min(tc.x, tc.y), tc.z);
+            WPREC RVEC3 tc = pos * coef - bias;
+            WPREC REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
 #ifdef PRECISE
             // the mask form below made the NVIDIA compiler give the float64
@@ -431,9 +447,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             uint cbit = 1u << cs; // the child's leaf bit; its valid bit is cbit << 8
             if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
 #endif
-                REAL tv_max = min(tmax, tc_max);
-                REAL half_ = scale_exp2 * 0.5;
-                RVEC3 tcen = half_ * coef + tc;
+                WPREC REAL tv_max = min(tmax, tc_max);
+                WPREC REAL half_ = scale_exp2 * 0.5;
+                WPREC RVEC3 tcen = half_ * coef + tc;
                 // The DEEP kernels skip the test against the child's exit
                 // (tmin lies in the child by construction, as in the ESVO
                 // loop; tmin <= tmax is tested): 2-5% faster there on the
@@ -453,8 +469,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #else
                         float us = intBitsToFloat((127 - koff) << 23); // 2^-koff
                         float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0;
-                        float tw = te + (tbase + tmin * us) / L;
+                        WPREC float tw = te + (tbase + tmin * us) / L;
+#ifdef WALK_PRECISE
+                        precise float lw = (lod_a + lod_b * tw) * L, lc = scale_exp2 * us;
+                        stop = lw >= lc;
+#else
                         stop = (lod_a + lod_b * tw) * L >= scale_exp2 * us;
+#endif
 #endif
                     }
                     if (stop) {
@@ -604,9 +625,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
                 pos = vec3(1.0);
+#ifdef WALK_PRECISE
+                precise vec3 tmid = 1.5 * coef - bias;
+                if (tmid.x > tmin) { idx ^= 1; pos.x = 1.5; }
+                if (tmid.y > tmin) { idx ^= 2; pos.y = 1.5; }
+                if (tmid.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#else
                 if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
                 if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
                 if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#endif
                 loaded = false; if (SENT) desc = 0u;
                 pending = 0;
                 continue;
@@ -668,9 +696,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #else
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
     float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0; // t_r
-    float troot = tbase + tmin * us;              // model frame [1,2] units
+    WPREC float troot = tbase + tmin * us;        // model frame [1,2] units
 #endif
-    REAL t = te + troot / L;
+    WPREC REAL t = te + troot / L;
 #ifdef PRECISE
     const bool exact = false;
 #endif
@@ -685,24 +713,24 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // component accesses (c[axis] = ..., d[axis], p[axis]) into code that
     // never finished for some pixels of a 1920x1080 frame (issue 21);
     // explicit selects compute the same cell.
-    RVEC3 tent = (pos + scale_exp2) * coef - bias;
+    WPREC RVEC3 tent = (pos + scale_exp2) * coef - bias;
     int axis = 0;
     REAL ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) axis = 2;
     // unmirror the leaf cube and find the cell holding the hit point
-    RVEC3 lo, c;
-    REAL sz;
+    WPREC RVEC3 lo, c;
+    WPREC REAL sz;
 #ifndef PRECISE
     if (REBASE && koff != 0) {
         // in N's frame: the leaf's cube in the model's [1,2] cube (exact:
         // multiples of 2^-depth), the hit point's offsets in the leaf from
         // the crossing times, x(t) - pos = (tc - t) |dl| (mirrored)
         vec3 adl = SLOTS3(RB_ADL);
-        vec3 offm = ((pos * coef - bias) - tmin) * adl;
+        WPREC vec3 offm = ((pos * coef - bias) - tmin) * adl;
         vec3 pn = SLOTS3(RB_POS);
-        vec3 posr = pn + (pos - 1.0) * us;
-        float ser = scale_exp2 * us;
+        WPREC vec3 posr = pn + (pos - 1.0) * us;
+        WPREC float ser = scale_exp2 * us;
         if ((oct & 1) == 0) { posr.x = 3.0 - ser - posr.x; offm.x = scale_exp2 - offm.x; }
         if ((oct & 2) == 0) { posr.y = 3.0 - ser - posr.y; offm.y = scale_exp2 - offm.y; }
         if ((oct & 4) == 0) { posr.z = 3.0 - ser - posr.z; offm.z = scale_exp2 - offm.z; }
@@ -722,7 +750,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifndef PRECISE
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
 #endif
-        RVEC3 p = oa + d * tau;
+        WPREC RVEC3 p = oa + d * tau;
         c = clamp(floor(p), lo, lo + sz - 1.0);
     }
     if (exact && !(t <= h.t)) return false;
@@ -730,7 +758,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // a ray that starts in the leaf keeps the cell holding its start)
     REAL da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     REAL la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
-    REAL ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
+    WPREC REAL ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
     if (!(troot <= 0.0 && te <= t0)) {
         if (axis == 0) c.x = ca;
         else if (axis == 1) c.y = ca;
@@ -778,8 +806,8 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 #else
     vec4 r0 = I.r0, r1 = I.r1, r2 = I.r2;
 #endif
-    RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
-    RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
+    WPREC RVEC3 om = RVEC3(dot(r0.xyz, o) + r0.w, dot(r1.xyz, o) + r1.w, dot(r2.xyz, o) + r2.w);
+    WPREC RVEC3 dm = RVEC3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
     // precise: its ops form the two-sum's error term, which exact algebra
     // makes 0; not precise, the NVIDIA compiler (driver 580) folded it to 0
     // and the origin's rounding was lost (issue 18: 380 of 110,592 depth-16

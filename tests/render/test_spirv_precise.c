@@ -11,7 +11,18 @@
  * the expression stored into one of those variables (up to the loads of
  * other variables, whose own stores are checked when they are in the list)
  * carries NoContraction. With arguments, checks those .spv files instead
- * (e.g. a kernel built from main before the fix, which must fail). */
+ * (e.g. a kernel built from main before the fix, which must fail).
+ *
+ * The GPU path tracer (probes/shaders/probe.comp, its render kernel) is
+ * checked whole: with the sun's depth map (SMAP) and without it, the NVIDIA
+ * compiler contracted the path's float operations differently, and 54 of
+ * 2,073,600 values of a Cornell box image differed (issue 21, H200), while
+ * lavapipe gave the same bits. So every float operation of the functions that
+ * decide an image's value (camera ray, hit point and normal, sampling, BSDF,
+ * lights, sky, accumulation, and the octree walk: with the path alone precise
+ * 45 values still differed) must carry NoContraction there, not only those
+ * feeding some variables. `test_spirv_precise --path FILE.spv` checks a
+ * kernel file that way (main's probe.comp before the fix: 475 fail). */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,12 +34,17 @@
 #include "trace_compact.comp.h"
 #include "frame.comp.h"
 #include "gbuffer.comp.h"
+#ifdef VX_TEST_PROBES
+#include "probe.comp.h"
+#include "probe_pt.comp.h"
+#endif
 
 enum {
     OP_EXT_INST = 12, OP_NAME = 5, OP_FUNCTION = 54, OP_FUNCTION_END = 56, OP_VARIABLE = 59, OP_LOAD = 61,
     OP_STORE = 62, OP_DECORATE = 71, OP_VECTOR_SHUFFLE = 79, OP_COMPOSITE_CONSTRUCT = 80,
     OP_COMPOSITE_EXTRACT = 81, OP_COMPOSITE_INSERT = 82, OP_FNEGATE = 127, OP_FADD = 129, OP_FSUB = 131,
-    OP_FMUL = 133, OP_FDIV = 136, OP_VECTOR_TIMES_SCALAR = 142, OP_DOT = 148, OP_SELECT = 169,
+    OP_FMUL = 133, OP_FDIV = 136, OP_FREM = 140, OP_FMOD = 141, OP_VECTOR_TIMES_SCALAR = 142,
+    OP_MATRIX_TIMES_SCALAR = 143, OP_VECTOR_TIMES_MATRIX = 144, OP_MATRIX_TIMES_VECTOR = 145, OP_DOT = 148, OP_SELECT = 169,
     DEC_NO_CONTRACTION = 42
 };
 
@@ -177,6 +193,76 @@ static count check_function(spv* m, const char* fn, const char* const* vars, int
     return c;
 }
 
+/* Float arithmetic that a driver may contract or reassociate. Left out:
+ * negation (exact) and OpDot, which glslang never decorates (a `precise`
+ * dot stays undecorated; its products have no other use, so the driver
+ * lowers it alike wherever it stands, while its operands and its users are
+ * checked). */
+static int is_float_arith(uint32_t op) {
+    switch (op) {
+    case OP_FADD: case OP_FSUB: case OP_FMUL: case OP_FDIV: case OP_FREM: case OP_FMOD: case OP_VECTOR_TIMES_SCALAR:
+    case OP_MATRIX_TIMES_SCALAR: case OP_VECTOR_TIMES_MATRIX: case OP_MATRIX_TIMES_VECTOR: return 1;
+    default: return 0;
+    }
+}
+
+/* Every float operation in function fn (all of them, not only the stores'
+ * expressions): the count in *ops, the ones without NoContraction returned
+ * (the first few described); -1 where fn is not in the module. */
+static int check_whole_function(const spv* m, const char* fn, int* ops, const char* label, int quiet) {
+    size_t fl = strlen(fn);
+    int in_fn = 0, found = 0, bad = 0;
+    *ops = 0;
+    for (size_t i = 5; i < m->n;) {
+        uint32_t wc = m->w[i] >> 16, op = m->w[i] & 0xFFFFu;
+        if (op == OP_FUNCTION) {
+            uint32_t id = m->w[i + 2];
+            char buf[128] = "";
+            if (m->name[id]) str_at(m, m->name[id], buf, sizeof buf);
+            in_fn = !strncmp(buf, fn, fl) && buf[fl] == '(';
+            found |= in_fn;
+        } else if (op == OP_FUNCTION_END) {
+            in_fn = 0;
+        } else if (in_fn && is_float_arith(op) && wc >= 3) {
+            uint32_t id = m->w[i + 2];
+            (*ops)++;
+            if (id < m->bound && !m->nocon[id]) {
+                if (bad < 3 && !quiet) fprintf(stderr, "  %s: %s: %%%u (opcode %u) without NoContraction\n", label, fn, id, op);
+                bad++;
+            }
+        }
+        i += wc;
+    }
+    return found ? bad : -1;
+}
+
+/* The path tracer's functions whose every float operation must be precise
+ * (probes/shaders/probe.comp, path_common.glsl, render/shaders/sampling.glsl
+ * and sky.glsl). */
+static const char* const path_fns[] = {"render", "path", "surface", "bsdf_of", "bsdf_eval", "bsdf_sample_u", "basis",
+                                       "cosine_dir", "cone_dir", "ggx_d", "ggx_lambda", "ggx_vndf", "fresnel_dielectric",
+                                       "dielectric", "glass_walk", "nee", "area_hit", "emitter_point", "mis", "sky_eval",
+                                       "direct", "trace_model", "trace_instance", "box_t", "safe_inv", NULL};
+
+/* quiet: count only (a kernel expected to fail) */
+static int check_path_kernel(const char* label, const uint32_t* w, size_t bytes, int quiet) {
+    spv m;
+    int ok = parse(&m, w, bytes / 4), total_bad = 0;
+    CHECKF(ok, "%s: not SPIR-V", label);
+    if (ok)
+        for (int f = 0; path_fns[f]; f++) {
+            int ops = 0, bad = check_whole_function(&m, path_fns[f], &ops, label, quiet);
+            CHECKF(bad >= 0, "%s: no function %s", label, path_fns[f]);
+            CHECKF(quiet || bad <= 0, "%s: %s: %d of %d float operations could be contracted", label, path_fns[f], bad, ops);
+            CHECKF(bad < 0 || ops > 0, "%s: %s has no float operation (renamed?)", label, path_fns[f]);
+            if (bad > 0) total_bad += bad;
+        }
+    printf("%-24s path tracer: %d functions, %d operations without NoContraction\n", label,
+           (int)(sizeof path_fns / sizeof path_fns[0]) - 1, total_bad);
+    spv_free(&m);
+    return total_bad;
+}
+
 /* Checks one kernel; need: the variables must be there (the float trace
  * kernels, whose DEEP 2 code holds them), else a kernel without them passes. */
 static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int need) {
@@ -204,6 +290,15 @@ static void test_embedded(void) {
     /* the pass pipeline's kernels trace through trace_common.glsl too */
     check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0);
     check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0);
+#ifdef VX_TEST_PROBES
+    /* the render kernel's walk is trace_common.glsl's too */
+    check_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 1);
+    check_path_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 0);
+    /* the bake's kernel (built without PT_PRECISE, as the render kernel was before) must fail the same
+     * check: so the check sees what `precise` changes */
+    int bad = check_path_kernel("probe.comp (bake)", vx__probe_spv_arr, sizeof vx__probe_spv_arr, 1);
+    CHECKF(bad > 100, "the bake's kernel has only %d operations without NoContraction", bad);
+#endif
 }
 
 /* Truncated or garbage words are reported, never read past. */
@@ -219,15 +314,19 @@ static void test_bad_input(void) {
     spv_free(&m);
 }
 
+/* argv: .spv files of the trace kernels, or after --path of the path
+ * tracer's render kernel */
 static int check_files(int argc, char** argv) {
-    for (int a = 1; a < argc; a++) {
+    int path = argc > 1 && !strcmp(argv[1], "--path");
+    for (int a = 1 + path; a < argc; a++) {
         FILE* f = fopen(argv[a], "rb");
         CHECKF(f != NULL, "%s: cannot open", argv[a]);
         if (!f) continue;
         uint32_t* buf = malloc(4u << 20);
         size_t n = buf ? fread(buf, 1, 4u << 20, f) : 0;
         fclose(f);
-        if (buf) check_kernel(argv[a], buf, n, 1);
+        if (buf && path) check_path_kernel(argv[a], buf, n, 0);
+        else if (buf) check_kernel(argv[a], buf, n, 1);
         free(buf);
     }
     printf("%s\n", vx_t_failed_checks ? "FAILED" : "ok");
