@@ -81,6 +81,13 @@ uint part1by2(uint x) {
     return x;
 }
 uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
+#ifndef CA_NOMORT
+#define CA_NOMORT false
+#endif
+// the Morton code of the low 2 bits of each coordinate (a brick's cell)
+uint morton2(uvec3 c) {
+    return (c.x & 1u) | ((c.y & 1u) << 1) | ((c.z & 1u) << 2) | ((c.x & 2u) << 2) | ((c.y & 2u) << 3) | ((c.z & 2u) << 4);
+}
 
 // The cells in the children before child cbit of a level-lvl node (lvl >=
 // 3) with descriptor desc and children's block blk, k of them not leaves:
@@ -125,7 +132,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     uint n = m.root, base = 0u, rank_base = m.rank_base;
     int L = int(m.depth);
     // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
-    bool mort = L <= 10;
+    bool mort = !CA_NOMORT && L <= 10;
     uint mc = mort ? morton(c) : 0u;
     uint K = m.tab_k;
     if (CA_PAGES == 0u && K != 0u) {
@@ -177,7 +184,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
         n = ca_child(L, nd.x, nd.y, k);
     }
-    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
+    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : (CA_NOMORT ? morton2(c) : morton(c & r));
     uvec2 b = CA_SLOT(n);
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));

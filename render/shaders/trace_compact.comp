@@ -33,6 +33,18 @@ layout(constant_id = 9) const uint PAGES = 0u;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
 layout(constant_id = 5) const bool DICT = false;
+// EXPLORE (removed before merge): variants for the H200's batches
+// 1 a depth-1 model's root loaded before the loop (the node load a 2-way select)
+// 2 level 2: the brick's octant byte tested per step (no level-2 descriptor decode)
+// 4 a pop onto level 2 (from level 1: the same brick) keeps the brick in nd (no load)
+// 8 desc 0 marks an unloaded node (no flag)
+// 16 a hit cube of one cell: the cell is its corner (no point, floor or clamp)
+// 32 the colour's descent takes each level's octant from the cell (no Morton code)
+layout(constant_id = 6) const uint VARIANT = 0u;
+const bool V_ROOT1 = (VARIANT & 1u) != 0u, V_L2BYTE = (VARIANT & 2u) != 0u, V_POP2 = (VARIANT & 4u) != 0u,
+           V_SENT = (VARIANT & 8u) != 0u, V_CELL1 = (VARIANT & 16u) != 0u, V_NOMORT = (VARIANT & 32u) != 0u;
+// V_L2BYTE: a level-2 node's desc (all valid, no leaf; the byte decides)
+const uint L2MARK = 0xFF00u;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -80,6 +92,7 @@ layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
 #define CA_DICT DICT
+#define CA_NOMORT V_NOMORT
 #include "compact_attr.glsl"
 
 struct Hit {
@@ -249,23 +262,35 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         }
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
+        if (V_ROOT1 && m.depth == 1u) {
+            nd = slots[parent];
+            desc = brick_octant(nd, 0u);
+            loaded = true;
+        }
         while (true) {
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
             int lvl = scale + lvl_off - koff;
-            if (!loaded) {
+            if (V_SENT ? desc == 0u : !loaded) {
                 // level 1 only as the root of a depth-1 model: a push into a
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
+                uint d2 = V_L2BYTE ? L2MARK : brick_desc(nd);
+                desc = lvl >= 3 ? nd.x : (V_ROOT1 || lvl == 2 ? d2 : brick_octant(nd, 0u));
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
-            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+            bool valid = (desc & (cbit << 8)) != 0u;
+            uint ob = 0u; // V_L2BYTE: the brick's octant cs byte (level 2)
+            if (V_L2BYTE) {
+                ob = ((cs < 4 ? nd.x : nd.y) >> (8u * uint(cs & 3))) & 0xFFu;
+                valid = valid && (lvl != 2 || ob != 0u);
+            }
+            if (valid && tmin <= tmax) {
                 float tv_max = min(tmax, tc_max);
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
@@ -301,7 +326,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
                     if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                    else desc = brick_octant(nd, uint(cs));
+                    else desc = V_L2BYTE ? (ob << 8) | ob : brick_octant(nd, uint(cs));
+                    if (V_SENT && lvl != 2) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
@@ -341,7 +367,12 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
                 hh = 0.0;
-                loaded = false;
+                loaded = false; if (V_SENT) desc = 0u;
+                if (V_POP2 && scale + lvl_off - koff == 2) {
+                    // back in the brick of level 1's node: still in nd
+                    desc = V_L2BYTE ? L2MARK : brick_desc(nd);
+                    loaded = true;
+                }
             }
         }
             if (!REBASE || pending == 0) break;
@@ -387,7 +418,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
                 if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
                 if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-                loaded = false;
+                loaded = false; if (V_SENT) desc = 0u;
                 pending = 0;
                 continue;
             }
@@ -409,7 +440,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             rb_scale = scale;
             koff = 0;
             hh = 0.0;
-            loaded = false;
+            loaded = false; if (V_SENT) desc = 0u;
             diff = 0u;
             if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
             if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
@@ -424,7 +455,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             hh = 0.0;
-            loaded = false;
+            loaded = false; if (V_SENT) desc = 0u;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
     }
@@ -465,14 +496,18 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         sz = scale_exp2 * side;
         float tau = troot / L;
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
-        vec3 p = oa + d * tau;
-        c = clamp(floor(p), lo, lo + sz - 1.0);
+        if (V_CELL1 && sz == 1.0) {
+            c = lo;
+        } else {
+            vec3 p = oa + d * tau;
+            c = clamp(floor(p), lo, lo + sz - 1.0);
+        }
     }
     if (exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
     float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
-    if (!(troot <= 0.0 && te <= t0)) {
+    if (!(V_CELL1 && sz == 1.0) && !(troot <= 0.0 && te <= t0)) {
         if (axis == 0) c.x = ca;
         else if (axis == 1) c.y = ca;
         else c.z = ca;
