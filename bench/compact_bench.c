@@ -152,7 +152,7 @@ static void fly_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
 }
 
 /* EXPLORE: the compact kernels timed (--variants: the kernel's VARIANT constant) */
-static uint32_t g_var[8], g_nvar;
+static uint32_t g_var[12], g_nvar;
 
 static vx_compact_gpu* kern(vx_compact_gpu* cg, vx_compact_gpu* cgp, uint32_t v) {
     if (!g_nvar) return v ? cgp : cg;
@@ -208,7 +208,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
+        uint64_t hits = 0, differ[12] = {0}, dcol[12] = {0}, dt[12] = {0}, dtbig[12] = {0}, ita = 0, itb = 0;
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
             vx_compact_gpu* k = kern(cg, cgp, v);
@@ -251,7 +251,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double warm = 0, t_w = vx_time_now();
         while (vx_time_now() - t_w < 0.5)
             if (vx__render_dispatch(rs, &d, false, reps, &f, &warm, &err)) break;
-        double ta[ROUNDS], tb[8][ROUNDS];
+        double ta[ROUNDS], tb[12][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             for (uint32_t q = 0; q <= nv; q++) {
                 uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: compact kernel v */
@@ -268,7 +268,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[ROUNDS], db3[8][ROUNDS];
+        double da3[ROUNDS], db3[12][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
@@ -488,7 +488,7 @@ int main(int argc, char** argv) {
         if (!strcmp(argv[i], "--variants") && i + 1 < argc) {
             /* EXPLORE: the compact kernel's VARIANT values timed */
             g_nvar = 0;
-            for (char* p = argv[++i]; *p && g_nvar < 8;) {
+            for (char* p = argv[++i]; *p && g_nvar < 12;) {
                 g_var[g_nvar++] = (uint32_t)strtoul(p, &p, 10);
                 if (*p == ',') p++;
                 else break;

@@ -126,7 +126,12 @@ const uint CA_TAB_FULL = 0xFFFFFFFFu;
 // running count in the walk, docs/PERFORMANCE.md issue 18).
 // In a resident page the index is from the page's first cell, and
 // attr_base becomes the page's attribute region.
-uint cell_index(CModel m, uvec3 c, out uint attr_base) {
+// n3, wb: EXPLORE (VARIANT 64): the slot of the cell's level-3 node and its
+// brick, from the walk (n3 0xFFFFFFFF: none)
+uint cell_index_w(CModel m, uvec3 c, uint n3, uvec2 wb, out uint attr_base) {
+    bool walk = n3 != 0xFFFFFFFFu;
+    uvec2 nd3 = uvec2(0u);
+    if (walk) nd3 = CA_SLOT(n3);
     attr_base = m.attr_base;
     if (m.root == ROOT_LEAF) return morton(c);
     uint n = m.root, base = 0u, rank_base = m.rank_base;
@@ -150,7 +155,9 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     uint prev = 0u;
     bool have_prev = false;
     for (; L >= 3; L--) {
-        uvec2 nd = CA_SLOT(n);
+        uvec2 nd;
+        if (walk && L == 3) nd = nd3;
+        else nd = CA_SLOT(n);
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
             // a page root (resident: the ray hit a cell inside): its header
             // precedes its first block
@@ -185,7 +192,9 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         n = ca_child(L, nd.x, nd.y, k);
     }
     uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : (CA_NOMORT ? morton2(c) : morton(c & r));
-    uvec2 b = CA_SLOT(n);
+    uvec2 b;
+    if (walk) b = wb;
+    else b = CA_SLOT(n);
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
@@ -195,6 +204,8 @@ uint recorrelate(uint v) {
     uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
     return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);
 }
+
+uint cell_index(CModel m, uvec3 c, out uint attr_base) { return cell_index_w(m, c, 0xFFFFFFFFu, uvec2(0u), attr_base); }
 
 // The stored value of attribute index i (vx__compact_value: the palette
 // index of a palette model, else RGBA).

@@ -40,7 +40,10 @@ layout(constant_id = 5) const bool DICT = false;
 // 8 desc 0 marks an unloaded node (no flag)
 // 16 a hit cube of one cell: the cell is its corner (no point, floor or clamp)
 // 32 the colour's descent takes each level's octant from the cell (no Morton code)
+// 64 a hit in a brick hands the colour the brick and its level-3 node's slot
+//    (the push from level 3 always writes its stack entry)
 layout(constant_id = 6) const uint VARIANT = 0u;
+const bool V_WALK3 = (VARIANT & 64u) != 0u;
 const bool V_ROOT1 = (VARIANT & 1u) != 0u, V_L2BYTE = (VARIANT & 2u) != 0u, V_POP2 = (VARIANT & 4u) != 0u,
            V_SENT = (VARIANT & 8u) != 0u, V_CELL1 = (VARIANT & 16u) != 0u, V_NOMORT = (VARIANT & 32u) != 0u;
 // V_L2BYTE: a level-2 node's desc (all valid, no leaf; the byte decides)
@@ -103,6 +106,8 @@ struct Hit {
     float nsign;
     uint color;
     uint page; // a page not resident whose cube was hit (coarse), else NO_HIT
+    uvec2 brick; // V_WALK3: the hit's brick, and its level-3 node's slot (else NO_HIT)
+    uint n3;
 };
 
 // The ray needs page p (not resident): its bit in the frame's requests, and
@@ -218,6 +223,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     bool hit = false;
     uint coarse = NO_HIT;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+    uvec2 hb = uvec2(0u);
+    uint hn3 = NO_HIT;
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -321,7 +328,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh || (V_WALK3 && lvl == 3)) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
@@ -458,6 +465,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false; if (V_SENT) desc = 0u;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
+        if (V_WALK3 && PAGES == 0u && !REBASE && hit && !any_hit && scale + lvl_off == 1 && m.depth >= 3u) {
+            hb = nd;
+            hn3 = uint(stk_node[3 - lvl_off]);
+        }
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
@@ -518,6 +529,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.page = coarse;
+    if (V_WALK3) h.brick = hb, h.n3 = hn3;
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -661,6 +673,8 @@ void main() {
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u);
         h.page = NO_HIT;
+        h.brick = uvec2(0u);
+        h.n3 = NO_HIT;
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
@@ -670,7 +684,7 @@ void main() {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
-                uint i = cell_index(m, h.cell, ab);
+                uint i = V_WALK3 ? cell_index_w(m, h.cell, h.n3, h.brick, ab) : cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }
