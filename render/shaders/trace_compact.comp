@@ -44,6 +44,8 @@ layout(constant_id = 5) const bool DICT = false;
 //    (the push from level 3 always writes its stack entry)
 layout(constant_id = 6) const uint VARIANT = 0u;
 const bool V_WALK3 = (VARIANT & 64u) != 0u;
+// 128 (with 4) the level-2 descriptor kept in a register for the pop onto level 2
+const bool V_KEEP2 = (VARIANT & 128u) != 0u;
 const bool V_ROOT1 = (VARIANT & 1u) != 0u, V_L2BYTE = (VARIANT & 2u) != 0u, V_POP2 = (VARIANT & 4u) != 0u,
            V_SENT = (VARIANT & 8u) != 0u, V_CELL1 = (VARIANT & 16u) != 0u, V_NOMORT = (VARIANT & 32u) != 0u;
 // V_L2BYTE: a level-2 node's desc (all valid, no leaf; the byte decides)
@@ -236,6 +238,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         int oct7 = oct ^ 7;
         uint desc = 0u;
         uvec2 nd = uvec2(0u); // the slot of the node at parent (level >= 2)
+        uint d2k = 0u; // V_KEEP2: the brick's level-2 descriptor
         bool loaded = false;
         // the level of the node at scale s is s + lvl_off (- koff while rebased)
         int lvl_off = int(m.depth) - (S_MAX - 1);
@@ -333,7 +336,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
                     if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                    else desc = V_L2BYTE ? (ob << 8) | ob : brick_octant(nd, uint(cs));
+                    else {
+                        if (V_KEEP2) d2k = desc;
+                        desc = V_L2BYTE ? (ob << 8) | ob : brick_octant(nd, uint(cs));
+                    }
                     if (V_SENT && lvl != 2) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
@@ -377,7 +383,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 loaded = false; if (V_SENT) desc = 0u;
                 if (V_POP2 && scale + lvl_off - koff == 2) {
                     // back in the brick of level 1's node: still in nd
-                    desc = V_L2BYTE ? L2MARK : brick_desc(nd);
+                    desc = V_L2BYTE ? L2MARK : (V_KEEP2 ? d2k : brick_desc(nd));
                     loaded = true;
                 }
             }
