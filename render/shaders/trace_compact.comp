@@ -15,6 +15,7 @@
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -46,6 +47,8 @@ layout(constant_id = 6) const uint VARIANT = 0u;
 const bool V_WALK3 = (VARIANT & 64u) != 0u;
 // 128 (with 4) the level-2 descriptor kept in a register for the pop onto level 2
 const bool V_KEEP2 = (VARIANT & 128u) != 0u;
+// 256 the node load's decode behind branches (dont_flatten); 512 the push's level test likewise
+const bool V_BRLOAD = (VARIANT & 256u) != 0u, V_BRPUSH = (VARIANT & 512u) != 0u;
 const bool V_ROOT1 = (VARIANT & 1u) != 0u, V_L2BYTE = (VARIANT & 2u) != 0u, V_POP2 = (VARIANT & 4u) != 0u,
            V_SENT = (VARIANT & 8u) != 0u, V_CELL1 = (VARIANT & 16u) != 0u, V_NOMORT = (VARIANT & 32u) != 0u;
 // V_L2BYTE: a level-2 node's desc (all valid, no leaf; the byte decides)
@@ -286,8 +289,16 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                uint d2 = V_L2BYTE ? L2MARK : brick_desc(nd);
-                desc = lvl >= 3 ? nd.x : (V_ROOT1 || lvl == 2 ? d2 : brick_octant(nd, 0u));
+                if (V_BRLOAD) {
+                    [[dont_flatten]] if (lvl >= 3) desc = nd.x;
+                    else {
+                        [[dont_flatten]] if (lvl == 2) desc = brick_desc(nd);
+                        else desc = brick_octant(nd, 0u);
+                    }
+                } else {
+                    uint d2 = V_L2BYTE ? L2MARK : brick_desc(nd);
+                    desc = lvl >= 3 ? nd.x : (V_ROOT1 || lvl == 2 ? d2 : brick_octant(nd, 0u));
+                }
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
@@ -335,7 +346,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     hh = tc_max;
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
-                    if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                    if (V_BRPUSH) {
+                        [[dont_flatten]] if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+                        else desc = brick_octant(nd, uint(cs));
+                    } else if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                     else {
                         if (V_KEEP2) d2k = desc;
                         desc = V_L2BYTE ? (ob << 8) | ob : brick_octant(nd, uint(cs));
