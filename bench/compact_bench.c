@@ -151,15 +151,6 @@ static void fly_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
     vx_render_scene_destroy(rs);
 }
 
-/* EXPLORE: the compact kernels timed (--variants: the kernel's VARIANT constant) */
-static uint32_t g_var[12], g_nvar;
-
-static vx_compact_gpu* kern(vx_compact_gpu* cg, vx_compact_gpu* cgp, uint32_t v) {
-    if (!g_nvar) return v ? cgp : cg;
-    vx__compact_gpu_variant(cg, g_var[v]);
-    return cg;
-}
-
 static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t bricks, uint32_t W, uint32_t H, uint32_t reps,
                      uint32_t lp) {
     vx_error err = {0};
@@ -183,7 +174,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         }
         vx_compact_free(&c);
     }
-    const uint32_t nv = g_nvar ? g_nvar : cgp ? 2 : 1; /* compact kernels timed: the whole layout, and paged */
+    const uint32_t nv = cgp ? 2 : 1; /* compact kernels timed: the whole layout, and paged */
     if (!cg) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         vx_render_scene_destroy(rs);
@@ -208,11 +199,11 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ[12] = {0}, dcol[12] = {0}, dt[12] = {0}, dtbig[12] = {0}, ita = 0, itb = 0;
+        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
-            vx_compact_gpu* k = kern(cg, cgp, v);
-            if (v && !g_nvar) {
+            vx_compact_gpu* k = v ? cgp : cg;
+            if (v) {
                 /* frames until the view's pages are resident */
                 for (int f = 0; f < 16; f++) {
                     vx_compact_page_stats st;
@@ -251,7 +242,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double warm = 0, t_w = vx_time_now();
         while (vx_time_now() - t_w < 0.5)
             if (vx__render_dispatch(rs, &d, false, reps, &f, &warm, &err)) break;
-        double ta[ROUNDS], tb[12][ROUNDS];
+        double ta[ROUNDS], tb[8][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             for (uint32_t q = 0; q <= nv; q++) {
                 uint32_t k = (q + (uint32_t)round) % (nv + 1); /* 0: trace.comp, v + 1: compact kernel v */
@@ -259,7 +250,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
                     continue;
                 }
-                if (vx_compact_gpu_time(kern(cg, cgp, k - 1), &d, reps, &tb[k - 1][round], &err)) {
+                if (vx_compact_gpu_time(k == 1 ? cg : cgp, &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
                     tb[k - 1][round] = 0;
                 }
@@ -268,27 +259,24 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[ROUNDS], db3[12][ROUNDS];
+        double da3[ROUNDS], db3[2][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
             for (uint32_t v = 0; v < nv; v++)
-                if (vx_compact_gpu_time(kern(cg, cgp, v), &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
+                if (vx_compact_gpu_time(v ? cgp : cg, &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
             if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
         }
         double da = bench_median(da3, ROUNDS);
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
-            char vn[64];
-            if (g_nvar) snprintf(vn, sizeof vn, "%s, v%u", view ? "close-up" : "overview", g_var[v]);
-            else snprintf(vn, sizeof vn, "%s", v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"));
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB |\n",
-                   name, vn, 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
-                   (double)vx_compact_gpu_bytes(kern(cg, cgp, v)) / 1e6, (double)vx__compact_gpu_table_bytes(kern(cg, cgp, v)) / 1e3);
+                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6, (double)vx__compact_gpu_table_bytes(v ? cgp : cg) / 1e3);
         }
         fflush(stdout);
     }
@@ -483,16 +471,6 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--levels")) {
             levels = true;
-            continue;
-        }
-        if (!strcmp(argv[i], "--variants") && i + 1 < argc) {
-            /* EXPLORE: the compact kernel's VARIANT values timed */
-            g_nvar = 0;
-            for (char* p = argv[++i]; *p && g_nvar < 12;) {
-                g_var[g_nvar++] = (uint32_t)strtoul(p, &p, 10);
-                if (*p == ',') p++;
-                else break;
-            }
             continue;
         }
         if (!strcmp(argv[i], "--shader-stats")) {

@@ -297,8 +297,6 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
                               vx_error* err);
 /* Bytes of the GPU buffers of the layout (geometry, attributes and start tables, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
-/* EXPLORE (removed before merge): the kernel's VARIANT constant. */
-void vx__compact_gpu_variant(vx_compact_gpu* cg, uint32_t v);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
 

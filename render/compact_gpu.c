@@ -3,7 +3,6 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
@@ -46,7 +45,6 @@ struct vx_compact_gpu {
     double lo[3], hi[3];
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
-    uint32_t variant; /* EXPLORE: the kernel's VARIANT constant (id 6) */
     uint64_t table_bytes; /* the start tables' (in attr) */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
@@ -172,8 +170,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
     if (!cg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     cg->rs = rs, cg->gpu = g, cg->deep = deep, cg->dict = c->brick_dict;
-    const char* ev = getenv("VX_CK_VARIANT"); /* EXPLORE: the tests under a variant */
-    cg->variant = ev ? (uint32_t)strtoul(ev, NULL, 10) : 0;
     vx_svo_scene_world_bounds(s, cg->lo, cg->hi);
     size_t mcount = s->model_count ? s->model_count : 1;
     cmodel_gpu* cm = vx_calloc(&g->alloc, mcount, sizeof *cm);
@@ -255,10 +251,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
-
-void vx__compact_gpu_variant(vx_compact_gpu* cg, uint32_t v) {
-    if (cg) cg->variant = v;
-}
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
 
@@ -534,8 +526,6 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }
     cg->rs = rs, cg->gpu = g, cg->deep = deep, cg->pg = pg;
-    const char* ev = getenv("VX_CK_VARIANT"); /* EXPLORE */
-    cg->variant = ev ? (uint32_t)strtoul(ev, NULL, 10) : 0;
     vx_svo_scene_world_bounds(s, cg->lo, cg->hi);
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_compact_model* m = &pg->p.models[i];
@@ -590,7 +580,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, cg->variant, 0,
+    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
                          cg->deep, pages};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 10; i++) key = key * 131 + spec[i];

@@ -15,7 +15,6 @@
 // attributes), render/compact_gpu.c (CModel), render/render_internal.h (Frame,
 // Inst, BVH: bindings 0, 4-6 are the render scene's).
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_control_flow_attributes : require
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -34,25 +33,6 @@ layout(constant_id = 9) const uint PAGES = 0u;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
 layout(constant_id = 5) const bool DICT = false;
-// EXPLORE (removed before merge): variants for the H200's batches
-// 1 a depth-1 model's root loaded before the loop (the node load a 2-way select)
-// 2 level 2: the brick's octant byte tested per step (no level-2 descriptor decode)
-// 4 a pop onto level 2 (from level 1: the same brick) keeps the brick in nd (no load)
-// 8 desc 0 marks an unloaded node (no flag)
-// 16 a hit cube of one cell: the cell is its corner (no point, floor or clamp)
-// 32 the colour's descent takes each level's octant from the cell (no Morton code)
-// 64 a hit in a brick hands the colour the brick and its level-3 node's slot
-//    (the push from level 3 always writes its stack entry)
-layout(constant_id = 6) const uint VARIANT = 0u;
-const bool V_WALK3 = (VARIANT & 64u) != 0u;
-// 128 (with 4) the level-2 descriptor kept in a register for the pop onto level 2
-const bool V_KEEP2 = (VARIANT & 128u) != 0u;
-// 256 the node load's decode behind branches (dont_flatten); 512 the push's level test likewise
-const bool V_BRLOAD = (VARIANT & 256u) != 0u, V_BRPUSH = (VARIANT & 512u) != 0u;
-const bool V_ROOT1 = (VARIANT & 1u) != 0u, V_L2BYTE = (VARIANT & 2u) != 0u, V_POP2 = (VARIANT & 4u) != 0u,
-           V_SENT = (VARIANT & 8u) != 0u, V_CELL1 = (VARIANT & 16u) != 0u, V_NOMORT = (VARIANT & 32u) != 0u;
-// V_L2BYTE: a level-2 node's desc (all valid, no leaf; the byte decides)
-const uint L2MARK = 0xFF00u;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -100,7 +80,6 @@ layout(std430, binding = 10) buffer PageState { uint pstate[]; };
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
 #define CA_DICT DICT
-#define CA_NOMORT V_NOMORT
 #include "compact_attr.glsl"
 
 struct Hit {
@@ -111,8 +90,6 @@ struct Hit {
     float nsign;
     uint color;
     uint page; // a page not resident whose cube was hit (coarse), else NO_HIT
-    uvec2 brick; // V_WALK3: the hit's brick, and its level-3 node's slot (else NO_HIT)
-    uint n3;
 };
 
 // The ray needs page p (not resident): its bit in the frame's requests, and
@@ -228,8 +205,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     bool hit = false;
     uint coarse = NO_HIT;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
-    uvec2 hb = uvec2(0u);
-    uint hn3 = NO_HIT;
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -241,7 +216,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         int oct7 = oct ^ 7;
         uint desc = 0u;
         uvec2 nd = uvec2(0u); // the slot of the node at parent (level >= 2)
-        uint d2k = 0u; // V_KEEP2: the brick's level-2 descriptor
         bool loaded = false;
         // the level of the node at scale s is s + lvl_off (- koff while rebased)
         int lvl_off = int(m.depth) - (S_MAX - 1);
@@ -275,43 +249,23 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         }
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
-        if (V_ROOT1 && m.depth == 1u) {
-            nd = slots[parent];
-            desc = brick_octant(nd, 0u);
-            loaded = true;
-        }
         while (true) {
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
             int lvl = scale + lvl_off - koff;
-            if (V_SENT ? desc == 0u : !loaded) {
+            if (!loaded) {
                 // level 1 only as the root of a depth-1 model: a push into a
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                if (V_BRLOAD) {
-                    [[dont_flatten]] if (lvl >= 3) desc = nd.x;
-                    else {
-                        [[dont_flatten]] if (lvl == 2) desc = brick_desc(nd);
-                        else desc = brick_octant(nd, 0u);
-                    }
-                } else {
-                    uint d2 = V_L2BYTE ? L2MARK : brick_desc(nd);
-                    desc = lvl >= 3 ? nd.x : (V_ROOT1 || lvl == 2 ? d2 : brick_octant(nd, 0u));
-                }
+                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
-            bool valid = (desc & (cbit << 8)) != 0u;
-            uint ob = 0u; // V_L2BYTE: the brick's octant cs byte (level 2)
-            if (V_L2BYTE) {
-                ob = ((cs < 4 ? nd.x : nd.y) >> (8u * uint(cs & 3))) & 0xFFu;
-                valid = valid && (lvl != 2 || ob != 0u);
-            }
-            if (valid && tmin <= tmax) {
+            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
                 float tv_max = min(tmax, tc_max);
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
@@ -342,19 +296,12 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh || (V_WALK3 && lvl == 3)) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
                     hh = tc_max;
                     loaded = lvl == 2;
                     // (level 3 of the whole layout: through the brick's index word)
-                    if (V_BRPUSH) {
-                        [[dont_flatten]] if (lvl >= 3) parent = nd.y + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
-                        else desc = brick_octant(nd, uint(cs));
-                    } else if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                    else {
-                        if (V_KEEP2) d2k = desc;
-                        desc = V_L2BYTE ? (ob << 8) | ob : brick_octant(nd, uint(cs));
-                    }
-                    if (V_SENT && lvl != 2) desc = 0u;
+                    if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                    else desc = brick_octant(nd, uint(cs));
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
@@ -394,12 +341,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
                 hh = 0.0;
-                loaded = false; if (V_SENT) desc = 0u;
-                if (V_POP2 && scale + lvl_off - koff == 2) {
-                    // back in the brick of level 1's node: still in nd
-                    desc = V_L2BYTE ? L2MARK : (V_KEEP2 ? d2k : brick_desc(nd));
-                    loaded = true;
-                }
+                loaded = false;
             }
         }
             if (!REBASE || pending == 0) break;
@@ -445,7 +387,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
                 if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
                 if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-                loaded = false; if (V_SENT) desc = 0u;
+                loaded = false;
                 pending = 0;
                 continue;
             }
@@ -467,7 +409,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             rb_scale = scale;
             koff = 0;
             hh = 0.0;
-            loaded = false; if (V_SENT) desc = 0u;
+            loaded = false;
             diff = 0u;
             if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
             if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
@@ -482,13 +424,9 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             hh = 0.0;
-            loaded = false; if (V_SENT) desc = 0u;
+            loaded = false;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
-        if (V_WALK3 && PAGES == 0u && !REBASE && hit && !any_hit && scale + lvl_off == 1 && m.depth >= 3u) {
-            hb = nd;
-            hn3 = uint(stk_node[3 - lvl_off]);
-        }
     }
     if (!hit) return false;
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
@@ -527,18 +465,14 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         sz = scale_exp2 * side;
         float tau = troot / L;
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
-        if (V_CELL1 && sz == 1.0) {
-            c = lo;
-        } else {
-            vec3 p = oa + d * tau;
-            c = clamp(floor(p), lo, lo + sz - 1.0);
-        }
+        vec3 p = oa + d * tau;
+        c = clamp(floor(p), lo, lo + sz - 1.0);
     }
     if (exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
     float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
-    if (!(V_CELL1 && sz == 1.0) && !(troot <= 0.0 && te <= t0)) {
+    if (!(troot <= 0.0 && te <= t0)) {
         if (axis == 0) c.x = ca;
         else if (axis == 1) c.y = ca;
         else c.z = ca;
@@ -549,7 +483,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.page = coarse;
-    if (V_WALK3) h.brick = hb, h.n3 = hn3;
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -693,8 +626,6 @@ void main() {
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u);
         h.page = NO_HIT;
-        h.brick = uvec2(0u);
-        h.n3 = NO_HIT;
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
@@ -704,7 +635,7 @@ void main() {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
-                uint i = V_WALK3 ? cell_index_w(m, h.cell, h.n3, h.brick, ab) : cell_index(m, h.cell, ab);
+                uint i = cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }
