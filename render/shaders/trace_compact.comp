@@ -465,14 +465,22 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         sz = scale_exp2 * side;
         float tau = troot / L;
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
-        vec3 p = oa + d * tau;
-        c = clamp(floor(p), lo, lo + sz - 1.0);
+        // a cube of one cell is the cell (the point, floor and clamp give
+        // lo, and the entry axis' rule below too): most hits, whose colour
+        // needs the cell where trace.comp's needs none (1-2% of the H200's
+        // albedo rays/s, docs/PERFORMANCE.md issue 18, ninth step)
+        if (sz == 1.0) {
+            c = lo;
+        } else {
+            vec3 p = oa + d * tau;
+            c = clamp(floor(p), lo, lo + sz - 1.0);
+        }
     }
     if (exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
     float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
-    if (!(troot <= 0.0 && te <= t0)) {
+    if (sz != 1.0 && !(troot <= 0.0 && te <= t0)) {
         if (axis == 0) c.x = ca;
         else if (axis == 1) c.y = ca;
         else c.z = ca;
