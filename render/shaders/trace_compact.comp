@@ -258,14 +258,19 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
+                // the brick's descriptor computed before the choice (at every
+                // load), not in a branch of it: 1-4% more albedo rays/s on the
+                // H200 (docs/PERFORMANCE.md issue 18, ninth step)
+                uint d2 = brick_desc(nd);
+                desc = lvl >= 3 ? nd.x : (lvl == 2 ? d2 : brick_octant(nd, 0u));
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
-            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+            bool valid = (desc & (cbit << 8)) != 0u;
+            if (valid && tmin <= tmax) {
                 float tv_max = min(tmax, tc_max);
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
