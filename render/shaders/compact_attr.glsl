@@ -130,7 +130,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     int L = int(m.depth);
     // each level's octant from the cell's bits, the brick's cell by morton2:
     // the whole Morton code (a part1by2 per axis) only where a leaf cube
-    // holds the cell (1-3% of the H200's albedo rays/s on the close-ups,
+    // holds the cell (0.4-2.7% of the H200's albedo rays/s on the close-ups,
     // docs/PERFORMANCE.md issue 18, ninth step)
     uint K = m.tab_k;
     if (CA_PAGES == 0u && K != 0u) {

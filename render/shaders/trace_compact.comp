@@ -265,7 +265,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
                 // the brick's descriptor computed before the choice (at every
-                // load), not in a branch of it: 1-4% more albedo rays/s on the
+                // load), not in a branch of it: 0.3-4.6% more albedo rays/s on the
                 // H200 (docs/PERFORMANCE.md issue 18, ninth step)
                 uint d2 = brick_desc(nd);
                 desc = lvl >= 3 ? nd.x : (lvl == 2 ? d2 : brick_octant(nd, 0u));
@@ -479,7 +479,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
         // a cube of one cell is the cell (the point, floor and clamp give
         // lo, and the entry axis' rule below too): most hits, whose colour
-        // needs the cell where trace.comp's needs none (1-2% of the H200's
+        // needs the cell where trace.comp's needs none (0.2-2.3% of the H200's
         // albedo rays/s, docs/PERFORMANCE.md issue 18, ninth step)
         if (sz == 1.0) {
             c = lo;
