@@ -81,6 +81,10 @@ uint part1by2(uint x) {
     return x;
 }
 uint morton(uvec3 c) { return part1by2(c.x) | (part1by2(c.y) << 1) | (part1by2(c.z) << 2); }
+// morton(c & 3u): a brick's cell from the low 2 bits of each coordinate
+uint morton2(uvec3 c) {
+    return (c.x & 1u) | ((c.y & 1u) << 1) | ((c.z & 1u) << 2) | ((c.x & 2u) << 2) | ((c.y & 2u) << 3) | ((c.z & 2u) << 4);
+}
 
 // The cells in the children before child cbit of a level-lvl node (lvl >=
 // 3) with descriptor desc and children's block blk, k of them not leaves:
@@ -124,9 +128,10 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     if (m.root == ROOT_LEAF) return morton(c);
     uint n = m.root, base = 0u, rank_base = m.rank_base;
     int L = int(m.depth);
-    // models of up to 10 levels: the cell's Morton code once, a level's octant a shift of it
-    bool mort = L <= 10;
-    uint mc = mort ? morton(c) : 0u;
+    // each level's octant from the cell's bits, the brick's cell by morton2:
+    // the whole Morton code (a part1by2 per axis) only where a leaf cube
+    // holds the cell (0.4-2.7% of the H200's albedo rays/s on the close-ups,
+    // docs/PERFORMANCE.md issue 18, ninth step)
     uint K = m.tab_k;
     if (CA_PAGES == 0u && K != 0u) {
         // the table's entry of the cell's level-K cube (D = depth - K bits a side)
@@ -135,7 +140,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
-        if (n == CA_TAB_FULL) return base + (mort ? mc & ((1u << (3u * K)) - 1u) : morton(c & ((1u << K) - 1u)));
+        if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
         L = int(K);
     }
     // the rank of the level-3 node's previous slot in its block (the level-4
@@ -151,7 +156,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
             attr_base = hd.x, rank_base = hd.y, base = 0u;
         }
         uint s = uint(L - 1);
-        uint o = mort ? (mc >> (3u * s)) & 7u : ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
         uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
         if (CA_PAGES == 0u && L == 4) {
             // cells_before's level-4 form, the rank kept
@@ -174,10 +179,11 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         } else {
             base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
         }
-        if ((nd.x & cbit) != 0u) return base + (mort ? mc & ((1u << (3u * s)) - 1u) : morton(c & ((1u << s) - 1u)));
+        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
         n = ca_child(L, nd.x, nd.y, k);
     }
-    uint r = (1u << uint(L)) - 1u, bit = mort ? mc & ((1u << (3u * uint(L))) - 1u) : morton(c & r);
+    // L is 2 here, or the depth of a model of 1 or 2 levels (c below 2^L)
+    uint bit = morton2(c);
     uvec2 b = CA_SLOT(n);
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));

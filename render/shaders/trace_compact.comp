@@ -45,6 +45,12 @@ const uint NOT_RESIDENT = 0x80000000u;
 // kernel's form): 2.5-4% more rays/s in the depth mode, 0-2% in albedo on
 // the H200 (docs/PERFORMANCE.md issue 18, sixth step).
 const bool GUARD = WRITE_HITS || MODE == 5;
+// The depth kernel marks an unloaded node by desc 0 (a node's, a brick's
+// and an octant's descriptors are never 0) rather than by a flag: 1-2% more
+// rays/s there on the H200, where the other kernels keep the flag
+// (docs/PERFORMANCE.md issue 18, ninth step; trace.comp's kernels the
+// other way round, trace_common.glsl SENT).
+const bool SENT = MODE == 3;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -253,19 +259,24 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
             int lvl = scale + lvl_off - koff;
-            if (!loaded) {
+            if (SENT ? desc == 0u : !loaded) {
                 // level 1 only as the root of a depth-1 model: a push into a
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                desc = lvl >= 3 ? nd.x : (lvl == 2 ? brick_desc(nd) : brick_octant(nd, 0u));
+                // the brick's descriptor computed before the choice (at every
+                // load), not in a branch of it: 0.3-4.6% more albedo rays/s on the
+                // H200 (docs/PERFORMANCE.md issue 18, ninth step)
+                uint d2 = brick_desc(nd);
+                desc = lvl >= 3 ? nd.x : (lvl == 2 ? d2 : brick_octant(nd, 0u));
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
             float tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
-            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+            bool valid = (desc & (cbit << 8)) != 0u;
+            if (valid && tmin <= tmax) {
                 float tv_max = min(tmax, tc_max);
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
@@ -302,6 +313,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // (level 3 of the whole layout: through the brick's index word)
                     if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                     else desc = brick_octant(nd, uint(cs));
+                    if (SENT && lvl != 2) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
@@ -341,7 +353,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
                 hh = 0.0;
-                loaded = false;
+                loaded = false; if (SENT) desc = 0u;
             }
         }
             if (!REBASE || pending == 0) break;
@@ -387,7 +399,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
                 if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
                 if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-                loaded = false;
+                loaded = false; if (SENT) desc = 0u;
                 pending = 0;
                 continue;
             }
@@ -409,7 +421,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             rb_scale = scale;
             koff = 0;
             hh = 0.0;
-            loaded = false;
+            loaded = false; if (SENT) desc = 0u;
             diff = 0u;
             if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
             if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
@@ -424,7 +436,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             hh = 0.0;
-            loaded = false;
+            loaded = false; if (SENT) desc = 0u;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
     }
@@ -465,14 +477,22 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         sz = scale_exp2 * side;
         float tau = troot / L;
         if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
-        vec3 p = oa + d * tau;
-        c = clamp(floor(p), lo, lo + sz - 1.0);
+        // a cube of one cell is the cell (the point, floor and clamp give
+        // lo, and the entry axis' rule below too): most hits, whose colour
+        // needs the cell where trace.comp's needs none (0.2-2.3% of the H200's
+        // albedo rays/s, docs/PERFORMANCE.md issue 18, ninth step)
+        if (sz == 1.0) {
+            c = lo;
+        } else {
+            vec3 p = oa + d * tau;
+            c = clamp(floor(p), lo, lo + sz - 1.0);
+        }
     }
     if (exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
     float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
-    if (!(troot <= 0.0 && te <= t0)) {
+    if (sz != 1.0 && !(troot <= 0.0 && te <= t0)) {
         if (axis == 0) c.x = ca;
         else if (axis == 1) c.y = ca;
         else c.z = ca;
