@@ -819,7 +819,9 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     vx_free(d.alloc, b.dtab);
     b.dtab = NULL;
     if (!r) r = assemble(&b, &c, err);
+    double ta = vx_time_now();
     if (!r) r = build_all_attrs(&d, s, &c, err);
+    c.stats.attr_seconds = vx_time_now() - ta;
     vx_free(d.alloc, b.dict);
     vx_free(d.alloc, b.meta);
     vx_free(d.alloc, b.rank);

@@ -156,6 +156,7 @@ typedef struct vx_compact_stats {
     uint64_t distinct_sum;  /* distinct values summed over blocks */
     uint64_t level_slots[33];  /* geometry slots by their node's level (bricks: 2, or 1 in a model of depth 1) */
     uint64_t level_blocks[33]; /* blocks by their slots' level */
+    double attr_seconds;       /* wall time of the attributes' build (on several threads), of the whole build's */
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {

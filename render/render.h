@@ -364,6 +364,10 @@ typedef struct vx_render_layout_info {
      * exceed one buffer's range (then the passes refuse the scene, as a paged
      * one; vx_render_frame traces it); 0 for the plain or paged layout */
     uint32_t attr_parts;
+    uint64_t geom_bytes;     /* of compact_bytes, the geometry (the rest: attributes) */
+    double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
+    double attr_seconds;     /* of which its attributes (on one thread per CPU, at most 16) */
+    double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the
  * previous frame's rays requested, as many as the pool holds; rays that

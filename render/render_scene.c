@@ -632,6 +632,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
         vx_compact_desc cd = {.alloc = &rs->alloc,
                               .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+        double t0 = vx_time_now();
         r = vx_compact_build(&cd, s, &c, err);
         if (!r && bricks == VX_RENDER_BRICKS_AUTO && 4ull * c.geom_words + 4ull * c.attr_words > li.budget) {
             /* over the budget: the brick dictionary's smaller geometry, where it is smaller */
@@ -646,14 +647,19 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             }
         }
         if (!r) {
+            double t1 = vx_time_now();
+            rs->layout.build_seconds = t1 - t0;
+            rs->layout.attr_seconds = c.stats.attr_seconds;
             rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
+            rs->layout.geom_bytes = 4ull * c.geom_words;
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
             bool whole = true;
             if (rs->layout.compact_bytes > li.budget && lp < max_depth)
                 r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
             if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            rs->layout.upload_seconds = vx_time_now() - t1;
             if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
             vx_compact_free(&c);
         }
