@@ -5,6 +5,7 @@
 #include "render/compact.h"
 
 #include <string.h>
+#include <unistd.h>
 
 #define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
 
@@ -583,6 +584,90 @@ static vx_result build_attrs_auto(const vx_compact_desc* d, const vx_svo_model* 
     return build_attrs(d, VX_COMPACT_BLOCK, m, NULL, cm, c, attr_cap, err);
 }
 
+/* The attribute regions of the models, built apart on several threads
+ * (each model's region depends on that model alone) and appended in model
+ * order: the bytes of one thread. A large scene's colours were most of the
+ * build's time on one thread (DamagedHelmet at 32768^3: 1,244 models;
+ * docs/PERFORMANCE.md issue 18, "the helmet at 32768^3 on one H200"). */
+typedef struct attr_jobs {
+    const vx_compact_desc* d;
+    const vx_svo_scene* s;
+    vx_compact_scene* c;
+    vx_compact_scene* part; /* per model: its region alone (attr, attr_words, stats) */
+    vx_result* res;
+    vx_error* errs;
+} attr_jobs;
+
+static void attr_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    attr_jobs* j = ctx;
+    vx_compact_model* cm = &j->c->models[i];
+    if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cm->voxels) return;
+    size_t cap = 0;
+    j->part[i].alloc = j->c->alloc;
+    j->res[i] = build_attrs_auto(j->d, &j->s->models[i], cm, &j->part[i], &cap, &j->errs[i]);
+}
+
+/* Threads for the attributes of a scene of `cells` cells in n models: one
+ * where small (the allocation order stays that of one thread), else one
+ * per CPU, at most 16. */
+static unsigned attr_threads(uint64_t cells, uint32_t n) {
+    if (n < 2 || cells < ((uint64_t)1 << 22)) return 1;
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    unsigned t = cpus < 1 ? 1u : cpus > 16 ? 16u : (unsigned)cpus;
+    return t < n ? t : n;
+}
+
+static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c,
+                                 vx_error* err) {
+    uint32_t n = c->model_count;
+    uint64_t cells = 0;
+    for (uint32_t i = 0; i < n; i++) cells += c->models[i].attr_kind != VX_COMPACT_ATTR_NONE ? c->models[i].voxels : 0;
+    if (!cells) return VX_OK;
+    attr_jobs j = {.d = d, .s = s, .c = c};
+    j.part = vx_calloc(d->alloc, n, sizeof *j.part);
+    j.res = vx_calloc(d->alloc, n, sizeof *j.res);
+    j.errs = vx_calloc(d->alloc, n, sizeof *j.errs);
+    vx_result r = VX_OK;
+    if (!j.part || !j.res || !j.errs) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+        goto done;
+    }
+    vx_run_jobs(attr_threads(cells, n), n, attr_job, &j);
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < n && !r; i++) {
+        if (j.res[i]) {
+            r = j.res[i];
+            if (err) *err = j.errs[i];
+        }
+        total += j.part[i].attr_words;
+    }
+    if (!r && total > UINT32_MAX)
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: %llu attribute words (more than 2^32 - 1)",
+                    (unsigned long long)total);
+    if (!r && total && !(c->attr = vx_alloc(d->alloc, (size_t)total * 4)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu attribute words",
+                    (unsigned long long)total);
+    for (uint32_t i = 0; i < n && !r; i++) {
+        const vx_compact_scene* p = &j.part[i];
+        vx_compact_model* cm = &c->models[i];
+        if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cm->voxels) continue;
+        cm->attr_base = c->attr_words;
+        if (p->attr_words) memcpy(c->attr + c->attr_words, p->attr, (size_t)p->attr_words * 4);
+        c->attr_words += p->attr_words;
+        vx_compact_stats* st = &c->stats;
+        st->blocks += p->stats.blocks, st->uniform += p->stats.uniform, st->raw += p->stats.raw;
+        st->delta += p->stats.delta, st->uniform_groups += p->stats.uniform_groups, st->shared += p->stats.shared;
+        st->distinct_sum += p->stats.distinct_sum;
+    }
+done:
+    for (uint32_t i = 0; j.part && i < n; i++) vx_free(d->alloc, j.part[i].attr);
+    vx_free(d->alloc, j.part);
+    vx_free(d->alloc, j.res);
+    vx_free(d->alloc, j.errs);
+    return r;
+}
+
 void vx_compact_free(vx_compact_scene* c) {
     if (!c) return;
     vx_allocator a = c->alloc;
@@ -684,7 +769,6 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     builder b = {.a = d.alloc, .err = err, .st = &c.stats, .max_bricks = d.max_bricks,
                  .use_dict = d.bricks == VX_COMPACT_BRICKS_DICT};
     c.brick_dict = b.use_dict;
-    size_t attr_cap = 0;
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
     if (!c.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models", s->model_count);
@@ -729,13 +813,15 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
             break;
         }
         cm->voxels = (uint32_t)cells;
-        if (cm->attr_kind != VX_COMPACT_ATTR_NONE && cells) r = build_attrs_auto(&d, m, cm, &c, &attr_cap, err);
     }
     vx_free(d.alloc, b.tab);
     b.tab = NULL;
     vx_free(d.alloc, b.dtab);
     b.dtab = NULL;
     if (!r) r = assemble(&b, &c, err);
+    double ta = vx_time_now();
+    if (!r) r = build_all_attrs(&d, s, &c, err);
+    c.stats.attr_seconds = vx_time_now() - ta;
     vx_free(d.alloc, b.dict);
     vx_free(d.alloc, b.meta);
     vx_free(d.alloc, b.rank);

@@ -156,6 +156,7 @@ typedef struct vx_compact_stats {
     uint64_t distinct_sum;  /* distinct values summed over blocks */
     uint64_t level_slots[33];  /* geometry slots by their node's level (bricks: 2, or 1 in a model of depth 1) */
     uint64_t level_blocks[33]; /* blocks by their slots' level */
+    double attr_seconds;       /* wall time of the attributes' build (on several threads), of the whole build's */
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {
@@ -299,6 +300,14 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
+/* The attribute words (with the start tables) are split over up to this many
+ * storage buffers where they exceed one buffer's range (the render scene's,
+ * vx_render_scene_desc.max_buffer_range or the device's maxStorageBufferRange);
+ * the geometry must fit one. Internal: the parts in use (1: one buffer; 0:
+ * paged). A layout in parts is traced by trace_compact.comp only (the passes'
+ * kernels bind one attribute buffer and refuse it). */
+#define VX_COMPACT_ATTR_PARTS 8
+uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg);
 
 /* The paged layout on the GPU: the top of *p and a pool of pool_bytes for
  * its pages (one buffer; at least the largest page). It takes *p (zeroed).

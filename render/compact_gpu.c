@@ -42,6 +42,10 @@ struct vx_compact_gpu {
     vx_gpu* gpu;
     vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
     vx__buffer pass_models; /* the palette, then the CModels: trace_common.glsl's binding 3 (COMPACT) */
+    /* the attribute words beyond one storage buffer's range: parts 1.. of
+     * 2^attr_shift words each (attr is part 0; attr_shift 0: attr holds them all) */
+    vx__buffer attr_hi[VX_COMPACT_ATTR_PARTS - 1];
+    uint32_t attr_shift, attr_parts;
     double lo[3], hi[3];
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
@@ -92,6 +96,7 @@ void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     vx__buffer* b[9] = {&cg->geom,   &cg->attr, &cg->models, &cg->palette,    &cg->pixels,
                         &cg->hits,   &cg->pstate, &cg->stage, &cg->pass_models};
     for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
 }
@@ -100,6 +105,40 @@ static vx_result upload(vx_gpu* g, vx__buffer* b, const void* data, uint64_t byt
     vx_result r = vx__buffer_create(g, bytes ? bytes : 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, label, b, err);
     if (!r && bytes) r = vx__buffer_upload(g, b, data, bytes, err);
     return r;
+}
+
+/* Words [at, at + n) of the attribute words, which lie in parts of 2^shift
+ * words (shift 0: one part). */
+static vx_result upload_attr(vx_compact_gpu* cg, uint64_t at, const uint32_t* src, uint64_t n, vx_error* err) {
+    while (n) {
+        uint64_t part = cg->attr_shift ? at >> cg->attr_shift : 0, o = at - (part << cg->attr_shift);
+        uint64_t k = cg->attr_shift ? (1ull << cg->attr_shift) - o : n;
+        if (k > n) k = n;
+        vx__buffer* b = part ? &cg->attr_hi[part - 1] : &cg->attr;
+        vx_result r = vx__buffer_upload_at(cg->gpu, b, o * 4, src, k * 4, err);
+        if (r) return r;
+        at += k, src += k, n -= k;
+    }
+    return VX_OK;
+}
+
+/* The attribute words' parts for a storage buffer range of `range` bytes:
+ * one where they fit, else parts of the largest power of two of words that
+ * fits (trace_compact.comp ATTR_SHIFT). */
+static vx_result attr_parts(uint64_t words, uint64_t range, uint32_t* shift, uint32_t* parts, vx_error* err) {
+    *shift = 0, *parts = 1;
+    if (words * 4 <= range) return VX_OK;
+    uint32_t sh = 2;
+    while (sh < 31 && (4ull << (sh + 1)) <= range) sh++;
+    uint64_t n = (words + (1ull << sh) - 1) >> sh;
+    if (n > VX_COMPACT_ATTR_PARTS || (4ull << sh) > range)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "compact layout: %llu attribute bytes need %llu storage buffers of the device's %llu-byte range "
+                       "(at most %d)",
+                       (unsigned long long)(words * 4), (unsigned long long)n, (unsigned long long)range,
+                       VX_COMPACT_ATTR_PARTS);
+    *shift = sh, *parts = (uint32_t)n;
+    return VX_OK;
 }
 
 /* The start table of a coloured model (CModel.tab_word, tab_k): the cell's
@@ -220,11 +259,21 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
     }
+    uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
+    if (!r && (uint64_t)c->geom_words * 4 > range)
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                    "compact layout: %llu geometry bytes exceed the device's storage buffer range (%llu bytes)",
+                    (unsigned long long)c->geom_words * 4, (unsigned long long)range);
+    if (!r) r = attr_parts(aw, range, &cg->attr_shift, &cg->attr_parts, err);
     if (!r) r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
-    uint64_t ab = ((uint64_t)c->attr_words + tab_words) * 4;
-    if (!r) r = vx__buffer_create(g, ab ? ab : 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact attributes", &cg->attr, err);
-    if (!r) r = vx__buffer_upload(g, &cg->attr, c->attr, (uint64_t)c->attr_words * 4, err);
-    if (!r) r = vx__buffer_upload_at(g, &cg->attr, (uint64_t)c->attr_words * 4, tw, (uint64_t)tab_words * 4, err);
+    for (uint32_t k = 0; !r && k < cg->attr_parts; k++) {
+        uint64_t first = (uint64_t)k << cg->attr_shift, n = cg->attr_shift ? 1ull << cg->attr_shift : aw;
+        if (n > aw - first) n = aw - first;
+        r = vx__buffer_create(g, n ? n * 4 : 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact attributes",
+                              k ? &cg->attr_hi[k - 1] : &cg->attr, err);
+    }
+    if (!r) r = upload_attr(cg, 0, c->attr, c->attr_words, err);
+    if (!r) r = upload_attr(cg, c->attr_words, tw, tab_words, err);
     vx_free(&g->alloc, tw);
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
@@ -254,8 +303,10 @@ uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes 
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
 
+uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg) { return cg ? cg->attr_parts : 0; }
+
 bool vx__compact_gpu_bind(vx_compact_gpu* cg, vx__buffer* bufs[7]) {
-    if (!cg || cg->pg) return false;
+    if (!cg || cg->pg || cg->attr_parts > 1) return false;
     bufs[1] = &cg->geom, bufs[2] = &cg->attr, bufs[3] = &cg->pass_models;
     return true;
 }
@@ -580,14 +631,14 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    uint32_t spec[10] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
-                         cg->deep, pages};
+    uint32_t spec[11] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
+                         cg->deep, pages, cg->attr_shift};
     uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 10; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 11; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = 11, .spec_count = 10, .label = "trace compact"};
+                                       .binding_count = 18, .spec_count = 11, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < 11; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < 18; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
@@ -595,12 +646,15 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                                                   &cg->pstate, err)))
         return r;
     vx__dispatch_desc dd = {.pipeline = p,
-                            .buffer_count = 11,
+                            .buffer_count = 18,
                             .buffers = {scene[0], &cg->geom, cg->pg ? &cg->geom : &cg->attr, &cg->models, scene[4],
                                         scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace compact"};
+    /* the attribute parts past the first (bound to part 0 where there are none: never read) */
+    for (uint32_t k = 1; k < VX_COMPACT_ATTR_PARTS; k++)
+        dd.buffers[10 + k] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];
     return vx__dispatch(g, &dd, seconds, err);
 }
 

@@ -333,6 +333,13 @@ typedef struct vx_render_scene_desc {
      * surface scene; a second load per push into a brick, docs/PERFORMANCE.md
      * issue 18, seventh step); INLINE or DICT: that one */
     uint32_t compact_bricks;
+    /* bytes one storage buffer binding may hold (0: the device's
+     * maxStorageBufferRange; a smaller value applies where below it: tests
+     * split a small scene as a large one is on any device). AUTO takes the
+     * compact layout where the plain one's node words or records exceed it;
+     * the compact attribute words beyond it go to up to VX_COMPACT_ATTR_PARTS
+     * buffers (render/compact.h; then the single-shader frame only) */
+    uint64_t max_buffer_range;
 } vx_render_scene_desc;
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -353,6 +360,14 @@ typedef struct vx_render_layout_info {
     uint32_t page_level;
     uint64_t compact_bytes;  /* the compact layout unpaged (0: not built) */
     bool brick_dict;         /* the compact layout with its brick dictionary */
+    /* the compact attribute words' storage buffers: 1, or more where they
+     * exceed one buffer's range (then the passes refuse the scene, as a paged
+     * one; vx_render_frame traces it); 0 for the plain or paged layout */
+    uint32_t attr_parts;
+    uint64_t geom_bytes;     /* of compact_bytes, the geometry (the rest: attributes) */
+    double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
+    double attr_seconds;     /* of which its attributes (on one thread per CPU, at most 16) */
+    double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the
  * previous frame's rays requested, as many as the pool holds; rays that

@@ -141,8 +141,12 @@ vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, ui
 /* compact_gpu.c: the whole compact layout's buffers for the COMPACT kernels
  * of trace_common.glsl, bindings 1-3 of bufs (geometry slots, attribute
  * words, the palette then the CModel records); false, bufs untouched, for a
- * paged layout (only trace_compact.comp follows its pages). */
+ * paged layout or one with its attributes in parts (only trace_compact.comp
+ * follows its pages and parts). */
 struct vx_compact_gpu;
 bool vx__compact_gpu_bind(struct vx_compact_gpu* cg, vx__buffer* bufs[7]);
+/* The bytes one storage buffer binding may hold for rs: its desc's
+ * max_buffer_range where set below the device's maxStorageBufferRange. */
+uint64_t vx__render_scene_buffer_range(const vx_render_scene* rs);
 
 #endif

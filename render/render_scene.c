@@ -59,6 +59,7 @@ typedef struct rows_ref {
 struct vx_render_scene {
     vx_gpu* gpu;
     vx_allocator alloc;
+    uint64_t buffer_range; /* bytes a storage buffer binding may hold (vx__render_scene_buffer_range) */
     uint32_t inst_count;
     uint32_t model_count; /* of the scene it was made from (vx_render_scene_set_frame checks it) */
     inst_host* inst;
@@ -215,7 +216,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     uint64_t words, colors;
     plain_size(s, &words, &colors);
     if (!plain) words = colors = 0;
-    uint64_t limit = g->props.limits.maxStorageBufferRange / 4;
+    uint64_t limit = vx__render_scene_buffer_range(rs) / 4;
     if (words > limit || colors > limit)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "scene needs %llu node words and %llu colours; the device allows %llu per buffer",
@@ -591,13 +592,20 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the compact layout traces models of at most %u levels; the scene has %u",
                        VX_RENDER_PRECISE_DEPTH, max_depth);
+    /* the plain layout's node words and records each in one storage buffer: past the range it cannot
+     * render at all (the helmet at 16384^3: 7.5 GB of words and records on a 4 GB range) */
+    uint64_t range = gpu->props.limits.maxStorageBufferRange;
+    if (desc && desc->max_buffer_range && desc->max_buffer_range < range) range = desc->max_buffer_range;
+    bool plain_fits = 4 * words <= range && 4 * colors <= range;
     if (li.layout == VX_RENDER_LAYOUT_AUTO)
-        li.layout = li.plain_bytes > li.budget && compact_ok ? VX_RENDER_LAYOUT_COMPACT : VX_RENDER_LAYOUT_PLAIN;
+        li.layout = (li.plain_bytes > li.budget || !plain_fits) && compact_ok ? VX_RENDER_LAYOUT_COMPACT
+                                                                              : VX_RENDER_LAYOUT_PLAIN;
     bool plain = li.layout == VX_RENDER_LAYOUT_PLAIN;
     vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
     if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     rs->gpu = gpu;
     rs->alloc = gpu->alloc;
+    rs->buffer_range = range;
     rs->bvh.alloc = &rs->alloc;
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
@@ -624,6 +632,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
         vx_compact_desc cd = {.alloc = &rs->alloc,
                               .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+        double t0 = vx_time_now();
         r = vx_compact_build(&cd, s, &c, err);
         if (!r && bricks == VX_RENDER_BRICKS_AUTO && 4ull * c.geom_words + 4ull * c.attr_words > li.budget) {
             /* over the budget: the brick dictionary's smaller geometry, where it is smaller */
@@ -638,14 +647,19 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             }
         }
         if (!r) {
+            double t1 = vx_time_now();
+            rs->layout.build_seconds = t1 - t0;
+            rs->layout.attr_seconds = c.stats.attr_seconds;
             rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
+            rs->layout.geom_bytes = 4ull * c.geom_words;
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
             bool whole = true;
             if (rs->layout.compact_bytes > li.budget && lp < max_depth)
                 r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
             if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+            rs->layout.upload_seconds = vx_time_now() - t1;
             if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
             vx_compact_free(&c);
         }
@@ -654,6 +668,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             return r;
         }
         rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
+        rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
     }
     *out = rs;
     return VX_OK;
@@ -668,6 +683,11 @@ void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* ou
 /* The passes trace the whole compact layout (vx__render_scene_bind, trace_common.glsl COMPACT), not a paged one:
  * its pages move between frames, which only trace_compact.comp follows. */
 static vx_result need_whole(const vx_render_scene* rs, vx_error* err) {
+    if (rs->compact && rs->layout.attr_parts > 1)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the compact layout's attributes (%.1f MB) are in %u storage buffers (the device's range is "
+                       "%.1f MB); only the single-shader frame (vx_render_frame) traces it",
+                       rs->layout.compact_bytes / 1e6, rs->layout.attr_parts, rs->buffer_range / 1e6);
     if (!rs->compact || !rs->layout.pages) return VX_OK;
     return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                    "the scene is in the paged compact layout (%u pages: the compact layout's %.1f MB exceed the budget "
@@ -1298,6 +1318,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
 }
 
 vx_gpu* vx__render_scene_gpu(vx_render_scene* rs) { return rs ? rs->gpu : NULL; }
+
+uint64_t vx__render_scene_buffer_range(const vx_render_scene* rs) { return rs ? rs->buffer_range : 0; }
 
 vx_result vx__render_scene_bind(vx_render_scene* rs, const vx__frame* f, vx__buffer* bufs[7],
                                 uint32_t spec[VX__SPEC_COUNT], vx_error* err) {

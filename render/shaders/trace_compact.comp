@@ -33,6 +33,11 @@ layout(constant_id = 9) const uint PAGES = 0u;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
 layout(constant_id = 5) const bool DICT = false;
+// the attribute words in parts of 2^ATTR_SHIFT words (bindings 2, 11-17)
+// where they exceed one storage buffer's range (maxStorageBufferRange, 4 GB
+// on NVIDIA: the helmet at 32768^3 has about 6 GB); 0: one buffer, and the
+// part selection is compiled out (render/compact_gpu.c)
+layout(constant_id = 10) const uint ATTR_SHIFT = 0u;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -81,8 +86,29 @@ layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
 layout(std430, binding = 10) buffer PageState { uint pstate[]; };
+layout(std430, binding = 11) readonly buffer Attr1 { uint attr1[]; };
+layout(std430, binding = 12) readonly buffer Attr2 { uint attr2[]; };
+layout(std430, binding = 13) readonly buffer Attr3 { uint attr3[]; };
+layout(std430, binding = 14) readonly buffer Attr4 { uint attr4[]; };
+layout(std430, binding = 15) readonly buffer Attr5 { uint attr5[]; };
+layout(std430, binding = 16) readonly buffer Attr6 { uint attr6[]; };
+layout(std430, binding = 17) readonly buffer Attr7 { uint attr7[]; };
+uint attr_word(uint i) {
+    if (ATTR_SHIFT == 0u) return attr[i];
+    uint o = i & ((1u << ATTR_SHIFT) - 1u);
+    switch (i >> ATTR_SHIFT) {
+    case 0u: return attr[o];
+    case 1u: return attr1[o];
+    case 2u: return attr2[o];
+    case 3u: return attr3[o];
+    case 4u: return attr4[o];
+    case 5u: return attr5[o];
+    case 6u: return attr6[o];
+    default: return attr7[o];
+    }
+}
 #define CA_SLOT(i) slots[i]
-#define CA_ATTR(i) attr[i]
+#define CA_ATTR(i) attr_word(i)
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
 #define CA_DICT DICT

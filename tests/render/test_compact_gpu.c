@@ -373,6 +373,128 @@ static void test_start_table(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The attribute words past one storage buffer's range (the helmet at 32768^3 has about 6 GB against NVIDIA's
+ * 4 GB): a render scene whose range (vx_render_scene_desc.max_buffer_range) is a fraction of them puts them in
+ * several buffers and must render every view as the plain layout does; a range below the geometry is refused with
+ * the reason, AUTO takes the compact layout where the plain one's words exceed the range, and the passes (one
+ * attribute binding) refuse the split layout. */
+static void test_attr_parts(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_model m[2];
+    vx_svo_scene s;
+    vx_error err = {0};
+    uint32_t seed = 5;
+    for (int k = 0; k < 2; k++) {
+        size_t n = 0, cap = 24000;
+        uint64_t* keys = malloc(cap * 8);
+        uint32_t* rgba = malloc(cap * 4);
+        REQUIRE(keys && rgba);
+        for (; n < cap; n++) {
+            uint32_t x = ts_rng(&seed) % 64, y = ts_rng(&seed) % 64, z = ts_rng(&seed) % 16;
+            keys[n] = vx_svo_morton(x, y, z);
+            rgba[n] = 0xFF000000u | (k ? ts_rng(&seed) : (ts_rng(&seed) % 7) * 0x242424u);
+        }
+        vx_svo_voxels v = {.size = {64, 64, 64}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+        REQUIRE(vx_svo_build_model(NULL, &v, &m[k], NULL, &err) == VX_OK);
+        free(keys), free(rgba);
+    }
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 70, 10, 0), ts_inst(0, rot, 20, 80, 30)};
+    ts_scene(&s, m, 2, in, 3);
+    vx_compact_scene c;
+    REQUIRE(vx_compact_build(NULL, &s, &c, &err) == VX_OK);
+    uint64_t geom = 4ull * c.geom_words, attr = 4ull * c.attr_words;
+    vx_compact_free(&c);
+    REQUIRE(attr > 4 * geom); /* so that a range of the geometry's bytes needs several attribute buffers */
+    vx_render_scene *rs = NULL, *rsc = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+            VX_OK);
+    /* ranges of about a fifth and a half of the attribute words (the tables come after them) */
+    const uint64_t ranges[2] = {attr / 5 > geom ? attr / 5 : geom, attr / 2};
+    for (int k = 0; k < 2; k++) {
+        vx_result r = vx_render_scene_create_ex(
+            gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT, .max_buffer_range = ranges[k]}, &rsc,
+            &err);
+        CHECKF(r == VX_OK, "range %llu: %s", (unsigned long long)ranges[k], err.msg);
+        if (r) continue;
+        vx_render_layout_info li;
+        vx_render_scene_layout(rsc, &li);
+        CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.attr_parts >= (k ? 2u : 5u) && li.attr_parts <= 8,
+               "range %llu of %llu attribute bytes: %u parts", (unsigned long long)ranges[k], (unsigned long long)attr,
+               li.attr_parts);
+        for (int view = 0; view < 3; view++) {
+            vx_render_desc d = {.width = 96, .height = 72, .want_hits = true,
+                                .mode = view == 0 ? VX_RENDER_ALBEDO : view == 1 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
+            {
+                /* inside the instances' bounds, looking down at them: most pixels hit */
+                d.camera.set = true;
+                d.camera.fov = 70;
+                double lo[3], hi[3];
+                vx_svo_scene_world_bounds(&s, lo, hi);
+                for (int q = 0; q < 3; q++) {
+                    double mid = 0.5 * (lo[q] + hi[q]), ext = hi[q] - lo[q];
+                    d.camera.target[q] = mid - (q == 2 ? 0.3 : 0.0) * ext;
+                    d.camera.eye[q] = mid + (q == 2 ? 0.6 : q == 1 ? -0.1 : 0.05) * ext;
+                }
+            }
+            vx_render_image a = {0}, b = {0};
+            r = vx_render_frame(rs, &d, &a, &err);
+            if (!r) r = vx_render_frame(rsc, &d, &b, &err);
+            CHECKF(r == VX_OK, "view %d: %s", view, err.msg);
+            uint32_t hits = 0;
+            if (!r) {
+                uint32_t wrong = differ(&a, &b, "attribute parts", "parts", view, &hits);
+                CHECKF(wrong == 0 && hits > 96 * 72 / 10, "range %llu view %d: %u of %u pixels differ, %u hit",
+                       (unsigned long long)ranges[k], view, wrong, 96 * 72, hits);
+                printf("  attribute parts: %u buffers of at most %llu bytes, view %d: %u pixels hit, %u differ\n",
+                       li.attr_parts, (unsigned long long)ranges[k], view, hits, wrong);
+            }
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+        }
+        /* the passes bind one attribute buffer: refused, with the reason */
+        vx__frame f;
+        vx__buffer* bufs[7];
+        uint32_t spec[VX__SPEC_COUNT];
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        REQUIRE(vx__frame_setup(lo, hi, &(vx_render_desc){.width = 8, .height = 8}, &f, &err) == VX_OK);
+        CHECK(vx__render_scene_bind(rsc, &f, bufs, spec, &err) == VX_ERR_UNSUPPORTED && strstr(err.msg, "storage buffers"));
+        vx_render_scene_destroy(rsc);
+        rsc = NULL;
+    }
+    /* a range below the geometry: refused with the reason, nothing left behind */
+    CHECK(vx_render_scene_create_ex(gpu, &s,
+                                    &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT, .max_buffer_range = geom - 4},
+                                    &rsc, &err) == VX_ERR_LIMIT &&
+          strstr(err.msg, "geometry") && !rsc);
+    /* more parts than VX_COMPACT_ATTR_PARTS: refused */
+    if (attr / geom > VX_COMPACT_ATTR_PARTS) {
+        CHECK(vx_render_scene_create_ex(gpu, &s,
+                                        &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT,
+                                                                .max_buffer_range = attr / (VX_COMPACT_ATTR_PARTS + 2)},
+                                        &rsc, &err) == VX_ERR_LIMIT &&
+              strstr(err.msg, "storage buffers") && !rsc);
+    }
+    /* AUTO under the default budget: the plain layout, unless its words exceed the range */
+    vx_render_layout_info lp;
+    vx_render_scene_layout(rs, &lp);
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.max_buffer_range = ranges[1]}, &rsc, &err);
+    CHECKF(r == VX_OK, "AUTO: %s", err.msg);
+    if (!r) {
+        vx_render_layout_info la;
+        vx_render_scene_layout(rsc, &la);
+        CHECKF(lp.plain_bytes / 2 > ranges[1] && la.layout == VX_RENDER_LAYOUT_COMPACT && la.attr_parts >= 2,
+               "AUTO with a range of %llu bytes (plain %llu): %s, %u parts", (unsigned long long)ranges[1],
+               (unsigned long long)lp.plain_bytes, vx_render_layout_name(la.layout), la.attr_parts);
+        vx_render_scene_destroy(rsc);
+    }
+    CHECK(lp.layout == VX_RENDER_LAYOUT_PLAIN && lp.attr_parts == 0);
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP(gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
@@ -413,6 +535,7 @@ int main(void) {
     RUN(test_seams);
     RUN(test_deep);
     RUN(test_start_table);
+    RUN(test_attr_parts);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     vx_gpu_destroy(gpu);

@@ -155,6 +155,18 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 0 "svo_render paged, not verbose" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32
     grep -q "^note: [1-9][0-9]* pages drawn coarse" "$T/out" && ok "coarse pages noted" || bad "coarse pages noted"
     expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
+    # a storage buffer range below the plain words (the helmet at 32768^3 on a 4 GB range, issue 18):
+    # auto takes the compact layout, its attributes (about 20 KB) in two buffers, the plain image
+    expect_status 0 "svo_render --buffer-range 16K" svo_render "$T/demo.svo" "$T/lay_r.pfm" --buffer-range 16K --mode albedo --size 48x32 -v
+    grep -q "^layout: compact, .* auto: budget" "$T/out" && grep -q "^note: the compact attributes are in 2 storage buffers" "$T/out" &&
+        ok "-v states the attributes' buffers" || bad "-v states the attributes' buffers"
+    cmp -s "$T/lay_p.pfm" "$T/lay_r.pfm" && ok "attributes in two buffers: the plain layout's image" ||
+        bad "attributes in two buffers: the plain layout's image"
+    expect_status 1 "svo_render --buffer-range --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --buffer-range 16K --passes gbuffer,direct --size 8x8
+    grep -q "in 2 storage buffers" "$T/err" && ok "passes on attributes in parts: the reason" || bad "passes on attributes in parts: the reason"
+    expect_status 1 "svo_render --buffer-range below the geometry" svo_render "$T/demo.svo" "$T/lay_x.png" --buffer-range 1K --size 8x8
+    grep -q "geometry bytes exceed" "$T/err" && ok "geometry past the range: the reason" || bad "geometry past the range: the reason"
+    expect_status 2 "svo_render bad --buffer-range" svo_render "$T/demo.svo" "$T/lay_x.png" --buffer-range 8
 fi
 
 # a VDB sequence named by a pattern or a list (the corpus sphere as 3 frames):

@@ -168,6 +168,9 @@ _Noreturn static void usage(int status) {
             "                       pages are resident; pages that do not fit are drawn coarse (-v says so;\n"
             "                       a paged scene: the single-shader modes only)\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
+            "  --buffer-range SIZE  bytes one storage buffer may hold (default: the device's\n"
+            "                       maxStorageBufferRange, 4G on NVIDIA); the compact attributes past it\n"
+            "                       go to several buffers (single-shader modes only; -v says how many)\n"
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
@@ -279,6 +282,11 @@ static vx_result gather_lights(const options* o, const vx_svo_scene* scene, vx_l
     *count = (uint32_t)n;
     *from_voxels = nv;
     return VX_OK;
+}
+
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
 }
 
 /* The colour mode through the pass pipeline: options.frames frames (the last
@@ -496,6 +504,10 @@ int main(int argc, char** argv) {
             if (!parse_uint(argv[++i], &o.scene_desc.page_level) || o.scene_desc.page_level < 3 ||
                 o.scene_desc.page_level > 31)
                 usage_error("bad --page-level '%s' (3..31)", argv[i]);
+        } else if (!strcmp(a, "--buffer-range")) {
+            NEED();
+            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.max_buffer_range) || o.scene_desc.max_buffer_range < 64)
+                usage_error("bad --buffer-range value '%s' (bytes, at least 64, e.g. 1M)", argv[i]);
         } else if (!strcmp(a, "--gpu-budget")) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
@@ -750,6 +762,11 @@ int main(int argc, char** argv) {
     if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err))
         return vx_tool_error_budget(NULL, &err, &budget); /* the message names the file */
     double t_load = vx_time_now() - t0;
+    if (o.verbose) {
+        /* now, not after the frame: a scene too large for the next step still says what it took */
+        printf("read: %.3f s, peak host memory %s\n", t_load, vx_tool_bytes(vx_peak_rss()));
+        fflush(stdout);
+    }
     if (o.frame_last >= vx_svo_scene_frames(&owned)) {
         fprintf(stderr, "%s: %s: no frame %u (the scene has %u)\n", prog, o.in, o.frame_last, vx_svo_scene_frames(&owned));
         vx_svo_scene_free(&owned);
@@ -875,16 +892,36 @@ int main(int argc, char** argv) {
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
+            double t1 = vx_time_now();
             r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
+            if (!r && o.verbose)
+                printf("gpu scene: %.3f s (layout built and uploaded), peak host memory %s\n", vx_time_now() - t1,
+                       vx_tool_bytes(vx_peak_rss()));
             if (!r && o.frame_first) r = vx_render_scene_set_frame(rs, &owned, o.frame_first, &err);
         }
         vx_render_layout_info li;
         vx_render_scene_layout(rs, &li);
-        if (!r && o.verbose)
+        if (!r && o.verbose) {
             printf("layout: %s%s, %.3f MB on the GPU, %.3f bytes per voxel (plain: %.3f MB; %s budget %.1f MB)\n",
                    vx_render_layout_name(li.layout), li.brick_dict ? " (brick dictionary)" : "", li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
+            if (li.compact_bytes)
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (attributes %.3f s), tables and "
+                       "upload %.3f s\n",
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.attr_seconds,
+                       li.upload_seconds);
+            if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
+        }
+        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.attr_parts > 1) {
+            /* the pass shaders bind one attribute buffer; only the single shader reads the parts */
+            if (o.passes_given || o.show_given || o.timings)
+                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                            "the compact attributes are in %u storage buffers: --passes/--show/--timings need them "
+                            "in one", li.attr_parts);
+            pipeline = false;
+            if (o.verbose) printf("note: the single-shader colour mode renders this scene\n");
+        }
         if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages) {
             /* the pass shaders read the whole compact layout; only the single shader follows its pages */
             if (o.passes_given || o.show_given || o.timings)
@@ -916,7 +953,16 @@ int main(int argc, char** argv) {
         } else if (!r && pipeline) {
             r = render_passes(&o, rs, &owned, &passes, o.probes ? &probes : NULL, &img, &err);
         } else if (!r) {
+            /* -v: the first frame also returns its hits, for the share of pixels that hit geometry */
+            bool counted = o.verbose && !o.r.want_hits;
+            if (counted) o.r.want_hits = true;
             r = vx_render_frame(rs, &o.r, &img, &err);
+            if (counted) {
+                o.r.want_hits = false;
+                size_t hit = 0, n = (size_t)img.width * img.height;
+                for (size_t i = 0; !r && img.hits && i < n; i++) hit += img.hits[i].instance != VX_RENDER_NO_HIT;
+                if (!r && img.hits) printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
+            }
             /* paged (the compact layout over --gpu-budget): frames until the
              * pages the view needs are resident, or the pool takes no more */
             vx_render_page_stats ps = {0};
@@ -935,6 +981,28 @@ int main(int argc, char** argv) {
                            ps.pool_bytes / 1e6, ps.top_bytes / 1e6, ps.coarse, ps.refused, ps.refused_bytes / 1e6);
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
+            }
+            /* --frames N: the same frame again, for its times (the last image is written) */
+            double* gpu_ms = !r && o.frames > 1 ? calloc(o.frames, 2 * sizeof *gpu_ms) : NULL;
+            if (gpu_ms) {
+                double* wall_ms = gpu_ms + o.frames;
+                gpu_ms[0] = img.gpu_seconds * 1e3, wall_ms[0] = 0;
+                uint32_t n = 1;
+                for (; !r && n < o.frames; n++) {
+                    vx_render_image_free(&img);
+                    double tf = vx_time_now();
+                    r = vx_render_frame(rs, &o.r, &img, &err);
+                    wall_ms[n] = (vx_time_now() - tf) * 1e3, gpu_ms[n] = img.gpu_seconds * 1e3;
+                }
+                if (!r) {
+                    /* frame 0 warms caches and compiles: the medians are of frames 1..N-1 */
+                    qsort(gpu_ms + 1, n - 1, sizeof *gpu_ms, cmp_double);
+                    qsort(wall_ms + 1, n - 1, sizeof *wall_ms, cmp_double);
+                    printf("frames: %u after the first: GPU ms median %.3f (min %.3f, max %.3f); wall ms a frame "
+                           "(trace and read back) median %.3f; first frame %.3f ms GPU\n",
+                           n - 1, gpu_ms[1 + (n - 1) / 2], gpu_ms[1], gpu_ms[n - 1], wall_ms[1 + (n - 1) / 2], gpu_ms[0]);
+                }
+                free(gpu_ms);
             }
             vx_render_shadow_map_info sm;
             vx_render_scene_shadow_map_info(rs, &sm);
