@@ -165,6 +165,22 @@ bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #define WPREC
 #endif
 
+// The child of the root cube where the walk starts (and restarts): the octants whose mid-planes
+// the ray has crossed by tmin (idx, pos); T is the type of the crossing times. Under WALK_PRECISE
+// the crossing times are computed once, precise; otherwise per axis, as the kernels always did.
+#ifdef WALK_PRECISE
+#define WALK_FIRST_CHILD(T) { \
+    precise T tmid = 1.5 * coef - bias; \
+    if (tmid.x > tmin) { idx ^= 1; pos.x = 1.5; } \
+    if (tmid.y > tmin) { idx ^= 2; pos.y = 1.5; } \
+    if (tmid.z > tmin) { idx ^= 4; pos.z = 1.5; } }
+#else
+#define WALK_FIRST_CHILD(T) \
+    if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; } \
+    if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; } \
+    if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+#endif
+
 // 1/d without infinities: a zero (or denormal) component becomes +-1e30 with
 // its sign, so that (plane - o) * inv is never 0 * inf = NaN and a ray lying
 // in a slab plane counts as displaced towards the sign of its component.
@@ -376,16 +392,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         int lvl_off = int(m.depth) - (S_MAX - 1);
 #endif
         int idx = 0;
-#ifdef WALK_PRECISE
-        precise RVEC3 tmid = 1.5 * coef - bias;
-        if (tmid.x > tmin) { idx ^= 1; pos.x = 1.5; }
-        if (tmid.y > tmin) { idx ^= 2; pos.y = 1.5; }
-        if (tmid.z > tmin) { idx ^= 4; pos.z = 1.5; }
-#else
-        if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
-        if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
-        if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-#endif
+        WALK_FIRST_CHILD(RVEC3)
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
@@ -625,16 +632,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
                 pos = vec3(1.0);
-#ifdef WALK_PRECISE
-                precise vec3 tmid = 1.5 * coef - bias;
-                if (tmid.x > tmin) { idx ^= 1; pos.x = 1.5; }
-                if (tmid.y > tmin) { idx ^= 2; pos.y = 1.5; }
-                if (tmid.z > tmin) { idx ^= 4; pos.z = 1.5; }
-#else
-                if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
-                if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
-                if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
-#endif
+                WALK_FIRST_CHILD(vec3)
                 loaded = false; if (SENT) desc = 0u;
                 pending = 0;
                 continue;
