@@ -5,7 +5,6 @@
 #include "render/compact.h"
 
 #include <string.h>
-#include <unistd.h>
 
 #define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
 
@@ -613,8 +612,7 @@ static void attr_job(void* ctx, unsigned thread, uint32_t i) {
  * per CPU, at most 16. */
 static unsigned attr_threads(uint64_t cells, uint32_t n) {
     if (n < 2 || cells < ((uint64_t)1 << 22)) return 1;
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    unsigned t = cpus < 1 ? 1u : cpus > 16 ? 16u : (unsigned)cpus;
+    unsigned t = vx_cpu_count(16);
     return t < n ? t : n;
 }
 

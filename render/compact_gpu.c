@@ -618,6 +618,9 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     return VX_OK;
 }
 
+/* trace_compact.comp's bindings: 0-10, then the attribute parts past the first from TC_ATTR_HI */
+enum { TC_ATTR_HI = 11, TC_BINDINGS = TC_ATTR_HI + VX_COMPACT_ATTR_PARTS - 1 };
+
 static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool want_hits, uint32_t repeat, vx__frame* f,
                           double* seconds, vx_error* err) {
     vx_gpu* g = cg->gpu;
@@ -636,9 +639,9 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 11; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = 18, .spec_count = 11, .label = "trace compact"};
+                                       .binding_count = TC_BINDINGS, .spec_count = 11, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < 18; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    for (uint32_t i = 1; i < TC_BINDINGS; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
@@ -646,7 +649,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                                                   &cg->pstate, err)))
         return r;
     vx__dispatch_desc dd = {.pipeline = p,
-                            .buffer_count = 18,
+                            .buffer_count = TC_BINDINGS,
                             .buffers = {scene[0], &cg->geom, cg->pg ? &cg->geom : &cg->attr, &cg->models, scene[4],
                                         scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
@@ -654,7 +657,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                             .label = "trace compact"};
     /* the attribute parts past the first (bound to part 0 where there are none: never read) */
     for (uint32_t k = 1; k < VX_COMPACT_ATTR_PARTS; k++)
-        dd.buffers[10 + k] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];
+        dd.buffers[TC_ATTR_HI + k - 1] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];
     return vx__dispatch(g, &dd, seconds, err);
 }
 

@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -427,6 +428,12 @@ void vx_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, unsign
         if (pthread_create(&tid[started], NULL, job_worker, &t[k]) == 0) started++;
     job_worker(&t[0]);
     for (unsigned k = 0; k < started; k++) pthread_join(tid[k], NULL);
+}
+
+unsigned vx_cpu_count(unsigned max) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    unsigned c = n < 1 ? 1u : (unsigned long)n > UINT_MAX ? UINT_MAX : (unsigned)n;
+    return max && c > max ? max : c;
 }
 
 double vx_time_now(void) {

@@ -367,6 +367,10 @@ void vx_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, unsign
 
 /* ---- misc ---------------------------------------------------------------------------- */
 
+/* The online CPUs, at most max (0: no cap); at least 1. Where work spreads
+ * over one thread per CPU (the .svo coder, the compact layout's attributes). */
+unsigned vx_cpu_count(unsigned max);
+
 /* Monotonic seconds, for statistics. */
 double vx_time_now(void);
 /* Peak resident memory of this process in bytes (0 if unknown). */

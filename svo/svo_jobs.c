@@ -10,7 +10,6 @@
 #define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
 #include <stdint.h>
 #include <sys/mman.h>
-#include <unistd.h>
 
 #include "svo/svo_internal.h"
 
@@ -20,8 +19,7 @@ uint64_t vx__svo_parallel_words = (uint64_t)1 << 20;
 
 unsigned vx__svo_cpus(unsigned want) {
     if (want) return want > MAX_THREADS ? MAX_THREADS : want;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1u : n > MAX_THREADS ? MAX_THREADS : (unsigned)n;
+    return vx_cpu_count(MAX_THREADS);
 }
 
 unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want) {

@@ -289,6 +289,31 @@ static int cmp_double(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
+/* Whether the pass pipeline cannot render rs (its kernels bind the whole
+ * compact layout with its attributes in one buffer, and trace in float): why,
+ * the error for --passes/--show/--timings; *note, -v's line for the
+ * single-shader colour mode that renders it instead. */
+static bool passes_refuse(vx_render_scene* rs, const vx_render_layout_info* li, char* why, size_t n,
+                          const char** note) {
+    bool compact = li->layout == VX_RENDER_LAYOUT_COMPACT;
+    if (compact && li->attr_parts > 1) {
+        snprintf(why, n, "the compact attributes are in %u storage buffers: --passes/--show/--timings need them in one",
+                 li->attr_parts);
+        *note = "the single-shader colour mode renders this scene";
+    } else if (compact && li->pages) {
+        snprintf(why, n, "the scene is in the paged compact layout: --passes/--show/--timings need all of it on the "
+                         "GPU (a larger --gpu-budget, or --layout plain)");
+        *note = "paged compact layout: the single-shader colour mode renders this scene";
+    } else if (vx_render_scene_precise(rs)) {
+        snprintf(why, n, "the scene has models deeper than %u levels: --passes/--show/--timings need float tracing",
+                 VX_RENDER_PRECISE_DEPTH);
+        *note = "deep models: the float64 single-shader colour mode renders this scene";
+    } else {
+        return false;
+    }
+    return true;
+}
+
 /* The colour mode through the pass pipeline: options.frames frames (the last
  * one is kept), per-pass times printed with -v and written to --timings. */
 static vx_result render_passes(options* o, vx_render_scene* rs, const vx_svo_scene* scene,
@@ -913,32 +938,12 @@ int main(int argc, char** argv) {
                        li.upload_seconds);
             if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
         }
-        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.attr_parts > 1) {
-            /* the pass shaders bind one attribute buffer; only the single shader reads the parts */
-            if (o.passes_given || o.show_given || o.timings)
-                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                            "the compact attributes are in %u storage buffers: --passes/--show/--timings need them "
-                            "in one", li.attr_parts);
+        char why[256];
+        const char* note = NULL;
+        if (!r && pipeline && passes_refuse(rs, &li, why, sizeof why, &note)) {
+            if (o.passes_given || o.show_given || o.timings) r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s", why);
             pipeline = false;
-            if (o.verbose) printf("note: the single-shader colour mode renders this scene\n");
-        }
-        if (!r && pipeline && li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages) {
-            /* the pass shaders read the whole compact layout; only the single shader follows its pages */
-            if (o.passes_given || o.show_given || o.timings)
-                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                            "the scene is in the paged compact layout: --passes/--show/--timings need all of it on "
-                            "the GPU (a larger --gpu-budget, or --layout plain)");
-            pipeline = false;
-            if (o.verbose) printf("note: paged compact layout: the single-shader colour mode renders this scene\n");
-        }
-        if (!r && pipeline && vx_render_scene_precise(rs)) {
-            /* the pass shaders trace in float; deep models need the float64 single shader */
-            if (o.passes_given || o.show_given || o.timings)
-                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                            "the scene has models deeper than %u levels: --passes/--show/--timings need float tracing",
-                            VX_RENDER_PRECISE_DEPTH);
-            pipeline = false;
-            if (o.verbose) printf("note: deep models: the float64 single-shader colour mode renders this scene\n");
+            if (o.verbose) printf("note: %s\n", note);
         }
         if (!r && o.sequence) {
             r = render_sequence(&o, rs, &owned, pipeline, &passes, o.probes ? &probes : NULL, &err);
