@@ -19,12 +19,16 @@ if(VX_WITH_VULKAN)
   # probe.comp twice: probe, the bake's kernel (as it was); probe_pt, the render passes' (GPU path tracer,
   # GI, light field), every float operation of its path and walk precise (PT_PRECISE: the same bits with
   # and without the sun's depth map on NVIDIA)
-  foreach(spec "probe:" "probe_pt:-DPT_PRECISE")
-    string(FIND "${spec}" ":" colon)
-    string(SUBSTRING "${spec}" 0 ${colon} name)
-    math(EXPR colon "${colon} + 1")
-    string(SUBSTRING "${spec}" ${colon} -1 defs)
-    string(REPLACE "," ";" defs "${defs}")
+  # (NAME or NAME:DEFINE, as render/render.cmake's list)
+  foreach(spec probe probe_pt:PT_PRECISE)
+    string(REPLACE ":" ";" parts ${spec})
+    list(GET parts 0 name)
+    set(defs)
+    list(LENGTH parts nparts)
+    if(nparts GREATER 1)
+      list(GET parts 1 def)
+      set(defs -D${def})
+    endif()
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
