@@ -2,9 +2,12 @@
  * DAG rebuilt from each model's Laine-Karras tree without its attribute
  * indices and hash-consed over the whole scene, and the attributes in
  * Morton order, block-coded with per-block palettes. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "render/compact.h"
 
+#include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 
 #define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
 
@@ -744,6 +747,222 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
     return VX_OK;
 }
 
+/* ---- the geometry of the models -------------------------------------------------- */
+
+/* Model i's geometry into builder b: its nodes' blocks interned, cm->root its
+ * root's block (or dictionary brick), *cells its cells. */
+static vx_result build_model_geom(builder* b, const vx_svo_model* m, uint32_t i, vx_compact_model* cm,
+                                  uint64_t* cells, vx_error* err) {
+    cm->depth = m->depth;
+    cm->root = m->root;
+    cm->attr_kind = (m->attrs & VX_ATTR_RGBA8) && m->rgba         ? VX_COMPACT_ATTR_RGBA
+                    : (m->attrs & VX_ATTR_PALETTE) && m->palette ? VX_COMPACT_ATTR_PALETTE
+                                                                  : VX_COMPACT_ATTR_NONE;
+    *cells = 0;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        *cells = m->depth > 10 ? UINT64_MAX : 1ull << (3 * m->depth);
+        return VX_OK;
+    }
+    if (m->root == VX_SVO_ROOT_EMPTY) return VX_OK;
+    if (m->root >= m->node_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u of %u words", i, m->root,
+                       m->node_count);
+    b->memo = vx_calloc(b->a, m->node_count, 8);
+    b->memo_count = vx_calloc(b->a, m->node_count, 4);
+    b->memo_level = vx_calloc(b->a, m->node_count, 1);
+    uint32_t rw[2], zero = 0;
+    vx_result r;
+    if (!b->memo || !b->memo_count || !b->memo_level)
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
+    else
+        r = build_node(b, m, m->root, m->depth, &rw[0], &rw[1], cells);
+    /* the root: a block of one slot at the model's level */
+    if (!r && m->depth <= 2 && b->use_dict) r = dict_intern(b, rw[0] | (uint64_t)rw[1] << 32, &cm->root);
+    else if (!r) r = block_intern(b, rw, &zero, 1, m->depth, &cm->root);
+    vx_free(b->a, b->memo);
+    vx_free(b->a, b->memo_count);
+    vx_free(b->a, b->memo_level);
+    b->memo = NULL, b->memo_count = NULL, b->memo_level = NULL;
+    if (r) vx_error_prefix(err, "compact layout");
+    return r;
+}
+
+static vx_result model_cells(vx_compact_model* cm, uint64_t cells, uint32_t i, vx_error* err) {
+    if (cells > UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u: more than 2^32 - 1 cells", i);
+    cm->voxels = (uint32_t)cells;
+    return VX_OK;
+}
+
+/* Threads for the geometry: one where small (the allocation order, and so
+ * the OOM tests, stay those of one thread), else desc->threads or one per
+ * CPU, at most the models. */
+static unsigned geom_threads(const vx_compact_desc* d, const vx_svo_scene* s) {
+    uint64_t words = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count;
+    if (s->model_count < 2 || d->threads == 1 || (!d->threads && words < ((uint64_t)1 << 20))) return 1;
+    unsigned t = d->threads ? d->threads : vx_cpu_count(VX_MAX_THREADS);
+    if (t > VX_MAX_THREADS) t = VX_MAX_THREADS;
+    return t < s->model_count ? t : s->model_count;
+}
+
+/* The geometry on several threads. Each model's blocks are built alone, in a
+ * builder of its own (its local DAG: blocks in the order one thread would
+ * first meet them, pointers to local blocks, bricks by local dictionary
+ * ids), then merged into the scene's builder in model order, which interns
+ * each local block with its pointers and brick ids made the scene's. That
+ * is the order of first appearance of the one-thread build, so the layout
+ * is the same bytes: a block new to the scene is appended where one thread
+ * would have appended it (its first use in its model, after every earlier
+ * model's blocks), and distinct local blocks stay distinct (their words
+ * differ, or by induction the blocks they point at). Most of the work (the
+ * walk of every node word, the memo, the hashing of repeats within a model)
+ * is in the models' own builds; the merge hashes each model's distinct
+ * blocks once. Whichever thread finds the next model built merges it (one
+ * at a time); builds run at most `window` models ahead of the merge, which
+ * bounds the local DAGs held. */
+typedef struct geom_local {
+    builder b;
+    vx_compact_stats st; /* the local builder's (discarded: the merge counts) */
+    vx_compact_model cm; /* root: a local block or brick id */
+    uint64_t cells;
+    vx_result r;
+    vx_error err;
+} geom_local;
+
+typedef struct geom_jobs {
+    const vx_svo_scene* s;
+    vx_compact_scene* c;
+    builder* g;
+    geom_local* loc; /* by model */
+    _Atomic uint8_t* built;
+    _Atomic uint32_t next;   /* the next model to build */
+    _Atomic uint32_t merged; /* models merged */
+    _Atomic int merging;     /* a thread is merging */
+    _Atomic int stop;        /* a failure: the rest is skipped */
+    uint32_t window;
+    vx_result r; /* the first failure in model order */
+    vx_error* err;
+} geom_jobs;
+
+static void local_free(geom_local* l) {
+    vx_free(l->b.a, l->b.slot);
+    vx_free(l->b.a, l->b.rank);
+    vx_free(l->b.a, l->b.meta);
+    vx_free(l->b.a, l->b.tab);
+    vx_free(l->b.a, l->b.dict);
+    vx_free(l->b.a, l->b.dtab);
+    memset(&l->b, 0, sizeof l->b);
+}
+
+/* Interns model i's local DAG into the scene's builder g. */
+static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, uint32_t i, vx_error* err) {
+    builder* b = &l->b;
+    *cm = l->cm;
+    if (cm->root >= VX_SVO_ROOT_LEAF) return model_cells(cm, l->cells, i, err);
+    uint32_t* dmap = vx_alloc(g->a, ((size_t)b->dict_n + 1) * 4);
+    uint32_t* bmap = vx_alloc(g->a, ((size_t)b->n + 1) * 4);
+    vx_result r = VX_OK;
+    if (!dmap || !bmap) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's blocks", i);
+    for (uint32_t k = 0; !r && k < b->dict_n; k++) r = dict_intern(g, b->dict[k], &dmap[k]);
+    for (uint32_t e = 0; !r && e < b->n;) {
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4, w[16];
+        for (uint32_t k = 0; k < len; k++) {
+            uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = bmap[y]; /* its children's block */
+            else if (level == 2 && g->use_dict)                       /* a brick index word */
+                x = dmap[x & (VX_COMPACT_MAX_BRICKS - 1u)] | (x & ~(VX_COMPACT_MAX_BRICKS - 1u));
+            w[2 * k] = x, w[2 * k + 1] = y;
+        }
+        r = block_intern(g, w, b->rank + e, len, level, &bmap[e]);
+        e += len;
+    }
+    if (!r) cm->root = cm->depth <= 2 && g->use_dict ? dmap[cm->root] : bmap[cm->root];
+    if (r) vx_error_prefix(err, "compact layout");
+    vx_free(g->a, dmap);
+    vx_free(g->a, bmap);
+    if (!r) r = model_cells(cm, l->cells, i, err);
+    return r;
+}
+
+/* Merges the models built in order, while this thread holds the merge. */
+static void merge_ready(geom_jobs* j) {
+    for (;;) {
+        int expect = 0;
+        if (!atomic_compare_exchange_strong(&j->merging, &expect, 1)) return;
+        uint32_t m = atomic_load(&j->merged), n = j->s->model_count;
+        while (m < n && atomic_load(&j->built[m]) && !atomic_load(&j->stop)) {
+            geom_local* l = &j->loc[m];
+            vx_result r = l->r;
+            if (r) {
+                if (j->err) *j->err = l->err;
+            } else {
+                double t0 = vx_time_now();
+                r = merge_model(j->g, l, &j->c->models[m], m, j->err);
+                j->c->stats.geom_merge_seconds += vx_time_now() - t0;
+            }
+            local_free(l);
+            if (r) {
+                j->r = r;
+                atomic_store(&j->stop, 1);
+            }
+            atomic_store(&j->merged, ++m);
+        }
+        atomic_store(&j->merging, 0);
+        /* a model built while this thread was finishing is merged by it now */
+        if (m >= n || atomic_load(&j->stop) || !atomic_load(&j->built[m])) return;
+    }
+}
+
+static void* geom_worker(void* arg) {
+    geom_jobs* j = arg;
+    uint32_t n = j->s->model_count;
+    for (;;) {
+        if (atomic_load(&j->stop)) return NULL;
+        uint32_t i = atomic_load(&j->next);
+        if (i >= n) break;
+        if (i >= atomic_load(&j->merged) + j->window) { /* too far ahead: merge, or wait for the merge */
+            merge_ready(j);
+            if (i >= atomic_load(&j->merged) + j->window) nanosleep(&(struct timespec){0, 50000}, NULL);
+            continue;
+        }
+        if (!atomic_compare_exchange_weak(&j->next, &i, i + 1)) continue;
+        geom_local* l = &j->loc[i];
+        l->b = (builder){.a = j->g->a, .err = &l->err, .st = &l->st, .max_bricks = j->g->max_bricks,
+                         .use_dict = j->g->use_dict};
+        l->r = build_model_geom(&l->b, &j->s->models[i], i, &l->cm, &l->cells, &l->err);
+        /* the hash tables are not needed by the merge */
+        vx_free(l->b.a, l->b.tab);
+        vx_free(l->b.a, l->b.dtab);
+        l->b.tab = NULL, l->b.dtab = NULL;
+        atomic_store(&j->built[i], 1);
+        merge_ready(j);
+    }
+    /* nothing left to build: merge until every model is (another thread may be holding the merge) */
+    while (atomic_load(&j->merged) < n && !atomic_load(&j->stop)) {
+        merge_ready(j);
+        if (atomic_load(&j->merged) < n) nanosleep(&(struct timespec){0, 50000}, NULL);
+    }
+    return NULL;
+}
+
+static vx_result build_geom_parallel(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
+                                     unsigned threads, vx_error* err) {
+    uint32_t n = s->model_count;
+    geom_jobs j = {.s = s, .c = c, .g = g, .window = 2 * threads, .err = err};
+    j.loc = vx_calloc(d->alloc, n, sizeof *j.loc);
+    j.built = vx_calloc(d->alloc, n, sizeof *j.built);
+    if (!j.loc || !j.built) {
+        vx_free(d->alloc, j.loc);
+        vx_free(d->alloc, (void*)j.built);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' geometry", n);
+    }
+    vx_run_threads(threads, geom_worker, &j);
+    for (uint32_t i = 0; i < n; i++) local_free(&j.loc[i]); /* those built past a failure */
+    vx_free(d->alloc, j.loc);
+    vx_free(d->alloc, (void*)j.built);
+    return j.r;
+}
+
 vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
                            vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -753,6 +972,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         if (desc_in->block) d.block = desc_in->block;
         if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
         d.bricks = desc_in->bricks;
+        d.threads = desc_in->threads;
     }
     if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact bricks %u: not a VX_COMPACT_BRICKS_* value",
@@ -770,48 +990,17 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
     if (!c.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models", s->model_count);
-    for (uint32_t i = 0; !r && i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
+    unsigned threads = geom_threads(&d, s);
+    double tg = vx_time_now();
+    if (!r && threads > 1) r = build_geom_parallel(&d, s, &c, &b, threads, err);
+    for (uint32_t i = 0; !r && threads <= 1 && i < s->model_count; i++) {
         vx_compact_model* cm = &c.models[i];
-        cm->depth = m->depth;
-        cm->root = m->root;
-        cm->attr_kind = (m->attrs & VX_ATTR_RGBA8) && m->rgba         ? VX_COMPACT_ATTR_RGBA
-                        : (m->attrs & VX_ATTR_PALETTE) && m->palette ? VX_COMPACT_ATTR_PALETTE
-                                                                      : VX_COMPACT_ATTR_NONE;
         uint64_t cells = 0;
-        if (m->root == VX_SVO_ROOT_LEAF) {
-            cells = m->depth > 10 ? UINT64_MAX : 1ull << (3 * m->depth);
-        } else if (m->root != VX_SVO_ROOT_EMPTY) {
-            if (m->root >= m->node_count) {
-                r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u of %u words", i, m->root,
-                            m->node_count);
-                break;
-            }
-            b.memo = vx_calloc(d.alloc, m->node_count, 8);
-            b.memo_count = vx_calloc(d.alloc, m->node_count, 4);
-            b.memo_level = vx_calloc(d.alloc, m->node_count, 1);
-            uint32_t rw[2], zero = 0;
-            if (!b.memo || !b.memo_count || !b.memo_level)
-                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
-            else
-                r = build_node(&b, m, m->root, m->depth, &rw[0], &rw[1], &cells);
-            /* the root: a block of one slot at the model's level */
-            if (!r && m->depth <= 2 && b.use_dict) r = dict_intern(&b, rw[0] | (uint64_t)rw[1] << 32, &cm->root);
-            else if (!r) r = block_intern(&b, rw, &zero, 1, m->depth, &cm->root);
-            vx_free(d.alloc, b.memo);
-            vx_free(d.alloc, b.memo_count);
-            vx_free(d.alloc, b.memo_level);
-            if (r) {
-                vx_error_prefix(err, "compact layout");
-                break;
-            }
-        }
-        if (cells > UINT32_MAX) {
-            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u: more than 2^32 - 1 cells", i);
-            break;
-        }
-        cm->voxels = (uint32_t)cells;
+        if ((r = build_model_geom(&b, &s->models[i], i, cm, &cells, err))) break;
+        if ((r = model_cells(cm, cells, i, err))) break;
     }
+    c.stats.geom_seconds = vx_time_now() - tg;
+    c.stats.geom_threads = threads > 1 ? threads : 1;
     vx_free(d.alloc, b.tab);
     b.tab = NULL;
     vx_free(d.alloc, b.dtab);

@@ -127,6 +127,11 @@ typedef struct vx_compact_desc {
      * 0.65x the geometry of a large surface scene, a second dependent load
      * per push into a brick: docs/PERFORMANCE.md issue 18, seventh step) */
     uint32_t bricks;
+    /* threads for the geometry DAG, 0: one per CPU where the scene has at
+     * least 2^20 node words and two models, else one; any count gives the
+     * same bytes (each model's blocks are built apart, then merged in model
+     * order: docs/PERFORMANCE.md issue 18, "65536^3") */
+    uint32_t threads;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -157,6 +162,9 @@ typedef struct vx_compact_stats {
     uint64_t level_slots[33];  /* geometry slots by their node's level (bricks: 2, or 1 in a model of depth 1) */
     uint64_t level_blocks[33]; /* blocks by their slots' level */
     double attr_seconds;       /* wall time of the attributes' build (on several threads), of the whole build's */
+    double geom_seconds;       /* wall time of the geometry DAG's build, of the whole build's */
+    double geom_merge_seconds; /* of which the merge of the models' blocks in model order (on one thread at a time) */
+    uint32_t geom_threads;     /* threads it ran on */
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {

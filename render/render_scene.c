@@ -650,6 +650,8 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             double t1 = vx_time_now();
             rs->layout.build_seconds = t1 - t0;
             rs->layout.attr_seconds = c.stats.attr_seconds;
+            rs->layout.geom_seconds = c.stats.geom_seconds;
+            rs->layout.geom_threads = c.stats.geom_threads;
             rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
             rs->layout.geom_bytes = 4ull * c.geom_words;

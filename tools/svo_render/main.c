@@ -932,10 +932,10 @@ int main(int argc, char** argv) {
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
             if (li.compact_bytes)
-                printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (attributes %.3f s), tables and "
-                       "upload %.3f s\n",
-                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.attr_seconds,
-                       li.upload_seconds);
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (geometry %.3f s on %u threads, "
+                       "attributes %.3f s), tables and upload %.3f s\n",
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_seconds,
+                       li.geom_threads, li.attr_seconds, li.upload_seconds);
             if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
         }
         char why[256];
