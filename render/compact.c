@@ -612,10 +612,10 @@ static void attr_job(void* ctx, unsigned thread, uint32_t i) {
 
 /* Threads for the attributes of a scene of `cells` cells in n models: one
  * where small (the allocation order stays that of one thread), else one
- * per CPU, at most 16. */
+ * per CPU (at most VX_MAX_THREADS). */
 static unsigned attr_threads(uint64_t cells, uint32_t n) {
     if (n < 2 || cells < ((uint64_t)1 << 22)) return 1;
-    unsigned t = vx_cpu_count(16);
+    unsigned t = vx_cpu_count(VX_MAX_THREADS);
     return t < n ? t : n;
 }
 

@@ -556,7 +556,7 @@ typedef struct vx_svo_read_desc {
     const vx_allocator* alloc;
     bool skip_checksums; /* default: every section's CRC-32 is verified */
     unsigned threads;    /* threads that decode, check and validate: 0 = one per CPU (at
-                            most 16), 1 = the caller's thread only. The scene read never
+                            most VX_MAX_THREADS), 1 = the caller's thread only. The scene read never
                             depends on it; small scenes always use the caller's thread. */
     vx_svo_chunk_stats* chunk_stats; /* NULL, or zeroed and filled by a read that gets as
                                         far as the NODE section */
