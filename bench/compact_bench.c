@@ -399,6 +399,8 @@ static int mesh_scene(const char* path, uint32_t res, bool no_color, bool on_gpu
 
 
 /* --threads 1,N,... (before the files): the layout built with each
+ * (with --regions, vx_compact_desc.attr_regions: the peak without the
+ * attributes' joined copy)
  * geometry thread count in turn, --reps rounds (ABAB), the median wall time
  * of the geometry DAG and of the whole build, and whether every count gives
  * the first count's bytes (render/compact.h: they must). */
@@ -406,7 +408,8 @@ static int cmp_double(const void* a, const void* b) {
     double x = *(const double*)a, y = *(const double*)b;
     return x < y ? -1 : x > y;
 }
-static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t* counts, uint32_t nc, uint32_t reps) {
+static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t* counts, uint32_t nc, uint32_t reps,
+                         bool regions) {
     double geom[8][64], all[8][64], merge[8][64];
     bool same[8] = {0};
     if (reps > 64) reps = 64;
@@ -416,6 +419,7 @@ static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t
         for (uint32_t k = 0; k < nc; k++) {
             vx_compact_desc d = vx_compact_desc_defaults();
             d.threads = counts[k];
+            d.attr_regions = regions; /* --regions: the attributes per model (no joined copy; the bytes not compared) */
             vx_compact_scene c;
             vx_error err = {0};
             double t0 = vx_time_now();
@@ -433,7 +437,7 @@ static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t
             }
             same[k] &= c.geom_words == first.geom_words && c.attr_words == first.attr_words &&
                        !memcmp(c.geom, first.geom, (size_t)c.geom_words * 4) &&
-                       !memcmp(c.attr, first.attr, (size_t)c.attr_words * 4) &&
+                       (regions || !memcmp(c.attr, first.attr, (size_t)c.attr_words * 4)) &&
                        !memcmp(c.models, first.models, (size_t)c.model_count * sizeof *c.models);
             vx_compact_free(&c);
         }
@@ -456,6 +460,7 @@ int main(int argc, char** argv) {
     uint64_t budget = 0;
     bool stats = false, geometry_only = false, mesh_gpu = false, levels = false;
     uint32_t mesh_res = 0, tcounts[8], ntc = 0;
+    bool regions = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
     vx_logger logger = {.func = print_stats};
@@ -513,6 +518,10 @@ int main(int argc, char** argv) {
                 else break;
             }
             if (reps == 20) reps = 3; /* the default is --gpu's */
+            continue;
+        }
+        if (!strcmp(argv[i], "--regions")) {
+            regions = true;
             continue;
         }
         if (!strcmp(argv[i], "--geometry")) {
@@ -588,7 +597,7 @@ int main(int argc, char** argv) {
         double load = vx_time_now() - t0;
         if (geometry_only)
             for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
-        if (ntc) threads_rows(name, &s, tcounts, ntc, reps);
+        if (ntc) threads_rows(name, &s, tcounts, ntc, reps, regions);
         else if (!gw)
             for (uint32_t k = 0; k < nb; k++)
                 for (uint32_t j = 0; j < nbricks; j++) row(name, &s, blocks[k], bricks[j], load, levels);

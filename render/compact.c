@@ -646,15 +646,22 @@ static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s
     if (!r && total > UINT32_MAX)
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: %llu attribute words (more than 2^32 - 1)",
                     (unsigned long long)total);
-    if (!r && total && !(c->attr = vx_alloc(d->alloc, (size_t)total * 4)))
+    if (!r && total && d->attr_regions && !(c->attr_region = vx_calloc(d->alloc, n, sizeof *c->attr_region)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+    if (!r && total && !d->attr_regions && !(c->attr = vx_alloc(d->alloc, (size_t)total * 4)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu attribute words",
                     (unsigned long long)total);
     for (uint32_t i = 0; i < n && !r; i++) {
-        const vx_compact_scene* p = &j.part[i];
+        vx_compact_scene* p = &j.part[i];
         vx_compact_model* cm = &c->models[i];
         if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cm->voxels) continue;
         cm->attr_base = c->attr_words;
-        if (p->attr_words) memcpy(c->attr + c->attr_words, p->attr, (size_t)p->attr_words * 4);
+        if (c->attr_region) { /* the region as it was built (its capacity's unwritten tail is not resident) */
+            c->attr_region[i] = p->attr;
+            p->attr = NULL;
+        } else if (p->attr_words) {
+            memcpy(c->attr + c->attr_words, p->attr, (size_t)p->attr_words * 4);
+        }
         c->attr_words += p->attr_words;
         vx_compact_stats* st = &c->stats;
         st->blocks += p->stats.blocks, st->uniform += p->stats.uniform, st->raw += p->stats.raw;
@@ -669,12 +676,31 @@ done:
     return r;
 }
 
+vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err) {
+    if (!c) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!c->attr_region) return VX_OK;
+    uint32_t* a = c->attr_words ? vx_alloc(&c->alloc, (size_t)c->attr_words * 4) : NULL;
+    if (c->attr_words && !a)
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u attribute words", c->attr_words);
+    for (uint32_t i = 0; i < c->model_count; i++) {
+        const vx_compact_model* m = &c->models[i];
+        if (c->attr_region[i]) memcpy(a + m->attr_base, c->attr_region[i], (size_t)m->attr_words * 4);
+        vx_free(&c->alloc, c->attr_region[i]); /* freed as it goes: the peak is the words once and a region */
+    }
+    vx_free(&c->alloc, c->attr_region);
+    c->attr_region = NULL;
+    c->attr = a;
+    return VX_OK;
+}
+
 void vx_compact_free(vx_compact_scene* c) {
     if (!c) return;
     vx_allocator a = c->alloc;
     vx_free(&a, c->models);
     vx_free(&a, c->geom);
     vx_free(&a, c->attr);
+    for (uint32_t i = 0; c->attr_region && i < c->model_count; i++) vx_free(&a, c->attr_region[i]);
+    vx_free(&a, c->attr_region);
     memset(c, 0, sizeof *c);
 }
 
@@ -973,6 +999,7 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
         d.bricks = desc_in->bricks;
         d.threads = desc_in->threads;
+        d.attr_regions = desc_in->attr_regions;
     }
     if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact bricks %u: not a VX_COMPACT_BRICKS_* value",

@@ -132,6 +132,11 @@ typedef struct vx_compact_desc {
      * same bytes (each model's blocks are built apart, then merged in model
      * order: docs/PERFORMANCE.md issue 18, "65536^3") */
     uint32_t threads;
+    /* the attributes left in one array per model (attr_region; attr NULL):
+     * no second host copy of them (they are built apart on the threads),
+     * for the upload (vx_compact_gpu_create takes either form);
+     * vx_compact_join_attrs gives the one array the CPU walks read */
+    bool attr_regions;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -176,7 +181,9 @@ typedef struct vx_compact_scene {
     uint32_t geom_words;  /* 2 slot_count + the ranks + the brick index words, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;
-    uint32_t* attr;
+    uint32_t* attr;          /* the attribute words (NULL while they are in attr_region) */
+    uint32_t** attr_region;  /* vx_compact_desc.attr_regions: model i's words (models[i].attr_words of
+                                them, at attr_base in attr's numbering), or NULL */
     uint32_t palette[256]; /* the scene palette (palette models' colours) */
     vx_compact_stats stats;
     vx_allocator alloc;
@@ -187,6 +194,9 @@ typedef struct vx_compact_scene {
  * valid (vx_svo_validate_scene). */
 vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, vx_compact_scene* out, vx_error* err);
 void vx_compact_free(vx_compact_scene* c);
+/* Joins the per-model attribute regions (vx_compact_desc.attr_regions) into
+ * attr, freeing each as it is copied; nothing to do without them. */
+vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err);
 
 /* Walks model m's geometry to cell (x, y, z): false when the cell is empty or
  * outside the model's cube, else true and *index its attribute index. */

@@ -222,6 +222,35 @@ static void check_threads(const vx_svo_scene* s, const char* name) {
     }
 }
 
+/* The attributes left in per-model regions (vx_compact_desc.attr_regions)
+ * are the one array's words at each model's base, and joined they are the
+ * one array. */
+static void check_regions(const vx_svo_scene* s, const char* name) {
+    vx_error err = {0};
+    vx_compact_scene one, c;
+    REQUIRE(vx_compact_build(NULL, s, &one, &err) == VX_OK);
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.attr_regions = true}, s, &c, &err) == VX_OK);
+    CHECKF(!c.attr && c.attr_region && c.attr_words == one.attr_words && one.attr_words,
+           "%s: regions: %u words, %u in one array", name, c.attr_words, one.attr_words);
+    uint32_t bad = 0, with = 0;
+    for (uint32_t i = 0; c.attr_region && i < c.model_count; i++) {
+        const vx_compact_model* m = &c.models[i];
+        CHECK(!memcmp(m, &one.models[i], sizeof *m));
+        if (!c.attr_region[i]) {
+            bad += m->attr_words != 0;
+            continue;
+        }
+        with++;
+        bad += memcmp(c.attr_region[i], one.attr + m->attr_base, (size_t)m->attr_words * 4) != 0;
+    }
+    CHECKF(!bad && with > 1, "%s: %u of %u regions differ", name, bad, with);
+    REQUIRE(vx_compact_join_attrs(&c, &err) == VX_OK);
+    CHECKF(!c.attr_region && c.attr && !memcmp(c.attr, one.attr, (size_t)one.attr_words * 4), "%s: joined differs", name);
+    REQUIRE(vx_compact_join_attrs(&c, &err) == VX_OK); /* nothing left to join */
+    vx_compact_free(&c);
+    vx_compact_free(&one);
+}
+
 static void test_generated(void) {
     /* palette models: sparse, half full, nearly full (collapsed cubes) */
     vx_svo_model pm[3];
@@ -270,6 +299,7 @@ static void test_generated(void) {
     for (int b = 0; b < 4; b++) check_scene(&s, "generated", blocks[b], NULL);
     CHECK(check_trace(&s, "generated", 160, 90) > 160 * 90 / 4);
     check_threads(&s, "generated");
+    check_regions(&s, "generated");
     /* every block code appears: raw (noise), uniform (tiles), deltas (gradients), palettes */
     vx_compact_scene c;
     check_scene(&s, "generated", 64, &c);
@@ -523,6 +553,7 @@ static void test_corpus_mesh(void) {
     REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
     CHECKF(s.model_count > 20, "DamagedHelmet at 384 in regions of 64: %u models", s.model_count);
     check_threads(&s, "DamagedHelmet at 384, regions of 64");
+    check_regions(&s, "DamagedHelmet at 384, regions of 64");
     vx_svo_scene_free(&s);
 #else
     SKIP("built without the mesh converter");
