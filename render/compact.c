@@ -171,8 +171,8 @@ static uint64_t block_hash(const uint32_t* w, uint32_t k, uint32_t level) {
 /* The block of k slots w (children of one node, level `level`, ranks rk)
  * in the geometry, found or appended; *at its first slot. Blocks are keyed by
  * level too: the same words at another level have other cell counts. */
-static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
-                              uint32_t* at) {
+static vx_result block_intern_h(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
+                                uint64_t hash, uint32_t* at) {
     if (2 * (b->tab_n + 1) > b->tab_cap) {
         size_t cap = b->tab_cap ? b->tab_cap * 2 : 1024;
         uint32_t* t = vx_calloc(b->a, cap, 4);
@@ -190,7 +190,7 @@ static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk,
         b->tab_cap = cap;
     }
     uint16_t key = (uint16_t)(k | level << 4);
-    size_t j = (size_t)block_hash(w, k, level) & (b->tab_cap - 1);
+    size_t j = (size_t)hash & (b->tab_cap - 1);
     for (; b->tab[j] != UINT32_MAX; j = (j + 1) & (b->tab_cap - 1)) {
         uint32_t e = b->tab[j];
         if (b->meta[e] == key && !memcmp(b->slot + 2 * (size_t)e, w, (size_t)k * 8)) {
@@ -218,6 +218,10 @@ static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk,
     b->st->level_slots[level] += k;
     b->st->level_blocks[level]++;
     return VX_OK;
+}
+static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
+                              uint32_t* at) {
+    return block_intern_h(b, w, rk, k, level, block_hash(w, k, level), at);
 }
 
 /* The slot words (*x, *y) of source descriptor w at level L (its children are
@@ -880,7 +884,32 @@ static void local_free(geom_local* l) {
     memset(&l->b, 0, sizeof l->b);
 }
 
-/* Interns model i's local DAG into the scene's builder g. */
+/* The scene's words of local block e (pointers and brick ids remapped):
+ * false where a child's block is not merged yet (bmap UINT32_MAX). */
+static bool merged_words(const builder* g, const builder* b, const uint32_t* dmap, const uint32_t* bmap, uint32_t e,
+                         uint32_t* w) {
+    uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+    for (uint32_t k = 0; k < len; k++) {
+        uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+        if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) { /* its children's block */
+            if ((y = bmap[y]) == UINT32_MAX) return false;
+        } else if (level == 2 && g->use_dict) { /* a brick index word */
+            x = dmap[x & (VX_COMPACT_MAX_BRICKS - 1u)] | (x & ~(VX_COMPACT_MAX_BRICKS - 1u));
+        }
+        w[2 * k] = x, w[2 * k + 1] = y;
+    }
+    return true;
+}
+
+/* Interns model i's local DAG into the scene's builder g. The scene's
+ * table is far larger than the caches, so each probe is a miss and then
+ * another for the entry's words: blocks whose words are known ahead (all
+ * whose children are merged: the bricks' blocks, most of them) have their
+ * table entry prefetched PF blocks ahead and the entry's words PF / 2
+ * ahead. */
+#ifndef PF
+#define PF 16u /* blocks ahead; -DPF=1: no prefetch (bench A/B) */
+#endif
 static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, uint32_t i, vx_error* err) {
     builder* b = &l->b;
     *cm = l->cm;
@@ -890,17 +919,52 @@ static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, ui
     vx_result r = VX_OK;
     if (!dmap || !bmap) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's blocks", i);
     for (uint32_t k = 0; !r && k < b->dict_n; k++) r = dict_intern(g, b->dict[k], &dmap[k]);
-    for (uint32_t e = 0; !r && e < b->n;) {
-        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4, w[16];
-        for (uint32_t k = 0; k < len; k++) {
-            uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
-            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = bmap[y]; /* its children's block */
-            else if (level == 2 && g->use_dict)                       /* a brick index word */
-                x = dmap[x & (VX_COMPACT_MAX_BRICKS - 1u)] | (x & ~(VX_COMPACT_MAX_BRICKS - 1u));
-            w[2 * k] = x, w[2 * k + 1] = y;
+    if (!r) memset(bmap, 0xFF, ((size_t)b->n + 1) * 4);
+    /* a ring of the next blocks: start, hash where known ahead */
+    uint32_t ring_e[PF], w[16];
+    uint64_t ring_h[PF];
+    bool ring_k[PF];
+    uint32_t ahead = 0; /* the first block start not yet in the ring */
+    for (uint32_t q = 0; q < PF; q++) {
+        ring_e[q] = ahead;
+        ring_k[q] = false;
+        if (ahead < b->n) {
+            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
+                ring_h[q] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
+                ring_k[q] = true;
+                if (g->tab_cap) __builtin_prefetch(&g->tab[ring_h[q] & (g->tab_cap - 1)]);
+            }
+            ahead += b->meta[ahead] & 15u;
         }
-        r = block_intern(g, w, b->rank + e, len, level, &bmap[e]);
-        e += len;
+    }
+    for (uint32_t q = 0; !r && ring_e[q % PF] < b->n; q++) {
+        uint32_t slot = q % PF, e = ring_e[slot], len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        /* the entry PF / 2 blocks ahead: its table slot is in the cache by now, prefetch its words */
+        uint32_t mid = (q + PF / 2) % PF;
+        if (ring_k[mid] && g->tab_cap) {
+            uint32_t t = g->tab[ring_h[mid] & (g->tab_cap - 1)];
+            if (t != UINT32_MAX) {
+                __builtin_prefetch(g->slot + 2 * (size_t)t);
+                __builtin_prefetch(g->meta + t);
+            }
+        }
+        if (!merged_words(g, b, dmap, bmap, e, w)) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: a block before its children", i);
+            break;
+        }
+        uint64_t h = ring_k[slot] ? ring_h[slot] : block_hash(w, len, level);
+        r = block_intern_h(g, w, b->rank + e, len, level, h, &bmap[e]);
+        /* refill the slot with the block PF ahead */
+        ring_e[slot] = ahead;
+        ring_k[slot] = false;
+        if (ahead < b->n) {
+            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
+                ring_h[slot] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
+                ring_k[slot] = true;
+                __builtin_prefetch(&g->tab[ring_h[slot] & (g->tab_cap - 1)]);
+            }
+            ahead += b->meta[ahead] & 15u;
+        }
     }
     if (!r) cm->root = cm->depth <= 2 && g->use_dict ? dmap[cm->root] : bmap[cm->root];
     if (r) vx_error_prefix(err, "compact layout");
