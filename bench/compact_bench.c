@@ -400,7 +400,8 @@ static int mesh_scene(const char* path, uint32_t res, bool no_color, bool on_gpu
 
 /* --threads 1,N,... (before the files): the layout built with each
  * (with --regions, vx_compact_desc.attr_regions: the peak without the
- * attributes' joined copy)
+ * attributes' joined copy; a count followed by o or a: the ordered merge
+ * or the merge on all threads, vx_compact_desc.merge)
  * geometry thread count in turn, --reps rounds (ABAB), the median wall time
  * of the geometry DAG and of the whole build, and whether every count gives
  * the first count's bytes (render/compact.h: they must). */
@@ -408,8 +409,8 @@ static int cmp_double(const void* a, const void* b) {
     double x = *(const double*)a, y = *(const double*)b;
     return x < y ? -1 : x > y;
 }
-static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t* counts, uint32_t nc, uint32_t reps,
-                         bool regions) {
+static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t* counts, const uint32_t* mrg,
+                         uint32_t nc, uint32_t reps, bool regions) {
     double geom[8][64], all[8][64], merge[8][64];
     bool same[8] = {0};
     if (reps > 64) reps = 64;
@@ -419,6 +420,7 @@ static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t
         for (uint32_t k = 0; k < nc; k++) {
             vx_compact_desc d = vx_compact_desc_defaults();
             d.threads = counts[k];
+            d.merge = mrg[k];
             d.attr_regions = regions; /* --regions: the attributes per model (no joined copy; the bytes not compared) */
             vx_compact_scene c;
             vx_error err = {0};
@@ -445,8 +447,9 @@ static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t
         qsort(geom[k], reps, sizeof(double), cmp_double);
         qsort(all[k], reps, sizeof(double), cmp_double);
         qsort(merge[k], reps, sizeof(double), cmp_double);
-        printf("threads %s: %u: geometry %.3f s (median of %u; merge %.3f s), build %.3f s, peak %.2f GiB, bytes %s\n",
-               name, counts[k], geom[k][reps / 2], reps, merge[k][reps / 2], all[k][reps / 2],
+        printf("threads %s: %u%s: geometry %.3f s (median of %u; merge %.3f s), build %.3f s, peak %.2f GiB, bytes %s\n",
+               name, counts[k], mrg[k] == VX_COMPACT_MERGE_ORDERED ? " (ordered merge)" : mrg[k] ? " (merge on all)" : "",
+               geom[k][reps / 2], reps, merge[k][reps / 2], all[k][reps / 2],
                vx_peak_rss() / 1073741824.0,
                same[k] ? "same as the first" : "DIFFER");
     }
@@ -459,7 +462,7 @@ int main(int argc, char** argv) {
     uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
     uint64_t budget = 0;
     bool stats = false, geometry_only = false, mesh_gpu = false, levels = false;
-    uint32_t mesh_res = 0, tcounts[8], ntc = 0;
+    uint32_t mesh_res = 0, tcounts[8], tmerge[8], ntc = 0;
     bool regions = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
@@ -513,7 +516,9 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             for (char* p = argv[++i]; *p && ntc < 8;) {
-                tcounts[ntc++] = (uint32_t)strtoul(p, &p, 10);
+                tcounts[ntc] = (uint32_t)strtoul(p, &p, 10);
+                tmerge[ntc++] = *p == 'o' ? VX_COMPACT_MERGE_ORDERED : *p == 'a' ? VX_COMPACT_MERGE_ALL : 0;
+                if (*p == 'o' || *p == 'a') p++;
                 if (*p == ',') p++;
                 else break;
             }
@@ -597,7 +602,7 @@ int main(int argc, char** argv) {
         double load = vx_time_now() - t0;
         if (geometry_only)
             for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
-        if (ntc) threads_rows(name, &s, tcounts, ntc, reps, regions);
+        if (ntc) threads_rows(name, &s, tcounts, tmerge, ntc, reps, regions);
         else if (!gw)
             for (uint32_t k = 0; k < nb; k++)
                 for (uint32_t j = 0; j < nbricks; j++) row(name, &s, blocks[k], bricks[j], load, levels);

@@ -1035,6 +1035,255 @@ static void* geom_worker(void* arg) {
     return NULL;
 }
 
+/* ---- the merge on all threads (bricks in their blocks) ------------------------------
+ * The merge above runs on one thread at a time and was most of the
+ * geometry's time on many threads (DamagedHelmet at 16384^3 on 32 threads:
+ * merge 4.2 of 4.5 s). Here every model's local DAG is built first, then:
+ *   1. level by level, from the bricks' blocks up, every local block is
+ *      interned in one concurrent table under its canonical words (its
+ *      children's pointers replaced by their table entries), the entry
+ *      keeping the least key (model << 32 | local start, plus one) of the blocks
+ *      equal to it: the block the one-thread build appends;
+ *   2. the blocks that hold their entry's key are counted per model, the
+ *      counts summed in model order, and each such block is placed where
+ *      the one-thread build places it (after the earlier models' new
+ *      blocks, in its model's local order), its entry then holding that
+ *      place; 3. their words are written with the children's places.
+ * So the layout is the same bytes (test_compact). Every level's pass and
+ * every step runs over the models on all threads. The brick dictionary
+ * (its ids also by first appearance) keeps the merge above. */
+#define PM_EMPTY 0u /* keys are stored plus one, so that a zeroed table (calloc: untouched pages) is empty */
+
+typedef struct pmerge {
+    const vx_svo_scene* s;
+    vx_compact_scene* c;
+    builder* g;
+    geom_local* loc;
+    uint32_t** canon;  /* per model: by local block start, its table entry */
+    uint8_t** first;   /* per model: by local block start, 1 where it is its entry's first block */
+    uint32_t** order;  /* per model: its block starts by level (counting sort), lvl[i][L] the first of level L */
+    uint32_t (*lvl)[34];
+    _Atomic uint64_t* tab; /* keys, then (step 2 on) places */
+    size_t cap;
+    uint32_t level;
+    uint64_t* count;       /* per model: slots of its first blocks */
+    uint64_t* base;        /* per model: the place of its first such slot */
+    uint64_t (*lslots)[33], (*lblocks)[33];
+    vx_result* res;
+    vx_error* errs;
+} pmerge;
+
+/* The canonical words of model m's local block e (children as table entries). */
+static void pm_words(const pmerge* p, uint32_t m, uint32_t e, uint32_t* w) {
+    const builder* b = &p->loc[m].b;
+    uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+    for (uint32_t k = 0; k < len; k++) {
+        uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+        if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = p->canon[m][y];
+        w[2 * k] = x, w[2 * k + 1] = y;
+    }
+}
+
+static void pm_level_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint32_t L = p->level, w[16], v[16];
+    for (uint32_t q = p->lvl[i][L]; q < p->lvl[i][L + 1]; q++) {
+        uint32_t e = p->order[i][q], len = b->meta[e] & 15u;
+        pm_words(p, i, e, w);
+        uint64_t key = ((uint64_t)i << 32 | e) + 1;
+        size_t j = (size_t)block_hash(w, len, L) & (p->cap - 1);
+        for (;;) {
+            uint64_t k = atomic_load_explicit(&p->tab[j], memory_order_acquire);
+            if (k == PM_EMPTY) {
+                if (atomic_compare_exchange_strong(&p->tab[j], &k, key)) break;
+                if (k == PM_EMPTY) continue;
+            }
+            uint32_t m = (uint32_t)((k - 1) >> 32), f = (uint32_t)(k - 1);
+            if (p->loc[m].b.meta[f] == b->meta[e]) {
+                pm_words(p, m, f, v);
+                if (!memcmp(v, w, (size_t)len * 8)) { /* equal: keep the least key */
+                    while (key < k && !atomic_compare_exchange_weak(&p->tab[j], &k, key)) {}
+                    break;
+                }
+            }
+            j = (j + 1) & (p->cap - 1);
+        }
+        p->canon[i][e] = (uint32_t)j;
+    }
+}
+
+/* the order of model i's blocks by level, its canon and first arrays */
+static void pm_prep_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    const vx_allocator* a = p->g->a;
+    uint32_t nb = 0, cnt[34] = {0};
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) cnt[(b->meta[e] >> 4) + 1]++, nb++;
+    p->canon[i] = vx_alloc(a, ((size_t)b->n + 1) * 4);
+    p->first[i] = vx_calloc(a, (size_t)b->n + 1, 1);
+    p->order[i] = vx_alloc(a, ((size_t)nb + 1) * 4);
+    if (!p->canon[i] || !p->first[i] || !p->order[i]) {
+        p->res[i] = vx_fail(&p->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's blocks", i);
+        return;
+    }
+    for (uint32_t L = 1; L < 34; L++) cnt[L] += cnt[L - 1];
+    memcpy(p->lvl[i], cnt, sizeof cnt);
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) p->order[i][cnt[b->meta[e] >> 4]++] = e;
+}
+
+/* step 2a: model i's first blocks, counted */
+static void pm_count_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint64_t n = 0;
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) {
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        if (atomic_load_explicit(&p->tab[p->canon[i][e]], memory_order_relaxed) != ((uint64_t)i << 32 | e) + 1) continue;
+        p->first[i][e] = 1;
+        n += len;
+        p->lslots[i][level] += len;
+        p->lblocks[i][level]++;
+    }
+    p->count[i] = n;
+}
+
+/* step 2b: their places into their entries */
+static void pm_place_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint64_t at = p->base[i];
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u)
+        if (p->first[i][e]) {
+            atomic_store_explicit(&p->tab[p->canon[i][e]], at, memory_order_relaxed);
+            at += b->meta[e] & 15u;
+        }
+}
+
+/* step 3: their words, ranks and metas at their places; the root's place */
+static void pm_write_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    builder* g = p->g;
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) {
+        if (!p->first[i][e]) continue;
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        size_t at = (size_t)atomic_load_explicit(&p->tab[p->canon[i][e]], memory_order_relaxed);
+        for (uint32_t k = 0; k < len; k++) {
+            uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu))
+                y = (uint32_t)atomic_load_explicit(&p->tab[p->canon[i][y]], memory_order_relaxed);
+            g->slot[2 * (at + k)] = x, g->slot[2 * (at + k) + 1] = y;
+        }
+        memcpy(g->rank + at, b->rank + e, (size_t)len * 4);
+        memcpy(g->meta + at, b->meta + e, (size_t)len * 2);
+    }
+    vx_compact_model* cm = &p->c->models[i];
+    if (cm->root < VX_SVO_ROOT_LEAF)
+        cm->root = (uint32_t)atomic_load_explicit(&p->tab[p->canon[i][cm->root]], memory_order_relaxed);
+}
+
+static void pm_build_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    geom_local* l = &p->loc[i];
+    l->b = (builder){.a = p->g->a, .err = &l->err, .st = &l->st, .max_bricks = p->g->max_bricks};
+    l->r = build_model_geom(&l->b, &p->s->models[i], i, &l->cm, &l->cells, &l->err);
+    vx_free(l->b.a, l->b.tab); /* the local hash table: not needed by the merge */
+    l->b.tab = NULL;
+}
+
+static vx_result build_geom_all(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
+                                unsigned threads, vx_error* err) {
+    uint32_t n = s->model_count;
+    const vx_allocator* a = d->alloc;
+    pmerge p = {.s = s, .c = c, .g = g};
+    p.loc = vx_calloc(a, n, sizeof *p.loc);
+    p.canon = vx_calloc(a, n, sizeof *p.canon);
+    p.first = vx_calloc(a, n, sizeof *p.first);
+    p.order = vx_calloc(a, n, sizeof *p.order);
+    p.lvl = vx_calloc(a, n, sizeof *p.lvl);
+    p.count = vx_calloc(a, n, sizeof *p.count);
+    p.base = vx_calloc(a, n, sizeof *p.base);
+    p.lslots = vx_calloc(a, n, sizeof *p.lslots);
+    p.lblocks = vx_calloc(a, n, sizeof *p.lblocks);
+    p.res = vx_calloc(a, n, sizeof *p.res);
+    p.errs = vx_calloc(a, n, sizeof *p.errs);
+    vx_result r = VX_OK;
+    if (!p.loc || !p.canon || !p.first || !p.order || !p.lvl || !p.count || !p.base || !p.lslots || !p.lblocks ||
+        !p.res || !p.errs)
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' geometry", n);
+    if (!r) vx_run_jobs(threads, n, pm_build_job, &p);
+    double t_merge = vx_time_now();
+    uint64_t blocks = 0;
+    uint32_t top = 0;
+    for (uint32_t i = 0; !r && i < n; i++) { /* the first failure in model order, as one thread reports it */
+        if ((r = p.loc[i].r)) {
+            if (err) *err = p.loc[i].err;
+            break;
+        }
+        c->models[i] = p.loc[i].cm;
+        if ((r = model_cells(&c->models[i], p.loc[i].cells, i, err))) break;
+        for (uint32_t e = 0; e < p.loc[i].b.n; e += p.loc[i].b.meta[e] & 15u) {
+            blocks++;
+            if ((p.loc[i].b.meta[e] >> 4) > top) top = p.loc[i].b.meta[e] >> 4;
+        }
+    }
+    if (!r) vx_run_jobs(threads, n, pm_prep_job, &p);
+    for (uint32_t i = 0; !r && i < n; i++)
+        if ((r = p.res[i]) && err) *err = p.errs[i];
+    if (!r) {
+        p.cap = 1024;
+        while (p.cap < 2 * blocks) p.cap *= 2;
+        if (p.cap > ((size_t)1 << 32) || !(p.tab = vx_calloc(a, p.cap, sizeof *p.tab)))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %zu-entry block table", p.cap);
+    }
+    if (!r) {
+        for (p.level = 1; p.level <= top; p.level++) vx_run_jobs(threads, n, pm_level_job, &p);
+        vx_run_jobs(threads, n, pm_count_job, &p);
+        uint64_t total = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            p.base[i] = total;
+            total += p.count[i];
+            for (uint32_t L = 0; L < 33; L++) {
+                c->stats.nodes += p.lslots[i][L];
+                c->stats.level_slots[L] += p.lslots[i][L];
+                c->stats.level_blocks[L] += p.lblocks[i][L];
+            }
+        }
+        if (total > VX_COMPACT_MAX_SLOTS)
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u geometry slots",
+                        VX_COMPACT_MAX_SLOTS);
+        if (!r && (!vx_grow(a, (void**)&g->slot, &g->slot_cap, 2 * (size_t)total + 2, 4) ||
+                   !vx_grow(a, (void**)&g->rank, &g->rank_cap, (size_t)total + 1, 4) ||
+                   !vx_grow(a, (void**)&g->meta, &g->meta_cap, (size_t)total + 1, 2)))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu geometry slots",
+                        (unsigned long long)total);
+        if (!r) {
+            vx_run_jobs(threads, n, pm_place_job, &p);
+            vx_run_jobs(threads, n, pm_write_job, &p);
+            g->n = (uint32_t)total;
+        }
+    }
+    for (uint32_t i = 0; p.loc && i < n; i++) {
+        local_free(&p.loc[i]);
+        if (p.canon) vx_free(a, p.canon[i]);
+        if (p.first) vx_free(a, p.first[i]);
+        if (p.order) vx_free(a, p.order[i]);
+    }
+    vx_free(a, (void*)p.tab);
+    vx_free(a, p.loc), vx_free(a, p.canon), vx_free(a, p.first), vx_free(a, p.order), vx_free(a, p.lvl);
+    vx_free(a, p.count), vx_free(a, p.base), vx_free(a, p.lslots), vx_free(a, p.lblocks);
+    vx_free(a, p.res), vx_free(a, p.errs);
+    c->stats.geom_merge_seconds = vx_time_now() - t_merge;
+    return r;
+}
+
 static vx_result build_geom_parallel(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
                                      unsigned threads, vx_error* err) {
     uint32_t n = s->model_count;
@@ -1063,8 +1312,11 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
         d.bricks = desc_in->bricks;
         d.threads = desc_in->threads;
+        d.merge = desc_in->merge;
         d.attr_regions = desc_in->attr_regions;
     }
+    if (d.merge > VX_COMPACT_MERGE_ALL)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact merge %u: not a VX_COMPACT_MERGE_* value", d.merge);
     if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact bricks %u: not a VX_COMPACT_BRICKS_* value",
                        d.bricks);
@@ -1083,7 +1335,12 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     if (!c.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models", s->model_count);
     unsigned threads = geom_threads(&d, s);
     double tg = vx_time_now();
-    if (!r && threads > 1) r = build_geom_parallel(&d, s, &c, &b, threads, err);
+    /* the merge on all threads does about twice the one thread's work in all
+     * (the canonical words of both blocks at each probe, the passes); with
+     * few threads the merge in model order beside the builds is faster */
+    bool all = d.merge == VX_COMPACT_MERGE_ALL || (d.merge == VX_COMPACT_MERGE_AUTO && threads >= VX_COMPACT_MERGE_ALL_THREADS);
+    if (!r && threads > 1)
+        r = b.use_dict || !all ? build_geom_parallel(&d, s, &c, &b, threads, err) : build_geom_all(&d, s, &c, &b, threads, err);
     for (uint32_t i = 0; !r && threads <= 1 && i < s->model_count; i++) {
         vx_compact_model* cm = &c.models[i];
         uint64_t cells = 0;

@@ -110,6 +110,8 @@ extern "C" {
 #define VX_COMPACT_BRICK_BITS 23u        /* bits of a brick's dictionary index in its index word */
 #define VX_COMPACT_INDEXED 0x80000000u   /* word 0 of a level-3 node: its block holds index words */
 enum { VX_COMPACT_BRICKS_INLINE = 0, VX_COMPACT_BRICKS_DICT = 1 };
+enum { VX_COMPACT_MERGE_AUTO = 0, VX_COMPACT_MERGE_ORDERED = 1, VX_COMPACT_MERGE_ALL = 2 };
+#define VX_COMPACT_MERGE_ALL_THREADS 8u
 #define VX_COMPACT_MAX_BRICKS (1u << VX_COMPACT_BRICK_BITS) /* distinct bricks of a scene */
 
 typedef struct vx_compact_desc {
@@ -132,6 +134,13 @@ typedef struct vx_compact_desc {
      * same bytes (each model's blocks are built apart, then merged in model
      * order: docs/PERFORMANCE.md issue 18, "65536^3") */
     uint32_t threads;
+    /* how the models' blocks are merged on several threads (the same
+     * bytes): VX_COMPACT_MERGE_AUTO (0) ALL from VX_COMPACT_MERGE_ALL_THREADS
+     * threads on, else ORDERED; ORDERED: in model order on one thread at a
+     * time beside the builds (the least work); ALL: level by level on
+     * every thread (about twice the work, no serial part). The brick
+     * dictionary always merges ORDERED. */
+    uint32_t merge;
     /* the attributes left in one array per model (attr_region; attr NULL):
      * no second host copy of them (they are built apart on the threads),
      * for the upload (vx_compact_gpu_create takes either form);

@@ -184,8 +184,9 @@ static vx_result rgba_model(vx_svo_model* m, uint32_t side, const uint64_t* keys
 
 
 /* The geometry built on several threads (each model apart, then merged in
- * model order) must be the one-thread build's bytes: models, geometry,
- * attributes and the counts, with and without the brick dictionary. */
+ * model order, or level by level on all threads) must be the one-thread
+ * build's bytes: models, geometry, attributes and the counts, with and
+ * without the brick dictionary. */
 static void check_threads(const vx_svo_scene* s, const char* name) {
     for (uint32_t bricks = VX_COMPACT_BRICKS_INLINE; bricks <= VX_COMPACT_BRICKS_DICT; bricks++) {
         vx_error err = {0};
@@ -193,10 +194,11 @@ static void check_threads(const vx_svo_scene* s, const char* name) {
         vx_compact_desc d = {.bricks = bricks, .threads = 1};
         REQUIRE(vx_compact_build(&d, s, &one, &err) == VX_OK);
         CHECKF(one.stats.geom_threads == 1, "%s: %u threads asked 1", name, one.stats.geom_threads);
-        static const uint32_t counts[] = {2, 3, 7};
-        for (int t = 0; t < 3; t++) {
+        static const uint32_t counts[] = {2, 3, 7, 2, 3, 7};
+        for (int t = 0; t < 6; t++) {
             vx_compact_scene c;
             d.threads = counts[t];
+            d.merge = t < 3 ? VX_COMPACT_MERGE_ORDERED : VX_COMPACT_MERGE_ALL;
             REQUIRE(vx_compact_build(&d, s, &c, &err) == VX_OK);
             uint32_t want = counts[t] < s->model_count ? counts[t] : s->model_count;
             CHECKF(c.stats.geom_threads == want, "%s: geometry on %u threads, asked %u", name, c.stats.geom_threads,
