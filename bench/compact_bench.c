@@ -397,13 +397,73 @@ static int mesh_scene(const char* path, uint32_t res, bool no_color, bool on_gpu
 #endif
 }
 
+
+/* --threads 1,N,... (before the files): the layout built with each
+ * (with --regions, vx_compact_desc.attr_regions: the peak without the
+ * attributes' joined copy; a count followed by o or a: the ordered merge
+ * or the merge on all threads, vx_compact_desc.merge)
+ * geometry thread count in turn, --reps rounds (ABAB), the median wall time
+ * of the geometry DAG and of the whole build, and whether every count gives
+ * the first count's bytes (render/compact.h: they must). */
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return x < y ? -1 : x > y;
+}
+static void threads_rows(const char* name, const vx_svo_scene* s, const uint32_t* counts, const uint32_t* mrg,
+                         uint32_t nc, uint32_t reps, bool regions) {
+    double geom[8][64], all[8][64], merge[8][64];
+    bool same[8] = {0};
+    if (reps > 64) reps = 64;
+    for (uint32_t k = 0; k < nc; k++) same[k] = true;
+    vx_compact_scene first = {0};
+    for (uint32_t r = 0; r < reps; r++)
+        for (uint32_t k = 0; k < nc; k++) {
+            vx_compact_desc d = vx_compact_desc_defaults();
+            d.threads = counts[k];
+            d.merge = mrg[k];
+            d.attr_regions = regions; /* --regions: the attributes per model (no joined copy; the bytes not compared) */
+            vx_compact_scene c;
+            vx_error err = {0};
+            double t0 = vx_time_now();
+            if (vx_compact_build(&d, s, &c, &err)) {
+                fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
+                vx_compact_free(&first);
+                return;
+            }
+            all[k][r] = vx_time_now() - t0;
+            geom[k][r] = c.stats.geom_seconds;
+            merge[k][r] = c.stats.geom_merge_seconds;
+            if (!first.models) {
+                first = c;
+                continue;
+            }
+            same[k] &= c.geom_words == first.geom_words && c.attr_words == first.attr_words &&
+                       !memcmp(c.geom, first.geom, (size_t)c.geom_words * 4) &&
+                       (regions || !memcmp(c.attr, first.attr, (size_t)c.attr_words * 4)) &&
+                       !memcmp(c.models, first.models, (size_t)c.model_count * sizeof *c.models);
+            vx_compact_free(&c);
+        }
+    for (uint32_t k = 0; k < nc; k++) {
+        qsort(geom[k], reps, sizeof(double), cmp_double);
+        qsort(all[k], reps, sizeof(double), cmp_double);
+        qsort(merge[k], reps, sizeof(double), cmp_double);
+        printf("threads %s: %u%s: geometry %.3f s (median of %u; merge %.3f s), build %.3f s, peak %.2f GiB, bytes %s\n",
+               name, counts[k], mrg[k] == VX_COMPACT_MERGE_ORDERED ? " (ordered merge)" : mrg[k] ? " (merge on all)" : "",
+               geom[k][reps / 2], reps, merge[k][reps / 2], all[k][reps / 2],
+               vx_peak_rss() / 1073741824.0,
+               same[k] ? "same as the first" : "DIFFER");
+    }
+    vx_compact_free(&first);
+}
+
 int main(int argc, char** argv) {
     uint32_t blocks[16] = {0}, nb = 1; /* 0: automatic per model */
     uint32_t bricks[2] = {VX_COMPACT_BRICKS_INLINE, VX_COMPACT_BRICKS_DICT}, nbricks = 1;
     uint32_t gw = 0, gh = 0, reps = 20, lp = 0, fly = 0;
     uint64_t budget = 0;
     bool stats = false, geometry_only = false, mesh_gpu = false, levels = false;
-    uint32_t mesh_res = 0;
+    uint32_t mesh_res = 0, tcounts[8], tmerge[8], ntc = 0;
+    bool regions = false;
 #ifdef VX_BENCH_HAVE_VULKAN
     vx_gpu* gpu = NULL;
     vx_logger logger = {.func = print_stats};
@@ -452,6 +512,21 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--mesh-gpu")) {
             mesh_gpu = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            for (char* p = argv[++i]; *p && ntc < 8;) {
+                tcounts[ntc] = (uint32_t)strtoul(p, &p, 10);
+                tmerge[ntc++] = *p == 'o' ? VX_COMPACT_MERGE_ORDERED : *p == 'a' ? VX_COMPACT_MERGE_ALL : 0;
+                if (*p == 'o' || *p == 'a') p++;
+                if (*p == ',') p++;
+                else break;
+            }
+            if (reps == 20) reps = 3; /* the default is --gpu's */
+            continue;
+        }
+        if (!strcmp(argv[i], "--regions")) {
+            regions = true;
             continue;
         }
         if (!strcmp(argv[i], "--geometry")) {
@@ -527,7 +602,8 @@ int main(int argc, char** argv) {
         double load = vx_time_now() - t0;
         if (geometry_only)
             for (uint32_t m = 0; m < s.model_count; m++) s.models[m].attrs = 0; /* the records stay, unread */
-        if (!gw)
+        if (ntc) threads_rows(name, &s, tcounts, tmerge, ntc, reps, regions);
+        else if (!gw)
             for (uint32_t k = 0; k < nb; k++)
                 for (uint32_t j = 0; j < nbricks; j++) row(name, &s, blocks[k], bricks[j], load, levels);
 #ifdef VX_BENCH_HAVE_VULKAN

@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
     vx_error err;
     uint8_t* data = NULL;
     size_t size = 0;
-    if (vx_file_read(path, NULL, 0, &data, &size, &err) != VX_OK) die(path, &err);
+    if (vx_file_read(path, NULL, UINT64_MAX, &data, &size, &err) != VX_OK) die(path, &err);
     const uint32_t chunk_words = chunked ? VX_SVO_CHUNK_WORDS : 0;
     /* a file of version 3 (byte 8, u16) has its large models chunked already */
     const bool do_read = strcmp(only, "write") && strcmp(only, "writefile"), do_write = strcmp(only, "read") && strcmp(only, "readfile");
@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
             die(in_path, &err);
         vx_free(NULL, data);
         data = NULL;
-        if (vx_file_read(in_path, NULL, 0, &data, &size, &err) != VX_OK) die(in_path, &err);
+        if (vx_file_read(in_path, NULL, UINT64_MAX, &data, &size, &err) != VX_OK) die(in_path, &err);
         vx_svo_scene_free(&sc);
         if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(in_path, &err);
         path = in_path;

@@ -2,9 +2,12 @@
  * DAG rebuilt from each model's Laine-Karras tree without its attribute
  * indices and hash-consed over the whole scene, and the attributes in
  * Morton order, block-coded with per-block palettes. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "render/compact.h"
 
+#include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 
 #define ATTR_OFF_MAX (1u << 27) /* payload offsets have 27 bits */
 
@@ -168,8 +171,8 @@ static uint64_t block_hash(const uint32_t* w, uint32_t k, uint32_t level) {
 /* The block of k slots w (children of one node, level `level`, ranks rk)
  * in the geometry, found or appended; *at its first slot. Blocks are keyed by
  * level too: the same words at another level have other cell counts. */
-static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
-                              uint32_t* at) {
+static vx_result block_intern_h(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
+                                uint64_t hash, uint32_t* at) {
     if (2 * (b->tab_n + 1) > b->tab_cap) {
         size_t cap = b->tab_cap ? b->tab_cap * 2 : 1024;
         uint32_t* t = vx_calloc(b->a, cap, 4);
@@ -187,7 +190,7 @@ static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk,
         b->tab_cap = cap;
     }
     uint16_t key = (uint16_t)(k | level << 4);
-    size_t j = (size_t)block_hash(w, k, level) & (b->tab_cap - 1);
+    size_t j = (size_t)hash & (b->tab_cap - 1);
     for (; b->tab[j] != UINT32_MAX; j = (j + 1) & (b->tab_cap - 1)) {
         uint32_t e = b->tab[j];
         if (b->meta[e] == key && !memcmp(b->slot + 2 * (size_t)e, w, (size_t)k * 8)) {
@@ -215,6 +218,10 @@ static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk,
     b->st->level_slots[level] += k;
     b->st->level_blocks[level]++;
     return VX_OK;
+}
+static vx_result block_intern(builder* b, const uint32_t* w, const uint32_t* rk, uint32_t k, uint32_t level,
+                              uint32_t* at) {
+    return block_intern_h(b, w, rk, k, level, block_hash(w, k, level), at);
 }
 
 /* The slot words (*x, *y) of source descriptor w at level L (its children are
@@ -609,10 +616,10 @@ static void attr_job(void* ctx, unsigned thread, uint32_t i) {
 
 /* Threads for the attributes of a scene of `cells` cells in n models: one
  * where small (the allocation order stays that of one thread), else one
- * per CPU, at most 16. */
+ * per CPU (at most VX_MAX_THREADS). */
 static unsigned attr_threads(uint64_t cells, uint32_t n) {
     if (n < 2 || cells < ((uint64_t)1 << 22)) return 1;
-    unsigned t = vx_cpu_count(16);
+    unsigned t = vx_cpu_count(VX_MAX_THREADS);
     return t < n ? t : n;
 }
 
@@ -643,15 +650,22 @@ static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s
     if (!r && total > UINT32_MAX)
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: %llu attribute words (more than 2^32 - 1)",
                     (unsigned long long)total);
-    if (!r && total && !(c->attr = vx_alloc(d->alloc, (size_t)total * 4)))
+    if (!r && total && d->attr_regions && !(c->attr_region = vx_calloc(d->alloc, n, sizeof *c->attr_region)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+    if (!r && total && !d->attr_regions && !(c->attr = vx_alloc(d->alloc, (size_t)total * 4)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu attribute words",
                     (unsigned long long)total);
     for (uint32_t i = 0; i < n && !r; i++) {
-        const vx_compact_scene* p = &j.part[i];
+        vx_compact_scene* p = &j.part[i];
         vx_compact_model* cm = &c->models[i];
         if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cm->voxels) continue;
         cm->attr_base = c->attr_words;
-        if (p->attr_words) memcpy(c->attr + c->attr_words, p->attr, (size_t)p->attr_words * 4);
+        if (c->attr_region) { /* the region as it was built (its capacity's unwritten tail is not resident) */
+            c->attr_region[i] = p->attr;
+            p->attr = NULL;
+        } else if (p->attr_words) {
+            memcpy(c->attr + c->attr_words, p->attr, (size_t)p->attr_words * 4);
+        }
         c->attr_words += p->attr_words;
         vx_compact_stats* st = &c->stats;
         st->blocks += p->stats.blocks, st->uniform += p->stats.uniform, st->raw += p->stats.raw;
@@ -666,12 +680,31 @@ done:
     return r;
 }
 
+vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err) {
+    if (!c) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!c->attr_region) return VX_OK;
+    uint32_t* a = c->attr_words ? vx_alloc(&c->alloc, (size_t)c->attr_words * 4) : NULL;
+    if (c->attr_words && !a)
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u attribute words", c->attr_words);
+    for (uint32_t i = 0; i < c->model_count; i++) {
+        const vx_compact_model* m = &c->models[i];
+        if (c->attr_region[i]) memcpy(a + m->attr_base, c->attr_region[i], (size_t)m->attr_words * 4);
+        vx_free(&c->alloc, c->attr_region[i]); /* freed as it goes: the peak is the words once and a region */
+    }
+    vx_free(&c->alloc, c->attr_region);
+    c->attr_region = NULL;
+    c->attr = a;
+    return VX_OK;
+}
+
 void vx_compact_free(vx_compact_scene* c) {
     if (!c) return;
     vx_allocator a = c->alloc;
     vx_free(&a, c->models);
     vx_free(&a, c->geom);
     vx_free(&a, c->attr);
+    for (uint32_t i = 0; c->attr_region && i < c->model_count; i++) vx_free(&a, c->attr_region[i]);
+    vx_free(&a, c->attr_region);
     memset(c, 0, sizeof *c);
 }
 
@@ -744,6 +777,531 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
     return VX_OK;
 }
 
+/* ---- the geometry of the models -------------------------------------------------- */
+
+/* Model i's geometry into builder b: its nodes' blocks interned, cm->root its
+ * root's block (or dictionary brick), *cells its cells. */
+static vx_result build_model_geom(builder* b, const vx_svo_model* m, uint32_t i, vx_compact_model* cm,
+                                  uint64_t* cells, vx_error* err) {
+    cm->depth = m->depth;
+    cm->root = m->root;
+    cm->attr_kind = (m->attrs & VX_ATTR_RGBA8) && m->rgba         ? VX_COMPACT_ATTR_RGBA
+                    : (m->attrs & VX_ATTR_PALETTE) && m->palette ? VX_COMPACT_ATTR_PALETTE
+                                                                  : VX_COMPACT_ATTR_NONE;
+    *cells = 0;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        *cells = m->depth > 10 ? UINT64_MAX : 1ull << (3 * m->depth);
+        return VX_OK;
+    }
+    if (m->root == VX_SVO_ROOT_EMPTY) return VX_OK;
+    if (m->root >= m->node_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u of %u words", i, m->root,
+                       m->node_count);
+    b->memo = vx_calloc(b->a, m->node_count, 8);
+    b->memo_count = vx_calloc(b->a, m->node_count, 4);
+    b->memo_level = vx_calloc(b->a, m->node_count, 1);
+    uint32_t rw[2], zero = 0;
+    vx_result r;
+    if (!b->memo || !b->memo_count || !b->memo_level)
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
+    else
+        r = build_node(b, m, m->root, m->depth, &rw[0], &rw[1], cells);
+    /* the root: a block of one slot at the model's level */
+    if (!r && m->depth <= 2 && b->use_dict) r = dict_intern(b, rw[0] | (uint64_t)rw[1] << 32, &cm->root);
+    else if (!r) r = block_intern(b, rw, &zero, 1, m->depth, &cm->root);
+    vx_free(b->a, b->memo);
+    vx_free(b->a, b->memo_count);
+    vx_free(b->a, b->memo_level);
+    b->memo = NULL, b->memo_count = NULL, b->memo_level = NULL;
+    if (r) vx_error_prefix(err, "compact layout");
+    return r;
+}
+
+static vx_result model_cells(vx_compact_model* cm, uint64_t cells, uint32_t i, vx_error* err) {
+    if (cells > UINT32_MAX) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u: more than 2^32 - 1 cells", i);
+    cm->voxels = (uint32_t)cells;
+    return VX_OK;
+}
+
+/* Threads for the geometry: one where small (the allocation order, and so
+ * the OOM tests, stay those of one thread), else desc->threads or one per
+ * CPU, at most the models. */
+static unsigned geom_threads(const vx_compact_desc* d, const vx_svo_scene* s) {
+    uint64_t words = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count;
+    if (s->model_count < 2 || d->threads == 1 || (!d->threads && words < ((uint64_t)1 << 20))) return 1;
+    unsigned t = d->threads ? d->threads : vx_cpu_count(VX_MAX_THREADS);
+    if (t > VX_MAX_THREADS) t = VX_MAX_THREADS;
+    return t < s->model_count ? t : s->model_count;
+}
+
+/* The geometry on several threads. Each model's blocks are built alone, in a
+ * builder of its own (its local DAG: blocks in the order one thread would
+ * first meet them, pointers to local blocks, bricks by local dictionary
+ * ids), then merged into the scene's builder in model order, which interns
+ * each local block with its pointers and brick ids made the scene's. That
+ * is the order of first appearance of the one-thread build, so the layout
+ * is the same bytes: a block new to the scene is appended where one thread
+ * would have appended it (its first use in its model, after every earlier
+ * model's blocks), and distinct local blocks stay distinct (their words
+ * differ, or by induction the blocks they point at). Most of the work (the
+ * walk of every node word, the memo, the hashing of repeats within a model)
+ * is in the models' own builds; the merge hashes each model's distinct
+ * blocks once. Whichever thread finds the next model built merges it (one
+ * at a time); builds run at most `window` models ahead of the merge, which
+ * bounds the local DAGs held. */
+typedef struct geom_local {
+    builder b;
+    vx_compact_stats st; /* the local builder's (discarded: the merge counts) */
+    vx_compact_model cm; /* root: a local block or brick id */
+    uint64_t cells;
+    vx_result r;
+    vx_error err;
+} geom_local;
+
+typedef struct geom_jobs {
+    const vx_svo_scene* s;
+    vx_compact_scene* c;
+    builder* g;
+    geom_local* loc; /* by model */
+    _Atomic uint8_t* built;
+    _Atomic uint32_t next;   /* the next model to build */
+    _Atomic uint32_t merged; /* models merged */
+    _Atomic int merging;     /* a thread is merging */
+    _Atomic int stop;        /* a failure: the rest is skipped */
+    uint32_t window;
+    vx_result r; /* the first failure in model order */
+    vx_error* err;
+} geom_jobs;
+
+static void local_free(geom_local* l) {
+    vx_free(l->b.a, l->b.slot);
+    vx_free(l->b.a, l->b.rank);
+    vx_free(l->b.a, l->b.meta);
+    vx_free(l->b.a, l->b.tab);
+    vx_free(l->b.a, l->b.dict);
+    vx_free(l->b.a, l->b.dtab);
+    memset(&l->b, 0, sizeof l->b);
+}
+
+/* The scene's words of local block e (pointers and brick ids remapped):
+ * false where a child's block is not merged yet (bmap UINT32_MAX). */
+static bool merged_words(const builder* g, const builder* b, const uint32_t* dmap, const uint32_t* bmap, uint32_t e,
+                         uint32_t* w) {
+    uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+    for (uint32_t k = 0; k < len; k++) {
+        uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+        if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) { /* its children's block */
+            if ((y = bmap[y]) == UINT32_MAX) return false;
+        } else if (level == 2 && g->use_dict) { /* a brick index word */
+            x = dmap[x & (VX_COMPACT_MAX_BRICKS - 1u)] | (x & ~(VX_COMPACT_MAX_BRICKS - 1u));
+        }
+        w[2 * k] = x, w[2 * k + 1] = y;
+    }
+    return true;
+}
+
+/* Interns model i's local DAG into the scene's builder g. The scene's
+ * table is far larger than the caches, so each probe is a miss and then
+ * another for the entry's words: blocks whose words are known ahead (all
+ * whose children are merged: the bricks' blocks, most of them) have their
+ * table entry prefetched PF blocks ahead and the entry's words PF / 2
+ * ahead. */
+#ifndef PF
+#define PF 16u /* blocks ahead; -DPF=1: no prefetch (bench A/B) */
+#endif
+static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, uint32_t i, vx_error* err) {
+    builder* b = &l->b;
+    *cm = l->cm;
+    if (cm->root >= VX_SVO_ROOT_LEAF) return model_cells(cm, l->cells, i, err);
+    uint32_t* dmap = vx_alloc(g->a, ((size_t)b->dict_n + 1) * 4);
+    uint32_t* bmap = vx_alloc(g->a, ((size_t)b->n + 1) * 4);
+    vx_result r = VX_OK;
+    if (!dmap || !bmap) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's blocks", i);
+    for (uint32_t k = 0; !r && k < b->dict_n; k++) r = dict_intern(g, b->dict[k], &dmap[k]);
+    if (!r) memset(bmap, 0xFF, ((size_t)b->n + 1) * 4);
+    /* a ring of the next blocks: start, hash where known ahead */
+    uint32_t ring_e[PF], w[16];
+    uint64_t ring_h[PF];
+    bool ring_k[PF];
+    uint32_t ahead = 0; /* the first block start not yet in the ring */
+    for (uint32_t q = 0; q < PF; q++) {
+        ring_e[q] = ahead;
+        ring_k[q] = false;
+        if (ahead < b->n) {
+            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
+                ring_h[q] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
+                ring_k[q] = true;
+                if (g->tab_cap) __builtin_prefetch(&g->tab[ring_h[q] & (g->tab_cap - 1)]);
+            }
+            ahead += b->meta[ahead] & 15u;
+        }
+    }
+    for (uint32_t q = 0; !r && ring_e[q % PF] < b->n; q++) {
+        uint32_t slot = q % PF, e = ring_e[slot], len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        /* the entry PF / 2 blocks ahead: its table slot is in the cache by now, prefetch its words */
+        uint32_t mid = (q + PF / 2) % PF;
+        if (ring_k[mid] && g->tab_cap) {
+            uint32_t t = g->tab[ring_h[mid] & (g->tab_cap - 1)];
+            if (t != UINT32_MAX) {
+                __builtin_prefetch(g->slot + 2 * (size_t)t);
+                __builtin_prefetch(g->meta + t);
+            }
+        }
+        if (!merged_words(g, b, dmap, bmap, e, w)) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: a block before its children", i);
+            break;
+        }
+        uint64_t h = ring_k[slot] ? ring_h[slot] : block_hash(w, len, level);
+        r = block_intern_h(g, w, b->rank + e, len, level, h, &bmap[e]);
+        /* refill the slot with the block PF ahead */
+        ring_e[slot] = ahead;
+        ring_k[slot] = false;
+        if (ahead < b->n) {
+            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
+                ring_h[slot] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
+                ring_k[slot] = true;
+                __builtin_prefetch(&g->tab[ring_h[slot] & (g->tab_cap - 1)]);
+            }
+            ahead += b->meta[ahead] & 15u;
+        }
+    }
+    if (!r) cm->root = cm->depth <= 2 && g->use_dict ? dmap[cm->root] : bmap[cm->root];
+    if (r) vx_error_prefix(err, "compact layout");
+    vx_free(g->a, dmap);
+    vx_free(g->a, bmap);
+    if (!r) r = model_cells(cm, l->cells, i, err);
+    return r;
+}
+
+/* Merges the models built in order, while this thread holds the merge. */
+static void merge_ready(geom_jobs* j) {
+    for (;;) {
+        int expect = 0;
+        if (!atomic_compare_exchange_strong(&j->merging, &expect, 1)) return;
+        uint32_t m = atomic_load(&j->merged), n = j->s->model_count;
+        while (m < n && atomic_load(&j->built[m]) && !atomic_load(&j->stop)) {
+            geom_local* l = &j->loc[m];
+            vx_result r = l->r;
+            if (r) {
+                if (j->err) *j->err = l->err;
+            } else {
+                double t0 = vx_time_now();
+                r = merge_model(j->g, l, &j->c->models[m], m, j->err);
+                j->c->stats.geom_merge_seconds += vx_time_now() - t0;
+            }
+            local_free(l);
+            if (r) {
+                j->r = r;
+                atomic_store(&j->stop, 1);
+            }
+            atomic_store(&j->merged, ++m);
+        }
+        atomic_store(&j->merging, 0);
+        /* a model built while this thread was finishing is merged by it now */
+        if (m >= n || atomic_load(&j->stop) || !atomic_load(&j->built[m])) return;
+    }
+}
+
+static void* geom_worker(void* arg) {
+    geom_jobs* j = arg;
+    uint32_t n = j->s->model_count;
+    for (;;) {
+        if (atomic_load(&j->stop)) return NULL;
+        uint32_t i = atomic_load(&j->next);
+        if (i >= n) break;
+        if (i >= atomic_load(&j->merged) + j->window) { /* too far ahead: merge, or wait for the merge */
+            merge_ready(j);
+            if (i >= atomic_load(&j->merged) + j->window) nanosleep(&(struct timespec){0, 50000}, NULL);
+            continue;
+        }
+        if (!atomic_compare_exchange_weak(&j->next, &i, i + 1)) continue;
+        geom_local* l = &j->loc[i];
+        l->b = (builder){.a = j->g->a, .err = &l->err, .st = &l->st, .max_bricks = j->g->max_bricks,
+                         .use_dict = j->g->use_dict};
+        l->r = build_model_geom(&l->b, &j->s->models[i], i, &l->cm, &l->cells, &l->err);
+        /* the hash tables are not needed by the merge */
+        vx_free(l->b.a, l->b.tab);
+        vx_free(l->b.a, l->b.dtab);
+        l->b.tab = NULL, l->b.dtab = NULL;
+        atomic_store(&j->built[i], 1);
+        merge_ready(j);
+    }
+    /* nothing left to build: merge until every model is (another thread may be holding the merge) */
+    while (atomic_load(&j->merged) < n && !atomic_load(&j->stop)) {
+        merge_ready(j);
+        if (atomic_load(&j->merged) < n) nanosleep(&(struct timespec){0, 50000}, NULL);
+    }
+    return NULL;
+}
+
+/* ---- the merge on all threads (bricks in their blocks) ------------------------------
+ * The merge above runs on one thread at a time and was most of the
+ * geometry's time on many threads (DamagedHelmet at 16384^3 on 32 threads:
+ * merge 4.2 of 4.5 s). Here every model's local DAG is built first, then:
+ *   1. level by level, from the bricks' blocks up, every local block is
+ *      interned in one concurrent table under its canonical words (its
+ *      children's pointers replaced by their table entries), the entry
+ *      keeping the least key (model << 32 | local start, plus one) of the blocks
+ *      equal to it: the block the one-thread build appends;
+ *   2. the blocks that hold their entry's key are counted per model, the
+ *      counts summed in model order, and each such block is placed where
+ *      the one-thread build places it (after the earlier models' new
+ *      blocks, in its model's local order), its entry then holding that
+ *      place; 3. their words are written with the children's places.
+ * So the layout is the same bytes (test_compact). Every level's pass and
+ * every step runs over the models on all threads. The brick dictionary
+ * (its ids also by first appearance) keeps the merge above. */
+#define PM_EMPTY 0u /* keys are stored plus one, so that a zeroed table (calloc: untouched pages) is empty */
+
+typedef struct pmerge {
+    const vx_svo_scene* s;
+    vx_compact_scene* c;
+    builder* g;
+    geom_local* loc;
+    uint32_t** canon;  /* per model: by local block start, its table entry */
+    uint8_t** first;   /* per model: by local block start, 1 where it is its entry's first block */
+    uint32_t** order;  /* per model: its block starts by level (counting sort), lvl[i][L] the first of level L */
+    uint32_t (*lvl)[34];
+    _Atomic uint64_t* tab; /* keys, then (step 2 on) places */
+    size_t cap;
+    uint32_t level;
+    uint64_t* count;       /* per model: slots of its first blocks */
+    uint64_t* base;        /* per model: the place of its first such slot */
+    uint64_t (*lslots)[33], (*lblocks)[33];
+    vx_result* res;
+    vx_error* errs;
+} pmerge;
+
+/* The canonical words of model m's local block e (children as table entries). */
+static void pm_words(const pmerge* p, uint32_t m, uint32_t e, uint32_t* w) {
+    const builder* b = &p->loc[m].b;
+    uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+    for (uint32_t k = 0; k < len; k++) {
+        uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+        if (level >= 3 && (((x >> 8) & ~x) & 0xFFu)) y = p->canon[m][y];
+        w[2 * k] = x, w[2 * k + 1] = y;
+    }
+}
+
+static void pm_level_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint32_t L = p->level, w[16], v[16];
+    for (uint32_t q = p->lvl[i][L]; q < p->lvl[i][L + 1]; q++) {
+        uint32_t e = p->order[i][q], len = b->meta[e] & 15u;
+        pm_words(p, i, e, w);
+        uint64_t key = ((uint64_t)i << 32 | e) + 1;
+        size_t j = (size_t)block_hash(w, len, L) & (p->cap - 1);
+        for (;;) {
+            uint64_t k = atomic_load_explicit(&p->tab[j], memory_order_acquire);
+            if (k == PM_EMPTY) {
+                if (atomic_compare_exchange_strong(&p->tab[j], &k, key)) break;
+                if (k == PM_EMPTY) continue;
+            }
+            uint32_t m = (uint32_t)((k - 1) >> 32), f = (uint32_t)(k - 1);
+            if (p->loc[m].b.meta[f] == b->meta[e]) {
+                pm_words(p, m, f, v);
+                if (!memcmp(v, w, (size_t)len * 8)) { /* equal: keep the least key */
+                    while (key < k && !atomic_compare_exchange_weak(&p->tab[j], &k, key)) {}
+                    break;
+                }
+            }
+            j = (j + 1) & (p->cap - 1);
+        }
+        p->canon[i][e] = (uint32_t)j;
+    }
+}
+
+/* the order of model i's blocks by level, its canon and first arrays */
+static void pm_prep_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    const vx_allocator* a = p->g->a;
+    uint32_t nb = 0, cnt[34] = {0};
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) cnt[(b->meta[e] >> 4) + 1]++, nb++;
+    p->canon[i] = vx_alloc(a, ((size_t)b->n + 1) * 4);
+    p->first[i] = vx_calloc(a, (size_t)b->n + 1, 1);
+    p->order[i] = vx_alloc(a, ((size_t)nb + 1) * 4);
+    if (!p->canon[i] || !p->first[i] || !p->order[i]) {
+        p->res[i] = vx_fail(&p->errs[i], VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's blocks", i);
+        return;
+    }
+    for (uint32_t L = 1; L < 34; L++) cnt[L] += cnt[L - 1];
+    memcpy(p->lvl[i], cnt, sizeof cnt);
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) p->order[i][cnt[b->meta[e] >> 4]++] = e;
+}
+
+/* step 2a: model i's first blocks, counted */
+static void pm_count_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint64_t n = 0;
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) {
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        if (atomic_load_explicit(&p->tab[p->canon[i][e]], memory_order_relaxed) != ((uint64_t)i << 32 | e) + 1) continue;
+        p->first[i][e] = 1;
+        n += len;
+        p->lslots[i][level] += len;
+        p->lblocks[i][level]++;
+    }
+    p->count[i] = n;
+}
+
+/* step 2b: their places into their entries */
+static void pm_place_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    uint64_t at = p->base[i];
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u)
+        if (p->first[i][e]) {
+            atomic_store_explicit(&p->tab[p->canon[i][e]], at, memory_order_relaxed);
+            at += b->meta[e] & 15u;
+        }
+}
+
+/* step 3: their words, ranks and metas at their places; the root's place */
+static void pm_write_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    const builder* b = &p->loc[i].b;
+    builder* g = p->g;
+    for (uint32_t e = 0; e < b->n; e += b->meta[e] & 15u) {
+        if (!p->first[i][e]) continue;
+        uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
+        size_t at = (size_t)atomic_load_explicit(&p->tab[p->canon[i][e]], memory_order_relaxed);
+        for (uint32_t k = 0; k < len; k++) {
+            uint32_t x = b->slot[2 * (size_t)(e + k)], y = b->slot[2 * (size_t)(e + k) + 1];
+            if (level >= 3 && (((x >> 8) & ~x) & 0xFFu))
+                y = (uint32_t)atomic_load_explicit(&p->tab[p->canon[i][y]], memory_order_relaxed);
+            g->slot[2 * (at + k)] = x, g->slot[2 * (at + k) + 1] = y;
+        }
+        memcpy(g->rank + at, b->rank + e, (size_t)len * 4);
+        memcpy(g->meta + at, b->meta + e, (size_t)len * 2);
+    }
+    vx_compact_model* cm = &p->c->models[i];
+    if (cm->root < VX_SVO_ROOT_LEAF)
+        cm->root = (uint32_t)atomic_load_explicit(&p->tab[p->canon[i][cm->root]], memory_order_relaxed);
+}
+
+static void pm_build_job(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    pmerge* p = ctx;
+    geom_local* l = &p->loc[i];
+    l->b = (builder){.a = p->g->a, .err = &l->err, .st = &l->st, .max_bricks = p->g->max_bricks};
+    l->r = build_model_geom(&l->b, &p->s->models[i], i, &l->cm, &l->cells, &l->err);
+    vx_free(l->b.a, l->b.tab); /* the local hash table: not needed by the merge */
+    l->b.tab = NULL;
+}
+
+static vx_result build_geom_all(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
+                                unsigned threads, vx_error* err) {
+    uint32_t n = s->model_count;
+    const vx_allocator* a = d->alloc;
+    pmerge p = {.s = s, .c = c, .g = g};
+    p.loc = vx_calloc(a, n, sizeof *p.loc);
+    p.canon = vx_calloc(a, n, sizeof *p.canon);
+    p.first = vx_calloc(a, n, sizeof *p.first);
+    p.order = vx_calloc(a, n, sizeof *p.order);
+    p.lvl = vx_calloc(a, n, sizeof *p.lvl);
+    p.count = vx_calloc(a, n, sizeof *p.count);
+    p.base = vx_calloc(a, n, sizeof *p.base);
+    p.lslots = vx_calloc(a, n, sizeof *p.lslots);
+    p.lblocks = vx_calloc(a, n, sizeof *p.lblocks);
+    p.res = vx_calloc(a, n, sizeof *p.res);
+    p.errs = vx_calloc(a, n, sizeof *p.errs);
+    vx_result r = VX_OK;
+    if (!p.loc || !p.canon || !p.first || !p.order || !p.lvl || !p.count || !p.base || !p.lslots || !p.lblocks ||
+        !p.res || !p.errs)
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' geometry", n);
+    if (!r) vx_run_jobs(threads, n, pm_build_job, &p);
+    double t_merge = vx_time_now();
+    uint64_t blocks = 0;
+    uint32_t top = 0;
+    for (uint32_t i = 0; !r && i < n; i++) { /* the first failure in model order, as one thread reports it */
+        if ((r = p.loc[i].r)) {
+            if (err) *err = p.loc[i].err;
+            break;
+        }
+        c->models[i] = p.loc[i].cm;
+        if ((r = model_cells(&c->models[i], p.loc[i].cells, i, err))) break;
+        for (uint32_t e = 0; e < p.loc[i].b.n; e += p.loc[i].b.meta[e] & 15u) {
+            blocks++;
+            if ((p.loc[i].b.meta[e] >> 4) > top) top = p.loc[i].b.meta[e] >> 4;
+        }
+    }
+    if (!r) vx_run_jobs(threads, n, pm_prep_job, &p);
+    for (uint32_t i = 0; !r && i < n; i++)
+        if ((r = p.res[i]) && err) *err = p.errs[i];
+    if (!r) {
+        p.cap = 1024;
+        while (p.cap < 2 * blocks) p.cap *= 2;
+        if (p.cap > ((size_t)1 << 32) || !(p.tab = vx_calloc(a, p.cap, sizeof *p.tab)))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %zu-entry block table", p.cap);
+    }
+    if (!r) {
+        for (p.level = 1; p.level <= top; p.level++) vx_run_jobs(threads, n, pm_level_job, &p);
+        vx_run_jobs(threads, n, pm_count_job, &p);
+        uint64_t total = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            p.base[i] = total;
+            total += p.count[i];
+            for (uint32_t L = 0; L < 33; L++) {
+                c->stats.nodes += p.lslots[i][L];
+                c->stats.level_slots[L] += p.lslots[i][L];
+                c->stats.level_blocks[L] += p.lblocks[i][L];
+            }
+        }
+        if (total > VX_COMPACT_MAX_SLOTS)
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than %u geometry slots",
+                        VX_COMPACT_MAX_SLOTS);
+        if (!r && (!vx_grow(a, (void**)&g->slot, &g->slot_cap, 2 * (size_t)total + 2, 4) ||
+                   !vx_grow(a, (void**)&g->rank, &g->rank_cap, (size_t)total + 1, 4) ||
+                   !vx_grow(a, (void**)&g->meta, &g->meta_cap, (size_t)total + 1, 2)))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu geometry slots",
+                        (unsigned long long)total);
+        if (!r) {
+            vx_run_jobs(threads, n, pm_place_job, &p);
+            vx_run_jobs(threads, n, pm_write_job, &p);
+            g->n = (uint32_t)total;
+        }
+    }
+    for (uint32_t i = 0; p.loc && i < n; i++) {
+        local_free(&p.loc[i]);
+        if (p.canon) vx_free(a, p.canon[i]);
+        if (p.first) vx_free(a, p.first[i]);
+        if (p.order) vx_free(a, p.order[i]);
+    }
+    vx_free(a, (void*)p.tab);
+    vx_free(a, p.loc), vx_free(a, p.canon), vx_free(a, p.first), vx_free(a, p.order), vx_free(a, p.lvl);
+    vx_free(a, p.count), vx_free(a, p.base), vx_free(a, p.lslots), vx_free(a, p.lblocks);
+    vx_free(a, p.res), vx_free(a, p.errs);
+    c->stats.geom_merge_seconds = vx_time_now() - t_merge;
+    return r;
+}
+
+static vx_result build_geom_parallel(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
+                                     unsigned threads, vx_error* err) {
+    uint32_t n = s->model_count;
+    geom_jobs j = {.s = s, .c = c, .g = g, .window = 2 * threads, .err = err};
+    j.loc = vx_calloc(d->alloc, n, sizeof *j.loc);
+    j.built = vx_calloc(d->alloc, n, sizeof *j.built);
+    if (!j.loc || !j.built) {
+        vx_free(d->alloc, j.loc);
+        vx_free(d->alloc, (void*)j.built);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' geometry", n);
+    }
+    vx_run_threads(threads, geom_worker, &j);
+    for (uint32_t i = 0; i < n; i++) local_free(&j.loc[i]); /* those built past a failure */
+    vx_free(d->alloc, j.loc);
+    vx_free(d->alloc, (void*)j.built);
+    return j.r;
+}
+
 vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
                            vx_error* err) {
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -753,7 +1311,12 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
         if (desc_in->block) d.block = desc_in->block;
         if (desc_in->max_bricks && desc_in->max_bricks < VX_COMPACT_MAX_BRICKS) d.max_bricks = desc_in->max_bricks;
         d.bricks = desc_in->bricks;
+        d.threads = desc_in->threads;
+        d.merge = desc_in->merge;
+        d.attr_regions = desc_in->attr_regions;
     }
+    if (d.merge > VX_COMPACT_MERGE_ALL)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact merge %u: not a VX_COMPACT_MERGE_* value", d.merge);
     if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact bricks %u: not a VX_COMPACT_BRICKS_* value",
                        d.bricks);
@@ -770,48 +1333,22 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     vx_result r = VX_OK;
     c.models = vx_calloc(d.alloc, s->model_count ? s->model_count : 1, sizeof *c.models);
     if (!c.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models", s->model_count);
-    for (uint32_t i = 0; !r && i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
+    unsigned threads = geom_threads(&d, s);
+    double tg = vx_time_now();
+    /* the merge on all threads does about twice the one thread's work in all
+     * (the canonical words of both blocks at each probe, the passes); with
+     * few threads the merge in model order beside the builds is faster */
+    bool all = d.merge == VX_COMPACT_MERGE_ALL || (d.merge == VX_COMPACT_MERGE_AUTO && threads >= VX_COMPACT_MERGE_ALL_THREADS);
+    if (!r && threads > 1)
+        r = b.use_dict || !all ? build_geom_parallel(&d, s, &c, &b, threads, err) : build_geom_all(&d, s, &c, &b, threads, err);
+    for (uint32_t i = 0; !r && threads <= 1 && i < s->model_count; i++) {
         vx_compact_model* cm = &c.models[i];
-        cm->depth = m->depth;
-        cm->root = m->root;
-        cm->attr_kind = (m->attrs & VX_ATTR_RGBA8) && m->rgba         ? VX_COMPACT_ATTR_RGBA
-                        : (m->attrs & VX_ATTR_PALETTE) && m->palette ? VX_COMPACT_ATTR_PALETTE
-                                                                      : VX_COMPACT_ATTR_NONE;
         uint64_t cells = 0;
-        if (m->root == VX_SVO_ROOT_LEAF) {
-            cells = m->depth > 10 ? UINT64_MAX : 1ull << (3 * m->depth);
-        } else if (m->root != VX_SVO_ROOT_EMPTY) {
-            if (m->root >= m->node_count) {
-                r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: root %u of %u words", i, m->root,
-                            m->node_count);
-                break;
-            }
-            b.memo = vx_calloc(d.alloc, m->node_count, 8);
-            b.memo_count = vx_calloc(d.alloc, m->node_count, 4);
-            b.memo_level = vx_calloc(d.alloc, m->node_count, 1);
-            uint32_t rw[2], zero = 0;
-            if (!b.memo || !b.memo_count || !b.memo_level)
-                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u words", m->node_count);
-            else
-                r = build_node(&b, m, m->root, m->depth, &rw[0], &rw[1], &cells);
-            /* the root: a block of one slot at the model's level */
-            if (!r && m->depth <= 2 && b.use_dict) r = dict_intern(&b, rw[0] | (uint64_t)rw[1] << 32, &cm->root);
-            else if (!r) r = block_intern(&b, rw, &zero, 1, m->depth, &cm->root);
-            vx_free(d.alloc, b.memo);
-            vx_free(d.alloc, b.memo_count);
-            vx_free(d.alloc, b.memo_level);
-            if (r) {
-                vx_error_prefix(err, "compact layout");
-                break;
-            }
-        }
-        if (cells > UINT32_MAX) {
-            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "model %u: more than 2^32 - 1 cells", i);
-            break;
-        }
-        cm->voxels = (uint32_t)cells;
+        if ((r = build_model_geom(&b, &s->models[i], i, cm, &cells, err))) break;
+        if ((r = model_cells(cm, cells, i, err))) break;
     }
+    c.stats.geom_seconds = vx_time_now() - tg;
+    c.stats.geom_threads = threads > 1 ? threads : 1;
     vx_free(d.alloc, b.tab);
     b.tab = NULL;
     vx_free(d.alloc, b.dtab);

@@ -110,6 +110,8 @@ extern "C" {
 #define VX_COMPACT_BRICK_BITS 23u        /* bits of a brick's dictionary index in its index word */
 #define VX_COMPACT_INDEXED 0x80000000u   /* word 0 of a level-3 node: its block holds index words */
 enum { VX_COMPACT_BRICKS_INLINE = 0, VX_COMPACT_BRICKS_DICT = 1 };
+enum { VX_COMPACT_MERGE_AUTO = 0, VX_COMPACT_MERGE_ORDERED = 1, VX_COMPACT_MERGE_ALL = 2 };
+#define VX_COMPACT_MERGE_ALL_THREADS 8u
 #define VX_COMPACT_MAX_BRICKS (1u << VX_COMPACT_BRICK_BITS) /* distinct bricks of a scene */
 
 typedef struct vx_compact_desc {
@@ -127,6 +129,23 @@ typedef struct vx_compact_desc {
      * 0.65x the geometry of a large surface scene, a second dependent load
      * per push into a brick: docs/PERFORMANCE.md issue 18, seventh step) */
     uint32_t bricks;
+    /* threads for the geometry DAG, 0: one per CPU where the scene has at
+     * least 2^20 node words and two models, else one; any count gives the
+     * same bytes (each model's blocks are built apart, then merged in model
+     * order: docs/PERFORMANCE.md issue 18, "65536^3") */
+    uint32_t threads;
+    /* how the models' blocks are merged on several threads (the same
+     * bytes): VX_COMPACT_MERGE_AUTO (0) ALL from VX_COMPACT_MERGE_ALL_THREADS
+     * threads on, else ORDERED; ORDERED: in model order on one thread at a
+     * time beside the builds (the least work); ALL: level by level on
+     * every thread (about twice the work, no serial part). The brick
+     * dictionary always merges ORDERED. */
+    uint32_t merge;
+    /* the attributes left in one array per model (attr_region; attr NULL):
+     * no second host copy of them (they are built apart on the threads),
+     * for the upload (vx_compact_gpu_create takes either form);
+     * vx_compact_join_attrs gives the one array the CPU walks read */
+    bool attr_regions;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -157,6 +176,9 @@ typedef struct vx_compact_stats {
     uint64_t level_slots[33];  /* geometry slots by their node's level (bricks: 2, or 1 in a model of depth 1) */
     uint64_t level_blocks[33]; /* blocks by their slots' level */
     double attr_seconds;       /* wall time of the attributes' build (on several threads), of the whole build's */
+    double geom_seconds;       /* wall time of the geometry DAG's build, of the whole build's */
+    double geom_merge_seconds; /* of which the merge of the models' blocks in model order (on one thread at a time) */
+    uint32_t geom_threads;     /* threads it ran on */
 } vx_compact_stats;
 
 typedef struct vx_compact_scene {
@@ -168,7 +190,9 @@ typedef struct vx_compact_scene {
     uint32_t geom_words;  /* 2 slot_count + the ranks + the brick index words, rounded up to even */
     uint32_t* geom;
     uint32_t attr_words;
-    uint32_t* attr;
+    uint32_t* attr;          /* the attribute words (NULL while they are in attr_region) */
+    uint32_t** attr_region;  /* vx_compact_desc.attr_regions: model i's words (models[i].attr_words of
+                                them, at attr_base in attr's numbering), or NULL */
     uint32_t palette[256]; /* the scene palette (palette models' colours) */
     vx_compact_stats stats;
     vx_allocator alloc;
@@ -179,6 +203,9 @@ typedef struct vx_compact_scene {
  * valid (vx_svo_validate_scene). */
 vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, vx_compact_scene* out, vx_error* err);
 void vx_compact_free(vx_compact_scene* c);
+/* Joins the per-model attribute regions (vx_compact_desc.attr_regions) into
+ * attr, freeing each as it is copied; nothing to do without them. */
+vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err);
 
 /* Walks model m's geometry to cell (x, y, z): false when the cell is empty or
  * outside the model's cube, else true and *index its attribute index. */

@@ -366,7 +366,9 @@ typedef struct vx_render_layout_info {
     uint32_t attr_parts;
     uint64_t geom_bytes;     /* of compact_bytes, the geometry (the rest: attributes) */
     double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
-    double attr_seconds;     /* of which its attributes (on one thread per CPU, at most 16) */
+    double attr_seconds;     /* of which its attributes (on one thread per CPU) */
+    double geom_seconds;     /* of which its geometry DAG, on geom_threads threads */
+    uint32_t geom_threads;
     double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the

@@ -630,7 +630,9 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         rs->smap_state = SMAP_NEVER;
         vx_compact_scene c;
         uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
-        vx_compact_desc cd = {.alloc = &rs->alloc,
+        /* the attributes in their per-model regions: the upload takes them as they
+         * are, no second host copy (the paged layout joins them first) */
+        vx_compact_desc cd = {.alloc = &rs->alloc, .attr_regions = true,
                               .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
         double t0 = vx_time_now();
         r = vx_compact_build(&cd, s, &c, err);
@@ -650,13 +652,15 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             double t1 = vx_time_now();
             rs->layout.build_seconds = t1 - t0;
             rs->layout.attr_seconds = c.stats.attr_seconds;
+            rs->layout.geom_seconds = c.stats.geom_seconds;
+            rs->layout.geom_threads = c.stats.geom_threads;
             rs->layout.brick_dict = c.brick_dict;
             rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
             rs->layout.geom_bytes = 4ull * c.geom_words;
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
             bool whole = true;
-            if (rs->layout.compact_bytes > li.budget && lp < max_depth)
+            if (rs->layout.compact_bytes > li.budget && lp < max_depth && !(r = vx_compact_join_attrs(&c, err)))
                 r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
             if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
             rs->layout.upload_seconds = vx_time_now() - t1;

@@ -279,7 +279,7 @@ typedef struct vx_write_desc {
                                   allocate inside. Out of memory is
                                   VX_ERR_NOMEM with the output name untouched. */
     unsigned threads;          /* writers that code in parallel (.svo): 0 = one per
-                                  CPU (at most 16), 1 = the caller's thread only.
+                                  CPU (at most VX_MAX_THREADS), 1 = the caller's thread only.
                                   The bytes never depend on it. */
     uint32_t svo_chunk_words;  /* .svo: models with at least this many node words
                                   are stored in the chunked form (docs/FORMAT.md

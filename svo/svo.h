@@ -556,10 +556,14 @@ typedef struct vx_svo_read_desc {
     const vx_allocator* alloc;
     bool skip_checksums; /* default: every section's CRC-32 is verified */
     unsigned threads;    /* threads that decode, check and validate: 0 = one per CPU (at
-                            most 16), 1 = the caller's thread only. The scene read never
+                            most VX_MAX_THREADS), 1 = the caller's thread only. The scene read never
                             depends on it; small scenes always use the caller's thread. */
     vx_svo_chunk_stats* chunk_stats; /* NULL, or zeroed and filled by a read that gets as
                                         far as the NODE section */
+    uint64_t max_file_bytes; /* vx_svo_read_file: a larger file is refused (VX_ERR_LIMIT);
+                                0: any size the address space and memory hold (the
+                                65536^3 helmet's file is about 28 GB; vx_file_read's
+                                own default, 4 GiB, refused the 7 GB one at 32768^3) */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out

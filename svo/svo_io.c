@@ -889,7 +889,11 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
     const vx_allocator* A = desc ? desc->alloc : NULL;
     uint8_t* data = NULL;
     size_t size = 0;
-    vx_result r = vx_file_read(path, A, 0, &data, &size, err);
+    /* the file the caller named: no size limit by default but the address
+     * space's (vx_file_read refuses what size_t cannot hold; memory that
+     * is not there is VX_ERR_NOMEM) */
+    uint64_t max = desc && desc->max_file_bytes ? desc->max_file_bytes : UINT64_MAX;
+    vx_result r = vx_file_read(path, A, max, &data, &size, err);
     if (r != VX_OK) {
         vx_error_prefix(err, path);
         return r;

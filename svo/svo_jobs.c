@@ -13,7 +13,7 @@
 
 #include "svo/svo_internal.h"
 
-#define MAX_THREADS 16
+#define MAX_THREADS VX_MAX_THREADS /* every CPU of a 64-CPU host (the read of a 65536^3 scene: docs/PERFORMANCE.md issue 18) */
 
 uint64_t vx__svo_parallel_words = (uint64_t)1 << 20;
 

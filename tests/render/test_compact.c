@@ -8,6 +8,7 @@
  * the reference reads the decoded voxels, never the compact arrays. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "convert/convert.h"
 #include "render/compact.h"
@@ -181,6 +182,77 @@ static vx_result rgba_model(vx_svo_model* m, uint32_t side, const uint64_t* keys
     return vx_svo_build_model(NULL, &v, m, NULL, &err);
 }
 
+
+/* The geometry built on several threads (each model apart, then merged in
+ * model order, or level by level on all threads) must be the one-thread
+ * build's bytes: models, geometry, attributes and the counts, with and
+ * without the brick dictionary. */
+static void check_threads(const vx_svo_scene* s, const char* name) {
+    for (uint32_t bricks = VX_COMPACT_BRICKS_INLINE; bricks <= VX_COMPACT_BRICKS_DICT; bricks++) {
+        vx_error err = {0};
+        vx_compact_scene one;
+        vx_compact_desc d = {.bricks = bricks, .threads = 1};
+        REQUIRE(vx_compact_build(&d, s, &one, &err) == VX_OK);
+        CHECKF(one.stats.geom_threads == 1, "%s: %u threads asked 1", name, one.stats.geom_threads);
+        static const uint32_t counts[] = {2, 3, 7, 2, 3, 7};
+        for (int t = 0; t < 6; t++) {
+            vx_compact_scene c;
+            d.threads = counts[t];
+            d.merge = t < 3 ? VX_COMPACT_MERGE_ORDERED : VX_COMPACT_MERGE_ALL;
+            REQUIRE(vx_compact_build(&d, s, &c, &err) == VX_OK);
+            uint32_t want = counts[t] < s->model_count ? counts[t] : s->model_count;
+            CHECKF(c.stats.geom_threads == want, "%s: geometry on %u threads, asked %u", name, c.stats.geom_threads,
+                   want);
+            CHECKF(c.model_count == one.model_count &&
+                       !memcmp(c.models, one.models, (size_t)one.model_count * sizeof *one.models),
+                   "%s, %u threads, bricks %u: models differ", name, counts[t], bricks);
+            CHECKF(c.slot_count == one.slot_count && c.brick_count == one.brick_count &&
+                       c.geom_words == one.geom_words &&
+                       (!one.geom_words || !memcmp(c.geom, one.geom, (size_t)one.geom_words * 4)),
+                   "%s, %u threads, bricks %u: geometry differs (%u / %u words)", name, counts[t], bricks,
+                   c.geom_words, one.geom_words);
+            CHECKF(c.attr_words == one.attr_words &&
+                       (!one.attr_words || !memcmp(c.attr, one.attr, (size_t)one.attr_words * 4)),
+                   "%s, %u threads: attributes differ", name, counts[t]);
+            CHECKF(c.stats.nodes == one.stats.nodes && c.stats.bricks == one.stats.bricks &&
+                       !memcmp(c.stats.level_slots, one.stats.level_slots, sizeof one.stats.level_slots) &&
+                       !memcmp(c.stats.level_blocks, one.stats.level_blocks, sizeof one.stats.level_blocks),
+                   "%s, %u threads: counts differ", name, counts[t]);
+            vx_compact_free(&c);
+        }
+        vx_compact_free(&one);
+    }
+}
+
+/* The attributes left in per-model regions (vx_compact_desc.attr_regions)
+ * are the one array's words at each model's base, and joined they are the
+ * one array. */
+static void check_regions(const vx_svo_scene* s, const char* name) {
+    vx_error err = {0};
+    vx_compact_scene one, c;
+    REQUIRE(vx_compact_build(NULL, s, &one, &err) == VX_OK);
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.attr_regions = true}, s, &c, &err) == VX_OK);
+    CHECKF(!c.attr && c.attr_region && c.attr_words == one.attr_words && one.attr_words,
+           "%s: regions: %u words, %u in one array", name, c.attr_words, one.attr_words);
+    uint32_t bad = 0, with = 0;
+    for (uint32_t i = 0; c.attr_region && i < c.model_count; i++) {
+        const vx_compact_model* m = &c.models[i];
+        CHECK(!memcmp(m, &one.models[i], sizeof *m));
+        if (!c.attr_region[i]) {
+            bad += m->attr_words != 0;
+            continue;
+        }
+        with++;
+        bad += memcmp(c.attr_region[i], one.attr + m->attr_base, (size_t)m->attr_words * 4) != 0;
+    }
+    CHECKF(!bad && with > 1, "%s: %u of %u regions differ", name, bad, with);
+    REQUIRE(vx_compact_join_attrs(&c, &err) == VX_OK);
+    CHECKF(!c.attr_region && c.attr && !memcmp(c.attr, one.attr, (size_t)one.attr_words * 4), "%s: joined differs", name);
+    REQUIRE(vx_compact_join_attrs(&c, &err) == VX_OK); /* nothing left to join */
+    vx_compact_free(&c);
+    vx_compact_free(&one);
+}
+
 static void test_generated(void) {
     /* palette models: sparse, half full, nearly full (collapsed cubes) */
     vx_svo_model pm[3];
@@ -228,6 +300,8 @@ static void test_generated(void) {
     static const uint32_t blocks[] = {8, 64, 1024, 0};
     for (int b = 0; b < 4; b++) check_scene(&s, "generated", blocks[b], NULL);
     CHECK(check_trace(&s, "generated", 160, 90) > 160 * 90 / 4);
+    check_threads(&s, "generated");
+    check_regions(&s, "generated");
     /* every block code appears: raw (noise), uniform (tiles), deltas (gradients), palettes */
     vx_compact_scene c;
     check_scene(&s, "generated", 64, &c);
@@ -286,6 +360,7 @@ static void test_colour_sharing(void) {
     CHECK(c1.stats.uniform_groups == 1 && c1.attr_words == 3);
     s1.models[0] = (vx_svo_model){0}; /* owned by s */
     vx_svo_scene_free(&s1);
+    check_threads(&s, "colour sharing");
     vx_compact_free(&c);
     vx_compact_free(&c1);
     vx_svo_scene_free(&s);
@@ -456,6 +531,7 @@ static void test_corpus(void) {
         CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
         if (st != VX_TEST_VOX_OK) continue;
         check_scene(&s, files[i], 0, NULL);
+        if (s.model_count > 1) check_threads(&s, files[i]);
         CHECKF(check_trace(&s, files[i], 96, 72) > 96 * 72 / 20, "%s: too few pixels hit", files[i]);
         vx_svo_scene_free(&s);
     }
@@ -473,6 +549,13 @@ static void test_corpus_mesh(void) {
     REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
     check_scene(&s, "DamagedHelmet at 128", 0, NULL);
     CHECK(check_trace(&s, "DamagedHelmet at 128", 128, 96) > 128 * 96 / 10);
+    vx_svo_scene_free(&s);
+    /* regions of 64: many models whose surfaces share blocks across models */
+    d = (vx_conv_mesh_desc){.res = 384, .region = 64};
+    REQUIRE(vx_conv_mesh_file(&d, path, &s, NULL, &err) == VX_OK);
+    CHECKF(s.model_count > 20, "DamagedHelmet at 384 in regions of 64: %u models", s.model_count);
+    check_threads(&s, "DamagedHelmet at 384, regions of 64");
+    check_regions(&s, "DamagedHelmet at 384, regions of 64");
     vx_svo_scene_free(&s);
 #else
     SKIP("built without the mesh converter");

@@ -47,6 +47,10 @@ typedef struct options {
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
     vx_cone_desc cone; /* gi=cones (--cone-*) */
+    /* --view2 EX,EY,EZ,TX,TY,TZ OUT2: a second view of the same scene (single-shader modes), timed as the first:
+     * a scene that takes minutes to load (the 65536^3 helmet) is loaded once for both */
+    vx_render_camera view2;
+    const char* view2_out;
 } options;
 
 static const char* prog = "svo_render";
@@ -174,6 +178,8 @@ _Noreturn static void usage(int status) {
             "  --size WxH           image size (default: %ux%u)\n"
             "  --spp N              samples per pixel (default: %u; at most 1024, the probe modes 2^24)\n"
             "  --camera EX,EY,EZ,TX,TY,TZ  eye and target in world units (default: frame the scene bounds)\n"
+            "  --view2 EX,EY,EZ,TX,TY,TZ OUT2  then a second view (eye, target) of the same scene into OUT2,\n"
+            "                       with the same --frames (single-shader modes; the scene is loaded once)\n"
             "  --up X,Y,Z           up vector (default: 0,0,1)\n"
             "  --fov DEG            vertical field of view (default: %g)\n"
             "  --ortho [H]          orthographic, view height H (default: frame the bounds)\n"
@@ -426,6 +432,33 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
     return r;
 }
 
+/* --frames N: the same frame again, for its times (the last image is left in *img). */
+static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_image* img, vx_error* err) {
+    if (o->frames <= 1) return VX_OK;
+    double* gpu_ms = calloc(o->frames, 2 * sizeof *gpu_ms);
+    if (!gpu_ms) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    double* wall_ms = gpu_ms + o->frames;
+    vx_result r = VX_OK;
+    gpu_ms[0] = img->gpu_seconds * 1e3, wall_ms[0] = 0;
+    uint32_t n = 1;
+    for (; !r && n < o->frames; n++) {
+        vx_render_image_free(img);
+        double tf = vx_time_now();
+        r = vx_render_frame(rs, &o->r, img, err);
+        wall_ms[n] = (vx_time_now() - tf) * 1e3, gpu_ms[n] = img->gpu_seconds * 1e3;
+    }
+    if (!r) {
+        /* frame 0 warms caches and compiles: the medians are of frames 1..N-1 */
+        qsort(gpu_ms + 1, n - 1, sizeof *gpu_ms, cmp_double);
+        qsort(wall_ms + 1, n - 1, sizeof *wall_ms, cmp_double);
+        printf("frames: %u after the first: GPU ms median %.3f (min %.3f, max %.3f); wall ms a frame "
+               "(trace and read back) median %.3f; first frame %.3f ms GPU\n",
+               n - 1, gpu_ms[1 + (n - 1) / 2], gpu_ms[1], gpu_ms[n - 1], wall_ms[1 + (n - 1) / 2], gpu_ms[0]);
+    }
+    free(gpu_ms);
+    return r;
+}
+
 int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     vx_tool_timeline tl; /* under mpirun: this rank's start-up and end, printed with -v */
@@ -559,6 +592,14 @@ int main(int argc, char** argv) {
             o.r.camera.set = true;
             memcpy(o.r.camera.eye, v, sizeof o.r.camera.eye);
             memcpy(o.r.camera.target, v + 3, sizeof o.r.camera.target);
+        } else if (!strcmp(a, "--view2")) {
+            if (i + 2 >= argc) usage_error("%s needs EX,EY,EZ,TX,TY,TZ and an output", a);
+            double v[6];
+            if (!parse_vec(argv[++i], v, 6)) usage_error("bad view '%s' (EX,EY,EZ,TX,TY,TZ)", argv[i]);
+            o.view2.set = true;
+            memcpy(o.view2.eye, v, sizeof o.view2.eye);
+            memcpy(o.view2.target, v + 3, sizeof o.view2.target);
+            o.view2_out = argv[++i];
         } else if (!strcmp(a, "--up")) {
             NEED();
             if (!parse_vec(argv[++i], o.r.camera.up, 3)) usage_error("bad up vector '%s'", argv[i]);
@@ -932,10 +973,10 @@ int main(int argc, char** argv) {
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
             if (li.compact_bytes)
-                printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (attributes %.3f s), tables and "
-                       "upload %.3f s\n",
-                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.attr_seconds,
-                       li.upload_seconds);
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (geometry %.3f s on %u threads, "
+                       "attributes %.3f s), tables and upload %.3f s\n",
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_seconds,
+                       li.geom_threads, li.attr_seconds, li.upload_seconds);
             if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
         }
         char why[256];
@@ -945,6 +986,8 @@ int main(int argc, char** argv) {
             pipeline = false;
             if (o.verbose) printf("note: %s\n", note);
         }
+        if (!r && o.view2_out && (o.sequence || pipeline))
+            r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "--view2: the single-shader modes only (not passes, not a sequence)");
         if (!r && o.sequence) {
             r = render_sequence(&o, rs, &owned, pipeline, &passes, o.probes ? &probes : NULL, &err);
             if (!r) {
@@ -987,27 +1030,26 @@ int main(int argc, char** argv) {
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
             }
-            /* --frames N: the same frame again, for its times (the last image is written) */
-            double* gpu_ms = !r && o.frames > 1 ? calloc(o.frames, 2 * sizeof *gpu_ms) : NULL;
-            if (gpu_ms) {
-                double* wall_ms = gpu_ms + o.frames;
-                gpu_ms[0] = img.gpu_seconds * 1e3, wall_ms[0] = 0;
-                uint32_t n = 1;
-                for (; !r && n < o.frames; n++) {
-                    vx_render_image_free(&img);
-                    double tf = vx_time_now();
-                    r = vx_render_frame(rs, &o.r, &img, &err);
-                    wall_ms[n] = (vx_time_now() - tf) * 1e3, gpu_ms[n] = img.gpu_seconds * 1e3;
-                }
-                if (!r) {
-                    /* frame 0 warms caches and compiles: the medians are of frames 1..N-1 */
-                    qsort(gpu_ms + 1, n - 1, sizeof *gpu_ms, cmp_double);
-                    qsort(wall_ms + 1, n - 1, sizeof *wall_ms, cmp_double);
-                    printf("frames: %u after the first: GPU ms median %.3f (min %.3f, max %.3f); wall ms a frame "
-                           "(trace and read back) median %.3f; first frame %.3f ms GPU\n",
-                           n - 1, gpu_ms[1 + (n - 1) / 2], gpu_ms[1], gpu_ms[n - 1], wall_ms[1 + (n - 1) / 2], gpu_ms[0]);
-                }
-                free(gpu_ms);
+            if (!r) r = timed_frames(&o, rs, &img, &err);
+            if (!r && o.view2_out) {
+                /* the second view: its share of hits, its frames, its image */
+                vx_render_image img2 = {0};
+                vx_render_camera first = o.r.camera;
+                o.r.camera.set = true; /* up, fov and projection stay the first view's */
+                memcpy(o.r.camera.eye, o.view2.eye, sizeof o.r.camera.eye);
+                memcpy(o.r.camera.target, o.view2.target, sizeof o.r.camera.target);
+                printf("view2 (%s):\n", o.view2_out);
+                o.r.want_hits = o.verbose;
+                r = vx_render_frame(rs, &o.r, &img2, &err);
+                o.r.want_hits = false;
+                size_t hit = 0, n = (size_t)img2.width * img2.height;
+                for (size_t i = 0; !r && img2.hits && i < n; i++) hit += img2.hits[i].instance != VX_RENDER_NO_HIT;
+                if (!r && img2.hits) printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
+                if (!r) r = timed_frames(&o, rs, &img2, &err);
+                if (!r) r = write_image(&o, o.view2_out, &img2, &err);
+                if (!r) printf("wrote %s\n", o.view2_out);
+                vx_render_image_free(&img2);
+                o.r.camera = first;
             }
             vx_render_shadow_map_info sm;
             vx_render_scene_shadow_map_info(rs, &sm);
