@@ -270,12 +270,13 @@ static vx_result ctx_sun_map(gctx* c, vx_render_scene* rs, const vx__light* L, b
     bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
     if (!allow || !sun || !(fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
-    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, 4096, &c->sun, err);
+    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, VX_PROBE_SUN_MAP_SIDE, &c->sun, err);
     if (st) {
         vx_render_shadow_map_info mi;
         vx_render_scene_shadow_map_info(rs, &mi);
         st->sun_map = vx_time_now() - t0, st->sun_map_side = c->sun.map ? c->sun.side : 0;
         st->sun_map_nodes = mi.nodes, st->sun_map_list = mi.list_seconds, st->sun_map_gpu = mi.build_gpu_seconds;
+        st->sun_map_ahead = mi.ahead_seconds;
     }
     if (r) memset(&c->sun, 0, sizeof c->sun);
     c->spec[VX__SPEC_COUNT + SPEC_SMAP] = !r && c->sun.map;
@@ -874,7 +875,7 @@ struct vx_probe_baker {
     double setup, setup_ctx, setup_pipes; /* seconds vx_probe_baker_create took (the first run's stats) */
     double sun_map;                       /* of setup_ctx: the sun's depth map */
     uint32_t sun_map_side, sun_map_nodes;
-    double sun_map_list, sun_map_gpu;
+    double sun_map_list, sun_map_gpu, sun_map_ahead;
     bool setup_reported;
 };
 
@@ -918,7 +919,7 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);
         b->sun_map = sm.sun_map, b->sun_map_side = sm.sun_map_side, b->sun_map_nodes = sm.sun_map_nodes;
-        b->sun_map_list = sm.sun_map_list, b->sun_map_gpu = sm.sun_map_gpu;
+        b->sun_map_list = sm.sun_map_list, b->sun_map_gpu = sm.sun_map_gpu, b->sun_map_ahead = sm.sun_map_ahead;
     }
     b->setup_ctx = vx_time_now() - t0;
     double tp = vx_time_now();
@@ -959,6 +960,7 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
         st.setup = b->setup, st.setup_ctx = b->setup_ctx, st.setup_pipes = b->setup_pipes + b->B.pipes;
         st.setup_slots = b->B.slots_s;
         st.sun_map = b->sun_map, st.sun_map_list = b->sun_map_list, st.sun_map_gpu = b->sun_map_gpu;
+        st.sun_map_ahead = b->sun_map_ahead;
         b->setup_reported = true;
     }
     st.sun_map_side = b->sun_map_side, st.sun_map_nodes = b->sun_map_nodes;
