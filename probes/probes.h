@@ -161,8 +161,11 @@ typedef struct vx_probe_bake_stats {
     double sun_map_list;    /* of sun_map: listing them (wall; with a list made ahead its buffer only) */
     double sun_map_ahead;   /* the list made ahead (render.h vx_render_sun_nodes_make), not in sun_map; 0: none */
     double sun_map_gpu;     /* its build's dispatches (GPU) */
+    double sun_map_build;   /* of sun_map: the build (wall: uploads, submission, wait; not the map's memory) */
     double grow;        /* growing the set's arrays for the range before the loop (wall) */
     double loop;        /* the batch loop, first submission to the last probe stored (wall) */
+    double first_latency; /* of loop: the first batch's wait less its GPU time (its start's latency; wall) */
+    double tail;        /* of loop: after the last batch's wait (its maps stored, the progress callback; wall) */
     double gpu_trace;   /* path tracing, all batches (GPU) */
     double gpu_filter;  /* filtering, quantisation and packing on the GPU (GPU) */
     double gpu_copy;    /* copies of results into host-visible memory (GPU) */

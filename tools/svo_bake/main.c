@@ -1,5 +1,6 @@
 /* tools/svo_bake/main.c - svo_bake SCENE.svo OUT.probes [options]
  *                         svo_bake --merge OUT.probes PART.probes... */
+#define _GNU_SOURCE /* sync_file_range (exploration) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -466,6 +467,7 @@ typedef struct ck_state {
     double interval, t_ck;
     vx_error err;            /* a failed write (ends the bake) */
     const char* failed_path; /* of which file */
+    off_t synced;            /* exploration */
 } ck_state;
 
 static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
@@ -480,6 +482,15 @@ static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t t
             c->failed_path = c->out->file.path;
             return false;
         }
+#ifdef SYNC_FILE_RANGE_WRITE
+        if (getenv("VX_BAKE_SYNC_WAIT")) { /* exploration: the earlier batches' writes finished while the GPU traces */
+            int fd = fileno((FILE*)c->out->file.f);
+            off_t at = lseek(fd, 0, SEEK_CUR);
+            if (c->synced > 0)
+                (void)sync_file_range(fd, 0, c->synced, SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
+            c->synced = at;
+        }
+#endif
         c->t_out += vx_time_now() - now;
     }
     if (now - c->t_ck < c->interval || c->base + done >= c->total) return true;
@@ -558,6 +569,7 @@ static int bake_single(bake_job* j) {
     vx_probe_bake_desc bd = o->b;
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
+    if (getenv("VX_BAKE_BATCH")) bd.batch = (uint32_t)atoi(getenv("VX_BAKE_BATCH")); /* exploration */
     if (show) bd.progress = (vx_progress){eta_func, &e};
     double interval = checkpoint_interval(), t_ck = vx_time_now();
     /* the output is written as the probes are baked (an empty shard's at the end) */
@@ -629,6 +641,13 @@ static int bake_single(bake_job* j) {
     double t_put = vx_time_now(), t_commit = 0;
     if (!rc && streamed && vx_probe_stream_put(&out, &ps, end, &err)) rc = vx_tool_error(j->out, &err);
     t_put = vx_time_now() - t_put;
+    double t_fsync = 0;
+    if (!rc && streamed && getenv("VX_BAKE_FSYNC_SPLIT")) { /* exploration: the sync's share of the commit */
+        t_fsync = vx_time_now();
+        fflush((FILE*)out.file.f);
+        fsync(fileno((FILE*)out.file.f));
+        t_fsync = vx_time_now() - t_fsync;
+    }
     if (!rc && streamed) {
         t_commit = vx_time_now();
         if (vx_probe_stream_commit(&out, &err)) rc = vx_tool_error(j->out, &err);
@@ -651,18 +670,19 @@ static int bake_single(bake_job* j) {
                    "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the "
                    "file\n",
                    t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write, t_file);
-            printf("times: the output's end: last blocks %.3f s, CRC, sync and rename %.3f s\n", t_put, t_commit);
+            printf("times: the output's end: last blocks %.3f s, fsync alone %.3f s, CRC, sync and rename %.3f s\n", t_put,
+                   t_fsync, t_commit);
             if (on_gpu)
                 printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
-                       "waits %.3f s, stores %.3f s\n",
+                       "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s\n",
                        t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
-                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download);
+                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail);
             if (on_gpu && st.sun_map_side)
                 printf("sun map: %u texels a side, %u nodes listed in %.3f s, built in %.3f ms GPU; %.3f s in all; "
-                       "listed ahead in %.3f s (%s)\n",
+                       "listed ahead in %.3f s (%s); build %.3f s wall\n",
                        st.sun_map_side, st.sun_map_nodes, st.sun_map_list, st.sun_map_gpu * 1e3, st.sun_map, t_ahead,
-                       st.sun_map_ahead > 0 ? "used" : "not used");
+                       st.sun_map_ahead > 0 ? "used" : "not used", st.sun_map_build);
         }
     }
     if (!rc && xmode) {
