@@ -2,9 +2,11 @@
  *                         svo_bake --merge OUT.probes PART.probes... */
 #define _GNU_SOURCE /* sync_file_range (exploration) */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <fcntl.h>
 #include <pthread.h>
@@ -528,6 +530,45 @@ static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t t
     return true;
 }
 
+/* The probe set's memory (its maps: 105 MB for 512 probes at R=128) in transparent huge pages where the
+ * system gives them on request (MADV_HUGEPAGE): the bake copies every batch's maps into fresh pages, and the
+ * process's end unmaps them; in 4 KiB pages that took 52 ms and 10 ms for 105 MB on the dev machine, in 2 MiB
+ * pages 12 ms and 0.5 ms. Small blocks come from malloc. A header before each block says which. */
+enum { HUGE_MIN = 4 << 20, HUGE_PAGE = 2 << 20, HUGE_HEAD = 64 };
+typedef struct huge_head {
+    void* base;    /* the mapping (NULL: a malloc block starting at the header) */
+    size_t length; /* its length */
+} huge_head;
+
+static void* huge_alloc(void* user, size_t size) {
+    (void)user;
+    if (size > SIZE_MAX - 2 * HUGE_PAGE) return NULL;
+    if (size < HUGE_MIN) {
+        uint8_t* p = malloc(size + HUGE_HEAD);
+        if (!p) return NULL;
+        ((huge_head*)p)->base = NULL;
+        return p + HUGE_HEAD;
+    }
+    size_t length = size + HUGE_HEAD + HUGE_PAGE;
+    uint8_t* base = mmap(NULL, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (base == MAP_FAILED) return NULL;
+    /* the block's start on a huge page's boundary: the header is the first 64 bytes of that page */
+    uint8_t* at = (uint8_t*)(((uintptr_t)base + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1));
+    (void)madvise(at, size + HUGE_HEAD, MADV_HUGEPAGE); /* a hint: 4 KiB pages where refused */
+    *(huge_head*)at = (huge_head){base, length};
+    return at + HUGE_HEAD;
+}
+
+static void huge_free(void* user, void* ptr) {
+    (void)user;
+    if (!ptr) return;
+    huge_head* h = (huge_head*)((uint8_t*)ptr - HUGE_HEAD);
+    if (h->base) munmap(h->base, h->length);
+    else free(h);
+}
+
+static const vx_allocator huge_allocator = {huge_alloc, huge_free, NULL};
+
 /* Whether the GPU bake of ps builds the sun's depth map (probe_gpu.c ctx_sun_map: a sun, a light direction). */
 static bool bake_uses_sun_map(const vx_probe_bake_desc* b, const vx_probe_set* ps) {
     bool sun = ps->sun[0] > 0 || ps->sun[1] > 0 || ps->sun[2] > 0;
@@ -550,6 +591,7 @@ static int bake_single(bake_job* j) {
     double t0 = vx_time_now();
     vx_probe_set ps;
     o->b.first = o->b.count = 0;
+    if (getenv("VX_BAKE_HUGE") && !o->b.alloc) o->b.alloc = &huge_allocator; /* exploration */
     if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
         bake_job_close(j);
         return vx_tool_error(j->in, &err);
