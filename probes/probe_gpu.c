@@ -525,13 +525,15 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx_
 /* Slot i's buffers, command buffer, fence and descriptor sets. The second slot is made after the first
  * batch is submitted (bake_gpu_filtered), while the GPU traces: 0.01 s of the 0.023 s the two took on an H200
  * (Cornell box, batches of 128 probes at R=128) off the time before the first batch. */
-/* A slot's buffers (slot_init's first part): batch probes at res with layout L, beam texels a block side (0:
- * no beam pass). */
-static vx_result slot_buffers(vx_gpu* g, bslot* s, const flayout* L, uint32_t res, uint64_t batch, uint32_t beam,
-                              vx_error* err) {
-    uint64_t nt = (uint64_t)res * res;
-    uint32_t nblk = beam ? (res / beam) * (res / beam) : 1;
+static vx_result slot_init(gbake* B, int i, vx_error* err) {
+    gctx* c = B->c;
+    vx_gpu* g = c->g;
+    const flayout* L = &B->lay;
+    uint64_t nt = B->nt, batch = B->batch;
+    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM], nblk = beam ? (B->res / beam) * (B->res / beam) : 1;
     vx_result r;
+    double ts = vx_time_now();
+    bslot* s = &B->slot[i];
     if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
                                &s->params, err)) ||
         (r = vx__buffer_create(g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
@@ -546,41 +548,6 @@ static vx_result slot_buffers(vx_gpu* g, bslot* s, const flayout* L, uint32_t re
         (r = vx__buffer_create(g, (VkDeviceSize)batch * nblk * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                                "bake beam", &s->beam, err)))
         return r;
-    return VX_OK;
-}
-
-/* Slot 0's buffers made on a thread of its own while the baker's context and the sun's map are made
- * (vx_probe_baker_create): about 0.01 s of allocations on an H200 (the trace output, 100 MB at R=128, the
- * host-visible copy) off the time before the first batch. Vulkan's allocations are free-threaded. */
-typedef struct slot_job {
-    vx_gpu* g;
-    bslot s;
-    flayout lay;
-    uint32_t res, beam;
-    uint64_t batch;
-    vx_result r;
-    vx_error err;
-    double seconds;
-    pthread_t thread;
-    bool started, done;
-} slot_job;
-
-static void* slot_job_main(void* arg) {
-    slot_job* j = arg;
-    double t = vx_time_now();
-    j->r = slot_buffers(j->g, &j->s, &j->lay, j->res, j->batch, j->beam, &j->err);
-    j->seconds = vx_time_now() - t;
-    return NULL;
-}
-
-static vx_result slot_init(gbake* B, int i, vx_error* err) {
-    gctx* c = B->c;
-    vx_gpu* g = c->g;
-    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM];
-    vx_result r;
-    double ts = vx_time_now();
-    bslot* s = &B->slot[i];
-    if (!s->params.buf && (r = slot_buffers(g, s, &B->lay, B->res, B->batch, beam, err))) return r;
     if (!s->params.map || !s->back.map)
         return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible memory for the bake's parameters and results");
     VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
@@ -916,7 +883,6 @@ struct vx_probe_baker {
     double sun_map;                       /* of setup_ctx: the sun's depth map */
     uint32_t sun_map_side, sun_map_nodes;
     double sun_map_list, sun_map_gpu, sun_map_ahead, sun_map_build;
-    double slots_beside; /* slot 0's buffers on their thread */
     bool setup_reported;
 };
 
@@ -947,11 +913,6 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!r) r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &b->f, err);
     for (int k = 0; k < 3; k++) b->f.ref[k] = 0.5 * (lo[k] + hi[k]);
     vx__pipeline* pipe;
-    /* slot 0's buffers beside the context, the sun's map and the pipelines */
-    uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
-    slot_job sj = {.g = vx__render_scene_gpu(rs), .lay = layout_of(ps), .res = ps->res, .batch = batch,
-                   .beam = !d.no_beam && !vx__render_scene_compact(rs) ? BAKE_BEAM : 0};
-    if (!r && !getenv("VX_PROBE_NO_SLOT_THREAD")) sj.started = pthread_create(&sj.thread, NULL, slot_job_main, &sj) == 0;
     if (!r) {
         r = ctx_init(&b->c, rs, scene, &b->f, ps, &b->L, err);
         b->ctx = true; /* ctx_free is safe on a partly made context */
@@ -973,21 +934,11 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
     b->setup_pipes = vx_time_now() - tp;
     if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
-    if (sj.started) {
-        pthread_join(sj.thread, NULL);
-        b->slots_beside = sj.seconds;
-        if (!r && !sj.r && sj.beam == b->c.spec[VX__SPEC_COUNT + SPEC_BEAM]) {
-            b->B.slot[0] = sj.s; /* slot_init makes the rest */
-        } else {
-            /* a failure (here or there): what the thread made goes; slot_init makes its own */
-            vx__buffer* bb[] = {&sj.s.params, &sj.s.out, &sj.s.texl, &sj.s.small, &sj.s.packed, &sj.s.back, &sj.s.beam};
-            for (size_t k = 0; k < sizeof bb / sizeof bb[0]; k++) vx__buffer_destroy(sj.g, bb[k]);
-        }
-    }
     if (!r) {
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
          * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
          * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
         b->slots = true; /* gbake_free is safe on partly made slots */
         r = gbake_init(&b->B, &b->c, ps, batch, err);
         b->B.chunk = vx_gpu_is_cpu(b->c.g) ? CPU_DEVICE_CHUNK : (ps->spp ? ps->spp : 1);
@@ -1015,7 +966,7 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
     vx_probe_bake_stats st = {0};
     if (!b->setup_reported) {
         st.setup = b->setup, st.setup_ctx = b->setup_ctx, st.setup_pipes = b->setup_pipes + b->B.pipes;
-        st.setup_slots = b->B.slots_s, st.setup_slots_beside = b->slots_beside;
+        st.setup_slots = b->B.slots_s;
         st.sun_map = b->sun_map, st.sun_map_list = b->sun_map_list, st.sun_map_gpu = b->sun_map_gpu;
         st.sun_map_ahead = b->sun_map_ahead, st.sun_map_build = b->sun_map_build;
         b->setup_reported = true;

@@ -155,8 +155,6 @@ typedef struct vx_probe_bake_stats {
     double setup_pipes; /* of setup: the trace, beam and filter pipelines (wall; the driver's cache) */
     double setup_slots; /* of setup: the buffers of the two batch slots (trace output, filter scratch, maps,
                          * host-visible copies) and their descriptor sets (wall) */
-    double setup_slots_beside; /* the first slot's buffers, made on a thread beside the context and the sun's
-                                * map: not in setup_slots (wall) */
     double sun_map;     /* of setup_ctx: the sun's depth map, its node list and build (wall; 0: none) */
     uint32_t sun_map_side; /* texels a side of the sun's depth map that clipped the sun rays (0: none) */
     uint32_t sun_map_nodes; /* its octree nodes (vx_render_shadow_map_info) */

@@ -748,11 +748,10 @@ static int bake_single(bake_job* j) {
                    "the old output's pages dropped in %.3f s, waited %.3f s\n",
                    t_put, t_fsync, t_commit, dropper.seconds, t_drop);
             if (on_gpu)
-                printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f; "
-                       "slot 0's buffers beside them %.3f), arrays %.3f s, "
+                printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
                        "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s\n",
-                       t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.setup_slots_beside, st.grow, st.loop, st.batches,
+                       t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
                        st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail);
             if (on_gpu && st.sun_map_side)
                 printf("sun map: %u texels a side, %u nodes listed in %.3f s, built in %.3f ms GPU; %.3f s in all; "
