@@ -399,27 +399,6 @@ typedef struct gpu_closer {
     double seconds;
 } gpu_closer;
 
-/* Exploration: the cached pages of an output file that the bake's rename will replace dropped on a thread
- * while the bake runs (the replaced file's eviction in the rename took 0.036 s on an H200 host). */
-typedef struct old_dropper {
-    const char* path;
-    pthread_t thread;
-    bool started;
-    double seconds;
-} old_dropper;
-
-static void* drop_old_main(void* arg) {
-    old_dropper* d = arg;
-    double t = vx_time_now();
-    int fd = open(d->path, O_RDONLY);
-    if (fd >= 0) {
-        (void)posix_fadvise(fd, 0, 0, POSIX_FADV_DONTNEED);
-        close(fd);
-    }
-    d->seconds = vx_time_now() - t;
-    return NULL;
-}
-
 static void* close_gpu_main(void* arg) {
     gpu_closer* c = arg;
     double t0 = vx_time_now();
@@ -482,8 +461,51 @@ bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
 /* The GPU bake's progress (after each batch, the maps of a prefix of the
  * range in the set): the progress line, and the baked prefix written as a
  * checkpoint when checkpoint_interval() has passed since the last one. */
+/* The output's blocks written on a thread of their own as the batches are stored (exploration, VX_BAKE_WRITER):
+ * the bake's thread then only stores each batch, and the GPU's last batches do not wait for the writes. */
+typedef struct out_writer {
+    vx_probe_stream* out;
+    vx_probe_set view; /* the set as the bake stores it (its arrays), count up to upto */
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    uint32_t upto; /* probes stored (an end index) */
+    bool stop;
+    vx_result r;
+    vx_error err;
+    double seconds;
+    pthread_t thread;
+    bool started;
+} out_writer;
+
+static void* writer_main(void* arg) {
+    out_writer* w = arg;
+    pthread_mutex_lock(&w->mu);
+    for (;;) {
+        while (!w->stop && w->upto <= w->out->next) pthread_cond_wait(&w->cv, &w->mu);
+        uint32_t upto = w->upto;
+        bool stop = w->stop;
+        vx_probe_set v = w->view;
+        pthread_mutex_unlock(&w->mu);
+        if (upto > w->out->next && !w->r) {
+            double t = vx_time_now();
+            v.count = upto - v.first;
+            vx_error e = {0};
+            vx_result r = vx_probe_stream_put(w->out, &v, upto, &e);
+            pthread_mutex_lock(&w->mu);
+            w->r = r, w->err = e;
+            w->seconds += vx_time_now() - t;
+        } else {
+            pthread_mutex_lock(&w->mu);
+        }
+        if ((stop && w->upto <= w->out->next) || w->r) break;
+    }
+    pthread_mutex_unlock(&w->mu);
+    return NULL;
+}
+
 typedef struct ck_state {
     eta* e;           /* NULL: no progress line */
+    out_writer* w;    /* the output's writer thread (NULL: written here) */
     vx_probe_set* ps; /* the set being baked (its count is updated at the end) */
     vx_probe_stream* out; /* the output, written as the batches come (NULL: at the end) */
     double t_out;         /* seconds spent writing it here */
@@ -492,31 +514,33 @@ typedef struct ck_state {
     double interval, t_ck;
     vx_error err;            /* a failed write (ends the bake) */
     const char* failed_path; /* of which file */
-    off_t synced;            /* exploration */
-    bool last_after;         /* exploration: the last batch's maps written after the loop */
 } ck_state;
 
 static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t total) {
     ck_state* c = user;
     if (c->e) eta_func(c->e, stage, done, total);
     double now = vx_time_now();
-    if (c->out && !(c->last_after && c->base + done >= c->total)) {
-        /* the batch's maps into the output while the GPU traces the next batch */
+    if (c->w) {
+        pthread_mutex_lock(&c->w->mu);
+        c->w->view = *c->ps;
+        c->w->upto = c->ps->first + c->base + (uint32_t)done;
+        vx_result r = c->w->r;
+        if (r) c->err = c->w->err;
+        pthread_cond_signal(&c->w->cv);
+        pthread_mutex_unlock(&c->w->mu);
+        if (r) {
+            c->failed_path = c->out->file.path;
+            return false;
+        }
+    } else if (c->out && c->base + done < c->total) {
+        /* the batch's maps into the output while the GPU traces the next batch (the last batch's after the
+         * loop, beside the GPU's teardown) */
         vx_probe_set v = *c->ps;
         v.count = c->base + (uint32_t)done;
         if (vx_probe_stream_put(c->out, &v, v.first + v.count, &c->err)) {
             c->failed_path = c->out->file.path;
             return false;
         }
-#ifdef SYNC_FILE_RANGE_WRITE
-        if (getenv("VX_BAKE_SYNC_WAIT")) { /* exploration: the earlier batches' writes finished while the GPU traces */
-            int fd = fileno((FILE*)c->out->file.f);
-            off_t at = lseek(fd, 0, SEEK_CUR);
-            if (c->synced > 0)
-                (void)sync_file_range(fd, 0, c->synced, SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
-            c->synced = at;
-        }
-#endif
         c->t_out += vx_time_now() - now;
     }
     if (now - c->t_ck < c->interval || c->base + done >= c->total) return true;
@@ -580,9 +604,6 @@ static int bake_single(bake_job* j) {
     options* o = &j->o;
     vx_error err = {0};
     double t_in = vx_time_now();
-    old_dropper dropper = {.path = j->out};
-    if (getenv("VX_BAKE_DROP_OLD") && !o->cpu)
-        dropper.started = !pthread_create(&dropper.thread, NULL, drop_old_main, &dropper);
     /* the device opens on its own thread while the probes are placed */
     if (bake_job_open(j, o->device, "")) {
         bake_job_close(j);
@@ -651,6 +672,7 @@ static int bake_single(bake_job* j) {
         return vx_tool_error(j->out, &err);
     }
     double t_out = 0;
+    out_writer writer = {0};
     t_open = vx_time_now() - t_open;
     if (j->gpu) {
         /* the GPU bakes the whole range in one call (one set-up, its batches
@@ -658,8 +680,14 @@ static int bake_single(bake_job* j) {
          * 16 probes and more, each a call of its own, took 2.4 s for 512
          * probes at R=128 on an H200 where one call takes 0.9 s */
         ck_state c = {.e = show ? &e : NULL, .ps = &ps, .out = streamed ? &out : NULL, .path = j->ckpath,
-                      .base = ps.count, .total = end - first, .interval = interval, .t_ck = t_ck,
-                      .last_after = getenv("VX_BAKE_LAST_PUT_AFTER") != NULL};
+                      .base = ps.count, .total = end - first, .interval = interval, .t_ck = t_ck};
+        if (streamed && getenv("VX_BAKE_WRITER")) {
+            writer = (out_writer){.out = &out, .view = ps, .upto = ps.first + ps.count};
+            pthread_mutex_init(&writer.mu, NULL);
+            pthread_cond_init(&writer.cv, NULL);
+            writer.started = !pthread_create(&writer.thread, NULL, writer_main, &writer);
+            if (writer.started) c.w = &writer;
+        }
         bd.progress = (vx_progress){ck_progress, &c};
         if (ps.first + ps.count < end && bake_range(j, &bd, &ps, end, &err))
             rc = c.failed_path ? vx_tool_error(c.failed_path, &c.err) : vx_tool_error(j->in, &err);
@@ -701,27 +729,22 @@ static int bake_single(bake_job* j) {
     /* the GPU's teardown beside the output's end (a bake that failed tears down after its message) */
     gpu_closer closer = {.j = j, .keep_instance = getenv("VX_BAKE_KEEP_INSTANCE") && exit_without_teardown()};
     bool on_gpu = j->gpu != NULL;
-    /* exploration (VX_BAKE_EXIT): 0 the teardown beside the output's end, joined; 1 not joined (the process
-     * ends after the file); 2 no teardown at all (the system's at exit) */
-    const char* xenv = getenv("VX_BAKE_EXIT");
-    int xmode = xenv ? atoi(xenv) : 0;
-    if (!exit_without_teardown() || o->exr_dir) xmode = 0;
-    if (!rc && j->gpu && xmode != 2) closer.started = !pthread_create(&closer.thread, NULL, close_gpu_main, &closer);
+    if (!rc && j->gpu) closer.started = !pthread_create(&closer.thread, NULL, close_gpu_main, &closer);
     /* what is left of the output (probes resumed and not passed yet, the last batch), its CRC, sync and name */
-    double t_drop = vx_time_now();
-    if (dropper.started) pthread_join(dropper.thread, NULL);
-    dropper.started = false;
-    t_drop = vx_time_now() - t_drop;
     double t_put = vx_time_now(), t_commit = 0;
+    if (writer.started) {
+        pthread_mutex_lock(&writer.mu);
+        writer.stop = true;
+        pthread_cond_signal(&writer.cv);
+        pthread_mutex_unlock(&writer.mu);
+        pthread_join(writer.thread, NULL);
+        pthread_mutex_destroy(&writer.mu);
+        pthread_cond_destroy(&writer.cv);
+        t_out = writer.seconds;
+        if (!rc && writer.r) rc = vx_tool_error(j->out, &writer.err);
+    }
     if (!rc && streamed && vx_probe_stream_put(&out, &ps, end, &err)) rc = vx_tool_error(j->out, &err);
     t_put = vx_time_now() - t_put;
-    double t_fsync = 0;
-    if (!rc && streamed && getenv("VX_BAKE_FSYNC_SPLIT")) { /* exploration: the sync's share of the commit */
-        t_fsync = vx_time_now();
-        fflush((FILE*)out.file.f);
-        fsync(fileno((FILE*)out.file.f));
-        t_fsync = vx_time_now() - t_fsync;
-    }
     if (!rc && streamed) {
         t_commit = vx_time_now();
         if (vx_probe_stream_commit(&out, &err)) rc = vx_tool_error(j->out, &err);
@@ -730,23 +753,27 @@ static int bake_single(bake_job* j) {
     if (!rc && !streamed && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
     if (rc && streamed) vx_probe_stream_abort(&out);
     double t_write = vx_time_now() - t1, t_file = vx_time_now() - t_in;
+    /* the maps' memory freed while the GPU's teardown runs: unmapped at the exit it took 0.01 s after the
+     * teardown (105 MB in 4 KiB pages) */
+    vx_probe_set done = ps; /* what the lines below print */
+    double t_free = vx_time_now();
+    if (!o->exr_dir) vx_probe_set_free(&ps);
+    t_free = vx_time_now() - t_free;
     double t_join = vx_time_now();
-    if (closer.started && !(xmode && !rc)) pthread_join(closer.thread, NULL);
+    if (closer.started) pthread_join(closer.thread, NULL);
     t_join = vx_time_now() - t_join;
     if (!rc) {
         remove(j->ckpath);
         printf("baked %u probes at %ux%u, %u spp, %u bounces in %.2f s (%.3f s per probe); distance step %.4g (max error %.4g)\n",
-               ps.count, ps.res, ps.res, ps.spp, ps.bounces, t_bake, ps.count ? t_bake / ps.count : 0.0, ps.dist_step,
-               ps.dist_max_error);
+               done.count, done.res, done.res, done.spp, done.bounces, t_bake, done.count ? t_bake / done.count : 0.0,
+               done.dist_step, done.dist_max_error);
         printf("wrote %s\n", j->out);
         if (o->verbose) {
             printf("times: scene %.3f s, placement %.3f s, device %.3f s on its thread (Vulkan %.3f s; waited %.3f s), "
-                   "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s; %.3f s from the scene to the "
-                   "file\n",
-                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write, t_file);
-            printf("times: the output's end: last blocks %.3f s, fsync alone %.3f s, CRC, sync and rename %.3f s; "
-                   "the old output's pages dropped in %.3f s, waited %.3f s\n",
-                   t_put, t_fsync, t_commit, dropper.seconds, t_drop);
+                   "bake %.3f s (of it writing the output %.3f s), the output's end %.3f s (last blocks %.3f s, CRC, "
+                   "sync and rename %.3f s); %.3f s from the scene to the file; the maps freed in %.3f s\n",
+                   t0 - t_in, t_place, j->t_device, j->t_vk, j->t_wait, t1 - t_bake0, t_out, t_write, t_put, t_commit,
+                   t_file, t_free);
             if (on_gpu)
                 printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
@@ -759,12 +786,6 @@ static int bake_single(bake_job* j) {
                        st.sun_map_side, st.sun_map_nodes, st.sun_map_list, st.sun_map_gpu * 1e3, st.sun_map, t_ahead,
                        st.sun_map_ahead > 0 ? "used" : "not used", st.sun_map_build);
         }
-    }
-    if (!rc && xmode) {
-        if (o->verbose) printf("close: exit mode %d\n", xmode);
-        fflush(stdout);
-        fflush(stderr);
-        _exit(0);
     }
     if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
     vx_probe_set_free(&ps);
