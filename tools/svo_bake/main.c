@@ -399,12 +399,22 @@ typedef struct gpu_closer {
     double seconds;
 } gpu_closer;
 
+static void* baker_destroy_main(void* arg) {
+    vx_probe_baker_destroy(arg);
+    return NULL;
+}
+
 static void* close_gpu_main(void* arg) {
     gpu_closer* c = arg;
     double t0 = vx_time_now();
-    vx_probe_baker_destroy(c->j->baker);
+    /* exploration (VX_BAKE_PAR_CLOSE): the baker's buffers freed on a thread beside the scene's (the baker's
+     * destruction does not use the queue that the scene's waits on) */
+    pthread_t bt;
+    bool par = getenv("VX_BAKE_PAR_CLOSE") && !pthread_create(&bt, NULL, baker_destroy_main, c->j->baker);
+    if (!par) vx_probe_baker_destroy(c->j->baker);
     double t1 = vx_time_now();
     vx_render_scene_destroy(c->j->rs);
+    if (par) pthread_join(bt, NULL);
     double t2 = vx_time_now();
     if (c->keep_instance) vx_gpu_destroy_at_exit(c->j->gpu);
     else vx_gpu_destroy(c->j->gpu);
