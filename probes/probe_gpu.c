@@ -8,7 +8,6 @@
  * reference the GPU filtering is tested against. */
 #include <math.h>
 #include <pthread.h>
-#include <stdlib.h> /* getenv: exploration */
 #include <string.h>
 
 #include "probes/probes_internal.h"
@@ -777,9 +776,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     vx_result r = VX_OK;
     /* full batches, then the last quarter batch on its own: what is left after the GPU's last batch (the
      * host storing its maps, the caller writing them) is short */
-    const char* tdiv_env = getenv("VX_PROBE_TAIL_DIV"); /* exploration */
-    uint32_t tdiv = tdiv_env && atoi(tdiv_env) > 0 ? (uint32_t)atoi(tdiv_env) : 4;
-    uint32_t n = end - begin, tail = batch >= 2 * tdiv && n > batch ? batch / tdiv : 0, body = n - tail;
+    uint32_t n = end - begin, tail = batch >= 8 && n > batch ? batch / 4 : 0, body = n - tail;
     uint32_t spp = ps->spp ? ps->spp : 1, nbody = (body + batch - 1) / batch, nbatch = nbody + (tail ? 1 : 0);
     uint64_t (*ts)[4] = vx_calloc(ps->alloc, nbatch, sizeof *ts);
     if (!ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");

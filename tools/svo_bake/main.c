@@ -640,8 +640,9 @@ static int bake_single(bake_job* j) {
      * words read back: 0.009-0.015 s of the set-up on an H200 host, which waited 0.03-0.09 s for its device) */
     vx_render_sun_nodes* sun_nodes = NULL;
     double t_ahead = vx_time_now();
-    if (j->opening && bake_uses_sun_map(&o->b, &ps) && !getenv("VX_BAKE_NO_AHEAD"))
-        vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE, .cpu_device = getenv("VX_BAKE_AHEAD_CPU") != NULL}, &sun_nodes,
+    /* (made for a GPU: a CPU device's scene lists its own, with its coarser texels) */
+    if (j->opening && bake_uses_sun_map(&o->b, &ps))
+        vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE}, &sun_nodes,
                                  NULL); /* none made: the build lists them */
     t_ahead = vx_time_now() - t_ahead;
     if (bake_job_device(j, "")) {
@@ -669,7 +670,6 @@ static int bake_single(bake_job* j) {
     vx_probe_bake_desc bd = o->b;
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
-    if (getenv("VX_BAKE_BATCH")) bd.batch = (uint32_t)atoi(getenv("VX_BAKE_BATCH")); /* exploration */
     if (show) bd.progress = (vx_progress){eta_func, &e};
     double interval = checkpoint_interval(), t_ck = vx_time_now();
     /* the output is written as the probes are baked (an empty shard's at the end) */
