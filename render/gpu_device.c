@@ -374,7 +374,7 @@ vx_result vx_gpu_create(const vx_gpu_desc* desc_in, vx_gpu** out, vx_error* err)
     return VX_OK;
 }
 
-static void gpu_destroy(vx_gpu* g, bool instance) {
+void vx_gpu_destroy(vx_gpu* g) {
     if (!g) return;
     if (g->device) vkDeviceWaitIdle(g->device);
     vx__pipelines_destroy(g);
@@ -388,14 +388,11 @@ static void gpu_destroy(vx_gpu* g, bool instance) {
                 g->instance, "vkDestroyDebugUtilsMessengerEXT");
             if (destroy) destroy(g->instance, g->messenger, NULL);
         }
-        if (g->instance && instance) vkDestroyInstance(g->instance, NULL);
+        if (g->instance) vkDestroyInstance(g->instance, NULL);
     }
     vx_allocator a = g->alloc;
     vx_free(&a, g);
 }
-
-void vx_gpu_destroy(vx_gpu* g) { gpu_destroy(g, true); }
-void vx_gpu_destroy_at_exit(vx_gpu* g) { gpu_destroy(g, false); }
 
 const char* vx_gpu_device_name(const vx_gpu* g) { return g ? g->props.deviceName : ""; }
 bool vx_gpu_is_cpu(const vx_gpu* g) { return g && g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }

@@ -135,12 +135,6 @@ typedef struct vx_gpu_desc {
 
 vx_result vx_gpu_create(const vx_gpu_desc* desc, vx_gpu** out, vx_error* err);
 void vx_gpu_destroy(vx_gpu* gpu);
-/* vx_gpu_destroy for a process that exits right after: the device and what the vx_gpu holds are destroyed,
- * the Vulkan instance (the loader's and driver's unloading) is left to the process's exit, which frees it
- * anyway. A device left open at exit cost more than destroying it here (the kernel's release took 0.08 s on
- * an H200 host against the driver's 0.05 s), the instance's end did not need to be waited for. Leak checkers
- * see the instance's memory: call vx_gpu_destroy there. */
-void vx_gpu_destroy_at_exit(vx_gpu* gpu);
 const char* vx_gpu_device_name(const vx_gpu* gpu);
 bool vx_gpu_is_cpu(const vx_gpu* gpu); /* lavapipe or another CPU device */
 /* Validation errors recorded since creation (0 without validation). */

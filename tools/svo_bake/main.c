@@ -1,6 +1,6 @@
 /* tools/svo_bake/main.c - svo_bake SCENE.svo OUT.probes [options]
  *                         svo_bake --merge OUT.probes PART.probes... */
-#define _GNU_SOURCE /* sync_file_range (exploration) */
+#define _GNU_SOURCE /* madvise MADV_HUGEPAGE */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -395,29 +395,17 @@ typedef struct gpu_closer {
     bake_job* j;
     pthread_t thread;
     bool started;
-    bool keep_instance; /* vx_gpu_destroy_at_exit */
     double seconds;
 } gpu_closer;
-
-static void* baker_destroy_main(void* arg) {
-    vx_probe_baker_destroy(arg);
-    return NULL;
-}
 
 static void* close_gpu_main(void* arg) {
     gpu_closer* c = arg;
     double t0 = vx_time_now();
-    /* exploration (VX_BAKE_PAR_CLOSE): the baker's buffers freed on a thread beside the scene's (the baker's
-     * destruction does not use the queue that the scene's waits on) */
-    pthread_t bt;
-    bool par = getenv("VX_BAKE_PAR_CLOSE") && !pthread_create(&bt, NULL, baker_destroy_main, c->j->baker);
-    if (!par) vx_probe_baker_destroy(c->j->baker);
+    vx_probe_baker_destroy(c->j->baker);
     double t1 = vx_time_now();
     vx_render_scene_destroy(c->j->rs);
-    if (par) pthread_join(bt, NULL);
     double t2 = vx_time_now();
-    if (c->keep_instance) vx_gpu_destroy_at_exit(c->j->gpu);
-    else vx_gpu_destroy(c->j->gpu);
+    vx_gpu_destroy(c->j->gpu);
     double t3 = vx_time_now();
     c->j->baker = NULL, c->j->rs = NULL, c->j->gpu = NULL;
     c->j->t_close[0] = t1 - t0, c->j->t_close[1] = t2 - t1, c->j->t_close[2] = t3 - t2;
@@ -471,51 +459,8 @@ bool resume_checkpoint(const bake_job* j, vx_probe_set* ps, uint32_t end) {
 /* The GPU bake's progress (after each batch, the maps of a prefix of the
  * range in the set): the progress line, and the baked prefix written as a
  * checkpoint when checkpoint_interval() has passed since the last one. */
-/* The output's blocks written on a thread of their own as the batches are stored (exploration, VX_BAKE_WRITER):
- * the bake's thread then only stores each batch, and the GPU's last batches do not wait for the writes. */
-typedef struct out_writer {
-    vx_probe_stream* out;
-    vx_probe_set view; /* the set as the bake stores it (its arrays), count up to upto */
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    uint32_t upto; /* probes stored (an end index) */
-    bool stop;
-    vx_result r;
-    vx_error err;
-    double seconds;
-    pthread_t thread;
-    bool started;
-} out_writer;
-
-static void* writer_main(void* arg) {
-    out_writer* w = arg;
-    pthread_mutex_lock(&w->mu);
-    for (;;) {
-        while (!w->stop && w->upto <= w->out->next) pthread_cond_wait(&w->cv, &w->mu);
-        uint32_t upto = w->upto;
-        bool stop = w->stop;
-        vx_probe_set v = w->view;
-        pthread_mutex_unlock(&w->mu);
-        if (upto > w->out->next && !w->r) {
-            double t = vx_time_now();
-            v.count = upto - v.first;
-            vx_error e = {0};
-            vx_result r = vx_probe_stream_put(w->out, &v, upto, &e);
-            pthread_mutex_lock(&w->mu);
-            w->r = r, w->err = e;
-            w->seconds += vx_time_now() - t;
-        } else {
-            pthread_mutex_lock(&w->mu);
-        }
-        if ((stop && w->upto <= w->out->next) || w->r) break;
-    }
-    pthread_mutex_unlock(&w->mu);
-    return NULL;
-}
-
 typedef struct ck_state {
     eta* e;           /* NULL: no progress line */
-    out_writer* w;    /* the output's writer thread (NULL: written here) */
     vx_probe_set* ps; /* the set being baked (its count is updated at the end) */
     vx_probe_stream* out; /* the output, written as the batches come (NULL: at the end) */
     double t_out;         /* seconds spent writing it here */
@@ -530,19 +475,7 @@ static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t t
     ck_state* c = user;
     if (c->e) eta_func(c->e, stage, done, total);
     double now = vx_time_now();
-    if (c->w) {
-        pthread_mutex_lock(&c->w->mu);
-        c->w->view = *c->ps;
-        c->w->upto = c->ps->first + c->base + (uint32_t)done;
-        vx_result r = c->w->r;
-        if (r) c->err = c->w->err;
-        pthread_cond_signal(&c->w->cv);
-        pthread_mutex_unlock(&c->w->mu);
-        if (r) {
-            c->failed_path = c->out->file.path;
-            return false;
-        }
-    } else if (c->out && c->base + done < c->total) {
+    if (c->out && c->base + done < c->total) {
         /* the batch's maps into the output while the GPU traces the next batch (the last batch's after the
          * loop, beside the GPU's teardown) */
         vx_probe_set v = *c->ps;
@@ -565,9 +498,11 @@ static bool ck_progress(void* user, const char* stage, uint64_t done, uint64_t t
 }
 
 /* The probe set's memory (its maps: 105 MB for 512 probes at R=128) in transparent huge pages where the
- * system gives them on request (MADV_HUGEPAGE): the bake copies every batch's maps into fresh pages, and the
- * process's end unmaps them; in 4 KiB pages that took 52 ms and 10 ms for 105 MB on the dev machine, in 2 MiB
- * pages 12 ms and 0.5 ms. Small blocks come from malloc. A header before each block says which. */
+ * system gives them on request (MADV_HUGEPAGE): the bake copies every batch's maps into fresh pages and frees
+ * them at the end; in 4 KiB pages the copies and the unmapping took 52 ms and 10 ms for 105 MB on the dev
+ * machine, in 2 MiB pages 12 ms and 0.5 ms. On an H200 host the last batch's copy (after the GPU's last batch)
+ * took 0.005 -> 0.003 s, the maps' release 0.007 -> 0.001 s, and the whole process 0.628 -> 0.610 s.
+ * Small blocks come from malloc. A header before each block says which. */
 enum { HUGE_MIN = 4 << 20, HUGE_PAGE = 2 << 20, HUGE_HEAD = 64 };
 typedef struct huge_head {
     void* base;    /* the mapping (NULL: a malloc block starting at the header) */
@@ -622,7 +557,7 @@ static int bake_single(bake_job* j) {
     double t0 = vx_time_now();
     vx_probe_set ps;
     o->b.first = o->b.count = 0;
-    if (getenv("VX_BAKE_HUGE") && !o->b.alloc) o->b.alloc = &huge_allocator; /* exploration */
+    if (!o->b.alloc) o->b.alloc = &huge_allocator;
     if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
         bake_job_close(j);
         return vx_tool_error(j->in, &err);
@@ -682,7 +617,6 @@ static int bake_single(bake_job* j) {
         return vx_tool_error(j->out, &err);
     }
     double t_out = 0;
-    out_writer writer = {0};
     t_open = vx_time_now() - t_open;
     if (j->gpu) {
         /* the GPU bakes the whole range in one call (one set-up, its batches
@@ -691,13 +625,6 @@ static int bake_single(bake_job* j) {
          * probes at R=128 on an H200 where one call takes 0.9 s */
         ck_state c = {.e = show ? &e : NULL, .ps = &ps, .out = streamed ? &out : NULL, .path = j->ckpath,
                       .base = ps.count, .total = end - first, .interval = interval, .t_ck = t_ck};
-        if (streamed && getenv("VX_BAKE_WRITER")) {
-            writer = (out_writer){.out = &out, .view = ps, .upto = ps.first + ps.count};
-            pthread_mutex_init(&writer.mu, NULL);
-            pthread_cond_init(&writer.cv, NULL);
-            writer.started = !pthread_create(&writer.thread, NULL, writer_main, &writer);
-            if (writer.started) c.w = &writer;
-        }
         bd.progress = (vx_progress){ck_progress, &c};
         if (ps.first + ps.count < end && bake_range(j, &bd, &ps, end, &err))
             rc = c.failed_path ? vx_tool_error(c.failed_path, &c.err) : vx_tool_error(j->in, &err);
@@ -737,22 +664,11 @@ static int bake_single(bake_job* j) {
     if (show) fprintf(stderr, "\n");
     double t1 = vx_time_now(), t_bake = t1 - t0;
     /* the GPU's teardown beside the output's end (a bake that failed tears down after its message) */
-    gpu_closer closer = {.j = j, .keep_instance = getenv("VX_BAKE_KEEP_INSTANCE") && exit_without_teardown()};
+    gpu_closer closer = {.j = j};
     bool on_gpu = j->gpu != NULL;
     if (!rc && j->gpu) closer.started = !pthread_create(&closer.thread, NULL, close_gpu_main, &closer);
     /* what is left of the output (probes resumed and not passed yet, the last batch), its CRC, sync and name */
     double t_put = vx_time_now(), t_commit = 0;
-    if (writer.started) {
-        pthread_mutex_lock(&writer.mu);
-        writer.stop = true;
-        pthread_cond_signal(&writer.cv);
-        pthread_mutex_unlock(&writer.mu);
-        pthread_join(writer.thread, NULL);
-        pthread_mutex_destroy(&writer.mu);
-        pthread_cond_destroy(&writer.cv);
-        t_out = writer.seconds;
-        if (!rc && writer.r) rc = vx_tool_error(j->out, &writer.err);
-    }
     if (!rc && streamed && vx_probe_stream_put(&out, &ps, end, &err)) rc = vx_tool_error(j->out, &err);
     t_put = vx_time_now() - t_put;
     if (!rc && streamed) {
@@ -763,8 +679,7 @@ static int bake_single(bake_job* j) {
     if (!rc && !streamed && vx_probe_write_file(NULL, &ps, j->out, &err)) rc = vx_tool_error(j->out, &err);
     if (rc && streamed) vx_probe_stream_abort(&out);
     double t_write = vx_time_now() - t1, t_file = vx_time_now() - t_in;
-    /* the maps' memory freed while the GPU's teardown runs: unmapped at the exit it took 0.01 s after the
-     * teardown (105 MB in 4 KiB pages) */
+    /* the maps' memory freed while the GPU's teardown runs rather than unmapped by the exit after it */
     vx_probe_set done = ps; /* what the lines below print */
     double t_free = vx_time_now();
     if (!o->exr_dir) vx_probe_set_free(&ps);
