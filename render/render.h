@@ -490,7 +490,7 @@ void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow
  * asked for, texels a cell and largest side), else lists as before. */
 typedef struct vx_render_sun_nodes vx_render_sun_nodes;
 typedef struct vx_render_sun_nodes_desc {
-    const vx_allocator* alloc; /* NULL: malloc */
+    const vx_allocator* alloc; /* NULL: malloc; must outlive the scene that takes the list */
     uint32_t shadow_map_side;  /* the render scene's vx_render_scene_desc.shadow_map_side */
     uint32_t max_side;         /* the build's largest side: 0 a frame's (2048), the probe bake's VX_PROBE_SUN_MAP_SIDE */
     bool cpu_device;           /* for a CPU device (2 texels a cell instead of 8) */
