@@ -270,12 +270,13 @@ static vx_result ctx_sun_map(gctx* c, vx_render_scene* rs, const vx__light* L, b
     bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
     if (!allow || !sun || !(fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
-    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, 4096, &c->sun, err);
+    vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, VX_PROBE_SUN_MAP_SIDE, &c->sun, err);
     if (st) {
         vx_render_shadow_map_info mi;
         vx_render_scene_shadow_map_info(rs, &mi);
         st->sun_map = vx_time_now() - t0, st->sun_map_side = c->sun.map ? c->sun.side : 0;
         st->sun_map_nodes = mi.nodes, st->sun_map_list = mi.list_seconds, st->sun_map_gpu = mi.build_gpu_seconds;
+        st->sun_map_ahead = mi.ahead_seconds, st->sun_map_build = mi.build_seconds;
     }
     if (r) memset(&c->sun, 0, sizeof c->sun);
     c->spec[VX__SPEC_COUNT + SPEC_SMAP] = !r && c->sun.map;
@@ -800,6 +801,9 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         if (i == 0) continue;
         bslot* s = &B.slot[(i - 1) % 2];
         if ((r = gbake_wait(&B, s, st, ts[i - 1], err))) break;
+        if (i == 1 && B.queries)
+            st->first_latency = vx_time_now() - t1 - (double)(ts[0][3] - ts[0][0]) * c->g->props.limits.timestampPeriod * 1e-9;
+        double t_got = vx_time_now();
         const float* flags = s->back.map;
         if (flags[1] != 0) {
             /* samples left (llvmpipe's loop guard fired): finish them with
@@ -826,6 +830,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
             r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "cancelled");
             break;
         }
+        if (i == nbatch) st->tail = vx_time_now() - t_got;
     }
     /* nothing of ours may still run when the buffers go */
     if (r && submitted) vkQueueWaitIdle(c->g->queue);
@@ -874,7 +879,7 @@ struct vx_probe_baker {
     double setup, setup_ctx, setup_pipes; /* seconds vx_probe_baker_create took (the first run's stats) */
     double sun_map;                       /* of setup_ctx: the sun's depth map */
     uint32_t sun_map_side, sun_map_nodes;
-    double sun_map_list, sun_map_gpu;
+    double sun_map_list, sun_map_gpu, sun_map_ahead, sun_map_build;
     bool setup_reported;
 };
 
@@ -918,7 +923,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);
         b->sun_map = sm.sun_map, b->sun_map_side = sm.sun_map_side, b->sun_map_nodes = sm.sun_map_nodes;
-        b->sun_map_list = sm.sun_map_list, b->sun_map_gpu = sm.sun_map_gpu;
+        b->sun_map_list = sm.sun_map_list, b->sun_map_gpu = sm.sun_map_gpu, b->sun_map_ahead = sm.sun_map_ahead;
+        b->sun_map_build = sm.sun_map_build;
     }
     b->setup_ctx = vx_time_now() - t0;
     double tp = vx_time_now();
@@ -959,6 +965,7 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
         st.setup = b->setup, st.setup_ctx = b->setup_ctx, st.setup_pipes = b->setup_pipes + b->B.pipes;
         st.setup_slots = b->B.slots_s;
         st.sun_map = b->sun_map, st.sun_map_list = b->sun_map_list, st.sun_map_gpu = b->sun_map_gpu;
+        st.sun_map_ahead = b->sun_map_ahead, st.sun_map_build = b->sun_map_build;
         b->setup_reported = true;
     }
     st.sun_map_side = b->sun_map_side, st.sun_map_nodes = b->sun_map_nodes;

@@ -61,6 +61,9 @@ extern "C" {
 #define VX_PROBE_MAX_RES 1024u
 #define VX_PROBE_MAX_PROBES (1u << 20)
 #define VX_PROBE_DIST_MISS 0xFFFFu /* radial distance code of a ray that hit nothing */
+/* the largest side in texels of the sun's depth map that the GPU bake and render build (render.h
+ * vx_render_sun_nodes_desc.max_side, for a node list made ahead) */
+#define VX_PROBE_SUN_MAP_SIDE 4096u
 
 /* ---- octahedral mapping ------------------------------------------------------------- */
 
@@ -155,10 +158,14 @@ typedef struct vx_probe_bake_stats {
     double sun_map;     /* of setup_ctx: the sun's depth map, its node list and build (wall; 0: none) */
     uint32_t sun_map_side; /* texels a side of the sun's depth map that clipped the sun rays (0: none) */
     uint32_t sun_map_nodes; /* its octree nodes (vx_render_shadow_map_info) */
-    double sun_map_list;    /* of sun_map: listing them (wall) */
+    double sun_map_list;    /* of sun_map: listing them (wall; with a list made ahead its buffer only) */
+    double sun_map_ahead;   /* the list made ahead (render.h vx_render_sun_nodes_make), not in sun_map; 0: none */
     double sun_map_gpu;     /* its build's dispatches (GPU) */
+    double sun_map_build;   /* of sun_map: the build (wall: uploads, submission, wait; not the map's memory) */
     double grow;        /* growing the set's arrays for the range before the loop (wall) */
     double loop;        /* the batch loop, first submission to the last probe stored (wall) */
+    double first_latency; /* of loop: the first batch's wait less its GPU time (its start's latency; wall) */
+    double tail;        /* of loop: after the last batch's wait (its maps stored, the progress callback; wall) */
     double gpu_trace;   /* path tracing, all batches (GPU) */
     double gpu_filter;  /* filtering, quantisation and packing on the GPU (GPU) */
     double gpu_copy;    /* copies of results into host-visible memory (GPU) */

@@ -468,7 +468,9 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
 typedef struct vx_render_shadow_map_info {
     uint32_t side;            /* texels a side; 0: the scene has no map (yet: none before the first build) */
     uint32_t nodes;           /* octree nodes listed */
-    double list_seconds;      /* listing them (host, at the first build, with the words' read-back) */
+    double list_seconds;      /* listing them (at the first build, with the words' read-back; where a list
+                                 made ahead was taken: its buffer only) */
+    double ahead_seconds;     /* the list made ahead on the host (vx_render_sun_nodes_make); 0: none taken */
     uint32_t builds;          /* maps built so far */
     double build_seconds;     /* the last build, wall time (uploads, submission) */
     double build_gpu_seconds; /* the last build's dispatches (timestamps) */
@@ -479,6 +481,27 @@ typedef struct vx_render_shadow_map_info {
     double u0, v0, texel;
 } vx_render_shadow_map_info;
 void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow_map_info* out);
+
+/* The depth map's node list made on the host ahead of the render scene: a
+ * tool that opens the device on a thread of its own (svo_bake) lists the
+ * nodes while it waits for the device, instead of at the map's first build
+ * after it (which reads the node words back from the GPU and lists them:
+ * 0.009-0.015 s for the Cornell box on an H200 host). The scene takes the
+ * list with vx_render_scene_take_sun_nodes; its first build uses it where it
+ * is the list it would make (the same drawn instances, models, box, side
+ * asked for, texels a cell and largest side), else lists as before. */
+typedef struct vx_render_sun_nodes vx_render_sun_nodes;
+typedef struct vx_render_sun_nodes_desc {
+    const vx_allocator* alloc; /* NULL: malloc; must outlive the scene that takes the list */
+    uint32_t shadow_map_side;  /* the render scene's vx_render_scene_desc.shadow_map_side */
+    uint32_t max_side;         /* the build's largest side: 0 a frame's (2048), the probe bake's VX_PROBE_SUN_MAP_SIDE */
+    bool cpu_device;           /* for a CPU device (2 texels a cell instead of 8) */
+} vx_render_sun_nodes_desc;
+vx_result vx_render_sun_nodes_make(const vx_svo_scene* s, const vx_render_sun_nodes_desc* desc, vx_render_sun_nodes** out,
+                                   vx_error* err);
+/* rs owns n from here (NULL rs: n is freed). */
+void vx_render_scene_take_sun_nodes(vx_render_scene* rs, vx_render_sun_nodes* n);
+void vx_render_sun_nodes_free(vx_render_sun_nodes* n);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
 

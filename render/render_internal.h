@@ -88,7 +88,8 @@ typedef struct vx__smap {
     double origin[3];       /* O, world */
     double axis_u[3], axis_v[3], u0, v0, texel; /* the texels (vx_render_shadow_map_info) */
     double margin;          /* world units */
-    double list_seconds;    /* the node list (host, at scene creation) */
+    double list_seconds;    /* the node list (at the first build: the words' read-back, the list, its buffer) */
+    double ahead_seconds;   /* the list made on the host ahead (vx_render_sun_nodes_make), 0: none */
     double build_seconds, build_gpu_seconds; /* the last build, wall and GPU time */
     uint32_t builds;
     uint32_t insts_built;   /* entries in the insts buffer (the last build) */
@@ -103,6 +104,18 @@ const uint32_t* vx__spirv_smap(size_t* bytes);
 vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                         uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err);
+/* The host's part of vx__smap_list made ahead, without a device (its
+ * arguments as vx__smap_list's); vx__smap_pre_fits tells whether it is the
+ * list vx__smap_list would make for side, per_cell and max_side (the scene's
+ * instances, models and box the caller compares), vx__smap_pre_use makes
+ * sm's GPU buffers from it (emptying it). */
+typedef struct vx__smap_pre vx__smap_pre;
+vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+                            const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
+                            uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap_pre** out, vx_error* err);
+bool vx__smap_pre_fits(const vx__smap_pre* p, uint32_t side, uint32_t per_cell, uint32_t max_side);
+vx_result vx__smap_pre_use(vx_gpu* g, vx__smap_pre* p, vx__smap* sm, vx_error* err);
+void vx__smap_pre_free(vx__smap_pre* p);
 /* Builds the map for the unit direction light (towards the light) and the
  * drawn instances' world-from-model maps; one submission. */
 vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const double (*world)[12],

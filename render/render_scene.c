@@ -145,6 +145,8 @@ struct vx_render_scene {
         SMAP_NEVER  /* shadow_map_side 1, the compact layout, float64, an edited model */
     } smap_state;
     uint32_t smap_side_req;
+    /* a node list made on the host ahead (vx_render_scene_take_sun_nodes), for the first build where it fits */
+    vx_render_sun_nodes* smap_pre;
     /* the light of the last colour frame since the instances last moved:
      * a map is built only for a light and instances two frames have had */
     bool smap_seen;
@@ -296,6 +298,13 @@ static uint32_t drawn_count(const vx_svo_scene* s) {
     return n;
 }
 
+/* An instance's cell size in the world: its world-from-model map's longest column. */
+static double instance_cell(const double w[12]) {
+    double cell = 0;
+    for (int c = 0; c < 3; c++) cell = fmax(cell, sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]));
+    return cell;
+}
+
 /* The drawn instances of s into inst (n of them) and their world boxes into
  * lo, hi (3 doubles each). */
 static void fill_instances(const vx_svo_scene* s, inst_host* inst, double* lo, double* hi) {
@@ -307,10 +316,7 @@ static void fill_instances(const vx_svo_scene* s, inst_host* inst, double* lo, d
         vx__affine_inverse(w, inst[k].inv); /* checked by vx__check_scene */
         inst[k].model = s->instances[i].model;
         inst[k].id = i;
-        double cell = 0;
-        for (int c = 0; c < 3; c++)
-            cell = fmax(cell, sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]));
-        inst[k].cell = (float)cell;
+        inst[k].cell = (float)instance_cell(w);
         vx_svo_instance_world_box(s, &s->instances[i], &lo[3 * k], &hi[3 * k]);
         memcpy(inst[k].lo, &lo[3 * k], sizeof inst[k].lo);
         memcpy(inst[k].hi, &hi[3 * k], sizeof inst[k].hi);
@@ -525,9 +531,95 @@ vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s,
     return smap_list(rs, s, side, 0, err);
 }
 
+/* A sun map's node list made on the host ahead of its render scene (render.h). */
+struct vx_render_sun_nodes {
+    const vx_allocator* alloc;
+    vx__smap_pre* pre;
+    uint32_t inst_count, model_count;
+    uint32_t* model; /* the drawn instances' models and cells, as fill_instances has them */
+    float* cell;
+    double lo[3], hi[3];
+    double seconds;
+};
+
+void vx_render_sun_nodes_free(vx_render_sun_nodes* n) {
+    if (!n) return;
+    vx__smap_pre_free(n->pre);
+    vx_free(n->alloc, n->model);
+    vx_free(n->alloc, n->cell);
+    vx_free(n->alloc, n);
+}
+
+vx_result vx_render_sun_nodes_make(const vx_svo_scene* s, const vx_render_sun_nodes_desc* desc, vx_render_sun_nodes** out,
+                                   vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
+    vx_render_sun_nodes_desc d = desc ? *desc : (vx_render_sun_nodes_desc){0};
+    double t0 = vx_time_now();
+    vx_render_sun_nodes* n = vx_calloc(d.alloc, 1, sizeof *n);
+    if (!n) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    n->alloc = d.alloc;
+    uint32_t k = drawn_count(s);
+    n->model = vx_calloc(d.alloc, k ? k : 1, sizeof *n->model);
+    n->cell = vx_calloc(d.alloc, k ? k : 1, sizeof *n->cell);
+    vx_result r = VX_OK;
+    if (!n->model || !n->cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (uint32_t i = 0; !r && i < s->instance_count; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        double w[12];
+        vx_svo_instance_world(s, &s->instances[i], w);
+        n->model[n->inst_count] = s->instances[i].model;
+        n->cell[n->inst_count++] = (float)instance_cell(w);
+    }
+    n->model_count = s->model_count;
+    vx_svo_scene_world_bounds(s, n->lo, n->hi);
+    if (!r)
+        r = vx__smap_pre_make(d.alloc, s, n->model, n->cell, n->inst_count, n->lo, n->hi, d.shadow_map_side,
+                              d.cpu_device ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL, d.max_side, &n->pre, err);
+    if (r) {
+        vx_render_sun_nodes_free(n);
+        return r;
+    }
+    n->seconds = vx_time_now() - t0;
+    *out = n;
+    return VX_OK;
+}
+
+void vx_render_scene_take_sun_nodes(vx_render_scene* rs, vx_render_sun_nodes* n) {
+    if (!rs) {
+        vx_render_sun_nodes_free(n);
+        return;
+    }
+    vx_render_sun_nodes_free(rs->smap_pre);
+    rs->smap_pre = n;
+}
+
+/* Whether the list made ahead is the one smap_list would make now. */
+static bool smap_pre_fits(const vx_render_scene* rs, uint32_t per_cell, uint32_t max_side) {
+    const vx_render_sun_nodes* n = rs->smap_pre;
+    if (!n || !vx__smap_pre_fits(n->pre, rs->smap_side_req, per_cell, max_side) || n->inst_count != rs->inst_count ||
+        n->model_count != rs->model_count || memcmp(n->lo, rs->lo, sizeof n->lo) || memcmp(n->hi, rs->hi, sizeof n->hi))
+        return false;
+    for (uint32_t i = 0; i < n->inst_count; i++)
+        if (n->model[i] != rs->inst[i].model || n->cell[i] != rs->inst[i].cell) return false;
+    return true;
+}
+
 /* The node list from the plain layout's words on the GPU (at the first build). */
 static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error* err) {
     rs->smap_state = SMAP_MADE;
+    uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
+    if (smap_pre_fits(rs, per_cell, max_side)) {
+        /* listed on the host while the device opened: only its buffer is left */
+        double t0 = vx_time_now(), ahead = rs->smap_pre->seconds;
+        vx_result r = vx__smap_pre_use(rs->gpu, rs->smap_pre->pre, &rs->smap, err);
+        vx_render_sun_nodes_free(rs->smap_pre);
+        rs->smap_pre = NULL;
+        if (!r && rs->smap.side) rs->smap.list_seconds = vx_time_now() - t0, rs->smap.ahead_seconds = ahead;
+        return r;
+    }
+    vx_render_sun_nodes_free(rs->smap_pre);
+    rs->smap_pre = NULL;
     uint64_t words = 0;
     for (uint32_t i = 0; i < rs->model_count; i++)
         if (rs->wreg[i].have && (uint64_t)rs->wreg[i].off + rs->wreg[i].have > words) words = (uint64_t)rs->wreg[i].off + rs->wreg[i].have;
@@ -559,6 +651,7 @@ void vx_render_scene_shadow_map_info(const vx_render_scene* rs, vx_render_shadow
     out->side = rs->smap.side;
     out->nodes = rs->smap.node_count;
     out->list_seconds = rs->smap.list_seconds;
+    out->ahead_seconds = rs->smap.ahead_seconds;
     out->builds = rs->smap.builds;
     out->build_seconds = rs->smap.build_seconds;
     out->build_gpu_seconds = rs->smap.build_gpu_seconds;
@@ -717,6 +810,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vkDeviceWaitIdle(g->device);
     vx_compact_gpu_destroy(rs->compact);
     vx__smap_free(g, &rs->smap);
+    vx_render_sun_nodes_free(rs->smap_pre);
     destroy_instance_buffers(rs);
     vx__buffer* bufs[] = {&rs->beam,   &rs->dense_bits, &rs->hits,  &rs->pixels, &rs->models,
                           &rs->colors, &rs->nodes,      &rs->stage};
@@ -934,6 +1028,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
      * no map (listing the nodes again would cost a stroke tens of ms on a
      * large model) */
     vx__smap_free(g, &rs->smap);
+    vx_render_sun_nodes_free(rs->smap_pre);
+    rs->smap_pre = NULL;
     rs->smap_state = SMAP_NEVER;
     vx_svo_scene v;
     if (!vx_svo_scene_frame(s, rs->shown, &v)) vx_svo_scene_frame(s, 0, &v);

@@ -145,10 +145,14 @@ static double scene_diag(const double lo[3], const double hi[3]) {
     return sqrt(d);
 }
 
-vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
-                        const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
-                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
-    vx__smap_free(g, sm);
+/* The host's part of vx__smap_list: sm's side, diagonal, model starts and
+ * levels, and the node list into *nodes (NULL where there is none; the
+ * caller frees it). */
+static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+                                const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
+                                uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, smap_node** nodes,
+                                vx_error* err) {
+    *nodes = NULL;
     sm->alloc = alloc;
     if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
     double t0 = vx_time_now();
@@ -177,7 +181,8 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     double* mcell = vx_calloc(alloc, mc, sizeof *mcell);
     if (!sm->model_first || !mcell) {
         vx_free(alloc, mcell);
-        vx__smap_free(g, sm);
+        vx_free(alloc, sm->model_first);
+        sm->model_first = NULL;
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the shadow map's nodes");
     }
     for (uint32_t i = 0; i < inst_count; i++) {
@@ -206,7 +211,8 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     vx_free(alloc, mcell);
     if (l.nomem || l.n > VX__SMAP_MAX_NODES) {
         vx_free(alloc, l.v);
-        vx__smap_free(g, sm);
+        vx_free(alloc, sm->model_first);
+        sm->model_first = NULL;
         return VX_OK; /* no map: unclipped shadow rays */
     }
     sm->model_first[mc] = (uint32_t)l.n;
@@ -214,18 +220,88 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
     sm->model_count = mc;
     sm->side = side;
     sm->diag = diag;
+    sm->list_seconds = vx_time_now() - t0;
+    *nodes = l.v;
+    return VX_OK;
+}
+
+/* The GPU's part: the node buffer of a host list (sm->side set), which it frees. */
+static vx_result smap_list_upload(vx_gpu* g, vx__smap* sm, smap_node* nodes, vx_error* err) {
+    if (!sm->side) {
+        vx_free(sm->alloc, nodes);
+        return VX_OK;
+    }
+    double t0 = vx_time_now();
+    size_t n = sm->node_count;
     /* host-visible: the list is written in place, without a staging buffer and
      * a submission of its own; each build reads it once */
-    vx_result r = vx__buffer_create(g, (l.n ? l.n : 1) * sizeof(smap_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+    vx_result r = vx__buffer_create(g, (n ? n : 1) * sizeof(smap_node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
                                     "shadow map nodes", &sm->nodes, err);
-    if (!r && l.n) r = vx__buffer_upload(g, &sm->nodes, l.v, l.n * sizeof(smap_node), err);
-    vx_free(alloc, l.v);
+    if (!r && n) r = vx__buffer_upload(g, &sm->nodes, nodes, n * sizeof(smap_node), err);
+    vx_free(sm->alloc, nodes);
     if (r) {
         vx__smap_free(g, sm);
         return r;
     }
-    sm->list_seconds = vx_time_now() - t0;
+    sm->list_seconds += vx_time_now() - t0;
     return VX_OK;
+}
+
+vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+                        const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
+                        uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
+    vx__smap_free(g, sm);
+    smap_node* nodes = NULL;
+    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, sm,
+                                 &nodes, err);
+    return r ? r : smap_list_upload(g, sm, nodes, err);
+}
+
+/* A list made on the host before the device (vx_render_sun_nodes_make): the
+ * host part's result and what it was made for. */
+struct vx__smap_pre {
+    vx__smap sm; /* side, diag, model_count, model_first (taken by the adopting scene), node_count */
+    smap_node* nodes;
+    uint32_t side_req, per_cell, max_side;
+    const vx_allocator* alloc;
+};
+
+vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+                            const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
+                            uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap_pre** out, vx_error* err) {
+    *out = NULL;
+    vx__smap_pre* p = vx_calloc(alloc, 1, sizeof *p);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    p->side_req = side, p->per_cell = per_cell, p->max_side = max_side, p->alloc = alloc;
+    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, &p->sm,
+                                 &p->nodes, err);
+    if (r) {
+        vx__smap_pre_free(p);
+        return r;
+    }
+    *out = p;
+    return VX_OK;
+}
+
+bool vx__smap_pre_fits(const vx__smap_pre* p, uint32_t side, uint32_t per_cell, uint32_t max_side) {
+    return p && p->side_req == side && p->per_cell == per_cell && p->max_side == max_side;
+}
+
+vx_result vx__smap_pre_use(vx_gpu* g, vx__smap_pre* p, vx__smap* sm, vx_error* err) {
+    vx__smap_free(g, sm);
+    *sm = p->sm;
+    smap_node* nodes = p->nodes;
+    memset(&p->sm, 0, sizeof p->sm);
+    p->nodes = NULL;
+    return smap_list_upload(g, sm, nodes, err);
+}
+
+void vx__smap_pre_free(vx__smap_pre* p) {
+    if (!p) return;
+    const vx_allocator* a = p->alloc;
+    vx_free(a, p->sm.model_first);
+    vx_free(a, p->nodes);
+    vx_free(a, p);
 }
 
 /* The unit light L and two unit axes U, V across it (the map's texel axes). */

@@ -202,10 +202,11 @@ static void test_random_model(void) {
     vx_svo_scene_free(&s);
 }
 
-static void test_instances(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
+/* Two models, six instances: identity, turned a quarter, mirrored, turned by an odd angle and scaled. */
+static vx_result instance_scene(vx_svo_scene* s) {
     vx_svo_model m[2];
-    REQUIRE(ts_random_model(&m[0], 12, 10, 8, 45, 11) == VX_OK);
+    vx_result r = ts_random_model(&m[0], 12, 10, 8, 45, 11);
+    if (r) return r;
     /* a floor with pillars: faces the grazing lights skim */
     uint32_t xyz[3 * (40 * 40 + 4 * 12)];
     size_t n = 0;
@@ -214,7 +215,10 @@ static void test_instances(void) {
     for (uint32_t p = 0; p < 4; p++)
         for (uint32_t z = 1; z <= 12; z++)
             xyz[3 * n] = 8 + 20 * (p & 1), xyz[3 * n + 1] = 8 + 20 * (p >> 1), xyz[3 * n + 2] = z, n++;
-    REQUIRE(ts_model(&m[1], (const uint32_t[3]){40, 40, 13}, xyz, NULL, n) == VX_OK);
+    if ((r = ts_model(&m[1], (const uint32_t[3]){40, 40, 13}, xyz, NULL, n))) {
+        vx_svo_model_free(NULL, &m[0]);
+        return r;
+    }
     const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
     const double mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
     /* 35 degrees about (1, 1, 1)/sqrt(3), scaled by 0.75 */
@@ -227,8 +231,14 @@ static void test_instances(void) {
     }
     vx_svo_instance in[6] = {ts_inst(1, NULL, -4, -4, -1), ts_inst(0, NULL, 2, 3, 1),     ts_inst(0, quarter, 30, 4, 1),
                              ts_inst(0, mirror, 20, 20, 1), ts_inst(0, odd, 6, 24, 6),      ts_inst(0, NULL, 14, 12, 14)};
+    ts_scene(s, m, 2, in, 6);
+    return VX_OK;
+}
+
+static void test_instances(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
-    ts_scene(&s, m, 2, in, 6);
+    REQUIRE(instance_scene(&s) == VX_OK);
     vx_render_camera cams[2] = {{0}, persp(50, -20, 30, 16, 16, 4)};
     static const uint32_t sides[] = {0, 16, 61};
     smap_stats st = {0};
@@ -324,6 +334,75 @@ static void test_not_used(void) {
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
+/* Two colour frames of rs with light L (the second builds and uses the map); the second's pixels into *img. */
+static void frames_with_map(vx_render_scene* rs, const double L[3], vx_render_image* img, vx_render_shadow_map_info* mi) {
+    vx_render_desc d = {.width = 48, .height = 32, .mode = VX_RENDER_COLOR, .light_dir = {L[0], L[1], L[2]}};
+    d.camera = persp(50, -20, 30, 16, 16, 4);
+    vx_error err = {0};
+    for (int k = 0; k < 2; k++) {
+        vx_render_image_free(img);
+        CHECKF(vx_render_frame(rs, &d, img, &err) == VX_OK, "%s", err.msg);
+    }
+    vx_render_scene_shadow_map_info(rs, mi);
+}
+
+/* A node list made on the host ahead of the render scene (vx_render_sun_nodes_make, as svo_bake makes it while
+ * its device opens): taken where it is the list the first build would make (the same side, nodes and image
+ * bits as a scene that lists at the build), left where it is not (another device kind, largest side or
+ * scene: the build lists as before); bad arguments fail without a crash. */
+static void test_ahead(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s, other;
+    REQUIRE(instance_scene(&s) == VX_OK);
+    vx_svo_model om;
+    REQUIRE(ts_random_model(&om, 16, 16, 16, 30, 3) == VX_OK);
+    vx_svo_instance oin = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(&other, &om, 1, &oin, 1);
+    const double L[3] = {0.35, -0.45, 0.82};
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_render_image ref = {0}, img = {0};
+    vx_render_shadow_map_info a, b;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    frames_with_map(rs, L, &ref, &a);
+    vx_render_scene_destroy(rs);
+    CHECK(a.used && a.side > 0 && a.nodes > 0 && a.ahead_seconds == 0);
+    bool cpu = vx_gpu_is_cpu(gpu);
+    /* 0: the list this device's scene makes; 1: for the other kind of device; 2: for a larger side; 3: of
+     * another scene */
+    for (int k = 0; k < 4; k++) {
+        vx_render_sun_nodes_desc nd = {.cpu_device = k == 1 ? !cpu : cpu, .max_side = k == 2 ? 4096 : 0};
+        vx_render_sun_nodes* nodes = NULL;
+        REQUIRE(vx_render_sun_nodes_make(k == 3 ? &other : &s, &nd, &nodes, &err) == VX_OK);
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+        vx_render_scene_take_sun_nodes(rs, nodes);
+        frames_with_map(rs, L, &img, &b);
+        CHECKF(b.used && b.side == a.side && b.nodes == a.nodes, "case %d: side %u nodes %u (listed at the build: %u, %u)",
+               k, b.side, b.nodes, a.side, a.nodes);
+        CHECKF(k == 0 ? b.ahead_seconds > 0 : b.ahead_seconds == 0, "case %d: the list made ahead %s", k,
+               k == 0 ? "was not taken" : "was taken");
+        CHECK(img.width == ref.width && img.height == ref.height &&
+              !memcmp(img.pixels, ref.pixels, (size_t)ref.width * ref.height * 16));
+        vx_render_scene_destroy(rs);
+    }
+    /* a scene that never builds a map frees what it took; NULL arguments */
+    vx_render_sun_nodes* nodes = NULL;
+    REQUIRE(vx_render_sun_nodes_make(&s, NULL, &nodes, &err) == VX_OK);
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    vx_render_scene_take_sun_nodes(rs, nodes);
+    vx_render_scene_destroy(rs);
+    REQUIRE(vx_render_sun_nodes_make(&s, NULL, &nodes, &err) == VX_OK);
+    vx_render_scene_take_sun_nodes(NULL, nodes);
+    CHECK(vx_render_sun_nodes_make(NULL, NULL, &nodes, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_render_sun_nodes_make(&s, NULL, NULL, &err) == VX_ERR_INVALID_ARG);
+    vx_render_sun_nodes_free(NULL);
+    vx_render_image_free(&ref);
+    vx_render_image_free(&img);
+    vx_svo_scene_free(&s);
+    vx_svo_scene_free(&other);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 /* The pass pipeline's direct pass (the merged kernel, frame.comp, and the
  * separate direct.comp) with the sun's rays clipped by the map, against the
  * same frames with vx_render_desc.no_shadow_map: the same bits, for the
@@ -384,6 +463,7 @@ static void test_passes_direct(void) {
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_not_used);
+    RUN(test_ahead);
     RUN(test_random_model);
     RUN(test_instances);
     RUN(test_terrain);
