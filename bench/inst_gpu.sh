@@ -3,7 +3,8 @@
 # a generated sphere shell (bench/svo_regions.c) as one model and as grid-aligned
 # region models (the converter's layout), and the DamagedHelmet at 512 as one model
 # and as 64^3 regions (carried), rendered at 1920x1080 by main's svo_render (base)
-# and this branch's (variants by environment), processes alternated (ABAB...).
+# and this branch's (g: as it is; bvh: --instance-bvh, the BVH over the models' cells'
+# boxes), processes alternated (ABAB...).
 # Prints one ROW per process and the medians per (variant, scene, view, layout).
 # Usage (from the repository root): bash bench/inst_gpu.sh I B  (I: this branch's
 # binaries and inputs, B: main's binaries)
@@ -18,8 +19,11 @@ RES=${RES:-2048}
 REGIONS=${REGIONS:-"2048 512 128 64"}
 ROUNDS=${ROUNDS:-2}
 BUDGET=${BUDGET:-120}   # seconds: no new round starts past this
-VARIANTS=${VARIANTS:-"base tl t l"}
-VARIANTS1=${VARIANTS1:-"base tl"}   # on one-model scenes (no BVH)
+HARD=${HARD:-140}       # seconds: no new process starts past this
+VIEWS=${VIEWS:-"whole close"}
+FRAMES=${FRAMES:-21}
+VARIANTS=${VARIANTS:-"base g bvh"}
+VARIANTS1=${VARIANTS1:-"base g"}   # on one-model scenes (no BVH)
 LAYOUTS=${LAYOUTS:-"plain compact"}
 nvidia-smi -L 2>/dev/null
 nvidia-smi --query-gpu=name,clocks.sm,clocks.max.sm,temperature.gpu --format=csv 2>/dev/null
@@ -40,12 +44,12 @@ run() { # variant file view layout
     if [ $view = close ]; then
         case $f in *h512*) cam="--camera $close_helmet" ;; *) cam="--camera $close_sphere" ;; esac
     fi
-    local envs=""
-    # exploration variants of this branch (environment): l leaves of one instance,
-    # t the instances' boxes from their models' cells
-    case $v in l) envs="VX_BVH_MAX_LEAF=1" ;; t) envs="VX_INST_TIGHT=1" ;; tl) envs="VX_INST_TIGHT=1 VX_BVH_MAX_LEAF=1" ;; esac
+    local args=""
+    # variants of this branch: g the default (the instances' grid where there is one), bvh with
+    # --instance-bvh (the BVH over the models' cells' boxes)
+    case $v in bvh) args="--instance-bvh" ;; esac
     local out
-    out=$(env $envs $bin/svo_render $f $T/o_${v}.ppm --size $SIZE --mode albedo --frames 21 -v --layout $lay $cam 2>&1)
+    out=$($bin/svo_render $args $f $T/o_${v}.ppm --size $SIZE --mode albedo --frames $FRAMES -v --layout $lay $cam 2>&1)
     local ms hit models
     ms=$(echo "$out" | sed -n 's/.*GPU ms median \([0-9.]*\).*/\1/p' | head -1)
     hit=$(echo "$out" | sed -n 's/.*view: \([0-9.]*\)% of pixels hit.*/\1/p' | head -1)
@@ -57,17 +61,29 @@ run() { # variant file view layout
     if [ -f $key ]; then cmp -s $key $T/o_${v}.ppm || echo "DIFF $v $(basename $f .svo) $view $lay"; else cp $T/o_${v}.ppm $key; fi
 }
 echo "== warm-up (t=$SECONDS)"
-for k in 1 2 3; do $B/svo_render $T/s${RES}_r64.svo $T/w.ppm --size $SIZE --frames 40 >/dev/null 2>&1; done
+R1=$(echo $REGIONS | awk '{print $1}')
+for k in $(seq 1 ${WARM:-3}); do $B/svo_render $T/s${RES}_r$R1.svo $T/w.ppm --size $SIZE --frames 40 >/dev/null 2>&1; done
 for r in $(seq 1 $ROUNDS); do
     [ $SECONDS -gt $BUDGET ] && { echo "== budget: round $r skipped (t=$SECONDS)"; break; }
     echo "== round $r (t=$SECONDS)"
     for f in $scenes; do
         vs=$VARIANTS
         case $f in *_r$RES.svo|*h512_r512.svo) vs=$VARIANTS1 ;; esac
-        for view in whole close; do for lay in $LAYOUTS; do for v in $vs; do
+        for view in $VIEWS; do for lay in $LAYOUTS; do for v in $vs; do
+        [ $SECONDS -gt $HARD ] && { echo "== hard budget: stopped (t=$SECONDS)"; break 5; }
         run $v $f $view $lay
     done; done; done
     done
+done
+# the colour mode (primary and shadow rays: the any-hit walk) against main's, image for image
+for v in $VARIANTS; do
+    [ $SECONDS -gt ${COLOR_BUDGET:-135} ] && break
+    [ $v = base ] && bin=$B || bin=$I
+    args=""
+    case $v in bvh) args="--instance-bvh" ;; esac
+    f=$T/s${RES}_r$R1.svo
+    $bin/svo_render $args $f $T/col_$v.ppm --size $SIZE --mode color --camera $close_sphere >/dev/null 2>&1
+    [ -f $T/col_base.ppm ] && { cmp -s $T/col_base.ppm $T/col_$v.ppm && echo "COLOR $v same as base" || echo "COLOR $v DIFF"; }
 done
 echo "== medians: variant scene view layout ms (n) hit% models; G rays/s at $SIZE"
 px=$(echo $SIZE | awk -Fx '{print $1*$2}')
