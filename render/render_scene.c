@@ -411,7 +411,7 @@ static vx_result gpu_items(vx_render_scene* rs, uint32_t cap, vx_error* err) {
     rs->gitems = vx_calloc(&rs->alloc, room, 4);
     rs->gitems_n = 0;
     if (!rs->gitems) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the instances' grid");
-    if (n && rs->bvh.items && rs->bvh.item_count == n) memcpy(rs->gitems, rs->bvh.items, (size_t)n * 4);
+    if (rs->bvh.item_count == n) memcpy(rs->gitems, rs->bvh.items, (size_t)n * 4);
     uint32_t w = rs->instance_bvh ? 0 : inst_grid_cells(rs, rs->gitems + n, room - n);
     rs->gitems_n = n + (w ? w : INST_GRID_HDR);
     return VX_OK;
