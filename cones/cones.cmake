@@ -16,7 +16,7 @@ if(VX_WITH_VULKAN)
               -I${CMAKE_CURRENT_LIST_DIR}/shaders --vn vx__cone_${var}_spv_arr
               -o ${VX_CONES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/cone_common.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/inst_grid.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/passes_common.glsl
+              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/passes_common.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/pass_bodies.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
       COMMENT "glslangValidator cones/${name}.comp"
       VERBATIM)

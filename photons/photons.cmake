@@ -12,7 +12,7 @@ if(VX_WITH_VULKAN)
             -I${CMAKE_SOURCE_DIR}/probes/shaders --vn vx__photon_spv_arr -o ${VX_PHOTONS_SPV_DIR}/photon.comp.h
             ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp ${CMAKE_SOURCE_DIR}/probes/shaders/path_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/inst_grid.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
     COMMENT "glslangValidator photon.comp"
     VERBATIM)
   add_library(vx_photons STATIC ${CMAKE_CURRENT_LIST_DIR}/photons.c ${VX_PHOTONS_SPV_DIR}/photon.comp.h)

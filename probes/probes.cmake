@@ -34,7 +34,7 @@ if(VX_WITH_VULKAN)
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
               --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/inst_grid.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
+              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
       COMMENT "glslangValidator ${name}.comp"
       VERBATIM)
@@ -52,7 +52,7 @@ if(VX_WITH_VULKAN)
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
             --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/inst_grid.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
     COMMENT "glslangValidator probe_beam.comp"
     VERBATIM)
   add_library(vx_probes STATIC

@@ -340,12 +340,6 @@ typedef struct vx_render_scene_desc {
      * the compact attribute words beyond it go to up to VX_COMPACT_ATTR_PARTS
      * buffers (render/compact.h; then the single-shader frame only) */
     uint64_t max_buffer_range;
-    /* true: the instances always through their BVH. Default: where every
-     * drawn instance places a model (translated, one scale) in its own cube
-     * of one grid, as vox2svo's regions of a mesh, the rays walk that grid
-     * instead (shaders/inst_grid.glsl; the same hits, issue 18: tests and
-     * benchmarks compare the two) */
-    bool instance_bvh;
 } vx_render_scene_desc;
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -374,9 +368,6 @@ typedef struct vx_render_layout_info {
     double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
     double attr_seconds;     /* of which its attributes (on one thread per CPU, at most 16) */
     double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
-    /* the instances' grid the rays walk (vx_render_scene_desc.instance_bvh):
-     * its cubes per axis, all 0 where the instances go through their BVH */
-    uint32_t instance_grid[3];
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the
  * previous frame's rays requested, as many as the pool holds; rays that

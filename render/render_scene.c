@@ -93,12 +93,6 @@ struct vx_render_scene {
      * the host neither writes the mapped tables nor changes what they read */
     bool recorded;
     bool items_dirty; /* the BVH's item order changed in place: bvh_items is written with the next frame's tables */
-    /* bvh_items' words: the BVH's items (inst_count words), then the
-     * instances' grid (shaders/inst_grid.glsl: a header of INST_GRID_HDR
-     * words, its magic 0 where the instances are no grid, and the cells) */
-    uint32_t* gitems;
-    uint32_t gitems_n, gitems_cap; /* words, and the words bvh_items holds */
-    bool instance_bvh;              /* vx_render_scene_desc.instance_bvh: no grid */
     /* the BVH refit on the GPU (shaders/refit.comp): recorded frames write
      * the instances' boxes relative to their reference point and refit the
      * nodes' bounds level by level, instead of every node's bounds from the
@@ -339,92 +333,6 @@ static void fill_instances(const vx_svo_scene* s, const uint32_t* mcells, inst_h
     }
 }
 
-enum { INST_GRID_HDR = 8, INST_GRID_MAGIC = 0x47524944u, INST_GRID_MAX_CELLS = 1u << 22 };
-
-/* The instances' grid (shaders/inst_grid.glsl) where every drawn instance
- * maps the world to its model by the same scaled identity and a translation
- * that puts its model on one grid of cubes of R = 2^(deepest model's depth)
- * cells, one instance a cube: the regions vox2svo makes of a mesh. Writes
- * the cells into g (cap words) and returns the words, or 0: no such grid
- * (or more than cap words, or a grid over 64 times emptier than the
- * instances: the BVH then). */
-static uint32_t inst_grid_cells(const vx_render_scene* rs, uint32_t* g, uint32_t cap) {
-    uint32_t n = rs->inst_count, depth = 0;
-    if (n < 2) return 0;
-    const double* a = rs->inst[0].inv;
-    if (!(a[0] > 0) || a[1] || a[2] || a[4] || a[5] != a[0] || a[6] || a[8] || a[9] || a[10] != a[0]) return 0;
-    for (uint32_t i = 0; i < n; i++) {
-        const double* b = rs->inst[i].inv;
-        for (int k = 0; k < 12; k++)
-            if (k % 4 != 3 && b[k] != a[k]) return 0;
-        if (rs->gm[rs->inst[i].model].depth > depth) depth = rs->gm[rs->inst[i].model].depth;
-    }
-    /* instance i's cube in instance 0's model is [q R, q R + R): q an integer
-     * up to the rounding of the inverses (a mesh's world_from_grid scale),
-     * far below the walk's margin (INST_GRID_TOL, 2^-12 of a cube) */
-    double R = ldexp(1.0, (int)depth), qlo[3] = {0, 0, 0}, qhi[3] = {0, 0, 0};
-    for (uint32_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            double q = (a[4 * k + 3] - rs->inst[i].inv[4 * k + 3]) / R;
-            if (!(fabs(q - nearbyint(q)) <= 1e-6) || fabs(q) > 65536) return 0;
-            q = nearbyint(q);
-            qlo[k] = fmin(qlo[k], q), qhi[k] = fmax(qhi[k], q);
-        }
-    double cells = 1;
-    for (int k = 0; k < 3; k++) cells *= qhi[k] - qlo[k] + 1;
-    if (cells > INST_GRID_MAX_CELLS || cells > 64.0 * n + 4096 || INST_GRID_HDR + cells + 2.0 * n > cap) return 0;
-    uint32_t dims[3];
-    for (int k = 0; k < 3; k++) dims[k] = (uint32_t)(qhi[k] - qlo[k] + 1);
-    uint32_t words = INST_GRID_HDR + (uint32_t)cells + 2 * n;
-    memset(g, 0, (size_t)words * 4);
-    /* each instance's cells' box (as the BVH's boxes), 10 bits an axis in
-     * units of 2^(depth - kq) cells, lo rounded down, hi (exclusive) up less one */
-    uint32_t kq = depth < 10 ? depth : 10, ush = depth - kq, *box = &g[INST_GRID_HDR + (uint32_t)cells];
-    for (uint32_t i = 0; i < n; i++) {
-        const uint32_t* mc = &rs->mcells[6 * rs->inst[i].model];
-        for (int k = 0; k < 3; k++) {
-            uint32_t lo = mc[k] >> ush, hi = mc[3 + k] ? ((mc[3 + k] + (1u << ush) - 1) >> ush) - 1 : 0;
-            if (lo > 1023) lo = 1023;
-            if (hi > 1023) hi = 1023;
-            if (hi < lo) hi = lo;
-            box[2 * i] |= lo << (10 * k), box[2 * i + 1] |= hi << (10 * k);
-        }
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t c[3];
-        for (int k = 0; k < 3; k++) c[k] = (uint32_t)(nearbyint((a[4 * k + 3] - rs->inst[i].inv[4 * k + 3]) / R) - qlo[k]);
-        uint32_t* cell = &g[INST_GRID_HDR + ((size_t)c[2] * dims[1] + c[1]) * dims[0] + c[0]];
-        if (*cell) return 0; /* two instances in one cube */
-        *cell = i + 1;
-    }
-    g[0] = INST_GRID_MAGIC, g[1] = depth | kq << 8;
-    for (int k = 0; k < 3; k++) g[2 + k] = (uint32_t)(int32_t)qlo[k], g[5 + k] = dims[k];
-    return words;
-}
-
-/* rs->gitems from the BVH's items and the instances (cap: the words the
- * GPU buffer holds, 0: not made yet, any size). */
-static vx_result gpu_items(vx_render_scene* rs, uint32_t cap, vx_error* err) {
-    uint32_t n = rs->inst_count, room = cap ? cap : n + INST_GRID_HDR + INST_GRID_MAX_CELLS;
-    if (room > n + INST_GRID_HDR + (66 * n + 4096)) room = n + INST_GRID_HDR + 66 * n + 4096;
-    vx_free(&rs->alloc, rs->gitems);
-    rs->gitems = vx_calloc(&rs->alloc, room, 4);
-    rs->gitems_n = 0;
-    if (!rs->gitems) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the instances' grid");
-    if (rs->bvh.item_count == n) memcpy(rs->gitems, rs->bvh.items, (size_t)n * 4);
-    uint32_t w = rs->instance_bvh ? 0 : inst_grid_cells(rs, rs->gitems + n, room - n);
-    rs->gitems_n = n + (w ? w : INST_GRID_HDR);
-    return VX_OK;
-}
-
-/* The shaders' INSTANCES constant (VX__SPEC_USE_BVH): 0 one instance, 1
- * the BVH, 2 the instances' grid (which the kernels without it, the beam
- * pass and the float64 variant, read as 1: the BVH is always there). */
-static uint32_t inst_spec(const vx_render_scene* rs) {
-    if (rs->inst_count < 2) return 0;
-    return rs->gitems && rs->gitems_n > rs->inst_count && rs->gitems[rs->inst_count] == INST_GRID_MAGIC ? 2 : 1;
-}
-
 /* The BVH's levels (vx_bvh_levels) for the GPU refit, after a build. */
 static vx_result bvh_levels(vx_render_scene* rs, vx_error* err) {
     vx_free(&rs->alloc, rs->bvh_order), rs->bvh_order = NULL;
@@ -458,7 +366,6 @@ static vx_result instance_tables(vx_render_scene* rs, const vx_svo_scene* s, vx_
     if (n > 1 && (r = vx_bvh_build(lo, hi, n, &rs->alloc, &rs->bvh, err))) goto done;
     rs->bvh_seconds = vx_time_now() - t0;
     r = bvh_levels(rs, err);
-    if (!r) r = gpu_items(rs, rs->gitems_cap, err);
     rs->shape_dirty = true;
 done:
     vx_free(&rs->alloc, lo);
@@ -511,7 +418,6 @@ static void destroy_instance_buffers(vx_render_scene* rs) {
     vx__buffer* bufs[] = {&rs->frame,      &rs->bvh_items, &rs->bvh_nodes, &rs->insts,
                           &rs->pinsts,     &rs->inst_boxes, &rs->order_buf, &rs->inst_src};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(rs->gpu, bufs[i]);
-    rs->gitems_cap = 0; /* the next bvh_items is made for its words */
 }
 
 static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
@@ -519,16 +425,15 @@ static vx_result prepare_instances(vx_render_scene* rs, const vx_svo_scene* s, v
     if (r) return r;
     uint32_t n = rs->inst_count;
     vx_gpu* g = rs->gpu;
-    rs->gitems_cap = rs->gitems_n;
     /* room for any BVH over n instances (a binary tree with non-empty leaves), so that an edit rebuilds it in place */
     rs->bvh_node_cap = n > 1 ? 2 * n - 1 : 1;
     if ((r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                true, "instances", &rs->insts, err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)rs->bvh_node_cap * sizeof(vx_bvh_node),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bvh nodes", &rs->bvh_nodes, err)) ||
-        (r = vx__buffer_create(g, (VkDeviceSize)rs->gitems_n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                               "bvh items", &rs->bvh_items, err)) ||
-        (r = vx__buffer_upload(g, &rs->bvh_items, rs->gitems, (VkDeviceSize)rs->gitems_n * 4, err)) ||
+        (r = vx__buffer_create(g, (VkDeviceSize)(rs->bvh.item_count ? rs->bvh.item_count : 1) * 4,
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "bvh items", &rs->bvh_items, err)) ||
+        (r = vx__buffer_upload(g, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err)) ||
         (r = vx__buffer_create(g, (VkDeviceSize)(n ? n : 1) * sizeof(vx__gpu_inst_precise),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "instances (double)", &rs->pinsts, err)) ||
         (r = vx__buffer_create(g, sizeof(vx__gpu_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "frame", &rs->frame,
@@ -717,7 +622,6 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     rs->alloc = gpu->alloc;
     rs->buffer_range = range;
     rs->bvh.alloc = &rs->alloc;
-    rs->instance_bvh = desc && desc->instance_bvh;
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
@@ -788,10 +692,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
 void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out) {
     if (!out) return;
     memset(out, 0, sizeof *out);
-    if (!rs) return;
-    *out = rs->layout;
-    if (inst_spec(rs) == 2)
-        for (int k = 0; k < 3; k++) out->instance_grid[k] = rs->gitems[rs->inst_count + 5 + k];
+    if (rs) *out = rs->layout;
 }
 
 /* The passes trace the whole compact layout (vx__render_scene_bind, trace_common.glsl COMPACT), not a paged one:
@@ -844,7 +745,6 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->tables);
     vx_free(&a, rs->bvh_order);
     vx_free(&a, rs->bvh_level);
-    vx_free(&a, rs->gitems);
     vx_free(&a, rs);
 }
 
@@ -868,7 +768,7 @@ static vx_result upload_items(vx_render_scene* rs, vx_error* err) {
     rs->order_dirty = false;
     if (!rs->items_dirty) return VX_OK;
     rs->items_dirty = false;
-    return vx__buffer_upload(rs->gpu, &rs->bvh_items, rs->gitems, (VkDeviceSize)rs->gitems_n * 4, err);
+    return vx__buffer_upload(rs->gpu, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4, err);
 }
 
 /* The models stay on the GPU; the instance tables and the BVH over them are
@@ -910,10 +810,6 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
             rs->stats.instance_updates_in_place++;
             rs->stats.instance_refits++;
             vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
-            /* the moved instances' grid (or none now), with the next frame's tables */
-            if ((r = gpu_items(rs, rs->gitems_cap, err))) return r;
-            rs->items_dirty = true;
-            if (!rs->recorded) return upload_items(rs, err);
             return VX_OK;
         }
         inst_host* old_inst = rs->inst;
@@ -926,7 +822,6 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
             vx_bvh_free(&rs->bvh);
             rs->inst = old_inst, rs->bvh = old_bvh, rs->inst_count = drawn_count(&v);
             vx_result lr = bvh_levels(rs, NULL); /* the old tree's */
-            if (!lr) lr = gpu_items(rs, rs->gitems_cap, NULL); /* and its items and grid */
             if (r || (r = lr)) return r;
         } else {
             vx_free(&rs->alloc, old_inst);
@@ -1400,7 +1295,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
     /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
     /* 10 COMPACT (off here), 11 the shadow map */
-    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, inst_spec(rs), f->lod, want_hits, beam, 0, 0,
+    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
                          precise ? 0 : rs->deep, rs->far, 0, smap};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
@@ -1491,7 +1386,7 @@ vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__b
     fill_gpu_frame(rs, f, rs->frame.map);
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
-    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, inst_spec(rs), 0, 0};
+    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
     memcpy(spec, sp, sizeof sp);
     return VX_OK;
 }
@@ -1720,7 +1615,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
             rs->stats.table_rows_uploaded += rs->inst_count + nb / nrow;
         }
         if (rs->items_dirty) { /* an in-place instance update's item order (frames before this one read the old) */
-            update_buffer(cb, &rs->bvh_items, rs->gitems, (VkDeviceSize)rs->gitems_n * 4);
+            update_buffer(cb, &rs->bvh_items, rs->bvh.items, (VkDeviceSize)rs->bvh.item_count * 4);
             rs->items_dirty = false;
         }
         if (rs->order_dirty) { /* and its levels */
@@ -1792,7 +1687,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
     if (rs->compact) vx__compact_gpu_bind(rs->compact, bufs);
-    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, inst_spec(rs), 0, 0};
+    uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
     memcpy(spec, sp, sizeof sp);
     return VX_OK;
 }

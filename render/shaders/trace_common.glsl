@@ -14,10 +14,7 @@
 
 layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
 layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
-// 0: one instance; 1: more, through the BVH; 2: more, on a grid (inst_grid.glsl)
-layout(constant_id = 2) const uint INSTANCES = 1u;
-const bool USE_BVH = INSTANCES != 0u;
-const bool USE_GRID = INSTANCES == 2u;
+layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 3) const bool LOD = false;
 layout(constant_id = 4) const bool WRITE_HITS = false;
 // Float variant, deep models (issue 18; see trace_model): 0 none (the plain
@@ -839,10 +836,6 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     return false;
 }
 
-#if !defined(PRECISE) && !defined(BEAM_PASS)
-#include "inst_grid.glsl"
-#endif
-
 // Nearest hit (or any hit) along o + t d, t in [t0, h.t].
 bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
@@ -851,24 +844,12 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
         return found;
     }
     if (F.dims.w == 0u) return false;
-    // the instances' grid where the scene has one (inst_grid.glsl), else the BVH
-#if !defined(PRECISE) && !defined(BEAM_PASS)
-    GridWalk gw;
-    bool grid = USE_GRID && items[F.dims.w] == INST_GRID_MAGIC;
-    if (grid) {
-        uint gs = grid_start(o, d, t0, h.t, gw);
-        if (gs == 0u) return false;
-        grid = gs != INST_GRID_BAIL; // near an edge: the BVH
-    }
-#else
-    const bool grid = false;
-#endif
     RVEC3 dinv = safe_inv(d);
     uint stack[64];
     int sp = 0;
     uint node = 0u;
     RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
-    if (!grid && !(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
     // The walk to the next leaf is a loop of its own, and the leaf's
     // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
     // every branch masked, so the octree walk runs once per leaf visit
@@ -877,18 +858,6 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     while (true) {
         uint first = 0u, count = 0u;
         bool done = false;
-#if !defined(PRECISE) && !defined(BEAM_PASS)
-        if (grid) {
-            // the grid's next instance (first: its slot)
-            uint slot = grid_next(gw, t0, h.t);
-            if (slot == 0u) break;
-            if (slot == INST_GRID_BAIL) {
-                grid = false; // the BVH from its root, the hits so far kept
-                continue;
-            }
-            first = slot - 1u, count = 1u;
-        } else
-#endif
         while (true) {
             if (pop_next) {
                 // pop, skipping nodes now beyond the nearest hit
@@ -926,7 +895,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
         }
         if (done) break;
         for (uint k = 0u; k < count; k++) {
-            if (trace_instance(grid ? first : items[first + k], o, d, t0, any_hit, h)) {
+            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
                 found = true;
                 if (any_hit) return true;
             }

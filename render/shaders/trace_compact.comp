@@ -20,10 +20,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
 layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
-// 0: one instance; 1: more, through the BVH; 2: more, on a grid (inst_grid.glsl)
-layout(constant_id = 2) const uint INSTANCES = 1u;
-const bool USE_BVH = INSTANCES != 0u;
-const bool USE_GRID = INSTANCES == 2u;
+layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 4) const bool WRITE_HITS = false;
 // as trace.comp's: 1 some model is exact (CModel flag 2: a hit's t from its
 // cube's entry planes), 2 also some model has CModel.rebase > 0 (the hi/lo
@@ -560,8 +557,6 @@ bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h)
     return false;
 }
 
-#include "inst_grid.glsl"
-
 // trace.comp's BVH walk (trace_common.glsl trace_scene)
 bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
     bool found = false;
@@ -570,34 +565,16 @@ bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
         return found;
     }
     if (F.dims.w == 0u) return false;
-    // the instances' grid where the scene has one (inst_grid.glsl), else the BVH
-    GridWalk gw;
-    bool grid = USE_GRID && items[F.dims.w] == INST_GRID_MAGIC;
-    if (grid) {
-        uint gs = grid_start(o, d, t0, h.t, gw);
-        if (gs == 0u) return false;
-        grid = gs != INST_GRID_BAIL; // near an edge: the BVH
-    }
     vec3 dinv = safe_inv(d);
     uint stack[64];
     int sp = 0;
     uint node = 0u;
     vec2 rt = box_t(o, dinv, bvh[0].lo.xyz, bvh[0].hi.xyz);
-    if (!grid && !(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
     bool pop_next = false;
     while (true) {
         uint first = 0u, count = 0u;
         bool done = false;
-        if (grid) {
-            // the grid's next instance (first: its slot)
-            uint slot = grid_next(gw, t0, h.t);
-            if (slot == 0u) break;
-            if (slot == INST_GRID_BAIL) {
-                grid = false; // the BVH from its root, the hits so far kept
-                continue;
-            }
-            first = slot - 1u, count = 1u;
-        } else
         while (true) {
             if (pop_next) {
                 pop_next = false;
@@ -633,7 +610,7 @@ bool trace_scene(vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
         }
         if (done) break;
         for (uint k = 0u; k < count; k++) {
-            if (trace_instance(grid ? first : items[first + k], o, d, t0, any_hit, h)) {
+            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
                 found = true;
                 if (any_hit) return true;
             }

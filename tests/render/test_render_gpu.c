@@ -686,126 +686,6 @@ static void test_many_instances(void) {
     vx_svo_scene_free(&s);
 }
 
-/* Frames of rs and rb (the same scene with vx_render_scene_desc.instance_bvh)
- * hold the same instance, cell, depth bits and colour in every pixel. */
-static size_t grid_vs_bvh(const char* name, vx_render_scene* rg, vx_render_scene* rb, vx_render_desc d, size_t* hits) {
-    vx_render_image a = {0}, b = {0};
-    vx_error err = {0};
-    d.want_hits = true;
-    size_t diff = SIZE_MAX;
-    if (vx_render_frame(rg, &d, &a, &err) || vx_render_frame(rb, &d, &b, &err)) {
-        fprintf(stderr, "%s: %s\n", name, err.msg);
-    } else {
-        diff = 0, *hits = 0;
-        for (size_t i = 0; i < (size_t)d.width * d.height; i++) {
-            const vx_render_hit *p = &a.hits[i], *q = &b.hits[i];
-            *hits += p->instance != VX_RENDER_NO_HIT;
-            bool same = p->instance == q->instance && !memcmp(p->cell, q->cell, sizeof p->cell) &&
-                        !memcmp(&p->t, &q->t, sizeof p->t) && !memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16);
-            if (!same && diff++ < 4)
-                fprintf(stderr, "  %s pixel %zu,%zu: grid inst %d cell %u,%u,%u t %.9g | bvh inst %d cell %u,%u,%u t %.9g\n",
-                        name, i % d.width, i / d.width, (int)p->instance, p->cell[0], p->cell[1], p->cell[2], p->t,
-                        (int)q->instance, q->cell[0], q->cell[1], q->cell[2], q->t);
-        }
-    }
-    vx_render_image_free(&a);
-    vx_render_image_free(&b);
-    return diff;
-}
-
-/* The instances' grid (shaders/inst_grid.glsl): region models of 8^3 cells
- * (one clipped to 8x5x8, some cubes empty) translated onto a 5x4x3 grid, as
- * vox2svo's regions of a mesh. The grid walk must give every pixel the BVH
- * walk gives (instance, cell, depth bits, colour) in the depth and colour
- * modes (shadow rays: the any-hit walk), for rays along the cubes' faces,
- * edges and corners (ortho views on the grid lines, diagonals through the
- * corners) and from eyes inside the grid, and agree with the CPU reference. */
-static void test_instance_grid(void) {
-    if (gpu_skip) SKIP("%s", gpu_skip);
-    enum { GX = 5, GY = 4, GZ = 3 };
-    vx_svo_model m[GX * GY * GZ];
-    vx_svo_instance in[GX * GY * GZ];
-    uint32_t nm = 0;
-    for (uint32_t z = 0; z < GZ; z++)
-        for (uint32_t y = 0; y < GY; y++)
-            for (uint32_t x = 0; x < GX; x++) {
-                uint32_t i = (z * GY + y) * GX + x;
-                if (i % 7 == 3) continue; /* an empty cube */
-                uint32_t sy = i == 10 ? 5 : 8;
-                REQUIRE(ts_random_model(&m[nm], 8, sy, 8, 20 + i % 3 * 15, 100 + i) == VX_OK);
-                in[nm] = ts_inst(nm, NULL, 8.0 * x, 8.0 * y, 8.0 * z);
-                nm++;
-            }
-    vx_svo_scene s;
-    ts_scene(&s, m, nm, in, nm);
-    vx_error err = {0};
-    vx_render_scene *rg = NULL, *rb = NULL;
-    REQUIRE(vx_render_scene_create(gpu, &s, &rg, &err) == VX_OK);
-    vx_render_scene_desc bd = {.instance_bvh = true};
-    REQUIRE(vx_render_scene_create_ex(gpu, &s, &bd, &rb, &err) == VX_OK);
-    vx_render_layout_info li, lb;
-    vx_render_scene_layout(rg, &li);
-    vx_render_scene_layout(rb, &lb);
-    CHECKF(li.instance_grid[0] == GX && li.instance_grid[1] == GY && li.instance_grid[2] == GZ, "grid %u x %u x %u",
-           li.instance_grid[0], li.instance_grid[1], li.instance_grid[2]);
-    CHECK(lb.instance_grid[0] == 0);
-    vx_render_desc views[12];
-    int nv = 0;
-    /* ortho along each axis with pixel centres on the grid lines (every 8
-     * units) and on cube centres */
-    for (int axis = 0; axis < 3; axis++)
-        for (int o = 0; o < 2; o++) {
-            vx_render_desc d = {.width = 40, .height = 40};
-            d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 40;
-            double c[3] = {20 + 4.0 * o, 16 + 4.0 * o, 12 + 4.0 * o};
-            memcpy(d.camera.eye, c, sizeof c), memcpy(d.camera.target, c, sizeof c);
-            d.camera.eye[axis] = 90, d.camera.target[axis] = -3;
-            d.camera.up[(axis + 1) % 3] = 1;
-            views[nv++] = d;
-        }
-    /* perspective: diagonals through the cubes' corners, and eyes inside the grid */
-    views[nv++] = cam(-20, -20, -20, 40, 32, 24);
-    views[nv++] = cam(60, 50, 40, 0, 0, 0);
-    views[nv++] = cam(20, 16, 12, 40, 32, 24);
-    views[nv++] = cam(8, 8, 8, 39.5, 8, 8);
-    views[nv++] = cam(21, -30, 33, 19, 16, 0);
-    views[nv++] = cam(28, 4, 4, 0, 30, 20); /* in the empty cube 3 */
-    for (int v = 0; v < nv; v++)
-        if (!views[v].width) views[v].width = 48, views[v].height = 40;
-    size_t total_hits = 0;
-    for (int v = 0; v < nv; v++)
-        for (int mode = 0; mode < 2; mode++) {
-            vx_render_desc d = views[v];
-            d.mode = mode ? VX_RENDER_COLOR : VX_RENDER_DEPTH;
-            char nmv[64];
-            snprintf(nmv, sizeof nmv, "grid view %d %s", v, mode ? "color" : "depth");
-            size_t hits = 0, diff = grid_vs_bvh(nmv, rg, rb, d, &hits);
-            CHECKF(diff == 0, "%s: %zu pixels differ between the grid and the BVH", nmv, diff);
-            total_hits += hits;
-            if (!mode) check_scene(nmv, &s, d, 20);
-        }
-    CHECKF(total_hits > 5000, "%zu hits over the views", total_hits);
-    /* moved off the grid (half a cube): the BVH, the same frame as a scene made so */
-    s.instances[1].xform[3] += 4;
-    REQUIRE(vx_render_scene_set_frame(rg, &s, 0, &err) == VX_OK);
-    vx_render_scene_layout(rg, &li);
-    CHECK(li.instance_grid[0] == 0);
-    REQUIRE(vx_render_scene_set_frame(rb, &s, 0, &err) == VX_OK);
-    size_t hits = 0;
-    CHECK(grid_vs_bvh("moved off the grid", rg, rb, views[6], &hits) == 0 && hits > 100);
-    /* and back onto it */
-    s.instances[1].xform[3] -= 4;
-    REQUIRE(vx_render_scene_set_frame(rg, &s, 0, &err) == VX_OK);
-    REQUIRE(vx_render_scene_set_frame(rb, &s, 0, &err) == VX_OK);
-    vx_render_scene_layout(rg, &li);
-    CHECK(li.instance_grid[0] == GX);
-    CHECK(grid_vs_bvh("back on the grid", rg, rb, views[6], &hits) == 0 && hits > 100);
-    vx_render_scene_destroy(rg);
-    vx_render_scene_destroy(rb);
-    vx_svo_scene_free(&s);
-    CHECK(vx_gpu_validation_errors(gpu) == 0);
-}
-
 /* An animation on the GPU: one scene (the models uploaded once), its
  * frames switched in a scrambled order with vx_render_scene_set_frame; each
  * frame against the CPU reference of that frame alone (its view). */
@@ -1012,7 +892,6 @@ int main(void) {
     RUN(test_deep_without_float64);
     RUN(test_precise_variant);
     RUN(test_many_instances);
-    RUN(test_instance_grid);
     RUN(test_far_pointers);
     RUN(test_instanced_vs_baked);
     RUN(test_frames);

@@ -168,9 +168,6 @@ _Noreturn static void usage(int status) {
             "                       pages are resident; pages that do not fit are drawn coarse (-v says so;\n"
             "                       a paged scene: the single-shader modes only)\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
-            "  --instance-bvh       the instances through their BVH always (default: the rays walk the\n"
-            "                       grid of the instances where they are regions of one grid, as\n"
-            "                       vox2svo's models of a large mesh; the same image)\n"
             "  --buffer-range SIZE  bytes one storage buffer may hold (default: the device's\n"
             "                       maxStorageBufferRange, 4G on NVIDIA); the compact attributes past it\n"
             "                       go to several buffers (single-shader modes only; -v says how many)\n"
@@ -532,8 +529,6 @@ int main(int argc, char** argv) {
             if (!parse_uint(argv[++i], &o.scene_desc.page_level) || o.scene_desc.page_level < 3 ||
                 o.scene_desc.page_level > 31)
                 usage_error("bad --page-level '%s' (3..31)", argv[i]);
-        } else if (!strcmp(a, "--instance-bvh")) {
-            o.scene_desc.instance_bvh = true;
         } else if (!strcmp(a, "--buffer-range")) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.max_buffer_range) || o.scene_desc.max_buffer_range < 64)
@@ -942,9 +937,6 @@ int main(int argc, char** argv) {
                        li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.attr_seconds,
                        li.upload_seconds);
             if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
-            if (li.instance_grid[0])
-                printf("instances: the rays walk their grid of %u x %u x %u cubes (--instance-bvh: the BVH)\n",
-                       li.instance_grid[0], li.instance_grid[1], li.instance_grid[2]);
         }
         char why[256];
         const char* note = NULL;
