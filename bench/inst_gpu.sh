@@ -3,8 +3,7 @@
 # a generated sphere shell (bench/svo_regions.c) as one model and as grid-aligned
 # region models (the converter's layout), and the DamagedHelmet at 512 as one model
 # and as 64^3 regions (carried), rendered at 1920x1080 by main's svo_render (base)
-# and this branch's (g: as it is; bvh: --instance-bvh, the BVH over the models' cells'
-# boxes), processes alternated (ABAB...).
+# and this branch's (mine), processes alternated (ABAB...).
 # Prints one ROW per process and the medians per (variant, scene, view, layout).
 # Usage (from the repository root): bash bench/inst_gpu.sh I B  (I: this branch's
 # binaries and inputs, B: main's binaries)
@@ -22,8 +21,8 @@ BUDGET=${BUDGET:-120}   # seconds: no new round starts past this
 HARD=${HARD:-140}       # seconds: no new process starts past this
 VIEWS=${VIEWS:-"whole close"}
 FRAMES=${FRAMES:-21}
-VARIANTS=${VARIANTS:-"base g bvh"}
-VARIANTS1=${VARIANTS1:-"base g"}   # on one-model scenes (no BVH)
+VARIANTS=${VARIANTS:-"base mine"}
+VARIANTS1=${VARIANTS1:-"base mine"}   # on one-model scenes (no BVH)
 LAYOUTS=${LAYOUTS:-"plain compact"}
 nvidia-smi -L 2>/dev/null
 nvidia-smi --query-gpu=name,clocks.sm,clocks.max.sm,temperature.gpu --format=csv 2>/dev/null
@@ -45,9 +44,6 @@ run() { # variant file view layout
         case $f in *h512*) cam="--camera $close_helmet" ;; *) cam="--camera $close_sphere" ;; esac
     fi
     local args=""
-    # variants of this branch: g the default (the instances' grid where there is one), bvh with
-    # --instance-bvh (the BVH over the models' cells' boxes)
-    case $v in bvh) args="--instance-bvh" ;; esac
     local out
     out=$($bin/svo_render $args $f $T/o_${v}.ppm --size $SIZE --mode albedo --frames $FRAMES -v --layout $lay $cam 2>&1)
     local ms hit models
@@ -80,7 +76,6 @@ for v in $VARIANTS; do
     [ $SECONDS -gt ${COLOR_BUDGET:-135} ] && break
     [ $v = base ] && bin=$B || bin=$I
     args=""
-    case $v in bvh) args="--instance-bvh" ;; esac
     f=$T/s${RES}_r$R1.svo
     $bin/svo_render $args $f $T/col_$v.ppm --size $SIZE --mode color --camera $close_sphere >/dev/null 2>&1
     [ -f $T/col_base.ppm ] && { cmp -s $T/col_base.ppm $T/col_$v.ppm && echo "COLOR $v same as base" || echo "COLOR $v DIFF"; }
