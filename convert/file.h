@@ -41,6 +41,7 @@ typedef struct vx_conv_file_desc {
     bool normals;             /* store VX_ATTR_NORMAL */
     bool no_color;            /* never store colours */
     uint32_t threads;         /* 0 == all cores */
+    uint32_t region;          /* cells per side of one model (convert/mesh.h), power of two >= 64; 0 == 2048 */
     bool y_up;                /* keep glTF's +Y up (default: turned to voxkit's +Z up) */
     const struct vx_conv_mesh_backend* mesh_backend; /* NULL: the CPU voxelizer (convert/mesh.h, backend) */
     /* .gltf / .glb and .vdb */

@@ -336,7 +336,7 @@ vx_conv_mesh_desc vx_conv_mesh_desc_from_file(const vx_conv_file_desc* d) {
     vx_conv_file_desc f = d ? *d : (vx_conv_file_desc){0}; /* res 0 means 256 in both */
     return (vx_conv_mesh_desc){.build = f.build, .alloc = f.alloc, .logger = f.logger, .res = f.res,
                                .scene_set = f.scene_set, .scene = f.scene, .solid = f.solid, .normals = f.normals,
-                               .no_color = f.no_color, .threads = f.threads, .y_up = f.y_up,
+                               .no_color = f.no_color, .threads = f.threads, .region = f.region, .y_up = f.y_up,
                                .backend = f.mesh_backend};
 }
 

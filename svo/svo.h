@@ -526,6 +526,10 @@ vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* u
  * false outside the model's size. (The emissive lights' and the photons'
  * exposed faces: a face emits when the cell beyond it is empty.) */
 bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z);
+/* The box of a valid model's set cells, lo inclusive, hi exclusive (all 0
+ * for an empty model): a walk along each face from the root, about the
+ * nodes that straddle the face (the renderer's instance boxes, issue 18). */
+void vx_svo_model_cell_box(const vx_svo_model* m, uint32_t lo[3], uint32_t hi[3]);
 
 /* RGBA8 colour of attribute record attr of model m (palette looked up;
  * opaque white for geometry-only models). */

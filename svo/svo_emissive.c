@@ -33,6 +33,50 @@ bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32
     return true; /* not reached for a valid tree: level 1 children are leaves */
 }
 
+/* The extreme cell coordinate along axis of the subtree at node (a cube of
+ * 2^level cells from base on that axis): the least cell start below best
+ * (hi false) or the greatest cell end above best (hi true). The children on
+ * the extreme side go first, so best cuts most subtrees: the walk visits
+ * about the nodes that straddle the box's face, not the tree. */
+static uint32_t cell_extreme(const vx_svo_model* m, uint32_t node, uint32_t level, uint32_t base, int axis, bool hi,
+                             uint32_t best) {
+    if (level == 0 || node >= m->node_count) return best; /* not in a valid model: no crash */
+    uint32_t d = m->nodes[node], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    uint32_t half = 1u << (level - 1);
+    for (uint32_t k = 0; k < 2; k++) {
+        uint32_t h = hi ? 1u - k : k, lb = base + h * half, ub = lb + half;
+        if (hi ? ub <= best : lb >= best) break;
+        for (uint32_t o = 0; o < 8; o++) {
+            if (((o >> axis) & 1u) != h || !((valid >> o) & 1u)) continue;
+            if ((leaf >> o) & 1u) {
+                best = hi ? ub : lb;
+                break;
+            }
+            uint32_t p = vx_svo_desc_ptr(d);
+            if (p > node) return best;
+            uint32_t block = vx_svo_desc_far(d) ? m->nodes[node - p] : node - p;
+            best = cell_extreme(m, block + vx__popc8(valid & ~leaf & ((1u << o) - 1u)), level - 1, lb, axis, hi, best);
+            if (best == (hi ? ub : lb)) break;
+        }
+    }
+    return best;
+}
+
+void vx_svo_model_cell_box(const vx_svo_model* m, uint32_t lo[3], uint32_t hi[3]) {
+    for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0;
+    if (m->root == VX_SVO_ROOT_EMPTY) return;
+    for (int k = 0; k < 3; k++) {
+        if (m->root == VX_SVO_ROOT_LEAF || m->depth == 0) {
+            hi[k] = m->size[k];
+            continue;
+        }
+        lo[k] = cell_extreme(m, m->root, m->depth, 0, k, false, UINT32_MAX);
+        hi[k] = cell_extreme(m, m->root, m->depth, 0, k, true, 0);
+        if (hi[k] > m->size[k]) hi[k] = m->size[k]; /* a collapsed leaf past the size */
+        if (lo[k] > hi[k]) lo[k] = hi[k];
+    }
+}
+
 typedef struct ecell {
     uint64_t key; /* Morton key of the cell */
     float L[3];   /* emitted radiance */

@@ -34,9 +34,10 @@ static uint32_t rnd(uint32_t n) {
 #define W 112
 #define H 84
 
-/* A 40^3 palette model (a ball with a hole and colour bands) and a 24^3
- * geometry-only slab; model 0 drawn twice (once turned). */
-static void make_scene(vx_svo_scene* s) {
+/* A 40^3 palette model (a ball with a hole and colour bands; with small,
+ * only its cells in [2, 10)^3) and a 24^3 geometry-only slab; model 0 drawn
+ * twice (once turned). */
+static void make_scene(vx_svo_scene* s, bool small) {
     vx_svo_scene_init(s, NULL);
     s->models = vx_calloc(NULL, 2, sizeof *s->models);
     s->instances = vx_calloc(NULL, 3, sizeof *s->instances);
@@ -49,7 +50,8 @@ static void make_scene(vx_svo_scene* s) {
         for (uint32_t y = 0; y < 40; y++)
             for (uint32_t x = 0; x < 40; x++) {
                 double dx = x - 19.5, dy = y - 19.5, dz = z - 19.5, r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 < 19 * 19 && !(r2 < 8 * 8 && x > 20)) keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + (z / 5) % 6);
+                bool in = !small || (x >= 2 && x < 10 && y >= 2 && y < 10 && z >= 2 && z < 10);
+                if (in && r2 < 19 * 19 && !(r2 < 8 * 8 && x > 20)) keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + (z / 5) % 6);
             }
     vx_svo_voxels v = {.size = {40, 40, 40}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
     REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
@@ -154,7 +156,7 @@ static bool stroke(vx_svo_editor* e, const vx_svo_model* m, bool palette, int64_
 static void test_update_model(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
-    make_scene(&s);
+    make_scene(&s, false);
     vx_error err = {0};
     vx_svo_editor *e0 = NULL, *e1 = NULL;
     REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e0, &err) == VX_OK);
@@ -221,11 +223,45 @@ static void test_update_model(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Cells added outside a model's cells' box (inside its size): the
+ * instances' boxes (the BVH's) are its cells' box, so the update must make
+ * them again, or the new cells are culled. */
+static void test_update_past_cells(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_scene(&s, true);
+    vx_error err = {0};
+    vx_svo_editor* e0 = NULL;
+    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e0, &err) == VX_OK);
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    size_t hits0 = 0, hits = 0, bad = frame_diff(rs, &s, &hits0);
+    CHECKF(bad == 0, "before the edit: %zu pixels differ", bad);
+    /* a block at the model's far corner, inside its size */
+    static vx_svo_cell_write w[12 * 12 * 12];
+    size_t n = 0;
+    for (uint32_t z = 26; z < 38; z++)
+        for (uint32_t y = 26; y < 38; y++)
+            for (uint32_t x = 26; x < 38; x++)
+                w[n++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = true, .value = {.palette = 3}};
+    vx_svo_edit_stats st;
+    REQUIRE(vx_svo_editor_apply(e0, w, n, &st, &err) == VX_OK);
+    CHECK(s.models[0].size[0] == 40);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
+    bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0 && hits > hits0, "after the edit: %zu pixels differ, %zu hits (%zu before)", bad, hits, hits0);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+    vx_render_scene_destroy(rs);
+    vx_svo_editor_destroy(e0);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     /* as in test_render_gpu.c: pinned driver and layer keep their frames
      * symbolised for tests/render/lsan.supp */
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_update_model);
+    RUN(test_update_past_cells);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

@@ -240,6 +240,24 @@ static void test_checkerboard(void) {
 
 /* Random sparse cells plus a few uniform boxes (so collapse happens), with
  * duplicates, in a non-cubic model; every minimization setting. */
+/* vx_svo_model_cell_box against the decoded cells' box */
+static void check_cell_box(const vx_svo_model* m) {
+    coll c = decode_all(m);
+    uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0}, blo[3], bhi[3];
+    for (size_t i = 0; i < c.n; i++) {
+        uint32_t v[3] = {c.c[i].x, c.c[i].y, c.c[i].z};
+        for (int k = 0; k < 3; k++) {
+            if (v[k] < lo[k]) lo[k] = v[k];
+            if (v[k] + 1 > hi[k]) hi[k] = v[k] + 1;
+        }
+    }
+    if (!c.n) lo[0] = lo[1] = lo[2] = 0;
+    vx_svo_model_cell_box(m, blo, bhi);
+    for (int k = 0; k < 3; k++)
+        CHECKF(blo[k] == lo[k] && bhi[k] == hi[k], "axis %d: box [%u, %u), cells [%u, %u)", k, blo[k], bhi[k], lo[k], hi[k]);
+    free(c.c);
+}
+
 static void random_case(uint32_t sx, uint32_t sy, uint32_t sz, size_t n, bool rgba) {
     dense ref = dense_make(sx, sy, sz);
     size_t cap = n + 20000;
@@ -287,6 +305,7 @@ static void random_case(uint32_t sx, uint32_t sy, uint32_t sz, size_t n, bool rg
         CHECK(st.input_voxels == cnt);
         CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
         check_equal(&m, &ref, rgba ? val_rgba : val_pal);
+        check_cell_box(&m);
         CHECK(st.desc_collapsed <= st.desc_plain && st.desc_dag <= st.desc_collapsed);
         if (d.no_collapse) CHECK(st.desc_collapsed == st.desc_plain);
         if (d.no_dag) CHECK(st.desc_dag == st.desc_collapsed);
@@ -427,6 +446,7 @@ static void far_case(uint32_t limit) {
         REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
         CHECKF(st.far_pointers > 0, "limit %u: no far pointers", limit);
         CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
+        check_cell_box(&m);
         if (attrs) check_equal(&m, &ref, val_pal);
         else {
             coll c = decode_all(&m);
@@ -1304,6 +1324,47 @@ static void test_bounds_and_materials(void) {
     CHECK(s.models == NULL && s.model_count == 0);
 }
 
+/* The cells' box of models whose cells fill a random part of their extent:
+ * single cells and whole aligned blocks of 2^l cells (collapsed leaves at
+ * levels 1-3 where the build collapses). */
+static void test_cell_box(void) {
+    for (int trial = 0; trial < 300; trial++) {
+        uint32_t size[3], a[3], b[3];
+        for (int k = 0; k < 3; k++) {
+            size[k] = 1 + (uint32_t)(rnd() % 90);
+            a[k] = (uint32_t)(rnd() % size[k]);
+            b[k] = a[k] + 1 + (uint32_t)(rnd() % (size[k] - a[k]));
+        }
+        size_t n = trial % 7 == 0 ? 0 : 1 + rnd() % 300, cnt = 0, cap = n * 512 + 1;
+        uint64_t* keys = (uint64_t*)malloc(cap * 8);
+        for (size_t i = 0; i < n; i++) {
+            uint32_t v[3], l = rnd() % 5 == 0 ? (uint32_t)(1 + rnd() % 3) : 0, w = 1u << l;
+            bool fits = true;
+            for (int k = 0; k < 3; k++) {
+                v[k] = (a[k] + (uint32_t)(rnd() % (b[k] - a[k]))) & ~(w - 1u); /* aligned to the block */
+                fits = fits && v[k] >= a[k] && v[k] + w <= b[k];
+            }
+            if (!fits) w = 1, v[0] = a[0] + (uint32_t)(rnd() % (b[0] - a[0])), v[1] = a[1], v[2] = b[2] - 1;
+            for (uint32_t z = 0; z < w; z++)
+                for (uint32_t y = 0; y < w; y++)
+                    for (uint32_t x = 0; x < w; x++) keys[cnt++] = vx_svo_morton(v[0] + x, v[1] + y, v[2] + z);
+        }
+        vx_svo_voxels in = {.size = {size[0], size[1], size[2]}, .count = cnt, .keys = keys};
+        vx_svo_build_desc d = {.no_collapse = trial & 1, .no_dag = (trial >> 1) & 1};
+        vx_svo_model m;
+        vx_error e;
+        REQUIRE(vx_svo_build_model(&d, &in, &m, NULL, &e) == VX_OK);
+        check_cell_box(&m);
+        if (cnt) {
+            uint32_t lo[3], hi[3];
+            vx_svo_model_cell_box(&m, lo, hi);
+            for (int k = 0; k < 3; k++) CHECK(lo[k] >= a[k] && hi[k] <= b[k] && lo[k] < hi[k]);
+        }
+        vx_svo_model_free(NULL, &m);
+        free(keys);
+    }
+}
+
 int main(void) {
     RUN(test_morton_helpers);
     RUN(test_empty);
@@ -1311,6 +1372,7 @@ int main(void) {
     RUN(test_full_cube);
     RUN(test_checkerboard);
     RUN(test_random_sparse);
+    RUN(test_cell_box);
     RUN(test_tiles);
     RUN(test_bad_input);
     RUN(test_far_forced);

@@ -38,6 +38,11 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
     else if (!strcmp(a, "--res")) {
         if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->res) || c->res < 1 || c->res > 65536)
             vx_tool_usage_error(usage, "bad --res value '%s' (1 to 65536)", argv[*i]);
+    } else if (!strcmp(a, "--region")) {
+        uint32_t v = 0;
+        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &v) || v < 64 || v > 65536 || (v & (v - 1)))
+            vx_tool_usage_error(usage, "bad --region value '%s' (a power of two from 64 to 65536)", argv[*i]);
+        c->region = v;
     } else if (!strcmp(a, "--scene")) {
         if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->scene))
             vx_tool_usage_error(usage, "bad --scene value '%s'", argv[*i]);
@@ -250,6 +255,7 @@ vx_conv_file_desc vx_tool_conv_file_desc(const vx_tool_conv* c, bool allow_svo, 
         .keep_hidden = c->keep_hidden,
         .keep_unused = c->keep_unused,
         .res = c->res,
+        .region = c->region,
         .scene_set = c->scene_set,
         .scene = c->scene,
         .normals = c->normals,

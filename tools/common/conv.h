@@ -20,6 +20,7 @@ typedef struct vx_tool_conv {
     bool no_collapse, no_dag;
     /* .gltf / .glb */
     uint32_t res; /* 256 by default (vx_tool_conv_defaults) */
+    uint32_t region; /* cells per side of one model; 0: the converter's choice */
     bool scene_set;
     uint32_t scene;
     bool solid, normals; /* solid: level sets too */

@@ -97,7 +97,7 @@ _Noreturn static void usage(int status) {
             "    --validate            enable the Vulkan validation layer; prints the error count at exit\n"
             "                          (status 1 when there were any)\n"
             "    --frame N, --keep-hidden, --keep-unused, --no-collapse, --no-dag  (.vox)\n"
-            "    --res N (default: %u), --scene N, --solid, --normals, --y-up  (.gltf/.glb)\n"
+            "    --res N (default: %u), --region N, --scene N, --solid, --normals, --y-up  (.gltf/.glb)\n"
             "    --grid NAME, --threshold X, --density, --color NAME   (.vdb)\n"
             "    --max-memory SIZE     refuse a scene that needs more memory than SIZE to read (512M, 4G)\n"
             "    -v, --verbose         print the effective options and timings\n"

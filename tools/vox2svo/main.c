@@ -77,6 +77,8 @@ _Noreturn static void usage(int status) {
             "    --no-collapse    skip minimization step 1 (uniform full subtrees -> one leaf)\n"
             "    --no-dag         skip minimization step 2 (share identical subtrees)\n"
             "    --res N          meshes: voxels along the longest side (default: %u)\n"
+            "    --region N       meshes: cells per side of one model (a power of two from 64; default:\n"
+            "                     one model up to 512 cells, beyond at least 8 models of at most 2048)\n"
             "    --scene N        meshes: glTF scene to convert (default: the file's default scene)\n"
             "    --solid          meshes and level sets: fill the inside, not only the surface\n"
             "    --normals        meshes: store oct-encoded normals\n"
