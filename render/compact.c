@@ -910,6 +910,23 @@ static bool merged_words(const builder* g, const builder* b, const uint32_t* dma
 #ifndef PF
 #define PF 16u /* blocks ahead; -DPF=1: no prefetch (bench A/B) */
 #endif
+/* One slot of merge_model's ring: the block at *ahead (its start in *e),
+ * its hash in *h where its words are known now (*known), its table entry
+ * prefetched; *ahead moves to the next block. */
+static void ring_take(const builder* g, const builder* b, const uint32_t* dmap, const uint32_t* bmap, bool ok,
+                      uint32_t* ahead, uint32_t* e, uint64_t* h, bool* known) {
+    uint32_t w[16];
+    *e = *ahead;
+    *known = false;
+    if (*ahead >= b->n) return;
+    if (ok && merged_words(g, b, dmap, bmap, *ahead, w)) {
+        *h = block_hash(w, b->meta[*ahead] & 15u, b->meta[*ahead] >> 4);
+        *known = true;
+        if (g->tab_cap) __builtin_prefetch(&g->tab[*h & (g->tab_cap - 1)]);
+    }
+    *ahead += b->meta[*ahead] & 15u;
+}
+
 static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, uint32_t i, vx_error* err) {
     builder* b = &l->b;
     *cm = l->cm;
@@ -925,18 +942,7 @@ static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, ui
     uint64_t ring_h[PF];
     bool ring_k[PF];
     uint32_t ahead = 0; /* the first block start not yet in the ring */
-    for (uint32_t q = 0; q < PF; q++) {
-        ring_e[q] = ahead;
-        ring_k[q] = false;
-        if (ahead < b->n) {
-            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
-                ring_h[q] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
-                ring_k[q] = true;
-                if (g->tab_cap) __builtin_prefetch(&g->tab[ring_h[q] & (g->tab_cap - 1)]);
-            }
-            ahead += b->meta[ahead] & 15u;
-        }
-    }
+    for (uint32_t q = 0; q < PF; q++) ring_take(g, b, dmap, bmap, !r, &ahead, &ring_e[q], &ring_h[q], &ring_k[q]);
     for (uint32_t q = 0; !r && ring_e[q % PF] < b->n; q++) {
         uint32_t slot = q % PF, e = ring_e[slot], len = b->meta[e] & 15u, level = b->meta[e] >> 4;
         /* the entry PF / 2 blocks ahead: its table slot is in the cache by now, prefetch its words */
@@ -955,16 +961,7 @@ static vx_result merge_model(builder* g, geom_local* l, vx_compact_model* cm, ui
         uint64_t h = ring_k[slot] ? ring_h[slot] : block_hash(w, len, level);
         r = block_intern_h(g, w, b->rank + e, len, level, h, &bmap[e]);
         /* refill the slot with the block PF ahead */
-        ring_e[slot] = ahead;
-        ring_k[slot] = false;
-        if (ahead < b->n) {
-            if (!r && merged_words(g, b, dmap, bmap, ahead, w)) {
-                ring_h[slot] = block_hash(w, b->meta[ahead] & 15u, b->meta[ahead] >> 4);
-                ring_k[slot] = true;
-                __builtin_prefetch(&g->tab[ring_h[slot] & (g->tab_cap - 1)]);
-            }
-            ahead += b->meta[ahead] & 15u;
-        }
+        ring_take(g, b, dmap, bmap, !r, &ahead, &ring_e[slot], &ring_h[slot], &ring_k[slot]);
     }
     if (!r) cm->root = cm->depth <= 2 && g->use_dict ? dmap[cm->root] : bmap[cm->root];
     if (r) vx_error_prefix(err, "compact layout");
