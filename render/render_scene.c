@@ -325,14 +325,8 @@ static void fill_instances(const vx_svo_scene* s, const uint32_t* mcells, inst_h
         inst[k].id = i;
         inst[k].cell = (float)instance_cell(w);
         const uint32_t* mc = &mcells[6 * s->instances[i].model];
-        for (int c = 0; c < 3; c++) lo[3 * k + c] = INFINITY, hi[3 * k + c] = -INFINITY;
-        for (int c = 0; c < 8; c++) {
-            double p[3] = {mc[(c & 1) ? 3 : 0], mc[(c & 2) ? 4 : 1], mc[(c & 4) ? 5 : 2]};
-            for (int r = 0; r < 3; r++) {
-                double q = w[4 * r] * p[0] + w[4 * r + 1] * p[1] + w[4 * r + 2] * p[2] + w[4 * r + 3];
-                lo[3 * k + r] = fmin(lo[3 * k + r], q), hi[3 * k + r] = fmax(hi[3 * k + r], q);
-            }
-        }
+        double clo[3] = {mc[0], mc[1], mc[2]}, chi[3] = {mc[3], mc[4], mc[5]};
+        vx_svo_box_map(w, clo, chi, &lo[3 * k], &hi[3 * k]);
         memcpy(inst[k].lo, &lo[3 * k], sizeof inst[k].lo);
         memcpy(inst[k].hi, &hi[3 * k], sizeof inst[k].hi);
         k++;

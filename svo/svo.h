@@ -377,6 +377,9 @@ bool vx_svo_instance_visible(const vx_svo_scene* scene, uint32_t i);
 bool vx_svo_instance_drawn(const vx_svo_scene* scene, uint32_t i);
 /* The instance's world map (3x4 row-major): world_from_grid * xform. */
 void vx_svo_instance_world(const vx_svo_scene* scene, const vx_svo_instance* in, double w[12]);
+/* The axis-aligned box around the box [in_lo, in_hi] mapped by the affine
+ * map w (3x4 row-major): the least and greatest of its 8 corners' images. */
+void vx_svo_box_map(const double w[12], const double in_lo[3], const double in_hi[3], double lo[3], double hi[3]);
 /* World AABB of the instance's model box [0, size]. */
 void vx_svo_instance_world_box(const vx_svo_scene* scene, const vx_svo_instance* in, double lo[3], double hi[3]);
 /* World bounds of the drawn instances' model boxes (all zero when none is

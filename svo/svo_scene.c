@@ -281,18 +281,22 @@ void vx_svo_instance_world(const vx_svo_scene* s, const vx_svo_instance* in, dou
         }
 }
 
-void vx_svo_instance_world_box(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
-    const vx_svo_model* m = &s->models[in->model];
-    double w[12];
-    vx_svo_instance_world(s, in, w);
+void vx_svo_box_map(const double w[12], const double in_lo[3], const double in_hi[3], double lo[3], double hi[3]) {
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (int c = 0; c < 8; c++) {
-        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
+        double p[3] = {(c & 1) ? in_hi[0] : in_lo[0], (c & 2) ? in_hi[1] : in_lo[1], (c & 4) ? in_hi[2] : in_lo[2]};
         for (int r = 0; r < 3; r++) {
             double q = w[4 * r] * p[0] + w[4 * r + 1] * p[1] + w[4 * r + 2] * p[2] + w[4 * r + 3];
             lo[r] = fmin(lo[r], q), hi[r] = fmax(hi[r], q);
         }
     }
+}
+
+void vx_svo_instance_world_box(const vx_svo_scene* s, const vx_svo_instance* in, double lo[3], double hi[3]) {
+    const vx_svo_model* m = &s->models[in->model];
+    double w[12], zero[3] = {0, 0, 0}, size[3] = {m->size[0], m->size[1], m->size[2]};
+    vx_svo_instance_world(s, in, w);
+    vx_svo_box_map(w, zero, size, lo, hi);
 }
 
 void vx_svo_scene_world_bounds(const vx_svo_scene* s, double lo[3], double hi[3]) {

@@ -287,15 +287,8 @@ vx_svo_instance* ved_record(vx_svo_scene* s, uint32_t f, uint32_t i) {
 void ved_instance_box(const vx_svo_scene* s, uint32_t f, uint32_t i, double lo[3], double hi[3]) {
     const vx_svo_instance* in = vx_svo_scene_frame_instances(s, f) + i;
     const vx_svo_model* m = &s->models[in->model];
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (int c = 0; c < 8; c++) {
-        double p[3] = {(c & 1) ? m->size[0] : 0, (c & 2) ? m->size[1] : 0, (c & 4) ? m->size[2] : 0};
-        for (int r = 0; r < 3; r++) {
-            const double* row = &in->xform[4 * r];
-            double q = row[0] * p[0] + row[1] * p[1] + row[2] * p[2] + row[3];
-            lo[r] = fmin(lo[r], q), hi[r] = fmax(hi[r], q);
-        }
-    }
+    double zero[3] = {0, 0, 0}, size[3] = {m->size[0], m->size[1], m->size[2]};
+    vx_svo_box_map(in->xform, zero, size, lo, hi);
 }
 
 void ved_pivot(const vx_svo_scene* s, uint32_t f, uint32_t i, int axis, bool rotate, double p[3]) {
