@@ -433,6 +433,14 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
 }
 
 /* --frames N: the same frame again, for its times (the last image is left in *img). */
+/* -v: the share of pixels that hit geometry, from a frame rendered with its hits */
+static void print_hit_share(const vx_render_image* img) {
+    if (!img->hits) return;
+    size_t hit = 0, n = (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; i++) hit += img->hits[i].instance != VX_RENDER_NO_HIT;
+    printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
+}
+
 static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_image* img, vx_error* err) {
     if (o->frames <= 1) return VX_OK;
     double* gpu_ms = calloc(o->frames, 2 * sizeof *gpu_ms);
@@ -1007,9 +1015,7 @@ int main(int argc, char** argv) {
             r = vx_render_frame(rs, &o.r, &img, &err);
             if (counted) {
                 o.r.want_hits = false;
-                size_t hit = 0, n = (size_t)img.width * img.height;
-                for (size_t i = 0; !r && img.hits && i < n; i++) hit += img.hits[i].instance != VX_RENDER_NO_HIT;
-                if (!r && img.hits) printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
+                if (!r) print_hit_share(&img);
             }
             /* paged (the compact layout over --gpu-budget): frames until the
              * pages the view needs are resident, or the pool takes no more */
@@ -1042,9 +1048,7 @@ int main(int argc, char** argv) {
                 o.r.want_hits = o.verbose;
                 r = vx_render_frame(rs, &o.r, &img2, &err);
                 o.r.want_hits = false;
-                size_t hit = 0, n = (size_t)img2.width * img2.height;
-                for (size_t i = 0; !r && img2.hits && i < n; i++) hit += img2.hits[i].instance != VX_RENDER_NO_HIT;
-                if (!r && img2.hits) printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
+                if (!r) print_hit_share(&img2);
                 if (!r) r = timed_frames(&o, rs, &img2, &err);
                 if (!r) r = write_image(&o, o.view2_out, &img2, &err);
                 if (!r) printf("wrote %s\n", o.view2_out);
