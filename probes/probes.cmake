@@ -19,21 +19,14 @@ if(VX_WITH_VULKAN)
   # probe.comp twice: probe, the bake's kernel (as it was); probe_pt, the render passes' (GPU path tracer,
   # GI, light field), every float operation of its path and walk precise (PT_PRECISE: the same bits with
   # and without the sun's depth map on NVIDIA)
-  # (NAME or NAME:DEFINE, as render/render.cmake's list)
-  foreach(spec probe probe_pt:PT_PRECISE)
-    string(REPLACE ":" ";" parts ${spec})
-    list(GET parts 0 name)
-    set(defs)
-    list(LENGTH parts nparts)
-    if(nparts GREATER 1)
-      list(GET parts 1 def)
-      set(defs -D${def})
-    endif()
+  # (NAME:FILE[:DEFINE], as render/render.cmake's list: cmake/shaders.cmake)
+  foreach(spec probe:probe probe_pt:probe:PT_PRECISE)
+    vx_shader_spec(${spec} name file defs)
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
-              --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp
-      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
+              --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp
+      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
       COMMENT "glslangValidator ${name}.comp"

@@ -33,15 +33,7 @@ if(VX_WITH_VULKAN)
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
                refit:refit inst_rows:inst_rows trace_compact:trace_compact smap:smap)
-    string(REPLACE ":" ";" parts ${spec})
-    list(GET parts 0 shader)
-    list(GET parts 1 file)
-    set(defs)
-    list(LENGTH parts nparts)
-    if(nparts GREATER 2)
-      list(GET parts 2 def)
-      set(defs -D${def})
-    endif()
+    vx_shader_spec(${spec} shader file defs)
     set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${file}.comp)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
     add_custom_command(
