@@ -18,6 +18,12 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
+// One sample a pixel (F.dims.z <= 1; render_scene.c): the samples' loop then
+// has the constant trip count 1 and the compiler drops it. lavapipe (Mesa
+// 22.3) ran the whole kernel inside that loop at 0.53-0.60 of the rays per
+// CPU second it reaches without it (issue 21's eleventh sitting).
+layout(constant_id = 6) const bool ONE_SAMPLE = false;
+
 #ifndef PRECISE
 #define TRACE_BEAM
 #endif
@@ -45,7 +51,7 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
-    uint spp = max(F.dims.z, 1u);
+    uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
