@@ -12,7 +12,9 @@
 #include <stddef.h>
 
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
-_Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && sizeof(vx__gpu_frame) == 224, "vx__gpu_frame vs trace.comp");
+_Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
+                   offsetof(vx__gpu_frame, model0) == 304 && sizeof(vx__gpu_frame) == 336,
+               "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
 /* Where a model's node words (or colour records) live in the shared buffer:
@@ -1382,6 +1384,12 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
+    if (rs->inst_count == 1) {
+        /* the single-instance kernel (USE_BVH off) reads the instance and its model from the frame block */
+        vx__gpu_frame* gf = rs->frame.map;
+        gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
+        if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
+    }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;

@@ -29,6 +29,7 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 #endif
 #define TRACE_SENTINEL
 #define TRACE_NOGUARD
+#define TRACE_INST_UBO
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -115,7 +116,7 @@ void main() {
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);
         if (hit) {
-            Inst I = insts[h.inst];
+            Inst I = inst_at(h.inst);
             vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
             nw = normalize(row.xyz * h.nsign); // inverse transpose times e_axis
         }
@@ -130,7 +131,7 @@ void main() {
                     float vis = 0.0;
                     if (ndl > 0.0) {
                         precise RVEC3 p = o + d * h.t;
-                        float cell = insts[h.inst].cell;
+                        float cell = inst_at(h.inst).cell;
                         precise RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
 #ifdef TRACE_BEAM
                         g_tskip = 0.0; // the beam bounds the primary rays only
@@ -156,7 +157,7 @@ void main() {
             precise float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
             c = vec4(t, t, t, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_INSTANCE) {
-            c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
+            c = hit ? vec4(inst_color(inst_at(h.inst).id), 1.0) : vec4(0.0);
         } else {
             c = vec4(heat(g_iter), 1.0);
         }
@@ -164,7 +165,7 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             precise float t_hit = hit ? float(t_off + h.t) : 0.0;
-            hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
+            hits[base] = uvec4(hit ? inst_at(h.inst).id : NO_HIT, h.cell);
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, 0u, shadow_rec);
         }
     }

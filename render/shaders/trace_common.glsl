@@ -83,6 +83,15 @@ layout(std140, binding = 0) uniform Frame {
     dvec4 prx;
     dvec4 puy;
 #endif
+#if defined(TRACE_INST_UBO) && !defined(PRECISE)
+    // a scene of one instance (!USE_BVH; vx__gpu_frame): instance 0's record
+    // and its model's, read through inst_at and model_at. lavapipe loads a
+    // storage buffer's word lane by lane even at a constant index (per
+    // 8-lane group, 8 scalar loads and their bounds tests), a uniform
+    // block's once: 19 words a ray (issue 21's eleventh sitting)
+    layout(offset = 224) Inst inst0;
+    Model model0;
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -107,12 +116,22 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 // layout only). Kernels read models[] through this.
 Model model_at(uint mi) {
 #ifndef PRECISE
+#ifdef TRACE_INST_UBO
+    if (!USE_BVH && !COMPACT) return F.model0;
+#endif
     if (COMPACT) {
         CModel c = cmodels[mi];
         return Model(0u, 0u, c.depth, c.root, 0u, c.flags, c.rebase, c.box);
     }
 #endif
     return models[mi];
+}
+// Instance i's record (TRACE_INST_UBO: from the frame block in a scene of one instance)
+Inst inst_at(uint i) {
+#if defined(TRACE_INST_UBO) && !defined(PRECISE)
+    if (!USE_BVH) return F.inst0;
+#endif
+    return insts[i];
 }
 #ifdef PRECISE
 // model-from-world rows (world relative to the frame reference), 3 per instance
@@ -798,7 +817,7 @@ bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h);
 #endif
 
 bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
-    Inst I = insts[i];
+    Inst I = inst_at(i);
 #ifdef PRECISE
     dvec4 r0 = pinst[3u * i], r1 = pinst[3u * i + 1u], r2 = pinst[3u * i + 2u];
 #else
