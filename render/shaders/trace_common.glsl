@@ -874,50 +874,56 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     // every branch masked, so the octree walk runs once per leaf visit
     // rather than once per BVH step.
     bool pop_next = false;
+    // the leaf's items [first, first + count) are traced one per iteration of
+    // the outer loop (k the next), so that the octree walk sits one loop deep
+    // rather than two (lavapipe pays for every level of loop around it)
+    uint first = 0u, count = 0u, k = 0u;
     while (true) {
-        uint first = 0u, count = 0u;
         bool done = false;
-        while (true) {
-            if (pop_next) {
-                // pop, skipping nodes now beyond the nearest hit
-                pop_next = false;
-                bool next = false;
-                while (sp > 0) {
-                    uint c = stack[--sp];
-                    RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
-                    if (tc.x <= h.t) { node = c; next = true; break; }
+        if (k >= count) {
+            k = 0u;
+            while (true) {
+                if (pop_next) {
+                    // pop, skipping nodes now beyond the nearest hit
+                    pop_next = false;
+                    bool next = false;
+                    while (sp > 0) {
+                        uint c = stack[--sp];
+                        RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
+                        if (tc.x <= h.t) { node = c; next = true; break; }
+                    }
+                    if (!next) { done = true; break; }
                 }
-                if (!next) { done = true; break; }
-            }
-            BNode n = bvh[node];
-            count = floatBitsToUint(n.hi.w);
-            first = floatBitsToUint(n.lo.w);
-            if (count > 0u) { pop_next = true; break; }
-            BNode a = bvh[first], b = bvh[first + 1u];
-            RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
-            RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
-            bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
-            bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
-            if (ha && hb) {
-                // nearest first; the far one waits on the stack
-                uint nearc = ta.x <= tb.x ? first : first + 1u;
-                uint farc = ta.x <= tb.x ? first + 1u : first;
-                if (sp < 64) stack[sp++] = farc;
-                node = nearc;
-            } else if (ha) {
-                node = first;
-            } else if (hb) {
-                node = first + 1u;
-            } else {
-                pop_next = true;
+                BNode n = bvh[node];
+                count = floatBitsToUint(n.hi.w);
+                first = floatBitsToUint(n.lo.w);
+                if (count > 0u) { pop_next = true; break; }
+                BNode a = bvh[first], b = bvh[first + 1u];
+                RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
+                RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
+                bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
+                bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
+                if (ha && hb) {
+                    // nearest first; the far one waits on the stack
+                    uint nearc = ta.x <= tb.x ? first : first + 1u;
+                    uint farc = ta.x <= tb.x ? first + 1u : first;
+                    if (sp < 64) stack[sp++] = farc;
+                    node = nearc;
+                } else if (ha) {
+                    node = first;
+                } else if (hb) {
+                    node = first + 1u;
+                } else {
+                    pop_next = true;
+                }
             }
         }
         if (done) break;
-        for (uint k = 0u; k < count; k++) {
-            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
-                found = true;
-                if (any_hit) return true;
-            }
+        uint it = items[first + k];
+        k++;
+        if (trace_instance(it, o, d, t0, any_hit, h)) {
+            found = true;
+            if (any_hit) return true;
         }
     }
     return found;
