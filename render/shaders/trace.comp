@@ -30,6 +30,7 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 #define TRACE_SENTINEL
 #define TRACE_NOGUARD
 #define TRACE_INST_UBO
+#define TRACE_FLAT_ITEMS
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
