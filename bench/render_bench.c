@@ -5,7 +5,7 @@
  * (scenes up to 2^30 cells).
  *
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
- *                [--views overview,oblique,closeup] [--warmup SECONDS]
+ *                [--views overview,oblique,closeup,sky] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
  *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
  *                [--cpu-time]
@@ -14,7 +14,8 @@
  * Each scene is seen from three views: the default overview, an oblique view
  * from low over a corner, and a full-frame close-up (a surface point of the
  * oblique view seen from nearby, at least 98% of the pixels hit where
- * possible). Per view: the GPU first runs each kernel for --warmup seconds
+ * possible); --views sky adds the oblique view's eye looking away from the
+ * scene (every ray misses: the kernels' per-ray fixed cost). Per view: the GPU first runs each kernel for --warmup seconds
  * (clocks up), then the median of --runs timestamped dispatches is taken.
  * Hit share, the share of rays that enter an octree (voxkit: at least one
  * traversal step; ESVO: the ray meets the octree's cube), steps per ray (loop
@@ -104,7 +105,7 @@ static double cpu_now(void) {
 
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
-            "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup]\n"
+            "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] FILE...\n"
@@ -578,7 +579,7 @@ int main(int argc, char** argv) {
                     t6p = &t6;
             }
         }
-        vx_render_camera cams[3] = {{0}};
+        vx_render_camera cams[4] = {{0}};
         if (is_deep) {
             double c0 = (1u << 19) + 12344 + 512.0;
             cams[0].set = true;
@@ -586,9 +587,15 @@ int main(int argc, char** argv) {
             cams[0].eye[0] = c0 - 1100, cams[0].eye[1] = c0 - 1500, cams[0].eye[2] = c0 + 1300;
         }
         bool have_views = !is_deep && make_views(rs, &s, cams);
-        static const char* vnames[3] = {"overview", "oblique", "closeup"};
+        if (have_views) {
+            /* sky (only where --views names it): the oblique view's eye looking away from the
+             * scene, every ray misses: the per-ray fixed cost of each kernel */
+            cams[3] = cams[1];
+            for (int k = 0; k < 3; k++) cams[3].target[k] = 2 * cams[1].eye[k] - cams[1].target[k];
+        }
+        static const char* vnames[4] = {"overview", "oblique", "closeup", "sky"};
         bool first_view = true;
-        for (int v = 0; v < 3; v++) {
+        for (int v = 0; v < 4; v++) {
             if (!strstr(views, vnames[v]) || (v > 0 && !have_views)) continue;
             const char* p = sizes;
             while (*p) {

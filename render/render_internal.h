@@ -47,6 +47,11 @@ typedef struct vx__gpu_frame {
     double pfwd[4];     /* w: t_start */
     double prx[4];
     double puy[4];
+    /* a scene of one instance (vx__render_dispatch; trace.comp's float
+     * variant reads them instead of the insts and models buffers, whose
+     * loads lavapipe runs lane by lane): instance 0's record and its model's */
+    vx__gpu_inst inst0;
+    vx__gpu_model model0;
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

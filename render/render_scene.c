@@ -12,7 +12,9 @@
 #include <stddef.h>
 
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
-_Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && sizeof(vx__gpu_frame) == 224, "vx__gpu_frame vs trace.comp");
+_Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
+                   offsetof(vx__gpu_frame, model0) == 304 && sizeof(vx__gpu_frame) == 336,
+               "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
 /* Where a model's node words (or colour records) live in the shared buffer:
@@ -1382,14 +1384,20 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
+    if (rs->inst_count == 1) {
+        /* the single-instance kernel (USE_BVH off) reads the instance and its model from the frame block */
+        vx__gpu_frame* gf = rs->frame.map;
+        gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
+        if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
+    }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
-    /* ids 6 and 7 are other kernels' (passes, probes); 8 the float walk's DEEP, 9 FAR */
-    /* 10 COMPACT (off here), 11 the shadow map */
-    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, 0, 0,
+    /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
+     * 9 FAR, 10 COMPACT (off here), 11 the shadow map */
+    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
                          precise ? 0 : rs->deep, rs->far, 0, smap};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
@@ -1416,6 +1424,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if (rs->alt_beam) bd.spirv = rs->alt_beam, bd.spirv_size = rs->alt_beam_size, bkey += 0x100000u * (rs->alt_tag + 1);
         bd.label = "beam";
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
+        bd.spec[6] = 0; /* trace.comp's one-sample switch */
         for (int i = 0; i < 10; i++) bkey = bkey * 131 + bd.spec[i];
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }

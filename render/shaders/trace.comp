@@ -18,11 +18,21 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
+// One sample a pixel (F.dims.z <= 1; render_scene.c): the samples' loop then
+// has the constant trip count 1 and the compiler drops it. lavapipe (Mesa
+// 22.3), which runs every instruction of a loop's body masked, ran the kernel
+// inside that loop at 0.58 (rays that miss everything) to 0.85 (close-ups)
+// of the rays per CPU second it reaches without it (issue 21's eleventh
+// sitting); the H200 is indifferent.
+layout(constant_id = 6) const bool ONE_SAMPLE = false;
+
 #ifndef PRECISE
 #define TRACE_BEAM
 #endif
 #define TRACE_SENTINEL
 #define TRACE_NOGUARD
+#define TRACE_INST_UBO
+#define TRACE_FLAT_ITEMS
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -45,7 +55,7 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
-    uint spp = max(F.dims.z, 1u);
+    uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -109,7 +119,7 @@ void main() {
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);
         if (hit) {
-            Inst I = insts[h.inst];
+            Inst I = inst_at(h.inst);
             vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
             nw = normalize(row.xyz * h.nsign); // inverse transpose times e_axis
         }
@@ -124,7 +134,7 @@ void main() {
                     float vis = 0.0;
                     if (ndl > 0.0) {
                         precise RVEC3 p = o + d * h.t;
-                        float cell = insts[h.inst].cell;
+                        float cell = inst_at(h.inst).cell;
                         precise RVEC3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
 #ifdef TRACE_BEAM
                         g_tskip = 0.0; // the beam bounds the primary rays only
@@ -150,7 +160,7 @@ void main() {
             precise float t = hit ? float(t_off + h.t) : uintBitsToFloat(0x7F800000u);
             c = vec4(t, t, t, hit ? 1.0 : 0.0);
         } else if (MODE == MODE_INSTANCE) {
-            c = hit ? vec4(inst_color(insts[h.inst].id), 1.0) : vec4(0.0);
+            c = hit ? vec4(inst_color(inst_at(h.inst).id), 1.0) : vec4(0.0);
         } else {
             c = vec4(heat(g_iter), 1.0);
         }
@@ -158,7 +168,7 @@ void main() {
         if (WRITE_HITS && s == 0u) {
             uint base = 2u * (px.y * W + px.x);
             precise float t_hit = hit ? float(t_off + h.t) : 0.0;
-            hits[base] = uvec4(hit ? insts[h.inst].id : NO_HIT, h.cell);
+            hits[base] = uvec4(hit ? inst_at(h.inst).id : NO_HIT, h.cell);
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, 0u, shadow_rec);
         }
     }

@@ -83,6 +83,15 @@ layout(std140, binding = 0) uniform Frame {
     dvec4 prx;
     dvec4 puy;
 #endif
+#if defined(TRACE_INST_UBO) && !defined(PRECISE)
+    // a scene of one instance (!USE_BVH; vx__gpu_frame): instance 0's record
+    // and its model's, read through inst_at and model_at. lavapipe loads a
+    // storage buffer's word lane by lane even at a constant index (per
+    // 8-lane group, 8 scalar loads and their bounds tests), a uniform
+    // block's once: 19 words a ray (issue 21's eleventh sitting)
+    layout(offset = 224) Inst inst0;
+    Model model0;
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -107,6 +116,9 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 // layout only). Kernels read models[] through this.
 Model model_at(uint mi) {
 #ifndef PRECISE
+#ifdef TRACE_INST_UBO
+    if (!USE_BVH && !COMPACT) return F.model0;
+#endif
     if (COMPACT) {
         CModel c = cmodels[mi];
         return Model(0u, 0u, c.depth, c.root, 0u, c.flags, c.rebase, c.box);
@@ -114,6 +126,19 @@ Model model_at(uint mi) {
 #endif
     return models[mi];
 }
+// Instance i's record (TRACE_INST_UBO: from the frame block in a scene of
+// one instance; kernels without it read insts[] as they did)
+#ifdef TRACE_INST_UBO
+Inst inst_at(uint i) {
+#ifndef PRECISE
+    if (!USE_BVH) return F.inst0;
+#endif
+    return insts[i];
+}
+#define INST_AT(i) inst_at(i)
+#else
+#define INST_AT(i) insts[i]
+#endif
 #ifdef PRECISE
 // model-from-world rows (world relative to the frame reference), 3 per instance
 layout(std430, binding = 9) readonly buffer PInsts { dvec4 pinst[]; };
@@ -798,7 +823,7 @@ bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h);
 #endif
 
 bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
-    Inst I = insts[i];
+    Inst I = INST_AT(i);
 #ifdef PRECISE
     dvec4 r0 = pinst[3u * i], r1 = pinst[3u * i + 1u], r2 = pinst[3u * i + 2u];
 #else
@@ -836,6 +861,44 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     return false;
 }
 
+// The walk to the next leaf (first, count: its items; done: none left).
+#define BVH_NEXT_LEAF \
+    while (true) {                                                                          \
+        if (pop_next) {                                                                     \
+            /* pop, skipping nodes now beyond the nearest hit */                            \
+            pop_next = false;                                                               \
+            bool next = false;                                                              \
+            while (sp > 0) {                                                                \
+                uint c = stack[--sp];                                                       \
+                RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));  \
+                if (tc.x <= h.t) { node = c; next = true; break; }                          \
+            }                                                                               \
+            if (!next) { done = true; break; }                                              \
+        }                                                                                   \
+        BNode n = bvh[node];                                                                \
+        count = floatBitsToUint(n.hi.w);                                                    \
+        first = floatBitsToUint(n.lo.w);                                                    \
+        if (count > 0u) { pop_next = true; break; }                                         \
+        BNode a = bvh[first], b = bvh[first + 1u];                                          \
+        RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));                    \
+        RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));                    \
+        bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;                                \
+        bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;                                \
+        if (ha && hb) {                                                                     \
+            /* nearest first; the far one waits on the stack */                             \
+            uint nearc = ta.x <= tb.x ? first : first + 1u;                                 \
+            uint farc = ta.x <= tb.x ? first + 1u : first;                                  \
+            if (sp < 64) stack[sp++] = farc;                                                \
+            node = nearc;                                                                   \
+        } else if (ha) {                                                                    \
+            node = first;                                                                   \
+        } else if (hb) {                                                                    \
+            node = first + 1u;                                                              \
+        } else {                                                                            \
+            pop_next = true;                                                                \
+        }                                                                                   \
+    }
+
 // Nearest hit (or any hit) along o + t d, t in [t0, h.t].
 bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
@@ -855,44 +918,31 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     // every branch masked, so the octree walk runs once per leaf visit
     // rather than once per BVH step.
     bool pop_next = false;
+#ifdef TRACE_FLAT_ITEMS
+    // the leaf's items [first, first + count) one per iteration of the outer
+    // loop (k the next), so that the octree walk sits one loop deep rather
+    // than two: lavapipe pays for every level of loop around it (issue 21's
+    // eleventh sitting). The same instances in the same order.
+    uint first = 0u, count = 0u, k = 0u;
+    while (true) {
+        bool done = false;
+        if (k >= count) {
+            k = 0u;
+            BVH_NEXT_LEAF
+        }
+        if (done) break;
+        uint it = items[first + k];
+        k++;
+        if (trace_instance(it, o, d, t0, any_hit, h)) {
+            found = true;
+            if (any_hit) return true;
+        }
+    }
+#else
     while (true) {
         uint first = 0u, count = 0u;
         bool done = false;
-        while (true) {
-            if (pop_next) {
-                // pop, skipping nodes now beyond the nearest hit
-                pop_next = false;
-                bool next = false;
-                while (sp > 0) {
-                    uint c = stack[--sp];
-                    RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));
-                    if (tc.x <= h.t) { node = c; next = true; break; }
-                }
-                if (!next) { done = true; break; }
-            }
-            BNode n = bvh[node];
-            count = floatBitsToUint(n.hi.w);
-            first = floatBitsToUint(n.lo.w);
-            if (count > 0u) { pop_next = true; break; }
-            BNode a = bvh[first], b = bvh[first + 1u];
-            RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));
-            RVEC2 tb = scene_box(o, dinv, RVEC3(b.lo.xyz), RVEC3(b.hi.xyz));
-            bool ha = ta.x <= ta.y && ta.y >= t0 && ta.x <= h.t;
-            bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;
-            if (ha && hb) {
-                // nearest first; the far one waits on the stack
-                uint nearc = ta.x <= tb.x ? first : first + 1u;
-                uint farc = ta.x <= tb.x ? first + 1u : first;
-                if (sp < 64) stack[sp++] = farc;
-                node = nearc;
-            } else if (ha) {
-                node = first;
-            } else if (hb) {
-                node = first + 1u;
-            } else {
-                pop_next = true;
-            }
-        }
+        BVH_NEXT_LEAF
         if (done) break;
         for (uint k = 0u; k < count; k++) {
             if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
@@ -901,6 +951,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
             }
         }
     }
+#endif
     return found;
 }
 
