@@ -14,6 +14,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -229,8 +230,10 @@ typedef struct ext {
     const vx_svo_model* m;
     const vx_allocator* A;
     bool dag, oom;
-    uint32_t* v;
-    size_t n, cap;
+    uint32_t* v;     /* the symbols, with the kind and context the reader will ask each with */
+    uint8_t* kind;
+    uint32_t* ctx;
+    size_t n, cap, capk, capc;
     /* A completed node is known by (block, masks). The first node seen with
      * a block is kept in fb/fm, indexed by the block's word position (one
      * access, no probing: most of the writer's time went to the hash's cache
@@ -245,12 +248,16 @@ typedef struct ext {
     unsigned tries; /* try_struct calls so far */
 } ext;
 
-static void ext_push(ext* x, uint32_t v) {
+static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
     if (x->oom) return;
-    if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v)) {
+    if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v) ||
+        !vx_grow(x->A, (void**)&x->kind, &x->capk, x->n + 1, sizeof *x->kind) ||
+        !vx_grow(x->A, (void**)&x->ctx, &x->capc, x->n + 1, sizeof *x->ctx)) {
         x->oom = true;
         return;
     }
+    x->kind[x->n] = (uint8_t)kind;
+    x->ctx[x->n] = ctx;
     x->v[x->n++] = v;
 }
 
@@ -302,21 +309,21 @@ static void ext_add(ext* x, uint32_t i, uint32_t done) {
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
     const vx_svo_model* m = x->m;
     uint32_t d = m->nodes[i], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
-    ext_push(x, valid);
-    if (level > 1) ext_push(x, leaf);
+    ext_push(x, VX__SYM_VALID, level, valid);
+    if (level > 1) ext_push(x, VX__SYM_LEAF, level | valid << 8, leaf);
     uint32_t nn = vx__popc8(valid & ~leaf), b = block_of(m, i), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
     for (unsigned o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {
             for (unsigned c = 0; c < 5; c++)
-                if (m->attrs >> c & 1u) ext_push(x, rec_get(m, c, a + rank));
+                if (m->attrs >> c & 1u) ext_push(x, VX__SYM_VALUE, c, rec_get(m, c, a + rank));
         } else {
             uint32_t ci = b + k++;
             uint32_t done = x->dag ? ext_find(x, ci) : UINT32_MAX;
             if (done != UINT32_MAX) {
-                ext_push(x, x->ndone - done);
+                ext_push(x, VX__SYM_REF, level, x->ndone - done);
             } else {
-                ext_push(x, 0);
+                ext_push(x, VX__SYM_REF, level, 0);
                 ext_visit(x, ci, level - 1);
             }
         }
@@ -326,19 +333,20 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
     x->ndone++;
 }
 
-/* Symbols from an array (the writer's check); records kind and context of
- * each so that the encoder codes them exactly as the reader will ask. */
+/* Symbols from an array (the writer's check). The encoder codes each with
+ * the kind and context the writer's walk gave it (possibly while the check
+ * runs), so the check requires the reader to ask for exactly those. */
 typedef struct arr_src {
     const uint32_t* v;
     size_t n, pos;
-    uint8_t* kind;
-    uint32_t* ctx;
+    const uint8_t* kind;
+    const uint32_t* ctx;
 } arr_src;
 static bool arr_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
     arr_src* s = (arr_src*)user;
     if (s->pos >= s->n) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo pack: symbols exhausted"), false;
-    s->kind[s->pos] = (uint8_t)kind;
-    s->ctx[s->pos] = ctx;
+    if (s->kind[s->pos] != kind || s->ctx[s->pos] != ctx)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo pack: symbol %zu asked as another kind", s->pos), false;
     *v = s->v[s->pos++];
     return true;
 }
@@ -354,10 +362,76 @@ static bool model_same(const vx_svo_model* a, const vx_svo_model* b) {
     return true;
 }
 
+/* The model's coded bytes (FORMAT.md 3.4): the form bits, then the
+ * structural symbols of src or the raw words and records; k fresh. */
+static void code_stream(pk* k, const vx_svo_model* m, bool structural, bool dag, uint32_t limit, const arr_src* src) {
+    bit(k, &k->form[0], structural);
+    if (structural) {
+        bit(k, &k->form[1], dag);
+        if (bit(k, &k->form[2], limit != VX__SVO_PTR_MAX)) plain_bits(k, 15, limit);
+        for (size_t i = 0; i < src->n; i++) {
+            uint32_t v = src->v[i];
+            sym(k, src->kind[i], src->ctx[i], &v);
+        }
+    } else {
+        for (uint32_t i = 0; i < m->node_count; i++) word_sym(k, m->nodes[i]);
+        for (uint32_t r = 0; r < m->attr_count; r++)
+            for (unsigned c = 0; c < 5; c++)
+                if (m->attrs >> c & 1u) {
+                    uint32_t v = rec_get(m, c, r);
+                    sym(k, VX__SYM_VALUE, c, &v);
+                }
+    }
+    for (int i = 0; i < 5; i++) shift_low(k);
+}
+
+/* A coder with its own output and side buffers. */
+typedef struct coder {
+    pk* k;
+    vx_buf coded, side;
+    /* the structural stream coded on another thread while the writer's
+     * check runs (its result is used only when the check passes) */
+    const vx_svo_model* m;
+    const arr_src* src;
+    bool dag;
+    uint32_t limit;
+    pthread_t th;
+    bool started;
+} coder;
+
+static bool coder_init(coder* c, const vx_allocator* A) {
+    memset(c, 0, sizeof *c);
+    c->k = (pk*)vx_calloc(A, 1, sizeof *c->k);
+    if (!c->k) return false;
+    c->coded.alloc = c->side.alloc = A;
+    pk_init_models(c->k);
+    c->k->enc = true;
+    c->k->out = &c->coded;
+    c->k->side = &c->side;
+    c->k->range = 0xFFFFFFFFu;
+    c->k->cache_size = 1;
+    return true;
+}
+static void coder_free(coder* c, const vx_allocator* A) {
+    vx_buf_free(&c->coded);
+    vx_buf_free(&c->side);
+    vx_free(A, c->k);
+    c->k = NULL;
+}
+static void* coder_main(void* arg) {
+    coder* c = (coder*)arg;
+    code_stream(c->k, c->m, true, c->dag, c->limit, c->src);
+    return NULL;
+}
+
 /* Tries the structural form with one (dag, limit) setting; on success the
  * symbols with their kinds and contexts are left in x / src. An allocation
  * failure returns false with x->oom set. */
-static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, uint32_t limit, ext* x, arr_src* src) {
+/* spec: when given, the symbols are coded on another thread while the check
+ * runs (started only; the caller joins spec->th when spec->started). lay:
+ * the check's layout threads (vx__svo_unpack_desc.layout_threads). */
+static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, uint32_t limit, ext* x, arr_src* src,
+                       coder* spec, unsigned lay) {
     x->n = 0;
     x->ndone = 0;
     x->dag = dag;
@@ -370,16 +444,21 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     }
     ext_visit(x, m->root, m->depth);
     if (x->oom) return false;
-    vx_free(A, src->kind);
-    vx_free(A, src->ctx);
-    src->kind = (uint8_t*)vx_alloc(A, x->n ? x->n : 1);
-    src->ctx = (uint32_t*)vx_calloc(A, x->n ? x->n : 1, sizeof *src->ctx);
-    if (!src->kind || !src->ctx) return x->oom = true, false;
     src->v = x->v;
+    src->kind = x->kind;
+    src->ctx = x->ctx;
     src->n = x->n;
     src->pos = 0;
+    if (spec && coder_init(spec, A)) {
+        spec->m = m;
+        spec->src = src;
+        spec->dag = dag;
+        spec->limit = limit;
+        spec->started = pthread_create(&spec->th, NULL, coder_main, spec) == 0;
+    }
     vx__svo_src s = {arr_next, src};
-    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
+    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                              .layout_threads = lay};
     vx_svo_model r;
     memset(&r, 0, sizeof r);
     r.attrs = m->attrs;
@@ -927,19 +1006,17 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
 /* Codes one model into its own stream: the chunked form when `chunked`
  * (VX__CHUNK_ZSTD: tagged chunks, VX__CHUNK_DEFLATE: level 1,
  * VX__CHUNK_STORED: stored blocks; on up to
- * `threads` threads), else the structural or raw form. */
+ * `threads` threads), else the structural or raw form; there, with
+ * `threads` >= 2 and a model of at least vx__svo_parallel_words words, the
+ * symbols of the first setting tried are coded on a second thread while the
+ * check rebuilds the model, whose layout follows its decoding on the
+ * threads left. The bytes never depend on `threads`. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
     if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
-    pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
-    if (!k) return false;
-    vx_buf coded = {0}, side = {0};
-    coded.alloc = side.alloc = A;
-    pk_init_models(k);
-    k->enc = true;
-    k->out = &coded;
-    k->side = &side;
-    k->range = 0xFFFFFFFFu;
-    k->cache_size = 1;
+    coder cd, spec;
+    bool spec_ok = false;
+    memset(&spec, 0, sizeof spec);
+    if (!coder_init(&cd, A)) return false;
     bool ok = true;
     ext x;
     memset(&x, 0, sizeof x);
@@ -948,6 +1025,13 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
     memset(&src, 0, sizeof src);
     bool structural = false, dag = false;
     uint32_t limit = VX__SVO_PTR_MAX;
+    bool par = threads >= 2 && m->node_count >= vx__svo_parallel_words;
+    unsigned lay = par ? (threads - 2 > 2 ? 2 : threads - 2) : 0;
+    {
+        const char* e = getenv("VX_SVO_WLAY"); /* exploring only */
+        if (e) lay = (unsigned)atoi(e);
+        if (getenv("VX_SVO_NOSPEC")) par = false;
+    }
     if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
         x.m = m;
         size_t need = 16;
@@ -964,55 +1048,44 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-            structural = try_struct(m, A, dag, limit, &x, &src);
+            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par ? &spec : NULL, lay);
+            if (spec.started) {
+                pthread_join(spec.th, NULL);
+                spec.started = false;
+                spec_ok = structural && !spec.coded.failed && !spec.side.failed;
+            }
             /* out of memory is an error, not "this form does not fit": falling
              * back to the raw form would give other bytes for the same scene */
             if (x.oom) ok = false;
         }
     }
+    coder* use = &cd;
+    if (ok && spec_ok) use = &spec;
+    else if (ok) code_stream(cd.k, m, structural, dag, limit, &src);
     if (ok) {
-        bit(k, &k->form[0], structural);
-        if (structural) {
-            bit(k, &k->form[1], dag);
-            if (bit(k, &k->form[2], limit != VX__SVO_PTR_MAX)) plain_bits(k, 15, limit);
-            for (size_t i = 0; i < src.n; i++) {
-                uint32_t v = src.v[i];
-                sym(k, src.kind[i], src.ctx[i], &v);
-            }
-        } else {
-            for (uint32_t i = 0; i < m->node_count; i++) word_sym(k, m->nodes[i]);
-            for (uint32_t r = 0; r < m->attr_count; r++)
-                for (unsigned c = 0; c < 5; c++)
-                    if (m->attrs >> c & 1u) {
-                        uint32_t v = rec_get(m, c, r);
-                        sym(k, VX__SYM_VALUE, c, &v);
-                    }
-        }
-        for (int i = 0; i < 5; i++) shift_low(k);
         /* the model's stream: side length, [deflated side length, deflated
          * side bytes], coded bytes. Deflate level 1: most of zlib's gain on
          * colour data at a small fraction of the range coder's time. */
-        ok = put_var(out, side.size);
-        if (ok && side.size) {
-            uLongf zn = compressBound((uLong)side.size);
-            uint8_t* z = side.size == (uLong)side.size ? (uint8_t*)vx_alloc(A, zn) : NULL;
-            ok = z && compress2(z, &zn, side.data, (uLong)side.size, 1) == Z_OK && put_var(out, zn) &&
+        ok = put_var(out, use->side.size);
+        if (ok && use->side.size) {
+            uLongf zn = compressBound((uLong)use->side.size);
+            uint8_t* z = use->side.size == (uLong)use->side.size ? (uint8_t*)vx_alloc(A, zn) : NULL;
+            ok = z && compress2(z, &zn, use->side.data, (uLong)use->side.size, 1) == Z_OK && put_var(out, zn) &&
                  vx_buf_append(out, z, zn);
             vx_free(A, z);
         }
-        ok = ok && vx_buf_append(out, coded.data, coded.size);
+        ok = ok && vx_buf_append(out, use->coded.data, use->coded.size);
     }
-    ok = ok && !coded.failed && !side.failed;
-    vx_buf_free(&coded);
-    vx_buf_free(&side);
+    ok = ok && !use->coded.failed && !use->side.failed;
+    coder_free(&cd, A);
+    if (spec.k) coder_free(&spec, A);
     vx_free(A, x.v);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
     vx_free(A, x.fb);
     vx_free(A, x.fm);
-    vx_free(A, src.kind);
-    vx_free(A, src.ctx);
-    vx_free(A, k);
+    vx_free(A, x.kind);
+    vx_free(A, x.ctx);
     return ok && !out->failed;
 }
 
@@ -1040,10 +1113,10 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, 1, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1064,7 +1137,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
-                  : !pack_one(out, &s->models[mi], A, sink))
+                  : !pack_one(out, &s->models[mi], A, cpus, sink))
                 return false;
             if (!n) n = 1;
         }
@@ -1214,11 +1287,11 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, vx_error* err);
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err);
 
 /* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
 static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                              vx_error* err) {
+                              unsigned lay, vx_error* err) {
     /* side bytes first: their length, then (if any) the deflated length and
      * the deflated bytes. Both lengths are checked before anything is
      * allocated: the side holds at most 4 bytes per declared record and
@@ -1260,13 +1333,13 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     p += hdr + (size_t)z_n;
     base += hdr + z_n;
     n -= hdr + (size_t)z_n;
-    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, err);
+    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, err);
     vx_free(A, side);
     return r;
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, vx_error* err) {
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err) {
     uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
     if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
@@ -1301,7 +1374,8 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             vx_svo_model want = *m;
             rc_src rs = {k, base};
             vx__svo_src src = {rc_next, &rs};
-            vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
+            vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                                      .layout_threads = lay};
             r = vx__svo_unpack(&ud, &src, m, err);
             if (r != VX_OK) {
                 if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -1612,13 +1686,25 @@ typedef struct unpack_jobs {
     vx_result* res;
     vx_error* errs;
     const uint8_t* chunked; /* per model, or NULL */
+    unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
 } unpack_jobs;
+
+/* Threads the layout of each structural model may follow its decoding on:
+ * the cores left over when the models decode on `threads` of `cpus`. */
+static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned cpus) {
+    (void)s;
+    const char* e = getenv("VX_SVO_LAY"); /* exploring only */
+    if (e) return (unsigned)atoi(e);
+    if (cpus <= threads) return 0;
+    unsigned spare = cpus / threads - 1;
+    return spare > 2 ? 2 : spare;
+}
 
 static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);
+    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
@@ -1675,17 +1761,17 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     if (r == VX_OK && pos != n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
     if (r == VX_OK) {
-        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
+        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
-                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
