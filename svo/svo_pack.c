@@ -91,10 +91,13 @@ static uint8_t next_byte(pk* k) {
     return 0;
 }
 
-/* Codes bit b (encoder) or returns the decoded bit (decoder; b ignored). */
-static unsigned bit(pk* k, prob* p, unsigned b) {
+/* Codes bit b (encoder) or returns the decoded bit (decoder; b ignored).
+ * The coder's functions take `enc` as a constant and are inlined into one
+ * encoder and one decoder per symbol (sym), which choose once per symbol, not
+ * once per bit: the decoder spent a third of a read in bit(). */
+static inline __attribute__((always_inline)) unsigned bit_x(pk* k, prob* p, unsigned b, const bool enc) {
     uint32_t bound = (k->range >> 11) * *p;
-    if (k->enc) {
+    if (enc) {
         if (!b) {
             k->range = bound;
             *p = (prob)(*p + ((2048u - *p) >> 5));
@@ -126,16 +129,17 @@ static unsigned bit(pk* k, prob* p, unsigned b) {
     return b;
 }
 
-static uint32_t tree8(pk* k, prob* t, uint32_t v) {
+static inline __attribute__((always_inline)) uint32_t tree8_x(pk* k, prob* t, uint32_t v, const bool enc) {
     unsigned m = 1;
-    for (int i = 7; i >= 0; i--) m = (m << 1) | bit(k, &t[m], (v >> i) & 1u);
+    for (int i = 7; i >= 0; i--) m = (m << 1) | bit_x(k, &t[m], (v >> i) & 1u, enc);
     return m - 256;
 }
 static uint32_t plain_bits(pk* k, unsigned nb, uint32_t v) {
+    const bool enc = k->enc;
     uint32_t out = 0;
     for (int i = (int)nb - 1; i >= 0; i--) {
         prob p = PROB_INIT;
-        out = (out << 1) | bit(k, &p, (v >> i) & 1u);
+        out = (out << 1) | bit_x(k, &p, (v >> i) & 1u, enc);
     }
     return out;
 }
@@ -144,8 +148,8 @@ static uint32_t plain_bits(pk* k, unsigned nb, uint32_t v) {
  * gain much (texture colours shrank by a few percent) while coding them bit
  * by bit was most of the writer's time; their differing values are stored
  * as plain bytes in the model's side stream. */
-static uint32_t raw_u32(pk* k, uint32_t v) {
-    if (k->enc) {
+static inline __attribute__((always_inline)) uint32_t raw_u32_x(pk* k, uint32_t v, const bool enc) {
+    if (enc) {
         uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
         vx_buf_append(k->side, b, 4);
         return v;
@@ -164,39 +168,39 @@ static unsigned level_class(unsigned level) { return level >= 4 ? 3 : level - 1;
 static const unsigned CH_BYTES[5] = {1, 4, 4, 2, 4};
 
 /* One symbol (FORMAT.md 3.4): codes *v or decodes into it. */
-static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+static inline __attribute__((always_inline)) void sym_x(pk* k, unsigned kind, unsigned ctx, uint32_t* v, const bool enc) {
     switch (kind) {
-    case VX__SYM_VALID: *v = tree8(k, k->valid[level_class(ctx)], *v); break;
+    case VX__SYM_VALID: *v = tree8_x(k, k->valid[level_class(ctx)], *v, enc); break;
     case VX__SYM_LEAF: {
         unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
         uint32_t out = 0;
         for (unsigned o = 0; o < 8; o++)
-            if (valid >> o & 1u) out |= bit(k, &k->leaf[lc][o], (*v >> o) & 1u) << o;
+            if (valid >> o & 1u) out |= bit_x(k, &k->leaf[lc][o], (*v >> o) & 1u, enc) << o;
         *v = out;
         break;
     }
     case VX__SYM_REF: {
         uint32_t r = *v;
-        if (!bit(k, &k->ref[level_class(ctx)], r != 0)) {
+        if (!bit_x(k, &k->ref[level_class(ctx)], r != 0, enc)) {
             *v = 0;
             break;
         }
-        unsigned want = k->enc ? 32u - (unsigned)__builtin_clz(r) : 0, nb = 1;
-        while (nb < 32 && bit(k, &k->dlen[nb], nb < want)) nb++;
+        unsigned want = enc ? 32u - (unsigned)__builtin_clz(r) : 0, nb = 1;
+        while (nb < 32 && bit_x(k, &k->dlen[nb], nb < want, enc)) nb++;
         uint32_t out = 1;
-        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | bit(k, &k->dbit[j], (r >> j) & 1u);
+        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | bit_x(k, &k->dbit[j], (r >> j) & 1u, enc);
         *v = out;
         break;
     }
     default: { /* VALUE: ctx is the channel */
         unsigned c = ctx;
-        unsigned same = bit(k, &k->eq[c][k->preveq[c]], *v == k->prev[c]);
+        unsigned same = bit_x(k, &k->eq[c][k->preveq[c]], *v == k->prev[c], enc);
         uint32_t out = k->prev[c];
         if (!same && CH_BYTES[c] == 4) {
-            out = raw_u32(k, *v);
+            out = raw_u32_x(k, *v, enc);
         } else if (!same) {
             out = 0;
-            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= tree8(k, k->val[c][j], (*v >> (8 * j)) & 0xFFu) << (8 * j);
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= tree8_x(k, k->val[c][j], (*v >> (8 * j)) & 0xFFu, enc) << (8 * j);
         }
         k->preveq[c] = same;
         k->prev[c] = out;
@@ -205,9 +209,18 @@ static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
     }
 }
 
+static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, true); }
+static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, false); }
+static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    if (k->enc) sym_enc(k, kind, ctx, v);
+    else sym_dec(k, kind, ctx, v);
+}
+static unsigned bit(pk* k, prob* p, unsigned b) { return k->enc ? bit_x(k, p, b, true) : bit_x(k, p, b, false); }
+
 static uint32_t word_sym(pk* k, uint32_t w) {
     uint32_t out = 0;
-    for (unsigned j = 0; j < 4; j++) out |= tree8(k, k->word[j], (w >> (8 * j)) & 0xFFu) << (8 * j);
+    for (unsigned j = 0; j < 4; j++)
+        out |= (k->enc ? tree8_x(k, k->word[j], (w >> (8 * j)) & 0xFFu, true) : tree8_x(k, k->word[j], 0, false)) << (8 * j);
     return out;
 }
 
@@ -371,7 +384,7 @@ static void code_stream(pk* k, const vx_svo_model* m, bool structural, bool dag,
         if (bit(k, &k->form[2], limit != VX__SVO_PTR_MAX)) plain_bits(k, 15, limit);
         for (size_t i = 0; i < src->n; i++) {
             uint32_t v = src->v[i];
-            sym(k, src->kind[i], src->ctx[i], &v);
+            sym_enc(k, src->kind[i], src->ctx[i], &v);
         }
     } else {
         for (uint32_t i = 0; i < m->node_count; i++) word_sym(k, m->nodes[i]);
@@ -1216,7 +1229,7 @@ static bool rc_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_err
                false;
     }
     *v = 0;
-    sym(s->k, kind, ctx, v);
+    sym_dec(s->k, kind, ctx, v);
     return true;
 }
 
