@@ -11,11 +11,13 @@
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <zlib.h>
 #include <zstd.h>
 #ifdef VX_HAVE_LIBDEFLATE
@@ -1233,6 +1235,115 @@ static bool rc_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_err
     return true;
 }
 
+/* The structural symbols decoded on a thread of their own ahead of the
+ * reconstruction (vx__svo_unpack, whose layout follows it in turn): the
+ * range decoder walks the grammar of FORMAT.md 3.4 by itself (it needs only
+ * the masks, the references and the declared word count) and hands the
+ * values over in blocks, so that decoding, building the pool and laying it
+ * out run at once. It asks for exactly the symbols the reconstruction asks
+ * for and stops where that would stop (a zero mask, more descriptors than
+ * declared words, a reference past the completed nodes, the stream used up),
+ * after the same symbol, so the errors and the decoder's position are the
+ * one-thread ones. */
+enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096 };
+typedef struct sym_pipe {
+    pk* k;
+    const vx_allocator* A;
+    uint32_t depth, attrs;
+    uint64_t max_words;
+    uint32_t** blocks; /* allocated at the bound (never moved); each block freed by the consumer past it */
+    size_t nblocks;
+    _Atomic size_t pub; /* symbols published */
+    atomic_bool done;   /* the producer has stopped (pub is final) */
+    atomic_bool stop;   /* the consumer has stopped: the producer may quit */
+    bool truncated;     /* the producer stopped where the stream ran out (set before done) */
+    bool nomem;
+    size_t n;           /* producer: symbols written */
+    uint64_t words, ndone;
+    size_t pos;         /* consumer: symbols taken */
+    uint64_t base;
+    pthread_t th;
+} sym_pipe;
+
+static bool pipe_emit(sym_pipe* q, uint32_t v) {
+    size_t b = q->n / PIPE_BLOCK;
+    if (q->n % PIPE_BLOCK == 0) {
+        if (b >= q->nblocks || !(q->blocks[b] = (uint32_t*)vx_alloc(q->A, PIPE_BLOCK * sizeof(uint32_t)))) return q->nomem = true, false;
+    }
+    q->blocks[b][q->n % PIPE_BLOCK] = v;
+    if (++q->n % PIPE_PUBLISH == 0) {
+        atomic_store_explicit(&q->pub, q->n, memory_order_release);
+        if (atomic_load_explicit(&q->stop, memory_order_relaxed)) return false;
+    }
+    return true;
+}
+
+/* Decodes one symbol into the pipe; false where the one-thread reader
+ * would stop before it (the stream used up) or the pipe cannot take it. */
+static bool pipe_sym(sym_pipe* q, unsigned kind, unsigned ctx, uint32_t* v) {
+    if (q->k->over) return q->truncated = true, false;
+    *v = 0;
+    sym_dec(q->k, kind, ctx, v);
+    return pipe_emit(q, *v);
+}
+
+static bool pipe_walk(sym_pipe* q, unsigned level) {
+    uint32_t valid, leaf, ref, v;
+    if (!pipe_sym(q, VX__SYM_VALID, level, &valid) || valid == 0) return false;
+    if (level == 1) leaf = valid;
+    else if (!pipe_sym(q, VX__SYM_LEAF, level | valid << 8, &leaf)) return false;
+    for (unsigned o = 0; o < 8; o++) {
+        if (!(valid >> o & 1u)) continue;
+        if (leaf >> o & 1u) {
+            for (unsigned c = 0; c < 5; c++)
+                if (q->attrs >> c & 1u && !pipe_sym(q, VX__SYM_VALUE, c, &v)) return false;
+        } else {
+            if (++q->words >= q->max_words) return false;
+            if (!pipe_sym(q, VX__SYM_REF, level, &ref)) return false;
+            if (ref == 0 ? !pipe_walk(q, level - 1) : ref > q->ndone) return false;
+        }
+    }
+    q->ndone++;
+    return true;
+}
+
+static void* pipe_main(void* arg) {
+    sym_pipe* q = (sym_pipe*)arg;
+    pipe_walk(q, q->depth);
+    atomic_store_explicit(&q->pub, q->n, memory_order_release);
+    atomic_store_explicit(&q->done, true, memory_order_release);
+    return NULL;
+}
+
+static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
+    (void)kind, (void)ctx;
+    sym_pipe* q = (sym_pipe*)user;
+    for (;;) {
+        size_t pub = atomic_load_explicit(&q->pub, memory_order_acquire);
+        if (q->pos < pub) break;
+        if (atomic_load_explicit(&q->done, memory_order_acquire)) {
+            if (q->pos < atomic_load_explicit(&q->pub, memory_order_acquire)) break;
+            if (q->truncated) {
+                uint64_t at = q->base + q->k->n;
+                return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section NODE at byte %llu: the coded stream ends before the trees do",
+                               (unsigned long long)at),
+                       false;
+            }
+            return vx_fail(err, q->nomem ? VX_ERR_NOMEM : VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                           q->nomem ? "svo: out of memory" : "svo: section NODE: the coded symbols end early"),
+                   false;
+        }
+        nanosleep(&(struct timespec){0, 20000}, NULL); /* the decoder publishes every few thousand symbols */
+    }
+    size_t b = q->pos / PIPE_BLOCK;
+    *v = q->blocks[b][q->pos % PIPE_BLOCK];
+    if (++q->pos % PIPE_BLOCK == 0) {
+        vx_free(q->A, q->blocks[b]);
+        q->blocks[b] = NULL;
+    }
+    return true;
+}
+
 static bool set_rec(vx_svo_model* m, unsigned c, uint32_t r, uint32_t v) {
     switch (c) {
     case 0: m->palette[r] = (uint8_t)v; return v <= 0xFFu;
@@ -1389,7 +1500,38 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             vx__svo_src src = {rc_next, &rs};
             vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                                       .layout_threads = lay};
+            /* with threads to spare, the symbols are decoded ahead on one */
+            sym_pipe* q = NULL;
+            bool piped = false;
+            const char* pe = getenv("VX_SVO_PIPE"); /* exploring only */
+            if (lay && m->node_count >= vx__svo_parallel_words && (!pe || atoi(pe)) && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) {
+                q->k = k;
+                q->A = A;
+                q->depth = m->depth;
+                q->attrs = m->attrs;
+                q->max_words = m->node_count;
+                q->base = base;
+                q->nblocks = (size_t)((26u * ((uint64_t)m->node_count + 1)) / PIPE_BLOCK + 2);
+                q->blocks = (uint32_t**)vx_calloc(A, q->nblocks, sizeof *q->blocks);
+                atomic_init(&q->pub, 0);
+                atomic_init(&q->done, false);
+                atomic_init(&q->stop, false);
+                piped = q->blocks && pthread_create(&q->th, NULL, pipe_main, q) == 0;
+                if (piped) {
+                    src.next = pipe_next;
+                    src.user = q;
+                }
+            }
             r = vx__svo_unpack(&ud, &src, m, err);
+            if (piped) {
+                atomic_store_explicit(&q->stop, true, memory_order_relaxed);
+                pthread_join(q->th, NULL);
+            }
+            if (q) {
+                for (size_t i = 0; q->blocks && i < q->nblocks; i++) vx_free(A, q->blocks[i]);
+                vx_free(A, q->blocks);
+                vx_free(A, q);
+            }
             if (r != VX_OK) {
                 if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
                 if (err) err->code = r;

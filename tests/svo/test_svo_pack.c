@@ -424,6 +424,50 @@ static void test_layout_threads(void) {
                 if (a3 == VX_OK) vx_svo_scene_free(&r3);
             }
             free(bad);
+            /* the stream cut short or with bytes after it (the stream length
+             * adjusted: NODE's first varint): the same result on 1 and 3 threads */
+            vx_svo_scene t;
+            vx_svo_scene_init(&t, NULL);
+            t.model_count = 1;
+            t.models = (vx_svo_model*)calloc(1, sizeof *t.models);
+            uint8_t* buf = (uint8_t*)malloc(sz + 16);
+            for (int cut = -6; cut <= 2; cut++) {
+                if (cut == 0) continue;
+                size_t hdr = 0;
+                uint64_t len = 0;
+                for (unsigned sh = 0;; sh += 7) {
+                    uint8_t c = one[at + hdr++];
+                    len |= (uint64_t)(c & 0x7Fu) << sh;
+                    if (!(c & 0x80u)) break;
+                }
+                uint64_t nl = len + (uint64_t)(int64_t)cut;
+                size_t w = 0;
+                do {
+                    buf[w] = (uint8_t)(nl & 0x7Fu);
+                    nl >>= 7;
+                    if (nl) buf[w] |= 0x80u;
+                    w++;
+                } while (nl);
+                size_t body = (size_t)(cut < 0 ? len - (uint64_t)(-cut) : len);
+                memcpy(buf + w, one + at + hdr, body);
+                for (int j = 0; j < cut; j++) buf[w + body + (size_t)j] = (uint8_t)(0x11 * (j + 1));
+                size_t total = w + body + (size_t)(cut > 0 ? cut : 0);
+                vx_result res[2];
+                char msg[2][sizeof e.msg];
+                for (int th = 0; th < 2; th++) {
+                    vx_svo_model* mm = &t.models[0];
+                    vx_svo_model_free(NULL, mm);
+                    *mm = s.models[0];
+                    mm->nodes = NULL, mm->palette = NULL, mm->rgba = NULL, mm->material = NULL;
+                    memset(&e, 0, sizeof e);
+                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, NULL, &e);
+                    snprintf(msg[th], sizeof msg[th], "%s", e.msg);
+                }
+                CHECKF(res[0] != VX_OK && res[0] == res[1] && !strcmp(msg[0], msg[1]), "attrs 0x%x opt %d cut %d: %d '%s' vs %d '%s'",
+                       attrs[a], opt, cut, (int)res[0], msg[0], (int)res[1], msg[1]);
+            }
+            free(buf);
+            vx_svo_scene_free(&t);
             free(one);
             vx_svo_scene_free(&s);
         }
