@@ -1844,15 +1844,18 @@ typedef struct unpack_jobs {
     unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
 } unpack_jobs;
 
-/* Threads the layout of each structural model may follow its decoding on:
- * the cores left over when the models decode on `threads` of `cpus`. */
+/* Threads the layout of each structural model may follow its decoding on,
+ * 0 when the models decoding on `threads` of `cpus` leave no core: with a
+ * core to spare, the symbols are decoded on one thread, the pool built on
+ * the caller's and the layout's two stages follow on two more. Four threads
+ * on two cores beat fewer (H200 host, two cores, the 100 M-voxel terrain:
+ * 5.13 s against 5.41 with one layout thread, 6.09 without the decoding
+ * thread; docs/PERFORMANCE.md, ".svo I/O, eighth step"). */
 static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned cpus) {
     (void)s;
     const char* e = getenv("VX_SVO_LAY"); /* exploring only */
     if (e) return (unsigned)atoi(e);
-    if (cpus <= threads) return 0;
-    unsigned spare = cpus / threads - 1;
-    return spare > 2 ? 2 : spare;
+    return cpus > threads ? 2 : 0;
 }
 
 static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
