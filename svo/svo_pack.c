@@ -15,7 +15,6 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <zlib.h>
@@ -1042,11 +1041,6 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
     uint32_t limit = VX__SVO_PTR_MAX;
     bool par = threads >= 2 && m->node_count >= vx__svo_parallel_words;
     unsigned lay = par ? (threads - 2 > 2 ? 2 : threads - 2) : 0;
-    {
-        const char* e = getenv("VX_SVO_WLAY"); /* exploring only */
-        if (e) lay = (unsigned)atoi(e);
-        if (getenv("VX_SVO_NOSPEC")) par = false;
-    }
     if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
         x.m = m;
         size_t need = 16;
@@ -1503,8 +1497,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             /* with threads to spare, the symbols are decoded ahead on one */
             sym_pipe* q = NULL;
             bool piped = false;
-            const char* pe = getenv("VX_SVO_PIPE"); /* exploring only */
-            if (lay && m->node_count >= vx__svo_parallel_words && (!pe || atoi(pe)) && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) {
+            if (lay && m->node_count >= vx__svo_parallel_words && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) {
                 q->k = k;
                 q->A = A;
                 q->depth = m->depth;
@@ -1853,8 +1846,6 @@ typedef struct unpack_jobs {
  * thread; docs/PERFORMANCE.md, ".svo I/O, eighth step"). */
 static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned cpus) {
     (void)s;
-    const char* e = getenv("VX_SVO_LAY"); /* exploring only */
-    if (e) return (unsigned)atoi(e);
     return cpus > threads ? 2 : 0;
 }
 
