@@ -2111,7 +2111,31 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     }
     if (u.max_words == 0)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a tree declared with 0 words");
-    if (!unp_visit(&u, d->depth, &b.root)) goto fail;
+    /* The layout follows the decoding on other threads (as it follows the
+     * build): the pool is allocated once at its bound, at most max_words
+     * nodes (each new non-root node is one of the declared words) of at most
+     * N_KIDS + 8 words; untouched pages cost no memory. Where it cannot be
+     * had, the layout runs after the decoding as before: same result. */
+    lay_job lj, lj2;
+    lj.started = lj2.started = false;
+    if (d->layout_threads && u.max_words >= vx__svo_parallel_words) {
+        uint64_t words = (uint64_t)(N_KIDS + 8) * u.max_words + 16;
+        if (words > 0xFFFFFFF0u) words = 0xFFFFFFF0u;
+        b.pool = (uint32_t*)vx_alloc(b.a, (size_t)words * sizeof *b.pool);
+        if (b.pool) {
+            b.cappool = (size_t)words;
+            bool two = d->layout_threads >= 2 && b.attrs && b.dag;
+            if (!(two ? lay_run2(&lj, &lj2, &b, &o) : lay_run(&lj, &b, &o))) {
+                vx_free(b.a, b.pool);
+                b.pool = NULL;
+                b.cappool = 0;
+            }
+        }
+    }
+    bool visited = unp_visit(&u, d->depth, &b.root);
+    lay_join(&lj, &b, visited); /* the runs stage first: the blocks stage follows it */
+    lay_join(&lj2, &b, visited);
+    if (!visited || b.fail != VX_OK) goto fail;
     b.have_root = true;
     b.root_is_leaf = false;
     if (!finish_model(&b, &o, &m, false)) goto fail;

@@ -112,6 +112,11 @@ typedef struct vx__svo_unpack_desc {
     uint32_t limit;        /* largest near pointer, 1..VX__SVO_PTR_MAX */
     uint64_t max_words;    /* declared node_count: the symbols may not describe more */
     const vx_allocator* alloc;
+    /* Threads the layout may follow the decoding on (0: none, it runs
+     * afterwards; 1: one; 2: the records' runs and the blocks apart), for
+     * models of at least vx__svo_parallel_words words; the result never
+     * depends on it. */
+    unsigned layout_threads;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by

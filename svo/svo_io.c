@@ -1505,7 +1505,7 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
     int mode = !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     info->chunk_tagged = mode == VX__CHUNK_ZSTD;
-    if (!vx__svo_pack_model(m, a, mode, info->chunked ? vx__svo_cpus(desc ? desc->threads : 0) : 1, &b)) {
+    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

@@ -11,10 +11,12 @@
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 #include <zlib.h>
 #include <zstd.h>
 #ifdef VX_HAVE_LIBDEFLATE
@@ -90,10 +92,13 @@ static uint8_t next_byte(pk* k) {
     return 0;
 }
 
-/* Codes bit b (encoder) or returns the decoded bit (decoder; b ignored). */
-static unsigned bit(pk* k, prob* p, unsigned b) {
+/* Codes bit b (encoder) or returns the decoded bit (decoder; b ignored).
+ * The coder's functions take `enc` as a constant and are inlined into one
+ * encoder and one decoder per symbol (sym), which choose once per symbol, not
+ * once per bit: the decoder spent a third of a read in bit(). */
+static inline __attribute__((always_inline)) unsigned bit_x(pk* k, prob* p, unsigned b, const bool enc) {
     uint32_t bound = (k->range >> 11) * *p;
-    if (k->enc) {
+    if (enc) {
         if (!b) {
             k->range = bound;
             *p = (prob)(*p + ((2048u - *p) >> 5));
@@ -125,16 +130,17 @@ static unsigned bit(pk* k, prob* p, unsigned b) {
     return b;
 }
 
-static uint32_t tree8(pk* k, prob* t, uint32_t v) {
+static inline __attribute__((always_inline)) uint32_t tree8_x(pk* k, prob* t, uint32_t v, const bool enc) {
     unsigned m = 1;
-    for (int i = 7; i >= 0; i--) m = (m << 1) | bit(k, &t[m], (v >> i) & 1u);
+    for (int i = 7; i >= 0; i--) m = (m << 1) | bit_x(k, &t[m], (v >> i) & 1u, enc);
     return m - 256;
 }
 static uint32_t plain_bits(pk* k, unsigned nb, uint32_t v) {
+    const bool enc = k->enc;
     uint32_t out = 0;
     for (int i = (int)nb - 1; i >= 0; i--) {
         prob p = PROB_INIT;
-        out = (out << 1) | bit(k, &p, (v >> i) & 1u);
+        out = (out << 1) | bit_x(k, &p, (v >> i) & 1u, enc);
     }
     return out;
 }
@@ -143,8 +149,8 @@ static uint32_t plain_bits(pk* k, unsigned nb, uint32_t v) {
  * gain much (texture colours shrank by a few percent) while coding them bit
  * by bit was most of the writer's time; their differing values are stored
  * as plain bytes in the model's side stream. */
-static uint32_t raw_u32(pk* k, uint32_t v) {
-    if (k->enc) {
+static inline __attribute__((always_inline)) uint32_t raw_u32_x(pk* k, uint32_t v, const bool enc) {
+    if (enc) {
         uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
         vx_buf_append(k->side, b, 4);
         return v;
@@ -163,39 +169,39 @@ static unsigned level_class(unsigned level) { return level >= 4 ? 3 : level - 1;
 static const unsigned CH_BYTES[5] = {1, 4, 4, 2, 4};
 
 /* One symbol (FORMAT.md 3.4): codes *v or decodes into it. */
-static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+static inline __attribute__((always_inline)) void sym_x(pk* k, unsigned kind, unsigned ctx, uint32_t* v, const bool enc) {
     switch (kind) {
-    case VX__SYM_VALID: *v = tree8(k, k->valid[level_class(ctx)], *v); break;
+    case VX__SYM_VALID: *v = tree8_x(k, k->valid[level_class(ctx)], *v, enc); break;
     case VX__SYM_LEAF: {
         unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
         uint32_t out = 0;
         for (unsigned o = 0; o < 8; o++)
-            if (valid >> o & 1u) out |= bit(k, &k->leaf[lc][o], (*v >> o) & 1u) << o;
+            if (valid >> o & 1u) out |= bit_x(k, &k->leaf[lc][o], (*v >> o) & 1u, enc) << o;
         *v = out;
         break;
     }
     case VX__SYM_REF: {
         uint32_t r = *v;
-        if (!bit(k, &k->ref[level_class(ctx)], r != 0)) {
+        if (!bit_x(k, &k->ref[level_class(ctx)], r != 0, enc)) {
             *v = 0;
             break;
         }
-        unsigned want = k->enc ? 32u - (unsigned)__builtin_clz(r) : 0, nb = 1;
-        while (nb < 32 && bit(k, &k->dlen[nb], nb < want)) nb++;
+        unsigned want = enc ? 32u - (unsigned)__builtin_clz(r) : 0, nb = 1;
+        while (nb < 32 && bit_x(k, &k->dlen[nb], nb < want, enc)) nb++;
         uint32_t out = 1;
-        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | bit(k, &k->dbit[j], (r >> j) & 1u);
+        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | bit_x(k, &k->dbit[j], (r >> j) & 1u, enc);
         *v = out;
         break;
     }
     default: { /* VALUE: ctx is the channel */
         unsigned c = ctx;
-        unsigned same = bit(k, &k->eq[c][k->preveq[c]], *v == k->prev[c]);
+        unsigned same = bit_x(k, &k->eq[c][k->preveq[c]], *v == k->prev[c], enc);
         uint32_t out = k->prev[c];
         if (!same && CH_BYTES[c] == 4) {
-            out = raw_u32(k, *v);
+            out = raw_u32_x(k, *v, enc);
         } else if (!same) {
             out = 0;
-            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= tree8(k, k->val[c][j], (*v >> (8 * j)) & 0xFFu) << (8 * j);
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= tree8_x(k, k->val[c][j], (*v >> (8 * j)) & 0xFFu, enc) << (8 * j);
         }
         k->preveq[c] = same;
         k->prev[c] = out;
@@ -204,9 +210,18 @@ static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
     }
 }
 
+static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, true); }
+static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, false); }
+static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    if (k->enc) sym_enc(k, kind, ctx, v);
+    else sym_dec(k, kind, ctx, v);
+}
+static unsigned bit(pk* k, prob* p, unsigned b) { return k->enc ? bit_x(k, p, b, true) : bit_x(k, p, b, false); }
+
 static uint32_t word_sym(pk* k, uint32_t w) {
     uint32_t out = 0;
-    for (unsigned j = 0; j < 4; j++) out |= tree8(k, k->word[j], (w >> (8 * j)) & 0xFFu) << (8 * j);
+    for (unsigned j = 0; j < 4; j++)
+        out |= (k->enc ? tree8_x(k, k->word[j], (w >> (8 * j)) & 0xFFu, true) : tree8_x(k, k->word[j], 0, false)) << (8 * j);
     return out;
 }
 
@@ -229,8 +244,10 @@ typedef struct ext {
     const vx_svo_model* m;
     const vx_allocator* A;
     bool dag, oom;
-    uint32_t* v;
-    size_t n, cap;
+    uint32_t* v;     /* the symbols, with the kind and context the reader will ask each with */
+    uint8_t* kind;
+    uint32_t* ctx;
+    size_t n, cap, capk, capc;
     /* A completed node is known by (block, masks). The first node seen with
      * a block is kept in fb/fm, indexed by the block's word position (one
      * access, no probing: most of the writer's time went to the hash's cache
@@ -245,12 +262,16 @@ typedef struct ext {
     unsigned tries; /* try_struct calls so far */
 } ext;
 
-static void ext_push(ext* x, uint32_t v) {
+static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
     if (x->oom) return;
-    if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v)) {
+    if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v) ||
+        !vx_grow(x->A, (void**)&x->kind, &x->capk, x->n + 1, sizeof *x->kind) ||
+        !vx_grow(x->A, (void**)&x->ctx, &x->capc, x->n + 1, sizeof *x->ctx)) {
         x->oom = true;
         return;
     }
+    x->kind[x->n] = (uint8_t)kind;
+    x->ctx[x->n] = ctx;
     x->v[x->n++] = v;
 }
 
@@ -302,21 +323,21 @@ static void ext_add(ext* x, uint32_t i, uint32_t done) {
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
     const vx_svo_model* m = x->m;
     uint32_t d = m->nodes[i], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
-    ext_push(x, valid);
-    if (level > 1) ext_push(x, leaf);
+    ext_push(x, VX__SYM_VALID, level, valid);
+    if (level > 1) ext_push(x, VX__SYM_LEAF, level | valid << 8, leaf);
     uint32_t nn = vx__popc8(valid & ~leaf), b = block_of(m, i), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
     for (unsigned o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {
             for (unsigned c = 0; c < 5; c++)
-                if (m->attrs >> c & 1u) ext_push(x, rec_get(m, c, a + rank));
+                if (m->attrs >> c & 1u) ext_push(x, VX__SYM_VALUE, c, rec_get(m, c, a + rank));
         } else {
             uint32_t ci = b + k++;
             uint32_t done = x->dag ? ext_find(x, ci) : UINT32_MAX;
             if (done != UINT32_MAX) {
-                ext_push(x, x->ndone - done);
+                ext_push(x, VX__SYM_REF, level, x->ndone - done);
             } else {
-                ext_push(x, 0);
+                ext_push(x, VX__SYM_REF, level, 0);
                 ext_visit(x, ci, level - 1);
             }
         }
@@ -326,19 +347,20 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
     x->ndone++;
 }
 
-/* Symbols from an array (the writer's check); records kind and context of
- * each so that the encoder codes them exactly as the reader will ask. */
+/* Symbols from an array (the writer's check). The encoder codes each with
+ * the kind and context the writer's walk gave it (possibly while the check
+ * runs), so the check requires the reader to ask for exactly those. */
 typedef struct arr_src {
     const uint32_t* v;
     size_t n, pos;
-    uint8_t* kind;
-    uint32_t* ctx;
+    const uint8_t* kind;
+    const uint32_t* ctx;
 } arr_src;
 static bool arr_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
     arr_src* s = (arr_src*)user;
     if (s->pos >= s->n) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo pack: symbols exhausted"), false;
-    s->kind[s->pos] = (uint8_t)kind;
-    s->ctx[s->pos] = ctx;
+    if (s->kind[s->pos] != kind || s->ctx[s->pos] != ctx)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo pack: symbol %zu asked as another kind", s->pos), false;
     *v = s->v[s->pos++];
     return true;
 }
@@ -354,10 +376,76 @@ static bool model_same(const vx_svo_model* a, const vx_svo_model* b) {
     return true;
 }
 
+/* The model's coded bytes (FORMAT.md 3.4): the form bits, then the
+ * structural symbols of src or the raw words and records; k fresh. */
+static void code_stream(pk* k, const vx_svo_model* m, bool structural, bool dag, uint32_t limit, const arr_src* src) {
+    bit(k, &k->form[0], structural);
+    if (structural) {
+        bit(k, &k->form[1], dag);
+        if (bit(k, &k->form[2], limit != VX__SVO_PTR_MAX)) plain_bits(k, 15, limit);
+        for (size_t i = 0; i < src->n; i++) {
+            uint32_t v = src->v[i];
+            sym_enc(k, src->kind[i], src->ctx[i], &v);
+        }
+    } else {
+        for (uint32_t i = 0; i < m->node_count; i++) word_sym(k, m->nodes[i]);
+        for (uint32_t r = 0; r < m->attr_count; r++)
+            for (unsigned c = 0; c < 5; c++)
+                if (m->attrs >> c & 1u) {
+                    uint32_t v = rec_get(m, c, r);
+                    sym(k, VX__SYM_VALUE, c, &v);
+                }
+    }
+    for (int i = 0; i < 5; i++) shift_low(k);
+}
+
+/* A coder with its own output and side buffers. */
+typedef struct coder {
+    pk* k;
+    vx_buf coded, side;
+    /* the structural stream coded on another thread while the writer's
+     * check runs (its result is used only when the check passes) */
+    const vx_svo_model* m;
+    const arr_src* src;
+    bool dag;
+    uint32_t limit;
+    pthread_t th;
+    bool started;
+} coder;
+
+static bool coder_init(coder* c, const vx_allocator* A) {
+    memset(c, 0, sizeof *c);
+    c->k = (pk*)vx_calloc(A, 1, sizeof *c->k);
+    if (!c->k) return false;
+    c->coded.alloc = c->side.alloc = A;
+    pk_init_models(c->k);
+    c->k->enc = true;
+    c->k->out = &c->coded;
+    c->k->side = &c->side;
+    c->k->range = 0xFFFFFFFFu;
+    c->k->cache_size = 1;
+    return true;
+}
+static void coder_free(coder* c, const vx_allocator* A) {
+    vx_buf_free(&c->coded);
+    vx_buf_free(&c->side);
+    vx_free(A, c->k);
+    c->k = NULL;
+}
+static void* coder_main(void* arg) {
+    coder* c = (coder*)arg;
+    code_stream(c->k, c->m, true, c->dag, c->limit, c->src);
+    return NULL;
+}
+
 /* Tries the structural form with one (dag, limit) setting; on success the
  * symbols with their kinds and contexts are left in x / src. An allocation
  * failure returns false with x->oom set. */
-static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, uint32_t limit, ext* x, arr_src* src) {
+/* spec: when given, the symbols are coded on another thread while the check
+ * runs (started only; the caller joins spec->th when spec->started). lay:
+ * the check's layout threads (vx__svo_unpack_desc.layout_threads). */
+static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, uint32_t limit, ext* x, arr_src* src,
+                       coder* spec, unsigned lay) {
     x->n = 0;
     x->ndone = 0;
     x->dag = dag;
@@ -370,16 +458,21 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     }
     ext_visit(x, m->root, m->depth);
     if (x->oom) return false;
-    vx_free(A, src->kind);
-    vx_free(A, src->ctx);
-    src->kind = (uint8_t*)vx_alloc(A, x->n ? x->n : 1);
-    src->ctx = (uint32_t*)vx_calloc(A, x->n ? x->n : 1, sizeof *src->ctx);
-    if (!src->kind || !src->ctx) return x->oom = true, false;
     src->v = x->v;
+    src->kind = x->kind;
+    src->ctx = x->ctx;
     src->n = x->n;
     src->pos = 0;
+    if (spec && coder_init(spec, A)) {
+        spec->m = m;
+        spec->src = src;
+        spec->dag = dag;
+        spec->limit = limit;
+        spec->started = pthread_create(&spec->th, NULL, coder_main, spec) == 0;
+    }
     vx__svo_src s = {arr_next, src};
-    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
+    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                              .layout_threads = lay};
     vx_svo_model r;
     memset(&r, 0, sizeof r);
     r.attrs = m->attrs;
@@ -927,19 +1020,17 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
 /* Codes one model into its own stream: the chunked form when `chunked`
  * (VX__CHUNK_ZSTD: tagged chunks, VX__CHUNK_DEFLATE: level 1,
  * VX__CHUNK_STORED: stored blocks; on up to
- * `threads` threads), else the structural or raw form. */
+ * `threads` threads), else the structural or raw form; there, with
+ * `threads` >= 2 and a model of at least vx__svo_parallel_words words, the
+ * symbols of the first setting tried are coded on a second thread while the
+ * check rebuilds the model, whose layout follows its decoding on the
+ * threads left. The bytes never depend on `threads`. */
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
     if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
-    pk* k = (pk*)vx_calloc(A, 1, sizeof *k);
-    if (!k) return false;
-    vx_buf coded = {0}, side = {0};
-    coded.alloc = side.alloc = A;
-    pk_init_models(k);
-    k->enc = true;
-    k->out = &coded;
-    k->side = &side;
-    k->range = 0xFFFFFFFFu;
-    k->cache_size = 1;
+    coder cd, spec;
+    bool spec_ok = false;
+    memset(&spec, 0, sizeof spec);
+    if (!coder_init(&cd, A)) return false;
     bool ok = true;
     ext x;
     memset(&x, 0, sizeof x);
@@ -948,6 +1039,8 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
     memset(&src, 0, sizeof src);
     bool structural = false, dag = false;
     uint32_t limit = VX__SVO_PTR_MAX;
+    bool par = threads >= 2 && m->node_count >= vx__svo_parallel_words;
+    unsigned lay = par ? (threads - 2 > 2 ? 2 : threads - 2) : 0;
     if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
         x.m = m;
         size_t need = 16;
@@ -964,55 +1057,44 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-            structural = try_struct(m, A, dag, limit, &x, &src);
+            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par ? &spec : NULL, lay);
+            if (spec.started) {
+                pthread_join(spec.th, NULL);
+                spec.started = false;
+                spec_ok = structural && !spec.coded.failed && !spec.side.failed;
+            }
             /* out of memory is an error, not "this form does not fit": falling
              * back to the raw form would give other bytes for the same scene */
             if (x.oom) ok = false;
         }
     }
+    coder* use = &cd;
+    if (ok && spec_ok) use = &spec;
+    else if (ok) code_stream(cd.k, m, structural, dag, limit, &src);
     if (ok) {
-        bit(k, &k->form[0], structural);
-        if (structural) {
-            bit(k, &k->form[1], dag);
-            if (bit(k, &k->form[2], limit != VX__SVO_PTR_MAX)) plain_bits(k, 15, limit);
-            for (size_t i = 0; i < src.n; i++) {
-                uint32_t v = src.v[i];
-                sym(k, src.kind[i], src.ctx[i], &v);
-            }
-        } else {
-            for (uint32_t i = 0; i < m->node_count; i++) word_sym(k, m->nodes[i]);
-            for (uint32_t r = 0; r < m->attr_count; r++)
-                for (unsigned c = 0; c < 5; c++)
-                    if (m->attrs >> c & 1u) {
-                        uint32_t v = rec_get(m, c, r);
-                        sym(k, VX__SYM_VALUE, c, &v);
-                    }
-        }
-        for (int i = 0; i < 5; i++) shift_low(k);
         /* the model's stream: side length, [deflated side length, deflated
          * side bytes], coded bytes. Deflate level 1: most of zlib's gain on
          * colour data at a small fraction of the range coder's time. */
-        ok = put_var(out, side.size);
-        if (ok && side.size) {
-            uLongf zn = compressBound((uLong)side.size);
-            uint8_t* z = side.size == (uLong)side.size ? (uint8_t*)vx_alloc(A, zn) : NULL;
-            ok = z && compress2(z, &zn, side.data, (uLong)side.size, 1) == Z_OK && put_var(out, zn) &&
+        ok = put_var(out, use->side.size);
+        if (ok && use->side.size) {
+            uLongf zn = compressBound((uLong)use->side.size);
+            uint8_t* z = use->side.size == (uLong)use->side.size ? (uint8_t*)vx_alloc(A, zn) : NULL;
+            ok = z && compress2(z, &zn, use->side.data, (uLong)use->side.size, 1) == Z_OK && put_var(out, zn) &&
                  vx_buf_append(out, z, zn);
             vx_free(A, z);
         }
-        ok = ok && vx_buf_append(out, coded.data, coded.size);
+        ok = ok && vx_buf_append(out, use->coded.data, use->coded.size);
     }
-    ok = ok && !coded.failed && !side.failed;
-    vx_buf_free(&coded);
-    vx_buf_free(&side);
+    ok = ok && !use->coded.failed && !use->side.failed;
+    coder_free(&cd, A);
+    if (spec.k) coder_free(&spec, A);
     vx_free(A, x.v);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
     vx_free(A, x.fb);
     vx_free(A, x.fm);
-    vx_free(A, src.kind);
-    vx_free(A, src.ctx);
-    vx_free(A, k);
+    vx_free(A, x.kind);
+    vx_free(A, x.ctx);
     return ok && !out->failed;
 }
 
@@ -1040,10 +1122,10 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, 1, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1064,7 +1146,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
-                  : !pack_one(out, &s->models[mi], A, sink))
+                  : !pack_one(out, &s->models[mi], A, cpus, sink))
                 return false;
             if (!n) n = 1;
         }
@@ -1143,7 +1225,116 @@ static bool rc_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_err
                false;
     }
     *v = 0;
-    sym(s->k, kind, ctx, v);
+    sym_dec(s->k, kind, ctx, v);
+    return true;
+}
+
+/* The structural symbols decoded on a thread of their own ahead of the
+ * reconstruction (vx__svo_unpack, whose layout follows it in turn): the
+ * range decoder walks the grammar of FORMAT.md 3.4 by itself (it needs only
+ * the masks, the references and the declared word count) and hands the
+ * values over in blocks, so that decoding, building the pool and laying it
+ * out run at once. It asks for exactly the symbols the reconstruction asks
+ * for and stops where that would stop (a zero mask, more descriptors than
+ * declared words, a reference past the completed nodes, the stream used up),
+ * after the same symbol, so the errors and the decoder's position are the
+ * one-thread ones. */
+enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096 };
+typedef struct sym_pipe {
+    pk* k;
+    const vx_allocator* A;
+    uint32_t depth, attrs;
+    uint64_t max_words;
+    uint32_t** blocks; /* allocated at the bound (never moved); each block freed by the consumer past it */
+    size_t nblocks;
+    _Atomic size_t pub; /* symbols published */
+    atomic_bool done;   /* the producer has stopped (pub is final) */
+    atomic_bool stop;   /* the consumer has stopped: the producer may quit */
+    bool truncated;     /* the producer stopped where the stream ran out (set before done) */
+    bool nomem;
+    size_t n;           /* producer: symbols written */
+    uint64_t words, ndone;
+    size_t pos;         /* consumer: symbols taken */
+    uint64_t base;
+    pthread_t th;
+} sym_pipe;
+
+static bool pipe_emit(sym_pipe* q, uint32_t v) {
+    size_t b = q->n / PIPE_BLOCK;
+    if (q->n % PIPE_BLOCK == 0) {
+        if (b >= q->nblocks || !(q->blocks[b] = (uint32_t*)vx_alloc(q->A, PIPE_BLOCK * sizeof(uint32_t)))) return q->nomem = true, false;
+    }
+    q->blocks[b][q->n % PIPE_BLOCK] = v;
+    if (++q->n % PIPE_PUBLISH == 0) {
+        atomic_store_explicit(&q->pub, q->n, memory_order_release);
+        if (atomic_load_explicit(&q->stop, memory_order_relaxed)) return false;
+    }
+    return true;
+}
+
+/* Decodes one symbol into the pipe; false where the one-thread reader
+ * would stop before it (the stream used up) or the pipe cannot take it. */
+static bool pipe_sym(sym_pipe* q, unsigned kind, unsigned ctx, uint32_t* v) {
+    if (q->k->over) return q->truncated = true, false;
+    *v = 0;
+    sym_dec(q->k, kind, ctx, v);
+    return pipe_emit(q, *v);
+}
+
+static bool pipe_walk(sym_pipe* q, unsigned level) {
+    uint32_t valid, leaf, ref, v;
+    if (!pipe_sym(q, VX__SYM_VALID, level, &valid) || valid == 0) return false;
+    if (level == 1) leaf = valid;
+    else if (!pipe_sym(q, VX__SYM_LEAF, level | valid << 8, &leaf)) return false;
+    for (unsigned o = 0; o < 8; o++) {
+        if (!(valid >> o & 1u)) continue;
+        if (leaf >> o & 1u) {
+            for (unsigned c = 0; c < 5; c++)
+                if (q->attrs >> c & 1u && !pipe_sym(q, VX__SYM_VALUE, c, &v)) return false;
+        } else {
+            if (++q->words >= q->max_words) return false;
+            if (!pipe_sym(q, VX__SYM_REF, level, &ref)) return false;
+            if (ref == 0 ? !pipe_walk(q, level - 1) : ref > q->ndone) return false;
+        }
+    }
+    q->ndone++;
+    return true;
+}
+
+static void* pipe_main(void* arg) {
+    sym_pipe* q = (sym_pipe*)arg;
+    pipe_walk(q, q->depth);
+    atomic_store_explicit(&q->pub, q->n, memory_order_release);
+    atomic_store_explicit(&q->done, true, memory_order_release);
+    return NULL;
+}
+
+static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
+    (void)kind, (void)ctx;
+    sym_pipe* q = (sym_pipe*)user;
+    for (;;) {
+        size_t pub = atomic_load_explicit(&q->pub, memory_order_acquire);
+        if (q->pos < pub) break;
+        if (atomic_load_explicit(&q->done, memory_order_acquire)) {
+            if (q->pos < atomic_load_explicit(&q->pub, memory_order_acquire)) break;
+            if (q->truncated) {
+                uint64_t at = q->base + q->k->n;
+                return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section NODE at byte %llu: the coded stream ends before the trees do",
+                               (unsigned long long)at),
+                       false;
+            }
+            return vx_fail(err, q->nomem ? VX_ERR_NOMEM : VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                           q->nomem ? "svo: out of memory" : "svo: section NODE: the coded symbols end early"),
+                   false;
+        }
+        nanosleep(&(struct timespec){0, 20000}, NULL); /* the decoder publishes every few thousand symbols */
+    }
+    size_t b = q->pos / PIPE_BLOCK;
+    *v = q->blocks[b][q->pos % PIPE_BLOCK];
+    if (++q->pos % PIPE_BLOCK == 0) {
+        vx_free(q->A, q->blocks[b]);
+        q->blocks[b] = NULL;
+    }
     return true;
 }
 
@@ -1214,11 +1405,11 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, vx_error* err);
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err);
 
 /* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
 static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                              vx_error* err) {
+                              unsigned lay, vx_error* err) {
     /* side bytes first: their length, then (if any) the deflated length and
      * the deflated bytes. Both lengths are checked before anything is
      * allocated: the side holds at most 4 bytes per declared record and
@@ -1260,13 +1451,13 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     p += hdr + (size_t)z_n;
     base += hdr + z_n;
     n -= hdr + (size_t)z_n;
-    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, err);
+    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, err);
     vx_free(A, side);
     return r;
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, vx_error* err) {
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err) {
     uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
     if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
@@ -1301,8 +1492,39 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             vx_svo_model want = *m;
             rc_src rs = {k, base};
             vx__svo_src src = {rc_next, &rs};
-            vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A};
+            vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                                      .layout_threads = lay};
+            /* with threads to spare, the symbols are decoded ahead on one */
+            sym_pipe* q = NULL;
+            bool piped = false;
+            if (lay && m->node_count >= vx__svo_parallel_words && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) {
+                q->k = k;
+                q->A = A;
+                q->depth = m->depth;
+                q->attrs = m->attrs;
+                q->max_words = m->node_count;
+                q->base = base;
+                q->nblocks = (size_t)((26u * ((uint64_t)m->node_count + 1)) / PIPE_BLOCK + 2);
+                q->blocks = (uint32_t**)vx_calloc(A, q->nblocks, sizeof *q->blocks);
+                atomic_init(&q->pub, 0);
+                atomic_init(&q->done, false);
+                atomic_init(&q->stop, false);
+                piped = q->blocks && pthread_create(&q->th, NULL, pipe_main, q) == 0;
+                if (piped) {
+                    src.next = pipe_next;
+                    src.user = q;
+                }
+            }
             r = vx__svo_unpack(&ud, &src, m, err);
+            if (piped) {
+                atomic_store_explicit(&q->stop, true, memory_order_relaxed);
+                pthread_join(q->th, NULL);
+            }
+            if (q) {
+                for (size_t i = 0; q->blocks && i < q->nblocks; i++) vx_free(A, q->blocks[i]);
+                vx_free(A, q->blocks);
+                vx_free(A, q);
+            }
             if (r != VX_OK) {
                 if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
                 if (err) err->code = r;
@@ -1612,13 +1834,26 @@ typedef struct unpack_jobs {
     vx_result* res;
     vx_error* errs;
     const uint8_t* chunked; /* per model, or NULL */
+    unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
 } unpack_jobs;
+
+/* Threads the layout of each structural model may follow its decoding on,
+ * 0 when the models decoding on `threads` of `cpus` leave no core: with a
+ * core to spare, the symbols are decoded on one thread, the pool built on
+ * the caller's and the layout's two stages follow on two more. Four threads
+ * on two cores beat fewer (H200 host, two cores, the 100 M-voxel terrain:
+ * 5.13 s against 5.41 with one layout thread, 6.09 without the decoding
+ * thread; docs/PERFORMANCE.md, ".svo I/O, eighth step"). */
+static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned cpus) {
+    (void)s;
+    return cpus > threads ? 2 : 0;
+}
 
 static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, &j->errs[i]);
+    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
@@ -1675,17 +1910,17 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     if (r == VX_OK && pos != n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
     if (r == VX_OK) {
-        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
+        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
-                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, err);
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);

@@ -358,6 +358,124 @@ static void test_parallel_models(void) {
     vx_svo_scene_free(&s);
 }
 
+/* One large model has its layout follow the decoding on other threads, and
+ * the writer codes its symbols while its check rebuilds the model (forced on
+ * here by lowering the threshold): the bytes and the models read must be
+ * those of one thread, for every channel set, with and without the DAG and
+ * far slots, and a damaged stream must give the same result (code and
+ * message) on one thread and on several. */
+static void test_layout_threads(void) {
+    const uint32_t attrs[] = {0, VX_ATTR_PALETTE, VX_ATTR_RGBA8, VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL};
+    uint64_t saved = vx__svo_parallel_words;
+    uint32_t saved_far = vx__svo_far_limit;
+    int flips_rejected = 0, flips = 0;
+    for (size_t a = 0; a < sizeof attrs / sizeof attrs[0]; a++)
+        for (int opt = 0; opt < 6; opt++) {
+            vx__svo_far_limit = opt >= 4 ? 5 : saved_far;
+            vx_svo_scene s;
+            one_model_scene(&s);
+            REQUIRE(build(&s.models[0], 60 + (uint32_t)a * 5, attrs[a], true, (opt & 1) != 0, (opt & 2) != 0 && attrs[a] != 0));
+            vx_svo_scene_update_bounds(&s);
+            vx_error e;
+            uint8_t* one = NULL;
+            size_t n1 = 0;
+            vx__svo_parallel_words = saved;
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1}, &s, &one, &n1, &e) == VX_OK);
+            vx__svo_parallel_words = 0;
+            for (unsigned t = 2; t <= 4; t++) {
+                uint8_t* d = NULL;
+                size_t n = 0;
+                REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t}, &s, &d, &n, &e) == VX_OK);
+                CHECKF(n == n1 && !memcmp(d, one, n1), "attrs 0x%x opt %d, %u threads: other bytes", attrs[a], opt, t);
+                vx_svo_scene r;
+                vx_result rr = vx_svo_read(&(vx_svo_read_desc){.threads = t}, one, n1, &r, &e);
+                CHECKF(rr == VX_OK, "attrs 0x%x opt %d, %u threads: %s", attrs[a], opt, t, e.msg);
+                if (rr == VX_OK) {
+                    CHECKF(same_model(&s.models[0], &r.models[0]), "attrs 0x%x opt %d, %u threads: model differs", attrs[a], opt, t);
+                    vx_svo_scene_free(&r);
+                }
+                free(d);
+            }
+            /* bit flips in NODE (checksums skipped): one thread and three agree */
+            vx_svo_file_info fi;
+            REQUIRE(vx_svo_probe(one, n1, &fi, &e) == VX_OK);
+            uint64_t at = 0, sz = 0;
+            for (uint32_t i = 0; i < fi.section_count; i++)
+                if (!strcmp(fi.sections[i].tag, "NODE")) at = fi.sections[i].offset, sz = fi.sections[i].size;
+            REQUIRE(sz > 8);
+            uint8_t* bad = (uint8_t*)malloc(n1);
+            for (int i = 0; i < 12; i++) {
+                memcpy(bad, one, n1);
+                bad[at + 2 + rnd() % (sz - 2)] ^= (uint8_t)(1u << (rnd() % 8));
+                vx_svo_scene r1, r3;
+                vx_error e1, e3;
+                memset(&e1, 0, sizeof e1);
+                memset(&e3, 0, sizeof e3);
+                vx_result a1 = vx_svo_read(&(vx_svo_read_desc){.threads = 1, .skip_checksums = true}, bad, n1, &r1, &e1);
+                vx_result a3 = vx_svo_read(&(vx_svo_read_desc){.threads = 3, .skip_checksums = true}, bad, n1, &r3, &e3);
+                flips++;
+                CHECKF(a1 == a3, "flip %d: %d vs %d", i, (int)a1, (int)a3);
+                if (a1 != VX_OK && a3 != VX_OK) {
+                    flips_rejected++;
+                    CHECKF(!strcmp(e1.msg, e3.msg), "flip %d: '%s' vs '%s'", i, e1.msg, e3.msg);
+                }
+                if (a1 == VX_OK && a3 == VX_OK) CHECK(same_model(&r1.models[0], &r3.models[0]));
+                if (a1 == VX_OK) vx_svo_scene_free(&r1);
+                if (a3 == VX_OK) vx_svo_scene_free(&r3);
+            }
+            free(bad);
+            /* the stream cut short or with bytes after it (the stream length
+             * adjusted: NODE's first varint): the same result on 1 and 3 threads */
+            vx_svo_scene t;
+            vx_svo_scene_init(&t, NULL);
+            t.model_count = 1;
+            t.models = (vx_svo_model*)calloc(1, sizeof *t.models);
+            uint8_t* buf = (uint8_t*)malloc(sz + 16);
+            for (int cut = -6; cut <= 2; cut++) {
+                if (cut == 0) continue;
+                size_t hdr = 0;
+                uint64_t len = 0;
+                for (unsigned sh = 0;; sh += 7) {
+                    uint8_t c = one[at + hdr++];
+                    len |= (uint64_t)(c & 0x7Fu) << sh;
+                    if (!(c & 0x80u)) break;
+                }
+                uint64_t nl = len + (uint64_t)(int64_t)cut;
+                size_t w = 0;
+                do {
+                    buf[w] = (uint8_t)(nl & 0x7Fu);
+                    nl >>= 7;
+                    if (nl) buf[w] |= 0x80u;
+                    w++;
+                } while (nl);
+                size_t body = (size_t)(cut < 0 ? len - (uint64_t)(-cut) : len);
+                memcpy(buf + w, one + at + hdr, body);
+                for (int j = 0; j < cut; j++) buf[w + body + (size_t)j] = (uint8_t)(0x11 * (j + 1));
+                size_t total = w + body + (size_t)(cut > 0 ? cut : 0);
+                vx_result res[2];
+                char msg[2][sizeof e.msg];
+                for (int th = 0; th < 2; th++) {
+                    vx_svo_model* mm = &t.models[0];
+                    vx_svo_model_free(NULL, mm);
+                    *mm = s.models[0];
+                    mm->nodes = NULL, mm->palette = NULL, mm->rgba = NULL, mm->material = NULL;
+                    memset(&e, 0, sizeof e);
+                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, NULL, &e);
+                    snprintf(msg[th], sizeof msg[th], "%s", e.msg);
+                }
+                CHECKF(res[0] != VX_OK && res[0] == res[1] && !strcmp(msg[0], msg[1]), "attrs 0x%x opt %d cut %d: %d '%s' vs %d '%s'",
+                       attrs[a], opt, cut, (int)res[0], msg[0], (int)res[1], msg[1]);
+            }
+            free(buf);
+            vx_svo_scene_free(&t);
+            free(one);
+            vx_svo_scene_free(&s);
+        }
+    CHECK(flips_rejected > 0 && flips_rejected <= flips);
+    vx__svo_parallel_words = saved;
+    vx__svo_far_limit = saved_far;
+}
+
 int main(void) {
     RUN(test_structural_round_trip);
     RUN(test_far_pointers);
@@ -365,5 +483,6 @@ int main(void) {
     RUN(test_bad_symbols);
     RUN(test_corrupt_stream);
     RUN(test_parallel_models);
+    RUN(test_layout_threads);
     return vx_test_finish();
 }
