@@ -492,6 +492,7 @@ typedef struct gbake {
     bslot slot[2];
     flayout lay;
     uint32_t batch, chunk, nt, res;
+    uint64_t ts_first, ts_last; /* the run's first batch's start and the last waited batch's end (ticks) */
     double pipes;   /* seconds gbake_init spent making the filter and beam pipelines */
     double slots_s; /* seconds gbake_init spent making the two slots' buffers and sets */
 } gbake;
@@ -743,6 +744,14 @@ static vx_result gbake_wait(gbake* B, bslot* s, vx_probe_bake_stats* st, uint64_
         st->gpu_trace += (double)(ts[1] - ts[0]) * per;
         st->gpu_filter += (double)(ts[2] - ts[1]) * per;
         st->gpu_copy += (double)(ts[3] - ts[2]) * per;
+        /* each batch's GPU intervals for -v ("probe.batch"): where the GPU waited between batches */
+        if (!B->ts_first) B->ts_first = ts[0], B->ts_last = ts[0];
+        vx_log(g->logger, VX_LOG_INFO, "probe.batch",
+               "probes %u..%u: GPU from %.4f s: trace %.4f s, filter %.4f s, copy %.4f s; idle %.4f s before", s->at,
+               s->at + s->cnt, (double)(ts[0] - B->ts_first) * per, (double)(ts[1] - ts[0]) * per,
+               (double)(ts[2] - ts[1]) * per, (double)(ts[3] - ts[2]) * per,
+               ts[0] > B->ts_last ? (double)(ts[0] - B->ts_last) * per : 0.0);
+        B->ts_last = ts[3];
     }
     return VX_OK;
 }
@@ -782,6 +791,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     if (!ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double t1 = vx_time_now();
     uint32_t submitted = 0;
+    B.ts_first = 0;
     for (uint32_t i = 0; !r && i <= nbatch; i++) {
         if (i < nbatch) {
             bslot* s = &B.slot[i % 2];
