@@ -80,6 +80,7 @@ typedef struct gctx {
     vx__frame f;
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's (SPEC_*) */
+    uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
@@ -298,7 +299,8 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
-        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u);
+        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
+        (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
     /* the render passes' floats precise (probe.comp's PT_PRECISE: their images the same bits whatever the
      * kernel's variant), the bake's as they were (its .probes bytes) */
     bool bake = pmode == PMODE_BAKE;
@@ -1003,6 +1005,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     /* (not in the compact layout: probe_beam.comp reads the plain node words) */
     if (!r && !d.no_beam && !vx__render_scene_compact(rs)) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
     if (!r) b->c.strat = !d.independent_bounce;
+    /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
+    if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;
     if (!r) {
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);
