@@ -80,6 +80,7 @@ typedef struct gctx {
     vx__frame f;
     vx__buffer* scene[7];
     uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's (SPEC_*) */
+    uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
@@ -298,7 +299,8 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
-        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u);
+        pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
+        (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
     /* the render passes' floats precise (probe.comp's PT_PRECISE: their images the same bits whatever the
      * kernel's variant), the bake's as they were (its .probes bytes) */
     bool bake = pmode == PMODE_BAKE;
@@ -478,7 +480,8 @@ typedef struct bslot {
     VkFence fence;
     VkDescriptorSet trace_set, filter_set, beam_set;
     uint32_t at, cnt;
-    bool made; /* slot_init done */
+    uint32_t cap; /* probes its buffers hold */
+    bool made;    /* slot_init done */
 } bslot;
 
 typedef struct gbake {
@@ -492,6 +495,8 @@ typedef struct gbake {
     bslot slot[2];
     flayout lay;
     uint32_t batch, chunk, nt, res;
+    uint32_t first; /* probes of the first slot's buffers at first (the first batch; 0: batch) */
+    uint64_t ts_first, ts_last; /* the run's first batch's start and the last waited batch's end (ticks) */
     double pipes;   /* seconds gbake_init spent making the filter and beam pipelines */
     double slots_s; /* seconds gbake_init spent making the two slots' buffers and sets */
 } gbake;
@@ -510,6 +515,20 @@ static void gbake_free(gbake* B) {
     if (B->pool) vkDestroyCommandPool(g->device, B->pool, NULL); /* frees the command buffers */
 }
 
+/* The buffers of a slot whose last batch is stored, released on a thread while the GPU runs the bake's last
+ * batch: their memory (about 0.19 GB at 128 probes of R=128) no longer waits for the teardown after the loop.
+ * The command buffer, fence and descriptor sets stay: the pools go with the baker. */
+typedef struct slot_release {
+    vx_gpu* g;
+    vx__buffer b[7];
+} slot_release;
+
+static void* slot_release_main(void* arg) {
+    slot_release* a = arg;
+    for (int k = 0; k < 7; k++) vx__buffer_destroy(a->g, &a->b[k]);
+    return NULL;
+}
+
 static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx__buffer* const* bufs, uint32_t n) {
     VkDescriptorBufferInfo info[VX_GPU_MAX_BINDINGS];
     VkWriteDescriptorSet w[VX_GPU_MAX_BINDINGS];
@@ -524,15 +543,17 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, vx_
 /* Slot i's buffers, command buffer, fence and descriptor sets. The second slot is made after the first
  * batch is submitted (bake_gpu_filtered), while the GPU traces: 0.01 s of the 0.023 s the two took on an H200
  * (Cornell box, batches of 128 probes at R=128) off the time before the first batch. */
-static vx_result slot_init(gbake* B, int i, vx_error* err) {
+static void slot_write_sets(gbake* B, bslot* s);
+
+/* Slot s's buffers for cap probes (the sets written to them where the slot is made). */
+static vx_result slot_buffers(gbake* B, bslot* s, uint32_t cap, vx_error* err) {
     gctx* c = B->c;
     vx_gpu* g = c->g;
     const flayout* L = &B->lay;
-    uint64_t nt = B->nt, batch = B->batch;
+    uint64_t nt = B->nt, batch = cap;
     uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM], nblk = beam ? (B->res / beam) * (B->res / beam) : 1;
     vx_result r;
-    double ts = vx_time_now();
-    bslot* s = &B->slot[i];
+    s->cap = cap;
     if ((r = vx__buffer_create(g, sizeof(gpu_params), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "bake params",
                                &s->params, err)) ||
         (r = vx__buffer_create(g, 16 + batch * nt * 48, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe texels",
@@ -549,6 +570,17 @@ static vx_result slot_init(gbake* B, int i, vx_error* err) {
         return r;
     if (!s->params.map || !s->back.map)
         return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "no host-visible memory for the bake's parameters and results");
+    if (s->made) slot_write_sets(B, s);
+    return VX_OK;
+}
+
+/* Slot i's buffers for cap probes, command buffer, fence and descriptor sets. */
+static vx_result slot_init(gbake* B, int i, uint32_t cap, vx_error* err) {
+    vx_gpu* g = B->c->g;
+    double ts = vx_time_now();
+    bslot* s = &B->slot[i];
+    vx_result r = slot_buffers(B, s, cap, err);
+    if (r) return r;
     VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
                                       .commandPool = B->pool, .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
                                       .commandBufferCount = 1};
@@ -562,6 +594,15 @@ static vx_result slot_init(gbake* B, int i, vx_error* err) {
                                       .pSetLayouts = dsl};
     VX__VK(vkAllocateDescriptorSets(g->device, &si, sets), "vkAllocateDescriptorSets");
     s->trace_set = sets[0], s->filter_set = sets[1], s->beam_set = B->beam ? sets[2] : VK_NULL_HANDLE;
+    slot_write_sets(B, s);
+    s->made = true;
+    B->slots_s += vx_time_now() - ts;
+    return VX_OK;
+}
+
+static void slot_write_sets(gbake* B, bslot* s) {
+    gctx* c = B->c;
+    vx_gpu* g = c->g;
     vx__buffer* tb[NBIND];
     for (int k = 0; k < 7; k++) tb[k] = c->scene[k];
     tb[7] = &s->params, tb[8] = &c->emit, tb[9] = &c->probes, tb[10] = &s->out, tb[11] = B->beam ? &s->beam : &c->maps;
@@ -576,14 +617,23 @@ static vx_result slot_init(gbake* B, int i, vx_error* err) {
         bb[7] = bb[8] = bb[9] = &c->probes, bb[10] = &s->beam; /* 7, 8: unused */
         write_set(g, s->beam_set, B->beam, bb, 11);
     }
-    s->made = true;
-    B->slots_s += vx_time_now() - ts;
-    return VX_OK;
 }
 
-static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, vx_error* err) {
+/* Slot s's buffers again for cap probes (its last batch done and stored): the small first slot grown
+ * while the GPU runs the next batch. */
+static vx_result slot_grow(gbake* B, bslot* s, uint32_t cap, vx_error* err) {
+    double ts = vx_time_now();
+    vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back, &s->beam};
+    for (size_t k = 0; k < sizeof b / sizeof b[0]; k++) vx__buffer_destroy(B->c->g, b[k]);
+    vx_result r = slot_buffers(B, s, cap, err);
+    B->slots_s += vx_time_now() - ts;
+    return r;
+}
+
+static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, uint32_t first,
+                            vx_error* err) {
     vx_gpu* g = c->g;
-    B->c = c, B->ps = NULL /* the run's */, B->batch = batch, B->lay = layout_of(ps);
+    B->c = c, B->ps = NULL /* the run's */, B->batch = batch, B->first = first, B->lay = layout_of(ps);
     B->nt = ps->res * ps->res, B->res = ps->res;
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
     if (r) return r;
@@ -645,7 +695,7 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
                                     .queryType = VK_QUERY_TYPE_TIMESTAMP, .queryCount = 8};
         VX__VK(vkCreateQueryPool(g->device, &qi, NULL, &B->queries), "vkCreateQueryPool");
     }
-    return slot_init(B, 0, err);
+    return slot_init(B, 0, B->first && B->first < batch ? B->first : batch, err);
 }
 
 static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags sa, VkPipelineStageFlags dst,
@@ -743,6 +793,14 @@ static vx_result gbake_wait(gbake* B, bslot* s, vx_probe_bake_stats* st, uint64_
         st->gpu_trace += (double)(ts[1] - ts[0]) * per;
         st->gpu_filter += (double)(ts[2] - ts[1]) * per;
         st->gpu_copy += (double)(ts[3] - ts[2]) * per;
+        /* each batch's GPU intervals for -v ("probe.batch"): where the GPU waited between batches */
+        if (!B->ts_first) B->ts_first = ts[0], B->ts_last = ts[0];
+        vx_log(g->logger, VX_LOG_INFO, "probe.batch",
+               "probes %u..%u: GPU from %.4f s: trace %.4f s, filter %.4f s, copy %.4f s; idle %.4f s before", s->at,
+               s->at + s->cnt, (double)(ts[0] - B->ts_first) * per, (double)(ts[1] - ts[0]) * per,
+               (double)(ts[2] - ts[1]) * per, (double)(ts[3] - ts[2]) * per,
+               ts[0] > B->ts_last ? (double)(ts[0] - B->ts_last) * per : 0.0);
+        B->ts_last = ts[3];
     }
     return VX_OK;
 }
@@ -776,17 +834,33 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     vx_result r = VX_OK;
     /* full batches, then the last quarter batch on its own: what is left after the GPU's last batch (the
      * host storing its maps, the caller writing them) is short */
-    uint32_t n = end - begin, tail = batch >= 8 && n > batch ? batch / 4 : 0, body = n - tail;
-    uint32_t spp = ps->spp ? ps->spp : 1, nbody = (body + batch - 1) / batch, nbatch = nbody + (tail ? 1 : 0);
+    uint32_t n = end - begin, tail = batch >= 8 && n > batch ? batch / 4 : 0;
+    /* a first batch as small as the first slot (its buffers made before the first batch, the full slot's
+     * later beside the GPU), at most a quarter batch */
+    uint32_t head = B.slot[0].cap < batch && tail && B.slot[0].cap <= batch / 4 ? B.slot[0].cap : 0;
+    uint32_t body = n - tail - head;
+    uint32_t spp = ps->spp ? ps->spp : 1, nbody = (body + batch - 1) / batch;
+    uint32_t nbatch = (head ? 1 : 0) + nbody + (tail ? 1 : 0), done = 0;
     uint64_t (*ts)[4] = vx_calloc(ps->alloc, nbatch, sizeof *ts);
     if (!ts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double t1 = vx_time_now();
     uint32_t submitted = 0;
+    B.ts_first = 0;
+    /* the run that bakes the set's last probes (usually the baker's last; a later run of another range makes the
+     * released slot again) */
+    bool early = end == ps->probe_count && nbatch >= 2;
+    slot_release rel = {.g = c->g};
+    pthread_t rel_thread;
+    bool released = false;
     for (uint32_t i = 0; !r && i <= nbatch; i++) {
         if (i < nbatch) {
             bslot* s = &B.slot[i % 2];
-            s->at = begin + (i < nbody ? i * batch : body);
-            s->cnt = i < nbody ? (body - i * batch < batch ? body - i * batch : batch) : tail;
+            s->at = begin + done;
+            if (head && i == 0) s->cnt = head;
+            else if (tail && i == nbatch - 1) s->cnt = tail;
+            else s->cnt = n - tail - done < batch ? n - tail - done : batch;
+            done += s->cnt;
+            if (s->cap < s->cnt && (r = slot_grow(&B, s, batch, err))) break;
             gpu_params* p = s->params.map;
             params_common(p, L, ps->seed);
             params_path(p, c);
@@ -796,7 +870,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
             p->lf[0] = 0, p->lf[3] = 2; /* the state zeroed by a fill; loops_intact() */
             if ((r = gbake_submit(&B, s, (spp + B.chunk - 1) / B.chunk, err))) break;
             submitted = i + 1;
-            if (i == 0 && nbatch > 1 && !B.slot[1].made && (r = slot_init(&B, 1, err))) break;
+            if (i == 0 && nbatch > 1 && !B.slot[1].made && (r = slot_init(&B, 1, batch, err))) break;
         }
         if (i == 0) continue;
         bslot* s = &B.slot[(i - 1) % 2];
@@ -824,6 +898,16 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         double td = vx_time_now();
         gbake_store(&B, s);
         st->download += vx_time_now() - td;
+        if (early && i == nbatch - 1) {
+            /* the slot of the last batch but one: stored, never submitted again */
+            vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back, &s->beam};
+            for (int k = 0; k < 7; k++) rel.b[k] = *b[k];
+            if (pthread_create(&rel_thread, NULL, slot_release_main, &rel) == 0) {
+                released = true;
+                for (int k = 0; k < 7; k++) memset(b[k], 0, sizeof *b[k]);
+                s->cap = 0; /* made again where a later run (another range of the set) uses it */
+            }
+        }
         st->bytes_down += 16 + (uint64_t)s->cnt * B.lay.per * 4;
         st->batches++;
         if (!vx_progress_report(progress, "bake", s->at + s->cnt - begin, end - begin)) {
@@ -834,6 +918,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     }
     /* nothing of ours may still run when the buffers go */
     if (r && submitted) vkQueueWaitIdle(c->g->queue);
+    if (released) pthread_join(rel_thread, NULL);
     st->loop += vx_time_now() - t1;
     /* busy: the union of the batches' GPU intervals over the loop's wall time */
     if (!r && B.queries && st->loop > 0) {
@@ -847,7 +932,8 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         st->busy = busy / st->loop;
     }
     vx_free(ps->alloc, ts);
-    Bp->chunk = B.chunk, Bp->slot[1] = B.slot[1], Bp->slots_s = B.slots_s; /* the second slot, made here */
+    /* the second slot, made here; either one's buffers released here */
+    Bp->chunk = B.chunk, Bp->slot[0] = B.slot[0], Bp->slot[1] = B.slot[1], Bp->slots_s = B.slots_s;
     return r;
 }
 
@@ -919,6 +1005,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     /* (not in the compact layout: probe_beam.comp reads the plain node words) */
     if (!r && !d.no_beam && !vx__render_scene_compact(rs)) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
     if (!r) b->c.strat = !d.independent_bounce;
+    /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
+    if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;
     if (!r) {
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);
@@ -937,7 +1025,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
          * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
         uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
         b->slots = true; /* gbake_free is safe on partly made slots */
-        r = gbake_init(&b->B, &b->c, ps, batch, err);
+        uint32_t first = ps->probe_count > batch && batch >= 8 ? batch / 4 : 0;
+        r = gbake_init(&b->B, &b->c, ps, batch, first, err);
         b->B.chunk = vx_gpu_is_cpu(b->c.g) ? CPU_DEVICE_CHUNK : (ps->spp ? ps->spp : 1);
     }
     if (r) {

@@ -221,6 +221,7 @@ static int do_merge(const char* out, char** parts, int n) {
 static void stats_line(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user, (void)level;
     if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
+    if (!strcmp(id, "probe.batch")) printf("batch: %s\n", msg);
 }
 
 int bake_job_open(bake_job* j, const char* device, const char* who) {
