@@ -221,7 +221,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
     float tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
     float tmax = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
-    float hh = tmax;
     tmin = max(tmin, 0.0);
     tmax = min(tmax, tl1);
     // stack slots past S_MAX as trace_common.glsl's (the rebased walk's state)
@@ -251,6 +250,10 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         bool loaded = false;
         // the level of the node at scale s is s + lvl_off (- koff while rebased)
         int lvl_off = int(m.depth) - (S_MAX - 1);
+        // the level tests on the scale (scale - koff against the scales of
+        // levels 3 and 2), not on scale + lvl_off: SPIR-V's int add may
+        // wrap, so the compiler cannot fold the add a step into the compare
+        int s3 = 3 - lvl_off, s2 = 2 - lvl_off;
         int idx = 0;
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
@@ -285,6 +288,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
             int lvl = scale + lvl_off - koff;
+            bool ge3 = scale - koff >= s3, eq2 = scale - koff == s2; // lvl >= 3, lvl == 2
             if (SENT ? desc == 0u : !loaded) {
                 // level 1 only as the root of a depth-1 model: a push into a
                 // level-1 node takes its descriptor from the brick in nd, and
@@ -294,7 +298,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // load), not in a branch of it: 0.3-4.6% more albedo rays/s on the
                 // H200 (docs/PERFORMANCE.md issue 18, ninth step)
                 uint d2 = brick_desc(nd);
-                desc = lvl >= 3 ? nd.x : (lvl == 2 ? d2 : brick_octant(nd, 0u));
+                desc = ge3 ? nd.x : (eq2 ? d2 : brick_octant(nd, 0u));
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
@@ -333,13 +337,16 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // push: the child's slot is in the block nd.y (level >=
                     // 3), or, below a brick's level 2, the child is octant cs
                     // of the brick in nd (no load)
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
-                    hh = tc_max;
-                    loaded = lvl == 2;
+                    // every push writes its entry: without Laine and Karras'
+                    // test (skip it where the child's exit is the parent's,
+                    // whose entry is then never read) the walk needs no hh
+                    // (ckern3)
+                    stk_node[scale - koff] = int(parent);
+                    loaded = eq2;
                     // (level 3 of the whole layout: through the brick's index word)
-                    if (lvl >= 3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                    if (ge3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                     else desc = brick_octant(nd, uint(cs));
-                    if (SENT && lvl != 2) desc = 0u;
+                    if (SENT && !eq2) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
@@ -378,7 +385,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
-                hh = 0.0;
                 loaded = false; if (SENT) desc = 0u;
             }
         }
@@ -412,7 +418,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 float entn = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
                 tmin = max(entn, t0n);
                 tmax = (tmax - tr) * sk;
-                hh = min(min(coef.x - bias.x, coef.y - bias.y), coef.z - bias.z);
                 stk_node[RB_TBASE] = floatBitsToInt(tr);
                 koff = k;
                 rb_scale = -100;
@@ -446,7 +451,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             bias = SLOTS3(RB_BIAS);
             rb_scale = scale;
             koff = 0;
-            hh = 0.0;
             loaded = false; if (SENT) desc = 0u;
             diff = 0u;
             if ((step & 1) != 0) { diff |= floatBitsToUint(pos.x) ^ floatBitsToUint(pos.x - us); pos.x -= us; }
@@ -461,7 +465,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             ivec3 sh = floatBitsToInt(pos) >> scale;
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
-            hh = 0.0;
             loaded = false; if (SENT) desc = 0u;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
