@@ -130,9 +130,41 @@ static void test_gpu_vs_cpu_bake(void) {
             texels, (double)same_hit / texels, (double)dist_ok / texels, (double)nrm_same / texels, worst_mean, worst_irr);
     CHECK(same_hit >= texels * 995 / 1000);
     CHECK(dist_ok >= texels * 99 / 100);
-    /* the probes sit on cell boundaries here, so many texel rays cross voxel
-     * edges exactly, where float and double pick different faces */
-    CHECK(nrm_same >= texels * 97 / 100);
+    /* The probes sit on cell boundaries here, so many texel rays meet voxel
+     * edges exactly, where float and double pick different faces: 2-3% of
+     * the texels on lavapipe, 4.1% on an H200 (FMA contraction). So a normal
+     * may differ only where the CPU's hit point (the room's cells are unit
+     * cubes at integer coordinates) lies on an edge, within the distance's
+     * quantisation, and both faces must face the ray. */
+    uint32_t n = c.res;
+    size_t per = (size_t)(n + 2) * (n + 2), differ = 0, off_edge = 0, facing_away = 0;
+    double tol = 2 * (c.dist_max_error + c.dist_step);
+    for (uint32_t p = 0; p < c.count; p++)
+        for (uint32_t j = 0; j < n; j++)
+            for (uint32_t i = 0; i < n; i++) {
+                size_t b = p * per + (size_t)(j + 1) * (n + 2) + i + 1;
+                if (c.normal[b] == g.normal[b] || c.distance[b] == VX_PROBE_DIST_MISS ||
+                    g.distance[b] == VX_PROBE_DIST_MISS)
+                    continue;
+                differ++;
+                double dir[3], nc[3], ng[3];
+                vx_probe_texel_dir(n, i, j, dir);
+                int near = 0;
+                for (int k = 0; k < 3; k++) {
+                    double x = c.probes[c.first + p].pos[k] + dir[k] * c.distance[b] * c.dist_step;
+                    near += fabs(x - round(x)) <= tol;
+                }
+                off_edge += near < 2;
+                vx_probe_oct_unpack16(c.normal[b], nc);
+                vx_probe_oct_unpack16(g.normal[b], ng);
+                facing_away += nc[0] * dir[0] + nc[1] * dir[1] + nc[2] * dir[2] >= 0 ||
+                               ng[0] * dir[0] + ng[1] * dir[1] + ng[2] * dir[2] >= 0;
+            }
+    fprintf(stderr, "  normals: %zu interior texels differ, %zu of them off a cell edge, %zu facing away\n", differ,
+            off_edge, facing_away);
+    CHECK(off_edge == 0);
+    CHECK(facing_away == 0);
+    CHECK(nrm_same >= texels * 90 / 100); /* the room's edges are a small share of what the probes see */
     CHECK(worst_mean < 0.03);
     CHECK(worst_irr < 0.05);
 
