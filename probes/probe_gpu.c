@@ -501,12 +501,24 @@ typedef struct gbake {
     double slots_s; /* seconds gbake_init spent making the two slots' buffers and sets */
 } gbake;
 
+/* A slot's buffers (made by slot_buffers), for the places that destroy or hand them on. */
+enum { SLOT_BUFFERS = 7 };
+static void slot_buffer_list(bslot* s, vx__buffer* b[SLOT_BUFFERS]) {
+    b[0] = &s->params, b[1] = &s->out, b[2] = &s->texl, b[3] = &s->small, b[4] = &s->packed, b[5] = &s->back,
+    b[6] = &s->beam;
+}
+
+static void slot_buffers_destroy(vx_gpu* g, bslot* s) {
+    vx__buffer* b[SLOT_BUFFERS];
+    slot_buffer_list(s, b);
+    for (int k = 0; k < SLOT_BUFFERS; k++) vx__buffer_destroy(g, b[k]);
+}
+
 static void gbake_free(gbake* B) {
     vx_gpu* g = B->c->g;
     for (int i = 0; i < 2; i++) {
         bslot* s = &B->slot[i];
-        vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back, &s->beam};
-        for (size_t k = 0; k < sizeof b / sizeof b[0]; k++) vx__buffer_destroy(g, b[k]);
+        slot_buffers_destroy(g, s);
         if (s->fence) vkDestroyFence(g->device, s->fence, NULL);
     }
     vx__buffer_destroy(g, &B->tables);
@@ -520,12 +532,12 @@ static void gbake_free(gbake* B) {
  * The command buffer, fence and descriptor sets stay: the pools go with the baker. */
 typedef struct slot_release {
     vx_gpu* g;
-    vx__buffer b[7];
+    vx__buffer b[SLOT_BUFFERS];
 } slot_release;
 
 static void* slot_release_main(void* arg) {
     slot_release* a = arg;
-    for (int k = 0; k < 7; k++) vx__buffer_destroy(a->g, &a->b[k]);
+    for (int k = 0; k < SLOT_BUFFERS; k++) vx__buffer_destroy(a->g, &a->b[k]);
     return NULL;
 }
 
@@ -623,8 +635,7 @@ static void slot_write_sets(gbake* B, bslot* s) {
  * while the GPU runs the next batch. */
 static vx_result slot_grow(gbake* B, bslot* s, uint32_t cap, vx_error* err) {
     double ts = vx_time_now();
-    vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back, &s->beam};
-    for (size_t k = 0; k < sizeof b / sizeof b[0]; k++) vx__buffer_destroy(B->c->g, b[k]);
+    slot_buffers_destroy(B->c->g, s);
     vx_result r = slot_buffers(B, s, cap, err);
     B->slots_s += vx_time_now() - ts;
     return r;
@@ -900,11 +911,12 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         st->download += vx_time_now() - td;
         if (early && i == nbatch - 1) {
             /* the slot of the last batch but one: stored, never submitted again */
-            vx__buffer* b[] = {&s->params, &s->out, &s->texl, &s->small, &s->packed, &s->back, &s->beam};
-            for (int k = 0; k < 7; k++) rel.b[k] = *b[k];
+            vx__buffer* b[SLOT_BUFFERS];
+            slot_buffer_list(s, b);
+            for (int k = 0; k < SLOT_BUFFERS; k++) rel.b[k] = *b[k];
             if (pthread_create(&rel_thread, NULL, slot_release_main, &rel) == 0) {
                 released = true;
-                for (int k = 0; k < 7; k++) memset(b[k], 0, sizeof *b[k]);
+                for (int k = 0; k < SLOT_BUFFERS; k++) memset(b[k], 0, sizeof *b[k]);
                 s->cap = 0; /* made again where a later run (another range of the set) uses it */
             }
         }
