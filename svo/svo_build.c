@@ -9,12 +9,11 @@
  * changes: collapse check, representative attribute, hash-consing (DAG);
  * (4) node blocks are laid out in creation order, which is a post-order
  * (children first), so every child pointer points backwards. */
-#define _POSIX_C_SOURCE 200809L /* nanosleep */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
-#include <time.h>
 
 #include "svo/svo_internal.h"
 
@@ -58,9 +57,9 @@ typedef struct bld {
     pending lv[VX_SVO_MAX_DEPTH + 2];
     uint32_t depth;
     /* With the layout on a second thread (build_layout_thread): the pool is
-     * allocated once at a bound (never moved), each appended node published
+     * allocated once at a bound (never moved), the appended nodes published
      * here; NULL when the layout runs after the build. */
-    _Atomic size_t* pub;
+    vx__svo_gate* pub;
     size_t laid; /* pool words already laid out */
     /* The caller laid the attribute runs out (vx__svo_pool.runs): each
      * node's N_BLOCK holds its run's first record until its block is laid
@@ -429,7 +428,7 @@ static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
     memcpy(n + N_KIDS, kids, nk * sizeof *kids);
     b->npool = need;
     b->nnodes++;
-    if (b->pub) atomic_store_explicit(b->pub, need, memory_order_release);
+    if (b->pub) vx__svo_gate_publish(b->pub, need);
     return id;
 }
 
@@ -884,14 +883,19 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
  * result is the sequential one. The producer never moves the pool (it is
  * allocated at a bound), reads no N_BLOCK word and writes nodes only before
  * publishing them; the layout writes only N_BLOCK words and its own outw. */
+/* A stage sleeps until this many more pool words are there to lay out
+ * (about a millisecond of the builder's or the decoder's work, 256 KB of
+ * pool: still in cache), so that on two cores the threads take turns in
+ * slices rather than word by word; the builder publishes every PUB_STEP. */
+enum { LAY_WAKE = 1 << 16, LAY_PUB_STEP = 1 << 12 };
 typedef struct lay_job {
     bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
     outw* o;
-    _Atomic size_t pub;   /* pool words the builder has appended (the first stage follows these) */
-    _Atomic size_t* src;  /* what this thread follows: &pub, or the runs stage's done */
-    _Atomic size_t done;  /* pool words this thread is through */
-    int mode;             /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
-    atomic_bool stop;
+    vx__svo_gate pub;  /* pool words the builder has appended (the first stage follows these); closed by lay_join */
+    vx__svo_gate* src; /* what this thread follows: &pub, or the runs stage's done */
+    vx__svo_gate done; /* pool words this thread is through; closed when it ends */
+    int mode;          /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
+    bool gates;        /* pub and done initialised (lay_prep; lay_free destroys them) */
     vx_error err;
     pthread_t th;
     bool started;
@@ -901,18 +905,29 @@ static void* lay_main(void* arg) {
     lay_job* j = (lay_job*)arg;
     size_t off = 0;
     for (;;) {
-        bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
-        size_t end = atomic_load_explicit(j->src, memory_order_acquire);
-        if (off < end) {
-            if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
-            atomic_store_explicit(&j->done, off, memory_order_release);
-            continue;
-        }
-        if (stop) break;
-        nanosleep(&(struct timespec){0, 20000}, NULL); /* the build appends about a node per microsecond */
+        size_t end = vx__svo_gate_wait(j->src, off, LAY_WAKE);
+        if (end <= off) break; /* closed: everything published is laid out */
+        if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
+        vx__svo_gate_publish(&j->done, off);
     }
     j->lb.laid = off;
+    vx__svo_gate_close(&j->done, off); /* a failure too: the next stage stops where this one did */
     return NULL;
+}
+
+/* Initialises j's gates (before any thread that uses them starts). */
+static void lay_prep(lay_job* j) {
+    vx__svo_gate_init(&j->pub, LAY_PUB_STEP);
+    vx__svo_gate_init(&j->done, 0);
+    j->gates = true;
+    j->started = false;
+}
+/* After the joins of every stage: no thread reads the gates any more. */
+static void lay_free(lay_job* j) {
+    if (!j->gates) return;
+    vx__svo_gate_destroy(&j->pub);
+    vx__svo_gate_destroy(&j->done);
+    j->gates = false;
 }
 
 /* Words of pool the build of n entries (no tiles) can need: at most
@@ -942,10 +957,8 @@ static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
 }
 
 /* Prepares j to follow src in mode; starts its thread (false: none started). */
-static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mode) {
-    j->o = o;
-    atomic_init(&j->pub, 0); /* j->done: initialised by the caller (another thread may read it first) */
-    atomic_init(&j->stop, false);
+static bool lay_thread(lay_job* j, bld* b, outw* o, vx__svo_gate* src, int mode) {
+    j->o = o; /* j's gates: initialised by the caller (another thread may read them first) */
     j->src = src ? src : &j->pub;
     j->mode = mode;
     memset(&j->err, 0, sizeof j->err);
@@ -959,7 +972,7 @@ static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mod
 /* Starts the layout thread over b's pool as it is (allocated at its final
  * size: it never moves); false when no thread could be started. */
 static bool lay_run(lay_job* j, bld* b, outw* o) {
-    atomic_init(&j->done, 0);
+    if (!j->gates) lay_prep(j);
     if (!lay_thread(j, b, o, NULL, LAY_ALL)) return false; /* the pool stays, growable as usual */
     b->pub = &j->pub;
     return true;
@@ -970,9 +983,11 @@ static void lay_join(lay_job* j, bld* b, bool propagate);
  * both following the builder; one thread (lay_run) when the second cannot
  * be started. The pool must not move. */
 static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
-    atomic_init(&ja->done, 0);
+    lay_prep(ja);
+    lay_prep(jb);
     if (!lay_thread(jb, b, o, &ja->done, LAY_BLOCKS)) return lay_run(ja, b, o);
     if (!lay_thread(ja, b, o, NULL, LAY_RUNS)) {
+        vx__svo_gate_close(&ja->done, 0);
         lay_join(jb, b, false); /* it has laid nothing out: b->laid stays 0 */
         return false;
     }
@@ -984,7 +999,7 @@ static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
  * propagate, its failure becomes b's. */
 static void lay_join(lay_job* j, bld* b, bool propagate) {
     if (!j->started) return;
-    atomic_store_explicit(&j->stop, true, memory_order_release);
+    if (j->src == &j->pub) vx__svo_gate_close(&j->pub, b->npool); /* the builder's nodes are all written */
     pthread_join(j->th, NULL);
     j->started = false;
     b->pub = NULL;
@@ -1315,7 +1330,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         if (!runs) {
             lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
         } else {
-            atomic_init(&lj->done, 0);
+            lay_prep(lj);
             if (lay_thread(lj, b, o, NULL, LAY_BLOCKS)) b->pub = &lj->pub;
         }
     }
@@ -1394,7 +1409,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         off += N_KIDS + nk;
         b->npool = off;
         b->nnodes++;
-        if (b->pub) atomic_store_explicit(b->pub, off, memory_order_release);
+        if (b->pub) vx__svo_gate_publish(b->pub, off);
     }
     if (ok) {
         b->have_root = true;
@@ -1624,7 +1639,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     outw o;
     memset(&o, 0, sizeof o);
     lay_job lj, lj2; /* the layout thread, or the layout's runs and blocks stages (pool_take) */
-    lj.started = lj2.started = false;
+    lj.started = lj2.started = lj.gates = lj2.gates = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
@@ -1986,6 +2001,8 @@ finish:
 done:
     lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
     lay_join(&lj2, &b, false);
+    lay_free(&lj);
+    lay_free(&lj2);
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);
@@ -2117,7 +2134,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
      * N_KIDS + 8 words; untouched pages cost no memory. Where it cannot be
      * had, the layout runs after the decoding as before: same result. */
     lay_job lj, lj2;
-    lj.started = lj2.started = false;
+    lj.started = lj2.started = lj.gates = lj2.gates = false;
     if (d->layout_threads && u.max_words >= vx__svo_parallel_words) {
         uint64_t words = (uint64_t)(N_KIDS + 8) * u.max_words + 16;
         if (words > 0xFFFFFFF0u) words = 0xFFFFFFF0u;
@@ -2135,6 +2152,8 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     bool visited = unp_visit(&u, d->depth, &b.root);
     lay_join(&lj, &b, visited); /* the runs stage first: the blocks stage follows it */
     lay_join(&lj2, &b, visited);
+    lay_free(&lj);
+    lay_free(&lj2);
     if (!visited || b.fail != VX_OK) goto fail;
     b.have_root = true;
     b.root_is_leaf = false;

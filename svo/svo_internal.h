@@ -5,6 +5,8 @@
 #include "svo/svo.h"
 #include "svo/svo_interned.h"
 
+#include <pthread.h>
+
 /* Largest relative child pointer the builder writes before it switches to a
  * far slot. The encoding allows 32767 (15 bits); tests lower it so that far
  * pointers appear in small trees. Not thread-safe by design: test-only. */
@@ -62,6 +64,32 @@ unsigned vx__svo_cpus(unsigned want);
  * lookups were a large part of a chunked read (docs/PERFORMANCE.md, issue
  * 18). Call it before the memory is first touched. */
 void vx__svo_advise_huge(void* p, size_t n);
+
+/* A count one thread advances (a stage's progress: pool words appended,
+ * symbols decoded, words laid out) and one other thread waits on, asleep
+ * (a condition variable) rather than polling: the stages of a read share
+ * two cores with each other, and a poller's wake-ups are CPU the others
+ * lose (docs/PERFORMANCE.md, issue 18, ninth step). The producer publishes
+ * at most every `step` units (its stores and the waiter's wake-ups in
+ * batches) and closes the gate with its final count. */
+typedef struct vx__svo_gate {
+    _Atomic size_t val;  /* published count */
+    _Atomic size_t want; /* the waiter sleeps until val >= want (0: nobody waits) */
+    bool closed;         /* under lock: val is final */
+    size_t step, next;   /* the producer's: publish from `next` on */
+    pthread_mutex_t lock;
+    pthread_cond_t cond;
+} vx__svo_gate;
+void vx__svo_gate_init(vx__svo_gate* g, size_t step);
+void vx__svo_gate_destroy(vx__svo_gate* g);
+/* Producer: the first v units are complete (v never decreases). */
+void vx__svo_gate_publish(vx__svo_gate* g, size_t v);
+/* Producer: v is final; wakes the waiter for good. */
+void vx__svo_gate_close(vx__svo_gate* g, size_t v);
+/* Waiter: the published count once it exceeds `have` (at once when it
+ * does; else asleep until it reaches have + more, or the gate is closed).
+ * A result <= have means closed with nothing more. */
+size_t vx__svo_gate_wait(vx__svo_gate* g, size_t have, size_t more);
 
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */

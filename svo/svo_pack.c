@@ -11,7 +11,7 @@
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. */
-#define _POSIX_C_SOURCE 200809L /* nanosleep */
+#define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -1239,7 +1239,10 @@ static bool rc_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_err
  * declared words, a reference past the completed nodes, the stream used up),
  * after the same symbol, so the errors and the decoder's position are the
  * one-thread ones. */
-enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096 };
+/* The consumer sleeps until PIPE_WAKE more symbols are there (a fraction of
+ * a millisecond of decoding), so that on two cores the threads take turns in
+ * slices. */
+enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096, PIPE_WAKE = 1 << 14 };
 typedef struct sym_pipe {
     pk* k;
     const vx_allocator* A;
@@ -1247,14 +1250,13 @@ typedef struct sym_pipe {
     uint64_t max_words;
     uint32_t** blocks; /* allocated at the bound (never moved); each block freed by the consumer past it */
     size_t nblocks;
-    _Atomic size_t pub; /* symbols published */
-    atomic_bool done;   /* the producer has stopped (pub is final) */
+    vx__svo_gate pub;   /* symbols published; closed when the producer stops */
     atomic_bool stop;   /* the consumer has stopped: the producer may quit */
-    bool truncated;     /* the producer stopped where the stream ran out (set before done) */
+    bool truncated;     /* the producer stopped where the stream ran out (set before the close) */
     bool nomem;
     size_t n;           /* producer: symbols written */
     uint64_t words, ndone;
-    size_t pos;         /* consumer: symbols taken */
+    size_t pos, avail;  /* consumer: symbols taken, published as far as it knows */
     uint64_t base;
     pthread_t th;
 } sym_pipe;
@@ -1266,7 +1268,7 @@ static bool pipe_emit(sym_pipe* q, uint32_t v) {
     }
     q->blocks[b][q->n % PIPE_BLOCK] = v;
     if (++q->n % PIPE_PUBLISH == 0) {
-        atomic_store_explicit(&q->pub, q->n, memory_order_release);
+        vx__svo_gate_publish(&q->pub, q->n);
         if (atomic_load_explicit(&q->stop, memory_order_relaxed)) return false;
     }
     return true;
@@ -1304,19 +1306,16 @@ static bool pipe_walk(sym_pipe* q, unsigned level) {
 static void* pipe_main(void* arg) {
     sym_pipe* q = (sym_pipe*)arg;
     pipe_walk(q, q->depth);
-    atomic_store_explicit(&q->pub, q->n, memory_order_release);
-    atomic_store_explicit(&q->done, true, memory_order_release);
+    vx__svo_gate_close(&q->pub, q->n);
     return NULL;
 }
 
 static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
     (void)kind, (void)ctx;
     sym_pipe* q = (sym_pipe*)user;
-    for (;;) {
-        size_t pub = atomic_load_explicit(&q->pub, memory_order_acquire);
-        if (q->pos < pub) break;
-        if (atomic_load_explicit(&q->done, memory_order_acquire)) {
-            if (q->pos < atomic_load_explicit(&q->pub, memory_order_acquire)) break;
+    if (q->pos >= q->avail) {
+        q->avail = vx__svo_gate_wait(&q->pub, q->pos, PIPE_WAKE);
+        if (q->avail <= q->pos) { /* the decoder has stopped before this symbol */
             if (q->truncated) {
                 uint64_t at = q->base + q->k->n;
                 return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section NODE at byte %llu: the coded stream ends before the trees do",
@@ -1327,7 +1326,6 @@ static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_e
                            q->nomem ? "svo: out of memory" : "svo: section NODE: the coded symbols end early"),
                    false;
         }
-        nanosleep(&(struct timespec){0, 20000}, NULL); /* the decoder publishes every few thousand symbols */
     }
     size_t b = q->pos / PIPE_BLOCK;
     *v = q->blocks[b][q->pos % PIPE_BLOCK];
@@ -1506,8 +1504,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                 q->base = base;
                 q->nblocks = (size_t)((26u * ((uint64_t)m->node_count + 1)) / PIPE_BLOCK + 2);
                 q->blocks = (uint32_t**)vx_calloc(A, q->nblocks, sizeof *q->blocks);
-                atomic_init(&q->pub, 0);
-                atomic_init(&q->done, false);
+                vx__svo_gate_init(&q->pub, 0);
                 atomic_init(&q->stop, false);
                 piped = q->blocks && pthread_create(&q->th, NULL, pipe_main, q) == 0;
                 if (piped) {
@@ -1521,6 +1518,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                 pthread_join(q->th, NULL);
             }
             if (q) {
+                vx__svo_gate_destroy(&q->pub);
                 for (size_t i = 0; q->blocks && i < q->nblocks; i++) vx_free(A, q->blocks[i]);
                 vx_free(A, q->blocks);
                 vx_free(A, q);
