@@ -2027,7 +2027,90 @@ typedef struct unp {
     size_t ndone, capdone;
     uint64_t words, max_words;
     vx_error* err;
+    uint8_t* ht; /* each completed node's height (below), in completion order */
+    size_t capht;
+    /* with vx__svo_unpack_desc.tree: each completed node's height and extent
+     * (xt_pack), in completion order; the extents of height 7 and above */
+    bool want_xt;
+    uint64_t* xt;
+    size_t capxt;
+    vx__svo_extent* big;
+    size_t nbig, capbig;
 } unp;
+
+/* The reader's check of the rebuilt tree (vx__svo_check_rebuilt) without a
+ * walk over its words: what the validation of FORMAT.md 3.1 finds there,
+ * the reconstruction either guarantees or computes per node as it goes.
+ *
+ * Rules 3 and 4 (per descriptor, at every level it is reached at: valid !=
+ * 0, leaf within valid, pointers backwards and in range, far slots, blocks
+ * before their descriptor, records in range; every word has one role and
+ * is reachable) hold by construction, for any symbol stream: a zero mask is
+ * refused when decoded and a leaf mask is decoded within its valid mask;
+ * the layout (layout_nodes) writes each block after the blocks of the
+ * node's children (the pool is in completion order and a reference names
+ * a completed node), a near pointer only where the distance is at most the
+ * limit (<= 2^15 - 1), else a far slot appended just before the block
+ * (its pointer is at most 16) holding an earlier position; a record index
+ * is the start of a run of at least popcount(valid) records it stored; a
+ * lone block reused is the one word of the same index at a position the
+ * limit can still reach; every word it appends is a far slot, descriptor or
+ * index of the block of a pool node, and every pool node but the root is
+ * the child of a later one (a node is completed only as a new child, and
+ * the last completed is the root), so all are reachable and each word has
+ * the one role it was written with (a block shared between nodes is read
+ * in the same shape: only lone blocks are shared, by nodes without
+ * non-leaf children). What remains of rule 3 is the level: a node reached
+ * at level l must have no non-leaf child at level 1, i.e. its height h (1
+ * when its children are all leaves, else 1 + their largest) must be <= l.
+ * A new child is read at l - 1, so by induction its height is <= l - 1;
+ * a back-reference can name a node of any height: checked here (the
+ * builder shares equal nodes across levels, e.g. one of eight leaves at
+ * levels 1 and 2, so the levels need not be equal). Rule 5 (cells inside
+ * the size, as many as declared) needs the root's extent: a node's shape
+ * placed one level higher is the same with every cube doubled, so each
+ * node keeps its cells and box at its own height and a parent scales its
+ * children's into its own; the root's is scaled to the depth. Rules 1 and
+ * 2 (the head) are checked on the model as usual. tests/svo/test_svo_pack.c
+ * (test_rebuilt_checks) reads mutated streams and runs the full validation
+ * on every model read. */
+typedef struct xt_node {
+    unsigned h;
+    uint64_t cells;
+    uint32_t mn[3], mx[3];
+} xt_node;
+enum { XT_SMALL = 6 }; /* heights up to 6 packed in one word: box 0..64 in 6 bits, cells <= 8^6 in 19 */
+
+static bool xt_pack(unp* u, const xt_node* x, uint64_t* code) {
+    if (x->h <= XT_SMALL) {
+        *code = x->h | x->cells << 5 | (uint64_t)x->mn[0] << 24 | (uint64_t)x->mn[1] << 30 | (uint64_t)x->mn[2] << 36 |
+                (uint64_t)(x->mx[0] - 1) << 42 | (uint64_t)(x->mx[1] - 1) << 48 | (uint64_t)(x->mx[2] - 1) << 54;
+        return true;
+    }
+    if (!vx_grow(u->b->a, (void**)&u->big, &u->capbig, u->nbig + 1, sizeof *u->big)) return oom(u->b, "node extents");
+    vx__svo_extent* e = &u->big[u->nbig];
+    e->cells = x->cells;
+    memcpy(e->min, x->mn, sizeof e->min);
+    memcpy(e->max, x->mx, sizeof e->max);
+    *code = x->h | (uint64_t)u->nbig++ << 5;
+    return true;
+}
+
+static void xt_unpack(const unp* u, uint64_t code, xt_node* x) {
+    x->h = (unsigned)(code & 31u);
+    if (x->h <= XT_SMALL) {
+        x->cells = code >> 5 & 0x7FFFFu;
+        for (int i = 0; i < 3; i++) {
+            x->mn[i] = (uint32_t)(code >> (24 + 6 * i)) & 63u;
+            x->mx[i] = ((uint32_t)(code >> (42 + 6 * i)) & 63u) + 1;
+        }
+        return;
+    }
+    const vx__svo_extent* e = &u->big[code >> 5];
+    x->cells = e->cells;
+    memcpy(x->mn, e->min, sizeof x->mn);
+    memcpy(x->mx, e->max, sizeof x->mx);
+}
 
 static bool unp_fail(unp* u, vx_result r) {
     if (u->b->fail == VX_OK) u->b->fail = r;
@@ -2050,9 +2133,11 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
     uint32_t kids[8], ids[8];
-    unsigned n = 0;
+    xt_node cx[8]; /* the children's heights and extents (u->xt) */
+    unsigned n = 0, h = 1;
     for (unsigned o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
+        cx[n].h = 0; /* a leaf: one cell at height 0 */
         if (leaf >> o & 1u) {
             uint32_t id = 0;
             if (b->attrs) {
@@ -2086,6 +2171,13 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
             } else {
                 c = u->done[u->ndone - ref];
             }
+            unsigned ch = u->ht[ref ? u->ndone - ref : u->ndone - 1];
+            if (ch > level - 1) /* (the decoding thread, pipe_walk, stops at the same symbol) */
+                return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                           "svo: section NODE: back-reference %u at level %u names a node of %u levels", ref, level - 1,
+                                           ch));
+            if (ch + 1 > h) h = ch + 1;
+            if (u->want_xt) xt_unpack(u, u->xt[ref ? u->ndone - ref : u->ndone - 1], &cx[n]);
             kids[n] = c;
             ids[n] = b->pool[c + N_REP];
         }
@@ -2095,7 +2187,33 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (rep == UINT32_MAX && !b->direct) return false;
     uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
     if (id == UINT32_MAX) return false;
-    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done)) return oom(b, "node list");
+    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done) ||
+        !vx_grow(b->a, (void**)&u->ht, &u->capht, u->ndone + 1, 1))
+        return oom(b, "node list");
+    u->ht[u->ndone] = (uint8_t)h;
+    if (u->want_xt) {
+        /* the node's extent at its height h: child k (octant o) scaled from
+         * its height to h - 1 and moved to its octant */
+        xt_node x = {h, 0, {UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}};
+        for (unsigned o = 0, k = 0; o < 8; o++) {
+            if (!(valid >> o & 1u)) continue;
+            const xt_node* c = &cx[k++];
+            unsigned sh = h - 1 - c->h;
+            if (c->h == 0) {
+                x.cells += (uint64_t)1 << (3 * sh);
+            } else {
+                x.cells += c->cells << (3 * sh);
+            }
+            for (int i = 0; i < 3; i++) {
+                uint32_t at = (o >> i & 1u) << (h - 1);
+                uint32_t lo = c->h == 0 ? 0 : c->mn[i], hi = c->h == 0 ? 1 : c->mx[i];
+                if ((lo << sh) + at < x.mn[i]) x.mn[i] = (lo << sh) + at;
+                if ((hi << sh) + at > x.mx[i]) x.mx[i] = (hi << sh) + at;
+            }
+        }
+        if (!vx_grow(b->a, (void**)&u->xt, &u->capxt, u->ndone + 1, sizeof *u->xt)) return oom(b, "node extents");
+        if (!xt_pack(u, &x, &u->xt[u->ndone])) return false;
+    }
     u->done[u->ndone++] = id;
     *out = id;
     return true;
@@ -2117,7 +2235,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     outw o;
     memset(&o, 0, sizeof o);
-    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err};
+    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL};
     vx_svo_model m;
     memset(&m, 0, sizeof m);
     vx_result res = VX_OK;
@@ -2157,6 +2275,13 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     if (!visited || b.fail != VX_OK) goto fail;
     b.have_root = true;
     b.root_is_leaf = false;
+    if (d->tree) { /* the root's extent at the depth (its height is at most the depth: unp_visit) */
+        xt_node x;
+        xt_unpack(&u, u.xt[u.ndone - 1], &x);
+        unsigned sh = d->depth - x.h;
+        d->tree->cells = x.cells << (3 * sh);
+        for (int i = 0; i < 3; i++) d->tree->min[i] = x.mn[i] << sh, d->tree->max[i] = x.mx[i] << sh;
+    }
     if (!finish_model(&b, &o, &m, false)) goto fail;
     out->nodes = m.nodes;
     out->node_count = m.node_count;
@@ -2171,6 +2296,9 @@ fail:
     res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
 done:
     vx_free(b.a, u.done);
+    vx_free(b.a, u.ht);
+    vx_free(b.a, u.xt);
+    vx_free(b.a, u.big);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);

@@ -1256,6 +1256,8 @@ typedef struct sym_pipe {
     bool nomem;
     size_t n;           /* producer: symbols written */
     uint64_t words, ndone;
+    uint8_t* ht;        /* producer: each completed node's height */
+    size_t capht;
     size_t pos, avail;  /* consumer: symbols taken, published as far as it knows */
     uint64_t base;
     pthread_t th;
@@ -1283,8 +1285,12 @@ static bool pipe_sym(sym_pipe* q, unsigned kind, unsigned ctx, uint32_t* v) {
     return pipe_emit(q, *v);
 }
 
-static bool pipe_walk(sym_pipe* q, unsigned level) {
+/* h: the node's height (vx__svo_unpack refuses a back-reference to a node
+ * of more levels than are left below it: unp_visit). */
+static bool pipe_walk(sym_pipe* q, unsigned level, unsigned* h) {
     uint32_t valid, leaf, ref, v;
+    unsigned ch;
+    *h = 1;
     if (!pipe_sym(q, VX__SYM_VALID, level, &valid) || valid == 0) return false;
     if (level == 1) leaf = valid;
     else if (!pipe_sym(q, VX__SYM_LEAF, level | valid << 8, &leaf)) return false;
@@ -1296,16 +1302,20 @@ static bool pipe_walk(sym_pipe* q, unsigned level) {
         } else {
             if (++q->words >= q->max_words) return false;
             if (!pipe_sym(q, VX__SYM_REF, level, &ref)) return false;
-            if (ref == 0 ? !pipe_walk(q, level - 1) : ref > q->ndone) return false;
+            if (ref == 0 ? !pipe_walk(q, level - 1, &ch) : ref > q->ndone) return false;
+            if (ref && (ch = q->ht[q->ndone - ref]) > level - 1) return false;
+            if (ch + 1 > *h) *h = ch + 1;
         }
     }
-    q->ndone++;
+    if (!vx_grow(q->A, (void**)&q->ht, &q->capht, q->ndone + 1, 1)) return q->nomem = true, false;
+    q->ht[q->ndone++] = (uint8_t)*h;
     return true;
 }
 
 static void* pipe_main(void* arg) {
     sym_pipe* q = (sym_pipe*)arg;
-    pipe_walk(q, q->depth);
+    unsigned h;
+    pipe_walk(q, q->depth, &h);
     vx__svo_gate_close(&q->pub, q->n);
     return NULL;
 }
@@ -1402,12 +1412,15 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
     return VX_OK;
 }
 
+/* tree, rebuilt (both or neither NULL): a model rebuilt from the structural
+ * form gets its tree's extent in *tree and *rebuilt = VX__SVO_SKIP_REBUILT
+ * (the validation then checks its head only: vx__svo_check_rebuilt). */
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err);
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err);
 
 /* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
 static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                              unsigned lay, vx_error* err) {
+                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     /* side bytes first: their length, then (if any) the deflated length and
      * the deflated bytes. Both lengths are checked before anything is
      * allocated: the side holds at most 4 bytes per declared record and
@@ -1449,13 +1462,13 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     p += hdr + (size_t)z_n;
     base += hdr + z_n;
     n -= hdr + (size_t)z_n;
-    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, err);
+    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, tree, rebuilt, err);
     vx_free(A, side);
     return r;
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err) {
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
     if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
@@ -1491,7 +1504,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             rc_src rs = {k, base};
             vx__svo_src src = {rc_next, &rs};
             vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
-                                      .layout_threads = lay};
+                                      .layout_threads = lay, .tree = rebuilt ? tree : NULL};
             /* with threads to spare, the symbols are decoded ahead on one */
             sym_pipe* q = NULL;
             bool piped = false;
@@ -1519,6 +1532,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             }
             if (q) {
                 vx__svo_gate_destroy(&q->pub);
+                vx_free(A, q->ht);
                 for (size_t i = 0; q->blocks && i < q->nblocks; i++) vx_free(A, q->blocks[i]);
                 vx_free(A, q->blocks);
                 vx_free(A, q);
@@ -1535,6 +1549,8 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                             "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
                             (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
                             want.attr_count, want.root_attr);
+            } else if (rebuilt) {
+                *rebuilt = VX__SVO_SKIP_REBUILT;
             }
         }
     }
@@ -1833,6 +1849,8 @@ typedef struct unpack_jobs {
     vx_error* errs;
     const uint8_t* chunked; /* per model, or NULL */
     unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
+    vx__svo_extent* ext;    /* with rebuilt: see vx__svo_pack_read */
+    uint8_t* rebuilt;
 } unpack_jobs;
 
 /* Threads the layout of each structural model may follow its decoding on,
@@ -1851,11 +1869,13 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay, &j->errs[i]);
+    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
+                             j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned want, vx_svo_chunk_stats* stats, vx_error* err) {
+                            unsigned want, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+    if (!ext) rebuilt = NULL;
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -1912,13 +1932,14 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
-                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay, err);
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
+                                                          rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
