@@ -2020,20 +2020,23 @@ done:
 
 /* ---- reconstruction from depth-first symbols (the .svo reader) ------------------------------- */
 
+/* A completed node as its back-references need it, in one 16-byte record:
+ * a back-reference names a node anywhere before, a cache miss, and these
+ * were three (the id, the pool's representative, the height). */
+typedef struct unp_node {
+    uint32_t id, rep; /* pool id, representative record */
+    uint64_t xt;      /* height (below) in bits 0-4; with want_xt its extent (xt_pack) */
+} unp_node;
+
 typedef struct unp {
     bld* b;
     const vx__svo_src* src;
-    uint32_t* done; /* pool ids in completion order: back-references count from the end */
+    unp_node* done; /* the completed nodes in completion order: back-references count from the end */
     size_t ndone, capdone;
     uint64_t words, max_words;
     vx_error* err;
-    uint8_t* ht; /* each completed node's height (below), in completion order */
-    size_t capht;
-    /* with vx__svo_unpack_desc.tree: each completed node's height and extent
-     * (xt_pack), in completion order; the extents of height 7 and above */
+    /* with vx__svo_unpack_desc.tree: extents in done[].xt; those of height 7 and above here */
     bool want_xt;
-    uint64_t* xt;
-    size_t capxt;
     vx__svo_extent* big;
     size_t nbig, capbig;
 } unp;
@@ -2133,7 +2136,7 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
     uint32_t kids[8], ids[8];
-    xt_node cx[8]; /* the children's heights and extents (u->xt) */
+    xt_node cx[8]; /* the children's heights and extents (done[].xt) */
     unsigned n = 0, h = 1;
     for (unsigned o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
@@ -2168,18 +2171,18 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
             } else if (ref > u->ndone) {
                 return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                            "svo: section NODE: back-reference %u but only %zu nodes precede it", ref, u->ndone));
-            } else {
-                c = u->done[u->ndone - ref];
             }
-            unsigned ch = u->ht[ref ? u->ndone - ref : u->ndone - 1];
+            const unp_node* cn = &u->done[u->ndone - (ref ? ref : 1)]; /* the new child: the last completed */
+            c = cn->id;
+            unsigned ch = (unsigned)(cn->xt & 31u);
             if (ch > level - 1) /* (the decoding thread, pipe_walk, stops at the same symbol) */
                 return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                            "svo: section NODE: back-reference %u at level %u names a node of %u levels", ref, level - 1,
                                            ch));
             if (ch + 1 > h) h = ch + 1;
-            if (u->want_xt) xt_unpack(u, u->xt[ref ? u->ndone - ref : u->ndone - 1], &cx[n]);
+            if (u->want_xt) xt_unpack(u, cn->xt, &cx[n]);
             kids[n] = c;
-            ids[n] = b->pool[c + N_REP];
+            ids[n] = cn->rep;
         }
         n++;
     }
@@ -2187,10 +2190,11 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (rep == UINT32_MAX && !b->direct) return false;
     uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
     if (id == UINT32_MAX) return false;
-    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done) ||
-        !vx_grow(b->a, (void**)&u->ht, &u->capht, u->ndone + 1, 1))
-        return oom(b, "node list");
-    u->ht[u->ndone] = (uint8_t)h;
+    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done)) return oom(b, "node list");
+    unp_node* dn = &u->done[u->ndone];
+    dn->id = id;
+    dn->rep = rep;
+    dn->xt = h;
     if (u->want_xt) {
         /* the node's extent at its height h: child k (octant o) scaled from
          * its height to h - 1 and moved to its octant */
@@ -2211,10 +2215,9 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                 if ((hi << sh) + at > x.mx[i]) x.mx[i] = (hi << sh) + at;
             }
         }
-        if (!vx_grow(b->a, (void**)&u->xt, &u->capxt, u->ndone + 1, sizeof *u->xt)) return oom(b, "node extents");
-        if (!xt_pack(u, &x, &u->xt[u->ndone])) return false;
+        if (!xt_pack(u, &x, &dn->xt)) return false;
     }
-    u->done[u->ndone++] = id;
+    u->ndone++;
     *out = id;
     return true;
 }
@@ -2277,7 +2280,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.root_is_leaf = false;
     if (d->tree) { /* the root's extent at the depth (its height is at most the depth: unp_visit) */
         xt_node x;
-        xt_unpack(&u, u.xt[u.ndone - 1], &x);
+        xt_unpack(&u, u.done[u.ndone - 1].xt, &x);
         unsigned sh = d->depth - x.h;
         d->tree->cells = x.cells << (3 * sh);
         for (int i = 0; i < 3; i++) d->tree->min[i] = x.mn[i] << sh, d->tree->max[i] = x.mx[i] << sh;
@@ -2296,8 +2299,6 @@ fail:
     res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
 done:
     vx_free(b.a, u.done);
-    vx_free(b.a, u.ht);
-    vx_free(b.a, u.xt);
     vx_free(b.a, u.big);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
