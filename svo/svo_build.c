@@ -614,7 +614,21 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
 }
 
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
-static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add);
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp);
+
+/* The run table (outw.runh) is indexed by the high half of a run's hash,
+ * the half its entries keep: growing it moves entries without hashing
+ * their runs again (each a read at a random place in ids). Which equal run
+ * a lookup finds does not depend on the table (only the first of equal runs
+ * is stored), so neither do the words. */
+static inline size_t run_slot(uint64_t h, size_t cap) { return (size_t)(h >> 32) & (cap - 1); }
+
+/* n (<= 8) ids equal: inline, where memcmp was a call per probe */
+static inline bool same_ids(const uint32_t* a, const uint32_t* b, unsigned n) {
+    uint32_t d = 0;
+    for (unsigned i = 0; i < n; i++) d |= a[i] ^ b[i];
+    return d == 0;
+}
 
 /* The uniform-run entry of record v (claimed when absent); NULL when the
  * table cannot grow (b->fail set). */
@@ -648,7 +662,8 @@ static uni_run* uni_find(bld* b, outw* o, uint32_t v) {
  * palette colours: try the longer uniform runs first, longest first (the
  * uniform-run table says which are stored: the probes of runh for each
  * length, which that table replaces, found the same runs). */
-static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
+/* hp: the run's hash_words(ids, n, 3) when the caller has it (run_prefetch), or NULL. */
+static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, const uint64_t* hp) {
     if (b->dag && n < 8) {
         bool uni = true;
         for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
@@ -659,11 +674,11 @@ static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
             if (longer) return e->start[n + (31u - (unsigned)__builtin_clz(longer))];
         }
     }
-    return run_intern_exact(b, o, ids, n, true);
+    return run_intern_exact(b, o, ids, n, true, hp);
 }
 
 /* With add false: UINT32_MAX when the run is not stored yet. */
-static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add) {
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp) {
     uint64_t h = 0;
     size_t j = 0;
     if (b->dag) {
@@ -674,8 +689,7 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             for (size_t i = 0; i < o->runcap; i++)
                 if (o->runh[i]) {
                     uint64_t e = o->runh[i];
-                    uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1, ln = (uint32_t)e >> 28;
-                    size_t k = (size_t)hash_words(o->ids + st, ln, 3) & (ncap - 1);
+                    size_t k = run_slot(e, ncap);
                     while (t[k]) k = (k + 1) & (ncap - 1);
                     t[k] = e;
                 }
@@ -683,13 +697,13 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             o->runh = t;
             o->runcap = ncap;
         }
-        h = hash_words(ids, n, 3);
-        j = (size_t)h & (o->runcap - 1);
+        h = hp ? *hp : hash_words(ids, n, 3);
+        j = run_slot(h, o->runcap);
         uint64_t want = (h & 0xFFFFFFFF00000000ull) | (uint64_t)n << 28;
         while (o->runh[j]) {
             uint64_t e = o->runh[j];
             uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1;
-            if ((e & 0xFFFFFFFFF0000000ull) == want && memcmp(o->ids + st, ids, n * sizeof *ids) == 0) return st;
+            if ((e & 0xFFFFFFFFF0000000ull) == want && same_ids(o->ids + st, ids, n)) return st;
             j = (j + 1) & (o->runcap - 1);
         }
         if (!add) return UINT32_MAX;
@@ -738,11 +752,12 @@ enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
  * the uniform-run entry, the run table), so that the misses of the nodes
  * ahead overlap the work on the current one: with large tables each probe
  * is a miss to memory. A hint only: nothing is written. */
-static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
+/* *h: the run's hash (run_intern takes it: one hash per run, not two). */
+static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h) {
     const uint32_t* n = b->pool + at;
     uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
     unsigned nk = vx__popc8(valid);
-    if (o->runcap) {
+    {
         uint32_t ids[8];
         bool uni = true;
         for (unsigned oc = 0, j = 0; oc < 8; oc++) {
@@ -753,7 +768,8 @@ static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
             j++;
         }
         if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
-        __builtin_prefetch(&o->runh[(size_t)hash_words(ids, nk, 3) & (o->runcap - 1)]);
+        *h = hash_words(ids, nk, 3);
+        if (o->runcap) __builtin_prefetch(&o->runh[run_slot(*h, o->runcap)]);
     }
     return at + N_KIDS + nk;
 }
@@ -762,12 +778,16 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
     uint32_t limit = b->limit;
     size_t off = *off_io;
     /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
-    enum { PF_AHEAD = 12 };
+    enum { PF_AHEAD = 12, PF_QUEUE = 16 };
     bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
     size_t pf = off;
-    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf);
+    /* the hashes of the runs prefetched, in node order (with attributes
+     * every node has a block and a run: one each) */
+    uint64_t hq[PF_QUEUE];
+    unsigned qin = 0, qout = 0;
+    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
     while (off < end) {
-        if (pf_on && pf < end) pf = run_prefetch(b, o, pf);
+        if (pf_on && pf < end) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -797,7 +817,7 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
         if (b->attrs && mode == LAY_BLOCKS) {
             a = n[N_BLOCK];
         } else if (b->attrs) {
-            a = run_intern(b, o, runids, nk);
+            a = run_intern(b, o, runids, nk, pf_on ? &hq[qout++ % PF_QUEUE] : NULL);
             if (a == UINT32_MAX) return false;
         }
         if (mode == LAY_RUNS) {
@@ -1094,7 +1114,7 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             size_t at = o->nid;
             for (size_t i = 0; i < o->nid; i++)
                 if (o->ids[i] == root_rec) { at = i; break; }
-            if (at == o->nid && run_intern(b, o, &root_rec, 1) == UINT32_MAX) return false;
+            if (at == o->nid && run_intern(b, o, &root_rec, 1, NULL) == UINT32_MAX) return false;
             m->root_attr = (uint32_t)at;
         }
     }
