@@ -604,6 +604,10 @@ typedef struct uni_run {
 } uni_run;
 
 static bool out_push(bld* b, outw* o, uint32_t v) {
+    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
+        o->w[o->n++] = v;
+        return true;
+    }
     if (o->n >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 node words");
         return false;
@@ -2210,7 +2214,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (rep == UINT32_MAX && !b->direct) return false;
     uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
     if (id == UINT32_MAX) return false;
-    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done)) return oom(b, "node list");
+    if (u->ndone >= u->capdone && !vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done))
+        return oom(b, "node list");
     unp_node* dn = &u->done[u->ndone];
     dn->id = id;
     dn->rep = rep;

@@ -1256,8 +1256,7 @@ typedef struct sym_pipe {
     bool nomem;
     size_t n;           /* producer: symbols written */
     uint64_t words, ndone;
-    uint8_t* ht;        /* producer: each completed node's height */
-    size_t capht;
+    uint8_t* ht;        /* producer: each completed node's height (max_words + 1 of them) */
     size_t pos, avail;  /* consumer: symbols taken, published as far as it knows */
     uint64_t base;
     pthread_t th;
@@ -1307,8 +1306,7 @@ static bool pipe_walk(sym_pipe* q, unsigned level, unsigned* h) {
             if (ch + 1 > *h) *h = ch + 1;
         }
     }
-    if (!vx_grow(q->A, (void**)&q->ht, &q->capht, q->ndone + 1, 1)) return q->nomem = true, false;
-    q->ht[q->ndone++] = (uint8_t)*h;
+    q->ht[q->ndone++] = (uint8_t)*h; /* ndone <= max_words: allocated at that */
     return true;
 }
 
@@ -1519,7 +1517,8 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                 q->blocks = (uint32_t**)vx_calloc(A, q->nblocks, sizeof *q->blocks);
                 vx__svo_gate_init(&q->pub, 0);
                 atomic_init(&q->stop, false);
-                piped = q->blocks && pthread_create(&q->th, NULL, pipe_main, q) == 0;
+                q->ht = (uint8_t*)vx_alloc(A, (size_t)m->node_count + 1);
+                piped = q->blocks && q->ht && pthread_create(&q->th, NULL, pipe_main, q) == 0;
                 if (piped) {
                     src.next = pipe_next;
                     src.user = q;
