@@ -211,7 +211,86 @@ static inline __attribute__((always_inline)) void sym_x(pk* k, unsigned kind, un
 }
 
 static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, true); }
-static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, false); }
+/* The decoder's state in locals for one symbol (registers: through pk the
+ * compiler stored range and code back after every bit). */
+typedef struct rcd {
+    uint32_t range, code;
+    const uint8_t* p;
+    size_t n, pos;
+    bool over;
+} rcd;
+
+/* bit_x's decoder, with selects where it branches: the bits of masks and
+ * distances are close to random, so that branch was mispredicted about
+ * every other bit. One normalisation step is enough: p stays in 31..2017
+ * (the updates' fixed points), so a bit leaves the range >= 2^24 * 31 /
+ * 2048 > 2^16 and one shift brings it back above 2^24. */
+static inline __attribute__((always_inline)) unsigned dec_bit(rcd* r, prob* pp) {
+    uint32_t p = *pp, bound = (r->range >> 11) * p;
+    unsigned b = r->code >= bound;
+    uint32_t mask = 0u - b; /* all ones for a 1 */
+    r->code -= bound & mask;
+    r->range = bound + ((r->range - 2 * bound) & mask); /* (mod 2^32) range - bound for a 1 */
+    *pp = (prob)(p + (((2048u - p) >> 5) & ~mask) - ((p >> 5) & mask));
+    if (r->range < (1u << 24)) {
+        r->range <<= 8;
+        r->code = r->code << 8 | (r->pos < r->n ? r->p[r->pos] : (r->over = true, 0u)); /* next_byte */
+        r->pos++;
+    }
+    return b;
+}
+
+static inline __attribute__((always_inline)) uint32_t dec_tree8(rcd* r, prob* t) {
+    unsigned m = 1;
+    for (int i = 0; i < 8; i++) m = (m << 1) | dec_bit(r, &t[m]);
+    return m - 256;
+}
+
+/* sym_x's decoder (the same grammar, FORMAT.md 3.4) on rcd. */
+static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    rcd r = {k->range, k->code, k->p, k->n, k->pos, false};
+    switch (kind) {
+    case VX__SYM_VALID: *v = dec_tree8(&r, k->valid[level_class(ctx)]); break;
+    case VX__SYM_LEAF: {
+        unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
+        uint32_t out = 0;
+        for (unsigned o = 0; o < 8; o++)
+            if (valid >> o & 1u) out |= dec_bit(&r, &k->leaf[lc][o]) << o;
+        *v = out;
+        break;
+    }
+    case VX__SYM_REF: {
+        if (!dec_bit(&r, &k->ref[level_class(ctx)])) {
+            *v = 0;
+            break;
+        }
+        unsigned nb = 1;
+        while (nb < 32 && dec_bit(&r, &k->dlen[nb])) nb++;
+        uint32_t out = 1;
+        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | dec_bit(&r, &k->dbit[j]);
+        *v = out;
+        break;
+    }
+    default: { /* VALUE: ctx is the channel */
+        unsigned c = ctx;
+        unsigned same = dec_bit(&r, &k->eq[c][k->preveq[c]]);
+        uint32_t out = k->prev[c];
+        if (!same && CH_BYTES[c] == 4) {
+            out = raw_u32_x(k, 0, false);
+        } else if (!same) {
+            out = 0;
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= dec_tree8(&r, k->val[c][j]) << (8 * j);
+        }
+        k->preveq[c] = same;
+        k->prev[c] = out;
+        *v = out;
+    }
+    }
+    k->range = r.range;
+    k->code = r.code;
+    k->pos = r.pos;
+    if (r.over) k->over = true; /* (raw_u32_x may have set it too) */
+}
 static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
     if (k->enc) sym_enc(k, kind, ctx, v);
     else sym_dec(k, kind, ctx, v);
