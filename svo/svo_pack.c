@@ -210,7 +210,86 @@ static inline __attribute__((always_inline)) void sym_x(pk* k, unsigned kind, un
     }
 }
 
-static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, true); }
+/* The encoder's twin of dec_bit: range and low in locals for a symbol, the
+ * update by masks (the bit is as unpredictable to the coder's branch). */
+typedef struct rce {
+    uint64_t low;
+    uint32_t range;
+} rce;
+
+static inline __attribute__((always_inline)) void enc_bit(pk* k, rce* r, prob* pp, unsigned b) {
+    uint32_t p = *pp, bound = (r->range >> 11) * p, mask = 0u - (b & 1u);
+    r->low += bound & mask;
+    r->range = bound + ((r->range - 2 * bound) & mask);
+    *pp = (prob)(p + (((2048u - p) >> 5) & ~mask) - ((p >> 5) & mask));
+    while (r->range < (1u << 24)) {
+        r->range <<= 8;
+        k->low = r->low;
+        shift_low(k);
+        r->low = k->low;
+    }
+}
+
+static inline __attribute__((always_inline)) void enc_tree8(pk* k, rce* r, prob* t, uint32_t v) {
+    unsigned m = 1;
+    for (int i = 7; i >= 0; i--) {
+        unsigned b = (v >> i) & 1u;
+        enc_bit(k, r, &t[m], b);
+        m = (m << 1) | b;
+    }
+}
+
+/* sym_x's encoder (the same grammar, FORMAT.md 3.4) on rce. */
+static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    rce r = {k->low, k->range};
+    switch (kind) {
+    case VX__SYM_VALID: enc_tree8(k, &r, k->valid[level_class(ctx)], *v); break;
+    case VX__SYM_LEAF: {
+        unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
+        uint32_t out = 0;
+        for (unsigned o = 0; o < 8; o++)
+            if (valid >> o & 1u) {
+                unsigned b = (*v >> o) & 1u;
+                enc_bit(k, &r, &k->leaf[lc][o], b);
+                out |= b << o;
+            }
+        *v = out;
+        break;
+    }
+    case VX__SYM_REF: {
+        uint32_t rf = *v;
+        enc_bit(k, &r, &k->ref[level_class(ctx)], rf != 0);
+        if (rf == 0) break;
+        unsigned want = 32u - (unsigned)__builtin_clz(rf), nb = 1;
+        while (nb < 32) {
+            unsigned more = nb < want;
+            enc_bit(k, &r, &k->dlen[nb], more);
+            if (!more) break;
+            nb++;
+        }
+        for (int j = (int)nb - 2; j >= 0; j--) enc_bit(k, &r, &k->dbit[j], (rf >> j) & 1u);
+        break;
+    }
+    default: { /* VALUE: ctx is the channel */
+        unsigned c = ctx, same = *v == k->prev[c];
+        uint32_t out = *v;
+        enc_bit(k, &r, &k->eq[c][k->preveq[c]], same);
+        if (same) {
+            out = k->prev[c];
+        } else if (CH_BYTES[c] == 4) {
+            raw_u32_x(k, out, true);
+        } else {
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) enc_tree8(k, &r, k->val[c][j], (out >> (8 * j)) & 0xFFu);
+            out &= CH_BYTES[c] == 1 ? 0xFFu : 0xFFFFu; /* what the decoder gets */
+        }
+        k->preveq[c] = same;
+        k->prev[c] = out;
+        *v = out;
+    }
+    }
+    k->low = r.low;
+    k->range = r.range;
+}
 /* The decoder's state in locals for one symbol (registers: through pk the
  * compiler stored range and code back after every bit). */
 typedef struct rcd {
