@@ -42,7 +42,6 @@ void vx__svo_advise_huge(void* p, size_t n) {
 #endif
 }
 
-
 void vx__svo_gate_init(vx__svo_gate* g, size_t step) {
     atomic_init(&g->val, 0);
     atomic_init(&g->want, 0);
