@@ -9,12 +9,11 @@
  * changes: collapse check, representative attribute, hash-consing (DAG);
  * (4) node blocks are laid out in creation order, which is a post-order
  * (children first), so every child pointer points backwards. */
-#define _POSIX_C_SOURCE 200809L /* nanosleep */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
-#include <time.h>
 
 #include "svo/svo_internal.h"
 
@@ -58,9 +57,9 @@ typedef struct bld {
     pending lv[VX_SVO_MAX_DEPTH + 2];
     uint32_t depth;
     /* With the layout on a second thread (build_layout_thread): the pool is
-     * allocated once at a bound (never moved), each appended node published
+     * allocated once at a bound (never moved), the appended nodes published
      * here; NULL when the layout runs after the build. */
-    _Atomic size_t* pub;
+    vx__svo_gate* pub;
     size_t laid; /* pool words already laid out */
     /* The caller laid the attribute runs out (vx__svo_pool.runs): each
      * node's N_BLOCK holds its run's first record until its block is laid
@@ -429,7 +428,7 @@ static uint32_t pool_append(bld* b, uint32_t hdr, const uint32_t* kids, unsigned
     memcpy(n + N_KIDS, kids, nk * sizeof *kids);
     b->npool = need;
     b->nnodes++;
-    if (b->pub) atomic_store_explicit(b->pub, need, memory_order_release);
+    if (b->pub) vx__svo_gate_publish(b->pub, need);
     return id;
 }
 
@@ -605,6 +604,10 @@ typedef struct uni_run {
 } uni_run;
 
 static bool out_push(bld* b, outw* o, uint32_t v) {
+    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
+        o->w[o->n++] = v;
+        return true;
+    }
     if (o->n >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 node words");
         return false;
@@ -615,7 +618,21 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
 }
 
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
-static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add);
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp);
+
+/* The run table (outw.runh) is indexed by the high half of a run's hash,
+ * the half its entries keep: growing it moves entries without hashing
+ * their runs again (each a read at a random place in ids). Which equal run
+ * a lookup finds does not depend on the table (only the first of equal runs
+ * is stored), so neither do the words. */
+static inline size_t run_slot(uint64_t h, size_t cap) { return (size_t)(h >> 32) & (cap - 1); }
+
+/* n (<= 8) ids equal: inline, where memcmp was a call per probe */
+static inline bool same_ids(const uint32_t* a, const uint32_t* b, unsigned n) {
+    uint32_t d = 0;
+    for (unsigned i = 0; i < n; i++) d |= a[i] ^ b[i];
+    return d == 0;
+}
 
 /* The uniform-run entry of record v (claimed when absent); NULL when the
  * table cannot grow (b->fail set). */
@@ -649,7 +666,8 @@ static uni_run* uni_find(bld* b, outw* o, uint32_t v) {
  * palette colours: try the longer uniform runs first, longest first (the
  * uniform-run table says which are stored: the probes of runh for each
  * length, which that table replaces, found the same runs). */
-static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
+/* hp: the run's hash_words(ids, n, 3) when the caller has it (run_prefetch), or NULL. */
+static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, const uint64_t* hp) {
     if (b->dag && n < 8) {
         bool uni = true;
         for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
@@ -660,11 +678,11 @@ static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n) {
             if (longer) return e->start[n + (31u - (unsigned)__builtin_clz(longer))];
         }
     }
-    return run_intern_exact(b, o, ids, n, true);
+    return run_intern_exact(b, o, ids, n, true, hp);
 }
 
 /* With add false: UINT32_MAX when the run is not stored yet. */
-static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add) {
+static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp) {
     uint64_t h = 0;
     size_t j = 0;
     if (b->dag) {
@@ -675,8 +693,7 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             for (size_t i = 0; i < o->runcap; i++)
                 if (o->runh[i]) {
                     uint64_t e = o->runh[i];
-                    uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1, ln = (uint32_t)e >> 28;
-                    size_t k = (size_t)hash_words(o->ids + st, ln, 3) & (ncap - 1);
+                    size_t k = run_slot(e, ncap);
                     while (t[k]) k = (k + 1) & (ncap - 1);
                     t[k] = e;
                 }
@@ -684,13 +701,13 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             o->runh = t;
             o->runcap = ncap;
         }
-        h = hash_words(ids, n, 3);
-        j = (size_t)h & (o->runcap - 1);
+        h = hp ? *hp : hash_words(ids, n, 3);
+        j = run_slot(h, o->runcap);
         uint64_t want = (h & 0xFFFFFFFF00000000ull) | (uint64_t)n << 28;
         while (o->runh[j]) {
             uint64_t e = o->runh[j];
             uint32_t st = ((uint32_t)e & 0x0FFFFFFFu) - 1;
-            if ((e & 0xFFFFFFFFF0000000ull) == want && memcmp(o->ids + st, ids, n * sizeof *ids) == 0) return st;
+            if ((e & 0xFFFFFFFFF0000000ull) == want && same_ids(o->ids + st, ids, n)) return st;
             j = (j + 1) & (o->runcap - 1);
         }
         if (!add) return UINT32_MAX;
@@ -739,11 +756,12 @@ enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
  * the uniform-run entry, the run table), so that the misses of the nodes
  * ahead overlap the work on the current one: with large tables each probe
  * is a miss to memory. A hint only: nothing is written. */
-static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
+/* *h: the run's hash (run_intern takes it: one hash per run, not two). */
+static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h) {
     const uint32_t* n = b->pool + at;
     uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
     unsigned nk = vx__popc8(valid);
-    if (o->runcap) {
+    {
         uint32_t ids[8];
         bool uni = true;
         for (unsigned oc = 0, j = 0; oc < 8; oc++) {
@@ -754,7 +772,8 @@ static size_t run_prefetch(const bld* b, const outw* o, size_t at) {
             j++;
         }
         if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
-        __builtin_prefetch(&o->runh[(size_t)hash_words(ids, nk, 3) & (o->runcap - 1)]);
+        *h = hash_words(ids, nk, 3);
+        if (o->runcap) __builtin_prefetch(&o->runh[run_slot(*h, o->runcap)]);
     }
     return at + N_KIDS + nk;
 }
@@ -763,12 +782,16 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
     uint32_t limit = b->limit;
     size_t off = *off_io;
     /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
-    enum { PF_AHEAD = 12 };
+    enum { PF_AHEAD = 12, PF_QUEUE = 16 };
     bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
     size_t pf = off;
-    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf);
+    /* the hashes of the runs prefetched, in node order (with attributes
+     * every node has a block and a run: one each) */
+    uint64_t hq[PF_QUEUE];
+    unsigned qin = 0, qout = 0;
+    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
     while (off < end) {
-        if (pf_on && pf < end) pf = run_prefetch(b, o, pf);
+        if (pf_on && pf < end) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -798,7 +821,7 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
         if (b->attrs && mode == LAY_BLOCKS) {
             a = n[N_BLOCK];
         } else if (b->attrs) {
-            a = run_intern(b, o, runids, nk);
+            a = run_intern(b, o, runids, nk, pf_on ? &hq[qout++ % PF_QUEUE] : NULL);
             if (a == UINT32_MAX) return false;
         }
         if (mode == LAY_RUNS) {
@@ -884,14 +907,19 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
  * result is the sequential one. The producer never moves the pool (it is
  * allocated at a bound), reads no N_BLOCK word and writes nodes only before
  * publishing them; the layout writes only N_BLOCK words and its own outw. */
+/* A stage sleeps until this many more pool words are there to lay out
+ * (about a millisecond of the builder's or the decoder's work, 256 KB of
+ * pool: still in cache), so that on two cores the threads take turns in
+ * slices rather than word by word; the builder publishes every PUB_STEP. */
+enum { LAY_WAKE = 1 << 16, LAY_PUB_STEP = 1 << 12 };
 typedef struct lay_job {
     bld lb; /* a copy of the builder for the layout: pool, attrs, dag, limit; its own failure */
     outw* o;
-    _Atomic size_t pub;   /* pool words the builder has appended (the first stage follows these) */
-    _Atomic size_t* src;  /* what this thread follows: &pub, or the runs stage's done */
-    _Atomic size_t done;  /* pool words this thread is through */
-    int mode;             /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
-    atomic_bool stop;
+    vx__svo_gate pub;  /* pool words the builder has appended (the first stage follows these); closed by lay_join */
+    vx__svo_gate* src; /* what this thread follows: &pub, or the runs stage's done */
+    vx__svo_gate done; /* pool words this thread is through; closed when it ends */
+    int mode;          /* LAY_ALL, or a stage: LAY_RUNS, LAY_BLOCKS */
+    bool gates;        /* pub and done initialised (lay_prep; lay_free destroys them) */
     vx_error err;
     pthread_t th;
     bool started;
@@ -901,18 +929,29 @@ static void* lay_main(void* arg) {
     lay_job* j = (lay_job*)arg;
     size_t off = 0;
     for (;;) {
-        bool stop = atomic_load_explicit(&j->stop, memory_order_acquire);
-        size_t end = atomic_load_explicit(j->src, memory_order_acquire);
-        if (off < end) {
-            if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
-            atomic_store_explicit(&j->done, off, memory_order_release);
-            continue;
-        }
-        if (stop) break;
-        nanosleep(&(struct timespec){0, 20000}, NULL); /* the build appends about a node per microsecond */
+        size_t end = vx__svo_gate_wait(j->src, off, LAY_WAKE);
+        if (end <= off) break; /* closed: everything published is laid out */
+        if (!layout_nodes(&j->lb, j->o, &off, end, j->mode)) break;
+        vx__svo_gate_publish(&j->done, off);
     }
     j->lb.laid = off;
+    vx__svo_gate_close(&j->done, off); /* a failure too: the next stage stops where this one did */
     return NULL;
+}
+
+/* Initialises j's gates (before any thread that uses them starts). */
+static void lay_prep(lay_job* j) {
+    vx__svo_gate_init(&j->pub, LAY_PUB_STEP);
+    vx__svo_gate_init(&j->done, 0);
+    j->gates = true;
+    j->started = false;
+}
+/* After the joins of every stage: no thread reads the gates any more. */
+static void lay_free(lay_job* j) {
+    if (!j->gates) return;
+    vx__svo_gate_destroy(&j->pub);
+    vx__svo_gate_destroy(&j->done);
+    j->gates = false;
 }
 
 /* Words of pool the build of n entries (no tiles) can need: at most
@@ -942,10 +981,8 @@ static bool lay_start(lay_job* j, bld* b, outw* o, size_t n) {
 }
 
 /* Prepares j to follow src in mode; starts its thread (false: none started). */
-static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mode) {
-    j->o = o;
-    atomic_init(&j->pub, 0); /* j->done: initialised by the caller (another thread may read it first) */
-    atomic_init(&j->stop, false);
+static bool lay_thread(lay_job* j, bld* b, outw* o, vx__svo_gate* src, int mode) {
+    j->o = o; /* j's gates: initialised by the caller (another thread may read them first) */
     j->src = src ? src : &j->pub;
     j->mode = mode;
     memset(&j->err, 0, sizeof j->err);
@@ -959,7 +996,7 @@ static bool lay_thread(lay_job* j, bld* b, outw* o, _Atomic size_t* src, int mod
 /* Starts the layout thread over b's pool as it is (allocated at its final
  * size: it never moves); false when no thread could be started. */
 static bool lay_run(lay_job* j, bld* b, outw* o) {
-    atomic_init(&j->done, 0);
+    if (!j->gates) lay_prep(j);
     if (!lay_thread(j, b, o, NULL, LAY_ALL)) return false; /* the pool stays, growable as usual */
     b->pub = &j->pub;
     return true;
@@ -970,9 +1007,11 @@ static void lay_join(lay_job* j, bld* b, bool propagate);
  * both following the builder; one thread (lay_run) when the second cannot
  * be started. The pool must not move. */
 static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
-    atomic_init(&ja->done, 0);
+    lay_prep(ja);
+    lay_prep(jb);
     if (!lay_thread(jb, b, o, &ja->done, LAY_BLOCKS)) return lay_run(ja, b, o);
     if (!lay_thread(ja, b, o, NULL, LAY_RUNS)) {
+        vx__svo_gate_close(&ja->done, 0);
         lay_join(jb, b, false); /* it has laid nothing out: b->laid stays 0 */
         return false;
     }
@@ -984,7 +1023,7 @@ static bool lay_run2(lay_job* ja, lay_job* jb, bld* b, outw* o) {
  * propagate, its failure becomes b's. */
 static void lay_join(lay_job* j, bld* b, bool propagate) {
     if (!j->started) return;
-    atomic_store_explicit(&j->stop, true, memory_order_release);
+    if (j->src == &j->pub) vx__svo_gate_close(&j->pub, b->npool); /* the builder's nodes are all written */
     pthread_join(j->th, NULL);
     j->started = false;
     b->pub = NULL;
@@ -1079,7 +1118,7 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             size_t at = o->nid;
             for (size_t i = 0; i < o->nid; i++)
                 if (o->ids[i] == root_rec) { at = i; break; }
-            if (at == o->nid && run_intern(b, o, &root_rec, 1) == UINT32_MAX) return false;
+            if (at == o->nid && run_intern(b, o, &root_rec, 1, NULL) == UINT32_MAX) return false;
             m->root_attr = (uint32_t)at;
         }
     }
@@ -1315,7 +1354,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         if (!runs) {
             lay_run2(lj, lj2, b, o); /* no thread: the layout runs afterwards */
         } else {
-            atomic_init(&lj->done, 0);
+            lay_prep(lj);
             if (lay_thread(lj, b, o, NULL, LAY_BLOCKS)) b->pub = &lj->pub;
         }
     }
@@ -1394,7 +1433,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
         off += N_KIDS + nk;
         b->npool = off;
         b->nnodes++;
-        if (b->pub) atomic_store_explicit(b->pub, off, memory_order_release);
+        if (b->pub) vx__svo_gate_publish(b->pub, off);
     }
     if (ok) {
         b->have_root = true;
@@ -1624,7 +1663,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     outw o;
     memset(&o, 0, sizeof o);
     lay_job lj, lj2; /* the layout thread, or the layout's runs and blocks stages (pool_take) */
-    lj.started = lj2.started = false;
+    lj.started = lj2.started = lj.gates = lj2.gates = false;
     vx_result res = VX_OK;
 
     if (n == 0) goto finish_empty;
@@ -1986,6 +2025,8 @@ finish:
 done:
     lay_join(&lj, &b, false); /* an early exit: stop the layout before freeing what it reads */
     lay_join(&lj2, &b, false);
+    lay_free(&lj);
+    lay_free(&lj2);
     vx_free(b.a, packed);
     vx_free(b.a, tmp);
     vx_free(b.a, ents);
@@ -2003,14 +2044,100 @@ done:
 
 /* ---- reconstruction from depth-first symbols (the .svo reader) ------------------------------- */
 
+/* A completed node as its back-references need it, in one 16-byte record:
+ * a back-reference names a node anywhere before, a cache miss, and these
+ * were three (the id, the pool's representative, the height). */
+typedef struct unp_node {
+    uint32_t id, rep; /* pool id, representative record */
+    uint64_t xt;      /* height (below) in bits 0-4; with want_xt its extent (xt_pack) */
+} unp_node;
+
 typedef struct unp {
     bld* b;
     const vx__svo_src* src;
-    uint32_t* done; /* pool ids in completion order: back-references count from the end */
+    unp_node* done; /* the completed nodes in completion order: back-references count from the end */
     size_t ndone, capdone;
     uint64_t words, max_words;
     vx_error* err;
+    /* with vx__svo_unpack_desc.tree: extents in done[].xt; those of height 7 and above here */
+    bool want_xt;
+    vx__svo_extent* big;
+    size_t nbig, capbig;
 } unp;
+
+/* The reader's check of the rebuilt tree (vx__svo_check_rebuilt) without a
+ * walk over its words: what the validation of FORMAT.md 3.1 finds there,
+ * the reconstruction either guarantees or computes per node as it goes.
+ *
+ * Rules 3 and 4 (per descriptor, at every level it is reached at: valid !=
+ * 0, leaf within valid, pointers backwards and in range, far slots, blocks
+ * before their descriptor, records in range; every word has one role and
+ * is reachable) hold by construction, for any symbol stream: a zero mask is
+ * refused when decoded and a leaf mask is decoded within its valid mask;
+ * the layout (layout_nodes) writes each block after the blocks of the
+ * node's children (the pool is in completion order and a reference names
+ * a completed node), a near pointer only where the distance is at most the
+ * limit (<= 2^15 - 1), else a far slot appended just before the block
+ * (its pointer is at most 16) holding an earlier position; a record index
+ * is the start of a run of at least popcount(valid) records it stored; a
+ * lone block reused is the one word of the same index at a position the
+ * limit can still reach; every word it appends is a far slot, descriptor or
+ * index of the block of a pool node, and every pool node but the root is
+ * the child of a later one (a node is completed only as a new child, and
+ * the last completed is the root), so all are reachable and each word has
+ * the one role it was written with (a block shared between nodes is read
+ * in the same shape: only lone blocks are shared, by nodes without
+ * non-leaf children). What remains of rule 3 is the level: a node reached
+ * at level l must have no non-leaf child at level 1, i.e. its height h (1
+ * when its children are all leaves, else 1 + their largest) must be <= l.
+ * A new child is read at l - 1, so by induction its height is <= l - 1;
+ * a back-reference can name a node of any height: checked here (the
+ * builder shares equal nodes across levels, e.g. one of eight leaves at
+ * levels 1 and 2, so the levels need not be equal). Rule 5 (cells inside
+ * the size, as many as declared) needs the root's extent: a node's shape
+ * placed one level higher is the same with every cube doubled, so each
+ * node keeps its cells and box at its own height and a parent scales its
+ * children's into its own; the root's is scaled to the depth. Rules 1 and
+ * 2 (the head) are checked on the model as usual. tests/svo/test_svo_pack.c
+ * (test_rebuilt_checks) reads mutated streams and runs the full validation
+ * on every model read. */
+typedef struct xt_node {
+    unsigned h;
+    uint64_t cells;
+    uint32_t mn[3], mx[3];
+} xt_node;
+enum { XT_SMALL = 6 }; /* heights up to 6 packed in one word: box 0..64 in 6 bits, cells <= 8^6 in 19 */
+
+static bool xt_pack(unp* u, const xt_node* x, uint64_t* code) {
+    if (x->h <= XT_SMALL) {
+        *code = x->h | x->cells << 5 | (uint64_t)x->mn[0] << 24 | (uint64_t)x->mn[1] << 30 | (uint64_t)x->mn[2] << 36 |
+                (uint64_t)(x->mx[0] - 1) << 42 | (uint64_t)(x->mx[1] - 1) << 48 | (uint64_t)(x->mx[2] - 1) << 54;
+        return true;
+    }
+    if (!vx_grow(u->b->a, (void**)&u->big, &u->capbig, u->nbig + 1, sizeof *u->big)) return oom(u->b, "node extents");
+    vx__svo_extent* e = &u->big[u->nbig];
+    e->cells = x->cells;
+    memcpy(e->min, x->mn, sizeof e->min);
+    memcpy(e->max, x->mx, sizeof e->max);
+    *code = x->h | (uint64_t)u->nbig++ << 5;
+    return true;
+}
+
+static void xt_unpack(const unp* u, uint64_t code, xt_node* x) {
+    x->h = (unsigned)(code & 31u);
+    if (x->h <= XT_SMALL) {
+        x->cells = code >> 5 & 0x7FFFFu;
+        for (int i = 0; i < 3; i++) {
+            x->mn[i] = (uint32_t)(code >> (24 + 6 * i)) & 63u;
+            x->mx[i] = ((uint32_t)(code >> (42 + 6 * i)) & 63u) + 1;
+        }
+        return;
+    }
+    const vx__svo_extent* e = &u->big[code >> 5];
+    x->cells = e->cells;
+    memcpy(x->mn, e->min, sizeof x->mn);
+    memcpy(x->mx, e->max, sizeof x->mx);
+}
 
 static bool unp_fail(unp* u, vx_result r) {
     if (u->b->fail == VX_OK) u->b->fail = r;
@@ -2033,9 +2160,11 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
     uint32_t kids[8], ids[8];
-    unsigned n = 0;
+    xt_node cx[8]; /* the children's heights and extents (done[].xt) */
+    unsigned n = 0, h = 1;
     for (unsigned o = 0; o < 8; o++) {
         if (!(valid >> o & 1u)) continue;
+        cx[n].h = 0; /* a leaf: one cell at height 0 */
         if (leaf >> o & 1u) {
             uint32_t id = 0;
             if (b->attrs) {
@@ -2066,11 +2195,18 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
             } else if (ref > u->ndone) {
                 return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                            "svo: section NODE: back-reference %u but only %zu nodes precede it", ref, u->ndone));
-            } else {
-                c = u->done[u->ndone - ref];
             }
+            const unp_node* cn = &u->done[u->ndone - (ref ? ref : 1)]; /* the new child: the last completed */
+            c = cn->id;
+            unsigned ch = (unsigned)(cn->xt & 31u);
+            if (ch > level - 1) /* (the decoding thread, pipe_walk, stops at the same symbol) */
+                return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                           "svo: section NODE: back-reference %u at level %u names a node of %u levels", ref, level - 1,
+                                           ch));
+            if (ch + 1 > h) h = ch + 1;
+            if (u->want_xt) xt_unpack(u, cn->xt, &cx[n]);
             kids[n] = c;
-            ids[n] = b->pool[c + N_REP];
+            ids[n] = cn->rep;
         }
         n++;
     }
@@ -2078,8 +2214,35 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (rep == UINT32_MAX && !b->direct) return false;
     uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
     if (id == UINT32_MAX) return false;
-    if (!vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done)) return oom(b, "node list");
-    u->done[u->ndone++] = id;
+    if (u->ndone >= u->capdone && !vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done))
+        return oom(b, "node list");
+    unp_node* dn = &u->done[u->ndone];
+    dn->id = id;
+    dn->rep = rep;
+    dn->xt = h;
+    if (u->want_xt) {
+        /* the node's extent at its height h: child k (octant o) scaled from
+         * its height to h - 1 and moved to its octant */
+        xt_node x = {h, 0, {UINT32_MAX, UINT32_MAX, UINT32_MAX}, {0, 0, 0}};
+        for (unsigned o = 0, k = 0; o < 8; o++) {
+            if (!(valid >> o & 1u)) continue;
+            const xt_node* c = &cx[k++];
+            unsigned sh = h - 1 - c->h;
+            if (c->h == 0) {
+                x.cells += (uint64_t)1 << (3 * sh);
+            } else {
+                x.cells += c->cells << (3 * sh);
+            }
+            for (int i = 0; i < 3; i++) {
+                uint32_t at = (o >> i & 1u) << (h - 1);
+                uint32_t lo = c->h == 0 ? 0 : c->mn[i], hi = c->h == 0 ? 1 : c->mx[i];
+                if ((lo << sh) + at < x.mn[i]) x.mn[i] = (lo << sh) + at;
+                if ((hi << sh) + at > x.mx[i]) x.mx[i] = (hi << sh) + at;
+            }
+        }
+        if (!xt_pack(u, &x, &dn->xt)) return false;
+    }
+    u->ndone++;
     *out = id;
     return true;
 }
@@ -2100,7 +2263,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     outw o;
     memset(&o, 0, sizeof o);
-    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err};
+    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL};
     vx_svo_model m;
     memset(&m, 0, sizeof m);
     vx_result res = VX_OK;
@@ -2117,7 +2280,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
      * N_KIDS + 8 words; untouched pages cost no memory. Where it cannot be
      * had, the layout runs after the decoding as before: same result. */
     lay_job lj, lj2;
-    lj.started = lj2.started = false;
+    lj.started = lj2.started = lj.gates = lj2.gates = false;
     if (d->layout_threads && u.max_words >= vx__svo_parallel_words) {
         uint64_t words = (uint64_t)(N_KIDS + 8) * u.max_words + 16;
         if (words > 0xFFFFFFF0u) words = 0xFFFFFFF0u;
@@ -2135,9 +2298,18 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     bool visited = unp_visit(&u, d->depth, &b.root);
     lay_join(&lj, &b, visited); /* the runs stage first: the blocks stage follows it */
     lay_join(&lj2, &b, visited);
+    lay_free(&lj);
+    lay_free(&lj2);
     if (!visited || b.fail != VX_OK) goto fail;
     b.have_root = true;
     b.root_is_leaf = false;
+    if (d->tree) { /* the root's extent at the depth (its height is at most the depth: unp_visit) */
+        xt_node x;
+        xt_unpack(&u, u.done[u.ndone - 1].xt, &x);
+        unsigned sh = d->depth - x.h;
+        d->tree->cells = x.cells << (3 * sh);
+        for (int i = 0; i < 3; i++) d->tree->min[i] = x.mn[i] << sh, d->tree->max[i] = x.mx[i] << sh;
+    }
     if (!finish_model(&b, &o, &m, false)) goto fail;
     out->nodes = m.nodes;
     out->node_count = m.node_count;
@@ -2152,6 +2324,7 @@ fail:
     res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
 done:
     vx_free(b.a, u.done);
+    vx_free(b.a, u.big);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);

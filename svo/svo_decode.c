@@ -372,7 +372,38 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
     return vx__svo_analyze_mt(m, ext, unreferenced_ok, 1, err);
 }
 
+static vx_result analyze(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, const vx__svo_extent* tree,
+                         vx_error* err);
 vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, vx_error* err) {
+    return analyze(m, ext, unreferenced_ok, threads, NULL, err);
+}
+
+vx_result vx__svo_check_rebuilt(const vx_svo_model* m, const vx__svo_extent* tree, vx__svo_extent* ext, vx_error* err) {
+    return analyze(m, ext, false, 1, tree, err);
+}
+
+/* Rule 5 of FORMAT.md 3.1 on the root's extent: cells inside the size, as many as declared. */
+static vx_result check_extent(const vx_svo_model* m, uint64_t cells, const uint32_t mn[3], const uint32_t mx[3], vx__svo_extent* ext,
+                              vx_error* err) {
+    if (mx[0] > m->size[0] || mx[1] > m->size[1] || mx[2] > m->size[2])
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", mx[0] - 1,
+                       mx[1] - 1, mx[2] - 1, m->size[0], m->size[1], m->size[2]);
+    if (cells != m->voxel_count)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: voxel_count %llu, the tree holds %llu",
+                       (unsigned long long)m->voxel_count, (unsigned long long)cells);
+    if (ext) {
+        ext->cells = cells;
+        memcpy(ext->min, mn, sizeof ext->min);
+        memcpy(ext->max, mx, sizeof ext->max);
+    }
+    return VX_OK;
+}
+
+/* tree: the extent of m's tree as its reconstruction computed it (a model
+ * the reader rebuilt from the structural form: vx__svo_check_rebuilt);
+ * then only rules 1, 2 and 5 are checked here. */
+static vx_result analyze(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, const vx__svo_extent* tree,
+                         vx_error* err) {
     if (!m) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo model: null");
     if (m->depth > VX_SVO_MAX_DEPTH)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
@@ -425,6 +456,10 @@ vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool un
     if (m->attrs && m->root_attr >= m->attr_count)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: root attribute %u of %u records", m->root_attr,
                        m->attr_count);
+    if (tree) {
+        vx__svo_extent t = *tree; /* ext may be tree */
+        return check_extent(m, t.cells, t.min, t.max, ext, err);
+    }
 
     size_t nw = m->node_count;
     wstate* ws = (wstate*)vx_calloc(NULL, nw, sizeof *ws);
@@ -561,22 +596,7 @@ descended:; /* (a declaration follows: C17 needs a statement after a label) */
         const pair_ext* R = &r1;
         if (m->depth == 1) level1_ext(m->nodes[m->root], &r1);
         else pair_load(pe, ws[m->root].pidx, m->depth, &r1);
-        if (R->mx[0] > m->size[0] || R->mx[1] > m->size[1] || R->mx[2] > m->size[2]) {
-            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
-                          "svo model: cells reach (%u, %u, %u), outside the size %ux%ux%u", R->mx[0] - 1, R->mx[1] - 1,
-                          R->mx[2] - 1, m->size[0], m->size[1], m->size[2]);
-            goto out;
-        }
-        if (R->cells != m->voxel_count) {
-            res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo model: voxel_count %llu, the tree holds %llu",
-                          (unsigned long long)m->voxel_count, (unsigned long long)R->cells);
-            goto out;
-        }
-        if (ext) {
-            ext->cells = R->cells;
-            memcpy(ext->min, R->mn, sizeof ext->min);
-            memcpy(ext->max, R->mx, sizeof ext->max);
-        }
+        res = check_extent(m, R->cells, R->mn, R->mx, ext, err);
     }
 out:
     vx_free(NULL, ws);
@@ -627,6 +647,7 @@ typedef struct analyze_jobs {
 static void analyze_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     analyze_jobs* j = (analyze_jobs*)ctx;
+    if (j->skip && j->skip[i] == VX__SVO_SKIP_REBUILT) j->res[i] = vx__svo_check_rebuilt(&j->s->models[i], &j->ext[i], &j->ext[i], &j->errs[i]);
     if (j->skip && j->skip[i]) return; /* res[i] stays VX_OK (0) */
     j->res[i] = vx__svo_analyze(&j->s->models[i], j->ext ? &j->ext[i] : NULL, &j->errs[i]);
 }
@@ -651,7 +672,11 @@ static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, cons
     } else { /* one model at a time: a large one uses the threads within itself */
         unsigned cpus = vx__svo_cpus(want);
         for (uint32_t i = 0; r == VX_OK && i < s->model_count; i++)
-            if ((!skip || !skip[i]) && (r = vx__svo_analyze_mt(&s->models[i], ext ? &ext[i] : NULL, false, cpus, err)) != VX_OK) *bad = i;
+            if (skip && skip[i] == VX__SVO_SKIP_REBUILT) {
+                if ((r = vx__svo_check_rebuilt(&s->models[i], &ext[i], &ext[i], err)) != VX_OK) *bad = i;
+            } else if ((!skip || !skip[i]) && (r = vx__svo_analyze_mt(&s->models[i], ext ? &ext[i] : NULL, false, cpus, err)) != VX_OK) {
+                *bad = i;
+            }
     }
     vx_free(s->alloc, res);
     vx_free(s->alloc, errs);

@@ -5,6 +5,8 @@
 #include "svo/svo.h"
 #include "svo/svo_interned.h"
 
+#include <pthread.h>
+
 /* Largest relative child pointer the builder writes before it switches to a
  * far slot. The encoding allows 32767 (15 bits); tests lower it so that far
  * pointers appear in small trees. Not thread-safe by design: test-only. */
@@ -63,13 +65,50 @@ unsigned vx__svo_cpus(unsigned want);
  * 18). Call it before the memory is first touched. */
 void vx__svo_advise_huge(void* p, size_t n);
 
+/* A count one thread advances (a stage's progress: pool words appended,
+ * symbols decoded, words laid out) and one other thread waits on, asleep
+ * (a condition variable) rather than polling: the stages of a read share
+ * two cores with each other, and a poller's wake-ups are CPU the others
+ * lose (docs/PERFORMANCE.md, issue 18, ninth step). The producer publishes
+ * at most every `step` units (its stores and the waiter's wake-ups in
+ * batches) and closes the gate with its final count. */
+typedef struct vx__svo_gate {
+    _Atomic size_t val;  /* published count */
+    _Atomic size_t want; /* the waiter sleeps until val >= want (0: nobody waits) */
+    bool closed;         /* under lock: val is final */
+    size_t step, next;   /* the producer's: publish from `next` on */
+    pthread_mutex_t lock;
+    pthread_cond_t cond;
+} vx__svo_gate;
+void vx__svo_gate_init(vx__svo_gate* g, size_t step);
+void vx__svo_gate_destroy(vx__svo_gate* g);
+/* Producer: the first v units are complete (v never decreases). */
+void vx__svo_gate_publish(vx__svo_gate* g, size_t v);
+/* Producer: v is final; wakes the waiter for good. */
+void vx__svo_gate_close(vx__svo_gate* g, size_t v);
+/* Waiter: the published count once it exceeds `have` (at once when it
+ * does; else asleep until it reaches have + more, or the gate is closed).
+ * A result <= have means closed with nothing more. */
+size_t vx__svo_gate_wait(vx__svo_gate* g, size_t have, size_t more);
+
+/* The validation of a model the reader rebuilt from the structural form
+ * (FORMAT.md 3.4, 3.5), whose reconstruction computed the extent of its tree
+ * (tree, at the model's depth): rules 1, 2 and 5 of FORMAT.md 3.1 (the head,
+ * the root, the cells inside the size and their count); rules 3 and 4 hold
+ * by construction (vx__svo_unpack says why), so the words are not walked.
+ * ext (may be tree) receives the extent. */
+vx_result vx__svo_check_rebuilt(const vx_svo_model* m, const vx__svo_extent* tree, vx__svo_extent* ext, vx_error* err);
+
 /* vx_svo_validate_scene that also returns each model's extent (ext has
  * model_count entries, or is NULL), so a writer analyses every model once. */
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err);
 /* The same without the models' trees (models false): only the scene's own
  * rules, for a writer whose models were coded elsewhere (vx_svo_write_file_coded);
- * or without those marked in skip (may be NULL; their ext entries untouched):
- * models whose vx_svo_model.check the writer found current. */
+ * or without those marked in skip (may be NULL): VX__SVO_SKIP_TRUSTED, models
+ * whose vx_svo_model.check the writer found current (their ext entries
+ * untouched); VX__SVO_SKIP_REBUILT, models the reader rebuilt, whose ext
+ * entries hold their trees' extents (vx__svo_check_rebuilt). */
+enum { VX__SVO_SKIP_TRUSTED = 1, VX__SVO_SKIP_REBUILT = 2 };
 vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
                                      vx_error* err);
 /* Sets each model's vx_svo_model.check from its extent (the reader, after
@@ -117,6 +156,11 @@ typedef struct vx__svo_unpack_desc {
      * models of at least vx__svo_parallel_words words; the result never
      * depends on it. */
     unsigned layout_threads;
+    /* When non-NULL: receives the extent of the rebuilt tree at the depth,
+     * and every back-reference is checked to name a node that fits below
+     * its level (the reader's check instead of the validation's walk:
+     * vx__svo_check_rebuilt; the proof is in svo_build.c before xt_node). */
+    vx__svo_extent* tree;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -161,8 +205,12 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
 uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode);
 /* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
  * DEFLATE chunks of version 3, 2 the tagged chunks of version 4 (NULL: none). */
+/* ext, rebuilt (model_count entries each, or NULL): a model rebuilt from
+ * the structural form gets rebuilt[i] = VX__SVO_SKIP_REBUILT and its tree's
+ * extent in ext[i] (others: untouched), for the validation to check its
+ * head only (vx__svo_validate_scene_opt). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned threads, vx_svo_chunk_stats* stats, vx_error* err);
+                            unsigned threads, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
 
 /* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
  * sections' checksums are one thread's pass over the whole file, about

@@ -807,6 +807,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     sec* secs = NULL;
     vx__svo_extent* ext = NULL;
     uint8_t* chunked = NULL;
+    uint8_t* rebuilt = NULL;
     vx_svo_scene s;
     vx_svo_scene_init(&s, A);
     vx_result r = load_table(d, size, A, &version, &count, &secs, err);
@@ -850,20 +851,22 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     }
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
+    /* the validation's extents give the bounds of form 0 without another
+     * pass over the trees; models rebuilt from the structural form come
+     * with theirs and are not walked again (vx__svo_check_rebuilt) */
+    if (s.model_count && (!(ext = (vx__svo_extent*)vx_calloc(A, s.model_count, sizeof *ext)) ||
+                          !(rebuilt = (uint8_t*)vx_calloc(A, s.model_count, 1)))) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto fail;
+    }
     if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
-                               rdd.chunk_stats, err)) != VX_OK)
+                               rdd.chunk_stats, ext, rebuilt, err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     if (known[S_LGHT] && (r = read_lght(d, known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
     if (known[S_FRMS] && (r = read_frms(d, known[S_FRMS], &s, err)) != VX_OK) goto fail;
-    /* the validation's extents give the bounds of form 0 without another
-     * pass over the trees */
-    if (s.model_count && !(ext = (vx__svo_extent*)vx_calloc(A, s.model_count, sizeof *ext))) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-        goto fail;
-    }
-    r = vx__svo_validate_scene_ext(&s, ext, rdd.threads, err);
+    r = vx__svo_validate_scene_opt(&s, ext, rdd.threads, true, rebuilt, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
         if (err) err->code = r;
@@ -873,12 +876,14 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
     vx__svo_set_checks(&s, ext, rdd.threads);
     vx_free(A, ext);
+    vx_free(A, rebuilt);
     vx_free(A, secs);
     vx_free(A, chunked);
     *out = s;
     return VX_OK;
 fail:
     vx_free(A, ext);
+    vx_free(A, rebuilt);
     vx_free(A, secs);
     vx_free(A, chunked);
     vx_svo_scene_free(&s);

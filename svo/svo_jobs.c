@@ -9,6 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
 #include <stdint.h>
+#include <stdatomic.h>
 #include <sys/mman.h>
 
 #include "svo/svo_internal.h"
@@ -41,3 +42,58 @@ void vx__svo_advise_huge(void* p, size_t n) {
 #endif
 }
 
+void vx__svo_gate_init(vx__svo_gate* g, size_t step) {
+    atomic_init(&g->val, 0);
+    atomic_init(&g->want, 0);
+    g->closed = false;
+    g->step = step;
+    g->next = step;
+    pthread_mutex_init(&g->lock, NULL);
+    pthread_cond_init(&g->cond, NULL);
+}
+
+void vx__svo_gate_destroy(vx__svo_gate* g) {
+    pthread_cond_destroy(&g->cond);
+    pthread_mutex_destroy(&g->lock);
+}
+
+void vx__svo_gate_publish(vx__svo_gate* g, size_t v) {
+    if (v < g->next) return;
+    g->next = v + g->step;
+    /* seq_cst store then load, against the waiter's seq_cst store of want
+     * then load of val: one of the two sees the other's write, so either
+     * the waiter sees v and does not sleep or this sees its want and wakes
+     * it (no wake-up is lost) */
+    atomic_store(&g->val, v);
+    size_t w = atomic_load(&g->want);
+    if (w && v >= w && atomic_compare_exchange_strong(&g->want, &w, 0)) {
+        pthread_mutex_lock(&g->lock); /* the waiter holds it until it sleeps */
+        pthread_cond_signal(&g->cond);
+        pthread_mutex_unlock(&g->lock);
+    }
+}
+
+void vx__svo_gate_close(vx__svo_gate* g, size_t v) {
+    pthread_mutex_lock(&g->lock);
+    atomic_store(&g->val, v);
+    g->closed = true;
+    pthread_cond_signal(&g->cond);
+    pthread_mutex_unlock(&g->lock);
+}
+
+size_t vx__svo_gate_wait(vx__svo_gate* g, size_t have, size_t more) {
+    size_t v = atomic_load_explicit(&g->val, memory_order_acquire);
+    if (v > have) return v;
+    size_t target = have + (more ? more : 1);
+    pthread_mutex_lock(&g->lock);
+    for (;;) {
+        atomic_store(&g->want, target);
+        v = atomic_load(&g->val);
+        if (v >= target || g->closed) break;
+        pthread_cond_wait(&g->cond, &g->lock);
+    }
+    atomic_store(&g->want, 0);
+    v = atomic_load(&g->val);
+    pthread_mutex_unlock(&g->lock);
+    return v;
+}

@@ -11,7 +11,7 @@
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. */
-#define _POSIX_C_SOURCE 200809L /* nanosleep */
+#define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -210,8 +210,166 @@ static inline __attribute__((always_inline)) void sym_x(pk* k, unsigned kind, un
     }
 }
 
-static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, true); }
-static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) { sym_x(k, kind, ctx, v, false); }
+/* The encoder's twin of dec_bit: range and low in locals for a symbol, the
+ * update by masks (the bit is as unpredictable to the coder's branch). */
+typedef struct rce {
+    uint64_t low;
+    uint32_t range;
+} rce;
+
+static inline __attribute__((always_inline)) void enc_bit(pk* k, rce* r, prob* pp, unsigned b) {
+    uint32_t p = *pp, bound = (r->range >> 11) * p, mask = 0u - (b & 1u);
+    r->low += bound & mask;
+    r->range = bound + ((r->range - 2 * bound) & mask);
+    *pp = (prob)(p + (((2048u - p) >> 5) & ~mask) - ((p >> 5) & mask));
+    while (r->range < (1u << 24)) {
+        r->range <<= 8;
+        k->low = r->low;
+        shift_low(k);
+        r->low = k->low;
+    }
+}
+
+static inline __attribute__((always_inline)) void enc_tree8(pk* k, rce* r, prob* t, uint32_t v) {
+    unsigned m = 1;
+    for (int i = 7; i >= 0; i--) {
+        unsigned b = (v >> i) & 1u;
+        enc_bit(k, r, &t[m], b);
+        m = (m << 1) | b;
+    }
+}
+
+/* sym_x's encoder (the same grammar, FORMAT.md 3.4) on rce. */
+static void sym_enc(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    rce r = {k->low, k->range};
+    switch (kind) {
+    case VX__SYM_VALID: enc_tree8(k, &r, k->valid[level_class(ctx)], *v); break;
+    case VX__SYM_LEAF: {
+        unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
+        uint32_t out = 0;
+        for (unsigned o = 0; o < 8; o++)
+            if (valid >> o & 1u) {
+                unsigned b = (*v >> o) & 1u;
+                enc_bit(k, &r, &k->leaf[lc][o], b);
+                out |= b << o;
+            }
+        *v = out;
+        break;
+    }
+    case VX__SYM_REF: {
+        uint32_t rf = *v;
+        enc_bit(k, &r, &k->ref[level_class(ctx)], rf != 0);
+        if (rf == 0) break;
+        unsigned want = 32u - (unsigned)__builtin_clz(rf), nb = 1;
+        while (nb < 32) {
+            unsigned more = nb < want;
+            enc_bit(k, &r, &k->dlen[nb], more);
+            if (!more) break;
+            nb++;
+        }
+        for (int j = (int)nb - 2; j >= 0; j--) enc_bit(k, &r, &k->dbit[j], (rf >> j) & 1u);
+        break;
+    }
+    default: { /* VALUE: ctx is the channel */
+        unsigned c = ctx, same = *v == k->prev[c];
+        uint32_t out = *v;
+        enc_bit(k, &r, &k->eq[c][k->preveq[c]], same);
+        if (same) {
+            out = k->prev[c];
+        } else if (CH_BYTES[c] == 4) {
+            raw_u32_x(k, out, true);
+        } else {
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) enc_tree8(k, &r, k->val[c][j], (out >> (8 * j)) & 0xFFu);
+            out &= CH_BYTES[c] == 1 ? 0xFFu : 0xFFFFu; /* what the decoder gets */
+        }
+        k->preveq[c] = same;
+        k->prev[c] = out;
+        *v = out;
+    }
+    }
+    k->low = r.low;
+    k->range = r.range;
+}
+/* The decoder's state in locals for one symbol (registers: through pk the
+ * compiler stored range and code back after every bit). */
+typedef struct rcd {
+    uint32_t range, code;
+    const uint8_t* p;
+    size_t n, pos;
+    bool over;
+} rcd;
+
+/* bit_x's decoder, with selects where it branches: the bits of masks and
+ * distances are close to random, so that branch was mispredicted about
+ * every other bit. One normalisation step is enough: p stays in 31..2017
+ * (the updates' fixed points), so a bit leaves the range >= 2^24 * 31 /
+ * 2048 > 2^16 and one shift brings it back above 2^24. */
+static inline __attribute__((always_inline)) unsigned dec_bit(rcd* r, prob* pp) {
+    uint32_t p = *pp, bound = (r->range >> 11) * p;
+    unsigned b = r->code >= bound;
+    uint32_t mask = 0u - b; /* all ones for a 1 */
+    r->code -= bound & mask;
+    r->range = bound + ((r->range - 2 * bound) & mask); /* (mod 2^32) range - bound for a 1 */
+    *pp = (prob)(p + (((2048u - p) >> 5) & ~mask) - ((p >> 5) & mask));
+    if (r->range < (1u << 24)) {
+        r->range <<= 8;
+        r->code = r->code << 8 | (r->pos < r->n ? r->p[r->pos] : (r->over = true, 0u)); /* next_byte */
+        r->pos++;
+    }
+    return b;
+}
+
+static inline __attribute__((always_inline)) uint32_t dec_tree8(rcd* r, prob* t) {
+    unsigned m = 1;
+    for (int i = 0; i < 8; i++) m = (m << 1) | dec_bit(r, &t[m]);
+    return m - 256;
+}
+
+/* sym_x's decoder (the same grammar, FORMAT.md 3.4) on rcd. */
+static void sym_dec(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
+    rcd r = {k->range, k->code, k->p, k->n, k->pos, false};
+    switch (kind) {
+    case VX__SYM_VALID: *v = dec_tree8(&r, k->valid[level_class(ctx)]); break;
+    case VX__SYM_LEAF: {
+        unsigned lc = level_class(ctx & 0xFFu), valid = ctx >> 8;
+        uint32_t out = 0;
+        for (unsigned o = 0; o < 8; o++)
+            if (valid >> o & 1u) out |= dec_bit(&r, &k->leaf[lc][o]) << o;
+        *v = out;
+        break;
+    }
+    case VX__SYM_REF: {
+        if (!dec_bit(&r, &k->ref[level_class(ctx)])) {
+            *v = 0;
+            break;
+        }
+        unsigned nb = 1;
+        while (nb < 32 && dec_bit(&r, &k->dlen[nb])) nb++;
+        uint32_t out = 1;
+        for (int j = (int)nb - 2; j >= 0; j--) out = (out << 1) | dec_bit(&r, &k->dbit[j]);
+        *v = out;
+        break;
+    }
+    default: { /* VALUE: ctx is the channel */
+        unsigned c = ctx;
+        unsigned same = dec_bit(&r, &k->eq[c][k->preveq[c]]);
+        uint32_t out = k->prev[c];
+        if (!same && CH_BYTES[c] == 4) {
+            out = raw_u32_x(k, 0, false);
+        } else if (!same) {
+            out = 0;
+            for (unsigned j = 0; j < CH_BYTES[c]; j++) out |= dec_tree8(&r, k->val[c][j]) << (8 * j);
+        }
+        k->preveq[c] = same;
+        k->prev[c] = out;
+        *v = out;
+    }
+    }
+    k->range = r.range;
+    k->code = r.code;
+    k->pos = r.pos;
+    if (r.over) k->over = true; /* (raw_u32_x may have set it too) */
+}
 static void sym(pk* k, unsigned kind, unsigned ctx, uint32_t* v) {
     if (k->enc) sym_enc(k, kind, ctx, v);
     else sym_dec(k, kind, ctx, v);
@@ -1239,7 +1397,10 @@ static bool rc_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_err
  * declared words, a reference past the completed nodes, the stream used up),
  * after the same symbol, so the errors and the decoder's position are the
  * one-thread ones. */
-enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096 };
+/* The consumer sleeps until PIPE_WAKE more symbols are there (a fraction of
+ * a millisecond of decoding), so that on two cores the threads take turns in
+ * slices. */
+enum { PIPE_BLOCK = 1 << 16, PIPE_PUBLISH = 4096, PIPE_WAKE = 1 << 14 };
 typedef struct sym_pipe {
     pk* k;
     const vx_allocator* A;
@@ -1247,14 +1408,14 @@ typedef struct sym_pipe {
     uint64_t max_words;
     uint32_t** blocks; /* allocated at the bound (never moved); each block freed by the consumer past it */
     size_t nblocks;
-    _Atomic size_t pub; /* symbols published */
-    atomic_bool done;   /* the producer has stopped (pub is final) */
+    vx__svo_gate pub;   /* symbols published; closed when the producer stops */
     atomic_bool stop;   /* the consumer has stopped: the producer may quit */
-    bool truncated;     /* the producer stopped where the stream ran out (set before done) */
+    bool truncated;     /* the producer stopped where the stream ran out (set before the close) */
     bool nomem;
     size_t n;           /* producer: symbols written */
     uint64_t words, ndone;
-    size_t pos;         /* consumer: symbols taken */
+    uint8_t* ht;        /* producer: each completed node's height (max_words + 1 of them) */
+    size_t pos, avail;  /* consumer: symbols taken, published as far as it knows */
     uint64_t base;
     pthread_t th;
 } sym_pipe;
@@ -1266,7 +1427,7 @@ static bool pipe_emit(sym_pipe* q, uint32_t v) {
     }
     q->blocks[b][q->n % PIPE_BLOCK] = v;
     if (++q->n % PIPE_PUBLISH == 0) {
-        atomic_store_explicit(&q->pub, q->n, memory_order_release);
+        vx__svo_gate_publish(&q->pub, q->n);
         if (atomic_load_explicit(&q->stop, memory_order_relaxed)) return false;
     }
     return true;
@@ -1281,8 +1442,12 @@ static bool pipe_sym(sym_pipe* q, unsigned kind, unsigned ctx, uint32_t* v) {
     return pipe_emit(q, *v);
 }
 
-static bool pipe_walk(sym_pipe* q, unsigned level) {
+/* h: the node's height (vx__svo_unpack refuses a back-reference to a node
+ * of more levels than are left below it: unp_visit). */
+static bool pipe_walk(sym_pipe* q, unsigned level, unsigned* h) {
     uint32_t valid, leaf, ref, v;
+    unsigned ch;
+    *h = 1;
     if (!pipe_sym(q, VX__SYM_VALID, level, &valid) || valid == 0) return false;
     if (level == 1) leaf = valid;
     else if (!pipe_sym(q, VX__SYM_LEAF, level | valid << 8, &leaf)) return false;
@@ -1294,29 +1459,29 @@ static bool pipe_walk(sym_pipe* q, unsigned level) {
         } else {
             if (++q->words >= q->max_words) return false;
             if (!pipe_sym(q, VX__SYM_REF, level, &ref)) return false;
-            if (ref == 0 ? !pipe_walk(q, level - 1) : ref > q->ndone) return false;
+            if (ref == 0 ? !pipe_walk(q, level - 1, &ch) : ref > q->ndone) return false;
+            if (ref && (ch = q->ht[q->ndone - ref]) > level - 1) return false;
+            if (ch + 1 > *h) *h = ch + 1;
         }
     }
-    q->ndone++;
+    q->ht[q->ndone++] = (uint8_t)*h; /* ndone <= max_words: allocated at that */
     return true;
 }
 
 static void* pipe_main(void* arg) {
     sym_pipe* q = (sym_pipe*)arg;
-    pipe_walk(q, q->depth);
-    atomic_store_explicit(&q->pub, q->n, memory_order_release);
-    atomic_store_explicit(&q->done, true, memory_order_release);
+    unsigned h;
+    pipe_walk(q, q->depth, &h);
+    vx__svo_gate_close(&q->pub, q->n);
     return NULL;
 }
 
 static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
     (void)kind, (void)ctx;
     sym_pipe* q = (sym_pipe*)user;
-    for (;;) {
-        size_t pub = atomic_load_explicit(&q->pub, memory_order_acquire);
-        if (q->pos < pub) break;
-        if (atomic_load_explicit(&q->done, memory_order_acquire)) {
-            if (q->pos < atomic_load_explicit(&q->pub, memory_order_acquire)) break;
+    if (q->pos >= q->avail) {
+        q->avail = vx__svo_gate_wait(&q->pub, q->pos, PIPE_WAKE);
+        if (q->avail <= q->pos) { /* the decoder has stopped before this symbol */
             if (q->truncated) {
                 uint64_t at = q->base + q->k->n;
                 return vx_fail(err, VX_ERR_TRUNCATED, at, "svo: section NODE at byte %llu: the coded stream ends before the trees do",
@@ -1327,7 +1492,6 @@ static bool pipe_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_e
                            q->nomem ? "svo: out of memory" : "svo: section NODE: the coded symbols end early"),
                    false;
         }
-        nanosleep(&(struct timespec){0, 20000}, NULL); /* the decoder publishes every few thousand symbols */
     }
     size_t b = q->pos / PIPE_BLOCK;
     *v = q->blocks[b][q->pos % PIPE_BLOCK];
@@ -1404,12 +1568,15 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
     return VX_OK;
 }
 
+/* tree, rebuilt (both or neither NULL): a model rebuilt from the structural
+ * form gets its tree's extent in *tree and *rebuilt = VX__SVO_SKIP_REBUILT
+ * (the validation then checks its head only: vx__svo_check_rebuilt). */
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err);
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err);
 
 /* Decodes model mi from its stream p[0..n) (base: the stream's file offset). */
 static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A,
-                              unsigned lay, vx_error* err) {
+                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     /* side bytes first: their length, then (if any) the deflated length and
      * the deflated bytes. Both lengths are checked before anything is
      * allocated: the side holds at most 4 bytes per declared record and
@@ -1451,13 +1618,13 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     p += hdr + (size_t)z_n;
     base += hdr + z_n;
     n -= hdr + (size_t)z_n;
-    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, err);
+    vx_result r = unpack_coded(p, n, base, side, (size_t)side_n, m, mi, A, lay, tree, rebuilt, err);
     vx_free(A, side);
     return r;
 }
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
-                              uint32_t mi, const vx_allocator* A, unsigned lay, vx_error* err) {
+                              uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
     if (m->node_count > cap || m->attr_count > cap)
         return vx_fail(err, VX_ERR_LIMIT, base,
@@ -1493,7 +1660,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             rc_src rs = {k, base};
             vx__svo_src src = {rc_next, &rs};
             vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
-                                      .layout_threads = lay};
+                                      .layout_threads = lay, .tree = rebuilt ? tree : NULL};
             /* with threads to spare, the symbols are decoded ahead on one */
             sym_pipe* q = NULL;
             bool piped = false;
@@ -1506,10 +1673,10 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                 q->base = base;
                 q->nblocks = (size_t)((26u * ((uint64_t)m->node_count + 1)) / PIPE_BLOCK + 2);
                 q->blocks = (uint32_t**)vx_calloc(A, q->nblocks, sizeof *q->blocks);
-                atomic_init(&q->pub, 0);
-                atomic_init(&q->done, false);
+                vx__svo_gate_init(&q->pub, 0);
                 atomic_init(&q->stop, false);
-                piped = q->blocks && pthread_create(&q->th, NULL, pipe_main, q) == 0;
+                q->ht = (uint8_t*)vx_alloc(A, (size_t)m->node_count + 1);
+                piped = q->blocks && q->ht && pthread_create(&q->th, NULL, pipe_main, q) == 0;
                 if (piped) {
                     src.next = pipe_next;
                     src.user = q;
@@ -1521,6 +1688,8 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                 pthread_join(q->th, NULL);
             }
             if (q) {
+                vx__svo_gate_destroy(&q->pub);
+                vx_free(A, q->ht);
                 for (size_t i = 0; q->blocks && i < q->nblocks; i++) vx_free(A, q->blocks[i]);
                 vx_free(A, q->blocks);
                 vx_free(A, q);
@@ -1537,6 +1706,8 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                             "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
                             (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
                             want.attr_count, want.root_attr);
+            } else if (rebuilt) {
+                *rebuilt = VX__SVO_SKIP_REBUILT;
             }
         }
     }
@@ -1835,6 +2006,8 @@ typedef struct unpack_jobs {
     vx_error* errs;
     const uint8_t* chunked; /* per model, or NULL */
     unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
+    vx__svo_extent* ext;    /* with rebuilt: see vx__svo_pack_read */
+    uint8_t* rebuilt;
 } unpack_jobs;
 
 /* Threads the layout of each structural model may follow its decoding on,
@@ -1853,11 +2026,13 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay, &j->errs[i]);
+    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
+                             j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned want, vx_svo_chunk_stats* stats, vx_error* err) {
+                            unsigned want, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+    if (!ext) rebuilt = NULL;
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
         return VX_OK;
@@ -1914,13 +2089,14 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
-                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay, err);
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
+                                                          rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);

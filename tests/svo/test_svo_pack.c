@@ -257,6 +257,128 @@ static void test_bad_symbols(void) {
     }
 }
 
+/* The reconstruction's own checks that stand in for the validation's walk
+ * (vx__svo_check_rebuilt): a back-reference to a node with more levels than
+ * are left below it is refused, one to a node of fewer levels (as the
+ * builder shares them) is not, and the extent it computes is the
+ * validator's. Depth 3, no attributes. */
+static void test_rebuilt_levels(void) {
+    /* root: octants 0 and 1; A (level 2) holds L (level 1, one cell) */
+    static const uint32_t deep[] = {0x03, 0x00, 0, 0x01, 0x00, 0, 0x01, 0, 0x01, 0x00, 1}; /* B (level 2) -> A: 2 levels at level 1 */
+    static const uint32_t low[] = {0x03, 0x00, 0, 0x01, 0x00, 0, 0x01, 2};                 /* octant 1 -> L at level 2 */
+    static const uint32_t same[] = {0x03, 0x00, 0, 0x01, 0x00, 0, 0x01, 1};                /* octant 1 -> A at level 2 */
+    struct {
+        const uint32_t* v;
+        size_t n;
+        uint64_t cells;
+        uint32_t mx[3];
+    } cases[] = {{deep, 11, 0, {0, 0, 0}}, {low, 8, 9, {6, 2, 2}}, {same, 8, 2, {5, 1, 1}}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        arr a = {cases[i].v, cases[i].n, 0};
+        vx__svo_src src = {arr_next, &a};
+        vx__svo_extent tree;
+        memset(&tree, 0, sizeof tree);
+        vx__svo_unpack_desc d = {.depth = 3, .dag = true, .limit = VX__SVO_PTR_MAX, .max_words = 16, .tree = &tree};
+        vx_svo_model m;
+        memset(&m, 0, sizeof m);
+        vx_error e;
+        memset(&e, 0, sizeof e);
+        vx_result r = vx__svo_unpack(&d, &src, &m, &e);
+        if (!cases[i].cells) {
+            CHECKF(r != VX_OK && strstr(e.msg, "names a node of 2 levels"), "case %zu: %s", i, r ? e.msg : "accepted");
+            vx_svo_model_free(NULL, &m);
+            continue;
+        }
+        CHECKF(r == VX_OK, "case %zu: %s", i, e.msg);
+        m.size[0] = m.size[1] = m.size[2] = 8;
+        m.depth = 3;
+        m.voxel_count = cases[i].cells;
+        vx__svo_extent full;
+        CHECKF(r == VX_OK && vx__svo_analyze(&m, &full, &e) == VX_OK, "case %zu: %s", i, e.msg);
+        CHECKF(tree.cells == cases[i].cells && full.cells == tree.cells && !memcmp(full.min, tree.min, sizeof tree.min) &&
+                   !memcmp(full.max, tree.max, sizeof tree.max) && !memcmp(tree.max, cases[i].mx, sizeof tree.max),
+               "case %zu: the rebuilt extent %llu (%u %u %u)-(%u %u %u), the validator's %llu", i, (unsigned long long)tree.cells,
+               tree.min[0], tree.min[1], tree.min[2], tree.max[0], tree.max[1], tree.max[2], (unsigned long long)full.cells);
+        /* the size and the cell count are still checked against the head */
+        vx__svo_extent got;
+        CHECK(vx__svo_check_rebuilt(&m, &tree, &got, &e) == VX_OK && got.cells == tree.cells);
+        m.voxel_count++;
+        CHECK(vx__svo_check_rebuilt(&m, &tree, &got, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "voxel_count"));
+        m.voxel_count--;
+        m.size[0] = tree.max[0] - 1;
+        CHECK(vx__svo_check_rebuilt(&m, &tree, &got, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "outside the size"));
+        vx_svo_model_free(NULL, &m);
+    }
+}
+
+/* Every model a read accepts passes the full validation (FORMAT.md 3.1) and
+ * its extent (the scene's computed bounds, the model's check) is the
+ * validator's, whatever the bytes: the reader no longer walks rebuilt
+ * models (vx__svo_check_rebuilt). Bit flips anywhere in NODE and SCNE, the
+ * checksums skipped, on one thread and on three (the decoding thread). */
+static int validate_read(const uint8_t* d, size_t n, unsigned threads, int* rebuilt_refusals) {
+    vx_svo_scene r;
+    vx_error e;
+    memset(&e, 0, sizeof e);
+    if (vx_svo_read(&(vx_svo_read_desc){.threads = threads, .skip_checksums = true}, d, n, &r, &e) != VX_OK) {
+        if (strstr(e.msg, "names a node of")) ++*rebuilt_refusals;
+        return 0;
+    }
+    for (uint32_t i = 0; i < r.model_count; i++) {
+        vx__svo_extent full;
+        vx_result v = vx__svo_analyze(&r.models[i], &full, &e);
+        CHECKF(v == VX_OK, "a model read from damaged bytes fails the validation: %s", e.msg);
+        if (v == VX_OK)
+            CHECKF(!memcmp(full.min, r.models[i].check.min, sizeof full.min) && !memcmp(full.max, r.models[i].check.max, sizeof full.max),
+                   "model %u: the read's extent is not the validator's", i);
+    }
+    vx_svo_scene_free(&r);
+    return 1;
+}
+
+static void test_rebuilt_checks(void) {
+    const uint32_t attrs[] = {0, VX_ATTR_PALETTE, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL};
+    uint64_t saved = vx__svo_parallel_words;
+    uint32_t saved_far = vx__svo_far_limit;
+    int reads = 0, accepted = 0, refusals = 0;
+    for (size_t a = 0; a < sizeof attrs / sizeof attrs[0]; a++)
+        for (int opt = 0; opt < 3; opt++) {
+            vx__svo_far_limit = opt == 2 ? 5 : saved_far;
+            vx_svo_scene s;
+            one_model_scene(&s);
+            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], true, opt != 1, false));
+            vx_svo_scene_update_bounds(&s);
+            vx_error e;
+            uint8_t* one = NULL;
+            size_t n1 = 0;
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1}, &s, &one, &n1, &e) == VX_OK);
+            vx_svo_file_info fi;
+            REQUIRE(vx_svo_probe(one, n1, &fi, &e) == VX_OK);
+            uint8_t* bad = (uint8_t*)malloc(n1);
+            for (uint32_t k = 0; k < fi.section_count; k++) {
+                if (strcmp(fi.sections[k].tag, "NODE") && strcmp(fi.sections[k].tag, "SCNE")) continue;
+                uint64_t at = fi.sections[k].offset, sz = fi.sections[k].size;
+                for (int i = 0; i < 150; i++) {
+                    memcpy(bad, one, n1);
+                    for (int f = 0; f <= i % 3; f++) bad[at + rnd() % sz] ^= (uint8_t)(1u << (rnd() % 8));
+                    vx__svo_parallel_words = i & 1 ? 0 : saved;
+                    accepted += validate_read(bad, n1, i & 1 ? 3 : 1, &refusals);
+                    reads++;
+                }
+            }
+            vx__svo_parallel_words = saved;
+            /* a stream cut short (the file too: NODE is last but for the table) */
+            for (size_t cut = 1; cut < 40 && cut < n1; cut += 3) accepted += validate_read(one, n1 - cut, 1, &refusals), reads++;
+            free(bad);
+            free(one);
+            vx_svo_scene_free(&s);
+        }
+    fprintf(stderr, "  %d damaged reads, %d accepted (each validated), %d refused by the level check\n", reads, accepted, refusals);
+    CHECK(refusals > 0 && accepted > 0 && accepted < reads);
+    vx__svo_parallel_words = saved;
+    vx__svo_far_limit = saved_far;
+}
+
 /* The coded stream of a real scene, truncated, extended and bit-flipped. */
 static void test_corrupt_stream(void) {
     vx_svo_scene s;
@@ -292,7 +414,7 @@ static void test_corrupt_stream(void) {
             *m = s.models[0];
             m->nodes = NULL, m->palette = NULL;
             memset(&e, 0, sizeof e);
-            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, NULL, &e);
+            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, NULL, NULL, NULL, &e);
             tried++;
             if (r != VX_OK) {
                 rejected++;
@@ -460,7 +582,7 @@ static void test_layout_threads(void) {
                     *mm = s.models[0];
                     mm->nodes = NULL, mm->palette = NULL, mm->rgba = NULL, mm->material = NULL;
                     memset(&e, 0, sizeof e);
-                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, NULL, &e);
+                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, NULL, NULL, NULL, &e);
                     snprintf(msg[th], sizeof msg[th], "%s", e.msg);
                 }
                 CHECKF(res[0] != VX_OK && res[0] == res[1] && !strcmp(msg[0], msg[1]), "attrs 0x%x opt %d cut %d: %d '%s' vs %d '%s'",
@@ -481,6 +603,8 @@ int main(void) {
     RUN(test_far_pointers);
     RUN(test_tiles_and_float_channels);
     RUN(test_bad_symbols);
+    RUN(test_rebuilt_levels);
+    RUN(test_rebuilt_checks);
     RUN(test_corrupt_stream);
     RUN(test_parallel_models);
     RUN(test_layout_threads);
