@@ -1054,7 +1054,9 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
          * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
          * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
-        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
+        const char* eb = getenv("VX_BAKE_BATCH"); /* EXPLORATION (bake3) */
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, eb ? (uint32_t)strtoul(eb, NULL, 0) : d.batch,
+                                  ps->probe_count);
         b->slots = true; /* gbake_free is safe on partly made slots */
         uint32_t first = ps->probe_count > batch && batch >= 8 ? batch / 4 : 0;
         r = gbake_init(&b->B, &b->c, ps, batch, first, err);

@@ -77,9 +77,11 @@ const bool KV_ORIGIN = (PCONST & 0x8000000u) != 0u; // the probe's position read
 // the running sum kept in the output (it starts zeroed) rather than in registers: hardware GPUs only, where
 // the loop guard never fires (a partial sum would otherwise stay behind)
 const bool KV_ACC = (PCONST & 0x10000000u) != 0u;
+// the dispatch's probes taken last first (the grid's upper layers, the costlier, start first)
+const bool KV_REV = (PCONST & 0x20000000u) != 0u;
 #define RNG_REKEY KV_KEY
 #else
-const bool KV_GEO = false, KV_SHIFT = false, KV_ORIGIN = false, KV_ACC = false;
+const bool KV_GEO = false, KV_SHIFT = false, KV_ORIGIN = false, KV_ACC = false, KV_REV = false;
 #endif
 
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
@@ -790,6 +792,7 @@ vec2 strat_shift(uint probe, uint tile, uint texel, uint spp) {
 void bake() {
     uint res = P.a.x, slot = gl_GlobalInvocationID.y, n = gl_GlobalInvocationID.x;
     if (n >= res * res || slot >= P.seed.z) return;
+    if (KV_REV) slot = P.seed.z - 1u - slot;
     // each 32 invocations (a SIMD group on NVIDIA) take a tile of 8 x 4 texels rather than a 32-texel run of
     // a row: their rays from the probe leave in nearby directions and meet nearby cells (res: a multiple of 16)
     uint tile = n / 32u, lane = n % 32u, tiles_x = res / 8u;
