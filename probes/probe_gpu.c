@@ -8,7 +8,6 @@
  * reference the GPU filtering is tested against. */
 #include <math.h>
 #include <pthread.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "probes/probes_internal.h"
@@ -54,8 +53,7 @@ enum { PMODE_BAKE = 0 };
  * pointer: the far bit's test on every push costs, issue 21) and COMPACT_FORM (the scene in the compact layout:
  * vx__render_scene_compact_form) */
 /* SMAP (id 11, smap_lookup.glsl): the bake's sun rays clipped by the sun's depth map */
-/* WG (id 12): probe.comp's workgroup size (64) */
-enum { SPEC_BEAM, SPEC_MATS, SPEC_PCONST, SPEC_DEEP, SPEC_FAR, SPEC_COMPACT, SPEC_SMAP, SPEC_WG, SPEC_EXTRA };
+enum { SPEC_BEAM, SPEC_MATS, SPEC_PCONST, SPEC_DEEP, SPEC_FAR, SPEC_COMPACT, SPEC_SMAP, SPEC_EXTRA };
 
 /* The bake's beam blocks (probe_beam.comp): BAKE_BEAM x BAKE_BEAM texels share a start distance for the
  * rays from their probe (res is a multiple of 16, so blocks never cross the map's axes). */
@@ -85,7 +83,6 @@ typedef struct gctx {
     uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
-    uint32_t kv, wg;  /* EXPLORATION (bake3): the bake kernel's PCONST bits 24-31 and workgroup size */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
@@ -205,15 +202,6 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     }
     c->lights_code = c->light_count > 0 || c->em_count > 0;
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = 0;
-    c->spec[VX__SPEC_COUNT + SPEC_WG] = 64;
-    c->wg = 64;
-    {
-        const char* e = getenv("VX_BAKE_KV");
-        c->kv = e ? (uint32_t)strtoul(e, NULL, 0) & 0xFFu : 0u;
-        e = getenv("VX_BAKE_WG");
-        uint32_t w = e ? (uint32_t)strtoul(e, NULL, 0) : 64u;
-        if (w == 32 || w == 64 || w == 128 || w == 256 || w == 512 || w == 1024) c->wg = w;
-    }
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));
@@ -312,8 +300,7 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
 static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
-        (pmode == PMODE_BAKE ? c->bounces << 16 | c->kv << 24 : 0u);
-    c->spec[VX__SPEC_COUNT + SPEC_WG] = pmode == PMODE_BAKE ? c->wg : 64u;
+        (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
     /* the render passes' floats precise (probe.comp's PT_PRECISE: their images the same bits whatever the
      * kernel's variant), the bake's as they were (its .probes bytes) */
     bool bake = pmode == PMODE_BAKE;
@@ -769,7 +756,7 @@ static vx_result gbake_submit(gbake* B, bslot* s, uint32_t traces, vx_error* err
         barrier(cmd, XF, TW, CS, SR | SW);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->trace->pipe);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, B->trace->layout, 0, 1, &s->trace_set, 0, NULL);
-        vkCmdDispatch(cmd, (B->nt + B->c->wg - 1) / B->c->wg, s->cnt, 1);
+        vkCmdDispatch(cmd, (B->nt + 63) / 64, s->cnt, 1);
         barrier(cmd, CS, SW, CS | XF, SR | SW | TW);
     }
     if (B->queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, B->queries, qi + 1);
@@ -800,9 +787,7 @@ static vx_result gbake_submit(gbake* B, bslot* s, uint32_t traces, vx_error* err
     VX__VK(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
     VX__VK(vkResetFences(g->device, 1, &s->fence), "vkResetFences");
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
-    /* EXPLORATION (bake3): the second slot's batches on a second queue, where there is one: a batch's trace
-     * then starts while the one before drains and filters */
-    VX__VK(vkQueueSubmit(s == &B->slot[1] ? g->queue2 : g->queue, 1, &si, s->fence), "vkQueueSubmit");
+    VX__VK(vkQueueSubmit(g->queue, 1, &si, s->fence), "vkQueueSubmit");
     return VX_OK;
 }
 
@@ -912,12 +897,11 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
              * the same bytes). The batch's timestamps then cover the second
              * filtering only. */
             vkQueueWaitIdle(c->g->queue); /* batch i, if any, done: it keeps its own flags */
-            if (c->g->queue2 != c->g->queue) vkQueueWaitIdle(c->g->queue2);
             vx__buffer keep_out = c->out, keep_params = c->params;
             c->out = s->out, c->params = s->params;
             if (B.beam) c->maps_in = &s->beam; /* the batch's start distances, from its submission */
             double sec = 0;
-            r = run_samples_ex(c, PMODE_BAKE, (B.nt + c->wg - 1) / c->wg, s->cnt, spp, &B.chunk, true, &sec, err);
+            r = run_samples_ex(c, PMODE_BAKE, (B.nt + 63) / 64, s->cnt, spp, &B.chunk, true, &sec, err);
             c->out = keep_out, c->params = keep_params, c->maps_in = NULL;
             st->gpu_trace += sec;
             if (r || (r = gbake_submit(&B, s, 0, err)) || (r = gbake_wait(&B, s, st, ts[i - 1], err))) break;
@@ -945,10 +929,7 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
         if (i == nbatch) st->tail = vx_time_now() - t_got;
     }
     /* nothing of ours may still run when the buffers go */
-    if (r && submitted) {
-        vkQueueWaitIdle(c->g->queue);
-        if (c->g->queue2 != c->g->queue) vkQueueWaitIdle(c->g->queue2);
-    }
+    if (r && submitted) vkQueueWaitIdle(c->g->queue);
     if (released) pthread_join(rel_thread, NULL);
     st->loop += vx_time_now() - t1;
     /* busy: the union of the batches' GPU intervals over the loop's wall time */
@@ -1054,9 +1035,7 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
          * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
          * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
-        const char* eb = getenv("VX_BAKE_BATCH"); /* EXPLORATION (bake3) */
-        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, eb ? (uint32_t)strtoul(eb, NULL, 0) : d.batch,
-                                  ps->probe_count);
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
         b->slots = true; /* gbake_free is safe on partly made slots */
         uint32_t first = ps->probe_count > batch && batch >= 8 ? batch / 4 : 0;
         r = gbake_init(&b->B, &b->c, ps, batch, first, err);
@@ -1168,7 +1147,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         p->a[0] = ps->res, p->a[1] = ps->spp, p->a[2] = ps->bounces, p->a[3] = at;
         p->seed[2] = cnt;
         double sec = 0;
-        if ((r = run_samples(&c, PMODE_BAKE, (uint32_t)((nt + c.wg - 1) / c.wg), cnt, ps->spp ? ps->spp : 1, &sec, err)))
+        if ((r = run_samples(&c, PMODE_BAKE, (uint32_t)((nt + 63) / 64), cnt, ps->spp ? ps->spp : 1, &sec, err)))
             goto done;
         st.gpu_trace += sec;
         double ta = vx_time_now();

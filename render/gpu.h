@@ -48,7 +48,7 @@ typedef struct vx_gpu_compute_pipeline_desc {
     uint32_t binding_count;
     VkDescriptorType bindings[VX_GPU_MAX_BINDINGS];
     uint32_t spec_count;
-    uint32_t spec[16];           /* 32-bit specialisation constants, ids 0.. */
+    uint32_t spec[12];           /* 32-bit specialisation constants, ids 0.. */
     const char* label;
 } vx_gpu_compute_pipeline_desc;
 
@@ -86,7 +86,6 @@ struct vx_gpu {
     VkDevice device;
     uint32_t queue_family;
     VkQueue queue;
-    VkQueue queue2; /* a second queue of the family (VX_GPU_QUEUES=2), else queue */
     VkCommandPool cmd_pool;
     VkCommandBuffer cmd;
     VkFence fence;
@@ -117,8 +116,6 @@ vx_result vx__vk_fail(vx_error* err, VkResult r, const char* what);
 void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* label);
 /* Submits the frames a display holds (above); before vkQueueWaitIdle and other submissions. */
 void vx__gpu_submit_held(vx_gpu* g);
-/* EXPLORATION (issue 21, bake3): 2 where VX_GPU_QUEUES=2 and the family has two queues, else 1 */
-uint32_t vx__gpu_queues_wanted(VkPhysicalDevice pd, uint32_t family);
 
 /* gpu_memory.c: device-local when possible; host-visible ones stay mapped. */
 vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,

@@ -224,11 +224,11 @@ vx_result vx_gpu_make_device(const void* physical_device, uint32_t family, const
     want.shaderFloat64 = have.shaderFloat64;
     /* vx_display's conversion into a B,G,R,A image (render/display.h): a storage image without a format */
     want.shaderStorageImageWriteWithoutFormat = have.shaderStorageImageWriteWithoutFormat;
-    float prio[2] = {1.0f, 1.0f};
+    float prio = 1.0f;
     VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
                                    .queueFamilyIndex = family,
-                                   .queueCount = vx__gpu_queues_wanted(pd, family),
-                                   .pQueuePriorities = prio};
+                                   .queueCount = 1,
+                                   .pQueuePriorities = &prio};
     /* shader statistics (VX_GPU_SHADER_STATS=1, gpu_pipeline.c): the
      * extension's feature is enabled with the extension */
     VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR pep = {
@@ -274,18 +274,6 @@ bool vx__gpu_shader_stats_wanted(VkPhysicalDevice pd) {
     return pep.pipelineExecutableInfo == VK_TRUE;
 }
 
-/* EXPLORATION (issue 21, bake3): VX_GPU_QUEUES=2 asks for a second queue of the family where it has one */
-uint32_t vx__gpu_queues_wanted(VkPhysicalDevice pd, uint32_t family) {
-    const char* env = getenv("VX_GPU_QUEUES");
-    if (!env || strcmp(env, "2") != 0) return 1;
-    uint32_t n = 0;
-    VkQueueFamilyProperties q[64];
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
-    if (n > 64) n = 64;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
-    return family < n && q[family].queueCount >= 2 ? 2 : 1;
-}
-
 static vx_result create_device(vx_gpu* g, vx_error* err) {
     const void* dev = NULL;
     const char* stats_ext = VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
@@ -300,8 +288,6 @@ static vx_result create_device(vx_gpu* g, vx_error* err) {
     if (r) return r;
     g->device = (VkDevice)dev;
     vkGetDeviceQueue(g->device, g->queue_family, 0, &g->queue);
-    g->queue2 = g->queue;
-    if (vx__gpu_queues_wanted(g->phys, g->queue_family) == 2) vkGetDeviceQueue(g->device, g->queue_family, 1, &g->queue2);
     return VX_OK;
 }
 
@@ -353,7 +339,6 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
         g->phys = (VkPhysicalDevice)desc->external.physical_device;
         g->device = (VkDevice)desc->external.device;
         g->queue = (VkQueue)desc->external.queue;
-        g->queue2 = g->queue;
         g->queue_family = desc->external.queue_family;
         if (!g->instance || !g->phys || !g->queue)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "external device given without instance/queue");

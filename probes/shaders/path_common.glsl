@@ -26,23 +26,15 @@ uvec4 pcg4d(uvec4 v) {
     v.x += v.y * v.w; v.y += v.z * v.x; v.z += v.x * v.y; v.w += v.y * v.z;
     return v;
 }
-// RNG_REKEY (a bool the includer may define): the stream's key made again at every draw from its three
-// inputs rather than kept (four values fewer live across the walks; the same numbers)
-#ifndef RNG_REKEY
-#define RNG_REKEY false
-#endif
 uvec4 g_key;
-uvec3 g_kin;
 uint g_ctr;
 void rng_init(uint a, uint b, uint c) {
-    if (RNG_REKEY) g_kin = uvec3(a, b, c);
-    else g_key = pcg4d(uvec4(a, b, c, rng_seed().x ^ (rng_seed().y * 0x9E3779B9u)));
+    g_key = pcg4d(uvec4(a, b, c, rng_seed().x ^ (rng_seed().y * 0x9E3779B9u)));
     g_ctr = 0u;
 }
 float rnd() {
     g_ctr++;
-    uvec4 k = RNG_REKEY ? pcg4d(uvec4(g_kin, rng_seed().x ^ (rng_seed().y * 0x9E3779B9u))) : g_key;
-    uvec4 h = pcg4d(uvec4(k.x, k.y, k.z ^ g_ctr, k.w));
+    uvec4 h = pcg4d(uvec4(g_key.x, g_key.y, g_key.z ^ g_ctr, g_key.w));
     return float(h.x >> 8) * (1.0 / 16777216.0);
 }
 

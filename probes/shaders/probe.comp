@@ -31,8 +31,7 @@
 // GPUs have no such guard (a dispatch runs to its end or the device is lost).
 #extension GL_GOOGLE_include_directive : require
 
-// the workgroup's size a constant (id 12, probe_gpu.c SPEC_WG: 64)
-layout(local_size_x = 64, local_size_x_id = 12, local_size_y = 1, local_size_z = 1) in;
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 // PT_PRECISE (probes.cmake: the render passes' kernel, probe_pt): every float operation of the path
 // and of the octree walk is precise (PT_PREC, path_common.glsl; WPREC, trace_common.glsl): with the
@@ -67,23 +66,7 @@ const bool STRAT = (PCONST & 0x200u) != 0u;
 // P.a.z): the path's loop specialised for the bake's count (H200, the Cornell box's goal bake: GPU trace 0.260 ->
 // 0.258 and 0.261 -> 0.259 s in two sessions, 72 registers either way, the same bytes)
 const uint BAKE_BOUNCES = (PCONST >> 16) & 0xFFu;
-// bits 24-26 (the bake's kernel, exploring its registers; the same float operations and bytes): KV_GEO the
-// centre ray's distance and normal stored before the samples, KV_KEY the random stream's key made at each
-// draw (RNG_REKEY), KV_SHIFT the tile's stratum shift made at each sample
-const bool KV_GEO = (PCONST & 0x1000000u) != 0u;
-const bool KV_KEY = (PCONST & 0x2000000u) != 0u;
-const bool KV_SHIFT = (PCONST & 0x4000000u) != 0u;
-const bool KV_ORIGIN = (PCONST & 0x8000000u) != 0u; // the probe's position read again at each sample
-// the running sum kept in the output (it starts zeroed) rather than in registers: hardware GPUs only, where
-// the loop guard never fires (a partial sum would otherwise stay behind)
-const bool KV_ACC = (PCONST & 0x10000000u) != 0u;
-// the dispatch's probes taken last first (the grid's upper layers, the costlier, start first)
-const bool KV_REV = (PCONST & 0x20000000u) != 0u;
-#define RNG_REKEY KV_KEY
-#else
-const bool KV_GEO = false, KV_SHIFT = false, KV_ORIGIN = false, KV_ACC = false, KV_REV = false;
 #endif
-
 const int P_BAKE = 0, P_GI = 1, P_PT = 2, P_GI_IND = 3, P_PT_IND = 4, P_LF = 5, P_LF_IND = 6;
 
 layout(std430, binding = 7) readonly buffer Params {
@@ -114,8 +97,6 @@ layout(std430, binding = 7) readonly buffer Params {
 } P;
 layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
-// the same binding, read at each use (KV_ORIGIN: not kept in registers across the samples)
-layout(std430, binding = 9) volatile readonly buffer ProbesV { vec4 probes_v[]; };
 // [0] flags (x: the loop guard fired, y: samples left), then per texel of
 // each probe (bake): the running sum (rgb, w: distance or -1), the normal
 // (xyz, w: 1 on a hit) and (samples done, 0, 0, 0); render: the row table,
@@ -781,18 +762,9 @@ void centre_ray(vec3 o, uint i, uint j, uint res, inout vec4 acc, inout vec4 geo
     }
 }
 
-// STRAT: a texel's shift of its samples' strata (bake())
-vec2 strat_shift(uint probe, uint tile, uint texel, uint spp) {
-    uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
-    uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
-    float side = 0.5 / ceil(sqrt(float(spp)));
-    return fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + vec2(kl.xy >> 8) * (side / 16777216.0));
-}
-
 void bake() {
     uint res = P.a.x, slot = gl_GlobalInvocationID.y, n = gl_GlobalInvocationID.x;
     if (n >= res * res || slot >= P.seed.z) return;
-    if (KV_REV) slot = P.seed.z - 1u - slot;
     // each 32 invocations (a SIMD group on NVIDIA) take a tile of 8 x 4 texels rather than a 32-texel run of
     // a row: their rays from the probe leave in nearby directions and meet nearby cells (res: a multiple of 16)
     uint tile = n / 32u, lane = n % 32u, tiles_x = res / 8u;
@@ -821,10 +793,6 @@ void bake() {
     // the camera and centre rays start at their texel block's beam distance (path(): the first ray only)
     g_tskip = beam_start(probe, i, j, res);
     if (s0 == 0u) centre_ray(o, i, j, res, acc, geo);
-    if (KV_GEO && s0 == 0u) {
-        outv[at + 1u] = geo;
-        outv[at].w = acc.w;
-    }
     g_path_tskip = g_tskip;
     g_tskip = 0.0;
     // STRAT: the tile's shift (shared by its 32 texels) plus the texel's jitter within half a stratum of a
@@ -834,10 +802,14 @@ void bake() {
     // jitter, 0.402 s with half a stratum, 0.421 s with a whole one; irradiance noise against the
     // independent estimator's at R=128 on lavapipe: 1.6x, 0.38x and 0.15x; docs/PERFORMANCE.md)
     vec2 shift = vec2(0.0);
-    if (STRAT && !KV_SHIFT) shift = strat_shift(probe, tile, texel, spp);
+    if (STRAT) {
+        uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        float side = 0.5 / ceil(sqrt(float(spp)));
+        shift = fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + vec2(kl.xy >> 8) * (side / 16777216.0));
+    }
     for (; s < s1; s++) {
         rng_init(probe, texel, s);
-        if (STRAT && KV_SHIFT) shift = strat_shift(probe, gl_GlobalInvocationID.x / 32u, texel, spp);
         // the s-th Hammersley point (s / spp, the radical inverse of s), shifted on the torus
         if (STRAT) g_bounce_u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
         vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
@@ -845,9 +817,7 @@ void bake() {
 #ifdef PT_PRECISE
         acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
 #else
-        vec3 pv = path(KV_ORIGIN ? probes_v[probe].xyz : o, oct_decode(uv), BAKE_BOUNCES != 0u ? BAKE_BOUNCES - 1u : P.a.z, false, hit);
-        if (KV_ACC) outv[at].xyz = outv[at].xyz + pv;
-        else acc.xyz += pv;
+        acc.xyz += path(o, oct_decode(uv), BAKE_BOUNCES != 0u ? BAKE_BOUNCES - 1u : P.a.z, false, hit);
 #endif
     }
     // identical values from every invocation that writes them
@@ -857,15 +827,8 @@ void bake() {
         outv[0].y = 1.0;
         return;
     }
-    if (KV_GEO) {
-        if (!KV_ACC) outv[at].xyz = acc.xyz;
-    } else if (KV_ACC) {
-        outv[at].w = acc.w;
-        outv[at + 1u] = geo;
-    } else {
-        outv[at] = acc;
-        outv[at + 1u] = geo;
-    }
+    outv[at] = acc;
+    outv[at + 1u] = geo;
     outv[at + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
     if (s1 < spp) outv[0].y = 1.0;
 }
