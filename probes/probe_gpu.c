@@ -949,11 +949,11 @@ static vx_result bake_gpu_filtered(gbake* Bp, vx_probe_set* ps, const vx__light*
     return r;
 }
 
-/* Probes per batch: about `segments` path segments and at most `cap` bytes of trace output. */
-static uint32_t batch_of(const vx_probe_set* ps, uint64_t segments, uint64_t cap, uint32_t want, uint32_t n) {
+/* Probes per batch: about 2^seg_log2 path segments and at most `cap` bytes of trace output. */
+static uint32_t batch_of(const vx_probe_set* ps, uint32_t seg_log2, uint64_t cap, uint32_t want, uint32_t n) {
     uint64_t nt = (uint64_t)ps->res * ps->res;
     uint64_t per_probe = nt * ps->spp * (ps->bounces + 1);
-    uint64_t batch = want ? want : segments / (per_probe ? per_probe : 1);
+    uint64_t batch = want ? want : (UINT64_C(1) << seg_log2) / (per_probe ? per_probe : 1);
     uint64_t most = cap / (nt * 48);
     if (batch > most) batch = most;
     if (batch < 1) batch = 1;
@@ -1034,12 +1034,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!r) {
         /* the trace output stays on the GPU: larger batches, fewer partly filled last waves
          * (H100, Cornell box, 512 probes at R=128, 64 spp: 0.689 s of tracing in batches of 32
-         * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256). 7 x 2^26 segments
-         * (224 probes there; each of a batch's workgroups runs for milliseconds, so every batch ends in
-         * a drain; H200: GPU trace 0.255 s in batches of 128, 0.252 of 160 and 192, 0.250 of 224 and
-         * 256, the last two batches' larger slots adding to the teardown; docs/PERFORMANCE.md, the
-         * bake's eleventh sitting) */
-        uint32_t batch = batch_of(ps, UINT64_C(7) << 26, UINT64_C(1) << 28, d.batch, ps->probe_count);
+         * probes, 0.650 s of 64, 0.626 s of 128 (2^28 segments), 0.614 s of 256) */
+        uint32_t batch = batch_of(ps, 28, UINT64_C(1) << 28, d.batch, ps->probe_count);
         b->slots = true; /* gbake_free is safe on partly made slots */
         uint32_t first = ps->probe_count > batch && batch >= 8 ? batch / 4 : 0;
         r = gbake_init(&b->B, &b->c, ps, batch, first, err);
@@ -1132,7 +1128,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
         goto done;
     uint64_t nt = (uint64_t)ps->res * ps->res;
     /* a batch: about 2^26 path segments and at most 384 MiB of output (48 bytes a texel) */
-    uint32_t batch = batch_of(ps, UINT64_C(1) << 26, UINT64_C(3) << 27, d.batch, end - begin);
+    uint32_t batch = batch_of(ps, 26, UINT64_C(3) << 27, d.batch, end - begin);
     if (!vx__tables_make(&T, ps->res, ps->alloc) || !(raw = vx_alloc(ps->alloc, (size_t)(16 + batch * nt * 48)))) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
