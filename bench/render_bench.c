@@ -394,6 +394,10 @@ int main(int argc, char** argv) {
     uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
     size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
+    /* per kernel: pixels per invocation (0: the library's) and the screen cull (-1: the library's) */
+    uint32_t kppi[9] = {0};
+    int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    char klabel[9][96];
     uint32_t runs = 15;
     double warmup = 0.5;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
@@ -443,6 +447,28 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
+                /* ENTRY@pNcM: the kernel with N pixels per invocation and the screen cull M (1 on,
+                 * 0 off); @pNcM alone: the built-in kernel so; another kernel without it: 1 and off
+                 * (main's trace.comp reads neither) */
+                if (nkern < 9) {
+                    snprintf(klabel[nkern], sizeof klabel[nkern], "%s", t);
+                    char* at = strchr(t, '@');
+                    if (at) {
+                        unsigned pp = 0, cc = 0;
+                        if (sscanf(at, "@p%uc%u", &pp, &cc) != 2 || (pp != 1 && pp != 2 && pp != 4) || cc > 1) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @pNcM, N 1, 2 or 4, M 0 or 1\n", at);
+                            return 2;
+                        }
+                        kppi[nkern] = pp, kcull[nkern] = (int)cc;
+                        *at = 0;
+                        if (!*t) {
+                            kname[nkern] = klabel[nkern], nkern++;
+                            continue;
+                        }
+                    } else {
+                        kppi[nkern] = 1, kcull[nkern] = 0;
+                    }
+                }
                 /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
                 char* colon = strchr(t, ':');
                 if (colon && nkern < 9) {
@@ -452,7 +478,7 @@ int main(int argc, char** argv) {
                         return 2;
                     }
                     if (!*t) {
-                        kname[nkern++] = colon + 1;
+                        kname[nkern] = klabel[nkern], nkern++;
                         continue;
                     }
                 }
@@ -461,7 +487,7 @@ int main(int argc, char** argv) {
                             nkern == 9 ? "more than 8 kernels" : "cannot read a SPIR-V file");
                     return 2;
                 }
-                kname[nkern++] = t;
+                kname[nkern] = klabel[nkern], nkern++;
             }
         }
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
@@ -619,6 +645,7 @@ int main(int argc, char** argv) {
                         smap_side = smap_list[si];
                     }
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
+                    vx__render_scene_trace_variant(rs, kppi[ki], kcull[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

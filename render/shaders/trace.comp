@@ -25,6 +25,16 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 // of the rays per CPU second it reaches without it (issue 21's eleventh
 // sitting); the H200 is indifferent.
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
+// Pixels per invocation (1, 2 or 4): a workgroup of 8x8 lanes covers a
+// block 8 wide and 8 * PPI high, its lanes looping over rows 8 apart so that
+// each pass of the loop keeps a warp on an 8x4 tile of adjacent pixels. The
+// host divides the dispatch accordingly (vx__render_dispatch).
+layout(constant_id = 12) const uint PPI = 1u;
+// The screen cull's second pass (vx__render_dispatch): over the whole image,
+// it writes the miss of every pixel outside F.rect (the conservative pixel
+// rectangle of the scene's box, which the first pass traces) without
+// tracing: the same code with the trace replaced by a miss, so the same bits.
+layout(constant_id = 13) const bool MISS_PASS = false;
 
 #ifndef PRECISE
 #define TRACE_BEAM
@@ -33,6 +43,7 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 #define TRACE_NOGUARD
 #define TRACE_INST_UBO
 #define TRACE_FLAT_ITEMS
+#define TRACE_CULL
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -51,10 +62,8 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 #include "smap_lookup.glsl"
 #endif
 
-void main() {
-    uvec2 px = gl_GlobalInvocationID.xy;
+void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
-    if (px.x >= W || px.y >= H) return;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and
@@ -114,7 +123,7 @@ void main() {
         h.inst = NO_HIT;
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u); // a miss's hits record is written too
-        bool hit = trace_scene(o, d, 0.0, false, h);
+        bool hit = MISS_PASS ? false : trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);
@@ -173,4 +182,18 @@ void main() {
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);
+}
+
+void main() {
+    if (MISS_PASS) {
+        uvec2 px = gl_GlobalInvocationID.xy;
+        if (px.x >= F.dims.x || px.y >= F.dims.y) return;
+        if (all(greaterThanEqual(px, F.rect.xy)) && all(lessThan(px, F.rect.zw))) return; // the first pass's
+        shade(px);
+        return;
+    }
+    // the rectangle's pixels only; rows 8 apart per pass of the loop
+    uvec2 px = F.rect.xy + uvec2(gl_GlobalInvocationID.x, gl_WorkGroupID.y * 8u * PPI + gl_LocalInvocationID.y);
+    for (uint k = 0u; k < PPI; k++, px.y += 8u)
+        if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
 }
