@@ -1454,6 +1454,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    /* the miss pass: one invocation per pixel outside the rectangle, 64 a group, at most 65535 groups in x */
+    uint64_t mg = ((uint64_t)f->width * f->height - (uint64_t)rw * rh + 63) / 64;
+    uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
+    if (!mgx) mgx = 1;
     vx__pipeline* post = NULL;
     if (!all) {
         vx_gpu_compute_pipeline_desc md = pd;
@@ -1475,7 +1479,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .pre_pipeline = pre,
                             .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1},
                             .post_pipeline = post,
-                            .post_groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1}};
+                            .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
     return vx__dispatch(g, &dd, seconds, err);
 }
 

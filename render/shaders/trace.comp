@@ -30,10 +30,10 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // each pass of the loop keeps a warp on an 8x4 tile of adjacent pixels. The
 // host divides the dispatch accordingly (vx__render_dispatch).
 layout(constant_id = 12) const uint PPI = 1u;
-// The screen cull's second pass (vx__render_dispatch): over the whole image,
-// it writes the miss of every pixel outside F.rect (the conservative pixel
-// rectangle of the scene's box, which the first pass traces) without
-// tracing: the same code with the trace replaced by a miss, so the same bits.
+// The screen cull's second pass (vx__render_dispatch): one invocation per
+// pixel outside F.rect (the conservative pixel rectangle of the scene's box,
+// which the first pass traces), writing its miss without tracing: the same
+// code with the trace replaced by a miss, so the same bits.
 layout(constant_id = 13) const bool MISS_PASS = false;
 
 #ifndef PRECISE
@@ -186,9 +186,22 @@ void shade(uvec2 px) {
 
 void main() {
     if (MISS_PASS) {
-        uvec2 px = gl_GlobalInvocationID.xy;
-        if (px.x >= F.dims.x || px.y >= F.dims.y) return;
-        if (all(greaterThanEqual(px, F.rect.xy)) && all(lessThan(px, F.rect.zw))) return; // the first pass's
+        // the pixels outside the rectangle, numbered row by row: the rows
+        // above it, the rows below it, then the rows beside it (left and right
+        // parts); 64 a workgroup, the groups in x then y
+        uint W = F.dims.x, H = F.dims.y;
+        uvec4 R = F.rect;
+        uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+        uint above = R.y * W, below = (H - R.w) * W, side = W - (R.z - R.x);
+        uvec2 px;
+        if (i < above) px = uvec2(i % W, i / W);
+        else if (i - above < below) px = uvec2((i - above) % W, R.w + (i - above) / W);
+        else {
+            i -= above + below;
+            if (side == 0u || i >= side * (R.w - R.y)) return;
+            uint c = i % side;
+            px = uvec2(c < R.x ? c : R.z + c - R.x, R.y + i / side);
+        }
         shade(px);
         return;
     }
