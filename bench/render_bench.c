@@ -689,6 +689,12 @@ int main(int argc, char** argv) {
                     {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [shadow rays %.0f%%, %.1f steps]", 100 * r.sh_share, r.sh_steps);
+                        uint32_t rc[4];
+                        if (vx__render_scene_trace_rect(rs, rc)) {
+                            at = strlen(kl);
+                            snprintf(kl + at, sizeof kl - at, "  [traced %.1f%% of the pixels]",
+                                     100.0 * (rc[2] - rc[0]) * (rc[3] - rc[1]) / px);
+                        }
                     }
                     if (nsmap > 1 || smap_list[0]) {
                         size_t at = strlen(kl);

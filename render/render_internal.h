@@ -157,6 +157,9 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
  * VX__TRACE_PPI) and the screen cull (-1 the default: on for the built-in
  * kernel; 0 off, 1 on), for the kernel set by vx__render_scene_trace_kernel. */
 void vx__render_scene_trace_variant(vx_render_scene* rs, uint32_t ppi, int cull);
+/* Benchmarks: the last frame's traced rectangle (rect as vx__frame_rect's);
+ * false where it was the whole image (no cull). */
+bool vx__render_scene_trace_rect(const vx_render_scene* rs, uint32_t rect[4]);
 /* Benchmarks and tests: lists the shadow map's nodes again for a map of
  * side texels (1: no map); s is the scene the GPU scene was made from. */
 vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err);

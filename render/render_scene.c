@@ -83,6 +83,8 @@ struct vx_render_scene {
      * cull (-1: on unless alt_spv, 0 off, 1 on); vx__render_scene_trace_variant */
     uint32_t ppi;
     int cull;
+    uint32_t last_rect[4]; /* the last frame's traced rectangle */
+    bool last_cull;        /* and whether it was not the whole image */
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -1185,6 +1187,12 @@ void vx__render_scene_trace_variant(vx_render_scene* rs, uint32_t ppi, int cull)
     rs->cull = cull < 0 ? -1 : cull > 0;
 }
 
+bool vx__render_scene_trace_rect(const vx_render_scene* rs, uint32_t rect[4]) {
+    if (!rs || !rs->last_cull) return false;
+    memcpy(rect, rs->last_rect, sizeof rs->last_rect);
+    return true;
+}
+
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
@@ -1420,6 +1428,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == f->width && gf->rect[3] == f->height;
     uint32_t ppi = rs->ppi ? rs->ppi : VX__TRACE_PPI;
     uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
+    memcpy(rs->last_rect, gf->rect, sizeof rs->last_rect);
+    rs->last_cull = !all;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 pixels per invocation, 13 the miss pass */
     uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
