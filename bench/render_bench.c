@@ -447,16 +447,16 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
-                /* ENTRY@pNcM: the kernel with N pixels per invocation and the screen cull M (1 on,
-                 * 0 off); @pNcM alone: the built-in kernel so; another kernel without it: 1 and off
+                /* ENTRY@pNcM: the kernel with N pixels per invocation and the screen cull M (0 off,
+                 * 1 the rectangle, 2 the spans); @pNcM alone: the built-in kernel so; another kernel without it: 1 and off
                  * (main's trace.comp reads neither) */
                 if (nkern < 9) {
                     snprintf(klabel[nkern], sizeof klabel[nkern], "%s", t);
                     char* at = strchr(t, '@');
                     if (at) {
                         unsigned pp = 0, cc = 0;
-                        if (sscanf(at, "@p%uc%u", &pp, &cc) != 2 || (pp != 1 && pp != 2 && pp != 4) || cc > 1) {
-                            fprintf(stderr, "render_bench: --kernels: '%s': want @pNcM, N 1, 2 or 4, M 0 or 1\n", at);
+                        if (sscanf(at, "@p%uc%u", &pp, &cc) != 2 || (pp != 1 && pp != 2 && pp != 4) || cc > 2) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @pNcM, N 1, 2 or 4, M 0, 1 or 2\n", at);
                             return 2;
                         }
                         kppi[nkern] = pp, kcull[nkern] = (int)cc;
@@ -689,11 +689,10 @@ int main(int argc, char** argv) {
                     {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [shadow rays %.0f%%, %.1f steps]", 100 * r.sh_share, r.sh_steps);
-                        uint32_t rc[4];
-                        if (vx__render_scene_trace_rect(rs, rc)) {
+                        uint64_t tp;
+                        if (vx__render_scene_traced(rs, &tp)) {
                             at = strlen(kl);
-                            snprintf(kl + at, sizeof kl - at, "  [traced %.1f%% of the pixels]",
-                                     100.0 * (rc[2] - rc[0]) * (rc[3] - rc[1]) / px);
+                            snprintf(kl + at, sizeof kl - at, "  [traced %.1f%% of the pixels]", 100.0 * (double)tp / px);
                         }
                     }
                     if (nsmap > 1 || smap_list[0]) {

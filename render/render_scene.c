@@ -14,7 +14,7 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   sizeof(vx__gpu_frame) == 352,
+                   offsetof(vx__gpu_frame, cull) == 352 && offsetof(vx__gpu_frame, band) == 368,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -83,8 +83,8 @@ struct vx_render_scene {
      * cull (-1: on unless alt_spv, 0 off, 1 on); vx__render_scene_trace_variant */
     uint32_t ppi;
     int cull;
-    uint32_t last_rect[4]; /* the last frame's traced rectangle */
-    bool last_cull;        /* and whether it was not the whole image */
+    uint64_t last_traced; /* the last frame's traced pixels */
+    bool last_cull;       /* and whether they were not the whole image */
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -1184,12 +1184,12 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
 void vx__render_scene_trace_variant(vx_render_scene* rs, uint32_t ppi, int cull) {
     if (!rs) return;
     rs->ppi = ppi == 1 || ppi == 2 || ppi == 4 ? ppi : 0;
-    rs->cull = cull < 0 ? -1 : cull > 0;
+    rs->cull = cull < 0 ? -1 : cull > 2 ? 2 : cull;
 }
 
-bool vx__render_scene_trace_rect(const vx_render_scene* rs, uint32_t rect[4]) {
+bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
     if (!rs || !rs->last_cull) return false;
-    memcpy(rect, rs->last_rect, sizeof rs->last_rect);
+    *pixels = rs->last_traced;
     return true;
 }
 
@@ -1421,28 +1421,47 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * cube, which may reach past the cells' box) nor another kernel (a
      * benchmark's, which may not read the rectangle). */
     vx__gpu_frame* gf = rs->frame.map;
-    bool cull = rs->cull < 0 ? !rs->alt_spv : rs->cull > 0;
-    if (f->lod) cull = false;
-    if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
-    else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = f->width, gf->rect[3] = f->height;
-    bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == f->width && gf->rect[3] == f->height;
+    int cull = rs->cull < 0 ? (rs->alt_spv ? 0 : VX__TRACE_CULL) : rs->cull;
+    if (f->lod) cull = 0;
     uint32_t ppi = rs->ppi ? rs->ppi : VX__TRACE_PPI;
+    uint32_t W = f->width, H = f->height;
+    if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
+    else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
+    bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == W && gf->rect[3] == H;
     uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
-    memcpy(rs->last_rect, gf->rect, sizeof rs->last_rect);
+    uint64_t npix = (uint64_t)W * H, traced = (uint64_t)rw * rh, tiles = 0;
+    /* the spans: per band of 8 rows, the box's projection over its rows */
+    bool spans = false;
+    if (cull == 2 && !all) {
+        uint32_t sp[2 * VX__MAX_BANDS];
+        uint32_t n = vx__frame_spans(f, rs->lo, rs->hi, 8, sp, VX__MAX_BANDS);
+        spans = n > 0;
+        traced = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t rows = H - 8 * i < 8 ? H - 8 * i : 8, w = sp[2 * i + 1] - sp[2 * i];
+            gf->band[i][0] = sp[2 * i], gf->band[i][1] = sp[2 * i + 1];
+            gf->band[i][2] = (uint32_t)tiles, gf->band[i][3] = (uint32_t)((uint64_t)8 * W * i - traced);
+            tiles += (w + 7) / 8, traced += (uint64_t)rows * w;
+        }
+        /* band[i][3]: the miss pixels of the bands before i (each of them 8 rows: only the last band is shorter) */
+        gf->cull[0] = n, gf->cull[1] = (uint32_t)tiles, gf->cull[2] = (uint32_t)(npix - traced), gf->cull[3] = 8;
+    }
+    if (spans) ppi = 1;
+    rs->last_traced = traced;
     rs->last_cull = !all;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 pixels per invocation, 13 the miss pass */
-    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
-                         precise ? 0 : rs->deep, rs->far, 0, smap, ppi, 0};
+    uint32_t spec[15] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
+                         precise ? 0 : rs->deep, rs->far, 0, smap, ppi, 0, spans};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < 14; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 15; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
     uint32_t nb = precise ? 10 : 14;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = 14, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 15, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -1465,7 +1484,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
     /* the miss pass: one invocation per pixel outside the rectangle, 64 a group, at most 65535 groups in x */
-    uint64_t mg = ((uint64_t)f->width * f->height - (uint64_t)rw * rh + 63) / 64;
+    uint64_t mg = (npix - traced + 63) / 64;
     uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
     if (!mgx) mgx = 1;
     vx__pipeline* post = NULL;
@@ -1473,7 +1492,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[12] = 1, md.spec[13] = 1, md.label = "trace (misses)";
         uint64_t mkey = 1 + precise;
-        for (int i = 0; i < 14; i++) mkey = mkey * 131 + md.spec[i];
+        for (int i = 0; i < 15; i++) mkey = mkey * 131 + md.spec[i];
         if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
@@ -1490,6 +1509,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1},
                             .post_pipeline = post,
                             .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
+    if (spans) {
+        /* the bands' workgroups numbered in x then y */
+        uint32_t gx = tiles < 65535 ? (uint32_t)tiles : 65535u;
+        dd.groups[0] = gx, dd.groups[1] = gx ? (uint32_t)((tiles + gx - 1) / gx) : 0;
+    }
     return vx__dispatch(g, &dd, seconds, err);
 }
 
@@ -1748,7 +1772,9 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
         const uint8_t* last = rs->tables;
         size_t nrow = refit ? 32 : sizeof(vx_bvh_node);
         bool run_rows = false; /* the GPU computes the rows (their sources or the reference point changed) */
-        if (!rows || memcmp(last, gf, sizeof *gf)) update_buffer(cb, &rs->frame, gf, sizeof *gf);
+        /* up to trace.comp's own fields (its rectangle and spans: vx__render_dispatch) */
+        if (!rows || memcmp(last, gf, offsetof(vx__gpu_frame, rect)))
+            update_buffer(cb, &rs->frame, gf, offsetof(vx__gpu_frame, rect));
         if (gpu_rows) {
             const uint8_t* src = at + sizeof *gf + sizeof(rows_ref);
             uint64_t sent = rows ? update_rows(cb, &rs->inst_src, src, last + sizeof *gf + sizeof(rows_ref),
