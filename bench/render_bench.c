@@ -394,8 +394,7 @@ int main(int argc, char** argv) {
     uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
     size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
-    /* per kernel: pixels per invocation (0: the library's) and the screen cull (-1: the library's) */
-    uint32_t kppi[9] = {0};
+    /* per kernel: the screen cull (-1: the library's) */
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     char klabel[9][96];
     uint32_t runs = 15;
@@ -447,26 +446,27 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
-                /* ENTRY@pNcM: the kernel with N pixels per invocation and the screen cull M (0 off,
-                 * 1 the rectangle, 2 the spans); @pNcM alone: the built-in kernel so; another kernel without it: 1 and off
-                 * (main's trace.comp reads neither) */
+                /* ENTRY@cM: the kernel with the screen cull M (0 off, 1 the rectangle, 2 the spans);
+                 * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
+                 * reads no rectangle) */
                 if (nkern < 9) {
                     snprintf(klabel[nkern], sizeof klabel[nkern], "%s", t);
                     char* at = strchr(t, '@');
                     if (at) {
-                        unsigned pp = 0, cc = 0;
-                        if (sscanf(at, "@p%uc%u", &pp, &cc) != 2 || (pp != 1 && pp != 2 && pp != 4) || cc > 2) {
-                            fprintf(stderr, "render_bench: --kernels: '%s': want @pNcM, N 1, 2 or 4, M 0, 1 or 2\n", at);
+                        unsigned cc = 0;
+                        char extra;
+                        if (sscanf(at, "@c%u%c", &cc, &extra) != 1 || cc > 2) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @cM, M 0, 1 or 2\n", at);
                             return 2;
                         }
-                        kppi[nkern] = pp, kcull[nkern] = (int)cc;
+                        kcull[nkern] = (int)cc;
                         *at = 0;
                         if (!*t) {
                             kname[nkern] = klabel[nkern], nkern++;
                             continue;
                         }
                     } else {
-                        kppi[nkern] = 1, kcull[nkern] = 0;
+                        kcull[nkern] = 0;
                     }
                 }
                 /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
@@ -645,7 +645,7 @@ int main(int argc, char** argv) {
                         smap_side = smap_list[si];
                     }
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
-                    vx__render_scene_trace_variant(rs, kppi[ki], kcull[ki]);
+                    vx__render_scene_trace_variant(rs, kcull[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

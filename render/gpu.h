@@ -174,8 +174,10 @@ typedef struct vx__dispatch_desc {
     vx__pipeline* pre_pipeline;
     uint32_t pre_groups[3];
     /* Optional last stage of every repeat (timed with it): post_pipeline over
-     * post_groups, the same buffers, no push constants, no barrier before it
-     * (it must write what the main stage does not touch). */
+     * post_groups, no barrier before it (it must write what the main stage
+     * does not touch). Its layout must be compatible with the main
+     * pipeline's (the same bindings and push constants: Vulkan's "compatible
+     * for set 0"), whose descriptor set and push constants it uses. */
     vx__pipeline* post_pipeline;
     uint32_t post_groups[3];
 } vx__dispatch_desc;

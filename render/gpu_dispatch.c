@@ -63,18 +63,15 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, con
 
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
     uint32_t repeat = d->repeat ? d->repeat : 1;
-    /* one set per stage: the main pipeline's and the optional first and last stages' */
-    vx__pipeline* stage[3] = {d->pipeline, d->pre_pipeline, d->post_pipeline};
-    uint32_t nsets = 1;
-    for (int i = 1; i < 3; i++)
-        if (stage[i]) stage[nsets++] = stage[i];
-    int post = d->post_pipeline ? (int)nsets - 1 : -1;
-    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * VX_GPU_MAX_BINDINGS}};
+    /* one set per stage: the main pipeline's and the optional first stage's
+     * (the last stage's layout is the main one's: its set stays bound) */
+    uint32_t nsets = d->pre_pipeline ? 2u : 1u;
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * VX_GPU_MAX_BINDINGS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                      .maxSets = 3,
+                                      .maxSets = 2,
                                       .poolSizeCount = 4,
                                       .pPoolSizes = sizes};
     bool timed = g->has_timestamps && seconds;
@@ -90,7 +87,8 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
         return vx__vk_fail(err, vr, "vkCreateDescriptorPool");
     }
     vx_result r = VX_OK;
-    VkDescriptorSet sets[3];
+    vx__pipeline* stage[2] = {d->pipeline, d->pre_pipeline};
+    VkDescriptorSet sets[2];
     for (uint32_t s = 0; s < nsets; s++) {
         VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                           .descriptorPool = pool,
@@ -134,15 +132,13 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
             }
             if (d->groups[0] && d->groups[1] && d->groups[2])
                 vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
-            if (post >= 0) {
+            if (d->post_pipeline) {
+                /* the pipeline only: a descriptor set bound through a compatible layout stays bound, and
+                 * binding it again cost lavapipe about 0.9 ms of CPU time a frame (issue 21's twelfth
+                 * sitting) */
                 vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->post_pipeline->pipe);
-                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->post_pipeline->layout, 0, 1,
-                                        &sets[post], 0, NULL);
                 vkCmdDispatch(g->cmd, d->post_groups[0], d->post_groups[1], d->post_groups[2]);
                 vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
-                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
-                if (d->push && d->push_size)
-                    vkCmdPushConstants(g->cmd, d->pipeline->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, d->push_size, d->push);
             }
             if (g->has_timestamps)
                 vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);

@@ -160,15 +160,12 @@ void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
  * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
                                    size_t beam_bytes, uint32_t tag);
-/* Pixels per invocation of the trace kernel (shaders/trace.comp's PPI: 1, 2 or 4). */
-#define VX__TRACE_PPI 1u
 /* The screen cull by default (vx__render_scene_trace_variant's cull). */
 #define VX__TRACE_CULL 1
-/* Benchmarks: the trace kernel's pixels per invocation (1, 2, 4; else
- * VX__TRACE_PPI) and the screen cull (-1 the default: on for the built-in
- * kernel; 0 off, 1 the rectangle, 2 the spans), for the kernel set by
- * vx__render_scene_trace_kernel. */
-void vx__render_scene_trace_variant(vx_render_scene* rs, uint32_t ppi, int cull);
+/* Benchmarks: the screen cull (-1 the default: VX__TRACE_CULL for the
+ * built-in kernel, off for another; 0 off, 1 the rectangle, 2 the spans),
+ * for the kernel set by vx__render_scene_trace_kernel. */
+void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

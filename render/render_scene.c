@@ -79,9 +79,8 @@ struct vx_render_scene {
     uint32_t alt_tag;
     const uint32_t* alt_beam; /* the beam pass's, likewise */
     size_t alt_beam_size;
-    /* benchmarks: pixels per invocation (0: VX__TRACE_PPI) and the screen
-     * cull (-1: on unless alt_spv, 0 off, 1 on); vx__render_scene_trace_variant */
-    uint32_t ppi;
+    /* benchmarks: the screen cull (-1: VX__TRACE_CULL unless alt_spv, 0 off,
+     * 1 the rectangle, 2 the spans); vx__render_scene_trace_variant */
     int cull;
     uint64_t last_traced; /* the last frame's traced pixels */
     bool last_cull;       /* and whether they were not the whole image */
@@ -1181,9 +1180,8 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
     rs->alt_beam = beam_spirv && beam_bytes ? beam_spirv : NULL, rs->alt_beam_size = beam_bytes;
 }
 
-void vx__render_scene_trace_variant(vx_render_scene* rs, uint32_t ppi, int cull) {
+void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
     if (!rs) return;
-    rs->ppi = ppi == 1 || ppi == 2 || ppi == 4 ? ppi : 0;
     rs->cull = cull < 0 ? -1 : cull > 2 ? 2 : cull;
 }
 
@@ -1423,7 +1421,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     vx__gpu_frame* gf = rs->frame.map;
     int cull = rs->cull < 0 ? (rs->alt_spv ? 0 : VX__TRACE_CULL) : rs->cull;
     if (f->lod) cull = 0;
-    uint32_t ppi = rs->ppi ? rs->ppi : VX__TRACE_PPI;
     uint32_t W = f->width, H = f->height;
     if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
     else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
@@ -1446,13 +1443,12 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         /* band[i][3]: the miss pixels of the bands before i (each of them 8 rows: only the last band is shorter) */
         gf->cull[0] = n, gf->cull[1] = (uint32_t)tiles, gf->cull[2] = (uint32_t)(npix - traced), gf->cull[3] = 8;
     }
-    if (spans) ppi = 1;
     rs->last_traced = traced;
     rs->last_cull = !all;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
-     * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 pixels per invocation, 13 the miss pass */
+     * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 unused, 13 the miss pass, 14 the spans */
     uint32_t spec[15] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
-                         precise ? 0 : rs->deep, rs->far, 0, smap, ppi, 0, spans};
+                         precise ? 0 : rs->deep, rs->far, 0, smap, 0, 0, spans};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 15; i++) key = key * 131 + spec[i];
     size_t spv_size;
@@ -1490,7 +1486,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     vx__pipeline* post = NULL;
     if (!all) {
         vx_gpu_compute_pipeline_desc md = pd;
-        md.spec[12] = 1, md.spec[13] = 1, md.label = "trace (misses)";
+        md.spec[13] = 1, md.label = "trace (misses)";
         uint64_t mkey = 1 + precise;
         for (int i = 0; i < 15; i++) mkey = mkey * 131 + md.spec[i];
         if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
@@ -1502,7 +1498,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
                                         smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
                                         smap ? &rs->smap.insts : &rs->beam},
-                            .groups = {(rw + 7) / 8, (rh + 8 * ppi - 1) / (8 * ppi), 1},
+                            .groups = {(rw + 7) / 8, (rh + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace",
                             .pre_pipeline = pre,

@@ -25,11 +25,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 // of the rays per CPU second it reaches without it (issue 21's eleventh
 // sitting); the H200 is indifferent.
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
-// Pixels per invocation (1, 2 or 4): a workgroup of 8x8 lanes covers a
-// block 8 wide and 8 * PPI high, its lanes looping over rows 8 apart so that
-// each pass of the loop keeps a warp on an 8x4 tile of adjacent pixels. The
-// host divides the dispatch accordingly (vx__render_dispatch).
-layout(constant_id = 12) const uint PPI = 1u;
 // The screen cull's second pass (vx__render_dispatch): one invocation per
 // pixel outside F.rect (the conservative pixel rectangle of the scene's box,
 // which the first pass traces), writing its miss without tracing: the same
@@ -240,8 +235,9 @@ void main() {
         if (px.x < B.y && px.y < F.dims.y) shade(px);
         return;
     }
-    // the rectangle's pixels only; rows 8 apart per pass of the loop
-    uvec2 px = F.rect.xy + uvec2(gl_GlobalInvocationID.x, gl_WorkGroupID.y * 8u * PPI + gl_LocalInvocationID.y);
-    for (uint k = 0u; k < PPI; k++, px.y += 8u)
-        if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
+    // the rectangle's pixels only. Several pixels an invocation (a loop over
+    // 2 or 4 rows 8 apart) lost 5-35% on the H200 and 5-10% on lavapipe
+    // (issue 21's twelfth sitting; bench/results/issue21_s12_ppi.patch)
+    uvec2 px = F.rect.xy + gl_GlobalInvocationID.xy;
+    if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
 }
