@@ -446,7 +446,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
-                /* ENTRY@cM: the kernel with the screen cull M (0 off, 1 the rectangle, 2 the spans);
+                /* ENTRY@cM: the kernel with the screen cull M (0 off, 1 on);
                  * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
                  * reads no rectangle) */
                 if (nkern < 9) {
@@ -455,8 +455,8 @@ int main(int argc, char** argv) {
                     if (at) {
                         unsigned cc = 0;
                         char extra;
-                        if (sscanf(at, "@c%u%c", &cc, &extra) != 1 || cc > 2) {
-                            fprintf(stderr, "render_bench: --kernels: '%s': want @cM, M 0, 1 or 2\n", at);
+                        if (sscanf(at, "@c%u%c", &cc, &extra) != 1 || cc > 1) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1\n", at);
                             return 2;
                         }
                         kcull[nkern] = (int)cc;

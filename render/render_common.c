@@ -160,67 +160,6 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
     rect[0] = (uint32_t)x0, rect[1] = (uint32_t)y0, rect[2] = (uint32_t)x1, rect[3] = (uint32_t)y1;
 }
 
-uint32_t vx__frame_spans(const vx__frame* f, const double lo[3], const double hi[3], uint32_t band, uint32_t* span,
-                         uint32_t max) {
-    if (!band) return 0;
-    uint32_t n = (f->height + band - 1) / band;
-    if (n > max) return 0;
-    uint32_t r[4];
-    vx__frame_rect(f, lo, hi, r);
-    bool full = r[0] == 0 && r[1] == 0 && r[2] == f->width && r[3] == f->height;
-    double W = f->width, H = f->height;
-    /* the corners in pixel coordinates (all in front of the eye's plane where the rectangle is neither the
-     * whole image nor empty: vx__frame_rect returned early otherwise) */
-    double px[8], py[8], eye[3], rx2 = dot3(f->rx, f->rx), uy2 = dot3(f->uy, f->uy);
-    for (int k = 0; k < 3; k++) eye[k] = f->ref[k] - (f->ortho ? 0 : f->fwd[k] * f->t_start);
-    bool empty = r[2] == 0;
-    for (int c = 0; c < 8 && !full && !empty; c++) {
-        double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
-        double v[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
-        double a = dot3(v, f->rx) / rx2, b = dot3(v, f->uy) / uy2;
-        if (!f->ortho) {
-            double z = dot3(v, f->fwd);
-            a /= z, b /= z;
-        }
-        px[c] = (a + 1) * 0.5 * W - 0.5, py[c] = (1 - b) * 0.5 * H - 0.5;
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t* s = &span[2 * i];
-        if (full) {
-            s[0] = 0, s[1] = f->width;
-            continue;
-        }
-        s[0] = s[1] = 0;
-        if (empty) continue;
-        /* the band's pixel centres' rows, two pixels of margin: the box's
-         * projection (the corners' convex hull) within them is spanned by
-         * the segments between corners, clipped to the strip */
-        double ya = (double)i * band - 2, yb = (double)(i + 1) * band - 1 + 2, xmin = INFINITY, xmax = -INFINITY;
-        for (int a = 0; a < 8; a++)
-            for (int b = a; b < 8; b++) {
-                double y0 = py[a], y1 = py[b], x0 = px[a], x1 = px[b];
-                double lo_t = 0, hi_t = 1, dy = y1 - y0;
-                if (dy == 0) {
-                    if (y0 < ya || y0 > yb) continue;
-                } else {
-                    double t0 = (ya - y0) / dy, t1 = (yb - y0) / dy;
-                    if (t0 > t1) {
-                        double t = t0;
-                        t0 = t1, t1 = t;
-                    }
-                    lo_t = fmax(lo_t, t0), hi_t = fmin(hi_t, t1);
-                    if (lo_t > hi_t) continue;
-                }
-                double xa = x0 + (x1 - x0) * lo_t, xb = x0 + (x1 - x0) * hi_t;
-                xmin = fmin(xmin, fmin(xa, xb)), xmax = fmax(xmax, fmax(xa, xb));
-            }
-        if (!(xmin <= xmax)) continue;
-        double x0 = fmax(floor(xmin) - 2, (double)r[0]), x1 = fmin(ceil(xmax) + 3, (double)r[2]);
-        if (x0 < x1) s[0] = (uint32_t)x0, s[1] = (uint32_t)x1;
-    }
-    return n;
-}
-
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
                           vx_error* err) {
     const vx_render_desc D = vx_render_desc_defaults(); /* what a zero field means */

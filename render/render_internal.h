@@ -34,9 +34,6 @@ typedef struct vx__gpu_inst {
     float lo[4];    /* rounding errors of r[0..2][3] (the rebased walk of deep models keeps the origin in hi + lo) */
 } vx__gpu_inst;
 
-/* The most bands of 8 rows the screen cull's spans describe (4,096 rows;
- * taller images take the rectangle). */
-#define VX__MAX_BANDS 512u
 typedef struct vx__gpu_frame {
     float fwd[4];    /* w: t_start */
     float rx[4];     /* w: ortho */
@@ -58,12 +55,6 @@ typedef struct vx__gpu_frame {
     /* trace.comp only: the pixels [rect[0], rect[2]) x [rect[1], rect[3])
      * that its trace pass covers; the rest miss (vx__frame_rect) */
     uint32_t rect[4];
-    /* trace.comp's spans (SPANS): bands of 8 rows, the trace pass covering
-     * [x0, x1) of each (vx__frame_spans). cull: the bands' count, the trace
-     * pass's workgroups (8x8 pixels of a band each), the miss pass's pixels;
-     * band: x0, x1, its first workgroup, its first miss pixel */
-    uint32_t cull[4];
-    uint32_t band[VX__MAX_BANDS][4];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in
@@ -160,11 +151,9 @@ void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
  * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
                                    size_t beam_bytes, uint32_t tag);
-/* The screen cull by default (vx__render_scene_trace_variant's cull). */
-#define VX__TRACE_CULL 1
-/* Benchmarks: the screen cull (-1 the default: VX__TRACE_CULL for the
- * built-in kernel, off for another; 0 off, 1 the rectangle, 2 the spans),
- * for the kernel set by vx__render_scene_trace_kernel. */
+/* Benchmarks and tests: the screen cull (-1 the default: on for the
+ * built-in kernel, off for another; 0 off, 1 on), for the kernel set by
+ * vx__render_scene_trace_kernel. */
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */

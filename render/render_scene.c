@@ -14,7 +14,7 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   offsetof(vx__gpu_frame, cull) == 352 && offsetof(vx__gpu_frame, band) == 368,
+                   sizeof(vx__gpu_frame) == 352,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -79,8 +79,8 @@ struct vx_render_scene {
     uint32_t alt_tag;
     const uint32_t* alt_beam; /* the beam pass's, likewise */
     size_t alt_beam_size;
-    /* benchmarks: the screen cull (-1: VX__TRACE_CULL unless alt_spv, 0 off,
-     * 1 the rectangle, 2 the spans); vx__render_scene_trace_variant */
+    /* benchmarks and tests: the screen cull (-1: on unless alt_spv, 0 off, 1
+     * on); vx__render_scene_trace_variant */
     int cull;
     uint64_t last_traced; /* the last frame's traced pixels */
     bool last_cull;       /* and whether they were not the whole image */
@@ -1182,7 +1182,7 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
 
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
     if (!rs) return;
-    rs->cull = cull < 0 ? -1 : cull > 2 ? 2 : cull;
+    rs->cull = cull < 0 ? -1 : cull > 0;
 }
 
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
@@ -1419,45 +1419,29 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * cube, which may reach past the cells' box) nor another kernel (a
      * benchmark's, which may not read the rectangle). */
     vx__gpu_frame* gf = rs->frame.map;
-    int cull = rs->cull < 0 ? (rs->alt_spv ? 0 : VX__TRACE_CULL) : rs->cull;
-    if (f->lod) cull = 0;
+    bool cull = rs->cull < 0 ? !rs->alt_spv : rs->cull > 0;
+    if (f->lod) cull = false;
     uint32_t W = f->width, H = f->height;
     if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
     else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
     bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == W && gf->rect[3] == H;
     uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
-    uint64_t npix = (uint64_t)W * H, traced = (uint64_t)rw * rh, tiles = 0;
-    /* the spans: per band of 8 rows, the box's projection over its rows */
-    bool spans = false;
-    if (cull == 2 && !all) {
-        uint32_t sp[2 * VX__MAX_BANDS];
-        uint32_t n = vx__frame_spans(f, rs->lo, rs->hi, 8, sp, VX__MAX_BANDS);
-        spans = n > 0;
-        traced = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            uint32_t rows = H - 8 * i < 8 ? H - 8 * i : 8, w = sp[2 * i + 1] - sp[2 * i];
-            gf->band[i][0] = sp[2 * i], gf->band[i][1] = sp[2 * i + 1];
-            gf->band[i][2] = (uint32_t)tiles, gf->band[i][3] = (uint32_t)((uint64_t)8 * W * i - traced);
-            tiles += (w + 7) / 8, traced += (uint64_t)rows * w;
-        }
-        /* band[i][3]: the miss pixels of the bands before i (each of them 8 rows: only the last band is shorter) */
-        gf->cull[0] = n, gf->cull[1] = (uint32_t)tiles, gf->cull[2] = (uint32_t)(npix - traced), gf->cull[3] = 8;
-    }
+    uint64_t npix = (uint64_t)W * H, traced = (uint64_t)rw * rh;
     rs->last_traced = traced;
     rs->last_cull = !all;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
-     * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 unused, 13 the miss pass, 14 the spans */
-    uint32_t spec[15] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
-                         precise ? 0 : rs->deep, rs->far, 0, smap, 0, 0, spans};
+     * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
+    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
+                         precise ? 0 : rs->deep, rs->far, 0, smap, 0};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < 15; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
     uint32_t nb = precise ? 10 : 14;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = 15, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 13, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -1486,9 +1470,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     vx__pipeline* post = NULL;
     if (!all) {
         vx_gpu_compute_pipeline_desc md = pd;
-        md.spec[13] = 1, md.label = "trace (misses)";
+        md.spec[12] = 1, md.label = "trace (misses)";
         uint64_t mkey = 1 + precise;
-        for (int i = 0; i < 15; i++) mkey = mkey * 131 + md.spec[i];
+        for (int i = 0; i < 13; i++) mkey = mkey * 131 + md.spec[i];
         if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
@@ -1505,11 +1489,6 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1},
                             .post_pipeline = post,
                             .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
-    if (spans) {
-        /* the bands' workgroups numbered in x then y */
-        uint32_t gx = tiles < 65535 ? (uint32_t)tiles : 65535u;
-        dd.groups[0] = gx, dd.groups[1] = gx ? (uint32_t)((tiles + gx - 1) / gx) : 0;
-    }
     return vx__dispatch(g, &dd, seconds, err);
 }
 
@@ -1768,9 +1747,7 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
         const uint8_t* last = rs->tables;
         size_t nrow = refit ? 32 : sizeof(vx_bvh_node);
         bool run_rows = false; /* the GPU computes the rows (their sources or the reference point changed) */
-        /* up to trace.comp's own fields (its rectangle and spans: vx__render_dispatch) */
-        if (!rows || memcmp(last, gf, offsetof(vx__gpu_frame, rect)))
-            update_buffer(cb, &rs->frame, gf, offsetof(vx__gpu_frame, rect));
+        if (!rows || memcmp(last, gf, sizeof *gf)) update_buffer(cb, &rs->frame, gf, sizeof *gf);
         if (gpu_rows) {
             const uint8_t* src = at + sizeof *gf + sizeof(rows_ref);
             uint64_t sent = rows ? update_rows(cb, &rs->inst_src, src, last + sizeof *gf + sizeof(rows_ref),

@@ -47,13 +47,6 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
  * reaches the eye's plane and nothing where it lies behind that plane. A
  * pixel outside the rectangle misses: trace.comp traces only the rectangle. */
 void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], uint32_t rect[4]);
-/* Per band of `band` rows (the last one possibly shorter): the pixels
- * [span[2i], span[2i+1]) of band i whose rays can meet the box (none where
- * both are 0), within vx__frame_rect's rectangle: the box's projection (its
- * corners' convex hull) over the band's rows, with the same margins.
- * Returns the bands' count, 0 where it would exceed max (or band is 0). */
-uint32_t vx__frame_spans(const vx__frame* f, const double lo[3], const double hi[3], uint32_t band, uint32_t* span,
-                         uint32_t max);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);

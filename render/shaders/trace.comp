@@ -29,12 +29,7 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // pixel outside F.rect (the conservative pixel rectangle of the scene's box,
 // which the first pass traces), writing its miss without tracing: the same
 // code with the trace replaced by a miss, so the same bits.
-layout(constant_id = 13) const bool MISS_PASS = false;
-// The cull's spans (vx__render_dispatch, vx__frame_spans): per band of 8 rows
-// F.band[b] = (x0, x1, first workgroup, first miss pixel), the trace pass
-// covering [x0, x1) of each band in workgroups of 8x8 pixels, the miss pass
-// the rest; a binary search finds a workgroup's (or a miss pixel's) band.
-layout(constant_id = 14) const bool SPANS = false;
+layout(constant_id = 12) const bool MISS_PASS = false;
 
 
 #ifndef PRECISE
@@ -62,18 +57,6 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 #define SMAP_BINDING 11
 #include "smap_lookup.glsl"
 #endif
-
-// The last band b whose entry's component c is at most i (bands in order,
-// that component not decreasing).
-uint band_of(uint i, uint c) {
-    uint lo = 0u, hi = F.cull.x;
-    while (hi - lo > 1u) {
-        uint mid = (lo + hi) >> 1;
-        if (F.band[mid][c] <= i) lo = mid;
-        else hi = mid;
-    }
-    return lo;
-}
 
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
@@ -205,14 +188,6 @@ void main() {
         uint W = F.dims.x, H = F.dims.y;
         uvec4 R = F.rect;
         uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-        if (SPANS) {
-            if (i >= F.cull.z) return;
-            uint b = band_of(i, 3u);
-            uvec4 B = F.band[b];
-            uint j = i - B.w, side = W - (B.y - B.x), c = j % side;
-            shade(uvec2(c < B.x ? c : B.y + c - B.x, b * 8u + j / side));
-            return;
-        }
         uint above = R.y * W, below = (H - R.w) * W, side = W - (R.z - R.x);
         uvec2 px;
         if (i < above) px = uvec2(i % W, i / W);
@@ -224,15 +199,6 @@ void main() {
             px = uvec2(c < R.x ? c : R.z + c - R.x, R.y + i / side);
         }
         shade(px);
-        return;
-    }
-    if (SPANS) {
-        uint w = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        if (w >= F.cull.y) return;
-        uint b = band_of(w, 2u);
-        uvec4 B = F.band[b];
-        uvec2 px = uvec2(B.x + (w - B.z) * 8u + gl_LocalInvocationID.x, b * 8u + gl_LocalInvocationID.y);
-        if (px.x < B.y && px.y < F.dims.y) shade(px);
         return;
     }
     // the rectangle's pixels only. Several pixels an invocation (a loop over

@@ -96,9 +96,6 @@ layout(std140, binding = 0) uniform Frame {
     // trace.comp: the pixels [rect.x, rect.z) x [rect.y, rect.w) that the
     // trace pass covers (vx__gpu_frame.rect)
     layout(offset = 336) uvec4 rect;
-    // the spans (trace.comp's SPANS; vx__gpu_frame.cull and band)
-    uvec4 cull;
-    uvec4 band[512];
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
