@@ -31,7 +31,6 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // code with the trace replaced by a miss, so the same bits.
 layout(constant_id = 12) const bool MISS_PASS = false;
 
-
 #ifndef PRECISE
 #define TRACE_BEAM
 #endif
@@ -202,7 +201,7 @@ void main() {
         return;
     }
     // the rectangle's pixels only. Several pixels an invocation (a loop over
-    // 2 or 4 rows 8 apart) lost 5-35% on the H200 and 5-10% on lavapipe
+    // 2 or 4 rows 8 apart) lost 3-33% on the H200 and 3-11% on lavapipe
     // (issue 21's twelfth sitting; bench/results/issue21_s12_ppi.patch)
     uvec2 px = F.rect.xy + gl_GlobalInvocationID.xy;
     if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
