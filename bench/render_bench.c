@@ -394,6 +394,9 @@ int main(int argc, char** argv) {
     uint32_t* bspv[9] = {NULL}; /* the beam pass's variants */
     size_t bbytes[9] = {0};
     int nkern = 1; /* 0: the built-in kernel */
+    /* per kernel: the screen cull (-1: the library's) */
+    int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    char klabel[9][96];
     uint32_t runs = 15;
     double warmup = 0.5;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
@@ -443,6 +446,29 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
+                /* ENTRY@cM: the kernel with the screen cull M (0 off, 1 on);
+                 * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
+                 * reads no rectangle) */
+                if (nkern < 9) {
+                    snprintf(klabel[nkern], sizeof klabel[nkern], "%s", t);
+                    char* at = strchr(t, '@');
+                    if (at) {
+                        unsigned cc = 0;
+                        char extra;
+                        if (sscanf(at, "@c%u%c", &cc, &extra) != 1 || cc > 1) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1\n", at);
+                            return 2;
+                        }
+                        kcull[nkern] = (int)cc;
+                        *at = 0;
+                        if (!*t) {
+                            kname[nkern] = klabel[nkern], nkern++;
+                            continue;
+                        }
+                    } else {
+                        kcull[nkern] = 0;
+                    }
+                }
                 /* T.spv:B.spv: also the beam pass from B ("" for T: the built-in trace kernel) */
                 char* colon = strchr(t, ':');
                 if (colon && nkern < 9) {
@@ -452,7 +478,7 @@ int main(int argc, char** argv) {
                         return 2;
                     }
                     if (!*t) {
-                        kname[nkern++] = colon + 1;
+                        kname[nkern] = klabel[nkern], nkern++;
                         continue;
                     }
                 }
@@ -461,7 +487,7 @@ int main(int argc, char** argv) {
                             nkern == 9 ? "more than 8 kernels" : "cannot read a SPIR-V file");
                     return 2;
                 }
-                kname[nkern++] = t;
+                kname[nkern] = klabel[nkern], nkern++;
             }
         }
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
@@ -619,6 +645,7 @@ int main(int argc, char** argv) {
                         smap_side = smap_list[si];
                     }
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
+                    vx__render_scene_trace_variant(rs, kcull[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */
@@ -662,6 +689,11 @@ int main(int argc, char** argv) {
                     {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [shadow rays %.0f%%, %.1f steps]", 100 * r.sh_share, r.sh_steps);
+                        uint64_t tp;
+                        if (vx__render_scene_traced(rs, &tp)) {
+                            at = strlen(kl);
+                            snprintf(kl + at, sizeof kl - at, "  [traced %.1f%% of the pixels]", 100.0 * (double)tp / px);
+                        }
                     }
                     if (nsmap > 1 || smap_list[0]) {
                         size_t at = strlen(kl);

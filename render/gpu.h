@@ -48,7 +48,7 @@ typedef struct vx_gpu_compute_pipeline_desc {
     uint32_t binding_count;
     VkDescriptorType bindings[VX_GPU_MAX_BINDINGS];
     uint32_t spec_count;
-    uint32_t spec[12];           /* 32-bit specialisation constants, ids 0.. */
+    uint32_t spec[13];           /* 32-bit specialisation constants, ids 0.. */
     const char* label;
 } vx_gpu_compute_pipeline_desc;
 
@@ -173,6 +173,13 @@ typedef struct vx__dispatch_desc {
      * no push constants; a barrier orders its writes before the main stage. */
     vx__pipeline* pre_pipeline;
     uint32_t pre_groups[3];
+    /* Optional last stage of every repeat (timed with it): post_pipeline over
+     * post_groups, no barrier before it (it must write what the main stage
+     * does not touch). Its layout must be compatible with the main
+     * pipeline's (the same bindings and push constants: Vulkan's "compatible
+     * for set 0"), whose descriptor set and push constants it uses. */
+    vx__pipeline* post_pipeline;
+    uint32_t post_groups[3];
 } vx__dispatch_desc;
 /* Records, submits and waits; *seconds is the median GPU time per repeat
  * from timestamps (wall time if the queue has no timestamps). */

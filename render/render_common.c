@@ -113,6 +113,53 @@ vx_render_desc vx_render_desc_defaults(void) {
     return d;
 }
 
+void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], uint32_t rect[4]) {
+    rect[0] = rect[1] = 0, rect[2] = f->width, rect[3] = f->height;
+    double eye[3], rx2 = dot3(f->rx, f->rx), uy2 = dot3(f->uy, f->uy), diag = 0;
+    for (int k = 0; k < 3; k++) {
+        eye[k] = f->ref[k] - (f->ortho ? 0 : f->fwd[k] * f->t_start);
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    if (!(rx2 > 0 && uy2 > 0) || !(diag >= 0)) return;
+    diag = sqrt(diag);
+    /* u, v as trace.comp defines them: a ray's direction (perspective) or
+     * origin (orthographic) is fwd + u rx + v uy, resp. ref + u rx + v uy */
+    double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
+    int behind = 0;
+    for (int c = 0; c < 8; c++) {
+        double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+        double v[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
+        double z = dot3(v, f->fwd), len = sqrt(dot3(v, v));
+        double a = dot3(v, f->rx) / rx2, b = dot3(v, f->uy) / uy2;
+        /* margins far above the float rays' rounding (about 1e-7 relative) */
+        double eps = 1e-4 * (f->ortho ? diag + len : len);
+        if (z < -eps) {
+            behind++;
+            if (!f->ortho) continue;
+        } else if (!f->ortho) {
+            if (z <= eps) return; /* the box reaches the eye's plane: every pixel */
+            a /= z, b /= z;
+        }
+        umin = fmin(umin, a), umax = fmax(umax, a), vmin = fmin(vmin, b), vmax = fmax(vmax, b);
+    }
+    if (behind == 8) {
+        /* rays run forward from the eye's plane (t >= 0): nothing to meet */
+        rect[0] = rect[1] = rect[2] = rect[3] = 0;
+        return;
+    }
+    if (behind && !f->ortho) return; /* the box crosses the eye's plane */
+    /* pixel centres: u = ((x + 0.5) / W) * 2 - 1, v = 1 - ((y + 0.5) / H) * 2 */
+    double W = f->width, H = f->height;
+    double x0 = floor((umin + 1) * 0.5 * W - 0.5) - 2, x1 = ceil((umax + 1) * 0.5 * W - 0.5) + 3;
+    double y0 = floor((1 - vmax) * 0.5 * H - 0.5) - 2, y1 = ceil((1 - vmin) * 0.5 * H - 0.5) + 3;
+    x0 = fmax(x0, 0), y0 = fmax(y0, 0), x1 = fmin(x1, W), y1 = fmin(y1, H);
+    if (!(x0 < x1 && y0 < y1)) {
+        rect[0] = rect[1] = rect[2] = rect[3] = 0;
+        return;
+    }
+    rect[0] = (uint32_t)x0, rect[1] = (uint32_t)y0, rect[2] = (uint32_t)x1, rect[3] = (uint32_t)y1;
+}
+
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
                           vx_error* err) {
     const vx_render_desc D = vx_render_desc_defaults(); /* what a zero field means */

@@ -52,6 +52,9 @@ typedef struct vx__gpu_frame {
      * loads lavapipe runs lane by lane): instance 0's record and its model's */
     vx__gpu_inst inst0;
     vx__gpu_model model0;
+    /* trace.comp only: the pixels [rect[0], rect[2]) x [rect[1], rect[3])
+     * that its trace pass covers; the rest miss (vx__frame_rect) */
+    uint32_t rect[4];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in
@@ -148,6 +151,13 @@ void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
  * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
                                    size_t beam_bytes, uint32_t tag);
+/* Benchmarks and tests: the screen cull (-1 the default: on for the
+ * built-in kernel, off for another; 0 off, 1 on), for the kernel set by
+ * vx__render_scene_trace_kernel. */
+void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
+/* Benchmarks: the last frame's traced pixels (the rest written as misses);
+ * false where it traced the whole image (no cull). */
+bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);
 /* Benchmarks and tests: lists the shadow map's nodes again for a map of
  * side texels (1: no map); s is the scene the GPU scene was made from. */
 vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err);

@@ -13,7 +13,8 @@
 
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
-                   offsetof(vx__gpu_frame, model0) == 304 && sizeof(vx__gpu_frame) == 336,
+                   offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
+                   sizeof(vx__gpu_frame) == 352,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -78,6 +79,11 @@ struct vx_render_scene {
     uint32_t alt_tag;
     const uint32_t* alt_beam; /* the beam pass's, likewise */
     size_t alt_beam_size;
+    /* benchmarks and tests: the screen cull (-1: on unless alt_spv, 0 off, 1
+     * on); vx__render_scene_trace_variant */
+    int cull;
+    uint64_t last_traced; /* the last frame's traced pixels */
+    bool last_cull;       /* and whether they were not the whole image */
     uint32_t max_depth;
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
@@ -714,6 +720,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     rs->max_depth = max_depth;
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
+    rs->cull = -1;
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
@@ -1173,6 +1180,17 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
     rs->alt_beam = beam_spirv && beam_bytes ? beam_spirv : NULL, rs->alt_beam_size = beam_bytes;
 }
 
+void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
+    if (!rs) return;
+    rs->cull = cull < 0 ? -1 : cull > 0;
+}
+
+bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
+    if (!rs || !rs->last_cull) return false;
+    *pixels = rs->last_traced;
+    return true;
+}
+
 void vx__render_scene_force_precise(vx_render_scene* rs, int precise) {
     if (rs) rs->force_precise = precise < 0 ? -1 : precise > 0;
 }
@@ -1395,19 +1413,35 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
+    /* The screen cull: the trace pass covers the pixels whose rays can meet
+     * the scene's box, a second pass (the same kernel, MISS_PASS) writes the
+     * others' misses without a ray. Not with LOD (a coarse hit is its node's
+     * cube, which may reach past the cells' box) nor another kernel (a
+     * benchmark's, which may not read the rectangle). */
+    vx__gpu_frame* gf = rs->frame.map;
+    bool cull = rs->cull < 0 ? !rs->alt_spv : rs->cull > 0;
+    if (f->lod) cull = false;
+    uint32_t W = f->width, H = f->height;
+    if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
+    else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
+    bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == W && gf->rect[3] == H;
+    uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
+    uint64_t npix = (uint64_t)W * H, traced = (uint64_t)rw * rh;
+    rs->last_traced = traced;
+    rs->last_cull = !all;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
-     * 9 FAR, 10 COMPACT (off here), 11 the shadow map */
-    uint32_t spec[12] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
-                         precise ? 0 : rs->deep, rs->far, 0, smap};
+     * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
+    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
+                         precise ? 0 : rs->deep, rs->far, 0, smap, 0};
     uint64_t key = 1 + precise;
-    for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
     uint32_t nb = precise ? 10 : 14;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = precise ? 10 : 12, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 13, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -1429,17 +1463,32 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    /* the miss pass: one invocation per pixel outside the rectangle, 64 a group, at most 65535 groups in x */
+    uint64_t mg = (npix - traced + 63) / 64;
+    uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
+    if (!mgx) mgx = 1;
+    vx__pipeline* post = NULL;
+    if (!all) {
+        vx_gpu_compute_pipeline_desc md = pd;
+        md.spec[12] = 1, md.label = "trace (misses)";
+        uint64_t mkey = 1 + precise;
+        for (int i = 0; i < 13; i++) mkey = mkey * 131 + md.spec[i];
+        if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
+        if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
+    }
     vx__dispatch_desc dd = {.pipeline = p,
                             .buffer_count = nb,
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
                                         smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
                                         smap ? &rs->smap.insts : &rs->beam},
-                            .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
+                            .groups = {(rw + 7) / 8, (rh + 7) / 8, 1},
                             .repeat = repeat,
                             .label = "trace",
                             .pre_pipeline = pre,
-                            .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1}};
+                            .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1},
+                            .post_pipeline = post,
+                            .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
     return vx__dispatch(g, &dd, seconds, err);
 }
 

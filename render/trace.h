@@ -40,6 +40,13 @@ typedef struct vx__frame {
 /* Resolves defaults and the camera into a frame. */
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc, vx__frame* f,
                           vx_error* err);
+/* The pixels whose rays can meet the box [lo, hi] (world space), as the
+ * rectangle [rect[0], rect[2]) x [rect[1], rect[3]) (empty: all four 0): the
+ * box's corners projected with f's camera, two pixels of margin on each side
+ * (a sample's offset, the GPU's float rays), the whole image where the box
+ * reaches the eye's plane and nothing where it lies behind that plane. A
+ * pixel outside the rectangle misses: trace.comp traces only the rectangle. */
+void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], uint32_t rect[4]);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);

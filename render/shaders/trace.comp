@@ -25,6 +25,11 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 // of the rays per CPU second it reaches without it (issue 21's eleventh
 // sitting); the H200 is indifferent.
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
+// The screen cull's second pass (vx__render_dispatch): one invocation per
+// pixel outside F.rect (the conservative pixel rectangle of the scene's box,
+// which the first pass traces), writing its miss without tracing: the same
+// code with the trace replaced by a miss, so the same bits.
+layout(constant_id = 12) const bool MISS_PASS = false;
 
 #ifndef PRECISE
 #define TRACE_BEAM
@@ -33,6 +38,7 @@ layout(constant_id = 6) const bool ONE_SAMPLE = false;
 #define TRACE_NOGUARD
 #define TRACE_INST_UBO
 #define TRACE_FLAT_ITEMS
+#define TRACE_CULL
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -51,10 +57,8 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 #include "smap_lookup.glsl"
 #endif
 
-void main() {
-    uvec2 px = gl_GlobalInvocationID.xy;
+void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
-    if (px.x >= W || px.y >= H) return;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and
@@ -114,7 +118,7 @@ void main() {
         h.inst = NO_HIT;
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u); // a miss's hits record is written too
-        bool hit = trace_scene(o, d, 0.0, false, h);
+        bool hit = MISS_PASS ? false : trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);
@@ -173,4 +177,32 @@ void main() {
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);
+}
+
+void main() {
+    if (MISS_PASS) {
+        // the pixels outside the rectangle, numbered row by row: the rows
+        // above it, the rows below it, then the rows beside it (left and right
+        // parts); 64 a workgroup, the groups in x then y
+        uint W = F.dims.x, H = F.dims.y;
+        uvec4 R = F.rect;
+        uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+        uint above = R.y * W, below = (H - R.w) * W, side = W - (R.z - R.x);
+        uvec2 px;
+        if (i < above) px = uvec2(i % W, i / W);
+        else if (i - above < below) px = uvec2((i - above) % W, R.w + (i - above) / W);
+        else {
+            i -= above + below;
+            if (side == 0u || i >= side * (R.w - R.y)) return;
+            uint c = i % side;
+            px = uvec2(c < R.x ? c : R.z + c - R.x, R.y + i / side);
+        }
+        shade(px);
+        return;
+    }
+    // the rectangle's pixels only. Several pixels an invocation (a loop over
+    // 2 or 4 rows 8 apart) lost 3-33% on the H200 and 3-11% on lavapipe
+    // (issue 21's twelfth sitting; bench/results/issue21_s12_ppi.patch)
+    uvec2 px = F.rect.xy + gl_GlobalInvocationID.xy;
+    if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
 }

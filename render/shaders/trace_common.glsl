@@ -92,6 +92,11 @@ layout(std140, binding = 0) uniform Frame {
     layout(offset = 224) Inst inst0;
     Model model0;
 #endif
+#ifdef TRACE_CULL
+    // trace.comp: the pixels [rect.x, rect.z) x [rect.y, rect.w) that the
+    // trace pass covers (vx__gpu_frame.rect)
+    layout(offset = 336) uvec4 rect;
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };

@@ -5,6 +5,7 @@
 
 #include "tests/test.h"
 #include "tests/render/scenes.h"
+#include "render/trace.h"
 
 static void test_bvh_structure_and_speed(void) {
     enum { N = 10000 };
@@ -220,11 +221,109 @@ static void test_cpu_root_leaf(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The screen cull's rectangle (vx__frame_rect, which trace.comp traces; the
+ * rest misses unseen): every pixel that the CPU reference sees hit lies inside
+ * it, for cameras near, far, inside the scene, looking away, perspective and
+ * orthographic; a camera looking away gets nothing, one inside everything; and
+ * from outside, the rectangle of a box whose corners are filled cells lies
+ * within a few pixels of the hits (it culls). */
+static void test_screen_rect(void) {
+    enum { W = 96, H = 72 };
+    /* scene 0: one box of filled cells (its corners on the silhouette); scene 1:
+     * two rotated instances of a random model and the box */
+    uint32_t sz[3] = {6, 5, 4}, xyz[6 * 5 * 4 * 3], n = 0;
+    for (uint32_t z = 0; z < sz[2]; z++)
+        for (uint32_t y = 0; y < sz[1]; y++)
+            for (uint32_t x = 0; x < sz[0]; x++) xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z, n++;
+    vx_svo_model box[1], two[2];
+    REQUIRE(ts_model(&box[0], sz, xyz, NULL, n) == VX_OK);
+    REQUIRE(ts_model(&two[0], sz, xyz, NULL, n) == VX_OK);
+    REQUIRE(ts_random_model(&two[1], 7, 6, 5, 30, 99) == VX_OK);
+    vx_svo_instance ib = ts_inst(0, NULL, 2, -1, 0.5);
+    const double c = cos(0.7), sn = sin(0.7);
+    vx_svo_instance it[3] = {ts_inst(0, NULL, 2, -1, 0.5), ts_inst(1, (const double[9]){c, -sn, 0, sn, c, 0, 0, 0, 1}, 9, 4, -2),
+                             ts_inst(1, (const double[9]){1, 0, 0, 0, 0, -1, 0, 1, 0}, -6, 2, 3)};
+    vx_svo_scene sc[2];
+    ts_scene(&sc[0], box, 1, &ib, 1);
+    ts_scene(&sc[1], two, 2, it, 3);
+    uint32_t seed = 4242;
+    int culled = 0, far_views = 0, tight_checked = 0;
+    for (int si = 0; si < 2; si++) {
+        double lo[3], hi[3], ctr[3], rad = 0;
+        vx_svo_scene_world_bounds(&sc[si], lo, hi);
+        for (int k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]), rad += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        rad = sqrt(rad);
+        for (int view = 0; view < 60; view++) {
+            /* 0-2: inside, near, far (perspective); 3: far orthographic; 4: away */
+            int kind = view % 5;
+            double dist = rad * (kind == 0 ? 0.2 : kind == 1 ? 1.6 : 4 + ts_rng(&seed) % 5);
+            double dir[3], dl = 0;
+            for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+            dl = sqrt(dl);
+            vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_DEPTH, .want_hits = true};
+            d.camera.set = true;
+            d.camera.fov = 30 + ts_rng(&seed) % 60;
+            d.camera.ortho = kind == 3;
+            d.camera.ortho_height = 2.5 * rad;
+            for (int k = 0; k < 3; k++) {
+                d.camera.eye[k] = ctr[k] + dir[k] / dl * dist;
+                /* the target off the centre by up to half the radius: boxes cut by the image's edges */
+                double off = ((double)(ts_rng(&seed) % 1001) / 1000 - 0.5) * rad;
+                d.camera.target[k] = kind == 4 ? 2 * d.camera.eye[k] - ctr[k] : ctr[k] + off;
+            }
+            vx__frame f;
+            vx_error err = {0};
+            REQUIRE(vx__frame_setup(lo, hi, &d, &f, &err) == VX_OK);
+            uint32_t r[4];
+            vx__frame_rect(&f, lo, hi, r);
+            CHECK(r[0] <= r[2] && r[1] <= r[3] && r[2] <= W && r[3] <= H);
+            vx_render_image img;
+            REQUIRE(vx_render_cpu(&sc[si], &d, NULL, &img, &err) == VX_OK);
+            int out = 0, hits = 0;
+            uint32_t hx0 = W, hy0 = H, hx1 = 0, hy1 = 0;
+            for (uint32_t y = 0; y < H; y++)
+                for (uint32_t x = 0; x < W; x++) {
+                    if (img.hits[y * W + x].instance == VX_RENDER_NO_HIT) continue;
+                    hits++;
+                    if (x < r[0] || x >= r[2] || y < r[1] || y >= r[3]) out++;
+                    hx0 = x < hx0 ? x : hx0, hy0 = y < hy0 ? y : hy0;
+                    hx1 = x + 1 > hx1 ? x + 1 : hx1, hy1 = y + 1 > hy1 ? y + 1 : hy1;
+                }
+            CHECK(out == 0);
+            if (out) printf("screen rect: scene %d view %d: %d of %d hits outside [%u,%u)x[%u,%u)\n", si, view, out, hits,
+                            r[0], r[2], r[1], r[3]);
+            bool full = r[0] == 0 && r[1] == 0 && r[2] == W && r[3] == H;
+            if (kind == 0) CHECK(full);
+            if (kind == 4) CHECK(r[0] == 0 && r[1] == 0 && r[2] == 0 && r[3] == 0 && hits == 0);
+            if (kind >= 2 && kind <= 3) {
+                far_views++;
+                culled += !full;
+                /* the box's corners are filled: its rectangle is the hits' within the margin
+                 * (2 pixels) and the pixel grid (a corner's nearest centre inside) */
+                if (si == 0 && hits) {
+                    tight_checked++;
+                    CHECK(r[0] == 0 || r[0] + 5 >= hx0);
+                    CHECK(r[1] == 0 || r[1] + 5 >= hy0);
+                    CHECK(r[2] == W || r[2] <= hx1 + 5);
+                    CHECK(r[3] == H || r[3] <= hy1 + 5);
+                }
+            }
+            vx_render_image_free(&img);
+        }
+    }
+    printf("screen rect: %d of %d far views culled, %d checked for tightness\n", culled, far_views, tight_checked);
+    CHECK(culled * 2 > far_views);
+    CHECK(tight_checked >= 20);
+    vx_svo_scene_free(&sc[0]);
+    vx_svo_scene_free(&sc[1]);
+}
+
 int main(void) {
     RUN(test_bvh_structure_and_speed);
     RUN(test_cpu_vs_brute_force);
     RUN(test_desc_validation);
     RUN(test_too_deep_refused);
     RUN(test_cpu_root_leaf);
+    RUN(test_screen_rect);
     return vx_test_finish();
 }

@@ -874,6 +874,95 @@ static void test_modes(void) {
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
+/* The screen cull (trace.comp traces the pixels whose rays can meet the
+ * scene's box, a second pass writes the others' misses): the same bits as
+ * without it, pixels and hit records, in every mode, for cameras far, near,
+ * inside, looking away and orthographic, one instance and several (the BVH), in depth, colour (shadow rays) and
+ * iterations (a miss's count), two samples a pixel too. */
+static void test_screen_cull(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 9, 7, 5, 35, 21) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 4, 6, 3, 50, 22) == VX_OK);
+    static const double rot[9] = {0.6, -0.8, 0, 0.8, 0.6, 0, 0, 0, 1};
+    vx_svo_instance in[3] = {ts_inst(0, rot, 3, 1, 0), ts_inst(1, NULL, -9, 4, 2), ts_inst(1, rot, 6, -8, -3)};
+    vx_svo_scene sc[2];
+    vx_svo_model m1;
+    REQUIRE(ts_random_model(&m1, 9, 7, 5, 35, 21) == VX_OK);
+    ts_scene(&sc[0], &m1, 1, in, 1);
+    ts_scene(&sc[1], m, 2, in, 3);
+    uint32_t seed = 77;
+    size_t frames = 0, culled = 0, differ = 0;
+    for (int si = 0; si < 2; si++) {
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_render_scene_create(gpu, &sc[si], &rs, &err) == VX_OK);
+        double lo[3], hi[3], ctr[3], rad = 0;
+        vx_svo_scene_world_bounds(&sc[si], lo, hi);
+        for (int k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]), rad += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        rad = sqrt(rad);
+        for (int view = 0; view < 6; view++) {
+            int kind = view % 5; /* far, near, inside, away, orthographic */
+            double dist = rad * (kind == 1 ? 1.3 : kind == 2 ? 0.1 : 2.5 + view);
+            double dir[3], dl = 0;
+            for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+            dl = sqrt(dl);
+            vx_render_desc d = {.width = 61, .height = 43, .want_hits = true};
+            d.camera.set = true, d.camera.ortho = kind == 4, d.camera.ortho_height = 1.5 * rad;
+            for (int k = 0; k < 3; k++) {
+                d.camera.eye[k] = ctr[k] + dir[k] / dl * dist;
+                d.camera.target[k] = kind == 3 ? 2 * d.camera.eye[k] - ctr[k] : ctr[k] + 0.3 * rad * (k == view % 3);
+            }
+            /* depth, colour (shadow rays), iterations (a miss's count), and depth with two samples a pixel */
+            static const vx_render_mode modes[4] = {VX_RENDER_DEPTH, VX_RENDER_COLOR, VX_RENDER_ITERATIONS, VX_RENDER_DEPTH};
+            for (int mi = 0; mi < 4; mi++) {
+                if (mi == 3 && view != 5) continue;
+                d.mode = modes[mi];
+                d.spp = mi == 3 ? 2 : 1;
+                /* a first colour frame with a light builds the sun's depth map for the next ones (whose shadow
+                 * records then differ): one frame before the three */
+                vx_render_image a[2] = {{0}};
+                vx__render_scene_trace_variant(rs, 0);
+                CHECK(vx_render_frame(rs, &d, &a[0], &err) == VX_OK);
+                vx_render_image_free(&a[0]);
+                for (int c = 0; c < 2; c++) {
+                    vx__render_scene_trace_variant(rs, c);
+                    CHECK(vx_render_frame(rs, &d, &a[c], &err) == VX_OK);
+                }
+                uint64_t tp;
+                culled += vx__render_scene_traced(rs, &tp);
+                frames++;
+                size_t n = (size_t)d.width * d.height;
+                for (int c = 1; c < 2; c++) {
+                    if (!a[0].pixels || !a[c].pixels || !a[0].hits || !a[c].hits) {
+                        differ++;
+                        continue;
+                    }
+                    size_t dp = 0, dh = 0;
+                    for (size_t i = 0; i < n; i++) {
+                        dp += memcmp(&a[0].pixels[4 * i], &a[c].pixels[4 * i], 4 * sizeof(float)) != 0;
+                        const vx_render_hit *x = &a[0].hits[i], *y = &a[c].hits[i];
+                        dh += memcmp(x, y, sizeof *x) != 0;
+                    }
+                    if (dp || dh)
+                        printf("screen cull %d: scene %d view %d mode %s: %zu pixels and %zu hits differ\n", c, si, view,
+                               vx_render_mode_name(d.mode), dp, dh);
+                    differ += dp + dh;
+                }
+                for (int c = 0; c < 2; c++) vx_render_image_free(&a[c]);
+            }
+        }
+        vx__render_scene_trace_variant(rs, -1);
+        vx_render_scene_destroy(rs);
+    }
+    printf("screen cull: %zu frames, %zu culled, %zu values differ\n", frames, culled, differ);
+    CHECK(differ == 0);
+    CHECK(culled * 2 >= frames); /* the far, away and orthographic views cull */
+    vx_svo_scene_free(&sc[0]);
+    vx_svo_scene_free(&sc[1]);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 int main(void) {
     /* The loader unloads the driver and layer at vkDestroyInstance; pinning
      * them keeps their frames symbolised, so tests/render/lsan.supp can name
@@ -896,6 +985,7 @@ int main(void) {
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
+    RUN(test_screen_cull);
     RUN(test_corpus);
     if (gpu) {
         CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
