@@ -3,10 +3,12 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
 #include "render/render_internal.h"
+#include "resolve_compact.comp.h"
 #include "trace_compact.comp.h"
 
 /* shaders/trace_compact.comp's CModel */
@@ -41,6 +43,9 @@ struct vx_compact_gpu {
     vx_render_scene* rs;
     vx_gpu* gpu;
     vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
+    vx__buffer pend; /* the resolve's input (trace_compact.comp SPLIT 2) */
+    uint32_t model_count;
+    uint32_t max_depth; /* the deepest model's levels (SPLIT 2 packs cells in 16 bits) */
     vx__buffer pass_models; /* the palette, then the CModels: trace_common.glsl's binding 3 (COMPACT) */
     /* the attribute words beyond one storage buffer's range: parts 1.. of
      * 2^attr_shift words each (attr is part 0; attr_shift 0: attr holds them all) */
@@ -93,9 +98,9 @@ static void paging_free(vx_gpu* g, paging* pg) {
 
 void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     if (!cg) return;
-    vx__buffer* b[9] = {&cg->geom,   &cg->attr, &cg->models, &cg->palette,    &cg->pixels,
-                        &cg->hits,   &cg->pstate, &cg->stage, &cg->pass_models};
-    for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    vx__buffer* b[10] = {&cg->geom, &cg->attr,  &cg->models, &cg->palette,     &cg->pixels,
+                         &cg->hits, &cg->pstate, &cg->stage, &cg->pass_models, &cg->pend};
+    for (int i = 0; i < 10; i++) vx__buffer_destroy(cg->gpu, b[i]);
     for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
@@ -248,9 +253,11 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         vx_free(&g->alloc, cg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }
+    cg->model_count = s->model_count;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_compact_model* m = &c->models[i];
         const vx_svo_model* sm = &s->models[i];
+        if (sm->depth > cg->max_depth) cg->max_depth = sm->depth;
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
         bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
         if (deep_model) flags |= 2u;
@@ -651,8 +658,19 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     return VX_OK;
 }
 
-/* trace_compact.comp's bindings: 0-10, then the attribute parts past the first from TC_ATTR_HI */
-enum { TC_ATTR_HI = 11, TC_BINDINGS = TC_ATTR_HI + VX_COMPACT_ATTR_PARTS - 1 };
+/* trace_compact.comp's bindings: 0-10, then the attribute parts past the first from TC_ATTR_HI, then Pend */
+enum { TC_ATTR_HI = 11, TC_PEND = TC_ATTR_HI + VX_COMPACT_ATTR_PARTS - 1, TC_BINDINGS = TC_PEND + 1 };
+
+/* The kernel's SPLIT constant: the albedo colour in a second dispatch
+ * (trace_compact.comp) where the frame allows it. VX_CK_SPLIT (0, 1, 2) is
+ * an exploration switch of issue 18's eleventh step. */
+static uint32_t split_constant(const vx_compact_gpu* cg, const vx__frame* f, uint32_t model_count) {
+    const char* e = getenv("VX_CK_SPLIT");
+    uint32_t v = e ? (uint32_t)atoi(e) : 0;
+    if (v == 0 || f->mode != VX_RENDER_ALBEDO || f->spp > 1 || cg->pg) return 0;
+    if (v == 2 && (model_count >= 0xFFFF || cg->max_depth > 16)) v = 1;
+    return v > 2 ? 1 : v;
+}
 
 static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool want_hits, uint32_t repeat, vx__frame* f,
                           double* seconds, vx_error* err) {
@@ -665,19 +683,27 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
+    uint32_t split = split_constant(cg, f, cg->model_count);
+    if ((r = vx__buffer_ensure(g, &cg->pend, split == 2 ? npx * 8 : 16, "compact resolve", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    uint32_t spec[11] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
-                         cg->deep, pages, cg->attr_shift};
+    if (!sp[VX__SPEC_HAS_COLOR]) split = 0;
+    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
+                         cg->deep, pages, cg->attr_shift, split};
     uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 11; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = TC_BINDINGS, .spec_count = 11, .label = "trace compact"};
+                                       .binding_count = TC_BINDINGS, .spec_count = 12, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < TC_BINDINGS; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
-    vx__pipeline* p;
+    vx__pipeline *p, *post = NULL;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
+    if (split) {
+        pd.spirv = vx__resolve_compact_spv_arr, pd.spirv_size = sizeof vx__resolve_compact_spv_arr;
+        pd.label = "resolve compact";
+        if ((r = vx__pipeline_get(g, key ^ 0x5E501BEu, &pd, &post, err))) return r;
+    }
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",
                                                   &cg->pstate, err)))
         return r;
@@ -687,7 +713,10 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                                         scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
-                            .label = "trace compact"};
+                            .label = "trace compact",
+                            .post_pipeline = post,
+                            .post_groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1}};
+    dd.buffers[TC_PEND] = &cg->pend;
     /* the attribute parts past the first (bound to part 0 where there are none: never read) */
     for (uint32_t k = 1; k < VX_COMPACT_ATTR_PARTS; k++)
         dd.buffers[TC_ATTR_HI + k - 1] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];
