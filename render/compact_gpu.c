@@ -15,6 +15,7 @@
 typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
     uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
+    uint32_t hdr_word; /* the model's block headers, one a block, in attr (0: none; VX_CK_HDR exploration) */
 } cmodel_gpu;
 
 /* The paged layout's state on the host (vx_compact_gpu_create_paged). */
@@ -55,6 +56,7 @@ struct vx_compact_gpu {
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t table_bytes; /* the start tables' (in attr) */
+    uint64_t hdr_bytes;   /* of which block headers (VX_CK_HDR) */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
@@ -285,6 +287,18 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
         tab_words += 2ull << (3 * (c->models[i].depth - K));
     }
+    /* exploration (VX_CK_HDR=1): each block's header word in a dense array per
+     * model after the tables, so that the decode skips the group word */
+    uint64_t hdr_first = tab_words;
+    if (getenv("VX_CK_HDR") && atoi(getenv("VX_CK_HDR")))
+        for (uint32_t i = 0; i < s->model_count; i++) {
+            const vx_compact_model* m = &c->models[i];
+            if (!(cm[i].flags & 1u) || m->root >= VX_SVO_ROOT_LEAF || !m->block) continue;
+            uint64_t nb = ((uint64_t)m->voxels + m->block - 1) / m->block;
+            if (c->attr_words + tab_words + nb > 0xFFFFFFFFull) continue;
+            cm[i].hdr_word = (uint32_t)(c->attr_words + tab_words);
+            tab_words += nb;
+        }
     /* the tables after the attribute words in one buffer (the passes' binding 2),
      * uploaded apart so that the host holds no second copy of the words */
     uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
@@ -297,6 +311,17 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                               .D = c->models[i].depth - cm[i].tab_k};
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
+        for (uint32_t i = 0; i < s->model_count; i++) {
+            if (!cm[i].hdr_word) continue;
+            const vx_compact_model* m = &c->models[i];
+            const uint32_t* a = c->attr ? c->attr + m->attr_base : c->attr_region[i];
+            uint64_t nb = ((uint64_t)m->voxels + m->block - 1) / m->block;
+            uint32_t* h = tw + (cm[i].hdr_word - c->attr_words);
+            for (uint64_t b = 0; b < nb; b++) {
+                uint32_t g = a[b / VX_COMPACT_GROUP];
+                h[b] = a[(g & 0x7FFFFFFFu) + ((g >> 31) ? 0 : b % VX_COMPACT_GROUP)];
+            }
+        }
     }
     uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
     if (!r && (uint64_t)c->geom_words * 4 > range)
@@ -333,6 +358,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         return r;
     }
     cg->table_bytes = tab_words * 4;
+    cg->hdr_bytes = (tab_words - hdr_first) * 4;
     cg->bytes = (uint64_t)c->geom_words * 4 + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
                 2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
     *out = cg;

@@ -29,7 +29,8 @@
 // (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k; };
+// hdr_word: the model's block headers, one word a block (0: none; exploration)
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, hdr_word; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
@@ -200,8 +201,13 @@ uint recorrelate(uint v) {
 uint decode_value(CModel m, uint attr_base, uint i) {
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
-    uint g = CA_ATTR(attr_base + (blk >> 6));
-    uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
+    uint h;
+    if (m.hdr_word != 0u) {
+        h = CA_ATTR(m.hdr_word + blk);
+    } else {
+        uint g = CA_ATTR(attr_base + (blk >> 6));
+        h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
+    }
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
