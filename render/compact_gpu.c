@@ -196,13 +196,16 @@ static vx_result attr_parts(uint64_t words, uint64_t range, uint32_t* shift, uin
 
 typedef struct tab_fill {
     const vx_compact_scene* c;
-    uint32_t* t; /* 2 words an entry */
+    uint32_t* t; /* 2 words an entry (4: exploration, VX_CK_TAB4) */
     uint32_t K, D; /* level, log2 of the entries a side */
+    uint32_t stride;
 } tab_fill;
 
 static void tab_set(const tab_fill* f, uint32_t x, uint32_t y, uint32_t z, uint32_t w0, uint32_t w1) {
     size_t e = ((size_t)(x >> f->K) | ((size_t)(y >> f->K) << f->D) | ((size_t)(z >> f->K) << (2 * f->D)));
-    f->t[2 * e] = w0, f->t[2 * e + 1] = w1;
+    f->t[f->stride * e] = w0, f->t[f->stride * e + 1] = w1;
+    if (f->stride == 4 && w0 != TAB_FULL)
+        f->t[4 * e + 2] = f->c->geom[2 * (size_t)w0], f->t[4 * e + 3] = f->c->geom[2 * (size_t)w0 + 1];
 }
 
 /* Node n of level L > K at cell (x, y, z), base cells before it. */
@@ -276,6 +279,9 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
      * 8 times larger: at most an eighth more bytes, DamagedHelmet at 512
      * 7.7%, at 4096 1.6%; docs/PERFORMANCE.md issue 18, eighth step) */
     uint64_t ncol = 0, tab_words = 0;
+    /* exploration switches (issue 18, eleventh step) */
+    bool tab4 = getenv("VX_CK_TAB4") && atoi(getenv("VX_CK_TAB4"));
+    bool bits2 = getenv("VX_CK_BITS2") && atoi(getenv("VX_CK_BITS2"));
     for (uint32_t i = 0; i < s->model_count; i++) ncol += (cm[i].flags & 1u) && c->models[i].root < VX_SVO_ROOT_LEAF;
     uint64_t budget = ((uint64_t)c->geom_words + c->attr_words) / 16;
     if (budget < 4096) budget = 4096;
@@ -283,9 +289,10 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     for (uint32_t i = 0; i < s->model_count; i++) {
         if (!(cm[i].flags & 1u) || c->models[i].root >= VX_SVO_ROOT_LEAF) continue;
         uint32_t K = tab_level(c->models[i].depth, budget);
-        if (!K || c->attr_words + tab_words + (2ull << (3 * (c->models[i].depth - K))) > 0xFFFFFFFFull) continue;
+        if (!K || c->attr_words + tab_words + (4ull << (3 * (c->models[i].depth - K))) > 0xFFFFFFFFull) continue;
         cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
-        tab_words += 2ull << (3 * (c->models[i].depth - K));
+        if (tab4) cm[i].flags |= 16u;
+        tab_words += (uint64_t)(tab4 ? 4 : 2) << (3 * (c->models[i].depth - K));
     }
     /* exploration (VX_CK_HDR=1): each block's header word in a dense array per
      * model after the tables, so that the decode skips the group word */
@@ -299,16 +306,20 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
             cm[i].hdr_word = (uint32_t)(c->attr_words + tab_words);
             tab_words += nb;
         }
+    if (bits2) {
+        tab_words += 4; /* the word past the end that attr_bits' `two` may read */
+        for (uint32_t i = 0; i < s->model_count; i++) cm[i].flags |= 32u;
+    }
     /* the tables after the attribute words in one buffer (the passes' binding 2),
      * uploaded apart so that the host holds no second copy of the words */
     uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
     vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if (!r && tw) {
-        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_FULL;
+        for (size_t w = 0; w < tab_words; w++) tw[w] = w % (tab4 ? 4 : 2) ? 0u : TAB_FULL;
         for (uint32_t i = 0; i < s->model_count; i++)
             if (cm[i].tab_k) {
                 tab_fill f = {.c = c, .t = tw + (cm[i].tab_word - c->attr_words), .K = cm[i].tab_k,
-                              .D = c->models[i].depth - cm[i].tab_k};
+                              .D = c->models[i].depth - cm[i].tab_k, .stride = tab4 ? 4 : 2};
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
         for (uint32_t i = 0; i < s->model_count; i++) {
@@ -725,7 +736,8 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline *p, *post = NULL;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
-    if (split) {
+    /* VX_CK_NORESOLVE=1 (exploration): the walk's dispatch alone, to time it (the colours are not made) */
+    if (split && !(getenv("VX_CK_NORESOLVE") && atoi(getenv("VX_CK_NORESOLVE")))) {
         pd.spirv = vx__resolve_compact_spv_arr, pd.spirv_size = sizeof vx__resolve_compact_spv_arr;
         pd.label = "resolve compact";
         if ((r = vx__pipeline_get(g, key ^ 0x5E501BEu, &pd, &post, err))) return r;

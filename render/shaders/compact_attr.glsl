@@ -66,10 +66,17 @@ uint ca_child(int lvl, uint desc, uint blk, uint k) {
     return CA_DICT && lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
 }
 
-uint attr_bits(uint word, uint pos, uint n) {
+// two: the next word loaded whether needed or not (no branch before the
+// load; exploration, CModel flag 32: the buffer has a word past the end)
+uint attr_bits(uint word, uint pos, uint n, bool two) {
     uint w = word + (pos >> 5), sh = pos & 31u;
     uint v = CA_ATTR(w) >> sh;
-    if (sh + n > 32u) v |= CA_ATTR(w + 1u) << (32u - sh);
+    if (two) {
+        uint hi = CA_ATTR(w + 1u);
+        if (sh + n > 32u) v |= hi << (32u - sh);
+    } else if (sh + n > 32u) {
+        v |= CA_ATTR(w + 1u) << (32u - sh);
+    }
     return n == 32u ? v : v & ((1u << n) - 1u);
 }
 
@@ -134,13 +141,18 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // holds the cell (0.4-2.7% of the H200's albedo rays/s on the close-ups,
     // docs/PERFORMANCE.md issue 18, ninth step)
     uint K = m.tab_k;
+    uvec2 first = uvec2(0u);
+    bool have_first = false;
     if (CA_PAGES == 0u && K != 0u) {
         // the table's entry of the cell's level-K cube (D = depth - K bits a side)
         uint D = m.depth - K;
         uvec3 r = c >> K;
-        uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+        // flag 16 (exploration): 4 words an entry, the node's slot after the two
+        bool t4 = (m.flags & 16u) != 0u;
+        uint e = m.tab_word + (t4 ? 4u : 2u) * (r.x | (r.y << D) | (r.z << (2u * D)));
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
+        if (t4) first = uvec2(CA_ATTR(e + 2u), CA_ATTR(e + 3u)), have_first = true;
         if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
         L = int(K);
     }
@@ -149,7 +161,13 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     uint prev = 0u;
     bool have_prev = false;
     for (; L >= 3; L--) {
-        uvec2 nd = CA_SLOT(n);
+        uvec2 nd;
+        if (have_first) {
+            nd = first;
+            have_first = false;
+        } else {
+            nd = CA_SLOT(n);
+        }
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
             // a page root (resident: the ray hit a cell inside): its header
             // precedes its first block
@@ -200,6 +218,7 @@ uint recorrelate(uint v) {
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
+    bool two = (m.flags & 32u) != 0u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
     uint h;
     if (m.hdr_word != 0u) {
@@ -211,14 +230,14 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
-        v = attr_bits(p, j * width, width);
+        v = attr_bits(p, j * width, width, two);
     } else if (code == 30u) {
         uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
         // the value's residuals are adjacent (at most 32 bits): one extraction
         uint n = wr + wg + wb + wa;
-        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
+        uint bits = n != 0u ? attr_bits(p + 2u, pos, n, two) : 0u;
         uint r = bits & ((1u << wr) - 1u);
         bits >>= wr;
         uint gg = bits & ((1u << wg) - 1u);
@@ -229,8 +248,8 @@ uint decode_value(CModel m, uint attr_base, uint i) {
             (((mn >> 24) + a) & 0xFFu) << 24;
         if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
     } else {
-        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
-        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
+        uint k = code != 0u ? attr_bits(p, j * code, code, two) : 0u;
+        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width, two);
     }
     return v;
 }
