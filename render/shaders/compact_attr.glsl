@@ -160,6 +160,9 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // step reads it), so that its own cells are known at level 3
     uint prev = 0u;
     bool have_prev = false;
+    // the brick's slot, loaded at level 3 with the bricks before it
+    uvec2 bslot = uvec2(0u);
+    bool have_b = false;
     for (; L >= 3; L--) {
         uvec2 nd;
         if (have_first) {
@@ -189,10 +192,17 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
             uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
             bool back = 2u * k > nb;
             uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
-            for (uint i = 0u; i < cnt; i++) {
-                uvec2 b = CA_SLOT(nd.y + a + i);
-                sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
-            }
+            // unrolled, every load issued (slot 0 where not needed), and the
+            // brick's own slot with them: the loads of a rolled loop wait on
+            // each other (cnt <= 4: k <= nb / 2, or nb - k < nb / 2)
+            bslot = CA_SLOT(k < nb ? nd.y + k : 0u);
+            have_b = true;
+            uvec2 b0 = CA_SLOT(cnt > 0u ? nd.y + a : 0u), b1 = CA_SLOT(cnt > 1u ? nd.y + a + 1u : 0u);
+            uvec2 b2 = CA_SLOT(cnt > 2u ? nd.y + a + 2u : 0u), b3 = CA_SLOT(cnt > 3u ? nd.y + a + 3u : 0u);
+            sum = (cnt > 0u ? uint(bitCount(b0.x)) + uint(bitCount(b0.y)) : 0u) +
+                  (cnt > 1u ? uint(bitCount(b1.x)) + uint(bitCount(b1.y)) : 0u) +
+                  (cnt > 2u ? uint(bitCount(b2.x)) + uint(bitCount(b2.y)) : 0u) +
+                  (cnt > 3u ? uint(bitCount(b3.x)) + uint(bitCount(b3.y)) : 0u);
             uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
             base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
         } else {
@@ -203,7 +213,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     }
     // L is 2 here, or the depth of a model of 1 or 2 levels (c below 2^L)
     uint bit = morton2(c);
-    uvec2 b = CA_SLOT(n);
+    uvec2 b = have_b ? bslot : CA_SLOT(n);
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
