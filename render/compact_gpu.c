@@ -3,19 +3,16 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
 #include "render/render_internal.h"
-#include "resolve_compact.comp.h"
 #include "trace_compact.comp.h"
 
 /* shaders/trace_compact.comp's CModel */
 typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
     uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
-    uint32_t hdr_word; /* the model's block headers, one a block, in attr (0: none; VX_CK_HDR exploration) */
 } cmodel_gpu;
 
 /* The paged layout's state on the host (vx_compact_gpu_create_paged). */
@@ -44,9 +41,6 @@ struct vx_compact_gpu {
     vx_render_scene* rs;
     vx_gpu* gpu;
     vx__buffer geom, attr, models, palette, pixels, hits, pstate, stage;
-    vx__buffer pend; /* the resolve's input (trace_compact.comp SPLIT 2) */
-    uint32_t model_count;
-    uint32_t max_depth; /* the deepest model's levels (SPLIT 2 packs cells in 16 bits) */
     vx__buffer pass_models; /* the palette, then the CModels: trace_common.glsl's binding 3 (COMPACT) */
     /* the attribute words beyond one storage buffer's range: parts 1.. of
      * 2^attr_shift words each (attr is part 0; attr_shift 0: attr holds them all) */
@@ -56,7 +50,6 @@ struct vx_compact_gpu {
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t table_bytes; /* the start tables' (in attr) */
-    uint64_t hdr_bytes;   /* of which block headers (VX_CK_HDR) */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
@@ -100,9 +93,9 @@ static void paging_free(vx_gpu* g, paging* pg) {
 
 void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     if (!cg) return;
-    vx__buffer* b[10] = {&cg->geom, &cg->attr,  &cg->models, &cg->palette,     &cg->pixels,
-                         &cg->hits, &cg->pstate, &cg->stage, &cg->pass_models, &cg->pend};
-    for (int i = 0; i < 10; i++) vx__buffer_destroy(cg->gpu, b[i]);
+    vx__buffer* b[9] = {&cg->geom,   &cg->attr, &cg->models, &cg->palette,    &cg->pixels,
+                        &cg->hits,   &cg->pstate, &cg->stage, &cg->pass_models};
+    for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
     for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg);
@@ -196,16 +189,13 @@ static vx_result attr_parts(uint64_t words, uint64_t range, uint32_t* shift, uin
 
 typedef struct tab_fill {
     const vx_compact_scene* c;
-    uint32_t* t; /* 2 words an entry (4: exploration, VX_CK_TAB4) */
+    uint32_t* t; /* 2 words an entry */
     uint32_t K, D; /* level, log2 of the entries a side */
-    uint32_t stride;
 } tab_fill;
 
 static void tab_set(const tab_fill* f, uint32_t x, uint32_t y, uint32_t z, uint32_t w0, uint32_t w1) {
     size_t e = ((size_t)(x >> f->K) | ((size_t)(y >> f->K) << f->D) | ((size_t)(z >> f->K) << (2 * f->D)));
-    f->t[f->stride * e] = w0, f->t[f->stride * e + 1] = w1;
-    if (f->stride == 4 && w0 != TAB_FULL)
-        f->t[4 * e + 2] = f->c->geom[2 * (size_t)w0], f->t[4 * e + 3] = f->c->geom[2 * (size_t)w0 + 1];
+    f->t[2 * e] = w0, f->t[2 * e + 1] = w1;
 }
 
 /* Node n of level L > K at cell (x, y, z), base cells before it. */
@@ -258,11 +248,9 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         vx_free(&g->alloc, cg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }
-    cg->model_count = s->model_count;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_compact_model* m = &c->models[i];
         const vx_svo_model* sm = &s->models[i];
-        if (sm->depth > cg->max_depth) cg->max_depth = sm->depth;
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
         bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
         if (deep_model) flags |= 2u;
@@ -279,9 +267,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
      * 8 times larger: at most an eighth more bytes, DamagedHelmet at 512
      * 7.7%, at 4096 1.6%; docs/PERFORMANCE.md issue 18, eighth step) */
     uint64_t ncol = 0, tab_words = 0;
-    /* exploration switches (issue 18, eleventh step) */
-    bool tab4 = getenv("VX_CK_TAB4") && atoi(getenv("VX_CK_TAB4"));
-    bool bits2 = getenv("VX_CK_BITS2") && atoi(getenv("VX_CK_BITS2"));
     for (uint32_t i = 0; i < s->model_count; i++) ncol += (cm[i].flags & 1u) && c->models[i].root < VX_SVO_ROOT_LEAF;
     uint64_t budget = ((uint64_t)c->geom_words + c->attr_words) / 16;
     if (budget < 4096) budget = 4096;
@@ -289,50 +274,22 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     for (uint32_t i = 0; i < s->model_count; i++) {
         if (!(cm[i].flags & 1u) || c->models[i].root >= VX_SVO_ROOT_LEAF) continue;
         uint32_t K = tab_level(c->models[i].depth, budget);
-        if (!K || c->attr_words + tab_words + (4ull << (3 * (c->models[i].depth - K))) > 0xFFFFFFFFull) continue;
+        if (!K || c->attr_words + tab_words + (2ull << (3 * (c->models[i].depth - K))) > 0xFFFFFFFFull) continue;
         cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
-        if (tab4) cm[i].flags |= 16u;
-        tab_words += (uint64_t)(tab4 ? 4 : 2) << (3 * (c->models[i].depth - K));
-    }
-    /* exploration (VX_CK_HDR=1): each block's header word in a dense array per
-     * model after the tables, so that the decode skips the group word */
-    uint64_t hdr_first = tab_words;
-    if (getenv("VX_CK_HDR") && atoi(getenv("VX_CK_HDR")))
-        for (uint32_t i = 0; i < s->model_count; i++) {
-            const vx_compact_model* m = &c->models[i];
-            if (!(cm[i].flags & 1u) || m->root >= VX_SVO_ROOT_LEAF || !m->block) continue;
-            uint64_t nb = ((uint64_t)m->voxels + m->block - 1) / m->block;
-            if (c->attr_words + tab_words + nb > 0xFFFFFFFFull) continue;
-            cm[i].hdr_word = (uint32_t)(c->attr_words + tab_words);
-            tab_words += nb;
-        }
-    if (bits2) {
-        tab_words += 4; /* the word past the end that attr_bits' `two` may read */
-        for (uint32_t i = 0; i < s->model_count; i++) cm[i].flags |= 32u;
+        tab_words += 2ull << (3 * (c->models[i].depth - K));
     }
     /* the tables after the attribute words in one buffer (the passes' binding 2),
      * uploaded apart so that the host holds no second copy of the words */
     uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
     vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if (!r && tw) {
-        for (size_t w = 0; w < tab_words; w++) tw[w] = w % (tab4 ? 4 : 2) ? 0u : TAB_FULL;
+        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_FULL;
         for (uint32_t i = 0; i < s->model_count; i++)
             if (cm[i].tab_k) {
                 tab_fill f = {.c = c, .t = tw + (cm[i].tab_word - c->attr_words), .K = cm[i].tab_k,
-                              .D = c->models[i].depth - cm[i].tab_k, .stride = tab4 ? 4 : 2};
+                              .D = c->models[i].depth - cm[i].tab_k};
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
-        for (uint32_t i = 0; i < s->model_count; i++) {
-            if (!cm[i].hdr_word) continue;
-            const vx_compact_model* m = &c->models[i];
-            const uint32_t* a = c->attr ? c->attr + m->attr_base : c->attr_region[i];
-            uint64_t nb = ((uint64_t)m->voxels + m->block - 1) / m->block;
-            uint32_t* h = tw + (cm[i].hdr_word - c->attr_words);
-            for (uint64_t b = 0; b < nb; b++) {
-                uint32_t g = a[b / VX_COMPACT_GROUP];
-                h[b] = a[(g & 0x7FFFFFFFu) + ((g >> 31) ? 0 : b % VX_COMPACT_GROUP)];
-            }
-        }
     }
     uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
     if (!r && (uint64_t)c->geom_words * 4 > range)
@@ -369,7 +326,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         return r;
     }
     cg->table_bytes = tab_words * 4;
-    cg->hdr_bytes = (tab_words - hdr_first) * 4;
     cg->bytes = (uint64_t)c->geom_words * 4 + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
                 2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
     *out = cg;
@@ -695,19 +651,8 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     return VX_OK;
 }
 
-/* trace_compact.comp's bindings: 0-10, then the attribute parts past the first from TC_ATTR_HI, then Pend */
-enum { TC_ATTR_HI = 11, TC_PEND = TC_ATTR_HI + VX_COMPACT_ATTR_PARTS - 1, TC_BINDINGS = TC_PEND + 1 };
-
-/* The kernel's SPLIT constant: the albedo colour in a second dispatch
- * (trace_compact.comp) where the frame allows it. VX_CK_SPLIT (0, 1, 2) is
- * an exploration switch of issue 18's eleventh step. */
-static uint32_t split_constant(const vx_compact_gpu* cg, const vx__frame* f, uint32_t model_count) {
-    const char* e = getenv("VX_CK_SPLIT");
-    uint32_t v = e ? (uint32_t)atoi(e) : 0;
-    if (v == 0 || f->mode != VX_RENDER_ALBEDO || f->spp > 1 || cg->pg) return 0;
-    if (v == 2 && (model_count >= 0xFFFF || cg->max_depth > 16)) v = 1;
-    return v > 2 ? 1 : v;
-}
+/* trace_compact.comp's bindings: 0-10, then the attribute parts past the first from TC_ATTR_HI */
+enum { TC_ATTR_HI = 11, TC_BINDINGS = TC_ATTR_HI + VX_COMPACT_ATTR_PARTS - 1 };
 
 static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool want_hits, uint32_t repeat, vx__frame* f,
                           double* seconds, vx_error* err) {
@@ -720,28 +665,19 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
-    uint32_t split = split_constant(cg, f, cg->model_count);
-    if ((r = vx__buffer_ensure(g, &cg->pend, split == 2 ? npx * 8 : 16, "compact resolve", err))) return r;
     /* paged: the top and the pool are one buffer, bound as both the slots and the attribute words */
     uint32_t pages = cg->pg ? cg->pg->p.page_count : 0;
-    if (!sp[VX__SPEC_HAS_COLOR]) split = 0;
-    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
-                         cg->deep, pages, cg->attr_shift, split};
+    uint32_t spec[11] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
+                         cg->deep, pages, cg->attr_shift};
     uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 11; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = TC_BINDINGS, .spec_count = 12, .label = "trace compact"};
+                                       .binding_count = TC_BINDINGS, .spec_count = 11, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < TC_BINDINGS; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
-    vx__pipeline *p, *post = NULL;
+    vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
-    /* VX_CK_NORESOLVE=1 (exploration): the walk's dispatch alone, to time it (the colours are not made) */
-    if (split && !(getenv("VX_CK_NORESOLVE") && atoi(getenv("VX_CK_NORESOLVE")))) {
-        pd.spirv = vx__resolve_compact_spv_arr, pd.spirv_size = sizeof vx__resolve_compact_spv_arr;
-        pd.label = "resolve compact";
-        if ((r = vx__pipeline_get(g, key ^ 0x5E501BEu, &pd, &post, err))) return r;
-    }
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",
                                                   &cg->pstate, err)))
         return r;
@@ -751,10 +687,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                                         scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
                             .groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1},
                             .repeat = repeat,
-                            .label = "trace compact",
-                            .post_pipeline = post,
-                            .post_groups = {(f->width + 7) / 8, (f->height + 7) / 8, 1}};
-    dd.buffers[TC_PEND] = &cg->pend;
+                            .label = "trace compact"};
     /* the attribute parts past the first (bound to part 0 where there are none: never read) */
     for (uint32_t k = 1; k < VX_COMPACT_ATTR_PARTS; k++)
         dd.buffers[TC_ATTR_HI + k - 1] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];

@@ -173,11 +173,6 @@ typedef struct vx__dispatch_desc {
      * no push constants; a barrier orders its writes before the main stage. */
     vx__pipeline* pre_pipeline;
     uint32_t pre_groups[3];
-    /* Optional last stage of every repeat (timed with it): post_pipeline over
-     * post_groups, the same buffers and bindings, after a barrier that orders
-     * the main stage's writes before it. */
-    vx__pipeline* post_pipeline;
-    uint32_t post_groups[3];
 } vx__dispatch_desc;
 /* Records, submits and waits; *seconds is the median GPU time per repeat
  * from timestamps (wall time if the queue has no timestamps). */

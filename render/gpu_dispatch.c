@@ -61,28 +61,16 @@ static void write_set(vx_gpu* g, VkDescriptorSet set, const vx__pipeline* p, con
     vkUpdateDescriptorSets(g->device, d->buffer_count, w, 0, NULL);
 }
 
-/* Between a dispatch's stages: the earlier stage's writes before the later one's reads. */
-static void stage_barrier(vx_gpu* g) {
-    VkMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                         .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-                         .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
-    vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &b, 0,
-                         NULL, 0, NULL);
-}
-
 vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, vx_error* err) {
     uint32_t repeat = d->repeat ? d->repeat : 1;
-    /* one set per stage: the main pipeline's, then the optional first and last stages' */
-    vx__pipeline* stage[3] = {d->pipeline};
-    uint32_t nsets = 1;
-    if (d->pre_pipeline) stage[nsets++] = d->pre_pipeline;
-    if (d->post_pipeline) stage[nsets++] = d->post_pipeline;
-    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * VX_GPU_MAX_BINDINGS},
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * VX_GPU_MAX_BINDINGS}};
+    /* one set per stage: the main pipeline's and the optional first stage's */
+    uint32_t nsets = d->pre_pipeline ? 2u : 1u;
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * VX_GPU_MAX_BINDINGS},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * VX_GPU_MAX_BINDINGS}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                      .maxSets = 3,
+                                      .maxSets = 2,
                                       .poolSizeCount = 4,
                                       .pPoolSizes = sizes};
     bool timed = g->has_timestamps && seconds;
@@ -98,7 +86,8 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
         return vx__vk_fail(err, vr, "vkCreateDescriptorPool");
     }
     vx_result r = VX_OK;
-    VkDescriptorSet sets[3];
+    vx__pipeline* stage[2] = {d->pipeline, d->pre_pipeline};
+    VkDescriptorSet sets[2];
     for (uint32_t s = 0; s < nsets; s++) {
         VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
                                           .descriptorPool = pool,
@@ -132,21 +121,15 @@ vx_result vx__dispatch(vx_gpu* g, const vx__dispatch_desc* d, double* seconds, v
                 vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pre_pipeline->layout, 0, 1, &sets[1], 0,
                                         NULL);
                 vkCmdDispatch(g->cmd, d->pre_groups[0], d->pre_groups[1], d->pre_groups[2]);
-                stage_barrier(g);
+                VkMemoryBarrier pb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+                vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                                     1, &pb, 0, NULL, 0, NULL);
                 vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
                 vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
             }
             vkCmdDispatch(g->cmd, d->groups[0], d->groups[1], d->groups[2]);
-            if (d->post_pipeline) {
-                stage_barrier(g);
-                vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->post_pipeline->pipe);
-                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->post_pipeline->layout, 0, 1,
-                                        &sets[nsets - 1], 0, NULL);
-                vkCmdDispatch(g->cmd, d->post_groups[0], d->post_groups[1], d->post_groups[2]);
-                /* the next repeat's main stage is bound again */
-                vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->pipe);
-                vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->pipeline->layout, 0, 1, &set, 0, NULL);
-            }
             if (g->has_timestamps)
                 vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps, 2 * k + 1);
             VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,

@@ -26,15 +26,13 @@ if(VX_WITH_VULKAN)
   # frame_display, resolve_display and post_display are those passes when they
   # are the frame's last and write the image shown themselves (display_out.glsl);
   # refit recomputes the instance BVH's bounds on the GPU (render_scene.c), inst_rows the instances' rows;
-  # trace_compact traces the compact layout (render/compact.h, compact_gpu.c), resolve_compact
-  # (the same file) gives its albedo pixels their colours in a second dispatch;
+  # trace_compact traces the compact layout (render/compact.h, compact_gpu.c);
   # smap builds the directional light's depth map that clips shadow rays (shadow_map.c).
   foreach(spec trace:trace beam:beam dense:dense trace_precise:trace:PRECISE
                gbuffer:gbuffer direct:direct ao:ao resolve:resolve post:post frame:frame cull:cull
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
-               refit:refit inst_rows:inst_rows trace_compact:trace_compact
-               resolve_compact:trace_compact:RESOLVE smap:smap)
+               refit:refit inst_rows:inst_rows trace_compact:trace_compact smap:smap)
     vx_shader_spec(${spec} shader file defs)
     set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${file}.comp)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)

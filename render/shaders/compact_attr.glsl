@@ -29,8 +29,7 @@
 // (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
-// hdr_word: the model's block headers, one word a block (0: none; exploration)
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, hdr_word; };
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
@@ -66,17 +65,10 @@ uint ca_child(int lvl, uint desc, uint blk, uint k) {
     return CA_DICT && lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
 }
 
-// two: the next word loaded whether needed or not (no branch before the
-// load; exploration, CModel flag 32: the buffer has a word past the end)
-uint attr_bits(uint word, uint pos, uint n, bool two) {
+uint attr_bits(uint word, uint pos, uint n) {
     uint w = word + (pos >> 5), sh = pos & 31u;
     uint v = CA_ATTR(w) >> sh;
-    if (two) {
-        uint hi = CA_ATTR(w + 1u);
-        if (sh + n > 32u) v |= hi << (32u - sh);
-    } else if (sh + n > 32u) {
-        v |= CA_ATTR(w + 1u) << (32u - sh);
-    }
+    if (sh + n > 32u) v |= CA_ATTR(w + 1u) << (32u - sh);
     return n == 32u ? v : v & ((1u << n) - 1u);
 }
 
@@ -141,18 +133,13 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // holds the cell (0.4-2.7% of the H200's albedo rays/s on the close-ups,
     // docs/PERFORMANCE.md issue 18, ninth step)
     uint K = m.tab_k;
-    uvec2 first = uvec2(0u);
-    bool have_first = false;
     if (CA_PAGES == 0u && K != 0u) {
         // the table's entry of the cell's level-K cube (D = depth - K bits a side)
         uint D = m.depth - K;
         uvec3 r = c >> K;
-        // flag 16 (exploration): 4 words an entry, the node's slot after the two
-        bool t4 = (m.flags & 16u) != 0u;
-        uint e = m.tab_word + (t4 ? 4u : 2u) * (r.x | (r.y << D) | (r.z << (2u * D)));
+        uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
-        if (t4) first = uvec2(CA_ATTR(e + 2u), CA_ATTR(e + 3u)), have_first = true;
         if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
         L = int(K);
     }
@@ -160,17 +147,8 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     // step reads it), so that its own cells are known at level 3
     uint prev = 0u;
     bool have_prev = false;
-    // the brick's slot, loaded at level 3 with the bricks before it
-    uvec2 bslot = uvec2(0u);
-    bool have_b = false;
     for (; L >= 3; L--) {
-        uvec2 nd;
-        if (have_first) {
-            nd = first;
-            have_first = false;
-        } else {
-            nd = CA_SLOT(n);
-        }
+        uvec2 nd = CA_SLOT(n);
         if (CA_PAGES > 0u && uint(L) + 1u == m.page_up && ((nd.x >> 8) & ~nd.x & 0xFFu) != 0u) {
             // a page root (resident: the ray hit a cell inside): its header
             // precedes its first block
@@ -192,17 +170,10 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
             uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
             bool back = 2u * k > nb;
             uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
-            // unrolled, every load issued (slot 0 where not needed), and the
-            // brick's own slot with them: the loads of a rolled loop wait on
-            // each other (cnt <= 4: k <= nb / 2, or nb - k < nb / 2)
-            bslot = CA_SLOT(k < nb ? nd.y + k : 0u);
-            have_b = true;
-            uvec2 b0 = CA_SLOT(cnt > 0u ? nd.y + a : 0u), b1 = CA_SLOT(cnt > 1u ? nd.y + a + 1u : 0u);
-            uvec2 b2 = CA_SLOT(cnt > 2u ? nd.y + a + 2u : 0u), b3 = CA_SLOT(cnt > 3u ? nd.y + a + 3u : 0u);
-            sum = (cnt > 0u ? uint(bitCount(b0.x)) + uint(bitCount(b0.y)) : 0u) +
-                  (cnt > 1u ? uint(bitCount(b1.x)) + uint(bitCount(b1.y)) : 0u) +
-                  (cnt > 2u ? uint(bitCount(b2.x)) + uint(bitCount(b2.y)) : 0u) +
-                  (cnt > 3u ? uint(bitCount(b3.x)) + uint(bitCount(b3.y)) : 0u);
+            for (uint i = 0u; i < cnt; i++) {
+                uvec2 b = CA_SLOT(nd.y + a + i);
+                sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+            }
             uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
             base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
         } else {
@@ -213,7 +184,7 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     }
     // L is 2 here, or the depth of a model of 1 or 2 levels (c below 2^L)
     uint bit = morton2(c);
-    uvec2 b = have_b ? bslot : CA_SLOT(n);
+    uvec2 b = CA_SLOT(n);
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
@@ -228,26 +199,20 @@ uint recorrelate(uint v) {
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
-    bool two = (m.flags & 32u) != 0u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
-    uint h;
-    if (m.hdr_word != 0u) {
-        h = CA_ATTR(m.hdr_word + blk);
-    } else {
-        uint g = CA_ATTR(attr_base + (blk >> 6));
-        h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
-    }
+    uint g = CA_ATTR(attr_base + (blk >> 6));
+    uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
-        v = attr_bits(p, j * width, width, two);
+        v = attr_bits(p, j * width, width);
     } else if (code == 30u) {
         uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
         // the value's residuals are adjacent (at most 32 bits): one extraction
         uint n = wr + wg + wb + wa;
-        uint bits = n != 0u ? attr_bits(p + 2u, pos, n, two) : 0u;
+        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
         uint r = bits & ((1u << wr) - 1u);
         bits >>= wr;
         uint gg = bits & ((1u << wg) - 1u);
@@ -258,8 +223,8 @@ uint decode_value(CModel m, uint attr_base, uint i) {
             (((mn >> 24) + a) & 0xFFu) << 24;
         if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
     } else {
-        uint k = code != 0u ? attr_bits(p, j * code, code, two) : 0u;
-        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width, two);
+        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
+        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
     }
     return v;
 }

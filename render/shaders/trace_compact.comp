@@ -38,15 +38,6 @@ layout(constant_id = 5) const bool DICT = false;
 // on NVIDIA: the helmet at 32768^3 has about 6 GB); 0: one buffer, and the
 // part selection is compiled out (render/compact_gpu.c)
 layout(constant_id = 10) const uint ATTR_SHIFT = 0u;
-// The albedo colour in a second dispatch (resolve_compact, this file with
-// RESOLVE defined; render/compact_gpu.c sets it only in the albedo mode,
-// one sample a pixel, the whole layout): the walk writes each hit's model
-// and cell, and the resolve, a small kernel, reads them and descends to the
-// colour, so that many pixels' chains of dependent loads overlap. 0: the
-// colour here, after the walk; 1: the model and the cell in the pixel
-// itself (w: 0xFF800000 | model + 1, a NaN no colour has); 2: in Pend, 8
-// bytes a pixel (model below 65535, cells below 2^16: the host checks).
-layout(constant_id = 11) const int SPLIT = 0;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -91,11 +82,7 @@ layout(std430, binding = 3) readonly buffer CModels { CModel models[]; };
 layout(std430, binding = 4) readonly buffer Insts { Inst insts[]; };
 layout(std430, binding = 5) readonly buffer Bvh { BNode bvh[]; };
 layout(std430, binding = 6) readonly buffer BvhItems { uint items[]; };
-#ifdef RESOLVE
-layout(std430, binding = 7) buffer Pixels { vec4 pixels[]; };
-#else
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
-#endif
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 layout(std430, binding = 9) readonly buffer Palette { uint palette[]; };
 layout(std430, binding = 10) buffer PageState { uint pstate[]; };
@@ -106,9 +93,6 @@ layout(std430, binding = 14) readonly buffer Attr4 { uint attr4[]; };
 layout(std430, binding = 15) readonly buffer Attr5 { uint attr5[]; };
 layout(std430, binding = 16) readonly buffer Attr6 { uint attr6[]; };
 layout(std430, binding = 17) readonly buffer Attr7 { uint attr7[]; };
-// SPLIT 2: x the model (0xFFFF: nothing to resolve) and the cell's z << 16, y its x | y << 16
-layout(std430, binding = 18) buffer Pend { uvec2 pend[]; };
-const uint PEND_NONE = 0xFFFFu;
 uint attr_word(uint i) {
     if (ATTR_SHIFT == 0u) return attr[i];
     uint o = i & ((1u << ATTR_SHIFT) - 1u);
@@ -653,46 +637,11 @@ vec3 heat(uint it) {
     return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
 }
 
-#ifdef RESOLVE
-// The second dispatch (SPLIT 1, 2): the colour of each pixel the walk left.
-void main() {
-    uvec2 px = gl_GlobalInvocationID.xy;
-    uint W = F.dims.x, H = F.dims.y;
-    if (px.x >= W || px.y >= H) return;
-    uint pi = px.y * W + px.x;
-    uint mi;
-    uvec3 cell;
-    if (SPLIT == 1) {
-        uvec4 v = floatBitsToUint(pixels[pi]);
-        if ((v.w >> 23) != 0x1FFu) return;
-        mi = (v.w & 0x7FFFFFu) - 1u;
-        cell = v.xyz;
-    } else {
-        uvec2 e = pend[pi];
-        if ((e.x & 0xFFFFu) == PEND_NONE) return;
-        mi = e.x & 0xFFFFu;
-        cell = uvec3(e.y & 0xFFFFu, e.y >> 16, e.x >> 16);
-    }
-    CModel m = models[mi];
-    uint color = 0xFFFFFFFFu;
-    if ((m.flags & 1u) != 0u) {
-        uint ab;
-        uint i = cell_index(m, cell, ab);
-        color = decode_color(m, ab, i);
-    }
-    precise vec4 c = vec4(unpack_rgb(color), 1.0);
-    pixels[pi] = c;
-}
-#else
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
     uint spp = max(F.dims.z, 1u);
-    // the colour left to the second dispatch (SPLIT): the hit's model and cell
-    const bool LATER = SPLIT != 0 && MODE == MODE_ALBEDO && HAS_COLOR && PAGES == 0u;
-    uint later_model = NO_HIT;
-    uvec3 later_cell = uvec3(0u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -728,8 +677,7 @@ void main() {
         h.page = NO_HIT;
         bool hit = trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
-        if (LATER && hit) later_model = insts[h.inst].model, later_cell = h.cell;
-        if (!LATER && hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
+        if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel
             CModel m = models[insts[h.inst].model];
             if (PAGES > 0u && h.page != NO_HIT) {
@@ -787,13 +735,5 @@ void main() {
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, hflags, 0u);
         }
     }
-    uint pi = px.y * W + px.x;
-    if (LATER && SPLIT == 2) pend[pi] = later_model == NO_HIT ? uvec2(PEND_NONE, 0u)
-                                      : uvec2(later_model | (later_cell.z << 16), later_cell.x | (later_cell.y << 16));
-    if (LATER && later_model != NO_HIT) {
-        if (SPLIT == 1) pixels[pi] = uintBitsToFloat(uvec4(later_cell, 0xFF800000u | (later_model + 1u)));
-    } else {
-        pixels[pi] = acc / float(spp);
-    }
+    pixels[px.y * W + px.x] = acc / float(spp);
 }
-#endif
