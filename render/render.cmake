@@ -43,7 +43,7 @@ if(VX_WITH_VULKAN)
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/display_out.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/smap_lookup.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/smap_lookup.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/screen_cull.glsl
       COMMENT "glslangValidator ${shader}.comp"
       VERBATIM)
     list(APPEND VX_RENDER_SPV_HEADERS ${out})

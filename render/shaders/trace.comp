@@ -179,25 +179,12 @@ void shade(uvec2 px) {
     pixels[px.y * W + px.x] = acc / float(spp);
 }
 
+#include "screen_cull.glsl"
+
 void main() {
     if (MISS_PASS) {
-        // the pixels outside the rectangle, numbered row by row: the rows
-        // above it, the rows below it, then the rows beside it (left and right
-        // parts); 64 a workgroup, the groups in x then y
-        uint W = F.dims.x, H = F.dims.y;
-        uvec4 R = F.rect;
-        uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-        uint above = R.y * W, below = (H - R.w) * W, side = W - (R.z - R.x);
         uvec2 px;
-        if (i < above) px = uvec2(i % W, i / W);
-        else if (i - above < below) px = uvec2((i - above) % W, R.w + (i - above) / W);
-        else {
-            i -= above + below;
-            if (side == 0u || i >= side * (R.w - R.y)) return;
-            uint c = i % side;
-            px = uvec2(c < R.x ? c : R.z + c - R.x, R.y + i / side);
-        }
-        shade(px);
+        if (cull_miss_pixel(F.rect, F.dims.x, F.dims.y, px)) shade(px);
         return;
     }
     // the rectangle's pixels only. Several pixels an invocation (a loop over

@@ -38,6 +38,9 @@ layout(constant_id = 5) const bool DICT = false;
 // on NVIDIA: the helmet at 32768^3 has about 6 GB); 0: one buffer, and the
 // part selection is compiled out (render/compact_gpu.c)
 layout(constant_id = 10) const uint ATTR_SHIFT = 0u;
+// The screen cull's second pass (compact_gpu.c dispatch), as trace.comp's:
+// the pixels outside F.rect, their misses written without a ray.
+layout(constant_id = 11) const bool MISS_PASS = false;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -75,6 +78,9 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims; // width, height, spp, instance count
     uvec4 dims2;
     vec4 grid_lo;
+    // the pixels [rect.x, rect.z) x [rect.y, rect.w) that the trace pass
+    // covers (vx__gpu_frame.rect, the screen cull: screen_cull.glsl)
+    layout(offset = 336) uvec4 rect;
 } F;
 layout(std430, binding = 1) readonly buffer Geom { uvec2 slots[]; };
 layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
@@ -637,10 +643,8 @@ vec3 heat(uint it) {
     return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0);
 }
 
-void main() {
-    uvec2 px = gl_GlobalInvocationID.xy;
+void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
-    if (px.x >= W || px.y >= H) return;
     uint spp = max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
@@ -675,7 +679,7 @@ void main() {
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u);
         h.page = NO_HIT;
-        bool hit = trace_scene(o, d, 0.0, false, h);
+        bool hit = MISS_PASS ? false : trace_scene(o, d, 0.0, false, h);
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel
@@ -736,4 +740,16 @@ void main() {
         }
     }
     pixels[px.y * W + px.x] = acc / float(spp);
+}
+
+#include "screen_cull.glsl"
+
+void main() {
+    if (MISS_PASS) {
+        uvec2 px;
+        if (cull_miss_pixel(F.rect, F.dims.x, F.dims.y, px)) shade(px);
+        return;
+    }
+    uvec2 px = F.rect.xy + gl_GlobalInvocationID.xy;
+    if (px.x < F.rect.z && px.y < F.rect.w) shade(px);
 }
