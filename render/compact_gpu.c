@@ -670,12 +670,10 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     /* The screen cull, as vx__render_dispatch's: the trace pass covers the pixels whose rays can meet the scene's
      * box, a second pass (the same kernel, MISS_PASS) writes the others' misses without a ray. Not when paged: a
      * page not resident is hit as its whole cube, which may reach past the cells' box. */
-    vx__gpu_frame* gf = scene[0]->map;
-    uint32_t W = f->width, H = f->height;
-    if (!cg->pg) vx__frame_rect(f, cg->lo, cg->hi, gf->rect);
-    else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
-    bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == W && gf->rect[3] == H;
-    uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
+    uint32_t groups[3], miss_groups[3];
+    uint64_t traced;
+    bool miss = vx__frame_cull(f, cg->lo, cg->hi, !cg->pg, ((vx__gpu_frame*)scene[0]->map)->rect, groups, miss_groups,
+                               &traced);
     /* 11: the miss pass */
     uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
                          cg->deep, pages, cg->attr_shift, 0};
@@ -688,12 +686,8 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     memcpy(pd.spec, spec, sizeof spec);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
-    /* the miss pass: one invocation per pixel outside the rectangle, 64 a group, at most 65535 groups in x */
-    uint64_t mg = ((uint64_t)W * H - (uint64_t)rw * rh + 63) / 64;
-    uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
-    if (!mgx) mgx = 1;
     vx__pipeline* post = NULL;
-    if (!all) {
+    if (miss) {
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[11] = 1, md.label = "trace compact (misses)";
         uint64_t mkey = 0xC0AC7000u;
@@ -707,11 +701,11 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
                             .buffer_count = TC_BINDINGS,
                             .buffers = {scene[0], &cg->geom, cg->pg ? &cg->geom : &cg->attr, &cg->models, scene[4],
                                         scene[5], scene[6], &cg->pixels, &cg->hits, &cg->palette, &cg->pstate},
-                            .groups = {(rw + 7) / 8, (rh + 7) / 8, 1},
+                            .groups = {groups[0], groups[1], groups[2]},
                             .repeat = repeat,
                             .label = "trace compact",
                             .post_pipeline = post,
-                            .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
+                            .post_groups = {miss_groups[0], miss_groups[1], miss_groups[2]}};
     /* the attribute parts past the first (bound to part 0 where there are none: never read) */
     for (uint32_t k = 1; k < VX_COMPACT_ATTR_PARTS; k++)
         dd.buffers[TC_ATTR_HI + k - 1] = k < cg->attr_parts ? &cg->attr_hi[k - 1] : dd.buffers[2];

@@ -160,6 +160,21 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
     rect[0] = (uint32_t)x0, rect[1] = (uint32_t)y0, rect[2] = (uint32_t)x1, rect[3] = (uint32_t)y1;
 }
 
+bool vx__frame_cull(const vx__frame* f, const double lo[3], const double hi[3], bool cull, uint32_t rect[4],
+                    uint32_t groups[3], uint32_t miss_groups[3], uint64_t* traced) {
+    uint32_t W = f->width, H = f->height;
+    if (cull) vx__frame_rect(f, lo, hi, rect);
+    else rect[0] = rect[1] = 0, rect[2] = W, rect[3] = H;
+    uint32_t rw = rect[2] - rect[0], rh = rect[3] - rect[1];
+    *traced = (uint64_t)rw * rh;
+    groups[0] = (rw + 7) / 8, groups[1] = (rh + 7) / 8, groups[2] = 1;
+    uint64_t mg = ((uint64_t)W * H - *traced + 63) / 64;
+    uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
+    if (!mgx) mgx = 1;
+    miss_groups[0] = mgx, miss_groups[1] = (uint32_t)((mg + mgx - 1) / mgx), miss_groups[2] = 1;
+    return *traced != (uint64_t)W * H;
+}
+
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
                           vx_error* err) {
     const vx_render_desc D = vx_render_desc_defaults(); /* what a zero field means */

@@ -52,8 +52,9 @@ typedef struct vx__gpu_frame {
      * loads lavapipe runs lane by lane): instance 0's record and its model's */
     vx__gpu_inst inst0;
     vx__gpu_model model0;
-    /* trace.comp only: the pixels [rect[0], rect[2]) x [rect[1], rect[3])
-     * that its trace pass covers; the rest miss (vx__frame_rect) */
+    /* trace.comp and trace_compact.comp: the pixels [rect[0], rect[2]) x
+     * [rect[1], rect[3]) that the trace pass covers; the rest miss
+     * (vx__frame_cull) */
     uint32_t rect[4];
 } vx__gpu_frame;
 

@@ -1418,17 +1418,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * others' misses without a ray. Not with LOD (a coarse hit is its node's
      * cube, which may reach past the cells' box) nor another kernel (a
      * benchmark's, which may not read the rectangle). */
-    vx__gpu_frame* gf = rs->frame.map;
     bool cull = rs->cull < 0 ? !rs->alt_spv : rs->cull > 0;
-    if (f->lod) cull = false;
-    uint32_t W = f->width, H = f->height;
-    if (cull) vx__frame_rect(f, rs->lo, rs->hi, gf->rect);
-    else gf->rect[0] = gf->rect[1] = 0, gf->rect[2] = W, gf->rect[3] = H;
-    bool all = gf->rect[0] == 0 && gf->rect[1] == 0 && gf->rect[2] == W && gf->rect[3] == H;
-    uint32_t rw = gf->rect[2] - gf->rect[0], rh = gf->rect[3] - gf->rect[1];
-    uint64_t npix = (uint64_t)W * H, traced = (uint64_t)rw * rh;
-    rs->last_traced = traced;
-    rs->last_cull = !all;
+    uint32_t groups[3], miss_groups[3];
+    bool miss = vx__frame_cull(f, rs->lo, rs->hi, cull && !f->lod, ((vx__gpu_frame*)rs->frame.map)->rect, groups,
+                               miss_groups, &rs->last_traced);
+    rs->last_cull = miss;
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
     uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
@@ -1463,12 +1457,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
-    /* the miss pass: one invocation per pixel outside the rectangle, 64 a group, at most 65535 groups in x */
-    uint64_t mg = (npix - traced + 63) / 64;
-    uint32_t mgx = mg < 65535 ? (uint32_t)mg : 65535u;
-    if (!mgx) mgx = 1;
     vx__pipeline* post = NULL;
-    if (!all) {
+    if (miss) {
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[12] = 1, md.label = "trace (misses)";
         uint64_t mkey = 1 + precise;
@@ -1482,13 +1472,13 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
                                         smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
                                         smap ? &rs->smap.insts : &rs->beam},
-                            .groups = {(rw + 7) / 8, (rh + 7) / 8, 1},
+                            .groups = {groups[0], groups[1], groups[2]},
                             .repeat = repeat,
                             .label = "trace",
                             .pre_pipeline = pre,
                             .pre_groups = {(bw + 7) / 8, (bh + 7) / 8, 1},
                             .post_pipeline = post,
-                            .post_groups = {mgx, (uint32_t)((mg + mgx - 1) / mgx), 1}};
+                            .post_groups = {miss_groups[0], miss_groups[1], miss_groups[2]}};
     return vx__dispatch(g, &dd, seconds, err);
 }
 

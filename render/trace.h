@@ -47,6 +47,14 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
  * reaches the eye's plane and nothing where it lies behind that plane. A
  * pixel outside the rectangle misses: trace.comp traces only the rectangle. */
 void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], uint32_t rect[4]);
+/* The screen cull's dispatch shape, for trace.comp and trace_compact.comp:
+ * rect as vx__frame_rect (cull) or the whole image, the trace pass's 8x8
+ * groups over it, and the miss pass's (MISS_PASS: one invocation per pixel
+ * outside the rectangle, 64 a group, at most 65535 groups in x; shaders/
+ * screen_cull.glsl numbers them). Returns whether a miss pass is needed (the
+ * rectangle is not the whole image); *traced the rectangle's pixels. */
+bool vx__frame_cull(const vx__frame* f, const double lo[3], const double hi[3], bool cull, uint32_t rect[4],
+                    uint32_t groups[3], uint32_t miss_groups[3], uint64_t* traced);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);
