@@ -50,7 +50,7 @@ extern "C" {
  * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
  * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
  * without one keep the bytes of version 1 (docs/FORMAT.md 6). */
-#define VX_SVO_FORMAT_VERSION 4u
+#define VX_SVO_FORMAT_VERSION 5u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute
@@ -607,6 +607,8 @@ typedef struct vx_svo_model_coded {
     bool chunked;             /* the stream is in the chunked form (FORMAT.md 3.6; by vx_write_desc.svo_chunk_words) */
     bool chunk_tagged;        /* chunked, with codec-tagged (zstd) chunks: format version 4 (not
                                  vx_write_desc.svo_chunk_deflate, _fast or _stored) */
+    bool split;               /* the stream is in the split form (FORMAT.md 3.7, format version 5: a
+                                 large structural model, unless vx_write_desc.svo_range_coded) */
 } vx_svo_model_coded;
 
 /* Validates m (as vx_svo_validate_model) and codes it: *stream (free with

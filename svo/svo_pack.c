@@ -1183,8 +1183,14 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
  * symbols of the first setting tried are coded on a second thread while the
  * check rebuilds the model, whose layout follows its decoding on the
  * threads left. The bytes never depend on `threads`. */
+bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t split_min) {
+    return split_min && !vx__svo_model_chunked(m, chunk_min) && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS) &&
+           m->node_count >= split_min;
+}
+
 bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
+    const bool split = chunked == VX__CHUNK_SPLIT;
+    if (chunked && !split) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     coder cd, spec;
     bool spec_ok = false;
     memset(&spec, 0, sizeof spec);
@@ -1215,7 +1221,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par ? &spec : NULL, lay);
+            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par && !split ? &spec : NULL, lay);
             if (spec.started) {
                 pthread_join(spec.th, NULL);
                 spec.started = false;
@@ -1224,6 +1230,13 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             /* out of memory is an error, not "this form does not fit": falling
              * back to the raw form would give other bytes for the same scene */
             if (x.oom) ok = false;
+        }
+    }
+    if (split) { /* the form byte; the split streams, or the stream of 3.4 */
+        ok = ok && vx_buf_u8(out, structural ? 1 : 0);
+        if (ok && structural) {
+            ok = vx__svo_split_encode(x.v, x.kind, x.ctx, x.n, m->attrs, m->depth, dag, limit, threads, A, out);
+            goto done;
         }
     }
     coder* use = &cd;
@@ -1244,6 +1257,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         ok = ok && vx_buf_append(out, use->coded.data, use->coded.size);
     }
     ok = ok && !use->coded.failed && !use->side.failed;
+done:
     coder_free(&cd, A);
     if (spec.k) coder_free(&spec, A);
     vx_free(A, x.v);
@@ -1261,12 +1275,14 @@ typedef struct pack_jobs {
     const vx_allocator* A;
     vx_buf* bufs;
     bool* ok;
+    uint32_t chunk_min, split_min;
 } pack_jobs;
 
 static void pack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, VX__CHUNK_NONE, 1, &j->bufs[i]);
+    const vx_svo_model* m = &j->s->models[i];
+    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1, &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -1280,10 +1296,10 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, int mode, const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, mode, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1296,7 +1312,7 @@ static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chun
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        int chunk_mode, const vx__svo_sink* sink) {
+                        int chunk_mode, uint32_t split_min, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
@@ -1304,7 +1320,8 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
-                  : !pack_one(out, &s->models[mi], A, cpus, sink))
+                  : !pack_one(out, &s->models[mi], A, cpus,
+                              vx__svo_model_split(&s->models[mi], chunk_min, split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, sink))
                 return false;
             if (!n) n = 1;
         }
@@ -1331,7 +1348,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             memset(&bufs[i], 0, sizeof bufs[i]);
             bufs[i].alloc = A;
         }
-        pack_jobs j = {&part, A, bufs, oks};
+        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min};
         run_jobs(threads < n ? threads : n, n, pack_job, &j);
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
@@ -1350,7 +1367,7 @@ static unsigned var_len(uint64_t v) {
     return n;
 }
 
-uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode) {
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode, uint32_t split_min) {
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     uint64_t total = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
@@ -1359,7 +1376,8 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
         /* typical ratios (docs/PERFORMANCE.md, issue 18): deflate level 1
          * about halves words and records, the structural form keeps about a
          * quarter; stored chunks are the raw bytes plus their tables */
-        if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
+        if (vx__svo_model_split(m, chunk_min, split_min)) est = (words + recs) / 3 + 64;
+        else if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
         else if (mode == VX__CHUNK_STORED) est = words + recs + (words + recs) / 8192 + 16;
         else if (mode == VX__CHUNK_FAST) est = words + recs / 2 + 16;
         else est = (words + recs) / 2 + 16;
@@ -1722,6 +1740,47 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
     return r;
 }
 
+/* A model's stream in the split form (FORMAT.md 3.7): the form byte, then
+ * the split streams (decoded on up to `cpus` threads) feeding the
+ * reconstruction, or the stream of 3.4. */
+static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A, unsigned cpus,
+                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
+    if (n < 1 || p[0] > 1)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form byte %s", (unsigned long long)base, mi,
+                       n < 1 ? "missing" : "not 0 or 1");
+    if (p[0] == 0) return unpack_model(p + 1, n - 1, base + 1, m, mi, A, lay, tree, rebuilt, err);
+    if (m->root >= m->node_count || (m->attrs & ~(uint32_t)STRUCT_ATTRS) || m->depth < 1 || m->depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base,
+                       "svo: section NODE at byte %llu: model %u: the structural form needs a root node, depth 1..21 and channels palette/rgba/material only",
+                       (unsigned long long)base, mi);
+    vx__svo_split* d;
+    bool dag;
+    uint32_t limit;
+    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, A, &d, &dag, &limit, err);
+    if (r != VX_OK) return r;
+    vx_svo_model want = *m;
+    vx__svo_src src = vx__svo_split_src(d);
+    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                              .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
+    r = vx__svo_unpack(&ud, &src, m, err);
+    if (r != VX_OK) {
+        if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
+        if (err) err->code = r;
+        char pre[96];
+        snprintf(pre, sizeof pre, "model %u (NODE split stream at byte %llu)", mi, (unsigned long long)base);
+        vx_error_prefix(err, pre);
+    } else if (m->node_count != want.node_count || m->root != want.root || m->attr_count != want.attr_count || m->root_attr != want.root_attr) {
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, base,
+                    "svo: section NODE at byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
+                    (unsigned long long)base, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root, want.attr_count,
+                    want.root_attr);
+    } else if ((r = vx__svo_split_done(d, err)) == VX_OK && rebuilt) {
+        *rebuilt = VX__SVO_SKIP_REBUILT;
+    }
+    vx__svo_split_free(d);
+    return r;
+}
+
 /* ---- reader of the chunked form (FORMAT.md 3.6) ---------------------------------------------------- */
 
 typedef struct chunk_ent {
@@ -2025,9 +2084,13 @@ static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned
 static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
-    if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
-                             j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+    if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
+    if (j->chunked && j->chunked[i] == 3)
+        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay,
+                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+    else
+        j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
+                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
@@ -2088,7 +2151,10 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
+                r = chunked && chunked[mi] == 3
+                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, rebuilt ? &ext[mi] : NULL,
+                                       rebuilt ? &rebuilt[mi] : NULL, err)
+                    : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
                                                           rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
         } else {
@@ -2099,7 +2165,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
                 unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
-                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
+                    if (chunked[mi] == 1 || chunked[mi] == 2) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                     if (res[mi] != VX_OK) {
                         r = res[mi];
