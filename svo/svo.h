@@ -114,6 +114,11 @@ static inline void vx_svo_demorton(uint64_t k, uint32_t* x, uint32_t* y, uint32_
 typedef struct vx_svo_model_check {
     uint32_t digest;         /* vx_svo_model_digest of the model then; 0: not known */
     uint32_t min[3], max[3]; /* the box of its cells, max exclusive */
+    uint32_t structural;     /* nonzero: the reader rebuilt the model from the structural
+                                form (docs/FORMAT.md 3.4, 3.7) with these settings, the DAG
+                                in bit 16, the far limit in bits 0..15; a writer that finds
+                                the digest current codes it in that form without validating
+                                and rebuilding it again (docs/PERFORMANCE.md issue 18) */
 } vx_svo_model_check;
 
 typedef struct vx_svo_model {

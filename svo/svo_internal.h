@@ -115,7 +115,8 @@ vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext,
  * validating the scene): the digests on up to `threads` threads. */
 void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads);
 /* The models the writer need not validate (skip[i] = 1, ext[i] from the
- * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) and
+ * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) or
+ * rebuilt by the reader from the structural form (check.structural), and
  * their check's digest current. alloc: the writer's (a failed allocation
  * leaves every model to the validation). */
 void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
@@ -195,14 +196,18 @@ enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUN
        VX__CHUNK_SPLIT = 5 /* not chunked: the split form's stream (a form byte first, FORMAT.md 3.7) */ };
 /* The chunked mode a write desc asks for (VX__CHUNK_ZSTD for NULL). */
 int vx__svo_chunk_mode(const vx_write_desc* desc);
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
+/* trusted: m's check is current (vx__svo_trusted_models): a model the reader
+ * rebuilt from the structural form is coded in it with the check's settings
+ * and without the rebuild that proves the form. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
-/* split_min: vx__svo_model_split's */
+/* split_min: vx__svo_model_split's; trusted (model_count entries, or NULL):
+ * the models whose check vx__svo_trusted_models found current */
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        int chunk_mode, uint32_t split_min, const vx__svo_sink* sink);
+                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink);
 /* A guess of the bytes vx__svo_pack_write appends for s (without coding
  * anything): the file writer places NODE behind a header that holds its
  * size as a varint, and only that varint's length must come out right for

@@ -1160,6 +1160,7 @@ typedef struct wplan {
     vx__svo_extent* ext;
     uint8_t* chunked; /* per model: stored in the chunked form, 1 DEFLATE, 2 tagged; 3 the split form (NULL: none is) */
     uint32_t split_min; /* VX__SPLIT_WORDS, 0 with vx_write_desc.svo_range_coded */
+    uint8_t* trusted;   /* per model: its check current (vx__svo_trusted_models), or NULL */
     uint16_t version;
     unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
     uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
@@ -1172,8 +1173,10 @@ typedef struct wplan {
 static void plan_free(const vx_allocator* alloc, wplan* w) {
     vx_free(alloc, w->ext);
     vx_free(alloc, w->chunked);
+    vx_free(alloc, w->trusted);
     w->ext = NULL;
     w->chunked = NULL;
+    w->trusted = NULL;
 }
 
 static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, const coded_src* cs, wplan* w, vx_error* err) {
@@ -1193,7 +1196,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     uint8_t* skip = !cs && s->model_count ? (uint8_t*)vx_calloc(alloc, s->model_count, 1) : NULL;
     if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, skip, w->ext);
     vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, skip, err);
-    vx_free(alloc, skip);
+    w->trusted = skip; /* the coder takes those models' checks too (freed with the plan) */
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
         if (c->cells != s->models[i].voxel_count || c->stream_size == 0)
@@ -1205,7 +1208,9 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     }
     if (r != VX_OK) {
         vx_free(alloc, w->ext);
+        vx_free(alloc, w->trusted);
         w->ext = NULL;
+        w->trusted = NULL;
         vx_error_prefix(err, "svo write");
         return r;
     }
@@ -1272,7 +1277,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext, w->chunked);
     else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, w->split_min, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, w->split_min, w->trusted, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1527,7 +1532,7 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     info->split = vx__svo_model_split(m, desc ? desc->svo_chunk_words : 0, desc && desc->svo_range_coded ? 0 : vx__svo_split_words);
     int mode = info->split ? VX__CHUNK_SPLIT : !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     info->chunk_tagged = mode == VX__CHUNK_ZSTD;
-    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), &b)) {
+    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), false, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

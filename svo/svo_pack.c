@@ -418,6 +418,7 @@ typedef struct ext {
     size_t hcap, hused;
     uint32_t ndone;
     unsigned tries; /* try_struct calls so far */
+    bool bad;       /* the words are not a valid tree (only a model that was not validated: a trusted check) */
 } ext;
 
 static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
@@ -433,13 +434,23 @@ static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
     x->v[x->n++] = v;
 }
 
-static uint32_t block_of(const vx_svo_model* m, uint32_t i) {
-    uint32_t d = m->nodes[i], nn = vx__popc8(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d));
-    if (nn + (m->attrs ? 1u : 0u) == 0) return UINT32_MAX;
+/* The block of descriptor i (UINT32_MAX: none), or false where the words
+ * cannot be a valid tree (a pointer out of range): the walk below is safe on
+ * any words, so a writer may take a model it did not validate (its check
+ * current, vx__svo_trusted_models) and a model that is not valid after all
+ * gives symbols that do not read back, never a crash. */
+static bool block_at(const vx_svo_model* m, uint32_t i, uint32_t* out) {
+    uint32_t d = m->nodes[i], nn = vx__popc8(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d)), na = m->attrs ? 1u : 0u;
+    *out = UINT32_MAX;
+    if (nn + na == 0) return true;
     uint32_t p = vx_svo_desc_ptr(d);
-    return vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+    if (p > i) return false;
+    uint32_t b = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+    if (b > m->node_count || nn + na > m->node_count - b) return false;
+    *out = b;
+    return true;
 }
-static uint64_t key_of(const vx_svo_model* m, uint32_t i) { return ((uint64_t)block_of(m, i) << 16 | (m->nodes[i] & 0xFFFFu)) + 1; }
+static uint64_t key_with(const vx_svo_model* m, uint32_t i, uint32_t b) { return ((uint64_t)b << 16 | (m->nodes[i] & 0xFFFFu)) + 1; }
 static size_t key_slot(const ext* x, uint64_t key) {
     uint64_t h = key * 0x9E3779B97F4A7C15ull;
     size_t j = (size_t)(h >> 20) & (x->hcap - 1);
@@ -447,20 +458,20 @@ static size_t key_slot(const ext* x, uint64_t key) {
     return j;
 }
 
-/* The completion index of the node equal to descriptor i, or UINT32_MAX. */
-static uint32_t ext_find(const ext* x, uint32_t i) {
-    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+/* The completion index of the node equal to descriptor i (block b), or UINT32_MAX. */
+static uint32_t ext_find(const ext* x, uint32_t i, uint32_t b) {
+    uint32_t mk = x->m->nodes[i] & 0xFFFFu;
     if (b != UINT32_MAX) {
         if (!x->fb[b]) return UINT32_MAX;
         if (x->fm[b] == mk) return x->fb[b] - 1;
     }
-    size_t j = key_slot(x, key_of(x->m, i));
+    size_t j = key_slot(x, key_with(x->m, i, b));
     return x->hk[j] ? x->hv[j] : UINT32_MAX;
 }
 
-/* Records descriptor i as completed node `done` unless an equal one is. */
-static void ext_add(ext* x, uint32_t i, uint32_t done) {
-    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+/* Records descriptor i (block b) as completed node `done` unless an equal one is. */
+static void ext_add(ext* x, uint32_t i, uint32_t b, uint32_t done) {
+    uint32_t mk = x->m->nodes[i] & 0xFFFFu;
     if (b != UINT32_MAX) {
         if (!x->fb[b]) {
             x->fb[b] = done + 1;
@@ -469,29 +480,48 @@ static void ext_add(ext* x, uint32_t i, uint32_t done) {
         }
         if (x->fm[b] == mk) return;
     }
-    size_t j = key_slot(x, key_of(x->m, i));
+    size_t j = key_slot(x, key_with(x->m, i, b));
     if (!x->hk[j]) {
-        x->hk[j] = key_of(x->m, i);
+        if (x->hused + 1 > x->hcap / 2) { /* (only an invalid model completes more nodes than words) */
+            x->bad = true;
+            return;
+        }
+        x->hk[j] = key_with(x->m, i, b);
         x->hv[j] = done;
         x->hused++;
     }
 }
 
-/* The model is valid (the writer validated it): indices are in range. */
+/* A valid tree (or x->bad set): each node at most once with the DAG (and a
+ * tree's nodes once without it), so no more completed nodes than words. */
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
     const vx_svo_model* m = x->m;
+    uint32_t b;
+    if (x->bad || level < 1 || i >= m->node_count || x->ndone >= m->node_count || !block_at(m, i, &b)) {
+        x->bad = true;
+        return;
+    }
     uint32_t d = m->nodes[i], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    uint32_t nn = vx__popc8(valid & ~leaf), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
+    if (!valid || (leaf & ~valid) || (level == 1 && leaf != valid) ||
+        (m->attrs && (a > m->attr_count || vx__popc8(valid) > m->attr_count - a))) {
+        x->bad = true;
+        return;
+    }
     ext_push(x, VX__SYM_VALID, level, valid);
     if (level > 1) ext_push(x, VX__SYM_LEAF, level | valid << 8, leaf);
-    uint32_t nn = vx__popc8(valid & ~leaf), b = block_of(m, i), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
-    for (unsigned o = 0; o < 8; o++) {
+    for (unsigned o = 0; o < 8 && !x->bad; o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {
             for (unsigned c = 0; c < 5; c++)
                 if (m->attrs >> c & 1u) ext_push(x, VX__SYM_VALUE, c, rec_get(m, c, a + rank));
         } else {
-            uint32_t ci = b + k++;
-            uint32_t done = x->dag ? ext_find(x, ci) : UINT32_MAX;
+            uint32_t ci = b + k++, cb;
+            if (!block_at(m, ci, &cb)) {
+                x->bad = true;
+                return;
+            }
+            uint32_t done = x->dag ? ext_find(x, ci, cb) : UINT32_MAX;
             if (done != UINT32_MAX) {
                 ext_push(x, VX__SYM_REF, level, x->ndone - done);
             } else {
@@ -501,7 +531,8 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
         }
         rank++;
     }
-    if (x->dag) ext_add(x, i, x->ndone);
+    if (x->bad) return;
+    if (x->dag) ext_add(x, i, b, x->ndone);
     x->ndone++;
 }
 
@@ -608,6 +639,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     x->ndone = 0;
     x->dag = dag;
     x->oom = false;
+    x->bad = false;
     /* fresh tables are zero (calloc); only a second try clears what it used */
     if (x->tries++) {
         memset(x->fb, 0, (size_t)m->node_count * sizeof *x->fb);
@@ -615,7 +647,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
         x->hused = 0;
     }
     ext_visit(x, m->root, m->depth);
-    if (x->oom) return false;
+    if (x->oom || x->bad) return false;
     src->v = x->v;
     src->kind = x->kind;
     src->ctx = x->ctx;
@@ -1188,7 +1220,7 @@ bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t spl
            m->node_count >= split_min;
 }
 
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out) {
     const bool split = chunked == VX__CHUNK_SPLIT;
     if (chunked && !split) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     coder cd, spec;
@@ -1215,6 +1247,22 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         x.fm = (uint16_t*)vx_calloc(A, m->node_count, sizeof *x.fm);
         x.hcap = need;
         ok = x.hk && x.hv && x.fb && x.fm;
+        /* a model the reader rebuilt from the structural form, its digest
+         * current: its symbols with the reader's settings give it back, so
+         * the rebuild that proves the form is skipped (a model changed behind
+         * an equal digest, odds of 2^-32, codes to what does not read back
+         * as it, or raw where its words are not a tree: x.bad) */
+        uint32_t st = m->check.structural, st_lim = st & 0xFFFFu;
+        if (ok && trusted && st && st_lim >= 1 && st_lim <= VX__SVO_PTR_MAX) {
+            x.n = x.ndone = 0;
+            x.dag = dag = (st >> 16 & 1u) != 0;
+            limit = st_lim;
+            x.tries++;
+            ext_visit(&x, m->root, m->depth);
+            if (x.oom) ok = false;
+            structural = ok && !x.bad;
+            src.v = x.v, src.kind = x.kind, src.ctx = x.ctx, src.n = x.n, src.pos = 0;
+        }
         /* the builder's settings are not stored in the model: try them */
         uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
         for (int t = 0; ok && t < 4 && !structural; t++) {
@@ -1232,11 +1280,17 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             if (x.oom) ok = false;
         }
     }
-    if (split) { /* the form byte; the split streams, or the stream of 3.4 */
-        ok = ok && vx_buf_u8(out, structural ? 1 : 0);
+    if (split && ok) { /* the form byte; the split streams, or the stream of 3.4 */
+        size_t at = out->size;
+        ok = vx_buf_u8(out, structural ? 1 : 0);
         if (ok && structural) {
             ok = vx__svo_split_encode(x.v, x.kind, x.ctx, x.n, m->attrs, m->depth, dag, limit, threads, A, out);
-            goto done;
+            /* a reader refuses more than PACK_RATIO_MAX words or records per
+             * byte (unpack_split): a model that codes smaller takes form 0 */
+            uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
+            if (!ok || (m->node_count <= cap && m->attr_count <= cap)) goto done;
+            out->size = at;
+            ok = vx_buf_u8(out, 0);
         }
     }
     coder* use = &cd;
@@ -1276,13 +1330,16 @@ typedef struct pack_jobs {
     vx_buf* bufs;
     bool* ok;
     uint32_t chunk_min, split_min;
+    const uint8_t* trusted; /* the scene's (index first + i) */
+    uint32_t first;
 } pack_jobs;
 
 static void pack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
     const vx_svo_model* m = &j->s->models[i];
-    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1, &j->bufs[i]);
+    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1,
+                                  j->trusted && j->trusted[j->first + i], &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -1296,10 +1353,11 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, int mode, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, int mode, bool trusted,
+                     const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, mode, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, mode, cpus, trusted, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1312,7 +1370,7 @@ static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chun
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        int chunk_mode, uint32_t split_min, const vx__svo_sink* sink) {
+                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
@@ -1321,7 +1379,8 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
                   : !pack_one(out, &s->models[mi], A, cpus,
-                              vx__svo_model_split(&s->models[mi], chunk_min, split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, sink))
+                              vx__svo_model_split(&s->models[mi], chunk_min, split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE,
+                              trusted && trusted[mi], sink))
                 return false;
             if (!n) n = 1;
         }
@@ -1348,7 +1407,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             memset(&bufs[i], 0, sizeof bufs[i]);
             bufs[i].alloc = A;
         }
-        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min};
+        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first};
         run_jobs(threads < n ? threads : n, n, pack_job, &j);
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
@@ -1724,8 +1783,9 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                             "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
                             (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
                             want.attr_count, want.root_attr);
-            } else if (rebuilt) {
-                *rebuilt = VX__SVO_SKIP_REBUILT;
+            } else {
+                m->check.structural = (dag ? 1u << 16 : 0u) | limit; /* for a writer (vx__svo_pack_model's trusted) */
+                if (rebuilt) *rebuilt = VX__SVO_SKIP_REBUILT;
             }
         }
     }
@@ -1753,6 +1813,13 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
         return vx_fail(err, VX_ERR_BAD_FORMAT, base,
                        "svo: section NODE at byte %llu: model %u: the structural form needs a root node, depth 1..21 and channels palette/rgba/material only",
                        (unsigned long long)base, mi);
+    /* as in 3.4: the declared counts (which size the reconstruction's
+     * arrays) bounded by the stream's bytes; the writer keeps to it */
+    uint64_t cap = ((uint64_t)n + 16) * PACK_RATIO_MAX;
+    if (m->node_count > cap || m->attr_count > cap)
+        return vx_fail(err, VX_ERR_LIMIT, base,
+                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
+                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
     vx__svo_split* d;
     bool dag;
     uint32_t limit;
@@ -1774,8 +1841,9 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
                     "svo: section NODE at byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
                     (unsigned long long)base, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root, want.attr_count,
                     want.root_attr);
-    } else if ((r = vx__svo_split_done(d, err)) == VX_OK && rebuilt) {
-        *rebuilt = VX__SVO_SKIP_REBUILT;
+    } else if ((r = vx__svo_split_done(d, err)) == VX_OK) {
+        m->check.structural = (dag ? 1u << 16 : 0u) | limit; /* for a writer (vx__svo_pack_model's trusted) */
+        if (rebuilt) *rebuilt = VX__SVO_SKIP_REBUILT;
     }
     vx__svo_split_free(d);
     return r;
