@@ -53,6 +53,24 @@ static uint8_t* put_leb(uint8_t* p, uint64_t v) {
     return p;
 }
 
+/* RGBA8 and material values: each byte plane as differences (mod 256) from
+ * the byte before it in the plane (the first from 0). Neighbouring leaves of
+ * a shaded surface differ a little in each byte: as differences the helmet's
+ * colours code to 0.77 of their bytes as they are, the terrain's few exact
+ * colours to 1.001 (docs/PERFORMANCE.md, ".svo I/O, tenth step"). */
+static void planes_delta(uint8_t* p, size_t count, unsigned width) {
+    for (unsigned b = 0; b < width; b++) {
+        uint8_t* q = p + (size_t)b * count;
+        for (size_t k = count; k-- > 1;) q[k] = (uint8_t)(q[k] - q[k - 1]);
+    }
+}
+static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
+    for (unsigned b = 0; b < width; b++) {
+        uint8_t* q = p + (size_t)b * count;
+        for (size_t k = 1; k < count; k++) q[k] = (uint8_t)(q[k] + q[k - 1]);
+    }
+}
+
 /* ---- writer ---------------------------------------------------------------------------------- */
 
 /* The symbols' walk (FORMAT.md 3.4's grammar) over a valid symbol array,
@@ -186,6 +204,8 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
         w.i = 0;
         w.ndone = 0;
         walk_node(&w, depth, nch);
+        for (unsigned c = 0; c < 5; c++)
+            if ((attrs >> c & 1u) && CH_W[c] > 1) planes_delta(j.raw[cs[c]], w.cnt[cs[c]], CH_W[c]);
         vx_run_jobs(threads ? threads : 1, k, enc_stream, &j);
         ok = !j.oom;
     }
@@ -218,6 +238,7 @@ struct vx__svo_split {
     const uint8_t* data[VX__SPLIT_MAX];
     size_t n[VX__SPLIT_MAX], pos[VX__SPLIT_MAX];
     size_t vcount[VX__SPLIT_MAX]; /* values in a channel's stream */
+    uint8_t delta[VX__SPLIT_MAX]; /* a channel's value width when its planes hold differences (RGBA8, material), else 0 */
     uint64_t zoff[VX__SPLIT_MAX]; /* each stream's file offset */
     size_t zn[VX__SPLIT_MAX];
     const uint8_t* zsrc[VX__SPLIT_MAX];
@@ -242,6 +263,16 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     (void)thread;
     vx__svo_split* d = (vx__svo_split*)ctx;
     d->res[s] = VX_OK;
+    if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into a copy */
+        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->n[s] ? d->n[s] : 1))) {
+            d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+            return;
+        }
+        memcpy(d->own[s], d->zsrc[s], d->n[s]);
+        planes_undelta(d->own[s], d->vcount[s], d->delta[s]);
+        d->data[s] = d->own[s];
+        return;
+    }
     if (!d->zn[s]) return;
     char nm[32];
     const uint8_t* src = d->zsrc[s];
@@ -274,7 +305,10 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
         d->res[s] = vx_fail(&d->errs[s], VX_ERR_BAD_FORMAT, d->zoff[s],
                             "svo: section NODE at byte %llu: model %u: stream %u (%s, %zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
                             (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), zn, want, why);
-    else d->data[s] = d->own[s];
+    else {
+        if (d->delta[s]) planes_undelta(d->own[s], d->vcount[s], d->delta[s]);
+        d->data[s] = d->own[s];
+    }
 }
 
 void vx__svo_split_free(vx__svo_split* d) {
@@ -342,6 +376,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
                                 "svo: section NODE at byte %llu: model %u: stream %u (%s): %llu bytes, not a whole number of %u-byte values at most 8 per word",
                                 (unsigned long long)(base + at), mi, s, stream_name(s, nm, d->cs), (unsigned long long)u, CH_W[c]);
                 d->vcount[s] = (size_t)(u / CH_W[c]);
+                d->delta[s] = (uint8_t)(CH_W[c] > 1 ? CH_W[c] : 0);
             }
         d->n[s] = (size_t)u;
         d->zn[s] = (size_t)z;
