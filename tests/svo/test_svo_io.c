@@ -3137,6 +3137,61 @@ static void test_trusted_write(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Models coded apart (vx_svo_model_encode, mpirun vox2svo) in the split
+ * form: the file's bytes, the split bit from each model's summary. */
+static void test_split_coded(void) {
+    vx_svo_scene s;
+    make_split_scene(&s, 3000);
+    char dir[] = "/tmp/vx_svo_splitXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256], path2[256];
+    snprintf(path, sizeof path, "%s/all.svo", dir);
+    snprintf(path2, sizeof path2, "%s/coded.svo", dir);
+    vx_error e;
+    vx__svo_split_words = 1;
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
+    size_t nb = 0;
+    uint8_t* base = slurp_file(path, &nb);
+    REQUIRE(base && nb > 10 && (base[8] | base[9] << 8) == 5);
+    uint32_t n = s.model_count;
+    vx_svo_model_coded* info = (vx_svo_model_coded*)calloc(n, sizeof *info);
+    uint8_t** streams = (uint8_t**)calloc(n, sizeof *streams);
+    vx_svo_model* hollow = (vx_svo_model*)calloc(n, sizeof *hollow);
+    REQUIRE(info && streams && hollow);
+    for (uint32_t i = 0; i < n; i++) {
+        REQUIRE(vx_svo_model_encode(NULL, &s.models[i], &info[i], &streams[i], &e) == VX_OK);
+        CHECK(info[i].split && !info[i].chunked);
+        hollow[i] = s.models[i];
+        hollow[i].nodes = NULL, hollow[i].palette = NULL, hollow[i].rgba = NULL, hollow[i].normal = NULL;
+        hollow[i].material = NULL, hollow[i].density = NULL;
+    }
+    /* svo_range_coded: the summaries say so */
+    vx_svo_model_coded rc;
+    uint8_t* one = NULL;
+    REQUIRE(vx_svo_model_encode(&(vx_write_desc){.svo_range_coded = true}, &s.models[0], &rc, &one, &e) == VX_OK);
+    CHECK(!rc.split);
+    free(one);
+    vx_svo_scene h = s;
+    h.models = hollow;
+    stream_set ss = {streams, 0, 0, UINT32_MAX, true};
+    vx_svo_stream_source src = {stream_read, &ss};
+    REQUIRE(vx_svo_write_file_coded(NULL, &h, info, &src, path2, &e) == VX_OK);
+    size_t nc = 0;
+    uint8_t* coded = slurp_file(path2, &nc);
+    CHECKF(coded && nc == nb && !memcmp(coded, base, nb), "coded split models: %zu bytes, one process %zu", nc, nb);
+    vx__svo_split_words = VX__SPLIT_WORDS;
+    free(coded);
+    free(base);
+    for (uint32_t i = 0; i < n; i++) free(streams[i]);
+    free(streams);
+    free(info);
+    free(hollow);
+    remove(path);
+    remove(path2);
+    rmdir(dir);
+    vx_svo_scene_free(&s);
+}
+
 static int write_seeds(const char* dir) {
     char path[4096];
     vx_error e;
@@ -3313,5 +3368,6 @@ int main(int argc, char** argv) {
     RUN(test_split_form); /* last: the earlier tests' random scenes stay as they were */
     RUN(test_split_hand);
     RUN(test_trusted_write);
+    RUN(test_split_coded);
     return vx_test_finish();
 }
