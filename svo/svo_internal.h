@@ -234,6 +234,9 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
  * 3.4 follows (a model the structural form cannot give back), 1 the split
  * streams. Writers use it for models of VX__SPLIT_WORDS words or more unless
  * vx_write_desc.svo_range_coded is set. */
+/* streams: 10 fixed (masks, references) and one per channel; zstd level 3:
+ * level 6 codes the benchmark terrain into 0.93 of the bytes but writes it
+ * 1.25-1.4x slower (docs/PERFORMANCE.md, ".svo I/O, tenth step") */
 enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3 };
 #define VX__SPLIT_WORDS (1u << 20)
 /* Test-only (like vx__svo_far_limit): the writers' split threshold,

@@ -249,14 +249,14 @@ struct vx__svo_split {
     vx_error errs[VX__SPLIT_MAX];
 };
 
-static const char* stream_name(unsigned s, char buf[32], const uint8_t cs[5]) {
+static const char* stream_name(unsigned s, char buf[48], const uint8_t cs[5]) {
     static const char* CH[5] = {"palette", "rgba8", "normal", "material", "density"};
-    if (s < 4) snprintf(buf, 32, "valid masks, level class %u", s);
-    else if (s < 7) snprintf(buf, 32, "leaf masks, level class %u", s - 3);
-    else if (s < 10) snprintf(buf, 32, "references, level class %u", s - 6);
+    if (s < 4) snprintf(buf, 48, "valid masks, level class %u", s);
+    else if (s < 7) snprintf(buf, 48, "leaf masks, level class %u", s - 3);
+    else if (s < 10) snprintf(buf, 48, "references, level class %u", s - 6);
     else
         for (unsigned c = 0; c < 5; c++)
-            if (cs[c] == s) snprintf(buf, 32, "%s values", CH[c]);
+            if (cs[c] == s) snprintf(buf, 48, "%s values", CH[c]);
     return buf;
 }
 
@@ -275,7 +275,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
         return;
     }
     if (!d->zn[s]) return;
-    char nm[32];
+    char nm[48];
     const uint8_t* src = d->zsrc[s];
     size_t zn = d->zn[s], want = d->n[s];
     unsigned long long declared = ZSTD_getFrameContentSize(src, zn);
@@ -360,7 +360,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
      * word, a value per leaf child (8 per node) */
     const uint64_t W = (uint64_t)m->node_count + 1;
     vx_result r = VX_OK;
-    char nm[32];
+    char nm[48];
     for (unsigned s = 0; s < d->k && r == VX_OK; s++) {
         uint64_t max = s < 7 ? W : s < 10 ? 5 * W : 8 * W * 4, u, z;
         size_t at = pos;
@@ -415,7 +415,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
 }
 
 static bool ends(vx__svo_split* d, unsigned s, vx_error* err) {
-    char nm[32];
+    char nm[48];
     return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s], "svo: section NODE at byte %llu: model %u: stream %u (%s) ends before the trees do",
                    (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs)),
            false;
@@ -431,7 +431,7 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
         size_t q = at;
         if (!rd_leb(b, d->n[s], &q, UINT32_MAX, &r)) {
             if (q >= d->n[s]) return ends(d, s, err);
-            char nm[32];
+            char nm[48];
             return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s],
                            "svo: section NODE at byte %llu: model %u: stream %u (%s), decoded byte %zu: not the shortest varint of at most 32 bits",
                            (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), at),
@@ -454,7 +454,7 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
     *v = b[at];
     d->pos[s] = at + 1;
     if (kind == VX__SYM_LEAF && (*v & ~(ctx >> 8))) {
-        char nm[32];
+        char nm[48];
         return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s],
                        "svo: section NODE at byte %llu: model %u: stream %u (%s), decoded byte %zu: leaf mask 0x%02x outside the valid mask 0x%02x",
                        (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), at, *v, ctx >> 8),
@@ -495,7 +495,7 @@ vx__svo_src vx__svo_split_src(vx__svo_split* d) {
 }
 
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err) {
-    char nm[32];
+    char nm[48];
     for (unsigned s = 0; s < d->k; s++) {
         size_t have = s >= VX__SPLIT_FIXED ? d->vcount[s] : d->n[s];
         if (d->pos[s] != have)
