@@ -2904,8 +2904,12 @@ static void test_split_form(void) {
         vx__svo_far_limit = VX__SVO_PTR_MAX;
         CHECKF((d1[8] | d1[9] << 8) == 5 && n1 != n0, "case %d: version %u, %zu bytes against %zu", k, d1[8] | d1[9] << 8, n1, n0);
         CHECK(t_split_models(d1, n1) == 3);
-        /* read(write(x)) == x on one thread and three; the bytes come back */
+        /* read(write(x)) == x on one thread and three (the parallel paths
+         * forced on: models in jobs, streams on threads, the layout's); the
+         * bytes come back */
+        uint64_t saved_par = vx__svo_parallel_words;
         for (unsigned t = 1; t <= 3; t += 2) {
+            vx__svo_parallel_words = t == 3 ? 0 : saved_par;
             vx_svo_scene r;
             REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, d1, n1, &r, &e) == VX_OK);
             for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "case %d model %u threads %u", k, i, t);
@@ -2914,6 +2918,7 @@ static void test_split_form(void) {
             free(d2);
             vx_svo_scene_free(&r);
         }
+        vx__svo_parallel_words = saved_par;
         /* damaged files: every cut refused with a message; a flip (the CRCs
          * fixed, so the structure decides) refused or read into models that
          * validate */
