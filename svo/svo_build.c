@@ -778,37 +778,19 @@ static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h) 
     return at + N_KIDS + nk;
 }
 
-/* Touches the pool words of node `at`'s non-leaf children that hold their
- * representatives (a hint; run_prefetch reads them some nodes later). */
-static size_t kids_prefetch(const bld* b, size_t at) {
-    const uint32_t* n = b->pool + at;
-    uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
-    for (unsigned oc = 0, j = 0; oc < 8; oc++) {
-        if (!(valid >> oc & 1u)) continue;
-        if (!(leaf >> oc & 1u)) __builtin_prefetch(&b->pool[n[N_KIDS + j] + N_REP]);
-        j++;
-    }
-    return at + N_KIDS + vx__popc8(valid);
-}
-
 static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
     uint32_t limit = b->limit;
     size_t off = *off_io;
     /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
-    enum { PF_AHEAD = 12, PF_QUEUE = 16, PF_MID = 6 };
+    enum { PF_AHEAD = 12, PF_QUEUE = 16 };
     bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
     size_t pf = off;
     /* the hashes of the runs prefetched, in node order (with attributes
      * every node has a block and a run: one each) */
     uint64_t hq[PF_QUEUE];
     unsigned qin = 0, qout = 0;
-    /* and further ahead the children's representatives that run_prefetch
-     * reads (each a miss into the pool) */
-    size_t pk = pf;
-    for (unsigned k = 0; pf_on && k < 2 * PF_AHEAD && pk < end; k++) pk = kids_prefetch(b, pk);
     for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
     while (off < end) {
-        if (pf_on && pk < end) pk = kids_prefetch(b, pk);
         if (pf_on && pf < end) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
@@ -836,10 +818,6 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
             }
         }
         uint32_t a = 0;
-        if (pf_on && qout + PF_MID < qin) { /* a run some nodes on: the records of the stored run its slot names */
-            uint64_t h = hq[(qout + PF_MID) % PF_QUEUE], e = o->runcap ? o->runh[run_slot(h, o->runcap)] : 0;
-            if (e && (e & 0xFFFFFFFF00000000ull) == (h & 0xFFFFFFFF00000000ull)) __builtin_prefetch(o->ids + ((uint32_t)e & 0x0FFFFFFFu) - 1);
-        }
         if (b->attrs && mode == LAY_BLOCKS) {
             a = n[N_BLOCK];
         } else if (b->attrs) {
@@ -2083,8 +2061,7 @@ typedef struct unp {
     vx_error* err;
     /* with vx__svo_unpack_desc.tree: extents in done[].xt; those of height 7 and above here */
     bool want_xt;
-    bool ref_index; /* vx__svo_unpack_desc.ref_index, ref_ahead */
-    uint32_t (*ref_ahead)(void* user, unsigned level);
+    bool ref_index; /* vx__svo_unpack_desc.ref_index */
     vx__svo_extent* big;
     size_t nbig, capbig;
 } unp;
@@ -2214,10 +2191,6 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                                            (unsigned long long)u->max_words));
             uint32_t ref, c;
             if (!u->src->next(u->src->user, VX__SYM_REF, level, &ref, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
-            if (u->ref_ahead) { /* the node a later reference names: its record is a miss to memory */
-                uint32_t f = u->ref_ahead(u->src->user, level);
-                if (f && f - 1 < u->capdone) __builtin_prefetch(&u->done[f - 1]);
-            }
             if (u->ref_index && ref) { /* 1 + the node's completion index: as a distance back */
                 if (ref - 1 >= u->ndone)
                     return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
@@ -2297,8 +2270,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     outw o;
     memset(&o, 0, sizeof o);
-    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL, .ref_index = d->ref_index,
-             .ref_ahead = d->ref_index ? d->ref_ahead : NULL};
+    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL, .ref_index = d->ref_index};
     vx_svo_model m;
     memset(&m, 0, sizeof m);
     vx_result res = VX_OK;

@@ -165,11 +165,6 @@ typedef struct vx__svo_unpack_desc {
     /* REF symbols are 0 (a new node) or 1 + the completion index of the node
      * named (the split form, FORMAT.md 3.7) instead of a distance back. */
     bool ref_index;
-    /* Optional (NULL: none), with ref_index: the REF symbol the source (its
-     * user) will hand at this level some references later (one further
-     * each call), 0 past the end; only a hint, so that the reconstruction
-     * can fetch the node it names ahead of time. */
-    uint32_t (*ref_ahead)(void* user, unsigned level);
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -254,8 +249,6 @@ typedef struct vx__svo_split vx__svo_split;
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
-/* vx__svo_unpack_desc.ref_ahead for that source */
-uint32_t vx__svo_split_ahead(void* user, unsigned level);
 /* After the reconstruction: every stream used up exactly. */
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err);
 void vx__svo_split_free(vx__svo_split* d);

@@ -1828,8 +1828,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx_svo_model want = *m;
     vx__svo_src src = vx__svo_split_src(d);
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
-                              .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true,
-                              .ref_ahead = vx__svo_split_ahead};
+                              .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;

@@ -244,7 +244,6 @@ struct vx__svo_split {
     const uint8_t* zsrc[VX__SPLIT_MAX];
     uint64_t base;
     uint32_t mi;
-    size_t ahead[3]; /* per reference stream: the read position of split_ahead, REF_AHEAD references on */
     vx_result res[VX__SPLIT_MAX];
     vx_error errs[VX__SPLIT_MAX];
 };
@@ -463,36 +462,7 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
     return true;
 }
 
-/* How many references split_ahead runs ahead: a miss takes about as long as
- * the reconstruction of a few nodes. */
-enum { REF_AHEAD = 16 };
-
-/* The next reference past the ahead cursor (LEB128 read again, lenient:
- * only a hint; the reference itself is checked when split_next reads it). */
-static uint32_t ahead_leb(vx__svo_split* d, unsigned s) {
-    size_t q = d->ahead[s - 7], n = d->n[s];
-    const uint8_t* b = d->data[s];
-    uint32_t v = 0;
-    for (unsigned sh = 0; q < n && sh < 32; sh += 7) {
-        uint8_t c = b[q++];
-        v |= (uint32_t)(c & 0x7Fu) << sh;
-        if (!(c & 0x80u)) break;
-    }
-    d->ahead[s - 7] = q;
-    return v;
-}
-uint32_t vx__svo_split_ahead(void* user, unsigned level) {
-    vx__svo_split* d = (vx__svo_split*)user;
-    if (level < 2) return 0;
-    unsigned s = stream_of(VX__SYM_REF, level, d->cs);
-    return d->ahead[s - 7] < d->n[s] ? ahead_leb(d, s) : 0;
-}
-
-vx__svo_src vx__svo_split_src(vx__svo_split* d) {
-    for (unsigned s = 7; s < 10; s++)
-        for (unsigned k = 0; k < REF_AHEAD && d->ahead[s - 7] < d->n[s]; k++) (void)ahead_leb(d, s);
-    return (vx__svo_src){split_next, d};
-}
+vx__svo_src vx__svo_split_src(vx__svo_split* d) { return (vx__svo_src){split_next, d}; }
 
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err) {
     char nm[48];
