@@ -422,6 +422,12 @@ typedef struct ext {
 } ext;
 
 static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
+    if (x->n < x->cap && x->n < x->capk && x->n < x->capc) { /* the common case without a call (vx_grow) per symbol */
+        x->kind[x->n] = (uint8_t)kind;
+        x->ctx[x->n] = ctx;
+        x->v[x->n++] = v;
+        return;
+    }
     if (x->oom) return;
     if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v) ||
         !vx_grow(x->A, (void**)&x->kind, &x->capk, x->n + 1, sizeof *x->kind) ||
