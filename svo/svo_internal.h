@@ -242,6 +242,14 @@ extern uint32_t vx__svo_split_words;
  * form byte to out. */
 bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
                           uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
+/* The same from a walk that puts the symbols one by one (the trusted write:
+ * no symbol arrays): REF as 0 or 1 + the node's completion index. */
+typedef struct vx__svo_split_sink vx__svo_split_sink;
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A);
+void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+/* Codes the streams put so far (false: out of memory); the sink stays the caller's to free. */
+bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out);
+void vx__svo_split_sink_free(vx__svo_split_sink* k);
 typedef struct vx__svo_split vx__svo_split;
 /* Parses the streams after the form byte (p[0..n), base: its file offset),
  * checks every length against m's declared node_count and decodes them on

@@ -419,9 +419,15 @@ typedef struct ext {
     uint32_t ndone;
     unsigned tries; /* try_struct calls so far */
     bool bad;       /* the words are not a valid tree (only a model that was not validated: a trusted check) */
+    vx__svo_split_sink* sink; /* when set, the symbols go straight into the split streams (not into v, kind, ctx) */
 } ext;
 
 static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
+    if (x->sink) { /* a reference as the index of the node it names (FORMAT.md 3.7) */
+        vx__svo_split_put(x->sink, kind, ctx, kind == VX__SYM_REF && v ? x->ndone - v + 1 : v);
+        x->n++;
+        return;
+    }
     if (x->n < x->cap && x->n < x->capk && x->n < x->capc) { /* the common case without a call (vx_grow) per symbol */
         x->kind[x->n] = (uint8_t)kind;
         x->ctx[x->n] = ctx;
@@ -1264,9 +1270,30 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             x.dag = dag = (st >> 16 & 1u) != 0;
             limit = st_lim;
             x.tries++;
-            ext_visit(&x, m->root, m->depth);
+            /* the split form: straight into its streams, one walk */
+            if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, A))) ok = false;
+            if (ok) ext_visit(&x, m->root, m->depth);
             if (x.oom) ok = false;
             structural = ok && !x.bad;
+            if (x.sink && ok && structural) {
+                size_t at = out->size;
+                ok = vx_buf_u8(out, 1) && vx__svo_split_sink_code(x.sink, dag, limit, threads, out);
+                uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
+                vx__svo_split_sink_free(x.sink);
+                x.sink = NULL;
+                if (!ok || (m->node_count <= cap && m->attr_count <= cap)) goto done;
+                out->size = at; /* above the reader's limit (unpack_split): the walk again, into form 0 */
+                x.n = x.ndone = 0;
+                x.tries++;
+                memset(x.fb, 0, (size_t)m->node_count * sizeof *x.fb);
+                if (x.hused) memset(x.hk, 0, x.hcap * sizeof *x.hk);
+                x.hused = 0;
+                ext_visit(&x, m->root, m->depth);
+                if (x.oom) ok = false;
+                structural = ok && !x.bad;
+            }
+            vx__svo_split_sink_free(x.sink);
+            x.sink = NULL;
             src.v = x.v, src.kind = x.kind, src.ctx = x.ctx, src.n = x.n, src.pos = 0;
         }
         /* the builder's settings are not stored in the model: try them */

@@ -39,11 +39,6 @@ static unsigned stream_count(uint32_t attrs, uint8_t chan_stream[5]) {
     return k;
 }
 
-static unsigned leb_len(uint64_t v) {
-    unsigned n = 1;
-    while (v >>= 7) n++;
-    return n;
-}
 static uint8_t* put_leb(uint8_t* p, uint64_t v) {
     do {
         uint8_t c = (uint8_t)(v & 0x7Fu);
@@ -73,73 +68,55 @@ static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
 
 /* ---- writer ---------------------------------------------------------------------------------- */
 
-/* The symbols' walk (FORMAT.md 3.4's grammar) over a valid symbol array,
- * counting each stream's bytes (fill false) or writing them (fill true): a
- * reference becomes 1 + the completion index of the node it names. */
-typedef struct walk {
-    const uint32_t* v;
-    const uint8_t* kind;
-    const uint32_t* ctx;
-    size_t n, i;
-    uint32_t ndone;
-    const uint8_t* cs;
-    bool fill, bad;
-    size_t len[VX__SPLIT_MAX], cnt[VX__SPLIT_MAX], idx[VX__SPLIT_MAX];
-    uint8_t* out[VX__SPLIT_MAX];
-} walk;
+/* The streams as they are filled: bytes for masks and references, each
+ * channel's values as they come (put in byte planes when coded). */
+struct vx__svo_split_sink {
+    const vx_allocator* A;
+    uint8_t cs[5];
+    unsigned k;
+    bool oom;
+    uint8_t* p[VX__SPLIT_FIXED];
+    size_t n[VX__SPLIT_FIXED], cap[VX__SPLIT_FIXED];
+    uint32_t* val[5];
+    size_t nval[5], capval[5];
+};
 
-static void walk_put(walk* w, size_t i) {
-    unsigned s = stream_of(w->kind[i], w->ctx[i], w->cs);
-    uint32_t x = w->v[i];
-    if (w->kind[i] == VX__SYM_REF) {
-        if (x) x = w->ndone - x + 1;
-        if (!w->fill) w->len[s] += leb_len(x);
-        else w->idx[s] = (size_t)(put_leb(w->out[s] + w->idx[s], x) - w->out[s]);
-    } else if (w->kind[i] == VX__SYM_VALUE) {
-        unsigned cw = CH_W[w->ctx[i]];
-        if (!w->fill) w->len[s] += cw;
-        else /* byte planes: byte b of value k at b * count + k */
-            for (unsigned b = 0; b < cw; b++) w->out[s][b * w->cnt[s] + w->idx[s]] = (uint8_t)(x >> (8 * b));
-        if (w->fill) w->idx[s]++;
-    } else if (!w->fill) {
-        w->len[s]++;
-    } else {
-        w->out[s][w->idx[s]++] = (uint8_t)x;
-    }
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A) {
+    vx__svo_split_sink* k = (vx__svo_split_sink*)vx_calloc(A, 1, sizeof *k);
+    if (!k) return NULL;
+    k->A = A;
+    k->k = stream_count(attrs, k->cs);
+    return k;
 }
 
-/* The symbols come from the writer's own walk of a valid model (ext_visit),
- * so they follow the grammar; w->bad guards the array's end regardless. */
-static void walk_node(walk* w, unsigned level, unsigned nch) {
-    if (w->i + (level > 1 ? 2 : 1) > w->n || w->bad || level < 1) {
-        w->bad = true;
+void vx__svo_split_sink_free(vx__svo_split_sink* k) {
+    if (!k) return;
+    for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
+    for (unsigned c = 0; c < 5; c++) vx_free(k->A, k->val[c]);
+    vx_free(k->A, k);
+}
+
+/* Room for 5 more bytes in stream s (the largest symbol, a reference). */
+static bool sink_room(vx__svo_split_sink* k, unsigned s) {
+    if (k->n[s] + 5 <= k->cap[s]) return true;
+    if (!vx_grow(k->A, (void**)&k->p[s], &k->cap[s], k->n[s] + 5, 1)) return k->oom = true, false;
+    return true;
+}
+
+void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
+    if (kind == VX__SYM_VALUE) {
+        if (k->nval[ctx] >= k->capval[ctx] &&
+            !vx_grow(k->A, (void**)&k->val[ctx], &k->capval[ctx], k->nval[ctx] + 1, sizeof *k->val[ctx])) {
+            k->oom = true;
+            return;
+        }
+        k->val[ctx][k->nval[ctx]++] = v;
         return;
     }
-    uint32_t valid = w->v[w->i], leaf = valid;
-    walk_put(w, w->i++);
-    if (level > 1) {
-        leaf = w->v[w->i];
-        walk_put(w, w->i++);
-    }
-    for (unsigned o = 0; o < 8 && !w->bad; o++) {
-        if (!(valid >> o & 1u)) continue;
-        if (leaf >> o & 1u) {
-            if (w->i + nch > w->n) {
-                w->bad = true;
-                return;
-            }
-            for (unsigned c = 0; c < nch; c++) walk_put(w, w->i++);
-        } else {
-            if (w->i >= w->n || w->kind[w->i] != VX__SYM_REF || level < 2) {
-                w->bad = true;
-                return;
-            }
-            uint32_t r = w->v[w->i];
-            walk_put(w, w->i++);
-            if (r == 0) walk_node(w, level - 1, nch);
-        }
-    }
-    w->ndone++;
+    unsigned s = stream_of(kind, ctx, k->cs);
+    if (!sink_room(k, s)) return;
+    if (kind == VX__SYM_REF) k->n[s] = (size_t)(put_leb(k->p[s] + k->n[s], v) - k->p[s]);
+    else k->p[s][k->n[s]++] = (uint8_t)v;
 }
 
 typedef struct enc_job {
@@ -180,52 +157,111 @@ static void enc_stream(void* ctx, unsigned thread, uint32_t i) {
     j->zn[i] = got;
 }
 
-bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
-                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
-    uint8_t cs[5];
-    unsigned k = stream_count(attrs, cs), nch = (unsigned)__builtin_popcount(attrs);
+bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out) {
     enc_job j;
     memset(&j, 0, sizeof j);
-    j.A = A;
+    j.A = k->A;
     j.level = VX__SPLIT_LEVEL;
-    walk w;
-    memset(&w, 0, sizeof w);
-    w.v = v, w.kind = kind, w.ctx = ctx, w.n = n, w.cs = cs;
-    walk_node(&w, depth, nch);
-    bool ok = !w.bad && w.i == n;
-    for (unsigned s = 0; s < k && ok; s++) {
-        j.n[s] = w.len[s];
-        ok = (j.raw[s] = w.out[s] = (uint8_t*)vx_alloc(A, j.n[s] ? j.n[s] : 1)) != NULL;
+    bool ok = !k->oom;
+    for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) j.raw[s] = k->p[s], j.n[s] = k->n[s];
+    uint8_t* planes[5] = {NULL, NULL, NULL, NULL, NULL};
+    for (unsigned c = 0; c < 5 && ok; c++) {
+        if (!k->cs[c]) continue;
+        /* byte b of value i at b * count + i */
+        size_t cnt = k->nval[c];
+        unsigned w = CH_W[c], s = k->cs[c];
+        if (!(planes[c] = (uint8_t*)vx_alloc(k->A, cnt ? cnt * w : 1))) {
+            ok = false;
+            break;
+        }
+        for (size_t i = 0; i < cnt; i++)
+            for (unsigned b = 0; b < w; b++) planes[c][b * cnt + i] = (uint8_t)(k->val[c][i] >> (8 * b));
+        if (w > 1) planes_delta(planes[c], cnt, w);
+        j.raw[s] = planes[c];
+        j.n[s] = cnt * w;
     }
     if (ok) {
-        for (unsigned c = 0; c < 5; c++)
-            if (attrs >> c & 1u) w.cnt[cs[c]] = w.len[cs[c]] / CH_W[c];
-        w.fill = true;
-        w.i = 0;
-        w.ndone = 0;
-        walk_node(&w, depth, nch);
-        for (unsigned c = 0; c < 5; c++)
-            if ((attrs >> c & 1u) && CH_W[c] > 1) planes_delta(j.raw[cs[c]], w.cnt[cs[c]], CH_W[c]);
-        vx_run_jobs(threads ? threads : 1, k, enc_stream, &j);
+        vx_run_jobs(threads ? threads : 1, k->k, enc_stream, &j);
         ok = !j.oom;
     }
     if (ok) {
         uint8_t head[16 + 20 * VX__SPLIT_MAX], *h = head;
         *h++ = (uint8_t)((dag ? 1u : 0u) | (limit != VX__SVO_PTR_MAX ? 2u : 0u));
         if (limit != VX__SVO_PTR_MAX) h = put_leb(h, limit);
-        for (unsigned s = 0; s < k; s++) {
+        for (unsigned s = 0; s < k->k; s++) {
             h = put_leb(h, j.n[s]);
             h = put_leb(h, j.zn[s]);
         }
         ok = vx_buf_append(out, head, (size_t)(h - head));
-        for (unsigned s = 0; s < k && ok; s++)
-            ok = j.zn[s] ? vx_buf_append(out, j.z[s], j.zn[s]) : vx_buf_append(out, j.raw[s], j.n[s]);
+        for (unsigned s = 0; s < k->k && ok; s++)
+            ok = j.zn[s] ? vx_buf_append(out, j.z[s], j.zn[s]) : vx_buf_append(out, j.raw[s] ? j.raw[s] : (const uint8_t*)"", j.n[s]);
     }
-    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) {
-        vx_free(A, j.raw[s]);
-        vx_free(A, j.z[s]);
-    }
+    for (unsigned c = 0; c < 5; c++) vx_free(k->A, planes[c]);
+    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) vx_free(k->A, j.z[s]);
     return ok && !out->failed;
+}
+
+/* The symbols' walk (FORMAT.md 3.4's grammar) over a symbol array: a
+ * reference becomes 1 + the completion index of the node it names. */
+typedef struct walk {
+    const uint32_t* v;
+    const uint8_t* kind;
+    const uint32_t* ctx;
+    size_t n, i;
+    uint32_t ndone;
+    bool bad;
+    vx__svo_split_sink* k;
+} walk;
+
+static void walk_put(walk* w, size_t i) {
+    uint32_t x = w->v[i];
+    if (w->kind[i] == VX__SYM_REF && x) x = w->ndone - x + 1;
+    vx__svo_split_put(w->k, w->kind[i], w->ctx[i], x);
+}
+
+/* The symbols come from the writer's own walk (ext_visit), so they follow
+ * the grammar; w->bad guards the array's end regardless. */
+static void walk_node(walk* w, unsigned level, unsigned nch) {
+    if (w->i + (level > 1 ? 2 : 1) > w->n || w->bad || level < 1) {
+        w->bad = true;
+        return;
+    }
+    uint32_t valid = w->v[w->i], leaf = valid;
+    walk_put(w, w->i++);
+    if (level > 1) {
+        leaf = w->v[w->i];
+        walk_put(w, w->i++);
+    }
+    for (unsigned o = 0; o < 8 && !w->bad; o++) {
+        if (!(valid >> o & 1u)) continue;
+        if (leaf >> o & 1u) {
+            if (w->i + nch > w->n) {
+                w->bad = true;
+                return;
+            }
+            for (unsigned c = 0; c < nch; c++) walk_put(w, w->i++);
+        } else {
+            if (w->i >= w->n || w->kind[w->i] != VX__SYM_REF || level < 2) {
+                w->bad = true;
+                return;
+            }
+            uint32_t r = w->v[w->i];
+            walk_put(w, w->i++);
+            if (r == 0) walk_node(w, level - 1, nch);
+        }
+    }
+    w->ndone++;
+}
+
+bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
+                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
+    vx__svo_split_sink* k = vx__svo_split_sink_new(attrs, A);
+    if (!k) return false;
+    walk w = {v, kind, ctx, n, 0, 0, false, k};
+    walk_node(&w, depth, (unsigned)__builtin_popcount(attrs));
+    bool ok = !w.bad && w.i == n && vx__svo_split_sink_code(k, dag, limit, threads, out);
+    vx__svo_split_sink_free(k);
+    return ok;
 }
 
 /* ---- reader ---------------------------------------------------------------------------------- */
