@@ -10,7 +10,9 @@
  * otherwise stores the words and records themselves ("raw" form). All symbols
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
- * beats deflate clearly because it has no tables to transmit. */
+ * beats deflate clearly because it has no tables to transmit. Large models
+ * (2^20 words or more) take the split form of version 5 instead: the same
+ * symbols in zstd byte streams that decode on every thread (svo_split.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
