@@ -1266,8 +1266,12 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
          * the rebuild that proves the form is skipped (a model changed behind
          * an equal digest, odds of 2^-32, codes to what does not read back
          * as it, or raw where its words are not a tree: x.bad) */
+        /* only the settings the tries below take first (the DAG, no far
+         * limit: the builder's default), so that the bytes do not depend on
+         * whether the check is current: a model read with other settings
+         * might also come back with earlier ones, which the tries would pick */
         uint32_t st = m->check.structural, st_lim = st & 0xFFFFu;
-        if (ok && trusted && st && st_lim >= 1 && st_lim <= VX__SVO_PTR_MAX) {
+        if (ok && trusted && st == (1u << 16 | VX__SVO_PTR_MAX)) {
             x.n = x.ndone = 0;
             x.dag = dag = (st >> 16 & 1u) != 0;
             limit = st_lim;

@@ -3137,6 +3137,29 @@ static void test_trusted_write(void) {
                (unsigned long long)refused, (unsigned long long)valid);
         vx_svo_scene_free(&r);
         free(d);
+        /* a model stored with a far limit (the writer's other try): the bytes
+         * with the check current are those without it (the write is the
+         * same whatever the reader's allocations let it record) */
+        vx_svo_scene s2;
+        vx__svo_far_limit = 2; /* built and written with it (as fuzz seed3) */
+        make_split_scene(&s2, 3000);
+        REQUIRE(vx_svo_write(&s2, NULL, &d, &n, &e) == VX_OK);
+        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        vx_svo_scene_free(&s2);
+        REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
+        uint32_t limited = 0;
+        for (uint32_t i = 0; i < r.model_count; i++) limited += (r.models[i].check.structural & 0xFFFFu) == 2;
+        CHECKF(limited > 0, "split %d: no model stored with the far limit", split);
+        REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
+        for (uint32_t i = 0; i < r.model_count; i++) r.models[i].check.digest = 0;
+        uint8_t* d4;
+        size_t n4;
+        REQUIRE(vx_svo_write(&r, NULL, &d4, &n4, &e) == VX_OK);
+        CHECKF(n2 == n4 && !memcmp(d2, d4, n2), "split %d: a far-limited model's bytes depend on its check", split);
+        free(d4);
+        free(d2);
+        vx_svo_scene_free(&r);
+        free(d);
     }
     vx__svo_split_words = VX__SPLIT_WORDS;
     vx_svo_scene_free(&s);
