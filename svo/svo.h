@@ -117,7 +117,8 @@ typedef struct vx_svo_model_check {
     uint32_t structural;     /* nonzero: the reader rebuilt the model from the structural
                                 form (docs/FORMAT.md 3.4, 3.7) with these settings, the DAG
                                 in bit 16, the far limit in bits 0..15; a writer that finds
-                                the digest current codes it in that form without validating
+                                the digest current codes one read with the DAG and no far
+                                limit (the builder's default) in that form without validating
                                 and rebuilding it again (docs/PERFORMANCE.md issue 18) */
 } vx_svo_model_check;
 
