@@ -626,6 +626,11 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
 /* After every model was handed over: the NODE section ends after the last
  * stream and its CRC matches, and the scene's computed bounds are set. */
 vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err);
+/* A copy of the graph as it is now (models without arrays, their checks and
+ * the bounds as far as read), allocated with alloc and owned by the caller
+ * (vx_svo_scene_free): for code that keeps the scene graph past the reader,
+ * or fills the models in as they come (a whole scene from the reader). */
+vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_allocator* alloc, vx_svo_scene* out, vx_error* err);
 void vx_svo_reader_close(vx_svo_model_reader* r);
 
 /* Serialises a scene (validated first). *out_data is freed with vx_free(alloc, ...). */

@@ -1186,6 +1186,43 @@ vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err) {
     return VX_OK;
 }
 
+vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_allocator* alloc, vx_svo_scene* out, vx_error* err) {
+    if (!r || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    const vx_svo_scene* g = &r->s;
+    vx_svo_scene s = *g;
+    s.alloc = alloc;
+    s.models = NULL, s.instances = NULL, s.layers = NULL, s.materials = NULL, s.lights = NULL, s.frame_instances = NULL;
+    s.model_count = s.instance_count = s.layer_count = s.material_count = s.light_count = 0;
+    size_t frames = g->frame_instances && g->frame_count > 1 ? (size_t)(g->frame_count - 1) * g->instance_count : 0;
+    bool ok = (!g->model_count || (s.models = (vx_svo_model*)vx_alloc(alloc, g->model_count * sizeof *s.models))) &&
+              (!g->instance_count || (s.instances = (vx_svo_instance*)vx_alloc(alloc, g->instance_count * sizeof *s.instances))) &&
+              (!g->layer_count || (s.layers = (vx_svo_layer*)vx_alloc(alloc, g->layer_count * sizeof *s.layers))) &&
+              (!g->material_count || (s.materials = (vx_svo_material*)vx_calloc(alloc, g->material_count, sizeof *s.materials))) &&
+              (!g->light_count || (s.lights = (vx_light*)vx_alloc(alloc, g->light_count * sizeof *s.lights))) &&
+              (!frames || (s.frame_instances = (vx_svo_instance*)vx_alloc(alloc, frames * sizeof *s.frame_instances)));
+    if (ok) {
+        s.model_count = g->model_count, s.instance_count = g->instance_count, s.layer_count = g->layer_count;
+        s.material_count = g->material_count, s.light_count = g->light_count;
+        if (s.models) memcpy(s.models, g->models, g->model_count * sizeof *s.models); /* the graph's models hold no arrays */
+        if (s.instances) memcpy(s.instances, g->instances, g->instance_count * sizeof *s.instances);
+        if (s.layers) memcpy(s.layers, g->layers, g->layer_count * sizeof *s.layers);
+        if (s.lights) memcpy(s.lights, g->lights, g->light_count * sizeof *s.lights);
+        if (frames) memcpy(s.frame_instances, g->frame_instances, frames * sizeof *s.frame_instances);
+        for (uint32_t i = 0; ok && i < g->material_count; i++) {
+            s.materials[i] = g->materials[i];
+            s.materials[i].dict = NULL;
+            if (g->materials[i].dict_size && (ok = (s.materials[i].dict = (char*)vx_alloc(alloc, g->materials[i].dict_size)) != NULL))
+                memcpy(s.materials[i].dict, g->materials[i].dict, g->materials[i].dict_size);
+        }
+    }
+    if (!ok) {
+        vx_svo_scene_free(&s);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory for the scene graph");
+    }
+    *out = s;
+    return VX_OK;
+}
+
 void vx_svo_reader_close(vx_svo_model_reader* r) { reader_free(r); }
 
 /* ---- writing ------------------------------------------------------------------------------ */
