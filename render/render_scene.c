@@ -252,7 +252,9 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         if (m->node_count && !m->nodes) /* a model reader's graph: the box its validation found */
-            for (int k = 0; k < 3; k++) rs->mcells[6 * i + k] = m->check.min[k], rs->mcells[6 * i + 3 + k] = m->check.max[k];
+            for (int k = 0; k < 3; k++)
+                rs->mcells[6 * i + k] = m->check.digest ? m->check.min[k] : 0,
+                                   rs->mcells[6 * i + 3 + k] = m->check.digest ? m->check.max[k] : m->size[k];
         else
             vx_svo_model_cell_box(m, &rs->mcells[6 * i], &rs->mcells[6 * i + 3]);
         if (!plain) {

@@ -973,6 +973,8 @@ static vx_result reader_map(vx_svo_model_reader* r, const char* path, uint64_t m
         void* m = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
         close(fd);
         if (m != MAP_FAILED) {
+            /* read once, front to back (the streams in model order): read-ahead, pages freed behind */
+            (void)madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
             r->data = (uint8_t*)m;
             r->size = (size_t)st.st_size;
             r->mapped = true;

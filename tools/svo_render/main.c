@@ -849,7 +849,7 @@ int main(int argc, char** argv) {
      * scene graph (instances, lights, sky, frames) is read first either way */
     vx_svo_model_reader* rd = NULL;
     bool by_models = !o.load_whole && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
-                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN;
+                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
     if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
                   : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
@@ -1000,6 +1000,15 @@ int main(int argc, char** argv) {
                 }
                 vx_svo_reader_close(rd);
                 rd = NULL;
+                if (r == VX_ERR_LIMIT) { /* over the budget: pages need the scene whole; read it again */
+                    if (o.verbose) printf("note: %s; the scene is read whole\n", err.msg);
+                    vx_svo_scene_free(&owned);
+                    r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
+                    if (!r) {
+                        vx_svo_scene_frame(&owned, o.frame_first, &scene);
+                        r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
+                    }
+                }
             } else {
                 r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
             }
