@@ -43,7 +43,7 @@ typedef struct options {
     vx_light lights[64]; /* --light */
     uint32_t light_count;
     bool sky_given, no_scene_lights, voxel_lights;
-    bool load_whole; /* --load whole: the scene read whole even where the models could come one at a time */
+    bool load_models; /* --load models: the models one at a time into the compact layout (where it applies) */
     vx_sky sky; /* --sky's */
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
@@ -161,10 +161,11 @@ _Noreturn static void usage(int status) {
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
-            "  --load M             how the file is read: models (default) takes the models one at a time\n"
-            "                       into the compact layout (the host holds the layout and a few models,\n"
-            "                       not the scene) where the GPU single-shader modes render it in that\n"
-            "                       layout; whole reads the scene first (as every other mode does)\n"
+            "  --load M             how the file is read: whole (default) reads the scene first; models\n"
+            "                       takes the models one at a time into the compact layout where the GPU\n"
+            "                       single-shader modes render it in that layout without --gpu-budget (the\n"
+            "                       host holds the layout and a few models, not the scene; its frames timed\n"
+            "                       slower on the H200, docs/PERFORMANCE.md issue 18, branch load)\n"
             "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
@@ -566,8 +567,8 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--load")) {
             NEED();
             const char* l = argv[++i];
-            if (!strcmp(l, "whole")) o.load_whole = true;
-            else if (!strcmp(l, "models")) o.load_whole = false;
+            if (!strcmp(l, "whole")) o.load_models = false;
+            else if (!strcmp(l, "models")) o.load_models = true;
             else usage_error("bad --load '%s' (models or whole)", l);
         } else if (!strcmp(a, "--layout")) {
             NEED();
@@ -844,11 +845,12 @@ int main(int argc, char** argv) {
     vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
     vx_budget_init(&budget, o.max_memory, NULL);
     const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
-    /* the models one at a time into the GPU layout where the GPU scene is all that reads them (the
-     * single-shader modes: no CPU render, passes, probes or voxel lights) and it may be compact; the
-     * scene graph (instances, lights, sky, frames) is read first either way */
+    /* --load models: the models one at a time into the GPU layout where the GPU scene is all that
+     * reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it may be
+     * compact; the scene graph (instances, lights, sky, frames) is read first. Not the default: its
+     * frames timed 4x slower on the H200, the cause not found (docs/PERFORMANCE.md, branch load) */
     vx_svo_model_reader* rd = NULL;
-    bool by_models = !o.load_whole && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
+    bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
                      o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
     if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
