@@ -251,12 +251,14 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     uint32_t wo = 0, co = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
-        if (m->node_count && !m->nodes) /* a model reader's graph: the box its validation found */
-            for (int k = 0; k < 3; k++)
-                rs->mcells[6 * i + k] = m->check.digest ? m->check.min[k] : 0,
-                                   rs->mcells[6 * i + 3 + k] = m->check.digest ? m->check.max[k] : m->size[k];
-        else
+        if (m->node_count && !m->nodes) { /* a model reader's graph: the box its validation found (else the cube) */
+            for (int k = 0; k < 3; k++) {
+                rs->mcells[6 * i + k] = m->check.digest ? m->check.min[k] : 0;
+                rs->mcells[6 * i + 3 + k] = m->check.digest ? m->check.max[k] : m->size[k];
+            }
+        } else {
             vx_svo_model_cell_box(m, &rs->mcells[6 * i], &rs->mcells[6 * i + 3]);
+        }
         if (!plain) {
             /* what the instance tables and checks read of a model; no words */
             gm[i] = (vx__gpu_model){.depth = m->depth, .root = m->root, .root_attr = m->root_attr};
