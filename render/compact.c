@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "render/compact.h"
 
+#include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
 #include <time.h>
@@ -623,22 +624,13 @@ static unsigned attr_threads(uint64_t cells, uint32_t n) {
     return t < n ? t : n;
 }
 
-static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c,
-                                 vx_error* err) {
+/* The models' attribute regions (j->part, built apart) given their bases in
+ * model order, moved into c's per-model regions or copied into its one
+ * array; the first failure in model order is the error. */
+static vx_result place_attrs(const vx_compact_desc* d, vx_compact_scene* c, attr_jobs* jp, vx_error* err) {
+    attr_jobs j = *jp;
     uint32_t n = c->model_count;
-    uint64_t cells = 0;
-    for (uint32_t i = 0; i < n; i++) cells += c->models[i].attr_kind != VX_COMPACT_ATTR_NONE ? c->models[i].voxels : 0;
-    if (!cells) return VX_OK;
-    attr_jobs j = {.d = d, .s = s, .c = c};
-    j.part = vx_calloc(d->alloc, n, sizeof *j.part);
-    j.res = vx_calloc(d->alloc, n, sizeof *j.res);
-    j.errs = vx_calloc(d->alloc, n, sizeof *j.errs);
     vx_result r = VX_OK;
-    if (!j.part || !j.res || !j.errs) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
-        goto done;
-    }
-    vx_run_jobs(attr_threads(cells, n), n, attr_job, &j);
     uint64_t total = 0;
     for (uint32_t i = 0; i < n && !r; i++) {
         if (j.res[i]) {
@@ -672,12 +664,75 @@ static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s
         st->delta += p->stats.delta, st->uniform_groups += p->stats.uniform_groups, st->shared += p->stats.shared;
         st->distinct_sum += p->stats.distinct_sum;
     }
+    return r;
+}
+
+static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c,
+                                 vx_error* err) {
+    uint32_t n = c->model_count;
+    uint64_t cells = 0;
+    for (uint32_t i = 0; i < n; i++) cells += c->models[i].attr_kind != VX_COMPACT_ATTR_NONE ? c->models[i].voxels : 0;
+    if (!cells) return VX_OK;
+    attr_jobs j = {.d = d, .s = s, .c = c};
+    j.part = vx_calloc(d->alloc, n, sizeof *j.part);
+    j.res = vx_calloc(d->alloc, n, sizeof *j.res);
+    j.errs = vx_calloc(d->alloc, n, sizeof *j.errs);
+    vx_result r = VX_OK;
+    if (!j.part || !j.res || !j.errs) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+        goto done;
+    }
+    vx_run_jobs(attr_threads(cells, n), n, attr_job, &j);
+    r = place_attrs(d, c, &j, err);
 done:
     for (uint32_t i = 0; j.part && i < n; i++) vx_free(d->alloc, j.part[i].attr);
     vx_free(d->alloc, j.part);
     vx_free(d->alloc, j.res);
     vx_free(d->alloc, j.errs);
     return r;
+}
+
+/* A build from a model reader (vx_compact_build_reader): the models come
+ * from the reader in turn, on whichever build thread is free; each model's
+ * attribute region is built beside its geometry while the model is in hand
+ * (the attributes depend on the model alone), then the model is freed. So
+ * the host holds the layout being built plus the models in hand (one per
+ * build thread) and, with several threads, the local DAGs not yet merged. */
+typedef struct stream {
+    vx_svo_model_reader* rd;
+    const vx_allocator* ma; /* the models' (the reader's) allocator */
+    const vx_compact_desc* d;
+    attr_jobs aj;           /* part, res, errs by model */
+    _Atomic uint32_t taken; /* models asked of the reader */
+    _Atomic int failed;     /* the reader failed: nothing more is taken */
+    pthread_mutex_t lock;
+    vx_result r; /* the reader's failure (under lock: the first) */
+    vx_error err;
+} stream;
+
+/* The next model from the reader into *m, its index in *i; false when none
+ * is left or the reader failed (recorded in q). */
+static bool stream_take(stream* q, uint32_t n, uint32_t* i, vx_svo_model* m) {
+    if (atomic_load(&q->failed) || atomic_fetch_add(&q->taken, 1) >= n) return false;
+    vx_error e = {0};
+    vx_result r = vx_svo_reader_next(q->rd, i, m, &e);
+    if (!r && *i < n) return true;
+    if (!r) r = vx_fail(&e, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact layout: the model reader had taken models before the build");
+    pthread_mutex_lock(&q->lock);
+    if (!q->r) q->r = r, q->err = e;
+    pthread_mutex_unlock(&q->lock);
+    atomic_store(&q->failed, 1);
+    return false;
+}
+
+/* Model i's attribute region while the model is in hand: cm its geometry's
+ * record (kind), cells its cells (as build_all_attrs after the geometry). */
+static void stream_attrs(stream* q, const vx_svo_model* m, uint32_t i, vx_compact_model* cm, uint64_t cells) {
+    if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cells || cells > UINT32_MAX) return;
+    cm->voxels = (uint32_t)cells;
+    size_t cap = 0;
+    q->aj.part[i].alloc = q->aj.c->alloc;
+    q->aj.res[i] = build_attrs_auto(q->d, m, cm, &q->aj.part[i], &cap, &q->aj.errs[i]);
 }
 
 vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err) {
@@ -872,6 +927,7 @@ typedef struct geom_jobs {
     uint32_t window;
     vx_result r; /* the first failure in model order */
     vx_error* err;
+    stream* q; /* the models from a reader, or NULL */
 } geom_jobs;
 
 static void local_free(geom_local* l) {
@@ -1000,10 +1056,42 @@ static void merge_ready(geom_jobs* j) {
     }
 }
 
+/* geom_worker's build of model i, with the model m in hand. */
+static void geom_build_one(geom_jobs* j, uint32_t i, const vx_svo_model* m) {
+    geom_local* l = &j->loc[i];
+    l->b = (builder){.a = j->g->a, .err = &l->err, .st = &l->st, .max_bricks = j->g->max_bricks,
+                     .use_dict = j->g->use_dict};
+    l->r = build_model_geom(&l->b, m, i, &l->cm, &l->cells, &l->err);
+    if (j->q && !l->r) stream_attrs(j->q, m, i, &l->cm, l->cells);
+    /* the hash tables are not needed by the merge */
+    vx_free(l->b.a, l->b.tab);
+    vx_free(l->b.a, l->b.dtab);
+    l->b.tab = NULL, l->b.dtab = NULL;
+    atomic_store(&j->built[i], 1);
+}
+
 static void* geom_worker(void* arg) {
     geom_jobs* j = arg;
     uint32_t n = j->s->model_count;
-    for (;;) {
+    while (j->q) { /* from a reader: the models in the reader's order, as far ahead of the merge as the window */
+        if (atomic_load(&j->stop)) return NULL;
+        uint32_t t = atomic_load(&j->q->taken), i;
+        if (t >= n) break;
+        if (t >= atomic_load(&j->merged) + j->window) {
+            merge_ready(j);
+            if (t >= atomic_load(&j->merged) + j->window) nanosleep(&(struct timespec){0, 50000}, NULL);
+            continue;
+        }
+        vx_svo_model m;
+        if (!stream_take(j->q, n, &i, &m)) {
+            if (atomic_load(&j->q->failed)) atomic_store(&j->stop, 1);
+            break;
+        }
+        geom_build_one(j, i, &m);
+        vx_svo_model_free(j->q->ma, &m);
+        merge_ready(j);
+    }
+    for (; !j->q;) {
         if (atomic_load(&j->stop)) return NULL;
         uint32_t i = atomic_load(&j->next);
         if (i >= n) break;
@@ -1013,15 +1101,7 @@ static void* geom_worker(void* arg) {
             continue;
         }
         if (!atomic_compare_exchange_weak(&j->next, &i, i + 1)) continue;
-        geom_local* l = &j->loc[i];
-        l->b = (builder){.a = j->g->a, .err = &l->err, .st = &l->st, .max_bricks = j->g->max_bricks,
-                         .use_dict = j->g->use_dict};
-        l->r = build_model_geom(&l->b, &j->s->models[i], i, &l->cm, &l->cells, &l->err);
-        /* the hash tables are not needed by the merge */
-        vx_free(l->b.a, l->b.tab);
-        vx_free(l->b.a, l->b.dtab);
-        l->b.tab = NULL, l->b.dtab = NULL;
-        atomic_store(&j->built[i], 1);
+        geom_build_one(j, i, &j->s->models[i]);
         merge_ready(j);
     }
     /* nothing left to build: merge until every model is (another thread may be holding the merge) */
@@ -1068,6 +1148,7 @@ typedef struct pmerge {
     uint64_t (*lslots)[33], (*lblocks)[33];
     vx_result* res;
     vx_error* errs;
+    stream* q; /* the models from a reader, or NULL */
 } pmerge;
 
 /* The canonical words of model m's local block e (children as table entries). */
@@ -1188,18 +1269,23 @@ static void pm_write_job(void* ctx, unsigned thread, uint32_t i) {
 static void pm_build_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     pmerge* p = ctx;
+    vx_svo_model m;
+    /* from a reader: whichever model comes next (one per job), its attributes beside */
+    if (p->q && !stream_take(p->q, p->s->model_count, &i, &m)) return;
     geom_local* l = &p->loc[i];
     l->b = (builder){.a = p->g->a, .err = &l->err, .st = &l->st, .max_bricks = p->g->max_bricks};
-    l->r = build_model_geom(&l->b, &p->s->models[i], i, &l->cm, &l->cells, &l->err);
+    l->r = build_model_geom(&l->b, p->q ? &m : &p->s->models[i], i, &l->cm, &l->cells, &l->err);
+    if (p->q && !l->r) stream_attrs(p->q, &m, i, &l->cm, l->cells);
+    if (p->q) vx_svo_model_free(p->q->ma, &m);
     vx_free(l->b.a, l->b.tab); /* the local hash table: not needed by the merge */
     l->b.tab = NULL;
 }
 
 static vx_result build_geom_all(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
-                                unsigned threads, vx_error* err) {
+                                unsigned threads, stream* q, vx_error* err) {
     uint32_t n = s->model_count;
     const vx_allocator* a = d->alloc;
-    pmerge p = {.s = s, .c = c, .g = g};
+    pmerge p = {.s = s, .c = c, .g = g, .q = q};
     p.loc = vx_calloc(a, n, sizeof *p.loc);
     p.canon = vx_calloc(a, n, sizeof *p.canon);
     p.first = vx_calloc(a, n, sizeof *p.first);
@@ -1216,6 +1302,10 @@ static vx_result build_geom_all(const vx_compact_desc* d, const vx_svo_scene* s,
         !p.res || !p.errs)
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' geometry", n);
     if (!r) vx_run_jobs(threads, n, pm_build_job, &p);
+    if (!r && q && q->r) {
+        r = q->r;
+        if (err) *err = q->err;
+    }
     double t_merge = vx_time_now();
     uint64_t blocks = 0;
     uint32_t top = 0;
@@ -1282,9 +1372,9 @@ static vx_result build_geom_all(const vx_compact_desc* d, const vx_svo_scene* s,
 }
 
 static vx_result build_geom_parallel(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c, builder* g,
-                                     unsigned threads, vx_error* err) {
+                                     unsigned threads, stream* q, vx_error* err) {
     uint32_t n = s->model_count;
-    geom_jobs j = {.s = s, .c = c, .g = g, .window = 2 * threads, .err = err};
+    geom_jobs j = {.s = s, .c = c, .g = g, .window = 2 * threads, .err = err, .q = q};
     j.loc = vx_calloc(d->alloc, n, sizeof *j.loc);
     j.built = vx_calloc(d->alloc, n, sizeof *j.built);
     if (!j.loc || !j.built) {
@@ -1296,12 +1386,16 @@ static vx_result build_geom_parallel(const vx_compact_desc* d, const vx_svo_scen
     for (uint32_t i = 0; i < n; i++) local_free(&j.loc[i]); /* those built past a failure */
     vx_free(d->alloc, j.loc);
     vx_free(d->alloc, (void*)j.built);
+    if (!j.r && q && q->r) { /* the reader's failure (a merge's is reported first) */
+        j.r = q->r;
+        if (err) *err = q->err;
+    }
     return j.r;
 }
 
-vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_compact_scene* out,
-                           vx_error* err) {
-    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+/* vx_compact_build of s, or with rd, of the reader's models (s its graph). */
+static vx_result build_core(const vx_compact_desc* desc_in, const vx_svo_scene* s, vx_svo_model_reader* rd,
+                            const vx_allocator* model_alloc, vx_compact_scene* out, vx_error* err) {
     vx_compact_desc d = vx_compact_desc_defaults();
     if (desc_in) {
         d.alloc = desc_in->alloc;
@@ -1336,14 +1430,36 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
      * (the canonical words of both blocks at each probe, the passes); with
      * few threads the merge in model order beside the builds is faster */
     bool all = d.merge == VX_COMPACT_MERGE_ALL || (d.merge == VX_COMPACT_MERGE_AUTO && threads >= VX_COMPACT_MERGE_ALL_THREADS);
+    stream q = {.rd = rd, .ma = model_alloc, .d = &d, .aj = {.d = &d, .s = s, .c = &c}};
+    uint32_t n = s->model_count;
+    if (rd) {
+        pthread_mutex_init(&q.lock, NULL);
+        q.aj.part = vx_calloc(d.alloc, n ? n : 1, sizeof *q.aj.part);
+        q.aj.res = vx_calloc(d.alloc, n ? n : 1, sizeof *q.aj.res);
+        q.aj.errs = vx_calloc(d.alloc, n ? n : 1, sizeof *q.aj.errs);
+        if (!r && (!q.aj.part || !q.aj.res || !q.aj.errs))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+    }
     if (!r && threads > 1)
-        r = b.use_dict || !all ? build_geom_parallel(&d, s, &c, &b, threads, err) : build_geom_all(&d, s, &c, &b, threads, err);
-    for (uint32_t i = 0; !r && threads <= 1 && i < s->model_count; i++) {
+        r = b.use_dict || !all ? build_geom_parallel(&d, s, &c, &b, threads, rd ? &q : NULL, err)
+                               : build_geom_all(&d, s, &c, &b, threads, rd ? &q : NULL, err);
+    for (uint32_t k = 0; !r && threads <= 1 && k < n; k++) {
+        uint32_t i = k;
+        vx_svo_model m;
+        if (rd && !stream_take(&q, n, &i, &m)) {
+            r = q.r;
+            if (err) *err = q.err;
+            break;
+        }
         vx_compact_model* cm = &c.models[i];
         uint64_t cells = 0;
-        if ((r = build_model_geom(&b, &s->models[i], i, cm, &cells, err))) break;
-        if ((r = model_cells(cm, cells, i, err))) break;
+        r = build_model_geom(&b, rd ? &m : &s->models[i], i, cm, &cells, err);
+        if (!r) r = model_cells(cm, cells, i, err);
+        if (!r && rd) stream_attrs(&q, &m, i, cm, cells);
+        if (rd) vx_svo_model_free(model_alloc, &m);
     }
+    /* the file's last checks (the NODE checksum) before the layout is made of its models */
+    if (!r && rd) r = vx_svo_reader_finish(rd, err);
     c.stats.geom_seconds = vx_time_now() - tg;
     c.stats.geom_threads = threads > 1 ? threads : 1;
     vx_free(d.alloc, b.tab);
@@ -1352,8 +1468,16 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     b.dtab = NULL;
     if (!r) r = assemble(&b, &c, err);
     double ta = vx_time_now();
-    if (!r) r = build_all_attrs(&d, s, &c, err);
+    if (!r && rd) r = place_attrs(&d, &c, &q.aj, err); /* built beside the geometry */
+    else if (!r) r = build_all_attrs(&d, s, &c, err);
     c.stats.attr_seconds = vx_time_now() - ta;
+    if (rd) {
+        for (uint32_t i = 0; q.aj.part && i < n; i++) vx_free(d.alloc, q.aj.part[i].attr);
+        vx_free(d.alloc, q.aj.part);
+        vx_free(d.alloc, q.aj.res);
+        vx_free(d.alloc, q.aj.errs);
+        pthread_mutex_destroy(&q.lock);
+    }
     vx_free(d.alloc, b.dict);
     vx_free(d.alloc, b.meta);
     vx_free(d.alloc, b.rank);
@@ -1364,6 +1488,18 @@ vx_result vx_compact_build(const vx_compact_desc* desc_in, const vx_svo_scene* s
     }
     *out = c;
     return VX_OK;
+}
+
+vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, vx_compact_scene* out, vx_error* err) {
+    if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return build_core(desc, s, NULL, NULL, out, err);
+}
+
+vx_result vx_compact_build_reader(const vx_compact_desc* desc, vx_svo_model_reader* rd, vx_compact_scene* out,
+                                  vx_error* err) {
+    if (!rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    const vx_svo_scene* s = vx_svo_reader_scene(rd);
+    return build_core(desc, s, rd, s->alloc, out, err); /* the models come in the graph's allocator */
 }
 
 /* ---- lookup (the CPU form of the shader's walk) -------------------------------------- */

@@ -202,6 +202,17 @@ typedef struct vx_compact_scene {
  * tracer uploads them). *out owns its arrays (vx_compact_free). s must be
  * valid (vx_svo_validate_scene). */
 vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, vx_compact_scene* out, vx_error* err);
+/* The same layout, byte for byte, from a model reader (svo/svo.h) that has
+ * handed over no model yet: the models are taken from it in turn (on the
+ * build's threads, each while another is read) and each is freed once its
+ * geometry and attribute region are built, so the host holds the layout and
+ * the models in hand (one per thread) instead of the scene; the reader is
+ * finished (vx_svo_reader_finish) before the layout is made. On failure
+ * (a model the reader refuses: the error names the file and the model)
+ * nothing is left built; the reader cannot be used further. The scene must
+ * be valid as vx_compact_build's (the reader validates every model). */
+vx_result vx_compact_build_reader(const vx_compact_desc* desc, vx_svo_model_reader* rd, vx_compact_scene* out,
+                                  vx_error* err);
 void vx_compact_free(vx_compact_scene* c);
 /* Joins the per-model attribute regions (vx_compact_desc.attr_regions) into
  * attr, freeing each as it is copied; nothing to do without them. */

@@ -350,6 +350,18 @@ enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_
  * the scene. */
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, const vx_render_scene_desc* desc,
                                     vx_render_scene** out, vx_error* err);
+/* vx_render_scene_create_ex of the scene a model reader (svo/svo.h) gives,
+ * that has handed over no model yet. With the compact layout (as AUTO picks
+ * it from the models' declared counts, or asked for) the layout is built
+ * model by model (vx_compact_build_reader): the host holds the layout and
+ * the models in hand, not the scene (the 65536^3 helmet: 86 GiB read whole).
+ * A compact layout over the memory budget is refused (VX_ERR_LIMIT: paging
+ * and the brick dictionary's second build need the models); AUTO's brick
+ * dictionary is not tried. The plain layout reads the scene whole first.
+ * The reader is used up either way (finished on success); the graph
+ * (vx_svo_reader_scene) then has its bounds and cells' boxes. */
+vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader, const vx_render_scene_desc* desc,
+                                        vx_render_scene** out, vx_error* err);
 typedef struct vx_render_layout_info {
     vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
     uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */

@@ -251,7 +251,14 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     uint32_t wo = 0, co = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
-        vx_svo_model_cell_box(m, &rs->mcells[6 * i], &rs->mcells[6 * i + 3]);
+        if (m->node_count && !m->nodes) { /* a model reader's graph: the box its validation found (else the cube) */
+            for (int k = 0; k < 3; k++) {
+                rs->mcells[6 * i + k] = m->check.digest ? m->check.min[k] : 0;
+                rs->mcells[6 * i + 3 + k] = m->check.digest ? m->check.max[k] : m->size[k];
+            }
+        } else {
+            vx_svo_model_cell_box(m, &rs->mcells[6 * i], &rs->mcells[6 * i + 3]);
+        }
         if (!plain) {
             /* what the instance tables and checks read of a model; no words */
             gm[i] = (vx__gpu_model){.depth = m->depth, .root = m->root, .root_attr = m->root_attr};
@@ -682,9 +689,10 @@ vx_result vx_render_scene_create(vx_gpu* gpu, const vx_svo_scene* s, vx_render_s
     return vx_render_scene_create_ex(gpu, s, NULL, out, err);
 }
 
-vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
-                                    vx_render_scene** out, vx_error* err) {
-    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+/* The layout create_ex takes for s (AUTO decided), from the models' declared
+ * counts and depths only (a model reader's graph serves). */
+static vx_result choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc, vx_render_layout_info* out,
+                               uint32_t* depth, uint64_t* range_out, vx_error* err) {
     vx_result r = vx__check_scene(s, err);
     uint32_t max_depth = 0;
     if (r || (r = drawn_depth(gpu, s, &max_depth, err))) return r;
@@ -710,9 +718,16 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     if (li.layout == VX_RENDER_LAYOUT_AUTO)
         li.layout = (li.plain_bytes > li.budget || !plain_fits) && compact_ok ? VX_RENDER_LAYOUT_COMPACT
                                                                               : VX_RENDER_LAYOUT_PLAIN;
-    bool plain = li.layout == VX_RENDER_LAYOUT_PLAIN;
+    *out = li;
+    *depth = max_depth;
+    *range_out = range;
+    return VX_OK;
+}
+
+static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_layout_info* li, uint64_t range,
+                                  uint32_t max_depth) {
     vx_render_scene* rs = vx_calloc(&gpu->alloc, 1, sizeof *rs);
-    if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!rs) return NULL;
     rs->gpu = gpu;
     rs->alloc = gpu->alloc;
     rs->buffer_range = range;
@@ -724,7 +739,21 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
-    rs->layout = li;
+    rs->layout = *li;
+    return rs;
+}
+
+vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                    vx_render_scene** out, vx_error* err) {
+    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_render_layout_info li;
+    uint32_t max_depth = 0;
+    uint64_t range = 0;
+    vx_result r = choose_layout(gpu, s, desc, &li, &max_depth, &range, err);
+    if (r) return r;
+    bool plain = li.layout == VX_RENDER_LAYOUT_PLAIN;
+    vx_render_scene* rs = new_scene(gpu, s, &li, range, max_depth);
+    if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if ((r = prepare_models(rs, s, plain, err)) || (r = prepare_instances(rs, s, err))) {
         vx_render_scene_destroy(rs);
         return r;
@@ -785,6 +814,88 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
         rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
     }
+    *out = rs;
+    return VX_OK;
+}
+
+/* The reader's models into a copy of its graph: the whole scene, for the
+ * plain layout (its node words are the models' own). */
+static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_svo_scene* out, vx_error* err) {
+    vx_result r = vx_svo_reader_copy_graph(rd, a, out, err);
+    const vx_svo_scene* g = vx_svo_reader_scene(rd);
+    for (;;) {
+        uint32_t i = 0;
+        vx_svo_model m;
+        if (r || (r = vx_svo_reader_next(rd, &i, &m, err)) || i >= g->model_count) break;
+        out->models[i] = m; /* in place of its declared fields (no arrays) */
+    }
+    if (!r) r = vx_svo_reader_finish(rd, err);
+    if (!r) {
+        memcpy(out->bounds_min, g->bounds_min, sizeof out->bounds_min);
+        memcpy(out->bounds_max, g->bounds_max, sizeof out->bounds_max);
+        for (uint32_t i = 0; i < g->model_count; i++) out->models[i].check = g->models[i].check;
+    } else {
+        vx_svo_scene_free(out);
+    }
+    return r;
+}
+
+vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_render_scene_desc* desc,
+                                        vx_render_scene** out, vx_error* err) {
+    if (!gpu || !rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    const vx_svo_scene* s = vx_svo_reader_scene(rd);
+    vx_render_layout_info li;
+    uint32_t max_depth = 0;
+    uint64_t range = 0;
+    vx_result r = choose_layout(gpu, s, desc, &li, &max_depth, &range, err);
+    if (r) return r;
+    if (li.layout == VX_RENDER_LAYOUT_PLAIN) {
+        vx_svo_scene whole;
+        if ((r = read_whole(rd, &gpu->alloc, &whole, err))) return r;
+        r = vx_render_scene_create_ex(gpu, &whole, desc, out, err);
+        vx_svo_scene_free(&whole);
+        return r;
+    }
+    /* the compact layout from the models in turn; the graph's bounds and cells' boxes are known after */
+    vx_compact_scene c;
+    uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
+    vx_compact_desc cd = {.alloc = &gpu->alloc, .attr_regions = true,
+                          .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+    double t0 = vx_time_now();
+    if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
+    double t1 = vx_time_now();
+    uint64_t bytes = 4ull * c.geom_words + 4ull * c.attr_words;
+    if (bytes > li.budget) {
+        vx_compact_free(&c);
+        /* the brick dictionary's second build and the pages are made from the models, which are gone */
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "the compact layout (%.1f MB) exceeds the memory budget (%.1f MB): a scene loaded model by model "
+                       "is not paged; read it whole (vx_render_scene_create_ex) to page it",
+                       bytes / 1e6, li.budget / 1e6);
+    }
+    vx_render_scene* rs = new_scene(gpu, s, &li, range, max_depth);
+    if (!rs) {
+        vx_compact_free(&c);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    rs->smap_state = SMAP_NEVER;
+    rs->layout.build_seconds = t1 - t0;
+    rs->layout.attr_seconds = c.stats.attr_seconds;
+    rs->layout.geom_seconds = c.stats.geom_seconds;
+    rs->layout.geom_threads = c.stats.geom_threads;
+    rs->layout.brick_dict = c.brick_dict;
+    rs->layout.compact_bytes = bytes;
+    rs->layout.geom_bytes = 4ull * c.geom_words;
+    if (!(r = prepare_models(rs, s, false, err)) && !(r = prepare_instances(rs, s, err)))
+        r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
+    rs->layout.upload_seconds = vx_time_now() - t1;
+    vx_compact_free(&c);
+    if (r) {
+        vx_render_scene_destroy(rs);
+        return r;
+    }
+    rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
+    rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
     *out = rs;
     return VX_OK;
 }

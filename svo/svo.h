@@ -585,6 +585,60 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
                       vx_error* err);
 vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_svo_scene* out, vx_error* err);
 
+/* ---- models one at a time ----------------------------------------------------------------
+ * A file read without holding its scene: the scene graph first (instances,
+ * layers, palette, materials, lights, frames, and every model's declared
+ * fields: size, depth, attrs, counts, root), then the models in model order,
+ * each decoded and validated as vx_svo_read validates it before it is handed
+ * over and owned by the caller from then on. A consumer that builds its own
+ * form of each model (render/compact.h's vx_compact_build_reader) holds that
+ * form plus the models in hand instead of the whole scene (the 65536^3
+ * helmet: 86 GiB read whole). The file is mapped and each model's stream
+ * leaves the process's memory once decoded.
+ *
+ *   vx_svo_model_reader* rd; vx_svo_reader_open(NULL, path, &rd, &err);
+ *   const vx_svo_scene* g = vx_svo_reader_scene(rd);      // no trees
+ *   for (;;) { uint32_t i; vx_svo_model m;
+ *              if (vx_svo_reader_next(rd, &i, &m, &err)) break;   // error
+ *              if (i == g->model_count) break;                     // the end
+ *              ... use model i ...; vx_svo_model_free(alloc, &m); }
+ *   vx_svo_reader_finish(rd, &err);   // the NODE checksum, the bounds
+ *   vx_svo_reader_close(rd);
+ *
+ * Errors name the file (and the model where one failed); after one, next
+ * and finish fail. A scene is read only once finish succeeds: a model that
+ * validated may still belong to a file whose NODE checksum (summed as the
+ * models are taken) does not match, so a consumer discards what it built
+ * from the models when finish fails. */
+typedef struct vx_svo_model_reader vx_svo_model_reader;
+/* Maps the file (or, where it cannot be mapped, reads it), checks the
+ * header, the table, every section's CRC but NODE's, parses the scene graph
+ * and checks the scene's own rules. desc: alloc, skip_checksums,
+ * max_file_bytes and threads (the CPUs the models' decoding shares) as
+ * vx_svo_read's; chunk_stats is not filled. */
+vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_svo_model_reader** out, vx_error* err);
+/* The scene graph, owned by the reader: model i's arrays are NULL and its
+ * counts the declared ones; its check (the cells' box and digest) is set
+ * once model i was handed over; the bounds (where the file leaves them to
+ * the reader) once finish succeeded. */
+const vx_svo_scene* vx_svo_reader_scene(const vx_svo_model_reader* r);
+/* The next model in model order: *index its index and *out the model (its
+ * arrays allocated with desc->alloc; free them with vx_svo_model_free), or
+ * *index = model_count and *out zeroed once every model has been taken.
+ * Thread-safe: concurrent calls take the next models in order (the stream
+ * table under a lock) and decode them at once, each on its share of the
+ * CPUs. On failure *out is zeroed and nothing is held for the caller. */
+vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_model* out, vx_error* err);
+/* After every model was handed over: the NODE section ends after the last
+ * stream and its CRC matches, and the scene's computed bounds are set. */
+vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err);
+/* A copy of the graph as it is now (models without arrays, their checks and
+ * the bounds as far as read), allocated with alloc and owned by the caller
+ * (vx_svo_scene_free): for code that keeps the scene graph past the reader,
+ * or fills the models in as they come (a whole scene from the reader). */
+vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_allocator* alloc, vx_svo_scene* out, vx_error* err);
+void vx_svo_reader_close(vx_svo_model_reader* r);
+
 /* Serialises a scene (validated first). *out_data is freed with vx_free(alloc, ...). */
 vx_result vx_svo_write(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);

@@ -264,6 +264,13 @@ void vx__svo_split_free(vx__svo_split* d);
  * descriptor, structural channels only, at least split_min words (0: never). */
 bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t split_min);
 
+/* One model of the NODE section: model mi's stream p[0, n) (base: its file
+ * offset) decoded into m (its declared fields set, as read_scne sets them),
+ * chunked as SCNE marks it (0, 1, 2 or 3 the split form, as vx__svo_pack_read's), on up to
+ * `threads` threads within the model; ext and rebuilt as vx__svo_pack_read's
+ * for this model (both or neither). The model is not validated here. */
+vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
+                             const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
 /* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
  * sections' checksums are one thread's pass over the whole file, about
  * 0.2 s for the 311 MB helmet with slicing-by-8. */

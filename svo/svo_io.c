@@ -5,12 +5,18 @@
  * small scene costs a few dozen bytes; node words and attribute records are
  * range-coded in NODE (svo_pack.c), mostly as the bare DAG structure. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* madvise(MADV_DONTNEED): the model reader drops decoded streams */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 
 #include "svo/svo_internal.h"
 
@@ -802,6 +808,39 @@ static vx_result read_frms(const uint8_t* d, const sec* fs, vx_svo_scene* s, vx_
     return VX_OK;
 }
 
+/* The known sections of a file's table in known[] (each at most once, none
+ * newer than the file's version, an unknown required one refused), their
+ * CRCs verified unless skip_crc; with skip_node_crc the NODE section's is
+ * left to the caller (the model reader's pass over it, in model order). */
+static vx_result check_sections(const uint8_t* d, const sec* secs, uint32_t count, uint32_t version, bool skip_crc, bool skip_node_crc,
+                                const sec* known[S_COUNT], vx_error* err) {
+    for (uint32_t i = 0; i < count; i++) {
+        const sec* e = &secs[i];
+        int ti = tag_index(e->tag);
+        char tg[5];
+        tag_str(e->tag, tg);
+        if (ti < 0) {
+            if (e->flags & SEC_REQUIRED)
+                return vx_fail(err, VX_ERR_UNSUPPORTED, e->offset, "svo: section %s is marked required but unknown to this reader", tg);
+            continue; /* unknown optional sections are skipped */
+        }
+        if (known[ti]) return vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s appears twice", tg);
+        if (SINCE[ti] > version)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s needs format version %u, the file says %u", tg,
+                           SINCE[ti], version);
+        if (!skip_crc && !(skip_node_crc && ti == S_NODE)) {
+            uint32_t c = vx__svo_crc32(0, d + e->offset, (size_t)e->size);
+            if (c != e->crc)
+                return vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
+                               tg, (unsigned long long)e->offset, c, e->crc);
+        }
+        known[ti] = e;
+    }
+    if (!known[S_SCNE] || !known[S_NODE])
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: the %s section is missing", known[S_SCNE] ? "NODE" : "SCNE");
+    return VX_OK;
+}
+
 vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t size, vx_svo_scene* out, vx_error* err) {
     vx_svo_read_desc rdd;
     if (desc) rdd = *desc;
@@ -821,41 +860,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if (r != VX_OK) return r;
 
     const sec* known[S_COUNT] = {0};
-    for (uint32_t i = 0; i < count; i++) {
-        const sec* e = &secs[i];
-        int ti = tag_index(e->tag);
-        char tg[5];
-        tag_str(e->tag, tg);
-        if (ti < 0) {
-            if (e->flags & SEC_REQUIRED) {
-                r = vx_fail(err, VX_ERR_UNSUPPORTED, e->offset, "svo: section %s is marked required but unknown to this reader", tg);
-                goto fail;
-            }
-            continue; /* unknown optional sections are skipped */
-        }
-        if (known[ti]) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s appears twice", tg);
-            goto fail;
-        }
-        if (SINCE[ti] > version) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s needs format version %u, the file says %u", tg,
-                        SINCE[ti], version);
-            goto fail;
-        }
-        if (!rdd.skip_checksums) {
-            uint32_t c = vx__svo_crc32(0, d + e->offset, (size_t)e->size);
-            if (c != e->crc) {
-                r = vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
-                            tg, (unsigned long long)e->offset, c, e->crc);
-                goto fail;
-            }
-        }
-        known[ti] = e;
-    }
-    if (!known[S_SCNE] || !known[S_NODE]) {
-        r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: the %s section is missing", known[S_SCNE] ? "NODE" : "SCNE");
-        goto fail;
-    }
+    if ((r = check_sections(d, secs, count, version, rdd.skip_checksums, false, known, err)) != VX_OK) goto fail;
     int bounds_form = BOUNDS_COMPUTED;
     if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
     /* the validation's extents give the bounds of form 0 without another
@@ -914,6 +919,320 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
     vx_free(A, data);
     return r;
 }
+
+/* ---- models one at a time ------------------------------------------------------------
+ * The file is mapped, not read: the sections but NODE are parsed at open,
+ * and each model's stream is read from the map when its model is asked for,
+ * its whole pages dropped from the process (MADV_DONTNEED) once decoded, so
+ * the host holds the models being decoded and not the file (the 65536^3
+ * helmet's file is 20.7 GB). The NODE section's CRC is summed in model order
+ * as the streams are taken (under the lock) and checked by finish. */
+struct vx_svo_model_reader {
+    vx_allocator alloc;
+    const vx_allocator* A; /* &alloc, or NULL for the default */
+    char* path;
+    uint8_t* data; /* the map, or (no map) the file read whole */
+    size_t size;
+    bool mapped;
+    bool skip_crc;
+    vx_svo_scene s; /* the scene graph: models without their arrays */
+    uint8_t* chunked;
+    int bounds_form;
+    vx__svo_extent* ext;
+    const uint8_t* node; /* the NODE section */
+    size_t node_n;
+    uint64_t node_base;
+    uint32_t node_crc; /* as the table says */
+    unsigned cpus;
+    pthread_mutex_t lock;
+    /* under lock: */
+    size_t pos;    /* in NODE: the next model's length varint */
+    uint32_t next; /* the next model to hand over */
+    uint32_t crc;  /* of NODE[0, pos) */
+    bool failed;   /* a model or the stream table failed: nothing more is handed over */
+    uint32_t done; /* models decoded and validated */
+    unsigned active; /* calls decoding now (they share the CPUs) */
+};
+
+static void reader_free(vx_svo_model_reader* r) {
+    if (!r) return;
+    const vx_allocator* A = r->A;
+    if (r->mapped) munmap(r->data, r->size);
+    else vx_free(A, r->data);
+    vx_svo_scene_free(&r->s);
+    vx_free(A, r->chunked);
+    vx_free(A, r->ext);
+    vx_free(A, r->path);
+    pthread_mutex_destroy(&r->lock);
+    vx_free(A, r);
+}
+
+/* The file's bytes: mapped where it can be (a regular file), else read. */
+static vx_result reader_map(vx_svo_model_reader* r, const char* path, uint64_t max, vx_error* err) {
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        if ((uint64_t)st.st_size > max || (uint64_t)st.st_size > SIZE_MAX) {
+            close(fd);
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%s: %llu bytes, more than the %llu allowed", path,
+                           (unsigned long long)st.st_size, (unsigned long long)max);
+        }
+        void* m = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+        close(fd);
+        if (m != MAP_FAILED) {
+            /* read once, front to back (the streams in model order): read-ahead, pages freed behind */
+            (void)madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
+            r->data = (uint8_t*)m;
+            r->size = (size_t)st.st_size;
+            r->mapped = true;
+            return VX_OK;
+        }
+    } else if (fd >= 0) {
+        close(fd);
+    }
+    vx_result res = vx_file_read(path, r->A, max, &r->data, &r->size, err);
+    if (res != VX_OK) vx_error_prefix(err, path);
+    return res;
+}
+
+vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_svo_model_reader** out, vx_error* err) {
+    if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    *out = NULL;
+    vx_svo_read_desc rdd;
+    if (desc) rdd = *desc;
+    else memset(&rdd, 0, sizeof rdd);
+    vx_svo_model_reader* r = (vx_svo_model_reader*)vx_calloc(rdd.alloc, 1, sizeof *r);
+    size_t plen = strlen(path);
+    if (!r) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    if (rdd.alloc) r->alloc = *rdd.alloc, r->A = &r->alloc;
+    const vx_allocator* A = r->A;
+    pthread_mutex_init(&r->lock, NULL);
+    vx_svo_scene_init(&r->s, A);
+    r->skip_crc = rdd.skip_checksums;
+    r->cpus = vx__svo_cpus(rdd.threads);
+    sec* secs = NULL;
+    uint32_t version, count;
+    vx_result res;
+    if (!(r->path = (char*)vx_alloc(A, plen + 1))) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto fail;
+    }
+    memcpy(r->path, path, plen + 1);
+    if ((res = reader_map(r, path, rdd.max_file_bytes ? rdd.max_file_bytes : UINT64_MAX, err)) != VX_OK) {
+        reader_free(r);
+        return res;
+    }
+    const uint8_t* d = r->data;
+    const sec* known[S_COUNT] = {0};
+    if ((res = load_table(d, r->size, A, &version, &count, &secs, err)) != VX_OK ||
+        (res = check_sections(d, secs, count, version, r->skip_crc, true, known, err)) != VX_OK)
+        goto fail;
+    r->bounds_form = BOUNDS_COMPUTED;
+    if ((res = read_scne(d, known, version, A, &r->s, &r->bounds_form, &r->chunked, err)) != VX_OK) goto fail;
+    if (r->s.model_count && !(r->ext = (vx__svo_extent*)vx_calloc(A, r->s.model_count, sizeof *r->ext))) {
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+        goto fail;
+    }
+    r->node = d + known[S_NODE]->offset;
+    r->node_n = (size_t)known[S_NODE]->size;
+    r->node_base = known[S_NODE]->offset;
+    r->node_crc = known[S_NODE]->crc;
+    if (!r->s.model_count && r->node_n) {
+        res = vx_fail(err, VX_ERR_BAD_FORMAT, r->node_base, "svo: section NODE has %zu bytes but there are no models", r->node_n);
+        goto fail;
+    }
+    if ((known[S_PALT] && (res = read_palt(d, known[S_PALT], &r->s, err)) != VX_OK) ||
+        (known[S_MATL] && (res = read_matl(d, known[S_MATL], A, &r->s, err)) != VX_OK) ||
+        (known[S_LGHT] && (res = read_lght(d, known[S_LGHT], A, &r->s, err)) != VX_OK) ||
+        (known[S_FRMS] && (res = read_frms(d, known[S_FRMS], &r->s, err)) != VX_OK))
+        goto fail;
+    /* the scene's own rules now (the models' as they are read) */
+    if ((res = vx__svo_validate_scene_opt(&r->s, NULL, 1, false, NULL, err)) != VX_OK) {
+        if (res == VX_ERR_INVALID_ARG) res = VX_ERR_BAD_FORMAT;
+        if (err) err->code = res;
+        vx_error_prefix(err, "svo: structure");
+        goto fail;
+    }
+    vx_free(A, secs);
+    *out = r;
+    return VX_OK;
+fail:
+    vx_free(A, secs);
+    vx_error_prefix(err, path);
+    reader_free(r);
+    return res;
+}
+
+const vx_svo_scene* vx_svo_reader_scene(const vx_svo_model_reader* r) { return r ? &r->s : NULL; }
+
+/* Under the lock: the next model's stream from the stream table. */
+static vx_result reader_take(vx_svo_model_reader* r, uint32_t* mi, size_t* off, size_t* len, vx_error* err) {
+    const uint8_t* p = r->node;
+    size_t n = r->node_n, pos = r->pos, at = pos;
+    uint64_t base = r->node_base, v = 0;
+    *mi = r->next;
+    for (unsigned shift = 0;; shift += 7) {
+        if (pos >= n)
+            return vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream length cut off",
+                           (unsigned long long)(base + at), *mi);
+        uint8_t c = p[pos++];
+        if (shift > 63 || (shift == 63 && (c & 0x7Eu)))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, base + at, "svo: section NODE at byte %llu: model %u: stream length overflows",
+                           (unsigned long long)(base + at), *mi);
+        v |= (uint64_t)(c & 0x7Fu) << shift;
+        if (!(c & 0x80u)) break;
+    }
+    if (v > n - pos)
+        return vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream of %llu bytes, %zu left",
+                       (unsigned long long)(base + at), *mi, (unsigned long long)v, n - pos);
+    *off = pos;
+    *len = (size_t)v;
+    if (!r->skip_crc) r->crc = vx__svo_crc32(r->crc, p + at, pos + (size_t)v - at);
+    r->pos = pos + (size_t)v;
+    r->next++;
+    return VX_OK;
+}
+
+/* The whole pages of [p, p + n) out of the process (the map's; the page
+ * cache keeps them): a decoded model's stream is not read again. */
+static void reader_drop(const vx_svo_model_reader* r, const uint8_t* p, size_t n) {
+    if (!r->mapped) return;
+    long pg = sysconf(_SC_PAGESIZE);
+    if (pg <= 0) return;
+    uintptr_t a = ((uintptr_t)p + (uintptr_t)pg - 1) & ~((uintptr_t)pg - 1), b = ((uintptr_t)p + n) & ~((uintptr_t)pg - 1);
+    if (b > a) (void)madvise((void*)a, b - a, MADV_DONTNEED); /* advice only: a failure keeps the pages */
+}
+
+vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_model* out, vx_error* err) {
+    if (!r || !index || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    memset(out, 0, sizeof *out);
+    uint32_t mi = 0;
+    size_t off = 0, len = 0;
+    vx_result res = VX_OK;
+    unsigned share;
+    pthread_mutex_lock(&r->lock);
+    if (r->failed) {
+        pthread_mutex_unlock(&r->lock);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the model reader stopped at an earlier error", r->path);
+    }
+    if (r->next >= r->s.model_count) {
+        *index = r->s.model_count;
+        pthread_mutex_unlock(&r->lock);
+        return VX_OK;
+    }
+    if ((res = reader_take(r, &mi, &off, &len, err)) != VX_OK) {
+        r->failed = true;
+        pthread_mutex_unlock(&r->lock);
+        vx_error_prefix(err, r->path);
+        return res;
+    }
+    share = ++r->active;
+    pthread_mutex_unlock(&r->lock);
+    /* the calls decoding at once share the CPUs: each model its part of them */
+    unsigned threads = r->cpus / share ? r->cpus / share : 1;
+    vx_svo_model m = r->s.models[mi];
+    memset(&m.check, 0, sizeof m.check);
+    vx__svo_extent ext = {0}, tree = {0};
+    uint8_t rebuilt = 0;
+    res = vx__svo_unpack_one(r->node + off, len, r->node_base + off, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads,
+                             &tree, &rebuilt, err);
+    if (res == VX_OK) {
+        res = rebuilt == VX__SVO_SKIP_REBUILT ? vx__svo_check_rebuilt(&m, &tree, &ext, err)
+                                              : vx__svo_analyze_mt(&m, &ext, false, threads, err);
+        if (res != VX_OK) {
+            char p[32];
+            snprintf(p, sizeof p, "model %u", mi);
+            if (res == VX_ERR_INVALID_ARG) res = VX_ERR_BAD_FORMAT;
+            if (err) err->code = res;
+            vx_error_prefix(err, p);
+            vx_error_prefix(err, "svo: structure");
+        }
+    }
+    reader_drop(r, r->node + off, len);
+    if (res == VX_OK) {
+        m.check.digest = vx_svo_model_digest(&m);
+        memcpy(m.check.min, ext.min, sizeof ext.min);
+        memcpy(m.check.max, ext.max, sizeof ext.max);
+        r->s.models[mi].check = m.check; /* the graph's copy: its cells' box, for the caller */
+        r->ext[mi] = ext;
+    } else {
+        vx_svo_model_free(r->A, &m);
+        vx_error_prefix(err, r->path);
+    }
+    pthread_mutex_lock(&r->lock);
+    r->active--;
+    if (res == VX_OK) r->done++;
+    else r->failed = true;
+    pthread_mutex_unlock(&r->lock);
+    if (res != VX_OK) return res;
+    *index = mi;
+    *out = m;
+    return VX_OK;
+}
+
+vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err) {
+    if (!r) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    pthread_mutex_lock(&r->lock);
+    bool failed = r->failed, all = r->done == r->s.model_count && r->active == 0;
+    size_t pos = r->pos;
+    uint32_t crc = r->crc;
+    pthread_mutex_unlock(&r->lock);
+    vx_result res = VX_OK;
+    if (failed) res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the model reader stopped at an earlier error");
+    else if (!all)
+        res = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%u of %u models read: finish after the last", r->done, r->s.model_count);
+    else if (pos != r->node_n)
+        res = vx_fail(err, VX_ERR_BAD_FORMAT, r->node_base + pos, "svo: section NODE: %zu bytes after the last model's stream",
+                      r->node_n - pos);
+    else if (!r->skip_crc && crc != r->node_crc)
+        res = vx_fail(err, VX_ERR_BAD_FORMAT, r->node_base, "svo: section NODE at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
+                      (unsigned long long)r->node_base, crc, r->node_crc);
+    if (res != VX_OK) {
+        vx_error_prefix(err, r->path);
+        return res;
+    }
+    if (r->bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&r->s, r->ext, r->s.bounds_min, r->s.bounds_max);
+    return VX_OK;
+}
+
+vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_allocator* alloc, vx_svo_scene* out, vx_error* err) {
+    if (!r || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    const vx_svo_scene* g = &r->s;
+    vx_svo_scene s = *g;
+    s.alloc = alloc;
+    s.models = NULL, s.instances = NULL, s.layers = NULL, s.materials = NULL, s.lights = NULL, s.frame_instances = NULL;
+    s.model_count = s.instance_count = s.layer_count = s.material_count = s.light_count = 0;
+    size_t frames = g->frame_instances && g->frame_count > 1 ? (size_t)(g->frame_count - 1) * g->instance_count : 0;
+    bool ok = (!g->model_count || (s.models = (vx_svo_model*)vx_alloc(alloc, g->model_count * sizeof *s.models))) &&
+              (!g->instance_count || (s.instances = (vx_svo_instance*)vx_alloc(alloc, g->instance_count * sizeof *s.instances))) &&
+              (!g->layer_count || (s.layers = (vx_svo_layer*)vx_alloc(alloc, g->layer_count * sizeof *s.layers))) &&
+              (!g->material_count || (s.materials = (vx_svo_material*)vx_calloc(alloc, g->material_count, sizeof *s.materials))) &&
+              (!g->light_count || (s.lights = (vx_light*)vx_alloc(alloc, g->light_count * sizeof *s.lights))) &&
+              (!frames || (s.frame_instances = (vx_svo_instance*)vx_alloc(alloc, frames * sizeof *s.frame_instances)));
+    if (ok) {
+        s.model_count = g->model_count, s.instance_count = g->instance_count, s.layer_count = g->layer_count;
+        s.material_count = g->material_count, s.light_count = g->light_count;
+        if (s.models) memcpy(s.models, g->models, g->model_count * sizeof *s.models); /* the graph's models hold no arrays */
+        if (s.instances) memcpy(s.instances, g->instances, g->instance_count * sizeof *s.instances);
+        if (s.layers) memcpy(s.layers, g->layers, g->layer_count * sizeof *s.layers);
+        if (s.lights) memcpy(s.lights, g->lights, g->light_count * sizeof *s.lights);
+        if (frames) memcpy(s.frame_instances, g->frame_instances, frames * sizeof *s.frame_instances);
+        for (uint32_t i = 0; ok && i < g->material_count; i++) {
+            s.materials[i] = g->materials[i];
+            s.materials[i].dict = NULL;
+            if (g->materials[i].dict_size && (ok = (s.materials[i].dict = (char*)vx_alloc(alloc, g->materials[i].dict_size)) != NULL))
+                memcpy(s.materials[i].dict, g->materials[i].dict, g->materials[i].dict_size);
+        }
+    }
+    if (!ok) {
+        vx_svo_scene_free(&s);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory for the scene graph");
+    }
+    *out = s;
+    return VX_OK;
+}
+
+void vx_svo_reader_close(vx_svo_model_reader* r) { reader_free(r); }
 
 /* ---- writing ------------------------------------------------------------------------------ */
 

@@ -2287,3 +2287,12 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     vx_free(A, len);
     return r;
 }
+
+vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
+                             const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+    if (chunked == 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, ext, rebuilt, err);
+    if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
+    /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
+    return unpack_model(p, n, base, m, mi, A, threads > 2 ? 2 : 0, ext, rebuilt, err);
+}

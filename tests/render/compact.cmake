@@ -36,3 +36,19 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
 endif()
+# The compact layout built model by model from a file (vx_compact_build_reader,
+# svo/svo.h's model reader): the whole-scene build's words, damaged models. CPU only.
+vx_add_test(test_compact_load SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_load.c
+            LIBS vx_trace vx_convert vx_formats vx_svo)
+if(TARGET vx_conv_mesh)
+  target_link_libraries(test_compact_load PRIVATE vx_conv_mesh)
+  target_compile_definitions(test_compact_load PRIVATE VX_TEST_HAVE_MESH)
+endif()
+# The render scene from a model reader (vx_render_scene_create_reader): the
+# whole read's frames pixel for pixel (lavapipe in CI).
+if(VX_WITH_VULKAN)
+  vx_add_test(test_compact_load_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_load_gpu.c
+              LIBS vx_render vx_trace vx_svo)
+  set_tests_properties(test_compact_load_gpu PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+endif()

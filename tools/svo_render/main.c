@@ -43,6 +43,7 @@ typedef struct options {
     vx_light lights[64]; /* --light */
     uint32_t light_count;
     bool sky_given, no_scene_lights, voxel_lights;
+    bool load_models; /* --load models: the models one at a time into the compact layout (where it applies) */
     vx_sky sky; /* --sky's */
     const vx_light* frame_lights; /* what the frame uses (gather_lights) */
     uint32_t frame_light_count;
@@ -160,6 +161,11 @@ _Noreturn static void usage(int status) {
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
+            "  --load M             how the file is read: whole (default) reads the scene first; models\n"
+            "                       takes the models one at a time into the compact layout where the GPU\n"
+            "                       single-shader modes render it in that layout without --gpu-budget (the\n"
+            "                       host holds the layout and a few models, not the scene; its frames timed\n"
+            "                       slower on the H200, docs/PERFORMANCE.md issue 18, branch load)\n"
             "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
@@ -558,6 +564,12 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
+        } else if (!strcmp(a, "--load")) {
+            NEED();
+            const char* l = argv[++i];
+            if (!strcmp(l, "whole")) o.load_models = false;
+            else if (!strcmp(l, "models")) o.load_models = true;
+            else usage_error("bad --load '%s' (models or whole)", l);
         } else if (!strcmp(a, "--layout")) {
             NEED();
             const char* l = argv[++i];
@@ -833,17 +845,29 @@ int main(int argc, char** argv) {
     vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
     vx_budget_init(&budget, o.max_memory, NULL);
     const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
-    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err))
+    /* --load models: the models one at a time into the GPU layout where the GPU scene is all that
+     * reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it may be
+     * compact; the scene graph (instances, lights, sky, frames) is read first. Not the default: its
+     * frames timed 4x slower on the H200, the cause not found (docs/PERFORMANCE.md, branch load) */
+    vx_svo_model_reader* rd = NULL;
+    bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
+                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
+    if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
+                        vx_svo_reader_copy_graph(rd, A, &owned, &err)
+                  : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
+        vx_svo_reader_close(rd);
         return vx_tool_error_budget(NULL, &err, &budget); /* the message names the file */
+    }
     double t_load = vx_time_now() - t0;
     if (o.verbose) {
         /* now, not after the frame: a scene too large for the next step still says what it took */
-        printf("read: %.3f s, peak host memory %s\n", t_load, vx_tool_bytes(vx_peak_rss()));
+        printf("read: %.3f s%s, peak host memory %s\n", t_load, rd ? " (the scene graph: the models come with the GPU scene)" : "",
+               vx_tool_bytes(vx_peak_rss()));
         fflush(stdout);
     }
     if (o.frame_last >= vx_svo_scene_frames(&owned)) {
         fprintf(stderr, "%s: %s: no frame %u (the scene has %u)\n", prog, o.in, o.frame_last, vx_svo_scene_frames(&owned));
-        vx_svo_scene_free(&owned);
+        vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
         return 1;
     }
     vx_svo_scene_frame(&owned, o.frame_first, &scene);
@@ -852,7 +876,7 @@ int main(int argc, char** argv) {
     uint32_t from_voxels = 0;
     if (gather_lights(&o, &scene, &frame_lights, &o.frame_light_count, &from_voxels, &err)) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
-        vx_svo_scene_free(&owned);
+        vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
         free(frame_lights), vx_free(NULL, sky_rgb);
         return 1;
     }
@@ -876,7 +900,7 @@ int main(int argc, char** argv) {
             float* px = NULL;
             if (vx_image_read(map, VX_IMAGE_F32, 0, &sky_map.width, &sky_map.height, &ch, (void**)&px, &err)) {
                 fprintf(stderr, "%s: %s: the sky's environment map: %s\n", prog, o.sky_given ? "--sky" : o.in, err.msg);
-                vx_svo_scene_free(&owned);
+                vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
                 free(frame_lights);
                 return 1;
             }
@@ -887,7 +911,7 @@ int main(int argc, char** argv) {
             vx_free(NULL, px);
             if (!sky_rgb) {
                 fprintf(stderr, "%s: %s: out of memory for the sky's environment map\n", prog, map);
-                vx_svo_scene_free(&owned);
+                vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
                 free(frame_lights);
                 return 1;
             }
@@ -915,7 +939,7 @@ int main(int argc, char** argv) {
     if (o.probes) {
         if (vx_probe_read_file(&(vx_probe_read_desc){.alloc = A}, o.probes, &probes, &err)) {
             vx_tool_error_budget(NULL, &err, &budget);
-            vx_svo_scene_free(&owned);
+            vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
             free(frame_lights), vx_free(NULL, sky_rgb);
             return 1;
         }
@@ -933,7 +957,7 @@ int main(int argc, char** argv) {
         if (!root) {
             vx_probe_set_free(&probes);
             free(frame_lights), vx_free(NULL, sky_rgb);
-            vx_svo_scene_free(&owned);
+            vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
             render_mpi_finalize(&mpi_end, &tl, tl_print);
             return 0;
         }
@@ -967,7 +991,29 @@ int main(int argc, char** argv) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
             double t1 = vx_time_now();
-            r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
+            if (rd) {
+                r = vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
+                if (!r) { /* the bounds (where the reader computes them) and the cells' boxes, known now */
+                    const vx_svo_scene* g = vx_svo_reader_scene(rd);
+                    memcpy(owned.bounds_min, g->bounds_min, sizeof owned.bounds_min);
+                    memcpy(owned.bounds_max, g->bounds_max, sizeof owned.bounds_max);
+                    for (uint32_t i = 0; i < owned.model_count; i++) owned.models[i].check = g->models[i].check;
+                    vx_svo_scene_frame(&owned, o.frame_first, &scene);
+                }
+                vx_svo_reader_close(rd);
+                rd = NULL;
+                if (r == VX_ERR_LIMIT) { /* over the budget: pages need the scene whole; read it again */
+                    if (o.verbose) printf("note: %s; the scene is read whole\n", err.msg);
+                    vx_svo_scene_free(&owned);
+                    r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
+                    if (!r) {
+                        vx_svo_scene_frame(&owned, o.frame_first, &scene);
+                        r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
+                    }
+                }
+            } else {
+                r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
+            }
             if (!r && o.verbose)
                 printf("gpu scene: %.3f s (layout built and uploaded), peak host memory %s\n", vx_time_now() - t1,
                        vx_tool_bytes(vx_peak_rss()));
@@ -980,7 +1026,13 @@ int main(int argc, char** argv) {
                    vx_render_layout_name(li.layout), li.brick_dict ? " (brick dictionary)" : "", li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
-            if (li.compact_bytes)
+            if (li.compact_bytes && by_models)
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s (the "
+                       "models read, their geometry and attributes on %u threads %.3f s, the regions placed %.3f s), "
+                       "tables and upload %.3f s\n",
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_threads,
+                       li.geom_seconds, li.attr_seconds, li.upload_seconds);
+            else if (li.compact_bytes)
                 printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (geometry %.3f s on %u threads, "
                        "attributes %.3f s), tables and upload %.3f s\n",
                        li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_seconds,
@@ -1002,7 +1054,7 @@ int main(int argc, char** argv) {
                 vx_probe_set_free(&probes);
                 vx_render_scene_destroy(rs);
                 vx_gpu_destroy(gpu);
-                vx_svo_scene_free(&owned);
+                vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
                 free(frame_lights), vx_free(NULL, sky_rgb);
                 return 0;
             }
@@ -1070,7 +1122,7 @@ int main(int argc, char** argv) {
         fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
-        vx_svo_scene_free(&owned);
+        vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
         free(frame_lights), vx_free(NULL, sky_rgb);
         return 1;
     }
@@ -1102,7 +1154,7 @@ int main(int argc, char** argv) {
     vx_render_image_free(&img);
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
-    vx_svo_scene_free(&owned);
+    vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
     free(frame_lights), vx_free(NULL, sky_rgb);
 #ifdef VX_HAVE_MPI
     if (mpi) render_mpi_finalize(&mpi_end, &tl, tl_print);

@@ -1,0 +1,158 @@
+/* tests/render/test_compact_load_gpu.c - the render scene from a model
+ * reader (vx_render_scene_create_reader, issue 18): the compact layout built
+ * model by model renders what vx_render_scene_create_ex of the scene read
+ * whole renders (the same instance, cell and colour per pixel, several
+ * views and modes), with the same layout sizes; AUTO's plain layout through
+ * the reader too; a compact layout past the memory budget is refused with
+ * nothing left; a damaged model names the file. Lavapipe in CI. */
+#define _POSIX_C_SOURCE 200809L
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "render/render.h"
+#include "svo/svo.h"
+#include "svo/svo_internal.h"
+#include "tests/gpu_test.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+static char g_dir[64];
+
+/* Region-like models: palette and RGBA, of several sizes and fills, each an instance on a grid. */
+static void make_many(vx_svo_scene* s, uint32_t nm) {
+    vx_svo_model* m = calloc(nm, sizeof *m);
+    vx_svo_instance* in = calloc(nm, sizeof *in);
+    for (uint32_t i = 0; i < nm; i++) {
+        uint32_t side = 6 + (i * 5) % 19, pct = i % 7 == 3 ? 100 : 8 + (i * 11) % 50;
+        REQUIRE(ts_random_model(&m[i], side, side, side - i % 2, pct, 31 + i) == VX_OK);
+        if (i % 3 == 1 && m[i].attr_count) {
+            m[i].rgba = malloc((size_t)m[i].attr_count * 4);
+            for (uint32_t a = 0; a < m[i].attr_count; a++) m[i].rgba[a] = 0xFF000000u | (m[i].palette[a] * 0x030507u);
+            free(m[i].palette);
+            m[i].palette = NULL;
+            m[i].attrs = VX_ATTR_RGBA8;
+        }
+        in[i] = ts_inst(i, NULL, 26.0 * (i % 5), 26.0 * (i / 5 % 5), 26.0 * (i / 25));
+    }
+    ts_scene(s, m, nm, in, nm);
+    free(m);
+    free(in);
+}
+
+static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const char* what) {
+    uint32_t bad = 0, n = a->width * a->height;
+    if (a->width != b->width || a->height != b->height) return UINT32_MAX;
+    for (uint32_t i = 0; i < n; i++)
+        bad += a->pixels[i] != b->pixels[i] || a->hits[i].instance != b->hits[i].instance ||
+               memcmp(a->hits[i].cell, b->hits[i].cell, sizeof a->hits[i].cell) != 0;
+    if (bad) fprintf(stderr, "%s: %u of %u pixels differ\n", what, bad, n);
+    return bad;
+}
+
+static void test_same_frames(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_many(&s, 60);
+    vx_error err = {0};
+    char path[128];
+    snprintf(path, sizeof path, "%s/many.svo", g_dir);
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_svo_scene whole;
+    REQUIRE(vx_svo_read_file(NULL, path, &whole, &err) == VX_OK);
+    for (int layout = VX_RENDER_LAYOUT_AUTO; layout <= VX_RENDER_LAYOUT_COMPACT; layout += 2) {
+        vx_render_scene_desc sd = {.layout = (vx_render_layout)layout};
+        vx_render_scene *ra = NULL, *rb = NULL;
+        vx_svo_model_reader* rd = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &whole, &sd, &ra, &err) == VX_OK);
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        vx_result r = vx_render_scene_create_reader(gpu, rd, &sd, &rb, &err);
+        CHECKF(r == VX_OK, "layout %d: %s", layout, err.msg);
+        vx_svo_reader_close(rd);
+        if (r) {
+            vx_render_scene_destroy(ra);
+            continue;
+        }
+        vx_render_layout_info la, lb;
+        vx_render_scene_layout(ra, &la);
+        vx_render_scene_layout(rb, &lb);
+        CHECKF(la.layout == lb.layout && la.bytes == lb.bytes && la.compact_bytes == lb.compact_bytes &&
+                   la.geom_bytes == lb.geom_bytes && la.plain_bytes == lb.plain_bytes && la.voxels == lb.voxels,
+               "layout %d: %s %llu bytes against %s %llu", layout, vx_render_layout_name(la.layout),
+               (unsigned long long)la.bytes, vx_render_layout_name(lb.layout), (unsigned long long)lb.bytes);
+        CHECK(layout != VX_RENDER_LAYOUT_COMPACT || lb.layout == VX_RENDER_LAYOUT_COMPACT);
+        for (int view = 0; view < 3; view++) {
+            vx_render_desc d = {.width = 96, .height = 72, .mode = view == 2 ? VX_RENDER_COLOR : VX_RENDER_ALBEDO,
+                                .want_hits = true};
+            if (view == 1) {
+                d.camera.set = true;
+                d.camera.fov = 60;
+                double eye[3] = {-20, -30, 70}, target[3] = {60, 60, 10};
+                memcpy(d.camera.eye, eye, sizeof eye);
+                memcpy(d.camera.target, target, sizeof target);
+            }
+            vx_render_image a = {0}, b = {0};
+            REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rb, &d, &b, &err) == VX_OK);
+            uint32_t hit = 0;
+            for (uint32_t i = 0; i < a.width * a.height; i++) hit += a.hits[i].instance != VX_RENDER_NO_HIT;
+            CHECKF(hit > a.width * a.height / 20, "view %d: %u pixels hit", view, hit);
+            CHECKF(differ(&a, &b, "reader against whole") == 0, "layout %d view %d: the frames differ", layout, view);
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+        }
+        vx_render_scene_destroy(ra);
+        vx_render_scene_destroy(rb);
+    }
+    /* past the budget: refused (paging needs the models), nothing left */
+    vx_svo_model_reader* rd = NULL;
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    vx_render_scene_desc small = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = 4096};
+    vx_result r = vx_render_scene_create_reader(gpu, rd, &small, &rs, &err);
+    CHECKF(r == VX_ERR_LIMIT && rs == NULL && strstr(err.msg, "budget"), "%d %s", (int)r, err.msg);
+    vx_svo_reader_close(rd);
+    vx_svo_scene_free(&whole);
+}
+
+static void test_damaged(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_many(&s, 9);
+    s.models[4].voxel_count += 3;
+    vx_error err = {0};
+    char path[128];
+    snprintf(path, sizeof path, "%s/damaged.svo", g_dir);
+    vx__svo_write_raw_unchecked = true;
+    vx_result wr = vx_svo_write_file(NULL, &s, path, &err);
+    vx__svo_write_raw_unchecked = false;
+    REQUIRE(wr == VX_OK);
+    vx_svo_scene_free(&s);
+    for (int layout = VX_RENDER_LAYOUT_AUTO; layout <= VX_RENDER_LAYOUT_COMPACT; layout += 2) {
+        vx_svo_model_reader* rd = NULL;
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        vx_result r = vx_render_scene_create_reader(gpu, rd, &(vx_render_scene_desc){.layout = (vx_render_layout)layout}, &rs, &err);
+        CHECKF(r == VX_ERR_BAD_FORMAT && rs == NULL && strstr(err.msg, path) && strstr(err.msg, "model 4"), "layout %d: %d %s",
+               layout, (int)r, err.msg);
+        vx_svo_reader_close(rd);
+    }
+}
+
+int main(void) {
+    snprintf(g_dir, sizeof g_dir, "/tmp/vx_load_gpuXXXXXX");
+    if (!mkdtemp(g_dir)) return 1;
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
+    RUN(test_same_frames);
+    RUN(test_damaged);
+    vx_gpu_destroy(gpu);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", g_dir);
+    return vx_test_finish();
+}
