@@ -18,7 +18,11 @@
  * --deflate: the chunks DEFLATEd at level 1 (format version 3,
  * vx_write_desc.svo_chunk_deflate) instead of zstd (version 4, the default).
  * --convert OUT.svo only writes the chunked copy of FILE (in the form the
- * flags above choose) and exits.
+ * flags above choose) and exits; --write-as OUT.svo the same in the form the
+ * flags give without --chunked too (the default: large models in the split
+ * form of version 5).
+ * --range: the writes (and --write-as) keep large structural models in the
+ * range-coded form of versions 1 and 2 (vx_write_desc.svo_range_coded).
  * --no-checks: the writes get the scene without the reader's checks
  * (vx_svo_model.check cleared), so they validate every model as the write of
  * a scene just built does (vox2svo).
@@ -64,6 +68,7 @@ int main(int argc, char** argv) {
     const char* only = "";
     bool chunked = false, stored = false, fast = false, deflate = false, no_checks = false;
     const char* convert = NULL;
+    bool write_as = false, range = false; /* --write-as: --convert in the form the options give; --range: svo_range_coded */
     int runs = 3;
     unsigned threads[8] = {1, 2};
     int nt = 2;
@@ -77,6 +82,8 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--deflate")) chunked = deflate = true;
         else if (!strcmp(argv[i], "--no-checks")) no_checks = true;
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
+        else if (!strcmp(argv[i], "--write-as") && i + 1 < argc) convert = argv[++i], write_as = true;
+        else if (!strcmp(argv[i], "--range")) range = true;
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
             for (char* s = argv[++i]; *s && nt < 8;) {
@@ -85,12 +92,12 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--no-checks] [--convert OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--convert OUT.svo | --write-as OUT.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--no-checks] [--convert OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--convert OUT.svo | --write-as OUT.svo]\n");
         return 2;
     }
     vx_error err;
@@ -117,9 +124,10 @@ int main(int argc, char** argv) {
     if (convert) {
         /* --convert: only write the chunked copy (every thread), for later --chunked runs */
         double t0 = vx_time_now();
-        vx_write_desc cd = {.svo_chunk_words = VX_SVO_CHUNK_WORDS, .svo_chunk_stored = stored, .svo_chunk_fast = fast, .svo_chunk_deflate = deflate};
+        vx_write_desc cd = {.svo_chunk_words = write_as ? chunk_words : VX_SVO_CHUNK_WORDS, .svo_chunk_stored = stored, .svo_chunk_fast = fast,
+                            .svo_chunk_deflate = deflate, .svo_range_coded = range};
         if (vx_svo_write_file(&cd, &sc, convert, &err) != VX_OK) die(convert, &err);
-        printf("wrote %s in the chunked form in %.2f s\n", convert, vx_time_now() - t0);
+        printf("wrote %s in the %s form in %.2f s\n", convert, cd.svo_chunk_words ? "chunked" : range ? "range-coded" : "default", vx_time_now() - t0);
         vx_svo_scene_free(&sc);
         vx_free(NULL, data);
         return 0;
@@ -174,7 +182,7 @@ int main(int argc, char** argv) {
             }
             if (do_write) {
                 vx_write_desc wd = {.threads = threads[ti], .svo_chunk_words = chunk_words, .svo_chunk_stored = stored, .svo_chunk_fast = fast,
-                                    .svo_chunk_deflate = deflate};
+                                    .svo_chunk_deflate = deflate, .svo_range_coded = range};
                 w[2][k] = c[2][k] = 0;
                 if (!file_only) {
                     uint8_t* o = NULL;

@@ -314,6 +314,15 @@ typedef struct vx_write_desc {
                                   of the bytes, docs/PERFORMANCE.md issue 18).
                                   svo_chunk_stored and svo_chunk_fast are
                                   version-3 forms too and win over it. */
+    bool svo_range_coded;      /* .svo: models of 2^20 words or more that are not
+                                  chunked in the range-coded form of versions
+                                  1 and 2 (what older readers read) instead of
+                                  the split form (docs/FORMAT.md 3.7, format
+                                  version 5, the default: the same DAG in zstd
+                                  byte streams that decode on every thread,
+                                  several times faster to read and write for
+                                  a few percent more bytes, docs/PERFORMANCE.md
+                                  issue 18). */
 } vx_write_desc;
 
 /* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of

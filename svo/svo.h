@@ -50,7 +50,7 @@ extern "C" {
  * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
  * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
  * without one keep the bytes of version 1 (docs/FORMAT.md 6). */
-#define VX_SVO_FORMAT_VERSION 4u
+#define VX_SVO_FORMAT_VERSION 5u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute
@@ -114,6 +114,12 @@ static inline void vx_svo_demorton(uint64_t k, uint32_t* x, uint32_t* y, uint32_
 typedef struct vx_svo_model_check {
     uint32_t digest;         /* vx_svo_model_digest of the model then; 0: not known */
     uint32_t min[3], max[3]; /* the box of its cells, max exclusive */
+    uint32_t structural;     /* nonzero: the reader rebuilt the model from the structural
+                                form (docs/FORMAT.md 3.4, 3.7) with these settings, the DAG
+                                in bit 16, the far limit in bits 0..15; a writer that finds
+                                the digest current codes one read with the DAG and no far
+                                limit (the builder's default) in that form without validating
+                                and rebuilding it again (docs/PERFORMANCE.md issue 18) */
 } vx_svo_model_check;
 
 typedef struct vx_svo_model {
@@ -661,6 +667,8 @@ typedef struct vx_svo_model_coded {
     bool chunked;             /* the stream is in the chunked form (FORMAT.md 3.6; by vx_write_desc.svo_chunk_words) */
     bool chunk_tagged;        /* chunked, with codec-tagged (zstd) chunks: format version 4 (not
                                  vx_write_desc.svo_chunk_deflate, _fast or _stored) */
+    bool split;               /* the stream is in the split form (FORMAT.md 3.7, format version 5: a
+                                 large structural model, unless vx_write_desc.svo_range_coded) */
 } vx_svo_model_coded;
 
 /* Validates m (as vx_svo_validate_model) and codes it: *stream (free with

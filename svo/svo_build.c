@@ -2061,6 +2061,7 @@ typedef struct unp {
     vx_error* err;
     /* with vx__svo_unpack_desc.tree: extents in done[].xt; those of height 7 and above here */
     bool want_xt;
+    bool ref_index; /* vx__svo_unpack_desc.ref_index */
     vx__svo_extent* big;
     size_t nbig, capbig;
 } unp;
@@ -2190,6 +2191,12 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                                            (unsigned long long)u->max_words));
             uint32_t ref, c;
             if (!u->src->next(u->src->user, VX__SYM_REF, level, &ref, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+            if (u->ref_index && ref) { /* 1 + the node's completion index: as a distance back */
+                if (ref - 1 >= u->ndone)
+                    return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                                               "svo: section NODE: reference to node %u but only %zu nodes precede it", ref - 1, u->ndone));
+                ref = (uint32_t)(u->ndone - (ref - 1));
+            }
             if (ref == 0) {
                 if (!unp_visit(u, level - 1, &c)) return false; /* level >= 2 here: level 1 children are leaves */
             } else if (ref > u->ndone) {
@@ -2263,7 +2270,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     outw o;
     memset(&o, 0, sizeof o);
-    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL};
+    unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL, .ref_index = d->ref_index};
     vx_svo_model m;
     memset(&m, 0, sizeof m);
     vx_result res = VX_OK;

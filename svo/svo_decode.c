@@ -720,8 +720,9 @@ void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, ui
     uint32_t n = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
-        /* the structural coder relies on a valid model: only chunked ones */
-        skip[i] = m->check.digest && vx__svo_model_chunked(m, chunk_min);
+        /* chunked models, and those the structural coder takes with the
+         * check's settings (its walk is safe on any words: ext_visit) */
+        skip[i] = m->check.digest && (vx__svo_model_chunked(m, chunk_min) || m->check.structural);
         n += skip[i];
     }
     uint32_t* d = n ? (uint32_t*)vx_calloc(alloc, s->model_count, sizeof *d) : NULL;

@@ -115,7 +115,8 @@ vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext,
  * validating the scene): the digests on up to `threads` threads. */
 void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads);
 /* The models the writer need not validate (skip[i] = 1, ext[i] from the
- * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) and
+ * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) or
+ * rebuilt by the reader from the structural form (check.structural), and
  * their check's digest current. alloc: the writer's (a failed allocation
  * leaves every model to the validation). */
 void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
@@ -161,6 +162,9 @@ typedef struct vx__svo_unpack_desc {
      * its level (the reader's check instead of the validation's walk:
      * vx__svo_check_rebuilt; the proof is in svo_build.c before xt_node). */
     vx__svo_extent* tree;
+    /* REF symbols are 0 (a new node) or 1 + the completion index of the node
+     * named (the split form, FORMAT.md 3.7) instead of a distance back. */
+    bool ref_index;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -188,23 +192,30 @@ extern size_t vx__svo_flush_bytes;
 /* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE, VX__CHUNK_STORED or
  * VX__CHUNK_FAST (words stored, records deflated) the chunked form of
  * version 3, VX__CHUNK_ZSTD the tagged chunks of version 4 (zstd) */
-enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3, VX__CHUNK_ZSTD = 4 };
+enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUNK_FAST = 3, VX__CHUNK_ZSTD = 4,
+       VX__CHUNK_SPLIT = 5 /* not chunked: the split form's stream (a form byte first, FORMAT.md 3.7) */ };
 /* The chunked mode a write desc asks for (VX__CHUNK_ZSTD for NULL). */
 int vx__svo_chunk_mode(const vx_write_desc* desc);
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out);
+/* trusted: m's check is current (vx__svo_trusted_models): a model the reader
+ * rebuilt from the structural form is coded in it with the check's settings
+ * and without the rebuild that proves the form. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
+/* split_min: vx__svo_model_split's; trusted (model_count entries, or NULL):
+ * the models whose check vx__svo_trusted_models found current */
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        int chunk_mode, const vx__svo_sink* sink);
+                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink);
 /* A guess of the bytes vx__svo_pack_write appends for s (without coding
  * anything): the file writer places NODE behind a header that holds its
  * size as a varint, and only that varint's length must come out right for
  * NODE to stay where it was written (svo_io.c write_file). */
-uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode);
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode, uint32_t split_min);
 /* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
- * DEFLATE chunks of version 3, 2 the tagged chunks of version 4 (NULL: none). */
+ * DEFLATE chunks of version 3, 2 the tagged chunks of version 4, or 3 the
+ * split form of version 5 (NULL: none). */
 /* ext, rebuilt (model_count entries each, or NULL): a model rebuilt from
  * the structural form gets rebuilt[i] = VX__SVO_SKIP_REBUILT and its tree's
  * extent in ext[i] (others: untouched), for the validation to check its
@@ -212,9 +223,50 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
 
+/* The split structural form (svo_split.c, FORMAT.md 3.7, version 5): the
+ * symbols of 3.4 in byte streams by kind and level class, each a zstd frame
+ * or stored. A model's SPLIT stream starts with a form byte: 0 the stream of
+ * 3.4 follows (a model the structural form cannot give back), 1 the split
+ * streams. Writers use it for models of VX__SPLIT_WORDS words or more unless
+ * vx_write_desc.svo_range_coded is set. */
+/* streams: 10 fixed (masks, references) and one per channel; zstd level 3:
+ * level 6 codes the benchmark terrain into 0.93 of the bytes but writes it
+ * 1.25-1.4x slower (docs/PERFORMANCE.md, ".svo I/O, tenth step") */
+enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3 };
+#define VX__SPLIT_WORDS (1u << 20)
+/* Test-only (like vx__svo_far_limit): the writers' split threshold,
+ * VX__SPLIT_WORDS; tests lower it to write small models in the split form. */
+extern uint32_t vx__svo_split_words;
+/* v, kind, ctx: the symbols of a model of `depth` levels (as the writer's
+ * walk gives them, references as distances); appends the bytes after the
+ * form byte to out. */
+bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
+                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
+/* The same from a walk that puts the symbols one by one (the trusted write:
+ * no symbol arrays): REF as 0 or 1 + the node's completion index. */
+typedef struct vx__svo_split_sink vx__svo_split_sink;
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A);
+void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+/* Codes the streams put so far (false: out of memory); the sink stays the caller's to free. */
+bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out);
+void vx__svo_split_sink_free(vx__svo_split_sink* k);
+typedef struct vx__svo_split vx__svo_split;
+/* Parses the streams after the form byte (p[0..n), base: its file offset),
+ * checks every length against m's declared node_count and decodes them on
+ * up to `threads` threads. */
+vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
+                             const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
+vx__svo_src vx__svo_split_src(vx__svo_split* d);
+/* After the reconstruction: every stream used up exactly. */
+vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err);
+void vx__svo_split_free(vx__svo_split* d);
+/* Whether a writer stores m in the split form: not chunked, a root
+ * descriptor, structural channels only, at least split_min words (0: never). */
+bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t split_min);
+
 /* One model of the NODE section: model mi's stream p[0, n) (base: its file
  * offset) decoded into m (its declared fields set, as read_scne sets them),
- * chunked as SCNE marks it (0, 1 or 2, as vx__svo_pack_read's), on up to
+ * chunked as SCNE marks it (0, 1, 2 or 3 the split form, as vx__svo_pack_read's), on up to
  * `threads` threads within the model; ext and rebuilt as vx__svo_pack_read's
  * for this model (both or neither). The model is not validated here. */
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,

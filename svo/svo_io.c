@@ -46,6 +46,8 @@ enum {
     VERSION_CHUNKED = 3,       /* the format version that introduced MODEL_CHUNKED */
     MODEL_TAGGED = 1u << 7,    /* model head, with MODEL_CHUNKED: each chunk starts with its codec byte (version 4) */
     VERSION_TAGGED = 4,        /* the format version that introduced MODEL_TAGGED (zstd chunks) */
+    MODEL_SPLIT = 1u << 8,     /* model head: its NODE stream is in the split form (version 5) */
+    VERSION_SPLIT = 5,         /* the format version that introduced MODEL_SPLIT */
     INST_NAMED = 1u << 2,      /* instance head: a name follows */
     FRMS_CHANGE_MIN = 7        /* smallest change record: gap, head, model, rotation byte, 3 translations */
 };
@@ -481,19 +483,24 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t v
         uint32_t mhead;
         if ((r = rd_var32(&rd, &mhead, S, "model head", err)) != VX_OK) return r;
         uint32_t known_bits = VX_ATTR_ALL | MODEL_SAME_SIZE | (version >= VERSION_CHUNKED ? MODEL_CHUNKED : 0u) |
-                              (version >= VERSION_TAGGED ? MODEL_TAGGED : 0u);
+                              (version >= VERSION_TAGGED ? MODEL_TAGGED : 0u) | (version >= VERSION_SPLIT ? MODEL_SPLIT : 0u);
         uint32_t unknown = mhead & ~known_bits;
         if (unknown)
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: unknown attribute bits 0x%x in the head%s",
                            (unsigned long long)at, i, unknown,
                            unknown == MODEL_CHUNKED   ? " (the chunked form needs format version 3)"
                            : unknown == MODEL_TAGGED || unknown == (MODEL_TAGGED | MODEL_CHUNKED) ? " (zstd chunks need format version 4)"
+                           : unknown == MODEL_SPLIT ? " (the split form needs format version 5)"
                                                       : "");
         if ((mhead & MODEL_TAGGED) && !(mhead & MODEL_CHUNKED))
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: codec-tagged chunks without the chunked form",
                            (unsigned long long)at, i);
+        if ((mhead & MODEL_SPLIT) && (mhead & MODEL_CHUNKED))
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u: both the split and the chunked form",
+                           (unsigned long long)at, i);
         m->attrs = mhead & VX_ATTR_ALL;
         if (mhead & MODEL_CHUNKED) (*chunked)[i] = mhead & MODEL_TAGGED ? 2 : 1;
+        if (mhead & MODEL_SPLIT) (*chunked)[i] = 3;
         if (mhead & MODEL_SAME_SIZE) {
             if (i == 0)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",
@@ -523,9 +530,9 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t v
         if ((m->attrs & VX_ATTR_PALETTE) && !known[S_PALT])
             return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u uses palette indices but PALT is missing",
                            (unsigned long long)at, i);
-        if ((mhead & MODEL_CHUNKED) && m->root >= m->node_count)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u is marked chunked but has no root descriptor",
-                           (unsigned long long)at, i);
+        if ((mhead & (MODEL_CHUNKED | MODEL_SPLIT)) && m->root >= m->node_count)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model %u is marked %s but has no root descriptor",
+                           (unsigned long long)at, i, mhead & MODEL_SPLIT ? "split" : "chunked");
     }
     int32_t prev[3] = {0, 0, 0};
     for (uint32_t i = 0; i < ic; i++) {
@@ -1251,6 +1258,7 @@ static void buf_xform(vx_buf* b, const double* x, int kind, const uint8_t* pay, 
 /* chunked: per model, whether its NODE stream is in the chunked form (1:
  * version 3's DEFLATE chunks, 2: version 4's tagged chunks; NULL: none). */
 static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* ext, const uint8_t* chunked) {
+    /* (a model head with MODEL_CHUNKED for 1 and 2, MODEL_SPLIT for 3) */
     double bmin[3], bmax[3];
     vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
     int32_t bi[6];
@@ -1275,8 +1283,8 @@ static void write_scne(vx_buf* b, const vx_svo_scene* s, const vx__svo_extent* e
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         bool same = i > 0 && memcmp(m->size, m[-1].size, sizeof m->size) == 0;
-        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u) | (chunked && chunked[i] ? MODEL_CHUNKED : 0u) |
-                       (chunked && chunked[i] == 2 ? MODEL_TAGGED : 0u));
+        buf_var(b, m->attrs | (same ? MODEL_SAME_SIZE : 0u) | (chunked && (chunked[i] == 1 || chunked[i] == 2) ? MODEL_CHUNKED : 0u) |
+                       (chunked && chunked[i] == 2 ? MODEL_TAGGED : 0u) | (chunked && chunked[i] == 3 ? MODEL_SPLIT : 0u));
         if (!same)
             for (int k = 0; k < 3; k++) buf_var(b, m->size[k]);
         buf_var(b, m->node_count);
@@ -1469,7 +1477,9 @@ static void write_frms(vx_buf* b, const vx_svo_scene* s) {
  * model extents (for SCNE's bounds) and the sections to write, in order. */
 typedef struct wplan {
     vx__svo_extent* ext;
-    uint8_t* chunked; /* per model: stored in the chunked form, 1 DEFLATE, 2 tagged (NULL: none is) */
+    uint8_t* chunked; /* per model: stored in the chunked form, 1 DEFLATE, 2 tagged; 3 the split form (NULL: none is) */
+    uint32_t split_min; /* VX__SPLIT_WORDS, 0 with vx_write_desc.svo_range_coded */
+    uint8_t* trusted;   /* per model: its check current (vx__svo_trusted_models), or NULL */
     uint16_t version;
     unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
     uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
@@ -1482,8 +1492,10 @@ typedef struct wplan {
 static void plan_free(const vx_allocator* alloc, wplan* w) {
     vx_free(alloc, w->ext);
     vx_free(alloc, w->chunked);
+    vx_free(alloc, w->trusted);
     w->ext = NULL;
     w->chunked = NULL;
+    w->trusted = NULL;
 }
 
 static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, const coded_src* cs, wplan* w, vx_error* err) {
@@ -1492,6 +1504,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     w->threads = desc ? desc->threads : 0;
     w->chunk_min = desc ? desc->svo_chunk_words : 0;
     w->chunk_mode = vx__svo_chunk_mode(desc);
+    w->split_min = desc && desc->svo_range_coded ? 0 : vx__svo_split_words;
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees (models coded
      * elsewhere bring theirs) */
@@ -1502,7 +1515,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     uint8_t* skip = !cs && s->model_count ? (uint8_t*)vx_calloc(alloc, s->model_count, 1) : NULL;
     if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, skip, w->ext);
     vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, skip, err);
-    vx_free(alloc, skip);
+    w->trusted = skip; /* the coder takes those models' checks too (freed with the plan) */
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
         if (c->cells != s->models[i].voxel_count || c->stream_size == 0)
@@ -1514,7 +1527,9 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     }
     if (r != VX_OK) {
         vx_free(alloc, w->ext);
+        vx_free(alloc, w->trusted);
         w->ext = NULL;
+        w->trusted = NULL;
         vx_error_prefix(err, "svo write");
         return r;
     }
@@ -1536,10 +1551,16 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     w->version = file_version(w->order, w->ns);
     for (uint32_t i = 0; i < s->model_count; i++) {
         bool ch = cs ? cs->info[i].chunked : vx__svo_model_chunked(&s->models[i], w->chunk_min);
-        if (!ch) continue;
+        bool sp = !ch && (cs ? cs->info[i].split : vx__svo_model_split(&s->models[i], w->chunk_min, w->split_min));
+        if (!ch && !sp) continue;
         if (!w->chunked && !(w->chunked = (uint8_t*)vx_calloc(alloc, s->model_count, 1))) {
             plan_free(alloc, w);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
+        }
+        if (sp) { /* the split form (version 5) */
+            w->chunked[i] = 3;
+            if (w->version < VERSION_SPLIT) w->version = VERSION_SPLIT;
+            continue;
         }
         const bool tagged = cs ? cs->info[i].chunk_tagged : w->chunk_mode == VX__CHUNK_ZSTD;
         w->chunked[i] = tagged ? 2 : 1;
@@ -1575,7 +1596,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext, w->chunked);
     else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, w->split_min, w->trusted, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1739,7 +1760,7 @@ static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
         guess += n + 1;
         while (v >>= 7) guess++;
     }
-    if (!cs) guess = vx__svo_pack_estimate(s, w.chunk_min, w.chunk_mode);
+    if (!cs) guess = vx__svo_pack_estimate(s, w.chunk_min, w.chunk_mode, w.split_min);
     if (node >= 0) w.sizes[node] = guess;
     uint64_t fin[S_COUNT];
     nomem = nomem || !write_head(&head, &w, fin);
@@ -1827,9 +1848,10 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
     vx_buf b = {.alloc = a};
     info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
-    int mode = !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
+    info->split = vx__svo_model_split(m, desc ? desc->svo_chunk_words : 0, desc && desc->svo_range_coded ? 0 : vx__svo_split_words);
+    int mode = info->split ? VX__CHUNK_SPLIT : !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     info->chunk_tagged = mode == VX__CHUNK_ZSTD;
-    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), &b)) {
+    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), false, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

@@ -10,7 +10,9 @@
  * otherwise stores the words and records themselves ("raw" form). All symbols
  * go through one adaptive binary range coder (the LZMA scheme: 11-bit
  * probabilities, shift 5), which on the small trees of typical .vox models
- * beats deflate clearly because it has no tables to transmit. */
+ * beats deflate clearly because it has no tables to transmit. Large models
+ * (2^20 words or more) take the split form of version 5 instead: the same
+ * symbols in zstd byte streams that decode on every thread (svo_split.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
@@ -418,9 +420,22 @@ typedef struct ext {
     size_t hcap, hused;
     uint32_t ndone;
     unsigned tries; /* try_struct calls so far */
+    bool bad;       /* the words are not a valid tree (only a model that was not validated: a trusted check) */
+    vx__svo_split_sink* sink; /* when set, the symbols go straight into the split streams (not into v, kind, ctx) */
 } ext;
 
 static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
+    if (x->sink) { /* a reference as the index of the node it names (FORMAT.md 3.7) */
+        vx__svo_split_put(x->sink, kind, ctx, kind == VX__SYM_REF && v ? x->ndone - v + 1 : v);
+        x->n++;
+        return;
+    }
+    if (x->n < x->cap && x->n < x->capk && x->n < x->capc) { /* the common case without a call (vx_grow) per symbol */
+        x->kind[x->n] = (uint8_t)kind;
+        x->ctx[x->n] = ctx;
+        x->v[x->n++] = v;
+        return;
+    }
     if (x->oom) return;
     if (!vx_grow(x->A, (void**)&x->v, &x->cap, x->n + 1, sizeof *x->v) ||
         !vx_grow(x->A, (void**)&x->kind, &x->capk, x->n + 1, sizeof *x->kind) ||
@@ -433,13 +448,23 @@ static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
     x->v[x->n++] = v;
 }
 
-static uint32_t block_of(const vx_svo_model* m, uint32_t i) {
-    uint32_t d = m->nodes[i], nn = vx__popc8(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d));
-    if (nn + (m->attrs ? 1u : 0u) == 0) return UINT32_MAX;
+/* The block of descriptor i (UINT32_MAX: none), or false where the words
+ * cannot be a valid tree (a pointer out of range): the walk below is safe on
+ * any words, so a writer may take a model it did not validate (its check
+ * current, vx__svo_trusted_models) and a model that is not valid after all
+ * gives symbols that do not read back, never a crash. */
+static bool block_at(const vx_svo_model* m, uint32_t i, uint32_t* out) {
+    uint32_t d = m->nodes[i], nn = vx__popc8(vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d)), na = m->attrs ? 1u : 0u;
+    *out = UINT32_MAX;
+    if (nn + na == 0) return true;
     uint32_t p = vx_svo_desc_ptr(d);
-    return vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+    if (p > i) return false;
+    uint32_t b = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+    if (b > m->node_count || nn + na > m->node_count - b) return false;
+    *out = b;
+    return true;
 }
-static uint64_t key_of(const vx_svo_model* m, uint32_t i) { return ((uint64_t)block_of(m, i) << 16 | (m->nodes[i] & 0xFFFFu)) + 1; }
+static uint64_t key_with(const vx_svo_model* m, uint32_t i, uint32_t b) { return ((uint64_t)b << 16 | (m->nodes[i] & 0xFFFFu)) + 1; }
 static size_t key_slot(const ext* x, uint64_t key) {
     uint64_t h = key * 0x9E3779B97F4A7C15ull;
     size_t j = (size_t)(h >> 20) & (x->hcap - 1);
@@ -447,20 +472,20 @@ static size_t key_slot(const ext* x, uint64_t key) {
     return j;
 }
 
-/* The completion index of the node equal to descriptor i, or UINT32_MAX. */
-static uint32_t ext_find(const ext* x, uint32_t i) {
-    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+/* The completion index of the node equal to descriptor i (block b), or UINT32_MAX. */
+static uint32_t ext_find(const ext* x, uint32_t i, uint32_t b) {
+    uint32_t mk = x->m->nodes[i] & 0xFFFFu;
     if (b != UINT32_MAX) {
         if (!x->fb[b]) return UINT32_MAX;
         if (x->fm[b] == mk) return x->fb[b] - 1;
     }
-    size_t j = key_slot(x, key_of(x->m, i));
+    size_t j = key_slot(x, key_with(x->m, i, b));
     return x->hk[j] ? x->hv[j] : UINT32_MAX;
 }
 
-/* Records descriptor i as completed node `done` unless an equal one is. */
-static void ext_add(ext* x, uint32_t i, uint32_t done) {
-    uint32_t b = block_of(x->m, i), mk = x->m->nodes[i] & 0xFFFFu;
+/* Records descriptor i (block b) as completed node `done` unless an equal one is. */
+static void ext_add(ext* x, uint32_t i, uint32_t b, uint32_t done) {
+    uint32_t mk = x->m->nodes[i] & 0xFFFFu;
     if (b != UINT32_MAX) {
         if (!x->fb[b]) {
             x->fb[b] = done + 1;
@@ -469,29 +494,48 @@ static void ext_add(ext* x, uint32_t i, uint32_t done) {
         }
         if (x->fm[b] == mk) return;
     }
-    size_t j = key_slot(x, key_of(x->m, i));
+    size_t j = key_slot(x, key_with(x->m, i, b));
     if (!x->hk[j]) {
-        x->hk[j] = key_of(x->m, i);
+        if (x->hused + 1 > x->hcap / 2) { /* (only an invalid model completes more nodes than words) */
+            x->bad = true;
+            return;
+        }
+        x->hk[j] = key_with(x->m, i, b);
         x->hv[j] = done;
         x->hused++;
     }
 }
 
-/* The model is valid (the writer validated it): indices are in range. */
+/* A valid tree (or x->bad set): each node at most once with the DAG (and a
+ * tree's nodes once without it), so no more completed nodes than words. */
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
     const vx_svo_model* m = x->m;
+    uint32_t b;
+    if (x->bad || level < 1 || i >= m->node_count || x->ndone >= m->node_count || !block_at(m, i, &b)) {
+        x->bad = true;
+        return;
+    }
     uint32_t d = m->nodes[i], valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+    uint32_t nn = vx__popc8(valid & ~leaf), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
+    if (!valid || (leaf & ~valid) || (level == 1 && leaf != valid) ||
+        (m->attrs && (a > m->attr_count || vx__popc8(valid) > m->attr_count - a))) {
+        x->bad = true;
+        return;
+    }
     ext_push(x, VX__SYM_VALID, level, valid);
     if (level > 1) ext_push(x, VX__SYM_LEAF, level | valid << 8, leaf);
-    uint32_t nn = vx__popc8(valid & ~leaf), b = block_of(m, i), a = m->attrs ? m->nodes[b + nn] : 0, k = 0, rank = 0;
-    for (unsigned o = 0; o < 8; o++) {
+    for (unsigned o = 0; o < 8 && !x->bad; o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {
             for (unsigned c = 0; c < 5; c++)
                 if (m->attrs >> c & 1u) ext_push(x, VX__SYM_VALUE, c, rec_get(m, c, a + rank));
         } else {
-            uint32_t ci = b + k++;
-            uint32_t done = x->dag ? ext_find(x, ci) : UINT32_MAX;
+            uint32_t ci = b + k++, cb;
+            if (!block_at(m, ci, &cb)) {
+                x->bad = true;
+                return;
+            }
+            uint32_t done = x->dag ? ext_find(x, ci, cb) : UINT32_MAX;
             if (done != UINT32_MAX) {
                 ext_push(x, VX__SYM_REF, level, x->ndone - done);
             } else {
@@ -501,7 +545,8 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
         }
         rank++;
     }
-    if (x->dag) ext_add(x, i, x->ndone);
+    if (x->bad) return;
+    if (x->dag) ext_add(x, i, b, x->ndone);
     x->ndone++;
 }
 
@@ -608,6 +653,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     x->ndone = 0;
     x->dag = dag;
     x->oom = false;
+    x->bad = false;
     /* fresh tables are zero (calloc); only a second try clears what it used */
     if (x->tries++) {
         memset(x->fb, 0, (size_t)m->node_count * sizeof *x->fb);
@@ -615,7 +661,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
         x->hused = 0;
     }
     ext_visit(x, m->root, m->depth);
-    if (x->oom) return false;
+    if (x->oom || x->bad) return false;
     src->v = x->v;
     src->kind = x->kind;
     src->ctx = x->ctx;
@@ -1183,8 +1229,14 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
  * symbols of the first setting tried are coded on a second thread while the
  * check rebuilds the model, whose layout follows its decoding on the
  * threads left. The bytes never depend on `threads`. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, vx_buf* out) {
-    if (chunked) return pack_chunked(m, A, chunked, threads, false, out, NULL);
+bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t split_min) {
+    return split_min && !vx__svo_model_chunked(m, chunk_min) && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS) &&
+           m->node_count >= split_min;
+}
+
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out) {
+    const bool split = chunked == VX__CHUNK_SPLIT;
+    if (chunked && !split) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     coder cd, spec;
     bool spec_ok = false;
     memset(&spec, 0, sizeof spec);
@@ -1209,13 +1261,54 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         x.fm = (uint16_t*)vx_calloc(A, m->node_count, sizeof *x.fm);
         x.hcap = need;
         ok = x.hk && x.hv && x.fb && x.fm;
+        /* a model the reader rebuilt from the structural form, its digest
+         * current: its symbols with the reader's settings give it back, so
+         * the rebuild that proves the form is skipped (a model changed behind
+         * an equal digest, odds of 2^-32, codes to what does not read back
+         * as it, or raw where its words are not a tree: x.bad) */
+        /* only the settings the tries below take first (the DAG, no far
+         * limit: the builder's default), so that the bytes do not depend on
+         * whether the check is current: a model read with other settings
+         * might also come back with earlier ones, which the tries would pick */
+        uint32_t st = m->check.structural, st_lim = st & 0xFFFFu;
+        if (ok && trusted && st == (1u << 16 | VX__SVO_PTR_MAX)) {
+            x.n = x.ndone = 0;
+            x.dag = dag = (st >> 16 & 1u) != 0;
+            limit = st_lim;
+            x.tries++;
+            /* the split form: straight into its streams, one walk */
+            if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, A))) ok = false;
+            if (ok) ext_visit(&x, m->root, m->depth);
+            if (x.oom) ok = false;
+            structural = ok && !x.bad;
+            if (x.sink && ok && structural) {
+                size_t at = out->size;
+                ok = vx_buf_u8(out, 1) && vx__svo_split_sink_code(x.sink, dag, limit, threads, out);
+                uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
+                vx__svo_split_sink_free(x.sink);
+                x.sink = NULL;
+                if (!ok || (m->node_count <= cap && m->attr_count <= cap)) goto done;
+                out->size = at; /* above the reader's limit (unpack_split): the walk again, into form 0 */
+                x.n = x.ndone = 0;
+                x.tries++;
+                memset(x.fb, 0, (size_t)m->node_count * sizeof *x.fb);
+                if (x.hused) memset(x.hk, 0, x.hcap * sizeof *x.hk);
+                x.hused = 0;
+                ext_visit(&x, m->root, m->depth);
+                if (x.oom) ok = false;
+                structural = ok && !x.bad;
+            }
+            vx__svo_split_sink_free(x.sink);
+            x.sink = NULL;
+            src.v = x.v, src.kind = x.kind, src.ctx = x.ctx, src.n = x.n, src.pos = 0;
+        }
         /* the builder's settings are not stored in the model: try them */
         uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
         for (int t = 0; ok && t < 4 && !structural; t++) {
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par ? &spec : NULL, lay);
+            structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par && !split ? &spec : NULL, lay);
             if (spec.started) {
                 pthread_join(spec.th, NULL);
                 spec.started = false;
@@ -1224,6 +1317,19 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             /* out of memory is an error, not "this form does not fit": falling
              * back to the raw form would give other bytes for the same scene */
             if (x.oom) ok = false;
+        }
+    }
+    if (split && ok) { /* the form byte; the split streams, or the stream of 3.4 */
+        size_t at = out->size;
+        ok = vx_buf_u8(out, structural ? 1 : 0);
+        if (ok && structural) {
+            ok = vx__svo_split_encode(x.v, x.kind, x.ctx, x.n, m->attrs, m->depth, dag, limit, threads, A, out);
+            /* a reader refuses more than PACK_RATIO_MAX words or records per
+             * byte (unpack_split): a model that codes smaller takes form 0 */
+            uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
+            if (!ok || (m->node_count <= cap && m->attr_count <= cap)) goto done;
+            out->size = at;
+            ok = vx_buf_u8(out, 0);
         }
     }
     coder* use = &cd;
@@ -1244,6 +1350,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         ok = ok && vx_buf_append(out, use->coded.data, use->coded.size);
     }
     ok = ok && !use->coded.failed && !use->side.failed;
+done:
     coder_free(&cd, A);
     if (spec.k) coder_free(&spec, A);
     vx_free(A, x.v);
@@ -1261,12 +1368,17 @@ typedef struct pack_jobs {
     const vx_allocator* A;
     vx_buf* bufs;
     bool* ok;
+    uint32_t chunk_min, split_min;
+    const uint8_t* trusted; /* the scene's (index first + i) */
+    uint32_t first;
 } pack_jobs;
 
 static void pack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
-    j->ok[i] = vx__svo_pack_model(&j->s->models[i], j->A, VX__CHUNK_NONE, 1, &j->bufs[i]);
+    const vx_svo_model* m = &j->s->models[i];
+    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1,
+                                  j->trusted && j->trusted[j->first + i], &j->bufs[i]);
 }
 
 size_t vx__svo_flush_bytes = (size_t)16 << 20;
@@ -1280,10 +1392,11 @@ static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, const vx__svo_sink* sink) {
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, int mode, bool trusted,
+                     const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, VX__CHUNK_NONE, cpus, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, mode, cpus, trusted, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1296,7 +1409,7 @@ static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chun
 }
 
 bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        int chunk_mode, const vx__svo_sink* sink) {
+                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
@@ -1304,7 +1417,9 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
-                  : !pack_one(out, &s->models[mi], A, cpus, sink))
+                  : !pack_one(out, &s->models[mi], A, cpus,
+                              vx__svo_model_split(&s->models[mi], chunk_min, split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE,
+                              trusted && trusted[mi], sink))
                 return false;
             if (!n) n = 1;
         }
@@ -1331,7 +1446,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             memset(&bufs[i], 0, sizeof bufs[i]);
             bufs[i].alloc = A;
         }
-        pack_jobs j = {&part, A, bufs, oks};
+        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first};
         run_jobs(threads < n ? threads : n, n, pack_job, &j);
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
@@ -1350,7 +1465,7 @@ static unsigned var_len(uint64_t v) {
     return n;
 }
 
-uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode) {
+uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode, uint32_t split_min) {
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
     uint64_t total = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
@@ -1359,7 +1474,8 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
         /* typical ratios (docs/PERFORMANCE.md, issue 18): deflate level 1
          * about halves words and records, the structural form keeps about a
          * quarter; stored chunks are the raw bytes plus their tables */
-        if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
+        if (vx__svo_model_split(m, chunk_min, split_min)) est = (words + recs) / 3 + 64;
+        else if (!vx__svo_model_chunked(m, chunk_min)) est = (words + recs) / 4 + 8;
         else if (mode == VX__CHUNK_STORED) est = words + recs + (words + recs) / 8192 + 16;
         else if (mode == VX__CHUNK_FAST) est = words + recs / 2 + 16;
         else est = (words + recs) / 2 + 16;
@@ -1706,8 +1822,9 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
                             "svo: section NODE near byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
                             (unsigned long long)at, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root,
                             want.attr_count, want.root_attr);
-            } else if (rebuilt) {
-                *rebuilt = VX__SVO_SKIP_REBUILT;
+            } else {
+                m->check.structural = (dag ? 1u << 16 : 0u) | limit; /* for a writer (vx__svo_pack_model's trusted) */
+                if (rebuilt) *rebuilt = VX__SVO_SKIP_REBUILT;
             }
         }
     }
@@ -1719,6 +1836,55 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
     if (r == VX_OK && k->raw_pos != k->raw_n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE: model %u: %zu side bytes left over", mi, k->raw_n - k->raw_pos);
     vx_free(A, k);
+    return r;
+}
+
+/* A model's stream in the split form (FORMAT.md 3.7): the form byte, then
+ * the split streams (decoded on up to `cpus` threads) feeding the
+ * reconstruction, or the stream of 3.4. */
+static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A, unsigned cpus,
+                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
+    if (n < 1 || p[0] > 1)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form byte %s", (unsigned long long)base, mi,
+                       n < 1 ? "missing" : "not 0 or 1");
+    if (p[0] == 0) return unpack_model(p + 1, n - 1, base + 1, m, mi, A, lay, tree, rebuilt, err);
+    if (m->root >= m->node_count || (m->attrs & ~(uint32_t)STRUCT_ATTRS) || m->depth < 1 || m->depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base,
+                       "svo: section NODE at byte %llu: model %u: the structural form needs a root node, depth 1..21 and channels palette/rgba/material only",
+                       (unsigned long long)base, mi);
+    /* as in 3.4: the declared counts (which size the reconstruction's
+     * arrays) bounded by the stream's bytes; the writer keeps to it */
+    uint64_t cap = ((uint64_t)n + 16) * PACK_RATIO_MAX;
+    if (m->node_count > cap || m->attr_count > cap)
+        return vx_fail(err, VX_ERR_LIMIT, base,
+                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
+                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
+    vx__svo_split* d;
+    bool dag;
+    uint32_t limit;
+    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, A, &d, &dag, &limit, err);
+    if (r != VX_OK) return r;
+    vx_svo_model want = *m;
+    vx__svo_src src = vx__svo_split_src(d);
+    vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
+                              .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
+    r = vx__svo_unpack(&ud, &src, m, err);
+    if (r != VX_OK) {
+        if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
+        if (err) err->code = r;
+        char pre[96];
+        snprintf(pre, sizeof pre, "model %u (NODE split stream at byte %llu)", mi, (unsigned long long)base);
+        vx_error_prefix(err, pre);
+    } else if (m->node_count != want.node_count || m->root != want.root || m->attr_count != want.attr_count || m->root_attr != want.root_attr) {
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, base,
+                    "svo: section NODE at byte %llu: model %u rebuilds to %u words (root %u) and %u records (root %u), SCNE declares %u (root %u) and %u (root %u)",
+                    (unsigned long long)base, mi, m->node_count, m->root, m->attr_count, m->root_attr, want.node_count, want.root, want.attr_count,
+                    want.root_attr);
+    } else if ((r = vx__svo_split_done(d, err)) == VX_OK) {
+        m->check.structural = (dag ? 1u << 16 : 0u) | limit; /* for a writer (vx__svo_pack_model's trusted) */
+        if (rebuilt) *rebuilt = VX__SVO_SKIP_REBUILT;
+    }
+    vx__svo_split_free(d);
     return r;
 }
 
@@ -2025,9 +2191,13 @@ static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned
 static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
-    if (j->chunked && j->chunked[i]) return; /* decoded afterwards, on every thread */
-    j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
-                             j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+    if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
+    if (j->chunked && j->chunked[i] == 3)
+        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay,
+                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+    else
+        j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
+                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
@@ -2088,7 +2258,10 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
+                r = chunked && chunked[mi] == 3
+                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, rebuilt ? &ext[mi] : NULL,
+                                       rebuilt ? &rebuilt[mi] : NULL, err)
+                    : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
                                                           rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
         } else {
@@ -2099,7 +2272,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
                 unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
-                    if (chunked[mi]) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
+                    if (chunked[mi] == 1 || chunked[mi] == 2) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                     if (res[mi] != VX_OK) {
                         r = res[mi];
@@ -2117,6 +2290,8 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
 
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
                              const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+    if (chunked == 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, ext, rebuilt, err);
     if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
     /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
     return unpack_model(p, n, base, m, mi, A, threads > 2 ? 2 : 0, ext, rebuilt, err);

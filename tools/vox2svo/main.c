@@ -28,6 +28,7 @@ typedef struct options {
     bool chunked;      /* --chunked: large models in the chunked form (format version 3) */
     bool chunk_fast;   /* --chunked-fast: the same with the node words stored (vx_write_desc.svo_chunk_fast) */
     bool chunk_deflate; /* --chunked-deflate: DEFLATE chunks, format version 3 (vx_write_desc.svo_chunk_deflate) */
+    bool range_coded;   /* --range-coded: no split form, format version 1 or 2 (vx_write_desc.svo_range_coded) */
     const char* device; /* --device */
     vx_tool_conv conv; /* reader and builder options */
 } options;
@@ -105,6 +106,9 @@ _Noreturn static void usage(int status) {
             "                     before version 4): slower to write and read, slightly larger\n"
             "    --chunked-fast   as --chunked-deflate, the node words stored instead of deflated:\n"
             "                     faster than it, about 1.4x the bytes (version 3)\n"
+            "    --range-coded    models of 2^20 node words or more in the range-coded form of\n"
+            "                     versions 1 and 2 (for older readers) instead of the split form\n"
+            "                     (format version 5, docs/FORMAT.md 3.7): slower to read and write\n"
             "    --max-memory SIZE  refuse an input that needs more memory than SIZE to read and\n"
             "                     convert (e.g. 512M, 4G; default: no limit; OpenVDB's and tinygltf's\n"
             "                     own memory is not counted)\n"
@@ -154,6 +158,7 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--chunked")) o.chunked = true;
         else if (!strcmp(a, "--chunked-fast")) o.chunked = o.chunk_fast = true;
         else if (!strcmp(a, "--chunked-deflate")) o.chunked = o.chunk_deflate = true;
+        else if (!strcmp(a, "--range-coded")) o.range_coded = true;
 #ifdef VX_HAVE_MESH_GPU
         else if (!strcmp(a, "--gpu")) o.gpu = true;
         else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
@@ -283,7 +288,7 @@ static int main_mpi(const options* opt) {
     }
 #endif
     vx_write_desc chunking = {.svo_chunk_words = o->chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o->chunk_fast,
-                             .svo_chunk_deflate = o->chunk_deflate};
+                             .svo_chunk_deflate = o->chunk_deflate, .svo_range_coded = o->range_coded};
     bool ok = vox2svo_mpi(o->in, &o->conv, &chunking, o->quiet, o->verbose, &scene, &li);
 #ifdef VX_HAVE_MESH_GPU
     vx_conv_mesh_gpu_destroy(mg);
@@ -369,7 +374,8 @@ int main(int argc, char** argv) {
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o.verbose);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
-    vx_write_desc wd = {.svo_chunk_words = o.chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o.chunk_fast, .svo_chunk_deflate = o.chunk_deflate};
+    vx_write_desc wd = {.svo_chunk_words = o.chunked ? VX_SVO_CHUNK_WORDS : 0, .svo_chunk_fast = o.chunk_fast, .svo_chunk_deflate = o.chunk_deflate,
+                        .svo_range_coded = o.range_coded};
     r = vx_svo_write_file(&wd, &scene, o.out, &err);
     double t_write = vx_time_now() - t2;
     vx_svo_scene_free(&scene);
