@@ -14,7 +14,7 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   sizeof(vx__gpu_frame) == 352,
+                   offsetof(vx__gpu_frame, tiles) == 368 && sizeof(vx__gpu_frame) == 368 + 2 * VX__TILES_X * VX__TILES_X,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -1423,6 +1423,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     bool miss = vx__frame_cull(f, rs->lo, rs->hi, cull && !f->lod, ((vx__gpu_frame*)rs->frame.map)->rect, groups,
                                miss_groups, &rs->last_traced);
     rs->last_cull = miss;
+    if (cull && !f->lod && rs->inst_count > 1) {
+        vx__gpu_frame* gf = rs->frame.map;
+        vx__frame_tiles(f, &rs->bvh, gf->tiles, &gf->tile_info[0], &gf->tile_info[1]);
+    }
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
     uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,

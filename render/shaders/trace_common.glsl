@@ -97,6 +97,13 @@ layout(std140, binding = 0) uniform Frame {
     // trace pass covers (vx__gpu_frame.rect)
     layout(offset = 336) uvec4 rect;
 #endif
+#ifdef TRACE_TILES
+    // trace.comp, several instances: the primary rays' BVH start per screen
+    // tile (vx__frame_tiles), 16 bits each, 0xFFFF none; tile_info.x the
+    // tiles' shift, .y tiles a row (vx__gpu_frame.tiles)
+    layout(offset = 352) uvec4 tile_info;
+    layout(offset = 368) uvec4 tiles[128];
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -904,6 +911,12 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
         }                                                                                   \
     }
 
+#ifdef TRACE_TILES
+// The BVH node the next trace_scene starts from (its subtree holds every
+// leaf the ray can meet: the primary ray's tile's, vx__frame_tiles), the
+// root for every other ray
+uint g_start = 0u;
+#endif
 // Nearest hit (or any hit) along o + t d, t in [t0, h.t].
 bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
@@ -915,8 +928,12 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     RVEC3 dinv = safe_inv(d);
     uint stack[64];
     int sp = 0;
+#ifdef TRACE_TILES
+    uint node = g_start;
+#else
     uint node = 0u;
-    RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
+#endif
+    RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[node].lo.xyz), RVEC3(bvh[node].hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
     // The walk to the next leaf is a loop of its own, and the leaf's
     // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
