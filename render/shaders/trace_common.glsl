@@ -874,6 +874,9 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 }
 
 // The walk to the next leaf (first, count: its items; done: none left).
+// node_first, node_count: node's own words (its children or items), taken
+// from the load that tested its box rather than loaded again (a storage
+// buffer's load is 8 lane-by-lane loads with their bounds tests on lavapipe).
 #define BVH_NEXT_LEAF \
     while (true) {                                                                          \
         if (pop_next) {                                                                     \
@@ -882,14 +885,20 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
             bool next = false;                                                              \
             while (sp > 0) {                                                                \
                 uint c = stack[--sp];                                                       \
-                RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));  \
-                if (tc.x <= h.t) { node = c; next = true; break; }                          \
+                BNode cn = bvh[c];                                                          \
+                RVEC2 tc = scene_box(o, dinv, RVEC3(cn.lo.xyz), RVEC3(cn.hi.xyz));          \
+                if (tc.x <= h.t) {                                                          \
+                    node = c;                                                               \
+                    node_first = floatBitsToUint(cn.lo).w;                                  \
+                    node_count = floatBitsToUint(cn.hi).w;                                  \
+                    next = true;                                                            \
+                    break;                                                                  \
+                }                                                                           \
             }                                                                               \
             if (!next) { done = true; break; }                                              \
         }                                                                                   \
-        BNode n = bvh[node];                                                                \
-        count = floatBitsToUint(n.hi.w);                                                    \
-        first = floatBitsToUint(n.lo.w);                                                    \
+        count = node_count;                                                                 \
+        first = node_first;                                                                 \
         if (count > 0u) { pop_next = true; break; }                                         \
         BNode a = bvh[first], b = bvh[first + 1u];                                          \
         RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));                    \
@@ -898,14 +907,21 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
         bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;                                \
         if (ha && hb) {                                                                     \
             /* nearest first; the far one waits on the stack */                             \
-            uint nearc = ta.x <= tb.x ? first : first + 1u;                                 \
-            uint farc = ta.x <= tb.x ? first + 1u : first;                                  \
+            bool an = ta.x <= tb.x;                                                         \
+            uint nearc = an ? first : first + 1u;                                           \
+            uint farc = an ? first + 1u : first;                                            \
             if (sp < 64) stack[sp++] = farc;                                                \
             node = nearc;                                                                   \
+            node_first = an ? floatBitsToUint(a.lo).w : floatBitsToUint(b.lo).w;            \
+            node_count = an ? floatBitsToUint(a.hi).w : floatBitsToUint(b.hi).w;            \
         } else if (ha) {                                                                    \
             node = first;                                                                   \
+            node_first = floatBitsToUint(a.lo).w;                                           \
+            node_count = floatBitsToUint(a.hi).w;                                           \
         } else if (hb) {                                                                    \
             node = first + 1u;                                                              \
+            node_first = floatBitsToUint(b.lo).w;                                           \
+            node_count = floatBitsToUint(b.hi).w;                                           \
         } else {                                                                            \
             pop_next = true;                                                                \
         }                                                                                   \
@@ -933,8 +949,10 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
 #else
     uint node = 0u;
 #endif
-    RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[node].lo.xyz), RVEC3(bvh[node].hi.xyz));
+    BNode rn = bvh[node];
+    RVEC2 rt = scene_box(o, dinv, RVEC3(rn.lo.xyz), RVEC3(rn.hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    uint node_first = floatBitsToUint(rn.lo).w, node_count = floatBitsToUint(rn.hi).w;
     // The walk to the next leaf is a loop of its own, and the leaf's
     // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
     // every branch masked, so the octree walk runs once per leaf visit
