@@ -360,6 +360,10 @@ static vx_result bvh_levels(vx_render_scene* rs, vx_error* err) {
  * over their world boxes (rs->bvh), built on the CPU. */
 static vx_result instance_tables(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     uint32_t n = drawn_count(s);
+    /* the kernels' BVH stack packs a node's or leaf's first index with its
+     * count in 32 bits (trace_common.glsl's BVH_ENTRY): indices below 2^29 */
+    if (n > (1u << 27))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u drawn instances: the GPU tracer takes at most %u", n, 1u << 27);
     rs->inst_count = n;
     rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
     double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));

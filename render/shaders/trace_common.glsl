@@ -873,6 +873,19 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     return false;
 }
 
+// A far child on the walk's stack: its words (first << 3 | count: the host
+// keeps node and item indices below 2^29, leaves at most 4 items) and its
+// box's entry t from the test that pushed it, so that a pop neither loads
+// nor tests its box again (the same t, the same decision).
+#ifdef PRECISE
+#define BVH_ENTRY uvec3
+#define BVH_ENTRY_MAKE(w, t) uvec3(w, unpackDouble2x32(t))
+#define BVH_ENTRY_T(e) packDouble2x32(e.yz)
+#else
+#define BVH_ENTRY uvec2
+#define BVH_ENTRY_MAKE(w, t) uvec2(w, floatBitsToUint(t))
+#define BVH_ENTRY_T(e) uintBitsToFloat(e.y)
+#endif
 // The walk to the next leaf (first, count: its items; done: none left).
 // node_first, node_count: node's own words (its children or items), taken
 // from the load that tested its box rather than loaded again (a storage
@@ -884,13 +897,10 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
             pop_next = false;                                                               \
             bool next = false;                                                              \
             while (sp > 0) {                                                                \
-                uint c = stack[--sp];                                                       \
-                BNode cn = bvh[c];                                                          \
-                RVEC2 tc = scene_box(o, dinv, RVEC3(cn.lo.xyz), RVEC3(cn.hi.xyz));          \
-                if (tc.x <= h.t) {                                                          \
-                    node = c;                                                               \
-                    node_first = floatBitsToUint(cn.lo).w;                                  \
-                    node_count = floatBitsToUint(cn.hi).w;                                  \
+                BVH_ENTRY c = stack[--sp];                                                  \
+                if (BVH_ENTRY_T(c) <= h.t) {                                                \
+                    node_first = c.x >> 3u;                                                 \
+                    node_count = c.x & 7u;                                                  \
                     next = true;                                                            \
                     break;                                                                  \
                 }                                                                           \
@@ -908,18 +918,16 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
         if (ha && hb) {                                                                     \
             /* nearest first; the far one waits on the stack */                             \
             bool an = ta.x <= tb.x;                                                         \
-            uint nearc = an ? first : first + 1u;                                           \
-            uint farc = an ? first + 1u : first;                                            \
-            if (sp < 64) stack[sp++] = farc;                                                \
-            node = nearc;                                                                   \
-            node_first = an ? floatBitsToUint(a.lo).w : floatBitsToUint(b.lo).w;            \
-            node_count = an ? floatBitsToUint(a.hi).w : floatBitsToUint(b.hi).w;            \
+            uvec2 aw = uvec2(floatBitsToUint(a.lo).w, floatBitsToUint(a.hi).w);             \
+            uvec2 bw = uvec2(floatBitsToUint(b.lo).w, floatBitsToUint(b.hi).w);             \
+            uvec2 fw = an ? bw : aw;                                                        \
+            if (sp < 64) stack[sp++] = BVH_ENTRY_MAKE((fw.x << 3u) | fw.y, an ? tb.x : ta.x); \
+            node_first = an ? aw.x : bw.x;                                                  \
+            node_count = an ? aw.y : bw.y;                                                  \
         } else if (ha) {                                                                    \
-            node = first;                                                                   \
             node_first = floatBitsToUint(a.lo).w;                                           \
             node_count = floatBitsToUint(a.hi).w;                                           \
         } else if (hb) {                                                                    \
-            node = first + 1u;                                                              \
             node_first = floatBitsToUint(b.lo).w;                                           \
             node_count = floatBitsToUint(b.hi).w;                                           \
         } else {                                                                            \
@@ -942,7 +950,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     }
     if (F.dims.w == 0u) return false;
     RVEC3 dinv = safe_inv(d);
-    uint stack[64];
+    BVH_ENTRY stack[64];
     int sp = 0;
 #ifdef TRACE_TILES
     uint node = g_start;
