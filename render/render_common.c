@@ -155,14 +155,13 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
     }
     if ((behind || near) && !f->ortho) {
         /* The box crosses the eye's plane (a camera inside the scene, whose
-         * BVH nodes vx__frame_tiles projects). Where the eye lies well
-         * outside it: the box cut at z = zc, its corners beyond and its
-         * edges' crossings of that plane projected. The part before the cut
-         * lies within r = zc sqrt(1 + 4 |rx|^2 + 4 |uy|^2) of the eye's
-         * axis' start... only if it is that near the eye: at a distance
-         * above r from the eye, every point with 0 < z < zc sees the eye
-         * under |u| > 2 or |v| > 2, outside every pixel's ray (|u|, |v| <=
-         * 1 + a sample's half pixel). Otherwise every pixel. */
+         * BVH nodes vx__frame_tiles projects). Where the eye lies at a
+         * distance d outside it: the box cut at z = zc (its corners beyond
+         * and its edges' crossings of that plane projected), zc = d / (2
+         * sqrt(1 + 4 |rx|^2 + 4 |uy|^2)). A point seen under |u|, |v| <= 2
+         * with z < zc lies within zc sqrt(...) = d / 2 of the eye; so the part
+         * before the cut, at least d away, lies outside every pixel's ray
+         * (|u|, |v| <= 1 + a sample's half pixel). Nearer: every pixel. */
         double dist2 = 0, cen2 = 0;
         for (int k = 0; k < 3; k++) {
             double e = eye[k] < lo[k] ? lo[k] - eye[k] : (eye[k] > hi[k] ? eye[k] - hi[k] : 0);
