@@ -126,6 +126,8 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
      * origin (orthographic) is fwd + u rx + v uy, resp. ref + u rx + v uy */
     double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
     int behind = 0;
+    bool near = false;
+    double cz[8];
     for (int c = 0; c < 8; c++) {
         double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
         double v[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
@@ -133,11 +135,15 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
         double a = dot3(v, f->rx) / rx2, b = dot3(v, f->uy) / uy2;
         /* margins far above the float rays' rounding (about 1e-7 relative) */
         double eps = 1e-4 * (f->ortho ? diag + len : len);
+        cz[c] = z;
         if (z < -eps) {
             behind++;
             if (!f->ortho) continue;
         } else if (!f->ortho) {
-            if (z <= eps) return; /* the box reaches the eye's plane: every pixel */
+            if (z <= eps) {
+                near = true; /* the box reaches the eye's plane */
+                continue;
+            }
             a /= z, b /= z;
         }
         umin = fmin(umin, a), umax = fmax(umax, a), vmin = fmin(vmin, b), vmax = fmax(vmax, b);
@@ -147,7 +153,53 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
         rect[0] = rect[1] = rect[2] = rect[3] = 0;
         return;
     }
-    if (behind && !f->ortho) return; /* the box crosses the eye's plane */
+    if ((behind || near) && !f->ortho) {
+        /* The box crosses the eye's plane (a camera inside the scene, whose
+         * BVH nodes vx__frame_tiles projects). Where the eye lies at a
+         * distance d outside it: the box cut at z = zc (its corners beyond
+         * and its edges' crossings of that plane projected), zc = d / (2
+         * sqrt(1 + 4 |rx|^2 + 4 |uy|^2)). A point seen under |u|, |v| <= 2
+         * with z < zc lies within zc sqrt(...) = d / 2 of the eye; so the part
+         * before the cut, at least d away, lies outside every pixel's ray
+         * (|u|, |v| <= 1 + a sample's half pixel). Nearer: every pixel. */
+        double dist2 = 0, cen2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double e = eye[k] < lo[k] ? lo[k] - eye[k] : (eye[k] > hi[k] ? eye[k] - hi[k] : 0);
+            double m = 0.5 * (lo[k] + hi[k]) - eye[k];
+            dist2 += e * e, cen2 += m * m;
+        }
+        double dist = sqrt(dist2);
+        if (!(dist > 1e-4 * (diag + sqrt(cen2)))) return;
+        double zc = 0.5 * dist / sqrt(1 + 4 * rx2 + 4 * uy2);
+        umin = vmin = INFINITY, umax = vmax = -INFINITY;
+        for (int c = 0; c < 8; c++) {
+            double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+            double v[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
+            if (cz[c] >= zc) {
+                double a = dot3(v, f->rx) / rx2 / cz[c], b = dot3(v, f->uy) / uy2 / cz[c];
+                umin = fmin(umin, a), umax = fmax(umax, a), vmin = fmin(vmin, b), vmax = fmax(vmax, b);
+            }
+            for (int k = 0; k < 3; k++) {
+                int c2 = c | (1 << k); /* the edge from c along axis k */
+                if (c2 == c || (cz[c] >= zc) == (cz[c2] >= zc)) continue;
+                double q[3] = {p[0], p[1], p[2]};
+                q[k] = (c2 & (1 << k)) ? hi[k] : lo[k];
+                double s = (zc - cz[c]) / (cz[c2] - cz[c]), w[3];
+                for (int j = 0; j < 3; j++) w[j] = p[j] + s * (q[j] - p[j]) - eye[j];
+                double a = dot3(w, f->rx) / rx2 / zc, b = dot3(w, f->uy) / uy2 / zc;
+                umin = fmin(umin, a), umax = fmax(umax, a), vmin = fmin(vmin, b), vmax = fmax(vmax, b);
+            }
+        }
+        if (!(umin <= umax)) {
+            rect[0] = rect[1] = rect[2] = rect[3] = 0;
+            return;
+        }
+        /* the crossings' rounding: the cut's points are at z = zc exactly
+         * in exact arithmetic; widen by their relative error */
+        double wu = 1e-6 * (fabs(umin) + fabs(umax)), wv = 1e-6 * (fabs(vmin) + fabs(vmax));
+        umin -= wu, umax += wu, vmin -= wv, vmax += wv;
+        umin = fmax(umin, -4), umax = fmin(umax, 4), vmin = fmax(vmin, -4), vmax = fmin(vmax, 4);
+    }
     /* pixel centres: u = ((x + 0.5) / W) * 2 - 1, v = 1 - ((y + 0.5) / H) * 2 */
     double W = f->width, H = f->height;
     double x0 = floor((umin + 1) * 0.5 * W - 0.5) - 2, x1 = ceil((umax + 1) * 0.5 * W - 0.5) + 3;
@@ -173,6 +225,66 @@ bool vx__frame_cull(const vx__frame* f, const double lo[3], const double hi[3], 
     if (!mgx) mgx = 1;
     miss_groups[0] = mgx, miss_groups[1] = (uint32_t)((mg + mgx - 1) / mgx), miss_groups[2] = 1;
     return *traced != (uint64_t)W * H;
+}
+
+/* The tiles [o[0], o[2]) x [o[1], o[3]) of 2^s pixels that node n's
+ * rectangle meets (none: all 0). */
+static void tile_span(const vx__frame* f, const vx_bvh* bvh, uint32_t n, uint32_t s, uint32_t o[4]) {
+    const vx_bvh_node* b = &bvh->nodes[n];
+    double lo[3] = {b->lo[0], b->lo[1], b->lo[2]}, hi[3] = {b->hi[0], b->hi[1], b->hi[2]};
+    uint32_t r[4];
+    vx__frame_rect(f, lo, hi, r);
+    if (r[0] < r[2] && r[1] < r[3])
+        o[0] = r[0] >> s, o[1] = r[1] >> s, o[2] = ((r[2] - 1) >> s) + 1, o[3] = ((r[3] - 1) >> s) + 1;
+    else
+        o[0] = o[1] = o[2] = o[3] = 0;
+}
+
+void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__TILES_X * VX__TILES_X],
+                     uint32_t* shift, uint32_t* nx) {
+    uint32_t W = f->width, H = f->height, s = 3;
+    while (((W + (1u << s) - 1) >> s) > VX__TILES_X || ((H + (1u << s) - 1) >> s) > VX__TILES_X) s++;
+    uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
+    *shift = s, *nx = tx;
+    memset(tiles, 0, sizeof(uint16_t) * VX__TILES_X * VX__TILES_X);
+    if (!bvh || !bvh->node_count || !W || !H) return;
+    /* every tile starts at the root, or nowhere outside its rectangle */
+    uint32_t root[4];
+    tile_span(f, bvh, 0, s, root);
+    for (uint32_t y = 0; y < ty; y++)
+        for (uint32_t x = 0; x < tx; x++)
+            tiles[y * tx + x] = (x >= root[0] && x < root[2] && y >= root[1] && y < root[3]) ? 0 : VX__TILE_NONE;
+    /* top down: a node's tiles (those that hold its index, within its span)
+     * move to the one child whose rectangle meets them, or to none; a depth
+     * past the stack leaves them at the node (an ancestor: still exact) */
+    struct {
+        uint32_t node, span[4];
+    } st[64];
+    int sp = 0;
+    st[sp].node = 0, memcpy(st[sp].span, root, sizeof root), sp++;
+    while (sp > 0) {
+        sp--;
+        uint32_t n = st[sp].node, sn[4];
+        memcpy(sn, st[sp].span, sizeof sn);
+        const vx_bvh_node* b = &bvh->nodes[n];
+        if (b->count || b->first + 1 >= bvh->node_count || b->first + 1 >= VX__TILE_NONE) continue;
+        uint32_t sa[4], sb[4];
+        tile_span(f, bvh, b->first, s, sa);
+        tile_span(f, bvh, b->first + 1, s, sb);
+        bool any_a = false, any_b = false;
+        for (uint32_t y = sn[1]; y < sn[3]; y++)
+            for (uint32_t x = sn[0]; x < sn[2]; x++) {
+                uint16_t* t = &tiles[y * tx + x];
+                if (*t != n) continue;
+                bool a = x >= sa[0] && x < sa[2] && y >= sa[1] && y < sa[3];
+                bool c = x >= sb[0] && x < sb[2] && y >= sb[1] && y < sb[3];
+                if (a && c) continue;
+                *t = a ? (uint16_t)b->first : c ? (uint16_t)(b->first + 1) : (uint16_t)VX__TILE_NONE;
+                any_a |= a, any_b |= c;
+            }
+        if (any_a && sp < 64) st[sp].node = b->first, memcpy(st[sp].span, sa, sizeof sa), sp++;
+        if (any_b && sp < 64) st[sp].node = b->first + 1, memcpy(st[sp].span, sb, sizeof sb), sp++;
+    }
 }
 
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,

@@ -56,6 +56,11 @@ typedef struct vx__gpu_frame {
      * [rect[1], rect[3]) that the trace pass covers; the rest miss
      * (vx__frame_cull) */
     uint32_t rect[4];
+    /* trace.comp with several instances: the primary rays' BVH start per
+     * screen tile (vx__frame_tiles): x the tiles' shift, y tiles a row;
+     * all 0 (the root for every tile) where the host sets none */
+    uint32_t tile_info[4];
+    uint16_t tiles[VX__TILES_X * VX__TILES_X];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

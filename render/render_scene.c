@@ -14,7 +14,7 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   sizeof(vx__gpu_frame) == 352,
+                   offsetof(vx__gpu_frame, tiles) == 368 && sizeof(vx__gpu_frame) == 368 + 2 * VX__TILES_X * VX__TILES_X,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -367,6 +367,10 @@ static vx_result bvh_levels(vx_render_scene* rs, vx_error* err) {
  * over their world boxes (rs->bvh), built on the CPU. */
 static vx_result instance_tables(vx_render_scene* rs, const vx_svo_scene* s, vx_error* err) {
     uint32_t n = drawn_count(s);
+    /* the kernels' BVH stack packs a node's or leaf's first index with its
+     * count in 32 bits (trace_common.glsl's BVH_ENTRY): indices below 2^29 */
+    if (n > (1u << 27))
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%u drawn instances: the GPU tracer takes at most %u", n, 1u << 27);
     rs->inst_count = n;
     rs->inst = vx_calloc(&rs->alloc, n ? n : 1, sizeof *rs->inst);
     double* lo = vx_calloc(&rs->alloc, 3 * (size_t)(n ? n : 1), sizeof(double));
@@ -1534,6 +1538,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     bool miss = vx__frame_cull(f, rs->lo, rs->hi, cull && !f->lod, ((vx__gpu_frame*)rs->frame.map)->rect, groups,
                                miss_groups, &rs->last_traced);
     rs->last_cull = miss;
+    if (cull && !f->lod && rs->inst_count > 1) {
+        vx__gpu_frame* gf = rs->frame.map;
+        vx__frame_tiles(f, &rs->bvh, gf->tiles, &gf->tile_info[0], &gf->tile_info[1]);
+    }
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
     uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,

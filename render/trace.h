@@ -55,6 +55,20 @@ void vx__frame_rect(const vx__frame* f, const double lo[3], const double hi[3], 
  * rectangle is not the whole image); *traced the rectangle's pixels. */
 bool vx__frame_cull(const vx__frame* f, const double lo[3], const double hi[3], bool cull, uint32_t rect[4],
                     uint32_t groups[3], uint32_t miss_groups[3], uint64_t* traced);
+/* The BVH walk's start per screen tile (trace.comp's primary rays, scenes
+ * of several instances): the image in tiles of 2^*shift pixels a side, at
+ * most VX__TILES_X x VX__TILES_X of them (*nx a row, row-major), and per
+ * tile the deepest BVH node whose subtree holds every leaf whose box the
+ * tile's rays can meet (a node's box's rectangle as vx__frame_rect's, the
+ * descent stopping where both children's rectangles meet the tile), or
+ * VX__TILE_NONE where none can. A ray's walk from that node visits the same
+ * leaves in the same order as from the root (the skipped subtrees' boxes
+ * lie outside its pixel's rectangles), so its hit and steps are the same.
+ * Nodes past 0xFFFE are not named (their parents start instead). */
+#define VX__TILES_X 32
+#define VX__TILE_NONE 0xFFFFu
+void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__TILES_X * VX__TILES_X],
+                     uint32_t* shift, uint32_t* nx);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);

@@ -39,6 +39,7 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_INST_UBO
 #define TRACE_FLAT_ITEMS
 #define TRACE_CULL
+#define TRACE_TILES
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -118,7 +119,16 @@ void shade(uvec2 px) {
         h.inst = NO_HIT;
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u); // a miss's hits record is written too
-        bool hit = MISS_PASS ? false : trace_scene(o, d, 0.0, false, h);
+        // several instances: the walk from the pixel's tile's node, or no
+        // walk where the tile's rays meet no leaf's box (vx__frame_tiles)
+        uint start = 0u;
+        if (USE_BVH && !MISS_PASS) {
+            uint ti = min((px.y >> F.tile_info.x) * F.tile_info.y + (px.x >> F.tile_info.x), 1023u);
+            start = (F.tiles[ti >> 3u][(ti >> 1u) & 3u] >> ((ti & 1u) * 16u)) & 0xFFFFu;
+        }
+        g_start = start;
+        bool hit = MISS_PASS || start == 0xFFFFu ? false : trace_scene(o, d, 0.0, false, h);
+        g_start = 0u; // the shadow ray's walk from the root
         uint prim_iter = g_iter;
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);

@@ -97,6 +97,13 @@ layout(std140, binding = 0) uniform Frame {
     // trace pass covers (vx__gpu_frame.rect)
     layout(offset = 336) uvec4 rect;
 #endif
+#ifdef TRACE_TILES
+    // trace.comp, several instances: the primary rays' BVH start per screen
+    // tile (vx__frame_tiles), 16 bits each, 0xFFFF none; tile_info.x the
+    // tiles' shift, .y tiles a row (vx__gpu_frame.tiles)
+    layout(offset = 352) uvec4 tile_info;
+    layout(offset = 368) uvec4 tiles[128];
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -866,7 +873,23 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     return false;
 }
 
+// A far child on the walk's stack: its words (first << 3 | count: the host
+// keeps node and item indices below 2^29, leaves at most 4 items) and its
+// box's entry t from the test that pushed it, so that a pop neither loads
+// nor tests its box again (the same t, the same decision).
+#ifdef PRECISE
+#define BVH_ENTRY uvec3
+#define BVH_ENTRY_MAKE(w, t) uvec3(w, unpackDouble2x32(t))
+#define BVH_ENTRY_T(e) packDouble2x32(e.yz)
+#else
+#define BVH_ENTRY uvec2
+#define BVH_ENTRY_MAKE(w, t) uvec2(w, floatBitsToUint(t))
+#define BVH_ENTRY_T(e) uintBitsToFloat(e.y)
+#endif
 // The walk to the next leaf (first, count: its items; done: none left).
+// node_first, node_count: node's own words (its children or items), taken
+// from the load that tested its box rather than loaded again (a storage
+// buffer's load is 8 lane-by-lane loads with their bounds tests on lavapipe).
 #define BVH_NEXT_LEAF \
     while (true) {                                                                          \
         if (pop_next) {                                                                     \
@@ -874,15 +897,18 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
             pop_next = false;                                                               \
             bool next = false;                                                              \
             while (sp > 0) {                                                                \
-                uint c = stack[--sp];                                                       \
-                RVEC2 tc = scene_box(o, dinv, RVEC3(bvh[c].lo.xyz), RVEC3(bvh[c].hi.xyz));  \
-                if (tc.x <= h.t) { node = c; next = true; break; }                          \
+                BVH_ENTRY c = stack[--sp];                                                  \
+                if (BVH_ENTRY_T(c) <= h.t) {                                                \
+                    node_first = c.x >> 3u;                                                 \
+                    node_count = c.x & 7u;                                                  \
+                    next = true;                                                            \
+                    break;                                                                  \
+                }                                                                           \
             }                                                                               \
             if (!next) { done = true; break; }                                              \
         }                                                                                   \
-        BNode n = bvh[node];                                                                \
-        count = floatBitsToUint(n.hi.w);                                                    \
-        first = floatBitsToUint(n.lo.w);                                                    \
+        count = node_count;                                                                 \
+        first = node_first;                                                                 \
         if (count > 0u) { pop_next = true; break; }                                         \
         BNode a = bvh[first], b = bvh[first + 1u];                                          \
         RVEC2 ta = scene_box(o, dinv, RVEC3(a.lo.xyz), RVEC3(a.hi.xyz));                    \
@@ -891,19 +917,30 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
         bool hb = tb.x <= tb.y && tb.y >= t0 && tb.x <= h.t;                                \
         if (ha && hb) {                                                                     \
             /* nearest first; the far one waits on the stack */                             \
-            uint nearc = ta.x <= tb.x ? first : first + 1u;                                 \
-            uint farc = ta.x <= tb.x ? first + 1u : first;                                  \
-            if (sp < 64) stack[sp++] = farc;                                                \
-            node = nearc;                                                                   \
+            bool an = ta.x <= tb.x;                                                         \
+            uvec2 aw = uvec2(floatBitsToUint(a.lo).w, floatBitsToUint(a.hi).w);             \
+            uvec2 bw = uvec2(floatBitsToUint(b.lo).w, floatBitsToUint(b.hi).w);             \
+            uvec2 fw = an ? bw : aw;                                                        \
+            if (sp < 64) stack[sp++] = BVH_ENTRY_MAKE((fw.x << 3u) | fw.y, an ? tb.x : ta.x); \
+            node_first = an ? aw.x : bw.x;                                                  \
+            node_count = an ? aw.y : bw.y;                                                  \
         } else if (ha) {                                                                    \
-            node = first;                                                                   \
+            node_first = floatBitsToUint(a.lo).w;                                           \
+            node_count = floatBitsToUint(a.hi).w;                                           \
         } else if (hb) {                                                                    \
-            node = first + 1u;                                                              \
+            node_first = floatBitsToUint(b.lo).w;                                           \
+            node_count = floatBitsToUint(b.hi).w;                                           \
         } else {                                                                            \
             pop_next = true;                                                                \
         }                                                                                   \
     }
 
+#ifdef TRACE_TILES
+// The BVH node the next trace_scene starts from (its subtree holds every
+// leaf the ray can meet: the primary ray's tile's, vx__frame_tiles), the
+// root for every other ray
+uint g_start = 0u;
+#endif
 // Nearest hit (or any hit) along o + t d, t in [t0, h.t].
 bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
@@ -913,11 +950,17 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     }
     if (F.dims.w == 0u) return false;
     RVEC3 dinv = safe_inv(d);
-    uint stack[64];
+    BVH_ENTRY stack[64];
     int sp = 0;
+#ifdef TRACE_TILES
+    uint node = g_start;
+#else
     uint node = 0u;
-    RVEC2 rt = scene_box(o, dinv, RVEC3(bvh[0].lo.xyz), RVEC3(bvh[0].hi.xyz));
+#endif
+    BNode rn = bvh[node];
+    RVEC2 rt = scene_box(o, dinv, RVEC3(rn.lo.xyz), RVEC3(rn.hi.xyz));
     if (!(rt.x <= rt.y && rt.y >= t0 && rt.x <= h.t)) return false;
+    uint node_first = floatBitsToUint(rn.lo).w, node_count = floatBitsToUint(rn.hi).w;
     // The walk to the next leaf is a loop of its own, and the leaf's
     // instances are traced outside it: SIMD CPUs (lavapipe) run a loop's
     // every branch masked, so the octree walk runs once per leaf visit

@@ -318,6 +318,110 @@ static void test_screen_rect(void) {
     vx_svo_scene_free(&sc[1]);
 }
 
+/* Whether instance item lies in the BVH subtree of node n. */
+static bool bvh_subtree_has(const vx_bvh* b, uint32_t n, uint32_t item) {
+    const vx_bvh_node* nd = &b->nodes[n];
+    if (nd->count) {
+        for (uint32_t k = 0; k < nd->count; k++)
+            if (b->items[nd->first + k] == item) return true;
+        return false;
+    }
+    return bvh_subtree_has(b, nd->first, item) || bvh_subtree_has(b, nd->first + 1, item);
+}
+
+/* vx__frame_tiles (trace.comp's BVH start per screen tile) is conservative:
+ * the instance of every pixel that the CPU reference sees hit lies in the
+ * subtree of its tile's start node (never a tile marked none), for cameras
+ * among the instances (boxes that cross the eye's plane: vx__frame_rect's
+ * cut), near and far, perspective and orthographic; and it culls: far views
+ * start tiles below the root and mark tiles none. The instances are boxes of
+ * filled cells (hits reach their boxes' silhouettes). */
+static void test_screen_tiles(void) {
+    enum { W = 96, H = 72, NI = 24 };
+    uint32_t sa[3] = {3, 2, 2}, sb[3] = {2, 2, 3}, xa[3 * 12], xb[3 * 12], na = 0, nb = 0;
+    for (uint32_t z = 0; z < 3; z++)
+        for (uint32_t y = 0; y < 2; y++)
+            for (uint32_t x = 0; x < 3; x++) {
+                if (x < sa[0] && z < sa[2]) xa[3 * na] = x, xa[3 * na + 1] = y, xa[3 * na + 2] = z, na++;
+                if (x < sb[0] && z < sb[2]) xb[3 * nb] = x, xb[3 * nb + 1] = y, xb[3 * nb + 2] = z, nb++;
+            }
+    vx_svo_model m[2];
+    REQUIRE(ts_model(&m[0], sa, xa, NULL, na) == VX_OK);
+    REQUIRE(ts_model(&m[1], sb, xb, NULL, nb) == VX_OK);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
+    vx_svo_instance in[NI];
+    for (uint32_t i = 0; i < NI; i++)
+        in[i] = ts_inst(i % 2, i % 3 == 0 ? rot : NULL, 5.0 * (i % 4), 6.0 * ((i / 4) % 3), 7.0 * (i / 12));
+    vx_svo_scene sc;
+    ts_scene(&sc, m, 2, in, NI);
+    double blo[3 * NI], bhi[3 * NI], lo[3], hi[3], ctr[3], rad = 0;
+    for (uint32_t i = 0; i < NI; i++) vx_svo_instance_world_box(&sc, &sc.instances[i], &blo[3 * i], &bhi[3 * i]);
+    vx_bvh bvh;
+    vx_error err = {0};
+    REQUIRE(vx_bvh_build(blo, bhi, NI, NULL, &bvh, &err) == VX_OK);
+    vx_svo_scene_world_bounds(&sc, lo, hi);
+    for (int k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]), rad += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    rad = sqrt(rad);
+    uint32_t seed = 777;
+    int deeper = 0, none = 0, inside_deeper = 0, checked = 0;
+    for (int view = 0; view < 200; view++) {
+        /* 0-1: among the instances, 2: near, 3: far, 4: far orthographic */
+        int kind = view % 5;
+        vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_DEPTH, .want_hits = true};
+        d.camera.set = true;
+        d.camera.fov = 30 + ts_rng(&seed) % 60;
+        d.camera.ortho = kind == 4;
+        d.camera.ortho_height = 2.5 * rad;
+        double dir[3], dl = 0;
+        for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+        dl = sqrt(dl);
+        for (int k = 0; k < 3; k++) {
+            double u = (double)(ts_rng(&seed) % 1001) / 1000;
+            if (kind <= 1) {
+                d.camera.eye[k] = lo[k] + u * (hi[k] - lo[k]);
+                d.camera.target[k] = d.camera.eye[k] + dir[k] / dl;
+            } else {
+                double dist = rad * (kind == 2 ? 1.6 : 4 + ts_rng(&seed) % 5);
+                d.camera.eye[k] = ctr[k] + dir[k] / dl * dist;
+                d.camera.target[k] = ctr[k] + (u - 0.5) * rad;
+            }
+        }
+        vx__frame f;
+        REQUIRE(vx__frame_setup(lo, hi, &d, &f, &err) == VX_OK);
+        uint16_t tiles[VX__TILES_X * VX__TILES_X];
+        uint32_t shift = 0, nx = 0;
+        vx__frame_tiles(&f, &bvh, tiles, &shift, &nx);
+        CHECK(nx <= VX__TILES_X && ((H + (1u << shift) - 1) >> shift) <= VX__TILES_X);
+        vx_render_image img;
+        REQUIRE(vx_render_cpu(&sc, &d, NULL, &img, &err) == VX_OK);
+        int bad = 0;
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++) {
+                uint32_t t = tiles[(y >> shift) * nx + (x >> shift)];
+                if (t != 0 && t != VX__TILE_NONE) {
+                    deeper++;
+                    inside_deeper += kind <= 1;
+                }
+                none += t == VX__TILE_NONE && kind >= 3;
+                uint32_t id = img.hits[y * W + x].instance;
+                if (id == VX_RENDER_NO_HIT) continue;
+                checked++;
+                if (t == VX__TILE_NONE || !bvh_subtree_has(&bvh, t, id)) bad++;
+            }
+        CHECK(bad == 0);
+        if (bad) printf("screen tiles: view %d (kind %d): %d hit pixels outside their tile's start node\n", view, kind, bad);
+        vx_render_image_free(&img);
+    }
+    printf("screen tiles: %d hit pixels checked; pixels below the root %d (%d from inside), none %d\n", checked, deeper,
+           inside_deeper, none);
+    CHECK(checked > 10000);
+    CHECK(deeper > W * H * 10);
+    CHECK(inside_deeper > W * H);
+    CHECK(none > W * H);
+    vx_bvh_free(&bvh);
+    vx_svo_scene_free(&sc);
+}
+
 int main(void) {
     RUN(test_bvh_structure_and_speed);
     RUN(test_cpu_vs_brute_force);
@@ -325,5 +429,6 @@ int main(void) {
     RUN(test_too_deep_refused);
     RUN(test_cpu_root_leaf);
     RUN(test_screen_rect);
+    RUN(test_screen_tiles);
     return vx_test_finish();
 }

@@ -877,7 +877,8 @@ static void test_modes(void) {
 /* The screen cull (trace.comp traces the pixels whose rays can meet the
  * scene's box, a second pass writes the others' misses): the same bits as
  * without it, pixels and hit records, in every mode, for cameras far, near,
- * inside, looking away and orthographic, one instance and several (the BVH), in depth, colour (shadow rays) and
+ * inside, looking away and orthographic, one instance and several (the BVH; a grid of 30 instances, whose
+ * primary rays start the BVH walk at their screen tile's node), in depth, colour (shadow rays) and
  * iterations (a miss's count), two samples a pixel too. */
 static void test_screen_cull(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -886,14 +887,21 @@ static void test_screen_cull(void) {
     REQUIRE(ts_random_model(&m[1], 4, 6, 3, 50, 22) == VX_OK);
     static const double rot[9] = {0.6, -0.8, 0, 0.8, 0.6, 0, 0, 0, 1};
     vx_svo_instance in[3] = {ts_inst(0, rot, 3, 1, 0), ts_inst(1, NULL, -9, 4, 2), ts_inst(1, rot, 6, -8, -3)};
-    vx_svo_scene sc[2];
-    vx_svo_model m1;
+    /* scene 2: a grid of 30 instances, whose BVH's tiles start below the root (vx__frame_tiles) */
+    vx_svo_instance grid[30];
+    for (int i = 0; i < 30; i++)
+        grid[i] = ts_inst(i % 2, i % 3 ? NULL : rot, 12.0 * (i % 5), 10.0 * ((i / 5) % 3), 9.0 * (i / 15));
+    vx_svo_scene sc[3];
+    vx_svo_model m1, mg[2];
     REQUIRE(ts_random_model(&m1, 9, 7, 5, 35, 21) == VX_OK);
+    REQUIRE(ts_random_model(&mg[0], 9, 7, 5, 35, 21) == VX_OK);
+    REQUIRE(ts_random_model(&mg[1], 4, 6, 3, 50, 22) == VX_OK);
     ts_scene(&sc[0], &m1, 1, in, 1);
     ts_scene(&sc[1], m, 2, in, 3);
+    ts_scene(&sc[2], mg, 2, grid, 30);
     uint32_t seed = 77;
     size_t frames = 0, culled = 0, differ = 0;
-    for (int si = 0; si < 2; si++) {
+    for (int si = 0; si < 3; si++) {
         vx_error err = {0};
         vx_render_scene* rs = NULL;
         REQUIRE(vx_render_scene_create(gpu, &sc[si], &rs, &err) == VX_OK);
@@ -960,6 +968,7 @@ static void test_screen_cull(void) {
     CHECK(culled * 2 >= frames); /* the far, away and orthographic views cull */
     vx_svo_scene_free(&sc[0]);
     vx_svo_scene_free(&sc[1]);
+    vx_svo_scene_free(&sc[2]);
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 

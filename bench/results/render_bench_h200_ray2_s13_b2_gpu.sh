@@ -1,0 +1,50 @@
+#!/bin/bash
+# ray2 (issue 21, thirteenth sitting), batch 2: main's render_bench (A, bench/out/base/bin, b16046b), the
+# branch's first commit (C: the BVH walk's start per screen tile, the cut rectangle) and its second (B: the
+# BVH walk's node words from the box test's load) alternated process by process, three rounds, on the
+# multi-instance scene (with ESVO); exactness of B; A and B on the single-instance scenes and the terrains;
+# shader statistics. SIZE=WxH for lavapipe.
+export LD_LIBRARY_PATH=bench/out/ray2:bench/out/base/bin
+L=bench/out/ray2; A=bench/out/base/bin
+SIZE=${SIZE:-1920x1080}; WU=${WU:-0.1}
+s0=$(date +%s)
+echo "== ray2 B $(cat $L/REV) C $(cat $L/REV_c1) on $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null || echo 'no nvidia-smi') size $SIZE $(date -u +%T)"
+timeout ${WT:-5} $L/render_bench --no-esvo --sizes $SIZE --runs 200 --warmup 2 --views overview $L/eph_monu1.vox > /dev/null 2>&1
+bin_of() { case $1 in A) echo $A/render_bench;; B) echo $L/render_bench;; C) echo $L/render_bench_c1;; esac; }
+echo "== 1: processes alternated A C B, the multi-instance scene with ESVO $(date -u +%T)"
+for round in 1 2 3; do
+  for who in A C B; do
+    left=$(( ${T1:-45} - ($(date +%s) - s0) ))
+    [ $left -gt 4 ] || break 2
+    echo "-- round $round $who"
+    timeout $left $(bin_of $who) --sizes $SIZE --runs ${R1:-15} --warmup $WU --views overview,oblique,closeup,sky \
+      $L/ogt_test_multiple_model_scene.vox 2>&1 | grep -E '^ogt'
+  done
+done
+echo "== 1b: exactness in one process: B built-in against B with no cull (@c0: the walk from the root) $(date -u +%T)"
+left=$(( ${T1B:-52} - ($(date +%s) - s0) ))
+[ $left -gt 4 ] && timeout $left $L/render_bench --no-esvo --sizes $SIZE --runs 3 --warmup 0 --views overview,oblique,closeup,sky \
+  --kernels @c0 $L/ogt_test_multiple_model_scene.vox 2>&1 | grep -E '^ogt'
+echo "== 2: single-instance .vox scenes, A B A B $(date -u +%T)"
+for who in A B A B; do
+  left=$(( ${T2:-100} - ($(date +%s) - s0) ))
+  [ $left -gt 4 ] || break
+  echo "-- $who"
+  timeout $left $(bin_of $who) --no-esvo --sizes $SIZE --runs ${R2:-10} --warmup $WU --views overview,oblique,closeup \
+    $L/eph_monu1.vox $L/eph_menger.vox $L/eph_dragon.vox $L/ogt_doom.vox 2>&1 | grep -E '^(eph|ogt)'
+done
+echo "== 3: terrains (--generate), A then B $(date -u +%T)"
+for who in A B; do
+  left=$(( ${T3:-138} - ($(date +%s) - s0) ))
+  [ $left -gt 8 ] || break
+  echo "-- $who"
+  timeout $left $(bin_of $who) --no-esvo --generate --sizes $SIZE --runs ${R3:-10} --warmup $WU --views overview,oblique,closeup 2>&1 | grep -E '^terr'
+done
+echo "== 4: shader statistics, A then B (the multi-instance scene, depth and colour) $(date -u +%T)"
+for who in A B; do
+  left=$(( ${TOTAL:-147} - ($(date +%s) - s0) ))
+  [ $left -gt 3 ] || break
+  echo "-- $who"
+  timeout $left $(bin_of $who) --no-esvo --shader-stats --sizes 64x64 --runs 1 --warmup 0 --views overview $L/ogt_test_multiple_model_scene.vox 2>&1 | grep '^stats: trace \[spec [03],1,1,0,0'
+done
+echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
