@@ -9,6 +9,7 @@
 //   CA_PAL(i)   palette entry i (RGBA)
 //   CA_PAGES    the paged layout's page count (0: the whole layout)
 //   CA_DICT     false: no node has VX_COMPACT_INDEXED (the index words' code is dead)
+//   CA_UNI      false: no start-table entry is CA_TAB_UNIFORM (its tests are dead)
 // render/compact_gpu.c writes CModel (cmodel_gpu). Included twice: first
 // without CA_SLOT (the record, before the buffers that hold it), then with
 // the macros defined (the functions, after the buffers).
@@ -115,8 +116,12 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     }
     return r;
 }
-// a start table's entry inside a full leaf cube (CModel.tab_k)
-const uint CA_TAB_FULL = 0xFFFFFFFFu;
+// a start table's entry inside a full leaf cube (CModel.tab_k), and one
+// whose cells all hold one value (its second word the value)
+const uint CA_TAB_FULL = 0xFFFFFFFFu, CA_TAB_UNIFORM = 0xFFFFFFFEu;
+// cell_index's attribute base for a cell of a uniform cube: the index it
+// returns is then the stored value itself (decode_value)
+const uint CA_UNIFORM = 0xFFFFFFFFu;
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
 // root, or from the node of its level-K cube in the model's start table
 // (CModel.tab_k), after the hit (measured faster on the H200 than a
@@ -141,6 +146,10 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
         if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
+        if (CA_UNI && n == CA_TAB_UNIFORM) {
+            attr_base = CA_UNIFORM;
+            return base;
+        }
         L = int(K);
     }
     // the rank of the level-3 node's previous slot in its block (the level-4
@@ -198,6 +207,7 @@ uint recorrelate(uint v) {
 // The stored value of attribute index i (vx__compact_value: the palette
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
+    if (CA_UNI && attr_base == CA_UNIFORM) return i; // a uniform cube's value (cell_index)
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
     uint g = CA_ATTR(attr_base + (blk >> 6));

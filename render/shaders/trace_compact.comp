@@ -30,6 +30,9 @@ const bool REBASE = DEEP >= 2;
 // pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
+// some model's start table has entries whose cells hold one value
+// (compact_gpu.c tab_uniform), else their tests are compiled out
+layout(constant_id = 7) const bool UNIFORM = false;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
 layout(constant_id = 5) const bool DICT = false;
@@ -118,6 +121,7 @@ uint attr_word(uint i) {
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
 #define CA_DICT DICT
+#define CA_UNI UNIFORM
 #include "compact_attr.glsl"
 
 struct Hit {
