@@ -745,9 +745,9 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     bool miss = vx__frame_cull(f, cg->lo, cg->hi, !cg->pg, ((vx__gpu_frame*)scene[0]->map)->rect, groups, miss_groups,
                                &traced);
     /* 11: the miss pass */
-    /* 7: some start-table entry is of one value (the kernel tests for them) */
-    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0,
-                         cg->uniform_entries > 0, cg->deep, pages, cg->attr_shift, 0};
+    /* 6: one sample a pixel; 7: some start-table entry is of one value (the kernel tests for them) */
+    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
+                         f->spp <= 1, cg->uniform_entries > 0, cg->deep, pages, cg->attr_shift, 0};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,

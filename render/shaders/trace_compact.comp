@@ -30,6 +30,12 @@ const bool REBASE = DEEP >= 2;
 // pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
+// One sample a pixel (F.dims.z <= 1), as trace.comp's: the samples' loop
+// then has the constant trip count 1 and the compiler drops it; the
+// albedo kernels then take 40 registers (48 with the loop on deep models)
+// and 1-4% more rays/s on the H200 (docs/PERFORMANCE.md issue 18, twelfth
+// step)
+layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // some model's start table has entries whose cells hold one value
 // (compact_gpu.c tab_uniform), else their tests are compiled out
 layout(constant_id = 7) const bool UNIFORM = false;
@@ -649,7 +655,7 @@ vec3 heat(uint it) {
 
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
-    uint spp = max(F.dims.z, 1u);
+    uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
