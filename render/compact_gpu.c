@@ -185,11 +185,12 @@ static vx_result attr_parts(uint64_t words, uint64_t range, uint32_t* shift, uin
  * scene's budget. The whole layout only (the paged one has none).
  * Entries: (slot, cells before); (TAB_FULL, index of the cube's first
  * cell) for a cube inside a full leaf cube; (TAB_FULL, 0) where empty
- * (never read: a hit's cube has cells); (TAB_UNIFORM, the stored value)
- * for a cube whose cells all hold one value (tab_uniform): its colour
- * needs neither the descent nor the decode. */
+ * (never read: a hit's cube has cells); (TAB_UNIFORM | the palette index
+ * of a palette model, the colour) for a cube whose cells all hold one
+ * value (tab_uniform): its colour needs neither the descent nor the
+ * decode, nor the palette. */
 #define TAB_FULL 0xFFFFFFFFu
-#define TAB_UNIFORM 0xFFFFFFFEu
+#define TAB_UNIFORM 0xFFFFFE00u /* | the palette index (palette models; slots never come near) */
 #define TAB_EMPTY 0xFFFFFFFDu /* while the table is filled only */
 
 typedef struct tab_fill {
@@ -268,7 +269,8 @@ static uint64_t tab_uniform(const vx_compact_scene* c, uint32_t mi, uint32_t* t,
         }
         if (attr_uniform(c, mi, t[2 * e + 1], t[2 * e + 1] + cells, &v)) {
             marked++;
-            if (mark) t[2 * e] = TAB_UNIFORM, t[2 * e + 1] = v;
+            bool pal = c->models[mi].attr_kind == VX_COMPACT_ATTR_PALETTE;
+            if (mark) t[2 * e] = TAB_UNIFORM | (pal ? v : 0u), t[2 * e + 1] = pal ? c->palette[v] : v;
         }
     }
     return marked;

@@ -117,11 +117,13 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     return r;
 }
 // a start table's entry inside a full leaf cube (CModel.tab_k), and one
-// whose cells all hold one value (its second word the value)
-const uint CA_TAB_FULL = 0xFFFFFFFFu, CA_TAB_UNIFORM = 0xFFFFFFFEu;
-// cell_index's attribute base for a cell of a uniform cube: the index it
-// returns is then the stored value itself (decode_value)
-const uint CA_UNIFORM = 0xFFFFFFFFu;
+// whose cells all hold one value (CA_TAB_UNIFORM | a palette model's
+// palette index; its second word the colour)
+const uint CA_TAB_FULL = 0xFFFFFFFFu, CA_TAB_UNIFORM = 0xFFFFFE00u;
+// cell_index's attribute base for a cell of a uniform cube (CA_UNIFORM |
+// the palette index): the index it returns is then the colour itself
+// (decode_color; decode_value gives the palette index or the colour)
+const uint CA_UNIFORM = 0xFFFFFF00u;
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
 // root, or from the node of its level-K cube in the model's start table
 // (CModel.tab_k), after the hit (measured faster on the H200 than a
@@ -146,8 +148,8 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
         if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
-        if (CA_UNI && n == CA_TAB_UNIFORM) {
-            attr_base = CA_UNIFORM;
+        if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
+            attr_base = CA_UNIFORM | (n & 0xFFu);
             return base;
         }
         L = int(K);
@@ -207,7 +209,7 @@ uint recorrelate(uint v) {
 // The stored value of attribute index i (vx__compact_value: the palette
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
-    if (CA_UNI && attr_base == CA_UNIFORM) return i; // a uniform cube's value (cell_index)
+    if (CA_UNI && attr_base >= CA_UNIFORM) return m.kind == 1u ? attr_base & 0xFFu : i; // a uniform cube's (cell_index)
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
     uint g = CA_ATTR(attr_base + (blk >> 6));
@@ -240,6 +242,7 @@ uint decode_value(CModel m, uint attr_base, uint i) {
 }
 // The colour of attribute index i (vx_compact_rgba).
 uint decode_color(CModel m, uint attr_base, uint i) {
+    if (CA_UNI && attr_base >= CA_UNIFORM) return i; // a uniform cube's colour (cell_index)
     uint v = decode_value(m, attr_base, i);
     return m.kind == 1u ? CA_PAL(v & 0xFFu) : v;
 }
