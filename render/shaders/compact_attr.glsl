@@ -201,6 +201,69 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     return base + below;
 }
 
+// cell_index for the whole layout (no pages) where the model's start table
+// is of level K >= 4: the levels above 4 in a loop, levels 4 and 3 after it
+// in straight code (cell_index tests a step's level for their forms):
+// +2.5% of the H200's albedo rays/s on the helmet's close-up (levels 4, 3
+// and the brick below its table), the other views within 0.3%
+// (docs/PERFORMANCE.md issue 18, twelfth step). Other models: cell_index.
+uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
+    attr_base = m.attr_base;
+    uint K = m.tab_k;
+    if (m.root == ROOT_LEAF || K < 4u) return cell_index(m, c, attr_base);
+    uint D = m.depth - K;
+    uvec3 r = c >> K;
+    uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+    uint n = CA_ATTR(e);
+    uint base = CA_ATTR(e + 1u);
+    if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
+    if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
+        attr_base = CA_UNIFORM | (n & 0xFFu);
+        return base;
+    }
+    for (int L = int(K); L >= 5; L--) {
+        uvec2 nd = CA_SLOT(n);
+        uint s = uint(L - 1);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        n = nd.y + k;
+    }
+    // level 4: the rank of the level-3 node's previous slot kept
+    uvec2 nd = CA_SLOT(n);
+    uint o = ((c.x >> 3u) & 1u) | (((c.y >> 3u) & 1u) << 1) | (((c.z >> 3u) & 1u) << 2);
+    uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+    uint prev = k > 0u ? (CA_SLOT(nd.y + k - 1u).x >> 16) & 0x7FFFu : 0u;
+    base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 9) + prev;
+    if ((nd.x & cbit) != 0u) return base + morton(c & 7u);
+    n = nd.y + k;
+    // level 3
+    nd = CA_SLOT(n);
+    o = ((c.x >> 2u) & 1u) | (((c.y >> 2u) & 1u) << 1) | (((c.z >> 2u) & 1u) << 2);
+    cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+    if (CA_DICT && (nd.x & CA_INDEXED) != 0u) {
+        base += cells_before(m.rank_base, 3, nd.x, nd.y, k, cbit);
+    } else {
+        uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
+        bool back = 2u * k > nb;
+        uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
+        for (uint i = 0u; i < cnt; i++) {
+            uvec2 b = CA_SLOT(nd.y + a + i);
+            sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+        }
+        uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
+        base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+    }
+    if ((nd.x & cbit) != 0u) return base + morton(c & 3u);
+    n = ca_child(3, nd.x, nd.y, k);
+    uint bit = morton2(c);
+    uvec2 b = CA_SLOT(n);
+    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
+    return base + below;
+}
+
 uint recorrelate(uint v) {
     uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
     return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);

@@ -698,7 +698,7 @@ void shade(uvec2 px) {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
-                uint i = cell_index(m, h.cell, ab);
+                uint i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }
