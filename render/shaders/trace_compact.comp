@@ -32,9 +32,10 @@ const bool REBASE = DEEP >= 2;
 layout(constant_id = 9) const uint PAGES = 0u;
 // One sample a pixel (F.dims.z <= 1), as trace.comp's: the samples' loop
 // then has the constant trip count 1 and the compiler drops it; the
-// albedo kernels then take 40 registers (48 with the loop on deep models)
-// and 1-4% more rays/s on the H200 (docs/PERFORMANCE.md issue 18, twelfth
-// step)
+// albedo kernels then take 40 registers (48 with the loop on deep models):
+// 3-5% more albedo rays/s on the H200 on eph_monu1 and eph_menger, within
+// 1% on the deep helmet and terrain, whose depth kernel (37 registers)
+// loses up to 4% (docs/PERFORMANCE.md issue 18, twelfth step)
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // some model's start table has entries whose cells hold one value
 // (compact_gpu.c tab_uniform), else their tests are compiled out
