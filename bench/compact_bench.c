@@ -271,12 +271,13 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
-                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB |\n",
+                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu) |\n",
                    name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
-                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6, (double)vx__compact_gpu_table_bytes(v ? cgp : cg) / 1e3);
+                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6, (double)vx__compact_gpu_table_bytes(v ? cgp : cg) / 1e3,
+                   (unsigned long long)vx__compact_gpu_uniform_entries(v ? cgp : cg));
         }
         fflush(stdout);
     }
@@ -497,7 +498,7 @@ int main(int argc, char** argv) {
             }
             printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
                    "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
-                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables |\n"
+                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables (entries of one value) |\n"
                    "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else

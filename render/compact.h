@@ -338,6 +338,8 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
+/* Internal (benchmarks, tests): the start tables' entries whose cube's cells all hold one value. */
+uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg);
 /* The attribute words (with the start tables) are split over up to this many
  * storage buffers where they exceed one buffer's range (the render scene's,
  * vx_render_scene_desc.max_buffer_range or the device's maxStorageBufferRange);

@@ -50,6 +50,7 @@ struct vx_compact_gpu {
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t table_bytes; /* the start tables' (in attr) */
+    uint64_t uniform_entries; /* of their entries, TAB_UNIFORM ones */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
 };
@@ -184,8 +185,13 @@ static vx_result attr_parts(uint64_t words, uint64_t range, uint32_t* shift, uin
  * scene's budget. The whole layout only (the paged one has none).
  * Entries: (slot, cells before); (TAB_FULL, index of the cube's first
  * cell) for a cube inside a full leaf cube; (TAB_FULL, 0) where empty
- * (never read: a hit's cube has cells). */
+ * (never read: a hit's cube has cells); (TAB_UNIFORM | the palette index
+ * of a palette model, the colour) for a cube whose cells all hold one
+ * value (tab_uniform): its colour needs neither the descent nor the
+ * decode, nor the palette. */
 #define TAB_FULL 0xFFFFFFFFu
+#define TAB_UNIFORM 0xFFFFFE00u /* | the palette index (palette models; slots never come near) */
+#define TAB_EMPTY 0xFFFFFFFDu /* while the table is filled only */
 
 typedef struct tab_fill {
     const vx_compact_scene* c;
@@ -221,6 +227,53 @@ static void tab_node(const tab_fill* f, uint32_t n, uint32_t L, uint64_t base, u
             tab_node(f, vx__compact_child(f->c, L, sl[1], k), s, b, cx, cy, cz);
         }
     }
+}
+
+/* Whether the attribute indices [b, e) of model mi all hold one stored
+ * value, *v: every block they touch of one value (code 0, the encoder's
+ * form for a block of one distinct value) and the same one. Blocks of
+ * other codes count as not uniform (a cube then keeps its descent). */
+static bool attr_uniform(const vx_compact_scene* c, uint32_t mi, uint64_t b, uint64_t e, uint32_t* v) {
+    const vx_compact_model* m = &c->models[mi];
+    const uint32_t* w = c->attr ? c->attr + m->attr_base : c->attr_region ? c->attr_region[mi] : NULL;
+    if (!w || !m->block || e > m->voxels || b >= e) return false;
+    uint32_t mask = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? 0xFFu : 0xFFFFFFFFu;
+    for (uint64_t blk = b / m->block; blk <= (e - 1) / m->block; blk++) {
+        uint32_t g = w[blk / VX_COMPACT_GROUP];
+        uint32_t h = w[(g & 0x7FFFFFFFu) + (g >> 31 ? 0 : blk % VX_COMPACT_GROUP)];
+        if ((h & 31u) != 0) return false;
+        uint32_t x = w[h >> 5] & mask;
+        if (blk == b / m->block) *v = x;
+        else if (x != *v) return false;
+    }
+    return true;
+}
+
+/* The entries of model mi's table (level K, D bits a side) whose cells
+ * hold one value: counted (*filled: the entries that are not empty), and
+ * with mark made TAB_UNIFORM. */
+static uint64_t tab_uniform(const vx_compact_scene* c, uint32_t mi, uint32_t* t, uint32_t K, uint32_t D, bool mark,
+                            uint64_t* filled) {
+    uint64_t marked = 0;
+    size_t n = (size_t)1 << (3 * D);
+    for (size_t e = 0; e < n; e++) {
+        uint32_t w0 = t[2 * e], v = 0;
+        if (w0 == TAB_EMPTY) continue;
+        ++*filled;
+        uint64_t cells = 1ull << (3 * K);
+        if (w0 != TAB_FULL) {
+            const uint32_t* sl = c->geom + 2 * (size_t)w0;
+            uint32_t valid = (sl[0] >> 8) & 0xFFu, leaf = sl[0] & 0xFFu;
+            cells = ((uint64_t)__builtin_popcount(leaf) << (3 * (K - 1))) +
+                    vx__compact_inner_before(c, K, sl[1], (uint32_t)__builtin_popcount(valid & ~leaf));
+        }
+        if (attr_uniform(c, mi, t[2 * e + 1], t[2 * e + 1] + cells, &v)) {
+            marked++;
+            bool pal = c->models[mi].attr_kind == VX_COMPACT_ATTR_PALETTE;
+            if (mark) t[2 * e] = TAB_UNIFORM | (pal ? v : 0u), t[2 * e + 1] = pal ? c->palette[v] : v;
+        }
+    }
+    return marked;
 }
 
 /* The table's level for a model of depth D within an entry budget (0: none). */
@@ -283,13 +336,31 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
     vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if (!r && tw) {
-        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_FULL;
+        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_EMPTY;
         for (uint32_t i = 0; i < s->model_count; i++)
             if (cm[i].tab_k) {
                 tab_fill f = {.c = c, .t = tw + (cm[i].tab_word - c->attr_words), .K = cm[i].tab_k,
                               .D = c->models[i].depth - cm[i].tab_k};
                 tab_node(&f, c->models[i].root, c->models[i].depth, 0, 0, 0, 0);
             }
+        /* The uniform cubes where at least a quarter of the scene's filled
+         * entries are: each kernel that reads the tables then tests for them
+         * (trace_compact.comp's UNIFORM constant), which cost 0.5-1.5% of the
+         * H200's albedo rays/s on the helmet and the terrain (2-8% of their
+         * entries uniform), and gave 7-13% on eph_menger (all of them;
+         * docs/PERFORMANCE.md issue 18, twelfth step) */
+        uint64_t filled = 0, marked = 0;
+        for (uint32_t i = 0; i < s->model_count; i++)
+            if (cm[i].tab_k)
+                marked += tab_uniform(c, i, tw + (cm[i].tab_word - c->attr_words), cm[i].tab_k,
+                                      c->models[i].depth - cm[i].tab_k, false, &filled);
+        bool mark = marked > 0 && 4 * marked >= filled;
+        for (uint32_t i = 0; i < s->model_count && mark; i++)
+            if (cm[i].tab_k)
+                cg->uniform_entries += tab_uniform(c, i, tw + (cm[i].tab_word - c->attr_words), cm[i].tab_k,
+                                                   c->models[i].depth - cm[i].tab_k, true, &filled);
+        for (size_t w = 0; w < tab_words; w += 2)
+            if (tw[w] == TAB_EMPTY) tw[w] = TAB_FULL;
     }
     uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
     if (!r && (uint64_t)c->geom_words * 4 > range)
@@ -335,6 +406,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
+uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg) { return cg ? cg->uniform_entries : 0; }
 
 uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg) { return cg ? cg->attr_parts : 0; }
 
@@ -675,8 +747,9 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     bool miss = vx__frame_cull(f, cg->lo, cg->hi, !cg->pg, ((vx__gpu_frame*)scene[0]->map)->rect, groups, miss_groups,
                                &traced);
     /* 11: the miss pass */
-    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict, 0, 0,
-                         cg->deep, pages, cg->attr_shift, 0};
+    /* 6: one sample a pixel; 7: some start-table entry is of one value (the kernel tests for them) */
+    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
+                         f->spp <= 1, cg->uniform_entries > 0, cg->deep, pages, cg->attr_shift, 0};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,

@@ -9,6 +9,7 @@
 //   CA_PAL(i)   palette entry i (RGBA)
 //   CA_PAGES    the paged layout's page count (0: the whole layout)
 //   CA_DICT     false: no node has VX_COMPACT_INDEXED (the index words' code is dead)
+//   CA_UNI      false: no start-table entry is CA_TAB_UNIFORM (its tests are dead)
 // render/compact_gpu.c writes CModel (cmodel_gpu). Included twice: first
 // without CA_SLOT (the record, before the buffers that hold it), then with
 // the macros defined (the functions, after the buffers).
@@ -115,8 +116,14 @@ uint cells_before(uint rank_base, int lvl, uint desc, uint blk, uint k, uint cbi
     }
     return r;
 }
-// a start table's entry inside a full leaf cube (CModel.tab_k)
-const uint CA_TAB_FULL = 0xFFFFFFFFu;
+// a start table's entry inside a full leaf cube (CModel.tab_k), and one
+// whose cells all hold one value (CA_TAB_UNIFORM | a palette model's
+// palette index; its second word the colour)
+const uint CA_TAB_FULL = 0xFFFFFFFFu, CA_TAB_UNIFORM = 0xFFFFFE00u;
+// cell_index's attribute base for a cell of a uniform cube (CA_UNIFORM |
+// the palette index): the index it returns is then the colour itself
+// (decode_color; decode_value gives the palette index or the colour)
+const uint CA_UNIFORM = 0xFFFFFF00u;
 // The attribute index of set cell c (vx_compact_lookup): a descent from the
 // root, or from the node of its level-K cube in the model's start table
 // (CModel.tab_k), after the hit (measured faster on the H200 than a
@@ -141,6 +148,10 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
         n = CA_ATTR(e);
         base = CA_ATTR(e + 1u);
         if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
+        if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
+            attr_base = CA_UNIFORM | (n & 0xFFu);
+            return base;
+        }
         L = int(K);
     }
     // the rank of the level-3 node's previous slot in its block (the level-4
@@ -190,6 +201,69 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     return base + below;
 }
 
+// cell_index for the whole layout (no pages) where the model's start table
+// is of level K >= 4: the levels above 4 in a loop, levels 4 and 3 after it
+// in straight code (cell_index tests a step's level for their forms):
+// +2.5% of the H200's albedo rays/s on the helmet's close-up (levels 4, 3
+// and the brick below its table), the other views within 0.3%
+// (docs/PERFORMANCE.md issue 18, twelfth step). Other models: cell_index.
+uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
+    attr_base = m.attr_base;
+    uint K = m.tab_k;
+    if (m.root == ROOT_LEAF || K < 4u) return cell_index(m, c, attr_base);
+    uint D = m.depth - K;
+    uvec3 r = c >> K;
+    uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+    uint n = CA_ATTR(e);
+    uint base = CA_ATTR(e + 1u);
+    if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
+    if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
+        attr_base = CA_UNIFORM | (n & 0xFFu);
+        return base;
+    }
+    for (int L = int(K); L >= 5; L--) {
+        uvec2 nd = CA_SLOT(n);
+        uint s = uint(L - 1);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
+        n = nd.y + k;
+    }
+    // level 4: the rank of the level-3 node's previous slot kept
+    uvec2 nd = CA_SLOT(n);
+    uint o = ((c.x >> 3u) & 1u) | (((c.y >> 3u) & 1u) << 1) | (((c.z >> 3u) & 1u) << 2);
+    uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+    uint prev = k > 0u ? (CA_SLOT(nd.y + k - 1u).x >> 16) & 0x7FFFu : 0u;
+    base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 9) + prev;
+    if ((nd.x & cbit) != 0u) return base + morton(c & 7u);
+    n = nd.y + k;
+    // level 3
+    nd = CA_SLOT(n);
+    o = ((c.x >> 2u) & 1u) | (((c.y >> 2u) & 1u) << 1) | (((c.z >> 2u) & 1u) << 2);
+    cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+    if (CA_DICT && (nd.x & CA_INDEXED) != 0u) {
+        base += cells_before(m.rank_base, 3, nd.x, nd.y, k, cbit);
+    } else {
+        uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
+        bool back = 2u * k > nb;
+        uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
+        for (uint i = 0u; i < cnt; i++) {
+            uvec2 b = CA_SLOT(nd.y + a + i);
+            sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+        }
+        uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
+        base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+    }
+    if ((nd.x & cbit) != 0u) return base + morton(c & 3u);
+    n = ca_child(3, nd.x, nd.y, k);
+    uint bit = morton2(c);
+    uvec2 b = CA_SLOT(n);
+    uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
+    return base + below;
+}
+
 uint recorrelate(uint v) {
     uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
     return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);
@@ -198,6 +272,7 @@ uint recorrelate(uint v) {
 // The stored value of attribute index i (vx__compact_value: the palette
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
+    if (CA_UNI && attr_base >= CA_UNIFORM) return m.kind == 1u ? attr_base & 0xFFu : i; // a uniform cube's (cell_index)
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
     uint g = CA_ATTR(attr_base + (blk >> 6));
@@ -230,6 +305,7 @@ uint decode_value(CModel m, uint attr_base, uint i) {
 }
 // The colour of attribute index i (vx_compact_rgba).
 uint decode_color(CModel m, uint attr_base, uint i) {
+    if (CA_UNI && attr_base >= CA_UNIFORM) return i; // a uniform cube's colour (cell_index)
     uint v = decode_value(m, attr_base, i);
     return m.kind == 1u ? CA_PAL(v & 0xFFu) : v;
 }

@@ -121,6 +121,7 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 #define CA_PAL(i) cpalette[i]
 #define CA_PAGES 0u
 #define CA_DICT (COMPACT_FORM == 2u)
+#define CA_UNI true
 #include "compact_attr.glsl"
 #endif
 // Model mi's record in either layout (COMPACT: from its CModel, with no
@@ -814,7 +815,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // the cell's attribute index (a descent from the root) and its block
         CModel cm = cmodels[mi];
         uint ab;
-        uint v = decode_value(cm, ab, cell_index(cm, h.cell, ab));
+        // two statements: as one call's arguments, ab would be read before
+        // cell_index sets it (GLSL evaluates them left to right)
+        uint ci = cell_index(cm, h.cell, ab);
+        uint v = decode_value(cm, ab, ci);
         // the record's index into the per-record tables (emission, materials):
         // a compact scene's tables are per palette index (0: none, as an RGBA
         // model's records in vx__scene_attr_palette), render_scene.c

@@ -30,6 +30,16 @@ const bool REBASE = DEEP >= 2;
 // pages of the paged layout (render/compact.h, compact_gpu.c), 0: the whole
 // layout is resident and none of the paging code is compiled in
 layout(constant_id = 9) const uint PAGES = 0u;
+// One sample a pixel (F.dims.z <= 1), as trace.comp's: the samples' loop
+// then has the constant trip count 1 and the compiler drops it; the
+// albedo kernels then take 40 registers (48 with the loop on deep models):
+// 3-5% more albedo rays/s on the H200 on eph_monu1 and eph_menger, within
+// 1% on the deep helmet and terrain, whose depth kernel (37 registers)
+// loses up to 4% (docs/PERFORMANCE.md issue 18, twelfth step)
+layout(constant_id = 6) const bool ONE_SAMPLE = false;
+// some model's start table has entries whose cells hold one value
+// (compact_gpu.c tab_uniform), else their tests are compiled out
+layout(constant_id = 7) const bool UNIFORM = false;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
 layout(constant_id = 5) const bool DICT = false;
@@ -118,6 +128,7 @@ uint attr_word(uint i) {
 #define CA_PAL(i) palette[i]
 #define CA_PAGES PAGES
 #define CA_DICT DICT
+#define CA_UNI UNIFORM
 #include "compact_attr.glsl"
 
 struct Hit {
@@ -645,7 +656,7 @@ vec3 heat(uint it) {
 
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
-    uint spp = max(F.dims.z, 1u);
+    uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -688,7 +699,7 @@ void shade(uvec2 px) {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
-                uint i = cell_index(m, h.cell, ab);
+                uint i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }

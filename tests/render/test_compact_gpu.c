@@ -373,6 +373,74 @@ static void test_start_table(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Start-table entries whose level-K cube holds one value (compact_gpu.c
+ * tab_uniform): the colour is the entry's value, with no descent or decode.
+ * A 128^3 model (K = 3) of sparse cells, one colour for x < 48, another for
+ * 48 <= x < 96 with a third sprinkled into some of its cubes (those keep the
+ * descent), noise-coloured cells for x >= 96; as an RGBA model and as a
+ * palette one. Every pixel must be trace.comp's, and entries must be marked
+ * (the kernel tests for them where a quarter of the filled ones are), not
+ * all. (test_start_table's models, of noise, have none marked.) */
+static void test_uniform_cubes(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    size_t n = 0, cap = 1u << 17;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    uint8_t* pal = malloc(cap);
+    REQUIRE(keys && rgba && pal);
+    uint32_t seed = 23;
+    for (uint32_t z = 0; z < 128; z++)
+        for (uint32_t y = 0; y < 128; y++)
+            for (uint32_t x = 0; x < 128 && n < cap; x++) {
+                if (ts_rng(&seed) % 100 >= 4) continue;
+                keys[n] = vx_svo_morton(x, y, z);
+                uint32_t r = ts_rng(&seed);
+                uint8_t p = x < 48 ? 1 : x < 96 ? (r % 50 == 0 ? 3 : 2) : (uint8_t)(4 + r % 200);
+                pal[n] = p;
+                rgba[n++] = 0xFF000000u | (uint32_t)p * 0x010305u;
+            }
+    vx_error err = {0};
+    vx_svo_model m[2];
+    vx_svo_voxels v = {.size = {128, 128, 128}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[0], NULL, &err) == VX_OK);
+    v.attrs = VX_ATTR_PALETTE, v.rgba = NULL, v.palette = pal;
+    REQUIRE(vx_svo_build_model(NULL, &v, &m[1], NULL, &err) == VX_OK);
+    free(keys), free(rgba), free(pal);
+    REQUIRE(m[0].depth == 7 && m[1].depth == 7);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 160, 10, 0)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 2);
+    for (uint32_t k = 0; k < 2; k++) {
+        /* the table of model k alone marks some entries, not all */
+        vx_svo_scene s1;
+        vx_svo_model only = s.models[k];
+        vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
+        ts_scene(&s1, &only, 1, &i1, 1);
+        vx_render_scene* rs = NULL;
+        vx_compact_scene c;
+        vx_compact_gpu* cg = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &s1, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+                VX_OK);
+        REQUIRE(vx_compact_build(&(vx_compact_desc){0}, &s1, &c, &err) == VX_OK);
+        CHECKF(vx_compact_gpu_create(rs, &s1, &c, &cg, &err) == VX_OK, "%s", err.msg);
+        uint64_t marked = vx__compact_gpu_uniform_entries(cg), entries = vx__compact_gpu_table_bytes(cg) / 8;
+        CHECKF(marked > entries / 4 && marked < entries, "model %u: %llu of %llu entries uniform", k,
+               (unsigned long long)marked, (unsigned long long)entries);
+        printf("  model %u: %llu of %llu start-table entries uniform\n", k, (unsigned long long)marked,
+               (unsigned long long)entries);
+        vx_compact_gpu_destroy(cg);
+        vx_compact_free(&c);
+        vx_render_scene_destroy(rs);
+        s1.models[0] = (vx_svo_model){0};
+        vx_svo_scene_free(&s1);
+    }
+    CHECK(compare(&s, "uniform cubes", 128, 96) > 128 * 96 / 4);
+    CHECK(compare_alone(&s, 0, "uniform cubes, one instance", 128, 96) > 128 * 96 / 4);
+    CHECK(compare_alone(&s, 1, "uniform cubes, palette", 128, 96) > 128 * 96 / 4);
+    vx_svo_scene_free(&s);
+}
+
 /* The attribute words past one storage buffer's range (the helmet at 32768^3 has about 6 GB against NVIDIA's
  * 4 GB): a render scene whose range (vx_render_scene_desc.max_buffer_range) is a fraction of them puts them in
  * several buffers and must render every view as the plain layout does; a range below the geometry is refused with
@@ -535,6 +603,7 @@ int main(void) {
     RUN(test_seams);
     RUN(test_deep);
     RUN(test_start_table);
+    RUN(test_uniform_cubes);
     RUN(test_attr_parts);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
