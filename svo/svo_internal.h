@@ -223,6 +223,11 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
                             unsigned threads, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
 
+/* What is wrong with src[0..zn) as the one zstd frame of a chunk or stream
+ * that must decode to exactly `want` bytes (checked before decoding, so the
+ * decoder is bounded by it), or NULL; svo_pack.c, used by svo_split.c too. */
+const char* vx__zstd_frame_problem(const uint8_t* src, size_t zn, size_t want);
+
 /* The split structural form (svo_split.c, FORMAT.md 3.7, version 5): the
  * symbols of 3.4 in byte streams by kind and level class, each a zstd frame
  * or stored. A model's SPLIT stream starts with a form byte: 0 the stream of

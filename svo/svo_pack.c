@@ -1907,6 +1907,17 @@ typedef struct inflate_job {
     bool tagged; /* each chunk starts with its codec byte (format version 4) */
 } inflate_job;
 
+const char* vx__zstd_frame_problem(const uint8_t* src, size_t zn, size_t want) {
+    unsigned long long declared = ZSTD_getFrameContentSize(src, zn);
+    size_t frame = ZSTD_findFrameCompressedSize(src, zn);
+    return declared == ZSTD_CONTENTSIZE_ERROR     ? "not a zstd frame"
+           : declared == ZSTD_CONTENTSIZE_UNKNOWN ? "the frame does not declare its size"
+           : declared != want                     ? "the frame declares another size"
+           : ZSTD_isError(frame)                  ? "the frame is cut off or corrupt"
+           : frame != zn                          ? "bytes left over after the frame"
+                                                  : NULL;
+}
+
 /* A tagged chunk's zstd frame: exactly one frame filling the chunk, whose
  * header declares exactly the chunk's bytes (checked before decoding, and
  * the decoder is bounded by them), into a scratch buffer (at most
@@ -1915,14 +1926,7 @@ typedef struct inflate_job {
 static void unzstd_chunk(inflate_job* j, uint32_t i, const uint8_t* src, size_t zn, uint8_t* const p[6], const size_t n[6], size_t want,
                          bool delta) {
     const uint64_t at = j->base + j->ch[i].off;
-    unsigned long long declared = ZSTD_getFrameContentSize(src, zn);
-    size_t frame = ZSTD_findFrameCompressedSize(src, zn);
-    const char* why = declared == ZSTD_CONTENTSIZE_ERROR     ? "not a zstd frame"
-                      : declared == ZSTD_CONTENTSIZE_UNKNOWN ? "the frame does not declare its size"
-                      : declared != want                     ? "the frame declares another size"
-                      : ZSTD_isError(frame)                  ? "the frame is cut off or corrupt"
-                      : frame != zn                          ? "bytes left over after the frame"
-                                                             : NULL;
+    const char* why = vx__zstd_frame_problem(src, zn, want);
     if (why) {
         j->res[i] = vx_fail(&j->errs[i], VX_ERR_BAD_FORMAT, at,
                             "svo: section NODE at byte %llu: model %u: chunk %u (%zu bytes, zstd) does not decode to exactly %zu bytes (%s)",

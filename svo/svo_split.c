@@ -313,14 +313,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     char nm[48];
     const uint8_t* src = d->zsrc[s];
     size_t zn = d->zn[s], want = d->n[s];
-    unsigned long long declared = ZSTD_getFrameContentSize(src, zn);
-    size_t frame = ZSTD_findFrameCompressedSize(src, zn);
-    const char* why = declared == ZSTD_CONTENTSIZE_ERROR     ? "not a zstd frame"
-                      : declared == ZSTD_CONTENTSIZE_UNKNOWN ? "the frame does not declare its size"
-                      : declared != want                     ? "the frame declares another size"
-                      : ZSTD_isError(frame)                  ? "the frame is cut off or corrupt"
-                      : frame != zn                          ? "bytes left over after the frame"
-                                                             : NULL;
+    const char* why = vx__zstd_frame_problem(src, zn, want);
     size_t got = 0;
     if (!why) {
         if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, want ? want : 1))) {
