@@ -130,6 +130,23 @@ const uint CA_UNIFORM = 0xFFFFFF00u;
 // running count in the walk, docs/PERFORMANCE.md issue 18).
 // In a resident page the index is from the page's first cell, and
 // attr_base becomes the page's attribute region.
+// The cells before child cbit of a level-3 node nd (k of its children
+// before cbit are bricks) whose previous slot's rank is prev: its leaf cubes
+// before, and the bricks before child k, or where fewer come after it, the
+// node's cells (its rank less prev) less its leaf cubes and the bricks from
+// k on: one loop of at most 4 brick loads.
+uint bricks_before(uvec2 nd, uint k, uint cbit, uint prev) {
+    uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
+    bool back = 2u * k > nb;
+    uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
+    for (uint i = 0u; i < cnt; i++) {
+        uvec2 b = CA_SLOT(nd.y + a + i);
+        sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
+    }
+    uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
+    return (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+}
+
 uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     attr_base = m.attr_base;
     if (m.root == ROOT_LEAF) return morton(c);
@@ -175,18 +192,8 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
             have_prev = true;
             base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 9) + prev;
         } else if (CA_PAGES == 0u && L == 3 && have_prev && !(CA_DICT && (nd.x & CA_INDEXED) != 0u)) {
-            // the bricks before child k, or where fewer come after it, the
-            // node's cells (its rank less the previous slot's) less its leaf
-            // cubes and the bricks from k on: one loop of at most 4
-            uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
-            bool back = 2u * k > nb;
-            uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
-            for (uint i = 0u; i < cnt; i++) {
-                uvec2 b = CA_SLOT(nd.y + a + i);
-                sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
-            }
-            uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
-            base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+            // level 3 after a ranked slot: the bricks' popcounts
+            base += bricks_before(nd, k, cbit, prev);
         } else {
             base += cells_before(rank_base, L, nd.x, nd.y, k, cbit);
         }
@@ -245,15 +252,7 @@ uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
     if (CA_DICT && (nd.x & CA_INDEXED) != 0u) {
         base += cells_before(m.rank_base, 3, nd.x, nd.y, k, cbit);
     } else {
-        uint nb = uint(bitCount((nd.x >> 8) & ~nd.x & 0xFFu));
-        bool back = 2u * k > nb;
-        uint a = back ? k : 0u, cnt = back ? nb - k : k, sum = 0u;
-        for (uint i = 0u; i < cnt; i++) {
-            uvec2 b = CA_SLOT(nd.y + a + i);
-            sum += uint(bitCount(b.x)) + uint(bitCount(b.y));
-        }
-        uint own = ((nd.x >> 16) & 0x7FFFu) - prev - (uint(bitCount(nd.x & 0xFFu)) << 6);
-        base += (uint(bitCount(nd.x & 0xFFu & (cbit - 1u))) << 6) + (back ? own - sum : sum);
+        base += bricks_before(nd, k, cbit, prev);
     }
     if ((nd.x & cbit) != 0u) return base + morton(c & 3u);
     n = ca_child(3, nd.x, nd.y, k);
