@@ -747,6 +747,18 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     return rs;
 }
 
+/* What -v and vx_render_scene_layout report of a compact build that took
+ * `seconds`: its stages' times, its form and its bytes. */
+static void note_compact_build(vx_render_scene* rs, const vx_compact_scene* c, double seconds) {
+    rs->layout.build_seconds = seconds;
+    rs->layout.attr_seconds = c->stats.attr_seconds;
+    rs->layout.geom_seconds = c->stats.geom_seconds;
+    rs->layout.geom_threads = c->stats.geom_threads;
+    rs->layout.brick_dict = c->brick_dict;
+    rs->layout.compact_bytes = 4ull * c->geom_words + 4ull * c->attr_words;
+    rs->layout.geom_bytes = 4ull * c->geom_words;
+}
+
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                     vx_render_scene** out, vx_error* err) {
     if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -794,13 +806,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
         }
         if (!r) {
             double t1 = vx_time_now();
-            rs->layout.build_seconds = t1 - t0;
-            rs->layout.attr_seconds = c.stats.attr_seconds;
-            rs->layout.geom_seconds = c.stats.geom_seconds;
-            rs->layout.geom_threads = c.stats.geom_threads;
-            rs->layout.brick_dict = c.brick_dict;
-            rs->layout.compact_bytes = 4ull * c.geom_words + 4ull * c.attr_words;
-            rs->layout.geom_bytes = 4ull * c.geom_words;
+            note_compact_build(rs, &c, t1 - t0);
             uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
             if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
             bool whole = true;
@@ -883,13 +889,7 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     }
     rs->smap_state = SMAP_NEVER;
-    rs->layout.build_seconds = t1 - t0;
-    rs->layout.attr_seconds = c.stats.attr_seconds;
-    rs->layout.geom_seconds = c.stats.geom_seconds;
-    rs->layout.geom_threads = c.stats.geom_threads;
-    rs->layout.brick_dict = c.brick_dict;
-    rs->layout.compact_bytes = bytes;
-    rs->layout.geom_bytes = 4ull * c.geom_words;
+    note_compact_build(rs, &c, t1 - t0);
     if (!(r = prepare_models(rs, s, false, err)) && !(r = prepare_instances(rs, s, err)))
         r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
     rs->layout.upload_seconds = vx_time_now() - t1;
