@@ -1687,6 +1687,18 @@ static vx_result read_raw(pk* k, vx_svo_model* m, const vx_allocator* A, uint64_
 /* tree, rebuilt (both or neither NULL): a model rebuilt from the structural
  * form gets its tree's extent in *tree and *rebuilt = VX__SVO_SKIP_REBUILT
  * (the validation then checks its head only: vx__svo_check_rebuilt). */
+/* The declared counts, which size the reconstruction's arrays, bounded by
+ * the model's coded bytes (the stream's n and its side stream's side_n): at
+ * most PACK_RATIO_MAX words and records per byte (3.4); the writers keep to it. */
+static vx_result check_declared(size_t n, size_t side_n, uint64_t base, const vx_svo_model* m, uint32_t mi, vx_error* err) {
+    uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
+    if (m->node_count > cap || m->attr_count > cap)
+        return vx_fail(err, VX_ERR_LIMIT, base,
+                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
+                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
+    return VX_OK;
+}
+
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
                               uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err);
 
@@ -1741,11 +1753,8 @@ static vx_result unpack_model(const uint8_t* p, size_t n, uint64_t base, vx_svo_
 
 static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const uint8_t* side, size_t side_n, vx_svo_model* m,
                               uint32_t mi, const vx_allocator* A, unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
-    uint64_t cap = ((uint64_t)n + side_n + 16) * PACK_RATIO_MAX;
-    if (m->node_count > cap || m->attr_count > cap)
-        return vx_fail(err, VX_ERR_LIMIT, base,
-                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
-                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
+    vx_result r0 = check_declared(n, side_n, base, m, mi, err);
+    if (r0 != VX_OK) return r0;
     if (n < 5 || p[0] != 0)
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: not a coded stream (%s)",
                        (unsigned long long)base, mi, n < 5 ? "shorter than 5 bytes" : "first byte not 0");
@@ -1854,11 +1863,8 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
                        (unsigned long long)base, mi);
     /* as in 3.4: the declared counts (which size the reconstruction's
      * arrays) bounded by the stream's bytes; the writer keeps to it */
-    uint64_t cap = ((uint64_t)n + 16) * PACK_RATIO_MAX;
-    if (m->node_count > cap || m->attr_count > cap)
-        return vx_fail(err, VX_ERR_LIMIT, base,
-                       "svo: section NODE at byte %llu: model %u declares %u words and %u records, more than %u per byte of its %zu-byte stream",
-                       (unsigned long long)base, mi, m->node_count, m->attr_count, PACK_RATIO_MAX, n);
+    vx_result r0 = check_declared(n, 0, base, m, mi, err);
+    if (r0 != VX_OK) return r0;
     vx__svo_split* d;
     bool dag;
     uint32_t limit;
