@@ -61,6 +61,16 @@ typedef struct vx__gpu_frame {
      * all 0 (the root for every tile) where the host sets none */
     uint32_t tile_info[4];
     uint16_t tiles[VX__TILES_X * VX__TILES_X];
+    /* trace.comp with one instance: the octree path of the frame's
+     * reference point, where primary rays whose start lies well inside
+     * the cube of N's child C begin their walk at N instead of the root
+     * (render_scene.c frame_path; path_info[0] 0: none). path_info: N's
+     * depth dN, N's word (model-relative), the model; path_cube: C's corner
+     * in the model cube's [1,2] coordinates and its side; path_nodes: the
+     * words of N's ancestors, the root first */
+    uint32_t path_info[4];
+    float path_cube[4];
+    uint32_t path_nodes[24];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in
@@ -161,6 +171,10 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
  * built-in kernel, off for another; 0 off, 1 on), for the kernel set by
  * vx__render_scene_trace_kernel. */
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
+/* Benchmarks and tests: the primary rays' start below the root on the
+ * frame's octree path (trace.comp; 0 off: every walk from the root; else on,
+ * the default), for comparing the two walks. */
+void vx__render_scene_trace_path(vx_render_scene* rs, int path);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

@@ -14,9 +14,23 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   offsetof(vx__gpu_frame, tiles) == 368 && sizeof(vx__gpu_frame) == 368 + 2 * VX__TILES_X * VX__TILES_X,
+                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, path_info) == 2416 &&
+                   VX__TILES_X == 32 && sizeof(vx__gpu_frame) == 2416 + 32 + 96,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
+
+/* The top of a model's octree on the host, for the primary rays' start
+ * below the root (frame_path): its descriptors from the root down, level by
+ * level, each inner child listed once per parent listed (a DAG's shared
+ * block is listed again under each), with its model-relative word and the
+ * entry of its first inner child (the others follow in octant order;
+ * TOP_NONE where they are not listed). At most TOP_NODES entries a model:
+ * the path stops where the list does. */
+typedef struct top_node {
+    uint32_t desc, word, kids;
+} top_node;
+#define TOP_NONE 0xFFFFFFFFu
+#define TOP_NODES 4096u
 
 /* Where a model's node words (or colour records) live in the shared buffer:
  * [off, off + cap) words are its region, the first `have` of them hold its
@@ -82,6 +96,7 @@ struct vx_render_scene {
     /* benchmarks and tests: the screen cull (-1: on unless alt_spv, 0 off, 1
      * on); vx__render_scene_trace_variant */
     int cull;
+    bool no_path; /* benchmarks and tests: no start below the root (vx__render_scene_trace_path) */
     uint64_t last_traced; /* the last frame's traced pixels */
     bool last_cull;       /* and whether they were not the whole image */
     uint32_t max_depth;
@@ -93,6 +108,8 @@ struct vx_render_scene {
     region* creg; /* colour records, per model */
     arena wa, ca;
     vx__gpu_model* gm;  /* host copy of the models buffer */
+    top_node** top;     /* per model: the top of its octree (NULL: none; top_list) */
+    uint32_t* top_count;
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
     uint32_t* mcells;   /* per model: its cells' box (vx_svo_model_cell_box), lo[3] and hi[3]: the instances' boxes */
     vx__buffer stage;   /* staging for updates where the buffers are not mapped */
@@ -210,6 +227,36 @@ static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
+/* Lists the top of model mi's octree (top_node) from its words w[0, n)
+ * with root `root`, in place of the list it had. A list that cannot be
+ * made (no memory, words out of their range) is none: the primary rays
+ * then start at the root. */
+static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32_t n, uint32_t root) {
+    vx_free(&rs->alloc, rs->top[mi]);
+    rs->top[mi] = NULL;
+    rs->top_count[mi] = 0;
+    if (!w || root >= n) return;
+    top_node* t = vx_alloc(&rs->alloc, TOP_NODES * sizeof *t);
+    if (!t) return;
+    uint32_t count = 1;
+    t[0] = (top_node){.desc = w[root], .word = root, .kids = TOP_NONE};
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t d = t[i].desc, inner = (d >> 8) & ~d & 0xFFu, k = (uint32_t)__builtin_popcount(inner);
+        if (!k) continue;
+        if (k > TOP_NODES - count) break; /* the list ends: this and later entries keep TOP_NONE */
+        /* the children's block (svo/svo.h), its words checked against n */
+        uint32_t p = d >> 17, at = t[i].word;
+        if (p < 1 || p > at) break;
+        uint32_t blk = at - p;
+        if ((d >> 16) & 1u) blk = w[blk];
+        if (blk >= n || k > n - blk) break;
+        t[i].kids = count;
+        for (uint32_t c = 0; c < k; c++) t[count++] = (top_node){.desc = w[blk + c], .word = blk + c, .kids = TOP_NONE};
+    }
+    rs->top[mi] = t;
+    rs->top_count[mi] = count;
+}
+
 /* The plain layout's node words and colour records of s. */
 static void plain_size(const vx_svo_scene* s, uint64_t* words, uint64_t* colors) {
     *words = *colors = 0;
@@ -241,9 +288,11 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     rs->creg = vx_calloc(&rs->alloc, mcount, sizeof *rs->creg);
     rs->msize = vx_calloc(&rs->alloc, mcount, 4 * sizeof *rs->msize);
     rs->mcells = vx_calloc(&rs->alloc, mcount, 6 * sizeof *rs->mcells);
+    rs->top = vx_calloc(&rs->alloc, mcount, sizeof *rs->top);
+    rs->top_count = vx_calloc(&rs->alloc, mcount, sizeof *rs->top_count);
     vx__gpu_model* gm = rs->gm;
     vx_result r = VX_OK;
-    if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize || !rs->mcells) {
+    if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize || !rs->mcells || !rs->top || !rs->top_count) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory staging %llu node words",
                     (unsigned long long)words);
         goto done;
@@ -268,6 +317,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             continue;
         }
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
+        top_list(rs, i, m->nodes, m->node_count, m->root);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
         gm[i].box = model_box(m);
@@ -952,6 +1002,9 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_bvh_free(&rs->bvh);
     vx_allocator a = rs->alloc;
     vx_free(&a, rs->inst);
+    for (uint32_t i = 0; rs->top && i < rs->model_count; i++) vx_free(&a, rs->top[i]);
+    vx_free(&a, rs->top);
+    vx_free(&a, rs->top_count);
     vx_free(&a, rs->gm);
     vx_free(&a, rs->wreg);
     vx_free(&a, rs->creg);
@@ -1249,6 +1302,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
+    /* the words below wvalid stay on the GPU and in m->nodes (the caller's
+     * model holds them all), so the list is made from m's words */
+    top_list(rs, mi, m->nodes, nc, m->root);
     rs->deep = 0, rs->far = false;
     for (uint32_t i = 0; i < rs->model_count; i++)
         rs->deep = deep_level(rs->deep, &rs->gm[i]), rs->far |= (rs->gm[i].flags & VX__MODEL_FAR) != 0;
@@ -1298,6 +1354,10 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
     if (!rs) return;
     rs->cull = cull < 0 ? -1 : cull > 0;
+}
+
+void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
+    if (rs) rs->no_path = path == 0;
 }
 
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
@@ -1493,6 +1553,52 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
     return VX_OK;
 }
 
+/* The octree path of the frame's reference point in a scene of one
+ * instance (vx__gpu_frame.path_*; trace.comp): the listed nodes from the
+ * root down while the child holding the point is an inner node, no deeper
+ * than a rebased model's frame level (the walk moves into that frame by a
+ * push of its own). The point is the model-space origin of the rays of a
+ * perspective view without a near plane (t_start 0: the eye inside the
+ * scene's bounds); the kernel checks per ray that its start lies well
+ * inside the cube of N's child, so the point only proposes the path. Not
+ * for LOD, the beam (their walks start otherwise) or the float64 variant. */
+static void frame_path(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
+                       vx__gpu_frame* gf) {
+    memset(gf->path_info, 0, sizeof gf->path_info);
+    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || rs->no_path) return;
+    uint32_t mi = gf->inst0.model;
+    if (mi >= rs->model_count || !rs->top[mi]) return;
+    const vx__gpu_model* m = &rs->gm[mi];
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return;
+    /* the model-space point of the reference (the rays' origin o = 0) */
+    double side = ldexp(1.0, (int)m->depth), p[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = gf->inst0.r[k][3];
+        if (!(p[k] > 0 && p[k] < side)) return;
+    }
+    uint32_t max_dn = m->depth - 1;
+    if (m->rebase && m->rebase - 1 < max_dn) max_dn = m->rebase - 1;
+    if (max_dn > 24) max_dn = 24;
+    const top_node* t = rs->top[mi];
+    uint32_t i = 0, dn = 0, oct = 0;
+    double lo[3] = {0, 0, 0}, size = side;
+    for (;;) {
+        double half = 0.5 * size;
+        oct = (p[0] >= lo[0] + half) | (p[1] >= lo[1] + half) << 1 | (p[2] >= lo[2] + half) << 2;
+        uint32_t d = t[i].desc, inner = (d >> 8) & ~d & 0xFFu;
+        if (dn >= max_dn || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
+        gf->path_nodes[dn++] = t[i].word;
+        i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
+        for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;
+        size = half;
+    }
+    if (!dn) return; /* N the root: nothing to skip */
+    double half = 0.5 * size;
+    gf->path_info[0] = dn, gf->path_info[1] = t[i].word, gf->path_info[2] = mi;
+    for (int k = 0; k < 3; k++) gf->path_cube[k] = (float)(1.0 + (lo[k] + (((oct >> k) & 1u) ? half : 0)) / side);
+    gf->path_cube[3] = (float)(half / side);
+}
+
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err) {
     vx_gpu* g = rs->gpu;
@@ -1525,6 +1631,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
+    frame_path(rs, f, precise, beam, rs->frame.map);
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;

@@ -40,6 +40,9 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_FLAT_ITEMS
 #define TRACE_CULL
 #define TRACE_TILES
+#ifndef PRECISE
+#define TRACE_PATH
+#endif
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -127,8 +130,14 @@ void shade(uvec2 px) {
             start = (F.tiles[ti >> 3u][(ti >> 1u) & 3u] >> ((ti & 1u) * 16u)) & 0xFFFFu;
         }
         g_start = start;
+#ifdef TRACE_PATH
+        g_path = true; // the primary ray may start below the root (trace_model)
+#endif
         bool hit = MISS_PASS || start == 0xFFFFu ? false : trace_scene(o, d, 0.0, false, h);
         g_start = 0u; // the shadow ray's walk from the root
+#ifdef TRACE_PATH
+        g_path = false;
+#endif
         uint prim_iter = g_iter;
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);

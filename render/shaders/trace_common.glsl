@@ -104,6 +104,17 @@ layout(std140, binding = 0) uniform Frame {
     layout(offset = 352) uvec4 tile_info;
     layout(offset = 368) uvec4 tiles[128];
 #endif
+#ifdef TRACE_PATH
+    // trace.comp, one instance: the octree path of the frame's reference
+    // point (vx__gpu_frame.path_*; path_info.x 0: none). x the depth dN of
+    // its deepest listed node N, y N's word (model-relative), z the model;
+    // path_cube the cube of N's child C holding the point ([1,2] units of
+    // the model cube: corner xyz, side w); path_nodes N's ancestors, the
+    // root first (trace_model's start below the root)
+    layout(offset = 2416) uvec4 path_info;
+    vec4 path_cube;
+    uvec4 path_nodes[6];
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -168,6 +179,11 @@ struct Hit {
 };
 
 uint g_iter = 0u;
+#ifdef TRACE_PATH
+// Whether the next model walk is a primary ray's (trace.comp), which may
+// start below the root on the frame's path (trace_model)
+bool g_path = false;
+#endif
 // The iteration guard (MAX_ITER) and count. trace.comp's colour kernel
 // (primary and shadow rays) has neither where it writes no hits: 1-5% more
 // pixels/s on the H200 (issue 21); its advance then compares the crossing
@@ -431,6 +447,38 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         int idx = 0;
         WALK_FIRST_CHILD(RVEC3)
+#ifdef TRACE_PATH
+        // A primary ray whose walk starts at a point well inside the cube
+        // of C (the child of N holding the frame's reference point, eye of
+        // a perspective view inside the model box) descends from the root
+        // to N without an advance: every push's child is the one holding
+        // the start (tmin is 0 here: the walk's [1,2] ray starts at ol).
+        // Its state at N's loop top is then known: N, C's mirrored corner
+        // and octant, N's ancestors on the stack (hh, the root's exit, only
+        // makes the next push store its entry where the walk might not,
+        // the same value). 2^-16 of the model cube keeps every decision of
+        // the skipped pushes (crossing times of the mid-planes against
+        // tmin, of the exits against tmin; rounding errors below 2^-20 of
+        // |coef|) the same as the walk's, so the steps from N on are the
+        // walk's, bit for bit. Not with LOD (a push may stop), the beam
+        // (tmin moved), the compact layout or the float64 variant.
+        if (g_path && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && F.path_info.x != 0u && mi == F.path_info.z) {
+            const float dlt = 1.0 / 65536.0;
+            vec3 cc = F.path_cube.xyz;
+            float cw = F.path_cube.w;
+            if (all(greaterThan(ol, cc + dlt)) && all(lessThan(ol, cc + (cw - dlt))) && tmin == 0.0 && tmin <= tmax) {
+                int dn = int(F.path_info.x);
+                for (int j = 0; j < dn; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.path_nodes[j >> 2][j & 3]);
+                parent = nbase + F.path_info.y;
+                scale = S_MAX - 1 - dn;
+                scale_exp2 = cw;
+                pos = vec3((oct & 1) != 0 ? cc.x : 3.0 - cw - cc.x, (oct & 2) != 0 ? cc.y : 3.0 - cw - cc.y,
+                           (oct & 4) != 0 ? cc.z : 3.0 - cw - cc.z);
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            }
+        }
+#endif
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
