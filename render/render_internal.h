@@ -34,6 +34,20 @@ typedef struct vx__gpu_inst {
     float lo[4];    /* rounding errors of r[0..2][3] (the rebased walk of deep models keeps the origin in hi + lo) */
 } vx__gpu_inst;
 
+/* A start below the root for the primary rays of one screen tile
+ * (trace.comp, one instance): rays whose walk starts well inside one of the
+ * children of node X begin at X's loop top with that child next, X's
+ * ancestors on the stack, instead of descending from the root; where that
+ * child C is an inner node (kids), at C's loop top with its child next. */
+#define VX__PATHS 64
+typedef struct vx__gpu_path {
+    uint32_t info[4];   /* X's depth dx (>= 1), X's word (model-relative), the model, 0 */
+    float cube[4];      /* X's corner in the model cube's [1,2] coordinates, its side */
+    uint32_t nodes[24]; /* the words of X's ancestors (dx of them), the root first */
+    uint32_t kids[8];   /* per octant of X: the inner child's word, or VX__PATH_NONE (empty, a leaf, too deep) */
+} vx__gpu_path;
+#define VX__PATH_NONE 0xFFFFFFFFu
+
 typedef struct vx__gpu_frame {
     float fwd[4];    /* w: t_start */
     float rx[4];     /* w: ortho */
@@ -61,16 +75,10 @@ typedef struct vx__gpu_frame {
      * all 0 (the root for every tile) where the host sets none */
     uint32_t tile_info[4];
     uint16_t tiles[VX__TILES_X * VX__TILES_X];
-    /* trace.comp with one instance: the octree path of the frame's
-     * reference point, where primary rays whose start lies well inside
-     * the cube of N's child C begin their walk at N instead of the root
-     * (render_scene.c frame_path; path_info[0] 0: none). path_info: N's
-     * depth dN, N's word (model-relative), the model; path_cube: C's corner
-     * in the model cube's [1,2] coordinates and its side; path_nodes: the
-     * words of N's ancestors, the root first */
-    uint32_t path_info[4];
-    float path_cube[4];
-    uint32_t path_nodes[24];
+    /* trace.comp with one instance: starts below the root (tiles: per
+     * screen tile the index of one, VX__TILE_NONE none; render_scene.c
+     * frame_paths) */
+    vx__gpu_path paths[VX__PATHS];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

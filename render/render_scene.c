@@ -14,8 +14,9 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, path_info) == 2416 &&
-                   VX__TILES_X == 32 && sizeof(vx__gpu_frame) == 2416 + 32 + 96,
+                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, paths) == 2416 &&
+                   VX__TILES_X == 32 && sizeof(vx__gpu_path) == 160 && VX__PATHS == 64 &&
+                   sizeof(vx__gpu_frame) == 2416 + 160 * VX__PATHS,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -1553,50 +1554,139 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
     return VX_OK;
 }
 
-/* The octree path of the frame's reference point in a scene of one
- * instance (vx__gpu_frame.path_*; trace.comp): the listed nodes from the
- * root down while the child holding the point is an inner node, no deeper
- * than a rebased model's frame level (the walk moves into that frame by a
- * push of its own). The point is the model-space origin of the rays of a
- * perspective view without a near plane (t_start 0: the eye inside the
- * scene's bounds); the kernel checks per ray that its start lies well
- * inside the cube of N's child, so the point only proposes the path. Not
- * for LOD, the beam (their walks start otherwise) or the float64 variant. */
-static void frame_path(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
-                       vx__gpu_frame* gf) {
-    memset(gf->path_info, 0, sizeof gf->path_info);
-    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || rs->no_path) return;
-    uint32_t mi = gf->inst0.model;
+/* The model-space start of the ray through image point (x, y) (pixels,
+ * edges included) of frame f in instance `in` (inv: model from world), as
+ * trace.comp starts it: its origin, or its entry into the model box
+ * [0, bhi]; false where it misses the box. */
+static bool ray_start(const vx__frame* f, const double inv[12], const double bhi[3], double x, double y, double p[3]) {
+    double u = x / f->width * 2 - 1, v = 1 - y / f->height * 2, ow[3], dw[3], om[3], dm[3];
+    for (int k = 0; k < 3; k++) {
+        double off = u * f->rx[k] + v * f->uy[k];
+        ow[k] = f->ref[k] + (f->ortho ? off : f->t_start * off);
+        dw[k] = f->ortho ? f->fwd[k] : f->fwd[k] + off;
+    }
+    for (int r = 0; r < 3; r++) {
+        om[r] = inv[4 * r] * ow[0] + inv[4 * r + 1] * ow[1] + inv[4 * r + 2] * ow[2] + inv[4 * r + 3];
+        dm[r] = inv[4 * r] * dw[0] + inv[4 * r + 1] * dw[1] + inv[4 * r + 2] * dw[2];
+    }
+    double te = 0, tx = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        if (dm[k] == 0) {
+            if (!(om[k] >= 0 && om[k] <= bhi[k])) return false;
+            continue;
+        }
+        double a = -om[k] / dm[k], b = (bhi[k] - om[k]) / dm[k];
+        te = fmax(te, fmin(a, b)), tx = fmin(tx, fmax(a, b));
+    }
+    if (!(te < tx)) return false;
+    for (int k = 0; k < 3; k++) p[k] = om[k] + dm[k] * te;
+    return true;
+}
+
+/* Starts below the root for the primary rays of a scene of one instance
+ * (vx__gpu_frame.paths and tiles; trace.comp's trace_model). Per screen
+ * tile (as vx__frame_tiles cuts the image) the box of its corner rays'
+ * starts in the model (their origins, or their entries into the model box)
+ * is taken down the model's listed top (top_node) while it lies in one
+ * inner child: X, the node where that stops. The kernel checks per ray that
+ * its start lies well inside one of X's children (the walk from the root
+ * then descends to X without an advance), so the box only proposes: a ray
+ * whose start lies elsewhere walks from the root. X is no deeper than a
+ * rebased model's frame level less one (the walk moves into that frame by a
+ * push of its own). Distinct starts take records in order; past VX__PATHS a
+ * tile takes the deepest record whose X holds its box, or none. Not for
+ * LOD or the beam (their walks start otherwise) or the float64 variant. */
+static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
+                        vx__gpu_frame* gf) {
+    uint32_t W = f->width, H = f->height, s = 3;
+    while (((W + (1u << s) - 1) >> s) > VX__TILES_X || ((H + (1u << s) - 1) >> s) > VX__TILES_X) s++;
+    uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
+    gf->tile_info[0] = s, gf->tile_info[1] = tx;
+    for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
+    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || rs->no_path || !W || !H) return;
+    const inst_host* in = &rs->inst[0];
+    uint32_t mi = in->model;
     if (mi >= rs->model_count || !rs->top[mi]) return;
     const vx__gpu_model* m = &rs->gm[mi];
     if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return;
-    /* the model-space point of the reference (the rays' origin o = 0) */
-    double side = ldexp(1.0, (int)m->depth), p[3];
-    for (int k = 0; k < 3; k++) {
-        p[k] = gf->inst0.r[k][3];
-        if (!(p[k] > 0 && p[k] < side)) return;
-    }
-    uint32_t max_dn = m->depth - 1;
-    if (m->rebase && m->rebase - 1 < max_dn) max_dn = m->rebase - 1;
-    if (max_dn > 24) max_dn = 24;
     const top_node* t = rs->top[mi];
-    uint32_t i = 0, dn = 0, oct = 0;
-    double lo[3] = {0, 0, 0}, size = side;
-    for (;;) {
-        double half = 0.5 * size;
-        oct = (p[0] >= lo[0] + half) | (p[1] >= lo[1] + half) << 1 | (p[2] >= lo[2] + half) << 2;
-        uint32_t d = t[i].desc, inner = (d >> 8) & ~d & 0xFFu;
-        if (dn >= max_dn || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
-        gf->path_nodes[dn++] = t[i].word;
-        i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
-        for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;
-        size = half;
-    }
-    if (!dn) return; /* N the root: nothing to skip */
-    double half = 0.5 * size;
-    gf->path_info[0] = dn, gf->path_info[1] = t[i].word, gf->path_info[2] = mi;
-    for (int k = 0; k < 3; k++) gf->path_cube[k] = (float)(1.0 + (lo[k] + (((oct >> k) & 1u) ? half : 0)) / side);
-    gf->path_cube[3] = (float)(half / side);
+    /* hm: twice the kernel's margin (2^-16 of the cube), so that the box's
+     * rays pass its test despite their float rounding */
+    double side = ldexp(1.0, (int)m->depth), hm = ldexp(side, -15), bhi[3];
+    uint32_t bsh = m->depth > 10 ? m->depth - 10 : 0;
+    for (int k = 0; k < 3; k++) bhi[k] = (double)((((m->box >> (10 * k)) & 1023u) + 1u) << bsh);
+    uint32_t max_dq = m->depth - 1;
+    if (m->rebase && m->rebase - 1 < max_dq) max_dq = m->rebase - 1;
+    if (max_dq > 24) max_dq = 24;
+    uint32_t npaths = 0;
+    for (uint32_t y = 0; y < ty; y++)
+        for (uint32_t x = 0; x < tx; x++) {
+            double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY}, p[3];
+            bool all = true;
+            for (int c = 0; c < 4 && all; c++) {
+                double cx = fmin((double)((x + (c & 1)) << s), W), cy = fmin((double)((y + (c >> 1)) << s), H);
+                all = ray_start(f, in->inv, bhi, cx, cy, p);
+                for (int k = 0; all && k < 3; k++) plo[k] = fmin(plo[k], p[k]), phi[k] = fmax(phi[k], p[k]);
+            }
+            if (!all) continue;
+            /* down the listed nodes while the box lies in one inner child:
+             * X, the node where it stops (the box across its mid-planes, or
+             * in a child that is empty, a leaf or not listed) */
+            uint32_t chain[25], i = 0, d = 0;
+            double lo[3] = {0, 0, 0}, size = side;
+            for (;;) {
+                chain[d] = t[i].word;
+                double half = 0.5 * size;
+                uint32_t oct = 0;
+                bool straddle = false;
+                for (int k = 0; k < 3; k++) {
+                    double mid = lo[k] + half;
+                    if (plo[k] >= mid + hm) oct |= 1u << k;
+                    else if (!(phi[k] <= mid - hm)) straddle = true;
+                }
+                uint32_t dsc = t[i].desc, inner = (dsc >> 8) & ~dsc & 0xFFu;
+                if (straddle || d + 1 > max_dq || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
+                i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
+                for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;
+                size = half, d++;
+            }
+            uint32_t dq = d;
+            if (!dq) continue; /* X the root: nothing to skip */
+            float cube[4];
+            for (int k = 0; k < 3; k++) cube[k] = (float)(1.0 + lo[k] / side);
+            cube[3] = (float)(size / side);
+            uint32_t r = 0;
+            while (r < npaths && !(gf->paths[r].info[0] == dq && gf->paths[r].info[1] == chain[dq] &&
+                                   !memcmp(gf->paths[r].cube, cube, sizeof cube)))
+                r++;
+            if (r == npaths && npaths < VX__PATHS) {
+                vx__gpu_path* g = &gf->paths[npaths++];
+                memset(g, 0, sizeof *g);
+                g->info[0] = dq, g->info[1] = chain[dq], g->info[2] = mi;
+                memcpy(g->cube, cube, sizeof cube);
+                memcpy(g->nodes, chain, dq * sizeof chain[0]);
+                /* X's inner children (listed or not: their words are the block's) */
+                uint32_t dsc = t[i].desc, inner = (dsc >> 8) & ~dsc & 0xFFu;
+                for (uint32_t o = 0; o < 8; o++)
+                    g->kids[o] = ((inner >> o) & 1u) && dq + 1 <= max_dq && t[i].kids != TOP_NONE
+                                     ? t[t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << o) - 1u))].word
+                                     : VX__PATH_NONE;
+            } else if (r == npaths) {
+                /* the table is full: the deepest record whose X holds the box */
+                uint32_t best = VX__TILE_NONE;
+                for (uint32_t j = 0; j < npaths; j++) {
+                    const float* kc = gf->paths[j].cube;
+                    bool holds = true;
+                    for (int k = 0; k < 3; k++) {
+                        double a = (kc[k] - 1.0) * side, b = a + kc[3] * side;
+                        holds = holds && plo[k] >= a + hm && phi[k] <= b - hm;
+                    }
+                    if (holds && (best == VX__TILE_NONE || kc[3] < gf->paths[best].cube[3])) best = j;
+                }
+                r = best;
+            }
+            gf->tiles[y * tx + x] = (uint16_t)r;
+        }
 }
 
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
@@ -1631,7 +1721,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
-    frame_path(rs, f, precise, beam, rs->frame.map);
+    if (rs->inst_count <= 1) frame_paths(rs, f, precise, beam, rs->frame.map);
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;

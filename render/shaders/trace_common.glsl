@@ -68,6 +68,15 @@ struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, 
 // x of the frame reference to about 2^-48 relative)
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
+#ifdef TRACE_PATH
+// A start below the root (vx__gpu_path): info.x the depth dx of node X,
+// .y X's word (model-relative), .z the model; cube: X's cube ([1,2] units
+// of the model cube: corner xyz, side w); nodes: X's ancestors, the root
+// first; kids: per octant, X's inner child's word (0xFFFFFFFF none)
+struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; uvec4 kids[2]; };
+const int PATHS = 64;
+const bool PATH_KIDS = true; // the start one level below X where K is inner
+#endif
 
 layout(std140, binding = 0) uniform Frame {
     vec4 fwd;   // w: t_start
@@ -105,15 +114,9 @@ layout(std140, binding = 0) uniform Frame {
     layout(offset = 368) uvec4 tiles[128];
 #endif
 #ifdef TRACE_PATH
-    // trace.comp, one instance: the octree path of the frame's reference
-    // point (vx__gpu_frame.path_*; path_info.x 0: none). x the depth dN of
-    // its deepest listed node N, y N's word (model-relative), z the model;
-    // path_cube the cube of N's child C holding the point ([1,2] units of
-    // the model cube: corner xyz, side w); path_nodes N's ancestors, the
-    // root first (trace_model's start below the root)
-    layout(offset = 2416) uvec4 path_info;
-    vec4 path_cube;
-    uvec4 path_nodes[6];
+    // trace.comp, one instance: the primary rays' starts below the root
+    // (trace_model), per screen tile the index of one (tiles, 0xFFFF none)
+    layout(offset = 2416) PathRec paths[PATHS];
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
@@ -180,9 +183,9 @@ struct Hit {
 
 uint g_iter = 0u;
 #ifdef TRACE_PATH
-// Whether the next model walk is a primary ray's (trace.comp), which may
-// start below the root on the frame's path (trace_model)
-bool g_path = false;
+// The start below the root (F.paths) the next model walk may take: a
+// primary ray's (trace.comp), 0xFFFF none
+uint g_path = 0xFFFFu;
 #endif
 // The iteration guard (MAX_ITER) and count. trace.comp's colour kernel
 // (primary and shadow rays) has neither where it writes no hits: 1-5% more
@@ -449,31 +452,61 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         WALK_FIRST_CHILD(RVEC3)
 #ifdef TRACE_PATH
         // A primary ray whose walk starts at a point well inside the cube
-        // of C (the child of N holding the frame's reference point, eye of
-        // a perspective view inside the model box) descends from the root
-        // to N without an advance: every push's child is the one holding
-        // the start (tmin is 0 here: the walk's [1,2] ray starts at ol).
-        // Its state at N's loop top is then known: N, C's mirrored corner
-        // and octant, N's ancestors on the stack (hh, the root's exit, only
-        // makes the next push store its entry where the walk might not,
-        // the same value). 2^-16 of the model cube keeps every decision of
-        // the skipped pushes (crossing times of the mid-planes against
-        // tmin, of the exits against tmin; rounding errors below 2^-20 of
-        // |coef|) the same as the walk's, so the steps from N on are the
-        // walk's, bit for bit. Not with LOD (a push may stop), the beam
-        // (tmin moved), the compact layout or the float64 variant.
-        if (g_path && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && F.path_info.x != 0u && mi == F.path_info.z) {
+        // of K, a child of node X (F.paths[g_path], the host's guess for
+        // the ray's screen tile), descends from the root to X without an
+        // advance: every push's child is the one holding the start (tmin is
+        // 0 here: the walk's [1,2] ray starts at ol). Its state at X's loop
+        // top is then known: X, K's mirrored corner and octant, X's
+        // ancestors on the stack (hh, the root's exit, only makes the next
+        // push store its entry where the walk might not, the same value).
+        // Where K is an inner node (kids), the same one level down: K's
+        // loop top with its child G holding the start next; where the start
+        // lies near X's mid-planes, one level up: X's parent's loop top
+        // with X next.
+        // 2^-16 of the model cube between the start and K's faces keeps
+        // every decision of the skipped pushes (crossing times of the
+        // mid-planes and the exits against tmin; rounding errors below
+        // 2^-20 of |coef|) the walk's, so the steps from X on are the
+        // walk's, bit for bit; a start on the root cube's entry face (the
+        // mirrored 2) needs none on that side, its planes being K's and
+        // its ancestors' far sides. Not with LOD (a push may stop), the
+        // beam (tmin moved), the compact layout or the float64 variant.
+        if (g_path != 0xFFFFu && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && tmin == 0.0 && tmin <= tmax &&
+            mi == F.paths[g_path].info.z) {
             const float dlt = 1.0 / 65536.0;
-            vec3 cc = F.path_cube.xyz;
-            float cw = F.path_cube.w;
-            if (all(greaterThan(ol, cc + dlt)) && all(lessThan(ol, cc + (cw - dlt))) && tmin == 0.0 && tmin <= tmax) {
-                int dn = int(F.path_info.x);
-                for (int j = 0; j < dn; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.path_nodes[j >> 2][j & 3]);
-                parent = nbase + F.path_info.y;
-                scale = S_MAX - 1 - dn;
-                scale_exp2 = cw;
-                pos = vec3((oct & 1) != 0 ? cc.x : 3.0 - cw - cc.x, (oct & 2) != 0 ? cc.y : 3.0 - cw - cc.y,
-                           (oct & 4) != 0 ? cc.z : 3.0 - cw - cc.z);
+            vec3 cc = F.paths[g_path].cube.xyz;
+            float cw = F.paths[g_path].cube.w;
+            // mirrored (exact: 3 - x for x in [1, 2]): the start, X's corner,
+            // that of K (X's child holding the start) and, where K is an
+            // inner node, that of its child G holding the start
+            bvec3 keep = bvec3((oct & 1) != 0, (oct & 2) != 0, (oct & 4) != 0);
+            vec3 om = mix(3.0 - ol, ol, keep);
+            vec3 px = mix(3.0 - cw - cc, cc, keep);
+            bvec3 up = greaterThanEqual(om, px + 0.5 * cw);
+            vec3 pk = mix(px, px + 0.5 * cw, up);
+            vec3 pg = mix(pk, pk + 0.25 * cw, greaterThanEqual(om, pk + 0.25 * cw));
+            int ck = ((up.x ? 1 : 0) | (up.y ? 2 : 0) | (up.z ? 4 : 0)) ^ (oct ^ 7); // K's real octant
+            uint kw = F.paths[g_path].kids[ck >> 2][ck & 3];
+            int dx = int(F.paths[g_path].info.x);
+            // the deepest of G (lv 2), K (1) and X (0, below X's parent) the
+            // start lies well inside (the root cube's entry face aside)
+            int lv = -1;
+            if (PATH_KIDS && kw != 0xFFFFFFFFu &&
+                all(greaterThan(om, pg + dlt)) && all(lessThan(om, mix(pg + (0.25 * cw - dlt), vec3(3.0), equal(pg + 0.25 * cw, vec3(2.0))))))
+                lv = 2;
+            else if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, mix(pk + (0.5 * cw - dlt), vec3(3.0), equal(pk + 0.5 * cw, vec3(2.0))))))
+                lv = 1;
+            else if (dx >= 2 && all(greaterThan(om, px + dlt)) && all(lessThan(om, mix(px + (cw - dlt), vec3(3.0), equal(px + cw, vec3(2.0))))))
+                lv = 0;
+            if (lv >= 0) {
+                uint xw = F.paths[g_path].info.y;
+                for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.paths[g_path].nodes[j >> 2][j & 3]);
+                if (lv == 2) stk_node[S_MAX - 1 - dx] = int(nbase + xw);
+                int dp = dx - 1 + lv; // the depth of the start's node
+                parent = nbase + (lv == 0 ? F.paths[g_path].nodes[(dx - 1) >> 2][(dx - 1) & 3] : lv == 1 ? xw : kw);
+                scale = S_MAX - 1 - dp;
+                scale_exp2 = lv == 0 ? cw : lv == 1 ? 0.5 * cw : 0.25 * cw;
+                pos = lv == 0 ? px : lv == 1 ? pk : pg;
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             }

@@ -645,19 +645,20 @@ static size_t path_frames(const char* name, vx_render_scene* rs, vx_render_desc 
     return diff;
 }
 
-/* The primary rays' start below the root on the frame's octree path (one
- * instance, the eye inside the model box: render_scene.c frame_path, the
- * start in trace_model): frames from eyes inside a sparse 64^3 model with
+/* The primary rays' starts below the root (one instance: render_scene.c
+ * frame_paths, the start in trace_model): frames from eyes inside a sparse 64^3 model with
  * solid blocks, at random points, on node planes (multiples of 4 to 32
- * cells, the model's mid-planes) and 1e-4 cells beside them, in depth and
- * colour (shadow rays from the root), with far pointers throughout and
- * without, rotated and mirrored, must equal the walk from the root; the
- * path must save iterations from most random eyes; after an edit the path follows
+ * cells, the model's mid-planes) and 1e-4 cells beside them, and from
+ * outside the model box (the screen tiles' starts at the rays' entries),
+ * perspective and orthographic, in depth and colour (shadow rays from the
+ * root), with far pointers throughout and without, rotated and mirrored,
+ * must equal the walk from the root; the starts must save iterations on
+ * most views of both kinds; after an edit the path follows
  * the model's new words (a stale list fails). */
 static void test_path_start(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const double rot[9] = {0, 0, -1, 1, 0, 0, 0, -1, 0};
-    size_t frames = 0, fewer = 0, differ = 0, rand_frames = 0, rand_fewer = 0;
+    size_t frames = 0, fewer = 0, differ = 0, rand_frames = 0, rand_fewer = 0, outside_frames = 0, outside_fewer = 0;
     double saved = 0;
     for (int lim = 0; lim < 2; lim++) {
         /* solid blocks of 2-9 cells and 1% scattered cells in 64^3 */
@@ -726,6 +727,31 @@ static void test_path_start(void) {
                 frames++;
                 if (v % 4 == 0 && v != 20) rand_frames++, rand_fewer += fewer > f0;
             }
+            for (int v = 0; v < 8; v++) {
+                /* from outside the model box (the tiles' starts at the rays' entries), perspective and
+                 * orthographic, near and far */
+                double dir[3], dl = 0;
+                for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+                dl = sqrt(dl);
+                vx_render_desc d = {.width = 64, .height = 48, .mode = v % 2 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
+                d.camera.set = true, d.camera.ortho = v >= 6, d.camera.ortho_height = 40;
+                double c[3] = {32, 32, 32}, dist = v % 3 == 0 ? 60 : 140;
+                for (int k = 0; k < 3; k++) {
+                    double w = c[k], e = c[k] + dir[k] / dl * dist;
+                    if (tf) {
+                        w = e = in.xform[4 * k + 3];
+                        for (int j = 0; j < 3; j++) w += in.xform[4 * k + j] * c[j], e += in.xform[4 * k + j] * (c[j] + dir[j] / dl * dist);
+                    }
+                    d.camera.eye[k] = e, d.camera.target[k] = w;
+                }
+                char nm[96];
+                snprintf(nm, sizeof nm, "path start, far %s, %s, outside %d", lim ? "throughout" : "none",
+                         tf ? "rotated" : "identity", v);
+                size_t f0 = fewer;
+                differ += path_frames(nm, rs, d, &fewer, &saved);
+                frames++;
+                outside_frames++, outside_fewer += fewer > f0;
+            }
             if (!tf) {
                 /* an edit: a solid block around the model's centre and cells removed; the path follows */
                 vx_svo_editor* ed = NULL;
@@ -758,12 +784,14 @@ static void test_path_start(void) {
         }
         free(xyz), free(pal), free(used);
     }
-    printf("path start: %zu frames, %zu with fewer iterations (%zu of %zu from random eyes), %.2f iterations a ray saved "
-           "on average, %zu pixels differ\n",
-           frames, fewer, rand_fewer, rand_frames, saved / (double)frames, differ);
+    printf("path start: %zu frames, %zu with fewer iterations (%zu of %zu from random eyes inside, %zu of %zu from "
+           "outside), %.2f iterations a ray saved on average, %zu pixels differ\n",
+           frames, fewer, rand_fewer, rand_frames, outside_fewer, outside_frames, saved / (double)frames, differ);
     CHECK(differ == 0);
     /* eyes on node planes or within 2^-16 of the cube (0.001 cells) of one walk from the root */
     CHECK(rand_fewer * 4 >= rand_frames * 3);
+    /* from outside: the tiles' starts at the rays' entries into the model box */
+    CHECK(outside_fewer * 2 >= outside_frames);
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
