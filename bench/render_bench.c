@@ -396,7 +396,7 @@ int main(int argc, char** argv) {
     int nkern = 1; /* 0: the built-in kernel */
     /* per kernel: the screen cull (-1: the library's) */
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
-    int kpath[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1};
+    int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     char klabel[9][96];
     uint32_t runs = 15;
     double warmup = 0.5;
@@ -448,7 +448,8 @@ int main(int argc, char** argv) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
                 /* ENTRY@cM[pN]: the kernel with the screen cull M (0 off, 1 on) and
-                 * the start on the frame's octree path N (0 off, 1 on: the default);
+                 * the primary rays' starts below the root N (0 off, 1 on; without:
+                 * the library's default, on for GPUs, off for CPU devices);
                  * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
                  * reads no rectangle) */
                 if (nkern < 9) {
@@ -457,15 +458,16 @@ int main(int argc, char** argv) {
                     if (at) {
                         const char* q = at + 1;
                         bool ok = q[0] == 'c' && (q[1] == '0' || q[1] == '1');
-                        unsigned cc = ok ? (unsigned)(q[1] - '0') : 0, pp = 1;
+                        unsigned cc = ok ? (unsigned)(q[1] - '0') : 0;
+                        int pp = -1;
                         if (ok) q += 2;
-                        if (ok && q[0] == 'p' && (q[1] == '0' || q[1] == '1')) pp = (unsigned)(q[1] - '0'), q += 2;
+                        if (ok && q[0] == 'p' && (q[1] == '0' || q[1] == '1')) pp = q[1] - '0', q += 2;
                         if (!ok || *q) {
                             fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1, optionally p0 or p1\n", at);
                             return 2;
                         }
                         kcull[nkern] = (int)cc;
-                        kpath[nkern] = (int)pp;
+                        kpath[nkern] = pp;
                         *at = 0;
                         if (!*t) {
                             kname[nkern] = klabel[nkern], nkern++;

@@ -97,7 +97,7 @@ struct vx_render_scene {
     /* benchmarks and tests: the screen cull (-1: on unless alt_spv, 0 off, 1
      * on); vx__render_scene_trace_variant */
     int cull;
-    bool no_path; /* benchmarks and tests: no start below the root (vx__render_scene_trace_path) */
+    int path; /* the starts below the root: -1 on for GPUs, off for CPU devices; 0 off, 1 on (vx__render_scene_trace_path) */
     uint64_t last_traced; /* the last frame's traced pixels */
     bool last_cull;       /* and whether they were not the whole image */
     uint32_t max_depth;
@@ -791,6 +791,7 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
     rs->cull = -1;
+    rs->path = -1;
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
@@ -1358,7 +1359,15 @@ void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
 }
 
 void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
-    if (rs) rs->no_path = path == 0;
+    if (rs) rs->path = path < 0 ? -1 : path > 0;
+}
+
+/* Whether the trace kernel starts primary rays below the root (its
+ * PATH_START constant): off on CPU devices by default, where lavapipe ran
+ * the start's code masked for every ray, 0.45-0.65 of the rays per CPU
+ * second (issue 21's fourteenth sitting) */
+static bool path_on(const vx_render_scene* rs) {
+    return rs->path < 0 ? !vx_gpu_is_cpu(rs->gpu) : rs->path > 0;
 }
 
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
@@ -1603,7 +1612,7 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
     uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
     gf->tile_info[0] = s, gf->tile_info[1] = tx;
     for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
-    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || rs->no_path || !W || !H) return;
+    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || !path_on(rs) || !W || !H) return;
     const inst_host* in = &rs->inst[0];
     uint32_t mi = in->model;
     if (mi >= rs->model_count || !rs->top[mi]) return;
@@ -1739,9 +1748,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         vx__gpu_frame* gf = rs->frame.map;
         vx__frame_tiles(f, &rs->bvh, gf->tiles, &gf->tile_info[0], &gf->tile_info[1]);
     }
-    /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
+    /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 the starts below the root
+     * (PATH_START; other kernels' 7 is theirs); 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
-    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
+    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
+                         rs->inst_count <= 1 && path_on(rs),
                          precise ? 0 : rs->deep, rs->far, 0, smap, 0};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
@@ -1768,7 +1779,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if (rs->alt_beam) bd.spirv = rs->alt_beam, bd.spirv_size = rs->alt_beam_size, bkey += 0x100000u * (rs->alt_tag + 1);
         bd.label = "beam";
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
-        bd.spec[6] = 0; /* trace.comp's one-sample switch */
+        bd.spec[6] = bd.spec[7] = 0; /* trace.comp's one-sample switch and starts */
         for (int i = 0; i < 10; i++) bkey = bkey * 131 + bd.spec[i];
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }

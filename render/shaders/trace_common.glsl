@@ -76,6 +76,11 @@ struct BNode { vec4 lo; vec4 hi; };
 struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; uvec4 kids[2]; };
 const int PATHS = 64;
 const bool PATH_KIDS = true; // the start one level below X where K is inner
+// The starts on (render_scene.c: off on CPU devices, where lavapipe (Mesa
+// 22.3), which runs every instruction of the kernel masked for every ray,
+// traced 0.45-0.65 of the rays per CPU second with them, the start's code
+// never taken included; issue 21's fourteenth sitting)
+layout(constant_id = 7) const bool PATH_START = true;
 #endif
 
 layout(std140, binding = 0) uniform Frame {
@@ -471,7 +476,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // mirrored 2) needs none on that side, its planes being K's and
         // its ancestors' far sides. Not with LOD (a push may stop), the
         // beam (tmin moved), the compact layout or the float64 variant.
-        if (g_path != 0xFFFFu && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && tmin == 0.0 && tmin <= tmax &&
+        if (PATH_START && g_path != 0xFFFFu && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && tmin == 0.0 && tmin <= tmax &&
             mi == F.paths[g_path].info.z) {
             const float dlt = 1.0 / 65536.0;
             vec3 cc = F.paths[g_path].cube.xyz;

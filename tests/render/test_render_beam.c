@@ -55,6 +55,7 @@ static beam_stats check_view(const char* name, vx_render_scene* rs, vx_render_de
     d.beam = 0;
     vx_render_image ref = {0};
     vx_error err = {0};
+    vx__render_scene_trace_path(rs, 1); /* the starts below the root, even where a CPU device's default is off */
     vx_result r = vx_render_frame(rs, &d, &ref, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return st;
@@ -65,7 +66,7 @@ static beam_stats check_view(const char* name, vx_render_scene* rs, vx_render_de
     vx_render_image root = {0};
     vx__render_scene_trace_path(rs, 0);
     r = vx_render_frame(rs, &d, &root, &err);
-    vx__render_scene_trace_path(rs, 1);
+    vx__render_scene_trace_path(rs, -1);
     CHECKF(r == VX_OK, "%s (walk from the root): %s", name, err.msg);
     size_t pdiff = 0;
     double piter = 0;

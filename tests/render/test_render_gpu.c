@@ -620,10 +620,10 @@ static size_t path_frames(const char* name, vx_render_scene* rs, vx_render_desc 
     vx_error err = {0};
     d.want_hits = true;
     for (int p = 0; p < 2; p++) {
-        vx__render_scene_trace_path(rs, 1 - p);
+        vx__render_scene_trace_path(rs, 1 - p); /* on even where a CPU device's default is off */
         CHECKF(vx_render_frame(rs, &d, &a[p], &err) == VX_OK, "%s: %s", name, err.msg);
     }
-    vx__render_scene_trace_path(rs, 1);
+    vx__render_scene_trace_path(rs, -1);
     size_t n = (size_t)d.width * d.height, diff = 0;
     double it[2] = {0, 0};
     for (size_t i = 0; a[0].hits && a[1].hits && i < n; i++) {
