@@ -37,16 +37,13 @@ typedef struct vx__gpu_inst {
 /* A start below the root for the primary rays of one screen tile
  * (trace.comp, one instance): rays whose walk starts well inside one of the
  * children of node X begin at X's loop top with that child next, X's
- * ancestors on the stack, instead of descending from the root; where that
- * child C is an inner node (kids), at C's loop top with its child next. */
+ * ancestors on the stack, instead of descending from the root. */
 #define VX__PATHS 64
 typedef struct vx__gpu_path {
     uint32_t info[4];   /* X's depth dx (>= 1), X's word (model-relative), the model, 0 */
     float cube[4];      /* X's corner in the model cube's [1,2] coordinates, its side */
     uint32_t nodes[24]; /* the words of X's ancestors (dx of them), the root first */
-    uint32_t kids[8];   /* per octant of X: the inner child's word, or VX__PATH_NONE (empty, a leaf, too deep) */
 } vx__gpu_path;
-#define VX__PATH_NONE 0xFFFFFFFFu
 
 typedef struct vx__gpu_frame {
     float fwd[4];    /* w: t_start */

@@ -15,8 +15,8 @@
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
                    offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, paths) == 2416 &&
-                   VX__TILES_X == 32 && sizeof(vx__gpu_path) == 160 && VX__PATHS == 64 &&
-                   sizeof(vx__gpu_frame) == 2416 + 160 * VX__PATHS,
+                   VX__TILES_X == 32 && sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 &&
+                   sizeof(vx__gpu_frame) == 2416 + 128 * VX__PATHS,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -1566,8 +1566,9 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
 /* The model-space start of the ray through image point (x, y) (pixels,
  * edges included) of frame f in instance `in` (inv: model from world), as
  * trace.comp starts it: its origin, or its entry into the model box
- * [0, bhi]; false where it misses the box. */
-static bool ray_start(const vx__frame* f, const double inv[12], const double bhi[3], double x, double y, double p[3]) {
+ * [0, bhi] (*entry set); false where it misses the box. */
+static bool ray_start(const vx__frame* f, const double inv[12], const double bhi[3], double x, double y, double p[3],
+                      bool* entry) {
     double u = x / f->width * 2 - 1, v = 1 - y / f->height * 2, ow[3], dw[3], om[3], dm[3];
     for (int k = 0; k < 3; k++) {
         double off = u * f->rx[k] + v * f->uy[k];
@@ -1589,22 +1590,28 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
     }
     if (!(te < tx)) return false;
     for (int k = 0; k < 3; k++) p[k] = om[k] + dm[k] * te;
+    *entry = te > 0;
     return true;
 }
 
 /* Starts below the root for the primary rays of a scene of one instance
  * (vx__gpu_frame.paths and tiles; trace.comp's trace_model). Per screen
- * tile (as vx__frame_tiles cuts the image) the box of its corner rays'
- * starts in the model (their origins, or their entries into the model box)
- * is taken down the model's listed top (top_node) while it lies in one
- * inner child: X, the node where that stops. The kernel checks per ray that
- * its start lies well inside one of X's children (the walk from the root
- * then descends to X without an advance), so the box only proposes: a ray
- * whose start lies elsewhere walks from the root. X is no deeper than a
- * rebased model's frame level less one (the walk moves into that frame by a
- * push of its own). Distinct starts take records in order; past VX__PATHS a
- * tile takes the deepest record whose X holds its box, or none. Not for
- * LOD or the beam (their walks start otherwise) or the float64 variant. */
+ * tile (as vx__frame_tiles cuts the image) whose corner rays start at
+ * their origins inside the model box (the eye of a perspective view inside
+ * it: one point for the whole frame) the box of those starts is taken down
+ * the model's listed top (top_node) while it lies in one inner child: X,
+ * the node where that stops. The kernel checks per ray that its start lies
+ * well inside one of X's children (the walk from the root then descends to
+ * X without an advance), so the box only proposes: a ray whose start lies
+ * elsewhere walks from the root. X is no deeper than a rebased model's
+ * frame level less one (the walk moves into that frame by a push of its
+ * own). Distinct starts take records in order; past VX__PATHS a tile takes
+ * the deepest record whose X holds its box, or none. Not for LOD or the
+ * beam (their walks start otherwise) or the float64 variant. Tiles whose
+ * rays enter the model box (oblique views, overviews) get none: their
+ * rays' starts spread over X's children and, on the H200, the warps' lanes
+ * that then start at different nodes lost 6-16% of the rays/s though they
+ * took 4-27% fewer steps (issue 21's fourteenth sitting). */
 static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
                         vx__gpu_frame* gf) {
     uint32_t W = f->width, H = f->height, s = 3;
@@ -1631,10 +1638,10 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
     for (uint32_t y = 0; y < ty; y++)
         for (uint32_t x = 0; x < tx; x++) {
             double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY}, p[3];
-            bool all = true;
+            bool all = true, entry = false;
             for (int c = 0; c < 4 && all; c++) {
                 double cx = fmin((double)((x + (c & 1)) << s), W), cy = fmin((double)((y + (c >> 1)) << s), H);
-                all = ray_start(f, in->inv, bhi, cx, cy, p);
+                all = ray_start(f, in->inv, bhi, cx, cy, p, &entry) && !entry;
                 for (int k = 0; all && k < 3; k++) plo[k] = fmin(plo[k], p[k]), phi[k] = fmax(phi[k], p[k]);
             }
             if (!all) continue;
@@ -1674,12 +1681,6 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
                 g->info[0] = dq, g->info[1] = chain[dq], g->info[2] = mi;
                 memcpy(g->cube, cube, sizeof cube);
                 memcpy(g->nodes, chain, dq * sizeof chain[0]);
-                /* X's inner children (listed or not: their words are the block's) */
-                uint32_t dsc = t[i].desc, inner = (dsc >> 8) & ~dsc & 0xFFu;
-                for (uint32_t o = 0; o < 8; o++)
-                    g->kids[o] = ((inner >> o) & 1u) && dq + 1 <= max_dq && t[i].kids != TOP_NONE
-                                     ? t[t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << o) - 1u))].word
-                                     : VX__PATH_NONE;
             } else if (r == npaths) {
                 /* the table is full: the deepest record whose X holds the box */
                 uint32_t best = VX__TILE_NONE;

@@ -72,10 +72,9 @@ struct BNode { vec4 lo; vec4 hi; };
 // A start below the root (vx__gpu_path): info.x the depth dx of node X,
 // .y X's word (model-relative), .z the model; cube: X's cube ([1,2] units
 // of the model cube: corner xyz, side w); nodes: X's ancestors, the root
-// first; kids: per octant, X's inner child's word (0xFFFFFFFF none)
-struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; uvec4 kids[2]; };
+// first
+struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; };
 const int PATHS = 64;
-const bool PATH_KIDS = true; // the start one level below X where K is inner
 // The starts on (render_scene.c: off on CPU devices, where lavapipe (Mesa
 // 22.3), which runs every instruction of the kernel masked for every ray,
 // traced 0.45-0.65 of the rays per CPU second with them, the start's code
@@ -464,10 +463,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // top is then known: X, K's mirrored corner and octant, X's
         // ancestors on the stack (hh, the root's exit, only makes the next
         // push store its entry where the walk might not, the same value).
-        // Where K is an inner node (kids), the same one level down: K's
-        // loop top with its child G holding the start next; where the start
-        // lies near X's mid-planes, one level up: X's parent's loop top
-        // with X next.
         // 2^-16 of the model cube between the start and K's faces keeps
         // every decision of the skipped pushes (crossing times of the
         // mid-planes and the exits against tmin; rounding errors below
@@ -481,37 +476,21 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             const float dlt = 1.0 / 65536.0;
             vec3 cc = F.paths[g_path].cube.xyz;
             float cw = F.paths[g_path].cube.w;
-            // mirrored (exact: 3 - x for x in [1, 2]): the start, X's corner,
-            // that of K (X's child holding the start) and, where K is an
-            // inner node, that of its child G holding the start
+            // mirrored (exact: 3 - x for x in [1, 2]): the start, X's corner
+            // and that of K, the child of X holding the start
             bvec3 keep = bvec3((oct & 1) != 0, (oct & 2) != 0, (oct & 4) != 0);
             vec3 om = mix(3.0 - ol, ol, keep);
             vec3 px = mix(3.0 - cw - cc, cc, keep);
-            bvec3 up = greaterThanEqual(om, px + 0.5 * cw);
-            vec3 pk = mix(px, px + 0.5 * cw, up);
-            vec3 pg = mix(pk, pk + 0.25 * cw, greaterThanEqual(om, pk + 0.25 * cw));
-            int ck = ((up.x ? 1 : 0) | (up.y ? 2 : 0) | (up.z ? 4 : 0)) ^ (oct ^ 7); // K's real octant
-            uint kw = F.paths[g_path].kids[ck >> 2][ck & 3];
-            int dx = int(F.paths[g_path].info.x);
-            // the deepest of G (lv 2), K (1) and X (0, below X's parent) the
-            // start lies well inside (the root cube's entry face aside)
-            int lv = -1;
-            if (PATH_KIDS && kw != 0xFFFFFFFFu &&
-                all(greaterThan(om, pg + dlt)) && all(lessThan(om, mix(pg + (0.25 * cw - dlt), vec3(3.0), equal(pg + 0.25 * cw, vec3(2.0))))))
-                lv = 2;
-            else if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, mix(pk + (0.5 * cw - dlt), vec3(3.0), equal(pk + 0.5 * cw, vec3(2.0))))))
-                lv = 1;
-            else if (dx >= 2 && all(greaterThan(om, px + dlt)) && all(lessThan(om, mix(px + (cw - dlt), vec3(3.0), equal(px + cw, vec3(2.0))))))
-                lv = 0;
-            if (lv >= 0) {
-                uint xw = F.paths[g_path].info.y;
+            cw *= 0.5;
+            vec3 pk = mix(px, px + cw, greaterThanEqual(om, px + cw));
+            vec3 top = mix(pk + (cw - dlt), vec3(3.0), equal(pk + cw, vec3(2.0)));
+            if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, top))) {
+                int dx = int(F.paths[g_path].info.x);
                 for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.paths[g_path].nodes[j >> 2][j & 3]);
-                if (lv == 2) stk_node[S_MAX - 1 - dx] = int(nbase + xw);
-                int dp = dx - 1 + lv; // the depth of the start's node
-                parent = nbase + (lv == 0 ? F.paths[g_path].nodes[(dx - 1) >> 2][(dx - 1) & 3] : lv == 1 ? xw : kw);
-                scale = S_MAX - 1 - dp;
-                scale_exp2 = lv == 0 ? cw : lv == 1 ? 0.5 * cw : 0.25 * cw;
-                pos = lv == 0 ? px : lv == 1 ? pk : pg;
+                parent = nbase + F.paths[g_path].info.y;
+                scale = S_MAX - 1 - dx;
+                scale_exp2 = cw;
+                pos = pk;
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             }
