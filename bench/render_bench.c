@@ -448,9 +448,8 @@ int main(int argc, char** argv) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
                 /* ENTRY@cM[pN]: the kernel with the screen cull M (0 off, 1 on) and
-                 * the primary rays' starts below the root N (0 off, 1 on, 2 also where
-                 * rays enter the model box; without: the library's default, on for
-                 * GPUs, off for CPU devices);
+                 * the primary rays' starts below the root N (0 off, 1 on; without:
+                 * the library's default, on for GPUs, off for CPU devices);
                  * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
                  * reads no rectangle) */
                 if (nkern < 9) {
@@ -462,9 +461,9 @@ int main(int argc, char** argv) {
                         unsigned cc = ok ? (unsigned)(q[1] - '0') : 0;
                         int pp = -1;
                         if (ok) q += 2;
-                        if (ok && q[0] == 'p' && q[1] >= '0' && q[1] <= '2') pp = q[1] - '0', q += 2;
+                        if (ok && q[0] == 'p' && (q[1] == '0' || q[1] == '1')) pp = q[1] - '0', q += 2;
                         if (!ok || *q) {
-                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1, optionally p0, p1 or p2\n", at);
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1, optionally p0 or p1\n", at);
                             return 2;
                         }
                         kcull[nkern] = (int)cc;

@@ -178,8 +178,7 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
 /* Benchmarks and tests: the primary rays' starts below the root
  * (trace.comp, scenes of one instance; -1 the default: on for GPUs, off for
- * CPU devices; 0 off: every walk from the root; 1 on; 2 on, also for tiles
- * whose rays enter the model box, an experiment). */
+ * CPU devices; 0 off: every walk from the root; 1 on). */
 void vx__render_scene_trace_path(vx_render_scene* rs, int path);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */

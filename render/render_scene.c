@@ -1359,7 +1359,7 @@ void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
 }
 
 void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
-    if (rs) rs->path = path < 0 ? -1 : path > 2 ? 2 : path;
+    if (rs) rs->path = path < 0 ? -1 : path > 0;
 }
 
 /* Whether the trace kernel starts primary rays below the root (its
@@ -1641,7 +1641,7 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
             bool all = true, entry = false;
             for (int c = 0; c < 4 && all; c++) {
                 double cx = fmin((double)((x + (c & 1)) << s), W), cy = fmin((double)((y + (c >> 1)) << s), H);
-                all = ray_start(f, in->inv, bhi, cx, cy, p, &entry) && (!entry || rs->path == 2);
+                all = ray_start(f, in->inv, bhi, cx, cy, p, &entry) && !entry;
                 for (int k = 0; all && k < 3; k++) plo[k] = fmin(plo[k], p[k]), phi[k] = fmax(phi[k], p[k]);
             }
             if (!all) continue;

@@ -15,9 +15,6 @@
 // float64 (positions stay multiples of 2^-23, exact in a double, and the pop
 // takes the octree path from their integer offsets instead of float bits).
 #extension GL_GOOGLE_include_directive : require
-#ifndef PRECISE
-#extension GL_KHR_shader_subgroup_vote : require
-#endif
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 

@@ -484,9 +484,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             cw *= 0.5;
             vec3 pk = mix(px, px + cw, greaterThanEqual(om, px + cw));
             vec3 top = mix(pk + (cw - dlt), vec3(3.0), equal(pk + cw, vec3(2.0)));
-            // the whole subgroup or none of it (its rays walk from the root),
-            // so that a warp's lanes keep their common descent's lock-step
-            if (subgroupAll(all(greaterThan(om, pk + dlt)) && all(lessThan(om, top)))) {
+            if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, top))) {
                 int dx = int(F.paths[g_path].info.x);
                 for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.paths[g_path].nodes[j >> 2][j & 3]);
                 parent = nbase + F.paths[g_path].info.y;
