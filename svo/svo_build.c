@@ -1569,6 +1569,23 @@ static unsigned bits_for(uint64_t maxval) {
 static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                        vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err);
 
+/* The model's check (svo.h vx_svo_model_check), as the reader sets it for a
+ * model it read: what this builder makes is valid by construction, so a
+ * writer need not validate it, and with the DAG and no far limit its words
+ * are what the structural form's reconstruction (3.5's layout over the pool
+ * in completion order) gives back from its symbols: the writer codes it
+ * without the rebuild that proves the form (docs/PERFORMANCE.md issue 18,
+ * eleventh step). Not for a tree the caller gave (a GPU build's pool or
+ * blocks): those are taken as given, not made here. A model changed after
+ * the build no longer matches the digest and is validated as any other. */
+static void stamp_check(const bld* b, vx_svo_model* m, bool given_tree) {
+    memset(&m->check, 0, sizeof m->check);
+    if (given_tree) return;
+    vx_svo_model_cell_box(m, m->check.min, m->check.max);
+    if (m->root < m->node_count && b->dag && b->limit == VX__SVO_PTR_MAX) m->check.structural = 1u << 16 | VX__SVO_PTR_MAX;
+    m->check.digest = vx_svo_model_digest(m);
+}
+
 vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
                              vx_svo_build_stats* stats, vx_error* err) {
     return build(desc, in, NULL, out, stats, err);
@@ -2019,6 +2036,7 @@ finish:
         if (b.attrs & VX_ATTR_DENSITY) rb += 4;
         st.bytes = (uint64_t)m.node_count * 4 + (uint64_t)m.attr_count * rb;
     }
+    stamp_check(&b, &m, pre && pre->pool);
     *out = m;
     if (stats) *stats = st;
     res = VX_OK;

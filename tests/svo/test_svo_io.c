@@ -2364,7 +2364,9 @@ static void test_model_checks(void) {
     REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
     for (uint32_t i = 0; i < r.model_count; i++) {
         const vx_svo_model* m = &r.models[i];
-        CHECK(s.models[i].check.digest == 0); /* built, never read */
+        /* built: the builder's check, the read's (test_built_trusted) */
+        CHECK(s.models[i].check.digest == m->check.digest && !memcmp(s.models[i].check.min, m->check.min, sizeof m->check.min) &&
+              !memcmp(s.models[i].check.max, m->check.max, sizeof m->check.max));
         CHECK(m->check.digest != 0 && m->check.digest == vx_svo_model_digest(m));
         CHECK(vx_svo_model_digest(&s.models[i]) == m->check.digest); /* the same model */
         /* the box: the cells' own, from a decode independent of the validation */
@@ -3094,7 +3096,7 @@ static void test_trusted_write(void) {
         REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
         for (uint32_t i = 0; i < r.model_count; i++) {
             CHECKF(r.models[i].check.structural == (1u << 16 | VX__SVO_PTR_MAX), "model %u: 0x%x", i, r.models[i].check.structural);
-            CHECK(s.models[i].check.structural == 0); /* built, never read */
+            CHECK(s.models[i].check.structural == r.models[i].check.structural); /* built: the builder's check (test_built_trusted) */
         }
         REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
         CHECKF(n2 == n && !memcmp(d, d2, n), "split %d: the trusted write differs", split);
@@ -3162,6 +3164,194 @@ static void test_trusted_write(void) {
         free(d);
     }
     vx__svo_split_words = VX__SPLIT_WORDS;
+    vx_svo_scene_free(&s);
+}
+
+/* A model the builder made carries its check (vx_svo_model_check) as one
+ * read from a file does: digest, the validator's box, and with the DAG and no
+ * far limit the structural settings, so that its first write skips the
+ * validation and the rebuild. The bytes must be the full path's (every check
+ * cleared) in every form; the trust must be used (a changed model whose
+ * digest is made to match is written without validation); and a model
+ * changed after the build must not be trusted. */
+static bool build_desc(vx_svo_model* m, const vx_svo_build_desc* bd, uint32_t S, size_t n, uint32_t attrs, bool full) {
+    uint64_t* k = (uint64_t*)malloc((n + 1) * 8);
+    uint32_t* c = (uint32_t*)malloc((n + 1) * 4);
+    uint8_t* p = (uint8_t*)malloc(n + 1);
+    uint16_t* mt = (uint16_t*)malloc((n + 1) * 2);
+    for (size_t i = 0; i < n; i++) {
+        k[i] = full ? (uint64_t)i : vx_svo_morton((uint32_t)(rnd() % S), (uint32_t)(rnd() % S), (uint32_t)(rnd() % S));
+        c[i] = full ? 0xFF102030u : (uint32_t)rnd() | 0xFF000000u;
+        p[i] = (uint8_t)(full ? 3 : 1 + rnd() % 5);
+        mt[i] = (uint16_t)(rnd() % 3);
+    }
+    vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = k, .attrs = attrs};
+    if (attrs & VX_ATTR_PALETTE) in.palette = p;
+    if (attrs & VX_ATTR_RGBA8) in.rgba = c;
+    if (attrs & VX_ATTR_MATERIAL) in.material = mt;
+    vx_error e;
+    bool ok = vx_svo_build_model(bd, &in, m, NULL, &e) == VX_OK;
+    if (!ok) fprintf(stderr, "build: %s\n", e.msg);
+    free(k), free(c), free(p), free(mt);
+    return ok;
+}
+
+static void clear_checks(vx_svo_scene* s) {
+    for (uint32_t i = 0; i < s->model_count; i++) memset(&s->models[i].check, 0, sizeof s->models[i].check);
+}
+
+/* The scene's bytes in four forms: default, every structural model split,
+ * range coded, chunked (small chunks). */
+static void write_forms(const vx_svo_scene* s, uint8_t* d[4], size_t n[4]) {
+    vx_error e;
+    for (int f = 0; f < 4; f++) {
+        vx_write_desc wd = {.svo_range_coded = f == 2, .svo_chunk_words = f == 3 ? 64 : 0};
+        vx__svo_split_words = f == 1 ? 1 : VX__SPLIT_WORDS;
+        d[f] = NULL, n[f] = 0;
+        CHECKF(vx_svo_write_ex(&wd, s, &d[f], &n[f], &e) == VX_OK, "form %d: %s", f, e.msg);
+    }
+    vx__svo_split_words = VX__SPLIT_WORDS;
+}
+
+static void test_built_trusted(void) {
+    enum { NB = 12 };
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = (vx_svo_model*)calloc(NB, sizeof *s.models);
+    s.instances = (vx_svo_instance*)calloc(NB, sizeof *s.instances);
+    s.has_palette = true;
+    for (int i = 0; i < 256; i++) s.palette[i] = 0xFF000000u | (uint32_t)i * 0x010203u;
+    const uint32_t RGBM = VX_ATTR_RGBA8 | VX_ATTR_MATERIAL;
+    struct {
+        uint32_t S;
+        size_t n;
+        uint32_t attrs;
+        bool no_collapse, no_dag, full;
+        uint32_t far_limit;
+    } cases[NB] = {
+        {32, 3000, VX_ATTR_PALETTE, false, false, false, 0},
+        {16, 1500, RGBM, false, false, false, 0},
+        {64, 4000, 0, false, false, false, 0},
+        {16, 1500, VX_ATTR_RGBA8, true, false, false, 0},  /* no collapse */
+        {16, 1500, VX_ATTR_RGBA8, false, true, false, 0},  /* no DAG: not structural */
+        {64, 4000, VX_ATTR_RGBA8, false, false, false, 3}, /* a far limit: not structural */
+        {8, 0, VX_ATTR_PALETTE, false, false, false, 0},   /* empty */
+        {8, 1, VX_ATTR_RGBA8, false, false, false, 0},     /* one cell */
+        {4, 64, VX_ATTR_PALETTE, false, false, true, 0},   /* full and uniform: a leaf root */
+        {1, 1, 0, false, false, false, 0},                 /* depth 0 */
+        {4, 64, VX_ATTR_RGBA8, true, false, true, 0},      /* full, not collapsed */
+        {128, 6000, RGBM, false, false, false, 0},
+    };
+    for (uint32_t i = 0; i < NB; i++) {
+        vx_svo_build_desc bd = {.no_collapse = cases[i].no_collapse, .no_dag = cases[i].no_dag};
+        if (cases[i].far_limit) vx__svo_far_limit = cases[i].far_limit;
+        REQUIRE(build_desc(&s.models[i], &bd, cases[i].S, cases[i].n, cases[i].attrs, cases[i].full));
+        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        vx_svo_model* m = &s.models[i];
+        double id[12] = {1, 0, 0, 40.0 * i, 0, 1, 0, 0, 0, 0, 1, 0};
+        memcpy(s.instances[i].xform, id, sizeof id);
+        s.instances[i].model = i;
+        s.instances[i].layer = UINT32_MAX;
+        /* the check: the digest, the validator's box, the settings */
+        vx__svo_extent ext;
+        vx_error e;
+        REQUIRE(vx__svo_analyze(m, &ext, &e) == VX_OK);
+        CHECKF(m->check.digest && m->check.digest == vx_svo_model_digest(m), "case %u: digest", i);
+        CHECKF(!memcmp(m->check.min, ext.min, sizeof ext.min) && !memcmp(m->check.max, ext.max, sizeof ext.max),
+               "case %u: box %u %u %u - %u %u %u against %u %u %u - %u %u %u", i, m->check.min[0], m->check.min[1], m->check.min[2],
+               m->check.max[0], m->check.max[1], m->check.max[2], ext.min[0], ext.min[1], ext.min[2], ext.max[0], ext.max[1], ext.max[2]);
+        bool want = !cases[i].no_dag && !cases[i].far_limit && m->root < m->node_count;
+        CHECKF(m->check.structural == (want ? (1u << 16 | VX__SVO_PTR_MAX) : 0u), "case %u: structural 0x%x", i, m->check.structural);
+    }
+    CHECK(s.models[8].root == VX_SVO_ROOT_LEAF && s.models[6].root == VX_SVO_ROOT_EMPTY);
+    s.model_count = s.instance_count = NB;
+    vx_svo_scene_update_bounds(&s);
+    /* the bytes: as built (trusted) against every check cleared (the full path) */
+    vx_svo_model_check saved[NB];
+    for (uint32_t i = 0; i < NB; i++) saved[i] = s.models[i].check;
+    uint8_t *dt[4], *df[4];
+    size_t nt[4], nf[4];
+    uint64_t saved_par = vx__svo_parallel_words;
+    for (int par = 0; par < 2; par++) {
+        vx__svo_parallel_words = par ? 0 : saved_par; /* the writer's threaded paths forced on small models */
+        write_forms(&s, dt, nt);
+        clear_checks(&s);
+        write_forms(&s, df, nf);
+        for (uint32_t i = 0; i < NB; i++) s.models[i].check = saved[i];
+        for (int f = 0; f < 4; f++) {
+            CHECKF(dt[f] && df[f] && nt[f] == nf[f] && !memcmp(dt[f], df[f], nt[f]), "par %d form %d: trusted %zu bytes, full %zu", par, f,
+                   nt[f], nf[f]);
+            /* and they read back as the models */
+            vx_svo_scene r;
+            vx_error e;
+            REQUIRE(vx_svo_read(NULL, dt[f], nt[f], &r, &e) == VX_OK);
+            for (uint32_t i = 0; i < NB; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "form %d model %u", f, i);
+            vx_svo_scene_free(&r);
+            free(dt[f]), free(df[f]);
+        }
+    }
+    vx__svo_parallel_words = saved_par;
+    /* the trust is used: a word of a structural model changed and the digest
+     * made to match is written without validation (the walk turns what is
+     * not a tree into the raw form), where with the check cleared the
+     * validation refuses it */
+    vx_svo_model* m = &s.models[0];
+    uint32_t used = 0;
+    for (int t = 0; t < 200 && !used; t++) {
+        uint32_t w = (uint32_t)(rnd() % m->node_count), keep = m->nodes[w];
+        m->nodes[w] ^= 1u << (rnd() % 32);
+        vx_error e;
+        uint8_t* d;
+        size_t n;
+        memset(&m->check, 0, sizeof m->check);
+        vx_result full = vx_svo_write(&s, NULL, &d, &n, &e);
+        if (full == VX_OK) free(d);
+        m->check = saved[0];
+        m->check.digest = vx_svo_model_digest(m);
+        vx_result tr = vx_svo_write(&s, NULL, &d, &n, &e);
+        if (tr == VX_OK) free(d);
+        used += full != VX_OK && tr == VX_OK;
+        m->nodes[w] = keep;
+        m->check = saved[0];
+    }
+    CHECKF(used, "no damaged model written on its built check");
+    /* changed after the build, the check left as built: validated (a damaged
+     * word refused as without a check), and a changed colour written so that
+     * it reads back as changed (trusted, the reader would recompute the
+     * representatives and give other records, or the structural form would
+     * be forced on a model it does not fit) */
+    for (uint32_t i = 0; i < NB; i++) {
+        vx_svo_model* mi = &s.models[i];
+        if (!mi->check.structural || !(mi->attrs & VX_ATTR_RGBA8)) continue;
+        uint32_t r0 = mi->rgba[0];
+        mi->rgba[0] ^= 0x00010203u;
+        uint8_t *d, *d2;
+        size_t n, n2;
+        vx_error e;
+        REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+        clear_checks(&s);
+        REQUIRE(vx_svo_write(&s, NULL, &d2, &n2, &e) == VX_OK);
+        for (uint32_t j = 0; j < NB; j++) s.models[j].check = saved[j];
+        CHECKF(n == n2 && !memcmp(d, d2, n), "model %u: a changed colour written on the stale check", i);
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
+        CHECKF(model_equal(&r.models[i], mi), "model %u: the changed colour does not read back", i);
+        vx_svo_scene_free(&r);
+        free(d), free(d2);
+        mi->rgba[0] = r0;
+        /* a word damaged: the same refusal as without a check */
+        uint32_t keep = mi->nodes[mi->root];
+        mi->nodes[mi->root] = 0; /* no children: not a valid descriptor */
+        vx_error e1, e2;
+        vx_result w1 = vx_svo_write(&s, NULL, &d, &n, &e1);
+        if (w1 == VX_OK) free(d);
+        clear_checks(&s);
+        vx_result w2 = vx_svo_write(&s, NULL, &d, &n, &e2);
+        if (w2 == VX_OK) free(d);
+        for (uint32_t j = 0; j < NB; j++) s.models[j].check = saved[j];
+        CHECKF(w1 != VX_OK && w1 == w2 && !strcmp(e1.msg, e2.msg), "model %u: %d '%s' against %d '%s'", i, w1, e1.msg, w2, e2.msg);
+        mi->nodes[mi->root] = keep;
+    }
     vx_svo_scene_free(&s);
 }
 
@@ -3396,6 +3586,7 @@ int main(int argc, char** argv) {
     RUN(test_split_form); /* last: the earlier tests' random scenes stay as they were */
     RUN(test_split_hand);
     RUN(test_trusted_write);
+    RUN(test_built_trusted);
     RUN(test_split_coded);
     return vx_test_finish();
 }
