@@ -45,6 +45,12 @@ typedef struct bld {
     /* One channel only: attribute references in nodes and runs are the
      * 32-bit values themselves, so representatives need no interning. */
     bool direct;
+    /* With direct: the channel whose values the references are (attrs in
+     * the builder) and the others' one value each (the reader, where a
+     * model's other channels are constant: vx__svo_unpack_desc.const_attrs;
+     * zero in the builder). */
+    uint32_t vattr;
+    vx__svo_rec cst;
     rec* recs;
     size_t nrec, caprec;
     uint32_t* rhash; /* record id + 1, 0 = empty */
@@ -208,8 +214,8 @@ static uint32_t rec_value(uint32_t attrs, const rec* r) {
     }
     }
 }
-static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
-    memset(r, 0, sizeof *r);
+/* Sets the one channel attrs of r to v (the others as they are). */
+static void rec_put_value(uint32_t attrs, uint32_t v, rec* r) {
     switch (attrs) {
     case VX_ATTR_PALETTE: r->palette = (uint8_t)v; break;
     case VX_ATTR_RGBA8: r->rgba = v; break;
@@ -220,6 +226,10 @@ static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
         r->density = c.f;
     }
     }
+}
+static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
+    memset(r, 0, sizeof *r);
+    rec_put_value(attrs, v, r);
 }
 
 
@@ -292,14 +302,16 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     rec tmp[8];
     for (unsigned i = 0; i < n; i++) {
         if (b->direct) {
-            rec_from_value(b->attrs, ids[i], &tmp[i]);
+            rec_from_value(b->vattr, ids[i], &tmp[i]);
             c[i] = &tmp[i];
         } else {
             c[i] = &b->recs[ids[i]];
         }
     }
-    vx__svo_rec_mean(b->attrs, c, n, &r);
-    return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+    /* direct: the one channel (the rule works channel by channel; a constant
+     * channel's representative is its value) */
+    vx__svo_rec_mean(b->direct ? b->vattr : b->attrs, c, n, &r);
+    return b->direct ? rec_value(b->vattr, &r) : rec_intern(b, &r);
 }
 
 /* ---- tuples interned by the caller, on several threads ------------------------------------- */
@@ -1086,8 +1098,12 @@ static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; i++) {
         rec dv;
         const rec* r = &dv;
-        if (b->direct) rec_from_value(b->attrs, f->o->ids[i], &dv);
-        else r = &b->recs[f->o->ids[i]];
+        if (b->direct) {
+            dv = b->cst; /* the constant channels (none in the builder) */
+            rec_put_value(b->vattr, f->o->ids[i], &dv);
+        } else {
+            r = &b->recs[f->o->ids[i]];
+        }
         if (m->palette) m->palette[i] = r->palette;
         if (m->rgba) m->rgba[i] = r->rgba;
         if (m->normal) m->normal[i] = r->normal;
@@ -1659,6 +1675,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
+    b.vattr = in->attrs;
     b.threads = pre ? pre->threads : 0;
     vx_svo_build_stats st;
     memset(&st, 0, sizeof st);
@@ -2197,7 +2214,7 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                     else if (c == 1) r.rgba = v;
                     else if (c == 3) r.material = (uint16_t)v;
                 }
-                id = b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+                id = b->direct ? rec_value(b->vattr, &r) : rec_intern(b, &r);
                 if (id == UINT32_MAX && !b->direct) return false;
             }
             kids[n] = ids[n] = id;
@@ -2286,6 +2303,21 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.depth = d->depth;
     b.err = err;
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
+    b.vattr = d->attrs;
+    {
+        /* at most one channel varies: records are its values, the constant
+         * ones filled in at the end. Equal records have equal values and the
+         * representatives of constant channels are their values, so the runs,
+         * the sharing and the words are those of the record table's ids (the
+         * layout compares references only for equality). The 4096^3 helmet's
+         * material is one value: its read no longer interns 74 M records. */
+        uint32_t vary = d->attrs & ~d->const_attrs;
+        if (d->attrs && !b.direct && (vary & (vary - 1)) == 0) {
+            b.direct = true;
+            b.vattr = vary ? vary : d->attrs & (0u - d->attrs);
+            b.cst = d->const_rec;
+        }
+    }
     outw o;
     memset(&o, 0, sizeof o);
     unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL, .ref_index = d->ref_index};

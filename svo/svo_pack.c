@@ -1875,6 +1875,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx__svo_src src = vx__svo_split_src(d);
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                               .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
+    ud.const_attrs = vx__svo_split_constants(d, m->attrs, &ud.const_rec);
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;

@@ -3355,6 +3355,83 @@ static void test_built_trusted(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Split models whose channels are constant but one (the 4096^3 helmet's
+ * material is one value): the reader rebuilds them on that channel's values
+ * alone (vx__svo_split_constants, no record table) and must give the
+ * builder's model word for word, records and all, on one thread and three,
+ * and the same bytes when written again. The builder interns full records,
+ * so it is the independent path here. */
+static void test_split_constant_channels(void) {
+    enum { NM = 6 };
+    const struct {
+        uint32_t attrs;
+        int rgba, mat, pal; /* 0: random, else that constant */
+    } cases[NM] = {
+        {VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 0, 7, 0},          /* material constant (the helmet) */
+        {VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 0x80FF2010, 0, 0}, /* colour constant, material varies */
+        {VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 0x7F010203, 3, 0}, /* both constant */
+        {VX_ATTR_PALETTE | VX_ATTR_MATERIAL, 0, 65535, 0},     /* palette varies */
+        {VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 0, 2, 9}, /* three channels, one varies */
+        {VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 0, 0, 0},          /* both vary: the record table */
+    };
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = (vx_svo_model*)calloc(NM, sizeof *s.models);
+    s.instances = (vx_svo_instance*)calloc(NM, sizeof *s.instances);
+    s.has_palette = true;
+    for (int i = 0; i < 256; i++) s.palette[i] = 0xFF000000u | (uint32_t)i * 0x010203u;
+    for (uint32_t i = 0; i < NM; i++) {
+        size_t n = 5000;
+        uint32_t S = 64;
+        uint64_t* k = (uint64_t*)malloc(n * 8);
+        uint32_t* c = (uint32_t*)malloc(n * 4);
+        uint16_t* mt = (uint16_t*)malloc(n * 2);
+        uint8_t* p = (uint8_t*)malloc(n);
+        for (size_t j = 0; j < n; j++) {
+            /* clustered cells, so that nodes have several leaves and runs repeat */
+            uint32_t x = (uint32_t)(rnd() % (S / 4)) * 4 + (uint32_t)(rnd() % 2), y = (uint32_t)(rnd() % S), z = (uint32_t)(rnd() % 8);
+            k[j] = vx_svo_morton(x, y, z);
+            c[j] = cases[i].rgba ? (uint32_t)cases[i].rgba : 0xFF000000u | (uint32_t)(rnd() % 6) * 0x00203040u;
+            mt[j] = (uint16_t)(cases[i].mat ? cases[i].mat : (int)(rnd() % 4));
+            p[j] = (uint8_t)(cases[i].pal ? cases[i].pal : 1 + (int)(rnd() % 5));
+        }
+        vx_svo_voxels in = {.size = {S, S, S}, .count = n, .keys = k, .attrs = cases[i].attrs};
+        if (in.attrs & VX_ATTR_RGBA8) in.rgba = c;
+        if (in.attrs & VX_ATTR_MATERIAL) in.material = mt;
+        if (in.attrs & VX_ATTR_PALETTE) in.palette = p;
+        vx_error e;
+        REQUIRE(vx_svo_build_model(NULL, &in, &s.models[i], NULL, &e) == VX_OK);
+        free(k), free(c), free(mt), free(p);
+        double id[12] = {1, 0, 0, 70.0 * i, 0, 1, 0, 0, 0, 0, 1, 0};
+        memcpy(s.instances[i].xform, id, sizeof id);
+        s.instances[i].model = i;
+        s.instances[i].layer = UINT32_MAX;
+    }
+    s.model_count = s.instance_count = NM;
+    vx_svo_scene_update_bounds(&s);
+    vx_error e;
+    uint8_t *d, *d2;
+    size_t n, n2;
+    vx__svo_split_words = 1;
+    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    CHECK(t_split_models(d, n) == NM);
+    uint64_t saved_par = vx__svo_parallel_words;
+    for (unsigned t = 1; t <= 3; t += 2) {
+        vx__svo_parallel_words = t == 3 ? 0 : saved_par; /* the layout's stages on threads */
+        vx_svo_scene r;
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, d, n, &r, &e) == VX_OK);
+        for (uint32_t i = 0; i < NM; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "model %u, %u threads", i, t);
+        REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
+        CHECKF(n2 == n && !memcmp(d, d2, n), "%u threads: written again, the bytes differ", t);
+        free(d2);
+        vx_svo_scene_free(&r);
+    }
+    vx__svo_parallel_words = saved_par;
+    vx__svo_split_words = VX__SPLIT_WORDS;
+    free(d);
+    vx_svo_scene_free(&s);
+}
+
 /* Models coded apart (vx_svo_model_encode, mpirun vox2svo) in the split
  * form: the file's bytes, the split bit from each model's summary. */
 static void test_split_coded(void) {
@@ -3587,6 +3664,7 @@ int main(int argc, char** argv) {
     RUN(test_split_hand);
     RUN(test_trusted_write);
     RUN(test_built_trusted);
+    RUN(test_split_constant_channels);
     RUN(test_split_coded);
     return vx_test_finish();
 }
