@@ -597,11 +597,11 @@ typedef struct outw {
     uint64_t* runh;
     size_t runcap, nrun;
     uint64_t far;
-    /* blocks that are a lone attribute index (all children leaves): attribute
-     * index + 1 -> word position, so equal ones are stored once */
-    uint32_t* lb_key;
-    uint32_t* lb_pos;
-    size_t lbcap, nlb;
+    /* blocks that are a lone attribute index (all children leaves): by the
+     * index, the word position + 1 of its last copy (0: none), so equal ones
+     * are stored once where parents can reach them */
+    uint32_t* lb_at;
+    size_t lbcap;
     /* the uniform runs in runh (len copies of one record), by record: which
      * lengths are stored and where, so that a short uniform run finds a
      * longer one with one probe instead of one per length (run_intern) */
@@ -844,38 +844,23 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
         if (nn == 0 && b->dag) {
             /* the block is the word `a` alone, position-independent: reuse a
              * recent copy while parents can still reach it without a far slot */
-            if ((o->nlb + 1) * 2 > o->lbcap) {
-                size_t ncap = o->lbcap ? o->lbcap * 2 : 4096;
-                uint32_t* nk2 = (uint32_t*)vx_calloc(b->a, ncap, sizeof *nk2);
-                uint32_t* np2 = (uint32_t*)vx_alloc(b->a, ncap * sizeof *np2);
-                if (!nk2 || !np2) {
-                    vx_free(b->a, nk2);
-                    vx_free(b->a, np2);
-                    return oom(b, "block table");
-                }
-                for (size_t i = 0; i < o->lbcap; i++)
-                    if (o->lb_key[i]) {
-                        size_t q = (size_t)mix64(o->lb_key[i]) & (ncap - 1);
-                        while (nk2[q]) q = (q + 1) & (ncap - 1);
-                        nk2[q] = o->lb_key[i];
-                        np2[q] = o->lb_pos[i];
-                    }
-                vx_free(b->a, o->lb_key);
-                vx_free(b->a, o->lb_pos);
-                o->lb_key = nk2;
-                o->lb_pos = np2;
-                o->lbcap = ncap;
+            /* by the run's index (below o->nid) in an array: one load, where
+             * a hash table of the keys and a second of the positions were
+             * two misses a lone block (a sixth of the 4096^3 helmet's read) */
+            if (a >= o->lbcap) {
+                size_t ncap = o->lbcap ? o->lbcap : 4096;
+                while (ncap <= a) ncap *= 2;
+                size_t was = o->lbcap;
+                if (!vx_grow(b->a, (void**)&o->lb_at, &o->lbcap, ncap, sizeof *o->lb_at)) return oom(b, "block table");
+                memset(o->lb_at + was, 0, (o->lbcap - was) * sizeof *o->lb_at);
             }
-            size_t q = (size_t)mix64((uint64_t)a + 1) & (o->lbcap - 1);
-            while (o->lb_key[q] && o->lb_key[q] != a + 1) q = (q + 1) & (o->lbcap - 1);
-            if (o->lb_key[q] && o->n - o->lb_pos[q] + 64 < limit) {
-                n[N_BLOCK] = o->lb_pos[q];
+            uint32_t at = o->lb_at[a]; /* position + 1 of the last copy of the block [a], 0: none */
+            if (at && o->n - (at - 1) + 64 < limit) {
+                n[N_BLOCK] = at - 1;
                 off = next;
                 continue;
             }
-            if (!o->lb_key[q]) o->nlb++;
-            o->lb_key[q] = a + 1;
-            o->lb_pos[q] = (uint32_t)o->n;
+            o->lb_at[a] = (uint32_t)o->n + 1;
         }
         /* far slots needed: a fixpoint since each slot shifts the descriptors */
         size_t cur = o->n;
@@ -1344,15 +1329,11 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
     /* the layout's tables and outputs sized for the nodes to come (at most
      * one run and one block per node, at most the pool's words), not grown
      * and rehashed step by step; where an allocation fails they grow as usual */
-    if (b->dag && cnt && !o->runh && !o->lb_key) {
+    if (b->dag && cnt && !o->runh) {
         size_t nodes = cnt / (N_KIDS + 1) + 2, cap = 4096;
         while (cap < 2 * nodes + 2) cap *= 2;
         o->runh = (uint64_t*)vx_calloc(b->a, cap, sizeof *o->runh);
         if (o->runh) o->runcap = cap;
-        o->lb_key = (uint32_t*)vx_calloc(b->a, cap, sizeof *o->lb_key);
-        o->lb_pos = o->lb_key ? (uint32_t*)vx_alloc(b->a, cap * sizeof *o->lb_pos) : NULL;
-        if (o->lb_pos) o->lbcap = cap;
-        else vx_free(b->a, o->lb_key), o->lb_key = NULL;
     }
     if (cnt) {
         vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
@@ -2070,8 +2051,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_key);
-    vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.lb_at);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
@@ -2385,8 +2365,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_key);
-    vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.lb_at);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
