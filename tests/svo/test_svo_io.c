@@ -3432,6 +3432,71 @@ static void test_split_constant_channels(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_model_encode on the builder's check (mpirun vox2svo's ranks code
+ * what they built): the summary and the stream equal those coded with the
+ * check cleared (the validation and the rebuild) in the split, range-coded
+ * and chunked forms; a model changed after the build is validated (a
+ * childless root refused with the same message as without a check). */
+static void test_encode_trusted(void) {
+    vx_svo_scene s;
+    make_split_scene(&s, 3000);
+    vx_error e, e2;
+    for (int f = 0; f < 3; f++) {
+        vx_write_desc wd = {.svo_range_coded = f == 1, .svo_chunk_words = f == 2 ? 64 : 0};
+        vx__svo_split_words = f == 0 ? 1 : VX__SPLIT_WORDS;
+        for (uint32_t i = 0; i < s.model_count; i++) {
+            vx_svo_model* m = &s.models[i];
+            CHECK(m->check.digest != 0);
+            vx_svo_model_coded a, b;
+            uint8_t *sa = NULL, *sb = NULL;
+            REQUIRE(vx_svo_model_encode(&wd, m, &a, &sa, &e) == VX_OK);
+            vx_svo_model_check keep = m->check;
+            memset(&m->check, 0, sizeof m->check);
+            REQUIRE(vx_svo_model_encode(&wd, m, &b, &sb, &e) == VX_OK);
+            m->check = keep;
+            CHECKF(!memcmp(&a, &b, sizeof a) && !memcmp(sa, sb, a.stream_size), "form %d model %u: the trusted stream differs", f, i);
+            vx_free(NULL, sa);
+            vx_free(NULL, sb);
+            /* changed after the build, the check stale: validated */
+            uint32_t w = m->root, kw = m->nodes[w];
+            m->nodes[w] &= ~0xFFFFu; /* no children: not a valid descriptor */
+            vx_result r1 = vx_svo_model_encode(&wd, m, &a, &sa, &e);
+            memset(&m->check, 0, sizeof m->check);
+            vx_result r2 = vx_svo_model_encode(&wd, m, &b, &sb, &e2);
+            m->check = keep;
+            m->nodes[w] = kw;
+            if (r1 == VX_OK) vx_free(NULL, sa);
+            if (r2 == VX_OK) vx_free(NULL, sb);
+            CHECKF(r1 != VX_OK && r1 == r2 && !strcmp(e.msg, e2.msg), "form %d model %u: %d '%s' against %d '%s'", f, i, r1, e.msg, r2, e2.msg);
+        }
+    }
+    /* the trust is used: a damaged word with the digest made to match is
+     * coded (the walk turns what is not a tree into the raw form) where the
+     * cleared check's validation refuses it */
+    vx_svo_model* m = &s.models[0];
+    vx_svo_model_check keep = m->check;
+    uint32_t used = 0;
+    for (int t = 0; t < 200 && !used; t++) {
+        uint32_t w = (uint32_t)(rnd() % m->node_count), kw = m->nodes[w];
+        m->nodes[w] ^= 1u << (rnd() % 32);
+        vx_svo_model_coded a;
+        uint8_t* sa = NULL;
+        memset(&m->check, 0, sizeof m->check);
+        vx_result full = vx_svo_model_encode(NULL, m, &a, &sa, &e);
+        if (full == VX_OK) vx_free(NULL, sa);
+        m->check = keep;
+        m->check.digest = vx_svo_model_digest(m);
+        vx_result tr = vx_svo_model_encode(NULL, m, &a, &sa, &e);
+        if (tr == VX_OK) vx_free(NULL, sa);
+        used += full != VX_OK && tr == VX_OK;
+        m->nodes[w] = kw;
+        m->check = keep;
+    }
+    CHECKF(used, "no damaged model coded on its built check");
+    vx__svo_split_words = VX__SPLIT_WORDS;
+    vx_svo_scene_free(&s);
+}
+
 /* Models coded apart (vx_svo_model_encode, mpirun vox2svo) in the split
  * form: the file's bytes, the split bit from each model's summary. */
 static void test_split_coded(void) {
@@ -3665,6 +3730,7 @@ int main(int argc, char** argv) {
     RUN(test_trusted_write);
     RUN(test_built_trusted);
     RUN(test_split_constant_channels);
+    RUN(test_encode_trusted);
     RUN(test_split_coded);
     return vx_test_finish();
 }
