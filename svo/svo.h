@@ -676,7 +676,8 @@ typedef struct vx_svo_model_coded {
                                  large structural model, unless vx_write_desc.svo_range_coded) */
 } vx_svo_model_coded;
 
-/* Validates m (as vx_svo_validate_model) and codes it: *stream (free with
+/* Validates m (as vx_svo_validate_model; not where its check is current, as
+ * vx_svo_write does not: vx_svo_model.check) and codes it: *stream (free with
  * vx_free(desc->alloc, ...); desc may be NULL) gets info->stream_size bytes. */
 vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, vx_svo_model_coded* info, uint8_t** stream,
                               vx_error* err);
