@@ -362,6 +362,19 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, cons
  * (vx_svo_reader_scene) then has its bounds and cells' boxes. */
 vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader, const vx_render_scene_desc* desc,
                                         vx_render_scene** out, vx_error* err);
+/* The second half of vx_render_scene_create_reader, for a caller that built
+ * the compact layout from the reader itself (vx_compact_build_reader, with
+ * attr_regions; before the device existed, say): the layout is checked
+ * against desc's budget as there, and `c` is taken (freed whatever the
+ * result). build_seconds goes to the layout's report. */
+struct vx_compact_scene;
+/* The layout vx_render_scene_create_ex (or _reader) takes for s on gpu: desc's,
+ * or AUTO's choice from the models' declared counts (a reader's graph serves). */
+vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                        vx_render_layout* out, vx_error* err);
+vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* reader, struct vx_compact_scene* c,
+                                         double build_seconds, const vx_render_scene_desc* desc,
+                                         vx_render_scene** out, vx_error* err);
 typedef struct vx_render_layout_info {
     vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
     uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */
@@ -516,6 +529,12 @@ void vx_render_scene_take_sun_nodes(vx_render_scene* rs, vx_render_sun_nodes* n)
 void vx_render_sun_nodes_free(vx_render_sun_nodes* n);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
+/* Runs desc's frame kernel back to back, in submissions of 32, for about
+ * `seconds` of wall time (no image read back), for benchmarks before they
+ * time frames: *frame_ms (NULL: not asked) the last submission's median
+ * GPU ms of a frame. */
+vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* desc, double seconds, double* frame_ms,
+                                  vx_error* err);
 
 /* The CPU reference: the same outputs in double precision (lod ignored). */
 vx_result vx_render_cpu(const vx_svo_scene* scene, const vx_render_desc* desc, const vx_allocator* alloc,

@@ -3,11 +3,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <threads.h>
+#include <time.h>
 
 #include "cones/cones.h"
 #include "formats/image.h"
 #include "photons/photons.h"
 #include "probes/probes.h"
+#include "render/compact.h"
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "tools/common/light.h"
@@ -58,6 +61,7 @@ static const char* prog = "svo_render";
 
 static options default_options(void) {
     options o = {0};
+    o.load_models = true; /* --load models */
     o.r = vx_render_desc_defaults();
     o.fd = vx_frame_desc_defaults();
     o.passes = VX_PASS_LIST_DEFAULT;
@@ -161,11 +165,11 @@ _Noreturn static void usage(int status) {
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
-            "  --load M             how the file is read: whole (default) reads the scene first; models\n"
-            "                       takes the models one at a time into the compact layout where the GPU\n"
-            "                       single-shader modes render it in that layout without --gpu-budget (the\n"
-            "                       host holds the layout and a few models, not the scene; its frames timed\n"
-            "                       slower on the H200, docs/PERFORMANCE.md issue 18, branch load)\n"
+            "  --load M             how the file is read: models (default) takes the models one at a time\n"
+            "                       into the compact layout where the GPU single-shader modes render it in\n"
+            "                       that layout without --gpu-budget (the host holds the layout and a few\n"
+            "                       models, not the scene), else reads the scene whole first; whole always\n"
+            "                       reads it whole first\n"
             "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
@@ -262,7 +266,7 @@ static void list_cb(void* user, uint32_t i, const char* name, const char* type) 
 
 static void log_cb(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user;
-    if (level >= VX_LOG_WARN) fprintf(stderr, "%s: %s: %s\n", prog, id, msg);
+    if (level >= VX_LOG_WARN || !strcmp(id, "gpu.memory")) fprintf(stderr, "%s: %s: %s\n", prog, id, msg);
 }
 
 static const char* ext_of(const char* p) {
@@ -454,6 +458,11 @@ static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_i
     double* wall_ms = gpu_ms + o->frames;
     vx_result r = VX_OK;
     gpu_ms[0] = img->gpu_seconds * 1e3, wall_ms[0] = 0;
+    if (getenv("VX_WARMUP_S")) { /* diagnostic: the kernel back to back before the timed frames */
+        double wms = 0, tw = vx_time_now();
+        r = vx_render_scene_warm_up(rs, &o->r, atof(getenv("VX_WARMUP_S")), &wms, err);
+        printf("warm-up: %.3f s, the last frames %.3f ms GPU\n", vx_time_now() - tw, wms);
+    }
     uint32_t n = 1;
     for (; !r && n < o->frames; n++) {
         vx_render_image_free(img);
@@ -461,15 +470,23 @@ static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_i
         r = vx_render_frame(rs, &o->r, img, err);
         wall_ms[n] = (vx_time_now() - tf) * 1e3, gpu_ms[n] = img->gpu_seconds * 1e3;
     }
-    if (!r) {
+    double* frame_order = calloc(n, sizeof *frame_order);
+    if (frame_order) memcpy(frame_order, gpu_ms, n * sizeof *gpu_ms);
+    if (!r && frame_order) {
         /* frame 0 warms caches and compiles: the medians are of frames 1..N-1 */
         qsort(gpu_ms + 1, n - 1, sizeof *gpu_ms, cmp_double);
         qsort(wall_ms + 1, n - 1, sizeof *wall_ms, cmp_double);
+        if (getenv("VX_FRAME_TIMES")) { /* diagnostic: each frame's GPU ms in order */
+            printf("frame times:");
+            for (uint32_t k = 0; k < n; k++) printf(" %.3f", frame_order[k]);
+            printf("\n");
+        }
         printf("frames: %u after the first: GPU ms median %.3f (min %.3f, max %.3f); wall ms a frame "
                "(trace and read back) median %.3f; first frame %.3f ms GPU\n",
                n - 1, gpu_ms[1 + (n - 1) / 2], gpu_ms[1], gpu_ms[n - 1], wall_ms[1 + (n - 1) / 2], gpu_ms[0]);
     }
     free(gpu_ms);
+    free(frame_order);
     return r;
 }
 
@@ -845,10 +862,10 @@ int main(int argc, char** argv) {
     vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
     vx_budget_init(&budget, o.max_memory, NULL);
     const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
-    /* --load models: the models one at a time into the GPU layout where the GPU scene is all that
-     * reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it may be
-     * compact; the scene graph (instances, lights, sky, frames) is read first. Not the default: its
-     * frames timed 4x slower on the H200, the cause not found (docs/PERFORMANCE.md, branch load) */
+    /* --load models (the default): the models one at a time into the GPU layout where the GPU scene is
+     * all that reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it
+     * may be compact; the scene graph (instances, lights, sky, frames) is read first. Its frames time as
+     * the scene read whole's since the layout is built before the device is made (below) */
     vx_svo_model_reader* rd = NULL;
     bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
                      o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
@@ -986,13 +1003,54 @@ int main(int argc, char** argv) {
         printf("device: CPU reference (double precision)\n");
         r = vx_render_cpu(&scene, &o.r, NULL, &img, &err);
     } else {
-        r = vx_gpu_create(&(vx_gpu_desc){.device = o.device, .validate = o.validate, .logger = &logger}, &gpu, &err);
+        /* --load models: the compact layout is built from the reader before the device is made. A device
+         * left idle for the seconds a build takes ran every later frame 4.7x slower on the H200 (0.6 ms
+         * against 2.8, the sphere at 8192 in 3,944 regions; the same after --load whole with the device
+         * idle 3 s: docs/PERFORMANCE.md, issue 18, branch load2). AUTO's choice needs the device's memory:
+         * a first device answers it and is closed before the build (or the read, where AUTO is plain). */
+        vx_compact_scene built;
+        bool have_built = false;
+        double built_s = 0, tb = vx_time_now();
+        r = VX_OK;
+        vx_gpu_desc gd = {.device = o.device, .validate = o.validate, .logger = &logger};
+        if (rd && !getenv("VX_EARLY_DEVICE")) {
+            vx_render_layout lay = o.scene_desc.layout;
+            if (lay == VX_RENDER_LAYOUT_AUTO) {
+                r = vx_gpu_create(&gd, &gpu, &err);
+                if (!r) r = vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &o.scene_desc, &lay, &err);
+                vx_gpu_destroy(gpu);
+                gpu = NULL;
+            }
+            if (!r && lay == VX_RENDER_LAYOUT_COMPACT) {
+                vx_compact_desc cd = {.attr_regions = true,
+                                      .bricks = o.scene_desc.compact_bricks == VX_RENDER_BRICKS_DICT
+                                                    ? VX_COMPACT_BRICKS_DICT
+                                                    : VX_COMPACT_BRICKS_INLINE};
+                r = vx_compact_build_reader(&cd, rd, &built, &err);
+                have_built = !r, built_s = vx_time_now() - tb;
+            } else if (!r) { /* plain: the scene whole, read before the device as --load whole reads it */
+                vx_svo_reader_close(rd);
+                rd = NULL;
+                vx_svo_scene_free(&owned);
+                r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
+                if (!r) vx_svo_scene_frame(&owned, o.frame_first, &scene);
+                if (o.verbose && !r) printf("note: the layout is plain: the scene was read whole\n");
+            }
+        }
+        if (!r) r = vx_gpu_create(&gd, &gpu, &err);
+        if (r && have_built) vx_compact_free(&built), have_built = false;
+        if (!r && getenv("VX_IDLE_AFTER_DEVICE")) { /* diagnostic: the device idle this long before the scene */
+            double idle = atof(getenv("VX_IDLE_AFTER_DEVICE"));
+            struct timespec ts = {.tv_sec = (time_t)idle, .tv_nsec = (long)((idle - (double)(time_t)idle) * 1e9)};
+            thrd_sleep(&ts, NULL);
+        }
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
-            double t1 = vx_time_now();
+            double t1 = have_built ? tb : vx_time_now();
             if (rd) {
-                r = vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
+                r = have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &o.scene_desc, &rs, &err)
+                               : vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
                 if (!r) { /* the bounds (where the reader computes them) and the cells' boxes, known now */
                     const vx_svo_scene* g = vx_svo_reader_scene(rd);
                     memcpy(owned.bounds_min, g->bounds_min, sizeof owned.bounds_min);
