@@ -529,10 +529,13 @@ void vx_render_scene_take_sun_nodes(vx_render_scene* rs, vx_render_sun_nodes* n)
 void vx_render_sun_nodes_free(vx_render_sun_nodes* n);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
-/* Runs desc's frame kernel back to back, in submissions of 32, for about
- * `seconds` of wall time (no image read back), for benchmarks before they
- * time frames: *frame_ms (NULL: not asked) the last submission's median
- * GPU ms of a frame. */
+/* Runs desc's frame kernel back to back, in submissions of 8, for about
+ * `seconds` of wall time (at least one submission; no image read back), for
+ * benchmarks before they time frames: a GPU whose clock fell while it idled
+ * (a long load after the device was made) stays slow through frames that
+ * keep it busy a few percent of the time (the H200: 345 against 1980 MHz,
+ * frames 4.7x slower; docs/PERFORMANCE.md, issue 18, branch load2).
+ * *frame_ms (NULL: not asked): the last submission's median GPU ms. */
 vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* desc, double seconds, double* frame_ms,
                                   vx_error* err);
 

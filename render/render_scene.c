@@ -2065,8 +2065,8 @@ vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* des
     vx_result r = VX_OK;
     do {
         vx__frame f;
-        r = rs->compact ? vx_compact_gpu_time(rs->compact, desc, 32, &sec, err)
-                        : vx__render_dispatch(rs, desc, false, 32, &f, &sec, err);
+        r = rs->compact ? vx_compact_gpu_time(rs->compact, desc, 8, &sec, err)
+                        : vx__render_dispatch(rs, desc, false, 8, &f, &sec, err);
     } while (!r && vx_time_now() - t0 < seconds);
     if (frame_ms) *frame_ms = sec * 1e3;
     return r;

@@ -161,6 +161,7 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 1 "svo_render paged --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --gpu-budget 20K --page-level 3 --passes gbuffer,direct --size 8x8
     grep -q "paged compact layout" "$T/err" && ok "passes on a paged scene: the reason" || bad "passes on a paged scene: the reason"
     expect_status 2 "svo_render bad --layout" svo_render "$T/demo.svo" "$T/lay_x.png" --layout dense
+    expect_status 2 "svo_render bad --warm-up" svo_render "$T/demo.svo" "$T/lay_x.png" --warm-up -1
     # the compact layout over the budget too: paged, the pages that do not fit drawn coarse, and said
     expect_status 0 "svo_render paged" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 -v
     grep -q "^paging: level 3, [0-9]* pages; after [0-9]* frames [0-9]* resident .* [1-9][0-9]* drawn coarse ([0-9]* refused, .* over the budget)" "$T/out" &&

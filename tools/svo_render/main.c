@@ -3,8 +3,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <threads.h>
-#include <time.h>
 
 #include "cones/cones.h"
 #include "formats/image.h"
@@ -39,6 +37,7 @@ typedef struct options {
     vx_frame_desc fd;
     const char* timings;
     uint32_t frames; /* --frames N: repeat the frame (timings) */
+    double warm_up;  /* --warm-up S: the kernel back to back before the timed frames */
     /* an animation: --frame N, or --frames A..B (a sequence, OUT has a # run) */
     uint32_t frame_first, frame_last;
     bool sequence;
@@ -66,6 +65,7 @@ static options default_options(void) {
     o.fd = vx_frame_desc_defaults();
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
+    o.warm_up = 0.25;
     return o;
 }
 
@@ -144,6 +144,9 @@ _Noreturn static void usage(int status) {
             "                       kernel when no ao, gi or --show image needs them apart\n"
             "  --timings FILE.csv   per-pass GPU times, one row per frame and pass\n"
             "  --frames N           render the frame N times (timings; default: 1)\n"
+            "  --warm-up S          with --frames N on a GPU: the frame's kernel back to back for S seconds\n"
+            "                       before the timed frames, so that they run at the GPU's working clock\n"
+            "                       (default: 0.25; 0: none)\n"
             "  --frame N            an animation's frame N (default: 0)\n"
             "  --frames A..B        an animation's frames A to B, one image each: OUT holds a run of #\n"
             "                       replaced by the zero-padded frame number (render_####.png); the\n"
@@ -451,17 +454,23 @@ static void print_hit_share(const vx_render_image* img) {
     printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
 }
 
-static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_image* img, vx_error* err) {
+static vx_result timed_frames(const options* o, vx_render_scene* rs, bool warm, vx_render_image* img, vx_error* err) {
     if (o->frames <= 1) return VX_OK;
     double* gpu_ms = calloc(o->frames, 2 * sizeof *gpu_ms);
     if (!gpu_ms) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double* wall_ms = gpu_ms + o->frames;
     vx_result r = VX_OK;
     gpu_ms[0] = img->gpu_seconds * 1e3, wall_ms[0] = 0;
-    if (getenv("VX_WARMUP_S")) { /* diagnostic: the kernel back to back before the timed frames */
+    /* The kernel back to back first (a GPU, not a CPU device): the H200's SM clock falls from 1980 to
+     * 345 MHz within 2-3 s of idleness and the frames alone (a few percent of the time busy, the rest
+     * reading back) did not raise it: 4.7x the frame time after a load that left the device idle for
+     * seconds; 0.2 s of this brought the clock and the times back (docs/PERFORMANCE.md, issue 18, load2) */
+    if (warm && o->warm_up > 0) {
         double wms = 0, tw = vx_time_now();
-        r = vx_render_scene_warm_up(rs, &o->r, atof(getenv("VX_WARMUP_S")), &wms, err);
-        printf("warm-up: %.3f s, the last frames %.3f ms GPU\n", vx_time_now() - tw, wms);
+        r = vx_render_scene_warm_up(rs, &o->r, o->warm_up, &wms, err);
+        if (!r && o->verbose)
+            printf("warm-up: the frame's kernel back to back for %.3f s (its last frames %.3f ms GPU)\n",
+                   vx_time_now() - tw, wms);
     }
     uint32_t n = 1;
     for (; !r && n < o->frames; n++) {
@@ -470,23 +479,15 @@ static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_i
         r = vx_render_frame(rs, &o->r, img, err);
         wall_ms[n] = (vx_time_now() - tf) * 1e3, gpu_ms[n] = img->gpu_seconds * 1e3;
     }
-    double* frame_order = calloc(n, sizeof *frame_order);
-    if (frame_order) memcpy(frame_order, gpu_ms, n * sizeof *gpu_ms);
-    if (!r && frame_order) {
+    if (!r) {
         /* frame 0 warms caches and compiles: the medians are of frames 1..N-1 */
         qsort(gpu_ms + 1, n - 1, sizeof *gpu_ms, cmp_double);
         qsort(wall_ms + 1, n - 1, sizeof *wall_ms, cmp_double);
-        if (getenv("VX_FRAME_TIMES")) { /* diagnostic: each frame's GPU ms in order */
-            printf("frame times:");
-            for (uint32_t k = 0; k < n; k++) printf(" %.3f", frame_order[k]);
-            printf("\n");
-        }
         printf("frames: %u after the first: GPU ms median %.3f (min %.3f, max %.3f); wall ms a frame "
                "(trace and read back) median %.3f; first frame %.3f ms GPU\n",
                n - 1, gpu_ms[1 + (n - 1) / 2], gpu_ms[1], gpu_ms[n - 1], wall_ms[1 + (n - 1) / 2], gpu_ms[0]);
     }
     free(gpu_ms);
-    free(frame_order);
     return r;
 }
 
@@ -749,6 +750,11 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.frames) || !o.frames || o.frames > 100000)
                 usage_error("bad frame count '%s'", argv[i]);
+        } else if (!strcmp(a, "--warm-up")) {
+            NEED();
+            char* end = NULL;
+            o.warm_up = strtod(argv[++i], &end);
+            if (!end || *end || !(o.warm_up >= 0 && o.warm_up <= 60)) usage_error("bad --warm-up '%s' (seconds, 0..60)", argv[i]);
         } else if (!strcmp(a, "--device")) {
             NEED();
             o.device = argv[++i];
@@ -1013,7 +1019,7 @@ int main(int argc, char** argv) {
         double built_s = 0, tb = vx_time_now();
         r = VX_OK;
         vx_gpu_desc gd = {.device = o.device, .validate = o.validate, .logger = &logger};
-        if (rd && !getenv("VX_EARLY_DEVICE")) {
+        if (rd) {
             vx_render_layout lay = o.scene_desc.layout;
             if (lay == VX_RENDER_LAYOUT_AUTO) {
                 r = vx_gpu_create(&gd, &gpu, &err);
@@ -1032,18 +1038,16 @@ int main(int argc, char** argv) {
                 vx_svo_reader_close(rd);
                 rd = NULL;
                 vx_svo_scene_free(&owned);
+                double tr = vx_time_now();
                 r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
                 if (!r) vx_svo_scene_frame(&owned, o.frame_first, &scene);
-                if (o.verbose && !r) printf("note: the layout is plain: the scene was read whole\n");
+                if (o.verbose && !r)
+                    printf("note: the layout is plain: the scene was read whole in %.3f s, peak host memory %s\n",
+                           vx_time_now() - tr, vx_tool_bytes(vx_peak_rss()));
             }
         }
         if (!r) r = vx_gpu_create(&gd, &gpu, &err);
         if (r && have_built) vx_compact_free(&built), have_built = false;
-        if (!r && getenv("VX_IDLE_AFTER_DEVICE")) { /* diagnostic: the device idle this long before the scene */
-            double idle = atof(getenv("VX_IDLE_AFTER_DEVICE"));
-            struct timespec ts = {.tv_sec = (time_t)idle, .tv_nsec = (long)((idle - (double)(time_t)idle) * 1e9)};
-            thrd_sleep(&ts, NULL);
-        }
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
@@ -1146,7 +1150,7 @@ int main(int argc, char** argv) {
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
             }
-            if (!r) r = timed_frames(&o, rs, &img, &err);
+            if (!r) r = timed_frames(&o, rs, !vx_gpu_is_cpu(gpu), &img, &err);
             if (!r && o.view2_out) {
                 /* the second view: its share of hits, its frames, its image */
                 vx_render_image img2 = {0};
@@ -1159,7 +1163,7 @@ int main(int argc, char** argv) {
                 r = vx_render_frame(rs, &o.r, &img2, &err);
                 o.r.want_hits = false;
                 if (!r) print_hit_share(&img2);
-                if (!r) r = timed_frames(&o, rs, &img2, &err);
+                if (!r) r = timed_frames(&o, rs, !vx_gpu_is_cpu(gpu), &img2, &err);
                 if (!r) r = write_image(&o, o.view2_out, &img2, &err);
                 if (!r) printf("wrote %s\n", o.view2_out);
                 vx_render_image_free(&img2);
