@@ -364,9 +364,10 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader
                                         vx_render_scene** out, vx_error* err);
 /* The second half of vx_render_scene_create_reader, for a caller that built
  * the compact layout from the reader itself (vx_compact_build_reader, with
- * attr_regions; before the device existed, say): the layout is checked
- * against desc's budget as there, and `c` is taken (freed whatever the
- * result). build_seconds goes to the layout's report. */
+ * attr_regions; before the device existed, say): the scene is in the
+ * compact layout whatever desc->layout says, checked against desc's budget
+ * as there, and `c` is taken (freed whatever the result). build_seconds
+ * goes to the layout's report. */
 struct vx_compact_scene;
 /* The layout vx_render_scene_create_ex (or _reader) takes for s on gpu: desc's,
  * or AUTO's choice from the models' declared counts (a reader's graph serves). */

@@ -932,10 +932,13 @@ vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* rd, v
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     }
     const vx_svo_scene* s = vx_svo_reader_scene(rd);
+    /* compact whatever AUTO would take (c is that layout): its depth limit and the budget's check apply */
+    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
+    d.layout = VX_RENDER_LAYOUT_COMPACT;
     vx_render_layout_info li;
     uint32_t max_depth = 0;
     uint64_t range = 0;
-    vx_result r = choose_layout(gpu, s, desc, &li, &max_depth, &range, err);
+    vx_result r = choose_layout(gpu, s, &d, &li, &max_depth, &range, err);
     if (r) {
         vx_compact_free(c);
         return r;

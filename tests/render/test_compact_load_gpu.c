@@ -190,7 +190,8 @@ static void test_built_first(void) {
     vx_compact_scene c;
     REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
     REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
-    vx_result r = vx_render_scene_create_compact(gpu, rd, &c, 0.5, &sd, &rb, &err);
+    /* asked for AUTO (plain for this scene): the scene is still the compact layout it was given */
+    vx_result r = vx_render_scene_create_compact(gpu, rd, &c, 0.5, &(vx_render_scene_desc){0}, &rb, &err);
     CHECKF(r == VX_OK, "%s", err.msg);
     vx_svo_reader_close(rd);
     REQUIRE(vx_render_scene_create_ex(gpu, &whole, &sd, &ra, &err) == VX_OK);
