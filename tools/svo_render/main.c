@@ -146,7 +146,7 @@ _Noreturn static void usage(int status) {
             "  --frames N           render the frame N times (timings; default: 1)\n"
             "  --warm-up S          with --frames N on a GPU: the frame's kernel back to back for S seconds\n"
             "                       before the timed frames, so that they run at the GPU's working clock\n"
-            "                       (default: 0.25; 0: none)\n"
+            "                       (default: %g; 0: none)\n"
             "  --frame N            an animation's frame N (default: 0)\n"
             "  --frames A..B        an animation's frames A to B, one image each: OUT holds a run of #\n"
             "                       replaced by the zero-padded frame number (render_####.png); the\n"
@@ -235,7 +235,7 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n"
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
-            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
+            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, d.warm_up, cd.res,
             cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, VX_RENDER_FRAME_LEVELS, d.r.width,
             d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
@@ -851,6 +851,8 @@ int main(int argc, char** argv) {
                    o.r.camera.target[0], o.r.camera.target[1], o.r.camera.target[2]);
         if (o.r.lod) printf(" --lod %g", o.r.lod_pixels);
         if (o.device) printf(" --device %s", o.device);
+        if (!o.load_models) printf(" --load whole");
+        if (o.frames > 1) printf(" --frames %u --warm-up %g", o.frames, o.warm_up);
         if (pipeline) {
             char pl[160];
             vx_pass_list_format(&passes, pl, sizeof pl);
