@@ -355,9 +355,10 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, cons
  * it from the models' declared counts, or asked for) the layout is built
  * model by model (vx_compact_build_reader): the host holds the layout and
  * the models in hand, not the scene (the 65536^3 helmet: 86 GiB read whole).
- * A compact layout over the memory budget is refused (VX_ERR_LIMIT: paging
- * and the brick dictionary's second build need the models); AUTO's brick
- * dictionary is not tried. The plain layout reads the scene whole first.
+ * A compact layout over the memory budget is paged as create_ex pages it
+ * (the pages are cut from the layout); AUTO's brick dictionary (a second
+ * build from the models) is not tried. The plain layout reads the scene
+ * whole first.
  * The reader is used up either way (finished on success); the graph
  * (vx_svo_reader_scene) then has its bounds and cells' boxes. */
 vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader, const vx_render_scene_desc* desc,

@@ -851,20 +851,14 @@ static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_s
 }
 
 /* The render scene of compact layout c, built from a reader whose graph is s
- * (c is freed whatever the result). */
-static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_layout_info* li, uint64_t range,
-                            uint32_t max_depth, vx_compact_scene* c, double build_seconds, vx_render_scene** out,
-                            vx_error* err) {
+ * (c is freed whatever the result). Over the budget it is paged as create_ex
+ * pages it: the pages are cut from the layout, not the models (the graph's
+ * declared fields and cells' boxes are all they read of the models); AUTO's
+ * brick dictionary, a second build from the models, is not tried. */
+static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                            const vx_render_layout_info* li, uint64_t range, uint32_t max_depth, vx_compact_scene* c,
+                            double build_seconds, vx_render_scene** out, vx_error* err) {
     double t1 = vx_time_now();
-    uint64_t bytes = 4ull * c->geom_words + 4ull * c->attr_words;
-    if (bytes > li->budget) {
-        vx_compact_free(c);
-        /* the brick dictionary's second build and the pages are made from the models, which are gone */
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                       "the compact layout (%.1f MB) exceeds the memory budget (%.1f MB): a scene loaded model by model "
-                       "is not paged; read it whole (vx_render_scene_create_ex) to page it",
-                       bytes / 1e6, li->budget / 1e6);
-    }
     vx_render_scene* rs = new_scene(gpu, s, li, range, max_depth);
     if (!rs) {
         vx_compact_free(c);
@@ -874,8 +868,14 @@ static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_
     note_compact_build(rs, c, build_seconds);
     vx_result r = prepare_models(rs, s, false, err);
     if (!r) r = prepare_instances(rs, s, err);
-    if (!r) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
+    uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
+    if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
+    bool whole = true;
+    if (!r && rs->layout.compact_bytes > li->budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
+        r = create_paged(rs, s, c, lp, li->budget, &whole, err);
+    if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
     rs->layout.upload_seconds = vx_time_now() - t1;
+    if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
     vx_compact_free(c);
     if (r) {
         vx_render_scene_destroy(rs);
@@ -910,7 +910,7 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
                           .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
     double t0 = vx_time_now();
     if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
-    return from_built(gpu, s, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+    return from_built(gpu, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
 }
 
 vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
@@ -943,7 +943,7 @@ vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* rd, v
         vx_compact_free(c);
         return r;
     }
-    return from_built(gpu, s, &li, range, max_depth, c, build_seconds, out, err);
+    return from_built(gpu, s, &d, &li, range, max_depth, c, build_seconds, out, err);
 }
 
 void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out) {

@@ -167,6 +167,10 @@ if [ -x "$BIN/svo_render" ]; then
     grep -q "^paging: level 3, [0-9]* pages; after [0-9]* frames [0-9]* resident .* [1-9][0-9]* drawn coarse ([0-9]* refused, .* over the budget)" "$T/out" &&
         ok "-v states the paging and the coarse pages" || bad "-v states the paging and the coarse pages"
     expect_status 0 "svo_render paged, not verbose" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32
+    # paged from the layout built model by model (the default --load models) and from the scene read whole
+    svo_render "$T/demo.svo" "$T/lay_gw.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 --load whole >/dev/null 2>&1
+    [ -s "$T/lay_g.pfm" ] && cmp -s "$T/lay_g.pfm" "$T/lay_gw.pfm" && ok "paged: --load models == --load whole" ||
+        bad "paged: --load models == --load whole"
     grep -q "^note: [1-9][0-9]* pages drawn coarse" "$T/out" && ok "coarse pages noted" || bad "coarse pages noted"
     expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
     # a storage buffer range below the plain words (the helmet at 32768^3 on a 4 GB range, issue 18):

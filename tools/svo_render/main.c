@@ -170,9 +170,9 @@ _Noreturn static void usage(int status) {
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
             "  --load M             how the file is read: models (default) takes the models one at a time\n"
             "                       into the compact layout where the GPU single-shader modes render it in\n"
-            "                       that layout without --gpu-budget (the host holds the layout and a few\n"
-            "                       models, not the scene), else reads the scene whole first; whole always\n"
-            "                       reads it whole first\n"
+            "                       that layout, paged or not (the host holds the layout and a few models,\n"
+            "                       not the scene), else reads the scene whole first; whole always reads it\n"
+            "                       whole first\n"
             "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
@@ -876,7 +876,7 @@ int main(int argc, char** argv) {
      * the scene read whole's since the layout is built before the device is made (below) */
     vx_svo_model_reader* rd = NULL;
     bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
-                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
+                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN; /* over --gpu-budget: paged from the layout */
     if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
                   : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
@@ -1066,15 +1066,6 @@ int main(int argc, char** argv) {
                 }
                 vx_svo_reader_close(rd);
                 rd = NULL;
-                if (r == VX_ERR_LIMIT) { /* over the budget: pages need the scene whole; read it again */
-                    if (o.verbose) printf("note: %s; the scene is read whole\n", err.msg);
-                    vx_svo_scene_free(&owned);
-                    r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
-                    if (!r) {
-                        vx_svo_scene_frame(&owned, o.frame_first, &scene);
-                        r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
-                    }
-                }
             } else {
                 r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
             }
