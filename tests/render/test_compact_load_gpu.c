@@ -3,8 +3,9 @@
  * model by model renders what vx_render_scene_create_ex of the scene read
  * whole renders (the same instance, cell and colour per pixel, several
  * views and modes), with the same layout sizes; AUTO's plain layout through
- * the reader too; a compact layout past the memory budget is refused with
- * nothing left; a damaged model names the file. The layout built from the
+ * the reader too; a compact layout past the memory budget is paged as
+ * create_ex pages it (the same frames, frame by frame, and page counts); a
+ * damaged model names the file. The layout built from the
  * reader before the device (vx_render_scene_create_compact, as svo_render
  * --load models does) renders the same frames; vx_render_scene_choose_layout
  * answers what create_ex picks. Lavapipe in CI. */
