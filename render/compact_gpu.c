@@ -3,6 +3,7 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
@@ -605,6 +606,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     return vx__seq_submit(g, &s, err);
 }
 
+static int cmp_u32(const void* a, const void* b) {
+    uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
+    return (x > y) - (x < y);
+}
+
 /* After a frame: the pages it requested (drawn coarse) and those it entered
  * (by their first pool unit). */
 static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
@@ -617,6 +623,10 @@ static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
         uint64_t frame = ++pg->st.frames;
         uint32_t count = w[0] < pg->p.page_count ? w[0] : pg->p.page_count;
         memcpy(pg->pending, w + pg->list_off, (size_t)count * 4);
+        /* the list is in the order the GPU's threads appended to it, which
+         * varies from run to run; where the pool cannot take every request,
+         * the pages filled would vary with it (and the image): by page */
+        qsort(pg->pending, count, 4, cmp_u32);
         pg->npending = count;
         pg->st.coarse = count;
         for (uint32_t u = 0; u < pg->units; u++)
