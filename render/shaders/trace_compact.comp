@@ -219,7 +219,15 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // the frame of a depth-k node below it), the same exact t; only the node
 // loads and pushes read slots (node_load, the pushes below).
 bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
-    CModel m = model_at(mi);
+    // the depth kernels of DEEP 0 (eph_monu1, eph_menger) walk with the
+    // record from the buffer: 0.909 -> 0.929 of trace.comp's rays/s on
+    // eph_monu1's close-up, 0.922 -> 0.936 on eph_menger's (H200), where their
+    // albedo kernels are faster with it from the frame block (eph_menger's
+    // close-up 0.990 against 0.968) and the deep scenes' kernels are the same
+    // either way (docs/PERFORMANCE.md issue 18, thirteenth step)
+    CModel m;
+    if (DEEP >= 1 || MODE != MODE_DEPTH) m = model_at(mi);
+    else m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     float side = exp2(float(m.depth));
     uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
