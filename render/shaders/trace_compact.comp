@@ -35,7 +35,8 @@ layout(constant_id = 9) const uint PAGES = 0u;
 // albedo kernels then take 40 registers (48 with the loop on deep models):
 // 3-5% more albedo rays/s on the H200 on eph_monu1 and eph_menger, within
 // 1% on the deep helmet and terrain, whose depth kernel (37 registers)
-// loses up to 4% (docs/PERFORMANCE.md issue 18, twelfth step)
+// lost up to 4% (docs/PERFORMANCE.md issue 18, twelfth step) until the
+// model's record came from the frame block (model_at; thirteenth step)
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // some model's start table has entries whose cells hold one value
 // (compact_gpu.c tab_uniform), or some model's cells all hold one value
