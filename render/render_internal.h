@@ -61,6 +61,9 @@ typedef struct vx__gpu_frame {
      * all 0 (the root for every tile) where the host sets none */
     uint32_t tile_info[4];
     uint16_t tiles[VX__TILES_X * VX__TILES_X];
+    /* trace_compact.comp with one instance and the whole layout resident:
+     * that instance's model's CModel (compact_gpu.c cmodel_gpu, 14 words) */
+    uint32_t cmodel0[16];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

@@ -14,7 +14,8 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   offsetof(vx__gpu_frame, tiles) == 368 && sizeof(vx__gpu_frame) == 368 + 2 * VX__TILES_X * VX__TILES_X,
+                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, cmodel0) == 2416 &&
+                   sizeof(vx__gpu_frame) == 2416 + 64 && 2 * VX__TILES_X * VX__TILES_X == 2048,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -1517,6 +1518,17 @@ vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f
     return VX_OK;
 }
 
+/* The single-instance kernels (USE_BVH off: trace.comp's float variant,
+ * trace_compact.comp) read the instance's record, and trace.comp its
+ * model's, from the frame block rather than the buffers. After
+ * fill_gpu_frame. */
+static void fill_single_instance(vx_render_scene* rs) {
+    if (rs->inst_count != 1) return;
+    vx__gpu_frame* gf = rs->frame.map;
+    gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
+    if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
+}
+
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
                                    vx__sun_map* out, vx_error* err) {
     if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -1559,12 +1571,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
-    if (rs->inst_count == 1) {
-        /* the single-instance kernel (USE_BVH off) reads the instance and its model from the frame block */
-        vx__gpu_frame* gf = rs->frame.map;
-        gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
-        if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
-    }
+    fill_single_instance(rs);
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
@@ -1687,6 +1694,7 @@ vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__b
     vx_result r = write_frame_tables(rs, f, err);
     if (r) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
+    fill_single_instance(rs); /* trace_compact.comp reads inst0 too */
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
     uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
