@@ -10,7 +10,9 @@
  * and a close-up from inside the bounds: rays/s from the median of --reps
  * timed dispatches per round, median of 5 rounds (the kernels' order rotated
  * each round, after 0.5 s of warm-up dispatches), and the pixels
- * whose instance, cell, t or colour differ.
+ * whose instance, cell, t or colour differ (a frame with hits), and whose
+ * colour differs in a frame without (the kernels that write no hits, as
+ * the timed ones).
  *
  * --paged LP (before the files) also times the paged layout cut at page level LP
  * (render/compact.h "pages") with a pool for all its pages, after frames
@@ -68,6 +70,7 @@
 static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user, (void)level;
     if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
+    if (!strcmp(id, "gpu.validation")) printf("validation: %s\n", msg);
     fflush(stdout);
 }
 
@@ -199,7 +202,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0;
+        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0, dnh[8] = {0};
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
             vx_compact_gpu* k = v ? cgp : cg;
@@ -229,6 +232,15 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     dtbig[v] += cell && fabs((double)x->t - (double)y->t) > 1e-5 * fabs((double)x->t);
                 }
             }
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+            /* the albedo pixels without hits (the kernels that write none) */
+            vx_render_desc dn = d;
+            dn.want_hits = false;
+            if (!vx_render_frame(rs, &dn, &a, &err) && !vx_compact_gpu_frame(k, &dn, &b, &err))
+                for (size_t i = 0; i < (size_t)W * H; i++) dnh[v] += memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+            else
+                dnh[v] = UINT64_MAX;
             vx_render_image_free(&a);
             vx_render_image_free(&b);
         }
@@ -271,13 +283,13 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
-                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu) |\n",
+                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu) | %llu |\n",
                    name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
                    rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
                    (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6, (double)vx__compact_gpu_table_bytes(v ? cgp : cg) / 1e3,
-                   (unsigned long long)vx__compact_gpu_uniform_entries(v ? cgp : cg));
+                   (unsigned long long)vx__compact_gpu_uniform_entries(v ? cgp : cg), (unsigned long long)dnh[v]);
         }
         fflush(stdout);
     }
@@ -498,8 +510,9 @@ int main(int argc, char** argv) {
             }
             printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
                    "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
-                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables (entries of one value) |\n"
-                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables (entries of one value) | "
+                   "pixels differing without hits |\n"
+                   "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));
 #else
             fprintf(stderr, "compact_bench: built without Vulkan\n");

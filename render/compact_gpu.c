@@ -3,6 +3,7 @@
  * beside a render scene, traced by shaders/trace_compact.comp with the
  * render scene's frame block, instance table and BVH (bindings 0, 4-6 of
  * vx__render_scene_tables), so both kernels see the same instances and rays. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
@@ -13,7 +14,10 @@
 typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
     uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
+    uint32_t value; /* flags & 4 (a model whose cells all hold one value, the whole layout): its colour */
 } cmodel_gpu;
+/* a scene of one instance: its model's record in the frame block too (dispatch) */
+_Static_assert(sizeof(cmodel_gpu) <= sizeof(((vx__gpu_frame*)0)->cmodel0), "cmodel_gpu vs the frame block's cmodel0");
 
 /* The paged layout's state on the host (vx_compact_gpu_create_paged). */
 typedef struct paging {
@@ -51,8 +55,11 @@ struct vx_compact_gpu {
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t table_bytes; /* the start tables' (in attr) */
     uint64_t uniform_entries; /* of their entries, TAB_UNIFORM ones */
+    uint32_t uniform_models; /* of the models, those of one value (CModel flag 4) */
     uint64_t bytes;
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
+    cmodel_gpu* cm; /* the models' records as uploaded (cm_count of them; NULL when paged): the frame block's cmodel0 */
+    uint32_t cm_count;
 };
 
 /* trace.comp's Model.box (render_scene.c model_box) */
@@ -99,6 +106,7 @@ void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     for (int i = 0; i < 9; i++) vx__buffer_destroy(cg->gpu, b[i]);
     for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
+    vx_free(&cg->gpu->alloc, cg->cm);
     vx_free(&cg->gpu->alloc, cg);
 }
 
@@ -362,6 +370,20 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         for (size_t w = 0; w < tab_words; w += 2)
             if (tw[w] == TAB_EMPTY) tw[w] = TAB_FULL;
     }
+    /* A model whose cells all hold one value (every attribute block of one
+     * value, the same one; eph_menger): flag 4 and the colour in the record,
+     * so that its hits need no cell, no table entry and no decode, 0.89 ->
+     * 0.99 of trace.comp's albedo rays/s on eph_menger's close-up on the H200
+     * (docs/PERFORMANCE.md issue 18, thirteenth step). The tables stay (the
+     * passes' kernels read them). */
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        uint32_t v = 0;
+        if (!(cm[i].flags & 1u) || c->models[i].root >= VX_SVO_ROOT_LEAF || !attr_uniform(c, i, 0, c->models[i].voxels, &v))
+            continue;
+        cm[i].flags |= 4u;
+        cm[i].value = c->models[i].attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v] : v;
+        cg->uniform_models++;
+    }
     uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
     if (!r && (uint64_t)c->geom_words * 4 > range)
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
@@ -391,7 +413,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         r = upload(g, &cg->pass_models, pm, sizeof c->palette + mcount * sizeof *cm, "compact pass models", err);
     }
     vx_free(&g->alloc, pm);
-    vx_free(&g->alloc, cm);
+    cg->cm = cm, cg->cm_count = (uint32_t)mcount;
     if (r) {
         vx_compact_gpu_destroy(cg);
         return r;
@@ -605,6 +627,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     return vx__seq_submit(g, &s, err);
 }
 
+static int cmp_u32(const void* a, const void* b) {
+    uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
+    return (x > y) - (x < y);
+}
+
 /* After a frame: the pages it requested (drawn coarse) and those it entered
  * (by their first pool unit). */
 static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
@@ -617,6 +644,10 @@ static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
         uint64_t frame = ++pg->st.frames;
         uint32_t count = w[0] < pg->p.page_count ? w[0] : pg->p.page_count;
         memcpy(pg->pending, w + pg->list_off, (size_t)count * 4);
+        /* the list is in the order the GPU's threads appended to it, which
+         * varies from run to run; where the pool cannot take every request,
+         * the pages filled would vary with it (and the image): by page */
+        qsort(pg->pending, count, 4, cmp_u32);
         pg->npending = count;
         pg->st.coarse = count;
         for (uint32_t u = 0; u < pg->units; u++)
@@ -734,6 +765,12 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     vx__buffer* scene[7];
     uint32_t sp[VX__SPEC_COUNT];
     if ((r = vx__render_scene_tables(cg->rs, f, scene, sp, err))) return r;
+    /* a scene of one instance (the kernel's USE_BVH off), the whole layout:
+     * the kernel reads the instance's model's record from the frame block
+     * (trace_compact.comp model_at; the instance's is there already) */
+    vx__gpu_frame* gf = scene[0]->map;
+    if (!sp[VX__SPEC_USE_BVH] && cg->cm && gf->inst0.model < cg->cm_count)
+        memcpy(gf->cmodel0, &cg->cm[gf->inst0.model], sizeof *cg->cm);
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
@@ -747,9 +784,9 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     bool miss = vx__frame_cull(f, cg->lo, cg->hi, !cg->pg, ((vx__gpu_frame*)scene[0]->map)->rect, groups, miss_groups,
                                &traced);
     /* 11: the miss pass */
-    /* 6: one sample a pixel; 7: some start-table entry is of one value (the kernel tests for them) */
+    /* 6: one sample a pixel; 7: some start-table entry or some model is of one value (the kernel tests for them) */
     uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
-                         f->spp <= 1, cg->uniform_entries > 0, cg->deep, pages, cg->attr_shift, 0};
+                         f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0};
     uint64_t key = 0xC0AC7000u;
     for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,

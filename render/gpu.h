@@ -75,6 +75,9 @@ struct vx_gpu {
     const vx_logger* logger;
     bool external;
     bool validate;
+    /* VX_GPU_MEMORY_LOG=1: every allocation's memory type, flags and heap logged ("gpu.memory"), to compare
+     * where two ways of building one scene put its buffers (docs/PERFORMANCE.md, issue 18, branch load2) */
+    bool memory_log;
     VkInstance instance;
     VkDebugUtilsMessengerEXT messenger;
     PFN_vkSetDebugUtilsObjectNameEXT set_name;
@@ -117,6 +120,8 @@ void vx__gpu_name(vx_gpu* g, VkObjectType type, uint64_t handle, const char* lab
 /* Submits the frames a display holds (above); before vkQueueWaitIdle and other submissions. */
 void vx__gpu_submit_held(vx_gpu* g);
 
+/* VX_GPU_MEMORY_LOG: the device's heaps and memory types, logged ("gpu.memory"). */
+void vx__gpu_log_memory_types(vx_gpu* g);
 /* gpu_memory.c: device-local when possible; host-visible ones stay mapped. */
 vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
                             const char* label, vx__buffer* out, vx_error* err);

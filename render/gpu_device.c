@@ -350,6 +350,7 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
     }
     vkGetPhysicalDeviceProperties(g->phys, &g->props);
     vkGetPhysicalDeviceMemoryProperties(g->phys, &g->memprops);
+    vx__gpu_log_memory_types(g);
     if (!g->external && (r = create_device(g, err))) return r;
     if ((r = prepare_commands(g, err))) return r;
     if ((r = prepare_timestamps(g, err))) return r;
@@ -365,6 +366,8 @@ vx_result vx_gpu_create(const vx_gpu_desc* desc_in, vx_gpu** out, vx_error* err)
     g->logger = desc.logger;
     const char* env = getenv("VX_GPU_VALIDATION");
     g->validate = desc.validate || (env && strcmp(env, "1") == 0);
+    env = getenv("VX_GPU_MEMORY_LOG");
+    g->memory_log = env && strcmp(env, "1") == 0;
     vx_result r = gpu_prepare(g, &desc, err);
     if (r) {
         vx_gpu_destroy(g);

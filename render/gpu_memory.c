@@ -1,10 +1,32 @@
 /* render/gpu_memory.c - buffers: device-local for scene data (staged uploads
  * when the memory is not host visible, as on discrete GPUs), host-visible and
  * persistently mapped for small per-frame tables. */
+#define _GNU_SOURCE /* getcpu: the memory log's CPU and NUMA node */
+#include <sched.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "render/render_internal.h"
+
+/* VX_GPU_MEMORY_LOG's words for a memory type's flags. */
+static void flag_names(VkMemoryPropertyFlags f, char* out, size_t n) {
+    snprintf(out, n, "%s%s%s%s%s", f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT ? "device-local " : "",
+             f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT ? "host-visible " : "",
+             f & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT ? "coherent " : "",
+             f & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "cached " : "", f ? "" : "none ");
+}
+
+void vx__gpu_log_memory_types(vx_gpu* g) {
+    if (!g->memory_log) return;
+    for (uint32_t h = 0; h < g->memprops.memoryHeapCount; h++)
+        vx_log(g->logger, VX_LOG_INFO, "gpu.memory", "heap %u: %.1f MiB%s", h, g->memprops.memoryHeaps[h].size / 1048576.0,
+               g->memprops.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT ? " device-local" : "");
+    for (uint32_t i = 0; i < g->memprops.memoryTypeCount; i++) {
+        char f[96];
+        flag_names(g->memprops.memoryTypes[i].propertyFlags, f, sizeof f);
+        vx_log(g->logger, VX_LOG_INFO, "gpu.memory", "type %u: heap %u, %s", i, g->memprops.memoryTypes[i].heapIndex, f);
+    }
+}
 
 static bool find_type(vx_gpu* g, uint32_t bits, VkMemoryPropertyFlags want, uint32_t* out) {
     for (uint32_t i = 0; i < g->memprops.memoryTypeCount; i++)
@@ -53,6 +75,15 @@ vx_result vx__buffer_create(vx_gpu* g, VkDeviceSize size, VkBufferUsageFlags usa
     VkMemoryPropertyFlags flags = g->memprops.memoryTypes[type].propertyFlags;
     out->host_visible = (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) && (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     if (r == VK_SUCCESS && out->host_visible) r = vkMapMemory(g->device, out->mem, 0, VK_WHOLE_SIZE, 0, &out->map);
+    if (g->memory_log) {
+        char f[96];
+        flag_names(flags, f, sizeof f);
+        unsigned cpu = 0, node = 0;
+        getcpu(&cpu, &node);
+        vx_log(g->logger, VX_LOG_INFO, "gpu.memory", "'%s' %llu bytes: type %u (%sheap %u), map %p, cpu %u node %u%s", label,
+               (unsigned long long)req.size, type, f, g->memprops.memoryTypes[type].heapIndex, out->map, cpu, node,
+               r == VK_SUCCESS ? "" : " FAILED");
+    }
     if (r != VK_SUCCESS) {
         vx__buffer_destroy(g, out);
         char what[96];

@@ -355,13 +355,28 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, cons
  * it from the models' declared counts, or asked for) the layout is built
  * model by model (vx_compact_build_reader): the host holds the layout and
  * the models in hand, not the scene (the 65536^3 helmet: 86 GiB read whole).
- * A compact layout over the memory budget is refused (VX_ERR_LIMIT: paging
- * and the brick dictionary's second build need the models); AUTO's brick
- * dictionary is not tried. The plain layout reads the scene whole first.
+ * A compact layout over the memory budget is paged as create_ex pages it
+ * (the pages are cut from the layout); AUTO's brick dictionary (a second
+ * build from the models) is not tried. The plain layout reads the scene
+ * whole first.
  * The reader is used up either way (finished on success); the graph
  * (vx_svo_reader_scene) then has its bounds and cells' boxes. */
 vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader, const vx_render_scene_desc* desc,
                                         vx_render_scene** out, vx_error* err);
+/* The second half of vx_render_scene_create_reader, for a caller that built
+ * the compact layout from the reader itself (vx_compact_build_reader, with
+ * attr_regions; before the device existed, say): the scene is in the
+ * compact layout whatever desc->layout says, checked against desc's budget
+ * as there, and `c` is taken (freed whatever the result). build_seconds
+ * goes to the layout's report. */
+struct vx_compact_scene;
+/* The layout vx_render_scene_create_ex (or _reader) takes for s on gpu: desc's,
+ * or AUTO's choice from the models' declared counts (a reader's graph serves). */
+vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                        vx_render_layout* out, vx_error* err);
+vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* reader, struct vx_compact_scene* c,
+                                         double build_seconds, const vx_render_scene_desc* desc,
+                                         vx_render_scene** out, vx_error* err);
 typedef struct vx_render_layout_info {
     vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
     uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */
@@ -516,6 +531,15 @@ void vx_render_scene_take_sun_nodes(vx_render_scene* rs, vx_render_sun_nodes* n)
 void vx_render_sun_nodes_free(vx_render_sun_nodes* n);
 
 vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_render_image* out, vx_error* err);
+/* Runs desc's frame kernel back to back, in submissions of 8, for about
+ * `seconds` of wall time (at least one submission; no image read back), for
+ * benchmarks before they time frames: a GPU whose clock fell while it idled
+ * (a long load after the device was made) stays slow through frames that
+ * keep it busy a few percent of the time (the H200: 345 against 1980 MHz,
+ * frames 4.7x slower; docs/PERFORMANCE.md, issue 18, branch load2).
+ * *frame_ms (NULL: not asked): the last submission's median GPU ms. */
+vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* desc, double seconds, double* frame_ms,
+                                  vx_error* err);
 
 /* The CPU reference: the same outputs in double precision (lod ignored). */
 vx_result vx_render_cpu(const vx_svo_scene* scene, const vx_render_desc* desc, const vx_allocator* alloc,

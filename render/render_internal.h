@@ -72,6 +72,9 @@ typedef struct vx__gpu_frame {
      * all 0 (the root for every tile) where the host sets none */
     uint32_t tile_info[4];
     uint16_t tiles[VX__TILES_X * VX__TILES_X];
+    /* trace_compact.comp with one instance and the whole layout resident:
+     * that instance's model's CModel (compact_gpu.c cmodel_gpu, 14 words) */
+    uint32_t cmodel0[16];
     /* trace.comp with one instance: starts below the root (tiles: per
      * screen tile the index of one, VX__TILE_NONE none; render_scene.c
      * frame_paths) */

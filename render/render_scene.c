@@ -14,9 +14,9 @@
 /* std140 places the precise variant's dvec4s at 32-byte multiples after the float block */
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
-                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, paths) == 2416 &&
-                   VX__TILES_X == 32 && sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 &&
-                   sizeof(vx__gpu_frame) == 2416 + 128 * VX__PATHS,
+                   offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, cmodel0) == 2416 &&
+                   2 * VX__TILES_X * VX__TILES_X == 2048 && offsetof(vx__gpu_frame, paths) == 2480 &&
+                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && sizeof(vx__gpu_frame) == 2480 + 128 * VX__PATHS,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -902,6 +902,43 @@ static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_s
     return r;
 }
 
+/* The render scene of compact layout c, built from a reader whose graph is s
+ * (c is freed whatever the result). Over the budget it is paged as create_ex
+ * pages it: the pages are cut from the layout, not the models (the graph's
+ * declared fields and cells' boxes are all they read of the models); AUTO's
+ * brick dictionary, a second build from the models, is not tried. */
+static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                            const vx_render_layout_info* li, uint64_t range, uint32_t max_depth, vx_compact_scene* c,
+                            double build_seconds, vx_render_scene** out, vx_error* err) {
+    double t1 = vx_time_now();
+    vx_render_scene* rs = new_scene(gpu, s, li, range, max_depth);
+    if (!rs) {
+        vx_compact_free(c);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    rs->smap_state = SMAP_NEVER;
+    note_compact_build(rs, c, build_seconds);
+    vx_result r = prepare_models(rs, s, false, err);
+    if (!r) r = prepare_instances(rs, s, err);
+    uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
+    if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
+    bool whole = true;
+    if (!r && rs->layout.compact_bytes > li->budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
+        r = create_paged(rs, s, c, lp, li->budget, &whole, err);
+    if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
+    rs->layout.upload_seconds = vx_time_now() - t1;
+    if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
+    vx_compact_free(c);
+    if (r) {
+        vx_render_scene_destroy(rs);
+        return r;
+    }
+    rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
+    rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
+    *out = rs;
+    return VX_OK;
+}
+
 vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_render_scene_desc* desc,
                                         vx_render_scene** out, vx_error* err) {
     if (!gpu || !rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -925,35 +962,40 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
                           .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
     double t0 = vx_time_now();
     if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
-    double t1 = vx_time_now();
-    uint64_t bytes = 4ull * c.geom_words + 4ull * c.attr_words;
-    if (bytes > li.budget) {
-        vx_compact_free(&c);
-        /* the brick dictionary's second build and the pages are made from the models, which are gone */
-        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                       "the compact layout (%.1f MB) exceeds the memory budget (%.1f MB): a scene loaded model by model "
-                       "is not paged; read it whole (vx_render_scene_create_ex) to page it",
-                       bytes / 1e6, li.budget / 1e6);
+    return from_built(gpu, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+}
+
+vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                        vx_render_layout* out, vx_error* err) {
+    if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_render_layout_info li;
+    uint32_t depth = 0;
+    uint64_t range = 0;
+    vx_result r = choose_layout(gpu, s, desc, &li, &depth, &range, err);
+    if (!r) *out = li.layout;
+    return r;
+}
+
+vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* rd, vx_compact_scene* c,
+                                         double build_seconds, const vx_render_scene_desc* desc, vx_render_scene** out,
+                                         vx_error* err) {
+    if (!gpu || !rd || !c || !out) {
+        if (c) vx_compact_free(c);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     }
-    vx_render_scene* rs = new_scene(gpu, s, &li, range, max_depth);
-    if (!rs) {
-        vx_compact_free(&c);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    }
-    rs->smap_state = SMAP_NEVER;
-    note_compact_build(rs, &c, t1 - t0);
-    if (!(r = prepare_models(rs, s, false, err)) && !(r = prepare_instances(rs, s, err)))
-        r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
-    rs->layout.upload_seconds = vx_time_now() - t1;
-    vx_compact_free(&c);
+    const vx_svo_scene* s = vx_svo_reader_scene(rd);
+    /* compact whatever AUTO would take (c is that layout): its depth limit and the budget's check apply */
+    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
+    d.layout = VX_RENDER_LAYOUT_COMPACT;
+    vx_render_layout_info li;
+    uint32_t max_depth = 0;
+    uint64_t range = 0;
+    vx_result r = choose_layout(gpu, s, &d, &li, &max_depth, &range, err);
     if (r) {
-        vx_render_scene_destroy(rs);
+        vx_compact_free(c);
         return r;
     }
-    rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
-    rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
-    *out = rs;
-    return VX_OK;
+    return from_built(gpu, s, &d, &li, range, max_depth, c, build_seconds, out, err);
 }
 
 void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out) {
@@ -1545,6 +1587,17 @@ vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f
     return VX_OK;
 }
 
+/* The single-instance kernels (USE_BVH off: trace.comp's float variant,
+ * trace_compact.comp) read the instance's record, and trace.comp its
+ * model's, from the frame block rather than the buffers. After
+ * fill_gpu_frame. */
+static void fill_single_instance(vx_render_scene* rs) {
+    if (rs->inst_count != 1) return;
+    vx__gpu_frame* gf = rs->frame.map;
+    gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
+    if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
+}
+
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
                                    vx__sun_map* out, vx_error* err) {
     if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -1723,12 +1776,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     rs->smap_used = smap;
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
-    if (rs->inst_count == 1) {
-        /* the single-instance kernel (USE_BVH off) reads the instance and its model from the frame block */
-        vx__gpu_frame* gf = rs->frame.map;
-        gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
-        if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
-    }
+    fill_single_instance(rs);
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
     if (rs->inst_count <= 1) frame_paths(rs, f, precise, beam, rs->frame.map);
@@ -1854,6 +1902,7 @@ vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__b
     vx_result r = write_frame_tables(rs, f, err);
     if (r) return r;
     fill_gpu_frame(rs, f, rs->frame.map);
+    fill_single_instance(rs); /* trace_compact.comp reads inst0 too */
     vx__buffer* b[7] = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes, &rs->bvh_items};
     memcpy(bufs, b, sizeof b);
     uint32_t sp[VX__SPEC_COUNT] = {(uint32_t)VX_RENDER_COLOR, rs->has_color, rs->inst_count > 1, 0, 0};
@@ -2226,6 +2275,20 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
     img.rays = (uint64_t)npx * f.spp;
     *out = img;
     return VX_OK;
+}
+
+vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* desc, double seconds, double* frame_ms,
+                                  vx_error* err) {
+    if (!rs) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    double t0 = vx_time_now(), sec = 0;
+    vx_result r = VX_OK;
+    do {
+        vx__frame f;
+        r = rs->compact ? vx_compact_gpu_time(rs->compact, desc, 8, &sec, err)
+                        : vx__render_dispatch(rs, desc, false, 8, &f, &sec, err);
+    } while (!r && vx_time_now() - t0 < seconds);
+    if (frame_ms) *frame_ms = sec * 1e3;
+    return r;
 }
 
 /* ---- dense-grid baseline (benchmark) ----------------------------------------------- */

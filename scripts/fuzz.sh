@@ -4,7 +4,8 @@
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]    # CI: scripts/fuzz.sh 20
 #
-# Targets: vox_fuzz (.vox), svo_fuzz (.svo), gltf_fuzz (glTF with PNG/JPEG
+# Targets: vox_fuzz (.vox), svo_fuzz (.svo), svo_reader_fuzz (.svo through the model
+# reader, against the whole read), gltf_fuzz (glTF with PNG/JPEG
 # base colour textures), probes_fuzz (.probes), vdb_fuzz (OpenVDB through the
 # shim). Each starts from its seeds (tests/fuzz/*_seeds, tests/probes/
 # fuzz_seeds, the shared corpus) plus its regression inputs (tests/fuzz/
@@ -41,7 +42,7 @@ F="-fsanitize=fuzzer-no-link,address,undefined"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVX_FUZZ=ON \
     -DCMAKE_C_FLAGS="$F" -DCMAKE_CXX_FLAGS="$F" \
     -DVX_WITH_VULKAN=OFF -DVX_WITH_OPENVDB=ON -DVX_WITH_OIIO=OFF >/dev/null
-want=${*:-vox_fuzz svo_fuzz gltf_fuzz probes_fuzz vdb_fuzz pnm_fuzz}
+want=${*:-vox_fuzz svo_fuzz svo_reader_fuzz gltf_fuzz probes_fuzz vdb_fuzz pnm_fuzz}
 targets=""
 for t in $want; do
     if cmake --build build-fuzz --target "$t" -j"$(nproc)" >"build-fuzz/build-$t.log" 2>&1; then
@@ -59,6 +60,7 @@ for t in $targets; do
     case $t in
         vox_fuzz) seeds="$CORPUS/vox" ;;
         svo_fuzz) seeds="tests/fuzz/svo_seeds" ;;
+        svo_reader_fuzz) seeds="tests/fuzz/svo_seeds tests/fuzz/svo_reader_seeds" ;;
         gltf_fuzz) seeds="tests/fuzz/gltf_seeds $CORPUS/gltf" ;;
         probes_fuzz) seeds="tests/probes/fuzz_seeds" ;;
         vdb_fuzz) seeds="tests/fuzz/vdb_seeds $CORPUS/vdb" ;;
@@ -84,7 +86,9 @@ for t in $targets; do
     opts="-max_total_time=$SECONDS_EACH -rss_limit_mb=4096 -max_len=$maxlen -timeout=$TIMEOUT -print_final_stats=1"
     [ -n "${VX_FUZZ_RUNS:-}" ] && opts="$opts -runs=$VX_FUZZ_RUNS"
     opts="$opts -artifact_prefix=build-fuzz/"
-    [ -f "tests/fuzz/$n.dict" ] && opts="$opts -dict=tests/fuzz/$n.dict"
+    dict=$n
+    [ "$n" = svo_reader ] && dict=svo # the same format
+    [ -f "tests/fuzz/$dict.dict" ] && opts="$opts -dict=tests/fuzz/$dict.dict"
     [ "$JOBS" -gt 1 ] && opts="$opts -fork=$JOBS -ignore_crashes=0"
     env=""
     if [ "$t" = vdb_fuzz ]; then

@@ -110,13 +110,16 @@ static inline void vx_svo_demorton(uint64_t k, uint32_t* x, uint32_t* y, uint32_
 
 /* ---- in-memory scene ----------------------------------------------------------- */
 
-/* What the reader found when it validated a model (vx_svo_model.check). */
+/* What the reader found when it validated a model, or the builder knows of
+ * the model it made (vx_svo_model.check). */
 typedef struct vx_svo_model_check {
     uint32_t digest;         /* vx_svo_model_digest of the model then; 0: not known */
     uint32_t min[3], max[3]; /* the box of its cells, max exclusive */
     uint32_t structural;     /* nonzero: the reader rebuilt the model from the structural
                                 form (docs/FORMAT.md 3.4, 3.7) with these settings, the DAG
-                                in bit 16, the far limit in bits 0..15; a writer that finds
+                                in bit 16, the far limit in bits 0..15 (the builder: its
+                                own model, built with the DAG and no far limit, is what that
+                                rebuild gives); a writer that finds
                                 the digest current codes one read with the DAG and no far
                                 limit (the builder's default) in that form without validating
                                 and rebuilding it again (docs/PERFORMANCE.md issue 18) */
@@ -137,11 +140,13 @@ typedef struct vx_svo_model {
     uint32_t* normal;     /* VX_ATTR_NORMAL */
     uint16_t* material;   /* VX_ATTR_MATERIAL */
     float* density;       /* VX_ATTR_DENSITY */
-    /* Set by vx_svo_read (zero from every other producer): the model's
-     * digest and cell box as validated. A writer that computes the same
-     * digest for a model it stores in the chunked form takes the box from
-     * here instead of validating the model again (about a third of such a
-     * write's time; docs/PERFORMANCE.md, issue 18). Code that changes a model
+    /* Set by vx_svo_read and vx_svo_build_model (zero from every other
+     * producer): the model's digest and cell box as validated (or valid by
+     * construction). A writer that computes the same digest for a model it
+     * stores in the chunked form, or in the structural form with the settings
+     * of check.structural, takes the box from here instead of validating the
+     * model again (about a third of a chunked write's time, most of a
+     * structural one's; docs/PERFORMANCE.md, issue 18). Code that changes a model
      * need not clear it: the digest no longer matches, and the model is
      * validated as any other (a change that keeps a CRC-32 digest, odds of
      * 2^-32, can give a file that fails to read back; never a crash). */
@@ -671,7 +676,8 @@ typedef struct vx_svo_model_coded {
                                  large structural model, unless vx_write_desc.svo_range_coded) */
 } vx_svo_model_coded;
 
-/* Validates m (as vx_svo_validate_model) and codes it: *stream (free with
+/* Validates m (as vx_svo_validate_model; not where its check is current, as
+ * vx_svo_write does not: vx_svo_model.check) and codes it: *stream (free with
  * vx_free(desc->alloc, ...); desc may be NULL) gets info->stream_size bytes. */
 vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, vx_svo_model_coded* info, uint8_t** stream,
                               vx_error* err);

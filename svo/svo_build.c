@@ -45,6 +45,12 @@ typedef struct bld {
     /* One channel only: attribute references in nodes and runs are the
      * 32-bit values themselves, so representatives need no interning. */
     bool direct;
+    /* With direct: the channel whose values the references are (attrs in
+     * the builder) and the others' one value each (the reader, where a
+     * model's other channels are constant: vx__svo_unpack_desc.const_attrs;
+     * zero in the builder). */
+    uint32_t vattr;
+    vx__svo_rec cst;
     rec* recs;
     size_t nrec, caprec;
     uint32_t* rhash; /* record id + 1, 0 = empty */
@@ -208,8 +214,8 @@ static uint32_t rec_value(uint32_t attrs, const rec* r) {
     }
     }
 }
-static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
-    memset(r, 0, sizeof *r);
+/* Sets the one channel attrs of r to v (the others as they are). */
+static void rec_put_value(uint32_t attrs, uint32_t v, rec* r) {
     switch (attrs) {
     case VX_ATTR_PALETTE: r->palette = (uint8_t)v; break;
     case VX_ATTR_RGBA8: r->rgba = v; break;
@@ -220,6 +226,10 @@ static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
         r->density = c.f;
     }
     }
+}
+static void rec_from_value(uint32_t attrs, uint32_t v, rec* r) {
+    memset(r, 0, sizeof *r);
+    rec_put_value(attrs, v, r);
 }
 
 
@@ -292,14 +302,16 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     rec tmp[8];
     for (unsigned i = 0; i < n; i++) {
         if (b->direct) {
-            rec_from_value(b->attrs, ids[i], &tmp[i]);
+            rec_from_value(b->vattr, ids[i], &tmp[i]);
             c[i] = &tmp[i];
         } else {
             c[i] = &b->recs[ids[i]];
         }
     }
-    vx__svo_rec_mean(b->attrs, c, n, &r);
-    return b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+    /* direct: the one channel (the rule works channel by channel; a constant
+     * channel's representative is its value) */
+    vx__svo_rec_mean(b->direct ? b->vattr : b->attrs, c, n, &r);
+    return b->direct ? rec_value(b->vattr, &r) : rec_intern(b, &r);
 }
 
 /* ---- tuples interned by the caller, on several threads ------------------------------------- */
@@ -585,11 +597,11 @@ typedef struct outw {
     uint64_t* runh;
     size_t runcap, nrun;
     uint64_t far;
-    /* blocks that are a lone attribute index (all children leaves): attribute
-     * index + 1 -> word position, so equal ones are stored once */
-    uint32_t* lb_key;
-    uint32_t* lb_pos;
-    size_t lbcap, nlb;
+    /* blocks that are a lone attribute index (all children leaves): by the
+     * index, the word position + 1 of its last copy (0: none), so equal ones
+     * are stored once where parents can reach them */
+    uint32_t* lb_at;
+    size_t lbcap;
     /* the uniform runs in runh (len copies of one record), by record: which
      * lengths are stored and where, so that a short uniform run finds a
      * longer one with one probe instead of one per length (run_intern) */
@@ -832,38 +844,23 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
         if (nn == 0 && b->dag) {
             /* the block is the word `a` alone, position-independent: reuse a
              * recent copy while parents can still reach it without a far slot */
-            if ((o->nlb + 1) * 2 > o->lbcap) {
-                size_t ncap = o->lbcap ? o->lbcap * 2 : 4096;
-                uint32_t* nk2 = (uint32_t*)vx_calloc(b->a, ncap, sizeof *nk2);
-                uint32_t* np2 = (uint32_t*)vx_alloc(b->a, ncap * sizeof *np2);
-                if (!nk2 || !np2) {
-                    vx_free(b->a, nk2);
-                    vx_free(b->a, np2);
-                    return oom(b, "block table");
-                }
-                for (size_t i = 0; i < o->lbcap; i++)
-                    if (o->lb_key[i]) {
-                        size_t q = (size_t)mix64(o->lb_key[i]) & (ncap - 1);
-                        while (nk2[q]) q = (q + 1) & (ncap - 1);
-                        nk2[q] = o->lb_key[i];
-                        np2[q] = o->lb_pos[i];
-                    }
-                vx_free(b->a, o->lb_key);
-                vx_free(b->a, o->lb_pos);
-                o->lb_key = nk2;
-                o->lb_pos = np2;
-                o->lbcap = ncap;
+            /* by the run's index (below o->nid) in an array: one load, where
+             * a hash table of the keys and a second of the positions were
+             * two misses a lone block (a sixth of the 4096^3 helmet's read) */
+            if (a >= o->lbcap) {
+                size_t ncap = o->lbcap ? o->lbcap : 4096;
+                while (ncap <= a) ncap *= 2;
+                size_t was = o->lbcap;
+                if (!vx_grow(b->a, (void**)&o->lb_at, &o->lbcap, ncap, sizeof *o->lb_at)) return oom(b, "block table");
+                memset(o->lb_at + was, 0, (o->lbcap - was) * sizeof *o->lb_at);
             }
-            size_t q = (size_t)mix64((uint64_t)a + 1) & (o->lbcap - 1);
-            while (o->lb_key[q] && o->lb_key[q] != a + 1) q = (q + 1) & (o->lbcap - 1);
-            if (o->lb_key[q] && o->n - o->lb_pos[q] + 64 < limit) {
-                n[N_BLOCK] = o->lb_pos[q];
+            uint32_t at = o->lb_at[a]; /* position + 1 of the last copy of the block [a], 0: none */
+            if (at && o->n - (at - 1) + 64 < limit) {
+                n[N_BLOCK] = at - 1;
                 off = next;
                 continue;
             }
-            if (!o->lb_key[q]) o->nlb++;
-            o->lb_key[q] = a + 1;
-            o->lb_pos[q] = (uint32_t)o->n;
+            o->lb_at[a] = (uint32_t)o->n + 1;
         }
         /* far slots needed: a fixpoint since each slot shifts the descriptors */
         size_t cur = o->n;
@@ -1086,8 +1083,12 @@ static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; i++) {
         rec dv;
         const rec* r = &dv;
-        if (b->direct) rec_from_value(b->attrs, f->o->ids[i], &dv);
-        else r = &b->recs[f->o->ids[i]];
+        if (b->direct) {
+            dv = b->cst; /* the constant channels (none in the builder) */
+            rec_put_value(b->vattr, f->o->ids[i], &dv);
+        } else {
+            r = &b->recs[f->o->ids[i]];
+        }
         if (m->palette) m->palette[i] = r->palette;
         if (m->rgba) m->rgba[i] = r->rgba;
         if (m->normal) m->normal[i] = r->normal;
@@ -1328,15 +1329,11 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
     /* the layout's tables and outputs sized for the nodes to come (at most
      * one run and one block per node, at most the pool's words), not grown
      * and rehashed step by step; where an allocation fails they grow as usual */
-    if (b->dag && cnt && !o->runh && !o->lb_key) {
+    if (b->dag && cnt && !o->runh) {
         size_t nodes = cnt / (N_KIDS + 1) + 2, cap = 4096;
         while (cap < 2 * nodes + 2) cap *= 2;
         o->runh = (uint64_t*)vx_calloc(b->a, cap, sizeof *o->runh);
         if (o->runh) o->runcap = cap;
-        o->lb_key = (uint32_t*)vx_calloc(b->a, cap, sizeof *o->lb_key);
-        o->lb_pos = o->lb_key ? (uint32_t*)vx_alloc(b->a, cap * sizeof *o->lb_pos) : NULL;
-        if (o->lb_pos) o->lbcap = cap;
-        else vx_free(b->a, o->lb_key), o->lb_key = NULL;
     }
     if (cnt) {
         vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
@@ -1569,6 +1566,23 @@ static unsigned bits_for(uint64_t maxval) {
 static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, const vx__svo_interned* pre,
                        vx_svo_model* out, vx_svo_build_stats* stats, vx_error* err);
 
+/* The model's check (svo.h vx_svo_model_check), as the reader sets it for a
+ * model it read: what this builder makes is valid by construction, so a
+ * writer need not validate it, and with the DAG and no far limit its words
+ * are what the structural form's reconstruction (3.5's layout over the pool
+ * in completion order) gives back from its symbols: the writer codes it
+ * without the rebuild that proves the form (docs/PERFORMANCE.md issue 18,
+ * eleventh step). Not for a tree the caller gave (a GPU build's pool or
+ * blocks): those are taken as given, not made here. A model changed after
+ * the build no longer matches the digest and is validated as any other. */
+static void stamp_check(const bld* b, vx_svo_model* m, bool given_tree) {
+    memset(&m->check, 0, sizeof m->check);
+    if (given_tree) return;
+    vx_svo_model_cell_box(m, m->check.min, m->check.max);
+    if (m->root < m->node_count && b->dag && b->limit == VX__SVO_PTR_MAX) m->check.structural = 1u << 16 | VX__SVO_PTR_MAX;
+    m->check.digest = vx_svo_model_digest(m);
+}
+
 vx_result vx_svo_build_model(const vx_svo_build_desc* desc, const vx_svo_voxels* in, vx_svo_model* out,
                              vx_svo_build_stats* stats, vx_error* err) {
     return build(desc, in, NULL, out, stats, err);
@@ -1642,6 +1656,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
+    b.vattr = in->attrs;
     b.threads = pre ? pre->threads : 0;
     vx_svo_build_stats st;
     memset(&st, 0, sizeof st);
@@ -2019,6 +2034,7 @@ finish:
         if (b.attrs & VX_ATTR_DENSITY) rb += 4;
         st.bytes = (uint64_t)m.node_count * 4 + (uint64_t)m.attr_count * rb;
     }
+    stamp_check(&b, &m, pre && pre->pool);
     *out = m;
     if (stats) *stats = st;
     res = VX_OK;
@@ -2035,8 +2051,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_key);
-    vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.lb_at);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
@@ -2179,7 +2194,7 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                     else if (c == 1) r.rgba = v;
                     else if (c == 3) r.material = (uint16_t)v;
                 }
-                id = b->direct ? rec_value(b->attrs, &r) : rec_intern(b, &r);
+                id = b->direct ? rec_value(b->vattr, &r) : rec_intern(b, &r);
                 if (id == UINT32_MAX && !b->direct) return false;
             }
             kids[n] = ids[n] = id;
@@ -2268,6 +2283,21 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.depth = d->depth;
     b.err = err;
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
+    b.vattr = d->attrs;
+    {
+        /* at most one channel varies: records are its values, the constant
+         * ones filled in at the end. Equal records have equal values and the
+         * representatives of constant channels are their values, so the runs,
+         * the sharing and the words are those of the record table's ids (the
+         * layout compares references only for equality). The 4096^3 helmet's
+         * material is one value: its read no longer interns 74 M records. */
+        uint32_t vary = d->attrs & ~d->const_attrs;
+        if (d->attrs && !b.direct && (vary & (vary - 1)) == 0) {
+            b.direct = true;
+            b.vattr = vary ? vary : d->attrs & (0u - d->attrs);
+            b.cst = d->const_rec;
+        }
+    }
     outw o;
     memset(&o, 0, sizeof o);
     unp u = {.b = &b, .src = src, .max_words = d->max_words, .err = err, .want_xt = d->tree != NULL, .ref_index = d->ref_index};
@@ -2335,8 +2365,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_key);
-    vx_free(b.a, o.lb_pos);
+    vx_free(b.a, o.lb_at);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;

@@ -165,6 +165,12 @@ typedef struct vx__svo_unpack_desc {
     /* REF symbols are 0 (a new node) or 1 + the completion index of the node
      * named (the split form, FORMAT.md 3.7) instead of a distance back. */
     bool ref_index;
+    /* Channels whose every leaf value is const_rec's (the split form's
+     * decoded streams say so, vx__svo_split_constants): with at most one
+     * channel left varying, records are that channel's values (no record
+     * table), the others filled in; the result is the same. */
+    uint32_t const_attrs;
+    vx__svo_rec const_rec;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -262,6 +268,10 @@ typedef struct vx__svo_split vx__svo_split;
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
+/* The channels of attrs whose decoded values are all one value (a stream of
+ * at least one value), and those values in *cst (others zero): the
+ * reconstruction then runs direct on the one channel left (vx__svo_unpack_desc.const_attrs). */
+uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo_rec* cst);
 /* After the reconstruction: every stream used up exactly. */
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err);
 void vx__svo_split_free(vx__svo_split* d);

@@ -1844,14 +1844,27 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     memset(info, 0, sizeof *info);
     *stream = NULL;
     vx__svo_extent ext;
-    vx_result r = vx__svo_analyze(m, &ext, err);
-    if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
+    /* a model whose check is current (the builder's or the reader's): its
+     * box from the check, coded without the validation (and, structural with
+     * the check's settings, without the rebuild), as vx_svo_write does it
+     * (vx__svo_trusted_models): mpirun vox2svo's ranks code what they built */
+    const uint32_t chunk_words = desc ? desc->svo_chunk_words : 0;
+    bool trusted = m->check.digest && (vx__svo_model_chunked(m, chunk_words) || m->check.structural) &&
+                   vx_svo_model_digest(m) == m->check.digest;
+    if (trusted) {
+        ext.cells = m->voxel_count;
+        memcpy(ext.min, m->check.min, sizeof ext.min);
+        memcpy(ext.max, m->check.max, sizeof ext.max);
+    } else {
+        vx_result r = vx__svo_analyze(m, &ext, err);
+        if (r != VX_OK) return vx_error_prefix(err, "svo encode"), r;
+    }
     vx_buf b = {.alloc = a};
-    info->chunked = vx__svo_model_chunked(m, desc ? desc->svo_chunk_words : 0);
+    info->chunked = vx__svo_model_chunked(m, chunk_words);
     info->split = vx__svo_model_split(m, desc ? desc->svo_chunk_words : 0, desc && desc->svo_range_coded ? 0 : vx__svo_split_words);
     int mode = info->split ? VX__CHUNK_SPLIT : !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     info->chunk_tagged = mode == VX__CHUNK_ZSTD;
-    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), false, &b)) {
+    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), trusted, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

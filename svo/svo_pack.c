@@ -17,6 +17,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <zlib.h>
@@ -1874,6 +1875,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx__svo_src src = vx__svo_split_src(d);
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                               .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
+    ud.const_attrs = vx__svo_split_constants(d, m->attrs, &ud.const_rec);
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -2184,6 +2186,7 @@ typedef struct unpack_jobs {
     unsigned lay;           /* layout threads per model (vx__svo_unpack_desc.layout_threads) */
     vx__svo_extent* ext;    /* with rebuilt: see vx__svo_pack_read */
     uint8_t* rebuilt;
+    const uint32_t* order; /* job k decodes model order[k] (largest first), or NULL: model k */
 } unpack_jobs;
 
 /* Threads the layout of each structural model may follow its decoding on,
@@ -2198,9 +2201,10 @@ static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned
     return cpus > threads ? 2 : 0;
 }
 
-static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
+static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
     (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
+    uint32_t i = j->order ? j->order[k] : k;
     if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
     if (j->chunked && j->chunked[i] == 3)
         j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay,
@@ -2208,6 +2212,33 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t i) {
     else
         j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
                                  j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+}
+
+/* The models by declared node words, largest first (ties in file order):
+ * the order the reader's jobs take them in, so that the last job to start
+ * is a small one and the threads end together (the 4096^3 helmet's eight
+ * models of 3.3-9.6 M words on two threads, counting time by words: in file
+ * order one thread idles while the other does 5.4 M words of the last
+ * model, largest first 0.2 M; docs/PERFORMANCE.md issue 18, eleventh step).
+ * Which thread decodes
+ * a model never changes its result, and errors are taken in model order. */
+static int cmp_words_desc(const void* a, const void* b) {
+    const uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
+    return x < y ? -1 : x > y;
+}
+static uint32_t* largest_first(const vx_svo_scene* s, const vx_allocator* A) {
+    uint64_t* key = (uint64_t*)vx_calloc(A, s->model_count, sizeof *key);
+    uint32_t* order = key ? (uint32_t*)vx_calloc(A, s->model_count, sizeof *order) : NULL;
+    if (!order) {
+        vx_free(A, key);
+        return NULL;
+    }
+    /* (2^32 - 1 - words) << 32 | index: ascending = most words first, then file order */
+    for (uint32_t i = 0; i < s->model_count; i++) key[i] = (uint64_t)(0xFFFFFFFFu - s->models[i].node_count) << 32 | i;
+    qsort(key, s->model_count, sizeof *key, cmp_words_desc);
+    for (uint32_t i = 0; i < s->model_count; i++) order[i] = (uint32_t)key[i];
+    vx_free(A, key);
+    return order;
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
@@ -2277,9 +2308,10 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
+            uint32_t* order = largest_first(s, A); /* NULL (out of memory): file order, the same result */
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi] == 1 || chunked[mi] == 2) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
@@ -2291,6 +2323,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             }
             vx_free(A, res);
             vx_free(A, errs);
+            vx_free(A, order);
         }
     }
     vx_free(A, off);

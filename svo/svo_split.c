@@ -442,6 +442,31 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     return VX_OK;
 }
 
+uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo_rec* cst) {
+    memset(cst, 0, sizeof *cst);
+    uint32_t out = 0;
+    for (unsigned c = 0; c < 5; c++) {
+        unsigned s = d->cs[c];
+        if (!(attrs >> c & 1u) || !s || !d->vcount[s] || !d->data[s]) continue;
+        size_t n = d->vcount[s];
+        bool one = true;
+        for (unsigned i = 0; i < CH_W[c] && one; i++) { /* each byte plane one byte throughout */
+            const uint8_t* q = d->data[s] + (size_t)i * n;
+            one = q[0] == q[n - 1] && (n < 2 || memcmp(q, q + 1, n - 1) == 0);
+        }
+        if (!one) continue;
+        uint32_t x = 0;
+        for (unsigned i = 0; i < CH_W[c]; i++) x |= (uint32_t)d->data[s][(size_t)i * n] << (8 * i);
+        if (c == 0) cst->palette = (uint8_t)x;
+        else if (c == 1) cst->rgba = x;
+        else if (c == 2) cst->normal = x;
+        else if (c == 3) cst->material = (uint16_t)x;
+        else memcpy(&cst->density, &x, sizeof x);
+        out |= 1u << c;
+    }
+    return out;
+}
+
 static bool ends(vx__svo_split* d, unsigned s, vx_error* err) {
     char nm[48];
     return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s], "svo: section NODE at byte %llu: model %u: stream %u (%s) ends before the trees do",

@@ -30,7 +30,8 @@
 // (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k; };
+// value: the colour of every cell where flags has 4 (a model of one value), else 0
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {

@@ -120,7 +120,7 @@ layout(std140, binding = 0) uniform Frame {
 #ifdef TRACE_PATH
     // trace.comp, one instance: the primary rays' starts below the root
     // (trace_model), per screen tile the index of one (tiles, 0xFFFF none)
-    layout(offset = 2416) PathRec paths[PATHS];
+    layout(offset = 2480) PathRec paths[PATHS]; // after trace_compact.comp's cmodel0 (vx__gpu_frame)
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };

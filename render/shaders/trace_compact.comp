@@ -35,10 +35,12 @@ layout(constant_id = 9) const uint PAGES = 0u;
 // albedo kernels then take 40 registers (48 with the loop on deep models):
 // 3-5% more albedo rays/s on the H200 on eph_monu1 and eph_menger, within
 // 1% on the deep helmet and terrain, whose depth kernel (37 registers)
-// loses up to 4% (docs/PERFORMANCE.md issue 18, twelfth step)
+// lost up to 4% (docs/PERFORMANCE.md issue 18, twelfth step) until the
+// model's record came from the frame block (model_at; thirteenth step)
 layout(constant_id = 6) const bool ONE_SAMPLE = false;
 // some model's start table has entries whose cells hold one value
-// (compact_gpu.c tab_uniform), else their tests are compiled out
+// (compact_gpu.c tab_uniform), or some model's cells all hold one value
+// (CModel flag 4), else their tests are compiled out
 layout(constant_id = 7) const bool UNIFORM = false;
 // the scene has the brick dictionary (render/compact.h VX_COMPACT_INDEXED
 // nodes); without it the index word's path is compiled out of the walk
@@ -69,6 +71,13 @@ const bool GUARD = WRITE_HITS || MODE == 5;
 // (docs/PERFORMANCE.md issue 18, ninth step; trace.comp's kernels the
 // other way round, trace_common.glsl SENT).
 const bool SENT = MODE == 3;
+// A hit's t is read by the depth mode, the colour mode (its shadow ray), the
+// hits and the choice of the nearest of several instances; elsewhere the
+// one model's hit needs no t, and an exact model's entry-plane t (the stack's
+// oa and d, about 25 operations) is left out where the hit cube is one cell:
+// 2% more albedo rays/s on the helmet's close-up on the H200
+// (docs/PERFORMANCE.md issue 18, thirteenth step)
+const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -88,9 +97,14 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims; // width, height, spp, instance count
     uvec4 dims2;
     vec4 grid_lo;
+    // a scene of one instance (USE_BVH off): its record (vx__render_scene_tables,
+    // as trace.comp's) and, the whole layout resident, its model's in
+    // cmodel0 (compact_gpu.c dispatch): inst_at, model_at
+    layout(offset = 224) Inst inst0;
     // the pixels [rect.x, rect.z) x [rect.y, rect.w) that the trace pass
     // covers (vx__gpu_frame.rect, the screen cull: screen_cull.glsl)
     layout(offset = 336) uvec4 rect;
+    layout(offset = 2416) CModel cmodel0;
 } F;
 layout(std430, binding = 1) readonly buffer Geom { uvec2 slots[]; };
 layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
@@ -131,6 +145,20 @@ uint attr_word(uint i) {
 #define CA_UNI UNIFORM
 #include "compact_attr.glsl"
 
+// A scene of one instance reads its instance's and its model's records from
+// the frame block (uniform, as trace.comp's TRACE_INST_UBO) rather than
+// from the buffers: on the H200 the instance 0.2-3% more rays/s on every
+// view in both modes, the model another 3% on the helmet's and eph_menger's
+// close-ups in albedo (eph_monu1's -0.7%) and 4-5% in the deep scenes' depth
+// mode (docs/PERFORMANCE.md issue 18, thirteenth step).
+CModel model_at(uint mi) {
+    if (!USE_BVH && PAGES == 0u) return F.cmodel0;
+    return models[mi];
+}
+Inst inst_at(uint i) {
+    if (!USE_BVH) return F.inst0;
+    return insts[i];
+}
 struct Hit {
     float t;
     uint inst;
@@ -192,7 +220,15 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // the frame of a depth-k node below it), the same exact t; only the node
 // loads and pushes read slots (node_load, the pushes below).
 bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
-    CModel m = models[mi];
+    // the depth kernels of DEEP 0 (eph_monu1, eph_menger) walk with the
+    // record from the buffer: 0.909 -> 0.929 of trace.comp's rays/s on
+    // eph_monu1's close-up, 0.922 -> 0.936 on eph_menger's (H200), where their
+    // albedo kernels are faster with it from the frame block (eph_menger's
+    // close-up 0.990 against 0.968) and the deep scenes' kernels are the same
+    // either way (docs/PERFORMANCE.md issue 18, thirteenth step)
+    CModel m;
+    if (DEEP >= 1 || MODE != MODE_DEPTH) m = model_at(mi);
+    else m = models[mi];
     if (m.root == ROOT_EMPTY) return false;
     float side = exp2(float(m.depth));
     uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
@@ -487,11 +523,17 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
     }
     if (!hit) return false;
+    if (UNIFORM && !NEED_T && MODE == MODE_ALBEDO && (m.flags & 4u) != 0u) {
+        // a model whose cells all hold one value needs no cell (its colour
+        // is m.value) and here no t
+        h.t = te, h.cell = uvec3(0u), h.axis = 0, h.nsign = 1.0, h.color = 0xFFFFFFFFu, h.page = coarse;
+        return true;
+    }
     float us = intBitsToFloat((127 - koff) << 23); // 2^-k in a rebased frame, else 1
     float tbase = REBASE && koff != 0 ? intBitsToFloat(stk_node[RB_TBASE]) : 0.0; // t_r
     float troot = tbase + tmin * us;              // model frame [1,2] units
     float t = te + troot / L;
-    if (!exact || any_hit) {
+    if (NEED_T && (!exact || any_hit)) {
         if (!(t <= h.t)) return false;
         if (any_hit) { h.t = t; return true; }
     }
@@ -514,7 +556,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         lo = (posr - 1.0) * side;
         sz = ser * side;
         c = lo + clamp(floor(offm * (side * us)), vec3(0.0), vec3(sz - 1.0));
-        t = te + entry_tau(SLOTS3(OA), SLOTS3(RB_OALO), SLOTS3(DM), lo, sz);
+        if (NEED_T) t = te + entry_tau(SLOTS3(OA), SLOTS3(RB_OALO), SLOTS3(DM), lo, sz);
     } else {
         if ((oct & 1) == 0) pos.x = 3.0 - scale_exp2 - pos.x;
         if ((oct & 2) == 0) pos.y = 3.0 - scale_exp2 - pos.y;
@@ -522,7 +564,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         lo = (pos - 1.0) * side;
         sz = scale_exp2 * side;
         float tau = troot / L;
-        if (exact) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
+        if (exact && (NEED_T || sz != 1.0)) tau = entry_tau(SLOTS3(OA), REBASE ? SLOTS3(RB_OALO) : vec3(0.0), SLOTS3(DM), lo, sz), t = te + tau;
         // a cube of one cell is the cell (the point, floor and clamp give
         // lo, and the entry axis' rule below too): most hits, whose colour
         // needs the cell where trace.comp's needs none (0.2-2.3% of the H200's
@@ -534,7 +576,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             c = clamp(floor(p), lo, lo + sz - 1.0);
         }
     }
-    if (exact && !(t <= h.t)) return false;
+    if (NEED_T && exact && !(t <= h.t)) return false;
     float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
     float la = axis == 0 ? lo.x : (axis == 1 ? lo.y : lo.z);
     float ca = (da > 0.0 || (da == 0.0 && !sign_neg(da))) ? la : la + sz - 1.0;
@@ -553,7 +595,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
 }
 
 bool trace_instance(uint i, vec3 o, vec3 d, float t0, bool any_hit, inout Hit h) {
-    Inst I = insts[i];
+    Inst I = inst_at(i);
     vec3 om = vec3(dot(I.r0.xyz, o) + I.r0.w, dot(I.r1.xyz, o) + I.r1.w, dot(I.r2.xyz, o) + I.r2.w);
     vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
     // precise: its ops form the two-sum's error term, which exact algebra
@@ -694,9 +736,11 @@ void shade(uvec2 px) {
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel
-            CModel m = models[insts[h.inst].model];
+            CModel m = model_at(inst_at(h.inst).model);
             if (PAGES > 0u && h.page != NO_HIT) {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
+            } else if (UNIFORM && (m.flags & 5u) == 5u) {
+                h.color = m.value; // a model of one value: no descent, no decode
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
                 uint i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
@@ -706,7 +750,7 @@ void shade(uvec2 px) {
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);
         if (hit) {
-            Inst I = insts[h.inst];
+            Inst I = inst_at(h.inst);
             vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
             nw = normalize(row.xyz * h.nsign);
         }
@@ -721,7 +765,7 @@ void shade(uvec2 px) {
                     float vis = 0.0;
                     if (ndl > 0.0) {
                         precise vec3 p = o + d * h.t;
-                        float cell = insts[h.inst].cell;
+                        float cell = inst_at(h.inst).cell;
                         precise vec3 ps = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
                         Hit sh;
                         sh.t = 3.0e38;

@@ -3,8 +3,12 @@
  * model by model renders what vx_render_scene_create_ex of the scene read
  * whole renders (the same instance, cell and colour per pixel, several
  * views and modes), with the same layout sizes; AUTO's plain layout through
- * the reader too; a compact layout past the memory budget is refused with
- * nothing left; a damaged model names the file. Lavapipe in CI. */
+ * the reader too; a compact layout past the memory budget is paged as
+ * create_ex pages it (the same frames, frame by frame, and page counts); a
+ * damaged model names the file. The layout built from the
+ * reader before the device (vx_render_scene_create_compact, as svo_render
+ * --load models does) renders the same frames; vx_render_scene_choose_layout
+ * answers what create_ex picks. Lavapipe in CI. */
 #define _POSIX_C_SOURCE 200809L
 #include <dlfcn.h>
 #include <stdio.h>
@@ -12,6 +16,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "render/compact.h"
 #include "render/render.h"
 #include "svo/svo.h"
 #include "svo/svo_internal.h"
@@ -52,6 +57,37 @@ static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const
                memcmp(a->hits[i].cell, b->hits[i].cell, sizeof a->hits[i].cell) != 0;
     if (bad) fprintf(stderr, "%s: %u of %u pixels differ\n", what, bad, n);
     return bad;
+}
+
+
+/* A paged (or over-budget whole) scene from the reader against create_ex's: the same layout report, and
+ * frame after frame the same images and page counts until the view's pages are resident. */
+static void paged_same(vx_render_scene* ra, vx_render_scene* rb, bool want_pages) {
+    vx_render_layout_info la, lb;
+    vx_render_scene_layout(ra, &la);
+    vx_render_scene_layout(rb, &lb);
+    CHECKF(la.layout == lb.layout && la.pages == lb.pages && la.page_level == lb.page_level && la.bytes == lb.bytes,
+           "%u pages at %u, %llu bytes against %u at %u, %llu", la.pages, la.page_level, (unsigned long long)la.bytes,
+           lb.pages, lb.page_level, (unsigned long long)lb.bytes);
+    CHECKF(want_pages ? la.pages > 1 : la.pages == 0 && la.bytes > la.budget, "%u pages, %llu bytes of %llu", la.pages,
+           (unsigned long long)la.bytes, (unsigned long long)la.budget);
+    vx_render_desc d = {.width = 80, .height = 60, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+    vx_error err = {0};
+    int f = 0;
+    for (; f < 24; f++) {
+        vx_render_image a = {0}, b = {0};
+        REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+        REQUIRE(vx_render_frame(rb, &d, &b, &err) == VX_OK);
+        vx_render_page_stats sa = {0}, sb = {0};
+        vx_render_scene_page_stats(ra, &sa);
+        vx_render_scene_page_stats(rb, &sb);
+        CHECKF(differ(&a, &b, "paged from the reader") == 0 && sa.coarse == sb.coarse && sa.resident == sb.resident,
+               "frame %d: %u coarse, %u resident against %u, %u", f, sa.coarse, sa.resident, sb.coarse, sb.resident);
+        if (want_pages && f == 0) CHECKF(sa.coarse > 0, "first frame: %u pages coarse", sa.coarse);
+        vx_render_image_free(&a), vx_render_image_free(&b);
+        if (!sa.coarse) break;
+    }
+    CHECKF(f < 24, "still coarse after %d frames", f);
 }
 
 static void test_same_frames(void) {
@@ -109,14 +145,28 @@ static void test_same_frames(void) {
         vx_render_scene_destroy(ra);
         vx_render_scene_destroy(rb);
     }
-    /* past the budget: refused (paging needs the models), nothing left */
-    vx_svo_model_reader* rd = NULL;
-    vx_render_scene* rs = NULL;
-    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
-    vx_render_scene_desc small = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = 4096};
-    vx_result r = vx_render_scene_create_reader(gpu, rd, &small, &rs, &err);
-    CHECKF(r == VX_ERR_LIMIT && rs == NULL && strstr(err.msg, "budget"), "%d %s", (int)r, err.msg);
-    vx_svo_reader_close(rd);
+    /* past the budget: paged as create_ex pages it (the pages are cut from the layout), or where the top and
+     * the largest page exceed it, the whole layout over it */
+    vx_render_scene* rc = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &whole, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc,
+                                      &err) == VX_OK);
+    vx_render_layout_info lc;
+    vx_render_scene_layout(rc, &lc);
+    vx_render_scene_destroy(rc);
+    uint64_t budgets[2] = {lc.compact_bytes * 3 / 4, 4096};
+    for (int k = 0; k < 2; k++) {
+        vx_render_scene_desc small = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = budgets[k], .page_level = 3};
+        vx_svo_model_reader* rd = NULL;
+        vx_render_scene *ra = NULL, *rb = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &whole, &small, &ra, &err) == VX_OK);
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        vx_result r = vx_render_scene_create_reader(gpu, rd, &small, &rb, &err);
+        CHECKF(r == VX_OK, "budget %llu: %s", (unsigned long long)budgets[k], err.msg);
+        vx_svo_reader_close(rd);
+        if (!r) paged_same(ra, rb, k == 0);
+        vx_render_scene_destroy(ra);
+        vx_render_scene_destroy(rb);
+    }
     vx_svo_scene_free(&whole);
 }
 
@@ -144,12 +194,143 @@ static void test_damaged(void) {
     }
 }
 
+
+/* The compact layout built from a reader with no device in it (vx_compact_build_reader, what svo_render
+ * --load models does before it makes the device: a device idle through the build ran the H200's frames
+ * 4.7x slower), then handed to vx_render_scene_create_compact: the frames and sizes of create_ex's. The
+ * layout choice create_ex makes, asked first (vx_render_scene_choose_layout). */
+static void test_built_first(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_many(&s, 33);
+    vx_error err = {0};
+    char path[128];
+    snprintf(path, sizeof path, "%s/first.svo", g_dir);
+    REQUIRE(vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = 64}, &s, path, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_svo_scene whole;
+    REQUIRE(vx_svo_read_file(NULL, path, &whole, &err) == VX_OK);
+    /* the choice: as create_ex's, for each layout asked and a budget that makes AUTO compact */
+    vx_render_scene_desc asks[4] = {{.layout = VX_RENDER_LAYOUT_AUTO}, {.layout = VX_RENDER_LAYOUT_PLAIN},
+                                    {.layout = VX_RENDER_LAYOUT_COMPACT}, {.layout = VX_RENDER_LAYOUT_AUTO, .memory_budget = 2048}};
+    for (int k = 0; k < 4; k++) {
+        vx_svo_model_reader* rd = NULL;
+        vx_render_scene* ra = NULL;
+        vx_render_layout lay = (vx_render_layout)99;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        CHECKF(vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &asks[k], &lay, &err) == VX_OK, "%s", err.msg);
+        REQUIRE(vx_render_scene_create_ex(gpu, &whole, &asks[k], &ra, &err) == VX_OK);
+        vx_render_layout_info la;
+        vx_render_scene_layout(ra, &la);
+        CHECKF(lay == la.layout, "ask %d: chose %s, create_ex %s", k, vx_render_layout_name(lay), vx_render_layout_name(la.layout));
+        CHECK(k != 3 || lay == VX_RENDER_LAYOUT_COMPACT);
+        vx_render_scene_destroy(ra);
+        vx_svo_reader_close(rd);
+    }
+    vx_render_layout bad;
+    CHECK(vx_render_scene_choose_layout(gpu, NULL, NULL, &bad, &err) == VX_ERR_INVALID_ARG);
+    /* the layout built with no device, then the scene: create_ex's frames */
+    vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_COMPACT};
+    vx_svo_model_reader* rd = NULL;
+    vx_render_scene *ra = NULL, *rb = NULL;
+    vx_compact_scene c;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+    /* asked for AUTO (plain for this scene): the scene is still the compact layout it was given */
+    vx_result r = vx_render_scene_create_compact(gpu, rd, &c, 0.5, &(vx_render_scene_desc){0}, &rb, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    vx_svo_reader_close(rd);
+    REQUIRE(vx_render_scene_create_ex(gpu, &whole, &sd, &ra, &err) == VX_OK);
+    if (!r) {
+        vx_render_layout_info la, lb;
+        vx_render_scene_layout(ra, &la);
+        vx_render_scene_layout(rb, &lb);
+        CHECK(lb.layout == VX_RENDER_LAYOUT_COMPACT && la.bytes == lb.bytes && la.compact_bytes == lb.compact_bytes &&
+              la.geom_bytes == lb.geom_bytes && lb.build_seconds == 0.5);
+        for (int view = 0; view < 2; view++) {
+            vx_render_desc d = {.width = 80, .height = 64, .mode = view ? VX_RENDER_COLOR : VX_RENDER_ALBEDO, .want_hits = true};
+            vx_render_image a = {0}, b = {0}, b2 = {0};
+            REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rb, &d, &b, &err) == VX_OK);
+            CHECKF(differ(&a, &b, "built first against whole") == 0, "view %d: the frames differ", view);
+            /* the warm-up runs the frame's kernel and leaves the frames as they were */
+            double ms = -1;
+            CHECKF(vx_render_scene_warm_up(rb, &d, 0, &ms, &err) == VX_OK && ms >= 0, "warm-up: %s", err.msg);
+            REQUIRE(vx_render_frame(rb, &d, &b2, &err) == VX_OK);
+            CHECK(differ(&b, &b2, "after the warm-up") == 0);
+            vx_render_image_free(&a), vx_render_image_free(&b), vx_render_image_free(&b2);
+        }
+    }
+    vx_render_scene_destroy(rb);
+    /* past the budget: paged as create_ex's, from the layout built with no device */
+    vx_render_layout_info lw;
+    vx_render_scene_layout(ra, &lw);
+    vx_render_scene_destroy(ra);
+    ra = NULL;
+    vx_render_scene_desc small = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = lw.compact_bytes * 3 / 4,
+                                  .page_level = 3};
+    REQUIRE(vx_render_scene_create_ex(gpu, &whole, &small, &ra, &err) == VX_OK);
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+    rb = NULL;
+    r = vx_render_scene_create_compact(gpu, rd, &c, 0, &small, &rb, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (!r) paged_same(ra, rb, true);
+    vx_render_scene_destroy(ra);
+    vx_render_scene_destroy(rb);
+    /* the reader is used up: a second build fails and leaves nothing (ASan: no leak) */
+    REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) != VX_OK);
+    vx_svo_reader_close(rd);
+    CHECK(vx_render_scene_create_compact(gpu, NULL, NULL, 0, NULL, &rb, &err) == VX_ERR_INVALID_ARG);
+    vx_svo_scene_free(&whole);
+}
+
+/* VX_GPU_MEMORY_LOG=1: the device's memory types and each buffer's allocation reach the logger (how batch 1 of
+ * branch load2 compared the two paths' buffers on the H200); without it, nothing. */
+typedef struct mem_lines {
+    uint32_t types, geometry, other;
+} mem_lines;
+static void mem_log(void* user, vx_log_level level, const char* id, const char* msg) {
+    (void)level;
+    mem_lines* m = user;
+    if (strcmp(id, "gpu.memory") != 0) return;
+    if (!strncmp(msg, "type ", 5)) m->types++;
+    else if (strstr(msg, "'compact geometry'") && strstr(msg, ": type ") && strstr(msg, "heap ")) m->geometry++;
+    else m->other++;
+}
+
+static void test_memory_log(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_many(&s, 5);
+    for (int on = 0; on < 2; on++) {
+        mem_lines m = {0};
+        vx_logger lg = {mem_log, &m};
+        if (on) setenv("VX_GPU_MEMORY_LOG", "1", 1);
+        vx_gpu* g = NULL;
+        vx_error err = {0};
+        vx_result r = vx_gpu_create(&(vx_gpu_desc){.logger = &lg}, &g, &err);
+        unsetenv("VX_GPU_MEMORY_LOG");
+        REQUIRE(r == VX_OK);
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_render_scene_create_ex(g, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rs, &err) ==
+                VX_OK);
+        vx_render_scene_destroy(rs);
+        vx_gpu_destroy(g);
+        if (on) CHECKF(m.types >= 1 && m.geometry == 1 && m.other > 5, "%u types, %u geometry, %u others", m.types, m.geometry, m.other);
+        else CHECKF(m.types + m.geometry + m.other == 0, "%u lines without the variable", m.types + m.geometry + m.other);
+    }
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     snprintf(g_dir, sizeof g_dir, "/tmp/vx_load_gpuXXXXXX");
     if (!mkdtemp(g_dir)) return 1;
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_same_frames);
     RUN(test_damaged);
+    RUN(test_built_first);
+    RUN(test_memory_log);
     vx_gpu_destroy(gpu);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);

@@ -122,6 +122,19 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 0 "svo_render --frame 3" svo_render "$T/anim.svo" "$T/one3.png" --frame 3 --size 48x32 --mode albedo
     cmp -s "$T/seq_03.png" "$T/one3.png" && ok "sequence frame 3 == --frame 3" || bad "sequence frame 3 == --frame 3"
     cmp -s "$T/seq_00.png" "$T/seq_03.png" && bad "frames 0 and 3 differ" || ok "frames 0 and 3 differ"
+    # --load models (the default: the compact layout built model by model before the device is made, AUTO's
+    # plain layout read whole) against --load whole: the same images, a sequence and a later frame alone
+    for lay in compact auto; do
+        same=0
+        svo_render "$T/anim.svo" "$T/lm_##.png" --frames 0..3 --size 48x32 --mode albedo --layout $lay -v >"$T/out" 2>&1
+        svo_render "$T/anim.svo" "$T/lw_##.png" --frames 0..3 --size 48x32 --mode albedo --layout $lay --load whole >/dev/null 2>&1
+        for f in 00 01 02 03; do [ -s "$T/lm_$f.png" ] && cmp -s "$T/lm_$f.png" "$T/lw_$f.png" && same=$((same + 1)); done
+        svo_render "$T/anim.svo" "$T/lm1.png" --frame 2 --size 48x32 --mode albedo --layout $lay >/dev/null 2>&1
+        [ -s "$T/lm1.png" ] && cmp -s "$T/lm1.png" "$T/lm_02.png" && same=$((same + 1))
+        [ $same -eq 5 ] && ok "--load models == --load whole ($lay)" || bad "--load models == --load whole ($lay: $same of 5)"
+    done
+    grep -q "layout is plain: the scene was read whole" "$T/out" && ok "auto's plain layout read whole" ||
+        bad "auto's plain layout read whole"
     expect_status 2 "--frames without #" svo_render "$T/anim.svo" "$T/seq.png" --frames 0..3
     expect_status 1 "--frames past the end" svo_render "$T/anim.svo" "$T/s_#.png" --frames 20..24 --size 8x8
     grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "svo_render names the frame count" || bad "svo_render names the frame count"
@@ -148,11 +161,16 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 1 "svo_render paged --passes" svo_render "$T/demo.svo" "$T/lay_x.png" --layout compact --gpu-budget 20K --page-level 3 --passes gbuffer,direct --size 8x8
     grep -q "paged compact layout" "$T/err" && ok "passes on a paged scene: the reason" || bad "passes on a paged scene: the reason"
     expect_status 2 "svo_render bad --layout" svo_render "$T/demo.svo" "$T/lay_x.png" --layout dense
+    expect_status 2 "svo_render bad --warm-up" svo_render "$T/demo.svo" "$T/lay_x.png" --warm-up -1
     # the compact layout over the budget too: paged, the pages that do not fit drawn coarse, and said
     expect_status 0 "svo_render paged" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 -v
     grep -q "^paging: level 3, [0-9]* pages; after [0-9]* frames [0-9]* resident .* [1-9][0-9]* drawn coarse ([0-9]* refused, .* over the budget)" "$T/out" &&
         ok "-v states the paging and the coarse pages" || bad "-v states the paging and the coarse pages"
     expect_status 0 "svo_render paged, not verbose" svo_render "$T/demo.svo" "$T/lay_g.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32
+    # paged from the layout built model by model (the default --load models) and from the scene read whole
+    svo_render "$T/demo.svo" "$T/lay_gw.pfm" --layout compact --gpu-budget 20K --page-level 3 --mode albedo --size 48x32 --load whole >/dev/null 2>&1
+    [ -s "$T/lay_g.pfm" ] && cmp -s "$T/lay_g.pfm" "$T/lay_gw.pfm" && ok "paged: --load models == --load whole" ||
+        bad "paged: --load models == --load whole"
     grep -q "^note: [1-9][0-9]* pages drawn coarse" "$T/out" && ok "coarse pages noted" || bad "coarse pages noted"
     expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
     # a storage buffer range below the plain words (the helmet at 32768^3 on a 4 GB range, issue 18):

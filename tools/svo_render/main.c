@@ -8,6 +8,7 @@
 #include "formats/image.h"
 #include "photons/photons.h"
 #include "probes/probes.h"
+#include "render/compact.h"
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "tools/common/light.h"
@@ -36,6 +37,7 @@ typedef struct options {
     vx_frame_desc fd;
     const char* timings;
     uint32_t frames; /* --frames N: repeat the frame (timings) */
+    double warm_up;  /* --warm-up S: the kernel back to back before the timed frames */
     /* an animation: --frame N, or --frames A..B (a sequence, OUT has a # run) */
     uint32_t frame_first, frame_last;
     bool sequence;
@@ -58,10 +60,12 @@ static const char* prog = "svo_render";
 
 static options default_options(void) {
     options o = {0};
+    o.load_models = true; /* --load models */
     o.r = vx_render_desc_defaults();
     o.fd = vx_frame_desc_defaults();
     o.passes = VX_PASS_LIST_DEFAULT;
     o.frames = 1;
+    o.warm_up = 0.25;
     return o;
 }
 
@@ -140,6 +144,9 @@ _Noreturn static void usage(int status) {
             "                       kernel when no ao, gi or --show image needs them apart\n"
             "  --timings FILE.csv   per-pass GPU times, one row per frame and pass\n"
             "  --frames N           render the frame N times (timings; default: 1)\n"
+            "  --warm-up S          with --frames N on a GPU: the frame's kernel back to back for S seconds\n"
+            "                       before the timed frames, so that they run at the GPU's working clock\n"
+            "                       (default: %g; 0: none)\n"
             "  --frame N            an animation's frame N (default: 0)\n"
             "  --frames A..B        an animation's frames A to B, one image each: OUT holds a run of #\n"
             "                       replaced by the zero-padded frame number (render_####.png); the\n"
@@ -161,11 +168,11 @@ _Noreturn static void usage(int status) {
             "  --threads N          CPU threads for the probe modes with --cpu (default: 2)\n"
             "  --max-memory SIZE    refuse a scene or probe file that needs more memory than SIZE to\n"
             "                       read (e.g. 512M, 4G; default: no limit; GPU memory not counted)\n"
-            "  --load M             how the file is read: whole (default) reads the scene first; models\n"
-            "                       takes the models one at a time into the compact layout where the GPU\n"
-            "                       single-shader modes render it in that layout without --gpu-budget (the\n"
-            "                       host holds the layout and a few models, not the scene; its frames timed\n"
-            "                       slower on the H200, docs/PERFORMANCE.md issue 18, branch load)\n"
+            "  --load M             how the file is read: models (default) takes the models one at a time\n"
+            "                       into the compact layout where the GPU single-shader modes render it in\n"
+            "                       that layout, paged or not (the host holds the layout and a few models,\n"
+            "                       not the scene), else reads the scene whole first; whole always reads it\n"
+            "                       whole first\n"
             "  --layout L           the scene's layout on the GPU: auto (default), plain or compact. auto\n"
             "                       keeps the plain layout (.svo node words and a colour record per leaf,\n"
             "                       what every pass reads) unless it exceeds --gpu-budget, then the compact\n"
@@ -228,7 +235,7 @@ _Noreturn static void usage(int status) {
             "  %s scene.svo gi.exr --probes scene.probes --mode gi\n"
             "  %s walk.svo walk_####.png --frames 0..23\n",
             prog, vx_render_mode_name(d.r.mode), d.passes, vx_photon_desc_defaults().photons,
-            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, cd.res,
+            vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, d.warm_up, cd.res,
             cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, VX_RENDER_FRAME_LEVELS, d.r.width,
             d.r.height, d.r.spp,
             d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
@@ -262,7 +269,7 @@ static void list_cb(void* user, uint32_t i, const char* name, const char* type) 
 
 static void log_cb(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user;
-    if (level >= VX_LOG_WARN) fprintf(stderr, "%s: %s: %s\n", prog, id, msg);
+    if (level >= VX_LOG_WARN || !strcmp(id, "gpu.memory")) fprintf(stderr, "%s: %s: %s\n", prog, id, msg);
 }
 
 static const char* ext_of(const char* p) {
@@ -447,13 +454,24 @@ static void print_hit_share(const vx_render_image* img) {
     printf("view: %.1f%% of pixels hit geometry\n", n ? 100.0 * (double)hit / (double)n : 0.0);
 }
 
-static vx_result timed_frames(const options* o, vx_render_scene* rs, vx_render_image* img, vx_error* err) {
+static vx_result timed_frames(const options* o, vx_render_scene* rs, bool warm, vx_render_image* img, vx_error* err) {
     if (o->frames <= 1) return VX_OK;
     double* gpu_ms = calloc(o->frames, 2 * sizeof *gpu_ms);
     if (!gpu_ms) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     double* wall_ms = gpu_ms + o->frames;
     vx_result r = VX_OK;
     gpu_ms[0] = img->gpu_seconds * 1e3, wall_ms[0] = 0;
+    /* The kernel back to back first (a GPU, not a CPU device): the H200's SM clock falls from 1980 to
+     * 345 MHz within 2-3 s of idleness and the frames alone (a few percent of the time busy, the rest
+     * reading back) did not raise it: 4.7x the frame time after a load that left the device idle for
+     * seconds; 0.2 s of this brought the clock and the times back (docs/PERFORMANCE.md, issue 18, load2) */
+    if (warm && o->warm_up > 0) {
+        double wms = 0, tw = vx_time_now();
+        r = vx_render_scene_warm_up(rs, &o->r, o->warm_up, &wms, err);
+        if (!r && o->verbose)
+            printf("warm-up: the frame's kernel back to back for %.3f s (its last frames %.3f ms GPU)\n",
+                   vx_time_now() - tw, wms);
+    }
     uint32_t n = 1;
     for (; !r && n < o->frames; n++) {
         vx_render_image_free(img);
@@ -732,6 +750,11 @@ int main(int argc, char** argv) {
             NEED();
             if (!parse_uint(argv[++i], &o.frames) || !o.frames || o.frames > 100000)
                 usage_error("bad frame count '%s'", argv[i]);
+        } else if (!strcmp(a, "--warm-up")) {
+            NEED();
+            char* end = NULL;
+            o.warm_up = strtod(argv[++i], &end);
+            if (!end || *end || !(o.warm_up >= 0 && o.warm_up <= 60)) usage_error("bad --warm-up '%s' (seconds, 0..60)", argv[i]);
         } else if (!strcmp(a, "--device")) {
             NEED();
             o.device = argv[++i];
@@ -828,6 +851,8 @@ int main(int argc, char** argv) {
                    o.r.camera.target[0], o.r.camera.target[1], o.r.camera.target[2]);
         if (o.r.lod) printf(" --lod %g", o.r.lod_pixels);
         if (o.device) printf(" --device %s", o.device);
+        if (!o.load_models) printf(" --load whole");
+        if (o.frames > 1) printf(" --frames %u --warm-up %g", o.frames, o.warm_up);
         if (pipeline) {
             char pl[160];
             vx_pass_list_format(&passes, pl, sizeof pl);
@@ -845,13 +870,13 @@ int main(int argc, char** argv) {
     vx_budget budget; /* --max-memory for what the files make us allocate; outlives the scene */
     vx_budget_init(&budget, o.max_memory, NULL);
     const vx_allocator* A = o.max_memory ? &budget.allocator : NULL;
-    /* --load models: the models one at a time into the GPU layout where the GPU scene is all that
-     * reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it may be
-     * compact; the scene graph (instances, lights, sky, frames) is read first. Not the default: its
-     * frames timed 4x slower on the H200, the cause not found (docs/PERFORMANCE.md, branch load) */
+    /* --load models (the default): the models one at a time into the GPU layout where the GPU scene is
+     * all that reads them (the single-shader modes: no CPU render, passes, probes or voxel lights) and it
+     * may be compact; the scene graph (instances, lights, sky, frames) is read first. Its frames time as
+     * the scene read whole's since the layout is built before the device is made (below) */
     vx_svo_model_reader* rd = NULL;
     bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
-                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN && !o.scene_desc.memory_budget; /* a budget: paging */
+                     o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN; /* over --gpu-budget: paged from the layout */
     if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
                   : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
@@ -986,13 +1011,52 @@ int main(int argc, char** argv) {
         printf("device: CPU reference (double precision)\n");
         r = vx_render_cpu(&scene, &o.r, NULL, &img, &err);
     } else {
-        r = vx_gpu_create(&(vx_gpu_desc){.device = o.device, .validate = o.validate, .logger = &logger}, &gpu, &err);
+        /* --load models: the compact layout is built from the reader before the device is made. A device
+         * left idle for the seconds a build takes ran every later frame 4.7x slower on the H200 (0.6 ms
+         * against 2.8, the sphere at 8192 in 3,944 regions; the same after --load whole with the device
+         * idle 3 s: docs/PERFORMANCE.md, issue 18, branch load2). AUTO's choice needs the device's memory:
+         * a first device answers it and is closed before the build (or the read, where AUTO is plain). */
+        vx_compact_scene built;
+        bool have_built = false;
+        double built_s = 0, tb = vx_time_now();
+        r = VX_OK;
+        vx_gpu_desc gd = {.device = o.device, .validate = o.validate, .logger = &logger};
+        if (rd) {
+            vx_render_layout lay = o.scene_desc.layout;
+            if (lay == VX_RENDER_LAYOUT_AUTO) {
+                r = vx_gpu_create(&gd, &gpu, &err);
+                if (!r) r = vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &o.scene_desc, &lay, &err);
+                vx_gpu_destroy(gpu);
+                gpu = NULL;
+            }
+            if (!r && lay == VX_RENDER_LAYOUT_COMPACT) {
+                vx_compact_desc cd = {.attr_regions = true,
+                                      .bricks = o.scene_desc.compact_bricks == VX_RENDER_BRICKS_DICT
+                                                    ? VX_COMPACT_BRICKS_DICT
+                                                    : VX_COMPACT_BRICKS_INLINE};
+                r = vx_compact_build_reader(&cd, rd, &built, &err);
+                have_built = !r, built_s = vx_time_now() - tb;
+            } else if (!r) { /* plain: the scene whole, read before the device as --load whole reads it */
+                vx_svo_reader_close(rd);
+                rd = NULL;
+                vx_svo_scene_free(&owned);
+                double tr = vx_time_now();
+                r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
+                if (!r) vx_svo_scene_frame(&owned, o.frame_first, &scene);
+                if (o.verbose && !r)
+                    printf("note: the layout is plain: the scene was read whole in %.3f s, peak host memory %s\n",
+                           vx_time_now() - tr, vx_tool_bytes(vx_peak_rss()));
+            }
+        }
+        if (!r) r = vx_gpu_create(&gd, &gpu, &err);
+        if (r && have_built) vx_compact_free(&built), have_built = false;
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
-            double t1 = vx_time_now();
+            double t1 = have_built ? tb : vx_time_now();
             if (rd) {
-                r = vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
+                r = have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &o.scene_desc, &rs, &err)
+                               : vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
                 if (!r) { /* the bounds (where the reader computes them) and the cells' boxes, known now */
                     const vx_svo_scene* g = vx_svo_reader_scene(rd);
                     memcpy(owned.bounds_min, g->bounds_min, sizeof owned.bounds_min);
@@ -1002,15 +1066,6 @@ int main(int argc, char** argv) {
                 }
                 vx_svo_reader_close(rd);
                 rd = NULL;
-                if (r == VX_ERR_LIMIT) { /* over the budget: pages need the scene whole; read it again */
-                    if (o.verbose) printf("note: %s; the scene is read whole\n", err.msg);
-                    vx_svo_scene_free(&owned);
-                    r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
-                    if (!r) {
-                        vx_svo_scene_frame(&owned, o.frame_first, &scene);
-                        r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
-                    }
-                }
             } else {
                 r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
             }
@@ -1088,7 +1143,7 @@ int main(int argc, char** argv) {
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
             }
-            if (!r) r = timed_frames(&o, rs, &img, &err);
+            if (!r) r = timed_frames(&o, rs, !vx_gpu_is_cpu(gpu), &img, &err);
             if (!r && o.view2_out) {
                 /* the second view: its share of hits, its frames, its image */
                 vx_render_image img2 = {0};
@@ -1101,7 +1156,7 @@ int main(int argc, char** argv) {
                 r = vx_render_frame(rs, &o.r, &img2, &err);
                 o.r.want_hits = false;
                 if (!r) print_hit_share(&img2);
-                if (!r) r = timed_frames(&o, rs, &img2, &err);
+                if (!r) r = timed_frames(&o, rs, !vx_gpu_is_cpu(gpu), &img2, &err);
                 if (!r) r = write_image(&o, o.view2_out, &img2, &err);
                 if (!r) printf("wrote %s\n", o.view2_out);
                 vx_render_image_free(&img2);
