@@ -396,6 +396,7 @@ int main(int argc, char** argv) {
     int nkern = 1; /* 0: the built-in kernel */
     /* per kernel: the screen cull (-1: the library's) */
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     char klabel[9][96];
     uint32_t runs = 15;
     double warmup = 0.5;
@@ -446,20 +447,27 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
             char* list = argv[++i];
             for (char* t = strtok(list, ","); t; t = strtok(NULL, ",")) {
-                /* ENTRY@cM: the kernel with the screen cull M (0 off, 1 on);
+                /* ENTRY@cM[pN]: the kernel with the screen cull M (0 off, 1 on) and
+                 * the primary rays' starts below the root N (0 off, 1 on; without:
+                 * the library's default, on for GPUs, off for CPU devices);
                  * @cM alone: the built-in kernel so; another kernel without it: off (main's trace.comp
                  * reads no rectangle) */
                 if (nkern < 9) {
                     snprintf(klabel[nkern], sizeof klabel[nkern], "%s", t);
                     char* at = strchr(t, '@');
                     if (at) {
-                        unsigned cc = 0;
-                        char extra;
-                        if (sscanf(at, "@c%u%c", &cc, &extra) != 1 || cc > 1) {
-                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1\n", at);
+                        const char* q = at + 1;
+                        bool ok = q[0] == 'c' && (q[1] == '0' || q[1] == '1');
+                        unsigned cc = ok ? (unsigned)(q[1] - '0') : 0;
+                        int pp = -1;
+                        if (ok) q += 2;
+                        if (ok && q[0] == 'p' && (q[1] == '0' || q[1] == '1')) pp = q[1] - '0', q += 2;
+                        if (!ok || *q) {
+                            fprintf(stderr, "render_bench: --kernels: '%s': want @c0 or @c1, optionally p0 or p1\n", at);
                             return 2;
                         }
                         kcull[nkern] = (int)cc;
+                        kpath[nkern] = pp;
                         *at = 0;
                         if (!*t) {
                             kname[nkern] = klabel[nkern], nkern++;
@@ -646,6 +654,7 @@ int main(int argc, char** argv) {
                     }
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     vx__render_scene_trace_variant(rs, kcull[ki]);
+                    vx__render_scene_trace_path(rs, kpath[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

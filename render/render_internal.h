@@ -34,6 +34,17 @@ typedef struct vx__gpu_inst {
     float lo[4];    /* rounding errors of r[0..2][3] (the rebased walk of deep models keeps the origin in hi + lo) */
 } vx__gpu_inst;
 
+/* A start below the root for the primary rays of one screen tile
+ * (trace.comp, one instance): rays whose walk starts well inside one of the
+ * children of node X begin at X's loop top with that child next, X's
+ * ancestors on the stack, instead of descending from the root. */
+#define VX__PATHS 64
+typedef struct vx__gpu_path {
+    uint32_t info[4];   /* X's depth dx (>= 1), X's word (model-relative), the model, 0 */
+    float cube[4];      /* X's corner in the model cube's [1,2] coordinates, its side */
+    uint32_t nodes[24]; /* the words of X's ancestors (dx of them), the root first */
+} vx__gpu_path;
+
 typedef struct vx__gpu_frame {
     float fwd[4];    /* w: t_start */
     float rx[4];     /* w: ortho */
@@ -64,6 +75,10 @@ typedef struct vx__gpu_frame {
     /* trace_compact.comp with one instance and the whole layout resident:
      * that instance's model's CModel (compact_gpu.c cmodel_gpu, 14 words) */
     uint32_t cmodel0[16];
+    /* trace.comp with one instance: starts below the root (tiles: per
+     * screen tile the index of one, VX__TILE_NONE none; render_scene.c
+     * frame_paths) */
+    vx__gpu_path paths[VX__PATHS];
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in
@@ -164,6 +179,10 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
  * built-in kernel, off for another; 0 off, 1 on), for the kernel set by
  * vx__render_scene_trace_kernel. */
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
+/* Benchmarks and tests: the primary rays' starts below the root
+ * (trace.comp, scenes of one instance; -1 the default: on for GPUs, off for
+ * CPU devices; 0 off: every walk from the root; 1 on). */
+void vx__render_scene_trace_path(vx_render_scene* rs, int path);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

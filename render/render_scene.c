@@ -15,9 +15,23 @@
 _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, inst0) == 224 &&
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
                    offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, cmodel0) == 2416 &&
-                   sizeof(vx__gpu_frame) == 2416 + 64 && 2 * VX__TILES_X * VX__TILES_X == 2048,
+                   2 * VX__TILES_X * VX__TILES_X == 2048 && offsetof(vx__gpu_frame, paths) == 2480 &&
+                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && sizeof(vx__gpu_frame) == 2480 + 128 * VX__PATHS,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
+
+/* The top of a model's octree on the host, for the primary rays' start
+ * below the root (frame_path): its descriptors from the root down, level by
+ * level, each inner child listed once per parent listed (a DAG's shared
+ * block is listed again under each), with its model-relative word and the
+ * entry of its first inner child (the others follow in octant order;
+ * TOP_NONE where they are not listed). At most TOP_NODES entries a model:
+ * the path stops where the list does. */
+typedef struct top_node {
+    uint32_t desc, word, kids;
+} top_node;
+#define TOP_NONE 0xFFFFFFFFu
+#define TOP_NODES 4096u
 
 /* Where a model's node words (or colour records) live in the shared buffer:
  * [off, off + cap) words are its region, the first `have` of them hold its
@@ -83,6 +97,7 @@ struct vx_render_scene {
     /* benchmarks and tests: the screen cull (-1: on unless alt_spv, 0 off, 1
      * on); vx__render_scene_trace_variant */
     int cull;
+    int path; /* the starts below the root: -1 on for GPUs, off for CPU devices; 0 off, 1 on (vx__render_scene_trace_path) */
     uint64_t last_traced; /* the last frame's traced pixels */
     bool last_cull;       /* and whether they were not the whole image */
     uint32_t max_depth;
@@ -94,6 +109,8 @@ struct vx_render_scene {
     region* creg; /* colour records, per model */
     arena wa, ca;
     vx__gpu_model* gm;  /* host copy of the models buffer */
+    top_node** top;     /* per model: the top of its octree (NULL: none; top_list) */
+    uint32_t* top_count;
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
     uint32_t* mcells;   /* per model: its cells' box (vx_svo_model_cell_box), lo[3] and hi[3]: the instances' boxes */
     vx__buffer stage;   /* staging for updates where the buffers are not mapped */
@@ -211,6 +228,36 @@ static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
     if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
 }
 
+/* Lists the top of model mi's octree (top_node) from its words w[0, n)
+ * with root `root`, in place of the list it had. A list that cannot be
+ * made (no memory, words out of their range) is none: the primary rays
+ * then start at the root. */
+static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32_t n, uint32_t root) {
+    vx_free(&rs->alloc, rs->top[mi]);
+    rs->top[mi] = NULL;
+    rs->top_count[mi] = 0;
+    if (!w || root >= n) return;
+    top_node* t = vx_alloc(&rs->alloc, TOP_NODES * sizeof *t);
+    if (!t) return;
+    uint32_t count = 1;
+    t[0] = (top_node){.desc = w[root], .word = root, .kids = TOP_NONE};
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t d = t[i].desc, inner = (d >> 8) & ~d & 0xFFu, k = (uint32_t)__builtin_popcount(inner);
+        if (!k) continue;
+        if (k > TOP_NODES - count) break; /* the list ends: this and later entries keep TOP_NONE */
+        /* the children's block (svo/svo.h), its words checked against n */
+        uint32_t p = d >> 17, at = t[i].word;
+        if (p < 1 || p > at) break;
+        uint32_t blk = at - p;
+        if ((d >> 16) & 1u) blk = w[blk];
+        if (blk >= n || k > n - blk) break;
+        t[i].kids = count;
+        for (uint32_t c = 0; c < k; c++) t[count++] = (top_node){.desc = w[blk + c], .word = blk + c, .kids = TOP_NONE};
+    }
+    rs->top[mi] = t;
+    rs->top_count[mi] = count;
+}
+
 /* The plain layout's node words and colour records of s. */
 static void plain_size(const vx_svo_scene* s, uint64_t* words, uint64_t* colors) {
     *words = *colors = 0;
@@ -242,9 +289,11 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
     rs->creg = vx_calloc(&rs->alloc, mcount, sizeof *rs->creg);
     rs->msize = vx_calloc(&rs->alloc, mcount, 4 * sizeof *rs->msize);
     rs->mcells = vx_calloc(&rs->alloc, mcount, 6 * sizeof *rs->mcells);
+    rs->top = vx_calloc(&rs->alloc, mcount, sizeof *rs->top);
+    rs->top_count = vx_calloc(&rs->alloc, mcount, sizeof *rs->top_count);
     vx__gpu_model* gm = rs->gm;
     vx_result r = VX_OK;
-    if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize || !rs->mcells) {
+    if (!nw || !cw || !gm || !rs->wreg || !rs->creg || !rs->msize || !rs->mcells || !rs->top || !rs->top_count) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory staging %llu node words",
                     (unsigned long long)words);
         goto done;
@@ -269,6 +318,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             continue;
         }
         if (m->node_count) memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
+        top_list(rs, i, m->nodes, m->node_count, m->root);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
         gm[i].box = model_box(m);
@@ -741,6 +791,7 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     rs->precise = max_depth > VX_RENDER_PRECISE_DEPTH;
     rs->force_precise = -1;
     rs->cull = -1;
+    rs->path = -1;
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
@@ -995,6 +1046,9 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_bvh_free(&rs->bvh);
     vx_allocator a = rs->alloc;
     vx_free(&a, rs->inst);
+    for (uint32_t i = 0; rs->top && i < rs->model_count; i++) vx_free(&a, rs->top[i]);
+    vx_free(&a, rs->top);
+    vx_free(&a, rs->top_count);
     vx_free(&a, rs->gm);
     vx_free(&a, rs->wreg);
     vx_free(&a, rs->creg);
@@ -1292,6 +1346,9 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     commit_room(&rs->wa, rs->wreg, mi, &wp, whave);
     commit_room(&rs->ca, rs->creg, mi, &cp, chave);
     rs->gm[mi] = gm;
+    /* the words below wvalid stay on the GPU and in m->nodes (the caller's
+     * model holds them all), so the list is made from m's words */
+    top_list(rs, mi, m->nodes, nc, m->root);
     rs->deep = 0, rs->far = false;
     for (uint32_t i = 0; i < rs->model_count; i++)
         rs->deep = deep_level(rs->deep, &rs->gm[i]), rs->far |= (rs->gm[i].flags & VX__MODEL_FAR) != 0;
@@ -1341,6 +1398,18 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
     if (!rs) return;
     rs->cull = cull < 0 ? -1 : cull > 0;
+}
+
+void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
+    if (rs) rs->path = path < 0 ? -1 : path > 0;
+}
+
+/* Whether the trace kernel starts primary rays below the root (its
+ * PATH_START constant): off on CPU devices by default, where lavapipe ran
+ * the start's code masked for every ray, 0.45-0.65 of the rays per CPU
+ * second (issue 21's fourteenth sitting) */
+static bool path_on(const vx_render_scene* rs) {
+    return rs->path < 0 ? !vx_gpu_is_cpu(rs->gpu) : rs->path > 0;
 }
 
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
@@ -1547,6 +1616,142 @@ vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], co
     return VX_OK;
 }
 
+/* The model-space start of the ray through image point (x, y) (pixels,
+ * edges included) of frame f in instance `in` (inv: model from world), as
+ * trace.comp starts it: its origin, or its entry into the model box
+ * [0, bhi] (*entry set); false where it misses the box. */
+static bool ray_start(const vx__frame* f, const double inv[12], const double bhi[3], double x, double y, double p[3],
+                      bool* entry) {
+    double u = x / f->width * 2 - 1, v = 1 - y / f->height * 2, ow[3], dw[3], om[3], dm[3];
+    for (int k = 0; k < 3; k++) {
+        double off = u * f->rx[k] + v * f->uy[k];
+        ow[k] = f->ref[k] + (f->ortho ? off : f->t_start * off);
+        dw[k] = f->ortho ? f->fwd[k] : f->fwd[k] + off;
+    }
+    for (int r = 0; r < 3; r++) {
+        om[r] = inv[4 * r] * ow[0] + inv[4 * r + 1] * ow[1] + inv[4 * r + 2] * ow[2] + inv[4 * r + 3];
+        dm[r] = inv[4 * r] * dw[0] + inv[4 * r + 1] * dw[1] + inv[4 * r + 2] * dw[2];
+    }
+    double te = 0, tx = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        if (dm[k] == 0) {
+            if (!(om[k] >= 0 && om[k] <= bhi[k])) return false;
+            continue;
+        }
+        double a = -om[k] / dm[k], b = (bhi[k] - om[k]) / dm[k];
+        te = fmax(te, fmin(a, b)), tx = fmin(tx, fmax(a, b));
+    }
+    if (!(te < tx)) return false;
+    for (int k = 0; k < 3; k++) p[k] = om[k] + dm[k] * te;
+    *entry = te > 0;
+    return true;
+}
+
+/* Starts below the root for the primary rays of a scene of one instance
+ * (vx__gpu_frame.paths and tiles; trace.comp's trace_model). Per screen
+ * tile (as vx__frame_tiles cuts the image) whose corner rays start at
+ * their origins inside the model box (the eye of a perspective view inside
+ * it: one point for the whole frame) the box of those starts is taken down
+ * the model's listed top (top_node) while it lies in one inner child: X,
+ * the node where that stops. The kernel checks per ray that its start lies
+ * well inside one of X's children (the walk from the root then descends to
+ * X without an advance), so the box only proposes: a ray whose start lies
+ * elsewhere walks from the root. X is no deeper than a rebased model's
+ * frame level less one (the walk moves into that frame by a push of its
+ * own). Distinct starts take records in order; past VX__PATHS a tile takes
+ * the deepest record whose X holds its box, or none. Not for LOD or the
+ * beam (their walks start otherwise) or the float64 variant. Tiles whose
+ * rays enter the model box (oblique views, overviews) get none: their
+ * rays' starts spread over X's children and, on the H200, the warps' lanes
+ * that then start at different nodes lost 6-16% of the rays/s though they
+ * took 4-27% fewer steps (issue 21's fourteenth sitting). */
+static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
+                        vx__gpu_frame* gf) {
+    uint32_t W = f->width, H = f->height, s = 3;
+    while (((W + (1u << s) - 1) >> s) > VX__TILES_X || ((H + (1u << s) - 1) >> s) > VX__TILES_X) s++;
+    uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
+    gf->tile_info[0] = s, gf->tile_info[1] = tx;
+    for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
+    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || !path_on(rs) || !W || !H) return;
+    const inst_host* in = &rs->inst[0];
+    uint32_t mi = in->model;
+    if (mi >= rs->model_count || !rs->top[mi]) return;
+    const vx__gpu_model* m = &rs->gm[mi];
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return;
+    const top_node* t = rs->top[mi];
+    /* hm: twice the kernel's margin (2^-16 of the cube), so that the box's
+     * rays pass its test despite their float rounding */
+    double side = ldexp(1.0, (int)m->depth), hm = ldexp(side, -15), bhi[3];
+    uint32_t bsh = m->depth > 10 ? m->depth - 10 : 0;
+    for (int k = 0; k < 3; k++) bhi[k] = (double)((((m->box >> (10 * k)) & 1023u) + 1u) << bsh);
+    uint32_t max_dq = m->depth - 1;
+    if (m->rebase && m->rebase - 1 < max_dq) max_dq = m->rebase - 1;
+    if (max_dq > 24) max_dq = 24;
+    uint32_t npaths = 0;
+    for (uint32_t y = 0; y < ty; y++)
+        for (uint32_t x = 0; x < tx; x++) {
+            double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY}, p[3];
+            bool all = true, entry = false;
+            for (int c = 0; c < 4 && all; c++) {
+                double cx = fmin((double)((x + (c & 1)) << s), W), cy = fmin((double)((y + (c >> 1)) << s), H);
+                all = ray_start(f, in->inv, bhi, cx, cy, p, &entry) && !entry;
+                for (int k = 0; all && k < 3; k++) plo[k] = fmin(plo[k], p[k]), phi[k] = fmax(phi[k], p[k]);
+            }
+            if (!all) continue;
+            /* down the listed nodes while the box lies in one inner child:
+             * X, the node where it stops (the box across its mid-planes, or
+             * in a child that is empty, a leaf or not listed) */
+            uint32_t chain[25], i = 0, d = 0;
+            double lo[3] = {0, 0, 0}, size = side;
+            for (;;) {
+                chain[d] = t[i].word;
+                double half = 0.5 * size;
+                uint32_t oct = 0;
+                bool straddle = false;
+                for (int k = 0; k < 3; k++) {
+                    double mid = lo[k] + half;
+                    if (plo[k] >= mid + hm) oct |= 1u << k;
+                    else if (!(phi[k] <= mid - hm)) straddle = true;
+                }
+                uint32_t dsc = t[i].desc, inner = (dsc >> 8) & ~dsc & 0xFFu;
+                if (straddle || d + 1 > max_dq || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
+                i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
+                for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;
+                size = half, d++;
+            }
+            uint32_t dq = d;
+            if (!dq) continue; /* X the root: nothing to skip */
+            float cube[4];
+            for (int k = 0; k < 3; k++) cube[k] = (float)(1.0 + lo[k] / side);
+            cube[3] = (float)(size / side);
+            uint32_t r = 0;
+            while (r < npaths && !(gf->paths[r].info[0] == dq && gf->paths[r].info[1] == chain[dq] &&
+                                   !memcmp(gf->paths[r].cube, cube, sizeof cube)))
+                r++;
+            if (r == npaths && npaths < VX__PATHS) {
+                vx__gpu_path* g = &gf->paths[npaths++];
+                memset(g, 0, sizeof *g);
+                g->info[0] = dq, g->info[1] = chain[dq], g->info[2] = mi;
+                memcpy(g->cube, cube, sizeof cube);
+                memcpy(g->nodes, chain, dq * sizeof chain[0]);
+            } else if (r == npaths) {
+                /* the table is full: the deepest record whose X holds the box */
+                uint32_t best = VX__TILE_NONE;
+                for (uint32_t j = 0; j < npaths; j++) {
+                    const float* kc = gf->paths[j].cube;
+                    bool holds = true;
+                    for (int k = 0; k < 3; k++) {
+                        double a = (kc[k] - 1.0) * side, b = a + kc[3] * side;
+                        holds = holds && plo[k] >= a + hm && phi[k] <= b - hm;
+                    }
+                    if (holds && (best == VX__TILE_NONE || kc[3] < gf->paths[best].cube[3])) best = j;
+                }
+                r = best;
+            }
+            gf->tiles[y * tx + x] = (uint16_t)r;
+        }
+}
+
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
                               vx__frame* f, double* seconds, vx_error* err) {
     vx_gpu* g = rs->gpu;
@@ -1574,6 +1779,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     fill_single_instance(rs);
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
+    if (rs->inst_count <= 1) frame_paths(rs, f, precise, beam, rs->frame.map);
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
@@ -1591,9 +1797,11 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         vx__gpu_frame* gf = rs->frame.map;
         vx__frame_tiles(f, &rs->bvh, gf->tiles, &gf->tile_info[0], &gf->tile_info[1]);
     }
-    /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 theirs; 8 the float walk's DEEP,
+    /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 the starts below the root
+     * (PATH_START; other kernels' 7 is theirs); 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
-    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1, 0,
+    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
+                         rs->inst_count <= 1 && path_on(rs),
                          precise ? 0 : rs->deep, rs->far, 0, smap, 0};
     uint64_t key = 1 + precise;
     for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
@@ -1620,7 +1828,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         if (rs->alt_beam) bd.spirv = rs->alt_beam, bd.spirv_size = rs->alt_beam_size, bkey += 0x100000u * (rs->alt_tag + 1);
         bd.label = "beam";
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
-        bd.spec[6] = 0; /* trace.comp's one-sample switch */
+        bd.spec[6] = bd.spec[7] = 0; /* trace.comp's one-sample switch and starts */
         for (int i = 0; i < 10; i++) bkey = bkey * 131 + bd.spec[i];
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }

@@ -40,6 +40,9 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_FLAT_ITEMS
 #define TRACE_CULL
 #define TRACE_TILES
+#ifndef PRECISE
+#define TRACE_PATH
+#endif
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
@@ -121,14 +124,23 @@ void shade(uvec2 px) {
         h.cell = uvec3(0u); // a miss's hits record is written too
         // several instances: the walk from the pixel's tile's node, or no
         // walk where the tile's rays meet no leaf's box (vx__frame_tiles)
-        uint start = 0u;
-        if (USE_BVH && !MISS_PASS) {
+        // one instance: the start below the root for the tile's rays
+        // (frame_paths in render_scene.c), 0xFFFF none
+        uint start = 0u, tile = 0xFFFFu;
+        if (!MISS_PASS) {
             uint ti = min((px.y >> F.tile_info.x) * F.tile_info.y + (px.x >> F.tile_info.x), 1023u);
-            start = (F.tiles[ti >> 3u][(ti >> 1u) & 3u] >> ((ti & 1u) * 16u)) & 0xFFFFu;
+            tile = (F.tiles[ti >> 3u][(ti >> 1u) & 3u] >> ((ti & 1u) * 16u)) & 0xFFFFu;
+            if (USE_BVH) start = tile;
         }
         g_start = start;
+#ifdef TRACE_PATH
+        g_path = USE_BVH || tile >= uint(PATHS) ? 0xFFFFu : tile; // the primary ray's (trace_model)
+#endif
         bool hit = MISS_PASS || start == 0xFFFFu ? false : trace_scene(o, d, 0.0, false, h);
         g_start = 0u; // the shadow ray's walk from the root
+#ifdef TRACE_PATH
+        g_path = 0xFFFFu;
+#endif
         uint prim_iter = g_iter;
         precise vec4 c = vec4(0.0);
         precise vec3 nw = vec3(0.0);

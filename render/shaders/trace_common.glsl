@@ -68,6 +68,19 @@ struct Model { uint node_off, color_off, depth, root, root_attr, flags, rebase, 
 // x of the frame reference to about 2^-48 relative)
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
+#ifdef TRACE_PATH
+// A start below the root (vx__gpu_path): info.x the depth dx of node X,
+// .y X's word (model-relative), .z the model; cube: X's cube ([1,2] units
+// of the model cube: corner xyz, side w); nodes: X's ancestors, the root
+// first
+struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; };
+const int PATHS = 64;
+// The starts on (render_scene.c: off on CPU devices, where lavapipe (Mesa
+// 22.3), which runs every instruction of the kernel masked for every ray,
+// traced 0.45-0.65 of the rays per CPU second with them, the start's code
+// never taken included; issue 21's fourteenth sitting)
+layout(constant_id = 7) const bool PATH_START = true;
+#endif
 
 layout(std140, binding = 0) uniform Frame {
     vec4 fwd;   // w: t_start
@@ -103,6 +116,11 @@ layout(std140, binding = 0) uniform Frame {
     // tiles' shift, .y tiles a row (vx__gpu_frame.tiles)
     layout(offset = 352) uvec4 tile_info;
     layout(offset = 368) uvec4 tiles[128];
+#endif
+#ifdef TRACE_PATH
+    // trace.comp, one instance: the primary rays' starts below the root
+    // (trace_model), per screen tile the index of one (tiles, 0xFFFF none)
+    layout(offset = 2480) PathRec paths[PATHS]; // after trace_compact.comp's cmodel0 (vx__gpu_frame)
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
@@ -168,6 +186,11 @@ struct Hit {
 };
 
 uint g_iter = 0u;
+#ifdef TRACE_PATH
+// The start below the root (F.paths) the next model walk may take: a
+// primary ray's (trace.comp), 0xFFFF none
+uint g_path = 0xFFFFu;
+#endif
 // The iteration guard (MAX_ITER) and count. trace.comp's colour kernel
 // (primary and shadow rays) has neither where it writes no hits: 1-5% more
 // pixels/s on the H200 (issue 21); its advance then compares the crossing
@@ -431,6 +454,48 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         int idx = 0;
         WALK_FIRST_CHILD(RVEC3)
+#ifdef TRACE_PATH
+        // A primary ray whose walk starts at a point well inside the cube
+        // of K, a child of node X (F.paths[g_path], the host's guess for
+        // the ray's screen tile), descends from the root to X without an
+        // advance: every push's child is the one holding the start (tmin is
+        // 0 here: the walk's [1,2] ray starts at ol). Its state at X's loop
+        // top is then known: X, K's mirrored corner and octant, X's
+        // ancestors on the stack (hh, the root's exit, only makes the next
+        // push store its entry where the walk might not, the same value).
+        // 2^-16 of the model cube between the start and K's faces keeps
+        // every decision of the skipped pushes (crossing times of the
+        // mid-planes and the exits against tmin; rounding errors below
+        // 2^-20 of |coef|) the walk's, so the steps from X on are the
+        // walk's, bit for bit; a start on the root cube's entry face (the
+        // mirrored 2) needs none on that side, its planes being K's and
+        // its ancestors' far sides. Not with LOD (a push may stop), the
+        // beam (tmin moved), the compact layout or the float64 variant.
+        if (PATH_START && g_path != 0xFFFFu && !USE_BVH && !LOD && !COMPACT && BEAM <= 1u && tmin == 0.0 && tmin <= tmax &&
+            mi == F.paths[g_path].info.z) {
+            const float dlt = 1.0 / 65536.0;
+            vec3 cc = F.paths[g_path].cube.xyz;
+            float cw = F.paths[g_path].cube.w;
+            // mirrored (exact: 3 - x for x in [1, 2]): the start, X's corner
+            // and that of K, the child of X holding the start
+            bvec3 keep = bvec3((oct & 1) != 0, (oct & 2) != 0, (oct & 4) != 0);
+            vec3 om = mix(3.0 - ol, ol, keep);
+            vec3 px = mix(3.0 - cw - cc, cc, keep);
+            cw *= 0.5;
+            vec3 pk = mix(px, px + cw, greaterThanEqual(om, px + cw));
+            vec3 top = mix(pk + (cw - dlt), vec3(3.0), equal(pk + cw, vec3(2.0)));
+            if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, top))) {
+                int dx = int(F.paths[g_path].info.x);
+                for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(nbase + F.paths[g_path].nodes[j >> 2][j & 3]);
+                parent = nbase + F.paths[g_path].info.y;
+                scale = S_MAX - 1 - dx;
+                scale_exp2 = cw;
+                pos = pk;
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            }
+        }
+#endif
 #ifndef PRECISE
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);

@@ -55,16 +55,35 @@ static beam_stats check_view(const char* name, vx_render_scene* rs, vx_render_de
     d.beam = 0;
     vx_render_image ref = {0};
     vx_error err = {0};
+    vx__render_scene_trace_path(rs, 1); /* the starts below the root, even where a CPU device's default is off */
     vx_result r = vx_render_frame(rs, &d, &ref, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return st;
     size_t n = (size_t)d.width * d.height;
-    for (size_t i = 0; i < n; i++) {
-        st.iter_off += ref.hits[i].iterations;
+    /* the walk from the root: the primary rays' start below it on the
+     * frame's octree path (a frame without the beam) must change no pixel
+     * either, and the beam's saving is counted against the root's walk */
+    vx_render_image root = {0};
+    vx__render_scene_trace_path(rs, 0);
+    r = vx_render_frame(rs, &d, &root, &err);
+    vx__render_scene_trace_path(rs, -1);
+    CHECKF(r == VX_OK, "%s (walk from the root): %s", name, err.msg);
+    size_t pdiff = 0;
+    double piter = 0;
+    for (size_t i = 0; !r && i < n; i++) {
+        const vx_render_hit *a = &ref.hits[i], *c = &root.hits[i];
+        pdiff += !(a->instance == c->instance && !memcmp(a->cell, c->cell, sizeof a->cell) &&
+                   !memcmp(&a->t, &c->t, sizeof a->t) && !memcmp(&ref.pixels[4 * i], &root.pixels[4 * i], 16));
+        st.iter_off += c->iterations;
+        piter += a->iterations;
         if (ref.hits[i].instance == VX_RENDER_NO_HIT) continue;
         st.hits++;
     }
+    vx_render_image_free(&root);
     st.iter_off /= (double)n;
+    printf("%-34s the path's start: %zu of %zu pixels differ; %.2f iterations per ray (%.2f from the root)\n", name,
+           pdiff, n, piter / (double)n, st.iter_off);
+    CHECKF(pdiff == 0, "%s: %zu pixels differ between the path's start and the walk from the root", name, pdiff);
     for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++) {
         d.beam = blocks[b];
         vx_render_image bi = {0};

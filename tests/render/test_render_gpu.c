@@ -611,6 +611,189 @@ static void test_far_pointers(void) {
     }
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
+/* Two frames of rs for d (hits wanted), with the primary rays' start on the
+ * frame's octree path (trace.comp) and with every walk from the root: the
+ * pixels and hits (instance, cell, depth bits) must be the same; *fewer
+ * counts the frame when the path's iterations are fewer. */
+static size_t path_frames(const char* name, vx_render_scene* rs, vx_render_desc d, size_t* fewer, double* saved) {
+    vx_render_image a[2] = {{0}};
+    vx_error err = {0};
+    d.want_hits = true;
+    for (int p = 0; p < 2; p++) {
+        vx__render_scene_trace_path(rs, 1 - p); /* on even where a CPU device's default is off */
+        CHECKF(vx_render_frame(rs, &d, &a[p], &err) == VX_OK, "%s: %s", name, err.msg);
+    }
+    vx__render_scene_trace_path(rs, -1);
+    size_t n = (size_t)d.width * d.height, diff = 0;
+    double it[2] = {0, 0};
+    for (size_t i = 0; a[0].hits && a[1].hits && i < n; i++) {
+        const vx_render_hit *x = &a[0].hits[i], *y = &a[1].hits[i];
+        bool same = x->instance == y->instance && !memcmp(x->cell, y->cell, sizeof x->cell) &&
+                    !memcmp(&x->t, &y->t, sizeof x->t) && !memcmp(&a[0].pixels[4 * i], &a[1].pixels[4 * i], 16);
+        if (!same && diff < 3)
+            printf("  %s pixel %zu,%zu: path inst %d cell %u,%u,%u t %.9g | root inst %d cell %u,%u,%u t %.9g\n", name,
+                   i % d.width, i / d.width, (int)x->instance, x->cell[0], x->cell[1], x->cell[2], x->t, (int)y->instance,
+                   y->cell[0], y->cell[1], y->cell[2], y->t);
+        diff += !same;
+        it[0] += x->iterations, it[1] += y->iterations;
+    }
+    if (!a[0].hits || !a[1].hits) diff = n;
+    *fewer += it[0] < it[1];
+    *saved += (it[1] - it[0]) / (double)n;
+    vx_render_image_free(&a[0]);
+    vx_render_image_free(&a[1]);
+    return diff;
+}
+
+/* The primary rays' starts below the root (one instance: render_scene.c
+ * frame_paths, the start in trace_model): frames from eyes inside a sparse 64^3 model with
+ * solid blocks, at random points, on node planes (multiples of 4 to 32
+ * cells, the model's mid-planes) and 1e-4 cells beside them, and from
+ * outside the model box (none there), perspective and orthographic, in
+ * depth and colour (shadow rays from the root), with far pointers
+ * throughout and without, rotated and mirrored, must equal the walk from
+ * the root; the starts must save iterations from most random eyes inside;
+ * after an edit the path follows
+ * the model's new words (a stale list fails). */
+static void test_path_start(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const double rot[9] = {0, 0, -1, 1, 0, 0, 0, -1, 0};
+    size_t frames = 0, fewer = 0, differ = 0, rand_frames = 0, rand_fewer = 0, outside_frames = 0, outside_fewer = 0;
+    double saved = 0;
+    for (int lim = 0; lim < 2; lim++) {
+        /* solid blocks of 2-9 cells and 1% scattered cells in 64^3 */
+        size_t cap = 64 * 64 * 64, n = 0;
+        uint32_t* xyz = malloc(cap * 12);
+        uint8_t* pal = malloc(cap);
+        uint8_t* used = calloc(cap, 1);
+        REQUIRE(xyz && pal && used);
+        uint32_t seed = 1234 + (uint32_t)lim;
+        for (int b = 0; b < 40; b++) {
+            uint32_t o[3], e[3];
+            for (int k = 0; k < 3; k++) e[k] = 2 + ts_rng(&seed) % 8, o[k] = ts_rng(&seed) % (64 - e[k]);
+            for (uint32_t z = o[2]; z < o[2] + e[2]; z++)
+                for (uint32_t y = o[1]; y < o[1] + e[1]; y++)
+                    for (uint32_t x = o[0]; x < o[0] + e[0]; x++) used[(z * 64 + y) * 64 + x] = 1;
+        }
+        for (size_t i = 0; i < cap; i++) used[i] |= ts_rng(&seed) % 100 == 0;
+        for (uint32_t i = 0; i < cap; i++)
+            if (used[i]) xyz[3 * n] = i % 64, xyz[3 * n + 1] = i / 64 % 64, xyz[3 * n + 2] = i / 4096, pal[n++] = (uint8_t)(1 + i % 250);
+        for (int tf = 0; tf < 2; tf++) {
+            vx_svo_model mc;
+            vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
+            vx_result br = ts_model(&mc, (uint32_t[3]){64, 64, 64}, xyz, pal, n);
+            vx__svo_far_limit = VX__SVO_PTR_MAX;
+            REQUIRE(br == VX_OK);
+            CHECKF(lim ? far_descs(&mc, mc.root) > 20 : far_descs(&mc, mc.root) == 0, "far limit %s: %u far descriptors",
+                   lim ? "3" : "default", far_descs(&mc, mc.root));
+            vx_svo_scene s;
+            vx_svo_instance in = ts_inst(0, tf ? rot : NULL, tf ? 3 : 0, tf ? -4 : 0, tf ? 7 : 0);
+            ts_scene(&s, &mc, 1, &in, 1);
+            vx_render_scene* rs = NULL;
+            vx_error err = {0};
+            REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+            for (int v = 0; v < 24; v++) {
+                /* the eye in model cells: random, on planes, beside them */
+                double e[3];
+                for (int k = 0; k < 3; k++) {
+                    uint32_t r = ts_rng(&seed);
+                    int kind = v % 4;
+                    double plane = (double)((1u << (2 + r % 4)) * (1 + (r >> 4) % 3));
+                    if (plane >= 64) plane = 32;
+                    e[k] = kind == 0 ? 1 + (r % 6200) / 100.0 : kind == 1 ? plane : kind == 2 ? plane + 1e-4 : plane - 1e-4;
+                    if (v == 23) e[k] = 32; /* the model's centre: every mid-plane */
+                    if (v == 20) e[k] = 32 + (k == 0 ? 1e-3 : -2e-3); /* 1 and 2 times the margin beside them */
+                    if (used[((uint32_t)e[2] * 64 + (uint32_t)e[1]) * 64 + (uint32_t)e[0]] && k == 2) e[k] += 0.5;
+                }
+                double dir[3], dl = 0;
+                for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+                dl = sqrt(dl);
+                vx_render_desc d = {.width = 40, .height = 30, .mode = v % 3 == 2 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
+                d.camera.set = true, d.camera.fov = 70;
+                for (int k = 0; k < 3; k++) {
+                    double w = e[k];
+                    if (tf) {
+                        /* world = rot * model + t (the instance's map) */
+                        w = in.xform[4 * k + 3];
+                        for (int c = 0; c < 3; c++) w += in.xform[4 * k + c] * e[c];
+                    }
+                    d.camera.eye[k] = w, d.camera.target[k] = w + dir[k] / dl * 10;
+                }
+                char nm[96];
+                snprintf(nm, sizeof nm, "path start, far %s, %s, view %d", lim ? "throughout" : "none",
+                         tf ? "rotated" : "identity", v);
+                size_t f0 = fewer;
+                differ += path_frames(nm, rs, d, &fewer, &saved);
+                frames++;
+                if (v % 4 == 0 && v != 20) rand_frames++, rand_fewer += fewer > f0;
+            }
+            for (int v = 0; v < 8; v++) {
+                /* from outside the model box (no starts there), perspective and orthographic, near and far */
+                double dir[3], dl = 0;
+                for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+                dl = sqrt(dl);
+                vx_render_desc d = {.width = 64, .height = 48, .mode = v % 2 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
+                d.camera.set = true, d.camera.ortho = v >= 6, d.camera.ortho_height = 40;
+                double c[3] = {32, 32, 32}, dist = v % 3 == 0 ? 60 : 140;
+                for (int k = 0; k < 3; k++) {
+                    double w = c[k], e = c[k] + dir[k] / dl * dist;
+                    if (tf) {
+                        w = e = in.xform[4 * k + 3];
+                        for (int j = 0; j < 3; j++) w += in.xform[4 * k + j] * c[j], e += in.xform[4 * k + j] * (c[j] + dir[j] / dl * dist);
+                    }
+                    d.camera.eye[k] = e, d.camera.target[k] = w;
+                }
+                char nm[96];
+                snprintf(nm, sizeof nm, "path start, far %s, %s, outside %d", lim ? "throughout" : "none",
+                         tf ? "rotated" : "identity", v);
+                size_t f0 = fewer;
+                differ += path_frames(nm, rs, d, &fewer, &saved);
+                frames++;
+                outside_frames++, outside_fewer += fewer > f0;
+            }
+            if (!tf) {
+                /* an edit: a solid block around the model's centre and cells removed; the path follows */
+                vx_svo_editor* ed = NULL;
+                REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &ed, &err) == VX_OK);
+                static vx_svo_cell_write w[12 * 12 * 12];
+                size_t nw = 0;
+                for (uint32_t z = 26; z < 38; z++)
+                    for (uint32_t y = 26; y < 38; y++)
+                        for (uint32_t x = 26; x < 38; x++)
+                            w[nw++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = x < 30 || (x + y + z) % 4 == 0,
+                                                          .value = {.palette = (uint8_t)(1 + x % 200)}};
+                vx_svo_edit_stats st;
+                REQUIRE(vx_svo_editor_apply(ed, w, nw, &st, &err) == VX_OK);
+                vx_svo_editor_destroy(ed);
+                REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
+                static const double eyes[4][3] = {{31.5, 33.25, 34.5}, {37.9, 26.1, 30.5}, {32, 32, 32}, {20.5, 40.5, 33.5}};
+                for (int v = 0; v < 4; v++) {
+                    vx_render_desc d = cam(eyes[v][0], eyes[v][1], eyes[v][2], 64 - eyes[v][1], eyes[v][0], 5.0 + v);
+                    d.width = 40, d.height = 30;
+                    char nm[96];
+                    snprintf(nm, sizeof nm, "path start after an edit, far %s, view %d", lim ? "throughout" : "none", v);
+                    differ += path_frames(nm, rs, d, &fewer, &saved);
+                    frames++;
+                    /* and the CPU reference's cells */
+                    check_frame(nm, rs, &s, d);
+                }
+            }
+            vx_render_scene_destroy(rs);
+            vx_svo_scene_free(&s);
+        }
+        free(xyz), free(pal), free(used);
+    }
+    printf("path start: %zu frames, %zu with fewer iterations (%zu of %zu from random eyes inside, %zu of %zu from "
+           "outside), %.2f iterations a ray saved on average, %zu pixels differ\n",
+           frames, fewer, rand_fewer, rand_frames, outside_fewer, outside_frames, saved / (double)frames, differ);
+    CHECK(differ == 0);
+    /* eyes on node planes or within 2^-16 of the cube (0.001 cells) of one walk from the root */
+    CHECK(rand_fewer * 4 >= rand_frames * 3);
+    /* from outside: no start where rays enter the model box (frame_paths: their lanes would start at different nodes) */
+    CHECK(outside_fewer == 0);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 static void test_modes(void);
 static void test_precise_variant(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -995,6 +1178,7 @@ int main(void) {
     RUN(test_frames);
     RUN(test_modes);
     RUN(test_screen_cull);
+    RUN(test_path_start);
     RUN(test_corpus);
     if (gpu) {
         CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
