@@ -969,9 +969,9 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    bool root = true;
     if (mpi) {
 #ifdef VX_HAVE_MPI
+        bool root = true;
         o.p.base = &o.r;
         if (!o.p.threads) o.p.threads = o.cpu ? 2 : 1;
         if (o.r.spp > 1) o.p.spp = o.r.spp;
