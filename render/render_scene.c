@@ -811,6 +811,25 @@ static void note_compact_build(vx_render_scene* rs, const vx_compact_scene* c, d
     rs->layout.geom_bytes = 4ull * c->geom_words;
 }
 
+/* Compact layout c of scene s onto the GPU for rs (c is freed whatever the
+ * result): paged below the page level where it exceeds the budget, whole
+ * otherwise; one rule for create_ex and the reader's path. */
+static vx_result upload_compact(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_scene* c,
+                                const vx_render_scene_desc* desc, uint64_t budget, uint32_t max_depth, vx_error* err) {
+    double t1 = vx_time_now();
+    uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
+    if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
+    bool whole = true;
+    vx_result r = VX_OK;
+    if (rs->layout.compact_bytes > budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
+        r = create_paged(rs, s, c, lp, budget, &whole, err);
+    if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
+    rs->layout.upload_seconds = vx_time_now() - t1;
+    if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
+    vx_compact_free(c);
+    return r;
+}
+
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                     vx_render_scene** out, vx_error* err) {
     if (!gpu || !s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -857,17 +876,8 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             }
         }
         if (!r) {
-            double t1 = vx_time_now();
-            note_compact_build(rs, &c, t1 - t0);
-            uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
-            if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
-            bool whole = true;
-            if (rs->layout.compact_bytes > li.budget && lp < max_depth && !(r = vx_compact_join_attrs(&c, err)))
-                r = create_paged(rs, s, &c, lp, li.budget, &whole, err);
-            if (!r && whole) r = vx_compact_gpu_create(rs, s, &c, &rs->compact, err);
-            rs->layout.upload_seconds = vx_time_now() - t1;
-            if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
-            vx_compact_free(&c);
+            note_compact_build(rs, &c, vx_time_now() - t0);
+            r = upload_compact(rs, s, &c, desc, li.budget, max_depth, err);
         }
         if (r) {
             vx_render_scene_destroy(rs);
@@ -920,15 +930,9 @@ static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_
     note_compact_build(rs, c, build_seconds);
     vx_result r = prepare_models(rs, s, false, err);
     if (!r) r = prepare_instances(rs, s, err);
-    uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
-    if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
-    bool whole = true;
-    if (!r && rs->layout.compact_bytes > li->budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
-        r = create_paged(rs, s, c, lp, li->budget, &whole, err);
-    if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
-    rs->layout.upload_seconds = vx_time_now() - t1;
-    if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
-    vx_compact_free(c);
+    if (!r) r = upload_compact(rs, s, c, desc, li->budget, max_depth, err);
+    else vx_compact_free(c);
+    rs->layout.upload_seconds = vx_time_now() - t1; /* with the tables, as before */
     if (r) {
         vx_render_scene_destroy(rs);
         return r;
