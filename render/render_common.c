@@ -240,11 +240,16 @@ static void tile_span(const vx__frame* f, const vx_bvh* bvh, uint32_t n, uint32_
         o[0] = o[1] = o[2] = o[3] = 0;
 }
 
-void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__TILES_X * VX__TILES_X],
-                     uint32_t* shift, uint32_t* nx) {
+void vx__frame_tile_grid(const vx__frame* f, uint32_t* shift, uint32_t* nx, uint32_t* ny) {
     uint32_t W = f->width, H = f->height, s = 3;
     while (((W + (1u << s) - 1) >> s) > VX__TILES_X || ((H + (1u << s) - 1) >> s) > VX__TILES_X) s++;
-    uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
+    *shift = s, *nx = (W + (1u << s) - 1) >> s, *ny = (H + (1u << s) - 1) >> s;
+}
+
+void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__TILES_X * VX__TILES_X],
+                     uint32_t* shift, uint32_t* nx) {
+    uint32_t W = f->width, H = f->height, s, tx, ty;
+    vx__frame_tile_grid(f, &s, &tx, &ty);
     *shift = s, *nx = tx;
     memset(tiles, 0, sizeof(uint16_t) * VX__TILES_X * VX__TILES_X);
     if (!bvh || !bvh->node_count || !W || !H) return;

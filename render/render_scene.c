@@ -242,14 +242,15 @@ static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32
     uint32_t count = 1;
     t[0] = (top_node){.desc = w[root], .word = root, .kids = TOP_NONE};
     for (uint32_t i = 0; i < count; i++) {
-        uint32_t d = t[i].desc, inner = (d >> 8) & ~d & 0xFFu, k = (uint32_t)__builtin_popcount(inner);
+        uint32_t d = t[i].desc, inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
+        uint32_t k = (uint32_t)__builtin_popcount(inner);
         if (!k) continue;
         if (k > TOP_NODES - count) break; /* the list ends: this and later entries keep TOP_NONE */
         /* the children's block (svo/svo.h), its words checked against n */
-        uint32_t p = d >> 17, at = t[i].word;
+        uint32_t p = vx_svo_desc_ptr(d), at = t[i].word;
         if (p < 1 || p > at) break;
         uint32_t blk = at - p;
-        if ((d >> 16) & 1u) blk = w[blk];
+        if (vx_svo_desc_far(d)) blk = w[blk];
         if (blk >= n || k > n - blk) break;
         t[i].kids = count;
         for (uint32_t c = 0; c < k; c++) t[count++] = (top_node){.desc = w[blk + c], .word = blk + c, .kids = TOP_NONE};
@@ -1671,9 +1672,8 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * took 4-27% fewer steps (issue 21's fourteenth sitting). */
 static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
                         vx__gpu_frame* gf) {
-    uint32_t W = f->width, H = f->height, s = 3;
-    while (((W + (1u << s) - 1) >> s) > VX__TILES_X || ((H + (1u << s) - 1) >> s) > VX__TILES_X) s++;
-    uint32_t tx = (W + (1u << s) - 1) >> s, ty = (H + (1u << s) - 1) >> s;
+    uint32_t W = f->width, H = f->height, s, tx, ty;
+    vx__frame_tile_grid(f, &s, &tx, &ty);
     gf->tile_info[0] = s, gf->tile_info[1] = tx;
     for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
     if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || !path_on(rs) || !W || !H) return;
@@ -1717,7 +1717,7 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
                     if (plo[k] >= mid + hm) oct |= 1u << k;
                     else if (!(phi[k] <= mid - hm)) straddle = true;
                 }
-                uint32_t dsc = t[i].desc, inner = (dsc >> 8) & ~dsc & 0xFFu;
+                uint32_t dsc = t[i].desc, inner = vx_svo_desc_valid(dsc) & ~vx_svo_desc_leaf(dsc);
                 if (straddle || d + 1 > max_dq || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
                 i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
                 for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;

@@ -69,6 +69,10 @@ bool vx__frame_cull(const vx__frame* f, const double lo[3], const double hi[3], 
 #define VX__TILE_NONE 0xFFFFu
 void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__TILES_X * VX__TILES_X],
                      uint32_t* shift, uint32_t* nx);
+/* The screen tiles of frame f: 2^shift pixels a side (shift >= 3), nx x ny
+ * of them, at most VX__TILES_X a side; vx__frame_tiles' grid and the
+ * primary rays' starts below the root (render_scene.c). */
+void vx__frame_tile_grid(const vx__frame* f, uint32_t* shift, uint32_t* nx, uint32_t* ny);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);
