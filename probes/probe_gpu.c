@@ -8,6 +8,7 @@
  * reference the GPU filtering is tested against. */
 #include <math.h>
 #include <pthread.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "probes/probes_internal.h"
@@ -15,6 +16,8 @@
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
 #include "probe_pt.comp.h"  /* the same, -DPT_PRECISE: the render passes' kernel */
+#include "probe_s1.comp.h"  /* exploration: the sun's shadow ray traced at one place of path() */
+#include "probe_one.comp.h" /* exploration: -DVX_ONE_WALK, every ray of the bake at one walk */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
 #include "probe_filter.comp.h" /* shaders/probe_filter.comp */
 #include "probe_beam.comp.h"   /* shaders/probe_beam.comp */
@@ -258,6 +261,13 @@ static void sun_bindings(gctx* c, vx__buffer** b) {
     b[2] = c->sun.map ? c->sun.insts_buf : &c->env;
 }
 
+/* ctx_sun_map makes a map (SMAP on, unless its build fails) */
+static bool sun_map_wanted(const vx__light* L, bool allow) {
+    float lf[3] = {(float)L->light_dir[0], (float)L->light_dir[1], (float)L->light_dir[2]};
+    bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
+    return allow && sun && fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0;
+}
+
 /* The bake's sun rays clipped by the scene's sun depth map (render/gpu.h),
  * built for the light as probe.comp has it, where there is a sun: the same
  * bytes (tests/probes: cmp), fewer steps. allow false: the whole rays. */
@@ -267,9 +277,8 @@ static vx_result ctx_sun_map(gctx* c, vx_render_scene* rs, const vx__light* L, b
      * (H200, the Cornell box's goal bake: GPU trace 0.386 s at 512, 0.336 at 1024, 0.270 at 2048) */
     memset(&c->sun, 0, sizeof c->sun);
     c->spec[VX__SPEC_COUNT + SPEC_SMAP] = 0;
+    if (!sun_map_wanted(L, allow)) return VX_OK;
     float lf[3] = {(float)L->light_dir[0], (float)L->light_dir[1], (float)L->light_dir[2]};
-    bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
-    if (!allow || !sun || !(fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
     vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, VX_PROBE_SUN_MAP_SIDE, &c->sun, err);
     if (st) {
@@ -296,8 +305,8 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
     p->spacing[3] = (float)smin;
 }
 
-/* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
-static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
+/* probe.comp's pipeline for pass pmode: its desc and key (sets c->spec's PCONST). */
+static uint64_t probe_desc(gctx* c, uint32_t pmode, vx_gpu_compute_pipeline_desc* pd) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
         (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
@@ -306,13 +315,23 @@ static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_err
     bool bake = pmode == PMODE_BAKE;
     const uint32_t* code = bake ? vx__probe_spv_arr : vx__probe_pt_spv_arr;
     size_t code_size = bake ? sizeof vx__probe_spv_arr : sizeof vx__probe_pt_spv_arr;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = code, .spirv_size = code_size,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
-    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    memcpy(pd.spec, c->spec, sizeof c->spec);
+    if (bake && getenv("VX_BAKE_SUN_ONCE")) code = vx__probe_s1_spv_arr, code_size = sizeof vx__probe_s1_spv_arr;
+    if (bake && getenv("VX_BAKE_ONE") && !c->lights_code && !c->spec[VX__SPEC_COUNT + SPEC_MATS])
+        code = vx__probe_one_spv_arr, code_size = sizeof vx__probe_one_spv_arr;
+    *pd = (vx_gpu_compute_pipeline_desc){.spirv = code, .spirv_size = code_size, .binding_count = NBIND,
+                                         .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
+    pd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd->spec, c->spec, sizeof c->spec);
     uint64_t key = 0x9B0BE2ull + (bake ? 0 : 1);
     for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
+    return key;
+}
+
+/* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
+static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
+    vx_gpu_compute_pipeline_desc pd;
+    uint64_t key = probe_desc(c, pmode, &pd);
     return vx__pipeline_get(c->g, key, &pd, out, err);
 }
 
@@ -641,6 +660,27 @@ static vx_result slot_grow(gbake* B, bslot* s, uint32_t cap, vx_error* err) {
     return r;
 }
 
+/* probe_filter.comp's pipeline: its desc and key */
+static uint64_t filter_desc(vx_gpu_compute_pipeline_desc* fd) {
+    *fd = (vx_gpu_compute_pipeline_desc){.spirv = vx__probe_filter_spv_arr, .spirv_size = sizeof vx__probe_filter_spv_arr,
+                                         .binding_count = 6, .push_constant_size = sizeof(fpush), .label = "probe filter"};
+    for (int i = 0; i < 6; i++) fd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    return 0x9B0BF1u;
+}
+
+/* probe_beam.comp's pipeline: the scene (0-6; 7 and 8 unused), the probes (9), the start distances (10) */
+static uint64_t beam_desc(const gctx* c, vx_gpu_compute_pipeline_desc* bd) {
+    *bd = (vx_gpu_compute_pipeline_desc){.spirv = vx__probe_beam_spv_arr, .spirv_size = sizeof vx__probe_beam_spv_arr,
+                                         .binding_count = 11, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA,
+                                         .push_constant_size = 16, .label = "probe beam"};
+    bd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < 11; i++) bd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(bd->spec, c->spec, sizeof c->spec);
+    uint64_t key = 0x9B0BEAull;
+    for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
+    return key;
+}
+
 static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, uint32_t first,
                             vx_error* err) {
     vx_gpu* g = c->g;
@@ -649,23 +689,11 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
     if (r) return r;
     double tp = vx_time_now();
-    vx_gpu_compute_pipeline_desc fd = {.spirv = vx__probe_filter_spv_arr,
-                                       .spirv_size = sizeof vx__probe_filter_spv_arr, .binding_count = 6,
-                                       .push_constant_size = sizeof(fpush), .label = "probe filter"};
-    for (int i = 0; i < 6; i++) fd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    if ((r = vx__pipeline_get(g, 0x9B0BF1u, &fd, &B->filter, err))) return r;
-    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM];
-    if (beam) {
-        /* probe_beam.comp: the scene (0-6; 7 and 8 unused), the probes (9), the start distances (10) */
-        vx_gpu_compute_pipeline_desc bd = {.spirv = vx__probe_beam_spv_arr, .spirv_size = sizeof vx__probe_beam_spv_arr,
-                                           .binding_count = 11, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA,
-                                           .push_constant_size = 16, .label = "probe beam"};
-        bd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        for (uint32_t i = 1; i < 11; i++) bd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        memcpy(bd.spec, c->spec, sizeof c->spec);
-        uint64_t key = 0x9B0BEAull;
-        for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
-        if ((r = vx__pipeline_get(g, key, &bd, &B->beam, err))) return r;
+    vx_gpu_compute_pipeline_desc fd;
+    if ((r = vx__pipeline_get(g, filter_desc(&fd), &fd, &B->filter, err))) return r;
+    if (c->spec[VX__SPEC_COUNT + SPEC_BEAM]) {
+        vx_gpu_compute_pipeline_desc bd;
+        if ((r = vx__pipeline_get(g, beam_desc(c, &bd), &bd, &B->beam, err))) return r;
     }
     B->pipes = vx_time_now() - tp;
     /* texel directions and solid angles, then the irradiance and moment texel directions (double -> float) */
@@ -1019,6 +1047,19 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!r) b->c.strat = !d.independent_bounce;
     /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
     if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;
+    /* The bake's three kernels made ahead on threads of their own, beside each other and beside the sun map
+     * (its kernel, its nodes' upload and build) and the filter tables: on a machine whose shader cache is
+     * empty each is a compile of the driver's, in turn they added up. The kernel's SMAP as the map will
+     * be; where its build fails, pipeline_of makes the kernel without it (and the one made ahead goes with
+     * the device). */
+    if (!r && !getenv("VX_BAKE_SERIAL_PIPES")) {
+        gctx* c = &b->c;
+        vx_gpu_compute_pipeline_desc pd;
+        c->spec[VX__SPEC_COUNT + SPEC_SMAP] = sun_map_wanted(&b->L, !d.no_shadow_map);
+        vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, &pd), &pd);
+        vx__pipeline_ahead(c->g, filter_desc(&pd), &pd);
+        if (c->spec[VX__SPEC_COUNT + SPEC_BEAM]) vx__pipeline_ahead(c->g, beam_desc(c, &pd), &pd);
+    }
     if (!r) {
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);

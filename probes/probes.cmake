@@ -20,7 +20,7 @@ if(VX_WITH_VULKAN)
   # GI, light field), every float operation of its path and walk precise (PT_PRECISE: the same bits with
   # and without the sun's depth map on NVIDIA)
   # (NAME:FILE[:DEFINE], as render/render.cmake's list: cmake/shaders.cmake)
-  foreach(spec probe:probe probe_pt:probe:PT_PRECISE)
+  foreach(spec probe:probe probe_pt:probe:PT_PRECISE probe_s1:probe:VX_SUN_ONCE probe_one:probe:VX_ONE_WALK)
     vx_shader_spec(${spec} name file defs)
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
@@ -60,6 +60,8 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c
     ${VX_PROBES_SPV_DIR}/probe.comp.h
     ${VX_PROBES_SPV_DIR}/probe_pt.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_s1.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_one.comp.h
     ${VX_PROBES_SPV_DIR}/probe_out.comp.h
     ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
     ${VX_PROBES_SPV_DIR}/probe_beam.comp.h)

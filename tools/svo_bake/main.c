@@ -218,10 +218,15 @@ static int do_merge(const char* out, char** parts, int n) {
 
 /* ---- the job ----------------------------------------------------------------------- */
 
+/* main()'s start: -v's timeline (a tool's, not the library's) */
+static double t_main;
+
 static void stats_line(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user, (void)level;
     if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
     if (!strcmp(id, "probe.batch")) printf("batch: %s\n", msg);
+    /* the driver's start and each pipeline's compile (or its shader cache's hit) */
+    if (!strcmp(id, "gpu.start") || !strcmp(id, "gpu.pipeline")) printf("gpu: at %.3f s: %s\n", vx_time_now() - t_main, msg);
 }
 
 int bake_job_open(bake_job* j, const char* device, const char* who) {
@@ -715,6 +720,11 @@ static int bake_single(bake_job* j) {
     }
     if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
     vx_probe_set_free(&ps);
+    if (!rc && o->verbose && on_gpu)
+        printf("timeline: s since main(): scene read %.3f, placed %.3f, device ready %.3f, bake from %.3f, set up %.3f, "
+               "loop end %.3f, file renamed %.3f, teardown joined %.3f\n",
+               t0 - t_main, t0 + t_place - t_main, t0 + t_place + t_ahead + j->t_wait - t_main, t_bake0 - t_main,
+               t_bake0 + t_open + st.setup - t_main, t1 - t_main, t1 + t_write - t_main, vx_time_now() - t_main);
     if (!rc && o->verbose && closer.started)
         printf("close: the GPU torn down beside the output's end in %.3f s (baker %.3f, scene %.3f, device %.3f), "
                "waited for %.3f s after it\n",
@@ -736,6 +746,7 @@ static int bake_single(bake_job* j) {
 }
 
 int main(int argc, char** argv) {
+    t_main = vx_time_now();
     vx_tool_init(argc, argv);
     options o = default_options();
 #ifdef VX_HAVE_MPI
