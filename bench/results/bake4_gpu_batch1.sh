@@ -5,8 +5,8 @@
 # alternated process by process: each binary with an empty shader cache of its own (__GL_SHADER_DISK_CACHE_PATH
 # a fresh directory: every pipeline compiled, as on a fresh machine but with the driver's files in the page
 # cache), the branch also with its pipelines made in turn (S: VX_BAKE_SERIAL_PIPES=1, its bake-only SPIR-V),
-# and the branch's one-walk kernel (N: VX_BAKE_ONE=1, probe.comp -DVX_ONE_WALK: every ray of the bake at the one
-# trace_scene call of a state-machine loop instead of four inlined walks), then warm rounds (the default cache). Every output cmp'd against main's of the same kind.
+# the branch's kernel with the sun's shadow ray traced at one place of path() (O: VX_BAKE_SUN_ONCE=1, an
+# exploration variant), then warm rounds (the default cache). Every output cmp'd against main's of the same kind.
 START=$SECONDS
 LIMIT=${BAKE_LIMIT:-88}
 D=bench/out/bake4; B=bench/out/base/bin; T=/tmp/bake4q; rm -rf $T; mkdir -p $T
@@ -55,7 +55,6 @@ floor second
 echo "== first bakes (default shader cache; each binary's first: its pipelines compiled)"
 run M default
 run B default
-run N default VX_BAKE_ONE=1
 echo "== shader caches now: $(du -sk ~/.nv ~/.cache/nvidia 2>/dev/null | tr '\n' ' ')"
 echo "== the floor with an empty cache and with the cache off"
 mkdir -p $T/fc1 $T/fc2
@@ -63,26 +62,28 @@ floor fresh-cache __GL_SHADER_DISK_CACHE_PATH=$T/fc1
 floor cache-off __GL_SHADER_DISK_CACHE=0
 measure=1
 echo "== rounds, each process with an empty shader cache (M, B, S alternated, order reversed every other round)"
-for r in $(seq 1 ${FRESH_ROUNDS:-7}); do
+for r in $(seq 1 ${FRESH_ROUNDS:-8}); do
   if (( SECONDS - START > LIMIT - 25 )); then echo "== time: stopped before fresh round $r"; break; fi
   echo "= fresh round $r ($((SECONDS - START)) s)"
-  if (( r % 2 )); then run M fresh; run B fresh; run S fresh VX_BAKE_SERIAL_PIPES=1; run N fresh VX_BAKE_ONE=1
-  else run N fresh VX_BAKE_ONE=1; run S fresh VX_BAKE_SERIAL_PIPES=1; run B fresh; run M fresh; fi
+  if (( r % 2 )); then run M fresh; run B fresh; run S fresh VX_BAKE_SERIAL_PIPES=1; run O fresh VX_BAKE_SUN_ONCE=1
+  else run O fresh VX_BAKE_SUN_ONCE=1; run S fresh VX_BAKE_SERIAL_PIPES=1; run B fresh; run M fresh; fi
 done
 echo "== one with the cache off (__GL_SHADER_DISK_CACHE=0) for each"
 run M off __GL_SHADER_DISK_CACHE=0
 run B off __GL_SHADER_DISK_CACHE=0
-echo "== shader statistics of the bake's kernel, B and N (VX_GPU_SHADER_STATS=1: another compile)"
-for v in B N; do
-  e=X=0; [ $v = N ] && e=VX_BAKE_ONE=1
+echo "== shader statistics of the bake's kernel, B and O (VX_GPU_SHADER_STATS=1: another compile)"
+for v in B O; do
+  e=X=0; [ $v = O ] && e=VX_BAKE_SUN_ONCE=1
   VX_GPU_SHADER_STATS=1 env $e timeout 30 $D/svo_bake $D/cornell.svo $T/st.probes $ARGS 2>&1 | grep -E "^stats: probe |GPU trace" | sed "s/^/  $v: /" | cut -c1-400
 done
+echo "== O's first in the default cache (not counted)"
+measure=0; run O default VX_BAKE_SUN_ONCE=1; measure=1
 echo "== warm rounds (the default cache)"
-for r in $(seq 1 ${WARM_ROUNDS:-12}); do
+for r in $(seq 1 ${WARM_ROUNDS:-10}); do
   if (( SECONDS - START > LIMIT )); then echo "== time: stopped before warm round $r"; break; fi
   echo "= warm round $r ($((SECONDS - START)) s)"
-  if (( r % 2 )); then run M default; run B default; run N default VX_BAKE_ONE=1
-  else run N default VX_BAKE_ONE=1; run B default; run M default; fi
+  if (( r % 2 )); then run M default; run B default; run O default VX_BAKE_SUN_ONCE=1
+  else run O default VX_BAKE_SUN_ONCE=1; run B default; run M default; fi
 done
 echo "== medians: wall_ms (min-max) vulkan setup sun_map pipelines gpu_trace; n"
 for f in $T/*.row; do
