@@ -161,6 +161,12 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
  * (or vx_gpu_destroy). Returns false where nothing was started: the key is made or pending already, or no
  * thread could be started (the get then makes it). Only the vx_gpu's own thread calls this and the get. */
 bool vx__pipeline_ahead(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc);
+/* Where the pipeline of key is: VX__PIPE_NONE (neither made nor made ahead), VX__PIPE_PENDING (its thread
+ * still at work), VX__PIPE_READY (made, or its thread done: the get returns at once; it may have failed, the
+ * get says). Lets a caller take whichever of two equivalent pipelines the driver finishes first (the probe
+ * bake's kernels: one a hit of the driver's cache where the other is compiled). */
+enum { VX__PIPE_NONE, VX__PIPE_PENDING, VX__PIPE_READY };
+int vx__pipeline_state(vx_gpu* g, uint64_t key);
 void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);

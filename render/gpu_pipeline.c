@@ -2,6 +2,7 @@
  * once per (shader, specialisation) key and cached in the vx_gpu. The SPIR-V
  * is compiled at build time by glslangValidator and embedded here. */
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -179,6 +180,7 @@ typedef struct vx__pipeline_pending {
     vx_result r;
     vx_error err;
     double seconds;
+    atomic_bool done; /* p, r, err and seconds are written (vx__pipeline_state) */
     pthread_t thread;
 } vx__pipeline_pending;
 
@@ -186,6 +188,7 @@ static void* ahead_main(void* arg) {
     vx__pipeline_pending* q = arg;
     /* vkCreate* of one device may run on several threads at once (no external synchronisation asked) */
     q->r = create_pipeline(q->g, &q->d, &q->p, &q->seconds, &q->err);
+    atomic_store_explicit(&q->done, true, memory_order_release);
     return NULL;
 }
 
@@ -206,6 +209,7 @@ bool vx__pipeline_ahead(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_d
     vx__pipeline_pending* q = vx_calloc(&g->alloc, 1, sizeof *q);
     if (!q) return false;
     q->key = key, q->g = g, q->d = *d;
+    atomic_init(&q->done, false);
     if (pthread_create(&q->thread, NULL, ahead_main, q)) {
         vx_free(&g->alloc, q);
         return false;
@@ -213,6 +217,15 @@ bool vx__pipeline_ahead(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_d
     q->next = g->pending;
     g->pending = q;
     return true;
+}
+
+int vx__pipeline_state(vx_gpu* g, uint64_t key) {
+    if (!g) return VX__PIPE_NONE;
+    if (cached(g, key)) return VX__PIPE_READY;
+    for (vx__pipeline_pending* q = g->pending; q; q = q->next)
+        if (q->key == key)
+            return atomic_load_explicit(&q->done, memory_order_acquire) ? VX__PIPE_READY : VX__PIPE_PENDING;
+    return VX__PIPE_NONE;
 }
 
 /* The pending pipeline of key, joined and unlinked (NULL: none). */

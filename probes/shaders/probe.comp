@@ -384,24 +384,6 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             sun_f = bsdf_eval(B, wo, P.light.xyz, bp) * P.sun.xyz * dot(g_s.n, P.light.xyz);
             sun_ray = true;
         }
-#ifdef VX_SUN_ONCE
-        bool last = depth >= bounces;
-        PT_PREC vec3 w = vec3(0.0);
-        bool sampled = false;
-        if (!last) {
-            if (STRAT && PMODE == P_BAKE && depth == 0u) {
-                float u0 = rnd();
-                rnd();
-                rnd();
-                sampled = bsdf_sample_u(B, wo, u0, g_bounce_u.x, g_bounce_u.y, d, w, prev_pdf);
-            } else {
-                sampled = bsdf_sample(B, wo, d, w, prev_pdf);
-            }
-        }
-        vec3 p_v = g_s.p;
-        if (sun_ray && !sun_occluded(p_v)) acc += thr_v * sun_f;
-        if (last || !sampled) break;
-#else
         if (depth >= bounces) {
             if (sun_ray && !sun_occluded(g_s.p)) acc += thr_v * sun_f;
             break;
@@ -421,7 +403,6 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         vec3 p_v = g_s.p;
         if (sun_ray && !sun_occluded(p_v)) acc += thr_v * sun_f;
         if (!sampled) break;
-#endif
         thr *= w;
         depth++;
         if (depth >= 3u) { // VX__RR_DEPTH

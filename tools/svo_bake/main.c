@@ -609,6 +609,11 @@ static int bake_single(bake_job* j) {
     eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
     bool show = !o->quiet && isatty(2);
     vx_probe_bake_desc bd = o->b;
+    /* VX_BAKE_KERNEL=inline|one: the GPU bake's kernel fixed (vx_probe_bake_desc.kernel; the same bytes), to
+     * measure each where the default takes the one the driver has ready first */
+    const char* kenv = getenv("VX_BAKE_KERNEL");
+    if (kenv && !strcmp(kenv, "inline")) bd.kernel = VX_PROBE_KERNEL_INLINE;
+    if (kenv && !strcmp(kenv, "one")) bd.kernel = VX_PROBE_KERNEL_ONE_WALK;
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
     if (show) bd.progress = (vx_progress){eta_func, &e};
@@ -708,9 +713,11 @@ static int bake_single(bake_job* j) {
             if (on_gpu)
                 printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
-                       "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s\n",
+                       "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s; "
+                       "kernel: %s\n",
                        t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
-                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail);
+                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail,
+                       st.one_walk ? "one walk" : "four walks");
             if (on_gpu && st.sun_map_side)
                 printf("sun map: %u texels a side, %u nodes listed in %.3f s, built in %.3f ms GPU; %.3f s in all; "
                        "listed ahead in %.3f s (%s); build %.3f s wall\n",
