@@ -1090,17 +1090,18 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     if (!r) b->c.strat = !d.independent_bounce, b->c.kernel = d.kernel;
     /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
     if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;
-    /* The bake's three kernels made ahead on threads of their own, beside each other and beside the sun map
-     * (its kernel, its nodes' upload and build) and the filter tables: on a machine whose shader cache is
-     * empty each is a compile of the driver's, in turn they added up. The kernel's SMAP as the map will
-     * be; where its build fails, pipeline_of makes the kernel without it (and the one made ahead goes with
-     * the device). */
+    /* The bake's kernel (both, where bake_one() may run: choose_kernel), the filter and the beam pass made
+     * ahead on threads of their own, beside each other and beside the sun map (its kernel, its nodes' upload
+     * and build) and the filter tables: on a machine whose shader cache is empty each is a compile of the
+     * driver's, in turn they added up. The kernel's SMAP as the map will be; where its build fails,
+     * pipeline_of makes the kernel without it (and the one made ahead goes with the device). */
     if (!r) {
         gctx* c = &b->c;
         vx_gpu_compute_pipeline_desc pd;
         c->spec[VX__SPEC_COUNT + SPEC_SMAP] = sun_map_wanted(&b->L, !d.no_shadow_map);
         bool one = one_walk_ok(c);
-        if (!one || d.kernel != VX_PROBE_KERNEL_ONE_WALK) vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, false, &pd), &pd);
+        if (!one || d.kernel != VX_PROBE_KERNEL_ONE_WALK)
+            vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, false, &pd), &pd);
         if (one) vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, true, &pd), &pd);
         vx__pipeline_ahead(c->g, filter_desc(&pd), &pd);
         if (c->spec[VX__SPEC_COUNT + SPEC_BEAM]) vx__pipeline_ahead(c->g, beam_desc(c, &pd), &pd);
