@@ -904,11 +904,12 @@ fail:
 
 /* path's bytes mapped (a regular file that is not empty): *mapped, and
  * the caller unmaps; otherwise read into memory from A. A map costs no
- * copy through a buffer of fresh pages (which the kernel zeroes before the
- * read fills them: for a 220 MB chunked file, about as much CPU as the
- * chunks' decoding on the dev VM). `populate`: the whole file's pages
- * mapped at once (a read of every byte: the sections' CRCs), not faulted in
- * one by one. As with any map, a file cut short by another process while
+ * copy through a buffer of fresh pages, which the kernel zeroes and faults
+ * in 4 KB at a time before the read fills them (the 4096^3 helmet's 220 MB
+ * chunked file read on two cores of the H200 host: 1.73 s mapped, 2.18 s
+ * read into a buffer, docs/PERFORMANCE.md issue 18). `populate`: the
+ * whole file's pages mapped at once (a read of every byte: the sections'
+ * CRCs), not faulted in one by one. As with any map, a file cut short by another process while
  * it is read ends the process with SIGBUS; the model reader has always
  * mapped its file (vx_svo_reader_open). */
 static vx_result map_file(const char* path, const vx_allocator* A, uint64_t max, bool populate, uint8_t** data, size_t* size,
