@@ -287,7 +287,7 @@ typedef struct vx_write_desc {
                                   themselves in zstd-coded chunks that code and
                                   decode on every thread, 1.7-3.1x the bytes of the
                                   structural form: the 4096^3 helmet read in
-                                  1.7-2.5 s and written in 2.4-2.5 s on two
+                                  1.4-2.5 s and written in 2.4-2.5 s on two
                                   cores, against 5.5-8.7 s and 4.6-5.3 s,
                                   docs/PERFORMANCE.md issue 18, twelfth I/O
                                   step); 0 = never (the default: the compact

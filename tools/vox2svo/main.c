@@ -101,7 +101,7 @@ _Noreturn static void usage(int status) {
             "    --chunked        store models of 2^20 node words or more in the chunked form\n"
             "                     (zstd chunks, format version 4, docs/FORMAT.md 3.6): read and\n"
             "                     written on every core, 1.7-3x the bytes (the 4096^3 helmet on two\n"
-            "                     cores: read 1.7-2.5 s, written 2.4-2.5 s, against 5.5-8.7 s and\n"
+            "                     cores: read 1.4-2.5 s, written 2.4-2.5 s, against 5.5-8.7 s and\n"
             "                     4.6-5.3 s); default: the compact structural forms\n"
             "    --chunked-deflate  as --chunked, DEFLATE chunks (format version 3, for readers\n"
             "                     before version 4): slower to write and read, slightly larger\n"
