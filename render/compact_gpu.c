@@ -64,7 +64,15 @@ struct vx_compact_gpu {
      * starts below the root (vx__render_scene_paths; top NULL: none), owned */
     vx__path_model* paths;
     uint32_t path_count;
+    uint32_t start_min; /* the fewest pushes a start skips (vx__compact_gpu_start_min; 0: START_MIN) */
 };
+
+/* A start below the root skips at least this many pushes: on the H200 one
+ * push saved (eph_monu1's close-up) cost 1.7% of the albedo rays/s and 6%
+ * in the depth mode, two (the terrain's) gained 0.3% and 1.6%, four and
+ * five (the helmet's, eph_menger's) 6% and 20% (docs/PERFORMANCE.md issue
+ * 18, fourteenth step) */
+#define START_MIN 2u
 
 /* trace.comp's Model.box (render_scene.c model_box) */
 static uint32_t model_box(const vx_svo_model* m) {
@@ -150,7 +158,8 @@ static void path_lists(vx_compact_gpu* cg, const cmodel_gpu* cm, const vx_compac
     slot_words sw = {.geom = geom, .slots = slots};
     for (uint32_t i = 0; i < count; i++) {
         uint32_t min_level = cm[i].page_up > 3 ? cm[i].page_up : 3, n;
-        cg->paths[i] = (vx__path_model){.box = cm[i].box, .rebase = cm[i].rebase, .min_level = min_level};
+        cg->paths[i] = (vx__path_model){.box = cm[i].box, .rebase = cm[i].rebase, .min_level = min_level,
+                                        .min_dq = START_MIN};
         if (models[i].root >= slots || models[i].depth <= min_level) continue;
         vx__top_src src = {.ctx = &sw, .desc = slot_desc, .block = slot_block, .max_depth = models[i].depth - min_level};
         cg->paths[i].top = vx__top_list(&cg->gpu->alloc, &src, models[i].root, &n);
@@ -474,6 +483,10 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
+
+void vx__compact_gpu_start_min(vx_compact_gpu* cg, uint32_t pushes) {
+    if (cg) cg->start_min = pushes;
+}
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
 uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg) { return cg ? cg->uniform_entries : 0; }
@@ -821,10 +834,16 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     vx__gpu_frame* gf = scene[0]->map;
     if (!sp[VX__SPEC_USE_BVH] && cg->cm && gf->inst0.model < cg->cm_count)
         memcpy(gf->cmodel0, &cg->cm[gf->inst0.model], sizeof *cg->cm);
-    /* and the primary rays' starts below the root (trace_compact.comp PATH_START) */
+    /* and the primary rays' starts below the root (trace_compact.comp
+     * PATH_START), the kernel without them where no tile has one: the
+     * start's code alone (the overviews: their rays enter the model box)
+     * cost 1.3-1.6% of the albedo rays/s and up to 4% in the depth mode on
+     * the H200 (docs/PERFORMANCE.md issue 18, fourteenth step) */
     bool path = !sp[VX__SPEC_USE_BVH] && vx__render_scene_path_on(cg->rs) && gf->inst0.model < cg->path_count &&
                 cg->paths[gf->inst0.model].top;
-    vx__render_scene_paths(cg->rs, f, path ? &cg->paths[gf->inst0.model] : NULL, gf);
+    vx__path_model pm = path ? cg->paths[gf->inst0.model] : (vx__path_model){0};
+    if (cg->start_min) pm.min_dq = cg->start_min;
+    path = vx__render_scene_paths(cg->rs, f, path ? &pm : NULL, gf) > 0;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;

@@ -212,21 +212,22 @@ typedef struct vx__top_src {
 /* The list from node root (render_scene.c), *count its entries; NULL without memory. */
 vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count);
 /* The starts of a scene of one instance: the list of its model (top), that
- * model's Model.box and rebase (trace.comp's), and the shallowest level
- * node X may have (the compact layout: 3, the page level's parent if paged;
- * 0 or 1: any). */
+ * model's Model.box and rebase (trace.comp's), the shallowest level node X
+ * may have (the compact layout: 3, the page level's parent if paged; 0 or
+ * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any). */
 typedef struct vx__path_model {
     const vx__top_node* top;
-    uint32_t box, rebase, min_level;
+    uint32_t box, rebase, min_level, min_dq;
 } vx__path_model;
 /* Writes the frame block's tile grid (tile_info, tiles) and start records
  * (paths) for f (render_scene.c): per screen tile the record of node X
  * where its primary rays start below the root, VX__TILE_NONE elsewhere;
  * none where the scene has several instances, for LOD, where pm is NULL
  * (the model of the scene's one instance) or the starts are off
- * (vx__render_scene_trace_path). */
-void vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
-                            vx__gpu_frame* gf);
+ * (vx__render_scene_trace_path). Returns the records written (0: no tile
+ * has a start). */
+uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
+                                vx__gpu_frame* gf);
 /* Whether the trace kernels start primary rays below the root (their
  * PATH_START constants; vx__render_scene_trace_path). */
 bool vx__render_scene_path_on(const vx_render_scene* rs);

@@ -1684,26 +1684,26 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * rays' starts spread over X's children and, on the H200, the warps' lanes
  * that then start at different nodes lost 6-16% of the rays/s though they
  * took 4-27% fewer steps (issue 21's fourteenth sitting). */
-void vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
-                            vx__gpu_frame* gf) {
+uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
+                                vx__gpu_frame* gf) {
     uint32_t W = f->width, H = f->height, s, tx, ty;
     vx__frame_tile_grid(f, &s, &tx, &ty);
     gf->tile_info[0] = s, gf->tile_info[1] = tx;
     for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
-    if (rs->inst_count != 1 || f->lod || !pm || !path_on(rs) || !W || !H) return;
+    if (rs->inst_count != 1 || f->lod || !pm || !path_on(rs) || !W || !H) return 0;
     const inst_host* in = &rs->inst[0];
     uint32_t mi = in->model;
-    if (mi >= rs->model_count || !pm->top) return;
+    if (mi >= rs->model_count || !pm->top) return 0;
     const vx__gpu_model* m = &rs->gm[mi];
-    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return;
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return 0;
     const vx__top_node* t = pm->top;
     /* hm: twice the kernel's margin (2^-16 of the cube), so that the box's
      * rays pass its test despite their float rounding */
     double side = ldexp(1.0, (int)m->depth), hm = ldexp(side, -15), bhi[3];
     uint32_t bsh = m->depth > 10 ? m->depth - 10 : 0, box = pm->box, rebase = pm->rebase;
     for (int k = 0; k < 3; k++) bhi[k] = (double)((((box >> (10 * k)) & 1023u) + 1u) << bsh);
-    uint32_t min_level = pm->min_level ? pm->min_level : 1;
-    if (m->depth <= min_level) return;
+    uint32_t min_level = pm->min_level ? pm->min_level : 1, min_dq = pm->min_dq ? pm->min_dq : 1;
+    if (m->depth <= min_level) return 0;
     uint32_t max_dq = m->depth - min_level;
     if (rebase && rebase - 1 < max_dq) max_dq = rebase - 1;
     if (max_dq > 24) max_dq = 24;
@@ -1740,7 +1740,7 @@ void vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const
                 size = half, d++;
             }
             uint32_t dq = d;
-            if (!dq) continue; /* X the root: nothing to skip */
+            if (dq < min_dq) continue; /* X the root: nothing to skip; or fewer pushes than a start is worth */
             float cube[4];
             for (int k = 0; k < 3; k++) cube[k] = (float)(1.0 + lo[k] / side);
             cube[3] = (float)(size / side);
@@ -1770,6 +1770,7 @@ void vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const
             }
             gf->tiles[y * tx + x] = (uint16_t)r;
         }
+    return npaths;
 }
 
 /* trace.comp's starts (vx__render_scene_paths) over the plain layout's
@@ -1781,7 +1782,7 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
     bool on = !precise && !beam && rs->top && mi < rs->model_count && rs->top[mi];
     vx__path_model pm = {0};
     if (on) pm = (vx__path_model){.top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1};
-    vx__render_scene_paths(rs, f, on ? &pm : NULL, gf);
+    (void)vx__render_scene_paths(rs, f, on ? &pm : NULL, gf);
 }
 
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,

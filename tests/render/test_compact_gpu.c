@@ -666,8 +666,9 @@ static void test_path_start(void) {
     size_t frames = 0, fewer = 0, differ = 0, rand_frames = 0, rand_fewer = 0, outside_frames = 0, outside_fewer = 0;
     size_t paged_frames = 0, paged_fewer = 0;
     double saved = 0;
-    for (int sc = 0; sc < 4; sc++) {
-        /* 0, 1: blocks in 64^3, 256^3; 2: 11 levels (DEEP 1); 3: 13 levels (DEEP 2) */
+    for (int si = 0; si < 4; si++) {
+        /* 0, 1: blocks in 64^3, 256^3; 2: 11 levels (DEEP 1); 3: 13 levels (DEEP 2); the deep ones first */
+        int sc = (si + 2) % 4;
         uint32_t side = sc == 0 ? 64 : sc == 1 ? 256 : 0, seed = 4321 + (uint32_t)sc;
         uint8_t* used = side ? calloc((size_t)side * side * side, 1) : NULL;
         for (int tf = 0; tf < 2; tf++) {
@@ -704,6 +705,8 @@ static void test_path_start(void) {
                 }
                 vx_compact_free(&c);
             }
+            /* starts of any depth (the default takes those that skip 2 pushes or more) */
+            for (int k = 0; k < 2; k++) vx__compact_gpu_start_min(cg[k], 1), vx__compact_gpu_start_min(pg[k], 1);
             int views = side == 256 ? 12 : 16;
             for (int v = 0; v < views + 4; v++) {
                 bool outside = v >= views;
