@@ -837,8 +837,8 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     /* and the primary rays' starts below the root (trace_compact.comp
      * PATH_START), the kernel without them where no tile has one: the
      * start's code alone (the overviews: their rays enter the model box)
-     * cost 1.3-1.6% of the albedo rays/s and up to 4% in the depth mode on
-     * the H200 (docs/PERFORMANCE.md issue 18, fourteenth step) */
+     * cost 1.3-2% of the albedo rays/s and 4-4.5% in the depth mode on the
+     * H200 (docs/PERFORMANCE.md issue 18, fourteenth step) */
     bool path = !sp[VX__SPEC_USE_BVH] && vx__render_scene_path_on(cg->rs) && gf->inst0.model < cg->path_count &&
                 cg->paths[gf->inst0.model].top;
     vx__path_model pm = path ? cg->paths[gf->inst0.model] : (vx__path_model){0};
