@@ -791,6 +791,126 @@ static void test_path_start(void) {
     CHECK(paged_fewer > 0);
 }
 
+/* The start records the host writes for the compact kernel
+ * (vx__render_scene_paths over compact_gpu.c's lists), checked against the
+ * geometry slots themselves after each frame (the frame block is mapped on
+ * lavapipe): every record's chain is the descent from the model's root slot
+ * through the octants of X's cube (each next slot the inner child of that
+ * octant in its parent's block: geom word 1 plus the inner children below
+ * it), X's level is 3 or more, its cube holds the eye, a record skips at
+ * least the threshold's pushes (vx__compact_gpu_start_min: 1, the default
+ * 2, or more than the model has: none), and a tile's record index is in
+ * range. Sparse 256^3 blocks and the 11-level height field, both brick forms. */
+static void test_path_records(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    size_t records = 0, checked_tiles = 0, bad = 0, deep1 = 0;
+    for (int sc = 0; sc < 2; sc++) {
+        uint8_t* used = sc == 0 ? calloc((size_t)256 * 256 * 256, 1) : NULL;
+        vx_svo_model m;
+        REQUIRE((sc == 0 ? (used ? block_model(&m, 256, 99, used) : VX_ERR_NOMEM) : height_model(&m, 1200, 64, 1100, 11)) ==
+                VX_OK);
+        uint32_t size[3] = {m.size[0], m.size[1], m.size[2]}, depth = m.depth;
+        vx_svo_scene s;
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        ts_scene(&s, &m, 1, &in, 1);
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+                VX_OK);
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        for (int k = 0; k < 2; k++) {
+            vx_compact_scene c;
+            REQUIRE(vx_compact_build(&(vx_compact_desc){.bricks = k ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE}, &s,
+                                     &c, &err) == VX_OK);
+            vx_compact_gpu* cg = NULL;
+            REQUIRE(vx_compact_gpu_create(rs, &s, &c, &cg, &err) == VX_OK);
+            /* the frame block (binding 0, mapped on lavapipe) */
+            vx__frame f;
+            vx__buffer* bufs[7];
+            uint32_t sp[VX__SPEC_COUNT];
+            vx_render_desc d0 = {.width = 64, .height = 48};
+            REQUIRE(vx__frame_setup(lo, hi, &d0, &f, &err) == VX_OK);
+            REQUIRE(vx__render_scene_tables(rs, &f, bufs, sp, &err) == VX_OK);
+            const vx__gpu_frame* gf = bufs[0]->map;
+            if (!gf) {
+                vx_compact_gpu_destroy(cg);
+                vx_compact_free(&c);
+                SKIP("the frame block is not host visible on %s", vx_gpu_device_name(gpu));
+            }
+            uint32_t seed = 77 + (uint32_t)k;
+            for (int v = 0; v < 12; v++) {
+                double e[3], dir[3], dl = 0;
+                for (int a = 0; a < 3; a++) dir[a] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[a] * dir[a];
+                dl = sqrt(dl);
+                for (int a = 0; a < 3; a++) e[a] = 1 + (ts_rng(&seed) % ((size[a] - 2) * 100)) / 100.0;
+                if (sc == 1) e[1] = 0.74 * (size[1] - 2) - (ts_rng(&seed) % 100) / 100.0;
+                vx_render_desc d = {.width = 64, .height = 48, .mode = VX_RENDER_DEPTH};
+                d.camera.set = true, d.camera.fov = 70;
+                for (int a = 0; a < 3; a++) d.camera.eye[a] = e[a], d.camera.target[a] = e[a] + dir[a] / dl * 10;
+                for (uint32_t th = 1; th <= 3; th++) {
+                    uint32_t min_dq = th == 3 ? depth : th; /* 3: more pushes than the model has */
+                    vx__compact_gpu_start_min(cg, min_dq);
+                    vx__render_scene_trace_path(rs, 1);
+                    vx_render_image img = {0};
+                    vx_result r = vx_compact_gpu_frame(cg, &d, &img, &err);
+                    vx__render_scene_trace_path(rs, -1);
+                    vx_render_image_free(&img);
+                    CHECKF(r == VX_OK, "%s", err.msg);
+                    if (r) continue;
+                    uint32_t shift = gf->tile_info[0], tx = gf->tile_info[1];
+                    uint32_t ty = (48 + (1u << shift) - 1) >> shift, maxrec = 0;
+                    bool any = false;
+                    for (uint32_t t = 0; t < tx * ty; t++) {
+                        uint16_t ti = gf->tiles[t];
+                        if (ti == VX__TILE_NONE) continue;
+                        checked_tiles++, any = true;
+                        if (ti >= VX__PATHS) {
+                            bad++;
+                            continue;
+                        }
+                        if (ti + 1u > maxrec) maxrec = ti + 1u;
+                    }
+                    if (th == 3) bad += any; /* no start skips more pushes than the model has levels below 3 */
+                    for (uint32_t ri = 0; ri < maxrec; ri++) {
+                        const vx__gpu_path* g = &gf->paths[ri];
+                        uint32_t dx = g->info[0], ok = dx >= min_dq && dx >= 1 && dx + 3 <= depth && g->info[2] == 0;
+                        ok = ok && g->nodes[0] == c.models[0].root && g->cube[3] == (float)ldexp(1.0, -(int)dx);
+                        for (int a = 0; ok && a < 3; a++) {
+                            /* the eye in the model cube's [1,2] units inside X's cube */
+                            double q = 1 + e[a] / ldexp(1.0, (int)depth);
+                            ok = q >= g->cube[a] && q <= g->cube[a] + g->cube[3];
+                        }
+                        for (uint32_t j = 0; ok && j < dx; j++) {
+                            uint32_t node = g->nodes[j], next = j + 1 < dx ? g->nodes[j + 1] : g->info[1], oct = 0;
+                            for (int a = 0; a < 3; a++)
+                                oct |= (uint32_t)((int64_t)floor(((double)g->cube[a] - 1) * ldexp(1.0, (int)j + 1)) & 1) << a;
+                            uint32_t w0 = c.geom[2 * (size_t)node], inner = (w0 >> 8) & ~w0 & 0xFFu;
+                            ok = ((inner >> oct) & 1u) &&
+                                 next == c.geom[2 * (size_t)node + 1] + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
+                        }
+                        if (!ok && bad < 3)
+                            printf("  record %u of view %d (threshold %u): depth %u, X %u, cube %g %g %g / %g\n", ri, v,
+                                   min_dq, dx, g->info[1], g->cube[0], g->cube[1], g->cube[2], g->cube[3]);
+                        bad += !ok;
+                        records++;
+                        deep1 += dx == 1;
+                    }
+                }
+            }
+            vx_compact_gpu_destroy(cg);
+            vx_compact_free(&c);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+        free(used);
+    }
+    printf("compact start records: %zu records of %zu tiles checked, %zu of one push, %zu wrong\n", records, checked_tiles,
+           deep1, bad);
+    CHECK(bad == 0);
+    CHECK(records > 0 && deep1 > 0); /* the threshold 1 takes some of one push; 2 none (checked per record) */
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP(gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
@@ -834,6 +954,7 @@ int main(void) {
     RUN(test_uniform_cubes);
     RUN(test_attr_parts);
     RUN(test_path_start);
+    RUN(test_path_records);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     vx_gpu_destroy(gpu);
