@@ -81,6 +81,9 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
  * effect beside trace.comp in one process (rows ", from the root", ", starts
  * from one push") */
 static bool g_start_ab;
+/* --start-on: the starts below the root on for both kernels even on a CPU
+ * device (lavapipe, whose default is off): their steps per ray there */
+static bool g_start_on;
 
 /* Both kernels on s: one markdown row per view. */
 /* The camera of frame f of n of a fly-through: around the scene's centre at
@@ -167,7 +170,7 @@ static vx_result compact_frame(vx_render_scene* rs, vx_compact_gpu* cg, int vari
     if (variant == 1) vx__render_scene_trace_path(rs, 0);
     if (variant == 2) vx__compact_gpu_start_min(cg, 1);
     vx_result r = vx_compact_gpu_frame(cg, d, out, err);
-    vx__render_scene_trace_path(rs, -1);
+    vx__render_scene_trace_path(rs, g_start_on ? 1 : -1);
     vx__compact_gpu_start_min(cg, 0);
     return r;
 }
@@ -176,7 +179,7 @@ static vx_result compact_time(vx_render_scene* rs, vx_compact_gpu* cg, int varia
     if (variant == 1) vx__render_scene_trace_path(rs, 0);
     if (variant == 2) vx__compact_gpu_start_min(cg, 1);
     vx_result r = vx_compact_gpu_time(cg, d, reps, seconds, err);
-    vx__render_scene_trace_path(rs, -1);
+    vx__render_scene_trace_path(rs, g_start_on ? 1 : -1);
     vx__compact_gpu_start_min(cg, 0);
     return r;
 }
@@ -192,6 +195,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         return;
     }
+    if (g_start_on) vx__render_scene_trace_path(rs, 1);
     if (vx_compact_build(&(vx_compact_desc){.bricks = bricks}, s, &c, &err) == VX_OK) {
         if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
         vx_compact_paged p;
@@ -596,6 +600,10 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--levels")) {
             levels = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--start-on")) {
+            g_start_on = true;
             continue;
         }
         if (!strcmp(argv[i], "--start-ab")) {
