@@ -69,9 +69,9 @@ struct vx_compact_gpu {
 
 /* A start below the root skips at least this many pushes: on the H200 one
  * push saved (eph_monu1's close-up) cost 1.7% of the albedo rays/s and 6%
- * in the depth mode, two (the terrain's) gained 0.3% and 1.6%, four and
- * five (the helmet's, eph_menger's) 6% and 20% (docs/PERFORMANCE.md issue
- * 18, fourteenth step) */
+ * in the depth mode, two (the terrain's) gained 0.3% and 1.6%, four (the
+ * helmet's, eph_menger's) 6% and 20% (docs/PERFORMANCE.md issue 18,
+ * fourteenth step) */
 #define START_MIN 2u
 
 /* trace.comp's Model.box (render_scene.c model_box) */
