@@ -138,6 +138,18 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 2 "--frames without #" svo_render "$T/anim.svo" "$T/seq.png" --frames 0..3
     expect_status 1 "--frames past the end" svo_render "$T/anim.svo" "$T/s_#.png" --frames 20..24 --size 8x8
     grep -q "no frame 24 (the scene has 24)" "$T/err" && ok "svo_render names the frame count" || bad "svo_render names the frame count"
+    # a damaged file and a missing one: svo_render (either load) and svo_bake name the file once, write nothing
+    cp "$T/demo.svo" "$T/dmg.svo" && printf '\377\377\377\377' | dd of="$T/dmg.svo" bs=1 seek=200 conv=notrunc 2>/dev/null
+    for f in dmg none; do
+        for load in models whole; do
+            expect_status 1 "svo_render $f.svo --load $load" svo_render "$T/$f.svo" "$T/dmg.png" --size 8x8 --load $load
+            [ "$(grep -o "$T/$f.svo" "$T/err" | wc -l)" -eq 1 ] && [ ! -e "$T/dmg.png" ] && ok "svo_render names $f.svo once" ||
+                bad "svo_render names $f.svo once: $(cat "$T/err")"
+        done
+        expect_status 1 "svo_bake $f.svo" "$BIN/svo_bake" "$T/$f.svo" "$T/dmg.probes" --grid 2,2,2 --res 16 --spp 1 -q
+        [ "$(grep -o "$T/$f.svo" "$T/err" | wc -l)" -eq 1 ] && [ ! -e "$T/dmg.probes" ] && ok "svo_bake names $f.svo once" ||
+            bad "svo_bake names $f.svo once: $(cat "$T/err")"
+    done
     # the scene's GPU layout (issue 18): -v states it; auto under a budget
     # below the plain layout's bytes takes the compact one, which gives the
     # plain layout's image; passes need the plain one

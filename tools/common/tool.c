@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,19 +21,33 @@ void vx_tool_init(int argc, char** argv) {
     }
 }
 
+/* "file: " before a message, or nothing where there is no file or the
+ * message names it first already (the library's file functions prefix
+ * their own errors with the path: a tool that passes it too would print
+ * it twice) */
+static const char* file_sep(const char* file, const char* msg, const char** sep) {
+    size_t n = file ? strlen(file) : 0;
+    bool named = !n || (msg && strncmp(msg, file, n) == 0 && msg[n] == ':');
+    *sep = named ? "" : ": ";
+    return named ? "" : file;
+}
+
 int vx_tool_error(const char* file, const vx_error* err) {
+    const char* msg = err ? err->msg : "error";
+    const char* sep;
+    const char* f = file_sep(file, msg, &sep);
     if (err && err->offset != VX_NO_OFFSET && !strstr(err->msg, "byte"))
-        fprintf(stderr, "%s: %s: %s (at byte %llu)\n", vx_tool_name, file ? file : "", err->msg,
-                (unsigned long long)err->offset);
+        fprintf(stderr, "%s: %s%s%s (at byte %llu)\n", vx_tool_name, f, sep, msg, (unsigned long long)err->offset);
     else
-        fprintf(stderr, "%s: %s: %s\n", vx_tool_name, file ? file : "", err ? err->msg : "error");
+        fprintf(stderr, "%s: %s%s%s\n", vx_tool_name, f, sep, msg);
     return 1;
 }
 
 int vx_tool_error_budget(const char* file, const vx_error* err, const vx_budget* b) {
     if (!b || !b->refused) return vx_tool_error(file, err);
-    fprintf(stderr, "%s: %s: needs more than --max-memory %s (a block of %s refused): %s\n", vx_tool_name,
-            file ? file : "", vx_tool_bytes(b->limit), vx_tool_bytes(b->refused), err ? err->msg : "error");
+    fprintf(stderr, "%s: %s%sneeds more than --max-memory %s (a block of %s refused): %s\n", vx_tool_name,
+            file ? file : "", file ? ": " : "", vx_tool_bytes(b->limit), vx_tool_bytes(b->refused),
+            err ? err->msg : "error");
     return 1;
 }
 

@@ -881,7 +881,7 @@ int main(int argc, char** argv) {
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
                   : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
         vx_svo_reader_close(rd);
-        return vx_tool_error_budget(NULL, &err, &budget); /* the message names the file */
+        return vx_tool_error_budget(o.in, &err, &budget);
     }
     double t_load = vx_time_now() - t0;
     if (o.verbose) {
