@@ -252,7 +252,9 @@ static int check_path_kernel(const char* label, const uint32_t* w, size_t bytes,
     if (ok)
         for (int f = 0; path_fns[f]; f++) {
             int ops = 0, bad = check_whole_function(&m, path_fns[f], &ops, label, quiet);
-            CHECKF(bad >= 0, "%s: no function %s", label, path_fns[f]);
+            /* the control (quiet: the bake's kernel) holds only its own entry's functions since each build of
+             * probe.comp has one entry point (bake4): render() and what only it calls are not there */
+            CHECKF(quiet || bad >= 0, "%s: no function %s", label, path_fns[f]);
             CHECKF(quiet || bad <= 0, "%s: %s: %d of %d float operations could be contracted", label, path_fns[f], bad, ops);
             CHECKF(bad < 0 || ops > 0, "%s: %s has no float operation (renamed?)", label, path_fns[f]);
             if (bad > 0) total_bad += bad;
