@@ -259,14 +259,34 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
     return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
 
+// The GPU form of a descriptor (issue 21): the plain layout's node buffer
+// holds every descriptor with its low byte the INNER mask (valid and not
+// leaf), where the file's holds the leaf mask (render_scene.c's upload
+// transforms them: vx__render_desc_gpu). Bits 8-31 are the file's (valid
+// mask, far bit, pointer). So child c (its bit cbit = 1 << c) is valid where
+// desc & (cbit << 8), inner where desc & cbit, a leaf where valid and not
+// inner, and its block entry counts the inner bits below cbit: in the walk
+// one shift, desc << (7 - c), puts c's valid bit at 15, its inner bit at 7
+// and the inner children below it in bits 0-6 (the paper's child_masks,
+// with the octant order of the file's blocks). Every GLSL reader of the
+// plain node buffer reads descriptors through these; a descriptor built in
+// the file's form (the compact layout's slots, compact_attr.glsl) is turned
+// into this form with desc_gpu_form where the walk reads it.
+uint desc_gpu_form(uint d) { return (d & 0xFFFFFF00u) | ((d >> 8) & ~d & 0xFFu); }
+bool desc_valid(uint desc, uint cbit) { return (desc & (cbit << 8)) != 0u; }
+bool desc_inner(uint desc, uint cbit) { return (desc & cbit) != 0u; }
+bool desc_is_leaf(uint desc, uint cbit) { return (desc & ((cbit << 8) | cbit)) == (cbit << 8); }
+uint desc_inner_count(uint desc) { return uint(bitCount(desc & 0xFFu)); }
+uint desc_inner_below(uint desc, uint cbit) { return uint(bitCount(desc & (cbit - 1u))); }
+
 // The node index of inner child cbit (1 << octant) of node `parent` with
-// descriptor desc (absolute indices; far pointers are model-relative, nbase
-// the model's first node): the children's block, then the inner children
-// (valid, not leaf) below cbit.
+// descriptor desc (GPU form; absolute indices; far pointers are
+// model-relative, nbase the model's first node): the children's block, then
+// the inner children below cbit.
 uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     uint blk = parent - (desc >> 17);
     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-    return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
+    return blk + desc_inner_below(desc, cbit);
 }
 
 #ifndef PRECISE
@@ -538,7 +558,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     // below a brick's level 2 takes the octant from cnd (no load)
                     int lvl = scale + lvl_off - koff;
                     cnd = cslots[parent];
-                    desc = lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u));
+                    desc = desc_gpu_form(lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u)));
                 } else
 #endif
                     desc = nodes[parent];
@@ -551,11 +571,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
             uint valid = (desc >> 8) & 0xFFu;
-            uint leaf = desc & 0xFFu;
+            uint inner = desc & 0xFFu; // GPU form: the inner mask
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
 #else
-            uint cbit = 1u << cs; // the child's leaf bit; its valid bit is cbit << 8
-            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+            // desc (GPU form) shifted by 7 - cs (= idx ^ oct): child cs's
+            // valid bit at 15, its inner bit at 7, the inner children below
+            // it in bits 0-6 (the paper's child_masks)
+            uint cm = desc << uint(idx ^ oct);
+            if ((cm & 0x8000u) != 0u && tmin <= tmax) {
 #endif
                 WPREC REAL tv_max = min(tmax, tc_max);
                 WPREC REAL half_ = scale_exp2 * 0.5;
@@ -566,9 +589,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 // H200, 1-2% slower in the plain kernel, which keeps it.
                 if (DEEP >= 1 || tmin <= tv_max) {
 #ifdef PRECISE
-                    bool is_leaf = ((leaf >> cs) & 1u) != 0u;
+                    bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
-                    bool is_leaf = (desc & cbit) != 0u;
+                    bool is_leaf = (cm & 0x80u) == 0u;
 #endif
                     bool stop = is_leaf;
                     if (LOD && !stop) {
@@ -596,7 +619,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifndef PRECISE
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
-                        pending = 1, rb_cbit = cbit;
+                        pending = 1, rb_cbit = 1u << cs;
                         break;
                     }
 #endif
@@ -610,7 +633,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
                     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                    parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+                    parent = blk + uint(bitCount(inner & ((1u << cs) - 1u)));
 #else
                     bool keep = false; // COMPACT below level 2: the octant's descriptor, no load
                     if (COMPACT) {
@@ -618,10 +641,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // brick's level 2 the child is octant cs of the brick in cnd
                         // (level 3: through the brick's index word)
                         int plvl = scale + lvl_off - koff;
-                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                        else desc = brick_octant(cnd, uint(cs)), keep = true;
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(cm & 0x7Fu)));
+                        else desc = desc_gpu_form(brick_octant(cnd, uint(cs))), keep = true;
                     } else {
-                        parent = child_node(parent, desc, cbit, nbase);
+                        uint blk = parent - (desc >> 17);
+                        if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                        parent = blk + uint(bitCount(cm & 0x7Fu));
                     }
 #endif
                     idx = 0;
@@ -729,7 +754,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
-                parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
+                parent = COMPACT ? cnd.y + desc_inner_below(desc, rb_cbit)
                                  : child_node(parent, desc, rb_cbit, nbase);
                 idx = 0;
                 scale = S_MAX - 1;
@@ -783,10 +808,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // shadow rays, any_hit, need none)
             int cs = idx ^ oct7;
             uint valid = (desc >> 8) & 0xFFu;
-            uint leaf = desc & 0xFFu;
             uint blk = parent - (desc >> 17);
             if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            uint a = nodes[blk + bitCount(valid & ~leaf)];
+            uint a = nodes[blk + desc_inner_count(desc)];
             attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
             have_attr = true;
         }
