@@ -42,6 +42,11 @@ const uint COMPACT_FORM = 0u;
 layout(constant_id = 10) const uint COMPACT_FORM = 0u;
 #endif
 const bool COMPACT = COMPACT_FORM != 0u;
+// The push's child bits in the GPU form (desc_gpu_form below): from one
+// shift of the descriptor (false), or tested in place with the child's bit
+// (true). Kernels with the far-pointer test take the second form (issue 21,
+// fifteenth sitting: docs/PERFORMANCE.md).
+const bool MASKS = FAR;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -576,9 +581,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #else
             // desc (GPU form) shifted by 7 - cs (= idx ^ oct): child cs's
             // valid bit at 15, its inner bit at 7, the inner children below
-            // it in bits 0-6 (the paper's child_masks)
+            // it in bits 0-6 (the paper's child_masks); MASKS: the bits
+            // tested in place instead (cbit)
+            uint cbit = 1u << cs;
             uint cm = desc << uint(idx ^ oct);
-            if ((cm & 0x8000u) != 0u && tmin <= tmax) {
+            if ((MASKS ? desc & (cbit << 8) : cm & 0x8000u) != 0u && tmin <= tmax) {
 #endif
                 WPREC REAL tv_max = min(tmax, tc_max);
                 WPREC REAL half_ = scale_exp2 * 0.5;
@@ -591,7 +598,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
-                    bool is_leaf = (cm & 0x80u) == 0u;
+                    bool is_leaf = (MASKS ? desc & cbit : cm & 0x80u) == 0u;
 #endif
                     bool stop = is_leaf;
                     if (LOD && !stop) {
@@ -619,7 +626,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifndef PRECISE
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
-                        pending = 1, rb_cbit = 1u << cs;
+                        pending = 1, rb_cbit = cbit;
                         break;
                     }
 #endif
@@ -641,12 +648,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // brick's level 2 the child is octant cs of the brick in cnd
                         // (level 3: through the brick's index word)
                         int plvl = scale + lvl_off - koff;
-                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(cm & 0x7Fu)));
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(MASKS ? desc & (cbit - 1u) : cm & 0x7Fu)));
                         else desc = desc_gpu_form(brick_octant(cnd, uint(cs))), keep = true;
                     } else {
                         uint blk = parent - (desc >> 17);
                         if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                        parent = blk + uint(bitCount(cm & 0x7Fu));
+                        parent = blk + uint(bitCount(MASKS ? desc & (cbit - 1u) : cm & 0x7Fu));
                     }
 #endif
                     idx = 0;
