@@ -43,10 +43,23 @@ layout(constant_id = 10) const uint COMPACT_FORM = 0u;
 #endif
 const bool COMPACT = COMPACT_FORM != 0u;
 // The push's child bits in the GPU form (desc_gpu_form below): from one
-// shift of the descriptor (false), or tested in place with the child's bit
-// (true). Kernels with the far-pointer test take the second form (issue 21,
-// fifteenth sitting: docs/PERFORMANCE.md).
-const bool MASKS = FAR;
+// shift of the descriptor (MASKS false: 3-6.5% more primary rays on the
+// H200 than main's masks on the file's form), or tested in place with the
+// child's bit (true: 1.5-3% faster than the shift where FAR is on). The
+// rebased walk's kernels (REBASE) turn each descriptor they load back into
+// the file's form and run main's masks on it (FILE_FORM): reading the GPU
+// form, the colour kernel of such a scene (terrain4096: DEEP 2, FAR) got 96
+// registers and no local memory on the H200 where main's has 48 and its two
+// stacks in local memory, and traced 0.51-0.57 of main's primary + shadow
+// rays in either push form; FILE_FORM is main's loop in SPIR-V but for the
+// turn at each load, not yet measured there (issue 21, fifteenth sitting:
+// docs/PERFORMANCE.md).
+#ifdef PRECISE
+const bool FILE_FORM = false;
+#else
+const bool FILE_FORM = REBASE;
+#endif
+const bool MASKS = FAR || FILE_FORM;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -292,6 +305,12 @@ uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
     uint blk = parent - (desc >> 17);
     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
     return blk + desc_inner_below(desc, cbit);
+}
+// The same for a descriptor in the file's form (trace_model's FILE_FORM).
+uint child_node_file(uint parent, uint desc, uint cbit, uint nbase) {
+    uint blk = parent - (desc >> 17);
+    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+    return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
 }
 
 #ifndef PRECISE
@@ -563,10 +582,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     // below a brick's level 2 takes the octant from cnd (no load)
                     int lvl = scale + lvl_off - koff;
                     cnd = cslots[parent];
-                    desc = desc_gpu_form(lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u)));
+                    desc = lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u));
+                    if (!FILE_FORM) desc = desc_gpu_form(desc);
                 } else
 #endif
+                {
                     desc = nodes[parent];
+                    if (FILE_FORM) desc = desc_gpu_form(desc); // its own inverse: back to the file's form
+                }
                 loaded = true;
             }
             WPREC RVEC3 tc = pos * coef - bias;
@@ -598,7 +621,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
-                    bool is_leaf = (MASKS ? desc & cbit : cm & 0x80u) == 0u;
+                    bool is_leaf = FILE_FORM ? (desc & cbit) != 0u : (MASKS ? desc & cbit : cm & 0x80u) == 0u;
 #endif
                     bool stop = is_leaf;
                     if (LOD && !stop) {
@@ -648,8 +671,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // brick's level 2 the child is octant cs of the brick in cnd
                         // (level 3: through the brick's index word)
                         int plvl = scale + lvl_off - koff;
-                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(MASKS ? desc & (cbit - 1u) : cm & 0x7Fu)));
-                        else desc = desc_gpu_form(brick_octant(cnd, uint(cs))), keep = true;
+                        uint below = FILE_FORM ? (desc >> 8) & ~desc & (cbit - 1u) : (MASKS ? desc & (cbit - 1u) : cm & 0x7Fu);
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(below)));
+                        else desc = FILE_FORM ? brick_octant(cnd, uint(cs)) : desc_gpu_form(brick_octant(cnd, uint(cs))), keep = true;
+                    } else if (FILE_FORM) {
+                        parent = child_node_file(parent, desc, cbit, nbase);
                     } else {
                         uint blk = parent - (desc >> 17);
                         if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
@@ -761,8 +787,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
-                parent = COMPACT ? cnd.y + desc_inner_below(desc, rb_cbit)
-                                 : child_node(parent, desc, rb_cbit, nbase);
+                // (REBASE: desc is in the file's form, FILE_FORM)
+                parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
+                                 : child_node_file(parent, desc, rb_cbit, nbase);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -817,7 +844,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             uint valid = (desc >> 8) & 0xFFu;
             uint blk = parent - (desc >> 17);
             if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            uint a = nodes[blk + desc_inner_count(desc)];
+            uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))];
             attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
             have_attr = true;
         }
