@@ -75,6 +75,15 @@ static void print_stats(void* user, vx_log_level level, const char* id, const ch
 }
 
 #define ROUNDS 5 /* timing rounds per view; medians */
+/* --start-ab: also the whole layout's kernel with its primary rays' starts
+ * below the root off (every walk from the root) and with starts of one push
+ * too (vx__compact_gpu_start_min 1), in the same rounds: the start's own
+ * effect beside trace.comp in one process (rows ", from the root", ", starts
+ * from one push") */
+static bool g_start_ab;
+/* --start-on: the starts below the root on for both kernels even on a CPU
+ * device (lavapipe, whose default is off): their steps per ray there */
+static bool g_start_on;
 
 /* Both kernels on s: one markdown row per view. */
 /* The camera of frame f of n of a fly-through: around the scene's centre at
@@ -154,6 +163,27 @@ static void fly_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
     vx_render_scene_destroy(rs);
 }
 
+/* The compact kernel's frame and timing: variant 0 as built, 1 its starts
+ * below the root off (trace.comp's keep theirs), 2 starts from one push */
+static vx_result compact_frame(vx_render_scene* rs, vx_compact_gpu* cg, int variant, const vx_render_desc* d,
+                               vx_render_image* out, vx_error* err) {
+    if (variant == 1) vx__render_scene_trace_path(rs, 0);
+    if (variant == 2) vx__compact_gpu_start_min(cg, 1);
+    vx_result r = vx_compact_gpu_frame(cg, d, out, err);
+    vx__render_scene_trace_path(rs, g_start_on ? 1 : -1);
+    vx__compact_gpu_start_min(cg, 0);
+    return r;
+}
+static vx_result compact_time(vx_render_scene* rs, vx_compact_gpu* cg, int variant, const vx_render_desc* d, uint32_t reps,
+                              double* seconds, vx_error* err) {
+    if (variant == 1) vx__render_scene_trace_path(rs, 0);
+    if (variant == 2) vx__compact_gpu_start_min(cg, 1);
+    vx_result r = vx_compact_gpu_time(cg, d, reps, seconds, err);
+    vx__render_scene_trace_path(rs, g_start_on ? 1 : -1);
+    vx__compact_gpu_start_min(cg, 0);
+    return r;
+}
+
 static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_t bricks, uint32_t W, uint32_t H, uint32_t reps,
                      uint32_t lp) {
     vx_error err = {0};
@@ -165,6 +195,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         return;
     }
+    if (g_start_on) vx__render_scene_trace_path(rs, 1);
     if (vx_compact_build(&(vx_compact_desc){.bricks = bricks}, s, &c, &err) == VX_OK) {
         if (vx_compact_gpu_create(rs, s, &c, &cg, &err)) cg = NULL;
         vx_compact_paged p;
@@ -177,7 +208,11 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         }
         vx_compact_free(&c);
     }
-    const uint32_t nv = cgp ? 2 : 1; /* compact kernels timed: the whole layout, and paged */
+    const uint32_t nl = cgp ? 2 : 1; /* compact layouts: the whole layout, and paged */
+    /* compact kernels timed: those, and with --start-ab the whole layout's
+     * from the root (v == nl) and with starts from one push (v == nl + 1) */
+    const uint32_t nv = nl + (g_start_ab ? 2u : 0u);
+#define VARIANT(v) ((v) < nl ? 0 : (int)((v) - nl) + 1)
     if (!cg) {
         fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
         vx_render_scene_destroy(rs);
@@ -202,11 +237,12 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             }
         }
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
-        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, itb = 0, dnh[8] = {0};
+        uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, dnh[8] = {0};
+        uint64_t itv[8] = {0}; /* each compact kernel's steps */
         for (uint32_t v = 0; v < nv; v++) {
             vx_render_image a = {0}, b = {0};
-            vx_compact_gpu* k = v ? cgp : cg;
-            if (v) {
+            vx_compact_gpu* k = v == 1 && cgp ? cgp : cg;
+            if (v == 1 && cgp) {
                 /* frames until the view's pages are resident */
                 for (int f = 0; f < 16; f++) {
                     vx_compact_page_stats st;
@@ -216,16 +252,16 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     if (!st.coarse && !st.loaded) break;
                 }
             }
-            if (vx_render_frame(rs, &d, &a, &err) || vx_compact_gpu_frame(k, &d, &b, &err)) {
+            if (vx_render_frame(rs, &d, &a, &err) || compact_frame(rs, k, VARIANT(v), &d, &b, &err)) {
                 fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
             } else {
-                hits = ita = itb = 0;
+                hits = ita = 0;
                 for (size_t i = 0; i < (size_t)W * H; i++) {
                     const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
                     bool cell = x->instance == y->instance &&
                                 (x->instance == VX_RENDER_NO_HIT || !memcmp(x->cell, y->cell, sizeof x->cell));
                     hits += x->instance != VX_RENDER_NO_HIT;
-                    ita += x->iterations, itb += y->iterations;
+                    ita += x->iterations, itv[v] += y->iterations;
                     differ[v] += !cell;
                     dcol[v] += cell && memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
                     dt[v] += cell && memcmp(&x->t, &y->t, 4) != 0;
@@ -237,7 +273,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             /* the albedo pixels without hits (the kernels that write none) */
             vx_render_desc dn = d;
             dn.want_hits = false;
-            if (!vx_render_frame(rs, &dn, &a, &err) && !vx_compact_gpu_frame(k, &dn, &b, &err))
+            if (!vx_render_frame(rs, &dn, &a, &err) && !compact_frame(rs, k, VARIANT(v), &dn, &b, &err))
                 for (size_t i = 0; i < (size_t)W * H; i++) dnh[v] += memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
             else
                 dnh[v] = UINT64_MAX;
@@ -262,7 +298,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                     if (vx__render_dispatch(rs, &d, false, reps, &f, &ta[round], &err)) ta[round] = 0;
                     continue;
                 }
-                if (vx_compact_gpu_time(k == 1 ? cg : cgp, &d, reps, &tb[k - 1][round], &err)) {
+                if (compact_time(rs, k == 2 && cgp ? cgp : cg, VARIANT(k - 1), &d, reps, &tb[k - 1][round], &err)) {
                     fprintf(stderr, "compact_bench: %s: %s\n", name, err.msg);
                     tb[k - 1][round] = 0;
                 }
@@ -271,12 +307,12 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         double ma = bench_median(ta, ROUNDS), rays = (double)W * H;
         /* the depth mode: the walk alone (no colour decode in either) */
         d.mode = VX_RENDER_DEPTH;
-        double da3[ROUNDS], db3[2][ROUNDS];
+        double da3[ROUNDS], db3[4][ROUNDS];
         for (int round = 0; round < ROUNDS; round++) {
             bool first = round % 2 == 0;
             if (first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
             for (uint32_t v = 0; v < nv; v++)
-                if (vx_compact_gpu_time(v ? cgp : cg, &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
+                if (compact_time(rs, v == 1 && cgp ? cgp : cg, VARIANT(v), &d, reps, &db3[v][round], &err)) db3[v][round] = 0;
             if (!first && vx__render_dispatch(rs, &d, false, reps, &f, &da3[round], &err)) da3[round] = 0;
         }
         double da = bench_median(da3, ROUNDS);
@@ -284,12 +320,16 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
                    "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu) | %llu |\n",
-                   name, v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"), 1e3 * ma, rays / ma / 1e9, 1e3 * mb,
-                   rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itb / rays,
+                   name, v == nl + 1 ? (view ? "close-up, starts from one push" : "overview, starts from one push")
+                         : v == nl ? (view ? "close-up, from the root" : "overview, from the root")
+                         : v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"),
+                   1e3 * ma, rays / ma / 1e9, 1e3 * mb,
+                   rays / mb / 1e9, mb > 0 ? ma / mb : 0.0, db > 0 ? da / db : 0.0, (double)ita / rays, (double)itv[v] / rays,
                    (unsigned long long)hits, (unsigned long long)differ[v], (unsigned long long)dcol[v],
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
-                   (double)vx_compact_gpu_bytes(v ? cgp : cg) / 1e6, (double)vx__compact_gpu_table_bytes(v ? cgp : cg) / 1e3,
-                   (unsigned long long)vx__compact_gpu_uniform_entries(v ? cgp : cg), (unsigned long long)dnh[v]);
+                   (double)vx_compact_gpu_bytes(v == 1 && cgp ? cgp : cg) / 1e6,
+                   (double)vx__compact_gpu_table_bytes(v == 1 && cgp ? cgp : cg) / 1e3,
+                   (unsigned long long)vx__compact_gpu_uniform_entries(v == 1 && cgp ? cgp : cg), (unsigned long long)dnh[v]);
         }
         fflush(stdout);
     }
@@ -560,6 +600,14 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[i], "--levels")) {
             levels = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--start-on")) {
+            g_start_on = true;
+            continue;
+        }
+        if (!strcmp(argv[i], "--start-ab")) {
+            g_start_ab = true;
             continue;
         }
         if (!strcmp(argv[i], "--shader-stats")) {

@@ -6,15 +6,18 @@
  * .probes file stores while it traces the next batch; with host_filter the
  * host filters it with the CPU bake's own code (vx__probe_finish), the
  * reference the GPU filtering is tested against. */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
+#include <time.h>
 
 #include "probes/probes_internal.h"
 #include "render/gpu.h"
 
 #include "probe.comp.h"     /* shaders/probe.comp, embedded at build time */
 #include "probe_pt.comp.h"  /* the same, -DPT_PRECISE: the render passes' kernel */
+#include "probe_one.comp.h" /* the same, -DVX_ONE_WALK: the bake's one-walk kernel (bake_one()) */
 #include "probe_out.comp.h" /* shaders/probe_out.comp */
 #include "probe_filter.comp.h" /* shaders/probe_filter.comp */
 #include "probe_beam.comp.h"   /* shaders/probe_beam.comp */
@@ -83,6 +86,8 @@ typedef struct gctx {
     uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
+    vx_probe_bake_kernel kernel; /* the caller's choice (vx_probe_bake_desc.kernel) */
+    bool use_one;     /* the bake runs bake_one() (choose_kernel) */
     vx__buffer params, emit, probes, out, maps, lf, mats, lights, ems, env;
     uint32_t light_count, em_count;
     bool voxel_lights;
@@ -258,6 +263,13 @@ static void sun_bindings(gctx* c, vx__buffer** b) {
     b[2] = c->sun.map ? c->sun.insts_buf : &c->env;
 }
 
+/* ctx_sun_map makes a map (SMAP on, unless its build fails) */
+static bool sun_map_wanted(const vx__light* L, bool allow) {
+    float lf[3] = {(float)L->light_dir[0], (float)L->light_dir[1], (float)L->light_dir[2]};
+    bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
+    return allow && sun && fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0;
+}
+
 /* The bake's sun rays clipped by the scene's sun depth map (render/gpu.h),
  * built for the light as probe.comp has it, where there is a sun: the same
  * bytes (tests/probes: cmp), fewer steps. allow false: the whole rays. */
@@ -267,9 +279,8 @@ static vx_result ctx_sun_map(gctx* c, vx_render_scene* rs, const vx__light* L, b
      * (H200, the Cornell box's goal bake: GPU trace 0.386 s at 512, 0.336 at 1024, 0.270 at 2048) */
     memset(&c->sun, 0, sizeof c->sun);
     c->spec[VX__SPEC_COUNT + SPEC_SMAP] = 0;
+    if (!sun_map_wanted(L, allow)) return VX_OK;
     float lf[3] = {(float)L->light_dir[0], (float)L->light_dir[1], (float)L->light_dir[2]};
-    bool sun = L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0;
-    if (!allow || !sun || !(fabsf(lf[0]) + fabsf(lf[1]) + fabsf(lf[2]) > 0)) return VX_OK;
     double t0 = vx_time_now();
     vx_result r = vx__render_scene_sun_map(rs, lf, c->f.ref, VX_PROBE_SUN_MAP_SIDE, &c->sun, err);
     if (st) {
@@ -296,8 +307,16 @@ static void params_grid(gpu_params* p, const vx_probe_set* ps, const double ref[
     p->spacing[3] = (float)smin;
 }
 
-/* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
-static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
+/* Whether probe.comp's one-walk build (bake_one(): every ray at the one trace_scene call of a loop) may run
+ * the bake: the scene has no lights or sampled emitters and no metal or glass (LIGHTS and MATS off; else
+ * nee's light rays and the glass walks need bake()). Both give the same bytes (test_probes_gpu). */
+static bool one_walk_ok(const gctx* c) {
+    return c->kernel != VX_PROBE_KERNEL_INLINE && !c->lights_code && !c->spec[VX__SPEC_COUNT + SPEC_MATS];
+}
+
+/* probe.comp's pipeline for pass pmode (the bake: bake_one() where one, else bake()): its desc and key (sets
+ * c->spec's PCONST). */
+static uint64_t probe_desc(gctx* c, uint32_t pmode, bool one, vx_gpu_compute_pipeline_desc* pd) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
         (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
@@ -306,14 +325,57 @@ static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_err
     bool bake = pmode == PMODE_BAKE;
     const uint32_t* code = bake ? vx__probe_spv_arr : vx__probe_pt_spv_arr;
     size_t code_size = bake ? sizeof vx__probe_spv_arr : sizeof vx__probe_pt_spv_arr;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = code, .spirv_size = code_size,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
-    pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    memcpy(pd.spec, c->spec, sizeof c->spec);
-    uint64_t key = 0x9B0BE2ull + (bake ? 0 : 1);
+    one = one && bake;
+    if (one) code = vx__probe_one_spv_arr, code_size = sizeof vx__probe_one_spv_arr;
+    *pd = (vx_gpu_compute_pipeline_desc){.spirv = code, .spirv_size = code_size, .binding_count = NBIND,
+                                         .spec_count = VX__SPEC_COUNT + SPEC_EXTRA, .label = "probe"};
+    pd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < NBIND; i++) pd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(pd->spec, c->spec, sizeof c->spec);
+    uint64_t key = 0x9B0BE2ull + (bake ? (one ? 2 : 0) : 1);
     for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
+    return key;
+}
+
+/* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
+static vx_result pipeline_of(gctx* c, uint32_t pmode, vx__pipeline** out, vx_error* err) {
+    vx_gpu_compute_pipeline_desc pd;
+    uint64_t key = probe_desc(c, pmode, c->use_one, &pd);
     return vx__pipeline_get(c->g, key, &pd, out, err);
+}
+
+/* Which bake kernel runs (c->use_one), both being made ahead (vx_probe_baker_create): bake_one() where the
+ * caller asks for it, and with VX_PROBE_KERNEL_AUTO where the driver has it ready and bake() still not
+ * KERNEL_GRACE seconds later. A hit of the driver's shader cache takes it 0.0001-0.003 s (H200), a compile
+ * 0.3 s (bake_one()) and 0.66-0.89 s (bake()); bake() traces faster (0.254 s against 0.359 s, Cornell box),
+ * so it runs wherever its compile is not the wait: on every process after a machine's first, whose bake()
+ * compile, left running, the driver's cache keeps. The wait polls: it ends within 0.3 s. */
+enum { KERNEL_POLL_NS = 250000 };
+#define KERNEL_GRACE 0.02
+static void choose_kernel(gctx* c) {
+    c->use_one = false;
+    if (!one_walk_ok(c)) return;
+    if (c->kernel == VX_PROBE_KERNEL_ONE_WALK) {
+        c->use_one = true;
+        return;
+    }
+    vx_gpu_compute_pipeline_desc pd;
+    uint64_t kb = probe_desc(c, PMODE_BAKE, false, &pd), kn = probe_desc(c, PMODE_BAKE, true, &pd);
+    double t_one = -1;
+    for (;;) {
+        int b = vx__pipeline_state(c->g, kb), n = vx__pipeline_state(c->g, kn);
+        /* bake() ready, or nothing to race (not made ahead: another sun map than predicted) */
+        if (b != VX__PIPE_PENDING || n == VX__PIPE_NONE) return;
+        if (n == VX__PIPE_READY) {
+            double now = vx_time_now();
+            if (t_one < 0) t_one = now;
+            else if (now - t_one >= KERNEL_GRACE) {
+                c->use_one = true;
+                return;
+            }
+        }
+        nanosleep(&(struct timespec){0, KERNEL_POLL_NS}, NULL);
+    }
 }
 
 static vx_result run(gctx* c, uint32_t pmode, uint32_t gx, uint32_t gy, double* seconds, vx_error* err) {
@@ -641,6 +703,27 @@ static vx_result slot_grow(gbake* B, bslot* s, uint32_t cap, vx_error* err) {
     return r;
 }
 
+/* probe_filter.comp's pipeline: its desc and key */
+static uint64_t filter_desc(vx_gpu_compute_pipeline_desc* fd) {
+    *fd = (vx_gpu_compute_pipeline_desc){.spirv = vx__probe_filter_spv_arr, .spirv_size = sizeof vx__probe_filter_spv_arr,
+                                         .binding_count = 6, .push_constant_size = sizeof(fpush), .label = "probe filter"};
+    for (int i = 0; i < 6; i++) fd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    return 0x9B0BF1u;
+}
+
+/* probe_beam.comp's pipeline: the scene (0-6; 7 and 8 unused), the probes (9), the start distances (10) */
+static uint64_t beam_desc(const gctx* c, vx_gpu_compute_pipeline_desc* bd) {
+    *bd = (vx_gpu_compute_pipeline_desc){.spirv = vx__probe_beam_spv_arr, .spirv_size = sizeof vx__probe_beam_spv_arr,
+                                         .binding_count = 11, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA,
+                                         .push_constant_size = 16, .label = "probe beam"};
+    bd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    for (uint32_t i = 1; i < 11; i++) bd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    memcpy(bd->spec, c->spec, sizeof c->spec);
+    uint64_t key = 0x9B0BEAull;
+    for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
+    return key;
+}
+
 static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, uint32_t first,
                             vx_error* err) {
     vx_gpu* g = c->g;
@@ -649,23 +732,11 @@ static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t 
     vx_result r = pipeline_of(c, PMODE_BAKE, &B->trace, err);
     if (r) return r;
     double tp = vx_time_now();
-    vx_gpu_compute_pipeline_desc fd = {.spirv = vx__probe_filter_spv_arr,
-                                       .spirv_size = sizeof vx__probe_filter_spv_arr, .binding_count = 6,
-                                       .push_constant_size = sizeof(fpush), .label = "probe filter"};
-    for (int i = 0; i < 6; i++) fd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    if ((r = vx__pipeline_get(g, 0x9B0BF1u, &fd, &B->filter, err))) return r;
-    uint32_t beam = c->spec[VX__SPEC_COUNT + SPEC_BEAM];
-    if (beam) {
-        /* probe_beam.comp: the scene (0-6; 7 and 8 unused), the probes (9), the start distances (10) */
-        vx_gpu_compute_pipeline_desc bd = {.spirv = vx__probe_beam_spv_arr, .spirv_size = sizeof vx__probe_beam_spv_arr,
-                                           .binding_count = 11, .spec_count = VX__SPEC_COUNT + SPEC_EXTRA,
-                                           .push_constant_size = 16, .label = "probe beam"};
-        bd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        for (uint32_t i = 1; i < 11; i++) bd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        memcpy(bd.spec, c->spec, sizeof c->spec);
-        uint64_t key = 0x9B0BEAull;
-        for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
-        if ((r = vx__pipeline_get(g, key, &bd, &B->beam, err))) return r;
+    vx_gpu_compute_pipeline_desc fd;
+    if ((r = vx__pipeline_get(g, filter_desc(&fd), &fd, &B->filter, err))) return r;
+    if (c->spec[VX__SPEC_COUNT + SPEC_BEAM]) {
+        vx_gpu_compute_pipeline_desc bd;
+        if ((r = vx__pipeline_get(g, beam_desc(c, &bd), &bd, &B->beam, err))) return r;
     }
     B->pipes = vx_time_now() - tp;
     /* texel directions and solid angles, then the irradiance and moment texel directions (double -> float) */
@@ -1016,9 +1087,25 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
      * probe.comp's 8x4 texel tiles: GPU trace 0.544 -> 0.493 s; the camera rays alone 0.136 -> 0.091 s) */
     /* (not in the compact layout: probe_beam.comp reads the plain node words) */
     if (!r && !d.no_beam && !vx__render_scene_compact(rs)) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
-    if (!r) b->c.strat = !d.independent_bounce;
+    if (!r) b->c.strat = !d.independent_bounce, b->c.kernel = d.kernel;
     /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
     if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;
+    /* The bake's kernel (both, where bake_one() may run: choose_kernel), the filter and the beam pass made
+     * ahead on threads of their own, beside each other and beside the sun map (its kernel, its nodes' upload
+     * and build) and the filter tables: on a machine whose shader cache is empty each is a compile of the
+     * driver's, in turn they added up. The kernel's SMAP as the map will be; where its build fails,
+     * pipeline_of makes the kernel without it (and the one made ahead goes with the device). */
+    if (!r) {
+        gctx* c = &b->c;
+        vx_gpu_compute_pipeline_desc pd;
+        c->spec[VX__SPEC_COUNT + SPEC_SMAP] = sun_map_wanted(&b->L, !d.no_shadow_map);
+        bool one = one_walk_ok(c);
+        if (!one || d.kernel != VX_PROBE_KERNEL_ONE_WALK)
+            vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, false, &pd), &pd);
+        if (one) vx__pipeline_ahead(c->g, probe_desc(c, PMODE_BAKE, true, &pd), &pd);
+        vx__pipeline_ahead(c->g, filter_desc(&pd), &pd);
+        if (c->spec[VX__SPEC_COUNT + SPEC_BEAM]) vx__pipeline_ahead(c->g, beam_desc(c, &pd), &pd);
+    }
     if (!r) {
         vx_probe_bake_stats sm = {0};
         r = ctx_sun_map(&b->c, rs, &b->L, !d.no_shadow_map, &sm, err);
@@ -1028,6 +1115,7 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     }
     b->setup_ctx = vx_time_now() - t0;
     double tp = vx_time_now();
+    if (!r) choose_kernel(&b->c);
     if (!r) r = pipeline_of(&b->c, PMODE_BAKE, &pipe, err);
     b->setup_pipes = vx_time_now() - tp;
     if (!r) r = vx__buffer_create(b->c.g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "probe maps", &b->c.maps, err);
@@ -1070,6 +1158,7 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
         b->setup_reported = true;
     }
     st.sun_map_side = b->sun_map_side, st.sun_map_nodes = b->sun_map_nodes;
+    st.one_walk = b->c.use_one;
     double tg = vx_time_now();
     /* every byte of the range's maps comes from gbake_store before ps->count covers it */
     if (!vx__probe_grow(ps, end - ps->first, false))
@@ -1118,6 +1207,9 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     vx__pipeline* pipe;
     if ((r = ctx_init(&c, rs, scene, &f, ps, &L, err))) goto done;
     c.strat = !d.independent_bounce; /* the same estimator as the GPU filtering's */
+    c.kernel = d.kernel;
+    c.use_one = d.kernel == VX_PROBE_KERNEL_ONE_WALK && one_walk_ok(&c); /* nothing made ahead here */
+    st.one_walk = c.use_one;
     if ((r = ctx_sun_map(&c, rs, &L, !d.no_shadow_map, &st, err))) goto done;
     if ((r = pipeline_of(&c, PMODE_BAKE, &pipe, err))) goto done;
     if (!vx__probe_grow(ps, end - ps->first, true)) {

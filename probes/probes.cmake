@@ -16,11 +16,12 @@ if(VX_WITH_VULKAN)
       COMMENT "glslangValidator ${name}.comp"
       VERBATIM)
   endforeach()
-  # probe.comp twice: probe, the bake's kernel (as it was); probe_pt, the render passes' (GPU path tracer,
-  # GI, light field), every float operation of its path and walk precise (PT_PRECISE: the same bits with
-  # and without the sun's depth map on NVIDIA)
+  # probe.comp three times: probe, the bake's kernel (as it was); probe_one, the bake's one-walk kernel
+  # (bake_one(), scenes without lights, emitters, metal or glass: the driver compiles one walk instead of
+  # four); probe_pt, the render passes' (GPU path tracer, GI, light field), every float operation of its
+  # path and walk precise (PT_PRECISE: the same bits with and without the sun's depth map on NVIDIA)
   # (NAME:FILE[:DEFINE], as render/render.cmake's list: cmake/shaders.cmake)
-  foreach(spec probe:probe probe_pt:probe:PT_PRECISE)
+  foreach(spec probe:probe probe_pt:probe:PT_PRECISE probe_one:probe:VX_ONE_WALK)
     vx_shader_spec(${spec} name file defs)
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
@@ -60,6 +61,7 @@ if(VX_WITH_VULKAN)
     ${CMAKE_CURRENT_LIST_DIR}/gi_pass.c
     ${VX_PROBES_SPV_DIR}/probe.comp.h
     ${VX_PROBES_SPV_DIR}/probe_pt.comp.h
+    ${VX_PROBES_SPV_DIR}/probe_one.comp.h
     ${VX_PROBES_SPV_DIR}/probe_out.comp.h
     ${VX_PROBES_SPV_DIR}/probe_filter.comp.h
     ${VX_PROBES_SPV_DIR}/probe_beam.comp.h)

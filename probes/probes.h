@@ -175,7 +175,15 @@ typedef struct vx_probe_bake_stats {
     double busy;        /* (gpu_trace + gpu_filter + gpu_copy) / loop */
     uint64_t bytes_down; /* bytes read back from the GPU */
     uint32_t batches;
+    bool one_walk;      /* the bake ran probe.comp's one-walk kernel (bake_one(); vx_probe_bake_desc.kernel) */
 } vx_probe_bake_stats;
+
+/* The GPU bake's kernel (vx_probe_bake_desc.kernel) */
+typedef enum vx_probe_bake_kernel {
+    VX_PROBE_KERNEL_AUTO = 0, /* the first the driver has ready, bake() where both are */
+    VX_PROBE_KERNEL_INLINE,   /* probe.comp bake(): an inlined walk for each kind of ray */
+    VX_PROBE_KERNEL_ONE_WALK  /* probe.comp bake_one() where the scene allows it, else bake() */
+} vx_probe_bake_kernel;
 
 /* Bake options; zero-initialised means the defaults.
  *  grid:       probes per axis, at the cell centres of that grid over the
@@ -217,7 +225,20 @@ typedef struct vx_probe_bake_stats {
  *              rather than end where the sun's light-space depth map (render/
  *              shadow_map.c) shows nothing further towards the sun, or skip
  *              the walk where it decides them: the reference (the same bytes);
- *              slower */
+ *              slower
+ *  kernel:     GPU bake only: which of probe.comp's two bake kernels runs;
+ *              both give the same bytes. bake() gives each kind of ray (the
+ *              texel's centre ray, the camera and bounce rays, the sun's) an
+ *              inlined octree walk of its own: the faster one (H200, Cornell
+ *              box: GPU trace 0.254 s against 0.359 s), which the driver
+ *              compiles in 0.66-0.89 s where its shader cache is empty.
+ *              bake_one() walks every ray at one place (only where the scene
+ *              has no lights or sampled emitters and no metal or glass:
+ *              probe.comp's LIGHTS and MATS off; else bake() runs): compiled
+ *              in 0.3 s. VX_PROBE_KERNEL_AUTO (0) makes both at once and runs
+ *              bake() where the driver has it ready (its cache) when
+ *              bake_one() is, else bake_one(), bake() still being compiled
+ *              (into the driver's cache: the next process's) */
 typedef struct vx_probe_bake_desc {
     uint32_t grid[3];
     double spacing;
@@ -242,6 +263,7 @@ typedef struct vx_probe_bake_desc {
     bool no_beam;
     bool independent_bounce;
     bool no_shadow_map;
+    vx_probe_bake_kernel kernel;
 } vx_probe_bake_desc;
 
 /* What a zero field of a bake desc means (the one source of these defaults;

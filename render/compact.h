@@ -338,6 +338,10 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
+/* Internal (benchmarks, tests): the fewest pushes from the root a primary
+ * ray's start below the root must skip (trace_compact.comp PATH_START;
+ * tiles whose start would skip fewer walk from the root); 0 the default (2). */
+void vx__compact_gpu_start_min(vx_compact_gpu* cg, uint32_t pushes);
 /* Internal (benchmarks, tests): the start tables' entries whose cube's cells all hold one value. */
 uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg);
 /* The attribute words (with the start tables) are split over up to this many

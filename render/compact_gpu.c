@@ -60,7 +60,19 @@ struct vx_compact_gpu {
     paging* pg; /* NULL: the whole layout is resident (geom and attr) */
     cmodel_gpu* cm; /* the models' records as uploaded (cm_count of them; NULL when paged): the frame block's cmodel0 */
     uint32_t cm_count;
+    /* per model (path_count of them): its listed top for the primary rays'
+     * starts below the root (vx__render_scene_paths; top NULL: none), owned */
+    vx__path_model* paths;
+    uint32_t path_count;
+    uint32_t start_min; /* the fewest pushes a start skips (vx__compact_gpu_start_min; 0: START_MIN) */
 };
+
+/* A start below the root skips at least this many pushes: on the H200 one
+ * push saved (eph_monu1's close-up) cost 1.7% of the albedo rays/s and 6%
+ * in the depth mode, two (the terrain's) gained 0.3% and 1.6%, four (the
+ * helmet's, eph_menger's) 6% and 20% (docs/PERFORMANCE.md issue 18,
+ * fourteenth step) */
+#define START_MIN 2u
 
 /* trace.comp's Model.box (render_scene.c model_box) */
 static uint32_t model_box(const vx_svo_model* m) {
@@ -107,7 +119,51 @@ void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg->cm);
+    for (uint32_t i = 0; cg->paths && i < cg->path_count; i++) vx_free(&cg->gpu->alloc, (void*)cg->paths[i].top);
+    vx_free(&cg->gpu->alloc, cg->paths);
     vx_free(&cg->gpu->alloc, cg);
+}
+
+/* The geometry slots for vx__top_list: a node of level >= 3 (a slot whose
+ * word 0 holds the descriptor in its low 16 bits) and its children's block
+ * (word 1), checked against the slots there are */
+typedef struct slot_words {
+    const uint32_t* geom;
+    uint32_t slots;
+} slot_words;
+
+static uint32_t slot_desc(const void* ctx, uint32_t word) { return ((const slot_words*)ctx)->geom[2ull * word] & 0xFFFFu; }
+
+static bool slot_block(const void* ctx, uint32_t word, uint32_t desc, uint32_t k, uint32_t* blk) {
+    (void)desc;
+    const slot_words* sw = ctx;
+    uint32_t b = sw->geom[2ull * word + 1];
+    if (b >= sw->slots || k > sw->slots - b) return false;
+    *blk = b;
+    return true;
+}
+
+/* The models' listed tops (cg->paths) from slots [0, slots) of geom: the
+ * primary rays' starts below the root (trace_compact.comp PATH_START), at
+ * nodes of level >= 3 (the kernel's walk reloads a start node's slot as
+ * the walk's pop does: a descriptor there, bricks have none), and, paged,
+ * at the page level's parent or above (a push into a page is the walk's:
+ * its request and use bits). A list that cannot be made is none (the rays
+ * start at the root). */
+static void path_lists(vx_compact_gpu* cg, const cmodel_gpu* cm, const vx_compact_model* models, uint32_t count,
+                       const uint32_t* geom, uint32_t slots) {
+    cg->paths = vx_calloc(&cg->gpu->alloc, count ? count : 1, sizeof *cg->paths);
+    if (!cg->paths) return;
+    cg->path_count = count;
+    slot_words sw = {.geom = geom, .slots = slots};
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t min_level = cm[i].page_up > 3 ? cm[i].page_up : 3, n;
+        cg->paths[i] = (vx__path_model){.box = cm[i].box, .rebase = cm[i].rebase, .min_level = min_level,
+                                        .min_dq = START_MIN};
+        if (models[i].root >= slots || models[i].depth <= min_level) continue;
+        vx__top_src src = {.ctx = &sw, .desc = slot_desc, .block = slot_block, .max_depth = models[i].depth - min_level};
+        cg->paths[i].top = vx__top_list(&cg->gpu->alloc, &src, models[i].root, &n);
+    }
 }
 
 static vx_result upload(vx_gpu* g, vx__buffer* b, const void* data, uint64_t bytes, const char* label, vx_error* err) {
@@ -414,6 +470,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     }
     vx_free(&g->alloc, pm);
     cg->cm = cm, cg->cm_count = (uint32_t)mcount;
+    if (!r) path_lists(cg, cm, c->models, s->model_count, c->geom, c->slot_count);
     if (r) {
         vx_compact_gpu_destroy(cg);
         return r;
@@ -426,6 +483,10 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
 }
 
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg) { return cg ? cg->bytes : 0; }
+
+void vx__compact_gpu_start_min(vx_compact_gpu* cg, uint32_t pushes) {
+    if (cg) cg->start_min = pushes;
+}
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
 uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg) { return cg ? cg->uniform_entries : 0; }
@@ -740,6 +801,8 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     if (!r) r = upload(g, &cg->models, cm, (s->model_count ? s->model_count : 1) * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, pg->p.palette, sizeof pg->p.palette, "compact palette", err);
     if (!r) r = upload(g, &cg->pstate, pg->state, 4ull * pg->state_words, "compact pages", err);
+    /* the top's slots as built: above the page level they never change (the page roots' word 1 does, below) */
+    if (!r) path_lists(cg, cm, pg->p.models, s->model_count, pg->p.top, pg->p.top_slots);
     vx_free(&g->alloc, cm);
     if (r) {
         vx_compact_gpu_destroy(cg);
@@ -771,6 +834,16 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     vx__gpu_frame* gf = scene[0]->map;
     if (!sp[VX__SPEC_USE_BVH] && cg->cm && gf->inst0.model < cg->cm_count)
         memcpy(gf->cmodel0, &cg->cm[gf->inst0.model], sizeof *cg->cm);
+    /* and the primary rays' starts below the root (trace_compact.comp
+     * PATH_START), the kernel without them where no tile has one: the
+     * start's code alone (the overviews: their rays enter the model box)
+     * cost 1.3-2% of the albedo rays/s and 4-4.5% in the depth mode on the
+     * H200 (docs/PERFORMANCE.md issue 18, fourteenth step) */
+    bool path = !sp[VX__SPEC_USE_BVH] && vx__render_scene_path_on(cg->rs) && gf->inst0.model < cg->path_count &&
+                cg->paths[gf->inst0.model].top;
+    vx__path_model pm = path ? cg->paths[gf->inst0.model] : (vx__path_model){0};
+    if (cg->start_min) pm.min_dq = cg->start_min;
+    path = vx__render_scene_paths(cg->rs, f, path ? &pm : NULL, gf) > 0;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &cg->pixels, npx * 16, "compact pixels", err))) return r;
     if ((r = vx__buffer_ensure(g, &cg->hits, want_hits ? npx * 32 : 16, "compact hits", err))) return r;
@@ -784,13 +857,15 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     bool miss = vx__frame_cull(f, cg->lo, cg->hi, !cg->pg, ((vx__gpu_frame*)scene[0]->map)->rect, groups, miss_groups,
                                &traced);
     /* 11: the miss pass */
-    /* 6: one sample a pixel; 7: some start-table entry or some model is of one value (the kernel tests for them) */
-    uint32_t spec[12] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
-                         f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0};
+    /* 6: one sample a pixel; 7: some start-table entry or some model is of one value (the kernel tests for them);
+     * 12: the starts below the root */
+    uint32_t spec[13] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
+                         f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0,
+                         path};
     uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 12; i++) key = key * 131 + spec[i];
+    for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = TC_BINDINGS, .spec_count = 12, .label = "trace compact"};
+                                       .binding_count = TC_BINDINGS, .spec_count = 13, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < TC_BINDINGS; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -800,8 +875,9 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     if (miss) {
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[11] = 1, md.label = "trace compact (misses)";
+        md.spec[12] = 0; /* the miss pass traces no ray */
         uint64_t mkey = 0xC0AC7000u;
-        for (int i = 0; i < 12; i++) mkey = mkey * 131 + md.spec[i];
+        for (int i = 0; i < 13; i++) mkey = mkey * 131 + md.spec[i];
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",

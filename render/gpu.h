@@ -106,6 +106,8 @@ struct vx_gpu {
     /* the pipelines made (vx__pipeline_get): kept, and in place, until vx_gpu_destroy */
     uint32_t pipeline_count;
     vx__pipeline_block* pipelines;
+    /* pipelines being made ahead on threads of their own (vx__pipeline_ahead), until a get takes them */
+    struct vx__pipeline_pending* pending;
 };
 
 const char* vx__vk_str(VkResult r);
@@ -151,6 +153,20 @@ vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize
  * variants (59 for a scene in both layouts with every GI method). */
 vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc, vx__pipeline** out,
                            vx_error* err);
+/* Starts making the pipeline of key on a thread of its own; the vx__pipeline_get of the same key waits for
+ * it and takes it into the cache (its error, if any, is that get's). The driver compiles the SPIR-V in
+ * vkCreateComputePipelines, and on a machine whose shader cache is empty the compiles take 0.05-0.9 s each
+ * (the probe bake's four on an H200, docs/PERFORMANCE.md section 5): made ahead they overlap each other and
+ * the caller's work instead of adding up. desc is copied; its SPIR-V and label must stay valid until the get
+ * (or vx_gpu_destroy). Returns false where nothing was started: the key is made or pending already, or no
+ * thread could be started (the get then makes it). Only the vx_gpu's own thread calls this and the get. */
+bool vx__pipeline_ahead(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc);
+/* Where the pipeline of key is: VX__PIPE_NONE (neither made nor made ahead), VX__PIPE_PENDING (its thread
+ * still at work), VX__PIPE_READY (made, or its thread done: the get returns at once; it may have failed, the
+ * get says). Lets a caller take whichever of two equivalent pipelines the driver finishes first (the probe
+ * bake's kernels: one a hit of the driver's cache where the other is compiled). */
+enum { VX__PIPE_NONE, VX__PIPE_PENDING, VX__PIPE_READY };
+int vx__pipeline_state(vx_gpu* g, uint64_t key);
 void vx__pipelines_destroy(vx_gpu* g);
 /* Embedded SPIR-V. */
 const uint32_t* vx__spirv_trace(size_t* bytes);

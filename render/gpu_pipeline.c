@@ -1,6 +1,8 @@
 /* render/gpu_pipeline.c - compute pipelines described by structs, created
  * once per (shader, specialisation) key and cached in the vx_gpu. The SPIR-V
  * is compiled at build time by glslangValidator and embedded here. */
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -99,7 +101,10 @@ static void log_stats(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, VkPipeli
     }
 }
 
-static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, vx_error* err) {
+/* Makes p (no logging: it may run on a thread of vx__pipeline_ahead; logged() logs it on the vx_gpu's own
+ * thread); *seconds: vkCreateComputePipelines' time. */
+static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, double* seconds,
+                                 vx_error* err) {
     VkDescriptorSetLayoutBinding b[VX_GPU_MAX_BINDINGS];
     p->binding_count = d->binding_count;
     memcpy(p->bindings, d->bindings, sizeof p->bindings);
@@ -140,12 +145,21 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                                 .pName = d->entry ? d->entry : "main",
                                                 .pSpecializationInfo = d->spec_count ? &si : NULL},
                                       .layout = p->layout};
+    double t0 = vx_time_now();
     VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &ci, NULL, &p->pipe);
+    *seconds = vx_time_now() - t0;
     vkDestroyShaderModule(g->device, mod, NULL);
     if (r != VK_SUCCESS) return vx__vk_fail(err, r, "vkCreateComputePipelines");
     vx__gpu_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)p->pipe, d->label);
-    if (stats) log_stats(g, d, p->pipe);
     return VX_OK;
+}
+
+/* The log of a pipeline made: the driver's compile (on a machine whose shader cache is empty) or its cache's
+ * hit, and with VX_GPU_SHADER_STATS its statistics. */
+static void logged(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, const vx__pipeline* p, double seconds, bool ahead) {
+    vx_log(g->logger, VX_LOG_INFO, "gpu.pipeline", "%s (%zu bytes of SPIR-V, %u constants) made in %.4f s%s",
+           d->label ? d->label : "?", d->spirv_size, d->spec_count, seconds, ahead ? " ahead" : "");
+    if (!g->external && vx__gpu_shader_stats_wanted(g->phys)) log_stats(g, d, p->pipe);
 }
 
 static void destroy_pipeline(vx_gpu* g, vx__pipeline* p) {
@@ -153,6 +167,77 @@ static void destroy_pipeline(vx_gpu* g, vx__pipeline* p) {
     if (p->layout) vkDestroyPipelineLayout(g->device, p->layout, NULL);
     if (p->dsl) vkDestroyDescriptorSetLayout(g->device, p->dsl, NULL);
     memset(p, 0, sizeof *p);
+}
+
+/* A pipeline being made ahead (vx__pipeline_ahead): the thread writes p, r and err; the vx_gpu's thread
+ * reads them after the join. */
+typedef struct vx__pipeline_pending {
+    struct vx__pipeline_pending* next;
+    uint64_t key;
+    vx_gpu* g;
+    vx_gpu_compute_pipeline_desc d;
+    vx__pipeline p;
+    vx_result r;
+    vx_error err;
+    double seconds;
+    atomic_bool done; /* p, r, err and seconds are written (vx__pipeline_state) */
+    pthread_t thread;
+} vx__pipeline_pending;
+
+static void* ahead_main(void* arg) {
+    vx__pipeline_pending* q = arg;
+    /* vkCreate* of one device may run on several threads at once (no external synchronisation asked) */
+    q->r = create_pipeline(q->g, &q->d, &q->p, &q->seconds, &q->err);
+    atomic_store_explicit(&q->done, true, memory_order_release);
+    return NULL;
+}
+
+static vx__pipeline* cached(vx_gpu* g, uint64_t key) {
+    for (vx__pipeline_block* b = g->pipelines; b; b = b->next)
+        for (uint32_t i = 0; i < b->count; i++)
+            if (b->p[i].key == key) return &b->p[i];
+    return NULL;
+}
+
+bool vx__pipeline_ahead(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* d) {
+    if (!g || !d || cached(g, key)) return false;
+    for (vx__pipeline_pending* q = g->pending; q; q = q->next)
+        if (q->key == key) return false;
+#ifndef NDEBUG
+    if (validate_desc(d, NULL)) return false; /* the get reports it */
+#endif
+    vx__pipeline_pending* q = vx_calloc(&g->alloc, 1, sizeof *q);
+    if (!q) return false;
+    q->key = key, q->g = g, q->d = *d;
+    atomic_init(&q->done, false);
+    if (pthread_create(&q->thread, NULL, ahead_main, q)) {
+        vx_free(&g->alloc, q);
+        return false;
+    }
+    q->next = g->pending;
+    g->pending = q;
+    return true;
+}
+
+int vx__pipeline_state(vx_gpu* g, uint64_t key) {
+    if (!g) return VX__PIPE_NONE;
+    if (cached(g, key)) return VX__PIPE_READY;
+    for (vx__pipeline_pending* q = g->pending; q; q = q->next)
+        if (q->key == key)
+            return atomic_load_explicit(&q->done, memory_order_acquire) ? VX__PIPE_READY : VX__PIPE_PENDING;
+    return VX__PIPE_NONE;
+}
+
+/* The pending pipeline of key, joined and unlinked (NULL: none). */
+static vx__pipeline_pending* take_pending(vx_gpu* g, uint64_t key) {
+    for (vx__pipeline_pending** at = &g->pending; *at; at = &(*at)->next)
+        if ((*at)->key == key) {
+            vx__pipeline_pending* q = *at;
+            *at = q->next;
+            pthread_join(q->thread, NULL);
+            return q;
+        }
+    return NULL;
 }
 
 vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* d, vx__pipeline** out,
@@ -164,25 +249,47 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
                 *out = &b->p[i];
                 return VX_OK;
             }
+    vx__pipeline_pending* q = take_pending(g, key);
+    if (q && q->r) {
+        vx_result r = q->r;
+        if (err) *err = q->err;
+        destroy_pipeline(g, &q->p);
+        vx_free(&g->alloc, q);
+        return r;
+    }
 #ifndef NDEBUG
-    vx_result vr = validate_desc(d, err);
-    if (vr) return vr;
+    if (!q) {
+        vx_result vr = validate_desc(d, err);
+        if (vr) return vr;
+    }
 #endif
     /* Nothing is evicted: holders keep entries across calls (gpu.h), and
      * the next free slot is after every entry, so none moves. */
     if (!last || last->count == VX__PIPELINE_BLOCK) {
         vx__pipeline_block* b = vx_calloc(&g->alloc, 1, sizeof *b);
-        if (!b) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pipeline cache");
+        if (!b) {
+            if (q) destroy_pipeline(g, &q->p);
+            vx_free(&g->alloc, q);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pipeline cache");
+        }
         if (last) last->next = b;
         else g->pipelines = b;
         last = b;
     }
     vx__pipeline* p = &last->p[last->count];
     memset(p, 0, sizeof *p);
-    vx_result r = create_pipeline(g, d, p, err);
-    if (r) {
-        destroy_pipeline(g, p);
-        return r;
+    if (q) { /* made ahead */
+        *p = q->p;
+        logged(g, &q->d, p, q->seconds, true);
+        vx_free(&g->alloc, q);
+    } else {
+        double seconds = 0;
+        vx_result r = create_pipeline(g, d, p, &seconds, err);
+        if (r) {
+            destroy_pipeline(g, p);
+            return r;
+        }
+        logged(g, d, p, seconds, false);
     }
     p->key = key;
     last->count++;
@@ -192,6 +299,11 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
 }
 
 void vx__pipelines_destroy(vx_gpu* g) {
+    while (g->pending) { /* made ahead and never asked for */
+        vx__pipeline_pending* q = take_pending(g, g->pending->key);
+        destroy_pipeline(g, &q->p);
+        vx_free(&g->alloc, q);
+    }
     for (vx__pipeline_block* b = g->pipelines; b;) {
         vx__pipeline_block* next = b->next;
         for (uint32_t i = b->count; i-- > 0;) destroy_pipeline(g, &b->p[i]);

@@ -187,9 +187,57 @@ void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, s
  * vx__render_scene_trace_kernel. */
 void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
 /* Benchmarks and tests: the primary rays' starts below the root
- * (trace.comp, scenes of one instance; -1 the default: on for GPUs, off for
- * CPU devices; 0 off: every walk from the root; 1 on). */
+ * (trace.comp and trace_compact.comp, scenes of one instance; -1 the
+ * default: on for GPUs, off for CPU devices; 0 off: every walk from the
+ * root; 1 on). */
 void vx__render_scene_trace_path(vx_render_scene* rs, int path);
+/* The top of a model's octree on the host, for the primary rays' start
+ * below the root (vx__render_scene_paths): its descriptors from the root
+ * down, level by level, each inner child listed once per parent listed (a
+ * DAG's shared block is listed again under each), with its word (the plain
+ * layout's model-relative word, the compact layout's slot) and the entry of
+ * its first inner child (the others follow in octant order; VX__TOP_NONE
+ * where they are not listed). At most VX__TOP_NODES entries a model: the
+ * start stops where the list does. */
+typedef struct vx__top_node {
+    uint32_t desc, word, kids;
+} vx__top_node;
+#define VX__TOP_NONE 0xFFFFFFFFu
+#define VX__TOP_NODES 4096u
+/* What vx__top_list reads of a layout: desc(ctx, word) a node's descriptor
+ * (valid mask in bits 8..15, leaf mask in bits 0..7, svo/svo.h's form);
+ * block(ctx, word, desc, k, &blk) the word of the first of its k inner
+ * children (child c at blk + c), false where the words do not hold them
+ * (the list then ends); nodes deeper than max_depth (the root 0) are not
+ * listed (the compact layout's bricks and pages have no descriptor word). */
+typedef struct vx__top_src {
+    const void* ctx;
+    uint32_t (*desc)(const void* ctx, uint32_t word);
+    bool (*block)(const void* ctx, uint32_t word, uint32_t desc, uint32_t k, uint32_t* blk);
+    uint32_t max_depth;
+} vx__top_src;
+/* The list from node root (render_scene.c), *count its entries; NULL without memory. */
+vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count);
+/* The starts of a scene of one instance: the list of its model (top), that
+ * model's Model.box and rebase (trace.comp's), the shallowest level node X
+ * may have (the compact layout: 3, the page level's parent if paged; 0 or
+ * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any). */
+typedef struct vx__path_model {
+    const vx__top_node* top;
+    uint32_t box, rebase, min_level, min_dq;
+} vx__path_model;
+/* Writes the frame block's tile grid (tile_info, tiles) and start records
+ * (paths) for f (render_scene.c): per screen tile the record of node X
+ * where its primary rays start below the root, VX__TILE_NONE elsewhere;
+ * none where the scene has several instances, for LOD, where pm is NULL
+ * (the model of the scene's one instance) or the starts are off
+ * (vx__render_scene_trace_path). Returns the records written (0: no tile
+ * has a start). */
+uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
+                                vx__gpu_frame* gf);
+/* Whether the trace kernels start primary rays below the root (their
+ * PATH_START constants; vx__render_scene_trace_path). */
+bool vx__render_scene_path_on(const vx_render_scene* rs);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

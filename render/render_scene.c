@@ -20,19 +20,6 @@ _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, i
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
-/* The top of a model's octree on the host, for the primary rays' start
- * below the root (frame_path): its descriptors from the root down, level by
- * level, each inner child listed once per parent listed (a DAG's shared
- * block is listed again under each), with its model-relative word and the
- * entry of its first inner child (the others follow in octant order;
- * TOP_NONE where they are not listed). At most TOP_NODES entries a model:
- * the path stops where the list does. */
-typedef struct top_node {
-    uint32_t desc, word, kids;
-} top_node;
-#define TOP_NONE 0xFFFFFFFFu
-#define TOP_NODES 4096u
-
 /* Where a model's node words (or colour records) live in the shared buffer:
  * [off, off + cap) words are its region, the first `have` of them hold its
  * words as last given (an edited model's appends go after them; see
@@ -116,7 +103,7 @@ struct vx_render_scene {
     region* creg; /* colour records, per model */
     arena wa, ca;
     vx__gpu_model* gm;  /* host copy of the models buffer */
-    top_node** top;     /* per model: the top of its octree (NULL: none; top_list) */
+    vx__top_node** top; /* per model: the top of its octree (NULL: none; top_list) */
     uint32_t* top_count;
     dform* df;          /* per model: which of its region's words hold a descriptor in the GPU form (dform_walk) */
     uint32_t* msize;    /* per model: size[3], and whether it draws (root not empty) */
@@ -298,7 +285,49 @@ static void dform_put(uint32_t* dst, const uint32_t* src, uint32_t from, uint32_
     }
 }
 
-/* Lists the top of model mi's octree (top_node) from its words w[0, n)
+/* The plain layout's words for vx__top_list: a node's word, its children's
+ * block (svo/svo.h), checked against the model's n words */
+typedef struct plain_words {
+    const uint32_t* w;
+    uint32_t n;
+} plain_words;
+
+static uint32_t plain_desc(const void* ctx, uint32_t word) { return ((const plain_words*)ctx)->w[word]; }
+
+static bool plain_block(const void* ctx, uint32_t word, uint32_t desc, uint32_t k, uint32_t* blk) {
+    const plain_words* pw = ctx;
+    uint32_t p = vx_svo_desc_ptr(desc);
+    if (p < 1 || p > word) return false;
+    uint32_t b = word - p;
+    if (vx_svo_desc_far(desc)) b = pw->w[b];
+    if (b >= pw->n || k > pw->n - b) return false;
+    *blk = b;
+    return true;
+}
+
+vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count) {
+    *count = 0;
+    vx__top_node* t = vx_alloc(alloc, VX__TOP_NODES * sizeof *t);
+    if (!t) return NULL;
+    uint32_t n = 1, level_end = 1, depth = 0;
+    t[0] = (vx__top_node){.desc = src->desc(src->ctx, root), .word = root, .kids = VX__TOP_NONE};
+    for (uint32_t i = 0; i < n; i++) {
+        if (i == level_end) level_end = n, depth++;
+        if (depth >= src->max_depth) break; /* its children would be past the deepest listed level */
+        uint32_t d = t[i].desc, inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
+        uint32_t k = (uint32_t)__builtin_popcount(inner), blk;
+        if (!k) continue;
+        if (k > VX__TOP_NODES - n) break; /* the list ends: this and later entries keep VX__TOP_NONE */
+        if (!src->block(src->ctx, t[i].word, d, k, &blk)) break;
+        t[i].kids = n;
+        for (uint32_t c = 0; c < k; c++)
+            t[n++] = (vx__top_node){.desc = src->desc(src->ctx, blk + c), .word = blk + c, .kids = VX__TOP_NONE};
+    }
+    *count = n;
+    return t;
+}
+
+/* Lists the top of model mi's octree (vx__top_node) from its words w[0, n)
  * with root `root`, in place of the list it had. A list that cannot be
  * made (no memory, words out of their range) is none: the primary rays
  * then start at the root. */
@@ -307,26 +336,9 @@ static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32
     rs->top[mi] = NULL;
     rs->top_count[mi] = 0;
     if (!w || root >= n) return;
-    top_node* t = vx_alloc(&rs->alloc, TOP_NODES * sizeof *t);
-    if (!t) return;
-    uint32_t count = 1;
-    t[0] = (top_node){.desc = w[root], .word = root, .kids = TOP_NONE};
-    for (uint32_t i = 0; i < count; i++) {
-        uint32_t d = t[i].desc, inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
-        uint32_t k = (uint32_t)__builtin_popcount(inner);
-        if (!k) continue;
-        if (k > TOP_NODES - count) break; /* the list ends: this and later entries keep TOP_NONE */
-        /* the children's block (svo/svo.h), its words checked against n */
-        uint32_t p = vx_svo_desc_ptr(d), at = t[i].word;
-        if (p < 1 || p > at) break;
-        uint32_t blk = at - p;
-        if (vx_svo_desc_far(d)) blk = w[blk];
-        if (blk >= n || k > n - blk) break;
-        t[i].kids = count;
-        for (uint32_t c = 0; c < k; c++) t[count++] = (top_node){.desc = w[blk + c], .word = blk + c, .kids = TOP_NONE};
-    }
-    rs->top[mi] = t;
-    rs->top_count[mi] = count;
+    plain_words pw = {.w = w, .n = n};
+    vx__top_src src = {.ctx = &pw, .desc = plain_desc, .block = plain_block, .max_depth = UINT32_MAX};
+    rs->top[mi] = vx__top_list(&rs->alloc, &src, root, &rs->top_count[mi]);
 }
 
 /* The plain layout's node words and colour records of s. */
@@ -1535,6 +1547,8 @@ static bool path_on(const vx_render_scene* rs) {
     return rs->path < 0 ? !vx_gpu_is_cpu(rs->gpu) : rs->path > 0;
 }
 
+bool vx__render_scene_path_on(const vx_render_scene* rs) { return rs && path_on(rs); }
+
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels) {
     if (!rs || !rs->last_cull) return false;
     *pixels = rs->last_traced;
@@ -1775,7 +1789,7 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * tile (as vx__frame_tiles cuts the image) whose corner rays start at
  * their origins inside the model box (the eye of a perspective view inside
  * it: one point for the whole frame) the box of those starts is taken down
- * the model's listed top (top_node) while it lies in one inner child: X,
+ * the model's listed top (vx__top_node) while it lies in one inner child: X,
  * the node where that stops. The kernel checks per ray that its start lies
  * well inside one of X's children (the walk from the root then descends to
  * X without an advance), so the box only proposes: a ray whose start lies
@@ -1788,26 +1802,28 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * rays' starts spread over X's children and, on the H200, the warps' lanes
  * that then start at different nodes lost 6-16% of the rays/s though they
  * took 4-27% fewer steps (issue 21's fourteenth sitting). */
-static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
-                        vx__gpu_frame* gf) {
+uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, const vx__path_model* pm,
+                                vx__gpu_frame* gf) {
     uint32_t W = f->width, H = f->height, s, tx, ty;
     vx__frame_tile_grid(f, &s, &tx, &ty);
     gf->tile_info[0] = s, gf->tile_info[1] = tx;
     for (uint32_t i = 0; i < VX__TILES_X * VX__TILES_X; i++) gf->tiles[i] = VX__TILE_NONE;
-    if (rs->inst_count != 1 || precise || f->lod || beam || !rs->top || !path_on(rs) || !W || !H) return;
+    if (rs->inst_count != 1 || f->lod || !pm || !path_on(rs) || !W || !H) return 0;
     const inst_host* in = &rs->inst[0];
     uint32_t mi = in->model;
-    if (mi >= rs->model_count || !rs->top[mi]) return;
+    if (mi >= rs->model_count || !pm->top) return 0;
     const vx__gpu_model* m = &rs->gm[mi];
-    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return;
-    const top_node* t = rs->top[mi];
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth < 2 || m->depth > VX_RENDER_MAX_DEPTH) return 0;
+    const vx__top_node* t = pm->top;
     /* hm: twice the kernel's margin (2^-16 of the cube), so that the box's
      * rays pass its test despite their float rounding */
     double side = ldexp(1.0, (int)m->depth), hm = ldexp(side, -15), bhi[3];
-    uint32_t bsh = m->depth > 10 ? m->depth - 10 : 0;
-    for (int k = 0; k < 3; k++) bhi[k] = (double)((((m->box >> (10 * k)) & 1023u) + 1u) << bsh);
-    uint32_t max_dq = m->depth - 1;
-    if (m->rebase && m->rebase - 1 < max_dq) max_dq = m->rebase - 1;
+    uint32_t bsh = m->depth > 10 ? m->depth - 10 : 0, box = pm->box, rebase = pm->rebase;
+    for (int k = 0; k < 3; k++) bhi[k] = (double)((((box >> (10 * k)) & 1023u) + 1u) << bsh);
+    uint32_t min_level = pm->min_level ? pm->min_level : 1, min_dq = pm->min_dq ? pm->min_dq : 1;
+    if (m->depth <= min_level) return 0;
+    uint32_t max_dq = m->depth - min_level;
+    if (rebase && rebase - 1 < max_dq) max_dq = rebase - 1;
     if (max_dq > 24) max_dq = 24;
     uint32_t npaths = 0;
     for (uint32_t y = 0; y < ty; y++)
@@ -1836,13 +1852,13 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
                     else if (!(phi[k] <= mid - hm)) straddle = true;
                 }
                 uint32_t dsc = t[i].desc, inner = vx_svo_desc_valid(dsc) & ~vx_svo_desc_leaf(dsc);
-                if (straddle || d + 1 > max_dq || !((inner >> oct) & 1u) || t[i].kids == TOP_NONE) break;
+                if (straddle || d + 1 > max_dq || !((inner >> oct) & 1u) || t[i].kids == VX__TOP_NONE) break;
                 i = t[i].kids + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
                 for (int k = 0; k < 3; k++) lo[k] += ((oct >> k) & 1u) ? half : 0;
                 size = half, d++;
             }
             uint32_t dq = d;
-            if (!dq) continue; /* X the root: nothing to skip */
+            if (dq < min_dq) continue; /* X the root: nothing to skip; or fewer pushes than a start is worth */
             float cube[4];
             for (int k = 0; k < 3; k++) cube[k] = (float)(1.0 + lo[k] / side);
             cube[3] = (float)(size / side);
@@ -1872,6 +1888,19 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
             }
             gf->tiles[y * tx + x] = (uint16_t)r;
         }
+    return npaths;
+}
+
+/* trace.comp's starts (vx__render_scene_paths) over the plain layout's
+ * listed tops: X down to level 1 (any node of the words). Not for the beam
+ * (its walks start where the beam pass says) or the float64 variant. */
+static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool precise, uint32_t beam,
+                        vx__gpu_frame* gf) {
+    uint32_t mi = rs->inst_count == 1 ? rs->inst[0].model : UINT32_MAX;
+    bool on = !precise && !beam && rs->top && mi < rs->model_count && rs->top[mi];
+    vx__path_model pm = {0};
+    if (on) pm = (vx__path_model){.top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1};
+    (void)vx__render_scene_paths(rs, f, on ? &pm : NULL, gf);
 }
 
 vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,

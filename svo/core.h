@@ -285,10 +285,13 @@ typedef struct vx_write_desc {
                                   are stored in the chunked form (docs/FORMAT.md
                                   3.6, format version 4: the words and records
                                   themselves in zstd-coded chunks that code and
-                                  decode on every thread, 2-3x the bytes of the
-                                  structural form); 0 = never (the default:
-                                  the compact form of versions 1 and 2 for
-                                  every model, readable by older readers);
+                                  decode on every thread, 1.7-3.1x the bytes of the
+                                  structural form: the 4096^3 helmet read in
+                                  1.4-2.5 s and written in 2.4-2.5 s on two
+                                  cores, against 5.5-8.7 s and 4.6-5.3 s,
+                                  docs/PERFORMANCE.md issue 18, twelfth I/O
+                                  step); 0 = never (the default: the compact
+                                  structural forms for every model);
                                   VX_SVO_CHUNK_WORDS is the suggested value
                                   (`vox2svo --chunked`). */
     bool svo_chunk_stored;     /* .svo, chunked models: the chunks as DEFLATE's

@@ -902,21 +902,62 @@ fail:
     return r;
 }
 
+/* path's bytes mapped (a regular file that is not empty): *mapped, and
+ * the caller unmaps; otherwise read into memory from A. A map costs no
+ * copy through a buffer of fresh pages, which the kernel zeroes and faults
+ * in 4 KB at a time before the read fills them (the 4096^3 helmet's 220 MB
+ * chunked file read on two cores of the H200 host: 1.73 s mapped, 2.18 s
+ * read into a buffer, docs/PERFORMANCE.md issue 18). `populate`: the
+ * whole file's pages mapped at once (a read of every byte: the sections'
+ * CRCs), not faulted in one by one. As with any map, a file cut short by another process while
+ * it is read ends the process with SIGBUS; the model reader has always
+ * mapped its file (vx_svo_reader_open). */
+static vx_result map_file(const char* path, const vx_allocator* A, uint64_t max, bool populate, uint8_t** data, size_t* size,
+                          bool* mapped, vx_error* err) {
+    *mapped = false;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+        if ((uint64_t)st.st_size > max || (uint64_t)st.st_size > SIZE_MAX) {
+            close(fd);
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%s: file is %llu bytes, limit is %llu", path,
+                           (unsigned long long)st.st_size, (unsigned long long)max);
+        }
+        int flags = MAP_PRIVATE;
+#ifdef MAP_POPULATE
+        if (populate) flags |= MAP_POPULATE;
+#endif
+        void* m = mmap(NULL, (size_t)st.st_size, PROT_READ, flags, fd, 0);
+        close(fd);
+        if (m != MAP_FAILED) {
+            *data = (uint8_t*)m;
+            *size = (size_t)st.st_size;
+            *mapped = true;
+            return VX_OK;
+        }
+    } else if (fd >= 0) {
+        close(fd);
+    }
+    vx_result res = vx_file_read(path, A, max, data, size, err);
+    if (res != VX_OK) vx_error_prefix(err, path);
+    return res;
+}
+
 vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_svo_scene* out, vx_error* err) {
+    if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
     const vx_allocator* A = desc ? desc->alloc : NULL;
     uint8_t* data = NULL;
     size_t size = 0;
+    bool mapped = false;
     /* the file the caller named: no size limit by default but the address
      * space's (vx_file_read refuses what size_t cannot hold; memory that
      * is not there is VX_ERR_NOMEM) */
     uint64_t max = desc && desc->max_file_bytes ? desc->max_file_bytes : UINT64_MAX;
-    vx_result r = vx_file_read(path, A, max, &data, &size, err);
-    if (r != VX_OK) {
-        vx_error_prefix(err, path);
-        return r;
-    }
+    vx_result r = map_file(path, A, max, true, &data, &size, &mapped, err);
+    if (r != VX_OK) return r;
     r = vx_svo_read(desc, data, size, out, err);
-    vx_free(A, data);
+    if (mapped) munmap(data, size);
+    else vx_free(A, data);
     return r;
 }
 
@@ -969,29 +1010,9 @@ static void reader_free(vx_svo_model_reader* r) {
 
 /* The file's bytes: mapped where it can be (a regular file), else read. */
 static vx_result reader_map(vx_svo_model_reader* r, const char* path, uint64_t max, vx_error* err) {
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    struct stat st;
-    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-        if ((uint64_t)st.st_size > max || (uint64_t)st.st_size > SIZE_MAX) {
-            close(fd);
-            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%s: %llu bytes, more than the %llu allowed", path,
-                           (unsigned long long)st.st_size, (unsigned long long)max);
-        }
-        void* m = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
-        close(fd);
-        if (m != MAP_FAILED) {
-            /* read once, front to back (the streams in model order): read-ahead, pages freed behind */
-            (void)madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
-            r->data = (uint8_t*)m;
-            r->size = (size_t)st.st_size;
-            r->mapped = true;
-            return VX_OK;
-        }
-    } else if (fd >= 0) {
-        close(fd);
-    }
-    vx_result res = vx_file_read(path, r->A, max, &r->data, &r->size, err);
-    if (res != VX_OK) vx_error_prefix(err, path);
+    vx_result res = map_file(path, r->A, max, false, &r->data, &r->size, &r->mapped, err);
+    /* read once, front to back (the streams in model order): read-ahead, pages freed behind */
+    if (res == VX_OK && r->mapped) (void)madvise(r->data, r->size, MADV_SEQUENTIAL);
     return res;
 }
 

@@ -836,6 +836,179 @@ void bake() {
     if (s1 < spp) outv[0].y = 1.0;
 }
 
+#ifdef VX_ONE_WALK
+// bake() and path() for a scene without lights, emitters of binding 14 or metal and glass records (LIGHTS and
+// MATS off: probe_gpu.c picks this build then): every ray of the texel (its centre ray, each sample's camera
+// and bounce rays and their sun rays) walks the octree at the one trace_scene call of a single loop, a state
+// machine, rather than at four inlined copies of the walk. The same rays, random numbers and float operations
+// in the same order as bake() (the same bytes); the driver compiles one walk instead of four, which on a
+// machine whose shader cache is empty is most of the bake's set-up (docs/PERFORMANCE.md section 5).
+const uint W_CENTRE = 0u, W_RAY = 1u, W_SUN = 2u, W_START = 3u, W_END = 4u;
+void bake_one() {
+    uint res = P.a.x, slot = gl_GlobalInvocationID.y, n = gl_GlobalInvocationID.x;
+    if (n >= res * res || slot >= P.seed.z) return;
+    uint tile = n / 32u, lane = n % 32u, tiles_x = res / 8u;
+    uint texel = ((tile / tiles_x) * 4u + lane / 8u) * res + (tile % tiles_x) * 8u + lane % 8u;
+    uint probe = P.a.w + slot;
+    vec4 pr = probes[probe];
+    uint spp = max(P.a.y, 1u);
+    uint at = 1u + 3u * (slot * res * res + texel);
+    if (pr.w == 2.0) {
+        outv[at] = vec4(0.0);
+        outv[at + 1u] = vec4(0.0);
+        outv[at + 2u] = vec4(float(spp), 0.0, 0.0, 0.0);
+        return;
+    }
+    bool fresh = P.lf.x != 0u;
+    uint s0 = fresh ? 0u : uint(outv[at + 2u].x), s1 = min(s0 + P.seed.w, spp);
+    if (s0 >= spp) return;
+    uint i = texel % res, j = texel / res;
+    vec3 o = pr.xyz;
+    vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0);
+    if (s0 != 0u) acc = outv[at];
+    uint s = s0;
+    float tskip0 = beam_start(probe, i, j, res);
+    vec2 shift = vec2(0.0);
+    if (STRAT) {
+        uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
+        float side = 0.5 / ceil(sqrt(float(spp)));
+        shift = fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + vec2(kl.xy >> 8) * (side / 16777216.0));
+    }
+    uint bounces = BAKE_BOUNCES != 0u ? BAKE_BOUNCES - 1u : P.a.z;
+    // the walk's ray: origin, direction, end, any hit, start (beam)
+    vec3 ro = o, rd = vec3(0.0, 0.0, 1.0);
+    float rt = BIG, rskip = 0.0;
+    bool rany = false;
+    uint st = W_START;
+    if (s0 == 0u) {
+        st = W_CENTRE;
+        rd = oct_decode((2.0 * vec2(i, j) + 1.0) / float(res) - 1.0);
+        rt = P.origin.w;
+        rskip = tskip0;
+    }
+    // the path's state (path())
+    vec3 thr = vec3(1.0), pacc = vec3(0.0), sun_f = vec3(0.0), thr_v = vec3(1.0), w = vec3(0.0), nd = vec3(0.0);
+    float prev_pdf = 0.0;
+    uint depth = 0u;
+    int events = 0;
+    bool sun_ray = false, last = false, sampled = false;
+    Hit h;
+    while (true) {
+        if (st == W_START) {
+            if (s >= s1) break;
+            rng_init(probe, texel, s);
+            if (STRAT) g_bounce_u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
+            vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
+            ro = o, rd = oct_decode(uv), rt = BIG, rany = false, rskip = tskip0;
+            thr = vec3(1.0), pacc = vec3(0.0), prev_pdf = 0.0, depth = 0u, events = 0;
+            st = W_RAY;
+        }
+        // the walk (cast_ray, occluded_to)
+        h.t = rt;
+        h.inst = NO_HIT;
+        h.color = 0xFFFFFFFFu;
+        h.attr = NO_HIT;
+        g_iter = 0u;
+        g_tskip = rskip;
+        bool hit = trace_scene(ro, rd, 0.0, rany, h);
+        g_tskip = 0.0;
+        bool sun_done = false, occ = false;
+        if (st == W_CENTRE) {
+            if (hit) {
+                Inst I = insts[h.inst];
+                vec4 row = h.axis == 0 ? I.r0 : (h.axis == 1 ? I.r1 : I.r2);
+                geo = vec4(normalize(row.xyz * h.nsign), 1.0);
+                acc.w = h.t;
+            }
+            outv[at + 1u] = geo;
+            outv[at].w = acc.w;
+            st = W_START;
+            continue;
+        }
+        if (st == W_SUN) {
+            sun_done = true, occ = hit;
+        } else { // W_RAY: path()'s vertex
+            events++;
+            if (!hit) {
+                pacc += thr * sky_radiance(rd);
+                st = W_END;
+            } else {
+                g_s = surface(ro, rd, h);
+                if (SMAP) g_shit = uvec4(h.inst, h.cell), g_sentered = h.t > 0.0;
+                if (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0) pacc += thr * g_s.emit * 1.0;
+                Bsdf B = bsdf_of(g_s);
+                vec3 wo = -rd;
+                sun_f = vec3(0.0), thr_v = thr;
+                sun_ray = false;
+                if ((P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) && dot(g_s.n, P.light.xyz) > 0.0) {
+                    float bp;
+                    sun_f = bsdf_eval(B, wo, P.light.xyz, bp) * P.sun.xyz * dot(g_s.n, P.light.xyz);
+                    sun_ray = true;
+                }
+                last = depth >= bounces;
+                sampled = false;
+                if (!last) {
+                    if (STRAT && depth == 0u) {
+                        float u0 = rnd();
+                        rnd();
+                        rnd();
+                        sampled = bsdf_sample_u(B, wo, u0, g_bounce_u.x, g_bounce_u.y, nd, w, prev_pdf);
+                    } else {
+                        sampled = bsdf_sample(B, wo, nd, w, prev_pdf);
+                    }
+                }
+                vec3 p_v = g_s.p;
+                sun_done = true;
+                if (sun_ray) {
+                    float t = BIG;
+                    if (SMAP) t = smap_tmax(p_v, P.light.xyz, P.smo, P.smn.x, P.smn.y, g_shit.x, g_shit.yzw, g_sentered);
+                    if (t < 0.0) {
+                        occ = t == -2.0;
+                    } else { // the sun's ray walks next
+                        sun_done = false;
+                        ro = p_v, rd = P.light.xyz, rt = t, rany = true, rskip = 0.0;
+                        st = W_SUN;
+                    }
+                }
+            }
+        }
+        if (sun_done) {
+            if (sun_ray && !occ) pacc += thr_v * sun_f;
+            st = W_END;
+            if (!last && sampled) {
+                thr *= w;
+                depth++;
+                bool go = true;
+                if (depth >= 3u) { // VX__RR_DEPTH
+                    float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
+                    if (!(rnd() < q)) go = false;
+                    else thr /= q;
+                }
+                if (go && !(thr == vec3(0.0)) && events < 1024) {
+                    ro = g_s.p, rd = nd, rt = BIG, rany = false, rskip = 0.0;
+                    st = W_RAY;
+                }
+            }
+        }
+        if (st == W_END) {
+            acc.xyz += pacc;
+            s++;
+            st = W_START;
+        }
+    }
+    if (s != s1 || !loops_intact()) {
+        if (fresh) outv[at + 2u] = vec4(0.0);
+        outv[0].x = 1.0;
+        outv[0].y = 1.0;
+        return;
+    }
+    outv[at].xyz = acc.xyz;
+    outv[at + 2u] = vec4(float(s1), 0.0, 0.0, 0.0);
+    if (s1 < spp) outv[0].y = 1.0;
+}
+#endif
+
 // The render's samples come in blocks of P.rw.y (a constant of the
 // estimator, never of the device or the split): a pixel's value is the sum,
 // in block order, of its blocks' sums, each block summed from zero in sample
@@ -932,7 +1105,16 @@ void render() {
     if (s1 < b1) outv[0].y = 1.0;
 }
 
+// Each build holds one entry: the bake's kernel (probe) only bake(), the render passes' (probe_pt, PT_PRECISE)
+// only render() (probe_gpu.c pipeline_of picks them so). The driver compiles the module it is given before
+// the constants drop the other side, and a smaller module compiles sooner on a machine whose shader cache
+// is empty (docs/PERFORMANCE.md section 5, the bake's twelfth sitting).
 void main() {
-    if (PMODE == P_BAKE) bake();
-    else render();
+#ifdef PT_PRECISE
+    render();
+#elif defined(VX_ONE_WALK)
+    bake_one();
+#else
+    bake();
+#endif
 }

@@ -53,6 +53,12 @@ layout(constant_id = 10) const uint ATTR_SHIFT = 0u;
 // The screen cull's second pass (compact_gpu.c dispatch), as trace.comp's:
 // the pixels outside F.rect, their misses written without a ray.
 layout(constant_id = 11) const bool MISS_PASS = false;
+// The primary rays' starts below the root (F.paths: render_scene.c
+// vx__render_scene_paths over compact_gpu.c's listed tops), as trace.comp's
+// (trace_model below); off on CPU devices (lavapipe), as trace.comp's
+layout(constant_id = 12) const bool PATH_START = false;
+const int PATHS = 64;
+const uint NO_PATH = 0xFFFFu;
 const uint PW = (PAGES + 31u) / 32u;
 // the state buffer's words: request count, request list, request bitmap,
 // mean colours, then a use bit per pool unit (the host knows each unit's page)
@@ -87,6 +93,10 @@ const uint MAX_ITER = 100000u;
 #include "compact_attr.glsl"
 struct Inst { vec4 r0, r1, r2; uint model; float cell; uint id; float pad; vec4 lo; };
 struct BNode { vec4 lo; vec4 hi; };
+// A start below the root (vx__gpu_path): info.x the depth dx of node X,
+// .y X's slot, .z the model; cube: X's cube ([1,2] units of the model
+// cube: corner xyz, side w); nodes: the slots of X's ancestors, the root first
+struct PathRec { uvec4 info; vec4 cube; uvec4 nodes[6]; };
 
 layout(std140, binding = 0) uniform Frame {
     vec4 fwd;   // w: t_start
@@ -104,7 +114,13 @@ layout(std140, binding = 0) uniform Frame {
     // the pixels [rect.x, rect.z) x [rect.y, rect.w) that the trace pass
     // covers (vx__gpu_frame.rect, the screen cull: screen_cull.glsl)
     layout(offset = 336) uvec4 rect;
+    // the screen tiles (vx__frame_tile_grid): tile_info.x the shift, .y
+    // tiles a row; per tile 16 bits, the index of its start (paths) or
+    // NO_PATH (vx__gpu_frame.tiles)
+    layout(offset = 352) uvec4 tile_info;
+    layout(offset = 368) uvec4 tiles[128];
     layout(offset = 2416) CModel cmodel0;
+    layout(offset = 2480) PathRec paths[PATHS];
 } F;
 layout(std430, binding = 1) readonly buffer Geom { uvec2 slots[]; };
 layout(std430, binding = 2) readonly buffer Attr { uint attr[]; };
@@ -187,6 +203,9 @@ void page_use(uint u) {
 }
 
 uint g_iter = 0u;
+// the start below the root the next model walk may take (F.paths): the
+// primary ray's, NO_PATH none (shadow rays, several instances)
+uint g_path = NO_PATH;
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 
@@ -311,6 +330,43 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         if (1.5 * coef.x - bias.x > tmin) { idx ^= 1; pos.x = 1.5; }
         if (1.5 * coef.y - bias.y > tmin) { idx ^= 2; pos.y = 1.5; }
         if (1.5 * coef.z - bias.z > tmin) { idx ^= 4; pos.z = 1.5; }
+        // A primary ray whose walk starts at a point well inside the cube
+        // of K, a child of node X (F.paths[g_path], the host's guess for the
+        // ray's screen tile), descends from the root to X without an advance,
+        // as in trace.comp's trace_model (trace_common.glsl, whose argument
+        // this is): every push takes the child holding the start (tmin is 0:
+        // the walk's [1,2] ray starts at ol), and 2^-16 of the model cube
+        // between the start and K's faces keeps each skipped decision the
+        // walk's. The walk's state at X's loop top is then X's slot (not
+        // loaded: the loop top loads it, as after a pop), K's mirrored corner
+        // and octant, and X's ancestors' slots on the stack; the steps from X
+        // on are the walk's, bit for bit, and so are the cell and the colour
+        // (the colour's descent starts from the cell, not from the walk).
+        // X is of level 3 or more (a slot with a descriptor) and, paged, no
+        // deeper than the page level's parent (compact_gpu.c path_lists).
+        if (PATH_START && g_path != NO_PATH && !USE_BVH && tmin == 0.0 && tmin <= tmax && mi == F.paths[g_path].info.z) {
+            const float dlt = 1.0 / 65536.0;
+            vec3 cc = F.paths[g_path].cube.xyz;
+            float cw = F.paths[g_path].cube.w;
+            // mirrored (exact: 3 - x for x in [1, 2]): the start, X's corner
+            // and that of K, the child of X holding the start
+            bvec3 keep = bvec3((oct & 1) != 0, (oct & 2) != 0, (oct & 4) != 0);
+            vec3 om = mix(3.0 - ol, ol, keep);
+            vec3 px = mix(3.0 - cw - cc, cc, keep);
+            cw *= 0.5;
+            vec3 pk = mix(px, px + cw, greaterThanEqual(om, px + cw));
+            vec3 top = mix(pk + (cw - dlt), vec3(3.0), equal(pk + cw, vec3(2.0)));
+            if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, top))) {
+                int dx = int(F.paths[g_path].info.x);
+                for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(F.paths[g_path].nodes[j >> 2][j & 3]);
+                parent = F.paths[g_path].info.y;
+                scale = S_MAX - 1 - dx;
+                scale_exp2 = cw;
+                pos = pk;
+                ivec3 sh = floatBitsToInt(pos) >> scale;
+                idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+            }
+        }
         if (exact) {
             stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
             stk_node[OA + 2] = floatBitsToInt(oa.z);
@@ -732,7 +788,15 @@ void shade(uvec2 px) {
         h.color = 0xFFFFFFFFu;
         h.cell = uvec3(0u);
         h.page = NO_HIT;
+        // one instance: the start below the root for the pixel's screen
+        // tile (vx__render_scene_paths), NO_PATH none
+        if (PATH_START && !USE_BVH && !MISS_PASS) {
+            uint ti = min((px.y >> F.tile_info.x) * F.tile_info.y + (px.x >> F.tile_info.x), 1023u);
+            uint tile = (F.tiles[ti >> 3u][(ti >> 1u) & 3u] >> ((ti & 1u) * 16u)) & 0xFFFFu;
+            g_path = tile < uint(PATHS) ? tile : NO_PATH;
+        }
         bool hit = MISS_PASS ? false : trace_scene(o, d, 0.0, false, h);
+        g_path = NO_PATH; // the shadow ray's walk from the root
         uint prim_iter = g_iter;
         if (hit && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO)) {
             // after the scene's walk, not at each model's hit: once a pixel

@@ -361,6 +361,84 @@ static void test_gpu_bake_sun_map(void) {
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
+/* The bake's one-walk kernel (probe.comp bake_one(), where a scene has no lights or sampled emitters and no
+ * metal or glass: every ray at one trace_scene call of a loop) against bake() (vx_probe_bake_desc.kernel
+ * VX_PROBE_KERNEL_ONE_WALK, VX_PROBE_KERNEL_INLINE; the default takes the one the driver has ready first):
+ * the same bytes, with the beam and without, the sun's depth map and
+ * without, one to three bounces (Russian roulette from the third), a second dispatch of the same texels
+ * (samples past the lavapipe chunk), on a box, on rotated, scaled and mirrored instances and in a room with
+ * emissive cells; a scene with glass and metal keeps bake(). The sums must also be the sun's: with the sun
+ * off the bytes differ. */
+static void test_gpu_bake_one_walk(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene scenes[4];
+    box_scene(&scenes[0], 16, 5);
+    vx_svo_model m[2];
+    REQUIRE(ts_random_model(&m[0], 12, 10, 8, 25, 5) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 40, 40, 1, 100, 1) == VX_OK);
+    const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const double half[9] = {0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5};
+    vx_svo_instance in[4] = {ts_inst(0, NULL, 2, 3, 1), ts_inst(0, quarter, 30, 4, 1), ts_inst(0, mirror, 14, 26, 1),
+                             ts_inst(1, half, 0, 0, 0)};
+    ts_scene(&scenes[1], m, 2, in, 4);
+    room_scene(&scenes[2]); /* emissive cells: the one-walk kernel still */
+    cells_scene(&scenes[3], 12, glass_room_cell); /* glass and metal: bake() */
+    scenes[3].palette[3] = 0xFF80A0C0u, scenes[3].palette[4] = 0xFFE0F0FFu, scenes[3].palette[5] = 0xFF4080E0u;
+    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    add_material(&scenes[3], 4, glass, 3);
+    add_material(&scenes[3], 3, metal, 3);
+    static const struct {
+        int32_t bounces;
+        uint32_t spp;
+        bool no_beam, no_shadow_map;
+        double light[3];
+    } cases[] = {
+        {1, 3, false, false, {0.35, -0.45, 0.82}},
+        {3, 6, true, true, {-0.6, 0.5, 0.2}},
+        {2, 40, false, true, {1, 0.3, 1e-4}}, /* 40 spp: two dispatches on lavapipe (chunks of 32) */
+    };
+    vx_error err = {0};
+    for (int sc = 0; sc < 4; sc++) {
+        vx_render_scene* rs = scene_on_gpu(&scenes[sc]);
+        REQUIRE(rs);
+        for (size_t k = 0; k < (sc >= 2 ? 1 : sizeof cases / sizeof cases[0]); k++) {
+            vx_probe_bake_stats sa = {0}, sb = {0}, sc0 = {0};
+            vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = cases[k].spp, .bounces = cases[k].bounces,
+                                    .seed = 7 + k, .threads = 2, .stats = &sa, .no_beam = cases[k].no_beam,
+                                    .no_shadow_map = cases[k].no_shadow_map, .kernel = VX_PROBE_KERNEL_ONE_WALK};
+            memcpy(d.light_dir, cases[k].light, sizeof d.light_dir);
+            vx_probe_set a, b, c, z;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &a, &err) == VX_OK);
+            d.kernel = VX_PROBE_KERNEL_INLINE, d.stats = &sb;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &b, &err) == VX_OK);
+            d.kernel = VX_PROBE_KERNEL_AUTO, d.stats = &sc0; /* either, both made by now */
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &c, &err) == VX_OK);
+            d.stats = NULL, d.no_sun = true;
+            REQUIRE(vx_probe_bake_gpu(rs, &scenes[sc], &d, &z, &err) == VX_OK);
+            uint8_t *x, *y, *v, *w;
+            size_t nx, ny, nv, nw;
+            REQUIRE(bytes_of(&a, &x, &nx) && bytes_of(&b, &y, &ny) && bytes_of(&c, &v, &nv) && bytes_of(&z, &w, &nw));
+            bool same = nx == ny && !memcmp(x, y, nx), same_auto = nv == nx && !memcmp(v, x, nx);
+            fprintf(stderr, "  one walk: scene %d, case %zu: kernels %s / %s / auto %s, %s, auto's %s\n", sc, k,
+                    sa.one_walk ? "one walk" : "four walks", sb.one_walk ? "one walk" : "four walks",
+                    sc0.one_walk ? "one walk" : "four walks", same ? "same bytes" : "BYTES DIFFER",
+                    same_auto ? "the same" : "DIFFER");
+            CHECKF(sa.one_walk == (sc != 3), "scene %d: the one-walk kernel %s", sc, sa.one_walk ? "ran" : "did not run");
+            CHECK(!sb.one_walk);
+            /* both kernels were made (cached in the device) before the third bake: it takes bake() */
+            CHECK(!sc0.one_walk);
+            CHECK(same && same_auto);
+            CHECK(!(nw == nx && !memcmp(w, x, nx))); /* the sun's rays shape the bytes */
+            free(x), free(y), free(v), free(w);
+            vx_probe_set_free(&a), vx_probe_set_free(&b), vx_probe_set_free(&c), vx_probe_set_free(&z);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&scenes[sc]);
+    }
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 /* The bake's stratified first bounce (probe.comp STRAT, the default) against the independent one
  * (vx_probe_bake_desc.independent_bounce, main's estimator) and the CPU bake: each sample's
  * direction is still cosine-distributed, so the mean is the CPU's; a texel's samples cover the
@@ -984,6 +1062,7 @@ int main(void) {
     RUN(test_gpu_vs_cpu_bake);
     RUN(test_gpu_bake_beam);
     RUN(test_gpu_bake_sun_map);
+    RUN(test_gpu_bake_one_walk);
     RUN(test_gpu_bake_strata);
     RUN(test_gpu_filter_vs_host);
     RUN(test_gpu_baker_ranges);

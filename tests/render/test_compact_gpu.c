@@ -579,6 +579,338 @@ static void test_attr_parts(void) {
     vx_svo_scene_free(&s);
 }
 
+/* One frame of cg_on with the primary rays' starts below the root
+ * (trace_compact.comp PATH_START) and one of cg_off with every walk from
+ * the root (the same object for the whole layout; two paged objects that
+ * take the same frames, whose pages then follow the same requests), hits
+ * wanted: the pixels and hits (instance, cell, t bits, colour) must be the
+ * same; with `plain` also trace.comp's (its starts on). *fewer counts the
+ * frame when the start's iterations are fewer. Returns the pixels that
+ * differ. */
+static size_t cpath_frames(const char* name, vx_render_scene* rs, vx_compact_gpu* cg_on, vx_compact_gpu* cg_off,
+                           bool plain, vx_render_desc d, size_t* fewer, double* saved) {
+    vx_render_image a[3] = {{0}};
+    vx_error err = {0};
+    d.want_hits = true;
+    for (int p = 0; p < 2; p++) {
+        vx__render_scene_trace_path(rs, 1 - p); /* on even where a CPU device's default is off */
+        CHECKF(vx_compact_gpu_frame(p ? cg_off : cg_on, &d, &a[p], &err) == VX_OK, "%s: %s", name, err.msg);
+    }
+    if (plain) {
+        vx__render_scene_trace_path(rs, 1);
+        CHECKF(vx_render_frame(rs, &d, &a[2], &err) == VX_OK, "%s: trace.comp: %s", name, err.msg);
+    }
+    vx__render_scene_trace_path(rs, -1);
+    size_t n = (size_t)d.width * d.height, diff = 0;
+    double it[2] = {0, 0};
+    for (size_t i = 0; a[0].hits && a[1].hits && i < n; i++) {
+        for (int q = 1; q < (plain ? 3 : 2); q++) {
+            const vx_render_hit *x = &a[0].hits[i], *y = a[q].hits ? &a[q].hits[i] : x;
+            bool same = a[q].hits && x->instance == y->instance && !memcmp(x->cell, y->cell, sizeof x->cell) &&
+                        !memcmp(&x->t, &y->t, sizeof x->t) && !memcmp(&a[0].pixels[4 * i], &a[q].pixels[4 * i], 16);
+            if (!same && diff < 3)
+                printf("  %s pixel %zu,%zu: start inst %d cell %u,%u,%u t %.9g | %s inst %d cell %u,%u,%u t %.9g\n", name,
+                       i % d.width, i / d.width, (int)x->instance, x->cell[0], x->cell[1], x->cell[2], x->t,
+                       q == 1 ? "root" : "trace.comp", (int)y->instance, y->cell[0], y->cell[1], y->cell[2], y->t);
+            diff += !same;
+        }
+        it[0] += a[0].hits[i].iterations, it[1] += a[1].hits[i].iterations;
+    }
+    if (!a[0].hits || !a[1].hits) diff = n;
+    *fewer += it[0] < it[1];
+    *saved += (it[1] - it[0]) / (double)n;
+    for (int p = 0; p < 3; p++) vx_render_image_free(&a[p]);
+    return diff;
+}
+
+/* A sparse model of side `side` (a power of two): solid blocks of 2 to
+ * side/8 + 1 cells and 1% scattered cells; used[] (side^3) marks its cells. */
+static vx_result block_model(vx_svo_model* m, uint32_t side, uint32_t seed, uint8_t* used) {
+    size_t cap = (size_t)side * side * side, n = 0;
+    uint32_t* xyz = malloc(cap * 12);
+    uint8_t* pal = malloc(cap);
+    vx_result r = VX_ERR_NOMEM;
+    if (xyz && pal) {
+        for (int b = 0; b < 40; b++) {
+            uint32_t o[3], e[3];
+            for (int k = 0; k < 3; k++) e[k] = 2 + ts_rng(&seed) % (side / 8), o[k] = ts_rng(&seed) % (side - e[k]);
+            for (uint32_t z = o[2]; z < o[2] + e[2]; z++)
+                for (uint32_t y = o[1]; y < o[1] + e[1]; y++)
+                    for (uint32_t x = o[0]; x < o[0] + e[0]; x++) used[((size_t)z * side + y) * side + x] = 1;
+        }
+        for (size_t i = 0; i < cap; i++) used[i] |= ts_rng(&seed) % 100 == 0;
+        for (size_t i = 0; i < cap; i++)
+            if (used[i])
+                xyz[3 * n] = (uint32_t)(i % side), xyz[3 * n + 1] = (uint32_t)(i / side % side),
+                xyz[3 * n + 2] = (uint32_t)(i / side / side), pal[n++] = (uint8_t)(1 + i % 250);
+        r = ts_model(m, (uint32_t[3]){side, side, side}, xyz, pal, n);
+    }
+    free(xyz), free(pal);
+    return r;
+}
+
+/* The compact kernel's starts below the root (render_scene.c
+ * vx__render_scene_paths over compact_gpu.c's listed tops, trace_model's
+ * start in trace_compact.comp): frames from eyes inside sparse models of
+ * 64^3 and 256^3 and height fields of 11 and 13 levels (trace.comp's DEEP 1
+ * and DEEP 2: the exact t, the two-frame walk), at random points, on node
+ * planes (multiples of 4 to 32 cells, the model's centre) and 1e-4 cells
+ * beside them, and from outside the model box (no start there), in depth,
+ * albedo and colour (shadow rays from the root), identity and rotated, in
+ * both brick forms and paged (pages requested and loaded frame by frame),
+ * must equal the walks from the root and trace.comp's frames; the starts
+ * must save iterations from most random eyes inside. */
+static void test_path_start(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    static const double rot[9] = {0, 0, -1, 1, 0, 0, 0, -1, 0};
+    size_t frames = 0, fewer = 0, differ = 0, rand_frames = 0, rand_fewer = 0, outside_frames = 0, outside_fewer = 0;
+    size_t paged_frames = 0, paged_fewer = 0;
+    double saved = 0;
+    for (int si = 0; si < 4; si++) {
+        /* 0, 1: blocks in 64^3, 256^3; 2: 11 levels (DEEP 1); 3: 13 levels (DEEP 2); the deep ones first */
+        int sc = (si + 2) % 4;
+        uint32_t side = sc == 0 ? 64 : sc == 1 ? 256 : 0, seed = 4321 + (uint32_t)sc;
+        uint8_t* used = side ? calloc((size_t)side * side * side, 1) : NULL;
+        for (int tf = 0; tf < 2; tf++) {
+            vx_svo_model m;
+            vx_result br = side ? (used ? block_model(&m, side, 4321 + (uint32_t)sc, used) : VX_ERR_NOMEM)
+                                : sc == 2 ? height_model(&m, 1200, 64, 1100, 11) : height_model(&m, 4200, 40, 160, 13);
+            REQUIRE(br == VX_OK);
+            uint32_t size[3] = {m.size[0], m.size[1], m.size[2]};
+            vx_svo_scene s;
+            vx_svo_instance in = ts_inst(0, tf ? rot : NULL, tf ? 3 : 0, tf ? -4 : 0, tf ? 7 : 0);
+            ts_scene(&s, &m, 1, &in, 1);
+            vx_render_scene* rs = NULL;
+            vx_error err = {0};
+            REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs,
+                                              &err) == VX_OK);
+            vx_compact_gpu* cg[2] = {NULL, NULL}; /* the brick forms: inline, the dictionary */
+            for (int k = 0; k < 2; k++) {
+                vx_compact_scene c;
+                REQUIRE(vx_compact_build(&(vx_compact_desc){.bricks = k ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE},
+                                         &s, &c, &err) == VX_OK);
+                REQUIRE(vx_compact_gpu_create(rs, &s, &c, &cg[k], &err) == VX_OK);
+                vx_compact_free(&c);
+            }
+            /* paged (sc 0, 1 identity): two objects that take the same frames, level 3 pages, room for all */
+            vx_compact_gpu* pg[2] = {NULL, NULL};
+            if (side && !tf) {
+                vx_compact_scene c;
+                REQUIRE(vx_compact_build(NULL, &s, &c, &err) == VX_OK);
+                for (int k = 0; k < 2; k++) {
+                    vx_compact_paged p;
+                    REQUIRE(vx_compact_page_build(&c, 3, NULL, &p, &err) == VX_OK);
+                    uint64_t pool = 8 * p.data_words + 4ull * p.max_page_words;
+                    REQUIRE(vx_compact_gpu_create_paged(rs, &s, &p, pool, &pg[k], &err) == VX_OK);
+                }
+                vx_compact_free(&c);
+            }
+            /* starts of any depth (the default takes those that skip 2 pushes or more) */
+            for (int k = 0; k < 2; k++) vx__compact_gpu_start_min(cg[k], 1), vx__compact_gpu_start_min(pg[k], 1);
+            int views = side == 256 ? 12 : 16;
+            for (int v = 0; v < views + 4; v++) {
+                bool outside = v >= views;
+                double e[3], t[3];
+                vx_render_desc d = {.width = 40, .height = 30};
+                d.mode = v % 3 == 0 ? VX_RENDER_DEPTH : v % 3 == 1 ? VX_RENDER_ALBEDO : VX_RENDER_COLOR;
+                d.camera.set = true, d.camera.fov = 70;
+                double dir[3], dl = 0;
+                for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
+                dl = sqrt(dl);
+                for (int k = 0; k < 3; k++) {
+                    uint32_t r = ts_rng(&seed);
+                    int kind = v % 4;
+                    double plane = (double)((1u << (2 + r % 4)) * (1 + (r >> 4) % 3));
+                    if (plane >= size[k]) plane = size[k] / 2;
+                    e[k] = kind == 0 ? 1 + (r % ((size[k] - 2) * 100)) / 100.0
+                           : kind == 1 ? plane
+                           : kind == 2 ? plane + 1e-4
+                                       : plane - 1e-4;
+                    if (v == views - 1) e[k] = size[k] / 2; /* the centre: the model's mid-planes */
+                    if (outside) e[k] = size[k] / 2 + dir[k] / dl * 1.5 * (size[0] + size[1] + size[2]);
+                    t[k] = outside ? size[k] / 2 : e[k] + dir[k] / dl * 10;
+                }
+                if (!side && !outside) {
+                    /* height fields (height_model): the eye 2-3 cells above the surface, inside the model box
+                     * (the surface's highest cells are at 0.75 (size - 2)) */
+                    double ys = (size[1] - 2) * (0.5 + 0.25 * sin(floor(e[0]) * 0.013) * cos(floor(e[2]) * 0.021));
+                    e[1] = fmin(ys + 2 + (ts_rng(&seed) % 100) / 100.0, 0.74 * (size[1] - 2)), t[1] = e[1] - 6;
+                }
+                if (side && !outside) {
+                    uint32_t c[3];
+                    for (int k = 0; k < 3; k++) c[k] = (uint32_t)e[k] < side ? (uint32_t)e[k] : side - 1;
+                    if (used[((size_t)c[2] * side + c[1]) * side + c[0]]) e[2] += 0.5; /* in a cell: still exact */
+                }
+                for (int k = 0; k < 3; k++) {
+                    double we = e[k], wt = t[k];
+                    if (tf) {
+                        we = wt = in.xform[4 * k + 3];
+                        for (int c = 0; c < 3; c++) we += in.xform[4 * k + c] * e[c], wt += in.xform[4 * k + c] * t[c];
+                    }
+                    d.camera.eye[k] = we, d.camera.target[k] = wt;
+                }
+                for (int k = 0; k < 2; k++) {
+                    char nm[128];
+                    snprintf(nm, sizeof nm, "compact start, %s, %s, %s, view %d", side == 64 ? "64^3" : side ? "256^3" : sc == 2 ? "11 levels" : "13 levels",
+                             tf ? "rotated" : "identity", k ? "dictionary" : "inline", v);
+                    size_t f0 = fewer;
+                    differ += cpath_frames(nm, rs, cg[k], cg[k], true, d, &fewer, &saved);
+                    frames++;
+                    if (outside) outside_frames++, outside_fewer += fewer > f0;
+                    else if (v % 4 == 0 && v != views - 1) rand_frames++, rand_fewer += fewer > f0;
+                }
+                if (pg[0]) {
+                    /* three frames each: pages requested, loaded, the whole image */
+                    for (int fr = 0; fr < 3; fr++) {
+                        char nm[128];
+                        snprintf(nm, sizeof nm, "compact start, %s, paged, view %d frame %d", side == 64 ? "64^3" : "256^3", v, fr);
+                        size_t f0 = fewer;
+                        differ += cpath_frames(nm, rs, pg[0], pg[1], false, d, &fewer, &saved);
+                        frames++, paged_frames++, paged_fewer += fewer > f0;
+                    }
+                }
+            }
+            printf("  compact start, %s, %s: %zu frames so far, %zu with fewer iterations, %zu pixels differ\n",
+                   side == 64 ? "64^3" : side ? "256^3" : sc == 2 ? "11 levels" : "13 levels", tf ? "rotated" : "identity",
+                   frames, fewer, differ);
+            fflush(stdout);
+            CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+            for (int k = 0; k < 2; k++) vx_compact_gpu_destroy(cg[k]), vx_compact_gpu_destroy(pg[k]);
+            vx_render_scene_destroy(rs);
+            vx_svo_scene_free(&s);
+        }
+        free(used);
+    }
+    printf("compact start: %zu frames, %zu with fewer iterations (%zu of %zu from random eyes inside, %zu of %zu from "
+           "outside, %zu of %zu paged), %.2f iterations a ray saved on average, %zu pixels differ\n",
+           frames, fewer, rand_fewer, rand_frames, outside_fewer, outside_frames, paged_fewer, paged_frames,
+           saved / (double)frames, differ);
+    CHECK(differ == 0);
+    CHECK(rand_fewer * 4 >= rand_frames * 3);
+    CHECK(outside_fewer == 0);
+    CHECK(paged_fewer > 0);
+}
+
+/* The start records the host writes for the compact kernel
+ * (vx__render_scene_paths over compact_gpu.c's lists), checked against the
+ * geometry slots themselves after each frame (the frame block is mapped on
+ * lavapipe): every record's chain is the descent from the model's root slot
+ * through the octants of X's cube (each next slot the inner child of that
+ * octant in its parent's block: geom word 1 plus the inner children below
+ * it), X's level is 3 or more, its cube holds the eye, a record skips at
+ * least the threshold's pushes (vx__compact_gpu_start_min: 1, the default
+ * 2, or more than the model has: none), and a tile's record index is in
+ * range. Sparse 256^3 blocks and the 11-level height field, both brick forms. */
+static void test_path_records(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    size_t records = 0, checked_tiles = 0, bad = 0, deep1 = 0;
+    for (int sc = 0; sc < 2; sc++) {
+        uint8_t* used = sc == 0 ? calloc((size_t)256 * 256 * 256, 1) : NULL;
+        vx_svo_model m;
+        REQUIRE((sc == 0 ? (used ? block_model(&m, 256, 99, used) : VX_ERR_NOMEM) : height_model(&m, 1200, 64, 1100, 11)) ==
+                VX_OK);
+        uint32_t size[3] = {m.size[0], m.size[1], m.size[2]}, depth = m.depth;
+        vx_svo_scene s;
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        ts_scene(&s, &m, 1, &in, 1);
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+                VX_OK);
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        for (int k = 0; k < 2; k++) {
+            vx_compact_scene c;
+            REQUIRE(vx_compact_build(&(vx_compact_desc){.bricks = k ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE}, &s,
+                                     &c, &err) == VX_OK);
+            vx_compact_gpu* cg = NULL;
+            REQUIRE(vx_compact_gpu_create(rs, &s, &c, &cg, &err) == VX_OK);
+            /* the frame block (binding 0, mapped on lavapipe) */
+            vx__frame f;
+            vx__buffer* bufs[7];
+            uint32_t sp[VX__SPEC_COUNT];
+            vx_render_desc d0 = {.width = 64, .height = 48};
+            REQUIRE(vx__frame_setup(lo, hi, &d0, &f, &err) == VX_OK);
+            REQUIRE(vx__render_scene_tables(rs, &f, bufs, sp, &err) == VX_OK);
+            const vx__gpu_frame* gf = bufs[0]->map;
+            if (!gf) {
+                vx_compact_gpu_destroy(cg);
+                vx_compact_free(&c);
+                SKIP("the frame block is not host visible on %s", vx_gpu_device_name(gpu));
+            }
+            uint32_t seed = 77 + (uint32_t)k;
+            for (int v = 0; v < 12; v++) {
+                double e[3], dir[3], dl = 0;
+                for (int a = 0; a < 3; a++) dir[a] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[a] * dir[a];
+                dl = sqrt(dl);
+                for (int a = 0; a < 3; a++) e[a] = 1 + (ts_rng(&seed) % ((size[a] - 2) * 100)) / 100.0;
+                if (sc == 1) e[1] = 0.74 * (size[1] - 2) - (ts_rng(&seed) % 100) / 100.0;
+                vx_render_desc d = {.width = 64, .height = 48, .mode = VX_RENDER_DEPTH};
+                d.camera.set = true, d.camera.fov = 70;
+                for (int a = 0; a < 3; a++) d.camera.eye[a] = e[a], d.camera.target[a] = e[a] + dir[a] / dl * 10;
+                for (uint32_t th = 1; th <= 3; th++) {
+                    uint32_t min_dq = th == 3 ? depth : th; /* 3: more pushes than the model has */
+                    vx__compact_gpu_start_min(cg, min_dq);
+                    vx__render_scene_trace_path(rs, 1);
+                    vx_render_image img = {0};
+                    vx_result r = vx_compact_gpu_frame(cg, &d, &img, &err);
+                    vx__render_scene_trace_path(rs, -1);
+                    vx_render_image_free(&img);
+                    CHECKF(r == VX_OK, "%s", err.msg);
+                    if (r) continue;
+                    uint32_t shift = gf->tile_info[0], tx = gf->tile_info[1];
+                    uint32_t ty = (48 + (1u << shift) - 1) >> shift, maxrec = 0;
+                    bool any = false;
+                    for (uint32_t t = 0; t < tx * ty; t++) {
+                        uint16_t ti = gf->tiles[t];
+                        if (ti == VX__TILE_NONE) continue;
+                        checked_tiles++, any = true;
+                        if (ti >= VX__PATHS) {
+                            bad++;
+                            continue;
+                        }
+                        if (ti + 1u > maxrec) maxrec = ti + 1u;
+                    }
+                    if (th == 3) bad += any; /* no start skips more pushes than the model has levels below 3 */
+                    for (uint32_t ri = 0; ri < maxrec; ri++) {
+                        const vx__gpu_path* g = &gf->paths[ri];
+                        uint32_t dx = g->info[0], ok = dx >= min_dq && dx >= 1 && dx + 3 <= depth && g->info[2] == 0;
+                        ok = ok && g->nodes[0] == c.models[0].root && g->cube[3] == (float)ldexp(1.0, -(int)dx);
+                        for (int a = 0; ok && a < 3; a++) {
+                            /* the eye in the model cube's [1,2] units inside X's cube */
+                            double q = 1 + e[a] / ldexp(1.0, (int)depth);
+                            ok = q >= g->cube[a] && q <= g->cube[a] + g->cube[3];
+                        }
+                        for (uint32_t j = 0; ok && j < dx; j++) {
+                            uint32_t node = g->nodes[j], next = j + 1 < dx ? g->nodes[j + 1] : g->info[1], oct = 0;
+                            for (int a = 0; a < 3; a++)
+                                oct |= (uint32_t)((int64_t)floor(((double)g->cube[a] - 1) * ldexp(1.0, (int)j + 1)) & 1) << a;
+                            uint32_t w0 = c.geom[2 * (size_t)node], inner = (w0 >> 8) & ~w0 & 0xFFu;
+                            ok = ((inner >> oct) & 1u) &&
+                                 next == c.geom[2 * (size_t)node + 1] + (uint32_t)__builtin_popcount(inner & ((1u << oct) - 1u));
+                        }
+                        if (!ok && bad < 3)
+                            printf("  record %u of view %d (threshold %u): depth %u, X %u, cube %g %g %g / %g\n", ri, v,
+                                   min_dq, dx, g->info[1], g->cube[0], g->cube[1], g->cube[2], g->cube[3]);
+                        bad += !ok;
+                        records++;
+                        deep1 += dx == 1;
+                    }
+                }
+            }
+            vx_compact_gpu_destroy(cg);
+            vx_compact_free(&c);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+        free(used);
+    }
+    printf("compact start records: %zu records of %zu tiles checked, %zu of one push, %zu wrong\n", records, checked_tiles,
+           deep1, bad);
+    CHECK(bad == 0);
+    CHECK(records > 0 && deep1 > 0); /* the threshold 1 takes some of one push; 2 none (checked per record) */
+}
+
 static void test_corpus(void) {
     if (gpu_skip) SKIP(gpu_skip);
     static const char* files[] = {"eph_chr_knight.vox", "eph_dragon.vox", "eph_menger.vox",
@@ -621,6 +953,8 @@ int main(void) {
     RUN(test_start_table);
     RUN(test_uniform_cubes);
     RUN(test_attr_parts);
+    RUN(test_path_start);
+    RUN(test_path_records);
     RUN(test_corpus);
     RUN(test_corpus_mesh);
     vx_gpu_destroy(gpu);

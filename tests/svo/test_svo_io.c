@@ -369,6 +369,65 @@ static void test_round_trip(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_svo_read_file maps the file (no copy through a buffer of fresh
+ * pages): a chunked file of several chunks read from its path on one and
+ * four threads gives what vx_svo_read gives from the same bytes in memory;
+ * a folder, a missing file and the size limit give errors that name the
+ * path, an empty file is refused as too short. */
+static void test_mapped_read(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 2;
+    s.models = (vx_svo_model*)calloc(2, sizeof *s.models);
+    REQUIRE(build(&s.models[0], 512, 120000, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL));
+    REQUIRE(build(&s.models[1], 64, 900, VX_ATTR_PALETTE));
+    s.instance_count = 1;
+    s.instances = (vx_svo_instance*)calloc(1, sizeof *s.instances);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    vx_svo_scene_update_bounds(&s);
+    vx_error e;
+    char path[] = "/tmp/vx_svo_mapXXXXXX";
+    int fd = mkstemp(path);
+    REQUIRE(fd >= 0);
+    close(fd);
+    /* the large model chunked (small chunks: several of them), the small one structural */
+    REQUIRE(vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = 1000}, &s, path, &e) == VX_OK);
+    uint8_t* bytes = NULL;
+    size_t n = 0;
+    REQUIRE(vx_file_read(path, NULL, 0, &bytes, &n, &e) == VX_OK);
+    const unsigned counts[2] = {1, 4};
+    for (int t = 0; t < 2; t++) {
+        vx_svo_scene a, b;
+        vx_svo_read_desc rd = {.threads = counts[t]};
+        REQUIRE(vx_svo_read_file(&rd, path, &a, &e) == VX_OK);
+        REQUIRE(vx_svo_read(&rd, bytes, n, &b, &e) == VX_OK);
+        REQUIRE(a.model_count == 2 && b.model_count == 2);
+        for (int k = 0; k < 2; k++) {
+            CHECKF(model_equal(&a.models[k], &b.models[k]), "%u threads, model %d", counts[t], k);
+            CHECKF(model_equal(&a.models[k], &s.models[k]), "%u threads, model %d against the written one", counts[t], k);
+            CHECK(a.models[k].check.digest == b.models[k].check.digest);
+        }
+        vx_svo_scene_free(&a);
+        vx_svo_scene_free(&b);
+    }
+    /* the limit: refused before anything is mapped, the path named */
+    vx_svo_scene r;
+    CHECK(vx_svo_read_file(&(vx_svo_read_desc){.max_file_bytes = n - 1}, path, &r, &e) == VX_ERR_LIMIT && strstr(e.msg, path) &&
+          strstr(e.msg, "limit"));
+    /* empty: not mapped (a map of 0 bytes fails), read and refused as too short */
+    FILE* f = fopen(path, "wb");
+    REQUIRE(f);
+    fclose(f);
+    vx_result er = vx_svo_read_file(NULL, path, &r, &e);
+    CHECKF(er != VX_OK && strstr(e.msg, "0 bytes"), "empty file: %d %s", er, e.msg); /* as before: the bytes are refused, not the path */
+    remove(path);
+    CHECK(vx_svo_read_file(NULL, path, &r, &e) == VX_ERR_IO && strstr(e.msg, path));
+    CHECK(vx_svo_read_file(NULL, "/tmp", &r, &e) == VX_ERR_IO && strstr(e.msg, "/tmp"));
+    free(bytes);
+    vx_svo_scene_free(&s);
+}
+
 static void test_geometry_only_sections(void) {
     vx_svo_scene s;
     vx_svo_scene_init(&s, NULL);
@@ -3732,5 +3791,6 @@ int main(int argc, char** argv) {
     RUN(test_split_constant_channels);
     RUN(test_encode_trusted);
     RUN(test_split_coded);
+    RUN(test_mapped_read); /* last: its build() calls would change the random cases of the tests after it */
     return vx_test_finish();
 }

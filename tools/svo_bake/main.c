@@ -218,10 +218,15 @@ static int do_merge(const char* out, char** parts, int n) {
 
 /* ---- the job ----------------------------------------------------------------------- */
 
+/* main()'s start: -v's timeline (a tool's, not the library's) */
+static double t_main;
+
 static void stats_line(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user, (void)level;
     if (!strcmp(id, "gpu.shader_stats")) printf("stats: %s\n", msg);
     if (!strcmp(id, "probe.batch")) printf("batch: %s\n", msg);
+    /* the driver's start and each pipeline's compile (or its shader cache's hit) */
+    if (!strcmp(id, "gpu.start") || !strcmp(id, "gpu.pipeline")) printf("gpu: at %.3f s: %s\n", vx_time_now() - t_main, msg);
 }
 
 int bake_job_open(bake_job* j, const char* device, const char* who) {
@@ -604,6 +609,11 @@ static int bake_single(bake_job* j) {
     eta e = {.t0 = vx_time_now(), .base = ps.count, .start = ps.count, .total = end - first};
     bool show = !o->quiet && isatty(2);
     vx_probe_bake_desc bd = o->b;
+    /* VX_BAKE_KERNEL=inline|one: the GPU bake's kernel fixed (vx_probe_bake_desc.kernel; the same bytes), to
+     * measure each where the default takes the one the driver has ready first */
+    const char* kenv = getenv("VX_BAKE_KERNEL");
+    if (kenv && !strcmp(kenv, "inline")) bd.kernel = VX_PROBE_KERNEL_INLINE;
+    if (kenv && !strcmp(kenv, "one")) bd.kernel = VX_PROBE_KERNEL_ONE_WALK;
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
     if (show) bd.progress = (vx_progress){eta_func, &e};
@@ -703,9 +713,11 @@ static int bake_single(bake_job* j) {
             if (on_gpu)
                 printf("bake: output opened %.3f s, setup %.3f s (context %.3f of it sun map %.3f, pipelines %.3f, slots %.3f), arrays %.3f s, "
                        "loop %.3f s (%u batches), GPU trace %.3f s, filter %.3f s, copy %.3f s, busy %.0f%% of the loop, "
-                       "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s\n",
+                       "waits %.3f s, stores %.3f s; first batch's latency %.3f s, after the last batch's wait %.3f s; "
+                       "kernel: %s\n",
                        t_open, st.setup, st.setup_ctx, st.sun_map, st.setup_pipes, st.setup_slots, st.grow, st.loop, st.batches,
-                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail);
+                       st.gpu_trace, st.gpu_filter, st.gpu_copy, 100 * st.busy, st.wait, st.download, st.first_latency, st.tail,
+                       st.one_walk ? "one walk" : "four walks");
             if (on_gpu && st.sun_map_side)
                 printf("sun map: %u texels a side, %u nodes listed in %.3f s, built in %.3f ms GPU; %.3f s in all; "
                        "listed ahead in %.3f s (%s); build %.3f s wall\n",
@@ -715,6 +727,11 @@ static int bake_single(bake_job* j) {
     }
     if (!rc && o->exr_dir) rc = write_exr(o->exr_dir, &ps);
     vx_probe_set_free(&ps);
+    if (!rc && o->verbose && on_gpu)
+        printf("timeline: s since main(): scene read %.3f, placed %.3f, device ready %.3f, bake from %.3f, set up %.3f, "
+               "loop end %.3f, file renamed %.3f, teardown joined %.3f\n",
+               t0 - t_main, t0 + t_place - t_main, t0 + t_place + t_ahead + j->t_wait - t_main, t_bake0 - t_main,
+               t_bake0 + t_open + st.setup - t_main, t1 - t_main, t1 + t_write - t_main, vx_time_now() - t_main);
     if (!rc && o->verbose && closer.started)
         printf("close: the GPU torn down beside the output's end in %.3f s (baker %.3f, scene %.3f, device %.3f), "
                "waited for %.3f s after it\n",
@@ -736,6 +753,7 @@ static int bake_single(bake_job* j) {
 }
 
 int main(int argc, char** argv) {
+    t_main = vx_time_now();
     vx_tool_init(argc, argv);
     options o = default_options();
 #ifdef VX_HAVE_MPI
