@@ -277,8 +277,13 @@ static bool dform_walk(const uint32_t* w, uint32_t n, uint32_t root, uint32_t de
 }
 
 /* dst[0, count) = the words src[from, from + count) as the GPU holds them
- * (those with their bits set in the GPU form). */
+ * (those with their bits set in the GPU form; b NULL: the file's form, as
+ * on devices with gpu.h's nodes_file). */
 static void dform_put(uint32_t* dst, const uint32_t* src, uint32_t from, uint32_t count, const uint8_t* b) {
+    if (!b) {
+        if (count) memcpy(dst, src + from, (size_t)count * 4);
+        return;
+    }
     for (uint32_t i = 0; i < count; i++) {
         uint32_t x = src[from + i];
         dst[i] = dform_get(b, from + i) ? vx__desc_gpu(x) : x;
@@ -402,7 +407,10 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
             continue;
         }
-        if (m->node_count) {
+        if (m->node_count && rs->gpu->nodes_file) {
+            /* the device traces the file's form (gpu.h's nodes_file: CPU devices): main's upload, no bits */
+            memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
+        } else if (m->node_count) {
             dform* f = &rs->df[i];
             f->cap = ((size_t)m->node_count + 7) / 8;
             if (!(f->bits = vx_calloc(&rs->alloc, f->cap, 1))) {
@@ -1386,10 +1394,11 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
      * the words that stay, then those the walk from the new root reaches
      * through clear ones; a word that stays but is reached clear (a block
      * no earlier root reached, shared by an edit) is uploaded again */
-    dform nf = {.cap = ((size_t)(nc > wr->have ? nc : wr->have) + 7) / 8};
-    if (!(nf.bits = vx_calloc(&rs->alloc, nf.cap ? nf.cap : 1, 1)))
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's descriptor bits", mi);
-    {
+    dform nf = {0};
+    if (!g->nodes_file) { /* the file's form (CPU devices): no bits, main's upload */
+        nf.cap = ((size_t)(nc > wr->have ? nc : wr->have) + 7) / 8;
+        if (!(nf.bits = vx_calloc(&rs->alloc, nf.cap ? nf.cap : 1, 1)))
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's descriptor bits", mi);
         const dform* of = &rs->df[mi];
         uint32_t keep = wvalid;
         if (of->bits) memcpy(nf.bits, of->bits, keep / 8 < of->cap ? keep / 8 : of->cap);

@@ -54,11 +54,20 @@ const bool COMPACT = COMPACT_FORM != 0u;
 // rays in either push form; FILE_FORM is main's loop in SPIR-V but for the
 // turn at each load, not yet measured there (issue 21, fifteenth sitting:
 // docs/PERFORMANCE.md).
+// NODES_FILE (set by gpu_pipeline.c for every pipeline from the device,
+// gpu.h's nodes_file): the node buffer holds the file's form (CPU devices:
+// lavapipe traced 0.55-0.75 of main's rate with any of the GPU form's loops,
+// even main's loop with only the turn at the load, sixteenth sitting), and
+// every path below is then main's: FILE_FORM without the turn at the load,
+// the desc_* readers on the file's masks.
+layout(constant_id = 100) const bool NODES_FILE = false;
 #ifdef PRECISE
-const bool FILE_FORM = false;
+const bool FILE_FORM = NODES_FILE;
 #else
-const bool FILE_FORM = REBASE;
+const bool FILE_FORM = REBASE || NODES_FILE;
 #endif
+// the loop's descriptors are the file's but the buffer's the GPU form
+const bool TURN_LOAD = FILE_FORM && !NODES_FILE;
 const bool MASKS = FAR || FILE_FORM;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
@@ -290,12 +299,18 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
 // plain node buffer reads descriptors through these; a descriptor built in
 // the file's form (the compact layout's slots, compact_attr.glsl) is turned
 // into this form with desc_gpu_form where the walk reads it.
+// With NODES_FILE the buffer holds the file's form and these read its
+// masks (main's expressions).
 uint desc_gpu_form(uint d) { return (d & 0xFFFFFF00u) | ((d >> 8) & ~d & 0xFFu); }
 bool desc_valid(uint desc, uint cbit) { return (desc & (cbit << 8)) != 0u; }
-bool desc_inner(uint desc, uint cbit) { return (desc & cbit) != 0u; }
-bool desc_is_leaf(uint desc, uint cbit) { return (desc & ((cbit << 8) | cbit)) == (cbit << 8); }
-uint desc_inner_count(uint desc) { return uint(bitCount(desc & 0xFFu)); }
-uint desc_inner_below(uint desc, uint cbit) { return uint(bitCount(desc & (cbit - 1u))); }
+bool desc_inner(uint desc, uint cbit) { return (NODES_FILE ? (desc >> 8) & ~desc & cbit : desc & cbit) != 0u; }
+bool desc_is_leaf(uint desc, uint cbit) {
+    return NODES_FILE ? (desc & cbit) != 0u : (desc & ((cbit << 8) | cbit)) == (cbit << 8);
+}
+uint desc_inner_count(uint desc) { return uint(bitCount((NODES_FILE ? (desc >> 8) & ~desc : desc) & 0xFFu)); }
+uint desc_inner_below(uint desc, uint cbit) {
+    return uint(bitCount((NODES_FILE ? (desc >> 8) & ~desc : desc) & (cbit - 1u)));
+}
 
 // The node index of inner child cbit (1 << octant) of node `parent` with
 // descriptor desc (GPU form; absolute indices; far pointers are
@@ -588,7 +603,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
                 {
                     desc = nodes[parent];
-                    if (FILE_FORM) desc = desc_gpu_form(desc); // its own inverse: back to the file's form
+                    if (TURN_LOAD) desc = desc_gpu_form(desc); // its own inverse: back to the file's form
                 }
                 loaded = true;
             }
@@ -599,7 +614,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
             uint valid = (desc >> 8) & 0xFFu;
-            uint inner = desc & 0xFFu; // GPU form: the inner mask
+            uint inner = (FILE_FORM ? valid & ~desc : desc) & 0xFFu; // the inner mask (NODES_FILE: from the file's)
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
 #else
             // desc (GPU form) shifted by 7 - cs (= idx ^ oct): child cs's
