@@ -62,7 +62,9 @@ typedef struct rows_ref {
 } rows_ref;
 
 /* Per model, which words of its region hold a descriptor in the GPU form
- * (a bit per word; dform_walk below). */
+ * (a bit per word; dform_walk below). On devices with gpu.h's nodes_file
+ * the bits mark the same descriptors, which the GPU holds in the file's
+ * form (the walk checks every model's pointers on every device). */
 typedef struct dform {
     uint8_t* bits;
     size_t cap; /* bytes */
@@ -407,10 +409,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             rs->msize[4 * i + 3] = m->root != VX_SVO_ROOT_EMPTY;
             continue;
         }
-        if (m->node_count && rs->gpu->nodes_file) {
-            /* the device traces the file's form (gpu.h's nodes_file: CPU devices): main's upload, no bits */
-            memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
-        } else if (m->node_count) {
+        if (m->node_count) {
             dform* f = &rs->df[i];
             f->cap = ((size_t)m->node_count + 7) / 8;
             if (!(f->bits = vx_calloc(&rs->alloc, f->cap, 1))) {
@@ -419,8 +418,10 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             }
             uint32_t low, bad = 0;
             memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
-            if (m->root < VX_SVO_ROOT_LEAF &&
-                !dform_walk(m->nodes, m->node_count, m->root, m->depth, f->bits, nw + wo, &low, &bad)) {
+            /* gpu.h's nodes_file (CPU devices): the file's form goes up as it is; the walk still checks the
+             * model's pointers, so that a scene is refused on every device alike */
+            if (m->root < VX_SVO_ROOT_LEAF && !dform_walk(m->nodes, m->node_count, m->root, m->depth, f->bits,
+                                                          rs->gpu->nodes_file ? NULL : nw + wo, &low, &bad)) {
                 r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                             "model %u: the descriptor at word %u points outside its %u node words or below level 1", i,
                             bad, m->node_count);
@@ -822,7 +823,7 @@ static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error*
         m[i].nodes = w + rs->wreg[i].off;
         m[i].node_count = rs->wreg[i].have;
         /* the listing reads the file's form: the GPU form's descriptors back (vx__desc_gpu is its own inverse) */
-        for (uint32_t j = 0; rs->df && rs->df[i].bits && j < rs->wreg[i].have; j++)
+        for (uint32_t j = 0; !rs->gpu->nodes_file && rs->df && rs->df[i].bits && j < rs->wreg[i].have; j++)
             if (dform_get(rs->df[i].bits, j)) w[rs->wreg[i].off + j] = vx__desc_gpu(w[rs->wreg[i].off + j]);
         m[i].depth = rs->gm[i].depth;
         m[i].root = rs->gm[i].root;
@@ -1395,7 +1396,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
      * through clear ones; a word that stays but is reached clear (a block
      * no earlier root reached, shared by an edit) is uploaded again */
     dform nf = {0};
-    if (!g->nodes_file) { /* the file's form (CPU devices): no bits, main's upload */
+    {
         nf.cap = ((size_t)(nc > wr->have ? nc : wr->have) + 7) / 8;
         if (!(nf.bits = vx_calloc(&rs->alloc, nf.cap ? nf.cap : 1, 1)))
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for model %u's descriptor bits", mi);
@@ -1411,8 +1412,10 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
                            "model %u: the descriptor at word %u points outside its %u node words or below level 1", mi,
                            bad, nc);
         }
-        if (low < wvalid) wvalid = low;
+        /* the file's form (gpu.h's nodes_file): the words the GPU holds are the file's, none goes up again */
+        if (low < wvalid && !g->nodes_file) wvalid = low;
     }
+    const uint8_t* put_bits = g->nodes_file ? NULL : nf.bits; /* dform_put: NULL, the words as they are */
     uint32_t whave = nc > wvalid ? nc : wvalid, chave = ac > cvalid ? ac : cvalid;
     uint32_t wn = nc > wvalid ? nc - wvalid : 0, cn = ac > cvalid ? ac - cvalid : 0;
     room wp, cp;
@@ -1452,7 +1455,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;
     if (cmd) {
-        if (wst) dform_put(rs->stage.map, m->nodes, wvalid, wn, nf.bits);
+        if (wst) dform_put(rs->stage.map, m->nodes, wvalid, wn, put_bits);
         if (cst) memcpy((uint8_t*)rs->stage.map + wst, col, cst);
         if ((r = vx__cmd_begin(g, err))) goto fail;
         record_room(g, &rs->nodes, &nwb, wr, &wp, wvalid);
@@ -1475,7 +1478,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         if ((r = vx__cmd_submit_wait(g, err))) goto fail;
     }
     /* mapped targets (lavapipe, resizable BAR): written in place */
-    if (wn && !wst) dform_put((uint32_t*)wt->map + wp.off + wvalid, m->nodes, wvalid, wn, nf.bits);
+    if (wn && !wst) dform_put((uint32_t*)wt->map + wp.off + wvalid, m->nodes, wvalid, wn, put_bits);
     if (cn && !cst) memcpy((uint32_t*)ct->map + cp.off + cvalid, col, (size_t)cn * 4);
     if (rs->models.map) memcpy((vx__gpu_model*)rs->models.map + mi, &gm, sizeof gm);
     vx_free(&rs->alloc, col);
