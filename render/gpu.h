@@ -40,6 +40,11 @@ typedef struct vx__buffer {
     VkSampler sampler;
 } vx__buffer;
 
+/* The specialisation constant id that create_pipeline gives every pipeline: vx_gpu.nodes_file (a VkBool32). Vulkan
+ * ignores a map entry whose id the module does not declare, so shaders that do not read the node buffer need
+ * nothing; the ids a pipeline's desc sets (0..) stay below it. */
+#define VX__SPEC_NODES_FILE 100u
+
 typedef struct vx_gpu_compute_pipeline_desc {
     const uint32_t* spirv;
     size_t spirv_size;           /* bytes */
@@ -96,6 +101,13 @@ struct vx_gpu {
     bool has_timestamps;
     bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
     bool has_storage_write; /* shaderStorageImageWriteWithoutFormat enabled: vx_display writes images itself */
+    /* The form of the plain layout's node descriptors in the GPU's node buffer (issue 21), decided once when the
+     * device is made: true, the file's (CPU devices: lavapipe traces 0.55-0.75 of the file form's rate with the GPU
+     * form's loop, docs/PERFORMANCE.md, issue 21's fifteenth and sixteenth sittings); false, the GPU form
+     * (render_internal.h's vx__desc_gpu; 3-6.5% more primary rays on the H200). VX_GPU_NODE_FORM=file|gpu overrides
+     * (tests run either form on one device). Every pipeline gets it as specialisation constant VX__SPEC_NODES_FILE
+     * (gpu_pipeline.c; trace_common.glsl's NODES_FILE), and render_scene.c uploads the nodes in it. */
+    bool nodes_file;
     uint32_t validation_errors;
     /* a display that holds recorded frames to submit several at once
      * (vx_display_set_queue): submits them; called before any other

@@ -129,13 +129,19 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                    .pCode = d->spirv};
     VkShaderModule mod;
     VX__VK(vkCreateShaderModule(g->device, &sm, NULL, &mod), "vkCreateShaderModule");
-    VkSpecializationMapEntry me[sizeof d->spec / sizeof d->spec[0]];
-    for (uint32_t i = 0; i < d->spec_count; i++)
+    /* the desc's constants (ids 0..spec_count-1), then the device's node form (VX__SPEC_NODES_FILE), which
+     * modules that do not declare it ignore */
+    enum { NSPEC = sizeof d->spec / sizeof d->spec[0] };
+    VkSpecializationMapEntry me[NSPEC + 1];
+    uint32_t sv[NSPEC + 1];
+    uint32_t ns = d->spec_count < NSPEC ? d->spec_count : NSPEC;
+    for (uint32_t i = 0; i < ns; i++) {
         me[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
-    VkSpecializationInfo si = {.mapEntryCount = d->spec_count,
-                               .pMapEntries = me,
-                               .dataSize = 4u * d->spec_count,
-                               .pData = d->spec};
+        sv[i] = d->spec[i];
+    }
+    me[ns] = (VkSpecializationMapEntry){.constantID = VX__SPEC_NODES_FILE, .offset = 4 * ns, .size = sizeof(VkBool32)};
+    sv[ns] = g->nodes_file ? VK_TRUE : VK_FALSE;
+    VkSpecializationInfo si = {.mapEntryCount = ns + 1, .pMapEntries = me, .dataSize = 4u * (ns + 1), .pData = sv};
     bool stats = !g->external && vx__gpu_shader_stats_wanted(g->phys);
     VkComputePipelineCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
                                       .flags = stats ? VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR : 0u,
@@ -143,7 +149,7 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                                 .stage = VK_SHADER_STAGE_COMPUTE_BIT,
                                                 .module = mod,
                                                 .pName = d->entry ? d->entry : "main",
-                                                .pSpecializationInfo = d->spec_count ? &si : NULL},
+                                                .pSpecializationInfo = &si},
                                       .layout = p->layout};
     double t0 = vx_time_now();
     VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &ci, NULL, &p->pipe);

@@ -429,7 +429,11 @@ const char* vx_render_layout_name(vx_render_layout layout);
  *    vx_svo_edit_stats.words_from / records_from; a restored header gives
  *    UINT32_MAX (an editor never rewrites a word, so what rs holds stays
  *    valid). Words rs never received (a scene made while the model held
- *    fewer) are uploaded whatever words_from says.
+ *    fewer) are uploaded whatever words_from says, and so are words below
+ *    words_from that hold descriptors no earlier root reached (the GPU
+ *    holds reachable descriptors in its own form, render_internal.h's
+ *    vx__desc_gpu). A descriptor the root reaches that points outside the
+ *    model's words is VX_ERR_BAD_FORMAT.
  *  - The models share one buffer of node words and one of colours, made
  *    with headroom (1/16 plus 64 Ki entries); a model's appends go after
  *    its words when its region is the last one, else the region moves

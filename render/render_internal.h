@@ -24,6 +24,13 @@ enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
 /* FAR (host side; the shaders ignore the bit): the model's node words may
  * hold a far pointer. The trace kernel's FAR constant (id 9) is the OR over
  * the scene's models. */
+/* The GPU form of descriptor d in the plain layout's node buffer (issue 21;
+ * trace_common.glsl's desc_gpu_form): the low byte the inner mask (valid and
+ * not leaf) where the file has the leaf mask, bits 8-31 the file's. Its own
+ * inverse on any descriptor (the leaf mask is a subset of the valid mask).
+ * render_scene.c turns the descriptors a model's walk reaches; the other
+ * words stay the file's. */
+static inline uint32_t vx__desc_gpu(uint32_t d) { return (d & 0xFFFFFF00u) | ((d >> 8) & ~d & 0xFFu); }
 
 typedef struct vx__gpu_inst {
     float r[3][4];  /* model-from-world rows (world relative to the frame reference) */

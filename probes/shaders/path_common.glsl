@@ -263,12 +263,13 @@ uint model_cell_attr(uint mi, uvec3 c) {
         uint desc = nodes[parent];
         uint cs = ((c.x >> uint(l)) & 1u) | (((c.y >> uint(l)) & 1u) << 1) | (((c.z >> uint(l)) & 1u) << 2);
         uint cbit = 1u << cs;
-        if ((desc & (cbit << 8)) == 0u) return NO_HIT;
-        if ((desc & cbit) != 0u) {
-            uint valid = (desc >> 8) & 0xFFu, leaf = desc & 0xFFu;
+        if (!desc_valid(desc, cbit)) return NO_HIT;
+        if (!desc_inner(desc, cbit)) {
+            // a leaf (descriptors in the GPU form, trace_common.glsl)
+            uint valid = (desc >> 8) & 0xFFu;
             uint blk = parent - (desc >> 17);
             if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            return m.color_off + nodes[blk + bitCount(valid & ~leaf)] + uint(bitCount(valid & (cbit - 1u)));
+            return m.color_off + nodes[blk + desc_inner_count(desc)] + uint(bitCount(valid & (cbit - 1u)));
         }
         parent = child_node(parent, desc, cbit, nbase);
     }

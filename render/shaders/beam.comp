@@ -125,7 +125,7 @@ bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
             vec2 tc = tube_box(T, clo, clo + hs);
             float te = max(tc.x, tlo);
             if (!(te <= tc.y && te < best)) continue;
-            if ((desc & cbit) != 0u || hs <= BEAM_STOP * (ra + rb * te)) {
+            if (desc_is_leaf(desc, cbit) || hs <= BEAM_STOP * (ra + rb * te)) {
                 best = te;
                 found = true;
                 continue;

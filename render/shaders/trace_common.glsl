@@ -42,6 +42,33 @@ const uint COMPACT_FORM = 0u;
 layout(constant_id = 10) const uint COMPACT_FORM = 0u;
 #endif
 const bool COMPACT = COMPACT_FORM != 0u;
+// The push's child bits in the GPU form (desc_gpu_form below): from one
+// shift of the descriptor (MASKS false: 3-6.5% more primary rays on the
+// H200 than main's masks on the file's form), or tested in place with the
+// child's bit (true: 1.5-3% faster than the shift where FAR is on). The
+// rebased walk's kernels (REBASE) turn each descriptor they load back into
+// the file's form and run main's masks on it (FILE_FORM): reading the GPU
+// form, the colour kernel of such a scene (terrain4096: DEEP 2, FAR) got 96
+// registers and no local memory on the H200 where main's has 48 and its two
+// stacks in local memory, and traced 0.51-0.57 of main's primary + shadow
+// rays in either push form; FILE_FORM is main's loop in SPIR-V but for the
+// turn at each load, not yet measured there (issue 21, fifteenth sitting:
+// docs/PERFORMANCE.md).
+// NODES_FILE (set by gpu_pipeline.c for every pipeline from the device,
+// gpu.h's nodes_file): the node buffer holds the file's form (CPU devices:
+// lavapipe traced 0.55-0.75 of main's rate with any of the GPU form's loops,
+// even main's loop with only the turn at the load, sixteenth sitting), and
+// every path below is then main's: FILE_FORM without the turn at the load,
+// the desc_* readers on the file's masks.
+layout(constant_id = 100) const bool NODES_FILE = false;
+#ifdef PRECISE
+const bool FILE_FORM = NODES_FILE;
+#else
+const bool FILE_FORM = REBASE || NODES_FILE;
+#endif
+// the loop's descriptors are the file's but the buffer's the GPU form
+const bool TURN_LOAD = FILE_FORM && !NODES_FILE;
+const bool MASKS = FAR || FILE_FORM;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // trace.comp's colour kernel (primary and shadow rays) marks an unloaded
@@ -259,11 +286,43 @@ RVEC2 box_t(RVEC3 o, RVEC3 rd_inv, RVEC3 lo, RVEC3 hi) {
     return RVEC2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
 
+// The GPU form of a descriptor (issue 21): the plain layout's node buffer
+// holds every descriptor with its low byte the INNER mask (valid and not
+// leaf), where the file's holds the leaf mask (render_scene.c's upload
+// transforms them: vx__render_desc_gpu). Bits 8-31 are the file's (valid
+// mask, far bit, pointer). So child c (its bit cbit = 1 << c) is valid where
+// desc & (cbit << 8), inner where desc & cbit, a leaf where valid and not
+// inner, and its block entry counts the inner bits below cbit: in the walk
+// one shift, desc << (7 - c), puts c's valid bit at 15, its inner bit at 7
+// and the inner children below it in bits 0-6 (the paper's child_masks,
+// with the octant order of the file's blocks). Every GLSL reader of the
+// plain node buffer reads descriptors through these; a descriptor built in
+// the file's form (the compact layout's slots, compact_attr.glsl) is turned
+// into this form with desc_gpu_form where the walk reads it.
+// With NODES_FILE the buffer holds the file's form and these read its
+// masks (main's expressions).
+uint desc_gpu_form(uint d) { return (d & 0xFFFFFF00u) | ((d >> 8) & ~d & 0xFFu); }
+bool desc_valid(uint desc, uint cbit) { return (desc & (cbit << 8)) != 0u; }
+bool desc_inner(uint desc, uint cbit) { return (NODES_FILE ? (desc >> 8) & ~desc & cbit : desc & cbit) != 0u; }
+bool desc_is_leaf(uint desc, uint cbit) {
+    return NODES_FILE ? (desc & cbit) != 0u : (desc & ((cbit << 8) | cbit)) == (cbit << 8);
+}
+uint desc_inner_count(uint desc) { return uint(bitCount((NODES_FILE ? (desc >> 8) & ~desc : desc) & 0xFFu)); }
+uint desc_inner_below(uint desc, uint cbit) {
+    return uint(bitCount((NODES_FILE ? (desc >> 8) & ~desc : desc) & (cbit - 1u)));
+}
+
 // The node index of inner child cbit (1 << octant) of node `parent` with
-// descriptor desc (absolute indices; far pointers are model-relative, nbase
-// the model's first node): the children's block, then the inner children
-// (valid, not leaf) below cbit.
+// descriptor desc (GPU form; absolute indices; far pointers are
+// model-relative, nbase the model's first node): the children's block, then
+// the inner children below cbit.
 uint child_node(uint parent, uint desc, uint cbit, uint nbase) {
+    uint blk = parent - (desc >> 17);
+    if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+    return blk + desc_inner_below(desc, cbit);
+}
+// The same for a descriptor in the file's form (trace_model's FILE_FORM).
+uint child_node_file(uint parent, uint desc, uint cbit, uint nbase) {
     uint blk = parent - (desc >> 17);
     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
     return blk + uint(bitCount((desc >> 8) & ~desc & (cbit - 1u)));
@@ -539,9 +598,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     int lvl = scale + lvl_off - koff;
                     cnd = cslots[parent];
                     desc = lvl >= 3 ? cnd.x : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, 0u));
+                    if (!FILE_FORM) desc = desc_gpu_form(desc);
                 } else
 #endif
+                {
                     desc = nodes[parent];
+                    if (TURN_LOAD) desc = desc_gpu_form(desc); // its own inverse: back to the file's form
+                }
                 loaded = true;
             }
             WPREC RVEC3 tc = pos * coef - bias;
@@ -551,11 +614,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
             uint valid = (desc >> 8) & 0xFFu;
-            uint leaf = desc & 0xFFu;
+            uint inner = (FILE_FORM ? valid & ~desc : desc) & 0xFFu; // the inner mask (NODES_FILE: from the file's)
             if (((valid >> cs) & 1u) != 0u && tmin <= tmax) {
 #else
-            uint cbit = 1u << cs; // the child's leaf bit; its valid bit is cbit << 8
-            if ((desc & (cbit << 8)) != 0u && tmin <= tmax) {
+            // desc (GPU form) shifted by 7 - cs (= idx ^ oct): child cs's
+            // valid bit at 15, its inner bit at 7, the inner children below
+            // it in bits 0-6 (the paper's child_masks); MASKS: the bits
+            // tested in place instead (cbit)
+            uint cbit = 1u << cs;
+            uint cm = desc << uint(idx ^ oct);
+            if ((MASKS ? desc & (cbit << 8) : cm & 0x8000u) != 0u && tmin <= tmax) {
 #endif
                 WPREC REAL tv_max = min(tmax, tc_max);
                 WPREC REAL half_ = scale_exp2 * 0.5;
@@ -566,9 +634,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 // H200, 1-2% slower in the plain kernel, which keeps it.
                 if (DEEP >= 1 || tmin <= tv_max) {
 #ifdef PRECISE
-                    bool is_leaf = ((leaf >> cs) & 1u) != 0u;
+                    bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
-                    bool is_leaf = (desc & cbit) != 0u;
+                    bool is_leaf = FILE_FORM ? (desc & cbit) != 0u : (MASKS ? desc & cbit : cm & 0x80u) == 0u;
 #endif
                     bool stop = is_leaf;
                     if (LOD && !stop) {
@@ -610,7 +678,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     uint blk = parent - (desc >> 17);
                     if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                    parent = blk + uint(bitCount(valid & ~leaf & ((1u << cs) - 1u)));
+                    parent = blk + uint(bitCount(inner & ((1u << cs) - 1u)));
 #else
                     bool keep = false; // COMPACT below level 2: the octant's descriptor, no load
                     if (COMPACT) {
@@ -618,10 +686,15 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // brick's level 2 the child is octant cs of the brick in cnd
                         // (level 3: through the brick's index word)
                         int plvl = scale + lvl_off - koff;
-                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                        else desc = brick_octant(cnd, uint(cs)), keep = true;
+                        uint below = FILE_FORM ? (desc >> 8) & ~desc & (cbit - 1u) : (MASKS ? desc & (cbit - 1u) : cm & 0x7Fu);
+                        if (plvl >= 3) parent = ca_child(plvl, desc, cnd.y, uint(bitCount(below)));
+                        else desc = FILE_FORM ? brick_octant(cnd, uint(cs)) : desc_gpu_form(brick_octant(cnd, uint(cs))), keep = true;
+                    } else if (FILE_FORM) {
+                        parent = child_node_file(parent, desc, cbit, nbase);
                     } else {
-                        parent = child_node(parent, desc, cbit, nbase);
+                        uint blk = parent - (desc >> 17);
+                        if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                        parent = blk + uint(bitCount(MASKS ? desc & (cbit - 1u) : cm & 0x7Fu));
                     }
 #endif
                     idx = 0;
@@ -729,8 +802,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
+                // (REBASE: desc is in the file's form, FILE_FORM)
                 parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
-                                 : child_node(parent, desc, rb_cbit, nbase);
+                                 : child_node_file(parent, desc, rb_cbit, nbase);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
@@ -783,10 +857,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // shadow rays, any_hit, need none)
             int cs = idx ^ oct7;
             uint valid = (desc >> 8) & 0xFFu;
-            uint leaf = desc & 0xFFu;
             uint blk = parent - (desc >> 17);
             if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            uint a = nodes[blk + bitCount(valid & ~leaf)];
+            uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))];
             attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
             have_attr = true;
         }

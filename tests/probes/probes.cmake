@@ -12,6 +12,10 @@ if(VX_WITH_VULKAN)
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
+  add_test(NAME test_probes_gpu_gpu_form COMMAND test_probes_gpu)
+  set_tests_properties(test_probes_gpu_gpu_form PROPERTIES TIMEOUT 900 LABELS probes ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp;VX_GPU_NODE_FORM=gpu")
   # .probes reader fuzz target; seeds written by svo_bake --cpu (tiny: res 16,
   # one probe and one shard of two)
   vx_add_fuzz(probes_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/probes_fuzz.c LIBS vx_probes vx_render vx_svo

@@ -47,3 +47,15 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_spirv_precise.c)
     add_dependencies(test_spirv_precise vx_probes)
   endif()
 endif()
+# The same tests with the descriptors' GPU form forced (issue 21: CPU devices
+# such as lavapipe keep the file's form in the node buffer, GPUs the GPU form;
+# VX_GPU_NODE_FORM=gpu makes lavapipe run the GPU form's upload, edits and
+# kernels, so CI tests both forms).
+if(VX_WITH_VULKAN)
+  foreach(t test_render_gpu test_render_beam test_render_edit)
+    if(TARGET ${t})
+      add_test(NAME ${t}_gpu_form COMMAND ${t})
+      set_tests_properties(${t}_gpu_form PROPERTIES TIMEOUT 900 ENVIRONMENT "${VX_RENDER_LSAN};VX_GPU_NODE_FORM=gpu")
+    endif()
+  endforeach()
+endif()

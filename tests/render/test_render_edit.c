@@ -90,8 +90,12 @@ static size_t frame_diff(vx_render_scene* rs, const vx_svo_scene* s, size_t* hit
     c.models = cm;
     vx_error err = {0};
     size_t bad = SIZE_MAX;
-    if (vx_svo_model_compact(NULL, &s->models[0], &cm[0], &err)) return SIZE_MAX;
+    if (vx_svo_model_compact(NULL, &s->models[0], &cm[0], &err)) {
+        fprintf(stderr, "compact: %s\n", err.msg);
+        return SIZE_MAX;
+    }
     if (vx_svo_model_compact(NULL, &s->models[1], &cm[1], &err)) {
+        fprintf(stderr, "compact: %s\n", err.msg);
         vx_svo_model_free(NULL, &cm[0]);
         return SIZE_MAX;
     }
@@ -256,12 +260,70 @@ static void test_update_past_cells(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The node buffer holds the descriptors a model's walk reaches in the GPU
+ * form (render_scene.c, issue 21: the low byte the inner mask), the other
+ * words as the model has them. A scene made while model 0's root is its
+ * octant-0 child (one level less, its other subtrees unreachable, so never
+ * turned) and updated with the whole model's header and nothing appended
+ * (a redo that reaches words no earlier root reached) must turn and upload
+ * those words below words_from; and a descriptor that points outside its
+ * model's words is refused at the upload, not traced. */
+static void test_update_gpu_form(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_scene(&s, false);
+    vx_svo_model* m = &s.models[0];
+    vx_svo_model_header whole = vx_svo_model_header_get(m), part = whole;
+    /* the root's octant-0 child: its children's block's first inner descriptor */
+    uint32_t rd = m->nodes[m->root];
+    uint32_t inner = vx_svo_desc_valid(rd) & ~vx_svo_desc_leaf(rd);
+    REQUIRE(m->depth == 6 && (inner & 1u) && !vx_svo_desc_far(rd));
+    part.root = m->root - vx_svo_desc_ptr(rd);
+    part.depth = m->depth - 1;
+    for (int k = 0; k < 3; k++) part.size[k] = 32;
+    REQUIRE(m->attrs); /* the child's coarse record: octant 0's attribute of the root's block */
+    uint32_t ablk = m->root - vx_svo_desc_ptr(rd) + (uint32_t)__builtin_popcount(inner);
+    part.root_attr = m->nodes[ablk];
+    part.voxel_count = 0; /* make_scene's cells in [0, 32)^3 */
+    for (uint32_t z = 0; z < 32; z++)
+        for (uint32_t y = 0; y < 32; y++)
+            for (uint32_t x = 0; x < 32; x++) {
+                double dx = x - 19.5, dy = y - 19.5, dz = z - 19.5, r2 = dx * dx + dy * dy + dz * dz;
+                part.voxel_count += r2 < 19 * 19 && !(r2 < 8 * 8 && x > 20);
+            }
+    vx_svo_model_header_set(m, &part);
+    vx_svo_scene_update_bounds(&s);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    size_t hits = 0, hits0 = 0, bad = frame_diff(rs, &s, &hits0);
+    CHECKF(bad == 0 && hits0 > 0, "octant 0 as the root: %zu pixels differ, %zu hits", bad, hits0);
+    vx_svo_model_header_set(m, &whole);
+    vx_svo_scene_update_bounds(&s);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, m->node_count, m->attr_count, &err) == VX_OK);
+    bad = frame_diff(rs, &s, &hits);
+    CHECKF(bad == 0 && hits > hits0, "the whole model after the update: %zu pixels differ, %zu hits (%zu before)", bad,
+           hits, hits0);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+    vx_render_scene_destroy(rs);
+    /* a root whose children's block would start before word 0 */
+    uint32_t saved = m->nodes[m->root];
+    m->nodes[m->root] = vx_svo_desc_make(m->root + 1, false, vx_svo_desc_valid(saved), vx_svo_desc_leaf(saved));
+    rs = NULL;
+    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    CHECKF(r == VX_ERR_BAD_FORMAT && strstr(err.msg, "model 0") && !rs, "bad pointer: result %d, %s", (int)r, err.msg);
+    vx_render_scene_destroy(rs);
+    m->nodes[m->root] = saved;
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     /* as in test_render_gpu.c: pinned driver and layer keep their frames
      * symbolised for tests/render/lsan.supp */
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_update_model);
     RUN(test_update_past_cells);
+    RUN(test_update_gpu_form);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
