@@ -25,9 +25,13 @@ void vx_tool_init(int argc, char** argv) {
  * message names it first already (the library's file functions prefix
  * their own errors with the path: a tool that passes it too would print
  * it twice) */
-static const char* file_sep(const char* file, const char* msg, const char** sep) {
+bool vx_tool_names_file(const char* file, const char* msg) {
     size_t n = file ? strlen(file) : 0;
-    bool named = !n || (msg && strncmp(msg, file, n) == 0 && msg[n] == ':');
+    return n && msg && strncmp(msg, file, n) == 0 && msg[n] == ':';
+}
+
+static const char* file_sep(const char* file, const char* msg, const char** sep) {
+    bool named = !file || !*file || vx_tool_names_file(file, msg);
     *sep = named ? "" : ": ";
     return named ? "" : file;
 }

@@ -15,6 +15,9 @@ void vx_tool_init(int argc, char** argv);
 
 /* "tool: file: message" on stderr; returns 1 (the tools' failure status). */
 int vx_tool_error(const char* file, const vx_error* err);
+/* Whether msg starts with "file:" (the library's file functions name the
+ * file in their I/O errors): a tool then prints msg without the name again. */
+bool vx_tool_names_file(const char* file, const char* msg);
 int vx_tool_errorf(const char* fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 1, 2)))

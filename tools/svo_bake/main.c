@@ -242,7 +242,7 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
         if (j->budget.refused)
             fprintf(stderr, "%s: %s%s: needs more than --max-memory %s: %s\n", vx_tool_name, who, j->in,
                     vx_tool_bytes(j->budget.limit), err.msg);
-        else if (strncmp(err.msg, j->in, strlen(j->in)) == 0 && err.msg[strlen(j->in)] == ':')
+        else if (vx_tool_names_file(j->in, err.msg))
             fprintf(stderr, "%s: %s%s\n", vx_tool_name, who, err.msg); /* the library named the file (I/O errors) */
         else
             fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
