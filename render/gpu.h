@@ -102,13 +102,13 @@ struct vx_gpu {
     bool has_float64; /* shaderFloat64 enabled: the precise trace variant can run */
     bool has_storage_write; /* shaderStorageImageWriteWithoutFormat enabled: vx_display writes images itself */
     /* The form of the plain layout's node descriptors in the GPU's node buffer (issue 21), decided once when the
-     * device is made: true, the file's (the default on every device: lavapipe traces 0.55-0.75 of the file form's
-     * rate with the GPU form's loop; on GPUs the GPU form's kernel for deep models, FILE_FORM, is not measured yet,
-     * where its first version halved terrain4096's primary + shadow rays on the H200: docs/PERFORMANCE.md, issue
-     * 21's fifteenth and sixteenth sittings); false, the GPU form (render_internal.h's vx__desc_gpu; 3-6.5% more
-     * primary rays on the H200 on models of 10 levels or less), with VX_GPU_NODE_FORM=gpu (ctest's *_gpu_form
-     * entries run it on lavapipe). Every pipeline gets it as specialisation constant VX__SPEC_NODES_FILE
-     * (gpu_pipeline.c; trace_common.glsl's NODES_FILE), and render_scene.c uploads the nodes in it. */
+     * device is made: false on GPUs, the GPU form (render_internal.h's vx__desc_gpu: on the H200 2-7% more primary
+     * rays on models of 10 levels or less, 2-3% fewer on deeper ones, whose kernel turns each loaded descriptor
+     * back, FILE_FORM); true on CPU devices, the file's (lavapipe traces 0.55-0.75 of the rate with the GPU form's
+     * loop). VX_GPU_NODE_FORM=file|gpu overrides (ctest's *_gpu_form entries run the GPU form on lavapipe);
+     * docs/PERFORMANCE.md, issue 21's fifteenth and sixteenth sittings. Every pipeline gets it as specialisation
+     * constant VX__SPEC_NODES_FILE (gpu_pipeline.c; trace_common.glsl's NODES_FILE), and render_scene.c uploads
+     * the nodes in it. */
     bool nodes_file;
     uint32_t validation_errors;
     /* a display that holds recorded frames to submit several at once

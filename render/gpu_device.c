@@ -356,15 +356,16 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
     }
     vkGetPhysicalDeviceProperties(g->phys, &g->props);
     vkGetPhysicalDeviceMemoryProperties(g->phys, &g->memprops);
-    /* the node form (gpu.h's nodes_file): the file's on every device unless VX_GPU_NODE_FORM=gpu, until the GPU
-     * form's kernels for deep models are measured on a GPU (docs/PERFORMANCE.md, issue 21's sixteenth sitting) */
+    /* the node form (gpu.h's nodes_file): the GPU form on GPUs, the file's on CPU devices (lavapipe's loop loses
+     * 25-45% with the GPU form); VX_GPU_NODE_FORM=file|gpu overrides (docs/PERFORMANCE.md, issue 21's sixteenth
+     * sitting and the check after it) */
     const char* form = getenv("VX_GPU_NODE_FORM");
     if (form && strcmp(form, "file") == 0)
         g->nodes_file = true;
     else if (form && strcmp(form, "gpu") == 0)
         g->nodes_file = false;
     else
-        g->nodes_file = true;
+        g->nodes_file = g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     vx__gpu_log_memory_types(g);
     if (!g->external && (r = create_device(g, err))) return r;
     t[3] = vx_time_now();

@@ -418,7 +418,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
             }
             uint32_t low, bad = 0;
             memcpy(nw + wo, m->nodes, (size_t)m->node_count * 4);
-            /* gpu.h's nodes_file (the default): the file's form goes up as it is; the walk still checks the
+            /* gpu.h's nodes_file (CPU devices): the file's form goes up as it is; the walk still checks the
              * model's pointers (about 3 ns a word), so that a scene is refused in either form alike */
             if (m->root < VX_SVO_ROOT_LEAF && !dform_walk(m->nodes, m->node_count, m->root, m->depth, f->bits,
                                                           rs->gpu->nodes_file ? NULL : nw + wo, &low, &bad)) {
