@@ -458,8 +458,7 @@ static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, pg->spec, sizeof pg->spec);
-    uint64_t key = 0x9407035ull;
-    for (int i = 0; i < VX__SPEC_TRACE_IDS; i++) key = key * 131 + pg->spec[i];
+    uint64_t key = vx__spec_key(0x9407035ull, pg->spec, VX__SPEC_TRACE_IDS);
     vx__pipeline* p;
     vx_result r = vx__pipeline_get(pg->g, key, &pd, &p, err);
     if (r) return r;

@@ -332,9 +332,7 @@ static uint64_t probe_desc(gctx* c, uint32_t pmode, bool one, vx_gpu_compute_pip
     pd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd->spec, c->spec, sizeof c->spec);
-    uint64_t key = 0x9B0BE2ull + (bake ? (one ? 2 : 0) : 1);
-    for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
-    return key;
+    return vx__spec_key(0x9B0BE2ull + (bake ? (one ? 2 : 0) : 1), c->spec, VX__SPEC_COUNT + SPEC_EXTRA);
 }
 
 /* probe.comp's pipeline for pass pmode (created once per device and spec constants). */
@@ -719,9 +717,7 @@ static uint64_t beam_desc(const gctx* c, vx_gpu_compute_pipeline_desc* bd) {
     bd->bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < 11; i++) bd->bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(bd->spec, c->spec, sizeof c->spec);
-    uint64_t key = 0x9B0BEAull;
-    for (int i = 0; i < VX__SPEC_COUNT + SPEC_EXTRA; i++) key = key * 131 + c->spec[i];
-    return key;
+    return vx__spec_key(0x9B0BEAull, c->spec, VX__SPEC_COUNT + SPEC_EXTRA);
 }
 
 static vx_result gbake_init(gbake* B, gctx* c, const vx_probe_set* ps, uint32_t batch, uint32_t first,

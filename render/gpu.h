@@ -167,6 +167,13 @@ vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize
  * variants (59 for a scene in both layouts with every GI method). */
 vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipeline_desc* desc, vx__pipeline** out,
                            vx_error* err);
+/* A pipeline's key from the shader's own seed (a constant per shader and form) and the first n of the
+ * specialisation constants it is built with: one hash for every caller, so that two callers' keys for the same
+ * shader and constants agree and a constant left out of the key is a visible choice (n), not a copied loop. */
+static inline uint64_t vx__spec_key(uint64_t seed, const uint32_t* spec, uint32_t n) {
+    for (uint32_t i = 0; i < n; i++) seed = seed * 131 + spec[i];
+    return seed;
+}
 /* Starts making the pipeline of key on a thread of its own; the vx__pipeline_get of the same key waits for
  * it and takes it into the cache (its error, if any, is that get's). The driver compiles the SPIR-V in
  * vkCreateComputePipelines, and on a machine whose shader cache is empty the compiles take 0.05-0.9 s each

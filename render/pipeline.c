@@ -495,8 +495,7 @@ static vx_result get_pipeline(vx_gpu* g, shader_id sh, const uint32_t spec[PASS_
         pd.label = sh == SH_POST ? "post (display)" : sh == SH_FRAME ? "frame (display)" : "resolve (display)";
     }
     memcpy(pd.spec, spec, PASS_SPECS * sizeof spec[0]);
-    uint64_t key = 0x9A55000ull + (uint64_t)sh + (display ? 0x100u : 0u);
-    for (int i = 0; i < PASS_SPECS; i++) key = key * 131 + spec[i];
+    uint64_t key = vx__spec_key(0x9A55000ull + (uint64_t)sh + (display ? 0x100u : 0u), spec, PASS_SPECS);
     return vx__pipeline_get(g, key, &pd, out, err);
 }
 
