@@ -1291,9 +1291,10 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
          * nodes without a block of their own or with a second mask on one
          * (the 4096^3 helmet's largest model: 57 K of 9.6 M words), so it
          * starts at 64 K slots and doubles up to 2 a word, where it held all
-         * of them from the start (384 MB, touched at random) */
+         * of them from the start (384 MB, touched at random). It starts at 1 K
+         * slots (models of some 10^5 words grow it: the tests' round trips) */
         x.hmax = need;
-        if (need > ((size_t)1 << 16)) need = (size_t)1 << 16;
+        if (need > ((size_t)1 << 10)) need = (size_t)1 << 10;
         x.hk = (uint64_t*)vx__svo_zalloc(A, need, sizeof *x.hk);
         x.hv = (uint32_t*)vx__svo_zalloc(A, need, sizeof *x.hv);
         x.fb = (uint32_t*)vx__svo_zalloc(A, m->node_count, sizeof *x.fb);
