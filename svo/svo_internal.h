@@ -64,12 +64,6 @@ unsigned vx__svo_cpus(unsigned want);
  * lookups were a large part of a chunked read (docs/PERFORMANCE.md, issue
  * 18). Call it before the memory is first touched. */
 void vx__svo_advise_huge(void* p, size_t n);
-/* count * size zeroed bytes (overflow-checked), as vx_calloc, for large
- * tables of which a read or write touches only part: with the default
- * allocator calloc, whose large blocks are fresh pages of zeros that cost
- * nothing until touched (vx_calloc's memset touches and faults in every 4 KB
- * page first); with a caller's allocator vx_calloc. Freed with vx_free. */
-void* vx__svo_zalloc(const vx_allocator* A, size_t count, size_t size);
 
 /* A count one thread advances (a stage's progress: pool words appended,
  * symbols decoded, words laid out) and one other thread waits on, asleep

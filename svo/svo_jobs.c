@@ -9,7 +9,6 @@
 #define _POSIX_C_SOURCE 200809L
 #define _DEFAULT_SOURCE /* madvise(MADV_HUGEPAGE) */
 #include <stdint.h>
-#include <stdlib.h>
 #include <stdatomic.h>
 #include <sys/mman.h>
 
@@ -41,13 +40,6 @@ void vx__svo_advise_huge(void* p, size_t n) {
 #else
     (void)p, (void)n;
 #endif
-}
-
-void* vx__svo_zalloc(const vx_allocator* A, size_t count, size_t size) {
-    size_t n;
-    bool dflt = !A || (!A->alloc && !A->free); /* malloc's: calloc's block is freed by vx_free */
-    if (!dflt || !vx_mul_size(count, size, &n)) return vx_calloc(A, count, size);
-    return calloc(n ? n : 1, 1);
 }
 
 void vx__svo_gate_init(vx__svo_gate* g, size_t step) {

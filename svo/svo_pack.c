@@ -487,8 +487,8 @@ static uint32_t ext_find(const ext* x, uint32_t i, uint32_t b) {
 /* The hash at twice its slots, its entries moved; false (x->oom) without memory. */
 static bool ext_grow(ext* x) {
     size_t cap = x->hcap * 2;
-    uint64_t* hk = (uint64_t*)vx__svo_zalloc(x->A, cap, sizeof *hk);
-    uint32_t* hv = (uint32_t*)vx__svo_zalloc(x->A, cap, sizeof *hv);
+    uint64_t* hk = (uint64_t*)vx_calloc(x->A, cap, sizeof *hk);
+    uint32_t* hv = (uint32_t*)vx_calloc(x->A, cap, sizeof *hv);
     if (!hk || !hv) {
         vx_free(x->A, hk);
         vx_free(x->A, hv);
@@ -1286,19 +1286,18 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         x.m = m;
         size_t need = 16;
         while (need < 2 * (size_t)m->node_count) need *= 2;
-        /* fresh zeroed pages, not cleared by memset (the walk's tables were a
-         * third of the split write's page faults). The hash is for the few
-         * nodes without a block of their own or with a second mask on one
-         * (the 4096^3 helmet's largest model: 57 K of 9.6 M words), so it
-         * starts at 64 K slots and doubles up to 2 a word, where it held all
-         * of them from the start (384 MB, touched at random). It starts at 1 K
-         * slots (models of some 10^5 words grow it: the tests' round trips) */
+        /* The hash is for the few nodes without a block of their own or with
+         * a second mask on one (the 4096^3 helmet's largest model: 57 K of 9.6
+         * M words), so it starts at 1 K slots and doubles up to 2 a word, where
+         * it held all of them from the start: 384 MB cleared and then touched
+         * at random, a third of the split write's page faults (models of some
+         * 10^5 words grow it: the tests' round trips) */
         x.hmax = need;
         if (need > ((size_t)1 << 10)) need = (size_t)1 << 10;
-        x.hk = (uint64_t*)vx__svo_zalloc(A, need, sizeof *x.hk);
-        x.hv = (uint32_t*)vx__svo_zalloc(A, need, sizeof *x.hv);
-        x.fb = (uint32_t*)vx__svo_zalloc(A, m->node_count, sizeof *x.fb);
-        x.fm = (uint16_t*)vx__svo_zalloc(A, m->node_count, sizeof *x.fm);
+        x.hk = (uint64_t*)vx_calloc(A, need, sizeof *x.hk);
+        x.hv = (uint32_t*)vx_calloc(A, need, sizeof *x.hv);
+        x.fb = (uint32_t*)vx_calloc(A, m->node_count, sizeof *x.fb);
+        x.fm = (uint16_t*)vx_calloc(A, m->node_count, sizeof *x.fm);
         x.hcap = need;
         ok = x.hk && x.hv && x.fb && x.fm;
         /* a model the reader rebuilt from the structural form, its digest
