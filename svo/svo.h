@@ -582,6 +582,14 @@ typedef struct vx_svo_read_desc {
                                 0: any size the address space and memory hold (the
                                 65536^3 helmet's file is about 28 GB; vx_file_read's
                                 own default, 4 GiB, refused the 7 GB one at 32768^3) */
+    /* vx_svo_read_file, vx_svo_reader_open: NULL, or called once the file is
+     * open and its size taken, before any of its bytes is read (tests cut the
+     * file short there; the read then fails naming the file). Files are read
+     * with pread into the reader's own buffers, never mapped, so a file that
+     * another process shortens during a read is an error (VX_ERR_TRUNCATED),
+     * not a SIGBUS. */
+    void (*on_open)(void* user, const char* path);
+    void* on_open_user;
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out
@@ -598,8 +606,8 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
  * over and owned by the caller from then on. A consumer that builds its own
  * form of each model (render/compact.h's vx_compact_build_reader) holds that
  * form plus the models in hand instead of the whole scene (the 65536^3
- * helmet: 86 GiB read whole). The file is mapped and each model's stream
- * leaves the process's memory once decoded.
+ * helmet: 86 GiB read whole). Each model's stream is read (pread) when
+ * its model is asked for and leaves the process's memory once decoded.
  *
  *   vx_svo_model_reader* rd; vx_svo_reader_open(NULL, path, &rd, &err);
  *   const vx_svo_scene* g = vx_svo_reader_scene(rd);      // no trees
@@ -616,8 +624,8 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
  * models are taken) does not match, so a consumer discards what it built
  * from the models when finish fails. */
 typedef struct vx_svo_model_reader vx_svo_model_reader;
-/* Maps the file (or, where it cannot be mapped, reads it), checks the
- * header, the table, every section's CRC but NODE's, parses the scene graph
+/* Opens the file (a regular file), reads and checks the header, the
+ * table, every section but NODE and their CRCs, parses the scene graph
  * and checks the scene's own rules. desc: alloc, skip_checksums,
  * max_file_bytes and threads (the CPUs the models' decoding shares) as
  * vx_svo_read's; chunk_stats is not filled. */

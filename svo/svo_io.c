@@ -5,7 +5,6 @@
  * small scene costs a few dozen bytes; node words and attribute records are
  * range-coded in NODE (svo_pack.c), mostly as the bare DAG structure. */
 #define _POSIX_C_SOURCE 200809L
-#define _DEFAULT_SOURCE /* madvise(MADV_DONTNEED): the model reader drops decoded streams */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -15,7 +14,6 @@
 #include <fcntl.h>
 #include <pthread.h>
 #include <stdatomic.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 
 #include "svo/svo_internal.h"
@@ -24,6 +22,10 @@ static const uint8_t MAGIC[8] = {'V', 'X', 'S', 'V', 'O', 0, '\r', '\n'};
 enum {
     HEADER_SIZE = 12, /* magic, u16 version, u16 section count; the table follows */
     MAX_SECTIONS = 1024,
+    /* the most a parse of the header and table reads: MAX_SECTIONS entries of
+     * a tag, two varints (up to 10 bytes each before one is refused) and a
+     * CRC, then the table's CRC */
+    TABLE_MAX = HEADER_SIZE + MAX_SECTIONS * (4 + 10 + 10 + 4) + 4,
     SEC_REQUIRED = 1u << 0,
     SEC_ALIGN4 = 1u << 1,
     SEC_FLAGS = SEC_REQUIRED | SEC_ALIGN4,
@@ -296,15 +298,52 @@ typedef struct sec {
     uint8_t tag[4];
     uint32_t flags, crc;
     uint64_t offset, size;
+    const uint8_t* p; /* the section's bytes: in the file's buffer, or (the model
+                         reader) read into one of its own; NULL where not read */
 } sec;
+
+/* ---- the file's bytes ----------------------------------------------------------------------
+ * A file is read with pread into buffers the reader owns, never mapped: a
+ * map of a file that another process cuts short while it is read faults
+ * (SIGBUS) on the first page past the new end, and a library may not catch
+ * signals. With pread a shortened file is a short read: an error naming the
+ * file, the byte where it ended and the size it had when opened. */
+typedef struct fsrc {
+    int fd;
+    uint64_t size; /* when opened */
+} fsrc;
+
+/* n bytes at off (off + n <= f->size, checked by the caller) into buf. */
+static vx_result fsrc_read(const fsrc* f, uint64_t off, void* buf, size_t n, vx_error* err) {
+    uint8_t* b = (uint8_t*)buf;
+    size_t got = 0;
+    while (got < n) {
+        size_t want = n - got < ((size_t)1 << 30) ? n - got : ((size_t)1 << 30);
+        ssize_t k = pread(f->fd, b + got, want, (off_t)(off + got));
+        if (k < 0 && errno == EINTR) continue;
+        if (k < 0)
+            return vx_fail(err, VX_ERR_IO, off + got, "svo: read error at byte %llu: %s", (unsigned long long)(off + got), strerror(errno));
+        if (k == 0)
+            return vx_fail(err, VX_ERR_TRUNCATED, off + got,
+                           "svo: the file ends at byte %llu, it had %llu bytes when opened (cut short while it was read)",
+                           (unsigned long long)(off + got), (unsigned long long)f->size);
+        got += (size_t)k;
+    }
+    return VX_OK;
+}
 
 /* Parses the header and the table; fills secs (count entries) when non-NULL.
  * Checks every bound, the table CRC and the zero alignment gaps, not the
  * section CRCs. Section offsets follow from the sizes: sections are stored
  * back to back after the table, and one with ALIGN4 starts at the next
  * multiple of 4; the last one ends at the end of the file. */
-static vx_result parse_table(const uint8_t* d, size_t size, uint32_t* out_version, uint32_t* out_count, sec* secs,
-                             vx_error* err) {
+/* d holds the file's first avail bytes (the table fits in them: at most
+ * TABLE_MAX bytes; a larger file is read through f where a gap byte lies
+ * past them); size is the file's. A section's bytes (p) are set only where
+ * d holds the whole file. */
+static vx_result parse_table(const uint8_t* d, size_t avail, uint64_t fsize, const fsrc* f, uint32_t* out_version, uint32_t* out_count,
+                             sec* secs, vx_error* err) {
+    size_t size = avail; /* the table's bounds; the sections' are the file's */
     if (size < HEADER_SIZE + 4)
         return vx_fail(err, VX_ERR_TRUNCATED, size, "svo: file is %zu bytes, the header needs %d", size, HEADER_SIZE + 4);
     if (memcmp(d, MAGIC, 8) != 0) return vx_fail(err, VX_ERR_BAD_FORMAT, 0, "svo: not a .svo file (bad magic)");
@@ -351,23 +390,28 @@ static vx_result parse_table(const uint8_t* d, size_t size, uint32_t* out_versio
                                secs[i].flags & ~(uint32_t)SEC_FLAGS);
             if (secs[i].flags & SEC_ALIGN4) {
                 uint64_t pad = (4 - off % 4) % 4;
-                if (pad > size - off)
+                if (pad > fsize - off)
                     return vx_fail(err, VX_ERR_TRUNCATED, off, "svo: section %s: alignment gap at byte %llu runs past the end of the file",
                                    tg, (unsigned long long)off);
+                uint8_t gap[4] = {0, 0, 0, 0};
+                if (off + pad <= avail) memcpy(gap, d + off, (size_t)pad);
+                else if ((r = fsrc_read(f, off, gap, (size_t)pad, err)) != VX_OK)
+                    return r;
                 for (uint64_t k = 0; k < pad; k++)
-                    if (d[off + k])
+                    if (gap[k])
                         return vx_fail(err, VX_ERR_BAD_FORMAT, off + k, "svo: alignment gap byte %llu before section %s is not zero",
                                        (unsigned long long)(off + k), tg);
                 off += pad;
             }
-            if (secs[i].size > size - off)
-                return vx_fail(err, VX_ERR_TRUNCATED, off, "svo: section %s (%llu bytes at byte %llu) runs past the end of the %zu-byte file",
-                               tg, (unsigned long long)secs[i].size, (unsigned long long)off, size);
+            if (secs[i].size > fsize - off)
+                return vx_fail(err, VX_ERR_TRUNCATED, off, "svo: section %s (%llu bytes at byte %llu) runs past the end of the %llu-byte file",
+                               tg, (unsigned long long)secs[i].size, (unsigned long long)off, (unsigned long long)fsize);
             secs[i].offset = off;
+            secs[i].p = avail == fsize ? d + off : NULL;
             off += secs[i].size;
         }
-        if (off != size)
-            return vx_fail(err, VX_ERR_BAD_FORMAT, off, "svo: %llu bytes after the last section", (unsigned long long)(size - off));
+        if (off != fsize)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, off, "svo: %llu bytes after the last section", (unsigned long long)(fsize - off));
     }
     *out_version = version;
     *out_count = count;
@@ -375,13 +419,13 @@ static vx_result parse_table(const uint8_t* d, size_t size, uint32_t* out_versio
 }
 
 /* parse_table twice: once for the count, once into an allocated array. */
-static vx_result load_table(const uint8_t* d, size_t size, const vx_allocator* A, uint32_t* version, uint32_t* count, sec** out,
-                            vx_error* err) {
-    vx_result r = parse_table(d, size, version, count, NULL, err);
+static vx_result load_table(const uint8_t* d, size_t avail, uint64_t fsize, const fsrc* f, const vx_allocator* A, uint32_t* version,
+                            uint32_t* count, sec** out, vx_error* err) {
+    vx_result r = parse_table(d, avail, fsize, f, version, count, NULL, err);
     if (r != VX_OK) return r;
     sec* secs = (sec*)vx_calloc(A, *count ? *count : 1, sizeof *secs);
     if (!secs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-    r = parse_table(d, size, version, count, secs, err);
+    r = parse_table(d, avail, fsize, f, version, count, secs, err);
     if (r != VX_OK) {
         vx_free(A, secs);
         return r;
@@ -396,7 +440,7 @@ vx_result vx_svo_probe(const void* data, size_t size, vx_svo_file_info* out, vx_
     const uint8_t* d = (const uint8_t*)data;
     uint32_t version, count;
     sec* secs = NULL;
-    vx_result r = load_table(d, size, NULL, &version, &count, &secs, err);
+    vx_result r = load_table(d, size, size, NULL, NULL, &version, &count, &secs, err);
     if (r != VX_OK) return r;
     vx_svo_file_info info;
     memset(&info, 0, sizeof info);
@@ -427,11 +471,11 @@ static const double IDENTITY12[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
  * still to be computed. */
 /* chunked: receives, for a file of version 3 or later, one byte per model
  * (1: MODEL_CHUNKED, 2: MODEL_CHUNKED and MODEL_TAGGED), freed by the caller. */
-static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t version, const vx_allocator* A, vx_svo_scene* s,
+static vx_result read_scne(const sec* const* known, uint32_t version, const vx_allocator* A, vx_svo_scene* s,
                            int* bounds_form, uint8_t** chunked, vx_error* err) {
     const char* S = "SCNE";
     const sec* sc = known[S_SCNE];
-    vx_rd rd = vx_rd_make(d + sc->offset, (size_t)sc->size);
+    vx_rd rd = vx_rd_make(sc->p, (size_t)sc->size);
     rd.base = sc->offset;
     vx_result r;
     uint8_t form;
@@ -567,8 +611,8 @@ static vx_result read_scne(const uint8_t* d, const sec* const* known, uint32_t v
     return VX_OK;
 }
 
-static vx_result read_palt(const uint8_t* d, const sec* ps, vx_svo_scene* s, vx_error* err) {
-    vx_rd rd = vx_rd_make(d + ps->offset, (size_t)ps->size);
+static vx_result read_palt(const sec* ps, vx_svo_scene* s, vx_error* err) {
+    vx_rd rd = vx_rd_make(ps->p, (size_t)ps->size);
     rd.base = ps->offset;
     uint8_t form, bits[32];
     if (!vx_rd_u8(&rd, &form) || !vx_rd_bytes(&rd, bits, 32))
@@ -592,9 +636,9 @@ static vx_result read_palt(const uint8_t* d, const sec* ps, vx_svo_scene* s, vx_
     return VX_OK;
 }
 
-static vx_result read_matl(const uint8_t* d, const sec* ms, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
+static vx_result read_matl(const sec* ms, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
     const char* S = "MATL";
-    vx_rd rd = vx_rd_make(d + ms->offset, (size_t)ms->size);
+    vx_rd rd = vx_rd_make(ms->p, (size_t)ms->size);
     rd.base = ms->offset;
     vx_result r;
     uint64_t nd, at = vx_rd_pos(&rd);
@@ -675,9 +719,9 @@ static vx_result lght_bad(vx_error* err, uint64_t at) {
     return VX_ERR_BAD_FORMAT;
 }
 
-static vx_result read_lght(const uint8_t* d, const sec* ls, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
+static vx_result read_lght(const sec* ls, const vx_allocator* A, vx_svo_scene* s, vx_error* err) {
     const char* S = "LGHT";
-    vx_rd rd = vx_rd_make(d + ls->offset, (size_t)ls->size);
+    vx_rd rd = vx_rd_make(ls->p, (size_t)ls->size);
     rd.base = ls->offset;
     vx_result r;
     uint64_t sky_type, at = vx_rd_pos(&rd);
@@ -742,9 +786,9 @@ static vx_result read_lght(const uint8_t* d, const sec* ls, const vx_allocator* 
 /* FRMS after SCNE (the instance and model counts): frames 1.. as changes
  * against the frame before. The frame records are allocated only after the
  * counts are checked against the bytes left and the expansion limit. */
-static vx_result read_frms(const uint8_t* d, const sec* fs, vx_svo_scene* s, vx_error* err) {
+static vx_result read_frms(const sec* fs, vx_svo_scene* s, vx_error* err) {
     const char* S = "FRMS";
-    vx_rd rd = vx_rd_make(d + fs->offset, (size_t)fs->size);
+    vx_rd rd = vx_rd_make(fs->p, (size_t)fs->size);
     rd.base = fs->offset;
     vx_result r;
     uint32_t F = 0;
@@ -812,7 +856,7 @@ static vx_result read_frms(const uint8_t* d, const sec* fs, vx_svo_scene* s, vx_
  * newer than the file's version, an unknown required one refused), their
  * CRCs verified unless skip_crc; with skip_node_crc the NODE section's is
  * left to the caller (the model reader's pass over it, in model order). */
-static vx_result check_sections(const uint8_t* d, const sec* secs, uint32_t count, uint32_t version, bool skip_crc, bool skip_node_crc,
+static vx_result check_sections(const sec* secs, uint32_t count, uint32_t version, bool skip_crc, bool skip_node_crc,
                                 const sec* known[S_COUNT], vx_error* err) {
     for (uint32_t i = 0; i < count; i++) {
         const sec* e = &secs[i];
@@ -829,7 +873,7 @@ static vx_result check_sections(const uint8_t* d, const sec* secs, uint32_t coun
             return vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s needs format version %u, the file says %u", tg,
                            SINCE[ti], version);
         if (!skip_crc && !(skip_node_crc && ti == S_NODE)) {
-            uint32_t c = vx__svo_crc32(0, d + e->offset, (size_t)e->size);
+            uint32_t c = vx__svo_crc32(0, e->p, (size_t)e->size);
             if (c != e->crc)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, e->offset, "svo: section %s at byte %llu: CRC-32 is 0x%08x, the table says 0x%08x",
                                tg, (unsigned long long)e->offset, c, e->crc);
@@ -856,13 +900,13 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     uint8_t* rebuilt = NULL;
     vx_svo_scene s;
     vx_svo_scene_init(&s, A);
-    vx_result r = load_table(d, size, A, &version, &count, &secs, err);
+    vx_result r = load_table(d, size, size, NULL, A, &version, &count, &secs, err);
     if (r != VX_OK) return r;
 
     const sec* known[S_COUNT] = {0};
-    if ((r = check_sections(d, secs, count, version, rdd.skip_checksums, false, known, err)) != VX_OK) goto fail;
+    if ((r = check_sections(secs, count, version, rdd.skip_checksums, false, known, err)) != VX_OK) goto fail;
     int bounds_form = BOUNDS_COMPUTED;
-    if ((r = read_scne(d, known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
+    if ((r = read_scne(known, version, A, &s, &bounds_form, &chunked, err)) != VX_OK) goto fail;
     /* the validation's extents give the bounds of form 0 without another
      * pass over the trees; models rebuilt from the structural form come
      * with theirs and are not walked again (vx__svo_check_rebuilt) */
@@ -874,10 +918,10 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
     if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
                                rdd.chunk_stats, ext, rebuilt, err)) != VX_OK)
         goto fail;
-    if (known[S_PALT] && (r = read_palt(d, known[S_PALT], &s, err)) != VX_OK) goto fail;
-    if (known[S_MATL] && (r = read_matl(d, known[S_MATL], A, &s, err)) != VX_OK) goto fail;
-    if (known[S_LGHT] && (r = read_lght(d, known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
-    if (known[S_FRMS] && (r = read_frms(d, known[S_FRMS], &s, err)) != VX_OK) goto fail;
+    if (known[S_PALT] && (r = read_palt(known[S_PALT], &s, err)) != VX_OK) goto fail;
+    if (known[S_MATL] && (r = read_matl(known[S_MATL], A, &s, err)) != VX_OK) goto fail;
+    if (known[S_LGHT] && (r = read_lght(known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
+    if (known[S_FRMS] && (r = read_frms(known[S_FRMS], &s, err)) != VX_OK) goto fail;
     r = vx__svo_validate_scene_opt(&s, ext, rdd.threads, true, rebuilt, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -902,86 +946,108 @@ fail:
     return r;
 }
 
-/* path's bytes mapped (a regular file that is not empty): *mapped, and
- * the caller unmaps; otherwise read into memory from A. A map costs no
- * copy through a buffer of fresh pages, which the kernel zeroes and faults
- * in 4 KB at a time before the read fills them (the 4096^3 helmet's 220 MB
- * chunked file read on two cores of the H200 host: 1.73 s mapped, 2.18 s
- * read into a buffer, docs/PERFORMANCE.md issue 18). `populate`: the
- * whole file's pages mapped at once (a read of every byte: the sections'
- * CRCs), not faulted in one by one. As with any map, a file cut short by another process while
- * it is read ends the process with SIGBUS; the model reader has always
- * mapped its file (vx_svo_reader_open). */
-static vx_result map_file(const char* path, const vx_allocator* A, uint64_t max, bool populate, uint8_t** data, size_t* size,
-                          bool* mapped, vx_error* err) {
-    *mapped = false;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+/* Opens path for reading: a regular file (its size at most max), or an
+ * error that names the path. The hook of desc, if any, runs now (a test
+ * changes the file there, between the size taken and the bytes read). */
+static vx_result open_file(const vx_svo_read_desc* desc, const char* path, uint64_t max, fsrc* f, vx_error* err) {
+    f->fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (f->fd < 0) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;
-    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-        if ((uint64_t)st.st_size > max || (uint64_t)st.st_size > SIZE_MAX) {
-            close(fd);
-            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%s: file is %llu bytes, limit is %llu", path,
-                           (unsigned long long)st.st_size, (unsigned long long)max);
-        }
-        int flags = MAP_PRIVATE;
-#ifdef MAP_POPULATE
-        if (populate) flags |= MAP_POPULATE;
-#endif
-        void* m = mmap(NULL, (size_t)st.st_size, PROT_READ, flags, fd, 0);
-        close(fd);
-        if (m != MAP_FAILED) {
-            *data = (uint8_t*)m;
-            *size = (size_t)st.st_size;
-            *mapped = true;
-            return VX_OK;
-        }
-    } else if (fd >= 0) {
-        close(fd);
+    if (fstat(f->fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(f->fd);
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: not a regular file", path);
     }
-    vx_result res = vx_file_read(path, A, max, data, size, err);
-    if (res != VX_OK) vx_error_prefix(err, path);
-    return res;
+    if ((uint64_t)st.st_size > max || (uint64_t)st.st_size > SIZE_MAX / 2) {
+        close(f->fd);
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%s: file is %llu bytes, limit is %llu", path, (unsigned long long)st.st_size,
+                       (unsigned long long)max);
+    }
+    f->size = (uint64_t)st.st_size;
+    if (desc && desc->on_open) desc->on_open(desc->on_open_user, path);
+    return VX_OK;
+}
+
+/* The whole file read in pieces on several threads: the copy from the page
+ * cache and the first touch of the buffer's fresh pages (the kernel zeroes
+ * them) are most of the time a read adds to the parse, and on two threads
+ * both cores do them. The first piece that fails (the lowest byte) is the
+ * one reported. */
+enum { READ_PIECE = 1 << 20 }; /* a file of 4 MiB or more is read on the threads */
+typedef struct read_job {
+    const fsrc* f;
+    uint8_t* buf;
+    pthread_mutex_t lock;
+    bool failed;
+    uint64_t bad_at; /* the lowest piece that failed, and its error */
+    vx_error bad;
+} read_job;
+
+static void read_piece(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    read_job* j = (read_job*)ctx;
+    uint64_t off = (uint64_t)i * READ_PIECE, n = j->f->size - off < READ_PIECE ? j->f->size - off : READ_PIECE;
+    vx_error e;
+    if (fsrc_read(j->f, off, j->buf + off, (size_t)n, &e) == VX_OK) return;
+    pthread_mutex_lock(&j->lock);
+    if (!j->failed || off < j->bad_at) j->failed = true, j->bad_at = off, j->bad = e;
+    pthread_mutex_unlock(&j->lock);
+}
+
+static vx_result read_whole(const fsrc* f, uint8_t* buf, unsigned threads, vx_error* err) {
+    uint64_t pieces = (f->size + READ_PIECE - 1) / READ_PIECE;
+    if (threads < 2 || pieces < 4) return fsrc_read(f, 0, buf, (size_t)f->size, err);
+    read_job j = {.f = f, .buf = buf};
+    pthread_mutex_init(&j.lock, NULL);
+    vx_run_jobs(threads < pieces ? threads : (unsigned)pieces, (uint32_t)pieces, read_piece, &j);
+    pthread_mutex_destroy(&j.lock);
+    if (!j.failed) return VX_OK;
+    if (err) *err = j.bad;
+    return j.bad.code;
 }
 
 vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_svo_scene* out, vx_error* err) {
     if (!path || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
     const vx_allocator* A = desc ? desc->alloc : NULL;
-    uint8_t* data = NULL;
-    size_t size = 0;
-    bool mapped = false;
     /* the file the caller named: no size limit by default but the address
-     * space's (vx_file_read refuses what size_t cannot hold; memory that
-     * is not there is VX_ERR_NOMEM) */
+     * space's (memory that is not there is VX_ERR_NOMEM) */
     uint64_t max = desc && desc->max_file_bytes ? desc->max_file_bytes : UINT64_MAX;
-    vx_result r = map_file(path, A, max, true, &data, &size, &mapped, err);
+    fsrc f;
+    vx_result r = open_file(desc, path, max, &f, err);
     if (r != VX_OK) return r;
-    r = vx_svo_read(desc, data, size, out, err);
-    if (mapped) munmap(data, size);
-    else vx_free(A, data);
+    /* fresh pages (a large block is its own map), asked for as 2 MB pages
+     * before the read touches them: fewer faults */
+    uint8_t* data = f.size ? (uint8_t*)vx_alloc(A, (size_t)f.size) : NULL;
+    if (f.size && !data) {
+        close(f.fd);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: cannot allocate %llu bytes for the file", path, (unsigned long long)f.size);
+    }
+    vx__svo_advise_huge(data, (size_t)f.size);
+    r = read_whole(&f, data, vx__svo_cpus(desc ? desc->threads : 0), err);
+    close(f.fd);
+    if (r != VX_OK) vx_error_prefix(err, path);
+    else r = vx_svo_read(desc, data, (size_t)f.size, out, err);
+    vx_free(A, data);
     return r;
 }
 
 /* ---- models one at a time ------------------------------------------------------------
- * The file is mapped, not read: the sections but NODE are parsed at open,
- * and each model's stream is read from the map when its model is asked for,
- * its whole pages dropped from the process (MADV_DONTNEED) once decoded, so
- * the host holds the models being decoded and not the file (the 65536^3
- * helmet's file is 20.7 GB). The NODE section's CRC is summed in model order
- * as the streams are taken (under the lock) and checked by finish. */
+ * The file is read, not mapped (see fsrc): the header, the table and the
+ * sections but NODE at open, and each model's stream into a buffer of its
+ * own when its model is asked for, freed once decoded, so the host holds the
+ * models being decoded and not the file (the 65536^3 helmet's file is 20.7
+ * GB). The streams are read in model order under the lock, and the NODE
+ * section's CRC is summed as they are read and checked by finish. */
 struct vx_svo_model_reader {
     vx_allocator alloc;
     const vx_allocator* A; /* &alloc, or NULL for the default */
     char* path;
-    uint8_t* data; /* the map, or (no map) the file read whole */
-    size_t size;
-    bool mapped;
+    fsrc src; /* the open file */
     bool skip_crc;
     vx_svo_scene s; /* the scene graph: models without their arrays */
     uint8_t* chunked;
     int bounds_form;
     vx__svo_extent* ext;
-    const uint8_t* node; /* the NODE section */
-    size_t node_n;
+    size_t node_n; /* the NODE section: its size, its offset in the file */
     uint64_t node_base;
     uint32_t node_crc; /* as the table says */
     unsigned cpus;
@@ -998,8 +1064,7 @@ struct vx_svo_model_reader {
 static void reader_free(vx_svo_model_reader* r) {
     if (!r) return;
     const vx_allocator* A = r->A;
-    if (r->mapped) munmap(r->data, r->size);
-    else vx_free(A, r->data);
+    if (r->src.fd >= 0) close(r->src.fd);
     vx_svo_scene_free(&r->s);
     vx_free(A, r->chunked);
     vx_free(A, r->ext);
@@ -1008,12 +1073,44 @@ static void reader_free(vx_svo_model_reader* r) {
     vx_free(A, r);
 }
 
-/* The file's bytes: mapped where it can be (a regular file), else read. */
-static vx_result reader_map(vx_svo_model_reader* r, const char* path, uint64_t max, vx_error* err) {
-    vx_result res = map_file(path, r->A, max, false, &r->data, &r->size, &r->mapped, err);
-    /* read once, front to back (the streams in model order): read-ahead, pages freed behind */
-    if (res == VX_OK && r->mapped) (void)madvise(r->data, r->size, MADV_SEQUENTIAL);
-    return res;
+/* The header and table (from the file's first TABLE_MAX bytes), then every
+ * known section but NODE into one buffer (*bytes, the caller frees it; the
+ * sections are disjoint parts of the file, so it is at most the file). */
+static vx_result reader_sections(vx_svo_model_reader* r, uint32_t* version, uint32_t* count, sec** secs, uint8_t** bytes, vx_error* err) {
+    const vx_allocator* A = r->A;
+    const fsrc* f = &r->src;
+    size_t head_n = f->size < TABLE_MAX ? (size_t)f->size : (size_t)TABLE_MAX;
+    uint8_t* head = (uint8_t*)vx_alloc(A, head_n ? head_n : 1);
+    if (!head) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+    vx_result res = fsrc_read(f, 0, head, head_n, err);
+    if (res == VX_OK) res = load_table(head, head_n, f->size, f, A, version, count, secs, err);
+    if (res != VX_OK || head_n == f->size) { /* a small file: every section is in head (their p set) */
+        if (res == VX_OK) *bytes = head;
+        else vx_free(A, head);
+        return res;
+    }
+    vx_free(A, head);
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < *count; i++) {
+        int ti = tag_index((*secs)[i].tag);
+        if (ti >= 0 && ti != S_NODE) total += (*secs)[i].size; /* disjoint parts of the file: no overflow */
+    }
+    uint8_t* b = (uint8_t*)vx_alloc(A, total ? (size_t)total : 1);
+    if (!b) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory for %llu bytes of sections", (unsigned long long)total);
+    uint64_t at = 0;
+    for (uint32_t i = 0; i < *count; i++) {
+        sec* e = &(*secs)[i];
+        int ti = tag_index(e->tag);
+        if (ti < 0 || ti == S_NODE) continue;
+        e->p = b + at;
+        if ((res = fsrc_read(f, e->offset, b + at, (size_t)e->size, err)) != VX_OK) {
+            vx_free(A, b);
+            return res;
+        }
+        at += e->size;
+    }
+    *bytes = b;
+    return VX_OK;
 }
 
 vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_svo_model_reader** out, vx_error* err) {
@@ -1027,34 +1124,38 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
     if (!r) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     if (rdd.alloc) r->alloc = *rdd.alloc, r->A = &r->alloc;
     const vx_allocator* A = r->A;
+    r->src.fd = -1;
     pthread_mutex_init(&r->lock, NULL);
     vx_svo_scene_init(&r->s, A);
     r->skip_crc = rdd.skip_checksums;
     r->cpus = vx__svo_cpus(rdd.threads);
     sec* secs = NULL;
+    uint8_t* bytes = NULL;
     uint32_t version, count;
     vx_result res;
     if (!(r->path = (char*)vx_alloc(A, plen + 1))) {
-        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
-        goto fail;
+        reader_free(r);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     }
     memcpy(r->path, path, plen + 1);
-    if ((res = reader_map(r, path, rdd.max_file_bytes ? rdd.max_file_bytes : UINT64_MAX, err)) != VX_OK) {
+    if ((res = open_file(&rdd, path, rdd.max_file_bytes ? rdd.max_file_bytes : UINT64_MAX, &r->src, err)) != VX_OK) {
+        r->src.fd = -1;
         reader_free(r);
         return res;
     }
-    const uint8_t* d = r->data;
+#ifdef POSIX_FADV_SEQUENTIAL
+    (void)posix_fadvise(r->src.fd, 0, 0, POSIX_FADV_SEQUENTIAL); /* read once, front to back: read-ahead (advice only) */
+#endif
     const sec* known[S_COUNT] = {0};
-    if ((res = load_table(d, r->size, A, &version, &count, &secs, err)) != VX_OK ||
-        (res = check_sections(d, secs, count, version, r->skip_crc, true, known, err)) != VX_OK)
+    if ((res = reader_sections(r, &version, &count, &secs, &bytes, err)) != VX_OK ||
+        (res = check_sections(secs, count, version, r->skip_crc, true, known, err)) != VX_OK)
         goto fail;
     r->bounds_form = BOUNDS_COMPUTED;
-    if ((res = read_scne(d, known, version, A, &r->s, &r->bounds_form, &r->chunked, err)) != VX_OK) goto fail;
+    if ((res = read_scne(known, version, A, &r->s, &r->bounds_form, &r->chunked, err)) != VX_OK) goto fail;
     if (r->s.model_count && !(r->ext = (vx__svo_extent*)vx_calloc(A, r->s.model_count, sizeof *r->ext))) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         goto fail;
     }
-    r->node = d + known[S_NODE]->offset;
     r->node_n = (size_t)known[S_NODE]->size;
     r->node_base = known[S_NODE]->offset;
     r->node_crc = known[S_NODE]->crc;
@@ -1062,10 +1163,10 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
         res = vx_fail(err, VX_ERR_BAD_FORMAT, r->node_base, "svo: section NODE has %zu bytes but there are no models", r->node_n);
         goto fail;
     }
-    if ((known[S_PALT] && (res = read_palt(d, known[S_PALT], &r->s, err)) != VX_OK) ||
-        (known[S_MATL] && (res = read_matl(d, known[S_MATL], A, &r->s, err)) != VX_OK) ||
-        (known[S_LGHT] && (res = read_lght(d, known[S_LGHT], A, &r->s, err)) != VX_OK) ||
-        (known[S_FRMS] && (res = read_frms(d, known[S_FRMS], &r->s, err)) != VX_OK))
+    if ((known[S_PALT] && (res = read_palt(known[S_PALT], &r->s, err)) != VX_OK) ||
+        (known[S_MATL] && (res = read_matl(known[S_MATL], A, &r->s, err)) != VX_OK) ||
+        (known[S_LGHT] && (res = read_lght(known[S_LGHT], A, &r->s, err)) != VX_OK) ||
+        (known[S_FRMS] && (res = read_frms(known[S_FRMS], &r->s, err)) != VX_OK))
         goto fail;
     /* the scene's own rules now (the models' as they are read) */
     if ((res = vx__svo_validate_scene_opt(&r->s, NULL, 1, false, NULL, err)) != VX_OK) {
@@ -1075,10 +1176,12 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
         goto fail;
     }
     vx_free(A, secs);
+    vx_free(A, bytes); /* the scene graph holds copies */
     *out = r;
     return VX_OK;
 fail:
     vx_free(A, secs);
+    vx_free(A, bytes);
     vx_error_prefix(err, path);
     reader_free(r);
     return res;
@@ -1086,17 +1189,28 @@ fail:
 
 const vx_svo_scene* vx_svo_reader_scene(const vx_svo_model_reader* r) { return r ? &r->s : NULL; }
 
-/* Under the lock: the next model's stream from the stream table. */
-static vx_result reader_take(vx_svo_model_reader* r, uint32_t* mi, size_t* off, size_t* len, vx_error* err) {
-    const uint8_t* p = r->node;
+/* Under the lock: the next model's stream from the stream table, read into
+ * *stream (allocated with the reader's allocator; the caller frees it). */
+static vx_result reader_take(vx_svo_model_reader* r, uint32_t* mi, uint8_t** stream, size_t* len, uint64_t* where, vx_error* err) {
     size_t n = r->node_n, pos = r->pos, at = pos;
     uint64_t base = r->node_base, v = 0;
+    uint8_t var[10];
+    size_t var_n = n - pos < sizeof var ? n - pos : sizeof var;
     *mi = r->next;
-    for (unsigned shift = 0;; shift += 7) {
-        if (pos >= n)
+    *stream = NULL;
+    char what[48];
+    snprintf(what, sizeof what, "model %u's stream", *mi);
+    vx_result res = fsrc_read(&r->src, base + pos, var, var_n, err);
+    if (res != VX_OK) {
+        vx_error_prefix(err, what);
+        return res;
+    }
+    for (unsigned shift = 0, k = 0;; shift += 7) {
+        if (k >= var_n)
             return vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream length cut off",
                            (unsigned long long)(base + at), *mi);
-        uint8_t c = p[pos++];
+        uint8_t c = var[k++];
+        pos++;
         if (shift > 63 || (shift == 63 && (c & 0x7Eu)))
             return vx_fail(err, VX_ERR_BAD_FORMAT, base + at, "svo: section NODE at byte %llu: model %u: stream length overflows",
                            (unsigned long long)(base + at), *mi);
@@ -1106,29 +1220,32 @@ static vx_result reader_take(vx_svo_model_reader* r, uint32_t* mi, size_t* off, 
     if (v > n - pos)
         return vx_fail(err, VX_ERR_TRUNCATED, base + at, "svo: section NODE at byte %llu: model %u: stream of %llu bytes, %zu left",
                        (unsigned long long)(base + at), *mi, (unsigned long long)v, n - pos);
-    *off = pos;
+    uint8_t* b = (uint8_t*)vx_alloc(r->A, v ? (size_t)v : 1);
+    if (!b)
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: model %u: out of memory for its stream of %llu bytes", *mi,
+                       (unsigned long long)v);
+    vx__svo_advise_huge(b, (size_t)v);
+    if ((res = fsrc_read(&r->src, base + pos, b, (size_t)v, err)) != VX_OK) {
+        vx_free(r->A, b);
+        vx_error_prefix(err, what);
+        return res;
+    }
+    if (!r->skip_crc) r->crc = vx__svo_crc32(vx__svo_crc32(r->crc, var, pos - at), b, (size_t)v);
+    *stream = b;
     *len = (size_t)v;
-    if (!r->skip_crc) r->crc = vx__svo_crc32(r->crc, p + at, pos + (size_t)v - at);
+    *where = base + pos;
     r->pos = pos + (size_t)v;
     r->next++;
     return VX_OK;
-}
-
-/* The whole pages of [p, p + n) out of the process (the map's; the page
- * cache keeps them): a decoded model's stream is not read again. */
-static void reader_drop(const vx_svo_model_reader* r, const uint8_t* p, size_t n) {
-    if (!r->mapped) return;
-    long pg = sysconf(_SC_PAGESIZE);
-    if (pg <= 0) return;
-    uintptr_t a = ((uintptr_t)p + (uintptr_t)pg - 1) & ~((uintptr_t)pg - 1), b = ((uintptr_t)p + n) & ~((uintptr_t)pg - 1);
-    if (b > a) (void)madvise((void*)a, b - a, MADV_DONTNEED); /* advice only: a failure keeps the pages */
 }
 
 vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_model* out, vx_error* err) {
     if (!r || !index || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
     memset(out, 0, sizeof *out);
     uint32_t mi = 0;
-    size_t off = 0, len = 0;
+    uint8_t* stream = NULL;
+    size_t len = 0;
+    uint64_t stream_at = 0; /* its byte in the file */
     vx_result res = VX_OK;
     unsigned share;
     pthread_mutex_lock(&r->lock);
@@ -1141,7 +1258,7 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
         pthread_mutex_unlock(&r->lock);
         return VX_OK;
     }
-    if ((res = reader_take(r, &mi, &off, &len, err)) != VX_OK) {
+    if ((res = reader_take(r, &mi, &stream, &len, &stream_at, err)) != VX_OK) {
         r->failed = true;
         pthread_mutex_unlock(&r->lock);
         vx_error_prefix(err, r->path);
@@ -1155,7 +1272,7 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
     memset(&m.check, 0, sizeof m.check);
     vx__svo_extent ext = {0}, tree = {0};
     uint8_t rebuilt = 0;
-    res = vx__svo_unpack_one(r->node + off, len, r->node_base + off, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads,
+    res = vx__svo_unpack_one(stream, len, stream_at, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads,
                              &tree, &rebuilt, err);
     if (res == VX_OK) {
         res = rebuilt == VX__SVO_SKIP_REBUILT ? vx__svo_check_rebuilt(&m, &tree, &ext, err)
@@ -1169,7 +1286,7 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
             vx_error_prefix(err, "svo: structure");
         }
     }
-    reader_drop(r, r->node + off, len);
+    vx_free(r->A, stream);
     if (res == VX_OK) {
         m.check.digest = vx_svo_model_digest(&m);
         memcpy(m.check.min, ext.min, sizeof ext.min);

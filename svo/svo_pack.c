@@ -418,7 +418,7 @@ typedef struct ext {
     uint16_t* fm; /* its masks */
     uint64_t* hk; /* (block << 16 | masks) + 1 -> completion index */
     uint32_t* hv;
-    size_t hcap, hused;
+    size_t hcap, hused, hmax; /* hmax: the most slots (2 a word); the table starts small and doubles */
     uint32_t ndone;
     unsigned tries; /* try_struct calls so far */
     bool bad;       /* the words are not a valid tree (only a model that was not validated: a trusted check) */
@@ -484,6 +484,32 @@ static uint32_t ext_find(const ext* x, uint32_t i, uint32_t b) {
     return x->hk[j] ? x->hv[j] : UINT32_MAX;
 }
 
+/* The hash at twice its slots, its entries moved; false (x->oom) without memory. */
+static bool ext_grow(ext* x) {
+    size_t cap = x->hcap * 2;
+    uint64_t* hk = (uint64_t*)vx_calloc(x->A, cap, sizeof *hk);
+    uint32_t* hv = (uint32_t*)vx_calloc(x->A, cap, sizeof *hv);
+    if (!hk || !hv) {
+        vx_free(x->A, hk);
+        vx_free(x->A, hv);
+        x->oom = true;
+        return false;
+    }
+    for (size_t j = 0; j < x->hcap; j++) {
+        if (!x->hk[j]) continue;
+        size_t k = (size_t)((x->hk[j] * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+        while (hk[k]) k = (k + 1) & (cap - 1);
+        hk[k] = x->hk[j];
+        hv[k] = x->hv[j];
+    }
+    vx_free(x->A, x->hk);
+    vx_free(x->A, x->hv);
+    x->hk = hk;
+    x->hv = hv;
+    x->hcap = cap;
+    return true;
+}
+
 /* Records descriptor i (block b) as completed node `done` unless an equal one is. */
 static void ext_add(ext* x, uint32_t i, uint32_t b, uint32_t done) {
     uint32_t mk = x->m->nodes[i] & 0xFFFFu;
@@ -497,9 +523,13 @@ static void ext_add(ext* x, uint32_t i, uint32_t b, uint32_t done) {
     }
     size_t j = key_slot(x, key_with(x->m, i, b));
     if (!x->hk[j]) {
-        if (x->hused + 1 > x->hcap / 2) { /* (only an invalid model completes more nodes than words) */
-            x->bad = true;
-            return;
+        if (x->hused + 1 > x->hcap / 2) {
+            if (x->hcap >= x->hmax) { /* (only an invalid model completes more nodes than words) */
+                x->bad = true;
+                return;
+            }
+            if (!ext_grow(x)) return;
+            j = key_slot(x, key_with(x->m, i, b));
         }
         x->hk[j] = key_with(x->m, i, b);
         x->hv[j] = done;
@@ -1256,6 +1286,14 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         x.m = m;
         size_t need = 16;
         while (need < 2 * (size_t)m->node_count) need *= 2;
+        /* The hash is for the few nodes without a block of their own or with
+         * a second mask on one (the 4096^3 helmet's largest model: 57 K of 9.6
+         * M words), so it starts at 1 K slots and doubles up to 2 a word, where
+         * it held all of them from the start: 384 MB cleared and then touched
+         * at random, a third of the split write's page faults (models of some
+         * 10^5 words grow it: the tests' round trips) */
+        x.hmax = need;
+        if (need > ((size_t)1 << 10)) need = (size_t)1 << 10;
         x.hk = (uint64_t*)vx_calloc(A, need, sizeof *x.hk);
         x.hv = (uint32_t*)vx_calloc(A, need, sizeof *x.hv);
         x.fb = (uint32_t*)vx_calloc(A, m->node_count, sizeof *x.fb);

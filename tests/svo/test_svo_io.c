@@ -428,6 +428,142 @@ static void test_mapped_read(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A file cut short by another process while it is read (issue 18: bad
+ * input never crashes). The file was mapped before, and a read of a page
+ * past the new end ended the process with SIGBUS; now it is read with pread
+ * and the read fails, naming the file and the byte where it ended. The cut
+ * comes deterministically from the read's hook (after the size is taken,
+ * before any byte is read) and, for the model reader, between its steps.
+ * Every cut: an error (VX_ERR_TRUNCATED) that names the path, no scene
+ * returned, nothing leaked (ASan); the whole file then reads as written. */
+typedef struct cut_hook {
+    off_t at;
+    int calls;
+} cut_hook;
+static void cut_file(void* user, const char* path) {
+    cut_hook* h = (cut_hook*)user;
+    h->calls++;
+    REQUIRE(truncate(path, h->at) == 0);
+}
+static void put_file(const char* path, const uint8_t* d, size_t n) {
+    FILE* f = fopen(path, "wb");
+    REQUIRE(f && fwrite(d, 1, n, f) == n);
+    fclose(f);
+}
+static void test_shortened_file(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.model_count = 3;
+    s.models = (vx_svo_model*)calloc(3, sizeof *s.models);
+    REQUIRE(build(&s.models[0], 64, 900, VX_ATTR_PALETTE));
+    REQUIRE(build(&s.models[1], 1024, 400000, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL));
+    REQUIRE(build(&s.models[2], 128, 5000, VX_ATTR_RGBA8));
+    s.instance_count = 3;
+    s.instances = (vx_svo_instance*)calloc(3, sizeof *s.instances);
+    for (uint32_t i = 0; i < 3; i++) {
+        s.instances[i].model = i;
+        s.instances[i].xform[0] = s.instances[i].xform[5] = s.instances[i].xform[10] = 1;
+        s.instances[i].xform[3] = 2048.0 * i;
+        s.instances[i].layer = UINT32_MAX;
+    }
+    s.has_palette = true;
+    for (int i = 0; i < 256; i++) s.palette[i] = 0xFF000000u | (uint32_t)i * 0x010101u;
+    vx_svo_scene_update_bounds(&s);
+    vx_error e;
+    char path[] = "/tmp/vx_svo_cutXXXXXX";
+    int fd = mkstemp(path);
+    REQUIRE(fd >= 0);
+    close(fd);
+    /* the large model in stored chunks (a file of more than 4 MiB: the
+     * whole-file read runs in pieces on the threads) */
+    REQUIRE(vx_svo_write_file(&(vx_write_desc){.svo_chunk_words = 1000, .svo_chunk_stored = true}, &s, path, &e) == VX_OK);
+    uint8_t* bytes = NULL;
+    size_t n = 0;
+    REQUIRE(vx_file_read(path, NULL, 0, &bytes, &n, &e) == VX_OK);
+    REQUIRE(n > ((size_t)4 << 20));
+    vx_svo_file_info info;
+    REQUIRE(vx_svo_probe(bytes, n, &info, &e) == VX_OK);
+    uint64_t node_at = 0, node_n = 0;
+    for (uint32_t i = 0; i < info.section_count; i++)
+        if (strcmp(info.sections[i].tag, "NODE") == 0) node_at = info.sections[i].offset, node_n = info.sections[i].size;
+    REQUIRE(node_n > 1000);
+    /* cuts: in the header, in the table, at NODE's first byte, within the
+     * first stream, in the middle (the large model's stream), one byte short */
+    const off_t cuts[] = {0, 10, 20, (off_t)node_at, (off_t)node_at + 3, (off_t)(node_at + node_n / 2), (off_t)n - 1};
+    const unsigned threads[] = {1, 4};
+    for (size_t c = 0; c < sizeof cuts / sizeof cuts[0]; c++) {
+        for (int t = 0; t < 2; t++) {
+            /* the whole-file read: cut after the size is taken */
+            put_file(path, bytes, n);
+            cut_hook h = {.at = cuts[c]};
+            vx_svo_read_desc rd = {.threads = threads[t], .on_open = cut_file, .on_open_user = &h};
+            vx_svo_scene r;
+            memset(&r, 0x5A, sizeof r);
+            vx_result res = vx_svo_read_file(&rd, path, &r, &e);
+            CHECKF(h.calls == 1 && res == VX_ERR_TRUNCATED && strstr(e.msg, path) && strstr(e.msg, "cut short"),
+                   "read_file cut at %lld, %u threads: %d %s", (long long)cuts[c], threads[t], res, e.msg);
+            CHECK(((const uint8_t*)&r)[0] == 0x5A); /* no scene handed out */
+            /* the model reader: cut before anything is read (the open fails) */
+            put_file(path, bytes, n);
+            h.calls = 0;
+            vx_svo_model_reader* mr = (vx_svo_model_reader*)&h;
+            res = vx_svo_reader_open(&rd, path, &mr, &e);
+            CHECKF(h.calls == 1 && res == VX_ERR_TRUNCATED && mr == NULL && strstr(e.msg, path) && strstr(e.msg, "cut short"),
+                   "reader_open cut at %lld: %d %s", (long long)cuts[c], res, e.msg);
+            /* the model reader: cut after the open, between the models */
+            put_file(path, bytes, n);
+            rd.on_open = NULL;
+            REQUIRE(vx_svo_reader_open(&rd, path, &mr, &e) == VX_OK);
+            REQUIRE(truncate(path, cuts[c]) == 0);
+            uint32_t got = 0, mi = 0;
+            vx_svo_model m;
+            for (;;) {
+                res = vx_svo_reader_next(mr, &mi, &m, &e);
+                if (res != VX_OK || mi == s.model_count) break;
+                CHECK(mi == got && model_equal(&m, &s.models[mi]));
+                vx_svo_model_free(NULL, &m);
+                got++;
+            }
+            if ((uint64_t)cuts[c] >= node_at + node_n) {
+                /* the sections after NODE were read at open: every model and the
+                 * NODE checksum as written */
+                CHECKF(res == VX_OK && got == s.model_count && vx_svo_reader_finish(mr, &e) == VX_OK, "cut at %lld: %s",
+                       (long long)cuts[c], e.msg);
+                vx_svo_reader_close(mr);
+                continue;
+            }
+            /* a stream that was cut: an error naming the file and the model's stream */
+            CHECKF(res == VX_ERR_TRUNCATED && strstr(e.msg, path) && strstr(e.msg, "cut short") && strstr(e.msg, "stream"),
+                   "reader_next cut at %lld, %u threads, after %u models: %d %s", (long long)cuts[c], threads[t], got, res, e.msg);
+            CHECK(m.nodes == NULL && m.node_count == 0);
+            CHECK(vx_svo_reader_next(mr, &mi, &m, &e) != VX_OK && strstr(e.msg, path));
+            CHECK(vx_svo_reader_finish(mr, &e) != VX_OK);
+            vx_svo_reader_close(mr);
+        }
+    }
+    /* the file whole again: it reads (so the errors above were the cuts) */
+    put_file(path, bytes, n);
+    vx_svo_scene r;
+    REQUIRE(vx_svo_read_file(&(vx_svo_read_desc){.threads = 4}, path, &r, &e) == VX_OK);
+    for (uint32_t k = 0; k < 3; k++) CHECK(model_equal(&r.models[k], &s.models[k]));
+    vx_svo_scene_free(&r);
+    vx_svo_model_reader* mr = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &mr, &e) == VX_OK);
+    for (uint32_t k = 0;; k++) {
+        uint32_t mi;
+        vx_svo_model m;
+        REQUIRE(vx_svo_reader_next(mr, &mi, &m, &e) == VX_OK);
+        if (mi == s.model_count) break;
+        CHECK(mi == k && model_equal(&m, &s.models[k]));
+        vx_svo_model_free(NULL, &m);
+    }
+    CHECK(vx_svo_reader_finish(mr, &e) == VX_OK);
+    vx_svo_reader_close(mr);
+    remove(path);
+    free(bytes);
+    vx_svo_scene_free(&s);
+}
+
 static void test_geometry_only_sections(void) {
     vx_svo_scene s;
     vx_svo_scene_init(&s, NULL);
@@ -3791,6 +3927,7 @@ int main(int argc, char** argv) {
     RUN(test_split_constant_channels);
     RUN(test_encode_trusted);
     RUN(test_split_coded);
+    RUN(test_shortened_file);
     RUN(test_mapped_read); /* last: its build() calls would change the random cases of the tests after it */
     return vx_test_finish();
 }
