@@ -51,10 +51,12 @@ const bool COMPACT = COMPACT_FORM != 0u;
 // runs main's masks on it (FILE_FORM): reading the GPU form, that kernel of
 // terrain4096 (DEEP 2, FAR) got 96 registers on the H200 (its stack arrays
 // in registers; 56-64 with them forced into local memory) against 48 with
-// the turn, and traced 0.51-0.57 (0.88 at 56) of its primary + shadow rays.
+// the turn, and traced 0.51-0.57 of the file form's primary + shadow rays
+// (0.88 at 56 registers).
 // The rebased walk's other kernels (the depth kernel, one walk) read the GPU
-// form as it is: the same registers, 1-1.6% more primary rays than with the
-// turn (issue 21, fifteenth and seventeenth sittings: docs/PERFORMANCE.md).
+// form as it is: the same registers, terrain4096's close-up 1.3% more
+// primary rays than with the turn, its oblique and overview within 1%
+// (issue 21, fifteenth and seventeenth sittings: docs/PERFORMANCE.md).
 // NODES_FILE (set by gpu_pipeline.c for every pipeline from the device,
 // gpu.h's nodes_file): the node buffer holds the file's form (CPU devices:
 // lavapipe traced 0.55-0.75 of main's rate with any of the GPU form's loops,
