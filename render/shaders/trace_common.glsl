@@ -46,14 +46,17 @@ const bool COMPACT = COMPACT_FORM != 0u;
 // shift of the descriptor (MASKS false: 3-6.5% more primary rays on the
 // H200 than main's masks on the file's form), or tested in place with the
 // child's bit (true: 1.5-3% faster than the shift where FAR is on). The
-// rebased walk's kernels (REBASE) turn each descriptor they load back into
-// the file's form and run main's masks on it (FILE_FORM): reading the GPU
-// form, the colour kernel of such a scene (terrain4096: DEEP 2, FAR) got 96
-// registers and no local memory on the H200 where main's has 48 and its two
-// stacks in local memory, and traced 0.51-0.57 of main's primary + shadow
-// rays in either push form; FILE_FORM is main's loop in SPIR-V but for the
-// turn at each load, not yet measured there (issue 21, fifteenth sitting:
-// docs/PERFORMANCE.md).
+// rebased walk's colour kernel (REBASE, MODE 0: two walks, primary and
+// shadow rays) turns each descriptor it loads back into the file's form and
+// runs main's masks on it (FILE_FORM): reading the GPU form, that kernel of
+// terrain4096 (DEEP 2, FAR) got 96 registers on the H200 (its stack arrays
+// in registers; 56-64 with them forced into local memory) against 48 with
+// the turn, and traced 0.51-0.57 of the file form's primary + shadow rays
+// (0.88 at 56 registers).
+// The rebased walk's other kernels (the depth kernel, one walk) read the GPU
+// form as it is: the same registers, terrain4096's close-up 1.3% more
+// primary rays than with the turn, its oblique and overview within 1%
+// (issue 21, fifteenth and seventeenth sittings: docs/PERFORMANCE.md).
 // NODES_FILE (set by gpu_pipeline.c for every pipeline from the device,
 // gpu.h's nodes_file): the node buffer holds the file's form (CPU devices:
 // lavapipe traced 0.55-0.75 of main's rate with any of the GPU form's loops,
@@ -64,7 +67,7 @@ layout(constant_id = 100) const bool NODES_FILE = false;
 #ifdef PRECISE
 const bool FILE_FORM = NODES_FILE;
 #else
-const bool FILE_FORM = REBASE || NODES_FILE;
+const bool FILE_FORM = (REBASE && MODE == 0) || NODES_FILE; // MODE 0: MODE_COLOR below
 #endif
 // the loop's descriptors are the file's but the buffer's the GPU form
 const bool TURN_LOAD = FILE_FORM && !NODES_FILE;
@@ -802,9 +805,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 koff = k;
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
-                // (REBASE: desc is in the file's form, FILE_FORM)
-                parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
-                                 : child_node_file(parent, desc, rb_cbit, nbase);
+                // (desc in the file's form where FILE_FORM, else the GPU form)
+                if (FILE_FORM)
+                    parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
+                                     : child_node_file(parent, desc, rb_cbit, nbase);
+                else
+                    parent = COMPACT ? cnd.y + uint(bitCount(desc & (rb_cbit - 1u))) : child_node(parent, desc, rb_cbit, nbase);
                 idx = 0;
                 scale = S_MAX - 1;
                 scale_exp2 = 0.5;
