@@ -88,9 +88,9 @@ const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 // level-2 descriptor (brick_desc, some 15 operations), so that the loop top
 // loads slots of level 3 and above only and computes no brick descriptor
 // (before, it computed one at every load and chose): in the kernels of DEEP
-// 0 on the H200 1.7% more albedo rays/s on eph_monu1's close-up and 0.5-4.6%
-// more in the depth mode (eph_menger's albedo -0.4% to -1.2%); the DEEP 1
-// kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
+// 0 on the H200 2.1% more albedo rays/s on eph_monu1's close-up and up to
+// 4.7% more in the depth mode (eph_menger's albedo -0.3% to -0.8%); the DEEP
+// 1 kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
 // they keep the load's choice (docs/PERFORMANCE.md issue 18, fifteenth step).
 const bool PUSH_BRICK = DEEP == 0;
 
