@@ -84,6 +84,15 @@ const bool SENT = MODE == 3;
 // 2% more albedo rays/s on the helmet's close-up on the H200
 // (docs/PERFORMANCE.md issue 18, thirteenth step)
 const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
+// The push from level 3 into a brick loads the brick's slot and makes its
+// level-2 descriptor (brick_desc, some 15 operations), so that the loop top
+// loads slots of level 3 and above only and computes no brick descriptor
+// (before, it computed one at every load and chose): in the kernels of DEEP
+// 0 on the H200 2.1% more albedo rays/s on eph_monu1's close-up and up to
+// 4.7% more in the depth mode (eph_menger's albedo -0.3% to -0.8%); the DEEP
+// 1 kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
+// they keep the load's choice (docs/PERFORMANCE.md issue 18, fifteenth step).
+const bool PUSH_BRICK = DEEP == 0;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 const int S_MAX = 23;
@@ -403,11 +412,17 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 // level-1 node takes its descriptor from the brick in nd, and
                 // a pop never lands on one (its children are cells)
                 nd = slots[parent];
-                // the brick's descriptor computed before the choice (at every
-                // load), not in a branch of it: 0.3-4.6% more albedo rays/s on the
-                // H200 (docs/PERFORMANCE.md issue 18, ninth step)
-                uint d2 = brick_desc(nd);
-                desc = ge3 ? nd.x : (eq2 ? d2 : brick_octant(nd, 0u));
+                if (PUSH_BRICK) {
+                    // a brick only as a model's root or after a pop to it
+                    if (ge3) desc = nd.x;
+                    else desc = eq2 ? brick_desc(nd) : brick_octant(nd, 0u);
+                } else {
+                    // the brick's descriptor computed before the choice (at every
+                    // load), not in a branch of it: 0.3-4.6% more albedo rays/s on the
+                    // H200 (docs/PERFORMANCE.md issue 18, ninth step)
+                    uint d2 = brick_desc(nd);
+                    desc = ge3 ? nd.x : (eq2 ? d2 : brick_octant(nd, 0u));
+                }
                 loaded = true;
             }
             vec3 tc = pos * coef - bias;
@@ -451,11 +466,18 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // whose entry is then never read) the walk needs no hh
                     // (ckern3)
                     stk_node[scale - koff] = int(parent);
-                    loaded = eq2;
-                    // (level 3 of the whole layout: through the brick's index word)
-                    if (ge3) parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
-                    else desc = brick_octant(nd, uint(cs));
-                    if (SENT && !eq2) desc = 0u;
+                    // PUSH_BRICK: from level 3 the child is a brick, loaded here
+                    bool to2 = PUSH_BRICK && scale - koff == s3;
+                    loaded = PUSH_BRICK ? eq2 || to2 : eq2;
+                    if (ge3) {
+                        // (level 3 of the whole layout: through the brick's index word)
+                        parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
+                        if (to2) {
+                            nd = slots[parent];
+                            desc = brick_desc(nd);
+                        }
+                    } else desc = brick_octant(nd, uint(cs));
+                    if (SENT && !(PUSH_BRICK ? eq2 || to2 : eq2)) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;
