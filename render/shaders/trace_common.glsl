@@ -350,6 +350,46 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 #endif
 
+#ifdef TRACE_STACK_SELECTS
+// The walk's stack as a ladder of selects (trace.comp, float variant): on CPU
+// devices (NODES_FILE) of scenes without rebased models (DEEP 0: models of
+// depth <= VX_RENDER_EXACT_DEPTH 8, which push at scales S_MAX - 7 to S_MAX - 1;
+// DEEP 1: <= VX_RENDER_REBASE_DEPTH 10, scales S_MAX - 9 up, their other slots
+// at constant indices 0-5), every access to stk_node is at a constant index,
+// so the compiler keeps the array in registers. lavapipe (Mesa 22.3) writes a
+// per-lane index of an array in memory lane by lane, each lane a load, a select
+// that LLVM makes a branch on the lane's mask, and a store: on an AVX2 CPU a
+// third of the depth kernel's time (the mask branches mispredicted), where the
+// ladder's 10 selects a push and 9 a pop cost 1.6-1.7x fewer CPU seconds a ray
+// (eph_monu1, 480x270); with AVX-512 (masked stores) 3-12% (issue 21,
+// seventeenth sitting). GPUs (NODES_FILE false) keep the array in memory.
+const bool STK_REG = NODES_FILE && DEEP <= 1;
+const int STK_LO = S_MAX - (DEEP == 0 ? 8 : 10);
+#define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
+    if (13 >= STK_LO) stk_node[13] = s_ == 13 ? v_ : stk_node[13]; \
+    if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
+    if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
+    if (16 >= STK_LO) stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
+    if (17 >= STK_LO) stk_node[17] = s_ == 17 ? v_ : stk_node[17]; \
+    if (18 >= STK_LO) stk_node[18] = s_ == 18 ? v_ : stk_node[18]; \
+    if (19 >= STK_LO) stk_node[19] = s_ == 19 ? v_ : stk_node[19]; \
+    if (20 >= STK_LO) stk_node[20] = s_ == 20 ? v_ : stk_node[20]; \
+    if (21 >= STK_LO) stk_node[21] = s_ == 21 ? v_ : stk_node[21]; \
+    if (22 >= STK_LO) stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
+}
+#define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
+    if (13 >= STK_LO) g_ = s_ == 13 ? stk_node[13] : g_; \
+    if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
+    if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
+    if (16 >= STK_LO) g_ = s_ == 16 ? stk_node[16] : g_; \
+    if (17 >= STK_LO) g_ = s_ == 17 ? stk_node[17] : g_; \
+    if (18 >= STK_LO) g_ = s_ == 18 ? stk_node[18] : g_; \
+    if (19 >= STK_LO) g_ = s_ == 19 ? stk_node[19] : g_; \
+    if (20 >= STK_LO) g_ = s_ == 20 ? stk_node[20] : g_; \
+    if (21 >= STK_LO) g_ = s_ == 21 ? stk_node[21] : g_; \
+    OUT = uint(g_); }
+#endif
+
 // Traces model space ray o + t d (t in world units, d not normalised)
 // through model mi over [t0, t1]. Returns true and fills h on a hit. o_lo is
 // the rounding error of o (float variant; the rebased walk reads it).
@@ -672,7 +712,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) {
+#ifdef TRACE_STACK_SELECTS
+                        if (STK_REG) STK_PUT(scale - koff, int(parent))
+                        else
+#endif
+                        stk_node[scale - koff] = int(parent);
+                    }
 #endif
                     hh = tc_max;
 #ifdef PRECISE
@@ -754,6 +800,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+#ifdef TRACE_STACK_SELECTS
+                if (STK_REG) STK_GET(scale - koff, parent)
+                else
+#endif
                 parent = uint(stk_node[scale - koff]);
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
