@@ -360,13 +360,13 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // per-lane index of an array in memory lane by lane, each lane a load, a select
 // that LLVM makes a branch on the lane's mask, and a store: on an AVX2 CPU a
 // third of the depth kernel's time (the mask branches mispredicted), where the
-// ladder's 10 selects a push and 9 a pop cost 1.6-1.7x fewer CPU seconds a ray
-// (eph_monu1, 480x270); with AVX-512 (masked stores) 3-12% (issue 21,
-// seventeenth sitting). GPUs (NODES_FILE false) keep the array in memory.
+// ladder's 7 selects a push and 6 a pop (DEEP 1: 9 and 8) cost 1.6-1.7x fewer
+// CPU seconds a ray (eph_monu1, 480x270); with AVX-512 (masked stores) 3-12%
+// (issue 21, seventeenth sitting). GPUs (NODES_FILE false) keep the array in
+// memory. test_render_gpu's test_stack_levels fails with one level less.
 const bool STK_REG = NODES_FILE && DEEP <= 1;
-const int STK_LO = S_MAX - (DEEP == 0 ? 8 : 10);
+const int STK_LO = S_MAX - (DEEP == 0 ? 7 : 9);
 #define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
-    if (13 >= STK_LO) stk_node[13] = s_ == 13 ? v_ : stk_node[13]; \
     if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
     if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
     if (16 >= STK_LO) stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
@@ -378,7 +378,6 @@ const int STK_LO = S_MAX - (DEEP == 0 ? 8 : 10);
     if (22 >= STK_LO) stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
 }
 #define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
-    if (13 >= STK_LO) g_ = s_ == 13 ? stk_node[13] : g_; \
     if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
     if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
     if (16 >= STK_LO) g_ = s_ == 16 ? stk_node[16] : g_; \
