@@ -841,17 +841,18 @@ static void test_transforms(void) {
 
 /* The walk's stack at every level it holds (issue 21, seventeenth sitting):
  * on devices with the file's node form (vx_gpu.nodes_file: CPU devices)
- * trace.comp keeps the stack of scenes without rebased models as selects
- * over the scales that models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0)
- * or <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) push (TRACE_STACK_SELECTS in
- * shaders/trace_common.glsl); the GPU form's kernels keep the array. Sparse
- * random cells over cubes 7 to 10 levels deep (half of them in a cluster,
+ * trace.comp keeps the walk's stack as selects over the indices that the
+ * scene's models push: models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0),
+ * <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) or rebased, <= VX_RENDER_PRECISE_DEPTH
+ * (16; DEEP 2, pushes k = depth - 9 below their scale in the lower frame)
+ * (TRACE_STACK_SELECTS in shaders/trace_common.glsl); the GPU form's kernels
+ * keep the array. Sparse random cells over cubes 7 to 16 levels deep (half of them in a cluster,
  * so that rays pop to every level), seen from outside and from inside, on
  * this device and on a second one made with the other node form: the same
  * instance, cell and depth bits on every pixel, and the CPU reference's
  * cells on all but a few (the float walk's rare misses at a cell's edge,
- * 1 pixel in 2 of these views with either form). A ladder one level short at
- * either end fails the first check (depth 8 or 10). */
+ * 1 pixel in 2 of these views with either form). A ladder one level short
+ * fails the first check (depth 8, 10 or 16). */
 static void test_stack_levels(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     /* the other form's device (VX_GPU_NODE_FORM is read when a device is made) */
@@ -865,16 +866,23 @@ static void test_stack_levels(void) {
     free(keep);
     REQUIRE(!skip2 && other);
     CHECK(other->nodes_file != gpu->nodes_file);
-    for (uint32_t depth = 7; depth <= 10; depth++) {
+    for (uint32_t depth = 7; depth <= VX_RENDER_PRECISE_DEPTH; depth++) {
         uint32_t side = 1u << depth, seed = 4242 + depth, n = 0;
         enum { N = 40000 };
-        static uint32_t xyz[3 * N];
-        static uint8_t pal[N];
+        static uint32_t xyz[3 * (N + 2)];
+        static uint8_t pal[N + 2];
+        /* the cells in a box of side c <= 1024 at the cube's centre (deeper cubes: two more cells at opposite
+         * corners give the model its depth), half of them in a cluster of side c / 8 at its centre (deep paths
+         * close together), half anywhere in it */
+        uint32_t c = side < 1024 ? side : 1024, blo = side / 2 - c / 2;
         for (uint32_t i = 0; i < N; i++) {
-            /* half the cells in a cluster of side / 8 at the centre (deep paths close together), half anywhere */
-            uint32_t span = i % 2 ? side : side / 8, lo = i % 2 ? 0 : side / 2 - side / 16;
+            uint32_t span = i % 2 ? c : c / 8, lo = blo + (i % 2 ? 0 : c / 2 - c / 16);
             for (int k = 0; k < 3; k++) xyz[3 * n + k] = lo + ts_rng(&seed) % span;
             pal[n++] = (uint8_t)(1 + ts_rng(&seed) % 200);
+        }
+        if (c < side) {
+            for (int k = 0; k < 3; k++) xyz[3 * n + k] = 0, xyz[3 * n + 3 + k] = side - 1;
+            pal[n] = pal[n + 1] = 7, n += 2;
         }
         uint32_t size[3] = {side, side, side};
         vx_svo_model m;
@@ -887,9 +895,10 @@ static void test_stack_levels(void) {
         vx_error err = {0};
         REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
         REQUIRE(vx_render_scene_create(other, &s, &rs2, &err) == VX_OK);
-        double f = side, c = 0.5 * f;
-        vx_render_desc views[3] = {cam(-0.4 * f, -0.7 * f, 1.3 * f, c, c, c), cam(c + 3, c - 2, c + 1, 0.1 * f, 0.9 * f, 0.2 * f),
-                                   cam(0.3 * f, 0.2 * f, 0.45 * f, f, 0.8 * f, 0.6 * f)};
+        double f = c, o = blo, mid = o + 0.5 * f; /* the views of the box of cells */
+        vx_render_desc views[3] = {cam(o - 0.4 * f, o - 0.7 * f, o + 1.3 * f, mid, mid, mid),
+                                   cam(mid + 3, mid - 2, mid + 1, o + 0.1 * f, o + 0.9 * f, o + 0.2 * f),
+                                   cam(o + 0.3 * f, o + 0.2 * f, o + 0.45 * f, o + f, o + 0.8 * f, o + 0.6 * f)};
         for (int v = 0; v < 3; v++) {
             char nm[64];
             snprintf(nm, sizeof nm, "stack levels: depth %u view %d", depth, v);
