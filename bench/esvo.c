@@ -201,10 +201,12 @@ vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pi
 
 vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
                            double* seconds, float* depth, uint32_t* steps, vx_error* err) {
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__esvo_spv_arr, .spirv_size = sizeof vx__esvo_spv_arr,
+    vx_gpu_compute_pipeline_desc pd = {.spirv = e->spv ? e->spv : vx__esvo_spv_arr,
+                                       .spirv_size = e->spv ? e->spv_bytes : sizeof vx__esvo_spv_arr,
                                        .binding_count = 3, .label = "esvo"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    return bench_kernel_frame(e->gpu, &e->k, &pd, UINT64_C(0xE5F0E5F0), &e->buf, s, desc, e->lo,
+    /* a variant kernel has a key of its own (the pipeline cache is the device's) */
+    return bench_kernel_frame(e->gpu, &e->k, &pd, e->spv ? UINT64_C(0xE5F0E5F1) : UINT64_C(0xE5F0E5F0), &e->buf, s, desc, e->lo,
                               (double)((int64_t)1 << e->depth), 0, 0, repeat, seconds, depth, steps, err);
 }

@@ -38,6 +38,11 @@ typedef struct bench_esvo {
     vx__buffer buf;
     bench_kernel k;
     double build_seconds;
+    /* the kernel's SPIR-V where not NULL (render_bench --esvo-kernel: a variant
+     * of bench/shaders/esvo.comp with the same bindings; the caller owns it),
+     * else the built-in esvo.comp */
+    const uint32_t* spv;
+    size_t spv_bytes;
 } bench_esvo;
 
 /* Builds the octree of every drawn instance's cells and uploads it. Fails

@@ -62,7 +62,10 @@
  * the map built, as with the BVH). The colour frame of every row is compared
  * with the first row's (list off first: the map must change no pixel).
  * --mrays: rays/s, steps/s and pixels/s in millions (columns M...) instead of
- * billions, for slow devices (lavapipe). */
+ * billions, for slow devices (lavapipe).
+ * --esvo-kernel FILE.spv: the ESVO baseline's rows with this kernel instead of
+ * bench/shaders/esvo.comp (a variant with the same bindings, e.g. from
+ * glslangValidator -V; the depth agreement with voxkit checks it). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
@@ -108,7 +111,7 @@ static void usage(FILE* out, const char* prog) {
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
-            "          [--shadow-map off|0|N,...] FILE...\n"
+            "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -400,6 +403,8 @@ int main(int argc, char** argv) {
     char klabel[9][96];
     uint32_t runs = 15;
     double warmup = 0.5;
+    uint32_t* esvo_spv = NULL; /* --esvo-kernel */
+    size_t esvo_bytes = 0;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
@@ -517,6 +522,13 @@ int main(int argc, char** argv) {
         } else if (!strcmp(argv[i], "--generate")) gen = true;
         else if (!strcmp(argv[i], "--deep")) deep = true;
         else if (!strcmp(argv[i], "--no-esvo")) use_esvo = false;
+        else if (!strcmp(argv[i], "--esvo-kernel") && i + 1 < argc) {
+            esvo_spv = read_spirv(argv[++i], &esvo_bytes);
+            if (!esvo_spv) {
+                fprintf(stderr, "render_bench: --esvo-kernel: cannot read SPIR-V from '%s'\n", argv[i]);
+                return 2;
+            }
+        }
         else if (!strcmp(argv[i], "--mrays")) mrays = true;
         else if (!strcmp(argv[i], "--cpu-time")) cpu = true;
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
@@ -605,7 +617,7 @@ int main(int argc, char** argv) {
             if (bench_esvo_create(gpu, &s, &es, &err))
                 fprintf(stderr, "render_bench: %s: no ESVO baseline: %s\n", name, err.msg);
             else
-                esp = &es;
+                esp = &es, es.spv = esvo_spv, es.spv_bytes = esvo_bytes;
             if (esp && use_tree64) {
                 if (bench_tree64_create(gpu, &s, &t6, &err))
                     fprintf(stderr, "render_bench: %s: no 64-tree: %s\n", name, err.msg);
@@ -753,5 +765,6 @@ int main(int argc, char** argv) {
     }
     vx_gpu_destroy(gpu);
     for (int ki = 1; ki < nkern; ki++) free(kspv[ki]), free(bspv[ki]);
+    free(esvo_spv);
     return failed;
 }

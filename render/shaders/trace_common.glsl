@@ -353,6 +353,63 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 #endif
 
+#ifdef TRACE_STACK_SELECTS
+// The walk's stack as a ladder of selects (trace.comp, float variant): on CPU
+// devices (NODES_FILE) every access to stk_node is at a constant index, so
+// the compiler keeps the array in registers. The ladder covers the indices the
+// scene's models push: DEEP 0 (depth <= VX_RENDER_EXACT_DEPTH 8) scales
+// S_MAX - 7 to S_MAX - 1; DEEP 1 (<= VX_RENDER_REBASE_DEPTH 10) S_MAX - 9 up;
+// DEEP 2 (the float variant's models, <= VX_RENDER_PRECISE_DEPTH 16) S_MAX - 15
+// up: a rebased model of depth D pushes in its depth-k node N's frame (k = D -
+// VX_RENDER_FRAME_LEVELS 9 <= 7) at scales S_MAX - 8 to S_MAX - 1, k below
+// (index 8 at D = 16), above N at S_MAX - k + 1 up; the rebased walk's slots
+// past S_MAX and the exact models' slots 0-5 are at constant indices. lavapipe
+// (Mesa 22.3) writes a per-lane index of an array in memory lane by lane, each
+// lane a load, a select that LLVM makes a branch on the lane's mask, and a
+// store, and reads it lane by lane: on an AVX2 CPU a third of the depth
+// kernel's time. The ladder (DEEP 0: 7 selects a push, 6 a pop) cost 1.5-1.8x
+// fewer CPU seconds a ray on an AVX2 CPU, 1.02-1.22x with AVX-512 (masked
+// stores), and 1.7-1.9x on terrain4096 (DEEP 2, whose rebased walk's slots
+// leave memory too) (issue 21, seventeenth sitting). GPUs (NODES_FILE false)
+// keep the array in memory. test_render_gpu's test_stack_levels fails with a
+// ladder one level short.
+const bool STK_REG = NODES_FILE;
+const int STK_LO = S_MAX - (DEEP == 0 ? 7 : DEEP == 1 ? 9 : 15);
+#define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
+    if (8 >= STK_LO) stk_node[8] = s_ == 8 ? v_ : stk_node[8]; \
+    if (9 >= STK_LO) stk_node[9] = s_ == 9 ? v_ : stk_node[9]; \
+    if (10 >= STK_LO) stk_node[10] = s_ == 10 ? v_ : stk_node[10]; \
+    if (11 >= STK_LO) stk_node[11] = s_ == 11 ? v_ : stk_node[11]; \
+    if (12 >= STK_LO) stk_node[12] = s_ == 12 ? v_ : stk_node[12]; \
+    if (13 >= STK_LO) stk_node[13] = s_ == 13 ? v_ : stk_node[13]; \
+    if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
+    if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
+    if (16 >= STK_LO) stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
+    if (17 >= STK_LO) stk_node[17] = s_ == 17 ? v_ : stk_node[17]; \
+    if (18 >= STK_LO) stk_node[18] = s_ == 18 ? v_ : stk_node[18]; \
+    if (19 >= STK_LO) stk_node[19] = s_ == 19 ? v_ : stk_node[19]; \
+    if (20 >= STK_LO) stk_node[20] = s_ == 20 ? v_ : stk_node[20]; \
+    if (21 >= STK_LO) stk_node[21] = s_ == 21 ? v_ : stk_node[21]; \
+    if (22 >= STK_LO) stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
+}
+#define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
+    if (8 >= STK_LO) g_ = s_ == 8 ? stk_node[8] : g_; \
+    if (9 >= STK_LO) g_ = s_ == 9 ? stk_node[9] : g_; \
+    if (10 >= STK_LO) g_ = s_ == 10 ? stk_node[10] : g_; \
+    if (11 >= STK_LO) g_ = s_ == 11 ? stk_node[11] : g_; \
+    if (12 >= STK_LO) g_ = s_ == 12 ? stk_node[12] : g_; \
+    if (13 >= STK_LO) g_ = s_ == 13 ? stk_node[13] : g_; \
+    if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
+    if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
+    if (16 >= STK_LO) g_ = s_ == 16 ? stk_node[16] : g_; \
+    if (17 >= STK_LO) g_ = s_ == 17 ? stk_node[17] : g_; \
+    if (18 >= STK_LO) g_ = s_ == 18 ? stk_node[18] : g_; \
+    if (19 >= STK_LO) g_ = s_ == 19 ? stk_node[19] : g_; \
+    if (20 >= STK_LO) g_ = s_ == 20 ? stk_node[20] : g_; \
+    if (21 >= STK_LO) g_ = s_ == 21 ? stk_node[21] : g_; \
+    OUT = uint(g_); }
+#endif
+
 // Traces model space ray o + t d (t in world units, d not normalised)
 // through model mi over [t0, t1]. Returns true and fills h on a hit. o_lo is
 // the rounding error of o (float variant; the rebased walk reads it).
@@ -675,7 +732,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-                    if (tc_max < hh) stk_node[scale - koff] = int(parent);
+                    if (tc_max < hh) {
+#ifdef TRACE_STACK_SELECTS
+                        if (STK_REG) STK_PUT(scale - koff, int(parent))
+                        else
+#endif
+                        stk_node[scale - koff] = int(parent);
+                    }
 #endif
                     hh = tc_max;
 #ifdef PRECISE
@@ -757,6 +820,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+#ifdef TRACE_STACK_SELECTS
+                if (STK_REG) STK_GET(scale - koff, parent)
+                else
+#endif
                 parent = uint(stk_node[scale - koff]);
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
@@ -848,6 +915,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             scale = findMSB(diff);
             if (scale >= S_MAX) break;
             scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
+#ifdef TRACE_STACK_SELECTS
+            if (STK_REG) STK_GET(scale, parent)
+            else
+#endif
             parent = uint(stk_node[scale]);
             ivec3 sh = floatBitsToInt(pos) >> scale;
             pos = intBitsToFloat(sh << scale);

@@ -2,9 +2,11 @@
  * reference: corpus scenes, extreme rays and transforms, instanced vs baked.
  * Runs with the validation layer when it is installed and fails on any
  * validation error. Skips (with a message) when there is no Vulkan device. */
+#define _POSIX_C_SOURCE 200809L /* setenv, unsetenv, strdup: test_stack_levels */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
@@ -837,6 +839,95 @@ static void test_transforms(void) {
     }
 }
 
+/* The walk's stack at every level it holds (issue 21, seventeenth sitting):
+ * on devices with the file's node form (vx_gpu.nodes_file: CPU devices)
+ * trace.comp keeps the walk's stack as selects over the indices that the
+ * scene's models push: models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0),
+ * <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) or rebased, <= VX_RENDER_PRECISE_DEPTH
+ * (16; DEEP 2, pushes k = depth - 9 below their scale in the lower frame)
+ * (TRACE_STACK_SELECTS in shaders/trace_common.glsl); the GPU form's kernels
+ * keep the array. Sparse random cells over cubes 7 to 16 levels deep (half of them in a cluster,
+ * so that rays pop to every level), seen from outside and from inside, on
+ * this device and on a second one made with the other node form: the same
+ * instance, cell and depth bits on every pixel, and the CPU reference's
+ * cells on all but a few (the float walk's rare misses at a cell's edge,
+ * 1 pixel in 2 of these views with either form). A ladder one level short
+ * fails the first check (depth 8, 10 or 16). */
+static void test_stack_levels(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    /* the other form's device (VX_GPU_NODE_FORM is read when a device is made) */
+    const char* prev = getenv("VX_GPU_NODE_FORM");
+    char* keep = prev ? strdup(prev) : NULL;
+    setenv("VX_GPU_NODE_FORM", gpu->nodes_file ? "gpu" : "file", 1);
+    vx_gpu* other = NULL;
+    const char* skip2 = vx_test_gpu_open((vx_gpu_desc){.logger = &logger}, false, &other);
+    if (keep) setenv("VX_GPU_NODE_FORM", keep, 1);
+    else unsetenv("VX_GPU_NODE_FORM");
+    free(keep);
+    REQUIRE(!skip2 && other);
+    CHECK(other->nodes_file != gpu->nodes_file);
+    for (uint32_t depth = 7; depth <= VX_RENDER_PRECISE_DEPTH; depth++) {
+        uint32_t side = 1u << depth, seed = 4242 + depth, n = 0;
+        enum { N = 40000 };
+        static uint32_t xyz[3 * (N + 2)];
+        static uint8_t pal[N + 2];
+        /* the cells in a box of side c <= 1024 at the cube's centre (deeper cubes: two more cells at opposite
+         * corners give the model its depth), half of them in a cluster of side c / 8 at its centre (deep paths
+         * close together), half anywhere in it */
+        uint32_t c = side < 1024 ? side : 1024, blo = side / 2 - c / 2;
+        for (uint32_t i = 0; i < N; i++) {
+            uint32_t span = i % 2 ? c : c / 8, lo = blo + (i % 2 ? 0 : c / 2 - c / 16);
+            for (int k = 0; k < 3; k++) xyz[3 * n + k] = lo + ts_rng(&seed) % span;
+            pal[n++] = (uint8_t)(1 + ts_rng(&seed) % 200);
+        }
+        if (c < side) {
+            for (int k = 0; k < 3; k++) xyz[3 * n + k] = 0, xyz[3 * n + 3 + k] = side - 1;
+            pal[n] = pal[n + 1] = 7, n += 2;
+        }
+        uint32_t size[3] = {side, side, side};
+        vx_svo_model m;
+        REQUIRE(ts_model(&m, size, xyz, pal, n) == VX_OK);
+        CHECKF(m.depth == depth, "stack levels: model depth %u, expected %u", m.depth, depth);
+        vx_svo_scene s;
+        vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+        ts_scene(&s, &m, 1, &in, 1);
+        vx_render_scene *rs = NULL, *rs2 = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+        REQUIRE(vx_render_scene_create(other, &s, &rs2, &err) == VX_OK);
+        double f = c, o = blo, mid = o + 0.5 * f; /* the views of the box of cells */
+        vx_render_desc views[3] = {cam(o - 0.4 * f, o - 0.7 * f, o + 1.3 * f, mid, mid, mid),
+                                   cam(mid + 3, mid - 2, mid + 1, o + 0.1 * f, o + 0.9 * f, o + 0.2 * f),
+                                   cam(o + 0.3 * f, o + 0.2 * f, o + 0.45 * f, o + f, o + 0.8 * f, o + 0.6 * f)};
+        for (int v = 0; v < 3; v++) {
+            char nm[64];
+            snprintf(nm, sizeof nm, "stack levels: depth %u view %d", depth, v);
+            vx_render_desc d = views[v];
+            d.width = 96, d.height = 72, d.want_hits = true;
+            vx_render_image a = {0}, b = {0}, ci = {0};
+            REQUIRE(vx_render_frame(rs, &d, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rs2, &d, &b, &err) == VX_OK);
+            REQUIRE(vx_render_cpu(&s, &d, NULL, &ci, &err) == VX_OK);
+            size_t npx = (size_t)d.width * d.height, differ = 0;
+            for (size_t i = 0; i < npx; i++)
+                differ += a.hits[i].instance != b.hits[i].instance || memcmp(a.hits[i].cell, b.hits[i].cell, 12) ||
+                          memcmp(&a.hits[i].t, &b.hits[i].t, sizeof a.hits[i].t);
+            CHECKF(differ == 0, "%s: %zu of %zu pixels differ between the node forms", nm, differ, npx);
+            cmp_result r = compare(nm, &a, &ci);
+            CHECKF(r.hits >= 100, "%s: %zu hits", nm, r.hits);
+            CHECKF(r.bad <= 2 && r.depth_bad <= 2, "%s: %zu pixels differ from the CPU reference, %zu depths", nm, r.bad,
+                   r.depth_bad);
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+            vx_render_image_free(&ci);
+        }
+        vx_render_scene_destroy(rs);
+        vx_render_scene_destroy(rs2);
+        vx_svo_scene_free(&s);
+    }
+    vx_gpu_destroy(other);
+}
+
 static void test_empty_and_single(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -1181,6 +1272,7 @@ int main(void) {
     RUN(test_precise_variant);
     RUN(test_many_instances);
     RUN(test_far_pointers);
+    RUN(test_stack_levels);
     RUN(test_instanced_vs_baked);
     RUN(test_frames);
     RUN(test_modes);
