@@ -862,8 +862,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     uint32_t spec[13] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
                          f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0,
                          path};
-    uint64_t key = 0xC0AC7000u;
-    for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
+    uint64_t key = vx__spec_key(0xC0AC7000u, spec, 13);
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
                                        .binding_count = TC_BINDINGS, .spec_count = 13, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -876,8 +875,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[11] = 1, md.label = "trace compact (misses)";
         md.spec[12] = 0; /* the miss pass traces no ray */
-        uint64_t mkey = 0xC0AC7000u;
-        for (int i = 0; i < 13; i++) mkey = mkey * 131 + md.spec[i];
+        uint64_t mkey = vx__spec_key(0xC0AC7000u, md.spec, 13);
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",

@@ -1966,8 +1966,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
                          rs->inst_count <= 1 && path_on(rs),
                          precise ? 0 : rs->deep, rs->far, 0, smap, 0};
-    uint64_t key = 1 + precise;
-    for (int i = 0; i < 13; i++) key = key * 131 + spec[i];
+    uint64_t key = vx__spec_key(1 + precise, spec, 13);
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
@@ -1992,7 +1991,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
         bd.label = "beam";
         bd.spec[VX__SPEC_MODE] = bd.spec[VX__SPEC_HAS_COLOR] = bd.spec[VX__SPEC_LOD] = bd.spec[VX__SPEC_HITS] = 0;
         bd.spec[6] = bd.spec[7] = 0; /* trace.comp's one-sample switch and starts */
-        for (int i = 0; i < 10; i++) bkey = bkey * 131 + bd.spec[i];
+        bkey = vx__spec_key(bkey, bd.spec, 10);
         if ((r = vx__pipeline_get(g, bkey, &bd, &pre, err))) return r;
     }
     if ((r = vx__pipeline_get(g, key, &pd, &p, err))) return r;
@@ -2000,8 +1999,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (miss) {
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[12] = 1, md.label = "trace (misses)";
-        uint64_t mkey = 1 + precise;
-        for (int i = 0; i < 13; i++) mkey = mkey * 131 + md.spec[i];
+        uint64_t mkey = vx__spec_key(1 + precise, md.spec, 13);
         if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
