@@ -915,7 +915,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         goto fail;
     }
-    if ((r = vx__svo_pack_read(d + known[S_NODE]->offset, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
+    if ((r = vx__svo_pack_read(known[S_NODE]->p, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
                                rdd.chunk_stats, ext, rebuilt, err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(known[S_PALT], &s, err)) != VX_OK) goto fail;

@@ -484,29 +484,27 @@ static uint32_t ext_find(const ext* x, uint32_t i, uint32_t b) {
     return x->hk[j] ? x->hv[j] : UINT32_MAX;
 }
 
-/* The hash at twice its slots, its entries moved; false (x->oom) without memory. */
+/* The hash at twice its slots, its entries moved (through key_slot, the one
+ * placement); false (x->oom) without memory. */
 static bool ext_grow(ext* x) {
-    size_t cap = x->hcap * 2;
-    uint64_t* hk = (uint64_t*)vx_calloc(x->A, cap, sizeof *hk);
-    uint32_t* hv = (uint32_t*)vx_calloc(x->A, cap, sizeof *hv);
+    size_t cap = x->hcap * 2, old_cap = x->hcap;
+    uint64_t *hk = (uint64_t*)vx_calloc(x->A, cap, sizeof *hk), *old_k = x->hk;
+    uint32_t *hv = (uint32_t*)vx_calloc(x->A, cap, sizeof *hv), *old_v = x->hv;
     if (!hk || !hv) {
         vx_free(x->A, hk);
         vx_free(x->A, hv);
         x->oom = true;
         return false;
     }
-    for (size_t j = 0; j < x->hcap; j++) {
-        if (!x->hk[j]) continue;
-        size_t k = (size_t)((x->hk[j] * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
-        while (hk[k]) k = (k + 1) & (cap - 1);
-        hk[k] = x->hk[j];
-        hv[k] = x->hv[j];
+    x->hk = hk, x->hv = hv, x->hcap = cap;
+    for (size_t j = 0; j < old_cap; j++) {
+        if (!old_k[j]) continue;
+        size_t k = key_slot(x, old_k[j]);
+        hk[k] = old_k[j];
+        hv[k] = old_v[j];
     }
-    vx_free(x->A, x->hk);
-    vx_free(x->A, x->hv);
-    x->hk = hk;
-    x->hv = hv;
-    x->hcap = cap;
+    vx_free(x->A, old_k);
+    vx_free(x->A, old_v);
     return true;
 }
 
