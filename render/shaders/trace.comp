@@ -42,8 +42,6 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_TILES
 #ifndef PRECISE
 #define TRACE_STACK_SELECTS
-#endif
-#ifndef PRECISE
 #define TRACE_PATH
 #endif
 #include "trace_common.glsl"

@@ -468,7 +468,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     stk_node[scale - koff] = int(parent);
                     // PUSH_BRICK: from level 3 the child is a brick, loaded here
                     bool to2 = PUSH_BRICK && scale - koff == s3;
-                    loaded = PUSH_BRICK ? eq2 || to2 : eq2;
+                    loaded = eq2 || to2;
                     if (ge3) {
                         // (level 3 of the whole layout: through the brick's index word)
                         parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
@@ -477,7 +477,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                             desc = brick_desc(nd);
                         }
                     } else desc = brick_octant(nd, uint(cs));
-                    if (SENT && !(PUSH_BRICK ? eq2 || to2 : eq2)) desc = 0u;
+                    if (SENT && !loaded) desc = 0u;
                     if (PAGES > 0u && uint(lvl) == m.page_up) {
                         nd = ch;
                         desc = ch.x;

@@ -842,17 +842,16 @@ static void test_transforms(void) {
 /* The walk's stack at every level it holds (issue 21, seventeenth sitting):
  * on devices with the file's node form (vx_gpu.nodes_file: CPU devices)
  * trace.comp keeps the walk's stack as selects over the indices that the
- * scene's models push: models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0),
- * <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) or rebased, <= VX_RENDER_PRECISE_DEPTH
- * (16; DEEP 2, pushes k = depth - 9 below their scale in the lower frame)
- * (TRACE_STACK_SELECTS in shaders/trace_common.glsl); the GPU form's kernels
- * keep the array. Sparse random cells over cubes 7 to 16 levels deep (half of them in a cluster,
+ * scene's models push: models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0)
+ * or <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) (TRACE_STACK_SELECTS in
+ * shaders/trace_common.glsl); the rebased walk (DEEP 2, up to
+ * VX_RENDER_PRECISE_DEPTH 16) and the GPU form's kernels keep the array. Sparse random cells over cubes 7 to 16 levels deep (half of them in a cluster,
  * so that rays pop to every level), seen from outside and from inside, on
  * this device and on a second one made with the other node form: the same
  * instance, cell and depth bits on every pixel, and the CPU reference's
  * cells on all but a few (the float walk's rare misses at a cell's edge,
  * 1 pixel in 2 of these views with either form). A ladder one level short
- * fails the first check (depth 8, 10 or 16). */
+ * fails the first check (depth 8 or 10). */
 static void test_stack_levels(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     /* the other form's device (VX_GPU_NODE_FORM is read when a device is made) */
