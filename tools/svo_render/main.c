@@ -1174,7 +1174,7 @@ int main(int argc, char** argv) {
     }
     vx_probe_set_free(&probes);
     if (r) {
-        fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
+        vx_tool_error_budget(o.in, &err, &budget); /* the file once: the model reader's errors name it already */
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
         vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
