@@ -1082,11 +1082,13 @@ int main(int argc, char** argv) {
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
             if (li.compact_bytes && by_models)
-                printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s (the "
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s%s (the "
                        "models read, their geometry and attributes on %u threads %.3f s, the regions placed %.3f s), "
                        "tables and upload %.3f s\n",
-                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_threads,
-                       li.geom_seconds, li.attr_seconds, li.upload_seconds);
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds,
+                       li.file_passes > 1 ? ", two passes over the file (over the budget: built again with the brick dictionary)"
+                                          : "",
+                       li.geom_threads, li.geom_seconds, li.attr_seconds, li.upload_seconds);
             else if (li.compact_bytes)
                 printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (geometry %.3f s on %u threads, "
                        "attributes %.3f s), tables and upload %.3f s\n",
