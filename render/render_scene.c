@@ -1028,12 +1028,12 @@ static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_s
 /* AUTO's bricks for a layout c built from reader rd in blocks: over the
  * budget, the layout built again with the brick dictionary from a second pass
  * over the file (vx_svo_reader_rewind), kept where its geometry is smaller,
- * as create_ex keeps it. The host holds c, the second build and its models in
- * hand, not the scene. A dictionary past its limit keeps c (create_ex's
+ * as create_ex keeps it. The host holds c, the second build's geometry (the
+ * attributes move over from c: one copy) and its models in hand, not the scene. A dictionary past its limit keeps c (create_ex's
  * rule); any other failure of the second pass (the file cut or changed since
  * the first) is the caller's error. */
 static vx_result auto_bricks_reader(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
-                                    const vx_allocator* alloc, vx_compact_scene* c, uint32_t* passes, vx_error* err) {
+                                    vx_compact_scene* c, uint32_t* passes, vx_error* err) {
     uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
     if (bricks != VX_RENDER_BRICKS_AUTO || c->brick_dict || 4ull * c->geom_words + 4ull * c->attr_words <= budget)
         return VX_OK;
@@ -1041,10 +1041,12 @@ static vx_result auto_bricks_reader(vx_svo_model_reader* rd, const vx_render_sce
     if (r) return r;
     *passes = 2;
     vx_compact_scene cdict = {0};
-    vx_compact_desc cd = {.alloc = alloc, .attr_regions = c->attr_region != NULL, .bricks = VX_COMPACT_BRICKS_DICT};
+    /* the geometry only: the attributes (the same words in either form) move over from c, one copy on the host */
+    bool move = !c->attr;
+    vx_compact_desc cd = {.alloc = &c->alloc, .attr_regions = true, .bricks = VX_COMPACT_BRICKS_DICT, .attrs_from = move ? c : NULL};
     vx_error derr = {0};
     r = vx_compact_build_reader(&cd, rd, &cdict, &derr);
-    if (r == VX_ERR_LIMIT) return VX_OK; /* the layout in blocks stays */
+    if (r == VX_ERR_LIMIT) return VX_OK; /* the layout in blocks stays (nothing was moved) */
     if (r) {
         if (err) *err = derr;
         return r;
@@ -1054,10 +1056,11 @@ static vx_result auto_bricks_reader(vx_svo_model_reader* rd, const vx_render_sce
     if (cdict.geom_words < c->geom_words) {
         vx_compact_free(c);
         *c = cdict;
-    } else {
-        vx_compact_free(&cdict);
+        return VX_OK;
     }
-    return VX_OK;
+    r = move ? vx_compact_move_attrs(c, &cdict, err) : VX_OK; /* the attributes back to the layout in blocks */
+    vx_compact_free(&cdict);
+    return r;
 }
 
 /* The render scene of compact layout c, built from reader rd whose graph is s
@@ -1071,7 +1074,7 @@ static vx_result from_built(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_svo_s
                             double build_seconds, vx_render_scene** out, vx_error* err) {
     double t0 = vx_time_now();
     uint32_t passes = 1;
-    vx_result r = auto_bricks_reader(rd, desc, li->budget, &gpu->alloc, c, &passes, err);
+    vx_result r = auto_bricks_reader(rd, desc, li->budget, c, &passes, err);
     if (r) {
         vx_compact_free(c);
         return r;
