@@ -340,6 +340,14 @@ typedef struct vx_render_scene_desc {
      * the compact attribute words beyond it go to up to VX_COMPACT_ATTR_PARTS
      * buffers (render/compact.h; then the single-shader frame only) */
     uint64_t max_buffer_range;
+    /* vx_render_scene_create_compact: the caller made AUTO's brick choice
+     * for its layout already (vx_render_compact_auto_bricks, before the
+     * device existed), in file_passes passes over the file (for the layout's
+     * report); false: create_compact makes it (a second pass over the file
+     * there, after the device: a device idle through it lowers the H200's
+     * clock, docs/PERFORMANCE.md issue 18, branches load2 and rdr2) */
+    bool bricks_decided;
+    uint32_t file_passes;
 } vx_render_scene_desc;
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -381,6 +389,19 @@ vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, cons
 vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* reader, struct vx_compact_scene* c,
                                          double build_seconds, const vx_render_scene_desc* desc,
                                          vx_render_scene** out, vx_error* err);
+/* AUTO's brick choice for compact layout c built in blocks from reader rd
+ * (vx_compact_build_reader, finished): where c exceeds budget (and desc's
+ * bricks are AUTO), the layout built again with the brick dictionary from a
+ * second pass over the file (vx_svo_reader_rewind; the attributes moved, not
+ * built again) and kept where its geometry is smaller, as create_ex keeps it;
+ * *passes (may be NULL) the passes made. For a caller that builds before it
+ * makes the device (svo_render), then passes desc with bricks_decided to
+ * vx_render_scene_create_compact. */
+vx_result vx_render_compact_auto_bricks(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
+                                        struct vx_compact_scene* c, uint32_t* passes, vx_error* err);
+/* The memory budget AUTO compares with: desc's, else 3/4 of gpu's largest
+ * device-local heap (0 without either). */
+uint64_t vx_render_scene_budget(const vx_gpu* gpu, const vx_render_scene_desc* desc);
 typedef struct vx_render_layout_info {
     vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
     uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */

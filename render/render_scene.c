@@ -1035,6 +1035,7 @@ static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_s
 static vx_result auto_bricks_reader(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
                                     vx_compact_scene* c, uint32_t* passes, vx_error* err) {
     uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
+    if (desc && desc->bricks_decided) return VX_OK; /* the caller made AUTO's choice (vx_render_compact_auto_bricks) */
     if (bricks != VX_RENDER_BRICKS_AUTO || c->brick_dict || 4ull * c->geom_words + 4ull * c->attr_words <= budget)
         return VX_OK;
     vx_result r = vx_svo_reader_rewind(rd, err);
@@ -1073,7 +1074,7 @@ static vx_result from_built(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_svo_s
                             const vx_render_layout_info* li, uint64_t range, uint32_t max_depth, vx_compact_scene* c,
                             double build_seconds, vx_render_scene** out, vx_error* err) {
     double t0 = vx_time_now();
-    uint32_t passes = 1;
+    uint32_t passes = desc && desc->bricks_decided && desc->file_passes ? desc->file_passes : 1;
     vx_result r = auto_bricks_reader(rd, desc, li->budget, c, &passes, err);
     if (r) {
         vx_compact_free(c);
@@ -1128,6 +1129,21 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
     double t0 = vx_time_now();
     if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
     return from_built(gpu, rd, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+}
+
+vx_result vx_render_compact_auto_bricks(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
+                                        vx_compact_scene* c, uint32_t* passes, vx_error* err) {
+    if (!rd || !c) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    uint32_t n = 1;
+    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
+    d.bricks_decided = false;
+    vx_result r = auto_bricks_reader(rd, &d, budget, c, &n, err);
+    if (passes) *passes = n;
+    return r;
+}
+
+uint64_t vx_render_scene_budget(const vx_gpu* gpu, const vx_render_scene_desc* desc) {
+    return desc && desc->memory_budget ? desc->memory_budget : gpu ? default_budget(gpu) : 0;
 }
 
 vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,

@@ -359,10 +359,38 @@ static void test_auto_bricks(void) {
         vx_result r2 = vx_render_scene_create_compact(gpu, rd, &c, 0, &sd, &rc, &err);
         CHECKF(r2 == VX_OK, "budget %llu, built first: %s", (unsigned long long)budgets[k], err.msg);
         vx_svo_reader_close(rd);
-        vx_render_layout_info la, lb, lc;
+        /* AUTO's choice made before the device (vx_render_compact_auto_bricks, as svo_render makes it), then
+         * create_compact told so (bricks_decided): the same layout and frames, no third pass */
+        vx_render_scene* rd3 = NULL;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+        uint32_t passes = 0;
+        vx_result r3 = vx_render_compact_auto_bricks(rd, &sd, vx_render_scene_budget(gpu, &sd), &c, &passes, &err);
+        CHECKF(r3 == VX_OK && passes == (k == 2 ? 1u : 2u), "budget %d, decided first: %u passes, %s", k, passes, err.msg);
+        vx_render_scene_desc sdd = sd;
+        sdd.bricks_decided = true, sdd.file_passes = passes;
+        if (r3 == VX_OK) r3 = vx_render_scene_create_compact(gpu, rd, &c, 0, &sdd, &rd3, &err);
+        else vx_compact_free(&c);
+        CHECKF(r3 == VX_OK, "budget %d, decided first: %s", k, err.msg);
+        vx_svo_reader_close(rd);
+        vx_render_layout_info la, lb, lc, ld = {0};
         vx_render_scene_layout(ra, &la);
         vx_render_scene_layout(rb, &lb);
         vx_render_scene_layout(rc, &lc);
+        vx_render_scene_layout(rd3, &ld);
+        CHECKF(!r3 && ld.brick_dict == la.brick_dict && ld.compact_bytes == la.compact_bytes && ld.bytes == la.bytes &&
+                   ld.pages == la.pages && ld.file_passes == passes,
+               "budget %d, decided first: dictionary %d, %llu bytes, %u passes", k, (int)ld.brick_dict,
+               (unsigned long long)ld.bytes, ld.file_passes);
+        if (!r3 && k != 1) {
+            vx_render_desc d = {.width = 80, .height = 60, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+            vx_render_image a = {0}, b = {0};
+            REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rd3, &d, &b, &err) == VX_OK);
+            CHECKF(differ(&a, &b, "auto bricks, decided first") == 0, "budget %d: the frames differ", k);
+            vx_render_image_free(&a), vx_render_image_free(&b);
+        }
+        vx_render_scene_destroy(rd3);
         CHECKF(la.brick_dict == (k == 0) && la.pages == (k == 1 ? la.pages : 0) && (k != 1 || la.pages > 1),
                "budget %d: create_ex's layout: dictionary %d, %u pages", k, (int)la.brick_dict, la.pages);
         CHECKF(!r && lb.brick_dict == la.brick_dict && lb.compact_bytes == la.compact_bytes && lb.geom_bytes == la.geom_bytes &&
