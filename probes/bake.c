@@ -44,8 +44,10 @@ static int offs_cmp(const void* x, const void* y) {
 
 #include <stdlib.h>
 
-static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const vx_render_caster* c,
-                       vx_probe_set* ps, vx_error* err) {
+/* The grid of the placement: bounds, spacing, origin, the probes (at their
+ * grid points, disabled) and the distance range; no model's cells are read
+ * (the bounds are the drawn instances' model boxes). */
+static vx_result place_grid(const vx_svo_scene* s, const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err) {
     double lo[3], hi[3];
     if (d->bounds_set) {
         memcpy(lo, d->bounds_lo, sizeof lo);
@@ -105,17 +107,6 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
     ps->dist_step = sqrt(ext2) / (VX_PROBE_DIST_MISS - 1);
     ps->dist_max = ps->dist_step * (VX_PROBE_DIST_MISS - 1);
     ps->dist_max_error = ps->dist_step * 0.5;
-
-    enum { H = 4, SIDE = 2 * H + 1 };
-    offs cand[SIDE * SIDE * SIDE];
-    int nc = 0;
-    for (int a = -H; a <= H; a++)
-        for (int b = -H; b <= H; b++)
-            for (int cc = -H; cc <= H; cc++) {
-                double x = a * ps->spacing[0], y = b * ps->spacing[1], z = cc * ps->spacing[2];
-                cand[nc++] = (offs){x * x + y * y + z * z, a, b, cc};
-            }
-    qsort(cand, (size_t)nc, sizeof cand[0], offs_cmp);
     for (uint32_t z = 0; z < ps->grid[2]; z++)
         for (uint32_t y = 0; y < ps->grid[1]; y++)
             for (uint32_t x = 0; x < ps->grid[0]; x++) {
@@ -124,17 +115,194 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
                                ps->origin[2] + z * ps->spacing[2]};
                 p->state = VX_PROBE_DISABLED;
                 memcpy(p->pos, g, sizeof g);
-                for (int i = 0; i < nc; i++) {
-                    /* offsets of at most half a cell per axis (H steps of spacing / 2H) */
-                    double q[3] = {g[0] + cand[i].a * ps->spacing[0] / (2 * H), g[1] + cand[i].b * ps->spacing[1] / (2 * H),
-                                   g[2] + cand[i].c * ps->spacing[2] / (2 * H)};
-                    if (!inside_solid(c, q)) {
-                        memcpy(p->pos, q, sizeof q);
-                        p->state = i == 0 ? VX_PROBE_OK : VX_PROBE_MOVED;
-                        break;
-                    }
-                }
             }
+    return VX_OK;
+}
+
+/* The places a probe may move to, nearest first: offsets of at most half a
+ * cell per axis (H steps of spacing / 2H); returns their count. */
+enum { PLACE_H = 4, PLACE_SIDE = 2 * PLACE_H + 1, PLACE_CANDS = PLACE_SIDE * PLACE_SIDE * PLACE_SIDE };
+static int place_candidates(const vx_probe_set* ps, offs cand[PLACE_CANDS]) {
+    int nc = 0;
+    for (int a = -PLACE_H; a <= PLACE_H; a++)
+        for (int b = -PLACE_H; b <= PLACE_H; b++)
+            for (int cc = -PLACE_H; cc <= PLACE_H; cc++) {
+                double x = a * ps->spacing[0], y = b * ps->spacing[1], z = cc * ps->spacing[2];
+                cand[nc++] = (offs){x * x + y * y + z * z, a, b, cc};
+            }
+    qsort(cand, (size_t)nc, sizeof cand[0], offs_cmp);
+    return nc;
+}
+
+/* Candidate i of the probe at grid point g. */
+static void place_point(const vx_probe_set* ps, const double g[3], const offs* c, double q[3]) {
+    q[0] = g[0] + c->a * ps->spacing[0] / (2 * PLACE_H);
+    q[1] = g[1] + c->b * ps->spacing[1] / (2 * PLACE_H);
+    q[2] = g[2] + c->c * ps->spacing[2] / (2 * PLACE_H);
+}
+
+static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const vx_render_caster* c,
+                       vx_probe_set* ps, vx_error* err) {
+    vx_result r = place_grid(s, d, ps, err);
+    if (r) return r;
+    offs cand[PLACE_CANDS];
+    int nc = place_candidates(ps, cand);
+    for (uint32_t i = 0; i < ps->probe_count; i++) {
+        vx_probe* p = &ps->probes[i];
+        double g[3] = {p->pos[0], p->pos[1], p->pos[2]};
+        for (int k = 0; k < nc; k++) {
+            double q[3];
+            place_point(ps, g, &cand[k], q);
+            if (!inside_solid(c, q)) {
+                memcpy(p->pos, q, sizeof q);
+                p->state = k == 0 ? VX_PROBE_OK : VX_PROBE_MOVED;
+                break;
+            }
+        }
+    }
+    return VX_OK;
+}
+
+/* ---- placement from a model reader --------------------------------------------------- */
+
+static vx_result resolve(const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err);
+
+/* Whether q lies in the world box of a drawn instance of sub's model (the
+ * box grown by a margin: a point on a face is the caster's to decide). */
+static bool in_boxes(const double* boxes, uint32_t n, const double q[3]) {
+    for (uint32_t i = 0; i < n; i++) {
+        const double* b = boxes + 6 * i;
+        if (q[0] >= b[0] && q[0] <= b[3] && q[1] >= b[1] && q[1] <= b[4] && q[2] >= b[2] && q[2] <= b[5]) return true;
+    }
+    return false;
+}
+
+/* World boxes of the drawn instances of g (model mi, or every model for
+ * UINT32_MAX) into *out (6 doubles each), each grown by a margin. */
+static vx_result drawn_boxes(const vx_svo_scene* g, uint32_t mi, const vx_allocator* a, double** out, uint32_t* n,
+                             vx_error* err) {
+    *n = 0;
+    *out = vx_alloc(a, (g->instance_count ? g->instance_count : 1) * 6 * sizeof(double));
+    if (!*out) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instance boxes", g->instance_count);
+    for (uint32_t i = 0; i < g->instance_count; i++) {
+        if (!vx_svo_instance_drawn(g, i) || (mi != UINT32_MAX && g->instances[i].model != mi)) continue;
+        double lo[3], hi[3], w = 0;
+        vx_svo_instance_world_box(g, &g->instances[i], lo, hi);
+        for (int k = 0; k < 3; k++) w = fmax(w, hi[k] - lo[k]);
+        double m = 1e-6 * w + 1e-9;
+        double* b = *out + 6 * (*n)++;
+        for (int k = 0; k < 3; k++) b[k] = lo[k] - m, b[3 + k] = hi[k] + m;
+    }
+    return VX_OK;
+}
+
+vx_result vx_probe_place_reader(vx_svo_model_reader* rd, const vx_svo_scene* view, const vx_probe_bake_desc* desc,
+                                vx_probe_set* out, vx_error* err) {
+    if (!rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    const vx_svo_scene* g = view ? view : vx_svo_reader_scene(rd);
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    vx_probe_set ps = {.alloc = d.alloc};
+    vx_result r = resolve(&d, &ps, err);
+    if (r) return r;
+    vx__light L; /* the light as vx_probe_place records it (no caster: no cell is read) */
+    r = vx__light_init(&L, NULL, g, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky, err);
+    vx__light_free(&L);
+    if (r) return r;
+    memcpy(ps.light_dir, L.light_dir, sizeof ps.light_dir);
+    memcpy(ps.sun, L.sun, sizeof ps.sun);
+    memcpy(ps.sky, L.sky, sizeof ps.sky);
+    if ((r = place_grid(g, &d, &ps, err))) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    offs cand[PLACE_CANDS];
+    int nc = place_candidates(&ps, cand);
+    /* Each probe's candidates up to the first outside every drawn instance's
+     * box (that one is free: no cast can start in a cell there): those are
+     * the places the pass over the models decides, one bit each. */
+    double* all = NULL;
+    uint32_t nall = 0;
+    uint64_t* first = vx_alloc(d.alloc, ((size_t)ps.probe_count + 1) * sizeof *first);
+    uint8_t* solid = NULL;
+    if (!first) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r) r = drawn_boxes(g, UINT32_MAX, d.alloc, &all, &nall, err);
+    uint64_t bits = 0;
+    for (uint32_t i = 0; !r && i < ps.probe_count; i++) {
+        first[i] = bits;
+        for (int k = 0; k < nc; k++) {
+            double q[3];
+            place_point(&ps, ps.probes[i].pos, &cand[k], q);
+            bits++;
+            if (!in_boxes(all, nall, q)) break;
+        }
+    }
+    if (!r) first[ps.probe_count] = bits;
+    if (!r && !(solid = vx_calloc(d.alloc, (size_t)(bits / 8 + 1), 1)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu probe places", (unsigned long long)bits);
+    /* One pass over the models: each model with its drawn instances alone is
+     * a scene for the CPU caster, whose casts decide its instances' cells as
+     * the whole scene's caster decides them (a cast starting in a cell of any
+     * instance hits at t = 0, the others do not change that). */
+    for (;;) {
+        if (r) break;
+        uint32_t mi = 0;
+        vx_svo_model m;
+        if ((r = vx_svo_reader_next(rd, &mi, &m, err)) || mi >= g->model_count) break;
+        double* boxes = NULL;
+        uint32_t nb = 0;
+        vx_svo_instance* inst = NULL;
+        r = drawn_boxes(g, mi, d.alloc, &boxes, &nb, err);
+        if (!r && nb && !(inst = vx_alloc(d.alloc, nb * sizeof *inst)))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        vx_render_caster* c = NULL;
+        if (!r && nb) {
+            uint32_t n = 0;
+            for (uint32_t i = 0; i < g->instance_count; i++)
+                if (vx_svo_instance_drawn(g, i) && g->instances[i].model == mi) inst[n] = g->instances[i], inst[n++].model = 0;
+            vx_svo_scene sub = *g; /* its world map, layers and palette; this model and its instances */
+            sub.models = &m, sub.model_count = 1;
+            sub.instances = inst, sub.instance_count = n;
+            sub.frame_count = 1, sub.frame_instances = NULL;
+            r = vx_render_caster_create(&sub, d.alloc, &c, err);
+            for (uint32_t i = 0; !r && i < ps.probe_count; i++)
+                for (uint64_t b = first[i]; b < first[i + 1]; b++) {
+                    if (solid[b / 8] & (1u << (b % 8))) continue;
+                    double q[3];
+                    place_point(&ps, ps.probes[i].pos, &cand[b - first[i]], q);
+                    if (in_boxes(boxes, nb, q) && inside_solid(c, q)) solid[b / 8] |= (uint8_t)(1u << (b % 8));
+                }
+            vx_render_caster_destroy(c);
+        }
+        vx_free(d.alloc, inst);
+        vx_free(d.alloc, boxes);
+        vx_svo_model_free(vx_svo_reader_scene(rd)->alloc, &m);
+    }
+    if (!r) r = vx_svo_reader_finish(rd, err);
+    for (uint32_t i = 0; !r && i < ps.probe_count; i++) {
+        vx_probe* p = &ps.probes[i];
+        for (uint64_t b = first[i]; b < first[i + 1]; b++) {
+            if (solid[b / 8] & (1u << (b % 8))) continue;
+            double q[3];
+            place_point(&ps, p->pos, &cand[b - first[i]], q);
+            memcpy(p->pos, q, sizeof q);
+            p->state = b == first[i] ? VX_PROBE_OK : VX_PROBE_MOVED;
+            break;
+        }
+    }
+    vx_free(d.alloc, all);
+    vx_free(d.alloc, first);
+    vx_free(d.alloc, solid);
+    uint32_t first_p = d.first, end = d.count ? d.first + d.count : ps.probe_count;
+    if (!r && (first_p > ps.probe_count || end > ps.probe_count || end < first_p))
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe range %u..%u outside the %u probes", first_p, end,
+                    ps.probe_count);
+    if (r) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    ps.first = first_p;
+    ps.count = 0;
+    *out = ps;
     return VX_OK;
 }
 

@@ -275,6 +275,20 @@ vx_probe_bake_desc vx_probe_bake_desc_defaults(void);
 /* Places the grid and probes (moving or disabling the ones inside voxels)
  * without baking: *out has count = 0 and no maps. */
 vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
+/* vx_probe_place of the scene a model reader (svo/svo.h) gives, without
+ * holding it: the same probes, bit for bit. The grid comes from the graph
+ * (view: a frame of it, vx_svo_scene_frame of a copy of the graph; NULL: the
+ * graph itself), whose instances and declared model sizes give the bounds;
+ * the places a probe may move to that lie in a drawn instance's box are
+ * decided in one pass over the models (each model's instances cast on the
+ * CPU caster as a scene of their own), the others are free. rd must hand
+ * over the models from the first (a fresh reader, or one rewound,
+ * vx_svo_reader_rewind) and is finished by the call (its NODE checksum);
+ * on failure the reader's error names the file and the model. The host
+ * holds one model and its caster at a time, and a bit per probe place in
+ * an instance's box. */
+vx_result vx_probe_place_reader(vx_svo_model_reader* rd, const vx_svo_scene* view, const vx_probe_bake_desc* desc,
+                                vx_probe_set* out, vx_error* err);
 /* Places and bakes; *out owns everything (free with vx_probe_set_free). */
 vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
 /* Bakes probes [ps->first + ps->count, end) into a set from vx_probe_place or

@@ -667,6 +667,51 @@ static vx_result place_attrs(const vx_compact_desc* d, vx_compact_scene* c, attr
     return r;
 }
 
+/* desc->attrs_from: its attribute regions moved into c (whose geometry was
+ * just built from the same models), after checking that every model's kind
+ * and cells agree, so nothing moves unless all of it can. */
+static vx_result take_attrs(vx_compact_scene* c, vx_compact_scene* from, vx_error* err) {
+    uint32_t n = c->model_count;
+    if (from->model_count != n || (from->attr_words && !from->attr_region) || from->attr)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "compact layout: attrs_from is not a layout of these %u models with its attributes in regions", n);
+    if (memcmp(&c->alloc, &from->alloc, sizeof c->alloc) != 0) /* the regions are freed with the new owner's */
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact layout: attrs_from has another allocator");
+    for (uint32_t i = 0; i < n; i++) {
+        const vx_compact_model *a = &c->models[i], *b = &from->models[i];
+        bool has = a->attr_kind != VX_COMPACT_ATTR_NONE && a->voxels;
+        if (a->attr_kind != b->attr_kind || (has && a->voxels != b->voxels) ||
+            (has && (!b->attr_words || !from->attr_region || !from->attr_region[i]))) /* none left (moved before) */
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                           "compact layout: attrs_from's model %u (kind %u, %u cells) is not this one's (kind %u, %u cells)",
+                           i, b->attr_kind, b->voxels, a->attr_kind, a->voxels);
+    }
+    if (from->attr_words && !(c->attr_region = vx_calloc(&c->alloc, n ? n : 1, sizeof *c->attr_region)))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u models' attributes", n);
+    for (uint32_t i = 0; i < n; i++) {
+        vx_compact_model *a = &c->models[i], *b = &from->models[i];
+        a->attr_base = b->attr_base, a->attr_words = b->attr_words, a->block = b->block;
+        if (c->attr_region) c->attr_region[i] = from->attr_region[i];
+        if (from->attr_region) from->attr_region[i] = NULL;
+        b->attr_words = 0;
+    }
+    c->attr_words = from->attr_words;
+    from->attr_words = 0;
+    vx_free(&from->alloc, from->attr_region); /* its pointers moved */
+    from->attr_region = NULL;
+    vx_compact_stats *st = &c->stats, *fs = &from->stats;
+    st->blocks = fs->blocks, st->uniform = fs->uniform, st->raw = fs->raw, st->delta = fs->delta;
+    st->uniform_groups = fs->uniform_groups, st->shared = fs->shared, st->distinct_sum = fs->distinct_sum;
+    return VX_OK;
+}
+
+vx_result vx_compact_move_attrs(vx_compact_scene* to, vx_compact_scene* from, vx_error* err) {
+    if (!to || !from || to == from) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (to->attr_region || to->attr || to->attr_words)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact layout: the layout has attributes of its own");
+    return take_attrs(to, from, err);
+}
+
 static vx_result build_all_attrs(const vx_compact_desc* d, const vx_svo_scene* s, vx_compact_scene* c,
                                  vx_error* err) {
     uint32_t n = c->model_count;
@@ -730,6 +775,7 @@ static bool stream_take(stream* q, uint32_t n, uint32_t* i, vx_svo_model* m) {
 static void stream_attrs(stream* q, const vx_svo_model* m, uint32_t i, vx_compact_model* cm, uint64_t cells) {
     if (cm->attr_kind == VX_COMPACT_ATTR_NONE || !cells || cells > UINT32_MAX) return;
     cm->voxels = (uint32_t)cells;
+    if (q->d->attrs_from) return; /* moved from the earlier layout by take_attrs */
     size_t cap = 0;
     q->aj.part[i].alloc = q->aj.c->alloc;
     q->aj.res[i] = build_attrs_auto(q->d, m, cm, &q->aj.part[i], &cap, &q->aj.errs[i]);
@@ -1405,7 +1451,11 @@ static vx_result build_core(const vx_compact_desc* desc_in, const vx_svo_scene* 
         d.threads = desc_in->threads;
         d.merge = desc_in->merge;
         d.attr_regions = desc_in->attr_regions;
+        d.attrs_from = desc_in->attrs_from;
     }
+    if (d.attrs_from && (!rd || !d.attr_regions))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "compact layout: attrs_from is for a build from a model reader with attr_regions");
     if (d.merge > VX_COMPACT_MERGE_ALL)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "compact merge %u: not a VX_COMPACT_MERGE_* value", d.merge);
     if (d.bricks != VX_COMPACT_BRICKS_INLINE && d.bricks != VX_COMPACT_BRICKS_DICT)
@@ -1468,7 +1518,8 @@ static vx_result build_core(const vx_compact_desc* desc_in, const vx_svo_scene* 
     b.dtab = NULL;
     if (!r) r = assemble(&b, &c, err);
     double ta = vx_time_now();
-    if (!r && rd) r = place_attrs(&d, &c, &q.aj, err); /* built beside the geometry */
+    if (!r && rd && d.attrs_from) r = take_attrs(&c, d.attrs_from, err); /* built by an earlier pass */
+    else if (!r && rd) r = place_attrs(&d, &c, &q.aj, err); /* built beside the geometry */
     else if (!r) r = build_all_attrs(&d, s, &c, err);
     c.stats.attr_seconds = vx_time_now() - ta;
     if (rd) {

@@ -146,6 +146,16 @@ typedef struct vx_compact_desc {
      * for the upload (vx_compact_gpu_create takes either form);
      * vx_compact_join_attrs gives the one array the CPU walks read */
     bool attr_regions;
+    /* vx_compact_build_reader with attr_regions: NULL, or a layout of the
+     * same models built before (with attr_regions, the same block; the other
+     * brick form, say) whose attribute regions are moved into this one
+     * instead of being built again: the attributes do not depend on the
+     * geometry's form, so a second pass over the file (vx_svo_reader_rewind,
+     * AUTO's brick dictionary) builds the geometry only and the host never
+     * holds two copies of them. Each model's kind and cells and the
+     * allocator must match (else VX_ERR_INVALID_ARG, nothing moved); on success attrs_from keeps its
+     * geometry and has no attributes left (attr_region NULL, attr_words 0). */
+    struct vx_compact_scene* attrs_from;
 } vx_compact_desc;
 vx_compact_desc vx_compact_desc_defaults(void);
 
@@ -214,6 +224,12 @@ vx_result vx_compact_build(const vx_compact_desc* desc, const vx_svo_scene* s, v
 vx_result vx_compact_build_reader(const vx_compact_desc* desc, vx_svo_model_reader* rd, vx_compact_scene* out,
                                   vx_error* err);
 void vx_compact_free(vx_compact_scene* c);
+/* Moves the attribute regions of `from` into `to`, a layout of the same
+ * models (each model's kind and cells checked; the same allocator) whose attributes have been
+ * moved out or were never built (desc.attrs_from): how a second build of the
+ * geometry takes or gives back the first one's attributes. `from` must hold
+ * them in regions (attr_regions). Nothing moves on failure. */
+vx_result vx_compact_move_attrs(vx_compact_scene* to, vx_compact_scene* from, vx_error* err);
 /* Joins the per-model attribute regions (vx_compact_desc.attr_regions) into
  * attr, freeing each as it is copied; nothing to do without them. */
 vx_result vx_compact_join_attrs(vx_compact_scene* c, vx_error* err);

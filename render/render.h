@@ -340,6 +340,14 @@ typedef struct vx_render_scene_desc {
      * the compact attribute words beyond it go to up to VX_COMPACT_ATTR_PARTS
      * buffers (render/compact.h; then the single-shader frame only) */
     uint64_t max_buffer_range;
+    /* vx_render_scene_create_compact: the caller made AUTO's brick choice
+     * for its layout already (vx_render_compact_auto_bricks, before the
+     * device existed), in file_passes passes over the file (for the layout's
+     * report); false: create_compact makes it (a second pass over the file
+     * there, after the device: a device idle through it lowers the H200's
+     * clock, docs/PERFORMANCE.md issue 18, branches load2 and rdr2) */
+    bool bricks_decided;
+    uint32_t file_passes;
 } vx_render_scene_desc;
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -356,9 +364,11 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, cons
  * model by model (vx_compact_build_reader): the host holds the layout and
  * the models in hand, not the scene (the 65536^3 helmet: 86 GiB read whole).
  * A compact layout over the memory budget is paged as create_ex pages it
- * (the pages are cut from the layout); AUTO's brick dictionary (a second
- * build from the models) is not tried. The plain layout reads the scene
- * whole first.
+ * (the pages are cut from the layout); with AUTO's bricks it is first built
+ * again with the brick dictionary from a second pass over the file
+ * (vx_svo_reader_rewind) and kept where its geometry is smaller, as
+ * create_ex keeps it (the host then holds both layouts and the models in
+ * hand, not the scene). The plain layout reads the scene whole first.
  * The reader is used up either way (finished on success); the graph
  * (vx_svo_reader_scene) then has its bounds and cells' boxes. */
 vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader, const vx_render_scene_desc* desc,
@@ -367,8 +377,10 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* reader
  * the compact layout from the reader itself (vx_compact_build_reader, with
  * attr_regions; before the device existed, say): the scene is in the
  * compact layout whatever desc->layout says, checked against desc's budget
- * as there, and `c` is taken (freed whatever the result). build_seconds
- * goes to the layout's report. */
+ * as there (AUTO's bricks too: a layout c in blocks over the budget is built
+ * again with the dictionary from a second pass over the reader's file, so
+ * the reader must be the one c was built from, finished), and `c` is taken
+ * (freed whatever the result). build_seconds goes to the layout's report. */
 struct vx_compact_scene;
 /* The layout vx_render_scene_create_ex (or _reader) takes for s on gpu: desc's,
  * or AUTO's choice from the models' declared counts (a reader's graph serves). */
@@ -377,6 +389,19 @@ vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, cons
 vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* reader, struct vx_compact_scene* c,
                                          double build_seconds, const vx_render_scene_desc* desc,
                                          vx_render_scene** out, vx_error* err);
+/* AUTO's brick choice for compact layout c built in blocks from reader rd
+ * (vx_compact_build_reader, finished): where c exceeds budget (and desc's
+ * bricks are AUTO), the layout built again with the brick dictionary from a
+ * second pass over the file (vx_svo_reader_rewind; the attributes moved, not
+ * built again) and kept where its geometry is smaller, as create_ex keeps it;
+ * *passes (may be NULL) the passes made. For a caller that builds before it
+ * makes the device (svo_render), then passes desc with bricks_decided to
+ * vx_render_scene_create_compact. */
+vx_result vx_render_compact_auto_bricks(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
+                                        struct vx_compact_scene* c, uint32_t* passes, vx_error* err);
+/* The memory budget AUTO compares with: desc's, else 3/4 of gpu's largest
+ * device-local heap (0 without either). */
+uint64_t vx_render_scene_budget(const vx_gpu* gpu, const vx_render_scene_desc* desc);
 typedef struct vx_render_layout_info {
     vx_render_layout layout; /* PLAIN or COMPACT: the one in use */
     uint64_t bytes;          /* its scene buffers (node words and records, or the compact geometry and attributes) */
@@ -387,6 +412,8 @@ typedef struct vx_render_layout_info {
     uint32_t page_level;
     uint64_t compact_bytes;  /* the compact layout unpaged (0: not built) */
     bool brick_dict;         /* the compact layout with its brick dictionary */
+    uint32_t file_passes;    /* built from a model reader: its passes over the file (2: AUTO's brick
+                                dictionary built in a second pass); 0: from a scene in memory */
     /* the compact attribute words' storage buffers: 1, or more where they
      * exceed one buffer's range (then the passes refuse the scene, as a paged
      * one; vx_render_frame traces it); 0 for the plain or paged layout */

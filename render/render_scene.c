@@ -1025,14 +1025,62 @@ static vx_result read_whole(vx_svo_model_reader* rd, const vx_allocator* a, vx_s
     return r;
 }
 
-/* The render scene of compact layout c, built from a reader whose graph is s
- * (c is freed whatever the result). Over the budget it is paged as create_ex
- * pages it: the pages are cut from the layout, not the models (the graph's
- * declared fields and cells' boxes are all they read of the models); AUTO's
- * brick dictionary, a second build from the models, is not tried. */
-static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+/* AUTO's bricks for a layout c built from reader rd in blocks: over the
+ * budget, the layout built again with the brick dictionary from a second pass
+ * over the file (vx_svo_reader_rewind), kept where its geometry is smaller,
+ * as create_ex keeps it. The host holds c, the second build's geometry (the
+ * attributes move over from c: one copy) and its models in hand, not the scene. A dictionary past its limit keeps c (create_ex's
+ * rule); any other failure of the second pass (the file cut or changed since
+ * the first) is the caller's error. */
+static vx_result auto_bricks_reader(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
+                                    vx_compact_scene* c, uint32_t* passes, vx_error* err) {
+    uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
+    if (desc && desc->bricks_decided) return VX_OK; /* the caller made AUTO's choice (vx_render_compact_auto_bricks) */
+    if (bricks != VX_RENDER_BRICKS_AUTO || c->brick_dict || 4ull * c->geom_words + 4ull * c->attr_words <= budget)
+        return VX_OK;
+    vx_result r = vx_svo_reader_rewind(rd, err);
+    if (r) return r;
+    *passes = 2;
+    vx_compact_scene cdict = {0};
+    /* the geometry only: the attributes (the same words in either form) move over from c, one copy on the host */
+    bool move = !c->attr;
+    vx_compact_desc cd = {.alloc = &c->alloc, .attr_regions = true, .bricks = VX_COMPACT_BRICKS_DICT, .attrs_from = move ? c : NULL};
+    vx_error derr = {0};
+    r = vx_compact_build_reader(&cd, rd, &cdict, &derr);
+    if (r == VX_ERR_LIMIT) return VX_OK; /* the layout in blocks stays (nothing was moved) */
+    if (r) {
+        if (err) *err = derr;
+        return r;
+    }
+    cdict.stats.geom_seconds += c->stats.geom_seconds; /* both passes' times, for -v */
+    cdict.stats.attr_seconds += c->stats.attr_seconds;
+    if (cdict.geom_words < c->geom_words) {
+        vx_compact_free(c);
+        *c = cdict;
+        return VX_OK;
+    }
+    r = move ? vx_compact_move_attrs(c, &cdict, err) : VX_OK; /* the attributes back to the layout in blocks */
+    vx_compact_free(&cdict);
+    return r;
+}
+
+/* The render scene of compact layout c, built from reader rd whose graph is s
+ * (c is freed whatever the result). AUTO's bricks as create_ex's: over the
+ * budget, a second build with the brick dictionary from a second pass over
+ * the file. Over the budget it is paged as create_ex pages it: the pages are
+ * cut from the layout, not the models (the graph's declared fields and
+ * cells' boxes are all they read of the models). */
+static vx_result from_built(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                             const vx_render_layout_info* li, uint64_t range, uint32_t max_depth, vx_compact_scene* c,
                             double build_seconds, vx_render_scene** out, vx_error* err) {
+    double t0 = vx_time_now();
+    uint32_t passes = desc && desc->bricks_decided && desc->file_passes ? desc->file_passes : 1;
+    vx_result r = auto_bricks_reader(rd, desc, li->budget, c, &passes, err);
+    if (r) {
+        vx_compact_free(c);
+        return r;
+    }
+    if (passes > 1) build_seconds += vx_time_now() - t0; /* the second build's time too */
     double t1 = vx_time_now();
     vx_render_scene* rs = new_scene(gpu, s, li, range, max_depth);
     if (!rs) {
@@ -1041,7 +1089,8 @@ static vx_result from_built(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_
     }
     rs->smap_state = SMAP_NEVER;
     note_compact_build(rs, c, build_seconds);
-    vx_result r = prepare_models(rs, s, false, err);
+    rs->layout.file_passes = passes;
+    r = prepare_models(rs, s, false, err);
     if (!r) r = prepare_instances(rs, s, err);
     if (!r) r = upload_compact(rs, s, c, desc, li->budget, max_depth, err);
     else vx_compact_free(c);
@@ -1079,7 +1128,22 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
                           .bricks = bricks == VX_RENDER_BRICKS_DICT ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
     double t0 = vx_time_now();
     if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
-    return from_built(gpu, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+    return from_built(gpu, rd, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+}
+
+vx_result vx_render_compact_auto_bricks(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,
+                                        vx_compact_scene* c, uint32_t* passes, vx_error* err) {
+    if (!rd || !c) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    uint32_t n = 1;
+    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
+    d.bricks_decided = false;
+    vx_result r = auto_bricks_reader(rd, &d, budget, c, &n, err);
+    if (passes) *passes = n;
+    return r;
+}
+
+uint64_t vx_render_scene_budget(const vx_gpu* gpu, const vx_render_scene_desc* desc) {
+    return desc && desc->memory_budget ? desc->memory_budget : gpu ? default_budget(gpu) : 0;
 }
 
 vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
@@ -1112,7 +1176,7 @@ vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* rd, v
         vx_compact_free(c);
         return r;
     }
-    return from_built(gpu, s, &d, &li, range, max_depth, c, build_seconds, out, err);
+    return from_built(gpu, rd, s, &d, &li, range, max_depth, c, build_seconds, out, err);
 }
 
 void vx_render_scene_layout(const vx_render_scene* rs, vx_render_layout_info* out) {

@@ -277,7 +277,10 @@ vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_byt
     fclose(f);
     if (got != n || bad) {
         vx_free(a, d);
-        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "read error");
+        if (bad) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "read error");
+        /* a short read without an error: another process cut the file after its size was taken */
+        return vx_fail(err, VX_ERR_TRUNCATED, got, "the file ends at byte %zu, it had %zu bytes when opened (cut short while it was read)",
+                       got, n);
     }
     *out_data = d;
     *out_size = n;

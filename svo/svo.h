@@ -645,6 +645,17 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
 /* After every model was handed over: the NODE section ends after the last
  * stream and its CRC matches, and the scene's computed bounds are set. */
 vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err);
+/* A second pass over the file (and a third ...), for a consumer that needs
+ * the models again without holding them (the compact layout built again with
+ * the brick dictionary: render/render.h, vx_render_scene_create_compact):
+ * after finish succeeded, next hands the models over again from model 0,
+ * each read from the file again (pread), decoded and validated, and finish
+ * checks the NODE section again. A model that differs from the first pass's
+ * (its digest or its cells' box: the file was changed between the passes)
+ * fails next (VX_ERR_BAD_FORMAT, naming the file and the model). Refused
+ * (VX_ERR_INVALID_ARG) before finish succeeded, after an error, or while a
+ * call decodes. The graph (bounds, checks) stays the first pass's. */
+vx_result vx_svo_reader_rewind(vx_svo_model_reader* r, vx_error* err);
 /* A copy of the graph as it is now (models without arrays, their checks and
  * the bounds as far as read), allocated with alloc and owned by the caller
  * (vx_svo_scene_free): for code that keeps the scene graph past the reader,

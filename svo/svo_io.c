@@ -1059,6 +1059,8 @@ struct vx_svo_model_reader {
     bool failed;   /* a model or the stream table failed: nothing more is handed over */
     uint32_t done; /* models decoded and validated */
     unsigned active; /* calls decoding now (they share the CPUs) */
+    bool finished;   /* finish succeeded on this pass: a rewind may start the next */
+    uint32_t pass;   /* 0, then 1, 2 ... after each vx_svo_reader_rewind */
 };
 
 static void reader_free(vx_svo_model_reader* r) {
@@ -1291,6 +1293,19 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
         m.check.digest = vx_svo_model_digest(&m);
         memcpy(m.check.min, ext.min, sizeof ext.min);
         memcpy(m.check.max, ext.max, sizeof ext.max);
+        /* a later pass (vx_svo_reader_rewind) hands over the models the first
+         * pass validated, or fails: a consumer that builds from both passes
+         * (the compact layout's second build) must not mix two files */
+        const vx_svo_model_check* was = &r->s.models[mi].check;
+        if (r->pass && (was->digest != m.check.digest || memcmp(was->min, m.check.min, sizeof was->min) ||
+                        memcmp(was->max, m.check.max, sizeof was->max))) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, stream_at,
+                          "svo: model %u is not the model the first pass read (digest %08x, was %08x): the file "
+                          "changed between the passes",
+                          mi, (unsigned)m.check.digest, (unsigned)was->digest);
+        }
+    }
+    if (res == VX_OK) {
         r->s.models[mi].check = m.check; /* the graph's copy: its cells' box, for the caller */
         r->ext[mi] = ext;
     } else {
@@ -1330,6 +1345,26 @@ vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err) {
         return res;
     }
     if (r->bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&r->s, r->ext, r->s.bounds_min, r->s.bounds_max);
+    pthread_mutex_lock(&r->lock);
+    r->finished = true;
+    pthread_mutex_unlock(&r->lock);
+    return VX_OK;
+}
+
+vx_result vx_svo_reader_rewind(vx_svo_model_reader* r, vx_error* err) {
+    if (!r) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    pthread_mutex_lock(&r->lock);
+    bool ok = r->finished && !r->failed && r->active == 0;
+    if (ok) {
+        /* the stream table from its start; the NODE CRC summed again */
+        r->pos = 0, r->next = 0, r->crc = 0, r->done = 0;
+        r->finished = false;
+        r->pass++;
+    }
+    pthread_mutex_unlock(&r->lock);
+    if (!ok)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the model reader rewinds only after a pass that finish accepted",
+                       r->path);
     return VX_OK;
 }
 

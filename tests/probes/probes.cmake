@@ -2,6 +2,9 @@
 # determinism, shards), the .probes reader, probe GI against the path tracer.
 if(VX_WITH_VULKAN)
   vx_add_test(test_probes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes.c LIBS vx_probes vx_render vx_svo LABELS probes)
+  # the placement from a model reader against vx_probe_place of the scene read whole (issue 18)
+  vx_add_test(test_probe_place_reader SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probe_place_reader.c
+              LIBS vx_probes vx_render vx_svo LABELS probes)
   vx_add_test(test_probes_gpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_probes_gpu.c
               LIBS vx_probes vx_render vx_convert vx_formats vx_svo ${CMAKE_DL_LIBS}
               LABELS probes)

@@ -90,6 +90,50 @@ static void check_same(const vx_compact_scene* c, const vx_compact_scene* one, c
     CHECK(!memcmp(c->palette, one->palette, sizeof c->palette));
 }
 
+/* A second and third pass over the file (vx_svo_reader_rewind), as AUTO's
+ * brick dictionary takes them (render_scene.c): the dictionary's geometry
+ * built with the first layout's attributes moved over (desc.attrs_from) is
+ * word for word vx_compact_build's dictionary of the scene read whole; the
+ * attributes move back and forth (vx_compact_move_attrs); a layout without
+ * attributes left, or joined ones, gives none (refused, nothing moved). */
+static void check_passes(const char* path, const vx_svo_scene* whole, const char* name) {
+    vx_error err = {0};
+    vx_compact_scene one_i, one_d, c, c2, c3;
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.threads = 1}, whole, &one_i, &err) == VX_OK);
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.threads = 1, .bricks = VX_COMPACT_BRICKS_DICT}, whole, &one_d, &err) == VX_OK);
+    vx_svo_model_reader* rd = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.threads = 2, .attr_regions = true}, rd, &c, &err) == VX_OK);
+    CHECKF(vx_svo_reader_rewind(rd, &err) == VX_OK, "%s: %s", name, err.msg);
+    vx_compact_desc dd = {.threads = 3, .bricks = VX_COMPACT_BRICKS_DICT, .attr_regions = true, .attrs_from = &c};
+    vx_result r = vx_compact_build_reader(&dd, rd, &c2, &err);
+    CHECKF(r == VX_OK, "%s, second pass: %s", name, err.msg);
+    if (r == VX_OK) {
+        CHECKF(c.attr_words == 0 && !c.attr_region && c2.attr_words == one_d.attr_words, "%s: %u attribute words left, %u moved",
+               name, c.attr_words, c2.attr_words);
+        CHECK(vx_compact_move_attrs(&c, &c2, &err) == VX_OK && c.attr_words == one_i.attr_words && !c2.attr_words);
+        CHECK(vx_compact_move_attrs(&c, &c2, &err) == (one_i.attr_words ? VX_ERR_INVALID_ARG : VX_OK));
+        CHECK(vx_compact_move_attrs(&c2, &c, &err) == VX_OK && c2.attr_words == one_d.attr_words && !c.attr_words);
+        CHECK(vx_compact_join_attrs(&c2, &err) == VX_OK);
+        check_same(&c2, &one_d, name, "the dictionary from a second pass, the attributes moved");
+        CHECKF(c.geom_words == one_i.geom_words && (!one_i.geom_words || !memcmp(c.geom, one_i.geom, (size_t)one_i.geom_words * 4)),
+               "%s: the first pass's geometry", name);
+        /* a third pass, attrs_from without attributes (moved away) or joined: refused */
+        CHECK(vx_svo_reader_rewind(rd, &err) == VX_OK);
+        dd.attrs_from = one_i.attr_words ? &c : &c2;
+        if (!one_i.attr_words) CHECK(vx_compact_join_attrs(&c2, &err) == VX_OK);
+        r = vx_compact_build_reader(&dd, rd, &c3, &err);
+        CHECKF(r == (one_i.attr_words || c2.attr ? VX_ERR_INVALID_ARG : VX_OK), "%s, third pass: %d %s", name, (int)r, err.msg);
+        if (r == VX_OK) vx_compact_free(&c3);
+        vx_compact_free(&c2);
+    }
+    CHECK(vx_compact_build(&(vx_compact_desc){.attrs_from = &c}, whole, &c3, &err) == VX_ERR_INVALID_ARG); /* not from a reader */
+    vx_compact_free(&c);
+    vx_svo_reader_close(rd);
+    vx_compact_free(&one_i);
+    vx_compact_free(&one_d);
+}
+
 /* vx_compact_build_reader of the file against vx_compact_build of the scene
  * read whole, on every thread count and merge. */
 static void check_file(const char* path, const char* name) {
@@ -129,6 +173,7 @@ static void check_file(const char* path, const char* name) {
         vx_svo_reader_close(rd);
         vx_compact_free(&one);
     }
+    check_passes(path, &whole, name);
     vx_svo_scene_free(&whole);
 }
 

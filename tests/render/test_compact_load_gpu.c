@@ -8,7 +8,8 @@
  * damaged model names the file. The layout built from the
  * reader before the device (vx_render_scene_create_compact, as svo_render
  * --load models does) renders the same frames; vx_render_scene_choose_layout
- * answers what create_ex picks. Lavapipe in CI. */
+ * answers what create_ex picks. AUTO's brick dictionary from a second pass
+ * over the file (vx_svo_reader_rewind): create_ex's layout and frames. Lavapipe in CI. */
 #define _POSIX_C_SOURCE 200809L
 #include <dlfcn.h>
 #include <stdio.h>
@@ -62,7 +63,9 @@ static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const
 
 /* A paged (or over-budget whole) scene from the reader against create_ex's: the same layout report, and
  * frame after frame the same images and page counts until the view's pages are resident. */
-static void paged_same(vx_render_scene* ra, vx_render_scene* rb, bool want_pages) {
+static void paged_same_view(vx_render_scene* ra, vx_render_scene* rb, bool want_pages, const vx_render_camera* cam);
+static void paged_same(vx_render_scene* ra, vx_render_scene* rb, bool want_pages) { paged_same_view(ra, rb, want_pages, NULL); }
+static void paged_same_view(vx_render_scene* ra, vx_render_scene* rb, bool want_pages, const vx_render_camera* cam) {
     vx_render_layout_info la, lb;
     vx_render_scene_layout(ra, &la);
     vx_render_scene_layout(rb, &lb);
@@ -72,6 +75,7 @@ static void paged_same(vx_render_scene* ra, vx_render_scene* rb, bool want_pages
     CHECKF(want_pages ? la.pages > 1 : la.pages == 0 && la.bytes > la.budget, "%u pages, %llu bytes of %llu", la.pages,
            (unsigned long long)la.bytes, (unsigned long long)la.budget);
     vx_render_desc d = {.width = 80, .height = 60, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+    if (cam) d.camera = *cam;
     vx_error err = {0};
     int f = 0;
     for (; f < 24; f++) {
@@ -285,6 +289,162 @@ static void test_built_first(void) {
     vx_svo_scene_free(&whole);
 }
 
+/* Models whose 4^3 bricks repeat under parents that do not: each brick of a
+ * 32^3 model is empty or one of three fixed patterns, chosen per brick by a
+ * hash, so the DAG shares few subtrees above the bricks and the brick
+ * dictionary (render/compact.h) holds three bricks for all of them. */
+static void make_bricky(vx_svo_scene* s, uint32_t nm) {
+    vx_svo_model* m = calloc(nm, sizeof *m);
+    vx_svo_instance* in = calloc(nm, sizeof *in);
+    uint32_t* xyz = malloc(32768 * 12);
+    uint8_t* pal = malloc(32768);
+    for (uint32_t i = 0; i < nm; i++) {
+        size_t n = 0;
+        for (uint32_t z = 0; z < 32; z++)
+            for (uint32_t y = 0; y < 32; y++)
+                for (uint32_t x = 0; x < 32; x++) {
+                    uint32_t h = ((x >> 2) * 73856093u) ^ ((y >> 2) * 19349663u) ^ ((z >> 2) * 83492791u) ^ (i * 2654435761u);
+                    uint32_t kind = (h >> 7) % 4, c = (x & 3) + 4 * (y & 3) + 16 * (z & 3);
+                    bool set = kind == 1 ? c % 3 == 0 : kind == 2 ? (c * 37u) % 64 < 20 : kind == 3 ? (x & 3) == (y & 3) : false;
+                    if (!set) continue;
+                    xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
+                    pal[n++] = (uint8_t)(1 + (x / 8 + y / 8 + z / 8 + i) % 9);
+                }
+        uint32_t size[3] = {32, 32, 32};
+        REQUIRE(ts_model(&m[i], size, xyz, pal, n) == VX_OK);
+        in[i] = ts_inst(i, NULL, 40.0 * (i % 3), 40.0 * (i / 3), 0);
+    }
+    ts_scene(s, m, nm, in, nm);
+    free(m), free(in), free(xyz), free(pal);
+}
+
+/* AUTO's bricks from a reader (a second pass over the file, vx_svo_reader_rewind): over the budget the
+ * layout is built again with the brick dictionary and kept where its geometry is smaller, as create_ex
+ * keeps it from the scene read whole: the same layout report (dictionary, bytes, pages) and the same frames
+ * through create_reader and through create_compact (the layout in blocks built before the device, as
+ * svo_render builds it), whole where the dictionary fits the budget and paged where it does not (frames
+ * converge as create_ex's). A file cut after the first pass fails the second, naming the file. */
+static void test_auto_bricks(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    make_bricky(&s, 6);
+    vx_error err = {0};
+    char path[128];
+    snprintf(path, sizeof path, "%s/bricky.svo", g_dir);
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_svo_scene whole;
+    REQUIRE(vx_svo_read_file(NULL, path, &whole, &err) == VX_OK);
+    vx_compact_scene ci, cdict;
+    REQUIRE(vx_compact_build(&(vx_compact_desc){0}, &whole, &ci, &err) == VX_OK);
+    REQUIRE(vx_compact_build(&(vx_compact_desc){.bricks = VX_COMPACT_BRICKS_DICT}, &whole, &cdict, &err) == VX_OK);
+    uint64_t bi = 4ull * (ci.geom_words + ci.attr_words), bd = 4ull * (cdict.geom_words + cdict.attr_words);
+    CHECKF(cdict.geom_words < ci.geom_words && bd < bi, "the dictionary: %u geometry words against %u", cdict.geom_words,
+           ci.geom_words);
+    vx_compact_free(&ci), vx_compact_free(&cdict);
+    /* between the two: the dictionary whole; under both: paged; over both: the blocks (no second pass) */
+    uint64_t budgets[3] = {(bi + bd) / 2, bd * 9 / 10, bi + 1};
+    for (int k = 0; k < 3; k++) {
+        vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = budgets[k], .page_level = 4};
+        vx_render_scene *ra = NULL, *rb = NULL, *rc = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &whole, &sd, &ra, &err) == VX_OK);
+        vx_svo_model_reader* rd = NULL;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        vx_result r = vx_render_scene_create_reader(gpu, rd, &sd, &rb, &err);
+        CHECKF(r == VX_OK, "budget %llu: %s", (unsigned long long)budgets[k], err.msg);
+        vx_svo_reader_close(rd);
+        vx_compact_scene c;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+        vx_result r2 = vx_render_scene_create_compact(gpu, rd, &c, 0, &sd, &rc, &err);
+        CHECKF(r2 == VX_OK, "budget %llu, built first: %s", (unsigned long long)budgets[k], err.msg);
+        vx_svo_reader_close(rd);
+        /* AUTO's choice made before the device (vx_render_compact_auto_bricks, as svo_render makes it), then
+         * create_compact told so (bricks_decided): the same layout and frames, no third pass */
+        vx_render_scene* rd3 = NULL;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+        uint32_t passes = 0;
+        vx_result r3 = vx_render_compact_auto_bricks(rd, &sd, vx_render_scene_budget(gpu, &sd), &c, &passes, &err);
+        CHECKF(r3 == VX_OK && passes == (k == 2 ? 1u : 2u), "budget %d, decided first: %u passes, %s", k, passes, err.msg);
+        vx_render_scene_desc sdd = sd;
+        sdd.bricks_decided = true, sdd.file_passes = passes;
+        if (r3 == VX_OK) r3 = vx_render_scene_create_compact(gpu, rd, &c, 0, &sdd, &rd3, &err);
+        else vx_compact_free(&c);
+        CHECKF(r3 == VX_OK, "budget %d, decided first: %s", k, err.msg);
+        vx_svo_reader_close(rd);
+        vx_render_layout_info la, lb, lc, ld = {0};
+        vx_render_scene_layout(ra, &la);
+        vx_render_scene_layout(rb, &lb);
+        vx_render_scene_layout(rc, &lc);
+        vx_render_scene_layout(rd3, &ld);
+        CHECKF(!r3 && ld.brick_dict == la.brick_dict && ld.compact_bytes == la.compact_bytes && ld.bytes == la.bytes &&
+                   ld.pages == la.pages && ld.file_passes == passes,
+               "budget %d, decided first: dictionary %d, %llu bytes, %u passes", k, (int)ld.brick_dict,
+               (unsigned long long)ld.bytes, ld.file_passes);
+        if (!r3 && k != 1) {
+            vx_render_desc d = {.width = 80, .height = 60, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+            vx_render_image a = {0}, b = {0};
+            REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rd3, &d, &b, &err) == VX_OK);
+            CHECKF(differ(&a, &b, "auto bricks, decided first") == 0, "budget %d: the frames differ", k);
+            vx_render_image_free(&a), vx_render_image_free(&b);
+        }
+        vx_render_scene_destroy(rd3);
+        CHECKF(la.brick_dict == (k == 0) && la.pages == (k == 1 ? la.pages : 0) && (k != 1 || la.pages > 1),
+               "budget %d: create_ex's layout: dictionary %d, %u pages", k, (int)la.brick_dict, la.pages);
+        CHECKF(!r && lb.brick_dict == la.brick_dict && lb.compact_bytes == la.compact_bytes && lb.geom_bytes == la.geom_bytes &&
+                   lb.bytes == la.bytes && lb.pages == la.pages,
+               "budget %d: from the reader: dictionary %d, %llu bytes, %u pages against %d, %llu, %u", k, (int)lb.brick_dict,
+               (unsigned long long)lb.bytes, lb.pages, (int)la.brick_dict, (unsigned long long)la.bytes, la.pages);
+        CHECKF(!r2 && lc.brick_dict == la.brick_dict && lc.compact_bytes == la.compact_bytes && lc.bytes == la.bytes &&
+                   lc.pages == la.pages,
+               "budget %d: built first: dictionary %d, %llu bytes against %d, %llu", k, (int)lc.brick_dict,
+               (unsigned long long)lc.bytes, (int)la.brick_dict, (unsigned long long)la.bytes);
+        CHECKF(lb.file_passes == (k == 2 ? 1u : 2u) && lc.file_passes == lb.file_passes, "budget %d: %u and %u passes", k,
+               lb.file_passes, lc.file_passes);
+        if (!r && !r2 && k == 1) {
+            /* the pages keep their bricks in blocks: the pool holds the view of one model, not the scene */
+            vx_render_camera cam = {.set = true, .fov = 30, .eye = {16, -30, 60}, .target = {16, 16, 0}};
+            paged_same_view(ra, rb, true, &cam);
+            vx_render_scene_destroy(ra);
+            ra = NULL;
+            REQUIRE(vx_render_scene_create_ex(gpu, &whole, &sd, &ra, &err) == VX_OK);
+            paged_same_view(ra, rc, true, &cam);
+        } else if (!r && !r2) {
+            for (int view = 0; view < 2; view++) {
+                vx_render_desc d = {.width = 80, .height = 60, .mode = view ? VX_RENDER_COLOR : VX_RENDER_ALBEDO,
+                                    .want_hits = true};
+                vx_render_image a = {0}, b = {0}, c2 = {0};
+                REQUIRE(vx_render_frame(ra, &d, &a, &err) == VX_OK);
+                REQUIRE(vx_render_frame(rb, &d, &b, &err) == VX_OK);
+                REQUIRE(vx_render_frame(rc, &d, &c2, &err) == VX_OK);
+                uint32_t hit = 0;
+                for (uint32_t i = 0; i < a.width * a.height; i++) hit += a.hits[i].instance != VX_RENDER_NO_HIT;
+                CHECKF(hit > a.width * a.height / 10, "view %d: %u pixels hit", view, hit);
+                CHECKF(differ(&a, &b, "auto bricks, reader") == 0 && differ(&a, &c2, "auto bricks, built first") == 0,
+                       "budget %d view %d: the frames differ", k, view);
+                vx_render_image_free(&a), vx_render_image_free(&b), vx_render_image_free(&c2);
+            }
+        }
+        vx_render_scene_destroy(ra);
+        vx_render_scene_destroy(rb);
+        vx_render_scene_destroy(rc);
+    }
+    /* the file cut after the first pass: the second fails, naming the file; nothing is left (ASan) */
+    vx_svo_model_reader* rd = NULL;
+    vx_compact_scene c;
+    vx_render_scene* rs = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &c, &err) == VX_OK);
+    REQUIRE(truncate(path, 300) == 0);
+    vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = (bi + bd) / 2};
+    vx_result r = vx_render_scene_create_compact(gpu, rd, &c, 0, &sd, &rs, &err);
+    CHECKF(r == VX_ERR_TRUNCATED && !rs && strstr(err.msg, path), "%d: %s", (int)r, err.msg);
+    vx_svo_reader_close(rd);
+    vx_svo_scene_free(&whole);
+}
+
 /* VX_GPU_MEMORY_LOG=1: the device's memory types and each buffer's allocation reach the logger (how batch 1 of
  * branch load2 compared the two paths' buffers on the H200); without it, nothing. */
 typedef struct mem_lines {
@@ -330,6 +490,7 @@ int main(void) {
     RUN(test_same_frames);
     RUN(test_damaged);
     RUN(test_built_first);
+    RUN(test_auto_bricks);
     RUN(test_memory_log);
     vx_gpu_destroy(gpu);
     char cmd[128];

@@ -13,3 +13,4 @@ vx_add_fuzz(svo_reader_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_reader_fuzz.c LIB
 vx_add_test(svo_pack SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_pack.c LIBS vx_svo LABELS svo)
 vx_add_test(svo_light SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_light.c LIBS vx_svo LABELS svo)
 vx_add_test(svo_edit SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_edit.c LIBS vx_svo LABELS svo)
+vx_add_test(svo_reader_rewind SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_reader_rewind.c LIBS vx_svo LABELS svo)

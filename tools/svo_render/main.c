@@ -1015,17 +1015,25 @@ int main(int argc, char** argv) {
          * left idle for the seconds a build takes ran every later frame 4.7x slower on the H200 (0.6 ms
          * against 2.8, the sphere at 8192 in 3,944 regions; the same after --load whole with the device
          * idle 3 s: docs/PERFORMANCE.md, issue 18, branch load2). AUTO's choice needs the device's memory:
-         * a first device answers it and is closed before the build (or the read, where AUTO is plain). */
+         * a first device answers it and is closed before the build (or the read, where AUTO is plain), and
+         * gives the budget AUTO's bricks compare with: over it, the dictionary's second pass over the file
+         * runs here too, before the device (after it, the H200's clock fell to 345 MHz for the frames:
+         * 3.35 ms against 0.68, branch rdr2's batch 1) */
         vx_compact_scene built;
         bool have_built = false;
         double built_s = 0, tb = vx_time_now();
         r = VX_OK;
         vx_gpu_desc gd = {.device = o.device, .validate = o.validate, .logger = &logger};
+        vx_render_scene_desc sdesc = o.scene_desc; /* for create_compact: AUTO's bricks decided here */
         if (rd) {
             vx_render_layout lay = o.scene_desc.layout;
-            if (lay == VX_RENDER_LAYOUT_AUTO) {
+            bool auto_bricks = o.scene_desc.compact_bricks == VX_RENDER_BRICKS_AUTO;
+            uint64_t budget = o.scene_desc.memory_budget;
+            if (lay == VX_RENDER_LAYOUT_AUTO || (auto_bricks && !budget && lay == VX_RENDER_LAYOUT_COMPACT)) {
                 r = vx_gpu_create(&gd, &gpu, &err);
-                if (!r) r = vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &o.scene_desc, &lay, &err);
+                if (!r && lay == VX_RENDER_LAYOUT_AUTO)
+                    r = vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &o.scene_desc, &lay, &err);
+                if (!r) budget = vx_render_scene_budget(gpu, &o.scene_desc);
                 vx_gpu_destroy(gpu);
                 gpu = NULL;
             }
@@ -1035,7 +1043,14 @@ int main(int argc, char** argv) {
                                                     ? VX_COMPACT_BRICKS_DICT
                                                     : VX_COMPACT_BRICKS_INLINE};
                 r = vx_compact_build_reader(&cd, rd, &built, &err);
-                have_built = !r, built_s = vx_time_now() - tb;
+                have_built = !r;
+                uint32_t passes = 1;
+                if (!r && auto_bricks) {
+                    r = vx_render_compact_auto_bricks(rd, &o.scene_desc, budget, &built, &passes, &err);
+                    if (r) vx_compact_free(&built), have_built = false; /* the second pass failed: nothing built */
+                }
+                sdesc.bricks_decided = true, sdesc.file_passes = passes;
+                built_s = vx_time_now() - tb;
             } else if (!r) { /* plain: the scene whole, read before the device as --load whole reads it */
                 vx_svo_reader_close(rd);
                 rd = NULL;
@@ -1055,7 +1070,7 @@ int main(int argc, char** argv) {
             /* the whole animation: its models, and a camera that frames every frame */
             double t1 = have_built ? tb : vx_time_now();
             if (rd) {
-                r = have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &o.scene_desc, &rs, &err)
+                r = have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &sdesc, &rs, &err)
                                : vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
                 if (!r) { /* the bounds (where the reader computes them) and the cells' boxes, known now */
                     const vx_svo_scene* g = vx_svo_reader_scene(rd);
@@ -1082,11 +1097,13 @@ int main(int argc, char** argv) {
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
             if (li.compact_bytes && by_models)
-                printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s (the "
+                printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s%s (the "
                        "models read, their geometry and attributes on %u threads %.3f s, the regions placed %.3f s), "
                        "tables and upload %.3f s\n",
-                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_threads,
-                       li.geom_seconds, li.attr_seconds, li.upload_seconds);
+                       li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds,
+                       li.file_passes > 1 ? ", two passes over the file (over the budget: built again with the brick dictionary)"
+                                          : "",
+                       li.geom_threads, li.geom_seconds, li.attr_seconds, li.upload_seconds);
             else if (li.compact_bytes)
                 printf("compact: geometry %.3f MB, attributes %.3f MB; built in %.3f s (geometry %.3f s on %u threads, "
                        "attributes %.3f s), tables and upload %.3f s\n",
@@ -1174,7 +1191,7 @@ int main(int argc, char** argv) {
     }
     vx_probe_set_free(&probes);
     if (r) {
-        fprintf(stderr, "%s: %s: %s\n", prog, o.in, err.msg);
+        vx_tool_error_budget(o.in, &err, &budget); /* the file once: the model reader's errors name it already */
         vx_render_scene_destroy(rs);
         vx_gpu_destroy(gpu);
         vx_svo_scene_free(&owned), vx_svo_reader_close(rd);
