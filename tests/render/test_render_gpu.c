@@ -377,7 +377,8 @@ static void deep_views(const uint32_t base[3], uint32_t side, uint32_t w, uint32
 
 /* Octrees 17, 20 and 21 levels deep (above VX_RENDER_PRECISE_DEPTH: the
  * float64 variant) under the strict rule, on deep_views(). The float
- * variant is rendered too, for the record (printed, not asserted). */
+ * variant is rendered too, for the record (per view printed, not asserted;
+ * over all views at most 2% of the pixels off the reference). */
 static void test_deep_octrees(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     const uint32_t depths[] = {17, 20, 21};
@@ -415,6 +416,10 @@ static void test_deep_octrees(void) {
     }
     printf("deep octrees, strict rule: float64 variant %zu of %zu pixels differ, float variant %zu of %zu\n", pr_bad,
            pr_px, fl_bad, fl_px);
+    /* The float variant past its depth misses single cells (0.5% of these pixels on lavapipe and the H200, the far
+     * views most), not whole views: a walk that loses its stack does (25% with the rebased walk's ladder of
+     * selects sized for 16 levels, issue 21's eighteenth sitting) */
+    CHECKF(fl_bad <= fl_px / 50, "float variant: %zu of %zu pixels differ from the reference", fl_bad, fl_px);
 }
 
 /* The float variant up to VX_RENDER_PRECISE_DEPTH (issue 18, "exact at every
