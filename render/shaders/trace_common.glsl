@@ -356,27 +356,42 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 #ifdef TRACE_STACK_SELECTS
 // The walk's stack as a ladder of selects (trace.comp, float variant): on CPU
 // devices (NODES_FILE) every access to stk_node is at a constant index, so
-// the compiler keeps the array in registers. The ladder covers the indices the
-// scene's models push: DEEP 0 (depth <= VX_RENDER_EXACT_DEPTH 8) scales
-// S_MAX - 7 to S_MAX - 1; DEEP 1 (<= VX_RENDER_REBASE_DEPTH 10) S_MAX - 9 up;
-// the exact models' slots 0-5 are at constant indices. lavapipe (Mesa 22.3)
-// writes a per-lane index of an array in memory lane by lane, each lane a
-// load, a select that LLVM makes a branch on the lane's mask, and a store, and
-// reads it lane by lane: on an AVX2 CPU a third of the depth kernel's time.
-// The ladder (DEEP 0: 7 selects a push, 6 a pop) cost 1.5-1.8x fewer CPU
-// seconds a ray on an AVX2 CPU, 1.02-1.22x with AVX-512 (masked stores)
-// (issue 21, seventeenth sitting). GPUs (NODES_FILE false) keep the array in
-// memory. test_render_gpu's test_stack_levels fails with a ladder one level
-// short. Not in the rebased walk (DEEP 2): a ladder there over S_MAX - 15 up
-// (models of up to 16 levels; 1.7-1.9x on terrain4096 on lavapipe) lost pixels
-// on the H200 with the file's form (VX_GPU_NODE_FORM=file) on the float
-// variant's models of 17-21 levels (test_render_gpu's test_deep_octrees: the
-// walk from the root missed where the beam's start hit; the float variant is
-// forced there, and devices without float64 run it), which lavapipe's run of
-// the same test did not show (coordinator, stop 47).
-const bool STK_REG = NODES_FILE && DEEP <= 1;
-const int STK_LO = S_MAX - (DEEP == 0 ? 7 : 9);
+// the compiler keeps the array in registers. The ladder covers every index
+// the walk can push: a model of depth D pushes at S_MAX - D + 1 to S_MAX - 1,
+// in the rebased walk too (a depth-k frame's entries sit k below their frame
+// scale, i.e. at the model frame's); so DEEP 0 (depth <= VX_RENDER_EXACT_DEPTH
+// 8) from S_MAX - 7, DEEP 1 (<= VX_RENDER_REBASE_DEPTH 10) from S_MAX - 9, and
+// DEEP 2 from S_MAX - 20, for VX_RENDER_MAX_DEPTH 21: the float variant traces
+// models past VX_RENDER_PRECISE_DEPTH 16 where it is forced
+// (vx__render_scene_force_precise, render_bench --variant float). A DEEP 2
+// ladder sized for 16 levels (S_MAX - 15 up) dropped the pushes of models of
+// 17-21 levels and popped to the wrong nodes, on lavapipe too (test_deep_octrees'
+// float record 381 -> 17141 of 69120 pixels off the reference, not asserted;
+// the H200 with VX_GPU_NODE_FORM=file showed it as beam-against-none
+// differences) (issue 21, eighteenth sitting). The exact models' slots 0-5
+// (DEEP 1) and the rebased walk's past S_MAX are at constant indices.
+// lavapipe (Mesa 22.3) writes a per-lane index of an array in memory lane by
+// lane, each lane a load, a select that LLVM makes a branch on the lane's
+// mask, and a store, and reads it lane by lane: on an AVX2 CPU a third of the
+// depth kernel's time. The ladder (DEEP 0: 7 selects a push, 6 a pop) cost
+// 1.5-1.8x fewer CPU seconds a ray on an AVX2 CPU, 1.02-1.22x with AVX-512
+// (masked stores) (issue 21, seventeenth sitting). GPUs (NODES_FILE false)
+// keep the array in memory. test_render_gpu's test_stack_levels (depths 7 to
+// 21) fails with a ladder one level short.
+const bool STK_REG = NODES_FILE;
+const int STK_LO = S_MAX - (DEEP == 0 ? 7 : DEEP == 1 ? 9 : 20);
 #define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
+    if (3 >= STK_LO) stk_node[3] = s_ == 3 ? v_ : stk_node[3]; \
+    if (4 >= STK_LO) stk_node[4] = s_ == 4 ? v_ : stk_node[4]; \
+    if (5 >= STK_LO) stk_node[5] = s_ == 5 ? v_ : stk_node[5]; \
+    if (6 >= STK_LO) stk_node[6] = s_ == 6 ? v_ : stk_node[6]; \
+    if (7 >= STK_LO) stk_node[7] = s_ == 7 ? v_ : stk_node[7]; \
+    if (8 >= STK_LO) stk_node[8] = s_ == 8 ? v_ : stk_node[8]; \
+    if (9 >= STK_LO) stk_node[9] = s_ == 9 ? v_ : stk_node[9]; \
+    if (10 >= STK_LO) stk_node[10] = s_ == 10 ? v_ : stk_node[10]; \
+    if (11 >= STK_LO) stk_node[11] = s_ == 11 ? v_ : stk_node[11]; \
+    if (12 >= STK_LO) stk_node[12] = s_ == 12 ? v_ : stk_node[12]; \
+    if (13 >= STK_LO) stk_node[13] = s_ == 13 ? v_ : stk_node[13]; \
     if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
     if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
     if (16 >= STK_LO) stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
@@ -388,6 +403,17 @@ const int STK_LO = S_MAX - (DEEP == 0 ? 7 : 9);
     if (22 >= STK_LO) stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
 }
 #define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
+    if (3 >= STK_LO) g_ = s_ == 3 ? stk_node[3] : g_; \
+    if (4 >= STK_LO) g_ = s_ == 4 ? stk_node[4] : g_; \
+    if (5 >= STK_LO) g_ = s_ == 5 ? stk_node[5] : g_; \
+    if (6 >= STK_LO) g_ = s_ == 6 ? stk_node[6] : g_; \
+    if (7 >= STK_LO) g_ = s_ == 7 ? stk_node[7] : g_; \
+    if (8 >= STK_LO) g_ = s_ == 8 ? stk_node[8] : g_; \
+    if (9 >= STK_LO) g_ = s_ == 9 ? stk_node[9] : g_; \
+    if (10 >= STK_LO) g_ = s_ == 10 ? stk_node[10] : g_; \
+    if (11 >= STK_LO) g_ = s_ == 11 ? stk_node[11] : g_; \
+    if (12 >= STK_LO) g_ = s_ == 12 ? stk_node[12] : g_; \
+    if (13 >= STK_LO) g_ = s_ == 13 ? stk_node[13] : g_; \
     if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
     if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
     if (16 >= STK_LO) g_ = s_ == 16 ? stk_node[16] : g_; \

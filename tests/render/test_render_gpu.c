@@ -377,7 +377,8 @@ static void deep_views(const uint32_t base[3], uint32_t side, uint32_t w, uint32
 
 /* Octrees 17, 20 and 21 levels deep (above VX_RENDER_PRECISE_DEPTH: the
  * float64 variant) under the strict rule, on deep_views(). The float
- * variant is rendered too, for the record (printed, not asserted). */
+ * variant is rendered too, for the record (per view printed, not asserted;
+ * over all views at most 2% of the pixels off the reference). */
 static void test_deep_octrees(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     const uint32_t depths[] = {17, 20, 21};
@@ -415,6 +416,10 @@ static void test_deep_octrees(void) {
     }
     printf("deep octrees, strict rule: float64 variant %zu of %zu pixels differ, float variant %zu of %zu\n", pr_bad,
            pr_px, fl_bad, fl_px);
+    /* The float variant past its depth misses single cells (0.5% of these pixels on lavapipe and the H200, the far
+     * views most), not whole views: a walk that loses its stack does (25% with the rebased walk's ladder of
+     * selects sized for 16 levels, issue 21's eighteenth sitting) */
+    CHECKF(fl_bad <= fl_px / 50, "float variant: %zu of %zu pixels differ from the reference", fl_bad, fl_px);
 }
 
 /* The float variant up to VX_RENDER_PRECISE_DEPTH (issue 18, "exact at every
@@ -839,19 +844,23 @@ static void test_transforms(void) {
     }
 }
 
-/* The walk's stack at every level it holds (issue 21, seventeenth sitting):
- * on devices with the file's node form (vx_gpu.nodes_file: CPU devices)
- * trace.comp keeps the walk's stack as selects over the indices that the
- * scene's models push: models of depth <= VX_RENDER_EXACT_DEPTH (8; DEEP 0)
- * or <= VX_RENDER_REBASE_DEPTH (10; DEEP 1) (TRACE_STACK_SELECTS in
- * shaders/trace_common.glsl); the rebased walk (DEEP 2, up to
- * VX_RENDER_PRECISE_DEPTH 16) and the GPU form's kernels keep the array. Sparse random cells over cubes 7 to 16 levels deep (half of them in a cluster,
- * so that rays pop to every level), seen from outside and from inside, on
- * this device and on a second one made with the other node form: the same
- * instance, cell and depth bits on every pixel, and the CPU reference's
- * cells on all but a few (the float walk's rare misses at a cell's edge,
- * 1 pixel in 2 of these views with either form). A ladder one level short
- * fails the first check (depth 8 or 10). */
+/* The walk's stack at every level it holds (issue 21, seventeenth and
+ * eighteenth sittings): on devices with the file's node form (vx_gpu.nodes_file:
+ * CPU devices) trace.comp keeps the walk's stack as selects over the indices
+ * that the scene's models can push (TRACE_STACK_SELECTS in
+ * shaders/trace_common.glsl): models of depth <= VX_RENDER_EXACT_DEPTH (8;
+ * DEEP 0), <= VX_RENDER_REBASE_DEPTH (10; DEEP 1), and the rebased walk's
+ * (DEEP 2) up to VX_RENDER_MAX_DEPTH (21: past VX_RENDER_PRECISE_DEPTH the
+ * float variant, forced here; the scene's own is the float64 one). The GPU
+ * form's kernels keep the array. Sparse random cells over cubes 7 to 21 levels
+ * deep (half of them in a cluster, so that rays pop to every level), seen
+ * from outside and from inside, on this device and on a second one made with
+ * the other node form: the same instance, cell and depth bits on every pixel,
+ * and up to 16 levels the CPU reference's cells on all but a few (the float
+ * walk's rare misses at a cell's edge, 1 pixel in 4 of these views with either
+ * form). A ladder one level short fails the first check (depth 8, 10 or 21);
+ * the DEEP 2 ladder sized for 16 levels failed it at 17 to 21 (3-1189 of
+ * 6912 pixels a view on lavapipe). */
 static void test_stack_levels(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     /* the other form's device (VX_GPU_NODE_FORM is read when a device is made) */
@@ -865,7 +874,7 @@ static void test_stack_levels(void) {
     free(keep);
     REQUIRE(!skip2 && other);
     CHECK(other->nodes_file != gpu->nodes_file);
-    for (uint32_t depth = 7; depth <= VX_RENDER_PRECISE_DEPTH; depth++) {
+    for (uint32_t depth = 7; depth <= VX_RENDER_MAX_DEPTH; depth++) {
         uint32_t side = 1u << depth, seed = 4242 + depth, n = 0;
         enum { N = 40000 };
         static uint32_t xyz[3 * (N + 2)];
@@ -894,6 +903,10 @@ static void test_stack_levels(void) {
         vx_error err = {0};
         REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
         REQUIRE(vx_render_scene_create(other, &s, &rs2, &err) == VX_OK);
+        /* past VX_RENDER_PRECISE_DEPTH the float variant, forced (the
+         * scene's own is the float64 one, whose walk has no ladder) */
+        bool forced = depth > VX_RENDER_PRECISE_DEPTH;
+        if (forced) vx__render_scene_force_precise(rs, 0), vx__render_scene_force_precise(rs2, 0);
         double f = c, o = blo, mid = o + 0.5 * f; /* the views of the box of cells */
         vx_render_desc views[3] = {cam(o - 0.4 * f, o - 0.7 * f, o + 1.3 * f, mid, mid, mid),
                                    cam(mid + 3, mid - 2, mid + 1, o + 0.1 * f, o + 0.9 * f, o + 0.2 * f),
@@ -914,8 +927,10 @@ static void test_stack_levels(void) {
             CHECKF(differ == 0, "%s: %zu of %zu pixels differ between the node forms", nm, differ, npx);
             cmp_result r = compare(nm, &a, &ci);
             CHECKF(r.hits >= 100, "%s: %zu hits", nm, r.hits);
-            CHECKF(r.bad <= 2 && r.depth_bad <= 2, "%s: %zu pixels differ from the CPU reference, %zu depths", nm, r.bad,
-                   r.depth_bad);
+            /* the forced float variant past its depth keeps the float camera's error (a point 2^(depth - 1) cells out
+             * rounds to 2^(depth - 24) of a cell): the reference's cells for the record there */
+            CHECKF(forced || (r.bad <= 2 && r.depth_bad <= 2), "%s: %zu pixels differ from the CPU reference, %zu depths",
+                   nm, r.bad, r.depth_bad);
             vx_render_image_free(&a);
             vx_render_image_free(&b);
             vx_render_image_free(&ci);
