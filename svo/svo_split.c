@@ -17,6 +17,7 @@
 #include "svo/svo_internal.h"
 
 uint32_t vx__svo_split_words = VX__SPLIT_WORDS;
+bool vx__svo_split_runs = true;
 
 static unsigned lclass(unsigned level) { return level >= 4 ? 3 : level - 1; }
 static const unsigned CH_W[5] = {1, 4, 4, 2, 4}; /* bytes per value: palette, RGBA8, normal, material, density */
@@ -29,14 +30,16 @@ static unsigned stream_of(unsigned kind, unsigned ctx, const uint8_t chan_stream
     case VX__SYM_VALID: return lclass(ctx);
     case VX__SYM_LEAF: return 4 + lclass(ctx & 0xFFu) - 1;
     case VX__SYM_REF: return 7 + lclass(ctx) - 1;
-    default: return chan_stream[ctx];
+    case VX__SYM_VALUE: return chan_stream[ctx];
+    default: return ctx; /* VX__SYM_RUN: its stream's index, the last one */
     }
 }
 
-static unsigned stream_count(uint32_t attrs, uint8_t chan_stream[5]) {
+/* runs: the runs stream (version 6) after the channels' streams */
+static unsigned stream_count(uint32_t attrs, bool runs, uint8_t chan_stream[5]) {
     unsigned k = VX__SPLIT_FIXED;
     for (unsigned c = 0; c < 5; c++) chan_stream[c] = (uint8_t)(attrs >> c & 1u ? k++ : 0);
-    return k;
+    return k + (runs ? 1u : 0u);
 }
 
 static uint8_t* put_leb(uint8_t* p, uint64_t v) {
@@ -74,24 +77,25 @@ struct vx__svo_split_sink {
     const vx_allocator* A;
     uint8_t cs[5];
     unsigned k;
-    bool oom;
-    uint8_t* p[VX__SPLIT_FIXED];
-    size_t n[VX__SPLIT_FIXED], cap[VX__SPLIT_FIXED];
+    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
+    uint8_t* p[VX__SPLIT_FIXED + 1];
+    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
     uint32_t* val[5];
     size_t nval[5], capval[5];
 };
 
-vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A) {
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A) {
     vx__svo_split_sink* k = (vx__svo_split_sink*)vx_calloc(A, 1, sizeof *k);
     if (!k) return NULL;
     k->A = A;
-    k->k = stream_count(attrs, k->cs);
+    k->runs = runs;
+    k->k = stream_count(attrs, runs, k->cs);
     return k;
 }
 
 void vx__svo_split_sink_free(vx__svo_split_sink* k) {
     if (!k) return;
-    for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
+    for (unsigned s = 0; s <= VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
     for (unsigned c = 0; c < 5; c++) vx_free(k->A, k->val[c]);
     vx_free(k->A, k);
 }
@@ -113,7 +117,7 @@ void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint3
         k->val[ctx][k->nval[ctx]++] = v;
         return;
     }
-    unsigned s = stream_of(kind, ctx, k->cs);
+    unsigned s = kind == VX__SYM_RUN ? VX__SPLIT_FIXED : stream_of(kind, ctx, k->cs); /* p[] index */
     if (!sink_room(k, s)) return;
     if (kind == VX__SYM_REF) k->n[s] = (size_t)(put_leb(k->p[s] + k->n[s], v) - k->p[s]);
     else k->p[s][k->n[s]++] = (uint8_t)v;
@@ -164,6 +168,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     j.level = VX__SPLIT_LEVEL;
     bool ok = !k->oom;
     for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) j.raw[s] = k->p[s], j.n[s] = k->n[s];
+    if (k->runs) j.raw[k->k - 1] = k->p[VX__SPLIT_FIXED], j.n[k->k - 1] = k->n[VX__SPLIT_FIXED];
     uint8_t* planes[5] = {NULL, NULL, NULL, NULL, NULL};
     for (unsigned c = 0; c < 5 && ok; c++) {
         if (!k->cs[c]) continue;
@@ -186,7 +191,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     }
     if (ok) {
         uint8_t head[16 + 20 * VX__SPLIT_MAX], *h = head;
-        *h++ = (uint8_t)((dag ? 1u : 0u) | (limit != VX__SVO_PTR_MAX ? 2u : 0u));
+        *h++ = (uint8_t)((dag ? 1u : 0u) | (limit != VX__SVO_PTR_MAX ? 2u : 0u) | (k->runs ? (unsigned)VX__SPLIT_RUNS : 0u));
         if (limit != VX__SVO_PTR_MAX) h = put_leb(h, limit);
         for (unsigned s = 0; s < k->k; s++) {
             h = put_leb(h, j.n[s]);
@@ -211,6 +216,7 @@ typedef struct walk {
     uint32_t ndone;
     bool bad;
     vx__svo_split_sink* k;
+    const uint8_t* runs; /* one per completed node, or NULL */
 } walk;
 
 static void walk_put(walk* w, size_t i) {
@@ -250,14 +256,15 @@ static void walk_node(walk* w, unsigned level, unsigned nch) {
             if (r == 0) walk_node(w, level - 1, nch);
         }
     }
+    if (w->runs && !w->bad) vx__svo_split_put(w->k, VX__SYM_RUN, 0, w->runs[w->ndone]);
     w->ndone++;
 }
 
-bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
-                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
-    vx__svo_split_sink* k = vx__svo_split_sink_new(attrs, A);
+bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, const uint8_t* runs, uint32_t attrs,
+                          unsigned depth, bool dag, uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
+    vx__svo_split_sink* k = vx__svo_split_sink_new(attrs, runs != NULL, A);
     if (!k) return false;
-    walk w = {v, kind, ctx, n, 0, 0, false, k};
+    walk w = {v, kind, ctx, n, 0, 0, false, k, runs};
     walk_node(&w, depth, (unsigned)__builtin_popcount(attrs));
     bool ok = !w.bad && w.i == n && vx__svo_split_sink_code(k, dag, limit, threads, out);
     vx__svo_split_sink_free(k);
@@ -280,12 +287,14 @@ struct vx__svo_split {
     const uint8_t* zsrc[VX__SPLIT_MAX];
     uint64_t base;
     uint32_t mi;
+    bool runs; /* the last stream is the runs stream (flags bit VX__SPLIT_RUNS) */
     vx_result res[VX__SPLIT_MAX];
     vx_error errs[VX__SPLIT_MAX];
 };
 
 static const char* stream_name(unsigned s, char buf[48], const uint8_t cs[5]) {
     static const char* CH[5] = {"palette", "rgba8", "normal", "material", "density"};
+    snprintf(buf, 48, "runs"); /* the one stream past the channels' */
     if (s < 4) snprintf(buf, 48, "valid masks, level class %u", s);
     else if (s < 7) snprintf(buf, 48, "leaf masks, level class %u", s - 3);
     else if (s < 10) snprintf(buf, 48, "references, level class %u", s - 6);
@@ -366,7 +375,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     *out = NULL;
     /* the caller read the form byte (1) */
     size_t pos = 0;
-    if (n < 1 || (p[0] & ~3u))
+    if (n < 1 || (p[0] & ~(3u | VX__SPLIT_RUNS)))
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form flags %s", (unsigned long long)base,
                        mi, n < 1 ? "cut off" : "with reserved bits set");
     *dag = p[0] & 1u;
@@ -382,7 +391,8 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     d->A = A;
     d->base = base;
     d->mi = mi;
-    d->k = stream_count(m->attrs, d->cs);
+    d->runs = (p[0] & VX__SPLIT_RUNS) != 0;
+    d->k = stream_count(m->attrs, d->runs, d->cs);
     /* every stream's decoded length is bounded by the declared words: a node
      * per word (its valid and leaf masks), a reference of at most 5 bytes per
      * word, a value per leaf child (8 per node) */
@@ -390,7 +400,8 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     vx_result r = VX_OK;
     char nm[48];
     for (unsigned s = 0; s < d->k && r == VX_OK; s++) {
-        uint64_t max = s < 7 ? W : s < 10 ? 5 * W : 8 * W * 4, u, z;
+        /* (the runs stream: a byte per node) */
+        uint64_t max = s < 7 || (d->runs && s == d->k - 1) ? W : s < 10 ? 5 * W : 8 * W * 4, u, z;
         size_t at = pos;
         if (!rd_leb(p, n, &pos, max, &u) || !rd_leb(p, n, &pos, (uint64_t)n, &z)) {
             r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at,
@@ -518,9 +529,20 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
 
 vx__svo_src vx__svo_split_src(vx__svo_split* d) { return (vx__svo_src){split_next, d}; }
 
+uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n) {
+    *n = k->runs ? k->n[VX__SPLIT_FIXED] : 0;
+    return k->runs && !k->oom ? k->p[VX__SPLIT_FIXED] : NULL;
+}
+
+const uint8_t* vx__svo_split_runs_stream(const vx__svo_split* d, size_t* n) {
+    *n = d->runs ? d->n[d->k - 1] : 0;
+    return d->runs ? (d->data[d->k - 1] ? d->data[d->k - 1] : (const uint8_t*)"") : NULL;
+}
+
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err) {
     char nm[48];
-    for (unsigned s = 0; s < d->k; s++) {
+    /* (the runs stream is read by the layout, which checks its end: vx__svo_unpack) */
+    for (unsigned s = 0; s < d->k - (d->runs ? 1u : 0u); s++) {
         size_t have = s >= VX__SPLIT_FIXED ? d->vcount[s] : d->n[s];
         if (d->pos[s] != have)
             return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s], "svo: section NODE at byte %llu: model %u: stream %u (%s): %zu of its %zu %s left over",
