@@ -141,9 +141,23 @@ enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE, VX__SYM_RUN };
 /* Where vx__svo_unpack takes its symbols from. ctx: the level for VALID and
  * REF, level | valid << 8 for LEAF, the channel bit index for VALUE. Returns
  * false (with err set) when the source cannot deliver. */
+/* The split form's decoded streams (svo_split.c) as the reconstruction reads
+ * them without a call per symbol: stream s holds n[s] bytes at data[s], read
+ * up to pos[s]; a channel's stream vcount[s] values as byte planes; cs[c]
+ * the stream of channel c. The decoder's own state: where the direct read
+ * cannot take a symbol as it is (a stream's end, a leaf mask outside its
+ * valid mask, a reference of more than one byte) it calls next, which reads
+ * at the same position and gives the same symbol or the error. */
+typedef struct vx__svo_split_cur {
+    const uint8_t* data[15]; /* VX__SPLIT_MAX */
+    size_t n[15], pos[15], vcount[15];
+    uint8_t cs[5];
+} vx__svo_split_cur;
+
 typedef struct vx__svo_src {
     bool (*next)(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err);
     void* user;
+    vx__svo_split_cur* cur; /* the split form's streams (NULL: next only) */
 } vx__svo_src;
 
 typedef struct vx__svo_unpack_desc {

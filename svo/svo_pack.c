@@ -743,7 +743,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
         spec->limit = limit;
         spec->started = pthread_create(&spec->th, NULL, coder_main, spec) == 0;
     }
-    vx__svo_src s = {arr_next, src};
+    vx__svo_src s = {arr_next, src, NULL};
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                               .layout_threads = lay};
     vx_svo_model r;
@@ -1872,7 +1872,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
         } else {
             vx_svo_model want = *m;
             rc_src rs = {k, base};
-            vx__svo_src src = {rc_next, &rs};
+            vx__svo_src src = {rc_next, &rs, NULL};
             vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                                       .layout_threads = lay, .tree = rebuilt ? tree : NULL};
             /* with threads to spare, the symbols are decoded ahead on one */

@@ -3957,16 +3957,22 @@ static int write_seeds(const char* dir) {
             return 1;
         }
     }
-    /* seed9: version 5, every model that can in the split form (FORMAT.md 3.7) */
-    make_split_scene(&s, 12);
-    snprintf(path, sizeof path, "%s/seed9.svo", dir);
-    vx__svo_split_words = 1;
-    wr = vx_svo_write_file(NULL, &s, path, &e);
-    vx__svo_split_words = VX__SPLIT_WORDS;
-    vx_svo_scene_free(&s);
-    if (wr != VX_OK) {
-        fprintf(stderr, "%s: %s\n", path, e.msg);
-        return 1;
+    /* seed9: version 5, every model that can in the split form (FORMAT.md
+     * 3.7, without the runs stream); seed10: version 6, the same with the
+     * runs stream (a larger scene: runs stored and found again) */
+    for (int v = 0; v < 2; v++) {
+        make_split_scene(&s, v ? 60 : 12);
+        snprintf(path, sizeof path, "%s/seed%d.svo", dir, v ? 10 : 9);
+        vx__svo_split_words = 1;
+        vx__svo_split_runs = v == 1;
+        wr = vx_svo_write_file(NULL, &s, path, &e);
+        vx__svo_split_words = VX__SPLIT_WORDS;
+        vx__svo_split_runs = true;
+        vx_svo_scene_free(&s);
+        if (wr != VX_OK) {
+            fprintf(stderr, "%s: %s\n", path, e.msg);
+            return 1;
+        }
     }
     return 0;
 }
