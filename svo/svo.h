@@ -45,7 +45,7 @@
 extern "C" {
 #endif
 
-/* The newest version this library reads (it reads 1..4). A writer stamps a
+/* The newest version this library reads (it reads 1..6). A writer stamps a
  * file with the lowest version that has all its sections: 2 only when it
  * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
  * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
