@@ -241,8 +241,9 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
  * NODE to stay where it was written (svo_io.c write_file). */
 uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode, uint32_t split_min);
 /* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
- * DEFLATE chunks of version 3, 2 the tagged chunks of version 4, or 3 the
- * split form of version 5 (NULL: none). */
+ * DEFLATE chunks of version 3, 2 the tagged chunks of version 4, 3 the
+ * split form of version 5, or 4 the split form in a file of version 6 or
+ * later (its runs stream allowed) (NULL: none). */
 /* ext, rebuilt (model_count entries each, or NULL): a model rebuilt from
  * the structural form gets rebuilt[i] = VX__SVO_SKIP_REBUILT and its tree's
  * extent in ext[i] (others: untouched), for the validation to check its
@@ -300,7 +301,9 @@ typedef struct vx__svo_split vx__svo_split;
 /* Parses the streams after the form byte (p[0..n), base: its file offset),
  * checks every length against m's declared node_count and decodes them on
  * up to `threads` threads. */
-vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
+/* runs_ok: the file's version has the runs stream (6 and later; the flags'
+ * bit is refused in older files). */
+vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
 /* The decoded runs stream (NULL, 0: the model has none). */
@@ -318,7 +321,7 @@ bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t spl
 
 /* One model of the NODE section: model mi's stream p[0, n) (base: its file
  * offset) decoded into m (its declared fields set, as read_scne sets them),
- * chunked as SCNE marks it (0, 1, 2 or 3 the split form, as vx__svo_pack_read's), on up to
+ * chunked as SCNE marks it (0, 1, 2, or 3 the split form and 4 the same in a file of version 6 or later, as read_scne sets it), on up to
  * `threads` threads within the model; ext and rebuilt as vx__svo_pack_read's
  * for this model (both or neither). The model is not validated here. */
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,

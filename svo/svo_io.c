@@ -545,7 +545,7 @@ static vx_result read_scne(const sec* const* known, uint32_t version, const vx_a
                            (unsigned long long)at, i);
         m->attrs = mhead & VX_ATTR_ALL;
         if (mhead & MODEL_CHUNKED) (*chunked)[i] = mhead & MODEL_TAGGED ? 2 : 1;
-        if (mhead & MODEL_SPLIT) (*chunked)[i] = 3;
+        if (mhead & MODEL_SPLIT) (*chunked)[i] = version >= VERSION_RUNS ? 4 : 3; /* 4: the runs stream allowed */
         if (mhead & MODEL_SAME_SIZE) {
             if (i == 0)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",

@@ -1940,8 +1940,9 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
 /* A model's stream in the split form (FORMAT.md 3.7): the form byte, then
  * the split streams (decoded on up to `cpus` threads) feeding the
  * reconstruction, or the stream of 3.4. */
+/* runs_ok: the file's version has the runs stream (6 and later) */
 static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A, unsigned cpus,
-                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
+                              unsigned lay, bool runs_ok, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     if (n < 1 || p[0] > 1)
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form byte %s", (unsigned long long)base, mi,
                        n < 1 ? "missing" : "not 0 or 1");
@@ -1957,7 +1958,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx__svo_split* d;
     bool dag;
     uint32_t limit;
-    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, A, &d, &dag, &limit, err);
+    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, runs_ok, A, &d, &dag, &limit, err);
     if (r != VX_OK) return r;
     vx_svo_model want = *m;
     vx__svo_src src = vx__svo_split_src(d);
@@ -2295,8 +2296,8 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
     unpack_jobs* j = (unpack_jobs*)ctx;
     uint32_t i = j->order ? j->order[k] : k;
     if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
-    if (j->chunked && j->chunked[i] == 3)
-        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay,
+    if (j->chunked && j->chunked[i] >= 3)
+        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay, j->chunked[i] == 4,
                                  j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
     else
         j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
@@ -2388,8 +2389,8 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] == 3
-                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, rebuilt ? &ext[mi] : NULL,
+                r = chunked && chunked[mi] >= 3
+                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, chunked[mi] == 4, rebuilt ? &ext[mi] : NULL,
                                        rebuilt ? &rebuilt[mi] : NULL, err)
                     : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
@@ -2422,8 +2423,8 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
 
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
                              const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
-    if (chunked == 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
-        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, ext, rebuilt, err);
+    if (chunked >= 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, chunked == 4, ext, rebuilt, err);
     if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
     /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
     return unpack_model(p, n, base, m, mi, A, threads > 2 ? 2 : 0, ext, rebuilt, err);

@@ -370,7 +370,7 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
     return false;
 }
 
-vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
+vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
     *out = NULL;
     /* the caller read the form byte (1) */
@@ -378,6 +378,9 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     if (n < 1 || (p[0] & ~(3u | VX__SPLIT_RUNS)))
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form flags %s", (unsigned long long)base,
                        mi, n < 1 ? "cut off" : "with reserved bits set");
+    if ((p[0] & VX__SPLIT_RUNS) && !runs_ok)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: the split form's runs stream needs format version 6",
+                       (unsigned long long)base, mi);
     *dag = p[0] & 1u;
     *limit = VX__SVO_PTR_MAX;
     pos = 1;
