@@ -20,7 +20,7 @@
  * --convert OUT.svo only writes the chunked copy of FILE (in the form the
  * flags above choose) and exits; --write-as OUT.svo the same in the form the
  * flags give without --chunked too (the default: large models in the split
- * form of version 5).
+ * form of version 5, with attributes its runs stream of version 6).
  * --compare OTHER.svo only reads FILE and OTHER (vx_svo_read_file each) and
  * compares their models word for word and record for record (exit 0 when
  * every model is equal, 3 when one differs): the same scene in two forms.

@@ -12,7 +12,9 @@
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. Large models
  * (2^20 words or more) take the split form of version 5 instead: the same
- * symbols in zstd byte streams that decode on every thread (svo_split.c). */
+ * symbols in zstd byte streams that decode on every thread (svo_split.c),
+ * with attributes also the runs stream of version 6 (the layout's run
+ * lookups only where a run is found again). */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
