@@ -20,7 +20,10 @@
  * --convert OUT.svo only writes the chunked copy of FILE (in the form the
  * flags above choose) and exits; --write-as OUT.svo the same in the form the
  * flags give without --chunked too (the default: large models in the split
- * form of version 5).
+ * form of version 5, with attributes its runs stream of version 6).
+ * --compare OTHER.svo only reads FILE and OTHER (vx_svo_read_file each) and
+ * compares their models word for word and record for record (exit 0 when
+ * every model is equal, 3 when one differs): the same scene in two forms.
  * --range: the writes (and --write-as) keep large structural models in the
  * range-coded form of versions 1 and 2 (vx_write_desc.svo_range_coded).
  * --no-checks: the writes get the scene without the reader's checks
@@ -68,12 +71,45 @@ static void print_counts(const char* path, size_t size, const vx_svo_scene* sc) 
     fflush(stdout);
 }
 
+/* --compare: every model of a equal to b's, words and records */
+static int compare_files(const char* pa, const char* pb) {
+    vx_svo_scene a, b;
+    vx_error e;
+    double t0 = vx_time_now();
+    if (vx_svo_read_file(NULL, pa, &a, &e) != VX_OK) die(pa, &e);
+    double t1 = vx_time_now();
+    if (vx_svo_read_file(NULL, pb, &b, &e) != VX_OK) die(pb, &e);
+    double t2 = vx_time_now();
+    printf("compare: read %s in %.2f s, %s in %.2f s\n", pa, t1 - t0, pb, t2 - t1);
+    int bad = a.model_count != b.model_count;
+    for (uint32_t i = 0; i < a.model_count && !bad; i++) {
+        const vx_svo_model *x = &a.models[i], *y = &b.models[i];
+        size_t n = x->attr_count;
+        const char* why = x->node_count != y->node_count || x->root != y->root || x->root_attr != y->root_attr || x->attr_count != y->attr_count ||
+                                  x->attrs != y->attrs || x->voxel_count != y->voxel_count
+                              ? "counts"
+                          : x->node_count && memcmp(x->nodes, y->nodes, (size_t)x->node_count * 4) ? "words"
+                          : n && x->palette && memcmp(x->palette, y->palette, n) ? "palette"
+                          : n && x->rgba && memcmp(x->rgba, y->rgba, n * 4) ? "rgba8"
+                          : n && x->normal && memcmp(x->normal, y->normal, n * 4) ? "normals"
+                          : n && x->material && memcmp(x->material, y->material, n * 2) ? "material"
+                          : n && x->density && memcmp(x->density, y->density, n * 4) ? "density"
+                                                                                      : NULL;
+        if (why) printf("compare: model %u differs (%s)\n", i, why), bad = 1;
+    }
+    if (!bad) printf("compare: all %u models equal (words and records)\n", a.model_count);
+    vx_svo_scene_free(&a);
+    vx_svo_scene_free(&b);
+    return bad ? 3 : 0;
+}
+
 int main(int argc, char** argv) {
     const char* path = NULL;
     const char* out_dir = "/tmp";
     const char* only = "";
     bool chunked = false, stored = false, fast = false, deflate = false, no_checks = false;
     const char* convert = NULL;
+    const char* compare = NULL;
     bool write_as = false, range = false; /* --write-as: --convert in the form the options give; --range: svo_range_coded */
     int runs = 3;
     const char* pin = NULL; /* --pin: CPUs of the timed steps */
@@ -91,6 +127,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--convert") && i + 1 < argc) convert = argv[++i];
         else if (!strcmp(argv[i], "--write-as") && i + 1 < argc) convert = argv[++i], write_as = true;
         else if (!strcmp(argv[i], "--range")) range = true;
+        else if (!strcmp(argv[i], "--compare") && i + 1 < argc) compare = argv[++i];
         else if (!strcmp(argv[i], "--pin") && i + 1 < argc) pin = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
@@ -100,15 +137,16 @@ int main(int argc, char** argv) {
             }
         } else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
-            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--pin CPUS] [--convert OUT.svo | --write-as OUT.svo]\n");
+            fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--pin CPUS] [--convert OUT.svo | --write-as OUT.svo | --compare OTHER.svo]\n");
             return 2;
         }
     }
     if (!path || runs < 1 || runs > 99) {
-        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--pin CPUS] [--convert OUT.svo | --write-as OUT.svo]\n");
+        fprintf(stderr, "usage: svo_io_bench FILE.svo [--runs N] [--threads 1,2] [--out DIR] [--only read|write|readfile|writefile] [--chunked | --stored | --fast | --deflate] [--range] [--no-checks] [--pin CPUS] [--convert OUT.svo | --write-as OUT.svo | --compare OTHER.svo]\n");
         return 2;
     }
     vx_error err;
+    if (compare) return compare_files(path, compare);
     uint8_t* data = NULL;
     size_t size = 0;
     if (vx_file_read(path, NULL, UINT64_MAX, &data, &size, &err) != VX_OK) die(path, &err);

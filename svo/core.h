@@ -321,7 +321,8 @@ typedef struct vx_write_desc {
                                   chunked in the range-coded form of versions
                                   1 and 2 (what older readers read) instead of
                                   the split form (docs/FORMAT.md 3.7, format
-                                  version 5, the default: the same DAG in zstd
+                                  version 5, with attributes its runs stream,
+                                  version 6; the default: the same DAG in zstd
                                   byte streams that decode on every thread,
                                   several times faster to read and write for
                                   a few percent more bytes, docs/PERFORMANCE.md

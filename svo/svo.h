@@ -45,12 +45,12 @@
 extern "C" {
 #endif
 
-/* The newest version this library reads (it reads 1..4). A writer stamps a
+/* The newest version this library reads (it reads 1..6). A writer stamps a
  * file with the lowest version that has all its sections: 2 only when it
  * holds a section introduced in version 2 (LGHT, FRMS), 3 or 4 only with a
  * model in the chunked form (DEFLATE chunks, or zstd-tagged ones), so files
  * without one keep the bytes of version 1 (docs/FORMAT.md 6). */
-#define VX_SVO_FORMAT_VERSION 5u
+#define VX_SVO_FORMAT_VERSION 6u
 #define VX_SVO_MAX_DEPTH 21u /* Morton keys are 63 bits; the tracer handles up to 23 */
 
 /* Attribute channels (bitmask). Each model stores one record per attribute

@@ -76,6 +76,11 @@ typedef struct bld {
      * descriptor words (vx_svo_build_stats.desc_dag). */
     bool laid_given;
     uint64_t laid_desc;
+    /* The split form's runs stream (vx__svo_unpack_desc.runs; NULL: none):
+     * the layout takes each node's run from it (run_take), read at
+     * outw.runs_pos, instead of looking it up (run_intern). */
+    const uint8_t* runs;
+    size_t runs_n;
     unsigned threads; /* threads the record arrays may be filled on (vx__svo_interned.threads; 0, 1: this one) */
     /* result */
     bool root_is_leaf, have_root;
@@ -297,6 +302,24 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
     bool same = true;
     for (unsigned i = 1; i < n; i++) same = same && ids[i] == ids[0];
     if (same) return ids[0];
+    /* one channel whose values are the ids (every split read of a textured
+     * mesh: RGBA8 with a constant material): vx__svo_rec_mean's rule on the
+     * values themselves, without a record per child (a twelfth of the
+     * 4096^3 helmet's read went to the records and the call) */
+    if (b->direct && b->vattr == VX_ATTR_RGBA8) {
+        uint32_t o = 0;
+        for (unsigned ch = 0; ch < 4; ch++) {
+            unsigned sum = 0;
+            for (unsigned i = 0; i < n; i++) sum += (ids[i] >> (8 * ch)) & 0xFFu;
+            o |= ((sum + n / 2) / n) << (8 * ch); /* rounded, ties up (as vx__svo_rec_mean) */
+        }
+        return o;
+    }
+    if (b->direct && (b->vattr == VX_ATTR_PALETTE || b->vattr == VX_ATTR_MATERIAL)) {
+        unsigned v[8];
+        for (unsigned i = 0; i < n; i++) v[i] = ids[i];
+        return most_frequent(v, n);
+    }
     rec r;
     const rec* c[8];
     rec tmp[8];
@@ -607,6 +630,7 @@ typedef struct outw {
      * longer one with one probe instead of one per length (run_intern) */
     struct uni_run* uni;
     size_t unicap, nuni;
+    size_t runs_pos, runs_taken; /* bld.runs: the next byte, the runs taken */
 } outw;
 
 typedef struct uni_run {
@@ -679,7 +703,8 @@ static uni_run* uni_find(bld* b, outw* o, uint32_t v) {
  * uniform-run table says which are stored: the probes of runh for each
  * length, which that table replaces, found the same runs). */
 /* hp: the run's hash_words(ids, n, 3) when the caller has it (run_prefetch), or NULL. */
-static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, const uint64_t* hp) {
+/* add false: find only (UINT32_MAX when no stored run serves). */
+static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, const uint64_t* hp, bool add) {
     if (b->dag && n < 8) {
         bool uni = true;
         for (unsigned i = 1; i < n; i++) uni = uni && ids[i] == ids[0];
@@ -690,7 +715,7 @@ static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, con
             if (longer) return e->start[n + (31u - (unsigned)__builtin_clz(longer))];
         }
     }
-    return run_intern_exact(b, o, ids, n, true, hp);
+    return run_intern_exact(b, o, ids, n, add, hp);
 }
 
 /* With add false: UINT32_MAX when the run is not stored yet. */
@@ -749,6 +774,49 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
     return st;
 }
 
+/* The node's run from the runs stream (bld.runs, FORMAT.md 3.7): one byte a
+ * node, 0: a new run, appended and not stored (no later run is equal to
+ * it: 70% of the 4096^3 helmet's runs), 1: a new run, appended and stored
+ * (a later run finds it), 2: a run found among the stored ones (it must
+ * be). The reader's run table then holds the runs that are found again
+ * only (1.2 M of the helmet's 20.2 M, where it held 15.4 M), and a run is
+ * looked up only where one is found; the lookup and the store are
+ * run_intern's, so the words and records are the layout's of 3.5. A
+ * damaged stream is refused, never read past. UINT32_MAX on failure. */
+/* hp: as run_intern's */
+static uint32_t run_take(bld* b, outw* o, const uint32_t* ids, unsigned n, const uint64_t* hp) {
+    if (o->runs_pos >= b->runs_n) {
+        b->fail = vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: the runs stream ends before the tree does (%zu runs)",
+                          o->runs_taken);
+        return UINT32_MAX;
+    }
+    uint8_t f = b->runs[o->runs_pos++];
+    o->runs_taken++;
+    if (f == 1) return run_intern_exact(b, o, ids, n, true, hp);
+    if (f == 2) {
+        uint32_t a = run_intern(b, o, ids, n, hp, false);
+        if (a == UINT32_MAX && b->fail == VX_OK)
+            b->fail = vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                              "svo: section NODE: the runs stream's run %zu is to be found among the stored runs, but none is equal",
+                              o->runs_taken - 1);
+        return a;
+    }
+    if (f != 0) {
+        b->fail = vx_fail(b->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: the runs stream's run %zu is %u (not 0, 1 or 2)",
+                          o->runs_taken - 1, f);
+        return UINT32_MAX;
+    }
+    if (o->nid + n >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 attribute records");
+        return UINT32_MAX;
+    }
+    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
+    uint32_t st = (uint32_t)o->nid;
+    memcpy(o->ids + o->nid, ids, n * sizeof *ids);
+    o->nid += n;
+    return st;
+}
+
 static inline bool node_has_block(const bld* b, const uint32_t* n) {
     uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
     return (valid & ~leaf) != 0 || b->attrs != 0;
@@ -769,11 +837,14 @@ enum { LAY_ALL, LAY_RUNS, LAY_BLOCKS };
  * ahead overlap the work on the current one: with large tables each probe
  * is a miss to memory. A hint only: nothing is written. */
 /* *h: the run's hash (run_intern takes it: one hash per run, not two). */
-static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h) {
+/* With the runs stream (bld.runs), *rp is the node's byte there: a run that
+ * is only appended (0) probes nothing. */
+static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h, size_t* rp) {
     const uint32_t* n = b->pool + at;
     uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
     unsigned nk = vx__popc8(valid);
-    {
+    *h = 0;
+    if (!b->runs || (*rp < b->runs_n && b->runs[(*rp)++] != 0)) {
         uint32_t ids[8];
         bool uni = true;
         for (unsigned oc = 0, j = 0; oc < 8; oc++) {
@@ -796,14 +867,14 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
     /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
     enum { PF_AHEAD = 12, PF_QUEUE = 16 };
     bool pf_on = b->dag && b->attrs && mode != LAY_BLOCKS;
-    size_t pf = off;
+    size_t pf = off, pfr = o->runs_pos; /* pfr: the runs stream's byte of the node at pf (with attributes one a node) */
     /* the hashes of the runs prefetched, in node order (with attributes
      * every node has a block and a run: one each) */
     uint64_t hq[PF_QUEUE];
     unsigned qin = 0, qout = 0;
-    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
+    for (unsigned k = 0; pf_on && k < PF_AHEAD && pf < end; k++) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE], &pfr);
     while (off < end) {
-        if (pf_on && pf < end) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE]);
+        if (pf_on && pf < end) pf = run_prefetch(b, o, pf, &hq[qin++ % PF_QUEUE], &pfr);
         uint32_t* n = b->pool + off;
         uint32_t valid = n[N_HDR] & 0xFFu, leaf = (n[N_HDR] >> 8) & 0xFFu;
         unsigned nk = vx__popc8(valid);
@@ -833,7 +904,8 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
         if (b->attrs && mode == LAY_BLOCKS) {
             a = n[N_BLOCK];
         } else if (b->attrs) {
-            a = run_intern(b, o, runids, nk, pf_on ? &hq[qout++ % PF_QUEUE] : NULL);
+            const uint64_t* hp = pf_on ? &hq[qout++ % PF_QUEUE] : NULL;
+            a = b->runs ? run_take(b, o, runids, nk, hp) : run_intern(b, o, runids, nk, hp, true);
             if (a == UINT32_MAX) return false;
         }
         if (mode == LAY_RUNS) {
@@ -1119,7 +1191,7 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             size_t at = o->nid;
             for (size_t i = 0; i < o->nid; i++)
                 if (o->ids[i] == root_rec) { at = i; break; }
-            if (at == o->nid && run_intern(b, o, &root_rec, 1, NULL) == UINT32_MAX) return false;
+            if (at == o->nid && run_intern(b, o, &root_rec, 1, NULL, true) == UINT32_MAX) return false;
             m->root_attr = (uint32_t)at;
         }
     }
@@ -2160,17 +2232,55 @@ static bool unp_fail(unp* u, vx_result r) {
     return false;
 }
 
+/* The split form's symbols read straight from its streams (vx__svo_src.cur):
+ * false where the symbol is not there as it is (the stream's end, a leaf
+ * mask outside valid, a reference of two bytes or more, a channel without a
+ * stream), and the caller asks next(), which reads at the same position and
+ * gives it or the error. A call per symbol was a tenth of the 4096^3
+ * helmet's read. */
+static inline unsigned unp_class(unsigned level) { return level >= 4 ? 3 : level - 1; }
+static inline bool cur_byte(vx__svo_split_cur* c, unsigned s, uint32_t* v) {
+    if (c->pos[s] >= c->n[s]) return false;
+    *v = c->data[s][c->pos[s]++];
+    return true;
+}
+static inline bool cur_leaf(vx__svo_split_cur* c, unsigned level, uint32_t valid, uint32_t* v) {
+    unsigned s = 3 + unp_class(level);
+    if (c->pos[s] >= c->n[s] || (c->data[s][c->pos[s]] & ~valid)) return false;
+    *v = c->data[s][c->pos[s]++];
+    return true;
+}
+static inline bool cur_ref(vx__svo_split_cur* c, unsigned level, uint32_t* v) {
+    unsigned s = 6 + unp_class(level);
+    if (c->pos[s] >= c->n[s] || c->data[s][c->pos[s]] >= 0x80u) return false;
+    *v = c->data[s][c->pos[s]++];
+    return true;
+}
+static inline bool cur_value(vx__svo_split_cur* c, unsigned ch, uint32_t* v) {
+    static const unsigned W[5] = {1, 4, 4, 2, 4};
+    unsigned s = c->cs[ch];
+    if (!s || c->pos[s] >= c->vcount[s]) return false;
+    size_t at = c->pos[s]++, cnt = c->vcount[s];
+    const uint8_t* p = c->data[s] + at;
+    uint32_t x = 0;
+    for (unsigned i = 0; i < W[ch]; i++) x |= (uint32_t)p[i * cnt] << (8 * i);
+    *v = x;
+    return true;
+}
+
 /* Reads one node (and, recursively, its new children) into the pool. */
 static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     bld* b = u->b;
     uint32_t valid, leaf;
     vx_error* err = u->err;
-    if (!u->src->next(u->src->user, VX__SYM_VALID, level, &valid, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+    vx__svo_split_cur* cur = u->src->cur;
+    if (!(cur && cur_byte(cur, unp_class(level), &valid)) && !u->src->next(u->src->user, VX__SYM_VALID, level, &valid, err))
+        return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
     if (valid == 0 || valid > 0xFFu)
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a node at level %u has valid mask 0x%x",
                                    level, valid));
     if (level == 1) leaf = valid;
-    else if (!u->src->next(u->src->user, VX__SYM_LEAF, level | valid << 8, &leaf, err))
+    else if (!(cur && cur_leaf(cur, level, valid, &leaf)) && !u->src->next(u->src->user, VX__SYM_LEAF, level | valid << 8, &leaf, err))
         return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
     if (leaf & ~valid)
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
@@ -2189,7 +2299,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                 for (unsigned c = 0; c < 5; c++) {
                     if (!(b->attrs >> c & 1u)) continue;
                     uint32_t v;
-                    if (!u->src->next(u->src->user, VX__SYM_VALUE, c, &v, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+                    if (!(cur && cur_value(cur, c, &v)) && !u->src->next(u->src->user, VX__SYM_VALUE, c, &v, err))
+                        return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
                     if (c == 0) r.palette = (uint8_t)v;
                     else if (c == 1) r.rgba = v;
                     else if (c == 3) r.material = (uint16_t)v;
@@ -2205,7 +2316,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                                            "svo: section NODE: the tree has more descriptors than the %llu declared words",
                                            (unsigned long long)u->max_words));
             uint32_t ref, c;
-            if (!u->src->next(u->src->user, VX__SYM_REF, level, &ref, err)) return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+            if (!(cur && cur_ref(cur, level, &ref)) && !u->src->next(u->src->user, VX__SYM_REF, level, &ref, err))
+                return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
             if (u->ref_index && ref) { /* 1 + the node's completion index: as a distance back */
                 if (ref - 1 >= u->ndone)
                     return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
@@ -2282,6 +2394,8 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.limit = d->limit;
     b.depth = d->depth;
     b.err = err;
+    b.runs = d->attrs ? d->runs : NULL; /* (a model without attributes has no runs) */
+    b.runs_n = d->runs_n;
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     b.vattr = d->attrs;
     {
@@ -2324,7 +2438,8 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         b.pool = (uint32_t*)vx_alloc(b.a, (size_t)words * sizeof *b.pool);
         if (b.pool) {
             b.cappool = (size_t)words;
-            bool two = d->layout_threads >= 2 && b.attrs && b.dag;
+            /* with the runs stream the runs stage is a copy: one thread */
+            bool two = d->layout_threads >= 2 && b.attrs && b.dag && !b.runs;
             if (!(two ? lay_run2(&lj, &lj2, &b, &o) : lay_run(&lj, &b, &o))) {
                 vx_free(b.a, b.pool);
                 b.pool = NULL;
@@ -2348,6 +2463,12 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         for (int i = 0; i < 3; i++) d->tree->min[i] = x.mn[i] << sh, d->tree->max[i] = x.mx[i] << sh;
     }
     if (!finish_model(&b, &o, &m, false)) goto fail;
+    if (b.runs && o.runs_pos != b.runs_n) {
+        vx_svo_model_free(b.a, &m);
+        res = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: %zu bytes of the runs stream left over after its %zu runs",
+                      b.runs_n - o.runs_pos, o.runs_taken);
+        goto done;
+    }
     out->nodes = m.nodes;
     out->node_count = m.node_count;
     out->root = m.root;

@@ -136,14 +136,28 @@ uint32_t vx__oct_encode(const float n[3]);
  * shares the builder's layout code in svo_build.c) --------------------------- */
 
 /* Symbols of a model's structure, in depth-first order (docs/FORMAT.md 3.4). */
-enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE };
+enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE, VX__SYM_RUN };
 
 /* Where vx__svo_unpack takes its symbols from. ctx: the level for VALID and
  * REF, level | valid << 8 for LEAF, the channel bit index for VALUE. Returns
  * false (with err set) when the source cannot deliver. */
+/* The split form's decoded streams (svo_split.c) as the reconstruction reads
+ * them without a call per symbol: stream s holds n[s] bytes at data[s], read
+ * up to pos[s]; a channel's stream vcount[s] values as byte planes; cs[c]
+ * the stream of channel c. The decoder's own state: where the direct read
+ * cannot take a symbol as it is (a stream's end, a leaf mask outside its
+ * valid mask, a reference of more than one byte) it calls next, which reads
+ * at the same position and gives the same symbol or the error. */
+typedef struct vx__svo_split_cur {
+    const uint8_t* data[15]; /* VX__SPLIT_MAX */
+    size_t n[15], pos[15], vcount[15];
+    uint8_t cs[5];
+} vx__svo_split_cur;
+
 typedef struct vx__svo_src {
     bool (*next)(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err);
     void* user;
+    vx__svo_split_cur* cur; /* the split form's streams (NULL: next only) */
 } vx__svo_src;
 
 typedef struct vx__svo_unpack_desc {
@@ -171,6 +185,13 @@ typedef struct vx__svo_unpack_desc {
      * table), the others filled in; the result is the same. */
     uint32_t const_attrs;
     vx__svo_rec const_rec;
+    /* The split form's runs stream (FORMAT.md 3.7, version 6; NULL: none):
+     * one byte per node in completion order, how the layout treats its
+     * attribute run (0 appended, 1 appended and stored, 2 found among the
+     * stored runs), so that the run table holds and looks up only the runs
+     * that are found again (run_take, svo_build.c). */
+    const uint8_t* runs;
+    size_t runs_n;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -220,8 +241,9 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
  * NODE to stay where it was written (svo_io.c write_file). */
 uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int chunk_mode, uint32_t split_min);
 /* chunked: per model, nonzero when SCNE marks its stream chunked: 1 the
- * DEFLATE chunks of version 3, 2 the tagged chunks of version 4, or 3 the
- * split form of version 5 (NULL: none). */
+ * DEFLATE chunks of version 3, 2 the tagged chunks of version 4, 3 the
+ * split form of version 5, or 4 the split form in a file of version 6 or
+ * later (its runs stream allowed) (NULL: none). */
 /* ext, rebuilt (model_count entries each, or NULL): a model rebuilt from
  * the structural form gets rebuilt[i] = VX__SVO_SKIP_REBUILT and its tree's
  * extent in ext[i] (others: untouched), for the validation to check its
@@ -244,6 +266,14 @@ const char* vx__zstd_frame_problem(const uint8_t* src, size_t zn, size_t want);
  * level 6 codes the benchmark terrain into 0.93 of the bytes but writes it
  * 1.25-1.4x slower (docs/PERFORMANCE.md, ".svo I/O, tenth step") */
 enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3 };
+/* The split form's flags byte: bit 2 (format version 6) says the runs stream
+ * follows the channels' streams: each node's attribute run as the layout
+ * placed it (vx__svo_unpack_desc.runs). Writers add it to every split model
+ * with attributes and the DAG. */
+enum { VX__SPLIT_RUNS = 4 };
+/* Test-only (like vx__svo_split_words): false writes version 5's split form
+ * (no runs stream), so that tests can check that old files still read. */
+extern bool vx__svo_split_runs;
 #define VX__SPLIT_WORDS (1u << 20)
 /* Test-only (like vx__svo_far_limit): the writers' split threshold,
  * VX__SPLIT_WORDS; tests lower it to write small models in the split form. */
@@ -251,13 +281,19 @@ extern uint32_t vx__svo_split_words;
 /* v, kind, ctx: the symbols of a model of `depth` levels (as the writer's
  * walk gives them, references as distances); appends the bytes after the
  * form byte to out. */
-bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
-                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
+/* runs: the runs stream's values in completion order (one per node; NULL:
+ * no runs stream, version 5's form). */
+bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, const uint8_t* runs, uint32_t attrs,
+                          unsigned depth, bool dag, uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
 /* The same from a walk that puts the symbols one by one (the trusted write:
  * no symbol arrays): REF as 0 or 1 + the node's completion index. */
 typedef struct vx__svo_split_sink vx__svo_split_sink;
-vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A);
+/* runs: the sink has the runs stream (put as VX__SYM_RUN, ctx 0). */
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A);
 void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+/* The runs stream's bytes put so far (the writer rewrites them in place
+ * before coding), NULL without one. */
+uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n);
 /* Codes the streams put so far (false: out of memory); the sink stays the caller's to free. */
 bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out);
 void vx__svo_split_sink_free(vx__svo_split_sink* k);
@@ -265,9 +301,13 @@ typedef struct vx__svo_split vx__svo_split;
 /* Parses the streams after the form byte (p[0..n), base: its file offset),
  * checks every length against m's declared node_count and decodes them on
  * up to `threads` threads. */
-vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
+/* runs_ok: the file's version has the runs stream (6 and later; the flags'
+ * bit is refused in older files). */
+vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
+/* The decoded runs stream (NULL, 0: the model has none). */
+const uint8_t* vx__svo_split_runs_stream(const vx__svo_split* d, size_t* n);
 /* The channels of attrs whose decoded values are all one value (a stream of
  * at least one value), and those values in *cst (others zero): the
  * reconstruction then runs direct on the one channel left (vx__svo_unpack_desc.const_attrs). */
@@ -281,7 +321,7 @@ bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t spl
 
 /* One model of the NODE section: model mi's stream p[0, n) (base: its file
  * offset) decoded into m (its declared fields set, as read_scne sets them),
- * chunked as SCNE marks it (0, 1, 2 or 3 the split form, as vx__svo_pack_read's), on up to
+ * chunked as SCNE marks it (0, 1, 2, or 3 the split form and 4 the same in a file of version 6 or later, as read_scne sets it), on up to
  * `threads` threads within the model; ext and rebuilt as vx__svo_pack_read's
  * for this model (both or neither). The model is not validated here. */
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,

@@ -50,6 +50,7 @@ enum {
     VERSION_TAGGED = 4,        /* the format version that introduced MODEL_TAGGED (zstd chunks) */
     MODEL_SPLIT = 1u << 8,     /* model head: its NODE stream is in the split form (version 5) */
     VERSION_SPLIT = 5,         /* the format version that introduced MODEL_SPLIT */
+    VERSION_RUNS = 6,          /* the split form's runs stream (svo_split.c, VX__SPLIT_RUNS) */
     INST_NAMED = 1u << 2,      /* instance head: a name follows */
     FRMS_CHANGE_MIN = 7        /* smallest change record: gap, head, model, rotation byte, 3 translations */
 };
@@ -544,7 +545,7 @@ static vx_result read_scne(const sec* const* known, uint32_t version, const vx_a
                            (unsigned long long)at, i);
         m->attrs = mhead & VX_ATTR_ALL;
         if (mhead & MODEL_CHUNKED) (*chunked)[i] = mhead & MODEL_TAGGED ? 2 : 1;
-        if (mhead & MODEL_SPLIT) (*chunked)[i] = 3;
+        if (mhead & MODEL_SPLIT) (*chunked)[i] = version >= VERSION_RUNS ? 4 : 3; /* 4: the runs stream allowed */
         if (mhead & MODEL_SAME_SIZE) {
             if (i == 0)
                 return vx_fail(err, VX_ERR_BAD_FORMAT, at, "svo: section SCNE at byte %llu: model 0 repeats the size of a previous model",
@@ -1024,8 +1025,8 @@ vx_result vx_svo_read_file(const vx_svo_read_desc* desc, const char* path, vx_sv
     vx__svo_advise_huge(data, (size_t)f.size);
     r = read_whole(&f, data, vx__svo_cpus(desc ? desc->threads : 0), err);
     close(f.fd);
-    if (r != VX_OK) vx_error_prefix(err, path);
-    else r = vx_svo_read(desc, data, (size_t)f.size, out, err);
+    if (r == VX_OK) r = vx_svo_read(desc, data, (size_t)f.size, out, err);
+    if (r != VX_OK) vx_error_prefix(err, path); /* a damaged file's error names it too */
     vx_free(A, data);
     return r;
 }
@@ -1730,9 +1731,10 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
             plan_free(alloc, w);
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo write: out of memory");
         }
-        if (sp) { /* the split form (version 5) */
+        if (sp) { /* the split form (version 5; with attributes its runs stream, version 6) */
             w->chunked[i] = 3;
-            if (w->version < VERSION_SPLIT) w->version = VERSION_SPLIT;
+            uint16_t v = s->models[i].attrs && vx__svo_split_runs ? VERSION_RUNS : VERSION_SPLIT;
+            if (w->version < v) w->version = v;
             continue;
         }
         const bool tagged = cs ? cs->info[i].chunk_tagged : w->chunk_mode == VX__CHUNK_ZSTD;

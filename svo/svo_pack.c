@@ -12,7 +12,9 @@
  * probabilities, shift 5), which on the small trees of typical .vox models
  * beats deflate clearly because it has no tables to transmit. Large models
  * (2^20 words or more) take the split form of version 5 instead: the same
- * symbols in zstd byte streams that decode on every thread (svo_split.c). */
+ * symbols in zstd byte streams that decode on every thread (svo_split.c),
+ * with attributes also the runs stream of version 6 (the layout's run
+ * lookups only where a run is found again). */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <stdatomic.h>
@@ -423,7 +425,35 @@ typedef struct ext {
     unsigned tries; /* try_struct calls so far */
     bool bad;       /* the words are not a valid tree (only a model that was not validated: a trusted check) */
     vx__svo_split_sink* sink; /* when set, the symbols go straight into the split streams (not into v, kind, ctx) */
+    /* The split form's runs stream (FORMAT.md 3.7, version 6): each completed
+     * node's run as the words place it, new where its record index a is nid
+     * (the records the layout has appended so far), else found; put during
+     * the walk as the new run's length (1..8) or RUN_FOUND, with the bit of a
+     * found run's start set in tgt, then made 0, 1 (new and found later) or
+     * 2 by runs_fix; into the sink, or into rv when there is none. */
+    bool runs;
+    uint32_t nid;
+    uint64_t* tgt; /* attr_count bits */
+    uint8_t* rv;
+    size_t nrv, caprv;
 } ext;
+
+enum { RUN_FOUND = 0x10 };
+
+/* The runs stream's final bytes from the walk's (above): a new run is 1 when
+ * a later run is found at its start, else 0; a found one 2. */
+static void runs_fix(uint8_t* r, size_t n, const uint64_t* tgt) {
+    uint64_t nid = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (r[i] == RUN_FOUND) {
+            r[i] = 2;
+            continue;
+        }
+        uint8_t len = r[i];
+        r[i] = (uint8_t)(tgt[nid >> 6] >> (nid & 63u) & 1u);
+        nid += len;
+    }
+}
 
 static void ext_push(ext* x, unsigned kind, uint32_t ctx, uint32_t v) {
     if (x->sink) { /* a reference as the index of the node it names (FORMAT.md 3.7) */
@@ -575,6 +605,15 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
         rank++;
     }
     if (x->bad) return;
+    if (x->runs) {
+        /* (a <= attr_count - popcount(valid): checked above) */
+        uint8_t r = a == x->nid ? (uint8_t)vx__popc8(valid) : (uint8_t)RUN_FOUND;
+        if (a == x->nid) x->nid += vx__popc8(valid);
+        else x->tgt[a >> 6] |= 1ull << (a & 63u);
+        if (x->sink) vx__svo_split_put(x->sink, VX__SYM_RUN, 0, r);
+        else if (x->nrv < x->caprv || vx_grow(x->A, (void**)&x->rv, &x->caprv, x->nrv + 1, sizeof *x->rv)) x->rv[x->nrv++] = r;
+        else x->oom = true;
+    }
     if (x->dag) ext_add(x, i, b, x->ndone);
     x->ndone++;
 }
@@ -683,6 +722,9 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
     x->dag = dag;
     x->oom = false;
     x->bad = false;
+    x->nid = 0;
+    x->nrv = 0;
+    if (x->runs && x->tgt) memset(x->tgt, 0, ((size_t)m->attr_count / 64 + 1) * 8);
     /* fresh tables are zero (calloc); only a second try clears what it used */
     if (x->tries++) {
         memset(x->fb, 0, (size_t)m->node_count * sizeof *x->fb);
@@ -703,7 +745,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
         spec->limit = limit;
         spec->started = pthread_create(&spec->th, NULL, coder_main, spec) == 0;
     }
-    vx__svo_src s = {arr_next, src};
+    vx__svo_src s = {arr_next, src, NULL};
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                               .layout_threads = lay};
     vx_svo_model r;
@@ -1297,7 +1339,9 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         x.fb = (uint32_t*)vx_calloc(A, m->node_count, sizeof *x.fb);
         x.fm = (uint16_t*)vx_calloc(A, m->node_count, sizeof *x.fm);
         x.hcap = need;
-        ok = x.hk && x.hv && x.fb && x.fm;
+        /* the runs stream's found starts (split models with attributes) */
+        if (split && m->attrs) x.tgt = (uint64_t*)vx_calloc(A, (size_t)m->attr_count / 64 + 1, 8);
+        ok = x.hk && x.hv && x.fb && x.fm && (x.tgt || !(split && m->attrs));
         /* a model the reader rebuilt from the structural form, its digest
          * current: its symbols with the reader's settings give it back, so
          * the rebuild that proves the form is skipped (a model changed behind
@@ -1309,24 +1353,29 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
          * might also come back with earlier ones, which the tries would pick */
         uint32_t st = m->check.structural, st_lim = st & 0xFFFFu;
         if (ok && trusted && st == (1u << 16 | VX__SVO_PTR_MAX)) {
-            x.n = x.ndone = 0;
+            x.n = x.ndone = x.nid = 0;
+            x.nrv = 0;
             x.dag = dag = (st >> 16 & 1u) != 0;
             limit = st_lim;
             x.tries++;
             /* the split form: straight into its streams, one walk */
-            if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, A))) ok = false;
+            x.runs = split && m->attrs && dag && vx__svo_split_runs;
+            if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, x.runs, A))) ok = false;
             if (ok) ext_visit(&x, m->root, m->depth);
             if (x.oom) ok = false;
             structural = ok && !x.bad;
             if (x.sink && ok && structural) {
-                size_t at = out->size;
+                size_t at = out->size, nr;
+                uint8_t* rb = vx__svo_split_sink_runs(x.sink, &nr);
+                if (rb) runs_fix(rb, nr, x.tgt);
                 ok = vx_buf_u8(out, 1) && vx__svo_split_sink_code(x.sink, dag, limit, threads, out);
                 uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
                 vx__svo_split_sink_free(x.sink);
                 x.sink = NULL;
                 if (!ok || (m->node_count <= cap && m->attr_count <= cap)) goto done;
                 out->size = at; /* above the reader's limit (unpack_split): the walk again, into form 0 */
-                x.n = x.ndone = 0;
+                x.n = x.ndone = x.nid = 0;
+                x.runs = false;
                 x.tries++;
                 memset(x.fb, 0, (size_t)m->node_count * sizeof *x.fb);
                 if (x.hused) memset(x.hk, 0, x.hcap * sizeof *x.hk);
@@ -1345,6 +1394,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
+            x.runs = split && m->attrs && dag && vx__svo_split_runs;
             structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par && !split ? &spec : NULL, lay);
             if (spec.started) {
                 pthread_join(spec.th, NULL);
@@ -1360,7 +1410,9 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
         size_t at = out->size;
         ok = vx_buf_u8(out, structural ? 1 : 0);
         if (ok && structural) {
-            ok = vx__svo_split_encode(x.v, x.kind, x.ctx, x.n, m->attrs, m->depth, dag, limit, threads, A, out);
+            if (x.runs && x.nrv == x.ndone) runs_fix(x.rv, x.nrv, x.tgt);
+            ok = vx__svo_split_encode(x.v, x.kind, x.ctx, x.n, x.runs && x.nrv == x.ndone ? x.rv : NULL, m->attrs, m->depth, dag, limit,
+                                      threads, A, out);
             /* a reader refuses more than PACK_RATIO_MAX words or records per
              * byte (unpack_split): a model that codes smaller takes form 0 */
             uint64_t cap = ((uint64_t)(out->size - at) + 16) * PACK_RATIO_MAX;
@@ -1391,6 +1443,8 @@ done:
     coder_free(&cd, A);
     if (spec.k) coder_free(&spec, A);
     vx_free(A, x.v);
+    vx_free(A, x.rv);
+    vx_free(A, x.tgt);
     vx_free(A, x.hk);
     vx_free(A, x.hv);
     vx_free(A, x.fb);
@@ -1820,7 +1874,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
         } else {
             vx_svo_model want = *m;
             rc_src rs = {k, base};
-            vx__svo_src src = {rc_next, &rs};
+            vx__svo_src src = {rc_next, &rs, NULL};
             vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                                       .layout_threads = lay, .tree = rebuilt ? tree : NULL};
             /* with threads to spare, the symbols are decoded ahead on one */
@@ -1888,8 +1942,9 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
 /* A model's stream in the split form (FORMAT.md 3.7): the form byte, then
  * the split streams (decoded on up to `cpus` threads) feeding the
  * reconstruction, or the stream of 3.4. */
+/* runs_ok: the file's version has the runs stream (6 and later) */
 static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A, unsigned cpus,
-                              unsigned lay, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
+                              unsigned lay, bool runs_ok, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
     if (n < 1 || p[0] > 1)
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form byte %s", (unsigned long long)base, mi,
                        n < 1 ? "missing" : "not 0 or 1");
@@ -1905,13 +1960,14 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx__svo_split* d;
     bool dag;
     uint32_t limit;
-    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, A, &d, &dag, &limit, err);
+    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, runs_ok, A, &d, &dag, &limit, err);
     if (r != VX_OK) return r;
     vx_svo_model want = *m;
     vx__svo_src src = vx__svo_split_src(d);
     vx__svo_unpack_desc ud = {.depth = m->depth, .attrs = m->attrs, .dag = dag, .limit = limit, .max_words = m->node_count, .alloc = A,
                               .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
     ud.const_attrs = vx__svo_split_constants(d, m->attrs, &ud.const_rec);
+    ud.runs = vx__svo_split_runs_stream(d, &ud.runs_n);
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -2242,8 +2298,8 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
     unpack_jobs* j = (unpack_jobs*)ctx;
     uint32_t i = j->order ? j->order[k] : k;
     if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
-    if (j->chunked && j->chunked[i] == 3)
-        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay,
+    if (j->chunked && j->chunked[i] >= 3)
+        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay, j->chunked[i] == 4,
                                  j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
     else
         j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
@@ -2335,8 +2391,8 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
         unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
-                r = chunked && chunked[mi] == 3
-                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, rebuilt ? &ext[mi] : NULL,
+                r = chunked && chunked[mi] >= 3
+                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, chunked[mi] == 4, rebuilt ? &ext[mi] : NULL,
                                        rebuilt ? &rebuilt[mi] : NULL, err)
                     : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
@@ -2369,8 +2425,8 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
 
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
                              const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
-    if (chunked == 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
-        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, ext, rebuilt, err);
+    if (chunked >= 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, chunked == 4, ext, rebuilt, err);
     if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
     /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
     return unpack_model(p, n, base, m, mi, A, threads > 2 ? 2 : 0, ext, rebuilt, err);

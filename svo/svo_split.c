@@ -17,6 +17,7 @@
 #include "svo/svo_internal.h"
 
 uint32_t vx__svo_split_words = VX__SPLIT_WORDS;
+bool vx__svo_split_runs = true;
 
 static unsigned lclass(unsigned level) { return level >= 4 ? 3 : level - 1; }
 static const unsigned CH_W[5] = {1, 4, 4, 2, 4}; /* bytes per value: palette, RGBA8, normal, material, density */
@@ -29,14 +30,16 @@ static unsigned stream_of(unsigned kind, unsigned ctx, const uint8_t chan_stream
     case VX__SYM_VALID: return lclass(ctx);
     case VX__SYM_LEAF: return 4 + lclass(ctx & 0xFFu) - 1;
     case VX__SYM_REF: return 7 + lclass(ctx) - 1;
-    default: return chan_stream[ctx];
+    case VX__SYM_VALUE: return chan_stream[ctx];
+    default: return ctx; /* VX__SYM_RUN: its stream's index, the last one */
     }
 }
 
-static unsigned stream_count(uint32_t attrs, uint8_t chan_stream[5]) {
+/* runs: the runs stream (version 6) after the channels' streams */
+static unsigned stream_count(uint32_t attrs, bool runs, uint8_t chan_stream[5]) {
     unsigned k = VX__SPLIT_FIXED;
     for (unsigned c = 0; c < 5; c++) chan_stream[c] = (uint8_t)(attrs >> c & 1u ? k++ : 0);
-    return k;
+    return k + (runs ? 1u : 0u);
 }
 
 static uint8_t* put_leb(uint8_t* p, uint64_t v) {
@@ -74,24 +77,25 @@ struct vx__svo_split_sink {
     const vx_allocator* A;
     uint8_t cs[5];
     unsigned k;
-    bool oom;
-    uint8_t* p[VX__SPLIT_FIXED];
-    size_t n[VX__SPLIT_FIXED], cap[VX__SPLIT_FIXED];
+    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
+    uint8_t* p[VX__SPLIT_FIXED + 1];
+    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
     uint32_t* val[5];
     size_t nval[5], capval[5];
 };
 
-vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, const vx_allocator* A) {
+vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A) {
     vx__svo_split_sink* k = (vx__svo_split_sink*)vx_calloc(A, 1, sizeof *k);
     if (!k) return NULL;
     k->A = A;
-    k->k = stream_count(attrs, k->cs);
+    k->runs = runs;
+    k->k = stream_count(attrs, runs, k->cs);
     return k;
 }
 
 void vx__svo_split_sink_free(vx__svo_split_sink* k) {
     if (!k) return;
-    for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
+    for (unsigned s = 0; s <= VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
     for (unsigned c = 0; c < 5; c++) vx_free(k->A, k->val[c]);
     vx_free(k->A, k);
 }
@@ -113,7 +117,7 @@ void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint3
         k->val[ctx][k->nval[ctx]++] = v;
         return;
     }
-    unsigned s = stream_of(kind, ctx, k->cs);
+    unsigned s = kind == VX__SYM_RUN ? VX__SPLIT_FIXED : stream_of(kind, ctx, k->cs); /* p[] index */
     if (!sink_room(k, s)) return;
     if (kind == VX__SYM_REF) k->n[s] = (size_t)(put_leb(k->p[s] + k->n[s], v) - k->p[s]);
     else k->p[s][k->n[s]++] = (uint8_t)v;
@@ -164,6 +168,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     j.level = VX__SPLIT_LEVEL;
     bool ok = !k->oom;
     for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) j.raw[s] = k->p[s], j.n[s] = k->n[s];
+    if (k->runs) j.raw[k->k - 1] = k->p[VX__SPLIT_FIXED], j.n[k->k - 1] = k->n[VX__SPLIT_FIXED];
     uint8_t* planes[5] = {NULL, NULL, NULL, NULL, NULL};
     for (unsigned c = 0; c < 5 && ok; c++) {
         if (!k->cs[c]) continue;
@@ -186,7 +191,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     }
     if (ok) {
         uint8_t head[16 + 20 * VX__SPLIT_MAX], *h = head;
-        *h++ = (uint8_t)((dag ? 1u : 0u) | (limit != VX__SVO_PTR_MAX ? 2u : 0u));
+        *h++ = (uint8_t)((dag ? 1u : 0u) | (limit != VX__SVO_PTR_MAX ? 2u : 0u) | (k->runs ? (unsigned)VX__SPLIT_RUNS : 0u));
         if (limit != VX__SVO_PTR_MAX) h = put_leb(h, limit);
         for (unsigned s = 0; s < k->k; s++) {
             h = put_leb(h, j.n[s]);
@@ -211,6 +216,7 @@ typedef struct walk {
     uint32_t ndone;
     bool bad;
     vx__svo_split_sink* k;
+    const uint8_t* runs; /* one per completed node, or NULL */
 } walk;
 
 static void walk_put(walk* w, size_t i) {
@@ -250,14 +256,15 @@ static void walk_node(walk* w, unsigned level, unsigned nch) {
             if (r == 0) walk_node(w, level - 1, nch);
         }
     }
+    if (w->runs && !w->bad) vx__svo_split_put(w->k, VX__SYM_RUN, 0, w->runs[w->ndone]);
     w->ndone++;
 }
 
-bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, uint32_t attrs, unsigned depth, bool dag,
-                          uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
-    vx__svo_split_sink* k = vx__svo_split_sink_new(attrs, A);
+bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t* ctx, size_t n, const uint8_t* runs, uint32_t attrs,
+                          unsigned depth, bool dag, uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out) {
+    vx__svo_split_sink* k = vx__svo_split_sink_new(attrs, runs != NULL, A);
     if (!k) return false;
-    walk w = {v, kind, ctx, n, 0, 0, false, k};
+    walk w = {v, kind, ctx, n, 0, 0, false, k, runs};
     walk_node(&w, depth, (unsigned)__builtin_popcount(attrs));
     bool ok = !w.bad && w.i == n && vx__svo_split_sink_code(k, dag, limit, threads, out);
     vx__svo_split_sink_free(k);
@@ -269,23 +276,25 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
 struct vx__svo_split {
     const vx_allocator* A;
     unsigned k;
-    uint8_t cs[5];
+    /* the decoded streams (data: own[s], or into the file where stored),
+     * lengths, read positions, values per channel stream, the channels'
+     * streams: what vx__svo_unpack reads through (vx__svo_src.cur) */
+    vx__svo_split_cur c;
     uint8_t* own[VX__SPLIT_MAX]; /* decoded streams (NULL: stored, data points into the file) */
-    const uint8_t* data[VX__SPLIT_MAX];
-    size_t n[VX__SPLIT_MAX], pos[VX__SPLIT_MAX];
-    size_t vcount[VX__SPLIT_MAX]; /* values in a channel's stream */
     uint8_t delta[VX__SPLIT_MAX]; /* a channel's value width when its planes hold differences (RGBA8, material), else 0 */
     uint64_t zoff[VX__SPLIT_MAX]; /* each stream's file offset */
     size_t zn[VX__SPLIT_MAX];
     const uint8_t* zsrc[VX__SPLIT_MAX];
     uint64_t base;
     uint32_t mi;
+    bool runs; /* the last stream is the runs stream (flags bit VX__SPLIT_RUNS) */
     vx_result res[VX__SPLIT_MAX];
     vx_error errs[VX__SPLIT_MAX];
 };
 
 static const char* stream_name(unsigned s, char buf[48], const uint8_t cs[5]) {
     static const char* CH[5] = {"palette", "rgba8", "normal", "material", "density"};
+    snprintf(buf, 48, "runs"); /* the one stream past the channels' */
     if (s < 4) snprintf(buf, 48, "valid masks, level class %u", s);
     else if (s < 7) snprintf(buf, 48, "leaf masks, level class %u", s - 3);
     else if (s < 10) snprintf(buf, 48, "references, level class %u", s - 6);
@@ -300,19 +309,19 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     vx__svo_split* d = (vx__svo_split*)ctx;
     d->res[s] = VX_OK;
     if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into a copy */
-        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->n[s] ? d->n[s] : 1))) {
+        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->c.n[s] ? d->c.n[s] : 1))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
-        memcpy(d->own[s], d->zsrc[s], d->n[s]);
-        planes_undelta(d->own[s], d->vcount[s], d->delta[s]);
-        d->data[s] = d->own[s];
+        memcpy(d->own[s], d->zsrc[s], d->c.n[s]);
+        planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        d->c.data[s] = d->own[s];
         return;
     }
     if (!d->zn[s]) return;
     char nm[48];
     const uint8_t* src = d->zsrc[s];
-    size_t zn = d->zn[s], want = d->n[s];
+    size_t zn = d->zn[s], want = d->c.n[s];
     const char* why = vx__zstd_frame_problem(src, zn, want);
     size_t got = 0;
     if (!why) {
@@ -333,10 +342,10 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     if (why)
         d->res[s] = vx_fail(&d->errs[s], VX_ERR_BAD_FORMAT, d->zoff[s],
                             "svo: section NODE at byte %llu: model %u: stream %u (%s, %zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
-                            (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), zn, want, why);
+                            (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), zn, want, why);
     else {
-        if (d->delta[s]) planes_undelta(d->own[s], d->vcount[s], d->delta[s]);
-        d->data[s] = d->own[s];
+        if (d->delta[s]) planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        d->c.data[s] = d->own[s];
     }
 }
 
@@ -361,14 +370,17 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
     return false;
 }
 
-vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads,
+vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
                              const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
     *out = NULL;
     /* the caller read the form byte (1) */
     size_t pos = 0;
-    if (n < 1 || (p[0] & ~3u))
+    if (n < 1 || (p[0] & ~(3u | VX__SPLIT_RUNS)))
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form flags %s", (unsigned long long)base,
                        mi, n < 1 ? "cut off" : "with reserved bits set");
+    if ((p[0] & VX__SPLIT_RUNS) && !runs_ok)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: the split form's runs stream needs format version 6",
+                       (unsigned long long)base, mi);
     *dag = p[0] & 1u;
     *limit = VX__SVO_PTR_MAX;
     pos = 1;
@@ -382,7 +394,8 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     d->A = A;
     d->base = base;
     d->mi = mi;
-    d->k = stream_count(m->attrs, d->cs);
+    d->runs = (p[0] & VX__SPLIT_RUNS) != 0;
+    d->k = stream_count(m->attrs, d->runs, d->c.cs);
     /* every stream's decoded length is bounded by the declared words: a node
      * per word (its valid and leaf masks), a reference of at most 5 bytes per
      * word, a value per leaf child (8 per node) */
@@ -390,37 +403,38 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     vx_result r = VX_OK;
     char nm[48];
     for (unsigned s = 0; s < d->k && r == VX_OK; s++) {
-        uint64_t max = s < 7 ? W : s < 10 ? 5 * W : 8 * W * 4, u, z;
+        /* (the runs stream: a byte per node) */
+        uint64_t max = s < 7 || (d->runs && s == d->k - 1) ? W : s < 10 ? 5 * W : 8 * W * 4, u, z;
         size_t at = pos;
         if (!rd_leb(p, n, &pos, max, &u) || !rd_leb(p, n, &pos, (uint64_t)n, &z)) {
             r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at,
                         "svo: section NODE at byte %llu: model %u: stream %u (%s): its lengths are cut off, not the shortest varints or more than %llu bytes for %u words",
-                        (unsigned long long)(base + at), mi, s, stream_name(s, nm, d->cs), (unsigned long long)max, m->node_count);
+                        (unsigned long long)(base + at), mi, s, stream_name(s, nm, d->c.cs), (unsigned long long)max, m->node_count);
             break;
         }
         for (unsigned c = 0; c < 5; c++)
-            if ((m->attrs >> c & 1u) && d->cs[c] == s) {
+            if ((m->attrs >> c & 1u) && d->c.cs[c] == s) {
                 if (u % CH_W[c] || u / CH_W[c] > 8 * W)
                     r = vx_fail(err, VX_ERR_BAD_FORMAT, base + at,
                                 "svo: section NODE at byte %llu: model %u: stream %u (%s): %llu bytes, not a whole number of %u-byte values at most 8 per word",
-                                (unsigned long long)(base + at), mi, s, stream_name(s, nm, d->cs), (unsigned long long)u, CH_W[c]);
-                d->vcount[s] = (size_t)(u / CH_W[c]);
+                                (unsigned long long)(base + at), mi, s, stream_name(s, nm, d->c.cs), (unsigned long long)u, CH_W[c]);
+                d->c.vcount[s] = (size_t)(u / CH_W[c]);
                 d->delta[s] = (uint8_t)(CH_W[c] > 1 ? CH_W[c] : 0);
             }
-        d->n[s] = (size_t)u;
+        d->c.n[s] = (size_t)u;
         d->zn[s] = (size_t)z;
     }
     /* the bodies, back to back, end exactly at the end of the stream */
     for (unsigned s = 0; s < d->k && r == VX_OK; s++) {
-        size_t len = d->zn[s] ? d->zn[s] : d->n[s];
+        size_t len = d->zn[s] ? d->zn[s] : d->c.n[s];
         if (len > n - pos) {
             r = vx_fail(err, VX_ERR_TRUNCATED, base + pos, "svo: section NODE at byte %llu: model %u: stream %u (%s) of %zu bytes, %zu left",
-                        (unsigned long long)(base + pos), mi, s, stream_name(s, nm, d->cs), len, n - pos);
+                        (unsigned long long)(base + pos), mi, s, stream_name(s, nm, d->c.cs), len, n - pos);
             break;
         }
         d->zoff[s] = base + pos;
         d->zsrc[s] = p + pos;
-        if (!d->zn[s]) d->data[s] = p + pos;
+        if (!d->zn[s]) d->c.data[s] = p + pos;
         pos += len;
     }
     if (r == VX_OK && pos != n)
@@ -446,17 +460,17 @@ uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo
     memset(cst, 0, sizeof *cst);
     uint32_t out = 0;
     for (unsigned c = 0; c < 5; c++) {
-        unsigned s = d->cs[c];
-        if (!(attrs >> c & 1u) || !s || !d->vcount[s] || !d->data[s]) continue;
-        size_t n = d->vcount[s];
+        unsigned s = d->c.cs[c];
+        if (!(attrs >> c & 1u) || !s || !d->c.vcount[s] || !d->c.data[s]) continue;
+        size_t n = d->c.vcount[s];
         bool one = true;
         for (unsigned i = 0; i < CH_W[c] && one; i++) { /* each byte plane one byte throughout */
-            const uint8_t* q = d->data[s] + (size_t)i * n;
+            const uint8_t* q = d->c.data[s] + (size_t)i * n;
             one = q[0] == q[n - 1] && (n < 2 || memcmp(q, q + 1, n - 1) == 0);
         }
         if (!one) continue;
         uint32_t x = 0;
-        for (unsigned i = 0; i < CH_W[c]; i++) x |= (uint32_t)d->data[s][(size_t)i * n] << (8 * i);
+        for (unsigned i = 0; i < CH_W[c]; i++) x |= (uint32_t)d->c.data[s][(size_t)i * n] << (8 * i);
         if (c == 0) cst->palette = (uint8_t)x;
         else if (c == 1) cst->rgba = x;
         else if (c == 2) cst->normal = x;
@@ -470,61 +484,72 @@ uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo
 static bool ends(vx__svo_split* d, unsigned s, vx_error* err) {
     char nm[48];
     return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s], "svo: section NODE at byte %llu: model %u: stream %u (%s) ends before the trees do",
-                   (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs)),
+                   (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs)),
            false;
 }
 
 static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_error* err) {
     vx__svo_split* d = (vx__svo_split*)user;
-    unsigned s = stream_of(kind, ctx, d->cs);
-    size_t at = d->pos[s];
-    const uint8_t* b = d->data[s];
+    unsigned s = stream_of(kind, ctx, d->c.cs);
+    size_t at = d->c.pos[s];
+    const uint8_t* b = d->c.data[s];
     if (kind == VX__SYM_REF) { /* 0 or 1 + a node's completion index (vx__svo_unpack_desc.ref_index) */
         uint64_t r;
         size_t q = at;
-        if (!rd_leb(b, d->n[s], &q, UINT32_MAX, &r)) {
-            if (q >= d->n[s]) return ends(d, s, err);
+        if (!rd_leb(b, d->c.n[s], &q, UINT32_MAX, &r)) {
+            if (q >= d->c.n[s]) return ends(d, s, err);
             char nm[48];
             return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s],
                            "svo: section NODE at byte %llu: model %u: stream %u (%s), decoded byte %zu: not the shortest varint of at most 32 bits",
-                           (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), at),
+                           (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), at),
                    false;
         }
-        d->pos[s] = q;
+        d->c.pos[s] = q;
         *v = (uint32_t)r;
         return true;
     }
     if (kind == VX__SYM_VALUE) {
-        if (at >= d->vcount[s]) return ends(d, s, err);
-        size_t c = d->vcount[s];
+        if (at >= d->c.vcount[s]) return ends(d, s, err);
+        size_t c = d->c.vcount[s];
         uint32_t x = 0;
         for (unsigned i = 0; i < CH_W[ctx]; i++) x |= (uint32_t)b[i * c + at] << (8 * i);
-        d->pos[s] = at + 1;
+        d->c.pos[s] = at + 1;
         *v = x;
         return true;
     }
-    if (at >= d->n[s]) return ends(d, s, err);
+    if (at >= d->c.n[s]) return ends(d, s, err);
     *v = b[at];
-    d->pos[s] = at + 1;
+    d->c.pos[s] = at + 1;
     if (kind == VX__SYM_LEAF && (*v & ~(ctx >> 8))) {
         char nm[48];
         return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s],
                        "svo: section NODE at byte %llu: model %u: stream %u (%s), decoded byte %zu: leaf mask 0x%02x outside the valid mask 0x%02x",
-                       (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), at, *v, ctx >> 8),
+                       (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), at, *v, ctx >> 8),
                false;
     }
     return true;
 }
 
-vx__svo_src vx__svo_split_src(vx__svo_split* d) { return (vx__svo_src){split_next, d}; }
+vx__svo_src vx__svo_split_src(vx__svo_split* d) { return (vx__svo_src){split_next, d, &d->c}; }
+
+uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n) {
+    *n = k->runs ? k->n[VX__SPLIT_FIXED] : 0;
+    return k->runs && !k->oom ? k->p[VX__SPLIT_FIXED] : NULL;
+}
+
+const uint8_t* vx__svo_split_runs_stream(const vx__svo_split* d, size_t* n) {
+    *n = d->runs ? d->c.n[d->k - 1] : 0;
+    return d->runs ? (d->c.data[d->k - 1] ? d->c.data[d->k - 1] : (const uint8_t*)"") : NULL;
+}
 
 vx_result vx__svo_split_done(vx__svo_split* d, vx_error* err) {
     char nm[48];
-    for (unsigned s = 0; s < d->k; s++) {
-        size_t have = s >= VX__SPLIT_FIXED ? d->vcount[s] : d->n[s];
-        if (d->pos[s] != have)
+    /* (the runs stream is read by the layout, which checks its end: vx__svo_unpack) */
+    for (unsigned s = 0; s < d->k - (d->runs ? 1u : 0u); s++) {
+        size_t have = s >= VX__SPLIT_FIXED ? d->c.vcount[s] : d->c.n[s];
+        if (d->c.pos[s] != have)
             return vx_fail(err, VX_ERR_BAD_FORMAT, d->zoff[s], "svo: section NODE at byte %llu: model %u: stream %u (%s): %zu of its %zu %s left over",
-                           (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->cs), have - d->pos[s], have,
+                           (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), have - d->c.pos[s], have,
                            s >= VX__SPLIT_FIXED ? "values" : "bytes");
     }
     return VX_OK;

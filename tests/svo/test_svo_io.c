@@ -3078,7 +3078,7 @@ static uint32_t t_split_models(const uint8_t* d, size_t n) {
     const uint8_t* node = section(d, n, "NODE", &nn);
     uint32_t count = node ? t_node_streams(node, nn, off, len, 8) : 0, k = 0;
     for (uint32_t i = 0; i < count; i++) k += len[i] > 2 && node[off[i]] == 1;
-    return (d[8] | d[9] << 8) == 5 ? k : 0;
+    return (d[8] | d[9] << 8) == 5 || (d[8] | d[9] << 8) == 6 ? k : 0;
 }
 
 static void test_split_form(void) {
@@ -3099,7 +3099,8 @@ static void test_split_form(void) {
         CHECKF(n2 == n0 && memcmp(d0, d2, n0) == 0, "case %d: svo_range_coded changes the bytes", k);
         free(d2);
         vx__svo_far_limit = VX__SVO_PTR_MAX;
-        CHECKF((d1[8] | d1[9] << 8) == 5 && n1 != n0, "case %d: version %u, %zu bytes against %zu", k, d1[8] | d1[9] << 8, n1, n0);
+        /* models with attributes: the runs stream, version 6 */
+        CHECKF((d1[8] | d1[9] << 8) == 6 && n1 != n0, "case %d: version %u, %zu bytes against %zu", k, d1[8] | d1[9] << 8, n1, n0);
         CHECK(t_split_models(d1, n1) == 3);
         /* read(write(x)) == x on one thread and three (the parallel paths
          * forced on: models in jobs, streams on threads, the layout's); the
@@ -3269,6 +3270,167 @@ static void test_split_hand(void) {
     for (int i = 0; i < 10; i++) free(raw[i]);
     free(b.d);
     free(d);
+    vx_svo_scene_free(&s);
+}
+
+/* The split form's runs stream (FORMAT.md 3.7, version 6): the same models as
+ * version 5's form (which still reads), at one and three threads, written
+ * again to the same bytes; the stream's damage refused naming the model and
+ * the stream, through a file also naming the file. */
+static size_t t_split_head(const uint8_t* p, uint64_t* u, uint64_t* z, unsigned k, uint8_t* flags) {
+    size_t q = 1; /* after the form byte */
+    *flags = p[q++];
+    if (*flags & 2) (void)t_var(p, &q);
+    for (unsigned i = 0; i < k; i++) u[i] = t_var(p, &q), z[i] = t_var(p, &q);
+    return q;
+}
+
+static void test_split_runs(void) {
+    vx_svo_scene s;
+    make_split_scene(&s, 900);
+    vx_error e;
+    uint8_t *d5, *d6, *d2;
+    size_t n5, n6, n2;
+    vx__svo_split_words = 1;
+    vx__svo_split_runs = false;
+    REQUIRE(vx_svo_write(&s, NULL, &d5, &n5, &e) == VX_OK);
+    vx__svo_split_runs = true;
+    REQUIRE(vx_svo_write(&s, NULL, &d6, &n6, &e) == VX_OK);
+    CHECKF((d5[8] | d5[9] << 8) == 5 && (d6[8] | d6[9] << 8) == 6, "versions %u, %u", d5[8] | d5[9] << 8, d6[8] | d6[9] << 8);
+    CHECK(t_split_models(d5, n5) == 3 && t_split_models(d6, n6) == 3);
+    uint64_t saved_par = vx__svo_parallel_words;
+    for (int v = 5; v <= 6; v++)
+        for (unsigned t = 1; t <= 3; t += 2) {
+            vx__svo_parallel_words = t == 3 ? 0 : saved_par;
+            vx_svo_scene r;
+            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, v == 5 ? d5 : d6, v == 5 ? n5 : n6, &r, &e) == VX_OK);
+            for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "version %d model %u threads %u", v, i, t);
+            /* read from either version, written in version 6's form again */
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t}, &r, &d2, &n2, &e) == VX_OK);
+            CHECKF(n2 == n6 && memcmp(d6, d2, n6) == 0, "version %d threads %u: written again, the bytes differ", v, t);
+            free(d2);
+            vx_svo_scene_free(&r);
+        }
+    vx__svo_parallel_words = saved_par;
+    /* model 0 (palette indices 1..5: runs found again): its runs stream is
+     * the last of 12 (10, the channel, the runs); geometry (model 2) has none */
+    const uint8_t* node = section(d6, n6, "NODE", NULL);
+    size_t node_n = 0, off[4], len[4];
+    section(d6, n6, "NODE", &node_n);
+    REQUIRE(node && t_node_streams(node, node_n, off, len, 4) == 3);
+    uint64_t u[12], z[12];
+    uint8_t flags;
+    CHECK(node[off[2]] == 1 && (node[off[2] + 1] & 4u) == 0);
+    const uint8_t* p = node + off[0];
+    size_t q = t_split_head(p, u, z, 12, &flags);
+    REQUIRE(p[0] == 1 && (flags & 4u));
+    uint8_t* raw[12];
+    for (int i = 0; i < 12; i++) {
+        raw[i] = (uint8_t*)malloc(u[i] + 2);
+        if (z[i]) {
+            CHECK(ZSTD_decompress(raw[i], u[i], p + q, z[i]) == u[i]);
+            q += z[i];
+        } else {
+            memcpy(raw[i], p + q, u[i]);
+            q += u[i];
+        }
+    }
+    CHECK(q == len[0]);
+    /* one byte a node: as many as the valid masks; each 0, 1 or 2, the first
+     * run new (nothing is stored before it), some found, some stored */
+    size_t masks = u[0] + u[1] + u[2] + u[3], cnt[3] = {0, 0, 0};
+    CHECKF(u[11] == masks, "%llu runs for %zu nodes", (unsigned long long)u[11], masks);
+    for (uint64_t i = 0; i < u[11]; i++) {
+        CHECK(raw[11][i] <= 2);
+        cnt[raw[11][i] <= 2 ? raw[11][i] : 0]++;
+    }
+    CHECK(raw[11][0] != 2 && cnt[1] > 0 && cnt[2] > 0 && cnt[0] > 0);
+    /* the streams stored again: the same model */
+    struct {
+        int what; /* 0 as it is, 1 a byte more, 2 a byte less, 3 the first run "found", 4 a byte 3, 5 every stored run only appended, 6 every 0 a 1 */
+        const char* msg;
+    } cases[] = {{0, NULL}, {1, "left over"}, {2, "ends before"}, {3, "none is equal"}, {4, "not 0, 1 or 2"}, {5, "none is equal"}, {6, NULL}};
+    char dir[] = "/tmp/vx_svo_runsXXXXXX";
+    REQUIRE(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/runs.svo", dir);
+    for (size_t ci = 0; ci < sizeof cases / sizeof *cases; ci++) {
+        int w = cases[ci].what;
+        uint64_t nu = u[11] + (w == 1) - (w == 2);
+        uint8_t* t = (uint8_t*)malloc(u[11] + 2);
+        memcpy(t, raw[11], u[11]);
+        if (w == 1) t[u[11]] = 0;
+        if (w == 3) t[0] = 2;
+        if (w == 4) t[u[11] / 2] = 3;
+        for (uint64_t i = 0; i < u[11]; i++) {
+            if (w == 5 && t[i] == 1) t[i] = 0;
+            if (w == 6 && t[i] == 0) t[i] = 1; /* stored and never found: the same model */
+        }
+        tbuf b = {0};
+        tb_u8(&b, 1);
+        tb_u8(&b, flags);
+        if (flags & 2) tb_var(&b, 3);
+        for (int i = 0; i < 12; i++) tb_var(&b, i == 11 ? nu : u[i]), tb_var(&b, 0);
+        for (int i = 0; i < 12; i++) tb_put(&b, i == 11 ? t : raw[i], i == 11 ? nu : u[i]);
+        size_t on;
+        uint8_t* o = t_with_stream(d6, n6, 0, &b, &on);
+        vx_svo_scene r;
+        memset(&e, 0, sizeof e);
+        vx_result res = vx_svo_read(NULL, o, on, &r, &e);
+        if (!cases[ci].msg) {
+            CHECKF(res == VX_OK && model_equal(&r.models[0], &s.models[0]), "case %zu: %s", ci, e.msg);
+        } else {
+            CHECKF(res == VX_ERR_BAD_FORMAT && strstr(e.msg, cases[ci].msg) && strstr(e.msg, "model 0") && strstr(e.msg, "runs"),
+                   "case %zu: %d %s", ci, res, e.msg);
+            /* from a file: the file named too */
+            FILE* f = fopen(path, "wb");
+            REQUIRE(f && fwrite(o, 1, on, f) == on);
+            fclose(f);
+            memset(&e, 0, sizeof e);
+            vx_svo_scene rf;
+            CHECKF(vx_svo_read_file(NULL, path, &rf, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, path) && strstr(e.msg, cases[ci].msg),
+                   "case %zu: %s", ci, e.msg);
+        }
+        if (res == VX_OK) vx_svo_scene_free(&r);
+        free(o);
+        free(b.d);
+        free(t);
+    }
+    remove(path);
+    rmdir(dir);
+    /* the runs stream in a file stamped version 5: refused, naming the version */
+    {
+        uint8_t* c = (uint8_t*)malloc(n6);
+        memcpy(c, d6, n6);
+        put16(c + 8, 5);
+        fix_crcs(c, n6);
+        vx_svo_scene r;
+        memset(&e, 0, sizeof e);
+        CHECKF(vx_svo_read(NULL, c, n6, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "runs stream needs format version 6") &&
+                   strstr(e.msg, "model 0"),
+               "%s", e.msg);
+        free(c);
+    }
+    /* the flags' bits past the runs bit are still reserved */
+    {
+        tbuf b = {0};
+        tb_u8(&b, 1);
+        tb_u8(&b, (uint8_t)(flags | 8u));
+        if (flags & 2) tb_var(&b, 3);
+        for (int i = 0; i < 12; i++) tb_var(&b, u[i]), tb_var(&b, 0);
+        for (int i = 0; i < 12; i++) tb_put(&b, raw[i], u[i]);
+        size_t on;
+        uint8_t* o = t_with_stream(d6, n6, 0, &b, &on);
+        vx_svo_scene r;
+        memset(&e, 0, sizeof e);
+        CHECKF(vx_svo_read(NULL, o, on, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "reserved bits"), "%s", e.msg);
+        free(o);
+        free(b.d);
+    }
+    for (int i = 0; i < 12; i++) free(raw[i]);
+    vx__svo_split_words = VX__SPLIT_WORDS;
+    free(d5);
+    free(d6);
     vx_svo_scene_free(&s);
 }
 
@@ -3707,7 +3869,7 @@ static void test_split_coded(void) {
     REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
     size_t nb = 0;
     uint8_t* base = slurp_file(path, &nb);
-    REQUIRE(base && nb > 10 && (base[8] | base[9] << 8) == 5);
+    REQUIRE(base && nb > 10 && (base[8] | base[9] << 8) == 6);
     uint32_t n = s.model_count;
     vx_svo_model_coded* info = (vx_svo_model_coded*)calloc(n, sizeof *info);
     uint8_t** streams = (uint8_t**)calloc(n, sizeof *streams);
@@ -3807,16 +3969,22 @@ static int write_seeds(const char* dir) {
             return 1;
         }
     }
-    /* seed9: version 5, every model that can in the split form (FORMAT.md 3.7) */
-    make_split_scene(&s, 12);
-    snprintf(path, sizeof path, "%s/seed9.svo", dir);
-    vx__svo_split_words = 1;
-    wr = vx_svo_write_file(NULL, &s, path, &e);
-    vx__svo_split_words = VX__SPLIT_WORDS;
-    vx_svo_scene_free(&s);
-    if (wr != VX_OK) {
-        fprintf(stderr, "%s: %s\n", path, e.msg);
-        return 1;
+    /* seed9: version 5, every model that can in the split form (FORMAT.md
+     * 3.7, without the runs stream); seed10: version 6, the same with the
+     * runs stream (a larger scene: runs stored and found again) */
+    for (int v = 0; v < 2; v++) {
+        make_split_scene(&s, v ? 60 : 12);
+        snprintf(path, sizeof path, "%s/seed%d.svo", dir, v ? 10 : 9);
+        vx__svo_split_words = 1;
+        vx__svo_split_runs = v == 1;
+        wr = vx_svo_write_file(NULL, &s, path, &e);
+        vx__svo_split_words = VX__SPLIT_WORDS;
+        vx__svo_split_runs = true;
+        vx_svo_scene_free(&s);
+        if (wr != VX_OK) {
+            fprintf(stderr, "%s: %s\n", path, e.msg);
+            return 1;
+        }
     }
     return 0;
 }
@@ -3922,6 +4090,7 @@ int main(int argc, char** argv) {
     RUN(test_frames_bad);
     RUN(test_split_form); /* last: the earlier tests' random scenes stay as they were */
     RUN(test_split_hand);
+    RUN(test_split_runs);
     RUN(test_trusted_write);
     RUN(test_built_trusted);
     RUN(test_split_constant_channels);

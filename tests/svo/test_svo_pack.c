@@ -237,7 +237,7 @@ static void test_bad_symbols(void) {
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         arr a = {cases[i].v, cases[i].n, 0};
-        vx__svo_src src = {arr_next, &a};
+        vx__svo_src src = {arr_next, &a, NULL};
         vx__svo_unpack_desc d = {.depth = 2, .attrs = 0, .dag = true, .limit = VX__SVO_PTR_MAX, .max_words = cases[i].words};
         vx_svo_model m;
         memset(&m, 0, sizeof m);
@@ -275,7 +275,7 @@ static void test_rebuilt_levels(void) {
     } cases[] = {{deep, 11, 0, {0, 0, 0}}, {low, 8, 9, {6, 2, 2}}, {same, 8, 2, {5, 1, 1}}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         arr a = {cases[i].v, cases[i].n, 0};
-        vx__svo_src src = {arr_next, &a};
+        vx__svo_src src = {arr_next, &a, NULL};
         vx__svo_extent tree;
         memset(&tree, 0, sizeof tree);
         vx__svo_unpack_desc d = {.depth = 3, .dag = true, .limit = VX__SVO_PTR_MAX, .max_words = 16, .tree = &tree};
