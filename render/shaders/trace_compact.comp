@@ -63,9 +63,9 @@ layout(constant_id = 100) const bool NODES_FILE = false;
 // The walk's stack as a ladder of selects at constant indices on CPU devices
 // in DEEP 0-1 (trace.comp's STK_PUT / STK_GET form, trace_common.glsl, issue
 // 21's seventeenth sitting): lavapipe then keeps it in registers instead of
-// writing and reading an array lane by lane: the compact kernel 1.2-1.5x
+// writing and reading an array lane by lane: the compact kernel 1.2-1.4x
 // faster there (albedo; docs/PERFORMANCE.md issue 18, sixteenth step). On the
-// H200 the same ladder cost 10-23% (48 registers in the albedo kernels
+// H200 the same ladder cost 11-23% (48 registers in the albedo kernels
 // instead of 40, the stack's 96 bytes of local memory an L1 hit a pop): GPUs
 // keep the array. (A ternary, not &&: glslang made a spec-constant && of
 // these a value that does not dominate its uses.)
