@@ -57,6 +57,19 @@ layout(constant_id = 11) const bool MISS_PASS = false;
 // vx__render_scene_paths over compact_gpu.c's listed tops), as trace.comp's
 // (trace_model below); off on CPU devices (lavapipe), as trace.comp's
 layout(constant_id = 12) const bool PATH_START = false;
+// Set by gpu_pipeline.c for every pipeline (VX__SPEC_NODES_FILE): the device
+// is a CPU (lavapipe), where the walk's stack is a ladder of selects (LADDER).
+layout(constant_id = 100) const bool NODES_FILE = false;
+// The walk's stack as a ladder of selects at constant indices on CPU devices
+// in DEEP 0-1 (trace.comp's STK_PUT / STK_GET form, trace_common.glsl, issue
+// 21's seventeenth sitting): lavapipe then keeps it in registers instead of
+// writing and reading an array lane by lane: the compact kernel 1.2-1.4x
+// faster there (albedo; docs/PERFORMANCE.md issue 18, sixteenth step). On the
+// H200 the same ladder cost 11-23% (48 registers in the albedo kernels
+// instead of 40, the stack's 96 bytes of local memory an L1 hit a pop): GPUs
+// keep the array. (A ternary, not &&: glslang made a spec-constant && of
+// these a value that does not dominate its uses.)
+const bool LADDER = DEEP < (NODES_FILE ? 2 : 0);
 const int PATHS = 64;
 const uint NO_PATH = 0xFFFFu;
 const uint PW = (PAGES + 31u) / 32u;
@@ -241,6 +254,31 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 }
 
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
+// LADDER: the stack's pushed scales, S_MAX - 7 (DEEP 0: models of up to 8
+// levels push from levels 8 to 2) or S_MAX - 9 (DEEP 1: up to 10) to
+// S_MAX - 1, each at a constant index
+const int STK_LO = S_MAX - (DEEP == 0 ? 7 : 9);
+#define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
+    if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
+    if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
+    stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
+    stk_node[17] = s_ == 17 ? v_ : stk_node[17]; \
+    stk_node[18] = s_ == 18 ? v_ : stk_node[18]; \
+    stk_node[19] = s_ == 19 ? v_ : stk_node[19]; \
+    stk_node[20] = s_ == 20 ? v_ : stk_node[20]; \
+    stk_node[21] = s_ == 21 ? v_ : stk_node[21]; \
+    stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
+}
+#define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
+    if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
+    if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
+    g_ = s_ == 16 ? stk_node[16] : g_; \
+    g_ = s_ == 17 ? stk_node[17] : g_; \
+    g_ = s_ == 18 ? stk_node[18] : g_; \
+    g_ = s_ == 19 ? stk_node[19] : g_; \
+    g_ = s_ == 20 ? stk_node[20] : g_; \
+    g_ = s_ == 21 ? stk_node[21] : g_; \
+    OUT = uint(g_); }
 
 // trace.comp's trace_model (trace_common.glsl, float variant, DEEP 0-2, no
 // LOD or beam) over the compact geometry: the same walk, the same two-frame
@@ -367,7 +405,11 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             vec3 top = mix(pk + (cw - dlt), vec3(3.0), equal(pk + cw, vec3(2.0)));
             if (all(greaterThan(om, pk + dlt)) && all(lessThan(om, top))) {
                 int dx = int(F.paths[g_path].info.x);
-                for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(F.paths[g_path].nodes[j >> 2][j & 3]);
+                if (LADDER) {
+                    for (int j = 0; j < S_MAX - STK_LO; j++)
+                        if (j < dx) stk_node[S_MAX - 1 - j] = int(F.paths[g_path].nodes[j >> 2][j & 3]);
+                } else
+                    for (int j = 0; j < dx; j++) stk_node[S_MAX - 1 - j] = int(F.paths[g_path].nodes[j >> 2][j & 3]);
                 parent = F.paths[g_path].info.y;
                 scale = S_MAX - 1 - dx;
                 scale_exp2 = cw;
@@ -431,10 +473,17 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             uint cbit = 1u << cs;
             bool valid = (desc & (cbit << 8)) != 0u;
             if (valid && tmin <= tmax) {
-                float tv_max = min(tmax, tc_max);
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
-                if (DEEP >= 1 || tmin <= tv_max) {
+                // No test of tmin against the child's exit (min(tmax, tc_max))
+                // before the push, in every kernel (tmin lies in the child by
+                // construction, as in the ESVO loop; tmin <= tmax is tested):
+                // the DEEP kernels never had it, and without it the DEEP 0
+                // kernels give 3-5% more albedo rays/s on the H200 (eph_monu1's
+                // close-up 0.881 -> 0.922 of trace.comp's, eph_menger's 0.953 ->
+                // 0.984), where trace.comp's DEEP 0 kernel keeps it (it measured
+                // -0.6% to -2.6% without; docs/PERFORMANCE.md issue 18, sixteenth step)
+                {
                     if ((desc & cbit) != 0u) {
                         hit = true;
                         break;
@@ -465,7 +514,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     // test (skip it where the child's exit is the parent's,
                     // whose entry is then never read) the walk needs no hh
                     // (ckern3)
-                    stk_node[scale - koff] = int(parent);
+                    if (LADDER) STK_PUT(scale, int(parent))
+                    else stk_node[scale - koff] = int(parent);
                     // PUSH_BRICK: from level 3 the child is a brick, loaded here
                     bool to2 = PUSH_BRICK && scale - koff == s3;
                     loaded = eq2 || to2;
@@ -512,7 +562,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                 }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
-                parent = uint(stk_node[scale - koff]);
+                if (LADDER) STK_GET(scale, parent)
+                else parent = uint(stk_node[scale - koff]);
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 pos = intBitsToFloat(sh << scale);
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
