@@ -163,6 +163,35 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
     return VX_OK;
 }
 
+/* The light as the placement records it (the caster may be NULL: no cell is
+ * read for it), into ps. */
+static vx_result record_light(vx_probe_set* ps, const vx_render_caster* c, const vx_svo_scene* s, const vx_probe_bake_desc* d,
+                              vx_error* err) {
+    vx__light L;
+    vx_result r = vx__light_init(&L, c, s, d->light_dir, d->sun, d->no_sun, d->sky, d->black_sky, err);
+    vx__light_free(&L); /* only the resolved light is recorded here */
+    if (r) return r;
+    memcpy(ps->light_dir, L.light_dir, sizeof ps->light_dir);
+    memcpy(ps->sun, L.sun, sizeof ps->sun);
+    memcpy(ps->sky, L.sky, sizeof ps->sky);
+    return VX_OK;
+}
+
+/* The placement's end: the desc's probe range checked against the set, the
+ * set handed to *out (or freed with the error). */
+static vx_result place_done(const vx_probe_bake_desc* d, vx_probe_set* ps, vx_probe_set* out, vx_error* err) {
+    uint32_t first = d->first, end = d->count ? d->first + d->count : ps->probe_count;
+    if (first > ps->probe_count || end > ps->probe_count || end < first) {
+        uint32_t n = ps->probe_count;
+        vx_probe_set_free(ps);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe range %u..%u outside the %u probes", first, end, n);
+    }
+    ps->first = first;
+    ps->count = 0;
+    *out = *ps;
+    return VX_OK;
+}
+
 /* ---- placement from a model reader --------------------------------------------------- */
 
 static vx_result resolve(const vx_probe_bake_desc* d, vx_probe_set* ps, vx_error* err);
@@ -204,13 +233,10 @@ vx_result vx_probe_place_reader(vx_svo_model_reader* rd, const vx_svo_scene* vie
     vx_probe_set ps = {.alloc = d.alloc};
     vx_result r = resolve(&d, &ps, err);
     if (r) return r;
-    vx__light L; /* the light as vx_probe_place records it (no caster: no cell is read) */
-    r = vx__light_init(&L, NULL, g, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky, err);
-    vx__light_free(&L);
-    if (r) return r;
-    memcpy(ps.light_dir, L.light_dir, sizeof ps.light_dir);
-    memcpy(ps.sun, L.sun, sizeof ps.sun);
-    memcpy(ps.sky, L.sky, sizeof ps.sky);
+    if ((r = record_light(&ps, NULL, g, &d, err))) { /* as vx_probe_place records it, no cell read */
+        vx_probe_set_free(&ps);
+        return r;
+    }
     if ((r = place_grid(g, &d, &ps, err))) {
         vx_probe_set_free(&ps);
         return r;
@@ -292,18 +318,11 @@ vx_result vx_probe_place_reader(vx_svo_model_reader* rd, const vx_svo_scene* vie
     vx_free(d.alloc, all);
     vx_free(d.alloc, first);
     vx_free(d.alloc, solid);
-    uint32_t first_p = d.first, end = d.count ? d.first + d.count : ps.probe_count;
-    if (!r && (first_p > ps.probe_count || end > ps.probe_count || end < first_p))
-        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe range %u..%u outside the %u probes", first_p, end,
-                    ps.probe_count);
     if (r) {
         vx_probe_set_free(&ps);
         return r;
     }
-    ps.first = first_p;
-    ps.count = 0;
-    *out = ps;
-    return VX_OK;
+    return place_done(&d, &ps, out, err);
 }
 
 vx_probe_bake_desc vx_probe_bake_desc_defaults(void) {
@@ -334,33 +353,14 @@ vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* de
     if (r) return r;
     vx_render_caster* c = NULL;
     if ((r = vx_render_caster_create(scene, d.alloc, &c, err))) return r;
-    vx__light L;
-    r = vx__light_init(&L, c, scene, d.light_dir, d.sun, d.no_sun, d.sky, d.black_sky, err);
-    vx__light_free(&L); /* only the resolved light is recorded here */
-    if (r) {
-        vx_render_caster_destroy(c);
-        vx_probe_set_free(&ps);
-        return r;
-    }
-    memcpy(ps.light_dir, L.light_dir, sizeof ps.light_dir);
-    memcpy(ps.sun, L.sun, sizeof ps.sun);
-    memcpy(ps.sky, L.sky, sizeof ps.sky);
-    r = place(scene, &d, c, &ps, err);
+    r = record_light(&ps, c, scene, &d, err);
+    if (!r) r = place(scene, &d, c, &ps, err);
     vx_render_caster_destroy(c);
     if (r) {
         vx_probe_set_free(&ps);
         return r;
     }
-    uint32_t first = d.first, end = d.count ? d.first + d.count : ps.probe_count;
-    if (first > ps.probe_count || end > ps.probe_count || end < first) {
-        uint32_t n = ps.probe_count;
-        vx_probe_set_free(&ps);
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe range %u..%u outside the %u probes", first, end, n);
-    }
-    ps.first = first;
-    ps.count = 0;
-    *out = ps;
-    return VX_OK;
+    return place_done(&d, &ps, out, err);
 }
 
 /* ---- baking --------------------------------------------------------------------------- */
